@@ -1,0 +1,8 @@
+"""tcpmm: a virtual machine tool.
+
+A mechatronic model of the tool center point (TCP-MM) of CNC feed axes: five-inertia
+mechanics inside a cascade servo loop, identified from servo excitation and driven by the
+interpolated position command of an NC program.
+"""
+
+__version__ = "0.1.0"

@@ -1,0 +1,48 @@
+"""Errors that tell the user what is wrong, where, and how to fix it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class TcpmmError(Exception):
+    """Base class of every error the package raises on purpose."""
+
+
+class InputError(TcpmmError, ValueError):
+    """Bad user input: a file, a column, a line of a program or a parameter.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong and how to fix it [-].
+    file : str or Path, optional
+        The file the problem is in [-].
+    line : int, optional
+        1-based line number [-].
+    column : int or str, optional
+        1-based column number, or a column/field name [-].
+    """
+
+    def __init__(self, message, file=None, line=None, column=None):
+        self.message = message
+        self.file = None if file is None else str(file)
+        self.line = line
+        self.column = column
+        super().__init__(self.format())
+
+    def format(self) -> str:
+        where = []
+        if self.file is not None:
+            where.append(str(Path(self.file)))
+        if self.line is not None:
+            where.append(f"line {self.line}")
+        if self.column is not None:
+            col = self.column
+            where.append(f"column {col}" if isinstance(col, int) else f"column '{col}'")
+        prefix = ", ".join(where)
+        return f"{prefix}: {self.message}" if prefix else self.message
+
+
+class InputWarning(UserWarning):
+    """Input that can be used but probably is not what the user meant."""

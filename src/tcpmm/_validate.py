@@ -1,0 +1,27 @@
+"""Turn pydantic validation failures into messages that name the field and the fix."""
+
+from __future__ import annotations
+
+from pydantic import ValidationError
+
+from .errors import InputError
+
+
+def validation_message(err: ValidationError, prefix: str = "") -> str:
+    """One line per problem: ``field.path: message (got value)``."""
+    lines = []
+    for e in err.errors():
+        loc = ".".join(str(p) for p in e["loc"])
+        loc = f"{prefix}.{loc}" if prefix and loc else (prefix or loc)
+        got = e.get("input")
+        got_s = "" if isinstance(got, dict) else f" (got {got!r})"
+        lines.append(f"{loc}: {e['msg']}{got_s}")
+    return "; ".join(lines)
+
+
+def build(model_cls, data: dict, prefix: str = "", file=None):
+    """Validate ``data`` into ``model_cls`` or raise :class:`InputError` naming the fields."""
+    try:
+        return model_cls.model_validate(data)
+    except ValidationError as err:
+        raise InputError(validation_message(err, prefix), file=file) from None

@@ -1,0 +1,288 @@
+"""Circular test analysis (formats.md section 4).
+
+Quadrant points A, B, C, D are at 0, 90, 180, 270 deg counter-clockwise from +X about the
+nominal centre, whatever the direction of travel. Radial error ``e = r - R`` (outward
+positive); contour error ``max |e|`` over the full circle without the feed-in and
+feed-out arcs; circular deviation G (ISO 230-4) ``max r - min r`` about the least-squares
+centre; the reversal spike at a quadrant point P is the value of ``e - b`` with the
+largest magnitude in the 20 deg that follow P in the direction of travel, where ``b`` is
+the median of ``e`` over 30 deg to 5 deg before P.
+
+Full circles are found from the command when the run has one (else from the first sensor
+present): the longest stretches whose radius is within a tolerance of R; feed-in and
+feed-out arcs that join the circle tangentially are trimmed symmetrically so that
+exactly the programmed turns remain.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+QUADRANTS = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
+SENSORS = ("cmd", "motor", "scale", "tcp")
+AFTER_DEG, BEFORE_DEG = (0.0, 20.0), (-30.0, -5.0)
+
+
+@dataclass
+class SensorCircle:
+    """Circular-test figures of one sensor over one pass.
+
+    Parameters
+    ----------
+    angle_rad : ndarray
+        Angle of each sample about the nominal centre, CCW from +X, unwrapped [rad].
+    radial_error : ndarray
+        ``r - R`` about the nominal centre [m].
+    contour_error : float
+        ``max |e|`` [m].
+    circular_deviation : float
+        ISO 230-4 G about the least-squares centre [m].
+    lsq_centre : tuple
+        Least-squares centre [m].
+    spikes : dict
+        Signed reversal spike per quadrant point [m].
+    """
+
+    angle_rad: np.ndarray
+    radial_error: np.ndarray
+    contour_error: float
+    circular_deviation: float
+    lsq_centre: tuple
+    spikes: dict
+
+
+@dataclass
+class CirclePass:
+    """One full circle of a run, in one direction.
+
+    Parameters
+    ----------
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    index : slice
+        Samples of the run on the circle [-].
+    sensors : dict of str to SensorCircle
+        Results per sensor (``cmd``, ``motor``, ``scale``, ``tcp``) [-].
+    """
+
+    direction: str
+    index: slice
+    sensors: dict = field(default_factory=dict)
+
+    def table(self) -> list[dict]:
+        """One row per sensor: spikes A-D and contour error in um, G in um."""
+        rows = []
+        for name, s in self.sensors.items():
+            row = {"direction": self.direction, "sensor": name}
+            row.update({f"spike_{k}_um": v * 1e6 for k, v in s.spikes.items()})
+            row["contour_error_um"] = s.contour_error * 1e6
+            row["circular_deviation_um"] = s.circular_deviation * 1e6
+            rows.append(row)
+        return rows
+
+
+@dataclass
+class CircleResult:
+    """Circular-test analysis of a run: every full-circle pass found.
+
+    Parameters
+    ----------
+    radius : float
+        Nominal radius [m].
+    centre : tuple
+        Nominal centre [m].
+    passes : list of CirclePass
+        The passes, in time order [-].
+    """
+
+    radius: float
+    centre: tuple
+    passes: list
+
+    def to_pandas(self):
+        """Table: one row per pass and sensor (um)."""
+        import pandas as pd
+
+        return pd.DataFrame([r for p in self.passes for r in p.table()])
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary in um."""
+        return {"radius_mm": self.radius * 1e3, "centre_mm": [c * 1e3 for c in self.centre],
+                "passes": [{"direction": p.direction, "sensors": p.table()} for p in self.passes]}
+
+    def pass_for(self, direction: str) -> CirclePass:
+        """The first pass in a direction."""
+        for p in self.passes:
+            if p.direction == direction:
+                return p
+        raise InputError(f"no {direction.upper()} circle found in the run "
+                         f"(found: {', '.join(p.direction for p in self.passes) or 'none'})")
+
+    def plot(self, path=None, magnification=None):
+        """Polar plot of the paths with magnified radial error (paper Figs. 11-12)."""
+        from ..plot.circle import plot_circle
+
+        return plot_circle(self, path=path, magnification=magnification)
+
+
+def lsq_circle(x, y):
+    """Least-squares circle (algebraic fit, then Gauss-Newton on the geometric error).
+
+    Returns
+    -------
+    cx, cy, r : float
+        Centre and radius [m].
+    """
+    A = np.column_stack([x, y, np.ones_like(x)])
+    b = x**2 + y**2
+    c = np.linalg.lstsq(A, b, rcond=None)[0]
+    cx, cy = c[0] / 2, c[1] / 2
+    for _ in range(5):
+        dx, dy = x - cx, y - cy
+        r = np.hypot(dx, dy)
+        J = np.column_stack([-dx / r, -dy / r, -np.ones_like(r)])
+        rr = r.mean()
+        step = np.linalg.lstsq(J, -(r - rr), rcond=None)[0]
+        cx, cy = cx + step[0], cy + step[1]
+    return cx, cy, float(np.hypot(x - cx, y - cy).mean())
+
+
+def _window(delta_deg, lo, hi):
+    return (delta_deg >= lo) & (delta_deg <= hi)
+
+
+def reversal_spikes(angle_rad, e, direction: str) -> dict:
+    """Signed reversal spike at A-D (formats.md section 4) [m]."""
+    sign = 1.0 if direction == "ccw" else -1.0
+    out = {}
+    for name, deg in QUADRANTS.items():
+        d = np.degrees(angle_rad) - deg
+        d = (d + 180.0) % 360.0 - 180.0
+        d *= sign  # travel-direction angle relative to P
+        before = _window(d, *BEFORE_DEG)
+        after = _window(d, *AFTER_DEG)
+        if not before.any() or not after.any():
+            out[name] = float("nan")
+            continue
+        b = np.median(e[before])
+        dev = e[after] - b
+        out[name] = float(dev[np.argmax(np.abs(dev))])
+    return out
+
+
+def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
+    """Figures of one sensor path over one full circle.
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Path in the plane [m].
+    radius : float
+        Nominal radius [m].
+    centre : tuple
+        Nominal centre [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    dx, dy = x - centre[0], y - centre[1]
+    ang = np.unwrap(np.arctan2(dy, dx))
+    e = np.hypot(dx, dy) - radius
+    cx, cy, _ = lsq_circle(x, y)
+    rl = np.hypot(x - cx, y - cy)
+    return SensorCircle(ang, e, float(np.max(np.abs(e))), float(rl.max() - rl.min()),
+                        (float(cx), float(cy)), reversal_spikes(ang, e, direction))
+
+
+def find_passes(x, y, radius, centre, tol=None, turns=None):
+    """Index ranges of full circles: ``(slice, direction, turns)`` each.
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Reference path, the command if there is one [m].
+    radius : float
+        Nominal radius [m].
+    centre : tuple
+        Nominal centre [m].
+    tol : float, optional
+        Radius tolerance for "on the circle"; default 0.1 % of R [m].
+    turns : float, optional
+        Turns per pass; default the whole number of turns each stretch covers [-].
+    """
+    tol = 1e-3 * radius if tol is None else tol
+    dx, dy = x - centre[0], y - centre[1]
+    on = np.abs(np.hypot(dx, dy) - radius) < tol
+    edges = np.flatnonzero(np.diff(np.r_[0, on.astype(int), 0]))
+    out = []
+    for a, b in zip(edges[::2], edges[1::2], strict=True):
+        if b - a < 8:
+            continue
+        ang = np.unwrap(np.arctan2(dy[a:b], dx[a:b]))
+        span = ang[-1] - ang[0]
+        n_turns = turns if turns is not None else np.floor(abs(span) / (2 * np.pi) + 1e-3)
+        if n_turns < 1:
+            continue
+        excess = (abs(span) - 2 * np.pi * n_turns) / 2
+        if excess < -1e-3:
+            continue
+        rel = np.abs(ang - ang[0])
+        keep = np.flatnonzero((rel >= excess) & (rel <= abs(span) - excess))
+        if keep.size < 8:
+            continue
+        out.append((slice(a + keep[0], a + keep[-1] + 1), "ccw" if span > 0 else "cw",
+                    int(n_turns)))
+    return out
+
+
+def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
+                   sensors=SENSORS) -> CircleResult:
+    """Circular-test analysis of a run.
+
+    Parameters
+    ----------
+    run : Run
+        Simulated or measured run [-].
+    radius_m : float
+        Nominal radius [m].
+    centre_m : tuple
+        Nominal centre [m].
+    plane : tuple of str
+        The two axes of the circle plane [-].
+    direction : {"ccw", "cw"}, optional
+        Keep only passes in this direction [-].
+    sensors : tuple of str
+        Sensors to analyse where present [-].
+    """
+    if not radius_m > 0:
+        raise InputError(f"the circle radius must be positive (got {radius_m})")
+    ax, ay = (p.upper() for p in plane)
+    for a in (ax, ay):
+        if a not in run.axes:
+            raise InputError(f"the run has no axis {a} (axes: {', '.join(run.axes)})")
+    X, Y = run.axes[ax], run.axes[ay]
+    present = [s for s in sensors if X.sensor(s) is not None and Y.sensor(s) is not None]
+    if not present:
+        raise InputError(f"the run has no position signals for both {ax} and {ay}")
+    ref = "cmd" if "cmd" in present else present[0]
+    tol = 1e-3 * radius_m if ref == "cmd" else 2e-2 * radius_m
+    found = find_passes(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol)
+    passes = []
+    for sl, d, _ in found:
+        if direction is not None and d != direction:
+            continue
+        cp = CirclePass(d, sl)
+        for s in present:
+            cp.sensors[s] = analyse_sensor(X.sensor(s)[sl], Y.sensor(s)[sl], radius_m,
+                                           centre_m, d)
+        passes.append(cp)
+    if not passes:
+        what = f" {direction.upper()}" if direction else ""
+        raise InputError(
+            f"no full{what} circle of radius {radius_m * 1e3:g} mm about "
+            f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm found in the {ref} signals; "
+            "check --radius and --centre")
+    return CircleResult(radius_m, tuple(centre_m), passes)

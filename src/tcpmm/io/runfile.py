@@ -1,0 +1,86 @@
+"""Run files (formats.md section 3): simulated or measured runs as CSV."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..result import RUN_COLUMNS, AxisRun, Run
+from .atomic import atomic_path
+
+_COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
+
+
+def write_run_csv(run: Run, path) -> None:
+    """Write a run file atomically (``time_s``, then per axis the section 3 columns)."""
+    df = run.to_pandas()
+    with atomic_path(path) as tmp:
+        df.to_csv(tmp, index=False, float_format="%.10g")
+
+
+def read_run_csv(path) -> Run:
+    """Read a run file; absent sensors are absent columns.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file [-].
+    """
+    import pandas as pd
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("run file not found", file=path)
+    try:
+        df = pd.read_csv(path)
+    except Exception as exc:  # pandas raises many kinds
+        raise InputError(f"cannot read as CSV: {exc}", file=path) from None
+    cols = list(df.columns)
+    if "time_s" not in cols:
+        raise InputError(f"missing column 'time_s' (found: {', '.join(cols)})", file=path, line=1)
+    axes: dict[str, dict] = {}
+    for c in cols:
+        if c == "time_s":
+            continue
+        m = _COL.match(c)
+        if not m:
+            raise InputError(
+                f"unknown column {c!r}; run-file columns are time_s and <axis>_cmd_mm, "
+                "<axis>_motor_mm, <axis>_scale_mm, <axis>_tcp_mm, <axis>_current_A",
+                file=path,
+                line=1,
+                column=c,
+            )
+        v = pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            raise InputError(
+                "value is missing or not a number", file=path, line=int(bad[0]) + 2, column=c
+            )
+        scale = 1.0 if m.group(2) == "current_A" else 1e-3
+        axes.setdefault(m.group(1).upper(), {})[RUN_COLUMNS[m.group(2)]] = v * scale
+    t = pd.to_numeric(df["time_s"], errors="coerce").to_numpy(dtype=float)
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise InputError(
+            "time is missing or not a number", file=path, line=int(bad[0]) + 2, column="time_s"
+        )
+    if t.size < 2 or np.any(np.diff(t) <= 0):
+        k = int(np.flatnonzero(np.diff(t) <= 0)[0]) + 3 if t.size >= 2 else 2
+        raise InputError("time must increase strictly", file=path, line=k, column="time_s")
+    if not axes:
+        raise InputError("no axis columns (e.g. x_tcp_mm)", file=path, line=1)
+    runs = {
+        k: AxisRun(
+            cmd=v.get("cmd"),
+            motor=v.get("motor"),
+            scale=v.get("scale"),
+            tcp=v.get("tcp"),
+            current=v.get("current"),
+        )
+        for k, v in axes.items()
+    }
+    return Run(time_s=t, axes=runs, meta={"source": str(path)})

@@ -1,0 +1,110 @@
+"""A machine: named axes, each with its mechanics, servo and sensors."""
+
+from __future__ import annotations
+
+import math
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from .mechanics.params import AxisMechanics
+from .servo.params import ServoParams
+
+
+class Sensors(BaseModel):
+    """Resolution of the position sensors of one axis; 0 means ideal.
+
+    Parameters
+    ----------
+    encoder_counts_per_rev : int
+        Motor encoder counts per revolution, 0 for an ideal encoder [-].
+    scale_resolution : float
+        Linear scale resolution [m].
+    tcp_resolution : float
+        TCP measuring device resolution [m].
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    encoder_counts_per_rev: int = Field(0, ge=0)
+    scale_resolution: float = Field(0.0, ge=0, allow_inf_nan=False)
+    tcp_resolution: float = Field(0.0, ge=0, allow_inf_nan=False)
+
+    @property
+    def encoder_quantum(self) -> float:
+        """One encoder count [rad] (0 when ideal)."""
+        c = self.encoder_counts_per_rev
+        return 2 * math.pi / c if c else 0.0
+
+
+class Axis(BaseModel):
+    """One feed axis of the machine.
+
+    Parameters
+    ----------
+    mechanics : AxisMechanics
+        Five-inertia parameters [SI].
+    servo : ServoParams
+        Cascade controller [SI].
+    sensors : Sensors
+        Sensor resolutions [SI].
+    friction : dict or None
+        Friction and lost-motion elements, ``None`` for a linear axis [SI].
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    mechanics: AxisMechanics
+    servo: ServoParams
+    sensors: Sensors = Sensors()
+    friction: dict | None = None
+
+    def replace(self, **changes) -> Axis:
+        """A copy with some fields changed."""
+        return self.model_copy(update=changes)
+
+
+class Machine(BaseModel):
+    """A machine tool model: axes by name (``"X"``, ``"Y"``, ...).
+
+    Parameters
+    ----------
+    name : str
+        Human-readable name [-].
+    axes : dict of str to Axis
+        The feed axes [-].
+    interpolation : dict or None
+        CNC interpolator settings, see :mod:`tcpmm.path` [SI].
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    name: str = "machine"
+    axes: dict[str, Axis]
+    interpolation: dict | None = None
+
+    @field_validator("axes")
+    @classmethod
+    def _names(cls, v):
+        if not v:
+            raise ValueError("a machine needs at least one axis")
+        out = {}
+        for k, a in v.items():
+            if not k.isalpha() or len(k) > 2:
+                raise ValueError(f"axis name {k!r} must be one or two letters, e.g. X")
+            out[k.upper()] = a
+        return out
+
+    def axis(self, name: str) -> Axis:
+        """The axis of that name [-]."""
+        try:
+            return self.axes[name.upper()]
+        except KeyError:
+            from .errors import InputError
+
+            raise InputError(
+                f"no axis {name!r} in machine '{self.name}'; axes: {', '.join(self.axes)}"
+            ) from None
+
+    def with_axis(self, name: str, axis: Axis) -> Machine:
+        """A copy with one axis replaced or added."""
+        return self.model_copy(update={"axes": {**self.axes, name.upper(): axis}})

@@ -1,0 +1,75 @@
+"""The interpolated position command: what the CNC sends to the drives."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+
+@dataclass(frozen=True)
+class Command:
+    """Position command per axis, sampled uniformly at the interpolation period.
+
+    Parameters
+    ----------
+    time_s : ndarray
+        Sample times, uniform, starting anywhere [s].
+    positions : dict of str to ndarray
+        Commanded position per axis name (upper case, e.g. ``"X"``), same length as
+        ``time_s`` [m].
+    meta : dict
+        Free-form description of how the command was made (e.g. circle radius [m],
+        centre [m], direction) used by analysis and reports [-].
+    """
+
+    time_s: np.ndarray
+    positions: dict[str, np.ndarray]
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        t = np.asarray(self.time_s, dtype=float)
+        if t.ndim != 1 or t.size < 2:
+            raise InputError("a command needs at least two samples in time")
+        dt = np.diff(t)
+        if not np.all(np.isfinite(t)) or np.any(dt <= 0):
+            raise InputError("command time must be finite and strictly increasing")
+        if np.max(np.abs(dt - dt.mean())) > 1e-6 * dt.mean() + 1e-12:
+            raise InputError("command time must be uniformly sampled")
+        pos = {}
+        for name, p in self.positions.items():
+            p = np.asarray(p, dtype=float)
+            if p.shape != t.shape:
+                raise InputError(
+                    f"axis {name}: {p.size} positions for {t.size} time samples", column=name
+                )
+            if not np.all(np.isfinite(p)):
+                raise InputError(f"axis {name}: positions must be finite", column=name)
+            pos[name.upper()] = p
+        object.__setattr__(self, "time_s", t)
+        object.__setattr__(self, "positions", pos)
+
+    @property
+    def period_s(self) -> float:
+        """Interpolation period [s]."""
+        return float((self.time_s[-1] - self.time_s[0]) / (self.time_s.size - 1))
+
+    @property
+    def axes(self) -> list[str]:
+        """Axis names in order [-]."""
+        return list(self.positions)
+
+    def velocity(self, axis: str) -> np.ndarray:
+        """Commanded axis velocity by central differences [m/s]."""
+        return np.gradient(self.positions[axis.upper()], self.time_s)
+
+    def to_pandas(self):
+        """Table with ``time_s`` and one column per axis in mm (command file layout)."""
+        import pandas as pd
+
+        data = {"time_s": self.time_s}
+        for name, p in self.positions.items():
+            data[f"{name.lower()}_mm"] = p * 1e3
+        return pd.DataFrame(data)

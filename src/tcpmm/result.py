@@ -1,0 +1,93 @@
+"""Results of a run: per-axis signals in SI, the run-file table, plots."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+#: Run-file column suffix -> AxisRun field (formats.md section 3), values in mm or A.
+RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_mm": "tcp",
+               "current_A": "current"}
+
+
+@dataclass
+class AxisRun:
+    """Signals of one axis, sampled at the run's times.
+
+    Parameters
+    ----------
+    cmd : ndarray
+        Position command [m].
+    motor : ndarray or None
+        Motor encoder position expressed at the table, ``th_m * lead / 2pi`` [m].
+    scale : ndarray or None
+        Linear scale X_LS [m].
+    tcp : ndarray or None
+        TCP position X_TCP [m].
+    current : ndarray or None
+        Current command [A].
+    motor_angle, motor_speed, excitation : ndarray or None
+        Motor angle [rad], motor speed [rad/s], injected excitation [A].
+    """
+
+    cmd: np.ndarray | None
+    motor: np.ndarray | None = None
+    scale: np.ndarray | None = None
+    tcp: np.ndarray | None = None
+    current: np.ndarray | None = None
+    motor_angle: np.ndarray | None = None
+    motor_speed: np.ndarray | None = None
+    excitation: np.ndarray | None = None
+
+    def truncated(self, n: int) -> AxisRun:
+        """The first ``n`` samples."""
+        return AxisRun(**{f.name: None if getattr(self, f.name) is None
+                          else getattr(self, f.name)[:n] for f in fields(self)})
+
+    def sensor(self, name: str) -> np.ndarray | None:
+        """Position by sensor name ``cmd``, ``motor``, ``scale`` or ``tcp`` [m]."""
+        return getattr(self, name)
+
+
+@dataclass
+class Run:
+    """A simulated or measured run of several axes.
+
+    Parameters
+    ----------
+    time_s : ndarray
+        Sample times [s].
+    axes : dict of str to AxisRun
+        Signals per axis [SI].
+    meta : dict
+        Description (command geometry, machine name, source file) [-].
+    """
+
+    time_s: np.ndarray
+    axes: dict[str, AxisRun]
+    meta: dict = field(default_factory=dict)
+
+    def to_pandas(self):
+        """The run-file table (formats.md section 3): mm and A."""
+        import pandas as pd
+
+        data = {"time_s": self.time_s}
+        for name, a in self.axes.items():
+            for suffix, attr in RUN_COLUMNS.items():
+                v = getattr(a, attr)
+                if v is not None:
+                    data[f"{name.lower()}_{suffix}"] = v * (1.0 if attr == "current" else 1e3)
+        return pd.DataFrame(data)
+
+    def write_csv(self, path) -> None:
+        """Write the run file, atomically."""
+        from .io.runfile import write_run_csv
+
+        write_run_csv(self, path)
+
+    def plot(self, path=None, axes=None):
+        """Time plots of command, motor, scale and TCP following errors per axis."""
+        from .plot.time import plot_run
+
+        return plot_run(self, path=path, axes=axes)

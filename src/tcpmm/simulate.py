@@ -1,0 +1,163 @@
+"""Drive a machine model with a position command: the virtual machine tool run."""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from ._threads import limit_blas_threads
+from .errors import InputError
+from .mechanics.statespace import discretize_zoh, plant, static_equilibrium
+from .model import Axis, Machine
+from .path.command import Command
+from .result import AxisRun, Run
+from .sim.kernel import NX, run_axis
+
+
+def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_every: int = 1,
+                       quantise_feedback: bool = True):
+    """Matrices, initial state and parameter vectors of :func:`tcpmm.sim.kernel.run_axis`.
+
+    Parameters
+    ----------
+    axis : Axis
+        The axis [SI].
+    x_start : float
+        Position held at the start (feedback sensor reads this) [m].
+    open_loop : bool
+        Torque mode: the current is the excitation alone [-].
+    rec_every : int
+        Record every N velocity-loop steps [-].
+    quantise_feedback : bool
+        Quantise encoder and scale feedback to the sensor resolution [-].
+    """
+    m, s, sen = axis.mechanics, axis.servo, axis.sensors
+    p = plant(m, s.current_bandwidth_hz)
+    Ad, Bd = discretize_zoh(p.A, p.B, s.T_v)
+    x0_mech, i_hold = static_equilibrium(m, x_start, s.position_feedback)
+    n = p.A.shape[0]
+    AdT, BdT = np.zeros((NX, NX)), np.zeros((4, NX))
+    AdT[:n, :n], BdT[:, :n] = Ad.T, Bd.T
+    x0 = np.zeros(NX)
+    x0[:10] = x0_mech
+    if s.current_bandwidth_hz is not None:
+        x0[10] = i_hold
+    I0 = i_hold / s.K_vi if s.K_vi > 0 and not open_loop else 0.0
+    q = quantise_feedback
+    fp = np.array([
+        s.K_pp, s.K_vp, s.K_vi, s.k_ff, m.R_L, s.current_limit, s.T_v,
+        sen.encoder_quantum if q else 0.0, sen.scale_resolution if q else 0.0,
+        I0, 0.0, 0.0, m.load_force,
+    ])
+    ip = np.array([s.n_pos, s.position_feedback == "scale", s.velocity_feedback == "difference",
+                   s.delay_samples, not open_loop, rec_every], dtype=np.int64)
+    return AdT, BdT, x0, fp, ip
+
+
+def _resample(t_src, y_src, t_dst):
+    return np.interp(t_dst, t_src, y_src)
+
+
+def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loop=False,
+                  record_period_s=None, quantise_feedback=True, x_start=None) -> AxisRun:
+    """Simulate one axis driven by a position command.
+
+    Parameters
+    ----------
+    axis : Axis
+        The axis [SI].
+    time_s : ndarray
+        Command sample times, uniform [s].
+    position_m : ndarray
+        Position command [m]; fine-interpolated linearly to the velocity-loop rate.
+    excitation_A : ndarray, optional
+        Current injected into the current command, sampled at ``time_s`` and held [A].
+    open_loop : bool
+        Torque mode (loops open): the current command is the excitation alone [-].
+    record_period_s : float, optional
+        Output period, a multiple of the velocity-loop period; default the command
+        period [s].
+    quantise_feedback : bool
+        Quantise the feedback sensors to their resolution [-].
+    x_start : float, optional
+        Initial position, default the first command sample [m].
+    """
+    limit_blas_threads()
+    s = axis.servo
+    t = np.asarray(time_s, dtype=float)
+    T_v = s.T_v
+    rp = record_period_s if record_period_s is not None else float(t[1] - t[0])
+    rec_every = round(rp / T_v)
+    if rec_every < 1 or abs(rec_every * T_v - rp) > 1e-9 * rp + 1e-12:
+        raise InputError(
+            f"record period {rp} s is not a multiple of the velocity-loop period {T_v} s; "
+            "choose a record period that is"
+        )
+    n = int(np.floor((t[-1] - t[0]) / T_v + 1e-9)) + 1
+    t_v = t[0] + np.arange(n) * T_v
+    cmd = _resample(t, position_m, t_v)
+    vcmd = _resample(t, np.gradient(position_m, t), t_v)
+    if excitation_A is None:
+        exc = np.zeros(n)
+    else:
+        idx = np.minimum(np.searchsorted(t, t_v + 1e-12 * T_v, side="right") - 1, t.size - 1)
+        exc = np.asarray(excitation_A, dtype=float)[idx]
+    x_start = cmd[0] if x_start is None else x_start
+    AdT, BdT, x0, fp, ip = axis_kernel_inputs(axis, x_start, open_loop, rec_every,
+                                              quantise_feedback)
+    rec = np.zeros(((n - 1) // rec_every + 1, 5))
+    run_axis(AdT, BdT, x0, cmd, vcmd, exc, fp, ip, rec)
+    R = axis.mechanics.R_L
+    return AxisRun(
+        cmd=cmd[::rec_every].copy(), motor=rec[:, 0] * R, scale=rec[:, 1], tcp=rec[:, 2],
+        current=rec[:, 4], motor_angle=rec[:, 0], motor_speed=rec[:, 3],
+        excitation=exc[::rec_every].copy(),
+    )
+
+
+def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
+             quantise_feedback=True) -> Run:
+    """Run the machine model on a position command, every axis of the model.
+
+    Axes of the model that the command does not name hold position 0.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine model [SI].
+    command : Command
+        Interpolated position command [m].
+    record_period_s : float, optional
+        Output period, default the interpolation period [s].
+    progress : callable, optional
+        Called with ``(axis_name, done, total)`` after each axis [-].
+    quantise_feedback : bool
+        Quantise the feedback sensors to their resolution [-].
+    """
+    unknown = [a for a in command.axes if a not in machine.axes]
+    if unknown:
+        raise InputError(
+            f"the command drives axis {', '.join(unknown)} that the machine does not have "
+            f"(machine axes: {', '.join(machine.axes)})"
+        )
+    rp = record_period_s if record_period_s is not None else command.period_s
+    names = list(machine.axes)
+
+    def one(name):
+        pos = command.positions.get(name, np.zeros_like(command.time_s))
+        return simulate_axis(machine.axes[name], command.time_s, pos, record_period_s=rp,
+                             quantise_feedback=quantise_feedback)
+
+    runs = {}
+    # The kernel releases the GIL: axes run in parallel on the available cores.
+    with ThreadPoolExecutor(max_workers=max(1, min(len(names), os.cpu_count() or 1))) as ex:
+        for k, (name, r) in enumerate(zip(names, ex.map(one, names), strict=True)):
+            runs[name] = r
+            if progress is not None:
+                progress(name, k + 1, len(names))
+    n = min(r.cmd.size for r in runs.values())
+    runs = {k: r.truncated(n) for k, r in runs.items()}
+    time = command.time_s[0] + np.arange(n) * rp
+    return Run(time_s=time, axes=runs, meta={**command.meta, "machine": machine.name})

@@ -73,3 +73,27 @@ class Command:
         for name, p in self.positions.items():
             data[f"{name.lower()}_mm"] = p * 1e3
         return pd.DataFrame(data)
+
+
+def concatenate(commands: list[Command]) -> Command:
+    """Commands one after another on one time line (same period and axes) [-].
+
+    The second starts one period after the last sample of the first; ``meta`` keeps the
+    list of the parts' meta under ``"parts"`` with their sample offsets.
+    """
+    if not commands:
+        raise InputError("nothing to concatenate")
+    T = commands[0].period_s
+    axes = commands[0].axes
+    parts, times, pos, offset = [], [], {a: [] for a in axes}, 0
+    t0 = commands[0].time_s[0]
+    for c in commands:
+        if abs(c.period_s - T) > 1e-9 * T or c.axes != axes:
+            raise InputError("commands to join need the same period and axes")
+        times.append(t0 + (offset + np.arange(c.time_s.size)) * T)
+        for a in axes:
+            pos[a].append(c.positions[a])
+        parts.append({**c.meta, "sample_offset": offset})
+        offset += c.time_s.size
+    return Command(np.concatenate(times), {a: np.concatenate(v) for a, v in pos.items()},
+                   {"parts": parts})

@@ -1,0 +1,35 @@
+"""Plots for reports. The only place matplotlib is imported, and only when a plot is made."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+SENSOR_STYLE = {
+    "cmd": dict(color="black", ls="--", lw=1.0, label="Reference"),
+    "motor": dict(color="tab:green", ls="-", lw=1.0, label="ENC (motor encoder)"),
+    "scale": dict(color="tab:red", ls=":", lw=1.4, label="LS (linear scale)"),
+    "tcp": dict(color="tab:blue", ls="-", lw=1.2, label="TCP"),
+}
+
+
+def pyplot():
+    """matplotlib.pyplot with a non-interactive backend."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save(fig, path) -> Path | None:
+    """Save a figure atomically and close it; return the path (None: figure kept open)."""
+    if path is None:
+        return None
+    from ..io.atomic import atomic_path
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=130, bbox_inches="tight")
+    pyplot().close(fig)
+    return path

@@ -1,0 +1,282 @@
+"""Command-line interface: ``tcpmm --help``.
+
+Units at this edge: mm, mm/min, Hz, um, as the option names say.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+
+import typer
+from rich.console import Console
+
+from .errors import TcpmmError
+
+app = typer.Typer(add_completion=False, pretty_exceptions_enable=False,
+                  help="Virtual machine tool: mechatronic model of the tool center point.")
+machine_app = typer.Typer(help="Built-in machines and model files.")
+app.add_typer(machine_app, name="machine")
+console = Console(stderr=True)
+out = Console()
+
+
+@contextmanager
+def _progress(total: int, description: str):
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as p:
+        task = p.add_task(description, total=total)
+
+        def advance(name=None, *_):
+            p.update(task, advance=1, description=f"{description}: {name}" if name else None)
+
+        yield advance
+
+
+def _floats(text: str | None, what: str, n: int | None = None) -> list[float] | None:
+    if text is None:
+        return None
+    try:
+        vals = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise typer.BadParameter(f"{what} must be numbers separated by commas, e.g. 0,0") from None
+    if n is not None and len(vals) != n:
+        raise typer.BadParameter(f"{what} needs {n} numbers separated by commas")
+    return vals
+
+
+def _emit_json(data) -> None:
+    out.print_json(json.dumps(data))
+
+
+@app.command()
+def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder.")):
+    """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
+    from .demo import run_demo
+
+    steps = ["built-in machine", "circle command", "simulation", "circular test analysis",
+             "plots"]
+    with _progress(len(steps), "demo") as adv:
+        res = run_demo(out_dir, progress=adv, console=out)
+    out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
+    for k, v in res["files"].items():
+        out.print(f"  {k:12s} {v}")
+
+
+@machine_app.command("export")
+def machine_export(name: str = typer.Argument(..., help="Built-in machine name (vmc)."),
+                   output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml")):
+    """Write a built-in machine as a model file."""
+    from .builtin import builtin_machine
+    from .io.modelfile import write_machine
+
+    write_machine(builtin_machine(name), output)
+    out.print(f"wrote {output}")
+
+
+@machine_app.command("show")
+def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+                 as_json: bool = typer.Option(False, "--json")):
+    """Modes of each axis (natural frequencies and damping) and closed-loop stability."""
+    import numpy as np
+
+    from .io.modelfile import read_machine
+    from .mechanics.statespace import plant
+    from .servo.closedloop import is_stable
+
+    m = read_machine(model)
+    data = {}
+    for ax, a in m.axes.items():
+        ev = np.linalg.eigvals(plant(a.mechanics).A)
+        ev = ev[ev.imag > 0]
+        order = np.argsort(np.abs(ev))
+        data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev[order]],
+                    "damping": [float(-e.real / abs(e)) for e in ev[order]],
+                    "closed_loop_stable": is_stable(a.mechanics, a.servo)}
+    if as_json:
+        _emit_json(data)
+        return
+    for ax, d in data.items():
+        modes = ", ".join(f"{f:.1f} Hz (zeta {z:.3f})" for f, z in
+                          zip(d["modes_hz"], d["damping"], strict=True))
+        state = "stable" if d["closed_loop_stable"] else "UNSTABLE"
+        out.print(f"{ax}: {modes}; closed loop {state}")
+
+
+def _load_command(command: Path | None, gcode: Path | None, machine):
+    from .path import program_to_command, read_command_csv
+
+    if (command is None) == (gcode is None):
+        raise typer.BadParameter("give exactly one of --command CMD.csv or --gcode PROG.nc")
+    if command is not None:
+        return read_command_csv(command)
+    return program_to_command(gcode, _interp_settings(machine))
+
+
+def _interp_settings(machine):
+    from .path import InterpolatorSettings
+
+    if machine is not None and machine.interpolation is not None:
+        return InterpolatorSettings.model_validate(machine.interpolation)
+    return InterpolatorSettings()
+
+
+@app.command()
+def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+             command: Path = typer.Option(None, "--command", help="Command file CMD.csv."),
+             gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
+             output: Path = typer.Option(..., "-o", "--output", help="Run file RUN.csv."),
+             record_period_s: float = typer.Option(None, help="Output period [s].")):
+    """Drive the machine model with a position command; write the run file."""
+    from .io.modelfile import read_machine
+    from .simulate import simulate as _simulate
+
+    m = read_machine(model)
+    cmd = _load_command(command, gcode, m)
+    with _progress(len(m.axes), "simulate") as adv:
+        run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
+    run.write_csv(output)
+    out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
+
+
+@app.command()
+def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or measured)"),
+           radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
+           centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+           direction: str = typer.Option(None, "--direction", help="ccw or cw."),
+           as_json: bool = typer.Option(False, "--json"),
+           plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
+    """Circular test: radial and contour error, circular deviation G, reversal spikes A-D."""
+    from .analysis.circular import analyse_circle
+    from .demo import print_circle_table
+    from .io.runfile import read_run_csv
+
+    if direction is not None and direction.lower() not in ("ccw", "cw"):
+        raise typer.BadParameter("--direction must be ccw or cw")
+    c = _floats(centre, "--centre", 2)
+    res = analyse_circle(read_run_csv(run_file), radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
+                         direction=direction.lower() if direction else None)
+    if plot is not None:
+        res.plot(plot)
+    if as_json:
+        _emit_json(res.to_dict())
+    else:
+        print_circle_table(res.to_pandas(), out, f"{run_file} [um]")
+
+
+@app.command()
+def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
+            predicted: Path = typer.Argument(..., help="Predicted RUN.csv"),
+            radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
+            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+            as_json: bool = typer.Option(False, "--json"),
+            plot: Path = typer.Option(None, "--plot", help="Save an overlay plot.")):
+    """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
+    from .analysis.circular import analyse_circle
+    from .analysis.compare import compare_circles
+    from .demo import print_circle_table
+    from .io.runfile import read_run_csv
+
+    c = _floats(centre, "--centre", 2)
+    ctr = (c[0] * 1e-3, c[1] * 1e-3)
+    rm = analyse_circle(read_run_csv(measured), radius * 1e-3, ctr)
+    rp = analyse_circle(read_run_csv(predicted), radius * 1e-3, ctr)
+    cmp = compare_circles(rm, rp)
+    if plot is not None:
+        from .plot.circle import plot_circle
+
+        plot_circle(rm, plot, sensors=["tcp"], overlay=rp)
+    if as_json:
+        _emit_json(cmp.to_dict())
+    else:
+        print_circle_table(cmp.to_pandas(), out, "measured - predicted [um]")
+
+
+@app.command()
+def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+         axis: str = typer.Option(..., "--axis", help="Axis name, e.g. X."),
+         tf: str = typer.Option(..., "--tf", help="G_M, G_T, G_tcp, G_v, G_p or cmd_to_tcp."),
+         freq_hz: str = typer.Option(None, "--freq-hz", help="F1,F2,... [Hz]"),
+         as_json: bool = typer.Option(False, "--json"),
+         plot: Path = typer.Option(None, "--plot", help="Save a Bode plot.")):
+    """Frequency response of a transfer function of the model."""
+    import numpy as np
+
+    from .io.modelfile import read_machine
+    from .mechanics.transfer import REDUCED, reduced_freqresp
+    from .servo.closedloop import CLOSED_LOOP_TFS, closed_loop_freqresp
+
+    m = read_machine(model)
+    a = m.axis(axis)
+    f = np.array(_floats(freq_hz, "--freq-hz")) if freq_hz else np.logspace(0, 3.2, 200)
+    if np.any(f <= 0):
+        raise typer.BadParameter("--freq-hz values must be positive")
+    if tf in REDUCED:
+        H = reduced_freqresp(a.mechanics, tf, f, a.servo.current_bandwidth_hz)
+    elif tf in CLOSED_LOOP_TFS:
+        H = closed_loop_freqresp(a.mechanics, a.servo, tf, f)
+    else:
+        raise typer.BadParameter(f"--tf must be one of {', '.join([*REDUCED, *CLOSED_LOOP_TFS])}")
+    if plot is not None:
+        from .plot.bode import plot_bode
+
+        plot_bode({tf: [(f"{axis.upper()} model", f, H, {"color": "tab:red"})]}, plot)
+    rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag)}
+            for fi, h in zip(f, H, strict=True)]
+    if as_json:
+        _emit_json(rows)
+    else:
+        for r in rows:
+            h = complex(r["re"], r["im"])
+            out.print(f"{r['freq_hz']:12.4g} Hz  |H| {abs(h):.6g}  phase "
+                      f"{np.degrees(np.angle(h)):8.2f} deg")
+
+
+@app.command()
+def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
+         output: Path = typer.Option(..., "-o", "--output", help="Command file CMD.csv."),
+         model: str = typer.Option(None, "--model", help="Model file with interpolator settings."),
+         plot: bool = typer.Option(False, "--plot", help="Also save CMD.png beside the CSV.")):
+    """Interpolate an NC program into the position command per axis."""
+    from .path import program_to_command, write_command_csv
+
+    m = None
+    if model is not None:
+        from .io.modelfile import read_machine
+
+        m = read_machine(model)
+    cmd = program_to_command(program, _interp_settings(m))
+    write_command_csv(cmd, output)
+    out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
+              f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
+    if plot:
+        from .plot.path import plot_command
+
+        p = plot_command(cmd, output.with_suffix(".png"))
+        out.print(f"wrote {p}")
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``tcpmm`` console script."""
+    try:
+        app(args=argv, standalone_mode=True)
+    except TcpmmError as exc:
+        console.print(f"[red]error:[/red] {_esc(str(exc))}")
+        return 2
+    except SystemExit as exc:
+        return int(exc.code or 0) if not isinstance(exc.code, str) else 1
+    return 0
+
+
+def _esc(text: str) -> str:
+    from rich.markup import escape
+
+    return escape(text)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

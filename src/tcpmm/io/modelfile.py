@@ -1,0 +1,85 @@
+"""Machine model files: YAML with a format version, validated, unknown keys are errors.
+
+All values are SI (kg, m, s, N, A, rad). What is exported loads back to identical numbers
+(floats are written with their shortest exact representation).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict
+
+from ..model import Axis, Machine
+from .atomic import write_text_atomic
+from .yamlutil import read_yaml_model, validate_yaml
+
+FORMAT = "tcpmm-model/1"
+
+_HEADER = """\
+# tcpmm machine model ({fmt}). SI units throughout:
+#   mechanics: J [kg m^2], B [N m s/rad], K_L [N m/rad], lead [m], M [kg], C [N s/m],
+#              K [N/m], K_tc [N m/A], load_force [N]
+#   servo: K_pp [1/s], K_vp [A s/rad], K_vi [A/rad], k_ff [-], T_p, T_v [s],
+#          current_limit [A], current_bandwidth_hz [Hz], delay_samples [-]
+#   sensors: encoder_counts_per_rev [-], scale_resolution [m], tcp_resolution [m]
+"""
+
+
+class ModelFile(BaseModel):
+    """Schema of a model file."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    format: Literal["tcpmm-model/1"]
+    name: str = "machine"
+    axes: dict[str, Axis]
+    interpolation: dict | None = None
+
+
+def machine_to_dict(machine: Machine) -> dict:
+    """Plain dict of a machine in the model-file layout."""
+    d = machine.model_dump(mode="python")
+    out = {"format": FORMAT, "name": d["name"], "axes": d["axes"]}
+    if d.get("interpolation") is not None:
+        out["interpolation"] = d["interpolation"]
+    return out
+
+
+def dumps_machine(machine: Machine) -> str:
+    """The model file text of a machine."""
+    body = yaml.safe_dump(machine_to_dict(machine), sort_keys=False, default_flow_style=False)
+    return _HEADER.format(fmt=FORMAT) + body
+
+
+def write_machine(machine: Machine, path) -> None:
+    """Write a model file atomically."""
+    write_text_atomic(path, dumps_machine(machine))
+
+
+def _to_machine(mf: ModelFile) -> Machine:
+    return Machine(name=mf.name, axes=mf.axes, interpolation=mf.interpolation)
+
+
+def loads_machine(text: str, file="<model>") -> Machine:
+    """Parse model-file text."""
+    return _to_machine(validate_yaml(text, ModelFile, file, "machine model",
+                                     "see the keys that `tcpmm machine export` writes"))
+
+
+def read_machine(path) -> Machine:
+    """Read a model file, or ``builtin:NAME`` for a built-in machine.
+
+    Parameters
+    ----------
+    path : str or Path
+        Model file, or ``builtin:vmc`` [-].
+    """
+    s = str(path)
+    if s.startswith("builtin:"):
+        from ..builtin import builtin_machine
+
+        return builtin_machine(s.split(":", 1)[1])
+    return _to_machine(read_yaml_model(path, ModelFile, "machine model",
+                                       "see the keys that `tcpmm machine export` writes"))

@@ -1,0 +1,136 @@
+"""YAML files validated by pydantic models, with errors that name the key path and line.
+
+A safe loader that rejects duplicate keys and reads ``1e-4`` as a number (as YAML 1.2
+does); every validation problem is reported with its key path (``axes.X.servo.K_pp``)
+and the line of that key.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+import yaml
+from pydantic import ValidationError
+
+from ..errors import InputError
+
+
+class StrictLoader(yaml.SafeLoader):
+    """Safe loader that rejects duplicate keys and reads 1e-4 as a number (YAML 1.2)."""
+
+    def construct_mapping(self, node, deep=False):
+        seen: dict[Any, int] = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            line = key_node.start_mark.line + 1
+            if key in seen:
+                raise InputError(
+                    f"key '{key}' appears twice (first at line {seen[key]}); "
+                    "keep one, the second would silently replace the first",
+                    file=self.name, line=line, column=str(key))
+            seen[key] = line
+        return super().construct_mapping(node, deep=deep)
+
+
+StrictLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"),
+)
+
+
+def key_lines(node, prefix=(), out=None) -> dict[tuple, int]:
+    """Map every key path of a composed YAML node to its 1-based line."""
+    out = {} if out is None else out
+    if isinstance(node, yaml.MappingNode):
+        out.setdefault(prefix, node.start_mark.line + 1)
+        for k, v in node.value:
+            path = (*prefix, k.value)
+            out[path] = k.start_mark.line + 1
+            key_lines(v, path, out)
+    return out
+
+
+def line_for(loc: tuple, lines: dict[tuple, int]) -> int | None:
+    """Line of the deepest key of ``loc`` that the file has [-]."""
+    loc = tuple(str(p) for p in loc)
+    while loc:
+        if loc in lines:
+            return lines[loc]
+        loc = loc[:-1]
+    return lines.get(())
+
+
+def describe(err: dict, hint: str = "") -> str:
+    """A readable sentence for one pydantic error."""
+    if err["type"] == "extra_forbidden":
+        return "unknown key" + (f" ({hint})" if hint else "")
+    if err["type"] == "missing":
+        return "required key is missing"
+    msg = err["msg"]
+    if msg.startswith("Value error, "):
+        msg = msg[len("Value error, "):]
+    return f"{msg} (got {err['input']!r})"
+
+
+def load_yaml(text: str, file) -> tuple[Any, Any]:
+    """Parse YAML text into ``(data, node)``; syntax errors name line and column."""
+    loader = StrictLoader(text)
+    loader.name = str(file)
+    try:
+        node = loader.get_single_node()
+        data = loader.construct_document(node) if node is not None else None
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        raise InputError(f"not valid YAML: {exc.problem or exc}", file=file,
+                         line=None if mark is None else mark.line + 1,
+                         column=None if mark is None else mark.column + 1) from None
+    finally:
+        loader.dispose()
+    return data, node
+
+
+def validate_yaml(text: str, model_cls, file, what: str, hint: str = ""):
+    """Parse YAML text and validate it into ``model_cls``.
+
+    Parameters
+    ----------
+    text : str
+        YAML text [-].
+    model_cls : type
+        Pydantic model of the document [-].
+    file : str or Path
+        Name used in messages [-].
+    what : str
+        What the document is, for messages ("machine description") [-].
+    hint : str
+        Where the valid keys are documented, for unknown-key messages [-].
+    """
+    data, node = load_yaml(text, file)
+    if not isinstance(data, dict):
+        raise InputError(f"expected a mapping ({what})", file=file)
+    lines = key_lines(node)
+    try:
+        return model_cls.model_validate(data)
+    except ValidationError as exc:
+        errors = exc.errors()
+        parts = []
+        for err in errors:
+            key = ".".join(str(p) for p in err["loc"]) or "<top>"
+            line = line_for(err["loc"], lines)
+            at = f" (line {line})" if line is not None else ""
+            parts.append(f"{key}{at}: {describe(err, hint)}")
+        first = errors[0]
+        raise InputError(f"{len(errors)} problem(s) in {what}:\n  " + "\n  ".join(parts),
+                         file=file, line=line_for(first["loc"], lines),
+                         column=".".join(str(p) for p in first["loc"]) or None) from None
+
+
+def read_yaml_model(path, model_cls, what: str, hint: str = ""):
+    """Read a YAML file and validate it into ``model_cls`` (see :func:`validate_yaml`)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{what} not found", file=path)
+    return validate_yaml(path.read_text(encoding="utf-8-sig"), model_cls, path, what, hint)

@@ -1,0 +1,52 @@
+"""Bode plots of transfer functions (paper Figs. 8-10)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import pyplot, save
+
+UNITS = {"G_M": "rad/s/A", "G_T": "m/rad", "G_tcp": "-", "G_p": "-", "cmd_to_tcp": "-",
+         "G_v": "-"}
+
+
+def plot_bode(curves, path=None, title=None):
+    """Magnitude (dB) and phase per transfer function, one column each.
+
+    Parameters
+    ----------
+    curves : dict
+        ``{tf_name: [(label, f_hz, H, style_dict), ...]}``; an optional coherence can be
+        given as a fifth element and is drawn under the magnitude [-].
+    path : str or Path, optional
+        Where to save [-].
+    title : str, optional
+        Figure title [-].
+    """
+    plt = pyplot()
+    names = list(curves)
+    fig, axs = plt.subplots(2, len(names), figsize=(4.6 * len(names), 6.0), squeeze=False,
+                            sharex="col")
+    for k, name in enumerate(names):
+        am, ap = axs[0, k], axs[1, k]
+        for item in curves[name]:
+            label, f, H, style = item[:4]
+            am.semilogx(f, 20 * np.log10(np.abs(H) + 1e-300), label=label, **style)
+            ap.semilogx(f, np.degrees(np.unwrap(np.angle(H))), **style)
+            if len(item) > 4 and item[4] is not None:
+                ac = am.twinx()
+                ac.semilogx(f, item[4], color="gray", lw=0.6, alpha=0.6)
+                ac.set_ylim(0, 4)
+                ac.set_yticks([0, 0.5, 1])
+                ac.set_ylabel("coherence", fontsize=7, color="gray")
+        am.set_title(name)
+        am.set_ylabel(f"|{name}| [dB re 1 {UNITS.get(name, '')}]")
+        ap.set_ylabel("phase [deg]")
+        ap.set_xlabel("frequency [Hz]")
+        for a in (am, ap):
+            a.grid(alpha=0.3, which="both")
+        am.legend(fontsize=7)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    return save(fig, path) or fig

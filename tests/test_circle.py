@@ -1,0 +1,136 @@
+"""Circular-test analysis recovers known injected errors (formats.md section 4)."""
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.circular import analyse_circle, lsq_circle, reversal_spikes
+from tcpmm.analysis.compare import compare_circles
+from tcpmm.errors import InputError
+from tcpmm.result import AxisRun, Run
+
+R = 0.035
+
+
+def circle_path(direction="ccw", n=7200, start_deg=0.0, centre=(0.0, 0.0)):
+    """Feed-in semicircle of R/2 from the centre, one turn, feed-out back to the centre."""
+    sgn = 1.0 if direction == "ccw" else -1.0
+    a0 = np.radians(start_deg)
+    u = np.array([np.cos(a0), np.sin(a0)])
+    v = sgn * np.array([-np.sin(a0), np.cos(a0)])
+    ph = np.linspace(np.pi, 2 * np.pi, 600)[:-1]  # arrives at the start moving along +v
+    fi = (R / 2) * (np.outer(1 + np.cos(ph), u) + np.outer(np.sin(ph), v))
+    th = np.linspace(0, 2 * np.pi, n + 1)
+    c = R * (np.outer(np.cos(th), u) + np.outer(np.sin(th), v))
+    ps = np.linspace(0, np.pi, 600)  # leaves the circle along +v, back to the centre
+    fo = (R / 2) * (np.outer(1 + np.cos(ps), u) + np.outer(np.sin(ps), v))
+    p = np.vstack([fi, c, fo[1:]]) + np.asarray(centre)
+    return p
+
+
+def make_run(p, sensor_xy, name="tcp"):
+    t = np.arange(len(p)) * 1e-3
+    return Run(t, {"X": AxisRun(cmd=p[:, 0], **{name: sensor_xy[:, 0]}),
+                   "Y": AxisRun(cmd=p[:, 1], **{name: sensor_xy[:, 1]})})
+
+
+def polar_perturb(p, centre, de):
+    """Move each point radially by de(angle) [m]."""
+    d = p - np.asarray(centre)
+    r = np.hypot(d[:, 0], d[:, 1])
+    a = np.arctan2(d[:, 1], d[:, 0])
+    return np.asarray(centre) + (r + de(a))[:, None] * np.c_[np.cos(a), np.sin(a)]
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize("start_deg", [0.0, 45.0, 200.0])
+def test_radius_offset(direction, start_deg):
+    p = circle_path(direction, start_deg=start_deg, centre=(0.01, -0.02))
+    s = polar_perturb(p, (0.01, -0.02), lambda a: 4e-6 + 0 * a)
+    res = analyse_circle(make_run(p, s), R, (0.01, -0.02))
+    assert len(res.passes) == 1
+    ps = res.passes[0]
+    assert ps.direction == direction
+    sc = ps.sensors["tcp"]
+    assert sc.contour_error == pytest.approx(4e-6, abs=1e-10)
+    assert sc.circular_deviation < 1e-9
+    span = abs(sc.angle_rad[-1] - sc.angle_rad[0])
+    assert span == pytest.approx(2 * np.pi, abs=np.radians(0.2))  # feed-in/out trimmed
+    assert all(abs(v) < 1e-9 for v in sc.spikes.values())
+
+
+def test_ellipse_circular_deviation():
+    p = circle_path()
+    d = 3e-6
+    s = polar_perturb(p, (0, 0), lambda a: d * np.cos(2 * a))
+    sc = analyse_circle(make_run(p, s), R).passes[0].sensors["tcp"]
+    assert sc.circular_deviation == pytest.approx(2 * d, rel=1e-3)
+    assert sc.contour_error == pytest.approx(d, rel=1e-3)
+
+
+def test_offset_centre_gives_lsq_centre_and_small_g():
+    p = circle_path()
+    s = p + np.array([2e-6, -1e-6])
+    sc = analyse_circle(make_run(p, s), R).passes[0].sensors["tcp"]
+    assert sc.lsq_centre == pytest.approx((2e-6, -1e-6), abs=1e-10)
+    assert sc.circular_deviation < 1e-9
+    assert sc.contour_error == pytest.approx(np.hypot(2e-6, 1e-6), rel=1e-3)
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize(("quadrant", "deg"), [("A", 0), ("B", 90), ("C", 180), ("D", 270)])
+def test_known_spike_at_known_quadrant(direction, quadrant, deg):
+    """A spike of +5 um, 6 deg after the quadrant point in the direction of travel,
+    on a baseline offset of -2 um: reported +5 um (relative to the baseline) there, 0
+    elsewhere; a spike placed before P is not attributed to P."""
+    p = circle_path(direction, start_deg=45.0)
+    sgn = 1 if direction == "ccw" else -1
+    centre_deg = deg + sgn * 6.0
+
+    def de(a):
+        da = (np.degrees(a) - centre_deg + 180) % 360 - 180
+        return -2e-6 + 5e-6 * np.exp(-0.5 * (da / 1.5) ** 2)
+
+    s = polar_perturb(p, (0, 0), de)
+    spikes = analyse_circle(make_run(p, s), R).passes[0].sensors["tcp"].spikes
+    assert spikes[quadrant] == pytest.approx(5e-6, rel=1e-3)
+    for q, v in spikes.items():
+        if q != quadrant:
+            assert abs(v) < 1e-9
+
+
+def test_negative_spike_is_signed():
+    ang = np.radians(np.linspace(0, 360, 3601))
+    e = np.where((np.degrees(ang) > 92) & (np.degrees(ang) < 95), -3e-6, 0.0)
+    assert reversal_spikes(ang, e, "ccw")["B"] == pytest.approx(-3e-6)
+    assert reversal_spikes(ang, e, "cw")["B"] == 0.0  # for CW the window lies before B
+
+
+def test_ccw_then_cw_run_gives_two_passes_and_direction_filter():
+    p = np.vstack([circle_path("ccw"), circle_path("cw")])
+    s = polar_perturb(p, (0, 0), lambda a: 1e-6 + 0 * a)
+    res = analyse_circle(make_run(p, s), R)
+    assert [q.direction for q in res.passes] == ["ccw", "cw"]
+    assert analyse_circle(make_run(p, s), R, direction="cw").passes[0].direction == "cw"
+    df = res.to_pandas()
+    assert set(df["sensor"]) == {"cmd", "tcp"}
+
+
+def test_compare_is_measured_minus_predicted():
+    p = circle_path()
+    meas = analyse_circle(make_run(p, polar_perturb(p, (0, 0), lambda a: 3e-6 + 0 * a)), R)
+    pred = analyse_circle(make_run(p, polar_perturb(p, (0, 0), lambda a: 1e-6 + 0 * a)), R)
+    row = compare_circles(meas, pred).rows[0]
+    assert row["contour_error_um"] == pytest.approx(2.0, abs=1e-6)
+    assert row["radial_rms_um"] == pytest.approx(2.0, abs=1e-3)
+
+
+def test_wrong_radius_is_a_clear_error():
+    p = circle_path()
+    with pytest.raises(InputError, match="no full circle of radius 30 mm"):
+        analyse_circle(make_run(p, p), 0.030)
+
+
+def test_lsq_circle_exact():
+    th = np.linspace(0, 2 * np.pi, 50, endpoint=False)
+    cx, cy, r = lsq_circle(1 + 2 * np.cos(th), -3 + 2 * np.sin(th))
+    assert (cx, cy, r) == pytest.approx((1, -3, 2))

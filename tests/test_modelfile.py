@@ -1,0 +1,54 @@
+"""Model files: exact round trip, strict validation with key path and line."""
+
+import pytest
+
+from tcpmm.errors import InputError
+from tcpmm.io.modelfile import dumps_machine, loads_machine, read_machine, write_machine
+
+
+def test_round_trip_is_identical(vmc, tmp_path):
+    write_machine(vmc, tmp_path / "m.yaml")
+    m2 = read_machine(tmp_path / "m.yaml")
+    assert m2 == vmc
+    assert m2.axes["Y"].servo.K_vp == vmc.axes["Y"].servo.K_vp  # bit-identical floats
+    assert not list(tmp_path.glob(".*"))  # no temp file left
+
+
+def test_unknown_key_names_path_and_line(vmc):
+    text = dumps_machine(vmc).replace("      K_t:", "      K_tt:", 1)
+    with pytest.raises(InputError) as e:
+        loads_machine(text, "m.yaml")
+    msg = str(e.value)
+    assert "axes.X.mechanics.K_tt" in msg and "unknown key" in msg
+    line = next(i for i, s in enumerate(text.splitlines(), 1) if "K_tt" in s)
+    assert f"line {line}" in msg
+
+
+@pytest.mark.parametrize(("old", "new", "needle"), [
+    ("format: tcpmm-model/1", "format: tcpmm-model/9", "format"),
+    ("      M_t: 150.0", "      M_t: -150.0", "M_t"),
+    ("      lead: 0.01\n", "      lead: .nan\n", "lead"),
+    ("      K_pp: 40.0\n", "      K_pp: fast\n", "K_pp"),
+])
+def test_bad_values(vmc, old, new, needle):
+    text = dumps_machine(vmc)
+    assert old in text
+    with pytest.raises(InputError, match=needle):
+        loads_machine(text.replace(old, new, 1))
+
+
+def test_duplicate_key_and_syntax_error(vmc):
+    dup = "      K_tc: 0.73\n      K_tc: 0.8\n"
+    text = dumps_machine(vmc).replace("      K_tc: 0.73\n", dup, 1)
+    with pytest.raises(InputError, match="appears twice"):
+        loads_machine(text)
+    with pytest.raises(InputError, match="line"):
+        loads_machine("axes: [\n")
+
+
+def test_builtin_reference_and_missing_file(tmp_path):
+    assert "X" in read_machine("builtin:vmc").axes
+    with pytest.raises(InputError, match="not found"):
+        read_machine(tmp_path / "nope.yaml")
+    with pytest.raises(InputError, match="unknown built-in"):
+        read_machine("builtin:lathe")

@@ -36,5 +36,5 @@ def atomic_path(path, suffix: str = ""):
 
 def write_text_atomic(path, text: str) -> None:
     """Write text to ``path`` atomically."""
-    with atomic_path(path) as tmp:
-        tmp.write_text(text, encoding="utf-8")
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as fh:
+        fh.write(text)

@@ -110,12 +110,14 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = ""):
     """
     data, node = load_yaml(text, file)
     if not isinstance(data, dict):
-        raise InputError(f"expected a mapping ({what})", file=file)
+        raise InputError(f"expected a mapping: {what}", file=file)
     lines = key_lines(node)
     try:
         return model_cls.model_validate(data)
     except ValidationError as exc:
-        errors = exc.errors()
+        # unknown keys (typos) first, then the rest, each in file order
+        errors = sorted(exc.errors(), key=lambda e: (e["type"] != "extra_forbidden",
+                                                     line_for(e["loc"], lines) or 0))
         parts = []
         for err in errors:
             key = ".".join(str(p) for p in err["loc"]) or "<top>"

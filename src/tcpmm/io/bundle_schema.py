@@ -1,0 +1,289 @@
+"""Schema of ``machine.yaml``, the user-known part of a measurement bundle.
+
+The file uses the units a machine-tool engineer reads (mm, um, N m/A); the models keep
+those values as written and expose SI accessors (``lead_m``, ``scale_resolution_m``, ...).
+Unknown keys are errors: a typo must never change a result silently.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Annotated, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from tcpmm.errors import InputError
+from tcpmm.io.atomic import write_text_atomic
+from tcpmm.io.yamlutil import validate_yaml
+from tcpmm.units import MM, UM
+
+FORMAT_VERSION = "tcpmm-bundle/1"
+
+PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
+
+
+class ServoConfig(_Strict):
+    """Cascade servo settings of one axis (paper Fig. 2; physics.md section 3).
+
+    Parameters
+    ----------
+    position_feedback : {"scale", "encoder"}
+        Fully closed (linear scale) or semi-closed (motor encoder) position loop [-].
+    position_gain_1_per_s : float
+        Position-loop gain K_pp [1/s].
+    velocity_gain_A_s_per_rad : float
+        Velocity-loop proportional gain K_vp [A s/rad].
+    velocity_integral_gain_A_per_rad : float
+        Velocity-loop integral gain K_vi [A/rad].
+    velocity_feedforward : float
+        Fraction of the command velocity fed forward, 0..1 [-].
+    position_loop_period_s : float
+        Position-loop sample period T_p [s].
+    velocity_loop_period_s : float
+        Velocity-loop sample period T_v [s].
+    current_limit_A : float
+        Drive current limit [A].
+    """
+
+    position_feedback: Literal["scale", "encoder"]
+    position_gain_1_per_s: PosFloat
+    velocity_gain_A_s_per_rad: PosFloat
+    velocity_integral_gain_A_per_rad: NonNegFloat
+    velocity_feedforward: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.0
+    position_loop_period_s: PosFloat
+    velocity_loop_period_s: PosFloat
+    current_limit_A: PosFloat
+
+    @model_validator(mode="after")
+    def _inner_loop_faster(self):
+        if self.velocity_loop_period_s > self.position_loop_period_s * (1 + 1e-9):
+            raise ValueError(
+                f"velocity_loop_period_s ({self.velocity_loop_period_s:g} s) is longer than "
+                f"position_loop_period_s ({self.position_loop_period_s:g} s); the inner "
+                "velocity loop must run at least as fast as the position loop"
+            )
+        return self
+
+
+class SensorConfig(_Strict):
+    """Position sensors of one axis.
+
+    Parameters
+    ----------
+    encoder_counts_per_rev : int
+        Motor encoder counts per motor revolution [-].
+    scale_resolution_um : float
+        Linear-scale resolution [um].
+    tcp_resolution_um : float, optional
+        Resolution of the TCP measuring device; omit when none is fitted [um].
+    """
+
+    encoder_counts_per_rev: Annotated[int, Field(gt=0)]
+    scale_resolution_um: PosFloat
+    tcp_resolution_um: PosFloat | None = None
+
+    @property
+    def encoder_resolution_rad(self) -> float:
+        """Motor angle per encoder count [rad]."""
+        return 2.0 * math.pi / self.encoder_counts_per_rev
+
+    @property
+    def scale_resolution_m(self) -> float:
+        """Linear-scale resolution [m]."""
+        return self.scale_resolution_um * UM
+
+    @property
+    def tcp_resolution_m(self) -> float | None:
+        """TCP-device resolution, None when no device is declared [m]."""
+        return None if self.tcp_resolution_um is None else self.tcp_resolution_um * UM
+
+
+class AxisConfig(_Strict):
+    """What the user knows about one feed axis.
+
+    Parameters
+    ----------
+    lead_mm : float
+        Ball-screw lead per motor revolution [mm].
+    torque_constant_Nm_per_A : float
+        Motor torque constant K_tc [N m/A].
+    servo : ServoConfig
+        Servo-loop settings [-].
+    sensors : SensorConfig
+        Sensor resolutions [-].
+    """
+
+    lead_mm: PosFloat
+    torque_constant_Nm_per_A: PosFloat
+    servo: ServoConfig
+    sensors: SensorConfig
+
+    @property
+    def lead_m(self) -> float:
+        """Ball-screw lead [m]."""
+        return self.lead_mm * MM
+
+    @property
+    def screw_ratio_m_per_rad(self) -> float:
+        """R_L = lead / (2 pi), carriage travel per screw angle [m/rad]."""
+        return self.lead_m / (2.0 * math.pi)
+
+    @property
+    def torque_constant(self) -> float:
+        """Motor torque constant K_tc [N m/A]."""
+        return self.torque_constant_Nm_per_A
+
+
+AXIS_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+class MachineConfig(_Strict):
+    """Contents of ``machine.yaml``.
+
+    Parameters
+    ----------
+    format : str
+        Format tag, must be ``tcpmm-bundle/1`` [-].
+    name : str
+        Free-text machine name [-].
+    axes : dict of str to AxisConfig
+        One entry per feed axis; the key is the axis folder name [-].
+    """
+
+    format: str
+    name: Annotated[str, Field(min_length=1)]
+    axes: Annotated[dict[str, AxisConfig], Field(min_length=1)]
+
+    @field_validator("format")
+    @classmethod
+    def _version(cls, v: str) -> str:
+        if v != FORMAT_VERSION:
+            raise ValueError(
+                f"format is '{v}' but this tcpmm reads '{FORMAT_VERSION}'; write "
+                f"'format: {FORMAT_VERSION}' and use the keys of that version"
+            )
+        return v
+
+    @field_validator("axes")
+    @classmethod
+    def _axis_names(cls, v: dict[str, AxisConfig]) -> dict[str, AxisConfig]:
+        for name in v:
+            if not AXIS_NAME.match(name):
+                raise ValueError(
+                    f"axis name '{name}' is not usable as a folder name; use a letter "
+                    "followed by letters, digits or '_' (e.g. X, Y, Z, A1)"
+                )
+        return v
+
+
+def parse_machine_yaml(text: str, file: str | Path = "<machine.yaml>") -> MachineConfig:
+    """Parse and validate the text of a ``machine.yaml``.
+
+    Parameters
+    ----------
+    text : str
+        YAML text [-].
+    file : str or Path
+        Name used in error messages [-].
+
+    Returns
+    -------
+    MachineConfig
+        The validated configuration.
+
+    Raises
+    ------
+    InputError
+        On a YAML syntax error, a duplicate or unknown key, a missing key, a wrong type or
+        an out-of-range value; names the key path and its line.
+    """
+    return validate_yaml(text, MachineConfig, file,
+                         "machine description with keys format, name, axes",
+                         "check the spelling against formats.md section 1")
+
+
+def read_machine_yaml(path: str | Path) -> MachineConfig:
+    """Read and validate a ``machine.yaml`` file.
+
+    Parameters
+    ----------
+    path : str or Path
+        File to read [-].
+
+    Returns
+    -------
+    MachineConfig
+        The validated configuration.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(
+            "machine.yaml not found; every bundle needs one (see formats.md section 1)",
+            file=path,
+        )
+    return parse_machine_yaml(path.read_text(encoding="utf-8-sig"), file=path)
+
+
+def machine_to_dict(machine: MachineConfig) -> dict:
+    """Plain-dict form of a configuration, ``format`` first, unset optionals left out."""
+    data = machine.model_dump(exclude_none=True)
+    return {"format": data.pop("format"), **data}
+
+
+def _plain(obj):
+    """Nested mappings/sequences with numpy scalars turned into plain Python values."""
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_plain(v) for v in obj]
+    return obj.item() if hasattr(obj, "item") and callable(obj.item) else obj
+
+
+def as_machine_config(machine, file=None) -> MachineConfig:
+    """Validate a dict in the machine.yaml layout (numpy scalars allowed) [-].
+
+    Parameters
+    ----------
+    machine : MachineConfig or dict
+        Configuration [-].
+    file : str or Path, optional
+        File named in error messages [-].
+
+    Returns
+    -------
+    MachineConfig
+        The validated configuration.
+    """
+    if isinstance(machine, MachineConfig):
+        return machine
+    text = yaml.safe_dump(_plain(dict(machine)), sort_keys=False)
+    return parse_machine_yaml(text, file=file or "<machine description>")
+
+
+def write_machine_yaml(machine: MachineConfig | dict, path: str | Path) -> Path:
+    """Write ``machine.yaml`` atomically (temp file in the same folder, then rename).
+
+    Parameters
+    ----------
+    machine : MachineConfig or dict
+        Configuration; a dict is validated first [-].
+    path : str or Path
+        Target file [-].
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    machine = as_machine_config(machine, file=path)
+    text = yaml.safe_dump(machine_to_dict(machine), sort_keys=False, default_flow_style=False)
+    write_text_atomic(path, text)
+    return Path(path)

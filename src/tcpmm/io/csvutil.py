@@ -1,0 +1,230 @@
+"""Strict reading and atomic writing of the plain numeric CSV files of formats.md.
+
+Line numbers in messages are file lines: the header is line 1, the first data row line 2.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+import warnings
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from tcpmm.errors import InputError, InputWarning
+from tcpmm.io.atomic import atomic_path
+
+
+def warn_input(message: str, file=None, line=None, column=None) -> None:
+    """Emit an :class:`InputWarning` whose text names the file, line and column.
+
+    Parameters
+    ----------
+    message : str
+        What is suspicious and what to do [-].
+    file : str or Path, optional
+        File concerned [-].
+    line : int, optional
+        1-based line [-].
+    column : int or str, optional
+        Column number or name [-].
+    """
+    text = InputError(message, file=file, line=line, column=column).format()
+    warnings.warn(InputWarning(text), stacklevel=3)
+
+
+def _suggest(name: str, candidates: Iterable[str]) -> str:
+    near = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
+    return f" (did you mean '{near[0]}'?)" if near else ""
+
+
+def read_header(path: Path) -> list[str]:
+    """Return the stripped column names of a CSV file's first line.
+
+    Parameters
+    ----------
+    path : Path
+        CSV file [-].
+
+    Returns
+    -------
+    list of str
+        Column names [-].
+    """
+    if not path.is_file():
+        raise InputError("file not found", file=path)
+    with open(path, encoding="utf-8-sig", newline="") as fh:
+        first = fh.readline()
+    first = first.strip("\r\n")
+    if not first.strip():
+        raise InputError(
+            "the first line must be the header (column names separated by commas); "
+            "the file is empty or starts with a blank line",
+            file=path,
+            line=1,
+        )
+    names = [c.strip() for c in first.split(",")]
+    if len(names) == 1 and (";" in first or "\t" in first):
+        sep = "semicolons" if ";" in first else "tabs"
+        raise InputError(
+            f"columns are separated by {sep}; use commas and a '.' decimal point",
+            file=path,
+            line=1,
+        )
+    for i, name in enumerate(names):
+        if not name:
+            raise InputError("empty column name in the header", file=path, line=1, column=i + 1)
+        if name in names[:i]:
+            raise InputError(
+                f"column '{name}' appears twice in the header; keep one",
+                file=path,
+                line=1,
+                column=name,
+            )
+    return names
+
+
+def read_numeric_csv(
+    path: str | Path,
+    required: Iterable[str],
+    optional: Iterable[str] = (),
+) -> dict[str, np.ndarray]:
+    """Read the named numeric columns of a CSV file, with checks that name file/line/column.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file with a header line [-].
+    required : iterable of str
+        Columns that must be present [-].
+    optional : iterable of str
+        Columns read when present [-].
+
+    Returns
+    -------
+    dict of str to ndarray
+        float64 array per column found, in file units [-].
+
+    Raises
+    ------
+    InputError
+        Missing file or column, malformed row, non-numeric, empty, NaN or infinite value.
+
+    Warns
+    -----
+    InputWarning
+        Columns that are neither required nor optional (they are ignored).
+    """
+    path = Path(path)
+    required = list(required)
+    optional = list(optional)
+    expected = required + optional
+    names = read_header(path)
+    missing = [c for c in required if c not in names]
+    if missing:
+        hints = "".join(_suggest(m, names) for m in missing[:1])
+        raise InputError(
+            f"missing column(s) {', '.join(missing)}{hints}; the file has "
+            f"{', '.join(names)}; expected {', '.join(required)}"
+            + (f" and optionally {', '.join(optional)}" if optional else "")
+            + " (units are part of the name, see formats.md)",
+            file=path,
+            line=1,
+            column=missing[0],
+        )
+    extra = [c for c in names if c not in expected]
+    for c in extra:
+        warn_input(
+            f"unknown column '{c}' is ignored{_suggest(c, expected)}",
+            file=path,
+            line=1,
+            column=c,
+        )
+    use = [c for c in expected if c in names]
+    # all columns are read: usecols would silently drop surplus fields of a row
+    try:
+        frame = pd.read_csv(
+            path,
+            skip_blank_lines=False,
+            skipinitialspace=True,
+            encoding="utf-8-sig",
+            na_filter=True,
+        )
+    except pd.errors.ParserError as exc:
+        m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
+        if m:
+            raise InputError(
+                f"row has {m.group(3)} fields but the header has {m.group(1)} (a decimal "
+                "comma or a stray separator?); use ',' between fields and '.' as decimal point",
+                file=path,
+                line=int(m.group(2)),
+            ) from None
+        raise InputError(f"cannot parse CSV: {exc}", file=path) from None
+    frame.columns = [c.strip() for c in frame.columns]
+    # A final blank line is harmless; blank lines inside the data are not.
+    n = len(frame)
+    while n > 0 and frame.iloc[n - 1].isna().all():
+        n -= 1
+    frame = frame.iloc[:n]
+    out: dict[str, np.ndarray] = {}
+    for name in use:
+        col = frame[name]
+        if col.dtype == bool:
+            raise InputError(
+                "values are True/False; expected numbers", file=path, line=2, column=name
+            )
+        if not pd.api.types.is_numeric_dtype(col.dtype):
+            num = pd.to_numeric(col, errors="coerce")
+            bad = np.flatnonzero(num.isna().to_numpy() & col.notna().to_numpy())
+            if bad.size:
+                i = int(bad[0])
+                raise InputError(
+                    f"value '{col.iloc[i]}' is not a number (use '.' as decimal point, "
+                    "no units or thousands separators in cells)",
+                    file=path,
+                    line=i + 2,
+                    column=name,
+                )
+            col = num
+        values = col.to_numpy(dtype=float)
+        finite = np.isfinite(values)
+        if not finite.all():
+            i = int(np.flatnonzero(~finite)[0])
+            what = "empty (missing value or blank line)" if np.isnan(values[i]) else "infinite"
+            raise InputError(
+                f"value is {what}; every cell must hold a finite number. Remove or "
+                "repair the row (do not interpolate silently over sensor drop-outs)",
+                file=path,
+                line=i + 2,
+                column=name,
+            )
+        out[name] = values
+    return out
+
+
+def atomic_write_columns(
+    path: str | Path, columns: Mapping[str, np.ndarray], float_format: str = "%.15g"
+) -> Path:
+    """Write named numeric columns as CSV, atomically.
+
+    Parameters
+    ----------
+    path : str or Path
+        Target file [-].
+    columns : mapping of str to array_like
+        Column name to values, all of one length, in file units [-].
+    float_format : str
+        printf format of the numbers [-].
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    frame = pd.DataFrame({k: np.asarray(v, dtype=float) for k, v in columns.items()})
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
+        frame.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
+    return Path(path)

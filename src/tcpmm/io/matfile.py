@@ -1,0 +1,200 @@
+"""MATLAB .mat adapter: v4/v5/v7 via scipy.io.loadmat, v7.3 (HDF5) via h5py.
+
+Variable names in a map may address struct fields (``meas.enc``) and a matrix column,
+1-based as in MATLAB (``data(:,3)``).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from tcpmm.errors import InputError
+from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
+
+_NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\.[A-Za-z]\w*)*)\s*(?:\(\s*:\s*,\s*(\d+)\s*\))?\s*$")
+
+
+def _load(path: Path):
+    """Return (top-level names, getter of a dotted path -> ndarray or None)."""
+    import h5py
+
+    if not path.is_file():
+        raise InputError("MAT file not found", file=path)
+    if h5py.is_hdf5(path):
+        with h5py.File(path, "r") as f:
+            names = [k for k in f if not k.startswith("#")]
+
+        def get73(dotted: str):
+            with h5py.File(path, "r") as f:
+                obj = f.get(dotted.replace(".", "/"))
+                if not isinstance(obj, h5py.Dataset):
+                    return None
+                a = obj[()]
+            # MATLAB stores column-major, so h5py sees the transpose
+            return np.asarray(a).T
+
+        return names, get73
+    from scipy.io import loadmat
+
+    try:
+        data = loadmat(path, simplify_cells=True)
+    except Exception as exc:  # scipy raises ValueError/TypeError/... on a bad file
+        raise InputError(f"cannot read as a MATLAB .mat file: {exc}", file=path) from None
+    names = [k for k in data if not k.startswith("__")]
+
+    def get(dotted: str):
+        obj = data
+        for part in dotted.split("."):
+            if not isinstance(obj, dict) or part not in obj:
+                return None
+            obj = obj[part]
+        return obj
+
+    return names, get
+
+
+def _fetcher(get, path: Path):
+    def fetch(spec: str):
+        m = _NAME.match(spec)
+        if m is None:
+            raise InputError(
+                f"'{spec}' is not a variable reference; write name, struct.field or name(:,k)",
+                file=path,
+            )
+        value = get(m.group(1))
+        if value is None:
+            return None
+        try:
+            value = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"variable '{m.group(1)}' is not numeric", file=path) from None
+        if m.group(2) is not None:
+            k = int(m.group(2))
+            if value.ndim != 2 or not 1 <= k <= value.shape[1]:
+                raise InputError(
+                    f"'{spec}': variable has shape {value.shape}; column {k} does not exist",
+                    file=path,
+                )
+            value = value[:, k - 1]
+        return value
+
+    return fetch
+
+
+def read_record_mat(
+    path: str | Path,
+    kind: str,
+    variable_map: Mapping | None = None,
+    axis: str | None = None,
+    fs_hz: float | str | None = None,
+):
+    """Read a MATLAB .mat file into a sweep or friction record.
+
+    Parameters
+    ----------
+    path : str or Path
+        .mat file, any version [-].
+    kind : {"sweep", "friction"}
+        Record kind [-].
+    variable_map : mapping, optional
+        tcpmm name to variable (``"name"``, ``"struct.field"``, ``"data(:,k)"``),
+        optionally ``(name, scale)``; None means the variables carry the tcpmm names [-].
+    axis : str, optional
+        Axis name stored in the record [-].
+    fs_hz : float or str, optional
+        Sample rate, or the name of a scalar variable holding it; used when no
+        ``time_s`` is mapped (time then starts at 0) [Hz].
+
+    Returns
+    -------
+    SweepRecord or FrictionRecord
+        The record, SI.
+    """
+    path = Path(path)
+    names, get = _load(path)
+    smap = parse_signal_map(variable_map, kind, file=path)
+    fetch = _fetcher(get, path)
+    try:
+        cols = read_mapped(smap, fetch, file=path)
+    except InputError as exc:
+        raise InputError(
+            f"{exc.message}. Variables in the file: {', '.join(names) or 'none'}",
+            file=path,
+            column=exc.column,
+        ) from None
+    if "time_s" not in cols:
+        if isinstance(fs_hz, str):
+            v = fetch(fs_hz)
+            if v is None or np.size(v) != 1:
+                raise InputError(f"fs_hz variable '{fs_hz}' not found or not a scalar", file=path)
+            fs_hz = float(np.ravel(v)[0])
+        if fs_hz is None:
+            raise InputError(
+                "no time base: map a time vector as variable_map['time_s'] or give fs_hz",
+                file=path,
+            )
+        if not (np.isfinite(fs_hz) and fs_hz > 0):
+            raise InputError(f"fs_hz must be positive, got {fs_hz!r}", file=path)
+        n = next(iter(cols.values())).size
+        cols["time_s"] = np.arange(n) / float(fs_hz)
+    return build_record(kind, cols, path, axis)
+
+
+def read_sweep_mat(
+    path: str | Path,
+    variable_map: Mapping | None = None,
+    axis: str | None = None,
+    fs_hz: float | str | None = None,
+):
+    """Read a servo-excitation record from a MATLAB .mat file (v5, v7 or v7.3).
+
+    Parameters
+    ----------
+    path : str or Path
+        .mat file [-].
+    variable_map : mapping, optional
+        tcpmm name (``excitation_A``, ``current_cmd_A``, ``motor_angle_rad``, ``scale_mm``,
+        ``tcp_mm``, ``time_s``) to variable, as in :func:`read_record_mat` [-].
+    axis : str, optional
+        Axis name stored in the record [-].
+    fs_hz : float or str, optional
+        Sample rate or the name of its variable, when no time vector is mapped [Hz].
+
+    Returns
+    -------
+    SweepRecord
+        The record, SI.
+    """
+    return read_record_mat(path, "sweep", variable_map, axis, fs_hz)
+
+
+def read_friction_mat(
+    path: str | Path,
+    variable_map: Mapping | None = None,
+    axis: str | None = None,
+    fs_hz: float | str | None = None,
+):
+    """Read constant-velocity runs from a MATLAB .mat file (see :func:`read_sweep_mat`).
+
+    Parameters
+    ----------
+    path : str or Path
+        .mat file [-].
+    variable_map : mapping, optional
+        tcpmm name (``current_cmd_A``, ``motor_angle_rad``, ``scale_mm``, ``time_s``) to
+        variable [-].
+    axis : str, optional
+        Axis name stored in the record [-].
+    fs_hz : float or str, optional
+        Sample rate or the name of its variable, when no time vector is mapped [Hz].
+
+    Returns
+    -------
+    FrictionRecord
+        The record, SI.
+    """
+    return read_record_mat(path, "friction", variable_map, axis, fs_hz)

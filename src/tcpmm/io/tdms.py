@@ -1,0 +1,203 @@
+"""NI TDMS adapter (npTDMS): TDMS channels into SweepRecord / FrictionRecord."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from tcpmm.errors import InputError
+from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
+
+
+def _open(path: Path):
+    from nptdms import TdmsFile
+
+    if not path.is_file():
+        raise InputError("TDMS file not found", file=path)
+    with open(path, "rb") as fh:
+        lead_in = fh.read(4)
+    if lead_in != b"TDSm":
+        raise InputError("cannot read as TDMS: the file does not start with 'TDSm'", file=path)
+    try:
+        tdms = TdmsFile.read(path)
+    except Exception as exc:  # npTDMS raises several kinds on a damaged file
+        raise InputError(f"cannot read as TDMS: {exc}", file=path) from None
+    if not any(g.channels() for g in tdms.groups()):
+        raise InputError("the TDMS file holds no channels", file=path)
+    return tdms
+
+
+def _catalogue(tdms) -> str:
+    return "; ".join(
+        f"{g.name}: {', '.join(c.name for c in g.channels()) or '-'}" for g in tdms.groups()
+    )
+
+
+def _resolver(tdms, group: str | None, path: Path):
+    groups = {g.name: g for g in tdms.groups()}
+    if group is not None and group not in groups:
+        raise InputError(
+            f"group '{group}' not in the file; groups: {', '.join(groups) or 'none'}", file=path
+        )
+
+    def find(name: str):
+        if group is not None:
+            chans = {c.name: c for c in groups[group].channels()}
+            if name in chans:
+                return chans[name]
+        if "/" in name:
+            g, c = name.split("/", 1)
+            if g in groups:
+                chans = {ch.name: ch for ch in groups[g].channels()}
+                if c in chans:
+                    return chans[c]
+        if group is None:
+            hits = [c for g in groups.values() for c in g.channels() if c.name == name]
+            if len(hits) > 1:
+                raise InputError(
+                    f"channel '{name}' exists in several groups; write 'group/{name}' or give "
+                    "group=",
+                    file=path,
+                )
+            if hits:
+                return hits[0]
+        return None
+
+    return find
+
+
+def read_record_tdms(
+    path: str | Path,
+    kind: str,
+    channel_map: Mapping | None = None,
+    group: str | None = None,
+    axis: str | None = None,
+):
+    """Read a TDMS file into a sweep or friction record.
+
+    Parameters
+    ----------
+    path : str or Path
+        TDMS file [-].
+    kind : {"sweep", "friction"}
+        Record kind [-].
+    channel_map : mapping, optional
+        tcpmm name to ``"group/channel"`` (or ``"channel"`` with ``group``), optionally
+        ``(name, scale)``; None means the channels carry the tcpmm names [-].
+    group : str, optional
+        Group in which bare channel names are looked up [-].
+    axis : str, optional
+        Axis name stored in the record [-].
+
+    Returns
+    -------
+    SweepRecord or FrictionRecord
+        The record, SI.
+    """
+    path = Path(path)
+    tdms = _open(path)
+    smap = parse_signal_map(channel_map, kind, file=path)
+    find = _resolver(tdms, group, path)
+    channels = {}
+
+    def fetch(name):
+        ch = find(name)
+        if ch is None:
+            return None
+        channels[name] = ch
+        return ch[:]
+
+    try:
+        cols = read_mapped(smap, fetch, file=path)
+    except InputError as exc:
+        raise InputError(
+            f"{exc.message}. Channels in the file: {_catalogue(tdms)}",
+            file=path,
+            column=exc.column,
+        ) from None
+    if "time_s" not in cols:
+        incs = {}
+        for key, src in smap.items():
+            ch = channels.get(src.name)
+            if ch is not None and "wf_increment" in ch.properties:
+                incs[key] = float(ch.properties["wf_increment"])
+        if not incs:
+            raise InputError(
+                "no time base: no channel has a wf_increment property. Map a time channel "
+                "as channel_map['time_s']",
+                file=path,
+            )
+        values = np.array(list(incs.values()))
+        if np.ptp(values) > 1e-9 * values.max():
+            raise InputError(
+                f"channels have different wf_increment {incs}; resample to one rate",
+                file=path,
+            )
+        first = channels[smap[next(iter(incs))].name]
+        t0 = float(first.properties.get("wf_start_offset", 0.0))
+        n = next(iter(cols.values())).size
+        cols["time_s"] = t0 + np.arange(n) * values[0]
+    return build_record(kind, cols, path, axis)
+
+
+def read_sweep_tdms(
+    path: str | Path,
+    channel_map: Mapping | None = None,
+    group: str | None = None,
+    axis: str | None = None,
+):
+    """Read a servo-excitation record from an NI TDMS file.
+
+    Time comes from ``channel_map['time_s']`` when mapped, else from the channels'
+    ``wf_increment`` (and ``wf_start_offset``) properties.
+
+    Parameters
+    ----------
+    path : str or Path
+        TDMS file [-].
+    channel_map : mapping, optional
+        tcpmm name (``excitation_A``, ``current_cmd_A``, ``motor_angle_rad``, ``scale_mm``,
+        ``tcp_mm``, ``time_s``) to ``"group/channel"``, ``(name, scale)`` or
+        ``{"name": ..., "scale": ...}``; the scale turns the stored value into the tcpmm
+        unit [-].
+    group : str, optional
+        Group in which bare channel names are looked up [-].
+    axis : str, optional
+        Axis name stored in the record [-].
+
+    Returns
+    -------
+    SweepRecord
+        The record, SI.
+    """
+    return read_record_tdms(path, "sweep", channel_map, group, axis)
+
+
+def read_friction_tdms(
+    path: str | Path,
+    channel_map: Mapping | None = None,
+    group: str | None = None,
+    axis: str | None = None,
+):
+    """Read constant-velocity runs from an NI TDMS file (see :func:`read_sweep_tdms`).
+
+    Parameters
+    ----------
+    path : str or Path
+        TDMS file [-].
+    channel_map : mapping, optional
+        tcpmm name (``current_cmd_A``, ``motor_angle_rad``, ``scale_mm``, ``time_s``) to
+        channel, as in :func:`read_sweep_tdms` [-].
+    group : str, optional
+        Group in which bare channel names are looked up [-].
+    axis : str, optional
+        Axis name stored in the record [-].
+
+    Returns
+    -------
+    FrictionRecord
+        The record, SI.
+    """
+    return read_record_tdms(path, "friction", channel_map, group, axis)

@@ -1,0 +1,205 @@
+"""TDMS and MATLAB adapters produce the same SI records as sweep.csv."""
+
+from __future__ import annotations
+
+import math
+
+import h5py
+import numpy as np
+import pytest
+import scipy.io
+from nptdms import ChannelObject, TdmsWriter
+
+from tcpmm.errors import InputError
+from tcpmm.io.matfile import read_friction_mat, read_sweep_mat
+from tcpmm.io.records import FrictionRecord, SweepRecord
+from tcpmm.io.tdms import read_friction_tdms, read_sweep_tdms
+
+FS = 2000.0
+N = 500
+COUNTS = 10000
+
+
+def signals():
+    t = np.arange(N) / FS
+    r = np.sin(2 * np.pi * (5 * t + 100 * t**2))
+    counts = np.round(3000 * np.sin(2 * np.pi * 3 * t))
+    scale_um = counts * 10.0 / COUNTS * 1e3
+    return {
+        "t": t,
+        "r": r,
+        "ic": 1.2 * r,
+        "counts": counts,
+        "scale_um": scale_um,
+        "tcp_mm": scale_um * 1e-3 + 1e-4 * r,
+    }
+
+
+def check_sweep(rec, s, tcp=True):
+    assert isinstance(rec, SweepRecord)
+    assert rec.fs_hz == pytest.approx(FS, rel=1e-9)
+    np.testing.assert_allclose(rec.time_s, s["t"], atol=1e-12)
+    np.testing.assert_allclose(rec.excitation_A, s["r"], rtol=1e-12)
+    np.testing.assert_allclose(rec.current_cmd_A, s["ic"], rtol=1e-12)
+    np.testing.assert_allclose(rec.motor_angle_rad, s["counts"] * 2 * np.pi / COUNTS, rtol=1e-12)
+    np.testing.assert_allclose(rec.scale_m, s["scale_um"] * 1e-6, rtol=1e-12, atol=1e-18)
+    if tcp:
+        np.testing.assert_allclose(rec.tcp_m, s["tcp_mm"] * 1e-3, rtol=1e-12, atol=1e-18)
+    else:
+        assert rec.tcp_m is None
+
+
+MAP = {
+    "excitation_A": "DAQ/ai0",
+    "current_cmd_A": "DAQ/ai1",
+    "motor_angle_rad": ("DAQ/enc", 2 * math.pi / COUNTS),
+    "scale_mm": {"name": "DAQ/ls", "scale": 1e-3},
+    "tcp_mm": "TCP/x",
+}
+
+
+def write_tdms(path, s, props=True, time_channel=False):
+    p = {"wf_increment": 1 / FS, "wf_start_offset": 0.0} if props else {}
+    chans = [
+        ChannelObject("DAQ", "ai0", s["r"], properties=p),
+        ChannelObject("DAQ", "ai1", s["ic"], properties=p),
+        ChannelObject("DAQ", "enc", s["counts"], properties=p),
+        ChannelObject("DAQ", "ls", s["scale_um"], properties=p),
+        ChannelObject("TCP", "x", s["tcp_mm"], properties=p),
+    ]
+    if time_channel:
+        chans.append(ChannelObject("DAQ", "time", s["t"]))
+    with TdmsWriter(path) as w:
+        w.write_segment(chans)
+    return path
+
+
+def test_tdms_with_wf_increment_and_scale_factors(tmp_path):
+    s = signals()
+    rec = read_sweep_tdms(write_tdms(tmp_path / "x.tdms", s), MAP, axis="X")
+    check_sweep(rec, s)
+    assert rec.axis == "X" and rec.source.endswith("x.tdms")
+
+
+def test_tdms_time_channel_and_group_default(tmp_path):
+    s = signals()
+    path = write_tdms(tmp_path / "x.tdms", s, props=False, time_channel=True)
+    cmap = {k: v for k, v in MAP.items() if k != "tcp_mm"}
+    cmap = {k: (v.split("/", 1)[1] if isinstance(v, str) else v) for k, v in cmap.items()}
+    cmap["motor_angle_rad"] = ("enc", 2 * math.pi / COUNTS)
+    cmap["scale_mm"] = ("ls", 1e-3)
+    cmap["time_s"] = "time"
+    check_sweep(read_sweep_tdms(path, cmap, group="DAQ"), s, tcp=False)
+
+
+def test_tdms_errors_list_what_is_there(tmp_path):
+    s = signals()
+    path = write_tdms(tmp_path / "x.tdms", s)
+    with pytest.raises(InputError, match=r"'DAQ/ai9'.*not found.*DAQ: ai0, ai1, enc, ls"):
+        read_sweep_tdms(path, {**MAP, "excitation_A": "DAQ/ai9"})
+    with pytest.raises(InputError, match="unknown tcpmm signal") as exc:
+        read_sweep_tdms(path, {**MAP, "scale_um": "DAQ/ls"})
+    assert exc.value.column == "scale_um"
+    with pytest.raises(InputError, match="lacks current_cmd_A"):
+        read_sweep_tdms(path, {k: v for k, v in MAP.items() if k != "current_cmd_A"})
+    nt = write_tdms(tmp_path / "nt.tdms", s, props=False)
+    with pytest.raises(InputError, match="no time base"):
+        read_sweep_tdms(nt, MAP)
+    bad = tmp_path / "bad.tdms"
+    bad.write_bytes(b"not a tdms file at all")
+    with pytest.raises(InputError, match="cannot read as TDMS"):
+        read_sweep_tdms(bad, MAP)
+
+
+def test_tdms_friction_with_tcpmm_channel_names(tmp_path):
+    s = signals()
+    p = {"wf_increment": 1 / FS}
+    with TdmsWriter(tmp_path / "f.tdms") as w:
+        w.write_segment(
+            [
+                ChannelObject("run", "current_cmd_A", s["ic"], properties=p),
+                ChannelObject("run", "motor_angle_rad", s["counts"], properties=p),
+                ChannelObject("run", "scale_mm", s["scale_um"], properties=p),
+            ]
+        )
+    rec = read_friction_tdms(tmp_path / "f.tdms")
+    assert isinstance(rec, FrictionRecord)
+    np.testing.assert_allclose(rec.scale_m, s["scale_um"] * 1e-3)
+    np.testing.assert_allclose(rec.time_s, s["t"], atol=1e-12)
+
+
+VMAP = {
+    "excitation_A": "meas.r",
+    "current_cmd_A": "data(:,1)",
+    "motor_angle_rad": ("data(:,2)", 2 * math.pi / COUNTS),
+    "scale_mm": ("meas.ls", 1e-3),
+    "tcp_mm": "tcp",
+}
+
+
+def test_mat_v5_struct_fields_columns_and_fs_variable(tmp_path):
+    s = signals()
+    path = tmp_path / "x.mat"
+    scipy.io.savemat(
+        path,
+        {
+            "meas": {"r": s["r"], "ls": s["scale_um"]},
+            "data": np.column_stack([s["ic"], s["counts"]]),
+            "tcp": s["tcp_mm"][:, None],
+            "fs": FS,
+            "t": s["t"],
+        },
+    )
+    check_sweep(read_sweep_mat(path, VMAP, fs_hz="fs"), s)
+    check_sweep(read_sweep_mat(path, {**VMAP, "time_s": "t"}), s)
+    with pytest.raises(InputError, match=r"column 3 does not exist"):
+        read_sweep_mat(path, {**VMAP, "current_cmd_A": "data(:,3)"}, fs_hz=FS)
+    with pytest.raises(InputError, match=r"'meas.x'.*not found.*Variables in the file"):
+        read_sweep_mat(path, {**VMAP, "excitation_A": "meas.x"}, fs_hz=FS)
+    with pytest.raises(InputError, match="no time base"):
+        read_sweep_mat(path, VMAP)
+
+
+def test_mat_v73_via_hdf5(tmp_path):
+    s = signals()
+    path = tmp_path / "x73.mat"
+    with h5py.File(path, "w", userblock_size=512) as f:
+        # MATLAB writes column-major: a 1xN row vector appears as (N, 1) in HDF5
+        for name in ("r", "ic", "counts", "scale_um", "t"):
+            f.create_dataset(name, data=s[name][:, None])
+        g = f.create_group("dev")
+        g.create_dataset("tcp", data=s["tcp_mm"][None, :])
+    with open(path, "r+b") as fh:
+        fh.write(b"MATLAB 7.3 MAT-file".ljust(128, b" "))
+    vmap = {
+        "time_s": "t",
+        "excitation_A": "r",
+        "current_cmd_A": "ic",
+        "motor_angle_rad": ("counts", 2 * math.pi / COUNTS),
+        "scale_mm": ("scale_um", 1e-3),
+        "tcp_mm": "dev.tcp",
+    }
+    check_sweep(read_sweep_mat(path, vmap), s)
+    fr = read_friction_mat(
+        path, {k: vmap[k] for k in ("time_s", "current_cmd_A", "motor_angle_rad", "scale_mm")}
+    )
+    np.testing.assert_allclose(fr.current_cmd_A, s["ic"])
+
+
+def test_mat_length_mismatch_and_garbage(tmp_path):
+    s = signals()
+    path = tmp_path / "x.mat"
+    scipy.io.savemat(
+        path,
+        {
+            "meas": {"r": s["r"][:-1], "ls": s["scale_um"]},
+            "data": np.column_stack([s["ic"], s["counts"]]),
+            "tcp": s["tcp_mm"],
+        },
+    )
+    with pytest.raises(InputError, match="differ in length"):
+        read_sweep_mat(path, VMAP, fs_hz=FS)
+    bad = tmp_path / "bad.mat"
+    bad.write_bytes(b"\x00" * 300)
+    with pytest.raises(InputError, match="cannot read as a MATLAB"):
+        read_sweep_mat(bad, VMAP, fs_hz=FS)

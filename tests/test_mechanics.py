@@ -132,3 +132,12 @@ def test_freqresp_helper_with_d_term(xmech):
     p = plant(xmech)
     h = freqresp_ss(p, [10.0], "X_LS")
     assert h.shape == (1,)
+
+
+def test_fast_block_algebra_equals_state_space(vmc):
+    from tcpmm.ident.physical import model_frfs
+
+    for a in vmc.axes.values():
+        got = model_frfs(a.mechanics, {k: F for k in ("G_M", "G_T", "G_tcp")})
+        for k, v in got.items():
+            np.testing.assert_allclose(v, reduced_freqresp(a.mechanics, k, F), rtol=1e-8)

@@ -1,0 +1,252 @@
+"""Grey-box fit of the five-inertia parameters to the measured FRFs G_M, G_T, G_tcp.
+
+The lead and the torque constant are known (``machine.yaml``); the other fourteen
+parameters of physics.md section 1 are fitted jointly by nonlinear least squares on the
+relative complex error of the three FRFs, weighted by their per-bin uncertainty.
+Positivity comes from fitting log-parameters; bounds keep them physical. Standard
+deviations and correlations come from the Jacobian at the solution; parameters the data
+cannot determine are named in a warning.
+
+The starting point matters for a nonlinear fit with several resonances. It is built from
+the data: the rigid-body inertia from the low-frequency slope of G_M, the structural
+modes from the poles of G_tcp (whose denominator is ``(M_b+M_t) s^2 + ... + K_b`` times
+``M_h s^2 + C_h s + K_h``), and the drive modes from the resonances of G_T; several
+splits of the inertia are tried and the best fit is kept.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from .._threads import limit_blas_threads
+from ..errors import InputError, InputWarning
+from ..mechanics.params import AxisMechanics
+
+FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
+          "M_h", "C_h", "K_h")
+_OUT = {"G_M": ("w_m", None), "G_T": ("X_LS", "th_m"), "G_tcp": ("X_TCP", "X_LS")}
+_ROWS = ("w_m", "th_m", "X_LS", "X_TCP")
+
+
+@dataclass
+class FRFData:
+    """A measured frequency response to fit.
+
+    Parameters
+    ----------
+    freq_hz : ndarray
+        Frequencies [Hz].
+    H : ndarray
+        Complex response [output unit / input unit].
+    weight : ndarray
+        Non-negative weight per bin, e.g. ``1/rel_std`` or coherence based [-].
+    """
+
+    freq_hz: np.ndarray
+    H: np.ndarray
+    weight: np.ndarray
+
+
+@dataclass
+class PhysicalFit:
+    """Identified axis mechanics with uncertainty.
+
+    Parameters
+    ----------
+    mechanics : AxisMechanics
+        Identified parameters [SI].
+    std : dict
+        Standard deviation per fitted parameter [SI].
+    correlation : ndarray
+        Correlation matrix of the log-parameters, order of :data:`FITTED` [-].
+    undetermined : list of str
+        Parameters the data cannot determine (relative std above 50 %) [-].
+    rel_error : dict
+        RMS relative complex error per FRF [-].
+    cost : float
+        Final least-squares cost [-].
+    """
+
+    mechanics: AxisMechanics
+    std: dict
+    correlation: np.ndarray
+    undetermined: list
+    rel_error: dict
+    cost: float
+    extra: dict = field(default_factory=dict)
+
+    def to_pandas(self):
+        """Table of parameters, standard deviations and relative uncertainty."""
+        import pandas as pd
+
+        d = self.mechanics.model_dump()
+        rows = [{"parameter": k, "value": d[k], "std": self.std[k],
+                 "rel_std_percent": 100 * self.std[k] / d[k] if d[k] else float("nan"),
+                 "determined": k not in self.undetermined} for k in FITTED]
+        return pd.DataFrame(rows)
+
+
+def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None) -> dict:
+    """G_M, G_T, G_tcp of a mechanics at the frequencies of each FRF.
+
+    Uses the block algebra of the equations of motion (equal to the state-space
+    responses, see the tests); vectorised, so cheap enough for least squares.
+    """
+    out = {}
+    m = mech
+    R = m.R_L
+    for name, f in freqs.items():
+        s = 2j * np.pi * np.asarray(f, dtype=float)
+        den_t = m.M_t * s**2 + m.C_t * s
+        den_b = m.M_b * s**2 + m.C_b * s + m.K_b
+        D = 1 / den_t + 1 / den_b  # G_t - G_b
+        if name == "G_tcp":
+            den_h = m.M_h * s**2 + m.C_h * s + m.K_h
+            out[name] = (1 / den_t - 1 / den_h) / D
+            continue
+        KtD = m.K_t * D
+        ZL = m.J_L * s**2 + m.B_L * s + m.K_t * R**2 / (1 + KtD)
+        if name == "G_T":
+            out[name] = (m.K_L / (ZL + m.K_L)) * R * KtD / (1 + KtD)
+            continue
+        Zm = m.K_L * ZL / (ZL + m.K_L)
+        G_M = m.K_tc * s / (m.J_m * s**2 + m.B_m * s + Zm)
+        if current_bandwidth_hz is not None:
+            G_M = G_M / (1 + s / (2 * np.pi * current_bandwidth_hz))
+        out[name] = G_M
+    return out
+
+
+def _peaks(f, H, k=3):
+    """Frequencies of the ``k`` largest local maxima of |H| (above the trend) [Hz]."""
+    a = np.log(np.abs(H) + 1e-300)
+    trend = np.convolve(a, np.ones(31) / 31, mode="same")
+    r = a - trend
+    idx = [i for i in range(2, len(a) - 2) if r[i] == r[i - 2:i + 3].max() and r[i] > 0.1]
+    idx = sorted(idx, key=lambda i: -r[i])[:k]
+    return sorted(f[i] for i in idx)
+
+
+def initial_guesses(data: dict, lead: float, K_tc: float) -> list[dict]:
+    """Physically reasoned starting points from the measured FRFs (see module docs)."""
+    R = lead / (2 * math.pi)
+    gm = data["G_M"]
+    lo = gm.freq_hz < gm.freq_hz.min() * 3
+    w = 2 * np.pi * gm.freq_hz[lo]
+    J_total = float(np.median(K_tc / (np.abs(gm.H[lo]) * w)))
+    guesses = []
+    f_tcp = _peaks(data["G_tcp"].freq_hz, data["G_tcp"].H) if "G_tcp" in data else []
+    f_t = _peaks(data["G_T"].freq_hz, data["G_T"].H) if "G_T" in data else []
+    f_h = f_tcp[0] if f_tcp else 50.0
+    f_b = f_tcp[-1] if len(f_tcp) > 1 else 4 * f_h
+    for share_m, share_t in ((0.2, 0.5), (0.35, 0.35), (0.15, 0.7), (0.5, 0.25)):
+        J_m = share_m * J_total
+        M_t = share_t * J_total / R**2
+        J_L = J_total - J_m - M_t * R**2
+        f_ax = f_t[-1] if f_t else 200.0
+        f_tor = f_t[0] if len(f_t) > 1 else 0.7 * f_ax
+        M_h, M_b = 2.5 * M_t, 5 * M_t
+        K_h = M_h * (2 * np.pi * f_h) ** 2
+        K_b = (M_b + M_t) * (2 * np.pi * f_b) ** 2
+        K_t = M_t * (2 * np.pi * f_ax) ** 2
+        K_L = (J_L * J_m / (J_L + J_m)) * (2 * np.pi * max(f_tor, 1.0)) ** 2
+        g = dict(J_m=J_m, J_L=J_L, M_t=M_t, M_h=M_h, M_b=M_b, K_h=K_h, K_b=K_b, K_t=K_t,
+                 K_L=K_L)
+        g["B_m"] = 0.02 * J_m * 2 * np.pi * 10
+        g["B_L"] = 0.02 * J_L * 2 * np.pi * 10
+        g["C_t"] = 0.05 * M_t * 2 * np.pi * 10
+        g["C_h"] = 2 * 0.03 * math.sqrt(K_h * M_h)
+        g["C_b"] = 2 * 0.05 * math.sqrt(K_b * M_b)
+        guesses.append(g)
+    return guesses
+
+
+def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = None,
+                 current_bandwidth_hz=None, max_nfev: int = 200) -> PhysicalFit:
+    """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.
+
+    Parameters
+    ----------
+    data : dict of str to FRFData
+        Measured FRFs keyed ``"G_M"``, ``"G_T"``, ``"G_tcp"`` [SI].
+    lead : float
+        Ball-screw lead, known [m].
+    K_tc : float
+        Torque constant, known [N m/A].
+    initial : dict, optional
+        Starting values of the fitted parameters; default from the data [SI].
+    current_bandwidth_hz : float, optional
+        Current loop bandwidth if the drive's is known [Hz].
+    max_nfev : int
+        Function evaluations per start [-].
+    """
+    limit_blas_threads()
+    for need in ("G_M", "G_T"):
+        if need not in data:
+            raise InputError(f"the physical fit needs {need}; only {', '.join(data)} given")
+    has_tcp = "G_tcp" in data
+    names = list(FITTED) if has_tcp else [p for p in FITTED if p not in ("M_h", "C_h", "K_h")]
+    freqs = {k: v.freq_hz for k, v in data.items()}
+    w = {k: np.asarray(v.weight, float) / np.sqrt(np.sum(np.asarray(v.weight) > 0))
+         for k, v in data.items()}
+    fixed = dict(lead=lead, K_tc=K_tc, M_h=1.0, C_h=1.0, K_h=1e9)
+
+    def mech_of(theta):
+        vals = dict(zip(names, np.exp(theta), strict=True))
+        return AxisMechanics.model_construct(**{**fixed, **vals, "load_force": 0.0})
+
+    def resid(theta):
+        m = mech_of(theta)
+        try:
+            model = model_frfs(m, freqs, current_bandwidth_hz)
+        except np.linalg.LinAlgError:
+            return np.full(sum(2 * f.size for f in freqs.values()), 1e3)
+        parts = []
+        for k, d in data.items():
+            e = np.log(model[k] / d.H) * w[k]  # log-magnitude and phase error
+            parts += [e.real, e.imag]
+        r = np.concatenate(parts)
+        return np.where(np.isfinite(r), r, 1e3)
+
+    starts = [initial] if initial is not None else initial_guesses(data, lead, K_tc)
+    best = None
+    for g in starts:
+        theta0 = np.log([g[p] for p in names])
+        lo, hi = theta0 - np.log(1e3), theta0 + np.log(1e3)
+        r = least_squares(resid, theta0, bounds=(lo, hi), x_scale=1.0, max_nfev=max_nfev,
+                          method="trf")
+        if best is None or r.cost < best.cost:
+            best = r
+    r = least_squares(resid, best.x, max_nfev=max_nfev * 2, method="lm") if (
+        np.isfinite(best.cost)) else best
+    if r.cost > best.cost:
+        r = best
+    m = mech_of(r.x)
+    mech = AxisMechanics.create(**m.model_dump())
+    J = r.jac
+    dof = max(1, J.shape[0] - J.shape[1])
+    s2 = 2 * r.cost / dof
+    try:
+        cov = np.linalg.pinv(J.T @ J) * s2
+    except np.linalg.LinAlgError:
+        cov = np.full((len(names), len(names)), np.inf)
+    sd_log = np.sqrt(np.clip(np.diag(cov), 0, None))
+    corr = cov / np.outer(sd_log, sd_log).clip(1e-300)
+    vals = dict(zip(names, np.exp(r.x), strict=True))
+    std = {p: float(vals[p] * sd_log[i]) for i, p in enumerate(names)}
+    undetermined = [p for i, p in enumerate(names) if sd_log[i] > 0.5]
+    if undetermined:
+        warnings.warn("the FRFs do not determine " + ", ".join(undetermined) +
+                      " (relative standard deviation above 50 %); their values are a guess",
+                      InputWarning, stacklevel=2)
+    model = model_frfs(mech, freqs, current_bandwidth_hz)
+    rel = {k: float(np.sqrt(np.mean(np.abs(model[k] / d.H - 1) ** 2))) for k, d in data.items()}
+    for p in ("M_h", "C_h", "K_h"):
+        std.setdefault(p, float("nan"))
+    return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
+                       {"names": names, "nfev": int(r.nfev)})

@@ -1,0 +1,638 @@
+"""EMPS benchmark: identify a rigid feed axis with friction and simulate its closed loop.
+
+The Electro-Mechanical Positioning System (EMPS, Janot, Gautier and Brunot,
+nonlinearbenchmark.org) is a DC motor driving a ball-screw table in a cascade
+position/velocity loop at 1 kHz. This script
+
+1. identifies ``tau = M q'' + Fv q' + Fc sign(q') + offset`` by IDIM-LS exactly as the
+   benchmark's published script (force ``gtau * vir``, position filtered by a 4th-order
+   Butterworth at 100 Hz with ``filtfilt``, central differences, samples from the 50th
+   on, parallel decimation by 10);
+2. simulates the closed loop with the reference position ``qg`` as input (controller
+   ``vir = kv (kp (qg - q) - dq)``, ``dq`` from the difference of the two-tap filtered
+   position, one-sample delay, saturation at +/-10 V, force ``gtau * vir``) and reports
+   the benchmark's relative errors ``100 ||meas - sim|| / ||meas||`` from the 50th sample
+   on, for position, velocity and acceleration (measured ones from the filtered position)
+   and force;
+3. improves the model step by step: actuation delay fitted in closed loop (the data show
+   ``vir(k)`` is computed from ``qm(k)`` of the same sample, so the command acts within
+   the sample, not one sample later), asymmetric friction re-identified with the force
+   aligned to that delay, a low-speed friction term (Stribeck form, velocity fitted),
+   and LuGre pre-sliding with its bristle stiffness fitted in closed loop.
+
+Validation files (``DATA_EMPS_PULSES.mat``) also hold ``pulses_N``: force pulses added
+to the saturated controller output before the gain ``gtau``. They are run through the
+same models (identified on the estimation file).
+
+Usage::
+
+    python examples/emps.py --estimation DATA_EMPS.mat [--validation DATA_EMPS_PULSES.mat]
+                            [--json] [--plot FIGURE.png]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy import io as sio
+from scipy import optimize
+
+from tcpmm.errors import InputError
+from tcpmm.ident.friction import (
+    central_difference,
+    friction_from_idim,
+    idim_ls,
+    lowpass_filtfilt,
+)
+from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
+from tcpmm.sim.rigid import DiscreteServo, RigidAxis, RigidServoResult, simulate_rigid_servo
+
+PUBLISHED = {
+    "identification": {"M": 95.1089, "Fv": 203.5034, "Fc": 20.3935, "offset": -3.1648,
+                       "relative_error_percent": 4.0834},
+    "simulation": {"position": 0.013752, "velocity": 0.22911, "acceleration": 8.6036,
+                   "force": 5.848},
+}
+FILTER_CUTOFF_HZ = 100.0
+FILTER_ORDER = 4
+DECIMATION = 10
+N_BORDER = 50
+U_MAX_V = 10.0
+TAPS = (0.5, 0.5)
+N_SUB = 20
+
+
+@dataclass(frozen=True)
+class EmpsRecord:
+    """One EMPS data file in SI units.
+
+    Parameters
+    ----------
+    name : str
+        File name [-].
+    t : numpy.ndarray
+        Time [s].
+    dt : float
+        Sample time (mean step of ``t``; the stored times carry rounding jitter) [s].
+    qm : numpy.ndarray
+        Measured position at the load [m].
+    qg : numpy.ndarray
+        Reference position [m].
+    vir : numpy.ndarray
+        Controller output [V].
+    kp : float
+        Position gain [1/s].
+    kv : float
+        Velocity gain [V s/m].
+    gtau : float
+        Drive gain [N/V].
+    pulses : numpy.ndarray or None
+        External pulses added to the saturated controller output (validation file) [V].
+    """
+
+    name: str
+    t: np.ndarray
+    dt: float
+    qm: np.ndarray
+    qg: np.ndarray
+    vir: np.ndarray
+    kp: float
+    kv: float
+    gtau: float
+    pulses: np.ndarray | None
+
+
+@dataclass(frozen=True)
+class EmpsModel:
+    """A rigid-axis model of EMPS and its controller timing.
+
+    Parameters
+    ----------
+    name : str
+        Label [-].
+    mass : float
+        Moving mass [kg].
+    offset : float
+        Force offset [N].
+    friction : StribeckFriction or LuGreFriction
+        Friction model [-].
+    delay : float
+        Actuation delay after sampling [samples].
+    description : str
+        What differs from the reference [-].
+    """
+
+    name: str
+    mass: float
+    offset: float
+    friction: StribeckFriction
+    delay: float
+    description: str
+
+    def to_dict(self) -> dict:
+        fr = self.friction.model_dump()
+        fr["type"] = type(self.friction).__name__
+        return {"description": self.description, "mass_kg": self.mass,
+                "offset_N": self.offset, "delay_samples": self.delay, "friction": fr}
+
+
+def load_emps(path, need_pulses: bool = False) -> EmpsRecord:
+    """Load an EMPS ``.mat`` file and check its variables.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``DATA_EMPS.mat`` or a validation file with ``pulses_N`` [-].
+    need_pulses : bool
+        Require the ``pulses_N`` variable [-].
+
+    Returns
+    -------
+    EmpsRecord
+        The record [-].
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found; pass the path of DATA_EMPS.mat", file=path)
+    try:
+        raw = sio.loadmat(path)
+    except Exception as exc:  # scipy raises several types on a bad file
+        raise InputError(f"cannot read as a MATLAB v5 .mat file: {exc}", file=path) from None
+    need = ["t", "qm", "qg", "vir", "kp", "kv", "gtau"] + (["pulses_N"] if need_pulses else [])
+    missing = [k for k in need if k not in raw]
+    if missing:
+        raise InputError(f"missing variable(s) {missing}; EMPS files hold {need}",
+                         file=path, column=missing[0])
+
+    def vec(k):
+        a = np.asarray(raw[k], dtype=float).ravel()
+        if a.size < 10 * N_BORDER or not np.all(np.isfinite(a)):
+            raise InputError(f"must be a finite vector of more than {10 * N_BORDER} samples",
+                             file=path, column=k)
+        return a
+
+    def scalar(k):
+        a = np.asarray(raw[k], dtype=float).ravel()
+        if a.size != 1 or not np.isfinite(a[0]) or a[0] <= 0:
+            raise InputError("must be one positive number", file=path, column=k)
+        return float(a[0])
+
+    t, qm, qg, vir = vec("t"), vec("qm"), vec("qg"), vec("vir")
+    pulses = vec("pulses_N") if "pulses_N" in raw else None
+    for k, a in (("qm", qm), ("qg", qg), ("vir", vir), ("pulses_N", pulses)):
+        if a is not None and a.size != t.size:
+            raise InputError(f"has {a.size} samples but t has {t.size}", file=path, column=k)
+    steps = np.diff(t)
+    dt = float((t[-1] - t[0]) / (t.size - 1))
+    if dt <= 0 or np.max(np.abs(steps - dt)) > 0.01 * dt:
+        raise InputError("time must increase with a uniform step", file=path, column="t")
+    return EmpsRecord(path.name, t, dt, qm, qg, vir, scalar("kp"), scalar("kv"),
+                      scalar("gtau"), pulses)
+
+
+def measured_signals(rec: EmpsRecord) -> dict:
+    """Measured position, velocity, acceleration and force as the benchmark defines them.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        The data [-].
+
+    Returns
+    -------
+    dict
+        ``q`` [m], ``dq`` [m/s], ``ddq`` [m/s^2] from the zero-phase filtered position and
+        ``force = gtau * vir`` [N].
+    """
+    q = lowpass_filtfilt(rec.qm, rec.dt, FILTER_CUTOFF_HZ, FILTER_ORDER)
+    dq = central_difference(q, rec.dt)
+    return {"q": q, "dq": dq, "ddq": central_difference(dq, rec.dt),
+            "force": rec.gtau * rec.vir}
+
+
+def vir_includes_pulses(rec: EmpsRecord) -> bool:
+    """Whether the recorded ``vir`` contains the pulses (tested on the control law).
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        The data [-].
+
+    Returns
+    -------
+    bool
+        True if ``vir - pulses`` follows the control law better than ``vir`` [-].
+    """
+    if rec.pulses is None or not np.any(rec.pulses):
+        return False
+    qf = 0.5 * rec.qm + 0.5 * np.r_[rec.qm[0], rec.qm[:-1]]
+    dq = np.r_[0.0, np.diff(qf)] / rec.dt
+    law = np.clip(rec.kv * (rec.kp * (rec.qg - rec.qm) - dq), -U_MAX_V, U_MAX_V)
+    s = slice(N_BORDER, None)
+    return bool(np.linalg.norm((rec.vir - rec.pulses - law)[s])
+                < np.linalg.norm((rec.vir - law)[s]))
+
+
+def simulate(rec: EmpsRecord, model: EmpsModel, n_sub: int = N_SUB, period=None,
+             ref=None) -> RigidServoResult:
+    """Closed-loop simulation of a model with the reference position as input.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        The data (reference, gains, pulses) [-].
+    model : EmpsModel
+        The model [-].
+    n_sub : int
+        Mechanical sub-steps per sample [-].
+    period : float, optional
+        Controller period; default the data's sample time [s].
+    ref : numpy.ndarray, optional
+        Reference per controller sample; default ``qg`` [m].
+
+    Returns
+    -------
+    RigidServoResult
+        Sampled simulation [-].
+    """
+    servo = DiscreteServo(period=rec.dt if period is None else period, kp=rec.kp,
+                          kv=rec.kv, taps=TAPS, delay=model.delay, u_max=U_MAX_V,
+                          gain=rec.gtau)
+    axis = RigidAxis(mass=model.mass, offset=model.offset, friction=model.friction)
+    return simulate_rigid_servo(rec.qg if ref is None else ref, axis, servo, ext=rec.pulses,
+                                n_sub=n_sub, q0=float(rec.qm[0]))
+
+
+def relative_errors(rec: EmpsRecord, sim: RigidServoResult, meas: dict) -> dict:
+    """Benchmark relative errors of a simulation, from the 50th sample on.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        The data [-].
+    sim : RigidServoResult
+        The simulation [-].
+    meas : dict
+        Output of ``measured_signals`` [-].
+
+    Returns
+    -------
+    dict
+        ``position``, ``velocity``, ``acceleration``, ``force`` errors [%].
+    """
+    s = slice(N_BORDER - 1, None)
+    u = sim.u_applied
+    if rec.pulses is not None and vir_includes_pulses(rec):
+        u = u + rec.pulses
+    pairs = {"position": (meas["q"], sim.q), "velocity": (meas["dq"], sim.v),
+             "acceleration": (meas["ddq"], sim.a), "force": (meas["force"], rec.gtau * u)}
+    return {k: float(100.0 * np.linalg.norm(m[s] - x[s]) / np.linalg.norm(m[s]))
+            for k, (m, x) in pairs.items()}
+
+
+def _score(err: dict, ref: dict) -> float:
+    return err["velocity"] / ref["velocity"] + err["force"] / ref["force"]
+
+
+def fit_delay(rec, meas, base: EmpsModel, ref_err: dict, n_sub: int = N_SUB) -> float:
+    """Actuation delay minimising the closed-loop velocity and force errors.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        Estimation data [-].
+    meas : dict
+        Measured signals [-].
+    base : EmpsModel
+        Model whose delay is varied [-].
+    ref_err : dict
+        Errors of the reference model, used to weigh velocity and force [%].
+    n_sub : int
+        Sub-steps per sample, also the delay resolution [-].
+
+    Returns
+    -------
+    float
+        Delay [samples], a multiple of ``1 / n_sub`` in ``[0, 1]``.
+    """
+    grid = np.linspace(0.0, 1.0, 11)
+    costs = []
+    for d in grid:
+        m = EmpsModel(base.name, base.mass, base.offset, base.friction, float(d), "")
+        costs.append(_score(relative_errors(rec, simulate(rec, m, n_sub), meas), ref_err))
+    i = int(np.argmin(costs))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+    fine = np.arange(round(lo * n_sub), round(hi * n_sub) + 1) / n_sub
+    best, cost = float(grid[i]), costs[i]
+    for d in fine:
+        m = EmpsModel(base.name, base.mass, base.offset, base.friction, float(d), "")
+        c = _score(relative_errors(rec, simulate(rec, m, n_sub), meas), ref_err)
+        if c < cost:
+            best, cost = float(d), c
+    return best
+
+
+def fit_sigma0(rec, meas, base: EmpsModel, ref_err: dict, n_sub: int = N_SUB) -> float:
+    """LuGre bristle stiffness minimising the closed-loop velocity and force errors.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        Estimation data [-].
+    meas : dict
+        Measured signals [-].
+    base : EmpsModel
+        Model with static friction whose levels the LuGre model keeps [-].
+    ref_err : dict
+        Errors of the reference model [%].
+    n_sub : int
+        Sub-steps per sample [-].
+
+    Returns
+    -------
+    float
+        ``sigma0`` [N/m].
+    """
+    def cost(log_s0):
+        fr = LuGreFriction(**base.friction.model_dump(), sigma0=10.0**log_s0, sigma1=0.0)
+        m = EmpsModel(base.name, base.mass, base.offset, fr, base.delay, "")
+        return _score(relative_errors(rec, simulate(rec, m, n_sub), meas), ref_err)
+
+    res = optimize.minimize_scalar(cost, bounds=(5.0, 9.0), method="bounded",
+                                   options={"xatol": 0.05})
+    return 10.0 ** float(res.x)
+
+
+def identify(rec: EmpsRecord, n_sub: int = N_SUB) -> tuple[dict, dict]:
+    """Identify the reference model and the improved models on the estimation data.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        Estimation data [-].
+    n_sub : int
+        Sub-steps per sample [-].
+
+    Returns
+    -------
+    tuple of dict
+        ``(identification results for JSON, {name: EmpsModel})`` [-].
+    """
+    force = rec.gtau * rec.vir
+    common = {"cutoff": FILTER_CUTOFF_HZ, "order": FILTER_ORDER, "decimation": DECIMATION,
+              "skip": N_BORDER - 1}
+    ref_est = idim_ls(rec.qm, force, rec.dt, friction="symmetric", **common)
+    fr_ref, off_ref = friction_from_idim(ref_est)
+    models = {"reference": EmpsModel(
+        "reference", ref_est["M"], off_ref, fr_ref, 1.0,
+        "published structure: symmetric Coulomb + viscous + offset, one-sample delay")}
+    asym_est = idim_ls(rec.qm, force, rec.dt, friction="asymmetric", **common)
+    fr_a, off_a = friction_from_idim(asym_est)
+    models["asymmetric"] = EmpsModel(
+        "asymmetric", asym_est["M"], off_a, fr_a, 1.0,
+        "asymmetric Coulomb and viscous friction (IDIM-LS), one-sample delay")
+
+    meas = measured_signals(rec)
+    ref_err = relative_errors(rec, simulate(rec, models["reference"], n_sub), meas)
+    delay = fit_delay(rec, meas, models["reference"], ref_err, n_sub)
+    models["delay"] = EmpsModel(
+        "delay", ref_est["M"], off_ref, fr_ref, delay,
+        "reference parameters, actuation delay fitted in closed loop")
+    shift = delay + 0.5
+    asym_d = idim_ls(rec.qm, force, rec.dt, friction="asymmetric", force_shift=shift,
+                     **common)
+    fr_ad, off_ad = friction_from_idim(asym_d)
+    models["asymmetric_delay"] = EmpsModel(
+        "asymmetric_delay", asym_d["M"], off_ad, fr_ad, delay,
+        "asymmetric friction re-identified with the force aligned to the fitted delay")
+    strib = idim_ls(rec.qm, force, rec.dt, friction="asymmetric", force_shift=shift,
+                    stribeck_velocity="fit", **common)
+    fr_s, off_s = friction_from_idim(strib)
+    models["asymmetric_stribeck_delay"] = EmpsModel(
+        "asymmetric_stribeck_delay", strib["M"], off_s, fr_s, delay,
+        "plus a low-speed (Stribeck-form) friction term, velocity fitted")
+    s0 = fit_sigma0(rec, meas, models["asymmetric_stribeck_delay"], ref_err, n_sub)
+    lugre = LuGreFriction(**fr_s.model_dump(), sigma0=s0, sigma1=0.0)
+    models["lugre"] = EmpsModel(
+        "lugre", strib["M"], off_s, lugre, delay,
+        "plus LuGre pre-sliding, bristle stiffness fitted in closed loop")
+    ident = {
+        "reference": ref_est.to_dict(),
+        "asymmetric": asym_est.to_dict(),
+        "asymmetric_delay": asym_d.to_dict(),
+        "asymmetric_stribeck_delay": strib.to_dict(),
+        "fitted_delay_samples": delay,
+        "fitted_sigma0_N_per_m": s0,
+        "reference_vs_published_percent": {
+            k: 100.0 * (ref_est[k] - v) / abs(v)
+            for k, v in PUBLISHED["identification"].items() if k in ref_est.names
+        },
+    }
+    return ident, models
+
+
+def evaluate(rec: EmpsRecord, models: dict, n_sub: int = N_SUB) -> dict:
+    """Closed-loop errors of every model on one data set.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        Data set [-].
+    models : dict
+        ``{name: EmpsModel}`` [-].
+    n_sub : int
+        Sub-steps per sample [-].
+
+    Returns
+    -------
+    dict
+        Errors per model, the published-time-base reproduction of the reference, and which
+        models beat the reference on which quantities [%, -].
+    """
+    meas = measured_signals(rec)
+    sims = {name: simulate(rec, m, n_sub) for name, m in models.items()}
+    errors = {name: relative_errors(rec, s, meas) for name, s in sims.items()}
+    out = {"file": rec.name, "n_samples": int(rec.t.size), "errors_percent": errors}
+    # the published script runs its controller with tec = t(10) - t(9) and compares
+    # sample by sample; reproduce that time base for the reference model
+    tec = float(rec.t[9] - rec.t[8])
+    ref_tb = np.interp(np.arange(rec.t.size) * tec, rec.t, rec.qg)
+    sim_tb = simulate(rec, models["reference"], n_sub, period=tec, ref=ref_tb)
+    out["reference_published_time_base_percent"] = relative_errors(rec, sim_tb, meas)
+    ref = errors["reference"]
+    out["beats_reference"] = {
+        name: [k for k in ("position", "velocity", "acceleration", "force") if e[k] < ref[k]]
+        for name, e in errors.items() if name != "reference"
+    }
+    if rec.pulses is not None:
+        out["vir_includes_pulses"] = vir_includes_pulses(rec)
+    out["_sims"] = sims
+    out["_meas"] = meas
+    return out
+
+
+def _plot(path, rec, result, models):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    meas = result["_meas"]
+    sims = result["_sims"]
+    best = min((n for n in sims if n != "reference"),
+               key=lambda n: result["errors_percent"][n]["force"])
+    fig, axs = plt.subplots(4, 1, sharex=True, figsize=(10, 10))
+    for ax, key, mk, lab in zip(
+        axs, ("q", "v", "a", "u"), ("q", "dq", "ddq", "force"),
+        ("position [m]", "velocity [m/s]", "acceleration [m/s^2]", "force [N]"), strict=True,
+    ):
+        ax.plot(rec.t, meas[mk], "k", lw=0.8, label="measured")
+        for name, c in (("reference", "tab:red"), (best, "tab:blue")):
+            s = sims[name]
+            y = rec.gtau * s.u_applied if key == "u" else getattr(s, key)
+            ax.plot(rec.t, y, color=c, lw=0.6, label=name)
+        ax.set_ylabel(lab)
+        ax.grid(True)
+    axs[0].legend(loc="best")
+    axs[-1].set_xlabel("time [s]")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _clean(d):
+    return {k: v for k, v in d.items() if not k.startswith("_")}
+
+
+def run(estimation, validation=None, n_sub: int = N_SUB) -> tuple[dict, dict]:
+    """Identify on the estimation file, evaluate on both files.
+
+    Parameters
+    ----------
+    estimation : str or Path
+        Estimation file (``DATA_EMPS.mat``) [-].
+    validation : str or Path, optional
+        Validation file with ``pulses_N`` [-].
+    n_sub : int
+        Sub-steps per sample [-].
+
+    Returns
+    -------
+    tuple of dict
+        ``(report, raw)``: the JSON-ready report, and the records and simulations [-].
+    """
+    est = load_emps(estimation)
+    ident, models = identify(est, n_sub)
+    res_est = evaluate(est, models, n_sub)
+    report = {
+        "published": PUBLISHED,
+        "models": {n: m.to_dict() for n, m in models.items()},
+        "estimation": {"identification": ident, **_clean(res_est)},
+    }
+    raw = {"estimation": (est, res_est), "models": models}
+    if validation is not None:
+        val = load_emps(validation, need_pulses=True)
+        res_val = evaluate(val, models, n_sub)
+        ref_est = ident["reference"]["parameters"]
+        meas = res_val["_meas"]
+        plant_force = val.gtau * (val.vir if vir_includes_pulses(val) else val.vir + val.pulses)
+        s = slice(N_BORDER - 1, None)
+        pred = (ref_est["M"]["value"] * meas["ddq"] + ref_est["Fv"]["value"] * meas["dq"]
+                + ref_est["Fc"]["value"] * np.sign(meas["dq"]) + ref_est["offset"]["value"])
+        ctv = float(100 * np.linalg.norm((plant_force - pred)[s])
+                    / np.linalg.norm(plant_force[s]))
+        report["validation"] = {**_clean(res_val),
+                                "idim_cross_validation_force_error_percent": ctv}
+        raw["validation"] = (val, res_val)
+    best = {}
+    for key in ("estimation", "validation"):
+        if key in report:
+            errs = report[key]["errors_percent"]
+            ref = errs["reference"]
+            winners = [n for n, e in errs.items() if n != "reference"
+                       and e["velocity"] < ref["velocity"] and e["force"] < ref["force"]]
+            best[key] = min(winners, key=lambda n: errs[n]["force"]) if winners else None
+    report["best_model"] = best
+    return report, raw
+
+
+def _print_table(report):
+    for key in ("estimation", "validation"):
+        if key not in report:
+            continue
+        sec = report[key]
+        print(f"\n== {key}: {sec['file']} ==")
+        if key == "estimation":
+            idp = sec["identification"]["reference"]
+            print("IDIM-LS (published filter):")
+            for n, p in idp["parameters"].items():
+                pub = PUBLISHED["identification"][n]
+                print(f"  {n:7s} {p['value']:10.4f} +/- {p['std']:.4f}   published {pub:9.4f}")
+            print(f"  relative force error {idp['relative_error_percent']:.4f} %")
+            print(f"  fitted delay {sec['identification']['fitted_delay_samples']:.2f} samples, "
+                  f"sigma0 {sec['identification']['fitted_sigma0_N_per_m']:.3g} N/m")
+        print(f"{'model':28s} {'position':>9s} {'velocity':>9s} {'accel.':>9s} {'force':>9s}")
+        pub = PUBLISHED["simulation"]
+        if key == "estimation":
+            print(f"{'published reference':28s} {pub['position']:9.4f} {pub['velocity']:9.4f} "
+                  f"{pub['acceleration']:9.4f} {pub['force']:9.4f}")
+        tb = sec["reference_published_time_base_percent"]
+        print(f"{'reference, published t-base':28s} {tb['position']:9.4f} {tb['velocity']:9.4f} "
+              f"{tb['acceleration']:9.4f} {tb['force']:9.4f}")
+        for n, e in sec["errors_percent"].items():
+            print(f"{n:28s} {e['position']:9.4f} {e['velocity']:9.4f} "
+                  f"{e['acceleration']:9.4f} {e['force']:9.4f}")
+    print(f"\nbest model (beats the reference on velocity and force): {report['best_model']}")
+
+
+def main(argv=None) -> dict:
+    """Command-line entry point.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments; default ``sys.argv[1:]`` [-].
+
+    Returns
+    -------
+    dict
+        The report (also printed, as JSON with ``--json``) [-].
+    """
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--estimation", required=True, help="DATA_EMPS.mat")
+    ap.add_argument("--validation", help="validation file with pulses_N")
+    ap.add_argument("--json", action="store_true", help="print the report as JSON")
+    ap.add_argument("--plot", metavar="FILE", help="save a comparison figure (needs matplotlib)")
+    ap.add_argument("--substeps", type=int, default=N_SUB, help="mechanical sub-steps/sample")
+    args = ap.parse_args(argv)
+    report, raw = run(args.estimation, args.validation, args.substeps)
+    if args.json:
+        print(json.dumps(report, indent=2, default=_json_default))
+    else:
+        _print_table(report)
+    if args.plot:
+        rec, res = raw["estimation"]
+        _plot(args.plot, rec, res, raw["models"])
+    return report
+
+
+def _json_default(o):
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, float) and not math.isfinite(o):
+        return None
+    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)

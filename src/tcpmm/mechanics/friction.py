@@ -1,0 +1,664 @@
+"""Friction and lost motion of feed-axis transmissions.
+
+Sign convention
+---------------
+Every friction force ``F`` returned here is the force the friction exerts *against* the
+body's motion, expressed along the axis coordinate, so that the body obeys
+
+    m v' = f_applied - F
+
+``F`` has the sign of the velocity while sliding. ``f_applied`` is the sum of every other
+force on the body along the same coordinate (actuator, springs, dampers, gravity, process
+force) [N].
+
+Models
+------
+``StribeckFriction``
+    Coulomb + viscous + Stribeck with direction-dependent levels. While sliding
+    (``v != 0``), with ``d = +`` for ``v > 0`` and ``d = -`` for ``v < 0``::
+
+        F(v) = sign(v) * (Fc_d + (Fs_d - Fc_d) * exp(-|v / vs|**delta)) + Fv_d * v
+
+    At rest the friction balances the applied force up to the static level:
+    ``-Fs_- <= F <= Fs_+``.
+``LuGreFriction``
+    LuGre dynamic friction with pre-sliding (bristle deflection ``z`` [m])::
+
+        g(v)  = Fc_d + (Fs_d - Fc_d) * exp(-|v / vs|**delta)
+        z'    = v - sigma0 * |v| / g(v) * z
+        F     = sigma0 * z + sigma1 * z' + Fv_d * v
+
+    At constant velocity it gives the Stribeck curve above; at small displacements it is a
+    spring of stiffness ``sigma0`` [N/m] with a hysteretic force-displacement loop.
+``Backlash``
+    Lost motion of a screw-nut: dead-zone spring of contact stiffness ``k`` [N/m] and total
+    gap ``2 b`` [m], with optional contact damping ``c`` [N s/m].
+
+Compiled API (numba, for per-step simulation loops)
+---------------------------------------------------
+Build the parameter vector once, outside the loop, then call the jitted functions with
+plain floats inside ``@njit`` code::
+
+    p = friction_params_array(model)          # np.ndarray, float64, length N_FRICTION_PARAMS
+    s = 0.0                                   # friction state, one float per contact
+    F, s = friction_force(v, f_applied, s, p, dt, m_eff)
+    v_end = v + dt * (f_applied - F) / m_eff
+    if at_rest(s, p):
+        v_end = 0.0
+
+``friction_force(v, f_applied, state, params, dt, m_eff) -> (F, new_state)``
+    One time step ``[t, t + dt]`` of a body moving at ``v`` [m/s] at ``t`` with the other
+    forces ``f_applied`` [N] held over the step. Returns the friction force ``F`` [N] to
+    hold constant over the step and the friction state at ``t + dt``. The step is meant
+    to be completed by the caller as ``v_end = v + dt * (f_applied - F) / m_eff``, and
+    ``v_end = 0.0`` exactly when ``at_rest(new_state, params)`` (the stop force brings the
+    velocity to zero only up to rounding).
+
+    - ``m_eff`` [kg] is the mass of the body as the friction sees it over the step
+      (``m_eff = dt / |dv_end/dF|``). For a free body it is its mass. For an exactly
+      discretised linear system (ZOH), take ``dv_end/dF`` from the discrete input column
+      of the friction force, and pass ``f_applied = m_eff * (v_free - v) / dt`` where
+      ``v_free`` is the end-of-step velocity the step would give without friction: the
+      returned ``F`` then gives ``v_end = v_free - dt * F / m_eff``.
+    - ``state``: LuGre bristle deflection ``z`` [m] (read and returned); for the static
+      model a stick flag, ``STUCK`` (1.0) or ``SLIDING`` (0.0), that is only returned.
+    - Static model, ``m_eff > 0``: exact stick. If the body is at rest, or if the sliding
+      friction would reverse the velocity inside the step, the friction becomes the force
+      that stops the body at the end of the step, ``F_stop = f_applied + m_eff * v / dt``,
+      provided ``-Fs_- <= F_stop <= Fs_+`` (state ``STUCK``); beyond the static band it
+      is clipped to it and the body slips through zero into the other direction (or
+      breaks away). Otherwise it is the sliding value ``F(v)``. A body at rest under
+      ``|f_applied|`` below the static level stays at exactly zero velocity; a reversal
+      lands on zero instead of overshooting, so there is no chattering.
+    - Static model, ``m_eff == 0``: Karnopp stick band. For ``|v| <= v_stick``,
+      ``F = clip(f_applied, -Fs_-, Fs_+)``; outside it ``F = F(v)``.
+    - LuGre model: the bristle equation is stiff (``sigma0`` is large), so ``z`` and
+      ``v`` are advanced together by a linearly implicit (backward Euler) step with the
+      rate ``sigma0 |v| / g(v)`` frozen at the start of the step; with ``m_eff == 0`` the
+      velocity is taken as constant and ``z`` is updated with the exact exponential
+      solution of its linear equation. Both updates are stable for any ``dt``.
+    - The caller should sub-step (shorter ``dt``) around velocity reversals if it needs
+      the reversal instant to better than one step; stick itself needs no sub-stepping.
+
+``friction_step(v, f_applied, state, params, dt, m_eff) -> (v_end, F, new_state)``
+    The same step completed for a single free body of mass ``m_eff > 0``.
+``at_rest(state, params) -> bool``
+    True when a static-model step ended in stick.
+``sliding_friction(v, params) -> F``
+    Steady-state friction at velocity ``v`` (the Stribeck curve, ``0.0`` at ``v == 0``).
+``static_levels(params) -> (Fs_plus, Fs_minus)``
+    Break-away levels, both non-negative [N].
+``lugre_steady_state(v, params) -> z``
+    Bristle deflection in steady sliding at ``v`` [m].
+``backlash_force(delta, delta_dot, params) -> F``
+    Force transmitted across a backlash element of relative displacement ``delta`` [m]
+    and relative velocity ``delta_dot`` [m/s]; zero inside the gap ``|delta| <= b``,
+    ``k (delta - b) + c delta_dot`` beyond ``+b`` (never pulling, i.e. clipped at 0),
+    symmetric beyond ``-b``. Parameters from ``backlash_params_array(model)``.
+
+The parameter vector layout is given by the ``P_*`` index constants of this module; the
+model code ``params[P_MODEL]`` is ``MODEL_NONE`` (no friction), ``MODEL_STATIC`` or
+``MODEL_LUGRE``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from tcpmm.errors import InputError
+
+__all__ = [
+    "MODEL_LUGRE",
+    "MODEL_NONE",
+    "MODEL_STATIC",
+    "N_FRICTION_PARAMS",
+    "SLIDING",
+    "STUCK",
+    "Backlash",
+    "LuGreFriction",
+    "StribeckFriction",
+    "at_rest",
+    "backlash_force",
+    "backlash_params_array",
+    "friction_force",
+    "friction_params_array",
+    "friction_step",
+    "lugre_decay_rate",
+    "lugre_steady_state",
+    "sliding_friction",
+    "static_levels",
+    "stribeck_level",
+]
+
+MODEL_NONE = 0
+MODEL_STATIC = 1
+MODEL_LUGRE = 2
+
+P_MODEL = 0
+P_FC_POS = 1
+P_FC_NEG = 2
+P_FS_POS = 3
+P_FS_NEG = 4
+P_VS = 5
+P_DELTA = 6
+P_FV_POS = 7
+P_FV_NEG = 8
+P_SIGMA0 = 9
+P_SIGMA1 = 10
+P_V_STICK = 11
+N_FRICTION_PARAMS = 12
+
+SLIDING = 0.0
+STUCK = 1.0
+
+B_K = 0
+B_GAP = 1
+B_C = 2
+N_BACKLASH_PARAMS = 3
+
+
+def _explain(exc: ValidationError, name: str) -> str:
+    parts = []
+    for err in exc.errors():
+        loc = ".".join(str(x) for x in err.get("loc", ())) or name
+        parts.append(f"{name}.{loc}: {err.get('msg', 'invalid value')}")
+    return "; ".join(parts) + " (fix the value and try again)"
+
+
+class _Holder(BaseModel):
+    """Validated, immutable parameter holder that raises ``InputError`` on bad input."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    def __init__(self, **data):
+        try:
+            super().__init__(**data)
+        except ValidationError as exc:
+            raise InputError(_explain(exc, type(self).__name__)) from None
+
+
+class StribeckFriction(_Holder):
+    """Coulomb + viscous + Stribeck friction with direction-dependent levels.
+
+    Parameters
+    ----------
+    fc_pos : float
+        Coulomb level for positive velocity [N].
+    fc_neg : float
+        Coulomb level for negative velocity, as a positive number [N].
+    fs_pos : float, optional
+        Static (break-away) level in the positive direction; defaults to ``fc_pos`` [N].
+    fs_neg : float, optional
+        Static level in the negative direction, positive; defaults to ``fc_neg`` [N].
+    vs : float
+        Stribeck velocity [m/s].
+    delta : float
+        Stribeck shape exponent [-].
+    fv_pos : float
+        Viscous coefficient for positive velocity [N s/m].
+    fv_neg : float
+        Viscous coefficient for negative velocity [N s/m].
+    v_stick : float
+        Half-width of the Karnopp stick band, used only when the caller does not give
+        the body's mass to ``friction_force`` [m/s].
+    """
+
+    fc_pos: float = Field(ge=0.0)
+    fc_neg: float = Field(ge=0.0)
+    fs_pos: float | None = Field(default=None, ge=0.0)
+    fs_neg: float | None = Field(default=None, ge=0.0)
+    vs: float = Field(default=1e-3, gt=0.0)
+    delta: float = Field(default=2.0, gt=0.0)
+    fv_pos: float = Field(default=0.0, ge=0.0)
+    fv_neg: float = Field(default=0.0, ge=0.0)
+    v_stick: float = Field(default=1e-6, ge=0.0)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _fill_static(cls, data):
+        if isinstance(data, dict):
+            data = dict(data)
+            for fs, fc in (("fs_pos", "fc_pos"), ("fs_neg", "fc_neg")):
+                if data.get(fs) is None and fc in data:
+                    data[fs] = data[fc]
+        return data
+
+    @classmethod
+    def symmetric(cls, fc, fv=0.0, fs=None, vs=1e-3, delta=2.0, v_stick=1e-6):
+        """Direction-independent friction.
+
+        Parameters
+        ----------
+        fc : float
+            Coulomb level [N].
+        fv : float
+            Viscous coefficient [N s/m].
+        fs : float, optional
+            Static level; defaults to ``fc`` [N].
+        vs : float
+            Stribeck velocity [m/s].
+        delta : float
+            Stribeck shape exponent [-].
+        v_stick : float
+            Karnopp band half-width [m/s].
+
+        Returns
+        -------
+        StribeckFriction
+            The parameter holder [-].
+        """
+        return cls(
+            fc_pos=fc, fc_neg=fc, fs_pos=fs, fs_neg=fs, vs=vs, delta=delta,
+            fv_pos=fv, fv_neg=fv, v_stick=v_stick,
+        )
+
+
+class LuGreFriction(StribeckFriction):
+    """LuGre dynamic friction (pre-sliding bristle model) with asymmetric levels.
+
+    Parameters
+    ----------
+    fc_pos, fc_neg, fs_pos, fs_neg, vs, delta, fv_pos, fv_neg, v_stick
+        As in ``StribeckFriction`` ([N], [N], [N], [N], [m/s], [-], [N s/m], [N s/m],
+        [m/s]); ``v_stick`` is not used by this model.
+    sigma0 : float
+        Bristle (pre-sliding) stiffness [N/m].
+    sigma1 : float
+        Bristle micro-damping [N s/m].
+    """
+
+    sigma0: float = Field(gt=0.0)
+    sigma1: float = Field(default=0.0, ge=0.0)
+
+
+class Backlash(_Holder):
+    """Lost motion of a screw-nut pair: dead-zone spring.
+
+    Parameters
+    ----------
+    k : float
+        Contact stiffness once the gap is closed [N/m].
+    b : float
+        Half of the total gap (the free play is ``2 b``) [m].
+    c : float
+        Contact damping, active only in contact [N s/m].
+    """
+
+    k: float = Field(gt=0.0)
+    b: float = Field(ge=0.0)
+    c: float = Field(default=0.0, ge=0.0)
+
+
+def friction_params_array(model) -> np.ndarray:
+    """Pack a friction model into the float vector the compiled functions read.
+
+    Parameters
+    ----------
+    model : StribeckFriction, LuGreFriction or None
+        The friction model; ``None`` means no friction [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Parameter vector of length ``N_FRICTION_PARAMS``, layout given by the ``P_*``
+        constants [-].
+    """
+    p = np.zeros(N_FRICTION_PARAMS)
+    if model is None:
+        p[P_MODEL] = MODEL_NONE
+        p[P_VS] = 1.0
+        p[P_DELTA] = 2.0
+        return p
+    if not isinstance(model, StribeckFriction):
+        raise InputError(
+            f"friction model must be StribeckFriction, LuGreFriction or None, got "
+            f"{type(model).__name__}; build one of those holders first",
+            column="model",
+        )
+    p[P_MODEL] = MODEL_LUGRE if isinstance(model, LuGreFriction) else MODEL_STATIC
+    p[P_FC_POS] = model.fc_pos
+    p[P_FC_NEG] = model.fc_neg
+    p[P_FS_POS] = model.fs_pos
+    p[P_FS_NEG] = model.fs_neg
+    p[P_VS] = model.vs
+    p[P_DELTA] = model.delta
+    p[P_FV_POS] = model.fv_pos
+    p[P_FV_NEG] = model.fv_neg
+    p[P_V_STICK] = model.v_stick
+    if isinstance(model, LuGreFriction):
+        p[P_SIGMA0] = model.sigma0
+        p[P_SIGMA1] = model.sigma1
+    return p
+
+
+def backlash_params_array(model: Backlash | None) -> np.ndarray:
+    """Pack a backlash element into the float vector ``backlash_force`` reads.
+
+    Parameters
+    ----------
+    model : Backlash or None
+        The element; ``None`` gives a rigid contact without play (``k = inf``) that
+        callers must not use; it is returned as zeros [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``[k, b, c]`` [N/m, m, N s/m].
+    """
+    p = np.zeros(N_BACKLASH_PARAMS)
+    if model is None:
+        return p
+    if not isinstance(model, Backlash):
+        raise InputError(
+            f"backlash must be a Backlash holder, got {type(model).__name__}",
+            column="backlash",
+        )
+    p[B_K] = model.k
+    p[B_GAP] = model.b
+    p[B_C] = model.c
+    return p
+
+
+@njit(cache=True)
+def static_levels(params):
+    """Break-away levels of a friction parameter vector.
+
+    Parameters
+    ----------
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    tuple of float
+        ``(Fs_plus, Fs_minus)``, both non-negative [N].
+    """
+    if params[P_MODEL] == MODEL_NONE:
+        return 0.0, 0.0
+    return params[P_FS_POS], params[P_FS_NEG]
+
+
+@njit(cache=True)
+def stribeck_level(v, params):
+    """Coulomb + Stribeck part of the sliding friction, as a magnitude.
+
+    Parameters
+    ----------
+    v : float
+        Velocity, non-zero; its sign selects the direction-dependent levels [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    float
+        ``g(v) = Fc_d + (Fs_d - Fc_d) exp(-|v / vs|**delta)`` [N].
+    """
+    if v > 0.0:
+        fc = params[P_FC_POS]
+        fs = params[P_FS_POS]
+    else:
+        fc = params[P_FC_NEG]
+        fs = params[P_FS_NEG]
+    x = abs(v) / params[P_VS]
+    return fc + (fs - fc) * math.exp(-(x ** params[P_DELTA]))
+
+
+@njit(cache=True)
+def _fv(v, params):
+    return params[P_FV_POS] if v >= 0.0 else params[P_FV_NEG]
+
+
+@njit(cache=True)
+def sliding_friction(v, params):
+    """Steady-state friction at velocity ``v`` (the Stribeck curve).
+
+    Parameters
+    ----------
+    v : float
+        Velocity [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    float
+        Friction force against the motion, with the sign of ``v``; ``0.0`` at ``v == 0``
+        [N].
+    """
+    if params[P_MODEL] == MODEL_NONE or v == 0.0:
+        return 0.0
+    g = stribeck_level(v, params)
+    return (g if v > 0.0 else -g) + _fv(v, params) * v
+
+
+@njit(cache=True)
+def lugre_steady_state(v, params):
+    """Bristle deflection of the LuGre model in steady sliding.
+
+    Parameters
+    ----------
+    v : float
+        Velocity [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` of a LuGre model [-].
+
+    Returns
+    -------
+    float
+        ``z_ss = sign(v) g(v) / sigma0``; ``0.0`` at ``v == 0`` [m].
+    """
+    if v == 0.0 or params[P_SIGMA0] <= 0.0:
+        return 0.0
+    g = stribeck_level(v, params)
+    return (g if v > 0.0 else -g) / params[P_SIGMA0]
+
+
+@njit(cache=True)
+def _clip(x, lo, hi):
+    if x < lo:
+        return lo
+    if x > hi:
+        return hi
+    return x
+
+
+@njit(cache=True)
+def _stop_or_slip(f_stop, fsn, fsp):
+    if -fsn <= f_stop <= fsp:
+        return f_stop, STUCK
+    return _clip(f_stop, -fsn, fsp), SLIDING
+
+
+@njit(cache=True)
+def _static_step(v, f_applied, params, dt, m_eff):
+    fsp = params[P_FS_POS]
+    fsn = params[P_FS_NEG]
+    if m_eff > 0.0:
+        f_stop = f_applied + m_eff * v / dt
+        if v > 0.0:
+            f_sl = sliding_friction(v, params)
+            if f_sl >= f_stop:
+                return _stop_or_slip(f_stop, fsn, fsp)
+            return f_sl, SLIDING
+        if v < 0.0:
+            f_sl = sliding_friction(v, params)
+            if f_sl <= f_stop:
+                return _stop_or_slip(f_stop, fsn, fsp)
+            return f_sl, SLIDING
+        return _stop_or_slip(f_stop, fsn, fsp)
+    if abs(v) <= params[P_V_STICK]:
+        return _clip(f_applied, -fsn, fsp), SLIDING
+    return sliding_friction(v, params), SLIDING
+
+
+@njit(cache=True)
+def lugre_decay_rate(v, params):
+    """Rate ``sigma0 |v| / g(v)`` of the LuGre bristle equation ``z' = v - rate * z``.
+
+    Parameters
+    ----------
+    v : float
+        Velocity [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` of a LuGre model [-].
+
+    Returns
+    -------
+    float
+        Decay rate, ``0.0`` at ``v == 0`` [1/s].
+    """
+    if v == 0.0:
+        return 0.0
+    return params[P_SIGMA0] * abs(v) / stribeck_level(v, params)
+
+
+@njit(cache=True)
+def _lugre_step(v, f_applied, z, params, dt, m_eff):
+    s0 = params[P_SIGMA0]
+    s1 = params[P_SIGMA1]
+    c = lugre_decay_rate(v, params)
+    fv = _fv(v, params)
+    if m_eff > 0.0:
+        # backward Euler on (v, z) with c frozen:
+        #   m (v1 - v)/dt = f_applied - F1
+        #   z1 = (z + dt v1) / (1 + c dt)
+        #   F1 = (s0 - s1 c) z1 + (s1 + fv) v1
+        den = 1.0 + c * dt
+        k = s0 - s1 * c
+        a = m_eff / dt + k * dt / den + s1 + fv
+        v1 = (m_eff * v / dt + f_applied - k * z / den) / a
+        z1 = (z + dt * v1) / den
+        f1 = k * z1 + (s1 + fv) * v1
+        return f1, z1
+    if c > 0.0:
+        z_ss = v / c
+        z1 = z_ss + (z - z_ss) * math.exp(-c * dt)
+    else:
+        z1 = z + v * dt
+    zdot = v - c * z1
+    return s0 * z1 + s1 * zdot + fv * v, z1
+
+
+@njit(cache=True)
+def friction_force(v, f_applied, state, params, dt, m_eff):
+    """Friction force over one time step, with exact stick and a stable state update.
+
+    Parameters
+    ----------
+    v : float
+        Velocity of the body at the start of the step [m/s].
+    f_applied : float
+        Sum of all other forces on the body, held over the step [N].
+    state : float
+        Friction state at the start of the step: LuGre bristle deflection [m]; for the
+        static model a stick flag (``STUCK`` or ``SLIDING``) that is returned, not read
+        [-].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+    dt : float
+        Step length, > 0 [s].
+    m_eff : float
+        Mass the friction acts on over the step (``0.0`` if unknown: Karnopp band for the
+        static model, constant-velocity state update for LuGre) [kg].
+
+    Returns
+    -------
+    tuple of float
+        ``(F, new_state)``: friction force against the motion to hold over the step [N]
+        and the friction state at the end of the step (LuGre: deflection [m]; static:
+        ``STUCK`` if the body is at rest at the end of the step, else ``SLIDING`` [-]).
+    """
+    model = params[P_MODEL]
+    if model == MODEL_NONE:
+        return 0.0, state
+    if model == MODEL_LUGRE:
+        return _lugre_step(v, f_applied, state, params, dt, m_eff)
+    return _static_step(v, f_applied, params, dt, m_eff)
+
+
+@njit(cache=True)
+def at_rest(state, params):
+    """Whether a ``friction_force`` step ended in stick (static model only).
+
+    Parameters
+    ----------
+    state : float
+        ``new_state`` returned by ``friction_force`` [-].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    bool
+        True if the body is at rest at the end of the step: the caller sets its velocity
+        to exactly ``0.0`` (the returned force already brings it there up to rounding)
+        [-].
+    """
+    return params[P_MODEL] == MODEL_STATIC and state == STUCK
+
+
+@njit(cache=True)
+def friction_step(v, f_applied, state, params, dt, m_eff):
+    """One explicit step of a single body with friction, exact at rest.
+
+    Parameters
+    ----------
+    v : float
+        Velocity at the start of the step [m/s].
+    f_applied : float
+        Other forces on the body, held over the step [N].
+    state : float
+        Friction state [m or -].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+    dt : float
+        Step [s].
+    m_eff : float
+        Mass of the body, > 0 [kg].
+
+    Returns
+    -------
+    tuple of float
+        ``(v_end, F, new_state)``: velocity at the end of the step (exactly ``0.0`` in
+        stick) [m/s], friction force held over the step [N], new friction state [m or -].
+    """
+    f, s = friction_force(v, f_applied, state, params, dt, m_eff)
+    if at_rest(s, params):
+        return 0.0, f, s
+    return v + dt * (f_applied - f) / m_eff, f, s
+
+
+@njit(cache=True)
+def backlash_force(delta, delta_dot, params):
+    """Force across a screw-nut backlash (dead-zone spring with contact damping).
+
+    Parameters
+    ----------
+    delta : float
+        Relative displacement across the element (screw side minus nut side) [m].
+    delta_dot : float
+        Relative velocity [m/s].
+    params : numpy.ndarray
+        ``[k, b, c]`` from ``backlash_params_array`` [-].
+
+    Returns
+    -------
+    float
+        Transmitted force, zero inside the gap ``|delta| <= b``; in contact it never
+        changes sign against the penetration (the contact only pushes) [N].
+    """
+    k = params[B_K]
+    b = params[B_GAP]
+    c = params[B_C]
+    if delta > b:
+        f = k * (delta - b) + c * delta_dot
+        return f if f > 0.0 else 0.0
+    if delta < -b:
+        f = k * (delta + b) + c * delta_dot
+        return f if f < 0.0 else 0.0
+    return 0.0

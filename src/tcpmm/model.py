@@ -6,8 +6,11 @@ import math
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from .mechanics.friction import LuGreFriction, StribeckFriction
 from .mechanics.params import AxisMechanics
 from .servo.params import ServoParams
+
+FrictionModel = LuGreFriction | StribeckFriction
 
 
 class Sensors(BaseModel):
@@ -36,6 +39,28 @@ class Sensors(BaseModel):
         return 2 * math.pi / c if c else 0.0
 
 
+class AxisFriction(BaseModel):
+    """Friction of one axis in table units: force [N] against table velocity [m/s].
+
+    Parameters
+    ----------
+    screw : StribeckFriction or LuGreFriction, optional
+        Screw, nut and support-bearing friction, acting as a torque on the screw
+        (``R_L`` times the force) at the screw's table-equivalent velocity [N].
+    guideway : StribeckFriction or LuGreFriction, optional
+        Linear-guide friction acting on the carriage [N].
+    substeps : int
+        Sub-steps of a velocity-loop step in which a friction velocity reverses or
+        sticks [-].
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    screw: FrictionModel | None = None
+    guideway: FrictionModel | None = None
+    substeps: int = Field(16, ge=1, le=1024)
+
+
 class Axis(BaseModel):
     """One feed axis of the machine.
 
@@ -47,8 +72,8 @@ class Axis(BaseModel):
         Cascade controller [SI].
     sensors : Sensors
         Sensor resolutions [SI].
-    friction : dict or None
-        Friction and lost-motion elements, ``None`` for a linear axis [SI].
+    friction : AxisFriction or None
+        Friction elements, ``None`` for a linear axis [SI].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -56,7 +81,7 @@ class Axis(BaseModel):
     mechanics: AxisMechanics
     servo: ServoParams
     sensors: Sensors = Sensors()
-    friction: dict | None = None
+    friction: AxisFriction | None = None
 
     def replace(self, **changes) -> Axis:
         """A copy with some fields changed."""

@@ -4,16 +4,32 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
+from typing import NamedTuple
 
 import numpy as np
 
 from ._threads import limit_blas_threads
 from .errors import InputError
+from .mechanics.friction import friction_params_array
 from .mechanics.statespace import discretize_zoh, plant, static_equilibrium
 from .model import Axis, Machine
 from .path.command import Command
 from .result import AxisRun, Run
 from .sim.kernel import NX, run_axis
+
+
+class KernelInputs(NamedTuple):
+    """Arrays for :func:`tcpmm.sim.kernel.run_axis` (see its docstring)."""
+
+    AdT: np.ndarray
+    BdT: np.ndarray
+    x0: np.ndarray
+    fp: np.ndarray
+    ip: np.ndarray
+    AdsT: np.ndarray
+    BdsT: np.ndarray
+    pf_s: np.ndarray
+    pf_g: np.ndarray
 
 
 def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_every: int = 1,
@@ -51,9 +67,17 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
         sen.encoder_quantum if q else 0.0, sen.scale_resolution if q else 0.0,
         I0, 0.0, 0.0, m.load_force,
     ])
+    fr = axis.friction
+    n_sub = fr.substeps if fr is not None else 1
     ip = np.array([s.n_pos, s.position_feedback == "scale", s.velocity_feedback == "difference",
-                   s.delay_samples, not open_loop, rec_every], dtype=np.int64)
-    return AdT, BdT, x0, fp, ip
+                   s.delay_samples, not open_loop, rec_every, n_sub], dtype=np.int64)
+    AdsT, BdsT = np.zeros((NX, NX)), np.zeros((4, NX))
+    if fr is not None:
+        Ads, Bds = discretize_zoh(p.A, p.B, s.T_v / n_sub)
+        AdsT[:n, :n], BdsT[:, :n] = Ads.T, Bds.T
+    pf_s = friction_params_array(fr.screw if fr is not None else None)
+    pf_g = friction_params_array(fr.guideway if fr is not None else None)
+    return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g)
 
 
 def _resample(t_src, y_src, t_dst):
@@ -105,10 +129,10 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
         idx = np.minimum(np.searchsorted(t, t_v + 1e-12 * T_v, side="right") - 1, t.size - 1)
         exc = np.asarray(excitation_A, dtype=float)[idx]
     x_start = cmd[0] if x_start is None else x_start
-    AdT, BdT, x0, fp, ip = axis_kernel_inputs(axis, x_start, open_loop, rec_every,
-                                              quantise_feedback)
+    k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback)
     rec = np.zeros(((n - 1) // rec_every + 1, 5))
-    run_axis(AdT, BdT, x0, cmd, vcmd, exc, fp, ip, rec)
+    run_axis(k.AdT, k.BdT, k.x0, cmd, vcmd, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s,
+             k.pf_g)
     R = axis.mechanics.R_L
     return AxisRun(
         cmd=cmd[::rec_every].copy(), motor=rec[:, 0] * R, scale=rec[:, 1], tcp=rec[:, 2],

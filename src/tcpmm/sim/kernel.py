@@ -10,17 +10,24 @@ torque [N m], 12 constant carriage force [N].
 
 ``ip`` (int): 0 velocity-loop steps per position-loop step, 1 feedback (1 scale,
 0 encoder), 2 velocity feedback (0 state, 1 backward difference), 3 delay [samples],
-4 loops closed (1) or open-loop torque mode (0), 5 record every N steps.
+4 loops closed (1) or open-loop torque mode (0), 5 record every N steps, 6 sub-steps
+of a step in which friction reverses or sticks.
 
-The external inputs (columns 1-3 of ``BdT``) are where nonlinear elements enter: in
-:func:`_external` the torques and forces of friction or lost motion are computed from the
-state; here they are the constant loads.
+The external inputs (columns 1-3 of ``BdT``) are where nonlinear elements enter: the
+constant loads, and friction on the screw (torque on ``th_L``) and on the guideway (force
+on ``X_t``), both given in table units (force [N] against table velocity [m/s]) with the
+parameter vectors of :mod:`tcpmm.mechanics.friction`. Friction is exact in stick: the
+force over a step is the one that brings the body to rest when the static level allows
+(its effective mass over the step comes from the discrete input column). A step in which
+a friction velocity reverses or sticks is redone in ``ip[6]`` sub-steps.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+from ..mechanics.friction import MODEL_NONE, STUCK, at_rest, friction_force
 
 REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
@@ -36,14 +43,63 @@ def _quantise(v, q):
 
 
 @njit(cache=True, inline="always")
-def _external(x, fp, u):
-    u[1] = fp[10]
-    u[2] = fp[11]
-    u[3] = fp[12]
+def _free_step(AdT, BdT, x, xn, u):
+    for i in range(NX):
+        xn[i] = BdT[0, i] * u[0] + BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
+    for j in range(NX):
+        xj = x[j]
+        for i in range(NX):
+            xn[i] += AdT[j, i] * xj
+
+
+@njit(cache=True)
+def _apply_friction(BdT, x, xn, h, pf, st, k, col, idx, ratio):
+    """Friction of one contact over a step whose free end state is ``xn``."""
+    b = BdT[col, idx] * ratio * ratio  # end velocity per unit friction force [m/s / N]
+    if b <= 0.0:
+        return
+    m_eff = h / b
+    v = ratio * x[idx]
+    v_free = ratio * xn[idx]
+    F, st[k] = friction_force(v, m_eff * (v_free - v) / h, st[k], pf, h, m_eff)
+    for i in range(NX):
+        xn[i] -= BdT[col, i] * ratio * F
+    if at_rest(st[k], pf):
+        xn[idx] = 0.0
+
+
+@njit(cache=True)
+def _reverses(x, xn, idx, pf, stk):
+    if pf[0] == MODEL_NONE:
+        return False
+    return x[idx] * xn[idx] <= 0.0 or stk == STUCK
+
+
+@njit(cache=True)
+def _friction_step(AdT, BdT, AdsT, BdsT, x, xn, u, h, n_sub, pf_s, pf_g, st, R):
+    """One velocity-loop step with friction; sub-steps where a velocity reverses."""
+    _free_step(AdT, BdT, x, xn, u)
+    if _reverses(x, xn, 6, pf_s, st[0]) or _reverses(x, xn, 7, pf_g, st[1]):
+        hs = h / n_sub
+        for _ in range(n_sub):
+            _free_step(AdsT, BdsT, x, xn, u)
+            if pf_s[0] != MODEL_NONE:
+                _apply_friction(BdsT, x, xn, hs, pf_s, st, 0, 2, 6, R)
+            if pf_g[0] != MODEL_NONE:
+                _apply_friction(BdsT, x, xn, hs, pf_g, st, 1, 3, 7, 1.0)
+            for i in range(NX):
+                x[i] = xn[i]
+        return
+    if pf_s[0] != MODEL_NONE:
+        _apply_friction(BdT, x, xn, h, pf_s, st, 0, 2, 6, R)
+    if pf_g[0] != MODEL_NONE:
+        _apply_friction(BdT, x, xn, h, pf_g, st, 1, 3, 7, 1.0)
+    for i in range(NX):
+        x[i] = xn[i]
 
 
 @njit(cache=True, fastmath=True, nogil=True)
-def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec):
+def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g):
     """Simulate one axis for ``cmd.size`` velocity-loop steps.
 
     Parameters
@@ -62,10 +118,18 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec):
         Parameters, see the module docstring [SI].
     rec : ndarray (N // ip[5] + 1, 5)
         Filled with ``th_m, X_LS, X_TCP, w_m, i_c`` every ``ip[5]`` steps [SI].
+    AdsT, BdsT : ndarray
+        As ``AdT``, ``BdT`` for one sub-step of ``T_v / ip[6]`` [-].
+    pf_s, pf_g : ndarray
+        Friction parameter vectors of the screw and the guideway, table units [-].
     """
     x = x0.copy()
     xn = np.empty(NX)
     u = np.zeros(4)
+    u[1], u[2], u[3] = fp[10], fp[11], fp[12]
+    st = np.zeros(2)  # friction states: screw, guideway
+    friction = pf_s[0] != MODEL_NONE or pf_g[0] != MODEL_NONE
+    n_sub = ip[6]
     K_pp, K_vp, K_vi, k_ff, R = fp[0], fp[1], fp[2], fp[3], fp[4]
     i_lim, T_v, q_enc, q_scale = fp[5], fp[6], fp[7], fp[8]
     I_w = fp[9]
@@ -127,7 +191,9 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec):
         if c_rec == rec_every:
             c_rec = 0
         u[0] = i_app
-        _external(x, fp, u)
+        if friction:
+            _friction_step(AdT, BdT, AdsT, BdsT, x, xn, u, T_v, n_sub, pf_s, pf_g, st, R)
+            continue
         for i in range(NX):
             xn[i] = BdT[0, i] * u[0] + BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
         for j in range(NX):

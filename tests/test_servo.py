@@ -26,8 +26,8 @@ def test_closed_loop_dc_gain_is_one(vmc, name):
     assert abs(h - 1) < 1e-3
 
 
-def test_position_bandwidth_follows_kpp(vmc):
-    a = vmc.axes["X"]
+def test_position_bandwidth_follows_kpp(vmc_linear):
+    a = vmc_linear.axes["X"]
     f = np.logspace(-1, 2, 400)
     h = np.abs(closed_loop_freqresp(a.mechanics, a.servo, "G_p", f))
     f3 = f[np.argmax(h < 1 / np.sqrt(2))]
@@ -58,9 +58,9 @@ CASES = [
 
 
 @pytest.mark.parametrize("changes", CASES)
-def test_kernel_equals_lti_reference(vmc, changes):
+def test_kernel_equals_lti_reference(vmc_linear, changes):
     """The compiled loop and scipy dlsim of the lifted sampled loop agree to 1e-9."""
-    a = vmc.axes["Y"]
+    a = vmc_linear.axes["Y"]
     a = a.replace(servo=a.servo.model_copy(update=changes),
                   sensors=a.sensors.model_copy(update={"encoder_counts_per_rev": 0,
                                                        "scale_resolution": 0.0}))
@@ -86,8 +86,8 @@ def test_kernel_equals_lti_reference(vmc, changes):
         assert err < 1e-9, (name, err)
 
 
-def test_current_limit_and_anti_windup(vmc):
-    a = vmc.axes["X"]
+def test_current_limit_and_anti_windup(vmc_linear):
+    a = vmc_linear.axes["X"]
     a = a.replace(servo=a.servo.model_copy(update={"current_limit": 3.0}))
     t = np.arange(0, 0.6, 1e-3)
     cmd = np.where(t > 0.05, 0.01, 0.0)  # 10 mm step: saturates
@@ -99,8 +99,8 @@ def test_current_limit_and_anti_windup(vmc):
     assert abs(r.scale[-1] - 0.01) < 2e-6
 
 
-def test_gravity_axis_starts_at_rest(vmc):
-    a = vmc.axes["Z"]
+def test_gravity_axis_starts_at_rest(vmc_linear):
+    a = vmc_linear.axes["Z"]
     t = np.arange(0, 0.3, 1e-3)
     r = simulate_axis(a, t, np.full_like(t, 0.02), quantise_feedback=False)
     assert np.max(np.abs(r.scale - 0.02)) < 1e-12
@@ -108,8 +108,8 @@ def test_gravity_axis_starts_at_rest(vmc):
     np.testing.assert_allclose(r.current, hold, rtol=1e-9)
 
 
-def test_open_loop_torque_mode_moves_by_rigid_inertia(vmc):
-    a = vmc.axes["X"]
+def test_open_loop_torque_mode_moves_by_rigid_inertia(vmc_linear):
+    a = vmc_linear.axes["X"]
     m = a.mechanics.replace(B_m=0.0, B_L=0.0, C_t=0.0)
     a = a.replace(mechanics=m)
     t = np.arange(0, 0.2, 1e-4)

@@ -9,8 +9,9 @@ inertia than X so that the TCP oscillates more after B/D than after A/C.
 
 from __future__ import annotations
 
+from .mechanics.friction import StribeckFriction
 from .mechanics.params import AxisMechanics
-from .model import Axis, Machine, Sensors
+from .model import Axis, AxisFriction, Machine, Sensors
 from .servo.params import ServoParams
 
 _G = 9.80665
@@ -26,16 +27,37 @@ _MECH = {
               M_t=250.0, C_t=900.0, K_t=1.4e8, M_b=2500.0, C_b=1.5e5, K_b=1.5e9,
               M_h=350.0, C_h=6.5e3, K_h=5e7, K_tc=1.1, load_force=-250.0 * _G),
 }
+#: Friction in table units: guideway force and screw/nut/bearing force at the table [N].
+#: (Coulomb, static, viscous) per contact.
+_FRICTION = {
+    "X": dict(guideway=(45.0, 55.0, 250.0), screw=(25.0, 30.0, 60.0)),
+    "Y": dict(guideway=(90.0, 110.0, 450.0), screw=(30.0, 36.0, 80.0)),
+    "Z": dict(guideway=(60.0, 70.0, 300.0), screw=(30.0, 36.0, 80.0)),
+}
+
+
+def _friction(ax: str) -> AxisFriction:
+    def one(fc, fs, fv):
+        return StribeckFriction.symmetric(fc=fc, fs=fs, fv=fv, vs=2e-3)
+
+    f = _FRICTION[ax]
+    return AxisFriction(guideway=one(*f["guideway"]), screw=one(*f["screw"]))
+
+
 _SENSORS = Sensors(encoder_counts_per_rev=10000, scale_resolution=1e-6, tcp_resolution=7.8e-8)
 
 
-def builtin_machine(name: str = "vmc") -> Machine:
+def builtin_machine(name: str = "vmc", friction: bool = True, k_ff: float = 0.9) -> Machine:
     """The built-in three-axis vertical machining centre.
 
     Parameters
     ----------
     name : str
         Only ``"vmc"`` is built in [-].
+    friction : bool
+        Include guideway and screw friction (``False``: the linear model of the paper) [-].
+    k_ff : float
+        Velocity feedforward of the position loops [-].
     """
     if name != "vmc":
         from .errors import InputError
@@ -45,8 +67,10 @@ def builtin_machine(name: str = "vmc") -> Machine:
     for ax, values in _MECH.items():
         mech = AxisMechanics.create(**values)
         servo = ServoParams.tuned(mech.J_total, mech.K_tc, bandwidth_hz=80.0,
-                                  integral_corner_hz=20.0, K_pp=40.0, current_limit=20.0)
-        axes[ax] = Axis(mechanics=mech, servo=servo, sensors=_SENSORS)
+                                  integral_corner_hz=20.0, K_pp=40.0, current_limit=20.0,
+                                  k_ff=k_ff)
+        axes[ax] = Axis(mechanics=mech, servo=servo, sensors=_SENSORS,
+                        friction=_friction(ax) if friction else None)
     return Machine(name="three-axis vertical machining centre (built-in)", axes=axes)
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -19,12 +20,16 @@ from .units import feed_mm_per_min_to_m_per_s, mm_to_m
 
 RADIUS_MM = 35.0
 FEED_MM_PER_MIN = 5000.0
+#: The circle starts between quadrant points, so that none of A-D lies on the transient
+#: that follows the feed-in arc.
+START_ANGLE_DEG = 45.0
 
 
 def paper_circle_command(machine=None):
     """CCW then CW circle, R35 mm at 5000 mm/min in XY, with feed-in and feed-out."""
     kw = dict(radius_m=mm_to_m(RADIUS_MM),
-              feed_m_per_s=feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN))
+              feed_m_per_s=feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN),
+              start_angle_rad=math.radians(START_ANGLE_DEG))
     return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])
 
 

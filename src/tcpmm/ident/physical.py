@@ -26,6 +26,7 @@ from scipy.optimize import least_squares
 from .._threads import limit_blas_threads
 from ..errors import InputError, InputWarning
 from ..mechanics.params import AxisMechanics
+from .metrics import rel_error
 
 FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h")
@@ -91,11 +92,24 @@ class PhysicalFit:
         return pd.DataFrame(rows)
 
 
-def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None) -> dict:
+def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
+               hold_period_s: float = 0.0) -> dict:
     """G_M, G_T, G_tcp of a mechanics at the frequencies of each FRF.
 
     Uses the block algebra of the equations of motion (equal to the state-space
     responses, see the tests); vectorised, so cheap enough for least squares.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Parameters [SI].
+    freqs : dict
+        Frequencies per transfer-function name [Hz].
+    current_bandwidth_hz : float, optional
+        First-order current loop in G_M [Hz].
+    hold_period_s : float
+        The drive holds the current command over its velocity-loop period; seen from
+        the sampled command this is a zero-order hold in G_M [s].
     """
     out = {}
     m = mech
@@ -118,8 +132,34 @@ def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None) -> d
         G_M = m.K_tc * s / (m.J_m * s**2 + m.B_m * s + Zm)
         if current_bandwidth_hz is not None:
             G_M = G_M / (1 + s / (2 * np.pi * current_bandwidth_hz))
+        if hold_period_s > 0:
+            G_M = G_M * zoh(s, hold_period_s)
         out[name] = G_M
     return out
+
+
+def zoh(s, T):
+    """Zero-order hold (1 - exp(-sT))/(sT) [-]."""
+    x = s * T
+    return np.where(np.abs(x) < 1e-8, 1.0 - x / 2, -np.expm1(-x) / np.where(x == 0, 1, x))
+
+
+def log_binned(d: FRFData, n_per_decade: int = 60) -> FRFData:
+    """Average an FRF over log-spaced bands, weights combined as independent data."""
+    good = d.weight > 0
+    f, H, w = d.freq_hz[good], d.H[good], d.weight[good]
+    if f.size < 2:
+        return d
+    n = max(8, int(n_per_decade * np.log10(f[-1] / f[0])))
+    edges = np.geomspace(f[0], f[-1] * (1 + 1e-9), n + 1)
+    k = np.searchsorted(edges, f, side="right") - 1
+    w2 = w**2
+    sw = np.bincount(k, w2, n)
+    use = sw > 0
+    Hr = np.bincount(k, w2 * H.real, n)[use] / sw[use]
+    Hi = np.bincount(k, w2 * H.imag, n)[use] / sw[use]
+    fm = np.bincount(k, w2 * f, n)[use] / sw[use]
+    return FRFData(fm, Hr + 1j * Hi, np.sqrt(sw[use]))
 
 
 def _peaks(f, H, k=3):
@@ -166,8 +206,78 @@ def initial_guesses(data: dict, lead: float, K_tc: float) -> list[dict]:
     return guesses
 
 
+def _pairs_hz(roots):
+    """(natural frequency [Hz], damping) of the upper-half-plane roots, ascending."""
+    r = np.asarray(roots)
+    r = r[r.imag > 1e-9 * np.abs(r)]
+    order = np.argsort(np.abs(r))
+    return [(abs(x) / (2 * np.pi), -x.real / abs(x)) for x in r[order]]
+
+
+def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float) -> list[dict]:
+    """Starting points from rational fits of the FRFs (their poles and zeros).
+
+    G_tcp = (den_h - den_t) den_b / (den_h (den_b + den_t)): its poles are the TCP
+    structure mode sqrt(K_h/M_h) and the bed-with-carriage mode sqrt(K_b/(M_b+M_t)); its
+    zeros sqrt(K_b/M_b) and sqrt(K_h/(M_h-M_t)). That fixes M_b/M_t and M_h/M_t; the
+    carriage's share of the inertia and which pole is which are tried both ways.
+    """
+    R = lead / (2 * math.pi)
+    gm = _pairs_hz(tf_fits["G_M"].poles) if "G_M" in tf_fits else []
+    gt = _pairs_hz(tf_fits["G_T"].poles) if "G_T" in tf_fits else []
+    tcp_p = _pairs_hz(tf_fits["G_tcp"].poles) if "G_tcp" in tf_fits else []
+    tcp_z = np.sort(np.abs(tf_fits["G_tcp"].zeros)) / (2 * np.pi) if "G_tcp" in tf_fits else []
+    f_modes = [f for f, _ in gm] or [150.0, 220.0, 700.0]
+    f_anti = [f for f, _ in gt] or [0.8 * f for f in f_modes]
+    assignments = []
+    if len(tcp_p) >= 2 and len(tcp_z) >= 2:
+        for (fh, zh), (fb, zb) in ((tcp_p[0], tcp_p[1]), (tcp_p[1], tcp_p[0])):
+            above = [z for z in tcp_z if z > fb * 1.0001]
+            if not above:
+                continue
+            fzb = min(above, key=lambda z: z - fb)
+            rest = [z for z in tcp_z if z != fzb]
+            fzh = rest[0] if rest else 2 * fh
+            rb = 1.0 / ((fzb / fb) ** 2 - 1.0)
+            rh_den = 1.0 - (fh / fzh) ** 2
+            rh = 1.0 / rh_den if rh_den > 0.01 else 2.5
+            assignments.append((fh, zh, fb, zb, min(max(rb, 0.05), 50), min(max(rh, 0.05), 50)))
+    if not assignments:
+        assignments.append((50.0, 0.03, 200.0, 0.05, 5.0, 2.5))
+    out = []
+    for share_t, share_m in ((0.5, 0.2), (0.3, 0.3), (0.7, 0.12)):
+        M_t = share_t * J_total / R**2
+        J_m = share_m * J_total
+        J_L = max(J_total - J_m - M_t * R**2, 0.05 * J_total)
+        for fh, zh, fb, zb, rb, rh in assignments:
+            M_b, M_h = rb * M_t, rh * M_t
+            K_b = (M_b + M_t) * (2 * np.pi * fb) ** 2
+            K_h = M_h * (2 * np.pi * fh) ** 2
+            J_red = J_m * J_L / (J_m + J_L)
+            K_L = J_red * (2 * np.pi * f_modes[-1]) ** 2  # torsion: the stiff, light mode
+            for f_ax in sorted({f_modes[0], f_anti[0]}):
+                K_t = M_t * (2 * np.pi * f_ax) ** 2
+                out.append(dict(
+                    J_m=J_m, J_L=J_L, M_t=M_t, M_b=M_b, M_h=M_h, K_b=K_b, K_h=K_h, K_t=K_t,
+                    K_L=K_L, B_m=0.02 * J_m * 2 * np.pi * 10, B_L=0.02 * J_L * 2 * np.pi * 10,
+                    C_t=0.05 * M_t * 2 * np.pi * 10, C_h=2 * zh * math.sqrt(K_h * M_h),
+                    C_b=max(2 * zb * math.sqrt(K_b * (M_b + M_t))
+                            - 0.05 * M_t * 2 * np.pi * 10, 1e-3 * math.sqrt(K_b * M_b))))
+    return out
+
+
+def j_total_from_g_m(frf: FRFData, K_tc: float) -> float:
+    """Rigid-body inertia from the low-frequency asymptote |G_M| = K_tc/(J w) [kg m^2]."""
+    good = frf.weight > 0
+    f, H = frf.freq_hz[good], frf.H[good]
+    lo = f < f.min() * 3
+    return float(np.median(K_tc / (np.abs(H[lo]) * 2 * np.pi * f[lo])))
+
+
 def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = None,
-                 current_bandwidth_hz=None, max_nfev: int = 200) -> PhysicalFit:
+                 current_bandwidth_hz=None, fit_current_loop: bool = False,
+                 max_nfev: int = 200, tf_fits: dict | None = None,
+                 hold_period_s: float = 0.0) -> PhysicalFit:
     """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.
 
     Parameters
@@ -182,8 +292,15 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         Starting values of the fitted parameters; default from the data [SI].
     current_bandwidth_hz : float, optional
         Current loop bandwidth if the drive's is known [Hz].
+    fit_current_loop : bool
+        Fit a first-order current-loop bandwidth too (it shows in G_M only); reported
+        in ``extra["current_bandwidth_hz"]``, ``None`` when beyond the data's reach [-].
     max_nfev : int
-        Function evaluations per start [-].
+        Function evaluations of the final refinement [-].
+    tf_fits : dict, optional
+        Rational fits of the same FRFs; their poles and zeros seed the starts [-].
+    hold_period_s : float
+        Velocity-loop period of the drive (zero-order hold of the current) [s].
     """
     limit_blas_threads()
     for need in ("G_M", "G_T"):
@@ -191,19 +308,28 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
             raise InputError(f"the physical fit needs {need}; only {', '.join(data)} given")
     has_tcp = "G_tcp" in data
     names = list(FITTED) if has_tcp else [p for p in FITTED if p not in ("M_h", "C_h", "K_h")]
+    full = data
+    data = {k: log_binned(v) for k, v in data.items()}
     freqs = {k: v.freq_hz for k, v in data.items()}
     w = {k: np.asarray(v.weight, float) / np.sqrt(np.sum(np.asarray(v.weight) > 0))
          for k, v in data.items()}
     fixed = dict(lead=lead, K_tc=K_tc, M_h=1.0, C_h=1.0, K_h=1e9)
 
+    n_mech = len(names)
+    if fit_current_loop:
+        names = [*names, "f_i"]
+
     def mech_of(theta):
-        vals = dict(zip(names, np.exp(theta), strict=True))
+        vals = dict(zip(names[:n_mech], np.exp(theta[:n_mech]), strict=True))
         return AxisMechanics.model_construct(**{**fixed, **vals, "load_force": 0.0})
+
+    def bandwidth(theta):
+        return float(np.exp(theta[n_mech])) if fit_current_loop else current_bandwidth_hz
 
     def resid(theta):
         m = mech_of(theta)
         try:
-            model = model_frfs(m, freqs, current_bandwidth_hz)
+            model = model_frfs(m, freqs, bandwidth(theta), hold_period_s)
         except np.linalg.LinAlgError:
             return np.full(sum(2 * f.size for f in freqs.values()), 1e3)
         parts = []
@@ -213,21 +339,30 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         r = np.concatenate(parts)
         return np.where(np.isfinite(r), r, 1e3)
 
-    starts = [initial] if initial is not None else initial_guesses(data, lead, K_tc)
-    best = None
-    for g in starts:
+    if initial is not None:
+        starts = [initial]
+    else:
+        starts = initial_guesses(data, lead, K_tc)
+        if tf_fits:
+            starts = guesses_from_tf(tf_fits, lead, K_tc,
+                                     j_total_from_g_m(full["G_M"], K_tc)) + starts
+    if fit_current_loop:
+        bounds_fi = (np.log(20.0), np.log(1e5))
+    best, best_bounds = None, None
+    for g in starts:  # a short run from every start, then the best one to convergence
+        g = {"f_i": 3000.0, **g}
         theta0 = np.log([g[p] for p in names])
         lo, hi = theta0 - np.log(1e3), theta0 + np.log(1e3)
-        r = least_squares(resid, theta0, bounds=(lo, hi), x_scale=1.0, max_nfev=max_nfev,
-                          method="trf")
+        if fit_current_loop:
+            lo[-1], hi[-1] = bounds_fi
+        r = least_squares(resid, theta0, bounds=(lo, hi), max_nfev=25 if len(starts) > 1
+                          else max_nfev, method="trf")
         if best is None or r.cost < best.cost:
-            best = r
-    r = least_squares(resid, best.x, max_nfev=max_nfev * 2, method="lm") if (
-        np.isfinite(best.cost)) else best
-    if r.cost > best.cost:
-        r = best
+            best, best_bounds = r, (lo, hi)
+    r = least_squares(resid, best.x, bounds=best_bounds, max_nfev=max_nfev, method="trf")
     m = mech_of(r.x)
     mech = AxisMechanics.create(**m.model_dump())
+    f_i = bandwidth(r.x)
     J = r.jac
     dof = max(1, J.shape[0] - J.shape[1])
     s2 = 2 * r.cost / dof
@@ -244,9 +379,12 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         warnings.warn("the FRFs do not determine " + ", ".join(undetermined) +
                       " (relative standard deviation above 50 %); their values are a guess",
                       InputWarning, stacklevel=2)
-    model = model_frfs(mech, freqs, current_bandwidth_hz)
-    rel = {k: float(np.sqrt(np.mean(np.abs(model[k] / d.H - 1) ** 2))) for k, d in data.items()}
+    model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i, hold_period_s)
+    rel = {k: rel_error(d.H[d.weight > 0], model[k][d.weight > 0]) for k, d in full.items()}
     for p in ("M_h", "C_h", "K_h"):
         std.setdefault(p, float("nan"))
+    f_top = max(float(d.freq_hz.max()) for d in full.values())
+    if fit_current_loop and ("f_i" in undetermined or f_i > 3 * f_top):
+        f_i = None  # the data cannot see the current loop: keep it ideal
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
-                       {"names": names, "nfev": int(r.nfev)})
+                       {"names": names, "nfev": int(r.nfev), "current_bandwidth_hz": f_i})

@@ -95,5 +95,6 @@ def concatenate(commands: list[Command]) -> Command:
             pos[a].append(c.positions[a])
         parts.append({**c.meta, "sample_offset": offset})
         offset += c.time_s.size
-    return Command(np.concatenate(times), {a: np.concatenate(v) for a, v in pos.items()},
-                   {"parts": parts})
+    return Command(
+        np.concatenate(times), {a: np.concatenate(v) for a, v in pos.items()}, {"parts": parts}
+    )

@@ -1,0 +1,180 @@
+"""Command file (formats.md section 2): ``time_s, x_mm, y_mm[, z_mm]``, one row per period."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .command import Command
+
+_AXIS_COLUMNS = {"x_mm": "X", "y_mm": "Y", "z_mm": "Z"}
+_LAYOUT = "time_s, x_mm, y_mm[, z_mm]"
+#: allowed relative deviation of a time step from the mean step [-]
+UNIFORM_REL_TOL = 1e-6
+
+
+def _header(line: str, file) -> list[str]:
+    names = [h.strip() for h in line.split(",")]
+    if names[0] != "time_s":
+        raise InputError(
+            f"the first column must be time_s, found {names[0]!r}; expected the header {_LAYOUT}",
+            file=file,
+            line=1,
+            column=1,
+        )
+    seen = set()
+    for k, name in enumerate(names[1:], start=2):
+        if name not in _AXIS_COLUMNS:
+            raise InputError(
+                f"unknown column {name!r}; a command file has the columns {_LAYOUT}",
+                file=file,
+                line=1,
+                column=k,
+            )
+        if name in seen:
+            raise InputError(f"column {name!r} appears twice", file=file, line=1, column=k)
+        seen.add(name)
+    for need in ("x_mm", "y_mm"):
+        if need not in seen:
+            raise InputError(
+                f"column {need!r} is missing; expected the header {_LAYOUT}", file=file, line=1
+            )
+    return names
+
+
+def _locate_bad_value(rows, names, file):
+    for r, row in enumerate(rows):
+        fields = row.split(",")
+        if len(fields) != len(names):
+            raise InputError(
+                f"{len(fields)} values for {len(names)} columns; every row needs "
+                f"one value per column ({', '.join(names)})",
+                file=file,
+                line=r + 2,
+            )
+        for c, text in enumerate(fields):
+            try:
+                float(text)
+            except ValueError:
+                raise InputError(
+                    f"{text.strip()!r} is not a number", file=file, line=r + 2, column=names[c]
+                ) from None
+
+
+def read_command_csv(path) -> Command:
+    """Read a command file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file [-].
+
+    Returns
+    -------
+    Command
+        Positions in metres on a uniform time base [-].
+
+    Raises
+    ------
+    InputError
+        If the file is missing, the header is not ``time_s, x_mm, y_mm[, z_mm]``, a value
+        is not a finite number, or the time is not strictly increasing and uniform; the
+        message names the file, line and column.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InputError("command file not found; check the path", file=path) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the command file: {exc}", file=path) from None
+    lines = text.splitlines()
+    while lines and not lines[-1].strip():
+        lines.pop()
+    if not lines:
+        raise InputError(f"the command file is empty; expected the header {_LAYOUT}", file=path)
+    names = _header(lines[0], path)
+    rows = lines[1:]
+    if len(rows) < 2:
+        raise InputError(
+            "a command file needs at least two rows of samples", file=path, line=len(lines) + 1
+        )
+    try:
+        data = np.array([row.split(",") for row in rows], dtype=float)
+    except ValueError:
+        data = None
+    if data is None or data.ndim != 2 or data.shape[1] != len(names):
+        _locate_bad_value(rows, names, path)
+        raise InputError("the rows cannot be read as numbers", file=path)
+    bad = ~np.isfinite(data)
+    if bad.any():
+        r, c = np.argwhere(bad)[0]
+        raise InputError(
+            f"{rows[r].split(',')[c].strip()!r} is not a finite number",
+            file=path,
+            line=int(r) + 2,
+            column=names[c],
+        )
+    t = data[:, 0]
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        r = int(np.argmax(dt <= 0)) + 1
+        raise InputError(
+            f"time must increase from row to row ({t[r - 1]} s, then {t[r]} s)",
+            file=path,
+            line=r + 2,
+            column="time_s",
+        )
+    step = (t[-1] - t[0]) / (t.size - 1)
+    off = np.abs(dt - step) > UNIFORM_REL_TOL * step + 1e-12
+    if np.any(off):
+        r = int(np.argmax(off)) + 1
+        raise InputError(
+            f"time must be uniformly sampled: step {dt[r - 1]:.9g} s here, {step:.9g} s on average",
+            file=path,
+            line=r + 2,
+            column="time_s",
+        )
+    positions = {_AXIS_COLUMNS[n]: data[:, k] * 1e-3 for k, n in enumerate(names) if k}
+    order = [a for a in ("X", "Y", "Z") if a in positions]
+    return Command(
+        time_s=t,
+        positions={a: positions[a] for a in order},
+        meta={"source": "command file", "file": str(path)},
+    )
+
+
+def write_command_csv(command: Command, path) -> None:
+    """Write a command file atomically (temporary file, then rename).
+
+    Parameters
+    ----------
+    command : Command
+        Must have axes X and Y, optionally Z [-].
+    path : str or Path
+        The CSV file; its folder is created if needed [-].
+    """
+    axes = [a for a in ("X", "Y", "Z") if a in command.positions]
+    extra = [a for a in command.positions if a not in ("X", "Y", "Z")]
+    if extra or "X" not in axes or "Y" not in axes:
+        raise InputError(
+            f"a command file holds axes X, Y and optionally Z; this command has "
+            f"{', '.join(command.positions)}"
+        )
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    table = np.column_stack([command.time_s] + [command.positions[a] * 1e3 for a in axes])
+    header = ",".join(["time_s"] + [f"{a.lower()}_mm" for a in axes])
+    fmt = ["%.12f"] + ["%.9f"] * len(axes)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", newline="\n") as fh:
+            np.savetxt(fh, table, fmt=fmt, delimiter=",", header=header, comments="")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise

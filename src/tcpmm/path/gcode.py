@@ -1,0 +1,468 @@
+"""G-code interpreter: NC program text to motion segments in SI.
+
+Supported: G0, G1, G2, G3 (centre I/J/K or radius R, full circles, helices), G4 dwell
+(P or X in seconds), G17/G18/G19, G20/G21, G90/G91, G90.1/G91.1 (arc centre absolute
+or incremental), G61/G64 (exact stop / continuous path), F, N, ``( )`` and ``;``
+comments, ``%`` lines, M2/M30 (end of program). Words that do not change the tool path
+(spindle, coolant, tool, work and tool-length offsets, ...) are reported as
+:class:`~tcpmm.errors.InputWarning` and skipped; everything else is an
+:class:`~tcpmm.errors.InputError` with file, line and column.
+
+The parser is our own regex tokeniser plus a modal interpreter rather than a library.
+The Python G-code parsers available (``pygcode``, last released 2017; ``gcodeparser``
+and ``gcode-lib``, aimed at 3D-printer dialects) neither report the column of the
+offending word nor check arcs, modal groups or repeated words, and the dialect needed
+here is small: owning the ~400 lines keeps the error messages exact and adds no
+dependency.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+from ..errors import InputError, InputWarning
+from .gcode_lexer import Word, tokenize
+from .segments import AXIS_INDEX, FULL_CIRCLE_TOL_M, PLANES, Arc, Dwell, Line, Rapid
+
+MM_M = 1e-3
+INCH_M = 25.4e-3
+#: allowed difference between the radius to the start and to the end of an arc:
+#: the larger of this [m] and ARC_REL_TOL times the radius
+ARC_ABS_TOL_M = 5e-6
+ARC_REL_TOL = 1e-4
+
+_MOTION = {0: 0, 10: 1, 20: 2, 30: 3}
+_GROUP = {
+    0: "motion",
+    10: "motion",
+    20: "motion",
+    30: "motion",
+    40: "dwell",
+    170: "plane",
+    180: "plane",
+    190: "plane",
+    200: "units",
+    210: "units",
+    900: "distance",
+    910: "distance",
+    901: "arc distance",
+    911: "arc distance",
+    610: "path mode",
+    640: "path mode",
+}
+_G_IGNORED = {
+    400: "cutter radius compensation is not modelled and G40 (off) changes nothing",
+    430: "tool length offsets only shift Z by a constant; the offset is taken as zero",
+    490: "tool length offsets only shift Z by a constant; G49 changes nothing",
+    540: "work offsets only shift the program by a constant; taken as zero",
+    550: "work offsets only shift the program by a constant; taken as zero",
+    560: "work offsets only shift the program by a constant; taken as zero",
+    570: "work offsets only shift the program by a constant; taken as zero",
+    580: "work offsets only shift the program by a constant; taken as zero",
+    590: "work offsets only shift the program by a constant; taken as zero",
+    800: "no canned cycle is supported, so cancelling one (G80) changes nothing",
+    940: "feed per minute is the only feed mode; G94 changes nothing",
+    980: "canned cycle return level has no effect without canned cycles",
+    990: "canned cycle return level has no effect without canned cycles",
+    150: "polar coordinates are not supported, so G15 (off) changes nothing",
+    690: "coordinate rotation is not supported, so G69 (off) changes nothing",
+    500: "scaling is not supported, so G50 (off) changes nothing",
+}
+_G_REFUSED = {
+    410: "cutter radius compensation (G41) would move the path; program the tool centre",
+    420: "cutter radius compensation (G42) would move the path; program the tool centre",
+    930: "inverse-time feed (G93) is not supported; program F in mm/min (G94)",
+    950: "feed per revolution (G95) is not supported; program F in mm/min (G94)",
+    280: "reference-point return (G28) is not supported; program the move with G0",
+    300: "reference-point return (G30) is not supported; program the move with G0",
+    530: "machine coordinates (G53) are not supported; program in work coordinates",
+    920: "coordinate-system setting (G92) is not supported; program absolute positions",
+    160: "polar coordinates (G16) are not supported; program X, Y, Z",
+    510: "scaling (G51) is not supported; scale the program itself",
+    680: "coordinate rotation (G68) is not supported; rotate the program itself",
+    100: "data setting (G10) is not supported; remove it",
+}
+_M_IGNORED = {
+    0: "a program stop is not modelled; the program runs on",
+    1: "an optional stop is not modelled; the program runs on",
+    3: "the spindle is not modelled",
+    4: "the spindle is not modelled",
+    5: "the spindle is not modelled",
+    6: "tool changes are not modelled",
+    7: "coolant is not modelled",
+    8: "coolant is not modelled",
+    9: "coolant is not modelled",
+}
+_LETTER_IGNORED = {
+    "S": "spindle speed is not modelled",
+    "T": "tool selection is not modelled",
+    "H": "tool length offsets are taken as zero",
+    "D": "cutter radius offsets are not modelled",
+    "O": "the program number is not used",
+}
+_KNOWN = set("GMNFXYZIJKRP") | set(_LETTER_IGNORED)
+_OTHER_AXES = set("ABCUVW")
+_CENTRE_LETTER = {"X": "I", "Y": "J", "Z": "K"}
+
+
+def _where(file, line, column):
+    parts = [] if file is None else [str(file)]
+    parts.append(f"line {line}")
+    if column is not None:
+        parts.append(f"column {column}")
+    return ", ".join(parts)
+
+
+class _Interpreter:
+    def __init__(self, file, start):
+        self.file = file
+        self.pos = tuple(float(c) for c in start)
+        self.motion = None
+        self.plane = 17
+        self.unit = MM_M
+        self.absolute = True
+        self.arc_absolute = False
+        self.feed = None
+        self.exact_stop = False
+        self.segments = []
+        self.warned = {}
+        self.ended_at = None
+
+    # ---- reporting -------------------------------------------------------------------
+    def error(self, msg, line, column=None):
+        raise InputError(msg, file=self.file, line=line, column=column)
+
+    def warn(self, key, msg, line, column):
+        if key in self.warned:
+            self.warned[key][1] += 1
+        else:
+            self.warned[key] = [(line, column, msg), 1]
+
+    def emit_warnings(self):
+        for key, ((line, column, msg), count) in self.warned.items():
+            more = f" (and {count - 1} more time{'s' * (count > 2)})" if count > 1 else ""
+            text = f"{_where(self.file, line, column)}: {key} ignored{more}: {msg}"
+            warnings.warn(text, InputWarning, stacklevel=3)
+
+    # ---- one block -------------------------------------------------------------------
+    def block(self, words: list[Word], line: int):
+        gs, ms, w = [], [], {}
+        for word in words:
+            L = word.letter
+            if L == "G":
+                gs.append(word)
+            elif L == "M":
+                ms.append(word)
+            elif L in w:
+                self.error(
+                    f"{L} is given twice in one block (columns {w[L].column} and "
+                    f"{word.column}); keep one",
+                    line,
+                    word.column,
+                )
+            elif L in _OTHER_AXES:
+                self.error(
+                    f"axis {L} is not modelled; this model has X, Y and Z only", line, word.column
+                )
+            elif L not in _KNOWN:
+                self.error(
+                    f"unknown word letter {L} in {word.text!r}; supported letters "
+                    "are G M N F X Y Z I J K R P (and S T H D O, ignored)",
+                    line,
+                    word.column,
+                )
+            else:
+                w[L] = word
+        for L in ("S", "T", "H", "D", "O"):
+            if L in w:
+                self.warn(L, _LETTER_IGNORED[L], line, w[L].column)
+        if "N" in w:
+            n = w["N"]
+            if n.value < 0 or n.value != int(n.value) or "." in n.text:
+                self.error(
+                    f"line number {n.text!r} must be a whole number, e.g. N10", line, n.column
+                )
+
+        new = {}
+        for g in gs:
+            code = round(g.value * 10)
+            if abs(g.value * 10 - code) > 1e-9:
+                self.error(f"{g.text} is not a G-code", line, g.column)
+            group = _GROUP.get(code)
+            if group is None:
+                name = f"G{code // 10}" + (f".{code % 10}" if code % 10 else "")
+                if code in _G_IGNORED:
+                    self.warn(name, _G_IGNORED[code], line, g.column)
+                    continue
+                hint = _G_REFUSED.get(code, "it is not supported; remove it")
+                self.error(f"{name} cannot be used: {hint}", line, g.column)
+            if group in new:
+                self.error(
+                    f"{new[group].text} and {g.text} in one block are both {group} codes; keep one",
+                    line,
+                    g.column,
+                )
+            new[group] = g
+
+        if "F" in w:
+            f = w["F"]
+            if not f.value > 0.0:
+                self.error(
+                    f"feed {f.text} must be positive (mm/min, or in/min with G20)", line, f.column
+                )
+        end = False
+        for m in ms:
+            code = m.value
+            if code != int(code):
+                self.error(f"{m.text} is not an M-code", line, m.column)
+            code = int(code)
+            if code in (2, 30):
+                end = True
+            elif code in (98, 99):
+                self.error(
+                    f"subprograms ({m.text}) are not supported; write the "
+                    "subprogram out in the main program",
+                    line,
+                    m.column,
+                )
+            else:
+                msg = _M_IGNORED.get(code, "this M-code is not modelled")
+                self.warn(f"M{code}", msg, line, m.column)
+
+        # modal settings, in the order of execution
+        if "plane" in new:
+            self.plane = round(new["plane"].value)
+        if "units" in new:
+            self.unit = INCH_M if round(new["units"].value) == 20 else MM_M
+        if "distance" in new:
+            self.absolute = round(new["distance"].value) == 90
+        if "arc distance" in new:
+            self.arc_absolute = round(new["arc distance"].value * 10) == 901
+        if "path mode" in new:
+            self.exact_stop = round(new["path mode"].value) == 61
+        if "F" in w:
+            self.feed = w["F"].value * self.unit / 60.0
+        if "motion" in new:
+            self.motion = _MOTION[round(new["motion"].value * 10)]
+
+        if "dwell" in new:
+            self.dwell(w, new["dwell"], line)
+        elif any(k in w for k in "XYZIJKR"):
+            self.move(w, new.get("motion"), line)
+        elif "P" in w:
+            self.error("P is only used with G4 (dwell time in seconds)", line, w["P"].column)
+        return end
+
+    def dwell(self, w, g4, line):
+        if "P" in w and "X" in w:
+            self.error("G4 takes the time in P or in X, not both", line, w["X"].column)
+        t = w.get("P") or w.get("X")
+        if t is None:
+            self.error("G4 needs the dwell time, e.g. G4 P0.5 (seconds)", line, g4.column)
+        for L in "YZIJKR":
+            if L in w:
+                self.error(
+                    f"{L} cannot be used in a G4 (dwell) block; move it to its own block",
+                    line,
+                    w[L].column,
+                )
+        if t.value < 0:
+            self.error(f"dwell time {t.text} must not be negative", line, t.column)
+        self.segments.append(Dwell(self.pos, t.value, line))
+
+    def move(self, w, gword, line):
+        first = next(w[k] for k in "XYZIJKR" if k in w)
+        if self.motion is None:
+            self.error(
+                f"{first.text} without a motion mode: put G0, G1, G2 or G3 before it",
+                line,
+                first.column,
+            )
+        target = list(self.pos)
+        for axis in "XYZ":
+            if axis in w:
+                v = w[axis].value * self.unit
+                i = AXIS_INDEX[axis]
+                target[i] = v if self.absolute else target[i] + v
+        target = tuple(target)
+        if self.motion in (0, 1):
+            for L in "IJKR":
+                if L in w:
+                    self.error(
+                        f"{L} is only used with G2/G3 (arcs); the active motion is G{self.motion}",
+                        line,
+                        w[L].column,
+                    )
+        if self.motion != 0 and self.feed is None:
+            col = gword.column if gword is not None else first.column
+            self.error(
+                f"no feed rate for G{self.motion}: program F (mm/min) in this or an "
+                "earlier block, e.g. F1000",
+                line,
+                col,
+            )
+        if self.motion == 0:
+            if target != self.pos:
+                self.segments.append(Rapid(self.pos, target, line))
+        elif self.motion == 1:
+            if target != self.pos:
+                self.segments.append(Line(self.pos, target, self.feed, self.exact_stop, line))
+        else:
+            self.segments.append(self.arc(w, target, gword, line))
+        self.pos = target
+
+    def arc(self, w, end, gword, line):
+        a, b = PLANES[self.plane]
+        ia, ib = AXIS_INDEX[a], AXIS_INDEX[b]
+        ca_letter, cb_letter = _CENTRE_LETTER[a], _CENTRE_LETTER[b]
+        name = f"G{self.motion}"
+        for L in "IJK":
+            if L in w and L not in (ca_letter, cb_letter):
+                self.error(
+                    f"{L} is not a centre word of the G{self.plane} plane ({a}{b}); "
+                    f"use {ca_letter} and {cb_letter}",
+                    line,
+                    w[L].column,
+                )
+        has_ijk = ca_letter in w or cb_letter in w
+        if has_ijk and "R" in w:
+            self.error(
+                f"give the arc centre ({ca_letter}, {cb_letter}) or the radius R, not both",
+                line,
+                w["R"].column,
+            )
+        if not has_ijk and "R" not in w:
+            col = gword.column if gword is not None else next(w[k] for k in "XYZ" if k in w).column
+            self.error(
+                f"{name} needs the centre ({ca_letter}, {cb_letter}) or the radius R", line, col
+            )
+        s = self.pos
+        da, db = end[ia] - s[ia], end[ib] - s[ib]
+        chord = math.hypot(da, db)
+        unit_name = "in" if self.unit == INCH_M else "mm"
+        if "R" in w:
+            rw = w["R"]
+            r = rw.value * self.unit
+            if chord < FULL_CIRCLE_TOL_M:
+                self.error(
+                    f"the R form cannot describe a full circle (end = start); give "
+                    f"the centre with {ca_letter} and {cb_letter}",
+                    line,
+                    rw.column,
+                )
+            if r == 0.0:
+                self.error("arc radius R0 is zero; give the radius of the arc", line, rw.column)
+            half = 0.5 * chord
+            h2 = r * r - half * half
+            if h2 < 0.0:
+                if half - abs(r) > max(ARC_ABS_TOL_M, ARC_REL_TOL * abs(r)):
+                    self.error(
+                        f"radius {rw.text} is smaller than half the distance from "
+                        f"start to end ({half / self.unit:.6g} {unit_name}); "
+                        "increase R or move the end point",
+                        line,
+                        rw.column,
+                    )
+                h2 = 0.0
+            h = math.sqrt(h2)
+            # centre left of the chord for a short CCW arc; R < 0 takes the long way
+            side = (1.0 if self.motion == 3 else -1.0) * (1.0 if r > 0 else -1.0)
+            ca = s[ia] + 0.5 * da - side * h * db / chord
+            cb = s[ib] + 0.5 * db + side * h * da / chord
+        else:
+            cw_a, cw_b = w.get(ca_letter), w.get(cb_letter)
+            col = (cw_a or cw_b).column
+            if self.arc_absolute:
+                if cw_a is None or cw_b is None:
+                    self.error(
+                        f"with G90.1 the centre needs both {ca_letter} and {cb_letter}", line, col
+                    )
+                ca, cb = cw_a.value * self.unit, cw_b.value * self.unit
+            else:
+                ca = s[ia] + (cw_a.value * self.unit if cw_a else 0.0)
+                cb = s[ib] + (cw_b.value * self.unit if cw_b else 0.0)
+            r0 = math.hypot(s[ia] - ca, s[ib] - cb)
+            r1 = math.hypot(end[ia] - ca, end[ib] - cb)
+            if r0 == 0.0 or r1 == 0.0:
+                self.error(
+                    "arc of zero radius: the centre is on the start or end point; "
+                    f"check {ca_letter} and {cb_letter}",
+                    line,
+                    col,
+                )
+            if abs(r1 - r0) > max(ARC_ABS_TOL_M, ARC_REL_TOL * r0):
+                self.error(
+                    f"the arc's radius to the start is {r0 / self.unit:.6g} "
+                    f"{unit_name} but to the end {r1 / self.unit:.6g} {unit_name}; "
+                    f"correct the end point or the centre ({ca_letter}, {cb_letter})",
+                    line,
+                    col,
+                )
+        centre = [0.0, 0.0, 0.0]
+        centre[ia], centre[ib] = ca, cb
+        centre[3 - ia - ib] = s[3 - ia - ib]
+        direction = "ccw" if self.motion == 3 else "cw"
+        return Arc(
+            s,
+            end,
+            tuple(centre),
+            (a, b),
+            direction,
+            self.feed,
+            exact_stop=self.exact_stop,
+            line=line,
+        )
+
+
+def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
+    """Interpret an NC program.
+
+    Parameters
+    ----------
+    text : str
+        The program [-].
+    file : str or Path, optional
+        Where the program came from, for messages [-].
+    start_position_m : sequence of float
+        Position of X, Y, Z before the program starts [m].
+
+    Returns
+    -------
+    list of Line, Rapid, Arc, Dwell
+        The continuous tool path in SI, each segment with its source line [-].
+
+    Raises
+    ------
+    InputError
+        For anything the program says that cannot be executed as written, with file,
+        line and column.
+
+    Warns
+    -----
+    InputWarning
+        Once per kind of ignored word (spindle, coolant, tool, offsets, ...), naming the
+        first line where it occurs.
+    """
+    if len(tuple(start_position_m)) != 3:
+        raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
+    it = _Interpreter(file, start_position_m)
+    lines = text.splitlines()
+    for number, raw in enumerate(lines, start=1):
+        words = tokenize(raw, file, number)
+        if not words:
+            continue
+        if it.block(words, number):
+            rest = next((k for k in range(number, len(lines)) if _has_words(lines[k])), None)
+            if rest is not None:
+                it.warn("program end", "blocks after M2/M30 are not executed", rest + 1, None)
+            break
+    it.emit_warnings()
+    return it.segments
+
+
+def _has_words(raw: str) -> bool:
+    try:
+        return bool(tokenize(raw))
+    except InputError:
+        return True

@@ -1,0 +1,141 @@
+"""Splitting one G-code line into words (letter + number) with their columns.
+
+Comments ``( ... )`` and ``; ...`` are removed, keeping columns; a line that starts
+with ``%`` is a tape marker and holds no words. Columns are 1-based.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from ..errors import InputError
+
+_TOKEN = re.compile(r"[ \t]*(?:(?P<l>[A-Za-z])[ \t]*(?P<n>[-+]?[0-9.]*)|(?P<o>\S))")
+_NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z")
+
+
+@dataclass(frozen=True, slots=True)
+class Word:
+    """One word of a block.
+
+    Parameters
+    ----------
+    letter : str
+        Upper-case letter [-].
+    value : float
+        The number as written, in program units [-].
+    text : str
+        The word as written, e.g. ``"X-1.5"`` [-].
+    column : int
+        1-based column of the letter [-].
+    """
+
+    letter: str
+    value: float
+    text: str
+    column: int
+
+
+def strip_comments(text: str, file=None, line=None) -> str:
+    """The line with comments replaced by blanks (columns are kept) [-]."""
+    if "(" not in text and ";" not in text and ")" not in text:
+        return text
+    out = []
+    pos = 0
+    n = len(text)
+    while pos < n:
+        c = text[pos]
+        if c == ";":
+            break
+        if c == "(":
+            close = text.find(")", pos + 1)
+            inner = text.find("(", pos + 1)
+            if close < 0:
+                raise InputError(
+                    "comment '(' is not closed; add ')' at its end or use ';' for a "
+                    "comment to the end of the line",
+                    file=file,
+                    line=line,
+                    column=pos + 1,
+                )
+            if 0 <= inner < close:
+                raise InputError(
+                    "comments cannot be nested; remove the inner '('",
+                    file=file,
+                    line=line,
+                    column=inner + 1,
+                )
+            out.append(" " * (close - pos + 1))
+            pos = close + 1
+            continue
+        if c == ")":
+            raise InputError(
+                "')' without a '(' before it; remove it or open the comment",
+                file=file,
+                line=line,
+                column=pos + 1,
+            )
+        out.append(c)
+        pos += 1
+    return "".join(out)
+
+
+def tokenize(text: str, file=None, line=None) -> list[Word]:
+    """Words of one program line.
+
+    Parameters
+    ----------
+    text : str
+        The line as written [-].
+    file : str or Path, optional
+        Program file, for error messages [-].
+    line : int, optional
+        1-based line number, for error messages [-].
+
+    Returns
+    -------
+    list of Word
+        The words in order [-].
+
+    Raises
+    ------
+    InputError
+        On a malformed number, a letter without a number, a stray character or an
+        unclosed comment, with the column where it is.
+    """
+    body = strip_comments(text, file, line).rstrip()
+    if not body or body.lstrip().startswith("%"):
+        return []
+    words = []
+    pos = 0
+    n = len(body)
+    match = _TOKEN.match
+    while pos < n:
+        m = match(body, pos)
+        if m.group("o") is not None:
+            col = m.start("o") + 1
+            ch = m.group("o")
+            hint = " (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789" else ""
+            raise InputError(f"unexpected character {ch!r}{hint}", file=file, line=line, column=col)
+        col = m.start("l") + 1
+        letter = m.group("l").upper()
+        num = m.group("n")
+        if not num:
+            raise InputError(
+                f"letter {letter} has no number after it; write e.g. {letter}0",
+                file=file,
+                line=line,
+                column=col,
+            )
+        if _NUMBER.match(num) is None:
+            raise InputError(
+                f"malformed number {num!r} after {letter}; write a decimal "
+                "number such as 12.5 or -0.25",
+                file=file,
+                line=line,
+                column=col,
+            )
+        words.append(Word(letter, float(num), letter + num, col))
+        pos = m.end()
+    return words

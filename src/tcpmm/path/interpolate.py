@@ -1,0 +1,195 @@
+"""The interpolator: tool path segments to the sampled position command.
+
+Steps: segment and corner speed limits, look-ahead (backward and forward pass),
+accelerate-cruise-decelerate profile per segment, sampling at the interpolation
+period with points evaluated exactly on the programmed geometry, and the per-axis
+post-interpolation acc/dec filter.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .command import Command
+from .filters import FilterShape, apply_filter, filter_shape
+from .geometry import ARC, PathArrays, evaluate, to_arrays
+from .lookahead import junction_limits, lookahead, segment_limits
+from .profile import segment_profiles
+from .sampling import sample, timeline
+from .segments import AXES, Dwell
+from .settings import InterpolatorSettings
+
+#: longest command the interpolator makes (about 2.8 h at 1 ms) [-]
+MAX_SAMPLES = 10_000_000
+
+
+@dataclass
+class Interpolation:
+    """Everything the interpolator computed, for callers that need more than the command.
+
+    Parameters
+    ----------
+    command : Command
+        The position command (filtered if a filter is set) [-].
+    path : PathArrays
+        The path as arrays [-].
+    junction_speed_m_per_s : ndarray
+        Speed at the start of each segment and at the end of the path [m/s].
+    segment_vmax_m_per_s : ndarray
+        Speed limit of each segment [m/s].
+    segment_start_s, segment_end_s : ndarray
+        When each segment starts and ends, before the filter [s].
+    filter : FilterShape
+        The post-interpolation filter [-].
+    """
+
+    command: Command
+    path: PathArrays
+    junction_speed_m_per_s: np.ndarray
+    segment_vmax_m_per_s: np.ndarray
+    segment_start_s: np.ndarray
+    segment_end_s: np.ndarray
+    filter: FilterShape
+
+    def sample_range(self, i: int) -> tuple[int, int]:
+        """Samples ``[first, stop)`` of the filtered command that belong to segment ``i``.
+
+        The unfiltered range shifted by the filter's group delay, rounded [-].
+        """
+        dt = self.command.period_s
+        shift = self.filter.delay_s
+        first = int(np.ceil((self.segment_start_s[i] + shift) / dt - 1e-9))
+        stop = int(np.floor((self.segment_end_s[i] + shift) / dt + 1e-9)) + 1
+        return first, stop
+
+
+def _used_axes(p: PathArrays) -> list[int]:
+    used = {0, 1}
+    if p.n:
+        moved = np.any(np.abs(p.end - p.start) > 0.0, axis=0)
+        used |= {i for i in range(3) if moved[i]}
+        arc = p.kind == ARC
+        used |= set(np.unique(p.ia[arc]).tolist()) | set(np.unique(p.ib[arc]).tolist())
+    return sorted(used)
+
+
+def interpolate_detailed(
+    segments, settings: InterpolatorSettings | None = None, start_position_m=None
+) -> Interpolation:
+    """Interpolate a tool path and keep the intermediate results.
+
+    Parameters
+    ----------
+    segments : sequence of Line, Rapid, Arc, Dwell
+        The continuous tool path [-].
+    settings : InterpolatorSettings, optional
+        Interpolator settings; defaults when omitted [-].
+    start_position_m : sequence of float, optional
+        Where the axes stand before the first segment (X, Y, Z); must be the start of
+        the first segment, and is where an empty path rests [m].
+
+    Returns
+    -------
+    Interpolation
+        The command and the look-ahead results [-].
+    """
+    settings = settings or InterpolatorSettings()
+    dt = settings.period_s
+    segments = list(segments)
+    if start_position_m is not None:
+        start = tuple(float(c) for c in start_position_m)
+        if len(start) != 3:
+            raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
+        if segments and np.linalg.norm(np.subtract(segments[0].start_m, start)) > 1e-9:
+            raise InputError(
+                f"the path starts at {tuple(segments[0].start_m)} m but the axes stand at "
+                f"{start} m; start the path where the axes are"
+            )
+        if not segments:
+            segments = [Dwell(start, 0.0)]
+    if not segments:
+        raise InputError("the path is empty: give at least one motion or dwell")
+    p = to_arrays(segments, settings.rapid())
+    filt = filter_shape(
+        settings.filter_kind, settings.filter_time_s, dt, settings.corner_tolerance_m
+    )
+    vmax, acc = segment_limits(
+        p, settings.axis_velocity(), settings.axis_accel(), settings.path_accel_m_per_s2, filt
+    )
+    vj = junction_limits(p, vmax, acc, settings.axis_accel(), filt)
+    jerk = settings.jerk()
+    v = lookahead(p.length, vj, acc, jerk)
+    prof = segment_profiles(p.length, v, vmax, acc, jerk)
+    durations = prof[:, 1] + prof[:, 4] + prof[:, 5]
+    settle = filt.kernel.size - 1
+    k0, off, dur, k_end = timeline(p.kind, durations, v, p.dwell_s, dt, settle)
+    n_samples = max(int(k_end) + 1, 2)
+    if n_samples > MAX_SAMPLES:
+        i = int(np.argmax(dur))
+        raise InputError(
+            f"the command would last {n_samples * dt:.4g} s ({n_samples} samples), more than "
+            f"the limit of {MAX_SAMPLES} samples; the longest segment takes {dur[i]:.4g} s: "
+            "check its feed rate and coordinates",
+            line=None if p.line[i] < 0 else int(p.line[i]),
+        )
+    seg, s = sample(k0, off, dur, p.length, v, prof, n_samples, dt)
+    pos = evaluate(p, seg, s)
+    cum = np.concatenate([[0.0], np.cumsum(p.length)])
+    path_s = cum[seg] + s
+
+    axes = _used_axes(p)
+    positions = {AXES[a]: apply_filter(pos[:, a], filt) for a in axes}
+    n_out = next(iter(positions.values())).size
+    time_s = np.arange(n_out) * dt
+    seg_start = k0 * dt + off
+    meta = {
+        "source": "interpolator",
+        "period_s": dt,
+        "profile": settings.profile,
+        "filter_kind": settings.filter_kind,
+        "filter_time_s": settings.filter_time_s,
+        "filter_delay_s": filt.delay_s,
+        "path_s_m": np.concatenate([path_s, np.full(n_out - n_samples, path_s[-1])]),
+        "path_length_m": float(cum[-1]),
+        "segment_line": p.line.copy(),
+        "segment_start_s": seg_start,
+        "segment_end_s": seg_start + dur,
+    }
+    command = Command(time_s=time_s, positions=positions, meta=meta)
+    return Interpolation(
+        command=command,
+        path=p,
+        junction_speed_m_per_s=v,
+        segment_vmax_m_per_s=vmax,
+        segment_start_s=seg_start,
+        segment_end_s=seg_start + dur,
+        filter=filt,
+    )
+
+
+def interpolate(
+    segments, settings: InterpolatorSettings | None = None, start_position_m=None
+) -> Command:
+    """Interpolate a tool path into the sampled position command.
+
+    Parameters
+    ----------
+    segments : sequence of Line, Rapid, Arc, Dwell
+        The continuous tool path, SI [-].
+    settings : InterpolatorSettings, optional
+        Interpolator settings; defaults when omitted [-].
+    start_position_m : sequence of float, optional
+        Where the axes stand before the first segment (X, Y, Z); must be the start of
+        the first segment [m].
+
+    Returns
+    -------
+    Command
+        Positions of X and Y (and Z when the path uses it), uniformly sampled from rest
+        to rest, extended by the filter length [m]. ``meta`` holds ``path_s_m`` (distance
+        along the path per sample, before the filter) and the segment times.
+    """
+    return interpolate_detailed(segments, settings, start_position_m).command

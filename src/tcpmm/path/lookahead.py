@@ -1,0 +1,176 @@
+"""Speed limits of segments and corners, and the look-ahead over all blocks.
+
+Segment limits: programmed feed, per-axis velocity, tangential acceleration shared
+with the centripetal acceleration on arcs, and the radius loss the post-interpolation
+filter causes on arcs. Corner limits: the per-axis velocity step at a corner is at most
+``a_axis * T`` (``T`` = the time over which the filter, or one period, spreads it), and
+the filter must not cut the corner by more than the corner tolerance. The look-ahead
+then runs a backward and a forward pass so every segment can reach its exit speed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .geometry import ARC, DWELL, PathArrays, max_abs_trig, tangents
+from .profile import reach
+
+#: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
+REVERSAL_TOL = 1e-9
+
+
+def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
+    """Speed limit and tangential acceleration limit of every segment.
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    vel_axis, acc_axis : sequence of float
+        Velocity [m/s] and acceleration [m/s^2] limit of X, Y, Z.
+    acc_path : float
+        Path (tangential) acceleration limit [m/s^2].
+    filt : filters.FilterShape
+        The post-interpolation filter [-].
+
+    Returns
+    -------
+    vmax : ndarray
+        Speed limit per segment [m/s].
+    acc : ndarray
+        Tangential acceleration limit per segment [m/s^2].
+    """
+    vel_axis = np.asarray(vel_axis, float)
+    acc_axis = np.asarray(acc_axis, float)
+    n = p.n
+    L = np.where(p.length > 0, p.length, 1.0)
+    u = np.abs(p.end - p.start) / L[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vmax = np.minimum(p.feed, np.min(vel_axis[None, :] / u, axis=1))
+        acc = np.minimum(acc_path, np.min(acc_axis[None, :] / u, axis=1))
+    a = np.flatnonzero(p.kind == ARC)
+    if a.size:
+        ia, ib, ih = p.ia[a], p.ib[a], p.ih[a]
+        La = p.length[a]
+        sw = np.abs(p.sweep[a])
+        rmax = np.maximum(p.r0[a], p.r1[a])
+        dr = np.abs(p.r1[a] - p.r0[a])
+        mcos, msin = max_abs_trig(p.theta0[a], p.sweep[a])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # axis velocity: first plane axis moves with sin, second with cos
+            va = vel_axis[ia] * La / (dr + rmax * sw * msin)
+            vb = vel_axis[ib] * La / (dr + rmax * sw * mcos)
+            vh = vel_axis[ih] * La / np.abs(p.dh[a])
+            a_plane = np.minimum(acc_axis[ia], acc_axis[ib])
+            a_t = np.minimum.reduce(
+                [
+                    np.full(a.size, acc_path),
+                    a_plane / math.sqrt(2.0),
+                    acc_axis[ih] * La / np.abs(p.dh[a]),
+                ]
+            )
+            a_n = np.sqrt(a_plane**2 - a_t**2)
+            kappa = rmax * sw**2 / La**2
+            vc = np.sqrt(a_n / kappa)
+            vf = np.full(a.size, np.inf)
+            if filt.variance_s2 > 0.0:
+                # radius loss of a circle through the filter ~ r*omega^2*var/2 <= tol
+                omega = np.sqrt(2.0 * filt.tolerance_m / (rmax * filt.variance_s2))
+                vf = omega * La / sw
+        vmax[a] = np.minimum.reduce([p.feed[a], va, vb, vh, vc, vf])
+        acc[a] = a_t
+    vmax[p.kind == DWELL] = 0.0
+    acc[p.kind == DWELL] = acc_path
+    if n and not np.all(vmax[p.kind != DWELL] > 0):
+        raise AssertionError("segment speed limit must be positive")
+    return vmax, acc
+
+
+def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
+    """Speed limit at the start of each segment and at the end of the path [m/s].
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    vmax : ndarray
+        Speed limit per segment [m/s].
+    acc : ndarray
+        Tangential acceleration limit per segment [m/s^2].
+    acc_axis : sequence of float
+        Acceleration limit of X, Y, Z [m/s^2].
+    filt : filters.FilterShape
+        The post-interpolation filter [-].
+
+    Returns
+    -------
+    ndarray
+        ``n + 1`` junction speed limits; the first and last are zero [m/s].
+
+    Notes
+    -----
+    With the speed ``v`` at a corner and the tangential acceleration ``a`` on either
+    side, the filter pulls the path off the corner point by about
+    ``|du|/2 * (v*MAD + a*VAR/2)`` (``du`` change of the unit tangent, ``MAD`` and
+    ``VAR`` the mean absolute deviation and variance of the filter's impulse response).
+    Where even ``v = 0`` exceeds the tolerance, the corner becomes an exact stop, and
+    the next move waits until the filter has settled.
+    """
+    n = p.n
+    vj = np.zeros(n + 1)
+    if n < 2:
+        return vj
+    t_out = tangents(p, at_end=True)[:-1]
+    t_in = tangents(p, at_end=False)[1:]
+    du = t_in - t_out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = np.asarray(acc_axis, float)[None, :] * filt.spread_s / np.abs(du)
+        cap = np.min(step, axis=1)
+        dun = np.linalg.norm(du, axis=1)
+        if filt.mad_s > 0.0:
+            a_side = np.maximum(acc[:-1], acc[1:])
+            room = 2.0 * filt.tolerance_m / dun - 0.5 * a_side * filt.variance_s2
+            cap = np.minimum(cap, np.maximum(room, 0.0) / filt.mad_s)
+    cap = np.minimum(cap, np.minimum(vmax[:-1], vmax[1:]))
+    stop = (
+        (np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
+        | (p.kind[:-1] == DWELL)
+        | (p.kind[1:] == DWELL)
+        | p.rapid[:-1]
+        | p.rapid[1:]
+        | p.exact_stop[:-1]
+    )
+    vj[1:-1] = np.where(stop, 0.0, cap)
+    return vj
+
+
+@njit(cache=True)
+def lookahead(length, vj, acc, j):
+    """Junction speeds after the backward and forward passes.
+
+    Parameters
+    ----------
+    length : ndarray
+        Segment lengths [m].
+    vj : ndarray
+        Junction speed limits, ``len(length) + 1`` entries [m/s].
+    acc : ndarray
+        Tangential acceleration limit per segment [m/s^2].
+    j : float
+        Path jerk limit, ``inf`` for trapezoid [m/s^3].
+
+    Returns
+    -------
+    ndarray
+        Junction speeds that every segment can connect [m/s].
+    """
+    n = length.size
+    v = vj.copy()
+    for i in range(n - 1, -1, -1):
+        v[i] = reach(v[i + 1], length[i], acc[i], j, v[i])
+    for i in range(n):
+        v[i + 1] = reach(v[i], length[i], acc[i], j, v[i + 1])
+    return v

@@ -1,0 +1,89 @@
+"""From an NC program (file or text) to the position command."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..errors import InputError
+from .command import Command
+from .gcode import parse_gcode
+from .interpolate import interpolate
+from .settings import InterpolatorSettings
+
+#: file name endings taken as NC programs when a string is given [-]
+PROGRAM_SUFFIXES = (".nc", ".ngc", ".gcode", ".tap", ".cnc", ".txt", ".mpf", ".h")
+
+
+def read_program(path) -> str:
+    """Text of an NC program file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file [-].
+
+    Returns
+    -------
+    str
+        The program text [-].
+    """
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise InputError("NC program not found; check the path", file=path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read the NC program: {exc.strerror}", file=path) from None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")  # controllers often write latin-1 comments
+
+
+def _is_path(x) -> bool:
+    if isinstance(x, os.PathLike):
+        return True
+    if not isinstance(x, str) or "\n" in x or "\r" in x:
+        return False
+    return Path(x).suffix.lower() in PROGRAM_SUFFIXES or os.path.isfile(x)
+
+
+def program_to_command(
+    path_or_text, settings: InterpolatorSettings | None = None, start_position_m=(0.0, 0.0, 0.0)
+) -> Command:
+    """Interpret and interpolate an NC program.
+
+    Parameters
+    ----------
+    path_or_text : str or Path
+        A program file (a ``Path``, or a one-line string naming an existing file or
+        ending in ``.nc``, ``.ngc``, ...) or the program text itself [-].
+    settings : InterpolatorSettings, optional
+        Interpolator settings; defaults when omitted [-].
+    start_position_m : sequence of float
+        Position of X, Y, Z before the program starts [m].
+
+    Returns
+    -------
+    Command
+        The position command; ``meta["file"]`` names the program file if any [-].
+    """
+    file = None
+    if _is_path(path_or_text):
+        file = Path(path_or_text)
+        text = read_program(file)
+    elif isinstance(path_or_text, str):
+        text = path_or_text
+    else:
+        raise InputError(
+            f"expected an NC program file or its text, got {type(path_or_text).__name__}"
+        )
+    segments = parse_gcode(text, file, start_position_m=start_position_m)
+    if not segments:
+        raise InputError(
+            "the program has no motion and no dwell; nothing to interpolate", file=file
+        )
+    command = interpolate(segments, settings)
+    command.meta["file"] = None if file is None else str(file)
+    return command

@@ -1,0 +1,107 @@
+"""Interpolator settings: the CNC's feed, acceleration and filter parameters.
+
+A plain pydantic model with defaults, embedded in the machine model file. Every
+number is SI; the unit is in the field name.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+AXES = ("X", "Y", "Z")
+
+
+def _axis_dict(value: dict[str, float], what: str) -> dict[str, float]:
+    out = {}
+    for name, v in value.items():
+        key = str(name).upper()
+        if key not in AXES:
+            raise ValueError(f"{what}: unknown axis {name!r}; use one of {', '.join(AXES)}")
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{what}: axis {key} must be a positive number, got {v}")
+        out[key] = float(v)
+    return out
+
+
+class InterpolatorSettings(BaseModel):
+    """How the CNC turns a tool path into the sampled position command.
+
+    Parameters
+    ----------
+    period_s : float
+        Interpolation period: the command is sampled at this interval [s].
+    profile : {"trapezoid", "scurve"}
+        Feed profile along the path: constant acceleration (trapezoid) or
+        jerk-limited (S-curve) [-].
+    path_accel_m_per_s2 : float
+        Tangential (path) acceleration limit [m/s^2].
+    path_jerk_m_per_s3 : float
+        Tangential (path) jerk limit, used by the S-curve profile [m/s^3].
+    axis_velocity_m_per_s : dict of str to float
+        Maximum velocity per axis; an axis not listed is limited by the feed only [m/s].
+    axis_accel_m_per_s2 : dict of str to float
+        Maximum acceleration per axis; an axis not listed uses ``path_accel_m_per_s2``
+        [m/s^2].
+    rapid_m_per_s : dict of str to float
+        Rapid traverse speed (G0) per axis; an axis not listed uses the largest listed
+        value [m/s].
+    corner_tolerance_m : float
+        Allowed deviation from the programmed path that the post-interpolation filter
+        may cause at corners and on arcs; it limits corner and arc speeds [m].
+    filter_kind : {"none", "linear", "bell"}
+        Post-interpolation acc/dec filter per axis: one moving average (linear) or two
+        cascaded moving averages of half the length each (bell-shaped) [-].
+    filter_time_s : float
+        Total length of the post-interpolation filter [s].
+    """
+
+    model_config = ConfigDict(extra="forbid")
+
+    period_s: float = Field(1e-3, gt=0.0, le=1.0)
+    profile: Literal["trapezoid", "scurve"] = "trapezoid"
+    path_accel_m_per_s2: float = Field(1.0, gt=0.0)
+    path_jerk_m_per_s3: float = Field(50.0, gt=0.0)
+    axis_velocity_m_per_s: dict[str, float] = Field(default_factory=dict)
+    axis_accel_m_per_s2: dict[str, float] = Field(default_factory=dict)
+    rapid_m_per_s: dict[str, float] = Field(default_factory=lambda: {"X": 0.5, "Y": 0.5, "Z": 0.5})
+    corner_tolerance_m: float = Field(1e-5, gt=0.0)
+    filter_kind: Literal["none", "linear", "bell"] = "none"
+    filter_time_s: float = Field(0.0, ge=0.0, le=10.0)
+
+    @field_validator("axis_velocity_m_per_s")
+    @classmethod
+    def _check_vel(cls, v):
+        return _axis_dict(v, "axis_velocity_m_per_s")
+
+    @field_validator("axis_accel_m_per_s2")
+    @classmethod
+    def _check_acc(cls, v):
+        return _axis_dict(v, "axis_accel_m_per_s2")
+
+    @field_validator("rapid_m_per_s")
+    @classmethod
+    def _check_rapid(cls, v):
+        v = _axis_dict(v, "rapid_m_per_s")
+        if not v:
+            raise ValueError("rapid_m_per_s: give the rapid speed of at least one axis")
+        return v
+
+    def axis_velocity(self) -> tuple[float, float, float]:
+        """Velocity limit of X, Y, Z; ``inf`` where not limited [m/s]."""
+        return tuple(self.axis_velocity_m_per_s.get(a, math.inf) for a in AXES)
+
+    def axis_accel(self) -> tuple[float, float, float]:
+        """Acceleration limit of X, Y, Z [m/s^2]."""
+        return tuple(self.axis_accel_m_per_s2.get(a, self.path_accel_m_per_s2) for a in AXES)
+
+    def rapid(self) -> tuple[float, float, float]:
+        """Rapid traverse speed of X, Y, Z [m/s]."""
+        top = max(self.rapid_m_per_s.values())
+        return tuple(self.rapid_m_per_s.get(a, top) for a in AXES)
+
+    def jerk(self) -> float:
+        """Path jerk limit in effect: ``inf`` for the trapezoidal profile [m/s^3]."""
+        return self.path_jerk_m_per_s3 if self.profile == "scurve" else math.inf

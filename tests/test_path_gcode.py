@@ -1,0 +1,236 @@
+"""G-code interpreter: words, modal state, arcs, warnings, and errors with line and column."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from tcpmm.errors import InputError, InputWarning
+from tcpmm.path import Arc, Dwell, Line, Rapid, parse_gcode, program_to_command
+
+
+def _parse(text, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        return parse_gcode(text, **kw)
+
+
+def test_lines_units_distance_modes_and_modal_state():
+    segs = _parse(
+        "%\n"
+        "N10 G21 G90 (mm, absolute)\n"
+        "N20 G1 X10 Y-5 F600 ; first feed move\n"
+        "N30 Z2.5\n"  # G1 and F are modal
+        "G91 X1 Y1\n"
+        "G20 X1\n"  # incremental, inch
+        "G0 G90 X0 Y0 Z0\n"
+        "%\n"
+    )
+    assert [type(s) for s in segs] == [Line, Line, Line, Line, Rapid]
+    assert segs[0].end_m == pytest.approx((0.01, -0.005, 0.0))
+    assert segs[0].feed_m_per_s == pytest.approx(0.01)
+    assert segs[1].end_m == pytest.approx((0.01, -0.005, 0.0025))
+    assert segs[2].end_m == pytest.approx((0.011, -0.004, 0.0025))
+    assert segs[3].end_m == pytest.approx((0.011 + 0.0254, -0.004, 0.0025))
+    assert segs[3].feed_m_per_s == pytest.approx(0.01)  # F is kept in SI when units change
+    assert segs[4].end_m == (0.0, 0.0, 0.0)
+    assert [s.line for s in segs] == [3, 4, 5, 6, 7]
+
+
+def test_feed_in_inch_per_minute_and_start_position():
+    segs = _parse("G20 G1 X1 F10\n", start_position_m=(0.0, 0.0, 0.1))
+    assert segs[0].start_m == (0.0, 0.0, 0.1)
+    assert segs[0].feed_m_per_s == pytest.approx(0.254 / 60)
+
+
+@pytest.mark.parametrize(
+    ("plane", "g", "words", "centre", "axes"),
+    [
+        (17, 3, "X0 Y10 I-10 J0", (0.0, 0.0, 0.0), ("X", "Y")),
+        (17, 2, "X0 Y10 I-10 J0", (0.0, 0.0, 0.0), ("X", "Y")),
+        (18, 3, "Z0 X10 K-10 I0", (0.0, 0.0, 0.0), ("Z", "X")),
+        (18, 2, "Z0 X10 K-10 I0", (0.0, 0.0, 0.0), ("Z", "X")),
+        (19, 3, "Y0 Z10 J-10 K0", (0.0, 0.0, 0.0), ("Y", "Z")),
+        (19, 2, "Y0 Z10 J-10 K0", (0.0, 0.0, 0.0), ("Y", "Z")),
+    ],
+)
+def test_every_plane_and_direction_of_g2_g3(plane, g, words, centre, axes):
+    # start on the first plane axis at +10 mm, end on the second at +10 mm
+    first = axes[0]
+    start = {"X": 0.0, "Y": 0.0, "Z": 0.0, first: 0.01}
+    program = f"G0 {first}10\nG{plane} G{g} {words} F1000\n"
+    segs = _parse(program)
+    arc = segs[-1]
+    assert isinstance(arc, Arc)
+    assert arc.plane_axes == axes
+    assert arc.centre_m == pytest.approx(centre)
+    assert arc.start_m == pytest.approx(tuple(start.values()))
+    # G3 turns the first plane axis into the second (quarter turn), G2 the long way round
+    assert arc.sweep_rad == pytest.approx(math.pi / 2 if g == 3 else -1.5 * math.pi)
+    cmd = program_to_command(program)
+    p = {a: cmd.positions.get(a, np.zeros(cmd.time_s.size)) for a in "XYZ"}
+    on_arc = cmd.meta["path_s_m"] > 0.0105
+    a, b = p[axes[0]][on_arc], p[axes[1]][on_arc]
+    assert np.abs(np.hypot(a, b) - 0.01).max() < 1e-12
+    turn = np.unwrap(np.arctan2(b, a))
+    assert (turn[-1] - turn[0]) == pytest.approx(arc.sweep_rad, abs=1e-3)
+    assert np.all(np.diff(turn) * np.sign(arc.sweep_rad) >= 0)
+
+
+def test_radius_form_short_and_long_way_and_full_circle_and_helix():
+    short, long_ = _parse("G1 X10 F100\nG3 X0 Y10 R10\nG0 X10 Y0\nG3 X0 Y10 R-10\n")[1::2]
+    assert short.centre_m == pytest.approx((0.0, 0.0, 0.0), abs=1e-15)
+    assert short.sweep_rad == pytest.approx(math.pi / 2)
+    assert long_.centre_m == pytest.approx((0.01, 0.01, 0.0))
+    assert long_.sweep_rad == pytest.approx(1.5 * math.pi)
+    full, helix = _parse("G1 X10 F100\nG2 I-10\nG2 I-10 Z-3\n")[1:]
+    assert full.sweep_rad == pytest.approx(-2 * math.pi)
+    assert full.length_m == pytest.approx(2 * math.pi * 0.01)
+    assert helix.helix_m == pytest.approx(-0.003)
+    assert helix.length_m == pytest.approx(math.hypot(2 * math.pi * 0.01, 0.003))
+
+
+def test_absolute_arc_centres_dwell_and_exact_stop():
+    segs = _parse("G1 X10 F100\nG90.1 G3 X0 Y10 I0 J0\nG4 P0.5\nG4 X0.25\nG61 G1 X5\nG64 X0\n")
+    assert segs[1].centre_m == pytest.approx((0.0, 0.0, 0.0))
+    assert isinstance(segs[2], Dwell) and segs[2].duration_s == 0.5
+    assert segs[3].duration_s == 0.25 and segs[3].position_m == pytest.approx((0, 0.01, 0))
+    assert segs[4].exact_stop and not segs[5].exact_stop
+
+
+def test_harmless_words_warn_once_per_kind_with_their_first_line():
+    text = "O100\nG17 G40 G49 G54 G80 G94\nS1000 M3\nT1 M6\nG1 X1 F100 M8\nX2 S2000\nM5\nM30\nX9\n"
+    with pytest.warns(InputWarning) as record:
+        segs = parse_gcode(text, "prog.nc")
+    assert len(segs) == 2  # X9 after M30 is not executed
+    msgs = [str(w.message) for w in record]
+    assert any("prog.nc, line 3, column 1: S ignored (and 1 more time)" in m for m in msgs)
+    assert any("line 2, column 9: G54 ignored" in m for m in msgs)
+    assert any("M8 ignored" in m and "coolant" in m for m in msgs)
+    assert any("line 9" in m and "M2/M30" in m for m in msgs)
+    keys = [m.split(": ")[1].split(" ignored")[0] for m in msgs]
+    assert len(keys) == len(set(keys))  # one warning per kind
+
+
+ERRORS = [
+    # (program, line, column, part of the message)
+    ("G1 X10\n", 1, 1, "no feed rate"),
+    ("G0 X5\nX10 Y3 G1\n", 2, 8, "no feed rate"),
+    ("G1 X5 F100\nG2 X10 Y0 I3 J0\n", 2, 11, "radius to the start is 3 mm but to the end 2 mm"),
+    ("G1 X1 F100 Q5\n", 1, 12, "unknown word letter Q"),
+    ("G1 X1.2.3 F100\n", 1, 4, "malformed number '1.2.3'"),
+    ("G1 X1 F100\nG2 X1 Y0 R5\n", 2, 10, "full circle"),
+    ("G2 X0 Y0 I0 J0 F100\n", 1, 10, "zero radius"),
+    ("G1 X5 F100\nG3 X10 R0\n", 2, 8, "zero"),
+    ("G1 X1 X2 F100\n", 1, 7, "X is given twice"),
+    ("X10\n", 1, 1, "without a motion mode"),
+    ("G1 X1 F0\n", 1, 7, "feed F0 must be positive"),
+    ("G1 X1 F100 (unclosed\n", 1, 12, "not closed"),
+    ("G1 X1 F100 (a (b) c)\n", 1, 15, "nested"),
+    ("G1 X1 F100 )\n", 1, 12, "without a '('"),
+    ("G41 G1 X1 F100\n", 1, 1, "G41 cannot be used"),
+    ("G2 G3 X1 I1 F100\n", 1, 4, "both motion codes"),
+    ("G4\n", 1, 1, "G4 needs the dwell time"),
+    ("G4 P1 X1\n", 1, 7, "not both"),
+    ("G4 P-1\n", 1, 4, "must not be negative"),
+    ("G4 P1 Y2\n", 1, 7, "cannot be used in a G4"),
+    ("G1 X1 F100 A5\n", 1, 12, "axis A is not modelled"),
+    ("G17 G2 X10 K5 F100\n", 1, 12, "K is not a centre word of the G17 plane"),
+    ("G1 X0 F100\nG2 X10 Y0 R2\n", 2, 11, "smaller than half the distance"),
+    ("G1 I5 F100\n", 1, 4, "I is only used with G2/G3"),
+    ("M98 P100\n", 1, 1, "subprograms"),
+    ("G1 X1 F100 P2\n", 1, 12, "P is only used with G4"),
+    ("N1.5 G1 X1 F100\n", 1, 1, "whole number"),
+    ("G1 X1 5 F100\n", 1, 7, "unexpected character '5'"),
+    ("G1 X F100\n", 1, 4, "letter X has no number"),
+    ("G2 X10 I5 R5 F100\n", 1, 11, "not both"),
+    ("G2 X10 F100\n", 1, 1, "needs the centre"),
+    ("G65 X1\n", 1, 1, "G65 cannot be used"),
+    ("G1.5 X1\n", 1, 1, "G1.5 cannot be used"),
+    ("G90.1 G2 X10 I5 F100\n", 1, 16, "both I and J"),
+    ("M3.5\n", 1, 1, "not an M-code"),
+    ("G1 X1 F100 #1=5\n", 1, 12, "unexpected character '#'"),
+    ("G1 X1e3 F100\n", 1, 6, "unknown word letter E"),
+]
+
+
+@pytest.mark.parametrize(("text", "line", "column", "msg"), ERRORS)
+def test_errors_name_file_line_and_column(text, line, column, msg):
+    with pytest.raises(InputError) as info:
+        parse_gcode(text, "bad.nc")
+    err = info.value
+    assert (err.file, err.line, err.column) == ("bad.nc", line, column)
+    assert msg in err.message
+    assert str(err).startswith(f"bad.nc, line {line}, column {column}: ")
+
+
+MALFORMED = [
+    "",
+    "%\n%\n",
+    "G1 X1\n",
+    "G2 X1 Y1 F100\n",
+    "G3 X1 Y1 I0.0001 J0 F100\n",
+    "G1 X1 F-100\n",
+    "G1 X1 F100\nG1 X1\n",  # zero-length move only
+    "G1 X1 F0.000001\n",  # would last far too long
+    "G0 X1e\n",
+    "G1 X--1 F1\n",
+    "G1 X+ F1\n",
+    "G1 X. F1\n",
+    "G18 G2 X1 J1 F100\n",
+    "G1 X1 F100 G1\n",
+    "G1 X1 F100 G0\n",
+    "G1 X1 F100 F200\n",
+    "(\n",
+    ";only a comment\n",
+    "G4 P0\n",  # a dwell of nothing is fine; a program of nothing is not
+    "\x00G1 X1 F100\n",
+    "G1 X1 F100\nG2 X1 Y1 R0.0001\n",
+    "G1 X99999999999 F100\n",
+]
+
+
+@pytest.mark.parametrize("text", MALFORMED)
+def test_malformed_programs_fail_only_with_input_error(text):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        try:
+            cmd = program_to_command(text)
+        except InputError as err:
+            assert err.message  # says what is wrong
+        else:
+            assert np.all(np.isfinite(cmd.positions["X"]))
+
+
+_alphabet = st.sampled_from(list("GXYZIJKRFPNMST0123456789.-+ ()%;\n") + ["G1 ", "G2 ", "\n"])
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(text=st.text(alphabet=_alphabet, max_size=60))
+def test_random_text_parses_or_raises_input_error(text):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        try:
+            segs = parse_gcode(text)
+        except InputError as err:
+            assert err.line is not None
+            return
+    for s in segs:
+        assert all(math.isfinite(c) for c in s.start_m + s.end_m)
+
+
+def test_program_file_errors_name_the_file(tmp_path):
+    path = tmp_path / "p.nc"
+    path.write_text("G1 X1 F100\nG1 Y1 Q1\n")
+    with pytest.raises(InputError) as info:
+        program_to_command(path)
+    assert info.value.file == str(path) and info.value.line == 2
+    with pytest.raises(InputError, match="not found"):
+        program_to_command(tmp_path / "missing.nc")
+    with pytest.raises(InputError, match="not found"):
+        program_to_command(str(tmp_path / "missing.nc"))

@@ -1,0 +1,536 @@
+"""Frequency response functions from excitation records (Welch averaging).
+
+The FRF of an output ``y`` against an input ``u`` is estimated from averaged auto- and
+cross-spectra of overlapping windowed segments:
+
+* ``H1 = S_uy / S_uu`` (noise on the output only: unbiased),
+* ``H2 = S_yy / S_yu`` (noise on the input only: unbiased).
+
+With the loops closed, the measured input of a plant is correlated with the sensor noise
+fed back by the controller, and ``H1`` of output against measured input is biased. The
+remedy is to estimate every signal against the injected excitation ``r`` (noise free, not
+in the loop) and to take ratios, e.g. ``G_M = (omega_m/r) / (i_c/r)``:
+:func:`frf_against_reference` and :func:`reduced_frfs`.
+
+Random error (Bendat & Piersol, *Random Data*, ch. 9): for ``n_d`` independent averages and
+ordinary coherence ``gamma^2``, the normalised standard deviation of ``|H|`` and the
+standard deviation of the phase [rad] are both
+``sqrt(1 - gamma^2) / (|gamma| sqrt(2 n_d))``. Overlapping segments are not independent:
+``n_d`` is the effective number of averages of Welch's method for the window and overlap
+used, and ``n_d - 1`` replaces ``n_d`` to undo the upward bias of estimated coherence.
+
+The formula is exact to first order for random and periodic (multisine) excitation. For a
+swept sine it is some 10-20 % optimistic in standard deviation (the excitation is
+deterministic, so the noise of overlapping segments does not average as for random input),
+and a sweep biases lightly damped resonances when the response outlasts a fair part of a
+segment: keep segments long against the sweep's dwell in the resonance and against the
+decay time ``1 / (zeta omega)`` of the slowest mode (the default segment length does).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy import signal
+
+from ..errors import InputError
+from ._spectral import (
+    _check_signal,
+    _detrend_order,
+    _effective_averages,
+    _rel_std,
+    _segmenting,
+    _select_band,
+    remove_trend,
+    sample_rate_hz,
+)
+
+__all__ = [
+    "FRF",
+    "estimate_frf",
+    "frf_against_reference",
+    "reduced_frfs",
+    "remove_trend",
+    "sample_rate_hz",
+]
+
+
+@dataclass(frozen=True)
+class FRF:
+    """A frequency response function with its coherence and random error.
+
+    Parameters
+    ----------
+    freq_hz : ndarray
+        Frequencies, increasing, all > 0 [Hz].
+    H : ndarray
+        Complex frequency response, output per input in SI units [-].
+    coherence : ndarray
+        Ordinary coherence gamma^2 per bin, 0..1 [-].
+    n_averages : float
+        Effective number of independent averages behind each bin [-].
+    rel_std : ndarray
+        Standard deviation of ``|H|`` divided by ``|H|`` per bin; equal to the standard
+        deviation of the phase in radians [-].
+    name : str
+        Short name, e.g. ``"G_M"`` [-].
+    input : str
+        Input signal label [-].
+    output : str
+        Output signal label [-].
+    """
+
+    freq_hz: np.ndarray
+    H: np.ndarray
+    coherence: np.ndarray
+    n_averages: float
+    rel_std: np.ndarray
+    name: str = ""
+    input: str = ""
+    output: str = ""
+    meta: dict = field(default_factory=dict, compare=False)
+
+    def __post_init__(self):
+        f = np.asarray(self.freq_hz, dtype=float)
+        H = np.asarray(self.H, dtype=complex)
+        coh = np.asarray(self.coherence, dtype=float)
+        rs = np.asarray(self.rel_std, dtype=float)
+        if f.ndim != 1 or f.size == 0:
+            raise InputError("an FRF needs a 1-D, non-empty frequency vector")
+        for label, a in (("H", H), ("coherence", coh), ("rel_std", rs)):
+            if a.shape != f.shape:
+                raise InputError(
+                    f"FRF {label} has shape {a.shape}, frequency vector {f.shape}", column=label
+                )
+        if np.any(~np.isfinite(f)) or np.any(f <= 0) or np.any(np.diff(f) <= 0):
+            raise InputError("FRF frequencies must be finite, > 0 and increasing", column="freq_hz")
+        object.__setattr__(self, "freq_hz", f)
+        object.__setattr__(self, "H", H)
+        object.__setattr__(self, "coherence", coh)
+        object.__setattr__(self, "rel_std", rs)
+
+    @property
+    def phase_std_rad(self) -> np.ndarray:
+        """Standard deviation of the phase per bin [rad]."""
+        return np.minimum(self.rel_std, np.pi)
+
+    @property
+    def magnitude_db(self) -> np.ndarray:
+        """``20 log10 |H|`` per bin [dB]."""
+        with np.errstate(divide="ignore"):
+            return 20.0 * np.log10(np.abs(self.H))
+
+    @property
+    def phase_deg(self) -> np.ndarray:
+        """Unwrapped phase per bin [deg]."""
+        return np.degrees(np.unwrap(np.angle(self.H)))
+
+    def band(self, fmin_hz: float | None = None, fmax_hz: float | None = None) -> FRF:
+        """The bins with ``fmin_hz <= f <= fmax_hz``.
+
+        Parameters
+        ----------
+        fmin_hz : float, optional
+            Lower band edge, inclusive [Hz].
+        fmax_hz : float, optional
+            Upper band edge, inclusive [Hz].
+
+        Returns
+        -------
+        FRF
+            A new FRF restricted to the band [-].
+        """
+        lo = -np.inf if fmin_hz is None else fmin_hz
+        hi = np.inf if fmax_hz is None else fmax_hz
+        keep = (self.freq_hz >= lo) & (self.freq_hz <= hi)
+        if not np.any(keep):
+            raise InputError(
+                f"FRF {self.name or ''} has no bins between {lo:g} Hz and {hi:g} Hz "
+                f"(it covers {self.freq_hz[0]:g}..{self.freq_hz[-1]:g} Hz)"
+            )
+        return replace(
+            self,
+            freq_hz=self.freq_hz[keep],
+            H=self.H[keep],
+            coherence=self.coherence[keep],
+            rel_std=self.rel_std[keep],
+        )
+
+    def differentiate(self, output: str | None = None, name: str | None = None) -> FRF:
+        """The FRF of the time derivative of the output: ``H * j 2 pi f``.
+
+        Parameters
+        ----------
+        output : str, optional
+            Label of the differentiated output [-].
+        name : str, optional
+            Name of the result [-].
+
+        Returns
+        -------
+        FRF
+            Same coherence and relative error, response multiplied by ``j omega`` [-].
+        """
+        return replace(
+            self,
+            H=self.H * (2j * np.pi * self.freq_hz),
+            output=output if output is not None else f"d({self.output})/dt",
+            name=name if name is not None else self.name,
+        )
+
+    def __truediv__(self, other: FRF) -> FRF:
+        """Ratio of two FRFs on the same grid, e.g. ``(y/r) / (u/r) = y/u``.
+
+        Relative errors add in quadrature, the coherence is the smaller of the two and the
+        number of averages the smaller of the two.
+        """
+        if not isinstance(other, FRF):
+            return NotImplemented
+        if self.freq_hz.shape != other.freq_hz.shape or not np.allclose(
+            self.freq_hz, other.freq_hz, rtol=1e-9, atol=0.0
+        ):
+            raise InputError(
+                f"cannot divide FRF {self.name!r} by {other.name!r}: different frequency grids"
+            )
+        with np.errstate(divide="ignore", invalid="ignore"):
+            H = self.H / other.H
+        same_input = self.input == other.input
+        return FRF(
+            freq_hz=self.freq_hz,
+            H=H,
+            coherence=np.minimum(self.coherence, other.coherence),
+            n_averages=min(self.n_averages, other.n_averages),
+            rel_std=np.hypot(self.rel_std, other.rel_std),
+            name=f"({self.name})/({other.name})" if self.name or other.name else "",
+            input=other.output if same_input else other.name,
+            output=self.output if same_input else self.name,
+            meta=dict(self.meta),
+        )
+
+    def to_pandas(self):
+        """Table with one row per bin.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Columns ``freq_hz, re, im, magnitude, magnitude_db, phase_deg, coherence,
+            rel_std, phase_std_deg`` [-].
+        """
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "freq_hz": self.freq_hz,
+                "re": self.H.real,
+                "im": self.H.imag,
+                "magnitude": np.abs(self.H),
+                "magnitude_db": self.magnitude_db,
+                "phase_deg": self.phase_deg,
+                "coherence": self.coherence,
+                "rel_std": self.rel_std,
+                "phase_std_deg": np.degrees(self.phase_std_rad),
+            }
+        )
+
+
+# ----------------------------------------------------------------------------- estimators
+
+
+def estimate_frf(
+    u,
+    y,
+    fs_hz: float,
+    nperseg: int | None = None,
+    window: str = "hann",
+    overlap: float = 0.5,
+    estimator: str = "H1",
+    detrend="linear",
+    fmin_hz: float | None = None,
+    fmax_hz: float | None = None,
+    name: str = "",
+    input: str = "u",
+    output: str = "y",
+    file=None,
+) -> FRF:
+    """FRF of ``y`` against ``u`` by Welch-averaged spectra.
+
+    Parameters
+    ----------
+    u : array_like
+        Input samples, uniformly sampled [SI unit of the input].
+    y : array_like
+        Output samples, same length [SI unit of the output].
+    fs_hz : float
+        Sample rate [Hz].
+    nperseg : int, optional
+        Segment length. Default: the largest power of two giving at least 8 segments, raised
+        if needed so that ``fmin_hz`` lies at least 4 bins above 0 Hz [-].
+    window : str
+        Window name understood by :func:`scipy.signal.get_window` [-].
+    overlap : float
+        Segment overlap fraction, 0..<1 [-].
+    estimator : {"H1", "H2"}
+        ``H1 = S_uy/S_uu`` (output noise) or ``H2 = S_yy/S_yu`` (input noise) [-].
+    detrend : str or int or None
+        Polynomial trend removed from both signals over the whole record before segmenting:
+        "constant", "linear" (default), "quadratic", "cubic", an order, or None. Each segment
+        then has its mean removed [-].
+    fmin_hz : float, optional
+        Lowest frequency of interest; default the lowest excited bin [Hz].
+    fmax_hz : float, optional
+        Highest frequency of interest; default the highest excited bin [Hz].
+    name : str
+        Name of the FRF [-].
+    input : str
+        Input label, also used as column name in errors [-].
+    output : str
+        Output label, also used as column name in errors [-].
+    file : str or Path, optional
+        Source file for error messages [-].
+
+    Returns
+    -------
+    FRF
+        Response, coherence and random error per bin [-].
+    """
+    fs_hz = float(fs_hz)
+    if not np.isfinite(fs_hz) or fs_hz <= 0:
+        raise InputError(f"sample rate must be > 0, got {fs_hz}")
+    est = estimator.upper()
+    if est not in ("H1", "H2"):
+        raise InputError(f"estimator must be 'H1' or 'H2', got {estimator!r}")
+    u = _check_signal(u, input, None, file)
+    y = _check_signal(y, output, u.size, file)
+    order = _detrend_order(detrend)
+    m, noverlap, k = _segmenting(u.size, fs_hz, nperseg, fmin_hz, overlap, file)
+    u = remove_trend(u, order)
+    y = remove_trend(y, order)
+    kw = dict(fs=fs_hz, window=window, nperseg=m, noverlap=noverlap, detrend="constant")
+    f, p_uu = signal.welch(u, **kw)
+    _, p_yy = signal.welch(y, **kw)
+    _, p_uy = signal.csd(u, y, **kw)
+    keep = _select_band(f, p_uu, fmin_hz, fmax_hz, input)
+    f, p_uu, p_yy, p_uy = f[keep], p_uu[keep], p_yy[keep], p_uy[keep]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        H = p_uy / p_uu if est == "H1" else p_yy / np.conj(p_uy)
+        coh = np.abs(p_uy) ** 2 / (p_uu * p_yy)
+    coh = np.nan_to_num(np.clip(coh, 0.0, 1.0))
+    win = signal.get_window(window, m)
+    n_eff = _effective_averages(win, m - noverlap, k)
+    return FRF(
+        freq_hz=f,
+        H=H,
+        coherence=coh,
+        n_averages=n_eff,
+        rel_std=_rel_std(coh, n_eff),
+        name=name or f"{output}/{input}",
+        input=input,
+        output=output,
+        meta={
+            "nperseg": m,
+            "n_segments": k,
+            "window": window,
+            "overlap": overlap,
+            "estimator": est,
+            "fs_hz": fs_hz,
+        },
+    )
+
+
+def frf_against_reference(
+    r,
+    signals: dict,
+    fs_hz: float,
+    nperseg: int | None = None,
+    window: str = "hann",
+    overlap: float = 0.5,
+    detrend="linear",
+    fmin_hz: float | None = None,
+    fmax_hz: float | None = None,
+    reference: str = "r",
+    file=None,
+) -> dict[str, FRF]:
+    """H1 of every signal against the injected excitation ``r``.
+
+    ``r`` is generated, not measured, and enters the loop from outside, so H1 against it is
+    unbiased even with the loops closed; ratios of these FRFs give plant FRFs.
+
+    Parameters
+    ----------
+    r : array_like
+        Injected excitation samples [SI unit of r, e.g. A].
+    signals : dict of str to array_like
+        Output signals by name, same length as ``r`` [SI unit of each signal].
+    fs_hz : float
+        Sample rate [Hz].
+    nperseg : int, optional
+        Segment length, see :func:`estimate_frf` [-].
+    window : str
+        Window name [-].
+    overlap : float
+        Segment overlap fraction [-].
+    detrend : str or int or None
+        Trend removed over the whole record, see :func:`estimate_frf` [-].
+    fmin_hz : float, optional
+        Lowest frequency of interest [Hz].
+    fmax_hz : float, optional
+        Highest frequency of interest [Hz].
+    reference : str
+        Name of ``r`` (column name in errors and labels) [-].
+    file : str or Path, optional
+        Source file for error messages [-].
+
+    Returns
+    -------
+    dict of str to FRF
+        ``signals[name] / r`` for every name, on one common frequency grid [-].
+    """
+    fs_hz = float(fs_hz)
+    if not np.isfinite(fs_hz) or fs_hz <= 0:
+        raise InputError(f"sample rate must be > 0, got {fs_hz}")
+    r = _check_signal(r, reference, None, file)
+    outs = {k: _check_signal(v, k, r.size, file) for k, v in signals.items()}
+    order = _detrend_order(detrend)
+    m, noverlap, k = _segmenting(r.size, fs_hz, nperseg, fmin_hz, overlap, file)
+    r = remove_trend(r, order)
+    kw = dict(fs=fs_hz, window=window, nperseg=m, noverlap=noverlap, detrend="constant")
+    f, p_rr = signal.welch(r, **kw)
+    keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference)
+    n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
+    meta = {
+        "nperseg": m,
+        "n_segments": k,
+        "window": window,
+        "overlap": overlap,
+        "estimator": "H1",
+        "fs_hz": fs_hz,
+    }
+    result = {}
+    for key, y in outs.items():
+        y = remove_trend(y, order)
+        _, p_yy = signal.welch(y, **kw)
+        _, p_ry = signal.csd(r, y, **kw)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            H = p_ry[keep] / p_rr[keep]
+            coh = np.abs(p_ry[keep]) ** 2 / (p_rr[keep] * p_yy[keep])
+        coh = np.nan_to_num(np.clip(coh, 0.0, 1.0))
+        result[key] = FRF(
+            freq_hz=f[keep],
+            H=H,
+            coherence=coh,
+            n_averages=n_eff,
+            rel_std=_rel_std(coh, n_eff),
+            name=f"{key}/{reference}",
+            input=reference,
+            output=key,
+            meta=dict(meta),
+        )
+    return result
+
+
+def reduced_frfs(
+    excitation_A,
+    current_A,
+    motor_angle_rad,
+    scale_m,
+    tcp_m=None,
+    fs_hz: float | None = None,
+    time_s=None,
+    nperseg: int | None = None,
+    window: str = "hann",
+    overlap: float = 0.5,
+    detrend="linear",
+    fmin_hz: float | None = None,
+    fmax_hz: float | None = None,
+    file=None,
+) -> dict[str, FRF]:
+    """The FRFs of the reduced models of one axis from a servo-excitation record.
+
+    ``G_M = omega_m/i_c = (j 2 pi f theta_m/r) / (i_c/r)``, ``G_T = X_LS/theta_m =
+    (X_LS/r) / (theta_m/r)``, ``G_tcp = X_TCP/X_LS = (X_TCP/r) / (X_LS/r)``. The motor
+    speed comes from the motor angle in the frequency domain (no differencing of quantised
+    samples). Position ramps are removed by the trend fitted over the whole record.
+
+    Parameters
+    ----------
+    excitation_A : array_like
+        Injected excitation r [A].
+    current_A : array_like
+        Current command i_c [A].
+    motor_angle_rad : array_like
+        Motor encoder angle theta_m [rad].
+    scale_m : array_like
+        Linear scale X_LS [m].
+    tcp_m : array_like, optional
+        TCP position X_TCP [m]; without it no ``G_tcp`` [m].
+    fs_hz : float, optional
+        Sample rate; give this or ``time_s`` [Hz].
+    time_s : array_like, optional
+        Sample times, checked for uniform sampling [s].
+    nperseg : int, optional
+        Segment length, see :func:`estimate_frf` [-].
+    window : str
+        Window name [-].
+    overlap : float
+        Segment overlap fraction [-].
+    detrend : str or int or None
+        Trend removed over the whole record [-].
+    fmin_hz : float, optional
+        Lowest frequency of interest [Hz].
+    fmax_hz : float, optional
+        Highest frequency of interest [Hz].
+    file : str or Path, optional
+        Source file for error messages [-].
+
+    Returns
+    -------
+    dict of str to FRF
+        ``"G_M"`` [rad/s/A], ``"G_T"`` [m/rad], and ``"G_tcp"`` [-] if TCP data exist.
+    """
+    if time_s is not None:
+        fs_t = sample_rate_hz(time_s, file=file)
+        if fs_hz is not None and abs(fs_t - fs_hz) > 1e-3 * fs_hz:
+            raise InputError(
+                f"time column gives {fs_t:.6g} Hz, fs_hz says {fs_hz:.6g} Hz",
+                file=file,
+                column="time_s",
+            )
+        fs_hz = fs_t
+        n_t = np.asarray(time_s).size
+        if np.asarray(excitation_A).size != n_t:
+            raise InputError(
+                f"{np.asarray(excitation_A).size} excitation samples for {n_t} time samples",
+                file=file,
+                column="excitation_A",
+            )
+    if fs_hz is None:
+        raise InputError("give the sample rate fs_hz or the time vector time_s")
+    signals = {"current_A": current_A, "motor_angle_rad": motor_angle_rad, "scale_m": scale_m}
+    if tcp_m is not None:
+        signals["tcp_m"] = tcp_m
+    f = frf_against_reference(
+        excitation_A,
+        signals,
+        fs_hz,
+        nperseg=nperseg,
+        window=window,
+        overlap=overlap,
+        detrend=detrend,
+        fmin_hz=fmin_hz,
+        fmax_hz=fmax_hz,
+        reference="excitation_A",
+        file=file,
+    )
+    omega = f["motor_angle_rad"].differentiate(output="omega_m")
+    out = {
+        "G_M": replace(omega / f["current_A"], name="G_M", input="i_c", output="omega_m"),
+        "G_T": replace(
+            f["scale_m"] / f["motor_angle_rad"], name="G_T", input="theta_m", output="X_LS"
+        ),
+    }
+    if tcp_m is not None:
+        out["G_tcp"] = replace(
+            f["tcp_m"] / f["scale_m"], name="G_tcp", input="X_LS", output="X_TCP"
+        )
+    return out

@@ -36,18 +36,29 @@ def main():
     m = builtin_machine()
     t = np.arange(0, DURATION_S, 1e-3)
     w = 2 * np.pi * 0.4
-    cmd = Command(t, {"X": 0.035 * np.sin(w * t), "Y": 0.035 * (1 - np.cos(w * t)),
-                      "Z": 0.01 * np.sin(0.5 * w * t)})
+    cmd = Command(
+        t,
+        {
+            "X": 0.035 * np.sin(w * t),
+            "Y": 0.035 * (1 - np.cos(w * t)),
+            "Z": 0.01 * np.sin(0.5 * w * t),
+        },
+    )
     simulate(m, Command(t[:100], {k: v[:100] for k, v in cmd.positions.items()}))  # compile
     t_sim, _ = best(lambda: simulate(m, cmd, record_period_s=1e-3))
-    print(f"tcpmm simulate, 3 axes, {DURATION_S:.0f} s at 8 kHz: {t_sim * 1e3:.1f} ms "
-          f"-> real-time factor {DURATION_S / t_sim:.0f}")
+    print(
+        f"tcpmm simulate, 3 axes, {DURATION_S:.0f} s at 8 kHz: {t_sim * 1e3:.1f} ms "
+        f"-> real-time factor {DURATION_S / t_sim:.0f}"
+    )
 
     # Same linear closed loop at 8 kHz for all three tools (one axis, X).
     ax = m.axes["X"]
-    ax = ax.replace(servo=ax.servo.model_copy(update={"T_p": T_V}),
-                    sensors=ax.sensors.model_copy(update={"encoder_counts_per_rev": 0,
-                                                          "scale_resolution": 0.0}))
+    ax = ax.replace(
+        servo=ax.servo.model_copy(update={"T_p": T_V}),
+        sensors=ax.sensors.model_copy(
+            update={"encoder_counts_per_rev": 0, "scale_resolution": 0.0}
+        ),
+    )
     tv = np.arange(0, DURATION_S, T_V)
     xc = 0.035 * np.sin(w * tv)
     t_ours, r = best(lambda: simulate_axis(ax, tv, xc, record_period_s=T_V))

@@ -260,6 +260,54 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         out.print(f"wrote {p}")
 
 
+@app.command()
+def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"),
+           band: str = typer.Option(..., "--band", help="F0,F1 [Hz]"),
+           amplitude_A: float = typer.Option(..., "--amplitude-A", help="Amplitude [A]."),
+           duration_s: float = typer.Option(..., "--duration-s", help="Duration [s]."),
+           fs_hz: float = typer.Option(..., "--fs-hz", help="Sample rate [Hz]."),
+           output: Path = typer.Option(..., "-o", "--output", help="FILE.csv"),
+           taper_s: float = typer.Option(None, "--taper-s", help="Fade in/out [s] (sweeps)."),
+           seed: int = typer.Option(None, "--seed", help="Random phases seed (multisine).")):
+    """Design an excitation signal for the current command (time_s, excitation_A)."""
+    from .ident.excitation import design_excitation
+
+    f0, f1 = _floats(band, "--band", 2)
+    exc = design_excitation(kind, f0, f1, amplitude_A, duration_s, fs_hz, taper_s=taper_s,
+                            seed=seed)
+    exc.write_csv(output)
+    out.print(f"wrote {output}: {exc.kind}, band {exc.band_hz[0]:g}-{exc.band_hz[1]:g} Hz, "
+              f"{exc.time_s.size} samples ({exc.time_s.size / exc.fs_hz:g} s), "
+              f"peak {exc.peak_A:.3g} A, rms {exc.rms_A:.3g} A, crest {exc.crest_factor:.2f}")
+
+
+@app.command()
+def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder."),
+             output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml"),
+             report: Path = typer.Option(None, "--report", help="Folder for plots and tables."),
+             band: str = typer.Option(None, "--band", help="F0,F1 of the FRFs [Hz]."),
+             as_json: bool = typer.Option(False, "--json")):
+    """Identify every axis of a measurement bundle into a model file."""
+    from .ident.pipeline import identify_bundle
+    from .io.bundle import read_bundle
+    from .io.modelfile import write_machine
+
+    b = read_bundle(bundle)
+    f0, f1 = _floats(band, "--band", 2) if band else (None, None)
+    with _progress(len(b.axes), "identify") as adv:
+        idn = identify_bundle(b, f0, f1, progress=adv)
+    write_machine(idn.machine, output)
+    if report is not None:
+        idn.write_report(report)
+    if as_json:
+        _emit_json(idn.to_dict())
+        return
+    from .demo import print_circle_table
+
+    print_circle_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
+    out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
+
+
 def main(argv=None) -> int:
     """Entry point of the ``tcpmm`` console script."""
     try:

@@ -26,7 +26,6 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from scipy import optimize, signal
@@ -116,9 +115,7 @@ class ParameterEstimate:
             params[n] = {
                 "value": float(v),
                 "std": None if not np.isfinite(s) else float(s),
-                "std_percent": None
-                if not np.isfinite(s) or v == 0
-                else float(100.0 * s / abs(v)),
+                "std_percent": None if not np.isfinite(s) or v == 0 else float(100.0 * s / abs(v)),
             }
         out = {
             "parameters": params,
@@ -378,8 +375,13 @@ def idim_ls(
         yd = decimate(y_full, decimation)[keep]
         return Wd, yd, names
 
-    extra = {"cutoff_hz": cutoff, "decimation": int(decimation), "friction": friction,
-             "force_shift_samples": float(force_shift), "v_min": float(v_min)}
+    extra = {
+        "cutoff_hz": cutoff,
+        "decimation": int(decimation),
+        "friction": friction,
+        "force_shift_samples": float(force_shift),
+        "v_min": float(v_min),
+    }
     if isinstance(stribeck_velocity, str):
         if stribeck_velocity != "fit":
             raise InputError(
@@ -394,7 +396,9 @@ def idim_ls(
             return float(r @ r)
 
         res = optimize.minimize_scalar(
-            cost, bounds=(math.log10(vmax) - 4.0, math.log10(vmax)), method="bounded",
+            cost,
+            bounds=(math.log10(vmax) - 4.0, math.log10(vmax)),
+            method="bounded",
             options={"xatol": 1e-3},
         )
         vs = 10.0 ** float(res.x)
@@ -411,8 +415,14 @@ def idim_ls(
     Wd, yd, names = build(vs)
     est = _lstsq(Wd, yd, names)
     return ParameterEstimate(
-        est.names, est.values, est.std, est.relative_error, est.residual_std,
-        est.condition, est.n_samples, extra,
+        est.names,
+        est.values,
+        est.std,
+        est.relative_error,
+        est.residual_std,
+        est.condition,
+        est.n_samples,
+        extra,
     )
 
 
@@ -440,16 +450,19 @@ def friction_from_idim(est: ParameterEstimate, v_stick: float = 0.0):
         fc = clip(est["Fc"])
         fs = clip(fc + est["dFs"]) if "dFs" in names else None
         fv = clip(est["Fv"])
-        model = StribeckFriction.symmetric(fc=fc, fv=fv, fs=fs, vs=vs, delta=delta,
-                                           v_stick=v_stick)
+        model = StribeckFriction.symmetric(fc=fc, fv=fv, fs=fs, vs=vs, delta=delta, v_stick=v_stick)
         off = est["offset"] if "offset" in names else 0.0
         return model, float(off)
     fcp, fcn = clip(est["Fc+"]), clip(est["Fc-"])
     model = StribeckFriction(
-        fc_pos=fcp, fc_neg=fcn,
+        fc_pos=fcp,
+        fc_neg=fcn,
         fs_pos=clip(fcp + est["dFs+"]) if "dFs+" in names else fcp,
         fs_neg=clip(fcn + est["dFs-"]) if "dFs-" in names else fcn,
-        vs=vs, delta=delta, fv_pos=clip(est["Fv+"]), fv_neg=clip(est["Fv-"]),
+        vs=vs,
+        delta=delta,
+        fv_pos=clip(est["Fv+"]),
+        fv_neg=clip(est["Fv-"]),
         v_stick=v_stick,
     )
     return model, 0.0
@@ -551,8 +564,15 @@ def find_plateaus(
             a, b = i + cut, j - cut
             if b > a + 1 and (t[b - 1] - t[a]) >= min_duration:
                 seg = effort[a:b]
-                out.append(Plateau(int(a), int(b), float(np.mean(v[a:b])),
-                                   float(np.mean(seg)), float(np.std(seg, ddof=1))))
+                out.append(
+                    Plateau(
+                        int(a),
+                        int(b),
+                        float(np.mean(v[a:b])),
+                        float(np.mean(seg)),
+                        float(np.std(seg, ddof=1)),
+                    )
+                )
             i = j
     return out
 
@@ -616,8 +636,7 @@ def fit_stribeck(
     fcp0, fcn0, fv0 = max(c0[0], 0.0), max(c0[1], 0.0), max(c0[2], 0.0)
     slow_p = f[v > 0][np.argmin(v[v > 0])]
     slow_n = -f[v < 0][np.argmax(v[v < 0])]
-    p0 = np.array([fcp0, fcn0, max(slow_p, fcp0), max(slow_n, fcn0),
-                   math.log10(vs_init), fv0])
+    p0 = np.array([fcp0, fcn0, max(slow_p, fcp0), max(slow_n, fcn0), math.log10(vs_init), fv0])
     free = np.ones(6, dtype=bool)
     if tie_static:
         free[3] = False
@@ -628,8 +647,9 @@ def fit_stribeck(
         return _stribeck_curve(p, v, delta, tie_static) - f
 
     lo = np.array([0.0, 0.0, 0.0, 0.0, math.log10(vs_init) - 3.0, 0.0])[free]
-    hi = np.array([np.inf, np.inf, np.inf, np.inf, math.log10(np.max(np.abs(v))) + 1.0,
-                   np.inf])[free]
+    hi = np.array([np.inf, np.inf, np.inf, np.inf, math.log10(np.max(np.abs(v))) + 1.0, np.inf])[
+        free
+    ]
     x0 = np.clip(p0[free], lo + 1e-12, hi - 1e-12)
     sol = optimize.least_squares(resid, x0, bounds=(lo, hi), x_scale="jac")
     p = p0.copy()
@@ -704,28 +724,32 @@ def identify_stribeck_run(
     x = _as_1d(position, "position")
     u = _as_1d(effort, "effort")
     if not (t.size == x.size == u.size):
-        raise InputError("time, position and effort must have the same length",
-                         column="effort")
+        raise InputError("time, position and effort must have the same length", column="effort")
     dts = np.diff(t)
     dt = float(np.median(dts))
     if dt <= 0 or np.max(np.abs(dts - dt)) > 0.01 * dt:
-        raise InputError("time must increase with a uniform step (1 % tolerance)",
-                         column="time_s")
+        raise InputError("time must increase with a uniform step (1 % tolerance)", column="time_s")
     v = central_difference(lowpass_filtfilt(x, dt, cutoff), dt)
-    plateaus = find_plateaus(t, v, u, v_min=v_min, rel_tol=rel_tol,
-                             min_duration=min_duration, trim=trim)
+    plateaus = find_plateaus(
+        t, v, u, v_min=v_min, rel_tol=rel_tol, min_duration=min_duration, trim=trim
+    )
     if not plateaus:
         raise InputError(
             f"no constant-velocity plateau of at least {min_duration} s found; record "
-            "longer constant-speed passes or lower min_duration", column="position",
+            "longer constant-speed passes or lower min_duration",
+            column="position",
         )
-    est = fit_stribeck([p.velocity for p in plateaus], [p.force for p in plateaus],
-                       delta=delta, tie_static=tie_static)
+    est = fit_stribeck(
+        [p.velocity for p in plateaus],
+        [p.force for p in plateaus],
+        delta=delta,
+        tie_static=tie_static,
+    )
     return est, plateaus
 
 
 def read_friction_csv(path, lead: float, torque_constant: float, position: str = "scale"):
-    """Read a ``friction.csv`` record (formats.md section 1) in SI units.
+    """Read a ``friction.csv`` record (formats.md section 1) as time, position and force.
 
     Parameters
     ----------
@@ -744,34 +768,30 @@ def read_friction_csv(path, lead: float, torque_constant: float, position: str =
         ``(t, x, force)``: time [s], position [m] and the motor force at the table
         ``K_tc i 2 pi / lead`` (losses of the screw not included) [N].
     """
-    import pandas as pd
+    from ..io.bundle import read_friction_csv as read_record
 
-    path = Path(path)
-    try:
-        df = pd.read_csv(path)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read CSV: {exc}", file=path) from None
-    need = ["time_s", "current_cmd_A", "motor_angle_rad", "scale_mm"]
-    missing = [c for c in need if c not in df.columns]
-    if missing:
-        raise InputError(
-            f"missing column(s) {missing}; the header must be {', '.join(need)}", file=path,
-            column=missing[0],
-        )
+    return friction_record_arrays(read_record(path), lead, torque_constant, position)
+
+
+def friction_record_arrays(record, lead: float, torque_constant: float, position: str = "scale"):
+    """Time [s], position [m] and motor force at the table [N] of a ``FrictionRecord``.
+
+    Parameters
+    ----------
+    record : FrictionRecord
+        The record, SI [-].
+    lead : float
+        Ball-screw lead [m].
+    torque_constant : float
+        Motor torque constant [N m/A].
+    position : {"scale", "motor"}
+        Position source [-].
+    """
     if position not in ("scale", "motor"):
-        raise InputError("position must be 'scale' or 'motor'", column="position")
-    if lead <= 0 or torque_constant <= 0:
-        raise InputError("lead and torque_constant must be > 0", file=path)
-    for c in need:
-        col = pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
-        bad = np.flatnonzero(~np.isfinite(col))
-        if bad.size:
-            raise InputError(f"non-numeric or empty value '{df[c].iloc[bad[0]]}'",
-                             file=path, line=int(bad[0]) + 2, column=c)
-    t = df["time_s"].to_numpy(dtype=float)
-    if position == "scale":
-        x = df["scale_mm"].to_numpy(dtype=float) * 1e-3
-    else:
-        x = df["motor_angle_rad"].to_numpy(dtype=float) * lead / (2.0 * math.pi)
-    force = df["current_cmd_A"].to_numpy(dtype=float) * torque_constant * 2.0 * math.pi / lead
-    return t, x, force
+        raise InputError(
+            f"position must be 'scale' or 'motor', got {position!r}", column="position"
+        )
+    ratio = lead / (2 * np.pi)
+    x = record.scale_m if position == "scale" else record.motor_angle_rad * ratio
+    force = torque_constant * record.current_cmd_A / ratio
+    return record.time_s, x, force

@@ -1,0 +1,101 @@
+"""The command line, end to end on the built-in machine."""
+
+import json
+
+import numpy as np
+import pytest
+
+from tcpmm.cli import main
+from tcpmm.demo import paper_circle_command
+from tcpmm.path import write_command_csv
+
+
+def run(capsys, *args):
+    code = main([str(a) for a in args])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("cli")
+    write_command_csv(paper_circle_command(), d / "cmd.csv")
+    return d
+
+
+def test_export_simulate_circle_compare(capsys, files):
+    d = files
+    code, _, _ = run(capsys, "machine", "export", "vmc", "-o", d / "m.yaml")
+    assert code == 0 and (d / "m.yaml").is_file()
+    code, out, _ = run(capsys, "simulate", d / "m.yaml", "--command", d / "cmd.csv",
+                       "-o", d / "run.csv")
+    assert code == 0, out
+    header = (d / "run.csv").read_text().splitlines()[0].split(",")
+    assert header[:6] == ["time_s", "x_cmd_mm", "x_motor_mm", "x_scale_mm", "x_tcp_mm",
+                          "x_current_A"]
+    code, out, _ = run(capsys, "circle", d / "run.csv", "--radius", 35, "--json")
+    assert code == 0
+    res = json.loads(out)
+    assert [p["direction"] for p in res["passes"]] == ["ccw", "cw"]
+    rows = {(p["direction"], r["sensor"]): r for p in res["passes"] for r in p["sensors"]}
+    tcp, scale = rows[("ccw", "tcp")], rows[("ccw", "scale")]
+    # The paper's observations: the TCP differs visibly from the scale, and oscillates
+    # (reversal spike) more after B/D, where the heavier Y axis reverses, than after A/C.
+    assert abs(tcp["contour_error_um"] - scale["contour_error_um"]) > 1.0
+    assert min(abs(tcp["spike_B_um"]), abs(tcp["spike_D_um"])) > 2 * max(
+        abs(tcp["spike_A_um"]), abs(tcp["spike_C_um"]))
+    code, out, _ = run(capsys, "compare", d / "run.csv", d / "run.csv", "--radius", 35,
+                       "--json")
+    assert code == 0
+    cmp = json.loads(out)["rows"]
+    assert all(abs(r["contour_error_um"]) < 1e-9 for r in cmp)
+
+
+def test_bode_targets(capsys, files):
+    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_T",
+                       "--freq-hz", "0.01", "--json")
+    assert code == 0
+    h = json.loads(out)[0]
+    assert abs(complex(h["re"], h["im"]) / (0.01 / (2 * np.pi)) - 1) < 1e-3
+    # Rigid bed and structure: G_tcp -> 1 up to 500 Hz.
+    from tcpmm.builtin import builtin_machine
+    from tcpmm.io.modelfile import write_machine
+
+    m = builtin_machine()
+    x = m.axes["X"]
+    stiff = m.with_axis("X", x.replace(mechanics=x.mechanics.scaled(K_b=1e6, K_h=1e6)))
+    write_machine(stiff, files / "stiff.yaml")
+    f = ",".join(str(v) for v in np.linspace(1, 500, 50))
+    code, out, _ = run(capsys, "bode", files / "stiff.yaml", "--axis", "x", "--tf", "G_tcp",
+                       "--freq-hz", f, "--json")
+    assert code == 0
+    assert max(abs(complex(r["re"], r["im"]) - 1) for r in json.loads(out)) < 1e-3
+
+
+@pytest.mark.parametrize(("args", "needle"), [
+    (["simulate", "nope.yaml", "--command", "x.csv", "-o", "r.csv"], "not found"),
+    (["bode", "builtin:vmc", "--axis", "Q", "--tf", "G_M"], "no axis"),
+    (["machine", "export", "lathe", "-o", "m.yaml"], "unknown built-in"),
+])
+def test_errors_are_messages_not_tracebacks(capsys, tmp_path, monkeypatch, args, needle):
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, *args)
+    assert code == 2
+    assert needle in err and "Traceback" not in err + out
+
+
+def test_bad_model_file_names_line(capsys, tmp_path):
+    p = tmp_path / "m.yaml"
+    run(capsys, "machine", "export", "vmc", "-o", p)
+    p.write_text(p.read_text().replace("K_pp:", "Kpp:", 1))
+    code, _, err = run(capsys, "bode", p, "--axis", "X", "--tf", "G_M")
+    assert code == 2 and "Kpp" in err and "line" in err
+
+
+def test_demo_writes_everything(capsys, tmp_path):
+    code, out, _ = run(capsys, "demo", "-o", tmp_path / "demo")
+    assert code == 0
+    for name in ("model.yaml", "run.csv", "circle.png", "bode_X.png", "bode_Y.png",
+                 "time.png", "circle_table.csv", "circle.json"):
+        assert (tmp_path / "demo" / name).stat().st_size > 0, name
+    assert str((tmp_path / "demo").resolve()) in out.replace("\n", "")

@@ -1,0 +1,71 @@
+"""Friction and reversal inside the compiled five-inertia loop."""
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.circular import analyse_circle
+from tcpmm.mechanics.friction import StribeckFriction
+from tcpmm.model import AxisFriction
+from tcpmm.path import circle_command
+from tcpmm.simulate import simulate, simulate_axis
+
+R = 0.035
+
+
+def with_friction(machine, fc, axes=("X", "Y"), substeps=16):
+    out = machine
+    for ax in axes:
+        a = machine.axes[ax]
+        fr = None if fc == 0 else AxisFriction(
+            guideway=StribeckFriction.symmetric(fc=fc, fs=1.2 * fc, fv=200.0, vs=2e-3),
+            substeps=substeps)
+        out = out.with_axis(ax, a.replace(friction=fr))
+    return out
+
+
+@pytest.fixture(scope="module")
+def circle():
+    return circle_command(radius_m=R, feed_m_per_s=5000 / 60e3, start_angle_rad=np.pi / 4)
+
+
+def test_spike_grows_with_coulomb_and_vanishes_without(vmc, circle):
+    spikes = []
+    for fc in (0.0, 40.0, 120.0):
+        res = analyse_circle(simulate(with_friction(vmc, fc), circle), R)
+        spikes.append(abs(res.passes[0].sensors["scale"].spikes["B"]))
+    assert spikes[0] < 0.2e-6
+    assert spikes[0] < spikes[1] < spikes[2]
+    assert spikes[2] > 2 * spikes[1] * 0.9
+
+
+def test_stick_is_exact(vmc):
+    """At rest under a load below the static level, the carriage does not creep."""
+    a = vmc.axes["X"].replace(friction=AxisFriction(
+        guideway=StribeckFriction.symmetric(fc=300.0, fs=400.0, fv=0.0)))
+    a = a.replace(mechanics=a.mechanics.replace(load_force=0.0))
+    t = np.arange(0, 0.2, 1e-3)
+    r = simulate_axis(a, t, np.zeros_like(t), quantise_feedback=False)
+    assert np.max(np.abs(r.scale)) == 0.0
+
+
+def test_reversal_converges_with_substeps(vmc):
+    """Refining the sub-steps at reversals converges (differences shrink)."""
+    t = np.arange(0, 0.6, 1e-3)
+    cmd = 0.002 * np.sin(2 * np.pi * 2 * t)
+    outs = []
+    for n in (1, 2, 4, 8, 16, 32, 64):
+        a = with_friction(vmc, 150.0, axes=("X",), substeps=n).axes["X"]
+        outs.append(simulate_axis(a, t, cmd, quantise_feedback=False).scale)
+    d = [np.max(np.abs(outs[k] - outs[-1])) for k in range(len(outs) - 1)]
+    assert d[-1] < d[0]
+    assert d[-1] < 0.25 * d[1]
+    assert np.all(np.diff(d[1:]) < 0)
+
+
+def test_friction_round_trips_in_model_file(vmc, tmp_path):
+    from tcpmm.io.modelfile import read_machine, write_machine
+
+    write_machine(vmc, tmp_path / "m.yaml")
+    m2 = read_machine(tmp_path / "m.yaml")
+    assert m2 == vmc
+    assert m2.axes["Y"].friction.guideway.fc_pos == vmc.axes["Y"].friction.guideway.fc_pos

@@ -56,11 +56,9 @@ def _emit_json(data) -> None:
 @app.command()
 def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder.")):
     """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
-    from .demo import run_demo
+    from .demo import DEMO_STEPS, run_demo
 
-    steps = ["built-in machine", "circle command", "simulation", "circular test analysis",
-             "plots"]
-    with _progress(len(steps), "demo") as adv:
+    with _progress(len(DEMO_STEPS), "demo") as adv:
         res = run_demo(out_dir, progress=adv, console=out)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
     for k, v in res["files"].items():

@@ -6,6 +6,8 @@ import numpy as np
 
 from . import pyplot, save
 
+#: Measured bins below this coherence are not drawn.
+MIN_COHERENCE = 0.5
 UNITS = {"G_M": "rad/s/A", "G_T": "m/rad", "G_tcp": "-", "G_p": "-", "cmd_to_tcp": "-",
          "G_v": "-"}
 
@@ -17,7 +19,8 @@ def plot_bode(curves, path=None, title=None):
     ----------
     curves : dict
         ``{tf_name: [(label, f_hz, H, style_dict), ...]}``; an optional coherence can be
-        given as a fifth element and is drawn under the magnitude [-].
+        given as a fifth element: it is drawn under the magnitude, and bins below
+        :data:`MIN_COHERENCE` are left out [-].
     path : str or Path, optional
         Where to save [-].
     title : str, optional
@@ -31,9 +34,12 @@ def plot_bode(curves, path=None, title=None):
         am, ap = axs[0, k], axs[1, k]
         for item in curves[name]:
             label, f, H, style = item[:4]
+            coh = item[4] if len(item) > 4 else None
+            if coh is not None:  # measured: hide bins the excitation did not reach
+                H = np.where(coh >= MIN_COHERENCE, H, np.nan)
             am.semilogx(f, 20 * np.log10(np.abs(H) + 1e-300), label=label, **style)
-            ap.semilogx(f, np.degrees(np.unwrap(np.angle(H))), **style)
-            if len(item) > 4 and item[4] is not None:
+            ap.semilogx(f, np.degrees(np.angle(H)), **style)
+            if coh is not None:
                 ac = am.twinx()
                 ac.semilogx(f, item[4], color="gray", lw=0.6, alpha=0.6)
                 ac.set_ylim(0, 4)
@@ -42,6 +48,8 @@ def plot_bode(curves, path=None, title=None):
         am.set_title(name)
         am.set_ylabel(f"|{name}| [dB re 1 {UNITS.get(name, '')}]")
         ap.set_ylabel("phase [deg]")
+        ap.set_ylim(-185, 185)
+        ap.set_yticks([-180, -90, 0, 90, 180])
         ap.set_xlabel("frequency [Hz]")
         for a in (am, ap):
             a.grid(alpha=0.3, which="both")

@@ -74,7 +74,7 @@ def test_every_plane_and_direction_of_g2_g3(plane, g, words, centre, axes):
     assert arc.sweep_rad == pytest.approx(math.pi / 2 if g == 3 else -1.5 * math.pi)
     cmd = program_to_command(program)
     p = {a: cmd.positions.get(a, np.zeros(cmd.time_s.size)) for a in "XYZ"}
-    on_arc = cmd.meta["path_s_m"] > 0.0105
+    on_arc = cmd.meta["path_s_m"] >= 0.01
     a, b = p[axes[0]][on_arc], p[axes[1]][on_arc]
     assert np.abs(np.hypot(a, b) - 0.01).max() < 1e-12
     turn = np.unwrap(np.arctan2(b, a))
@@ -110,9 +110,9 @@ def test_harmless_words_warn_once_per_kind_with_their_first_line():
     assert len(segs) == 2  # X9 after M30 is not executed
     msgs = [str(w.message) for w in record]
     assert any("prog.nc, line 3, column 1: S ignored (and 1 more time)" in m for m in msgs)
-    assert any("line 2, column 9: G54 ignored" in m for m in msgs)
+    assert any("line 2, column 13: G54 ignored" in m for m in msgs)
     assert any("M8 ignored" in m and "coolant" in m for m in msgs)
-    assert any("line 9" in m and "M2/M30" in m for m in msgs)
+    assert any("line 9: blocks after M2/M30 ignored: the program ends on line 8" in m for m in msgs)
     keys = [m.split(": ")[1].split(" ignored")[0] for m in msgs]
     assert len(keys) == len(set(keys))  # one warning per kind
 
@@ -152,7 +152,7 @@ ERRORS = [
     ("G2 X10 F100\n", 1, 1, "needs the centre"),
     ("G65 X1\n", 1, 1, "G65 cannot be used"),
     ("G1.5 X1\n", 1, 1, "G1.5 cannot be used"),
-    ("G90.1 G2 X10 I5 F100\n", 1, 16, "both I and J"),
+    ("G90.1 G2 X10 I5 F100\n", 1, 14, "both I and J"),
     ("M3.5\n", 1, 1, "not an M-code"),
     ("G1 X1 F100 #1=5\n", 1, 12, "unexpected character '#'"),
     ("G1 X1e3 F100\n", 1, 6, "unknown word letter E"),
@@ -207,11 +207,11 @@ def test_malformed_programs_fail_only_with_input_error(text):
             assert np.all(np.isfinite(cmd.positions["X"]))
 
 
-_alphabet = st.sampled_from(list("GXYZIJKRFPNMST0123456789.-+ ()%;\n") + ["G1 ", "G2 ", "\n"])
+_tokens = st.sampled_from([*"GXYZIJKRFPNMST0123456789.-+ ()%;\n", "G1 ", "G2 ", "F99 "])
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(text=st.text(alphabet=_alphabet, max_size=60))
+@given(text=st.lists(_tokens, max_size=40).map("".join))
 def test_random_text_parses_or_raises_input_error(text):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)

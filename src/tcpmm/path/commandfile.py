@@ -132,9 +132,12 @@ def read_command_csv(path) -> Command:
     step = (t[-1] - t[0]) / (t.size - 1)
     off = np.abs(dt - step) > UNIFORM_REL_TOL * step + 1e-12
     if np.any(off):
-        r = int(np.argmax(off)) + 1
+        # point at the first step that differs from the first one, if any does
+        first = np.abs(dt - dt[0]) > UNIFORM_REL_TOL * dt[0] + 1e-12
+        r = int(np.argmax(first if np.any(first) else off)) + 1
         raise InputError(
-            f"time must be uniformly sampled: step {dt[r - 1]:.9g} s here, {step:.9g} s on average",
+            f"time must be uniformly sampled: the step is {dt[r - 1]:.9g} s here but "
+            f"{dt[0]:.9g} s at the start; write one row per interpolation period",
             file=path,
             line=r + 2,
             column="time_s",

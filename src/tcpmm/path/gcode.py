@@ -9,11 +9,11 @@ comments, ``%`` lines, M2/M30 (end of program). Words that do not change the too
 :class:`~tcpmm.errors.InputError` with file, line and column.
 
 The parser is our own regex tokeniser plus a modal interpreter rather than a library.
-The Python G-code parsers available (``pygcode``, last released 2017; ``gcodeparser``
-and ``gcode-lib``, aimed at 3D-printer dialects) neither report the column of the
-offending word nor check arcs, modal groups or repeated words, and the dialect needed
-here is small: owning the ~400 lines keeps the error messages exact and adds no
-dependency.
+Of the Python G-code parsers, ``pygcode`` was last released in 2017, and ``gcodeparser``
+and ``gcode-lib`` target 3D-printer dialects: they split lines into words but report no
+column, keep no modal state, and check neither arcs nor repeated words. The dialect
+needed here is small, so owning a few hundred lines (``gcode_lexer``, ``gcode_words``
+and this module) keeps every error message exact and adds no dependency.
 """
 
 from __future__ import annotations
@@ -23,6 +23,16 @@ import warnings
 
 from ..errors import InputError, InputWarning
 from .gcode_lexer import Word, tokenize
+from .gcode_words import (
+    G_GROUP,
+    G_IGNORED,
+    G_REFUSED,
+    KNOWN_LETTERS,
+    LETTER_IGNORED,
+    M_IGNORED,
+    MOTION,
+    OTHER_AXES,
+)
 from .segments import AXIS_INDEX, FULL_CIRCLE_TOL_M, PLANES, Arc, Dwell, Line, Rapid
 
 MM_M = 1e-3
@@ -32,77 +42,6 @@ INCH_M = 25.4e-3
 ARC_ABS_TOL_M = 5e-6
 ARC_REL_TOL = 1e-4
 
-_MOTION = {0: 0, 10: 1, 20: 2, 30: 3}
-_GROUP = {
-    0: "motion",
-    10: "motion",
-    20: "motion",
-    30: "motion",
-    40: "dwell",
-    170: "plane",
-    180: "plane",
-    190: "plane",
-    200: "units",
-    210: "units",
-    900: "distance",
-    910: "distance",
-    901: "arc distance",
-    911: "arc distance",
-    610: "path mode",
-    640: "path mode",
-}
-_G_IGNORED = {
-    400: "cutter radius compensation is not modelled and G40 (off) changes nothing",
-    430: "tool length offsets only shift Z by a constant; the offset is taken as zero",
-    490: "tool length offsets only shift Z by a constant; G49 changes nothing",
-    540: "work offsets only shift the program by a constant; taken as zero",
-    550: "work offsets only shift the program by a constant; taken as zero",
-    560: "work offsets only shift the program by a constant; taken as zero",
-    570: "work offsets only shift the program by a constant; taken as zero",
-    580: "work offsets only shift the program by a constant; taken as zero",
-    590: "work offsets only shift the program by a constant; taken as zero",
-    800: "no canned cycle is supported, so cancelling one (G80) changes nothing",
-    940: "feed per minute is the only feed mode; G94 changes nothing",
-    980: "canned cycle return level has no effect without canned cycles",
-    990: "canned cycle return level has no effect without canned cycles",
-    150: "polar coordinates are not supported, so G15 (off) changes nothing",
-    690: "coordinate rotation is not supported, so G69 (off) changes nothing",
-    500: "scaling is not supported, so G50 (off) changes nothing",
-}
-_G_REFUSED = {
-    410: "cutter radius compensation (G41) would move the path; program the tool centre",
-    420: "cutter radius compensation (G42) would move the path; program the tool centre",
-    930: "inverse-time feed (G93) is not supported; program F in mm/min (G94)",
-    950: "feed per revolution (G95) is not supported; program F in mm/min (G94)",
-    280: "reference-point return (G28) is not supported; program the move with G0",
-    300: "reference-point return (G30) is not supported; program the move with G0",
-    530: "machine coordinates (G53) are not supported; program in work coordinates",
-    920: "coordinate-system setting (G92) is not supported; program absolute positions",
-    160: "polar coordinates (G16) are not supported; program X, Y, Z",
-    510: "scaling (G51) is not supported; scale the program itself",
-    680: "coordinate rotation (G68) is not supported; rotate the program itself",
-    100: "data setting (G10) is not supported; remove it",
-}
-_M_IGNORED = {
-    0: "a program stop is not modelled; the program runs on",
-    1: "an optional stop is not modelled; the program runs on",
-    3: "the spindle is not modelled",
-    4: "the spindle is not modelled",
-    5: "the spindle is not modelled",
-    6: "tool changes are not modelled",
-    7: "coolant is not modelled",
-    8: "coolant is not modelled",
-    9: "coolant is not modelled",
-}
-_LETTER_IGNORED = {
-    "S": "spindle speed is not modelled",
-    "T": "tool selection is not modelled",
-    "H": "tool length offsets are taken as zero",
-    "D": "cutter radius offsets are not modelled",
-    "O": "the program number is not used",
-}
-_KNOWN = set("GMNFXYZIJKRP") | set(_LETTER_IGNORED)
-_OTHER_AXES = set("ABCUVW")
 _CENTRE_LETTER = {"X": "I", "Y": "J", "Z": "K"}
 
 
@@ -127,7 +66,6 @@ class _Interpreter:
         self.exact_stop = False
         self.segments = []
         self.warned = {}
-        self.ended_at = None
 
     # ---- reporting -------------------------------------------------------------------
     def error(self, msg, line, column=None):
@@ -161,11 +99,11 @@ class _Interpreter:
                     line,
                     word.column,
                 )
-            elif L in _OTHER_AXES:
+            elif L in OTHER_AXES:
                 self.error(
                     f"axis {L} is not modelled; this model has X, Y and Z only", line, word.column
                 )
-            elif L not in _KNOWN:
+            elif L not in KNOWN_LETTERS:
                 self.error(
                     f"unknown word letter {L} in {word.text!r}; supported letters "
                     "are G M N F X Y Z I J K R P (and S T H D O, ignored)",
@@ -176,7 +114,7 @@ class _Interpreter:
                 w[L] = word
         for L in ("S", "T", "H", "D", "O"):
             if L in w:
-                self.warn(L, _LETTER_IGNORED[L], line, w[L].column)
+                self.warn(L, LETTER_IGNORED[L], line, w[L].column)
         if "N" in w:
             n = w["N"]
             if n.value < 0 or n.value != int(n.value) or "." in n.text:
@@ -189,13 +127,13 @@ class _Interpreter:
             code = round(g.value * 10)
             if abs(g.value * 10 - code) > 1e-9:
                 self.error(f"{g.text} is not a G-code", line, g.column)
-            group = _GROUP.get(code)
+            group = G_GROUP.get(code)
             if group is None:
                 name = f"G{code // 10}" + (f".{code % 10}" if code % 10 else "")
-                if code in _G_IGNORED:
-                    self.warn(name, _G_IGNORED[code], line, g.column)
+                if code in G_IGNORED:
+                    self.warn(name, G_IGNORED[code], line, g.column)
                     continue
-                hint = _G_REFUSED.get(code, "it is not supported; remove it")
+                hint = G_REFUSED.get(code, "it is not supported; remove it")
                 self.error(f"{name} cannot be used: {hint}", line, g.column)
             if group in new:
                 self.error(
@@ -227,7 +165,7 @@ class _Interpreter:
                     m.column,
                 )
             else:
-                msg = _M_IGNORED.get(code, "this M-code is not modelled")
+                msg = M_IGNORED.get(code, "this M-code is not modelled")
                 self.warn(f"M{code}", msg, line, m.column)
 
         # modal settings, in the order of execution
@@ -244,14 +182,15 @@ class _Interpreter:
         if "F" in w:
             self.feed = w["F"].value * self.unit / 60.0
         if "motion" in new:
-            self.motion = _MOTION[round(new["motion"].value * 10)]
+            self.motion = MOTION[round(new["motion"].value * 10)]
 
         if "dwell" in new:
             self.dwell(w, new["dwell"], line)
-        elif any(k in w for k in "XYZIJKR"):
-            self.move(w, new.get("motion"), line)
-        elif "P" in w:
+            return end
+        if "P" in w:
             self.error("P is only used with G4 (dwell time in seconds)", line, w["P"].column)
+        if any(k in w for k in "XYZIJKR"):
+            self.move(w, new.get("motion"), line)
         return end
 
     def dwell(self, w, g4, line):
@@ -455,7 +394,7 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
         if it.block(words, number):
             rest = next((k for k in range(number, len(lines)) if _has_words(lines[k])), None)
             if rest is not None:
-                it.warn("program end", "blocks after M2/M30 are not executed", rest + 1, None)
+                it.warn("blocks after M2/M30", f"the program ends on line {number}", rest + 1, None)
             break
     it.emit_warnings()
     return it.segments

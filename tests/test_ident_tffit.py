@@ -124,6 +124,7 @@ def test_delay_is_fitted():
     assert fit.delay_s == pytest.approx(tau, rel=0.02)
     assert rms_rel(fit.freqresp(f), H_true) < 0.003
     np.testing.assert_allclose(fit.natural_freq_hz, [80.0, 420.0], rtol=0.01)
+    assert suggest_order((f, H), n_integrators=1, delay_s="fit") == (4, 4)
     known = fit_tf((f, H), 4, 4, n_integrators=1, delay_s=tau)
     assert known.delay_s == tau and rms_rel(known.freqresp(f), H_true) < 0.003
     without = fit_tf((f, H), 4, 4, n_integrators=1)

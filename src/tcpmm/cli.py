@@ -284,6 +284,9 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
              output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml"),
              report: Path = typer.Option(None, "--report", help="Folder for plots and tables."),
              band: str = typer.Option(None, "--band", help="F0,F1 of the FRFs [Hz]."),
+             guideway_share: float = typer.Option(
+                 0.7, "--guideway-share",
+                 help="Share of the friction from friction.csv put on the guideway [-]."),
              as_json: bool = typer.Option(False, "--json")):
     """Identify every axis of a measurement bundle into a model file."""
     from .ident.pipeline import identify_bundle
@@ -293,7 +296,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     b = read_bundle(bundle)
     f0, f1 = _floats(band, "--band", 2) if band else (None, None)
     with _progress(len(b.axes), "identify") as adv:
-        idn = identify_bundle(b, f0, f1, progress=adv)
+        idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share)
     write_machine(idn.machine, output)
     if report is not None:
         idn.write_report(report)

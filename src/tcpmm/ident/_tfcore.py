@@ -55,21 +55,17 @@ def _sk(x, Hd, w, nb, na, iterations, start=None):
         a_abs = np.abs(a_prev)
         wt = base / np.maximum(a_abs, 1e-12 * np.max(a_abs))
         wt = wt / np.max(wt)
-        Mb = wt[:, None] * xb
-        Ma = -(wt * Hd)[:, None] * xa
-        Mb = np.vstack([Mb.real, Mb.imag])
-        Ma = np.vstack([Ma.real, Ma.imag])
-        sb = np.linalg.norm(Mb, axis=0)
-        sa = np.linalg.norm(Ma, axis=0)
-        sb[sb == 0] = 1.0
-        sa[sa == 0] = 1.0
-        Mb, Ma = Mb / sb, Ma / sa
-        Q, R = np.linalg.qr(Mb)
-        Pa = Ma - Q @ (Q.T @ Ma)
-        v = np.linalg.svd(Pa, full_matrices=False)[2][-1]
-        bs = -np.linalg.lstsq(R, Q.T @ (Ma @ v), rcond=None)[0]
-        an = v / sa
-        bn = bs / sb
+        M = np.hstack([wt[:, None] * xb, -(wt * Hd)[:, None] * xa])
+        M = np.vstack([M.real, M.imag])
+        sc = np.sqrt(np.einsum("ij,ij->j", M, M))
+        sc[sc == 0] = 1.0
+        # min ||Mb b + Ma a|| with ||a|| = 1: after M = Q R, only the small R matters
+        R = np.linalg.qr(M / sc, mode="r")
+        R11, R12, R22 = R[: nb + 1, : nb + 1], R[: nb + 1, nb + 1 :], R[nb + 1 :, nb + 1 :]
+        v = np.linalg.svd(R22)[2][-1]
+        bs = -np.linalg.lstsq(R11, R12 @ v, rcond=None)[0]
+        an = v / sc[nb + 1 :]
+        bn = bs / sc[: nb + 1]
         a_prev = np.polyval(an[::-1], x)
         if not np.all(np.isfinite(a_prev)) or np.any(a_prev == 0):
             break
@@ -279,12 +275,14 @@ def _numerator(x, Hd, w, pn, nb):
     return np.linalg.lstsq(Gr / scale, rhs, rcond=None)[0] / scale
 
 
-def _extrema(f, H, coherence, k, prominence_db, min_phase_deg=30.0):
+def _extrema(f, H, coherence, k, prominence_db, min_phase_deg=30.0, rel_std=None):
     """Resonance peaks and antiresonance dips of ``|H (j omega)^k|``.
 
     A peak counts if the phase falls across it, a dip if the phase rises across it, each
     by at least ``min_phase_deg`` between the points half its prominence down: a valley
-    between two resonances is no antiresonance. Returns two lists of
+    between two resonances is no antiresonance. With the random error ``rel_std`` of the
+    bins, the prominence must also exceed four standard deviations of the magnitude in dB
+    (noise makes peaks of its own). Returns two lists of
     ``(prominence [dB], frequency [Hz], damping estimate [-])``, most prominent first.
     """
     from scipy.signal import find_peaks, peak_widths
@@ -306,7 +304,12 @@ def _extrema(f, H, coherence, k, prominence_db, min_phase_deg=30.0):
             lo, hi = props["left_ips"][j], props["right_ips"][j]
             lo_i, hi_i = max(int(np.floor(lo)) - 1, 0), min(int(np.ceil(hi)) + 1, f.size - 1)
             turn = np.interp(hi_i, idx, phase) - np.interp(lo_i, idx, phase)
-            if coherence[i] >= 0.5 and -sign * turn >= min_phase_deg:
+            noise_db = 0.0 if rel_std is None else 4.0 * 8.69 * rel_std[i]
+            if (
+                coherence[i] >= 0.5
+                and -sign * turn >= min_phase_deg
+                and props["prominences"][j] >= prominence_db + noise_db
+            ):
                 f_lo = np.interp(hp[j][2][0], idx, f)
                 f_hi = np.interp(hp[j][3][0], idx, f)
                 zeta = float(np.clip((f_hi - f_lo) / (2.0 * f[i]), 1e-4, 0.5))

@@ -17,10 +17,12 @@ from .metrics import fit_percent
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .tffit import fit_tf
 
-#: Minimal orders (numerator, denominator) of the reduced models of the five-inertia axis:
-#: G_M has the drive's three modes and the rigid-body pole; the poles of G_T are the
+#: Minimal orders (numerator, denominator, integrators) of the reduced models of the
+#: five-inertia axis: G_M has the drive's three modes and the rigid-body integrator, and
+#: a fitted delay for the drive's hold of the current; the poles of G_T are the
 #: antiresonances of G_M (motor clamped); G_tcp = (G_t - G_h)/(G_t - G_b) is 4/4.
-TF_ORDERS = {"G_M": (6, 7), "G_T": (2, 6), "G_tcp": (4, 4)}
+TF_ORDERS = {"G_M": (6, 6, 1), "G_T": (2, 6, 0), "G_tcp": (4, 4, 0)}
+TF_DELAY = {"G_M": "fit"}
 MIN_COHERENCE = 0.5
 
 
@@ -71,7 +73,8 @@ class AxisIdentification:
                 {
                     "axis": self.name,
                     "tf": k,
-                    "tf_order": f"{TF_ORDERS[k][0]}/{TF_ORDERS[k][1]}",
+                    "tf_order": "{}/{}{}".format(*TF_ORDERS[k][:2],
+                                             " + 1/s" if TF_ORDERS[k][2] else ""),
                     "tf_fit_percent": tf.fit_percent if tf is not None else float("nan"),
                     "physical_fit_percent": fit_percent(frf.H[good], ph[good]),
                     "physical_rel_error": self.physical.rel_error.get(k, float("nan")),
@@ -212,8 +215,10 @@ def _weights(frf) -> np.ndarray:
 
 #: Share of the identified friction put on the guideway, the rest on the screw. Steady
 #: runs measure their sum only: the screw windup and nut deflection that would tell them
-#: apart are below a micrometre, under the sensors' resolution.
-GUIDEWAY_SHARE = 0.5
+#: apart are below a micrometre, under the sensors' resolution. The split matters for the
+#: TCP (guideway friction reverses the nut force that drives the structure; screw friction
+#: does not), so it is a prior: preloaded, sealed linear guides usually carry most of it.
+GUIDEWAY_SHARE = 0.7
 
 
 def identify_friction(record, cfg, mechanics, guideway_share: float = GUIDEWAY_SHARE):
@@ -238,20 +243,21 @@ def identify_friction(record, cfg, mechanics, guideway_share: float = GUIDEWAY_S
     m = mechanics
     linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t
     fv = max(float(v["Fv"]) - linear, 0.0)
-    fr = StribeckFriction(
-        fc_pos=max(v["Fc+"], 0.0),
-        fc_neg=max(v["Fc-"], 0.0),
-        fs_pos=max(v["Fs+"], 0.0),
-        fs_neg=max(v["Fs-"], 0.0),
-        vs=max(float(v["vs"]), 1e-6),
-        fv_pos=fv,
-        fv_neg=fv,
-    )
-    return AxisFriction(guideway=fr), est
+
+    def part(k):
+        return StribeckFriction(
+            fc_pos=k * max(v["Fc+"], 0.0), fc_neg=k * max(v["Fc-"], 0.0),
+            fs_pos=k * max(v["Fs+"], 0.0), fs_neg=k * max(v["Fs-"], 0.0),
+            vs=max(float(v["vs"]), 1e-6), fv_pos=k * fv, fv_neg=k * fv)
+
+    share = min(max(guideway_share, 0.0), 1.0)
+    return AxisFriction(guideway=part(share) if share > 0 else None,
+                        screw=part(1 - share) if share < 1 else None), est
 
 
 def identify_axis(
-    name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True, friction=None
+    name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
+    friction=None, guideway_share: float = GUIDEWAY_SHARE,
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
@@ -269,10 +275,12 @@ def identify_axis(
         Also fit a first-order current-loop bandwidth from G_M [-].
     friction : FrictionRecord, optional
         Constant-velocity runs; their Stribeck curve becomes the axis friction [-].
+    guideway_share : float
+        Share of that friction put on the guideway, the rest on the screw [-].
     """
     limit_blas_threads()
     fmin = fmin_hz if fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
-    fmax = fmax_hz if fmax_hz is not None else min(0.4 * sweep.fs_hz, 2000.0)
+    fmax = fmax_hz  # default: the bins the excitation reaches
     frfs = reduced_frfs(
         sweep.excitation_A,
         sweep.current_cmd_A,
@@ -286,10 +294,10 @@ def identify_axis(
     )
     tf_fits = {}
     for k, frf in frfs.items():
-        nn, nd = TF_ORDERS[k]
-        good = frf.coherence >= MIN_COHERENCE
-        if good.sum() > 2 * (nn + nd + 2):
-            tf_fits[k] = fit_tf((frf.freq_hz[good], frf.H[good], _weights(frf)[good]), nn, nd)
+        nn, nd, ni = TF_ORDERS[k]
+        if (frf.coherence >= MIN_COHERENCE).sum() > 2 * (nn + nd + 2):
+            tf_fits[k] = fit_tf(frf, nn, nd, n_integrators=ni, delay_s=TF_DELAY.get(k),
+                                min_coherence=MIN_COHERENCE)
     data = {k: FRFData(f.freq_hz, f.H, _weights(f)) for k, f in frfs.items()}
     phys: PhysicalFit = fit_physical(
         data,
@@ -300,7 +308,8 @@ def identify_axis(
         hold_period_s=cfg.servo.velocity_loop_period_s,
     )
     fr, est = (
-        identify_friction(friction, cfg, phys.mechanics) if friction is not None else (None, None)
+        identify_friction(friction, cfg, phys.mechanics, guideway_share)
+        if friction is not None else (None, None)
     )
     axis = Axis(
         mechanics=phys.mechanics,
@@ -312,7 +321,8 @@ def identify_axis(
 
 
 def identify_bundle(
-    bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True
+    bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
+    guideway_share: float = GUIDEWAY_SHARE,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
 
@@ -326,12 +336,15 @@ def identify_bundle(
         Called with the axis name after each axis [-].
     fit_current_loop : bool
         Fit a first-order current-loop bandwidth per axis [-].
+    guideway_share : float
+        Share of the friction put on the guideway, the rest on the screw [-].
     """
     axes = {}
     for name, rec in bundle.axes.items():
         cfg = bundle.machine.axes[name]
         axes[name] = identify_axis(
-            name, rec.sweep, cfg, fmin_hz, fmax_hz, fit_current_loop, rec.friction
+            name, rec.sweep, cfg, fmin_hz, fmax_hz, fit_current_loop, rec.friction,
+            guideway_share,
         )
         if progress is not None:
             progress(name)

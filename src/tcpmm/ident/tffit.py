@@ -458,9 +458,11 @@ def suggest_order(
     ``n_num0 = 2 dips``; a peak must turn the phase down and a dip turn it up (a valley
     between two resonances is no antiresonance). Candidates ``n_den0 - 1 <= n_den <= n_den0
     + 2`` (at least 1, at most ``max_order``) and ``n_num0 - 1 <= n_num <= min(n_den, n_num0 +
-    2)`` (at least 0) are fitted by the linear stage alone; the ``refine`` best of them by the
+    2)`` (at least 0) are fitted by the linear stage alone (on at most about 500 of the bins);
+    the ``refine`` best of them by the
     information criterion of the weighted relative error are fitted in full, and the one with
-    the lowest criterion wins (ties: the lower order).
+    the lowest criterion wins, unless it puts a lightly damped mode (damping ratio below 0.2)
+    outside the band of the data, where nothing supports it.
 
     Parameters
     ----------
@@ -488,20 +490,27 @@ def suggest_order(
     """
     if criterion not in ("bic", "aic"):
         raise InputError(f"criterion must be 'bic' or 'aic', got {criterion!r}")
-    f, H, _ = _parse_data(data, None, min_coherence)
+    f, H, w = _parse_data(data, None, min_coherence)
     if isinstance(data, FRF):
-        coh = data.coherence[np.isin(data.freq_hz, f)]
+        sel = np.isin(data.freq_hz, f)
+        coh, rel = data.coherence[sel], data.rel_std[sel]
     else:
-        coh = np.ones(f.size)
-    peaks, dips = _extrema(f, H, coh, int(n_integrators), prominence_db)
+        coh, rel = np.ones(f.size), None
+    peaks, dips = _extrema(f, H, coh, int(n_integrators), prominence_db, rel_std=rel)
     n_den0 = min(max(2 * len(peaks), 1), max_order)
     n_num0 = min(2 * len(dips), n_den0)
     kw = dict(n_integrators=n_integrators, delay_s=delay_s, min_coherence=min_coherence)
+    # screen on at most ~500 of the bins, with the delay of one fit at the counted order
+    screen = dict(kw)
+    stride = max(1, f.size // 500)
+    screen_data = (f[::stride], H[::stride], w[::stride])
+    if delay_s == "fit":
+        screen["delay_s"] = fit_tf(screen_data, n_num0, n_den0, **kw).delay_s
     cands = []
     for n_den in range(max(1, n_den0 - 1), min(max_order, n_den0 + 2) + 1):
         for n_num in range(max(0, min(n_num0, n_den) - 1), min(n_den, n_num0 + 2) + 1):
             try:
-                fit = fit_tf(data, n_num, n_den, nlls=False, **kw)
+                fit = fit_tf(screen_data, n_num, n_den, nlls=False, **screen)
             except InputError:
                 continue
             cands.append((fit.bic if criterion == "bic" else fit.aic, n_den, n_num))
@@ -509,10 +518,14 @@ def suggest_order(
         raise InputError("too few frequency bins to fit any candidate order")
     # refine the most promising candidates by the full fit (ties: lower order first)
     cands.sort()
-    best, best_ic = None, np.inf
+    # a lightly damped mode outside the band is not supported by the data: such candidates
+    # only count if no other is left
+    fitted = []
     for _, n_den, n_num in sorted(cands[:refine], key=lambda c: (c[1], c[2])):
         fit = fit_tf(data, n_num, n_den, **kw)
         ic = fit.bic if criterion == "bic" else fit.aic
-        if ic < best_ic - 1e-9:
-            best, best_ic = (n_num, n_den), ic
-    return best
+        fn, zeta = fit.natural_freq_hz, fit.damping
+        outside = np.any((zeta < 0.2) & ((fn < f[0]) | (fn > f[-1])))
+        fitted.append((bool(outside), ic, n_den, n_num))
+    best = min(fitted, key=lambda c: (c[0], c[1]))
+    return best[3], best[2]

@@ -33,7 +33,8 @@ class KernelInputs(NamedTuple):
 
 
 def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_every: int = 1,
-                       quantise_feedback: bool = True):
+                       quantise_feedback: bool = True, cmd_period_s: float | None = None,
+                       n_steps: int = 0):
     """Matrices, initial state and parameter vectors of :func:`tcpmm.sim.kernel.run_axis`.
 
     Parameters
@@ -48,6 +49,10 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
         Record every N velocity-loop steps [-].
     quantise_feedback : bool
         Quantise encoder and scale feedback to the sensor resolution [-].
+    cmd_period_s : float, optional
+        Period of the command and excitation arrays, default the velocity-loop period [s].
+    n_steps : int
+        Velocity-loop steps to run [-].
     """
     m, s, sen = axis.mechanics, axis.servo, axis.sensors
     p = plant(m, s.current_bandwidth_hz)
@@ -65,12 +70,12 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     fp = np.array([
         s.K_pp, s.K_vp, s.K_vi, s.k_ff, m.R_L, s.current_limit, s.T_v,
         sen.encoder_quantum if q else 0.0, sen.scale_resolution if q else 0.0,
-        I0, 0.0, 0.0, m.load_force,
+        I0, 0.0, 0.0, m.load_force, s.T_v / (cmd_period_s or s.T_v),
     ])
     fr = axis.friction
     n_sub = fr.substeps if fr is not None else 1
     ip = np.array([s.n_pos, s.position_feedback == "scale", s.velocity_feedback == "difference",
-                   s.delay_samples, not open_loop, rec_every, n_sub], dtype=np.int64)
+                   s.delay_samples, not open_loop, rec_every, n_sub, n_steps], dtype=np.int64)
     AdsT, BdsT = np.zeros((NX, NX)), np.zeros((4, NX))
     if fr is not None:
         Ads, Bds = discretize_zoh(p.A, p.B, s.T_v / n_sub)
@@ -78,10 +83,6 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     pf_s = friction_params_array(fr.screw if fr is not None else None)
     pf_g = friction_params_array(fr.guideway if fr is not None else None)
     return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g)
-
-
-def _resample(t_src, y_src, t_dst):
-    return np.interp(t_dst, t_src, y_src)
 
 
 def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loop=False,
@@ -120,24 +121,26 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
             "choose a record period that is"
         )
     n = int(np.floor((t[-1] - t[0]) / T_v + 1e-9)) + 1
-    t_v = t[0] + np.arange(n) * T_v
-    cmd = _resample(t, position_m, t_v)
-    vcmd = _resample(t, np.gradient(position_m, t), t_v)
-    if excitation_A is None:
-        exc = np.zeros(n)
-    else:
-        idx = np.minimum(np.searchsorted(t, t_v + 1e-12 * T_v, side="right") - 1, t.size - 1)
-        exc = np.asarray(excitation_A, dtype=float)[idx]
-    x_start = cmd[0] if x_start is None else x_start
-    k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback)
+    T_c = float(t[1] - t[0])
+    pos = np.ascontiguousarray(position_m, dtype=float)
+    vel = np.gradient(pos, t)
+    exc = (np.zeros(1) if excitation_A is None
+           else np.ascontiguousarray(excitation_A, dtype=float))
+    if exc.size == 1:
+        exc = np.zeros(t.size)
+    x_start = pos[0] if x_start is None else x_start
+    k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback, T_c, n)
     rec = np.zeros(((n - 1) // rec_every + 1, 5))
-    run_axis(k.AdT, k.BdT, k.x0, cmd, vcmd, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s,
+    run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s,
              k.pf_g)
+    t_rec = np.arange(rec.shape[0]) * (rec_every * T_v)
+    cmd_rec = np.interp(t_rec, t - t[0], pos)
+    exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]
     R = axis.mechanics.R_L
     return AxisRun(
-        cmd=cmd[::rec_every].copy(), motor=rec[:, 0] * R, scale=rec[:, 1], tcp=rec[:, 2],
+        cmd=cmd_rec, motor=rec[:, 0] * R, scale=rec[:, 1], tcp=rec[:, 2],
         current=rec[:, 4], motor_angle=rec[:, 0], motor_speed=rec[:, 3],
-        excitation=exc[::rec_every].copy(),
+        excitation=exc_rec,
     )
 
 

@@ -6,12 +6,17 @@ Layout of the parameter vectors (built by :func:`tcpmm.simulate.axis_kernel_inpu
 ``fp`` (float): 0 K_pp [1/s], 1 K_vp [A s/rad], 2 K_vi [A/rad], 3 k_ff [-], 4 R_L [m/rad],
 5 current limit [A], 6 T_v [s], 7 encoder quantum [rad] (0: none), 8 scale quantum [m]
 (0: none), 9 initial integrator [rad], 10 constant motor torque [N m], 11 constant screw
-torque [N m], 12 constant carriage force [N].
+torque [N m], 12 constant carriage force [N], 13 command samples per velocity-loop step
+(``T_v / T_cmd``).
 
 ``ip`` (int): 0 velocity-loop steps per position-loop step, 1 feedback (1 scale,
 0 encoder), 2 velocity feedback (0 state, 1 backward difference), 3 delay [samples],
 4 loops closed (1) or open-loop torque mode (0), 5 record every N steps, 6 sub-steps
-of a step in which friction reverses or sticks.
+of a step in which friction reverses or sticks, 7 number of velocity-loop steps.
+
+The command and the excitation come at their own (interpolation, DAQ) period: the
+position loop fine-interpolates the command linearly, as drives do; the excitation is
+held.
 
 The external inputs (columns 1-3 of ``BdT``) are where nonlinear elements enter: the
 constant loads, and friction on the screw (torque on ``th_L``) and on the guideway (force
@@ -110,13 +115,14 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         Transposed discrete input matrix for ``[i, T_m, T_L, F_t]``, zero-padded [-].
     x0 : ndarray (NX,)
         Initial plant state, zero-padded [SI].
-    cmd, vcmd : ndarray (N,)
-        Position command [m] and command velocity [m/s] at each velocity-loop step.
-    excitation : ndarray (N,)
-        Current added to the velocity-loop output (servo excitation) [A].
+    cmd, vcmd : ndarray
+        Position command [m] and command velocity [m/s] at the command period.
+    excitation : ndarray
+        Current added to the velocity-loop output (servo excitation), at the command
+        period [A].
     fp, ip : ndarray
         Parameters, see the module docstring [SI].
-    rec : ndarray (N // ip[5] + 1, 5)
+    rec : ndarray (ip[7] // ip[5] + 1, 5)
         Filled with ``th_m, X_LS, X_TCP, w_m, i_c`` every ``ip[5]`` steps [SI].
     AdsT, BdsT : ndarray
         As ``AdT``, ``BdT`` for one sub-step of ``T_v / ip[6]`` [-].
@@ -141,16 +147,25 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     c_pos = 0  # steps since the last position-loop update
     c_rec = 0  # steps since the last recorded sample
     c_dl = 0  # write index of the delay line
-    for k in range(cmd.size):
+    ratio = fp[13]
+    last = cmd.size - 1
+    for k in range(ip[7]):
         th_q = _quantise(x[0], q_enc)
-        i_c = excitation[k]
+        pos = k * ratio
+        j = min(int(pos + 1e-9), last)
+        i_c = excitation[j]
         if closed:
             if c_pos == 0:
                 if fb_scale:
                     x_fb = _quantise(x[2] - x[3], q_scale)
                 else:
                     x_fb = R * th_q
-                w_c = (K_pp * (cmd[k] - x_fb) + k_ff * vcmd[k]) / R
+                j = min(int(pos), last)
+                fr = pos - j
+                j1 = min(j + 1, last)
+                c_k = cmd[j] + fr * (cmd[j1] - cmd[j])
+                v_k = vcmd[j] + fr * (vcmd[j1] - vcmd[j])
+                w_c = (K_pp * (c_k - x_fb) + k_ff * v_k) / R
             if vel_diff:
                 w_fb = (th_q - th_prev) / T_v
             else:

@@ -124,10 +124,13 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     T_c = float(t[1] - t[0])
     pos = np.ascontiguousarray(position_m, dtype=float)
     vel = np.gradient(pos, t)
-    exc = (np.zeros(1) if excitation_A is None
-           else np.ascontiguousarray(excitation_A, dtype=float))
-    if exc.size == 1:
+    if excitation_A is None:
         exc = np.zeros(t.size)
+    else:
+        exc = np.ascontiguousarray(excitation_A, dtype=float)
+        if exc.shape != t.shape:
+            raise InputError(f"{exc.size} excitation samples for {t.size} command samples; "
+                             "give one excitation value per command sample")
     x_start = pos[0] if x_start is None else x_start
     k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback, T_c, n)
     rec = np.zeros(((n - 1) // rec_every + 1, 5))

@@ -50,6 +50,7 @@ from ._tfcore import (
     _spread_poles,
 )
 from .frf import FRF
+from .metrics import fit_percent, rel_error
 
 __all__ = ["TFFit", "fit_tf", "suggest_order"]
 
@@ -410,8 +411,8 @@ def _result(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost):
     pn = np.where(np.abs(pn.imag) <= 1e-12 * np.abs(pn), pn.real + 0j, pn)
     pn = pn[np.lexsort((pn.imag, np.abs(pn)))]
     h = _model(f, bn, pn, omega0, k, tau)
-    fit = 100.0 * (1.0 - np.linalg.norm(H - h) / np.linalg.norm(H - np.mean(H)))
-    rel = float(np.sqrt(np.mean(np.abs(h / H - 1.0) ** 2)))
+    fit = fit_percent(H, h)
+    rel = rel_error(H, h)
     # physical coefficients: x = s / omega0, B(x) / (prod(x - pn) x^k)
     num = (bn * omega0 ** -np.arange(bn.size))[::-1]
     den = np.r_[np.real(np.poly(pn * omega0)), np.zeros(k)]

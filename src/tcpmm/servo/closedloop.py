@@ -100,5 +100,5 @@ def closed_loop_freqresp(mech: AxisMechanics, servo: ServoParams, name: str, f_h
 
 def is_stable(mech: AxisMechanics, servo: ServoParams) -> bool:
     """True when every pole of the continuous position loop is in the open left half-plane
-    except none; the rigid-body integrator is closed by the position loop."""
+    (the position loop closes the rigid-body integrator, so none may sit at zero)."""
     return bool(np.all(np.linalg.eigvals(position_closed_loop(mech, servo).A).real < 0))

@@ -48,12 +48,25 @@ def test_servo_validation():
         ServoParams.create(K_pp=40, K_vp=-1, K_vi=10)
 
 
+def test_velocity_filter_taps_are_validated():
+    base = dict(K_pp=40, K_vp=1, K_vi=10, velocity_feedback="difference")
+    assert ServoParams.create(**base, velocity_filter=[0.5, 0.5]).velocity_filter == [0.5, 0.5]
+    with pytest.raises(InputError, match="velocity_filter"):
+        ServoParams.create(**base, velocity_filter=[0.5, 0.4])
+    with pytest.raises(InputError, match="velocity_filter"):
+        ServoParams.create(**base, velocity_filter=[])
+    with pytest.raises(InputError, match="velocity_filter"):
+        ServoParams.create(**base, velocity_filter=[0.125] * 8 + [0.0])
+
+
 CASES = [
     dict(),
     dict(velocity_feedback="difference"),
     dict(delay_samples=1, current_bandwidth_hz=2500.0),
     dict(position_feedback="encoder", k_ff=0.7, T_p=1.25e-4),
     dict(T_p=1e-3, velocity_feedback="difference", delay_samples=1, k_ff=1.0),
+    dict(velocity_feedback="difference", velocity_filter=[0.5, 0.5], delay_samples=1),
+    dict(velocity_feedback="difference", velocity_filter=[0.25, 0.5, 0.25]),
 ]
 
 

@@ -49,15 +49,19 @@ class AxisFriction(BaseModel):
         (``R_L`` times the force) at the screw's table-equivalent velocity [N].
     guideway : StribeckFriction or LuGreFriction, optional
         Linear-guide friction acting on the carriage [N].
+    backlash : float
+        Lost motion of the screw-nut: the total free play across the nut, in which the
+        nut transmits no force; outside it the nut stiffness ``K_t`` acts [m].
     substeps : int
         Sub-steps of a velocity-loop step in which a friction velocity reverses or
-        sticks [-].
+        sticks, or in which the nut is inside or crosses its free play [-].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     screw: FrictionModel | None = None
     guideway: FrictionModel | None = None
+    backlash: float = Field(0.0, ge=0.0, le=1e-3, allow_inf_nan=False)
     substeps: int = Field(16, ge=1, le=1024)
 
 

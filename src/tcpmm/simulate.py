@@ -11,7 +11,7 @@ import numpy as np
 from ._threads import limit_blas_threads
 from .errors import InputError
 from .mechanics.friction import friction_params_array
-from .mechanics.statespace import discretize_zoh, plant, static_equilibrium
+from .mechanics.statespace import discretize_zoh, nut_force_input, plant, static_equilibrium
 from .model import Axis, Machine
 from .path.command import Command
 from .result import AxisRun, Run
@@ -30,6 +30,9 @@ class KernelInputs(NamedTuple):
     BdsT: np.ndarray
     pf_s: np.ndarray
     pf_g: np.ndarray
+    vtaps: np.ndarray
+    AdgT: np.ndarray
+    BdgT: np.ndarray
 
 
 def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_every: int = 1,
@@ -54,12 +57,14 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     n_steps : int
         Velocity-loop steps to run [-].
     """
-    m, s, sen = axis.mechanics, axis.servo, axis.sensors
+    m, s, sen, fr = axis.mechanics, axis.servo, axis.sensors, axis.friction
+    play = fr.backlash if fr is not None else 0.0
     p = plant(m, s.current_bandwidth_hz)
-    Ad, Bd = discretize_zoh(p.A, p.B, s.T_v)
-    x0_mech, i_hold = static_equilibrium(m, x_start, s.position_feedback)
     n = p.A.shape[0]
-    AdT, BdT = np.zeros((NX, NX)), np.zeros((4, NX))
+    B = np.column_stack([p.B, nut_force_input(m, n)])
+    Ad, Bd = discretize_zoh(p.A, B, s.T_v)
+    x0_mech, i_hold = static_equilibrium(m, x_start, s.position_feedback, play)
+    AdT, BdT = np.zeros((NX, NX)), np.zeros((5, NX))
     AdT[:n, :n], BdT[:, :n] = Ad.T, Bd.T
     x0 = np.zeros(NX)
     x0[:10] = x0_mech
@@ -70,19 +75,26 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     fp = np.array([
         s.K_pp, s.K_vp, s.K_vi, s.k_ff, m.R_L, s.current_limit, s.T_v,
         sen.encoder_quantum if q else 0.0, sen.scale_resolution if q else 0.0,
-        I0, 0.0, 0.0, m.load_force, s.T_v / (cmd_period_s or s.T_v),
+        I0, 0.0, 0.0, m.load_force, s.T_v / (cmd_period_s or s.T_v), 0.5 * play, m.K_t,
     ])
-    fr = axis.friction
     n_sub = fr.substeps if fr is not None else 1
     ip = np.array([s.n_pos, s.position_feedback == "scale", s.velocity_feedback == "difference",
                    s.delay_samples, not open_loop, rec_every, n_sub, n_steps], dtype=np.int64)
-    AdsT, BdsT = np.zeros((NX, NX)), np.zeros((4, NX))
+    AdsT, BdsT = np.zeros((NX, NX)), np.zeros((5, NX))
+    AdgT, BdgT = np.zeros((NX, NX)), np.zeros((5, NX))
     if fr is not None:
-        Ads, Bds = discretize_zoh(p.A, p.B, s.T_v / n_sub)
+        Ads, Bds = discretize_zoh(p.A, B, s.T_v / n_sub)
         AdsT[:n, :n], BdsT[:, :n] = Ads.T, Bds.T
+    if play > 0.0:  # inside the play: the nut spring cancelled by state feedback
+        nut = np.zeros(n)
+        nut[1], nut[2], nut[3] = m.R_L, -1.0, 1.0  # R th_L - (X_t - X_b)
+        A_gap = p.A - m.K_t * np.outer(B[:, 4], nut)
+        Adg, Bdg = discretize_zoh(A_gap, B, s.T_v / n_sub)
+        AdgT[:n, :n], BdgT[:, :n] = Adg.T, Bdg.T
     pf_s = friction_params_array(fr.screw if fr is not None else None)
     pf_g = friction_params_array(fr.guideway if fr is not None else None)
-    return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g)
+    vtaps = np.asarray(s.velocity_filter, dtype=float)
+    return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT)
 
 
 def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loop=False,
@@ -135,7 +147,7 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback, T_c, n)
     rec = np.zeros(((n - 1) // rec_every + 1, 5))
     run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s,
-             k.pf_g)
+             k.pf_g, k.vtaps, k.AdgT, k.BdgT)
     t_rec = np.arange(rec.shape[0]) * (rec_every * T_v)
     cmd_rec = np.interp(t_rec, t - t[0], pos)
     exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]

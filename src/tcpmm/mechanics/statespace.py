@@ -111,6 +111,33 @@ def plant(mech: AxisMechanics, current_bandwidth_hz: float | None = None) -> Sta
     return StateSpace(A, B, C, np.zeros((C.shape[0], B.shape[1])), states, INPUTS, OUTPUTS)
 
 
+def nut_force_input(mech: AxisMechanics, n_states: int = 10) -> np.ndarray:
+    """Input column of a force added to the screw-nut force ``F_t``.
+
+    The force acts as the nut does: on the table, against the screw (``R_L`` times it as
+    a torque on ``th_L``), against the bed and on the TCP structure. Nonlinear nut
+    elements (lost motion) enter the linear plant through it.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Axis parameters [SI].
+    n_states : int
+        State size of the plant (10, or 11 with the current-loop state) [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``dx/dt`` per newton [SI].
+    """
+    b = np.zeros(n_states)
+    b[6] = -mech.R_L / mech.J_L
+    b[7] = 1.0 / mech.M_t
+    b[8] = -1.0 / mech.M_b
+    b[9] = 1.0 / mech.M_h
+    return b
+
+
 def discretize_zoh(A: np.ndarray, B: np.ndarray, dt: float):
     """Exact zero-order-hold discretisation through one matrix exponential.
 
@@ -134,7 +161,8 @@ def discretize_zoh(A: np.ndarray, B: np.ndarray, dt: float):
     return E[:n, :n], E[:n, n:]
 
 
-def static_equilibrium(mech: AxisMechanics, x_fb: float, feedback: str = "scale"):
+def static_equilibrium(mech: AxisMechanics, x_fb: float, feedback: str = "scale",
+                       backlash: float = 0.0):
     """Rest state holding the axis at a feedback position against the load force.
 
     Parameters
@@ -145,6 +173,8 @@ def static_equilibrium(mech: AxisMechanics, x_fb: float, feedback: str = "scale"
         Position the position loop holds (scale or encoder at the table) [m].
     feedback : {"scale", "encoder"}
         Which sensor closes the position loop [-].
+    backlash : float
+        Total free play of the screw-nut; a carried load closes it on one side [m].
 
     Returns
     -------
@@ -161,15 +191,16 @@ def static_equilibrium(mech: AxisMechanics, x_fb: float, feedback: str = "scale"
     torque = R * F_t  # at the motor, through the rigid chain
     i_hold = torque / m.K_tc
     twist = torque / m.K_L  # th_m - th_L
-    # X_LS = R th_L - F_t/K_t ; X_t = X_LS + X_b
+    # nut deflection R th_L - X_LS, with the free play closed on the loaded side
+    nut = F_t / m.K_t + 0.5 * backlash * float(np.sign(F_t))
     if feedback == "scale":
         x_ls = x_fb
-        th_L = (x_ls + F_t / m.K_t) / R
+        th_L = (x_ls + nut) / R
         th_m = th_L + twist
     else:
         th_m = x_fb / R
         th_L = th_m - twist
-        x_ls = R * th_L - F_t / m.K_t
+        x_ls = R * th_L - nut
     x0 = np.zeros(10)
     x0[:5] = [th_m, th_L, x_ls + X_b, X_b, X_h]
     return x0, i_hold

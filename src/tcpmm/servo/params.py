@@ -5,10 +5,20 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from .._validate import validation_message
 from ..errors import InputError
+
+#: Most FIR taps of the velocity estimate.
+MAX_VELOCITY_TAPS = 8
 
 
 class ServoParams(BaseModel):
@@ -39,6 +49,10 @@ class ServoParams(BaseModel):
     velocity_feedback : {"state", "difference"}
         Encoder velocity as the true shaft speed, or as the backward difference of the
         (quantised) encoder angle, as drives compute it [-].
+    velocity_filter : list of float
+        FIR taps on the encoder angle before the difference, newest first and summing to
+        1 (``[0.5, 0.5]`` averages two samples); ``[1.0]`` is the plain difference. Used
+        with ``velocity_feedback="difference"`` [-].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -54,6 +68,15 @@ class ServoParams(BaseModel):
     current_bandwidth_hz: float | None = Field(None, gt=0, allow_inf_nan=False)
     delay_samples: int = Field(0, ge=0, le=64)
     velocity_feedback: Literal["state", "difference"] = "state"
+    velocity_filter: list[float] = Field(default_factory=lambda: [1.0], min_length=1,
+                                         max_length=MAX_VELOCITY_TAPS)
+
+    @field_validator("velocity_filter")
+    @classmethod
+    def _taps(cls, v):
+        if not all(math.isfinite(x) for x in v) or abs(sum(v) - 1.0) > 1e-9:
+            raise ValueError(f"taps must be finite and sum to 1, got {v}")
+        return v
 
     @model_validator(mode="after")
     def _periods(self):

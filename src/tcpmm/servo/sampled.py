@@ -24,7 +24,7 @@ def lifted_closed_loop(mech: AxisMechanics, servo: ServoParams):
     """Lifted closed loop ``z[m+1] = Phi z[m] + Gam u[m]``, ``y[m] = C z[m] + D u[m]``.
 
     The input ``u = [x_cmd, v_cmd]`` is the command [m] and its velocity [m/s] at the
-    position-loop instant. The state is ``[x (plant), I_w, th_prev, delay line]``.
+    position-loop instant. The state is ``[x (plant), I_w, past encoder angles, delay line]``.
 
     Returns
     -------
@@ -36,13 +36,15 @@ def lifted_closed_loop(mech: AxisMechanics, servo: ServoParams):
     Ad, Bd = discretize_zoh(p.A, p.B, servo.T_v)
     bd = Bd[:, 0]
     d = servo.delay_samples
-    nz = n + 2 + d
+    taps = servo.velocity_filter
+    nt = len(taps)  # past encoder angles kept, newest first
+    nz = n + 1 + nt + d
     nu = 2
     eye = np.eye(nz + nu)
     x = eye[:n]  # rows: plant states as functions of [z; u]
     I_w = eye[n]
-    th_prev = eye[n + 1]
-    delay = [eye[n + 2 + j] for j in range(d)]  # oldest first
+    hist = [eye[n + 1 + j] for j in range(nt)]  # th_m(k-1), th_m(k-2), ...
+    delay = [eye[n + 1 + nt + j] for j in range(d)]  # oldest first
     x_cmd, v_cmd = eye[nz], eye[nz + 1]
     R = mech.R_L
     th_m = p.output_row("th_m") @ x
@@ -55,8 +57,9 @@ def lifted_closed_loop(mech: AxisMechanics, servo: ServoParams):
         if servo.velocity_feedback == "state":
             w_fb = p.output_row("w_m") @ x
         else:
-            w_fb = (th_m - th_prev) / servo.T_v
-        th_prev = th_m
+            th = [th_m, *hist]
+            w_fb = sum(c * (th[i] - th[i + 1]) for i, c in enumerate(taps)) / servo.T_v
+        hist = [th_m, *hist[:-1]]
         e = w_c - w_fb
         I_w = I_w + e * servo.T_v
         i_c = servo.K_vp * e + servo.K_vi * I_w
@@ -64,7 +67,7 @@ def lifted_closed_loop(mech: AxisMechanics, servo: ServoParams):
             delay.append(i_c)
             i_c = delay.pop(0)
         x = Ad @ x + np.outer(bd, i_c)
-    z_next = np.vstack([x, I_w, th_prev, *delay]) if d else np.vstack([x, I_w, th_prev])
+    z_next = np.vstack([x, I_w, *hist, *delay])
     Phi, Gam = z_next[:, :nz], z_next[:, nz:]
     return Phi, Gam, y[:, :nz], y[:, nz:]
 
@@ -72,7 +75,8 @@ def lifted_closed_loop(mech: AxisMechanics, servo: ServoParams):
 def initial_state(mech: AxisMechanics, servo: ServoParams, x0: np.ndarray) -> np.ndarray:
     """Lifted state for a plant state ``x0`` at rest, integrator empty [SI]."""
     n = plant(mech, servo.current_bandwidth_hz).A.shape[0]
-    z = np.zeros(n + 2 + servo.delay_samples)
+    nt = len(servo.velocity_filter)
+    z = np.zeros(n + 1 + nt + servo.delay_samples)
     z[: x0.size] = x0
-    z[n + 1] = x0[0]
+    z[n + 1 : n + 1 + nt] = x0[0]
     return z

@@ -7,21 +7,30 @@ Layout of the parameter vectors (built by :func:`tcpmm.simulate.axis_kernel_inpu
 5 current limit [A], 6 T_v [s], 7 encoder quantum [rad] (0: none), 8 scale quantum [m]
 (0: none), 9 initial integrator [rad], 10 constant motor torque [N m], 11 constant screw
 torque [N m], 12 constant carriage force [N], 13 command samples per velocity-loop step
-(``T_v / T_cmd``).
+(``T_v / T_cmd``), 14 half the free play of the screw-nut [m] (0: none), 15 nut
+stiffness ``K_t`` [N/m].
 
 ``ip`` (int): 0 velocity-loop steps per position-loop step, 1 feedback (1 scale,
 0 encoder), 2 velocity feedback (0 state, 1 backward difference), 3 delay [samples],
 4 loops closed (1) or open-loop torque mode (0), 5 record every N steps, 6 sub-steps
-of a step in which friction reverses or sticks, 7 number of velocity-loop steps.
+of a step in which friction reverses or sticks or the nut is in its free play, 7 number
+of velocity-loop steps.
+
+``vtaps``: FIR taps on the encoder angle (newest first) of the difference velocity.
 
 The command and the excitation come at their own (interpolation, DAQ) period: the
 position loop fine-interpolates the command linearly, as drives do; the excitation is
 held.
 
-The external inputs (columns 1-3 of ``BdT``) are where nonlinear elements enter: the
-constant loads, and friction on the screw (torque on ``th_L``) and on the guideway (force
+The external inputs (columns 1-4 of ``BdT``) are where nonlinear elements enter: the
+constant loads, friction on the screw (torque on ``th_L``) and on the guideway (force
 on ``X_t``), both given in table units (force [N] against table velocity [m/s]) with the
-parameter vectors of :mod:`tcpmm.mechanics.friction`. Friction is exact in stick: the
+parameter vectors of :mod:`tcpmm.mechanics.friction`, and a force added to the nut force
+(column 4). In contact, the nut spring acts with its deflection reduced by the half play
+(a constant force in column 4); inside the play the nut transmits nothing, and the step
+is advanced with the matrices of the plant without the nut spring (``AdgT``, ``BdgT``,
+sub-step period), so the play is exact apart from the instant contact changes within a
+sub-step. Friction is exact in stick: the
 force over a step is the one that brings the body to rest when the static level allows
 (its effective mass over the step comes from the discrete input column). A step in which
 a friction velocity reverses or sticks is redone in ``ip[6]`` sub-steps.
@@ -50,7 +59,8 @@ def _quantise(v, q):
 @njit(cache=True, inline="always")
 def _free_step(AdT, BdT, x, xn, u):
     for i in range(NX):
-        xn[i] = BdT[0, i] * u[0] + BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
+        xn[i] = (BdT[0, i] * u[0] + BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
+                 + BdT[4, i] * u[4])
     for j in range(NX):
         xj = x[j]
         for i in range(NX):
@@ -80,18 +90,51 @@ def _reverses(x, xn, idx, pf, stk):
     return x[idx] * xn[idx] <= 0.0 or stk == STUCK
 
 
+@njit(cache=True, inline="always")
+def _nut_deflection(x, R):
+    return R * x[1] - (x[2] - x[3])
+
+
 @njit(cache=True)
-def _friction_step(AdT, BdT, AdsT, BdsT, x, xn, u, h, n_sub, pf_s, pf_g, st, R):
-    """One velocity-loop step with friction; sub-steps where a velocity reverses."""
+def _contact_force(x, R, play, K_t):
+    """Force added to the nut spring in contact: 0 inside the play, where the plant
+    without the nut spring is used instead."""
+    d = _nut_deflection(x, R)
+    if d > play:
+        return -K_t * play
+    if d < -play:
+        return K_t * play
+    return 0.0
+
+
+@njit(cache=True)
+def _same_contact(x, xn, R, play):
+    d0, d1 = _nut_deflection(x, R), _nut_deflection(xn, R)
+    return (d0 > play and d1 > play) or (d0 < -play and d1 < -play)
+
+
+@njit(cache=True)
+def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, h, n_sub, pf_s, pf_g, st,
+                    R, play, K_t):
+    """One velocity-loop step with friction and lost motion; sub-steps where a friction
+    velocity reverses or sticks, or where the nut is inside or crosses its free play."""
+    if play > 0.0:
+        u[4] = _contact_force(x, R, play, K_t)
     _free_step(AdT, BdT, x, xn, u)
-    if _reverses(x, xn, 6, pf_s, st[0]) or _reverses(x, xn, 7, pf_g, st[1]):
+    if (_reverses(x, xn, 6, pf_s, st[0]) or _reverses(x, xn, 7, pf_g, st[1])
+            or (play > 0.0 and not _same_contact(x, xn, R, play))):
         hs = h / n_sub
         for _ in range(n_sub):
-            _free_step(AdsT, BdsT, x, xn, u)
+            A, B = AdsT, BdsT
+            if play > 0.0:
+                u[4] = _contact_force(x, R, play, K_t)
+                if u[4] == 0.0:
+                    A, B = AdgT, BdgT
+            _free_step(A, B, x, xn, u)
             if pf_s[0] != MODEL_NONE:
-                _apply_friction(BdsT, x, xn, hs, pf_s, st, 0, 2, 6, R)
+                _apply_friction(B, x, xn, hs, pf_s, st, 0, 2, 6, R)
             if pf_g[0] != MODEL_NONE:
-                _apply_friction(BdsT, x, xn, hs, pf_g, st, 1, 3, 7, 1.0)
+                _apply_friction(B, x, xn, hs, pf_g, st, 1, 3, 7, 1.0)
             for i in range(NX):
                 x[i] = xn[i]
         return
@@ -104,15 +147,17 @@ def _friction_step(AdT, BdT, AdsT, BdsT, x, xn, u, h, n_sub, pf_s, pf_g, st, R):
 
 
 @njit(cache=True, fastmath=True, nogil=True)
-def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g):
+def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
+             vtaps, AdgT, BdgT):
     """Simulate one axis for ``cmd.size`` velocity-loop steps.
 
     Parameters
     ----------
     AdT : ndarray (NX, NX)
         Transposed discrete state matrix (``AdT[j, i] = Ad[i, j]``), zero-padded [-].
-    BdT : ndarray (4, NX)
-        Transposed discrete input matrix for ``[i, T_m, T_L, F_t]``, zero-padded [-].
+    BdT : ndarray (5, NX)
+        Transposed discrete input matrix for ``[i, T_m, T_L, F_t, F_nut]``, zero-padded
+        [-].
     x0 : ndarray (NX,)
         Initial plant state, zero-padded [SI].
     cmd, vcmd : ndarray
@@ -128,20 +173,27 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         As ``AdT``, ``BdT`` for one sub-step of ``T_v / ip[6]`` [-].
     pf_s, pf_g : ndarray
         Friction parameter vectors of the screw and the guideway, table units [-].
+    vtaps : ndarray
+        FIR taps of the difference velocity, newest first, summing to 1 [-].
+    AdgT, BdgT : ndarray
+        As ``AdsT``, ``BdsT`` for the plant without the nut spring (inside the play) [-].
     """
     x = x0.copy()
     xn = np.empty(NX)
-    u = np.zeros(4)
+    u = np.zeros(5)
     u[1], u[2], u[3] = fp[10], fp[11], fp[12]
     st = np.zeros(2)  # friction states: screw, guideway
-    friction = pf_s[0] != MODEL_NONE or pf_g[0] != MODEL_NONE
+    play, K_t = fp[14], fp[15]
+    nonlinear = pf_s[0] != MODEL_NONE or pf_g[0] != MODEL_NONE or play > 0.0
     n_sub = ip[6]
     K_pp, K_vp, K_vi, k_ff, R = fp[0], fp[1], fp[2], fp[3], fp[4]
     i_lim, T_v, q_enc, q_scale = fp[5], fp[6], fp[7], fp[8]
     I_w = fp[9]
     n_pos, fb_scale, vel_diff, delay, closed, rec_every = ip[0], ip[1], ip[2], ip[3], ip[4], ip[5]
     dl = np.full(delay + 1, K_vi * I_w if closed else 0.0)
-    th_prev = _quantise(x[0], q_enc)
+    n_taps = vtaps.size
+    hist = np.full(n_taps + 1, _quantise(x[0], q_enc))  # ring buffer of encoder angles
+    c_h = 0  # index of the newest angle in hist
     w_c = 0.0
     r = 0
     c_pos = 0  # steps since the last position-loop update
@@ -167,7 +219,13 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
                 v_k = vcmd[j] + fr * (vcmd[j1] - vcmd[j])
                 w_c = (K_pp * (c_k - x_fb) + k_ff * v_k) / R
             if vel_diff:
-                w_fb = (th_q - th_prev) / T_v
+                w_fb = 0.0
+                newer = th_q
+                for i in range(n_taps):
+                    older = hist[(c_h - i) % (n_taps + 1)]
+                    w_fb += vtaps[i] * (newer - older)
+                    newer = older
+                w_fb /= T_v
             else:
                 w_fb = x[5]
             e = w_c - w_fb
@@ -183,7 +241,8 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
                     I_w = I_new
             else:
                 I_w = I_new
-        th_prev = th_q
+        c_h = (c_h + 1) % (n_taps + 1)
+        hist[c_h] = th_q
         c_pos += 1
         if c_pos == n_pos:
             c_pos = 0
@@ -206,8 +265,9 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         if c_rec == rec_every:
             c_rec = 0
         u[0] = i_app
-        if friction:
-            _friction_step(AdT, BdT, AdsT, BdsT, x, xn, u, T_v, n_sub, pf_s, pf_g, st, R)
+        if nonlinear:
+            _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, T_v, n_sub, pf_s,
+                            pf_g, st, R, play, K_t)
             continue
         for i in range(NX):
             xn[i] = BdT[0, i] * u[0] + BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]

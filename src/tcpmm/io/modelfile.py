@@ -22,7 +22,10 @@ _HEADER = """\
 #   mechanics: J [kg m^2], B [N m s/rad], K_L [N m/rad], lead [m], M [kg], C [N s/m],
 #              K [N/m], K_tc [N m/A], load_force [N]
 #   servo: K_pp [1/s], K_vp [A s/rad], K_vi [A/rad], k_ff [-], T_p, T_v [s],
-#          current_limit [A], current_bandwidth_hz [Hz], delay_samples [-]
+#          current_limit [A], current_bandwidth_hz [Hz], delay_samples [-],
+#          velocity_filter [-] (FIR taps, newest first)
+#   friction (table units): fc, fs, fv [N, N, N s/m], vs [m/s], sigma0 [N/m],
+#          sigma1 [N s/m], backlash [m] (total free play of the screw-nut)
 #   sensors: encoder_counts_per_rev [-], scale_resolution [m], tcp_resolution [m]
 """
 

@@ -404,8 +404,19 @@ def stribeck_level(v, params):
     else:
         fc = params[P_FC_NEG]
         fs = params[P_FS_NEG]
+    if fs == fc:
+        return fc
     x = abs(v) / params[P_VS]
-    return fc + (fs - fc) * math.exp(-(x ** params[P_DELTA]))
+    d = params[P_DELTA]
+    if d == 2.0:  # the usual Gaussian form: spare the general power
+        p = x * x
+    elif d == 1.0:
+        p = x
+    else:
+        p = x**d
+    if p > 40.0:  # exp(-40) is below double precision relative to fc
+        return fc
+    return fc + (fs - fc) * math.exp(-p)
 
 
 @njit(cache=True)

@@ -21,8 +21,10 @@ position/velocity loop at 1 kHz. This script
    and LuGre pre-sliding with its bristle stiffness fitted in closed loop.
 
 Validation files (``DATA_EMPS_PULSES.mat``) also hold ``pulses_N``: force pulses added
-to the saturated controller output before the gain ``gtau``. They are run through the
-same models (identified on the estimation file).
+to the saturated controller output before the gain ``gtau``. Whether a file stores them in
+controller units or as the force in newtons, and whether ``vir`` already contains them, is
+decided from the data (control law and the estimation model's inverse dynamics). They
+are run through the same models (identified on the estimation file).
 
 Usage::
 
@@ -33,6 +35,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -237,6 +240,53 @@ def vir_includes_pulses(rec: EmpsRecord) -> bool:
     s = slice(N_BORDER, None)
     return bool(np.linalg.norm((rec.vir - rec.pulses - law)[s])
                 < np.linalg.norm((rec.vir - law)[s]))
+
+
+def _idim_force(meas: dict, params: dict) -> np.ndarray:
+    """Force the reference inverse model predicts from the measured motion [N]."""
+    return (params["M"]["value"] * meas["ddq"] + params["Fv"]["value"] * meas["dq"]
+            + params["Fc"]["value"] * np.sign(meas["dq"]) + params["offset"]["value"])
+
+
+def pulses_in_controller_units(rec: EmpsRecord, params: dict) -> tuple[EmpsRecord, str]:
+    """Express ``pulses_N`` in controller-output units, deciding from the data how they
+    were recorded.
+
+    The pulses enter after the saturation, before the gain ``gtau``. A file may store them
+    in controller units (so the force is ``gtau * pulses``) or as the force itself
+    (``pulses_N`` [N], so ``pulses / gtau`` in controller units), and ``vir`` may or may
+    not already contain them. Whether ``vir`` contains them is tested on the control law;
+    the unit on the inverse dynamic model identified on the estimation data, whose force
+    must match the measured motion.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        Validation record with pulses [-].
+    params : dict
+        Reference IDIM-LS parameters (``M``, ``Fv``, ``Fc``, ``offset`` with ``value``)
+        [SI].
+
+    Returns
+    -------
+    tuple
+        ``(record with pulses in controller units, "controller" or "newton")`` [-].
+    """
+    if rec.pulses is None or not np.any(rec.pulses):
+        return rec, "controller"
+    s = slice(N_BORDER, None)
+    qf = 0.5 * rec.qm + 0.5 * np.r_[rec.qm[0], rec.qm[:-1]]
+    dq = np.r_[0.0, np.diff(qf)] / rec.dt
+    law = np.clip(rec.kv * (rec.kp * (rec.qg - rec.qm) - dq), -U_MAX_V, U_MAX_V)
+    scales = {"controller": 1.0, "newton": 1.0 / rec.gtau}
+    dev = {u: np.linalg.norm((rec.vir - k * rec.pulses - law)[s]) for u, k in scales.items()}
+    unit = min(dev, key=dev.get)
+    if dev[unit] >= np.linalg.norm((rec.vir - law)[s]):  # vir without the pulses
+        pred = _idim_force(measured_signals(rec), params)
+        res = {u: np.linalg.norm((rec.gtau * (rec.vir + k * rec.pulses) - pred)[s])
+               for u, k in scales.items()}
+        unit = min(res, key=res.get)
+    return dataclasses.replace(rec, pulses=rec.pulses * scales[unit]), unit
 
 
 def simulate(rec: EmpsRecord, model: EmpsModel, n_sub: int = N_SUB, period=None,
@@ -537,17 +587,16 @@ def run(estimation, validation=None, n_sub: int = N_SUB) -> tuple[dict, dict]:
     }
     raw = {"estimation": (est, res_est), "models": models}
     if validation is not None:
-        val = load_emps(validation, need_pulses=True)
-        res_val = evaluate(val, models, n_sub)
         ref_est = ident["reference"]["parameters"]
+        val, unit = pulses_in_controller_units(load_emps(validation, need_pulses=True), ref_est)
+        res_val = evaluate(val, models, n_sub)
         meas = res_val["_meas"]
         plant_force = val.gtau * (val.vir if vir_includes_pulses(val) else val.vir + val.pulses)
         s = slice(N_BORDER - 1, None)
-        pred = (ref_est["M"]["value"] * meas["ddq"] + ref_est["Fv"]["value"] * meas["dq"]
-                + ref_est["Fc"]["value"] * np.sign(meas["dq"]) + ref_est["offset"]["value"])
+        pred = _idim_force(meas, ref_est)
         ctv = float(100 * np.linalg.norm((plant_force - pred)[s])
                     / np.linalg.norm(plant_force[s]))
-        report["validation"] = {**_clean(res_val),
+        report["validation"] = {**_clean(res_val), "pulses_unit": unit,
                                 "idim_cross_validation_force_error_percent": ctv}
         raw["validation"] = (val, res_val)
     best = {}

@@ -119,17 +119,18 @@ def _reference(seed):
     return 0.05 + np.cumsum(v) * 1e-3
 
 
-def _write_synthetic(path, seed, pulses):
+def _write_synthetic(path, seed, pulses, unit="controller", included=False):
     qg = _reference(seed)
     n = qg.size
     servo = DiscreteServo(period=1e-3, kp=KP, kv=KV, delay=1.0, u_max=10.0, gain=GTAU)
     ext = np.zeros(n) if pulses is None else pulses(n)
     r = simulate_rigid_servo(qg, RigidAxis(**TRUTH), servo, ext=ext, q0=qg[0])
+    vir = r.u_cmd + (ext if included else 0.0)
     data = {"t": (np.arange(n) * 1e-3)[:, None], "qm": (np.round(r.q / 5e-8) * 5e-8)[:, None],
-            "qg": qg[:, None], "vir": r.u_cmd[:, None], "kp": np.array([[KP]]),
+            "qg": qg[:, None], "vir": vir[:, None], "kp": np.array([[KP]]),
             "kv": np.array([[KV]]), "gtau": np.array([[GTAU]])}
     if pulses is not None:
-        data["pulses_N"] = ext[:, None]
+        data["pulses_N"] = (ext * (GTAU if unit == "newton" else 1.0))[:, None]
     savemat(path, data)
     return path
 
@@ -174,6 +175,26 @@ def test_validation_file_runs_through_main(tmp_path, emps, capsys):
                                                        model), meas)
     assert no_pulse["velocity"] > 5 * good["velocity"]
     assert no_pulse["force"] > 5 * good["force"]
+
+
+@pytest.mark.parametrize(("unit", "included"), [("newton", False), ("controller", True),
+                                               ("newton", True)])
+def test_pulse_units_and_recording_are_read_from_the_data(tmp_path, emps, unit, included):
+    """Pulses stored as newtons, or already inside vir, give the same validation errors
+    as pulses stored in controller units outside vir."""
+    est = _write_synthetic(tmp_path / "est.mat", 1, None)
+    plain = emps.run(est, _write_synthetic(tmp_path / "v0.mat", 2, _pulses))[0]
+    other = emps.run(est, _write_synthetic(tmp_path / "v1.mat", 2, _pulses, unit, included))[0]
+    assert plain["validation"]["pulses_unit"] == "controller"
+    assert other["validation"]["pulses_unit"] == unit
+    assert other["validation"]["vir_includes_pulses"] is included
+    for name, e in plain["validation"]["errors_percent"].items():
+        for k, v in e.items():
+            # a vir that holds the pulses is compared with the simulated output plus the
+            # pulses: the same difference over a slightly different norm
+            rel = 0.01 if included and k == "force" else 1e-6
+            assert other["validation"]["errors_percent"][name][k] == pytest.approx(
+                v, rel=rel, abs=1e-9), (name, k)
 
 
 def test_bad_files_are_reported(tmp_path, emps):

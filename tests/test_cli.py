@@ -99,3 +99,15 @@ def test_demo_writes_everything(capsys, tmp_path):
                  "time.png", "circle_table.csv", "circle.json"):
         assert (tmp_path / "demo" / name).stat().st_size > 0, name
     assert str((tmp_path / "demo").resolve()) in out.replace("\n", "")
+
+
+@pytest.mark.parametrize("command", ["compare", "circle", "identify", "excite"])
+def test_help_shows_units(capsys, command):
+    """Units in brackets are text, not markup: the help keeps them."""
+    args = [command, "log", "--help"] if command == "excite" else [command, "--help"]
+    try:
+        main(args)
+    except SystemExit:
+        pass
+    text = capsys.readouterr().out
+    assert "[mm]" in text or "[Hz]" in text or "[-]" in text

@@ -15,9 +15,10 @@ from rich.console import Console
 
 from .errors import TcpmmError
 
-app = typer.Typer(add_completion=False, pretty_exceptions_enable=False,
+# help texts carry units in brackets ([mm]); they are text, not rich markup
+app = typer.Typer(add_completion=False, pretty_exceptions_enable=False, rich_markup_mode=None,
                   help="Virtual machine tool: mechatronic model of the tool center point.")
-machine_app = typer.Typer(help="Built-in machines and model files.")
+machine_app = typer.Typer(help="Built-in machines and model files.", rich_markup_mode=None)
 app.add_typer(machine_app, name="machine")
 console = Console(stderr=True)
 out = Console()

@@ -286,8 +286,9 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
              report: Path = typer.Option(None, "--report", help="Folder for plots and tables."),
              band: str = typer.Option(None, "--band", help="F0,F1 of the FRFs [Hz]."),
              guideway_share: float = typer.Option(
-                 0.7, "--guideway-share",
-                 help="Share of the friction from friction.csv put on the guideway [-]."),
+                 None, "--guideway-share",
+                 help="Share of the friction from friction.csv put on the guideway [-]; "
+                      "default: from the encoder-minus-scale deflection of the runs."),
              as_json: bool = typer.Option(False, "--json")):
     """Identify every axis of a measurement bundle into a model file."""
     from .ident.pipeline import identify_bundle

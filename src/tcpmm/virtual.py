@@ -77,7 +77,16 @@ def virtual_run(machine: Machine, command, noise_m: float = 2e-8, seed: int = 1)
     return run
 
 
-def virtual_friction(axis: Axis, speeds_m_per_s=(0.002, 0.005, 0.01, 0.02, 0.05, 0.1),
+#: Plateau speeds of the virtual friction runs [m/s]: from a quarter of the Stribeck
+#: velocity of the built-in machine up, so that the Stribeck curve is determined, and round
+#: speeds times 1.0618, so that the advance per 1 ms sample is not a whole number of 1 um
+#: sensor steps and the quantisation of encoder and scale averages out on each plateau (at
+#: whole numbers every sample rounds alike and the sub-micrometre nut deflection is lost).
+FRICTION_SPEEDS = tuple(round(v * 1.0618, 7)
+                        for v in (0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1))
+
+
+def virtual_friction(axis: Axis, speeds_m_per_s=FRICTION_SPEEDS,
                      plateau_s: float = 0.6, accel_m_per_s2: float = 1.0,
                      name: str = "X") -> FrictionRecord:
     """Slow back-and-forth runs at constant speeds under the axis's own loops

@@ -42,6 +42,12 @@ class AxisIdentification:
         Grey-box parameters with uncertainty [SI].
     axis : Axis
         The identified axis as it goes into the model file [SI].
+    record : SweepRecord, optional
+        The sweep record, for the time plots [SI].
+    friction : ParameterEstimate, optional
+        Stribeck curve fitted to the friction runs [-].
+    friction_split : FrictionSplit, optional
+        Split of that friction between guideway and screw, and the lost motion [-].
     """
 
     name: str
@@ -51,6 +57,7 @@ class AxisIdentification:
     axis: Axis
     record: object = None
     friction: object = None
+    friction_split: object = None
 
     def physical_response(self, name: str, f_hz) -> np.ndarray:
         """Response of the identified physical model as measured (with the drive's
@@ -119,6 +126,8 @@ class Identification:
                         a.friction.names, a.friction.values, a.friction.std, strict=True
                     )
                 }
+            if a.friction_split is not None:
+                out[name]["friction_split"] = a.friction_split.to_dict()
         return {"machine": self.machine.name, "axes": out}
 
     def parameters_table(self):
@@ -137,10 +146,11 @@ class Identification:
 
     def write_report(self, out_dir) -> dict:
         """Sweep time plots (Fig. 7), measured and fitted Bode plots with coherence
-        (Figs. 8-10) and the tables, into a folder. Returns the written paths."""
+        (Figs. 8-10), the plateau deflections of the friction runs and the tables, into a
+        folder. Returns the written paths."""
         from ..io.atomic import write_text_atomic
         from ..plot.bode import plot_bode
-        from ..plot.ident import plot_sweep
+        from ..plot.ident import plot_lost_motion, plot_sweep
 
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
@@ -150,6 +160,12 @@ class Identification:
                 files[f"sweep_{name}"] = plot_sweep(
                     a.record, a.axis.mechanics.R_L, out / f"sweep_{name}.png", title=name
                 )
+            split = a.friction_split
+            if split is not None and split.estimate is not None and split.estimate.velocity.size:
+                files[f"lostmotion_{name}"] = plot_lost_motion(
+                    split.estimate, out / f"lostmotion_{name}.png",
+                    title=f"axis {name}: deflection between encoder and scale "
+                          f"({split.source})")
             curves = {}
             for k, frf in a.frfs.items():
                 f = frf.freq_hz
@@ -213,32 +229,111 @@ def _weights(frf) -> np.ndarray:
     return np.where(frf.coherence >= MIN_COHERENCE, w, 0.0)
 
 
-#: Share of the identified friction put on the guideway, the rest on the screw. Steady
-#: runs measure their sum only: the screw windup and nut deflection that would tell them
-#: apart are below a micrometre, under the sensors' resolution. The split matters for the
-#: TCP (guideway friction reverses the nut force that drives the structure; screw friction
-#: does not), so it is a prior: preloaded, sealed linear guides usually carry most of it.
+#: Share of the identified friction put on the guideway when the friction runs do not
+#: determine it (see :mod:`tcpmm.ident.lostmotion`): preloaded, sealed linear guides
+#: usually carry most of the friction of a feed axis.
 GUIDEWAY_SHARE = 0.7
+#: Largest relative standard deviation of the identified ``B_m``, ``B_L`` and ``C_t`` for
+#: which the friction split takes them as known; a few per cent of ``C_t`` already moves the
+#: share by 0.02, so otherwise the speed-proportional deflection is fitted [-].
+DAMPING_KNOWN_REL_STD = 0.03
 
 
-def identify_friction(record, cfg, mechanics, guideway_share: float = GUIDEWAY_SHARE):
-    """Stribeck friction of an axis from its ``friction.csv`` record, in table units.
+@dataclass(frozen=True)
+class FrictionSplit:
+    """How the identified friction was split between guideway and screw.
 
-    The steady motor force at constant speed balances all friction; it is shared between
-    guideway and screw by ``guideway_share`` [-]. The viscous part that the linear
-    mechanics already carries (``B_m``, ``B_L``, ``C_t``) is taken off.
+    Parameters
+    ----------
+    guideway_share : float
+        Share of the friction put on the guideway, the rest on the screw [-].
+    backlash : float
+        Lost motion of the screw-nut put into the model [m].
+    source : str
+        ``"data"`` (from the encoder-minus-scale deflection), ``"prior"`` (not determined
+        by the data: :data:`GUIDEWAY_SHARE`) or ``"given"`` (set by the user) [-].
+    estimate : LostMotionEstimate or None
+        The estimate from the friction runs, with standard deviations and plateaus [-].
+    """
+
+    guideway_share: float
+    backlash: float
+    source: str
+    estimate: object = None
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report.
+
+        Returns
+        -------
+        dict
+            Share and lost motion used, their standard deviations when they come from the
+            data, the source and the full estimate [-].
+        """
+        e = self.estimate
+
+        def sd(x, sources):
+            ok = e is not None and self.source in sources and np.isfinite(x)
+            return float(x) if ok else None
+
+        return {
+            "guideway_share": {"value": float(self.guideway_share),
+                               "std": sd(e.guideway_share_std if e else 0.0, ("data",))},
+            "backlash_m": {"value": float(self.backlash),
+                           "std": sd(e.backlash_std if e else 0.0, ("data", "given"))},
+            "source": self.source,
+            "estimate": e.to_dict() if e is not None else None,
+        }
+
+
+def identify_friction(record, cfg, mechanics, guideway_share: float | None = None, *,
+                      axis: str = "", stiffness_rel_std: float = 0.0,
+                      viscous: str = "fit"):
+    """Stribeck friction and lost motion of an axis from its ``friction.csv`` record.
+
+    The steady motor force at constant speed balances all friction (table units); the
+    viscous part that the linear mechanics already carries (``B_m``, ``B_L``, ``C_t``) is
+    taken off. The split between guideway and screw and the lost motion of the nut come
+    from the deflection between encoder and scale on the plateaus
+    (:func:`tcpmm.ident.lostmotion.estimate_lost_motion`, one encoder-to-scale offset per
+    speed so that lead errors of the screw cancel); when the data do not determine the
+    split, :data:`GUIDEWAY_SHARE` is used and an :class:`InputWarning` says why.
+
+    Parameters
+    ----------
+    record : FrictionRecord
+        Constant-velocity runs, SI [-].
+    cfg : AxisConfig
+        Lead, torque constant and sensors of the axis [-].
+    mechanics : AxisMechanics
+        Identified mechanics of the axis [SI].
+    guideway_share : float, optional
+        Share of the friction put on the guideway; ``None``: from the data [-].
+    axis : str
+        Axis name, for messages [-].
+    stiffness_rel_std : float
+        Relative standard deviation of the identified ``K_t`` [-].
+    viscous : {"fit", "known"}
+        Fit the deflection proportional to the speed, or take the damping of
+        ``mechanics`` (``B_m``, ``B_L``, ``C_t``) as known in the split; see
+        :func:`tcpmm.ident.lostmotion.estimate_lost_motion` [-].
 
     Returns
     -------
-    AxisFriction, ParameterEstimate
-        The friction element and the fitted curve with standard deviations [-].
+    AxisFriction, ParameterEstimate, FrictionSplit
+        The friction element, the fitted curve with standard deviations, and the split
+        with the lost-motion estimate [-].
     """
+    import warnings
+
+    from ..errors import InputWarning
     from ..mechanics.friction import StribeckFriction
     from ..model import AxisFriction
     from .friction import friction_record_arrays, identify_stribeck_run
+    from .lostmotion import estimate_lost_motion
 
     t, x, force = friction_record_arrays(record, cfg.lead_m, cfg.torque_constant)
-    est, _ = identify_stribeck_run(t, x, force)
+    est, plateaus = identify_stribeck_run(t, x, force)
     v = dict(zip(est.names, est.values, strict=True))
     m = mechanics
     linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t
@@ -250,14 +345,34 @@ def identify_friction(record, cfg, mechanics, guideway_share: float = GUIDEWAY_S
             fs_pos=k * max(v["Fs+"], 0.0), fs_neg=k * max(v["Fs-"], 0.0),
             vs=max(float(v["vs"]), 1e-6), fv_pos=k * fv, fv_neg=k * fv)
 
-    share = min(max(guideway_share, 0.0), 1.0)
-    return AxisFriction(guideway=part(share) if share > 0 else None,
-                        screw=part(1 - share) if share < 1 else None), est
+    given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
+    lm = estimate_lost_motion(
+        t, record.motor_angle_rad, record.scale_m, force, m.R_L, m, plateaus,
+        encoder_quantum=cfg.sensors.encoder_resolution_rad,
+        scale_resolution=cfg.sensors.scale_resolution_m,
+        stiffness_rel_std=stiffness_rel_std, viscous=viscous, offset="per_speed",
+        share=given)
+    if given is not None:
+        split = FrictionSplit(given, lm.backlash if lm.determined else 0.0, "given", lm)
+    elif lm.determined:
+        split = FrictionSplit(lm.guideway_share, lm.backlash, "data", lm)
+    else:
+        name = f"axis {axis}" if axis else "axis"
+        warnings.warn(
+            f"{name}: the friction runs do not determine how the friction divides between "
+            f"guideway and screw ({lm.reason}); using the prior guideway share "
+            f"{GUIDEWAY_SHARE} and no lost motion", InputWarning, stacklevel=2)
+        split = FrictionSplit(GUIDEWAY_SHARE, 0.0, "prior", lm)
+    share = split.guideway_share
+    fr = AxisFriction(guideway=part(share) if share > 0 else None,
+                      screw=part(1 - share) if share < 1 else None,
+                      backlash=split.backlash)
+    return fr, est, split
 
 
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
-    friction=None, guideway_share: float = GUIDEWAY_SHARE,
+    friction=None, guideway_share: float | None = None,
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
@@ -275,8 +390,9 @@ def identify_axis(
         Also fit a first-order current-loop bandwidth from G_M [-].
     friction : FrictionRecord, optional
         Constant-velocity runs; their Stribeck curve becomes the axis friction [-].
-    guideway_share : float
-        Share of that friction put on the guideway, the rest on the screw [-].
+    guideway_share : float, optional
+        Share of that friction put on the guideway, the rest on the screw; ``None``: from
+        the friction runs (encoder-minus-scale deflection) [-].
     """
     limit_blas_threads()
     fmin = fmin_hz if fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
@@ -307,22 +423,32 @@ def identify_axis(
         tf_fits=tf_fits,
         hold_period_s=cfg.servo.velocity_loop_period_s,
     )
-    fr, est = (
-        identify_friction(friction, cfg, phys.mechanics, guideway_share)
-        if friction is not None else (None, None)
-    )
+    fr = est = split = None
+    if friction is not None:
+        mech = phys.mechanics
+
+        def rel_std(p):
+            sd = phys.std.get(p, float("nan"))
+            return float(sd / getattr(mech, p)) if np.isfinite(sd) else float("inf")
+
+        damping_known = all(rel_std(p) <= DAMPING_KNOWN_REL_STD for p in ("B_m", "B_L", "C_t"))
+        kt_rel = rel_std("K_t")
+        fr, est, split = identify_friction(
+            friction, cfg, mech, guideway_share, axis=name,
+            stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
+            viscous="known" if damping_known else "fit")
     axis = Axis(
         mechanics=phys.mechanics,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),
         sensors=axis_config_to_sensors(cfg),
         friction=fr,
     )
-    return AxisIdentification(name, frfs, tf_fits, phys, axis, sweep, est)
+    return AxisIdentification(name, frfs, tf_fits, phys, axis, sweep, est, split)
 
 
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
-    guideway_share: float = GUIDEWAY_SHARE,
+    guideway_share: float | None = None,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
 
@@ -336,8 +462,9 @@ def identify_bundle(
         Called with the axis name after each axis [-].
     fit_current_loop : bool
         Fit a first-order current-loop bandwidth per axis [-].
-    guideway_share : float
-        Share of the friction put on the guideway, the rest on the screw [-].
+    guideway_share : float, optional
+        Share of the friction put on the guideway, the rest on the screw; ``None``: from
+        each axis's friction runs [-].
     """
     axes = {}
     for name, rec in bundle.axes.items():

@@ -40,3 +40,44 @@ def plot_sweep(record, R_L, path=None, title=None):
         axs[0].set_title(title)
     fig.tight_layout()
     return save(fig, path) or fig
+
+
+def plot_lost_motion(estimate, path=None, title=None):
+    """Nut deflection of the constant-speed plateaus against speed, measured and fitted,
+    forward and back on a logarithmic speed axis.
+
+    Parameters
+    ----------
+    estimate : LostMotionEstimate
+        Result of :func:`tcpmm.ident.lostmotion.estimate_lost_motion` [-].
+    path : str or Path, optional
+        Where to save [-].
+    title : str, optional
+        Title [-].
+    """
+    import numpy as np
+
+    plt = pyplot()
+    e = estimate
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for sign, label, color in ((1, "forward", "tab:blue"), (-1, "back", "tab:orange")):
+        sel = np.flatnonzero(np.sign(e.velocity) == sign)
+        sel = sel[np.argsort(np.abs(e.velocity[sel]))]
+        if not sel.size:
+            continue
+        speed = np.abs(e.velocity[sel]) * 1e3
+        ax.errorbar(speed, e.nut_deflection[sel] * 1e6, yerr=e.deflection_std[sel] * 1e6,
+                    fmt="o", ms=4, color=color, label=f"measured, {label}")
+        ax.plot(speed, e.fitted[sel] * 1e6, "--", color=color, lw=1)
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xscale("log")
+    ax.set_xlabel("table speed [mm/s]")
+    ax.set_ylabel("nut deflection [um]")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, title=f"fit (dashed): share {e.guideway_share:.2f} "
+              f"+- {e.guideway_share_std:.2f}, lost motion {e.backlash * 1e6:.2f} um",
+              title_fontsize=8)
+    ax.set_title(title or ("split determined" if e.determined else "split not determined"),
+                 fontsize=9)
+    fig.tight_layout()
+    return save(fig, path) or fig

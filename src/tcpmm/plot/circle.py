@@ -95,7 +95,7 @@ def plot_radial_error(result, path=None, overlay=None):
             ax.text(deg + 2, ax.get_ylim()[1] if ax.lines else 0, q, va="top")
         ax.set_xlim(0, 360)
         ax.set_xlabel("angle from +X [deg]")
-        ax.set_ylabel("radial error [um]")
+        ax.set_ylabel("radial error [µm]")
         ax.set_title(p.direction.upper())
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, markerscale=6)

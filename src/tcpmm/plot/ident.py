@@ -6,7 +6,7 @@ from . import pyplot, save
 
 
 def plot_sweep(record, R_L, path=None, title=None):
-    """Excitation and the three position responses against time, ramp removed [um].
+    """Excitation and the three position responses against time, ramp removed [µm].
 
     Parameters
     ----------
@@ -24,10 +24,10 @@ def plot_sweep(record, R_L, path=None, title=None):
     plt = pyplot()
     t = record.time_s
     rows = [("excitation [A]", record.excitation_A, 1.0),
-            ("X_m (motor) [um]", record.motor_angle_rad * R_L, 1e6),
-            ("X_LS (scale) [um]", record.scale_m, 1e6)]
+            ("X_m (motor) [µm]", record.motor_angle_rad * R_L, 1e6),
+            ("X_LS (scale) [µm]", record.scale_m, 1e6)]
     if record.tcp_m is not None:
-        rows.append(("X_TCP [um]", record.tcp_m, 1e6))
+        rows.append(("X_TCP [µm]", record.tcp_m, 1e6))
     fig, axs = plt.subplots(len(rows), 1, figsize=(10, 1.9 * len(rows)), sharex=True)
     for ax, (label, y, k) in zip(axs, rows, strict=True):
         if k != 1.0:
@@ -72,10 +72,10 @@ def plot_lost_motion(estimate, path=None, title=None):
     ax.axhline(0.0, color="k", lw=0.5)
     ax.set_xscale("log")
     ax.set_xlabel("table speed [mm/s]")
-    ax.set_ylabel("nut deflection [um]")
+    ax.set_ylabel("nut deflection [µm]")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, title=f"fit (dashed): share {e.guideway_share:.2f} "
-              f"+- {e.guideway_share_std:.2f}, lost motion {e.backlash * 1e6:.2f} um",
+              f"± {e.guideway_share_std:.2f}, lost motion {e.backlash * 1e6:.2f} µm",
               title_fontsize=8)
     ax.set_title(title or ("split determined" if e.determined else "split not determined"),
                  fontsize=9)

@@ -6,7 +6,7 @@ from . import SENSOR_STYLE, pyplot, save
 
 
 def plot_run(run, path=None, axes=None):
-    """Per axis: command and deviations (sensor - command) of motor, scale and TCP [um].
+    """Per axis: command and deviations (sensor - command) of motor, scale and TCP [µm].
 
     Parameters
     ----------
@@ -31,7 +31,7 @@ def plot_run(run, path=None, axes=None):
             if v is not None and a.cmd is not None:
                 axs[k, 1].plot(t, (v - a.cmd) * 1e6, lw=0.9, color=SENSOR_STYLE[s]["color"],
                                label=SENSOR_STYLE[s]["label"])
-        axs[k, 1].set_ylabel(f"{name} sensor - command [um]")
+        axs[k, 1].set_ylabel(f"{name} sensor - command [µm]")
         axs[k, 1].legend(fontsize=7, loc="upper right")
         for ax in axs[k]:
             ax.grid(alpha=0.3)

@@ -346,3 +346,31 @@ def test_friction_record_round_trip_keeps_the_split(machine, tmp_path):
     assert s1 == pytest.approx(s0, abs=0.01)
     t, x, f = friction_record_arrays(back, cfg.lead_m, cfg.torque_constant)
     assert t.size == x.size == f.size
+
+
+@pytest.mark.parametrize("ax", ["X", "Y"])
+def test_viscous_force_is_placed_where_the_runs_say(machine, ax):
+    """The speed-proportional part of the nut deflection gives the viscous force through
+    the nut (table damping plus viscous guideway friction); the rest of the measured
+    slope goes to the motor side, and the total is kept."""
+    from tcpmm.ident.pipeline import place_steady_viscous
+
+    a = machine.axes[ax]
+    m, f = a.mechanics, a.friction
+    fr, est, split = identify_friction(record(machine, ax), config(machine, ax), m, axis=ax)
+    e = split.estimate
+    table = m.C_t + f.guideway.fv_pos
+    motor = (m.B_m + m.B_L) / m.R_L**2 + f.screw.fv_pos
+    assert e.table_viscous == pytest.approx(table, abs=4 * e.table_viscous_std)
+    assert e.table_viscous == pytest.approx(table, rel=0.2)
+    total = est.values[est.names.index("Fv")]
+    assert total == pytest.approx(table + motor, rel=0.05)
+    mech, fr2 = place_steady_viscous(m, fr, total, e.table_viscous)
+    assert mech.C_t == pytest.approx(e.table_viscous)
+    assert (mech.B_m + mech.B_L) / m.R_L**2 + mech.C_t == pytest.approx(total)
+    assert mech.B_m / mech.B_L == pytest.approx(m.B_m / m.B_L)
+    assert fr2.guideway.fv_pos == fr2.screw.fv_neg == 0.0
+    assert fr2.guideway.fc_pos == fr.guideway.fc_pos
+    # a table share above the measured total is clipped to it
+    mech, _ = place_steady_viscous(m, fr, total, 2 * total)
+    assert mech.C_t == pytest.approx(total) and mech.B_m == mech.B_L == 0.0

@@ -97,6 +97,12 @@ class LostMotionEstimate:
         the measured ``s F_fric/K_t + sign(F_nut) g/2`` [m].
     fitted : numpy.ndarray
         The kept model's value of ``nut_deflection`` [m].
+    table_viscous : float
+        With ``viscous="fit"``: the viscous force per speed that passes through the nut
+        (table damping and viscous guideway friction), from the speed-proportional part
+        of the deflection; ``nan`` otherwise [N s/m].
+    table_viscous_std : float
+        Its standard deviation [N s/m].
     """
 
     guideway_share: float
@@ -114,6 +120,8 @@ class LostMotionEstimate:
     friction_force: np.ndarray
     nut_deflection: np.ndarray
     fitted: np.ndarray
+    table_viscous: float = float("nan")
+    table_viscous_std: float = float("nan")
 
     def to_dict(self) -> dict:
         """Plain dictionary for a JSON report.
@@ -137,6 +145,8 @@ class LostMotionEstimate:
             "model": self.model,
             "reason": self.reason,
             "chi2_reduced": num(self.chi2),
+            "table_viscous_N_s_per_m": {"value": num(self.table_viscous),
+                                        "std": num(self.table_viscous_std)},
             "plateaus": [
                 {"velocity_m_per_s": float(v), "deflection_m": float(d),
                  "deflection_std_m": float(sd), "friction_force_N": float(f),
@@ -383,18 +393,24 @@ def estimate_lost_motion(
     def nut_sign(s):
         return np.sign(m.C_t * v - load + s * fric)
 
-    def result(s, s_sd, g, g_sd, theta, determined, reason, model, chi2):
+    def result(s, s_sd, g, g_sd, theta, determined, reason, model, chi2, sd_theta=None):
+        c_tab = c_tab_sd = nan
         if theta is None:
             off, mod, c = np.zeros_like(y), np.zeros_like(y), nan
         else:
             off = base @ theta[:k]
             mod = theta[k] * a_col + 0.5 * theta[k + 1] * nut_sign(theta[k])
             c = float(np.mean(theta[:n_off]))
+            if viscous == "fit":  # beta = C_table/K_t - B_m/K_L
+                c_tab = float(K_t * (theta[k - 1] + m.B_m / K_L))
+                if sd_theta is not None:
+                    c_tab_sd = float(K_t * sd_theta[k - 1])
         return LostMotionEstimate(
             guideway_share=float(s), guideway_share_std=float(s_sd), backlash=float(g),
             backlash_std=float(g_sd), offset=c, determined=bool(determined), reason=reason,
             model=model, chi2=float(chi2), velocity=v, deflection=d, deflection_std=d_sd,
-            friction_force=fric, nut_deflection=y - off, fitted=mod)
+            friction_force=fric, nut_deflection=y - off, fitted=mod, table_viscous=c_tab,
+            table_viscous_std=c_tab_sd)
 
     n_pos, n_neg = int(np.sum(use & (v > 0))), int(np.sum(use & (v < 0)))
     if n_pos < 2 or n_neg < 2 or use.sum() < k + 2:
@@ -488,18 +504,18 @@ def estimate_lost_motion(
                 and sd_b[k] <= max_share_std):
             return checked(result(s_b, sd_b[k], g_b, sd_b[k + 1], th_b, True,
                                   "share and lost motion both from the speed dependence "
-                                  "of the friction", "share+lost-motion", chi_b))
+                                  "of the friction", "share+lost-motion", chi_b, sd_b))
     if s_a <= 1.0 or not reverses(1.0):
         s = min(max(s_a, 0.0), 1.0)
-        theta, _, chi2 = (th_a, sd_a, chi_a) if s == s_a else fit_fixed(s, False)
+        theta, sd_t, chi2 = (th_a, sd_a, chi_a) if s == s_a else fit_fixed(s, False)
         why = ("no lost motion needed: the hysteresis is explained by guideway friction"
                if reverses(s) else
                "the nut force does not reverse (the load is carried on one flank): lost "
                "motion is not observable, taken as 0")
-        return checked(result(s, s_a_sd, 0.0, nan, theta, True, why, "share", chi2))
+        return checked(result(s, s_a_sd, 0.0, nan, theta, True, why, "share", chi2, sd_t))
     # more hysteresis than all the friction on the guideway explains: s = 1, the rest is g
     th_c, sd_c, chi_c = fit_fixed(1.0, True)
     return checked(result(1.0, s_a_sd, th_c[k + 1], sd_c[k + 1], th_c, True,
                           f"the hysteresis exceeds all friction on the guideway (share "
                           f"{s_a:.2f} without lost motion): share 1, the rest is lost motion",
-                          "lost-motion", chi_c))
+                          "lost-motion", chi_c, sd_c))

@@ -370,6 +370,47 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     return fr, est, split
 
 
+def place_steady_viscous(mechanics, friction, total_viscous: float, table_viscous: float):
+    """Put the viscous force of steady motion where the friction runs say it acts.
+
+    A sweep sees the friction's local slope as damping as well, and the FRFs rarely
+    determine ``B_m``, ``B_L`` and ``C_t``; the constant-speed runs measure the total
+    viscous force per speed and, through the nut deflection, the part that passes
+    through the nut (table side). The table side becomes ``C_t``, the rest is shared by
+    ``B_m`` and ``B_L`` in their identified proportion, and the friction keeps no
+    viscous part.
+
+    Parameters
+    ----------
+    mechanics : AxisMechanics
+        Identified mechanics [SI].
+    friction : AxisFriction
+        Identified friction (Stribeck, table units) [SI].
+    total_viscous : float
+        Slope of the steady motor force over the speed, at the table [N s/m].
+    table_viscous : float
+        Part of it that passes through the nut [N s/m].
+
+    Returns
+    -------
+    AxisMechanics, AxisFriction
+        Mechanics and friction with the viscous force placed [SI].
+    """
+    m = mechanics
+    total = max(float(total_viscous), 0.0)
+    c_tab = min(max(float(table_viscous), 0.0), total)
+    motor = (total - c_tab) * m.R_L**2  # [N m s/rad]
+    b_sum = m.B_m + m.B_L
+    B_m, B_L = (m.B_m * motor / b_sum, m.B_L * motor / b_sum) if b_sum > 0 else (0.0, motor)
+
+    def no_fv(c):
+        return None if c is None else c.model_copy(update={"fv_pos": 0.0, "fv_neg": 0.0})
+
+    fr = friction.model_copy(update={"guideway": no_fv(friction.guideway),
+                                     "screw": no_fv(friction.screw)})
+    return m.replace(B_m=B_m, B_L=B_L, C_t=c_tab), fr
+
+
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
     friction=None, guideway_share: float | None = None,
@@ -437,8 +478,15 @@ def identify_axis(
             friction, cfg, mech, guideway_share, axis=name,
             stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
             viscous="known" if damping_known else "fit")
+        lm = split.estimate
+        if (split.source != "prior" and lm is not None and np.isfinite(lm.table_viscous)
+                and "Fv" in est.names):
+            mech, fr = place_steady_viscous(
+                mech, fr, est.values[est.names.index("Fv")], lm.table_viscous)
+    else:
+        mech = phys.mechanics
     axis = Axis(
-        mechanics=phys.mechanics,
+        mechanics=mech,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),
         sensors=axis_config_to_sensors(cfg),
         friction=fr,

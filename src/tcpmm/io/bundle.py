@@ -21,6 +21,7 @@ from tcpmm.io.bundle_schema import (
 from tcpmm.io.checks import check_excitation_band, check_sweep_plausibility
 from tcpmm.io.csvutil import atomic_write_columns, read_numeric_csv, warn_input
 from tcpmm.io.records import AxisRecords, FrictionRecord, SweepRecord
+from tcpmm.io.signalmap import build_record
 from tcpmm.units import MM
 
 __all__ = [
@@ -90,18 +91,7 @@ def read_sweep_csv(path: str | Path, axis: str | None = None) -> SweepRecord:
         The record; ``tcp_m`` is None when the file has no ``tcp_mm`` column.
     """
     cols = read_numeric_csv(path, SWEEP_COLUMNS, SWEEP_OPTIONAL)
-    tcp = cols.get("tcp_mm")
-    return SweepRecord.from_arrays(
-        cols["time_s"],
-        cols["excitation_A"],
-        cols["current_cmd_A"],
-        cols["motor_angle_rad"],
-        cols["scale_mm"] * MM,
-        None if tcp is None else tcp * MM,
-        source=str(path),
-        axis=axis,
-        line_of=_csv_line,
-    )
+    return build_record("sweep", cols, path, axis, line_of=_csv_line)
 
 
 def read_friction_csv(path: str | Path, axis: str | None = None) -> FrictionRecord:
@@ -120,15 +110,7 @@ def read_friction_csv(path: str | Path, axis: str | None = None) -> FrictionReco
         The record.
     """
     cols = read_numeric_csv(path, FRICTION_COLUMNS)
-    return FrictionRecord.from_arrays(
-        cols["time_s"],
-        cols["current_cmd_A"],
-        cols["motor_angle_rad"],
-        cols["scale_mm"] * MM,
-        source=str(path),
-        axis=axis,
-        line_of=_csv_line,
-    )
+    return build_record("friction", cols, path, axis, line_of=_csv_line)
 
 
 def _bundle_dir(path: Path) -> Path:

@@ -162,7 +162,8 @@ def read_mapped(
     return out
 
 
-def build_record(kind: str, columns: dict[str, np.ndarray], source, axis):
+def build_record(kind: str, columns: dict[str, np.ndarray], source, axis,
+                 line_of: Callable[[int], int] | None = None):
     """Make a checked SI record from tcpmm-unit columns (``scale_mm``, ``tcp_mm``).
 
     Parameters
@@ -175,6 +176,8 @@ def build_record(kind: str, columns: dict[str, np.ndarray], source, axis):
         Originating file [-].
     axis : str or None
         Axis name [-].
+    line_of : callable, optional
+        Sample index to file line, for error messages [-].
 
     Returns
     -------
@@ -192,6 +195,7 @@ def build_record(kind: str, columns: dict[str, np.ndarray], source, axis):
             None if tcp is None else tcp * MM,
             source=str(source),
             axis=axis,
+            line_of=line_of,
         )
     return FrictionRecord.from_arrays(
         columns["time_s"],
@@ -200,4 +204,5 @@ def build_record(kind: str, columns: dict[str, np.ndarray], source, axis):
         columns["scale_mm"] * MM,
         source=str(source),
         axis=axis,
+        line_of=line_of,
     )

@@ -219,6 +219,13 @@ def measured_signals(rec: EmpsRecord) -> dict:
             "force": rec.gtau * rec.vir}
 
 
+def _control_law(rec: EmpsRecord) -> np.ndarray:
+    """Saturated controller output computed from the measured position [V]."""
+    qf = TAPS[0] * rec.qm + TAPS[1] * np.r_[rec.qm[0], rec.qm[:-1]]
+    dq = np.r_[0.0, np.diff(qf)] / rec.dt
+    return np.clip(rec.kv * (rec.kp * (rec.qg - rec.qm) - dq), -U_MAX_V, U_MAX_V)
+
+
 def vir_includes_pulses(rec: EmpsRecord) -> bool:
     """Whether the recorded ``vir`` contains the pulses (tested on the control law).
 
@@ -234,9 +241,7 @@ def vir_includes_pulses(rec: EmpsRecord) -> bool:
     """
     if rec.pulses is None or not np.any(rec.pulses):
         return False
-    qf = 0.5 * rec.qm + 0.5 * np.r_[rec.qm[0], rec.qm[:-1]]
-    dq = np.r_[0.0, np.diff(qf)] / rec.dt
-    law = np.clip(rec.kv * (rec.kp * (rec.qg - rec.qm) - dq), -U_MAX_V, U_MAX_V)
+    law = _control_law(rec)
     s = slice(N_BORDER, None)
     return bool(np.linalg.norm((rec.vir - rec.pulses - law)[s])
                 < np.linalg.norm((rec.vir - law)[s]))
@@ -275,9 +280,7 @@ def pulses_in_controller_units(rec: EmpsRecord, params: dict) -> tuple[EmpsRecor
     if rec.pulses is None or not np.any(rec.pulses):
         return rec, "controller"
     s = slice(N_BORDER, None)
-    qf = 0.5 * rec.qm + 0.5 * np.r_[rec.qm[0], rec.qm[:-1]]
-    dq = np.r_[0.0, np.diff(qf)] / rec.dt
-    law = np.clip(rec.kv * (rec.kp * (rec.qg - rec.qm) - dq), -U_MAX_V, U_MAX_V)
+    law = _control_law(rec)
     scales = {"controller": 1.0, "newton": 1.0 / rec.gtau}
     dev = {u: np.linalg.norm((rec.vir - k * rec.pulses - law)[s]) for u, k in scales.items()}
     unit = min(dev, key=dev.get)

@@ -84,6 +84,17 @@ def _apply_friction(BdT, x, xn, h, pf, st, k, col, idx, ratio):
 
 
 @njit(cache=True)
+def _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R):
+    """Screw and guideway friction over a step of length ``h``, then ``x = xn``."""
+    if pf_s[0] != MODEL_NONE:
+        _apply_friction(BdT, x, xn, h, pf_s, st, 0, 2, 6, R)
+    if pf_g[0] != MODEL_NONE:
+        _apply_friction(BdT, x, xn, h, pf_g, st, 1, 3, 7, 1.0)
+    for i in range(NX):
+        x[i] = xn[i]
+
+
+@njit(cache=True)
 def _reverses(x, xn, idx, pf, stk):
     if pf[0] == MODEL_NONE:
         return False
@@ -131,19 +142,9 @@ def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, h, n_sub, pf_s, 
                 if u[4] == 0.0:
                     A, B = AdgT, BdgT
             _free_step(A, B, x, xn, u)
-            if pf_s[0] != MODEL_NONE:
-                _apply_friction(B, x, xn, hs, pf_s, st, 0, 2, 6, R)
-            if pf_g[0] != MODEL_NONE:
-                _apply_friction(B, x, xn, hs, pf_g, st, 1, 3, 7, 1.0)
-            for i in range(NX):
-                x[i] = xn[i]
+            _frictions_and_advance(B, x, xn, hs, pf_s, pf_g, st, R)
         return
-    if pf_s[0] != MODEL_NONE:
-        _apply_friction(BdT, x, xn, h, pf_s, st, 0, 2, 6, R)
-    if pf_g[0] != MODEL_NONE:
-        _apply_friction(BdT, x, xn, h, pf_g, st, 1, 3, 7, 1.0)
-    for i in range(NX):
-        x[i] = xn[i]
+    _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R)
 
 
 @njit(cache=True, fastmath=True, nogil=True)
@@ -269,12 +270,7 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
             _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, T_v, n_sub, pf_s,
                             pf_g, st, R, play, K_t)
             continue
-        for i in range(NX):
-            xn[i] = BdT[0, i] * u[0] + BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
-        for j in range(NX):
-            xj = x[j]
-            for i in range(NX):
-                xn[i] += AdT[j, i] * xj
+        _free_step(AdT, BdT, x, xn, u)
         for i in range(NX):
             x[i] = xn[i]
     return x

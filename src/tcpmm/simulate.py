@@ -85,10 +85,8 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     if fr is not None:
         Ads, Bds = discretize_zoh(p.A, B, s.T_v / n_sub)
         AdsT[:n, :n], BdsT[:, :n] = Ads.T, Bds.T
-    if play > 0.0:  # inside the play: the nut spring cancelled by state feedback
-        nut = np.zeros(n)
-        nut[1], nut[2], nut[3] = m.R_L, -1.0, 1.0  # R th_L - (X_t - X_b)
-        A_gap = p.A - m.K_t * np.outer(B[:, 4], nut)
+    if play > 0.0:  # inside the play: the nut force cancelled by state feedback
+        A_gap = p.A - np.outer(B[:, 4], p.output_row("F_t"))
         Adg, Bdg = discretize_zoh(A_gap, B, s.T_v / n_sub)
         AdgT[:n, :n], BdgT[:, :n] = Adg.T, Bdg.T
     pf_s = friction_params_array(fr.screw if fr is not None else None)

@@ -80,7 +80,8 @@ class LostMotionEstimate:
         Which explanation was kept, or why the split is not determined [-].
     model : str
         ``"share"`` (``g = 0``), ``"share+lost-motion"`` (both from the speed
-        dependence) or ``"lost-motion"`` (``s = 1``, the rest is ``g``) [-].
+        dependence), ``"lost-motion"`` (``s = 1``, the rest is ``g``) or
+        ``"lost-motion given"`` (``g`` given, ``s`` fitted) [-].
     chi2 : float
         Reduced chi-square of the kept fit with the plateau standard deviations [-].
     velocity : numpy.ndarray
@@ -262,6 +263,7 @@ def estimate_lost_motion(
     viscous: str = "known",
     offset: str = "common",
     share: float | None = None,
+    backlash: float | None = None,
     max_share_std: float = 0.1,
     z_lost_motion: float = 4.0,
     min_plateaus: float = 4.0,
@@ -308,6 +310,9 @@ def estimate_lost_motion(
         slow thermal drift cancel) [-].
     share : float, optional
         Guideway share given by the user: only offset and lost motion are fitted [-].
+    backlash : float, optional
+        Lost motion known from elsewhere (e.g. :func:`tcpmm.ident.nutstiffness.estimate_nut`):
+        only offsets, the speed-proportional part and the share are fitted [m].
     max_share_std : float
         Largest standard deviation of the share for which the split counts as
         determined [-].
@@ -455,6 +460,41 @@ def estimate_lost_motion(
         return result(s, 0.0, theta[k + 1] if ok else 0.0, sd[k + 1] if ok else nan, theta,
                       ok, why, "lost-motion", chi2)
 
+    def checked(est):
+        if est.chi2 > max_chi2:
+            return replace(est, determined=False, reason=(
+                f"the plateau deflections do not follow the model (reduced chi-square "
+                f"{est.chi2:.3g} > {max_chi2:g}; {est.reason}): damping or stiffness of the "
+                f"mechanics may be wrong, or the encoder-to-scale offset changes along the "
+                f"travel"))
+        if est.model == "share" and est.guideway_share_std > max_share_std:
+            return replace(est, determined=False, reason=(
+                f"guideway share {est.guideway_share:.2f} +- {est.guideway_share_std:.2f} "
+                f"is not determined (std above {max_share_std:g})"))
+        return est
+
+    if backlash is not None:
+        g, s_ref = max(float(backlash), 0.0), 0.5
+        for _ in range(5):
+            th_, sd, chi2, meas = _wls(np.column_stack([Bu, au]), yu - 0.5 * g *
+                                       nut_sign(s_ref)[use], sdu)
+            s_new = min(max(float(th_[k]), 0.0), 1.0)
+            if np.array_equal(nut_sign(s_new), nut_sign(s_ref)):
+                break
+            s_ref = s_new
+        sd[k] = math.hypot(sd[k], abs(th_[k]) * stiffness_rel_std)
+        theta, sd_t = np.r_[th_, g], np.r_[sd, nan]
+        s = float(th_[k])
+        if not (np.isfinite(meas[k]) and meas[k] <= max_share_std and n_eff >= min_plateaus):
+            return result(s, sd[k], g, nan, theta, False,
+                          f"with the lost motion given, the plateau deflections do not "
+                          f"resolve the share ({s:.2f} +- {meas[k]:.2f} on {n_eff:.1f} "
+                          f"plateaus)", "share", chi2, sd_t)
+        return checked(result(s, sd[k], g, nan, theta, 0.0 <= s <= 1.0,
+                              "lost motion given; share from the plateau hysteresis"
+                              if 0.0 <= s <= 1.0 else f"share {s:.2f} outside [0, 1]",
+                              "lost-motion given", chi2, sd_t))
+
     # g = 0, s free; its unscaled std tells whether the plateau deflections resolve the
     # nut deflection at all
     th_a, sd_a, chi_a, meas_a = fit_free(False, 0.0)
@@ -476,19 +516,6 @@ def estimate_lost_motion(
                       f"the encoder-minus-scale hysteresis has the wrong sign (share "
                       f"{s_a:.2f} +- {s_a_sd:.2f}); check the signs of motor angle, scale "
                       f"and current", "share", chi_a)
-    def checked(est):
-        if est.chi2 > max_chi2:
-            return replace(est, determined=False, reason=(
-                f"the plateau deflections do not follow the model (reduced chi-square "
-                f"{est.chi2:.3g} > {max_chi2:g}; {est.reason}): damping or stiffness of the "
-                f"mechanics may be wrong, or the encoder-to-scale offset changes along the "
-                f"travel"))
-        if est.model == "share" and est.guideway_share_std > max_share_std:
-            return replace(est, determined=False, reason=(
-                f"guideway share {est.guideway_share:.2f} +- {est.guideway_share_std:.2f} "
-                f"is not determined (std above {max_share_std:g})"))
-        return est
-
     s_ref = min(max(s_a, 0.0), 1.0)
     if reverses(s_ref):
         # share and lost motion together, kept only if the lost motion is significant

@@ -254,12 +254,16 @@ class FrictionSplit:
         by the data: :data:`GUIDEWAY_SHARE`) or ``"given"`` (set by the user) [-].
     estimate : LostMotionEstimate or None
         The estimate from the friction runs, with standard deviations and plateaus [-].
+    nut : NutEstimate or None
+        Nut stiffness, share and lost motion from the whole record (accelerations and
+        plateaus); set when they were used, i.e. when the record shows lost motion [-].
     """
 
     guideway_share: float
     backlash: float
     source: str
     estimate: object = None
+    nut: object = None
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report.
@@ -283,6 +287,7 @@ class FrictionSplit:
                            "std": sd(e.backlash_std if e else 0.0, ("data", "given"))},
             "source": self.source,
             "estimate": e.to_dict() if e is not None else None,
+            "nut": self.nut.to_dict() if self.nut is not None else None,
         }
 
 
@@ -346,13 +351,24 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             vs=max(float(v["vs"]), 1e-6), fv_pos=k * fv, fv_neg=k * fv)
 
     given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
-    lm = estimate_lost_motion(
-        t, record.motor_angle_rad, record.scale_m, force, m.R_L, m, plateaus,
-        encoder_quantum=cfg.sensors.encoder_resolution_rad,
-        scale_resolution=cfg.sensors.scale_resolution_m,
-        stiffness_rel_std=stiffness_rel_std, viscous=viscous, offset="per_speed",
-        share=given)
-    if given is not None:
+    def plateau_split(mech, rel_std, **kw):
+        return estimate_lost_motion(
+            t, record.motor_angle_rad, record.scale_m, force, m.R_L, mech, plateaus,
+            encoder_quantum=cfg.sensors.encoder_resolution_rad,
+            scale_resolution=cfg.sensors.scale_resolution_m,
+            stiffness_rel_std=rel_std, viscous=viscous, offset="per_speed", **kw)
+
+    lm = plateau_split(m, stiffness_rel_std, share=given)
+    nut = _nut_estimate(t, record, force, m, v, share=lm.guideway_share
+                        if np.isfinite(lm.guideway_share) else GUIDEWAY_SHARE)
+    if given is None and nut is not None and nut.lost_motion_found():
+        # free play: the sweep saw a soft nut. The accelerations give the nut in contact
+        # and the lost motion; with both, the plateaus give the share.
+        lm = plateau_split(m.replace(K_t=nut.stiffness), nut.stiffness_std / nut.stiffness,
+                           backlash=nut.backlash)
+        share = lm.guideway_share if lm.determined else nut.guideway_share
+        split = FrictionSplit(min(max(share, 0.0), 1.0), nut.backlash, "data", lm, nut)
+    elif given is not None:
         split = FrictionSplit(given, lm.backlash if lm.determined else 0.0, "given", lm)
     elif lm.determined:
         split = FrictionSplit(lm.guideway_share, lm.backlash, "data", lm)
@@ -368,6 +384,28 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
                       screw=part(1 - share) if share < 1 else None,
                       backlash=split.backlash)
     return fr, est, split
+
+
+def _nut_estimate(t, record, force, mechanics, curve: dict, share: float):
+    """Nut stiffness, share and lost motion from the whole friction record, or ``None``
+    when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
+    from ..errors import InputError
+    from .nutstiffness import estimate_nut
+
+    vs = max(float(curve["vs"]), 1e-6)
+
+    def coulomb_stribeck(vel):
+        e = np.exp(-np.abs(vel / vs) ** 2)
+        return np.where(vel > 0, curve["Fc+"] + (curve["Fs+"] - curve["Fc+"]) * e,
+                        np.where(vel < 0, -(curve["Fc-"] + (curve["Fs-"] - curve["Fc-"]) * e),
+                                 0.0))
+
+    try:
+        return estimate_nut(t, record.motor_angle_rad, record.scale_m, force,
+                            mechanics.R_L, mechanics, coulomb_stribeck,
+                            share=min(max(float(share), 0.0), 1.0))
+    except InputError:
+        return None
 
 
 def place_steady_viscous(mechanics, friction, total_viscous: float, table_viscous: float):
@@ -479,10 +517,15 @@ def identify_axis(
             stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
             viscous="known" if damping_known else "fit")
         lm = split.estimate
-        if (split.source != "prior" and lm is not None and np.isfinite(lm.table_viscous)
-                and "Fv" in est.names):
+        table_viscous = lm.table_viscous if lm is not None else float("nan")
+        if split.nut is not None:
+            # the nut in contact, as the accelerations of the friction runs show it
+            mech = mech.replace(K_t=split.nut.stiffness)
+            if not (lm is not None and lm.determined and np.isfinite(table_viscous)):
+                table_viscous = split.nut.table_viscous
+        if split.source != "prior" and np.isfinite(table_viscous) and "Fv" in est.names:
             mech, fr = place_steady_viscous(
-                mech, fr, est.values[est.names.index("Fv")], lm.table_viscous)
+                mech, fr, est.values[est.names.index("Fv")], table_viscous)
     else:
         mech = phys.mechanics
     axis = Axis(

@@ -1,0 +1,241 @@
+"""Nut stiffness, guideway share and lost motion from a whole friction record.
+
+On the plateaus of constant speed the nut carries only the guideway friction, and the
+plateau deflections give the share over the nut stiffness, ``s/K_t``
+(:mod:`tcpmm.ident.lostmotion`). The sweep cannot give ``K_t`` when the nut has free play:
+its dynamic force is many times the friction that holds the nut on one flank, the nut
+crosses the play every cycle and the FRFs see a soft nut. Between the plateaus, though,
+the table accelerates and the nut carries ``M_t a`` as well, firmly on one flank. The
+equations of motion (physics.md section 1) hold at every instant:
+
+    d   = R_L th_m - X_LS = R_L T_s/K_L + F_t/K_t + sign(F_t) g/2 + c
+    T_s = K_tc i - J_m th_m'' - B_m th_m'          (motor shaft, torsion spring)
+    F_t = M_t a + C_t v + s F_f(v)                 (table; guideway friction s F_f)
+
+so that, with ``y = d - R_L (K_tc i - J_m th_m'')/K_L``,
+
+    y = c + beta v + (s/K_t) F_f(v) + (M_t/K_t) a + sign(F_t) g/2,
+    beta = C_t/K_t - B_m/K_L,
+
+linear in ``(c, beta, s/K_t, M_t/K_t, g)``. With ``M_t`` from the FRF fit (the sweep
+determines the masses well even with free play) the acceleration term gives ``K_t`` and
+the friction term the share. ``F_f`` is the Coulomb and Stribeck part of the steady
+friction curve; the viscous part through the nut is in ``beta``.
+
+The signals are low-passed without phase shift before differencing, as for the rigid
+inverse dynamics. Samples near a reversal of the nut force (where the filter smears the
+jump across the play) or of the velocity (stiction) are left out. The filtered residuals
+are correlated over about ``1/(2 cutoff)``, which the standard deviations account for.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .friction import central_difference, lowpass_filtfilt
+
+__all__ = ["NutEstimate", "estimate_nut"]
+
+
+@dataclass(frozen=True)
+class NutEstimate:
+    """Nut stiffness, guideway share and lost motion from a friction record.
+
+    Parameters
+    ----------
+    stiffness : float
+        Axial stiffness of the screw-nut in contact, ``K_t`` [N/m].
+    stiffness_std : float
+        Its standard deviation (the data alone, ``M_t`` taken as known) [N/m].
+    guideway_share : float
+        Share of the Coulomb and Stribeck friction on the guideway [-].
+    guideway_share_std : float
+        Its standard deviation [-].
+    backlash : float
+        Total lost motion of the screw-nut [m].
+    backlash_std : float
+        Its standard deviation [m].
+    table_viscous : float
+        Viscous force per speed that passes through the nut [N s/m].
+    table_viscous_std : float
+        Its standard deviation [N s/m].
+    offset : float
+        Zero offset between encoder (at the table) and scale [m].
+    determined : bool
+        The record determines stiffness and share [-].
+    reason : str
+        Why not, or what was found [-].
+    samples : int
+        Samples in the fit [-].
+    rms : float
+        Root mean square of the residual deflection [m].
+    """
+
+    stiffness: float
+    stiffness_std: float
+    guideway_share: float
+    guideway_share_std: float
+    backlash: float
+    backlash_std: float
+    table_viscous: float
+    table_viscous_std: float
+    offset: float
+    determined: bool
+    reason: str
+    samples: int
+    rms: float
+
+    def lost_motion_found(self, z: float = 4.0) -> bool:
+        """Whether the lost motion is significant: more than ``z`` standard deviations.
+
+        Parameters
+        ----------
+        z : float
+            Significance in standard deviations [-].
+
+        Returns
+        -------
+        bool
+            Determined and ``backlash > z * backlash_std`` [-].
+        """
+        return bool(self.determined and self.backlash > z * self.backlash_std)
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for a JSON report (SI units) [-]."""
+
+        def num(x):
+            return float(x) if np.isfinite(x) else None
+
+        return {
+            "stiffness_N_per_m": {"value": num(self.stiffness), "std": num(self.stiffness_std)},
+            "guideway_share": {"value": num(self.guideway_share),
+                               "std": num(self.guideway_share_std)},
+            "backlash_m": {"value": num(self.backlash), "std": num(self.backlash_std)},
+            "table_viscous_N_s_per_m": {"value": num(self.table_viscous),
+                                        "std": num(self.table_viscous_std)},
+            "offset_m": num(self.offset),
+            "determined": bool(self.determined),
+            "reason": self.reason,
+            "samples": int(self.samples),
+            "rms_m": num(self.rms),
+        }
+
+
+def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_curve, *,
+                 share: float = 0.5, cutoff: float = 20.0, min_speed: float = 2e-4,
+                 margin: float = 1.5, max_rel_std: float = 0.3) -> NutEstimate:
+    """Nut stiffness, guideway share and lost motion from a record with accelerations.
+
+    The sign of the nut force ``F_t = M_t a + C_t v + s F_f(v)`` must be known where a
+    sample enters the fit. It is that of ``v`` where the table does not decelerate (all
+    terms agree for any share ``s`` in ``[0, 1]``) or decelerates only a little
+    (``M_t |a|`` below a quarter of ``share |F_f| + C_t |v|``), and that of ``a`` where
+    the deceleration force exceeds ``margin`` times ``|F_f| + C_t |v|``; the samples in
+    between, and those within the filter's smear of them, are left out.
+
+    Parameters
+    ----------
+    t : array_like
+        Time, uniformly sampled [s].
+    motor_angle : array_like
+        Motor encoder angle [rad].
+    scale : array_like
+        Linear scale ``X_LS`` [m].
+    force : array_like
+        Motor force at the table, ``K_tc i / R_L`` [N].
+    R_L : float
+        Screw ratio ``lead / 2 pi`` [m/rad].
+    mechanics : AxisMechanics
+        Identified mechanics; ``J_m``, ``K_L``, ``B_m`` and ``M_t`` are used, ``C_t``
+        only to decide the nut-force signs [SI].
+    friction_curve : callable
+        Coulomb and Stribeck part of the steady friction at a velocity array, with the
+        sign of the velocity, table units [N].
+    share : float
+        Guideway share assumed to decide the nut-force signs of nearly steady samples
+        [-].
+    cutoff : float
+        Zero-phase low-pass before differencing [Hz].
+    min_speed : float
+        Samples slower than this are left out (stiction) [m/s].
+    margin : float
+        Factor on the largest friction force a deceleration must exceed to set the
+        nut-force sign [-].
+    max_rel_std : float
+        Largest relative standard deviation of ``M_t/K_t`` for which the record counts
+        as determining the stiffness [-].
+
+    Returns
+    -------
+    NutEstimate
+        The estimate; ``determined`` says whether to use it [-].
+    """
+    from scipy.ndimage import binary_dilation
+
+    t = np.asarray(t, dtype=float)
+    if not (t.size == np.size(motor_angle) == np.size(scale) == np.size(force)):
+        raise InputError("time, motor angle, scale and force must have the same length",
+                         column="scale")
+    dt = float(np.median(np.diff(t)))
+    m = mechanics
+    th = lowpass_filtfilt(motor_angle, dt, cutoff)
+    x = lowpass_filtfilt(scale, dt, cutoff)
+    f = lowpass_filtfilt(force, dt, cutoff)
+    alpha = central_difference(central_difference(th, dt), dt)
+    v = central_difference(x, dt)
+    a = central_difference(v, dt)
+    y = R_L * th - x - R_L * (f * R_L - m.J_m * alpha) / m.K_L
+    ff = np.asarray(friction_curve(v), dtype=float)
+    guard = max(1, round(1.0 / (cutoff * dt)))  # the filter's smear of a jump
+
+    inertia = m.M_t * np.abs(a)
+    largest = np.abs(ff) + m.C_t * np.abs(v)
+    along = a * v >= 0.0
+    steady = inertia < 0.25 * (share * np.abs(ff) + m.C_t * np.abs(v))
+    braking = ~along & (inertia > margin * largest)
+    sgn = np.where(braking, np.sign(a), np.sign(v))
+    sure = (along | steady | braking) & (np.abs(v) >= min_speed)
+    jump = np.zeros(t.size, dtype=bool)
+    jump[1:] = (sgn[1:] != sgn[:-1]) | (sure[1:] != sure[:-1])
+    use = sure & ~binary_dilation(jump | ~sure, np.ones(2 * guard + 1, dtype=bool))
+    use[:3 * guard] = use[-3 * guard:] = False  # filter start-up
+    n = int(use.sum())
+    nan = float("nan")
+    if n < 20 * guard:
+        return NutEstimate(nan, nan, nan, nan, 0.0, nan, nan, nan, nan, False,
+                           f"only {n} samples of a sure nut-force sign away from stiction",
+                           n, nan)
+    A = np.column_stack([np.ones(n), v[use], ff[use], a[use], 0.5 * sgn[use]])
+    theta, *_ = np.linalg.lstsq(A, y[use], rcond=None)
+    r = y[use] - A @ theta
+    s2 = float(r @ r) / max(n - A.shape[1], 1) * guard  # correlated over ~guard samples
+    try:
+        cov = np.linalg.inv(A.T @ A) * s2
+    except np.linalg.LinAlgError:
+        cov = np.full((5, 5), np.inf)
+    c, beta, p_s, p_a, g = (float(q) for q in theta)
+    sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    rms = float(np.sqrt(np.mean(r**2)))
+    if not (p_a > 0 and sd[3] <= max_rel_std * p_a):
+        return NutEstimate(nan, nan, nan, nan, 0.0, nan, nan, nan, c, False,
+                           f"the accelerations of the record do not determine the nut "
+                           f"stiffness (M_t/K_t = {p_a:.3g} +- {sd[3]:.2g} kg m/N)",
+                           n, rms)
+    K_t = m.M_t / p_a
+    s = p_s * K_t  # (s/K_t) K_t
+    # delta method for s = M_t p_s/p_a
+    jac = m.M_t * np.array([1.0 / p_a, -p_s / p_a**2])
+    s_sd = float(math.sqrt(max(jac @ cov[np.ix_([2, 3], [2, 3])] @ jac, 0.0)))
+    c_tab = K_t * (beta + m.B_m / m.K_L)
+    return NutEstimate(
+        stiffness=K_t, stiffness_std=K_t * sd[3] / p_a, guideway_share=s,
+        guideway_share_std=s_sd, backlash=max(g, 0.0), backlash_std=float(sd[4]),
+        table_viscous=c_tab, table_viscous_std=K_t * float(sd[1]), offset=c,
+        determined=bool(0.0 <= s <= 1.0 and g >= -4.0 * sd[4]),
+        reason=("stiffness, share and lost motion from the accelerations and plateaus"
+                if 0.0 <= s <= 1.0 else f"share {s:.2f} outside [0, 1]"),
+        samples=n, rms=rms)

@@ -119,6 +119,10 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
     assert split.nut is not None and split.source == "data"
     assert abs(idn.axis.friction.backlash - PLAY) < 0.3e-6
     assert split.estimate.model == "lost-motion given"
+    # the share rests on the lost motion: its std carries that of the lost motion
+    # (0.1 um moves the share by about 0.1 here)
+    shift = 0.1 * split.nut.backlash_std / 1e-7  # share moved by one std of lost motion
+    assert split.estimate.guideway_share_std > 0.3 * shift
     assert 0.0 <= split.guideway_share <= 1.0
     report = Identification({ax: idn}, machine).to_dict()["axes"][ax]["friction_split"]
     assert report["nut"]["stiffness_N_per_m"]["value"] == pytest.approx(

@@ -264,6 +264,7 @@ def estimate_lost_motion(
     offset: str = "common",
     share: float | None = None,
     backlash: float | None = None,
+    backlash_std: float = 0.0,
     max_share_std: float = 0.1,
     z_lost_motion: float = 4.0,
     min_plateaus: float = 4.0,
@@ -313,6 +314,8 @@ def estimate_lost_motion(
     backlash : float, optional
         Lost motion known from elsewhere (e.g. :func:`tcpmm.ident.nutstiffness.estimate_nut`):
         only offsets, the speed-proportional part and the share are fitted [m].
+    backlash_std : float
+        Standard deviation of that lost motion; it enters the share's [m].
     max_share_std : float
         Largest standard deviation of the share for which the split counts as
         determined [-].
@@ -482,7 +485,12 @@ def estimate_lost_motion(
             if np.array_equal(nut_sign(s_new), nut_sign(s_ref)):
                 break
             s_ref = s_new
-        sd[k] = math.hypot(sd[k], abs(th_[k]) * stiffness_rel_std)
+        # the share moves with the lost motion: ds/dg from the same fit with g + dg
+        dg = max(float(backlash_std), 1e-12)
+        th_dg, *_ = _wls(np.column_stack([Bu, au]), yu - 0.5 * (g + dg) *
+                         nut_sign(s_ref)[use], sdu)
+        sd[k] = math.hypot(sd[k], abs(th_[k]) * stiffness_rel_std,
+                           (th_dg[k] - th_[k]) * float(backlash_std) / dg)
         theta, sd_t = np.r_[th_, g], np.r_[sd, nan]
         s = float(th_[k])
         if not (np.isfinite(meas[k]) and meas[k] <= max_share_std and n_eff >= min_plateaus):

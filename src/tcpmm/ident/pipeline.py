@@ -366,7 +366,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         # free play: the sweep saw a soft nut. The accelerations give the nut in contact
         # and the lost motion; with both, the plateaus give the share.
         lm = plateau_split(m.replace(K_t=nut.stiffness), nut.stiffness_std / nut.stiffness,
-                           backlash=nut.backlash)
+                           backlash=nut.backlash, backlash_std=nut.backlash_std)
         share = lm.guideway_share if lm.determined else nut.guideway_share
         split = FrictionSplit(min(max(share, 0.0), 1.0), nut.backlash, "data", lm, nut)
     elif given is not None:

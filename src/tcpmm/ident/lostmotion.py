@@ -477,18 +477,20 @@ def estimate_lost_motion(
         return est
 
     if backlash is not None:
+        def fit_given(g_, s_sign):
+            """Base and s with the lost motion held at ``g_``."""
+            return _wls(np.column_stack([Bu, au]), yu - 0.5 * g_ * nut_sign(s_sign)[use], sdu)
+
         g, s_ref = max(float(backlash), 0.0), 0.5
         for _ in range(5):
-            th_, sd, chi2, meas = _wls(np.column_stack([Bu, au]), yu - 0.5 * g *
-                                       nut_sign(s_ref)[use], sdu)
+            th_, sd, chi2, meas = fit_given(g, s_ref)
             s_new = min(max(float(th_[k]), 0.0), 1.0)
             if np.array_equal(nut_sign(s_new), nut_sign(s_ref)):
                 break
             s_ref = s_new
         # the share moves with the lost motion: ds/dg from the same fit with g + dg
         dg = max(float(backlash_std), 1e-12)
-        th_dg, *_ = _wls(np.column_stack([Bu, au]), yu - 0.5 * (g + dg) *
-                         nut_sign(s_ref)[use], sdu)
+        th_dg = fit_given(g + dg, s_ref)[0]
         sd[k] = math.hypot(sd[k], abs(th_[k]) * stiffness_rel_std,
                            (th_dg[k] - th_[k]) * float(backlash_std) / dg)
         theta, sd_t = np.r_[th_, g], np.r_[sd, nan]

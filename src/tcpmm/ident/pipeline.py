@@ -4,7 +4,6 @@ the physical (grey-box) fit per axis, into a model that simulates like the built
 from __future__ import annotations
 
 import json
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -294,7 +293,7 @@ class FrictionSplit:
 
 def identify_friction(record, cfg, mechanics, guideway_share: float | None = None, *,
                       axis: str = "", stiffness_rel_std: float = 0.0,
-                      viscous: str = "fit"):
+                      viscous: str = "fit", neglect_motor_bearing: bool = False):
     """Stribeck friction and lost motion of an axis from its ``friction.csv`` record.
 
     The steady motor force at constant speed balances all friction (table units); the
@@ -323,6 +322,10 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         Fit the deflection proportional to the speed, or take the damping of
         ``mechanics`` (``B_m``, ``B_L``, ``C_t``) as known in the split; see
         :func:`tcpmm.ident.lostmotion.estimate_lost_motion` [-].
+    neglect_motor_bearing : bool
+        Take the motor-bearing damping ``B_m`` as zero in the split: it does not twist
+        the shaft, so with it less of the steady viscous force would pass through the
+        nut. The friction's viscous part is still net of the mechanics' ``B_m`` [-].
 
     Returns
     -------
@@ -359,13 +362,15 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             scale_resolution=cfg.sensors.scale_resolution_m,
             stiffness_rel_std=rel_std, viscous=viscous, offset="per_speed", **kw)
 
-    lm = plateau_split(m, stiffness_rel_std, share=given)
-    nut = _nut_estimate(t, record, force, m, v, share=lm.guideway_share
+    m_split = m.replace(B_m=0.0) if neglect_motor_bearing else m
+    lm = plateau_split(m_split, stiffness_rel_std, share=given)
+    nut = _nut_estimate(t, record, force, m_split, v, share=lm.guideway_share
                         if np.isfinite(lm.guideway_share) else GUIDEWAY_SHARE)
     if given is None and nut is not None and nut.lost_motion_found():
         # free play: the sweep saw a soft nut. The accelerations give the nut in contact
         # and the lost motion; with both, the plateaus give the share.
-        lm = plateau_split(m.replace(K_t=nut.stiffness), nut.stiffness_std / nut.stiffness,
+        lm = plateau_split(m_split.replace(K_t=nut.stiffness),
+                           nut.stiffness_std / nut.stiffness,
                            backlash=nut.backlash, backlash_std=nut.backlash_std)
         share = lm.guideway_share if lm.determined else nut.guideway_share
         split = FrictionSplit(min(max(share, 0.0), 1.0), nut.backlash, "data", lm, nut)
@@ -391,15 +396,14 @@ def _nut_estimate(t, record, force, mechanics, curve: dict, share: float):
     """Nut stiffness, share and lost motion from the whole friction record, or ``None``
     when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
     from ..errors import InputError
+    from .friction import _stribeck_curve
     from .nutstiffness import estimate_nut
 
-    vs = max(float(curve["vs"]), 1e-6)
+    p = (curve["Fc+"], curve["Fc-"], curve["Fs+"], curve["Fs-"],
+         np.log10(max(float(curve["vs"]), 1e-6)), 0.0)
 
     def coulomb_stribeck(vel):
-        e = np.exp(-np.abs(vel / vs) ** 2)
-        return np.where(vel > 0, curve["Fc+"] + (curve["Fs+"] - curve["Fc+"]) * e,
-                        np.where(vel < 0, -(curve["Fc-"] + (curve["Fs-"] - curve["Fc-"]) * e),
-                                 0.0))
+        return _stribeck_curve(p, vel, 2.0, False)
 
     try:
         return estimate_nut(t, record.motor_angle_rad, record.scale_m, force,
@@ -512,7 +516,13 @@ def identify_axis(
             return float(sd / getattr(mech, p)) if np.isfinite(sd) else float("inf")
 
         damping_known = all(rel_std(p) <= DAMPING_KNOWN_REL_STD for p in ("B_m", "B_L", "C_t"))
-        if not damping_known:
+        kt_rel = rel_std("K_t")
+        fr, est, split = identify_friction(
+            friction, cfg, mech, guideway_share, axis=name,
+            stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
+            viscous="known" if damping_known else "fit",
+            neglect_motor_bearing=not damping_known)
+        if split.source != "prior" and not damping_known:
             # Motor-bearing damping does not twist the shaft, so with it the runs would put
             # less of the steady viscous force through the nut. A sweep does not tell it
             # from the rest of the damping (it came out up to 30 times too large): the
@@ -520,23 +530,6 @@ def identify_axis(
             # K_t B_m/K_L, a few per cent for usual bearings. (Without a split from the
             # data the viscous force is not placed, and the FRF damping stays.)
             mech = mech.replace(B_m=0.0)
-        kt_rel = rel_std("K_t")
-
-        def friction_of(m):
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                out = identify_friction(
-                    friction, cfg, m, guideway_share, axis=name,
-                    stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
-                    viscous="known" if damping_known else "fit")
-            return out, caught
-
-        (fr, est, split), caught = friction_of(mech)
-        if split.source == "prior" and mech.B_m != phys.mechanics.B_m:
-            mech = phys.mechanics
-            (fr, est, split), caught = friction_of(mech)
-        for w in caught:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         lm = split.estimate
         table_viscous = lm.table_viscous if lm is not None else float("nan")
         if split.nut is not None:

@@ -5,14 +5,13 @@ import pytest
 
 from tcpmm.errors import InputError
 from tcpmm.ident.friction import (
-    decimate,
     find_plateaus,
     fit_stribeck,
-    friction_from_idim,
     identify_stribeck_run,
-    idim_ls,
     read_friction_csv,
 )
+from tcpmm.ident.idim import friction_from_idim, idim_ls
+from tcpmm.ident.signals import decimate
 from tcpmm.mechanics.friction import StribeckFriction
 from tcpmm.sim.rigid import DiscreteServo, RigidAxis, simulate_rigid_servo
 
@@ -102,7 +101,7 @@ def stribeck_run():
 
 def test_plateaus_found_in_both_directions(stribeck_run):
     r, speeds = stribeck_run
-    from tcpmm.ident.friction import central_difference, lowpass_filtfilt
+    from tcpmm.ident.signals import central_difference, lowpass_filtfilt
 
     v = central_difference(lowpass_filtfilt(r.q, T, 20.0), T)
     pl = find_plateaus(r.t, v, r.force)

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .friction import central_difference, lowpass_filtfilt
+from .signals import central_difference, lowpass_filtfilt
 
 __all__ = ["NutEstimate", "estimate_nut"]
 

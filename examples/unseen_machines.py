@@ -93,15 +93,11 @@ from tcpmm.builtin import builtin_machine
 from tcpmm.demo import RADIUS_MM, paper_circle_command
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
-from tcpmm.mechanics.friction import (
-    LuGreFriction,
-    StribeckFriction,
-    friction_params_array,
-    sliding_friction,
-)
+from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction, friction_params_array
 from tcpmm.model import Axis, AxisFriction, Machine, Sensors
 from tcpmm.servo.closedloop import is_stable
 from tcpmm.servo.params import ServoParams
+from tcpmm.sim.friction import sliding_friction
 from tcpmm.simulate import simulate
 from tcpmm.units import mm_to_m
 from tcpmm.virtual import virtual_bundle, virtual_run

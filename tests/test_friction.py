@@ -18,11 +18,13 @@ from tcpmm.mechanics.friction import (
     Backlash,
     LuGreFriction,
     StribeckFriction,
+    backlash_params_array,
+    friction_params_array,
+)
+from tcpmm.sim.friction import (
     at_rest,
     backlash_force,
-    backlash_params_array,
     friction_force,
-    friction_params_array,
     friction_step,
     lugre_steady_state,
     sliding_friction,

@@ -41,7 +41,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..mechanics.friction import MODEL_NONE, STUCK, at_rest, friction_force
+from ..mechanics.friction import MODEL_NONE, STUCK
+from .friction import at_rest, friction_force
 
 REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed

@@ -24,7 +24,7 @@ the sub-step) and the instant at which the velocity reaches zero is found exactl
 body then sticks (velocity exactly ``0.0``) while the applied force stays inside the
 static band, or slips into the other direction. With LuGre friction the velocity and
 bristle state are advanced together by the linearly implicit step of
-``tcpmm.mechanics.friction.friction_force``.
+``tcpmm.sim.friction.friction_force``.
 
 ``simulate_rigid_servo`` is the Python entry point; ``rigid_servo_kernel`` is the compiled
 loop.
@@ -53,8 +53,10 @@ from tcpmm.mechanics.friction import (
     LuGreFriction,
     StribeckFriction,
     _Holder,
-    friction_force,
     friction_params_array,
+)
+from tcpmm.sim.friction import (
+    friction_force,
     lugre_decay_rate,
     sliding_friction,
     stribeck_level,

@@ -1,0 +1,424 @@
+"""Compiled friction and lost-motion functions (numba, for per-step simulation loops).
+
+The functions read the parameter vectors built by ``friction_params_array`` and
+``backlash_params_array`` of :mod:`tcpmm.mechanics.friction`, whose constants give the
+vector layout and the model codes. Every friction force ``F`` is the force the friction
+exerts *against* the body's motion, so that the body obeys ``m v' = f_applied - F``,
+with ``f_applied`` the sum of every other force on the body along the same coordinate
+[N] (the sign convention of :mod:`tcpmm.mechanics.friction`).
+
+Calling conventions
+-------------------
+Build the parameter vector once, outside the loop, then call the jitted functions with
+plain floats inside ``@njit`` code::
+
+    p = friction_params_array(model)          # np.ndarray, float64, length N_FRICTION_PARAMS
+    s = 0.0                                   # friction state, one float per contact
+    F, s = friction_force(v, f_applied, s, p, dt, m_eff)
+    v_end = v + dt * (f_applied - F) / m_eff
+    if at_rest(s, p):
+        v_end = 0.0
+
+``friction_force(v, f_applied, state, params, dt, m_eff) -> (F, new_state)``
+    One time step ``[t, t + dt]`` of a body moving at ``v`` [m/s] at ``t`` with the other
+    forces ``f_applied`` [N] held over the step. Returns the friction force ``F`` [N] to
+    hold constant over the step and the friction state at ``t + dt``. The step is meant
+    to be completed by the caller as ``v_end = v + dt * (f_applied - F) / m_eff``, and
+    ``v_end = 0.0`` exactly when ``at_rest(new_state, params)`` (the stop force brings the
+    velocity to zero only up to rounding).
+
+    - ``m_eff`` [kg] is the mass of the body as the friction sees it over the step
+      (``m_eff = dt / |dv_end/dF|``). For a free body it is its mass. For an exactly
+      discretised linear system (ZOH), take ``dv_end/dF`` from the discrete input column
+      of the friction force, and pass ``f_applied = m_eff * (v_free - v) / dt`` where
+      ``v_free`` is the end-of-step velocity the step would give without friction: the
+      returned ``F`` then gives ``v_end = v_free - dt * F / m_eff``.
+    - ``state``: LuGre bristle deflection ``z`` [m] (read and returned); for the static
+      model a stick flag, ``STUCK`` (1.0) or ``SLIDING`` (0.0), that is only returned.
+    - Static model, ``m_eff > 0``: exact stick. If the body is at rest, or if the sliding
+      friction would reverse the velocity inside the step, the friction becomes the force
+      that stops the body at the end of the step, ``F_stop = f_applied + m_eff * v / dt``,
+      provided ``-Fs_- <= F_stop <= Fs_+`` (state ``STUCK``); beyond the static band it
+      is clipped to it and the body slips through zero into the other direction (or
+      breaks away). Otherwise it is the sliding value ``F(v)``. A body at rest under
+      ``|f_applied|`` below the static level stays at exactly zero velocity; a reversal
+      lands on zero instead of overshooting, so there is no chattering.
+    - Static model, ``m_eff == 0``: Karnopp stick band. For ``|v| <= v_stick``,
+      ``F = clip(f_applied, -Fs_-, Fs_+)``; outside it ``F = F(v)``.
+    - LuGre model: the bristle equation is stiff (``sigma0`` is large), so ``z`` and
+      ``v`` are advanced together by a linearly implicit (backward Euler) step with the
+      rate ``sigma0 |v| / g(v)`` frozen at the start of the step; with ``m_eff == 0`` the
+      velocity is taken as constant and ``z`` is updated with the exact exponential
+      solution of its linear equation. Both updates are stable for any ``dt``.
+    - The caller should sub-step (shorter ``dt``) around velocity reversals if it needs
+      the reversal instant to better than one step; stick itself needs no sub-stepping.
+
+``friction_step(v, f_applied, state, params, dt, m_eff) -> (v_end, F, new_state)``
+    The same step completed for a single free body of mass ``m_eff > 0``.
+``at_rest(state, params) -> bool``
+    True when a static-model step ended in stick.
+``sliding_friction(v, params) -> F``
+    Steady-state friction at velocity ``v`` (the Stribeck curve, ``0.0`` at ``v == 0``).
+``static_levels(params) -> (Fs_plus, Fs_minus)``
+    Break-away levels, both non-negative [N].
+``lugre_steady_state(v, params) -> z``
+    Bristle deflection in steady sliding at ``v`` [m].
+``backlash_force(delta, delta_dot, params) -> F``
+    Force transmitted across a backlash element of relative displacement ``delta`` [m]
+    and relative velocity ``delta_dot`` [m/s]; zero inside the gap ``|delta| <= b``,
+    ``k (delta - b) + c delta_dot`` beyond ``+b`` (never pulling, i.e. clipped at 0),
+    symmetric beyond ``-b``. Parameters from ``backlash_params_array(model)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from tcpmm.mechanics.friction import (
+    B_C,
+    B_GAP,
+    B_K,
+    MODEL_LUGRE,
+    MODEL_NONE,
+    MODEL_STATIC,
+    P_DELTA,
+    P_FC_NEG,
+    P_FC_POS,
+    P_FS_NEG,
+    P_FS_POS,
+    P_FV_NEG,
+    P_FV_POS,
+    P_MODEL,
+    P_SIGMA0,
+    P_SIGMA1,
+    P_V_STICK,
+    P_VS,
+    SLIDING,
+    STUCK,
+)
+
+__all__ = [
+    "at_rest",
+    "backlash_force",
+    "friction_force",
+    "friction_step",
+    "lugre_decay_rate",
+    "lugre_steady_state",
+    "sliding_friction",
+    "static_levels",
+    "stribeck_level",
+]
+
+
+@njit(cache=True)
+def static_levels(params):
+    """Break-away levels of a friction parameter vector.
+
+    Parameters
+    ----------
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    tuple of float
+        ``(Fs_plus, Fs_minus)``, both non-negative [N].
+    """
+    if params[P_MODEL] == MODEL_NONE:
+        return 0.0, 0.0
+    return params[P_FS_POS], params[P_FS_NEG]
+
+
+@njit(cache=True)
+def stribeck_level(v, params):
+    """Coulomb + Stribeck part of the sliding friction, as a magnitude.
+
+    Parameters
+    ----------
+    v : float
+        Velocity, non-zero; its sign selects the direction-dependent levels [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    float
+        ``g(v) = Fc_d + (Fs_d - Fc_d) exp(-|v / vs|**delta)`` [N].
+    """
+    if v > 0.0:
+        fc = params[P_FC_POS]
+        fs = params[P_FS_POS]
+    else:
+        fc = params[P_FC_NEG]
+        fs = params[P_FS_NEG]
+    if fs == fc:
+        return fc
+    x = abs(v) / params[P_VS]
+    d = params[P_DELTA]
+    if d == 2.0:  # the usual Gaussian form: spare the general power
+        p = x * x
+    elif d == 1.0:
+        p = x
+    else:
+        p = x**d
+    if p > 40.0:  # exp(-40) is below double precision relative to fc
+        return fc
+    return fc + (fs - fc) * math.exp(-p)
+
+
+@njit(cache=True)
+def _fv(v, params):
+    return params[P_FV_POS] if v >= 0.0 else params[P_FV_NEG]
+
+
+@njit(cache=True)
+def sliding_friction(v, params):
+    """Steady-state friction at velocity ``v`` (the Stribeck curve).
+
+    Parameters
+    ----------
+    v : float
+        Velocity [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    float
+        Friction force against the motion, with the sign of ``v``; ``0.0`` at ``v == 0``
+        [N].
+    """
+    if params[P_MODEL] == MODEL_NONE or v == 0.0:
+        return 0.0
+    g = stribeck_level(v, params)
+    return (g if v > 0.0 else -g) + _fv(v, params) * v
+
+
+@njit(cache=True)
+def lugre_steady_state(v, params):
+    """Bristle deflection of the LuGre model in steady sliding.
+
+    Parameters
+    ----------
+    v : float
+        Velocity [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` of a LuGre model [-].
+
+    Returns
+    -------
+    float
+        ``z_ss = sign(v) g(v) / sigma0``; ``0.0`` at ``v == 0`` [m].
+    """
+    if v == 0.0 or params[P_SIGMA0] <= 0.0:
+        return 0.0
+    g = stribeck_level(v, params)
+    return (g if v > 0.0 else -g) / params[P_SIGMA0]
+
+
+@njit(cache=True)
+def _clip(x, lo, hi):
+    if x < lo:
+        return lo
+    if x > hi:
+        return hi
+    return x
+
+
+@njit(cache=True)
+def _stop_or_slip(f_stop, fsn, fsp):
+    if -fsn <= f_stop <= fsp:
+        return f_stop, STUCK
+    return _clip(f_stop, -fsn, fsp), SLIDING
+
+
+@njit(cache=True)
+def _static_step(v, f_applied, params, dt, m_eff):
+    fsp = params[P_FS_POS]
+    fsn = params[P_FS_NEG]
+    if m_eff > 0.0:
+        f_stop = f_applied + m_eff * v / dt
+        if v > 0.0:
+            f_sl = sliding_friction(v, params)
+            if f_sl >= f_stop:
+                return _stop_or_slip(f_stop, fsn, fsp)
+            return f_sl, SLIDING
+        if v < 0.0:
+            f_sl = sliding_friction(v, params)
+            if f_sl <= f_stop:
+                return _stop_or_slip(f_stop, fsn, fsp)
+            return f_sl, SLIDING
+        return _stop_or_slip(f_stop, fsn, fsp)
+    if abs(v) <= params[P_V_STICK]:
+        return _clip(f_applied, -fsn, fsp), SLIDING
+    return sliding_friction(v, params), SLIDING
+
+
+@njit(cache=True)
+def lugre_decay_rate(v, params):
+    """Rate ``sigma0 |v| / g(v)`` of the LuGre bristle equation ``z' = v - rate * z``.
+
+    Parameters
+    ----------
+    v : float
+        Velocity [m/s].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` of a LuGre model [-].
+
+    Returns
+    -------
+    float
+        Decay rate, ``0.0`` at ``v == 0`` [1/s].
+    """
+    if v == 0.0:
+        return 0.0
+    return params[P_SIGMA0] * abs(v) / stribeck_level(v, params)
+
+
+@njit(cache=True)
+def _lugre_step(v, f_applied, z, params, dt, m_eff):
+    s0 = params[P_SIGMA0]
+    s1 = params[P_SIGMA1]
+    c = lugre_decay_rate(v, params)
+    fv = _fv(v, params)
+    if m_eff > 0.0:
+        # backward Euler on (v, z) with c frozen:
+        #   m (v1 - v)/dt = f_applied - F1
+        #   z1 = (z + dt v1) / (1 + c dt)
+        #   F1 = (s0 - s1 c) z1 + (s1 + fv) v1
+        den = 1.0 + c * dt
+        k = s0 - s1 * c
+        a = m_eff / dt + k * dt / den + s1 + fv
+        v1 = (m_eff * v / dt + f_applied - k * z / den) / a
+        z1 = (z + dt * v1) / den
+        f1 = k * z1 + (s1 + fv) * v1
+        return f1, z1
+    if c > 0.0:
+        z_ss = v / c
+        z1 = z_ss + (z - z_ss) * math.exp(-c * dt)
+    else:
+        z1 = z + v * dt
+    zdot = v - c * z1
+    return s0 * z1 + s1 * zdot + fv * v, z1
+
+
+@njit(cache=True)
+def friction_force(v, f_applied, state, params, dt, m_eff):
+    """Friction force over one time step, with exact stick and a stable state update.
+
+    Parameters
+    ----------
+    v : float
+        Velocity of the body at the start of the step [m/s].
+    f_applied : float
+        Sum of all other forces on the body, held over the step [N].
+    state : float
+        Friction state at the start of the step: LuGre bristle deflection [m]; for the
+        static model a stick flag (``STUCK`` or ``SLIDING``) that is returned, not read
+        [-].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+    dt : float
+        Step length, > 0 [s].
+    m_eff : float
+        Mass the friction acts on over the step (``0.0`` if unknown: Karnopp band for the
+        static model, constant-velocity state update for LuGre) [kg].
+
+    Returns
+    -------
+    tuple of float
+        ``(F, new_state)``: friction force against the motion to hold over the step [N]
+        and the friction state at the end of the step (LuGre: deflection [m]; static:
+        ``STUCK`` if the body is at rest at the end of the step, else ``SLIDING`` [-]).
+    """
+    model = params[P_MODEL]
+    if model == MODEL_NONE:
+        return 0.0, state
+    if model == MODEL_LUGRE:
+        return _lugre_step(v, f_applied, state, params, dt, m_eff)
+    return _static_step(v, f_applied, params, dt, m_eff)
+
+
+@njit(cache=True)
+def at_rest(state, params):
+    """Whether a ``friction_force`` step ended in stick (static model only).
+
+    Parameters
+    ----------
+    state : float
+        ``new_state`` returned by ``friction_force`` [-].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+
+    Returns
+    -------
+    bool
+        True if the body is at rest at the end of the step: the caller sets its velocity
+        to exactly ``0.0`` (the returned force already brings it there up to rounding)
+        [-].
+    """
+    return params[P_MODEL] == MODEL_STATIC and state == STUCK
+
+
+@njit(cache=True)
+def friction_step(v, f_applied, state, params, dt, m_eff):
+    """One explicit step of a single body with friction, exact at rest.
+
+    Parameters
+    ----------
+    v : float
+        Velocity at the start of the step [m/s].
+    f_applied : float
+        Other forces on the body, held over the step [N].
+    state : float
+        Friction state [m or -].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` [-].
+    dt : float
+        Step [s].
+    m_eff : float
+        Mass of the body, > 0 [kg].
+
+    Returns
+    -------
+    tuple of float
+        ``(v_end, F, new_state)``: velocity at the end of the step (exactly ``0.0`` in
+        stick) [m/s], friction force held over the step [N], new friction state [m or -].
+    """
+    f, s = friction_force(v, f_applied, state, params, dt, m_eff)
+    if at_rest(s, params):
+        return 0.0, f, s
+    return v + dt * (f_applied - f) / m_eff, f, s
+
+
+@njit(cache=True)
+def backlash_force(delta, delta_dot, params):
+    """Force across a screw-nut backlash (dead-zone spring with contact damping).
+
+    Parameters
+    ----------
+    delta : float
+        Relative displacement across the element (screw side minus nut side) [m].
+    delta_dot : float
+        Relative velocity [m/s].
+    params : numpy.ndarray
+        ``[k, b, c]`` from ``backlash_params_array`` [-].
+
+    Returns
+    -------
+    float
+        Transmitted force, zero inside the gap ``|delta| <= b``; in contact it never
+        changes sign against the penetration (the contact only pushes) [N].
+    """
+    k = params[B_K]
+    b = params[B_GAP]
+    c = params[B_C]
+    if delta > b:
+        f = k * (delta - b) + c * delta_dot
+        return f if f > 0.0 else 0.0
+    if delta < -b:
+        f = k * (delta + b) + c * delta_dot
+        return f if f < 0.0 else 0.0
+    return 0.0

@@ -418,6 +418,36 @@ def fit_sigma0(rec, meas, base: EmpsModel, ref_err: dict, n_sub: int = N_SUB) ->
     return 10.0 ** float(res.x)
 
 
+_IDIM_SETTINGS = {"cutoff": FILTER_CUTOFF_HZ, "order": FILTER_ORDER, "decimation": DECIMATION,
+                  "skip": N_BORDER - 1}
+
+
+def _reference_estimate(rec: EmpsRecord):
+    return idim_ls(rec.qm, rec.gtau * rec.vir, rec.dt, friction="symmetric", **_IDIM_SETTINGS)
+
+
+def reference_model(rec: EmpsRecord, estimate=None) -> EmpsModel:
+    """The benchmark's reference model identified by IDIM-LS with the published filter.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        Estimation data [-].
+    estimate : ParameterEstimate, optional
+        Its IDIM-LS estimate, if already computed [SI].
+
+    Returns
+    -------
+    EmpsModel
+        Symmetric Coulomb and viscous friction, offset, one-sample delay [-].
+    """
+    est = _reference_estimate(rec) if estimate is None else estimate
+    fr, off = friction_from_idim(est)
+    return EmpsModel("reference", est["M"], off, fr, 1.0,
+                     "published structure: symmetric Coulomb + viscous + offset, "
+                     "one-sample delay")
+
+
 def identify(rec: EmpsRecord, n_sub: int = N_SUB) -> tuple[dict, dict]:
     """Identify the reference model and the improved models on the estimation data.
 
@@ -434,14 +464,10 @@ def identify(rec: EmpsRecord, n_sub: int = N_SUB) -> tuple[dict, dict]:
         ``(identification results for JSON, {name: EmpsModel})`` [-].
     """
     force = rec.gtau * rec.vir
-    common = {"cutoff": FILTER_CUTOFF_HZ, "order": FILTER_ORDER, "decimation": DECIMATION,
-              "skip": N_BORDER - 1}
-    ref_est = idim_ls(rec.qm, force, rec.dt, friction="symmetric", **common)
+    ref_est = _reference_estimate(rec)
     fr_ref, off_ref = friction_from_idim(ref_est)
-    models = {"reference": EmpsModel(
-        "reference", ref_est["M"], off_ref, fr_ref, 1.0,
-        "published structure: symmetric Coulomb + viscous + offset, one-sample delay")}
-    asym_est = idim_ls(rec.qm, force, rec.dt, friction="asymmetric", **common)
+    models = {"reference": reference_model(rec, ref_est)}
+    asym_est = idim_ls(rec.qm, force, rec.dt, friction="asymmetric", **_IDIM_SETTINGS)
     fr_a, off_a = friction_from_idim(asym_est)
     models["asymmetric"] = EmpsModel(
         "asymmetric", asym_est["M"], off_a, fr_a, 1.0,
@@ -455,13 +481,13 @@ def identify(rec: EmpsRecord, n_sub: int = N_SUB) -> tuple[dict, dict]:
         "reference parameters, actuation delay fitted in closed loop")
     shift = delay + 0.5
     asym_d = idim_ls(rec.qm, force, rec.dt, friction="asymmetric", force_shift=shift,
-                     **common)
+                     **_IDIM_SETTINGS)
     fr_ad, off_ad = friction_from_idim(asym_d)
     models["asymmetric_delay"] = EmpsModel(
         "asymmetric_delay", asym_d["M"], off_ad, fr_ad, delay,
         "asymmetric friction re-identified with the force aligned to the fitted delay")
     strib = idim_ls(rec.qm, force, rec.dt, friction="asymmetric", force_shift=shift,
-                    stribeck_velocity="fit", **common)
+                    stribeck_velocity="fit", **_IDIM_SETTINGS)
     fr_s, off_s = friction_from_idim(strib)
     models["asymmetric_stribeck_delay"] = EmpsModel(
         "asymmetric_stribeck_delay", strib["M"], off_s, fr_s, delay,
@@ -629,7 +655,8 @@ def _print_table(report):
         pub = PUBLISHED["simulation"]
         if key == "estimation":
             print(f"{'published reference':28s} {pub['position']:9.4f} {pub['velocity']:9.4f} "
-                  f"{pub['acceleration']:9.4f} {pub['force']:9.4f}")
+                  f"{pub['acceleration']:9.4f} {pub['force']:9.4f}   (fixed-step sign(v), "
+                  "not converged: examples/emps_numerics.py)")
         tb = sec["reference_published_time_base_percent"]
         print(f"{'reference, published t-base':28s} {tb['position']:9.4f} {tb['velocity']:9.4f} "
               f"{tb['acceleration']:9.4f} {tb['force']:9.4f}")

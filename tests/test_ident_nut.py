@@ -108,10 +108,16 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
     and a share from the plateaus with that play."""
     a = with_play(machine.axes[ax], PLAY)
     sweep = virtual_sweep(a, name=ax)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         soft = identify_axis(ax, sweep, config(machine, ax))
+        n_soft = len(caught)
         idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax, PLAY))
+    play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
+    # the user is told that the sweep crossed the play and what it may have cost
+    assert len(play_warnings) == 1 and not any(
+        "lost motion in the nut" in str(w.message) for w in caught[:n_soft])
+    assert f"axis {ax}" in play_warnings[0] and "M_t" in play_warnings[0]
     K_t = machine.axes[ax].mechanics.K_t
     assert soft.axis.mechanics.K_t < 0.95 * K_t  # what the sweep alone sees
     assert idn.axis.mechanics.K_t == pytest.approx(K_t, rel=0.1)

@@ -559,8 +559,8 @@ def _warn_sweep_crosses_play(name: str, sweep, nut) -> None:
 
     src = f"{sweep.source}: " if getattr(sweep, "source", None) else ""
     warnings.warn(
-        f"{src}axis {name}: the friction runs show {nut.backlash * 1e6:.1f} +/- "
-        f"{nut.backlash_std * 1e6:.1f} um of lost motion in the nut, which the sweep crosses "
+        f"{src}axis {name}: the friction runs show {nut.backlash * 1e6:.2f} +/- "
+        f"{nut.backlash_std * 1e6:.2f} um of lost motion in the nut, which the sweep crosses "
         "every cycle; around the axial modes its FRFs are not those of a linear axis, and "
         "the fitted split of inertia between motor side and table (M_t, and with it the "
         "structure's M_b, K_b, M_h, K_h) can be off by tens of per cent. The nut stiffness "

@@ -14,8 +14,9 @@ import pytest
 from tcpmm.builtin import builtin_machine
 from tcpmm.errors import InputWarning
 from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
+from tcpmm.ident.frictionsplit import GUIDEWAY_SHARE, identify_friction
 from tcpmm.ident.lostmotion import estimate_lost_motion, quantisation_bias_std
-from tcpmm.ident.pipeline import GUIDEWAY_SHARE, Identification, identify_axis, identify_friction
+from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.io.bundle_schema import MachineConfig
 from tcpmm.io.records import FrictionRecord
 from tcpmm.virtual import FRICTION_SPEEDS, bundle_machine_yaml, virtual_friction, virtual_sweep
@@ -353,7 +354,7 @@ def test_viscous_force_is_placed_where_the_runs_say(machine, ax):
     """The speed-proportional part of the nut deflection gives the viscous force through
     the nut (table damping plus viscous guideway friction); the rest of the measured
     slope goes to the motor side, and the total is kept."""
-    from tcpmm.ident.pipeline import place_steady_viscous
+    from tcpmm.ident.frictionsplit import place_steady_viscous
 
     a = machine.axes[ax]
     m, f = a.mechanics, a.friction

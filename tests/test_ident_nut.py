@@ -13,8 +13,9 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
+from tcpmm.ident.frictionsplit import identify_friction
 from tcpmm.ident.nutstiffness import estimate_nut
-from tcpmm.ident.pipeline import Identification, identify_axis, identify_friction
+from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.io.bundle_schema import MachineConfig
 from tcpmm.virtual import FRICTION_SPEEDS, bundle_machine_yaml, virtual_friction, virtual_sweep
 

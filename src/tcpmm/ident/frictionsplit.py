@@ -1,0 +1,235 @@
+"""Friction of an axis from its constant-speed runs, split between guideway and screw.
+
+``identify_friction`` fits the Stribeck curve to the ``friction.csv`` record of an axis
+(:mod:`tcpmm.ident.friction`) and divides it between guideway and screw-nut: from the
+deflection between encoder and scale on the plateaus (:mod:`tcpmm.ident.lostmotion`) and,
+when the record shows lost motion in the nut, from the nut stiffness over the whole record
+(:mod:`tcpmm.ident.nutstiffness`). When the runs do not determine the split,
+:data:`GUIDEWAY_SHARE` is used. ``FrictionSplit`` records the share, the lost motion and
+where they came from. ``place_steady_viscous`` puts the viscous force of steady motion into
+the damping of the mechanics, on the side of the nut where the runs say it acts.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, InputWarning
+from ..mechanics.friction import StribeckFriction
+from ..model import AxisFriction
+from .friction import _stribeck_curve, friction_record_arrays, identify_stribeck_run
+from .lostmotion import estimate_lost_motion
+from .nutstiffness import estimate_nut
+
+__all__ = ["GUIDEWAY_SHARE", "FrictionSplit", "identify_friction", "place_steady_viscous"]
+
+#: Share of the identified friction put on the guideway when the friction runs do not
+#: determine it (see :mod:`tcpmm.ident.lostmotion`): preloaded, sealed linear guides
+#: usually carry most of the friction of a feed axis.
+GUIDEWAY_SHARE = 0.7
+
+
+@dataclass(frozen=True)
+class FrictionSplit:
+    """How the identified friction was split between guideway and screw.
+
+    Parameters
+    ----------
+    guideway_share : float
+        Share of the friction put on the guideway, the rest on the screw [-].
+    backlash : float
+        Lost motion of the screw-nut put into the model [m].
+    source : str
+        ``"data"`` (from the encoder-minus-scale deflection), ``"prior"`` (not determined
+        by the data: :data:`GUIDEWAY_SHARE`) or ``"given"`` (set by the user) [-].
+    estimate : LostMotionEstimate or None
+        The estimate from the friction runs, with standard deviations and plateaus [-].
+    nut : NutEstimate or None
+        Nut stiffness, share and lost motion from the whole record (accelerations and
+        plateaus); set when they were used, i.e. when the record shows lost motion [-].
+    """
+
+    guideway_share: float
+    backlash: float
+    source: str
+    estimate: object = None
+    nut: object = None
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report.
+
+        Returns
+        -------
+        dict
+            Share and lost motion used, their standard deviations when they come from the
+            data, the source and the full estimate [-].
+        """
+        e = self.estimate
+
+        def sd(x, sources):
+            ok = e is not None and self.source in sources and np.isfinite(x)
+            return float(x) if ok else None
+
+        return {
+            "guideway_share": {"value": float(self.guideway_share),
+                               "std": sd(e.guideway_share_std if e else 0.0, ("data",))},
+            "backlash_m": {"value": float(self.backlash),
+                           "std": sd(e.backlash_std if e else 0.0, ("data", "given"))},
+            "source": self.source,
+            "estimate": e.to_dict() if e is not None else None,
+            "nut": self.nut.to_dict() if self.nut is not None else None,
+        }
+
+
+def identify_friction(record, cfg, mechanics, guideway_share: float | None = None, *,
+                      axis: str = "", stiffness_rel_std: float = 0.0,
+                      viscous: str = "fit", neglect_motor_bearing: bool = False):
+    """Stribeck friction and lost motion of an axis from its ``friction.csv`` record.
+
+    The steady motor force at constant speed balances all friction (table units); the
+    viscous part that the linear mechanics already carries (``B_m``, ``B_L``, ``C_t``) is
+    taken off. The split between guideway and screw and the lost motion of the nut come
+    from the deflection between encoder and scale on the plateaus
+    (:func:`tcpmm.ident.lostmotion.estimate_lost_motion`, one encoder-to-scale offset per
+    speed so that lead errors of the screw cancel); when the data do not determine the
+    split, :data:`GUIDEWAY_SHARE` is used and an :class:`InputWarning` says why.
+
+    Parameters
+    ----------
+    record : FrictionRecord
+        Constant-velocity runs, SI [-].
+    cfg : AxisConfig
+        Lead, torque constant and sensors of the axis [-].
+    mechanics : AxisMechanics
+        Identified mechanics of the axis [SI].
+    guideway_share : float, optional
+        Share of the friction put on the guideway; ``None``: from the data [-].
+    axis : str
+        Axis name, for messages [-].
+    stiffness_rel_std : float
+        Relative standard deviation of the identified ``K_t`` [-].
+    viscous : {"fit", "known"}
+        Fit the deflection proportional to the speed, or take the damping of
+        ``mechanics`` (``B_m``, ``B_L``, ``C_t``) as known in the split; see
+        :func:`tcpmm.ident.lostmotion.estimate_lost_motion` [-].
+    neglect_motor_bearing : bool
+        Take the motor-bearing damping ``B_m`` as zero in the split: it does not twist
+        the shaft, so with it less of the steady viscous force would pass through the
+        nut. The friction's viscous part is still net of the mechanics' ``B_m`` [-].
+
+    Returns
+    -------
+    AxisFriction, ParameterEstimate, FrictionSplit
+        The friction element, the fitted curve with standard deviations, and the split
+        with the lost-motion estimate [-].
+    """
+    t, x, force = friction_record_arrays(record, cfg.lead_m, cfg.torque_constant)
+    est, plateaus = identify_stribeck_run(t, x, force)
+    v = dict(zip(est.names, est.values, strict=True))
+    m = mechanics
+    linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t
+    fv = max(float(v["Fv"]) - linear, 0.0)
+
+    def part(k):
+        return StribeckFriction(
+            fc_pos=k * max(v["Fc+"], 0.0), fc_neg=k * max(v["Fc-"], 0.0),
+            fs_pos=k * max(v["Fs+"], 0.0), fs_neg=k * max(v["Fs-"], 0.0),
+            vs=max(float(v["vs"]), 1e-6), fv_pos=k * fv, fv_neg=k * fv)
+
+    given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
+    def plateau_split(mech, rel_std, **kw):
+        return estimate_lost_motion(
+            t, record.motor_angle_rad, record.scale_m, force, m.R_L, mech, plateaus,
+            encoder_quantum=cfg.sensors.encoder_resolution_rad,
+            scale_resolution=cfg.sensors.scale_resolution_m,
+            stiffness_rel_std=rel_std, viscous=viscous, offset="per_speed", **kw)
+
+    m_split = m.replace(B_m=0.0) if neglect_motor_bearing else m
+    lm = plateau_split(m_split, stiffness_rel_std, share=given)
+    nut = _nut_estimate(t, record, force, m_split, v, share=lm.guideway_share
+                        if np.isfinite(lm.guideway_share) else GUIDEWAY_SHARE)
+    if given is None and nut is not None and nut.lost_motion_found():
+        # free play: the sweep saw a soft nut. The accelerations give the nut in contact
+        # and the lost motion; with both, the plateaus give the share.
+        lm = plateau_split(m_split.replace(K_t=nut.stiffness),
+                           nut.stiffness_std / nut.stiffness,
+                           backlash=nut.backlash, backlash_std=nut.backlash_std)
+        share = lm.guideway_share if lm.determined else nut.guideway_share
+        split = FrictionSplit(min(max(share, 0.0), 1.0), nut.backlash, "data", lm, nut)
+    elif given is not None:
+        split = FrictionSplit(given, lm.backlash if lm.determined else 0.0, "given", lm)
+    elif lm.determined:
+        split = FrictionSplit(lm.guideway_share, lm.backlash, "data", lm)
+    else:
+        name = f"axis {axis}" if axis else "axis"
+        warnings.warn(
+            f"{name}: the friction runs do not determine how the friction divides between "
+            f"guideway and screw ({lm.reason}); using the prior guideway share "
+            f"{GUIDEWAY_SHARE} and no lost motion", InputWarning, stacklevel=2)
+        split = FrictionSplit(GUIDEWAY_SHARE, 0.0, "prior", lm)
+    share = split.guideway_share
+    fr = AxisFriction(guideway=part(share) if share > 0 else None,
+                      screw=part(1 - share) if share < 1 else None,
+                      backlash=split.backlash)
+    return fr, est, split
+
+
+def _nut_estimate(t, record, force, mechanics, curve: dict, share: float):
+    """Nut stiffness, share and lost motion from the whole friction record, or ``None``
+    when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
+    p = (curve["Fc+"], curve["Fc-"], curve["Fs+"], curve["Fs-"],
+         np.log10(max(float(curve["vs"]), 1e-6)), 0.0)
+
+    def coulomb_stribeck(vel):
+        return _stribeck_curve(p, vel, 2.0, False)
+
+    try:
+        return estimate_nut(t, record.motor_angle_rad, record.scale_m, force,
+                            mechanics.R_L, mechanics, coulomb_stribeck,
+                            share=min(max(float(share), 0.0), 1.0))
+    except InputError:
+        return None
+
+
+def place_steady_viscous(mechanics, friction, total_viscous: float, table_viscous: float):
+    """Put the viscous force of steady motion where the friction runs say it acts.
+
+    A sweep sees the friction's local slope as damping as well, and the FRFs rarely
+    determine ``B_m``, ``B_L`` and ``C_t``; the constant-speed runs measure the total
+    viscous force per speed and, through the nut deflection, the part that passes
+    through the nut (table side). The table side becomes ``C_t``, the rest is shared by
+    ``B_m`` and ``B_L`` in their identified proportion, and the friction keeps no
+    viscous part.
+
+    Parameters
+    ----------
+    mechanics : AxisMechanics
+        Identified mechanics [SI].
+    friction : AxisFriction
+        Identified friction (Stribeck, table units) [SI].
+    total_viscous : float
+        Slope of the steady motor force over the speed, at the table [N s/m].
+    table_viscous : float
+        Part of it that passes through the nut [N s/m].
+
+    Returns
+    -------
+    AxisMechanics, AxisFriction
+        Mechanics and friction with the viscous force placed [SI].
+    """
+    m = mechanics
+    total = max(float(total_viscous), 0.0)
+    c_tab = min(max(float(table_viscous), 0.0), total)
+    motor = (total - c_tab) * m.R_L**2  # [N m s/rad]
+    b_sum = m.B_m + m.B_L
+    B_m, B_L = (m.B_m * motor / b_sum, m.B_L * motor / b_sum) if b_sum > 0 else (0.0, motor)
+
+    def no_fv(c):
+        return None if c is None else c.model_copy(update={"fv_pos": 0.0, "fv_neg": 0.0})
+
+    fr = friction.model_copy(update={"guideway": no_fv(friction.guideway),
+                                     "screw": no_fv(friction.screw)})
+    return m.replace(B_m=B_m, B_L=B_L, C_t=c_tab), fr

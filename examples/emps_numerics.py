@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 
 import numpy as np
@@ -43,6 +42,7 @@ from emps import (
     N_SUB,
     PUBLISHED,
     EmpsModel,
+    _json_default,
     load_emps,
     measured_signals,
     reference_model,
@@ -193,8 +193,7 @@ def main(argv=None) -> dict:
     args = ap.parse_args(argv)
     res = study(args.estimation)
     if args.json:
-        print(json.dumps(res, indent=2, default=lambda o: o.item() if isinstance(
-            o, np.generic) else None if isinstance(o, float) and not math.isfinite(o) else o))
+        print(json.dumps(res, indent=2, default=_json_default))
     else:
         _print(res)
     return res

@@ -4,12 +4,14 @@ the physical (grey-box) fit per axis, into a model that simulates like the built
 from __future__ import annotations
 
 import json
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from .._threads import limit_blas_threads
+from ..errors import InputWarning
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from .frf import reduced_frfs
@@ -335,10 +337,6 @@ def identify_axis(
 
 
 def _warn_sweep_crosses_play(name: str, sweep, nut) -> None:
-    import warnings
-
-    from ..errors import InputWarning
-
     src = f"{sweep.source}: " if getattr(sweep, "source", None) else ""
     warnings.warn(
         f"{src}axis {name}: the friction runs show {nut.backlash * 1e6:.2f} +/- "

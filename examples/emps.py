@@ -512,6 +512,26 @@ def identify(rec: EmpsRecord, n_sub: int = N_SUB) -> tuple[dict, dict]:
     return ident, models
 
 
+def published_time_base(rec: EmpsRecord) -> tuple[float, np.ndarray]:
+    """Controller period and reference of the published simulation script.
+
+    The script runs its controller with ``tec = t(10) - t(9)`` and compares sample by
+    sample with the measurement.
+
+    Parameters
+    ----------
+    rec : EmpsRecord
+        The data [-].
+
+    Returns
+    -------
+    tuple
+        ``(tec [s], reference position at k * tec [m])``.
+    """
+    tec = float(rec.t[9] - rec.t[8])
+    return tec, np.interp(np.arange(rec.t.size) * tec, rec.t, rec.qg)
+
+
 def evaluate(rec: EmpsRecord, models: dict, n_sub: int = N_SUB) -> dict:
     """Closed-loop errors of every model on one data set.
 
@@ -534,10 +554,7 @@ def evaluate(rec: EmpsRecord, models: dict, n_sub: int = N_SUB) -> dict:
     sims = {name: simulate(rec, m, n_sub) for name, m in models.items()}
     errors = {name: relative_errors(rec, s, meas) for name, s in sims.items()}
     out = {"file": rec.name, "n_samples": int(rec.t.size), "errors_percent": errors}
-    # the published script runs its controller with tec = t(10) - t(9) and compares
-    # sample by sample; reproduce that time base for the reference model
-    tec = float(rec.t[9] - rec.t[8])
-    ref_tb = np.interp(np.arange(rec.t.size) * tec, rec.t, rec.qg)
+    tec, ref_tb = published_time_base(rec)
     sim_tb = simulate(rec, models["reference"], n_sub, period=tec, ref=ref_tb)
     out["reference_published_time_base_percent"] = relative_errors(rec, sim_tb, meas)
     ref = errors["reference"]

@@ -41,10 +41,13 @@ import numpy as np
 from emps import (
     N_SUB,
     PUBLISHED,
+    TAPS,
+    U_MAX_V,
     EmpsModel,
     _json_default,
     load_emps,
     measured_signals,
+    published_time_base,
     reference_model,
     relative_errors,
     simulate,
@@ -98,7 +101,7 @@ def simulate_sign_rk(rec, model: EmpsModel, ref: np.ndarray, period: float, n_su
     a_tab, b_tab = TABLEAUS[scheme]
     m, off = model.mass, model.offset
     fc, fv = model.friction.fc_pos, model.friction.fv_pos
-    g, kp, kv, umax = rec.gtau, rec.kp, rec.kv, 10.0
+    g, kp, kv = rec.gtau, rec.kp, rec.kv
     h = period / n_sub
     n = ref.size
     q = float(rec.qm[0])
@@ -107,10 +110,10 @@ def simulate_sign_rk(rec, model: EmpsModel, ref: np.ndarray, period: float, n_su
     u_prev = 0.0
     out_q, out_v, out_a, out_u, out_c = (np.empty(n) for _ in range(5))
     for k in range(n):
-        q_filt = 0.5 * q + 0.5 * q_prev
+        q_filt = TAPS[0] * q + TAPS[1] * q_prev
         dq = 0.0 if k == 0 else (q_filt - q_filt_prev) / period
         q_filt_prev, q_prev = q_filt, q
-        u = min(umax, max(-umax, kv * (kp * (float(ref[k]) - q) - dq)))
+        u = min(U_MAX_V, max(-U_MAX_V, kv * (kp * (float(ref[k]) - q) - dq)))
         ua, u_prev = u_prev, u  # one-sample delay
         force = g * ua - off
         out_q[k], out_v[k], out_u[k], out_c[k] = q, v, ua, u
@@ -148,8 +151,7 @@ def study(estimation, steps=STEPS, schemes=("rk4", "dopri5")) -> dict:
     rec = load_emps(estimation)
     meas = measured_signals(rec)
     model = reference_model(rec)
-    period = float(rec.t[9] - rec.t[8])  # the published script's tec
-    ref = np.interp(np.arange(rec.t.size) * period, rec.t, rec.qg)
+    period, ref = published_time_base(rec)
     exact = simulate(rec, model, N_SUB, period=period, ref=ref)
     out = {"published": PUBLISHED["simulation"],
            "closed_form": relative_errors(rec, exact, meas), "explicit": {}}

@@ -112,13 +112,9 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         soft = identify_axis(ax, sweep, config(machine, ax))
-        n_soft = len(caught)
         idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax, PLAY))
-    play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
-    # the user is told that the sweep crossed the play and what it may have cost
-    assert len(play_warnings) == 1 and not any(
-        "lost motion in the nut" in str(w.message) for w in caught[:n_soft])
-    assert f"axis {ax}" in play_warnings[0] and "M_t" in play_warnings[0]
+    # the travelling sweep lets the play be modelled: nothing to warn about
+    assert not any("lost motion in the nut" in str(w.message) for w in caught)
     K_t = machine.axes[ax].mechanics.K_t
     assert soft.axis.mechanics.K_t < 0.95 * K_t  # what the sweep alone sees
     assert idn.axis.mechanics.K_t == pytest.approx(K_t, rel=0.1)
@@ -131,10 +127,45 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
     shift = 0.1 * split.nut.backlash_std / 1e-7  # share moved by one std of lost motion
     assert split.estimate.guideway_share_std > 0.3 * shift
     assert 0.0 <= split.guideway_share <= 1.0
-    report = Identification({ax: idn}, machine).to_dict()["axes"][ax]["friction_split"]
-    assert report["nut"]["stiffness_N_per_m"]["value"] == pytest.approx(
+    report = Identification({ax: idn}, machine).to_dict()["axes"][ax]
+    assert report["friction_split"]["nut"]["stiffness_N_per_m"]["value"] == pytest.approx(
         idn.axis.mechanics.K_t)
-    assert report["nut"]["backlash_m"]["value"] == pytest.approx(split.backlash)
+    assert report["friction_split"]["nut"]["backlash_m"]["value"] == pytest.approx(
+        split.backlash)
+    assert 0.0 < report["sweep_play"]["lowest_nut_gain"] < 0.6
+
+
+@pytest.mark.parametrize("ax", ["X", "Y"])
+def test_the_play_crossed_by_the_sweep_is_modelled(machine, ax):
+    """Mechanics refitted with the nut as soft as the sweep saw it: table mass and
+    structure within 3 % of the truth (measured 0.98-1.00, the linear fit 0.93-1.02), and
+    the model as measured follows the soft-nut FRFs better than the linear one does."""
+    a = with_play(machine.axes[ax], PLAY)
+    sweep = virtual_sweep(a, name=ax)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax, PLAY))
+    m, true = idn.axis.mechanics, machine.axes[ax].mechanics
+    for p in ("M_t", "M_h", "K_h"):
+        assert getattr(m, p) == pytest.approx(getattr(true, p), rel=0.03), p
+    gain = idn.physical.extra["nut_gain"]
+    f = idn.frfs["G_T"].freq_hz
+    assert np.all((gain(f) >= 0.0) & (gain(f) <= 1.0)) and gain(f).min() < 0.6
+    assert gain(np.array([1e5]))[0] == 1.0  # beyond the record: the nut as identified
+
+
+def test_a_standing_sweep_leaves_the_play_unmodelled(machine):
+    """Without travel no friction holds the nut on a flank: the mechanics keep their linear
+    fit and the user is told what the play may have cost."""
+    a = with_play(machine.axes["X"], PLAY)
+    sweep = virtual_sweep(a, name="X", travel_speed_m_per_s=0.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        idn = identify_axis("X", sweep, config(machine, "X"), friction=record(machine, "X", PLAY))
+    play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
+    assert len(play_warnings) == 1
+    assert "axis X" in play_warnings[0] and "M_t" in play_warnings[0]
+    assert "nut_gain" not in idn.physical.extra
 
 
 def test_without_play_the_plateau_split_is_kept(machine):

@@ -93,7 +93,7 @@ class PhysicalFit:
 
 
 def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
-               hold_period_s: float = 0.0) -> dict:
+               hold_period_s: float = 0.0, nut_gain=None) -> dict:
     """G_M, G_T, G_tcp of a mechanics at the frequencies of each FRF.
 
     Uses the block algebra of the equations of motion (equal to the state-space
@@ -110,6 +110,9 @@ def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
     hold_period_s : float
         The drive holds the current command over its velocity-loop period; seen from
         the sampled command this is a zero-order hold in G_M [s].
+    nut_gain : callable, optional
+        ``nut_gain(f)``: factor on ``K_t`` per frequency, the nut's lost motion as the
+        excitation sees it (:func:`tcpmm.ident.playdf.play_gain`) [-].
     """
     out = {}
     m = mech
@@ -123,8 +126,9 @@ def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
             den_h = m.M_h * s**2 + m.C_h * s + m.K_h
             out[name] = (1 / den_t - 1 / den_h) / D
             continue
-        KtD = m.K_t * D
-        ZL = m.J_L * s**2 + m.B_L * s + m.K_t * R**2 / (1 + KtD)
+        K_t = m.K_t if nut_gain is None else m.K_t * nut_gain(f)
+        KtD = K_t * D
+        ZL = m.J_L * s**2 + m.B_L * s + K_t * R**2 / (1 + KtD)
         if name == "G_T":
             out[name] = (m.K_L / (ZL + m.K_L)) * R * KtD / (1 + KtD)
             continue
@@ -277,7 +281,7 @@ def j_total_from_g_m(frf: FRFData, K_tc: float) -> float:
 def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = None,
                  current_bandwidth_hz=None, fit_current_loop: bool = False,
                  max_nfev: int = 200, tf_fits: dict | None = None,
-                 hold_period_s: float = 0.0) -> PhysicalFit:
+                 hold_period_s: float = 0.0, nut_gain=None) -> PhysicalFit:
     """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.
 
     Parameters
@@ -301,6 +305,9 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         Rational fits of the same FRFs; their poles and zeros seed the starts [-].
     hold_period_s : float
         Velocity-loop period of the drive (zero-order hold of the current) [s].
+    nut_gain : callable, optional
+        Factor on ``K_t`` per frequency (lost motion crossed by the sweep), see
+        :func:`model_frfs` [-].
     """
     limit_blas_threads()
     for need in ("G_M", "G_T"):
@@ -329,7 +336,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     def resid(theta):
         m = mech_of(theta)
         try:
-            model = model_frfs(m, freqs, bandwidth(theta), hold_period_s)
+            model = model_frfs(m, freqs, bandwidth(theta), hold_period_s, nut_gain)
         except np.linalg.LinAlgError:
             return np.full(sum(2 * f.size for f in freqs.values()), 1e3)
         parts = []
@@ -379,7 +386,8 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         warnings.warn("the FRFs do not determine " + ", ".join(undetermined) +
                       " (relative standard deviation above 50 %); their values are a guess",
                       InputWarning, stacklevel=2)
-    model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i, hold_period_s)
+    model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i, hold_period_s,
+                       nut_gain)
     rel = {k: rel_error(d.H[d.weight > 0], model[k][d.weight > 0]) for k, d in full.items()}
     for p in ("M_h", "C_h", "K_h"):
         std.setdefault(p, float("nan"))

@@ -12,12 +12,15 @@ import numpy as np
 
 from .._threads import limit_blas_threads
 from ..errors import InputWarning
+from ..mechanics.friction import friction_params_array
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
+from ..sim.friction import sliding_friction
 from .frf import reduced_frfs
 from .frictionsplit import identify_friction, place_steady_viscous
 from .metrics import fit_percent
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
+from .playdf import nut_deflection_amplitude, play_gain
 from .tffit import fit_tf
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
@@ -27,6 +30,12 @@ from .tffit import fit_tf
 TF_ORDERS = {"G_M": (6, 6, 1), "G_T": (2, 6, 0), "G_tcp": (4, 4, 0)}
 TF_DELAY = {"G_M": "fit"}
 MIN_COHERENCE = 0.5
+#: Refits of the mechanics with the nut's lost motion as the sweep saw it; each one takes
+#: the nut deflection through the torsion of the previous fit.
+PLAY_ITERATIONS = 3
+#: Travel over a sweep record below which it counts as standing still: the guideway
+#: friction then holds the nut on no particular flank [m].
+MIN_SWEEP_TRAVEL_M = 1e-3
 
 
 @dataclass
@@ -64,12 +73,14 @@ class AxisIdentification:
 
     def physical_response(self, name: str, f_hz) -> np.ndarray:
         """Response of the identified physical model as measured (with the drive's
-        zero-order hold of the current) [SI]."""
+        zero-order hold of the current, and the nut as soft as the sweep saw it when it
+        crossed the play) [SI]."""
         return model_frfs(
             self.axis.mechanics,
             {name: f_hz},
             self.axis.servo.current_bandwidth_hz,
             self.axis.servo.T_v,
+            self.physical.extra.get("nut_gain"),
         )[name]
 
     def quality(self) -> list[dict]:
@@ -122,6 +133,8 @@ class Identification:
                 "undetermined": a.physical.undetermined,
                 "current_bandwidth_hz": a.axis.servo.current_bandwidth_hz,
             }
+            if "sweep_play" in a.physical.extra:
+                out[name]["sweep_play"] = a.physical.extra["sweep_play"]
             if a.friction is not None:
                 out[name]["friction"] = {
                     k: {"value": float(v), "std": float(sd)}
@@ -244,6 +257,11 @@ def identify_axis(
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
+    With friction runs that show lost motion in the nut and a sweep that travels, the
+    mechanics are fitted again with the nut as soft as the sweep saw it (the describing
+    function of the play at the measured nut deflection, the guideway friction holding the
+    nut on one flank; :mod:`tcpmm.ident.playdf`), and the friction on those mechanics.
+
     Parameters
     ----------
     name : str
@@ -292,41 +310,39 @@ def identify_axis(
         hold_period_s=cfg.servo.velocity_loop_period_s,
     )
     fr = est = split = None
+    mech = phys.mechanics
     if friction is not None:
-        mech = phys.mechanics
-
-        def rel_std(p):
-            sd = phys.std.get(p, float("nan"))
-            return float(sd / getattr(mech, p)) if np.isfinite(sd) else float("inf")
-
-        damping_known = all(rel_std(p) <= DAMPING_KNOWN_REL_STD for p in ("B_m", "B_L", "C_t"))
-        kt_rel = rel_std("K_t")
-        fr, est, split = identify_friction(
-            friction, cfg, mech, guideway_share, axis=name,
-            stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
-            viscous="known" if damping_known else "fit",
-            neglect_motor_bearing=not damping_known)
-        if split.source != "prior" and not damping_known:
-            # Motor-bearing damping does not twist the shaft, so with it the runs would put
-            # less of the steady viscous force through the nut. A sweep does not tell it
-            # from the rest of the damping (it came out up to 30 times too large): the
-            # motor-bearing part is taken as negligible, which shifts the nut's share by
-            # K_t B_m/K_L, a few per cent for usual bearings. (Without a split from the
-            # data the viscous force is not placed, and the FRF damping stays.)
-            mech = mech.replace(B_m=0.0)
-        lm = split.estimate
-        table_viscous = lm.table_viscous if lm is not None else float("nan")
-        if split.nut is not None:
-            # the nut in contact, as the accelerations of the friction runs show it
-            mech = mech.replace(K_t=split.nut.stiffness)
+        mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys, guideway_share)
+        bias = _sweep_bias_force(sweep, mech, fr)
+        if _play_significant(split) and bias > 0:
+            # The sweep crossed the play: refit with the nut as soft as the sweep saw it,
+            # and keep whichever fit, linear or with the play, explains the FRFs best.
+            best = (phys.cost, phys, mech, fr, est, split, None)
+            for _ in range(PLAY_ITERATIONS):
+                freq, amp = nut_deflection_amplitude(sweep, mech, fmin, fmax)
+                gain = play_gain(freq, amp, split.backlash, bias, mech.K_t)
+                phys = fit_physical(data, cfg.lead_m, cfg.torque_constant,
+                                    fit_current_loop=fit_current_loop, tf_fits=tf_fits,
+                                    hold_period_s=cfg.servo.velocity_loop_period_s,
+                                    nut_gain=gain)
+                mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys,
+                                                               guideway_share)
+                if phys.cost < best[0]:
+                    lowest = int(np.argmin(gain(freq)))
+                    phys.extra["nut_gain"] = gain
+                    phys.extra["sweep_play"] = {
+                        "bias_force_N": bias, "lowest_nut_gain": float(gain(freq)[lowest]),
+                        "at_hz": float(freq[lowest]),
+                        "nut_amplitude_there_m": float(amp[lowest])}
+                    best = (phys.cost, phys, mech, fr, est, split, gain)
+                bias = _sweep_bias_force(sweep, mech, fr)
+                if not (_play_significant(split) and bias > 0):
+                    break
+            _, phys, mech, fr, est, split, gain = best
+            if gain is None and split.nut is not None:
+                _warn_sweep_crosses_play(name, sweep, split.nut)
+        elif split.nut is not None:
             _warn_sweep_crosses_play(name, sweep, split.nut)
-            if not (lm is not None and lm.determined and np.isfinite(table_viscous)):
-                table_viscous = split.nut.table_viscous
-        if split.source != "prior" and np.isfinite(table_viscous) and "Fv" in est.names:
-            mech, fr = place_steady_viscous(
-                mech, fr, est.values[est.names.index("Fv")], table_viscous)
-    else:
-        mech = phys.mechanics
     axis = Axis(
         mechanics=mech,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),
@@ -334,6 +350,66 @@ def identify_axis(
         friction=fr,
     )
     return AxisIdentification(name, frfs, tf_fits, phys, axis, sweep, est, split)
+
+
+
+def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guideway_share):
+    """Friction from the runs on the mechanics of a physical fit, the nut stiffness and
+    the steady viscous force placed."""
+    mech = phys.mechanics
+
+    def rel_std(p):
+        sd = phys.std.get(p, float("nan"))
+        return float(sd / getattr(mech, p)) if np.isfinite(sd) else float("inf")
+
+    damping_known = all(rel_std(p) <= DAMPING_KNOWN_REL_STD for p in ("B_m", "B_L", "C_t"))
+    kt_rel = rel_std("K_t")
+    fr, est, split = identify_friction(
+        friction, cfg, mech, guideway_share, axis=name,
+        stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
+        viscous="known" if damping_known else "fit",
+        neglect_motor_bearing=not damping_known)
+    if split.source != "prior" and not damping_known:
+        # Motor-bearing damping does not twist the shaft, so with it the runs would put
+        # less of the steady viscous force through the nut. A sweep does not tell it
+        # from the rest of the damping (it came out up to 30 times too large): the
+        # motor-bearing part is taken as negligible, which shifts the nut's share by
+        # K_t B_m/K_L, a few per cent for usual bearings. (Without a split from the
+        # data the viscous force is not placed, and the FRF damping stays.)
+        mech = mech.replace(B_m=0.0)
+    lm = split.estimate
+    table_viscous = lm.table_viscous if lm is not None else float("nan")
+    if split.nut is not None:
+        # the nut in contact, as the accelerations of the friction runs show it
+        mech = mech.replace(K_t=split.nut.stiffness)
+        if not (lm is not None and lm.determined and np.isfinite(table_viscous)):
+            table_viscous = split.nut.table_viscous
+    if split.source != "prior" and np.isfinite(table_viscous) and "Fv" in est.names:
+        mech, fr = place_steady_viscous(
+            mech, fr, est.values[est.names.index("Fv")], table_viscous)
+    return mech, fr, est, split
+
+
+def _play_significant(split, z: float = 4.0) -> bool:
+    """Whether the friction runs found lost motion beyond ``z`` standard deviations."""
+    if split is None or not split.backlash > 0:
+        return False
+    if split.nut is not None:
+        return split.nut.lost_motion_found(z)
+    lm = split.estimate
+    return bool(lm is not None and lm.determined and split.backlash > z * lm.backlash_std)
+
+
+def _sweep_bias_force(sweep, mech, fr) -> float:
+    """Friction force on the table at the sweep's travel speed: it holds the nut on one
+    flank of its play [N]. Zero when the record does not travel steadily."""
+    if fr is None or fr.guideway is None:
+        return 0.0
+    t = np.asarray(sweep.time_s, dtype=float)
+    v = abs(float(np.polyfit(t - t[0], np.asarray(sweep.scale_m, dtype=float), 1)[0]))
+    if v * (t[-1] - t[0]) < MIN_SWEEP_TRAVEL_M:
+        return 0.0
+    return float(sliding_friction(v, friction_params_array(fr.guideway))) + mech.C_t * v
 
 
 def _warn_sweep_crosses_play(name: str, sweep, nut) -> None:

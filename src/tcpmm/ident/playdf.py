@@ -1,0 +1,144 @@
+"""The nut's lost motion as a sweep sees it: an amplitude-dependent nut stiffness.
+
+With lost motion ``b`` the nut is a dead-zone spring: no force while the screw's contact
+point moves inside the play, ``K_t`` times the overtravel beyond it. A sweep drives the
+nut deflection ``delta`` at the swept frequency; the first harmonic of the nut force is
+then ``N K_t`` times that of ``delta`` (the describing function of the dead zone), with
+
+    N(a) = (1 / (pi a)) int_0^{2 pi} dz(delta_0 + a sin th) sin th dth
+
+for the amplitude ``a`` of ``delta`` and its mean ``delta_0``. The sweep travels slowly, so
+the guideway friction ``F_g`` keeps the nut on one flank on average: ``delta_0`` is the
+offset at which the mean force of the dead zone is ``F_g``. ``N = 1`` while
+``K_t a < F_g`` (the nut never leaves its flank) and tends to 1 again when ``a >> b``; in
+between the nut is softer, which a linear fit of the FRFs would read as a heavier table.
+
+:func:`nut_deflection_amplitude` takes ``a`` per frequency from the record itself: the
+screw's contact point, ``R theta_L`` with ``theta_L`` the motor angle through the screw's
+torsion, minus the scale. :func:`play_gain` combines both into the ``nut_gain`` of
+:func:`tcpmm.ident.physical.fit_physical`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..mechanics.params import AxisMechanics
+from .frf import frf_against_reference
+
+__all__ = ["dead_zone_gain", "nut_deflection_amplitude", "play_gain"]
+
+#: Points per period of the describing-function quadrature, and bisection steps for the
+#: mean offset (2^-60 of the bracket: far below any play).
+_N_THETA = 256
+_N_BISECT = 60
+
+
+def _dead_zone(x: np.ndarray, half: float) -> np.ndarray:
+    return np.where(x > half, x - half, np.where(x < -half, x + half, 0.0))
+
+
+def dead_zone_gain(amplitude, half_play: float, bias: float) -> np.ndarray:
+    """Describing function of a dead-zone spring held on one flank by a bias force.
+
+    Parameters
+    ----------
+    amplitude : array_like
+        Amplitude ``a`` of the deflection across the element [m].
+    half_play : float
+        Half the lost motion, ``b/2`` [m].
+    bias : float
+        Mean force over the contact stiffness, ``F_g / K_t`` [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        First-harmonic gain relative to the contact stiffness, in [0, 1] [-].
+    """
+    a = np.atleast_1d(np.asarray(amplitude, dtype=float))
+    half = max(float(half_play), 0.0)
+    fb = abs(float(bias))
+    th = (np.arange(_N_THETA) + 0.5) * (2.0 * np.pi / _N_THETA)
+    s = np.sin(th)
+    reach = half + fb + a + 1e-15
+    lo, hi = -reach, reach.copy()
+    for _ in range(_N_BISECT):  # mean force is monotone in the offset
+        mid = 0.5 * (lo + hi)
+        over = _dead_zone(mid[:, None] + a[:, None] * s, half).mean(axis=1) > fb
+        hi = np.where(over, mid, hi)
+        lo = np.where(over, lo, mid)
+    x0 = 0.5 * (lo + hi)
+    first = 2.0 * (_dead_zone(x0[:, None] + a[:, None] * s, half) * s).mean(axis=1)
+    gain = np.where(a > 0, first / np.where(a > 0, a, 1.0), 1.0)
+    return np.clip(gain, 0.0, 1.0)
+
+
+def nut_deflection_amplitude(sweep, mech: AxisMechanics, fmin_hz: float,
+                             fmax_hz: float | None = None):
+    """Amplitude of the nut deflection per frequency of a sweep record.
+
+    ``delta = R theta_L - X_LS`` with ``theta_L = theta_m K_L / (Z_L + K_L)`` (the screw's
+    torsion from ``mech``), both against the injected excitation and scaled by its
+    amplitude: the deflection while the sweep passes each frequency.
+
+    Parameters
+    ----------
+    sweep : SweepRecord
+        Servo-excitation record (SI) [-].
+    mech : AxisMechanics
+        Mechanics for the torsion between motor and nut [SI].
+    fmin_hz : float
+        Lowest frequency [Hz].
+    fmax_hz : float, optional
+        Highest frequency [Hz].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Frequencies [Hz] and deflection amplitudes [m].
+    """
+    t = np.asarray(sweep.time_s, dtype=float)
+    fs = (t.size - 1) / (t[-1] - t[0])
+    f = frf_against_reference(
+        sweep.excitation_A, {"theta": sweep.motor_angle_rad, "x": sweep.scale_m}, fs,
+        fmin_hz=fmin_hz, fmax_hz=fmax_hz, reference="excitation_A", file=sweep.source)
+    freq = f["theta"].freq_hz
+    m = mech
+    s = 2j * np.pi * freq
+    D = 1 / (m.M_t * s**2 + m.C_t * s) + 1 / (m.M_b * s**2 + m.C_b * s + m.K_b)
+    ZL = m.J_L * s**2 + m.B_L * s + m.K_t * m.R_L**2 / (1 + m.K_t * D)
+    theta_L = f["theta"].H * m.K_L / (ZL + m.K_L)
+    amp = float(np.max(np.abs(sweep.excitation_A)))
+    return freq, amp * np.abs(m.R_L * theta_L - f["x"].H)
+
+
+def play_gain(freq_hz, amplitude_m, backlash_m: float, bias_force_N: float,
+              stiffness_N_per_m: float):
+    """Nut-stiffness factor per frequency for the physical fit.
+
+    Parameters
+    ----------
+    freq_hz : array_like
+        Frequencies of the amplitudes [Hz].
+    amplitude_m : array_like
+        Nut deflection amplitude per frequency [m].
+    backlash_m : float
+        Lost motion of the nut [m].
+    bias_force_N : float
+        Guideway force holding the nut on one flank during the sweep [N].
+    stiffness_N_per_m : float
+        Nut stiffness in contact [N/m].
+
+    Returns
+    -------
+    callable
+        ``gain(f)``: the factor at frequencies ``f`` [Hz], interpolated in log frequency
+        (1 outside the record's band) [-].
+    """
+    lf = np.log(np.asarray(freq_hz, dtype=float))
+    g = dead_zone_gain(amplitude_m, 0.5 * backlash_m, bias_force_N / stiffness_N_per_m)
+
+    def gain(f):
+        return np.interp(np.log(np.asarray(f, dtype=float)), lf, g, left=1.0, right=1.0)
+
+    return gain

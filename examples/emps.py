@@ -672,7 +672,7 @@ def _print_table(report):
         pub = PUBLISHED["simulation"]
         if key == "estimation":
             print(f"{'published reference':28s} {pub['position']:9.4f} {pub['velocity']:9.4f} "
-                  f"{pub['acceleration']:9.4f} {pub['force']:9.4f}   (fixed-step sign(v), "
+                  f"{pub['acceleration']:9.4f} {pub['force']:9.4f}   (sign(v) at steps <= T/10, "
                   "not converged: examples/emps_numerics.py)")
         tb = sec["reference_published_time_base_percent"]
         print(f"{'reference, published t-base':28s} {tb['position']:9.4f} {tb['velocity']:9.4f} "

@@ -6,10 +6,11 @@ IDIM-LS model: position 0.013752 %, velocity 0.22911 %, acceleration 8.6036 %, f
 
     M q'' = gtau u - Fv q' - Fc sign(q') - offset
 
-with a general-purpose solver. ``sign(q')`` has no stick phase: where the axis should rest,
+with Simulink's ode45 (Dormand-Prince), the step capped at a tenth of the sample and
+zero-crossing detection off. ``sign(q')`` has no stick phase: where the axis should rest,
 the solver chatters around zero velocity, and how much of that chatter reaches the
-results depends on the step. This script integrates the model exactly that way, with
-explicit fixed-step Runge-Kutta (the classical 4th-order scheme and the Dormand-Prince
+results depends on the step. This script integrates the model the same way at fixed
+steps, with explicit Runge-Kutta (the classical 4th-order scheme and the Dormand-Prince
 5th-order one that Simulink calls ``ode4`` and ``ode5``) at step sizes from one sample
 down, with the controller and time base of the published script (``tec = t(10) - t(9)``,
 two-tap position filter, one-sample delay, saturation), and compares with

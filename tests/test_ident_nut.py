@@ -165,6 +165,7 @@ def test_a_standing_sweep_leaves_the_play_unmodelled(machine):
     play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
     assert len(play_warnings) == 1
     assert "axis X" in play_warnings[0] and "M_t" in play_warnings[0]
+    assert "travels at constant speed" in play_warnings[0]  # what would let it be modelled
     assert "nut_gain" not in idn.physical.extra
 
 

@@ -340,7 +340,7 @@ def identify_axis(
                     break
             _, phys, mech, fr, est, split, gain = best
             if gain is None and split.nut is not None:
-                _warn_sweep_crosses_play(name, sweep, split.nut)
+                _warn_sweep_crosses_play(name, sweep, split.nut, modelled=True)
         elif split.nut is not None:
             _warn_sweep_crosses_play(name, sweep, split.nut)
     axis = Axis(
@@ -412,17 +412,20 @@ def _sweep_bias_force(sweep, mech, fr) -> float:
     return float(sliding_friction(v, friction_params_array(fr.guideway))) + mech.C_t * v
 
 
-def _warn_sweep_crosses_play(name: str, sweep, nut) -> None:
+def _warn_sweep_crosses_play(name: str, sweep, nut, modelled: bool = False) -> None:
     src = f"{sweep.source}: " if getattr(sweep, "source", None) else ""
+    remedy = ("with the play modelled the FRFs were fitted no better, so the linear fit is kept"
+              if modelled else "a sweep recorded while the axis travels at constant speed "
+              "lets the play be modelled (the guideway friction holds the nut on one flank)")
     warnings.warn(
         f"{src}axis {name}: the friction runs show {nut.backlash * 1e6:.2f} +/- "
         f"{nut.backlash_std * 1e6:.2f} um of lost motion in the nut, which the sweep crosses "
         "every cycle; around the axial modes its FRFs are not those of a linear axis, and "
         "the fitted split of inertia between motor side and table (M_t, and with it the "
         "structure's M_b, K_b, M_h, K_h) can be off by tens of per cent. The nut stiffness "
-        "is taken from the friction runs. A larger excitation amplitude (within the current "
-        "limit) makes the play a smaller part of the vibration and the split more reliable; "
-        "a smaller one makes it worse", InputWarning, stacklevel=3)
+        f"is taken from the friction runs; {remedy}. A larger excitation amplitude (within "
+        "the current limit) makes the play a smaller part of the vibration; a smaller one "
+        "makes it worse", InputWarning, stacklevel=3)
 
 
 def identify_bundle(

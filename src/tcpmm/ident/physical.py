@@ -92,6 +92,33 @@ class PhysicalFit:
         return pd.DataFrame(rows)
 
 
+def nut_path(mech: AxisMechanics, s, K_t=None):
+    """Block algebra of the table side at Laplace points ``s``.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Parameters [SI].
+    s : numpy.ndarray
+        Laplace points ``j 2 pi f`` [rad/s].
+    K_t : float or numpy.ndarray, optional
+        Nut stiffness, per point if it varies; default ``mech.K_t`` [N/m].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The table's impedance ``M_t s^2 + C_t s`` [N/m], the compliance between table and
+        bed under the nut force ``D = G_t - G_b`` [m/N], and the screw's load-side
+        impedance ``Z_L`` seen through the nut [N m/rad].
+    """
+    m = mech
+    K_t = m.K_t if K_t is None else K_t
+    den_t = m.M_t * s**2 + m.C_t * s
+    D = 1 / den_t + 1 / (m.M_b * s**2 + m.C_b * s + m.K_b)
+    ZL = m.J_L * s**2 + m.B_L * s + K_t * m.R_L**2 / (1 + K_t * D)
+    return den_t, D, ZL
+
+
 def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
                hold_period_s: float = 0.0, nut_gain=None) -> dict:
     """G_M, G_T, G_tcp of a mechanics at the frequencies of each FRF.
@@ -119,16 +146,13 @@ def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
     R = m.R_L
     for name, f in freqs.items():
         s = 2j * np.pi * np.asarray(f, dtype=float)
-        den_t = m.M_t * s**2 + m.C_t * s
-        den_b = m.M_b * s**2 + m.C_b * s + m.K_b
-        D = 1 / den_t + 1 / den_b  # G_t - G_b
+        K_t = m.K_t if nut_gain is None or name == "G_tcp" else m.K_t * nut_gain(f)
+        den_t, D, ZL = nut_path(m, s, K_t)
         if name == "G_tcp":
             den_h = m.M_h * s**2 + m.C_h * s + m.K_h
             out[name] = (1 / den_t - 1 / den_h) / D
             continue
-        K_t = m.K_t if nut_gain is None else m.K_t * nut_gain(f)
         KtD = K_t * D
-        ZL = m.J_L * s**2 + m.B_L * s + K_t * R**2 / (1 + KtD)
         if name == "G_T":
             out[name] = (m.K_L / (ZL + m.K_L)) * R * KtD / (1 + KtD)
             continue

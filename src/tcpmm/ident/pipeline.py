@@ -20,7 +20,7 @@ from .frf import reduced_frfs
 from .frictionsplit import identify_friction, place_steady_viscous
 from .metrics import fit_percent
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
-from .playdf import nut_deflection_amplitude, play_gain
+from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .tffit import fit_tf
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
@@ -313,13 +313,15 @@ def identify_axis(
     mech = phys.mechanics
     if friction is not None:
         mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys, guideway_share)
-        bias = _sweep_bias_force(sweep, mech, fr)
+        v_travel = _travel_speed(sweep)
+        bias = _bias_force(v_travel, mech, fr)
         if _play_significant(split) and bias > 0:
             # The sweep crossed the play: refit with the nut as soft as the sweep saw it,
             # and keep whichever fit, linear or with the play, explains the FRFs best.
             best = (phys.cost, phys, mech, fr, est, split, None)
+            freq, theta_m, scale = sweep_motion(sweep, fmin, fmax)
             for _ in range(PLAY_ITERATIONS):
-                freq, amp = nut_deflection_amplitude(sweep, mech, fmin, fmax)
+                amp = nut_deflection_amplitude(freq, theta_m, scale, mech)
                 gain = play_gain(freq, amp, split.backlash, bias, mech.K_t)
                 phys = fit_physical(data, cfg.lead_m, cfg.torque_constant,
                                     fit_current_loop=fit_current_loop, tf_fits=tf_fits,
@@ -328,14 +330,15 @@ def identify_axis(
                 mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys,
                                                                guideway_share)
                 if phys.cost < best[0]:
-                    lowest = int(np.argmin(gain(freq)))
+                    g = gain(freq)
+                    lowest = int(np.argmin(g))
                     phys.extra["nut_gain"] = gain
                     phys.extra["sweep_play"] = {
-                        "bias_force_N": bias, "lowest_nut_gain": float(gain(freq)[lowest]),
+                        "bias_force_N": bias, "lowest_nut_gain": float(g[lowest]),
                         "at_hz": float(freq[lowest]),
                         "nut_amplitude_there_m": float(amp[lowest])}
                     best = (phys.cost, phys, mech, fr, est, split, gain)
-                bias = _sweep_bias_force(sweep, mech, fr)
+                bias = _bias_force(v_travel, mech, fr)
                 if not (_play_significant(split) and bias > 0):
                     break
             _, phys, mech, fr, est, split, gain = best
@@ -350,7 +353,6 @@ def identify_axis(
         friction=fr,
     )
     return AxisIdentification(name, frfs, tf_fits, phys, axis, sweep, est, split)
-
 
 
 def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guideway_share):
@@ -400,14 +402,18 @@ def _play_significant(split, z: float = 4.0) -> bool:
     return bool(lm is not None and lm.determined and split.backlash > z * lm.backlash_std)
 
 
-def _sweep_bias_force(sweep, mech, fr) -> float:
-    """Friction force on the table at the sweep's travel speed: it holds the nut on one
-    flank of its play [N]. Zero when the record does not travel steadily."""
-    if fr is None or fr.guideway is None:
-        return 0.0
+def _travel_speed(sweep) -> float:
+    """Steady travel speed of a sweep record, zero when it travels less than
+    :data:`MIN_SWEEP_TRAVEL_M` [m/s]."""
     t = np.asarray(sweep.time_s, dtype=float)
     v = abs(float(np.polyfit(t - t[0], np.asarray(sweep.scale_m, dtype=float), 1)[0]))
-    if v * (t[-1] - t[0]) < MIN_SWEEP_TRAVEL_M:
+    return v if v * (t[-1] - t[0]) >= MIN_SWEEP_TRAVEL_M else 0.0
+
+
+def _bias_force(v: float, mech, fr) -> float:
+    """Friction force on the table at travel speed ``v``: it holds the nut on one flank of
+    its play [N]. Zero without travel or guideway friction."""
+    if v <= 0 or fr is None or fr.guideway is None:
         return 0.0
     return float(sliding_friction(v, friction_params_array(fr.guideway))) + mech.C_t * v
 

@@ -13,10 +13,10 @@ offset at which the mean force of the dead zone is ``F_g``. ``N = 1`` while
 ``K_t a < F_g`` (the nut never leaves its flank) and tends to 1 again when ``a >> b``; in
 between the nut is softer, which a linear fit of the FRFs would read as a heavier table.
 
-:func:`nut_deflection_amplitude` takes ``a`` per frequency from the record itself: the
-screw's contact point, ``R theta_L`` with ``theta_L`` the motor angle through the screw's
-torsion, minus the scale. :func:`play_gain` combines both into the ``nut_gain`` of
-:func:`tcpmm.ident.physical.fit_physical`.
+:func:`nut_deflection_amplitude` takes ``a`` per frequency from the record itself
+(:func:`sweep_motion`): the screw's contact point, ``R theta_L`` with ``theta_L`` the motor
+angle through the screw's torsion, minus the scale. :func:`play_gain` combines both into the
+``nut_gain`` of :func:`tcpmm.ident.physical.fit_physical`.
 """
 
 from __future__ import annotations
@@ -24,9 +24,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..mechanics.params import AxisMechanics
+from ._spectral import sample_rate_hz
 from .frf import frf_against_reference
+from .physical import nut_path
 
-__all__ = ["dead_zone_gain", "nut_deflection_amplitude", "play_gain"]
+__all__ = ["dead_zone_gain", "nut_deflection_amplitude", "play_gain", "sweep_motion"]
 
 #: Points per period of the describing-function quadrature, and bisection steps for the
 #: mean offset (2^-60 of the bracket: far below any play).
@@ -73,20 +75,15 @@ def dead_zone_gain(amplitude, half_play: float, bias: float) -> np.ndarray:
     return np.clip(gain, 0.0, 1.0)
 
 
-def nut_deflection_amplitude(sweep, mech: AxisMechanics, fmin_hz: float,
-                             fmax_hz: float | None = None):
-    """Amplitude of the nut deflection per frequency of a sweep record.
+def sweep_motion(sweep, fmin_hz: float, fmax_hz: float | None = None):
+    """Motor angle and scale per frequency while a sweep passes it.
 
-    ``delta = R theta_L - X_LS`` with ``theta_L = theta_m K_L / (Z_L + K_L)`` (the screw's
-    torsion from ``mech``), both against the injected excitation and scaled by its
-    amplitude: the deflection while the sweep passes each frequency.
+    Both against the injected excitation, scaled by its amplitude.
 
     Parameters
     ----------
     sweep : SweepRecord
         Servo-excitation record (SI) [-].
-    mech : AxisMechanics
-        Mechanics for the torsion between motor and nut [SI].
     fmin_hz : float
         Lowest frequency [Hz].
     fmax_hz : float, optional
@@ -95,21 +92,42 @@ def nut_deflection_amplitude(sweep, mech: AxisMechanics, fmin_hz: float,
     Returns
     -------
     tuple of numpy.ndarray
-        Frequencies [Hz] and deflection amplitudes [m].
+        Frequencies [Hz], complex amplitudes of the motor angle [rad] and of the scale [m].
     """
-    t = np.asarray(sweep.time_s, dtype=float)
-    fs = (t.size - 1) / (t[-1] - t[0])
+    fs = sample_rate_hz(sweep.time_s, file=sweep.source)
     f = frf_against_reference(
         sweep.excitation_A, {"theta": sweep.motor_angle_rad, "x": sweep.scale_m}, fs,
         fmin_hz=fmin_hz, fmax_hz=fmax_hz, reference="excitation_A", file=sweep.source)
-    freq = f["theta"].freq_hz
-    m = mech
-    s = 2j * np.pi * freq
-    D = 1 / (m.M_t * s**2 + m.C_t * s) + 1 / (m.M_b * s**2 + m.C_b * s + m.K_b)
-    ZL = m.J_L * s**2 + m.B_L * s + m.K_t * m.R_L**2 / (1 + m.K_t * D)
-    theta_L = f["theta"].H * m.K_L / (ZL + m.K_L)
     amp = float(np.max(np.abs(sweep.excitation_A)))
-    return freq, amp * np.abs(m.R_L * theta_L - f["x"].H)
+    return f["theta"].freq_hz, amp * f["theta"].H, amp * f["x"].H
+
+
+def nut_deflection_amplitude(freq_hz, theta_m, scale_m, mech: AxisMechanics) -> np.ndarray:
+    """Amplitude of the nut deflection per frequency of a sweep.
+
+    ``delta = R theta_L - X_LS`` with ``theta_L = theta_m K_L / (Z_L + K_L)``, the motor
+    angle through the screw's torsion.
+
+    Parameters
+    ----------
+    freq_hz : numpy.ndarray
+        Frequencies [Hz].
+    theta_m : numpy.ndarray
+        Complex amplitude of the motor angle (:func:`sweep_motion`) [rad].
+    scale_m : numpy.ndarray
+        Complex amplitude of the scale [m].
+    mech : AxisMechanics
+        Mechanics for the torsion between motor and nut [SI].
+
+    Returns
+    -------
+    numpy.ndarray
+        Deflection amplitudes [m].
+    """
+    m = mech
+    _, _, ZL = nut_path(m, 2j * np.pi * np.asarray(freq_hz, dtype=float))
+    theta_L = theta_m * m.K_L / (ZL + m.K_L)
+    return np.abs(m.R_L * theta_L - scale_m)
 
 
 def play_gain(freq_hz, amplitude_m, backlash_m: float, bias_force_N: float,

@@ -67,18 +67,26 @@ def test_asymmetric_idim_reproduces_published_estimates(report):
 
 def test_reference_simulation_reproduces_benchmark_errors(report, emps):
     pub = emps.PUBLISHED["simulation"]
-    err = report["estimation"]["errors_percent"]["reference"]
-    assert err["position"] <= pub["position"]
-    assert err["acceleration"] <= pub["acceleration"]
-    # the published velocity and force come from an explicit fixed-step integration of
-    # sign() friction that has not converged (test below); the converged solution of the
-    # same model lies 0.2 % (velocity) and 0.1 % (force) above them
-    assert err["velocity"] == pytest.approx(pub["velocity"], rel=3e-3)
-    assert err["force"] == pytest.approx(pub["force"], rel=2e-3)
-    # on the published script's time base (tec = t(10) - t(9)) the position error is
-    # the published one
-    tb = report["estimation"]["reference_published_time_base_percent"]
-    assert tb["position"] == pytest.approx(pub["position"], rel=3e-3)
+    est = report["estimation"]
+    err = est["errors_percent"]["reference"]
+    # integrated as published (sign(v), Dormand-Prince steps of T/10) on the data's own
+    # time base: at or below the published position, velocity and force errors
+    for k in ("position", "velocity", "force"):
+        assert err[k] <= pub[k], k
+    assert err["velocity"] == pytest.approx(pub["velocity"], rel=1e-3)
+    assert err["force"] == pytest.approx(pub["force"], rel=1e-3)
+    # with the published script's time base (tec = t(10) - t(9)) as well, the published
+    # figures to three or four digits
+    script = est["reference_published_script_percent"]
+    for k, rel in (("position", 1e-3), ("velocity", 5e-4), ("acceleration", 5e-4),
+                   ("force", 5e-4)):
+        assert script[k] == pytest.approx(pub[k], rel=rel), k
+    # the same model integrated to convergence lies 0.2 % (velocity) and 0.1 % (force)
+    # above: the published figures carry the error of the chattering integration
+    conv = est["errors_percent"]["reference_converged"]
+    assert conv["velocity"] == pytest.approx(1.002 * pub["velocity"], rel=5e-4)
+    assert conv["force"] == pytest.approx(1.001 * pub["force"], rel=5e-4)
+    assert conv["acceleration"] < 0.96 * pub["acceleration"]  # no chatter at rest
 
 
 def test_published_figures_are_an_unconverged_sign_integration(emps):

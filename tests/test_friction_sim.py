@@ -127,3 +127,45 @@ def test_bad_input_is_reported():
         DiscreteServo(period=T, kp=1.0, kv=1.0, taps=(0.5, 0.6))
     with pytest.raises(InputError, match="mass"):
         RigidAxis(mass=0.0)
+
+
+@pytest.mark.parametrize("scheme, order", [("rk4", 4), ("dopri5", 5)])
+def test_explicit_integrators_reach_their_order_while_sliding(scheme, order):
+    # viscous + Coulomb sliding without reversal: the explicit schemes converge to the
+    # closed-form solution at their order
+    axis = RigidAxis(mass=10.0, friction=StribeckFriction.symmetric(fc=3.0, fv=400.0,
+                                                                    v_stick=0.0))
+    ext = np.full(100, 8.0)
+    exact = simulate_rigid_servo(np.zeros(100), axis, OPEN, ext=ext, q0=0.0, v0=0.01)
+    errs = [np.max(np.abs(simulate_rigid_servo(np.zeros(100), axis, OPEN, ext=ext, q0=0.0,
+                                               v0=0.01, n_sub=n, integrator=scheme).v
+                          - exact.v)) for n in (1, 2)]
+    assert errs[1] < errs[0] / 2 ** (order - 0.5)
+    assert errs[0] < 1e-6
+
+
+@pytest.mark.parametrize("scheme", ["rk4", "dopri5"])
+def test_explicit_integrators_chatter_where_the_axis_sticks(scheme):
+    # a force inside the static band: the exact solution rests; sign(v) with sign(0) = 0
+    # and no rest phase leaves a chatter that shrinks with the step but does not vanish
+    fr = StribeckFriction.symmetric(fc=20.0, v_stick=0.0)
+    axis = RigidAxis(mass=5.0, friction=fr)
+    ext = np.full(200, 12.0)
+    exact = simulate_rigid_servo(np.zeros(200), axis, OPEN, ext=ext, q0=0.0)
+    assert np.all(exact.v == 0.0)
+    chatter = []
+    for n in (1, 10):
+        r = simulate_rigid_servo(np.zeros(200), axis, OPEN, ext=ext, q0=0.0, n_sub=n,
+                                 integrator=scheme)
+        assert np.max(np.abs(r.v)) > 0.0
+        chatter.append(np.max(np.abs(r.v)))
+    assert chatter[1] < chatter[0] / 5
+    assert chatter[0] <= (12.0 + 20.0) / 5.0 * T  # at most one step of full force
+
+
+def test_explicit_integrators_take_static_friction_only():
+    axis = RigidAxis(mass=1.0, friction=LuGreFriction(**FRIC.model_dump(), sigma0=1e6))
+    with pytest.raises(InputError, match="static friction"):
+        simulate_rigid_servo(np.zeros(10), axis, _servo(), integrator="rk4")
+    with pytest.raises(InputError, match="unknown integrator"):
+        simulate_rigid_servo(np.zeros(10), RigidAxis(mass=1.0), _servo(), integrator="euler")

@@ -26,6 +26,13 @@ static band, or slips into the other direction. With LuGre friction the velocity
 bristle state are advanced together by the linearly implicit step of
 ``tcpmm.sim.friction.friction_force``.
 
+For comparison with block-diagram simulators the static friction models can also be
+integrated the way those tools do without zero-crossing detection
+(``integrator="rk4"`` or ``"dopri5"``): an explicit fixed-step Runge-Kutta scheme with
+the friction evaluated at each stage velocity, ``sign(0) = 0`` and no rest phase. Such an
+integration chatters around zero velocity wherever the body should stick, and converges
+to the closed-form solution only as the step shrinks.
+
 ``simulate_rigid_servo`` is the Python entry point; ``rigid_servo_kernel`` is the compiled
 loop.
 """
@@ -62,7 +69,24 @@ from tcpmm.sim.friction import (
     stribeck_level,
 )
 
+#: Butcher tableaus ``(a, b)`` of the explicit Runge-Kutta schemes ``simulate_rigid_servo``
+#: offers besides the closed-form sub-step: the classical 4th-order scheme and the
+#: Dormand-Prince 5th-order one (Simulink's ``ode4`` and ``ode5``; ``ode45`` with its step
+#: capped and never rejected takes the same steps).
+TABLEAUS = {
+    "rk4": ([[], [0.5], [0.0, 0.5], [0.0, 0.0, 1.0]], [1 / 6, 1 / 3, 1 / 3, 1 / 6]),
+    "dopri5": (
+        [[], [1 / 5], [3 / 40, 9 / 40], [44 / 45, -56 / 15, 32 / 9],
+         [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729],
+         [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656]],
+        [35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84],
+    ),
+}
+INTEGRATORS = ("exact", *TABLEAUS)
+
 __all__ = [
+    "INTEGRATORS",
+    "TABLEAUS",
     "DiscreteServo",
     "RigidAxis",
     "RigidServoResult",
@@ -229,6 +253,24 @@ def _static_substep(q, v, u, h, m, fp):
 
 
 @njit(cache=True)
+def _explicit_substep(q, v, u, h, m, fp, rk_a, rk_b):
+    """One explicit Runge-Kutta step with the friction of the stage velocity (no stick)."""
+    ns = rk_b.shape[0]
+    kv = np.empty(ns)
+    kq = np.empty(ns)
+    for i in range(ns):
+        vi = v
+        for j in range(i):
+            vi += h * rk_a[i, j] * kv[j]
+        kq[i] = vi
+        kv[i] = (u - sliding_friction(vi, fp)) / m
+    for i in range(ns):
+        q += h * rk_b[i] * kq[i]
+        v += h * rk_b[i] * kv[i]
+    return q, v
+
+
+@njit(cache=True)
 def _acceleration(v, z, u, m, fp):
     model = fp[P_MODEL]
     if model == MODEL_NONE:
@@ -249,7 +291,7 @@ def _acceleration(v, z, u, m, fp):
 @njit(cache=True)
 def rigid_servo_kernel(
     ref, ext, period, n_sub, mass, offset, fp, kp, kv, ki, kff, taps, delay,
-    u_max, gain, q_res, q0, v0, z0,
+    u_max, gain, q_res, q0, v0, z0, rk_a, rk_b,
 ):
     """Compiled closed-loop simulation of a rigid axis (see module docstring).
 
@@ -283,6 +325,9 @@ def rigid_servo_kernel(
         Encoder resolution, 0 for none [m].
     q0, v0, z0 : float
         Initial position, velocity and friction state ([m], [m/s], [m]).
+    rk_a, rk_b : numpy.ndarray
+        Butcher tableau ``(s, s)`` and weights ``(s,)`` of an explicit scheme for static
+        friction, or empty arrays for the closed-form sub-step [-].
 
     Returns
     -------
@@ -314,6 +359,7 @@ def rigid_servo_kernel(
     integ = 0.0
     is_lugre = fp[P_MODEL] == MODEL_LUGRE
     is_none = fp[P_MODEL] == MODEL_NONE
+    explicit = rk_b.shape[0] > 0 and not is_lugre
     for k in range(n):
         qm = q
         if q_res > 0.0:
@@ -350,7 +396,10 @@ def rigid_servo_kernel(
         q_out[k] = q
         v_out[k] = v
         z_out[k] = z
-        a_out[k] = _acceleration(v, z, f0, mass, fp)
+        if explicit:
+            a_out[k] = (f0 - sliding_friction(v, fp)) / mass
+        else:
+            a_out[k] = _acceleration(v, z, f0, mass, fp)
         for s in range(n_sub):
             mm = k * n_sub + s - d_sub
             j = mm // n_sub if mm >= 0 else -1
@@ -363,6 +412,8 @@ def rigid_servo_kernel(
                 fr, z = friction_force(v, f, z, fp, h, mass)
                 v = v + h * (f - fr) / mass
                 q += h * v
+            elif explicit:
+                q, v = _explicit_substep(q, v, f, h, mass, fp, rk_a, rk_b)
             else:
                 q, v = _static_substep(q, v, f, h, mass, fp)
         mm = k * n_sub + n_sub - 1 - d_sub
@@ -381,6 +432,7 @@ def simulate_rigid_servo(
     q0: float | None = None,
     v0: float = 0.0,
     z0: float = 0.0,
+    integrator: str = "exact",
 ) -> RigidServoResult:
     """Simulate a rigid axis in closed loop, one controller sample per reference value.
 
@@ -403,6 +455,11 @@ def simulate_rigid_servo(
         Initial velocity [m/s].
     z0 : float
         Initial friction state (LuGre bristle deflection) [m].
+    integrator : {"exact", "rk4", "dopri5"}
+        ``"exact"``: each sub-step solved in closed form with the rest phase. ``"rk4"`` or
+        ``"dopri5"``: an explicit step per sub-step with ``sign(0) = 0`` and no rest
+        phase, as block-diagram simulators integrate Coulomb friction without
+        zero-crossing detection (static friction models only) [-].
 
     Returns
     -------
@@ -422,14 +479,32 @@ def simulate_rigid_servo(
         )
     if int(n_sub) < 1:
         raise InputError("n_sub must be >= 1", column="n_sub")
+    if integrator not in INTEGRATORS:
+        raise InputError(f"unknown integrator {integrator!r}; use one of {INTEGRATORS}",
+                         column="integrator")
+    if integrator != "exact" and isinstance(axis.friction, LuGreFriction):
+        raise InputError("explicit integrators take static friction only; use "
+                         "integrator='exact' with LuGre friction", column="integrator")
+    rk_a, rk_b = _tableau(integrator)
     fp = friction_params_array(axis.friction)
     q_init = float(ref[0]) if q0 is None else float(q0)
     out = rigid_servo_kernel(
         ref, ext, servo.period, int(n_sub), axis.mass, axis.offset, fp,
         servo.kp, servo.kv, servo.ki, servo.kff, np.asarray(servo.taps, dtype=float),
         servo.delay, servo.u_max, servo.gain, servo.q_resolution, q_init, float(v0),
-        float(z0),
+        float(z0), rk_a, rk_b,
     )
     t = np.arange(ref.size) * servo.period
     return RigidServoResult(t, *out)
 
+
+
+def _tableau(integrator: str) -> tuple[np.ndarray, np.ndarray]:
+    """Butcher tableau as arrays; empty ones for the closed-form sub-step."""
+    if integrator == "exact":
+        return np.zeros((0, 0)), np.zeros(0)
+    rows, b = TABLEAUS[integrator]
+    a = np.zeros((len(b), len(b)))
+    for i, row in enumerate(rows):
+        a[i, : len(row)] = row
+    return a, np.asarray(b, dtype=float)

@@ -304,7 +304,7 @@ def pulses_in_controller_units(rec: EmpsRecord, params: dict) -> tuple[EmpsRecor
 
 
 def simulate(rec: EmpsRecord, model: EmpsModel, n_sub: int = N_SUB, period=None,
-             ref=None, integrator: str | None = None) -> RigidServoResult:
+             ref=None) -> RigidServoResult:
     """Closed-loop simulation of a model with the reference position as input.
 
     Parameters
@@ -312,16 +312,13 @@ def simulate(rec: EmpsRecord, model: EmpsModel, n_sub: int = N_SUB, period=None,
     rec : EmpsRecord
         The data (reference, gains, pulses) [-].
     model : EmpsModel
-        The model [-].
+        The model, with its integrator [-].
     n_sub : int
         Mechanical sub-steps per sample, unless the model fixes its own [-].
     period : float, optional
         Controller period; default the data's sample time [s].
     ref : numpy.ndarray, optional
         Reference per controller sample; default ``qg`` [m].
-    integrator : str, optional
-        Overrides the model's: ``"exact"`` (closed form with the rest phase) or an explicit
-        scheme of :data:`tcpmm.sim.rigid.TABLEAUS` with ``sign(0) = 0`` [-].
 
     Returns
     -------
@@ -334,7 +331,7 @@ def simulate(rec: EmpsRecord, model: EmpsModel, n_sub: int = N_SUB, period=None,
     axis = RigidAxis(mass=model.mass, offset=model.offset, friction=model.friction)
     return simulate_rigid_servo(rec.qg if ref is None else ref, axis, servo, ext=rec.pulses,
                                 n_sub=model.steps or n_sub, q0=float(rec.qm[0]),
-                                integrator=integrator or model.integrator)
+                                integrator=model.integrator)
 
 
 def relative_errors(rec: EmpsRecord, sim: RigidServoResult, meas: dict) -> dict:
@@ -612,6 +609,11 @@ def evaluate(rec: EmpsRecord, models: dict, n_sub: int = N_SUB) -> dict:
     return out
 
 
+def _is_reference(name: str) -> bool:
+    """Whether a model is the reference (as published or converged), not an improvement."""
+    return name.startswith("reference")
+
+
 def _plot(path, rec, result, models):
     import matplotlib
 
@@ -620,7 +622,7 @@ def _plot(path, rec, result, models):
 
     meas = result["_meas"]
     sims = result["_sims"]
-    best = min((n for n in sims if not n.startswith("reference")),
+    best = min((n for n in sims if not _is_reference(n)),
                key=lambda n: result["errors_percent"][n]["force"])
     fig, axs = plt.subplots(4, 1, sharex=True, figsize=(10, 10))
     for ax, key, mk, lab in zip(
@@ -689,7 +691,7 @@ def run(estimation, validation=None, n_sub: int = N_SUB) -> tuple[dict, dict]:
         if key in report:
             errs = report[key]["errors_percent"]
             ref = errs["reference"]
-            winners = [n for n, e in errs.items() if not n.startswith("reference")
+            winners = [n for n, e in errs.items() if not _is_reference(n)
                        and e["velocity"] < ref["velocity"] and e["force"] < ref["force"]]
             best[key] = min(winners, key=lambda n: errs[n]["force"]) if winners else None
     report["best_model"] = best

@@ -86,8 +86,8 @@ def study(estimation, steps=STEPS, schemes=("rk4", "dopri5")) -> dict:
            "closed_form": relative_errors(rec, exact, meas), "explicit": {}}
     for scheme in schemes:
         out["explicit"][scheme] = {
-            n: relative_errors(rec, simulate(rec, dataclasses.replace(model, steps=n),
-                                             period=period, ref=ref, integrator=scheme), meas)
+            n: relative_errors(rec, simulate(rec, dataclasses.replace(
+                model, integrator=scheme, steps=n), period=period, ref=ref), meas)
             for n in steps}
     return out
 

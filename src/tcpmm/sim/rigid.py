@@ -498,7 +498,6 @@ def simulate_rigid_servo(
     return RigidServoResult(t, *out)
 
 
-
 def _tableau(integrator: str) -> tuple[np.ndarray, np.ndarray]:
     """Butcher tableau as arrays; empty ones for the closed-form sub-step."""
     if integrator == "exact":

@@ -186,21 +186,10 @@ def _nut_estimate(t, record, force, mechanics, curve: dict, share: float):
     def coulomb_stribeck(vel):
         return _stribeck_curve(p, vel, 2.0, False)
 
-    def estimate(mech, s):
-        return estimate_nut(t, record.motor_angle_rad, record.scale_m, force, mech.R_L,
-                            mech, coulomb_stribeck, share=min(max(float(s), 0.0), 1.0))
-
     try:
-        nut = estimate(mechanics, share)
-        c_tab = nut.table_viscous
-        if np.isfinite(c_tab) and c_tab >= 0.0:
-            # The nut-force signs depend on the table's viscous force; the FRFs rarely
-            # determine C_t, the record's own fit does: decide the signs again with it.
-            again = estimate(mechanics.replace(C_t=c_tab), nut.guideway_share
-                             if np.isfinite(nut.guideway_share) else share)
-            if again.determined or not nut.determined:
-                nut = again
-        return nut
+        return estimate_nut(t, record.motor_angle_rad, record.scale_m, force,
+                            mechanics.R_L, mechanics, coulomb_stribeck,
+                            share=min(max(float(share), 0.0), 1.0))
     except InputError:
         return None
 

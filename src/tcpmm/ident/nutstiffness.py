@@ -135,7 +135,11 @@ def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_c
     terms agree for any share ``s`` in ``[0, 1]``) or decelerates only a little
     (``M_t |a|`` below a quarter of ``share |F_f| + C_t |v|``), and that of ``a`` where
     the deceleration force exceeds ``margin`` times ``|F_f| + C_t |v|``; the samples in
-    between, and those within the filter's smear of them, are left out.
+    between, and those within the filter's smear of them, are left out. The sweep rarely
+    determines ``C_t`` (it can come out several times too large, and then the braking
+    samples that separate play from share are lost), so the signs are decided a second
+    time with the viscous force through the nut and the share of the first fit; the
+    second fit is kept unless only the first is determined.
 
     Parameters
     ----------
@@ -151,7 +155,7 @@ def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_c
         Screw ratio ``lead / 2 pi`` [m/rad].
     mechanics : AxisMechanics
         Identified mechanics; ``J_m``, ``K_L``, ``B_m`` and ``M_t`` are used, ``C_t``
-        only to decide the nut-force signs [SI].
+        only to decide the nut-force signs of the first fit [SI].
     friction_curve : callable
         Coulomb and Stribeck part of the steady friction at a velocity array, with the
         sign of the velocity, table units [N].
@@ -174,8 +178,6 @@ def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_c
     NutEstimate
         The estimate; ``determined`` says whether to use it [-].
     """
-    from scipy.ndimage import binary_dilation
-
     t = np.asarray(t, dtype=float)
     if not (t.size == np.size(motor_angle) == np.size(scale) == np.size(force)):
         raise InputError("time, motor angle, scale and force must have the same length",
@@ -192,10 +194,28 @@ def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_c
     ff = np.asarray(friction_curve(v), dtype=float)
     guard = max(1, round(1.0 / (cutoff * dt)))  # the filter's smear of a jump
 
+    def fit(C_t, s):
+        return _fit_nut(t, v, a, y, ff, guard, m, C_t, min(max(float(s), 0.0), 1.0),
+                        min_speed, margin, max_rel_std)
+
+    first = fit(m.C_t, share)
+    c_tab = first.table_viscous
+    if not (np.isfinite(c_tab) and c_tab >= 0.0):
+        return first
+    again = fit(c_tab, first.guideway_share if np.isfinite(first.guideway_share) else share)
+    return again if again.determined or not first.determined else first
+
+
+def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed: float,
+             margin: float, max_rel_std: float) -> NutEstimate:
+    """The least-squares fit of :func:`estimate_nut` on the filtered signals, with the
+    nut-force signs decided by ``C_t`` [N s/m] and ``share`` [-]."""
+    from scipy.ndimage import binary_dilation
+
     inertia = m.M_t * np.abs(a)
-    largest = np.abs(ff) + m.C_t * np.abs(v)
+    largest = np.abs(ff) + C_t * np.abs(v)
     along = a * v >= 0.0
-    steady = inertia < 0.25 * (share * np.abs(ff) + m.C_t * np.abs(v))
+    steady = inertia < 0.25 * (share * np.abs(ff) + C_t * np.abs(v))
     braking = ~along & (inertia > margin * largest)
     sgn = np.where(braking, np.sign(a), np.sign(v))
     sure = (along | steady | braking) & (np.abs(v) >= min_speed)

@@ -9,13 +9,18 @@ the table accelerates and the nut carries ``M_t a`` as well, firmly on one flank
 equations of motion (physics.md section 1) hold at every instant:
 
     d   = R_L th_m - X_LS = R_L T_s/K_L + F_t/K_t + sign(F_t) g/2 + c
-    T_s = K_tc i - J_m th_m'' - B_m th_m'          (motor shaft, torsion spring)
-    F_t = M_t a + C_t v + s F_f(v)                 (table; guideway friction s F_f)
+    T_s = J_L th_L'' + B_L th_L' + R_L (F_t + F_s)     (screw, torsion spring)
+    F_t = M_t a + C_t v + s F_f(v)                     (table; guideway friction s F_f)
 
-so that, with ``y = d - R_L (K_tc i - J_m th_m'')/K_L``,
+where ``F_s`` is the screw's share of the friction. The torque through the coupling is
+taken from the load side, which the steady runs measure (``F_f`` and the viscous force
+``V v`` of everything but the motor bearing), not from the logged current: a trace
+sampled in step with the interpolator reads the velocity-loop ripple of every command
+step at the same phase, which looks like inertia and in the torsion term like a stiffer
+nut. With ``th_L'' = a/R_L`` and ``y = d - (R_L^2/K_L) ((J_L/R_L^2 + M_t) a + F_f + V v)``,
 
     y = c + beta v + (s/K_t) F_f(v) + (M_t/K_t) a + sign(F_t) g/2,
-    beta = C_t/K_t - B_m/K_L,
+    beta = C_t/K_t,
 
 linear in ``(c, beta, s/K_t, M_t/K_t, g)``. With ``M_t`` from the FRF fit (the sweep
 determines the masses well even with free play) the acceleration term gives ``K_t`` and
@@ -125,9 +130,10 @@ class NutEstimate:
         }
 
 
-def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_curve, *,
-                 share: float = 0.5, cutoff: float = 20.0, min_speed: float = 2e-4,
-                 margin: float = 1.5, max_rel_std: float = 0.3) -> NutEstimate:
+def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
+                 total_viscous: float, *, share: float = 0.5, cutoff: float = 20.0,
+                 min_speed: float = 2e-4, margin: float = 1.5,
+                 max_rel_std: float = 0.3) -> NutEstimate:
     """Nut stiffness, guideway share and lost motion from a record with accelerations.
 
     The sign of the nut force ``F_t = M_t a + C_t v + s F_f(v)`` must be known where a
@@ -149,16 +155,17 @@ def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_c
         Motor encoder angle [rad].
     scale : array_like
         Linear scale ``X_LS`` [m].
-    force : array_like
-        Motor force at the table, ``K_tc i / R_L`` [N].
     R_L : float
         Screw ratio ``lead / 2 pi`` [m/rad].
     mechanics : AxisMechanics
-        Identified mechanics; ``J_m``, ``K_L``, ``B_m`` and ``M_t`` are used, ``C_t``
+        Identified mechanics; ``J_L``, ``K_L``, ``B_m`` and ``M_t`` are used, ``C_t``
         only to decide the nut-force signs of the first fit [SI].
     friction_curve : callable
         Coulomb and Stribeck part of the steady friction at a velocity array, with the
         sign of the velocity, table units [N].
+    total_viscous : float
+        Slope of the steady motor force over the speed, at the table; the motor
+        bearing's ``B_m/R_L^2`` of it does not twist the shaft [N s/m].
     share : float
         Guideway share assumed to decide the nut-force signs of nearly steady samples
         [-].
@@ -179,19 +186,19 @@ def estimate_nut(t, motor_angle, scale, force, R_L: float, mechanics, friction_c
         The estimate; ``determined`` says whether to use it [-].
     """
     t = np.asarray(t, dtype=float)
-    if not (t.size == np.size(motor_angle) == np.size(scale) == np.size(force)):
-        raise InputError("time, motor angle, scale and force must have the same length",
+    if not (t.size == np.size(motor_angle) == np.size(scale)):
+        raise InputError("time, motor angle and scale must have the same length",
                          column="scale")
     dt = float(np.median(np.diff(t)))
     m = mechanics
     th = lowpass_filtfilt(motor_angle, dt, cutoff)
     x = lowpass_filtfilt(scale, dt, cutoff)
-    f = lowpass_filtfilt(force, dt, cutoff)
-    alpha = central_difference(central_difference(th, dt), dt)
     v = central_difference(x, dt)
     a = central_difference(v, dt)
-    y = R_L * th - x - R_L * (f * R_L - m.J_m * alpha) / m.K_L
     ff = np.asarray(friction_curve(v), dtype=float)
+    load_viscous = max(float(total_viscous) - m.B_m / R_L**2, 0.0)
+    y = R_L * th - x - R_L**2 / m.K_L * (
+        (m.J_L / R_L**2 + m.M_t) * a + ff + load_viscous * v)
     guard = max(1, round(1.0 / (cutoff * dt)))  # the filter's smear of a jump
 
     def fit(C_t, s):
@@ -250,7 +257,7 @@ def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed:
     # delta method for s = M_t p_s/p_a
     jac = m.M_t * np.array([1.0 / p_a, -p_s / p_a**2])
     s_sd = float(math.sqrt(max(jac @ cov[np.ix_([2, 3], [2, 3])] @ jac, 0.0)))
-    c_tab = K_t * (beta + m.B_m / m.K_L)
+    c_tab = K_t * beta
     return NutEstimate(
         stiffness=K_t, stiffness_std=K_t * sd[3] / p_a, guideway_share=s,
         guideway_share_std=s_sd, backlash=max(g, 0.0), backlash_std=float(sd[4]),

@@ -15,7 +15,7 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
-from tcpmm.ident.frictionsplit import identify_friction
+from tcpmm.ident.frictionsplit import coulomb_stribeck, identify_friction
 from tcpmm.ident.nutstiffness import estimate_nut
 from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.io.bundle_schema import MachineConfig
@@ -52,14 +52,9 @@ def nut_of(machine, ax, rec, mech=None):
     t, x, force = friction_record_arrays(rec, cfg.lead_m, cfg.torque_constant)
     est, _ = identify_stribeck_run(t, x, force)
     p = dict(zip(est.names, est.values, strict=True))
-
-    def curve(v):
-        e = np.exp(-np.abs(v / p["vs"]) ** 2)
-        return np.where(v > 0, p["Fc+"] + (p["Fs+"] - p["Fc+"]) * e,
-                        -(p["Fc-"] + (p["Fs-"] - p["Fc-"]) * e))
-
     m = mech or machine.axes[ax].mechanics
-    return estimate_nut(t, rec.motor_angle_rad, rec.scale_m, m.R_L, m, curve, p["Fv"])
+    return estimate_nut(t, rec.motor_angle_rad, rec.scale_m, m.R_L, m, coulomb_stribeck(p),
+                        p["Fv"])
 
 
 @pytest.mark.parametrize("ax", ["X", "Y"])

@@ -177,18 +177,35 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     return fr, est, split
 
 
-def _nut_estimate(t, record, mechanics, curve: dict, share: float):
-    """Nut stiffness, share and lost motion from the whole friction record, or ``None``
-    when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
+def coulomb_stribeck(curve: dict):
+    """The Coulomb and Stribeck part (no viscous slope) of a fitted steady friction curve.
+
+    Parameters
+    ----------
+    curve : dict
+        Fitted values by name (``Fc+``, ``Fc-``, ``Fs+``, ``Fs-``, ``vs``), table units
+        [N, m/s].
+
+    Returns
+    -------
+    callable
+        Friction at a velocity array, with the sign of the velocity [N].
+    """
     p = (curve["Fc+"], curve["Fc-"], curve["Fs+"], curve["Fs-"],
          np.log10(max(float(curve["vs"]), 1e-6)), 0.0)
 
-    def coulomb_stribeck(vel):
+    def part(vel):
         return _stribeck_curve(p, vel, 2.0, False)
 
+    return part
+
+
+def _nut_estimate(t, record, mechanics, curve: dict, share: float):
+    """Nut stiffness, share and lost motion from the whole friction record, or ``None``
+    when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
     try:
         return estimate_nut(t, record.motor_angle_rad, record.scale_m, mechanics.R_L,
-                            mechanics, coulomb_stribeck, float(curve["Fv"]),
+                            mechanics, coulomb_stribeck(curve), float(curve["Fv"]),
                             share=min(max(float(share), 0.0), 1.0))
     except InputError:
         return None

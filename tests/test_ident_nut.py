@@ -6,9 +6,7 @@ a soft nut (the nut crosses the play every cycle); the accelerations of the fric
 see the nut in contact.
 """
 
-import importlib.util
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +20,9 @@ from tcpmm.io.bundle_schema import MachineConfig
 from tcpmm.virtual import FRICTION_SPEEDS, bundle_machine_yaml, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]
+#: Whether the refit with the play as the sweep saw it explains the built-in axes' FRFs
+#: better than the linear fit (both with the structure from G_tcp) [-].
+PLAY_MODELLED = {"X": True, "Y": False}
 _CACHE = {}
 
 
@@ -110,8 +111,11 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
         warnings.simplefilter("always")
         soft = identify_axis(ax, sweep, config(machine, ax))
         idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax, PLAY))
-    # the travelling sweep lets the play be modelled: nothing to warn about
-    assert not any("lost motion in the nut" in str(w.message) for w in caught)
+    play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
+    if PLAY_MODELLED[ax]:  # the travelling sweep lets the play be modelled
+        assert not play_warnings
+    else:  # it was, and fitted the FRFs no better: the user is told the linear fit stays
+        assert len(play_warnings) == 1 and "fitted no better" in play_warnings[0]
     K_t = machine.axes[ax].mechanics.K_t
     assert soft.axis.mechanics.K_t < 0.95 * K_t  # what the sweep alone sees
     assert idn.axis.mechanics.K_t == pytest.approx(K_t, rel=0.1)
@@ -129,22 +133,31 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
         idn.axis.mechanics.K_t)
     assert report["friction_split"]["nut"]["backlash_m"]["value"] == pytest.approx(
         split.backlash)
-    assert 0.0 < report["sweep_play"]["lowest_nut_gain"] < 0.6
+    if PLAY_MODELLED[ax]:
+        assert 0.0 < report["sweep_play"]["lowest_nut_gain"] < 0.6
+    else:
+        assert "sweep_play" not in report
 
 
 @pytest.mark.parametrize("ax", ["X", "Y"])
 def test_the_play_crossed_by_the_sweep_is_modelled(machine, ax):
-    """Mechanics refitted with the nut as soft as the sweep saw it: table mass and
-    structure within 3 % of the truth (measured 0.98-1.00, the linear fit 0.93-1.02), and
-    the model as measured follows the soft-nut FRFs better than the linear one does."""
+    """With the structure held at what G_tcp says, table mass, bed and structure within
+    7 % of the truth (measured 0.93-1.02; holding the structure took the bed from
+    0.63-0.73 to 0.93-0.96 and ``M_t`` of X from 0.99 to 0.96). On X the refit with the
+    nut as soft as the sweep saw it follows the FRFs better than the linear one and is
+    kept; on Y, with the structure held, the linear fit is the better one (the DF refit
+    had won against a linear fit whose bed was 0.63 of the truth)."""
     a = with_play(machine.axes[ax], PLAY)
     sweep = virtual_sweep(a, name=ax)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax, PLAY))
     m, true = idn.axis.mechanics, machine.axes[ax].mechanics
-    for p in ("M_t", "M_h", "K_h"):
-        assert getattr(m, p) == pytest.approx(getattr(true, p), rel=0.03), p
+    for p in ("M_t", "M_h", "K_h", "M_b", "K_b"):
+        assert getattr(m, p) == pytest.approx(getattr(true, p), rel=0.07), p
+    if not PLAY_MODELLED[ax]:
+        assert "nut_gain" not in idn.physical.extra
+        return
     gain = idn.physical.extra["nut_gain"]
     f = idn.frfs["G_T"].freq_hz
     assert np.all((gain(f) >= 0.0) & (gain(f) <= 1.0)) and gain(f).min() < 0.6
@@ -176,16 +189,7 @@ def test_without_play_the_plateau_split_is_kept(machine):
     assert split.estimate.model == "share"
 
 
-def unseen_machines():
-    """``examples/unseen_machines.py``, whose machines these cases come from."""
-    spec = importlib.util.spec_from_file_location(
-        "unseen_machines", Path(__file__).parents[1] / "examples" / "unseen_machines.py")
-    um = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(um)
-    return um
-
-
-def test_the_nut_stiffness_does_not_rest_on_the_logged_current():
+def test_the_nut_stiffness_does_not_rest_on_the_logged_current(unseen):
     """Axis X of machine 3 of ``examples/unseen_machines.py --seed 0 --backlash``, on its
     true mechanics: 1.1 um of play, share 0.49, velocity feedforward 0.5. Its current is
     logged every 1 ms, in step with the command, so each sample reads the ripple of a
@@ -193,7 +197,7 @@ def test_the_nut_stiffness_does_not_rest_on_the_logged_current():
     the axis has. Taken through the current, the shaft torsion made the nut 24 % too stiff
     and the share 0.73; from the load side the stiffness comes out 1.01 of the truth and
     the share 0.59 +- 0.15 (true 0.49): tolerances 5 % and 0.15."""
-    um = unseen_machines()
+    um = unseen
     true, _ = um.draw_machine(0, 3, backlash=True)
     a = true.axes["X"]
     share, _ = um.friction_split(a.friction)
@@ -204,14 +208,14 @@ def test_the_nut_stiffness_does_not_rest_on_the_logged_current():
     assert abs(e.backlash - a.friction.backlash) < 0.1e-6
 
 
-def test_the_nut_force_signs_do_not_rest_on_the_sweeps_table_damping():
+def test_the_nut_force_signs_do_not_rest_on_the_sweeps_table_damping(unseen):
     """Axis Y of machine 3 of ``examples/unseen_machines.py --seed 1 --backlash``: 7.1 um
     of play, guideway share 0.20. Its sweep put ``C_t`` at 5.6 times the truth, and with
     that ``C_t`` deciding the nut-force signs the accelerations gave a share of -0.8, so
     the split fell back to share 1 and 6.6 um. The record's own viscous fit decides them
     now: share 0.33-0.34 and play 7.02-7.03 um for any ``C_t`` from 1 to 6 times the
     truth: tolerances 0.2 in share and 0.2 um."""
-    um = unseen_machines()
+    um = unseen
     true, _ = um.draw_machine(1, 3, backlash=True)
     a = true.axes["Y"]
     rec = virtual_friction(a, FRICTION_SPEEDS, name="Y")

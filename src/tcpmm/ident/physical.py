@@ -305,7 +305,8 @@ def j_total_from_g_m(frf: FRFData, K_tc: float) -> float:
 def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = None,
                  current_bandwidth_hz=None, fit_current_loop: bool = False,
                  max_nfev: int = 200, tf_fits: dict | None = None,
-                 hold_period_s: float = 0.0, nut_gain=None) -> PhysicalFit:
+                 hold_period_s: float = 0.0, nut_gain=None,
+                 structure: dict | None = None, also_from: dict | None = None) -> PhysicalFit:
     """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.
 
     Parameters
@@ -332,6 +333,13 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     nut_gain : callable, optional
         Factor on ``K_t`` per frequency (lost motion crossed by the sweep), see
         :func:`model_frfs` [-].
+    structure : dict, optional
+        Parameters held in proportion to ``M_t``, ``{name: value / M_t}``, e.g. the bed and
+        TCP structure from ``G_tcp`` alone (:func:`tcpmm.ident.structure.fit_structure`);
+        they are not fitted, and their standard deviations are those of ``M_t`` [SI / kg].
+    also_from : dict, optional
+        One more starting point besides those from the data, e.g. a previous fit of the
+        same FRFs (``f_i`` for the current loop) [SI].
     """
     limit_blas_threads()
     for need in ("G_M", "G_T"):
@@ -339,6 +347,9 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
             raise InputError(f"the physical fit needs {need}; only {', '.join(data)} given")
     has_tcp = "G_tcp" in data
     names = list(FITTED) if has_tcp else [p for p in FITTED if p not in ("M_h", "C_h", "K_h")]
+    tied = {p: float(r) for p, r in (structure or {}).items() if p in names}
+    reported = list(names)
+    names = [p for p in names if p not in tied]
     full = data
     data = {k: log_binned(v) for k, v in data.items()}
     freqs = {k: v.freq_hz for k, v in data.items()}
@@ -352,6 +363,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
 
     def mech_of(theta):
         vals = dict(zip(names[:n_mech], np.exp(theta[:n_mech]), strict=True))
+        vals.update({p: r * vals["M_t"] for p, r in tied.items()})
         return AxisMechanics.model_construct(**{**fixed, **vals, "load_force": 0.0})
 
     def bandwidth(theta):
@@ -377,6 +389,8 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         if tf_fits:
             starts = guesses_from_tf(tf_fits, lead, K_tc,
                                      j_total_from_g_m(full["G_M"], K_tc)) + starts
+        if also_from is not None:
+            starts = [also_from, *starts]
     if fit_current_loop:
         bounds_fi = (np.log(20.0), np.log(1e5))
     best, best_bounds = None, None
@@ -405,6 +419,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     corr = cov / np.outer(sd_log, sd_log).clip(1e-300)
     vals = dict(zip(names, np.exp(r.x), strict=True))
     std = {p: float(vals[p] * sd_log[i]) for i, p in enumerate(names)}
+    std.update({p: float(r * std["M_t"]) for p, r in tied.items()})
     undetermined = [p for i, p in enumerate(names) if sd_log[i] > 0.5]
     if undetermined:
         warnings.warn("the FRFs do not determine " + ", ".join(undetermined) +
@@ -419,4 +434,5 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     if fit_current_loop and ("f_i" in undetermined or f_i > 3 * f_top):
         f_i = None  # the data cannot see the current loop: keep it ideal
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
-                       {"names": names, "nfev": int(r.nfev), "current_bandwidth_hz": f_i})
+                       {"names": reported + names[n_mech:], "nfev": int(r.nfev),
+                        "current_bandwidth_hz": f_i, "tied": tied})

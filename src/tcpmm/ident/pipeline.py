@@ -21,6 +21,7 @@ from .frictionsplit import identify_friction, place_steady_viscous
 from .metrics import fit_percent
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
+from .structure import fit_structure
 from .tffit import fit_tf
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
@@ -313,6 +314,19 @@ def identify_axis(
     mech = phys.mechanics
     if friction is not None:
         mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys, guideway_share)
+        if _play_significant(split) and "G_tcp" in data:
+            # The sweep crossed the play, which distorts G_M and G_T but not G_tcp: hold
+            # the bed and TCP structure at what G_tcp alone says, relative to the table.
+            structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
+            phys = fit_physical(data, cfg.lead_m, cfg.torque_constant,
+                                initial=_fit_values(phys), fit_current_loop=fit_current_loop,
+                                tf_fits=tf_fits,
+                                hold_period_s=cfg.servo.velocity_loop_period_s,
+                                structure=structure)
+            mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys,
+                                                           guideway_share)
+        else:
+            structure = None
         v_travel = _travel_speed(sweep)
         bias = _bias_force(v_travel, mech, fr)
         if _play_significant(split) and bias > 0:
@@ -326,7 +340,8 @@ def identify_axis(
                 phys = fit_physical(data, cfg.lead_m, cfg.torque_constant,
                                     fit_current_loop=fit_current_loop, tf_fits=tf_fits,
                                     hold_period_s=cfg.servo.velocity_loop_period_s,
-                                    nut_gain=gain)
+                                    nut_gain=gain, structure=structure,
+                                    also_from=_fit_values(phys) if structure else None)
                 mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys,
                                                                guideway_share)
                 if phys.cost < best[0]:
@@ -353,6 +368,14 @@ def identify_axis(
         friction=fr,
     )
     return AxisIdentification(name, frfs, tf_fits, phys, axis, sweep, est, split)
+
+
+def _fit_values(phys: PhysicalFit) -> dict:
+    """The values of a physical fit as a starting point for another [SI]."""
+    start = phys.mechanics.model_dump()
+    if phys.extra.get("current_bandwidth_hz") is not None:
+        start["f_i"] = phys.extra["current_bandwidth_hz"]
+    return start
 
 
 def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guideway_share):

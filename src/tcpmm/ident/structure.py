@@ -20,6 +20,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..mechanics.params import AxisMechanics
+from .metrics import rel_error
 from .physical import FRFData, log_binned, model_frfs
 
 __all__ = ["STRUCTURE", "fit_structure"]
@@ -77,6 +78,4 @@ def fit_structure(data: FRFData, starts, max_nfev: int = 200):
     vals = dict(zip(_FREE, np.exp(r.x), strict=True))
     ratios = {p: float(vals[p] / base["M_t"]) for p in STRUCTURE}
     m = AxisMechanics.model_construct(**{**base, **vals})
-    model = model_frfs(m, {"G_tcp": f})["G_tcp"]
-    rel = float(np.sqrt(np.mean(np.abs(model / H - 1.0) ** 2)))
-    return ratios, rel
+    return ratios, rel_error(H, model_frfs(m, {"G_tcp": f})["G_tcp"])

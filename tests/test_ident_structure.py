@@ -108,9 +108,13 @@ def test_the_play_does_not_take_the_bed_away(unseen):
     """Axis Y of machine 3 of ``examples/unseen_machines.py --seed 0 --backlash``: 6.3 um of
     play. The joint fit put the bed mass at 0.05 of the truth (its G_tcp off by 30-160 %
     at 50-200 Hz, where the measured one matched the true within 2 %). With the structure
-    held at what G_tcp alone says, ``M_b``, ``K_b`` and ``M_t`` come out 1.00-1.03 of the
-    truth (1.04-1.06 with another sweep noise): tolerance 20 %, and the ratio ``M_b/M_t``
-    within 5 % (measured 3 %)."""
+    held at what G_tcp alone says, the bed follows the table mass: ``M_b/M_t`` within 5 %
+    of the truth (measured 3 %). The table mass rests on the FRFs the play distorts: the
+    refits with the play's describing function wander here (0.9 -> 1.26 -> 0.56 -> 0.79
+    of the truth) and none comes back to the mass it was computed with, so the linear fit
+    is kept: ``M_t``, ``M_b`` and ``K_b`` 1.18-1.21 of the truth with two sweep noises
+    (the least cost among the wandering refits had given 0.55-1.06). Tolerance 25 %, the
+    spread of ``M_t`` over the 48 unseen axes with play (0.78-1.22)."""
     um = unseen
     true, _ = um.draw_machine(0, 3, backlash=True)
     a = true.axes["Y"]
@@ -121,6 +125,7 @@ def test_the_play_does_not_take_the_bed_away(unseen):
                             friction=virtual_friction(a, name="Y"))
     m, t = idn.axis.mechanics, a.mechanics
     for p in ("M_b", "K_b", "M_t"):
-        assert getattr(m, p) == pytest.approx(getattr(t, p), rel=0.2), p
+        assert getattr(m, p) == pytest.approx(getattr(t, p), rel=0.25), p
     assert m.M_b / m.M_t == pytest.approx(t.M_b / t.M_t, rel=0.05)
     assert idn.physical.extra["tied"]
+    assert "nut_gain" not in idn.physical.extra

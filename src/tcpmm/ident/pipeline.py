@@ -337,7 +337,9 @@ def identify_axis(
         bias = _bias_force(v_travel, mech, fr)
         if _play_significant(split) and bias > 0:
             # The sweep crossed the play: refit with the nut as soft as the sweep saw it,
-            # and keep whichever fit, linear or with the play, explains the FRFs best.
+            # and keep whichever fit, linear or with the play, explains the FRFs best; a
+            # refit counts only if it agrees with the describing function it was fitted
+            # with (SELF_CONSISTENT_REL).
             best = (phys.cost, phys, mech, fr, est, split, None)
             freq, theta_m, scale = sweep_motion(sweep, fmin, fmax)
             for _ in range(PLAY_ITERATIONS):

@@ -306,7 +306,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
                  current_bandwidth_hz=None, fit_current_loop: bool = False,
                  max_nfev: int = 200, tf_fits: dict | None = None,
                  hold_period_s: float = 0.0, nut_gain=None,
-                 structure: dict | None = None, also_from: dict | None = None) -> PhysicalFit:
+                 structure: dict | None = None) -> PhysicalFit:
     """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.
 
     Parameters
@@ -337,9 +337,6 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         Parameters held in proportion to ``M_t``, ``{name: value / M_t}``, e.g. the bed and
         TCP structure from ``G_tcp`` alone (:func:`tcpmm.ident.structure.fit_structure`);
         they are not fitted, and their standard deviations are those of ``M_t`` [SI / kg].
-    also_from : dict, optional
-        One more starting point besides those from the data, e.g. a previous fit of the
-        same FRFs (``f_i`` for the current loop) [SI].
     """
     limit_blas_threads()
     for need in ("G_M", "G_T"):
@@ -389,8 +386,6 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         if tf_fits:
             starts = guesses_from_tf(tf_fits, lead, K_tc,
                                      j_total_from_g_m(full["G_M"], K_tc)) + starts
-        if also_from is not None:
-            starts = [also_from, *starts]
     if fit_current_loop:
         bounds_fi = (np.log(20.0), np.log(1e5))
     best, best_bounds = None, None

@@ -240,13 +240,13 @@ def _estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve, tota
         return _fit_nut(t, v, a, y, ff, guard, m, C_t, min(max(float(s), 0.0), 1.0),
                         min_speed, margin, max_rel_std)
 
-    first = fit(m.C_t, share)
-    c_tab = first.table_viscous
+    kept = fit(m.C_t, share)
+    c_tab = kept.table_viscous
     if np.isfinite(c_tab) and c_tab >= 0.0:
-        again = fit(c_tab, first.guideway_share if np.isfinite(first.guideway_share)
-                    else share)
-        first = again if again.determined or not first.determined else first
-    return replace(first, cutoff=cutoff)
+        again = fit(c_tab, kept.guideway_share if np.isfinite(kept.guideway_share) else share)
+        if again.determined or not kept.determined:
+            kept = again
+    return replace(kept, cutoff=cutoff)
 
 
 def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed: float,

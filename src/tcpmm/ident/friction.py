@@ -24,6 +24,7 @@ from .estimate import ParameterEstimate
 from .signals import _as_1d, central_difference, lowpass_filtfilt
 
 __all__ = [
+    "PLATEAU_DURATIONS_S",
     "Plateau",
     "find_plateaus",
     "fit_stribeck",
@@ -55,6 +56,11 @@ class Plateau:
     velocity: float
     force: float
     force_std: float
+
+
+#: Shortest plateau durations tried in turn by :func:`identify_stribeck_run`, longest
+#: first [s].
+PLATEAU_DURATIONS_S = (0.2, 0.1, 0.05)
 
 
 def find_plateaus(
@@ -257,10 +263,15 @@ def identify_stribeck_run(
     tie_static: bool = False,
     v_min: float | None = None,
     rel_tol: float = 0.05,
-    min_duration: float = 0.2,
+    min_duration: float | None = None,
     trim: float = 0.1,
 ):
     """Stribeck curve from a record of back-and-forth runs at constant speeds.
+
+    Plateaus are looked for with the shortest duration ``min_duration``; by default with
+    each of :data:`PLATEAU_DURATIONS_S` in turn, down to the first that finds enough for the
+    fit (two per direction and more than the fitted parameters), so that passes of 0.3 s
+    or less are used too while longer ones are judged as before.
 
     Parameters
     ----------
@@ -277,7 +288,8 @@ def identify_stribeck_run(
     tie_static : bool
         One static level for both directions [-].
     v_min, rel_tol, min_duration, trim
-        Plateau detection settings, see ``find_plateaus`` ([m/s], [-], [s], [-]).
+        Plateau detection settings, see ``find_plateaus`` ([m/s], [-], [s], [-]);
+        ``min_duration=None`` tries :data:`PLATEAU_DURATIONS_S`.
 
     Returns
     -------
@@ -294,12 +306,17 @@ def identify_stribeck_run(
     if dt <= 0 or np.max(np.abs(dts - dt)) > 0.01 * dt:
         raise InputError("time must increase with a uniform step (1 % tolerance)", column="time_s")
     v = central_difference(lowpass_filtfilt(x, dt, cutoff), dt)
-    plateaus = find_plateaus(
-        t, v, u, v_min=v_min, rel_tol=rel_tol, min_duration=min_duration, trim=trim
-    )
+    durations = PLATEAU_DURATIONS_S if min_duration is None else (min_duration,)
+    npar = 5 if tie_static else 6
+    for d in durations:
+        plateaus = find_plateaus(t, v, u, v_min=v_min, rel_tol=rel_tol, min_duration=d,
+                                 trim=trim)
+        vp = np.array([p.velocity for p in plateaus])
+        if min((vp > 0).sum(), (vp < 0).sum()) >= 2 and vp.size > npar:
+            break
     if not plateaus:
         raise InputError(
-            f"no constant-velocity plateau of at least {min_duration} s found; record "
+            f"no constant-velocity plateau of at least {durations[-1]} s found; record "
             "longer constant-speed passes or lower min_duration",
             column="position",
         )

@@ -86,6 +86,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     from .io.modelfile import read_machine
     from .mechanics.statespace import plant
     from .servo.closedloop import is_stable
+    from .servo.sampled import sampled_spectral_radius
 
     m = read_machine(model)
     data = {}
@@ -95,7 +96,8 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         order = np.argsort(np.abs(ev))
         data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev[order]],
                     "damping": [float(-e.real / abs(e)) for e in ev[order]],
-                    "closed_loop_stable": is_stable(a.mechanics, a.servo)}
+                    "closed_loop_stable": is_stable(a.mechanics, a.servo),
+                    "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo)}
     if as_json:
         _emit_json(data)
         return
@@ -103,7 +105,10 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         modes = ", ".join(f"{f:.1f} Hz (zeta {z:.3f})" for f, z in
                           zip(d["modes_hz"], d["damping"], strict=True))
         state = "stable" if d["closed_loop_stable"] else "UNSTABLE"
-        out.print(f"{ax}: {modes}; closed loop {state}")
+        rho = d["sampled_loop_spectral_radius"]
+        sampled = "stable" if rho < 1.0 else "UNSTABLE"
+        out.print(f"{ax}: {modes}; closed loop {state}; sampled loop {sampled} "
+                  f"(spectral radius {rho:.4f})")
 
 
 def _load_command(command: Path | None, gcode: Path | None, machine):

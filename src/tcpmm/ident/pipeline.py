@@ -21,6 +21,7 @@ from .frictionsplit import identify_friction, place_steady_viscous
 from .metrics import fit_percent
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
+from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .structure import fit_structure
 from .tffit import fit_tf
 
@@ -140,8 +141,9 @@ class Identification:
                 "undetermined": a.physical.undetermined,
                 "current_bandwidth_hz": a.axis.servo.current_bandwidth_hz,
             }
-            if "sweep_play" in a.physical.extra:
-                out[name]["sweep_play"] = a.physical.extra["sweep_play"]
+            for key in ("sweep_play", "friction_holds_sweep", "sampled_loop_spectral_radius"):
+                if key in a.physical.extra:
+                    out[name][key] = a.physical.extra[key]
             if a.friction is not None:
                 out[name]["friction"] = {
                     k: {"value": float(v), "std": float(sd)}
@@ -301,6 +303,9 @@ def identify_axis(
         fmax_hz=fmax,
         file=sweep.source,
     )
+    v_travel = _travel_speed(sweep)
+    held = warn_friction_holds_sweep(name, sweep, frfs["G_M"], MIN_COHERENCE,
+                                     standing=v_travel == 0.0)
     tf_fits = {}
     for k, frf in frfs.items():
         nn, nd, ni = TF_ORDERS[k]
@@ -333,7 +338,6 @@ def identify_axis(
                                                            guideway_share)
         else:
             structure = None
-        v_travel = _travel_speed(sweep)
         bias = _bias_force(v_travel, mech, fr)
         if _play_significant(split) and bias > 0:
             # The sweep crossed the play: refit with the nut as soft as the sweep saw it,
@@ -376,6 +380,10 @@ def identify_axis(
         sensors=axis_config_to_sensors(cfg),
         friction=fr,
     )
+    phys.extra["sampled_loop_spectral_radius"] = warn_unstable_sampled_loop(
+        name, axis, phys.undetermined)
+    if held is not None:
+        phys.extra["friction_holds_sweep"] = held
     return AxisIdentification(name, frfs, tf_fits, phys, axis, sweep, est, split)
 
 

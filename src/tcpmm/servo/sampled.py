@@ -72,6 +72,25 @@ def lifted_closed_loop(mech: AxisMechanics, servo: ServoParams):
     return Phi, Gam, y[:, :nz], y[:, nz:]
 
 
+def sampled_spectral_radius(mech: AxisMechanics, servo: ServoParams) -> float:
+    """Spectral radius of the lifted sampled loop: below 1 it is stable [-].
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Mechanics [SI].
+    servo : ServoParams
+        Servo settings [SI].
+
+    Returns
+    -------
+    float
+        Largest modulus of the eigenvalues of ``Phi`` (:func:`lifted_closed_loop`) [-].
+    """
+    Phi = lifted_closed_loop(mech, servo)[0]
+    return float(np.max(np.abs(np.linalg.eigvals(Phi))))
+
+
 def initial_state(mech: AxisMechanics, servo: ServoParams, x0: np.ndarray) -> np.ndarray:
     """Lifted state for a plant state ``x0`` at rest, integrator empty [SI]."""
     n = plant(mech, servo.current_bandwidth_hz).A.shape[0]

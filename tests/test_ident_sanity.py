@@ -1,0 +1,68 @@
+"""Warnings before an identified model misleads: a sweep held by friction, and a loop that is
+unstable as the drive samples it."""
+
+import json
+import warnings
+
+import pytest
+
+from tcpmm.builtin import builtin_machine
+from tcpmm.cli import main
+from tcpmm.ident.pipeline import MIN_COHERENCE, identify_axis
+from tcpmm.ident.sanity import FRICTION_LEAD_DEG, friction_holds_sweep, warn_unstable_sampled_loop
+from tcpmm.io.bundle_schema import MachineConfig
+from tcpmm.servo.sampled import sampled_spectral_radius
+from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
+
+
+def identify(machine, travel, friction=True):
+    a = machine.axes["X"]
+    cfg = MachineConfig.model_validate(bundle_machine_yaml(machine, ["X"])).axes["X"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        idn = identify_axis("X", virtual_sweep(a, name="X", travel_speed_m_per_s=travel), cfg,
+                            friction=virtual_friction(a, name="X") if friction else None)
+    return idn, [str(w.message) for w in caught if "friction holds the axis" in str(w.message)]
+
+
+def test_a_standing_sweep_held_by_friction_is_flagged():
+    """Built-in X with its friction, swept at 2 A: standing, the motor's velocity at 3-6 Hz is
+    nearly in phase with the current (lead about 97 deg over a free mass); travelling at
+    20 mm/s it lags by 90 deg like a mass, and nothing is said."""
+    m = builtin_machine()
+    idn, said = identify(m, 0.0)
+    assert len(said) == 1
+    assert "axis X" in said[0] and "stands still" in said[0] and "20 mm/s" in said[0]
+    held = idn.physical.extra["friction_holds_sweep"]
+    assert held["lead_deg"] > FRICTION_LEAD_DEG + 30.0 and held["f_hi_hz"] <= 15.0
+    idn, said = identify(m, 0.02)
+    assert said == [] and "friction_holds_sweep" not in idn.physical.extra
+    assert friction_holds_sweep(idn.frfs["G_M"], MIN_COHERENCE) is None
+
+
+def test_a_standing_sweep_without_friction_is_not_flagged():
+    idn, said = identify(builtin_machine(friction=False), 0.0, friction=False)
+    assert said == []
+    assert friction_holds_sweep(idn.frfs["G_M"], MIN_COHERENCE) is None
+
+
+def test_an_unstable_sampled_loop_is_reported():
+    """A motor inertia fitted a hundred times too small (as a standing sweep gave on one
+    unseen axis) leaves the continuous loop of the built-in X stable but makes the sampled
+    loop diverge."""
+    a = builtin_machine().axes["X"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert warn_unstable_sampled_loop("X", a, []) < 1.0
+    bad = a.replace(mechanics=a.mechanics.replace(J_m=a.mechanics.J_m / 100))
+    with pytest.warns(UserWarning, match="unstable as the drive samples it") as caught:
+        rho = warn_unstable_sampled_loop("X", bad, ["J_m", "B_L"])
+    assert rho > 1.0 and "J_m, B_L" in str(caught[0].message)
+    assert rho == sampled_spectral_radius(bad.mechanics, bad.servo)
+
+
+def test_machine_show_reports_the_sampled_loop(capsys):
+    assert main(["machine", "show", "builtin:vmc", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for d in data.values():
+        assert d["closed_loop_stable"] and 0.9 < d["sampled_loop_spectral_radius"] < 1.0

@@ -97,6 +97,7 @@ from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction, friction_p
 from tcpmm.model import Axis, AxisFriction, Machine, Sensors
 from tcpmm.servo.closedloop import is_stable
 from tcpmm.servo.params import ServoParams
+from tcpmm.servo.sampled import sampled_spectral_radius
 from tcpmm.sim.friction import sliding_friction
 from tcpmm.simulate import simulate
 from tcpmm.units import mm_to_m
@@ -267,13 +268,10 @@ def draw_axis(rng, base: Axis, base_fric: dict, servo_mode: str, K_pp: float, k_
     return axis, desc
 
 
-def sampled_spectral_radius(axis: Axis) -> float:
+def axis_spectral_radius(axis: Axis) -> float:
     """Spectral radius of the exact sampled position loop (nan if unavailable) [-]."""
     try:
-        from tcpmm.servo.sampled import lifted_closed_loop
-
-        Phi = lifted_closed_loop(axis.mechanics, axis.servo)[0]
-        return float(np.max(np.abs(np.linalg.eigvals(Phi))))
+        return sampled_spectral_radius(axis.mechanics, axis.servo)
     except Exception:
         return float("nan")
 
@@ -282,7 +280,7 @@ def axis_stable(axis: Axis) -> bool:
     """Continuous position loop stable and the sampled loop within the screen [-]."""
     if not is_stable(axis.mechanics, axis.servo):
         return False
-    rho = sampled_spectral_radius(axis)
+    rho = axis_spectral_radius(axis)
     return not rho >= MAX_SPECTRAL_RADIUS
 
 
@@ -325,7 +323,7 @@ def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: 
         if all(axis_stable(axes[n]) for n in AXES):
             desc.update(redraws=attempt, servo_mode=servo_mode, k_ff=k_ff,
                         sensors=sensors.model_dump(),
-                        spectral_radius={n: sampled_spectral_radius(axes[n]) for n in AXES})
+                        spectral_radius={n: axis_spectral_radius(axes[n]) for n in AXES})
             return Machine(name=f"unseen machine {index} (seed {seed})", axes=axes), desc
     raise RuntimeError(f"no stable machine in {MAX_DRAWS} draws for index {index}")
 

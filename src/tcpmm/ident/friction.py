@@ -156,6 +156,14 @@ def _stribeck_curve(p, v, delta, tie):
     return np.where(v > 0, fcp + (fsp - fcp) * e, -(fcn + (fsn - fcn) * e)) + fv * v
 
 
+def _enough_for_fit(velocity: np.ndarray, tie_static: bool) -> bool:
+    """Whether plateaus at these velocities [m/s] determine the Stribeck fit: two per
+    direction and more than its parameters (5 with the static levels tied, else 6)."""
+    npar = 5 if tie_static else 6
+    return bool(min((velocity > 0).sum(), (velocity < 0).sum()) >= 2
+                and velocity.size > npar)
+
+
 def fit_stribeck(
     velocity, force, *, delta: float = 2.0, tie_static: bool = False, vs0=None
 ) -> ParameterEstimate:
@@ -188,9 +196,9 @@ def fit_stribeck(
     f = _as_1d(force, "force")
     if v.size != f.size:
         raise InputError("velocity and force must have the same length", column="force")
-    npos, nneg = int(np.sum(v > 0)), int(np.sum(v < 0))
-    npar = 5 if tie_static else 6
-    if npos < 2 or nneg < 2 or v.size <= npar:
+    if not _enough_for_fit(v, tie_static):
+        npos, nneg = int(np.sum(v > 0)), int(np.sum(v < 0))
+        npar = 5 if tie_static else 6
         raise InputError(
             f"need plateaus in both directions (>= 2 each) and more than {npar} in all; got "
             f"{npos} positive and {nneg} negative; run more constant-speed passes",
@@ -307,12 +315,10 @@ def identify_stribeck_run(
         raise InputError("time must increase with a uniform step (1 % tolerance)", column="time_s")
     v = central_difference(lowpass_filtfilt(x, dt, cutoff), dt)
     durations = PLATEAU_DURATIONS_S if min_duration is None else (min_duration,)
-    npar = 5 if tie_static else 6
     for d in durations:
         plateaus = find_plateaus(t, v, u, v_min=v_min, rel_tol=rel_tol, min_duration=d,
                                  trim=trim)
-        vp = np.array([p.velocity for p in plateaus])
-        if min((vp > 0).sum(), (vp < 0).sum()) >= 2 and vp.size > npar:
+        if _enough_for_fit(np.array([p.velocity for p in plateaus]), tie_static):
             break
     if not plateaus:
         raise InputError(

@@ -32,14 +32,20 @@ def _samples(f, T):
     return t, np.array([f(x) for x in t])
 
 
-def _max_derivs(t, s):
-    """Differences of s and the rounding noise they carry [m/s, m/s^2, m/s^3]."""
+def _max_derivs(t, s, braking=0.0):
+    """Differences of s and the rounding noise they carry [m/s, m/s^2, m/s^3]; ``braking``
+    is the largest ``v^2/a`` of the motion [m]."""
     h = t[1] - t[0]
     v = np.diff(s) / h
     a = np.diff(s, 2) / h**2
     j = np.diff(s, 3) / h**3
-    # rounding of s: relative to s, and 1e-16 m absolute from speed differences
-    noise = max(64 * np.finfo(float).eps * np.abs(s).max(), 1e-16)
+    # rounding of s. A position sums several pieces of about its own size (v0 t, a t^2/2,
+    # the lengths of earlier phases), each rounded: 0.625 m/s for 12.5 ms, say, came out
+    # 70 eps off, and a second difference combines three such positions. Phase lengths
+    # from speed differences, (v0^2 - v1^2)/(2 a), are rounded relative to v^2/a: from
+    # 0.93751 to 0.9375 m/s in 10 um at 0.96 m/s^2, 0.9 eps of it.
+    eps = np.finfo(float).eps
+    noise = max(256 * eps * np.abs(s).max(), 16 * eps * braking, 1e-16)
     return v, a, j, noise / h**2, noise / h**3
 
 
@@ -54,7 +60,7 @@ def test_speed_change_meets_limits_and_ends(va, vb, a, j):
         return
     assert change_position(T, va, vb, T, tj, ap) == d
     t, s = _samples(lambda x: change_position(x, va, vb, T, tj, ap), T)
-    v, acc, jerk, acc_noise, jerk_noise = _max_derivs(t, s)
+    v, acc, jerk, acc_noise, jerk_noise = _max_derivs(t, s, max(va, vb) ** 2 / a)
     h = t[1] - t[0]
     assert np.all(np.diff(s) >= -1e-15)
     # speed stays between the end speeds; starts and ends at them
@@ -94,7 +100,7 @@ def test_segment_profile_covers_its_length(v0, v1, vmax, length, a, j):
     T = prof[1] + prof[4] + prof[5]
     assert segment_position(T, v0, v1, length, prof) == length
     t, s = _samples(lambda x: segment_position(x, v0, v1, length, prof), T)
-    v, acc, jerk, acc_noise, jerk_noise = _max_derivs(t, s)
+    v, acc, jerk, acc_noise, jerk_noise = _max_derivs(t, s, vp**2 / a)
     assert abs(s[-1] - length) <= 1e-12 * length + 1e-15
     assert v.max() <= vmax * (1 + 1e-9) + 1e-12
     assert np.abs(acc).max() <= a * (1 + 1e-9) + acc_noise

@@ -19,6 +19,7 @@ from ..sim.friction import sliding_friction
 from .frf import reduced_frfs
 from .frictionsplit import identify_friction, place_steady_viscous
 from .metrics import fit_percent
+from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
@@ -438,7 +439,7 @@ def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guidewa
     return mech, fr, est, split
 
 
-def _play_significant(split, z: float = 4.0) -> bool:
+def _play_significant(split, z: float = LOST_MOTION_Z) -> bool:
     """Whether the friction runs found lost motion beyond ``z`` standard deviations."""
     if split is None or not split.backlash > 0:
         return False

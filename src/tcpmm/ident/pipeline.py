@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import warnings
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -314,29 +315,22 @@ def identify_axis(
             tf_fits[k] = fit_tf(frf, nn, nd, n_integrators=ni, delay_s=TF_DELAY.get(k),
                                 min_coherence=MIN_COHERENCE)
     data = {k: FRFData(f.freq_hz, f.H, _weights(f)) for k, f in frfs.items()}
-    phys: PhysicalFit = fit_physical(
-        data,
-        cfg.lead_m,
-        cfg.torque_constant,
-        fit_current_loop=fit_current_loop,
-        tf_fits=tf_fits,
-        hold_period_s=cfg.servo.velocity_loop_period_s,
-    )
+    fit = partial(fit_physical, data, cfg.lead_m, cfg.torque_constant,
+                  fit_current_loop=fit_current_loop, tf_fits=tf_fits,
+                  hold_period_s=cfg.servo.velocity_loop_period_s)
+    phys: PhysicalFit = fit()
     fr = est = split = None
     mech = phys.mechanics
     if friction is not None:
-        mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys, guideway_share)
+        friction_on = partial(_friction_and_mechanics, name, friction, cfg,
+                              guideway_share=guideway_share)
+        mech, fr, est, split = friction_on(phys)
         if _play_significant(split) and "G_tcp" in data:
             # The sweep crossed the play, which distorts G_M and G_T but not G_tcp: hold
             # the bed and TCP structure at what G_tcp alone says, relative to the table.
             structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
-            phys = fit_physical(data, cfg.lead_m, cfg.torque_constant,
-                                initial=_fit_values(phys), fit_current_loop=fit_current_loop,
-                                tf_fits=tf_fits,
-                                hold_period_s=cfg.servo.velocity_loop_period_s,
-                                structure=structure)
-            mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys,
-                                                           guideway_share)
+            phys = fit(initial=_fit_values(phys), structure=structure)
+            mech, fr, est, split = friction_on(phys)
         else:
             structure = None
         bias = _bias_force(v_travel, mech, fr)
@@ -351,13 +345,9 @@ def identify_axis(
                 amp = nut_deflection_amplitude(freq, theta_m, scale, mech)
                 gain = play_gain(freq, amp, split.backlash, bias, mech.K_t)
                 seen = mech
-                phys = fit_physical(data, cfg.lead_m, cfg.torque_constant,
-                                    initial=_fit_values(phys) if structure else None,
-                                    fit_current_loop=fit_current_loop, tf_fits=tf_fits,
-                                    hold_period_s=cfg.servo.velocity_loop_period_s,
-                                    nut_gain=gain, structure=structure)
-                mech, fr, est, split = _friction_and_mechanics(name, friction, cfg, phys,
-                                                               guideway_share)
+                phys = fit(initial=_fit_values(phys) if structure else None,
+                           nut_gain=gain, structure=structure)
+                mech, fr, est, split = friction_on(phys)
                 if phys.cost < best[0] and _self_consistent(seen, mech):
                     g = gain(freq)
                     lowest = int(np.argmin(g))

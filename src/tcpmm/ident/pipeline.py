@@ -4,7 +4,6 @@ the physical (grey-box) fit per axis, into a model that simulates like the built
 from __future__ import annotations
 
 import json
-import warnings
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -12,7 +11,6 @@ from pathlib import Path
 import numpy as np
 
 from .._threads import limit_blas_threads
-from ..errors import InputWarning
 from ..mechanics.friction import friction_params_array
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
@@ -456,19 +454,20 @@ def _bias_force(v: float, mech, fr) -> float:
 
 
 def _warn_sweep_crosses_play(name: str, sweep, nut, modelled: bool = False) -> None:
-    src = f"{sweep.source}: " if getattr(sweep, "source", None) else ""
+    from ..io.csvutil import warn_input
+
     remedy = ("with the play modelled the FRFs were fitted no better, so the linear fit is kept"
               if modelled else "a sweep recorded while the axis travels at constant speed "
               "lets the play be modelled (the guideway friction holds the nut on one flank)")
-    warnings.warn(
-        f"{src}axis {name}: the friction runs show {nut.backlash * 1e6:.2f} +/- "
+    warn_input(
+        f"axis {name}: the friction runs show {nut.backlash * 1e6:.2f} +/- "
         f"{nut.backlash_std * 1e6:.2f} um of lost motion in the nut, which the sweep crosses "
         "every cycle; around the axial modes its FRFs are not those of a linear axis, and "
         "the fitted split of inertia between motor side and table (M_t, and with it the "
         "structure's M_b, K_b, M_h, K_h) can be off by tens of per cent. The nut stiffness "
         f"is taken from the friction runs; {remedy}. A larger excitation amplitude (within "
         "the current limit) makes the play a smaller part of the vibration; a smaller one "
-        "makes it worse", InputWarning, stacklevel=3)
+        "makes it worse", file=getattr(sweep, "source", None))
 
 
 def identify_bundle(

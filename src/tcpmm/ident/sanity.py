@@ -89,18 +89,18 @@ def warn_friction_holds_sweep(name: str, sweep, frf, min_coherence: float,
     held = friction_holds_sweep(frf, min_coherence)
     if held is None:
         return None
-    src = f"{sweep.source}: " if getattr(sweep, "source", None) else ""
+    from ..io.csvutil import warn_input
+
     remedy = ("The sweep stands still: record it while the axis travels at constant speed "
               "(e.g. 20 mm/s), which keeps the friction sliding, or raise its amplitude."
               if standing else "Raise the sweep's amplitude or its travel speed.")
-    warnings.warn(
-        f"{src}axis {name}: at {held['f_lo_hz']:.1f}-{held['f_hi_hz']:.1f} Hz the phase of "
+    warn_input(
+        f"axis {name}: at {held['f_lo_hz']:.1f}-{held['f_hi_hz']:.1f} Hz the phase of "
         f"the motor's velocity over the current is {held['lead_deg'] - 90.0:+.0f} deg where a "
         "free axis gives -90: friction holds the axis during the sweep, its FRFs are not those of "
         "the linear mechanics, and the masses, stiffnesses and damping fitted to them can be "
         f"far off. {remedy}",
-        InputWarning,
-        stacklevel=3,
+        file=getattr(sweep, "source", None),
     )
     return held
 

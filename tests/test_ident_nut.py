@@ -221,7 +221,7 @@ def test_the_nut_force_signs_do_not_rest_on_the_sweeps_table_damping(unseen):
     true, _ = um.draw_machine(1, 3, backlash=True)
     a = true.axes["Y"]
     rec = virtual_friction(a, FRICTION_SPEEDS, name="Y")
-    cfg = MachineConfig.model_validate(bundle_machine_yaml(true, ["Y"])).axes["Y"]
+    cfg = config(true, "Y")
     share, _ = um.friction_split(a.friction)
     found = []
     for k in (1.0, 3.0, 6.0):
@@ -270,7 +270,7 @@ def test_a_small_play_is_modelled_rather_than_taken_for_guideway_friction(unseen
     a = true.axes["X"]
     share, _ = um.friction_split(a.friction)
     rec = virtual_friction(a, FRICTION_SPEEDS, name="X")
-    cfg = MachineConfig.model_validate(bundle_machine_yaml(true, ["X"])).axes["X"]
+    cfg = config(true, "X")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         _, _, split = identify_friction(rec, cfg, a.mechanics, axis="X")

@@ -156,12 +156,16 @@ def _stribeck_curve(p, v, delta, tie):
     return np.where(v > 0, fcp + (fsp - fcp) * e, -(fcn + (fsn - fcn) * e)) + fv * v
 
 
-def _enough_for_fit(velocity: np.ndarray, tie_static: bool) -> bool:
-    """Whether plateaus at these velocities [m/s] determine the Stribeck fit: two per
-    direction and more than its parameters (5 with the static levels tied, else 6)."""
+def _too_few_plateaus(velocity: np.ndarray, tie_static: bool) -> str | None:
+    """What plateaus at these velocities [m/s] lack for the Stribeck fit, or ``None``
+    when they determine it: two per direction and more than its parameters (5 with the
+    static levels tied, else 6)."""
     npar = 5 if tie_static else 6
-    return bool(min((velocity > 0).sum(), (velocity < 0).sum()) >= 2
-                and velocity.size > npar)
+    npos, nneg = int((velocity > 0).sum()), int((velocity < 0).sum())
+    if min(npos, nneg) >= 2 and velocity.size > npar:
+        return None
+    return (f"need plateaus in both directions (>= 2 each) and more than {npar} in all; got "
+            f"{npos} positive and {nneg} negative; run more constant-speed passes")
 
 
 def fit_stribeck(
@@ -196,14 +200,9 @@ def fit_stribeck(
     f = _as_1d(force, "force")
     if v.size != f.size:
         raise InputError("velocity and force must have the same length", column="force")
-    if not _enough_for_fit(v, tie_static):
-        npos, nneg = int(np.sum(v > 0)), int(np.sum(v < 0))
-        npar = 5 if tie_static else 6
-        raise InputError(
-            f"need plateaus in both directions (>= 2 each) and more than {npar} in all; got "
-            f"{npos} positive and {nneg} negative; run more constant-speed passes",
-            column="velocity",
-        )
+    lacking = _too_few_plateaus(v, tie_static)
+    if lacking is not None:
+        raise InputError(lacking, column="velocity")
     vs_init = float(np.min(np.abs(v))) if vs0 is None else float(vs0)
     # linear start: Coulomb + viscous from the faster half of each side
     fast = np.abs(v) >= np.median(np.abs(v))
@@ -318,7 +317,7 @@ def identify_stribeck_run(
     for d in durations:
         plateaus = find_plateaus(t, v, u, v_min=v_min, rel_tol=rel_tol, min_duration=d,
                                  trim=trim)
-        if _enough_for_fit(np.array([p.velocity for p in plateaus]), tie_static):
+        if _too_few_plateaus(np.array([p.velocity for p in plateaus]), tie_static) is None:
             break
     if not plateaus:
         raise InputError(

@@ -16,6 +16,7 @@ splits of the inertia are tried and the best fit is kept.
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -32,6 +33,9 @@ FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", 
           "M_h", "C_h", "K_h")
 _OUT = {"G_M": ("w_m", None), "G_T": ("X_LS", "th_m"), "G_tcp": ("X_TCP", "X_LS")}
 _ROWS = ("w_m", "th_m", "X_LS", "X_TCP")
+#: The band must reach this factor above G_M's highest resolved mode before further
+#: torsion frequencies are tried as starting points [-].
+TORSION_SPREAD = 2.0
 
 
 @dataclass
@@ -242,13 +246,20 @@ def _pairs_hz(roots):
     return [(abs(x) / (2 * np.pi), -x.real / abs(x)) for x in r[order]]
 
 
-def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float) -> list[dict]:
+def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float,
+                    f_top_hz: float | None = None) -> list[dict]:
     """Starting points from rational fits of the FRFs (their poles and zeros).
 
     G_tcp = (den_h - den_t) den_b / (den_h (den_b + den_t)): its poles are the TCP
     structure mode sqrt(K_h/M_h) and the bed-with-carriage mode sqrt(K_b/(M_b+M_t)); its
     zeros sqrt(K_b/M_b) and sqrt(K_h/(M_h-M_t)). That fixes M_b/M_t and M_h/M_t; the
     carriage's share of the inertia and which pole is which are tried both ways.
+
+    The torsion mode of motor and screw is put on the highest mode of G_M, and, when the
+    band ``f_top_hz`` reaches further, also at two frequencies log-spaced between that mode
+    and the band's top: a stiff coupling whose mode the rational fit of G_M did not resolve
+    (or a play that makes an axial mode look like it) must not leave every start with a
+    coupling many times too soft, in whose basin the fit then stays.
     """
     R = lead / (2 * math.pi)
     gm = _pairs_hz(tf_fits["G_M"].poles) if "G_M" in tf_fits else []
@@ -257,6 +268,9 @@ def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float) -> 
     tcp_z = np.sort(np.abs(tf_fits["G_tcp"].zeros)) / (2 * np.pi) if "G_tcp" in tf_fits else []
     f_modes = [f for f, _ in gm] or [150.0, 220.0, 700.0]
     f_anti = [f for f, _ in gt] or [0.8 * f for f in f_modes]
+    f_torsion = [f_modes[-1]]  # the stiff, light mode
+    if f_top_hz is not None and f_top_hz > TORSION_SPREAD * f_modes[-1]:
+        f_torsion += list(np.geomspace(f_modes[-1], f_top_hz, 4)[1:3])
     assignments = []
     if len(tcp_p) >= 2 and len(tcp_z) >= 2:
         for (fh, zh), (fb, zb) in ((tcp_p[0], tcp_p[1]), (tcp_p[1], tcp_p[0])):
@@ -282,8 +296,8 @@ def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float) -> 
             K_b = (M_b + M_t) * (2 * np.pi * fb) ** 2
             K_h = M_h * (2 * np.pi * fh) ** 2
             J_red = J_m * J_L / (J_m + J_L)
-            K_L = J_red * (2 * np.pi * f_modes[-1]) ** 2  # torsion: the stiff, light mode
-            for f_ax in sorted({f_modes[0], f_anti[0]}):
+            for f_ax, f_tor in itertools.product(sorted({f_modes[0], f_anti[0]}), f_torsion):
+                K_L = J_red * (2 * np.pi * f_tor) ** 2
                 K_t = M_t * (2 * np.pi * f_ax) ** 2
                 out.append(dict(
                     J_m=J_m, J_L=J_L, M_t=M_t, M_b=M_b, M_h=M_h, K_b=K_b, K_h=K_h, K_t=K_t,
@@ -348,6 +362,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     reported = list(names)
     names = [p for p in names if p not in tied]
     full = data
+    f_top = max(float(d.freq_hz.max()) for d in full.values())
     data = {k: log_binned(v) for k, v in data.items()}
     freqs = {k: v.freq_hz for k, v in data.items()}
     w = {k: np.asarray(v.weight, float) / np.sqrt(np.sum(np.asarray(v.weight) > 0))
@@ -384,8 +399,8 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     else:
         starts = initial_guesses(data, lead, K_tc)
         if tf_fits:
-            starts = guesses_from_tf(tf_fits, lead, K_tc,
-                                     j_total_from_g_m(full["G_M"], K_tc)) + starts
+            starts = guesses_from_tf(tf_fits, lead, K_tc, j_total_from_g_m(full["G_M"], K_tc),
+                                     f_top_hz=f_top) + starts
     if fit_current_loop:
         bounds_fi = (np.log(20.0), np.log(1e5))
     best, best_bounds = None, None
@@ -425,7 +440,6 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     rel = {k: rel_error(d.H[d.weight > 0], model[k][d.weight > 0]) for k, d in full.items()}
     for p in ("M_h", "C_h", "K_h"):
         std.setdefault(p, float("nan"))
-    f_top = max(float(d.freq_hz.max()) for d in full.values())
     if fit_current_loop and ("f_i" in undetermined or f_i > 3 * f_top):
         f_i = None  # the data cannot see the current loop: keep it ideal
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),

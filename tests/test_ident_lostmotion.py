@@ -17,9 +17,8 @@ from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
 from tcpmm.ident.frictionsplit import GUIDEWAY_SHARE, identify_friction
 from tcpmm.ident.lostmotion import estimate_lost_motion, quantisation_bias_std
 from tcpmm.ident.pipeline import Identification, identify_axis
-from tcpmm.io.bundle_schema import MachineConfig
 from tcpmm.io.records import FrictionRecord
-from tcpmm.virtual import FRICTION_SPEEDS, bundle_machine_yaml, virtual_friction, virtual_sweep
+from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 Q = 1e-6  # encoder step at the table and scale step of the built-in machine [m]
 #: Round speeds: a whole number of sensor steps per 1 ms sample [m/s].
@@ -182,10 +181,6 @@ def record(machine, ax, backlash=0.0, speeds=FRICTION_SPEEDS):
     return _RECORDS[key]
 
 
-def config(machine, ax):
-    return MachineConfig.model_validate(bundle_machine_yaml(machine, [ax])).axes[ax]
-
-
 def true_forces(axis, v, part):
     """Guideway and total friction of the built-in axis at velocities ``v``: all of it
     (``part="all"``) or the Coulomb and Stribeck part only (``"static"``) [N]."""
@@ -219,7 +214,7 @@ def test_builtin_share_with_the_true_mechanics(machine, ax):
     weighted true share has std 0.011 (X) / 0.007 (Y), largest 0.026, and the reported std
     matches it (0.012 / 0.007); 0.04 is 3.5 times the scatter of X."""
     a = machine.axes[ax]
-    fr, _, split = identify_friction(record(machine, ax), config(machine, ax), a.mechanics,
+    fr, _, split = identify_friction(record(machine, ax), axis_config(machine, ax), a.mechanics,
                                      axis=ax, viscous="known")
     e = split.estimate
     assert split.source == "data" and e.model == "share", e.reason
@@ -241,7 +236,7 @@ def test_builtin_static_share_with_the_true_mechanics(machine, ax):
     Stribeck friction (0.64-0.67 on X, 0.75-0.77 on Y). Over the 25 speed sets: error
     std 0.015 (X) / 0.010 (Y), largest 0.048, reported std 0.017 / 0.010: tolerance 0.05."""
     a = machine.axes[ax]
-    _, _, split = identify_friction(record(machine, ax), config(machine, ax), a.mechanics,
+    _, _, split = identify_friction(record(machine, ax), axis_config(machine, ax), a.mechanics,
                                     axis=ax)
     e = split.estimate
     assert split.source == "data" and e.model == "share", e.reason
@@ -261,7 +256,7 @@ def test_builtin_share_with_identified_mechanics(machine, ax):
     sweep = virtual_sweep(a, name=ax)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax))
+        idn = identify_axis(ax, sweep, axis_config(machine, ax), friction=record(machine, ax))
     split = idn.friction_split
     e = split.estimate
     assert split.source == "data", e.reason
@@ -289,7 +284,7 @@ def test_lost_motion_through_the_simulator(machine, ax):
     a = machine.axes[ax]
     rec = record(machine, ax, backlash=5e-6)
     for viscous in ("known", "fit"):
-        fr, _, split = identify_friction(rec, config(machine, ax), a.mechanics, axis=ax,
+        fr, _, split = identify_friction(rec, axis_config(machine, ax), a.mechanics, axis=ax,
                                          viscous=viscous)
         e = split.estimate
         assert split.source == "data" and e.model != "share", e.reason
@@ -303,7 +298,7 @@ def test_undetermined_split_falls_back_to_the_prior(machine):
     a = machine.axes["X"]
     rec = record(machine, "X", speeds=LOCKED_SPEEDS)
     with pytest.warns(InputWarning, match=r"axis X: .*prior guideway share 0\.7"):
-        fr, _, split = identify_friction(rec, config(machine, "X"), a.mechanics, axis="X")
+        fr, _, split = identify_friction(rec, axis_config(machine, "X"), a.mechanics, axis="X")
     assert split.source == "prior" and split.guideway_share == GUIDEWAY_SHARE
     assert not split.estimate.determined
     assert fr.backlash == 0.0
@@ -315,7 +310,7 @@ def test_stiff_nut_through_the_pipeline_falls_back(machine):
     a = machine.axes["Y"]
     stiff = a.mechanics.model_copy(update={"K_t": 100 * a.mechanics.K_t})
     with pytest.warns(InputWarning, match="axis Y: .*not resolved"):
-        _, _, split = identify_friction(record(machine, "Y"), config(machine, "Y"), stiff,
+        _, _, split = identify_friction(record(machine, "Y"), axis_config(machine, "Y"), stiff,
                                         axis="Y")
     assert split.source == "prior"
 
@@ -325,7 +320,7 @@ def test_given_share_overrides_the_data(machine):
     rec = record(machine, "Y", backlash=5e-6)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        fr, _, split = identify_friction(rec, config(machine, "Y"), a.mechanics,
+        fr, _, split = identify_friction(rec, axis_config(machine, "Y"), a.mechanics,
                                          guideway_share=0.75)
     assert split.source == "given" and split.guideway_share == 0.75
     assert fr.guideway.fc_pos == pytest.approx(3 * fr.screw.fc_pos)
@@ -340,7 +335,7 @@ def test_friction_record_round_trip_keeps_the_split(machine, tmp_path):
     write_friction_csv(rec, tmp_path / "friction.csv")
     back = read_friction_csv(tmp_path / "friction.csv")
     assert isinstance(back, FrictionRecord)
-    cfg = config(machine, "X")
+    cfg = axis_config(machine, "X")
     a = machine.axes["X"]
     s0 = identify_friction(rec, cfg, a.mechanics)[2].guideway_share
     s1 = identify_friction(back, cfg, a.mechanics)[2].guideway_share
@@ -358,7 +353,7 @@ def test_viscous_force_is_placed_where_the_runs_say(machine, ax):
 
     a = machine.axes[ax]
     m, f = a.mechanics, a.friction
-    fr, est, split = identify_friction(record(machine, ax), config(machine, ax), m, axis=ax)
+    fr, est, split = identify_friction(record(machine, ax), axis_config(machine, ax), m, axis=ax)
     e = split.estimate
     table = m.C_t + f.guideway.fv_pos
     motor = (m.B_m + m.B_L) / m.R_L**2 + f.screw.fv_pos
@@ -386,13 +381,13 @@ def test_motor_bearing_damping_is_not_put_through_the_nut(machine, ax):
     a = machine.axes[ax]
     m, f = a.mechanics, a.friction
     table = m.C_t + f.guideway.fv_pos
-    _, _, split = identify_friction(record(machine, ax), config(machine, ax),
+    _, _, split = identify_friction(record(machine, ax), axis_config(machine, ax),
                                     m.replace(B_m=30 * m.B_m), axis=ax)
     shift = m.K_t * 29 * m.B_m / m.K_L
     assert split.estimate.table_viscous - table == pytest.approx(shift, rel=0.1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        idn = identify_axis(ax, virtual_sweep(a, name=ax), config(machine, ax),
+        idn = identify_axis(ax, virtual_sweep(a, name=ax), axis_config(machine, ax),
                             friction=record(machine, ax))
     assert "B_m" in idn.physical.undetermined and idn.axis.mechanics.B_m == 0.0
     assert idn.axis.mechanics.C_t == pytest.approx(table, rel=0.1)

@@ -16,8 +16,7 @@ from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
 from tcpmm.ident.frictionsplit import coulomb_stribeck, identify_friction
 from tcpmm.ident.nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, estimate_nut
 from tcpmm.ident.pipeline import Identification, identify_axis
-from tcpmm.io.bundle_schema import MachineConfig
-from tcpmm.virtual import FRICTION_SPEEDS, bundle_machine_yaml, virtual_friction, virtual_sweep
+from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]
 #: Whether the refit with the play as the sweep saw it explains the built-in axes' FRFs
@@ -44,12 +43,8 @@ def record(machine, ax, play, accel=1.0):
     return _CACHE[key]
 
 
-def config(machine, ax):
-    return MachineConfig.model_validate(bundle_machine_yaml(machine, [ax])).axes[ax]
-
-
 def nut_of(machine, ax, rec, mech=None, **options):
-    cfg = config(machine, ax)
+    cfg = axis_config(machine, ax)
     t, x, force = friction_record_arrays(rec, cfg.lead_m, cfg.torque_constant)
     est, _ = identify_stribeck_run(t, x, force)
     p = dict(zip(est.names, est.values, strict=True))
@@ -111,8 +106,8 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
     sweep = virtual_sweep(a, name=ax)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        soft = identify_axis(ax, sweep, config(machine, ax))
-        idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax, PLAY))
+        soft = identify_axis(ax, sweep, axis_config(machine, ax))
+        idn = identify_axis(ax, sweep, axis_config(machine, ax), friction=record(machine, ax, PLAY))
     play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
     if PLAY_MODELLED[ax]:  # the travelling sweep lets the play be modelled
         assert not play_warnings
@@ -153,7 +148,7 @@ def test_the_play_crossed_by_the_sweep_is_modelled(machine, ax):
     sweep = virtual_sweep(a, name=ax)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        idn = identify_axis(ax, sweep, config(machine, ax), friction=record(machine, ax, PLAY))
+        idn = identify_axis(ax, sweep, axis_config(machine, ax), friction=record(machine, ax, PLAY))
     m, true = idn.axis.mechanics, machine.axes[ax].mechanics
     for p in ("M_t", "M_h", "K_h", "M_b", "K_b"):
         assert getattr(m, p) == pytest.approx(getattr(true, p), rel=0.1), p
@@ -173,7 +168,8 @@ def test_a_standing_sweep_leaves_the_play_unmodelled(machine):
     sweep = virtual_sweep(a, name="X", travel_speed_m_per_s=0.0)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        idn = identify_axis("X", sweep, config(machine, "X"), friction=record(machine, "X", PLAY))
+        idn = identify_axis("X", sweep, axis_config(machine, "X"),
+                            friction=record(machine, "X", PLAY))
     play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
     assert len(play_warnings) == 1
     assert "axis X" in play_warnings[0] and "M_t" in play_warnings[0]
@@ -185,7 +181,7 @@ def test_without_play_the_plateau_split_is_kept(machine):
     a = machine.axes["Y"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        _, _, split = identify_friction(record(machine, "Y", 0.0), config(machine, "Y"),
+        _, _, split = identify_friction(record(machine, "Y", 0.0), axis_config(machine, "Y"),
                                          a.mechanics, axis="Y")
     assert split.nut is None and split.backlash == 0.0
     assert split.estimate.model == "share"
@@ -221,7 +217,7 @@ def test_the_nut_force_signs_do_not_rest_on_the_sweeps_table_damping(unseen):
     true, _ = um.draw_machine(1, 3, backlash=True)
     a = true.axes["Y"]
     rec = virtual_friction(a, FRICTION_SPEEDS, name="Y")
-    cfg = config(true, "Y")
+    cfg = axis_config(true, "Y")
     share, _ = um.friction_split(a.friction)
     found = []
     for k in (1.0, 3.0, 6.0):
@@ -270,7 +266,7 @@ def test_a_small_play_is_modelled_rather_than_taken_for_guideway_friction(unseen
     a = true.axes["X"]
     share, _ = um.friction_split(a.friction)
     rec = virtual_friction(a, FRICTION_SPEEDS, name="X")
-    cfg = config(true, "X")
+    cfg = axis_config(true, "X")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         _, _, split = identify_friction(rec, cfg, a.mechanics, axis="X")
@@ -294,7 +290,7 @@ def test_a_stiff_coupling_is_not_traded_for_a_soft_one_when_the_sweep_crosses_th
     a = true.axes["Y"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        idn = identify_axis("Y", virtual_sweep(a, name="Y", seed=1), config(true, "Y"),
+        idn = identify_axis("Y", virtual_sweep(a, name="Y", seed=1), axis_config(true, "Y"),
                             friction=virtual_friction(a, FRICTION_SPEEDS, name="Y"))
     m = idn.axis.mechanics
     for p in ("J_m", "K_L", "M_t", "K_t"):

@@ -7,9 +7,8 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.ident.pipeline import identify_axis
-from tcpmm.io.bundle_schema import MachineConfig
 from tcpmm.mechanics.statespace import plant
-from tcpmm.virtual import bundle_machine_yaml, virtual_sweep
+from tcpmm.virtual import axis_config, virtual_sweep
 
 #: Parameters that shape the motion of carriage, bed and TCP structure; they must lie
 #: within 3 reported standard deviations of the truth.
@@ -32,7 +31,7 @@ def machine():
 @pytest.mark.parametrize("ax", ["X", "Y"])
 def test_identify_recovers_the_model(machine, ax, open_loop):
     a = machine.axes[ax]
-    cfg = MachineConfig.model_validate(bundle_machine_yaml(machine, [ax])).axes[ax]
+    cfg = axis_config(machine, ax)
     rec = virtual_sweep(a, name=ax, open_loop=open_loop,
                         travel_speed_m_per_s=0.0 if open_loop else 0.02)
     with warnings.catch_warnings():
@@ -72,7 +71,7 @@ def test_identified_model_predicts_the_circle(machine):
 
     identified = machine
     for ax in ("X", "Y"):
-        cfg = MachineConfig.model_validate(bundle_machine_yaml(machine, [ax])).axes[ax]
+        cfg = axis_config(machine, ax)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             idn = identify_axis(ax, virtual_sweep(machine.axes[ax], name=ax), cfg)

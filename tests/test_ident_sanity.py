@@ -10,14 +10,13 @@ from tcpmm.builtin import builtin_machine
 from tcpmm.cli import main
 from tcpmm.ident.pipeline import MIN_COHERENCE, identify_axis
 from tcpmm.ident.sanity import FRICTION_LEAD_DEG, friction_holds_sweep, warn_unstable_sampled_loop
-from tcpmm.io.bundle_schema import MachineConfig
 from tcpmm.servo.sampled import sampled_spectral_radius
-from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
+from tcpmm.virtual import axis_config, virtual_friction, virtual_sweep
 
 
 def identify(machine, travel, friction=True):
     a = machine.axes["X"]
-    cfg = MachineConfig.model_validate(bundle_machine_yaml(machine, ["X"])).axes["X"]
+    cfg = axis_config(machine, "X")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         idn = identify_axis("X", virtual_sweep(a, name="X", travel_speed_m_per_s=travel), cfg,

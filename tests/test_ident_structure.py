@@ -15,8 +15,7 @@ from tcpmm.ident.frf import reduced_frfs
 from tcpmm.ident.physical import FRFData, fit_physical, model_frfs
 from tcpmm.ident.pipeline import identify_axis
 from tcpmm.ident.structure import STRUCTURE, fit_structure
-from tcpmm.io.bundle_schema import MachineConfig
-from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
+from tcpmm.virtual import axis_config, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]
 
@@ -118,7 +117,7 @@ def test_the_play_does_not_take_the_bed_away(unseen):
     um = unseen
     true, _ = um.draw_machine(0, 3, backlash=True)
     a = true.axes["Y"]
-    cfg = MachineConfig.model_validate(bundle_machine_yaml(true, ["Y"])).axes["Y"]
+    cfg = axis_config(true, "Y")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         idn = identify_axis("Y", virtual_sweep(a, name="Y"), cfg,

@@ -151,6 +151,14 @@ def bundle_machine_yaml(machine: Machine, axes) -> dict:
     return out
 
 
+def axis_config(machine: Machine, name: str):
+    """The validated configuration of one axis a user would write (``machine.yaml``),
+    which identification is given [-]."""
+    from .io.bundle_schema import MachineConfig
+
+    return MachineConfig.model_validate(bundle_machine_yaml(machine, [name])).axes[name]
+
+
 def virtual_bundle(machine: Machine, path, axes=("X", "Y"), seed: int = 0):
     """Write the measurement bundle a user would record on this machine [-]."""
     from .io.bundle import write_bundle

@@ -204,6 +204,22 @@ def _peaks(f, H, k=3):
     return sorted(f[i] for i in idx)
 
 
+def fit_weight(d: FRFData) -> np.ndarray:
+    """Per-bin weights of a fit, divided by the root of the number of weighted bins so
+    that each FRF counts alike whatever its number of bins [-]."""
+    weight = np.asarray(d.weight, float)
+    return weight / np.sqrt(np.sum(weight > 0))
+
+
+def log_residual(model, measured, weight) -> np.ndarray:
+    """Weighted log-magnitude and phase error of a model FRF against a measured one, real
+    parts then imaginary parts; where it is not finite (e.g. a pole on a bin) it counts
+    as 1e3 [-]."""
+    e = np.log(np.asarray(model) / measured) * weight
+    r = np.concatenate([e.real, e.imag])
+    return np.where(np.isfinite(r), r, 1e3)
+
+
 def initial_guesses(data: dict, lead: float, K_tc: float) -> list[dict]:
     """Physically reasoned starting points from the measured FRFs (see module docs)."""
     R = lead / (2 * math.pi)
@@ -365,8 +381,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     f_top = max(float(d.freq_hz.max()) for d in full.values())
     data = {k: log_binned(v) for k, v in data.items()}
     freqs = {k: v.freq_hz for k, v in data.items()}
-    w = {k: np.asarray(v.weight, float) / np.sqrt(np.sum(np.asarray(v.weight) > 0))
-         for k, v in data.items()}
+    w = {k: fit_weight(v) for k, v in data.items()}
     fixed = dict(lead=lead, K_tc=K_tc, M_h=1.0, C_h=1.0, K_h=1e9)
 
     n_mech = len(names)
@@ -387,12 +402,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
             model = model_frfs(m, freqs, bandwidth(theta), hold_period_s, nut_gain)
         except np.linalg.LinAlgError:
             return np.full(sum(2 * f.size for f in freqs.values()), 1e3)
-        parts = []
-        for k, d in data.items():
-            e = np.log(model[k] / d.H) * w[k]  # log-magnitude and phase error
-            parts += [e.real, e.imag]
-        r = np.concatenate(parts)
-        return np.where(np.isfinite(r), r, 1e3)
+        return np.concatenate([log_residual(model[k], d.H, w[k]) for k, d in data.items()])
 
     if initial is not None:
         starts = [initial]

@@ -21,7 +21,7 @@ from scipy.optimize import least_squares
 
 from ..mechanics.params import AxisMechanics
 from .metrics import rel_error
-from .physical import FRFData, log_binned, model_frfs
+from .physical import FRFData, fit_weight, log_binned, log_residual, model_frfs
 
 __all__ = ["STRUCTURE", "fit_structure"]
 
@@ -53,15 +53,12 @@ def fit_structure(data: FRFData, starts, max_nfev: int = 200):
     """
     d = log_binned(data)
     good = np.asarray(d.weight) > 0
-    f, H = d.freq_hz[good], d.H[good]
-    w = np.asarray(d.weight, float)[good] / np.sqrt(good.sum())
+    f, H, w = d.freq_hz[good], d.H[good], fit_weight(d)[good]
 
     def resid(theta, base):
         m = AxisMechanics.model_construct(**{**base, **dict(zip(_FREE, np.exp(theta),
                                                                 strict=True))})
-        e = np.log(model_frfs(m, {"G_tcp": f})["G_tcp"] / H) * w
-        r = np.concatenate([e.real, e.imag])
-        return np.where(np.isfinite(r), r, 1e3)
+        return log_residual(model_frfs(m, {"G_tcp": f})["G_tcp"], H, w)
 
     best = None
     for mech in starts:

@@ -24,12 +24,18 @@ from .friction import _stribeck_curve, friction_record_arrays, identify_stribeck
 from .lostmotion import estimate_lost_motion
 from .nutstiffness import estimate_nut
 
-__all__ = ["GUIDEWAY_SHARE", "FrictionSplit", "identify_friction", "place_steady_viscous"]
+__all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
+           "place_steady_viscous", "share_uncertainty_warning"]
 
 #: Share of the identified friction put on the guideway when the friction runs do not
 #: determine it (see :mod:`tcpmm.ident.lostmotion`): preloaded, sealed linear guides
 #: usually carry most of the friction of a feed axis.
 GUIDEWAY_SHARE = 0.7
+#: Standard deviation of a guideway share from the data above which identification warns:
+#: the friction that holds the table at a reversal, and with it the predicted reversal
+#: spikes, follows the share, and a shift of 0.15 in it moves them by micrometres on an
+#: axis with lost motion [-].
+SHARE_WARN_STD = 0.1
 
 
 @dataclass(frozen=True)
@@ -50,6 +56,9 @@ class FrictionSplit:
     nut : NutEstimate or None
         Nut stiffness, share and lost motion from the whole record (accelerations and
         plateaus); set when they were used, i.e. when the record shows lost motion [-].
+    guideway_share_std : float
+        Standard deviation of the share used, from the estimate it came from; NaN when
+        the share is the prior or given [-].
     """
 
     guideway_share: float
@@ -57,6 +66,7 @@ class FrictionSplit:
     source: str
     estimate: object = None
     nut: object = None
+    guideway_share_std: float = float("nan")
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report.
@@ -68,6 +78,7 @@ class FrictionSplit:
             data, the source and the full estimate [-].
         """
         e = self.estimate
+        play_from = self.nut if self.nut is not None else e  # where the lost motion came from
 
         def sd(x, sources):
             ok = e is not None and self.source in sources and np.isfinite(x)
@@ -75,9 +86,10 @@ class FrictionSplit:
 
         return {
             "guideway_share": {"value": float(self.guideway_share),
-                               "std": sd(e.guideway_share_std if e else 0.0, ("data",))},
+                               "std": sd(self.guideway_share_std, ("data",))},
             "backlash_m": {"value": float(self.backlash),
-                           "std": sd(e.backlash_std if e else 0.0, ("data", "given"))},
+                           "std": sd(play_from.backlash_std if play_from else 0.0,
+                                     ("data", "given"))},
             "source": self.source,
             "estimate": e.to_dict() if e is not None else None,
             "nut": self.nut.to_dict() if self.nut is not None else None,
@@ -157,12 +169,14 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         lm = plateau_split(m_split.replace(K_t=nut.stiffness),
                            nut.stiffness_std / nut.stiffness,
                            backlash=nut.backlash, backlash_std=nut.backlash_std)
-        share = lm.guideway_share if lm.determined else nut.guideway_share
-        split = FrictionSplit(min(max(share, 0.0), 1.0), nut.backlash, "data", lm, nut)
+        used = lm if lm.determined else nut
+        split = FrictionSplit(min(max(used.guideway_share, 0.0), 1.0), nut.backlash, "data",
+                              lm, nut, used.guideway_share_std)
     elif given is not None:
         split = FrictionSplit(given, lm.backlash if lm.determined else 0.0, "given", lm)
     elif lm.determined:
-        split = FrictionSplit(lm.guideway_share, lm.backlash, "data", lm)
+        split = FrictionSplit(lm.guideway_share, lm.backlash, "data", lm,
+                              guideway_share_std=lm.guideway_share_std)
     else:
         name = f"axis {axis}" if axis else "axis"
         warnings.warn(
@@ -175,6 +189,50 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
                       screw=part(1 - share) if share < 1 else None,
                       backlash=split.backlash)
     return fr, est, split
+
+
+def share_uncertainty_warning(axis: str, split: FrictionSplit, curve: dict, mechanics,
+                              cfg, max_std: float = SHARE_WARN_STD) -> str | None:
+    """What to tell the user when the friction runs determine the guideway share poorly.
+
+    Parameters
+    ----------
+    axis : str
+        Axis name [-].
+    split : FrictionSplit
+        The split used [-].
+    curve : dict
+        Fitted steady friction by name (``Fc+``, ``Fc-``), table units [N].
+    mechanics : AxisMechanics
+        Identified mechanics; ``K_t`` is the nut in contact [SI].
+    cfg : AxisConfig
+        Lead and sensors of the axis [-].
+    max_std : float
+        Standard deviation of the share above which there is something to say [-].
+
+    Returns
+    -------
+    str or None
+        The message, or ``None`` when the share is from the data and within ``max_std``,
+        or not from the data at all [-].
+    """
+    sd = float(split.guideway_share_std)
+    if split.source != "data" or not sd > max_std:
+        return None
+    s = split.guideway_share
+    fc = 0.5 * (abs(float(curve["Fc+"])) + abs(float(curve["Fc-"])))
+    um = 1e6
+    nut = split.nut
+    play = (f", told from the {nut.backlash * um:.2f} +/- {nut.backlash_std * um:.2f} um of "
+            f"lost motion only by the braking between the plateaus" if nut is not None else "")
+    step = cfg.lead_m / (2.0 * np.pi) * cfg.sensors.encoder_resolution_rad
+    return (f"axis {axis}: the friction runs determine the guideway share only to {s:.2f} "
+            f"+/- {sd:.2f}: the guideway's part of the nut deflection is "
+            f"{s * fc / mechanics.K_t * um:.2g} um{play}, and the sensors step by "
+            f"{step * um:.3g} um (encoder, at the table) and "
+            f"{cfg.sensors.scale_resolution_m * um:.3g} um (scale). The predicted reversal "
+            f"spikes follow the share. Finer sensors, or runs to a higher top speed with more "
+            f"reversals, determine it; if it is known, set it with --guideway-share")
 
 
 def coulomb_stribeck(curve: dict):

@@ -16,7 +16,7 @@ from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from ..sim.friction import sliding_friction
 from .frf import reduced_frfs
-from .frictionsplit import identify_friction, place_steady_viscous
+from .frictionsplit import identify_friction, place_steady_viscous, share_uncertainty_warning
 from .metrics import fit_percent
 from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
@@ -363,6 +363,12 @@ def identify_axis(
                 _warn_sweep_crosses_play(name, sweep, split.nut, modelled=True)
         elif split.nut is not None:
             _warn_sweep_crosses_play(name, sweep, split.nut)
+        curve = dict(zip(est.names, est.values, strict=True))
+        message = share_uncertainty_warning(name, split, curve, mech, cfg)
+        if message is not None:
+            from ..io.csvutil import warn_input
+
+            warn_input(message, file=getattr(friction, "source", None))
     axis = Axis(
         mechanics=mech,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),

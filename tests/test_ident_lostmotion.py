@@ -23,9 +23,6 @@ from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtua
 Q = 1e-6  # encoder step at the table and scale step of the built-in machine [m]
 #: Round speeds: a whole number of sensor steps per 1 ms sample [m/s].
 LOCKED_SPEEDS = (0.002, 0.005, 0.01, 0.02, 0.05, 0.1)
-#: Guideway share of the built-in axes' Coulomb and viscous friction [-].
-COULOMB_SHARE = {"X": 0.64, "Y": 0.75}
-VISCOUS_SHARE = {"X": 0.81, "Y": 0.85}
 
 
 def stribeck(v, fc, fs, vs, fv, delta=2.0):
@@ -195,6 +192,12 @@ def true_forces(axis, v, part):
     return fg, fg + f(axis.friction.screw)
 
 
+def level_share(friction, level):
+    """Guideway share of one friction level (``"fc_pos"``, ``"fv_pos"``, ...) [-]."""
+    g, s = getattr(friction.guideway, level), getattr(friction.screw, level)
+    return g / (g + s)
+
+
 def weighted_share(fg, ft, sd, v=None):
     """The single share that best explains the guideway friction of every plateau, with
     the plateau weights of the fit (and the part proportional to speed projected out when
@@ -294,7 +297,8 @@ def test_lost_motion_through_the_simulator(machine, ax):
         assert abs(split.backlash - 5e-6) < 0.5e-6
         assert fr.backlash == split.backlash
         sd = split.guideway_share_std
-        assert COULOMB_SHARE[ax] - 3 * sd < split.guideway_share < VISCOUS_SHARE[ax] + 3 * sd
+        coulomb, viscous = (level_share(a.friction, k) for k in ("fc_pos", "fv_pos"))
+        assert coulomb - 3 * sd < split.guideway_share < viscous + 3 * sd
 
 
 def test_undetermined_split_falls_back_to_the_prior(machine):

@@ -340,5 +340,4 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen):
     _, est, split = identify_friction(rec, cfg, a.mechanics, axis="X")
     assert split.guideway_share_std < 0.05
     assert abs(split.guideway_share - share) < 0.1
-    curve = dict(zip(est.names, est.values, strict=True))
-    assert share_uncertainty_warning("X", split, curve, a.mechanics, cfg) is None
+    assert share_uncertainty_warning("X", split, est, a.mechanics, cfg) is None

@@ -191,7 +191,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     return fr, est, split
 
 
-def share_uncertainty_warning(axis: str, split: FrictionSplit, curve: dict, mechanics,
+def share_uncertainty_warning(axis: str, split: FrictionSplit, curve, mechanics,
                               cfg, max_std: float = SHARE_WARN_STD) -> str | None:
     """What to tell the user when the friction runs determine the guideway share poorly.
 
@@ -201,12 +201,12 @@ def share_uncertainty_warning(axis: str, split: FrictionSplit, curve: dict, mech
         Axis name [-].
     split : FrictionSplit
         The split used [-].
-    curve : dict
-        Fitted steady friction by name (``Fc+``, ``Fc-``), table units [N].
+    curve : ParameterEstimate or dict
+        Fitted steady friction, by name (``Fc+``, ``Fc-``), table units [N].
     mechanics : AxisMechanics
-        Identified mechanics; ``K_t`` is the nut in contact [SI].
+        Identified mechanics; ``K_t`` is the nut in contact, ``R_L`` the screw ratio [SI].
     cfg : AxisConfig
-        Lead and sensors of the axis [-].
+        Sensors of the axis [-].
     max_std : float
         Standard deviation of the share above which there is something to say [-].
 
@@ -225,7 +225,7 @@ def share_uncertainty_warning(axis: str, split: FrictionSplit, curve: dict, mech
     nut = split.nut
     play = (f", told from the {nut.backlash * um:.2f} +/- {nut.backlash_std * um:.2f} um of "
             f"lost motion only by the braking between the plateaus" if nut is not None else "")
-    step = cfg.lead_m / (2.0 * np.pi) * cfg.sensors.encoder_resolution_rad
+    step = mechanics.R_L * cfg.sensors.encoder_resolution_rad
     return (f"axis {axis}: the friction runs determine the guideway share only to {s:.2f} "
             f"+/- {sd:.2f}: the guideway's part of the nut deflection is "
             f"{s * fc / mechanics.K_t * um:.2g} um{play}, and the sensors step by "

@@ -209,8 +209,10 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
         [-].
     cutoff : float or sequence of float
         Zero-phase low-pass before differencing; with several, the estimate with the
-        smallest standard deviation of the share among the determined ones is kept
-        (cut-offs at or above 0.8 times the Nyquist frequency are skipped) [Hz].
+        smallest standard deviation of the share among the determined ones is kept, one
+        above :data:`TRANSIENT_FREE_HZ` only where the next lower agrees (see
+        :data:`CUTOFFS_HZ`); cut-offs at or above 0.8 times the Nyquist frequency are
+        skipped [Hz].
     min_speed : float
         Samples slower than this are left out (stiction) [m/s].
     margin : float
@@ -231,13 +233,14 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
                          column="scale")
     dt = float(np.median(np.diff(t)))
     cutoffs = [float(c) for c in np.atleast_1d(cutoff)]
-    usable = [c for c in cutoffs if c < 0.4 / dt] or cutoffs[:1]
+    usable = sorted(c for c in cutoffs if c < 0.4 / dt) or cutoffs[:1]
     found = [_estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve,
                           total_viscous, share, c, min_speed, margin, max_rel_std)
              for c in usable]
     determined = [e for k, e in enumerate(found)
                   if e.determined and np.isfinite(e.guideway_share_std)
-                  and (usable[k] <= TRANSIENT_FREE_HZ or _same_nut(e, found[k - 1]))]
+                  and (usable[k] <= TRANSIENT_FREE_HZ
+                       or (k > 0 and _same_nut(e, found[k - 1])))]
     return min(determined, key=lambda e: e.guideway_share_std) if determined else found[0]
 
 

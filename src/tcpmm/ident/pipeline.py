@@ -363,8 +363,7 @@ def identify_axis(
                 _warn_sweep_crosses_play(name, sweep, split.nut, modelled=True)
         elif split.nut is not None:
             _warn_sweep_crosses_play(name, sweep, split.nut)
-        curve = dict(zip(est.names, est.values, strict=True))
-        message = share_uncertainty_warning(name, split, curve, mech, cfg)
+        message = share_uncertainty_warning(name, split, est, mech, cfg)
         if message is not None:
             from ..io.csvutil import warn_input
 

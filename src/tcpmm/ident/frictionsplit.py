@@ -68,6 +68,13 @@ class FrictionSplit:
     nut: object = None
     guideway_share_std: float = float("nan")
 
+    @property
+    def backlash_std(self) -> float:
+        """Standard deviation of the lost motion, from the estimate it came from: the nut
+        estimate when there is one, else the plateaus; NaN without either [m]."""
+        play_from = self.nut if self.nut is not None else self.estimate
+        return float(play_from.backlash_std) if play_from is not None else float("nan")
+
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report.
 
@@ -78,7 +85,6 @@ class FrictionSplit:
             data, the source and the full estimate [-].
         """
         e = self.estimate
-        play_from = self.nut if self.nut is not None else e  # where the lost motion came from
 
         def sd(x, sources):
             ok = e is not None and self.source in sources and np.isfinite(x)
@@ -88,8 +94,7 @@ class FrictionSplit:
             "guideway_share": {"value": float(self.guideway_share),
                                "std": sd(self.guideway_share_std, ("data",))},
             "backlash_m": {"value": float(self.backlash),
-                           "std": sd(play_from.backlash_std if play_from else 0.0,
-                                     ("data", "given"))},
+                           "std": sd(self.backlash_std, ("data", "given"))},
             "source": self.source,
             "estimate": e.to_dict() if e is not None else None,
             "nut": self.nut.to_dict() if self.nut is not None else None,

@@ -359,10 +359,10 @@ def identify_axis(
                 if not (_play_significant(split) and bias > 0):
                     break
             _, phys, mech, fr, est, split, gain = best
-            if gain is None and split.nut is not None:
-                _warn_sweep_crosses_play(name, sweep, split.nut, modelled=True)
-        elif split.nut is not None:
-            _warn_sweep_crosses_play(name, sweep, split.nut)
+            if gain is None:
+                _warn_sweep_crosses_play(name, sweep, split, modelled=True)
+        elif split.nut is not None or _play_significant(split):
+            _warn_sweep_crosses_play(name, sweep, split)
         message = share_uncertainty_warning(name, split, est, mech, cfg)
         if message is not None:
             from ..io.csvutil import warn_input
@@ -458,19 +458,38 @@ def _bias_force(v: float, mech, fr) -> float:
     return float(sliding_friction(v, friction_params_array(fr.guideway))) + mech.C_t * v
 
 
-def _warn_sweep_crosses_play(name: str, sweep, nut, modelled: bool = False) -> None:
+def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) -> None:
+    """Warn that the sweep crossed the nut's play and the mechanics fitted to it are
+    those of a linear axis.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    sweep : SweepRecord
+        The sweep, for the file named in the warning [-].
+    split : FrictionSplit
+        The split of the kept fit: its lost motion and that estimate's std [m].
+    modelled : bool
+        The play was modelled in refits, none of which was kept [-].
+    """
     from ..io.csvutil import warn_input
 
-    remedy = ("with the play modelled the FRFs were fitted no better, so the linear fit is kept"
+    remedy = ("no refit with the play modelled both fitted the FRFs better and came back to "
+              "the table mass and nut stiffness its describing function was computed with, "
+              "so the linear fit is kept"
               if modelled else "a sweep recorded while the axis travels at constant speed "
               "lets the play be modelled (the guideway friction holds the nut on one flank)")
+    stiffness = ("The nut stiffness is taken from the friction runs" if split.nut is not None
+                 else "The friction runs do not determine the nut stiffness either: K_t is "
+                 "the sweep's, as soft as the play made it look")
     warn_input(
-        f"axis {name}: the friction runs show {nut.backlash * 1e6:.2f} +/- "
-        f"{nut.backlash_std * 1e6:.2f} um of lost motion in the nut, which the sweep crosses "
+        f"axis {name}: the friction runs show {split.backlash * 1e6:.2f} +/- "
+        f"{split.backlash_std * 1e6:.2f} um of lost motion in the nut, which the sweep crosses "
         "every cycle; around the axial modes its FRFs are not those of a linear axis, and "
         "the fitted split of inertia between motor side and table (M_t, and with it the "
-        "structure's M_b, K_b, M_h, K_h) can be off by tens of per cent. The nut stiffness "
-        f"is taken from the friction runs; {remedy}. A larger excitation amplitude (within "
+        f"structure's M_b, K_b, M_h, K_h) can be off by tens of per cent. {stiffness}; "
+        f"{remedy}. A larger excitation amplitude (within "
         "the current limit) makes the play a smaller part of the vibration; a smaller one "
         "makes it worse", file=getattr(sweep, "source", None))
 

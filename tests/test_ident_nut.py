@@ -58,6 +58,19 @@ def nut_of(machine, ax, rec, mech=None, **options):
                         p["Fv"], **options)
 
 
+def identify_unseen(unseen, seed, index, ax, sweep_seed):
+    """Axis ``ax`` of machine ``index`` of ``examples/unseen_machines.py --seed SEED
+    --backlash``, identified from its sweep and friction runs: the machine, the axis, the
+    identification and the warnings given on the way [-]."""
+    true, _ = unseen.draw_machine(seed, index, backlash=True)
+    a = true.axes[ax]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        idn = identify_axis(ax, virtual_sweep(a, name=ax, seed=sweep_seed), axis_config(true, ax),
+                            friction=virtual_friction(a, FRICTION_SPEEDS, name=ax))
+    return true, a, idn, [str(w.message) for w in caught]
+
+
 @pytest.mark.parametrize("ax", ["X", "Y"])
 def test_stiffness_and_lost_motion_of_the_nut_in_contact(machine, ax):
     """Low-passed at 20 Hz, over three sets of plateau speeds (x1.00, 1.04, 1.08) the
@@ -295,12 +308,7 @@ def test_a_stiff_coupling_is_not_traded_for_a_soft_one_when_the_sweep_crosses_th
     the nut stiffness then came out 2.6 times too stiff. Tolerances: the fit from the
     further torsion starts is within 0.25 of the truth (measured: J_m 0.77, K_L 0.83,
     M_t 1.01, K_t 1.03); the old minimum is far outside on J_m and K_L."""
-    true, _ = unseen.draw_machine(2, 8, backlash=True)
-    a = true.axes["Y"]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        idn = identify_axis("Y", virtual_sweep(a, name="Y", seed=1), axis_config(true, "Y"),
-                            friction=virtual_friction(a, FRICTION_SPEEDS, name="Y"))
+    _, a, idn, _ = identify_unseen(unseen, 2, 8, "Y", sweep_seed=1)
     m = idn.axis.mechanics
     for p in ("J_m", "K_L", "M_t", "K_t"):
         assert getattr(m, p) == pytest.approx(getattr(a.mechanics, p), rel=0.25), p
@@ -313,15 +321,10 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen):
     between the plateaus gives the play to 0.08 um, and the share only to 0.53 +- 0.25 (true
     0.78): identification says so, once, with the sensor steps and what would determine
     it. The same runs with fine sensors give 0.74 +- 0.01, and nothing to report."""
-    true, _ = unseen.draw_machine(1, 3, backlash=True)
-    a = true.axes["X"]
+    true, a, idn, caught = identify_unseen(unseen, 1, 3, "X", sweep_seed=1)
     share, _ = unseen.friction_split(a.friction)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        idn = identify_axis("X", virtual_sweep(a, name="X", seed=1), axis_config(true, "X"),
-                            friction=virtual_friction(a, FRICTION_SPEEDS, name="X"))
     split = idn.friction_split
-    told = [str(w.message) for w in caught if "guideway share only" in str(w.message)]
+    told = [w for w in caught if "guideway share only" in w]
     assert len(told) == 1
     assert f"{split.guideway_share:.2f} +/- {split.guideway_share_std:.2f}" in told[0]
     assert "axis X" in told[0] and "1.22 um (encoder" in told[0] and "--guideway-share" in told[0]
@@ -352,16 +355,11 @@ def test_the_user_is_told_when_no_refit_with_the_play_is_kept(unseen):
     lost motion, so only the plateaus give it (4.48 +- 0.10 um) and there is no nut
     estimate: the user must still be told that the sweep crossed the play, with that lost
     motion and that the stiffness is the sweep's."""
-    true, _ = unseen.draw_machine(0, 7, backlash=True)
-    a = true.axes["X"]
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        idn = identify_axis("X", virtual_sweep(a, name="X", seed=0), axis_config(true, "X"),
-                            friction=virtual_friction(a, FRICTION_SPEEDS, name="X"))
+    true, a, idn, caught = identify_unseen(unseen, 0, 7, "X", sweep_seed=0)
     split = idn.friction_split
     assert split.nut is None and "nut_gain" not in idn.physical.extra
     assert idn.axis.mechanics.M_t > 1.2 * a.mechanics.M_t  # what the warning is about
-    told = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
+    told = [w for w in caught if "lost motion in the nut" in w]
     assert len(told) == 1
     assert f"{split.backlash * 1e6:.2f} +/- {split.backlash_std * 1e6:.2f} um" in told[0]
     assert "linear fit is kept" in told[0] and "K_t is the sweep's" in told[0]

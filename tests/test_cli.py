@@ -111,3 +111,26 @@ def test_help_shows_units(capsys, command):
         pass
     text = capsys.readouterr().out
     assert "[mm]" in text or "[Hz]" in text or "[-]" in text
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
+    """``--presliding-um`` reaches the model file: the guideway of X builds its static
+    level over 1.5 um, and 0 keeps the static model."""
+    from tcpmm.builtin import builtin_machine
+    from tcpmm.io.modelfile import read_machine
+    from tcpmm.mechanics.friction import LuGreFriction
+    from tcpmm.virtual import virtual_bundle
+
+    virtual_bundle(builtin_machine(), tmp_path / "b", axes=("X",))
+    for um in (1.5, 0.0):
+        model = tmp_path / f"m{um}.yaml"
+        code, out, err = run(capsys, "identify", tmp_path / "b", "-o", model,
+                             "--presliding-um", um, "--json")
+        assert code == 0, err
+        assert json.loads(out)["axes"]["X"]["presliding_m"] == pytest.approx(um * 1e-6)
+        g = read_machine(model).axes["X"].friction.guideway
+        if um:
+            assert g.sigma0 * 1.5e-6 == pytest.approx(max(g.fs_pos, g.fs_neg), rel=1e-6)
+        else:
+            assert not isinstance(g, LuGreFriction)

@@ -294,16 +294,24 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
                  None, "--guideway-share",
                  help="Share of the friction from friction.csv put on the guideway [-]; "
                       "default: from the encoder-minus-scale deflection of the runs."),
+             presliding_um: float = typer.Option(
+                 None, "--presliding-um", min=0.0,
+                 help="Pre-sliding displacement of the friction contacts [um] (LuGre); "
+                      "0: static friction that sticks rigidly; default: "
+                      "tcpmm.ident.presliding.PRESLIDING."),
              as_json: bool = typer.Option(False, "--json")):
     """Identify every axis of a measurement bundle into a model file."""
     from .ident.pipeline import identify_bundle
+    from .ident.presliding import PRESLIDING
     from .io.bundle import read_bundle
     from .io.modelfile import write_machine
 
     b = read_bundle(bundle)
     f0, f1 = _floats(band, "--band", 2) if band else (None, None)
     with _progress(len(b.axes), "identify") as adv:
-        idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share)
+        idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
+                              presliding=PRESLIDING if presliding_um is None
+                              else presliding_um * 1e-6)
     write_machine(idn.machine, output)
     if report is not None:
         idn.write_report(report)

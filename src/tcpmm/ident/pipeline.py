@@ -21,6 +21,7 @@ from .metrics import fit_percent
 from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
+from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .structure import fit_structure
 from .tffit import fit_tf
@@ -141,7 +142,8 @@ class Identification:
                 "undetermined": a.physical.undetermined,
                 "current_bandwidth_hz": a.axis.servo.current_bandwidth_hz,
             }
-            for key in ("sweep_play", "friction_holds_sweep", "sampled_loop_spectral_radius"):
+            for key in ("sweep_play", "friction_holds_sweep", "sampled_loop_spectral_radius",
+                        "presliding_m"):
                 if key in a.physical.extra:
                     out[name][key] = a.physical.extra[key]
             if a.friction is not None:
@@ -262,7 +264,7 @@ DAMPING_KNOWN_REL_STD = 0.03
 
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
-    friction=None, guideway_share: float | None = None,
+    friction=None, guideway_share: float | None = None, presliding: float = PRESLIDING,
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
@@ -288,6 +290,10 @@ def identify_axis(
     guideway_share : float, optional
         Share of that friction put on the guideway, the rest on the screw; ``None``: from
         the friction runs (encoder-minus-scale deflection) [-].
+    presliding : float
+        Pre-sliding displacement given to the identified contacts (LuGre), which the
+        friction runs do not determine; ``0``: static friction that sticks rigidly
+        (:mod:`tcpmm.ident.presliding`) [m].
     """
     limit_blas_threads()
     fmin = fmin_hz if fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
@@ -368,6 +374,8 @@ def identify_axis(
             from ..io.csvutil import warn_input
 
             warn_input(message, file=getattr(friction, "source", None))
+        fr = with_presliding(fr, mech, presliding)
+        phys.extra["presliding_m"] = presliding
     axis = Axis(
         mechanics=mech,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),
@@ -496,7 +504,7 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
 
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
-    guideway_share: float | None = None,
+    guideway_share: float | None = None, presliding: float = PRESLIDING,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
 
@@ -513,13 +521,16 @@ def identify_bundle(
     guideway_share : float, optional
         Share of the friction put on the guideway, the rest on the screw; ``None``: from
         each axis's friction runs [-].
+    presliding : float
+        Pre-sliding displacement of the identified friction contacts; ``0``: static
+        friction (:mod:`tcpmm.ident.presliding`) [m].
     """
     axes = {}
     for name, rec in bundle.axes.items():
         cfg = bundle.machine.axes[name]
         axes[name] = identify_axis(
             name, rec.sweep, cfg, fmin_hz, fmax_hz, fit_current_loop, rec.friction,
-            guideway_share,
+            guideway_share, presliding,
         )
         if progress is not None:
             progress(name)

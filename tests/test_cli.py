@@ -134,3 +134,8 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
             assert g.sigma0 * 1.5e-6 == pytest.approx(max(g.fs_pos, g.fs_neg), rel=1e-6)
         else:
             assert not isinstance(g, LuGreFriction)
+    code, out, err = run(capsys, "identify", tmp_path / "b", "-o", tmp_path / "d.yaml")
+    assert code == 0, err
+    from tcpmm.ident.presliding import PRESLIDING
+
+    assert f"pre-sliding of {PRESLIDING * 1e6:g} um assumed" in out.replace("\n", " ")

@@ -308,10 +308,10 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
 
     b = read_bundle(bundle)
     f0, f1 = _floats(band, "--band", 2) if band else (None, None)
+    presliding = PRESLIDING if presliding_um is None else presliding_um * 1e-6
     with _progress(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
-                              presliding=PRESLIDING if presliding_um is None
-                              else presliding_um * 1e-6)
+                              presliding=presliding)
     write_machine(idn.machine, output)
     if report is not None:
         idn.write_report(report)
@@ -321,6 +321,9 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     from .demo import print_circle_table
 
     print_circle_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
+    if presliding > 0 and any(a.friction is not None for a in idn.axes.values()):
+        out.print(f"friction: pre-sliding of {presliding * 1e6:g} um assumed on every contact "
+                  "(the friction runs do not determine it; --presliding-um sets it)")
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 
 

@@ -7,9 +7,9 @@ friction force it predicts flips within the stick band, whereas the real one bui
 that displacement; on an axis that reverses, that changes the height and the shape of the
 reversal spike by micrometres.
 
-The friction runs of a bundle do not determine the pre-sliding displacement: between two
-plateaus they reverse at about 1 m/s^2, and the table crosses a micrometre in 1-2 ms, one or
-two samples of a 1 ms record read through micrometre sensor steps. ``with_presliding`` gives
+Friction runs do not determine the pre-sliding displacement: reversing between two
+plateaus at 1 m/s^2 (as the virtual runs do), the table crosses a micrometre in 1-2 ms, one
+or two samples of a 1 ms record read through micrometre sensor steps. ``with_presliding`` gives
 each identified contact the LuGre bristle stiffness ``sigma0 = Fs / z`` of an assumed
 displacement ``z`` (:data:`PRESLIDING`; ``0`` keeps the static model) and the bristle
 damping ``sigma1 = 2 zeta sqrt(sigma0 M_t)`` of :data:`BRISTLE_DAMPING_RATIO`; the levels,

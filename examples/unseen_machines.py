@@ -71,7 +71,8 @@ its machines differ from those of the same index without it.
 Usage::
 
     python examples/unseen_machines.py [--n 6] [--seed 0] [--backlash] [--only 2 5]
-                                       [--lugre-fraction 0.33] [--json FILE] [--keep DIR]
+                                       [--lugre-fraction 0.33] [--presliding-um 0.5]
+                                       [--json FILE] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -92,6 +93,7 @@ from tcpmm.analysis.compare import compare_circles
 from tcpmm.builtin import builtin_machine
 from tcpmm.demo import RADIUS_MM, paper_circle_command
 from tcpmm.ident.pipeline import identify_bundle
+from tcpmm.ident.presliding import PRESLIDING
 from tcpmm.io.bundle import read_bundle
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction, friction_params_array
 from tcpmm.model import Axis, AxisFriction, Machine, Sensors
@@ -641,7 +643,8 @@ def backlash_effect(true: Machine, cmd) -> float:
     return float(max(np.max(np.abs(a.axes[n].tcp - b.axes[n].tcp)) for n in AXES))
 
 
-def evaluate(true: Machine, cmd, workdir: Path, attribute: bool = True) -> dict:
+def evaluate(true: Machine, cmd, workdir: Path, attribute: bool = True,
+             presliding: float = PRESLIDING) -> dict:
     """Bundle, circle, identification, prediction and attribution of one machine.
 
     Parameters
@@ -654,6 +657,9 @@ def evaluate(true: Machine, cmd, workdir: Path, attribute: bool = True) -> dict:
         Folder for the bundle [-].
     attribute : bool
         Also predict with the hybrid models [-].
+    presliding : float
+        Pre-sliding displacement given to the identified contacts, ``0`` for static
+        friction (:mod:`tcpmm.ident.presliding`) [m].
 
     Returns
     -------
@@ -666,7 +672,7 @@ def evaluate(true: Machine, cmd, workdir: Path, attribute: bool = True) -> dict:
     t1 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        idn = identify_bundle(read_bundle(workdir / "bundle"))
+        idn = identify_bundle(read_bundle(workdir / "bundle"), presliding=presliding)
     t2 = time.perf_counter()
     rm = analyse_circle(measured, RADIUS)
     rp = analyse_circle(simulate(idn.machine, cmd), RADIUS)
@@ -878,6 +884,8 @@ def main(argv=None) -> int:
     ap.add_argument("--lugre-fraction", type=float, default=1 / 3,
                     help="probability of LuGre friction per axis")
     ap.add_argument("--no-attribution", action="store_true", help="skip the hybrid models")
+    ap.add_argument("--presliding-um", type=float, default=PRESLIDING * 1e6,
+                    help="pre-sliding displacement of the identified contacts [um]; 0: static")
     ap.add_argument("--json", type=Path, help="write the numbers (SI) to this file")
     ap.add_argument("--keep", type=Path, help="keep the bundles in this folder")
     args = ap.parse_args(argv)
@@ -893,10 +901,12 @@ def main(argv=None) -> int:
             if args.keep:
                 wd = args.keep / f"machine_{i}"
                 wd.mkdir(parents=True, exist_ok=True)
-                res = evaluate(true, cmd, wd, not args.no_attribution)
+                res = evaluate(true, cmd, wd, not args.no_attribution,
+                               args.presliding_um * 1e-6)
             else:
                 with tempfile.TemporaryDirectory() as tmp:
-                    res = evaluate(true, cmd, Path(tmp), not args.no_attribution)
+                    res = evaluate(true, cmd, Path(tmp), not args.no_attribution,
+                                   args.presliding_um * 1e-6)
         except Exception as exc:
             results[i] = {"error": f"{type(exc).__name__}: {exc}"}
             print(f"\n=== machine {i}: failed: {results[i]['error']}")
@@ -910,6 +920,7 @@ def main(argv=None) -> int:
     if args.json:
         args.json.write_text(json.dumps(to_json({
             "seed": args.seed, "backlash": args.backlash, "lugre_fraction": args.lugre_fraction,
+            "presliding": args.presliding_um * 1e-6,
             "units": "SI (m, N, s); spikes signed, measured minus predicted",
             "machines": {i: {"draw": descs[i], **results[i]} for i in indices},
             "summary": s}), indent=1))

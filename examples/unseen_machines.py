@@ -889,6 +889,7 @@ def main(argv=None) -> int:
     ap.add_argument("--json", type=Path, help="write the numbers (SI) to this file")
     ap.add_argument("--keep", type=Path, help="keep the bundles in this folder")
     args = ap.parse_args(argv)
+    presliding = args.presliding_um * 1e-6
 
     cmd = paper_circle_command()
     indices = args.only if args.only else list(range(args.n))
@@ -901,12 +902,10 @@ def main(argv=None) -> int:
             if args.keep:
                 wd = args.keep / f"machine_{i}"
                 wd.mkdir(parents=True, exist_ok=True)
-                res = evaluate(true, cmd, wd, not args.no_attribution,
-                               args.presliding_um * 1e-6)
+                res = evaluate(true, cmd, wd, not args.no_attribution, presliding)
             else:
                 with tempfile.TemporaryDirectory() as tmp:
-                    res = evaluate(true, cmd, Path(tmp), not args.no_attribution,
-                                   args.presliding_um * 1e-6)
+                    res = evaluate(true, cmd, Path(tmp), not args.no_attribution, presliding)
         except Exception as exc:
             results[i] = {"error": f"{type(exc).__name__}: {exc}"}
             print(f"\n=== machine {i}: failed: {results[i]['error']}")
@@ -920,7 +919,7 @@ def main(argv=None) -> int:
     if args.json:
         args.json.write_text(json.dumps(to_json({
             "seed": args.seed, "backlash": args.backlash, "lugre_fraction": args.lugre_fraction,
-            "presliding": args.presliding_um * 1e-6,
+            "presliding": presliding,
             "units": "SI (m, N, s); spikes signed, measured minus predicted",
             "machines": {i: {"draw": descs[i], **results[i]} for i in indices},
             "summary": s}), indent=1))

@@ -1,4 +1,5 @@
 import importlib.util
+import warnings
 from pathlib import Path
 
 import pytest
@@ -30,3 +31,26 @@ def unseen():
     um = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(um)
     return um
+
+
+@pytest.fixture(scope="session")
+def identify_unseen(unseen):
+    """``identify(seed, index, ax, sweep_seed=0, **options)``: axis ``ax`` of machine
+    ``index`` of ``examples/unseen_machines.py --seed SEED --backlash``, identified from its
+    sweep and friction runs (``options`` go to ``identify_axis``); returns the machine, the
+    axis, the identification and the warnings given on the way [-]."""
+    from tcpmm.ident.pipeline import identify_axis
+    from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
+
+    def identify(seed, index, ax, sweep_seed=0, **options):
+        true, _ = unseen.draw_machine(seed, index, backlash=True)
+        a = true.axes[ax]
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            idn = identify_axis(ax, virtual_sweep(a, name=ax, seed=sweep_seed),
+                                axis_config(true, ax),
+                                friction=virtual_friction(a, FRICTION_SPEEDS, name=ax),
+                                **options)
+        return true, a, idn, [str(w.message) for w in caught]
+
+    return identify

@@ -58,19 +58,6 @@ def nut_of(machine, ax, rec, mech=None, **options):
                         p["Fv"], **options)
 
 
-def identify_unseen(unseen, seed, index, ax, sweep_seed):
-    """Axis ``ax`` of machine ``index`` of ``examples/unseen_machines.py --seed SEED
-    --backlash``, identified from its sweep and friction runs: the machine, the axis, the
-    identification and the warnings given on the way [-]."""
-    true, _ = unseen.draw_machine(seed, index, backlash=True)
-    a = true.axes[ax]
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        idn = identify_axis(ax, virtual_sweep(a, name=ax, seed=sweep_seed), axis_config(true, ax),
-                            friction=virtual_friction(a, FRICTION_SPEEDS, name=ax))
-    return true, a, idn, [str(w.message) for w in caught]
-
-
 @pytest.mark.parametrize("ax", ["X", "Y"])
 def test_stiffness_and_lost_motion_of_the_nut_in_contact(machine, ax):
     """Low-passed at 20 Hz, over three sets of plateau speeds (x1.00, 1.04, 1.08) the
@@ -299,7 +286,8 @@ def test_a_small_play_is_modelled_rather_than_taken_for_guideway_friction(unseen
     assert abs(split.guideway_share - share) < 0.2
 
 
-def test_a_stiff_coupling_is_not_traded_for_a_soft_one_when_the_sweep_crosses_the_play(unseen):
+def test_a_stiff_coupling_is_not_traded_for_a_soft_one_when_the_sweep_crosses_the_play(
+        identify_unseen):
     """Axis Y of machine 8 of ``examples/unseen_machines.py --seed 2 --backlash``: 2.5 um
     of play, a stiff motor-screw coupling (torsion near 930 Hz, which the rational fit of
     G_M does not resolve) and a light motor. With the torsion starts only on G_M's highest
@@ -308,20 +296,20 @@ def test_a_stiff_coupling_is_not_traded_for_a_soft_one_when_the_sweep_crosses_th
     the nut stiffness then came out 2.6 times too stiff. Tolerances: the fit from the
     further torsion starts is within 0.25 of the truth (measured: J_m 0.77, K_L 0.83,
     M_t 1.01, K_t 1.03); the old minimum is far outside on J_m and K_L."""
-    _, a, idn, _ = identify_unseen(unseen, 2, 8, "Y", sweep_seed=1)
+    _, a, idn, _ = identify_unseen(2, 8, "Y", sweep_seed=1)
     m = idn.axis.mechanics
     for p in ("J_m", "K_L", "M_t", "K_t"):
         assert getattr(m, p) == pytest.approx(getattr(a.mechanics, p), rel=0.25), p
 
 
-def test_a_share_the_runs_barely_determine_is_reported(unseen):
+def test_a_share_the_runs_barely_determine_is_reported(unseen, identify_unseen):
     """Axis X of machine 3 of ``examples/unseen_machines.py --seed 1 --backlash``: 3.3 um
     of play, a stiff nut (0.78 of 42 N of Coulomb friction on the guideway deflects it by
     0.13 um) and sensors that step by 1.22 um (encoder) and 1 um (scale). The braking
     between the plateaus gives the play to 0.08 um, and the share only to 0.53 +- 0.25 (true
     0.78): identification says so, once, with the sensor steps and what would determine
     it. The same runs with fine sensors give 0.74 +- 0.01, and nothing to report."""
-    true, a, idn, caught = identify_unseen(unseen, 1, 3, "X", sweep_seed=1)
+    true, a, idn, caught = identify_unseen(1, 3, "X", sweep_seed=1)
     share, _ = unseen.friction_split(a.friction)
     split = idn.friction_split
     told = [w for w in caught if "guideway share only" in w]
@@ -346,7 +334,7 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen):
     assert share_uncertainty_warning("X", split, est, a.mechanics, cfg) is None
 
 
-def test_the_user_is_told_when_no_refit_with_the_play_is_kept(unseen):
+def test_the_user_is_told_when_no_refit_with_the_play_is_kept(identify_unseen):
     """Axis X of machine 7 of ``examples/unseen_machines.py --seed 0 --backlash``: 4.6 um of
     play and a light table (15 % of the inertia). The linear fit puts M_t at 1.34 of the
     truth; the refits with the play bring it to 1.04-1.10 and fit the FRFs better, but each
@@ -355,7 +343,7 @@ def test_the_user_is_told_when_no_refit_with_the_play_is_kept(unseen):
     lost motion, so only the plateaus give it (4.48 +- 0.10 um) and there is no nut
     estimate: the user must still be told that the sweep crossed the play, with that lost
     motion and that the stiffness is the sweep's."""
-    true, a, idn, caught = identify_unseen(unseen, 0, 7, "X", sweep_seed=0)
+    true, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     split = idn.friction_split
     assert split.nut is None and "nut_gain" not in idn.physical.extra
     assert idn.axis.mechanics.M_t > 1.2 * a.mechanics.M_t  # what the warning is about

@@ -88,20 +88,14 @@ def test_the_default_is_used_and_reported(vmc):
         2 * BRISTLE_DAMPING_RATIO * math.sqrt(fr.guideway.sigma0 * idn.axis.mechanics.M_t))
 
 
-def test_a_lugre_axis_is_predicted_with_its_pre_sliding(unseen):
+def test_a_lugre_axis_is_predicted_with_its_pre_sliding(unseen, identify_unseen):
     """Machine 0 of ``unseen_machines.py --seed 1 --backlash``, axis Y: LuGre contacts with
     a pre-sliding of 0.3-2 um, 6.9 um of play and 185 N of friction. Identified from its
     virtual bundle with static friction, its reversal spikes at B and D are missed by up to
     5.6 um (4.2-5.6 um); with the default pre-sliding by at most 3.6 um; X is the true one,
     so that the difference is Y's."""
-    true, _ = unseen.draw_machine(1, 0, backlash=True)
-    a = true.axes["Y"]
+    true, a, idn, _ = identify_unseen(1, 0, "Y", presliding=0.0)
     assert isinstance(a.friction.guideway, LuGreFriction)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        idn = identify_axis("Y", virtual_sweep(a, name="Y"), axis_config(true, "Y"),
-                            friction=virtual_friction(a, FRICTION_SPEEDS, name="Y"),
-                            presliding=0.0)
     assert not isinstance(idn.axis.friction.guideway, LuGreFriction)
     cmd = unseen.paper_circle_command()
     meas = unseen.tcp_figures(analyse_circle(virtual_run(true, cmd), unseen.RADIUS))

@@ -21,6 +21,7 @@ from tcpmm.ident.frictionsplit import (
     share_uncertainty_warning,
 )
 from tcpmm.ident.nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, estimate_nut
+from tcpmm.ident.physical import fit_physical
 from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
@@ -335,13 +336,23 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen, identify_unseen):
     assert share_uncertainty_warning("X", split, est, a.mechanics, cfg) is None
 
 
-def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen):
+def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, monkeypatch):
     """Axis X of machine 7 of ``examples/unseen_machines.py --seed 0 --backlash``: 4.6 um of
     play and a light table (15 % of the inertia). The linear fit puts M_t at 1.34 of the
     truth; the refits with the play swing about their fixed point (1.10, 1.04, 1.09, then
-    1.05 and 1.06, which agree with the fit before them within ``SELF_CONSISTENT_REL``).
-    Measured: M_t 1.06, K_t 1.16 of the truth; the linear fit is 1.34 and 0.85."""
+    1.05 and 1.06, which agree with the fit before them within ``SELF_CONSISTENT_REL``,
+    the last within ``CONVERGED_REL``, where the refits stop). Measured: M_t 1.06, K_t 1.16
+    of the truth; the linear fit is 1.34 and 0.85."""
+    fits = []
+
+    def counted(*args, **kwargs):
+        fits.append(kwargs.get("nut_gain"))
+        return fit_physical(*args, **kwargs)
+
+    monkeypatch.setattr(pipeline, "fit_physical", counted)
     _, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
+    refits = sum(g is not None for g in fits)
+    assert 4 <= refits < pipeline.PLAY_ITERATIONS
     assert "nut_gain" in idn.physical.extra
     m = idn.axis.mechanics
     assert m.M_t == pytest.approx(a.mechanics.M_t, rel=0.1)

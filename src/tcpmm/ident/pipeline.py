@@ -44,6 +44,9 @@ PLAY_ITERATIONS = 8
 #: refits wander (0.9 -> 1.26 -> 0.56 -> 0.79 of the truth on one axis), and the least
 #: cost among them is chance [-].
 SELF_CONSISTENT_REL = 0.05
+#: Refits stop once one comes back within this of the fit before it: the next would
+#: repeat it [-].
+CONVERGED_REL = 0.01
 #: Travel over a sweep record below which it counts as standing still: the guideway
 #: friction then holds the nut on no particular flank [m].
 MIN_SWEEP_TRAVEL_M = 1e-3
@@ -364,7 +367,8 @@ def identify_axis(
                         "nut_amplitude_there_m": float(amp[lowest])}
                     best = (phys.cost, phys, mech, fr, est, split, gain)
                 bias = _bias_force(v_travel, mech, fr)
-                if not (_play_significant(split) and bias > 0):
+                converged = _self_consistent(seen, mech, CONVERGED_REL)
+                if converged or not (_play_significant(split) and bias > 0):
                     break
             _, phys, mech, fr, est, split, gain = best
             if gain is None:

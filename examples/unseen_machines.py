@@ -88,7 +88,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tcpmm.analysis.circular import AFTER_DEG, BEFORE_DEG, QUADRANTS, analyse_circle
+from tcpmm.analysis.circular import QUADRANTS, analyse_circle
 from tcpmm.analysis.compare import compare_circles
 from tcpmm.builtin import builtin_machine
 from tcpmm.demo import RADIUS_MM, paper_circle_command
@@ -428,47 +428,13 @@ def linear_damping(mech) -> float:
     return (mech.B_m + mech.B_L) / mech.R_L**2 + mech.C_t
 
 
-def spike_lobes(sensor, direction: str) -> dict:
-    """Largest rise and largest fall of the radial error after each quadrant point.
-
-    The same windows and baseline as the reversal spike of
-    :mod:`tcpmm.analysis.circular`; the spike is whichever of the two is larger in
-    magnitude.
-
-    Parameters
-    ----------
-    sensor : SensorCircle
-        One sensor over one pass [-].
-    direction : {"ccw", "cw"}
-        Direction of travel [-].
-
-    Returns
-    -------
-    dict
-        ``{quadrant: (rise, fall)}``, rise >= 0 >= fall unless the window holds only one
-        sign [m].
-    """
-    sign = 1.0 if direction == "ccw" else -1.0
-    out = {}
-    for q, deg in QUADRANTS.items():
-        a = ((np.degrees(sensor.angle_rad) - deg + 180.0) % 360.0 - 180.0) * sign
-        before = (a >= BEFORE_DEG[0]) & (a <= BEFORE_DEG[1])
-        after = (a >= AFTER_DEG[0]) & (a <= AFTER_DEG[1])
-        if not before.any() or not after.any():
-            out[q] = (float("nan"), float("nan"))
-            continue
-        dev = sensor.radial_error[after] - np.median(sensor.radial_error[before])
-        out[q] = (float(dev.max()), float(dev.min()))
-    return out
-
-
 def tcp_figures(result):
     """TCP spikes, their two lobes and the contour error per direction [m]."""
     out = {}
     for d in DIRECTIONS:
         s = result.pass_for(d).sensors["tcp"]
         out[d] = {"spikes": {q: float(s.spikes[q]) for q in QUADRANTS},
-                  "lobes": spike_lobes(s, d),
+                  "lobes": s.lobes,
                   "contour_error": float(s.contour_error)}
     return out
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from tcpmm.analysis.circular import analyse_circle, lsq_circle, reversal_spikes
-from tcpmm.analysis.compare import compare_circles
+from tcpmm.analysis.circular import analyse_circle, lsq_circle, reversal_lobes, reversal_spikes
+from tcpmm.analysis.compare import compare_circles, sign_flips
 from tcpmm.errors import InputError
 from tcpmm.result import AxisRun, Run
 
@@ -122,6 +122,45 @@ def test_compare_is_measured_minus_predicted():
     row = compare_circles(meas, pred).rows[0]
     assert row["contour_error_um"] == pytest.approx(2.0, abs=1e-6)
     assert row["radial_rms_um"] == pytest.approx(2.0, abs=1e-3)
+
+
+def two_lobes(rise, fall):
+    """Radial error with a rise at 93 deg then a fall at 100 deg (after B, CCW) [m]."""
+    def de(a):
+        d = np.degrees(a) % 360.0
+        return np.where((d > 92) & (d < 94), rise, np.where((d > 99) & (d < 101), fall, 0.0))
+    return de
+
+
+def test_lobes_hold_rise_and_fall_and_the_spike_is_the_larger():
+    ang = np.radians(np.linspace(0, 360, 3601))
+    e = two_lobes(4.6e-6, -4.8e-6)(ang)
+    assert reversal_lobes(ang, e, "ccw")["B"] == pytest.approx((4.6e-6, -4.8e-6))
+    assert reversal_spikes(ang, e, "ccw")["B"] == pytest.approx(-4.8e-6)
+    assert reversal_lobes(ang, e, "ccw")["A"] == (0.0, 0.0)
+    assert reversal_lobes(ang, e, "cw")["B"] == (0.0, 0.0)  # for CW the window lies before B
+
+
+def test_a_sign_flip_is_reported_with_both_lobes():
+    # Rise and fall of similar size: measured picks the fall, predicted the rise, so the
+    # spike difference is their sum although each lobe is within 0.5 um.
+    p = circle_path()
+    meas = analyse_circle(make_run(p, polar_perturb(p, (0, 0), two_lobes(4.6e-6, -4.8e-6))), R)
+    pred = analyse_circle(make_run(p, polar_perturb(p, (0, 0), two_lobes(5.0e-6, -4.3e-6))), R)
+    cmp = compare_circles(meas, pred)
+    assert cmp.rows[0]["spike_B_um"] == pytest.approx(-9.8, abs=1e-3)
+    [flip] = cmp.sign_flips
+    assert (flip["direction"], flip["sensor"], flip["point"]) == ("CCW", "tcp", "B")
+    assert flip["measured_rise_um"] == pytest.approx(4.6, abs=1e-3)
+    assert flip["predicted_fall_um"] == pytest.approx(-4.3, abs=1e-3)
+    assert flip["lobe_difference_um"] == pytest.approx(0.5, abs=1e-3)
+    assert cmp.to_dict()["sign_flips"] == [flip]
+    [note] = cmp.notes()
+    assert "CCW tcp at B" in note and "+4.60/-4.80" in note and "0.50 um" in note
+    # The same shape predicted with the fall the larger: no flip.
+    pred = analyse_circle(make_run(p, polar_perturb(p, (0, 0), two_lobes(4.3e-6, -5.0e-6))), R)
+    assert compare_circles(meas, pred).sign_flips == []
+    assert sign_flips(meas.passes[0].sensors["tcp"], meas.passes[0].sensors["tcp"]) == []
 
 
 def test_wrong_radius_is_a_clear_error():

@@ -47,8 +47,9 @@ def test_export_simulate_circle_compare(capsys, files):
     code, out, _ = run(capsys, "compare", d / "run.csv", d / "run.csv", "--radius", 35,
                        "--json")
     assert code == 0
-    cmp = json.loads(out)["rows"]
-    assert all(abs(r["contour_error_um"]) < 1e-9 for r in cmp)
+    cmp = json.loads(out)
+    assert all(abs(r["contour_error_um"]) < 1e-9 for r in cmp["rows"])
+    assert cmp["sign_flips"] == []
 
 
 def test_bode_targets(capsys, files):

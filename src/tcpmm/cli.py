@@ -198,6 +198,8 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
         _emit_json(cmp.to_dict())
     else:
         print_circle_table(cmp.to_pandas(), out, "measured - predicted [um]")
+        for line in cmp.notes():
+            out.print(line)
 
 
 @app.command()

@@ -107,6 +107,8 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     if console is not None:
         print_circle_table(cmp.to_pandas(), console,
                            "Table 2: virtual measurement - prediction of the identified model [um]")
+        for line in cmp.notes():
+            console.print(line)
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
             "comparison": cmp.to_pandas()}
 

@@ -45,6 +45,9 @@ class SensorCircle:
         Least-squares centre [m].
     spikes : dict
         Signed reversal spike per quadrant point [m].
+    lobes : dict
+        Per quadrant point ``(rise, fall)``: the largest and the smallest ``e - b`` in the
+        window of the spike, which is whichever is larger in magnitude [m].
     """
 
     angle_rad: np.ndarray
@@ -53,6 +56,7 @@ class SensorCircle:
     circular_deviation: float
     lsq_centre: tuple
     spikes: dict
+    lobes: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -155,10 +159,10 @@ def _window(delta_deg, lo, hi):
     return (delta_deg >= lo) & (delta_deg <= hi)
 
 
-def reversal_spikes(angle_rad, e, direction: str) -> dict:
-    """Signed reversal spike at A-D (formats.md section 4) [m]."""
+def _after_reversal(angle_rad, e, direction: str):
+    """``(P, e - b)`` over the 20 deg after each quadrant point P (``None`` where the
+    path does not cover both windows) [m]."""
     sign = 1.0 if direction == "ccw" else -1.0
-    out = {}
     for name, deg in QUADRANTS.items():
         d = np.degrees(angle_rad) - deg
         d = (d + 180.0) % 360.0 - 180.0
@@ -166,12 +170,24 @@ def reversal_spikes(angle_rad, e, direction: str) -> dict:
         before = _window(d, *BEFORE_DEG)
         after = _window(d, *AFTER_DEG)
         if not before.any() or not after.any():
-            out[name] = float("nan")
+            yield name, None
             continue
-        b = np.median(e[before])
-        dev = e[after] - b
-        out[name] = float(dev[np.argmax(np.abs(dev))])
-    return out
+        yield name, e[after] - np.median(e[before])
+
+
+def reversal_spikes(angle_rad, e, direction: str) -> dict:
+    """Signed reversal spike at A-D (formats.md section 4) [m]."""
+    return {name: float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
+            for name, dev in _after_reversal(angle_rad, e, direction)}
+
+
+def reversal_lobes(angle_rad, e, direction: str) -> dict:
+    """Rise and fall after each quadrant point, ``{P: (max(e - b), min(e - b))}`` over
+    the window of the reversal spike; the spike is the one larger in magnitude, so where
+    the two are of similar size a small change turns its sign [m]."""
+    nan = (float("nan"), float("nan"))
+    return {name: nan if dev is None else (float(dev.max()), float(dev.min()))
+            for name, dev in _after_reversal(angle_rad, e, direction)}
 
 
 def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
@@ -194,7 +210,8 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
     cx, cy, _ = lsq_circle(x, y)
     rl = np.hypot(x - cx, y - cy)
     return SensorCircle(ang, e, float(np.max(np.abs(e))), float(rl.max() - rl.min()),
-                        (float(cx), float(cy)), reversal_spikes(ang, e, direction))
+                        (float(cx), float(cy)), reversal_spikes(ang, e, direction),
+                        reversal_lobes(ang, e, direction))
 
 
 def find_passes(x, y, radius, centre, tol=None, turns=None):

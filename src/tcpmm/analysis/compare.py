@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -19,9 +19,13 @@ class Comparison:
     rows : list of dict
         Per direction and sensor: spike differences A-D, contour error difference, and the
         RMS / max of the point-by-point radial-error difference, all [um].
+    sign_flips : list of dict
+        Quadrant points where measured and predicted spike have opposite signs, with the
+        rise and fall after the reversal of both (:func:`sign_flips`) [um].
     """
 
     rows: list
+    sign_flips: list = field(default_factory=list)
 
     def to_pandas(self):
         """The Table-2 layout (um)."""
@@ -30,8 +34,22 @@ class Comparison:
         return pd.DataFrame(self.rows)
 
     def to_dict(self) -> dict:
-        """JSON-ready rows (um)."""
-        return {"rows": self.rows}
+        """JSON-ready rows and sign flips (um)."""
+        return {"rows": self.rows, "sign_flips": self.sign_flips}
+
+    def notes(self) -> list[str]:
+        """One sentence per sign flip: the spike difference there is the sum of two
+        lobes, and how far apart the lobes themselves are."""
+        out = []
+        for f in self.sign_flips:
+            out.append(
+                f"{f['direction']} {f['sensor']} at {f['point']}: the spike changes sign "
+                f"({f['measured_spike_um']:+.2f} measured, {f['predicted_spike_um']:+.2f} "
+                f"predicted um) because rise and fall after the reversal are of similar "
+                f"size (measured {f['measured_rise_um']:+.2f}/{f['measured_fall_um']:+.2f}, "
+                f"predicted {f['predicted_rise_um']:+.2f}/{f['predicted_fall_um']:+.2f} um); "
+                f"rise and fall differ by at most {f['lobe_difference_um']:.2f} um")
+        return out
 
 
 def _on_grid(angle, e, direction, grid):
@@ -43,14 +61,15 @@ def _on_grid(angle, e, direction, grid):
 
 
 def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparison:
-    """Table 2: for every direction and sensor in both, measured minus predicted.
+    """Table 2: for every direction and sensor in both, measured minus predicted, and
+    the points where the spike changes sign between the two (:func:`sign_flips`).
 
     Parameters
     ----------
     measured, predicted : CircleResult
         Analyses of the measured and the predicted run [-].
     """
-    rows = []
+    rows, flips = [], []
     for pm in measured.passes:
         try:
             pp = predicted.pass_for(pm.direction)
@@ -63,6 +82,7 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             row = {"direction": pm.direction.upper(), "sensor": name}
             for q in QUADRANTS:
                 row[f"spike_{q}_um"] = (sm.spikes[q] - sp.spikes[q]) * 1e6
+            flips += sign_flips(sm, sp, pm.direction.upper(), name)
             row["contour_error_um"] = (sm.contour_error - sp.contour_error) * 1e6
             # Point by point on a common grid of travel angle from a common start angle.
             grid = np.linspace(0, 2 * np.pi, 721)[:-1]
@@ -77,4 +97,42 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             rows.append(row)
     if not rows:
         raise InputError("the two runs share no circle direction and sensor to compare")
-    return Comparison(rows)
+    return Comparison(rows, flips)
+
+
+def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> list[dict]:
+    """Quadrant points where the measured and the predicted reversal spike have opposite
+    signs.
+
+    The spike is the larger in magnitude of the rise and the fall after the reversal
+    (formats.md section 4); where the two are of similar size, measured and predicted
+    may pick different ones and their difference is then the sum of both lobes. The
+    lobe difference (the larger of rise minus rise and fall minus fall) says whether the
+    shape after the reversal is predicted nonetheless.
+
+    Parameters
+    ----------
+    measured, predicted : SensorCircle
+        One sensor over one pass, measured and predicted [m].
+    direction : str
+        Direction of travel, for the record [-].
+    sensor : str
+        Sensor name, for the record [-].
+
+    Returns
+    -------
+    list of dict
+        Per flip: point, spikes, rises, falls and the lobe difference [um].
+    """
+    out = []
+    for q in QUADRANTS:
+        a, b = measured.spikes[q], predicted.spikes[q]
+        if not (a * b < 0) or q not in measured.lobes or q not in predicted.lobes:
+            continue
+        (mr, mf), (pr, pf) = measured.lobes[q], predicted.lobes[q]
+        out.append({"direction": direction, "sensor": sensor, "point": q,
+                    "measured_spike_um": a * 1e6, "predicted_spike_um": b * 1e6,
+                    "measured_rise_um": mr * 1e6, "measured_fall_um": mf * 1e6,
+                    "predicted_rise_um": pr * 1e6, "predicted_fall_um": pf * 1e6,
+                    "lobe_difference_um": max(abs(mr - pr), abs(mf - pf)) * 1e6})
+    return out

@@ -44,11 +44,12 @@ class Comparison:
         for f in self.sign_flips:
             out.append(
                 f"{f['direction']} {f['sensor']} at {f['point']}: the spike changes sign "
-                f"({f['measured_spike_um']:+.2f} measured, {f['predicted_spike_um']:+.2f} "
-                f"predicted um) because rise and fall after the reversal are of similar "
-                f"size (measured {f['measured_rise_um']:+.2f}/{f['measured_fall_um']:+.2f}, "
-                f"predicted {f['predicted_rise_um']:+.2f}/{f['predicted_fall_um']:+.2f} um); "
-                f"rise and fall differ by at most {f['lobe_difference_um']:.2f} um")
+                f"(measured {f['measured_spike_um']:+.2f} um, predicted "
+                f"{f['predicted_spike_um']:+.2f} um) because rise and fall after the reversal "
+                f"are of similar size (rise/fall measured {f['measured_rise_um']:+.2f}/"
+                f"{f['measured_fall_um']:+.2f} um, predicted {f['predicted_rise_um']:+.2f}/"
+                f"{f['predicted_fall_um']:+.2f} um); lobe by lobe, measured and predicted "
+                f"differ by at most {f['lobe_difference_um']:.2f} um")
         return out
 
 

@@ -89,7 +89,7 @@ from pathlib import Path
 import numpy as np
 
 from tcpmm.analysis.circular import QUADRANTS, analyse_circle
-from tcpmm.analysis.compare import compare_circles
+from tcpmm.analysis.compare import compare_circles, lobe_difference
 from tcpmm.builtin import builtin_machine
 from tcpmm.demo import RADIUS_MM, paper_circle_command
 from tcpmm.ident.pipeline import identify_bundle
@@ -450,8 +450,7 @@ def differences(meas, pred):
         m, p = meas[d], pred[d]
         out[d] = {
             "spikes": {q: m["spikes"][q] - p["spikes"][q] for q in QUADRANTS},
-            "lobes": {q: max(abs(m["lobes"][q][0] - p["lobes"][q][0]),
-                             abs(m["lobes"][q][1] - p["lobes"][q][1])) for q in QUADRANTS},
+            "lobes": {q: lobe_difference(m["lobes"][q], p["lobes"][q]) for q in QUADRANTS},
             "contour_error": m["contour_error"] - p["contour_error"],
         }
     return out

@@ -135,5 +135,24 @@ def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> li
                     "measured_spike_um": a * 1e6, "predicted_spike_um": b * 1e6,
                     "measured_rise_um": mr * 1e6, "measured_fall_um": mf * 1e6,
                     "predicted_rise_um": pr * 1e6, "predicted_fall_um": pf * 1e6,
-                    "lobe_difference_um": max(abs(mr - pr), abs(mf - pf)) * 1e6})
+                    "lobe_difference_um": lobe_difference(measured.lobes[q],
+                                                          predicted.lobes[q]) * 1e6})
     return out
+
+
+def lobe_difference(measured, predicted) -> float:
+    """The larger of rise minus rise and fall minus fall after a reversal: unlike the
+    spike difference, it does not jump when the spike changes sign.
+
+    Parameters
+    ----------
+    measured, predicted : tuple of float
+        ``(rise, fall)`` after the quadrant point (``SensorCircle.lobes``) [m].
+
+    Returns
+    -------
+    float
+        ``max(|rise_m - rise_p|, |fall_m - fall_p|)`` [m].
+    """
+    (mr, mf), (pr, pf) = measured, predicted
+    return max(abs(mr - pr), abs(mf - pf))

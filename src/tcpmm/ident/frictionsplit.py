@@ -162,7 +162,8 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             t, record.motor_angle_rad, record.scale_m, force, m.R_L, mech, plateaus,
             encoder_quantum=cfg.sensors.encoder_resolution_rad,
             scale_resolution=cfg.sensors.scale_resolution_m,
-            stiffness_rel_std=rel_std, viscous=viscous, offset="per_speed", **kw)
+            stiffness_rel_std=rel_std, viscous=viscous, offset="per_speed",
+            total_viscous=float(v["Fv"]), **kw)  # the Stribeck fit's: it models the hump
 
     m_split = m.replace(B_m=0.0) if neglect_motor_bearing else m
     lm = plateau_split(m_split, stiffness_rel_std, share=given)

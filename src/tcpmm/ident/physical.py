@@ -268,8 +268,9 @@ def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float,
 
     G_tcp = (den_h - den_t) den_b / (den_h (den_b + den_t)): its poles are the TCP
     structure mode sqrt(K_h/M_h) and the bed-with-carriage mode sqrt(K_b/(M_b+M_t)); its
-    zeros sqrt(K_b/M_b) and sqrt(K_h/(M_h-M_t)). That fixes M_b/M_t and M_h/M_t; the
-    carriage's share of the inertia and which pole is which are tried both ways.
+    zeros sqrt(K_b/M_b) and sqrt(K_h/(M_h-M_t)). That fixes M_b/M_t and M_h/M_t; which
+    pole is which is tried both ways, and the carriage's share of the rigid-body inertia
+    four ways, from a light carriage on a heavy screw (18 %) to a heavy one (70 %).
 
     The torsion mode of motor and screw is put on the highest mode of G_M, and, when the
     band ``f_top_hz`` reaches further, also at two frequencies log-spaced between that mode
@@ -303,7 +304,7 @@ def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float,
     if not assignments:
         assignments.append((50.0, 0.03, 200.0, 0.05, 5.0, 2.5))
     out = []
-    for share_t, share_m in ((0.5, 0.2), (0.3, 0.3), (0.7, 0.12)):
+    for share_t, share_m in ((0.5, 0.2), (0.3, 0.3), (0.7, 0.12), (0.18, 0.25)):
         M_t = share_t * J_total / R**2
         J_m = share_m * J_total
         J_L = max(J_total - J_m - M_t * R**2, 0.05 * J_total)

@@ -203,6 +203,47 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
 
 
 @app.command()
+def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm identify"),
+           command: Path = typer.Option(None, "--command", help="Command file CMD.csv."),
+           gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
+           radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
+           centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+           draws: int = typer.Option(16, "--draws", min=1, help="Machines drawn [-]."),
+           seed: int = typer.Option(0, "--seed", help="Seed of the draws [-]."),
+           sensor: str = typer.Option("tcp", "--sensor", help="tcp, scale or motor."),
+           fit_only: bool = typer.Option(
+               False, "--fit-only",
+               help="Draw from the fits' own standard deviations alone, without the "
+                    "floors of tcpmm.spread.MODEL_ERROR."),
+           as_json: bool = typer.Option(False, "--json"),
+           plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
+    """Reversal spikes of a circle with their spread over the identified uncertainty."""
+    from .demo import print_circle_table
+    from .io.modelfile import read_machine
+    from .spread import MODEL_ERROR, circle_spread
+
+    m = read_machine(model)
+    cmd = _load_command(command, gcode, m)
+    c = _floats(centre, "--centre", 2)
+    with _progress(draws + 1, "spread") as adv:
+        res = circle_spread(m, cmd, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), n=draws,
+                            seed=seed, sensor=sensor,
+                            floors=None if fit_only else MODEL_ERROR, progress=adv)
+    if plot is not None:
+        res.plot(plot)
+    if as_json:
+        _emit_json(res.to_dict())
+        return
+    table = res.to_pandas()
+    print_circle_table(table, out, f"{sensor} spikes over {draws} drawn machines [um]")
+    for r in res.unsettled():
+        out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
+                  f"({100 * r['same_sign']:.0f} % of the draws give it): rise "
+                  f"{r['rise_um']:+.2f} um, fall {r['fall_um']:+.2f} um; a measured spike "
+                  "can differ from this one by their sum")
+
+
+@app.command()
 def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
          axis: str = typer.Option(..., "--axis", help="Axis name, e.g. X."),
          tf: str = typer.Option(..., "--tf", help="G_M, G_T, G_tcp, G_v, G_p or cmd_to_tcp."),

@@ -65,6 +65,46 @@ class AxisFriction(BaseModel):
     substeps: int = Field(16, ge=1, le=1024)
 
 
+class AxisUncertainty(BaseModel):
+    """One standard deviation of what identification determined for an axis.
+
+    A prediction's spread (:mod:`tcpmm.spread`) draws machines from it. Quantities the
+    data do not determine are left out and not varied, except the guideway share.
+
+    Parameters
+    ----------
+    mechanics : dict of str to float
+        Standard deviation per :class:`AxisMechanics` parameter, in its unit [SI].
+    friction_level : float
+        Relative standard deviation of the Coulomb and static levels [-].
+    guideway_share : float
+        Standard deviation of the share of the friction on the guideway; ``inf`` when the
+        data do not determine the share (it is then drawn from 0 to 1) [-].
+    backlash : float
+        Standard deviation of the lost motion [m].
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    mechanics: dict[str, float] = {}
+    friction_level: float = Field(0.0, ge=0.0, allow_inf_nan=False)
+    guideway_share: float = Field(0.0, ge=0.0)
+    backlash: float = Field(0.0, ge=0.0, allow_inf_nan=False)
+
+    @field_validator("mechanics")
+    @classmethod
+    def _known(cls, v):
+        names = set(AxisMechanics.model_fields)
+        for k, sd in v.items():
+            if k not in names:
+                raise ValueError(f"{k!r} is not a mechanics parameter; "
+                                 f"parameters: {', '.join(sorted(names))}")
+            if not (math.isfinite(sd) and sd >= 0.0):
+                raise ValueError(f"the standard deviation of {k} must be finite and 0 or "
+                                 f"more, got {sd}")
+        return v
+
+
 class Axis(BaseModel):
     """One feed axis of the machine.
 
@@ -78,6 +118,8 @@ class Axis(BaseModel):
         Sensor resolutions [SI].
     friction : AxisFriction or None
         Friction elements, ``None`` for a linear axis [SI].
+    uncertainty : AxisUncertainty or None
+        What identification says of its own accuracy; ``None`` when unknown [SI].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -86,6 +128,7 @@ class Axis(BaseModel):
     servo: ServoParams
     sensors: Sensors = Sensors()
     friction: AxisFriction | None = None
+    uncertainty: AxisUncertainty | None = None
 
     def replace(self, **changes) -> Axis:
         """A copy with some fields changed."""

@@ -25,6 +25,7 @@ from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .structure import fit_structure
 from .tffit import fit_tf
+from .uncertainty import axis_uncertainty
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
 #: five-inertia axis: G_M has the drive's three modes and the rigid-body integrator, and
@@ -387,6 +388,7 @@ def identify_axis(
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),
         sensors=axis_config_to_sensors(cfg),
         friction=fr,
+        uncertainty=axis_uncertainty(phys, mech, est, split),
     )
     phys.extra["sampled_loop_spectral_radius"] = warn_unstable_sampled_loop(
         name, axis, phys.undetermined)

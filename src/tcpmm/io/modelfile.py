@@ -27,6 +27,8 @@ _HEADER = """\
 #   friction (table units): fc, fs, fv [N, N, N s/m], vs [m/s], sigma0 [N/m],
 #          sigma1 [N s/m], backlash [m] (total free play of the screw-nut)
 #   sensors: encoder_counts_per_rev [-], scale_resolution [m], tcp_resolution [m]
+#   uncertainty (identified models): one standard deviation of the mechanics [as above],
+#          friction_level [-] (relative), guideway_share [-], backlash [m]
 """
 
 
@@ -44,6 +46,9 @@ class ModelFile(BaseModel):
 def machine_to_dict(machine: Machine) -> dict:
     """Plain dict of a machine in the model-file layout."""
     d = machine.model_dump(mode="python")
+    for a in d["axes"].values():
+        if a.get("uncertainty") is None:
+            a.pop("uncertainty", None)  # files of hand-made models stay as they were
     out = {"format": FORMAT, "name": d["name"], "axes": d["axes"]}
     if d.get("interpolation") is not None:
         out["interpolation"] = d["interpolation"]

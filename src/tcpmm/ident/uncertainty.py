@@ -1,0 +1,82 @@
+"""What an identified axis knows of its own accuracy: one standard deviation of each
+determined quantity, from the fits that produced it.
+
+- Mechanics: the physical fit's standard deviations, leaving out what the sweep does not
+  determine. Where the friction runs replaced a value, their standard deviation replaces
+  the fit's: the nut stiffness ``K_t`` from the nut estimate, the table damping ``C_t``
+  from the speed-proportional deflection, the motor-side ``B_L`` from the Stribeck slope
+  less ``C_t``; ``B_m``, taken as zero, is not varied.
+- Friction: the relative standard deviation of the fitted Coulomb level, the guideway
+  share (``inf`` when the runs do not determine it and the prior is used, 0 when the user
+  gave it) and the lost motion.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..model import AxisUncertainty
+
+__all__ = ["axis_uncertainty"]
+
+
+def _finite(x) -> bool:
+    return x is not None and math.isfinite(float(x))
+
+
+def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty:
+    """Standard deviations of an identified axis.
+
+    Parameters
+    ----------
+    phys : PhysicalFit
+        The physical fit the mechanics came from [-].
+    mechanics : AxisMechanics
+        The identified mechanics as they go into the model [SI].
+    curve : ParameterEstimate, optional
+        The Stribeck curve of the friction runs [-].
+    split : FrictionSplit, optional
+        Guideway share, lost motion and their estimates [-].
+
+    Returns
+    -------
+    AxisUncertainty
+        One standard deviation of every determined quantity [SI].
+    """
+    names = [p for p in phys.extra.get("names", phys.std) if p not in phys.undetermined]
+    mech = {p: float(phys.std[p]) for p in names
+            if p in type(mechanics).model_fields and _finite(phys.std.get(p))}
+    level = share = play = 0.0
+    if curve is not None and split is not None:
+        v = dict(zip(curve.names, curve.values, strict=True))
+        sd = dict(zip(curve.names, curve.std, strict=True))
+        fc = v["Fc+"] + v["Fc-"]
+        if fc > 0 and _finite(sd["Fc+"]) and _finite(sd["Fc-"]):
+            level = math.hypot(sd["Fc+"], sd["Fc-"]) / fc
+        if split.source == "given":
+            share = 0.0
+        elif split.source == "data" and _finite(split.guideway_share_std):
+            share = float(split.guideway_share_std)
+        else:  # the prior
+            share = math.inf
+        if split.backlash > 0 and _finite(split.backlash_std):
+            play = float(split.backlash_std)
+        if split.nut is not None and _finite(split.nut.stiffness_std):
+            mech["K_t"] = float(split.nut.stiffness_std)
+        ct = _table_viscous_std(split)
+        if split.source != "prior" and _finite(ct) and _finite(sd.get("Fv")):
+            mech["C_t"] = ct
+            mech["B_L"] = math.hypot(sd["Fv"], ct) * mechanics.R_L**2
+            mech.pop("B_m", None)
+    return AxisUncertainty(mechanics=mech, friction_level=level, guideway_share=share,
+                           backlash=play)
+
+
+def _table_viscous_std(split) -> float:
+    """Standard deviation of the table damping the pipeline placed [N s/m]."""
+    lm = split.estimate
+    if lm is not None and lm.determined and _finite(lm.table_viscous):
+        return float(lm.table_viscous_std)
+    if split.nut is not None:
+        return float(split.nut.table_viscous_std)
+    return math.nan

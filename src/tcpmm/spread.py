@@ -28,8 +28,8 @@ from .errors import InputError
 from .model import Axis, Machine
 from .simulate import simulate
 
-__all__ = ["SETTLED_FRACTION", "SpikeSpread", "circle_spread", "draw_axis", "draw_machine",
-           "scaled_contact"]
+__all__ = ["MODEL_ERROR", "SETTLED_FRACTION", "SpikeSpread", "circle_spread", "draw_axis",
+           "draw_machine", "scaled_contact"]
 
 #: Share of the draws that must give the nominal sign for a spike to count as settled [-].
 SETTLED_FRACTION = 0.9
@@ -75,8 +75,7 @@ def scaled_contact(c, k: float):
 
 def _friction(fr, u, floors, rng):
     """Friction with a drawn level, guideway share and lost motion."""
-    contacts = [c for c in (fr.guideway, fr.screw) if c is not None]
-    if not contacts:
+    if fr.guideway is None and fr.screw is None:
         return fr
     level = math.exp(max(u.friction_level, floors.get("friction_level", 0.0))
                      * rng.standard_normal())

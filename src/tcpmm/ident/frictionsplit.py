@@ -75,6 +75,30 @@ class FrictionSplit:
         play_from = self.nut if self.nut is not None else self.estimate
         return float(play_from.backlash_std) if play_from is not None else float("nan")
 
+    @property
+    def _table_viscous_from(self):
+        """The estimate whose table damping the model takes: the plateaus' when they
+        determine it, else the nut estimate's (``None`` without either) [-]."""
+        lm = self.estimate
+        if self.nut is not None and not (lm is not None and lm.determined
+                                         and np.isfinite(lm.table_viscous)):
+            return self.nut
+        return lm
+
+    @property
+    def table_viscous(self) -> float:
+        """Viscous force per speed that passes through the nut (``C_t`` plus the
+        guideway's viscous friction), from :attr:`_table_viscous_from`; NaN without an
+        estimate [N s/m]."""
+        src = self._table_viscous_from
+        return float(src.table_viscous) if src is not None else float("nan")
+
+    @property
+    def table_viscous_std(self) -> float:
+        """Standard deviation of :attr:`table_viscous` [N s/m]."""
+        src = self._table_viscous_from
+        return float(src.table_viscous_std) if src is not None else float("nan")
+
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report.
 

@@ -435,13 +435,10 @@ def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guidewa
         # K_t B_m/K_L, a few per cent for usual bearings. (Without a split from the
         # data the viscous force is not placed, and the FRF damping stays.)
         mech = mech.replace(B_m=0.0)
-    lm = split.estimate
-    table_viscous = lm.table_viscous if lm is not None else float("nan")
     if split.nut is not None:
         # the nut in contact, as the accelerations of the friction runs show it
         mech = mech.replace(K_t=split.nut.stiffness)
-        if not (lm is not None and lm.determined and np.isfinite(table_viscous)):
-            table_viscous = split.nut.table_viscous
+    table_viscous = split.table_viscous
     if split.source != "prior" and np.isfinite(table_viscous) and "Fv" in est.names:
         mech, fr = place_steady_viscous(
             mech, fr, est.values[est.names.index("Fv")], table_viscous)

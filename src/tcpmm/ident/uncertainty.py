@@ -63,7 +63,7 @@ def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty
             play = float(split.backlash_std)
         if split.nut is not None and _finite(split.nut.stiffness_std):
             mech["K_t"] = float(split.nut.stiffness_std)
-        ct = _table_viscous_std(split)
+        ct = split.table_viscous_std
         if split.source != "prior" and _finite(ct) and _finite(sd.get("Fv")):
             mech["C_t"] = ct
             mech["B_L"] = math.hypot(sd["Fv"], ct) * mechanics.R_L**2
@@ -71,12 +71,3 @@ def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty
     return AxisUncertainty(mechanics=mech, friction_level=level, guideway_share=share,
                            backlash=play)
 
-
-def _table_viscous_std(split) -> float:
-    """Standard deviation of the table damping the pipeline placed [N s/m]."""
-    lm = split.estimate
-    if lm is not None and lm.determined and _finite(lm.table_viscous):
-        return float(lm.table_viscous_std)
-    if split.nut is not None:
-        return float(split.nut.table_viscous_std)
-    return math.nan

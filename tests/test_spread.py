@@ -97,12 +97,22 @@ def test_spread_is_zero_without_uncertainty_and_grows_with_it(played):
     for r in none.rows():
         assert r["low_um"] == pytest.approx(r["spike_um"], abs=1e-9)
         assert r["high_um"] == pytest.approx(r["spike_um"], abs=1e-9)
-        assert r["settled"]
+        assert r["settled"] and r["within"] == 1.0 and r["firm"]
     wide = circle_spread(with_uncertainty(played, guideway_share=math.inf), cmd, 0.035,
-                         n=6, floors=None)
-    ranges = [r["high_um"] - r["low_um"] for r in wide.rows()]
+                         n=6, floors=None, tolerance_m=0.2e-6)
+    rows = wide.rows()
+    ranges = [r["high_um"] - r["low_um"] for r in rows]
     assert max(ranges) > 0.5  # the share decides when the nut leaves its flank
     assert len(wide.to_pandas()) == 8 and wide.to_dict()["draws"] == 6
+    # a point is firm when nine in ten draws lie within the tolerance of the nominal spike
+    for r, d in zip(rows, wide.spikes.reshape(6, -1).T, strict=True):
+        near = np.mean(np.abs(d * 1e6 - r["spike_um"]) <= 0.2)
+        assert r["within"] == pytest.approx(near) and r["firm"] == (near >= 0.9)
+    assert {(r["direction"], r["point"]) for r in wide.loose()} == {
+        (r["direction"], r["point"]) for r in rows if r["settled"] and not r["firm"]}
+    assert wide.loose() and wide.to_dict()["tolerance_um"] == pytest.approx(0.2)
+    with pytest.raises(InputError, match="tolerance"):
+        circle_spread(with_uncertainty(played), cmd, 0.035, n=1, tolerance_m=0.0)
     with pytest.raises(InputError, match="no uncertainty"):
         circle_spread(played, cmd, 0.035, n=2)
 
@@ -117,6 +127,11 @@ def test_cli_spread(tmp_path, capsys, played):
     assert code == 0 and res["draws"] == 3 and (tmp_path / "s.png").is_file()
     assert {(r["direction"], r["point"]) for r in res["spikes"]} == {
         (d, q) for d in ("ccw", "cw") for q in "ABCD"}
+    assert res["tolerance_um"] == pytest.approx(4.1)
+    write_machine(with_uncertainty(played, guideway_share=math.inf), tmp_path / "w.yaml")
+    code = main(["spread", str(tmp_path / "w.yaml"), "--command", str(tmp_path / "cmd.csv"),
+                 "--radius", "35", "--draws", "3", "--tolerance-um", "0.01"])
+    assert code == 0 and "size is not firm" in capsys.readouterr().out
     write_machine(played, tmp_path / "plain.yaml")
     code = main(["spread", str(tmp_path / "plain.yaml"), "--command",
                  str(tmp_path / "cmd.csv"), "--radius", "35", "--draws", "2"])

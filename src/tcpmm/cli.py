@@ -215,20 +215,26 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                False, "--fit-only",
                help="Draw from the fits' own standard deviations alone, without the "
                     "floors of tcpmm.spread.MODEL_ERROR."),
+           tolerance: float = typer.Option(
+               None, "--tolerance-um",
+               help="Spike difference to hold at nine in ten draws [um]; default: the "
+                    "largest of the paper's Table 2, 4.1 um (tcpmm.spread.TOLERANCE)."),
            as_json: bool = typer.Option(False, "--json"),
            plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
     """Reversal spikes of a circle with their spread over the identified uncertainty."""
     from .demo import print_circle_table
     from .io.modelfile import read_machine
-    from .spread import MODEL_ERROR, circle_spread
+    from .spread import MODEL_ERROR, TOLERANCE, circle_spread
 
+    tol_m = TOLERANCE if tolerance is None else tolerance * 1e-6
     m = read_machine(model)
     cmd = _load_command(command, gcode, m)
     c = _floats(centre, "--centre", 2)
     with _progress(draws + 1, "spread") as adv:
         res = circle_spread(m, cmd, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), n=draws,
                             seed=seed, sensor=sensor,
-                            floors=None if fit_only else MODEL_ERROR, progress=adv)
+                            floors=None if fit_only else MODEL_ERROR,
+                            tolerance_m=tol_m, progress=adv)
     if plot is not None:
         res.plot(plot)
     if as_json:
@@ -241,6 +247,10 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                   f"({100 * r['same_sign']:.0f} % of the draws give it): rise "
                   f"{r['rise_um']:+.2f} um, fall {r['fall_um']:+.2f} um; a measured spike "
                   "can differ from this one by their sum")
+    for r in res.loose():
+        out.print(f"{r['direction'].upper()} {r['point']}: the size is not firm "
+                  f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} um of "
+                  f"{r['spike_um']:.2f} um; range {r['low_um']:.2f} to {r['high_um']:.2f} um)")
 
 
 @app.command()

@@ -10,7 +10,7 @@ import numpy as np
 
 from .analysis.circular import analyse_circle
 from .builtin import builtin_machine
-from .io.atomic import write_text_atomic
+from .io.atomic import write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
 from .mechanics.transfer import reduced_freqresp
 from .path import circle_command
@@ -81,7 +81,7 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     files["model"] = out / "model.yaml"
     step("circle command")
     cmd = paper_circle_command(machine)
-    cmd.to_pandas().to_csv(out / "command.csv", index=False, float_format="%.10g")
+    write_table_atomic(cmd.to_pandas(), out / "command.csv", "%.10g")
     files["command"] = out / "command.csv"
     step("simulation")
     run = simulate(machine, cmd)
@@ -90,7 +90,7 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     step("circular test analysis")
     res = analyse_circle(run, mm_to_m(RADIUS_MM))
     table = res.to_pandas()
-    table.to_csv(out / "circle_table.csv", index=False, float_format="%.4f")
+    write_table_atomic(table, out / "circle_table.csv", "%.4f")
     write_text_atomic(out / "circle.json", json.dumps(res.to_dict(), indent=2))
     files["table"] = out / "circle_table.csv"
     step("plots")
@@ -144,7 +144,7 @@ def identify_and_predict(machine, cmd, out, step, files):
     R = mm_to_m(RADIUS_MM)
     rm, rp = analyse_circle(measured, R), analyse_circle(predicted, R)
     cmp = compare_circles(rm, rp)
-    cmp.to_pandas().to_csv(out / "table2.csv", index=False, float_format="%.3f")
+    write_table_atomic(cmp.to_pandas(), out / "table2.csv", "%.3f")
     files.update(predicted=out / "predicted_run.csv", table2=out / "table2.csv")
     files["prediction_plot"] = plot_circle(rm, out / "prediction.png", sensors=["tcp"],
                                            overlay=rp, title="Exp-TCP (virtual) and Sim-TCP")

@@ -181,7 +181,7 @@ class Identification:
         """Sweep time plots (Fig. 7), measured and fitted Bode plots with coherence
         (Figs. 8-10), the plateau deflections of the friction runs and the tables, into a
         folder. Returns the written paths."""
-        from ..io.atomic import write_text_atomic
+        from ..io.atomic import write_table_atomic, write_text_atomic
         from ..plot.bode import plot_bode
         from ..plot.ident import plot_lost_motion, plot_sweep
 
@@ -220,8 +220,8 @@ class Identification:
                 curves, out / f"bode_{name}.png", title=f"axis {name}: measured and identified"
             )
         q, p = self.quality_table(), self.parameters_table()
-        q.to_csv(out / "fit_quality.csv", index=False)
-        p.to_csv(out / "parameters.csv", index=False)
+        write_table_atomic(q, out / "fit_quality.csv")
+        write_table_atomic(p, out / "parameters.csv")
         write_text_atomic(out / "identification.json", json.dumps(self.to_dict(), indent=2))
         files.update(
             quality=out / "fit_quality.csv",

@@ -38,3 +38,25 @@ def write_text_atomic(path, text: str) -> None:
     """Write text to ``path`` atomically."""
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as fh:
         fh.write(text)
+
+
+def write_table_atomic(frame, path, float_format: str | None = None) -> Path:
+    """Write a pandas table as CSV to ``path`` atomically, without its index.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The table, in file units [-].
+    path : str or Path
+        Target file [-].
+    float_format : str, optional
+        printf format of the numbers [-].
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
+        frame.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
+    return Path(path)

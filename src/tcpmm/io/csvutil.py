@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from tcpmm.errors import InputError, InputWarning
-from tcpmm.io.atomic import atomic_path
+from tcpmm.io.atomic import write_table_atomic
 
 
 def warn_input(message: str, file=None, line=None, column=None) -> None:
@@ -225,6 +225,4 @@ def atomic_write_columns(
         The file written.
     """
     frame = pd.DataFrame({k: np.asarray(v, dtype=float) for k, v in columns.items()})
-    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
-        frame.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
-    return Path(path)
+    return write_table_atomic(frame, path, float_format)

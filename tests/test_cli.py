@@ -97,9 +97,11 @@ def test_demo_writes_everything(capsys, tmp_path):
     code, out, _ = run(capsys, "demo", "-o", tmp_path / "demo")
     assert code == 0
     for name in ("model.yaml", "run.csv", "circle.png", "bode_X.png", "bode_Y.png",
-                 "time.png", "circle_table.csv", "circle.json"):
+                 "time.png", "circle_table.csv", "circle.json", "table2.csv", "spread.csv",
+                 "spread.json", "spread.png"):
         assert (tmp_path / "demo" / name).stat().st_size > 0, name
-    assert str((tmp_path / "demo").resolve()) in out.replace("\n", "")
+    flat = out.replace("\n", "")
+    assert str((tmp_path / "demo").resolve()) in flat and "Spread over 16 drawn machines" in flat
 
 
 @pytest.mark.parametrize("command", ["compare", "circle", "identify", "excite"])

@@ -42,7 +42,7 @@ def bode_curves(machine, f_hz, names=("G_M", "G_T", "G_tcp")):
 
 
 DEMO_STEPS = ("built-in machine", "circle command", "simulation", "circular test analysis",
-              "plots", "virtual measurement", "identification", "prediction")
+              "plots", "virtual measurement", "identification", "prediction", "spread")
 
 
 def run_demo(out_dir, progress=None, console=None) -> dict:
@@ -51,7 +51,9 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     Simulates the circular test (Figs. 11-12, Bode plots of Figs. 8-10), then measures
     the machine virtually (servo excitation and friction runs with sensor quantisation
     and noise), identifies a model from those records alone, predicts the circle with
-    it and compares the prediction with the virtual measurement (Table 2).
+    it and compares the prediction with the virtual measurement (Table 2). Last, the
+    spikes of machines drawn from the identified uncertainty say which quadrant points
+    the prediction settles (:func:`tcpmm.spread.circle_spread`).
 
     Parameters
     ----------
@@ -103,14 +105,18 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
         files[f"bode_{ax}"] = plot_bode(curves, out / f"bode_{ax}.png", title=f"axis {ax}")
     if console is not None:
         print_circle_table(table, console, "Circular test on the built-in machine [um]")
-    cmp = identify_and_predict(machine, cmd, out, step, files)
+    cmp, identified = identify_and_predict(machine, cmd, out, step, files)
     if console is not None:
         print_circle_table(cmp.to_pandas(), console,
                            "Table 2: virtual measurement - prediction of the identified model [um]")
         for line in cmp.notes():
             console.print(line)
+    step("spread")
+    spread = write_spread(identified, cmd, out, files)
+    if console is not None:
+        console.print(spread_summary(spread))
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
-            "comparison": cmp.to_pandas()}
+            "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
 
 def identify_and_predict(machine, cmd, out, step, files):
@@ -148,7 +154,31 @@ def identify_and_predict(machine, cmd, out, step, files):
     files.update(predicted=out / "predicted_run.csv", table2=out / "table2.csv")
     files["prediction_plot"] = plot_circle(rm, out / "prediction.png", sensors=["tcp"],
                                            overlay=rp, title="Exp-TCP (virtual) and Sim-TCP")
-    return cmp
+    return cmp, idn.machine
+
+
+def write_spread(identified, cmd, out, files, draws: int = 16):
+    """Spikes of the identified model over ``draws`` machines drawn from its uncertainty."""
+    from .spread import circle_spread
+
+    res = circle_spread(identified, cmd, mm_to_m(RADIUS_MM), n=draws)
+    write_table_atomic(res.to_pandas(), out / "spread.csv", "%.3f")
+    write_text_atomic(out / "spread.json", json.dumps(res.to_dict(), indent=2))
+    files.update(spread=out / "spread.csv", spread_plot=res.plot(out / "spread.png"))
+    return res
+
+
+def spread_summary(spread) -> str:
+    """One line on the quadrant points the drawn machines do not settle or hold."""
+    from .spread import SETTLED_FRACTION
+
+    n, tol = spread.spikes.shape[0], spread.tolerance * 1e6
+    head = (f"Spread over {n} drawn machines ({100 * SETTLED_FRACTION:.0f} % of the draws "
+            f"must keep the sign and lie within {tol:g} um of the prediction): ")
+    bad = [f"{r['direction'].upper()} {r['point']}" for r in spread.rows()
+           if not (r["settled"] and r["firm"])]
+    return head + (f"{', '.join(bad)} do not (spread.csv)." if bad
+                   else "every quadrant point does (spread.csv).")
 
 
 def print_circle_table(table, console, title):

@@ -5,10 +5,12 @@ An identified model carries one standard deviation of every quantity its data de
 simulates the command on each and analyses the circle: per direction and quadrant point,
 the nominal spike, its range over the draws and how often it has the nominal sign.
 
-Each quantity is drawn on its own, normal about the identified value (log-normal for the
-mechanics and the friction level, which stay positive); correlations between fitted
-parameters are not kept, which makes the spread wider rather than narrower. The guideway
-share moves the friction between guideway and screw at the same total.
+Each quantity is drawn normal about the identified value (log-normal for the mechanics and
+the friction level, which stay positive). The guideway share moves the friction between
+guideway and screw at the same total. With the floors of :data:`MODEL_ERROR`, the quantities
+it names are drawn with the correlation their errors have on the unseen machines (the table
+mass and the nut stiffness err together, the share against the lost motion); the others,
+and all of them with the fits' deviations alone, each on its own.
 
 Where lost motion or friction makes the spike the larger of an outward and an inward lobe
 of similar size, a small change of the model turns its sign, and a measured spike can then
@@ -46,9 +48,32 @@ TOLERANCE = 4.1e-6
 #: unseen-machine study (``examples/unseen_machines.py --backlash``, seeds 0-3). The fits'
 #: own standard deviations count noise only and are often ten times smaller. Relative for
 #: the mechanics and the friction level, absolute for the share [-] and the lost motion [m].
+#: ``correlation`` holds the rank correlation of those errors on the same axes, in the order
+#: of its ``quantities``.
 MODEL_ERROR = {"mechanics": {"J_m": 0.025, "J_L": 0.025, "M_t": 0.06, "K_t": 0.07,
                              "C_t": 0.10},
-               "friction_level": 0.02, "guideway_share": 0.06, "backlash": 0.04e-6}
+               "friction_level": 0.02, "guideway_share": 0.06, "backlash": 0.04e-6,
+               "correlation": {
+                   "quantities": ("J_m", "J_L", "M_t", "K_t", "C_t", "friction_level",
+                                  "guideway_share", "backlash"),
+                   "matrix": ((1.00, -0.01, -0.42, -0.59, -0.22, 0.08, -0.34, 0.01),
+                              (-0.01, 1.00, -0.49, -0.32, -0.25, -0.03, -0.10, -0.22),
+                              (-0.42, -0.49, 1.00, 0.89, 0.47, 0.02, 0.51, 0.17),
+                              (-0.59, -0.32, 0.89, 1.00, 0.44, -0.04, 0.50, 0.18),
+                              (-0.22, -0.25, 0.47, 0.44, 1.00, 0.01, 0.17, 0.24),
+                              (0.08, -0.03, 0.02, -0.04, 0.01, 1.00, 0.02, 0.03),
+                              (-0.34, -0.10, 0.51, 0.50, 0.17, 0.02, 1.00, -0.56),
+                              (0.01, -0.22, 0.17, 0.18, 0.24, 0.03, -0.56, 1.00))}}
+
+
+def _normals(floors: dict, rng) -> dict:
+    """Standard normal numbers for the quantities of ``floors["correlation"]``, correlated
+    as it says; empty without one."""
+    corr = floors.get("correlation")
+    if corr is None:
+        return {}
+    L = np.linalg.cholesky(np.asarray(corr["matrix"], dtype=float))
+    return dict(zip(corr["quantities"], L @ rng.standard_normal(L.shape[0]), strict=True))
 
 
 def scaled_contact(c, k: float):
@@ -80,19 +105,24 @@ def scaled_contact(c, k: float):
     return type(c)(**d)
 
 
-def _friction(fr, u, floors, rng):
-    """Friction with a drawn level, guideway share and lost motion."""
+def _friction(fr, u, floors, rng, z):
+    """Friction with a drawn level, guideway share and lost motion (``z``: the standard
+    normal numbers already drawn for some of them)."""
     if fr.guideway is None and fr.screw is None:
         return fr
+
+    def normal(name):
+        return z[name] if name in z else rng.standard_normal()
+
     level = math.exp(max(u.friction_level, floors.get("friction_level", 0.0))
-                     * rng.standard_normal())
+                     * normal("friction_level"))
     size = [0.0 if c is None else c.fc_pos + c.fc_neg for c in (fr.guideway, fr.screw)]
     share = size[0] / sum(size) if sum(size) > 0 else 0.5
     if math.isinf(u.guideway_share):
         new = float(rng.uniform(0.0, 1.0))
     else:
         sd = max(u.guideway_share, floors.get("guideway_share", 0.0))
-        new = min(max(share + sd * rng.standard_normal(), 0.0), 1.0)
+        new = min(max(share + sd * normal("guideway_share"), 0.0), 1.0)
     # each contact keeps its shape; one that carried nothing borrows the other's
     g = fr.guideway if fr.guideway is not None else scaled_contact(fr.screw, 1e-9)
     w = fr.screw if fr.screw is not None else scaled_contact(fr.guideway, 1e-9)
@@ -102,7 +132,7 @@ def _friction(fr, u, floors, rng):
     else:
         k_g = k_s = level
     sd = max(u.backlash, floors.get("backlash", 0.0)) if fr.backlash > 0 else u.backlash
-    play = max(fr.backlash + sd * rng.standard_normal(), 0.0)
+    play = max(fr.backlash + sd * normal("backlash"), 0.0)
     return fr.model_copy(update={"guideway": scaled_contact(g, k_g),
                                  "screw": scaled_contact(w, k_s),
                                  "backlash": min(play, 1e-3)})
@@ -118,8 +148,8 @@ def draw_axis(axis: Axis, rng: np.random.Generator, floors: dict | None = None) 
     rng : numpy.random.Generator
         Random numbers [-].
     floors : dict, optional
-        Smallest standard deviations, laid out as :data:`MODEL_ERROR`; ``None``: the
-        identified ones alone [-].
+        Smallest standard deviations and their correlation, laid out as
+        :data:`MODEL_ERROR`; ``None``: the identified ones alone, each drawn on its own [-].
 
     Returns
     -------
@@ -130,15 +160,16 @@ def draw_axis(axis: Axis, rng: np.random.Generator, floors: dict | None = None) 
     if u is None:
         return axis
     floors = floors or {}
+    z = _normals(floors, rng)
     m = axis.mechanics
     rel = {p: sd / getattr(m, p) for p, sd in u.mechanics.items() if getattr(m, p) > 0.0}
     for p, f in floors.get("mechanics", {}).items():
         rel[p] = max(rel.get(p, 0.0), f)
-    upd = {p: getattr(m, p) * math.exp(r * rng.standard_normal())
+    upd = {p: getattr(m, p) * math.exp(r * (z[p] if p in z else rng.standard_normal()))
            for p, r in rel.items() if r > 0.0 and getattr(m, p) > 0.0}
     fr = axis.friction
     if fr is not None:
-        fr = _friction(fr, u, floors, rng)
+        fr = _friction(fr, u, floors, rng, z)
     return axis.replace(mechanics=m.replace(**upd), friction=fr, uncertainty=None)
 
 

@@ -66,14 +66,20 @@ MODEL_ERROR = {"mechanics": {"J_m": 0.025, "J_L": 0.025, "M_t": 0.06, "K_t": 0.0
                               (0.01, -0.22, 0.17, 0.18, 0.24, 0.03, -0.56, 1.00))}}
 
 
-def _normals(floors: dict, rng) -> dict:
-    """Standard normal numbers for the quantities of ``floors["correlation"]``, correlated
-    as it says; empty without one."""
+def _normals(floors: dict, rng):
+    """The standard normal number of each quantity, as a function of its name: correlated
+    as ``floors["correlation"]`` says for the quantities it names, drawn on its own for the
+    others."""
     corr = floors.get("correlation")
-    if corr is None:
-        return {}
-    L = np.linalg.cholesky(np.asarray(corr["matrix"], dtype=float))
-    return dict(zip(corr["quantities"], L @ rng.standard_normal(L.shape[0]), strict=True))
+    z = {}
+    if corr is not None:
+        L = np.linalg.cholesky(np.asarray(corr["matrix"], dtype=float))
+        z = dict(zip(corr["quantities"], L @ rng.standard_normal(L.shape[0]), strict=True))
+
+    def normal(name: str) -> float:
+        return z[name] if name in z else rng.standard_normal()
+
+    return normal
 
 
 def scaled_contact(c, k: float):
@@ -105,15 +111,11 @@ def scaled_contact(c, k: float):
     return type(c)(**d)
 
 
-def _friction(fr, u, floors, rng, z):
-    """Friction with a drawn level, guideway share and lost motion (``z``: the standard
-    normal numbers already drawn for some of them)."""
+def _friction(fr, u, floors, rng, normal):
+    """Friction with a drawn level, guideway share and lost motion (``normal``: the
+    standard normal number of a quantity, :func:`_normals`)."""
     if fr.guideway is None and fr.screw is None:
         return fr
-
-    def normal(name):
-        return z[name] if name in z else rng.standard_normal()
-
     level = math.exp(max(u.friction_level, floors.get("friction_level", 0.0))
                      * normal("friction_level"))
     size = [0.0 if c is None else c.fc_pos + c.fc_neg for c in (fr.guideway, fr.screw)]
@@ -160,16 +162,16 @@ def draw_axis(axis: Axis, rng: np.random.Generator, floors: dict | None = None) 
     if u is None:
         return axis
     floors = floors or {}
-    z = _normals(floors, rng)
+    normal = _normals(floors, rng)
     m = axis.mechanics
     rel = {p: sd / getattr(m, p) for p, sd in u.mechanics.items() if getattr(m, p) > 0.0}
     for p, f in floors.get("mechanics", {}).items():
         rel[p] = max(rel.get(p, 0.0), f)
-    upd = {p: getattr(m, p) * math.exp(r * (z[p] if p in z else rng.standard_normal()))
+    upd = {p: getattr(m, p) * math.exp(r * normal(p))
            for p, r in rel.items() if r > 0.0 and getattr(m, p) > 0.0}
     fr = axis.friction
     if fr is not None:
-        fr = _friction(fr, u, floors, rng, z)
+        fr = _friction(fr, u, floors, rng, normal)
     return axis.replace(mechanics=m.replace(**upd), friction=fr, uncertainty=None)
 
 

@@ -9,16 +9,14 @@ import numpy as np
 
 from ..errors import InputError
 from ..result import RUN_COLUMNS, AxisRun, Run
-from .atomic import atomic_path
+from .atomic import write_table_atomic
 
 _COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
 
 
 def write_run_csv(run: Run, path) -> None:
     """Write a run file atomically (``time_s``, then per axis the section 3 columns)."""
-    df = run.to_pandas()
-    with atomic_path(path) as tmp:
-        df.to_csv(tmp, index=False, float_format="%.10g")
+    write_table_atomic(run.to_pandas(), path, "%.10g")
 
 
 def read_run_csv(path) -> Run:

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 
 from .analysis.circular import analyse_circle
 from .builtin import builtin_machine
-from .io.atomic import write_table_atomic, write_text_atomic
+from .io.atomic import output_folder, write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
 from .mechanics.transfer import reduced_freqresp
 from .path import circle_command
@@ -73,8 +72,7 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     from .plot.circle import plot_circle, plot_radial_error
     from .plot.time import plot_run
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder(out_dir)
     step = progress or (lambda name: None)
     files = {}
     step("built-in machine")

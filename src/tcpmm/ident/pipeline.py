@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from functools import partial
-from pathlib import Path
 
 import numpy as np
 
@@ -181,12 +180,11 @@ class Identification:
         """Sweep time plots (Fig. 7), measured and fitted Bode plots with coherence
         (Figs. 8-10), the plateau deflections of the friction runs and the tables, into a
         folder. Returns the written paths."""
-        from ..io.atomic import write_table_atomic, write_text_atomic
+        from ..io.atomic import output_folder, write_table_atomic, write_text_atomic
         from ..plot.bode import plot_bode
         from ..plot.ident import plot_lost_motion, plot_sweep
 
-        out = Path(out_dir)
-        out.mkdir(parents=True, exist_ok=True)
+        out = output_folder(out_dir)
         files = {}
         for name, a in self.axes.items():
             if a.record is not None:

@@ -1,11 +1,75 @@
-"""Write files so that a reader never sees half an output: temp file, then rename."""
+"""Write files so that a reader never sees half an output: temp file, then rename.
+
+The file written keeps the permissions of the one it replaces (a new one gets those the
+umask allows), and an output that is a symbolic link is written through to its target.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from pathlib import Path
+
+from ..errors import InputError
+
+
+def output_folder(path) -> Path:
+    """Create the folder ``path`` (and its parents) for outputs; refuse what cannot be one.
+
+    Parameters
+    ----------
+    path : str or Path
+        Folder [-].
+
+    Returns
+    -------
+    Path
+        The folder [-].
+    """
+    path = Path(path)
+    for p in (path, *path.parents):
+        if p.exists() and not p.is_dir():
+            raise InputError(f"is a file, so the output folder {path} cannot be made; "
+                             "choose another folder", file=p)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the output folder: {exc.strerror}", file=path) from None
+    return path
+
+
+def output_file(path) -> Path:
+    """The file an output goes to: ``path``, or the target of a symbolic link there.
+
+    Its folder is created; a folder at ``path`` or a file among its parents is an error.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file [-].
+
+    Returns
+    -------
+    Path
+        The file to replace [-].
+    """
+    path = Path(path)
+    if str(path) in ("", "."):
+        raise InputError("the output needs a file name")
+    if path.is_symlink():
+        path = Path(os.path.realpath(path))
+    if path.is_dir():
+        raise InputError("is a folder; give the output a file name", file=path)
+    output_folder(path.parent)
+    return path
+
+
+def _new_file_mode() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
 
 
 @contextlib.contextmanager
@@ -19,14 +83,15 @@ def atomic_path(path, suffix: str = ""):
     suffix : str
         Suffix of the temporary file (some writers infer the format from it) [-].
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    path = output_file(path)
+    mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()
     fd, tmp = tempfile.mkstemp(
         prefix=f".{path.name}.", suffix=suffix or path.suffix, dir=path.parent
     )
     os.close(fd)
     try:
         yield Path(tmp)
+        os.chmod(tmp, mode)
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):

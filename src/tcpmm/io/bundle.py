@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from tcpmm.errors import InputError
+from tcpmm.io.atomic import output_folder
 from tcpmm.io.bundle_schema import (
     AxisConfig,
     MachineConfig,
@@ -298,7 +299,7 @@ def write_bundle(bundle, path: str | Path) -> Path:
             f"{sorted(machine.axes)}; give one record set per axis",
             file=root,
         )
-    root.mkdir(parents=True, exist_ok=True)
+    output_folder(root)
     for name, rec in records.items():
         write_sweep_csv(rec.sweep, root / name / SWEEP_FILE)
         if rec.friction is not None:

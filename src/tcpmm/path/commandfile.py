@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from ..io.atomic import atomic_path
 from .command import Command
 
 _AXIS_COLUMNS = {"x_mm": "X", "y_mm": "Y", "z_mm": "Z"}
@@ -168,16 +167,8 @@ def write_command_csv(command: Command, path) -> None:
             f"a command file holds axes X, Y and optionally Z; this command has "
             f"{', '.join(command.positions)}"
         )
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     table = np.column_stack([command.time_s] + [command.positions[a] * 1e3 for a in axes])
     header = ",".join(["time_s"] + [f"{a.lower()}_mm" for a in axes])
     fmt = ["%.12f"] + ["%.9f"] * len(axes)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", newline="\n") as fh:
-            np.savetxt(fh, table, fmt=fmt, delimiter=",", header=header, comments="")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as fh:
+        np.savetxt(fh, table, fmt=fmt, delimiter=",", header=header, comments="")

@@ -22,13 +22,37 @@ def pyplot():
     return plt
 
 
+def plot_file(path) -> Path:
+    """Check that ``path`` names a file format matplotlib writes; return it as a Path.
+
+    Parameters
+    ----------
+    path : str or Path
+        Plot file [-].
+    """
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    from ..errors import InputError
+
+    path = Path(path)
+    kinds = FigureCanvasBase.get_supported_filetypes()
+    if path.suffix.lower().lstrip(".") not in kinds:
+        raise InputError(f"a plot file needs one of the extensions {', '.join(sorted(kinds))} "
+                         "(e.g. .png, .pdf or .svg)", file=path)
+    return path
+
+
 def save(fig, path) -> Path | None:
     """Save a figure atomically and close it; return the path (None: figure kept open)."""
     if path is None:
         return None
     from ..io.atomic import atomic_path
 
-    path = Path(path)
+    try:
+        path = plot_file(path)
+    except Exception:
+        pyplot().close(fig)
+        raise
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=130, bbox_inches="tight")
     pyplot().close(fig)

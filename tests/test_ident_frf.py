@@ -286,6 +286,14 @@ def test_nan_is_an_error_naming_the_signal():
     assert e.value.column == "scale_m"
 
 
+def test_excitation_without_power_is_an_error_naming_file_and_column():
+    u = np.zeros(20000)
+    y = np.random.default_rng(0).standard_normal(20000)
+    with pytest.raises(InputError, match="carries no power") as e:
+        estimate_frf(u, y, FS, input="excitation_A", output="scale_m", file="X/sweep.csv")
+    assert (e.value.column, e.value.file) == ("excitation_A", "X/sweep.csv")
+
+
 def test_record_too_short_for_lowest_frequency():
     u = np.random.default_rng(0).standard_normal(int(2 * FS))  # 2 s
     with pytest.raises(InputError, match="record too short for the lowest frequency 1 Hz"):

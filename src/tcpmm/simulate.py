@@ -3,18 +3,20 @@
 from __future__ import annotations
 
 import os
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numpy as np
 
 from ._threads import limit_blas_threads
-from .errors import InputError
+from .errors import InputError, InputWarning
 from .mechanics.friction import friction_params_array
 from .mechanics.statespace import discretize_zoh, nut_force_input, plant, static_equilibrium
 from .model import Axis, Machine
 from .path.command import Command
 from .result import AxisRun, Run
+from .servo.sampled import sampled_spectral_radius
 from .sim.kernel import NX, run_axis
 
 
@@ -124,11 +126,16 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     t = np.asarray(time_s, dtype=float)
     T_v = s.T_v
     rp = record_period_s if record_period_s is not None else float(t[1] - t[0])
+    what = ("the record period" if record_period_s is not None
+            else "the record period (by default the command's sample period)")
+    if not (np.isfinite(rp) and rp > 0):
+        raise InputError(f"{what} must be a positive number of seconds, got {rp}")
     rec_every = round(rp / T_v)
     if rec_every < 1 or abs(rec_every * T_v - rp) > 1e-9 * rp + 1e-12:
+        near = max(1, rec_every) * T_v
         raise InputError(
-            f"record period {rp} s is not a multiple of the velocity-loop period {T_v} s; "
-            "choose a record period that is"
+            f"{what}, {rp:g} s, is not a multiple of the velocity-loop period {T_v:g} s; "
+            f"give a record period that is, e.g. {near:g} s"
         )
     n = int(np.floor((t[-1] - t[0]) / T_v + 1e-9)) + 1
     T_c = float(t[1] - t[0])
@@ -184,6 +191,13 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
         )
     rp = record_period_s if record_period_s is not None else command.period_s
     names = list(machine.axes)
+    for name in names:
+        a = machine.axes[name]
+        rho = sampled_spectral_radius(a.mechanics, a.servo)
+        if rho >= 1.0:
+            warnings.warn(f"axis {name}: the sampled servo loop is unstable (spectral radius "
+                          f"{rho:.4f}); the run is not a meaningful prediction: check the "
+                          "gains (tcpmm machine show)", InputWarning, stacklevel=2)
 
     def one(name):
         pos = command.positions.get(name, np.zeros_like(command.time_s))

@@ -179,13 +179,17 @@ def _segmenting(n: int, fs_hz: float, nperseg, fmin_hz, overlap: float, file=Non
     return m, m - step, k
 
 
-def _power_gaps(freq_hz: np.ndarray, p_uu: np.ndarray, name: str):
-    """Warn about contiguous bands without excitation power; return the excited mask."""
+def _power_gaps(freq_hz: np.ndarray, p_uu: np.ndarray, name: str, file=None):
+    """Warn about contiguous bands without excitation power; return the excited mask.
+
+    A signal without any power leaves no frequency response to estimate: that is an error.
+    """
     top = float(np.max(p_uu)) if p_uu.size else 0.0
     excited = p_uu > NO_POWER_FRACTION * top
     if top <= 0:
-        warnings.warn(f"{name} carries no power at all", InputWarning, stacklevel=3)
-        return excited
+        raise InputError(f"{name} carries no power in the band: there is no frequency "
+                         "response to estimate; record the sweep with a non-zero excitation",
+                         file=file, column=name)
     idx = np.flatnonzero(~excited)
     if idx.size:
         splits = np.flatnonzero(np.diff(idx) > 1) + 1
@@ -199,7 +203,7 @@ def _power_gaps(freq_hz: np.ndarray, p_uu: np.ndarray, name: str):
     return excited
 
 
-def _select_band(freq, p_uu, fmin_hz, fmax_hz, name):
+def _select_band(freq, p_uu, fmin_hz, fmax_hz, name, file=None):
     """Bins to keep: the band asked for, or (if not asked) the excited span without DC."""
     keep = freq > 0
     if fmin_hz is not None:
@@ -216,7 +220,7 @@ def _select_band(freq, p_uu, fmin_hz, fmax_hz, name):
                 keep &= np.arange(freq.size) >= exc[0]
             if fmax_hz is None:
                 keep &= np.arange(freq.size) <= exc[-1]
-    _power_gaps(freq[keep], p_uu[keep], name)
+    _power_gaps(freq[keep], p_uu[keep], name, file)
     return keep
 
 

@@ -106,6 +106,10 @@ class Excitation:
         )
 
 
+#: Most samples a designed signal may have (10^8: 1000 s at 100 kHz, 2.4 GB as CSV) [-].
+MAX_SAMPLES = 10**8
+
+
 def _positive(name: str, value, unit: str) -> float:
     try:
         v = float(value)
@@ -503,6 +507,11 @@ def design_excitation(kind, f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **opti
             column="kind",
         )
     options = {k: v for k, v in options.items() if v is not None}
+    n = _positive("duration_s", duration_s, "s") * _positive("fs_hz", fs_hz, "Hz")
+    if n > MAX_SAMPLES:
+        raise InputError(f"{duration_s:g} s at {fs_hz:g} Hz is {n:.3g} samples; at most "
+                         f"{MAX_SAMPLES:.0e} are designed at once: shorten the signal or "
+                         "lower the sample rate", column="duration_s")
     if name == "prbs":
         if options:
             raise InputError(f"prbs from a band takes no options, got {sorted(options)}")

@@ -310,7 +310,7 @@ def estimate_frf(
     f, p_uu = signal.welch(u, **kw)
     _, p_yy = signal.welch(y, **kw)
     _, p_uy = signal.csd(u, y, **kw)
-    keep = _select_band(f, p_uu, fmin_hz, fmax_hz, input)
+    keep = _select_band(f, p_uu, fmin_hz, fmax_hz, input, file)
     f, p_uu, p_yy, p_uy = f[keep], p_uu[keep], p_yy[keep], p_uy[keep]
     with np.errstate(divide="ignore", invalid="ignore"):
         H = p_uy / p_uu if est == "H1" else p_yy / np.conj(p_uy)
@@ -396,7 +396,7 @@ def frf_against_reference(
     r = remove_trend(r, order)
     kw = dict(fs=fs_hz, window=window, nperseg=m, noverlap=noverlap, detrend="constant")
     f, p_rr = signal.welch(r, **kw)
-    keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference)
+    keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference, file)
     n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
     meta = {
         "nperseg": m,

@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import json
 import sys
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
 import typer
 from rich.console import Console
 
-from .errors import TcpmmError
+from .errors import InputError, InputWarning, TcpmmError
 
 # help texts carry units in brackets ([mm]); they are text, not rich markup
 app = typer.Typer(add_completion=False, pretty_exceptions_enable=False, rich_markup_mode=None,
@@ -44,10 +45,71 @@ def _floats(text: str | None, what: str, n: int | None = None) -> list[float] | 
     try:
         vals = [float(v) for v in text.split(",") if v.strip()]
     except ValueError:
-        raise typer.BadParameter(f"{what} must be numbers separated by commas, e.g. 0,0") from None
+        raise typer.BadParameter(f"{what} must be numbers separated by commas, e.g. 1,2") from None
     if n is not None and len(vals) != n:
         raise typer.BadParameter(f"{what} needs {n} numbers separated by commas")
+    if not vals:
+        raise typer.BadParameter(f"{what} needs numbers separated by commas")
+    return _finite(vals, what)
+
+
+def _finite(vals, what):
+    import math
+
+    if any(not math.isfinite(v) for v in vals):
+        raise typer.BadParameter(f"{what} must be finite numbers")
     return vals
+
+
+def _positive(value: float, what: str) -> float:
+    import math
+
+    if not (math.isfinite(value) and value > 0):
+        raise typer.BadParameter(f"{what} must be a positive number, got {value:g}")
+    return value
+
+
+def _band(text: str | None, what: str) -> tuple[float, float] | tuple[None, None]:
+    if text is None:
+        return None, None
+    f0, f1 = _floats(text, what, 2)
+    if not 0 <= f0 < f1:
+        raise typer.BadParameter(f"{what} F0,F1 needs 0 <= F0 < F1 [Hz], got {text}")
+    return f0, f1
+
+
+def _output(output: Path, *inputs) -> Path:
+    """Refuse an output that would replace one of the inputs; prepare its folder."""
+    from .io.atomic import output_file
+
+    target = output_file(output)
+    for i in inputs:
+        if i is not None and Path(i).exists() and Path(i).resolve() == target.resolve():
+            raise typer.BadParameter(f"{output} is also an input; write the output elsewhere")
+    return output
+
+
+def _plot(plot: Path | None) -> Path | None:
+    """Check a --plot file name before any work is done."""
+    if plot is None:
+        return None
+    from .plot import plot_file
+
+    _output(plot)
+    return plot_file(plot)
+
+
+@contextmanager
+def _in_file(path, *names):
+    """Name ``path`` in an input error that names no file (the analysis of its content)."""
+    from .errors import InputError
+
+    try:
+        yield
+    except InputError as exc:
+        if exc.file is not None:
+            raise
+        raise InputError(exc.message, file=path, line=exc.line, column=exc.column) from None
 
 
 def _emit_json(data) -> None:
@@ -73,7 +135,7 @@ def machine_export(name: str = typer.Argument(..., help="Built-in machine name (
     from .builtin import builtin_machine
     from .io.modelfile import write_machine
 
-    write_machine(builtin_machine(name), output)
+    write_machine(builtin_machine(name), _output(output))
     out.print(f"wrote {output}")
 
 
@@ -118,7 +180,8 @@ def _load_command(command: Path | None, gcode: Path | None, machine):
         raise typer.BadParameter("give exactly one of --command CMD.csv or --gcode PROG.nc")
     if command is not None:
         return read_command_csv(command)
-    return program_to_command(gcode, _interp_settings(machine))
+    with _in_file(gcode):
+        return program_to_command(gcode, _interp_settings(machine))
 
 
 def _interp_settings(machine):
@@ -139,9 +202,12 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     from .io.modelfile import read_machine
     from .simulate import simulate as _simulate
 
+    _output(output, model, command, gcode)
+    if record_period_s is not None:
+        _positive(record_period_s, "--record-period-s [s]")
     m = read_machine(model)
     cmd = _load_command(command, gcode, m)
-    with _progress(len(m.axes), "simulate") as adv:
+    with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
     run.write_csv(output)
     out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
@@ -162,8 +228,12 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
     if direction is not None and direction.lower() not in ("ccw", "cw"):
         raise typer.BadParameter("--direction must be ccw or cw")
     c = _floats(centre, "--centre", 2)
-    res = analyse_circle(read_run_csv(run_file), radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
-                         direction=direction.lower() if direction else None)
+    _positive(radius, "--radius [mm]")
+    _plot(plot)
+    run = read_run_csv(run_file)
+    with _in_file(run_file):
+        res = analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
+                             direction=direction.lower() if direction else None)
     if plot is not None:
         res.plot(plot)
     if as_json:
@@ -187,8 +257,13 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
 
     c = _floats(centre, "--centre", 2)
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
-    rm = analyse_circle(read_run_csv(measured), radius * 1e-3, ctr)
-    rp = analyse_circle(read_run_csv(predicted), radius * 1e-3, ctr)
+    _positive(radius, "--radius [mm]")
+    _plot(plot)
+    runs = [read_run_csv(f) for f in (measured, predicted)]
+    with _in_file(measured):
+        rm = analyse_circle(runs[0], radius * 1e-3, ctr)
+    with _in_file(predicted):
+        rp = analyse_circle(runs[1], radius * 1e-3, ctr)
     cmp = compare_circles(rm, rp)
     if plot is not None:
         from .plot.circle import plot_circle
@@ -209,7 +284,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
            radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
            draws: int = typer.Option(16, "--draws", min=1, help="Machines drawn [-]."),
-           seed: int = typer.Option(0, "--seed", help="Seed of the draws [-]."),
+           seed: int = typer.Option(0, "--seed", min=0, help="Seed of the draws [-]."),
            sensor: str = typer.Option("tcp", "--sensor", help="tcp, scale or motor."),
            fit_only: bool = typer.Option(
                False, "--fit-only",
@@ -226,6 +301,10 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     from .io.modelfile import read_machine
     from .spread import MODEL_ERROR, TOLERANCE, circle_spread
 
+    if tolerance is not None:
+        _positive(tolerance, "--tolerance-um [um]")
+    _positive(radius, "--radius [mm]")
+    _plot(plot)
     tol_m = TOLERANCE if tolerance is None else tolerance * 1e-6
     m = read_machine(model)
     cmd = _load_command(command, gcode, m)
@@ -267,6 +346,7 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     from .mechanics.transfer import REDUCED, reduced_freqresp
     from .servo.closedloop import CLOSED_LOOP_TFS, closed_loop_freqresp
 
+    _plot(plot)
     m = read_machine(model)
     a = m.axis(axis)
     f = np.array(_floats(freq_hz, "--freq-hz")) if freq_hz else np.logspace(0, 3.2, 200)
@@ -301,6 +381,10 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     """Interpolate an NC program into the position command per axis."""
     from .path import program_to_command, write_command_csv
 
+    _output(output, program, model)
+    if plot and output.suffix.lower() == ".png":
+        raise typer.BadParameter(f"{output} would be overwritten by the plot of --plot; "
+                                 "give the command file the extension .csv")
     m = None
     if model is not None:
         from .io.modelfile import read_machine
@@ -325,13 +409,23 @@ def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"
            fs_hz: float = typer.Option(..., "--fs-hz", help="Sample rate [Hz]."),
            output: Path = typer.Option(..., "-o", "--output", help="FILE.csv"),
            taper_s: float = typer.Option(None, "--taper-s", help="Fade in/out [s] (sweeps)."),
-           seed: int = typer.Option(None, "--seed", help="Random phases seed (multisine).")):
+           seed: int = typer.Option(None, "--seed", min=0,
+                                    help="Random phases seed (multisine).")):
     """Design an excitation signal for the current command (time_s, excitation_A)."""
     from .ident.excitation import design_excitation
 
-    f0, f1 = _floats(band, "--band", 2)
-    exc = design_excitation(kind, f0, f1, amplitude_A, duration_s, fs_hz, taper_s=taper_s,
-                            seed=seed)
+    f0, f1 = _band(band, "--band")
+    _output(output)
+    options = {"f0_hz": "--band", "f1_hz": "--band", "amplitude_A": "--amplitude-A",
+               "duration_s": "--duration-s", "fs_hz": "--fs-hz", "taper_s": "--taper-s",
+               "kind": "KIND", "seed": "--seed"}
+    try:
+        exc = design_excitation(kind, f0, f1, amplitude_A, duration_s, fs_hz,
+                                taper_s=taper_s, seed=seed)
+    except InputError as err:
+        if err.file is None and err.column in options:
+            raise typer.BadParameter(err.message, param_hint=options[err.column]) from None
+        raise
     exc.write_csv(output)
     out.print(f"wrote {output}: {exc.kind}, band {exc.band_hz[0]:g}-{exc.band_hz[1]:g} Hz, "
               f"{exc.time_s.size} samples ({exc.time_s.size / exc.fs_hz:g} s), "
@@ -344,7 +438,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
              report: Path = typer.Option(None, "--report", help="Folder for plots and tables."),
              band: str = typer.Option(None, "--band", help="F0,F1 of the FRFs [Hz]."),
              guideway_share: float = typer.Option(
-                 None, "--guideway-share",
+                 None, "--guideway-share", min=0.0, max=1.0,
                  help="Share of the friction from friction.csv put on the guideway [-]; "
                       "default: from the encoder-minus-scale deflection of the runs."),
              presliding_um: float = typer.Option(
@@ -356,18 +450,22 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     """Identify every axis of a measurement bundle into a model file."""
     from .ident.pipeline import identify_bundle
     from .ident.presliding import PRESLIDING
+    from .io.atomic import output_folder
     from .io.bundle import read_bundle
     from .io.modelfile import write_machine
 
+    _output(output)
+    if report is not None:
+        output_folder(report)
+    f0, f1 = _band(band, "--band")
     b = read_bundle(bundle)
-    f0, f1 = _floats(band, "--band", 2) if band else (None, None)
     presliding = PRESLIDING if presliding_um is None else presliding_um * 1e-6
     with _progress(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
                               presliding=presliding)
-    write_machine(idn.machine, output)
     if report is not None:
         idn.write_report(report)
+    write_machine(idn.machine, output)
     if as_json:
         _emit_json(idn.to_dict())
         return
@@ -380,8 +478,20 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Print input warnings as the user's problem, not as a place in the package."""
+    if issubclass(category, InputWarning):
+        console.print(f"[yellow]warning:[/yellow] {_esc(str(message))}")
+    else:
+        _default_showwarning(message, category, filename, lineno, file, line)
+
+
+_default_showwarning = warnings.showwarning
+
+
 def main(argv=None) -> int:
     """Entry point of the ``tcpmm`` console script."""
+    shown, warnings.showwarning = warnings.showwarning, _show_warning
     try:
         app(args=argv, standalone_mode=True)
     except TcpmmError as exc:
@@ -389,6 +499,8 @@ def main(argv=None) -> int:
         return 2
     except SystemExit as exc:
         return int(exc.code or 0) if not isinstance(exc.code, str) else 1
+    finally:
+        warnings.showwarning = shown
     return 0
 
 

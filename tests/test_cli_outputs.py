@@ -1,0 +1,146 @@
+"""The command line refuses outputs that would lose data, before any work is done."""
+
+import os
+import stat
+import warnings
+
+import numpy as np
+import pytest
+
+from tcpmm.builtin import builtin_machine
+from tcpmm.cli import main
+from tcpmm.demo import paper_circle_command
+from tcpmm.errors import InputWarning
+from tcpmm.io.atomic import write_text_atomic
+from tcpmm.io.modelfile import write_machine
+from tcpmm.path import write_command_csv
+from tcpmm.path.command import Command
+from tcpmm.simulate import simulate
+
+PROGRAM = "G21 G90 G17\nG0 X0 Y0\nG1 X10 Y0 F1000\nM30\n"
+
+
+def run(capsys, *args):
+    code = main([str(a) for a in args])
+    cap = capsys.readouterr()
+    return code, " ".join(cap.out.split()), " ".join(cap.err.split())  # rich wraps lines
+
+
+@pytest.fixture()
+def nc(tmp_path):
+    p = tmp_path / "prog.nc"
+    p.write_text(PROGRAM)
+    return p
+
+
+def test_output_that_is_an_input_is_refused_and_the_input_kept(capsys, nc):
+    code, out, err = run(capsys, "path", nc, "-o", nc)
+    assert code == 2 and "is also an input" in out + err
+    assert nc.read_text() == PROGRAM
+
+
+def test_path_plot_does_not_overwrite_its_own_csv(capsys, nc, tmp_path):
+    code, out, err = run(capsys, "path", nc, "-o", tmp_path / "cmd.png", "--plot")
+    assert code == 2 and "would be overwritten by the plot" in out + err
+    assert not (tmp_path / "cmd.png").exists()
+
+
+def test_output_folder_or_file_parent_is_a_named_error(capsys, nc, tmp_path):
+    (tmp_path / "adir").mkdir()
+    code, _, err = run(capsys, "path", nc, "-o", tmp_path / "adir")
+    assert code == 2 and "is a folder; give the output a file name" in err
+    (tmp_path / "file").write_text("keep")
+    code, _, err = run(capsys, "machine", "export", "vmc", "-o", tmp_path / "file" / "m.yaml")
+    assert code == 2 and "is a file, so the output folder" in err
+    assert (tmp_path / "file").read_text() == "keep"
+
+
+def test_failed_identify_leaves_the_model_file_alone(capsys, tmp_path):
+    model = tmp_path / "model.yaml"
+    model.write_text("keep me\n")
+    (tmp_path / "report").write_text("a file, not a folder")
+    code, _, err = run(capsys, "identify", tmp_path / "no_bundle", "-o", model,
+                       "--report", tmp_path / "report")
+    assert code == 2 and "output folder" in err
+    assert model.read_text() == "keep me\n"
+
+
+@pytest.mark.parametrize("args, hint", [
+    (["--guideway-share", "2"], "--guideway-share"),
+    (["--band", "100,10"], "0 <= F0 < F1"),
+])
+def test_identify_options_out_of_range_are_usage_errors(capsys, tmp_path, args, hint):
+    code, out, err = run(capsys, "identify", tmp_path, "-o", tmp_path / "m.yaml", *args)
+    assert code == 2 and hint in out + err
+
+
+def test_plot_extension_is_checked_before_the_analysis(capsys, tmp_path):
+    code, _, err = run(capsys, "circle", tmp_path / "missing.csv", "--radius", 35,
+                       "--plot", tmp_path / "plot.txt")
+    assert code == 2 and "a plot file needs one of the extensions" in err
+    assert "missing.csv" not in err  # refused before the run file is read
+
+
+@pytest.mark.parametrize("args, hint", [
+    (["circle", "run.csv", "--radius", "-35"], "--radius [mm] must be a positive number, got -35"),
+    (["bode", "builtin:vmc", "--axis", "X", "--tf", "G_M", "--freq-hz", "nan"], "finite"),
+    (["excite", "linear", "--band", "1,100", "--amplitude-A", "1", "--duration-s", "1e6",
+      "--fs-hz", "1e6", "-o", "e.csv"], "1e+12 samples"),
+    (["excite", "linear", "--band", "1,100", "--amplitude-A", "-1", "--duration-s", "1",
+      "--fs-hz", "1000", "-o", "e.csv"], "--amplitude-A"),
+])
+def test_option_errors_name_the_option(capsys, args, hint):
+    code, out, err = run(capsys, *args)
+    assert code == 2 and hint in out + " " + err
+
+
+def test_analysis_error_names_the_run_file(capsys, tmp_path):
+    m = builtin_machine("vmc")
+    cmd = paper_circle_command()
+    write_command_csv(cmd, tmp_path / "cmd.csv")
+    simulate(m, cmd).write_csv(tmp_path / "run.csv")
+    code, _, err = run(capsys, "circle", tmp_path / "run.csv", "--radius", 20)
+    assert code == 2 and "run.csv: no full circle" in err
+
+
+def test_input_warnings_print_as_warnings_not_source_lines(capsys, tmp_path):
+    p = tmp_path / "spindle.nc"
+    p.write_text("G21 G90 G17\nG0 X0 Y0\nM3 S1000\nG1 X10 Y0 F1000\nM30\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        code, _, err = run(capsys, "path", p, "-o", tmp_path / "cmd.csv")
+    assert code == 0
+    assert "warning: " in err and "spindle" in err
+    assert "InputWarning" not in err and ".py:" not in err
+
+
+def test_unstable_model_simulates_with_a_warning():
+    m = builtin_machine("vmc")
+    ax = m.axes["X"]
+    bad = m.with_axis("X", ax.replace(servo=ax.servo.model_copy(update={"K_pp": 40000.0})))
+    t = np.arange(200) * 1e-3
+    cmd = Command(t, {"X": 1e-3 * t, "Y": 0 * t})
+    with pytest.warns(InputWarning, match="axis X: the sampled servo loop is unstable"):
+        simulate(bad, cmd)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        simulate(m, cmd)
+
+
+def test_atomic_write_keeps_permissions_and_writes_through_links(tmp_path):
+    old = os.umask(0o022)
+    try:
+        new = tmp_path / "new.txt"
+        write_text_atomic(new, "a")
+        assert stat.S_IMODE(new.stat().st_mode) == 0o644
+        kept = tmp_path / "kept.txt"
+        kept.write_text("a")
+        kept.chmod(0o664)
+        write_text_atomic(kept, "b")
+        assert stat.S_IMODE(kept.stat().st_mode) == 0o664
+        link = tmp_path / "link.txt"
+        link.symlink_to(kept.name)
+        write_machine(builtin_machine("vmc"), link)
+        assert link.is_symlink() and kept.read_text().startswith("# tcpmm machine model")
+    finally:
+        os.umask(old)

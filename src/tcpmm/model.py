@@ -3,14 +3,29 @@
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator
 
 from .mechanics.friction import LuGreFriction, StribeckFriction
 from .mechanics.params import AxisMechanics
 from .servo.params import ServoParams
 
-FrictionModel = LuGreFriction | StribeckFriction
+
+def _contact(data):
+    """A friction contact from its parameters: LuGre when ``sigma0`` is given, else Stribeck."""
+    if isinstance(data, StribeckFriction):
+        return data
+    if not isinstance(data, dict):
+        raise ValueError("give the friction parameters as a mapping (fc_pos, fc_neg, ..., and "
+                         "sigma0 for LuGre friction), or null for none")
+    kind = LuGreFriction if "sigma0" in data else StribeckFriction
+    contact = kind.__new__(kind)  # the constructor would flatten the errors into one text
+    kind.__pydantic_validator__.validate_python(data, self_instance=contact)
+    return contact
+
+
+FrictionModel = Annotated[LuGreFriction | StribeckFriction, BeforeValidator(_contact)]
 
 
 class Sensors(BaseModel):
@@ -145,7 +160,8 @@ class Machine(BaseModel):
     axes : dict of str to Axis
         The feed axes [-].
     interpolation : dict or None
-        CNC interpolator settings, see :mod:`tcpmm.path` [SI].
+        CNC interpolator settings as given, checked against
+        :class:`tcpmm.path.InterpolatorSettings` [SI].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -159,12 +175,24 @@ class Machine(BaseModel):
     def _names(cls, v):
         if not v:
             raise ValueError("a machine needs at least one axis")
-        out = {}
-        for k, a in v.items():
+        given = {}
+        for k in v:
             if not k.isalpha() or len(k) > 2:
                 raise ValueError(f"axis name {k!r} must be one or two letters, e.g. X")
-            out[k.upper()] = a
-        return out
+            if k.upper() in given:
+                raise ValueError(f"axis {k!r} duplicates {given[k.upper()]!r} (axis names are "
+                                 "case-insensitive); rename or remove one")
+            given[k.upper()] = k
+        return {k.upper(): a for k, a in v.items()}
+
+    @field_validator("interpolation")
+    @classmethod
+    def _interpolation(cls, v):
+        if v is not None:
+            from .path.settings import InterpolatorSettings
+
+            InterpolatorSettings.model_validate(v)
+        return v
 
     def axis(self, name: str) -> Axis:
         """The axis of that name [-]."""

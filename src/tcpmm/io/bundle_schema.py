@@ -207,7 +207,7 @@ def parse_machine_yaml(text: str, file: str | Path = "<machine.yaml>") -> Machin
     """
     return validate_yaml(text, MachineConfig, file,
                          "machine description with keys format, name, axes",
-                         "check the spelling against formats.md section 1")
+                         "check the spelling against formats.md section 1", FORMAT_VERSION)
 
 
 def read_machine_yaml(path: str | Path) -> MachineConfig:

@@ -9,13 +9,13 @@ from __future__ import annotations
 from typing import Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict
 
-from ..model import Axis, Machine
+from ..model import Machine
 from .atomic import write_text_atomic
 from .yamlutil import read_yaml_model, validate_yaml
 
 FORMAT = "tcpmm-model/1"
+_HINT = "see the keys that `tcpmm machine export` writes"
 
 _HEADER = """\
 # tcpmm machine model ({fmt}). SI units throughout:
@@ -32,15 +32,10 @@ _HEADER = """\
 """
 
 
-class ModelFile(BaseModel):
-    """Schema of a model file."""
-
-    model_config = ConfigDict(extra="forbid")
+class ModelFile(Machine):
+    """Schema of a model file: a machine and its format version."""
 
     format: Literal["tcpmm-model/1"]
-    name: str = "machine"
-    axes: dict[str, Axis]
-    interpolation: dict | None = None
 
 
 def machine_to_dict(machine: Machine) -> dict:
@@ -72,8 +67,7 @@ def _to_machine(mf: ModelFile) -> Machine:
 
 def loads_machine(text: str, file="<model>") -> Machine:
     """Parse model-file text."""
-    return _to_machine(validate_yaml(text, ModelFile, file, "machine model",
-                                     "see the keys that `tcpmm machine export` writes"))
+    return _to_machine(validate_yaml(text, ModelFile, file, "machine model", _HINT, FORMAT))
 
 
 def read_machine(path) -> Machine:
@@ -89,5 +83,4 @@ def read_machine(path) -> Machine:
         from ..builtin import builtin_machine
 
         return builtin_machine(s.split(":", 1)[1])
-    return _to_machine(read_yaml_model(path, ModelFile, "machine model",
-                                       "see the keys that `tcpmm machine export` writes"))
+    return _to_machine(read_yaml_model(path, ModelFile, "machine model", _HINT, FORMAT))

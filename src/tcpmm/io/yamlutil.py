@@ -7,6 +7,7 @@ and the line of that key.
 
 from __future__ import annotations
 
+import codecs
 import re
 from pathlib import Path
 from typing import Any
@@ -15,6 +16,11 @@ import yaml
 from pydantic import ValidationError
 
 from ..errors import InputError
+
+FORMATS = {
+    "tcpmm-model/1": ("machine model", "give it where a model file is expected"),
+    "tcpmm-bundle/1": ("measurement-bundle description", "run `tcpmm identify` on its folder"),
+}
 
 
 class StrictLoader(yaml.SafeLoader):
@@ -63,6 +69,17 @@ def line_for(loc: tuple, lines: dict[tuple, int]) -> int | None:
     return lines.get(())
 
 
+def error_loc(err: dict) -> tuple:
+    """Key path of a pydantic error, down to the key that a mapping check's message names."""
+    loc, data = tuple(err["loc"]), err.get("input")
+    if err["type"] == "value_error" and isinstance(data, dict):
+        named = [(m.start(), k) for k in data
+                 if (m := re.search(rf"(?<!\w){re.escape(str(k))}(?!\w)", err["msg"]))]
+        if named:
+            loc = (*loc, min(named, key=lambda n: n[0])[1])
+    return loc
+
+
 def describe(err: dict, hint: str = "") -> str:
     """A readable sentence for one pydantic error."""
     if err["type"] == "extra_forbidden":
@@ -72,7 +89,44 @@ def describe(err: dict, hint: str = "") -> str:
     msg = err["msg"]
     if msg.startswith("Value error, "):
         msg = msg[len("Value error, "):]
+    if isinstance(err.get("input"), dict | list):
+        return msg
     return f"{msg} (got {err['input']!r})"
+
+
+def check_format(data: dict, fmt: str, what: str, file, line=None) -> None:
+    """Raise :class:`InputError` in one line when ``format:`` names another known format.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed document [-].
+    fmt : str
+        The format the reader expects, e.g. ``tcpmm-model/1`` [-].
+    what : str
+        What the document should be, for the message [-].
+    file : str or Path
+        Name used in messages [-].
+    line : int, optional
+        Line of the ``format`` key [-].
+    """
+    got = data.get("format", fmt)
+    if got == fmt or got not in FORMATS:
+        return  # the schema reports an unknown version
+    noun, advice = FORMATS[got]
+    raise InputError(f"this is a {noun} (format {got}), not a {what}; {advice}",
+                     file=file, line=line, column="format")
+
+
+def _tab_line(text: str, last: int | None) -> int | None:
+    """The last line up to ``last`` whose indentation holds a tab [-]."""
+    found = None
+    for i, s in enumerate(text.splitlines(), 1):
+        if last is not None and i > last:
+            break
+        if re.match(r" *\t\s*[^\s#]", s):
+            found = i
+    return found
 
 
 def load_yaml(text: str, file) -> tuple[Any, Any]:
@@ -84,15 +138,20 @@ def load_yaml(text: str, file) -> tuple[Any, Any]:
         data = loader.construct_document(node) if node is not None else None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
-        raise InputError(f"not valid YAML: {exc.problem or exc}", file=file,
-                         line=None if mark is None else mark.line + 1,
+        line = None if mark is None else mark.line + 1
+        tab = _tab_line(text, line)
+        if tab is not None:
+            raise InputError("tab character in the indentation; YAML indents with spaces",
+                             file=file, line=tab) from None
+        raise InputError(f"not valid YAML: {exc.problem or exc}", file=file, line=line,
                          column=None if mark is None else mark.column + 1) from None
     finally:
         loader.dispose()
     return data, node
 
 
-def validate_yaml(text: str, model_cls, file, what: str, hint: str = ""):
+def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
+                  fmt: str | None = None):
     """Parse YAML text and validate it into ``model_cls``.
 
     Parameters
@@ -107,32 +166,54 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = ""):
         What the document is, for messages ("machine description") [-].
     hint : str
         Where the valid keys are documented, for unknown-key messages [-].
+    fmt : str, optional
+        The ``format:`` value the document must have, see :func:`check_format` [-].
     """
     data, node = load_yaml(text, file)
     if not isinstance(data, dict):
         raise InputError(f"expected a mapping: {what}", file=file)
     lines = key_lines(node)
+    if fmt is not None:
+        check_format(data, fmt, what, file, lines.get(("format",)))
     try:
         return model_cls.model_validate(data)
     except ValidationError as exc:
         # unknown keys (typos) first, then the rest, each in file order
-        errors = sorted(exc.errors(), key=lambda e: (e["type"] != "extra_forbidden",
-                                                     line_for(e["loc"], lines) or 0))
+        errors = sorted(((error_loc(e), e) for e in exc.errors()),
+                        key=lambda le: (le[1]["type"] != "extra_forbidden",
+                                        line_for(le[0], lines) or 0))
         parts = []
-        for err in errors:
-            key = ".".join(str(p) for p in err["loc"]) or "<top>"
-            line = line_for(err["loc"], lines)
+        for loc, err in errors:
+            key = ".".join(str(p) for p in loc) or "<top>"
+            line = line_for(loc, lines)
             at = f" (line {line})" if line is not None else ""
             parts.append(f"{key}{at}: {describe(err, hint)}")
-        first = errors[0]
+        first = errors[0][0]
         raise InputError(f"{len(errors)} problem(s) in {what}:\n  " + "\n  ".join(parts),
-                         file=file, line=line_for(first["loc"], lines),
-                         column=".".join(str(p) for p in first["loc"]) or None) from None
+                         file=file, line=line_for(first, lines),
+                         column=".".join(str(p) for p in first) or None) from None
 
 
-def read_yaml_model(path, model_cls, what: str, hint: str = ""):
-    """Read a YAML file and validate it into ``model_cls`` (see :func:`validate_yaml`)."""
+def read_text(path, what: str) -> str:
+    """The text of a UTF-8 file; a missing file, a folder or other bytes are errors."""
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"this is a directory; give the path of a {what} file", file=path)
     if not path.is_file():
         raise InputError(f"{what} not found", file=path)
-    return validate_yaml(path.read_text(encoding="utf-8-sig"), model_cls, path, what, hint)
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read the {what}: {exc.strerror}", file=path) from None
+    data = data.removeprefix(codecs.BOM_UTF8)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not a UTF-8 text file (byte {data[exc.start]:#04x}); save the "
+                         f"{what} as UTF-8 text", file=path,
+                         line=data.count(b"\n", 0, exc.start) + 1) from None
+
+
+def read_yaml_model(path, model_cls, what: str, hint: str = "", fmt: str | None = None):
+    """Read a YAML file and validate it into ``model_cls`` (see :func:`validate_yaml`)."""
+    return validate_yaml(read_text(path, what), model_cls, path, what, hint, fmt)

@@ -14,14 +14,18 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 AXES = ("X", "Y", "Z")
 
 
-def _axis_dict(value: dict[str, float], what: str) -> dict[str, float]:
-    out = {}
+def _axis_dict(value: dict[str, float]) -> dict[str, float]:
+    out, given = {}, {}
     for name, v in value.items():
         key = str(name).upper()
         if key not in AXES:
-            raise ValueError(f"{what}: unknown axis {name!r}; use one of {', '.join(AXES)}")
+            raise ValueError(f"unknown axis {name!r}; use one of {', '.join(AXES)}")
+        if key in given:
+            raise ValueError(f"axis {name!r} duplicates {given[key]!r} (axis names are "
+                             "case-insensitive); rename or remove one")
         if not (math.isfinite(v) and v > 0):
-            raise ValueError(f"{what}: axis {key} must be a positive number, got {v}")
+            raise ValueError(f"axis {name} must be a positive number, got {v}")
+        given[key] = name
         out[key] = float(v)
     return out
 
@@ -74,19 +78,19 @@ class InterpolatorSettings(BaseModel):
     @field_validator("axis_velocity_m_per_s")
     @classmethod
     def _check_vel(cls, v):
-        return _axis_dict(v, "axis_velocity_m_per_s")
+        return _axis_dict(v)
 
     @field_validator("axis_accel_m_per_s2")
     @classmethod
     def _check_acc(cls, v):
-        return _axis_dict(v, "axis_accel_m_per_s2")
+        return _axis_dict(v)
 
     @field_validator("rapid_m_per_s")
     @classmethod
     def _check_rapid(cls, v):
-        v = _axis_dict(v, "rapid_m_per_s")
+        v = _axis_dict(v)
         if not v:
-            raise ValueError("rapid_m_per_s: give the rapid speed of at least one axis")
+            raise ValueError("give the rapid speed of at least one axis")
         return v
 
     def axis_velocity(self) -> tuple[float, float, float]:

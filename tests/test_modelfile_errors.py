@@ -1,0 +1,125 @@
+"""Model files: every bad input is one clear error with file, line and key."""
+
+import pytest
+
+from tcpmm.errors import InputError
+from tcpmm.io.modelfile import dumps_machine, loads_machine, read_machine, write_machine
+from tcpmm.mechanics.friction import LuGreFriction
+from tcpmm.model import Machine
+
+
+def _line(text, needle):
+    return next(i for i, s in enumerate(text.splitlines(), 1) if needle in s)
+
+
+def _error(text):
+    with pytest.raises(InputError) as e:
+        loads_machine(text, "m.yaml")
+    return e.value
+
+
+def _with_interpolation(vmc, section):
+    return dumps_machine(vmc).replace("axes:\n", f"interpolation:\n{section}axes:\n", 1)
+
+
+def test_interpolation_unknown_key_names_key_and_line(vmc):
+    text = _with_interpolation(vmc, "  period: 0.001\n")
+    err = _error(text)
+    assert err.column == "interpolation.period" and err.line == _line(text, "period:")
+    assert f"interpolation.period (line {err.line}): unknown key" in err.message
+
+
+@pytest.mark.parametrize(("section", "key", "needle"), [
+    ("  profile: sine\n", "interpolation.profile", "'trapezoid' or 'scurve'"),
+    ("  rapid_m_per_s: {}\n", "interpolation.rapid_m_per_s", "at least one axis"),
+    ("  axis_velocity_m_per_s: {X: -1}\n", "interpolation.axis_velocity_m_per_s.X", "positive"),
+    ("  rapid_m_per_s: {X: 1, x: 2}\n", "interpolation.rapid_m_per_s.x", "duplicates 'X'"),
+    ("  filter_time_s: 20\n", "interpolation.filter_time_s", "less than or equal to 10"),
+])
+def test_interpolation_bad_values(vmc, section, key, needle):
+    err = _error(_with_interpolation(vmc, section))
+    assert err.column == key and needle in err.message and err.line is not None
+
+
+def test_machine_checks_interpolation(vmc):
+    with pytest.raises(ValueError, match=r"interpolation\.period"):
+        Machine(axes=vmc.axes, interpolation={"period": 1e-3})
+
+
+def test_interpolation_round_trip_keeps_its_keys(vmc, tmp_path):
+    m = Machine(name="m", axes=vmc.axes, interpolation={"period_s": 5e-4, "profile": "scurve"})
+    write_machine(m, tmp_path / "m.yaml")
+    m2 = read_machine(tmp_path / "m.yaml")
+    assert m2 == m and m2.interpolation == {"period_s": 5e-4, "profile": "scurve"}
+
+
+def test_axis_names_differing_in_case_are_an_error(vmc):
+    text = dumps_machine(vmc).replace("\n  Z:\n", "\n  x:\n", 1)
+    err = _error(text)
+    assert "axis 'x' duplicates 'X' (axis names are case-insensitive)" in err.message
+    assert err.column == "axes.x" and err.line == _line(text, "  x:")
+    with pytest.raises(ValueError, match="duplicates 'X'"):
+        Machine(axes={"X": vmc.axes["X"], "x": vmc.axes["Y"]})
+
+
+def test_file_that_is_not_utf8(tmp_path):
+    path = tmp_path / "m.yaml"
+    path.write_bytes(b"\xff\xfef\x00o\x00")
+    with pytest.raises(InputError, match="not a UTF-8 text file") as e:
+        read_machine(path)
+    assert e.value.file == str(path)
+
+
+def test_no_axes_and_bad_axis_name(vmc):
+    err = _error("format: tcpmm-model/1\nname: m\naxes: {}\n")
+    assert "axes (line 3): a machine needs at least one axis" in err.message
+    text = dumps_machine(vmc).replace("\n  Y:\n", "\n  X1:\n", 1)
+    err = _error(text)
+    assert err.column == "axes.X1" and err.line == _line(text, "X1:")
+    assert "one or two letters" in err.message
+
+
+def test_friction_errors_name_the_key(vmc):
+    text = dumps_machine(vmc).replace("        fc_pos: 25.0", "        fc_pos: -25.0", 1)
+    err = _error(text)
+    line = _line(text, "fc_pos: -25.0")
+    assert f"axes.X.friction.screw.fc_pos (line {line}): Input should be greater" in err.message
+    assert "1 problem(s)" in err.message and "sigma0" not in err.message
+    text = dumps_machine(vmc).replace("        v_stick:", "        vstick:", 1)
+    err = _error(text)
+    assert err.column == "axes.X.friction.screw.vstick" and err.line == _line(text, "vstick:")
+    assert "unknown key" in err.message
+
+
+def test_friction_with_sigma0_is_lugre(vmc):
+    text = dumps_machine(vmc).replace("        v_stick: 1.0e-06\n",
+                                      "        v_stick: 1.0e-06\n        sigma0: 1.0e+7\n", 1)
+    assert isinstance(loads_machine(text).axes["X"].friction.screw, LuGreFriction)
+
+
+def test_validator_error_names_key_without_dump(vmc):
+    text = dumps_machine(vmc).replace("      K_L: 4000.0", "      K_L: true", 1)
+    err = _error(text)
+    assert err.column == "axes.X.mechanics.K_L" and err.line == _line(text, "K_L: true")
+    assert "K_L must be a number, not a boolean" in err.message and "J_m" not in err.message
+
+
+def test_other_format_is_named_in_one_line(vmc):
+    err = _error("format: tcpmm-bundle/1\nname: m\naxes:\n  X:\n    lead_mm: 10\n")
+    assert err.message == ("this is a measurement-bundle description (format tcpmm-bundle/1), "
+                           "not a machine model; run `tcpmm identify` on its folder")
+    assert err.line == 1
+    err = _error(dumps_machine(vmc).replace("tcpmm-model/1\n", "tcpmm-model/9\n", 1))
+    assert "format (line 12): Input should be 'tcpmm-model/1' (got 'tcpmm-model/9')" in err.message
+
+
+def test_tab_in_indentation(vmc):
+    text = dumps_machine(vmc).replace("      K_L: 4000.0", "\tK_L: 4000.0", 1)
+    err = _error(text)
+    assert err.message == "tab character in the indentation; YAML indents with spaces"
+    assert err.line == _line(text, "\tK_L")
+
+
+def test_directory_instead_of_model(tmp_path):
+    with pytest.raises(InputError, match="is a directory; give the path of a machine model"):
+        read_machine(tmp_path)

@@ -407,3 +407,11 @@ def test_numpy_values_in_machine_dict_and_crlf_bom_csv(tmp_path):
     text = pd.DataFrame(sweep_columns_mm()).to_csv(index=False, lineterminator="\r\n")
     p.write_text(text, encoding="utf-8-sig", newline="")
     np.testing.assert_allclose(read_sweep_csv(p).scale_m, sweep_columns_mm()["scale_mm"] * 1e-3)
+
+
+def test_model_file_given_as_bundle_description_is_named_in_one_line():
+    from tcpmm.builtin import builtin_machine
+    from tcpmm.io.modelfile import dumps_machine
+
+    with pytest.raises(InputError, match=r"this is a machine model \(format tcpmm-model/1\)"):
+        parse_machine_yaml(dumps_machine(builtin_machine("vmc")))

@@ -7,6 +7,29 @@ from pydantic import ValidationError
 from .errors import InputError
 
 
+def upper_names(names) -> dict[str, str]:
+    """Map each name to its upper case; names equal but for case are an error.
+
+    Parameters
+    ----------
+    names : iterable of str
+        Axis names as given [-].
+
+    Returns
+    -------
+    dict of str to str
+        Upper-case name to the name as given [-].
+    """
+    given: dict[str, str] = {}
+    for name in names:
+        key = str(name).upper()
+        if key in given:
+            raise ValueError(f"axis {name!r} duplicates {given[key]!r} (axis names are "
+                             "case-insensitive); rename or remove one")
+        given[key] = name
+    return given
+
+
 def validation_message(err: ValidationError, prefix: str = "") -> str:
     """One line per problem: ``field.path: message (got value)``."""
     lines = []

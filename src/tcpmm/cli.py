@@ -6,6 +6,7 @@ Units at this edge: mm, mm/min, Hz, um, as the option names say.
 from __future__ import annotations
 
 import json
+import math
 import sys
 import warnings
 from contextlib import contextmanager
@@ -54,16 +55,12 @@ def _floats(text: str | None, what: str, n: int | None = None) -> list[float] | 
 
 
 def _finite(vals, what):
-    import math
-
     if any(not math.isfinite(v) for v in vals):
         raise typer.BadParameter(f"{what} must be finite numbers")
     return vals
 
 
 def _positive(value: float, what: str) -> float:
-    import math
-
     if not (math.isfinite(value) and value > 0):
         raise typer.BadParameter(f"{what} must be a positive number, got {value:g}")
     return value
@@ -100,10 +97,8 @@ def _plot(plot: Path | None) -> Path | None:
 
 
 @contextmanager
-def _in_file(path, *names):
+def _in_file(path):
     """Name ``path`` in an input error that names no file (the analysis of its content)."""
-    from .errors import InputError
-
     try:
         yield
     except InputError as exc:

@@ -7,6 +7,7 @@ from typing import Annotated
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator
 
+from ._validate import upper_names
 from .mechanics.friction import LuGreFriction, StribeckFriction
 from .mechanics.params import AxisMechanics
 from .servo.params import ServoParams
@@ -175,15 +176,10 @@ class Machine(BaseModel):
     def _names(cls, v):
         if not v:
             raise ValueError("a machine needs at least one axis")
-        given = {}
         for k in v:
             if not k.isalpha() or len(k) > 2:
                 raise ValueError(f"axis name {k!r} must be one or two letters, e.g. X")
-            if k.upper() in given:
-                raise ValueError(f"axis {k!r} duplicates {given[k.upper()]!r} (axis names are "
-                                 "case-insensitive); rename or remove one")
-            given[k.upper()] = k
-        return {k.upper(): a for k, a in v.items()}
+        return {upper: v[k] for upper, k in upper_names(v).items()}
 
     @field_validator("interpolation")
     @classmethod

@@ -11,21 +11,19 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from .._validate import upper_names
+
 AXES = ("X", "Y", "Z")
 
 
 def _axis_dict(value: dict[str, float]) -> dict[str, float]:
-    out, given = {}, {}
-    for name, v in value.items():
-        key = str(name).upper()
+    out = {}
+    for key, name in upper_names(value).items():
+        v = value[name]
         if key not in AXES:
             raise ValueError(f"unknown axis {name!r}; use one of {', '.join(AXES)}")
-        if key in given:
-            raise ValueError(f"axis {name!r} duplicates {given[key]!r} (axis names are "
-                             "case-insensitive); rename or remove one")
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"axis {name} must be a positive number, got {v}")
-        given[key] = name
         out[key] = float(v)
     return out
 

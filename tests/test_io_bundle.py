@@ -21,7 +21,7 @@ from tcpmm.io.bundle import (
     write_bundle,
     write_sweep_csv,
 )
-from tcpmm.io.bundle_schema import MachineConfig, parse_machine_yaml
+from tcpmm.io.bundle_schema import MachineConfig, parse_machine_yaml, read_machine_yaml
 
 MACHINE_YAML = """\
 format: tcpmm-bundle/1
@@ -415,3 +415,11 @@ def test_model_file_given_as_bundle_description_is_named_in_one_line():
 
     with pytest.raises(InputError, match=r"this is a machine model \(format tcpmm-model/1\)"):
         parse_machine_yaml(dumps_machine(builtin_machine("vmc")))
+
+
+def test_machine_yaml_that_is_not_utf8_is_named(tmp_path):
+    p = tmp_path / "machine.yaml"
+    p.write_bytes(b"\xff\xfeformat: tcpmm-bundle/1\n")
+    with pytest.raises(InputError, match="not a UTF-8 text file") as exc:
+        read_machine_yaml(p)
+    assert exc.value.file == str(p) and exc.value.line == 1

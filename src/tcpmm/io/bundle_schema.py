@@ -17,7 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from tcpmm.errors import InputError
 from tcpmm.io.atomic import write_text_atomic
-from tcpmm.io.yamlutil import validate_yaml
+from tcpmm.io.yamlutil import read_text, validate_yaml
 from tcpmm.units import MM, UM
 
 FORMAT_VERSION = "tcpmm-bundle/1"
@@ -229,7 +229,7 @@ def read_machine_yaml(path: str | Path) -> MachineConfig:
             "machine.yaml not found; every bundle needs one (see formats.md section 1)",
             file=path,
         )
-    return parse_machine_yaml(path.read_text(encoding="utf-8-sig"), file=path)
+    return parse_machine_yaml(read_text(path, "machine description"), file=path)
 
 
 def machine_to_dict(machine: MachineConfig) -> dict:

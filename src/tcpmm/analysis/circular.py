@@ -16,11 +16,12 @@ exactly the programmed turns remain.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 
 QUADRANTS = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
 SENSORS = ("cmd", "motor", "scale", "tcp")
@@ -282,6 +283,13 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
             raise InputError(f"the run has no axis {a} (axes: {', '.join(run.axes)})")
     X, Y = run.axes[ax], run.axes[ay]
     present = [s for s in sensors if X.sensor(s) is not None and Y.sensor(s) is not None]
+    for s in sensors:
+        have = [a for a, r in ((ax, X), (ay, Y)) if r.sensor(s) is not None]
+        if len(have) == 1:
+            lack = ay if have[0] == ax else ax
+            warnings.warn(InputWarning(
+                f"the {s} signal is present for {have[0]} but not for {lack}; the {s} "
+                "sensor is left out of the circular test"), stacklevel=2)
     if not present:
         raise InputError(f"the run has no position signals for both {ax} and {ay}")
     ref = "cmd" if "cmd" in present else present[0]

@@ -41,6 +41,14 @@ def _suggest(name: str, candidates: Iterable[str]) -> str:
     return f" (did you mean '{near[0]}'?)" if near else ""
 
 
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def read_header(path: Path) -> list[str]:
     """Return the stripped column names of a CSV file's first line.
 
@@ -74,6 +82,13 @@ def read_header(path: Path) -> list[str]:
             file=path,
             line=1,
         )
+    if all(_is_number(n) for n in names):
+        raise InputError(
+            "the first line holds numbers, not column names; add a header line with the "
+            "column names (see formats.md)",
+            file=path,
+            line=1,
+        )
     for i, name in enumerate(names):
         if not name:
             raise InputError("empty column name in the header", file=path, line=1, column=i + 1)
@@ -85,6 +100,66 @@ def read_header(path: Path) -> list[str]:
                 column=name,
             )
     return names
+
+
+def check_rows(path: Path, names: list[str]) -> None:
+    """Check that the first data row has no more fields than the header.
+
+    pandas takes surplus fields of the first data row as an index column and shifts every
+    column, so the fault would surface later at the wrong line and column.
+
+    Parameters
+    ----------
+    path : Path
+        CSV file whose header is ``names`` [-].
+    names : list of str
+        Column names of the header line [-].
+    """
+    with open(path, encoding="utf-8-sig", newline="") as fh:
+        fh.readline()
+        row = fh.readline().strip("\r\n")
+    if not row.strip():
+        return
+    n = len(row.split(","))
+    if n > len(names):
+        raise InputError(
+            f"row has {n} fields but the header has {len(names)} (a decimal comma or a "
+            "stray separator?); use ',' between fields and '.' as decimal point",
+            file=path,
+            line=2,
+        )
+
+
+def parse_error(exc: Exception, path: Path) -> InputError:
+    """The error for a pandas parser failure, at the row pandas names.
+
+    Parameters
+    ----------
+    exc : Exception
+        The pandas ``ParserError`` [-].
+    path : Path
+        CSV file [-].
+    """
+    m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
+    if m:
+        return InputError(
+            f"row has {m.group(3)} fields but the header has {m.group(1)} (a decimal "
+            "comma or a stray separator?); use ',' between fields and '.' as decimal point",
+            file=path,
+            line=int(m.group(2)),
+        )
+    return InputError(f"cannot parse CSV: {exc}", file=path)
+
+
+def no_rows_error(path: Path) -> InputError:
+    """The error for a CSV file that has a header but no data rows.
+
+    Parameters
+    ----------
+    path : Path
+        CSV file [-].
+    """
+    return InputError("the file has a header but no data rows", file=path, line=2)
 
 
 def read_numeric_csv(
@@ -123,6 +198,7 @@ def read_numeric_csv(
     optional = list(optional)
     expected = required + optional
     names = read_header(path)
+    check_rows(path, names)
     missing = [c for c in required if c not in names]
     if missing:
         hints = "".join(_suggest(m, names) for m in missing[:1])
@@ -154,20 +230,14 @@ def read_numeric_csv(
             na_filter=True,
         )
     except pd.errors.ParserError as exc:
-        m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
-        if m:
-            raise InputError(
-                f"row has {m.group(3)} fields but the header has {m.group(1)} (a decimal "
-                "comma or a stray separator?); use ',' between fields and '.' as decimal point",
-                file=path,
-                line=int(m.group(2)),
-            ) from None
-        raise InputError(f"cannot parse CSV: {exc}", file=path) from None
+        raise parse_error(exc, path) from None
     frame.columns = [c.strip() for c in frame.columns]
     # A final blank line is harmless; blank lines inside the data are not.
     n = len(frame)
     while n > 0 and frame.iloc[n - 1].isna().all():
         n -= 1
+    if n == 0:
+        raise no_rows_error(path)
     frame = frame.iloc[:n]
     out: dict[str, np.ndarray] = {}
     for name in use:

@@ -29,14 +29,22 @@ def read_run_csv(path) -> Run:
     """
     import pandas as pd
 
+    from .csvutil import check_rows, no_rows_error, parse_error, read_header
+
     path = Path(path)
     if not path.is_file():
         raise InputError("run file not found", file=path)
+    cols = read_header(path)
+    check_rows(path, cols)
     try:
-        df = pd.read_csv(path)
+        df = pd.read_csv(path, encoding="utf-8-sig")
+    except pd.errors.ParserError as exc:
+        raise parse_error(exc, path) from None
     except Exception as exc:  # pandas raises many kinds
         raise InputError(f"cannot read as CSV: {exc}", file=path) from None
-    cols = list(df.columns)
+    df.columns = cols
+    if len(df) == 0:
+        raise no_rows_error(path)
     if "time_s" not in cols:
         raise InputError(f"missing column 'time_s' (found: {', '.join(cols)})", file=path, line=1)
     axes: dict[str, dict] = {}

@@ -1,0 +1,70 @@
+"""Header and row faults of CSV inputs are named at the line where they are."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.circular import analyse_circle
+from tcpmm.errors import InputError, InputWarning
+from tcpmm.io.csvutil import read_numeric_csv
+from tcpmm.io.runfile import read_run_csv
+from tcpmm.result import AxisRun, Run
+
+HEADER = "time_s,x_cmd_mm,y_cmd_mm,x_tcp_mm"
+ROWS = ["0,1,2,3", "0.001,1,2,3", "0.002,1,2,3"]
+
+
+def read_both(path):
+    """Errors of the run-file reader and of the bundle's numeric reader."""
+    errors = []
+    for read in (read_run_csv,
+                 lambda p: read_numeric_csv(p, ["time_s", "x_cmd_mm", "y_cmd_mm", "x_tcp_mm"])):
+        with pytest.raises(InputError) as info:
+            read(path)
+        errors.append(info.value)
+    return errors
+
+
+@pytest.mark.parametrize(
+    "lines, line, text",
+    [
+        ([HEADER.replace("y_cmd_mm", "x_cmd_mm"), *ROWS], 1, "'x_cmd_mm' appears twice"),
+        (ROWS, 1, "holds numbers, not column names"),
+        ([HEADER, ROWS[0] + ",7", *ROWS[1:]], 2, "row has 5 fields but the header has 4"),
+        ([HEADER, *ROWS[:2], ROWS[2] + ",7"], 4, "row has 5 fields but the header has 4"),
+        ([HEADER], 2, "header but no data rows"),
+    ],
+    ids=["duplicate", "no-header", "extra-first-row", "extra-later-row", "header-only"],
+)
+def test_header_and_row_faults_are_named_where_they_are(tmp_path, lines, line, text):
+    path = tmp_path / "run.csv"
+    path.write_text("\n".join(lines) + "\n")
+    for err in read_both(path):
+        assert err.line == line
+        assert text in str(err)
+        assert ".1" not in str(err)  # never a column name the file does not have
+
+
+def test_run_file_reads_bom_and_spaces_in_header(tmp_path):
+    path = tmp_path / "run.csv"
+    path.write_text("\ufeff" + HEADER.replace(",", ", ") + "\n" + "\n".join(ROWS) + "\n",
+                    encoding="utf-8")
+    run = read_run_csv(path)
+    assert run.axes["X"].tcp == pytest.approx(3e-3)
+    assert run.time_s[-1] == pytest.approx(0.002)
+
+
+def test_half_present_sensor_is_reported():
+    t = np.arange(2000) * 1e-3
+    th = 2 * np.pi * t / t[-1]
+    x, y = 0.035 * np.cos(th), 0.035 * np.sin(th)
+    run = Run(t, {"X": AxisRun(cmd=x), "Y": AxisRun(cmd=y, tcp=y)})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = analyse_circle(run, 0.035)
+    assert res.passes and all("tcp" not in p.sensors for p in res.passes)
+    texts = [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+    assert any("tcp signal is present for Y but not for X" in s for s in texts)

@@ -155,7 +155,10 @@ ERRORS = [
     ("G90.1 G2 X10 I5 F100\n", 1, 14, "both I and J"),
     ("M3.5\n", 1, 1, "not an M-code"),
     ("G1 X1 F100 #1=5\n", 1, 12, "unexpected character '#'"),
-    ("G1 X1e3 F100\n", 1, 6, "unknown word letter E"),
+    ("G1 X1e3 F100\n", 1, 4, "exponent notation 'X1e3' is not G-code; write the number "
+     "out, e.g. X1000"),
+    ("G1 X1 F1.5E-2\n", 1, 7, "e.g. F0.015"),
+    ("G1 X1 E3 F100\n", 1, 7, "unknown word letter E"),
 ]
 
 
@@ -232,5 +235,9 @@ def test_program_file_errors_name_the_file(tmp_path):
     assert info.value.file == str(path) and info.value.line == 2
     with pytest.raises(InputError, match="not found"):
         program_to_command(tmp_path / "missing.nc")
+    path.write_text("G1 X1 F100\n", encoding="utf-16")
+    with pytest.raises(InputError, match="not plain text") as info:
+        program_to_command(path)
+    assert info.value.file == str(path)
     with pytest.raises(InputError, match="not found"):
         program_to_command(str(tmp_path / "missing.nc"))

@@ -37,6 +37,17 @@ class Word:
     column: int
 
 
+def _plain(letter: str, mantissa: float, exponent: str) -> str:
+    """``mantissa * 10**exponent`` written out, or a hint when it is too large [-]."""
+    try:
+        value = mantissa * 10.0 ** int(exponent)
+    except (ValueError, OverflowError):
+        value = float("inf")
+    if not abs(value) < 1e12:
+        return "as a plain decimal number"
+    return f"e.g. {letter}" + f"{value:.6f}".rstrip("0").rstrip(".")
+
+
 def strip_comments(text: str, file=None, line=None) -> str:
     """The line with comments replaced by blanks (columns are kept) [-]."""
     if "(" not in text and ";" not in text and ")" not in text:
@@ -121,6 +132,16 @@ def tokenize(text: str, file=None, line=None) -> list[Word]:
         col = m.start("l") + 1
         letter = m.group("l").upper()
         num = m.group("n")
+        if letter == "E" and words and col > 1 and body[col - 2] in "0123456789." and num:
+            prev = words[-1]
+            mantissa = body[prev.column : col - 1].strip()
+            raise InputError(
+                f"exponent notation '{prev.letter}{mantissa}{m.group('l')}{num}' is not "
+                f"G-code; write the number out, {_plain(prev.letter, prev.value, num)}",
+                file=file,
+                line=line,
+                column=prev.column,
+            )
         if not num:
             raise InputError(
                 f"letter {letter} has no number after it; write e.g. {letter}0",

@@ -35,6 +35,12 @@ def read_program(path) -> str:
         raise InputError("NC program not found; check the path", file=path) from None
     except OSError as exc:
         raise InputError(f"cannot read the NC program: {exc.strerror}", file=path) from None
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff") or b"\x00" in data[:4096]:
+        raise InputError(
+            "the file is not plain text (UTF-16 or binary); save the program as ASCII or "
+            "UTF-8 text",
+            file=path,
+        )
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError:

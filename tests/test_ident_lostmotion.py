@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from tcpmm.builtin import builtin_machine
-from tcpmm.errors import InputWarning
+from tcpmm.errors import InputError, InputWarning
 from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
 from tcpmm.ident.frictionsplit import GUIDEWAY_SHARE, identify_friction
 from tcpmm.ident.lostmotion import estimate_lost_motion, quantisation_bias_std
@@ -437,3 +437,15 @@ def test_the_runs_give_the_table_viscous_force_of_an_unseen_axis(unseen):
                                         axis_config(true, "Y"), m, axis="Y")
     assert split.source == "data" and split.nut is not None
     assert split.estimate.table_viscous == pytest.approx(table, rel=0.03)
+
+
+def test_friction_runs_without_passes_name_file_axis_and_fix(machine):
+    t = np.arange(4000) * 1e-3
+    still = np.zeros_like(t)
+    rec = FrictionRecord(t, 0.1 * np.sin(t), still, still, source="b/X/friction.csv", axis="X")
+    with pytest.raises(InputError) as info:
+        identify_friction(rec, axis_config(machine, "X"), machine.axes["X"].mechanics, axis="X")
+    err = info.value
+    assert err.file == "b/X/friction.csv" and err.column == "scale_mm"
+    assert err.message.startswith("axis X: no constant-speed passes")
+    assert "min_duration" not in err.message  # not an option of the command line

@@ -63,6 +63,10 @@ class Plateau:
 PLATEAU_DURATIONS_S = (0.2, 0.1, 0.05)
 
 
+class NoPlateauError(InputError):
+    """A record without constant-velocity passes long enough for a friction fit."""
+
+
 def find_plateaus(
     t,
     v,
@@ -320,7 +324,7 @@ def identify_stribeck_run(
         if _too_few_plateaus(np.array([p.velocity for p in plateaus]), tie_static) is None:
             break
     if not plateaus:
-        raise InputError(
+        raise NoPlateauError(
             f"no constant-velocity plateau of at least {durations[-1]} s found; record "
             "longer constant-speed passes or lower min_duration",
             column="position",

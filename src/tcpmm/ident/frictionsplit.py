@@ -20,7 +20,13 @@ import numpy as np
 from ..errors import InputError, InputWarning
 from ..mechanics.friction import StribeckFriction
 from ..model import AxisFriction
-from .friction import _stribeck_curve, friction_record_arrays, identify_stribeck_run
+from .friction import (
+    PLATEAU_DURATIONS_S,
+    NoPlateauError,
+    _stribeck_curve,
+    friction_record_arrays,
+    identify_stribeck_run,
+)
 from .lostmotion import estimate_lost_motion
 from .nutstiffness import estimate_nut
 
@@ -168,7 +174,18 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         with the lost-motion estimate [-].
     """
     t, x, force = friction_record_arrays(record, cfg.lead_m, cfg.torque_constant)
-    est, plateaus = identify_stribeck_run(t, x, force)
+    try:
+        est, plateaus = identify_stribeck_run(t, x, force)
+    except NoPlateauError:
+        name = axis or record.axis
+        raise InputError(
+            (f"axis {name}: " if name else "")
+            + "no constant-speed passes found in the friction runs; record back-and-forth "
+            "passes at several constant speeds, each held for at least "
+            f"{min(PLATEAU_DURATIONS_S)} s in both directions (formats.md section 1)",
+            file=record.source,
+            column="scale_mm",
+        ) from None
     v = dict(zip(est.names, est.values, strict=True))
     m = mechanics
     linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t

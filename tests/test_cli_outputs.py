@@ -88,6 +88,8 @@ def test_plot_extension_is_checked_before_the_analysis(capsys, tmp_path):
       "--fs-hz", "1e6", "-o", "e.csv"], "1e+12 samples"),
     (["excite", "linear", "--band", "1,100", "--amplitude-A", "-1", "--duration-s", "1",
       "--fs-hz", "1000", "-o", "e.csv"], "--amplitude-A"),
+    (["spread", "builtin:vmc", "--gcode", "p.nc", "--radius", "35", "--sensor", "foo"],
+     "'--sensor'"),
 ])
 def test_option_errors_name_the_option(capsys, args, hint):
     code, out, err = run(capsys, *args)

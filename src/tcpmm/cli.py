@@ -10,12 +10,23 @@ import math
 import sys
 import warnings
 from contextlib import contextmanager
+from enum import StrEnum
 from pathlib import Path
 
 import typer
 from rich.console import Console
 
 from .errors import InputError, InputWarning, TcpmmError
+
+
+class Sensor(StrEnum):
+    """Sensors a circular test is analysed for."""
+
+    tcp = "tcp"
+    scale = "scale"
+    motor = "motor"
+    cmd = "cmd"
+
 
 # help texts carry units in brackets ([mm]); they are text, not rich markup
 app = typer.Typer(add_completion=False, pretty_exceptions_enable=False, rich_markup_mode=None,
@@ -280,7 +291,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
            draws: int = typer.Option(16, "--draws", min=1, help="Machines drawn [-]."),
            seed: int = typer.Option(0, "--seed", min=0, help="Seed of the draws [-]."),
-           sensor: str = typer.Option("tcp", "--sensor", help="tcp, scale or motor."),
+           sensor: Sensor = typer.Option("tcp", "--sensor", help="Sensor analysed."),
            fit_only: bool = typer.Option(
                False, "--fit-only",
                help="Draw from the fits' own standard deviations alone, without the "
@@ -306,7 +317,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     c = _floats(centre, "--centre", 2)
     with _progress(draws + 1, "spread") as adv:
         res = circle_spread(m, cmd, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), n=draws,
-                            seed=seed, sensor=sensor,
+                            seed=seed, sensor=sensor.value,
                             floors=None if fit_only else MODEL_ERROR,
                             tolerance_m=tol_m, progress=adv)
     if plot is not None:
@@ -315,7 +326,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
         _emit_json(res.to_dict())
         return
     table = res.to_pandas()
-    print_circle_table(table, out, f"{sensor} spikes over {draws} drawn machines [um]")
+    print_circle_table(table, out, f"{sensor.value} spikes over {draws} drawn machines [um]")
     for r in res.unsettled():
         out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
                   f"({100 * r['same_sign']:.0f} % of the draws give it): rise "
@@ -330,7 +341,8 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
 @app.command()
 def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
          axis: str = typer.Option(..., "--axis", help="Axis name, e.g. X."),
-         tf: str = typer.Option(..., "--tf", help="G_M, G_T, G_tcp, G_v, G_p or cmd_to_tcp."),
+         tf: str = typer.Option(..., "--tf", help="G_M, G_T, G_tcp, G_v, G_p, cmd_to_tcp, "
+                                 "cmd_to_motor or cmd_to_current."),
          freq_hz: str = typer.Option(None, "--freq-hz", help="F1,F2,... [Hz]"),
          as_json: bool = typer.Option(False, "--json"),
          plot: Path = typer.Option(None, "--plot", help="Save a Bode plot.")):

@@ -147,3 +147,20 @@ def test_atomic_write_keeps_permissions_and_writes_through_links(tmp_path):
         assert link.is_symlink() and kept.read_text().startswith("# tcpmm machine model")
     finally:
         os.umask(old)
+
+
+@pytest.mark.parametrize("rapid, speed, warns", [
+    (None, 0.4, False), (None, 30.0, True),  # 30 m/s: a file in um read as mm
+    ({"X": 0.5}, 0.45, False), ({"X": 0.5}, 0.6, True),
+])
+def test_command_faster_than_the_machine_warns(rapid, speed, warns):
+    m = builtin_machine("vmc")
+    if rapid is not None:
+        m = m.model_copy(update={"interpolation": {"rapid_m_per_s": rapid}})
+    t = np.arange(200) * 1e-3
+    cmd = Command(t, {"X": np.minimum(speed * t, speed * 0.05)})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        simulate(m, cmd)
+    texts = [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+    assert any(f"moves at {speed * 60:.4g} m/min" in s for s in texts) == warns

@@ -164,6 +164,36 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     )
 
 
+#: Speed above which a command is taken as a unit or sampling error when the model has no
+#: rapid traverse of its own (300 m/min, beyond the feed axes of machine tools) [m/s].
+SPEED_LIMIT_M_PER_S = 5.0
+
+
+def _check_speeds(machine: Machine, command: Command) -> None:
+    """Warn when the command moves an axis faster than the machine can.
+
+    The limit is 1.05 times the rapid traverse of the model's interpolation settings, or
+    :data:`SPEED_LIMIT_M_PER_S` when it has none.
+    """
+    rapid = (machine.interpolation or {}).get("rapid_m_per_s") or {}
+    top = max(rapid.values(), default=None)
+    t = np.asarray(command.time_s, dtype=float)
+    for name, pos in command.positions.items():
+        if pos.size < 2:
+            continue
+        v = np.abs(np.diff(pos)) / np.diff(t)
+        k = int(np.argmax(v))
+        limit = rapid.get(name, top)
+        bound = SPEED_LIMIT_M_PER_S if limit is None else 1.05 * float(limit)
+        if v[k] > bound:
+            what = ("the rapid traverse of the model's interpolation settings"
+                    if limit is not None else "any machine-tool feed axis")
+            warnings.warn(
+                f"axis {name}: the command moves at {v[k] * 60:.4g} m/min at "
+                f"t = {t[k]:.6g} s, faster than {what} ({bound * 60:.4g} m/min); "
+                "check the command's units (mm) and sampling", InputWarning, stacklevel=3)
+
+
 def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
              quantise_feedback=True) -> Run:
     """Run the machine model on a position command, every axis of the model.
@@ -182,6 +212,12 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
         Called with ``(axis_name, done, total)`` after each axis [-].
     quantise_feedback : bool
         Quantise the feedback sensors to their resolution [-].
+
+    Warns
+    -----
+    InputWarning
+        An axis whose sampled loop is unstable, or a command faster than the machine's
+        rapid traverse (see :func:`_check_speeds`).
     """
     unknown = [a for a in command.axes if a not in machine.axes]
     if unknown:
@@ -191,6 +227,7 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
         )
     rp = record_period_s if record_period_s is not None else command.period_s
     names = list(machine.axes)
+    _check_speeds(machine, command)
     for name in names:
         a = machine.axes[name]
         rho = sampled_spectral_radius(a.mechanics, a.servo)

@@ -68,3 +68,27 @@ def test_half_present_sensor_is_reported():
     assert res.passes and all("tcp" not in p.sensors for p in res.passes)
     texts = [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
     assert any("tcp signal is present for Y but not for X" in s for s in texts)
+
+
+@pytest.mark.parametrize("data, line, text", [
+    ((HEADER + "\n" + ROWS[0] + "\n").encode("utf-16"), 1,
+     r"not a UTF-8 text file \(it is UTF-16\)"),
+    ((HEADER + "\n0,1,2,\xb53\n").encode("latin-1"), 2, r"not a UTF-8 text file \(byte 0xb5\)"),
+])
+def test_csv_inputs_that_are_not_utf8_are_named(tmp_path, data, line, text):
+    from tcpmm.path.commandfile import read_command_csv
+
+    path = tmp_path / "in.csv"
+    path.write_bytes(data)
+    for read in (read_run_csv, read_command_csv, lambda p: read_numeric_csv(p, ["time_s"])):
+        with pytest.raises(InputError, match=text) as info:
+            read(path)
+        assert info.value.file == str(path) and info.value.line == line
+
+
+def test_a_folder_is_called_a_folder(tmp_path):
+    from tcpmm.path.commandfile import read_command_csv
+
+    for read in (read_run_csv, read_command_csv, lambda p: read_numeric_csv(p, ["time_s"])):
+        with pytest.raises(InputError, match="this is a directory"):
+            read(tmp_path)

@@ -121,5 +121,5 @@ def test_tab_in_indentation(vmc):
 
 
 def test_directory_instead_of_model(tmp_path):
-    with pytest.raises(InputError, match="is a directory; give the path of a machine model"):
+    with pytest.raises(InputError, match="is a directory; give the path of the machine model"):
         read_machine(tmp_path)

@@ -16,6 +16,7 @@ import pandas as pd
 
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.io.atomic import write_table_atomic
+from tcpmm.io.text import read_text
 
 
 def warn_input(message: str, file=None, line=None, column=None) -> None:
@@ -49,23 +50,22 @@ def _is_number(text: str) -> bool:
     return True
 
 
-def read_header(path: Path) -> list[str]:
+def read_header(path: Path, what: str = "CSV file") -> list[str]:
     """Return the stripped column names of a CSV file's first line.
 
     Parameters
     ----------
     path : Path
         CSV file [-].
+    what : str
+        What the file is, for messages [-].
 
     Returns
     -------
     list of str
         Column names [-].
     """
-    if not path.is_file():
-        raise InputError("file not found", file=path)
-    with open(path, encoding="utf-8-sig", newline="") as fh:
-        first = fh.readline()
+    first = read_text(path, what).split("\n", 1)[0]
     first = first.strip("\r\n")
     if not first.strip():
         raise InputError(

@@ -32,9 +32,7 @@ def read_run_csv(path) -> Run:
     from .csvutil import check_rows, no_rows_error, parse_error, read_header
 
     path = Path(path)
-    if not path.is_file():
-        raise InputError("run file not found", file=path)
-    cols = read_header(path)
+    cols = read_header(path, "run file")
     check_rows(path, cols)
     try:
         df = pd.read_csv(path, encoding="utf-8-sig")

@@ -7,15 +7,14 @@ and the line of that key.
 
 from __future__ import annotations
 
-import codecs
 import re
-from pathlib import Path
 from typing import Any
 
 import yaml
 from pydantic import ValidationError
 
 from ..errors import InputError
+from .text import read_text
 
 FORMATS = {
     "tcpmm-model/1": ("machine model", "give it where a model file is expected"),
@@ -192,26 +191,6 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
         raise InputError(f"{len(errors)} problem(s) in {what}:\n  " + "\n  ".join(parts),
                          file=file, line=line_for(first, lines),
                          column=".".join(str(p) for p in first) or None) from None
-
-
-def read_text(path, what: str) -> str:
-    """The text of a UTF-8 file; a missing file, a folder or other bytes are errors."""
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"this is a directory; give the path of a {what} file", file=path)
-    if not path.is_file():
-        raise InputError(f"{what} not found", file=path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"cannot read the {what}: {exc.strerror}", file=path) from None
-    data = data.removeprefix(codecs.BOM_UTF8)
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputError(f"not a UTF-8 text file (byte {data[exc.start]:#04x}); save the "
-                         f"{what} as UTF-8 text", file=path,
-                         line=data.count(b"\n", 0, exc.start) + 1) from None
 
 
 def read_yaml_model(path, model_cls, what: str, hint: str = "", fmt: str | None = None):

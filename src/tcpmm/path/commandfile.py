@@ -8,6 +8,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.atomic import atomic_path
+from ..io.text import read_text
 from .command import Command
 
 _AXIS_COLUMNS = {"x_mm": "X", "y_mm": "Y", "z_mm": "Z"}
@@ -85,12 +86,7 @@ def read_command_csv(path) -> Command:
         message names the file, line and column.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError("command file not found; check the path", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the command file: {exc}", file=path) from None
+    text = read_text(path, "command file")
     lines = text.splitlines()
     while lines and not lines[-1].strip():
         lines.pop()

@@ -1,0 +1,44 @@
+"""Reading text input files: UTF-8 (with or without a byte-order mark), or a named error."""
+
+from __future__ import annotations
+
+import codecs
+from pathlib import Path
+
+from ..errors import InputError
+
+
+def read_text(path, what: str) -> str:
+    """The text of a UTF-8 file; a missing file, a folder or other bytes are errors.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file [-].
+    what : str
+        What the file is, for messages, e.g. ``"command file"`` [-].
+
+    Returns
+    -------
+    str
+        The text without a byte-order mark [-].
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"this is a directory; give the path of the {what}", file=path)
+    if not path.is_file():
+        raise InputError(f"{what} not found", file=path)
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read the {what}: {exc.strerror}", file=path) from None
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        raise InputError(f"not a UTF-8 text file (it is UTF-16); save the {what} as "
+                         "UTF-8 text", file=path, line=1)
+    data = data.removeprefix(codecs.BOM_UTF8)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not a UTF-8 text file (byte {data[exc.start]:#04x}); save the "
+                         f"{what} as UTF-8 text", file=path,
+                         line=data.count(b"\n", 0, exc.start) + 1) from None

@@ -122,12 +122,16 @@ def check_rows(path: Path, names: list[str]) -> None:
         return
     n = len(row.split(","))
     if n > len(names):
-        raise InputError(
-            f"row has {n} fields but the header has {len(names)} (a decimal comma or a "
-            "stray separator?); use ',' between fields and '.' as decimal point",
-            file=path,
-            line=2,
-        )
+        raise _fields_error(path, 2, n, len(names))
+
+
+def _fields_error(path: Path, line: int, fields: int, header: int) -> InputError:
+    return InputError(
+        f"row has {fields} fields but the header has {header} (a decimal comma or a stray "
+        "separator?); use ',' between fields and '.' as decimal point",
+        file=path,
+        line=line,
+    )
 
 
 def parse_error(exc: Exception, path: Path) -> InputError:
@@ -142,12 +146,7 @@ def parse_error(exc: Exception, path: Path) -> InputError:
     """
     m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
     if m:
-        return InputError(
-            f"row has {m.group(3)} fields but the header has {m.group(1)} (a decimal "
-            "comma or a stray separator?); use ',' between fields and '.' as decimal point",
-            file=path,
-            line=int(m.group(2)),
-        )
+        return _fields_error(path, int(m.group(2)), int(m.group(3)), int(m.group(1)))
     return InputError(f"cannot parse CSV: {exc}", file=path)
 
 

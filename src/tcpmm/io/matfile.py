@@ -19,32 +19,75 @@ _NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\.[A-Za-z]\w*)*)\s*(?:\(\s*:\s*,\s*(\d+)
 
 
 def _load(path: Path):
-    """Return (top-level names, getter of a dotted path -> ndarray or None)."""
+    """Return (top-level names, dotted paths of all variables, getter of a dotted path).
+
+    The getter returns an ndarray, a dict (struct), a str (char) or None when absent.
+    """
     import h5py
 
+    if path.is_dir():
+        raise InputError("this is a directory; give the path of the .mat file", file=path)
     if not path.is_file():
         raise InputError("MAT file not found", file=path)
     if h5py.is_hdf5(path):
-        with h5py.File(path, "r") as f:
-            names = [k for k in f if not k.startswith("#")]
+        paths = []
+
+        def visit(key, obj):
+            if isinstance(obj, h5py.Dataset) and not key.startswith("#"):
+                paths.append(key.replace("/", "."))
+
+        try:
+            with h5py.File(path, "r") as f:
+                names = [k for k in f if not k.startswith("#")]
+                f.visititems(visit)
+        except OSError as exc:  # damaged or truncated HDF5
+            raise InputError(
+                f"cannot read as a MATLAB v7.3 (HDF5) file: {exc}. Save it again from MATLAB",
+                file=path,
+            ) from None
 
         def get73(dotted: str):
-            with h5py.File(path, "r") as f:
-                obj = f.get(dotted.replace(".", "/"))
-                if not isinstance(obj, h5py.Dataset):
-                    return None
-                a = obj[()]
+            try:
+                with h5py.File(path, "r") as f:
+                    obj = f.get(dotted.replace(".", "/"))
+                    if isinstance(obj, h5py.Group):  # a struct: report its fields
+                        return dict.fromkeys(obj)
+                    if not isinstance(obj, h5py.Dataset):
+                        return None
+                    cls = obj.attrs.get("MATLAB_class", b"")
+                    if obj.attrs.get("MATLAB_empty", 0):  # MATLAB stores [] as its size
+                        return np.zeros(0)
+                    a = obj[()]
+            except OSError as exc:
+                raise InputError(
+                    f"cannot read variable '{dotted}' of a MATLAB v7.3 file: {exc}", file=path
+                ) from None
+            if cls in (b"char", "char"):
+                return "".join(map(chr, np.ravel(a)))
             # MATLAB stores column-major, so h5py sees the transpose
             return np.asarray(a).T
 
-        return names, get73
+        return names, paths, get73
     from scipy.io import loadmat
 
     try:
         data = loadmat(path, simplify_cells=True)
     except Exception as exc:  # scipy raises ValueError/TypeError/... on a bad file
-        raise InputError(f"cannot read as a MATLAB .mat file: {exc}", file=path) from None
+        raise InputError(
+            f"cannot read as a MATLAB .mat file: {exc}. Save it with MATLAB's save "
+            "(formats v4 to v7.3)",
+            file=path,
+        ) from None
     names = [k for k in data if not k.startswith("__")]
+
+    def walk(obj, prefix):
+        for k, v in obj.items():
+            if isinstance(v, dict):
+                yield from walk(v, f"{prefix}{k}.")
+            else:
+                yield prefix + k
+
+    paths = list(walk({k: data[k] for k in names}, ""))
 
     def get(dotted: str):
         obj = data
@@ -54,7 +97,34 @@ def _load(path: Path):
             obj = obj[part]
         return obj
 
-    return names, get
+    return names, paths, get
+
+
+def _array(value, name: str, path: Path) -> np.ndarray:
+    """A variable as a numeric ndarray (may be complex), or an InputError saying what it is."""
+    if isinstance(value, dict):
+        fields = ", ".join(f"{name}.{k}" for k in value) or "none"
+        raise InputError(
+            f"variable '{name}' is a struct; map one of its fields: {fields}", file=path
+        )
+    if isinstance(value, str):
+        raise InputError(
+            f"variable '{name}' is text (char), not numbers; map a numeric vector", file=path
+        )
+    if hasattr(value, "toarray"):
+        raise InputError(
+            f"variable '{name}' is a sparse matrix; save full({name}) instead", file=path
+        )
+    a = np.asarray(value)
+    if a.dtype.names is not None and {"real", "imag"} <= set(a.dtype.names):  # v7.3 complex
+        a = a["real"] + 1j * a["imag"]
+    if a.dtype.kind not in "biufc":
+        raise InputError(
+            f"variable '{name}' is not a numeric array (a cell array, struct array or object); "
+            "store the samples as a double vector",
+            file=path,
+        )
+    return a
 
 
 def _fetcher(get, path: Path):
@@ -68,12 +138,13 @@ def _fetcher(get, path: Path):
         value = get(m.group(1))
         if value is None:
             return None
-        try:
-            value = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"variable '{m.group(1)}' is not numeric", file=path) from None
+        value = _array(value, m.group(1), path)
         if m.group(2) is not None:
             k = int(m.group(2))
+            if value.ndim == 2 and 1 in value.shape:  # a vector: v5 and v7.3 alike
+                value = value.reshape(-1)
+            if value.ndim == 1 and k == 1:
+                return value
             if value.ndim != 2 or not 1 <= k <= value.shape[1]:
                 raise InputError(
                     f"'{spec}': variable has shape {value.shape}; column {k} does not exist",
@@ -115,11 +186,11 @@ def read_record_mat(
         The record, SI.
     """
     path = Path(path)
-    names, get = _load(path)
+    names, paths, get = _load(path)
     smap = parse_signal_map(variable_map, kind, file=path)
     fetch = _fetcher(get, path)
     try:
-        cols = read_mapped(smap, fetch, file=path)
+        cols = read_mapped(smap, fetch, file=path, candidates=paths)
     except InputError as exc:
         raise InputError(
             f"{exc.message}. Variables in the file: {', '.join(names) or 'none'}",
@@ -129,7 +200,7 @@ def read_record_mat(
     if "time_s" not in cols:
         if isinstance(fs_hz, str):
             v = fetch(fs_hz)
-            if v is None or np.size(v) != 1:
+            if v is None or np.size(v) != 1 or v.dtype.kind not in "biuf":
                 raise InputError(f"fs_hz variable '{fs_hz}' not found or not a scalar", file=path)
             fs_hz = float(np.ravel(v)[0])
         if fs_hz is None:
@@ -137,6 +208,13 @@ def read_record_mat(
                 "no time base: map a time vector as variable_map['time_s'] or give fs_hz",
                 file=path,
             )
+        try:
+            fs_hz = float(fs_hz)
+        except (TypeError, ValueError):
+            raise InputError(
+                f"fs_hz must be a number [Hz] or the name of a scalar variable, got {fs_hz!r}",
+                file=path,
+            ) from None
         if not (np.isfinite(fs_hz) and fs_hz > 0):
             raise InputError(f"fs_hz must be positive, got {fs_hz!r}", file=path)
         n = next(iter(cols.values())).size

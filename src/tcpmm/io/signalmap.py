@@ -11,8 +11,9 @@ scale factor that turns the stored value into the tcpmm unit::
 
 from __future__ import annotations
 
+import difflib
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,6 +48,21 @@ class SignalSource:
     optional: bool = False
 
 
+def _scale_of(value, key: str, file) -> float:
+    """Scale factor of a map entry as a float, or an InputError naming the entry."""
+    if not isinstance(value, bool):
+        try:
+            return float(value)
+        except (TypeError, ValueError):
+            pass
+    raise InputError(
+        f"scale factor {value!r} of the map entry for {key} is not a number; give a real "
+        "number such as 1e-3",
+        file=file,
+        column=key,
+    )
+
+
 def parse_signal_map(mapping: Mapping | None, kind: str, file=None) -> dict[str, SignalSource]:
     """Validate a signal map; ``None`` means "the file uses the tcpmm names".
 
@@ -64,12 +80,22 @@ def parse_signal_map(mapping: Mapping | None, kind: str, file=None) -> dict[str,
     dict of str to SignalSource
         One entry per signal to read, ``time_s`` included when mapped.
     """
+    if kind not in SIGNALS:
+        raise InputError(
+            f"unknown record kind {kind!r}; use one of {', '.join(SIGNALS)}", file=file
+        )
     required, optional = SIGNALS[kind]
     known = ("time_s", *required, *optional)
     if mapping is None:
         out = {n: SignalSource(n) for n in required}
         out.update({n: SignalSource(n, optional=True) for n in ("time_s", *optional)})
         return out
+    if not isinstance(mapping, Mapping):
+        raise InputError(
+            f"the signal map must be a dict from tcpmm name to file name, got "
+            f"{type(mapping).__name__} {mapping!r}",
+            file=file,
+        )
     unknown = [k for k in mapping if k not in known]
     if unknown:
         raise InputError(
@@ -97,13 +123,19 @@ def parse_signal_map(mapping: Mapping | None, kind: str, file=None) -> dict[str,
                     file=file,
                     column=key,
                 )
-            src = SignalSource(str(value["name"]), float(value.get("scale", 1.0)))
+            src = SignalSource(value["name"], _scale_of(value.get("scale", 1.0), key, file))
         elif isinstance(value, tuple | list) and len(value) == 2:
-            src = SignalSource(str(value[0]), float(value[1]))
+            src = SignalSource(value[0], _scale_of(value[1], key, file))
         else:
             raise InputError(
                 f"map entry for {key} must be a name, (name, scale) or "
                 f"{{'name': ..., 'scale': ...}}; got {value!r}",
+                file=file,
+                column=key,
+            )
+        if not (isinstance(src.name, str) and src.name.strip()):
+            raise InputError(
+                f"map entry for {key}: the name must be a non-empty string, got {src.name!r}",
                 file=file,
                 column=key,
             )
@@ -115,10 +147,37 @@ def parse_signal_map(mapping: Mapping | None, kind: str, file=None) -> dict[str,
     return out
 
 
+def _samples(data, name: str, key: str, file) -> np.ndarray:
+    """Stored samples as floats; time stamps become seconds since the first sample."""
+    a = np.asarray(data)
+    if a.dtype.kind == "M" and a.size:  # absolute time stamps (TDMS time channels)
+        a = a - a.flat[0]
+    if a.dtype.kind in "mM":
+        return a / np.timedelta64(1, "s")
+    if a.dtype.kind == "c":
+        if np.any(a.imag != 0):
+            raise InputError(
+                f"'{name}' holds complex values; store the real signal (real() or abs() "
+                "before saving)",
+                file=file,
+                column=key,
+            )
+        a = a.real
+    try:
+        return a.astype(float)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"'{name}' holds {a.dtype} values, not numbers; map a numeric channel or variable",
+            file=file,
+            column=key,
+        ) from None
+
+
 def read_mapped(
     smap: dict[str, SignalSource],
     fetch: Callable[[str], np.ndarray | None],
     file=None,
+    candidates: Sequence[str] = (),
 ) -> dict[str, np.ndarray]:
     """Fetch and scale every mapped signal.
 
@@ -130,6 +189,8 @@ def read_mapped(
         Returns the stored samples of a file name, or None when absent [-].
     file : str or Path, optional
         File named in messages [-].
+    candidates : sequence of str, optional
+        Names in the file, from which a close match is suggested for a missing one [-].
 
     Returns
     -------
@@ -138,12 +199,22 @@ def read_mapped(
     """
     out = {}
     for key, src in smap.items():
-        data = fetch(src.name)
+        try:
+            data = fetch(src.name)
+        except InputError as exc:
+            if exc.column is not None:
+                raise
+            raise InputError(exc.message, file=exc.file, line=exc.line, column=key) from None
         if data is None:
             if src.optional:
                 continue
-            raise InputError(f"'{src.name}' (mapped to {key}) not found", file=file, column=key)
-        data = np.asarray(data, dtype=float)
+            others = [c for c in candidates if c != src.name]
+            close = difflib.get_close_matches(src.name, others, n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            raise InputError(
+                f"'{src.name}' (mapped to {key}) not found{hint}", file=file, column=key
+            )
+        data = _samples(data, src.name, key, file)
         if data.ndim != 1:
             data = np.squeeze(data)
         if data.ndim != 1:

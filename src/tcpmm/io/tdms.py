@@ -14,6 +14,8 @@ from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
 def _open(path: Path):
     from nptdms import TdmsFile
 
+    if path.is_dir():
+        raise InputError("this is a directory; give the path of the .tdms file", file=path)
     if not path.is_file():
         raise InputError("TDMS file not found", file=path)
     with open(path, "rb") as fh:
@@ -25,7 +27,7 @@ def _open(path: Path):
     except Exception as exc:  # npTDMS raises several kinds on a damaged file
         raise InputError(f"cannot read as TDMS: {exc}", file=path) from None
     if not any(g.channels() for g in tdms.groups()):
-        raise InputError("the TDMS file holds no channels", file=path)
+        raise InputError("the TDMS file holds no channels (empty or truncated?)", file=path)
     return tdms
 
 
@@ -35,11 +37,19 @@ def _catalogue(tdms) -> str:
     )
 
 
+def _names(tdms) -> list[str]:
+    """Every channel as ``group/channel`` and as bare ``channel``, for suggestions."""
+    full = [f"{g.name}/{c.name}" for g in tdms.groups() for c in g.channels()]
+    return list(dict.fromkeys([*full, *(c.name for g in tdms.groups() for c in g.channels())]))
+
+
 def _resolver(tdms, group: str | None, path: Path):
     groups = {g.name: g for g in tdms.groups()}
     if group is not None and group not in groups:
         raise InputError(
-            f"group '{group}' not in the file; groups: {', '.join(groups) or 'none'}", file=path
+            f"group '{group}' not in the file; groups: {', '.join(groups) or 'none'}",
+            file=path,
+            column=group,
         )
 
     def find(name: str):
@@ -47,12 +57,11 @@ def _resolver(tdms, group: str | None, path: Path):
             chans = {c.name: c for c in groups[group].channels()}
             if name in chans:
                 return chans[name]
-        if "/" in name:
-            g, c = name.split("/", 1)
-            if g in groups:
-                chans = {ch.name: ch for ch in groups[g].channels()}
-                if c in chans:
-                    return chans[c]
+        for g, grp in groups.items():  # group names may hold '/' themselves
+            if name.startswith(f"{g}/"):
+                chans = {ch.name: ch for ch in grp.channels()}
+                if name[len(g) + 1 :] in chans:
+                    return chans[name[len(g) + 1 :]]
         if group is None:
             hits = [c for g in groups.values() for c in g.channels() if c.name == name]
             if len(hits) > 1:
@@ -66,6 +75,20 @@ def _resolver(tdms, group: str | None, path: Path):
         return None
 
     return find
+
+
+def _property(channel, prop: str, key: str, path: Path, default=None) -> float:
+    """A numeric channel property, or an InputError naming the channel and property."""
+    value = channel.properties.get(prop, default)
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"property {prop} of channel '{channel.name}' is {value!r}, not a number [s]; "
+            "repair it or map a time channel as channel_map['time_s']",
+            file=path,
+            column=key,
+        ) from None
 
 
 def read_record_tdms(
@@ -110,7 +133,7 @@ def read_record_tdms(
         return ch[:]
 
     try:
-        cols = read_mapped(smap, fetch, file=path)
+        cols = read_mapped(smap, fetch, file=path, candidates=_names(tdms))
     except InputError as exc:
         raise InputError(
             f"{exc.message}. Channels in the file: {_catalogue(tdms)}",
@@ -122,7 +145,15 @@ def read_record_tdms(
         for key, src in smap.items():
             ch = channels.get(src.name)
             if ch is not None and "wf_increment" in ch.properties:
-                incs[key] = float(ch.properties["wf_increment"])
+                incs[key] = _property(ch, "wf_increment", key, path)
+                if not (np.isfinite(incs[key]) and incs[key] > 0):
+                    raise InputError(
+                        f"wf_increment of '{src.name}' is {incs[key]!r} s; it must be the "
+                        "positive sample interval. Map a time channel as "
+                        "channel_map['time_s']",
+                        file=path,
+                        column=key,
+                    )
         if not incs:
             raise InputError(
                 "no time base: no channel has a wf_increment property. Map a time channel "
@@ -135,8 +166,8 @@ def read_record_tdms(
                 f"channels have different wf_increment {incs}; resample to one rate",
                 file=path,
             )
-        first = channels[smap[next(iter(incs))].name]
-        t0 = float(first.properties.get("wf_start_offset", 0.0))
+        first = next(iter(incs))
+        t0 = _property(channels[smap[first].name], "wf_start_offset", first, path, 0.0)
         n = next(iter(cols.values())).size
         cols["time_s"] = t0 + np.arange(n) * values[0]
     return build_record(kind, cols, path, axis)
@@ -150,8 +181,9 @@ def read_sweep_tdms(
 ):
     """Read a servo-excitation record from an NI TDMS file.
 
-    Time comes from ``channel_map['time_s']`` when mapped, else from the channels'
-    ``wf_increment`` (and ``wf_start_offset``) properties.
+    Time comes from ``channel_map['time_s']`` when mapped (a time-stamp channel counts
+    seconds from its first sample), else from the channels' ``wf_increment`` (and
+    ``wf_start_offset``) properties.
 
     Parameters
     ----------

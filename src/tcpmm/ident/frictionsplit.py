@@ -131,6 +131,45 @@ class FrictionSplit:
         }
 
 
+def stribeck_from_record(record, cfg, axis: str | None = None):
+    """The Stribeck fit of a friction record, or an error naming its file and axis.
+
+    Parameters
+    ----------
+    record : FrictionRecord
+        Back-and-forth runs at constant speeds (formats.md section 1) [SI].
+    cfg : AxisConfig
+        The axis's bundle configuration (lead, torque constant) [SI].
+    axis : str, optional
+        Axis name, for messages [-].
+
+    Returns
+    -------
+    tuple
+        ``(t, x, force, ParameterEstimate, list of Plateau)``: time [s], scale position
+        [m], motor force at the table [N], the fitted curve and its plateaus [-].
+
+    Raises
+    ------
+    InputError
+        When the record holds no constant-speed passes long enough for the fit.
+    """
+    t, x, force = friction_record_arrays(record, cfg.lead_m, cfg.torque_constant)
+    try:
+        est, plateaus = identify_stribeck_run(t, x, force)
+    except NoPlateauError:
+        name = axis or record.axis
+        raise InputError(
+            (f"axis {name}: " if name else "")
+            + "no constant-speed passes found in the friction runs; record back-and-forth "
+            "passes at several constant speeds, each held for at least "
+            f"{min(PLATEAU_DURATIONS_S)} s in both directions (formats.md section 1)",
+            file=record.source,
+            column="scale_mm",
+        ) from None
+    return t, x, force, est, plateaus
+
+
 def identify_friction(record, cfg, mechanics, guideway_share: float | None = None, *,
                       axis: str = "", stiffness_rel_std: float = 0.0,
                       viscous: str = "fit", neglect_motor_bearing: bool = False):
@@ -173,19 +212,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         The friction element, the fitted curve with standard deviations, and the split
         with the lost-motion estimate [-].
     """
-    t, x, force = friction_record_arrays(record, cfg.lead_m, cfg.torque_constant)
-    try:
-        est, plateaus = identify_stribeck_run(t, x, force)
-    except NoPlateauError:
-        name = axis or record.axis
-        raise InputError(
-            (f"axis {name}: " if name else "")
-            + "no constant-speed passes found in the friction runs; record back-and-forth "
-            "passes at several constant speeds, each held for at least "
-            f"{min(PLATEAU_DURATIONS_S)} s in both directions (formats.md section 1)",
-            file=record.source,
-            column="scale_mm",
-        ) from None
+    t, _, force, est, plateaus = stribeck_from_record(record, cfg, axis)
     v = dict(zip(est.names, est.values, strict=True))
     m = mechanics
     linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t

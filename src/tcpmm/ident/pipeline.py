@@ -15,7 +15,12 @@ from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from ..sim.friction import sliding_friction
 from .frf import reduced_frfs
-from .frictionsplit import identify_friction, place_steady_viscous, share_uncertainty_warning
+from .frictionsplit import (
+    identify_friction,
+    place_steady_viscous,
+    share_uncertainty_warning,
+    stribeck_from_record,
+)
 from .metrics import fit_percent
 from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
@@ -528,6 +533,9 @@ def identify_bundle(
         Pre-sliding displacement of the identified friction contacts; ``0``: static
         friction (:mod:`tcpmm.ident.presliding`) [m].
     """
+    for name, rec in bundle.axes.items():  # before the FRF fits: a bad record fails fast
+        if rec.friction is not None:
+            stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
     axes = {}
     for name, rec in bundle.axes.items():
         cfg = bundle.machine.axes[name]

@@ -53,6 +53,10 @@ def _is_number(text: str) -> bool:
 def read_header(path: Path, what: str = "CSV file") -> list[str]:
     """Return the stripped column names of a CSV file's first line.
 
+    The first data row is checked too: pandas would take surplus fields there as an
+    index column and shift every column, so the fault would surface later at the wrong
+    line and column.
+
     Parameters
     ----------
     path : Path
@@ -65,8 +69,9 @@ def read_header(path: Path, what: str = "CSV file") -> list[str]:
     list of str
         Column names [-].
     """
-    first = read_text(path, what).split("\n", 1)[0]
-    first = first.strip("\r\n")
+    lines = read_text(path, what).split("\n", 2)
+    first = lines[0].strip("\r\n")
+    row = lines[1].strip("\r\n") if len(lines) > 1 else ""
     if not first.strip():
         raise InputError(
             "the first line must be the header (column names separated by commas); "
@@ -99,30 +104,9 @@ def read_header(path: Path, what: str = "CSV file") -> list[str]:
                 line=1,
                 column=name,
             )
+    if row.strip() and len(row.split(",")) > len(names):
+        raise _fields_error(path, 2, len(row.split(",")), len(names))
     return names
-
-
-def check_rows(path: Path, names: list[str]) -> None:
-    """Check that the first data row has no more fields than the header.
-
-    pandas takes surplus fields of the first data row as an index column and shifts every
-    column, so the fault would surface later at the wrong line and column.
-
-    Parameters
-    ----------
-    path : Path
-        CSV file whose header is ``names`` [-].
-    names : list of str
-        Column names of the header line [-].
-    """
-    with open(path, encoding="utf-8-sig", newline="") as fh:
-        fh.readline()
-        row = fh.readline().strip("\r\n")
-    if not row.strip():
-        return
-    n = len(row.split(","))
-    if n > len(names):
-        raise _fields_error(path, 2, n, len(names))
 
 
 def _fields_error(path: Path, line: int, fields: int, header: int) -> InputError:
@@ -197,7 +181,6 @@ def read_numeric_csv(
     optional = list(optional)
     expected = required + optional
     names = read_header(path)
-    check_rows(path, names)
     missing = [c for c in required if c not in names]
     if missing:
         hints = "".join(_suggest(m, names) for m in missing[:1])

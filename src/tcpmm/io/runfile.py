@@ -29,11 +29,10 @@ def read_run_csv(path) -> Run:
     """
     import pandas as pd
 
-    from .csvutil import check_rows, no_rows_error, parse_error, read_header
+    from .csvutil import no_rows_error, parse_error, read_header
 
     path = Path(path)
     cols = read_header(path, "run file")
-    check_rows(path, cols)
     try:
         df = pd.read_csv(path, encoding="utf-8-sig")
     except pd.errors.ParserError as exc:

@@ -152,6 +152,7 @@ def test_atomic_write_keeps_permissions_and_writes_through_links(tmp_path):
 @pytest.mark.parametrize("rapid, speed, warns", [
     (None, 0.4, False), (None, 30.0, True),  # 30 m/s: a file in um read as mm
     ({"X": 0.5}, 0.45, False), ({"X": 0.5}, 0.6, True),
+    ({"y": 0.5, "x": 0.2}, 0.3, True),  # keys in any case, as the interpolator reads them
 ])
 def test_command_faster_than_the_machine_warns(rapid, speed, warns):
     m = builtin_machine("vmc")

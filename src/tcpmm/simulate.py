@@ -175,15 +175,19 @@ def _check_speeds(machine: Machine, command: Command) -> None:
     The limit is 1.05 times the rapid traverse of the model's interpolation settings, or
     :data:`SPEED_LIMIT_M_PER_S` when it has none.
     """
-    rapid = (machine.interpolation or {}).get("rapid_m_per_s") or {}
-    top = max(rapid.values(), default=None)
+    from .path.settings import AXES, InterpolatorSettings
+
+    rapid = {}
+    settings = InterpolatorSettings.model_validate(machine.interpolation or {})
+    if "rapid_m_per_s" in settings.model_fields_set:  # not the interpolator's default
+        rapid = dict(zip(AXES, settings.rapid(), strict=True))
     t = np.asarray(command.time_s, dtype=float)
     for name, pos in command.positions.items():
         if pos.size < 2:
             continue
         v = np.abs(np.diff(pos)) / np.diff(t)
         k = int(np.argmax(v))
-        limit = rapid.get(name, top)
+        limit = rapid.get(name, max(rapid.values(), default=None))
         bound = SPEED_LIMIT_M_PER_S if limit is None else 1.05 * float(limit)
         if v[k] > bound:
             what = ("the rapid traverse of the model's interpolation settings"

@@ -485,20 +485,18 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None):
-    """Print input warnings as the user's problem, not as a place in the package."""
-    if issubclass(category, InputWarning):
-        console.print(f"[yellow]warning:[/yellow] {_esc(str(message))}")
-    else:
-        _default_showwarning(message, category, filename, lineno, file, line)
-
-
-_default_showwarning = warnings.showwarning
-
-
 def main(argv=None) -> int:
     """Entry point of the ``tcpmm`` console script."""
-    shown, warnings.showwarning = warnings.showwarning, _show_warning
+    shown = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        """Print input warnings as the user's problem, not as a place in the package."""
+        if issubclass(category, InputWarning):
+            console.print(f"[yellow]warning:[/yellow] {_esc(str(message))}")
+        else:
+            shown(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = show
     try:
         app(args=argv, standalone_mode=True)
     except TcpmmError as exc:

@@ -282,10 +282,12 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         if a not in run.axes:
             raise InputError(f"the run has no axis {a} (axes: {', '.join(run.axes)})")
     X, Y = run.axes[ax], run.axes[ay]
-    present = [s for s in sensors if X.sensor(s) is not None and Y.sensor(s) is not None]
+    present = []
     for s in sensors:
         have = [a for a, r in ((ax, X), (ay, Y)) if r.sensor(s) is not None]
-        if len(have) == 1:
+        if len(have) == 2:
+            present.append(s)
+        elif have:
             lack = ay if have[0] == ax else ax
             warnings.warn(InputWarning(
                 f"the {s} signal is present for {have[0]} but not for {lack}; the {s} "

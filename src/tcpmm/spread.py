@@ -290,7 +290,7 @@ def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0
     seed : int
         Seed of the draws [-].
     sensor : str
-        Sensor whose spikes are reported: ``tcp``, ``scale`` or ``motor`` [-].
+        Sensor whose spikes are reported: ``tcp``, ``scale``, ``motor`` or ``cmd`` [-].
     floors : dict, optional
         Smallest standard deviations drawn from (:data:`MODEL_ERROR`); ``None``: the
         identified ones alone [-].

@@ -120,15 +120,14 @@ def sensitivity(machine, cmd, names) -> dict:
 
 
 def summary(rows: list, names) -> dict:
-    """Per step: machines above 4.1 um (spike, lobe) and the median changes [m]."""
+    """Per step, and for the largest of all steps per machine: machines above 4.1 um
+    (spike, lobe), median and largest spike change [m]."""
+    def largest(keys, what):
+        return np.array([max(r["steps"][k][what] for k in keys) for r in rows])
+
     s = {}
-    for name in [*names, "any"]:
-        if name == "any":
-            sp = np.array([max(r["steps"][k]["spike"] for k in names) for r in rows])
-            lo = np.array([max(r["steps"][k]["lobe"] for k in names) for r in rows])
-        else:
-            sp = np.array([r["steps"][name]["spike"] for r in rows])
-            lo = np.array([r["steps"][name]["lobe"] for r in rows])
+    for name, keys in [*((k, [k]) for k in names), ("any", names)]:
+        sp, lo = largest(keys, "spike"), largest(keys, "lobe")
         s[name] = {"spike_above": int(np.sum(sp > PAPER_MAX)),
                    "lobe_above": int(np.sum(lo > PAPER_MAX)),
                    "spike_median": float(np.median(sp)), "lobe_median": float(np.median(lo)),

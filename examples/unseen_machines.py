@@ -598,13 +598,17 @@ def predicted_figures(model: Machine, cmd):
     return tcp_figures(analyse_circle(simulate(model, cmd), RADIUS))
 
 
+def without_backlash(machine: Machine) -> Machine:
+    """``machine`` with the lost motion of X and Y set to zero [-]."""
+    return with_axes(machine, lambda n: machine.axes[n].replace(
+        friction=machine.axes[n].friction.model_copy(update={"backlash": 0.0})))
+
+
 def backlash_effect(true: Machine, cmd) -> float:
     """Largest change of the TCP path when the lost motion is set to zero [m]."""
     if not any(true.axes[n].friction.backlash > 0 for n in AXES):
         return float("nan")
-    without = with_axes(true, lambda n: true.axes[n].replace(
-        friction=true.axes[n].friction.model_copy(update={"backlash": 0.0})))
-    a, b = simulate(true, cmd), simulate(without, cmd)
+    a, b = simulate(true, cmd), simulate(without_backlash(true), cmd)
     return float(max(np.max(np.abs(a.axes[n].tcp - b.axes[n].tcp)) for n in AXES))
 
 

@@ -50,6 +50,24 @@ def _is_number(text: str) -> bool:
     return True
 
 
+def unreadable(path: Path, what: str) -> InputError:
+    """The error for a file that cannot be opened or is not UTF-8 text: the one
+    :func:`tcpmm.io.text.read_text` gives, with the line of the first bad byte.
+
+    Parameters
+    ----------
+    path : Path
+        The file [-].
+    what : str
+        What the file is, for messages [-].
+    """
+    try:
+        read_text(path, what)
+    except InputError as exc:
+        return exc
+    return InputError(f"cannot read the {what} as UTF-8 text", file=path)
+
+
 def read_header(path: Path, what: str = "CSV file") -> list[str]:
     """Return the stripped column names of a CSV file's first line.
 
@@ -69,9 +87,11 @@ def read_header(path: Path, what: str = "CSV file") -> list[str]:
     list of str
         Column names [-].
     """
-    lines = read_text(path, what).split("\n", 2)
-    first = lines[0].strip("\r\n")
-    row = lines[1].strip("\r\n") if len(lines) > 1 else ""
+    try:  # the first two lines only: the rest is left to the parser
+        with open(path, encoding="utf-8-sig", newline="") as fh:
+            first, row = fh.readline().strip("\r\n"), fh.readline().strip("\r\n")
+    except (OSError, UnicodeDecodeError):
+        raise unreadable(path, what) from None
     if not first.strip():
         raise InputError(
             "the first line must be the header (column names separated by commas); "
@@ -213,6 +233,8 @@ def read_numeric_csv(
         )
     except pd.errors.ParserError as exc:
         raise parse_error(exc, path) from None
+    except UnicodeDecodeError:
+        raise unreadable(path, "CSV file") from None
     frame.columns = [c.strip() for c in frame.columns]
     # A final blank line is harmless; blank lines inside the data are not.
     n = len(frame)

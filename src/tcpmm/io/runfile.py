@@ -29,7 +29,7 @@ def read_run_csv(path) -> Run:
     """
     import pandas as pd
 
-    from .csvutil import no_rows_error, parse_error, read_header
+    from .csvutil import no_rows_error, parse_error, read_header, unreadable
 
     path = Path(path)
     cols = read_header(path, "run file")
@@ -37,6 +37,8 @@ def read_run_csv(path) -> Run:
         df = pd.read_csv(path, encoding="utf-8-sig")
     except pd.errors.ParserError as exc:
         raise parse_error(exc, path) from None
+    except UnicodeDecodeError:
+        raise unreadable(path, "run file") from None
     except Exception as exc:  # pandas raises many kinds
         raise InputError(f"cannot read as CSV: {exc}", file=path) from None
     df.columns = cols

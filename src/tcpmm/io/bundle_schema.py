@@ -17,7 +17,8 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from tcpmm.errors import InputError
 from tcpmm.io.atomic import write_text_atomic
-from tcpmm.io.yamlutil import read_text, validate_yaml
+from tcpmm.io.text import read_text
+from tcpmm.io.yamlutil import validate_yaml
 from tcpmm.units import MM, UM
 
 FORMAT_VERSION = "tcpmm-bundle/1"

@@ -5,7 +5,6 @@ Line numbers in messages are file lines: the header is line 1, the first data ro
 
 from __future__ import annotations
 
-import difflib
 import re
 import warnings
 from collections.abc import Iterable, Mapping
@@ -14,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from tcpmm._validate import did_you_mean
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.io.atomic import write_table_atomic
 from tcpmm.io.text import read_text
@@ -35,11 +35,6 @@ def warn_input(message: str, file=None, line=None, column=None) -> None:
     """
     text = InputError(message, file=file, line=line, column=column).format()
     warnings.warn(InputWarning(text), stacklevel=3)
-
-
-def _suggest(name: str, candidates: Iterable[str]) -> str:
-    near = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
-    return f" (did you mean '{near[0]}'?)" if near else ""
 
 
 def _is_number(text: str) -> bool:
@@ -203,7 +198,7 @@ def read_numeric_csv(
     names = read_header(path)
     missing = [c for c in required if c not in names]
     if missing:
-        hints = "".join(_suggest(m, names) for m in missing[:1])
+        hints = "".join(did_you_mean(m, names) for m in missing[:1])
         raise InputError(
             f"missing column(s) {', '.join(missing)}{hints}; the file has "
             f"{', '.join(names)}; expected {', '.join(required)}"
@@ -216,7 +211,7 @@ def read_numeric_csv(
     extra = [c for c in names if c not in expected]
     for c in extra:
         warn_input(
-            f"unknown column '{c}' is ignored{_suggest(c, expected)}",
+            f"unknown column '{c}' is ignored{did_you_mean(c, expected)}",
             file=path,
             line=1,
             column=c,

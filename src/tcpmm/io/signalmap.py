@@ -11,13 +11,13 @@ scale factor that turns the stored value into the tcpmm unit::
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from tcpmm._validate import did_you_mean
 from tcpmm.errors import InputError
 from tcpmm.io.records import FrictionRecord, SweepRecord
 from tcpmm.units import MM
@@ -208,9 +208,7 @@ def read_mapped(
         if data is None:
             if src.optional:
                 continue
-            others = [c for c in candidates if c != src.name]
-            close = difflib.get_close_matches(src.name, others, n=1)
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            hint = did_you_mean(src.name, (c for c in candidates if c != src.name))
             raise InputError(
                 f"'{src.name}' (mapped to {key}) not found{hint}", file=file, column=key
             )

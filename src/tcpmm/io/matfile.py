@@ -14,6 +14,7 @@ import numpy as np
 
 from tcpmm.errors import InputError
 from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
+from tcpmm.io.text import existing_file
 
 _NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\.[A-Za-z]\w*)*)\s*(?:\(\s*:\s*,\s*(\d+)\s*\))?\s*$")
 
@@ -25,10 +26,7 @@ def _load(path: Path):
     """
     import h5py
 
-    if path.is_dir():
-        raise InputError("this is a directory; give the path of the .mat file", file=path)
-    if not path.is_file():
-        raise InputError("MAT file not found", file=path)
+    existing_file(path, ".mat file", "MAT file")
     if h5py.is_hdf5(path):
         paths = []
 

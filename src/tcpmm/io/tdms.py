@@ -9,15 +9,13 @@ import numpy as np
 
 from tcpmm.errors import InputError
 from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
+from tcpmm.io.text import existing_file
 
 
 def _open(path: Path):
     from nptdms import TdmsFile
 
-    if path.is_dir():
-        raise InputError("this is a directory; give the path of the .tdms file", file=path)
-    if not path.is_file():
-        raise InputError("TDMS file not found", file=path)
+    existing_file(path, ".tdms file", "TDMS file")
     with open(path, "rb") as fh:
         lead_in = fh.read(4)
     if lead_in != b"TDSm":

@@ -8,6 +8,26 @@ from pathlib import Path
 from ..errors import InputError
 
 
+def existing_file(path, what: str, missing: str | None = None) -> Path:
+    """``path`` as a Path when it is a file; a folder or a missing file is an error.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file [-].
+    what : str
+        What the file is, e.g. ``"command file"`` [-].
+    missing : str, optional
+        What a missing file is called, default ``what`` [-].
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"this is a directory; give the path of the {what}", file=path)
+    if not path.is_file():
+        raise InputError(f"{missing or what} not found", file=path)
+    return path
+
+
 def read_text(path, what: str) -> str:
     """The text of a UTF-8 file; a missing file, a folder or other bytes are errors.
 
@@ -23,11 +43,7 @@ def read_text(path, what: str) -> str:
     str
         The text without a byte-order mark [-].
     """
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"this is a directory; give the path of the {what}", file=path)
-    if not path.is_file():
-        raise InputError(f"{what} not found", file=path)
+    path = existing_file(path, what)
     try:
         data = path.read_bytes()
     except OSError as exc:

@@ -54,3 +54,21 @@ def identify_unseen(unseen):
         return true, a, idn, [str(w.message) for w in caught]
 
     return identify
+
+
+#: Reference machines of an independent simulator, beside the checkout (`../shared`).
+BENCH_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+
+
+def bench_path(letter: str) -> Path:
+    """Folder of reference machine ``letter``; fails under CI (``CI=true``) when missing,
+    since the validation against it must run there, and skips elsewhere."""
+    import os
+
+    d = BENCH_DATA / f"bench_{letter}"
+    if not d.is_dir():
+        msg = f"reference machine data not found: expected {d} (../shared beside the checkout)"
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail(msg)
+        pytest.skip(msg)
+    return d

@@ -13,7 +13,7 @@ from tcpmm.servo.sampled import (
     lifted_closed_loop,
     sampled_spectral_radius,
 )
-from tcpmm.simulate import simulate_axis
+from tcpmm.simulate import command_velocity, simulate_axis
 
 
 @pytest.mark.parametrize("ax", ["X", "Y", "Z"])
@@ -87,13 +87,13 @@ def test_kernel_equals_lti_reference(vmc_linear, changes):
     cmd = 0.004 * (1 - np.cos(2 * np.pi * 3 * t)) + 2e-6 * np.sin(2 * np.pi * 40 * t)
     cmd[t > 0.25] += 2e-5  # a small step too
     run = simulate_axis(a, t, cmd, record_period_s=T_p)
-    assert np.max(np.abs(run.current)) < 0.5 * s.current_limit  # linear regime
+    assert np.max(np.abs(run.current)) < 0.9 * s.current_limit  # linear regime: no saturation
     # The simulator fine-interpolates the command linearly; at position-loop instants the
-    # command equals the samples, and the feedforward is the gradient of the samples.
+    # command equals the samples, and the feedforward is the slope of the current segment.
     Phi, Gam, C, D = lifted_closed_loop(m, s)
     assert sampled_spectral_radius(m, s) < 1.0
     z0 = initial_state(m, s, np.zeros(10))
-    u = np.column_stack([cmd, np.gradient(cmd, t)])
+    u = np.column_stack([cmd, command_velocity(cmd, T_p, s.feedforward)])
     _, y, _ = dlsim((Phi, Gam, C, D, T_p), u, x0=z0)
     got = {"th_m": run.motor_angle, "X_LS": run.scale, "X_TCP": run.tcp, "w_m": run.motor_speed}
     for k, name in enumerate(LIFTED_OUTPUTS):

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator
 
@@ -71,6 +71,9 @@ class AxisFriction(BaseModel):
     substeps : int
         Sub-steps of a velocity-loop step in which a friction velocity reverses or
         sticks, or in which the nut is inside or crosses its free play [-].
+    guideway_velocity : {"table", "relative"}
+        Velocity the guideway friction acts on: the table's, or the table's relative to
+        the bed, with the reaction on the bed as a real guide has it [-].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -78,6 +81,7 @@ class AxisFriction(BaseModel):
     screw: FrictionModel | None = None
     guideway: FrictionModel | None = None
     backlash: float = Field(0.0, ge=0.0, le=1e-3, allow_inf_nan=False)
+    guideway_velocity: Literal["table", "relative"] = "table"
     substeps: int = Field(16, ge=1, le=1024)
 
 

@@ -12,7 +12,13 @@ import numpy as np
 from ._threads import limit_blas_threads
 from .errors import InputError, InputWarning
 from .mechanics.friction import friction_params_array
-from .mechanics.statespace import discretize_zoh, nut_force_input, plant, static_equilibrium
+from .mechanics.statespace import (
+    discretize_zoh,
+    guideway_force_input,
+    nut_force_input,
+    plant,
+    static_equilibrium,
+)
 from .model import Axis, Machine
 from .path.command import Command
 from .result import AxisRun, Run
@@ -63,10 +69,11 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     play = fr.backlash if fr is not None else 0.0
     p = plant(m, s.current_bandwidth_hz)
     n = p.A.shape[0]
-    B = np.column_stack([p.B, nut_force_input(m, n)])
+    relative = fr is not None and fr.guideway_velocity == "relative"
+    B = np.column_stack([p.B, nut_force_input(m, n), guideway_force_input(m, n, relative)])
     Ad, Bd = discretize_zoh(p.A, B, s.T_v)
     x0_mech, i_hold = static_equilibrium(m, x_start, s.position_feedback, play)
-    AdT, BdT = np.zeros((NX, NX)), np.zeros((5, NX))
+    AdT, BdT = np.zeros((NX, NX)), np.zeros((6, NX))
     AdT[:n, :n], BdT[:, :n] = Ad.T, Bd.T
     x0 = np.zeros(NX)
     x0[:10] = x0_mech
@@ -81,9 +88,10 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     ])
     n_sub = fr.substeps if fr is not None else 1
     ip = np.array([s.n_pos, s.position_feedback == "scale", s.velocity_feedback == "difference",
-                   s.delay_samples, not open_loop, rec_every, n_sub, n_steps], dtype=np.int64)
-    AdsT, BdsT = np.zeros((NX, NX)), np.zeros((5, NX))
-    AdgT, BdgT = np.zeros((NX, NX)), np.zeros((5, NX))
+                   s.delay_samples, not open_loop, rec_every, n_sub, n_steps,
+                   s.feedforward == "segment", 8 if relative else -1], dtype=np.int64)
+    AdsT, BdsT = np.zeros((NX, NX)), np.zeros((6, NX))
+    AdgT, BdgT = np.zeros((NX, NX)), np.zeros((6, NX))
     if fr is not None:
         Ads, Bds = discretize_zoh(p.A, B, s.T_v / n_sub)
         AdsT[:n, :n], BdsT[:, :n] = Ads.T, Bds.T
@@ -95,6 +103,36 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     pf_g = friction_params_array(fr.guideway if fr is not None else None)
     vtaps = np.asarray(s.velocity_filter, dtype=float)
     return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT)
+
+
+def command_velocity(position_m, period_s: float, kind: str = "segment") -> np.ndarray:
+    """Command velocity of the feedforward at the command samples.
+
+    Parameters
+    ----------
+    position_m : ndarray
+        Position command, uniformly sampled [m].
+    period_s : float
+        Command period [s].
+    kind : {"segment", "centred"}
+        ``segment``: the slope of the segment that starts at each sample, held over it
+        (what a drive fed interpolated commands knows); ``centred``: the centred
+        difference, which looks half a period ahead [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Velocity per sample [m/s].
+    """
+    pos = np.asarray(position_m, dtype=float)
+    if pos.size < 2:
+        return np.zeros(pos.size)
+    if kind == "centred":
+        return np.gradient(pos, period_s)
+    v = np.empty(pos.size)
+    v[:-1] = np.diff(pos) / period_s
+    v[-1] = 0.0 if pos.size < 3 else v[-2]
+    return v
 
 
 def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loop=False,
@@ -140,7 +178,7 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     n = int(np.floor((t[-1] - t[0]) / T_v + 1e-9)) + 1
     T_c = float(t[1] - t[0])
     pos = np.ascontiguousarray(position_m, dtype=float)
-    vel = np.gradient(pos, t)
+    vel = command_velocity(pos, T_c, s.feedforward)
     if excitation_A is None:
         exc = np.zeros(t.size)
     else:

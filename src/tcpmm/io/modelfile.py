@@ -23,9 +23,10 @@ _HEADER = """\
 #              K [N/m], K_tc [N m/A], load_force [N]
 #   servo: K_pp [1/s], K_vp [A s/rad], K_vi [A/rad], k_ff [-], T_p, T_v [s],
 #          current_limit [A], current_bandwidth_hz [Hz], delay_samples [-],
-#          velocity_filter [-] (FIR taps, newest first)
+#          velocity_filter [-] (FIR taps, newest first), feedforward [segment|centred]
 #   friction (table units): fc, fs, fv [N, N, N s/m], vs [m/s], sigma0 [N/m],
-#          sigma1 [N s/m], backlash [m] (total free play of the screw-nut)
+#          sigma1 [N s/m], sigma1_fades [-], backlash [m] (total free play of the
+#          screw-nut), guideway_velocity [table|relative]
 #   sensors: encoder_counts_per_rev [-], scale_resolution [m], tcp_resolution [m]
 #   uncertainty (identified models): one standard deviation of the mechanics [as above],
 #          friction_level [-] (relative), guideway_share [-], backlash [m]

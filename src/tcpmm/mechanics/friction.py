@@ -26,7 +26,10 @@ Models
 
         g(v)  = Fc_d + (Fs_d - Fc_d) * exp(-|v / vs|**delta)
         z'    = v - sigma0 * |v| / g(v) * z
-        F     = sigma0 * z + sigma1 * z' + Fv_d * v
+        F     = sigma0 * z + s1(v) * z' + Fv_d * v
+
+    with ``s1(v) = sigma1``, or ``sigma1 exp(-|v / vs|**delta)`` when the micro-damping
+    fades with speed (``sigma1_fades``).
 
     At constant velocity it gives the Stribeck curve above; at small displacements it is a
     spring of stiffness ``sigma0`` [N/m] with a hysteretic force-displacement loop.
@@ -81,7 +84,8 @@ P_FV_NEG = 8
 P_SIGMA0 = 9
 P_SIGMA1 = 10
 P_V_STICK = 11
-N_FRICTION_PARAMS = 12
+P_SIGMA1_FADES = 12
+N_FRICTION_PARAMS = 13
 
 SLIDING = 0.0
 STUCK = 1.0
@@ -200,10 +204,15 @@ class LuGreFriction(StribeckFriction):
         Bristle (pre-sliding) stiffness [N/m].
     sigma1 : float
         Bristle micro-damping [N s/m].
+    sigma1_fades : bool
+        The micro-damping fades with speed as the Stribeck hump does,
+        ``sigma1 exp(-|v / vs|**delta)``: it damps pre-sliding without adding to the
+        viscous friction of steady sliding [-].
     """
 
     sigma0: float = Field(gt=0.0)
     sigma1: float = Field(default=0.0, ge=0.0)
+    sigma1_fades: bool = False
 
 
 class Backlash(_Holder):
@@ -263,6 +272,7 @@ def friction_params_array(model) -> np.ndarray:
     if isinstance(model, LuGreFriction):
         p[P_SIGMA0] = model.sigma0
         p[P_SIGMA1] = model.sigma1
+        p[P_SIGMA1_FADES] = 1.0 if model.sigma1_fades else 0.0
     return p
 
 

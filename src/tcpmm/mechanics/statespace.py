@@ -138,6 +138,32 @@ def nut_force_input(mech: AxisMechanics, n_states: int = 10) -> np.ndarray:
     return b
 
 
+def guideway_force_input(mech: AxisMechanics, n_states: int = 10,
+                         relative: bool = False) -> np.ndarray:
+    """Input column of the guideway's friction force.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Axis parameters [SI].
+    n_states : int
+        State size of the plant (10, or 11 with the current-loop state) [-].
+    relative : bool
+        The guide acts between table and bed: its force on the table has its reaction on
+        the bed; otherwise it acts on the table alone [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``dx/dt`` per newton pushing the table [SI].
+    """
+    b = np.zeros(n_states)
+    b[7] = 1.0 / mech.M_t
+    if relative:
+        b[8] = -1.0 / mech.M_b
+    return b
+
+
 def discretize_zoh(A: np.ndarray, B: np.ndarray, dt: float):
     """Exact zero-order-hold discretisation through one matrix exponential.
 

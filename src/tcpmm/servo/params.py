@@ -49,6 +49,10 @@ class ServoParams(BaseModel):
     velocity_feedback : {"state", "difference"}
         Encoder velocity as the true shaft speed, or as the backward difference of the
         (quantised) encoder angle, as drives compute it [-].
+    feedforward : {"segment", "centred"}
+        Command velocity of the feedforward: the slope of the current command segment,
+        as a CNC fed interpolated commands computes it (causal), or the centred
+        difference of the command samples, half a command period ahead [-].
     velocity_filter : list of float
         FIR taps on the encoder angle before the difference, newest first and summing to
         1 (``[0.5, 0.5]`` averages two samples); ``[1.0]`` is the plain difference. Used
@@ -68,6 +72,7 @@ class ServoParams(BaseModel):
     current_bandwidth_hz: float | None = Field(None, gt=0, allow_inf_nan=False)
     delay_samples: int = Field(0, ge=0, le=64)
     velocity_feedback: Literal["state", "difference"] = "state"
+    feedforward: Literal["segment", "centred"] = "segment"
     velocity_filter: list[float] = Field(default_factory=lambda: [1.0], min_length=1,
                                          max_length=MAX_VELOCITY_TAPS)
 

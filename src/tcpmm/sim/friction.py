@@ -93,6 +93,7 @@ from tcpmm.mechanics.friction import (
     P_MODEL,
     P_SIGMA0,
     P_SIGMA1,
+    P_SIGMA1_FADES,
     P_V_STICK,
     P_VS,
     SLIDING,
@@ -278,9 +279,22 @@ def lugre_decay_rate(v, params):
 
 
 @njit(cache=True)
+def _micro_damping(v, params):
+    """LuGre micro-damping at ``v``: ``sigma1``, faded by the Stribeck shape if asked."""
+    s1 = params[P_SIGMA1]
+    if params[P_SIGMA1_FADES] == 0.0 or v == 0.0 or s1 == 0.0:
+        return s1
+    x = abs(v) / params[P_VS]
+    p = x * x if params[P_DELTA] == 2.0 else x ** params[P_DELTA]
+    if p > 40.0:
+        return 0.0
+    return s1 * math.exp(-p)
+
+
+@njit(cache=True)
 def _lugre_step(v, f_applied, z, params, dt, m_eff):
     s0 = params[P_SIGMA0]
-    s1 = params[P_SIGMA1]
+    s1 = _micro_damping(v, params)
     c = lugre_decay_rate(v, params)
     fv = _fv(v, params)
     if m_eff > 0.0:

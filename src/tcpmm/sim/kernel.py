@@ -14,7 +14,12 @@ stiffness ``K_t`` [N/m].
 0 encoder), 2 velocity feedback (0 state, 1 backward difference), 3 delay [samples],
 4 loops closed (1) or open-loop torque mode (0), 5 record every N steps, 6 sub-steps
 of a step in which friction reverses or sticks or the nut is in its free play, 7 number
-of velocity-loop steps.
+of velocity-loop steps, 8 feedforward from the slope of the current command segment (1)
+or interpolated between the samples of ``vcmd`` (0), 9 state the guideway friction's
+velocity is relative to (8, the bed, or -1 for none).
+
+The velocity-loop output is applied ``ip[3]`` steps later (computation delay); the
+excitation is added to the applied current without delay, and the sum is limited.
 
 ``vtaps``: FIR taps on the encoder angle (newest first) of the difference velocity.
 
@@ -68,38 +73,50 @@ def _free_step(AdT, BdT, x, xn, u):
             xn[i] += AdT[j, i] * xj
 
 
+@njit(cache=True, inline="always")
+def _rel(x, idx, ref):
+    """Velocity ``x[idx]``, relative to ``x[ref]`` when ``ref >= 0``."""
+    if ref >= 0:
+        return x[idx] - x[ref]
+    return x[idx]
+
+
 @njit(cache=True)
-def _apply_friction(BdT, x, xn, h, pf, st, k, col, idx, ratio):
-    """Friction of one contact over a step whose free end state is ``xn``."""
-    b = BdT[col, idx] * ratio * ratio  # end velocity per unit friction force [m/s / N]
+def _apply_friction(BdT, x, xn, h, pf, st, k, col, idx, ref, ratio):
+    """Friction of one contact over a step whose free end state is ``xn``; the contact's
+    velocity is ``ratio * x[idx]``, relative to ``x[ref]`` when ``ref >= 0``."""
+    b = _rel(BdT[col], idx, ref) * ratio * ratio  # end velocity per unit force [m/s / N]
     if b <= 0.0:
         return
     m_eff = h / b
-    v = ratio * x[idx]
-    v_free = ratio * xn[idx]
+    v = ratio * _rel(x, idx, ref)
+    v_free = ratio * _rel(xn, idx, ref)
     F, st[k] = friction_force(v, m_eff * (v_free - v) / h, st[k], pf, h, m_eff)
     for i in range(NX):
         xn[i] -= BdT[col, i] * ratio * F
     if at_rest(st[k], pf):
-        xn[idx] = 0.0
+        if ref >= 0:
+            xn[idx] = xn[ref]
+        else:
+            xn[idx] = 0.0
 
 
 @njit(cache=True)
-def _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R):
+def _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref):
     """Screw and guideway friction over a step of length ``h``, then ``x = xn``."""
     if pf_s[0] != MODEL_NONE:
-        _apply_friction(BdT, x, xn, h, pf_s, st, 0, 2, 6, R)
+        _apply_friction(BdT, x, xn, h, pf_s, st, 0, 2, 6, -1, R)
     if pf_g[0] != MODEL_NONE:
-        _apply_friction(BdT, x, xn, h, pf_g, st, 1, 3, 7, 1.0)
+        _apply_friction(BdT, x, xn, h, pf_g, st, 1, 5, 7, g_ref, 1.0)
     for i in range(NX):
         x[i] = xn[i]
 
 
 @njit(cache=True)
-def _reverses(x, xn, idx, pf, stk):
+def _reverses(x, xn, idx, ref, pf, stk):
     if pf[0] == MODEL_NONE:
         return False
-    return x[idx] * xn[idx] <= 0.0 or stk == STUCK
+    return _rel(x, idx, ref) * _rel(xn, idx, ref) <= 0.0 or stk == STUCK
 
 
 @njit(cache=True, inline="always")
@@ -127,13 +144,13 @@ def _same_contact(x, xn, R, play):
 
 @njit(cache=True)
 def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, h, n_sub, pf_s, pf_g, st,
-                    R, play, K_t):
+                    R, play, K_t, g_ref):
     """One velocity-loop step with friction and lost motion; sub-steps where a friction
     velocity reverses or sticks, or where the nut is inside or crosses its free play."""
     if play > 0.0:
         u[4] = _contact_force(x, R, play, K_t)
     _free_step(AdT, BdT, x, xn, u)
-    if (_reverses(x, xn, 6, pf_s, st[0]) or _reverses(x, xn, 7, pf_g, st[1])
+    if (_reverses(x, xn, 6, -1, pf_s, st[0]) or _reverses(x, xn, 7, g_ref, pf_g, st[1])
             or (play > 0.0 and not _same_contact(x, xn, R, play))):
         hs = h / n_sub
         for _ in range(n_sub):
@@ -143,12 +160,12 @@ def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, h, n_sub, pf_s, 
                 if u[4] == 0.0:
                     A, B = AdgT, BdgT
             _free_step(A, B, x, xn, u)
-            _frictions_and_advance(B, x, xn, hs, pf_s, pf_g, st, R)
+            _frictions_and_advance(B, x, xn, hs, pf_s, pf_g, st, R, g_ref)
         return
-    _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R)
+    _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref)
 
 
-@njit(cache=True, fastmath=True, nogil=True)
+@njit(cache=True, nogil=True)
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
              vtaps, AdgT, BdgT):
     """Simulate one axis for ``cmd.size`` velocity-loop steps.
@@ -157,16 +174,17 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     ----------
     AdT : ndarray (NX, NX)
         Transposed discrete state matrix (``AdT[j, i] = Ad[i, j]``), zero-padded [-].
-    BdT : ndarray (5, NX)
-        Transposed discrete input matrix for ``[i, T_m, T_L, F_t, F_nut]``, zero-padded
-        [-].
+    BdT : ndarray (6, NX)
+        Transposed discrete input matrix for ``[i, T_m, T_L, F_t, F_nut, F_guide]``,
+        zero-padded; ``F_guide`` is the guideway friction's input (on the table, or on
+        table and bed) [-].
     x0 : ndarray (NX,)
         Initial plant state, zero-padded [SI].
     cmd, vcmd : ndarray
         Position command [m] and command velocity [m/s] at the command period.
     excitation : ndarray
-        Current added to the velocity-loop output (servo excitation), at the command
-        period [A].
+        Current added to the applied current command (servo excitation, after the
+        computation delay), at the command period [A].
     fp, ip : ndarray
         Parameters, see the module docstring [SI].
     rec : ndarray (ip[7] // ip[5] + 1, 5)
@@ -192,6 +210,7 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     i_lim, T_v, q_enc, q_scale = fp[5], fp[6], fp[7], fp[8]
     I_w = fp[9]
     n_pos, fb_scale, vel_diff, delay, closed, rec_every = ip[0], ip[1], ip[2], ip[3], ip[4], ip[5]
+    ff_segment, g_ref = ip[8], ip[9]
     dl = np.full(delay + 1, K_vi * I_w if closed else 0.0)
     n_taps = vtaps.size
     hist = np.full(n_taps + 1, _quantise(x[0], q_enc))  # ring buffer of encoder angles
@@ -207,7 +226,8 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         th_q = _quantise(x[0], q_enc)
         pos = k * ratio
         j = min(int(pos + 1e-9), last)
-        i_c = excitation[j]
+        i_exc = excitation[j]
+        i_c = 0.0
         if closed:
             if c_pos == 0:
                 if fb_scale:
@@ -218,7 +238,10 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
                 fr = pos - j
                 j1 = min(j + 1, last)
                 c_k = cmd[j] + fr * (cmd[j1] - cmd[j])
-                v_k = vcmd[j] + fr * (vcmd[j1] - vcmd[j])
+                if ff_segment:
+                    v_k = vcmd[j]
+                else:
+                    v_k = vcmd[j] + fr * (vcmd[j1] - vcmd[j])
                 w_c = (K_pp * (c_k - x_fb) + k_ff * v_k) / R
             if vel_diff:
                 w_fb = 0.0
@@ -232,7 +255,7 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
                 w_fb = x[5]
             e = w_c - w_fb
             I_new = I_w + e * T_v
-            i_c += K_vp * e + K_vi * I_new
+            i_c = K_vp * e + K_vi * I_new
             if i_c > i_lim:
                 i_c = i_lim
                 if e < 0.0:
@@ -253,9 +276,13 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
             c_dl += 1
             if c_dl > delay:
                 c_dl = 0
-            i_app = dl[c_dl]
+            i_app = dl[c_dl] + i_exc
         else:
-            i_app = i_c
+            i_app = i_c + i_exc
+        if i_app > i_lim:
+            i_app = i_lim
+        elif i_app < -i_lim:
+            i_app = -i_lim
         if c_rec == 0:
             rec[r, 0] = x[0]
             rec[r, 1] = x[2] - x[3]
@@ -269,7 +296,7 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         u[0] = i_app
         if nonlinear:
             _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, T_v, n_sub, pf_s,
-                            pf_g, st, R, play, K_t)
+                            pf_g, st, R, play, K_t, g_ref)
             continue
         _free_step(AdT, BdT, x, xn, u)
         for i in range(NX):

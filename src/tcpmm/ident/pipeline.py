@@ -55,6 +55,9 @@ CONVERGED_REL = 0.01
 #: Travel over a sweep record below which it counts as standing still: the guideway
 #: friction then holds the nut on no particular flank [m].
 MIN_SWEEP_TRAVEL_M = 1e-3
+#: Computation delay of identified drives: the current a digital velocity loop computes
+#: from the samples of one period is applied in the next [velocity-loop periods].
+COMPUTATION_DELAY = 1
 
 
 @dataclass
@@ -247,6 +250,9 @@ def axis_config_to_servo(cfg, current_bandwidth_hz=None) -> ServoParams:
         T_v=s.velocity_loop_period_s,
         current_limit=s.current_limit_A,
         current_bandwidth_hz=current_bandwidth_hz,
+        delay_samples=COMPUTATION_DELAY,
+        velocity_feedback="difference",
+        feedforward="segment",
     )
 
 
@@ -273,7 +279,7 @@ DAMPING_KNOWN_REL_STD = 0.03
 
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
-    friction=None, guideway_share: float | None = None, presliding: float = PRESLIDING,
+    friction=None, guideway_share: float | None = None, presliding: float | None = None,
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
@@ -299,9 +305,10 @@ def identify_axis(
     guideway_share : float, optional
         Share of that friction put on the guideway, the rest on the screw; ``None``: from
         the friction runs (encoder-minus-scale deflection) [-].
-    presliding : float
-        Pre-sliding displacement given to the identified contacts (LuGre), which the
-        friction runs do not determine; ``0``: static friction that sticks rigidly
+    presliding : float, optional
+        Pre-sliding displacement given to the identified contacts (LuGre); ``0``: static
+        friction that sticks rigidly; ``None``: from the force at the friction runs'
+        reversals where it determines it, else :data:`tcpmm.ident.presliding.PRESLIDING`
         (:mod:`tcpmm.ident.presliding`) [m].
     """
     limit_blas_threads()
@@ -384,8 +391,11 @@ def identify_axis(
             from ..io.csvutil import warn_input
 
             warn_input(message, file=getattr(friction, "source", None))
-        fr = with_presliding(fr, mech, presliding)
-        phys.extra["presliding_m"] = presliding
+        d = presliding
+        if d is None:
+            d = split.presliding if np.isfinite(split.presliding) else PRESLIDING
+        fr = with_presliding(fr, mech, d)
+        phys.extra["presliding_m"] = d
     axis = Axis(
         mechanics=mech,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),
@@ -512,7 +522,7 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
 
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
-    guideway_share: float | None = None, presliding: float = PRESLIDING,
+    guideway_share: float | None = None, presliding: float | None = None,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
 
@@ -529,9 +539,10 @@ def identify_bundle(
     guideway_share : float, optional
         Share of the friction put on the guideway, the rest on the screw; ``None``: from
         each axis's friction runs [-].
-    presliding : float
+    presliding : float, optional
         Pre-sliding displacement of the identified friction contacts; ``0``: static
-        friction (:mod:`tcpmm.ident.presliding`) [m].
+        friction; ``None``: from each axis's friction runs where they determine it
+        (:mod:`tcpmm.ident.presliding`) [m].
     """
     for name, rec in bundle.axes.items():  # before the FRF fits: a bad record fails fast
         if rec.friction is not None:

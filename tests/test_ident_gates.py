@@ -109,17 +109,22 @@ def test_slowest_plateau_of_the_friction_runs(vmc):
     assert v == pytest.approx(0.002, rel=0.02)
 
 
-def test_negative_or_missing_fit_is_found():
-    rows = [{"tf": "G_M", "tf_fit_percent": 80.0, "physical_fit_percent": 60.0},
-            {"tf": "G_T", "tf_fit_percent": -5.0, "physical_fit_percent": -12.0},
-            {"tf": "G_tcp", "tf_fit_percent": float("nan"),
-             "physical_fit_percent": float("nan")}]
-    found = gates.check_fit_percent("X", rows, "X/sweep.csv")
-    assert [(f.parameter, f.value) for f in found[:2]] == [
-        ("fit of the physical model to G_T", -12.0),
-        ("fit of the transfer-function fit to G_T", -5.0)]
-    assert len(found) == 3 and "coherent" in found[2].bound  # NaN physical fit; NaN TF: not fitted
-    assert gates.check_fit_percent("X", rows[:1]) == []
+def test_negative_fit_is_found_and_one_bad_bin_is_not():
+    f = np.linspace(1.0, 100.0, 200)
+    H = 1.0 / (1j * f)
+    assert gates.check_fit_percent("X", "G_M", H, H * 1.05) == []
+    (bad,) = gates.check_fit_percent("X", "G_T", H, -H, "X/sweep.csv")  # wrong sign
+    assert bad.parameter == "fit of the physical model to G_T" and bad.unit == "%"
+    assert bad.value < 0 and "worse than the mean" in bad.bound and bad.data == "X/sweep.csv"
+    # a sharp model peak in one bin makes the plain fit negative, not the trimmed one
+    peak = H.copy()
+    peak[150] = 1000.0
+    from tcpmm.ident.metrics import fit_percent
+
+    assert fit_percent(H, peak) < 0 and gates.check_fit_percent("X", "G_M", H, peak) == []
+    assert gates.trimmed_fit_percent(H, peak) == pytest.approx(100.0)
+    (none,) = gates.check_fit_percent("X", "G_M", H[:0], H[:0])
+    assert math.isnan(none.value) and "coherent" in none.bound
 
 
 def test_unstable_sampled_loop_is_found(vmc):

@@ -183,9 +183,9 @@ def time_base_findings(bundle) -> list[Finding]:
     """
     out = []
     for name, rec in bundle.axes.items():
-        out += check_time_base(name, rec.sweep, "sweep.csv")
-        if rec.friction is not None:
-            out += check_time_base(name, rec.friction, "friction.csv")
+        for record, kind in ((rec.sweep, "sweep.csv"), (rec.friction, "friction.csv")):
+            if record is not None:
+                out += check_time_base(name, record, kind)
     return out
 
 

@@ -122,6 +122,26 @@ def _emit_json(data) -> None:
     out.print_json(json.dumps(data))
 
 
+def _warn_suspect(machine, what: str) -> None:
+    """Say loudly, on stderr, that a model carries the suspect marks of identification."""
+    if not machine.suspect:
+        return
+    console.print(f"[bold red]WARNING: {_esc(what)} is marked physically suspect[/bold red] "
+                  "(written by tcpmm identify --accept-suspect); its predictions may be "
+                  "meaningless:")
+    for s in machine.suspect:
+        console.print(f"[red]  - {_esc(s)}[/red]")
+
+
+def _read_model(model: str):
+    """Read a model file, warning when it carries suspect marks."""
+    from .io.modelfile import read_machine
+
+    m = read_machine(model)
+    _warn_suspect(m, f"model {model}")
+    return m
+
+
 @app.command()
 def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder.")):
     """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
@@ -151,12 +171,11 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     """Modes of each axis (natural frequencies and damping) and closed-loop stability."""
     import numpy as np
 
-    from .io.modelfile import read_machine
     from .mechanics.statespace import plant
     from .servo.closedloop import is_stable
     from .servo.sampled import sampled_spectral_radius
 
-    m = read_machine(model)
+    m = _read_model(model)
     data = {}
     for ax, a in m.axes.items():
         ev = np.linalg.eigvals(plant(a.mechanics).A)
@@ -205,13 +224,12 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
              output: Path = typer.Option(..., "-o", "--output", help="Run file RUN.csv."),
              record_period_s: float = typer.Option(None, help="Output period [s].")):
     """Drive the machine model with a position command; write the run file."""
-    from .io.modelfile import read_machine
     from .simulate import simulate as _simulate
 
     _output(output, model, command, gcode)
     if record_period_s is not None:
         _positive(record_period_s, "--record-period-s [s]")
-    m = read_machine(model)
+    m = _read_model(model)
     cmd = _load_command(command, gcode, m)
     with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
@@ -304,7 +322,6 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
            plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
     """Reversal spikes of a circle with their spread over the identified uncertainty."""
     from .demo import print_circle_table
-    from .io.modelfile import read_machine
     from .spread import MODEL_ERROR, TOLERANCE, circle_spread
 
     if tolerance is not None:
@@ -312,7 +329,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     _positive(radius, "--radius [mm]")
     _plot(plot)
     tol_m = TOLERANCE if tolerance is None else tolerance * 1e-6
-    m = read_machine(model)
+    m = _read_model(model)
     cmd = _load_command(command, gcode, m)
     c = _floats(centre, "--centre", 2)
     with _progress(draws + 1, "spread") as adv:
@@ -349,12 +366,11 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     """Frequency response of a transfer function of the model."""
     import numpy as np
 
-    from .io.modelfile import read_machine
     from .mechanics.transfer import REDUCED, reduced_freqresp
     from .servo.closedloop import CLOSED_LOOP_TFS, closed_loop_freqresp
 
     _plot(plot)
-    m = read_machine(model)
+    m = _read_model(model)
     a = m.axis(axis)
     f = np.array(_floats(freq_hz, "--freq-hz")) if freq_hz else np.logspace(0, 3.2, 200)
     if np.any(f <= 0):
@@ -453,8 +469,18 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
                  help="Pre-sliding displacement of the friction contacts [um] (LuGre); "
                       "0: static friction that sticks rigidly; default: from the force at "
                       "the friction runs' reversals, else tcpmm.ident.presliding.PRESLIDING."),
+             accept_suspect: bool = typer.Option(
+                 False, "--accept-suspect",
+                 help="Write the model even when the gates find it physically suspect "
+                      "(static friction beyond the drive, a negative fit, an unstable "
+                      "sampled loop, a time column in the wrong unit), marked as suspect "
+                      "in the file."),
              as_json: bool = typer.Option(False, "--json")):
-    """Identify every axis of a measurement bundle into a model file."""
+    """Identify every axis of a measurement bundle into a model file.
+
+    A model that the gates (tcpmm.ident.gates) find physically suspect is an error and is
+    not written, unless --accept-suspect.
+    """
     from .ident.pipeline import identify_bundle
     from .io.atomic import output_folder
     from .io.bundle import read_bundle
@@ -468,10 +494,11 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     presliding = None if presliding_um is None else presliding_um * 1e-6
     with _progress(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
-                              presliding=presliding)
+                              presliding=presliding, accept_suspect=accept_suspect)
     if report is not None:
         idn.write_report(report)
     write_machine(idn.machine, output)
+    _warn_suspect(idn.machine, f"the model written to {output}")
     if as_json:
         _emit_json(idn.to_dict())
         return

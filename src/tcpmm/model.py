@@ -167,6 +167,10 @@ class Machine(BaseModel):
     interpolation : dict or None
         CNC interpolator settings as given, checked against
         :class:`tcpmm.path.InterpolatorSettings` [SI].
+    suspect : tuple of str
+        What the gates of identification found physically suspect in this model, when it
+        was written anyway (``tcpmm identify --accept-suspect``); empty for a model that
+        passed them or was made by hand [-].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -174,6 +178,7 @@ class Machine(BaseModel):
     name: str = "machine"
     axes: dict[str, Axis]
     interpolation: dict | None = None
+    suspect: tuple[str, ...] = ()
 
     @field_validator("axes")
     @classmethod

@@ -21,6 +21,7 @@ from .frictionsplit import (
     share_uncertainty_warning,
     stribeck_from_record,
 )
+from .gates import SuspectModelError, axis_findings, time_base_findings
 from .metrics import fit_percent
 from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
@@ -131,11 +132,25 @@ class AxisIdentification:
 
 @dataclass
 class Identification:
-    """Identification of every axis of a bundle and the resulting machine model."""
+    """Identification of every axis of a bundle and the resulting machine model.
+
+    Parameters
+    ----------
+    axes : dict
+        :class:`AxisIdentification` per axis name [-].
+    machine : Machine
+        The identified model; it carries the findings as ``suspect`` marks [SI].
+    meta : dict
+        Where it came from [-].
+    findings : list of Finding
+        What the gates (:mod:`tcpmm.ident.gates`) found physically suspect; non-empty only
+        when identification was told to accept a suspect model [-].
+    """
 
     axes: dict
     machine: Machine
     meta: dict = field(default_factory=dict)
+    findings: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """JSON summary: fit percentage per transfer function and physical parameters."""
@@ -168,7 +183,8 @@ class Identification:
                 }
             if a.friction_split is not None:
                 out[name]["friction_split"] = a.friction_split.to_dict()
-        return {"machine": self.machine.name, "axes": out}
+        return {"machine": self.machine.name, "axes": out,
+                "suspect": [str(f) for f in self.findings]}
 
     def parameters_table(self):
         """Identified parameters with standard deviations, all axes."""
@@ -523,8 +539,14 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
     guideway_share: float | None = None, presliding: float | None = None,
+    accept_suspect: bool = False,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
+
+    The records and the identified axes pass the gates of :mod:`tcpmm.ident.gates`
+    (time base, static friction, fit quality, sampled-loop stability); a physically
+    suspect result is an error unless ``accept_suspect``, and the model then carries the
+    findings (``Machine.suspect``).
 
     Parameters
     ----------
@@ -543,8 +565,20 @@ def identify_bundle(
         Pre-sliding displacement of the identified friction contacts; ``0``: static
         friction; ``None``: from each axis's friction runs where they determine it
         (:mod:`tcpmm.ident.presliding`) [m].
+    accept_suspect : bool
+        Return a model the gates find physically suspect, marked, instead of raising [-].
+
+    Raises
+    ------
+    SuspectModelError
+        The gates found the records or the identified model physically suspect (and
+        ``accept_suspect`` is false); raised before the FRF fits for a bad time base.
     """
-    for name, rec in bundle.axes.items():  # before the FRF fits: a bad record fails fast
+    source = getattr(bundle, "path", None)
+    findings = time_base_findings(bundle)  # before the FRF fits: a bad record fails fast
+    if findings and not accept_suspect:
+        raise SuspectModelError(findings, file=source)
+    for name, rec in bundle.axes.items():
         if rec.friction is not None:
             stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
     axes = {}
@@ -554,9 +588,14 @@ def identify_bundle(
             name, rec.sweep, cfg, fmin_hz, fmax_hz, fit_current_loop, rec.friction,
             guideway_share, presliding,
         )
+        findings += axis_findings(axes[name], rec, cfg)
         if progress is not None:
             progress(name)
+    if findings and not accept_suspect:
+        raise SuspectModelError(findings, file=source)
     machine = Machine(
-        name=f"{bundle.machine.name} (identified)", axes={n: a.axis for n, a in axes.items()}
+        name=f"{bundle.machine.name} (identified)", axes={n: a.axis for n, a in axes.items()},
+        suspect=tuple(str(f) for f in findings),
     )
-    return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))})
+    return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
+                          findings)

@@ -45,7 +45,10 @@ def machine_to_dict(machine: Machine) -> dict:
     for a in d["axes"].values():
         if a.get("uncertainty") is None:
             a.pop("uncertainty", None)  # files of hand-made models stay as they were
-    out = {"format": FORMAT, "name": d["name"], "axes": d["axes"]}
+    out = {"format": FORMAT, "name": d["name"]}
+    if d.get("suspect"):
+        out["suspect"] = list(d["suspect"])  # first, where a reader sees it
+    out["axes"] = d["axes"]
     if d.get("interpolation") is not None:
         out["interpolation"] = d["interpolation"]
     return out
@@ -63,7 +66,8 @@ def write_machine(machine: Machine, path) -> None:
 
 
 def _to_machine(mf: ModelFile) -> Machine:
-    return Machine(name=mf.name, axes=mf.axes, interpolation=mf.interpolation)
+    return Machine(name=mf.name, axes=mf.axes, interpolation=mf.interpolation,
+                   suspect=mf.suspect)
 
 
 def loads_machine(text: str, file="<model>") -> Machine:

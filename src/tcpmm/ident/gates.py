@@ -1,0 +1,433 @@
+"""Gates: checks that keep a physically absurd identified model from being written silently.
+
+Each check takes the identified axis (or a record and what ``machine.yaml`` declares) and
+returns a list of :class:`Finding`; an empty list means the check passed. The checks:
+
+* :func:`check_time_base` -- the time column of a record against plausible DAQ periods and
+  feed speeds (e.g. a sweep written with milliseconds under ``time_s``);
+* :func:`check_static_friction_vs_drive` -- friction at rest above what the drive can push
+  at its current limit;
+* :func:`check_static_over_coulomb` -- a static level far above Coulomb that the friction
+  runs never saw (Stribeck speed below their slowest plateau);
+* :func:`check_fit_percent` -- a physical model worse than the mean of its FRF;
+* :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it.
+
+:func:`time_base_findings` and :func:`axis_findings` run them on a bundle's records and on an
+:class:`~tcpmm.ident.pipeline.AxisIdentification`; :class:`SuspectModelError` reports them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["FIT_TRIM", "MAX_DAQ_PERIOD_S", "MAX_FEED_SPEED", "MIN_DAQ_PERIOD_S",
+           "STATIC_OVER_COULOMB", "Finding", "SuspectModelError", "axis_findings",
+           "check_fit_percent", "check_sampled_loop", "check_static_friction_vs_drive",
+           "check_static_over_coulomb", "check_time_base", "drive_force_limit",
+           "slowest_plateau_speed", "time_base_findings", "trimmed_fit_percent"]
+
+#: Shortest plausible DAQ sample period: 100 kHz, beyond any drive or DAQ that records
+#: feed axes [s].
+MIN_DAQ_PERIOD_S = 1e-5
+#: Longest plausible DAQ sample period: 100 Hz. A sweep sampled slower has its Nyquist
+#: frequency (50 Hz) below the axial modes of a feed drive, and friction runs sampled slower
+#: do not resolve their reversals; a period beyond this is almost always a time column in
+#: the wrong unit (milliseconds under ``time_s`` gives 0.1 s at 10 kHz) [s].
+MAX_DAQ_PERIOD_S = 1e-2
+#: Fastest plausible feed speed of a measured axis: rapid traverses of machine tools stay
+#: below about 2 m/s, linear-motor axes below 5 m/s [m/s].
+MAX_FEED_SPEED = 5.0
+#: Window over which the feed speed is taken from the position, so that the position's
+#: quantisation does not read as speed [s].
+SPEED_WINDOW_S = 1e-3
+#: Quantile of the windowed speeds taken as the record's top speed, so that a few glitched
+#: samples do not count [-].
+SPEED_QUANTILE = 0.999
+#: Static friction above this many times the Coulomb level counts as far above it. Static
+#: over Coulomb friction of feed axes is 1.1 to 1.5 for preloaded rolling guides and ball
+#: screws and up to about 2 for sliding (plastic-lined) guides; 3 leaves margin above the
+#: largest of these, so a ratio beyond it is not a machine's but a fit's [-].
+STATIC_OVER_COULOMB = 3.0
+#: Share of an FRF's bins left out of the fit percentage that gates a model. A lightly
+#: damped mode of the model a few Hz off puts its whole peak into one or two bins, which
+#: then decide the plain figure: on one sane axis G_M gave -390 % with every bin and 82 %
+#: without the worst 1 % (of 2729). A model worse than the mean over 99 % of the band is
+#: wrong, not unlucky [-].
+FIT_TRIM = 0.01
+
+
+@dataclass(frozen=True)
+class Finding:
+    """A physically suspect result of identification.
+
+    Parameters
+    ----------
+    axis : str
+        Axis name [-].
+    parameter : str
+        What is suspect, e.g. ``friction.guideway.fs_pos`` [-].
+    value : float
+        Its value, in ``unit`` [unit].
+    unit : str
+        Unit of ``value`` as shown, e.g. ``N`` [-].
+    bound : str
+        The bound it violates, with its value and unit [-].
+    data : str
+        Which data led there (file and what in it) [-].
+    remedy : str
+        What to do about it [-].
+    """
+
+    axis: str
+    parameter: str
+    value: float
+    unit: str
+    bound: str
+    data: str
+    remedy: str
+
+    def __str__(self) -> str:
+        unit = f" {self.unit}" if self.unit else ""
+        return (f"axis {self.axis}: {self.parameter} = {self.value:.4g}{unit}, {self.bound} "
+                f"(from {self.data}); {self.remedy}")
+
+
+class SuspectModelError(InputError):
+    """Identification gave a physically suspect model, which is therefore not written.
+
+    Parameters
+    ----------
+    findings : list of Finding
+        What the gates found [-].
+    file : str or Path, optional
+        The bundle [-].
+    """
+
+    def __init__(self, findings, file=None):
+        self.findings = list(findings)
+        text = " | ".join(str(f) for f in self.findings)
+        super().__init__(
+            f"the identified model is physically suspect and was not written: {text}. "
+            "Fix the data as said, or write the model anyway, marked as suspect, with "
+            "--accept-suspect (Python: identify_bundle(..., accept_suspect=True))",
+            file=file)
+
+
+def _top_speed(t, x) -> float:
+    """Top feed speed of a position record over windows of :data:`SPEED_WINDOW_S` [m/s]."""
+    t = np.asarray(t, dtype=float)
+    x = np.asarray(x, dtype=float)
+    dt = float(np.median(np.diff(t)))
+    k = min(max(1, math.ceil(SPEED_WINDOW_S / dt)), x.size - 1)
+    v = np.abs(x[k:] - x[:-k]) / (t[k:] - t[:-k])
+    return float(np.quantile(v, SPEED_QUANTILE))
+
+
+def check_time_base(axis: str, record, kind: str) -> list[Finding]:
+    """The time column of a record against plausible DAQ periods and feed speeds.
+
+    A DAQ rate is free, but its sample period must lie within [:data:`MIN_DAQ_PERIOD_S`,
+    :data:`MAX_DAQ_PERIOD_S`], and the scale's rate of change over that time must be a
+    feed speed (at most :data:`MAX_FEED_SPEED`). Time in milliseconds or microseconds
+    under ``time_s`` fails one of the two.
+
+    Parameters
+    ----------
+    axis : str
+        Axis name [-].
+    record : SweepRecord or FrictionRecord
+        The record, SI [-].
+    kind : str
+        Its file name, e.g. ``sweep.csv``, for messages [-].
+
+    Returns
+    -------
+    list of Finding
+        Empty when the time base is plausible [-].
+    """
+    t = np.asarray(record.time_s, dtype=float)
+    dt = float(np.median(np.diff(t)))
+    data = f"{getattr(record, 'source', None) or kind}, column time_s"
+    remedy = (f"time_s must be in seconds: check the unit of the time column of {kind} "
+              "(milliseconds give 1000 times the sample period)")
+    out = []
+    if not MIN_DAQ_PERIOD_S <= dt <= MAX_DAQ_PERIOD_S:
+        out.append(Finding(axis, f"{kind} sample period", dt, "s",
+                           f"outside the plausible DAQ periods {MIN_DAQ_PERIOD_S:g} to "
+                           f"{MAX_DAQ_PERIOD_S:g} s", data, remedy))
+    speed = _top_speed(t, record.scale_m)
+    if speed > MAX_FEED_SPEED:
+        out.append(Finding(axis, f"{kind} feed speed", speed, "m/s",
+                           f"above the fastest plausible feed speed {MAX_FEED_SPEED:g} m/s",
+                           f"{data} and scale_mm", remedy + " and of scale_mm (mm)"))
+    return out
+
+
+def time_base_findings(bundle) -> list[Finding]:
+    """:func:`check_time_base` on every sweep and friction record of a bundle.
+
+    Parameters
+    ----------
+    bundle : Bundle
+        Read with :func:`tcpmm.io.bundle.read_bundle` [-].
+
+    Returns
+    -------
+    list of Finding
+        Empty when every time base is plausible [-].
+    """
+    out = []
+    for name, rec in bundle.axes.items():
+        for record, kind in ((rec.sweep, "sweep.csv"), (rec.friction, "friction.csv")):
+            if record is not None:
+                out += check_time_base(name, record, kind)
+    return out
+
+
+def drive_force_limit(axis) -> float:
+    """Force the drive delivers at the table at its current limit,
+    ``current_limit K_tc / R_L`` with ``R_L = lead / 2 pi`` [N].
+
+    Parameters
+    ----------
+    axis : Axis
+        The axis [SI].
+    """
+    m = axis.mechanics
+    return float(axis.servo.current_limit * m.K_tc / m.R_L)
+
+
+def _contacts(axis):
+    """``(name, contact)`` of the friction contacts of an axis [-]."""
+    fr = axis.friction
+    if fr is None:
+        return []
+    return [(k, c) for k, c in (("screw", fr.screw), ("guideway", fr.guideway)) if c is not None]
+
+
+def check_static_friction_vs_drive(name: str, axis, data: str = "the friction runs"
+                                   ) -> list[Finding]:
+    """Friction at rest (static levels of screw and guideway, table units) above the
+    force the drive delivers at its current limit: such an axis could never start, yet
+    the records show it moving.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    axis : Axis
+        The identified axis [SI].
+    data : str
+        The data its friction came from, for the message [-].
+
+    Returns
+    -------
+    list of Finding
+        One finding per direction that exceeds the drive's force [-].
+    """
+    limit = drive_force_limit(axis)
+    out = []
+    for d in ("pos", "neg"):
+        total = sum(getattr(c, f"fs_{d}") for _, c in _contacts(axis))
+        if total > limit:
+            out.append(Finding(
+                name, f"static friction fs_{d} (screw + guideway)", total, "N",
+                f"above the drive's force at its current limit, {limit:.4g} N "
+                f"({axis.servo.current_limit:g} A x K_tc {axis.mechanics.K_tc:g} N m/A / R_L "
+                f"{axis.mechanics.R_L * 1e3:.4g} mm/rad)", data,
+                "check lead_mm, torque_constant_Nm_per_A and current_limit_A in machine.yaml "
+                "and the unit of current_cmd_A in friction.csv"))
+    return out
+
+
+def slowest_plateau_speed(record, cfg, axis: str | None = None) -> float:
+    """Slowest constant-speed plateau of the friction runs, as the Stribeck fit sees them.
+
+    Parameters
+    ----------
+    record : FrictionRecord
+        The friction runs [SI].
+    cfg : AxisConfig
+        The axis's bundle configuration [-].
+    axis : str, optional
+        Axis name, for messages [-].
+
+    Returns
+    -------
+    float
+        Smallest absolute plateau velocity [m/s].
+    """
+    from .frictionsplit import stribeck_from_record
+
+    plateaus = stribeck_from_record(record, cfg, axis)[4]
+    return float(min(abs(p.velocity) for p in plateaus))
+
+
+def check_static_over_coulomb(name: str, axis, slowest_speed: float,
+                              data: str = "the friction runs") -> list[Finding]:
+    """A static level above :data:`STATIC_OVER_COULOMB` times Coulomb with a Stribeck speed
+    below the slowest plateau of the friction runs: the runs never saw the hump, so the
+    static level is an extrapolation of the fit.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    axis : Axis
+        The identified axis [SI].
+    slowest_speed : float
+        Slowest plateau speed of the friction runs [m/s].
+    data : str
+        The data its friction came from, for the message [-].
+
+    Returns
+    -------
+    list of Finding
+        One finding per contact and direction [-].
+    """
+    out = []
+    for contact, c in _contacts(axis):
+        if c.vs >= slowest_speed:
+            continue
+        for d in ("pos", "neg"):
+            fs, fc = getattr(c, f"fs_{d}"), getattr(c, f"fc_{d}")
+            if fs > STATIC_OVER_COULOMB * fc:
+                out.append(Finding(
+                    name, f"friction.{contact}.fs_{d}", fs, "N",
+                    f"above {STATIC_OVER_COULOMB:g} x its Coulomb level {fc:.4g} N, with a "
+                    f"Stribeck speed of {c.vs * 1e3:.3g} mm/s below the slowest run "
+                    f"{slowest_speed * 1e3:.3g} mm/s: the runs never saw that static level",
+                    data, "add friction runs slower than the Stribeck speed (e.g. 0.1 and "
+                    "0.2 mm/s, each held for at least 0.2 s in both directions)"))
+    return out
+
+
+def trimmed_fit_percent(H, H_model, trim: float = FIT_TRIM) -> float:
+    """:func:`tcpmm.ident.metrics.fit_percent` without the ``trim`` share of bins (at
+    least one) where the model is furthest from the data; NaN without bins [%].
+
+    Parameters
+    ----------
+    H : array_like
+        Measured FRF on its coherent bins [SI].
+    H_model : array_like
+        Model response on the same bins [SI].
+    trim : float
+        Share of bins left out [-].
+    """
+    from .metrics import fit_percent
+
+    H, h = np.asarray(H), np.asarray(H_model)
+    if H.size < 2:
+        return float("nan")
+    n_out = min(max(1, math.ceil(trim * H.size)), H.size - 2)
+    keep = np.argsort(np.abs(H - h))[: H.size - n_out]
+    return fit_percent(H[keep], h[keep])
+
+
+def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep"
+                      ) -> list[Finding]:
+    """A physical model worse than the mean of its measured FRF: fit below 0 % even
+    without the :data:`FIT_TRIM` worst bins (:func:`trimmed_fit_percent`), or no coherent
+    bin at all.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    tf : str
+        Transfer function, e.g. ``G_M`` [-].
+    H : array_like
+        Measured FRF on its coherent bins [SI].
+    H_model : array_like
+        The identified model's response on the same bins [SI].
+    data : str
+        The sweep record, for the message [-].
+
+    Returns
+    -------
+    list of Finding
+        Empty when the fit is not negative [-].
+    """
+    from .metrics import fit_percent
+
+    remedy = ("check the sweep (time unit, columns, excitation amplitude) and the band "
+              "(--band)")
+    if np.asarray(H).size < 2:
+        return [Finding(name, f"fit of the physical model to {tf}", float("nan"), "%",
+                        "not computable: no bin of the FRF is coherent", data, remedy)]
+    trimmed = trimmed_fit_percent(H, H_model)
+    if not trimmed < 0:
+        return []
+    return [Finding(name, f"fit of the physical model to {tf}", fit_percent(H, H_model), "%",
+                    f"below 0 % (worse than the mean of the data), {trimmed:.3g} % even "
+                    f"without the worst {FIT_TRIM:.0%} of its bins", data, remedy)]
+
+
+def check_sampled_loop(name: str, axis, data: str = "the sweep") -> list[Finding]:
+    """The identified position loop, as the drive samples it, unstable (spectral radius of
+    the lifted sampled loop at 1 or above): a simulation of the model diverges.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    axis : Axis
+        The identified axis [SI].
+    data : str
+        The sweep record, for the message [-].
+
+    Returns
+    -------
+    list of Finding
+        Empty when the sampled loop is stable [-].
+    """
+    from ..servo.sampled import sampled_spectral_radius
+
+    rho = sampled_spectral_radius(axis.mechanics, axis.servo)
+    if rho < 1.0:
+        return []
+    return [Finding(name, "spectral radius of the sampled position loop", rho, "",
+                    "at or above 1: the loop as the drive samples it is unstable", data,
+                    "check the servo settings in machine.yaml (gains, loop periods) and the "
+                    "sweep")]
+
+
+def axis_findings(ident, records, cfg) -> list[Finding]:
+    """Every model check on one identified axis.
+
+    Parameters
+    ----------
+    ident : AxisIdentification
+        The axis as identified [-].
+    records : AxisRecords
+        Its records from the bundle [-].
+    cfg : AxisConfig
+        Its bundle configuration [-].
+
+    Returns
+    -------
+    list of Finding
+        Empty when the axis passes [-].
+    """
+    from .pipeline import MIN_COHERENCE
+
+    name, axis = ident.name, ident.axis
+    sweep = records.sweep.source or f"{name}/sweep.csv"
+    out = []
+    for tf, frf in ident.frfs.items():
+        good = frf.coherence >= MIN_COHERENCE
+        out += check_fit_percent(name, tf, frf.H[good],
+                                 ident.physical_response(tf, frf.freq_hz)[good], sweep)
+    out += check_sampled_loop(name, axis, sweep)
+    if records.friction is not None and axis.friction is not None:
+        runs = records.friction.source or f"{name}/friction.csv"
+        out += check_static_friction_vs_drive(name, axis, runs)
+        slowest = slowest_plateau_speed(records.friction, cfg, name)
+        out += check_static_over_coulomb(name, axis, slowest, runs)
+    return out

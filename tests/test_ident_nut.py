@@ -343,11 +343,12 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen, identify_unseen):
 
 def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, monkeypatch):
     """Axis X of machine 7 of ``examples/unseen_machines.py --seed 0 --backlash``: 4.6 um of
-    play and a light table (15 % of the inertia). The linear fit puts M_t at 1.34 of the
-    truth; the refits with the play swing about their fixed point (1.10, 1.04, 1.09, then
-    1.05 and 1.06, which agree with the fit before them within ``SELF_CONSISTENT_REL``,
-    the last within ``CONVERGED_REL``, where the refits stop). Measured: M_t 1.06, K_t 1.16
-    of the truth; the linear fit is 1.34 and 0.85."""
+    play and a light table (15 % of the inertia). The linear fit puts M_t at 1.34-1.60 of
+    the truth; the refits with the play swing about their fixed point before they settle
+    (1.12, 1.05, 1.11, 1.12, 1.08, 1.08 in one build of the simulation kernel, 1.02, 1.04,
+    1.04 in another: how many refits it takes follows rounding in the simulated records,
+    where they settle does not). The refit kept is a solution of its own describing
+    function; measured M_t 1.04-1.08, K_t 0.97-1.17 of the truth."""
     fits = []
 
     def counted(*args, **kwargs):
@@ -357,7 +358,7 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
     monkeypatch.setattr(pipeline, "fit_physical", counted)
     _, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     refits = sum(g is not None for g in fits)
-    assert 4 <= refits < pipeline.PLAY_ITERATIONS
+    assert 2 <= refits < pipeline.PLAY_ITERATIONS
     assert "nut_gain" in idn.physical.extra
     m = idn.axis.mechanics
     assert m.M_t == pytest.approx(a.mechanics.M_t, rel=0.1)
@@ -365,13 +366,51 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
     assert not [w for w in caught if "lost motion in the nut" in w]
 
 
+def test_identification_does_not_follow_rounding_in_the_records(unseen):
+    """The axis above, whose refits with the play settle, identified from its records and
+    from the same records perturbed by 1e-12 relative (rounding, as another build of the
+    simulation kernel or another summation order gives): the same fit is kept, with the
+    same nut estimate, and the parameters agree within 1e-4 (measured 6e-6 on this axis
+    and on axis Y of machine 3, where the linear fit is kept: the least-squares fits stop
+    at that level)."""
+    import dataclasses
+
+    true, _ = unseen.draw_machine(0, 7, backlash=True)
+    a = true.axes["X"]
+    sweep = virtual_sweep(a, name="X", seed=0)
+    runs = virtual_friction(a, FRICTION_SPEEDS, name="X")
+    rng = np.random.default_rng(1)
+
+    def perturbed(rec):
+        return dataclasses.replace(rec, **{
+            f.name: v * (1.0 + 1e-12 * rng.standard_normal(v.shape))
+            for f in dataclasses.fields(rec)
+            if f.name != "time_s" and isinstance(v := getattr(rec, f.name), np.ndarray)
+            and v.dtype.kind == "f"})
+
+    got = []
+    for s, r in ((sweep, runs), (perturbed(sweep), perturbed(runs))):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            got.append(identify_axis("X", s, axis_config(true, "X"), friction=r))
+    one, two = got
+    assert ("nut_gain" in one.physical.extra) == ("nut_gain" in two.physical.extra)
+    assert (one.friction_split.nut is None) == (two.friction_split.nut is None)
+    m1, m2 = one.axis.mechanics.model_dump(), two.axis.mechanics.model_dump()
+    for p in one.physical.extra["names"]:
+        if p in m1:
+            assert m2[p] == pytest.approx(m1[p], rel=1e-4), p
+    assert two.friction_split.backlash == pytest.approx(one.friction_split.backlash, rel=1e-4)
+
+
 def test_the_user_is_told_when_no_refit_with_the_play_is_kept(identify_unseen, monkeypatch):
-    """The axis above with three refits only: none of them comes back within
-    ``SELF_CONSISTENT_REL`` of the one before, so the linear fit (M_t 1.34 of the truth) is
-    kept. On its mechanics the accelerations find no lost motion, so only the plateaus give
-    it (4.48 +- 0.10 um) and there is no nut estimate: the user must still be told that the
-    sweep crossed the play, with that lost motion and that the stiffness is the sweep's."""
-    monkeypatch.setattr(pipeline, "PLAY_ITERATIONS", 3)
+    """The axis above with one refit only: it does not come back within
+    ``SELF_CONSISTENT_REL`` of the linear fit (M_t 1.02-1.12 of the truth against 1.34-1.54),
+    so the linear fit is kept. On its mechanics the accelerations find no lost motion, so
+    only the plateaus give it (4.48 +- 0.10 um) and there is no nut estimate: the user must
+    still be told that the sweep crossed the play, with that lost motion and that the
+    stiffness is the sweep's."""
+    monkeypatch.setattr(pipeline, "PLAY_ITERATIONS", 1)
     true, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     split = idn.friction_split
     assert split.nut is None and "nut_gain" not in idn.physical.extra

@@ -109,8 +109,11 @@ def test_other_format_is_named_in_one_line(vmc):
     assert err.message == ("this is a measurement-bundle description (format tcpmm-bundle/1), "
                            "not a machine model; run `tcpmm identify` on its folder")
     assert err.line == 1
-    err = _error(dumps_machine(vmc).replace("tcpmm-model/1\n", "tcpmm-model/9\n", 1))
-    assert "format (line 12): Input should be 'tcpmm-model/1' (got 'tcpmm-model/9')" in err.message
+    text = dumps_machine(vmc).replace("tcpmm-model/1\n", "tcpmm-model/9\n", 1)
+    err = _error(text)
+    line = _line(text, "format: tcpmm-model/9")
+    assert (f"format (line {line}): Input should be 'tcpmm-model/1' (got 'tcpmm-model/9')"
+            in err.message)
 
 
 def test_tab_in_indentation(vmc):

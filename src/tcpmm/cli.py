@@ -467,8 +467,8 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
              presliding_um: float = typer.Option(
                  None, "--presliding-um", min=0.0,
                  help="Pre-sliding displacement of the friction contacts [um] (LuGre); "
-                      "0: static friction that sticks rigidly; default: from the force at "
-                      "the friction runs' reversals, else tcpmm.ident.presliding.PRESLIDING."),
+                      "0: static friction that sticks rigidly; default: "
+                      "tcpmm.ident.presliding.PRESLIDING."),
              accept_suspect: bool = typer.Option(
                  False, "--accept-suspect",
                  help="Write the model even when the gates find it physically suspect "
@@ -482,6 +482,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     not written, unless --accept-suspect.
     """
     from .ident.pipeline import identify_bundle
+    from .ident.presliding import PRESLIDING
     from .io.atomic import output_folder
     from .io.bundle import read_bundle
     from .io.modelfile import write_machine
@@ -491,7 +492,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
         output_folder(report)
     f0, f1 = _band(band, "--band")
     b = read_bundle(bundle)
-    presliding = None if presliding_um is None else presliding_um * 1e-6
+    presliding = PRESLIDING if presliding_um is None else presliding_um * 1e-6
     with _progress(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
                               presliding=presliding, accept_suspect=accept_suspect)
@@ -505,25 +506,11 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     from .demo import print_circle_table
 
     print_circle_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
-    _print_presliding(idn, presliding)
+    if presliding > 0 and any(a.friction is not None for a in idn.axes.values()):
+        out.print(f"friction: pre-sliding of {presliding * 1e6:g} um assumed on every contact "
+                  "(the friction runs do not determine it; --presliding-um sets it)")
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 
-
-def _print_presliding(idn, given) -> None:
-    """Say per axis where the pre-sliding displacement of its friction came from."""
-    for name, a in idn.axes.items():
-        if a.axis.friction is None:
-            continue
-        d = a.physical.extra.get("presliding_m", 0.0)
-        if given is not None:
-            how = "as given (--presliding-um)"
-        elif a.friction_split is not None and math.isfinite(a.friction_split.presliding):
-            sd = a.friction_split.presliding_std
-            how = f"+/- {sd * 1e6:.2f} um from the force at the friction runs' reversals"
-        else:
-            how = ("assumed: the friction runs' reversals do not determine it "
-                   "(--presliding-um sets it)")
-        out.print(f"axis {name}: friction pre-sliding {d * 1e6:.2f} um {how}")
 
 
 def main(argv=None) -> int:

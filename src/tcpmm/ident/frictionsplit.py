@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -30,8 +30,7 @@ from .friction import (
 )
 from .lostmotion import estimate_lost_motion
 from .nutstiffness import estimate_nut
-from .presliding import BRISTLE_DAMPING_RATIO
-from .stribeck_transients import fit_presliding, fit_stribeck_transients, lugre_contact
+from .stribeck_transients import fit_stribeck_transients
 
 __all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
            "place_steady_viscous", "share_uncertainty_warning"]
@@ -48,6 +47,9 @@ SHARE_WARN_STD = 0.1
 #: Highest low-pass cut-off of the fit to the whole friction record; at most a quarter of
 #: the drive's first axial mode, below which the axis moves as one body [Hz].
 TRANSIENT_CUTOFF_HZ = 30.0
+#: Largest relative standard deviation of the Stribeck speed and static levels of a fit to
+#: the plateaus that is taken as determining the hump [-].
+HUMP_REL_STD = 0.25
 
 
 @dataclass(frozen=True)
@@ -71,10 +73,6 @@ class FrictionSplit:
     guideway_share_std : float
         Standard deviation of the share used, from the estimate it came from; NaN when
         the share is the prior or given [-].
-    presliding, presliding_std : float
-        Pre-sliding displacement of the contacts (at the static level, net of the drive's
-        compliance) from the force at the reversals, and its standard deviation; NaN when
-        the record does not determine it (:func:`presliding_from_record`) [m].
     """
 
     guideway_share: float
@@ -83,8 +81,6 @@ class FrictionSplit:
     estimate: object = None
     nut: object = None
     guideway_share_std: float = float("nan")
-    presliding: float = float("nan")
-    presliding_std: float = float("nan")
 
     @property
     def backlash_std(self) -> float:
@@ -182,65 +178,19 @@ def stribeck_from_record(record, cfg, axis: str | None = None):
     return t, x, force, est, plateaus
 
 
-def rigid_mass(mechanics) -> float:
-    """Mass of the whole drive at the table, ``M_t + (J_m + J_L) / R_L^2`` [kg]."""
-    m = mechanics
-    return m.M_t + (m.J_m + m.J_L) / m.R_L**2
 
 
-def presliding_from_record(t, record, force, curve: dict, mechanics):
-    """Pre-sliding displacement of the contacts from the force at the reversals.
 
-    :func:`tcpmm.ident.stribeck_transients.fit_presliding` reads it against the motor
-    position, which runs ahead of the table by the drive's compliance (shaft torsion and
-    nut in series) under the friction; that part, ``Fs / K``, is the model's own and is
-    taken off.
-
-    Parameters
-    ----------
-    t : ndarray
-        Time [s].
-    record : FrictionRecord
-        The runs, SI [-].
-    force : ndarray
-        Motor force at the table [N].
-    curve : dict
-        The steady curve, ``Fc+, Fc-, Fs+, Fs-, vs`` [N, N, N, N, m/s].
-    mechanics : AxisMechanics
-        Identified mechanics [SI].
-
-    Returns
-    -------
-    tuple of float
-        ``(presliding, std)``, both NaN when the record does not determine it (no minimum
-        in the searched range, or a relative standard deviation above one half) [m].
-    """
-    m = mechanics
-    try:
-        d, sd = fit_presliding(t, record.motor_angle_rad * m.R_L, force, curve,
-                               mass=rigid_mass(m), damping_ratio=BRISTLE_DAMPING_RATIO)
-    except InputError:
-        return float("nan"), float("nan")
-    compliance = max(curve["Fs+"], curve["Fs-"]) * (m.R_L**2 / m.K_L + 1.0 / m.K_t)
-    net = d - compliance
-    if not (np.isfinite(sd) and sd < 0.5 * net and net > 0.0):
-        return float("nan"), float("nan")
-    return float(net), float(sd)
-
-
-def lugre_curve(dt: float, curve: dict, presliding: float, mass: float):
-    """Friction along a uniformly sampled velocity trace of LuGre contacts with the levels
-    of ``curve`` and the bristles of ``presliding`` ([s], [N, m/s], [m], [kg]): a callable
-    of the velocity array, in time order, giving the force [N]."""
-    from ..mechanics.friction import friction_params_array
-    from ..sim.lugre_path import lugre_path_force
-
-    p = friction_params_array(lugre_contact(curve, presliding, mass, BRISTLE_DAMPING_RATIO))
-
-    def along(vel):
-        return lugre_path_force(np.ascontiguousarray(vel, dtype=float), dt, p, 0.0)
-
-    return along
+def _plateaus_fix_the_hump(fit, plateaus) -> bool:
+    """Whether a fit to the plateaus determines its Stribeck hump: a Stribeck speed no
+    lower than the slowest plateau, and it and the static levels known within
+    :data:`HUMP_REL_STD`."""
+    v = dict(zip(fit.names, fit.values, strict=True))
+    sd = dict(zip(fit.names, fit.std, strict=True))
+    slowest = min(abs(p.velocity) for p in plateaus)
+    rel = [sd[k] / v[k] if v[k] > 0 else np.inf for k in ("vs", "Fs+", "Fs-")]
+    return bool(v["vs"] >= slowest and np.all(np.isfinite(rel))
+                and max(rel) <= HUMP_REL_STD)
 
 
 def steady_curve(t, record, force, plateau_fit, plateaus, mechanics):
@@ -248,7 +198,9 @@ def steady_curve(t, record, force, plateau_fit, plateaus, mechanics):
     plateaus' fit when the record has too little slow motion for it.
 
     The plateaus alone fix static level and Stribeck speed only in combination when the
-    slowest pass is near the Stribeck speed (:mod:`tcpmm.ident.stribeck_transients`).
+    slowest pass is near the Stribeck speed (:mod:`tcpmm.ident.stribeck_transients`);
+    where they fix both (:func:`_plateaus_fix_the_hump`) their fit is kept, since the
+    accelerations see the drive's compliance and any free play of the nut as well.
 
     Parameters
     ----------
@@ -270,6 +222,8 @@ def steady_curve(t, record, force, plateau_fit, plateaus, mechanics):
     ParameterEstimate
         ``Fc+, Fc-, Fs+, Fs-, vs, Fv`` [N, N, N, N, m/s, N s/m].
     """
+    if _plateaus_fix_the_hump(plateau_fit, plateaus):
+        return plateau_fit
     m = mechanics
     k_axial = 1.0 / (m.R_L**2 / m.K_L + 1.0 / m.K_t)
     f_axial = math.sqrt(k_axial / (m.M_t + (m.J_m + m.J_L) / m.R_L**2)) / (2 * math.pi)
@@ -328,9 +282,6 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     m = mechanics
     est = steady_curve(t, record, force, est, plateaus, m)
     v = dict(zip(est.names, est.values, strict=True))
-    d, d_std = presliding_from_record(t, record, force, v, m)
-    curve = coulomb_stribeck(v) if not np.isfinite(d) else lugre_curve(
-        float(np.median(np.diff(t))), v, d, rigid_mass(m))
     linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t
     fv = max(float(v["Fv"]) - linear, 0.0)
 
@@ -351,7 +302,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
 
     m_split = m.replace(B_m=0.0) if neglect_motor_bearing else m
     lm = plateau_split(m_split, stiffness_rel_std, share=given)
-    nut = _nut_estimate(t, record, m_split, v, curve, share=lm.guideway_share
+    nut = _nut_estimate(t, record, m_split, v, share=lm.guideway_share
                         if np.isfinite(lm.guideway_share) else GUIDEWAY_SHARE)
     if given is None and nut is not None and nut.lost_motion_found():
         # free play: the sweep saw a soft nut. The accelerations give the nut in contact
@@ -367,10 +318,6 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     elif lm.determined:
         split = FrictionSplit(lm.guideway_share, lm.backlash, "data", lm,
                               guideway_share_std=lm.guideway_share_std)
-    elif nut is not None and nut.determined and np.isfinite(nut.guideway_share):
-        # the plateaus alone do not resolve the deflection; the accelerations do
-        split = FrictionSplit(min(max(nut.guideway_share, 0.0), 1.0), 0.0, "data", lm, nut,
-                              nut.guideway_share_std)
     else:
         name = f"axis {axis}" if axis else "axis"
         warnings.warn(
@@ -378,7 +325,6 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             f"guideway and screw ({lm.reason}); using the prior guideway share "
             f"{GUIDEWAY_SHARE} and no lost motion", InputWarning, stacklevel=2)
         split = FrictionSplit(GUIDEWAY_SHARE, 0.0, "prior", lm)
-    split = replace(split, presliding=d, presliding_std=d_std)
     share = split.guideway_share
     fr = AxisFriction(guideway=part(share) if share > 0 else None,
                       screw=part(1 - share) if share < 1 else None,
@@ -453,12 +399,12 @@ def coulomb_stribeck(curve: dict):
     return part
 
 
-def _nut_estimate(t, record, mechanics, curve: dict, friction_curve, share: float):
+def _nut_estimate(t, record, mechanics, curve: dict, share: float):
     """Nut stiffness, share and lost motion from the whole friction record, or ``None``
     when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
     try:
         return estimate_nut(t, record.motor_angle_rad, record.scale_m, mechanics.R_L,
-                            mechanics, friction_curve, float(curve["Fv"]),
+                            mechanics, coulomb_stribeck(curve), float(curve["Fv"]),
                             share=min(max(float(share), 0.0), 1.0))
     except InputError:
         return None

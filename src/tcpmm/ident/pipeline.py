@@ -22,6 +22,7 @@ from .frictionsplit import (
     stribeck_from_record,
 )
 from .gates import SuspectModelError, axis_findings, time_base_findings
+from .loop_timing import identify_loop_timing
 from .metrics import fit_percent
 from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
@@ -180,7 +181,7 @@ class Identification:
                 "current_bandwidth_hz": a.axis.servo.current_bandwidth_hz,
             }
             for key in ("sweep_play", "friction_holds_sweep", "sampled_loop_spectral_radius",
-                        "presliding_m"):
+                        "presliding_m", "loop_timing"):
                 if key in a.physical.extra:
                     out[name][key] = a.physical.extra[key]
             if a.friction is not None:
@@ -262,9 +263,15 @@ class Identification:
         return files
 
 
-def axis_config_to_servo(cfg, current_bandwidth_hz=None) -> ServoParams:
-    """Servo parameters from a bundle's axis configuration."""
+def axis_config_to_servo(cfg, current_bandwidth_hz=None, timing=None) -> ServoParams:
+    """Servo parameters from a bundle's axis configuration, with the computation delay and
+    the velocity estimate read from the sweep (``timing``, a
+    :class:`~tcpmm.ident.loop_timing.LoopTiming`) or, without it, those of
+    :data:`COMPUTATION_DELAY` and a differenced encoder angle."""
     s = cfg.servo
+    delay, kind = COMPUTATION_DELAY, "difference"
+    if timing is not None and timing.determined:
+        delay, kind = timing.delay_samples, timing.velocity_feedback
     return ServoParams.create(
         position_feedback=s.position_feedback,
         K_pp=s.position_gain_1_per_s,
@@ -275,8 +282,8 @@ def axis_config_to_servo(cfg, current_bandwidth_hz=None) -> ServoParams:
         T_v=s.velocity_loop_period_s,
         current_limit=s.current_limit_A,
         current_bandwidth_hz=current_bandwidth_hz,
-        delay_samples=COMPUTATION_DELAY,
-        velocity_feedback="difference",
+        delay_samples=delay,
+        velocity_feedback=kind,
         feedforward="segment",
     )
 
@@ -304,7 +311,7 @@ DAMPING_KNOWN_REL_STD = 0.03
 
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
-    friction=None, guideway_share: float | None = None, presliding: float | None = None,
+    friction=None, guideway_share: float | None = None, presliding: float = PRESLIDING,
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
@@ -330,10 +337,9 @@ def identify_axis(
     guideway_share : float, optional
         Share of that friction put on the guideway, the rest on the screw; ``None``: from
         the friction runs (encoder-minus-scale deflection) [-].
-    presliding : float, optional
-        Pre-sliding displacement given to the identified contacts (LuGre); ``0``: static
-        friction that sticks rigidly; ``None``: from the force at the friction runs'
-        reversals where it determines it, else :data:`tcpmm.ident.presliding.PRESLIDING`
+    presliding : float
+        Pre-sliding displacement given to the identified contacts (LuGre), which the
+        friction runs do not determine; ``0``: static friction that sticks rigidly
         (:mod:`tcpmm.ident.presliding`) [m].
     """
     limit_blas_threads()
@@ -417,14 +423,12 @@ def identify_axis(
             from ..io.csvutil import warn_input
 
             warn_input(message, file=getattr(friction, "source", None))
-        d = presliding
-        if d is None:
-            d = split.presliding if np.isfinite(split.presliding) else PRESLIDING
-        fr = with_presliding(fr, mech, d)
-        phys.extra["presliding_m"] = d
+        fr = with_presliding(fr, mech, presliding)
+        phys.extra["presliding_m"] = presliding
     axis = Axis(
         mechanics=mech,
-        servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz")),
+        servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz"),
+                                   _loop_timing(name, sweep, cfg, phys)),
         sensors=axis_config_to_sensors(cfg),
         friction=fr,
         uncertainty=axis_uncertainty(phys, mech, est, split),
@@ -554,9 +558,30 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
         "makes it worse", file=getattr(sweep, "source", None))
 
 
+def _loop_timing(name: str, sweep, cfg, phys):
+    """The drive's computation delay and velocity estimate from a closed-loop sweep
+    (:mod:`tcpmm.ident.loop_timing`), noted in ``phys.extra``; a warning when a sweep with
+    the loops closed does not show them."""
+    timing = identify_loop_timing(sweep, cfg)
+    if timing is None:  # torque mode, or too little of the loop's response
+        return None
+    phys.extra["loop_timing"] = timing.to_dict()
+    if not timing.determined:
+        from ..io.csvutil import warn_input
+
+        warn_input(
+            f"axis {name}: the controller output in the sweep does not match the declared "
+            f"velocity-loop gains with any computation delay (fitted gain factor "
+            f"{timing.gain:.2f}, delay {timing.tau_periods:.2f} periods); check the gains, "
+            "lead and torque constant in machine.yaml. The model assumes a delay of "
+            f"{COMPUTATION_DELAY} period and a differenced encoder velocity",
+            file=getattr(sweep, "source", None))
+    return timing
+
+
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
-    guideway_share: float | None = None, presliding: float | None = None,
+    guideway_share: float | None = None, presliding: float = PRESLIDING,
     accept_suspect: bool = False,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
@@ -579,10 +604,9 @@ def identify_bundle(
     guideway_share : float, optional
         Share of the friction put on the guideway, the rest on the screw; ``None``: from
         each axis's friction runs [-].
-    presliding : float, optional
+    presliding : float
         Pre-sliding displacement of the identified friction contacts; ``0``: static
-        friction; ``None``: from each axis's friction runs where they determine it
-        (:mod:`tcpmm.ident.presliding`) [m].
+        friction (:mod:`tcpmm.ident.presliding`) [m].
     accept_suspect : bool
         Return a model the gates find physically suspect, marked, instead of raising [-].
 

@@ -12,10 +12,8 @@ plateaus at 1 m/s^2 (as the virtual runs do), the table crosses a micrometre in 
 or two samples of a 1 ms record read through micrometre sensor steps. ``with_presliding`` gives
 each identified contact the LuGre bristle stiffness ``sigma0 = Fs / z`` of an assumed
 displacement ``z`` (:data:`PRESLIDING`; ``0`` keeps the static model) and the bristle
-damping ``sigma1 = 2 zeta sqrt(sigma0 m)`` of :data:`BRISTLE_DAMPING_RATIO`, fading with
-speed; the levels, the Stribeck curve and the viscous part stay as identified. Where the
-force at the reversals of the friction runs determines the displacement
-(:func:`tcpmm.ident.frictionsplit.presliding_from_record`), identification uses that one.
+damping ``sigma1 = 2 zeta sqrt(sigma0 M_t)`` of :data:`BRISTLE_DAMPING_RATIO`, fading with
+speed; the levels, the Stribeck curve and the viscous part stay as identified.
 """
 
 from __future__ import annotations
@@ -31,11 +29,10 @@ __all__ = ["BRISTLE_DAMPING_RATIO", "PRESLIDING", "with_presliding"]
 #: that has reversed builds up its static level [m]. Half a micrometre sits in the range of
 #: preloaded rolling guides and ball screws (a few tenths to a few micrometres).
 PRESLIDING = 0.5e-6
-#: Damping ratio of the bristles against the drive's rigid-body mass at the table; one half
-#: is the usual choice since Canudas de Wit et al. (1995), ``sigma1 = sqrt(sigma0 m)``. The
-#: micro-damping fades with speed as the Stribeck hump does, so it damps pre-sliding
-#: without adding to the viscous friction of steady sliding [-].
-BRISTLE_DAMPING_RATIO = 0.5
+#: Damping ratio of the bristles against the table mass. The micro-damping fades with speed
+#: as the Stribeck hump does, so it damps pre-sliding without adding to the viscous
+#: friction of steady sliding [-].
+BRISTLE_DAMPING_RATIO = 0.15
 
 
 def _contact(c, presliding: float, mass: float, zeta: float):
@@ -63,13 +60,12 @@ def with_presliding(friction, mechanics, presliding: float = PRESLIDING,
     friction : AxisFriction or None
         Identified friction, static contacts [SI].
     mechanics : AxisMechanics
-        Identified mechanics; the rigid-body mass at the table,
-        ``M_t + (J_m + J_L) / R_L^2``, sets the bristle damping [SI].
+        Identified mechanics; the table mass ``M_t`` sets the bristle damping [SI].
     presliding : float
         Pre-sliding displacement at the static level; ``0`` returns ``friction`` as it is
         [m].
     damping_ratio : float
-        Bristle damping ratio against the rigid-body mass [-].
+        Bristle damping ratio against ``M_t`` [-].
 
     Returns
     -------
@@ -84,8 +80,7 @@ def with_presliding(friction, mechanics, presliding: float = PRESLIDING,
                          column="damping_ratio")
     if friction is None or presliding == 0.0:
         return friction
-    mc = mechanics
-    m = mc.M_t + (mc.J_m + mc.J_L) / mc.R_L**2
+    m = mechanics.M_t
     return friction.model_copy(update={
         "guideway": _contact(friction.guideway, presliding, m, damping_ratio),
         "screw": _contact(friction.screw, presliding, m, damping_ratio)})

@@ -1,0 +1,158 @@
+"""Computation delay and velocity estimate of a drive, from its own servo-excitation record.
+
+A digital velocity loop computes its current from encoder samples and applies it some
+velocity periods later; its speed is the shaft's, or the backward difference of the encoder
+angle, which lags by half a period. Neither is written on the drive's data sheet, and both
+set the loop's phase, hence how far it overshoots after a reversal. The sweep record holds
+what the controller did: with the gains known, its output ``u = i_c - r`` (current command
+minus excitation) follows from the recorded encoder angle and scale,
+
+    u(f) = -exp(-j w tau) C_v(f) (j w theta(f) + (K_pp / R_L) x_fb(f) exp(-j w T_p / 2)),
+
+``C_v = K_vp + K_vi / (j w)``, with the delay ``tau`` the only unknown. ``tau`` in velocity
+periods is the computation delay, plus one half for a differenced velocity, plus one half
+when the record is not sampled in step with the drive (a held current read at a random phase
+of its period). The integer and half-integer parts therefore give both the delay and the
+kind of velocity estimate; ``tau`` is fitted as the least-squares delay over the band where
+the loop's own response dominates the position loop's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .frf import frf_against_reference
+
+__all__ = ["LoopTiming", "identify_loop_timing"]
+
+#: Band of the fit: above it the drive's sample rate distorts the continuous model, below
+#: it the position loop's share grows [Hz].
+BAND_HZ = (40.0, 800.0)
+#: Largest distance of the fitted delay from the nearest structure still taken as that
+#: structure [velocity periods].
+MATCH_TOL = 0.2
+#: Fewest coherent bins for a fit [-].
+MIN_BINS = 20
+#: Range of the fitted factor on the declared gains within which the record is read as
+#: the declared controller: outside it the gains, the lead or the torque constant in
+#: machine.yaml are not the drive's, and the fitted delay means nothing [-].
+GAIN_RANGE = (0.8, 1.25)
+#: Largest relative residual of the fit for the same reason [-].
+MAX_RESIDUAL = 0.3
+
+
+@dataclass(frozen=True)
+class LoopTiming:
+    """Timing of a velocity loop read from a sweep.
+
+    Parameters
+    ----------
+    delay_samples : int
+        Computation delay [velocity periods].
+    velocity_feedback : {"state", "difference"}
+        Kind of velocity estimate [-].
+    tau_periods : float
+        Fitted delay of the controller output behind the recorded signals [velocity
+        periods].
+    gain : float
+        Fitted factor on the declared velocity-loop gains (1 when they are right) [-].
+    determined : bool
+        Whether the fit reads the declared controller (:data:`GAIN_RANGE`,
+        :data:`MAX_RESIDUAL`) and its delay lies within :data:`MATCH_TOL` of one
+        structure [-].
+    """
+
+    delay_samples: int
+    velocity_feedback: str
+    tau_periods: float
+    gain: float
+    determined: bool
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report [-]."""
+        return {"delay_samples": self.delay_samples,
+                "velocity_feedback": self.velocity_feedback,
+                "tau_periods": self.tau_periods, "gain": self.gain,
+                "determined": self.determined}
+
+
+def _controller_ratio(sweep, cfg):
+    """``u / (C_v (j w theta + K_pp/R_L x_fb))`` per bin, with its weights; or ``None``."""
+    s = cfg.servo
+    R = cfg.lead_m / (2.0 * math.pi)
+    sig = {"u": sweep.current_cmd_A - sweep.excitation_A, "th": sweep.motor_angle_rad,
+           "x": sweep.scale_m}
+    top = min(BAND_HZ[1], 0.2 * sweep.fs_hz)
+    if top < 2.0 * BAND_HZ[0]:
+        return None  # sampled too slowly to show the loop's timing
+    try:
+        frfs = frf_against_reference(sweep.excitation_A, sig, sweep.fs_hz,
+                                     fmin_hz=BAND_HZ[0], fmax_hz=top)
+    except InputError:  # no excitation in the band
+        return None
+    f = np.asarray(frfs["u"].freq_hz)
+    w = 2.0 * math.pi * f
+    x_fb = frfs["x"].H if s.position_feedback == "scale" else R * frfs["th"].H
+    pos = s.position_gain_1_per_s / R * x_fb * np.exp(-0.5j * w * s.position_loop_period_s)
+    c_v = s.velocity_gain_A_s_per_rad + s.velocity_integral_gain_A_per_rad / (1j * w)
+    den = c_v * (1j * w * frfs["th"].H + pos)
+    coh = np.minimum(frfs["u"].coherence, frfs["th"].coherence)
+    good = (coh > 0.9) & (np.abs(den) > 0)
+    if int(good.sum()) < MIN_BINS:
+        return None
+    return w[good], -frfs["u"].H[good] / den[good], coh[good]
+
+
+def _fit_delay(w, h, weight):
+    """Least-squares ``tau``, real gain and relative residual of ``h = g exp(-j w tau)``
+    [s], [-], [-]."""
+    def cost(tau):
+        e = np.exp(-1j * w * tau)
+        g = max(float(np.sum(weight * np.real(h * np.conj(e))) / np.sum(weight)), 0.0)
+        return float(np.sum(weight * np.abs(h - g * e) ** 2)), g
+
+    grid = np.linspace(0.0, 6.0 * math.pi / (2.0 * w.max()), 601)
+    costs = np.array([cost(t)[0] for t in grid])
+    k = int(np.argmin(costs))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    fine = np.linspace(lo, hi, 201)
+    tau = float(fine[int(np.argmin([cost(t)[0] for t in fine]))])
+    c, g = cost(tau)
+    return tau, g, math.sqrt(c / float(np.sum(weight * np.abs(h) ** 2)))
+
+
+def identify_loop_timing(sweep, cfg) -> LoopTiming | None:
+    """Computation delay and velocity estimate from a closed-loop sweep.
+
+    Parameters
+    ----------
+    sweep : SweepRecord
+        Closed-loop servo-excitation record (SI) [-].
+    cfg : AxisConfig
+        The axis's bundle configuration (gains, periods, lead) [-].
+
+    Returns
+    -------
+    LoopTiming or None
+        ``None`` when the record has too few coherent bins in :data:`BAND_HZ` [-].
+    """
+    got = _controller_ratio(sweep, cfg)
+    if got is None:
+        return None
+    w, h, coh = got
+    weight = coh / (1.0 - coh + 1e-6)
+    tau, gain, resid = _fit_delay(w, h, np.minimum(weight, 1e4))
+    T_v = cfg.servo.velocity_loop_period_s
+    ratio = T_v * sweep.fs_hz
+    in_step = abs(1.0 / ratio - round(1.0 / ratio)) < 1e-6 if ratio <= 1.0 else False
+    periods = tau / T_v - (0.0 if in_step else 0.5)
+    half = round(2.0 * periods)
+    delay, diff = max(half // 2, 0), half % 2 == 1
+    determined = (abs(periods - 0.5 * half) <= MATCH_TOL and half >= 0
+                  and GAIN_RANGE[0] < gain < GAIN_RANGE[1] and resid < MAX_RESIDUAL)
+    return LoopTiming(int(delay), "difference" if diff else "state", float(tau / T_v),
+                      float(gain), bool(determined))

@@ -1,0 +1,59 @@
+"""Computation delay and velocity estimate read from the sweep (``tcpmm.ident.loop_timing``).
+
+Known answers through the simulator: the built-in X axis with each stable timing, recorded
+in step with the drive; and the independent reference machines, whose drives apply the
+current one velocity period late and difference the encoder, recorded at 10 kHz against a
+16 kHz loop.
+"""
+
+import pytest
+
+from conftest import bench_path
+from tcpmm.ident.loop_timing import identify_loop_timing
+from tcpmm.io.bundle import read_bundle
+from tcpmm.servo.sampled import sampled_spectral_radius
+from tcpmm.virtual import axis_config, virtual_sweep
+
+
+@pytest.mark.parametrize("delay, kind", [(0, "state"), (0, "difference"), (1, "state"),
+                                         (1, "difference")])
+def test_the_drive_timing_is_read_from_its_sweep(vmc, delay, kind):
+    a = vmc.axes["X"]
+    a = a.replace(servo=a.servo.model_copy(update={"delay_samples": delay,
+                                                   "velocity_feedback": kind}))
+    assert sampled_spectral_radius(a.mechanics, a.servo) < 1.0
+    m = vmc.with_axis("X", a)
+    got = identify_loop_timing(virtual_sweep(a, name="X"), axis_config(m, "X"))
+    assert got.determined
+    assert (got.delay_samples, got.velocity_feedback) == (delay, kind)
+    # half a period for the difference, in step with the drive: no hold delay
+    assert got.tau_periods == pytest.approx(delay + 0.5 * (kind == "difference"), abs=0.1)
+    assert got.gain == pytest.approx(1.0, abs=0.05)
+
+
+def test_wrong_gains_leave_the_timing_undetermined(vmc):
+    a = vmc.axes["X"]
+    cfg = axis_config(vmc, "X")
+    sweep = virtual_sweep(a, name="X")
+    wrong = cfg.model_copy(update={"servo": cfg.servo.model_copy(update={
+        "velocity_gain_A_s_per_rad": 2.0 * cfg.servo.velocity_gain_A_s_per_rad,
+        "velocity_integral_gain_A_per_rad": 2.0 * cfg.servo.velocity_integral_gain_A_per_rad})})
+    got = identify_loop_timing(sweep, wrong)
+    assert not got.determined and got.gain == pytest.approx(0.5, abs=0.05)
+
+
+@pytest.mark.parametrize("letter", ["c", "d", "e"])
+def test_reference_drives_apply_one_period_late_and_difference_the_encoder(letter):
+    b = read_bundle(bench_path(letter) / "bundle")
+    for name, rec in b.axes.items():
+        got = identify_loop_timing(rec.sweep, b.machine.axes[name])
+        assert got.determined, (name, got)
+        assert (got.delay_samples, got.velocity_feedback) == (1, "difference")
+        # 1 delay + 1/2 difference + 1/2 for a held current read out of step: 2 periods
+        assert got.tau_periods == pytest.approx(2.0, abs=0.05)
+
+
+def test_a_torque_mode_sweep_says_nothing_of_the_loop():
+    b = read_bundle(bench_path("c") / "bundle_openloop")
+    rec = b.axes["X"]
+    assert identify_loop_timing(rec.sweep, b.machine.axes["X"]) is None

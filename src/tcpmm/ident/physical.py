@@ -28,6 +28,7 @@ from .._threads import limit_blas_threads
 from ..errors import InputError, InputWarning
 from ..mechanics.params import AxisMechanics
 from .metrics import rel_error
+from .physjac import residual_jacobian
 
 FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h")
@@ -397,13 +398,22 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     def bandwidth(theta):
         return float(np.exp(theta[n_mech])) if fit_current_loop else current_bandwidth_hz
 
+    last = {}  # the residual at the last point: the Jacobian there needs its fallbacks
+
     def resid(theta):
         m = mech_of(theta)
         try:
             model = model_frfs(m, freqs, bandwidth(theta), hold_period_s, nut_gain)
         except np.linalg.LinAlgError:
             return np.full(sum(2 * f.size for f in freqs.values()), 1e3)
-        return np.concatenate([log_residual(model[k], d.H, w[k]) for k, d in data.items()])
+        r = np.concatenate([log_residual(model[k], d.H, w[k]) for k, d in data.items()])
+        last.update(x=np.array(theta), r=r)
+        return r
+
+    def jac(theta):
+        r = last["r"] if np.array_equal(last.get("x"), theta) else resid(theta)
+        return residual_jacobian(mech_of(theta), freqs, w, r, names, tied, bandwidth(theta),
+                                 nut_gain)
 
     if initial is not None:
         starts = [initial]
@@ -421,11 +431,12 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         lo, hi = theta0 - np.log(1e3), theta0 + np.log(1e3)
         if fit_current_loop:
             lo[-1], hi[-1] = bounds_fi
-        r = least_squares(resid, theta0, bounds=(lo, hi), max_nfev=25 if len(starts) > 1
-                          else max_nfev, method="trf")
+        r = least_squares(resid, theta0, jac=jac, bounds=(lo, hi),
+                          max_nfev=25 if len(starts) > 1 else max_nfev, method="trf")
         if best is None or r.cost < best.cost:
             best, best_bounds = r, (lo, hi)
-    r = least_squares(resid, best.x, bounds=best_bounds, max_nfev=max_nfev, method="trf")
+    r = least_squares(resid, best.x, jac=jac, bounds=best_bounds, max_nfev=max_nfev,
+                      method="trf")
     m = mech_of(r.x)
     mech = AxisMechanics.create(**m.model_dump())
     f_i = bandwidth(r.x)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -59,6 +60,9 @@ def main(argv=None):
     paths = args.bundles or [args.data / b / "bundle" for b in BENCHES]
     result = {}
     for p in paths:
+        if not p.is_dir():
+            print(f"no bundle at {p}: skipped", file=sys.stderr)
+            continue
         label = p.parent.name if p.name == "bundle" else p.name
         result[label] = bench(p, max(1, args.repeat))
     if args.json:

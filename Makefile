@@ -24,6 +24,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/simulate.py
 	$(BIN)/python benchmarks/fit.py
 	$(BIN)/python benchmarks/interpolate.py
+	$(BIN)/python benchmarks/identify.py
 
 clean:
 	rm -rf $(VENV) out build *.egg-info src/*.egg-info

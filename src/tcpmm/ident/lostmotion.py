@@ -196,7 +196,12 @@ def quantisation_bias_std(t, x, quantum: float) -> float:
     line = x.mean() + slope * tc
     phase = (line - line[0]) / quantum
     n = np.arange(1, _HARMONICS + 1)
-    c = np.abs(np.exp(2j * np.pi * np.outer(n, phase)).mean(axis=1)) ** 2
+    z = np.exp(2j * np.pi * phase)
+    zn = np.ones_like(z)
+    c = np.empty(n.size)
+    for i in range(n.size):  # powers of the first harmonic: one exp per sample, not n
+        zn *= z
+        c[i] = abs(zn.mean()) ** 2
     var_phase = float(np.sum(c / (2.0 * np.pi**2 * n**2)))
     # the few highest harmonics stand for the rest of the series (sum of 1/n^2 beyond)
     var_phase += float(np.mean(c[-10:])) / (2.0 * np.pi**2 * _HARMONICS)

@@ -30,18 +30,49 @@ from .physical import nut_path
 
 __all__ = ["dead_zone_gain", "nut_deflection_amplitude", "play_gain", "sweep_motion"]
 
-#: Points per period of the describing-function quadrature, and bisection steps for the
-#: mean offset (2^-60 of the bracket: far below any play).
-_N_THETA = 256
+#: Bisection steps for the mean offset (2^-60 of the bracket: far below any play).
 _N_BISECT = 60
 
 
-def _dead_zone(x: np.ndarray, half: float) -> np.ndarray:
-    return np.where(x > half, x - half, np.where(x < -half, x + half, 0.0))
+def _ramp_harmonics(y, a):
+    """Mean and first sine harmonic of ``max(y + a sin th, 0)`` over a period.
+
+    In closed form: the ramp is active where ``sin th > beta = -y/a``, i.e. on
+    ``(asin beta, pi - asin beta)``, beta clipped to [-1, 1].
+
+    Parameters
+    ----------
+    y : numpy.ndarray
+        Offset beyond the ramp's corner [m].
+    a : numpy.ndarray
+        Amplitude, positive [m].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The mean and ``(1/pi) int max(...) sin th dth`` [m].
+    """
+    beta = np.clip(-y / a, -1.0, 1.0)
+    arc = np.pi - 2.0 * np.arcsin(beta)
+    root = np.sqrt(1.0 - beta**2)
+    mean = (y * arc + 2.0 * a * root) / (2.0 * np.pi)
+    first = (2.0 * y * root + a * (0.5 * arc + beta * root)) / np.pi
+    return mean, first
+
+
+def _dead_zone_harmonics(x0, a, half):
+    """Mean and first sine harmonic of the dead zone of half-width ``half`` driven by
+    ``x0 + a sin th`` [m]: the ramp above ``half`` less the mirrored one below ``-half``."""
+    m_up, f_up = _ramp_harmonics(x0 - half, a)
+    m_lo, f_lo = _ramp_harmonics(-x0 - half, a)
+    return m_up - m_lo, f_up + f_lo
 
 
 def dead_zone_gain(amplitude, half_play: float, bias: float) -> np.ndarray:
     """Describing function of a dead-zone spring held on one flank by a bias force.
+
+    Mean force and first harmonic in closed form; the offset at which the mean force
+    equals the bias by bisection (the mean is monotone in the offset).
 
     Parameters
     ----------
@@ -60,18 +91,16 @@ def dead_zone_gain(amplitude, half_play: float, bias: float) -> np.ndarray:
     a = np.atleast_1d(np.asarray(amplitude, dtype=float))
     half = max(float(half_play), 0.0)
     fb = abs(float(bias))
-    th = (np.arange(_N_THETA) + 0.5) * (2.0 * np.pi / _N_THETA)
-    s = np.sin(th)
+    a_pos = np.where(a > 0, a, 1.0)
     reach = half + fb + a + 1e-15
     lo, hi = -reach, reach.copy()
-    for _ in range(_N_BISECT):  # mean force is monotone in the offset
+    for _ in range(_N_BISECT):
         mid = 0.5 * (lo + hi)
-        over = _dead_zone(mid[:, None] + a[:, None] * s, half).mean(axis=1) > fb
+        over = _dead_zone_harmonics(mid, a_pos, half)[0] > fb
         hi = np.where(over, mid, hi)
         lo = np.where(over, lo, mid)
-    x0 = 0.5 * (lo + hi)
-    first = 2.0 * (_dead_zone(x0[:, None] + a[:, None] * s, half) * s).mean(axis=1)
-    gain = np.where(a > 0, first / np.where(a > 0, a, 1.0), 1.0)
+    first = _dead_zone_harmonics(0.5 * (lo + hi), a_pos, half)[1]
+    gain = np.where(a > 0, first / a_pos, 1.0)
     return np.clip(gain, 0.0, 1.0)
 
 

@@ -1,0 +1,136 @@
+"""Analytic sensitivities of the physical model's FRFs to its log-parameters.
+
+The chain rule through the block algebra of :func:`tcpmm.ident.physical.model_frfs`:
+``d log G / d log p`` for every parameter at once, one row per parameter. The least-squares
+fit of the log-parameters gets its Jacobian from these in a few array operations per FRF,
+where a finite-difference Jacobian costs one model evaluation per parameter.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..mechanics.params import AxisMechanics
+
+#: Rows of :func:`log_sensitivities`: the mechanics parameters the fit may take, then the
+#: current-loop bandwidth ``f_i``.
+PARAMS = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
+          "M_h", "C_h", "K_h", "f_i")
+_ROW = {p: i for i, p in enumerate(PARAMS)}
+
+
+def _rows(n: int, **terms) -> np.ndarray:
+    """A (parameters, bins) array holding ``terms`` in their rows, zero elsewhere [-]."""
+    out = np.zeros((len(PARAMS), n), dtype=complex)
+    for p, v in terms.items():
+        out[_ROW[p]] = v
+    return out
+
+
+def _nut_side(m: AxisMechanics, s, K_t):
+    """Table and bed admittances and their log-parameter derivatives [m/N]."""
+    n = s.size
+    den_t = m.M_t * s**2 + m.C_t * s
+    den_b = m.M_b * s**2 + m.C_b * s + m.K_b
+    d_den_t = _rows(n, M_t=m.M_t * s**2, C_t=m.C_t * s)
+    d_den_b = _rows(n, M_b=m.M_b * s**2, C_b=m.C_b * s, K_b=np.full(n, m.K_b))
+    D = 1 / den_t + 1 / den_b
+    dD = -d_den_t / den_t**2 - d_den_b / den_b**2
+    return den_t, d_den_t, D, dD
+
+
+def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz=None,
+                      nut_gain=None) -> np.ndarray:
+    """``d log G / d log p`` of one FRF of :func:`~tcpmm.ident.physical.model_frfs`.
+
+    The zero-order hold does not depend on any parameter and drops out.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Parameters [SI].
+    name : str
+        ``"G_M"``, ``"G_T"`` or ``"G_tcp"`` [-].
+    f_hz : numpy.ndarray
+        Frequencies [Hz].
+    current_bandwidth_hz : float, optional
+        First-order current loop in G_M [Hz].
+    nut_gain : callable, optional
+        Factor on ``K_t`` per frequency, as in ``model_frfs`` [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex sensitivities, one row per entry of :data:`PARAMS`, one column per
+        frequency [-].
+    """
+    m = mech
+    f = np.asarray(f_hz, dtype=float)
+    s = 2j * np.pi * f
+    n = s.size
+    K_t = m.K_t if nut_gain is None or name == "G_tcp" else m.K_t * nut_gain(f)
+    den_t, d_den_t, D, dD = _nut_side(m, s, K_t)
+    if name == "G_tcp":
+        den_h = m.M_h * s**2 + m.C_h * s + m.K_h
+        d_den_h = _rows(n, M_h=m.M_h * s**2, C_h=m.C_h * s, K_h=np.full(n, m.K_h))
+        A = 1 / den_t - 1 / den_h
+        return (-d_den_t / den_t**2 + d_den_h / den_h**2) / A - dD / D
+    R2 = m.R_L**2
+    KtD = K_t * D
+    dKt = _rows(n, K_t=np.broadcast_to(K_t, s.shape))
+    dKtD = dKt * D + K_t * dD
+    ZL = m.J_L * s**2 + m.B_L * s + K_t * R2 / (1 + KtD)
+    dZL = (_rows(n, J_L=m.J_L * s**2, B_L=m.B_L * s)
+           + R2 * (dKt / (1 + KtD) - K_t * dKtD / (1 + KtD) ** 2))
+    dKL = _rows(n, K_L=np.full(n, m.K_L))
+    if name == "G_T":
+        return dKL / m.K_L - (dZL + dKL) / (ZL + m.K_L) + dKtD / (KtD * (1 + KtD))
+    Zm = m.K_L * ZL / (ZL + m.K_L)
+    dZm = Zm**2 * (dKL / m.K_L**2 + dZL / ZL**2)
+    den_m = m.J_m * s**2 + m.B_m * s + Zm
+    out = -(_rows(n, J_m=m.J_m * s**2, B_m=m.B_m * s) + dZm) / den_m
+    if current_bandwidth_hz is not None:
+        x = s / (2 * np.pi * current_bandwidth_hz)
+        out[_ROW["f_i"]] = x / (1 + x)
+    return out
+
+
+def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
+                      names, tied: dict, current_bandwidth_hz=None,
+                      nut_gain=None) -> np.ndarray:
+    """Jacobian of the stacked log residuals of :func:`~tcpmm.ident.physical.log_residual`
+    with respect to the fitted log-parameters.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Parameters at which to differentiate [SI].
+    freqs, weights : dict
+        Frequencies [Hz] and weights [-] per FRF, in the order of the residual.
+    residual : numpy.ndarray
+        The residual at ``mech``; where it is not finite-valued (the fallback 1e3) its
+        rows are zero [-].
+    names : sequence of str
+        Fitted parameters, the columns [-].
+    tied : dict
+        Parameters held in proportion to ``M_t``; they move with its column [-].
+    current_bandwidth_hz : float, optional
+        Current-loop bandwidth [Hz].
+    nut_gain : callable, optional
+        Factor on ``K_t`` per frequency [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Real Jacobian, residuals by parameters [-].
+    """
+    blocks = []
+    for k, f in freqs.items():
+        d = log_sensitivities(mech, k, f, current_bandwidth_hz, nut_gain) * weights[k]
+        blocks += [d.real, d.imag]
+    S = np.concatenate(blocks, axis=1)
+    if tied:
+        S[_ROW["M_t"]] += sum(S[_ROW[p]] for p in tied)
+    J = S[[_ROW[p] for p in names]].T
+    J[~np.isfinite(J).all(axis=1) | (residual == 1e3)] = 0.0
+    return np.ascontiguousarray(J)

@@ -308,8 +308,13 @@ def check_static_over_coulomb(name: str, axis, slowest_speed: float,
 
 
 def trimmed_fit_percent(H, H_model, trim: float = FIT_TRIM) -> float:
-    """:func:`tcpmm.ident.metrics.fit_percent` without the ``trim`` share of bins (at
-    least one) where the model is furthest from the data; NaN without bins [%].
+    """Fit of the model to the logarithm of the FRF, ``ln|H| + j arg H`` (the quantity the
+    physical fit minimises), without the ``trim`` share of bins (at least one) where the
+    model is furthest; NaN without bins [%].
+
+    On the logarithm every decade of the response counts alike, so a resonance peak a few
+    bins off does not outweigh the rest of the band as it does on the complex FRF, where a
+    sane model of a lightly damped axis can read -400 %.
 
     Parameters
     ----------
@@ -322,16 +327,30 @@ def trimmed_fit_percent(H, H_model, trim: float = FIT_TRIM) -> float:
     """
     from .metrics import fit_percent
 
-    H, h = np.asarray(H), np.asarray(H_model)
-    if H.size < 2:
+    H, h = np.asarray(H, dtype=complex), np.asarray(H_model, dtype=complex)
+    ok = (np.abs(H) > 0) & (np.abs(h) > 0)
+    H, h = H[ok], h[ok]
+    if H.size < 3:
         return float("nan")
+    lH, lh = np.log(H), np.log(h)
+    lh = lh.real + 1j * (lH.imag + np.angle(np.exp(1j * (lh.imag - lH.imag))))  # same branch
     n_out = min(max(1, math.ceil(trim * H.size)), H.size - 2)
-    keep = np.argsort(np.abs(H - h))[: H.size - n_out]
-    return fit_percent(H[keep], h[keep])
+    keep = np.argsort(np.abs(lH - lh))[: H.size - n_out]
+    return fit_percent(lH[keep], lh[keep])
 
 
-def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep"
-                      ) -> list[Finding]:
+#: Cause and remedy of a failed fit when the sweep does not travel.
+STANDING_SWEEP = (
+    "the sweep does not travel (torque mode, or loops holding one place), so no part of it "
+    "shows the linear mechanics: at its lowest frequencies the axis sticks and slips at "
+    "every reversal, and above them the friction pre-slides and answers with the contacts' "
+    "stiffness (G_T = X_LS/theta_m is that of the pre-sliding spring, not of the nut). "
+    "Record the sweep with the loops closed while the axis travels at constant speed "
+    "(10-20 mm/s keeps the friction sliding)")
+
+
+def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep",
+                      remedy: str | None = None) -> list[Finding]:
     """A physical model worse than the mean of its measured FRF: fit below 0 % even
     without the :data:`FIT_TRIM` worst bins (:func:`trimmed_fit_percent`), or no coherent
     bin at all.
@@ -348,6 +367,8 @@ def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep"
         The identified model's response on the same bins [SI].
     data : str
         The sweep record, for the message [-].
+    remedy : str, optional
+        What to do, when the cause is known; by default the checks of a record [-].
 
     Returns
     -------
@@ -356,17 +377,18 @@ def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep"
     """
     from .metrics import fit_percent
 
-    remedy = ("check the sweep (time unit, columns, excitation amplitude) and the band "
-              "(--band)")
+    remedy = remedy or ("check the sweep (time unit, columns, excitation amplitude) and the "
+                        "band (--band)")
     if np.asarray(H).size < 2:
         return [Finding(name, f"fit of the physical model to {tf}", float("nan"), "%",
                         "not computable: no bin of the FRF is coherent", data, remedy)]
     trimmed = trimmed_fit_percent(H, H_model)
     if not trimmed < 0:
         return []
-    return [Finding(name, f"fit of the physical model to {tf}", fit_percent(H, H_model), "%",
-                    f"below 0 % (worse than the mean of the data), {trimmed:.3g} % even "
-                    f"without the worst {FIT_TRIM:.0%} of its bins", data, remedy)]
+    return [Finding(name, f"fit of the physical model to log {tf}", trimmed, "%",
+                    f"below 0 % (worse than the mean of the data) without the worst "
+                    f"{FIT_TRIM:.0%} of its bins (on the complex FRF "
+                    f"{fit_percent(H, H_model):.3g} %)", data, remedy)]
 
 
 def check_sampled_loop(name: str, axis, data: str = "the sweep") -> list[Finding]:
@@ -415,15 +437,17 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
     list of Finding
         Empty when the axis passes [-].
     """
-    from .pipeline import MIN_COHERENCE
+    from .pipeline import MIN_COHERENCE, _travel_speed
 
     name, axis = ident.name, ident.axis
     sweep = records.sweep.source or f"{name}/sweep.csv"
+    remedy = STANDING_SWEEP if _travel_speed(records.sweep) == 0.0 else None
     out = []
     for tf, frf in ident.frfs.items():
         good = frf.coherence >= MIN_COHERENCE
         out += check_fit_percent(name, tf, frf.H[good],
-                                 ident.physical_response(tf, frf.freq_hz)[good], sweep)
+                                 ident.physical_response(tf, frf.freq_hz)[good], sweep,
+                                 remedy)
     out += check_sampled_loop(name, axis, sweep)
     if records.friction is not None and axis.friction is not None:
         runs = records.friction.source or f"{name}/friction.csv"

@@ -16,6 +16,7 @@ from ..servo.params import ServoParams
 from ..sim.friction import sliding_friction
 from .frf import reduced_frfs
 from .frictionsplit import (
+    SHARE_WARN_STD,
     identify_friction,
     place_steady_viscous,
     share_uncertainty_warning,
@@ -29,6 +30,7 @@ from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
+from .sensitivity import share_spike_range
 from .structure import fit_structure
 from .tffit import fit_tf
 from .uncertainty import axis_uncertainty
@@ -359,6 +361,12 @@ def identify_axis(
     v_travel = _travel_speed(sweep)
     held = warn_friction_holds_sweep(name, sweep, frfs["G_M"], MIN_COHERENCE,
                                      standing=v_travel == 0.0)
+    if v_travel == 0.0:
+        from ..io.csvutil import warn_input
+        from .gates import STANDING_SWEEP
+
+        warn_input(f"axis {name}: {STANDING_SWEEP}; the model fitted to it can be off by "
+                   "micrometres at the reversals", file=getattr(sweep, "source", None))
     tf_fits = {}
     for k, frf in frfs.items():
         nn, nd, ni = TF_ORDERS[k]
@@ -639,5 +647,38 @@ def identify_bundle(
         name=f"{bundle.machine.name} (identified)", axes={n: a.axis for n, a in axes.items()},
         suspect=tuple(str(f) for f in findings),
     )
+    for name, a in axes.items():
+        _warn_share_sensitivity(name, a, machine, bundle.axes[name].friction)
     return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
                           findings)
+
+
+def _warn_share_sensitivity(name: str, a, machine, friction) -> None:
+    """Where the friction runs leave the guideway share open (a prior, or a standard
+    deviation above :data:`SHARE_WARN_STD`), say how far the TCP spikes of a circle move
+    over its plausible range (:func:`tcpmm.ident.sensitivity.share_spike_range`), and note
+    it in ``physical.extra["share_sensitivity"]``."""
+    split = a.friction_split
+    if split is None or split.source == "given":
+        return
+    sd = split.guideway_share_std
+    if split.source == "prior":
+        lo, hi = 0.05, 0.95
+    elif np.isfinite(sd) and sd > SHARE_WARN_STD:
+        lo = min(max(split.guideway_share - 2.0 * sd, 0.02), 0.98)
+        hi = min(max(split.guideway_share + 2.0 * sd, 0.02), 0.98)
+    else:
+        return
+    moved = share_spike_range(machine, name, (lo, hi))
+    if moved is None:
+        return
+    a.physical.extra["share_sensitivity"] = {"shares": [lo, hi], "spike_change_m": moved}
+    from ..io.csvutil import warn_input
+
+    warn_input(
+        f"axis {name}: the guideway share is not determined by the friction runs "
+        f"({split.guideway_share:.2f} used); between shares {lo:.2f} and {hi:.2f} the TCP "
+        f"reversal spikes of a circle in its plane (R35 mm, F5000) move by up to "
+        f"{moved * 1e6:.2f} um. Finer sensors, or runs at speeds that do not advance whole "
+        "sensor steps per sample, fix the share; --guideway-share sets it",
+        file=getattr(friction, "source", None))

@@ -118,6 +118,17 @@ class AxisIdentification:
             self.physical.extra.get("nut_gain"),
         )[name]
 
+    def fitted_response(self, name: str, f_hz) -> np.ndarray:
+        """Response of the physical fit to the FRFs itself, before the friction runs'
+        nut stiffness and viscous placement replace its values, as measured [SI]."""
+        return model_frfs(
+            self.physical.mechanics,
+            {name: f_hz},
+            self.axis.servo.current_bandwidth_hz,
+            self.axis.servo.T_v,
+            self.physical.extra.get("nut_gain"),
+        )[name]
+
     def quality(self) -> list[dict]:
         """Fit quality per transfer function: TF fit and physical model."""
         rows = []

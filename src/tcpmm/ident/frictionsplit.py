@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import warnings
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -164,7 +165,8 @@ def stribeck_from_record(record, cfg, axis: str | None = None):
     """
     t, x, force = friction_record_arrays(record, cfg.lead_m, cfg.torque_constant)
     try:
-        est, plateaus = identify_stribeck_run(t, x, force)
+        est, plateaus = _memo(record, ("plateaus", cfg.lead_m, cfg.torque_constant),
+                              lambda: identify_stribeck_run(t, x, force))
     except NoPlateauError:
         name = axis or record.axis
         raise InputError(
@@ -179,6 +181,29 @@ def stribeck_from_record(record, cfg, axis: str | None = None):
 
 
 
+
+
+#: Fits of a record already made, by the record (held weakly) and what they depend on: the
+#: refits of the mechanics ask for the same friction fits several times.
+_FITS: dict = {}
+
+
+def _memo(record, key, make):
+    """``make()`` once per record and key; an error is raised again each time."""
+    ref, fits = _FITS.get(id(record), (None, None))
+    if ref is None or ref() is not record:
+        fits = {}
+        _FITS[id(record)] = (weakref.ref(record, lambda _, i=id(record): _FITS.pop(i, None)),
+                             fits)
+    if key not in fits:
+        try:
+            fits[key] = (make(), None)
+        except InputError as exc:
+            fits[key] = (None, exc)
+    value, exc = fits[key]
+    if exc is not None:
+        raise exc
+    return value
 
 
 def _plateaus_fix_the_hump(fit, plateaus) -> bool:
@@ -228,10 +253,12 @@ def steady_curve(t, record, force, plateau_fit, plateaus, mechanics):
     k_axial = 1.0 / (m.R_L**2 / m.K_L + 1.0 / m.K_t)
     f_axial = math.sqrt(k_axial / (m.M_t + (m.J_m + m.J_L) / m.R_L**2)) / (2 * math.pi)
     slowest = min(abs(p.velocity) for p in plateaus)
+    cutoff = min(TRANSIENT_CUTOFF_HZ, 0.25 * f_axial)
     try:
-        return fit_stribeck_transients(t, record.motor_angle_rad * m.R_L, force,
-                                       slowest_plateau=slowest,
-                                       cutoff_hz=min(TRANSIENT_CUTOFF_HZ, 0.25 * f_axial))
+        return _memo(record, ("transients", m.R_L, round(cutoff, 3), float(force[0])),
+                     lambda: fit_stribeck_transients(t, record.motor_angle_rad * m.R_L, force,
+                                                     slowest_plateau=slowest,
+                                                     cutoff_hz=cutoff))
     except InputError:
         return plateau_fit
 

@@ -92,16 +92,18 @@ def _solve(p, vs, delta):
     A = _matrix(p, vs, delta)
     f = p["f"][p["use"]]
     scale = np.maximum(np.sqrt(np.sum(A * A, axis=0)), 1e-300)
-    lo = np.r_[np.zeros(len(_NAMES)), np.full(A.shape[1] - len(_NAMES), -np.inf)]
-    r = lsq_linear(A / scale, f, bounds=(lo, np.inf), method="bvls")
-    theta = r.x / scale
+    theta = np.linalg.lstsq(A / scale, f, rcond=None)[0]
+    if np.any(theta[:len(_NAMES)] < 0.0):  # a bound is active: the bounded solution
+        lo = np.r_[np.zeros(len(_NAMES)), np.full(A.shape[1] - len(_NAMES), -np.inf)]
+        theta = lsq_linear(A / scale, f, bounds=(lo, np.inf), method="bvls").x
+    theta = theta / scale
     e = f - A @ theta
     return theta, float(e @ e), A
 
 
 def _profile_min(p, delta):
     """Stribeck speed minimising the profiled cost: grid, then a bounded refinement."""
-    grid = np.logspace(math.log10(VS_RANGE[0]), math.log10(VS_RANGE[1]), 49)
+    grid = np.logspace(math.log10(VS_RANGE[0]), math.log10(VS_RANGE[1]), 25)
     costs = np.array([_solve(p, vs, delta)[1] for vs in grid])
     k = int(np.argmin(costs))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]

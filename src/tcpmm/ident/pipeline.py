@@ -106,28 +106,20 @@ class AxisIdentification:
     friction: object = None
     friction_split: object = None
 
+    def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
+        return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,
+                          self.axis.servo.T_v, self.physical.extra.get("nut_gain"))[name]
+
     def physical_response(self, name: str, f_hz) -> np.ndarray:
         """Response of the identified physical model as measured (with the drive's
         zero-order hold of the current, and the nut as soft as the sweep saw it when it
         crossed the play) [SI]."""
-        return model_frfs(
-            self.axis.mechanics,
-            {name: f_hz},
-            self.axis.servo.current_bandwidth_hz,
-            self.axis.servo.T_v,
-            self.physical.extra.get("nut_gain"),
-        )[name]
+        return self._as_measured(self.axis.mechanics, name, f_hz)
 
     def fitted_response(self, name: str, f_hz) -> np.ndarray:
         """Response of the physical fit to the FRFs itself, before the friction runs'
         nut stiffness and viscous placement replace its values, as measured [SI]."""
-        return model_frfs(
-            self.physical.mechanics,
-            {name: f_hz},
-            self.axis.servo.current_bandwidth_hz,
-            self.axis.servo.T_v,
-            self.physical.extra.get("nut_gain"),
-        )[name]
+        return self._as_measured(self.physical.mechanics, name, f_hz)
 
     def quality(self) -> list[dict]:
         """Fit quality per transfer function: TF fit and physical model."""

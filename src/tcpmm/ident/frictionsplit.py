@@ -329,7 +329,8 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
 
     m_split = m.replace(B_m=0.0) if neglect_motor_bearing else m
     lm = plateau_split(m_split, stiffness_rel_std, share=given)
-    nut = _nut_estimate(t, record, m_split, v, share=lm.guideway_share
+    nut = _nut_estimate(t, record, m_split, v, cfg.sensors.scale_resolution_m,
+                        share=lm.guideway_share
                         if np.isfinite(lm.guideway_share) else GUIDEWAY_SHARE)
     if given is None and nut is not None and nut.lost_motion_found():
         # free play: the sweep saw a soft nut. The accelerations give the nut in contact
@@ -426,13 +427,14 @@ def coulomb_stribeck(curve: dict):
     return part
 
 
-def _nut_estimate(t, record, mechanics, curve: dict, share: float):
+def _nut_estimate(t, record, mechanics, curve: dict, scale_resolution: float, share: float):
     """Nut stiffness, share and lost motion from the whole friction record, or ``None``
     when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
     try:
         return estimate_nut(t, record.motor_angle_rad, record.scale_m, mechanics.R_L,
                             mechanics, coulomb_stribeck(curve), float(curve["Fv"]),
-                            share=min(max(float(share), 0.0), 1.0))
+                            share=min(max(float(share), 0.0), 1.0),
+                            scale_resolution=scale_resolution)
     except InputError:
         return None
 

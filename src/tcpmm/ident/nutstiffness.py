@@ -171,7 +171,7 @@ class NutEstimate:
 def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
                  total_viscous: float, *, share: float = 0.5, cutoff=CUTOFFS_HZ,
                  min_speed: float = 2e-4, margin: float = 1.5,
-                 max_rel_std: float = 0.3) -> NutEstimate:
+                 max_rel_std: float = 0.3, scale_resolution: float = 0.0) -> NutEstimate:
     """Nut stiffness, guideway share and lost motion from a record with accelerations.
 
     The sign of the nut force ``F_t = M_t a + C_t v + s F_f(v)`` must be known where a
@@ -221,6 +221,9 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
     max_rel_std : float
         Largest relative standard deviation of ``M_t/K_t`` for which the record counts
         as determining the stiffness [-].
+    scale_resolution : float
+        Resolution of the scale; its rounding, which does not average out on speeds locked
+        to the sensor steps, enters the standard deviations [m].
 
     Returns
     -------
@@ -235,7 +238,8 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
     cutoffs = [float(c) for c in np.atleast_1d(cutoff)]
     usable = sorted(c for c in cutoffs if c < 0.4 / dt) or cutoffs[:1]
     found = [_estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve,
-                          total_viscous, share, c, min_speed, margin, max_rel_std)
+                          total_viscous, share, c, min_speed, margin, max_rel_std,
+                          scale_resolution)
              for c in usable]
     determined = [e for k, e in enumerate(found)
                   if e.determined and np.isfinite(e.guideway_share_std)
@@ -254,7 +258,8 @@ def _same_nut(e: NutEstimate, lower: NutEstimate) -> bool:
 
 
 def _estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve, total_viscous,
-                 share, cutoff, min_speed, margin, max_rel_std) -> NutEstimate:
+                 share, cutoff, min_speed, margin, max_rel_std,
+                 scale_resolution=0.0) -> NutEstimate:
     """:func:`estimate_nut` at one cut-off [Hz]; the other arguments as there [SI]."""
     m = mechanics
     th = lowpass_filtfilt(motor_angle, dt, cutoff)
@@ -269,7 +274,7 @@ def _estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve, tota
 
     def fit(C_t, s):
         return _fit_nut(t, v, a, y, ff, guard, m, C_t, min(max(float(s), 0.0), 1.0),
-                        min_speed, margin, max_rel_std)
+                        min_speed, margin, max_rel_std, (scale, scale_resolution))
 
     kept = fit(m.C_t, share)
     c_tab = kept.table_viscous
@@ -280,10 +285,49 @@ def _estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve, tota
     return replace(kept, cutoff=cutoff)
 
 
+def _steady_stretches(idx, v, rel: float = 0.02):
+    """``(start, stop)`` positions in ``idx`` of the runs of consecutive samples whose
+    speed stays within ``rel`` of the run's first: a plateau is one run, a ramp many."""
+    out, i0 = [], 0
+    for i in range(1, idx.size + 1):
+        if (i == idx.size or idx[i] != idx[i - 1] + 1
+                or abs(v[idx[i]] - v[idx[i0]]) > rel * abs(v[idx[i0]])):
+            out.append((i0, i))
+            i0 = i
+    return out
+
+
+def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
+    """Covariance the scale's rounding adds to least-squares coefficients ``P y``.
+
+    On a stretch of steady motion whose speed advances a whole number of sensor steps per
+    sample, the rounding error of the scale is one unknown constant (it does not average
+    out); it passes the low-pass unchanged into ``y``. Each steady stretch of fitted
+    samples (:func:`_steady_stretches`, ``v`` the filtered speed [m/s]) gets the variance
+    of its mean rounding error
+    (:func:`tcpmm.ident.lostmotion.quantisation_bias_std`), and its weight in each
+    coefficient is the sum of ``P`` over it.
+    """
+    from .lostmotion import quantisation_bias_std
+
+    k = P.shape[0]
+    cov = np.zeros((k, k))
+    if quantum <= 0.0:
+        return cov
+    idx = np.flatnonzero(use)
+    for i0, i1 in _steady_stretches(idx, v):
+        seg = idx[i0:i1]
+        sd = quantisation_bias_std(t[seg], scale[seg], quantum)
+        w = P[:, i0:i1].sum(axis=1)
+        cov += np.outer(w, w) * sd**2
+    return cov
+
+
 def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed: float,
-             margin: float, max_rel_std: float) -> NutEstimate:
+             margin: float, max_rel_std: float, scale_q=(None, 0.0)) -> NutEstimate:
     """The least-squares fit of :func:`estimate_nut` on the filtered signals, with the
-    nut-force signs decided by ``C_t`` [N s/m] and ``share`` [-]."""
+    nut-force signs decided by ``C_t`` [N s/m] and ``share`` [-]; ``scale_q`` is the
+    recorded scale and its resolution ([m], [m]), whose rounding enters the covariance."""
     from scipy.ndimage import binary_dilation
 
     inertia = m.M_t * np.abs(a)
@@ -308,7 +352,11 @@ def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed:
     r = y[use] - A @ theta
     s2 = float(r @ r) / max(n - A.shape[1], 1) * guard  # correlated over ~guard samples
     try:
-        cov = np.linalg.inv(A.T @ A) * s2
+        inv = np.linalg.inv(A.T @ A)
+        cov = inv * s2
+        if scale_q[0] is not None:
+            cov = cov + _quantisation_cov(t, use, inv @ A.T, np.asarray(scale_q[0]),
+                                          scale_q[1], v)
     except np.linalg.LinAlgError:
         cov = np.full((5, 5), np.inf)
     c, beta, p_s, p_a, g = (float(q) for q in theta)

@@ -94,6 +94,18 @@ def test_tcp_contour_error_within_half_a_micrometre(letter, case):
     assert abs(row["contour_error_um"]) < CONTOUR_TARGET_UM, row["contour_error_um"]
 
 
+def test_what_the_records_leave_open_is_measured_in_spikes():
+    """Machine C's Y has a 1 um scale on speeds locked to its steps: the share stays open
+    and a lost motion of up to three standard deviations could hide; identify measures in
+    spikes what each could do (true share 0.66, no lost motion)."""
+    a = identified("c").axes["Y"]
+    share = a.physical.extra["share_sensitivity"]
+    assert share["shares"] == [0.05, 0.95] and share["spike_change_m"] > 5e-6
+    hidden = a.physical.extra["lost_motion_sensitivity"]
+    assert hidden["lost_motion_m"][1] > 0.2e-6 and hidden["spike_change_m"] > 0.0
+    assert "share_sensitivity" not in identified("d").axes["X"].physical.extra
+
+
 def test_a_standing_sweep_is_named_with_its_cause():
     """Machine C's sweep in torque mode from rest sticks, slips and pre-slides: no part of
     it shows the linear mechanics, and identification says so for each axis."""

@@ -12,6 +12,7 @@ the damping of the mechanics, on the side of the nut where the runs say it acts.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 import weakref
@@ -74,6 +75,9 @@ class FrictionSplit:
     guideway_share_std : float
         Standard deviation of the share used, from the estimate it came from; NaN when
         the share is the prior or given [-].
+    unfound_backlash_std : float
+        Standard deviation of the lost motion the whole record gives where it does not
+        find any, the scale for how much could hide; NaN otherwise [m].
     """
 
     guideway_share: float
@@ -82,6 +86,7 @@ class FrictionSplit:
     estimate: object = None
     nut: object = None
     guideway_share_std: float = float("nan")
+    unfound_backlash_std: float = float("nan")
 
     @property
     def backlash_std(self) -> float:
@@ -353,6 +358,8 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             f"guideway and screw ({lm.reason}); using the prior guideway share "
             f"{GUIDEWAY_SHARE} and no lost motion", InputWarning, stacklevel=2)
         split = FrictionSplit(GUIDEWAY_SHARE, 0.0, "prior", lm)
+    if nut is not None and not nut.lost_motion_found() and np.isfinite(nut.backlash_std):
+        split = dataclasses.replace(split, unfound_backlash_std=float(nut.backlash_std))
     share = split.guideway_share
     fr = AxisFriction(guideway=part(share) if share > 0 else None,
                       screw=part(1 - share) if share < 1 else None,

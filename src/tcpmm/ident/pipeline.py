@@ -30,7 +30,7 @@ from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
-from .sensitivity import share_spike_range
+from .sensitivity import lost_motion_spike_range, share_spike_range
 from .structure import fit_structure
 from .tffit import fit_tf
 from .uncertainty import axis_uncertainty
@@ -186,7 +186,8 @@ class Identification:
                 "current_bandwidth_hz": a.axis.servo.current_bandwidth_hz,
             }
             for key in ("sweep_play", "friction_holds_sweep", "sampled_loop_spectral_radius",
-                        "presliding_m", "loop_timing"):
+                        "presliding_m", "loop_timing", "share_sensitivity",
+                        "lost_motion_sensitivity"):
                 if key in a.physical.extra:
                     out[name][key] = a.physical.extra[key]
             if a.friction is not None:
@@ -652,8 +653,45 @@ def identify_bundle(
     )
     for name, a in axes.items():
         _warn_share_sensitivity(name, a, machine, bundle.axes[name].friction)
+        _warn_lost_motion_sensitivity(name, a, machine, bundle.axes[name].friction)
     return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
                           findings)
+
+
+#: Smallest undetected lost motion (three standard deviations of a lost motion the runs do
+#: not find) worth a simulation of what it would do to the spikes [m].
+LOST_MOTION_CHECK_M = 0.2e-6
+#: Change of a TCP spike from an undetected lost motion that identify warns about: five
+#: times the noise floor of comparing a circle with itself through its sensors [m].
+SPIKE_WARN_M = 0.5e-6
+
+
+def _warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
+    """Where the friction runs find no lost motion but could miss one of three standard
+    deviations, say how far that would move the TCP spikes of a circle
+    (:func:`tcpmm.ident.sensitivity.lost_motion_spike_range`); noted in
+    ``physical.extra["lost_motion_sensitivity"]``."""
+    split = a.friction_split
+    if split is None or split.backlash > 0.0 or split.source == "given":
+        return
+    hidden = 3.0 * split.unfound_backlash_std
+    if not (np.isfinite(hidden) and hidden > LOST_MOTION_CHECK_M):
+        return
+    moved = lost_motion_spike_range(machine, name, (0.0, hidden))
+    if moved is None:
+        return
+    a.physical.extra["lost_motion_sensitivity"] = {"lost_motion_m": [0.0, hidden],
+                                                   "spike_change_m": moved}
+    if moved < SPIKE_WARN_M:
+        return
+    from ..io.csvutil import warn_input
+
+    warn_input(
+        f"axis {name}: the friction runs find no lost motion in the nut, but would not "
+        f"find one of up to {hidden * 1e6:.2f} um (three standard deviations); that much "
+        f"would move the TCP reversal spikes of a circle in its plane (R35 mm, F5000) by up "
+        f"to {moved * 1e6:.2f} um. A reversal test at low speed, or finer sensors, fixes it",
+        file=getattr(friction, "source", None))
 
 
 def _warn_share_sensitivity(name: str, a, machine, friction) -> None:

@@ -5,6 +5,7 @@ Line numbers in messages are file lines: the header is line 1, the first data ro
 
 from __future__ import annotations
 
+import io
 import re
 import warnings
 from collections.abc import Iterable, Mapping
@@ -63,7 +64,27 @@ def unreadable(path: Path, what: str) -> InputError:
     return InputError(f"cannot read the {what} as UTF-8 text", file=path)
 
 
-def read_header(path: Path, what: str = "CSV file") -> list[str]:
+def pipe_text(path: Path, what: str = "CSV file") -> str | None:
+    """The whole text of a pipe or other stream that can be read only once (``<(...)`` in
+    a shell), so that header check and parser see the same text; ``None`` for a regular
+    file, which is opened as often as needed.
+
+    Parameters
+    ----------
+    path : Path
+        The input [-].
+    what : str
+        What it is, for messages [-].
+    """
+    if not path.exists() or path.is_file() or path.is_dir():
+        return None
+    try:
+        return path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError):
+        raise unreadable(path, what) from None
+
+
+def read_header(path: Path, what: str = "CSV file", text: str | None = None) -> list[str]:
     """Return the stripped column names of a CSV file's first line.
 
     The first data row is checked too: pandas would take surplus fields there as an
@@ -76,6 +97,8 @@ def read_header(path: Path, what: str = "CSV file") -> list[str]:
         CSV file [-].
     what : str
         What the file is, for messages [-].
+    text : str, optional
+        Its text, when it was read already (:func:`pipe_text`) [-].
 
     Returns
     -------
@@ -83,7 +106,8 @@ def read_header(path: Path, what: str = "CSV file") -> list[str]:
         Column names [-].
     """
     try:  # the first two lines only: the rest is left to the parser
-        with open(path, encoding="utf-8-sig", newline="") as fh:
+        with (io.StringIO(text) if text is not None
+              else open(path, encoding="utf-8-sig", newline="")) as fh:
             first, row = fh.readline().strip("\r\n"), fh.readline().strip("\r\n")
     except (OSError, UnicodeDecodeError):
         raise unreadable(path, what) from None
@@ -195,7 +219,8 @@ def read_numeric_csv(
     required = list(required)
     optional = list(optional)
     expected = required + optional
-    names = read_header(path)
+    text = pipe_text(path)
+    names = read_header(path, text=text)
     missing = [c for c in required if c not in names]
     if missing:
         hints = "".join(did_you_mean(m, names) for m in missing[:1])
@@ -220,7 +245,7 @@ def read_numeric_csv(
     # all columns are read: usecols would silently drop surplus fields of a row
     try:
         frame = pd.read_csv(
-            path,
+            io.StringIO(text) if text is not None else path,
             skip_blank_lines=False,
             skipinitialspace=True,
             encoding="utf-8-sig",

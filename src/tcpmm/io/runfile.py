@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import re
 from pathlib import Path
 
@@ -29,12 +30,14 @@ def read_run_csv(path) -> Run:
     """
     import pandas as pd
 
-    from .csvutil import no_rows_error, parse_error, read_header, unreadable
+    from .csvutil import no_rows_error, parse_error, pipe_text, read_header, unreadable
 
     path = Path(path)
-    cols = read_header(path, "run file")
+    text = pipe_text(path, "run file")
+    cols = read_header(path, "run file", text)
     try:
-        df = pd.read_csv(path, encoding="utf-8-sig")
+        df = pd.read_csv(io.StringIO(text) if text is not None else path,
+                         encoding="utf-8-sig")
     except pd.errors.ParserError as exc:
         raise parse_error(exc, path) from None
     except UnicodeDecodeError:

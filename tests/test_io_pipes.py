@@ -1,0 +1,45 @@
+"""Inputs that can be read only once (a shell's ``<(...)``) read as their files do."""
+
+import os
+import threading
+
+import numpy as np
+import pytest
+
+from tcpmm.errors import InputError
+from tcpmm.io.csvutil import read_numeric_csv
+from tcpmm.io.runfile import read_run_csv
+
+RUN = "time_s,x_cmd_mm,x_scale_mm\n0.000,1.0,1.0\n0.001,1.5,1.4\n"
+
+
+def through_fifo(tmp_path, text, read):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+
+    def write():
+        with open(fifo, "w", encoding="utf-8") as fh:
+            fh.write(text)
+
+    writer = threading.Thread(target=write)
+    writer.start()
+    try:
+        return read(fifo)
+    finally:
+        writer.join(timeout=10)
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes on this system")
+def test_a_run_and_a_record_read_from_a_pipe(tmp_path):
+    run = through_fifo(tmp_path, RUN, read_run_csv)
+    assert np.allclose(run.axes["X"].scale, [1e-3, 1.4e-3])
+    (tmp_path / "again").mkdir()
+    cols = through_fifo(tmp_path / "again", RUN,
+                        lambda p: read_numeric_csv(p, ["time_s"], ["x_cmd_mm", "x_scale_mm"]))
+    assert cols["time_s"].tolist() == [0.0, 0.001]
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes on this system")
+def test_a_broken_run_in_a_pipe_is_named_at_its_line(tmp_path):
+    with pytest.raises(InputError, match="line 4, column 'x_cmd_mm'"):
+        through_fifo(tmp_path, RUN + "0.002,oops,1.5\n", read_run_csv)

@@ -38,7 +38,8 @@ sub-step period), so the play is exact apart from the instant contact changes wi
 sub-step. Friction is exact in stick: the
 force over a step is the one that brings the body to rest when the static level allows
 (its effective mass over the step comes from the discrete input column). A step in which
-a friction velocity reverses or sticks is redone in ``ip[6]`` sub-steps.
+a friction velocity reaches or crosses zero, or a held contact breaks away, is redone in
+``ip[6]`` sub-steps; a contact that stays held over a whole step needs none.
 """
 
 from __future__ import annotations
@@ -113,10 +114,35 @@ def _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref):
 
 
 @njit(cache=True)
+def _held(x, idx, ref, pf, stk):
+    """Whether a contact sits stuck at exactly zero velocity (static model)."""
+    return pf[0] != MODEL_NONE and stk == STUCK and _rel(x, idx, ref) == 0.0
+
+
+@njit(cache=True)
 def _reverses(x, xn, idx, ref, pf, stk):
-    if pf[0] == MODEL_NONE:
+    """Whether a moving contact's velocity reaches or crosses zero over the free step (a
+    held one is judged by :func:`_stays_held`)."""
+    if pf[0] == MODEL_NONE or _held(x, idx, ref, pf, stk):
         return False
-    return _rel(x, idx, ref) * _rel(xn, idx, ref) <= 0.0 or stk == STUCK
+    return _rel(x, idx, ref) * _rel(xn, idx, ref) <= 0.0
+
+
+@njit(cache=True)
+def _stays_held(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref, held_s, held_g):
+    """The whole step for held contacts, if they stay held: friction exact in stick needs
+    no sub-steps. Returns False, leaving ``x`` and ``st`` as they were, when one breaks
+    away within the step (then the step is sub-stepped)."""
+    xt = x.copy()
+    xnt = xn.copy()
+    stt = st.copy()
+    _frictions_and_advance(BdT, xt, xnt, h, pf_s, pf_g, stt, R, g_ref)
+    if (held_s and stt[0] != STUCK) or (held_g and stt[1] != STUCK):
+        return False
+    for i in range(NX):
+        x[i] = xt[i]
+    st[0], st[1] = stt[0], stt[1]
+    return True
 
 
 @njit(cache=True, inline="always")
@@ -146,23 +172,29 @@ def _same_contact(x, xn, R, play):
 def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, h, n_sub, pf_s, pf_g, st,
                     R, play, K_t, g_ref):
     """One velocity-loop step with friction and lost motion; sub-steps where a friction
-    velocity reverses or sticks, or where the nut is inside or crosses its free play."""
+    velocity reaches or crosses zero, where a held contact breaks away, or where the nut
+    is inside or crosses its free play. A contact that stays held over the whole step
+    needs none: its friction is exact in stick."""
     if play > 0.0:
         u[4] = _contact_force(x, R, play, K_t)
     _free_step(AdT, BdT, x, xn, u)
-    if (_reverses(x, xn, 6, -1, pf_s, st[0]) or _reverses(x, xn, 7, g_ref, pf_g, st[1])
+    held_s, held_g = _held(x, 6, -1, pf_s, st[0]), _held(x, 7, g_ref, pf_g, st[1])
+    if not (_reverses(x, xn, 6, -1, pf_s, st[0]) or _reverses(x, xn, 7, g_ref, pf_g, st[1])
             or (play > 0.0 and not _same_contact(x, xn, R, play))):
-        hs = h / n_sub
-        for _ in range(n_sub):
-            A, B = AdsT, BdsT
-            if play > 0.0:
-                u[4] = _contact_force(x, R, play, K_t)
-                if u[4] == 0.0:
-                    A, B = AdgT, BdgT
-            _free_step(A, B, x, xn, u)
-            _frictions_and_advance(B, x, xn, hs, pf_s, pf_g, st, R, g_ref)
-        return
-    _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref)
+        if not (held_s or held_g):
+            _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref)
+            return
+        if _stays_held(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref, held_s, held_g):
+            return
+    hs = h / n_sub
+    for _ in range(n_sub):
+        A, B = AdsT, BdsT
+        if play > 0.0:
+            u[4] = _contact_force(x, R, play, K_t)
+            if u[4] == 0.0:
+                A, B = AdgT, BdgT
+        _free_step(A, B, x, xn, u)
+        _frictions_and_advance(B, x, xn, hs, pf_s, pf_g, st, R, g_ref)
 
 
 @njit(cache=True, nogil=True)

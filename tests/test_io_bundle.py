@@ -223,7 +223,7 @@ def test_writer_never_leaves_half_a_file(tmp_path, monkeypatch):
         raise OSError("disk full")
 
     monkeypatch.setattr(pd.DataFrame, "to_csv", boom)
-    with pytest.raises(OSError):
+    with pytest.raises(InputError, match=r"cannot write the output \(disk full\)"):
         write_sweep_csv(make_sweep(n=300), path)
     assert path.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir()] == ["sweep.csv"]

@@ -241,3 +241,23 @@ def test_program_file_errors_name_the_file(tmp_path):
     assert info.value.file == str(path)
     with pytest.raises(InputError, match="not found"):
         program_to_command(str(tmp_path / "missing.nc"))
+
+
+def test_a_closing_percent_ends_the_program_as_controllers_do():
+    text = "%\nG90 G21 F1000\nG1 X10\n%\nG1 X99\n"
+    with pytest.warns(InputWarning, match=r"line 5.*blocks after the closing % ignored"):
+        segs = parse_gcode(text)
+    assert [s.end_m[0] for s in segs] == [pytest.approx(0.01)]
+    # without an opening %, the first % after blocks ends the program too
+    with pytest.warns(InputWarning, match="closing %"):
+        assert len(parse_gcode("G1 X10 F1000\n%\nG1 X50\n")) == 1
+    # an opening % alone, and a closing % with nothing after it, say nothing
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert len(parse_gcode("%\nG1 X10 F1000\n%\n")) == 1
+
+
+def test_blocks_on_a_percent_line_are_an_error_not_dropped():
+    with pytest.raises(InputError, match=r"line 2, column 2.*'%' line"):
+        parse_gcode("%\n%G1 X50 F1000\n")
+    assert len(parse_gcode("% (program 12)\nG1 X10 F1000\n")) == 1

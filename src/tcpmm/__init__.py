@@ -5,4 +5,8 @@ mechanics inside a cascade servo loop, identified from servo excitation and driv
 interpolated position command of an NC program.
 """
 
+from ._numba_cache import ensure_cache_dir as _ensure_cache_dir
+
+_ensure_cache_dir()
+
 __version__ = "0.1.0"

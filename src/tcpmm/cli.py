@@ -222,7 +222,11 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
              command: Path = typer.Option(None, "--command", help="Command file CMD.csv."),
              gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
              output: Path = typer.Option(..., "-o", "--output", help="Run file RUN.csv."),
-             record_period_s: float = typer.Option(None, help="Output period [s].")):
+             record_period_s: float = typer.Option(None, help="Output period [s]."),
+             allow_unstable: bool = typer.Option(
+                 False, "--allow-unstable",
+                 help="Simulate even where the sampled servo loop is unstable (the run "
+                      "then diverges; for studying the instability itself).")):
     """Drive the machine model with a position command; write the run file."""
     from .simulate import simulate as _simulate
 
@@ -230,6 +234,8 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     if record_period_s is not None:
         _positive(record_period_s, "--record-period-s [s]")
     m = _read_model(model)
+    if not allow_unstable:
+        _refuse_unstable(m, model)
     cmd = _load_command(command, gcode, m)
     with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
@@ -299,6 +305,20 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
         print_circle_table(cmp.to_pandas(), out, "measured - predicted [um]")
         for line in cmp.notes():
             out.print(line)
+
+
+def _refuse_unstable(machine, model: str) -> None:
+    """An error naming each axis whose sampled loop is unstable: its run would diverge."""
+    from .servo.sampled import sampled_spectral_radius
+
+    bad = {n: sampled_spectral_radius(a.mechanics, a.servo) for n, a in machine.axes.items()}
+    bad = {n: r for n, r in bad.items() if r >= 1.0}
+    if bad:
+        axes = ", ".join(f"{n} (spectral radius {r:.4f})" for n, r in bad.items())
+        raise InputError(f"the sampled servo loop of axis {axes} is unstable, so a run would "
+                         "diverge rather than predict anything; check the gains and periods "
+                         "(tcpmm machine show), or pass --allow-unstable to simulate it anyway",
+                         file=model)
 
 
 @app.command()
@@ -525,16 +545,50 @@ def main(argv=None) -> int:
             shown(message, category, filename, lineno, file, line)
 
     warnings.showwarning = show
+    handlers = _exit_on_signals()
     try:
         app(args=argv, standalone_mode=True)
     except TcpmmError as exc:
         console.print(f"[red]error:[/red] {_esc(str(exc))}")
         return 2
+    except OSError as exc:  # the system refused a file or a folder the command used
+        where = f" ({exc.filename})" if exc.filename else ""
+        console.print(f"[red]error:[/red] {_esc((exc.strerror or str(exc)) + where)}")
+        return 2
     except SystemExit as exc:
         return int(exc.code or 0) if not isinstance(exc.code, str) else 1
     finally:
         warnings.showwarning = shown
+        _restore_signals(handlers)
     return 0
+
+
+def _exit_on_signals() -> dict:
+    """Turn SIGTERM and SIGHUP into an orderly exit (128 + signal number), so that outputs
+    being written are removed rather than left half-written; returns the handlers before.
+    Only the main thread can set handlers; elsewhere nothing changes."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+
+    def leave(signum, frame):
+        raise SystemExit(128 + signum)
+
+    before = {}
+    for name in ("SIGTERM", "SIGHUP"):
+        sig = getattr(signal, name, None)
+        if sig is not None:
+            before[sig] = signal.signal(sig, leave)
+    return before
+
+
+def _restore_signals(before: dict) -> None:
+    import signal
+
+    for sig, handler in before.items():
+        signal.signal(sig, handler)
 
 
 def _esc(text: str) -> str:

@@ -207,8 +207,14 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
 SPEED_LIMIT_M_PER_S = 5.0
 
 
+#: Position beyond which a command is taken as a unit error: the travel of the largest
+#: gantry and floor-type machine tools is some tens of metres [m].
+TRAVEL_LIMIT_M = 100.0
+
+
 def _check_speeds(machine: Machine, command: Command) -> None:
-    """Warn when the command moves an axis faster than the machine can.
+    """Warn when the command moves an axis faster than the machine can, or to a position no
+    machine tool reaches (:data:`TRAVEL_LIMIT_M`).
 
     The limit is 1.05 times the rapid traverse of the model's interpolation settings, or
     :data:`SPEED_LIMIT_M_PER_S` when it has none.
@@ -221,6 +227,12 @@ def _check_speeds(machine: Machine, command: Command) -> None:
         rapid = dict(zip(AXES, settings.rapid(), strict=True))
     t = np.asarray(command.time_s, dtype=float)
     for name, pos in command.positions.items():
+        far = float(np.max(np.abs(pos))) if pos.size else 0.0
+        if far > TRAVEL_LIMIT_M:
+            warnings.warn(
+                f"axis {name}: the command goes to {far * 1e3:.4g} mm, beyond the travel of "
+                f"any machine tool ({TRAVEL_LIMIT_M * 1e3:.4g} mm); check the command's units "
+                "(mm)", InputWarning, stacklevel=3)
         if pos.size < 2:
             continue
         v = np.abs(np.diff(pos)) / np.diff(t)

@@ -7,6 +7,7 @@ umask allows), and an output that is a symbolic link is written through to its t
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import stat
 import tempfile
@@ -85,18 +86,37 @@ def atomic_path(path, suffix: str = ""):
     """
     path = output_file(path)
     mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()
-    fd, tmp = tempfile.mkstemp(
-        prefix=f".{path.name}.", suffix=suffix or path.suffix, dir=path.parent
-    )
+    try:
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{path.name}.", suffix=suffix or path.suffix, dir=path.parent
+        )
+    except OSError as exc:
+        raise _cannot_write(exc, path) from None
     os.close(fd)
     try:
         yield Path(tmp)
         os.chmod(tmp, mode)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
+        if isinstance(exc, OSError):
+            raise _cannot_write(exc, path) from None
         raise
+
+
+def _cannot_write(exc: OSError, path: Path) -> InputError:
+    """The error of an output that cannot be written, with what to do; nothing of it is
+    left behind and an earlier file of that name is unchanged."""
+    why = exc.strerror or str(exc)
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        fix = "free space on that disk or choose another folder"
+    elif exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        fix = "choose a folder you can write to"
+    else:
+        fix = "choose another output"
+    return InputError(f"cannot write the output ({why}); nothing was written: {fix}",
+                      file=path)
 
 
 def write_text_atomic(path, text: str) -> None:

@@ -22,7 +22,7 @@ import math
 import warnings
 
 from ..errors import InputError, InputWarning
-from .gcode_lexer import Word, tokenize
+from .gcode_lexer import Word, strip_comments, tokenize
 from .gcode_words import (
     G_GROUP,
     G_IGNORED,
@@ -387,17 +387,42 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
         raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
     it = _Interpreter(file, start_position_m)
     lines = text.splitlines()
+    opened = started = False
     for number, raw in enumerate(lines, start=1):
+        if _tape_marker(raw, file, number):
+            if opened or started:  # the closing %: the program ends here
+                _warn_rest(it, lines, number, "blocks after the closing %")
+                break
+            opened = True
+            continue
         words = tokenize(raw, file, number)
         if not words:
             continue
+        started = True
         if it.block(words, number):
-            rest = next((k for k in range(number, len(lines)) if _has_words(lines[k])), None)
-            if rest is not None:
-                it.warn("blocks after M2/M30", f"the program ends on line {number}", rest + 1, None)
+            _warn_rest(it, lines, number, "blocks after M2/M30")
             break
     it.emit_warnings()
     return it.segments
+
+
+def _tape_marker(raw: str, file, number: int) -> bool:
+    """Whether a line is a ``%`` tape marker; text after the ``%`` is an error, since a
+    controller would not run it."""
+    body = strip_comments(raw, file, number).strip()
+    if not body.startswith("%"):
+        return False
+    if body[1:].strip():
+        raise InputError("a '%' line marks the start or end of the program and holds "
+                         "nothing else; put the blocks after it on lines of their own",
+                         file=file, line=number, column=raw.index("%") + 2)
+    return True
+
+
+def _warn_rest(it, lines, number: int, what: str) -> None:
+    rest = next((k for k in range(number, len(lines)) if _has_words(lines[k])), None)
+    if rest is not None:
+        it.warn(what, f"the program ends on line {number}", rest + 1, None)
 
 
 def _has_words(raw: str) -> bool:

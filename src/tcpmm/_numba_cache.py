@@ -1,0 +1,42 @@
+"""A place for numba's compiled-function cache wherever the package is installed.
+
+The compiled kernels are cached (``cache=True``) beside their sources, or else in the
+user's cache folder. Where neither can be written (a read-only installation run by a user
+without a writable home), numba refuses at import with "no locator available"; the cache
+then goes to a folder of this user in the system's temporary directory.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+
+def _writable(folder: Path) -> bool:
+    """Whether files can be made in ``folder``, or it can be created."""
+    for p in (folder, *folder.parents):
+        if p.exists():
+            return p.is_dir() and os.access(p, os.W_OK | os.X_OK)
+    return False
+
+
+def ensure_cache_dir() -> str | None:
+    """Set ``NUMBA_CACHE_DIR`` to a temporary folder when neither the package folder nor
+    the user's cache folder can be written; returns the folder set, or ``None``."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return None
+    if _writable(Path(__file__).parent):
+        return None
+    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    if _writable(Path(home)):
+        return None
+    uid = os.getuid() if hasattr(os, "getuid") else "user"
+    folder = Path(tempfile.gettempdir()) / f"tcpmm-numba-cache-{uid}"
+    folder.mkdir(mode=0o700, exist_ok=True)
+    os.environ["NUMBA_CACHE_DIR"] = str(folder)
+    import sys
+
+    if "numba" in sys.modules:  # already read its configuration
+        sys.modules["numba"].config.CACHE_DIR = str(folder)
+    return str(folder)

@@ -1,0 +1,133 @@
+"""What the system refuses reaches the user as one line and exit code 2, and nothing of a
+refused output is left: no traceback, no temporary file, an earlier file unchanged."""
+
+import errno
+import os
+import signal
+import tempfile
+
+import numpy as np
+import pytest
+
+from tcpmm.cli import _exit_on_signals, _restore_signals, main
+from tcpmm.io.atomic import atomic_path, write_text_atomic
+
+
+def test_a_folder_that_refuses_writing_is_one_line(tmp_path, monkeypatch, capsys):
+    def refuse(*args, **kwargs):
+        raise PermissionError(errno.EACCES, "Permission denied")
+
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+    out = tmp_path / "model.yaml"
+    assert main(["machine", "export", "vmc", "-o", str(out)]) == 2
+    cap = capsys.readouterr()
+    err = cap.out + cap.err
+    assert "cannot write the output (Permission denied)" in " ".join(err.split())
+    assert "Traceback" not in err and not out.exists()
+
+
+def test_a_full_disk_leaves_the_earlier_file_and_no_temporary_one(tmp_path, monkeypatch,
+                                                                  capsys):
+    out = tmp_path / "model.yaml"
+    out.write_text("earlier\n")
+
+    def full(src, dst):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(os, "replace", full)
+    assert main(["machine", "export", "vmc", "-o", str(out)]) == 2
+    cap = capsys.readouterr()
+    err = cap.out + cap.err
+    assert "No space left on device" in err and "free space" in " ".join(err.split())
+    assert out.read_text() == "earlier\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["model.yaml"]
+
+
+def test_an_unexpected_system_error_is_one_line(tmp_path, monkeypatch, capsys):
+    from tcpmm.io import modelfile
+
+    def broken(path):
+        raise OSError(errno.EIO, "Input/output error", str(path))
+
+    monkeypatch.setattr(modelfile, "read_machine", broken)
+    assert main(["machine", "show", str(tmp_path / "m.yaml")]) == 2
+    cap = capsys.readouterr()
+    assert "Input/output error" in cap.out + cap.err and "Traceback" not in cap.err
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGHUP"), reason="no SIGHUP on this system")
+@pytest.mark.parametrize("name", ["SIGTERM", "SIGHUP"])
+def test_a_termination_signal_during_a_write_leaves_nothing(tmp_path, name):
+    sig = getattr(signal, name)
+    out = tmp_path / "run.csv"
+    before = _exit_on_signals()
+    try:
+        with pytest.raises(SystemExit) as stop, atomic_path(out) as tmp:
+            tmp.write_text("half of a run\n")
+            os.kill(os.getpid(), sig)
+    finally:
+        _restore_signals(before)
+    assert stop.value.code == 128 + sig
+    assert list(tmp_path.iterdir()) == []
+    write_text_atomic(out, "whole\n")  # and the handlers are back as they were
+    assert out.read_text() == "whole\n"
+
+
+def test_an_unstable_loop_is_refused_unless_asked_for(tmp_path, capsys):
+    from tcpmm.builtin import builtin_machine
+    from tcpmm.io.modelfile import write_machine
+
+    m = builtin_machine()
+    x = m.axes["X"]
+    shaky = m.with_axis("X", x.replace(servo=x.servo.model_copy(update={
+        "K_vp": 20 * x.servo.K_vp, "delay_samples": 3})))
+    write_machine(shaky, tmp_path / "m.yaml")
+    cmd = tmp_path / "cmd.csv"
+    cmd.write_text("time_s,x_mm,y_mm\n0.000,0,0\n0.001,0,0\n0.002,0,0\n")
+    run = tmp_path / "run.csv"
+    args = ["simulate", str(tmp_path / "m.yaml"), "--command", str(cmd), "-o", str(run)]
+    assert main(args) == 2 and not run.exists()
+    cap = capsys.readouterr()
+    assert "axis X" in cap.err and "--allow-unstable" in " ".join(cap.err.split())
+    assert main([*args, "--allow-unstable"]) == 0 and run.exists()
+
+
+def test_a_command_in_the_wrong_unit_is_named(tmp_path):
+    import warnings
+
+    from tcpmm.builtin import builtin_machine
+    from tcpmm.path.command import Command
+    from tcpmm.simulate import simulate
+
+    t = np.arange(3) * 1e-3
+    cmd = Command(time_s=t, positions={"X": np.full(3, 1e9)})  # 1e12 mm written as m
+    with pytest.warns(Warning, match=r"axis X: the command goes to 1e\+12 mm"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("always")
+            simulate(builtin_machine(), cmd)
+
+
+def test_compiled_kernels_find_a_cache_when_nothing_of_the_user_is_writable(tmp_path,
+                                                                          monkeypatch):
+    import numba
+
+    from tcpmm import _numba_cache
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "")  # so that the test leaves it as it found it
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setattr(numba.config, "CACHE_DIR", numba.config.CACHE_DIR)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(_numba_cache.tempfile, "gettempdir", lambda: str(tmp_path))
+    monkeypatch.setattr(_numba_cache.os, "access", lambda path, mode: False)
+    folder = _numba_cache.ensure_cache_dir()
+    assert folder is not None and os.environ["NUMBA_CACHE_DIR"] == folder
+    assert os.path.isdir(folder)
+    assert numba.config.CACHE_DIR == folder
+
+
+def test_a_writable_package_keeps_the_cache_beside_it(monkeypatch):
+    from tcpmm import _numba_cache
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "")
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    assert _numba_cache.ensure_cache_dir() is None  # the checkout is writable here

@@ -131,3 +131,10 @@ def test_a_writable_package_keeps_the_cache_beside_it(monkeypatch):
     monkeypatch.setenv("NUMBA_CACHE_DIR", "")
     monkeypatch.delenv("NUMBA_CACHE_DIR")
     assert _numba_cache.ensure_cache_dir() is None  # the checkout is writable here
+
+
+def test_version(capsys):
+    from tcpmm import __version__
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"tcpmm {__version__}"

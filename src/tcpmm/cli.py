@@ -37,6 +37,20 @@ console = Console(stderr=True)
 out = Console()
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from . import __version__
+
+        out.print(f"tcpmm {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(version: bool = typer.Option(False, "--version", callback=_print_version,
+                                       is_eager=True, help="Print the version and exit.")):
+    """Virtual machine tool: mechatronic model of the tool center point."""
+
+
 @contextmanager
 def _progress(total: int, description: str):
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn

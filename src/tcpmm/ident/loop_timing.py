@@ -27,7 +27,12 @@ import numpy as np
 from ..errors import InputError
 from .frf import frf_against_reference
 
-__all__ = ["LoopTiming", "identify_loop_timing"]
+__all__ = ["COMPUTATION_DELAY", "LoopTiming", "identify_loop_timing", "sweep_timing"]
+
+#: Computation delay taken where the sweep does not show it: the current a digital velocity
+#: loop computes from the samples of one period is applied in the next [velocity-loop
+#: periods].
+COMPUTATION_DELAY = 1
 
 #: Band of the fit: above it the drive's sample rate distorts the continuous model, below
 #: it the position loop's share grows [Hz].
@@ -156,3 +161,41 @@ def identify_loop_timing(sweep, cfg) -> LoopTiming | None:
                   and GAIN_RANGE[0] < gain < GAIN_RANGE[1] and resid < MAX_RESIDUAL)
     return LoopTiming(int(delay), "difference" if diff else "state", float(tau / T_v),
                       float(gain), bool(determined))
+
+
+def sweep_timing(name: str, sweep, cfg, extra: dict) -> LoopTiming | None:
+    """The drive's timing from a closed-loop sweep (:func:`identify_loop_timing`), noted in
+    ``extra["loop_timing"]``, with a warning when a sweep with the loops closed does not
+    match the declared controller.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    sweep : SweepRecord
+        The sweep record (SI) [-].
+    cfg : AxisConfig
+        The axis's bundle configuration [-].
+    extra : dict
+        Where the result is noted for the report [-].
+
+    Returns
+    -------
+    LoopTiming or None
+        ``None`` for a torque-mode sweep or too little of the loop's response [-].
+    """
+    timing = identify_loop_timing(sweep, cfg)
+    if timing is None:
+        return None
+    extra["loop_timing"] = timing.to_dict()
+    if not timing.determined:
+        from ..io.csvutil import warn_input
+
+        warn_input(
+            f"axis {name}: the controller output in the sweep does not match the declared "
+            f"velocity-loop gains with any computation delay (fitted gain factor "
+            f"{timing.gain:.2f}, delay {timing.tau_periods:.2f} periods); check the gains, "
+            "lead and torque constant in machine.yaml. The model assumes a delay of "
+            f"{COMPUTATION_DELAY} period and a differenced encoder velocity",
+            file=getattr(sweep, "source", None))
+    return timing

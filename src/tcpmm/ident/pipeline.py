@@ -16,21 +16,20 @@ from ..servo.params import ServoParams
 from ..sim.friction import sliding_friction
 from .frf import reduced_frfs
 from .frictionsplit import (
-    SHARE_WARN_STD,
     identify_friction,
     place_steady_viscous,
     share_uncertainty_warning,
     stribeck_from_record,
 )
 from .gates import SuspectModelError, axis_findings, time_base_findings
-from .loop_timing import identify_loop_timing
+from .loop_timing import COMPUTATION_DELAY, sweep_timing
 from .metrics import fit_percent
 from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
-from .sensitivity import lost_motion_spike_range, share_spike_range
+from .sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
 from .structure import fit_structure
 from .tffit import fit_tf
 from .uncertainty import axis_uncertainty
@@ -68,9 +67,6 @@ COST_MARGIN_REL = 0.01
 #: Travel over a sweep record below which it counts as standing still: the guideway
 #: friction then holds the nut on no particular flank [m].
 MIN_SWEEP_TRAVEL_M = 1e-3
-#: Computation delay of identified drives: the current a digital velocity loop computes
-#: from the samples of one period is applied in the next [velocity-loop periods].
-COMPUTATION_DELAY = 1
 
 
 @dataclass
@@ -440,7 +436,7 @@ def identify_axis(
     axis = Axis(
         mechanics=mech,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz"),
-                                   _loop_timing(name, sweep, cfg, phys)),
+                                   sweep_timing(name, sweep, cfg, phys.extra)),
         sensors=axis_config_to_sensors(cfg),
         friction=fr,
         uncertainty=axis_uncertainty(phys, mech, est, split),
@@ -570,27 +566,6 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
         "makes it worse", file=getattr(sweep, "source", None))
 
 
-def _loop_timing(name: str, sweep, cfg, phys):
-    """The drive's computation delay and velocity estimate from a closed-loop sweep
-    (:mod:`tcpmm.ident.loop_timing`), noted in ``phys.extra``; a warning when a sweep with
-    the loops closed does not show them."""
-    timing = identify_loop_timing(sweep, cfg)
-    if timing is None:  # torque mode, or too little of the loop's response
-        return None
-    phys.extra["loop_timing"] = timing.to_dict()
-    if not timing.determined:
-        from ..io.csvutil import warn_input
-
-        warn_input(
-            f"axis {name}: the controller output in the sweep does not match the declared "
-            f"velocity-loop gains with any computation delay (fitted gain factor "
-            f"{timing.gain:.2f}, delay {timing.tau_periods:.2f} periods); check the gains, "
-            "lead and torque constant in machine.yaml. The model assumes a delay of "
-            f"{COMPUTATION_DELAY} period and a differenced encoder velocity",
-            file=getattr(sweep, "source", None))
-    return timing
-
-
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
     guideway_share: float | None = None, presliding: float = PRESLIDING,
@@ -652,74 +627,7 @@ def identify_bundle(
         suspect=tuple(str(f) for f in findings),
     )
     for name, a in axes.items():
-        _warn_share_sensitivity(name, a, machine, bundle.axes[name].friction)
-        _warn_lost_motion_sensitivity(name, a, machine, bundle.axes[name].friction)
+        warn_share_sensitivity(name, a, machine, bundle.axes[name].friction)
+        warn_lost_motion_sensitivity(name, a, machine, bundle.axes[name].friction)
     return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
                           findings)
-
-
-#: Smallest undetected lost motion (three standard deviations of a lost motion the runs do
-#: not find) worth a simulation of what it would do to the spikes [m].
-LOST_MOTION_CHECK_M = 0.2e-6
-#: Change of a TCP spike from an undetected lost motion that identify warns about: five
-#: times the noise floor of comparing a circle with itself through its sensors [m].
-SPIKE_WARN_M = 0.5e-6
-
-
-def _warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
-    """Where the friction runs find no lost motion but could miss one of three standard
-    deviations, say how far that would move the TCP spikes of a circle
-    (:func:`tcpmm.ident.sensitivity.lost_motion_spike_range`); noted in
-    ``physical.extra["lost_motion_sensitivity"]``."""
-    split = a.friction_split
-    if split is None or split.backlash > 0.0 or split.source == "given":
-        return
-    hidden = 3.0 * split.unfound_backlash_std
-    if not (np.isfinite(hidden) and hidden > LOST_MOTION_CHECK_M):
-        return
-    moved = lost_motion_spike_range(machine, name, (0.0, hidden))
-    if moved is None:
-        return
-    a.physical.extra["lost_motion_sensitivity"] = {"lost_motion_m": [0.0, hidden],
-                                                   "spike_change_m": moved}
-    if moved < SPIKE_WARN_M:
-        return
-    from ..io.csvutil import warn_input
-
-    warn_input(
-        f"axis {name}: the friction runs find no lost motion in the nut, but would not "
-        f"find one of up to {hidden * 1e6:.2f} um (three standard deviations); that much "
-        f"would move the TCP reversal spikes of a circle in its plane (R35 mm, F5000) by up "
-        f"to {moved * 1e6:.2f} um. A reversal test at low speed, or finer sensors, fixes it",
-        file=getattr(friction, "source", None))
-
-
-def _warn_share_sensitivity(name: str, a, machine, friction) -> None:
-    """Where the friction runs leave the guideway share open (a prior, or a standard
-    deviation above :data:`SHARE_WARN_STD`), say how far the TCP spikes of a circle move
-    over its plausible range (:func:`tcpmm.ident.sensitivity.share_spike_range`), and note
-    it in ``physical.extra["share_sensitivity"]``."""
-    split = a.friction_split
-    if split is None or split.source == "given":
-        return
-    sd = split.guideway_share_std
-    if split.source == "prior":
-        lo, hi = 0.05, 0.95
-    elif np.isfinite(sd) and sd > SHARE_WARN_STD:
-        lo = min(max(split.guideway_share - 2.0 * sd, 0.02), 0.98)
-        hi = min(max(split.guideway_share + 2.0 * sd, 0.02), 0.98)
-    else:
-        return
-    moved = share_spike_range(machine, name, (lo, hi))
-    if moved is None:
-        return
-    a.physical.extra["share_sensitivity"] = {"shares": [lo, hi], "spike_change_m": moved}
-    from ..io.csvutil import warn_input
-
-    warn_input(
-        f"axis {name}: the guideway share is not determined by the friction runs "
-        f"({split.guideway_share:.2f} used); between shares {lo:.2f} and {hi:.2f} the TCP "
-        f"reversal spikes of a circle in its plane (R35 mm, F5000) move by up to "
-        f"{moved * 1e6:.2f} um. Finer sensors, or runs at speeds that do not advance whole "
-        "sensor steps per sample, fix the share; --guideway-share sets it",
-        file=getattr(friction, "source", None))

@@ -15,9 +15,13 @@ from __future__ import annotations
 
 import math
 
-from ..model import Machine
+import numpy as np
 
-__all__ = ["lost_motion_spike_range", "share_spike_range", "spike_range", "with_share"]
+from ..model import Machine
+from .frictionsplit import SHARE_WARN_STD
+
+__all__ = ["lost_motion_spike_range", "share_spike_range", "spike_range",
+           "warn_lost_motion_sensitivity", "warn_share_sensitivity", "with_share"]
 
 #: Circle of the check: radius [m], feed [m/s], start angle [rad].
 CIRCLE = (0.035, 5000.0 / 60e3, math.radians(45.0))
@@ -109,3 +113,94 @@ def lost_motion_spike_range(machine: Machine, name: str, plays) -> float | None:
         return None
     return spike_range(machine, name, [a.friction.model_copy(update={"backlash": float(p)})
                                        for p in plays])
+
+
+#: Smallest undetected lost motion (three standard deviations of a lost motion the runs do
+#: not find) worth a simulation of what it would do to the spikes [m].
+LOST_MOTION_CHECK_M = 0.2e-6
+#: Change of a TCP spike from an undetected lost motion that identify warns about: five
+#: times the noise floor of comparing a circle with itself through its sensors [m].
+SPIKE_WARN_M = 0.5e-6
+
+
+def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
+    """Where the friction runs find no lost motion but could miss one of three standard
+    deviations, say how far that would move the TCP spikes of a circle
+    (:func:`tcpmm.ident.sensitivity.lost_motion_spike_range`); noted in
+    ``physical.extra["lost_motion_sensitivity"]``.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    a : AxisIdentification
+        The identified axis [-].
+    machine : Machine
+        The identified machine [SI].
+    friction : FrictionRecord or None
+        Its friction runs, for the file the warning names [-].
+    """
+    split = a.friction_split
+    if split is None or split.backlash > 0.0 or split.source == "given":
+        return
+    hidden = 3.0 * split.unfound_backlash_std
+    if not (np.isfinite(hidden) and hidden > LOST_MOTION_CHECK_M):
+        return
+    moved = lost_motion_spike_range(machine, name, (0.0, hidden))
+    if moved is None:
+        return
+    a.physical.extra["lost_motion_sensitivity"] = {"lost_motion_m": [0.0, hidden],
+                                                   "spike_change_m": moved}
+    if moved < SPIKE_WARN_M:
+        return
+    from ..io.csvutil import warn_input
+
+    warn_input(
+        f"axis {name}: the friction runs find no lost motion in the nut, but would not "
+        f"find one of up to {hidden * 1e6:.2f} um (three standard deviations); that much "
+        f"would move the TCP reversal spikes of a circle in its plane (R35 mm, F5000) by up "
+        f"to {moved * 1e6:.2f} um. A reversal test at low speed, or finer sensors, fixes it",
+        file=getattr(friction, "source", None))
+
+
+def warn_share_sensitivity(name: str, a, machine, friction) -> None:
+    """Where the friction runs leave the guideway share open (a prior, or a standard
+    deviation above :data:`SHARE_WARN_STD`), say how far the TCP spikes of a circle move
+    over its plausible range (:func:`tcpmm.ident.sensitivity.share_spike_range`), and note
+    it in ``physical.extra["share_sensitivity"]``.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    a : AxisIdentification
+        The identified axis [-].
+    machine : Machine
+        The identified machine [SI].
+    friction : FrictionRecord or None
+        Its friction runs, for the file the warning names [-].
+    """
+    split = a.friction_split
+    if split is None or split.source == "given":
+        return
+    sd = split.guideway_share_std
+    if split.source == "prior":
+        lo, hi = 0.05, 0.95
+    elif np.isfinite(sd) and sd > SHARE_WARN_STD:
+        lo = min(max(split.guideway_share - 2.0 * sd, 0.02), 0.98)
+        hi = min(max(split.guideway_share + 2.0 * sd, 0.02), 0.98)
+    else:
+        return
+    moved = share_spike_range(machine, name, (lo, hi))
+    if moved is None:
+        return
+    a.physical.extra["share_sensitivity"] = {"shares": [lo, hi], "spike_change_m": moved}
+    from ..io.csvutil import warn_input
+
+    warn_input(
+        f"axis {name}: the guideway share is not determined by the friction runs "
+        f"({split.guideway_share:.2f} used); between shares {lo:.2f} and {hi:.2f} the TCP "
+        f"reversal spikes of a circle in its plane (R35 mm, F5000) move by up to "
+        f"{moved * 1e6:.2f} um. Finer sensors, or runs at speeds that do not advance whole "
+        "sensor steps per sample, fix the share; --guideway-share sets it",
+        file=getattr(friction, "source", None))

@@ -156,6 +156,12 @@ def stribeck_level(v, params):
         fs = params[P_FS_NEG]
     if fs == fc:
         return fc
+    return fc + (fs - fc) * _stribeck_shape(v, params)
+
+
+@njit(cache=True)
+def _stribeck_shape(v, params):
+    """``exp(-|v / vs|**delta)``, taken as 0 where it is below double precision [-]."""
     x = abs(v) / params[P_VS]
     d = params[P_DELTA]
     if d == 2.0:  # the usual Gaussian form: spare the general power
@@ -165,8 +171,8 @@ def stribeck_level(v, params):
     else:
         p = x**d
     if p > 40.0:  # exp(-40) is below double precision relative to fc
-        return fc
-    return fc + (fs - fc) * math.exp(-p)
+        return 0.0
+    return math.exp(-p)
 
 
 @njit(cache=True)
@@ -284,11 +290,7 @@ def _micro_damping(v, params):
     s1 = params[P_SIGMA1]
     if params[P_SIGMA1_FADES] == 0.0 or v == 0.0 or s1 == 0.0:
         return s1
-    x = abs(v) / params[P_VS]
-    p = x * x if params[P_DELTA] == 2.0 else x ** params[P_DELTA]
-    if p > 40.0:
-        return 0.0
-    return s1 * math.exp(-p)
+    return s1 * _stribeck_shape(v, params)
 
 
 @njit(cache=True)

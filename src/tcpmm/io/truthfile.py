@@ -10,14 +10,13 @@ identification: what the true parameters predict is the floor of any identified 
 
 from __future__ import annotations
 
-import math
-
 from ..errors import InputError
 from ..mechanics.friction import LuGreFriction
 from ..mechanics.params import AxisMechanics
 from ..model import Axis, AxisFriction, Machine, Sensors
 from ..servo.params import ServoParams
 from .text import read_text
+from .yamlutil import load_yaml
 
 FORMAT = "tcpmm-truth/1"
 
@@ -82,18 +81,14 @@ def machine_from_truth(path) -> Machine:
         one velocity period of computation delay, feedforward from the slope of the current
         command segment, velocity from the backward difference of the encoder [SI].
     """
-    import yaml
-
-    text = read_text(path, "truth file")
+    d, _ = load_yaml(read_text(path, "truth file"), path)
+    if not isinstance(d, dict) or d.get("format") != FORMAT:
+        got = d.get("format") if isinstance(d, dict) else None
+        raise InputError(f"not a {FORMAT} file (format: {got!r})", file=path)
     try:
-        d = yaml.safe_load(text)
-        if d.get("format") != FORMAT:
-            raise InputError(f"{path}: not a {FORMAT} file (format: {d.get('format')!r})")
         axes = {name: _axis(a) for name, a in d["axes"].items()}
     except (KeyError, TypeError, AttributeError) as exc:
-        raise InputError(f"{path}: missing or malformed entry {exc} in a {FORMAT} "
-                         "file") from None
+        raise InputError(f"missing or malformed entry {exc} in a {FORMAT} file",
+                         file=path) from None
     name = str(d.get("case", "reference machine"))
-    if not all(math.isfinite(a.mechanics.M_t) for a in axes.values()):
-        raise InputError(f"{path}: a table mass is not finite")
     return Machine(name=f"{name} (true parameters)", axes=axes)

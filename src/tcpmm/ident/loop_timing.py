@@ -19,6 +19,7 @@ the loop's own response dominates the position loop's.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -79,10 +80,7 @@ class LoopTiming:
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report [-]."""
-        return {"delay_samples": self.delay_samples,
-                "velocity_feedback": self.velocity_feedback,
-                "tau_periods": self.tau_periods, "gain": self.gain,
-                "determined": self.determined}
+        return dataclasses.asdict(self)
 
 
 def _controller_ratio(sweep, cfg):

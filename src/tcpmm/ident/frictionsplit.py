@@ -185,7 +185,9 @@ def stribeck_from_record(record, cfg, axis: str | None = None):
     return t, x, force, est, plateaus
 
 
-
+def slowest_plateau(plateaus) -> float:
+    """Speed of the slowest constant-speed plateau [m/s]."""
+    return float(min(abs(p.velocity) for p in plateaus))
 
 
 #: Fits of a record already made, by the record (held weakly) and what they depend on: the
@@ -211,13 +213,12 @@ def _memo(record, key, make):
     return value
 
 
-def _plateaus_fix_the_hump(fit, plateaus) -> bool:
+def _plateaus_fix_the_hump(fit, slowest: float) -> bool:
     """Whether a fit to the plateaus determines its Stribeck hump: a Stribeck speed no
-    lower than the slowest plateau, and it and the static levels known within
-    :data:`HUMP_REL_STD`."""
+    lower than the slowest plateau's ``slowest`` [m/s], and it and the static levels known
+    within :data:`HUMP_REL_STD`."""
     v = dict(zip(fit.names, fit.values, strict=True))
     sd = dict(zip(fit.names, fit.std, strict=True))
-    slowest = min(abs(p.velocity) for p in plateaus)
     rel = [sd[k] / v[k] if v[k] > 0 else np.inf for k in ("vs", "Fs+", "Fs-")]
     return bool(v["vs"] >= slowest and np.all(np.isfinite(rel))
                 and max(rel) <= HUMP_REL_STD)
@@ -252,15 +253,16 @@ def steady_curve(t, record, force, plateau_fit, plateaus, mechanics):
     ParameterEstimate
         ``Fc+, Fc-, Fs+, Fs-, vs, Fv`` [N, N, N, N, m/s, N s/m].
     """
-    if _plateaus_fix_the_hump(plateau_fit, plateaus):
+    slowest = slowest_plateau(plateaus)
+    if _plateaus_fix_the_hump(plateau_fit, slowest):
         return plateau_fit
     m = mechanics
     k_axial = 1.0 / (m.R_L**2 / m.K_L + 1.0 / m.K_t)
     f_axial = math.sqrt(k_axial / (m.M_t + (m.J_m + m.J_L) / m.R_L**2)) / (2 * math.pi)
-    slowest = min(abs(p.velocity) for p in plateaus)
     cutoff = min(TRANSIENT_CUTOFF_HZ, 0.25 * f_axial)
     try:
-        return _memo(record, ("transients", m.R_L, round(cutoff, 3), float(force[0])),
+        key = ("transients", m.R_L, cutoff, slowest, hash(np.asarray(force).tobytes()))
+        return _memo(record, key,
                      lambda: fit_stribeck_transients(t, record.motor_angle_rad * m.R_L, force,
                                                      slowest_plateau=slowest,
                                                      cutoff_hz=cutoff))

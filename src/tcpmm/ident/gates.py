@@ -268,10 +268,9 @@ def slowest_plateau_speed(record, cfg, axis: str | None = None) -> float:
     float
         Smallest absolute plateau velocity [m/s].
     """
-    from .frictionsplit import stribeck_from_record
+    from .frictionsplit import slowest_plateau, stribeck_from_record
 
-    plateaus = stribeck_from_record(record, cfg, axis)[4]
-    return float(min(abs(p.velocity) for p in plateaus))
+    return slowest_plateau(stribeck_from_record(record, cfg, axis)[4])
 
 
 def check_static_over_coulomb(name: str, axis, slowest_speed: float,

@@ -1,0 +1,76 @@
+"""Command-line interface: ``tcpmm --help``.
+
+One module per command group; no logic beyond parsing and printing.
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+
+from ..errors import InputWarning, TcpmmError
+from . import ident, machine, run  # noqa: F401  (importing them registers their commands)
+from ._app import _esc, app, console
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``tcpmm`` console script."""
+    shown = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        """Print input warnings as the user's problem, not as a place in the package."""
+        if issubclass(category, InputWarning):
+            console.print(f"[yellow]warning:[/yellow] {_esc(str(message))}")
+        else:
+            shown(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = show
+    handlers = _exit_on_signals()
+    try:
+        app(args=argv, standalone_mode=True)
+    except TcpmmError as exc:
+        console.print(f"[red]error:[/red] {_esc(str(exc))}")
+        return 2
+    except OSError as exc:  # the system refused a file or a folder the command used
+        where = f" ({exc.filename})" if exc.filename else ""
+        console.print(f"[red]error:[/red] {_esc((exc.strerror or str(exc)) + where)}")
+        return 2
+    except SystemExit as exc:
+        return int(exc.code or 0) if not isinstance(exc.code, str) else 1
+    finally:
+        warnings.showwarning = shown
+        _restore_signals(handlers)
+    return 0
+
+
+def _exit_on_signals() -> dict:
+    """Turn SIGTERM and SIGHUP into an orderly exit (128 + signal number), so that outputs
+    being written are removed rather than left half-written; returns the handlers before.
+    Only the main thread can set handlers; elsewhere nothing changes."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+
+    def leave(signum, frame):
+        raise SystemExit(128 + signum)
+
+    before = {}
+    for name in ("SIGTERM", "SIGHUP"):
+        sig = getattr(signal, name, None)
+        if sig is not None:
+            before[sig] = signal.signal(sig, leave)
+    return before
+
+
+def _restore_signals(before: dict) -> None:
+    import signal
+
+    for sig, handler in before.items():
+        signal.signal(sig, handler)
+
+
+
+if __name__ == "__main__":
+    sys.exit(main())

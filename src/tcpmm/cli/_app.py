@@ -1,0 +1,208 @@
+"""The command-line application, its consoles and the parsing helpers every command shares.
+
+Units at this edge: mm, mm/min, Hz, um, as the option names say.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from contextlib import contextmanager
+from enum import StrEnum
+from pathlib import Path
+
+import typer
+from rich.console import Console
+from typer.core import TyperGroup
+
+from ..errors import InputError
+
+
+class Sensor(StrEnum):
+    """Sensors a circular test is analysed for."""
+
+    tcp = "tcp"
+    scale = "scale"
+    motor = "motor"
+    cmd = "cmd"
+
+
+# help texts carry units in brackets ([mm]); they are text, not rich markup
+class _Workflow(TyperGroup):
+    """Lists the commands in the order of the work (measure, identify, predict, analyse),
+    whatever module registered them; commands not named here follow in their own order."""
+
+    ORDER = ("demo", "machine", "excite", "identify", "frf", "bode", "path", "simulate",
+             "circle", "contour", "compare", "spread", "sweep", "tune", "report")
+
+    def list_commands(self, ctx):
+        names = super().list_commands(ctx)
+        rank = {n: i for i, n in enumerate(self.ORDER)}
+        return sorted(names, key=lambda n: rank.get(n, len(rank)))
+
+
+app = typer.Typer(cls=_Workflow, add_completion=False, pretty_exceptions_enable=False,
+                  rich_markup_mode=None,
+                  help="Virtual machine tool: mechatronic model of the tool center point.")
+machine_app = typer.Typer(help="Built-in machines and model files.", rich_markup_mode=None)
+app.add_typer(machine_app, name="machine")
+console = Console(stderr=True)
+out = Console()
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        out.print(f"tcpmm {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(version: bool = typer.Option(False, "--version", callback=_print_version,
+                                       is_eager=True, help="Print the version and exit.")):
+    """Virtual machine tool: mechatronic model of the tool center point."""
+
+
+@contextmanager
+def _progress(total: int, description: str):
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as p:
+        task = p.add_task(description, total=total)
+
+        def advance(name=None, *_):
+            p.update(task, advance=1, description=f"{description}: {name}" if name else None)
+
+        yield advance
+
+
+def _floats(text: str | None, what: str, n: int | None = None) -> list[float] | None:
+    if text is None:
+        return None
+    try:
+        vals = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise typer.BadParameter(f"{what} must be numbers separated by commas, e.g. 1,2") from None
+    if n is not None and len(vals) != n:
+        raise typer.BadParameter(f"{what} needs {n} numbers separated by commas")
+    if not vals:
+        raise typer.BadParameter(f"{what} needs numbers separated by commas")
+    return _finite(vals, what)
+
+
+def _finite(vals, what):
+    if any(not math.isfinite(v) for v in vals):
+        raise typer.BadParameter(f"{what} must be finite numbers")
+    return vals
+
+
+def _positive(value: float, what: str) -> float:
+    if not (math.isfinite(value) and value > 0):
+        raise typer.BadParameter(f"{what} must be a positive number, got {value:g}")
+    return value
+
+
+def _band(text: str | None, what: str) -> tuple[float, float] | tuple[None, None]:
+    if text is None:
+        return None, None
+    f0, f1 = _floats(text, what, 2)
+    if not 0 <= f0 < f1:
+        raise typer.BadParameter(f"{what} F0,F1 needs 0 <= F0 < F1 [Hz], got {text}")
+    return f0, f1
+
+
+def _output(output: Path, *inputs) -> Path:
+    """Refuse an output that would replace one of the inputs; prepare its folder."""
+    from ..io.atomic import output_file
+
+    target = output_file(output)
+    for i in inputs:
+        if i is not None and Path(i).exists() and Path(i).resolve() == target.resolve():
+            raise typer.BadParameter(f"{output} is also an input; write the output elsewhere")
+    return output
+
+
+def _plot(plot: Path | None) -> Path | None:
+    """Check a --plot file name before any work is done."""
+    if plot is None:
+        return None
+    from ..plot import plot_file
+
+    _output(plot)
+    return plot_file(plot)
+
+
+@contextmanager
+def _in_file(path):
+    """Name ``path`` in an input error that names no file (the analysis of its content)."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.file is not None:
+            raise
+        raise InputError(exc.message, file=path, line=exc.line, column=exc.column) from None
+
+
+def _emit_json(data) -> None:
+    out.print_json(json.dumps(data))
+
+
+def _warn_suspect(machine, what: str) -> None:
+    """Say loudly, on stderr, that a model carries the suspect marks of identification."""
+    if not machine.suspect:
+        return
+    console.print(f"[bold red]WARNING: {_esc(what)} is marked physically suspect[/bold red] "
+                  "(written by tcpmm identify --accept-suspect); its predictions may be "
+                  "meaningless:")
+    for s in machine.suspect:
+        console.print(f"[red]  - {_esc(s)}[/red]")
+
+
+def _read_model(model: str):
+    """Read a model file, warning when it carries suspect marks."""
+    from ..io.modelfile import read_machine
+
+    m = read_machine(model)
+    _warn_suspect(m, f"model {model}")
+    return m
+
+
+def _refuse_unstable(machine, model: str) -> None:
+    """An error naming each axis whose sampled loop is unstable: its run would diverge."""
+    from ..servo.sampled import sampled_spectral_radius
+
+    bad = {n: sampled_spectral_radius(a.mechanics, a.servo) for n, a in machine.axes.items()}
+    bad = {n: r for n, r in bad.items() if r >= 1.0}
+    if bad:
+        axes = ", ".join(f"{n} (spectral radius {r:.4f})" for n, r in bad.items())
+        raise InputError(f"the sampled servo loop of axis {axes} is unstable, so a run would "
+                         "diverge rather than predict anything; check the gains and periods "
+                         "(tcpmm machine show), or pass --allow-unstable to simulate it anyway",
+                         file=model)
+
+
+def _load_command(command: Path | None, gcode: Path | None, machine):
+    from ..path import program_to_command, read_command_csv
+
+    if (command is None) == (gcode is None):
+        raise typer.BadParameter("give exactly one of --command CMD.csv or --gcode PROG.nc")
+    if command is not None:
+        return read_command_csv(command)
+    with _in_file(gcode):
+        return program_to_command(gcode, _interp_settings(machine))
+
+
+def _interp_settings(machine):
+    from ..path import InterpolatorSettings
+
+    if machine is not None and machine.interpolation is not None:
+        return InterpolatorSettings.model_validate(machine.interpolation)
+    return InterpolatorSettings()
+
+
+def _esc(text: str) -> str:
+    from rich.markup import escape
+
+    return escape(text)

@@ -1,0 +1,165 @@
+"""Commands of identification: excite, identify, spread."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ..errors import InputError
+from ._app import (
+    Sensor,
+    _band,
+    _emit_json,
+    _floats,
+    _load_command,
+    _output,
+    _plot,
+    _positive,
+    _progress,
+    _read_model,
+    _warn_suspect,
+    app,
+    out,
+)
+
+
+@app.command()
+def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm identify"),
+           command: Path = typer.Option(None, "--command", help="Command file CMD.csv."),
+           gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
+           radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
+           centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+           draws: int = typer.Option(16, "--draws", min=1, help="Machines drawn [-]."),
+           seed: int = typer.Option(0, "--seed", min=0, help="Seed of the draws [-]."),
+           sensor: Sensor = typer.Option("tcp", "--sensor", help="Sensor analysed."),
+           fit_only: bool = typer.Option(
+               False, "--fit-only",
+               help="Draw from the fits' own standard deviations alone, without the "
+                    "floors of tcpmm.spread.MODEL_ERROR."),
+           tolerance: float = typer.Option(
+               None, "--tolerance-um",
+               help="Spike difference to hold at nine in ten draws [um]; default: the "
+                    "largest of the paper's Table 2, 4.1 um (tcpmm.spread.TOLERANCE)."),
+           as_json: bool = typer.Option(False, "--json"),
+           plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
+    """Reversal spikes of a circle with their spread over the identified uncertainty."""
+    from ..demo import print_circle_table
+    from ..spread import MODEL_ERROR, TOLERANCE, circle_spread
+
+    if tolerance is not None:
+        _positive(tolerance, "--tolerance-um [um]")
+    _positive(radius, "--radius [mm]")
+    _plot(plot)
+    tol_m = TOLERANCE if tolerance is None else tolerance * 1e-6
+    m = _read_model(model)
+    cmd = _load_command(command, gcode, m)
+    c = _floats(centre, "--centre", 2)
+    with _progress(draws + 1, "spread") as adv:
+        res = circle_spread(m, cmd, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), n=draws,
+                            seed=seed, sensor=sensor.value,
+                            floors=None if fit_only else MODEL_ERROR,
+                            tolerance_m=tol_m, progress=adv)
+    if plot is not None:
+        res.plot(plot)
+    if as_json:
+        _emit_json(res.to_dict())
+        return
+    table = res.to_pandas()
+    print_circle_table(table, out, f"{sensor.value} spikes over {draws} drawn machines [um]")
+    for r in res.unsettled():
+        out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
+                  f"({100 * r['same_sign']:.0f} % of the draws give it): rise "
+                  f"{r['rise_um']:+.2f} um, fall {r['fall_um']:+.2f} um; a measured spike "
+                  "can differ from this one by their sum")
+    for r in res.loose():
+        out.print(f"{r['direction'].upper()} {r['point']}: the size is not firm "
+                  f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} um of "
+                  f"{r['spike_um']:.2f} um; range {r['low_um']:.2f} to {r['high_um']:.2f} um)")
+
+@app.command()
+def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"),
+           band: str = typer.Option(..., "--band", help="F0,F1 [Hz]"),
+           amplitude_A: float = typer.Option(..., "--amplitude-A", help="Amplitude [A]."),
+           duration_s: float = typer.Option(..., "--duration-s", help="Duration [s]."),
+           fs_hz: float = typer.Option(..., "--fs-hz", help="Sample rate [Hz]."),
+           output: Path = typer.Option(..., "-o", "--output", help="FILE.csv"),
+           taper_s: float = typer.Option(None, "--taper-s", help="Fade in/out [s] (sweeps)."),
+           seed: int = typer.Option(None, "--seed", min=0,
+                                    help="Random phases seed (multisine).")):
+    """Design an excitation signal for the current command (time_s, excitation_A)."""
+    from ..ident.excitation import design_excitation
+
+    f0, f1 = _band(band, "--band")
+    _output(output)
+    options = {"f0_hz": "--band", "f1_hz": "--band", "amplitude_A": "--amplitude-A",
+               "duration_s": "--duration-s", "fs_hz": "--fs-hz", "taper_s": "--taper-s",
+               "kind": "KIND", "seed": "--seed"}
+    try:
+        exc = design_excitation(kind, f0, f1, amplitude_A, duration_s, fs_hz,
+                                taper_s=taper_s, seed=seed)
+    except InputError as err:
+        if err.file is None and err.column in options:
+            raise typer.BadParameter(err.message, param_hint=options[err.column]) from None
+        raise
+    exc.write_csv(output)
+    out.print(f"wrote {output}: {exc.kind}, band {exc.band_hz[0]:g}-{exc.band_hz[1]:g} Hz, "
+              f"{exc.time_s.size} samples ({exc.time_s.size / exc.fs_hz:g} s), "
+              f"peak {exc.peak_A:.3g} A, rms {exc.rms_A:.3g} A, crest {exc.crest_factor:.2f}")
+
+
+@app.command()
+def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder."),
+             output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml"),
+             report: Path = typer.Option(None, "--report", help="Folder for plots and tables."),
+             band: str = typer.Option(None, "--band", help="F0,F1 of the FRFs [Hz]."),
+             guideway_share: float = typer.Option(
+                 None, "--guideway-share", min=0.0, max=1.0,
+                 help="Share of the friction from friction.csv put on the guideway [-]; "
+                      "default: from the encoder-minus-scale deflection of the runs."),
+             presliding_um: float = typer.Option(
+                 None, "--presliding-um", min=0.0,
+                 help="Pre-sliding displacement of the friction contacts [um] (LuGre); "
+                      "0: static friction that sticks rigidly; default: "
+                      "tcpmm.ident.presliding.PRESLIDING."),
+             accept_suspect: bool = typer.Option(
+                 False, "--accept-suspect",
+                 help="Write the model even when the gates find it physically suspect "
+                      "(static friction beyond the drive, a negative fit, an unstable "
+                      "sampled loop, a time column in the wrong unit), marked as suspect "
+                      "in the file."),
+             as_json: bool = typer.Option(False, "--json")):
+    """Identify every axis of a measurement bundle into a model file.
+
+    A model that the gates (tcpmm.ident.gates) find physically suspect is an error and is
+    not written, unless --accept-suspect.
+    """
+    from ..ident.pipeline import identify_bundle
+    from ..ident.presliding import PRESLIDING
+    from ..io.atomic import output_folder
+    from ..io.bundle import read_bundle
+    from ..io.modelfile import write_machine
+
+    _output(output)
+    if report is not None:
+        output_folder(report)
+    f0, f1 = _band(band, "--band")
+    b = read_bundle(bundle)
+    presliding = PRESLIDING if presliding_um is None else presliding_um * 1e-6
+    with _progress(len(b.axes), "identify") as adv:
+        idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
+                              presliding=presliding, accept_suspect=accept_suspect)
+    if report is not None:
+        idn.write_report(report)
+    write_machine(idn.machine, output)
+    _warn_suspect(idn.machine, f"the model written to {output}")
+    if as_json:
+        _emit_json(idn.to_dict())
+        return
+    from ..demo import print_circle_table
+
+    print_circle_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
+    if presliding > 0 and any(a.friction is not None for a in idn.axes.values()):
+        out.print(f"friction: pre-sliding of {presliding * 1e6:g} um assumed on every contact "
+                  "(the friction runs do not determine it; --presliding-um sets it)")
+    out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))

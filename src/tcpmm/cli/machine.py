@@ -1,0 +1,102 @@
+"""Commands on models: machine export, machine show, bode."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ._app import (
+    _emit_json,
+    _floats,
+    _output,
+    _plot,
+    _read_model,
+    app,
+    machine_app,
+    out,
+)
+
+
+@machine_app.command("export")
+def machine_export(name: str = typer.Argument(..., help="Built-in machine name (vmc)."),
+                   output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml")):
+    """Write a built-in machine as a model file."""
+    from ..builtin import builtin_machine
+    from ..io.modelfile import write_machine
+
+    write_machine(builtin_machine(name), _output(output))
+    out.print(f"wrote {output}")
+
+
+@machine_app.command("show")
+def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+                 as_json: bool = typer.Option(False, "--json")):
+    """Modes of each axis (natural frequencies and damping) and closed-loop stability."""
+    import numpy as np
+
+    from ..mechanics.statespace import plant
+    from ..servo.closedloop import is_stable
+    from ..servo.sampled import sampled_spectral_radius
+
+    m = _read_model(model)
+    data = {}
+    for ax, a in m.axes.items():
+        ev = np.linalg.eigvals(plant(a.mechanics).A)
+        ev = ev[ev.imag > 0]
+        order = np.argsort(np.abs(ev))
+        data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev[order]],
+                    "damping": [float(-e.real / abs(e)) for e in ev[order]],
+                    "closed_loop_stable": is_stable(a.mechanics, a.servo),
+                    "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo)}
+    if as_json:
+        _emit_json(data)
+        return
+    for ax, d in data.items():
+        modes = ", ".join(f"{f:.1f} Hz (zeta {z:.3f})" for f, z in
+                          zip(d["modes_hz"], d["damping"], strict=True))
+        state = "stable" if d["closed_loop_stable"] else "UNSTABLE"
+        rho = d["sampled_loop_spectral_radius"]
+        sampled = "stable" if rho < 1.0 else "UNSTABLE"
+        out.print(f"{ax}: {modes}; closed loop {state}; sampled loop {sampled} "
+                  f"(spectral radius {rho:.4f})")
+
+@app.command()
+def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+         axis: str = typer.Option(..., "--axis", help="Axis name, e.g. X."),
+         tf: str = typer.Option(..., "--tf", help="G_M, G_T, G_tcp, G_v, G_p, cmd_to_tcp, "
+                                 "cmd_to_motor or cmd_to_current."),
+         freq_hz: str = typer.Option(None, "--freq-hz", help="F1,F2,... [Hz]"),
+         as_json: bool = typer.Option(False, "--json"),
+         plot: Path = typer.Option(None, "--plot", help="Save a Bode plot.")):
+    """Frequency response of a transfer function of the model."""
+    import numpy as np
+
+    from ..mechanics.transfer import REDUCED, reduced_freqresp
+    from ..servo.closedloop import CLOSED_LOOP_TFS, closed_loop_freqresp
+
+    _plot(plot)
+    m = _read_model(model)
+    a = m.axis(axis)
+    f = np.array(_floats(freq_hz, "--freq-hz")) if freq_hz else np.logspace(0, 3.2, 200)
+    if np.any(f <= 0):
+        raise typer.BadParameter("--freq-hz values must be positive")
+    if tf in REDUCED:
+        H = reduced_freqresp(a.mechanics, tf, f, a.servo.current_bandwidth_hz)
+    elif tf in CLOSED_LOOP_TFS:
+        H = closed_loop_freqresp(a.mechanics, a.servo, tf, f)
+    else:
+        raise typer.BadParameter(f"--tf must be one of {', '.join([*REDUCED, *CLOSED_LOOP_TFS])}")
+    if plot is not None:
+        from ..plot.bode import plot_bode
+
+        plot_bode({tf: [(f"{axis.upper()} model", f, H, {"color": "tab:red"})]}, plot)
+    rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag)}
+            for fi, h in zip(f, H, strict=True)]
+    if as_json:
+        _emit_json(rows)
+    else:
+        for r in rows:
+            h = complex(r["re"], r["im"])
+            out.print(f"{r['freq_hz']:12.4g} Hz  |H| {abs(h):.6g}  phase "
+                      f"{np.degrees(np.angle(h)):8.2f} deg")

@@ -33,6 +33,7 @@ from .friction import (
 from .lostmotion import estimate_lost_motion
 from .nutstiffness import estimate_nut
 from .stribeck_transients import fit_stribeck_transients
+from .sweepforce import share_from_sweep
 
 __all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
            "place_steady_viscous", "share_uncertainty_warning"]
@@ -52,6 +53,12 @@ TRANSIENT_CUTOFF_HZ = 30.0
 #: Largest relative standard deviation of the Stribeck speed and static levels of a fit to
 #: the plateaus that is taken as determining the hump [-].
 HUMP_REL_STD = 0.25
+#: Largest relative standard deviation of the plateaus' table damping that is taken as
+#: determining it [-].
+VISCOUS_REL_STD = 0.1
+#: Largest difference of the Coulomb levels of the two directions, relative to their mean,
+#: for which a sweep travelling one way gives the share [-].
+SWEEP_ASYMMETRY = 0.2
 
 
 @dataclass(frozen=True)
@@ -65,7 +72,8 @@ class FrictionSplit:
     backlash : float
         Lost motion of the screw-nut put into the model [m].
     source : str
-        ``"data"`` (from the encoder-minus-scale deflection), ``"prior"`` (not determined
+        ``"data"`` (from the encoder-minus-scale deflection), ``"sweep"`` (from the TCP
+        structure's deflection in a travelling sweep), ``"prior"`` (not determined
         by the data: :data:`GUIDEWAY_SHARE`) or ``"given"`` (set by the user) [-].
     estimate : LostMotionEstimate or None
         The estimate from the friction runs, with standard deviations and plateaus [-].
@@ -78,6 +86,9 @@ class FrictionSplit:
     unfound_backlash_std : float
         Standard deviation of the lost motion the whole record gives where it does not
         find any, the scale for how much could hide; NaN otherwise [m].
+    viscous_on_table : float
+        Viscous force per speed on the table side that a share from the sweep was
+        worked out with, which the model then takes; NaN otherwise [N s/m].
     """
 
     guideway_share: float
@@ -87,6 +98,7 @@ class FrictionSplit:
     nut: object = None
     guideway_share_std: float = float("nan")
     unfound_backlash_std: float = float("nan")
+    viscous_on_table: float = float("nan")
 
     @property
     def backlash_std(self) -> float:
@@ -110,6 +122,8 @@ class FrictionSplit:
         """Viscous force per speed that passes through the nut (``C_t`` plus the
         guideway's viscous friction), from :attr:`_table_viscous_from`; NaN without an
         estimate [N s/m]."""
+        if np.isfinite(self.viscous_on_table):
+            return float(self.viscous_on_table)
         src = self._table_viscous_from
         return float(src.table_viscous) if src is not None else float("nan")
 
@@ -136,9 +150,9 @@ class FrictionSplit:
 
         return {
             "guideway_share": {"value": float(self.guideway_share),
-                               "std": sd(self.guideway_share_std, ("data",))},
+                               "std": sd(self.guideway_share_std, ("data", "sweep"))},
             "backlash_m": {"value": float(self.backlash),
-                           "std": sd(self.backlash_std, ("data", "given"))},
+                           "std": sd(self.backlash_std, ("data", "given", "sweep"))},
             "source": self.source,
             "estimate": e.to_dict() if e is not None else None,
             "nut": self.nut.to_dict() if self.nut is not None else None,
@@ -272,7 +286,8 @@ def steady_curve(t, record, force, plateau_fit, plateaus, mechanics):
 
 def identify_friction(record, cfg, mechanics, guideway_share: float | None = None, *,
                       axis: str = "", stiffness_rel_std: float = 0.0,
-                      viscous: str = "fit", neglect_motor_bearing: bool = False):
+                      viscous: str = "fit", neglect_motor_bearing: bool = False,
+                      sweep=None, K_h_rel_std: float = 0.0, C_t_std: float = 0.0):
     """Stribeck friction and lost motion of an axis from its ``friction.csv`` record.
 
     The steady motor force at constant speed balances all friction (table units); the
@@ -305,6 +320,14 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         Take the motor-bearing damping ``B_m`` as zero in the split: it does not twist
         the shaft, so with it less of the steady viscous force would pass through the
         nut. The friction's viscous part is still net of the mechanics' ``B_m`` [-].
+    sweep : SweepDeflection, optional
+        Mean TCP-structure deflection of a travelling sweep; when it determines the
+        share (:func:`tcpmm.ident.sweepforce.share_from_sweep`), the share is taken from
+        it and the plateaus give only the lost motion [-].
+    K_h_rel_std : float
+        Relative standard deviation of the identified ``K_h`` [-].
+    C_t_std : float
+        Standard deviation of the identified ``C_t`` [N s/m].
 
     Returns
     -------
@@ -326,6 +349,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             vs=max(float(v["vs"]), 1e-6), fv_pos=k * fv, fv_neg=k * fv)
 
     given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
+
     def plateau_split(mech, rel_std, **kw):
         return estimate_lost_motion(
             t, record.motor_angle_rad, record.scale_m, force, m.R_L, mech, plateaus,
@@ -339,12 +363,23 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     nut = _nut_estimate(t, record, m_split, v, cfg.sensors.scale_resolution_m,
                         share=lm.guideway_share
                         if np.isfinite(lm.guideway_share) else GUIDEWAY_SHARE)
-    if given is None and nut is not None and nut.lost_motion_found():
+    play = given is None and nut is not None and nut.lost_motion_found()
+    if play:
         # free play: the sweep saw a soft nut. The accelerations give the nut in contact
         # and the lost motion; with both, the plateaus give the share.
-        lm = plateau_split(m_split.replace(K_t=nut.stiffness),
-                           nut.stiffness_std / nut.stiffness,
-                           backlash=nut.backlash, backlash_std=nut.backlash_std)
+        m_split = m_split.replace(K_t=nut.stiffness)
+        stiffness_rel_std = nut.stiffness_std / nut.stiffness
+        lm = plateau_split(m_split, stiffness_rel_std, backlash=nut.backlash,
+                           backlash_std=nut.backlash_std)
+    # With play the sweep's FRFs, and with them K_h, change with each refit of the nut
+    # (tcpmm.ident.playdf): the share stays with the friction runs there.
+    from_sweep = None if given is not None or sweep is None or play else _sweep_share(
+        sweep, m, v, lm, K_h_rel_std, C_t_std)
+    if from_sweep is not None:  # the plateaus give only the lost motion
+        lm = plateau_split(m_split, stiffness_rel_std, share=from_sweep[0])
+        split = FrictionSplit(from_sweep[0], lm.backlash if lm.determined else 0.0, "sweep",
+                              lm, None, from_sweep[1], viscous_on_table=from_sweep[2])
+    elif play:
         used = lm if lm.determined else nut
         split = FrictionSplit(min(max(used.guideway_share, 0.0), 1.0), nut.backlash, "data",
                               lm, nut, used.guideway_share_std)
@@ -367,6 +402,30 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
                       screw=part(1 - share) if share < 1 else None,
                       backlash=split.backlash, guideway_velocity="relative")
     return fr, est, split
+
+
+def _sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std: float):
+    """Share from a travelling sweep's deflection, or ``None`` when the sweep does not
+    determine it; with it the viscous force per speed the table side is given [-].
+
+    A record whose Coulomb levels differ by direction more than :data:`SWEEP_ASYMMETRY`
+    carries a constant force (a weight the mechanics do not hold) that a sweep in one
+    direction does not tell from friction. The model takes the table's viscous force from
+    the plateaus when they determine it; else the mechanics' ``C_t``, at most the steady
+    force's slope less the screw side's damping (a sweep also sees the friction's local
+    slope as damping)."""
+    m = mechanics
+    up, down = abs(float(curve["Fc+"])), abs(float(curve["Fc-"]))
+    if abs(up - down) > SWEEP_ASYMMETRY * 0.5 * (up + down):
+        return None  # a constant force (a weight) that one direction of travel cannot tell
+    tv, tv_sd = float(lm.table_viscous), float(lm.table_viscous_std)
+    if not (np.isfinite(tv) and np.isfinite(tv_sd) and 0 < tv_sd < VISCOUS_REL_STD * tv):
+        room = float(curve["Fv"]) - (m.B_m + m.B_L) / m.R_L**2
+        tv, tv_sd = min(m.C_t, max(room, 0.0)), C_t_std
+    level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
+    got = share_from_sweep(sweep, m, level, tv, K_h_rel_std=K_h_rel_std,
+                           table_viscous_std=tv_sd)
+    return None if got is None else (*got, tv)
 
 
 def share_uncertainty_warning(axis: str, split: FrictionSplit, curve, mechanics,

@@ -31,6 +31,7 @@ from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
 from .structure import fit_structure
+from .sweepforce import sweep_deflection
 from .tffit import fit_tf
 from .uncertainty import axis_uncertainty
 
@@ -382,7 +383,8 @@ def identify_axis(
     mech = phys.mechanics
     if friction is not None:
         friction_on = partial(_friction_and_mechanics, name, friction, cfg,
-                              guideway_share=guideway_share)
+                              guideway_share=guideway_share,
+                              sweep=sweep_deflection(sweep, MIN_SWEEP_TRAVEL_M))
         mech, fr, est, split = friction_on(phys)
         if _play_significant(split) and "G_tcp" in data:
             # The sweep crossed the play, which distorts G_M and G_T but not G_tcp: hold
@@ -470,7 +472,8 @@ def _fit_values(phys: PhysicalFit) -> dict:
     return start
 
 
-def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guideway_share):
+def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guideway_share,
+                            sweep=None):
     """Friction from the runs on the mechanics of a physical fit, the nut stiffness and
     the steady viscous force placed."""
     mech = phys.mechanics
@@ -485,8 +488,11 @@ def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guidewa
         friction, cfg, mech, guideway_share, axis=name,
         stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
         viscous="known" if damping_known else "fit",
-        neglect_motor_bearing=not damping_known)
-    if split.source != "prior" and not damping_known:
+        neglect_motor_bearing=not damping_known, sweep=sweep,
+        K_h_rel_std=rel_std("K_h") if np.isfinite(rel_std("K_h")) else 0.0,
+        C_t_std=_finite_or(phys.std.get("C_t", float("nan")), 0.0))
+    placed = split.source != "prior"
+    if placed and not damping_known:
         # Motor-bearing damping does not twist the shaft, so with it the runs would put
         # less of the steady viscous force through the nut. A sweep does not tell it
         # from the rest of the damping (it came out up to 30 times too large): the
@@ -498,10 +504,14 @@ def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guidewa
         # the nut in contact, as the accelerations of the friction runs show it
         mech = mech.replace(K_t=split.nut.stiffness)
     table_viscous = split.table_viscous
-    if split.source != "prior" and np.isfinite(table_viscous) and "Fv" in est.names:
+    if placed and np.isfinite(table_viscous) and "Fv" in est.names:
         mech, fr = place_steady_viscous(
             mech, fr, est.values[est.names.index("Fv")], table_viscous)
     return mech, fr, est, split
+
+
+def _finite_or(x: float, default: float) -> float:
+    return float(x) if np.isfinite(x) else default
 
 
 def _play_significant(split, z: float = LOST_MOTION_Z) -> bool:

@@ -1,0 +1,137 @@
+"""The guideway share of the friction from the column's deflection during a travelling sweep.
+
+A sweep that travels at a steady speed ``v`` keeps the friction sliding. Over the record
+the accelerations average out and the nut pushes the table with the force that holds it
+against its guideway friction, its viscous damping and a load ``F_load`` (the weight on a
+vertical axis), ``F_t = F_g(v) + C_t v - F_load``. The nut's reaction bends the TCP
+structure (``K_h X_h = F_t``) and the bed (``K_b X_b = -F_t + F_g``, the guideway's
+reaction on the bed), so the mean of scale minus TCP over the record is
+
+    <X_LS - X_TCP> = <X_h - X_b> = F_t / K_h + (C_t v - F_load) / K_b.
+
+With ``K_h`` and ``K_b`` from the sweep's FRFs this gives the force on the table side of
+the nut, and with the steady friction curve of the friction runs, the part of its Coulomb
+and Stribeck level that acts on the guideway. The TCP device resolves the deflection
+(micrometres for a few hundred newtons on a column of 10-30 N/um) far better than a
+linear scale resolves the nut's deflection, and what it measures is what the TCP does at
+a reversal: the column springs back by twice ``F_g / K_h``.
+
+The share is the one for which the identified model reproduces the measured mean
+deflection; its standard deviation counts the scatter of the deflection over the record,
+the uncertainty of ``K_h`` and of the table's viscous force.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection"]
+
+#: Blocks the record is cut into to see the scatter of its mean deflection [-].
+N_BLOCKS = 16
+#: Largest share outside [0, 1], in standard deviations, still taken as [0, 1]; beyond
+#: it the data contradict the model of where the friction acts [-].
+OUTSIDE_Z = 3.0
+
+
+@dataclass(frozen=True)
+class SweepDeflection:
+    """Mean deflection of the TCP structure relative to the bed during a travelling sweep.
+
+    Parameters
+    ----------
+    velocity : float
+        Mean travel speed, signed [m/s].
+    deflection : float
+        Mean of scale minus TCP over the record [m].
+    deflection_std : float
+        Its standard deviation, from the scatter of the means of :data:`N_BLOCKS` blocks
+        of the record [m].
+    """
+
+    velocity: float
+    deflection: float
+    deflection_std: float
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report, SI units [-]."""
+        return {"velocity_m_per_s": self.velocity, "deflection_m": self.deflection,
+                "deflection_std_m": self.deflection_std}
+
+
+def sweep_deflection(sweep, min_travel: float) -> SweepDeflection | None:
+    """Mean scale-minus-TCP deflection of a sweep that travels.
+
+    Parameters
+    ----------
+    sweep : SweepRecord
+        The servo-excitation record [SI].
+    min_travel : float
+        Travel below which the record counts as standing (its friction does not slide
+        in one direction) [m].
+
+    Returns
+    -------
+    SweepDeflection or None
+        ``None`` without a TCP record, or when the sweep does not travel, or reverses [-].
+    """
+    if sweep.tcp_m is None:
+        return None
+    t = np.asarray(sweep.time_s, dtype=float)
+    scale = np.asarray(sweep.scale_m, dtype=float)
+    v = float(np.polyfit(t - t[0], scale, 1)[0])
+    n = t.size // N_BLOCKS
+    if abs(v) * (t[-1] - t[0]) < min_travel or n < 2:
+        return None
+    ends = scale[::n][: N_BLOCKS + 1]
+    if np.any(np.sign(np.diff(ends)) != np.sign(v)):
+        return None  # the sweep went back somewhere: no single direction of friction
+    d = scale - np.asarray(sweep.tcp_m, dtype=float)
+    blocks = d[: n * N_BLOCKS].reshape(N_BLOCKS, n).mean(axis=1)
+    return SweepDeflection(v, float(d.mean()), float(blocks.std(ddof=1) / math.sqrt(N_BLOCKS)))
+
+
+def share_from_sweep(defl: SweepDeflection, mechanics, level: float, table_viscous: float,
+                     K_h_rel_std: float = 0.0, table_viscous_std: float = 0.0):
+    """Share of the Coulomb and Stribeck friction on the guideway from the sweep's
+    deflection.
+
+    Parameters
+    ----------
+    defl : SweepDeflection
+        Mean deflection of the travelling sweep [SI].
+    mechanics : AxisMechanics
+        Identified mechanics; ``K_h`` and ``K_b`` are used [SI].
+    level : float
+        Coulomb and Stribeck part of the steady friction at the sweep's speed, all
+        contacts, in the direction of travel (positive) [N].
+    table_viscous : float
+        Viscous force per speed on the table side of the nut (``C_t`` plus the
+        guideway's viscous friction) [N s/m].
+    K_h_rel_std : float
+        Relative standard deviation of ``K_h`` [-].
+    table_viscous_std : float
+        Standard deviation of ``table_viscous`` [N s/m].
+
+    Returns
+    -------
+    tuple of float or None
+        ``(share, std)``, the share clipped to [0, 1]; ``None`` when the friction level
+        is not positive or the share lies more than :data:`OUTSIDE_Z` standard
+        deviations outside [0, 1] [-].
+    """
+    m = mechanics
+    v = defl.velocity
+    nut = m.K_h * (defl.deflection - (m.C_t * v - m.load_force) / m.K_b)  # signed [N]
+    if not (level > 0 and math.isfinite(nut)):
+        return None
+    share = math.copysign(1.0, v) * (nut + m.load_force - table_viscous * v) / level
+    var = ((m.K_h * defl.deflection_std) ** 2 + (nut * K_h_rel_std) ** 2
+           + (table_viscous_std * v) ** 2) / level**2
+    std = math.sqrt(var)
+    if share < -OUTSIDE_Z * std or share > 1.0 + OUTSIDE_Z * std:
+        return None
+    return min(max(share, 0.0), 1.0), std

@@ -1,0 +1,80 @@
+"""The guideway share from the TCP structure's mean deflection in a travelling sweep."""
+
+import dataclasses
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from tcpmm.builtin import builtin_machine
+from tcpmm.ident.pipeline import identify_axis
+from tcpmm.ident.sweepforce import SweepDeflection, share_from_sweep, sweep_deflection
+from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
+
+
+def deflection_of(mech, share, level, table_viscous, v):
+    """Mean scale-minus-TCP of a steady travel at ``v`` (the statics of the five masses with
+    the guideway's reaction on the bed) [m]."""
+    F_g = math.copysign(share * level, v) + (table_viscous - mech.C_t) * v
+    nut = F_g + mech.C_t * v - mech.load_force
+    X_h = nut / mech.K_h
+    X_b = (-nut + F_g) / mech.K_b
+    return X_h - X_b
+
+
+@pytest.mark.parametrize("v", [0.01, -0.02])
+@pytest.mark.parametrize("load", [0.0, -800.0])
+def test_share_from_a_known_deflection(v, load):
+    mech = builtin_machine().axes["X"].mechanics.replace(load_force=load)
+    d = deflection_of(mech, 0.4, 150.0, 900.0, v)
+    share, std = share_from_sweep(SweepDeflection(v, d, 1e-9), mech, 150.0, 900.0)
+    assert share == pytest.approx(0.4, abs=1e-12)
+    assert std == pytest.approx(mech.K_h * 1e-9 / 150.0)
+    # a wrong K_h is a proportional error of the force through the nut, and is counted
+    _, std_kh = share_from_sweep(SweepDeflection(v, d, 1e-9), mech, 150.0, 900.0,
+                                 K_h_rel_std=0.05)
+    assert std_kh > 0.05 * (0.4 * 150.0) / 150.0
+
+
+def test_a_share_far_outside_its_range_is_not_taken():
+    mech = builtin_machine().axes["X"].mechanics
+    d = deflection_of(mech, 1.6, 150.0, 900.0, 0.01)
+    assert share_from_sweep(SweepDeflection(0.01, d, 1e-9), mech, 150.0, 900.0) is None
+    d = deflection_of(mech, 1.0, 150.0, 900.0, 0.01) + 1e-9  # within the std of 1
+    assert share_from_sweep(SweepDeflection(0.01, d, 2e-9), mech, 150.0, 900.0)[0] == 1.0
+
+
+def test_only_a_sweep_that_travels_one_way_with_a_tcp_record_is_used():
+    a = builtin_machine().axes["X"]
+    sweep = virtual_sweep(a, name="X")
+    got = sweep_deflection(sweep, 1e-3)
+    assert got is not None and got.velocity > 0 and got.deflection_std > 0
+    assert sweep_deflection(dataclasses.replace(sweep, tcp_m=None), 1e-3) is None
+    assert sweep_deflection(sweep, 1e3) is None  # travels less than asked
+    x = sweep.scale_m
+    h = x.size // 2
+    back = np.concatenate([x[:h], x[h - 1::-1][: x.size - h]])  # out and back again
+    assert sweep_deflection(dataclasses.replace(sweep, scale_m=back), 1e-3) is None
+
+
+def test_identified_share_of_an_axis_whose_guide_reacts_on_the_bed():
+    """The built-in X with its guideway friction on the table-minus-bed velocity (as the
+    model identify writes has it): the share from the sweep is within three of its standard
+    deviations of the true share of the Coulomb level, and much tighter than 0.05."""
+    m = builtin_machine()
+    a = m.axes["X"]
+    a = a.model_copy(update={"friction": a.friction.model_copy(
+        update={"guideway_velocity": "relative"})})
+    m = m.model_copy(update={"axes": {**m.axes, "X": a}})
+    rec = virtual_friction(a, FRICTION_SPEEDS, name="X")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        idn = identify_axis("X", virtual_sweep(a, name="X"), axis_config(m, "X"), friction=rec)
+    split = idn.friction_split
+    g, s = a.friction.guideway, a.friction.screw
+    true = g.fc_pos / (g.fc_pos + s.fc_pos)
+    assert split.source == "sweep"
+    assert split.guideway_share_std < 0.03
+    assert abs(split.guideway_share - true) < 3 * split.guideway_share_std, (
+        split.guideway_share, true)

@@ -1,0 +1,182 @@
+"""Commands on measured frequency responses: frf show, frf fit."""
+
+from __future__ import annotations
+
+import json
+from enum import StrEnum
+from pathlib import Path
+
+import numpy as np
+import typer
+
+from ._app import _band, _emit_json, _esc, _output, _plot, app, out
+
+frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XML): show "
+                      "and fit.", rich_markup_mode=None)
+app.add_typer(frf_app, name="frf")
+
+_FILE = "Frequency response: .csv, .mat or Sinumerik Operate .xml (see docs/frf_files.md)."
+
+
+class Weight(StrEnum):
+    """Error a fit minimises."""
+
+    relative = "relative"
+    absolute = "absolute"
+    magnitude = "magnitude"
+
+
+def _poles(text: str):
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        n = int(text)
+    except ValueError:
+        raise typer.BadParameter(f"--poles takes a number or 'auto', got {text!r}") from None
+    if n < 0:
+        raise typer.BadParameter(f"--poles must be >= 0, got {n}")
+    return n
+
+
+def _delay(text: str):
+    t = text.strip().lower()
+    if t in ("fit", "none"):
+        return None if t == "none" else "fit"
+    try:
+        v = float(t)
+    except ValueError:
+        raise typer.BadParameter(f"--delay takes fit, none or seconds, got {text!r}") from None
+    if not (np.isfinite(v) and v >= 0):
+        raise typer.BadParameter(f"--delay must be >= 0 s, got {text}")
+    return v
+
+
+@frf_app.command("show")
+def show(file: Path = typer.Argument(..., help=_FILE),
+         band: str = typer.Option(None, "--band", help="F0,F1 shown [Hz]."),
+         plot: Path = typer.Option(None, "--plot", help="Save a Bode plot (PNG/PDF/SVG)."),
+         as_json: bool = typer.Option(False, "--json")):
+    """Summary of a measured frequency response: band, coherence, noise, a few points."""
+    from ..ident.frffit import noise_level
+    from ..io.frffile import read_frf
+
+    _plot(plot)
+    f0, f1 = _band(band, "--band")
+    frf = read_frf(file).band(f0, f1)
+    sigma = noise_level(frf.freq_hz, frf.H, frf.rel_std)
+    summary = {"file": str(file), "name": frf.name, "input": frf.input, "output": frf.output,
+               "bins": int(frf.freq_hz.size), "freq_min_hz": float(frf.freq_hz[0]),
+               "freq_max_hz": float(frf.freq_hz[-1]),
+               "coherence_median": float(np.median(frf.coherence)),
+               "bins_coherence_0_5": int(np.count_nonzero(frf.coherence >= 0.5)),
+               "noise_rel_median": float(np.median(sigma))}
+    if plot is not None:
+        from ..plot.frf import plot_frf
+
+        plot_frf(frf, path=plot)
+    if as_json:
+        _emit_json(summary)
+        return
+    from rich.table import Table
+
+    out.print(f"{_esc(str(file))}: {_esc(frf.name)}"
+              + (f" ({_esc(frf.output)} / {_esc(frf.input)})" if frf.input else ""))
+    out.print(f"{summary['bins']} bins, {summary['freq_min_hz']:.4g}-"
+              f"{summary['freq_max_hz']:.4g} Hz; coherence median "
+              f"{summary['coherence_median']:.3f}, {summary['bins_coherence_0_5']} bins >= 0.5;"
+              f" relative noise median {summary['noise_rel_median']:.3g}")
+    t = Table(*map(_esc, ("f [Hz]", "|H| [dB]", "phase [deg]", "coherence [-]", "noise [-]")))
+    idx = np.unique(np.searchsorted(frf.freq_hz, np.geomspace(frf.freq_hz[0],
+                                                               frf.freq_hz[-1], 12)))
+    for i in idx[idx < frf.freq_hz.size]:
+        t.add_row(f"{frf.freq_hz[i]:.4g}", f"{frf.magnitude_db[i]:.2f}",
+                  f"{np.degrees(np.angle(frf.H[i])):.1f}", f"{frf.coherence[i]:.3f}",
+                  f"{sigma[i]:.3g}")
+    out.print(t)
+    if plot is not None:
+        out.print(f"wrote {plot}")
+
+
+@frf_app.command("fit")
+def fit(file: Path = typer.Argument(..., help=_FILE),
+        poles: str = typer.Option("auto", "--poles",
+                                  help="Number of poles, or auto (chosen by the data)."),
+        band: str = typer.Option(None, "--band", help="F0,F1 fitted [Hz]."),
+        weight: Weight = typer.Option("relative", "--weight",
+                                      help="Error minimised: relative (by each bin's noise), "
+                                           "absolute, or magnitude (relative, weighted by |H|)."),
+        delay: str = typer.Option("fit", "--delay", help="Pure delay: fit, none or seconds."),
+        damping_floor: float = typer.Option(None, "--damping-floor", min=0.0, max=0.99,
+                                            help="Least damping ratio of a pole pair [-]; "
+                                                 "default tcpmm.ident.frffit.DAMPING_FLOOR."),
+        output: Path = typer.Option(None, "-o", "--output", help="Write the fit as FIT.json."),
+        fragment: Path = typer.Option(None, "--model-fragment",
+                                      help="Write the transfer function as a model-file "
+                                           "fragment FRAG.yaml."),
+        plot: Path = typer.Option(None, "--plot", help="Bode plot of data, fit and residual."),
+        as_json: bool = typer.Option(False, "--json")):
+    """Fit a transfer function (poles, zeros, delay) to a measured frequency response."""
+    from ..ident.frffit import DAMPING_FLOOR, fit_frf
+    from ..io.atomic import write_text_atomic
+    from ..io.frffile import read_frf
+
+    n = _poles(poles)
+    tau = _delay(delay)
+    f0, f1 = _band(band, "--band")
+    for o in (output, fragment):
+        if o is not None:
+            _output(o, file)
+    _plot(plot)
+    frf = read_frf(file)
+    res = fit_frf(frf, poles=n, band_hz=(f0, f1), weighting=weight.value, delay_s=tau,
+                  damping_floor=DAMPING_FLOOR if damping_floor is None else damping_floor)
+    d = {"file": str(file), **res.to_dict()}
+    if output is not None:
+        write_text_atomic(output, json.dumps(d, indent=1) + "\n")
+    if fragment is not None:
+        write_text_atomic(fragment, fragment_text(res, file))
+    if plot is not None:
+        res.plot(path=plot, frf=frf)
+    if as_json:
+        _emit_json(d)
+        return
+    _print_fit(res, file)
+    for p in (output, fragment, plot):
+        if p is not None:
+            out.print(f"wrote {p}")
+
+
+def _print_fit(res, file) -> None:
+    from rich.table import Table
+
+    tf = res.tf
+    out.print(f"{_esc(str(file))}: {_esc(res.name)}: {tf.n_den} poles, {tf.n_num} zeros, "
+              f"delay {tf.delay_s * 1e3:.4g} ms; band {res.band_hz[0]:.4g}-"
+              f"{res.band_hz[1]:.4g} Hz, {tf.freq_hz.size} bins ({res.weighting} error)")
+    out.print(f"residual: relative RMS {res.rel_rms:.3g} against a noise of "
+              f"{res.noise_rms:.3g} (chi2 ratio {res.chi2_ratio:.3g}); "
+              f"fit {tf.fit_percent:.1f} %")
+    t = Table(*map(_esc, ("kind", "f [Hz]", "damping [-]", "real [rad/s]", "imag [rad/s]")))
+    for _, r in res.to_pandas().iterrows():
+        t.add_row(r["kind"], f"{r['freq_hz']:.5g}", f"{r['damping']:.4g}",
+                  f"{r['real_rad_s']:.6g}", f"{r['imag_rad_s']:.6g}")
+    out.print(t)
+    for note in res.notes:
+        out.print(f"note: {_esc(note)}")
+
+
+def fragment_text(res, file) -> str:
+    """A model-file fragment (YAML) holding the fitted transfer function."""
+    import yaml
+
+    d = res.to_dict()
+    key = "".join(c if c.isalnum() else "_" for c in (res.name or "response")).strip("_")
+    body = {"format": "tcpmm-tf/1", "transfer_functions": {key or "response": {
+        "source": str(file), "input": d["input"], "output": d["output"], "unit": d["unit"],
+        "num": d["num"], "den": d["den"], "delay": d["delay_s"], "poles": d["poles"],
+        "zeros": d["zeros"], "band_hz": d["band_hz"], "rel_rms": d["quality"]["rel_rms"]}}}
+    head = ("# tcpmm transfer-function fragment (tcpmm-tf/1), fitted by tcpmm frf fit.\n"
+            "# SI units: H(s) = num(s) / den(s) * exp(-s delay), coefficients highest power\n"
+            "# of s first [s^k]; delay [s]; poles and zeros [rad/s] as [real, imaginary];\n"
+            "# band_hz [Hz]; rel_rms: relative RMS residual over the band [-].\n")
+    return head + yaml.safe_dump(body, sort_keys=False, default_flow_style=None)

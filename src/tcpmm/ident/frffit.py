@@ -1,0 +1,407 @@
+"""Transfer functions fitted to measured frequency responses, with the order chosen by data.
+
+:func:`fit_frf` wraps :func:`~tcpmm.ident.tffit.fit_tf` with what a measured FRF needs:
+
+* **Noise level per bin.** The coherence of few averages is biased towards 1, so the random
+  error it implies can be far too small. The relative noise is also estimated from the
+  roughness of the response itself: for a smooth response the second difference
+  ``H[k-1] - 2 H[k] + H[k+1]`` is noise, of variance six times that of one bin; its running
+  median over :data:`NOISE_WINDOW` bins gives a robust level that follows the frequency.
+  The larger of the two is the noise ``sigma`` of a bin (standard deviation of each of the
+  real and imaginary parts of ``H_model / H - 1`` for the true model).
+* **Order by information.** Pole counts 1, 2, ... are fitted (numerator degree ``n`` or
+  ``n - 1``) and scored by ``chi2 + p ln(2 N)`` (Bayesian information criterion with the
+  known noise; ``chi2 = sum |H_model / H - 1|^2 / sigma^2``, ``p`` real parameters, ``N``
+  bins). The scan stops once the residual reaches the noise (``chi2 <= 2 N``) or the
+  criterion has not improved over :data:`PATIENCE` pole counts.
+* **No needles.** A pole pair less damped than the floor (``damping_floor``, or a
+  half-power bandwidth below the bin spacing) is raised to it and the numerator fitted
+  again. Then a pole and a zero (pairs or real) whose joint factor changes the response by
+  more than :data:`CANCEL_SIGMA` noise levels at fewer than :data:`SUPPORT_BINS` bins are
+  not supported by the data (a resonance needs more than one bin) and are removed, the
+  numerator fitted again each time. A lightly damped pair (damping below 0.2) outside the
+  band counts against a candidate order.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ._tfcore import _numerator, _relative_cost
+from .frf import FRF
+from .tffit import WEIGHT_FLOOR, TFFit, _result, fit_tf
+
+__all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
+
+#: Least damping ratio of a fitted pole pair [-].
+DAMPING_FLOOR = 0.002
+#: Largest pole count tried by the automatic order [-].
+MAX_POLES = 16
+#: Bins of the running median of the roughness noise estimate [-].
+NOISE_WINDOW = 31
+#: A pole-zero pair changing the response by less than this many sigma is removed [-].
+CANCEL_SIGMA = 2.0
+#: Bins a pole-zero pair must change beyond CANCEL_SIGMA to be kept [-].
+SUPPORT_BINS = 3
+#: Pole counts without improvement of the criterion before the scan stops [-].
+PATIENCE = 3
+WEIGHTINGS = ("relative", "absolute", "magnitude")
+
+
+@dataclass(frozen=True)
+class FRFFit:
+    """A transfer function fitted to a measured frequency response, with its quality.
+
+    Parameters
+    ----------
+    tf : TFFit
+        The fitted model; ``tf.poles`` and ``tf.zeros`` are in rad/s [-].
+    band_hz : tuple of float
+        Band fitted [Hz].
+    weighting : str
+        ``"relative"``, ``"absolute"`` or ``"magnitude"`` [-].
+    rel_rms : float
+        RMS of ``|H_model / H - 1|`` over the bins fitted [-].
+    noise_rms : float
+        The same RMS that the noise alone gives, ``sqrt(mean(2 sigma^2))`` [-].
+    chi2_ratio : float
+        ``chi2 / (2 N)``: 1 when the residual is at the noise [-].
+    damping_floor : float
+        Least damping ratio allowed [-].
+    notes : list of str
+        Pole-zero pairs removed and poles raised to the floor [-].
+    candidates : list of dict
+        Orders tried by the automatic choice with their criterion [-].
+    name, input, output, unit : str
+        Labels of the measured response [-].
+    """
+
+    tf: TFFit
+    band_hz: tuple[float, float]
+    weighting: str
+    rel_rms: float
+    noise_rms: float
+    chi2_ratio: float
+    damping_floor: float
+    notes: list = field(default_factory=list)
+    candidates: list = field(default_factory=list)
+    name: str = ""
+    input: str = ""
+    output: str = ""
+    unit: str = ""
+
+    @property
+    def poles(self) -> np.ndarray:
+        """Poles, sorted by magnitude [rad/s]."""
+        return self.tf.poles
+
+    @property
+    def zeros(self) -> np.ndarray:
+        """Zeros, sorted by magnitude [rad/s]."""
+        return self.tf.zeros
+
+    def freqresp(self, f_hz) -> np.ndarray:
+        """Model response at ``f_hz`` [Hz]; returns the complex response [unit]."""
+        return self.tf.freqresp(f_hz)
+
+    def to_dict(self) -> dict:
+        """Plain dict: model (poles and zeros as [real, imaginary] in rad/s) and quality."""
+        pairs = lambda p: [[float(v.real), float(v.imag)] for v in p]  # noqa: E731
+        tf = self.tf
+        return {
+            "name": self.name, "input": self.input, "output": self.output,
+            "unit": self.unit, "band_hz": [float(b) for b in self.band_hz],
+            "weighting": self.weighting, "n_poles": int(tf.n_den),
+            "n_zeros": int(tf.n_num), "delay_s": float(tf.delay_s),
+            "poles": pairs(tf.poles), "zeros": pairs(tf.zeros),
+            "num": [float(v) for v in tf.num], "den": [float(v) for v in tf.den],
+            "modes": [{"freq_hz": float(fn), "damping": float(z)}
+                      for fn, z in zip(tf.natural_freq_hz, tf.damping, strict=True)],
+            "quality": {"rel_rms": self.rel_rms, "noise_rms": self.noise_rms,
+                        "chi2_ratio": self.chi2_ratio, "fit_percent": tf.fit_percent,
+                        "bins": int(tf.freq_hz.size)},
+            "damping_floor": self.damping_floor, "notes": list(self.notes),
+            "candidates": list(self.candidates),
+        }
+
+    def to_pandas(self):
+        """Pole table, one row per real pole or complex pair (see :meth:`TFFit.to_pandas`)."""
+        return self.tf.to_pandas()
+
+    def plot(self, ax=None, path=None, frf: FRF | None = None):
+        """Measured against fitted response with the residual.
+
+        Parameters
+        ----------
+        ax : sequence of 3 matplotlib Axes, optional
+            Axes to draw into [-].
+        path : str or Path, optional
+            Where to save the figure [-].
+        frf : FRF, optional
+            The whole measurement, drawn beyond the bins fitted [-].
+        """
+        from ..plot.frf import plot_frf_fit
+
+        if frf is not None:
+            f, H, coh = frf.freq_hz, frf.H, frf.coherence
+        else:
+            f, H, coh = self.tf.freq_hz, self.tf.H, None
+        title = (f"{self.name}: {self.tf.n_den} poles, {self.tf.n_num} zeros, "
+                 f"residual {self.rel_rms:.3g} (noise {self.noise_rms:.3g})")
+        return plot_frf_fit(f, H, self.freqresp(f), coherence=coh, band_hz=self.band_hz,
+                            path=path, ax=ax, title=title)
+
+
+# ----------------------------------------------------------------------------- noise
+
+
+def noise_level(f_hz, H, rel_std=None, window: int = NOISE_WINDOW) -> np.ndarray:
+    """Relative noise per bin, from the roughness of ``H`` and its coherence error.
+
+    Parameters
+    ----------
+    f_hz : array_like
+        Frequencies, increasing [Hz].
+    H : array_like
+        Complex response [unit].
+    rel_std : array_like, optional
+        Random error from the coherence (see :class:`~tcpmm.ident.frf.FRF`) [-].
+    window : int
+        Bins of the running median [-].
+
+    Returns
+    -------
+    ndarray
+        Standard deviation of the real and of the imaginary part of ``dH / H`` [-].
+    """
+    from scipy.ndimage import median_filter
+
+    H = np.asarray(H, dtype=complex)
+    if H.size < 3:
+        rough = np.zeros(H.size)
+    else:
+        d2 = np.abs(H[:-2] - 2 * H[1:-1] + H[2:]) ** 2 / (6.0 * np.abs(H[1:-1]) ** 2)
+        d2 = np.r_[d2[0], d2, d2[-1]]
+        med = median_filter(d2, size=min(window, d2.size), mode="nearest")
+        rough = np.sqrt(med / (2.0 * np.log(2.0)))
+    rs = np.zeros(H.size) if rel_std is None else np.asarray(rel_std, dtype=float)
+    return np.maximum(np.maximum(rough, rs), 1e-6)
+
+
+def _weights(H, sigma, mode):
+    if mode == "relative":
+        return 1.0 / np.sqrt(sigma**2 + WEIGHT_FLOOR**2)
+    mag = np.abs(H) / np.max(np.abs(H))
+    return mag if mode == "absolute" else np.sqrt(mag)
+
+
+# ----------------------------------------------------------------------------- fitting
+
+
+def fit_frf(
+    frf: FRF,
+    poles="auto",
+    band_hz: tuple[float | None, float | None] | None = None,
+    weighting: str = "relative",
+    delay_s="fit",
+    damping_floor: float = DAMPING_FLOOR,
+    max_poles: int = MAX_POLES,
+    min_coherence: float = 0.5,
+) -> FRFFit:
+    """Fit a transfer function to a measured frequency response.
+
+    Parameters
+    ----------
+    frf : FRF
+        The measurement [unit].
+    poles : int or "auto"
+        Number of poles, or ``"auto"`` to choose it from the data (see the module) [-].
+    band_hz : tuple of float, optional
+        ``(f0, f1)``; either may be None for the edge of the data [Hz].
+    weighting : {"relative", "absolute", "magnitude"}
+        Error minimised: relative error weighted by the noise of each bin; absolute error
+        ``|H_model - H|``; relative error weighted by ``|H|`` (resonances count more) [-].
+    delay_s : None, float or "fit"
+        Pure delay: none, a known value [s], or fitted [s].
+    damping_floor : float
+        Least damping ratio of a pole pair [-].
+    max_poles : int
+        Largest pole count the automatic order tries [-].
+    min_coherence : float
+        Bins of lower coherence are left out [-].
+
+    Returns
+    -------
+    FRFFit
+        The model, its quality and the orders tried [-].
+    """
+    if weighting not in WEIGHTINGS:
+        raise InputError(f"weighting must be one of {', '.join(WEIGHTINGS)}, got {weighting!r}")
+    if not (np.isfinite(damping_floor) and 0 <= damping_floor < 1):
+        raise InputError(f"the damping floor must be in [0, 1), got {damping_floor}")
+    lo, hi = band_hz if band_hz is not None else (None, None)
+    data = frf.band(lo, hi)
+    sigma_all = noise_level(data.freq_hz, data.H, data.rel_std)
+    keep = (data.coherence >= min_coherence) & np.isfinite(data.H) & (data.H != 0)
+    if np.count_nonzero(keep) < 4:
+        raise InputError(f"only {np.count_nonzero(keep)} bins of the band have coherence >= "
+                         f"{min_coherence:g}; widen the band or measure again with more "
+                         "excitation")
+    f, H, sigma = data.freq_hz[keep], data.H[keep], sigma_all[keep]
+    ctx = {"f": f, "H": H, "sigma": sigma, "w": _weights(H, sigma, weighting),
+           "delay": delay_s, "floor": float(damping_floor)}
+    if poles == "auto":
+        best, cands = _auto(ctx, int(max_poles))
+    else:
+        n = int(poles)
+        if n < 0:
+            raise InputError(f"the number of poles must be >= 0, got {n}")
+        tries = [_candidate(ctx, nn, n) for nn in sorted({max(n - 1, 0), n})]
+        tries = [t for t in tries if t is not None]
+        if not tries:
+            raise InputError(f"{f.size} bins cannot determine {n} poles; fewer poles or a "
+                             "wider band")
+        best, cands = min(tries, key=lambda t: t["bic"]), tries
+    fit = best["fit"]
+    h = fit.freqresp(f)
+    e2 = np.abs(h / H - 1) ** 2
+    return FRFFit(
+        tf=fit, band_hz=(float(data.freq_hz[0]), float(data.freq_hz[-1])),
+        weighting=weighting, rel_rms=float(np.sqrt(np.mean(e2))),
+        noise_rms=float(np.sqrt(np.mean(2 * sigma**2))),
+        chi2_ratio=float(np.sum(e2 / sigma**2) / (2 * f.size)),
+        damping_floor=float(damping_floor), notes=best["notes"],
+        candidates=[{k: c[k] for k in ("tried", "n_poles", "n_zeros", "chi2_ratio", "bic",
+                                        "unsupported")} for c in cands],
+        name=frf.name, input=frf.input, output=frf.output, unit=frf.meta.get("unit", ""))
+
+
+def _auto(ctx, max_poles):
+    """Candidates by pole count until the noise is reached or the criterion stalls,
+    screened on at most about 400 bins; the winner is fitted again on all of them."""
+    stride = max(1, int(np.ceil(ctx["f"].size / 400)))
+    sub = {k: (v[::stride] if isinstance(v, np.ndarray) else v) for k, v in ctx.items()}
+    cands, best_bic, stall = [], np.inf, 0
+    for n in range(1, max_poles + 1):
+        tries = [_candidate(sub, nn, n) for nn in (n - 1, n)]
+        tries = [t for t in tries if t is not None]
+        if not tries:
+            break
+        cands += tries
+        top = min(t["bic"] for t in tries)
+        stall = 0 if top < best_bic else stall + 1
+        best_bic = min(best_bic, top)
+        if min(t["chi2_ratio"] for t in tries) <= 1.0 or stall >= PATIENCE:
+            break
+    if not cands:
+        raise InputError(f"{ctx['f'].size} bins are too few to fit any order; widen the band")
+    best = min(cands, key=lambda c: (c["unsupported"], c["bic"]))
+    if stride > 1:
+        best = _candidate(ctx, best["tried"][1], best["tried"][0]) or best
+    return best, cands
+
+
+def _candidate(ctx, n_num, n_den):
+    """Fit, clean and score one order; None if the bins cannot determine it."""
+    f, H, sigma, w = ctx["f"], ctx["H"], ctx["sigma"], ctx["w"]
+    try:
+        fit = fit_tf((f, H, w), n_num, n_den, delay_s=ctx["delay"], max_nfev=100)
+    except InputError:
+        return None
+    fit, notes = _clean(fit, sigma, ctx["floor"])
+    e2 = np.abs(fit.freqresp(f) / H - 1) ** 2
+    chi2 = float(np.sum(e2 / sigma**2))
+    m = 2 * f.size
+    fn, zeta = fit.natural_freq_hz, fit.damping
+    unsupported = bool(np.any((zeta < 0.2) & ((fn < f[0]) | (fn > f[-1]))))
+    return {"fit": fit, "notes": notes, "tried": [n_den, n_num],
+            "n_poles": int(fit.n_den), "n_zeros": int(fit.n_num),
+            "chi2_ratio": chi2 / m, "bic": chi2 + fit.n_params * np.log(m),
+            "unsupported": unsupported}
+
+
+# ----------------------------------------------------------------------------- needles
+
+
+def _units(r: np.ndarray) -> list[np.ndarray]:
+    """Roots grouped as conjugate pairs (upper first) and single real roots."""
+    r = np.asarray(r, dtype=complex)
+    real = np.abs(r.imag) <= 1e-9 * np.maximum(np.abs(r), 1e-300)
+    units = [np.array([p]) for p in r[real]]
+    units += [np.array([p, np.conj(p)]) for p in r[~real] if p.imag > 0]
+    return units
+
+
+def _factor_deviation(x, p, z, sigma):
+    """The change, in sigma, that the factor prod(x - z) / prod(x - p) makes to the
+    response beyond the best constant gain, at the SUPPORT_BINS-th most changed bin."""
+    F = np.prod([x - zz for zz in z], axis=0) / np.prod([x - pp for pp in p], axis=0)
+    g = np.sum(F / sigma**2) / np.sum(1 / sigma**2)
+    if g == 0 or not np.isfinite(g):
+        return np.inf
+    dev = np.sort(np.abs(F / g - 1) / sigma)[::-1]
+    return float(dev[min(SUPPORT_BINS, dev.size) - 1])
+
+
+def _clean(fit: TFFit, sigma, floor):
+    """Raise damping to the floor, then remove the pole-zero pairs the data do not support;
+    the numerator is fitted again after each change."""
+    f, omega0 = fit.freq_hz, fit.omega0
+    x = 2j * np.pi * f / omega0
+    notes = []
+    pn = _floor(fit.pn, f, omega0, floor, notes)
+    if notes:
+        fit = _refit_numerator(fit, pn, fit.n_num)
+    while fit.n_num > 0 and fit.pn.size > 0:
+        zn = fit.zeros / omega0
+        found = [(_factor_deviation(x, p, z, sigma), p, z)
+                 for p in _units(fit.pn) for z in _units(zn) if p.size == z.size]
+        if not found:
+            break
+        dev, p, z = min(found, key=lambda c: c[0])
+        if dev >= CANCEL_SIGMA:
+            break
+        fit = _refit_numerator(fit, _without(fit.pn, p), fit.n_num - z.size)
+        notes.append(f"removed a pole-zero pair at {abs(p[0]) * omega0 / 2 / np.pi:.4g} Hz "
+                     f"(it changes the response by {dev:.2g} noise levels at most)")
+    return fit, notes
+
+
+def _floor(pn, f, omega0, floor, notes):
+    """Poles with every pair damped at least by the floor or by the bin spacing."""
+    pn = pn.copy()
+    df = np.gradient(f) if f.size > 1 else np.zeros(1)
+    for i, p in enumerate(pn):
+        if abs(p.imag) <= 1e-9 * abs(p):
+            continue
+        fn = abs(p) * omega0 / (2 * np.pi)
+        least = max(floor, float(np.interp(fn, f, df)) / (2 * fn))
+        zeta = -p.real / abs(p)
+        if zeta < least:
+            pn[i] = abs(p) * (-least + 1j * np.sign(p.imag) * np.sqrt(1 - least**2))
+            if p.imag > 0:
+                notes.append(f"raised the damping of the pair at {fn:.4g} Hz from "
+                             f"{zeta:.2g} to {least:.2g}")
+    return pn
+
+
+def _without(roots, unit):
+    out = list(roots)
+    for r in unit:
+        out.pop(int(np.argmin(np.abs(np.asarray(out) - r))))
+    return np.asarray(out, dtype=complex)
+
+
+def _refit_numerator(fit: TFFit, pn, n_num):
+    f, H, w, omega0, k, tau = fit.freq_hz, fit.H, fit.weight, fit.omega0, fit.n_integrators, \
+        fit.delay_s
+    s = 2j * np.pi * f
+    x = s / omega0
+    bn = _numerator(x, H * x**k * np.exp(s * tau), w, pn, n_num)
+    n_params = n_num + 1 + pn.size + (fit.n_params - fit.n_num - 1 - fit.n_den)
+    cost = _relative_cost(f, H, w, bn, pn, omega0, k, tau)
+    return _result(f, H, w, bn, pn, omega0, k, tau, n_num, pn.size, n_params, cost)
+

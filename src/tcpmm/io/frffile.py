@@ -1,0 +1,235 @@
+"""Frequency-response files: CSV, MATLAB .mat and Sinumerik Operate XML, read into an FRF.
+
+CSV (header names decide, case-insensitive; see ``docs/frf_files.md``):
+
+* frequency: ``freq_hz``, ``frequency_hz``, ``f_hz``, ``frequency``, ``freq``, ``f`` [Hz];
+* the response, one of: ``re`` and ``im`` (also ``real``/``imag``); ``magnitude_db`` (also
+  ``mag_db``, ``db``) or ``magnitude`` (also ``mag``, ``abs``, linear) with ``phase_deg``
+  (also ``phase``) [deg] or ``phase_rad`` [rad];
+* optional ``coherence`` (also ``coh``) [-].
+
+MATLAB .mat: a frequency vector (same names as CSV) and either a complex vector ``H``
+(also ``frf``, ``G``, ``resp``) or ``re`` and ``im``; optional ``coherence``.
+
+Without a coherence, bins are taken as well measured (coherence 1).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..ident._spectral import _rel_std
+from ..ident.frf import FRF
+from .csvutil import atomic_write_columns, read_header, read_numeric_csv
+from .text import existing_file
+
+__all__ = ["read_frf", "read_frf_csv", "read_frf_mat", "write_frf_csv"]
+
+FREQ = ("freq_hz", "frequency_hz", "f_hz", "frequency", "freq", "f")
+RE, IM = ("re", "real"), ("im", "imag")
+MAG_DB = ("magnitude_db", "mag_db", "db")
+MAG = ("magnitude", "mag", "abs")
+PHASE_DEG, PHASE_RAD = ("phase_deg", "phase"), ("phase_rad",)
+COH = ("coherence", "coh")
+COMPLEX = ("H", "frf", "G", "resp")
+#: Averages assumed when a file gives a coherence but not how many averages made it.
+AVERAGES = 10.0
+
+
+def read_frf(path) -> FRF:
+    """Read a frequency response from CSV, MATLAB .mat or Sinumerik Operate XML.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file; its extension (``.csv``, ``.mat``, ``.xml``) says the format [-].
+
+    Returns
+    -------
+    FRF
+        The response [unit].
+    """
+    path = Path(path)
+    ext = path.suffix.lower()
+    if ext == ".csv":
+        return read_frf_csv(path)
+    if ext == ".mat":
+        return read_frf_mat(path)
+    if ext == ".xml":
+        from .sinumerik import read_sinumerik_frf
+
+        return read_sinumerik_frf(path)
+    raise InputError(f"unknown FRF file type '{path.suffix}'; use .csv, .mat or a Sinumerik "
+                     "Operate .xml", file=path)
+
+
+def _pick(names, choices):
+    lower = {n.lower(): n for n in names}
+    return next((lower[c.lower()] for c in choices if c.lower() in lower), None)
+
+
+def _columns(names, path):
+    """The columns to read: frequency, response kind and its two columns, coherence."""
+    f = _pick(names, FREQ)
+    if f is None:
+        raise InputError(f"no frequency column; name it one of {', '.join(FREQ)} [Hz] (the "
+                         f"file has {', '.join(names)})", file=path, line=1)
+    re_, im_ = _pick(names, RE), _pick(names, IM)
+    mag_db, mag = _pick(names, MAG_DB), _pick(names, MAG)
+    deg, rad = _pick(names, PHASE_DEG), _pick(names, PHASE_RAD)
+    if re_ and im_:
+        kind, a, b = "reim", re_, im_
+    elif (mag_db or mag) and (deg or rad):
+        kind = ("db" if mag_db else "lin") + ("deg" if deg else "rad")
+        a, b = mag_db or mag, deg or rad
+    else:
+        raise InputError("no response columns; give re and im, or magnitude_db (or "
+                         "magnitude) with phase_deg (or phase_rad) (the file has "
+                         f"{', '.join(names)})", file=path, line=1)
+    return f, kind, a, b, _pick(names, COH)
+
+
+def _complex(kind, a, b):
+    if kind == "reim":
+        return a + 1j * b
+    mag = 10.0 ** (a / 20.0) if kind.startswith("db") else a
+    ph = np.radians(b) if kind.endswith("deg") else b
+    return mag * np.exp(1j * ph)
+
+
+def read_frf_csv(path) -> FRF:
+    """Read a frequency response from a CSV file (columns: see the module).
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file with a header line [-].
+
+    Returns
+    -------
+    FRF
+        The response [unit].
+    """
+    path = Path(path)
+    names = read_header(path)
+    f_col, kind, a, b, coh_col = _columns(names, path)
+    cols = read_numeric_csv(path, [f_col, a, b], [coh_col] if coh_col else [])
+    f = cols[f_col]
+    bad = np.flatnonzero(f <= 0)
+    if bad.size:
+        raise InputError(f"frequency {f[bad[0]]:g} Hz is not > 0; leave out the 0 Hz row",
+                         file=path, line=int(bad[0]) + 2, column=f_col)
+    bad = np.flatnonzero(np.diff(f) <= 0)
+    if bad.size:
+        raise InputError("frequencies must increase from row to row", file=path,
+                         line=int(bad[0]) + 3, column=f_col)
+    if kind.startswith("lin"):
+        bad = np.flatnonzero(cols[a] < 0)
+        if bad.size:
+            raise InputError("a linear magnitude cannot be negative (is it in dB? name the "
+                             "column magnitude_db)", file=path, line=int(bad[0]) + 2, column=a)
+    coh = _coherence(cols.get(coh_col), f.size, path, coh_col)
+    return _frf(f, _complex(kind, cols[a], cols[b]), coh, path)
+
+
+def _coherence(coh, n, path, name):
+    if coh is None:
+        return np.ones(n)
+    bad = np.flatnonzero((coh < 0) | (coh > 1))
+    if bad.size:
+        raise InputError(f"coherence {coh[bad[0]]:g} is outside 0..1", file=path,
+                         line=int(bad[0]) + 2, column=name)
+    return coh
+
+
+def _frf(f, H, coh, path) -> FRF:
+    return FRF(freq_hz=f, H=H, coherence=coh, n_averages=AVERAGES,
+               rel_std=_rel_std(coh, AVERAGES), name=Path(path).stem,
+               meta={"file": str(path)})
+
+
+def write_frf_csv(frf: FRF, path, polar: bool = False) -> Path:
+    """Write a frequency response as CSV, atomically.
+
+    Parameters
+    ----------
+    frf : FRF
+        The response [unit].
+    path : str or Path
+        Target file [-].
+    polar : bool
+        Columns ``magnitude_db, phase_deg`` instead of ``re, im`` [-].
+
+    Returns
+    -------
+    Path
+        The file written [-].
+    """
+    cols = {"freq_hz": frf.freq_hz}
+    if polar:
+        cols["magnitude_db"] = frf.magnitude_db
+        cols["phase_deg"] = np.degrees(np.angle(frf.H))
+    else:
+        cols["re"], cols["im"] = frf.H.real, frf.H.imag
+    cols["coherence"] = frf.coherence
+    return atomic_write_columns(path, cols, float_format="%.17g")
+
+
+def read_frf_mat(path) -> FRF:
+    """Read a frequency response from a MATLAB .mat file (variables: see the module).
+
+    Parameters
+    ----------
+    path : str or Path
+        The .mat file (v4 to v7.3) [-].
+
+    Returns
+    -------
+    FRF
+        The response [unit].
+    """
+    from .matfile import _array, _load
+
+    path = existing_file(path, ".mat file", "MAT file")
+    names, _, get = _load(path)
+
+    def var(choices, what):
+        name = _pick(names, choices)
+        if name is None:
+            return None, None
+        a = _array(get(name), name, path)
+        if a.ndim > 2 or (a.ndim == 2 and 1 not in a.shape):
+            raise InputError(f"variable '{name}' ({what}) has shape {a.shape}; store a "
+                             "vector", file=path, column=name)
+        return name, a.reshape(-1)
+
+    fname, f = var(FREQ, "frequency")
+    if f is None:
+        raise InputError(f"no frequency variable; name it one of {', '.join(FREQ)} [Hz] (the "
+                         f"file has {', '.join(names) or 'none'})", file=path)
+    hname, H = var(COMPLEX, "response")
+    if H is None:
+        _, re_ = var(RE, "real part")
+        _, im_ = var(IM, "imaginary part")
+        if re_ is None or im_ is None:
+            raise InputError("no response variable; store a complex vector H (or frf, G, "
+                             f"resp) or re and im (the file has {', '.join(names)})",
+                             file=path)
+        hname, H = "re", np.asarray(re_, float) + 1j * np.asarray(im_, float)
+    cname, coh = var(COH, "coherence")
+    f, H = np.asarray(f).real.astype(float), np.asarray(H, dtype=complex)
+    for name, a in ((fname, f), (hname, H), (cname, coh)):
+        if a is not None and a.size != f.size:
+            raise InputError(f"variable '{name}' has {a.size} values for {f.size} "
+                             "frequencies", file=path, column=name)
+        if a is not None and not np.all(np.isfinite(a)):
+            raise InputError(f"variable '{name}' holds values that are not finite",
+                             file=path, column=name)
+    if np.any(f <= 0) or np.any(np.diff(f) <= 0):
+        raise InputError(f"variable '{fname}' must hold frequencies > 0 Hz, increasing",
+                         file=path, column=fname)
+    coh = None if coh is None else np.asarray(coh, float).real
+    return _frf(f, H, _coherence(coh, f.size, path, cname), path)

@@ -1,0 +1,144 @@
+"""Fitting measured frequency responses: known answers, the real trace, the command line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from tcpmm.cli import main
+from tcpmm.errors import InputError
+from tcpmm.ident.frf import FRF
+from tcpmm.ident.frffit import DAMPING_FLOOR, fit_frf, noise_level
+from tcpmm.io.frffile import write_frf_csv
+
+TRACE = Path(__file__).parents[1] / ".." / "shared" / "data" / "sinumerik" / "freq_trace.XML"
+needs_trace = pytest.mark.skipif(not TRACE.is_file(), reason="Sinumerik trace not available")
+
+# two modes (120 Hz, 3 %; 450 Hz, 5 %), a real pole at 900 Hz, an antiresonance at 300 Hz
+_P2 = [2 * np.pi * fn * (-z + 1j * np.sqrt(1 - z * z)) for fn, z in ((120, 0.03), (450, 0.05))]
+POLES = np.array([*_P2, *np.conj(_P2), -2 * np.pi * 900])
+ZERO = 2 * np.pi * 300 * (-0.02 + 1j)
+F = np.geomspace(10.0, 2000.0, 400)
+NOISE = 0.01
+
+
+def true_response(f):
+    s = 2j * np.pi * f
+    num = (1 - s / ZERO) * (1 - s / np.conj(ZERO))
+    return num / np.prod([1 - s / p for p in POLES], axis=0)
+
+
+def noisy_frf(seed):
+    rng = np.random.default_rng(seed)
+    e = (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)) / np.sqrt(2)
+    H = true_response(F) * (1 + NOISE * e)
+    return FRF(F, H, np.ones(F.size), 10, np.zeros(F.size), name="synthetic")
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_known_poles_are_recovered_through_the_noise(seed):
+    """1 % complex noise on each of 400 bins; a pole is set by the few dozen bins around it,
+    so its relative error is of order 1 %/sqrt(30) ~ 0.2 % (the worst of ten noise draws is
+    0.35 %). The tolerance is 1 %, and the automatic order must find the five poles."""
+    res = fit_frf(noisy_frf(seed), delay_s=None)
+    assert res.tf.n_den == POLES.size
+    for p in POLES:
+        assert np.min(np.abs(res.poles - p)) / abs(p) < 0.01
+    # the residual is the noise: its RMS is the noise level, and no better than it
+    assert res.rel_rms == pytest.approx(NOISE, rel=0.15)
+    assert 0.8 < res.noise_rms / NOISE < 1.4
+    d = res.to_dict()
+    assert len(d["poles"]) == POLES.size and all(len(p) == 2 for p in d["poles"])
+
+
+def test_noise_level_follows_the_noise():
+    frf = noisy_frf(5)
+    sigma = noise_level(frf.freq_hz, frf.H)
+    # per real and imaginary component: 1 %/sqrt(2)
+    assert np.median(sigma) == pytest.approx(NOISE / np.sqrt(2), rel=0.25)
+
+
+def test_a_needle_between_bins_is_removed():
+    """A lightly damped pole pair with a zero pair close by changes no bin beyond the noise:
+    the fit at a fixed order must not keep it as a needle."""
+    res = fit_frf(noisy_frf(3), poles=POLES.size + 2, delay_s=None)
+    assert np.all(res.tf.damping >= DAMPING_FLOOR - 1e-12)
+    assert res.tf.n_den <= POLES.size + 2
+    for fn, z in zip(res.tf.natural_freq_hz, res.tf.damping, strict=True):
+        assert z > 0.01 or any(abs(fn - f0) / f0 < 0.02 for f0 in (120, 450))
+
+
+def test_bad_arguments_are_input_errors():
+    with pytest.raises(InputError, match="weighting"):
+        fit_frf(noisy_frf(0), weighting="dB")
+    with pytest.raises(InputError, match="no bins"):
+        fit_frf(noisy_frf(0), band_hz=(5000, 6000))
+
+
+@pytest.fixture(scope="module")
+def trace_fit():
+    from tcpmm.io.sinumerik import read_sinumerik_frf
+
+    return fit_frf(read_sinumerik_frf(TRACE))
+
+
+@needs_trace
+def test_auto_order_on_the_real_trace_has_no_needles(trace_fit):
+    res = trace_fit
+    assert 2 <= res.tf.n_den <= 16
+    assert np.all(res.tf.damping >= DAMPING_FLOOR)
+    assert res.tf.is_stable
+    # the fit stops at the noise: its residual is not far above the noise level
+    assert res.rel_rms < 1.2 * res.noise_rms
+    # the sharp mode near 2.24 kHz is in the data and in the fit
+    assert np.any(np.abs(res.tf.natural_freq_hz - 2238) < 10)
+
+
+def run(capsys, *args):
+    code = main([str(a) for a in args])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
+
+@needs_trace
+def test_cli_fit_writes_json_fragment_and_plot(capsys, tmp_path):
+    js, frag, png = tmp_path / "fit.json", tmp_path / "frag.yaml", tmp_path / "fit.png"
+    code, out, err = run(capsys, "frf", "fit", TRACE, "--band", "3,1500", "-o", js,
+                         "--model-fragment", frag, "--plot", png, "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["poles"] and all(len(p) == 2 for p in d["poles"])
+    assert d["quality"]["rel_rms"] > 0 and d["band_hz"][1] <= 1500
+    assert json.loads(js.read_text())["poles"] == d["poles"]
+    tf = yaml.safe_load(frag.read_text())["transfer_functions"]["speed_loop"]
+    assert tf["poles"] == d["poles"] and tf["den"][0] == 1.0
+    assert png.stat().st_size > 0
+
+
+def test_cli_fit_and_show_on_csv(capsys, tmp_path):
+    p = write_frf_csv(noisy_frf(0), tmp_path / "m.csv", polar=True)
+    code, out, _ = run(capsys, "frf", "fit", p, "--poles", 5, "--delay", "none",
+                       "--weight", "magnitude")
+    assert code == 0 and "5 poles" in out
+    code, out, _ = run(capsys, "frf", "show", p, "--json")
+    assert code == 0 and json.loads(out)["bins"] == F.size
+
+
+@pytest.mark.parametrize("args", [
+    ["frf", "fit", "missing.csv"],
+    ["frf", "fit", "{csv}", "--poles", "many"],
+    ["frf", "fit", "{csv}", "--band", "100,10"],
+    ["frf", "fit", "{csv}", "--delay", "-1"],
+    ["frf", "fit", "{csv}", "--weight", "dB"],
+    ["frf", "show", "{txt}"],
+])
+def test_cli_errors_exit_2_without_traceback(capsys, tmp_path, args):
+    csv = write_frf_csv(noisy_frf(0), tmp_path / "m.csv")
+    (tmp_path / "m.txt").write_text("x")
+    code, out, err = run(capsys, *[a.format(csv=csv, txt=tmp_path / "m.txt") for a in args])
+    assert code == 2
+    assert "Traceback" not in out + err

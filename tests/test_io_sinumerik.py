@@ -1,0 +1,179 @@
+"""Sinumerik Operate XML and generic FRF files: the real trace, round trips, bad input."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.io as sio
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from tcpmm.errors import InputError
+from tcpmm.ident.frf import FRF
+from tcpmm.io.frffile import read_frf, write_frf_csv
+from tcpmm.io.sinumerik import read_sinumerik
+from tcpmm.io.sinumerik_b85 import ALPHABET, decode_doubles, encode_doubles
+
+TRACE = Path(__file__).parents[1] / ".." / "shared" / "data" / "sinumerik" / "freq_trace.XML"
+needs_trace = pytest.mark.skipif(not TRACE.is_file(), reason="Sinumerik trace not available")
+
+
+@needs_trace
+def test_the_real_trace_reads_with_plausible_physical_values():
+    tr = read_sinumerik(TRACE)
+    frf = tr.frf
+    # 2047-sample PRBS at 8 kHz: 1023 bins 0..4000 Hz, the 0 Hz bin left out
+    assert frf.freq_hz.size == 1022
+    assert frf.freq_hz[0] == pytest.approx(4000 / 1022) and frf.freq_hz[-1] == 4000.0
+    assert tr.meta["control_loop"] == "speed" and tr.meta["sample_time_s"] == 0.000125
+    # a closed speed loop: unity at low frequency, lagging, -3 dB near 80 Hz, rolled off
+    assert abs(frf.H[0]) == pytest.approx(1.0, abs=0.01)
+    assert -10 < frf.phase_deg[0] < 0
+    f3 = frf.freq_hz[np.argmax(frf.magnitude_db < -3)]
+    assert 40 < f3 < 150
+    assert np.median(np.abs(frf.H[frf.freq_hz > 500])) < 0.1
+    assert np.all((frf.coherence >= 0) & (frf.coherence <= 1))
+    assert np.median(frf.coherence[frf.freq_hz < 200]) > 0.99
+    # time series: two runs of 2047 samples over 0.25575 s; the input is the excitation,
+    # an offset of 0.419 rad/s (4 rpm) with a PRBS of +-0.209 rad/s (2 rpm)
+    tin = tr.traces[frf.input]
+    assert tin.values.shape == (2, 2047) and tin.unit == "rad/s"
+    assert np.diff(tin.time_s) == pytest.approx(np.full(2046, 0.000125))
+    assert np.unique(np.round(np.abs(tin.values), 4)).tolist() == [0.2094, 0.6283]
+
+
+@needs_trace
+def test_spectra_agree_with_the_time_series_they_were_made_from(tmp_path):
+    """Without stored spectra the reader forms them from the runs, as the drive does."""
+    import re
+
+    text = TRACE.read_text(encoding="latin-1")
+    stripped = re.sub(r"<SigNodeCrossSpectrumInfo .*?</SigNodeCrossSpectrumInfo>", "", text,
+                      flags=re.S)
+    p = tmp_path / "nospectra.xml"
+    p.write_text(stripped, encoding="latin-1")
+    a, b = read_sinumerik(TRACE).frf, read_sinumerik(p).frf
+    assert b.freq_hz.size == a.freq_hz.size + 1 or b.freq_hz.size == a.freq_hz.size
+    n = min(a.H.size, b.H.size)
+    np.testing.assert_allclose(b.H[:n], a.H[:n], rtol=1e-9)
+
+
+def _xml(tmp_path, raw: str, length: int = 2) -> Path:
+    freq = encode_doubles([0.0, 1.0])
+    spec = lambda v: (f'<CrossSpectrum name="m_avgCrossSpec"><NumericArray '  # noqa: E731
+                      f'elementtype="ComplexNumber" name="m_ValueVector"><unsigned_int '
+                      f'name="m_length">{length}</unsigned_int><raw name="m_pNumberArray">{v}'
+                      f'</raw></NumericArray><NumericArray elementtype="double" '
+                      f'name="m_FrequencyVector"><unsigned_int name="m_length">2</unsigned_int>'
+                      f'<raw name="m_pNumberArray">{freq}</raw></NumericArray></CrossSpectrum>')
+    ok = encode_doubles([1, 0, 1, 0])
+    node = lambda i, inst, auto, cross: (  # noqa: E731
+        f'<PlatformSignalNode name="n"><unsigned_int name="m_uNodeId">{i}</unsigned_int>'
+        f'<integer name="m_iUniqueInstanceId">{inst}</integer>'
+        f'<SigNodeCrossSpectrumInfo name="m_autospectrumInfo">{spec(auto)}'
+        '</SigNodeCrossSpectrumInfo><LinkedList name="m_crossSpecInfoList">'
+        + (f'<SigNodeCrossSpectrumInfo name="c"><unsigned_int name="m_uSignodeId">2'
+           f'</unsigned_int>{spec(cross)}</SigNodeCrossSpectrumInfo>' if cross else "")
+        + "</LinkedList></PlatformSignalNode>")
+    text = ('<ResponseTestCustom><unsigned_int name="m_eControlLoopType">2</unsigned_int>'
+            '<LinkedList name="m_MeasurementSignalNodeList">'
+            + node(1, 0, ok, raw) + node(2, 1, ok, None)
+            + '</LinkedList><PrimaryFreqRespSigNodeData><integer '
+            'name="m_iInputSigNodeUniqueInstanceID">1</integer><integer '
+            'name="m_iOutputSigNodeUniqueInstanceID">0</integer></PrimaryFreqRespSigNodeData>'
+            '</ResponseTestCustom>')
+    p = tmp_path / "t.xml"
+    p.write_text(text)
+    return p
+
+
+def test_a_minimal_file_gives_the_conjugate_of_the_stored_cross_spectrum(tmp_path):
+    p = _xml(tmp_path, encode_doubles([1, 0, 0.5, 0.25]))
+    frf = read_sinumerik(p).frf
+    assert frf.freq_hz.tolist() == [1.0]
+    assert frf.H[0] == pytest.approx(0.5 - 0.25j)
+
+
+@settings(max_examples=60, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(st.floats(allow_nan=False, allow_infinity=False, width=64), max_size=20))
+def test_base85_round_trip(values):
+    assert decode_doubles(encode_doubles(values)).tolist() == [float(v) for v in values]
+
+
+@settings(max_examples=150, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_malformed_or_truncated_data_raise_input_error_only(tmp_path, data):
+    good = encode_doubles([1.0, 0.0, 0.5, 0.25])
+    how = data.draw(st.sampled_from(["cut", "noise", "splice"]))
+    if how == "cut":
+        raw = good[: data.draw(st.integers(0, len(good) - 1))]
+    elif how == "noise":
+        raw = data.draw(st.text(alphabet=ALPHABET + ".~ \n<>&\u00e9", max_size=40))
+    else:
+        i = data.draw(st.integers(0, len(good)))
+        raw = good[:i] + data.draw(st.text(alphabet=ALPHABET + ".", min_size=1, max_size=7)) \
+            + good[i:]
+    p = _xml(tmp_path, raw.replace("<", "&lt;").replace("&", "&amp;")
+             if "<" in raw or "&" in raw else raw)
+    try:
+        frf = read_sinumerik(p).frf
+    except InputError as exc:
+        assert "t.xml" in str(exc)
+    else:
+        assert isinstance(frf, FRF)
+
+
+def test_broken_xml_is_named_at_its_line(tmp_path):
+    p = tmp_path / "bad.xml"
+    p.write_text("<ResponseTestCustom>\n<float name='x'>1</flo>\n")
+    with pytest.raises(InputError, match="line 2"):
+        read_sinumerik(p)
+
+
+finite = st.floats(-1e6, 1e6, allow_nan=False).filter(lambda v: abs(v) > 1e-9)
+
+
+@settings(max_examples=40, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(st.tuples(finite, finite, st.floats(0, 1)), min_size=1, max_size=30),
+       st.booleans())
+def test_csv_round_trip(tmp_path, rows, polar):
+    f = np.cumsum(np.full(len(rows), 0.5)) + 0.1
+    H = np.array([a + 1j * b for a, b, _ in rows])
+    frf = FRF(freq_hz=f, H=H, coherence=np.array([c for *_, c in rows]), n_averages=10,
+              rel_std=np.zeros(f.size))
+    p = write_frf_csv(frf, tmp_path / "rt.csv", polar=polar)
+    back = read_frf(p)
+    np.testing.assert_allclose(back.freq_hz, f, rtol=1e-15)
+    np.testing.assert_allclose(back.H, H, rtol=1e-12 if polar else 0, atol=0)
+    np.testing.assert_array_equal(back.coherence, frf.coherence)
+
+
+@pytest.mark.parametrize("text, where", [
+    ("f,mag_db,phase_deg\n1,0,0\n2,-1,x\n", "line 3, column 'phase_deg'"),
+    ("f,re,im\n1,1,0\n1,1,0\n", "line 3, column 'f'"),
+    ("f,re\n1,1\n", "line 1"),
+    ("hz,re,im\n1,1,0\n", "line 1"),
+    ("f,re,im,coherence\n1,1,0,1.5\n", "line 2, column 'coherence'"),
+])
+def test_csv_errors_name_line_and_column(tmp_path, text, where):
+    p = tmp_path / "bad.csv"
+    p.write_text(text)
+    with pytest.raises(InputError, match=where):
+        read_frf(p)
+
+
+def test_mat_files_read_complex_or_re_im(tmp_path):
+    f = np.array([1.0, 2.0, 4.0])
+    H = np.array([1 + 1j, 0.5j, -0.25])
+    sio.savemat(tmp_path / "a.mat", {"freq_hz": f, "H": H, "coherence": [1, 0.9, 0.8]})
+    sio.savemat(tmp_path / "b.mat", {"f": f, "re": H.real, "im": H.imag})
+    sio.savemat(tmp_path / "c.mat", {"f": f})
+    for name in ("a.mat", "b.mat"):
+        np.testing.assert_array_equal(read_frf(tmp_path / name).H, H)
+    with pytest.raises(InputError, match="no response variable"):
+        read_frf(tmp_path / "c.mat")

@@ -85,19 +85,19 @@ def _number(text: str, what: str) -> float:
     try:
         v = float(text)
     except ValueError:
-        raise InputError(f"{what}: {text!r} is not a number", column="param") from None
+        raise InputError(f"{what}: {text!r} is not a number") from None
     if not math.isfinite(v):
-        raise InputError(f"{what}: {text!r} is not a finite number", column="param")
+        raise InputError(f"{what}: {text!r} is not a finite number")
     return v
 
 
 def _stepped(name: str, a: float, b: float, step: float) -> tuple:
     if not step > 0.0 or b < a:
         raise InputError(f"{name}=START:STOP:STEP needs START <= STOP and STEP > 0, got "
-                         f"{a:g}:{b:g}:{step:g}", column="param")
+                         f"{a:g}:{b:g}:{step:g}")
     n = math.floor((b - a) / step + 1e-9) + 1
     if n > 1_000_000:
-        raise InputError(f"{name}: {n} values; choose a larger step", column="param")
+        raise InputError(f"{name}: {n} values; choose a larger step")
     return tuple(float(f"{a + k * step:.12g}") for k in range(n))
 
 
@@ -120,7 +120,7 @@ def parse_param(text: str, canonical=lambda n: n) -> ParamSpec:
     name, eq, spec = text.partition("=")
     if not eq or not name.strip() or not spec.strip():
         raise InputError(f"--param {text!r}: give NAME=START:STOP:STEP, NAME=LOW:HIGH or "
-                         "NAME=V1,V2,..., e.g. X.servo.K_pp=20:60:5", column="param")
+                         "NAME=V1,V2,..., e.g. X.servo.K_pp=20:60:5")
     name = canonical(name.strip())
     if ":" in spec:
         parts = [_number(p, name) for p in spec.split(":")]
@@ -128,8 +128,7 @@ def parse_param(text: str, canonical=lambda n: n) -> ParamSpec:
             return ParamSpec(name, _stepped(name, *parts), parts[0], parts[1])
         if len(parts) == 2 and parts[0] < parts[1]:
             return ParamSpec(name, (), parts[0], parts[1])
-        raise InputError(f"{name}={spec}: give START:STOP:STEP or LOW:HIGH with LOW < HIGH",
-                         column="param")
+        raise InputError(f"{name}={spec}: give START:STOP:STEP or LOW:HIGH with LOW < HIGH")
     values = tuple(_number(p, name) for p in spec.split(",") if p.strip())
     return ParamSpec(name, values)
 
@@ -138,8 +137,7 @@ def _grid_points(specs) -> list[tuple]:
     for s in specs:
         if not s.values:
             raise InputError(f"{s.name}: a grid needs START:STOP:STEP or a list of values, "
-                             f"not the range {s.low:g}:{s.high:g}; or use --design lhs",
-                             column="param")
+                             f"not the range {s.low:g}:{s.high:g}; or use --design lhs")
     names = [s.name for s in specs]
     order = sorted(range(len(names)), key=names.__getitem__)
     return [tuple((names[i], combo[i]) for i in order)
@@ -151,7 +149,7 @@ def _check_names(specs) -> None:
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise InputError(f"parameter {', '.join(twice)} given more than once; give each "
-                         "once", column="param")
+                         "once")
 
 
 def grid_design(specs) -> list[Variant]:
@@ -169,8 +167,7 @@ def grid_design(specs) -> list[Variant]:
     """
     _check_names(specs)
     if not specs:
-        raise InputError("a grid needs at least one --param NAME=START:STOP:STEP",
-                         column="param")
+        raise InputError("a grid needs at least one --param NAME=START:STOP:STEP")
     return [Variant(p) for p in _grid_points(specs)]
 
 
@@ -216,16 +213,15 @@ def lhs_design(specs, n: int, seed: int = 0) -> list[Variant]:
     """
     _check_names(specs)
     if n < 1:
-        raise InputError(f"--n must be 1 or more, got {n}", column="n")
+        raise InputError(f"--n must be 1 or more, got {n}")
     ranges = [s for s in specs if not s.values]
     fixed = [s for s in specs if s.values]
     for s in fixed:
         if len(s.values) != 1:
             raise InputError(f"{s.name}: a Latin hypercube takes a range LOW:HIGH or one "
-                             "value, not a list; or use --design grid", column="param")
+                             "value, not a list; or use --design grid")
     if not ranges:
-        raise InputError("a Latin hypercube needs at least one --param NAME=LOW:HIGH",
-                         column="param")
+        raise InputError("a Latin hypercube needs at least one --param NAME=LOW:HIGH")
     u = latin_hypercube(n, len(ranges), seed)
     out = []
     for row in u:
@@ -255,7 +251,7 @@ def draws_design(specs, n: int, seed: int = 0) -> list[Variant]:
     """
     _check_names(specs)
     if n < 1:
-        raise InputError(f"--n must be 1 or more, got {n}", column="n")
+        raise InputError(f"--n must be 1 or more, got {n}")
     points = _grid_points(specs) if specs else [()]
     return [Variant(p, k, seed) for p in points for k in range(n)]
 
@@ -268,5 +264,4 @@ def make_design(kind: str, specs, n: int = 16, seed: int = 0) -> list[Variant]:
         return lhs_design(specs, n, seed)
     if kind == "draws":
         return draws_design(specs, n, seed)
-    raise InputError(f"unknown design {kind!r}; designs: {', '.join(DESIGNS)}",
-                     column="design")
+    raise InputError(f"unknown design {kind!r}; designs: {', '.join(DESIGNS)}")

@@ -96,7 +96,7 @@ def _unknown(what: str, name: str, valid, part: str = "") -> InputError:
     hint = did_you_mean(part, valid) if part else ""
     return InputError(f"unknown parameter {name!r}: no {what}{hint}; valid: "
                       f"{', '.join(valid)} (`tcpmm sweep MODEL --list-params` lists every "
-                      "name)", column="param")
+                      "name)")
 
 
 def canonical_name(machine: Machine, name: str, program: str = "circle") -> str:
@@ -142,8 +142,7 @@ def canonical_name(machine: Machine, name: str, program: str = "circle") -> str:
 
 def _integral(name: str, value: float) -> int:
     if abs(value - round(value)) > 1e-9:
-        raise InputError(f"{name} takes whole numbers, got {value:g}; give integer values",
-                         column="param")
+        raise InputError(f"{name} takes whole numbers, got {value:g}; give integer values")
     return round(value)
 
 
@@ -163,7 +162,7 @@ def _axis_with(axis, group: str, field: str, value: float, name: str):
         from ..spread import scaled_contact
 
         if not value >= 0.0:
-            raise InputError(f"{name} is a factor, 0 or more; got {value:g}", column="param")
+            raise InputError(f"{name} is a factor, 0 or more; got {value:g}")
         upd = {c: scaled_contact(getattr(fr, c), value) for c in ("guideway", "screw")}
         return axis.replace(friction=fr.model_copy(update=upd))
     if field == "backlash":
@@ -196,7 +195,7 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
     axes, interp = dict(machine.axes), dict(machine.interpolation or {})
     for name, value in values.items():
         if not math.isfinite(value):
-            raise InputError(f"{name} must be finite, got {value}", column="param")
+            raise InputError(f"{name} must be finite, got {value}")
         head, *rest = name.split(".")
         try:
             if head == "interpolation":
@@ -207,9 +206,9 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
             from .._validate import validation_message
 
             raise InputError(f"{name} = {value:g} is not a valid value: "
-                             f"{validation_message(err)}", column="param") from None
+                             f"{validation_message(err)}") from None
         except InputError as err:
-            raise InputError(f"{name} = {value:g}: {err.message}", column="param") from None
+            raise InputError(f"{name} = {value:g}: {err.message}") from None
     update = {"axes": axes}
     if interp:
         try:
@@ -218,6 +217,5 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
         except ValidationError as err:
             from .._validate import validation_message
 
-            raise InputError(f"invalid interpolation setting: {validation_message(err)}",
-                             column="param") from None
+            raise InputError(f"invalid interpolation setting: {validation_message(err)}") from None
     return machine.model_copy(update=update)

@@ -130,8 +130,7 @@ def program_command(program, machine, values: dict):
 
     override = float(values.get("program.feed_override", 1.0))
     if not override > 0.0:
-        raise InputError(f"program.feed_override must be positive, got {override:g}",
-                         column="param")
+        raise InputError(f"program.feed_override must be positive, got {override:g}")
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})
     return _gcode_command(program.text, override, settings.model_dump_json())
 

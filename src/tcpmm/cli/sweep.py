@@ -61,7 +61,7 @@ def _client(scheduler: str):
     from distributed import Client
 
     try:
-        return Client(scheduler, timeout="20s")
+        return Client(scheduler, timeout="10s")
     except (OSError, TimeoutError, ValueError) as exc:
         raise InputError(f"cannot reach the Dask scheduler at {scheduler} ({exc}); start one "
                          "(`dask scheduler`, then `dask worker tcp://HOST:8786`) or check the "

@@ -146,7 +146,7 @@ def local_cluster(workers: int):
     from distributed import LocalCluster
 
     return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                        dashboard_address=None, silence_logs=logging.ERROR)
+                        dashboard_address=":0", silence_logs=logging.ERROR)
 
 
 def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", client=None,

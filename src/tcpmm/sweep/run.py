@@ -218,9 +218,11 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
     failed = []
     workers = workers or os.cpu_count() or 1
     try:
-        if client is not None:
+        if not todo:
+            pass
+        elif client is not None:
             failed = _on_client(client, task, args, todo, sink)
-        elif workers == 1:
+        elif workers == 1 or len(todo) == 1:
             _serial(task, args, todo, sink)
         else:
             from distributed import Client

@@ -120,9 +120,12 @@ def canonical_name(machine: Machine, name: str, program: str = "circle") -> str:
     head = parts[0]
     if head in ("program", "interpolation"):
         valid = [n for n in parameter_names(machine, program) if n.startswith(head + ".")]
+        if not valid:
+            raise InputError(f"unknown parameter {name!r}: interpolation settings apply to "
+                             "an NC program (--gcode) only")
         if name.strip() not in valid:
-            kind = "circular test" if program == "circle" else "NC program"
-            raise _unknown(f"such {head} parameter of a {kind}", name, valid, name.strip())
+            kind = "a circular test" if program == "circle" else "an NC program"
+            raise _unknown(f"such {head} parameter of {kind}", name, valid, name.strip())
         return name.strip()
     ax = head.upper()
     if ax not in machine.axes:

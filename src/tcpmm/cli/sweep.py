@@ -1,0 +1,155 @@
+"""Command of what-if studies: sweep."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from pathlib import Path
+
+import typer
+
+from ..errors import InputError
+from ._app import Sensor, _emit_json, _floats, _positive, _read_model, app, console, out
+
+_PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs range) or "
+               "NAME=V1,V2,... (values; one value fixes it). Repeat for each parameter. "
+               "Names: AXIS.mechanics.F, AXIS.servo.F (position_gain = K_pp), "
+               "AXIS.sensors.F, AXIS.friction.backlash|level|guideway.F|screw.F, "
+               "program.radius_mm, program.feed_mm_per_min (circle), program.feed_override, "
+               "interpolation.F (NC program); values in the model file's units (SI). "
+               "--list-params lists them all.")
+
+
+@contextmanager
+def _bar(description: str):
+    """``progress(done, total)`` drawing a bar on stderr."""
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TimeElapsedColumn(), TimeRemainingColumn(), console=console,
+                  transient=True) as p:
+        task = p.add_task(description, total=None)
+
+        def progress(done, total):
+            p.update(task, completed=done, total=total)
+
+        yield progress
+
+
+def _program(gcode: Path | None, circle: str | None, centre: str):
+    from ..path import read_program
+    from ..sweep import CircleProgram, GcodeProgram
+
+    if gcode is not None and circle is not None:
+        raise typer.BadParameter("give one of --gcode PROG.nc or --circle R,F")
+    if gcode is not None:
+        return GcodeProgram(read_program(gcode), str(gcode))
+    r, f = _floats(circle or "35,5000", "--circle R,F [mm, mm/min]", 2)
+    _positive(r, "--circle radius [mm]")
+    _positive(f, "--circle feed [mm/min]")
+    c = _floats(centre, "--centre", 2)
+    return CircleProgram(r * 1e-3, f / 6e4, (c[0] * 1e-3, c[1] * 1e-3))
+
+
+def _client(scheduler: str):
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout="10s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError(f"cannot reach the Dask scheduler at {scheduler} ({exc}); start one "
+                         "(`dask scheduler`, then `dask worker tcp://HOST:8786`) or check the "
+                         "address") from None
+
+
+def _report(res) -> None:
+    out.print(f"{res.variants} variants: {res.computed} computed, {res.reused} already there, "
+              f"{len(res.failed)} failed ({res.wall_s:.1f} s)")
+    out.print(f"  results  {res.out_dir / 'results'} (Parquet parts)")
+    out.print(f"  summary  {res.summary}")
+    for f in res.failed:
+        out.print(f"  failed   {f['variant']}: {f['reason']}")
+    if res.failed:
+        out.print("Run the same command again to retry the failed variants.")
+
+
+@app.command()
+def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+          param: list[str] = typer.Option(None, "--param", "-p", help=_PARAM_HELP),
+          design: str = typer.Option("grid", "--design", help="grid, lhs or draws."),
+          n: int = typer.Option(16, "--n", help="Variants of lhs; draws per grid point [-]."),
+          seed: int = typer.Option(0, "--seed", min=0, help="Seed of lhs and draws [-]."),
+          gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
+          circle: str = typer.Option(
+              None, "--circle",
+              help="Circular test R,F: radius [mm], feed [mm/min], CCW then CW; the "
+                   "default without --gcode is the paper's 35,5000."),
+          centre: str = typer.Option("0,0", "--centre", help="Circle centre X,Y [mm]."),
+          output: Path = typer.Option(None, "-o", "--out", help="Results folder OUT_DIR."),
+          scheduler: str = typer.Option(
+              None, "--scheduler", help="Run on this Dask cluster, e.g. tcp://host:8786."),
+          workers: int = typer.Option(
+              None, "--workers", min=1,
+              help="Local worker processes; default every core, 1 runs in this process."),
+          keep_runs: Path = typer.Option(
+              None, "--keep-runs", help="Write each variant's run file to this folder."),
+          sensor: Sensor = typer.Option("tcp", "--sensor", help="Sensor analysed."),
+          fit_only: bool = typer.Option(
+              False, "--fit-only", help="draws: the fits' own standard deviations alone."),
+          list_params: bool = typer.Option(
+              False, "--list-params", help="List the parameter names and exit."),
+          as_json: bool = typer.Option(False, "--json")):
+    """What-if study: the model and program over variants of named parameters.
+
+    Each variant is simulated and analysed (circle: TCP spikes A-D, contour error and
+    circular deviation G per direction; NC program: contour error) as an independent task,
+    on every local core, or on a Dask cluster with --scheduler. Rows go to
+    OUT_DIR/results as they arrive; OUT_DIR/summary.csv holds the design's rows at the end.
+    Rerunning the same command runs only the variants whose rows are missing.
+
+    Example: tcpmm sweep builtin:vmc -p X.servo.position_gain=20:60:5
+    -p Y.servo.position_gain=20:60:5 --circle 35,5000 -o out/kpp
+    """
+    from ..spread import MODEL_ERROR
+    from ..sweep import DESIGNS, canonical_name, make_design, parameter_names, run_sweep
+
+    m = _read_model(model)
+    kind = "gcode" if gcode is not None else "circle"
+    if list_params:
+        for name in parameter_names(m, kind):
+            out.print(name, highlight=False)
+        return
+    if output is None:
+        raise typer.BadParameter("give the results folder with -o OUT_DIR")
+    if design not in DESIGNS:
+        raise typer.BadParameter(f"--design must be one of {', '.join(DESIGNS)}")
+    if scheduler is not None and workers is not None:
+        raise typer.BadParameter("--workers sets up a local cluster; with --scheduler the "
+                                 "cluster's own workers run the sweep")
+    from ..sweep import parse_param
+
+    program = _program(gcode, circle, centre)
+    specs = [parse_param(p, lambda name: canonical_name(m, name, kind)) for p in param or []]
+    variants = make_design(design, specs, n, seed)
+    floors = None if fit_only or design != "draws" else MODEL_ERROR
+    client = _client(scheduler) if scheduler is not None else None
+    try:
+        with _bar("sweep") as progress:
+            res = run_sweep(m, program, variants, output, sensor=sensor.value, client=client,
+                            workers=workers, keep_runs=keep_runs, floors=floors,
+                            progress=progress)
+    finally:
+        if client is not None:
+            client.close()
+    if as_json:
+        _emit_json(res.to_dict())
+    else:
+        _report(res)
+    if res.failed:
+        raise typer.Exit(1)

@@ -1,0 +1,237 @@
+"""Running a sweep: the variants not yet in the results folder, in this process, on the
+local cores or on a Dask cluster, each row written as it arrives.
+
+Every variant is an independent task (:func:`tcpmm.sweep.task.evaluate_variant`). On a
+cluster a task whose worker dies is run again on another (Dask counts the death against
+the task, and ``retries`` more tries are allowed for an exception); a task that fails for
+good is reported and left out, so that the next run of the same sweep tries it again.
+"""
+
+from __future__ import annotations
+
+import time
+import uuid
+from dataclasses import dataclass, field
+from itertools import islice
+from pathlib import Path
+
+from ..errors import InputError
+from .store import (
+    PARTS_DIR,
+    PartWriter,
+    done_variants,
+    open_study,
+    study_record,
+    to_row,
+    write_summary,
+)
+from .task import evaluate_variant, program_command
+
+#: Tries of a task that raised, beyond the first [-].
+RETRIES = 2
+
+
+@dataclass
+class SweepResult:
+    """What a sweep ran and where its rows are.
+
+    Parameters
+    ----------
+    out_dir : Path
+        Results folder [-].
+    summary : Path
+        The CSV summary, one row per variant of the design in its order [-].
+    variants : int
+        Variants of the design [-].
+    computed : int
+        Variants computed by this run [-].
+    reused : int
+        Variants whose rows were there already [-].
+    failed : list of dict
+        Variants whose task failed for good: ``variant`` and ``reason`` [-].
+    wall_s : float
+        Time of the run [s].
+    """
+
+    out_dir: Path
+    summary: Path
+    variants: int
+    computed: int
+    reused: int
+    failed: list = field(default_factory=list)
+    wall_s: float = 0.0
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary [-]."""
+        return {"out_dir": str(self.out_dir), "results": str(self.out_dir / PARTS_DIR),
+                "summary": str(self.summary), "variants": self.variants,
+                "computed": self.computed, "reused": self.reused, "failed": self.failed,
+                "wall_s": self.wall_s}
+
+    def to_pandas(self):
+        """The summary table [file units]."""
+        import pandas as pd
+
+        return pd.read_csv(self.summary, keep_default_na=False, na_values=[""])
+
+    def plot(self, ax=None, x: str | None = None, y: str = "spike_max_um"):
+        """One metric against one parameter, a point per variant [-]."""
+        from ..plot.sweep import plot_sweep
+
+        return plot_sweep(self.to_pandas(), ax=ax, x=x, y=y)
+
+
+def check_design(machine, program, variants) -> None:
+    """Refuse a design any of whose parameters leaves the model or program invalid at its
+    smallest or largest value, before any work is done; and a draws design of a model
+    without uncertainty."""
+    if any(v.draw is not None for v in variants) and all(
+            a.uncertainty is None for a in machine.axes.values()):
+        raise InputError(f"machine '{machine.name}' carries no uncertainty to draw from: "
+                         "the draws design needs a model written by `tcpmm identify`; or use "
+                         "--design grid or lhs")
+    from .params import apply_parameters
+
+    names = {n for v in variants for n, _ in v.values}
+    for name in sorted(names):
+        vals = [dict(v.values)[name] for v in variants if name in dict(v.values)]
+        for value in {min(vals), max(vals)}:
+            one = {name: value}
+            program_command(program, apply_parameters(machine, one), one)
+
+
+def _serial(task, args, todo, sink) -> None:
+    for v in todo:
+        sink(v, task(*args(v)))
+
+
+def _on_client(client, task, args, todo, sink, window: int | None = None) -> list[dict]:
+    """Run the tasks on a Dask client, ``window`` at a time; returns those that failed."""
+    from distributed import as_completed
+
+    if window is None:
+        threads = sum(client.nthreads().values()) or 1
+        window = max(8, 4 * threads)
+    token = uuid.uuid4().hex[:8]
+    pending, failed = {}, []
+
+    def submit(v):
+        fut = client.submit(task, *args(v), key=f"tcpmm-variant-{v.id}-{token}",
+                            retries=RETRIES)
+        pending[fut.key] = v
+        return fut
+
+    todo = iter(todo)
+    flow = as_completed([submit(v) for v in islice(todo, window)])
+    for fut in flow:
+        v = pending.pop(fut.key)
+        try:
+            result = fut.result()
+        except Exception as exc:  # a worker lost for good, or a fault of the code
+            failed.append({"variant": v.id, "reason": f"{type(exc).__name__}: {exc}"})
+            sink(v, None)
+        else:
+            sink(v, result)
+        fut.release()
+        nxt = next(todo, None)
+        if nxt is not None:
+            flow.add(submit(nxt))
+    return failed
+
+
+def local_cluster(workers: int):
+    """A Dask cluster of ``workers`` processes of one thread on this machine [-]."""
+    import logging
+
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                        dashboard_address=":0", silence_logs=logging.ERROR)
+
+
+def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", client=None,
+              workers: int | None = None, keep_runs=None, floors=None, progress=None,
+              batch: int = 64, task=evaluate_variant) -> SweepResult:
+    """Run the variants of a design not yet in ``out_dir`` and write the summary.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [-].
+    program : CircleProgram or GcodeProgram
+        The program [-].
+    variants : list of Variant
+        The design (:mod:`tcpmm.sweep.design`) [-].
+    out_dir : str or Path
+        Results folder; rows already there are kept and their variants not run again [-].
+    sensor : str
+        Sensor analysed [-].
+    client : distributed.Client, optional
+        Run on this Dask cluster; else on ``workers`` local processes [-].
+    workers : int, optional
+        Local processes, default every core; 1 runs in this process [-].
+    keep_runs : str or Path, optional
+        Folder for each variant's run file (``VARIANT_ID.csv``); it must be reachable
+        by every worker [-].
+    floors : dict, optional
+        Smallest standard deviations of a draw (:data:`tcpmm.spread.MODEL_ERROR`) [-].
+    progress : callable, optional
+        ``progress(done, total)`` after each variant [-].
+    batch : int
+        Rows per Parquet part [-].
+    task : callable
+        The function run per variant, :func:`evaluate_variant` or one with its
+        signature [-].
+
+    Returns
+    -------
+    SweepResult
+        Counts and files [-].
+    """
+    import os
+
+    t0 = time.perf_counter()
+    if not variants:
+        raise InputError("the design has no variants")
+    check_design(machine, program, variants)
+    out = open_study(out_dir, study_record(machine, program, sensor, floors))
+    runs = None if keep_runs is None else str(Path(keep_runs).resolve())
+    if runs is not None:
+        from ..io.atomic import output_folder
+
+        output_folder(runs)
+    done = done_variants(out)
+    todo = list({v.id: v for v in variants if v.id not in done}.values())
+    writer = PartWriter(out, batch)
+    count = [0]
+
+    def sink(v, result):
+        if result is not None:
+            writer.add(to_row(v, result))
+        count[0] += 1
+        if progress is not None:
+            progress(count[0], len(todo))
+
+    def args(v):
+        return machine, program, v, sensor, runs, floors
+
+    failed = []
+    workers = workers or os.cpu_count() or 1
+    try:
+        if not todo:
+            pass
+        elif client is not None:
+            failed = _on_client(client, task, args, todo, sink)
+        elif workers == 1 or len(todo) == 1:
+            _serial(task, args, todo, sink)
+        else:
+            from distributed import Client
+
+            with local_cluster(workers) as cluster, Client(cluster) as c:
+                failed = _on_client(c, task, args, todo, sink)
+    finally:
+        writer.flush()
+    summary = write_summary(out, variants)
+    return SweepResult(out, summary, len(variants), writer.written,
+                       len({v.id for v in variants}) - len(todo), failed,
+                       time.perf_counter() - t0)

@@ -1,0 +1,196 @@
+"""The results folder of a sweep: what was studied, the rows as they arrive, the summary.
+
+::
+
+    OUT_DIR/study.json              model (hash), program, sensor: what the rows belong to
+    OUT_DIR/results/part-*.parquet  rows, one file per batch, each written whole
+    OUT_DIR/summary.csv             the design's rows in its order, written at the end
+
+A row holds the variant's id, its parameters (in the unit of each name), its draw, its
+metrics in um (``*_um``) and its warning and error. Every file is written to a temporary
+name and renamed, so a stopped sweep leaves only whole files; a rerun reads the ids of
+the rows present and runs the others.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+import uuid
+from pathlib import Path
+
+from ..errors import InputError
+from ..io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
+
+STUDY_FILE, PARTS_DIR, SUMMARY_FILE = "study.json", "results", "summary.csv"
+
+
+def study_record(machine, program, sensor: str, floors=None) -> dict:
+    """What a sweep's rows belong to, with its hash (``key``) [-]."""
+    body = {"model": machine.model_dump(mode="json"), "program": program.to_dict(),
+            "sensor": sensor, "floors": floors}
+    text = json.dumps(body, sort_keys=True, default=str)
+    return {"key": hashlib.sha256(text.encode()).hexdigest(), "machine": machine.name,
+            "program": program.to_dict(), "sensor": sensor}
+
+
+def open_study(out_dir, record: dict) -> Path:
+    """Create the results folder, or check that the one there holds the same study.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Results folder [-].
+    record : dict
+        :func:`study_record` of the sweep [-].
+
+    Returns
+    -------
+    Path
+        The folder [-].
+    """
+    out = output_folder(out_dir)
+    path = out / STUDY_FILE
+    if path.exists():
+        try:
+            had = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            raise InputError("cannot read the study of the results there; remove the folder "
+                             "or choose another -o", file=path) from None
+        if had.get("key") != record["key"]:
+            raise InputError("the folder holds the results of another study (model, program "
+                             "or sensor differ); choose another -o folder, or remove this one "
+                             "to start again", file=out)
+    else:
+        write_text_atomic(path, json.dumps(record, indent=2))
+    output_folder(out / PARTS_DIR)
+    return out
+
+
+def part_files(out_dir) -> list[Path]:
+    """The result parts present, in the order they were written [-]."""
+    return sorted(Path(out_dir, PARTS_DIR).glob("part-*.parquet"))
+
+
+def done_variants(out_dir) -> set[str]:
+    """Ids of the variants whose rows are in the folder [-]."""
+    import pyarrow.parquet as pq
+
+    done = set()
+    for f in part_files(out_dir):
+        done.update(pq.read_table(f, columns=["variant"]).column("variant").to_pylist())
+    return done
+
+
+def read_results(out_dir):
+    """Every row in the folder as one table (a variant present twice: its last row).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Results folder [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        The rows [file units: um, and each parameter's own] [-].
+    """
+    import pandas as pd
+
+    frames = [pd.read_parquet(f) for f in part_files(out_dir)]
+    frames = [f for f in frames if len(f)]
+    if not frames:
+        return pd.DataFrame({"variant": pd.Series(dtype=str)})
+    table = pd.concat(frames, ignore_index=True)
+    return table.drop_duplicates("variant", keep="last").reset_index(drop=True)
+
+
+def to_row(variant, result: dict) -> dict:
+    """The table row of a variant's result: metrics from m to um (``*_um``) [-]."""
+    row = {"variant": variant.id, **variant.params}
+    if variant.draw is not None:
+        row.update(draw=int(variant.draw), seed=int(variant.seed or 0))
+    for k, v in result.items():
+        if k not in ("variant", "warning", "error"):
+            row[f"{k}_um"] = float(v) * 1e6
+    row.update(warning=result.get("warning", ""), error=result.get("error", ""))
+    return row
+
+
+class PartWriter:
+    """Collects rows and writes them as one Parquet part per batch.
+
+    A batch is written when it holds ``batch`` rows, when ``seconds`` have passed since
+    the last part, and on :meth:`flush`.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Results folder [-].
+    batch : int
+        Rows per part [-].
+    seconds : float
+        Longest time a row waits to be written [s].
+    """
+
+    def __init__(self, out_dir, batch: int = 64, seconds: float = 10.0):
+        self.folder = Path(out_dir, PARTS_DIR)
+        self.batch, self.seconds = max(1, int(batch)), seconds
+        self.rows: list[dict] = []
+        self.written = 0
+        self._last = time.monotonic()
+
+    def add(self, row: dict) -> None:
+        """Keep a row; write the batch when it is due."""
+        self.rows.append(row)
+        if len(self.rows) >= self.batch or time.monotonic() - self._last >= self.seconds:
+            self.flush()
+
+    def flush(self) -> None:
+        """Write the rows kept as one part, atomically."""
+        if not self.rows:
+            return
+        import pandas as pd
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        table = pa.Table.from_pandas(pd.DataFrame(self.rows), preserve_index=False)
+        name = f"part-{time.time_ns():020d}-{uuid.uuid4().hex[:8]}.parquet"
+        with atomic_path(self.folder / name) as tmp:
+            pq.write_table(table, tmp)
+        self.written += len(self.rows)
+        self.rows = []
+        self._last = time.monotonic()
+
+
+def write_summary(out_dir, variants) -> Path:
+    """The design's rows in its order, with their index, as ``summary.csv``.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Results folder [-].
+    variants : list of Variant
+        The design [-].
+
+    Returns
+    -------
+    Path
+        The file written [-].
+    """
+    import pandas as pd
+
+    table = read_results(out_dir).set_index("variant")
+    kept = [c for c in table.columns if c.endswith("_um")] + ["warning", "error"]
+    rows = []
+    for i, v in enumerate(variants):
+        if v.id in table.index:
+            row = {"index": i, **{k: x for k, x in to_row(v, {}).items()
+                                  if k not in ("warning", "error")}}
+            row.update(table.loc[v.id, kept].to_dict())
+            rows.append(row)
+    frame = pd.DataFrame(rows)
+    path = Path(out_dir, SUMMARY_FILE)
+    write_table_atomic(frame, path, "%.10g")
+    return path

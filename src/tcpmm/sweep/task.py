@@ -1,0 +1,195 @@
+"""One variant of a sweep, start to end: the model and program it sets, the simulation,
+the figures. A pure function of its inputs, so that any process, here or on a cluster,
+computes the same row."""
+
+from __future__ import annotations
+
+import functools
+import math
+import warnings
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputWarning, TcpmmError
+from .metrics import circle_metric_names, circle_metrics, path_metric_names, path_metrics
+from .params import apply_parameters
+
+#: The paper's circular test: radius [m] and feed [m/s].
+PAPER_RADIUS_M, PAPER_FEED_M_PER_S = 0.035, 5000.0 / 60000.0
+
+
+@dataclass(frozen=True)
+class CircleProgram:
+    """Circular test, CCW then CW, each with feed-in and feed-out (as the paper's).
+
+    Parameters
+    ----------
+    radius_m : float
+        Radius [m].
+    feed_m_per_s : float
+        Feed [m/s].
+    centre_m : tuple of float
+        Centre in the XY plane [m].
+    """
+
+    radius_m: float = PAPER_RADIUS_M
+    feed_m_per_s: float = PAPER_FEED_M_PER_S
+    centre_m: tuple = (0.0, 0.0)
+    kind = "circle"
+
+    def to_dict(self) -> dict:
+        """Description in file units (mm, mm/min) [-]."""
+        return {"kind": "circle", "radius_mm": self.radius_m * 1e3,
+                "feed_mm_per_min": self.feed_m_per_s * 6e4,
+                "centre_mm": [c * 1e3 for c in self.centre_m]}
+
+
+@dataclass(frozen=True)
+class GcodeProgram:
+    """An NC program, by its text.
+
+    Parameters
+    ----------
+    text : str
+        Program text [-].
+    name : str
+        Where it came from, for reports [-].
+    """
+
+    text: str
+    name: str = ""
+    kind = "gcode"
+
+    def to_dict(self) -> dict:
+        """Description: the name and a hash of the text [-]."""
+        import hashlib
+
+        return {"kind": "gcode", "name": self.name,
+                "sha256": hashlib.sha256(self.text.encode()).hexdigest()}
+
+
+def metric_names(program) -> list[str]:
+    """Names of the metrics of a program's variants [-]."""
+    return circle_metric_names() if program.kind == "circle" else path_metric_names()
+
+
+@functools.lru_cache(maxsize=8)
+def _circle_command(radius_m: float, feed_m_per_s: float):
+    from ..demo import START_ANGLE_DEG
+    from ..path import circle_command
+    from ..path.command import concatenate
+
+    kw = dict(radius_m=radius_m, feed_m_per_s=feed_m_per_s,
+              start_angle_rad=math.radians(START_ANGLE_DEG))
+    return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])
+
+
+@functools.lru_cache(maxsize=8)
+def _gcode_command(text: str, override: float, settings_json: str):
+    from ..path import InterpolatorSettings, interpolate, parse_gcode
+    from ..path.segments import Arc, Line
+
+    segments = parse_gcode(text)
+    if override != 1.0:
+        segments = [replace(s, feed_m_per_s=s.feed_m_per_s * override)
+                    if isinstance(s, Line | Arc) else s for s in segments]
+    return interpolate(segments, InterpolatorSettings.model_validate_json(settings_json))
+
+
+def program_command(program, machine, values: dict):
+    """The position command of a variant's program.
+
+    Parameters
+    ----------
+    program : CircleProgram or GcodeProgram
+        The program swept [-].
+    machine : Machine
+        The variant's model; its interpolation settings interpolate an NC program [-].
+    values : dict of str to float
+        The variant's parameters; ``program.*`` ones apply here [unit of each].
+
+    Returns
+    -------
+    Command
+        The command; built once per process for each program and setting [m].
+    """
+    from ..errors import InputError
+
+    if program.kind == "circle":
+        radius = values.get("program.radius_mm", program.radius_m * 1e3) * 1e-3
+        feed = values.get("program.feed_mm_per_min", program.feed_m_per_s * 6e4) / 6e4
+        cmd = _circle_command(float(radius), float(feed))
+        if tuple(program.centre_m) != (0.0, 0.0):
+            c = program.centre_m
+            cmd = type(cmd)(cmd.time_s, {a: p + (c[0] if a == "X" else c[1] if a == "Y" else 0)
+                                         for a, p in cmd.positions.items()}, cmd.meta)
+        return cmd
+    from ..path import InterpolatorSettings
+
+    override = float(values.get("program.feed_override", 1.0))
+    if not override > 0.0:
+        raise InputError(f"program.feed_override must be positive, got {override:g}")
+    settings = InterpolatorSettings.model_validate(machine.interpolation or {})
+    return _gcode_command(program.text, override, settings.model_dump_json())
+
+
+def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
+    from ..simulate import simulate
+    from ..spread import draw_machine
+
+    values = variant.params
+    m = machine
+    if variant.draw is not None:
+        rng = np.random.default_rng([int(variant.seed or 0), int(variant.draw)])
+        m = draw_machine(m, rng, floors)
+    m = apply_parameters(m, values)
+    cmd = program_command(program, m, values)
+    run = simulate(m, cmd)
+    if program.kind == "circle":
+        radius = values.get("program.radius_mm", program.radius_m * 1e3) * 1e-3
+        metrics = circle_metrics(run, radius, program.centre_m, sensor)
+    else:
+        metrics = path_metrics(run, cmd.axes, sensor)
+    if runs_dir is not None:
+        run.write_csv(Path(runs_dir) / f"{variant.id}.csv")
+    return metrics
+
+
+def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=None,
+                     floors=None) -> dict:
+    """Simulate and analyse one variant.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model swept [-].
+    program : CircleProgram or GcodeProgram
+        The program [-].
+    variant : Variant
+        What the variant sets (:mod:`tcpmm.sweep.design`) [-].
+    sensor : str
+        Sensor analysed: ``tcp``, ``scale`` or ``motor`` [-].
+    runs_dir : str or Path, optional
+        Folder to write the run to, as ``VARIANT_ID.csv`` [-].
+    floors : dict, optional
+        Smallest standard deviations of a draw (:data:`tcpmm.spread.MODEL_ERROR`) [-].
+
+    Returns
+    -------
+    dict
+        ``variant`` (its id), every metric (:func:`metric_names`; NaN when the variant
+        failed) [m], ``warning`` and ``error`` (empty when none) [-].
+    """
+    row = {"variant": variant.id, **dict.fromkeys(metric_names(program), math.nan),
+           "warning": "", "error": ""}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            row.update(_run(machine, program, variant, sensor, runs_dir, floors))
+        except TcpmmError as exc:
+            row["error"] = str(exc)
+    said = dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, InputWarning))
+    row["warning"] = "; ".join(said)
+    return row

@@ -1,0 +1,203 @@
+"""What-if sweeps: names, designs, a variant's row, and the runs that must lose nothing."""
+
+import functools
+import json
+import os
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tcpmm.cli import main
+from tcpmm.errors import InputError
+from tcpmm.model import AxisUncertainty
+from tcpmm.sweep import (
+    CircleProgram,
+    GcodeProgram,
+    Variant,
+    apply_parameters,
+    canonical_name,
+    draws_design,
+    evaluate_variant,
+    grid_design,
+    latin_hypercube,
+    lhs_design,
+    parse_param,
+    path_distance,
+    read_results,
+    run_sweep,
+)
+
+#: A short circle: 5 mm at 6000 mm/min, CCW then CW.
+SHORT = CircleProgram(radius_m=5e-3, feed_m_per_s=0.1)
+
+
+def specs(machine, *texts, program="circle"):
+    return [parse_param(t, lambda n: canonical_name(machine, n, program)) for t in texts]
+
+
+def table(out):
+    return read_results(out).sort_values("variant").reset_index(drop=True)
+
+
+@pytest.fixture(scope="module")
+def design(vmc):
+    return grid_design(specs(vmc, "X.servo.position_gain=30:50:10",
+                             "Y.mechanics.M_t=300,400"))
+
+
+@pytest.fixture(scope="module")
+def serial(vmc, design, tmp_path_factory):
+    out = tmp_path_factory.mktemp("serial")
+    return run_sweep(vmc, SHORT, design, out, workers=1)
+
+
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client
+
+    from tcpmm.sweep import local_cluster
+
+    with local_cluster(2) as cluster, Client(cluster) as c:
+        yield c
+
+
+def test_names_are_checked_against_the_model_and_aliases_resolve(vmc):
+    assert canonical_name(vmc, "x.servo.position_gain") == "X.servo.K_pp"
+    assert canonical_name(vmc, "Y.friction.screw.fc_pos") == "Y.friction.screw.fc_pos"
+    with pytest.raises(InputError, match=r"did you mean 'servo'.*mechanics, servo"):
+        canonical_name(vmc, "X.servoo.K_pp")
+    with pytest.raises(InputError, match=r"no such axis.*X.GROUP.FIELD"):
+        canonical_name(vmc, "W.servo.K_pp")
+    with pytest.raises(InputError, match=r"program\.feed_override"):
+        canonical_name(vmc, "program.radius_mm", "gcode")
+    m = apply_parameters(vmc, {"X.servo.K_pp": 25.0, "Y.mechanics.M_t": 420.0,
+                               "X.friction.level": 2.0, "Z.friction.backlash": 3e-6})
+    assert m.axes["X"].servo.K_pp == 25.0 and m.axes["Y"].mechanics.M_t == 420.0
+    assert m.axes["X"].friction.screw.fc_pos == 2 * vmc.axes["X"].friction.screw.fc_pos
+    assert m.axes["Z"].friction.backlash == 3e-6
+    with pytest.raises(InputError, match="K_pp = -1"):
+        apply_parameters(vmc, {"X.servo.K_pp": -1.0})
+
+
+def test_designs(vmc):
+    g = grid_design(specs(vmc, "X.servo.K_pp=20:60:5", "Y.servo.K_pp=1,2"))
+    assert len(g) == 18 and g[-1].params == {"X.servo.K_pp": 60.0, "Y.servo.K_pp": 2.0}
+    assert len({v.id for v in g}) == 18
+    u = latin_hypercube(10, 3, seed=4)
+    for col in u.T:  # one point in each tenth
+        assert sorted(np.floor(col * 10).astype(int)) == list(range(10))
+    a, b = (lhs_design(specs(vmc, "X.servo.K_pp=20:60", "X.servo.k_ff=0.5"), 10, 7)
+            for _ in range(2))
+    assert [v.id for v in a] == [v.id for v in b]
+    assert all(20 <= v.params["X.servo.K_pp"] <= 60 and v.params["X.servo.k_ff"] == 0.5
+               for v in a)
+    d = draws_design(specs(vmc, "X.servo.K_pp=30,40"), 3, seed=1)
+    assert [(v.params["X.servo.K_pp"], v.draw) for v in d][:4] == [
+        (30.0, 0), (30.0, 1), (30.0, 2), (40.0, 0)]
+    with pytest.raises(InputError, match="NAME=START:STOP:STEP"):
+        parse_param("X.servo.K_pp")
+    with pytest.raises(InputError, match="lhs"):
+        grid_design(specs(vmc, "X.servo.K_pp=20:60"))
+
+
+def test_a_variant_gives_the_circle_metrics_in_metres(vmc, design):
+    row = evaluate_variant(vmc, SHORT, design[0])
+    assert row["variant"] == design[0].id and row["error"] == ""
+    assert 1e-6 < row["ccw_contour_error"] < 1e-3
+    assert row["spike_max"] == max(abs(row[f"{d}_spike_{q}"]) for d in ("ccw", "cw")
+                                   for q in "ABCD")
+    bad = evaluate_variant(vmc, SHORT, Variant((("X.servo.K_pp", -1.0),)))
+    assert "K_pp" in bad["error"] and np.isnan(bad["spike_max"])
+
+
+def test_path_distance_is_the_distance_to_the_polyline():
+    ref = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    pts = np.array([[0.5, 0.2], [1.3, 0.5], [2.0, 2.0], [0.0, 0.0]])
+    assert path_distance(ref, pts) == pytest.approx([0.2, 0.3, np.hypot(1, 1), 0.0])
+
+
+def test_nc_program_contour_error_with_feed_override(vmc, tmp_path):
+    prog = GcodeProgram("G21 G17 G90\nG1 X5 Y0 F3000\nG1 X5 Y5\nG1 X0 Y5\nG1 X0 Y0\n", "sq")
+    vs = grid_design(specs(vmc, "program.feed_override=0.5,1", program="gcode"))
+    res = run_sweep(vmc, prog, vs, tmp_path / "o", workers=1, keep_runs=tmp_path / "runs")
+    t = res.to_pandas()
+    assert list(t["program.feed_override"]) == [0.5, 1.0]
+    assert (t["contour_error_um"] > t["contour_error_rms_um"]).all()
+    assert t["contour_error_um"][0] < t["contour_error_um"][1]  # slower is closer
+    assert sorted(p.name for p in (tmp_path / "runs").iterdir()) == sorted(
+        f"{v.id}.csv" for v in vs)
+
+
+def test_a_local_cluster_gives_the_serial_rows(vmc, design, serial, client, tmp_path):
+    res = run_sweep(vmc, SHORT, design, tmp_path, client=client)
+    assert (res.computed, res.failed) == (len(design), [])
+    pd.testing.assert_frame_equal(table(tmp_path), table(serial.out_dir))
+    pd.testing.assert_frame_equal(res.to_pandas(), serial.to_pandas())
+
+
+def _dies_once(marker, victim, machine, program, variant, *rest):
+    """The task, except that its worker process dies the first time it runs ``victim``."""
+    if variant.id == victim and not os.path.exists(marker):
+        open(marker, "w").close()
+        os._exit(1)
+    return evaluate_variant(machine, program, variant, *rest)
+
+
+def test_a_worker_that_dies_costs_no_variant(vmc, design, serial, client, tmp_path):
+    marker = tmp_path / "died"
+    task = functools.partial(_dies_once, str(marker), design[2].id)
+    res = run_sweep(vmc, SHORT, design, tmp_path / "o", client=client, task=task)
+    assert marker.exists()
+    assert (res.computed, res.failed) == (len(design), [])
+    pd.testing.assert_frame_equal(table(tmp_path / "o"), table(serial.out_dir))
+
+
+def test_a_stopped_sweep_resumes_with_the_missing_variants(vmc, design, serial, tmp_path):
+    def stop(done, total):
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(vmc, SHORT, design, tmp_path, workers=1, progress=stop)
+    kept = set(read_results(tmp_path)["variant"])
+    assert len(kept) == 2  # what was computed is kept
+    seen = []
+    res = run_sweep(vmc, SHORT, design, tmp_path, workers=1,
+                    task=lambda m, p, v, *a: seen.append(v.id) or evaluate_variant(m, p, v, *a))
+    assert (res.computed, res.reused) == (len(design) - 2, 2)
+    assert sorted(seen) == sorted({v.id for v in design} - kept)
+    pd.testing.assert_frame_equal(table(tmp_path), table(serial.out_dir))
+    pd.testing.assert_frame_equal(res.to_pandas(), serial.to_pandas())
+
+
+def test_another_study_in_the_same_folder_is_refused(vmc, design, serial):
+    other = CircleProgram(radius_m=6e-3, feed_m_per_s=0.1)
+    with pytest.raises(InputError, match="another study"):
+        run_sweep(vmc, other, design, serial.out_dir, workers=1)
+
+
+def test_draws_need_an_identified_model_and_repeat_by_seed(vmc, tmp_path):
+    with pytest.raises(InputError, match="no uncertainty"):
+        run_sweep(vmc, SHORT, draws_design([], 2), tmp_path, workers=1)
+    m = vmc.model_copy(update={"axes": {n: a.replace(uncertainty=AxisUncertainty(
+        mechanics={"M_t": 0.05 * a.mechanics.M_t})) for n, a in vmc.axes.items()}})
+    v = draws_design([], 2, seed=3)
+    rows = [evaluate_variant(m, SHORT, x) for x in (v[0], v[1], v[0])]
+    assert rows[0] == rows[2] and rows[0]["spike_max"] != rows[1]["spike_max"]
+
+
+def test_cli(tmp_path, capsys):
+    args = ["sweep", "builtin:vmc", "-p", "X.servo.position_gain=30,40", "--circle", "5,6000",
+            "-o", str(tmp_path / "o"), "--workers", "1", "--json"]
+    assert main(args) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert (got["variants"], got["computed"], got["failed"]) == (2, 2, [])
+    assert main(args) == 0
+    assert json.loads(capsys.readouterr().out)["reused"] == 2
+    summary = pd.read_csv(tmp_path / "o" / "summary.csv")
+    assert list(summary["X.servo.K_pp"]) == [30.0, 40.0]
+    assert main(["sweep", "builtin:vmc", "-p", "X.servo.nope=1", "-o", str(tmp_path)]) == 2
+    assert "no such field of X.servo" in capsys.readouterr().err.replace("\n", " ")
+    assert main(["sweep", "builtin:vmc", "--list-params"]) == 0
+    assert "X.servo.K_pp" in capsys.readouterr().out

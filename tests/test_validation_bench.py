@@ -38,7 +38,8 @@ KNOWN = {
                             "friction levels in the identified mechanics)",
     ("c", "spikes", "cw"): "spikes 1.7 um off at F5000",
     ("e", "spikes"): "spikes 4.9-6.8 um off; with the true friction in the identified "
-                     "mechanics still 4-8 um: the mechanics (C_t 14-24 % high) limit them",
+                     "mechanics still 4-8 um: the mechanics (damping, C_t 14-18 % off) "
+                     "limit them",
     ("e", "contour"): "contour 2.7-5.6 um off, from the same mechanics",
     ("d", "contour"): "pre-sliding of the contacts (true 1.5-3.5 um, assumed 0.5 um): "
                       "0.85 um off at F5000",

@@ -9,11 +9,15 @@ absent one reads the extreme of the noise over ~400 samples, about 3.5 noise rms
 tolerance is at least 4.5 noise rms.
 """
 
+import json
+
 import numpy as np
 import pytest
 
+from conftest import bench_path
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
+from tcpmm.cli import main
 from tcpmm.errors import InputError
 from tcpmm.result import AxisRun, Run
 
@@ -167,25 +171,27 @@ def test_backlash_makes_hysteresis():
     assert diag["hysteresis"] == pytest.approx(6e-6, rel=0.02)
 
 
+def run_of(direction, err, seed=0, start_deg=START):
+    """A run of one turn without feed-in: the command and the TCP with ``err`` [-]."""
+    s = 1.0 if direction == "ccw" else -1.0
+    a_cmd = np.radians(start_deg) + s * W * DT * np.arange(N + 1)
+    a, e = circle(direction, err, seed, start_deg=start_deg, noise=0.0)
+    cmd = R * np.c_[np.cos(a_cmd), np.sin(a_cmd)]
+    tcp = (R + e)[:, None] * np.c_[np.cos(a), np.sin(a)]
+    return Run(DT * np.arange(N + 1), {"X": AxisRun(cmd=cmd[:, 0], tcp=tcp[:, 0]),
+                                       "Y": AxisRun(cmd=cmd[:, 1], tcp=tcp[:, 1])})
+
+
 def test_from_runs_with_the_speed_from_the_time():
     """The same through the analysis of runs: passes found from the command, the angular
     speed from the time stamps."""
     err = {"tau_y": 0.4e-3, "b_y": 3e-6}
-    runs = []
-    for i, d in enumerate(("ccw", "cw")):
-        s = 1.0 if d == "ccw" else -1.0
-        a_cmd = np.radians(START) + s * W * DT * np.arange(N + 1)
-        a, e = circle(d, err, i, noise=0.0)
-        cmd = R * np.c_[np.cos(a_cmd), np.sin(a_cmd)]
-        tcp = (R + e)[:, None] * np.c_[np.cos(a), np.sin(a)]
-        t = DT * np.arange(N + 1)
-        runs.append(Run(t, {"X": AxisRun(cmd=cmd[:, 0], tcp=tcp[:, 0]),
-                            "Y": AxisRun(cmd=cmd[:, 1], tcp=tcp[:, 1])}))
-    res = [analyse_circle(r, R) for r in runs]
+    res = [analyse_circle(run_of(d, err, i), R) for i, d in enumerate(("ccw", "cw"))]
     diag = circle_diagnostics(res[0], res[1])
     assert diag.sensor == "tcp"
     assert diag["servo_mismatch"] == pytest.approx(0.4e-3, rel=0.02)
     assert diag["backlash_Y"] == pytest.approx(3e-6, rel=0.02)
+    assert circle_diagnostics(res[1], res[0])["backlash_Y"] == diag["backlash_Y"]
     with pytest.raises(InputError, match="no CW circle"):
         circle_diagnostics(res[0])
     with pytest.raises(InputError, match="sensor scale is not in both"):
@@ -207,3 +213,74 @@ def test_a_short_arc_is_refused():
     a, e = circle("ccw", {})
     with pytest.raises(InputError, match="need a full turn"):
         diagnose_pair((a[:3000], e[:3000]), circle("cw", {}), R)
+
+
+def cli(capsys, *args):
+    code = main([str(a) for a in args])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
+
+@pytest.fixture(scope="module")
+def pair(tmp_path_factory):
+    d = tmp_path_factory.mktemp("pair")
+    err = {"b_x": 4e-6, "alpha": 50e-6, "eps_x": 80e-6, "tau_y": 0.2e-3}
+    for i, direction in enumerate(("ccw", "cw")):
+        run_of(direction, err, i).write_csv(d / f"{direction}.csv")
+    return d
+
+
+def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35)
+    assert code == 0
+    lines = out.splitlines()
+    assert max(len(line) for line in lines) <= 80 and "…" not in out  # COLUMNS=80 for rich
+    for text in ("backlash X", "squareness", "µm/m", "scale mismatch", "ppm", "servo mismatch",
+                 "ms", "circularity G, G(b)", "reversal spike A"):
+        assert text in out, text
+    code, out, _ = cli(capsys, "circle", pair / "cw.csv", pair / "ccw.csv", "--radius", 35,
+                       "--json")
+    assert code == 0
+    got = json.loads(out)
+    terms = {t["term"]: (t["value"], t["unit"]) for t in got["diagnostics"]["terms"]}
+    assert [p["direction"] for p in got["passes"]] == ["cw", "ccw"]
+    # run files round the positions to 0.1 nm: the injected terms at well under 1 %
+    assert terms["backlash_X"] == (pytest.approx(4.0, rel=0.01), "um")
+    assert terms["squareness"] == (pytest.approx(50.0, rel=0.01), "um/m")
+    assert terms["scale_mismatch"] == (pytest.approx(80.0, rel=0.01), "ppm")
+    assert terms["servo_mismatch"] == (pytest.approx(0.2, rel=0.01), "ms")
+    assert terms["cyclic_period_X"] == (None, "mm")
+
+
+def test_cli_single_run_stays_as_it_was(capsys, pair):
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
+    assert code == 0
+    got = json.loads(out)
+    assert "diagnostics" not in got and [p["direction"] for p in got["passes"]] == ["ccw"]
+    code, _, err = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--sensor", "tcp")
+    assert code == 2 and "no CW circle" in err and "Traceback" not in err
+    code, _, err = cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35,
+                       "--direction", "ccw")
+    assert code == 2 and "not both" in err
+
+
+def test_cli_names_a_quadrant_point_at_the_start(capsys, tmp_path):
+    run_of("ccw", {}, start_deg=90.0).write_csv(tmp_path / "b.csv")
+    code, out, err = cli(capsys, "circle", tmp_path / "b.csv", "--radius", 35)
+    assert code == 0
+    assert "warning:" in err and "quadrant point B (90 deg)" in " ".join(err.split())
+    row = next(line for line in out.splitlines() if "tcp" in line)
+    assert row.split("│")[4].strip() == "n/a"  # column B
+
+
+def test_bench_c_pair_finds_no_geometric_error(capsys):
+    """Machine C's simulator has no geometric errors and no lateral play: squareness and
+    lateral play read ~0 whatever its servo and friction do to the circles."""
+    d = bench_path("c")
+    code, out, _ = cli(capsys, "circle", d / "circle_ccw_meas.csv", d / "circle_cw_meas.csv",
+                       "--radius", 35, "--json")
+    assert code == 0
+    terms = {t["term"]: t["value"] for t in json.loads(out)["diagnostics"]["terms"]}
+    assert abs(terms["squareness"]) < 2.0  # um/m: 0.035 um of radial error
+    assert abs(terms["lateral_play_X"]) < 0.2 and abs(terms["lateral_play_Y"]) < 0.2
+    assert abs(terms["centre_offset_X"]) < 0.2 and abs(terms["centre_offset_Y"]) < 0.2

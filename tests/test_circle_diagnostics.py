@@ -206,7 +206,13 @@ def test_results_table_dict_and_plot():
     d = diag.to_dict()
     assert {t["term"] for t in d["terms"]} == set(df["term"])
     fig = diag.plot()
-    assert len(fig.axes) >= 1
+    assert len(fig.axes) == 1 and len(fig.axes[0].lines) >= 4  # dots and fit per direction
+    from tcpmm.plot import pyplot
+
+    plt = pyplot()
+    own, ax = plt.subplots()
+    assert diag.plot(ax=ax) is own
+    plt.close("all")
 
 
 def test_a_short_arc_is_refused():

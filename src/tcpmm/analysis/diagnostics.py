@@ -68,8 +68,8 @@ class CircleDiagnostics:
     sensor : str
         Sensor whose path was analysed [-].
     terms : dict
-        ``name -> (value, unit)`` in SI: ``m``, ``s``, ``m/m`` (a slope), ``-`` (a ratio)
-        [SI].
+        ``name -> (value, unit)`` in SI: ``m``, ``s``, ``rad``, ``m/m`` (a slope), ``-``
+        (a ratio) [SI].
     curves : dict
         ``direction -> (angle [rad], radial error [m], fitted model [m])`` [SI].
     """
@@ -327,7 +327,7 @@ def _cyclic_terms(coef, waves, names):
     return out
 
 
-def circle_diagnostics(result, other=None, sensor=None) -> CircleDiagnostics:
+def circle_diagnostics(result, other=None, sensor=None, axes=("X", "Y")) -> CircleDiagnostics:
     """Diagnostics of the first CCW and the first CW circle of circular-test analyses.
 
     Parameters
@@ -339,6 +339,8 @@ def circle_diagnostics(result, other=None, sensor=None) -> CircleDiagnostics:
         other analysis when its own has none [-].
     sensor : str, optional
         Sensor to diagnose; default the first of tcp, scale, motor, cmd in both [-].
+    axes : tuple of str
+        The plane the circles were analysed in, for the term names [-].
     """
     first, second = (result, other or result), (other or result, result)
     pick = {}
@@ -356,4 +358,5 @@ def circle_diagnostics(result, other=None, sensor=None) -> CircleDiagnostics:
     sc = {d: p.sensors[sensor] for d, p in pick.items()}
     return diagnose_pair((sc["ccw"].angle_rad, sc["ccw"].radial_error),
                          (sc["cw"].angle_rad, sc["cw"].radial_error), result.radius,
-                         (pick["ccw"].rate_rad_s, pick["cw"].rate_rad_s), sensor=sensor)
+                         (pick["ccw"].rate_rad_s, pick["cw"].rate_rad_s), axes=axes,
+                         sensor=sensor)

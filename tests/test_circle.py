@@ -1,17 +1,19 @@
 """Circular-test analysis recovers known injected errors (formats.md section 4)."""
 
+import warnings
+
 import numpy as np
 import pytest
 
 from tcpmm.analysis.circular import analyse_circle, lsq_circle, reversal_lobes, reversal_spikes
 from tcpmm.analysis.compare import compare_circles, sign_flips
-from tcpmm.errors import InputError
+from tcpmm.errors import InputError, InputWarning
 from tcpmm.result import AxisRun, Run
 
 R = 0.035
 
 
-def circle_path(direction="ccw", n=7200, start_deg=0.0, centre=(0.0, 0.0)):
+def circle_path(direction="ccw", n=7200, start_deg=45.0, centre=(0.0, 0.0)):
     """Feed-in semicircle of R/2 from the centre, one turn, feed-out back to the centre."""
     sgn = 1.0 if direction == "ccw" else -1.0
     a0 = np.radians(start_deg)
@@ -42,11 +44,20 @@ def polar_perturb(p, centre, de):
 
 
 @pytest.mark.parametrize("direction", ["ccw", "cw"])
-@pytest.mark.parametrize("start_deg", [0.0, 45.0, 200.0])
-def test_radius_offset(direction, start_deg):
+@pytest.mark.parametrize(("start_deg", "left_out"), [(0.0, ["A"]), (45.0, []), (217.0, []),
+                                                     (270.0, ["D"])])
+def test_radius_offset(direction, start_deg, left_out):
+    """A circle that starts (and so ends) at a quadrant point says so and reports no spike
+    there: the 30 deg before it are the end of the circle, not the approach to it."""
     p = circle_path(direction, start_deg=start_deg, centre=(0.01, -0.02))
     s = polar_perturb(p, (0.01, -0.02), lambda a: 4e-6 + 0 * a)
-    res = analyse_circle(make_run(p, s), R, (0.01, -0.02))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = analyse_circle(make_run(p, s), R, (0.01, -0.02))
+    said = [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+    assert len(said) == len(left_out[:1])
+    for q in left_out:
+        assert f"{direction.upper()} circle starts or ends at quadrant point {q}" in said[0]
     assert len(res.passes) == 1
     ps = res.passes[0]
     assert ps.direction == direction
@@ -55,7 +66,26 @@ def test_radius_offset(direction, start_deg):
     assert sc.circular_deviation < 1e-9
     span = abs(sc.angle_rad[-1] - sc.angle_rad[0])
     assert span == pytest.approx(2 * np.pi, abs=np.radians(0.2))  # feed-in/out trimmed
-    assert all(abs(v) < 1e-9 for v in sc.spikes.values())
+    assert all(np.isnan(v) == (q in left_out) for q, v in sc.spikes.items())
+    assert all(abs(v) < 1e-9 for q, v in sc.spikes.items() if q not in left_out)
+    assert all(v is None for q, v in res.to_dict()["passes"][0]["sensors"][1].items()
+               if q[-4:-3] in left_out and q.startswith("spike"))
+
+
+def test_a_circle_without_feed_in_from_a_quadrant_point_leaves_it_out():
+    """One turn from A with no feed-in: the start is no reversal of X at all, yet a spike
+    taken across the seam would be the jump from the end of the circle to its start."""
+    th = np.linspace(0, 2 * np.pi, 3601)
+    p = R * np.c_[np.cos(th), np.sin(th)]
+    s = polar_perturb(p, (0, 0), lambda a: np.where(np.degrees(a) % 360 < 10, 6e-6, 0.0))
+    with pytest.warns(InputWarning, match=r"quadrant point A \(0 deg\)") as caught:
+        spikes = analyse_circle(make_run(p, s), R).passes[0].sensors["tcp"].spikes
+    assert len(caught) == 1
+    assert np.isnan(spikes["A"])
+    assert [spikes[q] for q in "BCD"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)
+    # crossed within a path, the same rise after A is a 6 um spike
+    assert reversal_spikes(np.r_[th - 2 * np.pi, th], np.r_[0 * th, 6e-6 * (th < 0.17)],
+                           "ccw")["A"] == pytest.approx(6e-6)
 
 
 def test_ellipse_circular_deviation():
@@ -137,7 +167,7 @@ def test_lobes_hold_rise_and_fall_and_the_spike_is_the_larger():
     e = two_lobes(4.6e-6, -4.8e-6)(ang)
     assert reversal_lobes(ang, e, "ccw")["B"] == pytest.approx((4.6e-6, -4.8e-6))
     assert reversal_spikes(ang, e, "ccw")["B"] == pytest.approx(-4.8e-6)
-    assert reversal_lobes(ang, e, "ccw")["A"] == (0.0, 0.0)
+    assert np.isnan(reversal_lobes(ang, e, "ccw")["A"]).all()  # starts and ends at A
     assert reversal_lobes(ang, e, "cw")["B"] == (0.0, 0.0)  # for CW the window lies before B
 
 

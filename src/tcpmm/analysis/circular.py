@@ -8,6 +8,9 @@ centre; the reversal spike at a quadrant point P is the value of ``e - b`` with 
 largest magnitude in the 20 deg that follow P in the direction of travel, where ``b`` is
 the median of ``e`` over 30 deg to 5 deg before P.
 
+A quadrant point whose windows do not both lie on the circle (a circle that starts or ends
+at it) is left out: its spike is NaN and an :class:`InputWarning` names it.
+
 Full circles are found from the command when the run has one (else from the first sensor
 present): the longest stretches whose radius is within a tolerance of R; feed-in and
 feed-out arcs that join the circle tangentially are trimmed symmetrically so that
@@ -72,11 +75,14 @@ class CirclePass:
         Samples of the run on the circle [-].
     sensors : dict of str to SensorCircle
         Results per sensor (``cmd``, ``motor``, ``scale``, ``tcp``) [-].
+    rate_rad_s : float
+        Mean angular speed about the nominal centre; NaN when unknown [rad/s].
     """
 
     direction: str
     index: slice
     sensors: dict = field(default_factory=dict)
+    rate_rad_s: float = float("nan")
 
     def table(self) -> list[dict]:
         """One row per sensor: spikes A-D and contour error in um, G in um."""
@@ -115,9 +121,14 @@ class CircleResult:
         return pd.DataFrame([r for p in self.passes for r in p.table()])
 
     def to_dict(self) -> dict:
-        """JSON-ready summary in um."""
+        """JSON-ready summary in um; a spike left out (NaN) is ``None``."""
+        def clean(row):
+            return {k: None if isinstance(v, float) and np.isnan(v) else v
+                    for k, v in row.items()}
+
         return {"radius_mm": self.radius * 1e3, "centre_mm": [c * 1e3 for c in self.centre],
-                "passes": [{"direction": p.direction, "sensors": p.table()} for p in self.passes]}
+                "passes": [{"direction": p.direction, "sensors": [clean(r) for r in p.table()]}
+                           for p in self.passes]}
 
     def pass_for(self, direction: str) -> CirclePass:
         """The first pass in a direction."""
@@ -156,24 +167,68 @@ def lsq_circle(x, y):
     return cx, cy, float(np.hypot(x - cx, y - cy).mean())
 
 
-def _window(delta_deg, lo, hi):
-    return (delta_deg >= lo) & (delta_deg <= hi)
+def _crossings(angle_rad, direction: str, deg: float) -> list:
+    """``(crossings, u)``: the travel-direction angles [deg] at which the path crosses the
+    point at ``deg`` with both the window before it and the window after it on the path,
+    and the travel-direction angle ``u`` of every sample [deg]."""
+    sign = 1.0 if direction == "ccw" else -1.0
+    u = sign * np.degrees(angle_rad)  # increasing along the travel
+    at = sign * deg
+    lo = np.ceil((u.min() - BEFORE_DEG[0] - at) / 360.0 - 1e-9)
+    hi = np.floor((u.max() - AFTER_DEG[1] - at) / 360.0 + 1e-9)
+    return [at + 360.0 * k for k in np.arange(lo, hi + 1)], u
 
 
 def _after_reversal(angle_rad, e, direction: str):
-    """``(P, e - b)`` over the 20 deg after each quadrant point P (``None`` where the
-    path does not cover both windows) [m]."""
-    sign = 1.0 if direction == "ccw" else -1.0
+    """``(P, e - b)`` over the 20 deg after each quadrant point P, pooled over every
+    crossing of P whose windows both lie on the path; ``None`` where P is never crossed
+    so (the path starts or ends at P) [m]."""
     for name, deg in QUADRANTS.items():
-        d = np.degrees(angle_rad) - deg
-        d = (d + 180.0) % 360.0 - 180.0
-        d *= sign  # travel-direction angle relative to P
-        before = _window(d, *BEFORE_DEG)
-        after = _window(d, *AFTER_DEG)
-        if not before.any() or not after.any():
+        at, u = _crossings(angle_rad, direction, deg)
+        if not at:
             yield name, None
             continue
+        d = u[:, None] - np.asarray(at)[None, :]
+        before = ((d >= BEFORE_DEG[0]) & (d <= BEFORE_DEG[1])).any(axis=1)
+        after = ((d >= AFTER_DEG[0]) & (d <= AFTER_DEG[1])).any(axis=1)
         yield name, e[after] - np.median(e[before])
+
+
+def uncrossed_quadrants(angle_rad, direction: str) -> list:
+    """Quadrant points the path does not cross with 30 deg before and 20 deg after them on
+    it, as when a circle starts or ends at one [-].
+
+    Parameters
+    ----------
+    angle_rad : ndarray
+        Angle about the nominal centre, CCW from +X, unwrapped [rad].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    return [name for name, deg in QUADRANTS.items() if not _crossings(angle_rad, direction,
+                                                                       deg)[0]]
+
+
+def warn_uncrossed(names, direction: str) -> None:
+    """Warn (:class:`InputWarning`) that quadrant points are left out of a circle.
+
+    Parameters
+    ----------
+    names : list of str
+        The points left out, e.g. ``["A"]``; nothing is said when empty [-].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    if not names:
+        return
+    pts = ", ".join(f"{n} ({QUADRANTS[n]:g} deg)" for n in names)
+    one = len(names) == 1
+    warnings.warn(InputWarning(
+        f"the {direction.upper()} circle starts or ends at quadrant point{'' if one else 's'} "
+        f"{pts} or within {'its' if one else 'their'} reversal window (30 deg before to 20 "
+        f"deg after), so no reversal spike is reported at {', '.join(names)}; start the "
+        f"circle between quadrant points (e.g. at 45 deg) to measure {'it' if one else 'them'}"),
+        stacklevel=3)
 
 
 def reversal_spikes(angle_rad, e, direction: str) -> dict:
@@ -256,6 +311,13 @@ def find_passes(x, y, radius, centre, tol=None, turns=None):
     return out
 
 
+def _rate(t, x, y, centre):
+    """Mean angular speed over a pass [rad/s]; NaN without a time span."""
+    ang = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
+    span = t[-1] - t[0]
+    return float(abs(ang[-1] - ang[0]) / span) if span > 0 else float("nan")
+
+
 def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
                    sensors=SENSORS) -> CircleResult:
     """Circular-test analysis of a run.
@@ -301,10 +363,13 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     for sl, d, _ in found:
         if direction is not None and d != direction:
             continue
-        cp = CirclePass(d, sl)
+        cp = CirclePass(d, sl, rate_rad_s=_rate(run.time_s[sl], X.sensor(ref)[sl],
+                                                Y.sensor(ref)[sl], centre_m))
         for s in present:
             cp.sensors[s] = analyse_sensor(X.sensor(s)[sl], Y.sensor(s)[sl], radius_m,
                                            centre_m, d)
+        warn_uncrossed([q for q in QUADRANTS if any(np.isnan(sc.spikes[q])
+                                                   for sc in cp.sensors.values())], d)
         passes.append(cp)
     if not passes:
         what = f" {direction.upper()}" if direction else ""

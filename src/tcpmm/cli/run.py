@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 
 from ._app import (
+    Sensor,
     _emit_json,
     _floats,
     _in_file,
@@ -67,31 +68,132 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
 @app.command()
 def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or measured)"),
+           other: Path = typer.Argument(
+               None, help="RUN_CW.csv: a second run; the diagnostics take the CCW circle "
+                          "from the first run and the CW circle from the second."),
            radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
            direction: str = typer.Option(None, "--direction", help="ccw or cw."),
+           sensor: Sensor = typer.Option(
+               None, "--sensor", help="Sensor of the diagnostics (default tcp, else scale, "
+                                      "motor)."),
            as_json: bool = typer.Option(False, "--json"),
-           plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
-    """Circular test: radial and contour error, circular deviation G, reversal spikes A-D."""
-    from ..analysis.circular import analyse_circle
-    from ..demo import print_circle_table
+           plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG)."),
+           diag_plot: Path = typer.Option(None, "--diag-plot",
+                                          help="Save the diagnostics plot (PNG/PDF/SVG).")):
+    """Circular test: radial and contour error, circular deviation G, reversal spikes A-D;
+    with a CCW and a CW circle (one run or two) also the diagnostics: backlash, lateral
+    play, servo and scale mismatch, squareness, cyclic error, G(b), hysteresis."""
+    from ..analysis.circular import CircleResult, analyse_circle
+    from ..analysis.diagnostics import circle_diagnostics
     from ..io.runfile import read_run_csv
 
     if direction is not None and direction.lower() not in ("ccw", "cw"):
         raise typer.BadParameter("--direction must be ccw or cw")
+    if direction is not None and other is not None:
+        raise typer.BadParameter("give --direction or a second run, not both")
     c = _floats(centre, "--centre", 2)
     _positive(radius, "--radius [mm]")
     _plot(plot)
-    run = read_run_csv(run_file)
-    with _in_file(run_file):
-        res = analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
-                             direction=direction.lower() if direction else None)
+    _plot(diag_plot)
+    results = []
+    for f in (run_file, other) if other is not None else (run_file,):
+        run = read_run_csv(f)
+        with _in_file(f):
+            results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
+                                          direction=direction.lower() if direction else None))
+    res = CircleResult(results[0].radius, results[0].centre,
+                       [p for r in results for p in r.passes])
+    diag = None
+    if other is not None or sensor is not None or diag_plot is not None or \
+            {p.direction for p in res.passes} == {"ccw", "cw"}:
+        diag = circle_diagnostics(*results, sensor=sensor.value if sensor else None)
     if plot is not None:
         res.plot(plot)
+    if diag_plot is not None:
+        diag.plot(path=diag_plot)
     if as_json:
-        _emit_json(res.to_dict())
-    else:
-        print_circle_table(res.to_pandas(), out, f"{run_file} [um]")
+        data = res.to_dict()
+        if diag is not None:
+            data["diagnostics"] = {"sensor": diag.sensor, "terms": [
+                {"term": t, "value": None if v != v else v, "unit": u}
+                for t, v, u in _display_terms(diag, ascii_units=True)]}
+        _emit_json(data)
+        return
+    title = f"{run_file}" + (f" and {other}" if other is not None else "")
+    _print_passes(res, title)
+    if diag is not None:
+        _print_diagnostics(diag)
+
+
+#: SI unit -> (display unit, factor); the cyclic periods are shown in mm
+_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
+          "rad": ("µrad", 1e6)}
+_NOTES = {"hysteresis": "largest CCW-CW radial difference",
+          "centre_offset": "circle centre - nominal",
+          "backlash": "+: radius steps out at reversal",
+          "lateral_play_X": "+: moving +X shifts X to +Y",
+          "lateral_play_Y": "+: moving +Y shifts Y to +X",
+          "servo_mismatch": "+: Y lags X", "squareness": "+: angle +X to +Y over 90 deg",
+          "scale_mismatch": "+: X travels further than Y",
+          "cyclic_amplitude": "e.g. screw pitch error",
+          "residual_rms": "what the terms leave unexplained"}
+
+
+def _display_terms(diag, ascii_units=False):
+    """``(term, value, unit)`` in the display units (µm, ms, µm/m, ppm, mm)."""
+    rows = []
+    for term, (value, unit) in diag.terms.items():
+        shown, k = ("mm", 1e3) if term.startswith("cyclic_period") else _UNITS[unit]
+        rows.append((term, value * k, shown.replace("µ", "u") if ascii_units else shown))
+    return rows
+
+
+def _cell(v: float, digits: int = 2) -> str:
+    return "n/a" if v != v else f"{v:.{digits}f}"
+
+
+def _print_passes(res, title: str) -> None:
+    """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
+    from rich.table import Table
+
+    t = Table(title=f"{title} [µm]", caption="A-D reversal spikes (n/a: left out), "
+              "contour max |e|, G circular deviation")
+    for name in ("dir", "sensor", "A", "B", "C", "D", "contour", "G"):
+        t.add_column(name, justify="left" if name in ("dir", "sensor") else "right")
+    for p in res.passes:
+        for row in p.table():
+            t.add_row(p.direction.upper(), row["sensor"],
+                      *[_cell(row[f"spike_{q}_um"]) for q in "ABCD"],
+                      _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
+    out.print(t)
+
+
+def _print_diagnostics(diag) -> None:
+    """The diagnostics as two tables: per direction, and the terms with their signs."""
+    from rich.table import Table
+
+    rows = {t: (v, u) for t, v, u in _display_terms(diag)}
+    t = Table(title=f"circle diagnostics ({diag.sensor}) [µm]")
+    for name in ("", "CCW", "CW", "pair"):
+        t.add_column(name, justify="left" if not name else "right")
+    t.add_row("radial deviation", *[_cell(rows[f"radial_deviation_{d}"][0])
+                                    for d in ("ccw", "cw", "pair")])
+    t.add_row("circularity G, G(b)", *[_cell(rows[f"circularity_{d}"][0])
+                                       for d in ("ccw", "cw", "pair")])
+    for q in "ABCD":
+        t.add_row(f"reversal spike {q}", _cell(rows[f"spike_{q}_ccw"][0]),
+                  _cell(rows[f"spike_{q}_cw"][0]), "")
+    out.print(t)
+    t = Table()
+    for name in ("term", "value", "unit", "sign"):
+        t.add_column(name, justify="right" if name == "value" else "left")
+    for term, (v, u) in rows.items():
+        if term.startswith(("radial_deviation", "circularity", "spike")):
+            continue
+        note = _NOTES.get(term) or _NOTES.get(term.rsplit("_", 1)[0], "")
+        t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u, note)
+    out.print(t)
 
 
 @app.command()

@@ -1,0 +1,57 @@
+"""Circle diagnostics: radial error of the CCW and CW circles against angle, with the fit."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import pyplot, save
+
+STYLE = {"ccw": dict(color="tab:blue", label="CCW"), "cw": dict(color="tab:red", label="CW")}
+SUMMARY = (("backlash_{X}", "backlash {X}", 1e6, "µm"), ("backlash_{Y}", "backlash {Y}", 1e6, "µm"),
+           ("squareness", "squareness", 1e6, "µm/m"),
+           ("scale_mismatch", "scale mismatch", 1e6, "ppm"),
+           ("servo_mismatch", "servo mismatch", 1e3, "ms"),
+           ("circularity_pair", "G(b)", 1e6, "µm"))
+
+
+def plot_circle_diagnostics(diag, ax=None, path=None):
+    """Radial error [µm] of both circles against angle [deg], the fitted terms drawn over
+    them, quadrant points A-D marked and the main terms in a box.
+
+    Parameters
+    ----------
+    diag : CircleDiagnostics
+        Diagnostics to show [-].
+    ax : matplotlib Axes, optional
+        Where to draw; a new figure when omitted [-].
+    path : str or Path, optional
+        Where to save (PNG/PDF/SVG); the figure is returned open when omitted [-].
+    """
+    plt = pyplot()
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(9, 4))
+    else:
+        fig = ax.figure
+    for d, (angle, e, model) in diag.curves.items():
+        deg = np.degrees(np.mod(angle, 2 * np.pi))
+        order = np.argsort(deg)
+        ax.plot(deg, e * 1e6, ".", ms=1.5, alpha=0.5, color=STYLE[d]["color"])
+        ax.plot(deg[order], model[order] * 1e6, lw=1.2, **STYLE[d])
+    for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
+        ax.axvline(deg, color="gray", lw=0.6)
+        ax.annotate(q, (deg + 2, 0.98), xycoords=("data", "axes fraction"), va="top")
+    names = {"X": diag.axes[0], "Y": diag.axes[1]}
+    lines = []
+    for key, label, scale, unit in SUMMARY:
+        value = diag.terms.get(key.format(**names), (float("nan"),))[0]
+        lines.append(f"{label.format(**names)} {value * scale:+.2f} {unit}")
+    ax.text(1.01, 1.0, "\n".join(lines), transform=ax.transAxes, va="top", fontsize=8,
+            family="monospace")
+    ax.set_xlim(0, 360)
+    ax.set_xlabel("angle from +X [deg]")
+    ax.set_ylabel("radial error [µm]")
+    ax.set_title(f"circle diagnostics ({diag.sensor}): measured dots, fitted terms lines")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower left")
+    fig.tight_layout()
+    return save(fig, path) or fig

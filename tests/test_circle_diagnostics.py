@@ -1,0 +1,292 @@
+"""Circle diagnostics recover known injected errors from a CCW and a CW circle.
+
+Each error is injected as the position error it is (a lag, a shear, lost motion...), not as
+the radial term the fit uses, so a wrong sign or factor in a term fails its test. Tolerance:
+2 % of the true value or 0.1 um of the radial error the term makes, whichever is larger;
+the noise (0.05 um rms on each axis, ~7000 samples per circle) moves a fitted term by a few
+nm. A reversal spike is the extreme sample of a 20 deg window (formats.md section 4), so an
+absent one reads the extreme of the noise over ~400 samples, about 3.5 noise rms: its
+tolerance is at least 4.5 noise rms.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import bench_path
+from tcpmm.analysis.circular import analyse_circle
+from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
+from tcpmm.cli import main
+from tcpmm.errors import InputError
+from tcpmm.result import AxisRun, Run
+
+R, DT, N = 0.035, 1e-3, 7200  # 7.2 s per turn
+W = 2 * np.pi / (N * DT)  # angular speed [rad/s]
+NOISE = 0.05e-6
+#: radial error per unit of each term, to express 0.1 um of radial error in its unit
+PER_UNIT = {"squareness": R / 2, "scale_mismatch": R / 2, "servo_mismatch": R * W / 2,
+            "lateral_play_X": 0.5, "lateral_play_Y": 0.5}
+SPIKE_AT = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
+
+
+START = 45.0 + 0.5 * np.degrees(W * DT)  # no sample on a reversal, where a step has no side
+
+
+def circle(direction, err, seed=0, start_deg=START, noise=NOISE):
+    """``(angle, radial error)`` of one turn from ``start_deg`` with the errors ``err``
+    applied as position errors of the tool, plus noise on each axis [rad, m]."""
+    s = 1.0 if direction == "ccw" else -1.0
+    th = np.radians(start_deg) + s * W * DT * np.arange(N + 1)
+    g = err.get
+    x = R * np.cos(th - s * W * g("tau_x", 0.0))
+    y = R * np.sin(th - s * W * g("tau_y", 0.0))
+    x, y = (1 + g("eps_x", 0.0)) * x, (1 + g("eps_y", 0.0)) * y
+    x = x - g("alpha", 0.0) * y
+    sx, sy = np.sign(-s * np.sin(th)), np.sign(s * np.cos(th))
+    x = x - g("b_x", 0.0) / 2 * sx + g("p_y", 0.0) / 2 * sy
+    y = y - g("b_y", 0.0) / 2 * sy + g("p_x", 0.0) / 2 * sx
+    for axis, pos in (("x", R * np.cos(th)), ("y", R * np.sin(th))):
+        c, lam, ph = g(f"cyc_{axis}", (0.0, 1.0, 0.0))
+        d = c * np.sin(2 * np.pi * pos / lam + ph)
+        x, y = (x + d, y) if axis == "x" else (x, y + d)
+    bump = g("r0", 0.0) + sum(
+        h * np.exp(-0.5 * (((s * (np.degrees(th) - SPIKE_AT[q]) - at) % 360) / 1.5) ** 2)
+        for (d, q), (h, at) in g("spikes", {}).items() if d == direction)
+    x, y = x + bump * np.cos(th) + g("cx", 0.0), y + bump * np.sin(th) + g("cy", 0.0)
+    rng = np.random.default_rng(seed)
+    x, y = x + noise * rng.standard_normal(x.size), y + noise * rng.standard_normal(y.size)
+    return np.unwrap(np.arctan2(y, x)), np.hypot(x, y) - R
+
+
+def diagnose(err, noise=NOISE, **kw):
+    return diagnose_pair(circle("ccw", err, 1, noise=noise, **kw),
+                         circle("cw", err, 2, noise=noise, **kw), R, (W, W))
+
+
+def expected(err):
+    """The terms ``err`` should give, in the units of the diagnostics [SI]."""
+    g = err.get
+    out = {"backlash_X": g("b_x", 0.0), "backlash_Y": g("b_y", 0.0),
+           "lateral_play_X": g("p_x", 0.0), "lateral_play_Y": g("p_y", 0.0),
+           "squareness": g("alpha", 0.0), "servo_mismatch": g("tau_y", 0.0) - g("tau_x", 0.0),
+           "scale_mismatch": g("eps_x", 0.0) - g("eps_y", 0.0),
+           "centre_offset_X": g("cx", 0.0), "centre_offset_Y": g("cy", 0.0)}
+    for axis in "XY":
+        c, lam, _ = g(f"cyc_{axis.lower()}", (0.0, float("nan"), 0.0))
+        out[f"cyclic_amplitude_{axis}"] = c
+        if c:
+            out[f"cyclic_period_{axis}"] = lam
+    for d in ("ccw", "cw"):
+        for q in "ABCD":
+            out[f"spike_{q}_{d}"] = g("spikes", {}).get((d, q), (0.0, 0.0))[0]
+        # mean radius minus nominal: the noise-free circle without its spikes
+        clean = {k: v for k, v in err.items() if k != "spikes"}
+        out[f"radial_deviation_{d}"] = float(np.mean(circle(d, clean, noise=0.0)[1][:-1]))
+    return out
+
+
+def assert_recovered(diag, want):
+    for term, true in want.items():
+        tol = max(0.02 * abs(true), 0.1e-6 / PER_UNIT.get(term, 1.0))
+        if term.startswith("cyclic_period"):
+            tol = 0.02 * true
+        if term.startswith("spike"):
+            tol = max(tol, 4.5 * NOISE)
+        found = diag[term]
+        assert abs(found - true) <= tol, f"{term}: found {found:.4g}, injected {true:.4g}"
+        if abs(true) > tol:  # the opposite sign would fail: the test sees the convention
+            assert abs(found + true) > tol, term
+
+
+def draw(rng):
+    """Every error at once, magnitudes and signs drawn at random [SI]."""
+    def pm(lo, hi):
+        return rng.choice([-1.0, 1.0]) * rng.uniform(lo, hi)
+
+    return {"r0": pm(1e-6, 5e-6), "cx": pm(1e-6, 10e-6), "cy": pm(1e-6, 10e-6),
+            "b_x": pm(2e-6, 10e-6), "b_y": pm(2e-6, 10e-6),
+            "p_x": pm(1e-6, 6e-6), "p_y": pm(1e-6, 6e-6),
+            "alpha": pm(30e-6, 150e-6), "tau_x": 0.0, "tau_y": pm(0.1e-3, 0.5e-3),
+            "eps_x": pm(30e-6, 150e-6), "eps_y": 0.0,
+            "cyc_x": (rng.uniform(0.5e-6, 2e-6), rng.uniform(3e-3, 12e-3), rng.uniform(0, 6)),
+            "cyc_y": (rng.uniform(0.5e-6, 2e-6), rng.uniform(3e-3, 12e-3), rng.uniform(0, 6)),
+            "spikes": {(d, q): (pm(8e-6, 20e-6), rng.uniform(4.0, 8.0))
+                       for d in ("ccw", "cw") for q in "ABCD"}}
+
+
+ALL = draw(np.random.default_rng(2305))
+SINGLE = ["r0", "cx", "b_x", "b_y", "p_x", "p_y", "alpha", "tau_y", "tau_x", "eps_x", "eps_y",
+          "cyc_x", "cyc_y", "spikes"]
+
+
+@pytest.mark.parametrize("name", SINGLE)
+def test_each_error_alone_is_recovered_and_the_others_are_zero(name):
+    err = {name: ALL[name] if name != "tau_x" else -ALL["tau_y"]}
+    if name == "spikes":  # one spike only, so that the other seven must read zero
+        err = {"spikes": {("cw", "C"): ALL["spikes"][("cw", "C")]}}
+    diag = diagnose(err)
+    assert_recovered(diag, expected(err))
+    assert diag["residual_rms"] < 1.5 * NOISE * np.sqrt(2)
+
+
+def test_all_errors_together_are_recovered():
+    diag = diagnose(ALL)
+    assert_recovered(diag, expected(ALL))
+    assert diag["radial_deviation_pair"] == pytest.approx(
+        (diag["radial_deviation_ccw"] + diag["radial_deviation_cw"]) / 2)
+
+
+def test_squareness_and_servo_mismatch_part_on_the_direction():
+    """Both are an ellipse at 45 deg, the same in one circle for a lag ty - tx = a / w:
+    what tells them apart is only whether the CW circle's ellipse has the CCW one's sign."""
+    a = 80e-6
+    same = diagnose_pair(circle("ccw", {"alpha": a}, 1), circle("cw", {"alpha": a}, 2), R,
+                         (W, W))
+    flipped = diagnose_pair(circle("ccw", {"alpha": a}, 1), circle("cw", {"alpha": -a}, 2), R,
+                            (W, W))
+    assert_recovered(same, {"squareness": a, "servo_mismatch": 0.0})
+    assert_recovered(flipped, {"squareness": 0.0, "servo_mismatch": a / W})
+
+
+def test_circles_given_in_the_wrong_order_are_refused():
+    """A CW circle passed as the CCW one would turn the sign of every direction-bound
+    term (backlash, lateral play, servo mismatch)."""
+    with pytest.raises(InputError, match="the CCW circle runs clockwise"):
+        diagnose_pair(circle("cw", {}), circle("ccw", {}), R)
+
+
+def test_scale_mismatch_circularity_is_the_ellipse_peak_to_valley():
+    """Without noise G is the peak-to-valley of the ellipse, eps R, in each direction and
+    for the pair, and the two circles coincide (hysteresis 0)."""
+    diag = diagnose({"eps_x": 100e-6}, noise=0.0)
+    for d in ("ccw", "cw", "pair"):
+        assert diag[f"circularity_{d}"] == pytest.approx(100e-6 * R, rel=1e-3)
+    assert diag["hysteresis"] < 1e-9
+
+
+def test_backlash_makes_hysteresis():
+    """Backlash b shifts the two circles' halves apart by b at the reversal points."""
+    diag = diagnose({"b_x": 6e-6}, noise=0.0)
+    assert diag["hysteresis"] == pytest.approx(6e-6, rel=0.02)
+
+
+def run_of(direction, err, seed=0, start_deg=START):
+    """A run of one turn without feed-in: the command and the TCP with ``err`` [-]."""
+    s = 1.0 if direction == "ccw" else -1.0
+    a_cmd = np.radians(start_deg) + s * W * DT * np.arange(N + 1)
+    a, e = circle(direction, err, seed, start_deg=start_deg, noise=0.0)
+    cmd = R * np.c_[np.cos(a_cmd), np.sin(a_cmd)]
+    tcp = (R + e)[:, None] * np.c_[np.cos(a), np.sin(a)]
+    return Run(DT * np.arange(N + 1), {"X": AxisRun(cmd=cmd[:, 0], tcp=tcp[:, 0]),
+                                       "Y": AxisRun(cmd=cmd[:, 1], tcp=tcp[:, 1])})
+
+
+def test_from_runs_with_the_speed_from_the_time():
+    """The same through the analysis of runs: passes found from the command, the angular
+    speed from the time stamps."""
+    err = {"tau_y": 0.4e-3, "b_y": 3e-6}
+    res = [analyse_circle(run_of(d, err, i), R) for i, d in enumerate(("ccw", "cw"))]
+    diag = circle_diagnostics(res[0], res[1])
+    assert diag.sensor == "tcp"
+    assert diag["servo_mismatch"] == pytest.approx(0.4e-3, rel=0.02)
+    assert diag["backlash_Y"] == pytest.approx(3e-6, rel=0.02)
+    assert circle_diagnostics(res[1], res[0])["backlash_Y"] == diag["backlash_Y"]
+    with pytest.raises(InputError, match="no CW circle"):
+        circle_diagnostics(res[0])
+    with pytest.raises(InputError, match="sensor scale is not in both"):
+        circle_diagnostics(res[0], res[1], sensor="scale")
+
+
+def test_results_table_dict_and_plot():
+    diag = diagnose(ALL)
+    df = diag.to_pandas()
+    assert list(df.columns) == ["term", "value", "unit"]
+    assert dict(zip(df["term"], df["unit"], strict=True))["squareness"] == "m/m"
+    d = diag.to_dict()
+    assert {t["term"] for t in d["terms"]} == set(df["term"])
+    fig = diag.plot()
+    assert len(fig.axes) == 1 and len(fig.axes[0].lines) >= 4  # dots and fit per direction
+    from tcpmm.plot import pyplot
+
+    plt = pyplot()
+    own, ax = plt.subplots()
+    assert diag.plot(ax=ax) is own
+    plt.close("all")
+
+
+def test_a_short_arc_is_refused():
+    a, e = circle("ccw", {})
+    with pytest.raises(InputError, match="need a full turn"):
+        diagnose_pair((a[:3000], e[:3000]), circle("cw", {}), R)
+
+
+def cli(capsys, *args):
+    code = main([str(a) for a in args])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
+
+@pytest.fixture(scope="module")
+def pair(tmp_path_factory):
+    d = tmp_path_factory.mktemp("pair")
+    err = {"b_x": 4e-6, "alpha": 50e-6, "eps_x": 80e-6, "tau_y": 0.2e-3}
+    for i, direction in enumerate(("ccw", "cw")):
+        run_of(direction, err, i).write_csv(d / f"{direction}.csv")
+    return d
+
+
+def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35)
+    assert code == 0
+    lines = out.splitlines()
+    assert max(len(line) for line in lines) <= 80 and "…" not in out  # COLUMNS=80 for rich
+    for text in ("backlash X", "squareness", "µm/m", "scale mismatch", "ppm", "servo mismatch",
+                 "ms", "circularity G, G(b)", "reversal spike A"):
+        assert text in out, text
+    code, out, _ = cli(capsys, "circle", pair / "cw.csv", pair / "ccw.csv", "--radius", 35,
+                       "--json")
+    assert code == 0
+    got = json.loads(out)
+    terms = {t["term"]: (t["value"], t["unit"]) for t in got["diagnostics"]["terms"]}
+    assert [p["direction"] for p in got["passes"]] == ["cw", "ccw"]
+    # run files round the positions to 0.1 nm: the injected terms at well under 1 %
+    assert terms["backlash_X"] == (pytest.approx(4.0, rel=0.01), "um")
+    assert terms["squareness"] == (pytest.approx(50.0, rel=0.01), "um/m")
+    assert terms["scale_mismatch"] == (pytest.approx(80.0, rel=0.01), "ppm")
+    assert terms["servo_mismatch"] == (pytest.approx(0.2, rel=0.01), "ms")
+    assert terms["cyclic_period_X"] == (None, "mm")
+
+
+def test_cli_single_run_stays_as_it_was(capsys, pair):
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
+    assert code == 0
+    got = json.loads(out)
+    assert "diagnostics" not in got and [p["direction"] for p in got["passes"]] == ["ccw"]
+    code, _, err = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--sensor", "tcp")
+    assert code == 2 and "no CW circle" in err and "Traceback" not in err
+    code, _, err = cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35,
+                       "--direction", "ccw")
+    assert code == 2 and "not both" in err
+
+
+def test_cli_names_a_quadrant_point_at_the_start(capsys, tmp_path):
+    run_of("ccw", {}, start_deg=90.0).write_csv(tmp_path / "b.csv")
+    code, out, err = cli(capsys, "circle", tmp_path / "b.csv", "--radius", 35)
+    assert code == 0
+    assert "warning:" in err and "quadrant point B (90 deg)" in " ".join(err.split())
+    row = next(line for line in out.splitlines() if "tcp" in line)
+    assert row.split("│")[4].strip() == "n/a"  # column B
+
+
+def test_bench_c_pair_finds_no_geometric_error(capsys):
+    """Machine C's simulator has no geometric errors and no lateral play: squareness and
+    lateral play read ~0 whatever its servo and friction do to the circles."""
+    d = bench_path("c")
+    code, out, _ = cli(capsys, "circle", d / "circle_ccw_meas.csv", d / "circle_cw_meas.csv",
+                       "--radius", 35, "--json")
+    assert code == 0
+    terms = {t["term"]: t["value"] for t in json.loads(out)["diagnostics"]["terms"]}
+    assert abs(terms["squareness"]) < 2.0  # um/m: 0.035 um of radial error
+    assert abs(terms["lateral_play_X"]) < 0.2 and abs(terms["lateral_play_Y"]) < 0.2
+    assert abs(terms["centre_offset_X"]) < 0.2 and abs(terms["centre_offset_Y"]) < 0.2

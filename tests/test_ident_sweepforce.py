@@ -9,7 +9,12 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.ident.pipeline import identify_axis
-from tcpmm.ident.sweepforce import SweepDeflection, share_from_sweep, sweep_deflection
+from tcpmm.ident.sweepforce import (
+    SweepDeflection,
+    share_from_sweep,
+    sweep_deflection,
+    travel_velocity,
+)
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 
@@ -48,14 +53,16 @@ def test_a_share_far_outside_its_range_is_not_taken():
 def test_only_a_sweep_that_travels_one_way_with_a_tcp_record_is_used():
     a = builtin_machine().axes["X"]
     sweep = virtual_sweep(a, name="X")
-    got = sweep_deflection(sweep, 1e-3)
+    v = travel_velocity(sweep, 1e-3)
+    got = sweep_deflection(sweep, v)
     assert got is not None and got.velocity > 0 and got.deflection_std > 0
-    assert sweep_deflection(dataclasses.replace(sweep, tcp_m=None), 1e-3) is None
-    assert sweep_deflection(sweep, 1e3) is None  # travels less than asked
+    assert sweep_deflection(dataclasses.replace(sweep, tcp_m=None), v) is None
+    assert travel_velocity(sweep, 1e3) == 0.0  # travels less than asked
+    assert sweep_deflection(sweep, travel_velocity(sweep, 1e3)) is None
     x = sweep.scale_m
     h = x.size // 2
     back = np.concatenate([x[:h], x[h - 1::-1][: x.size - h]])  # out and back again
-    assert sweep_deflection(dataclasses.replace(sweep, scale_m=back), 1e-3) is None
+    assert sweep_deflection(dataclasses.replace(sweep, scale_m=back), v) is None
 
 
 def test_identified_share_of_an_axis_whose_guide_reacts_on_the_bed():

@@ -31,7 +31,7 @@ from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
 from .structure import fit_structure
-from .sweepforce import sweep_deflection
+from .sweepforce import sweep_deflection, travel_velocity
 from .tffit import fit_tf
 from .uncertainty import axis_uncertainty
 
@@ -359,7 +359,8 @@ def identify_axis(
         fmax_hz=fmax,
         file=sweep.source,
     )
-    v_travel = _travel_speed(sweep)
+    velocity = travel_velocity(sweep, MIN_SWEEP_TRAVEL_M)
+    v_travel = abs(velocity)
     held = warn_friction_holds_sweep(name, sweep, frfs["G_M"], MIN_COHERENCE,
                                      standing=v_travel == 0.0)
     if v_travel == 0.0:
@@ -384,7 +385,7 @@ def identify_axis(
     if friction is not None:
         friction_on = partial(_friction_and_mechanics, name, friction, cfg,
                               guideway_share=guideway_share,
-                              sweep=sweep_deflection(sweep, MIN_SWEEP_TRAVEL_M))
+                              sweep=sweep_deflection(sweep, velocity))
         mech, fr, est, split = friction_on(phys)
         if _play_significant(split) and "G_tcp" in data:
             # The sweep crossed the play, which distorts G_M and G_T but not G_tcp: hold
@@ -483,16 +484,14 @@ def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guidewa
         return float(sd / getattr(mech, p)) if np.isfinite(sd) else float("inf")
 
     damping_known = all(rel_std(p) <= DAMPING_KNOWN_REL_STD for p in ("B_m", "B_L", "C_t"))
-    kt_rel = rel_std("K_t")
     fr, est, split = identify_friction(
         friction, cfg, mech, guideway_share, axis=name,
-        stiffness_rel_std=kt_rel if np.isfinite(kt_rel) else 0.0,
+        stiffness_rel_std=_finite_or(rel_std("K_t"), 0.0),
         viscous="known" if damping_known else "fit",
         neglect_motor_bearing=not damping_known, sweep=sweep,
-        K_h_rel_std=rel_std("K_h") if np.isfinite(rel_std("K_h")) else 0.0,
+        K_h_rel_std=_finite_or(rel_std("K_h"), 0.0),
         C_t_std=_finite_or(phys.std.get("C_t", float("nan")), 0.0))
-    placed = split.source != "prior"
-    if placed and not damping_known:
+    if split.source != "prior" and not damping_known:
         # Motor-bearing damping does not twist the shaft, so with it the runs would put
         # less of the steady viscous force through the nut. A sweep does not tell it
         # from the rest of the damping (it came out up to 30 times too large): the
@@ -504,13 +503,14 @@ def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guidewa
         # the nut in contact, as the accelerations of the friction runs show it
         mech = mech.replace(K_t=split.nut.stiffness)
     table_viscous = split.table_viscous
-    if placed and np.isfinite(table_viscous) and "Fv" in est.names:
+    if split.source != "prior" and np.isfinite(table_viscous) and "Fv" in est.names:
         mech, fr = place_steady_viscous(
             mech, fr, est.values[est.names.index("Fv")], table_viscous)
     return mech, fr, est, split
 
 
 def _finite_or(x: float, default: float) -> float:
+    """``x``, or ``default`` where it is not finite (an undetermined std) [-]."""
     return float(x) if np.isfinite(x) else default
 
 
@@ -527,9 +527,7 @@ def _play_significant(split, z: float = LOST_MOTION_Z) -> bool:
 def _travel_speed(sweep) -> float:
     """Steady travel speed of a sweep record, zero when it travels less than
     :data:`MIN_SWEEP_TRAVEL_M` [m/s]."""
-    t = np.asarray(sweep.time_s, dtype=float)
-    v = abs(float(np.polyfit(t - t[0], np.asarray(sweep.scale_m, dtype=float), 1)[0]))
-    return v if v * (t[-1] - t[0]) >= MIN_SWEEP_TRAVEL_M else 0.0
+    return abs(travel_velocity(sweep, MIN_SWEEP_TRAVEL_M))
 
 
 def _bias_force(v: float, mech, fr) -> float:

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection"]
+__all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection", "travel_velocity"]
 
 #: Blocks the record is cut into to see the scatter of its mean deflection [-].
 N_BLOCKS = 16
@@ -62,8 +62,9 @@ class SweepDeflection:
                 "deflection_std_m": self.deflection_std}
 
 
-def sweep_deflection(sweep, min_travel: float) -> SweepDeflection | None:
-    """Mean scale-minus-TCP deflection of a sweep that travels.
+def travel_velocity(sweep, min_travel: float) -> float:
+    """Steady travel velocity of a sweep record, signed: the slope of a line through its
+    scale; zero when it travels less than ``min_travel``.
 
     Parameters
     ----------
@@ -75,23 +76,40 @@ def sweep_deflection(sweep, min_travel: float) -> SweepDeflection | None:
 
     Returns
     -------
+    float
+        The velocity [m/s].
+    """
+    t = np.asarray(sweep.time_s, dtype=float)
+    v = float(np.polyfit(t - t[0], np.asarray(sweep.scale_m, dtype=float), 1)[0])
+    return v if abs(v) * (t[-1] - t[0]) >= min_travel else 0.0
+
+
+def sweep_deflection(sweep, velocity: float) -> SweepDeflection | None:
+    """Mean scale-minus-TCP deflection of a sweep that travels.
+
+    Parameters
+    ----------
+    sweep : SweepRecord
+        The servo-excitation record [SI].
+    velocity : float
+        Its travel velocity (:func:`travel_velocity`), zero for a sweep that stands [m/s].
+
+    Returns
+    -------
     SweepDeflection or None
         ``None`` without a TCP record, or when the sweep does not travel, or reverses [-].
     """
-    if sweep.tcp_m is None:
-        return None
-    t = np.asarray(sweep.time_s, dtype=float)
     scale = np.asarray(sweep.scale_m, dtype=float)
-    v = float(np.polyfit(t - t[0], scale, 1)[0])
-    n = t.size // N_BLOCKS
-    if abs(v) * (t[-1] - t[0]) < min_travel or n < 2:
+    n = scale.size // N_BLOCKS
+    if sweep.tcp_m is None or velocity == 0.0 or n < 2:
         return None
     ends = scale[::n][: N_BLOCKS + 1]
-    if np.any(np.sign(np.diff(ends)) != np.sign(v)):
+    if np.any(np.sign(np.diff(ends)) != np.sign(velocity)):
         return None  # the sweep went back somewhere: no single direction of friction
     d = scale - np.asarray(sweep.tcp_m, dtype=float)
     blocks = d[: n * N_BLOCKS].reshape(N_BLOCKS, n).mean(axis=1)
-    return SweepDeflection(v, float(d.mean()), float(blocks.std(ddof=1) / math.sqrt(N_BLOCKS)))
+    return SweepDeflection(velocity, float(d.mean()),
+                           float(blocks.std(ddof=1) / math.sqrt(N_BLOCKS)))
 
 
 def share_from_sweep(defl: SweepDeflection, mechanics, level: float, table_viscous: float,

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from tcpmm.errors import InputError
+from tcpmm.ident.frf import decimate
 from tcpmm.ident.friction import (
     PLATEAU_DURATIONS_S,
     find_plateaus,
@@ -12,7 +13,6 @@ from tcpmm.ident.friction import (
     read_friction_csv,
 )
 from tcpmm.ident.idim import friction_from_idim, idim_ls
-from tcpmm.ident.signals import decimate
 from tcpmm.mechanics.friction import StribeckFriction
 from tcpmm.sim.rigid import DiscreteServo, RigidAxis, simulate_rigid_servo
 
@@ -102,7 +102,7 @@ def stribeck_run():
 
 def test_plateaus_found_in_both_directions(stribeck_run):
     r, speeds = stribeck_run
-    from tcpmm.ident.signals import central_difference, lowpass_filtfilt
+    from tcpmm.ident.frf import central_difference, lowpass_filtfilt
 
     v = central_difference(lowpass_filtfilt(r.q, T, 20.0), T)
     pl = find_plateaus(r.t, v, r.force)

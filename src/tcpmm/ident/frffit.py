@@ -31,7 +31,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._tfcore import _numerator, _relative_cost
-from .frf import FRF
+from .frf.response import FRF
 from .tffit import WEIGHT_FLOOR, TFFit, _result, fit_tf
 
 __all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
@@ -168,7 +168,7 @@ def noise_level(f_hz, H, rel_std=None, window: int = NOISE_WINDOW) -> np.ndarray
     H : array_like
         Complex response [unit].
     rel_std : array_like, optional
-        Random error from the coherence (see :class:`~tcpmm.ident.frf.FRF`) [-].
+        Random error from the coherence (see :class:`~tcpmm.ident.frf.response.FRF`) [-].
     window : int
         Bins of the running median [-].
 

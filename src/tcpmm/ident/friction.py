@@ -21,7 +21,7 @@ from scipy import optimize
 from tcpmm.errors import InputError
 
 from .estimate import ParameterEstimate
-from .signals import _as_1d, central_difference, lowpass_filtfilt
+from .frf.signals import _as_1d, central_difference, lowpass_filtfilt
 
 __all__ = [
     "PLATEAU_DURATIONS_S",

@@ -19,7 +19,7 @@ from tcpmm.errors import InputError
 from tcpmm.mechanics.friction import StribeckFriction
 
 from .estimate import ParameterEstimate
-from .signals import _as_1d, central_difference, decimate, lowpass_filtfilt
+from .frf.signals import _as_1d, central_difference, decimate, lowpass_filtfilt
 
 __all__ = ["friction_from_idim", "idim_ls"]
 

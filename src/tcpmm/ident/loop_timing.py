@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .frf import frf_against_reference
+from .frf.response import frf_against_reference
 
 __all__ = ["COMPUTATION_DELAY", "LoopTiming", "identify_loop_timing", "sweep_timing"]
 

@@ -50,7 +50,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import InputError
-from .signals import central_difference, lowpass_filtfilt
+from .frf.signals import central_difference, lowpass_filtfilt
 
 __all__ = ["CUTOFFS_HZ", "LOST_MOTION_Z", "NutEstimate", "estimate_nut"]
 

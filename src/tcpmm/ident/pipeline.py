@@ -14,7 +14,7 @@ from ..mechanics.friction import friction_params_array
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from ..sim.friction import sliding_friction
-from .frf import reduced_frfs
+from .frf.response import reduced_frfs
 from .frictionsplit import (
     identify_friction,
     place_steady_viscous,
@@ -79,7 +79,7 @@ class AxisIdentification:
     name : str
         Axis name [-].
     frfs : dict
-        Measured FRFs (``tcpmm.ident.frf.FRF``) [SI].
+        Measured FRFs (``tcpmm.ident.frf.response.FRF``) [SI].
     tf_fits : dict
         Rational transfer-function fits per FRF [SI].
     physical : PhysicalFit

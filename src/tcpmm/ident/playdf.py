@@ -24,8 +24,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..mechanics.params import AxisMechanics
-from ._spectral import sample_rate_hz
-from .frf import frf_against_reference
+from .frf._spectral import sample_rate_hz
+from .frf.response import frf_against_reference
 from .physical import nut_path
 
 __all__ = ["dead_zone_gain", "nut_deflection_amplitude", "play_gain", "sweep_motion"]

@@ -33,7 +33,7 @@ from scipy.optimize import lsq_linear, minimize_scalar
 from tcpmm.errors import InputError
 
 from .estimate import ParameterEstimate
-from .signals import _as_1d, central_difference, lowpass_filtfilt
+from .frf.signals import _as_1d, central_difference, lowpass_filtfilt
 
 __all__ = ["fit_stribeck_transients"]
 

@@ -49,7 +49,7 @@ from ._tfcore import (
     _sk,
     _spread_poles,
 )
-from .frf import FRF
+from .frf.response import FRF
 from .metrics import fit_percent, rel_error
 
 __all__ = ["TFFit", "fit_tf", "suggest_order"]
@@ -301,7 +301,7 @@ def fit_tf(
     Parameters
     ----------
     data : FRF or tuple
-        An :class:`~tcpmm.ident.frf.FRF`, or ``(freq_hz, H)`` or ``(freq_hz, H, weight)``
+        An :class:`~tcpmm.ident.frf.response.FRF`, or ``(freq_hz, H)`` or ``(freq_hz, H, weight)``
         with frequencies [Hz], complex response [SI] and bin weights [-].
     n_num : int
         Numerator degree [-].

@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..ident._spectral import _rel_std
 from ..ident.frf import FRF
+from ..ident.frf._spectral import _rel_std
 from .csvutil import atomic_write_columns, read_header, read_numeric_csv
 from .text import existing_file
 

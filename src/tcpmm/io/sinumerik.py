@@ -28,8 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..ident._spectral import _rel_std
 from ..ident.frf import FRF
+from ..ident.frf._spectral import _rel_std
 from .sinumerik_b85 import decode_doubles
 from .text import existing_file
 

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy import signal
 
-from ..errors import InputError
+from ...errors import InputError
 from ._spectral import (
     _check_signal,
     _detrend_order,

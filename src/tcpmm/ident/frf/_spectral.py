@@ -6,7 +6,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError, InputWarning
+from ...errors import InputError, InputWarning
 
 #: The lowest frequency asked for must lie at least this many bins above 0 Hz.
 MIN_BINS_BELOW_FMIN = 4

@@ -26,7 +26,7 @@ import warnings
 
 import numpy as np
 
-from tcpmm.ident.tffit import fit_tf
+from tcpmm.ident.lti import fit_tf
 
 N_POINTS = 500
 NOISE = 0.02

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tcpmm.ident.frffit import fit_frf
+from tcpmm.ident.lti import fit_frf
 from tcpmm.io.sinumerik import read_sinumerik_frf
 
 TRACE = Path(__file__).parents[1] / ".." / "shared" / "data" / "sinumerik" / "freq_trace.XML"

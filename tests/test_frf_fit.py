@@ -12,7 +12,7 @@ import yaml
 from tcpmm.cli import main
 from tcpmm.errors import InputError
 from tcpmm.ident.frf import FRF
-from tcpmm.ident.frffit import DAMPING_FLOOR, fit_frf, noise_level
+from tcpmm.ident.lti import DAMPING_FLOOR, fit_frf, noise_level
 from tcpmm.io.frffile import write_frf_csv
 
 TRACE = Path(__file__).parents[1] / ".." / "shared" / "data" / "sinumerik" / "freq_trace.XML"

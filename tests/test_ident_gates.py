@@ -119,7 +119,7 @@ def test_negative_fit_is_found_and_one_bad_bin_is_not():
     # a sharp model peak in one bin makes the plain fit negative, not the trimmed one
     peak = H.copy()
     peak[150] = 1000.0
-    from tcpmm.ident.metrics import fit_percent
+    from tcpmm.ident.lti import fit_percent
 
     assert fit_percent(H, peak) < 0 and gates.check_fit_percent("X", "G_M", H, peak) == []
     assert gates.trimmed_fit_percent(H, peak) == pytest.approx(100.0)
@@ -130,7 +130,7 @@ def test_negative_fit_is_found_and_one_bad_bin_is_not():
 def test_a_resonance_a_little_off_is_not_a_negative_fit():
     """A lightly damped mode 2 % off in frequency makes the complex fit strongly negative,
     though the model is right everywhere but at the peak; on the logarithm it is not."""
-    from tcpmm.ident.metrics import fit_percent
+    from tcpmm.ident.lti import fit_percent
 
     f = np.linspace(100.0, 400.0, 600)
     s = 2j * np.pi * f

@@ -13,7 +13,7 @@ from scipy import signal
 
 from tcpmm.errors import InputError
 from tcpmm.ident.frf import estimate_frf
-from tcpmm.ident.tffit import fit_tf, suggest_order
+from tcpmm.ident.lti import fit_tf, suggest_order
 
 
 def section(f_hz, zeta):

@@ -57,7 +57,7 @@ def show(file: Path = typer.Argument(..., help=_FILE),
          plot: Path = typer.Option(None, "--plot", help="Save a Bode plot (PNG/PDF/SVG)."),
          as_json: bool = typer.Option(False, "--json")):
     """Summary of a measured frequency response: band, coherence, noise, a few points."""
-    from ..ident.frffit import noise_level
+    from ..ident.lti import noise_level
     from ..io.frffile import read_frf
 
     _plot(plot)
@@ -108,7 +108,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
         delay: str = typer.Option("fit", "--delay", help="Pure delay: fit, none or seconds."),
         damping_floor: float = typer.Option(None, "--damping-floor", min=0.0, max=0.99,
                                             help="Least damping ratio of a pole pair [-]; "
-                                                 "default tcpmm.ident.frffit.DAMPING_FLOOR."),
+                                                 "default tcpmm.ident.lti.frffit.DAMPING_FLOOR."),
         output: Path = typer.Option(None, "-o", "--output", help="Write the fit as FIT.json."),
         fragment: Path = typer.Option(None, "--model-fragment",
                                       help="Write the transfer function as a model-file "
@@ -116,7 +116,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
         plot: Path = typer.Option(None, "--plot", help="Bode plot of data, fit and residual."),
         as_json: bool = typer.Option(False, "--json")):
     """Fit a transfer function (poles, zeros, delay) to a measured frequency response."""
-    from ..ident.frffit import DAMPING_FLOOR, fit_frf
+    from ..ident.lti import DAMPING_FLOOR, fit_frf
     from ..io.atomic import write_text_atomic
     from ..io.frffile import read_frf
 

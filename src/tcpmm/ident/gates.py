@@ -330,7 +330,7 @@ def trimmed_fit_percent(H, H_model, trim: float = FIT_TRIM) -> float:
     trim : float
         Share of bins left out [-].
     """
-    from .metrics import fit_percent
+    from .lti.goodness import fit_percent
 
     H, h = np.asarray(H, dtype=complex), np.asarray(H_model, dtype=complex)
     ok = (np.abs(H) > 0) & (np.abs(h) > 0)
@@ -380,7 +380,7 @@ def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep",
     list of Finding
         Empty when the fit is not negative [-].
     """
-    from .metrics import fit_percent
+    from .lti.goodness import fit_percent
 
     remedy = remedy or ("check the sweep (time unit, columns, excitation amplitude) and the "
                         "band (--band)")

@@ -23,7 +23,8 @@ from .frictionsplit import (
 )
 from .gates import SuspectModelError, axis_findings, time_base_findings
 from .loop_timing import COMPUTATION_DELAY, sweep_timing
-from .metrics import fit_percent
+from .lti.goodness import fit_percent
+from .lti.tffit import fit_tf
 from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
@@ -32,7 +33,6 @@ from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
 from .structure import fit_structure
 from .sweepforce import sweep_deflection, travel_velocity
-from .tffit import fit_tf
 from .uncertainty import axis_uncertainty
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..mechanics.params import AxisMechanics
-from .metrics import rel_error
+from .lti.goodness import rel_error
 from .physical import FRFData, fit_weight, log_binned, log_residual, model_frfs
 
 __all__ = ["STRUCTURE", "fit_structure"]

@@ -35,8 +35,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._threads import limit_blas_threads
-from ..errors import InputError
+from ..._threads import limit_blas_threads
+from ...errors import InputError
+from ..frf.response import FRF
 from ._tfcore import (
     _extrema,
     _model,
@@ -49,8 +50,7 @@ from ._tfcore import (
     _sk,
     _spread_poles,
 )
-from .frf.response import FRF
-from .metrics import fit_percent, rel_error
+from .goodness import fit_percent, rel_error
 
 __all__ = ["TFFit", "fit_tf", "suggest_order"]
 

@@ -1,6 +1,6 @@
 """Transfer functions fitted to measured frequency responses, with the order chosen by data.
 
-:func:`fit_frf` wraps :func:`~tcpmm.ident.tffit.fit_tf` with what a measured FRF needs:
+:func:`fit_frf` wraps :func:`~tcpmm.ident.lti.tffit.fit_tf` with what a measured FRF needs:
 
 * **Noise level per bin.** The coherence of few averages is biased towards 1, so the random
   error it implies can be far too small. The relative noise is also estimated from the
@@ -29,9 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
+from ..frf.response import FRF
 from ._tfcore import _numerator, _relative_cost
-from .frf.response import FRF
 from .tffit import WEIGHT_FLOOR, TFFit, _result, fit_tf
 
 __all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
@@ -143,7 +143,7 @@ class FRFFit:
         frf : FRF, optional
             The whole measurement, drawn beyond the bins fitted [-].
         """
-        from ..plot.frf import plot_frf_fit
+        from ...plot.frf import plot_frf_fit
 
         if frf is not None:
             f, H, coh = frf.freq_hz, frf.H, frf.coherence

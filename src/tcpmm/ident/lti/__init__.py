@@ -1,0 +1,12 @@
+"""Rational transfer functions fitted to frequency responses: the fit of given orders
+(:mod:`~tcpmm.ident.lti.tffit`, on the variable-projection core of
+:mod:`~tcpmm.ident.lti._tfcore`), the fit of a measured FRF file with its order chosen
+(:mod:`~tcpmm.ident.lti.frffit`), and the goodness-of-fit measures
+(:mod:`~tcpmm.ident.lti.goodness`)."""
+
+from .frffit import DAMPING_FLOOR, FRFFit, fit_frf, noise_level
+from .goodness import fit_percent, rel_error
+from .tffit import TFFit, fit_tf, suggest_order
+
+__all__ = ["DAMPING_FLOOR", "FRFFit", "TFFit", "fit_frf", "fit_percent", "fit_tf", "noise_level",
+           "rel_error", "suggest_order"]

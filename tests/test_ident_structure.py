@@ -12,9 +12,8 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.ident.frf import reduced_frfs
-from tcpmm.ident.physical import FRFData, fit_physical, model_frfs
+from tcpmm.ident.physical import STRUCTURE, FRFData, fit_physical, fit_structure, model_frfs
 from tcpmm.ident.pipeline import identify_axis
-from tcpmm.ident.structure import STRUCTURE, fit_structure
 from tcpmm.virtual import axis_config, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]

@@ -1,4 +1,5 @@
-"""Computation delay and velocity estimate read from the sweep (``tcpmm.ident.loop_timing``).
+"""Computation delay and velocity estimate read from the sweep
+(``tcpmm.ident.physical.loop_timing``).
 
 Known answers through the simulator: the built-in X axis with each stable timing, recorded
 in step with the drive; and the independent reference machines, whose drives apply the
@@ -9,7 +10,7 @@ current one velocity period late and difference the encoder, recorded at 10 kHz 
 import pytest
 
 from conftest import bench_path
-from tcpmm.ident.loop_timing import identify_loop_timing
+from tcpmm.ident.physical import identify_loop_timing
 from tcpmm.io.bundle import read_bundle
 from tcpmm.servo.sampled import sampled_spectral_radius
 from tcpmm.virtual import axis_config, virtual_sweep

@@ -22,18 +22,18 @@ from .frictionsplit import (
     stribeck_from_record,
 )
 from .gates import SuspectModelError, axis_findings, time_base_findings
-from .loop_timing import COMPUTATION_DELAY, sweep_timing
 from .lti.goodness import fit_percent
 from .lti.tffit import fit_tf
 from .nutstiffness import LOST_MOTION_Z
-from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
+from .physical.greybox import FRFData, PhysicalFit, fit_physical, model_frfs
+from .physical.loop_timing import COMPUTATION_DELAY, sweep_timing
+from .physical.structure import fit_structure
+from .physical.uncertainty import axis_uncertainty
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
-from .structure import fit_structure
 from .sweepforce import sweep_deflection, travel_velocity
-from .uncertainty import axis_uncertainty
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
 #: five-inertia axis: G_M has the drive's three modes and the rigid-body integrator, and
@@ -269,7 +269,7 @@ class Identification:
 def axis_config_to_servo(cfg, current_bandwidth_hz=None, timing=None) -> ServoParams:
     """Servo parameters from a bundle's axis configuration, with the computation delay and
     the velocity estimate read from the sweep (``timing``, a
-    :class:`~tcpmm.ident.loop_timing.LoopTiming`) or, without it, those of
+    :class:`~tcpmm.ident.physical.loop_timing.LoopTiming`) or, without it, those of
     :data:`COMPUTATION_DELAY` and a differenced encoder angle."""
     s = cfg.servo
     delay, kind = COMPUTATION_DELAY, "difference"

@@ -16,7 +16,7 @@ between the nut is softer, which a linear fit of the FRFs would read as a heavie
 :func:`nut_deflection_amplitude` takes ``a`` per frequency from the record itself
 (:func:`sweep_motion`): the screw's contact point, ``R theta_L`` with ``theta_L`` the motor
 angle through the screw's torsion, minus the scale. :func:`play_gain` combines both into the
-``nut_gain`` of :func:`tcpmm.ident.physical.fit_physical`.
+``nut_gain`` of :func:`tcpmm.ident.physical.greybox.fit_physical`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ import numpy as np
 from ..mechanics.params import AxisMechanics
 from .frf._spectral import sample_rate_hz
 from .frf.response import frf_against_reference
-from .physical import nut_path
+from .physical.greybox import nut_path
 
 __all__ = ["dead_zone_gain", "nut_deflection_amplitude", "play_gain", "sweep_motion"]
 

@@ -3,7 +3,7 @@
 The rigid-body inertia comes from the low-frequency slope of G_M, the structural modes from
 the poles of G_tcp (whose denominator is ``(M_b+M_t) s^2 + ... + K_b`` times
 ``M_h s^2 + C_h s + K_h``), and the drive modes from the resonances of G_T; several splits
-of the inertia are tried (:func:`tcpmm.ident.physical.fit_physical` keeps the best).
+of the inertia are tried (:func:`tcpmm.ident.physical.greybox.fit_physical` keeps the best).
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ at a tenth of the truth although the measured ``G_tcp`` matched the true one wit
 ``G_tcp`` is unchanged when all masses, dampings and stiffnesses are scaled alike, so it
 gives the structure relative to the table mass: ``M_b/M_t``, ``C_b/M_t``, ``K_b/M_t`` and the
 same for the TCP structure. :func:`fit_structure` fits them with ``M_t`` held; a joint fit
-can then keep them (``structure=`` of :func:`tcpmm.ident.physical.fit_physical`).
+can then keep them (``structure=`` of :func:`tcpmm.ident.physical.greybox.fit_physical`).
 """
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..mechanics.params import AxisMechanics
-from .lti.goodness import rel_error
-from .physical import FRFData, fit_weight, log_binned, log_residual, model_frfs
+from ...mechanics.params import AxisMechanics
+from ..lti.goodness import rel_error
+from .greybox import FRFData, fit_weight, log_binned, log_residual, model_frfs
 
 __all__ = ["STRUCTURE", "fit_structure"]
 

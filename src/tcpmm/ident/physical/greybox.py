@@ -4,14 +4,14 @@ The lead and the torque constant are known (``machine.yaml``); the other fourtee
 parameters of physics.md section 1 are fitted jointly by nonlinear least squares on the
 relative complex error of the three FRFs, weighted by their per-bin uncertainty.
 Positivity comes from fitting log-parameters; bounds keep them physical. The Jacobian is
-analytic (:mod:`tcpmm.ident.physjac`); standard deviations and correlations come from it
+analytic (:mod:`tcpmm.ident.physical.jacobian`); standard deviations and correlations come from it
 at the solution; parameters the data cannot determine are named in a warning.
 
 The starting point matters for a nonlinear fit with several resonances. It is built from
 the data: the rigid-body inertia from the low-frequency slope of G_M, the structural
 modes from the poles of G_tcp (whose denominator is ``(M_b+M_t) s^2 + ... + K_b`` times
 ``M_h s^2 + C_h s + K_h``), and the drive modes from the resonances of G_T; several
-splits of the inertia are tried and the best fit is kept (:mod:`tcpmm.ident.physstarts`).
+splits of the inertia are tried and the best fit is kept (:mod:`tcpmm.ident.physical.starts`).
 """
 
 from __future__ import annotations
@@ -22,12 +22,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from .._threads import limit_blas_threads
-from ..errors import InputError, InputWarning
-from ..mechanics.params import AxisMechanics
-from .lti.goodness import rel_error
-from .physjac import residual_jacobian
-from .physstarts import guesses_from_tf, initial_guesses, j_total_from_g_m
+from ..._threads import limit_blas_threads
+from ...errors import InputError, InputWarning
+from ...mechanics.params import AxisMechanics
+from ..lti.goodness import rel_error
+from .jacobian import residual_jacobian
+from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
 
 FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h")
@@ -240,7 +240,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         :func:`model_frfs` [-].
     structure : dict, optional
         Parameters held in proportion to ``M_t``, ``{name: value / M_t}``, e.g. the bed and
-        TCP structure from ``G_tcp`` alone (:func:`tcpmm.ident.structure.fit_structure`);
+        TCP structure from ``G_tcp`` alone (:func:`tcpmm.ident.physical.structure.fit_structure`);
         they are not fitted, and their standard deviations are those of ``M_t`` [SI / kg].
     """
     limit_blas_threads()

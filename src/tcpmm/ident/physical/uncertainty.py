@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from ..model import AxisUncertainty
+from ...model import AxisUncertainty
 
 __all__ = ["axis_uncertainty"]
 

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from .frf.response import frf_against_reference
+from ...errors import InputError
+from ..frf.response import frf_against_reference
 
 __all__ = ["COMPUTATION_DELAY", "LoopTiming", "identify_loop_timing", "sweep_timing"]
 
@@ -187,7 +187,7 @@ def sweep_timing(name: str, sweep, cfg, extra: dict) -> LoopTiming | None:
         return None
     extra["loop_timing"] = timing.to_dict()
     if not timing.determined:
-        from ..io.csvutil import warn_input
+        from ...io.csvutil import warn_input
 
         warn_input(
             f"axis {name}: the controller output in the sweep does not match the declared "

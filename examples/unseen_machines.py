@@ -92,8 +92,8 @@ from tcpmm.analysis.circular import QUADRANTS, analyse_circle
 from tcpmm.analysis.compare import compare_circles, lobe_difference
 from tcpmm.builtin import builtin_machine
 from tcpmm.demo import RADIUS_MM, paper_circle_command
+from tcpmm.ident.friction import PRESLIDING
 from tcpmm.ident.pipeline import identify_bundle
-from tcpmm.ident.presliding import PRESLIDING
 from tcpmm.io.bundle import read_bundle
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction, friction_params_array
 from tcpmm.model import Axis, AxisFriction, Machine, Sensors
@@ -628,7 +628,7 @@ def evaluate(true: Machine, cmd, workdir: Path, attribute: bool = True,
         Also predict with the hybrid models [-].
     presliding : float
         Pre-sliding displacement given to the identified contacts, ``0`` for static
-        friction (:mod:`tcpmm.ident.presliding`) [m].
+        friction (:mod:`tcpmm.ident.friction.presliding`) [m].
 
     Returns
     -------

@@ -139,6 +139,6 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
             assert not isinstance(g, LuGreFriction)
     code, out, err = run(capsys, "identify", tmp_path / "b", "-o", tmp_path / "d.yaml")
     assert code == 0, err
-    from tcpmm.ident.presliding import PRESLIDING
+    from tcpmm.ident.friction import PRESLIDING
 
     assert f"pre-sliding of {PRESLIDING * 1e6:g} um assumed" in out.replace("\n", " ")

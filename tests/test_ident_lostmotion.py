@@ -1,6 +1,6 @@
 """Guideway share and lost motion from the encoder-minus-scale deflection of friction runs.
 
-Synthetic records follow the static deflection formula of ``tcpmm.ident.lostmotion``;
+Synthetic records follow the static deflection formula of ``tcpmm.ident.friction.lostmotion``;
 the known answers through the simulator use the built-in machine, whose friction table
 says how much of the friction acts on the guideway at each speed.
 """
@@ -14,9 +14,14 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.errors import InputError, InputWarning
-from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
-from tcpmm.ident.frictionsplit import GUIDEWAY_SHARE, identify_friction
-from tcpmm.ident.lostmotion import estimate_lost_motion, quantisation_bias_std
+from tcpmm.ident.friction import (
+    GUIDEWAY_SHARE,
+    estimate_lost_motion,
+    friction_record_arrays,
+    identify_friction,
+    identify_stribeck_run,
+    quantisation_bias_std,
+)
 from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.io.records import FrictionRecord
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
@@ -359,7 +364,7 @@ def test_viscous_force_is_placed_where_the_runs_say(machine, ax):
     """The speed-proportional part of the nut deflection gives the viscous force through
     the nut (table damping plus viscous guideway friction); the rest of the measured
     slope goes to the motor side, and the total is kept."""
-    from tcpmm.ident.frictionsplit import place_steady_viscous
+    from tcpmm.ident.friction import place_steady_viscous
 
     a = machine.axes[ax]
     m, f = a.mechanics, a.friction

@@ -13,14 +13,19 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.ident import pipeline
-from tcpmm.ident.friction import friction_record_arrays, identify_stribeck_run
-from tcpmm.ident.frictionsplit import (
+from tcpmm.ident.friction import (
+    CUTOFFS_HZ,
+    LOST_MOTION_Z,
+    estimate_nut,
+    friction_record_arrays,
+    identify_stribeck_run,
+)
+from tcpmm.ident.friction.split import (
     SHARE_WARN_STD,
     coulomb_stribeck,
     identify_friction,
     share_uncertainty_warning,
 )
-from tcpmm.ident.nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, estimate_nut
 from tcpmm.ident.physical import fit_physical
 from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep

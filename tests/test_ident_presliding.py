@@ -1,4 +1,4 @@
-"""Pre-sliding given to identified friction (``tcpmm.ident.presliding``)."""
+"""Pre-sliding given to identified friction (``tcpmm.ident.friction.presliding``)."""
 
 import math
 import warnings
@@ -7,8 +7,8 @@ import pytest
 
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.errors import InputError
+from tcpmm.ident.friction import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
 from tcpmm.ident.pipeline import identify_axis
-from tcpmm.ident.presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
 from tcpmm.model import AxisFriction
 from tcpmm.simulate import simulate

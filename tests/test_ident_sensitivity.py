@@ -1,9 +1,10 @@
-"""How far the spikes move over what the friction runs leave open (``tcpmm.ident.sensitivity``)."""
+"""How far the spikes move over what the friction runs leave open
+(``tcpmm.ident.friction.sensitivity``)."""
 
 import pytest
 
 from conftest import bench_path
-from tcpmm.ident.sensitivity import lost_motion_spike_range, spike_range, with_share
+from tcpmm.ident.friction import lost_motion_spike_range, spike_range, with_share
 from tcpmm.io.truthfile import machine_from_truth
 
 

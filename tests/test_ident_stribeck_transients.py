@@ -1,13 +1,12 @@
 """Steady friction curve from the accelerations of the friction runs
-(``tcpmm.ident.stribeck_transients``)."""
+(``tcpmm.ident.friction.transients``)."""
 
 import numpy as np
 import pytest
 
 from conftest import bench_path
 from tcpmm.errors import InputError
-from tcpmm.ident.frictionsplit import steady_curve, stribeck_from_record
-from tcpmm.ident.stribeck_transients import fit_stribeck_transients
+from tcpmm.ident.friction import fit_stribeck_transients, steady_curve, stribeck_from_record
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
 

@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from tcpmm.builtin import builtin_machine
-from tcpmm.ident.pipeline import identify_axis
-from tcpmm.ident.sweepforce import (
+from tcpmm.ident.friction import (
     SweepDeflection,
     share_from_sweep,
     sweep_deflection,
     travel_velocity,
 )
+from tcpmm.ident.pipeline import identify_axis
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 

@@ -1,11 +1,11 @@
-"""Describing function of the nut's lost motion (tcpmm.ident.playdf)."""
+"""Describing function of the nut's lost motion (tcpmm.ident.friction.playdf)."""
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tcpmm.ident.playdf import dead_zone_gain, play_gain
+from tcpmm.ident.friction import dead_zone_gain, play_gain
 
 
 def classical(r):

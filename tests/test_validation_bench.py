@@ -105,7 +105,7 @@ def test_tcp_contour_error_within_half_a_micrometre(letter, case):
 @pytest.mark.parametrize("letter", ["c", "d", "e"])
 def test_the_share_comes_from_the_tcp_deflection_of_the_sweep(letter):
     """Every axis's guideway share is the one its travelling sweep's column deflection
-    implies (``tcpmm.ident.sweepforce``), near the truth of the reference simulator."""
+    implies (``tcpmm.ident.friction.sweepforce``), near the truth of the reference simulator."""
     truth = machine_from_truth(bench_path(letter) / "truth.yaml")
     for name, a in identified(letter).axes.items():
         split = a.friction_split

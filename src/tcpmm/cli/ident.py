@@ -121,7 +121,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
                  None, "--presliding-um", min=0.0,
                  help="Pre-sliding displacement of the friction contacts [um] (LuGre); "
                       "0: static friction that sticks rigidly; default: "
-                      "tcpmm.ident.presliding.PRESLIDING."),
+                      "tcpmm.ident.friction.presliding.PRESLIDING."),
              accept_suspect: bool = typer.Option(
                  False, "--accept-suspect",
                  help="Write the model even when the gates find it physically suspect "
@@ -134,8 +134,8 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     A model that the gates (tcpmm.ident.gates) find physically suspect is an error and is
     not written, unless --accept-suspect.
     """
+    from ..ident.friction import PRESLIDING
     from ..ident.pipeline import identify_bundle
-    from ..ident.presliding import PRESLIDING
     from ..io.atomic import output_folder
     from ..io.bundle import read_bundle
     from ..io.modelfile import write_machine

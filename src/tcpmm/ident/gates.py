@@ -268,7 +268,7 @@ def slowest_plateau_speed(record, cfg, axis: str | None = None) -> float:
     float
         Smallest absolute plateau velocity [m/s].
     """
-    from .frictionsplit import slowest_plateau, stribeck_from_record
+    from .friction.split import slowest_plateau, stribeck_from_record
 
     return slowest_plateau(stribeck_from_record(record, cfg, axis)[4])
 

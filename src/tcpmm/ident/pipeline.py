@@ -15,25 +15,25 @@ from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from ..sim.friction import sliding_friction
 from .frf.response import reduced_frfs
-from .frictionsplit import (
+from .friction.nutstiffness import LOST_MOTION_Z
+from .friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion
+from .friction.presliding import PRESLIDING, with_presliding
+from .friction.sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
+from .friction.split import (
     identify_friction,
     place_steady_viscous,
     share_uncertainty_warning,
     stribeck_from_record,
 )
+from .friction.sweepforce import sweep_deflection, travel_velocity
 from .gates import SuspectModelError, axis_findings, time_base_findings
 from .lti.goodness import fit_percent
 from .lti.tffit import fit_tf
-from .nutstiffness import LOST_MOTION_Z
 from .physical.greybox import FRFData, PhysicalFit, fit_physical, model_frfs
 from .physical.loop_timing import COMPUTATION_DELAY, sweep_timing
 from .physical.structure import fit_structure
 from .physical.uncertainty import axis_uncertainty
-from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
-from .presliding import PRESLIDING, with_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
-from .sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
-from .sweepforce import sweep_deflection, travel_velocity
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
 #: five-inertia axis: G_M has the drive's three modes and the rigid-body integrator, and
@@ -321,7 +321,7 @@ def identify_axis(
     With friction runs that show lost motion in the nut and a sweep that travels, the
     mechanics are fitted again with the nut as soft as the sweep saw it (the describing
     function of the play at the measured nut deflection, the guideway friction holding the
-    nut on one flank; :mod:`tcpmm.ident.playdf`), and the friction on those mechanics.
+    nut on one flank; :mod:`tcpmm.ident.friction.playdf`), and the friction on those mechanics.
 
     Parameters
     ----------
@@ -343,7 +343,7 @@ def identify_axis(
     presliding : float
         Pre-sliding displacement given to the identified contacts (LuGre), which the
         friction runs do not determine; ``0``: static friction that sticks rigidly
-        (:mod:`tcpmm.ident.presliding`) [m].
+        (:mod:`tcpmm.ident.friction.presliding`) [m].
     """
     limit_blas_threads()
     fmin = fmin_hz if fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
@@ -601,7 +601,7 @@ def identify_bundle(
         each axis's friction runs [-].
     presliding : float
         Pre-sliding displacement of the identified friction contacts; ``0``: static
-        friction (:mod:`tcpmm.ident.presliding`) [m].
+        friction (:mod:`tcpmm.ident.friction.presliding`) [m].
     accept_suspect : bool
         Return a model the gates find physically suspect, marked, instead of raising [-].
 

@@ -49,7 +49,7 @@ def plot_lost_motion(estimate, path=None, title=None):
     Parameters
     ----------
     estimate : LostMotionEstimate
-        Result of :func:`tcpmm.ident.lostmotion.estimate_lost_motion` [-].
+        Result of :func:`tcpmm.ident.friction.lostmotion.estimate_lost_motion` [-].
     path : str or Path, optional
         Where to save [-].
     title : str, optional

@@ -140,7 +140,7 @@ def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
         the sampled command this is a zero-order hold in G_M [s].
     nut_gain : callable, optional
         ``nut_gain(f)``: factor on ``K_t`` per frequency, the nut's lost motion as the
-        excitation sees it (:func:`tcpmm.ident.playdf.play_gain`) [-].
+        excitation sees it (:func:`tcpmm.ident.friction.playdf.play_gain`) [-].
     """
     out = {}
     m = mech

@@ -17,8 +17,8 @@ import math
 
 import numpy as np
 
-from ..model import Machine
-from .frictionsplit import SHARE_WARN_STD
+from ...model import Machine
+from .split import SHARE_WARN_STD
 
 __all__ = ["lost_motion_spike_range", "share_spike_range", "spike_range",
            "warn_lost_motion_sensitivity", "warn_share_sensitivity", "with_share"]
@@ -74,9 +74,9 @@ def spike_range(machine: Machine, name: str, frictions) -> float | None:
     float or None
         The change [m]; ``None`` when the machine has no second axis for a circle [-].
     """
-    from ..analysis.circular import analyse_circle
-    from ..path.circle import circle_command
-    from ..simulate import simulate
+    from ...analysis.circular import analyse_circle
+    from ...path.circle import circle_command
+    from ...simulate import simulate
 
     other = next((n for n in machine.axes if n != name), None)
     if other is None:
@@ -126,7 +126,7 @@ SPIKE_WARN_M = 0.5e-6
 def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
     """Where the friction runs find no lost motion but could miss one of three standard
     deviations, say how far that would move the TCP spikes of a circle
-    (:func:`tcpmm.ident.sensitivity.lost_motion_spike_range`); noted in
+    (:func:`tcpmm.ident.friction.sensitivity.lost_motion_spike_range`); noted in
     ``physical.extra["lost_motion_sensitivity"]``.
 
     Parameters
@@ -153,7 +153,7 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
                                                    "spike_change_m": moved}
     if moved < SPIKE_WARN_M:
         return
-    from ..io.csvutil import warn_input
+    from ...io.csvutil import warn_input
 
     warn_input(
         f"axis {name}: the friction runs find no lost motion in the nut, but would not "
@@ -166,7 +166,7 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
 def warn_share_sensitivity(name: str, a, machine, friction) -> None:
     """Where the friction runs leave the guideway share open (a prior, or a standard
     deviation above :data:`SHARE_WARN_STD`), say how far the TCP spikes of a circle move
-    over its plausible range (:func:`tcpmm.ident.sensitivity.share_spike_range`), and note
+    over its plausible range (:func:`tcpmm.ident.friction.sensitivity.share_spike_range`), and note
     it in ``physical.extra["share_sensitivity"]``.
 
     Parameters
@@ -195,7 +195,7 @@ def warn_share_sensitivity(name: str, a, machine, friction) -> None:
     if moved is None:
         return
     a.physical.extra["share_sensitivity"] = {"shares": [lo, hi], "spike_change_m": moved}
-    from ..io.csvutil import warn_input
+    from ...io.csvutil import warn_input
 
     warn_input(
         f"axis {name}: the guideway share is not determined by the friction runs "

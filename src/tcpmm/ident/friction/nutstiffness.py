@@ -2,7 +2,7 @@
 
 On the plateaus of constant speed the nut carries only the guideway friction, and the
 plateau deflections give the share over the nut stiffness, ``s/K_t``
-(:mod:`tcpmm.ident.lostmotion`). The sweep cannot give ``K_t`` when the nut has free play:
+(:mod:`tcpmm.ident.friction.lostmotion`). The sweep cannot give ``K_t`` when the nut has free play:
 its dynamic force is many times the friction that holds the nut on one flank, the nut
 crosses the play every cycle and the FRFs see a soft nut. Between the plateaus, though,
 the table accelerates and the nut carries ``M_t a`` as well, firmly on one flank. The
@@ -49,8 +49,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import InputError
-from .frf.signals import central_difference, lowpass_filtfilt
+from ...errors import InputError
+from ..frf.signals import central_difference, lowpass_filtfilt
 
 __all__ = ["CUTOFFS_HZ", "LOST_MOTION_Z", "NutEstimate", "estimate_nut"]
 
@@ -305,7 +305,7 @@ def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
     out); it passes the low-pass unchanged into ``y``. Each steady stretch of fitted
     samples (:func:`_steady_stretches`, ``v`` the filtered speed [m/s]) gets the variance
     of its mean rounding error
-    (:func:`tcpmm.ident.lostmotion.quantisation_bias_std`), and its weight in each
+    (:func:`tcpmm.ident.friction.lostmotion.quantisation_bias_std`), and its weight in each
     coefficient is the sum of ``P`` over it.
     """
     from .lostmotion import quantisation_bias_std

@@ -23,10 +23,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..mechanics.params import AxisMechanics
-from .frf._spectral import sample_rate_hz
-from .frf.response import frf_against_reference
-from .physical.greybox import nut_path
+from ...mechanics.params import AxisMechanics
+from ..frf._spectral import sample_rate_hz
+from ..frf.response import frf_against_reference
+from ..physical.greybox import nut_path
 
 __all__ = ["dead_zone_gain", "nut_deflection_amplitude", "play_gain", "sweep_motion"]
 

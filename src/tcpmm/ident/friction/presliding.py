@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import math
 
-from ..errors import InputError
-from ..mechanics.friction import LuGreFriction
+from ...errors import InputError
+from ...mechanics.friction import LuGreFriction
 
 __all__ = ["BRISTLE_DAMPING_RATIO", "PRESLIDING", "with_presliding"]
 

@@ -32,8 +32,8 @@ from scipy.optimize import lsq_linear, minimize_scalar
 
 from tcpmm.errors import InputError
 
+from ..frf.signals import _as_1d, central_difference, lowpass_filtfilt
 from .estimate import ParameterEstimate
-from .frf.signals import _as_1d, central_difference, lowpass_filtfilt
 
 __all__ = ["fit_stribeck_transients"]
 
@@ -147,7 +147,7 @@ def fit_stribeck_transients(t, position, force, *, slowest_plateau: float,
     Returns
     -------
     ParameterEstimate
-        ``Fc+, Fc-, Fs+, Fs-, vs, Fv`` as :func:`tcpmm.ident.friction.fit_stribeck` names
+        ``Fc+, Fc-, Fs+, Fs-, vs, Fv`` as :func:`tcpmm.ident.friction.stribeck.fit_stribeck` names
         them ([N], [N], [N], [N], [m/s], [N s/m]); ``extra`` holds the fitted mass ``M``
         [kg] with its std and the settings. Standard deviations count the samples the
         low-pass leaves independent (``2 cutoff dt`` of them) [-].

@@ -20,8 +20,8 @@ from scipy import optimize
 
 from tcpmm.errors import InputError
 
+from ..frf.signals import _as_1d, central_difference, lowpass_filtfilt
 from .estimate import ParameterEstimate
-from .frf.signals import _as_1d, central_difference, lowpass_filtfilt
 
 __all__ = [
     "PLATEAU_DURATIONS_S",
@@ -358,7 +358,7 @@ def read_friction_csv(path, lead: float, torque_constant: float, position: str =
         ``(t, x, force)``: time [s], position [m] and the motor force at the table
         ``K_tc i 2 pi / lead`` (losses of the screw not included) [N].
     """
-    from ..io.bundle import read_friction_csv as read_record
+    from ...io.bundle import read_friction_csv as read_record
 
     return friction_record_arrays(read_record(path), lead, torque_constant, position)
 

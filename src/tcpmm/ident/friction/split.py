@@ -1,10 +1,10 @@
 """Friction of an axis from its constant-speed runs, split between guideway and screw.
 
 ``identify_friction`` fits the Stribeck curve to the ``friction.csv`` record of an axis
-(:mod:`tcpmm.ident.friction`) and divides it between guideway and screw-nut: from the
-deflection between encoder and scale on the plateaus (:mod:`tcpmm.ident.lostmotion`) and,
+(:mod:`tcpmm.ident.friction.stribeck`) and divides it between guideway and screw-nut: from the
+deflection between encoder and scale on the plateaus (:mod:`tcpmm.ident.friction.lostmotion`) and,
 when the record shows lost motion in the nut, from the nut stiffness over the whole record
-(:mod:`tcpmm.ident.nutstiffness`). When the runs do not determine the split,
+(:mod:`tcpmm.ident.friction.nutstiffness`). When the runs do not determine the split,
 :data:`GUIDEWAY_SHARE` is used. ``FrictionSplit`` records the share, the lost motion and
 where they came from. ``place_steady_viscous`` puts the viscous force of steady motion into
 the damping of the mechanics, on the side of the nut where the runs say it acts.
@@ -20,26 +20,26 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, InputWarning
-from ..mechanics.friction import StribeckFriction
-from ..model import AxisFriction
-from .friction import (
+from ...errors import InputError, InputWarning
+from ...mechanics.friction import StribeckFriction
+from ...model import AxisFriction
+from .lostmotion import estimate_lost_motion
+from .nutstiffness import estimate_nut
+from .stribeck import (
     PLATEAU_DURATIONS_S,
     NoPlateauError,
     _stribeck_curve,
     friction_record_arrays,
     identify_stribeck_run,
 )
-from .lostmotion import estimate_lost_motion
-from .nutstiffness import estimate_nut
-from .stribeck_transients import fit_stribeck_transients
 from .sweepforce import share_from_sweep
+from .transients import fit_stribeck_transients
 
 __all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
            "place_steady_viscous", "share_uncertainty_warning"]
 
 #: Share of the identified friction put on the guideway when the friction runs do not
-#: determine it (see :mod:`tcpmm.ident.lostmotion`): preloaded, sealed linear guides
+#: determine it (see :mod:`tcpmm.ident.friction.lostmotion`): preloaded, sealed linear guides
 #: usually carry most of the friction of a feed axis.
 GUIDEWAY_SHARE = 0.7
 #: Standard deviation of a guideway share from the data above which identification warns:
@@ -243,7 +243,7 @@ def steady_curve(t, record, force, plateau_fit, plateaus, mechanics):
     plateaus' fit when the record has too little slow motion for it.
 
     The plateaus alone fix static level and Stribeck speed only in combination when the
-    slowest pass is near the Stribeck speed (:mod:`tcpmm.ident.stribeck_transients`);
+    slowest pass is near the Stribeck speed (:mod:`tcpmm.ident.friction.transients`);
     where they fix both (:func:`_plateaus_fix_the_hump`) their fit is kept, since the
     accelerations see the drive's compliance and any free play of the nut as well.
 
@@ -294,7 +294,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     viscous part that the linear mechanics already carries (``B_m``, ``B_L``, ``C_t``) is
     taken off. The split between guideway and screw and the lost motion of the nut come
     from the deflection between encoder and scale on the plateaus
-    (:func:`tcpmm.ident.lostmotion.estimate_lost_motion`, one encoder-to-scale offset per
+    (:func:`tcpmm.ident.friction.lostmotion.estimate_lost_motion`, one encoder-to-scale offset per
     speed so that lead errors of the screw cancel); when the data do not determine the
     split, :data:`GUIDEWAY_SHARE` is used and an :class:`InputWarning` says why.
 
@@ -315,14 +315,14 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     viscous : {"fit", "known"}
         Fit the deflection proportional to the speed, or take the damping of
         ``mechanics`` (``B_m``, ``B_L``, ``C_t``) as known in the split; see
-        :func:`tcpmm.ident.lostmotion.estimate_lost_motion` [-].
+        :func:`tcpmm.ident.friction.lostmotion.estimate_lost_motion` [-].
     neglect_motor_bearing : bool
         Take the motor-bearing damping ``B_m`` as zero in the split: it does not twist
         the shaft, so with it less of the steady viscous force would pass through the
         nut. The friction's viscous part is still net of the mechanics' ``B_m`` [-].
     sweep : SweepDeflection, optional
         Mean TCP-structure deflection of a travelling sweep; when it determines the
-        share (:func:`tcpmm.ident.sweepforce.share_from_sweep`), the share is taken from
+        share (:func:`tcpmm.ident.friction.sweepforce.share_from_sweep`), the share is taken from
         it and the plateaus give only the lost motion [-].
     K_h_rel_std : float
         Relative standard deviation of the identified ``K_h`` [-].
@@ -372,7 +372,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         lm = plateau_split(m_split, stiffness_rel_std, backlash=nut.backlash,
                            backlash_std=nut.backlash_std)
     # With play the sweep's FRFs, and with them K_h, change with each refit of the nut
-    # (tcpmm.ident.playdf): the share stays with the friction runs there.
+    # (tcpmm.ident.friction.playdf): the share stays with the friction runs there.
     from_sweep = None if given is not None or sweep is None or play else _sweep_share(
         sweep, m, v, lm, K_h_rel_std, C_t_std)
     if from_sweep is not None:  # the plateaus give only the lost motion
@@ -497,7 +497,7 @@ def coulomb_stribeck(curve: dict):
 
 def _nut_estimate(t, record, mechanics, curve: dict, scale_resolution: float, share: float):
     """Nut stiffness, share and lost motion from the whole friction record, or ``None``
-    when the record has too little of it (see :func:`tcpmm.ident.nutstiffness.estimate_nut`)."""
+    when the record has too little of it (see :func:`~tcpmm.ident.friction.estimate_nut`)."""
     try:
         return estimate_nut(t, record.motor_angle_rad, record.scale_m, mechanics.R_L,
                             mechanics, coulomb_stribeck(curve), float(curve["Fv"]),

@@ -47,7 +47,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 
 __all__ = ["LostMotionEstimate", "estimate_lost_motion", "quantisation_bias_std"]
 
@@ -318,7 +318,7 @@ def estimate_lost_motion(
     share : float, optional
         Guideway share given by the user: only offset and lost motion are fitted [-].
     backlash : float, optional
-        Lost motion known from elsewhere (e.g. :func:`tcpmm.ident.nutstiffness.estimate_nut`):
+        Lost motion known from elsewhere (e.g. :func:`tcpmm.ident.friction.estimate_nut`):
         only offsets, the speed-proportional part and the share are fitted [m].
     backlash_std : float
         Standard deviation of that lost motion; it enters the share's [m].

@@ -26,14 +26,14 @@ from .friction.split import (
     stribeck_from_record,
 )
 from .friction.sweepforce import sweep_deflection, travel_velocity
-from .gates import SuspectModelError, axis_findings, time_base_findings
+from .gates.findings import SuspectModelError, axis_findings, time_base_findings
+from .gates.sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .lti.goodness import fit_percent
 from .lti.tffit import fit_tf
 from .physical.greybox import FRFData, PhysicalFit, fit_physical, model_frfs
 from .physical.loop_timing import COMPUTATION_DELAY, sweep_timing
 from .physical.structure import fit_structure
 from .physical.uncertainty import axis_uncertainty
-from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
 #: five-inertia axis: G_M has the drive's three modes and the rigid-body integrator, and
@@ -365,7 +365,7 @@ def identify_axis(
                                      standing=v_travel == 0.0)
     if v_travel == 0.0:
         from ..io.csvutil import warn_input
-        from .gates import STANDING_SWEEP
+        from .gates.findings import STANDING_SWEEP
 
         warn_input(f"axis {name}: {STANDING_SWEEP}; the model fitted to it can be off by "
                    "micrometres at the reversals", file=getattr(sweep, "source", None))

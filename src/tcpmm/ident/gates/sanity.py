@@ -20,8 +20,8 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputWarning
-from ..servo.sampled import sampled_spectral_radius
+from ...errors import InputWarning
+from ...servo.sampled import sampled_spectral_radius
 
 __all__ = ["FRICTION_LEAD_DEG", "LOW_BAND_HZ", "friction_holds_sweep", "warn_friction_holds_sweep",
            "warn_unstable_sampled_loop"]
@@ -89,7 +89,7 @@ def warn_friction_holds_sweep(name: str, sweep, frf, min_coherence: float,
     held = friction_holds_sweep(frf, min_coherence)
     if held is None:
         return None
-    from ..io.csvutil import warn_input
+    from ...io.csvutil import warn_input
 
     remedy = ("The sweep stands still: record it while the axis travels at constant speed "
               "(e.g. 20 mm/s), which keeps the friction sliding, or raise its amplitude."

@@ -1,0 +1,40 @@
+"""What keeps a misleading identified model from passing silently: the gates that make a
+physically suspect record or model an error (:mod:`~tcpmm.ident.gates.findings`), and the
+sanity checks that warn before a model misleads a prediction
+(:mod:`~tcpmm.ident.gates.sanity`)."""
+
+from .findings import (
+    FIT_TRIM,
+    MAX_DAQ_PERIOD_S,
+    MAX_FEED_SPEED,
+    MIN_DAQ_PERIOD_S,
+    STANDING_SWEEP,
+    STATIC_OVER_COULOMB,
+    Finding,
+    SuspectModelError,
+    axis_findings,
+    check_fit_percent,
+    check_sampled_loop,
+    check_static_friction_vs_drive,
+    check_static_over_coulomb,
+    check_time_base,
+    drive_force_limit,
+    slowest_plateau_speed,
+    time_base_findings,
+    trimmed_fit_percent,
+)
+from .sanity import (
+    FRICTION_LEAD_DEG,
+    LOW_BAND_HZ,
+    friction_holds_sweep,
+    warn_friction_holds_sweep,
+    warn_unstable_sampled_loop,
+)
+
+__all__ = ["FIT_TRIM", "FRICTION_LEAD_DEG", "LOW_BAND_HZ", "MAX_DAQ_PERIOD_S", "MAX_FEED_SPEED",
+           "MIN_DAQ_PERIOD_S", "STANDING_SWEEP", "STATIC_OVER_COULOMB", "Finding",
+           "SuspectModelError", "axis_findings", "check_fit_percent", "check_sampled_loop",
+           "check_static_friction_vs_drive", "check_static_over_coulomb", "check_time_base",
+           "drive_force_limit", "friction_holds_sweep", "slowest_plateau_speed",
+           "time_base_findings", "trimmed_fit_percent", "warn_friction_holds_sweep",
+           "warn_unstable_sampled_loop"]

@@ -51,8 +51,8 @@ from scipy import optimize
 
 from tcpmm.errors import InputError
 from tcpmm.ident.frf import central_difference, lowpass_filtfilt
-from tcpmm.ident.idim import friction_from_idim, idim_ls
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
+from tcpmm.rigidaxis import friction_from_idim, idim_ls
 from tcpmm.sim.rigid import DiscreteServo, RigidAxis, RigidServoResult, simulate_rigid_servo
 
 PUBLISHED = {

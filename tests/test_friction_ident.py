@@ -12,8 +12,8 @@ from tcpmm.ident.friction import (
     identify_stribeck_run,
     read_friction_csv,
 )
-from tcpmm.ident.idim import friction_from_idim, idim_ls
 from tcpmm.mechanics.friction import StribeckFriction
+from tcpmm.rigidaxis import friction_from_idim, idim_ls
 from tcpmm.sim.rigid import DiscreteServo, RigidAxis, simulate_rigid_servo
 
 T = 1e-3

@@ -18,8 +18,8 @@ from scipy import optimize
 from tcpmm.errors import InputError
 from tcpmm.mechanics.friction import StribeckFriction
 
-from .frf.signals import _as_1d, central_difference, decimate, lowpass_filtfilt
-from .friction.estimate import ParameterEstimate
+from ..ident.frf.signals import _as_1d, central_difference, decimate, lowpass_filtfilt
+from ..ident.friction.estimate import ParameterEstimate
 
 __all__ = ["friction_from_idim", "idim_ls"]
 

@@ -170,9 +170,9 @@ def test_the_play_crossed_by_the_sweep_is_modelled(machine, ax):
     for p in ("M_t", "M_h", "K_h", "M_b", "K_b"):
         assert getattr(m, p) == pytest.approx(getattr(true, p), rel=0.1), p
     if not PLAY_MODELLED[ax]:
-        assert "nut_gain" not in idn.physical.extra
+        assert idn.physical.nut_gain is None
         return
-    gain = idn.physical.extra["nut_gain"]
+    gain = idn.physical.nut_gain
     f = idn.frfs["G_T"].freq_hz
     assert np.all((gain(f) >= 0.0) & (gain(f) <= 1.0)) and gain(f).min() < 0.6
     assert gain(np.array([1e5]))[0] == 1.0  # beyond the record: the nut as identified
@@ -191,7 +191,7 @@ def test_a_standing_sweep_leaves_the_play_unmodelled(machine):
     assert len(play_warnings) == 1
     assert "axis X" in play_warnings[0] and "M_t" in play_warnings[0]
     assert "travels at constant speed" in play_warnings[0]  # what would let it be modelled
-    assert "nut_gain" not in idn.physical.extra
+    assert idn.physical.nut_gain is None
 
 
 def test_without_play_the_plateau_split_is_kept(machine):
@@ -364,7 +364,7 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
     _, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     refits = sum(g is not None for g in fits)
     assert 2 <= refits < pipeline.PLAY_ITERATIONS
-    assert "nut_gain" in idn.physical.extra
+    assert idn.physical.nut_gain is not None
     m = idn.axis.mechanics
     assert m.M_t == pytest.approx(a.mechanics.M_t, rel=0.1)
     assert m.K_t == pytest.approx(a.mechanics.K_t, rel=0.25)
@@ -399,10 +399,10 @@ def test_identification_does_not_follow_rounding_in_the_records(unseen):
             warnings.simplefilter("ignore")
             got.append(identify_axis("X", s, axis_config(true, "X"), friction=r))
     one, two = got
-    assert ("nut_gain" in one.physical.extra) == ("nut_gain" in two.physical.extra)
+    assert (one.physical.nut_gain is None) == (two.physical.nut_gain is None)
     assert (one.friction_split.nut is None) == (two.friction_split.nut is None)
     m1, m2 = one.axis.mechanics.model_dump(), two.axis.mechanics.model_dump()
-    for p in one.physical.extra["names"]:
+    for p in one.physical.names:
         if p in m1:
             assert m2[p] == pytest.approx(m1[p], rel=1e-4), p
     assert two.friction_split.backlash == pytest.approx(one.friction_split.backlash, rel=1e-4)
@@ -418,7 +418,7 @@ def test_the_user_is_told_when_no_refit_with_the_play_is_kept(identify_unseen, m
     monkeypatch.setattr(pipeline, "PLAY_ITERATIONS", 1)
     true, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     split = idn.friction_split
-    assert split.nut is None and "nut_gain" not in idn.physical.extra
+    assert split.nut is None and idn.physical.nut_gain is None
     assert idn.axis.mechanics.M_t > 1.2 * a.mechanics.M_t  # what the warning is about
     told = [w for w in caught if "lost motion in the nut" in w]
     assert len(told) == 1

@@ -81,7 +81,7 @@ def test_the_default_is_used_and_reported(vmc):
         idn = identify_axis("X", virtual_sweep(a, name="X"), axis_config(vmc, "X"),
                             friction=virtual_friction(a, FRICTION_SPEEDS, name="X"))
     fr = idn.axis.friction
-    assert idn.physical.extra["presliding_m"] == PRESLIDING
+    assert idn.presliding_m == PRESLIDING
     assert fr.guideway.sigma0 * PRESLIDING == pytest.approx(
         max(fr.guideway.fs_pos, fr.guideway.fs_neg))
     assert fr.guideway.sigma1 == pytest.approx(

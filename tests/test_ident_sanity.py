@@ -32,10 +32,10 @@ def test_a_standing_sweep_held_by_friction_is_flagged():
     idn, said = identify(m, 0.0)
     assert len(said) == 1
     assert "axis X" in said[0] and "stands still" in said[0] and "20 mm/s" in said[0]
-    held = idn.physical.extra["friction_holds_sweep"]
-    assert held["lead_deg"] > FRICTION_LEAD_DEG + 30.0 and held["f_hi_hz"] <= 15.0
+    held = idn.friction_hold
+    assert held.lead_deg > FRICTION_LEAD_DEG + 30.0 and held.f_hi_hz <= 15.0
     idn, said = identify(m, 0.02)
-    assert said == [] and "friction_holds_sweep" not in idn.physical.extra
+    assert said == [] and idn.friction_hold is None
     assert friction_holds_sweep(idn.frfs["G_M"], MIN_COHERENCE) is None
 
 

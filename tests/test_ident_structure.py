@@ -98,8 +98,8 @@ def test_a_joint_fit_holds_the_structure_it_is_given(swept):
     for p, r in given.items():
         assert getattr(m, p) / m.M_t == pytest.approx(r, rel=1e-12), p
         assert fit.std[p] == pytest.approx(r * fit.std["M_t"], rel=1e-12), p
-    assert fit.extra["tied"] == given
-    assert set(STRUCTURE) <= set(fit.extra["names"])  # still reported
+    assert fit.tied == given
+    assert set(STRUCTURE) <= set(fit.names)  # still reported
 
 
 def test_the_play_does_not_take_the_bed_away(unseen):
@@ -125,5 +125,5 @@ def test_the_play_does_not_take_the_bed_away(unseen):
     for p in ("M_b", "K_b", "M_t"):
         assert getattr(m, p) == pytest.approx(getattr(t, p), rel=0.25), p
     assert m.M_b / m.M_t == pytest.approx(t.M_b / t.M_t, rel=0.05)
-    assert idn.physical.extra["tied"]
-    assert "nut_gain" not in idn.physical.extra
+    assert idn.physical.tied
+    assert idn.physical.nut_gain is None

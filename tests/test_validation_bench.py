@@ -129,11 +129,11 @@ def test_what_the_friction_runs_leave_open_is_measured_in_spikes():
         warnings.simplefilter("ignore")
         a = identify_bundle(bundle).axes["Y"]
     assert a.friction_split.source == "prior"
-    share = a.physical.extra["share_sensitivity"]
-    assert share["shares"] == [0.05, 0.95] and share["spike_change_m"] > 0.5e-6
-    hidden = a.physical.extra["lost_motion_sensitivity"]
-    assert hidden["lost_motion_m"][1] > 0.2e-6 and hidden["spike_change_m"] > 0.0
-    assert "share_sensitivity" not in identified("d").axes["X"].physical.extra
+    share = a.share_sensitivity
+    assert share.shares == (0.05, 0.95) and share.spike_change_m > 0.5e-6
+    hidden = a.lost_motion_sensitivity
+    assert hidden.lost_motion_m[1] > 0.2e-6 and hidden.spike_change_m > 0.0
+    assert identified("d").axes["X"].share_sensitivity is None
 
 
 def test_a_standing_sweep_is_named_with_its_cause():

@@ -4,13 +4,14 @@ the physical (grey-box) fit per axis, into a model that simulates like the built
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 
 import numpy as np
 
 from .._threads import limit_blas_threads
 from ..mechanics.friction import friction_params_array
+from ..mechanics.params import AxisMechanics
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from ..sim.friction import sliding_friction
@@ -18,7 +19,12 @@ from .frf.response import reduced_frfs
 from .friction.nutstiffness import LOST_MOTION_Z
 from .friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .friction.presliding import PRESLIDING, with_presliding
-from .friction.sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
+from .friction.sensitivity import (
+    LostMotionSensitivity,
+    ShareSensitivity,
+    warn_lost_motion_sensitivity,
+    warn_share_sensitivity,
+)
 from .friction.split import (
     identify_friction,
     place_steady_viscous,
@@ -27,11 +33,11 @@ from .friction.split import (
 )
 from .friction.sweepforce import sweep_deflection, travel_velocity
 from .gates.findings import SuspectModelError, axis_findings, time_base_findings
-from .gates.sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
+from .gates.sanity import FrictionHold, warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .lti.goodness import fit_percent
 from .lti.tffit import fit_tf
-from .physical.greybox import FRFData, PhysicalFit, fit_physical, model_frfs
-from .physical.loop_timing import COMPUTATION_DELAY, sweep_timing
+from .physical.greybox import FRFData, PhysicalFit, SweepPlay, fit_physical, model_frfs
+from .physical.loop_timing import COMPUTATION_DELAY, LoopTiming, sweep_timing
 from .physical.structure import fit_structure
 from .physical.uncertainty import axis_uncertainty
 
@@ -92,6 +98,19 @@ class AxisIdentification:
         Stribeck curve fitted to the friction runs [-].
     friction_split : FrictionSplit, optional
         Split of that friction between guideway and screw, and the lost motion [-].
+    friction_hold : FrictionHold, optional
+        Friction held the axis at the bottom of the sweep's band (a warning said so) [-].
+    sampled_loop_spectral_radius : float, optional
+        Spectral radius of the identified loop as the drive samples it (below 1:
+        stable) [-].
+    presliding_m : float, optional
+        Pre-sliding displacement given to the identified friction contacts [m].
+    loop_timing : LoopTiming, optional
+        Computation delay and velocity estimate read from a closed-loop sweep [-].
+    share_sensitivity : ShareSensitivity, optional
+        How far the TCP spikes move over a guideway share the runs leave open [m].
+    lost_motion_sensitivity : LostMotionSensitivity, optional
+        How far they move with a lost motion the runs would not find [m].
     """
 
     name: str
@@ -102,10 +121,29 @@ class AxisIdentification:
     record: object = None
     friction: object = None
     friction_split: object = None
+    friction_hold: FrictionHold | None = None
+    sampled_loop_spectral_radius: float | None = None
+    presliding_m: float | None = None
+    loop_timing: LoopTiming | None = None
+    share_sensitivity: ShareSensitivity | None = None
+    lost_motion_sensitivity: LostMotionSensitivity | None = None
 
     def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
         return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,
-                          self.axis.servo.T_v, self.physical.extra.get("nut_gain"))[name]
+                          self.axis.servo.T_v, self.physical.nut_gain)[name]
+
+    def notes(self) -> dict:
+        """What identification found on the way besides the parameters, for the JSON
+        report: the play the sweep crossed, friction holding the sweep, the sampled loop's
+        spectral radius, pre-sliding, loop timing and the spikes' sensitivities [SI]."""
+        found = {"sweep_play": self.physical.sweep_play,
+                 "friction_holds_sweep": self.friction_hold,
+                 "sampled_loop_spectral_radius": self.sampled_loop_spectral_radius,
+                 "presliding_m": self.presliding_m, "loop_timing": self.loop_timing,
+                 "share_sensitivity": self.share_sensitivity,
+                 "lost_motion_sensitivity": self.lost_motion_sensitivity}
+        return {k: v.to_dict() if hasattr(v, "to_dict") else v
+                for k, v in found.items() if v is not None}
 
     def physical_response(self, name: str, f_hz) -> np.ndarray:
         """Response of the identified physical model as measured (with the drive's
@@ -176,17 +214,13 @@ class Identification:
                 },
                 "parameters": {
                     p: {"value": d[p], "std": a.physical.std.get(p)}
-                    for p in a.physical.extra["names"]
+                    for p in a.physical.names
                     if p in d
                 },
                 "undetermined": a.physical.undetermined,
                 "current_bandwidth_hz": a.axis.servo.current_bandwidth_hz,
+                **a.notes(),
             }
-            for key in ("sweep_play", "friction_holds_sweep", "sampled_loop_spectral_radius",
-                        "presliding_m", "loop_timing", "share_sensitivity",
-                        "lost_motion_sensitivity"):
-                if key in a.physical.extra:
-                    out[name][key] = a.physical.extra[key]
             if a.friction is not None:
                 out[name]["friction"] = {
                     k: {"value": float(v), "std": float(sd)}
@@ -369,86 +403,172 @@ def identify_axis(
 
         warn_input(f"axis {name}: {STANDING_SWEEP}; the model fitted to it can be off by "
                    "micrometres at the reversals", file=getattr(sweep, "source", None))
+    tf_fits = _tf_fits(frfs)
+    data = {k: FRFData(f.freq_hz, f.H, _weights(f)) for k, f in frfs.items()}
+    fit = partial(fit_physical, data, cfg.lead_m, cfg.torque_constant,
+                  fit_current_loop=fit_current_loop, tf_fits=tf_fits,
+                  hold_period_s=cfg.servo.velocity_loop_period_s)
+    phys: PhysicalFit = fit()
+    kept = AxisFit(phys, phys.mechanics)
+    if friction is not None:
+        friction_on = partial(_friction_and_mechanics, name, friction, cfg,
+                              guideway_share=guideway_share,
+                              sweep=sweep_deflection(sweep, velocity))
+        kept = _fit_with_friction(name, sweep, data, fit, friction_on, phys, v_travel,
+                                  (fmin, fmax))
+        message = share_uncertainty_warning(name, kept.split, kept.curve, kept.mechanics, cfg)
+        if message is not None:
+            from ..io.csvutil import warn_input
+
+            warn_input(message, file=getattr(friction, "source", None))
+        kept = replace(kept, friction=with_presliding(kept.friction, kept.mechanics,
+                                                      presliding))
+    phys = kept.physical
+    timing = sweep_timing(name, sweep, cfg)
+    axis = Axis(
+        mechanics=kept.mechanics,
+        servo=axis_config_to_servo(cfg, phys.current_bandwidth_hz, timing),
+        sensors=axis_config_to_sensors(cfg),
+        friction=kept.friction,
+        uncertainty=axis_uncertainty(phys, kept.mechanics, kept.curve, kept.split),
+    )
+    return AxisIdentification(
+        name, frfs, tf_fits, phys, axis, sweep, kept.curve, kept.split, friction_hold=held,
+        sampled_loop_spectral_radius=warn_unstable_sampled_loop(name, axis, phys.undetermined),
+        presliding_m=presliding if friction is not None else None, loop_timing=timing)
+
+
+@dataclass(frozen=True)
+class AxisFit:
+    """A physical fit with the friction runs' results on it: one candidate for an axis.
+
+    Parameters
+    ----------
+    physical : PhysicalFit
+        The fit to the FRFs [SI].
+    mechanics : AxisMechanics
+        The mechanics as they go into the model: the fit's, with the nut stiffness and the
+        steady viscous force the friction runs give [SI].
+    friction : AxisFriction, optional
+        The friction of the runs, split between guideway and screw [-].
+    curve : ParameterEstimate, optional
+        The Stribeck curve of the runs [-].
+    split : FrictionSplit, optional
+        The split and the lost motion [-].
+    """
+
+    physical: PhysicalFit
+    mechanics: AxisMechanics
+    friction: object = None
+    curve: object = None
+    split: object = None
+
+    @property
+    def cost(self) -> float:
+        """Least-squares cost of the physical fit [-]."""
+        return self.physical.cost
+
+
+def _tf_fits(frfs: dict) -> dict:
+    """Rational fits of the orders of :data:`TF_ORDERS` to the FRFs with enough coherent
+    bins for them [SI]."""
     tf_fits = {}
     for k, frf in frfs.items():
         nn, nd, ni = TF_ORDERS[k]
         if (frf.coherence >= MIN_COHERENCE).sum() > 2 * (nn + nd + 2):
             tf_fits[k] = fit_tf(frf, nn, nd, n_integrators=ni, delay_s=TF_DELAY.get(k),
                                 min_coherence=MIN_COHERENCE)
-    data = {k: FRFData(f.freq_hz, f.H, _weights(f)) for k, f in frfs.items()}
-    fit = partial(fit_physical, data, cfg.lead_m, cfg.torque_constant,
-                  fit_current_loop=fit_current_loop, tf_fits=tf_fits,
-                  hold_period_s=cfg.servo.velocity_loop_period_s)
-    phys: PhysicalFit = fit()
-    fr = est = split = None
-    mech = phys.mechanics
-    if friction is not None:
-        friction_on = partial(_friction_and_mechanics, name, friction, cfg,
-                              guideway_share=guideway_share,
-                              sweep=sweep_deflection(sweep, velocity))
-        mech, fr, est, split = friction_on(phys)
-        if _play_significant(split) and "G_tcp" in data:
-            # The sweep crossed the play, which distorts G_M and G_T but not G_tcp: hold
-            # the bed and TCP structure at what G_tcp alone says, relative to the table.
-            structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
-            phys = fit(initial=_fit_values(phys), structure=structure)
-            mech, fr, est, split = friction_on(phys)
-        else:
-            structure = None
-        bias = _bias_force(v_travel, mech, fr)
-        if _play_significant(split) and bias > 0:
-            # The sweep crossed the play: refit with the nut as soft as the sweep saw it,
-            # and keep whichever fit, linear or with the play, explains the FRFs best; a
-            # refit counts only if it agrees with the describing function it was fitted
-            # with (SELF_CONSISTENT_REL).
-            best = (phys.cost, phys, mech, fr, est, split, None)
-            freq, theta_m, scale = sweep_motion(sweep, fmin, fmax)
-            for _ in range(PLAY_ITERATIONS):
-                amp = nut_deflection_amplitude(freq, theta_m, scale, mech)
-                gain = play_gain(freq, amp, split.backlash, bias, mech.K_t)
-                seen = mech
-                phys = fit(initial=_fit_values(phys) if structure else None,
-                           nut_gain=gain, structure=structure)
-                mech, fr, est, split = friction_on(phys)
-                if (phys.cost < (1.0 - COST_MARGIN_REL) * best[0]
-                        and _self_consistent(seen, mech, fitted=phys.mechanics)):
-                    g = gain(freq)
-                    lowest = int(np.argmin(g))
-                    phys.extra["nut_gain"] = gain
-                    phys.extra["sweep_play"] = {
-                        "bias_force_N": bias, "lowest_nut_gain": float(g[lowest]),
-                        "at_hz": float(freq[lowest]),
-                        "nut_amplitude_there_m": float(amp[lowest])}
-                    best = (phys.cost, phys, mech, fr, est, split, gain)
-                bias = _bias_force(v_travel, mech, fr)
-                converged = _self_consistent(seen, mech, CONVERGED_REL)
-                if converged or not (_play_significant(split) and bias > 0):
-                    break
-            _, phys, mech, fr, est, split, gain = best
-            if gain is None:
-                _warn_sweep_crosses_play(name, sweep, split, modelled=True)
-        elif split.nut is not None or _play_significant(split):
-            _warn_sweep_crosses_play(name, sweep, split)
-        message = share_uncertainty_warning(name, split, est, mech, cfg)
-        if message is not None:
-            from ..io.csvutil import warn_input
+    return tf_fits
 
-            warn_input(message, file=getattr(friction, "source", None))
-        fr = with_presliding(fr, mech, presliding)
-        phys.extra["presliding_m"] = presliding
-    axis = Axis(
-        mechanics=mech,
-        servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz"),
-                                   sweep_timing(name, sweep, cfg, phys.extra)),
-        sensors=axis_config_to_sensors(cfg),
-        friction=fr,
-        uncertainty=axis_uncertainty(phys, mech, est, split),
-    )
-    phys.extra["sampled_loop_spectral_radius"] = warn_unstable_sampled_loop(
-        name, axis, phys.undetermined)
-    if held is not None:
-        phys.extra["friction_holds_sweep"] = held
-    return AxisIdentification(name, frfs, tf_fits, phys, axis, sweep, est, split)
+
+def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: PhysicalFit,
+                       v_travel: float, band: tuple) -> AxisFit:
+    """The friction runs on the physical fit; with lost motion that the sweep crosses, the
+    structure held at what ``G_tcp`` alone says and the refits with the play
+    (:func:`_refit_with_play`), or a warning where the play cannot be modelled.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    sweep : SweepRecord
+        The sweep record [-].
+    data : dict
+        The FRFs to fit, :class:`FRFData` per name [SI].
+    fit : callable
+        :func:`fit_physical` with the data and the axis's known values bound [-].
+    friction_on : callable
+        :func:`_friction_and_mechanics` with the runs bound [-].
+    phys : PhysicalFit
+        The linear fit [SI].
+    v_travel : float
+        Steady travel speed of the sweep, 0 when it stands [m/s].
+    band : tuple
+        ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
+    """
+    kept = AxisFit(phys, *friction_on(phys))
+    structure = None
+    if _play_significant(kept.split) and "G_tcp" in data:
+        # The sweep crossed the play, which distorts G_M and G_T but not G_tcp: hold
+        # the bed and TCP structure at what G_tcp alone says, relative to the table.
+        structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
+        phys = fit(initial=_fit_values(phys), structure=structure)
+        kept = AxisFit(phys, *friction_on(phys))
+    bias = _bias_force(v_travel, kept.mechanics, kept.friction)
+    if _play_significant(kept.split) and bias > 0:
+        kept = _refit_with_play(sweep, fit, friction_on, kept, structure, v_travel, bias, band)
+        if kept.physical.nut_gain is None:
+            _warn_sweep_crosses_play(name, sweep, kept.split, modelled=True)
+    elif kept.split.nut is not None or _play_significant(kept.split):
+        _warn_sweep_crosses_play(name, sweep, kept.split)
+    return kept
+
+
+def _refit_with_play(sweep, fit, friction_on, kept: AxisFit, structure, v_travel: float,
+                     bias: float, band: tuple) -> AxisFit:
+    """Refit with the nut as soft as the sweep saw it, and keep whichever fit, linear or
+    with the play, explains the FRFs best; a refit counts only if it agrees with the
+    describing function it was fitted with (:data:`SELF_CONSISTENT_REL`).
+
+    Parameters
+    ----------
+    sweep : SweepRecord
+        The sweep record [-].
+    fit, friction_on : callable
+        As for :func:`_fit_with_friction` [-].
+    kept : AxisFit
+        The linear fit with the friction on it [SI].
+    structure : dict or None
+        Bed and TCP structure held in proportion to ``M_t`` [SI / kg].
+    v_travel : float
+        Steady travel speed of the sweep [m/s].
+    bias : float
+        Friction force holding the nut on one flank on the linear fit [N].
+    band : tuple
+        ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
+    """
+    best, current = kept, kept
+    freq, theta_m, scale = sweep_motion(sweep, *band)
+    for _ in range(PLAY_ITERATIONS):
+        seen = current.mechanics
+        amp = nut_deflection_amplitude(freq, theta_m, scale, seen)
+        gain = play_gain(freq, amp, current.split.backlash, bias, seen.K_t)
+        phys = fit(initial=_fit_values(current.physical) if structure else None,
+                   nut_gain=gain, structure=structure)
+        current = AxisFit(phys, *friction_on(phys))
+        if (phys.cost < (1.0 - COST_MARGIN_REL) * best.cost
+                and _self_consistent(seen, current.mechanics, fitted=phys.mechanics)):
+            g = gain(freq)
+            lowest = int(np.argmin(g))
+            phys.sweep_play = SweepPlay(bias_force_N=bias, lowest_nut_gain=float(g[lowest]),
+                                        at_hz=float(freq[lowest]),
+                                        nut_amplitude_there_m=float(amp[lowest]))
+            best = current
+        bias = _bias_force(v_travel, current.mechanics, current.friction)
+        converged = _self_consistent(seen, current.mechanics, CONVERGED_REL)
+        if converged or not (_play_significant(current.split) and bias > 0):
+            break
+    return best
 
 
 def _self_consistent(seen, mech, rel: float = SELF_CONSISTENT_REL, fitted=None) -> bool:
@@ -468,8 +588,8 @@ def _self_consistent(seen, mech, rel: float = SELF_CONSISTENT_REL, fitted=None) 
 def _fit_values(phys: PhysicalFit) -> dict:
     """The values of a physical fit as a starting point for another [SI]."""
     start = phys.mechanics.model_dump()
-    if phys.extra.get("current_bandwidth_hz") is not None:
-        start["f_i"] = phys.extra["current_bandwidth_hz"]
+    if phys.current_bandwidth_hz is not None:
+        start["f_i"] = phys.current_bandwidth_hz
     return start
 
 

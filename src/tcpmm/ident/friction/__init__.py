@@ -15,6 +15,8 @@ from .nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, NutEstimate, estimate_nut
 from .playdf import dead_zone_gain, nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
 from .sensitivity import (
+    LostMotionSensitivity,
+    ShareSensitivity,
     lost_motion_spike_range,
     share_spike_range,
     spike_range,
@@ -49,8 +51,9 @@ from .transients import fit_stribeck_transients
 __all__ = [
     "BRISTLE_DAMPING_RATIO", "CUTOFFS_HZ", "GUIDEWAY_SHARE", "LOST_MOTION_Z",
     "PLATEAU_DURATIONS_S", "PRESLIDING", "SHARE_WARN_STD", "FrictionSplit",
-    "LostMotionEstimate", "NoPlateauError", "NutEstimate", "ParameterEstimate", "Plateau",
-    "SweepDeflection", "dead_zone_gain", "estimate_lost_motion", "estimate_nut",
+    "LostMotionEstimate", "LostMotionSensitivity", "NoPlateauError", "NutEstimate",
+    "ParameterEstimate", "Plateau", "ShareSensitivity", "SweepDeflection", "dead_zone_gain",
+    "estimate_lost_motion", "estimate_nut",
     "find_plateaus", "fit_stribeck", "fit_stribeck_transients", "friction_record_arrays",
     "identify_friction", "identify_stribeck_run", "lost_motion_spike_range",
     "nut_deflection_amplitude", "place_steady_viscous", "play_gain", "quantisation_bias_std",

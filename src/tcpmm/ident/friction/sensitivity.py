@@ -14,14 +14,59 @@ and gives the largest change of a TCP spike; :func:`share_spike_range` and
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...model import Machine
 from .split import SHARE_WARN_STD
 
-__all__ = ["lost_motion_spike_range", "share_spike_range", "spike_range",
+__all__ = ["LostMotionSensitivity", "ShareSensitivity", "lost_motion_spike_range",
+           "share_spike_range", "spike_range",
            "warn_lost_motion_sensitivity", "warn_share_sensitivity", "with_share"]
+
+@dataclass(frozen=True)
+class ShareSensitivity:
+    """How far the TCP spikes of a circle move over the plausible range of a guideway share
+    the friction runs leave open.
+
+    Parameters
+    ----------
+    shares : tuple of float
+        Ends of the range simulated [-].
+    spike_change_m : float
+        Largest change of a TCP reversal spike between them [m].
+    """
+
+    shares: tuple
+    spike_change_m: float
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report [-]."""
+        return {"shares": list(self.shares), "spike_change_m": self.spike_change_m}
+
+
+@dataclass(frozen=True)
+class LostMotionSensitivity:
+    """How far the TCP spikes of a circle move with a lost motion the friction runs would
+    not find.
+
+    Parameters
+    ----------
+    lost_motion_m : tuple of float
+        Ends of the range simulated: none, and three standard deviations of the runs'
+        estimate (total free play) [m].
+    spike_change_m : float
+        Largest change of a TCP reversal spike between them [m].
+    """
+
+    lost_motion_m: tuple
+    spike_change_m: float
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report [-]."""
+        return {"lost_motion_m": list(self.lost_motion_m), "spike_change_m": self.spike_change_m}
+
 
 #: Circle of the check: radius [m], feed [m/s], start angle [rad].
 CIRCLE = (0.035, 5000.0 / 60e3, math.radians(45.0))
@@ -126,8 +171,7 @@ SPIKE_WARN_M = 0.5e-6
 def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
     """Where the friction runs find no lost motion but could miss one of three standard
     deviations, say how far that would move the TCP spikes of a circle
-    (:func:`tcpmm.ident.friction.sensitivity.lost_motion_spike_range`); noted in
-    ``physical.extra["lost_motion_sensitivity"]``.
+    (:func:`lost_motion_spike_range`); noted as ``a.lost_motion_sensitivity``.
 
     Parameters
     ----------
@@ -149,8 +193,7 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
     moved = lost_motion_spike_range(machine, name, (0.0, hidden))
     if moved is None:
         return
-    a.physical.extra["lost_motion_sensitivity"] = {"lost_motion_m": [0.0, hidden],
-                                                   "spike_change_m": moved}
+    a.lost_motion_sensitivity = LostMotionSensitivity((0.0, hidden), moved)
     if moved < SPIKE_WARN_M:
         return
     from ...io.csvutil import warn_input
@@ -166,8 +209,8 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
 def warn_share_sensitivity(name: str, a, machine, friction) -> None:
     """Where the friction runs leave the guideway share open (a prior, or a standard
     deviation above :data:`SHARE_WARN_STD`), say how far the TCP spikes of a circle move
-    over its plausible range (:func:`tcpmm.ident.friction.sensitivity.share_spike_range`), and note
-    it in ``physical.extra["share_sensitivity"]``.
+    over its plausible range (:func:`share_spike_range`), and note it as
+    ``a.share_sensitivity``.
 
     Parameters
     ----------
@@ -194,7 +237,7 @@ def warn_share_sensitivity(name: str, a, machine, friction) -> None:
     moved = share_spike_range(machine, name, (lo, hi))
     if moved is None:
         return
-    a.physical.extra["share_sensitivity"] = {"shares": [lo, hi], "spike_change_m": moved}
+    a.share_sensitivity = ShareSensitivity((lo, hi), moved)
     from ...io.csvutil import warn_input
 
     warn_input(

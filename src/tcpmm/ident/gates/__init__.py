@@ -26,6 +26,7 @@ from .findings import (
 from .sanity import (
     FRICTION_LEAD_DEG,
     LOW_BAND_HZ,
+    FrictionHold,
     friction_holds_sweep,
     warn_friction_holds_sweep,
     warn_unstable_sampled_loop,
@@ -33,6 +34,7 @@ from .sanity import (
 
 __all__ = ["FIT_TRIM", "FRICTION_LEAD_DEG", "LOW_BAND_HZ", "MAX_DAQ_PERIOD_S", "MAX_FEED_SPEED",
            "MIN_DAQ_PERIOD_S", "STANDING_SWEEP", "STATIC_OVER_COULOMB", "Finding",
+           "FrictionHold",
            "SuspectModelError", "axis_findings", "check_fit_percent", "check_sampled_loop",
            "check_static_friction_vs_drive", "check_static_over_coulomb", "check_time_base",
            "drive_force_limit", "friction_holds_sweep", "slowest_plateau_speed",

@@ -17,14 +17,15 @@ Two failures give no error on the way and a useless model at the end:
 from __future__ import annotations
 
 import warnings
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
 from ...errors import InputWarning
 from ...servo.sampled import sampled_spectral_radius
 
-__all__ = ["FRICTION_LEAD_DEG", "LOW_BAND_HZ", "friction_holds_sweep", "warn_friction_holds_sweep",
-           "warn_unstable_sampled_loop"]
+__all__ = ["FRICTION_LEAD_DEG", "LOW_BAND_HZ", "FrictionHold", "friction_holds_sweep",
+           "warn_friction_holds_sweep", "warn_unstable_sampled_loop"]
 
 #: Phase lead of ``omega_m/i_c`` over a free mass (-90 deg) at the bottom of the band beyond
 #: which the friction, not the inertia, sets the motion: the apparent damping then exceeds
@@ -35,7 +36,28 @@ FRICTION_LEAD_DEG = 45.0
 LOW_BAND_HZ = 15.0
 
 
-def friction_holds_sweep(frf, min_coherence: float) -> dict | None:
+@dataclass(frozen=True)
+class FrictionHold:
+    """Friction holding the axis during a sweep, as the bottom of the band shows it.
+
+    Parameters
+    ----------
+    lead_deg : float
+        Median phase lead of ``G_M`` over the -90 deg of a free axis there [deg].
+    f_lo_hz, f_hi_hz : float
+        The band examined: the lowest octave of good bins [Hz].
+    """
+
+    lead_deg: float
+    f_lo_hz: float
+    f_hi_hz: float
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report [-]."""
+        return asdict(self)
+
+
+def friction_holds_sweep(frf, min_coherence: float) -> FrictionHold | None:
     """Whether the motor's response at the bottom of the band is that of a held axis.
 
     Parameters
@@ -47,10 +69,10 @@ def friction_holds_sweep(frf, min_coherence: float) -> dict | None:
 
     Returns
     -------
-    dict or None
-        ``{"lead_deg", "f_lo_hz", "f_hi_hz"}``: median phase lead over -90 deg in the
-        lowest octave of good bins (at most up to :data:`LOW_BAND_HZ`), when it exceeds
-        :data:`FRICTION_LEAD_DEG`; ``None`` otherwise or when no bin is low enough [-].
+    FrictionHold or None
+        Median phase lead over -90 deg in the lowest octave of good bins (at most up to
+        :data:`LOW_BAND_HZ`), when it exceeds :data:`FRICTION_LEAD_DEG`; ``None`` otherwise
+        or when no bin is low enough [-].
     """
     good = np.asarray(frf.coherence) >= min_coherence
     f = np.asarray(frf.freq_hz, dtype=float)[good]
@@ -61,11 +83,11 @@ def friction_holds_sweep(frf, min_coherence: float) -> dict | None:
     lead = float(np.median(phase)) + 90.0
     if lead <= FRICTION_LEAD_DEG:
         return None
-    return {"lead_deg": lead, "f_lo_hz": float(f[low][0]), "f_hi_hz": float(f[low][-1])}
+    return FrictionHold(lead, float(f[low][0]), float(f[low][-1]))
 
 
 def warn_friction_holds_sweep(name: str, sweep, frf, min_coherence: float,
-                              standing: bool) -> dict | None:
+                              standing: bool) -> FrictionHold | None:
     """Warn when friction held the axis during the sweep (see :func:`friction_holds_sweep`).
 
     Parameters
@@ -83,7 +105,7 @@ def warn_friction_holds_sweep(name: str, sweep, frf, min_coherence: float,
 
     Returns
     -------
-    dict or None
+    FrictionHold or None
         What :func:`friction_holds_sweep` found [-].
     """
     held = friction_holds_sweep(frf, min_coherence)
@@ -95,8 +117,8 @@ def warn_friction_holds_sweep(name: str, sweep, frf, min_coherence: float,
               "(e.g. 20 mm/s), which keeps the friction sliding, or raise its amplitude."
               if standing else "Raise the sweep's amplitude or its travel speed.")
     warn_input(
-        f"axis {name}: at {held['f_lo_hz']:.1f}-{held['f_hi_hz']:.1f} Hz the phase of "
-        f"the motor's velocity over the current is {held['lead_deg'] - 90.0:+.0f} deg where a "
+        f"axis {name}: at {held.f_lo_hz:.1f}-{held.f_hi_hz:.1f} Hz the phase of "
+        f"the motor's velocity over the current is {held.lead_deg - 90.0:+.0f} deg where a "
         "free axis gives -90: friction holds the axis during the sweep, its FRFs are not those of "
         "the linear mechanics, and the masses, stiffnesses and damping fitted to them can be "
         f"far off. {remedy}",

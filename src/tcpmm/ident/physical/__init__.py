@@ -6,7 +6,15 @@ G_M, G_T and G_tcp (:mod:`~tcpmm.ident.physical.greybox`) with an analytic Jacob
 (:mod:`~tcpmm.ident.physical.uncertainty`); and the servo loop's timing read from the
 sweep (:mod:`~tcpmm.ident.physical.loop_timing`)."""
 
-from .greybox import FITTED, FRFData, PhysicalFit, fit_physical, model_frfs, nut_path
+from .greybox import (
+    FITTED,
+    FRFData,
+    PhysicalFit,
+    SweepPlay,
+    fit_physical,
+    model_frfs,
+    nut_path,
+)
 from .jacobian import PARAMS, log_sensitivities, residual_jacobian
 from .loop_timing import COMPUTATION_DELAY, LoopTiming, identify_loop_timing, sweep_timing
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
@@ -14,6 +22,6 @@ from .structure import STRUCTURE, fit_structure
 from .uncertainty import axis_uncertainty
 
 __all__ = ["COMPUTATION_DELAY", "FITTED", "PARAMS", "STRUCTURE", "FRFData", "LoopTiming",
-           "PhysicalFit", "axis_uncertainty", "fit_physical", "fit_structure",
+           "PhysicalFit", "SweepPlay", "axis_uncertainty", "fit_physical", "fit_structure",
            "guesses_from_tf", "identify_loop_timing", "initial_guesses", "j_total_from_g_m",
            "log_sensitivities", "model_frfs", "nut_path", "residual_jacobian", "sweep_timing"]

@@ -17,7 +17,8 @@ splits of the inertia are tried and the best fit is kept (:mod:`tcpmm.ident.phys
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -54,6 +55,33 @@ class FRFData:
     weight: np.ndarray
 
 
+@dataclass(frozen=True)
+class SweepPlay:
+    """How the nut's lost motion softened it where the sweep crossed the play.
+
+    Parameters
+    ----------
+    bias_force_N : float
+        Friction force on the table at the sweep's travel speed, holding the nut on one
+        flank [N].
+    lowest_nut_gain : float
+        Smallest factor on ``K_t`` over the sweep's band [-].
+    at_hz : float
+        Frequency of that smallest factor [Hz].
+    nut_amplitude_there_m : float
+        Amplitude of the nut deflection at that frequency [m].
+    """
+
+    bias_force_N: float
+    lowest_nut_gain: float
+    at_hz: float
+    nut_amplitude_there_m: float
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report [-]."""
+        return asdict(self)
+
+
 @dataclass
 class PhysicalFit:
     """Identified axis mechanics with uncertainty.
@@ -72,6 +100,23 @@ class PhysicalFit:
         RMS relative complex error per FRF [-].
     cost : float
         Final least-squares cost [-].
+    names : list of str
+        The reported parameters: those fitted or held in proportion to ``M_t``, in the
+        order of :data:`FITTED`, then ``f_i`` when the current loop was fitted [-].
+    nfev : int
+        Function evaluations of the final refinement [-].
+    current_bandwidth_hz : float or None
+        Fitted first-order current-loop bandwidth; ``None`` when it was not fitted or lies
+        beyond the data's reach (the loop is then taken as ideal) [Hz].
+    tied : dict
+        Parameters held in proportion to ``M_t``, ``{name: value / M_t}`` [SI / kg].
+    nut_gain : callable or None
+        The factor on ``K_t`` per frequency the fit was made with (the nut's lost motion as
+        the sweep saw it, :func:`tcpmm.ident.friction.play_gain`); ``None``: a linear
+        nut [-].
+    sweep_play : SweepPlay or None
+        How the play softened the nut where the sweep crossed it, when the fit was made
+        with ``nut_gain`` and kept [-].
     """
 
     mechanics: AxisMechanics
@@ -80,7 +125,12 @@ class PhysicalFit:
     undetermined: list
     rel_error: dict
     cost: float
-    extra: dict = field(default_factory=dict)
+    names: list = field(default_factory=list)
+    nfev: int = 0
+    current_bandwidth_hz: float | None = None
+    tied: dict = field(default_factory=dict)
+    nut_gain: Callable | None = None
+    sweep_play: SweepPlay | None = None
 
     def to_pandas(self):
         """Table of parameters, standard deviations and relative uncertainty."""
@@ -228,7 +278,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         Current loop bandwidth if the drive's is known [Hz].
     fit_current_loop : bool
         Fit a first-order current-loop bandwidth too (it shows in G_M only); reported
-        in ``extra["current_bandwidth_hz"]``, ``None`` when beyond the data's reach [-].
+        as ``current_bandwidth_hz`` of the result, ``None`` when beyond the data's reach [-].
     max_nfev : int
         Function evaluations of the final refinement [-].
     tf_fits : dict, optional
@@ -316,8 +366,8 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     if fit_current_loop and ("f_i" in undetermined or f_i > 3 * f_top):
         f_i = None  # the data cannot see the current loop: keep it ideal
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
-                       {"names": reported + names[n_mech:], "nfev": int(r.nfev),
-                        "current_bandwidth_hz": f_i, "tied": tied})
+                       names=reported + names[n_mech:], nfev=int(r.nfev),
+                       current_bandwidth_hz=f_i, tied=tied, nut_gain=nut_gain)
 
 
 def _multistart(resid, jac, starts, names, fit_current_loop: bool, max_nfev: int):

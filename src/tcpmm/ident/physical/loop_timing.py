@@ -161,10 +161,9 @@ def identify_loop_timing(sweep, cfg) -> LoopTiming | None:
                       float(gain), bool(determined))
 
 
-def sweep_timing(name: str, sweep, cfg, extra: dict) -> LoopTiming | None:
-    """The drive's timing from a closed-loop sweep (:func:`identify_loop_timing`), noted in
-    ``extra["loop_timing"]``, with a warning when a sweep with the loops closed does not
-    match the declared controller.
+def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:
+    """The drive's timing from a closed-loop sweep (:func:`identify_loop_timing`), with a
+    warning when a sweep with the loops closed does not match the declared controller.
 
     Parameters
     ----------
@@ -174,8 +173,6 @@ def sweep_timing(name: str, sweep, cfg, extra: dict) -> LoopTiming | None:
         The sweep record (SI) [-].
     cfg : AxisConfig
         The axis's bundle configuration [-].
-    extra : dict
-        Where the result is noted for the report [-].
 
     Returns
     -------
@@ -185,7 +182,6 @@ def sweep_timing(name: str, sweep, cfg, extra: dict) -> LoopTiming | None:
     timing = identify_loop_timing(sweep, cfg)
     if timing is None:
         return None
-    extra["loop_timing"] = timing.to_dict()
     if not timing.determined:
         from ...io.csvutil import warn_input
 

@@ -43,7 +43,7 @@ def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty
     AxisUncertainty
         One standard deviation of every determined quantity [SI].
     """
-    names = [p for p in phys.extra.get("names", phys.std) if p not in phys.undetermined]
+    names = [p for p in (phys.names or phys.std) if p not in phys.undetermined]
     mech = {p: float(phys.std[p]) for p in names
             if p in type(mechanics).model_fields and _finite(phys.std.get(p))}
     level = share = play = 0.0

@@ -10,7 +10,12 @@ shows (:mod:`~tcpmm.ident.friction.sweepforce`); the play as the sweep sees it
 runs leave open (:mod:`~tcpmm.ident.friction.sensitivity`)."""
 
 from .estimate import ParameterEstimate
-from .lostmotion import LostMotionEstimate, estimate_lost_motion, quantisation_bias_std
+from .lostmotion import (
+    LostMotionEstimate,
+    LostMotionOptions,
+    estimate_lost_motion,
+    quantisation_bias_std,
+)
 from .nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, NutEstimate, estimate_nut
 from .playdf import dead_zone_gain, nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
@@ -51,7 +56,8 @@ from .transients import fit_stribeck_transients
 __all__ = [
     "BRISTLE_DAMPING_RATIO", "CUTOFFS_HZ", "GUIDEWAY_SHARE", "LOST_MOTION_Z",
     "PLATEAU_DURATIONS_S", "PRESLIDING", "SHARE_WARN_STD", "FrictionSplit",
-    "LostMotionEstimate", "LostMotionSensitivity", "NoPlateauError", "NutEstimate",
+    "LostMotionEstimate", "LostMotionOptions", "LostMotionSensitivity", "NoPlateauError",
+    "NutEstimate",
     "ParameterEstimate", "Plateau", "ShareSensitivity", "SweepDeflection", "dead_zone_gain",
     "estimate_lost_motion", "estimate_nut",
     "find_plateaus", "fit_stribeck", "fit_stribeck_transients", "friction_record_arrays",

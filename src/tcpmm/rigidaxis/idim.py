@@ -11,6 +11,7 @@ squares with standard deviations ``sigma^2 (W^T W)^-1``, ``sigma^2 = ||y - W the
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 from scipy import optimize
@@ -143,20 +144,7 @@ def idim_ls(
     ParameterEstimate
         Estimates, standard deviations, relative force error and condition number [-].
     """
-    q = _as_1d(q, "q")
-    force = _as_1d(force, "force")
-    if q.size != force.size:
-        raise InputError(
-            f"q and force must have the same length, got {q.size} and {force.size}",
-            column="force",
-        )
-    if friction not in ("symmetric", "asymmetric"):
-        raise InputError(
-            f"friction must be 'symmetric' or 'asymmetric', got {friction!r}",
-            column="friction",
-        )
-    if not (0 <= skip < q.size - 10):
-        raise InputError(f"skip={skip} leaves too few samples", column="skip")
+    q, force = _checked(q, force, friction, skip)
     qf = lowpass_filtfilt(q, dt, cutoff, order)
     dq = central_difference(qf, dt)
     ddq = central_difference(dq, dt)
@@ -181,6 +169,38 @@ def idim_ls(
         "force_shift_samples": float(force_shift),
         "v_min": float(v_min),
     }
+    vs = _stribeck_velocity(stribeck_velocity, dq, build)
+    if vs is not None:
+        extra["stribeck_velocity"] = vs
+        extra["stribeck_delta"] = float(stribeck_delta)
+    Wd, yd, names = build(vs)
+    return replace(_lstsq(Wd, yd, names), extra=extra)
+
+
+def _checked(q, force, friction: str, skip: int):
+    """Position [m] and force [N] as 1-D arrays of one length, the friction model and the
+    samples skipped checked [-]."""
+    q = _as_1d(q, "q")
+    force = _as_1d(force, "force")
+    if q.size != force.size:
+        raise InputError(
+            f"q and force must have the same length, got {q.size} and {force.size}",
+            column="force",
+        )
+    if friction not in ("symmetric", "asymmetric"):
+        raise InputError(
+            f"friction must be 'symmetric' or 'asymmetric', got {friction!r}",
+            column="friction",
+        )
+    if not (0 <= skip < q.size - 10):
+        raise InputError(f"skip={skip} leaves too few samples", column="skip")
+    return q, force
+
+
+def _stribeck_velocity(stribeck_velocity, dq, build) -> float | None:
+    """The Stribeck velocity as given, ``None`` (no Stribeck term), or with ``"fit"`` the
+    one of least squared residual of the fit ``build(vs)`` gives, over four decades below
+    the largest speed [m/s]."""
     if isinstance(stribeck_velocity, str):
         if stribeck_velocity != "fit":
             raise InputError(
@@ -200,29 +220,13 @@ def idim_ls(
             method="bounded",
             options={"xatol": 1e-3},
         )
-        vs = 10.0 ** float(res.x)
-        extra["stribeck_velocity"] = vs
-    elif stribeck_velocity is None:
-        vs = None
-    else:
-        vs = float(stribeck_velocity)
-        if vs <= 0.0:
-            raise InputError("stribeck_velocity must be > 0", column="stribeck_velocity")
-        extra["stribeck_velocity"] = vs
-    if vs is not None:
-        extra["stribeck_delta"] = float(stribeck_delta)
-    Wd, yd, names = build(vs)
-    est = _lstsq(Wd, yd, names)
-    return ParameterEstimate(
-        est.names,
-        est.values,
-        est.std,
-        est.relative_error,
-        est.residual_std,
-        est.condition,
-        est.n_samples,
-        extra,
-    )
+        return 10.0 ** float(res.x)
+    if stribeck_velocity is None:
+        return None
+    vs = float(stribeck_velocity)
+    if vs <= 0.0:
+        raise InputError("stribeck_velocity must be > 0", column="stribeck_velocity")
+    return vs
 
 
 def friction_from_idim(est: ParameterEstimate, v_stick: float = 0.0):

@@ -488,24 +488,7 @@ def reduced_frfs(
     dict of str to FRF
         ``"G_M"`` [rad/s/A], ``"G_T"`` [m/rad], and ``"G_tcp"`` [-] if TCP data exist.
     """
-    if time_s is not None:
-        fs_t = sample_rate_hz(time_s, file=file)
-        if fs_hz is not None and abs(fs_t - fs_hz) > 1e-3 * fs_hz:
-            raise InputError(
-                f"time column gives {fs_t:.6g} Hz, fs_hz says {fs_hz:.6g} Hz",
-                file=file,
-                column="time_s",
-            )
-        fs_hz = fs_t
-        n_t = np.asarray(time_s).size
-        if np.asarray(excitation_A).size != n_t:
-            raise InputError(
-                f"{np.asarray(excitation_A).size} excitation samples for {n_t} time samples",
-                file=file,
-                column="excitation_A",
-            )
-    if fs_hz is None:
-        raise InputError("give the sample rate fs_hz or the time vector time_s")
+    fs_hz = _record_rate(time_s, fs_hz, excitation_A, file)
     signals = {"current_A": current_A, "motor_angle_rad": motor_angle_rad, "scale_m": scale_m}
     if tcp_m is not None:
         signals["tcp_m"] = tcp_m
@@ -534,3 +517,27 @@ def reduced_frfs(
             f["tcp_m"] / f["scale_m"], name="G_tcp", input="X_LS", output="X_TCP"
         )
     return out
+
+
+def _record_rate(time_s, fs_hz, excitation_A, file) -> float:
+    """Sample rate of a record from its time column, checked against ``fs_hz`` and the
+    length of the excitation, or ``fs_hz`` without a time column [Hz]."""
+    if time_s is not None:
+        fs_t = sample_rate_hz(time_s, file=file)
+        if fs_hz is not None and abs(fs_t - fs_hz) > 1e-3 * fs_hz:
+            raise InputError(
+                f"time column gives {fs_t:.6g} Hz, fs_hz says {fs_hz:.6g} Hz",
+                file=file,
+                column="time_s",
+            )
+        fs_hz = fs_t
+        n_t = np.asarray(time_s).size
+        if np.asarray(excitation_A).size != n_t:
+            raise InputError(
+                f"{np.asarray(excitation_A).size} excitation samples for {n_t} time samples",
+                file=file,
+                column="excitation_A",
+            )
+    if fs_hz is None:
+        raise InputError("give the sample rate fs_hz or the time vector time_s")
+    return fs_hz

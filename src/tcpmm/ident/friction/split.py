@@ -339,15 +339,6 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     m = mechanics
     est = steady_curve(t, record, force, est, plateaus, m)
     v = dict(zip(est.names, est.values, strict=True))
-    linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t
-    fv = max(float(v["Fv"]) - linear, 0.0)
-
-    def part(k):
-        return StribeckFriction(
-            fc_pos=k * max(v["Fc+"], 0.0), fc_neg=k * max(v["Fc-"], 0.0),
-            fs_pos=k * max(v["Fs+"], 0.0), fs_neg=k * max(v["Fs-"], 0.0),
-            vs=max(float(v["vs"]), 1e-6), fv_pos=k * fv, fv_neg=k * fv)
-
     given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
 
     def plateau_split(mech, rel_std, **kw):
@@ -379,29 +370,49 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         lm = plateau_split(m_split, stiffness_rel_std, share=from_sweep[0])
         split = FrictionSplit(from_sweep[0], lm.backlash if lm.determined else 0.0, "sweep",
                               lm, None, from_sweep[1], viscous_on_table=from_sweep[2])
-    elif play:
-        used = lm if lm.determined else nut
-        split = FrictionSplit(min(max(used.guideway_share, 0.0), 1.0), nut.backlash, "data",
-                              lm, nut, used.guideway_share_std)
-    elif given is not None:
-        split = FrictionSplit(given, lm.backlash if lm.determined else 0.0, "given", lm)
-    elif lm.determined:
-        split = FrictionSplit(lm.guideway_share, lm.backlash, "data", lm,
-                              guideway_share_std=lm.guideway_share_std)
     else:
-        name = f"axis {axis}" if axis else "axis"
-        warnings.warn(
-            f"{name}: the friction runs do not determine how the friction divides between "
-            f"guideway and screw ({lm.reason}); using the prior guideway share "
-            f"{GUIDEWAY_SHARE} and no lost motion", InputWarning, stacklevel=2)
-        split = FrictionSplit(GUIDEWAY_SHARE, 0.0, "prior", lm)
+        split = _split_of(lm, nut, play, given, axis)
     if nut is not None and not nut.lost_motion_found() and np.isfinite(nut.backlash_std):
         split = dataclasses.replace(split, unfound_backlash_std=float(nut.backlash_std))
+    return _axis_friction(v, m, split), est, split
+
+
+def _split_of(lm, nut, play: bool, given, axis) -> FrictionSplit:
+    """The split from the plateaus (``lm``) and the nut estimate: with free play, given
+    by the user, determined by the plateaus, or else the prior, with a warning [-]."""
+    if play:
+        used = lm if lm.determined else nut
+        return FrictionSplit(min(max(used.guideway_share, 0.0), 1.0), nut.backlash, "data",
+                             lm, nut, used.guideway_share_std)
+    if given is not None:
+        return FrictionSplit(given, lm.backlash if lm.determined else 0.0, "given", lm)
+    if lm.determined:
+        return FrictionSplit(lm.guideway_share, lm.backlash, "data", lm,
+                             guideway_share_std=lm.guideway_share_std)
+    name = f"axis {axis}" if axis else "axis"
+    warnings.warn(
+        f"{name}: the friction runs do not determine how the friction divides between "
+        f"guideway and screw ({lm.reason}); using the prior guideway share "
+        f"{GUIDEWAY_SHARE} and no lost motion", InputWarning, stacklevel=3)
+    return FrictionSplit(GUIDEWAY_SHARE, 0.0, "prior", lm)
+
+
+def _axis_friction(v: dict, m, split: FrictionSplit) -> AxisFriction:
+    """The Stribeck curve ``v`` of the runs divided between guideway and screw by the
+    split's share, less the viscous forces of the linear mechanics ``m`` [-]."""
+    linear = (m.B_m + m.B_L) / m.R_L**2 + m.C_t
+    fv = max(float(v["Fv"]) - linear, 0.0)
+
+    def part(k):
+        return StribeckFriction(
+            fc_pos=k * max(v["Fc+"], 0.0), fc_neg=k * max(v["Fc-"], 0.0),
+            fs_pos=k * max(v["Fs+"], 0.0), fs_neg=k * max(v["Fs-"], 0.0),
+            vs=max(float(v["vs"]), 1e-6), fv_pos=k * fv, fv_neg=k * fv)
+
     share = split.guideway_share
-    fr = AxisFriction(guideway=part(share) if share > 0 else None,
-                      screw=part(1 - share) if share < 1 else None,
-                      backlash=split.backlash, guideway_velocity="relative")
-    return fr, est, split
+    return AxisFriction(guideway=part(share) if share > 0 else None,
+                        screw=part(1 - share) if share < 1 else None,
+                        backlash=split.backlash, guideway_velocity="relative")
 
 
 def _sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std: float):

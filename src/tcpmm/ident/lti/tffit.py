@@ -337,13 +337,7 @@ def fit_tf(
     limit_blas_threads()
     f, H, w = _parse_data(data, weight, min_coherence)
     n_num, n_den, k = int(n_num), int(n_den), int(n_integrators)
-    if n_num < 0 or n_den < 0 or k < 0:
-        raise InputError("orders and number of integrators must be >= 0")
-    fit_delay = isinstance(delay_s, str)
-    if fit_delay and delay_s != "fit":
-        raise InputError(f"delay_s must be None, a number or 'fit', got {delay_s!r}")
-    if not fit_delay and delay_s is not None and (not np.isfinite(delay_s) or delay_s < 0):
-        raise InputError(f"delay must be >= 0 s, got {delay_s}")
+    fit_delay = _check_structure(n_num, n_den, k, delay_s)
     n_params = n_num + 1 + n_den + int(fit_delay)
     if 2 * f.size <= n_params:
         raise InputError(f"{f.size} weighted bins cannot determine {n_params} parameters")
@@ -352,16 +346,7 @@ def fit_tf(
     x = s / omega0
     Hk = H * x**k
 
-    # starts of the linear stage as (start poles, numerator degree of the SK iterations):
-    # Levy's (A = 1), spread poles, poles at resonance peaks, and Levy's with two zeros
-    # fewer (surplus zeros can lead SK into a basin with a spurious pole-zero pair)
-    starts = [(None, n_num)]
-    if n_den > 0:
-        starts.append((_spread_poles(n_den, x[0].imag, x[-1].imag), n_num))
-    if n_den >= 2:
-        starts.append((_peak_poles(f, H, k, n_den, omega0), n_num))
-    if n_num >= 2 and n_den > 0:
-        starts.append((None, n_num - 2))
+    starts = _linear_starts(f, H, x, k, n_num, n_den, omega0)
 
     def linear_stage(tau, start, sel=slice(None), n_iter=iterations):
         Hd = Hk[sel] * np.exp(s[sel] * tau)
@@ -373,14 +358,7 @@ def fit_tf(
         return bn, pn, _relative_cost(f[sel], H[sel], w[sel], bn, pn, omega0, k, tau)
 
     if fit_delay:
-        # coarse search of the delay on at most ~400 bins with a few SK steps each
-        tmax = 1.0 / f[-1] if max_delay_s is None else float(max_delay_s)
-        grid = np.linspace(0.0, tmax, 11)
-        sub = slice(None, None, max(1, f.size // 400))
-        costs = [
-            min(linear_stage(t, st, sub, min(iterations, 6))[2] for st in starts) for t in grid
-        ]
-        tau = float(grid[int(np.argmin(costs))])
+        tau = _coarse_delay(f, max_delay_s, starts, linear_stage, iterations)
     else:
         tau = 0.0 if delay_s is None else float(delay_s)
     # refine the starts in order of their linear cost; a start more than REFINE_RATIO times
@@ -399,6 +377,46 @@ def fit_tf(
                 best = cand
     bn, pn, tau, cost = best
     return _result(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost)
+
+
+def _coarse_delay(f, max_delay_s, starts, linear_stage, iterations: int) -> float:
+    """Coarse search of the delay on at most ~400 bins with a few SK steps each: the best
+    of eleven delays up to ``max_delay_s`` (default one period of the top bin) [s]."""
+    tmax = 1.0 / f[-1] if max_delay_s is None else float(max_delay_s)
+    grid = np.linspace(0.0, tmax, 11)
+    sub = slice(None, None, max(1, f.size // 400))
+    costs = [
+        min(linear_stage(t, st, sub, min(iterations, 6))[2] for st in starts) for t in grid
+    ]
+    return float(grid[int(np.argmin(costs))])
+
+
+def _check_structure(n_num: int, n_den: int, k: int, delay_s) -> bool:
+    """Raise for negative orders or a delay that is neither ``None``, a time nor
+    ``"fit"``; whether the delay is fitted [-]."""
+    if n_num < 0 or n_den < 0 or k < 0:
+        raise InputError("orders and number of integrators must be >= 0")
+    fit_delay = isinstance(delay_s, str)
+    if fit_delay and delay_s != "fit":
+        raise InputError(f"delay_s must be None, a number or 'fit', got {delay_s!r}")
+    if not fit_delay and delay_s is not None and (not np.isfinite(delay_s) or delay_s < 0):
+        raise InputError(f"delay must be >= 0 s, got {delay_s}")
+    return fit_delay
+
+
+def _linear_starts(f, H, x, k: int, n_num: int, n_den: int, omega0: float) -> list:
+    """Starts of the linear stage as (start poles, numerator degree of the SK
+    iterations): Levy's (A = 1), spread poles, poles at resonance peaks, and Levy's with
+    two zeros fewer (surplus zeros can lead SK into a basin with a spurious pole-zero
+    pair) [-]."""
+    starts = [(None, n_num)]
+    if n_den > 0:
+        starts.append((_spread_poles(n_den, x[0].imag, x[-1].imag), n_num))
+    if n_den >= 2:
+        starts.append((_peak_poles(f, H, k, n_den, omega0), n_num))
+    if n_num >= 2 and n_den > 0:
+        starts.append((None, n_num - 2))
+    return starts
 
 
 def _result(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost):

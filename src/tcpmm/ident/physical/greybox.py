@@ -338,22 +338,12 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         return residual_jacobian(mech_of(theta), freqs, w, r, names, tied, bandwidth(theta),
                                  nut_gain)
 
-    if initial is not None:
-        starts = [initial]
-    else:
-        starts = initial_guesses(data, lead, K_tc)
-        if tf_fits:
-            starts = guesses_from_tf(tf_fits, lead, K_tc, j_total_from_g_m(full["G_M"], K_tc),
-                                     f_top_hz=f_top) + starts
+    starts = [initial] if initial is not None else _starts(data, full, lead, K_tc, tf_fits, f_top)
     r = _multistart(resid, jac, starts, names, fit_current_loop, max_nfev)
     m = mech_of(r.x)
     mech = AxisMechanics.create(**m.model_dump())
     f_i = bandwidth(r.x)
-    sd_log, corr = _log_covariance(r)
-    vals = dict(zip(names, np.exp(r.x), strict=True))
-    std = {p: float(vals[p] * sd_log[i]) for i, p in enumerate(names)}
-    std.update({p: float(r * std["M_t"]) for p, r in tied.items()})
-    undetermined = [p for i, p in enumerate(names) if sd_log[i] > 0.5]
+    std, corr, undetermined = _std(r, names, tied)
     if undetermined:
         warnings.warn("the FRFs do not determine " + ", ".join(undetermined) +
                       " (relative standard deviation above 50 %); their values are a guess",
@@ -361,13 +351,34 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i, hold_period_s,
                        nut_gain)
     rel = {k: rel_error(d.H[d.weight > 0], model[k][d.weight > 0]) for k, d in full.items()}
-    for p in ("M_h", "C_h", "K_h"):
-        std.setdefault(p, float("nan"))
     if fit_current_loop and ("f_i" in undetermined or f_i > 3 * f_top):
         f_i = None  # the data cannot see the current loop: keep it ideal
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
                        names=reported + names[n_mech:], nfev=int(r.nfev),
                        current_bandwidth_hz=f_i, tied=tied, nut_gain=nut_gain)
+
+
+def _starts(binned: dict, full: dict, lead: float, K_tc: float, tf_fits, f_top: float) -> list:
+    """Starting points from the data: from the poles and zeros of the rational fits when
+    there are any, then from the log-binned FRFs themselves [SI]."""
+    starts = initial_guesses(binned, lead, K_tc)
+    if tf_fits:
+        starts = guesses_from_tf(tf_fits, lead, K_tc, j_total_from_g_m(full["G_M"], K_tc),
+                                 f_top_hz=f_top) + starts
+    return starts
+
+
+def _std(r, names: list, tied: dict):
+    """Standard deviation per parameter [SI], the correlation matrix of the
+    log-parameters [-] and the parameters the data do not determine (relative std above
+    50 %) of a ``least_squares`` result; ``nan`` for a TCP structure not fitted."""
+    sd_log, corr = _log_covariance(r)
+    vals = dict(zip(names, np.exp(r.x), strict=True))
+    std = {p: float(vals[p] * sd_log[i]) for i, p in enumerate(names)}
+    std.update({p: float(r * std["M_t"]) for p, r in tied.items()})
+    for p in ("M_h", "C_h", "K_h"):
+        std.setdefault(p, float("nan"))
+    return std, corr, [p for i, p in enumerate(names) if sd_log[i] > 0.5]
 
 
 def _multistart(resid, jac, starts, names, fit_current_loop: bool, max_nfev: int):

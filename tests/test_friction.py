@@ -64,8 +64,8 @@ def test_holder_rejects_bad_input(kwargs, word):
 def test_lugre_and_backlash_holders_validate():
     with pytest.raises(InputError, match="sigma0"):
         LuGreFriction(fc_pos=1.0, fc_neg=1.0, sigma0=0.0)
-    with pytest.raises(InputError, match="b"):
-        Backlash(k=1e8, b=-1e-6)
+    with pytest.raises(InputError, match="play"):
+        Backlash(k=1e8, play=-2e-6)
     with pytest.raises(InputError):
         friction_params_array("coulomb")
 
@@ -215,7 +215,7 @@ def test_lugre_implicit_step_is_stable_for_stiff_bristles():
 
 
 def test_backlash_dead_zone():
-    p = backlash_params_array(Backlash(k=2e8, b=5e-6, c=1e3))
+    p = backlash_params_array(Backlash(k=2e8, play=10e-6, c=1e3))  # +/- 5 um dead zone
     for d in np.linspace(-5e-6, 5e-6, 11):
         assert backlash_force(d, 0.3, p) == 0.0
     assert backlash_force(6e-6, 0.0, p) == pytest.approx(2e8 * 1e-6)
@@ -241,3 +241,15 @@ def test_backlash_dead_zone():
     moved = np.flatnonzero(np.abs(trace[i_rev:] - trace[i_rev]) > 0)
     # after the reversal the output waits while the input crosses the full gap 2 b
     assert x_in[i_rev] - x_in[i_rev + moved[0]] >= 2 * 5e-6 - 1e-12
+
+
+def test_backlash_is_the_total_free_play_and_the_half_gap_is_deprecated():
+    """``play`` is the total free play, as in the model file; the former ``b`` (half the
+    gap) still gives the same element, with a warning."""
+    new = Backlash(k=2e8, play=10e-6)
+    with pytest.warns(DeprecationWarning, match="play=2\\*b"):
+        old = Backlash(k=2e8, b=5e-6)
+    assert old == new
+    assert backlash_params_array(new)[1] == 5e-6  # the compiled function reads the half gap
+    with pytest.raises(InputError, match="play"), pytest.warns(DeprecationWarning):
+        Backlash(k=2e8, b=-1e-6)

@@ -35,7 +35,10 @@ Models
     spring of stiffness ``sigma0`` [N/m] with a hysteretic force-displacement loop.
 ``Backlash``
     Lost motion of a screw-nut: dead-zone spring of contact stiffness ``k`` [N/m] and total
-    gap ``2 b`` [m], with optional contact damping ``c`` [N s/m].
+    free play ``play`` [m] (the dead zone spans ``+/- play/2``), with optional contact
+    damping ``c`` [N s/m]. The play is the total free play, the lost motion at a reversal,
+    as everywhere in the package (the model file's ``friction.backlash``, the identified
+    lost motion, the circle diagnostics).
 
 Parameter vectors
 -----------------
@@ -44,10 +47,13 @@ the float vector that the compiled functions of :mod:`tcpmm.sim.friction` read. 
 friction vector layout is given by the ``P_*`` index constants of this module; the model
 code ``params[P_MODEL]`` is ``MODEL_NONE`` (no friction), ``MODEL_STATIC`` or
 ``MODEL_LUGRE``, and the static-model friction state is ``STUCK`` or ``SLIDING``. The
-backlash vector is ``[k, b, c]``, indexed by ``B_K``, ``B_GAP`` and ``B_C``.
+backlash vector is ``[k, play/2, c]`` (the half gap is what the compiled function reads),
+indexed by ``B_K``, ``B_GAP`` and ``B_C``.
 """
 
 from __future__ import annotations
+
+import warnings
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
@@ -222,15 +228,29 @@ class Backlash(_Holder):
     ----------
     k : float
         Contact stiffness once the gap is closed [N/m].
-    b : float
-        Half of the total gap (the free play is ``2 b``) [m].
+    play : float
+        Total free play across the nut, the lost motion at a reversal; the dead zone spans
+        ``+/- play/2`` [m]. ``b=``, half the gap, is still accepted, with a
+        ``DeprecationWarning``, as ``play = 2 b`` [m].
     c : float
         Contact damping, active only in contact [N s/m].
     """
 
     k: float = Field(gt=0.0)
-    b: float = Field(ge=0.0)
+    play: float = Field(ge=0.0)
     c: float = Field(default=0.0, ge=0.0)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _half_gap(cls, data):
+        """Accept the former ``b`` (half the gap) as ``play = 2 b``."""
+        if isinstance(data, dict) and "b" in data:
+            warnings.warn("Backlash(b=...) is half the gap and deprecated: give play=2*b, the "
+                          "total free play [m]", DeprecationWarning, stacklevel=2)
+            data = dict(data)
+            b = data.pop("b")
+            data.setdefault("play", 2.0 * b if isinstance(b, (int, float)) else b)
+        return data
 
 
 def friction_params_array(model) -> np.ndarray:
@@ -288,7 +308,7 @@ def backlash_params_array(model: Backlash | None) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        ``[k, b, c]`` [N/m, m, N s/m].
+        ``[k, play/2, c]``: stiffness, half the gap, damping [N/m, m, N s/m].
     """
     p = np.zeros(N_BACKLASH_PARAMS)
     if model is None:
@@ -299,6 +319,6 @@ def backlash_params_array(model: Backlash | None) -> np.ndarray:
             column="backlash",
         )
     p[B_K] = model.k
-    p[B_GAP] = model.b
+    p[B_GAP] = 0.5 * model.play
     p[B_C] = model.c
     return p

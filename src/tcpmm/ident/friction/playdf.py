@@ -68,7 +68,7 @@ def _dead_zone_harmonics(x0, a, half):
     return m_up - m_lo, f_up + f_lo
 
 
-def dead_zone_gain(amplitude, half_play: float, bias: float) -> np.ndarray:
+def dead_zone_gain(amplitude, play: float, bias: float) -> np.ndarray:
     """Describing function of a dead-zone spring held on one flank by a bias force.
 
     Mean force and first harmonic in closed form; the offset at which the mean force
@@ -78,8 +78,9 @@ def dead_zone_gain(amplitude, half_play: float, bias: float) -> np.ndarray:
     ----------
     amplitude : array_like
         Amplitude ``a`` of the deflection across the element [m].
-    half_play : float
-        Half the lost motion, ``b/2`` [m].
+    play : float
+        Total free play of the element, the lost motion; the dead zone spans
+        ``+/- play/2`` [m].
     bias : float
         Mean force over the contact stiffness, ``F_g / K_t`` [m].
 
@@ -89,7 +90,7 @@ def dead_zone_gain(amplitude, half_play: float, bias: float) -> np.ndarray:
         First-harmonic gain relative to the contact stiffness, in [0, 1] [-].
     """
     a = np.atleast_1d(np.asarray(amplitude, dtype=float))
-    half = max(float(half_play), 0.0)
+    half = 0.5 * max(float(play), 0.0)
     fb = abs(float(bias))
     a_pos = np.where(a > 0, a, 1.0)
     reach = half + fb + a + 1e-15
@@ -170,7 +171,7 @@ def play_gain(freq_hz, amplitude_m, backlash_m: float, bias_force_N: float,
     amplitude_m : array_like
         Nut deflection amplitude per frequency [m].
     backlash_m : float
-        Lost motion of the nut [m].
+        Lost motion of the nut, its total free play [m].
     bias_force_N : float
         Guideway force holding the nut on one flank during the sweep [N].
     stiffness_N_per_m : float
@@ -183,7 +184,7 @@ def play_gain(freq_hz, amplitude_m, backlash_m: float, bias_force_N: float,
         (1 outside the record's band) [-].
     """
     lf = np.log(np.asarray(freq_hz, dtype=float))
-    g = dead_zone_gain(amplitude_m, 0.5 * backlash_m, bias_force_N / stiffness_N_per_m)
+    g = dead_zone_gain(amplitude_m, backlash_m, bias_force_N / stiffness_N_per_m)
 
     def gain(f):
         return np.interp(np.log(np.asarray(f, dtype=float)), lf, g, left=1.0, right=1.0)

@@ -263,40 +263,42 @@ def read_numeric_csv(
     if n == 0:
         raise no_rows_error(path)
     frame = frame.iloc[:n]
-    out: dict[str, np.ndarray] = {}
-    for name in use:
-        col = frame[name]
-        if col.dtype == bool:
+    return {name: _finite_column(frame[name], name, path) for name in use}
+
+
+def _finite_column(col, name: str, path: Path) -> np.ndarray:
+    """A column as float64, with the first cell that is not a finite number named by
+    file, line and column [-]."""
+    if col.dtype == bool:
+        raise InputError(
+            "values are True/False; expected numbers", file=path, line=2, column=name
+        )
+    if not pd.api.types.is_numeric_dtype(col.dtype):
+        num = pd.to_numeric(col, errors="coerce")
+        bad = np.flatnonzero(num.isna().to_numpy() & col.notna().to_numpy())
+        if bad.size:
+            i = int(bad[0])
             raise InputError(
-                "values are True/False; expected numbers", file=path, line=2, column=name
-            )
-        if not pd.api.types.is_numeric_dtype(col.dtype):
-            num = pd.to_numeric(col, errors="coerce")
-            bad = np.flatnonzero(num.isna().to_numpy() & col.notna().to_numpy())
-            if bad.size:
-                i = int(bad[0])
-                raise InputError(
-                    f"value '{col.iloc[i]}' is not a number (use '.' as decimal point, "
-                    "no units or thousands separators in cells)",
-                    file=path,
-                    line=i + 2,
-                    column=name,
-                )
-            col = num
-        values = col.to_numpy(dtype=float)
-        finite = np.isfinite(values)
-        if not finite.all():
-            i = int(np.flatnonzero(~finite)[0])
-            what = "empty (missing value or blank line)" if np.isnan(values[i]) else "infinite"
-            raise InputError(
-                f"value is {what}; every cell must hold a finite number. Remove or "
-                "repair the row (do not interpolate silently over sensor drop-outs)",
+                f"value '{col.iloc[i]}' is not a number (use '.' as decimal point, "
+                "no units or thousands separators in cells)",
                 file=path,
                 line=i + 2,
                 column=name,
             )
-        out[name] = values
-    return out
+        col = num
+    values = col.to_numpy(dtype=float)
+    finite = np.isfinite(values)
+    if not finite.all():
+        i = int(np.flatnonzero(~finite)[0])
+        what = "empty (missing value or blank line)" if np.isnan(values[i]) else "infinite"
+        raise InputError(
+            f"value is {what}; every cell must hold a finite number. Remove or "
+            "repair the row (do not interpolate silently over sensor drop-outs)",
+            file=path,
+            line=i + 2,
+            column=name,
+        )
+    return values
 
 
 def atomic_write_columns(

@@ -120,8 +120,8 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
              presliding_um: float = typer.Option(
                  None, "--presliding-um", min=0.0,
                  help="Pre-sliding displacement of the friction contacts [um] (LuGre); "
-                      "0: static friction that sticks rigidly; default: "
-                      "tcpmm.ident.presliding.PRESLIDING."),
+                      "0: static friction that sticks rigidly; default: fitted to the "
+                      "reversals of the friction runs."),
              accept_suspect: bool = typer.Option(
                  False, "--accept-suspect",
                  help="Write the model even when the gates find it physically suspect "
@@ -135,7 +135,6 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     not written, unless --accept-suspect.
     """
     from ..ident.pipeline import identify_bundle
-    from ..ident.presliding import PRESLIDING
     from ..io.atomic import output_folder
     from ..io.bundle import read_bundle
     from ..io.modelfile import write_machine
@@ -145,7 +144,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
         output_folder(report)
     f0, f1 = _band(band, "--band")
     b = read_bundle(bundle)
-    presliding = PRESLIDING if presliding_um is None else presliding_um * 1e-6
+    presliding = None if presliding_um is None else presliding_um * 1e-6
     with _progress(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
                               presliding=presliding, accept_suspect=accept_suspect)
@@ -159,7 +158,26 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     from ..demo import print_circle_table
 
     print_circle_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
-    if presliding > 0 and any(a.friction is not None for a in idn.axes.values()):
-        out.print(f"friction: pre-sliding of {presliding * 1e6:g} um assumed on every contact "
-                  "(the friction runs do not determine it; --presliding-um sets it)")
+    _print_presliding(idn, presliding)
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
+
+
+def _print_presliding(idn, presliding) -> None:
+    """One line per axis: the pre-sliding fitted, or assumed and why."""
+    from ..ident.presliding import PRESLIDING
+
+    for name, a in idn.axes.items():
+        if a.friction is None:
+            continue
+        fit = a.physical.extra.get("presliding_fit")
+        if presliding is not None:
+            out.print(f"friction {name}: pre-sliding {presliding * 1e6:g} um as given")
+        elif fit is not None and fit["determined"]:
+            out.print(f"friction {name}: pre-sliding {fit['presliding_m'] * 1e6:.2f} "
+                      f"+- {fit['presliding_std_m'] * 1e6:.2f} um, bristle damping ratio "
+                      f"{fit['damping_ratio']:.2f} +- {fit['damping_ratio_std']:.2f} "
+                      f"(fitted to {fit['reversals']} reversals of the friction runs)")
+        else:
+            why = fit["reason"] if fit is not None else "no friction runs"
+            out.print(f"friction {name}: pre-sliding of {PRESLIDING * 1e6:g} um assumed "
+                      f"({why}; --presliding-um sets it)")

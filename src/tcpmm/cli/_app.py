@@ -134,6 +134,16 @@ def _plot(plot: Path | None) -> Path | None:
     return plot_file(plot)
 
 
+def _report_file(report: Path | None) -> Path | None:
+    """Check a --report HTML file name before any work is done."""
+    if report is None:
+        return None
+    from ..report import report_file
+
+    _output(report)
+    return report_file(report)
+
+
 @contextmanager
 def _in_file(path):
     """Name ``path`` in an input error that names no file (the analysis of its content)."""

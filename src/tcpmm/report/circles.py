@@ -150,8 +150,16 @@ def spread_section(spread):
                 "draws give the spike the nominal sign, and firm when nine in ten lie "
                 f"within {data['tolerance_um']:g} µm of it.", "lead")
     if hasattr(spread, "plot"):
-        body += figure(spread.plot(), "spread of the reversal spikes",
-                       "nominal spike (circle), draws (dots) and their range (bar)", 900)
+        fig, what = spread.plot(), "draws (dots) and their range (bar)"
+    else:
+        from ..plot.spread import plot_spread_rows
+
+        fig = plot_spread_rows(data["spikes"], data["sensor"], data["tolerance_um"] * 1e-6,
+                               data["draws"])
+        what = "the range of the draws (bar)"
+    body += figure(fig, "spread of the reversal spikes",
+                   f"nominal spike (circle), {what}; ticks: rise and fall after the "
+                   "reversal", 900)
     frame = pd.DataFrame(data["spikes"]).rename(columns={
         "spike_um": "spike [µm]", "rise_um": "rise [µm]", "fall_um": "fall [µm]",
         "low_um": "lowest [µm]", "high_um": "highest [µm]",
@@ -191,9 +199,9 @@ def result_section(result, key: str, title: str, note: str | None = None):
     return section(key, title, body)
 
 
-#: Keys of a spread row the section reads.
-SPREAD_ROW = ("direction", "point", "spike_um", "rise_um", "fall_um", "low_um", "high_um",
-              "same_sign", "settled", "within", "firm")
+#: Keys of a spread row the section reads: numbers, then the rest.
+SPREAD_NUMBERS = ("spike_um", "rise_um", "fall_um", "low_um", "high_um", "same_sign", "within")
+SPREAD_ROW = ("direction", "point", *SPREAD_NUMBERS, "settled", "firm")
 
 
 def read_spread_json(path) -> dict:
@@ -216,13 +224,28 @@ def read_spread_json(path) -> dict:
         if key not in data:
             raise InputError(f"has no '{key}', so it is not a spread; {fix}", file=path,
                              column=key)
+    if not (_number(data["draws"]) and data["draws"] == int(data["draws"]) >= 1):
+        raise InputError(f"'draws' must be a whole number of 1 or more; {fix}", file=path,
+                         column="draws")
+    if not (_number(data["tolerance_um"]) and data["tolerance_um"] > 0):
+        raise InputError(f"'tolerance_um' must be a positive number; {fix}", file=path,
+                         column="tolerance_um")
     rows = data["spikes"]
-    if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
-        raise InputError(f"'spikes' must be a list of rows; {fix}", file=path,
-                         column="spikes")
+    if not (isinstance(rows, list) and rows and len(rows) % 4 == 0
+            and all(isinstance(r, dict) for r in rows)):
+        raise InputError(f"'spikes' must be rows for the quadrant points A-D of each circle; "
+                         f"{fix}", file=path, column="spikes")
     for i, r in enumerate(rows):
         lack = [k for k in SPREAD_ROW if k not in r]
-        if lack:
-            raise InputError(f"row {i + 1} of 'spikes' lacks {', '.join(lack)}; {fix}",
-                             file=path, column="spikes")
+        bad = [k for k in SPREAD_NUMBERS if k in r and not (_number(r[k]) or r[k] is None)]
+        if lack or bad:
+            what = f"lacks {', '.join(lack)}" if lack else f"has no number in {', '.join(bad)}"
+            raise InputError(f"row {i + 1} of 'spikes' {what}; {fix}", file=path,
+                             column="spikes")
+        r.update({k: float("nan") for k in SPREAD_NUMBERS if r[k] is None})
     return data
+
+
+def _number(v) -> bool:
+    """Whether a JSON value is a number (not a boolean) [-]."""
+    return isinstance(v, int | float) and not isinstance(v, bool)

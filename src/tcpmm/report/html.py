@@ -94,7 +94,8 @@ def number(v: float, digits: int | None = None) -> str:
     if digits is not None:
         text = f"{v:.{digits}f}"
     elif v == 0 or not 1e-3 <= abs(v) < 1e6:
-        text = f"{v:.3e}" if v else "0"
+        mantissa, _, exponent = f"{v:.3e}".partition("e")
+        text = f"{mantissa.rstrip('0').rstrip('.')}e{exponent}" if v else "0"
     else:
         text = f"{v:.{max(0, 3 - math.floor(math.log10(abs(v))))}f}"
         text = text.rstrip("0").rstrip(".") if "." in text else text

@@ -232,3 +232,19 @@ def test_compare_writes_table_2_and_the_measured_circle(capsys, tmp_path, inputs
                  str(R * 1e3), "--report", str(out)])
     assert code == 0, capsys.readouterr().err
     assert Page(out.read_text(encoding="utf-8")).sections == ["comparison", "circle"]
+
+
+def test_a_ccw_and_a_cw_run_are_diagnosed_together(capsys, tmp_path):
+    for d in ("ccw", "cw"):
+        p = circle_path(d)
+        make_run(p, polar_perturb(p, (0, 0), lambda a: 2e-6 * np.cos(2 * a))).write_csv(
+            tmp_path / f"{d}.csv")
+    code, text, err = report(capsys, tmp_path, "--run", f"{tmp_path}/ccw.csv,{tmp_path}/cw.csv",
+                             "--run", tmp_path / "ccw.csv", "--radius", R * 1e3)
+    assert code == 0, err
+    page = Page(text)
+    assert page.sections == ["circle", "circle"]
+    assert text.count("Diagnostics (TCP)") == 1 and "run ccw.csv and cw.csv." in text
+    scale = next(t for t in page.tables if t["csv"] == "circle_1_diagnostics.csv")["rows"]
+    row = next(r for r in scale if r[0] == "scale mismatch")  # 2 um cos 2a = m R/2 cos 2a
+    assert float(row[1].replace("\u2212", "-")) == pytest.approx(2e-6 / (R / 2) * 1e6, rel=0.02)

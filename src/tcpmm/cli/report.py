@@ -15,10 +15,11 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
                                      "machine and model summary."),
            ident_dir: Path = typer.Option(None, "--ident-dir", help="Folder written by "
                                           "tcpmm identify BUNDLE -o MODEL.yaml --report DIR."),
-           runs: list[Path] = typer.Option(
+           runs: list[str] = typer.Option(
                None, "--run", metavar="RUN.csv",
-               help="RUN.csv of a circular test (CCW and CW in one run: with diagnostics); "
-                    "repeat for more."),
+               help="RUN.csv of a circular test, with the diagnostics when it holds a CCW "
+                    "and a CW circle; RUN_CCW.csv,RUN_CW.csv: two runs diagnosed together; "
+                    "repeat for more tests."),
            measured: list[Path] = typer.Option(
                None, "--measured", metavar="RUN.csv",
                help="Measured RUN.csv of a circle; with --predicted."),
@@ -43,9 +44,12 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     )
     from ..report.circles import read_spread_json
 
-    runs, measured, predicted = runs or [], measured or [], predicted or []
+    runs = [[Path(f) for f in r.split(",")] for r in runs or []]
+    measured, predicted = measured or [], predicted or []
+    if any(len(r) > 2 or not all(str(f) for f in r) for r in runs):
+        raise typer.BadParameter("--run takes RUN.csv or RUN_CCW.csv,RUN_CW.csv")
     _report_file(output)
-    _output(output, model, ident_dir, spread, *runs, *measured, *predicted)
+    _output(output, model, ident_dir, spread, *(f for r in runs for f in r), *measured, *predicted)
     if len(measured) != len(predicted):
         raise typer.BadParameter(f"give one --predicted per --measured (got {len(measured)} "
                                  f"--measured and {len(predicted)} --predicted)")
@@ -68,7 +72,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
         sections += [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
                                  f"comparison-{i + 1}")
                      for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
-        inputs += [("run", r) for r in runs] + [("measured", m) for m in measured]
+        inputs += [("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
     if spread is not None:
         sections.append(spread_section(read_spread_json(spread)))
         inputs.append(("spread", spread))
@@ -87,12 +91,18 @@ def _circle(path: Path, circle):
 
 
 def _run_sections(runs, circle) -> list:
-    """A circle section per run; keys numbered when there are several."""
+    """A circle section per run or pair of runs; keys numbered when there are several."""
+    from ..analysis.circular import CircleResult
     from ..report import circle_test_section
 
-    return [circle_test_section(_circle(r, circle), "circle" if len(runs) == 1 else
-                                f"circle-{i + 1}", f"Circular test: {r.name}", r)
-            for i, r in enumerate(runs)]
+    sections = []
+    for i, files in enumerate(runs):
+        res = [_circle(f, circle) for f in files]
+        both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes])
+        sections.append(circle_test_section(
+            both, "circle" if len(runs) == 1 else f"circle-{i + 1}",
+            f"Circular test: {' and '.join(f.name for f in files)}", files))
+    return sections
 
 
 def _comparison(measured: Path, predicted: Path, circle, key: str):

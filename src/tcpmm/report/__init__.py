@@ -77,8 +77,8 @@ def circle_test_section(result, key: str = "circle", title: str = "Circular test
         The analysis [-].
     key, title : str
         Section anchor and title [-].
-    source : str, optional
-        The run file, for the record [-].
+    source : str or list of str, optional
+        The run file or files, for the record [-].
     sensor : str, optional
         Sensor of the diagnostics; default tcp, else scale, motor [-].
     """

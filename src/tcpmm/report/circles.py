@@ -44,14 +44,14 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None,
         Section title [-].
     diagnostics : CircleDiagnostics, optional
         Diagnostics of the CCW and CW circle [-].
-    source : str, optional
-        The run file, for the record [-].
+    source : str or list of str, optional
+        The run file or files, for the record [-].
     overlay : CircleResult, optional
         A second analysis drawn over the first (a prediction) [-].
     """
     body = para(f"Nominal radius {result.radius * 1e3:g} mm about "
                 f"({result.centre[0] * 1e3:g}, {result.centre[1] * 1e3:g}) mm"
-                + (f", run {Path(str(source)).name}" if source else "")
+                + (f", run {_names(source)}" if source else "")
                 + ". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg (n/a: the circle "
                   "starts or ends there); contour error: largest |radial error|; G: circular "
                   "deviation about the least-squares centre (ISO 230-4).", "lead")
@@ -63,6 +63,12 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None,
     if diagnostics is not None:
         body += diagnostics_html(diagnostics, stem)
     return section(key, title, body)
+
+
+def _names(files) -> str:
+    """File names without their folders, joined [-]."""
+    files = [files] if isinstance(files, str | Path) else files
+    return " and ".join(Path(str(f)).name for f in files)
 
 
 def result_plot(result, overlay=None):
@@ -117,7 +123,7 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
     key : str
         Section anchor, ``comparison-...`` when there are several [-].
     """
-    files = " against ".join(Path(str(s)).name for s in sources)
+    files = _names(sources).replace(" and ", " against ")
     body = para("Reversal spikes A-D and contour error of the measured run minus those of "
                 "the prediction, per direction and sensor; radial rms and max: point by "
                 "point difference of the radial error over the circle."

@@ -134,14 +134,15 @@ def _plot(plot: Path | None) -> Path | None:
     return plot_file(plot)
 
 
-def _report_file(report: Path | None) -> Path | None:
-    """Check a --report HTML file name before any work is done."""
+def _report_file(report: Path | None, *inputs) -> Path | None:
+    """Check a --report HTML file name, and that it is none of the inputs, before any work
+    is done."""
     if report is None:
         return None
     from ..report import report_file
 
-    _output(report)
-    return report_file(report)
+    report_file(report)
+    return _output(report, *inputs)
 
 
 @contextmanager

@@ -146,7 +146,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     _output(output)
     html = report is not None and report.suffix.lower() in (".html", ".htm")
     if html:
-        _report_file(report)
+        _report_file(report, bundle, output)
     elif report is not None:
         output_folder(report)
     f0, f1 = _band(band, "--band")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ._app import _floats, _in_file, _output, _positive, _read_model, _report_file, app, out
+from ._app import _floats, _in_file, _positive, _read_model, _report_file, app, out
 
 
 @app.command()
@@ -48,8 +48,8 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     measured, predicted = measured or [], predicted or []
     if any(len(r) > 2 or not all(str(f) for f in r) for r in runs):
         raise typer.BadParameter("--run takes RUN.csv or RUN_CCW.csv,RUN_CW.csv")
-    _report_file(output)
-    _output(output, model, ident_dir, spread, *(f for r in runs for f in r), *measured, *predicted)
+    _report_file(output, model, ident_dir, spread, *(f for r in runs for f in r), *measured,
+                 *predicted)
     if len(measured) != len(predicted):
         raise typer.BadParameter(f"give one --predicted per --measured (got {len(measured)} "
                                  f"--measured and {len(predicted)} --predicted)")

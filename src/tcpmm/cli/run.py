@@ -33,8 +33,7 @@ def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Out
     """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
     from ..demo import DEMO_STEPS, run_demo
 
-    if report is not None:
-        _report_file(report)
+    _report_file(report)
     with _progress(len(DEMO_STEPS), "demo") as adv:
         res = run_demo(out_dir, progress=adv, console=out, report=report)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
@@ -206,9 +205,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
     _positive(radius, "--radius [mm]")
     _plot(plot)
-    if report is not None:
-        _report_file(report)
-        _output(report, measured, predicted)
+    _report_file(report, measured, predicted)
     runs = [read_run_csv(f) for f in (measured, predicted)]
     with _in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr)

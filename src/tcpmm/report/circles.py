@@ -8,7 +8,7 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
-from .html import esc, figure, para, section, table
+from .html import esc, facts, figure, number, para, section, table
 
 SENSOR_NAMES = {"cmd": "command", "motor": "motor encoder", "scale": "linear scale",
                 "tcp": "TCP"}
@@ -29,8 +29,7 @@ def _um_columns(frame):
     return frame
 
 
-def circle_section(result, key: str, title: str, diagnostics=None, source=None,
-                   overlay=None):
+def circle_section(result, key: str, title: str, diagnostics=None, source=None):
     """A circular test: polar plot with µm rings, per-sensor table and, for a CCW and a CW
     circle, the diagnostics.
 
@@ -46,8 +45,6 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None,
         Diagnostics of the CCW and CW circle [-].
     source : str or list of str, optional
         The run file or files, for the record [-].
-    overlay : CircleResult, optional
-        A second analysis drawn over the first (a prediction) [-].
     """
     body = para(f"Nominal radius {result.radius * 1e3:g} mm about "
                 f"({result.centre[0] * 1e3:g}, {result.centre[1] * 1e3:g}) mm"
@@ -55,7 +52,8 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None,
                 + ". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg (n/a: the circle "
                   "starts or ends there); contour error: largest |radial error|; G: circular "
                   "deviation about the least-squares centre (ISO 230-4).", "lead")
-    body += figure(result_plot(result, overlay), "circle plot",
+    body += key_figures(result, diagnostics)
+    body += figure(result_plot(result), "circle plot",
                    "radial error magnified about the nominal circle; the dotted rings are "
                    "whole steps of radial error, labelled in µm")
     stem = key.replace("circle-", "circle_") if key != "circle" else "circle"
@@ -63,6 +61,37 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None,
     if diagnostics is not None:
         body += diagnostics_html(diagnostics, stem)
     return section(key, title, body)
+
+
+def key_figures(result, diag=None) -> str:
+    """What a reader looks at first: per pass G, contour error and the largest spike of the
+    best sensor there is; with diagnostics, backlash, squareness, scale and servo mismatch
+    and G(b) [-]."""
+    from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms
+
+    sensor = next((s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes)),
+                  None)
+    if sensor is None:
+        return ""
+    items = []
+    for p in result.passes:
+        sc = p.sensors[sensor]
+        spikes = {q: v for q, v in sc.spikes.items() if v == v}
+        text = (f"G {number(sc.circular_deviation * 1e6, 2)} µm, contour error "
+                f"{number(sc.contour_error * 1e6, 2)} µm")
+        if spikes:
+            q = max(spikes, key=lambda k: abs(spikes[k]))
+            text += f", largest reversal spike {number(spikes[q] * 1e6, 2)} µm at {q}"
+        items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
+    if diag is not None:
+        t = {k: (number(v, 2), u) for k, v, u in display_terms(diag)}
+        x, y = diag.axes
+        items += [("backlash", f"{x} {' '.join(t[f'backlash_{x}'])}, "
+                               f"{y} {' '.join(t[f'backlash_{y}'])}"),
+                  *((label, " ".join(t[k])) for k, label in (
+                      ("squareness", "squareness"), ("scale_mismatch", "scale mismatch"),
+                      ("servo_mismatch", "servo mismatch"), ("circularity_pair", "G(b)")))]
+    return facts(items)
 
 
 def _names(files) -> str:

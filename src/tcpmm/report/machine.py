@@ -60,7 +60,30 @@ def model_frame(machine):
         row.update({ax: get(a.friction) if a.friction is not None else float("nan")
                     for ax, a in machine.axes.items()})
         rows.append(row)
+    dyn = {ax: _dynamics(a) for ax, a in machine.axes.items()}
+    for i, (p, what, unit) in enumerate(DYNAMICS):
+        row = {"group": "dynamics", "parameter": p, "description": what, "unit": unit}
+        row.update({ax: d[i] for ax, d in dyn.items()})
+        rows.append(row)
     return pd.DataFrame(rows)
+
+
+#: Rows on the dynamics of each axis: name, description, unit.
+DYNAMICS = (("modes", "natural frequencies of the mechanics", "Hz"),
+            ("spectral_radius", "sampled servo loop spectral radius (stable below 1)", "-"))
+
+
+def _dynamics(axis) -> tuple:
+    """Natural frequencies of the open mechanics, lowest first, as text [Hz], and the
+    spectral radius of the sampled closed loop [-]."""
+    import numpy as np
+
+    from ..mechanics.statespace import plant
+    from ..servo.sampled import sampled_spectral_radius
+
+    ev = np.linalg.eigvals(plant(axis.mechanics).A)
+    f = np.sort(np.abs(ev[ev.imag > 0])) / (2 * np.pi)
+    return ", ".join(f"{x:.1f}" for x in f), sampled_spectral_radius(axis.mechanics, axis.servo)
 
 
 def _friction_rows():

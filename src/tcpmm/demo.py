@@ -44,7 +44,7 @@ DEMO_STEPS = ("built-in machine", "circle command", "simulation", "circular test
               "plots", "virtual measurement", "identification", "prediction", "spread")
 
 
-def run_demo(out_dir, progress=None, console=None) -> dict:
+def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
     """The paper end to end on the built-in machine, and everything written.
 
     Simulates the circular test (Figs. 11-12, Bode plots of Figs. 8-10), then measures
@@ -62,6 +62,8 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
         ``progress(step_name)`` before each step [-].
     console : rich.console.Console, optional
         Where to print the table [-].
+    report : str or Path, optional
+        HTML report to write besides (:mod:`tcpmm.report`) [-].
 
     Returns
     -------
@@ -103,7 +105,7 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
         files[f"bode_{ax}"] = plot_bode(curves, out / f"bode_{ax}.png", title=f"axis {ax}")
     if console is not None:
         print_circle_table(table, console, "Circular test on the built-in machine [um]")
-    cmp, identified = identify_and_predict(machine, cmd, out, step, files)
+    cmp, identified, circles = identify_and_predict(machine, cmd, out, step, files)
     if console is not None:
         print_circle_table(cmp.to_pandas(), console,
                            "Table 2: virtual measurement - prediction of the identified model [um]")
@@ -113,6 +115,8 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     spread = write_spread(identified, cmd, out, files)
     if console is not None:
         console.print(spread_summary(spread))
+    if report is not None:
+        files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out)
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
             "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
@@ -152,7 +156,35 @@ def identify_and_predict(machine, cmd, out, step, files):
     files.update(predicted=out / "predicted_run.csv", table2=out / "table2.csv")
     files["prediction_plot"] = plot_circle(rm, out / "prediction.png", sensors=["tcp"],
                                            overlay=rp, title="Exp-TCP (virtual) and Sim-TCP")
-    return cmp, idn.machine
+    return cmp, idn.machine, (rm, rp)
+
+
+def write_demo_report(path, machine, res, cmp, circles, spread, out):
+    """The demo's HTML report: the model, its identification, the circle with its
+    diagnostics, Table 2 and the spread."""
+    from .report import (
+        circle_test_section,
+        comparison_section,
+        identification_section,
+        model_section,
+        read_identification_folder,
+        spread_section,
+        write_report,
+    )
+
+    sections = [model_section(machine, out / "model.yaml"),
+                identification_section(*read_identification_folder(out / "identification")),
+                circle_test_section(res, "circle", "Circular test of the built-in machine "
+                                    f"(R{RADIUS_MM:g} mm, F{FEED_MM_PER_MIN:g} mm/min)",
+                                    out / "run.csv"),
+                circle_test_section(circles[0], "circle-measured",
+                                    "Circular test, virtual measurement",
+                                    out / "measured_run.csv"),
+                comparison_section(cmp, *circles, (out / "measured_run.csv",
+                                                    out / "predicted_run.csv")),
+                spread_section(spread)]
+    return write_report(path, sections, "tcpmm demo: the paper's circular test",
+                        [("model", out / "model.yaml"), ("bundle", out / "bundle")])
 
 
 def write_spread(identified, cmd, out, files, draws: int = 16):

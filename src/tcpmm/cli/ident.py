@@ -18,6 +18,7 @@ from ._app import (
     _positive,
     _progress,
     _read_model,
+    _report_file,
     _warn_suspect,
     app,
     out,
@@ -111,7 +112,9 @@ def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"
 @app.command()
 def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder."),
              output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml"),
-             report: Path = typer.Option(None, "--report", help="Folder for plots and tables."),
+             report: Path = typer.Option(
+                 None, "--report", help="Folder for plots and tables; a name ending in "
+                                        ".html: the HTML report instead (tcpmm report)."),
              band: str = typer.Option(None, "--band", help="F0,F1 of the FRFs [Hz]."),
              guideway_share: float = typer.Option(
                  None, "--guideway-share", min=0.0, max=1.0,
@@ -140,7 +143,10 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     from ..io.modelfile import write_machine
 
     _output(output)
-    if report is not None:
+    html = report is not None and report.suffix.lower() in (".html", ".htm")
+    if html:
+        _report_file(report, bundle, output)
+    elif report is not None:
         output_folder(report)
     f0, f1 = _band(band, "--band")
     b = read_bundle(bundle)
@@ -148,7 +154,9 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     with _progress(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
                               presliding=presliding, accept_suspect=accept_suspect)
-    if report is not None:
+    if html:
+        _identification_report(idn, report, bundle, output)
+    elif report is not None:
         idn.write_report(report)
     write_machine(idn.machine, output)
     _warn_suspect(idn.machine, f"the model written to {output}")
@@ -181,3 +189,11 @@ def _print_presliding(idn, presliding) -> None:
             why = fit["reason"] if fit is not None else "no friction runs"
             out.print(f"friction {name}: pre-sliding of {PRESLIDING * 1e6:g} um assumed "
                       f"({why}; --presliding-um sets it)")
+
+
+def _identification_report(idn, report: Path, bundle: Path, model: Path) -> None:
+    """The HTML report of an identification: the identified model and the fits."""
+    from ..report import identification_result_section, model_section, write_report
+
+    write_report(report, [model_section(idn.machine, model), identification_result_section(idn)],
+                 f"Identification of {bundle.resolve().name}", [("bundle", bundle)])

@@ -12,6 +12,14 @@ UNITS = {"G_M": "rad/s/A", "G_T": "m/rad", "G_tcp": "-", "G_p": "-", "cmd_to_tcp
          "G_v": "-"}
 
 
+def _phase_deg(H) -> np.ndarray:
+    """Phase in (-180, 180] [deg], NaN after each jump across ±180 deg so that the line
+    breaks there rather than drawing the wrap as a vertical stroke."""
+    ph = np.degrees(np.angle(H))
+    jump = np.r_[False, np.abs(np.diff(ph)) > 180.0]
+    return np.where(jump, np.nan, ph)
+
+
 def plot_bode(curves, path=None, title=None):
     """Magnitude (dB) and phase per transfer function, one column each.
 
@@ -38,7 +46,7 @@ def plot_bode(curves, path=None, title=None):
             if coh is not None:  # measured: hide bins the excitation did not reach
                 H = np.where(coh >= MIN_COHERENCE, H, np.nan)
             am.semilogx(f, 20 * np.log10(np.abs(H) + 1e-300), label=label, **style)
-            ap.semilogx(f, np.degrees(np.angle(H)), **style)
+            ap.semilogx(f, _phase_deg(H), **style)
             if coh is not None:
                 ac = am.twinx()
                 ac.semilogx(f, item[4], color="gray", lw=0.6, alpha=0.6)

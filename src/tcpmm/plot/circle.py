@@ -8,8 +8,55 @@ from . import SENSOR_STYLE, pyplot, save
 
 
 def _auto_magnification(result) -> float:
+    """The largest 1-2-5 step that draws the largest radial error within a quarter of R."""
     emax = max(np.max(np.abs(s.radial_error)) for p in result.passes for s in p.sensors.values())
-    return float(10 ** np.floor(np.log10(0.25 * result.radius / max(emax, 1e-12))))
+    raw = 0.25 * result.radius / max(emax, 1e-12)
+    decade = 10 ** np.floor(np.log10(raw))
+    return float(max(k for k in (1, 2, 5, 10) if k * decade <= raw * (1 + 1e-9)) * decade)
+
+
+def _ring_step_um(lo_um: float, hi_um: float, min_step_um: float = 0.0) -> float:
+    """The smallest 1-2-5 ring spacing of at least ``min_step_um`` that gives at most four
+    intervals over ``lo_um``..``hi_um`` [µm]."""
+    span = max(hi_um - lo_um, 1e-3)
+    for step in (k * 10.0 ** e for e in range(-3, 6) for k in (1, 2, 5)):
+        if step >= min_step_um and span / step <= 4:
+            return step
+    return span
+
+
+def _scale_rings(ax, R, M, errors) -> None:
+    """Rings at whole steps of radial error about the nominal radius, labelled in µm, and
+    the magnification written on the plot.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        The panel [-].
+    R : float
+        Nominal radius [m].
+    M : float
+        Radial error magnification [-].
+    errors : list of ndarray
+        Radial errors drawn in the panel [m].
+    """
+    lo = min(0.0, *(float(np.min(e)) for e in errors)) * 1e6
+    hi = max(0.0, *(float(np.max(e)) for e in errors)) * 1e6
+    step = _ring_step_um(lo, hi, 0.08 * R / M * 1e6)  # rings at least 8 % of R apart
+    th = np.linspace(0, 2 * np.pi, 361)
+    label_at = np.radians(112.5)
+    for k in range(int(np.floor(lo / step)), int(np.ceil(hi / step)) + 1):
+        e_um = k * step
+        r = (R + M * e_um * 1e-6) * 1e3
+        if k:
+            ax.plot(r * np.cos(th), r * np.sin(th), color="0.55", lw=0.6, ls=(0, (2, 3)),
+                    zorder=1)
+        ax.annotate(f"{e_um:+g} µm" if k else "0 µm", (r * np.cos(label_at),
+                    r * np.sin(label_at)), ha="center", va="center", fontsize=7,
+                    color="0.3", bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
+                                           alpha=0.85), zorder=5)
+    ax.text(0.02, 0.98, f"radial error ×{M:g}\nrings every {step:g} µm", transform=ax.transAxes,
+            va="top", fontsize=8, bbox=dict(boxstyle="round", fc="white", ec="0.7"))
 
 
 def plot_circle(result, path=None, magnification=None, sensors=None, overlay=None,
@@ -40,6 +87,7 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
         th = np.linspace(0, 2 * np.pi, 361)
         ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
         names = [s for s in (sensors or p.sensors) if s in p.sensors and s != "cmd"]
+        drawn = [p.sensors[s].radial_error for s in names]
         for s in names:
             sc = p.sensors[s]
             r = R + M * sc.radial_error
@@ -55,6 +103,8 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
                 r = R + M * sc.radial_error
                 ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
                         color="tab:orange", ls="--", lw=1.2, label="Sim-TCP")
+                drawn.append(sc.radial_error)
+        _scale_rings(ax, R, M, drawn or [np.zeros(1)])
         for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
             a = np.radians(deg)
             ax.annotate(q, (1.12 * R * np.cos(a) * 1e3, 1.12 * R * np.sin(a) * 1e3),
@@ -64,8 +114,7 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
         ax.set_ylim(-1.3 * R * 1e3, 1.3 * R * 1e3)
         ax.set_xlabel("X [mm]")
         ax.set_ylabel("Y [mm]")
-        ax.set_title(f"{p.direction.upper()}  (radial error x{M:g})")
-        ax.grid(alpha=0.3)
+        ax.set_title(f"{p.direction.upper()}: radial error ×{M:g}, rings in µm")
         ax.legend(loc="lower left", fontsize=7)
     if title:
         fig.suptitle(title)

@@ -138,11 +138,22 @@ class CircleResult:
         raise InputError(f"no {direction.upper()} circle found in the run "
                          f"(found: {', '.join(p.direction for p in self.passes) or 'none'})")
 
-    def plot(self, path=None, magnification=None):
-        """Polar plot of the paths with magnified radial error (paper Figs. 11-12)."""
+    def plot(self, ax=None, path=None, magnification=None):
+        """Polar plot of the paths with magnified radial error (paper Figs. 11-12); the
+        figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            One per pass; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        magnification : float, optional
+            Radial-error magnification, automatic when omitted [-].
+        """
         from ..plot.circle import plot_circle
 
-        return plot_circle(self, path=path, magnification=magnification)
+        return plot_circle(self, path=path, magnification=magnification, ax=ax)
 
 
 def lsq_circle(x, y):

@@ -97,7 +97,15 @@ class CircleDiagnostics:
                           for k, (v, u) in self.terms.items()]}
 
     def plot(self, ax=None, path=None):
-        """Radial error of both circles against angle with the fitted terms; the figure."""
+        """Radial error of both circles against angle with the fitted terms; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
         from ..plot.diagnostics import plot_circle_diagnostics
 
         return plot_circle_diagnostics(self, ax=ax, path=path)

@@ -109,7 +109,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
             {p.direction for p in res.passes} == {"ccw", "cw"}:
         diag = circle_diagnostics(*results, sensor=sensor.value if sensor else None)
     if plot is not None:
-        res.plot(plot)
+        res.plot(path=plot)
     if diag_plot is not None:
         diag.plot(path=diag_plot)
     if as_json:
@@ -220,9 +220,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
         rp = analyse_circle(runs[1], radius * 1e-3, ctr)
     cmp = compare_circles(rm, rp)
     if plot is not None:
-        from ..plot.circle import plot_circle
-
-        plot_circle(rm, plot, sensors=["tcp"], overlay=rp)
+        cmp.plot(path=plot)
     if as_json:
         _emit_json(cmp.to_dict())
     else:
@@ -252,7 +250,6 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
     if plot:
-        from ..plot.path import plot_command
-
-        p = plot_command(cmd, output.with_suffix(".png"))
+        p = output.with_suffix(".png")
+        cmd.plot(path=p)
         out.print(f"wrote {p}")

@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= out/demo
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test docs lint bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -17,8 +17,17 @@ demo: $(STAMP)
 	$(BIN)/tcpmm demo -o $(OUT)
 
 test: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks examples
+	$(BIN)/ruff check src tests benchmarks examples docs/validation
 	$(BIN)/python -m pytest -q -n 2
+
+# The documentation site (site/), built strictly: a warning (a broken link, a page left
+# out of the navigation, an API name that does not resolve) fails the build.
+docs: $(VENV)/.docs
+	$(BIN)/mkdocs build --strict
+
+$(VENV)/.docs: $(STAMP)
+	$(BIN)/python -m pip install -q -e '.[test,docs]'
+	touch $(VENV)/.docs
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/simulate.py
@@ -27,4 +36,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/identify.py
 
 clean:
-	rm -rf $(VENV) out build *.egg-info src/*.egg-info
+	rm -rf $(VENV) out build site *.egg-info src/*.egg-info

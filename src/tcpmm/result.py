@@ -6,7 +6,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-#: Run-file column suffix -> AxisRun field (formats.md section 3), values in mm or A.
+#: Run-file column suffix -> AxisRun field (docs/formats.md section 3), values in mm or A.
 RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_mm": "tcp",
                "current_A": "current"}
 
@@ -69,7 +69,7 @@ class Run:
     meta: dict = field(default_factory=dict)
 
     def to_pandas(self):
-        """The run-file table (formats.md section 3): mm and A."""
+        """The run-file table (docs/formats.md section 3): mm and A."""
         import pandas as pd
 
         data = {"time_s": self.time_s}

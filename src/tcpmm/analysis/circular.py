@@ -1,4 +1,4 @@
-"""Circular test analysis (formats.md section 4).
+"""Circular test analysis (docs/formats.md section 4).
 
 Quadrant points A, B, C, D are at 0, 90, 180, 270 deg counter-clockwise from +X about the
 nominal centre, whatever the direction of travel. Radial error ``e = r - R`` (outward
@@ -243,7 +243,7 @@ def warn_uncrossed(names, direction: str) -> None:
 
 
 def reversal_spikes(angle_rad, e, direction: str) -> dict:
-    """Signed reversal spike at A-D (formats.md section 4) [m]."""
+    """Signed reversal spike at A-D (docs/formats.md section 4) [m]."""
     return {name: float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
             for name, dev in _after_reversal(angle_rad, e, direction)}
 

@@ -131,7 +131,7 @@ def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> li
     signs.
 
     The spike is the larger in magnitude of the rise and the fall after the reversal
-    (formats.md section 4); where the two are of similar size, measured and predicted
+    (docs/formats.md section 4); where the two are of similar size, measured and predicted
     may pick different ones and their difference is then the sum of both lobes. The
     lobe difference (the larger of rise minus rise and fall minus fall) says whether the
     shape after the reversal is predicted nonetheless.

@@ -17,7 +17,7 @@ demo: $(STAMP)
 	$(BIN)/tcpmm demo -o $(OUT)
 
 test: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks examples docs/validation
+	$(BIN)/ruff check src tests benchmarks examples docs
 	$(BIN)/python -m pytest -q -n 2
 
 # The documentation site (site/), built strictly: a warning (a broken link, a page left

@@ -127,7 +127,8 @@ def test_results_share_one_protocol(tmp_path):
     run = tcpmm.simulate(tcpmm.builtin_machine(friction=False), cmd)
     res = tcpmm.analyse_circle(run, 0.035)
     cmp = tcpmm.compare(run, res)
-    for obj in (run, res, cmp, cmd):
+    diag = tcpmm.circle_diagnostics(res)
+    for obj in (run, res, cmp, cmd, diag):
         assert len(obj.to_pandas()) > 0
         json.dumps(obj.to_dict())
         fig = obj.plot(path=tmp_path / f"{type(obj).__name__}.png")

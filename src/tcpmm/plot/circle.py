@@ -104,25 +104,25 @@ def plot_radial_error(result, path=None, overlay=None, ax=None):
     """
     n = len(result.passes)
     fig, axs, own = panels(ax, n, 1, figsize=(9, 3.0 * n))
-    for ax, p in zip(axs[:, 0], result.passes, strict=True):
+    for a, p in zip(axs[:, 0], result.passes, strict=True):
         for s, sc in p.sensors.items():
             if s == "cmd":
                 continue
-            ax.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6, ".",
-                    ms=1.5, color=SENSOR_STYLE[s]["color"], label=SENSOR_STYLE[s]["label"])
+            a.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6, ".",
+                   ms=1.5, color=SENSOR_STYLE[s]["color"], label=SENSOR_STYLE[s]["label"])
         if overlay is not None:
             po = next((q for q in overlay.passes if q.direction == p.direction), None)
             if po is not None and "tcp" in po.sensors:
                 sc = po.sensors["tcp"]
-                ax.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6,
-                        ".", ms=1.5, color="tab:orange", label="Sim-TCP")
+                a.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6,
+                       ".", ms=1.5, color="tab:orange", label="Sim-TCP")
         for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
-            ax.axvline(deg, color="gray", lw=0.6)
-            ax.text(deg + 2, ax.get_ylim()[1] if ax.lines else 0, q, va="top")
-        ax.set_xlim(0, 360)
-        ax.set_xlabel("angle from +X [deg]")
-        ax.set_ylabel("radial error [µm]")
-        ax.set_title(p.direction.upper())
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, markerscale=6)
+            a.axvline(deg, color="gray", lw=0.6)
+            a.text(deg + 2, a.get_ylim()[1] if a.lines else 0, q, va="top")
+        a.set_xlim(0, 360)
+        a.set_xlabel("angle from +X [deg]")
+        a.set_ylabel("radial error [µm]")
+        a.set_title(p.direction.upper())
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7, markerscale=6)
     return finish(fig, path, own)

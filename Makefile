@@ -12,7 +12,7 @@ CHROMIUM := chromium --headless --no-sandbox --disable-gpu --hide-scrollbars \
 	--proxy-server=127.0.0.1:9 --proxy-bypass-list='<-loopback>' \
 	--host-resolver-rules='MAP * ~NOTFOUND'
 
-.PHONY: demo test lint bench clean check-report
+.PHONY: demo test docs lint bench clean check-report
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -24,7 +24,7 @@ demo: $(STAMP)
 	$(BIN)/tcpmm demo -o $(OUT)
 
 test: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks examples
+	$(BIN)/ruff check src tests benchmarks examples docs
 	$(BIN)/python -m pytest -q -n 2
 
 # The demo's HTML report rendered in headless Chromium with no network; screenshots of the
@@ -46,6 +46,15 @@ check-report: $(STAMP)
 		file://$(abspath $(REPORT))/report.html 2>>$(REPORT)/chromium.log
 	@echo "screenshots: $(REPORT)/report.png (first screen), $(REPORT)/report_full.png"
 
+# The documentation site (site/), built strictly: a warning (a broken link, a page left
+# out of the navigation, an API name that does not resolve) fails the build.
+docs: $(VENV)/.docs
+	$(BIN)/mkdocs build --strict
+
+$(VENV)/.docs: $(STAMP)
+	$(BIN)/python -m pip install -q -e '.[test,docs]'
+	touch $(VENV)/.docs
+
 bench: $(STAMP)
 	$(BIN)/python benchmarks/simulate.py
 	$(BIN)/python benchmarks/fit.py
@@ -53,4 +62,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/identify.py
 
 clean:
-	rm -rf $(VENV) out build *.egg-info src/*.egg-info
+	rm -rf $(VENV) out build site *.egg-info src/*.egg-info

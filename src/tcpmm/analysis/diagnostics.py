@@ -33,7 +33,7 @@ Cyclic error: amplitude ``c`` and period ``L`` per axis, the period found by a s
 
 The 20 deg after each quadrant point in the direction of travel (the reversal spike, whose
 transient no term models) are left out of the fit. Reported besides: reversal spikes
-(formats.md section 4) of the residual, which the backlash step no longer enters; radial
+(docs/formats.md section 4) of the residual, which the backlash step no longer enters; radial
 deviation, the mean radius minus the nominal of the fitted circle; circular deviation G per
 direction and bidirectional G(b) about the least-squares centre of both (ISO 230-4);
 circular hysteresis H, the largest radial difference between the two circles.
@@ -110,7 +110,15 @@ class CircleDiagnostics:
                           for k, (v, u) in self.terms.items()]}
 
     def plot(self, ax=None, path=None):
-        """Radial error of both circles against angle with the fitted terms; the figure."""
+        """Radial error of both circles against angle with the fitted terms; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
         from ..plot.diagnostics import plot_circle_diagnostics
 
         return plot_circle_diagnostics(self, ax=ax, path=path)

@@ -62,7 +62,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                             floors=None if fit_only else MODEL_ERROR,
                             tolerance_m=tol_m, progress=adv)
     if plot is not None:
-        res.plot(plot)
+        res.plot(path=plot)
     if as_json:
         _emit_json(res.to_dict())
         return

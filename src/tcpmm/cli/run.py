@@ -113,7 +113,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
             {p.direction for p in res.passes} == {"ccw", "cw"}:
         diag = circle_diagnostics(*results, sensor=sensor.value if sensor else None)
     if plot is not None:
-        res.plot(plot)
+        res.plot(path=plot)
     if diag_plot is not None:
         diag.plot(path=diag_plot)
     if as_json:
@@ -213,9 +213,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
         rp = analyse_circle(runs[1], radius * 1e-3, ctr)
     cmp = compare_circles(rm, rp)
     if plot is not None:
-        from ..plot.circle import plot_circle
-
-        plot_circle(rm, plot, sensors=["tcp"], overlay=rp)
+        cmp.plot(path=plot)
     if report is not None:
         from ..report import circle_test_section, comparison_section, write_report
 
@@ -230,6 +228,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
         print_circle_table(cmp.to_pandas(), out, "measured - predicted [um]")
         for line in cmp.notes():
             out.print(line)
+
 
 @app.command()
 def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
@@ -253,7 +252,6 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
     if plot:
-        from ..plot.path import plot_command
-
-        p = plot_command(cmd, output.with_suffix(".png"))
+        p = output.with_suffix(".png")
+        cmd.plot(path=p)
         out.print(f"wrote {p}")

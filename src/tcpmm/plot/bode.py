@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import pyplot, save
+from . import finish, panels
 
 #: Measured bins below this coherence are not drawn.
 MIN_COHERENCE = 0.5
@@ -20,7 +20,7 @@ def _phase_deg(H) -> np.ndarray:
     return np.where(jump, np.nan, ph)
 
 
-def plot_bode(curves, path=None, title=None):
+def plot_bode(curves, path=None, title=None, ax=None):
     """Magnitude (dB) and phase per transfer function, one column each.
 
     Parameters
@@ -33,11 +33,17 @@ def plot_bode(curves, path=None, title=None):
         Where to save [-].
     title : str, optional
         Figure title [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, two per transfer function (the magnitudes, then the phases);
+        a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
-    plt = pyplot()
     names = list(curves)
-    fig, axs = plt.subplots(2, len(names), figsize=(4.6 * len(names), 6.0), squeeze=False,
-                            sharex="col")
+    fig, axs, own = panels(ax, 2, len(names), figsize=(4.6 * len(names), 6.0), sharex="col")
     for k, name in enumerate(names):
         am, ap = axs[0, k], axs[1, k]
         for item in curves[name]:
@@ -64,5 +70,4 @@ def plot_bode(curves, path=None, title=None):
         am.legend(fontsize=7)
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import SENSOR_STYLE, pyplot, save
+from . import SENSOR_STYLE, finish, panels
 
 
 def _auto_magnification(result) -> float:
@@ -60,7 +60,7 @@ def _scale_rings(ax, R, M, errors) -> None:
 
 
 def plot_circle(result, path=None, magnification=None, sensors=None, overlay=None,
-                title=None):
+                title=None, ax=None):
     """One polar panel per pass: ``R + M e`` for each sensor, quadrant points A-D.
 
     Parameters
@@ -68,7 +68,7 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
     result : CircleResult
         Analysis to show [-].
     path : str or Path, optional
-        Where to save (PNG/PDF/SVG); the figure is returned open when omitted [-].
+        Where to save (PNG/PDF/SVG) [-].
     magnification : float, optional
         Radial error magnification M; chosen automatically when omitted [-].
     sensors : list of str, optional
@@ -77,76 +77,101 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
         A second analysis (e.g. prediction) drawn dotted over the first [-].
     title : str, optional
         Figure title [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, one per pass in row order; a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
-    plt = pyplot()
     M = magnification or _auto_magnification(result)
     n = len(result.passes)
-    fig, axs = plt.subplots(1, n, figsize=(5.2 * n, 5.4), squeeze=False)
+    fig, axs, own = panels(ax, 1, n, figsize=(5.2 * n, 5.4))
     R = result.radius
-    for ax, p in zip(axs[0], result.passes, strict=True):
-        th = np.linspace(0, 2 * np.pi, 361)
-        ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
-        names = [s for s in (sensors or p.sensors) if s in p.sensors and s != "cmd"]
-        drawn = [p.sensors[s].radial_error for s in names]
-        for s in names:
-            sc = p.sensors[s]
-            r = R + M * sc.radial_error
-            ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
-                    **SENSOR_STYLE[s])
-        if overlay is not None:
-            try:
-                po = overlay.pass_for(p.direction)
-            except Exception:  # no such direction in the overlay
-                po = None
-            if po is not None and "tcp" in po.sensors:
-                sc = po.sensors["tcp"]
-                r = R + M * sc.radial_error
-                ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
-                        color="tab:orange", ls="--", lw=1.2, label="Sim-TCP")
-                drawn.append(sc.radial_error)
-        _scale_rings(ax, R, M, drawn or [np.zeros(1)])
-        for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
-            a = np.radians(deg)
-            ax.annotate(q, (1.12 * R * np.cos(a) * 1e3, 1.12 * R * np.sin(a) * 1e3),
-                        ha="center", va="center", fontsize=12, fontweight="bold")
-        ax.set_aspect("equal")
-        ax.set_xlim(-1.3 * R * 1e3, 1.3 * R * 1e3)
-        ax.set_ylim(-1.3 * R * 1e3, 1.3 * R * 1e3)
-        ax.set_xlabel("X [mm]")
-        ax.set_ylabel("Y [mm]")
-        ax.set_title(f"{p.direction.upper()}: radial error ×{M:g}, rings in µm")
-        ax.legend(loc="lower left", fontsize=7)
+    for a, p in zip(axs[0], result.passes, strict=True):
+        _circle_panel(a, p, R, M, sensors, overlay)
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)
 
 
-def plot_radial_error(result, path=None, overlay=None):
-    """Radial error against angle per pass and sensor [um vs deg]."""
-    plt = pyplot()
+def _circle_panel(ax, p, R, M, sensors, overlay):
+    """One pass: ``R + M e`` per sensor, the overlay's TCP dotted, µm scale rings, A-D."""
+    th = np.linspace(0, 2 * np.pi, 361)
+    ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
+    names = [s for s in (sensors or p.sensors) if s in p.sensors and s != "cmd"]
+    drawn = [p.sensors[s].radial_error for s in names]
+    for s in names:
+        sc = p.sensors[s]
+        r = R + M * sc.radial_error
+        ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
+                **SENSOR_STYLE[s])
+    if overlay is not None:
+        try:
+            po = overlay.pass_for(p.direction)
+        except Exception:  # no such direction in the overlay
+            po = None
+        if po is not None and "tcp" in po.sensors:
+            sc = po.sensors["tcp"]
+            r = R + M * sc.radial_error
+            ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
+                    color="tab:orange", ls="--", lw=1.2, label="Sim-TCP")
+            drawn.append(sc.radial_error)
+    _scale_rings(ax, R, M, drawn or [np.zeros(1)])
+    for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
+        a = np.radians(deg)
+        ax.annotate(q, (1.12 * R * np.cos(a) * 1e3, 1.12 * R * np.sin(a) * 1e3),
+                    ha="center", va="center", fontsize=12, fontweight="bold")
+    ax.set_aspect("equal")
+    ax.set_xlim(-1.3 * R * 1e3, 1.3 * R * 1e3)
+    ax.set_ylim(-1.3 * R * 1e3, 1.3 * R * 1e3)
+    ax.set_xlabel("X [mm]")
+    ax.set_ylabel("Y [mm]")
+    ax.set_title(f"{p.direction.upper()}: radial error ×{M:g}, rings in µm")
+    ax.legend(loc="lower left", fontsize=7)
+
+
+def plot_radial_error(result, path=None, overlay=None, ax=None):
+    """Radial error against angle per pass and sensor [um vs deg].
+
+    Parameters
+    ----------
+    result : CircleResult
+        Analysis to show [-].
+    path : str or Path, optional
+        Where to save (PNG/PDF/SVG) [-].
+    overlay : CircleResult, optional
+        A second analysis whose TCP error is drawn over the first [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, one per pass in row order; a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
+    """
     n = len(result.passes)
-    fig, axs = plt.subplots(n, 1, figsize=(9, 3.0 * n), squeeze=False)
-    for ax, p in zip(axs[:, 0], result.passes, strict=True):
+    fig, axs, own = panels(ax, n, 1, figsize=(9, 3.0 * n))
+    for a, p in zip(axs[:, 0], result.passes, strict=True):
         for s, sc in p.sensors.items():
             if s == "cmd":
                 continue
-            ax.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6, ".",
-                    ms=1.5, color=SENSOR_STYLE[s]["color"], label=SENSOR_STYLE[s]["label"])
+            a.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6, ".",
+                   ms=1.5, color=SENSOR_STYLE[s]["color"], label=SENSOR_STYLE[s]["label"])
         if overlay is not None:
             po = next((q for q in overlay.passes if q.direction == p.direction), None)
             if po is not None and "tcp" in po.sensors:
                 sc = po.sensors["tcp"]
-                ax.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6,
-                        ".", ms=1.5, color="tab:orange", label="Sim-TCP")
+                a.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6,
+                       ".", ms=1.5, color="tab:orange", label="Sim-TCP")
         for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
-            ax.axvline(deg, color="gray", lw=0.6)
-            ax.text(deg + 2, ax.get_ylim()[1] if ax.lines else 0, q, va="top")
-        ax.set_xlim(0, 360)
-        ax.set_xlabel("angle from +X [deg]")
-        ax.set_ylabel("radial error [µm]")
-        ax.set_title(p.direction.upper())
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, markerscale=6)
-    fig.tight_layout()
-    return save(fig, path) or fig
+            a.axvline(deg, color="gray", lw=0.6)
+            a.text(deg + 2, a.get_ylim()[1] if a.lines else 0, q, va="top")
+        a.set_xlim(0, 360)
+        a.set_xlabel("angle from +X [deg]")
+        a.set_ylabel("radial error [µm]")
+        a.set_title(p.direction.upper())
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7, markerscale=6)
+    return finish(fig, path, own)

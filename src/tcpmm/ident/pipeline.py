@@ -19,6 +19,7 @@ from .frf.response import reduced_frfs
 from .friction.nutstiffness import LOST_MOTION_Z
 from .friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .friction.presliding import PRESLIDING, with_presliding
+from .friction.preslidingfit import PreslidingFit, fit_presliding
 from .friction.sensitivity import (
     LostMotionSensitivity,
     ShareSensitivity,
@@ -105,6 +106,9 @@ class AxisIdentification:
         stable) [-].
     presliding_m : float, optional
         Pre-sliding displacement given to the identified friction contacts [m].
+    presliding_fit : PreslidingFit, optional
+        The fit of that displacement to the reversals of the friction runs, when it was
+        not given [-].
     loop_timing : LoopTiming, optional
         Computation delay and velocity estimate read from a closed-loop sweep [-].
     share_sensitivity : ShareSensitivity, optional
@@ -124,6 +128,7 @@ class AxisIdentification:
     friction_hold: FrictionHold | None = None
     sampled_loop_spectral_radius: float | None = None
     presliding_m: float | None = None
+    presliding_fit: PreslidingFit | None = None
     loop_timing: LoopTiming | None = None
     share_sensitivity: ShareSensitivity | None = None
     lost_motion_sensitivity: LostMotionSensitivity | None = None
@@ -135,11 +140,13 @@ class AxisIdentification:
     def notes(self) -> dict:
         """What identification found on the way besides the parameters, for the JSON
         report: the play the sweep crossed, friction holding the sweep, the sampled loop's
-        spectral radius, pre-sliding, loop timing and the spikes' sensitivities [SI]."""
+        spectral radius, pre-sliding and its fit, loop timing and the spikes'
+        sensitivities [SI]."""
         found = {"sweep_play": self.physical.sweep_play,
                  "friction_holds_sweep": self.friction_hold,
                  "sampled_loop_spectral_radius": self.sampled_loop_spectral_radius,
-                 "presliding_m": self.presliding_m, "loop_timing": self.loop_timing,
+                 "presliding_m": self.presliding_m, "presliding_fit": self.presliding_fit,
+                 "loop_timing": self.loop_timing,
                  "share_sensitivity": self.share_sensitivity,
                  "lost_motion_sensitivity": self.lost_motion_sensitivity}
         return {k: v.to_dict() if hasattr(v, "to_dict") else v
@@ -348,7 +355,7 @@ DAMPING_KNOWN_REL_STD = 0.03
 
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
-    friction=None, guideway_share: float | None = None, presliding: float = PRESLIDING,
+    friction=None, guideway_share: float | None = None, presliding: float | None = None,
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
@@ -374,10 +381,11 @@ def identify_axis(
     guideway_share : float, optional
         Share of that friction put on the guideway, the rest on the screw; ``None``: from
         the friction runs (encoder-minus-scale deflection) [-].
-    presliding : float
-        Pre-sliding displacement given to the identified contacts (LuGre), which the
-        friction runs do not determine; ``0``: static friction that sticks rigidly
-        (:mod:`tcpmm.ident.friction.presliding`) [m].
+    presliding : float, optional
+        Pre-sliding displacement given to the identified contacts (LuGre); ``0``: static
+        friction that sticks rigidly; ``None``: fitted to the reversals of the friction
+        runs (:mod:`tcpmm.ident.friction.preslidingfit`), or :data:`PRESLIDING` where they
+        do not determine it [m].
     """
     limit_blas_threads()
     fmin = fmin_hz if fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
@@ -410,6 +418,7 @@ def identify_axis(
                   hold_period_s=cfg.servo.velocity_loop_period_s)
     phys: PhysicalFit = fit()
     kept = AxisFit(phys, phys.mechanics)
+    presliding_m = presliding_fit = None
     if friction is not None:
         friction_on = partial(_friction_and_mechanics, name, friction, cfg,
                               guideway_share=guideway_share,
@@ -421,8 +430,9 @@ def identify_axis(
             from ..io.csvutil import warn_input
 
             warn_input(message, file=getattr(friction, "source", None))
-        kept = replace(kept, friction=with_presliding(kept.friction, kept.mechanics,
-                                                      presliding))
+        fr, presliding_m, presliding_fit = _presliding(kept.friction, kept.mechanics, friction,
+                                                       presliding)
+        kept = replace(kept, friction=fr)
     phys = kept.physical
     timing = sweep_timing(name, sweep, cfg)
     axis = Axis(
@@ -435,7 +445,18 @@ def identify_axis(
     return AxisIdentification(
         name, frfs, tf_fits, phys, axis, sweep, kept.curve, kept.split, friction_hold=held,
         sampled_loop_spectral_radius=warn_unstable_sampled_loop(name, axis, phys.undetermined),
-        presliding_m=presliding if friction is not None else None, loop_timing=timing)
+        presliding_m=presliding_m, presliding_fit=presliding_fit, loop_timing=timing)
+
+
+def _presliding(fr, mech, record, presliding):
+    """The friction with its pre-sliding, given or fitted, the distance used [m] and the
+    fit when there was one."""
+    if presliding is not None:
+        return with_presliding(fr, mech, presliding), presliding, None
+    fit = fit_presliding(record, mech, fr)
+    if not fit.determined:
+        return with_presliding(fr, mech, PRESLIDING), PRESLIDING, fit
+    return with_presliding(fr, mech, fit.presliding, fit.damping_ratio), fit.presliding, fit
 
 
 @dataclass(frozen=True)
@@ -696,7 +717,7 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
 
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
-    guideway_share: float | None = None, presliding: float = PRESLIDING,
+    guideway_share: float | None = None, presliding: float | None = None,
     accept_suspect: bool = False,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
@@ -719,9 +740,10 @@ def identify_bundle(
     guideway_share : float, optional
         Share of the friction put on the guideway, the rest on the screw; ``None``: from
         each axis's friction runs [-].
-    presliding : float
+    presliding : float, optional
         Pre-sliding displacement of the identified friction contacts; ``0``: static
-        friction (:mod:`tcpmm.ident.friction.presliding`) [m].
+        friction; ``None``: fitted to each axis's friction-run reversals where they
+        determine it (:mod:`tcpmm.ident.friction.preslidingfit`) [m].
     accept_suspect : bool
         Return a model the gates find physically suspect, marked, instead of raising [-].
 

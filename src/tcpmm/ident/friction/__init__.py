@@ -6,7 +6,8 @@
 accelerations (:mod:`~tcpmm.ident.friction.nutstiffness`) or the force a travelling sweep
 shows (:mod:`~tcpmm.ident.friction.sweepforce`); the play as the sweep sees it
 (:mod:`~tcpmm.ident.friction.playdf`); pre-sliding given to the identified contacts
-(:mod:`~tcpmm.ident.friction.presliding`); and how much the circles care about what the
+(:mod:`~tcpmm.ident.friction.presliding`) or fitted to the runs' reversals
+(:mod:`~tcpmm.ident.friction.preslidingfit`); and how much the circles care about what the
 runs leave open (:mod:`~tcpmm.ident.friction.sensitivity`)."""
 
 from .estimate import ParameterEstimate
@@ -19,6 +20,7 @@ from .lostmotion import (
 from .nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, NutEstimate, estimate_nut
 from .playdf import dead_zone_gain, nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
+from .preslidingfit import PreslidingFit, fit_presliding
 from .sensitivity import (
     LostMotionSensitivity,
     ShareSensitivity,
@@ -57,14 +59,13 @@ __all__ = [
     "BRISTLE_DAMPING_RATIO", "CUTOFFS_HZ", "GUIDEWAY_SHARE", "LOST_MOTION_Z",
     "PLATEAU_DURATIONS_S", "PRESLIDING", "SHARE_WARN_STD", "FrictionSplit",
     "LostMotionEstimate", "LostMotionOptions", "LostMotionSensitivity", "NoPlateauError",
-    "NutEstimate",
-    "ParameterEstimate", "Plateau", "ShareSensitivity", "SweepDeflection", "dead_zone_gain",
-    "estimate_lost_motion", "estimate_nut",
-    "find_plateaus", "fit_stribeck", "fit_stribeck_transients", "friction_record_arrays",
-    "identify_friction", "identify_stribeck_run", "lost_motion_spike_range",
-    "nut_deflection_amplitude", "place_steady_viscous", "play_gain", "quantisation_bias_std",
-    "read_friction_csv", "share_from_sweep", "share_spike_range", "share_uncertainty_warning",
-    "slowest_plateau", "spike_range", "steady_curve", "stribeck_from_record", "sweep_deflection",
-    "sweep_motion", "travel_velocity", "warn_lost_motion_sensitivity", "warn_share_sensitivity",
-    "with_presliding", "with_share",
+    "NutEstimate", "ParameterEstimate", "Plateau", "PreslidingFit", "ShareSensitivity",
+    "SweepDeflection", "dead_zone_gain", "estimate_lost_motion", "estimate_nut",
+    "find_plateaus", "fit_presliding", "fit_stribeck", "fit_stribeck_transients",
+    "friction_record_arrays", "identify_friction", "identify_stribeck_run",
+    "lost_motion_spike_range", "nut_deflection_amplitude", "place_steady_viscous", "play_gain",
+    "quantisation_bias_std", "read_friction_csv", "share_from_sweep", "share_spike_range",
+    "share_uncertainty_warning", "slowest_plateau", "spike_range", "steady_curve",
+    "stribeck_from_record", "sweep_deflection", "sweep_motion", "travel_velocity",
+    "warn_lost_motion_sensitivity", "warn_share_sensitivity", "with_presliding", "with_share",
 ]

@@ -239,7 +239,9 @@ def _check(angle, e, what):
                          f"at least 100 samples (got {angle.shape} and {e.shape})")
     if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(e))):
         raise InputError(f"the {what} circle has non-finite angles or radial errors")
-    if abs(angle[-1] - angle[0]) < 2 * np.pi * (1 - 1e-3):
+    # a full turn cut to whole samples may lack up to one sample spacing at either end
+    slack = 2 * min(float(np.max(np.abs(np.diff(angle)))), np.radians(1.0))
+    if abs(angle[-1] - angle[0]) < 2 * np.pi * (1 - 1e-3) - slack:
         raise InputError(f"the {what} circle covers {np.degrees(abs(angle[-1] - angle[0])):.0f}"
                          " deg; the diagnostics need a full turn")
     if (angle[-1] > angle[0]) != (what == "CCW"):
@@ -327,7 +329,7 @@ def _cyclic_terms(coef, waves, names):
     return out
 
 
-def circle_diagnostics(result, other=None, sensor=None, axes=("X", "Y")) -> CircleDiagnostics:
+def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiagnostics:
     """Diagnostics of the first CCW and the first CW circle of circular-test analyses.
 
     Parameters
@@ -339,9 +341,11 @@ def circle_diagnostics(result, other=None, sensor=None, axes=("X", "Y")) -> Circ
         other analysis when its own has none [-].
     sensor : str, optional
         Sensor to diagnose; default the first of tcp, scale, motor, cmd in both [-].
-    axes : tuple of str
-        The plane the circles were analysed in, for the term names [-].
+    axes : tuple of str, optional
+        The plane the circles were analysed in, for the term names; default the plane of
+        ``result`` [-].
     """
+    axes = tuple(axes) if axes is not None else tuple(getattr(result, "plane", ("X", "Y")))
     first, second = (result, other or result), (other or result, result)
     pick = {}
     for d, order in (("ccw", first), ("cw", second)):

@@ -21,6 +21,7 @@ from ._app import (
     _read_model,
     _refuse_unstable,
     app,
+    console,
     out,
 )
 
@@ -66,13 +67,40 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
 
 
+_PLANE_HELP = ("Plane: XY, XZ, YZ (or ZX as G18 has it); CCW turns the first axis into the "
+               "second. Default: the plane in which the command moves.")
+
+
+def _plane_option(option: str) -> tuple[str, str]:
+    from ..analysis.plane import plane_axes
+
+    try:
+        return plane_axes(option)
+    except Exception as exc:
+        raise typer.BadParameter(str(exc), param_hint="--plane") from None
+
+
+def _plane(option: str | None, run, what) -> tuple[str, str]:
+    """The plane of ``--plane``, or the one the run moves in, said on stderr."""
+    from ..analysis.plane import run_plane
+
+    if option is not None:
+        return _plane_option(option)
+    with _in_file(what):
+        axes, why = run_plane(run)
+    console.print(f"plane {''.join(axes)}, taken from {what}: {why}", highlight=False)
+    return axes
+
+
 @app.command()
 def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or measured)"),
            other: Path = typer.Argument(
                None, help="RUN_CW.csv: a second run; the diagnostics take the CCW circle "
                           "from the first run and the CW circle from the second."),
            radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
-           centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+           centre: str = typer.Option("0,0", "--centre",
+                                      help="Nominal centre in the plane's axes, A,B [mm]."),
+           plane: str = typer.Option(None, "--plane", help=_PLANE_HELP),
            direction: str = typer.Option(None, "--direction", help="ccw or cw."),
            sensor: Sensor = typer.Option(
                None, "--sensor", help="Sensor of the diagnostics (default tcp, else scale, "
@@ -96,14 +124,16 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
     _positive(radius, "--radius [mm]")
     _plot(plot)
     _plot(diag_plot)
-    results = []
+    results, axes = [], None
     for f in (run_file, other) if other is not None else (run_file,):
         run = read_run_csv(f)
+        axes = axes or _plane(plane, run, f)
         with _in_file(f):
             results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
+                                          plane=axes,
                                           direction=direction.lower() if direction else None))
     res = CircleResult(results[0].radius, results[0].centre,
-                       [p for r in results for p in r.passes])
+                       [p for r in results for p in r.passes], axes)
     diag = None
     if other is not None or sensor is not None or diag_plot is not None or \
             {p.direction for p in res.passes} == {"ccw", "cw"}:
@@ -121,6 +151,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
         _emit_json(data)
         return
     title = f"{run_file}" + (f" and {other}" if other is not None else "")
+    title += f", {''.join(axes)} plane" if axes != ("X", "Y") else ""
     _print_passes(res, title)
     if diag is not None:
         _print_diagnostics(diag)
@@ -132,10 +163,10 @@ _UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm
 _NOTES = {"hysteresis": "largest CCW-CW radial difference",
           "centre_offset": "circle centre - nominal",
           "backlash": "+: radius steps out at reversal",
-          "lateral_play_X": "+: moving +X shifts X to +Y",
-          "lateral_play_Y": "+: moving +Y shifts Y to +X",
-          "servo_mismatch": "+: Y lags X", "squareness": "+: angle +X to +Y over 90 deg",
-          "scale_mismatch": "+: X travels further than Y",
+          "lateral_play_{a}": "+: moving +{a} shifts {a} to +{b}",
+          "lateral_play_{b}": "+: moving +{b} shifts {b} to +{a}",
+          "servo_mismatch": "+: {b} lags {a}", "squareness": "+: angle +{a} to +{b} over 90 deg",
+          "scale_mismatch": "+: {a} travels further than {b}",
           "cyclic_amplitude": "e.g. screw pitch error",
           "residual_rms": "what the terms leave unexplained"}
 
@@ -191,7 +222,9 @@ def _print_diagnostics(diag) -> None:
     for term, (v, u) in rows.items():
         if term.startswith(("radial_deviation", "circularity", "spike")):
             continue
-        note = _NOTES.get(term) or _NOTES.get(term.rsplit("_", 1)[0], "")
+        a, b = diag.axes
+        notes = {k.format(a=a, b=b): v.format(a=a, b=b) for k, v in _NOTES.items()}
+        note = notes.get(term) or notes.get(term.rsplit("_", 1)[0], "")
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u, note)
     out.print(t)
 
@@ -200,7 +233,9 @@ def _print_diagnostics(diag) -> None:
 def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
             predicted: Path = typer.Argument(..., help="Predicted RUN.csv"),
             radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
-            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+            centre: str = typer.Option("0,0", "--centre",
+                                       help="Nominal centre in the plane's axes, A,B [mm]."),
+            plane: str = typer.Option(None, "--plane", help=_PLANE_HELP),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save an overlay plot.")):
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
@@ -214,10 +249,11 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
     _positive(radius, "--radius [mm]")
     _plot(plot)
     runs = [read_run_csv(f) for f in (measured, predicted)]
+    axes = _plane(plane, runs[0], measured)
     with _in_file(measured):
-        rm = analyse_circle(runs[0], radius * 1e-3, ctr)
+        rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
     with _in_file(predicted):
-        rp = analyse_circle(runs[1], radius * 1e-3, ctr)
+        rp = analyse_circle(runs[1], radius * 1e-3, ctr, plane=axes)
     cmp = compare_circles(rm, rp)
     if plot is not None:
         from ..plot.circle import plot_circle
@@ -234,7 +270,10 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
 def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          output: Path = typer.Option(..., "-o", "--output", help="Command file CMD.csv."),
          model: str = typer.Option(None, "--model", help="Model file with interpolator settings."),
-         plot: bool = typer.Option(False, "--plot", help="Also save CMD.png beside the CSV.")):
+         plot: bool = typer.Option(False, "--plot", help="Also save CMD.png beside the CSV."),
+         plane: str = typer.Option(None, "--plane", help="Plane of the plotted path: XY, XZ, "
+                                   "YZ (or ZX); default the plane of the program's arcs "
+                                   "(G17/G18/G19), else the one it moves in.")):
     """Interpolate an NC program into the position command per axis."""
     from ..path import program_to_command, write_command_csv
 
@@ -254,5 +293,19 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     if plot:
         from ..plot.path import plot_command
 
-        p = plot_command(cmd, output.with_suffix(".png"))
+        p = plot_command(cmd, output.with_suffix(".png"), plane=_command_plane(plane, cmd))
         out.print(f"wrote {p}")
+
+
+def _command_plane(option, cmd) -> tuple[str, str]:
+    """The plane of ``--plane``, else of the program's arcs, else the one it moves in."""
+    from ..analysis.plane import motion_plane
+
+    if option is not None:
+        return _plane_option(option)
+    if cmd.meta.get("plane_axes"):
+        return tuple(cmd.meta["plane_axes"])
+    try:
+        return motion_plane(cmd.positions)[0]
+    except Exception:  # a move along one axis: any plane holding it will do
+        return ("X", "Y")

@@ -9,6 +9,7 @@ from ..errors import InputError
 from .command import Command
 from .gcode import parse_gcode
 from .interpolate import interpolate
+from .segments import Arc
 from .settings import InterpolatorSettings
 
 #: file name endings taken as NC programs when a string is given [-]
@@ -73,7 +74,9 @@ def program_to_command(
     Returns
     -------
     Command
-        The position command; ``meta["file"]`` names the program file if any [-].
+        The position command; ``meta["file"]`` names the program file if any,
+        ``meta["plane_axes"]`` is the plane of its first arc (G17 XY, G18 ZX, G19 YZ),
+        ``None`` without arcs [-].
     """
     file = None
     if _is_path(path_or_text):
@@ -92,4 +95,6 @@ def program_to_command(
         )
     command = interpolate(segments, settings)
     command.meta["file"] = None if file is None else str(file)
+    planes = [s.plane_axes for s in segments if isinstance(s, Arc)]
+    command.meta["plane_axes"] = planes[0] if planes else None
     return command

@@ -36,6 +36,7 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
     n = len(result.passes)
     fig, axs = plt.subplots(1, n, figsize=(5.2 * n, 5.4), squeeze=False)
     R = result.radius
+    a1, a2 = getattr(result, "plane", ("X", "Y"))
     for ax, p in zip(axs[0], result.passes, strict=True):
         th = np.linspace(0, 2 * np.pi, 361)
         ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
@@ -62,8 +63,8 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
         ax.set_aspect("equal")
         ax.set_xlim(-1.3 * R * 1e3, 1.3 * R * 1e3)
         ax.set_ylim(-1.3 * R * 1e3, 1.3 * R * 1e3)
-        ax.set_xlabel("X [mm]")
-        ax.set_ylabel("Y [mm]")
+        ax.set_xlabel(f"{a1} [mm]")
+        ax.set_ylabel(f"{a2} [mm]")
         ax.set_title(f"{p.direction.upper()}  (radial error x{M:g})")
         ax.grid(alpha=0.3)
         ax.legend(loc="lower left", fontsize=7)
@@ -94,7 +95,7 @@ def plot_radial_error(result, path=None, overlay=None):
             ax.axvline(deg, color="gray", lw=0.6)
             ax.text(deg + 2, ax.get_ylim()[1] if ax.lines else 0, q, va="top")
         ax.set_xlim(0, 360)
-        ax.set_xlabel("angle from +X [deg]")
+        ax.set_xlabel(f"angle from +{getattr(result, 'plane', 'X')[0]} [deg]")
         ax.set_ylabel("radial error [µm]")
         ax.set_title(p.direction.upper())
         ax.grid(alpha=0.3)

@@ -44,10 +44,10 @@ def test_plane_names():
 def test_motion_plane_is_the_gcode_plane_of_the_two_axes_moving_most():
     t = np.linspace(0, 1, 50)
     pos = {"X": np.cos(t), "Y": np.full(50, 3.0), "Z": 2 * np.sin(t)}
-    axes, why = motion_plane(pos)
-    assert axes == ("Z", "X") and "Z and X" in why and "not plane" not in why
+    axes, why, flat = motion_plane(pos)
+    assert axes == ("Z", "X") and "Z and X" in why and flat and "not plane" not in why
     pos["Y"] = 0.2 * t
-    assert "Y moves too" in motion_plane(pos)[1]
+    assert "Y moves too" in motion_plane(pos)[1] and not motion_plane(pos)[2]
     with pytest.raises(InputError, match="fewer than two"):
         motion_plane({"X": t, "Y": np.zeros(50)})
 

@@ -42,7 +42,7 @@ def plane_name(axes) -> str:
     return "".join(axes)
 
 
-def motion_plane(positions: dict) -> tuple[tuple[str, str], str]:
+def motion_plane(positions: dict) -> tuple[tuple[str, str], str, bool]:
     """The plane in which positions move: the two axes of largest travel, in the order of
     G17, G18, G19 (XY, ZX, YZ).
 
@@ -57,6 +57,8 @@ def motion_plane(positions: dict) -> tuple[tuple[str, str], str]:
         The plane [-].
     why : str
         How it was found, for the user [-].
+    flat : bool
+        Whether the third axis stays within ``OUT_OF_PLANE_SHARE`` of the plane's [-].
     """
     travel = {a.upper(): float(np.ptp(p)) for a, p in positions.items()
               if a.upper() in AXES and p is not None and np.size(p)}
@@ -67,12 +69,13 @@ def motion_plane(positions: dict) -> tuple[tuple[str, str], str]:
     a, b = moving[:2]
     axes = GCODE_PLANES[frozenset((a, b))]
     why = f"the axes moving most are {a} and {b} (travel {_mm(travel)})"
-    if len(moving) > 2 and travel[moving[2]] > OUT_OF_PLANE_SHARE * travel[b]:
+    flat = not (len(moving) > 2 and travel[moving[2]] > OUT_OF_PLANE_SHARE * travel[b])
+    if not flat:
         why += f"; {moving[2]} moves too, so the path is not plane: give --plane to choose"
-    return axes, why
+    return axes, why, flat
 
 
-def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str]:
+def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str, bool]:
     """The plane in which a run's command moves (else its first position sensor).
 
     Parameters
@@ -88,14 +91,16 @@ def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str]:
         The plane [-].
     why : str
         How it was found [-].
+    flat : bool
+        Whether the motion lies in the plane (:func:`motion_plane`) [-].
     """
     names = (sensor,) if sensor else ("cmd", "scale", "motor", "tcp")
     for s in names:
         pos = {a: r.sensor(s) for a, r in run.axes.items()}
         pos = {a: p for a, p in pos.items() if p is not None}
         if len(pos) >= 2:
-            axes, why = motion_plane(pos)
-            return axes, f"{why} in the {s} signals"
+            axes, why, flat = motion_plane(pos)
+            return axes, f"{why} in the {s} signals", flat
     raise InputError("the run has no position signal of two axes to find the plane from")
 
 

@@ -87,7 +87,7 @@ def _plane(option: str | None, run, what) -> tuple[str, str]:
     if option is not None:
         return _plane_option(option)
     with _in_file(what):
-        axes, why = run_plane(run)
+        axes, why, _ = run_plane(run)
     console.print(f"plane {''.join(axes)}, taken from {what}: {why}", highlight=False)
     return axes
 

@@ -274,8 +274,11 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          plane: str = typer.Option(None, "--plane", help="Plane of the plotted path: XY, XZ, "
                                    "YZ (or ZX); default the plane of the program's arcs "
                                    "(G17/G18/G19), else the one it moves in.")):
-    """Interpolate an NC program into the position command per axis."""
-    from ..path import program_to_command, write_command_csv
+    """Interpolate an NC program into the position command per axis; say how much of the
+    path runs at the programmed feed and which limit holds it back where it does not."""
+    from ..path import write_command_csv
+    from ..path.limits import feed_limits
+    from ..path.program import program_to_interpolation
 
     _output(output, program, model)
     if plot and output.suffix.lower() == ".png":
@@ -286,15 +289,42 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         from ..io.modelfile import read_machine
 
         m = read_machine(model)
-    cmd = program_to_command(program, _interp_settings(m))
+    interp = program_to_interpolation(program, _interp_settings(m))
+    cmd = interp.command
     write_command_csv(cmd, output)
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
+    limits = feed_limits(interp)
+    _print_feed(limits)
     if plot:
         from ..plot.path import plot_command
 
-        p = plot_command(cmd, output.with_suffix(".png"), plane=_command_plane(plane, cmd))
+        p = plot_command(cmd, output.with_suffix(".png"), plane=_command_plane(plane, cmd),
+                         limits=limits)
         out.print(f"wrote {p}")
+
+
+#: what to change when a limit holds the feed back
+_REMEDY = {"axis velocity": "axis_velocity_m_per_s",
+           "curvature (centripetal acceleration)": "axis_accel_m_per_s2, or a larger radius",
+           "filter tolerance on arcs": "corner_tolerance_m or a shorter filter",
+           "corner: axis acceleration": "G64 P<tol> or blend_tolerance_m rounds corners off",
+           "corner: filter tolerance": "corner_tolerance_m, G64 P<tol>",
+           "exact stop": "G61/G9, reversals, dwells, rapids, start and end",
+           "path acceleration": "blocks too short to reach the feed: path_accel_m_per_s2",
+           "path jerk": "blocks too short to reach the feed: path_jerk_m_per_s3"}
+
+
+def _print_feed(limits) -> None:
+    """Share of the path at the programmed feed, and per limit where it holds it back."""
+    out.print(f"at the programmed feed on {limits.share_at_feed() * 100:.1f} % of the path")
+    for r in limits.summary():
+        lines = ("" if r["first_line"] is None else f", lines {r['first_line']}-"
+                 f"{r['last_line']}")
+        out.print(f"  held back by {r['cause']}: {r['length_m'] * 1e3:.3g} mm in "
+                  f"{r['blocks']} block{'s' * (r['blocks'] > 1)}{lines}, peak feed as low as "
+                  f"{r['lowest_m_per_s'] * 6e4:.0f} mm/min ({_REMEDY[r['cause']]})",
+                  highlight=False)
 
 
 def _command_plane(option, cmd) -> tuple[str, str]:

@@ -8,7 +8,7 @@ from pathlib import Path
 from ..errors import InputError
 from .command import Command
 from .gcode import parse_gcode
-from .interpolate import interpolate
+from .interpolate import Interpolation, interpolate_detailed
 from .segments import Arc
 from .settings import InterpolatorSettings
 
@@ -78,6 +78,22 @@ def program_to_command(
         ``meta["plane_axes"]`` is the plane of its first arc (G17 XY, G18 ZX, G19 YZ),
         ``None`` without arcs [-].
     """
+    return program_to_interpolation(path_or_text, settings, start_position_m).command
+
+
+def program_to_interpolation(
+    path_or_text, settings: InterpolatorSettings | None = None, start_position_m=(0.0, 0.0, 0.0)
+) -> Interpolation:
+    """Interpret and interpolate an NC program, keeping the look-ahead's results.
+
+    Parameters and the command's ``meta`` as for :func:`program_to_command` [-].
+
+    Returns
+    -------
+    Interpolation
+        The command and the look-ahead results (:func:`tcpmm.path.limits.feed_limits`
+        says what holds the feed back) [-].
+    """
     file = None
     if _is_path(path_or_text):
         file = Path(path_or_text)
@@ -93,8 +109,9 @@ def program_to_command(
         raise InputError(
             "the program has no motion and no dwell; nothing to interpolate", file=file
         )
-    command = interpolate(segments, settings)
+    result = interpolate_detailed(segments, settings)
+    command = result.command
     command.meta["file"] = None if file is None else str(file)
     planes = [s.plane_axes for s in segments if isinstance(s, Arc)]
     command.meta["plane_axes"] = planes[0] if planes else None
-    return command
+    return result

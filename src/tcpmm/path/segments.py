@@ -29,9 +29,12 @@ class Line:
     feed_m_per_s : float
         Programmed feed [m/s].
     exact_stop : bool
-        Come to rest at the end of the segment (G61) [-].
+        Come to rest at the end of the segment (G61, G9) [-].
     line : int or None
         Source line number, 1-based [-].
+    tolerance_m : float or None
+        Contour tolerance of the corner at its end (G64 P): how far a blend may round it
+        off; ``None`` takes the interpolator's ``blend_tolerance_m``, 0 keeps it sharp [m].
     """
 
     start_m: tuple[float, float, float]
@@ -39,6 +42,7 @@ class Line:
     feed_m_per_s: float
     exact_stop: bool = False
     line: int | None = None
+    tolerance_m: float | None = None
 
     @property
     def length_m(self) -> float:

@@ -64,8 +64,11 @@ def _feed_panel(ax, cmd, limits):
         ax.set_xlabel("distance along the path [mm]")
     if limits is not None:
         edges = np.concatenate([[0.0], np.cumsum(limits.length_m)]) * 1e3
-        ax.step(edges[:-1], limits.feed_m_per_s * 6e4, where="post", color="gray", ls="--",
-                lw=0.8, label="programmed")
+        feed = np.where(limits.limit_m_per_s > 0, limits.feed_m_per_s, np.nan)  # no rapids
+        ax.step(edges[:-1], feed * 6e4, where="post", color="gray", ls="--", lw=0.8,
+                label="programmed")
+        if np.any(np.isfinite(feed)):
+            ax.set_ylim(0, 1.15 * np.nanmax(feed) * 6e4)
         colours = dict(zip(limits.CAUSES, pyplot().cm.tab10.colors, strict=False))
         for cause in np.unique(limits.cause[limits.held]):
             k = limits.held & (limits.cause == cause)

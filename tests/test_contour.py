@@ -39,7 +39,8 @@ def test_a_circle_offset_inwards_is_left_of_a_ccw_travel(ccw):
     for e in res.errors.values():
         # chords of 31 um sag 6e-9 um: the polyline is the circle within that
         assert e == pytest.approx(sign * d, abs=1e-11)
-    assert res.corners == []
+    [end] = res.corners  # no corner on a circle; its end is where a step test stops
+    assert end["index"] == x.size - 1 and np.isnan(end["turn_rad"])
 
 
 def test_a_line_offset_to_either_side_and_in_3d():
@@ -75,8 +76,9 @@ def square(side=0.05, v=0.05, rest=100):
 def test_a_known_overshoot_rounding_and_settling_at_a_corner():
     p = square()
     corners = find_corners(p)
-    assert [p[i].tolist() for i, _ in corners] == [[0.05, 0], [0.05, 0.05], [0, 0.05]]
-    assert all(t == pytest.approx(np.pi / 2, abs=1e-6) for _, t in corners)
+    assert [p[i].tolist() for i, _ in corners] == [[0.05, 0], [0.05, 0.05], [0, 0.05], [0, 0]]
+    assert all(t == pytest.approx(np.pi / 2, abs=1e-6) for _, t in corners[:3])
+    assert corners[3][0] == p.shape[0] - 1 and np.isnan(corners[3][1])
     # at the first corner the X axis runs past it by delta, up and back down smoothly
     i = corners[0][0]
     first = i - 99  # the first sample at rest on the corner
@@ -99,7 +101,7 @@ def test_a_known_overshoot_rounding_and_settling_at_a_corner():
     want = first * DT + u_star * tau - i * DT
     assert c1["settle_s"] == pytest.approx(want, abs=1.5 * DT)
     assert c1["settle_m"] == pytest.approx(want * 0.05, abs=1.5 * DT * 0.05)
-    for c in res.corners[1:]:
+    for c in res.corners[1:3]:
         assert c["tcp"]["overshoot_m"] == 0 and c["tcp"]["settle_s"] == pytest.approx(DT, abs=DT)
     d = res.to_dict()
     assert d["corners"][0]["overshoot_um"] == pytest.approx(8.0, rel=1e-6)
@@ -145,8 +147,9 @@ def test_a_square_on_the_builtin_machine_from_the_cli(tmp_path, capsys):
     assert res["axes"] == "XY" and set(res["sensors"]) == {"motor", "scale", "tcp"}
     rows = [r for r in res["corners"] if r["sensor"] == "scale"]
     at = [v for r in rows for v in (r["x_mm"], r["y_mm"])]
-    assert at == pytest.approx([50, 0, 50, 50, 0, 50], abs=1e-3)  # samples pass by it
-    assert all(r["turn_deg"] == pytest.approx(90, abs=0.01) for r in rows)
+    assert at == pytest.approx([50, 0, 50, 50, 0, 50, 0, 0], abs=1e-3)  # samples pass by
+    assert all(r["turn_deg"] == pytest.approx(90, abs=0.01) for r in rows[:3])
+    assert rows[3]["turn_deg"] is None  # the end
     # a servo that follows within tens of um and settles within a second
     assert 0 < res["sensors"]["scale"]["max_abs_um"] < 200
     assert all(r["rounding_um"] < 200 and 0 < r["settle_ms"] < 1000 for r in rows)
@@ -154,3 +157,29 @@ def test_a_square_on_the_builtin_machine_from_the_cli(tmp_path, capsys):
     code = main(["contour", str(tmp_path / "run.csv"), "--plane", "3d"])
     text = " ".join(capsys.readouterr().out.split())
     assert code == 0 and "contour error in XYZ" in text and "3D, unsigned" in text
+
+
+def test_a_step_along_one_axis_overshoots_and_settles_at_its_end(capsys, tmp_path):
+    """A move of 10 mm along X and a rest: the end overshoots by delta and rings down."""
+    n_move, n_rest = 200, 300
+    x = np.r_[np.linspace(0, 0.01, n_move), np.full(n_rest, 0.01)]
+    delta, tau, w = 5e-6, 0.02, 2 * np.pi * 25
+    u = np.clip(np.arange(x.size) - (n_move - 1), 0, None) * DT
+    ring = np.exp(-u / tau) * np.sin(w * u)
+    ring *= delta / ring.max()
+    act = x + ring
+    run = make_run({"X": x, "Y": 0 * x, "Z": 0 * x}, {"X": act, "Y": 0 * x, "Z": 0 * x})
+    res = contour_error(run)  # one axis moves: 3-D, unsigned
+    assert not res.signed
+    [end] = res.corners
+    m = end["tcp"]
+    assert m["overshoot_m"] == pytest.approx(delta, rel=1e-12)
+    # settled once the distance to the end point stays within 1 um
+    k = np.flatnonzero(np.abs(ring) > 1e-6)[-1] + 1
+    assert m["settle_s"] == pytest.approx(u[k], abs=1e-12)
+    assert m["settle_m"] == 0.0  # the command stands still meanwhile
+    run.to_pandas().to_csv(tmp_path / "run.csv", index=False)
+    assert main(["contour", str(tmp_path / "run.csv")]) == 0
+    cap = capsys.readouterr()
+    assert "3D (unsigned), taken from" in " ".join(cap.err.split())
+    assert "end" in cap.out

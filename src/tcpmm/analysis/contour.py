@@ -9,7 +9,9 @@ sought among the command samples within ``window_s`` of the actual sample, so a 
 that passes a place twice (CCW then CW) is matched with the pass being run.
 
 Corners are where the command's direction, over ``corner_span_m`` before and after a
-point, turns by more than ``corner_deg``. Per corner and sensor: overshoot, the largest
+point, turns by more than ``corner_deg``; the end of the path counts as one (turn NaN),
+where a step test overshoots and settles: there the distance to the end point settles,
+counted from the command's arrival. Per corner and sensor: overshoot, the largest
 travel past the corner along the incoming direction (0 when it never passes it); rounding,
 the closest approach to the corner point; settling, the time and the command's path length
 from when the command leaves the corner until the contour error stays within
@@ -209,10 +211,11 @@ def find_corners(p, corner_deg=30.0, span_m=0.5e-3):
     Returns
     -------
     list of tuple
-        Vertex index (the last one on the corner point) and turn [rad] [-].
+        Vertex index (the last one on the corner point) and turn [rad]; the end of the
+        path last, with a turn of NaN [-].
     """
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-    if s[-1] <= 2 * span_m:
+    if s[-1] <= 0.0:
         return []
     ok = (s >= span_m) & (s <= s[-1] - span_m)
     before = np.stack([np.interp(s - span_m, s, p[:, i]) for i in range(p.shape[1])], 1)
@@ -231,6 +234,9 @@ def find_corners(p, corner_deg=30.0, span_m=0.5e-3):
             while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
                 i += 1
             out.append((int(i), float(turn[i])))
+    # the end of the path: where a step test overshoots and settles
+    if not out or out[-1][0] != p.shape[0] - 1:
+        out.append((p.shape[0] - 1, float("nan")))
     return out
 
 
@@ -263,12 +269,15 @@ def _axes(run, plane):
         names = [a for a in ("X", "Y", "Z") if a in run.axes and run.axes[a].cmd is not None]
         return tuple(names or run.axes), False
     if isinstance(plane, str) and plane.lower() == "auto":
-        axes, _, flat = run_plane(run)
+        try:
+            axes, _, flat = run_plane(run)
+        except InputError:  # fewer than two axes move: a step along one axis
+            flat = False
         return (axes, True) if flat else _axes(run, None)
     return plane_axes(plane), True
 
 
-def contour_error(run, command=None, plane="auto", window_s=0.5, corner_deg=30.0,
+def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0,
                   corner_span_m=0.5e-3, settle_tol_m=1e-6) -> ContourResult:
     """Contour error of every sensor of a run along its commanded path, and corner metrics
     (module docstring: definitions and signs).
@@ -280,7 +289,8 @@ def contour_error(run, command=None, plane="auto", window_s=0.5, corner_deg=30.0
     command : Command, optional
         The commanded path on the run's time line; default the run's command signals [-].
     plane : str or tuple of str or None
-        ``"auto"``: the plane the command moves in (3-D when it is not plane); ``"XY"``,
+        ``"auto"``: the plane the command moves in (3-D when it is not plane or moves along
+        one axis); ``"XY"``,
         ``("Z", "X")``, ...: that plane, signed; ``None`` or ``"3D"``: unsigned in 3-D [-].
     window_s : float
         Time around each actual sample in which its closest command point is sought [s].
@@ -338,22 +348,31 @@ def corner_metrics(res: ContourResult, corners, t) -> list:
         t_in = c - p[min(back, first - 1)] if first > 0 else np.zeros_like(c)
         t_in = t_in / (np.linalg.norm(t_in) or 1.0)
         own = (t >= bounds[n]) & (t <= bounds[n + 1])
-        after = own & (t >= tc[i])
+        t0 = tc[first] if np.isnan(turn) else tc[i]  # the end: from the arrival
+        after = own & (t >= t0)
         entry = {"number": n + 1, "index": int(i), "point_m": c.tolist(), "turn_rad": turn}
         for name, q in res.actual.items():
             rel = q[own] - c
             over = float(max(np.max(rel @ t_in), 0.0)) if rel.size else float("nan")
             rnd = float(np.min(np.linalg.norm(rel, axis=1))) if rel.size else float("nan")
             entry[name] = {"overshoot_m": over, "rounding_m": rnd,
-                           **_settling(res.errors[name][after], t[after], tc, s, i,
-                                       res.settle_tol_m)}
+                           **_settling(_settle_error(res, name, after, c, turn), t[after],
+                                       t0, tc, s, res.settle_tol_m)}
         out.append(entry)
     return out
 
 
-def _settling(e, t, tc, s, i, tol) -> dict:
-    """Time and command path length from the corner until ``e`` stays within ``tol`` of
-    its level at the end of the stretch (the median of its last quarter)."""
+def _settle_error(res, name, k, c, turn):
+    """What settles: the contour error after a corner, the distance to the end point at the
+    end of the path (the command rests there, so lag along the path counts too) [m]."""
+    if np.isnan(turn):
+        return np.linalg.norm(res.actual[name][k] - c, axis=1)
+    return res.errors[name][k]
+
+
+def _settling(e, t, t0, tc, s, tol) -> dict:
+    """Time and command path length from ``t0`` until ``e`` stays within ``tol`` of its
+    level at the end of the stretch (the median of its last quarter)."""
     nan = {"settle_s": float("nan"), "settle_m": float("nan")}
     if e.size < 4:
         return nan
@@ -363,5 +382,5 @@ def _settling(e, t, tc, s, i, tol) -> dict:
     out = np.flatnonzero(dev > tol)
     k = 0 if out.size == 0 else out[-1] + 1
     ts = t[k]
-    return {"settle_s": float(ts - tc[i]),
-            "settle_m": float(np.interp(ts, tc, s) - s[i])}
+    return {"settle_s": float(ts - t0),
+            "settle_m": float(np.interp(ts, tc, s) - np.interp(t0, tc, s))}

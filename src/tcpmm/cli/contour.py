@@ -6,7 +6,8 @@ from pathlib import Path
 
 import typer
 
-from ._app import Sensor, _emit_json, _in_file, _plot, _positive, app, console, out
+from ._app import Sensor, _emit_json, _in_file, _plot, _positive, app, out
+from ._plane import run_plane_said
 
 
 @app.command()
@@ -22,7 +23,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             corner_deg: float = typer.Option(30.0, "--corner-deg",
                                              help="Least turn that makes a corner [deg]."),
             window_s: float = typer.Option(
-                0.5, "--window-s", help="Time around each sample in which its closest command "
+                0.2, "--window-s", help="Time around each sample in which its closest command "
                                         "point is sought [s]."),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
@@ -37,7 +38,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     _plot(plot)
     run = read_run_csv(run_file)
     with _in_file(run_file):
-        how = _plane_choice(plane, run, run_file)
+        how = run_plane_said(plane, run, run_file, allow_3d=True)
         res = contour_error(run, plane=how, window_s=window_s, corner_deg=corner_deg,
                             settle_tol_m=settle_um * 1e-6)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
@@ -53,23 +54,6 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     _print(res, name, f"{run_file}")
 
 
-def _plane_choice(option, run, what):
-    """What ``contour_error`` gets as its plane; an automatic choice is said on stderr."""
-    from ..analysis.plane import plane_axes, run_plane
-
-    if option is not None:
-        if option.upper() == "3D":
-            return None
-        try:
-            return plane_axes(option)
-        except Exception as exc:
-            raise typer.BadParameter(str(exc), param_hint="--plane") from None
-    axes, why, flat = run_plane(run)
-    chosen = f"plane {''.join(axes)}" if flat else "3D (unsigned)"
-    console.print(f"{chosen}, taken from {what}: {why}", highlight=False)
-    return axes if flat else None
-
-
 def _print(res, sensor: str, title: str) -> None:
     """Error per sensor and the corner table of one sensor, 80 columns wide."""
     from rich.table import Table
@@ -83,7 +67,6 @@ def _print(res, sensor: str, title: str) -> None:
         t.add_row(s, *[f"{d[k] * 1e6:.2f}" for k in ("max_abs_m", "rms_m", "max_m", "min_m")])
     out.print(t)
     if not res.corners:
-        out.print("no corners (no turn sharper than the corner angle)")
         return
     t = Table(title=f"corners, {sensor}", caption=f"overshoot past the corner, rounding: "
               f"closest approach [µm]; settled within {res.settle_tol_m * 1e6:g} µm")
@@ -93,7 +76,8 @@ def _print(res, sensor: str, title: str) -> None:
         if row["sensor"] != sensor:
             continue
         at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)
-        t.add_row(str(row["corner"]), at, f"{row['turn_deg']:.0f}°",
+        turn = "end" if row["turn_deg"] != row["turn_deg"] else f"{row['turn_deg']:.0f}°"
+        t.add_row(str(row["corner"]), at, turn,
                   *[_num(row[k]) for k in ("overshoot_um", "rounding_um", "settle_ms",
                                            "settle_mm")])
     out.print(t)

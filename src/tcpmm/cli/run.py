@@ -21,9 +21,9 @@ from ._app import (
     _read_model,
     _refuse_unstable,
     app,
-    console,
     out,
 )
+from ._plane import PLANE_HELP, plane_option, run_plane_said
 
 
 @app.command()
@@ -67,31 +67,6 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
 
 
-_PLANE_HELP = ("Plane: XY, XZ, YZ (or ZX as G18 has it); CCW turns the first axis into the "
-               "second. Default: the plane in which the command moves.")
-
-
-def _plane_option(option: str) -> tuple[str, str]:
-    from ..analysis.plane import plane_axes
-
-    try:
-        return plane_axes(option)
-    except Exception as exc:
-        raise typer.BadParameter(str(exc), param_hint="--plane") from None
-
-
-def _plane(option: str | None, run, what) -> tuple[str, str]:
-    """The plane of ``--plane``, or the one the run moves in, said on stderr."""
-    from ..analysis.plane import run_plane
-
-    if option is not None:
-        return _plane_option(option)
-    with _in_file(what):
-        axes, why, _ = run_plane(run)
-    console.print(f"plane {''.join(axes)}, taken from {what}: {why}", highlight=False)
-    return axes
-
-
 @app.command()
 def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or measured)"),
            other: Path = typer.Argument(
@@ -100,7 +75,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
            radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
            centre: str = typer.Option("0,0", "--centre",
                                       help="Nominal centre in the plane's axes, A,B [mm]."),
-           plane: str = typer.Option(None, "--plane", help=_PLANE_HELP),
+           plane: str = typer.Option(None, "--plane", help=PLANE_HELP),
            direction: str = typer.Option(None, "--direction", help="ccw or cw."),
            sensor: Sensor = typer.Option(
                None, "--sensor", help="Sensor of the diagnostics (default tcp, else scale, "
@@ -127,7 +102,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
     results, axes = [], None
     for f in (run_file, other) if other is not None else (run_file,):
         run = read_run_csv(f)
-        axes = axes or _plane(plane, run, f)
+        axes = axes or run_plane_said(plane, run, f)
         with _in_file(f):
             results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
                                           plane=axes,
@@ -235,7 +210,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
             radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
             centre: str = typer.Option("0,0", "--centre",
                                        help="Nominal centre in the plane's axes, A,B [mm]."),
-            plane: str = typer.Option(None, "--plane", help=_PLANE_HELP),
+            plane: str = typer.Option(None, "--plane", help=PLANE_HELP),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save an overlay plot.")):
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
@@ -249,7 +224,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
     _positive(radius, "--radius [mm]")
     _plot(plot)
     runs = [read_run_csv(f) for f in (measured, predicted)]
-    axes = _plane(plane, runs[0], measured)
+    axes = run_plane_said(plane, runs[0], measured)
     with _in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
     with _in_file(predicted):
@@ -332,7 +307,7 @@ def _command_plane(option, cmd) -> tuple[str, str]:
     from ..analysis.plane import motion_plane
 
     if option is not None:
-        return _plane_option(option)
+        return plane_option(option)
     if cmd.meta.get("plane_axes"):
         return tuple(cmd.meta["plane_axes"])
     try:

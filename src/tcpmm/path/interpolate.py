@@ -110,7 +110,9 @@ def interpolate_detailed(
     Returns
     -------
     Interpolation
-        The command and the look-ahead results [-].
+        The command and the look-ahead results; where corners are blended (``G64 P``,
+        ``blend_tolerance_m``) its per-segment arrays describe the blended path, a blend arc
+        after each such corner [-].
     """
     settings = settings or InterpolatorSettings()
     dt = settings.period_s

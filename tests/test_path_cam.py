@@ -17,7 +17,7 @@ from tcpmm.path.blend import blend_corners
 from tcpmm.path.geometry import evaluate, to_arrays
 from tcpmm.path.limits import feed_limits
 from tcpmm.path.program import program_to_interpolation
-from tcpmm.path.segments import Arc
+from tcpmm.path.segments import Arc, Blend
 
 
 def spiral(n=720, step_deg=2.0, head="G21 G90 G17 F3000"):
@@ -58,13 +58,14 @@ def test_a_blend_passes_the_corner_at_the_tolerance_and_joins_tangentially(turn_
     end = (0.05 + 0.05 * math.cos(th), 0.05 * math.sin(th), 0.0)
     b = Line(a.end_m, end, 0.05)
     l1, arc, l2 = blend_corners([a, b])
-    assert isinstance(arc, Arc) and arc.direction == "ccw" and arc.plane_axes == ("X", "Y")
+    assert isinstance(arc, Blend) and arc.sweep_rad == pytest.approx(th, rel=1e-9)
     assert l1.end_m == arc.start_m and arc.end_m == l2.start_m and l2.end_m == end
     p = to_arrays([l1, arc, l2], (1.0, 1.0, 1.0))
     pts = evaluate(p, np.ones(20001, int), np.linspace(0, p.length[1], 20001))
     gap = np.linalg.norm(pts - np.array(a.end_m), axis=1).min()
     assert gap == pytest.approx(tol, rel=1e-6)  # the closest point is the arc's middle
-    assert arc.radius_m == pytest.approx(arc.end_radius_m, rel=1e-12)
+    assert arc.radius_m == pytest.approx(math.dist(arc.end_m, arc.centre_m), rel=1e-12)
+    assert np.allclose(pts[-1], arc.end_m, rtol=0, atol=1e-15)
     # tangent at both ends: the radius is normal to the line there
     for q, u in ((arc.start_m, (1, 0, 0)), (arc.end_m, (math.cos(th), math.sin(th), 0))):
         assert np.dot(np.subtract(q, arc.centre_m), u) == pytest.approx(0, abs=1e-15)
@@ -77,11 +78,26 @@ def test_corners_that_stay_sharp():
     assert len(blend_corners([Line(o, x, 0.1, exact_stop=True, tolerance_m=tol),
                               Line(x, xy, 0.1)])) == 2
     assert len(blend_corners([Line(o, x, 0.1, tolerance_m=tol), Line(x, o, 0.1)])) == 2
-    skew = (0.02, 0.01, 0.01)  # the corner's plane is none of XY, ZX, YZ
-    assert len(blend_corners([Line(o, x, 0.1, tolerance_m=tol), Line(x, skew, 0.1)])) == 2
-    xz = (0.02, 0.0, 0.01)
-    [_, arc, _] = blend_corners([Line(o, x, 0.1, tolerance_m=tol), Line(x, xz, 0.1)])
-    assert arc.plane_axes == ("Z", "X") and arc.direction == "cw"  # CCW turns +Z into +X
+    assert len(blend_corners([Line(o, x, 0.1, tolerance_m=tol), Arc(x, xy, (0.01, 0.005, 0),
+                                                                    ("X", "Y"), "ccw", 0.1)])) == 2
+
+
+def test_a_corner_in_any_orientation_is_blended_within_the_tolerance():
+    o, x, skew = (0.0, 0.0, 0.0), (0.01, 0.0, 0.0), (0.02, 0.01, 0.01)
+    tol = 1e-5
+    segs = blend_corners([Line(o, x, 0.1, tolerance_m=tol), Line(x, skew, 0.1)])
+    p = to_arrays(segs, (1.0, 1.0, 1.0))
+    pts = evaluate(p, np.ones(20001, int), np.linspace(0, p.length[1], 20001))
+    assert np.linalg.norm(pts - np.array(x), axis=1).min() == pytest.approx(tol, rel=1e-6)
+    assert np.allclose(pts[[0, -1]], [segs[1].start_m, segs[1].end_m], rtol=0, atol=1e-15)
+    # a 3-D polyline along a helix runs at its feed like the plane spiral
+    pts = [(0.01 * math.cos(math.radians(2 * k)), 0.01 * math.sin(math.radians(2 * k)),
+            -2e-5 * k) for k in range(361)]
+    body = "\n".join(f"X{x * 1e3:.4f} Y{y * 1e3:.4f} Z{z * 1e3:.4f}" for x, y, z in pts[1:])
+    res = program_to_interpolation(f"G64 P0.01\nG1 X10 Y0 Z0 F3000\n{body}\n")
+    v, s = speed(res), np.asarray(res.command.meta["path_s_m"])
+    on = (s > 0.02 + 0.05 * (s[-1] - 0.01)) & (s < s[-1] - 0.05 * (s[-1] - 0.01))
+    assert np.ptp(v[on]) < 1e-4 * 0.05 and np.mean(v[on]) == pytest.approx(0.05, rel=1e-6)
 
 
 def test_a_spiral_of_720_short_blocks_runs_at_the_programmed_feed_with_g64_p():

@@ -10,9 +10,9 @@ chain of arcs whose radius is the curve's, and the look-ahead limits its speed b
 centripetal acceleration rather than by a velocity step at every block end.
 
 Corners are blended where both blocks are straight feed moves (G1) in continuous-path
-mode whose directions lie in one of the planes XY, ZX, YZ (the blend is an arc of that
-plane); corners next to arcs, rapids, dwells, exact stops (G61, G9), reversals and
-corners out of those planes stay sharp.
+mode, in any orientation: the blend is an arc in the plane of the two lines
+(:class:`~tcpmm.path.segments.Blend`). Corners next to arcs, rapids and dwells, at exact
+stops (G61, G9) and at reversals stay sharp.
 """
 
 from __future__ import annotations
@@ -21,13 +21,10 @@ import math
 
 import numpy as np
 
-from .segments import PLANES, Arc, Line
+from .segments import Blend, Line
 
 #: blends shorter than this along either line are not worth a segment [m]
 MIN_BLEND_M = 1e-9
-#: the normal of the corner's plane must be this close to a coordinate axis [-]
-PLANE_TOL = 1e-9
-_PLANE_OF_NORMAL = {2: PLANES[17], 1: PLANES[18], 0: PLANES[19]}
 
 
 def _unit(a: Line) -> np.ndarray:
@@ -51,17 +48,15 @@ def tangent_length(a: Line, b: Line, tol_m: float) -> float:
     u1, u2 = _unit(a), _unit(b)
     c = float(np.clip(np.dot(u1, u2), -1.0, 1.0))
     theta = math.acos(c)
-    normal = np.cross(u1, u2)
-    nn = float(np.linalg.norm(normal))
-    if theta < 1e-12 or nn < 1e-12 or np.max(np.abs(normal)) < (1 - PLANE_TOL) * nn:
-        return 0.0  # straight on, a reversal, or out of the principal planes
+    if theta < 1e-12 or float(np.linalg.norm(np.cross(u1, u2))) < 1e-12:
+        return 0.0  # straight on, or a reversal
     h = 0.5 * theta
     d_tol = tol_m * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2)
     d = min(d_tol, 0.5 * a.length_m, 0.5 * b.length_m)
     return d if d >= MIN_BLEND_M else 0.0
 
 
-def blend_arc(a: Line, b: Line, d: float) -> Arc:
+def blend_arc(a: Line, b: Line, d: float) -> Blend:
     """The arc tangent to ``a`` and ``b`` at the distance ``d`` from their corner [-]."""
     u1, u2 = _unit(a), _unit(b)
     p = np.asarray(a.end_m, float)
@@ -69,11 +64,8 @@ def blend_arc(a: Line, b: Line, d: float) -> Arc:
     rho = d / math.tan(h)
     bis = (u2 - u1) / np.linalg.norm(u2 - u1)
     centre = p + bis * (rho / math.cos(h))
-    normal = np.cross(u1, u2)
-    k = int(np.argmax(np.abs(normal)))
-    return Arc(tuple(p - d * u1), tuple(p + d * u2), tuple(centre), _PLANE_OF_NORMAL[k],
-               "ccw" if normal[k] > 0 else "cw", min(a.feed_m_per_s, b.feed_m_per_s),
-               line=b.line)
+    return Blend(tuple(p - d * u1), tuple(p + d * u2), tuple(centre),
+                 min(a.feed_m_per_s, b.feed_m_per_s), line=b.line)
 
 
 def blend_corners(segments, default_tol_m: float = 0.0) -> list:

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .geometry import ARC, DWELL, PathArrays, max_abs_trig, tangents
+from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
 from .profile import reach
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
@@ -94,11 +94,35 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
         vmax[a] = parts.min(axis=0)
         cause[a] = np.argmin(parts, axis=0)
         acc[a] = a_t
+    _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
     vmax[p.kind == DWELL] = 0.0
     acc[p.kind == DWELL] = acc_path
     if n and not np.all(vmax[p.kind != DWELL] > 0):
         raise AssertionError("segment speed limit must be positive")
     return vmax, acc, cause
+
+
+def _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause):
+    """Speed and tangential acceleration limits of the corner blends, set in place: an
+    axis moves along a blend at most ``sqrt(e1^2 + e2^2)`` times the path's velocity and
+    acceleration; the acceleration is shared between tangent and normal as on arcs."""
+    b = np.flatnonzero(p.kind == BLEND)
+    if not b.size:
+        return
+    share = np.sqrt(p.e1[b] ** 2 + p.e2[b] ** 2)
+    r = p.r0[b]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v_axis = np.min(vel_axis[None, :] / share, axis=1)
+        a_plane = np.min(acc_axis[None, :] / share, axis=1)
+    a_t = np.minimum(acc_path, a_plane / math.sqrt(2.0))
+    vc = np.sqrt(np.sqrt(a_plane**2 - a_t**2) * r)
+    vf = np.full(b.size, np.inf)
+    if filt.variance_s2 > 0.0:
+        vf = np.sqrt(2.0 * filt.tolerance_m / (r * filt.variance_s2)) * r
+    parts = np.stack([p.feed[b], v_axis, vc, vf])
+    vmax[b] = parts.min(axis=0)
+    cause[b] = np.argmin(parts, axis=0)
+    acc[b] = a_t
 
 
 def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):

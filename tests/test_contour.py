@@ -132,7 +132,7 @@ def test_bad_input_is_an_input_error():
 
 def test_a_square_on_the_builtin_machine_from_the_cli(tmp_path, capsys):
     (tmp_path / "sq.nc").write_text("G21 G17 G90\nG0 X0 Y0\nG1 X50 Y0 F3000\nX50 Y50\n"
-                                    "X0 Y50\nX0 Y0\nM30\n")
+                                    "X0 Y50\nX0 Y0\nG4 P0.5\nM30\n")
     for args in (["path", tmp_path / "sq.nc", "-o", tmp_path / "cmd.csv"],
                  ["simulate", "builtin:vmc", "--command", tmp_path / "cmd.csv", "-o",
                   tmp_path / "run.csv"]):
@@ -150,7 +150,8 @@ def test_a_square_on_the_builtin_machine_from_the_cli(tmp_path, capsys):
     assert at == pytest.approx([50, 0, 50, 50, 0, 50, 0, 0], abs=1e-3)  # samples pass by
     assert all(r["turn_deg"] == pytest.approx(90, abs=0.01) for r in rows[:3])
     assert rows[3]["turn_deg"] is None  # the end
-    # a servo that follows within tens of um and settles within a second
+    # a servo that follows within tens of um and settles within a second, at the end
+    # within the dwell
     assert 0 < res["sensors"]["scale"]["max_abs_um"] < 200
     assert all(r["rounding_um"] < 200 and 0 < r["settle_ms"] < 1000 for r in rows)
     assert (tmp_path / "c.png").is_file()

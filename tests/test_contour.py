@@ -184,3 +184,22 @@ def test_a_step_along_one_axis_overshoots_and_settles_at_its_end(capsys, tmp_pat
     cap = capsys.readouterr()
     assert "3D (unsigned), taken from" in " ".join(cap.err.split())
     assert "end" in cap.out
+
+
+def test_the_result_shares_the_protocol(tmp_path):
+    import pandas as pd
+
+    from tcpmm.plot import pyplot
+
+    p = square()
+    res = contour_error(make_run({"X": p[:, 0], "Y": p[:, 1]}, {"X": p[:, 0], "Y": p[:, 1]}))
+    assert isinstance(res.to_pandas(), pd.DataFrame) and len(res.to_pandas()) == p.shape[0]
+    assert len(res.corners_table()) == 4 * 3  # corners and the end, per sensor
+    json.dumps(res.to_dict())
+    fig = res.plot(path=tmp_path / "c.png")
+    assert (tmp_path / "c.png").stat().st_size > 0 and len(fig.axes) == 3  # + colour bar
+    fig = pyplot().figure()
+    axs = [fig.add_subplot(1, 2, k) for k in (1, 2)]
+    assert res.plot(ax=axs) is fig
+    assert res.plot(ax=axs[0], sensor="scale") is fig  # the coloured path alone
+    pyplot().close("all")

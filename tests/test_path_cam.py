@@ -168,3 +168,24 @@ def test_machine_export_writes_the_interpolator_settings_and_path_reads_them(tmp
         assert main(["path", str(tmp_path / "s.nc"), "-o", str(tmp_path / "c.csv"),
                      "--model", str(tmp_path / "bad.yaml")]) == 2
     assert "blend_tolerance_m" in capsys.readouterr().err
+
+
+def test_feed_limits_and_the_command_plot_share_the_protocol(tmp_path):
+    from tcpmm.plot import pyplot
+
+    text, _ = spiral(n=90)
+    res = program_to_interpolation(text)
+    lim = feed_limits(res)
+    table = lim.to_pandas()
+    assert len(table) == res.path.n and set(table["cause"]) >= {"corner: axis acceleration"}
+    import json
+
+    json.dumps(lim.to_dict())
+    assert lim.plot(path=tmp_path / "f.png").axes and (tmp_path / "f.png").stat().st_size > 0
+    fig = pyplot().figure()
+    axs = [fig.add_subplot(2, 2, k) for k in range(1, 5)]
+    assert res.command.plot(ax=axs) is fig
+    assert axs[3].get_title() == "feed along the path"
+    with pytest.raises(ValueError, match="4 panels"):
+        res.command.plot(ax=axs[:3])
+    pyplot().close("all")

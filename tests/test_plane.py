@@ -10,7 +10,7 @@ from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics
 from tcpmm.analysis.plane import motion_plane, plane_axes
 from tcpmm.cli import main
-from tcpmm.errors import InputError
+from tcpmm.errors import InputError, InputWarning
 
 # a circle of R10 at F2000 in G18 (ZX) and G19 (YZ): feed-in, CCW, feed-out; the same CW
 XZ = """G21 G18 G90
@@ -111,7 +111,8 @@ def test_compare_in_the_plane_of_the_run(capsys, runs):
 def test_plots_name_the_plane_axes(runs):
     from tcpmm.io.runfile import read_run_csv
 
-    res = analyse_circle(read_run_csv(runs["xz"]), 0.01, plane=("Z", "X"))
+    with pytest.warns(InputWarning, match="quadrant point B"):  # the circles start at B
+        res = analyse_circle(read_run_csv(runs["xz"]), 0.01, plane=("Z", "X"))
     fig = res.plot()
     assert [(a.get_xlabel(), a.get_ylabel()) for a in fig.axes] == [("Z [mm]", "X [mm]")] * 2
     diag = circle_diagnostics(res)

@@ -113,8 +113,20 @@ class ContourResult:
                 "corners": [{k: clean(v) for k, v in _corner_row(self.axes, c, s).items()}
                             for c in self.corners for s in self.errors]}
 
-    def plot(self, ax=None, sensor=None, path=None):
-        """The command path coloured by the contour error of one sensor; the figure."""
+    def plot(self, ax=None, path=None, sensor=None):
+        """One sensor's path coloured by its contour error, and every sensor's error in
+        time; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            Two (coloured path, error in time), or one for the coloured path alone; a new
+            figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        sensor : str, optional
+            Sensor of the colours; default tcp, else scale, else motor [-].
+        """
         from ..plot.contour import plot_contour
 
         return plot_contour(self, ax=ax, sensor=sensor, path=path)

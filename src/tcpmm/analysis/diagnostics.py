@@ -33,7 +33,7 @@ Cyclic error: amplitude ``c`` and period ``L`` per axis, the period found by a s
 
 The 20 deg after each quadrant point in the direction of travel (the reversal spike, whose
 transient no term models) are left out of the fit. Reported besides: reversal spikes
-(formats.md section 4) of the residual, which the backlash step no longer enters; radial
+(docs/formats.md section 4) of the residual, which the backlash step no longer enters; radial
 deviation, the mean radius minus the nominal of the fitted circle; circular deviation G per
 direction and bidirectional G(b) about the least-squares centre of both (ISO 230-4);
 circular hysteresis H, the largest radial difference between the two circles.
@@ -53,6 +53,21 @@ SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
           "servo_angle", "scale_mismatch")
 PREFERRED_SENSORS = ("tcp", "scale", "motor", "cmd")
+#: SI unit -> (display unit, factor); the cyclic periods are shown in mm
+DISPLAY_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
+                 "rad": ("µrad", 1e6)}
+#: What the sign of a term means, by term name or its name without the axis; ``{a}`` and
+#: ``{b}`` stand for the plane's first and second axis
+TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
+              "centre_offset": "circle centre - nominal",
+              "backlash": "+: radius steps out at reversal",
+              "lateral_play_{a}": "+: moving +{a} shifts {a} to +{b}",
+              "lateral_play_{b}": "+: moving +{b} shifts {b} to +{a}",
+              "servo_mismatch": "+: {b} lags {a}",
+              "squareness": "+: angle +{a} to +{b} over 90 deg",
+              "scale_mismatch": "+: {a} travels further than {b}",
+              "cyclic_amplitude": "e.g. screw pitch error",
+              "residual_rms": "what the terms leave unexplained"}
 
 
 @dataclass
@@ -97,10 +112,51 @@ class CircleDiagnostics:
                           for k, (v, u) in self.terms.items()]}
 
     def plot(self, ax=None, path=None):
-        """Radial error of both circles against angle with the fitted terms; the figure."""
+        """Radial error of both circles against angle with the fitted terms; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
         from ..plot.diagnostics import plot_circle_diagnostics
 
         return plot_circle_diagnostics(self, ax=ax, path=path)
+
+
+def display_terms(diag, ascii_units: bool = False) -> list[tuple]:
+    """``(term, value, unit)`` of the diagnostics in display units: µm, ms, µm/m, ppm,
+    µrad, and mm for the cyclic periods.
+
+    Parameters
+    ----------
+    diag : CircleDiagnostics
+        The diagnostics [SI].
+    ascii_units : bool
+        Write µ as u [-].
+    """
+    rows = []
+    for term, (value, unit) in diag.terms.items():
+        shown, k = ("mm", 1e3) if term.startswith("cyclic_period") else DISPLAY_UNITS[unit]
+        rows.append((term, value * k, shown.replace("µ", "u") if ascii_units else shown))
+    return rows
+
+
+def term_note(term: str, axes=("X", "Y")) -> str:
+    """What the sign of a diagnostics term means; empty when nothing needs saying [-].
+
+    Parameters
+    ----------
+    term : str
+        Term name, e.g. ``lateral_play_Z`` [-].
+    axes : tuple of str
+        The plane's first and second axis (``CircleDiagnostics.axes``) [-].
+    """
+    a, b = axes
+    notes = {k.format(a=a, b=b): v.format(a=a, b=b) for k, v in TERM_NOTES.items()}
+    return notes.get(term) or notes.get(term.rsplit("_", 1)[0], "")
 
 
 def _shared(angle, s, radius, ratio):

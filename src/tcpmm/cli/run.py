@@ -20,6 +20,7 @@ from ._app import (
     _progress,
     _read_model,
     _refuse_unstable,
+    _report_file,
     app,
     out,
 )
@@ -27,12 +28,15 @@ from ._plane import PLANE_HELP, plane_option, run_plane_said
 
 
 @app.command()
-def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder.")):
+def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder."),
+         report: Path = typer.Option(None, "--report", help="Also write the HTML report "
+                                     "REPORT.html (tcpmm report).")):
     """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
     from ..demo import DEMO_STEPS, run_demo
 
+    _report_file(report)
     with _progress(len(DEMO_STEPS), "demo") as adv:
-        res = run_demo(out_dir, progress=adv, console=out)
+        res = run_demo(out_dir, progress=adv, console=out, report=report)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
     for k, v in res["files"].items():
         out.print(f"  {k:12s} {v}")
@@ -114,7 +118,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
             {p.direction for p in res.passes} == {"ccw", "cw"}:
         diag = circle_diagnostics(*results, sensor=sensor.value if sensor else None)
     if plot is not None:
-        res.plot(plot)
+        res.plot(path=plot)
     if diag_plot is not None:
         diag.plot(path=diag_plot)
     if as_json:
@@ -132,27 +136,11 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
         _print_diagnostics(diag)
 
 
-#: SI unit -> (display unit, factor); the cyclic periods are shown in mm
-_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
-          "rad": ("µrad", 1e6)}
-_NOTES = {"hysteresis": "largest CCW-CW radial difference",
-          "centre_offset": "circle centre - nominal",
-          "backlash": "+: radius steps out at reversal",
-          "lateral_play_{a}": "+: moving +{a} shifts {a} to +{b}",
-          "lateral_play_{b}": "+: moving +{b} shifts {b} to +{a}",
-          "servo_mismatch": "+: {b} lags {a}", "squareness": "+: angle +{a} to +{b} over 90 deg",
-          "scale_mismatch": "+: {a} travels further than {b}",
-          "cyclic_amplitude": "e.g. screw pitch error",
-          "residual_rms": "what the terms leave unexplained"}
-
-
 def _display_terms(diag, ascii_units=False):
     """``(term, value, unit)`` in the display units (µm, ms, µm/m, ppm, mm)."""
-    rows = []
-    for term, (value, unit) in diag.terms.items():
-        shown, k = ("mm", 1e3) if term.startswith("cyclic_period") else _UNITS[unit]
-        rows.append((term, value * k, shown.replace("µ", "u") if ascii_units else shown))
-    return rows
+    from ..analysis.diagnostics import display_terms
+
+    return display_terms(diag, ascii_units)
 
 
 def _cell(v: float, digits: int = 2) -> str:
@@ -179,6 +167,8 @@ def _print_diagnostics(diag) -> None:
     """The diagnostics as two tables: per direction, and the terms with their signs."""
     from rich.table import Table
 
+    from ..analysis.diagnostics import term_note
+
     rows = {t: (v, u) for t, v, u in _display_terms(diag)}
     t = Table(title=f"circle diagnostics ({diag.sensor}) [µm]")
     for name in ("", "CCW", "CW", "pair"):
@@ -197,9 +187,7 @@ def _print_diagnostics(diag) -> None:
     for term, (v, u) in rows.items():
         if term.startswith(("radial_deviation", "circularity", "spike")):
             continue
-        a, b = diag.axes
-        notes = {k.format(a=a, b=b): v.format(a=a, b=b) for k, v in _NOTES.items()}
-        note = notes.get(term) or notes.get(term.rsplit("_", 1)[0], "")
+        note = term_note(term, diag.axes)
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u, note)
     out.print(t)
 
@@ -212,7 +200,9 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
                                        help="Nominal centre in the plane's axes, A,B [mm]."),
             plane: str = typer.Option(None, "--plane", help=PLANE_HELP),
             as_json: bool = typer.Option(False, "--json"),
-            plot: Path = typer.Option(None, "--plot", help="Save an overlay plot.")):
+            plot: Path = typer.Option(None, "--plot", help="Save an overlay plot."),
+            report: Path = typer.Option(None, "--report",
+                                        help="Also write the HTML report REPORT.html.")):
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
     from ..analysis.circular import analyse_circle
     from ..analysis.compare import compare_circles
@@ -223,6 +213,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
     _positive(radius, "--radius [mm]")
     _plot(plot)
+    _report_file(report, measured, predicted)
     runs = [read_run_csv(f) for f in (measured, predicted)]
     axes = run_plane_said(plane, runs[0], measured)
     with _in_file(measured):
@@ -231,15 +222,22 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
         rp = analyse_circle(runs[1], radius * 1e-3, ctr, plane=axes)
     cmp = compare_circles(rm, rp)
     if plot is not None:
-        from ..plot.circle import plot_circle
+        cmp.plot(path=plot)
+    if report is not None:
+        from ..report import circle_test_section, comparison_section, write_report
 
-        plot_circle(rm, plot, sensors=["tcp"], overlay=rp)
+        write_report(report, [comparison_section(cmp, rm, rp, (measured, predicted)),
+                              circle_test_section(rm, "circle", f"Circular test: "
+                                                  f"{measured.name}", measured)],
+                     "Measured against predicted", [("measured", measured),
+                                                    ("predicted", predicted)])
     if as_json:
         _emit_json(cmp.to_dict())
     else:
         print_circle_table(cmp.to_pandas(), out, "measured - predicted [um]")
         for line in cmp.notes():
             out.print(line)
+
 
 @app.command()
 def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
@@ -274,8 +272,8 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     if plot:
         from ..plot.path import plot_command
 
-        p = plot_command(cmd, output.with_suffix(".png"), plane=_command_plane(plane, cmd),
-                         limits=limits)
+        p = output.with_suffix(".png")
+        plot_command(cmd, p, plane=_command_plane(plane, cmd), limits=limits)
         out.print(f"wrote {p}")
 
 

@@ -80,6 +80,20 @@ class FeedLimits:
                              "reached_mm_per_min": self.limit_m_per_s * 6e4,
                              "held": self.held, "cause": self.cause})
 
+    def plot(self, ax=None, path=None):
+        """Programmed feed and speed reached per block, coloured by the cause; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
+        from ..plot.path import plot_feed_limits
+
+        return plot_feed_limits(self, ax=ax, path=path)
+
     def to_dict(self) -> dict:
         """JSON-ready: share at the feed and the causes (mm, mm/min)."""
         return {"share_at_feed": self.share_at_feed(),

@@ -122,7 +122,7 @@ ERRORS = [
     ("G1 X10\n", 1, 1, "no feed rate"),
     ("G0 X5\nX10 Y3 G1\n", 2, 8, "no feed rate"),
     ("G1 X5 F100\nG2 X10 Y0 I3 J0\n", 2, 11, "radius to the start is 3 mm but to the end 2 mm"),
-    ("G1 X1 F100 Q5\n", 1, 12, "unknown word letter Q"),
+    ("G1 X1 F100 Q5\n", 1, 12, "Q is only used with G4 (P: dwell time in seconds) or G64"),
     ("G1 X1.2.3 F100\n", 1, 4, "malformed number '1.2.3'"),
     ("G1 X1 F100\nG2 X1 Y0 R5\n", 2, 10, "full circle"),
     ("G2 X0 Y0 I0 J0 F100\n", 1, 10, "zero radius"),

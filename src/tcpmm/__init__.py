@@ -12,7 +12,7 @@ The public API, by step of the work (each name is imported on first use, so that
     identify   identify, read_frf, fit_frf
     predict    program_to_command, circle_command, paper_circle_command, read_command,
                simulate
-    analyse    read_run, analyse_circle, circle_diagnostics, compare
+    analyse    read_run, analyse_circle, circle_diagnostics, compare, contour_error
     what-if    circle_spread, run_sweep
 
 Results share one protocol: ``.to_pandas()`` (a table in file units), ``.to_dict()``
@@ -57,6 +57,7 @@ _API = {
     "analyse_circle": "tcpmm.analysis.circular:analyse_circle",
     "circle_diagnostics": "tcpmm.analysis.diagnostics:circle_diagnostics",
     "compare": "tcpmm.api:compare",
+    "contour_error": "tcpmm.analysis.contour:contour_error",
     "circle_spread": "tcpmm.spread:circle_spread",
     "run_sweep": "tcpmm.sweep.run:run_sweep",
 }

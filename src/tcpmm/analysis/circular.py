@@ -1,7 +1,8 @@
 """Circular test analysis (docs/formats.md section 4).
 
-Quadrant points A, B, C, D are at 0, 90, 180, 270 deg counter-clockwise from +X about the
-nominal centre, whatever the direction of travel. Radial error ``e = r - R`` (outward
+Quadrant points A, B, C, D are at 0, 90, 180, 270 deg counter-clockwise from the plane's
+first axis (+X in XY, :mod:`tcpmm.analysis.plane`) about the nominal centre, whatever the
+direction of travel. Radial error ``e = r - R`` (outward
 positive); contour error ``max |e|`` over the full circle without the feed-in and
 feed-out arcs; circular deviation G (ISO 230-4) ``max r - min r`` about the least-squares
 centre; the reversal spike at a quadrant point P is the value of ``e - b`` with the
@@ -108,11 +109,14 @@ class CircleResult:
         Nominal centre [m].
     passes : list of CirclePass
         The passes, in time order [-].
+    plane : tuple of str
+        The plane's first and second axis; angles from the first towards the second [-].
     """
 
     radius: float
     centre: tuple
     passes: list
+    plane: tuple = ("X", "Y")
 
     def to_pandas(self):
         """Table: one row per pass and sensor (um)."""
@@ -126,7 +130,8 @@ class CircleResult:
             return {k: None if isinstance(v, float) and np.isnan(v) else v
                     for k, v in row.items()}
 
-        return {"radius_mm": self.radius * 1e3, "centre_mm": [c * 1e3 for c in self.centre],
+        return {"plane": "".join(self.plane), "radius_mm": self.radius * 1e3,
+                "centre_mm": [c * 1e3 for c in self.centre],
                 "passes": [{"direction": p.direction, "sensors": [clean(r) for r in p.table()]}
                            for p in self.passes]}
 
@@ -342,7 +347,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     centre_m : tuple
         Nominal centre [m].
     plane : tuple of str
-        The two axes of the circle plane [-].
+        The two axes of the circle plane, e.g. ``("Z", "X")``; CCW turns the first into
+        the second, the centre is given in them [-].
     direction : {"ccw", "cw"}, optional
         Keep only passes in this direction [-].
     sensors : tuple of str
@@ -384,8 +390,10 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         passes.append(cp)
     if not passes:
         what = f" {direction.upper()}" if direction else ""
+        where = (f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm" if (ax, ay) == ("X", "Y")
+                 else f"{ax} {centre_m[0] * 1e3:g} mm, {ay} {centre_m[1] * 1e3:g} mm")
         raise InputError(
-            f"no full{what} circle of radius {radius_m * 1e3:g} mm about "
-            f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm found in the {ref} signals; "
-            "check --radius and --centre")
-    return CircleResult(radius_m, tuple(centre_m), passes)
+            f"no full{what} circle of radius {radius_m * 1e3:g} mm about {where} in the "
+            f"{ax}{ay} plane found in the {ref} signals; check --radius, --centre and "
+            "--plane")
+    return CircleResult(radius_m, tuple(centre_m), passes, (ax, ay))

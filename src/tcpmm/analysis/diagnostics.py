@@ -56,14 +56,16 @@ PREFERRED_SENSORS = ("tcp", "scale", "motor", "cmd")
 #: SI unit -> (display unit, factor); the cyclic periods are shown in mm
 DISPLAY_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
                  "rad": ("µrad", 1e6)}
-#: What the sign of a term means, by term name or its name without the axis
+#: What the sign of a term means, by term name or its name without the axis; ``{a}`` and
+#: ``{b}`` stand for the plane's first and second axis
 TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
               "centre_offset": "circle centre - nominal",
               "backlash": "+: radius steps out at reversal",
-              "lateral_play_X": "+: moving +X shifts X to +Y",
-              "lateral_play_Y": "+: moving +Y shifts Y to +X",
-              "servo_mismatch": "+: Y lags X", "squareness": "+: angle +X to +Y over 90 deg",
-              "scale_mismatch": "+: X travels further than Y",
+              "lateral_play_{a}": "+: moving +{a} shifts {a} to +{b}",
+              "lateral_play_{b}": "+: moving +{b} shifts {b} to +{a}",
+              "servo_mismatch": "+: {b} lags {a}",
+              "squareness": "+: angle +{a} to +{b} over 90 deg",
+              "scale_mismatch": "+: {a} travels further than {b}",
               "cyclic_amplitude": "e.g. screw pitch error",
               "residual_rms": "what the terms leave unexplained"}
 
@@ -142,9 +144,19 @@ def display_terms(diag, ascii_units: bool = False) -> list[tuple]:
     return rows
 
 
-def term_note(term: str) -> str:
-    """What the sign of a diagnostics term means; empty when nothing needs saying [-]."""
-    return TERM_NOTES.get(term) or TERM_NOTES.get(term.rsplit("_", 1)[0], "")
+def term_note(term: str, axes=("X", "Y")) -> str:
+    """What the sign of a diagnostics term means; empty when nothing needs saying [-].
+
+    Parameters
+    ----------
+    term : str
+        Term name, e.g. ``lateral_play_Z`` [-].
+    axes : tuple of str
+        The plane's first and second axis (``CircleDiagnostics.axes``) [-].
+    """
+    a, b = axes
+    notes = {k.format(a=a, b=b): v.format(a=a, b=b) for k, v in TERM_NOTES.items()}
+    return notes.get(term) or notes.get(term.rsplit("_", 1)[0], "")
 
 
 def _shared(angle, s, radius, ratio):
@@ -283,7 +295,9 @@ def _check(angle, e, what):
                          f"at least 100 samples (got {angle.shape} and {e.shape})")
     if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(e))):
         raise InputError(f"the {what} circle has non-finite angles or radial errors")
-    if abs(angle[-1] - angle[0]) < 2 * np.pi * (1 - 1e-3):
+    # a full turn cut to whole samples may lack up to one sample spacing at either end
+    slack = 2 * min(float(np.max(np.abs(np.diff(angle)))), np.radians(1.0))
+    if abs(angle[-1] - angle[0]) < 2 * np.pi * (1 - 1e-3) - slack:
         raise InputError(f"the {what} circle covers {np.degrees(abs(angle[-1] - angle[0])):.0f}"
                          " deg; the diagnostics need a full turn")
     if (angle[-1] > angle[0]) != (what == "CCW"):
@@ -371,7 +385,7 @@ def _cyclic_terms(coef, waves, names):
     return out
 
 
-def circle_diagnostics(result, other=None, sensor=None, axes=("X", "Y")) -> CircleDiagnostics:
+def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiagnostics:
     """Diagnostics of the first CCW and the first CW circle of circular-test analyses.
 
     Parameters
@@ -383,9 +397,11 @@ def circle_diagnostics(result, other=None, sensor=None, axes=("X", "Y")) -> Circ
         other analysis when its own has none [-].
     sensor : str, optional
         Sensor to diagnose; default the first of tcp, scale, motor, cmd in both [-].
-    axes : tuple of str
-        The plane the circles were analysed in, for the term names [-].
+    axes : tuple of str, optional
+        The plane the circles were analysed in, for the term names; default the plane of
+        ``result`` [-].
     """
+    axes = tuple(axes) if axes is not None else tuple(getattr(result, "plane", ("X", "Y")))
     first, second = (result, other or result), (other or result, result)
     pick = {}
     for d, order in (("ccw", first), ("cw", second)):

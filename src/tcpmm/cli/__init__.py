@@ -9,7 +9,15 @@ import sys
 import warnings
 
 from ..errors import InputWarning, TcpmmError
-from . import frf, ident, machine, report, run, sweep  # noqa: F401  (importing them registers their commands)
+from . import (  # noqa: F401  (importing them registers their commands)
+    contour,
+    frf,
+    ident,
+    machine,
+    report,
+    run,
+    sweep,
+)
 from ._app import _esc, app, console
 
 

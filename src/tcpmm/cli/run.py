@@ -24,6 +24,7 @@ from ._app import (
     app,
     out,
 )
+from ._plane import PLANE_HELP, plane_option, run_plane_said
 
 
 @app.command()
@@ -76,7 +77,9 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
                None, help="RUN_CW.csv: a second run; the diagnostics take the CCW circle "
                           "from the first run and the CW circle from the second."),
            radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
-           centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+           centre: str = typer.Option("0,0", "--centre",
+                                      help="Nominal centre in the plane's axes, A,B [mm]."),
+           plane: str = typer.Option(None, "--plane", help=PLANE_HELP),
            direction: str = typer.Option(None, "--direction", help="ccw or cw."),
            sensor: Sensor = typer.Option(
                None, "--sensor", help="Sensor of the diagnostics (default tcp, else scale, "
@@ -100,14 +103,16 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
     _positive(radius, "--radius [mm]")
     _plot(plot)
     _plot(diag_plot)
-    results = []
+    results, axes = [], None
     for f in (run_file, other) if other is not None else (run_file,):
         run = read_run_csv(f)
+        axes = axes or run_plane_said(plane, run, f)
         with _in_file(f):
             results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
+                                          plane=axes,
                                           direction=direction.lower() if direction else None))
     res = CircleResult(results[0].radius, results[0].centre,
-                       [p for r in results for p in r.passes])
+                       [p for r in results for p in r.passes], axes)
     diag = None
     if other is not None or sensor is not None or diag_plot is not None or \
             {p.direction for p in res.passes} == {"ccw", "cw"}:
@@ -125,6 +130,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
         _emit_json(data)
         return
     title = f"{run_file}" + (f" and {other}" if other is not None else "")
+    title += f", {''.join(axes)} plane" if axes != ("X", "Y") else ""
     _print_passes(res, title)
     if diag is not None:
         _print_diagnostics(diag)
@@ -181,7 +187,7 @@ def _print_diagnostics(diag) -> None:
     for term, (v, u) in rows.items():
         if term.startswith(("radial_deviation", "circularity", "spike")):
             continue
-        note = term_note(term)
+        note = term_note(term, diag.axes)
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u, note)
     out.print(t)
 
@@ -190,7 +196,9 @@ def _print_diagnostics(diag) -> None:
 def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
             predicted: Path = typer.Argument(..., help="Predicted RUN.csv"),
             radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
-            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+            centre: str = typer.Option("0,0", "--centre",
+                                       help="Nominal centre in the plane's axes, A,B [mm]."),
+            plane: str = typer.Option(None, "--plane", help=PLANE_HELP),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save an overlay plot."),
             report: Path = typer.Option(None, "--report",
@@ -207,10 +215,11 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
     _plot(plot)
     _report_file(report, measured, predicted)
     runs = [read_run_csv(f) for f in (measured, predicted)]
+    axes = run_plane_said(plane, runs[0], measured)
     with _in_file(measured):
-        rm = analyse_circle(runs[0], radius * 1e-3, ctr)
+        rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
     with _in_file(predicted):
-        rp = analyse_circle(runs[1], radius * 1e-3, ctr)
+        rp = analyse_circle(runs[1], radius * 1e-3, ctr, plane=axes)
     cmp = compare_circles(rm, rp)
     if plot is not None:
         cmp.plot(path=plot)
@@ -234,9 +243,15 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
 def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          output: Path = typer.Option(..., "-o", "--output", help="Command file CMD.csv."),
          model: str = typer.Option(None, "--model", help="Model file with interpolator settings."),
-         plot: bool = typer.Option(False, "--plot", help="Also save CMD.png beside the CSV.")):
-    """Interpolate an NC program into the position command per axis."""
-    from ..path import program_to_command, write_command_csv
+         plot: bool = typer.Option(False, "--plot", help="Also save CMD.png beside the CSV."),
+         plane: str = typer.Option(None, "--plane", help="Plane of the plotted path: XY, XZ, "
+                                   "YZ (or ZX); default the plane of the program's arcs "
+                                   "(G17/G18/G19), else the one it moves in.")):
+    """Interpolate an NC program into the position command per axis; say how much of the
+    path runs at the programmed feed and which limit holds it back where it does not."""
+    from ..path import write_command_csv
+    from ..path.limits import feed_limits
+    from ..path.program import program_to_interpolation
 
     _output(output, program, model)
     if plot and output.suffix.lower() == ".png":
@@ -247,11 +262,53 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         from ..io.modelfile import read_machine
 
         m = read_machine(model)
-    cmd = program_to_command(program, _interp_settings(m))
+    interp = program_to_interpolation(program, _interp_settings(m))
+    cmd = interp.command
     write_command_csv(cmd, output)
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
+    limits = feed_limits(interp)
+    _print_feed(limits)
     if plot:
+        from ..plot.path import plot_command
+
         p = output.with_suffix(".png")
-        cmd.plot(path=p)
+        plot_command(cmd, p, plane=_command_plane(plane, cmd), limits=limits)
         out.print(f"wrote {p}")
+
+
+#: what to change when a limit holds the feed back
+_REMEDY = {"axis velocity": "axis_velocity_m_per_s",
+           "curvature (centripetal acceleration)": "axis_accel_m_per_s2, or a larger radius",
+           "filter tolerance on arcs": "corner_tolerance_m or a shorter filter",
+           "corner: axis acceleration": "G64 P<tol> or blend_tolerance_m rounds corners off",
+           "corner: filter tolerance": "corner_tolerance_m, G64 P<tol>",
+           "exact stop": "G61/G9, reversals, dwells, rapids, start and end",
+           "path acceleration": "blocks too short to reach the feed: path_accel_m_per_s2",
+           "path jerk": "blocks too short to reach the feed: path_jerk_m_per_s3"}
+
+
+def _print_feed(limits) -> None:
+    """Share of the path at the programmed feed, and per limit where it holds it back."""
+    out.print(f"at the programmed feed on {limits.share_at_feed() * 100:.1f} % of the path")
+    for r in limits.summary():
+        lines = ("" if r["first_line"] is None else f", lines {r['first_line']}-"
+                 f"{r['last_line']}")
+        out.print(f"  held back by {r['cause']}: {r['length_m'] * 1e3:.3g} mm in "
+                  f"{r['blocks']} block{'s' * (r['blocks'] > 1)}{lines}, peak feed as low as "
+                  f"{r['lowest_m_per_s'] * 6e4:.0f} mm/min ({_REMEDY[r['cause']]})",
+                  highlight=False)
+
+
+def _command_plane(option, cmd) -> tuple[str, str]:
+    """The plane of ``--plane``, else of the program's arcs, else the one it moves in."""
+    from ..analysis.plane import motion_plane
+
+    if option is not None:
+        return plane_option(option)
+    if cmd.meta.get("plane_axes"):
+        return tuple(cmd.meta["plane_axes"])
+    try:
+        return motion_plane(cmd.positions)[0]
+    except Exception:  # a move along one axis: any plane holding it will do
+        return ("X", "Y")

@@ -30,6 +30,11 @@ _HEADER = """\
 #   sensors: encoder_counts_per_rev [-], scale_resolution [m], tcp_resolution [m]
 #   uncertainty (identified models): one standard deviation of the mechanics [as above],
 #          friction_level [-] (relative), guideway_share [-], backlash [m]
+#   interpolation (CNC interpolator, docs/paths.md): period_s [s], profile
+#          [trapezoid|scurve], path_accel_m_per_s2 [m/s^2], path_jerk_m_per_s3 [m/s^3],
+#          axis_velocity_m_per_s [m/s], axis_accel_m_per_s2 [m/s^2], rapid_m_per_s [m/s],
+#          corner_tolerance_m [m], filter_kind [none|linear|bell], filter_time_s [s],
+#          blend_tolerance_m [m] (G64 without P; 0: sharp corners)
 """
 
 
@@ -52,6 +57,21 @@ def machine_to_dict(machine: Machine) -> dict:
     if d.get("interpolation") is not None:
         out["interpolation"] = d["interpolation"]
     return out
+
+
+def with_interpolation(machine: Machine) -> Machine:
+    """The machine with every interpolator setting written out: its own where it has
+    them, the defaults where not (the numbers a program is interpolated with either way).
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [-].
+    """
+    from ..path.settings import InterpolatorSettings
+
+    full = InterpolatorSettings.model_validate(machine.interpolation or {})
+    return machine.model_copy(update={"interpolation": full.model_dump(mode="python")})
 
 
 def dumps_machine(machine: Machine) -> str:

@@ -47,6 +47,22 @@ def read_run_csv(path) -> Run:
     df.columns = cols
     if len(df) == 0:
         raise no_rows_error(path)
+    return run_from_table(df, path)
+
+
+def run_from_table(df, path=None) -> Run:
+    """A run from its table in the run-file layout (``time_s``, ``<axis>_cmd_mm``, ...).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table, positions in mm, currents in A [-].
+    path : str or Path, optional
+        Where it came from, for messages [-].
+    """
+    import pandas as pd
+
+    cols = [str(c) for c in df.columns]
     if "time_s" not in cols:
         raise InputError(f"missing column 'time_s' (found: {', '.join(cols)})", file=path, line=1)
     axes: dict[str, dict] = {}
@@ -91,4 +107,4 @@ def read_run_csv(path) -> Run:
         )
         for k, v in axes.items()
     }
-    return Run(time_s=t, axes=runs, meta={"source": str(path)})
+    return Run(time_s=t, axes=runs, meta={"source": None if path is None else str(path)})

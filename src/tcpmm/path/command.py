@@ -82,12 +82,14 @@ class Command:
                          for n, p in self.positions.items()}}
 
     def plot(self, ax=None, path=None):
-        """XY path and per-axis position and velocity against time; the figure.
+        """The path in its plane, per-axis position and velocity against time, and the feed
+        along the path; the figure.
 
         Parameters
         ----------
         ax : array-like of matplotlib Axes, optional
-            Three (XY path, position, velocity); a new figure when omitted [-].
+            Four in row order (path, position, velocity, feed); a new figure when
+            omitted [-].
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """

@@ -2,7 +2,9 @@
 
 Supported: G0, G1, G2, G3 (centre I/J/K or radius R, full circles, helices), G4 dwell
 (P or X in seconds), G17/G18/G19, G20/G21, G90/G91, G90.1/G91.1 (arc centre absolute
-or incremental), G61/G64 (exact stop / continuous path), F, N, ``( )`` and ``;``
+or incremental), G61 (exact stop, modal), G9 (exact stop, this block only), G64
+(continuous path; ``P`` the contour tolerance of its corners, ``Q`` warned and
+ignored), F, N, ``( )`` and ``;``
 comments, ``%`` lines, M2/M30 (end of program). Words that do not change the tool path
 (spindle, coolant, tool, work and tool-length offsets, ...) are reported as
 :class:`~tcpmm.errors.InputWarning` and skipped; everything else is an
@@ -64,6 +66,7 @@ class _Interpreter:
         self.arc_absolute = False
         self.feed = None
         self.exact_stop = False
+        self.tolerance = None
         self.segments = []
         self.warned = {}
 
@@ -106,7 +109,7 @@ class _Interpreter:
             elif L not in KNOWN_LETTERS:
                 self.error(
                     f"unknown word letter {L} in {word.text!r}; supported letters "
-                    "are G M N F X Y Z I J K R P (and S T H D O, ignored)",
+                    "are G M N F X Y Z I J K R P Q (and S T H D O, ignored)",
                     line,
                     word.column,
                 )
@@ -178,7 +181,7 @@ class _Interpreter:
         if "arc distance" in new:
             self.arc_absolute = round(new["arc distance"].value * 10) == 901
         if "path mode" in new:
-            self.exact_stop = round(new["path mode"].value) == 61
+            self.path_mode(new["path mode"], w, line)
         if "F" in w:
             self.feed = w["F"].value * self.unit / 60.0
         if "motion" in new:
@@ -187,11 +190,35 @@ class _Interpreter:
         if "dwell" in new:
             self.dwell(w, new["dwell"], line)
             return end
-        if "P" in w:
-            self.error("P is only used with G4 (dwell time in seconds)", line, w["P"].column)
+        g64 = "path mode" in new and round(new["path mode"].value) == 64
+        for L in "PQ":
+            if L in w and not g64:
+                self.error(f"{L} is only used with G4 (P: dwell time in seconds) or G64 "
+                           "(P: contour tolerance)", line, w[L].column)
         if any(k in w for k in "XYZIJKR"):
+            once = "exact stop once" in new
+            self.exact_stop, saved = self.exact_stop or once, self.exact_stop
             self.move(w, new.get("motion"), line)
+            self.exact_stop = saved
+        elif "exact stop once" in new:
+            self.error("G9 (exact stop) needs a move in its block, e.g. G9 G1 X10",
+                       line, new["exact stop once"].column)
         return end
+
+    def path_mode(self, g, w, line):
+        """G61: exact stop; G64: continuous path, ``P`` its contour tolerance."""
+        self.exact_stop = round(g.value) == 61
+        self.tolerance = None
+        if "P" in w and not self.exact_stop:
+            p = w["P"]
+            if not p.value >= 0.0:
+                self.error(f"contour tolerance {p.text} must not be negative (mm, or in with "
+                           "G20; P0 keeps corners sharp)", line, p.column)
+            self.tolerance = p.value * self.unit
+        if "Q" in w and not self.exact_stop:
+            self.warn("Q", "the naive-CAM merging of collinear blocks is not modelled; "
+                      "corners are blended one by one within the P tolerance", line,
+                      w["Q"].column)
 
     def dwell(self, w, g4, line):
         if "P" in w and "X" in w:
@@ -246,7 +273,8 @@ class _Interpreter:
                 self.segments.append(Rapid(self.pos, target, line))
         elif self.motion == 1:
             if target != self.pos:
-                self.segments.append(Line(self.pos, target, self.feed, self.exact_stop, line))
+                self.segments.append(Line(self.pos, target, self.feed, self.exact_stop, line,
+                                          self.tolerance))
         else:
             self.segments.append(self.arc(w, target, gword, line))
         self.pos = target

@@ -26,6 +26,7 @@ G_GROUP = {
     911: "arc distance",
     610: "path mode",
     640: "path mode",
+    90: "exact stop once",
 }
 #: G codes that do not change the tool path: skipped with a warning
 G_IGNORED = {
@@ -81,5 +82,5 @@ LETTER_IGNORED = {
     "D": "cutter radius offsets are not modelled",
     "O": "the program number is not used",
 }
-KNOWN_LETTERS = set("GMNFXYZIJKRP") | set(LETTER_IGNORED)
+KNOWN_LETTERS = set("GMNFXYZIJKRPQ") | set(LETTER_IGNORED)
 OTHER_AXES = set("ABCUVW")

@@ -11,9 +11,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .segments import AXIS_INDEX, Arc, Dwell, Line, Rapid, arc_sweep
+from .segments import AXIS_INDEX, Arc, Blend, Dwell, Line, Rapid, arc_sweep
 
-LINE, ARC, DWELL = 0, 1, 2
+LINE, ARC, DWELL, BLEND = 0, 1, 2, 3
 #: consecutive segments must meet within this distance [m]
 CONTINUITY_TOL_M = 1e-9
 
@@ -25,7 +25,7 @@ class PathArrays:
     Parameters
     ----------
     kind : ndarray of int
-        0 straight line, 1 arc, 2 dwell [-].
+        0 straight line, 1 arc, 2 dwell, 3 corner blend [-].
     start, end : ndarray, shape (n, 3)
         Start and end points (X, Y, Z) [m].
     length : ndarray
@@ -46,6 +46,10 @@ class PathArrays:
         Arc start and end radius [m], start angle and signed sweep [rad].
     h0, dh : ndarray
         Arc normal-axis start coordinate and travel [m].
+    centre, e1, e2 : ndarray, shape (n, 3)
+        Blend centre [m] and the unit vectors to its start and along its start tangent,
+        so that a blend is ``centre + r0 (cos(phi) e1 + sin(phi) e2)``, ``phi`` from 0 to
+        ``sweep`` [-].
     """
 
     kind: np.ndarray
@@ -68,6 +72,9 @@ class PathArrays:
     sweep: np.ndarray
     h0: np.ndarray
     dh: np.ndarray
+    centre: np.ndarray | None = None
+    e1: np.ndarray | None = None
+    e2: np.ndarray | None = None
 
     @property
     def n(self) -> int:
@@ -120,6 +127,12 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
             plane[i] = AXIS_INDEX[s.plane_axes[0]], AXIS_INDEX[s.plane_axes[1]]
             ccw[i] = s.direction == "ccw"
             turns[i] = s.extra_turns
+        elif t is Blend:
+            kind[i] = BLEND
+            start[i] = s.start_m
+            end[i] = s.end_m
+            centre[i] = s.centre_m
+            feed[i] = s.feed_m_per_s
         elif t is Rapid:
             start[i] = s.start_m
             end[i] = s.end_m
@@ -165,6 +178,7 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
     h0 = start[idx, ih]
     dh = end[idx, ih] - h0
     length = np.where(arc, np.hypot(0.5 * (r0 + r1) * sweep, dh), length)
+    e1, e2 = _blends(kind == BLEND, start, end, centre, r0, r1, theta0, sweep, length)
     zero = (kind != DWELL) & (length <= 0.0)
     if np.any(zero):
         i = int(np.argmax(zero))
@@ -190,7 +204,28 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
         sweep=sweep,
         h0=h0,
         dh=dh,
+        centre=centre,
+        e1=e1,
+        e2=e2,
     )
+
+
+def _blends(bl, start, end, centre, r0, r1, theta0, sweep, length):
+    """Radius, sweep and length of the blends set in place; their unit vectors [-]."""
+    e1, e2 = np.zeros_like(start), np.zeros_like(start)
+    if np.any(bl):
+        rs, re = start[bl] - centre[bl], end[bl] - centre[bl]
+        r = np.linalg.norm(rs, axis=1)
+        a1 = rs / r[:, None]
+        perp = re - np.einsum("ij,ij->i", re, a1)[:, None] * a1
+        a2 = perp / np.linalg.norm(perp, axis=1)[:, None]
+        th = np.arctan2(np.einsum("ij,ij->i", re, a2), np.einsum("ij,ij->i", re, a1))
+        e1[bl], e2[bl] = a1, a2
+        r0[bl] = r1[bl] = r
+        theta0[bl] = 0.0
+        sweep[bl] = th
+        length[bl] = r * th
+    return e1, e2
 
 
 def _line(line, i):
@@ -249,6 +284,11 @@ def evaluate(p: PathArrays, seg: np.ndarray, s: np.ndarray) -> np.ndarray:
         out[a, p.ia[k]] = p.ca[k] + r * np.cos(th)
         out[a, p.ib[k]] = p.cb[k] + r * np.sin(th)
         out[a, p.ih[k]] = p.h0[k] + p.dh[k] * fa
+    b = np.flatnonzero(p.kind[seg] == BLEND)
+    if b.size:
+        k = seg[b]
+        ph = (p.sweep[k] * f[b])[:, None]
+        out[b] = p.centre[k] + p.r0[k][:, None] * (np.cos(ph) * p.e1[k] + np.sin(ph) * p.e2[k])
     return out
 
 
@@ -266,6 +306,10 @@ def tangents(p: PathArrays, at_end: bool) -> np.ndarray:
         t[a, p.ia[a]] = ta
         t[a, p.ib[a]] = tb
         t[a, p.ih[a]] = p.dh[a]
+    b = np.flatnonzero(p.kind == BLEND)
+    if b.size:
+        ph = (p.sweep[b] if at_end else np.zeros(b.size))[:, None]
+        t[b] = -np.sin(ph) * p.e1[b] + np.cos(ph) * p.e2[b]
     n = np.linalg.norm(t, axis=1)
     return np.divide(t, n[:, None], out=np.zeros_like(t), where=n[:, None] > 0)
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .blend import blend_corners
 from .command import Command
 from .filters import FilterShape, apply_filter, filter_shape
 from .geometry import ARC, PathArrays, evaluate, to_arrays
@@ -44,6 +45,16 @@ class Interpolation:
         When each segment starts and ends, before the filter [s].
     filter : FilterShape
         The post-interpolation filter [-].
+    segment_cause : ndarray of int
+        What sets each segment's speed limit (``lookahead.SEGMENT_CAUSES``) [-].
+    junction_limit_m_per_s : ndarray
+        Speed limit of each junction before the look-ahead [m/s].
+    junction_cause : ndarray of int
+        What sets it (``lookahead.JUNCTION_CAUSES``) [-].
+    segment_peak_m_per_s : ndarray
+        Highest speed each segment reaches [m/s].
+    jerk_limited : bool
+        Whether the feed profile is jerk-limited (S-curve) [-].
     """
 
     command: Command
@@ -53,6 +64,11 @@ class Interpolation:
     segment_start_s: np.ndarray
     segment_end_s: np.ndarray
     filter: FilterShape
+    segment_cause: np.ndarray | None = None
+    junction_limit_m_per_s: np.ndarray | None = None
+    junction_cause: np.ndarray | None = None
+    segment_peak_m_per_s: np.ndarray | None = None
+    jerk_limited: bool = False
 
     def sample_range(self, i: int) -> tuple[int, int]:
         """Samples ``[first, stop)`` of the filtered command that belong to segment ``i``.
@@ -94,7 +110,9 @@ def interpolate_detailed(
     Returns
     -------
     Interpolation
-        The command and the look-ahead results [-].
+        The command and the look-ahead results; where corners are blended (``G64 P``,
+        ``blend_tolerance_m``) its per-segment arrays describe the blended path, a blend arc
+        after each such corner [-].
     """
     settings = settings or InterpolatorSettings()
     dt = settings.period_s
@@ -112,14 +130,15 @@ def interpolate_detailed(
             segments = [Dwell(start, 0.0)]
     if not segments:
         raise InputError("the path is empty: give at least one motion or dwell")
+    segments = blend_corners(segments, settings.blend_tolerance_m)
     p = to_arrays(segments, settings.rapid())
     filt = filter_shape(
         settings.filter_kind, settings.filter_time_s, dt, settings.corner_tolerance_m
     )
-    vmax, acc = segment_limits(
+    vmax, acc, seg_cause = segment_limits(
         p, settings.axis_velocity(), settings.axis_accel(), settings.path_accel_m_per_s2, filt
     )
-    vj = junction_limits(p, vmax, acc, settings.axis_accel(), filt)
+    vj, junction_cause = junction_limits(p, vmax, acc, settings.axis_accel(), filt)
     jerk = settings.jerk()
     v = lookahead(p.length, vj, acc, jerk)
     prof = segment_profiles(p.length, v, vmax, acc, jerk)
@@ -167,6 +186,11 @@ def interpolate_detailed(
         segment_start_s=seg_start,
         segment_end_s=seg_start + dur,
         filter=filt,
+        segment_cause=seg_cause,
+        junction_limit_m_per_s=vj,
+        junction_cause=junction_cause,
+        segment_peak_m_per_s=prof[:, 0].copy(),
+        jerk_limited=settings.profile == "scurve",
     )
 
 

@@ -15,11 +15,17 @@ import math
 import numpy as np
 from numba import njit
 
-from .geometry import ARC, DWELL, PathArrays, max_abs_trig, tangents
+from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
 from .profile import reach
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
 REVERSAL_TOL = 1e-9
+#: what sets a segment's speed limit (index = the code :func:`segment_limits` returns)
+SEGMENT_CAUSES = ("programmed feed", "axis velocity", "curvature (centripetal acceleration)",
+                  "filter tolerance on arcs")
+#: what sets a junction's speed limit (index = the code :func:`junction_limits` returns)
+JUNCTION_CAUSES = ("segment limit", "corner: axis acceleration", "corner: filter tolerance",
+                   "exact stop")
 
 
 def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
@@ -42,6 +48,8 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
         Speed limit per segment [m/s].
     acc : ndarray
         Tangential acceleration limit per segment [m/s^2].
+    cause : ndarray of int
+        What sets ``vmax``, an index into ``SEGMENT_CAUSES`` [-].
     """
     vel_axis = np.asarray(vel_axis, float)
     acc_axis = np.asarray(acc_axis, float)
@@ -49,8 +57,10 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
     L = np.where(p.length > 0, p.length, 1.0)
     u = np.abs(p.end - p.start) / L[:, None]
     with np.errstate(divide="ignore", invalid="ignore"):
-        vmax = np.minimum(p.feed, np.min(vel_axis[None, :] / u, axis=1))
+        v_axis = np.min(vel_axis[None, :] / u, axis=1)
+        vmax = np.minimum(p.feed, v_axis)
         acc = np.minimum(acc_path, np.min(acc_axis[None, :] / u, axis=1))
+    cause = np.where(v_axis < p.feed, 1, 0)
     a = np.flatnonzero(p.kind == ARC)
     if a.size:
         ia, ib, ih = p.ia[a], p.ib[a], p.ih[a]
@@ -80,13 +90,39 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
                 # radius loss of a circle through the filter ~ r*omega^2*var/2 <= tol
                 omega = np.sqrt(2.0 * filt.tolerance_m / (rmax * filt.variance_s2))
                 vf = omega * La / sw
-        vmax[a] = np.minimum.reduce([p.feed[a], va, vb, vh, vc, vf])
+        parts = np.stack([p.feed[a], np.minimum.reduce([va, vb, vh]), vc, vf])
+        vmax[a] = parts.min(axis=0)
+        cause[a] = np.argmin(parts, axis=0)
         acc[a] = a_t
+    _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
     vmax[p.kind == DWELL] = 0.0
     acc[p.kind == DWELL] = acc_path
     if n and not np.all(vmax[p.kind != DWELL] > 0):
         raise AssertionError("segment speed limit must be positive")
-    return vmax, acc
+    return vmax, acc, cause
+
+
+def _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause):
+    """Speed and tangential acceleration limits of the corner blends, set in place: an
+    axis moves along a blend at most ``sqrt(e1^2 + e2^2)`` times the path's velocity and
+    acceleration; the acceleration is shared between tangent and normal as on arcs."""
+    b = np.flatnonzero(p.kind == BLEND)
+    if not b.size:
+        return
+    share = np.sqrt(p.e1[b] ** 2 + p.e2[b] ** 2)
+    r = p.r0[b]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v_axis = np.min(vel_axis[None, :] / share, axis=1)
+        a_plane = np.min(acc_axis[None, :] / share, axis=1)
+    a_t = np.minimum(acc_path, a_plane / math.sqrt(2.0))
+    vc = np.sqrt(np.sqrt(a_plane**2 - a_t**2) * r)
+    vf = np.full(b.size, np.inf)
+    if filt.variance_s2 > 0.0:
+        vf = np.sqrt(2.0 * filt.tolerance_m / (r * filt.variance_s2)) * r
+    parts = np.stack([p.feed[b], v_axis, vc, vf])
+    vmax[b] = parts.min(axis=0)
+    cause[b] = np.argmin(parts, axis=0)
+    acc[b] = a_t
 
 
 def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
@@ -107,8 +143,10 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
 
     Returns
     -------
-    ndarray
+    vj : ndarray
         ``n + 1`` junction speed limits; the first and last are zero [m/s].
+    cause : ndarray of int
+        What sets each, an index into ``JUNCTION_CAUSES`` [-].
 
     Notes
     -----
@@ -121,8 +159,9 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
     """
     n = p.n
     vj = np.zeros(n + 1)
+    cause = np.full(n + 1, 3)
     if n < 2:
-        return vj
+        return vj, cause
     t_out = tangents(p, at_end=True)[:-1]
     t_in = tangents(p, at_end=False)[1:]
     du = t_in - t_out
@@ -130,11 +169,14 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
         step = np.asarray(acc_axis, float)[None, :] * filt.spread_s / np.abs(du)
         cap = np.min(step, axis=1)
         dun = np.linalg.norm(du, axis=1)
+        tol = np.full(n - 1, np.inf)
         if filt.mad_s > 0.0:
             a_side = np.maximum(acc[:-1], acc[1:])
             room = 2.0 * filt.tolerance_m / dun - 0.5 * a_side * filt.variance_s2
-            cap = np.minimum(cap, np.maximum(room, 0.0) / filt.mad_s)
-    cap = np.minimum(cap, np.minimum(vmax[:-1], vmax[1:]))
+            tol = np.maximum(room, 0.0) / filt.mad_s
+    parts = np.stack([np.minimum(vmax[:-1], vmax[1:]), cap, tol])
+    cap = parts.min(axis=0)
+    why = np.argmin(parts, axis=0)
     stop = (
         (np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
         | (p.kind[:-1] == DWELL)
@@ -144,7 +186,8 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
         | p.exact_stop[:-1]
     )
     vj[1:-1] = np.where(stop, 0.0, cap)
-    return vj
+    cause[1:-1] = np.where(stop, 3, why)
+    return vj, cause
 
 
 @njit(cache=True)

@@ -8,7 +8,8 @@ from pathlib import Path
 from ..errors import InputError
 from .command import Command
 from .gcode import parse_gcode
-from .interpolate import interpolate
+from .interpolate import Interpolation, interpolate_detailed
+from .segments import Arc
 from .settings import InterpolatorSettings
 
 #: file name endings taken as NC programs when a string is given [-]
@@ -73,7 +74,25 @@ def program_to_command(
     Returns
     -------
     Command
-        The position command; ``meta["file"]`` names the program file if any [-].
+        The position command; ``meta["file"]`` names the program file if any,
+        ``meta["plane_axes"]`` is the plane of its first arc (G17 XY, G18 ZX, G19 YZ),
+        ``None`` without arcs [-].
+    """
+    return program_to_interpolation(path_or_text, settings, start_position_m).command
+
+
+def program_to_interpolation(
+    path_or_text, settings: InterpolatorSettings | None = None, start_position_m=(0.0, 0.0, 0.0)
+) -> Interpolation:
+    """Interpret and interpolate an NC program, keeping the look-ahead's results.
+
+    Parameters and the command's ``meta`` as for :func:`program_to_command` [-].
+
+    Returns
+    -------
+    Interpolation
+        The command and the look-ahead results (:func:`tcpmm.path.limits.feed_limits`
+        says what holds the feed back) [-].
     """
     file = None
     if _is_path(path_or_text):
@@ -90,6 +109,9 @@ def program_to_command(
         raise InputError(
             "the program has no motion and no dwell; nothing to interpolate", file=file
         )
-    command = interpolate(segments, settings)
+    result = interpolate_detailed(segments, settings)
+    command = result.command
     command.meta["file"] = None if file is None else str(file)
-    return command
+    planes = [s.plane_axes for s in segments if isinstance(s, Arc)]
+    command.meta["plane_axes"] = planes[0] if planes else None
+    return result

@@ -29,9 +29,12 @@ class Line:
     feed_m_per_s : float
         Programmed feed [m/s].
     exact_stop : bool
-        Come to rest at the end of the segment (G61) [-].
+        Come to rest at the end of the segment (G61, G9) [-].
     line : int or None
         Source line number, 1-based [-].
+    tolerance_m : float or None
+        Contour tolerance of the corner at its end (G64 P): how far a blend may round it
+        off; ``None`` takes the interpolator's ``blend_tolerance_m``, 0 keeps it sharp [m].
     """
 
     start_m: tuple[float, float, float]
@@ -39,6 +42,7 @@ class Line:
     feed_m_per_s: float
     exact_stop: bool = False
     line: int | None = None
+    tolerance_m: float | None = None
 
     @property
     def length_m(self) -> float:
@@ -162,6 +166,49 @@ class Arc:
 
 
 @dataclass(frozen=True, slots=True)
+class Blend:
+    """Arc that rounds off a corner between two straight blocks (G64 P), in the plane of
+    the two, whatever its orientation; it turns by less than half a turn.
+
+    Parameters
+    ----------
+    start_m, end_m : tuple of float
+        Tangent points on the incoming and the outgoing line (X, Y, Z) [m].
+    centre_m : tuple of float
+        Centre (X, Y, Z), as far from both [m].
+    feed_m_per_s : float
+        Programmed feed [m/s].
+    line : int or None
+        Source line number of the block after the corner, 1-based [-].
+    """
+
+    start_m: tuple[float, float, float]
+    end_m: tuple[float, float, float]
+    centre_m: tuple[float, float, float]
+    feed_m_per_s: float
+    line: int | None = None
+
+    @property
+    def radius_m(self) -> float:
+        """Radius [m]."""
+        return math.dist(self.start_m, self.centre_m)
+
+    @property
+    def sweep_rad(self) -> float:
+        """Angle turned, in (0, pi) [rad]."""
+        a = [s - c for s, c in zip(self.start_m, self.centre_m, strict=True)]
+        b = [e - c for e, c in zip(self.end_m, self.centre_m, strict=True)]
+        cross = math.dist((0.0, 0.0, 0.0), (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                                            a[0] * b[1] - a[1] * b[0]))
+        return math.atan2(cross, sum(x * y for x, y in zip(a, b, strict=True)))
+
+    @property
+    def length_m(self) -> float:
+        """Length of the arc [m]."""
+        return self.radius_m * self.sweep_rad
+
+
+@dataclass(frozen=True, slots=True)
 class Dwell:
     """Rest at a point (G4).
 
@@ -195,7 +242,7 @@ class Dwell:
         return 0.0
 
 
-Segment = Line | Rapid | Arc | Dwell
+Segment = Line | Rapid | Arc | Blend | Dwell
 
 
 def arc_sweep(xs, ys, xe, ye, ccw, extra_turns=0):

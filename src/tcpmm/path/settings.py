@@ -58,6 +58,10 @@ class InterpolatorSettings(BaseModel):
         cascaded moving averages of half the length each (bell-shaped) [-].
     filter_time_s : float
         Total length of the post-interpolation filter [s].
+    blend_tolerance_m : float
+        Contour tolerance of continuous-path mode (G64) where the program gives no ``P``:
+        a corner between two straight blocks is rounded off by an arc that stays within
+        this distance of the corner point; 0 keeps corners sharp [m].
     """
 
     model_config = ConfigDict(extra="forbid")
@@ -72,6 +76,7 @@ class InterpolatorSettings(BaseModel):
     corner_tolerance_m: float = Field(1e-5, gt=0.0)
     filter_kind: Literal["none", "linear", "bell"] = "none"
     filter_time_s: float = Field(0.0, ge=0.0, le=10.0)
+    blend_tolerance_m: float = Field(0.0, ge=0.0, le=0.1)
 
     @field_validator("axis_velocity_m_per_s")
     @classmethod

@@ -89,14 +89,15 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
     n = len(result.passes)
     fig, axs, own = panels(ax, 1, n, figsize=(5.2 * n, 5.4))
     R = result.radius
+    plane = getattr(result, "plane", ("X", "Y"))
     for a, p in zip(axs[0], result.passes, strict=True):
-        _circle_panel(a, p, R, M, sensors, overlay)
+        _circle_panel(a, p, R, M, sensors, overlay, plane)
     if title:
         fig.suptitle(title)
     return finish(fig, path, own)
 
 
-def _circle_panel(ax, p, R, M, sensors, overlay):
+def _circle_panel(ax, p, R, M, sensors, overlay, plane=("X", "Y")):
     """One pass: ``R + M e`` per sensor, the overlay's TCP dotted, µm scale rings, A-D."""
     th = np.linspace(0, 2 * np.pi, 361)
     ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
@@ -126,8 +127,8 @@ def _circle_panel(ax, p, R, M, sensors, overlay):
     ax.set_aspect("equal")
     ax.set_xlim(-1.3 * R * 1e3, 1.3 * R * 1e3)
     ax.set_ylim(-1.3 * R * 1e3, 1.3 * R * 1e3)
-    ax.set_xlabel("X [mm]")
-    ax.set_ylabel("Y [mm]")
+    ax.set_xlabel(f"{plane[0]} [mm]")
+    ax.set_ylabel(f"{plane[1]} [mm]")
     ax.set_title(f"{p.direction.upper()}: radial error ×{M:g}, rings in µm")
     ax.legend(loc="lower left", fontsize=7)
 
@@ -169,7 +170,7 @@ def plot_radial_error(result, path=None, overlay=None, ax=None):
             a.axvline(deg, color="gray", lw=0.6)
             a.text(deg + 2, a.get_ylim()[1] if a.lines else 0, q, va="top")
         a.set_xlim(0, 360)
-        a.set_xlabel("angle from +X [deg]")
+        a.set_xlabel(f"angle from +{getattr(result, 'plane', 'X')[0]} [deg]")
         a.set_ylabel("radial error [µm]")
         a.set_title(p.direction.upper())
         a.grid(alpha=0.3)

@@ -1,0 +1,398 @@
+"""Contour error along any path, and corner metrics for square and step tests.
+
+Contour error: the shortest distance from the actual point to the commanded path, the
+polyline through the command samples. In a plane ``(a, b)`` it is signed: positive when
+the point lies left of the direction of travel (seen with ``+a`` to the right and ``+b``
+up), so positive is inside a CCW circle and outside a CW one, and an overshoot past a
+left-hand corner is negative. In 3-D it is the distance, unsigned. The closest point is
+sought among the command samples within ``window_s`` of the actual sample, so a path
+that passes a place twice (CCW then CW) is matched with the pass being run.
+
+Corners are where the command's direction, over ``corner_span_m`` before and after a
+point, turns by more than ``corner_deg``; the end of the path counts as one (turn NaN),
+where a step test overshoots and settles: there the distance to the end point settles,
+counted from the command's arrival. Per corner and sensor: overshoot, the largest
+travel past the corner along the incoming direction (0 when it never passes it); rounding,
+the closest approach to the corner point; settling, the time and the command's path length
+from when the command leaves the corner until the contour error stays within
+``settle_tol_m`` of the level it ends at before the next corner (the median of the last
+quarter of the stretch; a static deflection on the straight is not a settling error);
+NaN when it never does.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+SENSORS = ("motor", "scale", "tcp")
+#: rows of actual points handled at once [-]
+_CHUNK = 256
+
+
+@dataclass
+class ContourResult:
+    """Contour error of each sensor of a run, and its corners.
+
+    Parameters
+    ----------
+    axes : tuple of str
+        Axes the distance is measured in; two for a plane (signed error) [-].
+    signed : bool
+        Whether the error is signed (a plane) [-].
+    time_s : ndarray
+        Times of the actual samples [s].
+    command : ndarray, shape (m, len(axes))
+        The commanded path: the command samples [m].
+    command_time_s : ndarray
+        Times of the command samples [s].
+    path_s_m : ndarray
+        Command path length travelled at each command sample [m].
+    errors : dict of str to ndarray
+        Contour error per sensor at each actual sample [m].
+    corners : list of dict
+        Per corner: ``index`` (sample), ``point_m``, ``turn_rad``, and per sensor
+        ``overshoot_m``, ``rounding_m``, ``settle_s``, ``settle_m`` [SI].
+    settle_tol_m : float
+        The band of the settling figures [m].
+    actual : dict of str to ndarray
+        Actual path per sensor, shape (n, len(axes)) [m].
+    """
+
+    axes: tuple
+    signed: bool
+    time_s: np.ndarray
+    command: np.ndarray
+    command_time_s: np.ndarray
+    path_s_m: np.ndarray
+    errors: dict
+    corners: list = field(default_factory=list)
+    settle_tol_m: float = 1e-6
+    actual: dict = field(default_factory=dict, repr=False)
+
+    def summary(self) -> dict:
+        """Per sensor: largest magnitude, RMS, largest and smallest value [m]."""
+        return {s: {"max_abs_m": float(np.max(np.abs(e))),
+                    "rms_m": float(np.sqrt(np.mean(e**2))),
+                    "max_m": float(np.max(e)), "min_m": float(np.min(e))}
+                for s, e in self.errors.items()}
+
+    def to_pandas(self):
+        """Per actual sample: time [s], each sensor's position [mm] and error [um]."""
+        import pandas as pd
+
+        data = {"time_s": self.time_s}
+        for s, q in self.actual.items():
+            for i, a in enumerate(self.axes):
+                data[f"{a.lower()}_{s}_mm"] = q[:, i] * 1e3
+        for s, e in self.errors.items():
+            data[f"{s}_contour_um"] = e * 1e6
+        return pd.DataFrame(data)
+
+    def corners_table(self):
+        """Per corner and sensor: position [mm], turn [deg], overshoot, rounding [um],
+        settling [ms, mm]."""
+        import pandas as pd
+
+        return pd.DataFrame([_corner_row(self.axes, c, s) for c in self.corners
+                             for s in self.errors])
+
+    def to_dict(self) -> dict:
+        """JSON-ready: axes, summary [um] and corners (um, ms, mm; NaN as ``None``)."""
+        def clean(v):
+            return None if isinstance(v, float) and np.isnan(v) else v
+
+        return {"axes": "".join(self.axes), "signed": self.signed,
+                "settle_tol_um": self.settle_tol_m * 1e6,
+                "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
+                            for s, d in self.summary().items()},
+                "corners": [{k: clean(v) for k, v in _corner_row(self.axes, c, s).items()}
+                            for c in self.corners for s in self.errors]}
+
+    def plot(self, ax=None, path=None, sensor=None):
+        """One sensor's path coloured by its contour error, and every sensor's error in
+        time; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            Two (coloured path, error in time), or one for the coloured path alone; a new
+            figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        sensor : str, optional
+            Sensor of the colours; default tcp, else scale, else motor [-].
+        """
+        from ..plot.contour import plot_contour
+
+        return plot_contour(self, ax=ax, sensor=sensor, path=path)
+
+
+def _corner_row(axes, c, s) -> dict:
+    row = {"corner": c["number"], "sensor": s}
+    row.update({f"{a.lower()}_mm": float(v * 1e3) for a, v in zip(axes, c["point_m"],
+                                                                  strict=True)})
+    m = c[s]
+    row.update(turn_deg=float(np.degrees(c["turn_rad"])), overshoot_um=m["overshoot_m"] * 1e6,
+               rounding_um=m["rounding_m"] * 1e6, settle_ms=m["settle_s"] * 1e3,
+               settle_mm=m["settle_m"] * 1e3)
+    return row
+
+
+def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
+    """Shortest distance from points to a polyline, near in time.
+
+    Parameters
+    ----------
+    q : ndarray, shape (n, d)
+        Points [m].
+    p : ndarray, shape (m, d)
+        Polyline vertices in the order travelled [m].
+    t_q, t_p : ndarray
+        Times of the points and of the vertices [s].
+    window_s : float
+        Only segments whose start lies within this time of the point are candidates [s].
+    signed : bool
+        For ``d == 2``: positive left of the direction of travel [-].
+
+    Returns
+    -------
+    dist : ndarray
+        The distance, signed if asked [m].
+    foot : ndarray of int
+        Index of the segment the closest point lies on [-].
+    """
+    m = p.shape[0]
+    if m < 2:
+        raise InputError("the command needs at least two samples")
+    seg = np.diff(p, axis=0)
+    ln2 = np.einsum("ij,ij->i", seg, seg)
+    moving = np.flatnonzero(ln2 > 0)
+    if moving.size == 0:
+        raise InputError("the command does not move; there is no path to measure from")
+    # direction of each segment, that of the next moving one where it rests
+    nxt = moving[np.minimum(np.searchsorted(moving, np.arange(m - 1)), moving.size - 1)]
+    tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
+    lo = np.searchsorted(t_p, t_q - window_s, side="left")
+    hi = np.searchsorted(t_p, t_q + window_s, side="right")
+    width = int(np.max(hi - lo)) + 1
+    dist = np.empty(q.shape[0])
+    foot = np.empty(q.shape[0], np.int64)
+    for k0 in range(0, q.shape[0], _CHUNK):
+        k = np.arange(k0, min(k0 + _CHUNK, q.shape[0]))
+        j = np.minimum(lo[k, None] + np.arange(width)[None, :], m - 2)
+        valid = (lo[k, None] + np.arange(width)[None, :]) < np.maximum(hi[k, None], lo[k, None] + 1)
+        a, d = p[j], seg[j]
+        rel = q[k, None, :] - a
+        f = np.clip(np.divide(np.einsum("kjd,kjd->kj", rel, d), ln2[j],
+                              out=np.zeros(j.shape), where=ln2[j] > 0), 0.0, 1.0)
+        off = rel - f[..., None] * d
+        dd = np.where(valid, np.sqrt(np.einsum("kjd,kjd->kj", off, off)), np.inf)
+        cross = _cross(tdir[j], off) if q.shape[1] == 2 else np.zeros(j.shape)
+        # on a shared vertex, the segment that sees the point most to its side decides
+        near = dd <= dd.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-15
+        best = np.argmax(np.where(near, np.abs(cross), -1.0), axis=1)
+        rows = np.arange(k.size)
+        dist[k] = dd[rows, best]
+        foot[k] = j[rows, best]
+        if signed:
+            dist[k] *= np.where(cross[rows, best] < 0, -1.0, 1.0)
+    return dist, foot
+
+
+def _cross(t, v):
+    return t[..., 0] * v[..., 1] - t[..., 1] * v[..., 0]
+
+
+def find_corners(p, corner_deg=30.0, span_m=0.5e-3):
+    """Corners of a polyline: ``(vertex index, turn angle)`` each.
+
+    Parameters
+    ----------
+    p : ndarray, shape (m, d)
+        Polyline [m].
+    corner_deg : float
+        Least turn of the direction over ``span_m`` before and after [deg].
+    span_m : float
+        Path length over which the direction is taken on either side [m].
+
+    Returns
+    -------
+    list of tuple
+        Vertex index (the last one on the corner point) and turn [rad]; the end of the
+        path last, with a turn of NaN [-].
+    """
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    if s[-1] <= 0.0:
+        return []
+    ok = (s >= span_m) & (s <= s[-1] - span_m)
+    before = np.stack([np.interp(s - span_m, s, p[:, i]) for i in range(p.shape[1])], 1)
+    after = np.stack([np.interp(s + span_m, s, p[:, i]) for i in range(p.shape[1])], 1)
+    u, w = p - before, after - p
+    cos = np.einsum("ij,ij->i", u, w) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1)
+                                        + 1e-300)
+    turn = np.arccos(np.clip(cos, -1.0, 1.0))
+    cand = ok & (turn > np.radians(corner_deg))
+    out = []
+    for g in np.split(np.flatnonzero(cand), np.flatnonzero(np.diff(np.flatnonzero(cand)) > 1)
+                      + 1):
+        if g.size:
+            i = g[np.argmax(turn[g])]
+            # the corner point: the last sample where the command stands there
+            while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
+                i += 1
+            out.append((int(i), float(turn[i])))
+    # the end of the path: where a step test overshoots and settles
+    if not out or out[-1][0] != p.shape[0] - 1:
+        out.append((p.shape[0] - 1, float("nan")))
+    return out
+
+
+def _run_signals(run, command, axes):
+    """Times, command polyline and actual paths per sensor of a run."""
+    missing = [a for a in axes if a not in run.axes]
+    if missing:
+        raise InputError(f"the run has no axis {', '.join(missing)} (axes: "
+                         f"{', '.join(run.axes)})")
+    t = np.asarray(run.time_s, float)
+    if command is not None:
+        tc = np.asarray(command.time_s, float)
+        cmd = np.column_stack([command.positions[a] for a in axes])
+    else:
+        if any(run.axes[a].cmd is None for a in axes):
+            raise InputError("the run has no command signals (<axis>_cmd_mm); give the command")
+        tc, cmd = t, np.column_stack([run.axes[a].cmd for a in axes])
+    actual = {s: np.column_stack([run.axes[a].sensor(s) for a in axes]) for s in SENSORS
+              if all(run.axes[a].sensor(s) is not None for a in axes)}
+    if not actual:
+        raise InputError(f"the run has no motor, scale or tcp signals of {', '.join(axes)}")
+    return t, tc, cmd, actual
+
+
+def _axes(run, plane):
+    """``(axes, signed)`` for a plane given, ``"auto"`` or ``None`` (3-D)."""
+    from .plane import plane_axes, run_plane
+
+    if plane is None or str(plane).upper() == "3D":
+        names = [a for a in ("X", "Y", "Z") if a in run.axes and run.axes[a].cmd is not None]
+        return tuple(names or run.axes), False
+    if isinstance(plane, str) and plane.lower() == "auto":
+        try:
+            axes, _, flat = run_plane(run)
+        except InputError:  # fewer than two axes move: a step along one axis
+            flat = False
+        return (axes, True) if flat else _axes(run, None)
+    return plane_axes(plane), True
+
+
+def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0,
+                  corner_span_m=0.5e-3, settle_tol_m=1e-6) -> ContourResult:
+    """Contour error of every sensor of a run along its commanded path, and corner metrics
+    (module docstring: definitions and signs).
+
+    Parameters
+    ----------
+    run : Run or pandas.DataFrame
+        Simulated or measured run, or its table in the run-file layout (mm) [-].
+    command : Command, optional
+        The commanded path on the run's time line; default the run's command signals [-].
+    plane : str or tuple of str or None
+        ``"auto"``: the plane the command moves in (3-D when it is not plane or moves along
+        one axis); ``"XY"``,
+        ``("Z", "X")``, ...: that plane, signed; ``None`` or ``"3D"``: unsigned in 3-D [-].
+    window_s : float
+        Time around each actual sample in which its closest command point is sought [s].
+    corner_deg : float
+        Least turn that makes a corner [deg].
+    corner_span_m : float
+        Path length before and after a point over which its turn is taken [m].
+    settle_tol_m : float
+        Band within which the error has settled after a corner [m].
+    """
+    for v, what in ((window_s, "window_s"), (corner_span_m, "corner_span_m"),
+                    (settle_tol_m, "settle_tol_m"), (corner_deg, "corner_deg")):
+        if not (np.isfinite(v) and v > 0):
+            raise InputError(f"{what} must be a positive number, got {v}")
+    if hasattr(run, "columns"):
+        from ..io.runfile import run_from_table
+
+        run = run_from_table(run)
+    axes, signed = _axes(run, plane)
+    t, tc, cmd, actual = _run_signals(run, command, axes)
+    errors, feet = {}, {}
+    for s, q in actual.items():
+        errors[s], feet[s] = distance_to_polyline(q, cmd, t, tc, window_s, signed)
+    path_s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(cmd, axis=0), axis=1))])
+    corners = find_corners(cmd, corner_deg, corner_span_m)
+    out = ContourResult(tuple(axes), signed, t, cmd, tc, path_s, errors, [], settle_tol_m,
+                        actual)
+    out.corners = corner_metrics(out, corners, t)
+    return out
+
+
+def corner_metrics(res: ContourResult, corners, t) -> list:
+    """Overshoot, rounding and settling of every sensor at every corner (module docstring).
+
+    Parameters
+    ----------
+    res : ContourResult
+        Contour errors and command [-].
+    corners : list of tuple
+        ``(vertex index, turn [rad])`` from :func:`find_corners` [-].
+    t : ndarray
+        Times of the actual samples [s].
+    """
+    p, tc, s = res.command, res.command_time_s, res.path_s_m
+    idx = [i for i, _ in corners]
+    # each corner owns the samples from halfway after the previous to halfway to the next
+    bounds = [tc[0]] + [0.5 * (tc[a] + tc[b]) for a, b in itertools.pairwise(idx)] + [tc[-1]]
+    out = []
+    for n, (i, turn) in enumerate(corners):
+        c = p[i]
+        first = i
+        while first > 0 and np.array_equal(p[first - 1], c):
+            first -= 1
+        back = np.searchsorted(s, s[first] - 1e-3 * 0.5)  # incoming direction over 0.5 mm
+        t_in = c - p[min(back, first - 1)] if first > 0 else np.zeros_like(c)
+        t_in = t_in / (np.linalg.norm(t_in) or 1.0)
+        own = (t >= bounds[n]) & (t <= bounds[n + 1])
+        t0 = tc[first] if np.isnan(turn) else tc[i]  # the end: from the arrival
+        after = own & (t >= t0)
+        entry = {"number": n + 1, "index": int(i), "point_m": c.tolist(), "turn_rad": turn}
+        for name, q in res.actual.items():
+            rel = q[own] - c
+            over = float(max(np.max(rel @ t_in), 0.0)) if rel.size else float("nan")
+            rnd = float(np.min(np.linalg.norm(rel, axis=1))) if rel.size else float("nan")
+            entry[name] = {"overshoot_m": over, "rounding_m": rnd,
+                           **_settling(_settle_error(res, name, after, c, turn), t[after],
+                                       t0, tc, s, res.settle_tol_m)}
+        out.append(entry)
+    return out
+
+
+def _settle_error(res, name, k, c, turn):
+    """What settles: the contour error after a corner, the distance to the end point at the
+    end of the path (the command rests there, so lag along the path counts too) [m]."""
+    if np.isnan(turn):
+        return np.linalg.norm(res.actual[name][k] - c, axis=1)
+    return res.errors[name][k]
+
+
+def _settling(e, t, t0, tc, s, tol) -> dict:
+    """Time and command path length from ``t0`` until ``e`` stays within ``tol`` of its
+    level at the end of the stretch (the median of its last quarter)."""
+    nan = {"settle_s": float("nan"), "settle_m": float("nan")}
+    if e.size < 4:
+        return nan
+    dev = np.abs(e - np.median(e[-(e.size // 4):]))
+    if dev[-1] > tol:
+        return nan
+    out = np.flatnonzero(dev > tol)
+    k = 0 if out.size == 0 else out[-1] + 1
+    ts = t[k]
+    return {"settle_s": float(ts - t0),
+            "settle_m": float(np.interp(ts, tc, s) - np.interp(t0, tc, s))}

@@ -1,0 +1,108 @@
+"""The plane of a test: its two axes, by name, from the program or from the motion of a run.
+
+A plane is an ordered pair of axes ``(a, b)``: angles are counted from ``+a`` towards
+``+b``, and counter-clockwise (CCW) turns ``+a`` into ``+b``. The planes of G17, G18 and
+G19 are ``XY``, ``ZX`` and ``YZ`` (right-handed, seen from the third axis), so that a G3
+reads as CCW in all three. ``XZ`` is the same plane seen from -Y: X horizontal, a G3 of
+G18 is then CW.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+AXES = ("X", "Y", "Z")
+#: the plane of G17, G18, G19 for each pair of axes
+GCODE_PLANES = {frozenset("XY"): ("X", "Y"), frozenset("XZ"): ("Z", "X"),
+                frozenset("YZ"): ("Y", "Z")}
+#: the third axis moving more than this share of the smaller plane axis' travel makes
+#: the motion not plane
+OUT_OF_PLANE_SHARE = 0.1
+
+
+def plane_axes(name) -> tuple[str, str]:
+    """The two axes of a plane given by name, e.g. ``"XZ"`` or ``("Z", "X")`` [-].
+
+    Parameters
+    ----------
+    name : str or tuple of str
+        Two different axes of X, Y, Z, in order [-].
+    """
+    axes = tuple(str(a).upper() for a in (name if not isinstance(name, str) else name.strip()))
+    if len(axes) != 2 or axes[0] == axes[1] or any(a not in AXES for a in axes):
+        raise InputError(f"plane {''.join(map(str, name))!r} must be two different axes of "
+                         "X, Y, Z, e.g. XY, XZ, YZ (or ZX as G18 has it)")
+    return axes
+
+
+def plane_name(axes) -> str:
+    """``"XY"`` for ``("X", "Y")`` [-]."""
+    return "".join(axes)
+
+
+def motion_plane(positions: dict) -> tuple[tuple[str, str], str, bool]:
+    """The plane in which positions move: the two axes of largest travel, in the order of
+    G17, G18, G19 (XY, ZX, YZ).
+
+    Parameters
+    ----------
+    positions : dict of str to ndarray
+        Position per axis name [m].
+
+    Returns
+    -------
+    axes : tuple of str
+        The plane [-].
+    why : str
+        How it was found, for the user [-].
+    flat : bool
+        Whether the third axis stays within ``OUT_OF_PLANE_SHARE`` of the plane's [-].
+    """
+    travel = {a.upper(): float(np.ptp(p)) for a, p in positions.items()
+              if a.upper() in AXES and p is not None and np.size(p)}
+    moving = sorted((a for a in travel if travel[a] > 0.0), key=lambda a: -travel[a])
+    if len(moving) < 2:
+        raise InputError("the motion is not in a plane: fewer than two of the axes X, Y, Z "
+                         f"move (travel {_mm(travel)}); give --plane")
+    a, b = moving[:2]
+    axes = GCODE_PLANES[frozenset((a, b))]
+    why = f"the axes moving most are {a} and {b} (travel {_mm(travel)})"
+    flat = not (len(moving) > 2 and travel[moving[2]] > OUT_OF_PLANE_SHARE * travel[b])
+    if not flat:
+        why += f"; {moving[2]} moves too, so the path is not plane: give --plane to choose"
+    return axes, why, flat
+
+
+def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str, bool]:
+    """The plane in which a run's command moves (else its first position sensor).
+
+    Parameters
+    ----------
+    run : Run
+        Simulated or measured run [-].
+    sensor : str, optional
+        Sensor to look at; default ``cmd`` where every axis has it [-].
+
+    Returns
+    -------
+    axes : tuple of str
+        The plane [-].
+    why : str
+        How it was found [-].
+    flat : bool
+        Whether the motion lies in the plane (:func:`motion_plane`) [-].
+    """
+    names = (sensor,) if sensor else ("cmd", "scale", "motor", "tcp")
+    for s in names:
+        pos = {a: r.sensor(s) for a, r in run.axes.items()}
+        pos = {a: p for a, p in pos.items() if p is not None}
+        if len(pos) >= 2:
+            axes, why, flat = motion_plane(pos)
+            return axes, f"{why} in the {s} signals", flat
+    raise InputError("the run has no position signal of two axes to find the plane from")
+
+
+def _mm(travel: dict) -> str:
+    return ", ".join(f"{a} {v * 1e3:.3g} mm" for a, v in travel.items())

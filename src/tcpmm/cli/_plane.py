@@ -1,0 +1,46 @@
+"""The ``--plane`` option the analysis commands share: a plane by name, or the one the run
+moves in, said on stderr."""
+
+from __future__ import annotations
+
+import typer
+
+from ..errors import InputError
+from ._app import _in_file, console
+
+PLANE_HELP = ("Plane: XY, XZ, YZ (or ZX as G18 has it); CCW turns the first axis into the "
+              "second. Default: the plane in which the command moves.")
+
+
+def plane_option(option: str) -> tuple[str, str]:
+    """The two axes of ``--plane``; a bad name is a usage error."""
+    from ..analysis.plane import plane_axes
+
+    try:
+        return plane_axes(option)
+    except Exception as exc:
+        raise typer.BadParameter(str(exc), param_hint="--plane") from None
+
+
+def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
+    """The plane of ``--plane``, else the one the run's command moves in, said on stderr.
+
+    With ``allow_3d``, ``--plane 3D`` and a run that does not move in a plane give
+    ``None`` (3-D) [-].
+    """
+    from ..analysis.plane import run_plane
+
+    if option is not None:
+        return None if allow_3d and option.strip().upper() == "3D" else plane_option(option)
+    with _in_file(what):
+        try:
+            axes, why, flat = run_plane(run)
+        except InputError as exc:
+            if not allow_3d:
+                raise
+            axes, why, flat = None, exc.message, False
+    if not flat and allow_3d:
+        console.print(f"3D (unsigned), taken from {what}: {why}", highlight=False)
+        return None
+    console.print(f"plane {''.join(axes)}, taken from {what}: {why}", highlight=False)
+    return axes

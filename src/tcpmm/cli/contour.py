@@ -1,0 +1,87 @@
+"""tcpmm contour: contour error along any path, and corner metrics."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ._app import Sensor, _emit_json, _in_file, _plot, _positive, app, out
+from ._plane import run_plane_said
+
+
+@app.command()
+def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or measured)"),
+            plane: str = typer.Option(
+                None, "--plane", help="XY, XZ, YZ (or ZX): signed error in that plane "
+                                      "(+: left of travel); 3D: unsigned distance. Default: "
+                                      "the plane the command moves in, else 3D."),
+            sensor: Sensor = typer.Option(None, "--sensor", help="Sensor of the corner table "
+                                          "and the plot colours (default tcp, scale, motor)."),
+            settle_um: float = typer.Option(1.0, "--settle-um",
+                                            help="Settling band after a corner [um]."),
+            corner_deg: float = typer.Option(30.0, "--corner-deg",
+                                             help="Least turn that makes a corner [deg]."),
+            window_s: float = typer.Option(
+                0.2, "--window-s", help="Time around each sample in which its closest command "
+                                        "point is sought [s]."),
+            as_json: bool = typer.Option(False, "--json"),
+            plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
+    """Contour error along any program: the shortest distance from each sensor's path to the
+    commanded path, signed in a plane; corner overshoot, rounding and settling."""
+    from ..analysis.contour import contour_error
+    from ..io.runfile import read_run_csv
+
+    for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
+                    (window_s, "--window-s [s]")):
+        _positive(v, what)
+    _plot(plot)
+    run = read_run_csv(run_file)
+    with _in_file(run_file):
+        how = run_plane_said(plane, run, run_file, allow_3d=True)
+        res = contour_error(run, plane=how, window_s=window_s, corner_deg=corner_deg,
+                            settle_tol_m=settle_um * 1e-6)
+    name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
+                                            if s in res.errors)
+    if name not in res.errors:
+        raise typer.BadParameter(f"the run has no {name} signals of {', '.join(res.axes)}",
+                                 param_hint="--sensor")
+    if plot is not None:
+        res.plot(sensor=name, path=plot)
+    if as_json:
+        _emit_json(res.to_dict())
+        return
+    _print(res, name, f"{run_file}")
+
+
+def _print(res, sensor: str, title: str) -> None:
+    """Error per sensor and the corner table of one sensor, 80 columns wide."""
+    from rich.table import Table
+
+    sign = "signed, +: left of travel" if res.signed else "3D, unsigned"
+    t = Table(title=f"{title}: contour error in {''.join(res.axes)} [µm]",
+              caption=f"{sign}")
+    for col in ("sensor", "max |e|", "RMS", "max", "min"):
+        t.add_column(col, justify="left" if col == "sensor" else "right")
+    for s, d in res.summary().items():
+        t.add_row(s, *[f"{d[k] * 1e6:.2f}" for k in ("max_abs_m", "rms_m", "max_m", "min_m")])
+    out.print(t)
+    if not res.corners:
+        return
+    t = Table(title=f"corners, {sensor}", caption=f"overshoot past the corner, rounding: "
+              f"closest approach [µm]; settled within {res.settle_tol_m * 1e6:g} µm")
+    for col in ("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"):
+        t.add_column(col, justify="right")
+    for row in res.corners_table().to_dict("records"):
+        if row["sensor"] != sensor:
+            continue
+        at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)
+        turn = "end" if row["turn_deg"] != row["turn_deg"] else f"{row['turn_deg']:.0f}°"
+        t.add_row(str(row["corner"]), at, turn,
+                  *[_num(row[k]) for k in ("overshoot_um", "rounding_um", "settle_ms",
+                                           "settle_mm")])
+    out.print(t)
+
+
+def _num(v: float) -> str:
+    return "n/a" if v != v else f"{v:.2f}"

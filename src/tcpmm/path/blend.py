@@ -1,0 +1,111 @@
+"""Corner blending of continuous-path mode (G64 P): an arc rounds off each corner between
+two straight blocks, within the contour tolerance.
+
+At a corner turning by ``theta`` the blend is the arc tangent to both lines at the
+distance ``d`` from the corner point; its radius is ``d / tan(theta/2)`` and it passes
+the corner at ``rho (1/cos(theta/2) - 1)``. ``d`` is the largest that keeps this within
+the tolerance, and at most half of either line, so that the blends at both ends of a
+line never overlap. A long run of short blocks that approximates a curve thus becomes a
+chain of arcs whose radius is the curve's, and the look-ahead limits its speed by the
+centripetal acceleration rather than by a velocity step at every block end.
+
+Corners are blended where both blocks are straight feed moves (G1) in continuous-path
+mode, in any orientation: the blend is an arc in the plane of the two lines
+(:class:`~tcpmm.path.segments.Blend`). Corners next to arcs, rapids and dwells, at exact
+stops (G61, G9) and at reversals stay sharp.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .segments import Blend, Line
+
+#: blends shorter than this along either line are not worth a segment [m]
+MIN_BLEND_M = 1e-9
+
+
+def _unit(a: Line) -> np.ndarray:
+    d = np.subtract(a.end_m, a.start_m)
+    return d / np.linalg.norm(d)
+
+
+def tangent_length(a: Line, b: Line, tol_m: float) -> float:
+    """Distance ``d`` from the corner at which the blend of ``a`` into ``b`` starts and
+    ends; 0 where the corner stays sharp (module docstring) [m].
+
+    Parameters
+    ----------
+    a, b : Line
+        The block ending at the corner and the one starting there [-].
+    tol_m : float
+        Contour tolerance of the corner [m].
+    """
+    if not tol_m > 0.0 or a.exact_stop:
+        return 0.0
+    u1, u2 = _unit(a), _unit(b)
+    c = float(np.clip(np.dot(u1, u2), -1.0, 1.0))
+    theta = math.acos(c)
+    if theta < 1e-12 or float(np.linalg.norm(np.cross(u1, u2))) < 1e-12:
+        return 0.0  # straight on, or a reversal
+    h = 0.5 * theta
+    d_tol = tol_m * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2)
+    d = min(d_tol, 0.5 * a.length_m, 0.5 * b.length_m)
+    return d if d >= MIN_BLEND_M else 0.0
+
+
+def blend_arc(a: Line, b: Line, d: float) -> Blend:
+    """The arc tangent to ``a`` and ``b`` at the distance ``d`` from their corner [-]."""
+    u1, u2 = _unit(a), _unit(b)
+    p = np.asarray(a.end_m, float)
+    h = 0.5 * math.acos(float(np.clip(np.dot(u1, u2), -1.0, 1.0)))
+    rho = d / math.tan(h)
+    bis = (u2 - u1) / np.linalg.norm(u2 - u1)
+    centre = p + bis * (rho / math.cos(h))
+    return Blend(tuple(p - d * u1), tuple(p + d * u2), tuple(centre),
+                 min(a.feed_m_per_s, b.feed_m_per_s), line=b.line)
+
+
+def blend_corners(segments, default_tol_m: float = 0.0) -> list:
+    """The path with the corners between straight blocks rounded off (module docstring).
+
+    Parameters
+    ----------
+    segments : sequence of Line, Rapid, Arc, Dwell
+        The continuous tool path [-].
+    default_tol_m : float
+        Contour tolerance of a corner whose block carries none (no ``G64 P``) [m].
+
+    Returns
+    -------
+    list
+        The path with a blend arc at each corner blended; the input when none is [-].
+    """
+    segs = list(segments)
+    n = len(segs)
+    d = [0.0] * (n + 1)  # d[i + 1]: tangent length of the corner at the end of block i
+    for i in range(n - 1):
+        a, b = segs[i], segs[i + 1]
+        if type(a) is Line and type(b) is Line:
+            tol = default_tol_m if a.tolerance_m is None else a.tolerance_m
+            d[i + 1] = tangent_length(a, b, tol)
+    if not any(d):
+        return segs
+    out = []
+    for i, s in enumerate(segs):
+        if type(s) is Line and (d[i] or d[i + 1]):
+            u = _unit(s)
+            start = np.asarray(s.start_m, float) + d[i] * u
+            end = np.asarray(s.end_m, float) - d[i + 1] * u
+            if out and d[i]:
+                start = np.asarray(out[-1].end_m)  # exactly where the blend ends
+            if np.linalg.norm(end - start) > 1e-12 * max(s.length_m, 1e-3):
+                out.append(Line(tuple(start), tuple(end), s.feed_m_per_s, s.exact_stop,
+                                s.line, s.tolerance_m))
+        else:
+            out.append(s)
+        if d[i + 1]:
+            out.append(blend_arc(s, segs[i + 1], d[i + 1]))
+    return out

@@ -1,0 +1,133 @@
+"""What holds the feed back: per block, the limit that keeps it below the programmed feed.
+
+A feed block (not a rapid, not a dwell) is held back when the highest speed it reaches is
+below ``HELD_SHARE`` of its programmed feed. The cause is the block's own speed limit when
+that is below the feed (axis velocity, the centripetal acceleration of its curvature, the
+filter's tolerance on arcs); else the corner at its start or end when that corner's own
+limit sets the speed there (a velocity step the axes' acceleration allows within the
+filter's spread, the filter's tolerance at the corner, an exact stop); else the path
+acceleration (the path jerk for the S-curve): the block is too short to reach the feed
+from a slower place before or after it. The look-ahead spans the whole program, so its
+depth never limits.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .geometry import DWELL
+from .lookahead import JUNCTION_CAUSES, SEGMENT_CAUSES
+
+#: a block reaching less than this share of its feed is held back [-]
+HELD_SHARE = 0.99
+
+
+@dataclass
+class FeedLimits:
+    """Per block: programmed feed, the speed reached, and what holds it back.
+
+    Parameters
+    ----------
+    line : ndarray of int
+        Source line of each block, -1 where unknown [-].
+    length_m : ndarray
+        Block length [m].
+    feed_m_per_s : ndarray
+        Programmed feed (rapid speed for G0) [m/s].
+    limit_m_per_s : ndarray
+        Highest speed the block reaches [m/s].
+    held : ndarray of bool
+        Below ``HELD_SHARE`` of the feed [-].
+    cause : ndarray of str
+        What holds it back ("" where nothing does) [-].
+    """
+
+    CAUSES = (*SEGMENT_CAUSES[1:], *JUNCTION_CAUSES[1:], "path acceleration", "path jerk")
+
+    line: np.ndarray
+    length_m: np.ndarray
+    feed_m_per_s: np.ndarray
+    limit_m_per_s: np.ndarray
+    held: np.ndarray
+    cause: np.ndarray
+
+    def summary(self) -> list[dict]:
+        """Per cause: path length held back, blocks, lines, lowest speed reached [SI]."""
+        rows = []
+        for c in dict.fromkeys(self.cause[self.held]):
+            k = self.held & (self.cause == c)
+            lines = self.line[k][self.line[k] >= 0]
+            rows.append({"cause": str(c), "length_m": float(self.length_m[k].sum()),
+                         "blocks": int(k.sum()),
+                         "first_line": int(lines.min()) if lines.size else None,
+                         "last_line": int(lines.max()) if lines.size else None,
+                         "lowest_m_per_s": float(self.limit_m_per_s[k].min())})
+        return sorted(rows, key=lambda r: -r["length_m"])
+
+    def share_at_feed(self) -> float:
+        """Share of the path length at the programmed feed [-]."""
+        total = self.length_m.sum()
+        return float(self.length_m[~self.held].sum() / total) if total > 0 else 1.0
+
+    def to_pandas(self):
+        """Per block: line, length [mm], feed and speed reached [mm/min], cause."""
+        import pandas as pd
+
+        return pd.DataFrame({"line": self.line, "length_mm": self.length_m * 1e3,
+                             "feed_mm_per_min": self.feed_m_per_s * 6e4,
+                             "reached_mm_per_min": self.limit_m_per_s * 6e4,
+                             "held": self.held, "cause": self.cause})
+
+    def plot(self, ax=None, path=None):
+        """Programmed feed and speed reached per block, coloured by the cause; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
+        from ..plot.path import plot_feed_limits
+
+        return plot_feed_limits(self, ax=ax, path=path)
+
+    def to_dict(self) -> dict:
+        """JSON-ready: share at the feed and the causes (mm, mm/min)."""
+        return {"share_at_feed": self.share_at_feed(),
+                "held_back": [{"cause": r["cause"], "length_mm": r["length_m"] * 1e3,
+                               "blocks": r["blocks"], "first_line": r["first_line"],
+                               "last_line": r["last_line"],
+                               "lowest_mm_per_min": r["lowest_m_per_s"] * 6e4}
+                              for r in self.summary()]}
+
+
+def feed_limits(interp) -> FeedLimits:
+    """What holds each block of an interpolated path below its feed (module docstring).
+
+    Parameters
+    ----------
+    interp : Interpolation
+        The result of :func:`tcpmm.path.interpolate_detailed` [-].
+    """
+    p = interp.path
+    feed, vmax = p.feed, interp.segment_vmax_m_per_s
+    peak = interp.segment_peak_m_per_s
+    v, vj = interp.junction_speed_m_per_s, interp.junction_limit_m_per_s
+    motion = (p.kind != DWELL) & ~p.rapid  # rapids position; they have no feed to reach
+    held = motion & (peak < HELD_SHARE * feed)
+    cause = np.full(p.n, "", dtype=object)
+    ramp = "path jerk" if interp.jerk_limited else "path acceleration"
+    for i in np.flatnonzero(held):
+        if vmax[i] < HELD_SHARE * feed[i]:
+            cause[i] = SEGMENT_CAUSES[interp.segment_cause[i]]
+            continue
+        # the slower end, if its corner's own limit sets the speed there
+        j = i if v[i] <= v[i + 1] else i + 1
+        jc = interp.junction_cause[j]
+        own = jc != 0 and v[j] >= vj[j] * (1 - 1e-9) and vj[j] < HELD_SHARE * feed[i]
+        cause[i] = JUNCTION_CAUSES[jc] if own else ramp
+    return FeedLimits(p.line.copy(), p.length.copy(), feed.copy(), np.where(motion, peak, 0.0),
+                      held, cause.astype(str))

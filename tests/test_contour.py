@@ -1,0 +1,205 @@
+"""Contour error along any path: known offsets with their sign, a corner with a known
+overshoot and settling, and a square end to end on the built-in machine."""
+
+import itertools
+import json
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.contour import contour_error, distance_to_polyline, find_corners
+from tcpmm.cli import main
+from tcpmm.errors import InputError
+from tcpmm.result import AxisRun, Run
+
+DT = 1e-3
+
+
+def make_run(cmd, act, sensors=("motor", "scale", "tcp")):
+    """A run of the axes of ``cmd``: every sensor at ``act`` [m]."""
+    t = np.arange(len(next(iter(cmd.values())))) * DT
+    axes = {a: AxisRun(cmd=cmd[a], **{s: act[a] for s in sensors}) for a in cmd}
+    return Run(t, axes)
+
+
+def circle(r, turns=1.0, n=4000, ccw=True):
+    th = np.linspace(0, 2 * np.pi * turns, n) * (1 if ccw else -1)
+    return r * np.cos(th), r * np.sin(th)
+
+
+@pytest.mark.parametrize("ccw", [True, False])
+def test_a_circle_offset_inwards_is_left_of_a_ccw_travel(ccw):
+    x, y = circle(0.02, ccw=ccw)
+    d = 3e-6
+    k = 1 - d / 0.02
+    res = contour_error(make_run({"X": x, "Y": y, "Z": 0 * x}, {"X": k * x, "Y": k * y,
+                                                              "Z": 0 * x}))
+    assert res.axes == ("X", "Y") and res.signed
+    sign = 1.0 if ccw else -1.0  # inside: left of a CCW travel, right of a CW one
+    for e in res.errors.values():
+        # chords of 31 um sag 6e-9 um: the polyline is the circle within that
+        assert e == pytest.approx(sign * d, abs=1e-11)
+    [end] = res.corners  # no corner on a circle; its end is where a step test stops
+    assert end["index"] == x.size - 1 and np.isnan(end["turn_rad"])
+
+
+def test_a_line_offset_to_either_side_and_in_3d():
+    x = np.linspace(0, 0.05, 2000)
+    z = np.zeros_like(x)
+    d = 5e-6
+    left = contour_error(make_run({"X": x, "Y": z}, {"X": x, "Y": z + d}), plane="XY")
+    right = contour_error(make_run({"X": x, "Y": z}, {"X": x, "Y": z - d}), plane="XY")
+    np.testing.assert_allclose(left.errors["tcp"], d, atol=1e-15)
+    np.testing.assert_allclose(right.errors["tcp"], -d, atol=1e-15)
+    seen = contour_error(make_run({"X": x, "Y": z}, {"X": x, "Y": z - d}), plane="YX")
+    np.testing.assert_allclose(seen.errors["tcp"], d, atol=1e-15)  # seen from -Z
+    run = make_run({"X": x, "Y": z, "Z": z}, {"X": x, "Y": z + 0.6 * d, "Z": z - 0.8 * d})
+    res = contour_error(run, plane=None)
+    assert not res.signed and res.axes == ("X", "Y", "Z")
+    np.testing.assert_allclose(res.errors["tcp"], d, rtol=1e-12)
+    # a table in the run-file layout gives the same
+    assert contour_error(run.to_pandas(), plane="3D").errors["tcp"] == pytest.approx(
+        res.errors["tcp"], abs=1e-12)
+
+
+def square(side=0.05, v=0.05, rest=100):
+    """A CCW square at speed ``v`` with an exact stop of ``rest`` samples at each corner."""
+    pts = np.array([(0, 0), (side, 0), (side, side), (0, side), (0, 0)], float)
+    out = [pts[:1]]
+    for a, b in itertools.pairwise(pts):
+        n = round(side / v / DT)
+        f = np.arange(1, n + 1)[:, None] / n
+        out += [a + f * (b - a), np.repeat(b[None], rest, axis=0)]
+    return np.vstack(out)
+
+
+def test_a_known_overshoot_rounding_and_settling_at_a_corner():
+    p = square()
+    corners = find_corners(p)
+    assert [p[i].tolist() for i, _ in corners] == [[0.05, 0], [0.05, 0.05], [0, 0.05], [0, 0]]
+    assert all(t == pytest.approx(np.pi / 2, abs=1e-6) for _, t in corners[:3])
+    assert corners[3][0] == p.shape[0] - 1 and np.isnan(corners[3][1])
+    # at the first corner the X axis runs past it by delta, up and back down smoothly
+    i = corners[0][0]
+    first = i - 99  # the first sample at rest on the corner
+    delta, tau = 8e-6, 0.03
+    u = np.clip((np.arange(p.shape[0]) - first) * DT, 0, None) / tau
+    bump = delta * u * np.exp(1 - u)
+    act = p.copy()
+    act[:, 0] += bump
+    res = contour_error(make_run({"X": p[:, 0], "Y": p[:, 1]}, {"X": act[:, 0],
+                                                                "Y": act[:, 1]}),
+                        settle_tol_m=1e-6)
+    c1 = res.corners[0]["tcp"]
+    assert c1["overshoot_m"] == pytest.approx(delta, rel=1e-6)
+    assert c1["rounding_m"] == pytest.approx(0.0, abs=1e-12)  # it reaches the corner
+    # past a left turn is to the right of the travel on: negative
+    assert res.errors["tcp"].min() == pytest.approx(-delta, rel=1e-6)
+    # the bump falls below 1 um at u* with u* exp(1 - u*) = 1/8, after the command leaves
+    uu = np.linspace(1, 20, 2_000_001)
+    u_star = uu[np.argmax(uu * np.exp(1 - uu) < 1e-6 / delta)]
+    want = first * DT + u_star * tau - i * DT
+    assert c1["settle_s"] == pytest.approx(want, abs=1.5 * DT)
+    assert c1["settle_m"] == pytest.approx(want * 0.05, abs=1.5 * DT * 0.05)
+    for c in res.corners[1:3]:
+        assert c["tcp"]["overshoot_m"] == 0 and c["tcp"]["settle_s"] == pytest.approx(DT, abs=DT)
+    d = res.to_dict()
+    assert d["corners"][0]["overshoot_um"] == pytest.approx(8.0, rel=1e-6)
+    json.dumps(d)
+
+
+def test_a_path_run_twice_each_way_is_matched_with_the_pass_being_run():
+    x1, y1 = circle(0.01, n=3000, ccw=True)
+    x2, y2 = circle(0.01, n=3000, ccw=False)
+    x, y = np.r_[x1, x2], np.r_[y1, y2]
+    k = 1 - 2e-6 / 0.01  # inside throughout
+    res = contour_error(make_run({"X": x, "Y": y}, {"X": k * x, "Y": k * y}), window_s=0.2)
+    e = res.errors["tcp"]
+    assert e[100:2900] == pytest.approx(2e-6, abs=1e-10)
+    assert e[3100:5900] == pytest.approx(-2e-6, abs=1e-10)
+
+
+def test_bad_input_is_an_input_error():
+    x = np.linspace(0, 1, 10)
+    with pytest.raises(InputError, match="does not move"):
+        distance_to_polyline(np.zeros((3, 2)), np.zeros((4, 2)), np.arange(3.0),
+                             np.arange(4.0), 1.0, True)
+    with pytest.raises(InputError, match="window_s must be a positive"):
+        contour_error(make_run({"X": x, "Y": x}, {"X": x, "Y": x}), window_s=0)
+    with pytest.raises(InputError, match="no axis Z"):
+        contour_error(make_run({"X": x, "Y": x}, {"X": x, "Y": x}), plane="XZ")
+
+
+def test_a_square_on_the_builtin_machine_from_the_cli(tmp_path, capsys):
+    (tmp_path / "sq.nc").write_text("G21 G17 G90\nG0 X0 Y0\nG1 X50 Y0 F3000\nX50 Y50\n"
+                                    "X0 Y50\nX0 Y0\nG4 P0.5\nM30\n")
+    for args in (["path", tmp_path / "sq.nc", "-o", tmp_path / "cmd.csv"],
+                 ["simulate", "builtin:vmc", "--command", tmp_path / "cmd.csv", "-o",
+                  tmp_path / "run.csv"]):
+        assert main([str(a) for a in args]) == 0
+    capsys.readouterr()
+    code = main(["contour", str(tmp_path / "run.csv"), "--json", "--plot",
+                 str(tmp_path / "c.png")])
+    cap = capsys.readouterr()
+    assert code == 0, cap.err
+    assert "plane XY, taken from" in cap.err
+    res = json.loads(cap.out)
+    assert res["axes"] == "XY" and set(res["sensors"]) == {"motor", "scale", "tcp"}
+    rows = [r for r in res["corners"] if r["sensor"] == "scale"]
+    at = [v for r in rows for v in (r["x_mm"], r["y_mm"])]
+    assert at == pytest.approx([50, 0, 50, 50, 0, 50, 0, 0], abs=1e-3)  # samples pass by
+    assert all(r["turn_deg"] == pytest.approx(90, abs=0.01) for r in rows[:3])
+    assert rows[3]["turn_deg"] is None  # the end
+    # a servo that follows within tens of um and settles within a second, at the end
+    # within the dwell
+    assert 0 < res["sensors"]["scale"]["max_abs_um"] < 200
+    assert all(r["rounding_um"] < 200 and 0 < r["settle_ms"] < 1000 for r in rows)
+    assert (tmp_path / "c.png").is_file()
+    code = main(["contour", str(tmp_path / "run.csv"), "--plane", "3d"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert code == 0 and "contour error in XYZ" in text and "3D, unsigned" in text
+
+
+def test_a_step_along_one_axis_overshoots_and_settles_at_its_end(capsys, tmp_path):
+    """A move of 10 mm along X and a rest: the end overshoots by delta and rings down."""
+    n_move, n_rest = 200, 300
+    x = np.r_[np.linspace(0, 0.01, n_move), np.full(n_rest, 0.01)]
+    delta, tau, w = 5e-6, 0.02, 2 * np.pi * 25
+    u = np.clip(np.arange(x.size) - (n_move - 1), 0, None) * DT
+    ring = np.exp(-u / tau) * np.sin(w * u)
+    ring *= delta / ring.max()
+    act = x + ring
+    run = make_run({"X": x, "Y": 0 * x, "Z": 0 * x}, {"X": act, "Y": 0 * x, "Z": 0 * x})
+    res = contour_error(run)  # one axis moves: 3-D, unsigned
+    assert not res.signed
+    [end] = res.corners
+    m = end["tcp"]
+    assert m["overshoot_m"] == pytest.approx(delta, rel=1e-12)
+    # settled once the distance to the end point stays within 1 um
+    k = np.flatnonzero(np.abs(ring) > 1e-6)[-1] + 1
+    assert m["settle_s"] == pytest.approx(u[k], abs=1e-12)
+    assert m["settle_m"] == 0.0  # the command stands still meanwhile
+    run.to_pandas().to_csv(tmp_path / "run.csv", index=False)
+    assert main(["contour", str(tmp_path / "run.csv")]) == 0
+    cap = capsys.readouterr()
+    assert "3D (unsigned), taken from" in " ".join(cap.err.split())
+    assert "end" in cap.out
+
+
+def test_the_result_shares_the_protocol(tmp_path):
+    import pandas as pd
+
+    from tcpmm.plot import pyplot
+
+    p = square()
+    res = contour_error(make_run({"X": p[:, 0], "Y": p[:, 1]}, {"X": p[:, 0], "Y": p[:, 1]}))
+    assert isinstance(res.to_pandas(), pd.DataFrame) and len(res.to_pandas()) == p.shape[0]
+    assert len(res.corners_table()) == 4 * 3  # corners and the end, per sensor
+    json.dumps(res.to_dict())
+    fig = res.plot(path=tmp_path / "c.png")
+    assert (tmp_path / "c.png").stat().st_size > 0 and len(fig.axes) == 3  # + colour bar
+    fig = pyplot().figure()
+    axs = [fig.add_subplot(1, 2, k) for k in (1, 2)]
+    assert res.plot(ax=axs) is fig
+    assert res.plot(ax=axs[0], sensor="scale") is fig  # the coloured path alone
+    pyplot().close("all")

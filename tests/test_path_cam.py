@@ -1,0 +1,191 @@
+"""Programs as CAM writes them: G64 P corner blending, G61 and G9 exact stops, a long run
+of short blocks at the programmed feed, what holds the feed back, and the interpolator
+settings in the model file."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.contour import distance_to_polyline
+from tcpmm.cli import main
+from tcpmm.errors import InputError, InputWarning
+from tcpmm.io.modelfile import read_machine
+from tcpmm.path import InterpolatorSettings, Line, parse_gcode
+from tcpmm.path.blend import blend_corners
+from tcpmm.path.geometry import evaluate, to_arrays
+from tcpmm.path.limits import feed_limits
+from tcpmm.path.program import program_to_interpolation
+from tcpmm.path.segments import Arc, Blend
+
+
+def spiral(n=720, step_deg=2.0, head="G21 G90 G17 F3000"):
+    """``n`` G1 blocks of ``step_deg`` each on a spiral from R10 to R40 mm, and its
+    vertices [mm]."""
+    pts = [(10.0, 0.0)]
+    for k in range(1, n + 1):
+        th, r = math.radians(step_deg * k), 10 + 30 * k / n
+        pts.append((round(r * math.cos(th), 4), round(r * math.sin(th), 4)))
+    body = "\n".join(f"X{x:.4f} Y{y:.4f}" for x, y in pts[1:])
+    return f"{head}\nG0 X10 Y0\nG1\n{body}\nM30\n", np.array(pts)
+
+
+def speed(interp):
+    c = interp.command
+    return np.gradient(np.asarray(c.meta["path_s_m"]), c.time_s)
+
+
+def test_g64_p_is_a_contour_tolerance_and_g9_stops_one_block():
+    segs = parse_gcode("G64 P0.01\nG1 X10 F100\nG9 X20\nX30\nG61 X40\nX50\nG64 X60\n"
+                       "G20 G64 P0.001 X3\n")
+    assert [s.tolerance_m for s in segs] == pytest.approx([1e-5] * 3 + [None] * 3 + [25.4e-6])
+    assert [s.exact_stop for s in segs] == [False, True, False, True, True, False, False]
+    with pytest.warns(InputWarning, match="Q ignored: the naive-CAM merging"):
+        parse_gcode("G64 P0.01 Q0.005\nG1 X1 F100\n")
+    for text, msg in (("G1 X1 F100 P2\n", "P is only used with G4"),
+                      ("G61 P0.01\nG1 X1 F100\n", "P is only used with G4"),
+                      ("G64 P-0.1\n", "must not be negative"),
+                      ("G9\nG1 X1 F100\n", "G9 (exact stop) needs a move")):
+        with pytest.raises(InputError, match=msg.replace("(", r"\(").replace(")", r"\)")):
+            parse_gcode(text)
+
+
+@pytest.mark.parametrize("turn_deg", [10.0, 90.0, 150.0])
+def test_a_blend_passes_the_corner_at_the_tolerance_and_joins_tangentially(turn_deg):
+    tol, th = 20e-6, math.radians(turn_deg)
+    a = Line((0.0, 0.0, 0.0), (0.05, 0.0, 0.0), 0.05, tolerance_m=tol)
+    end = (0.05 + 0.05 * math.cos(th), 0.05 * math.sin(th), 0.0)
+    b = Line(a.end_m, end, 0.05)
+    l1, arc, l2 = blend_corners([a, b])
+    assert isinstance(arc, Blend) and arc.sweep_rad == pytest.approx(th, rel=1e-9)
+    assert l1.end_m == arc.start_m and arc.end_m == l2.start_m and l2.end_m == end
+    p = to_arrays([l1, arc, l2], (1.0, 1.0, 1.0))
+    pts = evaluate(p, np.ones(20001, int), np.linspace(0, p.length[1], 20001))
+    gap = np.linalg.norm(pts - np.array(a.end_m), axis=1).min()
+    assert gap == pytest.approx(tol, rel=1e-6)  # the closest point is the arc's middle
+    assert arc.radius_m == pytest.approx(math.dist(arc.end_m, arc.centre_m), rel=1e-12)
+    assert np.allclose(pts[-1], arc.end_m, rtol=0, atol=1e-15)
+    # tangent at both ends: the radius is normal to the line there
+    for q, u in ((arc.start_m, (1, 0, 0)), (arc.end_m, (math.cos(th), math.sin(th), 0))):
+        assert np.dot(np.subtract(q, arc.centre_m), u) == pytest.approx(0, abs=1e-15)
+
+
+def test_corners_that_stay_sharp():
+    o, x, xy = (0.0, 0.0, 0.0), (0.01, 0.0, 0.0), (0.01, 0.01, 0.0)
+    tol = 1e-5
+    assert len(blend_corners([Line(o, x, 0.1, tolerance_m=0.0), Line(x, xy, 0.1)])) == 2
+    assert len(blend_corners([Line(o, x, 0.1, exact_stop=True, tolerance_m=tol),
+                              Line(x, xy, 0.1)])) == 2
+    assert len(blend_corners([Line(o, x, 0.1, tolerance_m=tol), Line(x, o, 0.1)])) == 2
+    assert len(blend_corners([Line(o, x, 0.1, tolerance_m=tol), Arc(x, xy, (0.01, 0.005, 0),
+                                                                    ("X", "Y"), "ccw", 0.1)])) == 2
+
+
+def test_a_corner_in_any_orientation_is_blended_within_the_tolerance():
+    o, x, skew = (0.0, 0.0, 0.0), (0.01, 0.0, 0.0), (0.02, 0.01, 0.01)
+    tol = 1e-5
+    segs = blend_corners([Line(o, x, 0.1, tolerance_m=tol), Line(x, skew, 0.1)])
+    p = to_arrays(segs, (1.0, 1.0, 1.0))
+    pts = evaluate(p, np.ones(20001, int), np.linspace(0, p.length[1], 20001))
+    assert np.linalg.norm(pts - np.array(x), axis=1).min() == pytest.approx(tol, rel=1e-6)
+    assert np.allclose(pts[[0, -1]], [segs[1].start_m, segs[1].end_m], rtol=0, atol=1e-15)
+    # a 3-D polyline along a helix runs at its feed like the plane spiral
+    pts = [(0.01 * math.cos(math.radians(2 * k)), 0.01 * math.sin(math.radians(2 * k)),
+            -2e-5 * k) for k in range(361)]
+    body = "\n".join(f"X{x * 1e3:.4f} Y{y * 1e3:.4f} Z{z * 1e3:.4f}" for x, y, z in pts[1:])
+    res = program_to_interpolation(f"G64 P0.01\nG1 X10 Y0 Z0 F3000\n{body}\n")
+    v, s = speed(res), np.asarray(res.command.meta["path_s_m"])
+    on = (s > 0.02 + 0.05 * (s[-1] - 0.01)) & (s < s[-1] - 0.05 * (s[-1] - 0.01))
+    assert np.ptp(v[on]) < 1e-4 * 0.05 and np.mean(v[on]) == pytest.approx(0.05, rel=1e-6)
+
+
+def test_a_spiral_of_720_short_blocks_runs_at_the_programmed_feed_with_g64_p():
+    text, verts = spiral(head="G21 G90 G17 G64 P0.01 F3000")
+    res = program_to_interpolation(text)
+    v = speed(res)
+    s = np.asarray(res.command.meta["path_s_m"])
+    on = (s > 0.05 * s[-1]) & (s < 0.95 * s[-1])  # away from the start and the end
+    assert np.ptp(v[on]) < 0.01 * 0.05  # ripple under 1 % of F3000 = 0.05 m/s
+    assert np.mean(v[on]) == pytest.approx(0.05, rel=1e-3)
+    # and within the tolerance of the programmed polyline
+    q = np.column_stack([res.command.positions["X"], res.command.positions["Y"]])
+    k = np.flatnonzero(s > 0.011)  # after the rapid to the start
+    d, _ = distance_to_polyline(q[k], verts * 1e-3, np.arange(k.size) / k.size,
+                                np.linspace(0, 1, len(verts)), 2.0, False)
+    assert np.max(d) <= 1e-5 * (1 + 1e-6)
+    lim = feed_limits(res)
+    assert lim.share_at_feed() > 0.98
+    assert {r["cause"] for r in lim.summary()} <= {"exact stop", "path acceleration"}
+
+
+def test_without_a_tolerance_the_corners_hold_the_spiral_back_and_say_so():
+    text, _ = spiral()
+    res = program_to_interpolation(text)
+    v = speed(res)[np.asarray(res.command.meta["path_s_m"]) > 0.011]  # after the rapid
+    assert v.max() == pytest.approx(0.05, rel=1e-6) and np.median(v) < 0.045  # the old ripple
+    [top, *_] = feed_limits(res).summary()
+    assert top["cause"] == "corner: axis acceleration"
+    assert (top["first_line"], top["last_line"]) == (6, 722) and top["blocks"] > 600
+
+
+def test_the_limit_that_holds_a_block_back_is_named():
+    s = InterpolatorSettings(axis_velocity_m_per_s={"X": 0.02})
+    lim = feed_limits(program_to_interpolation("G1 X100 F3000\n", s))
+    assert [r["cause"] for r in lim.summary()] == ["axis velocity"]
+    assert lim.summary()[0]["lowest_m_per_s"] == pytest.approx(0.02)
+    arc = "G1 X10 F20000\nG3 X10 Y0 I-5 J0\n"  # R5 at 20 m/min: v^2/R beyond 1 m/s^2
+    causes = [r["cause"] for r in feed_limits(program_to_interpolation(arc)).summary()]
+    assert "curvature (centripetal acceleration)" in causes
+    scurve = InterpolatorSettings(profile="scurve", path_jerk_m_per_s3=1.0)
+    table = feed_limits(program_to_interpolation("G1 X1 F3000\nX2\nX3\nX4\n",
+                                                 scurve)).to_pandas()
+    # four 1 mm blocks, too short to reach F3000 from rest and back with that jerk
+    assert table["cause"].tolist() == ["exact stop", "path jerk", "path jerk", "exact stop"]
+
+
+def test_machine_export_writes_the_interpolator_settings_and_path_reads_them(tmp_path,
+                                                                             capsys):
+    assert main(["machine", "export", "vmc", "-o", str(tmp_path / "m.yaml")]) == 0
+    m = read_machine(tmp_path / "m.yaml")
+    assert InterpolatorSettings.model_validate(m.interpolation) == InterpolatorSettings()
+    text = (tmp_path / "m.yaml").read_text()
+    assert "blend_tolerance_m: 0.0" in text
+    (tmp_path / "e.yaml").write_text(text.replace("blend_tolerance_m: 0.0",
+                                                  "blend_tolerance_m: 1.0e-05"))
+    (tmp_path / "s.nc").write_text(spiral()[0])
+    capsys.readouterr()
+    for model, share in (("m.yaml", "13."), ("e.yaml", "99.")):
+        code = main(["path", str(tmp_path / "s.nc"), "-o", str(tmp_path / "c.csv"),
+                     "--model", str(tmp_path / model), "--plot"])
+        out = " ".join(capsys.readouterr().out.split())
+        assert code == 0 and f"at the programmed feed on {share}" in out
+    assert "held back by corner" not in out and (tmp_path / "c.png").is_file()
+    (tmp_path / "bad.yaml").write_text(text.replace("blend_tolerance_m: 0.0",
+                                                    "blend_tolerance_m: -1"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["path", str(tmp_path / "s.nc"), "-o", str(tmp_path / "c.csv"),
+                     "--model", str(tmp_path / "bad.yaml")]) == 2
+    assert "blend_tolerance_m" in capsys.readouterr().err
+
+
+def test_feed_limits_and_the_command_plot_share_the_protocol(tmp_path):
+    from tcpmm.plot import pyplot
+
+    text, _ = spiral(n=90)
+    res = program_to_interpolation(text)
+    lim = feed_limits(res)
+    table = lim.to_pandas()
+    assert len(table) == res.path.n and set(table["cause"]) >= {"corner: axis acceleration"}
+    import json
+
+    json.dumps(lim.to_dict())
+    assert lim.plot(path=tmp_path / "f.png").axes and (tmp_path / "f.png").stat().st_size > 0
+    fig = pyplot().figure()
+    axs = [fig.add_subplot(2, 2, k) for k in range(1, 5)]
+    assert res.command.plot(ax=axs) is fig
+    assert axs[3].get_title() == "feed along the path"
+    with pytest.raises(ValueError, match="4 panels"):
+        res.command.plot(ax=axs[:3])
+    pyplot().close("all")

@@ -16,7 +16,7 @@ import pandas as pd
 
 from tcpmm._validate import did_you_mean
 from tcpmm.errors import InputError, InputWarning
-from tcpmm.io.atomic import write_table_atomic
+from tcpmm.io.atomic import write_columns_atomic
 from tcpmm.io.text import read_text
 
 
@@ -318,5 +318,4 @@ def atomic_write_columns(
     Path
         The file written.
     """
-    frame = pd.DataFrame({k: np.asarray(v, dtype=float) for k, v in columns.items()})
-    return write_table_atomic(frame, path, float_format)
+    return write_columns_atomic(path, list(columns), list(columns.values()), float_format)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..result import RUN_COLUMNS, AxisRun, Run
-from .atomic import atomic_path, write_columns_atomic
+from .atomic import CSV_BLOCK_ROWS, atomic_path, write_columns_atomic
 
 _COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
 #: Extensions read and written as Parquet; every other one is CSV.
@@ -42,13 +42,18 @@ def write_run_csv(run: Run, path) -> None:
 
 
 def write_run_parquet(run: Run, path) -> None:
-    """Write a run file as Parquet atomically (float64 columns, the CSV's names)."""
+    """Write a run file as Parquet atomically (float64 columns, the CSV's names), a row
+    group of :data:`~tcpmm.io.atomic.CSV_BLOCK_ROWS` rows at a time (bounded memory)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    table = pa.table({k: np.asarray(v, dtype=float) for k, v in run.columns().items()})
-    with atomic_path(path) as tmp:
-        pq.write_table(table, tmp)
+    cols = {k: np.asarray(v, dtype=float) for k, v in run.columns().items()}
+    schema = pa.schema([(k, pa.float64()) for k in cols])
+    n = run.time_s.size
+    with atomic_path(path) as tmp, pq.ParquetWriter(tmp, schema, use_dictionary=False) as w:
+        for k in range(0, max(n, 1), CSV_BLOCK_ROWS):
+            w.write_table(pa.table({c: v[k:k + CSV_BLOCK_ROWS] for c, v in cols.items()},
+                                   schema=schema))
 
 
 def read_run(path) -> Run:

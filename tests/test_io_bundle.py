@@ -10,8 +10,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from tcpmm.io import atomic
 from tcpmm.errors import InputError, InputWarning
+from tcpmm.io import atomic
 from tcpmm.io.bundle import (
     Bundle,
     FrictionRecord,

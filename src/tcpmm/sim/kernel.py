@@ -40,6 +40,15 @@ force over a step is the one that brings the body to rest when the static level 
 (its effective mass over the step comes from the discrete input column). A step in which
 a friction velocity reaches or crosses zero, or a held contact breaks away, is redone in
 ``ip[6]`` sub-steps; a contact that stays held over a whole step needs none.
+
+Structure (what keeps a step at tens of nanoseconds, ``docs/performance.md``):
+:func:`run_axis` allocates every work array and hands it to ``_steps``, the loop, which
+is compiled without reference counting (``_nrt=False``) and so may allocate nothing; a
+new per-axis state (a filter's delay line, say) is allocated in :func:`run_axis` and
+passed in the same way. The helpers of the loop, and the friction functions of
+:mod:`tcpmm.sim.friction`, are inlined (``inline="always"``): a call per step, with its
+arrays, would cost more than the step. The whole step and its sub-steps share one loop
+body in ``_nonlinear_step``, so that the friction code is inlined once.
 """
 
 from __future__ import annotations
@@ -52,7 +61,7 @@ from .friction import at_rest, friction_force
 
 REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
-#: size lets the compiler unroll and vectorise the state update; unused states are zero.
+#: size lets the compiler keep the state update in registers; unused states are zero.
 NX = 11
 
 

@@ -1,4 +1,4 @@
-"""Run files (formats.md section 3): simulated or measured runs as CSV or Parquet.
+"""Run files (docs/formats.md section 3): simulated or measured runs as CSV or Parquet.
 
 Both formats hold the same table: ``time_s``, then per axis the section 3 columns in mm
 and A. CSV is the default; Parquet (``.parquet``) stores the doubles as they are and is

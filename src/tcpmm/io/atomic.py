@@ -151,8 +151,8 @@ def write_table_atomic(frame, path, float_format: str | None = None) -> Path:
 CSV_BLOCK_ROWS = 8192
 
 
-def write_columns_atomic(path, names, columns, float_format: str = "%.10g") -> Path:
-    """Write equal-length numeric columns as CSV, atomically, without pandas.
+def write_columns_atomic(path, columns, float_format: str = "%.15g") -> Path:
+    """Write named numeric columns as CSV, atomically, without pandas.
 
     The text is the same as pandas ``to_csv(index=False, float_format=...)`` writes
     (missing values as empty cells); rows are formatted a block at a time, so that a long
@@ -162,10 +162,8 @@ def write_columns_atomic(path, names, columns, float_format: str = "%.10g") -> P
     ----------
     path : str or Path
         Target file [-].
-    names : sequence of str
-        Column names [-].
-    columns : sequence of array_like
-        Values per column, in file units [-].
+    columns : mapping of str to array_like
+        Column name to values, all of one length, in file units [-].
     float_format : str
         printf format of the numbers [-].
 
@@ -176,7 +174,8 @@ def write_columns_atomic(path, names, columns, float_format: str = "%.10g") -> P
     """
     import numpy as np
 
-    data = np.column_stack([np.asarray(c, dtype=float) for c in columns])
+    names = list(columns)
+    data = np.column_stack([np.asarray(columns[c], dtype=float) for c in names])
     row = ",".join([float_format] * data.shape[1]) + "\n"
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
         fh.write(",".join(names) + "\n")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import io
 import re
 import warnings
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -299,23 +299,5 @@ def read_numeric_csv(
     return out
 
 
-def atomic_write_columns(
-    path: str | Path, columns: Mapping[str, np.ndarray], float_format: str = "%.15g"
-) -> Path:
-    """Write named numeric columns as CSV, atomically.
-
-    Parameters
-    ----------
-    path : str or Path
-        Target file [-].
-    columns : mapping of str to array_like
-        Column name to values, all of one length, in file units [-].
-    float_format : str
-        printf format of the numbers [-].
-
-    Returns
-    -------
-    Path
-        The file written.
-    """
-    return write_columns_atomic(path, list(columns), list(columns.values()), float_format)
+#: Named numeric columns as CSV, atomically (``%.15g`` unless told otherwise).
+atomic_write_columns = write_columns_atomic

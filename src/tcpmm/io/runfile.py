@@ -37,8 +37,7 @@ def write_run(run: Run, path) -> None:
 
 def write_run_csv(run: Run, path) -> None:
     """Write a run file as CSV atomically (``%.10g``, as always)."""
-    cols = run.columns()
-    write_columns_atomic(path, list(cols), list(cols.values()), "%.10g")
+    write_columns_atomic(path, run.columns(), "%.10g")
 
 
 def write_run_parquet(run: Run, path) -> None:

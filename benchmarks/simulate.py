@@ -1,91 +1,158 @@
-"""Simulator speed: 60 s of machine time, 3 axes, velocity loop 8 kHz.
+"""Simulator speed, side by side with its peers in one run, on one core.
 
-Prints the real-time factor of the compiled simulator on the built-in machine (linear, as
-the paper models it, and with friction), and, on
-the same linear closed loop (position loop at the velocity-loop rate so that the loop is
-time-invariant at 8 kHz), the ratio against python-control ``forced_response`` and scipy
-``dlsim`` measured in the same run. Not a test: run ``python benchmarks/simulate.py``.
+1. The paper's circle (R35 mm, F5000, CCW then CW, 8.1 s) on the built-in machine, 3 axes
+   with friction on screw and guideway, at the servo's own rates (8 kHz velocity loop,
+   2 kHz position loop): the compiled kernel's real-time factor (the axes one after the
+   other on one thread), and the same without friction.
+2. One axis (X), 60 s, at the servo's own rates, against python-control
+   ``forced_response`` and scipy ``dlsim`` on their best formulation: the exact lifted
+   loop at the 2 kHz position rate (``tcpmm.servo.sampled.lifted_closed_loop``), a linear
+   time-invariant system they step once per position-loop period. tcpmm steps the
+   velocity loop (4 steps per position step) through ``simulate_axis`` (discretisation
+   included), with friction (the headline) and without (the like-for-like check: its
+   output is compared with dlsim's).
+
+Every tool is timed the same way: rounds in which each runs once in turn (interleaved, so
+that a change of machine load hits all alike), min and median over the rounds. BLAS is
+limited to one thread. Not a test:
+``python benchmarks/simulate.py [--rounds N] [--json] [--clock wall|cpu]``.
 """
 
 from __future__ import annotations
 
+import argparse
+import json
 import time
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from tcpmm.builtin import builtin_machine
-from tcpmm.path.command import Command
+from tcpmm.demo import paper_circle_command
 from tcpmm.servo.sampled import initial_state, lifted_closed_loop
-from tcpmm.simulate import simulate, simulate_axis
+from tcpmm.sim.kernel import run_axis
+from tcpmm.simulate import axis_kernel_inputs, command_velocity, simulate_axis
 
 DURATION_S = 60.0
-T_V = 1.25e-4
 
 
-def best(f, repeat=3):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        ts.append(time.perf_counter() - t0)
-    return min(ts), out
+#: The clock the tools are timed with: the wall clock, or this thread's CPU time (on a
+#: loaded machine the wall clock also counts the time spent waiting for a core).
+CLOCKS = {"wall": time.perf_counter, "cpu": time.thread_time}
 
 
-def main():
-    threadpool_limits(1)
-    m = builtin_machine(friction=False, k_ff=0.0)  # the linear TCP-MM of the paper
-    t = np.arange(0, DURATION_S, 1e-3)
-    w = 2 * np.pi * 0.4
-    cmd = Command(
-        t,
-        {
-            "X": 0.035 * np.sin(w * t),
-            "Y": 0.035 * (1 - np.cos(w * t)),
-            "Z": 0.01 * np.sin(0.5 * w * t),
-        },
-    )
-    simulate(m, Command(t[:100], {k: v[:100] for k, v in cmd.positions.items()}))  # compile
-    t_sim, _ = best(lambda: simulate(m, cmd, record_period_s=1e-3))
-    print(
-        f"tcpmm simulate, 3 axes, {DURATION_S:.0f} s at 8 kHz: {t_sim * 1e3:.1f} ms "
-        f"-> real-time factor {DURATION_S / t_sim:.0f}"
-    )
+def interleaved(tools: dict, rounds: int, clock=time.perf_counter) -> dict:
+    """``{name: (min, median, last output)}`` of the tools run in turn, ``rounds`` times."""
+    times = {k: [] for k in tools}
+    outs = {}
+    for _ in range(rounds):
+        for name, f in tools.items():
+            t0 = clock()
+            outs[name] = f()
+            times[name].append(clock() - t0)
+    return {k: (min(v), float(np.median(v)), outs[k]) for k, v in times.items()}
 
-    mf = builtin_machine()
-    simulate(mf, Command(t[:100], {k: v[:100] for k, v in cmd.positions.items()}))
-    t_fr, _ = best(lambda: simulate(mf, cmd, record_period_s=1e-3), repeat=1)
-    print(f"  with guideway and screw friction: {t_fr * 1e3:.1f} ms "
-          f"-> real-time factor {DURATION_S / t_fr:.0f}")
 
-    # Same linear closed loop at 8 kHz for all three tools (one axis, X).
-    ax = m.axes["X"]
-    ax = ax.replace(
-        servo=ax.servo.model_copy(update={"T_p": T_V}),
-        sensors=ax.sensors.model_copy(
-            update={"encoder_counts_per_rev": 0, "scale_resolution": 0.0}
-        ),
-    )
-    tv = np.arange(0, DURATION_S, T_V)
-    xc = 0.035 * (1 - np.cos(w * tv))  # starts at rest: stays linear (no saturation)
-    t_ours, r = best(lambda: simulate_axis(ax, tv, xc, record_period_s=T_V))
-    Phi, Gam, C, D = lifted_closed_loop(ax.mechanics, ax.servo)
-    z0 = initial_state(ax.mechanics, ax.servo, np.zeros(10))
-    u = np.column_stack([xc, np.gradient(xc, tv)])
+def circle_kernel(machine):
+    """A function running the kernel on every axis of ``machine`` for the paper's circle,
+    one axis after the other; and the circle's duration [s]."""
+    cmd = paper_circle_command(machine)
+    t = cmd.time_s
+    T_c = float(t[1] - t[0])
+    jobs = []
+    for name, ax in machine.axes.items():
+        pos = np.ascontiguousarray(cmd.positions.get(name, np.zeros_like(t)))
+        vel = command_velocity(pos, T_c, ax.servo.feedforward)
+        n = int(np.floor((t[-1] - t[0]) / ax.servo.T_v + 1e-9)) + 1
+        every = round(T_c / ax.servo.T_v)
+        k = axis_kernel_inputs(ax, pos[0], False, every, True, T_c, n)
+        jobs.append((k, pos, vel, np.zeros(t.size), np.zeros(((n - 1) // every + 1, 5))))
 
+    def run():
+        for k, pos, vel, exc, rec in jobs:
+            run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT,
+                     k.pf_s, k.pf_g, k.vtaps, k.AdgT, k.BdgT)
+
+    return run, float(t[-1] - t[0])
+
+
+def peers(rounds: int, clock) -> dict:
+    """One axis at the servo's own rates: tcpmm against the lifted loop in the peers."""
+    import control
     from scipy.signal import dlsim
 
-    t_dlsim, (_, y_dl, _) = best(lambda: dlsim((Phi, Gam, C, D, T_V), u, x0=z0), repeat=1)
-    import control
+    lin = builtin_machine(friction=False).axes["X"]
+    fric = builtin_machine().axes["X"]
+    T_p = lin.servo.T_p
+    t = np.arange(0.0, DURATION_S, T_p)
+    w = 2 * np.pi * 0.4
+    x = 0.035 * (1 - np.cos(w * t))  # starts at rest: stays linear (no saturation)
+    v = command_velocity(x, T_p, lin.servo.feedforward)
+    Phi, Gam, C, D = lifted_closed_loop(lin.mechanics, lin.servo)
+    z0 = initial_state(lin.mechanics, lin.servo, np.zeros(10))
+    u = np.column_stack([x, v])
+    sys_d = control.ss(Phi, Gam, C, D, T_p)
+    kw = dict(record_period_s=T_p, quantise_feedback=False)
+    tools = {
+        "tcpmm, with friction": lambda: simulate_axis(fric, t, x, **kw),
+        "tcpmm, linear": lambda: simulate_axis(lin, t, x, **kw),
+        "scipy dlsim": lambda: dlsim((Phi, Gam, C, D, T_p), u, x0=z0)[1],
+        "control.forced_response": lambda: control.forced_response(sys_d, T=t, U=u.T, X0=z0),
+    }
+    res = interleaved(tools, rounds, clock)
+    y_dl = res["scipy dlsim"][2]
+    err = np.max(np.abs(res["tcpmm, linear"][2].scale - y_dl[:, 1])) / np.max(np.abs(y_dl[:, 1]))
+    return {"res": res, "steps": t.size, "rel_diff": float(err)}
 
-    sys_d = control.ss(Phi, Gam, C, D, T_V)
-    t_ctrl, _ = best(lambda: control.forced_response(sys_d, T=tv, U=u.T, X0=z0), repeat=1)
-    err = np.max(np.abs(r.scale - y_dl[:, 1])) / np.max(np.abs(y_dl[:, 1]))
-    print(f"one axis, linear closed loop at 8 kHz, {tv.size} steps:")
-    print(f"  tcpmm kernel            {t_ours * 1e3:9.1f} ms")
-    print(f"  scipy dlsim             {t_dlsim * 1e3:9.1f} ms   ratio {t_dlsim / t_ours:6.1f}x")
-    print(f"  control.forced_response {t_ctrl * 1e3:9.1f} ms   ratio {t_ctrl / t_ours:6.1f}x")
-    print(f"  max relative difference to dlsim: {err:.2e}")
+
+def main(argv=None) -> dict:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--rounds", type=int, default=7, help="timed rounds (>= 5)")
+    p.add_argument("--json", action="store_true", help="print the figures as JSON only")
+    p.add_argument("--clock", choices=list(CLOCKS), default="wall",
+                   help="wall clock (default) or the thread's CPU time")
+    args = p.parse_args(argv)
+    rounds = max(5, args.rounds)
+    threadpool_limits(1)
+    fric, T = circle_kernel(builtin_machine())
+    lin, _ = circle_kernel(builtin_machine(friction=False))
+    fric(), lin()  # compile or load the cache
+    clock = CLOCKS[args.clock]
+    circ = interleaved({"with friction": fric, "without friction": lin}, rounds, clock)
+    pr = peers(rounds, clock)
+    res = pr["res"]
+    t_fr, t_lin = res["tcpmm, with friction"][0], res["tcpmm, linear"][0]
+    t_ctrl, t_dl = res["control.forced_response"][0], res["scipy dlsim"][0]
+    out = {
+        "rounds": rounds,
+        "clock": args.clock,
+        "circle_duration_s": T,
+        "circle_realtime_factor": T / circ["with friction"][0],
+        "circle_realtime_factor_median": T / circ["with friction"][1],
+        "circle_realtime_factor_linear": T / circ["without friction"][0],
+        "forced_response_ratio_own_rates": t_ctrl / t_fr,
+        "forced_response_ratio_own_rates_linear": t_ctrl / t_lin,
+        "dlsim_ratio_own_rates": t_dl / t_fr,
+        "dlsim_ratio_own_rates_linear": t_dl / t_lin,
+        "max_relative_difference_to_dlsim": pr["rel_diff"],
+    }
+    if args.json:
+        print(json.dumps(out, indent=1))
+        return out
+    print(f"The paper's circle, 3 axes, {T:.2f} s, kernel on one thread, {rounds} rounds "
+          f"(min / median, {args.clock} clock):")
+    for name, (lo, med, _) in circ.items():
+        print(f"  {name:18s} {lo * 1e3:7.1f} / {med * 1e3:7.1f} ms   real-time factor "
+              f"{T / lo:6.0f} / {T / med:6.0f}")
+    print(f"One axis, {DURATION_S:.0f} s at the servo's own rates ({pr['steps']} position "
+          f"steps), min / median of {rounds}; ratio = peer min / tcpmm-with-friction min "
+          "(tcpmm-linear min):")
+    for name, (lo, med, _) in res.items():
+        ratio = "" if name.startswith("tcpmm") else \
+            f"   ratio {lo / t_fr:5.1f}x ({lo / t_lin:5.1f}x)"
+        print(f"  {name:24s} {lo * 1e3:8.1f} / {med * 1e3:8.1f} ms{ratio}")
+    print(f"  tcpmm linear vs dlsim, max relative difference of the scale: {pr['rel_diff']:.1e}")
+    return out
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ import pytest
 import yaml
 
 from tcpmm.errors import InputError, InputWarning
+from tcpmm.io import atomic
 from tcpmm.io.bundle import (
     Bundle,
     FrictionRecord,
@@ -222,7 +223,7 @@ def test_writer_never_leaves_half_a_file(tmp_path, monkeypatch):
     def boom(*a, **k):
         raise OSError("disk full")
 
-    monkeypatch.setattr(pd.DataFrame, "to_csv", boom)
+    monkeypatch.setattr(atomic, "open", boom, raising=False)  # the CSV writer's file
     with pytest.raises(InputError, match=r"cannot write the output \(disk full\)"):
         write_sweep_csv(make_sweep(n=300), path)
     assert path.read_bytes() == before

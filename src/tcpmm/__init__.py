@@ -53,7 +53,7 @@ _API = {
     "read_command": "tcpmm.path.commandfile:read_command_csv",
     "as_command": "tcpmm.api:as_command",
     "simulate": "tcpmm.api:simulate",
-    "read_run": "tcpmm.io.runfile:read_run_csv",
+    "read_run": "tcpmm.io.runfile:read_run",
     "analyse_circle": "tcpmm.analysis.circular:analyse_circle",
     "circle_diagnostics": "tcpmm.analysis.diagnostics:circle_diagnostics",
     "compare": "tcpmm.api:compare",

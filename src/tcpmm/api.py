@@ -166,7 +166,7 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
     from .analysis.circular import CircleResult, analyse_circle
     from .analysis.compare import compare_circles
     from .errors import InputError
-    from .io.runfile import read_run_csv
+    from .io.runfile import read_run
 
     given = [r for r in (measured, predicted) if isinstance(r, CircleResult)]
     if radius_m is None and given:
@@ -177,7 +177,7 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
             return r
         if radius_m is None:
             raise InputError("compare needs radius_m [m] to analyse a run")
-        run = read_run_csv(r) if isinstance(r, (str, Path)) else r
+        run = read_run(r) if isinstance(r, (str, Path)) else r
         return analyse_circle(run, radius_m, centre_m)
 
     return compare_circles(analysed(measured), analysed(predicted))

@@ -68,23 +68,33 @@ class Run:
     axes: dict[str, AxisRun]
     meta: dict = field(default_factory=dict)
 
-    def to_pandas(self):
-        """The run-file table (docs/formats.md section 3): mm and A."""
-        import pandas as pd
-
+    def columns(self) -> dict[str, np.ndarray]:
+        """The run-file columns (docs/formats.md section 3): ``time_s``, then mm and A."""
         data = {"time_s": self.time_s}
         for name, a in self.axes.items():
             for suffix, attr in RUN_COLUMNS.items():
                 v = getattr(a, attr)
                 if v is not None:
                     data[f"{name.lower()}_{suffix}"] = v * (1.0 if attr == "current" else 1e3)
-        return pd.DataFrame(data)
+        return data
+
+    def to_pandas(self):
+        """The run-file table (docs/formats.md section 3): mm and A."""
+        import pandas as pd
+
+        return pd.DataFrame(self.columns())
 
     def write_csv(self, path) -> None:
-        """Write the run file, atomically."""
+        """Write the run file as CSV, atomically."""
         from .io.runfile import write_run_csv
 
         write_run_csv(self, path)
+
+    def write(self, path) -> None:
+        """Write the run file, atomically: Parquet for ``.parquet``, else CSV."""
+        from .io.runfile import write_run
+
+        write_run(self, path)
 
     def to_dict(self) -> dict:
         """JSON-ready summary: samples, duration, axes and the sensors recorded [-]."""

@@ -30,13 +30,13 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     """Contour error along any program: the shortest distance from each sensor's path to the
     commanded path, signed in a plane; corner overshoot, rounding and settling."""
     from ..analysis.contour import contour_error
-    from ..io.runfile import read_run_csv
+    from ..io.runfile import read_run
 
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
                     (window_s, "--window-s [s]")):
         _positive(v, what)
     _plot(plot)
-    run = read_run_csv(run_file)
+    run = read_run(run_file)
     with _in_file(run_file):
         how = run_plane_said(plane, run, run_file, allow_3d=True)
         res = contour_error(run, plane=how, window_s=window_s, corner_deg=corner_deg,

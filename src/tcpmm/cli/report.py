@@ -83,9 +83,9 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
 def _circle(path: Path, circle):
     """The circular test of one run file."""
     from ..analysis.circular import analyse_circle
-    from ..io.runfile import read_run_csv
+    from ..io.runfile import read_run
 
-    run = read_run_csv(path)
+    run = read_run(path)
     with _in_file(path):
         return analyse_circle(run, *circle)
 

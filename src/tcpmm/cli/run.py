@@ -49,7 +49,9 @@ def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Out
 def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
              command: Path = typer.Option(None, "--command", help="Command file CMD.csv."),
              gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
-             output: Path = typer.Option(..., "-o", "--output", help="Run file RUN.csv."),
+             output: Path = typer.Option(
+                 ..., "-o", "--output",
+                 help="Run file RUN.csv, or RUN.parquet (smaller and faster for long runs)."),
              record_period_s: float = typer.Option(None, help="Output period [s]."),
              allow_unstable: bool = typer.Option(
                  False, "--allow-unstable",
@@ -67,12 +69,13 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     cmd = _load_command(command, gcode, m)
     with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
-    run.write_csv(output)
+    run.write(output)
     out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
 
 
 @app.command()
-def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or measured)"),
+def circle(run_file: Path = typer.Argument(
+               ..., help="RUN.csv or RUN.parquet (simulated or measured)"),
            other: Path = typer.Argument(
                None, help="RUN_CW.csv: a second run; the diagnostics take the CCW circle "
                           "from the first run and the CW circle from the second."),
@@ -93,7 +96,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
     play, servo and scale mismatch, squareness, cyclic error, G(b), hysteresis."""
     from ..analysis.circular import CircleResult, analyse_circle
     from ..analysis.diagnostics import circle_diagnostics
-    from ..io.runfile import read_run_csv
+    from ..io.runfile import read_run
 
     if direction is not None and direction.lower() not in ("ccw", "cw"):
         raise typer.BadParameter("--direction must be ccw or cw")
@@ -105,7 +108,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
     _plot(diag_plot)
     results, axes = [], None
     for f in (run_file, other) if other is not None else (run_file,):
-        run = read_run_csv(f)
+        run = read_run(f)
         axes = axes or run_plane_said(plane, run, f)
         with _in_file(f):
             results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
@@ -193,8 +196,8 @@ def _print_diagnostics(diag) -> None:
 
 
 @app.command()
-def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
-            predicted: Path = typer.Argument(..., help="Predicted RUN.csv"),
+def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.parquet"),
+            predicted: Path = typer.Argument(..., help="Predicted RUN.csv or RUN.parquet"),
             radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
             centre: str = typer.Option("0,0", "--centre",
                                        help="Nominal centre in the plane's axes, A,B [mm]."),
@@ -207,14 +210,14 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
     from ..analysis.circular import analyse_circle
     from ..analysis.compare import compare_circles
     from ..demo import print_circle_table
-    from ..io.runfile import read_run_csv
+    from ..io.runfile import read_run
 
     c = _floats(centre, "--centre", 2)
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
     _positive(radius, "--radius [mm]")
     _plot(plot)
     _report_file(report, measured, predicted)
-    runs = [read_run_csv(f) for f in (measured, predicted)]
+    runs = [read_run(f) for f in (measured, predicted)]
     axes = run_plane_said(plane, runs[0], measured)
     with _in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import io
 import re
 import warnings
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +16,7 @@ import pandas as pd
 
 from tcpmm._validate import did_you_mean
 from tcpmm.errors import InputError, InputWarning
-from tcpmm.io.atomic import write_table_atomic
+from tcpmm.io.atomic import write_columns_atomic
 from tcpmm.io.text import read_text
 
 
@@ -301,24 +301,5 @@ def _finite_column(col, name: str, path: Path) -> np.ndarray:
     return values
 
 
-def atomic_write_columns(
-    path: str | Path, columns: Mapping[str, np.ndarray], float_format: str = "%.15g"
-) -> Path:
-    """Write named numeric columns as CSV, atomically.
-
-    Parameters
-    ----------
-    path : str or Path
-        Target file [-].
-    columns : mapping of str to array_like
-        Column name to values, all of one length, in file units [-].
-    float_format : str
-        printf format of the numbers [-].
-
-    Returns
-    -------
-    Path
-        The file written.
-    """
-    frame = pd.DataFrame({k: np.asarray(v, dtype=float) for k, v in columns.items()})
-    return write_table_atomic(frame, path, float_format)
+#: Named numeric columns as CSV, atomically (``%.15g`` unless told otherwise).
+atomic_write_columns = write_columns_atomic

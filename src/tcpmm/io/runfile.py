@@ -1,4 +1,9 @@
-"""Run files (docs/formats.md section 3): simulated or measured runs as CSV."""
+"""Run files (docs/formats.md section 3): simulated or measured runs as CSV or Parquet.
+
+Both formats hold the same table: ``time_s``, then per axis the section 3 columns in mm
+and A. CSV is the default; Parquet (``.parquet``) stores the doubles as they are and is
+the better choice for long runs. :func:`read_run` reads either, by the file's extension.
+"""
 
 from __future__ import annotations
 
@@ -10,18 +15,86 @@ import numpy as np
 
 from ..errors import InputError
 from ..result import RUN_COLUMNS, AxisRun, Run
-from .atomic import write_table_atomic
+from .atomic import CSV_BLOCK_ROWS, atomic_path, write_columns_atomic
 
 _COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
+#: Extensions read and written as Parquet; every other one is CSV.
+PARQUET_SUFFIXES = (".parquet", ".pq")
+
+
+def is_parquet(path) -> bool:
+    """Whether a run file is Parquet (by its extension)."""
+    return Path(path).suffix.lower() in PARQUET_SUFFIXES
+
+
+def write_run(run: Run, path) -> None:
+    """Write a run file atomically: Parquet for ``.parquet``, else CSV."""
+    if is_parquet(path):
+        write_run_parquet(run, path)
+    else:
+        write_run_csv(run, path)
 
 
 def write_run_csv(run: Run, path) -> None:
-    """Write a run file atomically (``time_s``, then per axis the section 3 columns)."""
-    write_table_atomic(run.to_pandas(), path, "%.10g")
+    """Write a run file as CSV atomically (``%.10g``, as always)."""
+    write_columns_atomic(path, run.columns(), "%.10g")
+
+
+def write_run_parquet(run: Run, path) -> None:
+    """Write a run file as Parquet atomically (float64 columns, the CSV's names), a row
+    group of :data:`~tcpmm.io.atomic.CSV_BLOCK_ROWS` rows at a time (bounded memory)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    cols = {k: np.asarray(v, dtype=float) for k, v in run.columns().items()}
+    schema = pa.schema([(k, pa.float64()) for k in cols])
+    n = run.time_s.size
+    with atomic_path(path) as tmp, pq.ParquetWriter(tmp, schema, use_dictionary=False) as w:
+        for k in range(0, max(n, 1), CSV_BLOCK_ROWS):
+            w.write_table(pa.table({c: v[k:k + CSV_BLOCK_ROWS] for c, v in cols.items()},
+                                   schema=schema))
+
+
+def read_run(path) -> Run:
+    """Read a run file, CSV or Parquet (by extension); absent sensors are absent columns.
+
+    Parameters
+    ----------
+    path : str or Path
+        The run file [-].
+    """
+    return read_run_parquet(path) if is_parquet(path) else read_run_csv(path)
+
+
+def read_run_parquet(path) -> Run:
+    """Read a Parquet run file (see :func:`read_run`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The Parquet file [-].
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("no such run file", file=path)
+    try:
+        table = pq.read_table(path)
+    except (pa.ArrowException, OSError) as exc:
+        raise InputError(f"cannot read as Parquet: {exc}", file=path) from None
+    cols = {}
+    for name in table.column_names:
+        col = table.column(name)
+        if not (pa.types.is_floating(col.type) or pa.types.is_integer(col.type)):
+            raise InputError(f"column holds {col.type}, not numbers", file=path, column=name)
+        cols[name] = col.to_numpy().astype(float)
+    return _run_from_columns(cols, path, first_row=1, what="row")
 
 
 def read_run_csv(path) -> Run:
-    """Read a run file; absent sensors are absent columns.
+    """Read a CSV run file (see :func:`read_run`).
 
     Parameters
     ----------
@@ -51,7 +124,8 @@ def read_run_csv(path) -> Run:
 
 
 def run_from_table(df, path=None) -> Run:
-    """A run from its table in the run-file layout (``time_s``, ``<axis>_cmd_mm``, ...).
+    """A run from its table in the run-file layout (``time_s``, ``<axis>_cmd_mm``, ...),
+    checked as a CSV run file is.
 
     Parameters
     ----------
@@ -62,11 +136,29 @@ def run_from_table(df, path=None) -> Run:
     """
     import pandas as pd
 
-    cols = [str(c) for c in df.columns]
-    if "time_s" not in cols:
-        raise InputError(f"missing column 'time_s' (found: {', '.join(cols)})", file=path, line=1)
+    data = {str(c): pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+            for c in df.columns}
+    return _run_from_columns(data, path, first_row=2, what="line")
+
+
+def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
+    """The run of a table of run-file columns, checked: names, finite numbers, time.
+
+    ``first_row`` is the number of the first data row in the file's own counting (CSV
+    lines count the header), ``what`` its name in messages (``line`` or ``row``).
+    """
+    def where(i):
+        return {"line": i + first_row} if what == "line" else {}
+
+    def at(i):
+        return "" if what == "line" else f" (row {i + first_row})"
+
+    names = list(cols)
+    if "time_s" not in names:
+        raise InputError(f"missing column 'time_s' (found: {', '.join(names)})", file=path,
+                         line=1 if what == "line" else None)
     axes: dict[str, dict] = {}
-    for c in cols:
+    for c in names:
         if c == "time_s":
             continue
         m = _COL.match(c)
@@ -74,37 +166,30 @@ def run_from_table(df, path=None) -> Run:
             raise InputError(
                 f"unknown column {c!r}; run-file columns are time_s and <axis>_cmd_mm, "
                 "<axis>_motor_mm, <axis>_scale_mm, <axis>_tcp_mm, <axis>_current_A",
-                file=path,
-                line=1,
-                column=c,
+                file=path, line=1 if what == "line" else None, column=c,
             )
-        v = pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+        v = cols[c]
         bad = np.flatnonzero(~np.isfinite(v))
         if bad.size:
-            raise InputError(
-                "value is missing or not a number", file=path, line=int(bad[0]) + 2, column=c
-            )
+            raise InputError(f"value is missing or not a number{at(int(bad[0]))}", file=path,
+                             column=c, **where(int(bad[0])))
         scale = 1.0 if m.group(2) == "current_A" else 1e-3
         axes.setdefault(m.group(1).upper(), {})[RUN_COLUMNS[m.group(2)]] = v * scale
-    t = pd.to_numeric(df["time_s"], errors="coerce").to_numpy(dtype=float)
+    t = cols["time_s"]
+    if t.size == 0:
+        raise InputError("the run has no rows", file=path)
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
-        raise InputError(
-            "time is missing or not a number", file=path, line=int(bad[0]) + 2, column="time_s"
-        )
+        raise InputError(f"time is missing or not a number{at(int(bad[0]))}", file=path,
+                         column="time_s", **where(int(bad[0])))
     if t.size < 2 or np.any(np.diff(t) <= 0):
-        k = int(np.flatnonzero(np.diff(t) <= 0)[0]) + 3 if t.size >= 2 else 2
-        raise InputError("time must increase strictly", file=path, line=k, column="time_s")
+        k = int(np.flatnonzero(np.diff(t) <= 0)[0]) + 1 if t.size >= 2 else 0
+        raise InputError(f"time must increase strictly{at(k)}", file=path, column="time_s",
+                         **where(k))
     if not axes:
-        raise InputError("no axis columns (e.g. x_tcp_mm)", file=path, line=1)
-    runs = {
-        k: AxisRun(
-            cmd=v.get("cmd"),
-            motor=v.get("motor"),
-            scale=v.get("scale"),
-            tcp=v.get("tcp"),
-            current=v.get("current"),
-        )
-        for k, v in axes.items()
-    }
+        raise InputError("no axis columns (e.g. x_tcp_mm)", file=path,
+                         line=1 if what == "line" else None)
+    runs = {k: AxisRun(cmd=v.get("cmd"), motor=v.get("motor"), scale=v.get("scale"),
+                       tcp=v.get("tcp"), current=v.get("current"))
+            for k, v in axes.items()}
     return Run(time_s=t, axes=runs, meta={"source": None if path is None else str(path)})

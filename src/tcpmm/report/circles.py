@@ -126,7 +126,7 @@ def diagnostics_html(diag, stem: str) -> str:
              "CCW [µm]": rows[f"spike_{q}_ccw"][0], "CW [µm]": rows[f"spike_{q}_cw"][0],
              "pair [µm]": float("nan")} for q in "ABCD"]
     terms = pd.DataFrame([{"term": t.replace("_", " "), "value": v, "unit": u,
-                           "sign": term_note(t)}
+                           "sign": term_note(t, diag.axes)}
                           for t, (v, u) in rows.items() if not t.startswith(_PER_DIRECTION)])
     return (f"<h3>Diagnostics ({esc(SENSOR_NAMES.get(diag.sensor, diag.sensor))})</h3>"
             + para("The CCW and the CW circle fitted together to the usual ballbar error "

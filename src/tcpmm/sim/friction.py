@@ -132,7 +132,7 @@ def static_levels(params):
     return params[P_FS_POS], params[P_FS_NEG]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def stribeck_level(v, params):
     """Coulomb + Stribeck part of the sliding friction, as a magnitude.
 
@@ -159,7 +159,7 @@ def stribeck_level(v, params):
     return fc + (fs - fc) * _stribeck_shape(v, params)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _stribeck_shape(v, params):
     """``exp(-|v / vs|**delta)``, taken as 0 where it is below double precision [-]."""
     x = abs(v) / params[P_VS]
@@ -175,12 +175,12 @@ def _stribeck_shape(v, params):
     return math.exp(-p)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _fv(v, params):
     return params[P_FV_POS] if v >= 0.0 else params[P_FV_NEG]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def sliding_friction(v, params):
     """Steady-state friction at velocity ``v`` (the Stribeck curve).
 
@@ -225,7 +225,7 @@ def lugre_steady_state(v, params):
     return (g if v > 0.0 else -g) / params[P_SIGMA0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _clip(x, lo, hi):
     if x < lo:
         return lo
@@ -234,33 +234,26 @@ def _clip(x, lo, hi):
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _stop_or_slip(f_stop, fsn, fsp):
     if -fsn <= f_stop <= fsp:
         return f_stop, STUCK
     return _clip(f_stop, -fsn, fsp), SLIDING
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _static_step(v, f_applied, params, dt, m_eff):
     fsp = params[P_FS_POS]
     fsn = params[P_FS_NEG]
+    f_sl = sliding_friction(v, params)  # 0.0 at v == 0
     if m_eff > 0.0:
         f_stop = f_applied + m_eff * v / dt
-        if v > 0.0:
-            f_sl = sliding_friction(v, params)
-            if f_sl >= f_stop:
-                return _stop_or_slip(f_stop, fsn, fsp)
+        if (v > 0.0 and f_sl < f_stop) or (v < 0.0 and f_sl > f_stop):
             return f_sl, SLIDING
-        if v < 0.0:
-            f_sl = sliding_friction(v, params)
-            if f_sl <= f_stop:
-                return _stop_or_slip(f_stop, fsn, fsp)
-            return f_sl, SLIDING
-        return _stop_or_slip(f_stop, fsn, fsp)
+        return _stop_or_slip(f_stop, fsn, fsp)  # at rest, or the sliding force reverses v
     if abs(v) <= params[P_V_STICK]:
         return _clip(f_applied, -fsn, fsp), SLIDING
-    return sliding_friction(v, params), SLIDING
+    return f_sl, SLIDING
 
 
 @njit(cache=True)
@@ -320,7 +313,7 @@ def _lugre_step(v, f_applied, z, params, dt, m_eff):
     return s0 * z1 + s1 * zdot + fv * v, z1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def friction_force(v, f_applied, state, params, dt, m_eff):
     """Friction force over one time step, with exact stick and a stable state update.
 
@@ -357,7 +350,7 @@ def friction_force(v, f_applied, state, params, dt, m_eff):
     return _static_step(v, f_applied, params, dt, m_eff)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def at_rest(state, params):
     """Whether a ``friction_force`` step ended in stick (static model only).
 

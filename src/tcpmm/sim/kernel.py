@@ -40,6 +40,15 @@ force over a step is the one that brings the body to rest when the static level 
 (its effective mass over the step comes from the discrete input column). A step in which
 a friction velocity reaches or crosses zero, or a held contact breaks away, is redone in
 ``ip[6]`` sub-steps; a contact that stays held over a whole step needs none.
+
+Structure (what keeps a step at tens of nanoseconds, ``docs/performance.md``):
+:func:`run_axis` allocates every work array and hands it to ``_steps``, the loop, which
+is compiled without reference counting (``_nrt=False``) and so may allocate nothing; a
+new per-axis state (a filter's delay line, say) is allocated in :func:`run_axis` and
+passed in the same way. The helpers of the loop, and the friction functions of
+:mod:`tcpmm.sim.friction`, are inlined (``inline="always"``): a call per step, with its
+arrays, would cost more than the step. The whole step and its sub-steps share one loop
+body in ``_nonlinear_step``, so that the friction code is inlined once.
 """
 
 from __future__ import annotations
@@ -52,7 +61,7 @@ from .friction import at_rest, friction_force
 
 REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
-#: size lets the compiler unroll and vectorise the state update; unused states are zero.
+#: size lets the compiler keep the state update in registers; unused states are zero.
 NX = 11
 
 
@@ -64,14 +73,37 @@ def _quantise(v, q):
 
 
 @njit(cache=True, inline="always")
-def _free_step(AdT, BdT, x, xn, u):
-    for i in range(NX):
-        xn[i] = (BdT[0, i] * u[0] + BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
-                 + BdT[4, i] * u[4])
+def _free_step(AdT, BdT, c, x, xn, u):
+    """``xn = Ad x + Bd u``: the current ``u[0]``, the constant inputs (their sum ``c``),
+    the nut force ``u[4]``, then the states in order. The sums are carried in a tuple,
+    i.e. in registers: through ``xn`` the compiler must assume that each store may change
+    ``AdT``, and the product takes twice as long."""
+    u0 = u[0]
+    y = (BdT[0, 0] * u0 + c[0], BdT[0, 1] * u0 + c[1], BdT[0, 2] * u0 + c[2],
+         BdT[0, 3] * u0 + c[3], BdT[0, 4] * u0 + c[4], BdT[0, 5] * u0 + c[5],
+         BdT[0, 6] * u0 + c[6], BdT[0, 7] * u0 + c[7], BdT[0, 8] * u0 + c[8],
+         BdT[0, 9] * u0 + c[9], BdT[0, 10] * u0 + c[10])
+    u4 = u[4]
+    if u4 != 0.0:
+        y = (y[0] + BdT[4, 0] * u4, y[1] + BdT[4, 1] * u4, y[2] + BdT[4, 2] * u4,
+             y[3] + BdT[4, 3] * u4, y[4] + BdT[4, 4] * u4, y[5] + BdT[4, 5] * u4,
+             y[6] + BdT[4, 6] * u4, y[7] + BdT[4, 7] * u4, y[8] + BdT[4, 8] * u4,
+             y[9] + BdT[4, 9] * u4, y[10] + BdT[4, 10] * u4)
     for j in range(NX):
         xj = x[j]
-        for i in range(NX):
-            xn[i] += AdT[j, i] * xj
+        y = (y[0] + AdT[j, 0] * xj, y[1] + AdT[j, 1] * xj, y[2] + AdT[j, 2] * xj,
+             y[3] + AdT[j, 3] * xj, y[4] + AdT[j, 4] * xj, y[5] + AdT[j, 5] * xj,
+             y[6] + AdT[j, 6] * xj, y[7] + AdT[j, 7] * xj, y[8] + AdT[j, 8] * xj,
+             y[9] + AdT[j, 9] * xj, y[10] + AdT[j, 10] * xj)
+    for i in range(NX):
+        xn[i] = y[i]
+
+
+@njit(cache=True, inline="always")
+def _constant_inputs(BdT, u, c):
+    """``c`` = the part of ``Bd u`` from the constant inputs ``u[1:4]`` (T_m, T_L, F_t)."""
+    for i in range(NX):
+        c[i] = BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
 
 
 @njit(cache=True, inline="always")
@@ -82,11 +114,11 @@ def _rel(x, idx, ref):
     return x[idx]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _apply_friction(BdT, x, xn, h, pf, st, k, col, idx, ref, ratio):
     """Friction of one contact over a step whose free end state is ``xn``; the contact's
     velocity is ``ratio * x[idx]``, relative to ``x[ref]`` when ``ref >= 0``."""
-    b = _rel(BdT[col], idx, ref) * ratio * ratio  # end velocity per unit force [m/s / N]
+    b = (BdT[col, idx] - BdT[col, ref] if ref >= 0 else BdT[col, idx]) * ratio * ratio
     if b <= 0.0:
         return
     m_eff = h / b
@@ -102,47 +134,29 @@ def _apply_friction(BdT, x, xn, h, pf, st, k, col, idx, ref, ratio):
             xn[idx] = 0.0
 
 
-@njit(cache=True)
-def _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref):
-    """Screw and guideway friction over a step of length ``h``, then ``x = xn``."""
+@njit(cache=True, inline="always")
+def _frictions(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref):
+    """Screw and guideway friction over a step of length ``h`` from ``x``, applied to the
+    free end state ``xn``."""
     if pf_s[0] != MODEL_NONE:
         _apply_friction(BdT, x, xn, h, pf_s, st, 0, 2, 6, -1, R)
     if pf_g[0] != MODEL_NONE:
         _apply_friction(BdT, x, xn, h, pf_g, st, 1, 5, 7, g_ref, 1.0)
-    for i in range(NX):
-        x[i] = xn[i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _held(x, idx, ref, pf, stk):
     """Whether a contact sits stuck at exactly zero velocity (static model)."""
     return pf[0] != MODEL_NONE and stk == STUCK and _rel(x, idx, ref) == 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _reverses(x, xn, idx, ref, pf, stk):
     """Whether a moving contact's velocity reaches or crosses zero over the free step (a
-    held one is judged by :func:`_stays_held`)."""
+    held one is judged by whether it stays held)."""
     if pf[0] == MODEL_NONE or _held(x, idx, ref, pf, stk):
         return False
     return _rel(x, idx, ref) * _rel(xn, idx, ref) <= 0.0
-
-
-@njit(cache=True)
-def _stays_held(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref, held_s, held_g):
-    """The whole step for held contacts, if they stay held: friction exact in stick needs
-    no sub-steps. Returns False, leaving ``x`` and ``st`` as they were, when one breaks
-    away within the step (then the step is sub-stepped)."""
-    xt = x.copy()
-    xnt = xn.copy()
-    stt = st.copy()
-    _frictions_and_advance(BdT, xt, xnt, h, pf_s, pf_g, stt, R, g_ref)
-    if (held_s and stt[0] != STUCK) or (held_g and stt[1] != STUCK):
-        return False
-    for i in range(NX):
-        x[i] = xt[i]
-    st[0], st[1] = stt[0], stt[1]
-    return True
 
 
 @njit(cache=True, inline="always")
@@ -150,7 +164,7 @@ def _nut_deflection(x, R):
     return R * x[1] - (x[2] - x[3])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _contact_force(x, R, play, K_t):
     """Force added to the nut spring in contact: 0 inside the play, where the plant
     without the nut spring is used instead."""
@@ -162,39 +176,50 @@ def _contact_force(x, R, play, K_t):
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _same_contact(x, xn, R, play):
     d0, d1 = _nut_deflection(x, R), _nut_deflection(xn, R)
     return (d0 > play and d1 > play) or (d0 < -play and d1 < -play)
 
 
-@njit(cache=True)
-def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, h, n_sub, pf_s, pf_g, st,
-                    R, play, K_t, g_ref):
+@njit(cache=True, inline="always")
+def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u, h, n_sub, pf_s, pf_g,
+                    st, R, play, K_t, g_ref):
     """One velocity-loop step with friction and lost motion; sub-steps where a friction
     velocity reaches or crosses zero, where a held contact breaks away, or where the nut
     is inside or crosses its free play. A contact that stays held over the whole step
-    needs none: its friction is exact in stick."""
-    if play > 0.0:
-        u[4] = _contact_force(x, R, play, K_t)
-    _free_step(AdT, BdT, x, xn, u)
-    held_s, held_g = _held(x, 6, -1, pf_s, st[0]), _held(x, 7, g_ref, pf_g, st[1])
-    if not (_reverses(x, xn, 6, -1, pf_s, st[0]) or _reverses(x, xn, 7, g_ref, pf_g, st[1])
-            or (play > 0.0 and not _same_contact(x, xn, R, play))):
-        if not (held_s or held_g):
-            _frictions_and_advance(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref)
-            return
-        if _stays_held(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref, held_s, held_g):
-            return
-    hs = h / n_sub
-    for _ in range(n_sub):
-        A, B = AdsT, BdsT
+    needs none: its friction is exact in stick.
+
+    The whole step and the sub-steps share one loop body, so that the friction code is
+    compiled once (it is inlined: a call per step would cost more than the step)."""
+    whole, n, hh = True, 1, h
+    A, B, cm = AdT, BdT, c[0]
+    k = 0
+    while k < n:
         if play > 0.0:
             u[4] = _contact_force(x, R, play, K_t)
-            if u[4] == 0.0:
-                A, B = AdgT, BdgT
-        _free_step(A, B, x, xn, u)
-        _frictions_and_advance(B, x, xn, hs, pf_s, pf_g, st, R, g_ref)
+            if not whole:
+                A, B, cm = (AdgT, BdgT, c[2]) if u[4] == 0.0 else (AdsT, BdsT, c[1])
+        _free_step(A, B, cm, x, xn, u)
+        if whole:
+            redo = (_reverses(x, xn, 6, -1, pf_s, st[0])
+                    or _reverses(x, xn, 7, g_ref, pf_g, st[1])
+                    or (play > 0.0 and not _same_contact(x, xn, R, play)))
+            if not redo:
+                held_s, held_g = _held(x, 6, -1, pf_s, st[0]), _held(x, 7, g_ref, pf_g, st[1])
+                st0, st1 = st[0], st[1]
+        if not (whole and redo):
+            _frictions(B, x, xn, hh, pf_s, pf_g, st, R, g_ref)
+            if whole and ((held_s and st[0] != STUCK) or (held_g and st[1] != STUCK)):
+                st[0], st[1] = st0, st1  # a held contact breaks away within the step
+                redo = True
+        if whole and redo:
+            whole, n, hh = False, n_sub, h / n_sub
+            A, B, cm = AdsT, BdsT, c[1]
+            continue
+        for i in range(NX):
+            x[i] = xn[i]
+        k += 1
 
 
 @njit(cache=True, nogil=True)
@@ -231,10 +256,27 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         As ``AdsT``, ``BdsT`` for the plant without the nut spring (inside the play) [-].
     """
     x = x0.copy()
-    xn = np.empty(NX)
-    u = np.zeros(5)
+    delay, n_taps = ip[3], vtaps.size
+    dl = np.full(delay + 1, fp[2] * fp[9] if ip[4] else 0.0)  # delay line of i_c
+    hist = np.full(n_taps + 1, _quantise(x[0], fp[7]))  # ring buffer of encoder angles
+    _steps(AdT, BdT, x, np.empty(NX), np.zeros(5), np.zeros((3, NX)), np.zeros(2), dl, hist,
+           cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT)
+    return x
+
+
+# Compiled without reference counting (``_nrt=False``): the loop allocates nothing, and
+# the counts numba keeps on every array passed to an inlined helper were most of its time.
+@njit(cache=True, nogil=True, _nrt=False)
+def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, rec, AdsT,
+           BdsT, pf_s, pf_g, vtaps, AdgT, BdgT):
+    """The loop of :func:`run_axis` on its work arrays: state ``x`` (advanced in place),
+    scratch ``xn``, inputs ``u``, the constant inputs' share of ``Bd u`` ``c`` (per
+    matrix set: step, sub-step, sub-step in the play), friction states ``st`` (screw,
+    guideway), the delay line ``dl`` and the encoder history ``hist``."""
     u[1], u[2], u[3] = fp[10], fp[11], fp[12]
-    st = np.zeros(2)  # friction states: screw, guideway
+    _constant_inputs(BdT, u, c[0])
+    _constant_inputs(BdsT, u, c[1])
+    _constant_inputs(BdgT, u, c[2])
     play, K_t = fp[14], fp[15]
     nonlinear = pf_s[0] != MODEL_NONE or pf_g[0] != MODEL_NONE or play > 0.0
     n_sub = ip[6]
@@ -243,9 +285,7 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     I_w = fp[9]
     n_pos, fb_scale, vel_diff, delay, closed, rec_every = ip[0], ip[1], ip[2], ip[3], ip[4], ip[5]
     ff_segment, g_ref = ip[8], ip[9]
-    dl = np.full(delay + 1, K_vi * I_w if closed else 0.0)
     n_taps = vtaps.size
-    hist = np.full(n_taps + 1, _quantise(x[0], q_enc))  # ring buffer of encoder angles
     c_h = 0  # index of the newest angle in hist
     w_c = 0.0
     r = 0
@@ -327,10 +367,9 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
             c_rec = 0
         u[0] = i_app
         if nonlinear:
-            _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, x, xn, u, T_v, n_sub, pf_s,
-                            pf_g, st, R, play, K_t, g_ref)
+            _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u, T_v, n_sub,
+                            pf_s, pf_g, st, R, play, K_t, g_ref)
             continue
-        _free_step(AdT, BdT, x, xn, u)
+        _free_step(AdT, BdT, c[0], x, xn, u)
         for i in range(NX):
             x[i] = xn[i]
-    return x

@@ -1,0 +1,78 @@
+"""Run files: CSV and Parquet hold the same run; every run reader takes both."""
+
+import json
+
+import numpy as np
+import pytest
+
+from tcpmm.cli import main
+from tcpmm.errors import InputError
+from tcpmm.io.runfile import read_run, write_run
+from tcpmm.path import write_command_csv
+from tcpmm.path.command import Command
+from tcpmm.result import AxisRun, Run
+
+
+def _run(n=500):
+    t = np.arange(n) * 1e-3
+    rng = np.random.default_rng(3)
+    axes = {a: AxisRun(cmd=0.035 * np.sin(t + k), motor=rng.normal(size=n) * 1e-3,
+                       scale=rng.normal(size=n) * 1e-3, tcp=rng.normal(size=n) * 1e-3,
+                       current=rng.normal(size=n))
+            for k, a in enumerate("XY")}
+    return Run(time_s=t, axes=axes)
+
+
+def test_csv_and_parquet_give_the_same_run(tmp_path):
+    run = _run()
+    write_run(run, tmp_path / "r.csv")
+    write_run(run, tmp_path / "r.parquet")
+    a, b = read_run(tmp_path / "r.csv"), read_run(tmp_path / "r.parquet")
+    assert list(a.axes) == list(b.axes) == ["X", "Y"]
+    # Parquet keeps the doubles (mm, then back to m); CSV keeps 10 significant digits
+    for name, ax in run.axes.items():
+        for f in ("cmd", "motor", "scale", "tcp", "current"):
+            v = getattr(ax, f)
+            np.testing.assert_allclose(getattr(b.axes[name], f), v, rtol=1e-15, atol=1e-18)
+            np.testing.assert_allclose(getattr(a.axes[name], f), v, rtol=6e-10, atol=0)
+    np.testing.assert_array_equal(b.time_s, run.time_s)
+
+
+def test_csv_writer_writes_what_pandas_wrote(tmp_path):
+    run = _run(50)
+    run.axes["X"].tcp[7] = np.nan  # an empty cell, as pandas writes it
+    run.write_csv(tmp_path / "r.csv")
+    expected = run.to_pandas().to_csv(index=False, float_format="%.10g", lineterminator="\n")
+    assert (tmp_path / "r.csv").read_text() == expected
+
+
+def test_parquet_run_checked_like_csv(tmp_path):
+    run = _run(20)
+    run.time_s[5] = run.time_s[4]
+    write_run(run, tmp_path / "r.parquet")
+    with pytest.raises(InputError, match=r"time must increase strictly \(row 6\)"):
+        read_run(tmp_path / "r.parquet")
+    (tmp_path / "bad.parquet").write_text("not parquet")
+    with pytest.raises(InputError, match="cannot read as Parquet"):
+        read_run(tmp_path / "bad.parquet")
+
+
+def test_simulate_to_parquet_then_circle(tmp_path, capsys):
+    t = np.arange(0.0, 3.0, 1e-3)
+    w = 2 * np.pi / 2.6
+    cmd = Command(t, {"X": 0.035 * np.cos(w * t) - 0.035, "Y": 0.035 * np.sin(w * t)})
+    write_command_csv(cmd, tmp_path / "cmd.csv")
+    for out in ("run.parquet", "run.csv"):
+        assert main(["simulate", "builtin:vmc", "--command", str(tmp_path / "cmd.csv"),
+                     "-o", str(tmp_path / out)]) == 0
+    capsys.readouterr()
+    res = {}
+    for f in ("run.parquet", "run.csv"):
+        assert main(["circle", str(tmp_path / f), "--radius", "35", "--centre", "-35,0",
+                     "--json"]) == 0
+        res[f] = json.loads(capsys.readouterr().out)
+    assert res["run.parquet"]["passes"]
+    for pa, pc in zip(res["run.parquet"]["passes"], res["run.csv"]["passes"], strict=True):
+        for ra, rc in zip(pa["sensors"], pc["sensors"], strict=True):
+            assert ra["sensor"] == rc["sensor"]
+            assert abs(ra["contour_error_um"] - rc["contour_error_um"]) < 1e-3

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..result import Run
 
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]
@@ -317,7 +318,7 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
                     (settle_tol_m, "settle_tol_m"), (corner_deg, "corner_deg")):
         if not (np.isfinite(v) and v > 0):
             raise InputError(f"{what} must be a positive number, got {v}")
-    if hasattr(run, "columns"):
+    if not isinstance(run, Run):  # a table in the run-file layout
         from ..io.runfile import run_from_table
 
         run = run_from_table(run)

@@ -88,6 +88,45 @@ class _Interpreter:
 
     # ---- one block -------------------------------------------------------------------
     def block(self, words: list[Word], line: int):
+        gs, ms, w = self._sort_words(words, line)
+        new = self._g_groups(gs, line)
+        end = self._feed_and_m_codes(w, ms, line)
+        # modal settings, in the order of execution
+        if "plane" in new:
+            self.plane = round(new["plane"].value)
+        if "units" in new:
+            self.unit = INCH_M if round(new["units"].value) == 20 else MM_M
+        if "distance" in new:
+            self.absolute = round(new["distance"].value) == 90
+        if "arc distance" in new:
+            self.arc_absolute = round(new["arc distance"].value * 10) == 901
+        if "path mode" in new:
+            self.path_mode(new["path mode"], w, line)
+        if "F" in w:
+            self.feed = w["F"].value * self.unit / 60.0
+        if "motion" in new:
+            self.motion = MOTION[round(new["motion"].value * 10)]
+
+        if "dwell" in new:
+            self.dwell(w, new["dwell"], line)
+            return end
+        g64 = "path mode" in new and round(new["path mode"].value) == 64
+        for L in "PQ":
+            if L in w and not g64:
+                self.error(f"{L} is only used with G4 (P: dwell time in seconds) or G64 "
+                           "(P: contour tolerance)", line, w[L].column)
+        if any(k in w for k in "XYZIJKR"):
+            once = "exact stop once" in new
+            self.exact_stop, saved = self.exact_stop or once, self.exact_stop
+            self.move(w, new.get("motion"), line)
+            self.exact_stop = saved
+        elif "exact stop once" in new:
+            self.error("G9 (exact stop) needs a move in its block, e.g. G9 G1 X10",
+                       line, new["exact stop once"].column)
+        return end
+
+    def _sort_words(self, words: list[Word], line: int):
+        """The block's G words, M words and other words by letter, checked."""
         gs, ms, w = [], [], {}
         for word in words:
             L = word.letter
@@ -124,7 +163,10 @@ class _Interpreter:
                 self.error(
                     f"line number {n.text!r} must be a whole number, e.g. N10", line, n.column
                 )
+        return gs, ms, w
 
+    def _g_groups(self, gs, line: int) -> dict:
+        """The block's G-codes by modal group, one per group."""
         new = {}
         for g in gs:
             code = round(g.value * 10)
@@ -145,7 +187,10 @@ class _Interpreter:
                     g.column,
                 )
             new[group] = g
+        return new
 
+    def _feed_and_m_codes(self, w, ms, line: int) -> bool:
+        """Check the feed and the M-codes; whether the block ends the program."""
         if "F" in w:
             f = w["F"]
             if not f.value > 0.0:
@@ -170,39 +215,6 @@ class _Interpreter:
             else:
                 msg = M_IGNORED.get(code, "this M-code is not modelled")
                 self.warn(f"M{code}", msg, line, m.column)
-
-        # modal settings, in the order of execution
-        if "plane" in new:
-            self.plane = round(new["plane"].value)
-        if "units" in new:
-            self.unit = INCH_M if round(new["units"].value) == 20 else MM_M
-        if "distance" in new:
-            self.absolute = round(new["distance"].value) == 90
-        if "arc distance" in new:
-            self.arc_absolute = round(new["arc distance"].value * 10) == 901
-        if "path mode" in new:
-            self.path_mode(new["path mode"], w, line)
-        if "F" in w:
-            self.feed = w["F"].value * self.unit / 60.0
-        if "motion" in new:
-            self.motion = MOTION[round(new["motion"].value * 10)]
-
-        if "dwell" in new:
-            self.dwell(w, new["dwell"], line)
-            return end
-        g64 = "path mode" in new and round(new["path mode"].value) == 64
-        for L in "PQ":
-            if L in w and not g64:
-                self.error(f"{L} is only used with G4 (P: dwell time in seconds) or G64 "
-                           "(P: contour tolerance)", line, w[L].column)
-        if any(k in w for k in "XYZIJKR"):
-            once = "exact stop once" in new
-            self.exact_stop, saved = self.exact_stop or once, self.exact_stop
-            self.move(w, new.get("motion"), line)
-            self.exact_stop = saved
-        elif "exact stop once" in new:
-            self.error("G9 (exact stop) needs a move in its block, e.g. G9 G1 X10",
-                       line, new["exact stop once"].column)
         return end
 
     def path_mode(self, g, w, line):

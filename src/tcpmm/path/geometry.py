@@ -82,21 +82,9 @@ class PathArrays:
         return self.kind.size
 
 
-def to_arrays(segments, rapid_m_per_s) -> PathArrays:
-    """Convert a segment list into :class:`PathArrays`.
-
-    Parameters
-    ----------
-    segments : sequence of Line, Rapid, Arc, Dwell
-        The continuous tool path [-].
-    rapid_m_per_s : tuple of float
-        Rapid speed of X, Y, Z [m/s].
-
-    Returns
-    -------
-    PathArrays
-        The path as arrays [-].
-    """
+def _segment_columns(segments):
+    """Per segment: kind, start, end, centre, feed, rapid, exact stop, dwell, line, plane
+    axes, ccw and extra turns, as arrays [SI]."""
     n = len(segments)
     kind = np.zeros(n, np.int64)
     start = np.empty((n, 3))
@@ -145,6 +133,27 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
             raise InputError(f"segment {i}: {type(s).__name__} is not a motion segment")
         if s.line is not None:
             line[i] = s.line
+    return kind, start, end, centre, feed, rapid, exact, dwell, line, plane, ccw, turns
+
+
+def to_arrays(segments, rapid_m_per_s) -> PathArrays:
+    """Convert a segment list into :class:`PathArrays`.
+
+    Parameters
+    ----------
+    segments : sequence of Line, Rapid, Arc, Dwell
+        The continuous tool path [-].
+    rapid_m_per_s : tuple of float
+        Rapid speed of X, Y, Z [m/s].
+
+    Returns
+    -------
+    PathArrays
+        The path as arrays [-].
+    """
+    n = len(segments)
+    kind, start, end, centre, feed, rapid, exact, dwell, line, plane, ccw, turns = (
+        _segment_columns(segments))
     _check(start, end, feed, dwell, kind, rapid, line)
 
     # lines

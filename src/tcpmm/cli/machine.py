@@ -32,11 +32,13 @@ def machine_export(name: str = typer.Argument(..., help="Built-in machine name (
 @machine_app.command("show")
 def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                  as_json: bool = typer.Option(False, "--json")):
-    """Modes of each axis (natural frequencies and damping) and closed-loop stability."""
+    """Modes of each axis (natural frequencies and damping), closed-loop stability and the
+    margins of the sampled velocity and position loops."""
     import numpy as np
 
     from ..mechanics.statespace import plant
     from ..servo.closedloop import is_stable
+    from ..servo.margins import axis_margins
     from ..servo.sampled import sampled_spectral_radius
 
     m = _read_model(model)
@@ -48,7 +50,9 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev[order]],
                     "damping": [float(-e.real / abs(e)) for e in ev[order]],
                     "closed_loop_stable": is_stable(a.mechanics, a.servo),
-                    "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo)}
+                    "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo),
+                    "margins": {k: v.to_dict() for k, v in
+                                axis_margins(a.mechanics, a.servo).items()}}
     if as_json:
         _emit_json(data)
         return
@@ -60,6 +64,21 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         sampled = "stable" if rho < 1.0 else "UNSTABLE"
         out.print(f"{ax}: {modes}; closed loop {state}; sampled loop {sampled} "
                   f"(spectral radius {rho:.4f})")
+        for loop, mg in d["margins"].items():
+            out.print(f"   {loop} loop: {margins_line(mg)}")
+
+
+def margins_line(mg: dict) -> str:
+    """One line of a loop's margins: gain, phase, crossovers [dB, deg, Hz]."""
+    def at(value, unit, f):
+        if value is None:
+            return "infinite (no crossing)"
+        return f"{value:.1f} {unit} at {f:.1f} Hz"
+
+    bw = mg["bandwidth_hz"]
+    return (f"gain margin {at(mg['gain_margin_db'], 'dB', mg['phase_crossover_hz'])}, "
+            f"phase margin {at(mg['phase_margin_deg'], 'deg', mg['gain_crossover_hz'])}, "
+            f"bandwidth {'-' if bw is None else f'{bw:.1f} Hz'}")
 
 @app.command()
 def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),

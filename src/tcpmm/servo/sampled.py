@@ -10,6 +10,8 @@ check it and as the benchmark peer). Valid while nothing saturates.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..mechanics.params import AxisMechanics
@@ -21,6 +23,16 @@ from .params import ServoParams
 LIFTED_OUTPUTS = ("th_m", "X_LS", "X_TCP", "w_m")
 
 
+@lru_cache(maxsize=32)
+def _discrete_plant(mech: AxisMechanics, current_bandwidth_hz, T_v: float):
+    """ZOH plant from the current at ``T_v``: the same for every gain, so kept [-]."""
+    p = plant(mech, current_bandwidth_hz)
+    Ad, Bd = discretize_zoh(p.A, p.B, T_v)
+    Ad.flags.writeable = False
+    Bd.flags.writeable = False
+    return Ad, Bd[:, 0]
+
+
 class _Rows:
     """Signals of the sampled loop as rows of coefficients over ``[z; u]``."""
 
@@ -28,8 +40,7 @@ class _Rows:
         p = plant(mech, servo.current_bandwidth_hz)
         self.p, self.servo, self.R = p, servo, mech.R_L
         n = p.A.shape[0]
-        Ad, Bd = discretize_zoh(p.A, p.B, servo.T_v)
-        self.Ad, self.bd = Ad, Bd[:, 0]
+        self.Ad, self.bd = _discrete_plant(mech, servo.current_bandwidth_hz, servo.T_v)
         self.sections = biquads(servo.filters, servo.T_v)
         nt, d, nf = len(servo.velocity_filter), servo.delay_samples, 2 * len(servo.filters)
         self.nz = n + 1 + nt + d + nf

@@ -1,0 +1,123 @@
+"""Tune a machine's servos for margins and predict the path before and after.
+
+The proposal comes from :func:`tcpmm.servo.tune.tune_machine`; the prediction simulates
+the paper's circle (R35 mm, F5000 mm/min, CCW and CW, :func:`tcpmm.demo.paper_circle_command`)
+or an NC program with the model as given and as tuned.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .demo import FEED_MM_PER_MIN, RADIUS_MM, paper_circle_command
+from .model import Machine
+from .servo.tune import tune_machine
+from .simulate import simulate
+from .units import feed_mm_per_min_to_m_per_s, mm_to_m
+
+#: Command samples either side searched for the nearest command segment [-].
+_WINDOW = 400
+
+
+@dataclass(frozen=True)
+class TuneResult:
+    """A tuning proposal and its predicted effect.
+
+    Parameters
+    ----------
+    tuned : Machine
+        The machine with the proposed servo settings [SI].
+    axes : dict of str to AxisTuning
+        Per-axis proposal, margins before and after [-].
+    path_before, path_after : dict
+        Predicted path figures: per pass (circle) or for the program, the largest spike
+        and the contour error of the TCP [um].
+    """
+
+    tuned: Machine
+    axes: dict
+    path_before: dict
+    path_after: dict
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary."""
+        return {"axes": {k: v.to_dict() for k, v in self.axes.items()},
+                "path_before_um": self.path_before, "path_after_um": self.path_after}
+
+
+def polyline_distance(points, path) -> np.ndarray:
+    """Distance of each point to the nearest segment of a path sampled alongside it.
+
+    Parameters
+    ----------
+    points, path : ndarray (n, d)
+        Actual and commanded positions at the same instants [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Distance per point to the commanded path within :data:`_WINDOW` samples [m].
+    """
+    n = path.shape[0]
+    best = np.full(points.shape[0], np.inf)
+    idx = np.arange(points.shape[0])
+    for k in range(-_WINDOW, _WINDOW):
+        i = np.clip(idx + k, 0, n - 2)
+        a, b = path[i], path[i + 1]
+        d = b - a
+        L2 = np.einsum("ij,ij->i", d, d)
+        t = np.where(L2 > 0, np.einsum("ij,ij->i", points - a, d) / np.where(L2 > 0, L2, 1), 0)
+        q = a + np.clip(t, 0, 1)[:, None] * d
+        best = np.minimum(best, np.linalg.norm(points - q, axis=1))
+    return best
+
+
+def path_figures(machine: Machine, command, circle: bool) -> dict:
+    """Simulate and reduce to figures in um: per circle pass the largest reversal spike
+    and the contour error of the TCP; for a program the largest and RMS distance of the
+    TCP path from the commanded path."""
+    run = simulate(machine, command)
+    if circle:
+        from .analysis.circular import analyse_circle
+
+        res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
+        out = {}
+        for p in res.passes:
+            s = p.sensors["tcp"]
+            spikes = [abs(v) for v in s.spikes.values() if np.isfinite(v)]
+            out[p.direction] = {"spike_um": max(spikes, default=float("nan")) * 1e6,
+                                "contour_error_um": s.contour_error * 1e6}
+        return out
+    names = list(command.positions)
+    act = np.column_stack([run.axes[n].tcp for n in names])
+    ref = np.column_stack([run.axes[n].cmd for n in names])
+    d = polyline_distance(act, ref)
+    return {"program": {"max_deviation_um": float(d.max()) * 1e6,
+                        "rms_deviation_um": float(np.sqrt(np.mean(d * d))) * 1e6}}
+
+
+def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
+                     ) -> TuneResult:
+    """Propose servo settings and predict the path before and after.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    gm_db, pm_deg : float
+        Required gain [dB] and phase [deg] margins.
+    command : Command, optional
+        Path to predict; default the paper's circle [m].
+    """
+    circle = command is None
+    cmd = paper_circle_command(machine) if circle else command
+    f_path = (feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN) / (2 * math.pi * mm_to_m(RADIUS_MM))
+              if circle else 1.0)
+    axes = tune_machine(machine, gm_db, pm_deg, f_path)
+    tuned = machine.model_copy(update={"axes": {
+        n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
+    return TuneResult(tuned, axes, path_figures(machine, cmd, circle),
+                      path_figures(tuned, cmd, circle))

@@ -45,6 +45,7 @@ from ._spectral import (
     remove_trend,
     sample_rate_hz,
 )
+from .periodic import detect_period, periodic_frf
 
 __all__ = [
     "FRF",
@@ -252,8 +253,10 @@ def estimate_frf(
     input: str = "u",
     output: str = "y",
     file=None,
+    period="auto",
 ) -> FRF:
-    """FRF of ``y`` against ``u`` by Welch-averaged spectra.
+    """FRF of ``y`` against ``u`` by Welch-averaged spectra, or from whole periods when
+    the excitation is periodic (:mod:`tcpmm.ident.periodic`).
 
     Parameters
     ----------
@@ -288,6 +291,11 @@ def estimate_frf(
         Output label, also used as column name in errors [-].
     file : str or Path, optional
         Source file for error messages [-].
+    period : "auto", int or None
+        Period of a periodic excitation [samples]: ``"auto"`` detects it
+        (:func:`~tcpmm.ident.periodic.detect_period`) unless ``nperseg`` is given,
+        ``None`` always averages windowed segments. With a period, whole periods give
+        exact bins with no window, and only the excited bins are returned [-].
 
     Returns
     -------
@@ -302,6 +310,11 @@ def estimate_frf(
         raise InputError(f"estimator must be 'H1' or 'H2', got {estimator!r}")
     u = _check_signal(u, input, None, file)
     y = _check_signal(y, output, u.size, file)
+    if period is not None and not (period == "auto" and nperseg is not None):
+        p = detect_period(u) if period == "auto" else int(period)
+        if p is not None:
+            return periodic_frf(u, y, fs_hz, p, fmin_hz, fmax_hz, name=name, input=input,
+                                output=output)
     order = _detrend_order(detrend)
     m, noverlap, k = _segmenting(u.size, fs_hz, nperseg, fmin_hz, overlap, file)
     u = remove_trend(u, order)

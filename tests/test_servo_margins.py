@@ -81,3 +81,23 @@ def test_position_crossover_near_kpp(vmc):
     m = axis_margins(a.mechanics, a.servo)["position"]
     assert m.bandwidth_hz == pytest.approx(a.servo.K_pp / (2 * np.pi), rel=0.05)
     assert 80 < m.phase_margin_deg < 95
+
+
+def test_machine_show_and_bode_give_the_margins(capsys):
+    import json
+
+    from tcpmm.cli import main
+
+    assert main(["machine", "show", "builtin:vmc", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    mv = data["X"]["margins"]["velocity"]
+    assert set(mv) == {"gain_margin_db", "phase_margin_deg", "gain_crossover_hz",
+                       "phase_crossover_hz", "bandwidth_hz"}
+    assert main(["bode", "builtin:vmc", "--axis", "X", "--tf", "L_v", "--json", "--freq-hz",
+                 f"{mv['gain_crossover_hz']!r}"]) == 0
+    row = json.loads(capsys.readouterr().out)[0]
+    L = complex(row["re"], row["im"])
+    assert abs(L) == pytest.approx(1.0, abs=1e-9)
+    assert 180 + np.degrees(np.angle(L)) == pytest.approx(mv["phase_margin_deg"], abs=1e-6)
+    assert main(["machine", "show", "builtin:vmc"]) == 0
+    assert "phase margin" in capsys.readouterr().out

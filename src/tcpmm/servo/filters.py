@@ -170,23 +170,12 @@ def continuous_ss(filters):
         ``x' = A x + b u``, ``y = c x + d u`` [-]; empty ``A`` and ``d = 1`` without
         filters.
     """
-    n = 2 * len(filters)
-    A, b, c, d = np.zeros((n, n)), np.zeros(n), np.zeros(n), 1.0
-    # cascade: section k's input is c_prev x + d_prev u
-    for k, flt in enumerate(filters):
-        num, den = flt.continuous()
-        i = 2 * k
-        a1, a2 = den[1], den[2]
-        # controllable form of (n0 s^2 + n1 s + n2)/(s^2 + a1 s + a2)
-        A[i, i + 1] = 1.0
-        A[i + 1, i] = -a2
-        A[i + 1, i + 1] = -a1
-        # input of the section: c x + d u (previous output)
-        A[i + 1, :i] += c[:i]
-        b[i + 1] = d
-        ck = np.zeros(n)
-        ck[i] = num[2] - num[0] * a2
-        ck[i + 1] = num[1] - num[0] * a1
-        c = num[0] * c + ck
-        d = num[0] * d
-    return A, b, c, d
+    from ..mechanics.export import biquad, series
+
+    if not filters:
+        return np.zeros((0, 0)), np.zeros(0), np.zeros(0), 1.0
+    sections = [biquad(*f.continuous()) for f in filters]
+    ss = sections[0]
+    for sec in sections[1:]:
+        ss = series(ss, sec)
+    return ss.A, ss.B[:, 0], ss.C[0], float(ss.D[0, 0])

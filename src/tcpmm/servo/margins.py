@@ -147,6 +147,20 @@ def position_loop_gain(mech: AxisMechanics, servo: ServoParams, f_hz) -> np.ndar
     return discrete_freqresp(Phi, Gam, C, D, servo.T_p, f_hz)
 
 
+def velocity_margins(mech: AxisMechanics, servo: ServoParams) -> LoopMargins:
+    """Margins of the sampled velocity loop (:func:`velocity_open_loop`)."""
+    v = velocity_open_loop(mech, servo)
+    return margins_of(lambda f: -discrete_freqresp(*v, servo.T_v, f), 0.5 / servo.T_v,
+                      poles=np.linalg.eigvals(v[0]), dt=servo.T_v)
+
+
+def position_margins(mech: AxisMechanics, servo: ServoParams) -> LoopMargins:
+    """Margins of the sampled position loop (:func:`position_open_loop`)."""
+    p = position_open_loop(mech, servo)
+    return margins_of(lambda f: discrete_freqresp(*p, servo.T_p, f), 0.5 / servo.T_p,
+                      poles=np.linalg.eigvals(p[0]), dt=servo.T_p)
+
+
 def axis_margins(mech: AxisMechanics, servo: ServoParams) -> dict[str, LoopMargins]:
     """Margins of the sampled velocity and position loops of one axis.
 
@@ -162,11 +176,5 @@ def axis_margins(mech: AxisMechanics, servo: ServoParams) -> dict[str, LoopMargi
     dict
         ``{"velocity": LoopMargins, "position": LoopMargins}``.
     """
-    v = velocity_open_loop(mech, servo)
-    p = position_open_loop(mech, servo)
-    return {
-        "velocity": margins_of(lambda f: -discrete_freqresp(*v, servo.T_v, f),
-                               0.5 / servo.T_v, poles=np.linalg.eigvals(v[0]), dt=servo.T_v),
-        "position": margins_of(lambda f: discrete_freqresp(*p, servo.T_p, f),
-                               0.5 / servo.T_p, poles=np.linalg.eigvals(p[0]), dt=servo.T_p),
-    }
+    return {"velocity": velocity_margins(mech, servo),
+            "position": position_margins(mech, servo)}

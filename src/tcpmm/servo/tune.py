@@ -33,9 +33,9 @@ from ..mechanics.export import reduced_ss
 from ..mechanics.params import AxisMechanics
 from .closedloop import closed_loop_freqresp
 from .filters import MAX_FILTERS, Notch
-from .margins import LoopMargins, axis_margins, discrete_freqresp, margins_of
+from .margins import axis_margins, position_margins, velocity_margins
 from .params import ServoParams
-from .sampled import position_open_loop, sampled_spectral_radius, velocity_open_loop
+from .sampled import sampled_spectral_radius
 
 #: Scan step of the gains, and the relative resolution of the bisection [-].
 _STEP, _RESOLUTION = 1.25, 0.005
@@ -87,18 +87,6 @@ def _pi(mech: AxisMechanics, servo: ServoParams, K_vp: float) -> ServoParams:
     return _with(servo, K_vp=K_vp, K_vi=K_vp * w_c / 4.0)
 
 
-def _velocity_margins(mech, servo) -> LoopMargins:
-    v = velocity_open_loop(mech, servo)
-    return margins_of(lambda f: -discrete_freqresp(*v, servo.T_v, f), 0.5 / servo.T_v,
-                      poles=np.linalg.eigvals(v[0]), dt=servo.T_v)
-
-
-def _position_margins(mech, servo) -> LoopMargins:
-    p = position_open_loop(mech, servo)
-    return margins_of(lambda f: discrete_freqresp(*p, servo.T_p, f), 0.5 / servo.T_p,
-                      poles=np.linalg.eigvals(p[0]), dt=servo.T_p)
-
-
 def _largest(ok, start: float, cap: float = math.inf):
     """Largest ``g <= cap`` with ``ok(g)``, scanning from ``start``; ``None`` if none."""
     g = min(start, cap)
@@ -131,7 +119,7 @@ def _largest(ok, start: float, cap: float = math.inf):
 def _velocity_gain(mech, servo, gm, pm):
     def ok(k):
         s = _pi(mech, servo, k)
-        return _velocity_margins(mech, s).meets(gm, pm) and sampled_spectral_radius(mech, s) < 1
+        return velocity_margins(mech, s).meets(gm, pm) and sampled_spectral_radius(mech, s) < 1
     return _largest(ok, servo.K_vp)
 
 
@@ -146,7 +134,7 @@ def _modes(mech: AxisMechanics):
 
 def _limiting_mode(mech, servo, modes):
     """The lightly damped mode nearest the crossing that limits the velocity gain."""
-    m = _velocity_margins(mech, servo)
+    m = velocity_margins(mech, servo)
     at = [f for f in (m.gain_crossover_hz, m.phase_crossover_hz) if np.isfinite(f)]
     best = None
     for f0 in modes:
@@ -188,11 +176,11 @@ def tune_velocity(mech, servo, gm, pm, notes):
 def tune_position(mech, servo, gm, pm):
     """Largest position gain meeting the margins, at most a quarter of the velocity-loop
     bandwidth [1/s]; ``None`` if none."""
-    bw = _velocity_margins(mech, servo).bandwidth_hz
+    bw = velocity_margins(mech, servo).bandwidth_hz
     cap = 2 * math.pi * bw / 4 if np.isfinite(bw) else math.inf
 
     def ok(k):
-        return _position_margins(mech, _with(servo, K_pp=k)).meets(gm, pm)
+        return position_margins(mech, _with(servo, K_pp=k)).meets(gm, pm)
     return _largest(ok, servo.K_pp, cap)
 
 

@@ -4,8 +4,15 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= out/demo
+REPORT ?= out/report
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+# Headless Chromium with every request sent to a closed port and every name unresolved:
+# the report must render from the file alone.
+CHROMIUM := chromium --headless --no-sandbox --disable-gpu --hide-scrollbars \
+	--proxy-server=127.0.0.1:9 --proxy-bypass-list='<-loopback>' \
+	--host-resolver-rules='MAP * ~NOTFOUND'
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test docs lint bench clean check-report
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -17,8 +24,36 @@ demo: $(STAMP)
 	$(BIN)/tcpmm demo -o $(OUT)
 
 test: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks examples
+	$(BIN)/ruff check src tests benchmarks examples docs
 	$(BIN)/python -m pytest -q -n 2
+
+# The demo's HTML report rendered in headless Chromium with no network; screenshots of the
+# first screen and of the whole page go to $(REPORT). A finished demo in $(OUT) is reused.
+check-report: $(STAMP)
+	@if [ ! -f $(OUT)/spread.json ]; then \
+		$(BIN)/tcpmm demo -o $(OUT) --report $(REPORT)/report.html; \
+	else \
+		cd $(OUT) && $(abspath $(BIN))/tcpmm report -o $(abspath $(REPORT))/report.html \
+			--title "tcpmm demo: the paper's circular test" --model model.yaml \
+			--ident-dir identification --run run.csv --measured measured_run.csv \
+			--predicted predicted_run.csv --radius 35 --spread spread.json; \
+	fi
+	@command -v chromium >/dev/null || \
+		{ $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq chromium; }
+	$(CHROMIUM) --window-size=1280,4000 --screenshot=$(REPORT)/report.png \
+		file://$(abspath $(REPORT))/report.html 2>$(REPORT)/chromium.log
+	$(CHROMIUM) --window-size=1280,16000 --screenshot=$(REPORT)/report_full.png \
+		file://$(abspath $(REPORT))/report.html 2>>$(REPORT)/chromium.log
+	@echo "screenshots: $(REPORT)/report.png (first screen), $(REPORT)/report_full.png"
+
+# The documentation site (site/), built strictly: a warning (a broken link, a page left
+# out of the navigation, an API name that does not resolve) fails the build.
+docs: $(VENV)/.docs
+	$(BIN)/mkdocs build --strict
+
+$(VENV)/.docs: $(STAMP)
+	$(BIN)/python -m pip install -q -e '.[test,docs]'
+	touch $(VENV)/.docs
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/simulate.py
@@ -27,4 +62,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/identify.py
 
 clean:
-	rm -rf $(VENV) out build *.egg-info src/*.egg-info
+	rm -rf $(VENV) out build site *.egg-info src/*.egg-info

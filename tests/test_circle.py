@@ -1,4 +1,4 @@
-"""Circular-test analysis recovers known injected errors (formats.md section 4)."""
+"""Circular-test analysis recovers known injected errors (docs/formats.md section 4)."""
 
 import warnings
 

@@ -4,7 +4,7 @@ Each error is injected as the position error it is (a lag, a shear, lost motion.
 the radial term the fit uses, so a wrong sign or factor in a term fails its test. Tolerance:
 2 % of the true value or 0.1 um of the radial error the term makes, whichever is larger;
 the noise (0.05 um rms on each axis, ~7000 samples per circle) moves a fitted term by a few
-nm. A reversal spike is the extreme sample of a 20 deg window (formats.md section 4), so an
+nm. A reversal spike is the extreme sample of a 20 deg window (docs/formats.md section 4), so an
 absent one reads the extreme of the noise over ~400 samples, about 3.5 noise rms: its
 tolerance is at least 4.5 noise rms.
 """

@@ -94,7 +94,8 @@ def test_bad_model_file_names_line(capsys, tmp_path):
 
 
 def test_demo_writes_everything(capsys, tmp_path):
-    code, out, _ = run(capsys, "demo", "-o", tmp_path / "demo")
+    code, out, _ = run(capsys, "demo", "-o", tmp_path / "demo", "--report",
+                       tmp_path / "report.html")
     assert code == 0
     for name in ("model.yaml", "run.csv", "circle.png", "bode_X.png", "bode_Y.png",
                  "time.png", "circle_table.csv", "circle.json", "table2.csv", "spread.csv",
@@ -102,6 +103,10 @@ def test_demo_writes_everything(capsys, tmp_path):
         assert (tmp_path / "demo" / name).stat().st_size > 0, name
     flat = out.replace("\n", "")
     assert str((tmp_path / "demo").resolve()) in flat and "Spread over 16 drawn machines" in flat
+    page = (tmp_path / "report.html").read_text(encoding="utf-8")
+    for kind in ("model", "identification", "circle", "comparison", "spread"):
+        assert f'data-section="{kind}"' in page, kind
+    assert page.count("<h3>Diagnostics (TCP)</h3>") == 2  # simulated and virtual measurement
 
 
 @pytest.mark.parametrize("command", ["compare", "circle", "identify", "excite"])
@@ -137,8 +142,12 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
             assert g.sigma0 * 1.5e-6 == pytest.approx(max(g.fs_pos, g.fs_neg), rel=1e-6)
         else:
             assert not isinstance(g, LuGreFriction)
-    code, out, err = run(capsys, "identify", tmp_path / "b", "-o", tmp_path / "d.yaml")
+    code, out, err = run(capsys, "identify", tmp_path / "b", "-o", tmp_path / "d.yaml",
+                         "--report", tmp_path / "ident.html")
     assert code == 0, err
+    page = (tmp_path / "ident.html").read_text(encoding="utf-8")
+    assert page.count("<section") == 2 and 'data-section="identification"' in page
+    assert 'alt="Bode plots of axis X" src="data:image/png;base64,' in page
     from tcpmm.ident.presliding import PRESLIDING
 
     assert f"pre-sliding of {PRESLIDING * 1e6:g} um assumed" in out.replace("\n", " ")

@@ -2,15 +2,14 @@
 and the validation-file code path."""
 
 import dataclasses
-import importlib.util
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.io import savemat
 
+from conftest import validation_script
 from tcpmm.errors import InputError
 from tcpmm.mechanics.friction import StribeckFriction
 from tcpmm.sim.rigid import DiscreteServo, RigidAxis, simulate_rigid_servo
@@ -23,20 +22,9 @@ PUB_STD = {"M": 0.1085, "Fv": 1.1460, "Fc": 0.1012, "offset": 0.0444}
 PUB_ASYM = {"M": 95.1540, "Fv+": 166.7061, "Fc+": 20.1440, "Fv-": 240.4236, "Fc-": 20.6277}
 
 
-def _example():
-    name = "tcpmm_example_emps"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, ROOT / "examples" / "emps.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[name] = mod
-    spec.loader.exec_module(mod)
-    return mod
-
-
 @pytest.fixture(scope="module")
 def emps():
-    return _example()
+    return validation_script("emps")
 
 
 @pytest.fixture(scope="module")
@@ -95,11 +83,7 @@ def test_published_figures_are_an_unconverged_sign_integration(emps):
     as the step shrinks they rise towards the closed-form solution's."""
     if not EST.is_file():
         pytest.skip(f"EMPS data not found: expected {EST}")
-    sys.path.insert(0, str(ROOT / "examples"))
-    try:
-        import emps_numerics
-    finally:
-        sys.path.remove(str(ROOT / "examples"))
+    emps_numerics = validation_script("emps_numerics")
     res = emps_numerics.study(EST, steps=(2, 10), schemes=("rk4",))
     pub, exact, rk = res["published"], res["closed_form"], res["explicit"]["rk4"]
     for k in ("velocity", "force"):

@@ -1,4 +1,4 @@
-"""Physical properties of the five-inertia model (physics.md section 2)."""
+"""Physical properties of the five-inertia model (docs/model.md section 2)."""
 
 import math
 

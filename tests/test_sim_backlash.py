@@ -1,12 +1,9 @@
 """Lost motion (screw-nut free play) inside the compiled five-inertia loop."""
 
-import importlib
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from conftest import validation_script
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.mechanics.friction import StribeckFriction
 from tcpmm.model import AxisFriction
@@ -121,15 +118,13 @@ def test_backlash_round_trips_in_model_file(vmc, tmp_path):
     assert read_machine(tmp_path / "m.yaml") == m
 
 
-def test_play_makes_the_reversal_spike_ill_conditioned(unseen, monkeypatch):
+def test_play_makes_the_reversal_spike_ill_conditioned(unseen):
     """Machine 8 of seed 0 of the unseen-machine study (Y: 6.0 um of play inside a loop
     closed on the scale): a table 2 % lighter or heavier moves a rise or fall after a
     reversal by more than the paper's largest spike difference, 4.1 um; with the play
     taken out, by less than 0.5 um. This is why no identification predicts every spike of
-    such a machine within 4.1 um (README, ``examples/spike_sensitivity.py``)."""
-    monkeypatch.syspath_prepend(str(Path(__file__).parents[1] / "examples"))
-    monkeypatch.setitem(sys.modules, "unseen_machines", unseen)
-    ss = importlib.import_module("spike_sensitivity")
+    such a machine within 4.1 um (README, ``docs/validation/spike_sensitivity.py``)."""
+    ss = validation_script("spike_sensitivity")
     true, _ = unseen.draw_machine(0, 8, backlash=True)
     assert true.axes["Y"].friction.backlash > 5.9e-6
     cmd = unseen.paper_circle_command()

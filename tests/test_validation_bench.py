@@ -34,15 +34,16 @@ _MODELS = {}
 #: Cases that miss the target today, and by how much (spike / contour, um): by letter and
 #: kind, or by letter, kind and case.
 KNOWN = {
-    ("c", "spikes", "ccw"): "spikes 1.6 um off at F5000 (1.1-1.2 um with the true "
-                            "friction levels in the identified mechanics)",
-    ("c", "spikes", "cw"): "spikes 1.7 um off at F5000",
-    ("e", "spikes"): "spikes 4.9-6.8 um off; with the true friction in the identified "
-                     "mechanics still 4-8 um: the mechanics (damping, C_t 14-18 % off) "
-                     "limit them",
-    ("e", "contour"): "contour 2.7-5.6 um off, from the same mechanics",
-    ("d", "contour"): "pre-sliding of the contacts (true 1.5-3.5 um, assumed 0.5 um): "
-                      "0.85 um off at F5000",
+    ("c", "spikes"): "spikes 2.0-2.1 um off at F5000, 1.3 um at F10000: one pre-sliding "
+                     "distance fitted for both contacts (7.8-8.8 um against 5.3 and 2.3 um "
+                     "per contact); the true ones in the identified model give 0.1-0.3 um",
+    ("e", "spikes", "ccw_fast"): "spikes 4.8 um off at F10000: the mechanics (C_t 14-18 % "
+                                 "off, motor- and screw-side damping) limit them",
+    ("e", "spikes", "cw_fast"): "spikes 4.8 um off at F10000, as CCW",
+    ("e", "spikes", "ccw"): "spikes 1.1 um off at F5000",
+    ("e", "spikes", "cw"): "spikes 1.3 um off at F5000",
+    ("e", "contour"): "contour 1.6 um off at F5000 and 5.0-5.1 um at F10000, from the same "
+                      "mechanics",
 }
 #: The guideway share of every axis of machines C, D, E (true 0.28-0.66) comes from the
 #: TCP deflection of the sweep within 0.021 of the truth (standard deviations

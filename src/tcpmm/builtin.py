@@ -1,4 +1,4 @@
-"""The built-in demonstration machine (physics.md section 5).
+"""The built-in demonstration machine (docs/model.md section 5).
 
 A three-axis vertical machining centre like the paper's: table on saddle along X, saddle
 along Y, headstock on the column along Z; 10 mm lead screws, linear scales on all axes.

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -25,7 +26,19 @@ START_ANGLE_DEG = 45.0
 
 
 def paper_circle_command(machine=None):
-    """CCW then CW circle, R35 mm at 5000 mm/min in XY, with feed-in and feed-out."""
+    """CCW then CW circle, R35 mm at 5000 mm/min in XY, with feed-in and feed-out, each
+    starting at 45 deg (the paper's Section 3.3 test).
+
+    Parameters
+    ----------
+    machine : Machine, optional
+        Not used: the command is the same for every machine [-].
+
+    Returns
+    -------
+    Command
+        The position command [m].
+    """
     kw = dict(radius_m=mm_to_m(RADIUS_MM),
               feed_m_per_s=feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN),
               start_angle_rad=math.radians(START_ANGLE_DEG))
@@ -44,7 +57,7 @@ DEMO_STEPS = ("built-in machine", "circle command", "simulation", "circular test
               "plots", "virtual measurement", "identification", "prediction", "spread")
 
 
-def run_demo(out_dir, progress=None, console=None) -> dict:
+def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
     """The paper end to end on the built-in machine, and everything written.
 
     Simulates the circular test (Figs. 11-12, Bode plots of Figs. 8-10), then measures
@@ -62,6 +75,8 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
         ``progress(step_name)`` before each step [-].
     console : rich.console.Console, optional
         Where to print the table [-].
+    report : str or Path, optional
+        HTML report to write besides (:mod:`tcpmm.report`) [-].
 
     Returns
     -------
@@ -94,16 +109,19 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     write_text_atomic(out / "circle.json", json.dumps(res.to_dict(), indent=2))
     files["table"] = out / "circle_table.csv"
     step("plots")
-    files["circle_plot"] = plot_circle(res, out / "circle.png",
-                                       title="Circle R35 mm, F5000 mm/min, built-in machine")
-    files["radial_plot"] = plot_radial_error(res, out / "radial_error.png")
-    files["time_plot"] = plot_run(run, out / "time.png", axes=["X", "Y"])
+    files.update(circle_plot=out / "circle.png", radial_plot=out / "radial_error.png",
+                 time_plot=out / "time.png")
+    plot_circle(res, files["circle_plot"],
+                title="Circle R35 mm, F5000 mm/min, built-in machine")
+    plot_radial_error(res, files["radial_plot"])
+    plot_run(run, files["time_plot"], axes=["X", "Y"])
     f = np.logspace(0, np.log10(1500), 600)
     for ax, curves in bode_curves(machine, f).items():
-        files[f"bode_{ax}"] = plot_bode(curves, out / f"bode_{ax}.png", title=f"axis {ax}")
+        files[f"bode_{ax}"] = out / f"bode_{ax}.png"
+        plot_bode(curves, files[f"bode_{ax}"], title=f"axis {ax}")
     if console is not None:
         print_circle_table(table, console, "Circular test on the built-in machine [um]")
-    cmp, identified = identify_and_predict(machine, cmd, out, step, files)
+    cmp, identified, circles = identify_and_predict(machine, cmd, out, step, files)
     if console is not None:
         print_circle_table(cmp.to_pandas(), console,
                            "Table 2: virtual measurement - prediction of the identified model [um]")
@@ -113,6 +131,8 @@ def run_demo(out_dir, progress=None, console=None) -> dict:
     spread = write_spread(identified, cmd, out, files)
     if console is not None:
         console.print(spread_summary(spread))
+    if report is not None:
+        files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out)
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
             "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
@@ -141,7 +161,9 @@ def identify_and_predict(machine, cmd, out, step, files):
     write_machine(idn.machine, out / "identified_model.yaml")
     files.update(identified=out / "identified_model.yaml")
     report = idn.write_report(out / "identification")
-    files.update({f"ident_{k}": v for k, v in report.items()})
+    # plots come back as figures; each is saved as <key>.png in the report folder
+    files.update({f"ident_{k}": v if isinstance(v, (str, Path))
+                  else out / "identification" / f"{k}.png" for k, v in report.items()})
     step("prediction")
     predicted = simulate(idn.machine, cmd)
     predicted.write_csv(out / "predicted_run.csv")
@@ -150,9 +172,38 @@ def identify_and_predict(machine, cmd, out, step, files):
     cmp = compare_circles(rm, rp)
     write_table_atomic(cmp.to_pandas(), out / "table2.csv", "%.3f")
     files.update(predicted=out / "predicted_run.csv", table2=out / "table2.csv")
-    files["prediction_plot"] = plot_circle(rm, out / "prediction.png", sensors=["tcp"],
-                                           overlay=rp, title="Exp-TCP (virtual) and Sim-TCP")
-    return cmp, idn.machine
+    files["prediction_plot"] = out / "prediction.png"
+    plot_circle(rm, files["prediction_plot"], sensors=["tcp"], overlay=rp,
+                title="Exp-TCP (virtual) and Sim-TCP")
+    return cmp, idn.machine, (rm, rp)
+
+
+def write_demo_report(path, machine, res, cmp, circles, spread, out):
+    """The demo's HTML report: the model, its identification, the circle with its
+    diagnostics, Table 2 and the spread."""
+    from .report import (
+        circle_test_section,
+        comparison_section,
+        identification_section,
+        model_section,
+        read_identification_folder,
+        spread_section,
+        write_report,
+    )
+
+    sections = [model_section(machine, out / "model.yaml"),
+                identification_section(*read_identification_folder(out / "identification")),
+                circle_test_section(res, "circle", "Circular test of the built-in machine "
+                                    f"(R{RADIUS_MM:g} mm, F{FEED_MM_PER_MIN:g} mm/min)",
+                                    out / "run.csv"),
+                circle_test_section(circles[0], "circle-measured",
+                                    "Circular test, virtual measurement",
+                                    out / "measured_run.csv"),
+                comparison_section(cmp, *circles, (out / "measured_run.csv",
+                                                    out / "predicted_run.csv")),
+                spread_section(spread)]
+    return write_report(path, sections, "tcpmm demo: the paper's circular test",
+                        [("model", out / "model.yaml"), ("bundle", out / "bundle")])
 
 
 def write_spread(identified, cmd, out, files, draws: int = 16):
@@ -162,7 +213,8 @@ def write_spread(identified, cmd, out, files, draws: int = 16):
     res = circle_spread(identified, cmd, mm_to_m(RADIUS_MM), n=draws)
     write_table_atomic(res.to_pandas(), out / "spread.csv", "%.3f")
     write_text_atomic(out / "spread.json", json.dumps(res.to_dict(), indent=2))
-    files.update(spread=out / "spread.csv", spread_plot=res.plot(out / "spread.png"))
+    files.update(spread=out / "spread.csv", spread_plot=out / "spread.png")
+    res.plot(path=files["spread_plot"])
     return res
 
 

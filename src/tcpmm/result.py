@@ -6,7 +6,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-#: Run-file column suffix -> AxisRun field (formats.md section 3), values in mm or A.
+#: Run-file column suffix -> AxisRun field (docs/formats.md section 3), values in mm or A.
 RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_mm": "tcp",
                "current_A": "current"}
 
@@ -69,7 +69,7 @@ class Run:
     meta: dict = field(default_factory=dict)
 
     def to_pandas(self):
-        """The run-file table (formats.md section 3): mm and A."""
+        """The run-file table (docs/formats.md section 3): mm and A."""
         import pandas as pd
 
         data = {"time_s": self.time_s}
@@ -86,8 +86,28 @@ class Run:
 
         write_run_csv(self, path)
 
-    def plot(self, path=None, axes=None):
-        """Time plots of command, motor, scale and TCP following errors per axis."""
+    def to_dict(self) -> dict:
+        """JSON-ready summary: samples, duration, axes and the sensors recorded [-]."""
+        t = self.time_s
+        return {"samples": int(t.size), "duration_s": float(t[-1] - t[0]) if t.size else 0.0,
+                "axes": {n: [s for s, attr in RUN_COLUMNS.items() if getattr(a, attr) is not None]
+                         for n, a in self.axes.items()},
+                "meta": {k: v for k, v in self.meta.items()
+                         if isinstance(v, (str, int, float, bool, type(None)))}}
+
+    def plot(self, ax=None, path=None, axes=None):
+        """Time plots of command, motor, scale and TCP following errors per axis; the
+        figure.
+
+        Parameters
+        ----------
+        ax : array-like of matplotlib Axes, optional
+            Two per machine axis shown; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        axes : list of str, optional
+            Machine axes to show, default all [-].
+        """
         from .plot.time import plot_run
 
-        return plot_run(self, path=path, axes=axes)
+        return plot_run(self, path=path, axes=axes, ax=ax)

@@ -45,9 +45,13 @@ TOLERANCE = 4.1e-6
 
 #: Floors of the standard deviations drawn from: the robust spread (1.4826 median absolute
 #: deviation) of identified over true values on the 96 axes with lost motion of the
-#: unseen-machine study (``examples/unseen_machines.py --backlash``, seeds 0-3). The fits'
-#: own standard deviations count noise only and are often ten times smaller. Relative for
-#: the mechanics and the friction level, absolute for the share [-] and the lost motion [m].
+#: unseen-machine study (machines of :mod:`tcpmm.unseen`; the per-axis ``mechanics_id`` /
+#: ``mechanics_true``, ``friction_id`` / ``friction_true``, ``share_id`` - ``share_true`` and
+#: ``backlash_id`` - ``backlash_true`` of ``python docs/validation/unseen_machines.py --n 12
+#: --seed S --backlash --json FILE`` for S = 0-3; docs/validation/unseen_machines.md). The
+#: fits' own standard deviations count noise only and are often ten times smaller. Relative
+#: for the mechanics and the friction level, absolute for the share [-] and the lost motion
+#: [m].
 #: ``correlation`` holds the rank correlation of those errors on the same axes, in the order
 #: of its ``quantities``.
 MODEL_ERROR = {"mechanics": {"J_m": 0.025, "J_L": 0.025, "M_t": 0.06, "K_t": 0.07,
@@ -262,11 +266,19 @@ class SpikeSpread:
                     for i, (d, p) in enumerate(zip(self.directions, self.nominal.passes,
                                                    strict=True))]}
 
-    def plot(self, path=None):
-        """Nominal spikes with their range over the draws, per direction [-]."""
+    def plot(self, ax=None, path=None):
+        """Nominal spikes with their range over the draws, per direction; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            One per direction; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
         from .plot.spread import plot_spike_spread
 
-        return plot_spike_spread(self, path)
+        return plot_spike_spread(self, path, ax=ax)
 
 
 def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0),

@@ -65,7 +65,24 @@ def virtual_sweep(axis: Axis, duration_s: float = 12.0, band_hz=(5.0, 1500.0),
 
 
 def virtual_run(machine: Machine, command, noise_m: float = 2e-8, seed: int = 1) -> Run:
-    """A measured run of the (true) machine: sensors quantised, TCP device noisy."""
+    """A measured run of the (true) machine: sensors quantised, TCP device noisy.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine measured [SI].
+    command : Command
+        Position command of the run [m].
+    noise_m : float
+        Standard deviation of the TCP device's noise, before its quantisation [m].
+    seed : int
+        Seed of the noise [-].
+
+    Returns
+    -------
+    Run
+        Encoder, scale and TCP as the sensors read them [SI].
+    """
     run = simulate(machine, command)
     rng = np.random.default_rng(seed)
     for name, a in run.axes.items():
@@ -163,7 +180,26 @@ def axis_config(machine: Machine, name: str):
 
 
 def virtual_bundle(machine: Machine, path, axes=("X", "Y"), seed: int = 0):
-    """Write the measurement bundle a user would record on this machine [-]."""
+    """Write the measurement bundle a user would record on this machine: per axis a
+    servo-excitation sweep while the axis travels and, with friction, the constant-speed
+    friction runs (docs/measure.md).
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine measured [SI].
+    path : str or Path
+        Bundle folder, created [-].
+    axes : tuple of str
+        Axes recorded [-].
+    seed : int
+        Seed of the first axis's excitation; the next axes count on from it [-].
+
+    Returns
+    -------
+    Path
+        The bundle folder [-].
+    """
     from .io.bundle import write_bundle
 
     recs = {}

@@ -1,4 +1,4 @@
-"""Circular test analysis (formats.md section 4).
+"""Circular test analysis (docs/formats.md section 4).
 
 Quadrant points A, B, C, D are at 0, 90, 180, 270 deg counter-clockwise from +X about the
 nominal centre, whatever the direction of travel. Radial error ``e = r - R`` (outward
@@ -138,11 +138,22 @@ class CircleResult:
         raise InputError(f"no {direction.upper()} circle found in the run "
                          f"(found: {', '.join(p.direction for p in self.passes) or 'none'})")
 
-    def plot(self, path=None, magnification=None):
-        """Polar plot of the paths with magnified radial error (paper Figs. 11-12)."""
+    def plot(self, ax=None, path=None, magnification=None):
+        """Polar plot of the paths with magnified radial error (paper Figs. 11-12); the
+        figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            One per pass; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        magnification : float, optional
+            Radial-error magnification, automatic when omitted [-].
+        """
         from ..plot.circle import plot_circle
 
-        return plot_circle(self, path=path, magnification=magnification)
+        return plot_circle(self, path=path, magnification=magnification, ax=ax)
 
 
 def lsq_circle(x, y):
@@ -232,7 +243,7 @@ def warn_uncrossed(names, direction: str) -> None:
 
 
 def reversal_spikes(angle_rad, e, direction: str) -> dict:
-    """Signed reversal spike at A-D (formats.md section 4) [m]."""
+    """Signed reversal spike at A-D (docs/formats.md section 4) [m]."""
     return {name: float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
             for name, dev in _after_reversal(angle_rad, e, direction)}
 

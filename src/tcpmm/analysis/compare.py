@@ -22,10 +22,14 @@ class Comparison:
     sign_flips : list of dict
         Quadrant points where measured and predicted spike have opposite signs, with the
         rise and fall after the reversal of both (:func:`sign_flips`) [um].
+    measured, predicted : CircleResult or None
+        The analyses compared, for :meth:`plot` [-].
     """
 
     rows: list
     sign_flips: list = field(default_factory=list)
+    measured: CircleResult | None = field(default=None, repr=False)
+    predicted: CircleResult | None = field(default=None, repr=False)
 
     def to_pandas(self):
         """The Table-2 layout (um)."""
@@ -36,6 +40,27 @@ class Comparison:
     def to_dict(self) -> dict:
         """JSON-ready rows and sign flips (um)."""
         return {"rows": self.rows, "sign_flips": self.sign_flips}
+
+    def plot(self, ax=None, path=None, sensor: str = "tcp"):
+        """The measured circle of ``sensor`` with the predicted TCP dotted over it, one
+        panel per pass; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            One per pass; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        sensor : str
+            Measured sensor drawn [-].
+        """
+        from ..plot.circle import plot_circle
+
+        if self.measured is None:
+            raise InputError("this comparison holds no circles to plot; make it with "
+                             "compare_circles(measured, predicted)")
+        return plot_circle(self.measured, path, sensors=[sensor], overlay=self.predicted,
+                           ax=ax)
 
     def notes(self) -> list[str]:
         """One sentence per sign flip: the spike difference there is the sum of two
@@ -98,7 +123,7 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             rows.append(row)
     if not rows:
         raise InputError("the two runs share no circle direction and sensor to compare")
-    return Comparison(rows, flips)
+    return Comparison(rows, flips, measured, predicted)
 
 
 def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> list[dict]:
@@ -106,7 +131,7 @@ def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> li
     signs.
 
     The spike is the larger in magnitude of the rise and the fall after the reversal
-    (formats.md section 4); where the two are of similar size, measured and predicted
+    (docs/formats.md section 4); where the two are of similar size, measured and predicted
     may pick different ones and their difference is then the sum of both lobes. The
     lobe difference (the larger of rise minus rise and fall minus fall) says whether the
     shape after the reversal is predicted nonetheless.

@@ -33,7 +33,7 @@ Cyclic error: amplitude ``c`` and period ``L`` per axis, the period found by a s
 
 The 20 deg after each quadrant point in the direction of travel (the reversal spike, whose
 transient no term models) are left out of the fit. Reported besides: reversal spikes
-(formats.md section 4) of the residual, which the backlash step no longer enters; radial
+(docs/formats.md section 4) of the residual, which the backlash step no longer enters; radial
 deviation, the mean radius minus the nominal of the fitted circle; circular deviation G per
 direction and bidirectional G(b) about the least-squares centre of both (ISO 230-4);
 circular hysteresis H, the largest radial difference between the two circles.
@@ -53,6 +53,19 @@ SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
           "servo_angle", "scale_mismatch")
 PREFERRED_SENSORS = ("tcp", "scale", "motor", "cmd")
+#: SI unit -> (display unit, factor); the cyclic periods are shown in mm
+DISPLAY_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
+                 "rad": ("µrad", 1e6)}
+#: What the sign of a term means, by term name or its name without the axis
+TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
+              "centre_offset": "circle centre - nominal",
+              "backlash": "+: radius steps out at reversal",
+              "lateral_play_X": "+: moving +X shifts X to +Y",
+              "lateral_play_Y": "+: moving +Y shifts Y to +X",
+              "servo_mismatch": "+: Y lags X", "squareness": "+: angle +X to +Y over 90 deg",
+              "scale_mismatch": "+: X travels further than Y",
+              "cyclic_amplitude": "e.g. screw pitch error",
+              "residual_rms": "what the terms leave unexplained"}
 
 
 @dataclass
@@ -97,10 +110,41 @@ class CircleDiagnostics:
                           for k, (v, u) in self.terms.items()]}
 
     def plot(self, ax=None, path=None):
-        """Radial error of both circles against angle with the fitted terms; the figure."""
+        """Radial error of both circles against angle with the fitted terms; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
         from ..plot.diagnostics import plot_circle_diagnostics
 
         return plot_circle_diagnostics(self, ax=ax, path=path)
+
+
+def display_terms(diag, ascii_units: bool = False) -> list[tuple]:
+    """``(term, value, unit)`` of the diagnostics in display units: µm, ms, µm/m, ppm,
+    µrad, and mm for the cyclic periods.
+
+    Parameters
+    ----------
+    diag : CircleDiagnostics
+        The diagnostics [SI].
+    ascii_units : bool
+        Write µ as u [-].
+    """
+    rows = []
+    for term, (value, unit) in diag.terms.items():
+        shown, k = ("mm", 1e3) if term.startswith("cyclic_period") else DISPLAY_UNITS[unit]
+        rows.append((term, value * k, shown.replace("µ", "u") if ascii_units else shown))
+    return rows
+
+
+def term_note(term: str) -> str:
+    """What the sign of a diagnostics term means; empty when nothing needs saying [-]."""
+    return TERM_NOTES.get(term) or TERM_NOTES.get(term.rsplit("_", 1)[0], "")
 
 
 def _shared(angle, s, radius, ratio):

@@ -9,7 +9,7 @@ import sys
 import warnings
 
 from ..errors import InputWarning, TcpmmError
-from . import frf, ident, machine, run, sweep, tune  # noqa: F401  (importing them registers their commands)
+from . import frf, ident, machine, report, run, sweep, tune  # noqa: F401  (importing them registers their commands)
 from ._app import _esc, app, console
 
 

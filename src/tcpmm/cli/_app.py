@@ -134,6 +134,17 @@ def _plot(plot: Path | None) -> Path | None:
     return plot_file(plot)
 
 
+def _report_file(report: Path | None, *inputs) -> Path | None:
+    """Check a --report HTML file name, and that it is none of the inputs, before any work
+    is done."""
+    if report is None:
+        return None
+    from ..report import report_file
+
+    report_file(report)
+    return _output(report, *inputs)
+
+
 @contextmanager
 def _in_file(path):
     """Name ``path`` in an input error that names no file (the analysis of its content)."""

@@ -20,18 +20,22 @@ from ._app import (
     _progress,
     _read_model,
     _refuse_unstable,
+    _report_file,
     app,
     out,
 )
 
 
 @app.command()
-def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder.")):
+def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder."),
+         report: Path = typer.Option(None, "--report", help="Also write the HTML report "
+                                     "REPORT.html (tcpmm report).")):
     """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
     from ..demo import DEMO_STEPS, run_demo
 
+    _report_file(report)
     with _progress(len(DEMO_STEPS), "demo") as adv:
-        res = run_demo(out_dir, progress=adv, console=out)
+        res = run_demo(out_dir, progress=adv, console=out, report=report)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
     for k, v in res["files"].items():
         out.print(f"  {k:12s} {v}")
@@ -109,7 +113,7 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
             {p.direction for p in res.passes} == {"ccw", "cw"}:
         diag = circle_diagnostics(*results, sensor=sensor.value if sensor else None)
     if plot is not None:
-        res.plot(plot)
+        res.plot(path=plot)
     if diag_plot is not None:
         diag.plot(path=diag_plot)
     if as_json:
@@ -126,27 +130,11 @@ def circle(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or meas
         _print_diagnostics(diag)
 
 
-#: SI unit -> (display unit, factor); the cyclic periods are shown in mm
-_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
-          "rad": ("µrad", 1e6)}
-_NOTES = {"hysteresis": "largest CCW-CW radial difference",
-          "centre_offset": "circle centre - nominal",
-          "backlash": "+: radius steps out at reversal",
-          "lateral_play_X": "+: moving +X shifts X to +Y",
-          "lateral_play_Y": "+: moving +Y shifts Y to +X",
-          "servo_mismatch": "+: Y lags X", "squareness": "+: angle +X to +Y over 90 deg",
-          "scale_mismatch": "+: X travels further than Y",
-          "cyclic_amplitude": "e.g. screw pitch error",
-          "residual_rms": "what the terms leave unexplained"}
-
-
 def _display_terms(diag, ascii_units=False):
     """``(term, value, unit)`` in the display units (µm, ms, µm/m, ppm, mm)."""
-    rows = []
-    for term, (value, unit) in diag.terms.items():
-        shown, k = ("mm", 1e3) if term.startswith("cyclic_period") else _UNITS[unit]
-        rows.append((term, value * k, shown.replace("µ", "u") if ascii_units else shown))
-    return rows
+    from ..analysis.diagnostics import display_terms
+
+    return display_terms(diag, ascii_units)
 
 
 def _cell(v: float, digits: int = 2) -> str:
@@ -173,6 +161,8 @@ def _print_diagnostics(diag) -> None:
     """The diagnostics as two tables: per direction, and the terms with their signs."""
     from rich.table import Table
 
+    from ..analysis.diagnostics import term_note
+
     rows = {t: (v, u) for t, v, u in _display_terms(diag)}
     t = Table(title=f"circle diagnostics ({diag.sensor}) [µm]")
     for name in ("", "CCW", "CW", "pair"):
@@ -191,7 +181,7 @@ def _print_diagnostics(diag) -> None:
     for term, (v, u) in rows.items():
         if term.startswith(("radial_deviation", "circularity", "spike")):
             continue
-        note = _NOTES.get(term) or _NOTES.get(term.rsplit("_", 1)[0], "")
+        note = term_note(term)
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u, note)
     out.print(t)
 
@@ -202,7 +192,9 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
             radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
             centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
             as_json: bool = typer.Option(False, "--json"),
-            plot: Path = typer.Option(None, "--plot", help="Save an overlay plot.")):
+            plot: Path = typer.Option(None, "--plot", help="Save an overlay plot."),
+            report: Path = typer.Option(None, "--report",
+                                        help="Also write the HTML report REPORT.html.")):
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
     from ..analysis.circular import analyse_circle
     from ..analysis.compare import compare_circles
@@ -213,6 +205,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
     _positive(radius, "--radius [mm]")
     _plot(plot)
+    _report_file(report, measured, predicted)
     runs = [read_run_csv(f) for f in (measured, predicted)]
     with _in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr)
@@ -220,15 +213,22 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv"),
         rp = analyse_circle(runs[1], radius * 1e-3, ctr)
     cmp = compare_circles(rm, rp)
     if plot is not None:
-        from ..plot.circle import plot_circle
+        cmp.plot(path=plot)
+    if report is not None:
+        from ..report import circle_test_section, comparison_section, write_report
 
-        plot_circle(rm, plot, sensors=["tcp"], overlay=rp)
+        write_report(report, [comparison_section(cmp, rm, rp, (measured, predicted)),
+                              circle_test_section(rm, "circle", f"Circular test: "
+                                                  f"{measured.name}", measured)],
+                     "Measured against predicted", [("measured", measured),
+                                                    ("predicted", predicted)])
     if as_json:
         _emit_json(cmp.to_dict())
     else:
         print_circle_table(cmp.to_pandas(), out, "measured - predicted [um]")
         for line in cmp.notes():
             out.print(line)
+
 
 @app.command()
 def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
@@ -252,7 +252,6 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
     if plot:
-        from ..plot.path import plot_command
-
-        p = plot_command(cmd, output.with_suffix(".png"))
+        p = output.with_suffix(".png")
+        cmd.plot(path=p)
         out.print(f"wrote {p}")

@@ -192,7 +192,7 @@ def stribeck_from_record(record, cfg, axis: str | None = None):
             (f"axis {name}: " if name else "")
             + "no constant-speed passes found in the friction runs; record back-and-forth "
             "passes at several constant speeds, each held for at least "
-            f"{min(PLATEAU_DURATIONS_S)} s in both directions (formats.md section 1)",
+            f"{min(PLATEAU_DURATIONS_S)} s in both directions (docs/formats.md section 1)",
             file=record.source,
             column="scale_mm",
         ) from None

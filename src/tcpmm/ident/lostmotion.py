@@ -345,7 +345,7 @@ def estimate_lost_motion(
         slope comes out low, and what the speed-proportional deflection then gives for
         the table's viscous force as well, by the share times that error (measured: 4 %
         low on the built-in axes, 14 % on axis Y of machine 1 of
-        ``examples/unseen_machines.py --seed 0 --backlash``) [N s/m].
+        ``docs/validation/unseen_machines.py --seed 0 --backlash``) [N s/m].
 
     Returns
     -------

@@ -28,6 +28,7 @@ from .nutstiffness import LOST_MOTION_Z
 from .physical import FRFData, PhysicalFit, fit_physical, model_frfs
 from .playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import PRESLIDING, with_presliding
+from .preslidingfit import fit_presliding
 from .sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .sensitivity import warn_lost_motion_sensitivity, warn_share_sensitivity
 from .structure import fit_structure
@@ -183,7 +184,7 @@ class Identification:
                 "current_bandwidth_hz": a.axis.servo.current_bandwidth_hz,
             }
             for key in ("sweep_play", "friction_holds_sweep", "sampled_loop_spectral_radius",
-                        "presliding_m", "loop_timing", "share_sensitivity",
+                        "presliding_m", "presliding_fit", "loop_timing", "share_sensitivity",
                         "lost_motion_sensitivity"):
                 if key in a.physical.extra:
                     out[name][key] = a.physical.extra[key]
@@ -313,9 +314,20 @@ def _weights(frf) -> np.ndarray:
 DAMPING_KNOWN_REL_STD = 0.03
 
 
+def _presliding(fr, mech, record, presliding, extra):
+    """The friction with its pre-sliding, given or fitted, and the distance used [m]."""
+    if presliding is not None:
+        return with_presliding(fr, mech, presliding), presliding
+    fit = fit_presliding(record, mech, fr)
+    extra["presliding_fit"] = fit.to_dict()
+    if not fit.determined:
+        return with_presliding(fr, mech, PRESLIDING), PRESLIDING
+    return with_presliding(fr, mech, fit.presliding, fit.damping_ratio), fit.presliding
+
+
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
-    friction=None, guideway_share: float | None = None, presliding: float = PRESLIDING,
+    friction=None, guideway_share: float | None = None, presliding: float | None = None,
 ) -> AxisIdentification:
     """Identify one axis from its sweep record and its known configuration.
 
@@ -341,10 +353,11 @@ def identify_axis(
     guideway_share : float, optional
         Share of that friction put on the guideway, the rest on the screw; ``None``: from
         the friction runs (encoder-minus-scale deflection) [-].
-    presliding : float
-        Pre-sliding displacement given to the identified contacts (LuGre), which the
-        friction runs do not determine; ``0``: static friction that sticks rigidly
-        (:mod:`tcpmm.ident.presliding`) [m].
+    presliding : float, optional
+        Pre-sliding displacement given to the identified contacts (LuGre); ``0``: static
+        friction that sticks rigidly; ``None``: fitted to the reversals of the friction
+        runs (:mod:`tcpmm.ident.preslidingfit`), or :data:`PRESLIDING` where they do not
+        determine it [m].
     """
     limit_blas_threads()
     fmin = fmin_hz if fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
@@ -435,8 +448,8 @@ def identify_axis(
             from ..io.csvutil import warn_input
 
             warn_input(message, file=getattr(friction, "source", None))
-        fr = with_presliding(fr, mech, presliding)
-        phys.extra["presliding_m"] = presliding
+        fr, phys.extra["presliding_m"] = _presliding(fr, mech, friction, presliding,
+                                                     phys.extra)
     axis = Axis(
         mechanics=mech,
         servo=axis_config_to_servo(cfg, phys.extra.get("current_bandwidth_hz"),
@@ -577,7 +590,7 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
 
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
-    guideway_share: float | None = None, presliding: float = PRESLIDING,
+    guideway_share: float | None = None, presliding: float | None = None,
     accept_suspect: bool = False,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
@@ -600,9 +613,10 @@ def identify_bundle(
     guideway_share : float, optional
         Share of the friction put on the guideway, the rest on the screw; ``None``: from
         each axis's friction runs [-].
-    presliding : float
+    presliding : float, optional
         Pre-sliding displacement of the identified friction contacts; ``0``: static
-        friction (:mod:`tcpmm.ident.presliding`) [m].
+        friction; ``None``: fitted to each axis's friction-run reversals where they
+        determine it (:mod:`tcpmm.ident.preslidingfit`) [m].
     accept_suspect : bool
         Return a model the gates find physically suspect, marked, instead of raising [-].
 

@@ -1,4 +1,4 @@
-"""Measurement bundle (formats.md section 1): read and write.
+"""Measurement bundle (docs/formats.md section 1): read and write.
 
 A bundle is a folder with ``machine.yaml`` and one folder per axis holding ``sweep.csv``
 and optionally ``friction.csv``. Files are in mm; the records returned are SI.
@@ -77,7 +77,7 @@ class Bundle:
 
 
 def read_sweep_csv(path: str | Path, axis: str | None = None) -> SweepRecord:
-    """Read a ``sweep.csv`` (formats.md section 1) into an SI :class:`SweepRecord`.
+    """Read a ``sweep.csv`` (docs/formats.md section 1) into an SI :class:`SweepRecord`.
 
     Parameters
     ----------

@@ -33,7 +33,7 @@ class _Strict(BaseModel):
 
 
 class ServoConfig(_Strict):
-    """Cascade servo settings of one axis (paper Fig. 2; physics.md section 3).
+    """Cascade servo settings of one axis (paper Fig. 2; docs/model.md section 3).
 
     Parameters
     ----------
@@ -214,7 +214,7 @@ def parse_machine_yaml(text: str, file: str | Path = "<machine.yaml>") -> Machin
     """
     return validate_yaml(text, MachineConfig, file,
                          "machine description with keys format, name, axes",
-                         "check the spelling against formats.md section 1", FORMAT_VERSION)
+                         "check the spelling against docs/formats.md section 1", FORMAT_VERSION)
 
 
 def read_machine_yaml(path: str | Path) -> MachineConfig:
@@ -233,7 +233,7 @@ def read_machine_yaml(path: str | Path) -> MachineConfig:
     path = Path(path)
     if not path.is_file():
         raise InputError(
-            "machine.yaml not found; every bundle needs one (see formats.md section 1)",
+            "machine.yaml not found; every bundle needs one (see docs/formats.md section 1)",
             file=path,
         )
     return parse_machine_yaml(read_text(path, "machine description"), file=path)

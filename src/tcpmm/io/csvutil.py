@@ -1,4 +1,4 @@
-"""Strict reading and atomic writing of the plain numeric CSV files of formats.md.
+"""Strict reading and atomic writing of the plain numeric CSV files of docs/formats.md.
 
 Line numbers in messages are file lines: the header is line 1, the first data row line 2.
 """
@@ -129,7 +129,7 @@ def read_header(path: Path, what: str = "CSV file", text: str | None = None) -> 
     if all(_is_number(n) for n in names):
         raise InputError(
             "the first line holds numbers, not column names; add a header line with the "
-            "column names (see formats.md)",
+            "column names (see docs/formats.md)",
             file=path,
             line=1,
         )
@@ -228,7 +228,7 @@ def read_numeric_csv(
             f"missing column(s) {', '.join(missing)}{hints}; the file has "
             f"{', '.join(names)}; expected {', '.join(required)}"
             + (f" and optionally {', '.join(optional)}" if optional else "")
-            + " (units are part of the name, see formats.md)",
+            + " (units are part of the name, see docs/formats.md)",
             file=path,
             line=1,
             column=missing[0],

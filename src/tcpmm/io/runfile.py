@@ -1,4 +1,4 @@
-"""Run files (formats.md section 3): simulated or measured runs as CSV."""
+"""Run files (docs/formats.md section 3): simulated or measured runs as CSV."""
 
 from __future__ import annotations
 

@@ -14,7 +14,7 @@ _NONNEG = {"ge": 0.0, "allow_inf_nan": False}
 
 
 class AxisMechanics(BaseModel):
-    """Lumped parameters of one axis (physics.md section 1), all SI.
+    """Lumped parameters of one axis (docs/model.md section 1), all SI.
 
     Parameters
     ----------

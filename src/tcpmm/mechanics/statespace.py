@@ -1,4 +1,4 @@
-"""The 10-state linear model of one axis (physics.md section 1).
+"""The 10-state linear model of one axis (docs/model.md section 1).
 
 State ``x = [th_m, th_L, X_t, X_b, X_h, w_m, w_L, v_t, v_b, v_h]`` (positions [rad, m],
 then velocities [rad/s, m/s]). Inputs ``u = [i_c, T_m, T_L, F_t_ext]``: current command

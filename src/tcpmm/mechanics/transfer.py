@@ -3,7 +3,7 @@
 The reduced models of the paper (Fig. 6) are ratios of plant responses to the current
 command: ``G_M = w_m/i_c``, ``G_T = X_LS/th_m``, ``G_tcp = X_TCP/X_LS``. The block
 transfer functions of eqs. (1)-(4), (9) are given in closed form as well, for checks and
-for export; the printed eqs. (5), (6) and (8) are not used (physics.md section 2).
+for export; the printed eqs. (5), (6) and (8) are not used (docs/model.md section 2).
 """
 
 from __future__ import annotations

@@ -74,6 +74,27 @@ class Command:
             data[f"{name.lower()}_mm"] = p * 1e3
         return pd.DataFrame(data)
 
+    def to_dict(self) -> dict:
+        """JSON-ready summary: samples, period, duration and the axes' ranges in mm [-]."""
+        return {"samples": int(self.time_s.size), "period_s": self.period_s,
+                "duration_s": float(self.time_s[-1] - self.time_s[0]),
+                "axes": {n: {"min_mm": float(p.min() * 1e3), "max_mm": float(p.max() * 1e3)}
+                         for n, p in self.positions.items()}}
+
+    def plot(self, ax=None, path=None):
+        """XY path and per-axis position and velocity against time; the figure.
+
+        Parameters
+        ----------
+        ax : array-like of matplotlib Axes, optional
+            Three (XY path, position, velocity); a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
+        from ..plot.path import plot_command
+
+        return plot_command(self, path, ax=ax)
+
 
 def concatenate(commands: list[Command]) -> Command:
     """Commands one after another on one time line (same period and axes) [-].

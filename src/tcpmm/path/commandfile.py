@@ -1,4 +1,4 @@
-"""Command file (formats.md section 2): ``time_s, x_mm, y_mm[, z_mm]``, one row per period."""
+"""Command file (docs/formats.md section 2): ``time_s, x_mm, y_mm[, z_mm]``, one row per period."""
 
 from __future__ import annotations
 

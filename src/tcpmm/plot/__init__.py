@@ -42,18 +42,81 @@ def plot_file(path) -> Path:
     return path
 
 
-def save(fig, path) -> Path | None:
-    """Save a figure atomically and close it; return the path (None: figure kept open)."""
+def panels(ax, nrows: int, ncols: int, **subplots_kw):
+    """The figure and its ``nrows x ncols`` panels: new ones, or those given as ``ax``.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes or array-like of Axes or None
+        Axes to draw into, ``nrows * ncols`` of them in row order; ``None`` makes a new
+        figure [-].
+    nrows, ncols : int
+        Panels the plot draws [-].
+    **subplots_kw
+        Passed to ``pyplot.subplots`` for a new figure [-].
+
+    Returns
+    -------
+    fig : matplotlib Figure
+        The figure the panels belong to [-].
+    axs : ndarray of Axes
+        Shape ``(nrows, ncols)`` [-].
+    own : bool
+        Whether the figure is new (then the plot lays it out) [-].
+    """
+    import numpy as np
+
+    if ax is None:
+        fig, axs = pyplot().subplots(nrows, ncols, squeeze=False, **subplots_kw)
+        return fig, axs, True
+    axs = np.asarray(ax, dtype=object).reshape(-1)
+    if axs.size != nrows * ncols:
+        raise ValueError(f"this plot draws {nrows * ncols} panels ({nrows} x {ncols}); "
+                         f"ax holds {axs.size}")
+    return axs[0].figure, axs.reshape(nrows, ncols), False
+
+
+def save(fig, path, close: bool = True):
+    """Save a figure atomically when ``path`` is given; return the figure.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure
+        The figure [-].
+    path : str or Path or None
+        Plot file (PNG/PDF/SVG); ``None`` saves nothing [-].
+    close : bool
+        Release a saved figure from pyplot (it stays usable) [-].
+    """
     if path is None:
-        return None
+        return fig
     from ..io.atomic import atomic_path
 
     try:
         path = plot_file(path)
     except Exception:
-        pyplot().close(fig)
+        if close:
+            pyplot().close(fig)
         raise
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=130, bbox_inches="tight")
-    pyplot().close(fig)
-    return path
+    if close:
+        pyplot().close(fig)
+    return fig
+
+
+def finish(fig, path, own: bool):
+    """Lay out a figure the plot made, save it when ``path`` is given; return it.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure
+        The figure [-].
+    path : str or Path or None
+        Plot file [-].
+    own : bool
+        The plot made the figure (it lays it out and releases it once saved) [-].
+    """
+    if own:
+        fig.tight_layout()
+    return save(fig, path, close=own)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import pyplot, save
+from . import finish, panels
 
 #: Measured bins below this coherence are not drawn.
 MIN_COHERENCE = 0.5
@@ -12,7 +12,15 @@ UNITS = {"G_M": "rad/s/A", "G_T": "m/rad", "G_tcp": "-", "G_p": "-", "cmd_to_tcp
          "G_v": "-"}
 
 
-def plot_bode(curves, path=None, title=None):
+def _phase_deg(H) -> np.ndarray:
+    """Phase in (-180, 180] [deg], NaN after each jump across ±180 deg so that the line
+    breaks there rather than drawing the wrap as a vertical stroke."""
+    ph = np.degrees(np.angle(H))
+    jump = np.r_[False, np.abs(np.diff(ph)) > 180.0]
+    return np.where(jump, np.nan, ph)
+
+
+def plot_bode(curves, path=None, title=None, ax=None):
     """Magnitude (dB) and phase per transfer function, one column each.
 
     Parameters
@@ -25,11 +33,17 @@ def plot_bode(curves, path=None, title=None):
         Where to save [-].
     title : str, optional
         Figure title [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, two per transfer function (the magnitudes, then the phases);
+        a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
-    plt = pyplot()
     names = list(curves)
-    fig, axs = plt.subplots(2, len(names), figsize=(4.6 * len(names), 6.0), squeeze=False,
-                            sharex="col")
+    fig, axs, own = panels(ax, 2, len(names), figsize=(4.6 * len(names), 6.0), sharex="col")
     for k, name in enumerate(names):
         am, ap = axs[0, k], axs[1, k]
         for item in curves[name]:
@@ -38,7 +52,7 @@ def plot_bode(curves, path=None, title=None):
             if coh is not None:  # measured: hide bins the excitation did not reach
                 H = np.where(coh >= MIN_COHERENCE, H, np.nan)
             am.semilogx(f, 20 * np.log10(np.abs(H) + 1e-300), label=label, **style)
-            ap.semilogx(f, np.degrees(np.angle(H)), **style)
+            ap.semilogx(f, _phase_deg(H), **style)
             if coh is not None:
                 ac = am.twinx()
                 ac.semilogx(f, item[4], color="gray", lw=0.6, alpha=0.6)
@@ -56,5 +70,4 @@ def plot_bode(curves, path=None, title=None):
         am.legend(fontsize=7)
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)

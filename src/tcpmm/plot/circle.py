@@ -4,16 +4,63 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import SENSOR_STYLE, pyplot, save
+from . import SENSOR_STYLE, finish, panels
 
 
 def _auto_magnification(result) -> float:
+    """The largest 1-2-5 step that draws the largest radial error within a quarter of R."""
     emax = max(np.max(np.abs(s.radial_error)) for p in result.passes for s in p.sensors.values())
-    return float(10 ** np.floor(np.log10(0.25 * result.radius / max(emax, 1e-12))))
+    raw = 0.25 * result.radius / max(emax, 1e-12)
+    decade = 10 ** np.floor(np.log10(raw))
+    return float(max(k for k in (1, 2, 5, 10) if k * decade <= raw * (1 + 1e-9)) * decade)
+
+
+def _ring_step_um(lo_um: float, hi_um: float, min_step_um: float = 0.0) -> float:
+    """The smallest 1-2-5 ring spacing of at least ``min_step_um`` that gives at most four
+    intervals over ``lo_um``..``hi_um`` [µm]."""
+    span = max(hi_um - lo_um, 1e-3)
+    for step in (k * 10.0 ** e for e in range(-3, 6) for k in (1, 2, 5)):
+        if step >= min_step_um and span / step <= 4:
+            return step
+    return span
+
+
+def _scale_rings(ax, R, M, errors) -> None:
+    """Rings at whole steps of radial error about the nominal radius, labelled in µm, and
+    the magnification written on the plot.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        The panel [-].
+    R : float
+        Nominal radius [m].
+    M : float
+        Radial error magnification [-].
+    errors : list of ndarray
+        Radial errors drawn in the panel [m].
+    """
+    lo = min(0.0, *(float(np.min(e)) for e in errors)) * 1e6
+    hi = max(0.0, *(float(np.max(e)) for e in errors)) * 1e6
+    step = _ring_step_um(lo, hi, 0.08 * R / M * 1e6)  # rings at least 8 % of R apart
+    th = np.linspace(0, 2 * np.pi, 361)
+    label_at = np.radians(112.5)
+    for k in range(int(np.floor(lo / step)), int(np.ceil(hi / step)) + 1):
+        e_um = k * step
+        r = (R + M * e_um * 1e-6) * 1e3
+        if k:
+            ax.plot(r * np.cos(th), r * np.sin(th), color="0.55", lw=0.6, ls=(0, (2, 3)),
+                    zorder=1)
+        ax.annotate(f"{e_um:+g} µm" if k else "0 µm", (r * np.cos(label_at),
+                    r * np.sin(label_at)), ha="center", va="center", fontsize=7,
+                    color="0.3", bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
+                                           alpha=0.85), zorder=5)
+    ax.text(0.02, 0.98, f"radial error ×{M:g}\nrings every {step:g} µm", transform=ax.transAxes,
+            va="top", fontsize=8, bbox=dict(boxstyle="round", fc="white", ec="0.7"))
 
 
 def plot_circle(result, path=None, magnification=None, sensors=None, overlay=None,
-                title=None):
+                title=None, ax=None):
     """One polar panel per pass: ``R + M e`` for each sensor, quadrant points A-D.
 
     Parameters
@@ -21,7 +68,7 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
     result : CircleResult
         Analysis to show [-].
     path : str or Path, optional
-        Where to save (PNG/PDF/SVG); the figure is returned open when omitted [-].
+        Where to save (PNG/PDF/SVG) [-].
     magnification : float, optional
         Radial error magnification M; chosen automatically when omitted [-].
     sensors : list of str, optional
@@ -30,74 +77,101 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
         A second analysis (e.g. prediction) drawn dotted over the first [-].
     title : str, optional
         Figure title [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, one per pass in row order; a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
-    plt = pyplot()
     M = magnification or _auto_magnification(result)
     n = len(result.passes)
-    fig, axs = plt.subplots(1, n, figsize=(5.2 * n, 5.4), squeeze=False)
+    fig, axs, own = panels(ax, 1, n, figsize=(5.2 * n, 5.4))
     R = result.radius
-    for ax, p in zip(axs[0], result.passes, strict=True):
-        th = np.linspace(0, 2 * np.pi, 361)
-        ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
-        names = [s for s in (sensors or p.sensors) if s in p.sensors and s != "cmd"]
-        for s in names:
-            sc = p.sensors[s]
-            r = R + M * sc.radial_error
-            ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
-                    **SENSOR_STYLE[s])
-        if overlay is not None:
-            try:
-                po = overlay.pass_for(p.direction)
-            except Exception:  # no such direction in the overlay
-                po = None
-            if po is not None and "tcp" in po.sensors:
-                sc = po.sensors["tcp"]
-                r = R + M * sc.radial_error
-                ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
-                        color="tab:orange", ls="--", lw=1.2, label="Sim-TCP")
-        for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
-            a = np.radians(deg)
-            ax.annotate(q, (1.12 * R * np.cos(a) * 1e3, 1.12 * R * np.sin(a) * 1e3),
-                        ha="center", va="center", fontsize=12, fontweight="bold")
-        ax.set_aspect("equal")
-        ax.set_xlim(-1.3 * R * 1e3, 1.3 * R * 1e3)
-        ax.set_ylim(-1.3 * R * 1e3, 1.3 * R * 1e3)
-        ax.set_xlabel("X [mm]")
-        ax.set_ylabel("Y [mm]")
-        ax.set_title(f"{p.direction.upper()}  (radial error x{M:g})")
-        ax.grid(alpha=0.3)
-        ax.legend(loc="lower left", fontsize=7)
+    for a, p in zip(axs[0], result.passes, strict=True):
+        _circle_panel(a, p, R, M, sensors, overlay)
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)
 
 
-def plot_radial_error(result, path=None, overlay=None):
-    """Radial error against angle per pass and sensor [um vs deg]."""
-    plt = pyplot()
+def _circle_panel(ax, p, R, M, sensors, overlay):
+    """One pass: ``R + M e`` per sensor, the overlay's TCP dotted, µm scale rings, A-D."""
+    th = np.linspace(0, 2 * np.pi, 361)
+    ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
+    names = [s for s in (sensors or p.sensors) if s in p.sensors and s != "cmd"]
+    drawn = [p.sensors[s].radial_error for s in names]
+    for s in names:
+        sc = p.sensors[s]
+        r = R + M * sc.radial_error
+        ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
+                **SENSOR_STYLE[s])
+    if overlay is not None:
+        try:
+            po = overlay.pass_for(p.direction)
+        except Exception:  # no such direction in the overlay
+            po = None
+        if po is not None and "tcp" in po.sensors:
+            sc = po.sensors["tcp"]
+            r = R + M * sc.radial_error
+            ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
+                    color="tab:orange", ls="--", lw=1.2, label="Sim-TCP")
+            drawn.append(sc.radial_error)
+    _scale_rings(ax, R, M, drawn or [np.zeros(1)])
+    for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
+        a = np.radians(deg)
+        ax.annotate(q, (1.12 * R * np.cos(a) * 1e3, 1.12 * R * np.sin(a) * 1e3),
+                    ha="center", va="center", fontsize=12, fontweight="bold")
+    ax.set_aspect("equal")
+    ax.set_xlim(-1.3 * R * 1e3, 1.3 * R * 1e3)
+    ax.set_ylim(-1.3 * R * 1e3, 1.3 * R * 1e3)
+    ax.set_xlabel("X [mm]")
+    ax.set_ylabel("Y [mm]")
+    ax.set_title(f"{p.direction.upper()}: radial error ×{M:g}, rings in µm")
+    ax.legend(loc="lower left", fontsize=7)
+
+
+def plot_radial_error(result, path=None, overlay=None, ax=None):
+    """Radial error against angle per pass and sensor [um vs deg].
+
+    Parameters
+    ----------
+    result : CircleResult
+        Analysis to show [-].
+    path : str or Path, optional
+        Where to save (PNG/PDF/SVG) [-].
+    overlay : CircleResult, optional
+        A second analysis whose TCP error is drawn over the first [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, one per pass in row order; a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
+    """
     n = len(result.passes)
-    fig, axs = plt.subplots(n, 1, figsize=(9, 3.0 * n), squeeze=False)
-    for ax, p in zip(axs[:, 0], result.passes, strict=True):
+    fig, axs, own = panels(ax, n, 1, figsize=(9, 3.0 * n))
+    for a, p in zip(axs[:, 0], result.passes, strict=True):
         for s, sc in p.sensors.items():
             if s == "cmd":
                 continue
-            ax.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6, ".",
-                    ms=1.5, color=SENSOR_STYLE[s]["color"], label=SENSOR_STYLE[s]["label"])
+            a.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6, ".",
+                   ms=1.5, color=SENSOR_STYLE[s]["color"], label=SENSOR_STYLE[s]["label"])
         if overlay is not None:
             po = next((q for q in overlay.passes if q.direction == p.direction), None)
             if po is not None and "tcp" in po.sensors:
                 sc = po.sensors["tcp"]
-                ax.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6,
-                        ".", ms=1.5, color="tab:orange", label="Sim-TCP")
+                a.plot(np.degrees(np.mod(sc.angle_rad, 2 * np.pi)), sc.radial_error * 1e6,
+                       ".", ms=1.5, color="tab:orange", label="Sim-TCP")
         for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
-            ax.axvline(deg, color="gray", lw=0.6)
-            ax.text(deg + 2, ax.get_ylim()[1] if ax.lines else 0, q, va="top")
-        ax.set_xlim(0, 360)
-        ax.set_xlabel("angle from +X [deg]")
-        ax.set_ylabel("radial error [µm]")
-        ax.set_title(p.direction.upper())
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, markerscale=6)
-    fig.tight_layout()
-    return save(fig, path) or fig
+            a.axvline(deg, color="gray", lw=0.6)
+            a.text(deg + 2, a.get_ylim()[1] if a.lines else 0, q, va="top")
+        a.set_xlim(0, 360)
+        a.set_xlabel("angle from +X [deg]")
+        a.set_ylabel("radial error [µm]")
+        a.set_title(p.direction.upper())
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7, markerscale=6)
+    return finish(fig, path, own)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import pyplot, save
+from . import finish, panels
 
 STYLE = {"ccw": dict(color="tab:blue", label="CCW"), "cw": dict(color="tab:red", label="CW")}
 SUMMARY = (("backlash_{X}", "backlash {X}", 1e6, "µm"), ("backlash_{Y}", "backlash {Y}", 1e6, "µm"),
@@ -25,13 +25,15 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
     ax : matplotlib Axes, optional
         Where to draw; a new figure when omitted [-].
     path : str or Path, optional
-        Where to save (PNG/PDF/SVG); the figure is returned open when omitted [-].
+        Where to save (PNG/PDF/SVG) [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
-    plt = pyplot()
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(9, 4))
-    else:
-        fig = ax.figure
+    fig, axs, own = panels(ax, 1, 1, figsize=(9, 4))
+    ax = axs[0, 0]
     for d, (angle, e, model) in diag.curves.items():
         deg = np.degrees(np.mod(angle, 2 * np.pi))
         order = np.argsort(deg)
@@ -53,5 +55,4 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
     ax.set_title(f"circle diagnostics ({diag.sensor}): measured dots, fitted terms lines")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower left")
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)

@@ -4,20 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import pyplot, save
+from . import finish, panels
 
 
 def _axes(ax, rows: int):
-    if ax is not None:
-        axs = np.atleast_1d(ax)
-        if axs.size < rows:
-            raise ValueError(f"the plot needs {rows} axes, got {axs.size}")
-        return axs[0].figure, axs[:rows]
-    plt = pyplot()
-    ratios = [3, 2, 1.3][:rows]
-    fig, axs = plt.subplots(rows, 1, figsize=(7.0, 2.2 + 1.7 * rows), sharex=True,
-                            gridspec_kw={"height_ratios": ratios})
-    return fig, axs
+    fig, axs, own = panels(ax, rows, 1, figsize=(7.0, 2.2 + 1.7 * rows), sharex=True,
+                           gridspec_kw={"height_ratios": [3, 2, 1.3][:rows]})
+    return fig, axs[:, 0], own
 
 
 def _finish(fig, axs, title, path, own):
@@ -26,10 +19,7 @@ def _finish(fig, axs, title, path, own):
     axs[-1].set_xlabel("frequency [Hz]")
     if title:
         axs[0].set_title(title)
-    if own:
-        fig.tight_layout()
-        return save(fig, path) or fig
-    return fig
+    return finish(fig, path, own)
 
 
 def plot_frf(frf, path=None, ax=None, title=None):
@@ -46,7 +36,7 @@ def plot_frf(frf, path=None, ax=None, title=None):
     title : str, optional
         Title [-].
     """
-    fig, axs = _axes(ax, 3)
+    fig, axs, own = _axes(ax, 3)
     f = frf.freq_hz
     axs[0].semilogx(f, frf.magnitude_db, color="tab:blue", lw=1.0, label="measured")
     axs[1].semilogx(f, np.degrees(np.angle(frf.H)), color="tab:blue", lw=1.0)
@@ -57,7 +47,7 @@ def plot_frf(frf, path=None, ax=None, title=None):
     axs[2].set_ylabel("coherence [-]")
     axs[2].set_ylim(0, 1.05)
     name = f"{frf.name}: {frf.output} / {frf.input}" if frf.input else frf.name
-    return _finish(fig, axs, title or name, path, ax is None)
+    return _finish(fig, axs, title or name, path, own)
 
 
 def plot_frf_fit(f_hz, H, H_fit, coherence=None, band_hz=None, path=None, ax=None,
@@ -83,7 +73,7 @@ def plot_frf_fit(f_hz, H, H_fit, coherence=None, band_hz=None, path=None, ax=Non
     title : str, optional
         Title [-].
     """
-    fig, axs = _axes(ax, 3)
+    fig, axs, own = _axes(ax, 3)
     db = lambda h: 20 * np.log10(np.abs(h) + 1e-300)  # noqa: E731
     axs[0].semilogx(f_hz, db(H), color="tab:blue", lw=1.0, label="measured")
     axs[0].semilogx(f_hz, db(H_fit), color="tab:red", lw=1.2, ls="--", label="fit")
@@ -105,4 +95,4 @@ def plot_frf_fit(f_hz, H, H_fit, coherence=None, band_hz=None, path=None, ax=Non
     axs[2].set_ylabel("residual [dB]")
     axs[0].legend(fontsize=7)
     axs[2].legend(fontsize=7)
-    return _finish(fig, axs, title, path, ax is None)
+    return _finish(fig, axs, title, path, own)

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from . import pyplot, save
+from . import finish, panels
 
 
-def plot_sweep(record, R_L, path=None, title=None):
+def plot_sweep(record, R_L, path=None, title=None, ax=None):
     """Excitation and the three position responses against time, ramp removed [µm].
 
     Parameters
@@ -18,31 +18,38 @@ def plot_sweep(record, R_L, path=None, title=None):
         Where to save [-].
     title : str, optional
         Title [-].
+    ax : array-like of matplotlib Axes, optional
+        Axes to draw into, one per signal (excitation, motor, scale and, when recorded,
+        TCP); a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
     import numpy as np
 
-    plt = pyplot()
     t = record.time_s
     rows = [("excitation [A]", record.excitation_A, 1.0),
             ("X_m (motor) [µm]", record.motor_angle_rad * R_L, 1e6),
             ("X_LS (scale) [µm]", record.scale_m, 1e6)]
     if record.tcp_m is not None:
         rows.append(("X_TCP [µm]", record.tcp_m, 1e6))
-    fig, axs = plt.subplots(len(rows), 1, figsize=(10, 1.9 * len(rows)), sharex=True)
-    for ax, (label, y, k) in zip(axs, rows, strict=True):
+    fig, axs, own = panels(ax, len(rows), 1, figsize=(10, 1.9 * len(rows)), sharex=True)
+    axs = axs[:, 0]
+    for a, (label, y, k) in zip(axs, rows, strict=True):
         if k != 1.0:
             y = y - np.polyval(np.polyfit(t, y, 1), t)
-        ax.plot(t, y * k, lw=0.4)
-        ax.set_ylabel(label, fontsize=8)
-        ax.grid(alpha=0.3)
+        a.plot(t, y * k, lw=0.4)
+        a.set_ylabel(label, fontsize=8)
+        a.grid(alpha=0.3)
     axs[-1].set_xlabel("time [s]")
     if title:
         axs[0].set_title(title)
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)
 
 
-def plot_lost_motion(estimate, path=None, title=None):
+def plot_lost_motion(estimate, path=None, title=None, ax=None):
     """Nut deflection of the constant-speed plateaus against speed, measured and fitted,
     forward and back on a logarithmic speed axis.
 
@@ -54,12 +61,19 @@ def plot_lost_motion(estimate, path=None, title=None):
         Where to save [-].
     title : str, optional
         Title [-].
+    ax : matplotlib Axes, optional
+        Axes to draw into; a new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
     import numpy as np
 
-    plt = pyplot()
     e = estimate
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, axs, own = panels(ax, 1, 1, figsize=(7, 4))
+    ax = axs[0, 0]
     for sign, label, color in ((1, "forward", "tab:blue"), (-1, "back", "tab:orange")):
         sel = np.flatnonzero(np.sign(e.velocity) == sign)
         sel = sel[np.argsort(np.abs(e.velocity[sel]))]
@@ -79,5 +93,4 @@ def plot_lost_motion(estimate, path=None, title=None):
               title_fontsize=8)
     ax.set_title(title or ("split determined" if e.determined else "split not determined"),
                  fontsize=9)
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)

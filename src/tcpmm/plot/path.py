@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import pyplot, save
+from . import finish, panels
 
 
-def plot_command(cmd, path=None):
+def plot_command(cmd, path=None, ax=None):
     """Path in the XY plane and per-axis position and velocity against time.
 
     Parameters
@@ -15,10 +15,18 @@ def plot_command(cmd, path=None):
     cmd : Command
         The command [-].
     path : str or Path, optional
-        Where to save [-].
+        Where to save (PNG/PDF/SVG) [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, three (XY path, position, velocity); a new figure when
+        omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
-    plt = pyplot()
-    fig, axs = plt.subplots(1, 3, figsize=(14, 4.2))
+    fig, axs, own = panels(ax, 1, 3, figsize=(14, 4.2))
+    axs = axs[0]
     P = cmd.positions
     if "X" in P and "Y" in P:
         axs[0].plot(P["X"] * 1e3, P["Y"] * 1e3, lw=1)
@@ -35,5 +43,4 @@ def plot_command(cmd, path=None):
         a.legend()
     for a in axs:
         a.grid(alpha=0.3)
-    fig.tight_layout()
-    return save(fig, path) or fig
+    return finish(fig, path, own)

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from . import pyplot
+from . import finish, panels
 
 
-def plot_sweep(table, ax=None, x: str | None = None, y: str = "spike_max_um"):
+def plot_sweep(table, ax=None, x: str | None = None, y: str = "spike_max_um", path=None):
     """One point per variant: ``y`` against ``x``.
 
     Parameters
@@ -18,11 +18,13 @@ def plot_sweep(table, ax=None, x: str | None = None, y: str = "spike_max_um"):
         Parameter column; default the first one, or the index [-].
     y : str
         Metric column [um].
+    path : str or Path, optional
+        Where to save (PNG/PDF/SVG) [-].
 
     Returns
     -------
-    matplotlib.axes.Axes
-        The axes drawn on [-].
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
     from ..errors import InputError
 
@@ -32,10 +34,10 @@ def plot_sweep(table, ax=None, x: str | None = None, y: str = "spike_max_um"):
     if x is None:
         params = [c for c in table.columns if "." in c]
         x = params[0] if params else "index"
-    if ax is None:
-        _, ax = pyplot().subplots(figsize=(5.0, 3.6))
+    fig, axs, own = panels(ax, 1, 1, figsize=(5.0, 3.6))
+    ax = axs[0, 0]
     ax.plot(table[x], table[y], "o", ms=3)
     ax.set_xlabel(x)
     ax.set_ylabel(y.replace("_um", " [um]"))
     ax.grid(alpha=0.3)
-    return ax
+    return finish(fig, path, own)

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from . import SENSOR_STYLE, pyplot, save
+from . import SENSOR_STYLE, finish, panels
 
 
-def plot_run(run, path=None, axes=None):
+def plot_run(run, path=None, axes=None, ax=None):
     """Per axis: command and deviations (sensor - command) of motor, scale and TCP [µm].
 
     Parameters
@@ -15,12 +15,18 @@ def plot_run(run, path=None, axes=None):
     path : str or Path, optional
         Where to save [-].
     axes : list of str, optional
-        Axes to show, default all [-].
+        Machine axes to show, default all [-].
+    ax : matplotlib Axes or array-like of Axes, optional
+        Axes to draw into, two per machine axis (command, deviations) in row order; a
+        new figure when omitted [-].
+
+    Returns
+    -------
+    matplotlib Figure
+        The figure (saved too when ``path`` is given) [-].
     """
-    plt = pyplot()
     names = [a.upper() for a in (axes or run.axes)]
-    fig, axs = plt.subplots(len(names), 2, figsize=(12, 2.6 * len(names)), squeeze=False,
-                            sharex=True)
+    fig, axs, own = panels(ax, len(names), 2, figsize=(12, 2.6 * len(names)), sharex=True)
     t = run.time_s
     for k, name in enumerate(names):
         a = run.axes[name]
@@ -33,9 +39,8 @@ def plot_run(run, path=None, axes=None):
                                label=SENSOR_STYLE[s]["label"])
         axs[k, 1].set_ylabel(f"{name} sensor - command [µm]")
         axs[k, 1].legend(fontsize=7, loc="upper right")
-        for ax in axs[k]:
-            ax.grid(alpha=0.3)
-    for ax in axs[-1]:
-        ax.set_xlabel("time [s]")
-    fig.tight_layout()
-    return save(fig, path) or fig
+        for a in axs[k]:
+            a.grid(alpha=0.3)
+    for a in axs[-1]:
+        a.set_xlabel("time [s]")
+    return finish(fig, path, own)

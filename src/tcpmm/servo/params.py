@@ -1,4 +1,4 @@
-"""Parameters of the discrete cascade servo of one axis (physics.md section 3)."""
+"""Parameters of the discrete cascade servo of one axis (docs/model.md section 3)."""
 
 from __future__ import annotations
 
@@ -115,7 +115,7 @@ class ServoParams(BaseModel):
     @classmethod
     def tuned(cls, J_total: float, K_tc: float, bandwidth_hz: float = 80.0,
               integral_corner_hz: float = 20.0, K_pp: float = 40.0, **kw) -> ServoParams:
-        """Velocity loop tuned for a bandwidth on a rigid inertia (physics.md section 5).
+        """Velocity loop tuned for a bandwidth on a rigid inertia (docs/model.md section 5).
 
         Parameters
         ----------

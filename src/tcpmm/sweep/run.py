@@ -74,11 +74,23 @@ class SweepResult:
 
         return pd.read_csv(self.summary, keep_default_na=False, na_values=[""])
 
-    def plot(self, ax=None, x: str | None = None, y: str = "spike_max_um"):
-        """One metric against one parameter, a point per variant [-]."""
+    def plot(self, ax=None, path=None, x: str | None = None, y: str = "spike_max_um"):
+        """One metric against one parameter, a point per variant; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        x : str, optional
+            Parameter column, default the first [-].
+        y : str
+            Metric column [um].
+        """
         from ..plot.sweep import plot_sweep
 
-        return plot_sweep(self.to_pandas(), ax=ax, x=x, y=y)
+        return plot_sweep(self.to_pandas(), ax=ax, x=x, y=y, path=path)
 
 
 def check_design(machine, program, variants) -> None:

@@ -94,7 +94,7 @@ def read_results(out_dir):
     Returns
     -------
     pandas.DataFrame
-        The rows [file units: um, and each parameter's own] [-].
+        The rows, in file units (um, and each parameter's own) [-].
     """
     import pandas as pd
 

@@ -23,7 +23,7 @@ schemes give the published figures to about three digits; as the step shrinks, v
 and force converge to 0.2296 % and 5.852 %, which is what the closed-form simulation gives
 at any number of sub-steps. The published velocity and force figures are therefore those
 of an integration that has not converged, 0.2 % and 0.1 % below the model's own value.
-``examples/emps.py`` therefore reports the reference model integrated as published
+``docs/validation/emps.py`` therefore reports the reference model integrated as published
 (Dormand-Prince, steps of T/10) and, beside it, converged.
 The acceleration of a chattering integration does not converge at all (the sampled
 acceleration jumps by ``2 Fc / M`` wherever the velocity changes sign); with the rest
@@ -31,7 +31,7 @@ phase solved exactly it is 8.01 %.
 
 Usage::
 
-    python examples/emps_numerics.py --estimation DATA_EMPS.mat [--json]
+    python docs/validation/emps_numerics.py --estimation DATA_EMPS.mat [--json]
 """
 
 from __future__ import annotations
@@ -53,6 +53,7 @@ from emps import (
     relative_errors,
     simulate,
 )
+
 from tcpmm.errors import InputError
 
 #: Sub-steps per sample of the study.

@@ -31,7 +31,7 @@ are run through the same models (identified on the estimation file).
 
 Usage::
 
-    python examples/emps.py --estimation DATA_EMPS.mat [--validation DATA_EMPS_PULSES.mat]
+    python docs/validation/emps.py --estimation DATA_EMPS.mat [--validation DATA_EMPS_PULSES.mat]
                             [--json] [--plot FIGURE.png]
 """
 
@@ -725,7 +725,7 @@ def _print_table(report):
                   f"{e['acceleration']:9.4f} {e['force']:9.4f}")
         print("(reference: sign(v) by Dormand-Prince steps of T/10 as published, on the data's "
               "time base; published script: also its tec = t(10) - t(9);\n converged: the "
-              "same model solved exactly, examples/emps_numerics.py shows the step study)")
+              "same model solved exactly, docs/validation/emps_numerics.py shows the step study)")
     print(f"\nbest model (beats the reference on velocity and force): {report['best_model']}")
 
 

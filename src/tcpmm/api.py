@@ -1,0 +1,183 @@
+"""The steps of the public API that are more than one existing function: reading a model
+from wherever it is given, identifying a bundle from its folder, simulating a program
+file, comparing two runs. Everything is imported when called, so that ``import tcpmm``
+stays cheap."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def load_model(source):
+    """A machine model from a model file, ``builtin:vmc``, or a Machine.
+
+    Parameters
+    ----------
+    source : str or Path or Machine
+        Model file (docs/formats.md), ``builtin:NAME``, or a machine, returned as it
+        is [-].
+
+    Returns
+    -------
+    Machine
+        The model, SI inside [-].
+    """
+    from .model import Machine
+
+    if isinstance(source, Machine):
+        return source
+    from .io.modelfile import read_machine
+
+    return read_machine(source)
+
+
+def save_model(machine, path) -> Path:
+    """Write a model file atomically.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [-].
+    path : str or Path
+        Model file (YAML) [-].
+
+    Returns
+    -------
+    Path
+        The file written [-].
+    """
+    from .io.modelfile import write_machine
+
+    write_machine(machine, path)
+    return Path(path)
+
+
+def as_command(command, machine=None):
+    """A position command from a Command, an NC program file or a command CSV.
+
+    Parameters
+    ----------
+    command : Command or str or Path
+        The command itself, an NC program (``.nc``, ``.ngc``, ...; interpolated with the
+        machine's interpolator settings) or a command file (``time_s, x_mm, ...``) [-].
+    machine : Machine, optional
+        Whose interpolator settings interpolate a program [-].
+
+    Returns
+    -------
+    Command
+        Interpolated position command [m].
+    """
+    from .path import Command, InterpolatorSettings, program_to_command, read_command_csv
+    from .path.program import PROGRAM_SUFFIXES
+
+    if isinstance(command, Command):
+        return command
+    path = Path(command)
+    if path.suffix.lower() not in PROGRAM_SUFFIXES:
+        return read_command_csv(path)
+    interp = getattr(machine, "interpolation", None)
+    settings = (InterpolatorSettings.model_validate(interp) if interp is not None
+                else InterpolatorSettings())
+    return program_to_command(path, settings)
+
+
+def simulate(machine, command, record_period_s=None, progress=None):
+    """Run a machine model on a position command: every sensor of every axis.
+
+    Parameters
+    ----------
+    machine : Machine or str or Path
+        The model, a model file or ``builtin:vmc`` [-].
+    command : Command or str or Path
+        The command, an NC program file or a command CSV (:func:`as_command`) [-].
+    record_period_s : float, optional
+        Output period, default the interpolation period [s].
+    progress : callable, optional
+        Called with ``(axis_name, done, total)`` after each axis [-].
+
+    Returns
+    -------
+    Run
+        Command, motor encoder, linear scale, TCP and current per axis [SI].
+    """
+    from .simulate import simulate as _simulate
+
+    m = load_model(machine)
+    return _simulate(m, as_command(command, m), record_period_s=record_period_s,
+                     progress=progress)
+
+
+def identify(bundle, band_hz=None, guideway_share=None, presliding_m=None,
+             accept_suspect=False, progress=None):
+    """Identify every axis of a measurement bundle into a model.
+
+    Parameters
+    ----------
+    bundle : str or Path or Bundle
+        Bundle folder (docs/formats.md), or a bundle read by :func:`read_bundle` [-].
+    band_hz : tuple of float, optional
+        ``(f0, f1)`` band of the frequency responses; default the excitation's [Hz].
+    guideway_share : float, optional
+        Share of the friction put on the guideway; default from the friction runs [-].
+    presliding_m : float, optional
+        Pre-sliding displacement of the friction contacts, ``0`` for static friction;
+        default :data:`tcpmm.ident.presliding.PRESLIDING` [m].
+    accept_suspect : bool
+        Return a model the gates find physically suspect, marked, instead of raising [-].
+    progress : callable, optional
+        Called with the axis name after each axis [-].
+
+    Returns
+    -------
+    Identification
+        ``.machine`` (the model), per-axis fits, ``.to_dict()`` (the report) and
+        ``.write_report(folder)`` (plots and tables) [-].
+    """
+    from .ident.pipeline import identify_bundle
+    from .ident.presliding import PRESLIDING
+    from .io.bundle import Bundle, read_bundle
+
+    b = bundle if isinstance(bundle, Bundle) else read_bundle(bundle)
+    f0, f1 = band_hz if band_hz is not None else (None, None)
+    return identify_bundle(b, f0, f1, progress=progress, guideway_share=guideway_share,
+                           presliding=PRESLIDING if presliding_m is None else presliding_m,
+                           accept_suspect=accept_suspect)
+
+
+def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
+    """Measured minus predicted circular test (the paper's Table 2).
+
+    Parameters
+    ----------
+    measured, predicted : Run or CircleResult or str or Path
+        Runs, run files, or their analyses (:func:`analyse_circle`) [-].
+    radius_m : float, optional
+        Nominal radius; default that of an analysis given [m].
+    centre_m : tuple of float
+        Nominal centre, with ``radius_m`` [m].
+
+    Returns
+    -------
+    Comparison
+        Spike and contour-error differences per direction and sensor, the sign flips,
+        ``.plot()`` of the two circles [-].
+    """
+    from .analysis.circular import CircleResult, analyse_circle
+    from .analysis.compare import compare_circles
+    from .errors import InputError
+    from .io.runfile import read_run_csv
+
+    given = [r for r in (measured, predicted) if isinstance(r, CircleResult)]
+    if radius_m is None and given:
+        radius_m, centre_m = given[0].radius, given[0].centre
+
+    def analysed(r):
+        if isinstance(r, CircleResult):
+            return r
+        if radius_m is None:
+            raise InputError("compare needs radius_m [m] to analyse a run")
+        run = read_run_csv(r) if isinstance(r, (str, Path)) else r
+        return analyse_circle(run, radius_m, centre_m)
+
+    return compare_circles(analysed(measured), analysed(predicted))

@@ -1,0 +1,114 @@
+"""The report command: one self-contained HTML commissioning report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ._app import _floats, _in_file, _positive, _read_model, _report_file, app, out
+
+
+@app.command()
+def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"),
+           model: str = typer.Option(None, "--model", help="MODEL.yaml or builtin:vmc: the "
+                                     "machine and model summary."),
+           ident_dir: Path = typer.Option(None, "--ident-dir", help="Folder written by "
+                                          "tcpmm identify BUNDLE -o MODEL.yaml --report DIR."),
+           runs: list[str] = typer.Option(
+               None, "--run", metavar="RUN.csv",
+               help="RUN.csv of a circular test, with the diagnostics when it holds a CCW "
+                    "and a CW circle; RUN_CCW.csv,RUN_CW.csv: two runs diagnosed together; "
+                    "repeat for more tests."),
+           measured: list[Path] = typer.Option(
+               None, "--measured", metavar="RUN.csv",
+               help="Measured RUN.csv of a circle; with --predicted."),
+           predicted: list[Path] = typer.Option(
+               None, "--predicted", metavar="RUN.csv",
+               help="Predicted RUN.csv of the same circle; one per --measured."),
+           radius: float = typer.Option(None, "--radius", help="Nominal radius of the "
+                                        "circles [mm]."),
+           centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+           spread: Path = typer.Option(None, "--spread", help="SPREAD.json: tcpmm spread "
+                                       "--json > SPREAD.json, or the demo's spread.json."),
+           title: str = typer.Option("Commissioning report", "--title", help="Page title.")):
+    """One self-contained HTML file: model, identification, circular tests with their
+    diagnostics, measured - predicted (Table 2) and spread; a section for each input given.
+    It opens with no network; every table downloads as CSV from the page."""
+    from ..report import (
+        identification_section,
+        model_section,
+        read_identification_folder,
+        spread_section,
+        write_report,
+    )
+    from ..report.circles import read_spread_json
+
+    runs = [[Path(f) for f in r.split(",")] for r in runs or []]
+    measured, predicted = measured or [], predicted or []
+    if any(len(r) > 2 or not all(str(f) for f in r) for r in runs):
+        raise typer.BadParameter("--run takes RUN.csv or RUN_CCW.csv,RUN_CW.csv")
+    _report_file(output, model, ident_dir, spread, *(f for r in runs for f in r), *measured,
+                 *predicted)
+    if len(measured) != len(predicted):
+        raise typer.BadParameter(f"give one --predicted per --measured (got {len(measured)} "
+                                 f"--measured and {len(predicted)} --predicted)")
+    if (runs or measured) and radius is None:
+        raise typer.BadParameter("--radius [mm] is needed with --run and --measured")
+    if not (model or ident_dir or runs or measured or spread):
+        raise typer.BadParameter("nothing to report: give --model, --ident-dir, --run, "
+                                 "--measured/--predicted or --spread")
+    sections, inputs = [], []
+    if model is not None:
+        sections.append(model_section(_read_model(model), model))
+        inputs.append(("model", model))
+    if ident_dir is not None:
+        sections.append(identification_section(*read_identification_folder(ident_dir)))
+        inputs.append(("identification", ident_dir))
+    if runs or measured:
+        c = _floats(centre, "--centre", 2)
+        circle = (_positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
+        sections += _run_sections(runs, circle)
+        sections += [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
+                                 f"comparison-{i + 1}")
+                     for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
+        inputs += [("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
+    if spread is not None:
+        sections.append(spread_section(read_spread_json(spread)))
+        inputs.append(("spread", spread))
+    write_report(output, sections, title, inputs)
+    out.print(f"wrote {output} ({', '.join(t for _, t, _ in sections)})")
+
+
+def _circle(path: Path, circle):
+    """The circular test of one run file."""
+    from ..analysis.circular import analyse_circle
+    from ..io.runfile import read_run_csv
+
+    run = read_run_csv(path)
+    with _in_file(path):
+        return analyse_circle(run, *circle)
+
+
+def _run_sections(runs, circle) -> list:
+    """A circle section per run or pair of runs; keys numbered when there are several."""
+    from ..analysis.circular import CircleResult
+    from ..report import circle_test_section
+
+    sections = []
+    for i, files in enumerate(runs):
+        res = [_circle(f, circle) for f in files]
+        both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes])
+        sections.append(circle_test_section(
+            both, "circle" if len(runs) == 1 else f"circle-{i + 1}",
+            f"Circular test: {' and '.join(f.name for f in files)}", files))
+    return sections
+
+
+def _comparison(measured: Path, predicted: Path, circle, key: str):
+    """Measured minus predicted of one pair of runs."""
+    from ..analysis.compare import compare_circles
+    from ..report import comparison_section
+
+    rm, rp = _circle(measured, circle), _circle(predicted, circle)
+    return comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)

@@ -1,0 +1,304 @@
+"""Pre-sliding distance and bristle damping from the reversals of the friction runs.
+
+Where a friction run turns round at a slow plateau speed, the motor current swings from
+the friction of one direction to that of the other while the axis travels a few
+micrometres: the contacts deform elastically (pre-sliding) before they slide back. The
+motor encoder resolves that travel (nanometres per count) and the current gives the force,
+so the reversals determine how far a contact travels while its force builds up.
+
+The model is quasi-static and driven by the measured motion, in table units
+(``R = lead / 2 pi``):
+
+- the screw contact moves with the screw, ``s_L = R th_m - R^2 F_m / K_L`` (torsion);
+- the nut force is what the motor force leaves after the screw friction and the
+  inertia and damping of motor and screw, ``F_n = F_m - F_s - (J_m + J_L) a / R^2 -
+  (B_m + B_L) v / R^2``, and the guideway contact moves with the table,
+  ``x_t = s_L - F_n / K_t``;
+- the predicted motor force is ``F_s(s_L) + F_g(x_t) + (J_m + J_L) a / R^2 +
+  (B_m + B_L) v / R^2 + M_t a + C_t v``, with ``F_m = K_tc i / R`` measured.
+
+Both contacts are LuGre contacts (:func:`tcpmm.ident.presliding.with_presliding`) with the
+identified levels and Stribeck curve; one pre-sliding distance ``z`` (``sigma0 = Fs / z``)
+and one bristle damping ratio ``zeta`` (``sigma1 = 2 zeta sqrt(sigma0 M_t)``, fading with
+speed) are fitted by bounded least squares to the motor force in a window around every
+reversal (from :data:`PRE` before the turning point to :data:`POST` after it).
+
+One distance for both contacts: the two contacts give force-travel curves of nearly the
+same shape, and on records of an independent simulator a separate distance per contact
+came out with screw and guideway interchanged, so the data are not taken to separate them.
+The encoder position is smoothed over :data:`SMOOTH_S` before it drives the contacts
+(a LuGre contact ratchets on encoder noise) and the motor force over
+:data:`FORCE_SMOOTH_S` before it deflects the springs.
+
+The standard deviations come from the Jacobian, inflated by the correlation time of the
+residual. The fit counts as not determined, and the caller keeps its prior, when fewer
+than :data:`MIN_REVERSALS` reversals are slow enough, when the encoder step at the table
+is more than :data:`MAX_QUANTUM_REL` of the distance, when the force residual exceeds
+:data:`MAX_MISFIT` times the noise of the measured force (the reversals do not follow the
+model: stick-slip, or a turn within a few samples), when the distance is uncertain by
+more than :data:`MAX_LOG_STD` (in its logarithm) or when it ends on a bound.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .presliding import with_presliding
+
+__all__ = ["PreslidingFit", "fit_presliding"]
+
+#: Travel before the turning point that the window starts at [m].
+PRE = 20e-6
+#: Travel after the turning point that the window ends at [m].
+POST = 40e-6
+#: Speed above which the axis counts as moving, for finding the turning points [m/s].
+MOVING_SPEED = 0.2e-3
+#: Smoothing span of the encoder position that drives the contacts [s].
+SMOOTH_S = 0.015
+#: Smoothing span of the motor force that deflects torsion and nut springs [s].
+FORCE_SMOOTH_S = 0.031
+#: Bounds of the pre-sliding distance [m].
+BOUNDS = (0.05e-6, 15e-6)
+#: Bounds of the bristle damping ratio [-].
+ZETA_BOUNDS = (0.0, 2.0)
+#: Fewest reversals the fit rests on [-].
+MIN_REVERSALS = 2
+#: Largest standard deviation of the logarithm of the distance for it to count [-].
+MAX_LOG_STD = 0.35
+#: Largest encoder step, at the table, against the fitted distance [-].
+MAX_QUANTUM_REL = 0.1
+#: Largest ratio of the force residual to the force noise for the model to count [-].
+MAX_MISFIT = 1.5
+
+
+@dataclass(frozen=True)
+class PreslidingFit:
+    """Pre-sliding of an axis's contacts fitted to its friction-run reversals.
+
+    Parameters
+    ----------
+    presliding : float
+        Pre-sliding distance of both contacts at the static level [m].
+    presliding_std : float
+        Its standard deviation [m].
+    damping_ratio : float
+        Bristle damping ratio against the table mass [-].
+    damping_ratio_std : float
+        Its standard deviation [-].
+    reversals : int
+        Reversals the fit used [-].
+    rms_force : float
+        Root mean square of the force residual [N].
+    noise_force : float
+        Sample-to-sample noise of the measured motor force in the windows [N].
+    determined : bool
+        The reversals determine the distance; when ``False`` see ``reason`` [-].
+    reason : str
+        Why the fit does not count, or ``""`` [-].
+    """
+
+    presliding: float
+    presliding_std: float
+    damping_ratio: float
+    damping_ratio_std: float
+    reversals: int
+    rms_force: float
+    noise_force: float
+    determined: bool
+    reason: str = ""
+
+    def to_dict(self) -> dict:
+        """The fit as plain numbers (SI) for JSON reports [-]."""
+        return {"presliding_m": self.presliding, "presliding_std_m": self.presliding_std,
+                "damping_ratio": self.damping_ratio,
+                "damping_ratio_std": self.damping_ratio_std, "reversals": self.reversals,
+                "rms_force_N": self.rms_force, "noise_force_N": self.noise_force,
+                "determined": self.determined,
+                "reason": self.reason}
+
+
+def _odd(n: float) -> int:
+    k = max(5, round(n))
+    return k if k % 2 else k + 1
+
+
+def _quantum(x) -> float:
+    """Smallest step of a quantised signal, from its nonzero sample differences [as x]."""
+    d = np.abs(np.diff(x))
+    d = d[d > 0.0]
+    return float(np.min(d)) if d.size else 0.0
+
+
+def _motion(record, mech):
+    """Time step, smoothed table-unit motor position, velocity, acceleration, forces."""
+    from scipy.signal import savgol_filter
+
+    t = np.asarray(record.time_s, float)
+    h = float(np.median(np.diff(t)))
+    R = mech.lead / (2.0 * math.pi)
+    s_raw = np.asarray(record.motor_angle_rad, float) * R
+    fm = mech.K_tc * np.asarray(record.current_cmd_A, float) / R
+    return {
+        "h": h, "R": R, "fm": fm, "quantum": _quantum(s_raw),
+        "s": savgol_filter(s_raw, _odd(SMOOTH_S / h), 2),
+        "v": savgol_filter(s_raw, _odd(0.011 / h), 3, deriv=1, delta=h),
+        "a": savgol_filter(s_raw, _odd(0.021 / h), 3, deriv=2, delta=h),
+        "fms": savgol_filter(fm, _odd(FORCE_SMOOTH_S / h), 2),
+    }
+
+
+def _turning_points(s, v):
+    """Indices where the motion turns from one direction to the other [-]."""
+    moving = np.where(np.abs(v) > MOVING_SPEED, np.sign(v), 0.0)
+    idx = np.flatnonzero(moving)
+    out = []
+    for a, b in itertools.pairwise(idx):
+        if moving[a] != moving[b]:
+            seg = s[a:b + 1]
+            out.append(a + int(np.argmax(seg) if moving[a] > 0 else np.argmin(seg)))
+    return out
+
+
+def _windows(s, v, margin: int):
+    """Sample ranges ``(a, b)`` from PRE before to POST after each turning point [-]."""
+    out = []
+    for k in _turning_points(s, v):
+        a = k
+        while a > margin and abs(s[a] - s[k]) < PRE:
+            a -= 1
+        b = k
+        while b < len(s) - 1 and abs(s[b] - s[k]) < POST:
+            b += 1
+        if a > margin and b < len(s) - 1 and abs(s[b] - s[k]) >= POST:
+            out.append((a, b))
+    return out
+
+
+def _contact_force(contact, path, h):
+    from ..mechanics.friction import friction_params_array
+    from ..sim.pathforce import contact_force_along_path
+
+    if contact is None:
+        return np.zeros_like(path)
+    return contact_force_along_path(path, h, friction_params_array(contact))
+
+
+def _residual(m, windows, fr, mech, margin: int) -> np.ndarray:
+    """Measured minus predicted motor force over every window [N]."""
+    R, h = m["R"], m["h"]
+    drive = (mech.J_m + mech.J_L) / R**2
+    drive_c = (mech.B_m + mech.B_L) / R**2
+    out = []
+    for a, b in windows:
+        sl = slice(a - margin, b + 1)
+        fms, v, acc = m["fms"][sl], m["v"][sl], m["a"][sl]
+        s_L = m["s"][sl] - R**2 / mech.K_L * fms
+        f_s = _contact_force(fr.screw, s_L, h)
+        f_n = fms - drive * acc - drive_c * v - f_s
+        f_g = _contact_force(fr.guideway, s_L - f_n / mech.K_t, h)
+        pred = f_s + f_g + (drive + mech.M_t) * acc + (drive_c + mech.C_t) * v
+        out.append((m["fm"][sl] - pred)[margin:])
+    return np.concatenate(out)
+
+
+def _force_noise(fm, windows) -> float:
+    """Noise of the motor force from its sample-to-sample differences (robust) [N]."""
+    d = np.concatenate([np.diff(fm[a:b + 1]) for a, b in windows])
+    return float(np.median(np.abs(d)) / (0.6745 * math.sqrt(2.0)))
+
+
+def _inflation(r: np.ndarray, lags: int = 30) -> float:
+    """Variance inflation of a mean over correlated residuals, ``1 + 2 sum rho_k`` [-]."""
+    r = r - r.mean()
+    var = float(r @ r)
+    if var <= 0.0:
+        return 1.0
+    rho = [float(r[:-k] @ r[k:]) / var for k in range(1, min(lags, len(r) // 4) + 1)]
+    return max(1.0, 1.0 + 2.0 * sum(rho))
+
+
+def _not_determined(reason: str, reversals: int = 0) -> PreslidingFit:
+    nan = float("nan")
+    return PreslidingFit(nan, nan, nan, nan, reversals, nan, nan, False, reason)
+
+
+def _solve(fun, lo, hi):
+    """Bounded least squares from two starts; the lower cost wins (deterministic)."""
+    from scipy.optimize import least_squares
+
+    best = None
+    for z0 in (1e-6, 5e-6):
+        r = least_squares(fun, [math.log(z0), 0.3], bounds=(lo, hi), diff_step=1e-3,
+                          x_scale=[1.0, 0.3])
+        if best is None or r.cost < best.cost:
+            best = r
+    return best
+
+
+def fit_presliding(record, mechanics, friction) -> PreslidingFit:
+    """Fit one pre-sliding distance and bristle damping to the friction-run reversals.
+
+    Parameters
+    ----------
+    record : tcpmm.io.records.FrictionRecord
+        Friction runs of the axis: time, current command, motor angle [SI].
+    mechanics : tcpmm.mechanics.params.AxisMechanics
+        Identified mechanics (inertias, damping, ``K_L``, ``K_t``, ``M_t``, ``K_tc``)
+        [SI].
+    friction : tcpmm.model.AxisFriction
+        Identified friction: levels, Stribeck curve and share of the two contacts [SI].
+
+    Returns
+    -------
+    PreslidingFit
+        The distance and damping ratio with their standard deviations; ``determined``
+        says whether they count [SI].
+    """
+    if friction is None or (friction.screw is None and friction.guideway is None):
+        return _not_determined("the axis has no friction to fit")
+    if friction.backlash > 0.0:
+        return _not_determined("the nut has lost motion, which the reversal model leaves "
+                               "out")
+    m = _motion(record, mechanics)
+    margin = _odd(0.005 / m["h"])
+    windows = _windows(m["s"], m["v"], margin)
+    if len(windows) < MIN_REVERSALS:
+        return _not_determined(
+            f"{len(windows)} reversal(s) turn round from a plateau and travel "
+            f"{POST * 1e6:g} um back; at least {MIN_REVERSALS} are needed", len(windows))
+
+    def model(p):
+        return with_presliding(friction, mechanics, math.exp(p[0]), p[1])
+
+    def fun(p):
+        return _residual(m, windows, model(p), mechanics, margin)
+
+    lo = [math.log(BOUNDS[0]), ZETA_BOUNDS[0]]
+    hi = [math.log(BOUNDS[1]), ZETA_BOUNDS[1]]
+    r = _solve(fun, lo, hi)
+    dof = max(len(r.fun) - 2, 1)
+    s2 = float(r.fun @ r.fun) / dof * _inflation(r.fun)
+    cov = np.linalg.pinv(r.jac.T @ r.jac) * s2
+    log_sd, zeta_sd = (float(math.sqrt(max(c, 0.0))) for c in np.diag(cov))
+    z = math.exp(r.x[0])
+    rms = float(np.sqrt(np.mean(r.fun**2)))
+    noise = _force_noise(m["fm"], windows)
+    reason = ""
+    if m["quantum"] > MAX_QUANTUM_REL * z:
+        reason = (f"the encoder resolves {m['quantum'] * 1e6:.3g} um at the table, too "
+                  f"coarse for a pre-sliding of {z * 1e6:.3g} um")
+    elif rms > MAX_MISFIT * noise:
+        reason = (f"the reversals do not follow the pre-sliding model (force residual "
+                  f"{rms:.3g} N against {noise:.3g} N of noise): stick-slip, or a turn "
+                  "too fast for the record")
+    elif log_sd > MAX_LOG_STD:
+        reason = (f"the reversals leave the distance uncertain by a factor "
+                  f"{math.exp(log_sd):.2f}")
+    elif min(r.x[0] - lo[0], hi[0] - r.x[0]) < 0.01:
+        reason = f"the distance ends on a bound of the fit ({z * 1e6:.3g} um)"
+    return PreslidingFit(z, z * log_sd, float(r.x[1]), zeta_sd, len(windows), rms, noise,
+                         not reason, reason)

@@ -1,0 +1,102 @@
+"""The commissioning report: one self-contained HTML file (docs/report.md).
+
+Plain functions build its sections from what was given, each returning
+``(key, title, html)``; :func:`write_report` puts them on one page and writes it
+atomically. The page needs no network: figures are PNG ``data:`` URIs, the style sheet is
+inline and every table downloads as CSV from a ``data:`` link under it.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+from ..errors import InputError, InputWarning
+from .circles import circle_section, comparison_section, result_section, spread_section
+from .html import page
+from .machine import (
+    identification_result_section,
+    identification_section,
+    model_section,
+    read_identification_folder,
+)
+
+__all__ = ["circle_section", "circle_test_section", "comparison_section", "contour_section",
+           "identification_result_section", "identification_section", "model_section",
+           "read_identification_folder", "report_file", "result_section", "spread_section",
+           "write_report"]
+
+
+def report_file(path) -> Path:
+    """Check that a report file name ends in .html; return it as a Path [-]."""
+    path = Path(path)
+    if path.suffix.lower() not in (".html", ".htm"):
+        raise InputError("a report file needs the extension .html", file=path)
+    return path
+
+
+def write_report(path, sections, title: str = "Commissioning report", inputs=()) -> Path:
+    """Write the report page atomically.
+
+    Parameters
+    ----------
+    path : str or Path
+        The HTML file [-].
+    sections : list of tuple
+        ``(key, title, html)`` from the section functions, in the order shown [-].
+    title : str
+        Page title [-].
+    inputs : list of tuple
+        ``(what, file)`` named in the page header [-].
+
+    Returns
+    -------
+    Path
+        The file written [-].
+    """
+    from ..io.atomic import write_text_atomic
+
+    path = report_file(path)
+    if not sections:
+        raise InputError("nothing to report: give a model, an identification, runs or a "
+                         "spread", file=path)
+    write_text_atomic(path, page(title, list(sections), inputs))
+    return path
+
+
+def circle_test_section(result, key: str = "circle", title: str = "Circular test",
+                        source=None, sensor: str | None = None):
+    """A circular test with its diagnostics when it holds a CCW and a CW circle.
+
+    Diagnostics that cannot be made (too short a circle, a sensor not in both) are left
+    out with an :class:`InputWarning` saying why.
+
+    Parameters
+    ----------
+    result : CircleResult
+        The analysis [-].
+    key, title : str
+        Section anchor and title [-].
+    source : str or list of str, optional
+        The run file or files, for the record [-].
+    sensor : str, optional
+        Sensor of the diagnostics; default tcp, else scale, motor [-].
+    """
+    from ..analysis.diagnostics import circle_diagnostics
+
+    diag = None
+    if {p.direction for p in result.passes} == {"ccw", "cw"}:
+        try:
+            diag = circle_diagnostics(result, sensor=sensor)
+        except InputError as exc:
+            warnings.warn(InputWarning(f"{title}: no circle diagnostics in the report: "
+                                       f"{exc.message}"), stacklevel=2)
+    return circle_section(result, key, title, diagnostics=diag, source=source)
+
+
+def contour_section(result, title: str = "Contour error of the program run"):
+    """The contour error along a program run, from an analysis that offers ``to_pandas()``
+    and ``plot(ax=None)`` (:func:`result_section`) [-]."""
+    return result_section(result, "contour", title,
+                          "Signed contour error: shortest distance from the actual to the "
+                          "commanded path.")

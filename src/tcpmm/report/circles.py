@@ -1,0 +1,286 @@
+"""Report sections on tests run on the machine: circles, measured against predicted, the
+spread of a prediction, and any analysis that has a table and a plot (the contour error of
+a program run, for one)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from .html import esc, facts, figure, number, para, section, table
+
+SENSOR_NAMES = {"cmd": "command", "motor": "motor encoder", "scale": "linear scale",
+                "tcp": "TCP"}
+#: Diagnostics shown per direction in the first table rather than among the terms.
+_PER_DIRECTION = ("radial_deviation", "circularity", "spike")
+
+
+def _um_columns(frame):
+    """A circle table with its µm columns named for a reader: ``spike A [µm]`` [-]."""
+    names = {f"spike_{q}_um": f"spike {q} [µm]" for q in "ABCD"}
+    names.update(contour_error_um="contour error [µm]", circular_deviation_um="G [µm]",
+                 radial_rms_um="radial rms [µm]", radial_max_um="radial max [µm]")
+    frame = frame.rename(columns=names)
+    if "direction" in frame:
+        frame["direction"] = frame["direction"].str.upper()
+    if "sensor" in frame:
+        frame["sensor"] = frame["sensor"].map(lambda s: SENSOR_NAMES.get(s, s))
+    return frame
+
+
+def circle_section(result, key: str, title: str, diagnostics=None, source=None):
+    """A circular test: polar plot with µm rings, per-sensor table and, for a CCW and a CW
+    circle, the diagnostics.
+
+    Parameters
+    ----------
+    result : CircleResult
+        The analysis [-].
+    key : str
+        Section anchor, ``circle-...`` [-].
+    title : str
+        Section title [-].
+    diagnostics : CircleDiagnostics, optional
+        Diagnostics of the CCW and CW circle [-].
+    source : str or list of str, optional
+        The run file or files, for the record [-].
+    """
+    body = para(f"Nominal radius {result.radius * 1e3:g} mm about "
+                f"({result.centre[0] * 1e3:g}, {result.centre[1] * 1e3:g}) mm"
+                + (f", run {_names(source)}" if source else "")
+                + ". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg (n/a: the circle "
+                  "starts or ends there); contour error: largest |radial error|; G: circular "
+                  "deviation about the least-squares centre (ISO 230-4).", "lead")
+    body += key_figures(result, diagnostics)
+    body += figure(result_plot(result), "circle plot",
+                   "radial error magnified about the nominal circle; the dotted rings are "
+                   "whole steps of radial error, labelled in µm")
+    stem = key.replace("circle-", "circle_") if key != "circle" else "circle"
+    body += table(_um_columns(result.to_pandas()), f"{stem}.csv")
+    if diagnostics is not None:
+        body += diagnostics_html(diagnostics, stem)
+    return section(key, title, body)
+
+
+def key_figures(result, diag=None) -> str:
+    """What a reader looks at first: per pass G, contour error and the largest spike of the
+    best sensor there is; with diagnostics, backlash, squareness, scale and servo mismatch
+    and G(b) [-]."""
+    from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms
+
+    sensor = next((s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes)),
+                  None)
+    if sensor is None:
+        return ""
+    items = []
+    for p in result.passes:
+        sc = p.sensors[sensor]
+        spikes = {q: v for q, v in sc.spikes.items() if v == v}
+        text = (f"G {number(sc.circular_deviation * 1e6, 2)} µm, contour error "
+                f"{number(sc.contour_error * 1e6, 2)} µm")
+        if spikes:
+            q = max(spikes, key=lambda k: abs(spikes[k]))
+            text += f", largest reversal spike {number(spikes[q] * 1e6, 2)} µm at {q}"
+        items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
+    if diag is not None:
+        t = {k: (number(v, 2), u) for k, v, u in display_terms(diag)}
+        x, y = diag.axes
+        items += [("backlash", f"{x} {' '.join(t[f'backlash_{x}'])}, "
+                               f"{y} {' '.join(t[f'backlash_{y}'])}"),
+                  *((label, " ".join(t[k])) for k, label in (
+                      ("squareness", "squareness"), ("scale_mismatch", "scale mismatch"),
+                      ("servo_mismatch", "servo mismatch"), ("circularity_pair", "G(b)")))]
+    return facts(items)
+
+
+def _names(files) -> str:
+    """File names without their folders, joined [-]."""
+    files = [files] if isinstance(files, str | Path) else files
+    return " and ".join(Path(str(f)).name for f in files)
+
+
+def result_plot(result, overlay=None):
+    """The polar plot of a circular test, with a prediction drawn over it [-]."""
+    from ..plot.circle import plot_circle
+
+    if overlay is None:
+        return plot_circle(result)
+    return plot_circle(result, sensors=["tcp"], overlay=overlay)
+
+
+def diagnostics_html(diag, stem: str) -> str:
+    """Circle diagnostics: radial error with the fitted terms, per-direction figures and
+    the terms with units and sign conventions [-]."""
+    import pandas as pd
+
+    from ..analysis.diagnostics import display_terms, term_note
+
+    rows = {t: (v, u) for t, v, u in display_terms(diag)}
+    per = [{"figure": label, "CCW [µm]": rows[f"{base}_ccw"][0],
+            "CW [µm]": rows[f"{base}_cw"][0],
+            "pair [µm]": rows.get(f"{base}_pair", (float("nan"),))[0]}
+           for base, label in (("radial_deviation", "radial deviation"),
+                               ("circularity", "circularity G, G(b)"))]
+    per += [{"figure": f"reversal spike {q} (after the terms)",
+             "CCW [µm]": rows[f"spike_{q}_ccw"][0], "CW [µm]": rows[f"spike_{q}_cw"][0],
+             "pair [µm]": float("nan")} for q in "ABCD"]
+    terms = pd.DataFrame([{"term": t.replace("_", " "), "value": v, "unit": u,
+                           "sign": term_note(t)}
+                          for t, (v, u) in rows.items() if not t.startswith(_PER_DIRECTION)])
+    return (f"<h3>Diagnostics ({esc(SENSOR_NAMES.get(diag.sensor, diag.sensor))})</h3>"
+            + para("The CCW and the CW circle fitted together to the usual ballbar error "
+                   "terms; the 20 deg after each quadrant point are left out of the fit.")
+            + figure(diag.plot(), "circle diagnostics plot",
+                     "radial error of both circles (dots) and the fitted terms (lines)")
+            + table(pd.DataFrame(per), f"{stem}_diagnostics_per_direction.csv")
+            + table(terms, f"{stem}_diagnostics.csv", digits={"value": 3}))
+
+
+def comparison_section(comparison, measured=None, predicted=None, sources=(),
+                       key: str = "comparison"):
+    """Measured minus predicted (the paper's Table 2), with the two circles overlaid.
+
+    Parameters
+    ----------
+    comparison : Comparison
+        :func:`tcpmm.analysis.compare.compare_circles` [-].
+    measured, predicted : CircleResult, optional
+        The two analyses, for the overlay plot [-].
+    sources : tuple of str
+        The measured and the predicted run file, for the record [-].
+    key : str
+        Section anchor, ``comparison-...`` when there are several [-].
+    """
+    files = _names(sources).replace(" and ", " against ")
+    body = para("Reversal spikes A-D and contour error of the measured run minus those of "
+                "the prediction, per direction and sensor; radial rms and max: point by "
+                "point difference of the radial error over the circle."
+                + (f" Runs: {files}." if files else ""), "lead")
+    if measured is not None and predicted is not None:
+        body += figure(result_plot(measured, predicted), "measured and predicted circles",
+                       "measured TCP (blue) and predicted TCP (orange dashed)")
+    body += table(_um_columns(comparison.to_pandas()),
+                  f"measured_minus_predicted{key[len('comparison'):].replace('-', '_')}.csv")
+    for line in comparison.notes():
+        body += para(line)
+    return section(key, "Measured − predicted (Table 2)", body)
+
+
+def spread_section(spread):
+    """The reversal spikes of a prediction over machines drawn from what identification
+    left uncertain.
+
+    Parameters
+    ----------
+    spread : SpikeSpread or dict
+        :func:`tcpmm.spread.circle_spread`, or its ``to_dict()`` (``tcpmm spread --json``)
+        [-].
+    """
+    import pandas as pd
+
+    data = spread.to_dict() if hasattr(spread, "to_dict") else spread
+    body = para(f"{data['draws']} machines drawn from the identified uncertainty, "
+                f"{data['sensor']} sensor. A quadrant point is settled when nine in ten "
+                "draws give the spike the nominal sign, and firm when nine in ten lie "
+                f"within {data['tolerance_um']:g} µm of it.", "lead")
+    if hasattr(spread, "plot"):
+        fig, what = spread.plot(), "draws (dots) and their range (bar)"
+    else:
+        from ..plot.spread import plot_spread_rows
+
+        fig = plot_spread_rows(data["spikes"], data["sensor"], data["tolerance_um"] * 1e-6,
+                               data["draws"])
+        what = "the range of the draws (bar)"
+    body += figure(fig, "spread of the reversal spikes",
+                   f"nominal spike (circle), {what}; ticks: rise and fall after the "
+                   "reversal", 900)
+    frame = pd.DataFrame(data["spikes"]).rename(columns={
+        "spike_um": "spike [µm]", "rise_um": "rise [µm]", "fall_um": "fall [µm]",
+        "low_um": "lowest [µm]", "high_um": "highest [µm]",
+        "same_sign": "same sign [%]", "within": "within tolerance [%]"})
+    frame["direction"] = frame["direction"].str.upper()
+    for c in ("same sign [%]", "within tolerance [%]"):
+        frame[c] = 100.0 * frame[c]
+    body += table(frame, "spread.csv", digits={"same sign [%]": 0, "within tolerance [%]": 0})
+    bad = [f"{r['direction'].upper()} {r['point']}" for r in data["spikes"]
+           if not (r["settled"] and r["firm"])]
+    if bad:
+        body += para(f"Not settled or not firm: {', '.join(bad)}; a measured spike there can "
+                     "differ from the prediction by more than the tolerance.", "warn")
+    return section("spread", "Spread of the prediction", body)
+
+
+def result_section(result, key: str, title: str, note: str | None = None):
+    """A section for any analysis with the shared interface: ``to_pandas()`` for its table
+    and ``plot(ax=None)`` returning a figure. The contour error of a program run is shown
+    this way.
+
+    Parameters
+    ----------
+    result : object
+        The analysis [-].
+    key : str
+        Section anchor; its part before the first ``-`` names the kind [-].
+    title : str
+        Section title [-].
+    note : str, optional
+        A line under the title [-].
+    """
+    body = para(note, "lead") if note else ""
+    if hasattr(result, "plot"):
+        body += figure(result.plot(), title)
+    body += table(result.to_pandas(), f"{key.replace('-', '_')}.csv")
+    return section(key, title, body)
+
+
+#: Keys of a spread row the section reads: numbers, then the rest.
+SPREAD_NUMBERS = ("spike_um", "rise_um", "fall_um", "low_um", "high_um", "same_sign", "within")
+SPREAD_ROW = ("direction", "point", *SPREAD_NUMBERS, "settled", "firm")
+
+
+def read_spread_json(path) -> dict:
+    """A spread as ``tcpmm spread --json`` prints it (``SpikeSpread.to_dict()``), checked.
+
+    Parameters
+    ----------
+    path : str or Path
+        The JSON file [-].
+    """
+    path = Path(path)
+    fix = "write it with tcpmm spread MODEL.yaml ... --json > SPREAD.json"
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"is not a JSON file ({exc}); {fix}", file=path) from None
+    if not isinstance(data, dict):
+        raise InputError(f"holds no spread; {fix}", file=path)
+    for key in ("draws", "sensor", "tolerance_um", "spikes"):
+        if key not in data:
+            raise InputError(f"has no '{key}', so it is not a spread; {fix}", file=path,
+                             column=key)
+    if not (_number(data["draws"]) and data["draws"] == int(data["draws"]) >= 1):
+        raise InputError(f"'draws' must be a whole number of 1 or more; {fix}", file=path,
+                         column="draws")
+    if not (_number(data["tolerance_um"]) and data["tolerance_um"] > 0):
+        raise InputError(f"'tolerance_um' must be a positive number; {fix}", file=path,
+                         column="tolerance_um")
+    rows = data["spikes"]
+    if not (isinstance(rows, list) and rows and len(rows) % 4 == 0
+            and all(isinstance(r, dict) for r in rows)):
+        raise InputError(f"'spikes' must be rows for the quadrant points A-D of each circle; "
+                         f"{fix}", file=path, column="spikes")
+    for i, r in enumerate(rows):
+        lack = [k for k in SPREAD_ROW if k not in r]
+        bad = [k for k in SPREAD_NUMBERS if k in r and not (_number(r[k]) or r[k] is None)]
+        if lack or bad:
+            what = f"lacks {', '.join(lack)}" if lack else f"has no number in {', '.join(bad)}"
+            raise InputError(f"row {i + 1} of 'spikes' {what}; {fix}", file=path,
+                             column="spikes")
+        r.update({k: float("nan") for k in SPREAD_NUMBERS if r[k] is None})
+    return data
+
+
+def _number(v) -> bool:
+    """Whether a JSON value is a number (not a boolean) [-]."""
+    return isinstance(v, int | float) and not isinstance(v, bool)

@@ -1,0 +1,194 @@
+"""HTML building blocks of the report: page, section, table with its CSV, embedded figure.
+
+Everything a page needs is inside it: the style sheet, the figures as PNG ``data:`` URIs and
+each table's CSV as a ``data:`` download link, so the file opens with no network.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import math
+from datetime import UTC, datetime
+from pathlib import Path
+
+MINUS, DASH = "\u2212", "\u2014"
+
+#: The page's style sheet: system fonts only, printable, no external resource.
+CSS = """
+:root { --ink: #1d2733; --muted: #5b6b7b; --line: #d5dce4; --band: #f3f6f9;
+        --accent: #1f5fa8; --warn: #9a5b00; }
+* { box-sizing: border-box; }
+body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, Helvetica, Arial,
+       sans-serif; color: var(--ink); margin: 0; background: #fff; line-height: 1.45; }
+header { background: var(--accent); color: #fff; padding: 18px 32px 14px; }
+header h1 { margin: 0 0 4px; font-size: 24px; font-weight: 600; }
+header p { margin: 0; opacity: 0.9; font-size: 13px; }
+main { max-width: 1180px; margin: 0 auto; padding: 8px 32px 40px; }
+nav { margin: 14px 0 4px; font-size: 14px; display: flex; flex-wrap: wrap; gap: 4px 18px; }
+nav a { color: var(--accent); text-decoration: none; }
+section { border-top: 2px solid var(--line); margin-top: 26px; padding-top: 6px; }
+h2 { font-size: 20px; margin: 10px 0 6px; color: var(--accent); }
+h3 { font-size: 15px; margin: 18px 0 6px; }
+p.note, p.lead { color: var(--muted); font-size: 13px; margin: 4px 0 8px; max-width: 900px; }
+p.warn { color: var(--warn); font-size: 13px; margin: 4px 0; }
+table { border-collapse: collapse; font-size: 13px; margin: 6px 0 2px;
+        font-variant-numeric: tabular-nums; }
+th, td { border-bottom: 1px solid var(--line); padding: 3px 10px; }
+th { background: var(--band); text-align: left; font-weight: 600; white-space: nowrap; }
+td.num { text-align: right; white-space: nowrap; }
+td.na { color: var(--muted); text-align: right; }
+tr:hover td { background: #fafcfe; }
+.tablebox { overflow-x: auto; max-width: 100%; }
+a.csv { font-size: 12px; color: var(--accent); text-decoration: none; }
+a.csv::before { content: "\\2913  "; }
+figure { margin: 10px 0 4px; }
+figure img { max-width: 100%; height: auto; border: 1px solid var(--line); }
+figcaption { color: var(--muted); font-size: 12px; }
+dl.facts { display: grid; grid-template-columns: max-content auto; gap: 2px 14px;
+           font-size: 13px; margin: 6px 0; }
+dl.facts dt { color: var(--muted); }
+dl.facts dd { margin: 0; }
+footer { color: var(--muted); font-size: 12px; margin-top: 30px; }
+@media print { header { background: none; color: var(--ink); } nav { display: none; }
+               section { break-inside: avoid-page; } }
+"""
+
+
+def esc(text) -> str:
+    """``text`` escaped for HTML [-]."""
+    return html.escape(str(text), quote=True)
+
+
+def data_uri(data: bytes, mime: str) -> str:
+    """A ``data:`` URI holding ``data`` [-]."""
+    return f"data:{mime};base64,{base64.b64encode(data).decode('ascii')}"
+
+
+def figure_png(fig, dpi: int = 110) -> bytes:
+    """A matplotlib figure as PNG bytes; the figure is closed [-]."""
+    from ..plot import pyplot
+
+    buf = io.BytesIO()
+    try:
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+    finally:
+        pyplot().close(fig)
+    return buf.getvalue()
+
+
+def figure(image, alt: str, caption: str | None = None, width_px: int | None = None) -> str:
+    """An embedded figure from a matplotlib figure or PNG bytes, at most ``width_px`` wide
+    on the page (default: its own width, up to the page's) [-]."""
+    png = image if isinstance(image, bytes) else figure_png(image)
+    cap = f"<figcaption>{esc(caption)}</figcaption>" if caption else ""
+    style = f' style="max-width: min(100%, {width_px}px)"' if width_px else ""
+    return (f'<figure><img alt="{esc(alt)}"{style} src="{data_uri(png, "image/png")}">'
+            f"{cap}</figure>")
+
+
+def number(v: float, digits: int | None = None) -> str:
+    """``v`` with ``digits`` decimals, or four significant digits without an exponent
+    from 0.001 to 10^6 when ``digits`` is None; never a negative zero [-]."""
+    if digits is not None:
+        text = f"{v:.{digits}f}"
+    elif v == 0 or not 1e-3 <= abs(v) < 1e6:
+        mantissa, _, exponent = f"{v:.3e}".partition("e")
+        text = f"{mantissa.rstrip('0').rstrip('.')}e{exponent}" if v else "0"
+    else:
+        text = f"{v:.{max(0, 3 - math.floor(math.log10(abs(v))))}f}"
+        text = text.rstrip("0").rstrip(".") if "." in text else text
+    return text.lstrip("-") if float(text) == 0 else text
+
+
+def _cell(value, digits) -> str:
+    """One table cell: numbers right-aligned, NaN as n/a [-]."""
+    if isinstance(value, bool):
+        return f'<td>{"yes" if value else "no"}</td>'
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        v = float(value)
+        if math.isnan(v):
+            return '<td class="na">n/a</td>'
+        return f'<td class="num">{esc(number(v, digits).replace("-", MINUS))}</td>'
+    return f"<td>{esc(value)}</td>"
+
+
+def table(frame, csv_name: str, digits: dict | int | None = 2, caption: str | None = None) -> str:
+    """A table and the link that downloads it as CSV.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The table; column names carry their units, e.g. ``spike A [µm]`` [-].
+    csv_name : str
+        File name the CSV downloads as [-].
+    digits : int or dict or None
+        Decimals of the numbers (``None``: four significant digits), one for all columns
+        or per column name (a column not named: two decimals) [-].
+    caption : str, optional
+        Line under the table [-].
+    """
+    import numpy as np
+
+    per = digits if isinstance(digits, dict) else {}
+    head = "".join(f"<th>{esc(c)}</th>" for c in frame.columns)
+    rows = []
+    for rec in frame.itertuples(index=False):
+        cells = []
+        for c, v in zip(frame.columns, rec, strict=True):
+            v = v.item() if isinstance(v, np.generic) else v
+            cells.append(_cell(v, per.get(c, 2) if isinstance(digits, dict) else digits))
+        rows.append("<tr>" + "".join(cells) + "</tr>")
+    csv = frame.to_csv(index=False, lineterminator="\n").encode("utf-8")
+    link = (f'<a class="csv" download="{esc(csv_name)}" '
+            f'href="{data_uri(csv, "text/csv;charset=utf-8")}">{esc(csv_name)}</a>')
+    cap = f'<p class="note">{esc(caption)}</p>' if caption else ""
+    return (f'<div class="tablebox"><table data-csv="{esc(csv_name)}"><thead><tr>{head}</tr>'
+            f'</thead><tbody>{"".join(rows)}</tbody></table></div>{link}{cap}')
+
+
+def facts(items) -> str:
+    """A two-column list of ``(name, value)`` [-]."""
+    body = "".join(f"<dt>{esc(k)}</dt><dd>{esc(v)}</dd>" for k, v in items)
+    return f'<dl class="facts">{body}</dl>'
+
+
+def para(text: str, kind: str = "note") -> str:
+    """A paragraph of class ``kind`` (note, lead or warn) [-]."""
+    return f'<p class="{kind}">{esc(text)}</p>'
+
+
+def section(key: str, title: str, body: str) -> tuple[str, str, str]:
+    """A report section: ``(key, title, html)``; ``key`` is its anchor and its
+    ``data-section`` [-]."""
+    return key, title, (f'<section id="{esc(key)}" data-section="{esc(key.split("-")[0])}">'
+                        f"<h2>{esc(title)}</h2>{body}</section>")
+
+
+def page(title: str, sections, inputs=()) -> str:
+    """The whole report page.
+
+    Parameters
+    ----------
+    title : str
+        Page title [-].
+    sections : list of tuple
+        ``(key, title, html)`` from :func:`section`, in the order shown [-].
+    inputs : list of tuple
+        ``(what, file)`` named in the header [-].
+    """
+    from .. import __version__
+
+    stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
+    toc = "".join(f'<a href="#{esc(k)}">{esc(t)}</a>' for k, t, _ in sections)
+    given = "; ".join(f"{w}: {Path(f).name}" for w, f in inputs)
+    sub = f"tcpmm {__version__}, {stamp}" + (f" {DASH} {given}" if given else "")
+    body = "".join(h for _, _, h in sections)
+    return ("<!DOCTYPE html>\n"
+            f'<html lang="en"><head><meta charset="utf-8"><title>{esc(title)}</title>'
+            '<meta name="viewport" content="width=device-width, initial-scale=1">'
+            f"<style>{CSS}</style></head><body><header><h1>{esc(title)}</h1>"
+            f"<p>{esc(sub)}</p></header><main><nav>{toc}</nav>{body}"
+            "<footer>SI inside the model; lengths here in mm and µm, as each column says. "
+            "Tables download as CSV from the link under each.</footer></main></body></html>\n")

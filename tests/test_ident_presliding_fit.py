@@ -1,0 +1,87 @@
+"""Pre-sliding distance and bristle damping fitted to the reversals of friction runs."""
+
+import math
+
+import numpy as np
+import pytest
+
+from tcpmm.builtin import builtin_machine
+from tcpmm.ident.presliding import with_presliding
+from tcpmm.ident.preslidingfit import fit_presliding
+from tcpmm.io.records import FrictionRecord
+from tcpmm.virtual import virtual_friction
+
+SLOW = (0.0005, 0.002)  # plateau speeds [m/s]
+#: Turning round gently, as a position loop does that stops on a point and goes back: the
+#: contacts pass their pre-sliding in tens of milliseconds, not in one sample [m/s^2].
+GENTLE = 0.005
+
+
+@pytest.fixture(scope="module")
+def axis_with_bristles():
+    """The built-in X axis, its contacts given 3 um of pre-sliding and damping ratio 0.5,
+    with an encoder of 2^20 counts (10 nm at the table), as drives of such axes have."""
+    a = builtin_machine().axes["X"]
+    a = a.replace(sensors=a.sensors.model_copy(update={"encoder_counts_per_rev": 2**20}))
+    return a.replace(friction=with_presliding(a.friction, a.mechanics, 3e-6, 0.5))
+
+
+@pytest.fixture(scope="module")
+def runs(axis_with_bristles):
+    return virtual_friction(axis_with_bristles, SLOW, plateau_s=0.4, accel_m_per_s2=GENTLE)
+
+
+def test_distance_and_damping_of_a_known_axis_are_recovered(axis_with_bristles, runs):
+    a = axis_with_bristles
+    fit = fit_presliding(runs, a.mechanics, a.friction)
+    assert fit.determined, fit.reason
+    assert fit.reversals == 3  # two plateau speeds, each there and back
+    # encoder quantisation and the smoothing of the path leave a few per cent
+    assert fit.presliding == pytest.approx(3e-6, rel=0.08)
+    assert abs(fit.presliding - 3e-6) < 3 * fit.presliding_std
+    assert fit.damping_ratio == pytest.approx(0.5, abs=0.15)
+    assert fit.rms_force < 1.5 * fit.noise_force
+
+
+def test_the_distance_follows_the_truth(runs, axis_with_bristles):
+    """A longer pre-sliding in the record gives a longer fitted one (not a prior)."""
+    a = axis_with_bristles
+    longer = a.replace(friction=with_presliding(a.friction, a.mechanics, 8e-6, 0.5))
+    runs = virtual_friction(longer, SLOW, plateau_s=0.4, accel_m_per_s2=GENTLE)
+    fit = fit_presliding(runs, a.mechanics, a.friction)
+    assert fit.determined and fit.presliding == pytest.approx(8e-6, rel=0.08)
+
+
+def test_reversals_in_one_sample_determine_nothing(axis_with_bristles):
+    """At 1 m/s^2 the contacts pass their pre-sliding within a few samples: the fit says
+    the distance is open instead of returning one."""
+    a = axis_with_bristles
+    fit = fit_presliding(virtual_friction(a, SLOW, plateau_s=0.4, accel_m_per_s2=1.0),
+                         a.mechanics, a.friction)
+    assert not fit.determined and "do not follow" in fit.reason
+
+
+def test_a_coarse_encoder_determines_nothing(axis_with_bristles):
+    """1 um per count at the table cannot resolve 3 um of pre-sliding."""
+    a = axis_with_bristles
+    coarse = a.replace(sensors=a.sensors.model_copy(update={"encoder_counts_per_rev": 10000}))
+    fit = fit_presliding(virtual_friction(coarse, SLOW, plateau_s=0.4, accel_m_per_s2=GENTLE),
+                         a.mechanics, a.friction)
+    assert not fit.determined and "too coarse" in fit.reason
+
+
+def test_lost_motion_is_left_to_the_prior(runs, axis_with_bristles):
+    a = axis_with_bristles
+    fit = fit_presliding(runs, a.mechanics, a.friction.model_copy(update={"backlash": 2e-6}))
+    assert not fit.determined and "lost motion" in fit.reason
+    assert math.isnan(fit.presliding)
+
+
+def test_runs_without_slow_reversals_determine_nothing(axis_with_bristles):
+    a = axis_with_bristles
+    t = np.arange(0, 2.0, 1e-3)
+    angle = 0.05 * t / (a.mechanics.lead / (2 * math.pi))  # one way at 50 mm/s
+    rec = FrictionRecord.from_arrays(t, np.full_like(t, 1.0), angle, 0.05 * t)
+    fit = fit_presliding(rec, a.mechanics, a.friction)
+    assert not fit.determined and fit.reversals == 0 and "reversal" in fit.reason
+    assert fit.to_dict()["determined"] is False

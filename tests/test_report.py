@@ -1,0 +1,250 @@
+"""The HTML report: one file that opens with no network, with a section for each input.
+
+The circles are synthetic (tests/test_circle.py), the identification a folder as
+``tcpmm identify --report DIR`` writes it with one small figure, the spread a JSON as
+``tcpmm spread --json`` prints it; the demo's own report is checked in test_cli.py.
+"""
+
+import base64
+import csv
+import io
+import json
+from html.parser import HTMLParser
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.circular import analyse_circle
+from tcpmm.cli import main
+from tcpmm.plot.circle import _auto_magnification, _ring_step_um, plot_circle
+from test_circle import R, circle_path, make_run, polar_perturb
+
+PNG = b"\x89PNG\r\n\x1a\n"
+ALL = {"model", "identification", "circle", "comparison", "spread"}
+
+
+class Page(HTMLParser):
+    """Tags, attributes, section kinds, tables with their cells and CSV links, style text."""
+
+    def __init__(self, text):
+        super().__init__(convert_charrefs=True)
+        self.open, self.attrs, self.sections, self.tables, self.links = [], [], [], [], []
+        self.style, self._cell, self._row = "", None, None
+        self.feed(text)
+        self.close()
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        self.attrs.append((tag, a))
+        if tag not in ("img", "meta", "br"):
+            self.open.append(tag)
+        if tag == "section":
+            self.sections.append(a["data-section"])
+        elif tag == "table":
+            self.tables.append({"csv": a.get("data-csv"), "rows": []})
+        elif tag == "tr":
+            self._row = []
+            self.tables[-1]["rows"].append(self._row)
+        elif tag in ("td", "th"):
+            self._cell = ""
+        elif tag == "a" and "download" in a:
+            self.links.append((a["download"], a["href"]))
+
+    def handle_endtag(self, tag):
+        assert self.open and self.open[-1] == tag, f"</{tag}> closes <{self.open[-1:]}>"
+        self.open.pop()
+        if tag in ("td", "th"):
+            self._row.append(self._cell)
+            self._cell = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell += data
+        if self.open and self.open[-1] == "style":
+            self.style += data
+
+
+def report(capsys, tmp_path, *args):
+    out = tmp_path / "r.html"
+    code = main(["report", "-o", str(out), *map(str, args)])
+    err = capsys.readouterr().err
+    return code, (out.read_text(encoding="utf-8") if out.exists() else None), err
+
+
+@pytest.fixture(scope="module")
+def inputs(tmp_path_factory):
+    """Run files, an identification folder and a spread JSON; their options [-]."""
+    d = tmp_path_factory.mktemp("report")
+    p = np.vstack([circle_path("ccw"), circle_path("cw")])
+    meas = polar_perturb(p, (0, 0), lambda a: 3e-6 + 2e-6 * np.cos(2 * a))
+    make_run(p, meas).write_csv(d / "measured.csv")
+    make_run(p, polar_perturb(p, (0, 0), lambda a: 1e-6 + 0 * a)).write_csv(d / "predicted.csv")
+    ident = d / "ident"
+    ident.mkdir()
+    params = {"M_t": {"value": 151.0, "std": 1.1}, "K_t": {"value": 1.5e8, "std": 1.0e6},
+              "B_m": {"value": 0.0, "std": 0.005}}
+    (ident / "identification.json").write_text(json.dumps({
+        "machine": "m", "suspect": [], "axes": {"X": {
+            "fit": {"G_M": {"tf_order": "6/6 + 1/s", "tf_fit_percent": 88.9,
+                            "physical_fit_percent": 80.1, "modes_hz": [151.3, 220.2]}},
+            "parameters": params, "undetermined": ["B_m"]}}}))
+    (ident / "bode_X.png").write_bytes(PNG + b"not decoded by the test")
+    rows = [{"direction": d_, "point": q, "spike_um": 6.0, "rise_um": 6.0, "fall_um": -3.0,
+             "low_um": -6.0, "high_um": 9.5, "same_sign": 0.6, "settled": False,
+             "within": 0.6, "firm": False} for d_ in ("ccw", "cw") for q in "ABCD"]
+    (d / "spread.json").write_text(json.dumps({"sensor": "tcp", "draws": 4,
+                                               "tolerance_um": 4.1, "spikes": rows}))
+    return d, {"model": ["--model", "builtin:vmc"], "identification": ["--ident-dir", ident],
+               "circle": ["--run", d / "measured.csv", "--radius", R * 1e3],
+               "comparison": ["--measured", d / "measured.csv", "--predicted",
+                              d / "predicted.csv", "--radius", R * 1e3],
+               "spread": ["--spread", d / "spread.json"]}
+
+
+@pytest.fixture(scope="module")
+def full(inputs, tmp_path_factory):
+    """The report of every input at once, parsed [-]."""
+    _, opts = inputs
+    out = tmp_path_factory.mktemp("full") / "all.html"
+    args = [*opts["model"], *opts["identification"], *opts["circle"],
+            *opts["comparison"][:4], *opts["spread"]]
+    assert main(["report", "-o", str(out), *map(str, args)]) == 0
+    text = out.read_text(encoding="utf-8")
+    return text, Page(text)
+
+
+def test_every_image_is_embedded_and_nothing_points_outside(full):
+    text, page = full
+    imgs = [a["src"] for t, a in page.attrs if t == "img"]
+    assert len(imgs) >= 5  # bode, circle, diagnostics, comparison, spread
+    for src in imgs:
+        assert src.startswith("data:image/png;base64,")
+        assert base64.b64decode(src.split(",", 1)[1]).startswith(PNG)
+    for _, a in page.attrs:
+        for k, v in a.items():
+            if k in ("src", "href"):
+                assert v.startswith(("data:", "#")), (k, v[:40])
+    for bad in ("http://", "https://", "url(", "@import", "<script", "<link", "<iframe"):
+        assert bad not in text.lower(), bad
+    assert page.style and not page.open  # every tag closed
+
+
+def test_sections_and_diagnostics_of_all_inputs(full):
+    text, page = full
+    assert sorted(page.sections) == sorted(ALL)
+    assert "Diagnostics (TCP)" in text  # the run holds a CCW and a CW circle
+
+
+@pytest.mark.parametrize("given", sorted(ALL))
+def test_a_section_is_there_exactly_when_its_input_is(capsys, tmp_path, inputs, given):
+    _, opts = inputs
+    code, text, err = report(capsys, tmp_path, *opts[given])
+    assert code == 0, err
+    assert Page(text).sections == [given]
+
+
+def test_csv_downloads_hold_the_tables(full):
+    _, page = full
+    links = dict(page.links)
+    assert len(page.tables) == len(links) >= 8
+    for t in page.tables:
+        mime, data = links[t["csv"]].split(",", 1)
+        assert mime == "data:text/csv;charset=utf-8;base64"
+        rows = list(csv.reader(io.StringIO(base64.b64decode(data).decode("utf-8"))))
+        shown = t["rows"]
+        assert rows[0] == shown[0] and len(rows) == len(shown), t["csv"]
+        for got, cells in zip(rows[1:], shown[1:], strict=True):
+            for value, cell in zip(got, cells, strict=True):
+                cell = cell.replace("\u2212", "-")
+                if cell == "n/a":
+                    assert value in ("", "nan"), (t["csv"], value)
+                elif cell in ("yes", "no"):
+                    assert value == str(cell == "yes"), (t["csv"], value)
+                else:
+                    try:
+                        x = float(cell)
+                    except ValueError:
+                        assert value == cell, (t["csv"], value, cell)
+                        continue
+                    decimals = len(cell.split(".")[1]) if "." in cell and "e" not in cell else 0
+                    step = 10.0 ** -decimals if "e" not in cell else abs(x) * 1e-3
+                    assert abs(float(value) - x) <= 0.5 * step + 1e-12, (t["csv"], value, cell)
+
+
+def test_table_2_is_measured_minus_predicted(full):
+    _, page = full
+    t = next(t for t in page.tables if t["csv"] == "measured_minus_predicted.csv")
+    head = t["rows"][0]
+    for row in t["rows"][1:]:  # measured 3 + 2 cos(2a) um, predicted 1 um
+        assert row[head.index("sensor")] == "TCP"
+        assert float(row[head.index("contour error [µm]")]) == pytest.approx(5.0 - 1.0,
+                                                                           abs=0.01)
+        assert float(row[head.index("radial rms [µm]")]) == pytest.approx(6 ** 0.5, abs=0.01)
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--run", "{d}/measured.csv"], "--radius"),
+    (["--measured", "{d}/measured.csv", "--radius", "35"], "one --predicted per --measured"),
+    ([], "nothing to report"),
+    (["--ident-dir", "{d}"], "identification.json"),
+    (["--spread", "{d}/measured.csv"], "not a JSON file"),
+    (["--spread", "{d}/bad_spread.json"], "'tolerance_um'"),
+    (["--run", "{d}/measured.csv", "--radius", "50"], "no full circle"),
+])
+def test_bad_inputs_are_one_line_errors_and_write_nothing(capsys, tmp_path, inputs, args,
+                                                          says):
+    d, _ = inputs
+    (d / "bad_spread.json").write_text(json.dumps({"sensor": "tcp", "draws": 1, "spikes": []}))
+    code, text, err = report(capsys, tmp_path, *[a.format(d=d) for a in args])
+    assert code == 2 and says in " ".join(err.split()) and text is None  # rich wraps lines
+    assert "Traceback" not in err
+
+
+def test_the_report_file_must_be_html(capsys, tmp_path, inputs):
+    _, opts = inputs
+    code = main(["report", "-o", str(tmp_path / "r.pdf"), *map(str, opts["model"])])
+    assert code == 2 and ".html" in capsys.readouterr().err
+    assert not (tmp_path / "r.pdf").exists()
+
+
+def test_circle_plot_writes_its_magnification_and_um_rings():
+    p = circle_path()
+    res = analyse_circle(make_run(p, polar_perturb(p, (0, 0), lambda a: 7e-6 * np.cos(2 * a))),
+                         R)
+    M = _auto_magnification(res)
+    assert M == 1000.0  # 0.25 R / 7 um = 1250: the largest 1-2-5 step below
+    fig = plot_circle(res)
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    assert any("×1000" in t and "rings every 5 µm" in t for t in texts)
+    assert {"+5 µm", "0 µm", "-5 µm"} <= set(texts)
+
+
+@pytest.mark.parametrize("lo, hi, least, step", [(-7, 7, 0, 5), (-40, 10, 0, 20),
+                                                 (-0.3, 0.2, 0, 0.2), (-7, 7, 6, 10)])
+def test_ring_steps_are_1_2_5(lo, hi, least, step):
+    assert _ring_step_um(lo, hi, least) == pytest.approx(step)
+
+
+def test_compare_writes_table_2_and_the_measured_circle(capsys, tmp_path, inputs):
+    d, _ = inputs
+    out = tmp_path / "cmp.html"
+    code = main(["compare", str(d / "measured.csv"), str(d / "predicted.csv"), "--radius",
+                 str(R * 1e3), "--report", str(out)])
+    assert code == 0, capsys.readouterr().err
+    assert Page(out.read_text(encoding="utf-8")).sections == ["comparison", "circle"]
+
+
+def test_a_ccw_and_a_cw_run_are_diagnosed_together(capsys, tmp_path):
+    for d in ("ccw", "cw"):
+        p = circle_path(d)
+        make_run(p, polar_perturb(p, (0, 0), lambda a: 2e-6 * np.cos(2 * a))).write_csv(
+            tmp_path / f"{d}.csv")
+    code, text, err = report(capsys, tmp_path, "--run", f"{tmp_path}/ccw.csv,{tmp_path}/cw.csv",
+                             "--run", tmp_path / "ccw.csv", "--radius", R * 1e3)
+    assert code == 0, err
+    page = Page(text)
+    assert page.sections == ["circle", "circle"]
+    assert text.count("Diagnostics (TCP)") == 1 and "run ccw.csv and cw.csv." in text
+    scale = next(t for t in page.tables if t["csv"] == "circle_1_diagnostics.csv")["rows"]
+    row = next(r for r in scale if r[0] == "scale mismatch")  # 2 um cos 2a = m R/2 cos 2a
+    assert float(row[1].replace("\u2212", "-")) == pytest.approx(2e-6 / (R / 2) * 1e6, rel=0.02)

@@ -74,3 +74,20 @@ def test_polyline_distance_of_an_offset_line():
     normal = np.array([2.0, -1.0]) / np.sqrt(5)
     pts = path + 3e-6 * normal
     np.testing.assert_allclose(polyline_distance(pts[10:-10], path[10:-10]), 3e-6, rtol=1e-9)
+
+
+def test_result_shares_the_protocol(vmc, tmp_path):
+    import tcpmm
+    from tcpmm.servo.tune import AxisTuning
+    from tcpmm.tuning import TuneResult
+
+    a = vmc.axes["X"]
+    m = axis_margins(a.mechanics, a.servo)
+    res = TuneResult(vmc, {"X": AxisTuning(a.servo, a.servo, m, m, True)},
+                     {"ccw": {"spike_um": 1.0}}, {"ccw": {"spike_um": 0.5}})
+    tab = res.to_pandas()
+    assert set(tab["axis"]) == {"X", "path"} and len(tab) > 10
+    json.dumps(res.to_dict())
+    fig = res.plot(path=tmp_path / "t.png")
+    assert fig.axes and (tmp_path / "t.png").stat().st_size > 0
+    assert tcpmm.tune_servos is tune_and_predict

@@ -47,6 +47,37 @@ class TuneResult:
         return {"axes": {k: v.to_dict() for k, v in self.axes.items()},
                 "path_before_um": self.path_before, "path_after_um": self.path_after}
 
+    def to_pandas(self):
+        """Table: per axis, gains, margins and bandwidths before and after (SI gains;
+        dB, deg, Hz); then the path figures [um]."""
+        import pandas as pd
+
+        rows = []
+        for name, t in self.axes.items():
+            for key in ("K_vp", "K_vi", "K_pp", "k_ff"):
+                rows.append((name, key, getattr(t.before, key), getattr(t.after, key)))
+            for loop in ("velocity", "position"):
+                b, a = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
+                rows += [(name, f"{loop}_{k}", b[k], a[k]) for k in b]
+        for case, figs in self.path_before.items():
+            rows += [("path", f"{case}_{k}", v, self.path_after[case][k])
+                     for k, v in figs.items()]
+        return pd.DataFrame(rows, columns=["axis", "quantity", "before", "after"])
+
+    def plot(self, ax=None, path=None):
+        """Open velocity loops before and after, per axis; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            Two per axis (magnitude over phase); a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
+        from .plot.tune import plot_tuning
+
+        return plot_tuning(self, path, ax=ax)
+
 
 def polyline_distance(points, path) -> np.ndarray:
     """Distance of each point to the nearest segment of a path sampled alongside it.
@@ -107,10 +138,17 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     ----------
     machine : Machine
         The model [SI].
-    gm_db, pm_deg : float
-        Required gain [dB] and phase [deg] margins.
+    gm_db : float
+        Required gain margin of both loops [dB].
+    pm_deg : float
+        Required phase margin of both loops [deg].
     command : Command, optional
         Path to predict; default the paper's circle [m].
+
+    Returns
+    -------
+    TuneResult
+        The tuned machine, the proposal per axis and the path figures [-].
     """
     circle = command is None
     cmd = paper_circle_command(machine) if circle else command

@@ -52,7 +52,8 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
                     "closed_loop_stable": is_stable(a.mechanics, a.servo),
                     "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo),
                     "margins": {k: v.to_dict() for k, v in
-                                axis_margins(a.mechanics, a.servo).items()}}
+                                axis_margins(a.mechanics, a.servo).items()},
+                    "filters": [f.model_dump() for f in a.servo.filters]}
     if as_json:
         _emit_json(data)
         return
@@ -64,6 +65,8 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         sampled = "stable" if rho < 1.0 else "UNSTABLE"
         out.print(f"{ax}: {modes}; closed loop {state}; sampled loop {sampled} "
                   f"(spectral radius {rho:.4f})")
+        for f in d["filters"]:
+            out.print("   current-setpoint filter: " + ", ".join(f"{k} {v}" for k, v in f.items()))
         for loop, mg in d["margins"].items():
             out.print(f"   {loop} loop: {margins_line(mg)}")
 

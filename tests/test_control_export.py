@@ -104,3 +104,23 @@ def test_improper_export_is_refused(vmc):
     a = vmc.axes["X"]
     with pytest.raises(InputError, match="improper"):
         closed_loop_to_control(a.mechanics, a.servo, "cmd_to_current")
+
+
+def test_sampled_loop_export(vmc):
+    """The lifted sampled loop: stable discrete poles, named signals, unit DC gain from
+    the command to the scale, and the same response as the package's matrices."""
+    from tcpmm.servo.margins import discrete_freqresp
+    from tcpmm.servo.sampled import lifted_closed_loop, lifted_to_control
+
+    a = vmc.axes["X"]
+    g = lifted_to_control(a.mechanics, a.servo)
+    assert g.dt == a.servo.T_p and g.input_labels == ["x_cmd", "v_cmd"]
+    assert np.all(np.abs(g.poles()) < 1)
+    k = g.output_labels.index("X_LS")
+    assert g.dcgain()[k, 0] == pytest.approx(1.0, abs=1e-9)
+    Phi, Gam, C, D = lifted_closed_loop(a.mechanics, a.servo)
+    f = np.array([1.0, 30.0, 300.0])
+    np.testing.assert_allclose(
+        g(np.exp(2j * np.pi * f * a.servo.T_p))[k, 0],
+        discrete_freqresp(Phi, Gam[:, :1], C[k:k + 1], D[k:k + 1, :1], a.servo.T_p, f),
+        rtol=1e-9)

@@ -185,3 +185,22 @@ def initial_state(mech: AxisMechanics, servo: ServoParams, x0: np.ndarray) -> np
     z[: x0.size] = x0
     z[n + 1 : n + 1 + nt] = x0[0]
     return z
+
+
+def lifted_to_control(mech: AxisMechanics, servo: ServoParams):
+    """The lifted sampled closed loop (:func:`lifted_closed_loop`) as a named discrete
+    ``control.StateSpace`` at the period ``T_p``: inputs ``x_cmd`` [m], ``v_cmd`` [m/s];
+    outputs :data:`LIFTED_OUTPUTS` [SI].
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Mechanics [SI].
+    servo : ServoParams
+        Servo settings [SI].
+    """
+    import control
+
+    Phi, Gam, C, D = lifted_closed_loop(mech, servo)
+    return control.ss(Phi, Gam, C, D, servo.T_p, inputs=["x_cmd", "v_cmd"],
+                      outputs=list(LIFTED_OUTPUTS), name="sampled_position_loop")

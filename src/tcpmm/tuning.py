@@ -7,19 +7,20 @@ or an NC program with the model as given and as tuned.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .demo import FEED_MM_PER_MIN, RADIUS_MM, paper_circle_command
+from .demo import RADIUS_MM, paper_circle_command
 from .model import Machine
 from .servo.tune import tune_machine
 from .simulate import simulate
-from .units import feed_mm_per_min_to_m_per_s, mm_to_m
+from .units import mm_to_m
 
 #: Command samples either side searched for the nearest command segment [-].
 _WINDOW = 400
+#: Feedforward fractions tried on the path [-].
+FEEDFORWARD_GRID = (0.0, 0.25, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
 
 
 @dataclass(frozen=True)
@@ -152,10 +153,36 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     """
     circle = command is None
     cmd = paper_circle_command(machine) if circle else command
-    f_path = (feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN) / (2 * math.pi * mm_to_m(RADIUS_MM))
-              if circle else 1.0)
-    axes = tune_machine(machine, gm_db, pm_deg, f_path)
+    axes = tune_machine(machine, gm_db, pm_deg)
     tuned = machine.model_copy(update={"axes": {
         n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
-    return TuneResult(tuned, axes, path_figures(machine, cmd, circle),
-                      path_figures(tuned, cmd, circle))
+    tuned, after = _best_feedforward(tuned, axes, cmd, circle)
+    what = "largest contour error" if circle else "RMS deviation"
+    axes = {n: replace(t, after=tuned.axes[n].servo, notes=[
+        *t.notes, f"feedforward k_ff = {tuned.axes[n].servo.k_ff:g}: the smallest {what} "
+        f"of the path ({_worst(after):.2f} um) over k_ff = "
+        f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)}"]) if t.met else t
+        for n, t in axes.items()}
+    return TuneResult(tuned, axes, path_figures(machine, cmd, circle), after)
+
+
+def _worst(figures: dict) -> float:
+    """The figure a path is judged by: the largest contour error of the circle passes, or
+    the RMS deviation from a program's path [um]."""
+    keys = ("contour_error_um", "rms_deviation_um")
+    return max(v[k] for v in figures.values() for k in keys if k in v)
+
+
+def _best_feedforward(tuned: Machine, axes: dict, cmd, circle: bool):
+    """Feedforward fraction of :data:`FEEDFORWARD_GRID` (the same for the tuned axes) with
+    the smallest :func:`_worst` on the path; the machine and its path figures. The
+    feedforward acts outside the loops: the margins stay as they are."""
+    best = None
+    for k in FEEDFORWARD_GRID:
+        m = tuned.model_copy(update={"axes": {
+            n: (a.replace(servo=a.servo.model_copy(update={"k_ff": k}))
+                if axes[n].met else a) for n, a in tuned.axes.items()}})
+        figs = path_figures(m, cmd, circle)
+        if best is None or _worst(figs) < _worst(best[1]):
+            best = (m, figs)
+    return best

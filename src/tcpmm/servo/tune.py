@@ -14,8 +14,9 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
 3. **Position loop.** The largest ``K_pp`` meeting the margins and at most a quarter of
    the velocity loop's bandwidth; every axis then takes the smallest of them (equal
    position gains keep a circle round).
-4. **Feedforward.** ``k_ff`` on a 0.05 grid that brings ``|X_TCP/command|`` closest to 1
-   at the circle's frequency.
+4. **Feedforward** is left as it is here: it does not change the margins, and its best
+   value depends on friction and the path, so :func:`tcpmm.tuning.tune_and_predict`
+   chooses it by simulating the path.
 
 A proposal is checked once more at the end: both loops meet the margins and the
 spectral radius of the sampled closed loop is below 1; an axis for which no gain meets
@@ -31,7 +32,6 @@ import numpy as np
 
 from ..mechanics.export import reduced_ss
 from ..mechanics.params import AxisMechanics
-from .closedloop import closed_loop_freqresp
 from .filters import MAX_FILTERS, Notch
 from .margins import axis_margins, position_margins, velocity_margins
 from .params import ServoParams
@@ -184,26 +184,17 @@ def tune_position(mech, servo, gm, pm):
     return _largest(ok, servo.K_pp, cap)
 
 
-def best_feedforward(mech, servo, f_hz: float) -> float:
-    """``k_ff`` of the 0.05 grid with ``|X_TCP/command|`` closest to 1 at ``f_hz`` [-]."""
-    grid = np.round(np.arange(0, 1.0001, 0.05), 2)
-    err = [abs(abs(closed_loop_freqresp(mech, _with(servo, k_ff=float(k)), "cmd_to_tcp",
-                                        [f_hz])[0]) - 1) for k in grid]
-    return float(grid[int(np.argmin(err))])
-
-
-def tune_machine(machine, gm_db: float, pm_deg: float, f_path_hz: float) -> dict:
+def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
     """Tuning proposals of every axis (see the module docstring).
 
     Parameters
     ----------
     machine : Machine
         The model [SI].
-    gm_db, pm_deg : float
-        Required gain [dB] and phase [deg] margins of both loops.
-    f_path_hz : float
-        Frequency of the path the feedforward is chosen for (a circle's revolution
-        rate) [Hz].
+    gm_db : float
+        Required gain margin of both loops [dB].
+    pm_deg : float
+        Required phase margin of both loops [deg].
 
     Returns
     -------
@@ -221,7 +212,6 @@ def tune_machine(machine, gm_db: float, pm_deg: float, f_path_hz: float) -> dict
         m, s = a.mechanics, vel[name]
         if s is not None and common is not None:
             s = _with(s, K_pp=common)
-            s = _with(s, k_ff=best_feedforward(m, s, f_path_hz))
         after = s if s is not None else a.servo
         mg_after = axis_margins(m, after)
         met = (s is not None and all(v.meets(gm_db, pm_deg) for v in mg_after.values())

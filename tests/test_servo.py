@@ -6,6 +6,7 @@ from scipy.signal import dlsim
 
 from tcpmm.errors import InputError
 from tcpmm.servo.closedloop import closed_loop_freqresp, is_stable
+from tcpmm.servo.currentfilters import LowPass, Notch
 from tcpmm.servo.params import ServoParams
 from tcpmm.servo.sampled import (
     LIFTED_OUTPUTS,
@@ -70,6 +71,8 @@ CASES = [
     dict(T_p=1e-3, velocity_feedback="difference", delay_samples=1, k_ff=1.0),
     dict(velocity_feedback="difference", velocity_filter=[0.5, 0.5], delay_samples=1),
     dict(velocity_feedback="difference", velocity_filter=[0.25, 0.5, 0.25]),
+    dict(filters=[Notch(f_hz=633.0, bandwidth_hz=150.0, depth_db=-25.0),
+                  LowPass(f_hz=3000.0, zeta=0.7)], delay_samples=1),
 ]
 
 

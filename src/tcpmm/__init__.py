@@ -13,7 +13,7 @@ The public API, by step of the work (each name is imported on first use, so that
     predict    program_to_command, circle_command, paper_circle_command, read_command,
                simulate
     analyse    read_run, analyse_circle, circle_diagnostics, compare, contour_error
-    what-if    circle_spread, run_sweep
+    what-if    circle_spread, run_sweep, tune_servos
 
 Results share one protocol: ``.to_pandas()`` (a table in file units), ``.to_dict()``
 (what ``--json`` prints) and ``.plot(ax=None, path=None)``, which returns the matplotlib
@@ -60,6 +60,7 @@ _API = {
     "contour_error": "tcpmm.analysis.contour:contour_error",
     "circle_spread": "tcpmm.spread:circle_spread",
     "run_sweep": "tcpmm.sweep.run:run_sweep",
+    "tune_servos": "tcpmm.tuning:tune_and_predict",
 }
 
 __all__ = ["__version__", *_API]

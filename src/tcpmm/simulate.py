@@ -22,6 +22,7 @@ from .mechanics.statespace import (
 from .model import Axis, Machine
 from .path.command import Command
 from .result import AxisRun, Run
+from .servo.currentfilters import biquads
 from .servo.sampled import sampled_spectral_radius
 from .sim.kernel import NX, run_axis
 
@@ -41,6 +42,7 @@ class KernelInputs(NamedTuple):
     vtaps: np.ndarray
     AdgT: np.ndarray
     BdgT: np.ndarray
+    fsec: np.ndarray
 
 
 def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_every: int = 1,
@@ -102,7 +104,8 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     pf_s = friction_params_array(fr.screw if fr is not None else None)
     pf_g = friction_params_array(fr.guideway if fr is not None else None)
     vtaps = np.asarray(s.velocity_filter, dtype=float)
-    return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT)
+    fsec = biquads(s.filters, s.T_v)
+    return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec)
 
 
 def command_velocity(position_m, period_s: float, kind: str = "segment") -> np.ndarray:
@@ -190,7 +193,7 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback, T_c, n)
     rec = np.zeros(((n - 1) // rec_every + 1, 5))
     run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s,
-             k.pf_g, k.vtaps, k.AdgT, k.BdgT)
+             k.pf_g, k.vtaps, k.AdgT, k.BdgT, k.fsec)
     t_rec = np.arange(rec.shape[0]) * (rec_every * T_v)
     cmd_rec = np.interp(t_rec, t - t[0], pos)
     exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]

@@ -165,6 +165,9 @@ def bundle_machine_yaml(machine: Machine, axes) -> dict:
                 "tcp_resolution_um": sen.tcp_resolution * 1e6,
             },
         }
+        if s.filters:
+            out["axes"][name]["servo"]["current_setpoint_filters"] = [
+                f.model_dump() for f in s.filters]
     return out
 
 

@@ -17,6 +17,7 @@ from . import (  # noqa: F401  (importing them registers their commands)
     report,
     run,
     sweep,
+    tune,
 )
 from ._app import _esc, app, console
 

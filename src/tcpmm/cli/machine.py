@@ -33,11 +33,13 @@ def machine_export(name: str = typer.Argument(..., help="Built-in machine name (
 @machine_app.command("show")
 def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                  as_json: bool = typer.Option(False, "--json")):
-    """Modes of each axis (natural frequencies and damping) and closed-loop stability."""
+    """Modes of each axis (natural frequencies and damping), closed-loop stability and the
+    margins of the sampled velocity and position loops."""
     import numpy as np
 
     from ..mechanics.statespace import plant
     from ..servo.closedloop import is_stable
+    from ..servo.margins import axis_margins
     from ..servo.sampled import sampled_spectral_radius
 
     m = _read_model(model)
@@ -49,7 +51,10 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev[order]],
                     "damping": [float(-e.real / abs(e)) for e in ev[order]],
                     "closed_loop_stable": is_stable(a.mechanics, a.servo),
-                    "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo)}
+                    "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo),
+                    "margins": {k: v.to_dict() for k, v in
+                                axis_margins(a.mechanics, a.servo).items()},
+                    "filters": [f.model_dump() for f in a.servo.filters]}
     if as_json:
         _emit_json(data)
         return
@@ -61,12 +66,49 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         sampled = "stable" if rho < 1.0 else "UNSTABLE"
         out.print(f"{ax}: {modes}; closed loop {state}; sampled loop {sampled} "
                   f"(spectral radius {rho:.4f})")
+        for f in d["filters"]:
+            out.print("   current-setpoint filter: " + ", ".join(f"{k} {v}" for k, v in f.items()))
+        for loop, mg in d["margins"].items():
+            out.print(f"   {loop} loop: {margins_line(mg)}")
+
+
+def margins_line(mg: dict) -> str:
+    """One line of a loop's margins: gain, phase, crossovers [dB, deg, Hz]."""
+    def at(value, unit, f):
+        if value is None:
+            return "infinite (no crossing)"
+        return f"{value:.1f} {unit} at {f:.1f} Hz"
+
+    bw = mg["bandwidth_hz"]
+    return (f"gain margin {at(mg['gain_margin_db'], 'dB', mg['phase_crossover_hz'])}, "
+            f"phase margin {at(mg['phase_margin_deg'], 'deg', mg['gain_crossover_hz'])}, "
+            f"bandwidth {'-' if bw is None else f'{bw:.1f} Hz'}")
+
+OPEN_LOOPS = ("L_v", "L_p")
+
+
+def _open_loop(axis, tf: str, f, given: bool):
+    """Open sampled loop gain at ``f`` [Hz], which must lie below the loop's Nyquist (the
+    default grid is cut there); returns the frequencies and the gain."""
+    from ..servo.margins import position_loop_gain, velocity_loop_gain
+
+    s = axis.servo
+    period = s.T_v if tf == "L_v" else s.T_p
+    if not given:
+        f = f[f < 0.5 / period]
+    if f.max() >= 0.5 / period:
+        raise typer.BadParameter(f"--freq-hz: {tf} is sampled every {period:g} s; give "
+                                 f"frequencies below its Nyquist frequency {0.5 / period:g} Hz")
+    gain = velocity_loop_gain if tf == "L_v" else position_loop_gain
+    return f, gain(axis.mechanics, s, f)
+
 
 @app.command()
 def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
          axis: str = typer.Option(..., "--axis", help="Axis name, e.g. X."),
          tf: str = typer.Option(..., "--tf", help="G_M, G_T, G_tcp, G_v, G_p, cmd_to_tcp, "
-                                 "cmd_to_motor or cmd_to_current."),
+                                 "cmd_to_motor, cmd_to_current, or the open sampled "
+                                 "loops L_v (velocity) and L_p (position)."),
          freq_hz: str = typer.Option(None, "--freq-hz", help="F1,F2,... [Hz]"),
          as_json: bool = typer.Option(False, "--json"),
          plot: Path = typer.Option(None, "--plot", help="Save a Bode plot.")):
@@ -86,8 +128,11 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         H = reduced_freqresp(a.mechanics, tf, f, a.servo.current_bandwidth_hz)
     elif tf in CLOSED_LOOP_TFS:
         H = closed_loop_freqresp(a.mechanics, a.servo, tf, f)
+    elif tf in OPEN_LOOPS:
+        f, H = _open_loop(a, tf, f, given=bool(freq_hz))
     else:
-        raise typer.BadParameter(f"--tf must be one of {', '.join([*REDUCED, *CLOSED_LOOP_TFS])}")
+        raise typer.BadParameter(
+            f"--tf must be one of {', '.join([*REDUCED, *CLOSED_LOOP_TFS, *OPEN_LOOPS])}")
     if plot is not None:
         from ..plot.bode import plot_bode
 

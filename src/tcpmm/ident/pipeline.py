@@ -329,6 +329,7 @@ def axis_config_to_servo(cfg, current_bandwidth_hz=None, timing=None) -> ServoPa
         delay_samples=delay,
         velocity_feedback=kind,
         feedforward="segment",
+        filters=list(s.current_setpoint_filters),
     )
 
 

@@ -19,6 +19,7 @@ from tcpmm.errors import InputError
 from tcpmm.io.atomic import write_text_atomic
 from tcpmm.io.text import read_text
 from tcpmm.io.yamlutil import validate_yaml
+from tcpmm.servo.currentfilters import MAX_FILTERS, ServoFilter
 from tcpmm.units import MM, UM
 
 FORMAT_VERSION = "tcpmm-bundle/1"
@@ -52,6 +53,9 @@ class ServoConfig(_Strict):
         Velocity-loop sample period T_v [s].
     current_limit_A : float
         Drive current limit [A].
+    current_setpoint_filters : list
+        The drive's current-setpoint filters as the model file gives them
+        (:mod:`tcpmm.servo.currentfilters`); carried into the identified model [-].
     """
 
     position_feedback: Literal["scale", "encoder"]
@@ -62,6 +66,8 @@ class ServoConfig(_Strict):
     position_loop_period_s: PosFloat
     velocity_loop_period_s: PosFloat
     current_limit_A: PosFloat
+    current_setpoint_filters: list[ServoFilter] = Field(default_factory=list,
+                                                        max_length=MAX_FILTERS)
 
     @model_validator(mode="after")
     def _inner_loop_faster(self):
@@ -236,6 +242,9 @@ def read_machine_yaml(path: str | Path) -> MachineConfig:
 def machine_to_dict(machine: MachineConfig) -> dict:
     """Plain-dict form of a configuration, ``format`` first, unset optionals left out."""
     data = machine.model_dump(exclude_none=True)
+    for a in data.get("axes", {}).values():
+        if not a.get("servo", {}).get("current_setpoint_filters", True):
+            a["servo"].pop("current_setpoint_filters")  # bundles without stay as they were
     return {"format": data.pop("format"), **data}
 
 

@@ -23,7 +23,9 @@ _HEADER = """\
 #              K [N/m], K_tc [N m/A], load_force [N]
 #   servo: K_pp [1/s], K_vp [A s/rad], K_vi [A/rad], k_ff [-], T_p, T_v [s],
 #          current_limit [A], current_bandwidth_hz [Hz], delay_samples [-],
-#          velocity_filter [-] (FIR taps, newest first), feedforward [segment|centred]
+#          velocity_filter [-] (FIR taps, newest first), feedforward [segment|centred],
+#          filters: current-setpoint filters, {{type: lowpass, f_hz [Hz], zeta [-]}} or
+#          {{type: notch, f_hz [Hz], bandwidth_hz [Hz], depth_db [dB]}}
 #   friction (table units): fc, fs, fv [N, N, N s/m], vs [m/s], sigma0 [N/m],
 #          sigma1 [N s/m], sigma1_fades [-], backlash [m] (total free play of the
 #          screw-nut), guideway_velocity [table|relative]
@@ -50,6 +52,8 @@ def machine_to_dict(machine: Machine) -> dict:
     for a in d["axes"].values():
         if a.get("uncertainty") is None:
             a.pop("uncertainty", None)  # files of hand-made models stay as they were
+        if not a["servo"].get("filters"):
+            a["servo"].pop("filters", None)
     out = {"format": FORMAT, "name": d["name"]}
     if d.get("suspect"):
         out["suspect"] = list(d["suspect"])  # first, where a reader sees it

@@ -48,11 +48,11 @@ class StateSpace:
         """Row of C for a named output [-]."""
         return self.C[self.outputs.index(name)]
 
-    def to_control(self):
-        """The same system as a ``control.StateSpace``."""
-        import control
+    def to_control(self, name: str | None = None):
+        """The same system as a ``control.StateSpace`` with its signal names."""
+        from .export import to_control
 
-        return control.ss(self.A, self.B, self.C, self.D)
+        return to_control(self, name)
 
 
 def plant(mech: AxisMechanics, current_bandwidth_hz: float | None = None) -> StateSpace:

@@ -116,12 +116,16 @@ def g_tcp_closed_form(mech: AxisMechanics, f_hz) -> np.ndarray:
 
 
 def to_control_tf(mech: AxisMechanics, name: str, current_bandwidth_hz=None):
-    """A reduced or block transfer function as a ``control.TransferFunction``.
+    """A reduced or block transfer function for python-control.
 
-    Reduced models come from the state space (``ss2tf`` then the ratio, minimal
-    realisation); blocks come from their closed forms.
+    Reduced models (G_M, G_T, G_tcp) are minimal named state spaces from the plant
+    (:func:`tcpmm.mechanics.export.reduced_ss`), returned as ``control.StateSpace``:
+    a polynomial of their order would lose the poles to rounding. Blocks come from their
+    closed forms as ``control.TransferFunction``.
     """
     import control
+
+    from .export import reduced_ss, to_control
 
     m = mech
     blocks = {
@@ -134,16 +138,6 @@ def to_control_tf(mech: AxisMechanics, name: str, current_bandwidth_hz=None):
     if name in blocks:
         return control.tf(*blocks[name])
     if name not in REDUCED:
-        raise KeyError(f"unknown transfer function {name!r}")
-    ss = plant(mech, current_bandwidth_hz)
-    i = ss.inputs.index("i_c")
-    num, den = REDUCED[name]
-
-    def tf_of(out):
-        sys = control.ss(ss.A, ss.B[:, [i]], ss.output_row(out)[None, :], [[0.0]])
-        return control.tf(sys)
-
-    g = tf_of(num)
-    if den is not None:
-        g = g / tf_of(den)
-    return control.minreal(g, tol=1e-9, verbose=False)
+        raise KeyError(f"unknown transfer function {name!r}; known: "
+                       f"{', '.join([*REDUCED, *blocks])}")
+    return to_control(reduced_ss(mech, name, current_bandwidth_hz), name=name)

@@ -12,56 +12,58 @@ import numpy as np
 from ..mechanics.params import AxisMechanics
 from ..mechanics.statespace import StateSpace, plant
 from ..mechanics.transfer import freqresp_ss
+from .currentfilters import continuous_ss
 from .params import ServoParams
 
 CLOSED_LOOP_TFS = ("G_v", "G_p", "cmd_to_tcp", "cmd_to_motor", "cmd_to_current")
 
 
+def _close(p: StateSpace, servo: ServoParams, e_x, e_u, inputs) -> StateSpace:
+    """Close the PI velocity controller (and its current-setpoint filters) around the
+    plant ``p``: velocity error ``e = e_x x + e_u u``; ``i_c = K_vp e + K_vi int(e)``
+    through the filters into the plant. States: plant, ``I_w``, filter states."""
+    n = p.A.shape[0]
+    Af, bf, cf, df = continuous_ss(servo.filters)
+    nf = Af.shape[0]
+    b = p.B[:, 0]
+    ic_x, ic_u = servo.K_vp * e_x, servo.K_vp * e_u  # i_c over x and u (and K_vi I_w)
+    A = np.zeros((n + 1 + nf, n + 1 + nf))
+    A[:n, :n] = p.A + np.outer(b, df * ic_x)
+    A[:n, n] = b * (df * servo.K_vi)
+    A[:n, n + 1:] = np.outer(b, cf)
+    A[n, :n] = e_x
+    A[n + 1:, :n] = np.outer(bf, ic_x)
+    A[n + 1:, n] = bf * servo.K_vi
+    A[n + 1:, n + 1:] = Af
+    B = np.vstack([np.outer(b, df * ic_u), e_u, np.outer(bf, ic_u)])
+    C = np.vstack([np.hstack([p.C, np.zeros((p.C.shape[0], 1 + nf))]),
+                   np.hstack([df * ic_x, [df * servo.K_vi], cf])])
+    D = np.vstack([np.zeros((p.C.shape[0], len(inputs))), df * ic_u])
+    states = (*p.states, "I_w", *(f"filter_{i}" for i in range(nf)))
+    return StateSpace(A, B, C, D, states, inputs, (*p.outputs, "i_c"))
+
+
 def position_closed_loop(mech: AxisMechanics, servo: ServoParams) -> StateSpace:
     """Closed position loop with inputs ``x_cmd`` [m], ``v_cmd`` [m/s].
 
-    States are the plant states plus the velocity-loop integral. Outputs are the plant
-    outputs plus ``i_c`` [A].
+    States are the plant states, the velocity-loop integral and the filter states.
+    Outputs are the plant outputs plus ``i_c`` [A], the current setpoint after the
+    filters.
     """
     p = plant(mech, servo.current_bandwidth_hz)
-    n = p.A.shape[0]
     R = mech.R_L
     c_fb = p.output_row("X_LS") if servo.position_feedback == "scale" else R * p.output_row("th_m")
     c_w = p.output_row("w_m")
-    b = p.B[:, 0]
-    # w_c = (K_pp (x_cmd - c_fb x) + k_ff v_cmd)/R ; e = w_c - c_w x ; i = K_vp e + K_vi I
+    # w_c = (K_pp (x_cmd - c_fb x) + k_ff v_cmd)/R ; e = w_c - c_w x
     e_x = -servo.K_pp / R * c_fb - c_w
     e_u = np.array([servo.K_pp / R, servo.k_ff / R])
-    A = np.zeros((n + 1, n + 1))
-    A[:n, :n] = p.A + np.outer(b, servo.K_vp * e_x)
-    A[:n, n] = b * servo.K_vi
-    A[n, :n] = e_x
-    B = np.zeros((n + 1, 2))
-    B[:n] = np.outer(b, servo.K_vp * e_u)
-    B[n] = e_u
-    C = np.vstack([np.hstack([p.C, np.zeros((p.C.shape[0], 1))]),
-                   np.hstack([servo.K_vp * e_x, [servo.K_vi]])])
-    D = np.vstack([np.zeros((p.C.shape[0], 2)), servo.K_vp * e_u])
-    return StateSpace(A, B, C, D, (*p.states, "I_w"), ("x_cmd", "v_cmd"), (*p.outputs, "i_c"))
+    return _close(p, servo, e_x, e_u, ("x_cmd", "v_cmd"))
 
 
 def velocity_closed_loop(mech: AxisMechanics, servo: ServoParams) -> StateSpace:
     """Closed velocity loop with input ``w_c`` [rad/s]; outputs the plant's and ``i_c``."""
     p = plant(mech, servo.current_bandwidth_hz)
-    n = p.A.shape[0]
-    c_w = p.output_row("w_m")
-    b = p.B[:, 0]
-    A = np.zeros((n + 1, n + 1))
-    A[:n, :n] = p.A - servo.K_vp * np.outer(b, c_w)
-    A[:n, n] = servo.K_vi * b
-    A[n, :n] = -c_w
-    B = np.zeros((n + 1, 1))
-    B[:n, 0] = servo.K_vp * b
-    B[n, 0] = 1.0
-    C = np.vstack([np.hstack([p.C, np.zeros((p.C.shape[0], 1))]),
-                   np.hstack([-servo.K_vp * c_w, [servo.K_vi]])])
-    D = np.vstack([np.zeros((p.C.shape[0], 1)), [[servo.K_vp]]])
-    return StateSpace(A, B, C, D, (*p.states, "I_w"), ("w_c",), (*p.outputs, "i_c"))
+    return _close(p, servo, -p.output_row("w_m"), np.array([1.0]), ("w_c",))
 
 
 def closed_loop_freqresp(mech: AxisMechanics, servo: ServoParams, name: str, f_hz):
@@ -102,3 +104,67 @@ def is_stable(mech: AxisMechanics, servo: ServoParams) -> bool:
     """True when every pole of the continuous position loop is in the open left half-plane
     (the position loop closes the rigid-body integrator, so none may sit at zero)."""
     return bool(np.all(np.linalg.eigvals(position_closed_loop(mech, servo).A).real < 0))
+
+
+def closed_loop_ss(mech: AxisMechanics, servo: ServoParams, name: str) -> StateSpace:
+    """Minimal SISO state space of a closed loop, from the command [m] (feedforward of
+    its derivative included) or, for ``G_v``, from the velocity command [rad/s].
+
+    Parameters
+    ----------
+    mech, servo : AxisMechanics, ServoParams
+        The axis [SI].
+    name : str
+        One of :data:`CLOSED_LOOP_TFS` [-].
+    """
+    from ..errors import InputError
+    from ..mechanics.export import relative_coordinates, structural_minimal
+
+    if name == "G_v":
+        cl = velocity_closed_loop(mech, servo)
+        return structural_minimal(relative_coordinates(cl, mech), ["w_c"], ["w_m"])
+    out = _OUTPUT.get(name)
+    if out is None:
+        raise KeyError(f"unknown closed loop {name!r}; known: {', '.join(CLOSED_LOOP_TFS)}")
+    o = out(servo) if callable(out) else out
+    cl = position_closed_loop(mech, servo)
+    k = cl.outputs.index(o)
+    if cl.D[k, 1] != 0.0:
+        raise InputError(f"{name} with velocity feedforward (k_ff = {servo.k_ff}) is "
+                         "improper (the command's derivative reaches the current "
+                         "directly); export the two-input loop (name=None) instead")
+    # v_cmd = s x_cmd: s C (sI - A)^-1 b_v = C b_v + C A (sI - A)^-1 b_v
+    b = cl.B[:, 0] + cl.A @ cl.B[:, 1]
+    d = cl.D[:, 0] + cl.C @ cl.B[:, 1]
+    gain = mech.R_L if o == "th_m" else 1.0
+    siso = StateSpace(cl.A, b[:, None], gain * cl.C, gain * d[:, None], cl.states,
+                      ("x_cmd",), cl.outputs)
+    red = structural_minimal(relative_coordinates(siso, mech), ["x_cmd"], [o])
+    label = {"G_p": "x_fb", "cmd_to_motor": "x_motor"}.get(name, o)
+    return StateSpace(red.A, red.B, red.C, red.D, red.states, red.inputs, (label,))
+
+
+_OUTPUT = {
+    "G_p": lambda s: "X_LS" if s.position_feedback == "scale" else "th_m",
+    "cmd_to_tcp": "X_TCP",
+    "cmd_to_motor": "th_m",
+    "cmd_to_current": "i_c",
+}
+
+
+def closed_loop_to_control(mech: AxisMechanics, servo: ServoParams, name: str | None = None):
+    """A closed loop as a named ``control.StateSpace``.
+
+    Parameters
+    ----------
+    mech, servo : AxisMechanics, ServoParams
+        The axis [SI].
+    name : str, optional
+        A SISO loop of :data:`CLOSED_LOOP_TFS` (:func:`closed_loop_ss`); ``None`` for
+        the continuous position loop with inputs ``x_cmd, v_cmd`` and every output [-].
+    """
+    from ..mechanics.export import to_control
+
+    if name is None:
+        return to_control(position_closed_loop(mech, servo), name="position_loop")
+    return to_control(closed_loop_ss(mech, servo, name), name=name)

@@ -16,6 +16,7 @@ from pydantic import (
 
 from .._validate import validation_message
 from ..errors import InputError
+from .currentfilters import MAX_FILTERS, ServoFilter, check_filters
 
 #: Most FIR taps of the velocity estimate.
 MAX_VELOCITY_TAPS = 8
@@ -57,6 +58,9 @@ class ServoParams(BaseModel):
         FIR taps on the encoder angle before the difference, newest first and summing to
         1 (``[0.5, 0.5]`` averages two samples); ``[1.0]`` is the plain difference. Used
         with ``velocity_feedback="difference"`` [-].
+    filters : list of LowPass or Notch
+        Up to four current-setpoint filters on the velocity controller's output, run at
+        ``T_v`` (:mod:`tcpmm.servo.currentfilters`) [-].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -75,6 +79,7 @@ class ServoParams(BaseModel):
     feedforward: Literal["segment", "centred"] = "segment"
     velocity_filter: list[float] = Field(default_factory=lambda: [1.0], min_length=1,
                                          max_length=MAX_VELOCITY_TAPS)
+    filters: list[ServoFilter] = Field(default_factory=list, max_length=MAX_FILTERS)
 
     @field_validator("velocity_filter")
     @classmethod
@@ -91,6 +96,7 @@ class ServoParams(BaseModel):
                 f"position loop period T_p={self.T_p} s must be an integer multiple of the "
                 f"velocity loop period T_v={self.T_v} s"
             )
+        check_filters(self.filters, self.T_v)
         return self
 
     @classmethod

@@ -10,66 +10,152 @@ check it and as the benchmark peer). Valid while nothing saturates.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..mechanics.params import AxisMechanics
 from ..mechanics.statespace import discretize_zoh, plant
+from .currentfilters import biquads
 from .params import ServoParams
 
 #: Outputs of the lifted system, sampled at the start of each position-loop period.
 LIFTED_OUTPUTS = ("th_m", "X_LS", "X_TCP", "w_m")
 
 
+@lru_cache(maxsize=32)
+def _discrete_plant(mech: AxisMechanics, current_bandwidth_hz, T_v: float):
+    """ZOH plant from the current at ``T_v``: the same for every gain, so kept [-]."""
+    p = plant(mech, current_bandwidth_hz)
+    Ad, Bd = discretize_zoh(p.A, p.B, T_v)
+    Ad.flags.writeable = False
+    Bd.flags.writeable = False
+    return Ad, Bd[:, 0]
+
+
+class _Rows:
+    """Signals of the sampled loop as rows of coefficients over ``[z; u]``."""
+
+    def __init__(self, mech: AxisMechanics, servo: ServoParams, nu: int):
+        p = plant(mech, servo.current_bandwidth_hz)
+        self.p, self.servo, self.R = p, servo, mech.R_L
+        n = p.A.shape[0]
+        self.Ad, self.bd = _discrete_plant(mech, servo.current_bandwidth_hz, servo.T_v)
+        self.sections = biquads(servo.filters, servo.T_v)
+        nt, d, nf = len(servo.velocity_filter), servo.delay_samples, 2 * len(servo.filters)
+        self.nz = n + 1 + nt + d + nf
+        eye = np.eye(self.nz + nu)
+        self.x = eye[:n]  # plant states
+        self.I_w = eye[n]
+        self.hist = [eye[n + 1 + j] for j in range(nt)]  # th_m(k-1), th_m(k-2), ...
+        self.delay = [eye[n + 1 + nt + j] for j in range(d)]  # oldest first
+        self.filt = [eye[n + 1 + nt + d + j] for j in range(nf)]
+        self.u = eye[self.nz:]
+
+    def out(self, name: str) -> np.ndarray:
+        """Row of a plant output at the present step."""
+        return self.p.output_row(name) @ self.x
+
+    def feedback(self) -> np.ndarray:
+        """Row of the position feedback [m]."""
+        if self.servo.position_feedback == "scale":
+            return self.out("X_LS")
+        return self.R * self.out("th_m")
+
+    def controller(self, w_c: np.ndarray) -> np.ndarray:
+        """One velocity-controller step: its output ``i_c`` [A]; updates ``I_w``, ``hist``."""
+        s = self.servo
+        th_m = self.out("th_m")
+        if s.velocity_feedback == "state":
+            w_fb = self.out("w_m")
+        else:
+            th = [th_m, *self.hist]
+            w_fb = sum(c * (th[i] - th[i + 1])
+                       for i, c in enumerate(s.velocity_filter)) / s.T_v
+        self.hist = [th_m, *self.hist[:-1]]
+        e = w_c - w_fb
+        self.I_w = self.I_w + e * s.T_v
+        return s.K_vp * e + s.K_vi * self.I_w
+
+    def apply(self, i_c: np.ndarray) -> None:
+        """Current setpoint through the filters and the delay into the plant, one step."""
+        for k, (b0, b1, b2, a1, a2) in enumerate(self.sections):
+            s1, s2 = self.filt[2 * k], self.filt[2 * k + 1]
+            y = b0 * i_c + s1
+            self.filt[2 * k] = b1 * i_c - a1 * y + s2
+            self.filt[2 * k + 1] = b2 * i_c - a2 * y
+            i_c = y
+        if self.delay:
+            self.delay.append(i_c)
+            i_c = self.delay.pop(0)
+        self.x = self.Ad @ self.x + np.outer(self.bd, i_c)
+
+    def state(self) -> np.ndarray:
+        """Rows of the next state."""
+        return np.vstack([self.x, self.I_w, *self.hist, *self.delay, *self.filt])
+
+
 def lifted_closed_loop(mech: AxisMechanics, servo: ServoParams):
     """Lifted closed loop ``z[m+1] = Phi z[m] + Gam u[m]``, ``y[m] = C z[m] + D u[m]``.
 
     The input ``u = [x_cmd, v_cmd]`` is the command [m] and its velocity [m/s] at the
-    position-loop instant. The state is ``[x (plant), I_w, past encoder angles, delay line]``.
+    position-loop instant. The state is ``[x (plant), I_w, past encoder angles, delay
+    line, filter states]``.
 
     Returns
     -------
     Phi, Gam, C, D : ndarray
         Discrete system at the period ``T_p`` [-].
     """
-    p = plant(mech, servo.current_bandwidth_hz)
-    n = p.A.shape[0]
-    Ad, Bd = discretize_zoh(p.A, p.B, servo.T_v)
-    bd = Bd[:, 0]
-    d = servo.delay_samples
-    taps = servo.velocity_filter
-    nt = len(taps)  # past encoder angles kept, newest first
-    nz = n + 1 + nt + d
-    nu = 2
-    eye = np.eye(nz + nu)
-    x = eye[:n]  # rows: plant states as functions of [z; u]
-    I_w = eye[n]
-    hist = [eye[n + 1 + j] for j in range(nt)]  # th_m(k-1), th_m(k-2), ...
-    delay = [eye[n + 1 + nt + j] for j in range(d)]  # oldest first
-    x_cmd, v_cmd = eye[nz], eye[nz + 1]
-    R = mech.R_L
-    th_m = p.output_row("th_m") @ x
-    x_fb = p.output_row("X_LS") @ x if servo.position_feedback == "scale" else R * th_m
-    w_c = (servo.K_pp * (x_cmd - x_fb) + servo.k_ff * v_cmd) / R
-    y = np.vstack([th_m, p.output_row("X_LS") @ x, p.output_row("X_TCP") @ x,
-                   p.output_row("w_m") @ x])
+    r = _Rows(mech, servo, 2)
+    x_cmd, v_cmd = r.u
+    w_c = (servo.K_pp * (x_cmd - r.feedback()) + servo.k_ff * v_cmd) / r.R
+    y = np.vstack([r.out(o) for o in LIFTED_OUTPUTS])
     for _ in range(servo.n_pos):
-        th_m = p.output_row("th_m") @ x
-        if servo.velocity_feedback == "state":
-            w_fb = p.output_row("w_m") @ x
-        else:
-            th = [th_m, *hist]
-            w_fb = sum(c * (th[i] - th[i + 1]) for i, c in enumerate(taps)) / servo.T_v
-        hist = [th_m, *hist[:-1]]
-        e = w_c - w_fb
-        I_w = I_w + e * servo.T_v
-        i_c = servo.K_vp * e + servo.K_vi * I_w
-        if d:
-            delay.append(i_c)
-            i_c = delay.pop(0)
-        x = Ad @ x + np.outer(bd, i_c)
-    z_next = np.vstack([x, I_w, *hist, *delay])
-    Phi, Gam = z_next[:, :nz], z_next[:, nz:]
-    return Phi, Gam, y[:, :nz], y[:, nz:]
+        r.apply(r.controller(w_c))
+    return _split(r.state(), y, r.nz)
+
+
+def _split(z_next, y, nz):
+    return z_next[:, :nz], z_next[:, nz:], y[:, :nz], y[:, nz:]
+
+
+def velocity_open_loop(mech: AxisMechanics, servo: ServoParams):
+    """Sampled velocity loop opened at the current setpoint, at the period ``T_v``.
+
+    The input is the current setpoint [A] entering the filters, delay, ZOH and plant;
+    the output is the velocity controller's output [A] (velocity command zero). The loop
+    gain is ``L(z) = -C (zI - Phi)^-1 Gam``; closing ``u = y`` gives the velocity loop.
+
+    Returns
+    -------
+    Phi, Gam, C, D : ndarray
+        Discrete system at the period ``T_v`` [-].
+    """
+    r = _Rows(mech, servo, 1)
+    zero = np.zeros(r.nz + 1)
+    i_out = r.controller(zero)
+    r.apply(r.u[0])
+    return _split(r.state(), i_out[None, :], r.nz)
+
+
+def position_open_loop(mech: AxisMechanics, servo: ServoParams):
+    """Sampled position loop opened at the velocity command, lifted to the period ``T_p``.
+
+    The input is the velocity command [rad/s], held over a position-loop period with the
+    velocity loop closed; the output is ``K_pp x_fb / R_L`` [rad/s], the feedback part of
+    the next velocity command. The loop gain is ``L(z) = C (zI - Phi)^-1 Gam``.
+
+    Returns
+    -------
+    Phi, Gam, C, D : ndarray
+        Discrete system at the period ``T_p`` [-].
+    """
+    r = _Rows(mech, servo, 1)
+    y = servo.K_pp / r.R * r.feedback()
+    for _ in range(servo.n_pos):
+        r.apply(r.controller(r.u[0]))
+    return _split(r.state(), y[None, :], r.nz)
 
 
 def sampled_spectral_radius(mech: AxisMechanics, servo: ServoParams) -> float:
@@ -95,7 +181,26 @@ def initial_state(mech: AxisMechanics, servo: ServoParams, x0: np.ndarray) -> np
     """Lifted state for a plant state ``x0`` at rest, integrator empty [SI]."""
     n = plant(mech, servo.current_bandwidth_hz).A.shape[0]
     nt = len(servo.velocity_filter)
-    z = np.zeros(n + 1 + nt + servo.delay_samples)
+    z = np.zeros(n + 1 + nt + servo.delay_samples + 2 * len(servo.filters))
     z[: x0.size] = x0
     z[n + 1 : n + 1 + nt] = x0[0]
     return z
+
+
+def lifted_to_control(mech: AxisMechanics, servo: ServoParams):
+    """The lifted sampled closed loop (:func:`lifted_closed_loop`) as a named discrete
+    ``control.StateSpace`` at the period ``T_p``: inputs ``x_cmd`` [m], ``v_cmd`` [m/s];
+    outputs :data:`LIFTED_OUTPUTS` [SI].
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Mechanics [SI].
+    servo : ServoParams
+        Servo settings [SI].
+    """
+    import control
+
+    Phi, Gam, C, D = lifted_closed_loop(mech, servo)
+    return control.ss(Phi, Gam, C, D, servo.T_p, inputs=["x_cmd", "v_cmd"],
+                      outputs=list(LIFTED_OUTPUTS), name="sampled_position_loop")

@@ -23,6 +23,11 @@ excitation is added to the applied current without delay, and the sum is limited
 
 ``vtaps``: FIR taps on the encoder angle (newest first) of the difference velocity.
 
+``fsec``: current-setpoint filters, one row ``b0, b1, b2, a1, a2`` per second-order
+section (:func:`tcpmm.servo.currentfilters.biquads`), applied to the velocity controller's
+output (after its anti-windup clamp, before the delay and the current limit); no rows
+for none.
+
 The command and the excitation come at their own (interpolation, DAQ) period: the
 position loop fine-interpolates the command linearly, as drives do; the excitation is
 held.
@@ -222,9 +227,32 @@ def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u, h, n_sub, pf_
         k += 1
 
 
+@njit(cache=True)
+def _filter_rest(fsec, fst, i0):
+    """Filter states at rest under a constant input ``i0``."""
+    u = i0
+    for q in range(fsec.shape[0]):
+        b0, b1, b2, a1, a2 = fsec[q, 0], fsec[q, 1], fsec[q, 2], fsec[q, 3], fsec[q, 4]
+        y = u * (b0 + b1 + b2) / (1.0 + a1 + a2)
+        fst[q, 0] = y - b0 * u
+        fst[q, 1] = b2 * u - a2 * y
+        u = y
+
+
+@njit(cache=True, inline="always")
+def _filter_step(fsec, fst, u):
+    """One step of the filter cascade (transposed direct form II); its output."""
+    for q in range(fsec.shape[0]):
+        y = fsec[q, 0] * u + fst[q, 0]
+        fst[q, 0] = fsec[q, 1] * u - fsec[q, 3] * y + fst[q, 1]
+        fst[q, 1] = fsec[q, 2] * u - fsec[q, 4] * y
+        u = y
+    return u
+
+
 @njit(cache=True, nogil=True)
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
-             vtaps, AdgT, BdgT):
+             vtaps, AdgT, BdgT, fsec):
     """Simulate one axis for ``cmd.size`` velocity-loop steps.
 
     Parameters
@@ -254,13 +282,19 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         FIR taps of the difference velocity, newest first, summing to 1 [-].
     AdgT, BdgT : ndarray
         As ``AdsT``, ``BdsT`` for the plant without the nut spring (inside the play) [-].
+    fsec : ndarray (n, 5)
+        Current-setpoint filter sections, none for no filters [-].
     """
     x = x0.copy()
     delay, n_taps = ip[3], vtaps.size
     dl = np.full(delay + 1, fp[2] * fp[9] if ip[4] else 0.0)  # delay line of i_c
     hist = np.full(n_taps + 1, _quantise(x[0], fp[7]))  # ring buffer of encoder angles
+    fst = np.zeros((fsec.shape[0], 2))  # states of the current-setpoint filters
+    if fsec.shape[0] > 0:
+        _filter_rest(fsec, fst, dl[0])
     _steps(AdT, BdT, x, np.empty(NX), np.zeros(5), np.zeros((3, NX)), np.zeros(2), dl, hist,
-           cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT)
+           cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT,
+           fsec, fst)
     return x
 
 
@@ -268,11 +302,12 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
 # the counts numba keeps on every array passed to an inlined helper were most of its time.
 @njit(cache=True, nogil=True, _nrt=False)
 def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, rec, AdsT,
-           BdsT, pf_s, pf_g, vtaps, AdgT, BdgT):
+           BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst):
     """The loop of :func:`run_axis` on its work arrays: state ``x`` (advanced in place),
     scratch ``xn``, inputs ``u``, the constant inputs' share of ``Bd u`` ``c`` (per
     matrix set: step, sub-step, sub-step in the play), friction states ``st`` (screw,
-    guideway), the delay line ``dl`` and the encoder history ``hist``."""
+    guideway), the delay line ``dl``, the encoder history ``hist`` and the states ``fst``
+    of the current-setpoint filters ``fsec``."""
     u[1], u[2], u[3] = fp[10], fp[11], fp[12]
     _constant_inputs(BdT, u, c[0])
     _constant_inputs(BdsT, u, c[1])
@@ -285,6 +320,7 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
     I_w = fp[9]
     n_pos, fb_scale, vel_diff, delay, closed, rec_every = ip[0], ip[1], ip[2], ip[3], ip[4], ip[5]
     ff_segment, g_ref = ip[8], ip[9]
+    filtered = fsec.shape[0] > 0
     n_taps = vtaps.size
     c_h = 0  # index of the newest angle in hist
     w_c = 0.0
@@ -338,6 +374,8 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
                     I_w = I_new
             else:
                 I_w = I_new
+            if filtered:
+                i_c = _filter_step(fsec, fst, i_c)
         c_h = (c_h + 1) % (n_taps + 1)
         hist[c_h] = th_q
         c_pos += 1

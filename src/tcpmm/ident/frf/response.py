@@ -45,6 +45,7 @@ from ._spectral import (
     remove_trend,
     sample_rate_hz,
 )
+from .periodic import detect_period, periodic_frf
 
 __all__ = [
     "FRF",
@@ -252,8 +253,10 @@ def estimate_frf(
     input: str = "u",
     output: str = "y",
     file=None,
+    period="auto",
 ) -> FRF:
-    """FRF of ``y`` against ``u`` by Welch-averaged spectra.
+    """FRF of ``y`` against ``u`` by Welch-averaged spectra, or from whole periods when
+    the excitation is periodic (:mod:`tcpmm.ident.frf.periodic`).
 
     Parameters
     ----------
@@ -288,6 +291,11 @@ def estimate_frf(
         Output label, also used as column name in errors [-].
     file : str or Path, optional
         Source file for error messages [-].
+    period : "auto", int or None
+        Period of a periodic excitation [samples]: ``"auto"`` detects it
+        (:func:`~tcpmm.ident.frf.periodic.detect_period`) unless ``nperseg`` is given,
+        ``None`` always averages windowed segments. With a period, whole periods give
+        exact bins with no window, and only the excited bins are returned [-].
 
     Returns
     -------
@@ -302,10 +310,26 @@ def estimate_frf(
         raise InputError(f"estimator must be 'H1' or 'H2', got {estimator!r}")
     u = _check_signal(u, input, None, file)
     y = _check_signal(y, output, u.size, file)
-    order = _detrend_order(detrend)
+    if period is not None and not (period == "auto" and nperseg is not None):
+        p = detect_period(u) if period == "auto" else int(period)
+        if p is not None:
+            return periodic_frf(u, y, fs_hz, p, fmin_hz, fmax_hz, name=name, input=input,
+                                output=output)
     m, noverlap, k = _segmenting(u.size, fs_hz, nperseg, fmin_hz, overlap, file)
-    u = remove_trend(u, order)
-    y = remove_trend(y, order)
+    order = _detrend_order(detrend)
+    f, H, coh = _welch_frf(remove_trend(u, order), remove_trend(y, order), fs_hz, window, m,
+                           noverlap, est, fmin_hz, fmax_hz, input, file)
+    n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
+    return FRF(freq_hz=f, H=H, coherence=coh, n_averages=n_eff,
+               rel_std=_rel_std(coh, n_eff), name=name or f"{output}/{input}",
+               input=input, output=output,
+               meta={"nperseg": m, "n_segments": k, "window": window, "overlap": overlap,
+                     "estimator": est, "fs_hz": fs_hz})
+
+
+def _welch_frf(u, y, fs_hz, window, m, noverlap, est, fmin_hz, fmax_hz, input, file):
+    """Frequencies, H1 or H2 response and coherence from Welch-averaged spectra of the
+    detrended signals, in the band [Hz, -, -]."""
     kw = dict(fs=fs_hz, window=window, nperseg=m, noverlap=noverlap, detrend="constant")
     f, p_uu = signal.welch(u, **kw)
     _, p_yy = signal.welch(y, **kw)
@@ -315,27 +339,7 @@ def estimate_frf(
     with np.errstate(divide="ignore", invalid="ignore"):
         H = p_uy / p_uu if est == "H1" else p_yy / np.conj(p_uy)
         coh = np.abs(p_uy) ** 2 / (p_uu * p_yy)
-    coh = np.nan_to_num(np.clip(coh, 0.0, 1.0))
-    win = signal.get_window(window, m)
-    n_eff = _effective_averages(win, m - noverlap, k)
-    return FRF(
-        freq_hz=f,
-        H=H,
-        coherence=coh,
-        n_averages=n_eff,
-        rel_std=_rel_std(coh, n_eff),
-        name=name or f"{output}/{input}",
-        input=input,
-        output=output,
-        meta={
-            "nperseg": m,
-            "n_segments": k,
-            "window": window,
-            "overlap": overlap,
-            "estimator": est,
-            "fs_hz": fs_hz,
-        },
-    )
+    return f, H, np.nan_to_num(np.clip(coh, 0.0, 1.0))
 
 
 def frf_against_reference(

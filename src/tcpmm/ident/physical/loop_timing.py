@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from ...servo.currentfilters import filters_freqresp
 from ..frf.response import frf_against_reference
 
 __all__ = ["COMPUTATION_DELAY", "LoopTiming", "identify_loop_timing", "sweep_timing"]
@@ -102,6 +103,7 @@ def _controller_ratio(sweep, cfg):
     x_fb = frfs["x"].H if s.position_feedback == "scale" else R * frfs["th"].H
     pos = s.position_gain_1_per_s / R * x_fb * np.exp(-0.5j * w * s.position_loop_period_s)
     c_v = s.velocity_gain_A_s_per_rad + s.velocity_integral_gain_A_per_rad / (1j * w)
+    c_v = c_v * filters_freqresp(s.current_setpoint_filters, f, s.velocity_loop_period_s)
     den = c_v * (1j * w * frfs["th"].H + pos)
     coh = np.minimum(frfs["u"].coherence, frfs["th"].coherence)
     good = (coh > 0.9) & (np.abs(den) > 0)

@@ -1,0 +1,110 @@
+"""``tcpmm tune``: servo settings for stability margins, with the path before and after."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import typer
+
+from ._app import _emit_json, _esc, _in_file, _interp_settings, _output, _read_model, app, out
+
+_MARGINS = re.compile(r"^\s*([0-9.]+)\s*db\s*,\s*([0-9.]+)\s*deg\s*$", re.IGNORECASE)
+
+
+def parse_margins(text: str) -> tuple[float, float]:
+    """``"6dB,45deg"`` -> (6.0, 45.0) [dB, deg]; a bad text is a ``BadParameter``."""
+    m = _MARGINS.match(text or "")
+    try:
+        gm, pm = float(m.group(1)), float(m.group(2))
+    except (AttributeError, ValueError):
+        raise typer.BadParameter(f"--margins must look like 6dB,45deg, got {text!r}") from None
+    if not (0 < gm <= 40 and 0 < pm < 90):
+        raise typer.BadParameter(f"--margins {text!r}: give a gain margin in (0, 40] dB and a "
+                                 "phase margin in (0, 90) deg")
+    return gm, pm
+
+
+@app.command()
+def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+         margins: str = typer.Option("6dB,45deg", "--margins",
+                                     help="Required gain and phase margins, e.g. 6dB,45deg."),
+         gcode: Path = typer.Option(None, "--gcode",
+                                    help="NC program PROG.nc to predict instead of the "
+                                         "paper's circle (R35 mm, F5000 mm/min)."),
+         output: Path = typer.Option(None, "-o", "--output", help="Write the tuned MODEL.yaml."),
+         as_json: bool = typer.Option(False, "--json")):
+    """Propose velocity-loop gains, notch filters, position gain and feedforward that meet
+    the margins on the sampled loops; predict the path before and after."""
+    from ..io.modelfile import write_machine
+    from ..tuning import tune_and_predict
+
+    gm, pm = parse_margins(margins)
+    if output is not None:
+        _output(output, model, gcode)
+    m = _read_model(model)
+    command = None
+    if gcode is not None:
+        from ..path import program_to_command
+
+        with _in_file(gcode):
+            command = program_to_command(gcode, _interp_settings(m))
+    res = tune_and_predict(m, gm, pm, command)
+    if output is not None:
+        write_machine(res.tuned, output)
+    if as_json:
+        _emit_json({"margins_required": {"gain_db": gm, "phase_deg": pm}, **res.to_dict(),
+                    "output": None if output is None else str(output)})
+        return
+    _print_result(res, gm, pm)
+    if output is not None:
+        out.print(f"wrote {output}")
+
+
+def _fmt(v, digits=1):
+    return "-" if v is None else f"{v:.{digits}f}"
+
+
+def _print_result(res, gm, pm) -> None:
+    from rich.table import Table
+
+    for name, t in res.axes.items():
+        tab = Table(title=_esc(f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
+                               f"{'met' if t.met else 'NOT MET, settings kept'}"))
+        for c in ("", "before", "after"):
+            tab.add_column(c, justify="right")
+        b, a = t.before, t.after
+        rows = [("K_vp [A s/rad]", b.K_vp, a.K_vp, 4), ("T_i = K_vp/K_vi [ms]", _ti(b), _ti(a), 2),
+                ("K_pp [1/s]", b.K_pp, a.K_pp, 2), ("k_ff [-]", b.k_ff, a.k_ff, 2)]
+        for label, x, y, d in rows:
+            tab.add_row(_esc(label), _fmt(x, d), _fmt(y, d))
+        tab.add_row("filters", _filters(b), _filters(a))
+        for loop in ("velocity", "position"):
+            mb, ma = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
+            tab.add_row(_esc(f"{loop} gain margin [dB]"), _fmt(mb["gain_margin_db"]),
+                        _fmt(ma["gain_margin_db"]))
+            tab.add_row(_esc(f"{loop} phase margin [deg]"), _fmt(mb["phase_margin_deg"]),
+                        _fmt(ma["phase_margin_deg"]))
+            tab.add_row(_esc(f"{loop} bandwidth [Hz]"), _fmt(mb["bandwidth_hz"]),
+                        _fmt(ma["bandwidth_hz"]))
+        out.print(tab)
+        for note in t.notes:
+            out.print(f"  {_esc(note)}")
+    tab = Table(title=_esc("predicted path (TCP) [um]"))
+    for c in ("", "before", "after"):
+        tab.add_column(c, justify="right")
+    for key, fig in res.path_before.items():
+        for k, v in fig.items():
+            tab.add_row(f"{key} {k.replace('_um', '').replace('_', ' ')}", _fmt(v, 2),
+                        _fmt(res.path_after[key][k], 2))
+    out.print(tab)
+
+
+def _ti(s):
+    return None if s.K_vi == 0 else 1e3 * s.K_vp / s.K_vi
+
+
+def _filters(s) -> str:
+    if not s.filters:
+        return "none"
+    return ", ".join(f"{f.type} {f.f_hz:.0f} Hz" for f in s.filters)

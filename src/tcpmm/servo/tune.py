@@ -1,0 +1,224 @@
+"""Servo tuning for stability margins, as a drive's auto-tuning does it.
+
+For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
+
+1. **Velocity loop.** The largest proportional gain ``K_vp`` whose open loop meets the
+   gain and phase margins, with the PI corner tied to the gain (integral action
+   ``K_vi = K_vp w_c / 4``, ``w_c = K_vp K_tc / J_total`` the rigid-body crossover). The
+   gain is scanned upwards in steps of 1.25 until the margins fail, then bisected.
+2. **Notches.** When the crossing that limits the gain lies within 20 % of a lightly
+   damped plant mode (damping below 0.1), a notch is placed on that mode (bandwidth
+   0.3 f0, depth ``20 log10(4 zeta)`` within -40..-10 dB: deep enough to flatten the
+   resonance peak of height ``1/(2 zeta)``) and step 1 is repeated; it is kept if the
+   gain rises by 10 % or more. At most four filters per axis, the drive's own counted.
+3. **Position loop.** The largest ``K_pp`` meeting the margins and at most a quarter of
+   the velocity loop's bandwidth; every axis then takes the smallest of them (equal
+   position gains keep a circle round).
+4. **Feedforward** is left as it is here: it does not change the margins, and its best
+   value depends on friction and the path, so :func:`tcpmm.tuning.tune_and_predict`
+   chooses it by simulating the path.
+
+A proposal is checked once more at the end: both loops meet the margins and the
+spectral radius of the sampled closed loop is below 1; an axis for which no gain meets
+the margins keeps its settings and is reported as not met.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..mechanics.export import reduced_ss
+from ..mechanics.params import AxisMechanics
+from .currentfilters import MAX_FILTERS, Notch
+from .margins import axis_margins, position_margins, velocity_margins
+from .params import ServoParams
+from .sampled import sampled_spectral_radius
+
+#: Scan step of the gains, and the relative resolution of the bisection [-].
+_STEP, _RESOLUTION = 1.25, 0.005
+#: Lightly damped modes that notches may target, and how near the limiting crossing [-].
+_NOTCH_ZETA, _NOTCH_NEAR = 0.1, 0.2
+
+
+@dataclass(frozen=True)
+class AxisTuning:
+    """Tuning proposal of one axis.
+
+    Parameters
+    ----------
+    before, after : ServoParams
+        Settings as given and as proposed [SI].
+    margins_before, margins_after : dict of str to LoopMargins
+        Sampled-loop margins, ``velocity`` and ``position`` [dB, deg, Hz].
+    met : bool
+        Whether the proposal meets the required margins [-].
+    notes : list of str
+        What was decided and why [-].
+    """
+
+    before: ServoParams
+    after: ServoParams
+    margins_before: dict
+    margins_after: dict
+    met: bool
+    notes: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary (SI gains, margins in dB, deg, Hz)."""
+        def servo(s):
+            return {"K_vp": s.K_vp, "K_vi": s.K_vi, "K_pp": s.K_pp, "k_ff": s.k_ff,
+                    "filters": [f.model_dump() for f in s.filters]}
+
+        return {"met": self.met, "before": servo(self.before), "after": servo(self.after),
+                "margins_before": {k: v.to_dict() for k, v in self.margins_before.items()},
+                "margins_after": {k: v.to_dict() for k, v in self.margins_after.items()},
+                "notes": list(self.notes)}
+
+
+def _with(servo: ServoParams, **changes) -> ServoParams:
+    return ServoParams.create(**{**servo.model_dump(), **changes})
+
+
+def _pi(mech: AxisMechanics, servo: ServoParams, K_vp: float) -> ServoParams:
+    w_c = K_vp * mech.K_tc / mech.J_total
+    return _with(servo, K_vp=K_vp, K_vi=K_vp * w_c / 4.0)
+
+
+def _largest(ok, start: float, cap: float = math.inf):
+    """Largest ``g <= cap`` with ``ok(g)``, scanning from ``start``; ``None`` if none."""
+    g = min(start, cap)
+    if ok(g):
+        lo, hi = g, None
+        while hi is None and lo < cap:
+            nxt = min(lo * _STEP, cap)
+            if ok(nxt):
+                lo = nxt
+            else:
+                hi = nxt
+        if hi is None:
+            return lo
+    else:
+        hi, lo = g, None
+        for _ in range(40):
+            nxt = hi / _STEP
+            if ok(nxt):
+                lo = nxt
+                break
+            hi = nxt
+        if lo is None:
+            return None
+    while hi / lo > 1 + _RESOLUTION:
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+    return lo
+
+
+def _velocity_gain(mech, servo, gm, pm):
+    def ok(k):
+        s = _pi(mech, servo, k)
+        return velocity_margins(mech, s).meets(gm, pm) and sampled_spectral_radius(mech, s) < 1
+    return _largest(ok, servo.K_vp)
+
+
+def _modes(mech: AxisMechanics):
+    """Frequencies [Hz] and damping ratios [-] of the lightly damped modes of G_M."""
+    ev = np.linalg.eigvals(reduced_ss(mech, "G_M").A)
+    ev = ev[ev.imag > 0]
+    zeta = -ev.real / np.abs(ev)
+    keep = zeta < _NOTCH_ZETA
+    return np.abs(ev[keep]) / (2 * np.pi), zeta[keep]
+
+
+def _limiting_mode(mech, servo, modes):
+    """The lightly damped mode nearest the crossing that limits the velocity gain."""
+    m = velocity_margins(mech, servo)
+    at = [f for f in (m.gain_crossover_hz, m.phase_crossover_hz) if np.isfinite(f)]
+    best = None
+    for f0 in modes:
+        if any(n.type == "notch" and abs(n.f_hz - f0) < 0.05 * f0 for n in servo.filters):
+            continue  # already notched
+        if any(abs(f - f0) <= _NOTCH_NEAR * f0 for f in at):
+            if best is None or min(abs(f - f0) for f in at) < min(abs(f - best) for f in at):
+                best = float(f0)
+    return best
+
+
+def tune_velocity(mech, servo, gm, pm, notes):
+    """Velocity-loop gains and notches (steps 1 and 2 of the module docstring)."""
+    K = _velocity_gain(mech, servo, gm, pm)
+    if K is None:
+        notes.append("velocity loop: no gain meets the margins; settings kept")
+        return None
+    best = _pi(mech, servo, K)
+    freqs, zetas = _modes(mech)
+    while len(best.filters) < MAX_FILTERS:
+        f0 = _limiting_mode(mech, best, freqs)
+        if f0 is None:
+            break
+        zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
+        depth = float(np.clip(20 * np.log10(4 * zeta), -40.0, -10.0))
+        notch = Notch(f_hz=f0, bandwidth_hz=0.3 * f0, depth_db=round(depth, 1))
+        trial = _with(best, filters=[*best.filters, notch])
+        K2 = _velocity_gain(mech, trial, gm, pm)
+        if K2 is None or K2 < 1.1 * best.K_vp:
+            notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
+            break
+        notes.append(f"notch at {f0:.1f} Hz (bandwidth {0.3 * f0:.1f} Hz, {notch.depth_db} dB) "
+                     "raises "
+                     f"K_vp from {best.K_vp:.4g} to {K2:.4g} A s/rad")
+        best = _pi(mech, trial, K2)
+    return best
+
+
+def tune_position(mech, servo, gm, pm):
+    """Largest position gain meeting the margins, at most a quarter of the velocity-loop
+    bandwidth [1/s]; ``None`` if none."""
+    bw = velocity_margins(mech, servo).bandwidth_hz
+    cap = 2 * math.pi * bw / 4 if np.isfinite(bw) else math.inf
+
+    def ok(k):
+        return position_margins(mech, _with(servo, K_pp=k)).meets(gm, pm)
+    return _largest(ok, servo.K_pp, cap)
+
+
+def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
+    """Tuning proposals of every axis (see the module docstring).
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    gm_db : float
+        Required gain margin of both loops [dB].
+    pm_deg : float
+        Required phase margin of both loops [deg].
+
+    Returns
+    -------
+    dict of str to AxisTuning
+    """
+    vel, notes = {}, {}
+    for name, a in machine.axes.items():
+        notes[name] = []
+        vel[name] = tune_velocity(a.mechanics, a.servo, gm_db, pm_deg, notes[name])
+    kpp = {n: tune_position(machine.axes[n].mechanics, s, gm_db, pm_deg)
+           for n, s in vel.items() if s is not None}
+    common = min((k for k in kpp.values() if k is not None), default=None)
+    out = {}
+    for name, a in machine.axes.items():
+        m, s = a.mechanics, vel[name]
+        if s is not None and common is not None:
+            s = _with(s, K_pp=common)
+        after = s if s is not None else a.servo
+        mg_after = axis_margins(m, after)
+        met = (s is not None and all(v.meets(gm_db, pm_deg) for v in mg_after.values())
+               and sampled_spectral_radius(m, after) < 1.0)
+        if s is not None and not met:
+            notes[name].append("the combined proposal misses the margins; settings kept")
+            after, mg_after = a.servo, axis_margins(m, a.servo)
+        out[name] = AxisTuning(a.servo, after, axis_margins(m, a.servo), mg_after, met,
+                               notes[name])
+    return out

@@ -1,0 +1,188 @@
+"""Tune a machine's servos for margins and predict the path before and after.
+
+The proposal comes from :func:`tcpmm.servo.tune.tune_machine`; the prediction simulates
+the paper's circle (R35 mm, F5000 mm/min, CCW and CW, :func:`tcpmm.demo.paper_circle_command`)
+or an NC program with the model as given and as tuned.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .demo import RADIUS_MM, paper_circle_command
+from .model import Machine
+from .servo.tune import tune_machine
+from .simulate import simulate
+from .units import mm_to_m
+
+#: Command samples either side searched for the nearest command segment [-].
+_WINDOW = 400
+#: Feedforward fractions tried on the path [-].
+FEEDFORWARD_GRID = (0.0, 0.25, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+
+
+@dataclass(frozen=True)
+class TuneResult:
+    """A tuning proposal and its predicted effect.
+
+    Parameters
+    ----------
+    tuned : Machine
+        The machine with the proposed servo settings [SI].
+    axes : dict of str to AxisTuning
+        Per-axis proposal, margins before and after [-].
+    path_before, path_after : dict
+        Predicted path figures: per pass (circle) or for the program, the largest spike
+        and the contour error of the TCP [um].
+    """
+
+    tuned: Machine
+    axes: dict
+    path_before: dict
+    path_after: dict
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary."""
+        return {"axes": {k: v.to_dict() for k, v in self.axes.items()},
+                "path_before_um": self.path_before, "path_after_um": self.path_after}
+
+    def to_pandas(self):
+        """Table: per axis, gains, margins and bandwidths before and after (SI gains;
+        dB, deg, Hz); then the path figures [um]."""
+        import pandas as pd
+
+        rows = []
+        for name, t in self.axes.items():
+            for key in ("K_vp", "K_vi", "K_pp", "k_ff"):
+                rows.append((name, key, getattr(t.before, key), getattr(t.after, key)))
+            for loop in ("velocity", "position"):
+                b, a = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
+                rows += [(name, f"{loop}_{k}", b[k], a[k]) for k in b]
+        for case, figs in self.path_before.items():
+            rows += [("path", f"{case}_{k}", v, self.path_after[case][k])
+                     for k, v in figs.items()]
+        return pd.DataFrame(rows, columns=["axis", "quantity", "before", "after"])
+
+    def plot(self, ax=None, path=None):
+        """Open velocity loops before and after, per axis; the figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or array-like of Axes, optional
+            Two per axis (magnitude over phase); a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
+        from .plot.tune import plot_tuning
+
+        return plot_tuning(self, path, ax=ax)
+
+
+def polyline_distance(points, path) -> np.ndarray:
+    """Distance of each point to the nearest segment of a path sampled alongside it.
+
+    Parameters
+    ----------
+    points, path : ndarray (n, d)
+        Actual and commanded positions at the same instants [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Distance per point to the commanded path within :data:`_WINDOW` samples [m].
+    """
+    n = path.shape[0]
+    best = np.full(points.shape[0], np.inf)
+    idx = np.arange(points.shape[0])
+    for k in range(-_WINDOW, _WINDOW):
+        i = np.clip(idx + k, 0, n - 2)
+        a, b = path[i], path[i + 1]
+        d = b - a
+        L2 = np.einsum("ij,ij->i", d, d)
+        t = np.where(L2 > 0, np.einsum("ij,ij->i", points - a, d) / np.where(L2 > 0, L2, 1), 0)
+        q = a + np.clip(t, 0, 1)[:, None] * d
+        best = np.minimum(best, np.linalg.norm(points - q, axis=1))
+    return best
+
+
+def path_figures(machine: Machine, command, circle: bool) -> dict:
+    """Simulate and reduce to figures in um: per circle pass the largest reversal spike
+    and the contour error of the TCP; for a program the largest and RMS distance of the
+    TCP path from the commanded path."""
+    run = simulate(machine, command)
+    if circle:
+        from .analysis.circular import analyse_circle
+
+        res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
+        out = {}
+        for p in res.passes:
+            s = p.sensors["tcp"]
+            spikes = [abs(v) for v in s.spikes.values() if np.isfinite(v)]
+            out[p.direction] = {"spike_um": max(spikes, default=float("nan")) * 1e6,
+                                "contour_error_um": s.contour_error * 1e6}
+        return out
+    names = list(command.positions)
+    act = np.column_stack([run.axes[n].tcp for n in names])
+    ref = np.column_stack([run.axes[n].cmd for n in names])
+    d = polyline_distance(act, ref)
+    return {"program": {"max_deviation_um": float(d.max()) * 1e6,
+                        "rms_deviation_um": float(np.sqrt(np.mean(d * d))) * 1e6}}
+
+
+def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
+                     ) -> TuneResult:
+    """Propose servo settings and predict the path before and after.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    gm_db : float
+        Required gain margin of both loops [dB].
+    pm_deg : float
+        Required phase margin of both loops [deg].
+    command : Command, optional
+        Path to predict; default the paper's circle [m].
+
+    Returns
+    -------
+    TuneResult
+        The tuned machine, the proposal per axis and the path figures [-].
+    """
+    circle = command is None
+    cmd = paper_circle_command(machine) if circle else command
+    axes = tune_machine(machine, gm_db, pm_deg)
+    tuned = machine.model_copy(update={"axes": {
+        n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
+    tuned, after = _best_feedforward(tuned, axes, cmd, circle)
+    what = "largest contour error" if circle else "RMS deviation"
+    axes = {n: replace(t, after=tuned.axes[n].servo, notes=[
+        *t.notes, f"feedforward k_ff = {tuned.axes[n].servo.k_ff:g}: the smallest {what} "
+        f"of the path ({_worst(after):.2f} um) over k_ff = "
+        f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)}"]) if t.met else t
+        for n, t in axes.items()}
+    return TuneResult(tuned, axes, path_figures(machine, cmd, circle), after)
+
+
+def _worst(figures: dict) -> float:
+    """The figure a path is judged by: the largest contour error of the circle passes, or
+    the RMS deviation from a program's path [um]."""
+    keys = ("contour_error_um", "rms_deviation_um")
+    return max(v[k] for v in figures.values() for k in keys if k in v)
+
+
+def _best_feedforward(tuned: Machine, axes: dict, cmd, circle: bool):
+    """Feedforward fraction of :data:`FEEDFORWARD_GRID` (the same for the tuned axes) with
+    the smallest :func:`_worst` on the path; the machine and its path figures. The
+    feedforward acts outside the loops: the margins stay as they are."""
+    best = None
+    for k in FEEDFORWARD_GRID:
+        m = tuned.model_copy(update={"axes": {
+            n: (a.replace(servo=a.servo.model_copy(update={"k_ff": k}))
+                if axes[n].met else a) for n, a in tuned.axes.items()}})
+        figs = path_figures(m, cmd, circle)
+        if best is None or _worst(figs) < _worst(best[1]):
+            best = (m, figs)
+    return best

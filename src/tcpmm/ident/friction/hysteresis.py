@@ -304,7 +304,7 @@ def _share_given(p: _Plateaus, s: float) -> LostMotionEstimate:
            "share given; lost motion not observable (the nut force does not reverse or "
            "too few plateaus resolve the deflection), taken as 0")
     return p.result(s, 0.0, theta[k + 1] if ok else 0.0, sd[k + 1] if ok else float("nan"),
-                    theta, ok, why, "lost-motion", chi2)
+                    theta, ok, why, "lost-motion", chi2, sd)
 
 
 def _lost_motion_given(p: _Plateaus) -> LostMotionEstimate:
@@ -352,18 +352,18 @@ def _both_free(p: _Plateaus) -> LostMotionEstimate:
                         f"guideway share {s_a:.2f} +- {resolution:.2f} is not determined: the "
                         f"nut deflection of the friction ({np.median(np.abs(p.a_col)) * 1e6:.2g}"
                         f" um) is not resolved by the plateau deflections (std "
-                        f"{np.median(p.d_sd) * 1e6:.2g} um)", "share", chi_a)
+                        f"{np.median(p.d_sd) * 1e6:.2g} um)", "share", chi_a, sd_a)
     if n_eff < opt.min_plateaus:
         return p.result(s_a, s_a_sd, 0.0, nan, th_a, False,
                         f"only {n_eff:.1f} plateaus (by weight) resolve the deflection: on "
                         f"the others the sensor quantisation does not average out (the speeds "
                         f"advance a whole number of sensor steps per sample); run speeds "
-                        f"that do not", "share", chi_a)
+                        f"that do not", "share", chi_a, sd_a)
     if s_a < -opt.z_lost_motion * s_a_sd:
         return p.result(s_a, s_a_sd, 0.0, nan, th_a, False,
                         f"the encoder-minus-scale hysteresis has the wrong sign (share "
                         f"{s_a:.2f} +- {s_a_sd:.2f}); check the signs of motor angle, scale "
-                        f"and current", "share", chi_a)
+                        f"and current", "share", chi_a, sd_a)
     both = _share_and_lost_motion(p, min(max(s_a, 0.0), 1.0))
     if both is not None:
         return both

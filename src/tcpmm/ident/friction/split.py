@@ -59,6 +59,9 @@ VISCOUS_REL_STD = 0.1
 #: Largest difference of the Coulomb levels of the two directions, relative to their mean,
 #: for which a sweep travelling one way gives the share [-].
 SWEEP_ASYMMETRY = 0.2
+#: Rounds of plateau damping and sweep share, each resting on the other, and the change of
+#: the share that ends them [-].
+SWEEP_ITERATIONS, SWEEP_SHARE_TOL = 5, 1e-4
 
 
 @dataclass(frozen=True)
@@ -366,8 +369,10 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     # (tcpmm.ident.friction.playdf): the share stays with the friction runs there.
     from_sweep = None if given is not None or sweep is None or play else _sweep_share(
         sweep, m, v, lm, K_h_rel_std, C_t_std)
-    if from_sweep is not None:  # the plateaus give only the lost motion
-        lm = plateau_split(m_split, stiffness_rel_std, share=from_sweep[0])
+    if from_sweep is not None:
+        from_sweep, lm = _settle_sweep_share(
+            from_sweep, lambda s: plateau_split(m_split, stiffness_rel_std, share=s),
+            lambda est: _sweep_share(sweep, m, v, est, K_h_rel_std, C_t_std))
         split = FrictionSplit(from_sweep[0], lm.backlash if lm.determined else 0.0, "sweep",
                               lm, None, from_sweep[1], viscous_on_table=from_sweep[2])
     else:
@@ -375,6 +380,42 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     if nut is not None and not nut.lost_motion_found() and np.isfinite(nut.backlash_std):
         split = dataclasses.replace(split, unfound_backlash_std=float(nut.backlash_std))
     return _axis_friction(v, m, split), est, split
+
+
+def _settle_sweep_share(from_sweep, plateaus_at, share_from):
+    """The sweep's share and the plateaus' table damping, each worked out on the other in
+    turn until the share moves by at most :data:`SWEEP_SHARE_TOL`.
+
+    The plateaus with the share held give the lost motion and the table damping (with the
+    share free, the share takes part of the damping's slope); the sweep's share rests on
+    that damping.
+
+    Parameters
+    ----------
+    from_sweep : tuple
+        ``(share, share_std, table_viscous)`` of the first round [-, -, N s/m].
+    plateaus_at : callable
+        Plateau estimate with the share held at its argument [-].
+    share_from : callable
+        The sweep's ``(share, share_std, table_viscous)`` on a plateau estimate, or
+        ``None`` [-].
+
+    Returns
+    -------
+    tuple
+        The settled ``from_sweep`` and the last plateau estimate [-].
+    """
+    lm = None
+    for _ in range(SWEEP_ITERATIONS):
+        lm = plateaus_at(from_sweep[0])
+        again = share_from(lm)
+        if again is None:
+            break
+        done = abs(again[0] - from_sweep[0]) <= SWEEP_SHARE_TOL
+        from_sweep = again
+        if done:
+            break
+    return from_sweep, lm
 
 
 def _split_of(lm, nut, play: bool, given, axis) -> FrictionSplit:

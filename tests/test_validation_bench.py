@@ -146,3 +146,22 @@ def test_a_standing_sweep_is_named_with_its_cause():
     assert len(said) == 2 and any("axis X:" in s for s in said)
     assert any("axis Y:" in s for s in said)
     assert all("travels at constant speed" in s for s in said)
+
+
+def test_an_identification_shares_the_result_protocol(tmp_path):
+    """``to_pandas`` (the parameters), ``to_dict`` (JSON-ready), ``plot`` returning the
+    Bode figure of one axis, and a report folder whose entries are the files written."""
+    import json
+
+    from tcpmm.errors import InputError
+
+    idn = identified("d")
+    table = idn.to_pandas()
+    assert set(table["axis"]) == {"X", "Y"} and {"value", "std"} <= set(table.columns)
+    json.dumps(idn.to_dict())
+    fig = idn.plot("Y", path=tmp_path / "bode_Y.png")
+    assert fig.axes and (tmp_path / "bode_Y.png").stat().st_size > 0
+    with pytest.raises(InputError, match="no axis 'Q'"):
+        idn.plot("Q")
+    files = idn.write_report(tmp_path / "report")
+    assert files and all(p.is_file() for p in files.values())

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -161,9 +160,7 @@ def identify_and_predict(machine, cmd, out, step, files):
     write_machine(idn.machine, out / "identified_model.yaml")
     files.update(identified=out / "identified_model.yaml")
     report = idn.write_report(out / "identification")
-    # plots come back as figures; each is saved as <key>.png in the report folder
-    files.update({f"ident_{k}": v if isinstance(v, (str, Path))
-                  else out / "identification" / f"{k}.png" for k, v in report.items()})
+    files.update({f"ident_{k}": v for k, v in report.items()})
     step("prediction")
     predicted = simulate(idn.machine, cmd)
     predicted.write_csv(out / "predicted_run.csv")

@@ -10,6 +10,7 @@ from functools import partial
 import numpy as np
 
 from .._threads import limit_blas_threads
+from ..errors import InputError
 from ..mechanics.friction import friction_params_array
 from ..mechanics.params import AxisMechanics
 from ..model import Axis, Machine, Sensors
@@ -240,6 +241,55 @@ class Identification:
         return {"machine": self.machine.name, "axes": out,
                 "suspect": [str(f) for f in self.findings]}
 
+    def bode_curves(self, name: str) -> dict:
+        """Measured FRFs with coherence, TF fits and the physical model's response of axis
+        ``name``, as :func:`tcpmm.plot.bode.plot_bode` draws them [-].
+
+        Parameters
+        ----------
+        name : str
+            Axis name [-].
+        """
+        a = self.axes[name]
+        curves = {}
+        for k, frf in a.frfs.items():
+            f = frf.freq_hz
+            items = [("Exp", f, frf.H, {"color": "tab:blue"}, frf.coherence)]
+            if k in a.tf_fits:
+                items.append(("TF fit", f, a.tf_fits[k].freqresp(f),
+                              {"color": "tab:green", "ls": ":"}))
+            items.append(("ID (physical)", f, a.physical_response(k, f),
+                          {"color": "tab:red", "ls": "--"}))
+            curves[k] = items
+        return curves
+
+    def plot(self, axis: str | None = None, ax=None, path=None):
+        """Measured and identified Bode plots of one axis (paper Figs. 8-10); the figure.
+
+        Parameters
+        ----------
+        axis : str, optional
+            Axis name; the first axis when omitted [-].
+        ax : array-like of matplotlib Axes, optional
+            Two per transfer function (magnitudes, then phases); a new figure when
+            omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
+        from ..plot.bode import plot_bode
+
+        name = axis if axis is not None else next(iter(self.axes))
+        if name not in self.axes:
+            raise InputError(f"no axis {name!r} in this identification "
+                             f"(axes: {', '.join(self.axes)})")
+        return plot_bode(self.bode_curves(name), path,
+                         title=f"axis {name}: measured and identified", ax=ax)
+
+    def to_pandas(self):
+        """Identified parameters with standard deviations, all axes (as
+        :meth:`parameters_table`) [-]."""
+        return self.parameters_table()
+
     def parameters_table(self):
         """Identified parameters with standard deviations, all axes."""
         import pandas as pd
@@ -259,42 +309,22 @@ class Identification:
         (Figs. 8-10), the plateau deflections of the friction runs and the tables, into a
         folder. Returns the written paths."""
         from ..io.atomic import output_folder, write_table_atomic, write_text_atomic
-        from ..plot.bode import plot_bode
         from ..plot.ident import plot_lost_motion, plot_sweep
 
         out = output_folder(out_dir)
         files = {}
         for name, a in self.axes.items():
             if a.record is not None:
-                files[f"sweep_{name}"] = plot_sweep(
-                    a.record, a.axis.mechanics.R_L, out / f"sweep_{name}.png", title=name
-                )
+                files[f"sweep_{name}"] = out / f"sweep_{name}.png"
+                plot_sweep(a.record, a.axis.mechanics.R_L, files[f"sweep_{name}"], title=name)
             split = a.friction_split
             if split is not None and split.estimate is not None and split.estimate.velocity.size:
-                files[f"lostmotion_{name}"] = plot_lost_motion(
-                    split.estimate, out / f"lostmotion_{name}.png",
-                    title=f"axis {name}: deflection between encoder and scale "
-                          f"({split.source})")
-            curves = {}
-            for k, frf in a.frfs.items():
-                f = frf.freq_hz
-                items = [("Exp", f, frf.H, {"color": "tab:blue"}, frf.coherence)]
-                if k in a.tf_fits:
-                    items.append(
-                        ("TF fit", f, a.tf_fits[k].freqresp(f), {"color": "tab:green", "ls": ":"})
-                    )
-                items.append(
-                    (
-                        "ID (physical)",
-                        f,
-                        a.physical_response(k, f),
-                        {"color": "tab:red", "ls": "--"},
-                    )
-                )
-                curves[k] = items
-            files[f"bode_{name}"] = plot_bode(
-                curves, out / f"bode_{name}.png", title=f"axis {name}: measured and identified"
-            )
+                files[f"lostmotion_{name}"] = out / f"lostmotion_{name}.png"
+                plot_lost_motion(split.estimate, files[f"lostmotion_{name}"],
+                                 title=f"axis {name}: deflection between encoder and scale "
+                                       f"({split.source})")
+            files[f"bode_{name}"] = out / f"bode_{name}.png"
+            self.plot(name, path=files[f"bode_{name}"])
         q, p = self.quality_table(), self.parameters_table()
         write_table_atomic(q, out / "fit_quality.csv")
         write_table_atomic(p, out / "parameters.csv")

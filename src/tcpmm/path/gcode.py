@@ -295,27 +295,7 @@ class _Interpreter:
         a, b = PLANES[self.plane]
         ia, ib = AXIS_INDEX[a], AXIS_INDEX[b]
         ca_letter, cb_letter = _CENTRE_LETTER[a], _CENTRE_LETTER[b]
-        name = f"G{self.motion}"
-        for L in "IJK":
-            if L in w and L not in (ca_letter, cb_letter):
-                self.error(
-                    f"{L} is not a centre word of the G{self.plane} plane ({a}{b}); "
-                    f"use {ca_letter} and {cb_letter}",
-                    line,
-                    w[L].column,
-                )
-        has_ijk = ca_letter in w or cb_letter in w
-        if has_ijk and "R" in w:
-            self.error(
-                f"give the arc centre ({ca_letter}, {cb_letter}) or the radius R, not both",
-                line,
-                w["R"].column,
-            )
-        if not has_ijk and "R" not in w:
-            col = gword.column if gword is not None else next(w[k] for k in "XYZ" if k in w).column
-            self.error(
-                f"{name} needs the centre ({ca_letter}, {cb_letter}) or the radius R", line, col
-            )
+        self._check_arc_words(w, gword, line, a + b, ca_letter, cb_letter)
         s = self.pos
         da, db = end[ia] - s[ia], end[ib] - s[ib]
         chord = math.hypot(da, db)
@@ -392,6 +372,30 @@ class _Interpreter:
             exact_stop=self.exact_stop,
             line=line,
         )
+
+    def _check_arc_words(self, w, gword, line, plane_axes, ca_letter, cb_letter):
+        """The centre words of the plane, or R, one of the two."""
+        name = f"G{self.motion}"
+        for L in "IJK":
+            if L in w and L not in (ca_letter, cb_letter):
+                self.error(
+                    f"{L} is not a centre word of the G{self.plane} plane ({plane_axes}); "
+                    f"use {ca_letter} and {cb_letter}",
+                    line,
+                    w[L].column,
+                )
+        has_ijk = ca_letter in w or cb_letter in w
+        if has_ijk and "R" in w:
+            self.error(
+                f"give the arc centre ({ca_letter}, {cb_letter}) or the radius R, not both",
+                line,
+                w["R"].column,
+            )
+        if not has_ijk and "R" not in w:
+            col = gword.column if gword is not None else next(w[k] for k in "XYZ" if k in w).column
+            self.error(
+                f"{name} needs the centre ({ca_letter}, {cb_letter}) or the radius R", line, col
+            )
 
 
 def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):

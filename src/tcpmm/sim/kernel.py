@@ -250,6 +250,29 @@ def _filter_step(fsec, fst, u):
     return u
 
 
+@njit(cache=True, inline="always")
+def _diff_velocity(hist, c_h, th_q, vtaps, T_v):
+    """Motor speed from the FIR of encoder differences, newest first [rad/s]."""
+    n_taps = vtaps.size
+    w_fb = 0.0
+    newer = th_q
+    for i in range(n_taps):
+        older = hist[(c_h - i) % (n_taps + 1)]
+        w_fb += vtaps[i] * (newer - older)
+        newer = older
+    return w_fb / T_v
+
+
+@njit(cache=True, inline="always")
+def _record(rec, r, x, i_app):
+    """Row ``r`` of the record: ``th_m, X_LS, X_TCP, w_m, i_c``."""
+    rec[r, 0] = x[0]
+    rec[r, 1] = x[2] - x[3]
+    rec[r, 2] = x[2] - x[4]
+    rec[r, 3] = x[5]
+    rec[r, 4] = i_app
+
+
 @njit(cache=True, nogil=True)
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
              vtaps, AdgT, BdgT, fsec):
@@ -351,16 +374,7 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
                 else:
                     v_k = vcmd[j] + fr * (vcmd[j1] - vcmd[j])
                 w_c = (K_pp * (c_k - x_fb) + k_ff * v_k) / R
-            if vel_diff:
-                w_fb = 0.0
-                newer = th_q
-                for i in range(n_taps):
-                    older = hist[(c_h - i) % (n_taps + 1)]
-                    w_fb += vtaps[i] * (newer - older)
-                    newer = older
-                w_fb /= T_v
-            else:
-                w_fb = x[5]
+            w_fb = _diff_velocity(hist, c_h, th_q, vtaps, T_v) if vel_diff else x[5]
             e = w_c - w_fb
             I_new = I_w + e * T_v
             i_c = K_vp * e + K_vi * I_new
@@ -394,11 +408,7 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
         elif i_app < -i_lim:
             i_app = -i_lim
         if c_rec == 0:
-            rec[r, 0] = x[0]
-            rec[r, 1] = x[2] - x[3]
-            rec[r, 2] = x[2] - x[4]
-            rec[r, 3] = x[5]
-            rec[r, 4] = i_app
+            _record(rec, r, x, i_app)
             r += 1
         c_rec += 1
         if c_rec == rec_every:

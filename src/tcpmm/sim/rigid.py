@@ -288,6 +288,53 @@ def _acceleration(v, z, u, m, fp):
     return (u - sliding_friction(v, fp)) / m
 
 
+@njit(cache=True, inline="always")
+def _applied(u_cmd, mm, n_sub):
+    """Command applied at sub-step ``mm`` (after the delay): that of its sample, 0 before
+    the first [controller units]."""
+    j = mm // n_sub if mm >= 0 else -1
+    return u_cmd[j] if j >= 0 else 0.0
+
+
+@njit(cache=True, inline="always")
+def _controller(ref, k, qm, dq, period, kp, kv, ki, kff, integ, u_max):
+    """P position and PI velocity control of sample ``k`` with anti-windup and
+    saturation; the command and the new integrator [controller units]."""
+    w = kp * (ref[k] - qm)
+    if kff != 0.0 and k > 0:
+        w += kff * (ref[k] - ref[k - 1]) / period
+    e = w - dq
+    u = kv * e + integ
+    if ki != 0.0:
+        cand = integ + ki * period * e
+        u_try = kv * e + cand
+        if abs(u_try) <= u_max or u_try * e < 0.0:
+            integ = cand
+            u = u_try
+    if u > u_max:
+        u = u_max
+    elif u < -u_max:
+        u = -u_max
+    return u, integ
+
+
+@njit(cache=True, inline="always")
+def _mech_substep(q, v, z, f, h, mass, fp, is_none, is_lugre, explicit, rk_a, rk_b):
+    """One mechanical sub-step under the force ``f``: ``(q, v, z)`` at its end [SI]."""
+    if is_none:
+        q += v * h + 0.5 * f / mass * h * h
+        v += f / mass * h
+    elif is_lugre:
+        fr, z = friction_force(v, f, z, fp, h, mass)
+        v = v + h * (f - fr) / mass
+        q += h * v
+    elif explicit:
+        q, v = _explicit_substep(q, v, f, h, mass, fp, rk_a, rk_b)
+    else:
+        q, v = _static_substep(q, v, f, h, mass, fp)
+    return q, v, z
+
+
 @njit(cache=True)
 def rigid_servo_kernel(
     ref, ext, period, n_sub, mass, offset, fp, kp, kv, ki, kff, taps, delay,
@@ -372,27 +419,9 @@ def rigid_servo_kernel(
             qf += taps[i] * hist[i]
         dq = (qf - qf_prev) / period
         qf_prev = qf
-        w = kp * (ref[k] - qm)
-        if kff != 0.0 and k > 0:
-            w += kff * (ref[k] - ref[k - 1]) / period
-        e = w - dq
-        u = kv * e + integ
-        if ki != 0.0:
-            cand = integ + ki * period * e
-            u_try = kv * e + cand
-            if abs(u_try) <= u_max or u_try * e < 0.0:
-                integ = cand
-                u = u_try
-        if u > u_max:
-            u = u_max
-        elif u < -u_max:
-            u = -u_max
-        u_cmd[k] = u
+        u_cmd[k], integ = _controller(ref, k, qm, dq, period, kp, kv, ki, kff, integ, u_max)
         # record the state at the sample instant
-        m0 = k * n_sub - d_sub
-        j0 = m0 // n_sub if m0 >= 0 else -1
-        ua0 = u_cmd[j0] if j0 >= 0 else 0.0
-        f0 = gain * (ua0 + ext[k]) - offset
+        f0 = gain * (_applied(u_cmd, k * n_sub - d_sub, n_sub) + ext[k]) - offset
         q_out[k] = q
         v_out[k] = v
         z_out[k] = z
@@ -401,24 +430,10 @@ def rigid_servo_kernel(
         else:
             a_out[k] = _acceleration(v, z, f0, mass, fp)
         for s in range(n_sub):
-            mm = k * n_sub + s - d_sub
-            j = mm // n_sub if mm >= 0 else -1
-            ua = u_cmd[j] if j >= 0 else 0.0
-            f = gain * (ua + ext[k]) - offset
-            if is_none:
-                q += v * h + 0.5 * f / mass * h * h
-                v += f / mass * h
-            elif is_lugre:
-                fr, z = friction_force(v, f, z, fp, h, mass)
-                v = v + h * (f - fr) / mass
-                q += h * v
-            elif explicit:
-                q, v = _explicit_substep(q, v, f, h, mass, fp, rk_a, rk_b)
-            else:
-                q, v = _static_substep(q, v, f, h, mass, fp)
-        mm = k * n_sub + n_sub - 1 - d_sub
-        j = mm // n_sub if mm >= 0 else -1
-        u_app[k] = u_cmd[j] if j >= 0 else 0.0
+            f = gain * (_applied(u_cmd, k * n_sub + s - d_sub, n_sub) + ext[k]) - offset
+            q, v, z = _mech_substep(q, v, z, f, h, mass, fp, is_none, is_lugre, explicit,
+                                    rk_a, rk_b)
+        u_app[k] = _applied(u_cmd, k * n_sub + n_sub - 1 - d_sub, n_sub)
         f_out[k] = gain * (u_app[k] + ext[k])
     return q_out, v_out, a_out, u_cmd, u_app, f_out, z_out
 

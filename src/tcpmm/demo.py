@@ -82,6 +82,7 @@ def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
     dict
         Paths of the written files and the circular-test table [-].
     """
+    from .cli._tables import print_table
     from .plot.bode import plot_bode
     from .plot.circle import plot_circle, plot_radial_error
     from .plot.time import plot_run
@@ -119,10 +120,10 @@ def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
         files[f"bode_{ax}"] = out / f"bode_{ax}.png"
         plot_bode(curves, files[f"bode_{ax}"], title=f"axis {ax}")
     if console is not None:
-        print_circle_table(table, console, "Circular test on the built-in machine [um]")
+        print_table(table, console, "Circular test on the built-in machine")
     cmp, identified, circles = identify_and_predict(machine, cmd, out, step, files)
     if console is not None:
-        print_circle_table(cmp.to_pandas(), console,
+        print_table(cmp.to_pandas(), console,
                            "Table 2: virtual measurement - prediction of the identified model [um]")
         for line in cmp.notes():
             console.print(line)
@@ -226,15 +227,3 @@ def spread_summary(spread) -> str:
            if not (r["settled"] and r["firm"])]
     return head + (f"{', '.join(bad)} do not (spread.csv)." if bad
                    else "every quadrant point does (spread.csv).")
-
-
-def print_circle_table(table, console, title):
-    """Print a circle table (pandas) as a rich table."""
-    from rich.table import Table
-
-    t = Table(title=title)
-    for c in table.columns:
-        t.add_column(c.replace("_um", "").replace("_", " "), justify="right")
-    for _, row in table.iterrows():
-        t.add_row(*[f"{v:.2f}" if isinstance(v, float) else str(v) for v in row])
-    console.print(t)

@@ -45,8 +45,8 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
            as_json: bool = typer.Option(False, "--json"),
            plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
     """Reversal spikes of a circle with their spread over the identified uncertainty."""
-    from ..demo import print_circle_table
     from ..spread import MODEL_ERROR, TOLERANCE, circle_spread
+    from ._tables import print_table
 
     if tolerance is not None:
         _positive(tolerance, "--tolerance-um [um]")
@@ -67,7 +67,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
         _emit_json(res.to_dict())
         return
     table = res.to_pandas()
-    print_circle_table(table, out, f"{sensor.value} spikes over {draws} drawn machines [um]")
+    print_table(table, out, f"{sensor.value} spikes over {draws} drawn machines")
     for r in res.unsettled():
         out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
                   f"({100 * r['same_sign']:.0f} % of the draws give it): rise "
@@ -163,9 +163,9 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     if as_json:
         _emit_json(idn.to_dict())
         return
-    from ..demo import print_circle_table
+    from ._tables import print_table
 
-    print_circle_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
+    print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
     _print_presliding(idn, presliding)
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 

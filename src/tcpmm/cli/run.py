@@ -209,8 +209,8 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
     from ..analysis.circular import analyse_circle
     from ..analysis.compare import compare_circles
-    from ..demo import print_circle_table
     from ..io.runfile import read_run
+    from ._tables import print_table
 
     c = _floats(centre, "--centre", 2)
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
@@ -237,7 +237,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     if as_json:
         _emit_json(cmp.to_dict())
     else:
-        print_circle_table(cmp.to_pandas(), out, "measured - predicted [um]")
+        print_table(cmp.to_pandas(), out, "measured - predicted")
         for line in cmp.notes():
             out.print(line)
 

@@ -1,0 +1,46 @@
+"""Console tables of results that stay whole at 80 columns, with units in the headers."""
+
+from __future__ import annotations
+
+#: Short headers of the usual result columns; any other ``*_um`` column is named
+#: ``<name> [µm]``.
+HEADERS = {
+    "direction": "dir", "sensor": "sensor", "contour_error_um": "contour [µm]",
+    "circular_deviation_um": "G [µm]", "radial_rms_um": "rms [µm]",
+    "radial_max_um": "max [µm]", "tf": "tf", "axis": "axis",
+}
+
+
+def header(column: str) -> str:
+    """Console header of a result column, with its unit [-]."""
+    if column in HEADERS:
+        return HEADERS[column]
+    if column.startswith("spike_") and column.endswith("_um"):
+        return f"{column[6:-3]} [µm]"
+    if column.endswith("_um"):
+        return f"{column[:-3].replace('_', ' ')} [µm]"
+    return column.replace("_", " ")
+
+
+def print_table(table, console, title: str) -> None:
+    """Print a result table (pandas) as a rich table without vertical rules, numbers to
+    two decimals, so that nine columns fit in 80.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The table [-].
+    console : rich.console.Console
+        Where to print [-].
+    title : str
+        Title above it [-].
+    """
+    from rich import box
+    from rich.table import Table
+
+    t = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1))
+    for c in table.columns:
+        t.add_column(header(str(c)), justify="right", overflow="fold")
+    for _, row in table.iterrows():
+        t.add_row(*[f"{v:.2f}" if isinstance(v, float) else str(v) for v in row])
+    console.print(t)

@@ -71,7 +71,7 @@ def circle_kernel(machine):
     def run():
         for k, pos, vel, exc, rec in jobs:
             run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT,
-                     k.pf_s, k.pf_g, k.vtaps, k.AdgT, k.BdgT)
+                     k.pf_s, k.pf_g, k.vtaps, k.AdgT, k.BdgT, k.fsec)
 
     return run, float(t[-1] - t[0])
 

@@ -19,12 +19,8 @@ LONG_FOR_NOW: dict = {}
 #: and one plot module per result, named after what they serve.
 MIRRORS = ("cli", "plot")
 
-#: Module names that more than one package uses today, outside the mirrors; no new name
-#: may join them, and none of them may spread further.
-SHARED_FOR_NOW = {
-    "params": {"mechanics/params.py", "servo/params.py", "sweep/params.py"},
-    "friction": {"mechanics/friction.py", "sim/friction.py"},
-}
+#: Module names that more than one package uses, outside the mirrors: none.
+SHARED_FOR_NOW: dict = {}
 
 ROOMS = ("excitation", "frf", "lti", "physical", "friction", "gates")
 

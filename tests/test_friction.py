@@ -21,7 +21,7 @@ from tcpmm.mechanics.friction import (
     backlash_params_array,
     friction_params_array,
 )
-from tcpmm.sim.friction import (
+from tcpmm.sim.contact import (
     at_rest,
     backlash_force,
     friction_force,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from tcpmm.errors import InputError
-from tcpmm.mechanics.params import AxisMechanics
+from tcpmm.mechanics.lumped import AxisMechanics
 from tcpmm.mechanics.statespace import discretize_zoh, plant
 from tcpmm.mechanics.transfer import (
     block_freqresp,

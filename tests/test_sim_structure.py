@@ -16,7 +16,7 @@ from tcpmm.io.runfile import read_run_csv
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.mechanics.friction import LuGreFriction, friction_params_array
 from tcpmm.path.commandfile import read_command_csv
-from tcpmm.sim.friction import friction_force
+from tcpmm.sim.contact import friction_force
 from tcpmm.simulate import command_velocity, simulate, simulate_axis
 
 R = 0.035  # [m]

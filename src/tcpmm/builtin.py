@@ -10,7 +10,7 @@ inertia than X so that the TCP oscillates more after B/D than after A/C.
 from __future__ import annotations
 
 from .mechanics.friction import StribeckFriction
-from .mechanics.params import AxisMechanics
+from .mechanics.lumped import AxisMechanics
 from .model import Axis, AxisFriction, Machine, Sensors
 from .servo.params import ServoParams
 

@@ -9,7 +9,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_valida
 
 from ._validate import upper_names
 from .mechanics.friction import LuGreFriction, StribeckFriction
-from .mechanics.params import AxisMechanics
+from .mechanics.lumped import AxisMechanics
 from .servo.params import ServoParams
 
 

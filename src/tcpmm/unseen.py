@@ -30,7 +30,7 @@ from .model import Axis, AxisFriction, Machine, Sensors
 from .servo.closedloop import is_stable
 from .servo.params import ServoParams
 from .servo.sampled import sampled_spectral_radius
-from .sim.friction import sliding_friction
+from .sim.contact import sliding_friction
 from .simulate import simulate
 from .units import mm_to_m
 

@@ -12,10 +12,10 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from ..mechanics.friction import friction_params_array
-from ..mechanics.params import AxisMechanics
+from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
-from ..sim.friction import sliding_friction
+from ..sim.contact import sliding_friction
 from .frf.response import reduced_frfs
 from .friction.nutstiffness import LOST_MOTION_Z
 from .friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion

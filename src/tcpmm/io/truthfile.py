@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..mechanics.friction import LuGreFriction
-from ..mechanics.params import AxisMechanics
+from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, AxisFriction, Machine, Sensors
 from ..servo.params import ServoParams
 from .text import read_text

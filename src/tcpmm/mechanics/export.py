@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .params import AxisMechanics
+from .lumped import AxisMechanics
 from .statespace import StateSpace, plant
 
 #: Names of the plant states in relative coordinates.

@@ -43,7 +43,7 @@ Models
 Parameter vectors
 -----------------
 ``friction_params_array(model)`` and ``backlash_params_array(model)`` pack a model into
-the float vector that the compiled functions of :mod:`tcpmm.sim.friction` read. The
+the float vector that the compiled functions of :mod:`tcpmm.sim.contact` read. The
 friction vector layout is given by the ``P_*`` index constants of this module; the model
 code ``params[P_MODEL]`` is ``MODEL_NONE`` (no friction), ``MODEL_STATIC`` or
 ``MODEL_LUGRE``, and the static-model friction state is ``STUCK`` or ``SLIDING``. The

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .params import AxisMechanics
+from .lumped import AxisMechanics
 from .statespace import StateSpace, plant
 
 #: Reduced transfer functions: name -> (numerator output, denominator output).

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..mechanics.params import AxisMechanics
+from ..mechanics.lumped import AxisMechanics
 from ..mechanics.statespace import StateSpace, plant
 from ..mechanics.transfer import freqresp_ss
 from .currentfilters import continuous_ss

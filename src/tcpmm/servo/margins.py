@@ -19,7 +19,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from ..mechanics.params import AxisMechanics
+from ..mechanics.lumped import AxisMechanics
 from .params import ServoParams
 from .sampled import position_open_loop, velocity_open_loop
 

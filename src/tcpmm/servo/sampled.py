@@ -14,7 +14,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..mechanics.params import AxisMechanics
+from ..mechanics.lumped import AxisMechanics
 from ..mechanics.statespace import discretize_zoh, plant
 from .currentfilters import biquads
 from .params import ServoParams

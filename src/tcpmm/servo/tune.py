@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..mechanics.export import reduced_ss
-from ..mechanics.params import AxisMechanics
+from ..mechanics.lumped import AxisMechanics
 from .currentfilters import MAX_FILTERS, Notch
 from .margins import axis_margins, position_margins, velocity_margins
 from .params import ServoParams

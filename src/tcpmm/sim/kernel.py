@@ -51,7 +51,7 @@ Structure (what keeps a step at tens of nanoseconds, ``docs/performance.md``):
 is compiled without reference counting (``_nrt=False``) and so may allocate nothing; a
 new per-axis state (a filter's delay line, say) is allocated in :func:`run_axis` and
 passed in the same way. The helpers of the loop, and the friction functions of
-:mod:`tcpmm.sim.friction`, are inlined (``inline="always"``): a call per step, with its
+:mod:`tcpmm.sim.contact`, are inlined (``inline="always"``): a call per step, with its
 arrays, would cost more than the step. The whole step and its sub-steps share one loop
 body in ``_nonlinear_step``, so that the friction code is inlined once.
 """
@@ -62,7 +62,7 @@ import numpy as np
 from numba import njit
 
 from ..mechanics.friction import MODEL_NONE, STUCK
-from .friction import at_rest, friction_force
+from .contact import at_rest, friction_force
 
 REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed

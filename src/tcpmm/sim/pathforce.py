@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from ..mechanics.friction import P_SIGMA0
-from .friction import friction_force, stribeck_level
+from .contact import friction_force, stribeck_level
 
 
 @njit(cache=True)

@@ -24,7 +24,7 @@ the sub-step) and the instant at which the velocity reaches zero is found exactl
 body then sticks (velocity exactly ``0.0``) while the applied force stays inside the
 static band, or slips into the other direction. With LuGre friction the velocity and
 bristle state are advanced together by the linearly implicit step of
-``tcpmm.sim.friction.friction_force``.
+``tcpmm.sim.contact.friction_force``.
 
 For comparison with block-diagram simulators the static friction models can also be
 integrated the way those tools do without zero-crossing detection
@@ -62,7 +62,7 @@ from tcpmm.mechanics.friction import (
     _Holder,
     friction_params_array,
 )
-from tcpmm.sim.friction import (
+from tcpmm.sim.contact import (
     friction_force,
     lugre_decay_rate,
     sliding_friction,

@@ -1,7 +1,7 @@
 """What-if studies: a model and program run over variants of named parameters.
 
 A design (:mod:`~tcpmm.sweep.design`: ``grid``, ``lhs`` or ``draws``) lists variants of
-named parameters (:mod:`~tcpmm.sweep.params`); each variant is simulated and analysed as
+named parameters (:mod:`~tcpmm.sweep.space`); each variant is simulated and analysed as
 an independent task (:func:`~tcpmm.sweep.task.evaluate_variant`), here, on the local
 cores or on a Dask cluster (:func:`~tcpmm.sweep.run.run_sweep`), and its row is written to
 the results folder as it arrives (:mod:`~tcpmm.sweep.store`). A rerun of the same sweep
@@ -20,8 +20,8 @@ from .design import (
     parse_param,
 )
 from .metrics import circle_metrics, path_distance, path_metrics
-from .params import apply_parameters, canonical_name, parameter_names
 from .run import SweepResult, local_cluster, run_sweep
+from .space import apply_parameters, canonical_name, parameter_names
 from .store import read_results
 from .task import CircleProgram, GcodeProgram, evaluate_variant, metric_names
 

@@ -1,6 +1,6 @@
 """Designs of a sweep: which variants of the model and program are run.
 
-A parameter is given as ``NAME=SPEC`` (names: :mod:`tcpmm.sweep.params`), where SPEC is
+A parameter is given as ``NAME=SPEC`` (names: :mod:`tcpmm.sweep.space`), where SPEC is
 
 * ``START:STOP:STEP`` -- from START to STOP inclusive in steps of STEP (grid);
 * ``LOW:HIGH`` -- a range (Latin hypercube);
@@ -110,7 +110,7 @@ def parse_param(text: str, canonical=lambda n: n) -> ParamSpec:
         E.g. ``X.servo.K_pp=20:60:5`` [-].
     canonical : callable
         Maps a name as given to its canonical form, raising on an unknown one
-        (:func:`tcpmm.sweep.params.canonical_name`) [-].
+        (:func:`tcpmm.sweep.space.canonical_name`) [-].
 
     Returns
     -------

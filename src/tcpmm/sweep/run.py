@@ -102,7 +102,7 @@ def check_design(machine, program, variants) -> None:
         raise InputError(f"machine '{machine.name}' carries no uncertainty to draw from: "
                          "the draws design needs a model written by `tcpmm identify`; or use "
                          "--design grid or lhs")
-    from .params import apply_parameters
+    from .space import apply_parameters
 
     names = {n for v in variants for n, _ in v.values}
     for name in sorted(names):

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import InputWarning, TcpmmError
 from .metrics import circle_metric_names, circle_metrics, path_metric_names, path_metrics
-from .params import apply_parameters
+from .space import apply_parameters
 
 #: The paper's circular test: radius [m] and feed [m/s].
 PAPER_RADIUS_M, PAPER_FEED_M_PER_S = 0.035, 5000.0 / 60000.0

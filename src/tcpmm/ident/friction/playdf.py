@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...mechanics.params import AxisMechanics
+from ...mechanics.lumped import AxisMechanics
 from ..frf._spectral import sample_rate_hz
 from ..frf.response import frf_against_reference
 from ..physical.greybox import nut_path

@@ -246,7 +246,7 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
     ----------
     record : tcpmm.io.records.FrictionRecord
         Friction runs of the axis: time, current command, motor angle [SI].
-    mechanics : tcpmm.mechanics.params.AxisMechanics
+    mechanics : tcpmm.mechanics.lumped.AxisMechanics
         Identified mechanics (inertias, damping, ``K_L``, ``K_t``, ``M_t``, ``K_tc``)
         [SI].
     friction : tcpmm.model.AxisFriction

@@ -25,7 +25,7 @@ from scipy.optimize import least_squares
 
 from ..._threads import limit_blas_threads
 from ...errors import InputError, InputWarning
-from ...mechanics.params import AxisMechanics
+from ...mechanics.lumped import AxisMechanics
 from ..lti.goodness import rel_error
 from .jacobian import residual_jacobian
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...mechanics.params import AxisMechanics
+from ...mechanics.lumped import AxisMechanics
 
 #: Rows of :func:`log_sensitivities`: the mechanics parameters the fit may take, then the
 #: current-loop bandwidth ``f_i``.

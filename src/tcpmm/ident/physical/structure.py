@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import least_squares
 
-from ...mechanics.params import AxisMechanics
+from ...mechanics.lumped import AxisMechanics
 from ..lti.goodness import rel_error
 from .greybox import FRFData, fit_weight, log_binned, log_residual, model_frfs
 

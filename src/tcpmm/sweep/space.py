@@ -9,7 +9,7 @@ unit of the model file (SI), except where the name carries its unit
 ======================================  ==================================================
 name                                    what
 ======================================  ==================================================
-``AXIS.mechanics.F``                    :class:`~tcpmm.mechanics.params.AxisMechanics`
+``AXIS.mechanics.F``                    :class:`~tcpmm.mechanics.lumped.AxisMechanics`
                                         field ``F`` (``J_m``, ``M_t``, ``K_t``, ...) [SI]
 ``AXIS.servo.F``                        numeric :class:`~tcpmm.servo.params.ServoParams`
                                         field (``K_pp``, ``K_vp``, ``K_vi``, ``k_ff``, ...);
@@ -37,7 +37,7 @@ import math
 
 from .._validate import did_you_mean
 from ..errors import InputError
-from ..mechanics.params import AxisMechanics
+from ..mechanics.lumped import AxisMechanics
 from ..model import Machine, Sensors
 from ..servo.params import ServoParams
 

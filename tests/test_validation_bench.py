@@ -165,3 +165,15 @@ def test_an_identification_shares_the_result_protocol(tmp_path):
         idn.plot("Q")
     files = idn.write_report(tmp_path / "report")
     assert files and all(p.is_file() for p in files.values())
+
+
+@pytest.mark.parametrize("letter", ["c", "d", "e"])
+def test_a_share_from_the_sweep_carries_its_spread_into_the_model(letter):
+    """The model's share uncertainty, which ``tcpmm spread`` draws from, is the sweep
+    share's standard deviation (an infinite one drew any share and settled no point)."""
+    idn = identified(letter)
+    for name, a in idn.axes.items():
+        split = a.friction_split
+        assert split.source == "sweep", name
+        got = idn.machine.axis(name).uncertainty.guideway_share
+        assert got == pytest.approx(split.guideway_share_std) and 0 < got < 0.02, name

@@ -55,9 +55,9 @@ def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty
             level = math.hypot(sd["Fc+"], sd["Fc-"]) / fc
         if split.source == "given":
             share = 0.0
-        elif split.source == "data" and _finite(split.guideway_share_std):
+        elif split.source in ("data", "sweep") and _finite(split.guideway_share_std):
             share = float(split.guideway_share_std)
-        else:  # the prior
+        else:  # the prior, or a share whose spread is not known
             share = math.inf
         if split.backlash > 0 and _finite(split.backlash_std):
             play = float(split.backlash_std)

@@ -34,7 +34,12 @@ from .friction.split import (
     stribeck_from_record,
 )
 from .friction.sweepforce import sweep_deflection, travel_velocity
-from .gates.findings import SuspectModelError, axis_findings, time_base_findings
+from .gates.findings import (
+    SuspectModelError,
+    axis_findings,
+    time_base_findings,
+    trimmed_fit_percent,
+)
 from .gates.sanity import FrictionHold, warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .lti.goodness import fit_percent
 from .lti.tffit import fit_tf
@@ -179,6 +184,9 @@ class AxisIdentification:
                                              " + 1/s" if TF_ORDERS[k][2] else ""),
                     "tf_fit_percent": tf.fit_percent if tf is not None else float("nan"),
                     "physical_fit_percent": fit_percent(frf.H[good], ph[good]),
+                    # on the logarithm, as the fit and the gates judge it: a resonance a
+                    # few bins off does not outweigh the band
+                    "physical_log_fit_percent": trimmed_fit_percent(frf.H[good], ph[good]),
                     "physical_rel_error": self.physical.rel_error.get(k, float("nan")),
                     "modes_hz": [round(float(f), 2) for f in tf.natural_freq_hz]
                     if tf is not None

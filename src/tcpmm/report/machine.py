@@ -177,6 +177,8 @@ def _quality_frame(axis: dict):
     return pd.DataFrame([{"transfer function": tf, "TF order": q.get("tf_order", ""),
                           "TF fit [%]": q.get("tf_fit_percent", math.nan),
                           "physical fit [%]": q.get("physical_fit_percent", math.nan),
+                          "physical fit, log [%]": q.get("physical_log_fit_percent",
+                                                         math.nan),
                           "modes [Hz]": ", ".join(f"{m:g}" for m in q.get("modes_hz", []))}
                          for tf, q in axis.get("fit", {}).items()])
 
@@ -197,7 +199,10 @@ def identification_section(summary: dict, images: dict | None = None):
     body = para("Measured frequency responses (blue; bins of coherence below 0.5 left out, "
                 "the coherence in grey) against the rational transfer-function fit (green) "
                 "and the identified physical model (red). Fit percentages: 100 % is exact; "
-                "below 0 the model misses the measurement by more than its own size.", "lead")
+                "below 0 the model misses the measurement by more than its own size. On the "
+                "complex response a resonance a few bins off outweighs the rest of the band; "
+                "the log fit judges the logarithm of the response, as the identification "
+                "does, without the worst 1 % of bins.", "lead")
     for s in summary.get("suspect", []):
         body += para(f"physically suspect: {s}", "warn")
     for name, axis in summary["axes"].items():

@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from ..mechanics.friction import P_SIGMA0
-from .contact import friction_force, stribeck_level
+from .contact import friction_force, lugre_steady_state
 
 
 @njit(cache=True)
@@ -36,10 +36,7 @@ def contact_force_along_path(s, h, params):
     """
     n = s.shape[0]
     out = np.empty(n)
-    v0 = (s[1] - s[0]) / h
-    z = 0.0
-    if v0 != 0.0:
-        z = np.sign(v0) * stribeck_level(v0, params) / params[P_SIGMA0]
+    z = lugre_steady_state((s[1] - s[0]) / h, params)
     out[0] = params[P_SIGMA0] * z
     for k in range(1, n):
         v = (s[k] - s[k - 1]) / h

@@ -178,28 +178,32 @@ def _windows(s, v, margin: int):
     return out
 
 
-def _contact_force(contact, path, h):
-    from ...mechanics.friction import friction_params_array
+def _contact_force(params, path, h):
+    """Force of a contact (parameter vector, ``None`` for none) along ``path`` [N]."""
     from ...sim.pathforce import contact_force_along_path
 
-    if contact is None:
+    if params is None:
         return np.zeros_like(path)
-    return contact_force_along_path(path, h, friction_params_array(contact))
+    return contact_force_along_path(path, h, params)
 
 
 def _residual(m, windows, fr, mech, margin: int) -> np.ndarray:
     """Measured minus predicted motor force over every window [N]."""
+    from ...mechanics.friction import friction_params_array
+
     R, h = m["R"], m["h"]
     drive = (mech.J_m + mech.J_L) / R**2
     drive_c = (mech.B_m + mech.B_L) / R**2
+    p_s, p_g = (None if c is None else friction_params_array(c)
+                for c in (fr.screw, fr.guideway))
     out = []
     for a, b in windows:
         sl = slice(a - margin, b + 1)
         fms, v, acc = m["fms"][sl], m["v"][sl], m["a"][sl]
         s_L = m["s"][sl] - R**2 / mech.K_L * fms
-        f_s = _contact_force(fr.screw, s_L, h)
+        f_s = _contact_force(p_s, s_L, h)
         f_n = fms - drive * acc - drive_c * v - f_s
-        f_g = _contact_force(fr.guideway, s_L - f_n / mech.K_t, h)
+        f_g = _contact_force(p_g, s_L - f_n / mech.K_t, h)
         pred = f_s + f_g + (drive + mech.M_t) * acc + (drive_c + mech.C_t) * v
         out.append((m["fm"][sl] - pred)[margin:])
     return np.concatenate(out)

@@ -5,9 +5,8 @@ from __future__ import annotations
 #: Short headers of the usual result columns; any other ``*_um`` column is named
 #: ``<name> [µm]``.
 HEADERS = {
-    "direction": "dir", "sensor": "sensor", "contour_error_um": "contour [µm]",
-    "circular_deviation_um": "G [µm]", "radial_rms_um": "rms [µm]",
-    "radial_max_um": "max [µm]", "tf": "tf", "axis": "axis",
+    "direction": "dir", "contour_error_um": "contour [µm]", "circular_deviation_um": "G [µm]",
+    "radial_rms_um": "rms [µm]", "radial_max_um": "max [µm]",
 }
 
 

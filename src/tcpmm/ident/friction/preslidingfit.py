@@ -33,7 +33,8 @@ The encoder position is smoothed over :data:`SMOOTH_S` before it drives the cont
 The standard deviations come from the Jacobian, inflated by the correlation time of the
 residual. The fit counts as not determined, and the caller keeps its prior, when fewer
 than :data:`MIN_REVERSALS` reversals are slow enough, when the encoder step at the table
-is more than :data:`MAX_QUANTUM_REL` of the distance, when the force residual exceeds
+is more than :data:`MAX_QUANTUM_REL` of the distance, when the nut's lost motion (left
+out of the model) is more than :data:`MAX_LOST_MOTION_REL` of it, when the force residual exceeds
 :data:`MAX_MISFIT` times the noise of the measured force (the reversals do not follow the
 model: stick-slip, or a turn within a few samples), when the distance is uncertain by
 more than :data:`MAX_LOG_STD` (in its logarithm) or when it ends on a bound.
@@ -71,6 +72,9 @@ MIN_REVERSALS = 2
 MAX_LOG_STD = 0.35
 #: Largest encoder step, at the table, against the fitted distance [-].
 MAX_QUANTUM_REL = 0.1
+#: Largest lost motion of the nut, which the reversal model leaves out, against the
+#: fitted distance [-].
+MAX_LOST_MOTION_REL = 0.1
 #: Largest ratio of the force residual to the force noise for the model to count [-].
 MAX_MISFIT = 1.5
 
@@ -264,9 +268,6 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
     """
     if friction is None or (friction.screw is None and friction.guideway is None):
         return _not_determined("the axis has no friction to fit")
-    if friction.backlash > 0.0:
-        return _not_determined("the nut has lost motion, which the reversal model leaves "
-                               "out")
     m = _motion(record, mechanics)
     margin = _odd(0.005 / m["h"])
     windows = _windows(m["s"], m["v"], margin)
@@ -292,7 +293,10 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
     rms = float(np.sqrt(np.mean(r.fun**2)))
     noise = _force_noise(m["fm"], windows)
     reason = ""
-    if m["quantum"] > MAX_QUANTUM_REL * z:
+    if friction.backlash > MAX_LOST_MOTION_REL * z:
+        reason = (f"the nut has {friction.backlash * 1e6:.3g} um of lost motion, which the "
+                  f"reversal model leaves out, against a pre-sliding of {z * 1e6:.3g} um")
+    elif m["quantum"] > MAX_QUANTUM_REL * z:
         reason = (f"the encoder resolves {m['quantum'] * 1e6:.3g} um at the table, too "
                   f"coarse for a pre-sliding of {z * 1e6:.3g} um")
     elif rms > MAX_MISFIT * noise:

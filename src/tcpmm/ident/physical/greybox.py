@@ -32,6 +32,9 @@ from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
 
 FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h")
+#: Tolerances of the final refinements: tight enough that the point where a fit stops does
+#: not follow rounding in the records (analytic Jacobians make them reachable) [-].
+TIGHT = dict(ftol=1e-12, xtol=1e-12, gtol=1e-12)
 _OUT = {"G_M": ("w_m", None), "G_T": ("X_LS", "th_m"), "G_tcp": ("X_TCP", "X_LS")}
 _ROWS = ("w_m", "th_m", "X_LS", "X_TCP")
 
@@ -48,11 +51,21 @@ class FRFData:
         Complex response [output unit / input unit].
     weight : ndarray
         Non-negative weight per bin, e.g. ``1/rel_std`` or coherence based [-].
+    spread_hz : ndarray, optional
+        Standard deviation of the frequencies each value averages over; a model is
+        compared with it averaged alike (:func:`band_model`). ``None``: point values [Hz].
     """
 
     freq_hz: np.ndarray
     H: np.ndarray
     weight: np.ndarray
+    spread_hz: np.ndarray | None = None
+
+    def band_points(self) -> np.ndarray:
+        """The two frequencies per bin, ``f - spread`` then ``f + spread``, at which the
+        mean of a model over each bin's band is taken [Hz]."""
+        sd = np.zeros_like(self.freq_hz) if self.spread_hz is None else self.spread_hz
+        return np.concatenate([self.freq_hz - sd, self.freq_hz + sd])
 
 
 @dataclass(frozen=True)
@@ -238,7 +251,24 @@ def log_binned(d: FRFData, n_per_decade: int = 60) -> FRFData:
     Hr = np.bincount(k, w2 * H.real, n)[use] / sw[use]
     Hi = np.bincount(k, w2 * H.imag, n)[use] / sw[use]
     fm = np.bincount(k, w2 * f, n)[use] / sw[use]
-    return FRFData(fm, Hr + 1j * Hi, np.sqrt(sw[use]))
+    sd = np.zeros_like(f) if d.spread_hz is None else np.asarray(d.spread_hz)[good]
+    m2 = np.bincount(k, w2 * (f**2 + sd**2), n)[use] / sw[use]
+    spread = np.sqrt(np.clip(m2 - fm**2, 0.0, None))
+    return FRFData(fm, Hr + 1j * Hi, np.sqrt(sw[use]), spread)
+
+
+def band_model(pair: np.ndarray) -> np.ndarray:
+    """Mean of a model over each bin's band from its values at
+    :meth:`FRFData.band_points`: the two-point rule that matches the band's mean
+    frequency and spread, exact where the model is quadratic across the band.
+
+    Averaging the data over a band flattens a resonance whose width is comparable to
+    the band (a mode at 16 Hz with 3.5 % damping across 0.6 Hz loses 2-3 % of its peak);
+    a model evaluated at the band's centre then fits the flattened peak with too much
+    damping. Averaged alike, it does not [-].
+    """
+    n = pair.size // 2
+    return 0.5 * (pair[:n] + pair[n:])
 
 
 def fit_weight(d: FRFData) -> np.ndarray:
@@ -305,7 +335,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     full = data
     f_top = max(float(d.freq_hz.max()) for d in full.values())
     data = {k: log_binned(v) for k, v in data.items()}
-    freqs = {k: v.freq_hz for k, v in data.items()}
+    freqs = {k: v.band_points() for k, v in data.items()}
     w = {k: fit_weight(v) for k, v in data.items()}
     fixed = dict(lead=lead, K_tc=K_tc, M_h=1.0, C_h=1.0, K_h=1e9)
 
@@ -329,14 +359,15 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
             model = model_frfs(m, freqs, bandwidth(theta), hold_period_s, nut_gain)
         except np.linalg.LinAlgError:
             return np.full(sum(2 * f.size for f in freqs.values()), 1e3)
-        r = np.concatenate([log_residual(model[k], d.H, w[k]) for k, d in data.items()])
-        last.update(x=np.array(theta), r=r)
+        r = np.concatenate([log_residual(band_model(model[k]), d.H, w[k])
+                            for k, d in data.items()])
+        last.update(x=np.array(theta), r=r, model=model)
         return r
 
     def jac(theta):
-        r = last["r"] if np.array_equal(last.get("x"), theta) else resid(theta)
-        return residual_jacobian(mech_of(theta), freqs, w, r, names, tied, bandwidth(theta),
-                                 nut_gain)
+        _ = np.array_equal(last.get("x"), theta) or resid(theta)
+        return residual_jacobian(mech_of(theta), freqs, w, last["r"], names, tied,
+                                 bandwidth(theta), nut_gain, pairs=last.get("model"))
 
     starts = [initial] if initial is not None else _starts(data, full, lead, K_tc, tf_fits, f_top)
     r = _multistart(resid, jac, starts, names, fit_current_loop, max_nfev)
@@ -396,7 +427,7 @@ def _multistart(resid, jac, starts, names, fit_current_loop: bool, max_nfev: int
         if best is None or r.cost < best.cost:
             best, best_bounds = r, (lo, hi)
     return least_squares(resid, best.x, jac=jac, bounds=best_bounds, max_nfev=max_nfev,
-                         method="trf")
+                         method="trf", **TIGHT)
 
 
 def _log_covariance(r):

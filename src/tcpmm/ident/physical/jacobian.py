@@ -97,7 +97,7 @@ def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz
 
 def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
                       names, tied: dict, current_bandwidth_hz=None,
-                      nut_gain=None) -> np.ndarray:
+                      nut_gain=None, pairs: dict | None = None) -> np.ndarray:
     """Jacobian of the stacked log residuals of :func:`~tcpmm.ident.physical.greybox.log_residual`
     with respect to the fitted log-parameters.
 
@@ -118,6 +118,10 @@ def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
         Current-loop bandwidth [Hz].
     nut_gain : callable, optional
         Factor on ``K_t`` per frequency [-].
+    pairs : dict, optional
+        Model values at ``freqs`` where these are the two points per bin of
+        :meth:`~tcpmm.ident.physical.greybox.FRFData.band_points` and the residual
+        compares the mean of each pair: the sensitivity of that mean [SI].
 
     Returns
     -------
@@ -126,7 +130,11 @@ def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
     """
     blocks = []
     for k, f in freqs.items():
-        d = log_sensitivities(mech, k, f, current_bandwidth_hz, nut_gain) * weights[k]
+        d = log_sensitivities(mech, k, f, current_bandwidth_hz, nut_gain)
+        if pairs is not None:
+            g, n = pairs[k], f.size // 2
+            d = (g[:n] * d[:, :n] + g[n:] * d[:, n:]) / (g[:n] + g[n:])
+        d = d * weights[k]
         blocks += [d.real, d.imag]
     S = np.concatenate(blocks, axis=1)
     if tied:

@@ -21,7 +21,16 @@ from scipy.optimize import least_squares
 
 from ...mechanics.lumped import AxisMechanics
 from ..lti.goodness import rel_error
-from .greybox import FRFData, fit_weight, log_binned, log_residual, model_frfs
+from .greybox import (
+    TIGHT,
+    FRFData,
+    band_model,
+    fit_weight,
+    log_binned,
+    log_residual,
+    model_frfs,
+)
+from .jacobian import residual_jacobian
 
 __all__ = ["STRUCTURE", "fit_structure"]
 
@@ -54,24 +63,34 @@ def fit_structure(data: FRFData, starts, max_nfev: int = 200):
     d = log_binned(data)
     good = np.asarray(d.weight) > 0
     f, H, w = d.freq_hz[good], d.H[good], fit_weight(d)[good]
+    points = FRFData(f, H, w, None if d.spread_hz is None else d.spread_hz[good]).band_points()
+
+    def mech_of(theta, base):
+        return AxisMechanics.model_construct(**{**base, **dict(zip(_FREE, np.exp(theta),
+                                                                   strict=True))})
 
     def resid(theta, base):
-        m = AxisMechanics.model_construct(**{**base, **dict(zip(_FREE, np.exp(theta),
-                                                                strict=True))})
-        return log_residual(model_frfs(m, {"G_tcp": f})["G_tcp"], H, w)
+        g = model_frfs(mech_of(theta, base), {"G_tcp": points})["G_tcp"]
+        return log_residual(band_model(g), H, w)
+
+    def jac(theta, base):
+        m = mech_of(theta, base)
+        g = model_frfs(m, {"G_tcp": points})["G_tcp"]
+        return residual_jacobian(m, {"G_tcp": points}, {"G_tcp": w}, resid(theta, base),
+                                 _FREE, {}, pairs={"G_tcp": g})
 
     best = None
     for mech in starts:
         base = mech.model_dump()
         theta0 = np.log([max(base[p], 1e-12) for p in _FREE])
         bounds = (theta0 - np.log(1e3), theta0 + np.log(1e3))
-        r = least_squares(resid, theta0, args=(base,), bounds=bounds, max_nfev=40,
+        r = least_squares(resid, theta0, jac=jac, args=(base,), bounds=bounds, max_nfev=40,
                           method="trf")
         if best is None or r.cost < best[0].cost:
             best = (r, base, bounds)
     r, base, bounds = best
-    r = least_squares(resid, r.x, args=(base,), bounds=bounds, max_nfev=max_nfev,
-                      method="trf")
+    r = least_squares(resid, r.x, jac=jac, args=(base,), bounds=bounds, max_nfev=max_nfev,
+                      method="trf", **TIGHT)
     vals = dict(zip(_FREE, np.exp(r.x), strict=True))
     ratios = {p: float(vals[p] / base["M_t"]) for p in STRUCTURE}
     m = AxisMechanics.model_construct(**{**base, **vals})

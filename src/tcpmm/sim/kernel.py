@@ -436,18 +436,23 @@ def _steps(AdT, BdT, x_out, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, i
     c_dl = 0  # write index of the delay line
     ratio = fp[13]
     last = cmd.size - 1
+    excited = False
+    for i in range(excitation.size):
+        if excitation[i] != 0.0:
+            excited = True
+            break
     for k in range(ip[7]):
-        th_q = _quantise(x[0], q_enc)
+        if vel_diff:
+            th_q = _quantise(x[0], q_enc)
         pos = k * ratio
-        j = min(int(pos + 1e-9), last)
-        i_exc = excitation[j]
+        i_exc = excitation[min(int(pos + 1e-9), last)] if excited else 0.0
         i_c = 0.0
         if closed:
             if c_pos == 0:
                 if fb_scale:
                     x_fb = _quantise(x[2] - x[3], q_scale)
                 else:
-                    x_fb = R * th_q
+                    x_fb = R * _quantise(x[0], q_enc)
                 j = min(int(pos), last)
                 fr = pos - j
                 j1 = min(j + 1, last)
@@ -473,8 +478,9 @@ def _steps(AdT, BdT, x_out, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, i
                 I_w = I_new
             if filtered:
                 i_c = _filter_step(fsec, fst, i_c)
-        c_h = (c_h + 1) % (n_taps + 1)
-        hist[c_h] = th_q
+        if vel_diff:
+            c_h = (c_h + 1) % (n_taps + 1)
+            hist[c_h] = th_q
         c_pos += 1
         if c_pos == n_pos:
             c_pos = 0
@@ -483,9 +489,9 @@ def _steps(AdT, BdT, x_out, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, i
             c_dl += 1
             if c_dl > delay:
                 c_dl = 0
-            i_app = dl[c_dl] + i_exc
+            i_app = dl[c_dl] + i_exc if excited else dl[c_dl]
         else:
-            i_app = i_c + i_exc
+            i_app = i_c + i_exc if excited else i_c
         if i_app > i_lim:
             i_app = i_lim
         elif i_app < -i_lim:

@@ -47,13 +47,17 @@ a friction velocity reaches or crosses zero, or a held contact breaks away, is r
 ``ip[6]`` sub-steps; a contact that stays held over a whole step needs none.
 
 Structure (what keeps a step at tens of nanoseconds, ``docs/performance.md``):
-:func:`run_axis` allocates every work array and hands it to ``_steps``, the loop, which
-is compiled without reference counting (``_nrt=False``) and so may allocate nothing; a
-new per-axis state (a filter's delay line, say) is allocated in :func:`run_axis` and
-passed in the same way. The helpers of the loop, and the friction functions of
-:mod:`tcpmm.sim.contact`, are inlined (``inline="always"``): a call per step, with its
-arrays, would cost more than the step. The whole step and its sub-steps share one loop
-body in ``_nonlinear_step``, so that the friction code is inlined once.
+:func:`run_axis` compiles the kernel with LLVM's SLP vectoriser on (same operations in
+the same order, in vector instructions); ``_run_axis`` allocates every work array and
+hands it to ``_steps``, the loop, which is compiled without reference counting
+(``_nrt=False``) and so may allocate nothing; a new per-axis state (a filter's delay
+line, say) is allocated in ``_run_axis`` and passed in the same way. The helpers of the
+loop, and the friction functions of :mod:`tcpmm.sim.contact`, are inlined
+(``inline="always"``): a call per step, with its arrays, would cost more than the step.
+The whole step and its sub-steps share one loop body in ``_nonlinear_step``, so that the
+friction code is inlined once. What does not change from step to step (the friction's
+effective masses and input columns per matrix set) is computed before the loop; state
+and scratch swap roles instead of being copied.
 """
 
 from __future__ import annotations

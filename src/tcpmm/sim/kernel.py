@@ -110,11 +110,12 @@ def _free_step(AdT, BdT, c, x, xn, u0, u4):
         xn[i] = y[i]
 
 
-@njit(cache=True, inline="always")
-def _constant_inputs(BdT, u, c):
-    """``c`` = the part of ``Bd u`` from the constant inputs ``u[1:4]`` (T_m, T_L, F_t)."""
+@njit(cache=True)
+def _constant_inputs(BdT, fp, c):
+    """``c`` = the part of ``Bd u`` from the constant inputs ``fp[10:13]`` (T_m, T_L,
+    F_t)."""
     for i in range(NX):
-        c[i] = BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
+        c[i] = BdT[1, i] * fp[10] + BdT[2, i] * fp[11] + BdT[3, i] * fp[12]
 
 
 @njit(cache=True, inline="always")
@@ -130,7 +131,7 @@ def _rel(x, idx, ref):
 FK_B, FK_MASS, FK_INV_B, FK_COL = 0, 1, 2, 3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _friction_constants(BdT, h, R, g_ref, fk):
     """Constants of the screw (row 0) and guideway (row 1) friction over a step ``h`` of
     one matrix set: ``b = d v_end / d F`` (the contact's velocity change per newton of
@@ -397,28 +398,29 @@ def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s
     fst = np.zeros((fsec.shape[0], 2))  # states of the current-setpoint filters
     if fsec.shape[0] > 0:
         _filter_rest(fsec, fst, dl[0])
-    _steps(AdT, BdT, x, np.empty(NX), np.zeros(4), np.zeros((3, NX)), np.zeros(2), dl, hist,
-           cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT,
-           fsec, fst, np.zeros((3, 2, FK_COL + NX)))
+    c = np.zeros((3, NX))  # per matrix set: step, sub-step, sub-step in the play
+    fk = np.zeros((3, 2, FK_COL + NX))
+    for s, (B, h) in enumerate(((BdT, fp[6]), (BdsT, fp[6] / ip[6]), (BdgT, fp[6] / ip[6]))):
+        _constant_inputs(B, fp, c[s])
+        _friction_constants(B, h, fp[4], ip[9], fk[s])
+    excited = np.any(excitation != 0.0)
+    _steps(AdT, BdT, x, np.empty(NX), c, np.zeros(2), dl, hist, cmd, vcmd, excitation,
+           excited, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk)
     return x
 
 
 # Compiled without reference counting (``_nrt=False``): the loop allocates nothing, and
 # the counts numba keeps on every array passed to an inlined helper were most of its time.
 @njit(cache=True, nogil=True, _nrt=False)
-def _steps(AdT, BdT, x_out, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, rec,
-           AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk):
+def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited, fp, ip,
+           rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk):
     """The loop of :func:`run_axis` on its work arrays: state ``x_out`` (advanced in
-    place), scratch ``xn`` (the two swap roles each step), inputs ``u``, the constant
-    inputs' share of ``Bd u`` ``c`` and the friction constants ``fk`` (both per matrix
-    set: step, sub-step, sub-step in the play), friction states ``st`` (screw, guideway),
-    the delay line ``dl``, the encoder history ``hist`` and the states ``fst`` of the
-    current-setpoint filters ``fsec``."""
+    place), scratch ``xn`` (the two swap roles each step), the constant inputs' share of
+    ``Bd u`` ``c`` and the friction constants ``fk`` (both per matrix set: step, sub-step,
+    sub-step in the play), friction states ``st`` (screw, guideway), the delay line
+    ``dl``, the encoder history ``hist`` and the states ``fst`` of the current-setpoint
+    filters ``fsec``; ``excited``: whether ``excitation`` is not all zero."""
     x = x_out
-    u[1], u[2], u[3] = fp[10], fp[11], fp[12]
-    _constant_inputs(BdT, u, c[0])
-    _constant_inputs(BdsT, u, c[1])
-    _constant_inputs(BdgT, u, c[2])
     play, K_t = fp[14], fp[15]
     nonlinear = pf_s[0] != MODEL_NONE or pf_g[0] != MODEL_NONE or play > 0.0
     n_sub = ip[6]
@@ -427,9 +429,6 @@ def _steps(AdT, BdT, x_out, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, i
     I_w = fp[9]
     n_pos, fb_scale, vel_diff, delay, closed, rec_every = ip[0], ip[1], ip[2], ip[3], ip[4], ip[5]
     ff_segment, g_ref = ip[8], ip[9]
-    _friction_constants(BdT, T_v, R, g_ref, fk[0])
-    _friction_constants(BdsT, T_v / n_sub, R, g_ref, fk[1])
-    _friction_constants(BdgT, T_v / n_sub, R, g_ref, fk[2])
     filtered = fsec.shape[0] > 0
     n_taps = vtaps.size
     c_h = 0  # index of the newest angle in hist
@@ -440,11 +439,6 @@ def _steps(AdT, BdT, x_out, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, i
     c_dl = 0  # write index of the delay line
     ratio = fp[13]
     last = cmd.size - 1
-    excited = False
-    for i in range(excitation.size):
-        if excitation[i] != 0.0:
-            excited = True
-            break
     for k in range(ip[7]):
         if vel_diff:
             th_q = _quantise(x[0], q_enc)

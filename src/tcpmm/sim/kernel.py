@@ -359,7 +359,8 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     """
     args = (AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps,
             AdgT, BdgT, fsec)
-    _compile_vectorised(args)
+    if not _run_axis.overloads:  # the first call: typing the arguments costs 0.1 ms
+        _compile_vectorised(args)
     return _run_axis(*args)
 
 
@@ -372,7 +373,9 @@ def _compile_vectorised(args) -> None:
     instructions. numba leaves it off by default (``NUMBA_SLP_VECTORIZE``) and reads the
     setting when it optimises, so it is switched on for this compilation alone. The
     vector code does the same IEEE operations in the same order as the scalar code: the
-    results are the same to the bit."""
+    results are the same to the bit. Done for the types of the first call's arguments
+    (those of :func:`tcpmm.simulate.axis_kernel_inputs`); other types would be compiled
+    by numba as usual, without it: the same numbers, more slowly."""
     sig = tuple(numba.typeof(a) for a in args)
     if sig in _run_axis.overloads:
         return

@@ -59,6 +59,10 @@ plain floats inside ``@njit`` code::
     True when a static-model step ended in stick.
 ``sliding_friction(v, params) -> F``
     Steady-state friction at velocity ``v`` (the Stribeck curve, ``0.0`` at ``v == 0``).
+``static_stop_or_slide(v, f_stop, params) -> (F, new_state)``
+    The static model's step given the force ``f_stop`` that brings the body to rest at
+    the end of the step (what ``friction_force`` does with ``m_eff > 0``), for callers
+    that have ``f_stop`` more directly.
 ``static_levels(params) -> (Fs_plus, Fs_minus)``
     Break-away levels, both non-negative [N].
 ``lugre_steady_state(v, params) -> z``
@@ -109,6 +113,7 @@ __all__ = [
     "lugre_steady_state",
     "sliding_friction",
     "static_levels",
+    "static_stop_or_slide",
     "stribeck_level",
 ]
 
@@ -242,15 +247,40 @@ def _stop_or_slip(f_stop, fsn, fsp):
 
 
 @njit(cache=True, inline="always")
+def static_stop_or_slide(v, f_stop, params):
+    """Static friction over a step of a body that ``f_stop`` would bring to rest.
+
+    Parameters
+    ----------
+    v : float
+        Velocity at the start of the step [m/s].
+    f_stop : float
+        Friction force, held over the step, that brings the body to rest at its end
+        (``f_applied + m_eff * v / dt``) [N].
+    params : numpy.ndarray
+        Vector from ``friction_params_array`` of a static model [-].
+
+    Returns
+    -------
+    tuple of float
+        ``(F, new_state)``: the sliding friction if it does not reverse the velocity within
+        the step (``SLIDING``); else ``f_stop`` within the static band (``STUCK``), clipped
+        to it beyond (``SLIDING``) [N, -].
+    """
+    f_sl = sliding_friction(v, params)  # 0.0 at v == 0
+    if (v > 0.0 and f_sl < f_stop) or (v < 0.0 and f_sl > f_stop):
+        return f_sl, SLIDING
+    # at rest, or the sliding force reverses v
+    return _stop_or_slip(f_stop, params[P_FS_NEG], params[P_FS_POS])
+
+
+@njit(cache=True, inline="always")
 def _static_step(v, f_applied, params, dt, m_eff):
+    if m_eff > 0.0:
+        return static_stop_or_slide(v, f_applied + m_eff * v / dt, params)
     fsp = params[P_FS_POS]
     fsn = params[P_FS_NEG]
     f_sl = sliding_friction(v, params)  # 0.0 at v == 0
-    if m_eff > 0.0:
-        f_stop = f_applied + m_eff * v / dt
-        if (v > 0.0 and f_sl < f_stop) or (v < 0.0 and f_sl > f_stop):
-            return f_sl, SLIDING
-        return _stop_or_slip(f_stop, fsn, fsp)  # at rest, or the sliding force reverses v
     if abs(v) <= params[P_V_STICK]:
         return _clip(f_applied, -fsn, fsp), SLIDING
     return f_sl, SLIDING

@@ -47,22 +47,29 @@ a friction velocity reaches or crosses zero, or a held contact breaks away, is r
 ``ip[6]`` sub-steps; a contact that stays held over a whole step needs none.
 
 Structure (what keeps a step at tens of nanoseconds, ``docs/performance.md``):
-:func:`run_axis` allocates every work array and hands it to ``_steps``, the loop, which
-is compiled without reference counting (``_nrt=False``) and so may allocate nothing; a
-new per-axis state (a filter's delay line, say) is allocated in :func:`run_axis` and
-passed in the same way. The helpers of the loop, and the friction functions of
-:mod:`tcpmm.sim.contact`, are inlined (``inline="always"``): a call per step, with its
-arrays, would cost more than the step. The whole step and its sub-steps share one loop
-body in ``_nonlinear_step``, so that the friction code is inlined once.
+:func:`run_axis` compiles the kernel with LLVM's SLP vectoriser on (same operations in
+the same order, in vector instructions); ``_run_axis`` allocates every work array and
+hands it to ``_steps``, the loop, which is compiled without reference counting
+(``_nrt=False``) and so may allocate nothing; a new per-axis state (a filter's delay
+line, say) is allocated in ``_run_axis`` and passed in the same way. The helpers of the
+loop, and the friction functions of :mod:`tcpmm.sim.contact`, are inlined
+(``inline="always"``): a call per step, with its arrays, would cost more than the step.
+The whole step and its sub-steps share one loop body in ``_nonlinear_step``, so that the
+friction code is inlined once. What does not change from step to step (the friction's
+effective masses and input columns per matrix set) is computed before the loop; state
+and scratch swap roles instead of being copied.
 """
 
 from __future__ import annotations
 
+import threading
+
+import numba
 import numpy as np
 from numba import njit
 
-from ..mechanics.friction import MODEL_NONE, STUCK
-from .contact import at_rest, friction_force
+from ..mechanics.friction import MODEL_NONE, MODEL_STATIC, STUCK
+from .contact import at_rest, friction_force, static_stop_or_slide
 
 REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
@@ -78,17 +85,15 @@ def _quantise(v, q):
 
 
 @njit(cache=True, inline="always")
-def _free_step(AdT, BdT, c, x, xn, u):
-    """``xn = Ad x + Bd u``: the current ``u[0]``, the constant inputs (their sum ``c``),
-    the nut force ``u[4]``, then the states in order. The sums are carried in a tuple,
+def _free_step(AdT, BdT, c, x, xn, u0, u4):
+    """``xn = Ad x + Bd u``: the current ``u0``, the constant inputs (their sum ``c``),
+    the nut force ``u4``, then the states in order. The sums are carried in a tuple,
     i.e. in registers: through ``xn`` the compiler must assume that each store may change
     ``AdT``, and the product takes twice as long."""
-    u0 = u[0]
     y = (BdT[0, 0] * u0 + c[0], BdT[0, 1] * u0 + c[1], BdT[0, 2] * u0 + c[2],
          BdT[0, 3] * u0 + c[3], BdT[0, 4] * u0 + c[4], BdT[0, 5] * u0 + c[5],
          BdT[0, 6] * u0 + c[6], BdT[0, 7] * u0 + c[7], BdT[0, 8] * u0 + c[8],
          BdT[0, 9] * u0 + c[9], BdT[0, 10] * u0 + c[10])
-    u4 = u[4]
     if u4 != 0.0:
         y = (y[0] + BdT[4, 0] * u4, y[1] + BdT[4, 1] * u4, y[2] + BdT[4, 2] * u4,
              y[3] + BdT[4, 3] * u4, y[4] + BdT[4, 4] * u4, y[5] + BdT[4, 5] * u4,
@@ -96,19 +101,21 @@ def _free_step(AdT, BdT, c, x, xn, u):
              y[9] + BdT[4, 9] * u4, y[10] + BdT[4, 10] * u4)
     for j in range(NX):
         xj = x[j]
-        y = (y[0] + AdT[j, 0] * xj, y[1] + AdT[j, 1] * xj, y[2] + AdT[j, 2] * xj,
-             y[3] + AdT[j, 3] * xj, y[4] + AdT[j, 4] * xj, y[5] + AdT[j, 5] * xj,
-             y[6] + AdT[j, 6] * xj, y[7] + AdT[j, 7] * xj, y[8] + AdT[j, 8] * xj,
-             y[9] + AdT[j, 9] * xj, y[10] + AdT[j, 10] * xj)
+        if xj != 0.0 or j < NX - 1:  # no current loop: the last state is 0 and adds nothing
+            y = (y[0] + AdT[j, 0] * xj, y[1] + AdT[j, 1] * xj, y[2] + AdT[j, 2] * xj,
+                 y[3] + AdT[j, 3] * xj, y[4] + AdT[j, 4] * xj, y[5] + AdT[j, 5] * xj,
+                 y[6] + AdT[j, 6] * xj, y[7] + AdT[j, 7] * xj, y[8] + AdT[j, 8] * xj,
+                 y[9] + AdT[j, 9] * xj, y[10] + AdT[j, 10] * xj)
     for i in range(NX):
         xn[i] = y[i]
 
 
-@njit(cache=True, inline="always")
-def _constant_inputs(BdT, u, c):
-    """``c`` = the part of ``Bd u`` from the constant inputs ``u[1:4]`` (T_m, T_L, F_t)."""
+@njit(cache=True)
+def _constant_inputs(BdT, fp, c):
+    """``c`` = the part of ``Bd u`` from the constant inputs ``fp[10:13]`` (T_m, T_L,
+    F_t)."""
     for i in range(NX):
-        c[i] = BdT[1, i] * u[1] + BdT[2, i] * u[2] + BdT[3, i] * u[3]
+        c[i] = BdT[1, i] * fp[10] + BdT[2, i] * fp[11] + BdT[3, i] * fp[12]
 
 
 @njit(cache=True, inline="always")
@@ -119,34 +126,69 @@ def _rel(x, idx, ref):
     return x[idx]
 
 
-@njit(cache=True, inline="always")
-def _apply_friction(BdT, x, xn, h, pf, st, k, col, idx, ref, ratio):
-    """Friction of one contact over a step whose free end state is ``xn``; the contact's
-    velocity is ``ratio * x[idx]``, relative to ``x[ref]`` when ``ref >= 0``."""
-    b = (BdT[col, idx] - BdT[col, ref] if ref >= 0 else BdT[col, idx]) * ratio * ratio
-    if b <= 0.0:
-        return
-    m_eff = h / b
-    v = ratio * _rel(x, idx, ref)
-    v_free = ratio * _rel(xn, idx, ref)
-    F, st[k] = friction_force(v, m_eff * (v_free - v) / h, st[k], pf, h, m_eff)
-    for i in range(NX):
-        xn[i] -= BdT[col, i] * ratio * F
-    if at_rest(st[k], pf):
-        if ref >= 0:
-            xn[idx] = xn[ref]
-        else:
-            xn[idx] = 0.0
+#: Columns of the friction constants ``fk[set, contact]`` (:func:`_friction_constants`):
+#: ``b``, the effective mass ``h / b``, ``1 / b``, then the contact's input column.
+FK_B, FK_MASS, FK_INV_B, FK_COL = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def _friction_constants(BdT, h, R, g_ref, fk):
+    """Constants of the screw (row 0) and guideway (row 1) friction over a step ``h`` of
+    one matrix set: ``b = d v_end / d F`` (the contact's velocity change per newton of
+    its friction over the step, > 0), the effective mass ``h / b``, ``1 / b`` and the
+    input column times the velocity ratio (``d x_end / d F``)."""
+    for k in range(2):
+        col, idx, ref, ratio = (2, 6, -1, R) if k == 0 else (5, 7, g_ref, 1.0)
+        b = (BdT[col, idx] - BdT[col, ref] if ref >= 0 else BdT[col, idx]) * ratio * ratio
+        fk[k, FK_B] = b
+        fk[k, FK_MASS] = h / b if b > 0.0 else 0.0
+        fk[k, FK_INV_B] = 1.0 / b if b > 0.0 else 0.0
+        for i in range(NX):
+            fk[k, FK_COL + i] = BdT[col, i] * ratio
 
 
 @njit(cache=True, inline="always")
-def _frictions(BdT, x, xn, h, pf_s, pf_g, st, R, g_ref):
+def _contact_friction(fk, k, v, v_free, h, pf, st):
+    """Friction force of contact ``k`` over a step in which its velocity goes from ``v``
+    to ``v_free`` without it; ``(F, stuck)``: the force (0 without friction) and whether
+    it holds the contact at rest at the end of the step.
+
+    The static model takes the force that stops the contact at the end of the step as
+    ``v_free / b``: the same as ``friction_force``'s ``f_applied + m_eff v / h`` with
+    ``f_applied = m_eff (v_free - v) / h``, without the two divisions in the chain from
+    one step to the next."""
+    if pf[0] == MODEL_NONE or fk[k, FK_B] <= 0.0:
+        return 0.0, False
+    if pf[0] == MODEL_STATIC:
+        F, st[k] = static_stop_or_slide(v, v_free * fk[k, FK_INV_B], pf)
+    else:
+        m_eff = fk[k, FK_MASS]
+        F, st[k] = friction_force(v, m_eff * (v_free - v) / h, st[k], pf, h, m_eff)
+    return F, at_rest(st[k], pf)
+
+
+@njit(cache=True, inline="always")
+def _frictions(fk, x, xn, h, pf_s, pf_g, st, R, g_ref):
     """Screw and guideway friction over a step of length ``h`` from ``x``, applied to the
-    free end state ``xn``."""
-    if pf_s[0] != MODEL_NONE:
-        _apply_friction(BdT, x, xn, h, pf_s, st, 0, 2, 6, -1, R)
-    if pf_g[0] != MODEL_NONE:
-        _apply_friction(BdT, x, xn, h, pf_g, st, 1, 5, 7, g_ref, 1.0)
+    free end state ``xn``; ``fk`` the friction constants of the step's matrix set.
+
+    The screw's velocity is ``R x[6]``; the guideway's ``x[7]``, relative to ``x[g_ref]``
+    when ``g_ref >= 0``, after the screw's friction. Both corrections are applied in one
+    pass over the states, element by element in the order screw, screw at rest, guideway:
+    the numbers of applying them one after the other, without storing the states
+    in between."""
+    F_s, stuck_s = _contact_friction(fk, 0, R * x[6], R * xn[6], h, pf_s, st)
+    v_g = xn[7] - fk[0, FK_COL + 7] * F_s
+    if g_ref >= 0:
+        v_g -= xn[g_ref] - fk[0, FK_COL + g_ref] * F_s
+    F_g, stuck_g = _contact_friction(fk, 1, _rel(x, 7, g_ref), v_g, h, pf_g, st)
+    for i in range(NX):
+        xi = xn[i] - fk[0, FK_COL + i] * F_s
+        if i == 6 and stuck_s:
+            xi = 0.0
+        xn[i] = xi - fk[1, FK_COL + i] * F_g
+    if stuck_g:
+        xn[7] = xn[g_ref] if g_ref >= 0 else 0.0
 
 
 @njit(cache=True, inline="always")
@@ -188,24 +230,27 @@ def _same_contact(x, xn, R, play):
 
 
 @njit(cache=True, inline="always")
-def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u, h, n_sub, pf_s, pf_g,
-                    st, R, play, K_t, g_ref):
+def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u0, h, n_sub, pf_s, pf_g,
+                    st, R, play, K_t, g_ref, fk):
     """One velocity-loop step with friction and lost motion; sub-steps where a friction
     velocity reaches or crosses zero, where a held contact breaks away, or where the nut
     is inside or crosses its free play. A contact that stays held over the whole step
-    needs none: its friction is exact in stick.
+    needs none: its friction is exact in stick. Returns ``(x, xn)``: the end state and
+    the scratch (the two arrays swap roles at each (sub-)step instead of copying).
 
     The whole step and the sub-steps share one loop body, so that the friction code is
     compiled once (it is inlined: a call per step would cost more than the step)."""
     whole, n, hh = True, 1, h
-    A, B, cm = AdT, BdT, c[0]
+    u4 = 0.0  # force added to the nut spring
+    A, B, cm, f = AdT, BdT, c[0], fk[0]
     k = 0
     while k < n:
         if play > 0.0:
-            u[4] = _contact_force(x, R, play, K_t)
+            u4 = _contact_force(x, R, play, K_t)
             if not whole:
-                A, B, cm = (AdgT, BdgT, c[2]) if u[4] == 0.0 else (AdsT, BdsT, c[1])
-        _free_step(A, B, cm, x, xn, u)
+                A, B, cm, f = ((AdgT, BdgT, c[2], fk[2]) if u4 == 0.0
+                               else (AdsT, BdsT, c[1], fk[1]))
+        _free_step(A, B, cm, x, xn, u0, u4)
         if whole:
             redo = (_reverses(x, xn, 6, -1, pf_s, st[0])
                     or _reverses(x, xn, 7, g_ref, pf_g, st[1])
@@ -214,17 +259,17 @@ def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u, h, n_sub, pf_
                 held_s, held_g = _held(x, 6, -1, pf_s, st[0]), _held(x, 7, g_ref, pf_g, st[1])
                 st0, st1 = st[0], st[1]
         if not (whole and redo):
-            _frictions(B, x, xn, hh, pf_s, pf_g, st, R, g_ref)
+            _frictions(f, x, xn, hh, pf_s, pf_g, st, R, g_ref)
             if whole and ((held_s and st[0] != STUCK) or (held_g and st[1] != STUCK)):
                 st[0], st[1] = st0, st1  # a held contact breaks away within the step
                 redo = True
         if whole and redo:
             whole, n, hh = False, n_sub, h / n_sub
-            A, B, cm = AdsT, BdsT, c[1]
+            A, B, cm, f = AdsT, BdsT, c[1], fk[1]
             continue
-        for i in range(NX):
-            x[i] = xn[i]
+        x, xn = xn, x
         k += 1
+    return x, xn
 
 
 @njit(cache=True)
@@ -273,10 +318,9 @@ def _record(rec, r, x, i_app):
     rec[r, 4] = i_app
 
 
-@njit(cache=True, nogil=True)
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
              vtaps, AdgT, BdgT, fsec):
-    """Simulate one axis for ``cmd.size`` velocity-loop steps.
+    """Simulate one axis for ``ip[7]`` velocity-loop steps.
 
     Parameters
     ----------
@@ -307,7 +351,49 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         As ``AdsT``, ``BdsT`` for the plant without the nut spring (inside the play) [-].
     fsec : ndarray (n, 5)
         Current-setpoint filter sections, none for no filters [-].
+
+    Returns
+    -------
+    ndarray (NX,)
+        The plant state after the last step [SI].
     """
+    args = (AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps,
+            AdgT, BdgT, fsec)
+    if not _run_axis.overloads:  # the first call: typing the arguments costs 0.1 ms
+        _compile_vectorised(args)
+    return _run_axis(*args)
+
+
+_COMPILING = threading.Lock()
+
+
+def _compile_vectorised(args) -> None:
+    """Compile (or load from the cache) the kernel for these argument types with LLVM's
+    SLP vectoriser on: it puts the state update and the friction corrections into vector
+    instructions. numba leaves it off by default (``NUMBA_SLP_VECTORIZE``) and reads the
+    setting when it optimises, so it is switched on for this compilation alone. The
+    vector code does the same IEEE operations in the same order as the scalar code: the
+    results are the same to the bit. Done for the types of the first call's arguments
+    (those of :func:`tcpmm.simulate.axis_kernel_inputs`); other types would be compiled
+    by numba as usual, without it: the same numbers, more slowly."""
+    sig = tuple(numba.typeof(a) for a in args)
+    if sig in _run_axis.overloads:
+        return
+    with _COMPILING:
+        if sig in _run_axis.overloads:
+            return
+        before = numba.config.SLP_VECTORIZE
+        numba.config.SLP_VECTORIZE = 1
+        try:
+            _run_axis.compile(sig)
+        finally:
+            numba.config.SLP_VECTORIZE = before
+
+
+@njit(cache=True, nogil=True)
+def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
+              vtaps, AdgT, BdgT, fsec):
+    """:func:`run_axis`, compiled: allocates the work arrays and runs the loop."""
     x = x0.copy()
     delay, n_taps = ip[3], vtaps.size
     dl = np.full(delay + 1, fp[2] * fp[9] if ip[4] else 0.0)  # delay line of i_c
@@ -315,26 +401,29 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     fst = np.zeros((fsec.shape[0], 2))  # states of the current-setpoint filters
     if fsec.shape[0] > 0:
         _filter_rest(fsec, fst, dl[0])
-    _steps(AdT, BdT, x, np.empty(NX), np.zeros(5), np.zeros((3, NX)), np.zeros(2), dl, hist,
-           cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT,
-           fsec, fst)
+    c = np.zeros((3, NX))  # per matrix set: step, sub-step, sub-step in the play
+    fk = np.zeros((3, 2, FK_COL + NX))
+    for s, (B, h) in enumerate(((BdT, fp[6]), (BdsT, fp[6] / ip[6]), (BdgT, fp[6] / ip[6]))):
+        _constant_inputs(B, fp, c[s])
+        _friction_constants(B, h, fp[4], ip[9], fk[s])
+    excited = np.any(excitation != 0.0)
+    _steps(AdT, BdT, x, np.empty(NX), c, np.zeros(2), dl, hist, cmd, vcmd, excitation,
+           excited, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk)
     return x
 
 
 # Compiled without reference counting (``_nrt=False``): the loop allocates nothing, and
 # the counts numba keeps on every array passed to an inlined helper were most of its time.
 @njit(cache=True, nogil=True, _nrt=False)
-def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, rec, AdsT,
-           BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst):
-    """The loop of :func:`run_axis` on its work arrays: state ``x`` (advanced in place),
-    scratch ``xn``, inputs ``u``, the constant inputs' share of ``Bd u`` ``c`` (per
-    matrix set: step, sub-step, sub-step in the play), friction states ``st`` (screw,
-    guideway), the delay line ``dl``, the encoder history ``hist`` and the states ``fst``
-    of the current-setpoint filters ``fsec``."""
-    u[1], u[2], u[3] = fp[10], fp[11], fp[12]
-    _constant_inputs(BdT, u, c[0])
-    _constant_inputs(BdsT, u, c[1])
-    _constant_inputs(BdgT, u, c[2])
+def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited, fp, ip,
+           rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk):
+    """The loop of :func:`run_axis` on its work arrays: state ``x_out`` (advanced in
+    place), scratch ``xn`` (the two swap roles each step), the constant inputs' share of
+    ``Bd u`` ``c`` and the friction constants ``fk`` (both per matrix set: step, sub-step,
+    sub-step in the play), friction states ``st`` (screw, guideway), the delay line
+    ``dl``, the encoder history ``hist`` and the states ``fst`` of the current-setpoint
+    filters ``fsec``; ``excited``: whether ``excitation`` is not all zero."""
+    x = x_out
     play, K_t = fp[14], fp[15]
     nonlinear = pf_s[0] != MODEL_NONE or pf_g[0] != MODEL_NONE or play > 0.0
     n_sub = ip[6]
@@ -354,17 +443,17 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
     ratio = fp[13]
     last = cmd.size - 1
     for k in range(ip[7]):
-        th_q = _quantise(x[0], q_enc)
+        if vel_diff:
+            th_q = _quantise(x[0], q_enc)
         pos = k * ratio
-        j = min(int(pos + 1e-9), last)
-        i_exc = excitation[j]
+        i_exc = excitation[min(int(pos + 1e-9), last)] if excited else 0.0
         i_c = 0.0
         if closed:
             if c_pos == 0:
                 if fb_scale:
                     x_fb = _quantise(x[2] - x[3], q_scale)
                 else:
-                    x_fb = R * th_q
+                    x_fb = R * _quantise(x[0], q_enc)
                 j = min(int(pos), last)
                 fr = pos - j
                 j1 = min(j + 1, last)
@@ -390,8 +479,9 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
                 I_w = I_new
             if filtered:
                 i_c = _filter_step(fsec, fst, i_c)
-        c_h = (c_h + 1) % (n_taps + 1)
-        hist[c_h] = th_q
+        if vel_diff:
+            c_h = (c_h + 1) % (n_taps + 1)
+            hist[c_h] = th_q
         c_pos += 1
         if c_pos == n_pos:
             c_pos = 0
@@ -400,9 +490,9 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
             c_dl += 1
             if c_dl > delay:
                 c_dl = 0
-            i_app = dl[c_dl] + i_exc
+            i_app = dl[c_dl] + i_exc if excited else dl[c_dl]
         else:
-            i_app = i_c + i_exc
+            i_app = i_c + i_exc if excited else i_c
         if i_app > i_lim:
             i_app = i_lim
         elif i_app < -i_lim:
@@ -413,11 +503,11 @@ def _steps(AdT, BdT, x, xn, u, c, st, dl, hist, cmd, vcmd, excitation, fp, ip, r
         c_rec += 1
         if c_rec == rec_every:
             c_rec = 0
-        u[0] = i_app
         if nonlinear:
-            _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u, T_v, n_sub,
-                            pf_s, pf_g, st, R, play, K_t, g_ref)
+            x, xn = _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, i_app, T_v,
+                                    n_sub, pf_s, pf_g, st, R, play, K_t, g_ref, fk)
             continue
-        _free_step(AdT, BdT, c[0], x, xn, u)
-        for i in range(NX):
-            x[i] = xn[i]
+        _free_step(AdT, BdT, c[0], x, xn, i_app, 0.0)
+        x, xn = xn, x
+    for i in range(NX):
+        x_out[i] = x[i]

@@ -95,3 +95,12 @@ def test_paper_circle_converged_in_substeps(vmc):
     assert a.keys() == b.keys() and len(a) >= 24
     worst = max(abs(a[k] - b[k]) for k in a if a[k] == a[k])
     assert worst < 0.01
+
+
+def test_axes_in_turn_give_the_run_of_axes_side_by_side(vmc, circle):
+    """The axes share nothing in the kernel: run in threads or one after another, the
+    run is the same to the bit."""
+    side, turn = simulate(vmc, circle), simulate(vmc, circle, threads=1)
+    for name, r in side.axes.items():
+        for col in ("scale", "tcp", "current"):
+            np.testing.assert_array_equal(getattr(turn.axes[name], col), getattr(r, col))

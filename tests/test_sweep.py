@@ -153,6 +153,26 @@ def test_a_worker_that_dies_costs_no_variant(vmc, design, serial, client, tmp_pa
     pd.testing.assert_frame_equal(table(tmp_path / "o"), table(serial.out_dir))
 
 
+def _raises_for(victim, machine, program, variant, *rest):
+    """The task, except that it raises for ``victim``."""
+    if variant.id == victim:
+        raise ValueError("no such gain")
+    return evaluate_variant(machine, program, variant, *rest)
+
+
+def test_a_variant_that_raises_is_named_and_its_task_mates_land(vmc, design, serial, client,
+                                                                tmp_path):
+    """Variants travel in tasks of several: one that raises is reported with its error,
+    and the variants that share its task are not lost."""
+    task = functools.partial(_raises_for, design[1].id)
+    res = run_sweep(vmc, SHORT, design, tmp_path, client=client, task=task)
+    assert res.failed == [{"variant": design[1].id, "reason": "ValueError: no such gain"}]
+    assert res.computed == len(design) - 1
+    want = table(serial.out_dir)
+    want = want[want["variant"] != design[1].id].reset_index(drop=True)
+    pd.testing.assert_frame_equal(table(tmp_path), want)
+
+
 def test_a_stopped_sweep_resumes_with_the_missing_variants(vmc, design, serial, tmp_path):
     def stop(done, total):
         if done == 2:

@@ -252,7 +252,7 @@ def _check_speeds(machine: Machine, command: Command) -> None:
 
 
 def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
-             quantise_feedback=True) -> Run:
+             quantise_feedback=True, threads: int | None = None) -> Run:
     """Run the machine model on a position command, every axis of the model.
 
     Axes of the model that the command does not name hold position 0.
@@ -269,6 +269,9 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
         Called with ``(axis_name, done, total)`` after each axis [-].
     quantise_feedback : bool
         Quantise the feedback sensors to their resolution [-].
+    threads : int, optional
+        Axes run at once, in threads; default one per axis up to the cores. A process
+        that is one of several on the same cores (a sweep's worker) runs them in turn [-].
 
     Warns
     -----
@@ -300,11 +303,20 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
 
     runs = {}
     # The kernel releases the GIL: axes run in parallel on the available cores.
-    with ThreadPoolExecutor(max_workers=max(1, min(len(names), os.cpu_count() or 1))) as ex:
-        for k, (name, r) in enumerate(zip(names, ex.map(one, names), strict=True)):
+    n_threads = min(len(names), threads or os.cpu_count() or 1)
+    if n_threads <= 1:
+        done = map(one, names)
+    else:
+        ex = ThreadPoolExecutor(max_workers=n_threads)
+        done = ex.map(one, names)
+    try:
+        for k, (name, r) in enumerate(zip(names, done, strict=True)):
             runs[name] = r
             if progress is not None:
                 progress(name, k + 1, len(names))
+    finally:
+        if n_threads > 1:
+            ex.shutdown()
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}
     time = command.time_s[0] + np.arange(n) * rp

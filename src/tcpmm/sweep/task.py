@@ -146,7 +146,7 @@ def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
         m = draw_machine(m, rng, floors)
     m = apply_parameters(m, values)
     cmd = program_command(program, m, values)
-    run = simulate(m, cmd)
+    run = simulate(m, cmd, threads=1)  # a sweep runs its variants side by side instead
     if program.kind == "circle":
         radius = values.get("program.radius_mm", program.radius_m * 1e3) * 1e-3
         metrics = circle_metrics(run, radius, program.centre_m, sensor)

@@ -191,6 +191,17 @@ def test_a_stopped_sweep_resumes_with_the_missing_variants(vmc, design, serial, 
     pd.testing.assert_frame_equal(res.to_pandas(), serial.to_pandas())
 
 
+def test_a_folder_another_sweep_is_writing_into_is_refused(vmc, design, serial):
+    """Two sweeps into one folder at once would both compute and write the variants
+    missing there: the second is refused while the first runs, and runs after it."""
+    from tcpmm.sweep.store import writing
+
+    with writing(serial.out_dir), pytest.raises(InputError, match="another sweep"):
+        run_sweep(vmc, SHORT, design, serial.out_dir, workers=1)
+    res = run_sweep(vmc, SHORT, design, serial.out_dir, workers=1)
+    assert (res.computed, res.reused) == (0, len(design))
+
+
 def test_another_study_in_the_same_folder_is_refused(vmc, design, serial):
     other = CircleProgram(radius_m=6e-3, feed_m_per_s=0.1)
     with pytest.raises(InputError, match="another study"):

@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
-from ._app import Sensor, _emit_json, _floats, _positive, _read_model, app, console, out
+from ._app import Sensor, _emit_json, _esc, _floats, _positive, _read_model, app, console, out
 
 _PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs range) or "
                "NAME=V1,V2,... (values; one value fixes it). Repeat for each parameter. "
@@ -144,6 +144,10 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
             res = run_sweep(m, program, variants, output, sensor=sensor.value, client=client,
                             workers=workers, keep_runs=keep_runs, floors=floors,
                             progress=progress)
+    except (KeyboardInterrupt, SystemExit):
+        console.print(f"stopped: the variants computed so far are kept in "
+                      f"{_esc(str(output))}; the same command goes on from there")
+        raise
     finally:
         if client is not None:
             client.close()

@@ -24,6 +24,7 @@ from .store import (
     study_record,
     to_row,
     write_summary,
+    writing,
 )
 from .task import evaluate_variant, program_command
 
@@ -241,13 +242,21 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
     SweepResult
         Counts and files [-].
     """
-    import os
-
     t0 = time.perf_counter()
     if not variants:
         raise InputError("the design has no variants")
     check_design(machine, program, variants)
     out = open_study(out_dir, study_record(machine, program, sensor, floors))
+    with writing(out):
+        return _run_held(machine, program, variants, out, sensor, client, workers,
+                         keep_runs, floors, progress, batch, task, t0)
+
+
+def _run_held(machine, program, variants, out, sensor, client, workers, keep_runs, floors,
+              progress, batch, task, t0) -> SweepResult:
+    """:func:`run_sweep` with the folder held [-]."""
+    import os
+
     runs = None if keep_runs is None else str(Path(keep_runs).resolve())
     if runs is not None:
         from ..io.atomic import output_folder

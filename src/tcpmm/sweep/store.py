@@ -14,6 +14,7 @@ the rows present and runs the others.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import time
@@ -24,6 +25,7 @@ from ..errors import InputError
 from ..io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
 
 STUDY_FILE, PARTS_DIR, SUMMARY_FILE = "study.json", "results", "summary.csv"
+LOCK_FILE = ".writing"
 
 
 def study_record(machine, program, sensor: str, floors=None) -> dict:
@@ -33,6 +35,34 @@ def study_record(machine, program, sensor: str, floors=None) -> dict:
     text = json.dumps(body, sort_keys=True, default=str)
     return {"key": hashlib.sha256(text.encode()).hexdigest(), "machine": machine.name,
             "program": program.to_dict(), "sensor": sensor}
+
+
+@contextlib.contextmanager
+def writing(out_dir):
+    """Hold the results folder for one sweep at a time: a second sweep into it while one
+    runs would compute and write the same variants again (POSIX; elsewhere not held).
+
+    Parameters
+    ----------
+    out_dir : Path
+        Results folder, existing [-].
+    """
+    try:
+        import fcntl
+    except ImportError:  # not POSIX
+        yield
+        return
+    with open(Path(out_dir) / LOCK_FILE, "a+", encoding="utf-8") as fh:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            raise InputError("another sweep is writing into this folder; wait for it to "
+                             "finish (running the same command afterwards adds nothing "
+                             "twice), or choose another -o folder", file=out_dir) from None
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 def open_study(out_dir, record: dict) -> Path:

@@ -44,7 +44,9 @@ the share best is kept.
 
 from __future__ import annotations
 
+import hashlib
 import math
+import struct
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -297,6 +299,13 @@ def _steady_stretches(idx, v, rel: float = 0.02):
     return out
 
 
+#: Rounding errors of the stretches already met, by their samples: the same stretches come
+#: back in every fit of the nut (each start, each share, each refit of the mechanics), and
+#: working them out again was most of an identification's time.
+_BIAS_STD: dict = {}
+_BIAS_STD_MAX = 100_000
+
+
 def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
     """Covariance the scale's rounding adds to least-squares coefficients ``P y``.
 
@@ -317,7 +326,13 @@ def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
     idx = np.flatnonzero(use)
     for i0, i1 in _steady_stretches(idx, v):
         seg = idx[i0:i1]
-        sd = quantisation_bias_std(t[seg], scale[seg], quantum)
+        key = hashlib.blake2b(t[seg].tobytes() + scale[seg].tobytes() +
+                              struct.pack("d", quantum), digest_size=16).digest()
+        sd = _BIAS_STD.get(key)
+        if sd is None:
+            if len(_BIAS_STD) > _BIAS_STD_MAX:
+                _BIAS_STD.clear()
+            sd = _BIAS_STD[key] = quantisation_bias_std(t[seg], scale[seg], quantum)
         w = P[:, i0:i1].sum(axis=1)
         cov += np.outer(w, w) * sd**2
     return cov

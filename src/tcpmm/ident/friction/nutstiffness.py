@@ -44,9 +44,8 @@ the share best is kept.
 
 from __future__ import annotations
 
-import hashlib
+import functools
 import math
-import struct
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -299,11 +298,15 @@ def _steady_stretches(idx, v, rel: float = 0.02):
     return out
 
 
-#: Rounding errors of the stretches already met, by their samples: the same stretches come
-#: back in every fit of the nut (each start, each share, each refit of the mechanics), and
-#: working them out again was most of an identification's time.
-_BIAS_STD: dict = {}
-_BIAS_STD_MAX = 100_000
+@functools.lru_cache(maxsize=8192)
+def _stretch_bias_std(t: bytes, x: bytes, quantum: float) -> float:
+    """:func:`tcpmm.ident.friction.lostmotion.quantisation_bias_std` of one stretch, given
+    by the bytes of its samples, kept: the same stretches come back in every fit of the
+    nut (each start, each share, each refit of the mechanics), and working them out again
+    was most of an identification's time [m]."""
+    from .lostmotion import quantisation_bias_std
+
+    return quantisation_bias_std(np.frombuffer(t), np.frombuffer(x), quantum)
 
 
 def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
@@ -317,7 +320,6 @@ def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
     (:func:`tcpmm.ident.friction.lostmotion.quantisation_bias_std`), and its weight in each
     coefficient is the sum of ``P`` over it.
     """
-    from .lostmotion import quantisation_bias_std
 
     k = P.shape[0]
     cov = np.zeros((k, k))
@@ -326,13 +328,8 @@ def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
     idx = np.flatnonzero(use)
     for i0, i1 in _steady_stretches(idx, v):
         seg = idx[i0:i1]
-        key = hashlib.blake2b(t[seg].tobytes() + scale[seg].tobytes() +
-                              struct.pack("d", quantum), digest_size=16).digest()
-        sd = _BIAS_STD.get(key)
-        if sd is None:
-            if len(_BIAS_STD) > _BIAS_STD_MAX:
-                _BIAS_STD.clear()
-            sd = _BIAS_STD[key] = quantisation_bias_std(t[seg], scale[seg], quantum)
+        sd = _stretch_bias_std(np.asarray(t[seg], dtype=float).tobytes(),
+                               np.asarray(scale[seg], dtype=float).tobytes(), float(quantum))
         w = P[:, i0:i1].sum(axis=1)
         cov += np.outer(w, w) * sd**2
     return cov

@@ -354,18 +354,14 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     last = {}  # the residual at the last point: the Jacobian there needs its fallbacks
 
     def resid(theta):
-        m = mech_of(theta)
-        try:
-            model = model_frfs(m, freqs, bandwidth(theta), hold_period_s, nut_gain)
-        except np.linalg.LinAlgError:
-            return np.full(sum(2 * f.size for f in freqs.values()), 1e3)
-        r = np.concatenate([log_residual(band_model(model[k]), d.H, w[k])
-                            for k, d in data.items()])
+        r, model = _band_residual(mech_of(theta), data, freqs, w, bandwidth(theta),
+                                  hold_period_s, nut_gain)
         last.update(x=np.array(theta), r=r, model=model)
         return r
 
     def jac(theta):
-        _ = np.array_equal(last.get("x"), theta) or resid(theta)
+        if not np.array_equal(last.get("x"), theta):
+            resid(theta)
         return residual_jacobian(mech_of(theta), freqs, w, last["r"], names, tied,
                                  bandwidth(theta), nut_gain, pairs=last.get("model"))
 
@@ -387,6 +383,21 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
                        names=reported + names[n_mech:], nfev=int(r.nfev),
                        current_bandwidth_hz=f_i, tied=tied, nut_gain=nut_gain)
+
+
+def _band_residual(mech, data: dict, freqs: dict, w: dict, f_i, hold_period_s: float,
+                   nut_gain):
+    """Log residual of the model averaged over each bin of the binned ``data`` against
+    them, and the model at ``freqs``, the bins' two points (:meth:`FRFData.band_points`);
+    a singular model counts 1e3 in every bin, with no model values (NaN) [-]."""
+    try:
+        model = model_frfs(mech, freqs, f_i, hold_period_s, nut_gain)
+    except np.linalg.LinAlgError:
+        return (np.full(sum(2 * d.freq_hz.size for d in data.values()), 1e3),
+                {k: np.full(f.size, np.nan) for k, f in freqs.items()})
+    r = np.concatenate([log_residual(band_model(model[k]), d.H, w[k])
+                        for k, d in data.items()])
+    return r, model
 
 
 def _starts(binned: dict, full: dict, lead: float, K_tc: float, tf_fits, f_top: float) -> list:

@@ -69,15 +69,18 @@ def fit_structure(data: FRFData, starts, max_nfev: int = 200):
         return AxisMechanics.model_construct(**{**base, **dict(zip(_FREE, np.exp(theta),
                                                                    strict=True))})
 
+    last = {}  # the model and residual at the last point: the Jacobian is taken there
+
     def resid(theta, base):
         g = model_frfs(mech_of(theta, base), {"G_tcp": points})["G_tcp"]
-        return log_residual(band_model(g), H, w)
+        last.update(x=np.array(theta), base=base, g=g, r=log_residual(band_model(g), H, w))
+        return last["r"]
 
     def jac(theta, base):
-        m = mech_of(theta, base)
-        g = model_frfs(m, {"G_tcp": points})["G_tcp"]
-        return residual_jacobian(m, {"G_tcp": points}, {"G_tcp": w}, resid(theta, base),
-                                 _FREE, {}, pairs={"G_tcp": g})
+        if last.get("base") is not base or not np.array_equal(last["x"], theta):
+            resid(theta, base)
+        return residual_jacobian(mech_of(theta, base), {"G_tcp": points}, {"G_tcp": w},
+                                 last["r"], _FREE, {}, pairs={"G_tcp": last["g"]})
 
     best = None
     for mech in starts:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import warnings
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import nullcontext
 from typing import NamedTuple
 
 import numpy as np
@@ -304,19 +305,13 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     runs = {}
     # The kernel releases the GIL: axes run in parallel on the available cores.
     n_threads = min(len(names), threads or os.cpu_count() or 1)
-    if n_threads <= 1:
-        done = map(one, names)
-    else:
-        ex = ThreadPoolExecutor(max_workers=n_threads)
-        done = ex.map(one, names)
-    try:
+    pool = ThreadPoolExecutor(max_workers=n_threads) if n_threads > 1 else nullcontext()
+    with pool:
+        done = pool.map(one, names) if n_threads > 1 else map(one, names)
         for k, (name, r) in enumerate(zip(names, done, strict=True)):
             runs[name] = r
             if progress is not None:
                 progress(name, k + 1, len(names))
-    finally:
-        if n_threads > 1:
-            ex.shutdown()
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}
     time = command.time_s[0] + np.arange(n) * rp

@@ -118,10 +118,11 @@ def _serial(task, args, todo, sink) -> None:
         sink(v, task(*args(v)))
 
 
-#: Seconds of work a task on a cluster should hold at least: a task costs the scheduler
-#: a few milliseconds, a variant of the paper's circle about 25 ms on one core.
+#: Seconds of work a task on a cluster should hold: a task costs the scheduler a few
+#: milliseconds, and a worker lost mid-task costs its task.
 TASK_S = 1.0
-#: Seconds one variant is taken to need until the first task says otherwise.
+#: Seconds a variant is taken to need when the tasks are cut (fixed: the paper's circle
+#: takes 15-18 ms on one core, a longer program more) [s].
 VARIANT_S = 0.025
 
 

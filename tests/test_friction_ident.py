@@ -204,3 +204,49 @@ def test_short_passes_are_found_too():
         true = np.sign(p.velocity) * (fc + (fs - fc) * np.exp(-((p.velocity / 0.01) ** 2)))
         assert p.force == pytest.approx(true + 200.0 * p.velocity, rel=0.01), p.velocity
     assert set(est.names) >= {"Fc+", "Fc-", "Fv"}
+
+
+def _estimate(values, std):
+    from tcpmm.ident.friction.estimate import ParameterEstimate
+
+    return ParameterEstimate(names=("Fc+", "Fc-", "Fs+", "Fs-", "vs", "Fv"),
+                             values=np.array(values, float), std=np.array(std, float),
+                             relative_error=1.0, residual_std=1.0, condition=1.0, n_samples=12)
+
+
+def test_a_hump_the_runs_fix_is_kept():
+    """Machine C's X from its runs: static levels 30 N above Coulomb, known within 2 N."""
+    from tcpmm.ident.friction.stribeck import without_undetermined_hump
+
+    est = _estimate([97.7, 98.7, 128.2, 127.3, 1.68e-3, 1679.0],
+                    [0.9, 0.9, 1.6, 1.6, 1.0e-4, 14.0])
+    kept, why = without_undetermined_hump(est)
+    assert kept is est and why == ""
+
+
+def test_a_hump_the_runs_do_not_fix_is_taken_out():
+    """Runs of an axis without friction: the fit extrapolates meganewtons of static friction
+    from noise; the curve keeps the Coulomb level at rest and says so."""
+    from tcpmm.ident.friction.stribeck import without_undetermined_hump
+
+    est = _estimate([0.0, 0.0, 6756.0, 6.4e6, 5.1e-5, 2859.0],
+                    [0.11, 0.11, 5305.0, 1.9e8, 2.2e-4, 2.0])
+    kept, why = without_undetermined_hump(est)
+    assert kept["Fs+"] == kept["Fc+"] == 0.0 and kept["Fs-"] == 0.0
+    assert np.isnan(kept.std_of("Fs+")) and kept["Fv"] == 2859.0
+    assert "no sliding friction" in why and "slower" in why
+    # one loose side only: the other keeps its hump
+    est = _estimate([97.7, 98.7, 128.2, 900.0, 1.68e-3, 1679.0],
+                    [0.9, 0.9, 1.6, 700.0, 1.0e-4, 14.0])
+    kept, why = without_undetermined_hump(est)
+    assert kept["Fs+"] == 128.2 and kept["Fs-"] == 98.7 and "Fs-" in why
+    assert "no sliding friction" not in why
+
+
+def test_a_lugre_contact_needs_sliding_friction():
+    """With no Coulomb level the bristles' relaxation ``|v| z / g(v)`` divides by zero."""
+    from tcpmm.mechanics.friction import LuGreFriction
+
+    with pytest.raises(InputError, match="Coulomb level above 0"):
+        LuGreFriction(fc_pos=0.0, fc_neg=10.0, fs_pos=50.0, fs_neg=50.0, sigma0=1e8)
+    assert LuGreFriction(fc_pos=10.0, fc_neg=10.0, sigma0=1e8).fs_pos == 10.0

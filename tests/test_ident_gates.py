@@ -196,3 +196,22 @@ def test_cli_refuses_a_millisecond_time_column_and_marks_when_accepted(capsys, m
     capsys.readouterr()
     assert main(["machine", "show", str(model)]) == 0
     assert "WARNING" in capsys.readouterr().err
+
+
+def test_friction_runs_of_an_axis_without_friction(vmc_linear):
+    """The runs show no friction: the Stribeck fit to noise is not taken for a static
+    level, identification ends with a warning and the model simulates."""
+    from tcpmm.ident.pipeline import identify_axis
+    from tcpmm.virtual import axis_config, virtual_friction, virtual_sweep
+
+    a = vmc_linear.axes["X"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        idn = identify_axis("X", virtual_sweep(a, name="X", seed=0),
+                            axis_config(vmc_linear, "X"),
+                            friction=virtual_friction(a, name="X"))
+    assert any("no sliding friction" in str(w.message) for w in caught)
+    for c in (idn.axis.friction.screw, idn.axis.friction.guideway):
+        if c is not None:
+            assert c.fs_pos == c.fc_pos and c.fs_neg == c.fc_neg
+            assert c.fc_pos < 1.0 and c.fc_neg < 1.0  # [N], noise

@@ -220,6 +220,16 @@ class LuGreFriction(StribeckFriction):
     sigma1: float = Field(default=0.0, ge=0.0)
     sigma1_fades: bool = False
 
+    @model_validator(mode="after")
+    def _slides(self):
+        if not min(self.fc_pos, self.fc_neg) > 0.0:
+            raise ValueError(
+                f"a LuGre contact needs a Coulomb level above 0 in both directions (got "
+                f"fc_pos {self.fc_pos}, fc_neg {self.fc_neg} N): its bristles relax towards "
+                "it while sliding; give the contact its sliding friction, or make it a "
+                "static Stribeck contact by leaving out sigma0 and sigma1")
+        return self
+
 
 class Backlash(_Holder):
     """Lost motion of a screw-nut pair: dead-zone spring.

@@ -40,8 +40,8 @@ def _contact(c, presliding: float, mass: float, zeta: float):
     if c is None:
         return None
     fs = max(c.fs_pos, c.fs_neg, c.fc_pos, c.fc_neg)
-    if not fs > 0.0:
-        return c
+    if not min(c.fc_pos, c.fc_neg) > 0.0:
+        return c  # no sliding friction for the bristles to relax towards: stays static
     base = c.model_dump()
     for k in ("sigma0", "sigma1"):
         base.pop(k, None)

@@ -31,6 +31,7 @@ from .stribeck import (
     _stribeck_curve,
     friction_record_arrays,
     identify_stribeck_run,
+    without_undetermined_hump,
 )
 from .sweepforce import share_from_sweep
 from .transients import fit_stribeck_transients
@@ -340,7 +341,9 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     """
     t, _, force, est, plateaus = stribeck_from_record(record, cfg, axis)
     m = mechanics
-    est = steady_curve(t, record, force, est, plateaus, m)
+    est, why = without_undetermined_hump(steady_curve(t, record, force, est, plateaus, m))
+    if why:
+        warnings.warn(f"axis {axis or record.axis}: {why}", InputWarning, stacklevel=2)
     v = dict(zip(est.names, est.values, strict=True))
     given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
 

@@ -96,3 +96,32 @@ def test_runs_without_slow_reversals_determine_nothing(axis_with_bristles):
     fit = fit_presliding(rec, a.mechanics, a.friction)
     assert not fit.determined and fit.reversals == 0 and "reversal" in fit.reason
     assert fit.to_dict()["determined"] is False
+
+
+def test_play_operator_known_answer():
+    from tcpmm.sim.pathforce import play_operator
+
+    s = np.array([0.0, 1.0, 0.8, 1.1, 3.0, 2.0, 1.2, 1.5])
+    assert play_operator(s, 1.0) == pytest.approx([0.0, 0.5, 0.5, 0.6, 2.5, 2.5, 1.7, 1.7])
+    assert play_operator(s, 0.0).tolist() == s.tolist()
+
+
+def test_noise_on_a_creeping_path_ratchets_a_contact_unless_it_passes_the_play():
+    """A position loop brings a friction run to its turning point creeping (micrometres
+    per second, as the drives of machines C-E do): there 5 nm of sensor noise turns the
+    contact's path back and forth at every sample. Each step back relaxes the bristles
+    twice as fast as a step forward loads them, so the force sinks by a sixth in 0.3 s
+    and a fit takes the softer bristles for a longer pre-sliding (C: 7.9 um where the
+    contacts have 5.3 and 2.3). Through a play of six noise deviations the force holds."""
+    from tcpmm.mechanics.friction import LuGreFriction, friction_params_array
+    from tcpmm.sim.pathforce import contact_force_along_path, play_operator
+
+    c = LuGreFriction(fc_pos=100.0, fc_neg=100.0, fs_pos=130.0, fs_neg=130.0, vs=1.5e-3,
+                      sigma0=130.0 / 3e-6)
+    p, h = friction_params_array(c), 1e-3
+    s = np.r_[0.0, np.cumsum(np.r_[np.full(20, 5e-4), np.full(300, 4e-6)]) * h]
+    noisy = s + np.random.default_rng(0).normal(0.0, 5e-9, s.size)
+    clean = contact_force_along_path(s, h, p)[-50:].mean()
+    assert contact_force_along_path(noisy, h, p)[-50:].mean() < 0.9 * clean
+    held = contact_force_along_path(play_operator(noisy, 30e-9), h, p)[-50:].mean()
+    assert held == pytest.approx(clean, rel=1e-3)

@@ -34,18 +34,15 @@ _MODELS = {}
 #: Cases that miss the target today, and by how much (spike / contour, um): by letter and
 #: kind, or by letter, kind and case.
 KNOWN = {
-    ("c", "spikes"): "spikes 2.0-2.1 um off at F5000: one pre-sliding distance fitted for "
-                     "both contacts (7.8-8.8 um against 5.3 and 2.3 um per contact); the true "
-                     "ones in the identified model give 0.1-0.3 um. At F10000 the rise and "
-                     "fall after A and C are nearly equal (9.8 and -9.6 um measured) and the "
-                     "prediction (9.1 and -9.4 um) gives the other the larger: a sign flip "
-                     "of 19 um with each lobe within 0.7 um",
-    ("e", "spikes", "ccw_fast"): "spikes 1.1 um off at F10000",
-    ("e", "spikes", "cw_fast"): "spikes 1.04 um off at F10000",
-    ("e", "contour", "ccw"): "contour 0.67 um off at F5000: the head damping comes out 5-6 % "
+    **{("c", "spikes", case): "at F10000 the rise and fall after A and C are nearly equal "
+                              "(9.8 and -9.6 um measured) and the prediction (9.5 and "
+                              "-9.7 um) gives the other the larger: a sign flip of 19 um "
+                              "with each lobe within 0.3 um"
+       for case in ("ccw_fast", "cw_fast")},
+    ("e", "contour", "ccw"): "contour 0.65 um off at F5000: the head damping comes out 5-6 % "
                              "high from FRFs averaged over segments of a sweep",
-    ("e", "contour", "cw"): "contour 0.65 um off at F5000, as for CCW",
-    ("e", "contour", "ccw_fast"): "contour 0.53 um off at F10000",
+    ("e", "contour", "cw"): "contour 0.64 um off at F5000, as for CCW",
+    ("e", "contour", "ccw_fast"): "contour 0.52 um off at F10000",
 }
 #: The guideway share of every axis of machines C, D, E (true 0.28-0.66) comes from the
 #: TCP deflection of the sweep within 0.007 of the truth (standard deviations

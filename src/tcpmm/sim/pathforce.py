@@ -43,3 +43,36 @@ def contact_force_along_path(s, h, params):
         f, z = friction_force(v, 0.0, z, params, h, 0.0)
         out[k] = f
     return out
+
+
+@njit(cache=True)
+def play_operator(s, width):
+    """The path ``s`` through a play of total ``width``: the output stands still until the
+    input has moved ``width / 2`` away from it, then follows at that distance.
+
+    Back-and-forth wiggles of the input narrower than ``width`` (sensor noise on a
+    creeping axis) leave the output still; a travel longer than ``width`` comes through
+    whole, lagging by ``width / 2``.
+
+    Parameters
+    ----------
+    s : numpy.ndarray
+        Input path, at least one sample [m].
+    width : float
+        Total width of the play, 0 or more [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Output path, starting at the first input sample [m].
+    """
+    out = np.empty_like(s)
+    half = 0.5 * width
+    y = s[0]
+    for k in range(s.shape[0]):
+        if s[k] > y + half:
+            y = s[k] - half
+        elif s[k] < y - half:
+            y = s[k] + half
+        out[k] = y
+    return out

@@ -26,9 +26,15 @@ reversal (from :data:`PRE` before the turning point to :data:`POST` after it).
 One distance for both contacts: the two contacts give force-travel curves of nearly the
 same shape, and on records of an independent simulator a separate distance per contact
 came out with screw and guideway interchanged, so the data are not taken to separate them.
-The encoder position is smoothed over :data:`SMOOTH_S` before it drives the contacts
-(a LuGre contact ratchets on encoder noise) and the motor force over
-:data:`FORCE_SMOOTH_S` before it deflects the springs.
+The encoder position is smoothed over :data:`SMOOTH_S` and passed through a play of
+:data:`JITTER_SIGMAS` standard deviations of the noise left in it before it drives the
+contacts; the motor force is smoothed over :data:`FORCE_SMOOTH_S` before it deflects the
+springs. A LuGre contact ratchets on noise: where a position loop brings the axis to its
+turning point creeping at micrometres per second, every step back of a noisy path
+relaxes the bristles twice as fast as a step forward loads them, the modelled force sinks
+while the measured one holds, and the fit takes softer bristles (a longer distance) for
+it. The play lets through every travel longer than its width (tens of nanometres, against
+micrometres of pre-sliding) and none of the noise's back-and-forth.
 
 The standard deviations come from the Jacobian, inflated by the correlation time of the
 residual. The fit counts as not determined, and the caller keeps its prior, when fewer
@@ -60,6 +66,9 @@ POST = 40e-6
 MOVING_SPEED = 0.2e-3
 #: Smoothing span of the encoder position that drives the contacts [s].
 SMOOTH_S = 0.015
+#: Width of the play that the smoothed encoder path passes through before it drives the
+#: contacts, in standard deviations of that path's noise [-].
+JITTER_SIGMAS = 6.0
 #: Smoothing span of the motor force that deflects torsion and nut springs [s].
 FORCE_SMOOTH_S = 0.031
 #: Bounds of the pre-sliding distance [m].
@@ -137,8 +146,21 @@ def _quantum(x) -> float:
     return float(np.min(d)) if d.size else 0.0
 
 
+def _smoothed_noise(raw, smooth, n: int) -> float:
+    """Standard deviation of the noise left in a path smoothed over ``n`` samples: the
+    robust spread of raw minus smoothed, times the noise gain of the filter [as raw]."""
+    from scipy.signal import savgol_filter
+
+    r = raw - smooth
+    sigma = float(np.median(np.abs(r - np.median(r)))) / 0.6745
+    impulse = np.zeros(2 * n + 1)
+    impulse[n] = 1.0
+    return sigma * float(np.sqrt(np.sum(savgol_filter(impulse, n, 2) ** 2)))
+
+
 def _motion(record, mech):
-    """Time step, smoothed table-unit motor position, velocity, acceleration, forces."""
+    """Time step, smoothed table-unit motor position, velocity, acceleration, forces, and
+    the play that takes the smoothed position's noise out of the contacts' paths."""
     from scipy.signal import savgol_filter
 
     t = np.asarray(record.time_s, float)
@@ -146,9 +168,11 @@ def _motion(record, mech):
     R = mech.lead / (2.0 * math.pi)
     s_raw = np.asarray(record.motor_angle_rad, float) * R
     fm = mech.K_tc * np.asarray(record.current_cmd_A, float) / R
+    n = _odd(SMOOTH_S / h)
+    s = savgol_filter(s_raw, n, 2)
     return {
-        "h": h, "R": R, "fm": fm, "quantum": _quantum(s_raw),
-        "s": savgol_filter(s_raw, _odd(SMOOTH_S / h), 2),
+        "h": h, "R": R, "fm": fm, "quantum": _quantum(s_raw), "s": s,
+        "band": JITTER_SIGMAS * _smoothed_noise(s_raw, s, n),
         "v": savgol_filter(s_raw, _odd(0.011 / h), 3, deriv=1, delta=h),
         "a": savgol_filter(s_raw, _odd(0.021 / h), 3, deriv=2, delta=h),
         "fms": savgol_filter(fm, _odd(FORCE_SMOOTH_S / h), 2),
@@ -182,13 +206,14 @@ def _windows(s, v, margin: int):
     return out
 
 
-def _contact_force(params, path, h):
-    """Force of a contact (parameter vector, ``None`` for none) along ``path`` [N]."""
-    from ...sim.pathforce import contact_force_along_path
+def _contact_force(params, path, h, band: float):
+    """Force of a contact (parameter vector, ``None`` for none) along ``path`` through a
+    play of width ``band`` [N]."""
+    from ...sim.pathforce import contact_force_along_path, play_operator
 
     if params is None:
         return np.zeros_like(path)
-    return contact_force_along_path(path, h, params)
+    return contact_force_along_path(play_operator(path, band), h, params)
 
 
 def _residual(m, windows, fr, mech, margin: int) -> np.ndarray:
@@ -205,9 +230,9 @@ def _residual(m, windows, fr, mech, margin: int) -> np.ndarray:
         sl = slice(a - margin, b + 1)
         fms, v, acc = m["fms"][sl], m["v"][sl], m["a"][sl]
         s_L = m["s"][sl] - R**2 / mech.K_L * fms
-        f_s = _contact_force(p_s, s_L, h)
+        f_s = _contact_force(p_s, s_L, h, m["band"])
         f_n = fms - drive * acc - drive_c * v - f_s
-        f_g = _contact_force(p_g, s_L - f_n / mech.K_t, h)
+        f_g = _contact_force(p_g, s_L - f_n / mech.K_t, h, m["band"])
         pred = f_s + f_g + (drive + mech.M_t) * acc + (drive_c + mech.C_t) * v
         out.append((m["fm"][sl] - pred)[margin:])
     return np.concatenate(out)

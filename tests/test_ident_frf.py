@@ -338,3 +338,44 @@ def test_other_bad_arguments():
         estimate_frf(u, u, 0.0)
     with pytest.raises(InputError, match="fs_hz or the time vector"):
         reduced_frfs(u, u, u, u)
+
+
+def _swept_mode(f0_hz=16.0, zeta=0.035, fs_hz=10_000.0, duration_s=15.0):
+    """A log sweep 2-1000 Hz through a mode of ``f0_hz`` [Hz] and damping ``zeta`` [-],
+    stepped exactly (zero-order hold); the excitation, the response and the true
+    response on a grid [-]."""
+    t = np.arange(int(duration_s * fs_hz)) / fs_hz
+    k = np.log(1000.0 / 2.0) / duration_s
+    r = np.sin(2 * np.pi * 2.0 * (np.exp(k * t) - 1.0) / k)
+    w0 = 2 * np.pi * f0_hz
+    a = np.array([[0.0, 1.0], [-(w0**2), -2 * zeta * w0]])
+    b, c = np.array([[0.0], [w0**2]]), np.array([[1.0, 0.0]])
+    Ad, Bd, Cd, Dd, _ = signal.cont2discrete((a, b, c, np.zeros((1, 1))), 1.0 / fs_hz, "zoh")
+    y = signal.dlsim((Ad, Bd, Cd, Dd, 1.0 / fs_hz), r)[1][:, 0]
+    return r, y, fs_hz, lambda f: w0**2 / (w0**2 - (2 * np.pi * f) ** 2
+                                          + 2j * zeta * w0 * 2 * np.pi * f)
+
+
+def test_the_whole_record_keeps_a_mode_the_sweep_passes_faster_than_it_rings_down():
+    """E's head mode: 16 Hz, 3.5 % damping, a 15 s log sweep. The segments cut its
+    ringing, so their estimate sags at the peak (measured: 15 % here); weighted with the
+    whole record's estimate the sag halves (7 %; a quadratic over +-2 segment bins does
+    not quite follow a peak 1.1 Hz wide)."""
+    r, y, fs, true = _swept_mode()
+    worst = {}
+    for whole in (False, True):
+        H = frf_against_reference(r, {"y": y}, fs, fmin_hz=3.0, fmax_hz=200.0,
+                                  whole_record=whole)["y"]
+        near = np.abs(H.freq_hz - 16.0) < 1.5
+        worst[whole] = np.max(np.abs(H.H[near] / true(H.freq_hz[near]) - 1.0))
+    assert worst[False] > 0.1
+    assert worst[True] < 0.5 * worst[False]
+
+
+def test_estimates_are_combined_by_their_inverse_variances():
+    from tcpmm.ident.frf import combine_estimates
+
+    H, rel = combine_estimates(np.array([1.0, 1.0, 2.0]), np.array([0.1, 0.1, np.inf]),
+                               np.array([2.0, 3.0, 5.0]), np.array([0.1, 0.2, 0.5]))
+    assert H == pytest.approx([1.5, 1.4, 5.0])
+    assert rel == pytest.approx([0.1, 0.1, 0.5])

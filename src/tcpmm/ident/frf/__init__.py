@@ -1,7 +1,8 @@
 """Spectra and frequency responses from records: signal conditioning
 (:mod:`~tcpmm.ident.frf.signals`), Welch FRF estimators against the measured input or the
 injected reference (:mod:`~tcpmm.ident.frf.response`), and the sampling and band checks
-behind them (:mod:`~tcpmm.ident.frf._spectral`)."""
+behind them (:mod:`~tcpmm.ident.frf._spectral`), and the response of a sweep from the whole
+record (:mod:`~tcpmm.ident.frf.wholerecord`)."""
 
 from .response import (
     FRF,
@@ -12,6 +13,8 @@ from .response import (
     sample_rate_hz,
 )
 from .signals import central_difference, decimate, lowpass_filtfilt
+from .wholerecord import WholeRecord, combine_estimates
 
-__all__ = ["FRF", "central_difference", "decimate", "estimate_frf", "frf_against_reference",
-           "lowpass_filtfilt", "reduced_frfs", "remove_trend", "sample_rate_hz"]
+__all__ = ["FRF", "WholeRecord", "central_difference", "combine_estimates", "decimate",
+           "estimate_frf", "frf_against_reference", "lowpass_filtfilt", "reduced_frfs",
+           "remove_trend", "sample_rate_hz"]

@@ -46,6 +46,7 @@ from ._spectral import (
     sample_rate_hz,
 )
 from .periodic import detect_period, periodic_frf
+from .wholerecord import WholeRecord, combine_estimates
 
 __all__ = [
     "FRF",
@@ -354,11 +355,15 @@ def frf_against_reference(
     fmax_hz: float | None = None,
     reference: str = "r",
     file=None,
+    whole_record: bool = False,
 ) -> dict[str, FRF]:
     """H1 of every signal against the injected excitation ``r``.
 
     ``r`` is generated, not measured, and enters the loop from outside, so H1 against it is
-    unbiased even with the loops closed; ratios of these FRFs give plant FRFs.
+    unbiased even with the loops closed; ratios of these FRFs give plant FRFs. With
+    ``whole_record`` the response is estimated from the whole record as well
+    (:class:`~tcpmm.ident.frf.wholerecord.WholeRecord`) and the two estimates are weighted
+    by their inverse variances (:func:`~tcpmm.ident.frf.wholerecord.combine_estimates`).
 
     Parameters
     ----------
@@ -384,6 +389,8 @@ def frf_against_reference(
         Name of ``r`` (column name in errors and labels) [-].
     file : str or Path, optional
         Source file for error messages [-].
+    whole_record : bool
+        Weight in the estimate from the whole record [-].
 
     Returns
     -------
@@ -402,14 +409,9 @@ def frf_against_reference(
     f, p_rr = signal.welch(r, **kw)
     keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference, file)
     n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
-    meta = {
-        "nperseg": m,
-        "n_segments": k,
-        "window": window,
-        "overlap": overlap,
-        "estimator": "H1",
-        "fs_hz": fs_hz,
-    }
+    meta = {"nperseg": m, "n_segments": k, "window": window, "overlap": overlap,
+            "estimator": "H1 and whole record" if whole_record else "H1", "fs_hz": fs_hz}
+    whole = WholeRecord(r, m, np.flatnonzero(keep)) if whole_record else None
     result = {}
     for key, y in outs.items():
         y = remove_trend(y, order)
@@ -419,12 +421,15 @@ def frf_against_reference(
             H = p_ry[keep] / p_rr[keep]
             coh = np.abs(p_ry[keep]) ** 2 / (p_rr[keep] * p_yy[keep])
         coh = np.nan_to_num(np.clip(coh, 0.0, 1.0))
+        rel_std = _rel_std(coh, n_eff)
+        if whole is not None:
+            H, rel_std = combine_estimates(H, rel_std, *whole.response(y))
         result[key] = FRF(
             freq_hz=f[keep],
             H=H,
             coherence=coh,
             n_averages=n_eff,
-            rel_std=_rel_std(coh, n_eff),
+            rel_std=rel_std,
             name=f"{key}/{reference}",
             input=reference,
             output=key,
@@ -517,8 +522,16 @@ def reduced_frfs(
         ),
     }
     if tcp_m is not None:
+        # the TCP structure's modes are lightly damped, and a sweep passes them faster
+        # than they ring down: G_tcp weighs in the whole record (wholerecord.py). G_M and
+        # G_T keep the segments alone: on axes whose sweep crosses the nut's play the
+        # whole record's estimate moved their fits into other minima.
+        g = frf_against_reference(excitation_A, {"tcp_m": tcp_m, "scale_m": scale_m}, fs_hz,
+                                  nperseg=nperseg, window=window, overlap=overlap,
+                                  detrend=detrend, fmin_hz=fmin_hz, fmax_hz=fmax_hz,
+                                  reference="excitation_A", file=file, whole_record=True)
         out["G_tcp"] = replace(
-            f["tcp_m"] / f["scale_m"], name="G_tcp", input="X_LS", output="X_TCP"
+            g["tcp_m"] / g["scale_m"], name="G_tcp", input="X_LS", output="X_TCP"
         )
     return out
 

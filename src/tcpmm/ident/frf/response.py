@@ -361,9 +361,9 @@ def frf_against_reference(
 
     ``r`` is generated, not measured, and enters the loop from outside, so H1 against it is
     unbiased even with the loops closed; ratios of these FRFs give plant FRFs. With
-    ``whole_record`` the response is estimated from the whole record as well
-    (:class:`~tcpmm.ident.frf.wholerecord.WholeRecord`) and the two estimates are weighted
-    by their inverse variances (:func:`~tcpmm.ident.frf.wholerecord.combine_estimates`).
+    ``whole_record`` the response and its standard deviation come from the whole record
+    instead (:class:`~tcpmm.ident.frf.wholerecord.WholeRecord`), the coherence still from
+    the segments.
 
     Parameters
     ----------
@@ -390,7 +390,7 @@ def frf_against_reference(
     file : str or Path, optional
         Source file for error messages [-].
     whole_record : bool
-        Weight in the estimate from the whole record [-].
+        Estimate the response from the whole record [-].
 
     Returns
     -------
@@ -410,7 +410,7 @@ def frf_against_reference(
     keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference, file)
     n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
     meta = {"nperseg": m, "n_segments": k, "window": window, "overlap": overlap,
-            "estimator": "H1 and whole record" if whole_record else "H1", "fs_hz": fs_hz}
+            "estimator": "whole record" if whole_record else "H1", "fs_hz": fs_hz}
     whole = WholeRecord(r, m, np.flatnonzero(keep)) if whole_record else None
     result = {}
     for key, y in outs.items():
@@ -423,7 +423,7 @@ def frf_against_reference(
         coh = np.nan_to_num(np.clip(coh, 0.0, 1.0))
         rel_std = _rel_std(coh, n_eff)
         if whole is not None:
-            H, rel_std = combine_estimates(H, rel_std, *whole.response(y))
+            H, rel_std = whole.response(y)
         result[key] = FRF(
             freq_hz=f[keep],
             H=H,
@@ -530,9 +530,10 @@ def reduced_frfs(
                                   nperseg=nperseg, window=window, overlap=overlap,
                                   detrend=detrend, fmin_hz=fmin_hz, fmax_hz=fmax_hz,
                                   reference="excitation_A", file=file, whole_record=True)
-        out["G_tcp"] = replace(
-            g["tcp_m"] / g["scale_m"], name="G_tcp", input="X_LS", output="X_TCP"
-        )
+        welch, whole = f["tcp_m"] / f["scale_m"], g["tcp_m"] / g["scale_m"]
+        H, rel = combine_estimates(welch.H, welch.rel_std, whole.H, whole.rel_std)
+        out["G_tcp"] = replace(welch, H=H, rel_std=rel, name="G_tcp", input="X_LS",
+                               output="X_TCP")
     return out
 
 

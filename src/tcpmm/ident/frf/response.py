@@ -46,7 +46,7 @@ from ._spectral import (
     sample_rate_hz,
 )
 from .periodic import detect_period, periodic_frf
-from .wholerecord import WholeRecord, combine_estimates
+from .wholerecord import WholeRecord
 
 __all__ = [
     "FRF",
@@ -522,18 +522,9 @@ def reduced_frfs(
         ),
     }
     if tcp_m is not None:
-        # the TCP structure's modes are lightly damped, and a sweep passes them faster
-        # than they ring down: G_tcp weighs in the whole record (wholerecord.py). G_M and
-        # G_T keep the segments alone: on axes whose sweep crosses the nut's play the
-        # whole record's estimate moved their fits into other minima.
-        g = frf_against_reference(excitation_A, {"tcp_m": tcp_m, "scale_m": scale_m}, fs_hz,
-                                  nperseg=nperseg, window=window, overlap=overlap,
-                                  detrend=detrend, fmin_hz=fmin_hz, fmax_hz=fmax_hz,
-                                  reference="excitation_A", file=file, whole_record=True)
-        welch, whole = f["tcp_m"] / f["scale_m"], g["tcp_m"] / g["scale_m"]
-        H, rel = combine_estimates(welch.H, welch.rel_std, whole.H, whole.rel_std)
-        out["G_tcp"] = replace(welch, H=H, rel_std=rel, name="G_tcp", input="X_LS",
-                               output="X_TCP")
+        out["G_tcp"] = replace(
+            f["tcp_m"] / f["scale_m"], name="G_tcp", input="X_LS", output="X_TCP"
+        )
     return out
 
 

@@ -17,9 +17,11 @@ at the lowest frequencies) swells the whole record's local residual.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-__all__ = ["WholeRecord", "combine_estimates"]
+__all__ = ["WholeRecord", "combine_estimates", "ratio_with_whole_record"]
 
 #: Welch bins either side of each frequency over which the local polynomial is fitted [-].
 WIDTH = 2
@@ -119,3 +121,40 @@ def combine_estimates(H_a, rel_a, H_b, rel_b):
     with np.errstate(divide="ignore", invalid="ignore"):
         H = np.where(total > 0, (wa * H_a + wb * H_b) / total, H_a)
     return H, np.minimum(rel_a, rel_b)
+
+
+def ratio_with_whole_record(segments, r, y, u, fs_hz: float, **options):
+    """A ratio of two responses to one excitation from the segments, weighed against the
+    same ratio from the whole record (:func:`combine_estimates`).
+
+    The ratio is weighed, not its two responses apart: apart, each leaned to a different
+    estimator where a sweep sticks and slips, and their ratio came out 30-100 % off.
+
+    Parameters
+    ----------
+    segments : FRF
+        ``y / u`` from the segments, as :func:`~tcpmm.ident.frf.response.reduced_frfs`
+        gives it (its ``meta`` holds the segment length) [SI].
+    r : array_like
+        The excitation both responses were taken against [SI].
+    y, u : array_like
+        Output and input of the ratio, sampled with ``r`` [SI].
+    fs_hz : float
+        Sample rate [Hz].
+    **options
+        ``fmin_hz``, ``fmax_hz``, ``detrend``, ``file`` as given for ``segments`` [-].
+
+    Returns
+    -------
+    FRF
+        ``segments`` with the weighed response and standard deviation [SI].
+    """
+    from .response import frf_against_reference
+
+    g = frf_against_reference(r, {"y": y, "u": u}, fs_hz, whole_record=True,
+                              nperseg=segments.meta["nperseg"],
+                              window=segments.meta["window"],
+                              overlap=segments.meta["overlap"], **options)
+    whole = g["y"] / g["u"]
+    H, rel = combine_estimates(segments.H, segments.rel_std, whole.H, whole.rel_std)
+    return replace(segments, H=H, rel_std=rel)

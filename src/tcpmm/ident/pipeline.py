@@ -17,7 +17,7 @@ from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from ..sim.contact import sliding_friction
 from .frf.response import reduced_frfs
-from .frf.wholerecord import ratio_with_whole_record
+from .frf.wholerecord import reduced_with_whole_record
 from .friction.nutstiffness import LOST_MOTION_Z
 from .friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .friction.presliding import PRESLIDING, with_presliding
@@ -464,7 +464,7 @@ def identify_axis(
                               guideway_share=guideway_share,
                               sweep=sweep_deflection(sweep, velocity))
         kept = _fit_with_friction(name, sweep, data, fit, friction_on, phys, v_travel,
-                                  (fmin, fmax), _tcp_whole_record(sweep, frfs, fmin, fmax))
+                                  (fmin, fmax), _whole_record_data(sweep, frfs, fmin, fmax))
         message = share_uncertainty_warning(name, kept.split, kept.curve, kept.mechanics, cfg)
         if message is not None:
             from ..io.csvutil import warn_input
@@ -542,19 +542,18 @@ def _tf_fits(frfs: dict) -> dict:
     return tf_fits
 
 
-def _tcp_whole_record(sweep, frfs: dict, fmin: float, fmax) -> FRFData | None:
-    """``G_tcp`` weighed against its estimate from the whole record
-    (:func:`~tcpmm.ident.frf.wholerecord.ratio_with_whole_record`), ``None`` without it."""
-    if "G_tcp" not in frfs:
-        return None
-    f = ratio_with_whole_record(frfs["G_tcp"], sweep.excitation_A, sweep.tcp_m,
-                                sweep.scale_m, frfs["G_tcp"].meta["fs_hz"], fmin_hz=fmin,
-                                fmax_hz=fmax, file=sweep.source)
-    return FRFData(f.freq_hz, f.H, _weights(f))
+def _whole_record_data(sweep, frfs: dict, fmin: float, fmax) -> dict:
+    """The FRFs weighed against their estimates from the whole record, as fit data
+    (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`)."""
+    f = reduced_with_whole_record(frfs, sweep.excitation_A, sweep.current_cmd_A,
+                                  sweep.motor_angle_rad, sweep.scale_m, sweep.tcp_m,
+                                  frfs["G_M"].meta["fs_hz"], fmin_hz=fmin, fmax_hz=fmax,
+                                  file=sweep.source)
+    return {k: FRFData(v.freq_hz, v.H, _weights(v)) for k, v in f.items()}
 
 
 def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: PhysicalFit,
-                       v_travel: float, band: tuple, tcp_whole=None) -> AxisFit:
+                       v_travel: float, band: tuple, whole=None) -> AxisFit:
     """The friction runs on the physical fit; with lost motion that the sweep crosses, the
     structure held at what ``G_tcp`` alone says and the refits with the play
     (:func:`_refit_with_play`), or a warning where the play cannot be modelled.
@@ -577,9 +576,9 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         Steady travel speed of the sweep, 0 when it stands [m/s].
     band : tuple
         ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
-    tcp_whole : FRFData, optional
-        ``G_tcp`` weighed against the whole record, for the structure of an axis whose
-        sweep does not cross lost motion [-].
+    whole : dict, optional
+        The FRFs weighed against the whole record, for the fits of an axis whose sweep
+        does not cross lost motion [-].
     """
     kept = AxisFit(phys, *friction_on(phys))
     structure = None
@@ -592,9 +591,10 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         # damped TCP mode, so the whole record is weighed in, except where the sweep
         # crosses the play: there the refits with the play, which swing about their fixed
         # point, were built on the segments' G_tcp and stop settling on the other.
-        crossed = tcp_whole is None or _play_significant(kept.split)
-        structure, _ = fit_structure(data["G_tcp"] if crossed else tcp_whole,
-                                     [phys.mechanics])
+        if not (whole is None or _play_significant(kept.split)):
+            data = whole
+            fit = partial(fit.func, whole, *fit.args[1:], **fit.keywords)
+        structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
         phys = fit(initial=_fit_values(phys), structure=structure)
         kept = AxisFit(phys, *friction_on(phys))
     bias = _bias_force(v_travel, kept.mechanics, kept.friction)

@@ -158,3 +158,48 @@ def ratio_with_whole_record(segments, r, y, u, fs_hz: float, **options):
     whole = g["y"] / g["u"]
     H, rel = combine_estimates(segments.H, segments.rel_std, whole.H, whole.rel_std)
     return replace(segments, H=H, rel_std=rel)
+
+
+def reduced_with_whole_record(segments: dict, r, current, angle, scale, tcp, fs_hz: float,
+                              **options) -> dict:
+    """The reduced FRFs (``G_M``, ``G_T``, ``G_tcp``) from the segments, each weighed
+    against the same ratio from the whole record (:func:`combine_estimates`).
+
+    Parameters
+    ----------
+    segments : dict of str to FRF
+        The FRFs from the segments, as :func:`~tcpmm.ident.frf.response.reduced_frfs`
+        gives them [SI].
+    r : array_like
+        The excitation [A].
+    current, angle, scale : array_like
+        Current command [A], motor angle [rad] and scale [m] of the record [SI].
+    tcp : array_like or None
+        TCP position [m].
+    fs_hz : float
+        Sample rate [Hz].
+    **options
+        ``fmin_hz``, ``fmax_hz``, ``detrend``, ``file`` as given for ``segments`` [-].
+
+    Returns
+    -------
+    dict of str to FRF
+        The same names as ``segments``, weighed [SI].
+    """
+    from .response import frf_against_reference
+
+    signals = {"current_A": current, "motor_angle_rad": angle, "scale_m": scale}
+    if tcp is not None:
+        signals["tcp_m"] = tcp
+    meta = segments["G_M"].meta
+    g = frf_against_reference(r, signals, fs_hz, whole_record=True, nperseg=meta["nperseg"],
+                              window=meta["window"], overlap=meta["overlap"], **options)
+    whole = {"G_M": g["motor_angle_rad"].differentiate(output="omega_m") / g["current_A"],
+             "G_T": g["scale_m"] / g["motor_angle_rad"]}
+    if tcp is not None:
+        whole["G_tcp"] = g["tcp_m"] / g["scale_m"]
+    out = {}
+    for k, w in whole.items():
+        H, rel = combine_estimates(segments[k].H, segments[k].rel_std, w.H, w.rel_std)
+        out[k] = replace(segments[k], H=H, rel_std=rel)
+    return out

@@ -13,8 +13,8 @@ from .response import (
     sample_rate_hz,
 )
 from .signals import central_difference, decimate, lowpass_filtfilt
-from .wholerecord import WholeRecord, combine_estimates, ratio_with_whole_record
+from .wholerecord import WholeRecord, combine_estimates, reduced_with_whole_record
 
 __all__ = ["FRF", "WholeRecord", "central_difference", "combine_estimates", "decimate",
            "estimate_frf", "frf_against_reference", "lowpass_filtfilt",
-           "ratio_with_whole_record", "reduced_frfs", "remove_trend", "sample_rate_hz"]
+           "reduced_frfs", "reduced_with_whole_record", "remove_trend", "sample_rate_hz"]

@@ -10,9 +10,10 @@ high. The whole record keeps every response together with the excitation that ca
 :class:`WholeRecord` estimates the response on the Welch grid by the local polynomial
 method (Pintelon et al., *Mech. Syst. Signal Process.* 24 (2010) 573-595);
 :func:`combine_estimates` weights it against the Welch estimate by their inverse
-variances, so each frequency rests on the estimate that is surer there: the whole record
-at lightly damped modes, the segments where nonlinear distortion (a nut crossing its play
-at the lowest frequencies) swells the whole record's local residual.
+variances, and :func:`reduced_with_whole_record` does so for the reduced FRFs of a sweep:
+each frequency rests on the estimate that is surer there, the whole record at lightly
+damped modes, the segments where nonlinear distortion (a sweep that sticks at its lowest
+frequencies) swells the whole record's local residual.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from dataclasses import replace
 
 import numpy as np
 
-__all__ = ["WholeRecord", "combine_estimates", "ratio_with_whole_record"]
+__all__ = ["WholeRecord", "combine_estimates", "reduced_with_whole_record"]
 
 #: Welch bins either side of each frequency over which the local polynomial is fitted [-].
 WIDTH = 2
@@ -123,47 +124,14 @@ def combine_estimates(H_a, rel_a, H_b, rel_b):
     return H, np.minimum(rel_a, rel_b)
 
 
-def ratio_with_whole_record(segments, r, y, u, fs_hz: float, **options):
-    """A ratio of two responses to one excitation from the segments, weighed against the
-    same ratio from the whole record (:func:`combine_estimates`).
-
-    The ratio is weighed, not its two responses apart: apart, each leaned to a different
-    estimator where a sweep sticks and slips, and their ratio came out 30-100 % off.
-
-    Parameters
-    ----------
-    segments : FRF
-        ``y / u`` from the segments, as :func:`~tcpmm.ident.frf.response.reduced_frfs`
-        gives it (its ``meta`` holds the segment length) [SI].
-    r : array_like
-        The excitation both responses were taken against [SI].
-    y, u : array_like
-        Output and input of the ratio, sampled with ``r`` [SI].
-    fs_hz : float
-        Sample rate [Hz].
-    **options
-        ``fmin_hz``, ``fmax_hz``, ``detrend``, ``file`` as given for ``segments`` [-].
-
-    Returns
-    -------
-    FRF
-        ``segments`` with the weighed response and standard deviation [SI].
-    """
-    from .response import frf_against_reference
-
-    g = frf_against_reference(r, {"y": y, "u": u}, fs_hz, whole_record=True,
-                              nperseg=segments.meta["nperseg"],
-                              window=segments.meta["window"],
-                              overlap=segments.meta["overlap"], **options)
-    whole = g["y"] / g["u"]
-    H, rel = combine_estimates(segments.H, segments.rel_std, whole.H, whole.rel_std)
-    return replace(segments, H=H, rel_std=rel)
-
-
 def reduced_with_whole_record(segments: dict, r, current, angle, scale, tcp, fs_hz: float,
                               **options) -> dict:
     """The reduced FRFs (``G_M``, ``G_T``, ``G_tcp``) from the segments, each weighed
     against the same ratio from the whole record (:func:`combine_estimates`).
+
+    The ratios are weighed, not their responses apart: apart, the two responses of a ratio
+    leaned to different estimators where a sweep sticks and slips, and their ratio came out
+    30-100 % off.
 
     Parameters
     ----------

@@ -542,9 +542,12 @@ def _tf_fits(frfs: dict) -> dict:
     return tf_fits
 
 
-def _whole_record_data(sweep, frfs: dict, fmin: float, fmax) -> dict:
+def _whole_record_data(sweep, frfs: dict, fmin: float, fmax) -> dict | None:
     """The FRFs weighed against their estimates from the whole record, as fit data
-    (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`)."""
+    (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`); ``None`` without a
+    TCP record, where they would only be fitted again without a structure to hold."""
+    if "G_tcp" not in frfs:
+        return None
     f = reduced_with_whole_record(frfs, sweep.excitation_A, sweep.current_cmd_A,
                                   sweep.motor_angle_rad, sweep.scale_m, sweep.tcp_m,
                                   frfs["G_M"].meta["fs_hz"], fmin_hz=fmin, fmax_hz=fmax,
@@ -588,9 +591,9 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         # model lacks) reaches it: hold the bed and TCP structure at what G_tcp alone
         # says, relative to the table. A joint fit let G_M and G_T pull the head damping
         # 12-16 % above what G_tcp alone gives. The segments cut the ringing of a lightly
-        # damped TCP mode, so the whole record is weighed in, except where the sweep
-        # crosses the play: there the refits with the play, which swing about their fixed
-        # point, were built on the segments' G_tcp and stop settling on the other.
+        # damped mode, so from here on each FRF weighs in the whole record, except where
+        # the sweep crosses the play: there the refits with the play, which swing about
+        # their fixed point, stopped settling, and G_M and G_T went into other minima.
         if not (whole is None or _play_significant(kept.split)):
             data = whole
             fit = partial(fit.func, whole, *fit.args[1:], **fit.keywords)

@@ -18,9 +18,12 @@ frequencies) swells the whole record's local residual.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
+
+from ...errors import InputWarning
 
 __all__ = ["WholeRecord", "combine_estimates", "reduced_with_whole_record"]
 
@@ -160,8 +163,12 @@ def reduced_with_whole_record(segments: dict, r, current, angle, scale, tcp, fs_
     if tcp is not None:
         signals["tcp_m"] = tcp
     meta = segments["G_M"].meta
-    g = frf_against_reference(r, signals, fs_hz, whole_record=True, nperseg=meta["nperseg"],
-                              window=meta["window"], overlap=meta["overlap"], **options)
+    with warnings.catch_warnings():  # the segments' estimate of this record gave them
+        warnings.simplefilter("ignore", InputWarning)
+        g = frf_against_reference(r, signals, fs_hz, whole_record=True,
+                                  nperseg=meta["nperseg"], window=meta["window"],
+                                  overlap=meta["overlap"], reference="excitation_A",
+                                  **options)
     whole = {"G_M": g["motor_angle_rad"].differentiate(output="omega_m") / g["current_A"],
              "G_T": g["scale_m"] / g["motor_angle_rad"]}
     if tcp is not None:

@@ -60,6 +60,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/fit.py
 	$(BIN)/python benchmarks/interpolate.py
 	$(BIN)/python benchmarks/identify.py
+	$(BIN)/python benchmarks/memory.py
 
 clean:
 	rm -rf $(VENV) out build site *.egg-info src/*.egg-info

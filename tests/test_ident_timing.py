@@ -58,3 +58,13 @@ def test_a_torque_mode_sweep_says_nothing_of_the_loop():
     b = read_bundle(bench_path("c") / "bundle_openloop")
     rec = b.axes["X"]
     assert identify_loop_timing(rec.sweep, b.machine.axes["X"]) is None
+
+
+def test_a_record_in_step_with_the_ticks_is_told_from_a_daq_on_its_own_clock():
+    from tcpmm.ident.physical import sampled_in_step
+
+    assert sampled_in_step(8000.0, 125e-6)  # one sample per velocity period
+    assert sampled_in_step(1000.0, 125e-6)  # every eighth tick
+    assert not sampled_in_step(10_000.0, 125e-6)  # the reference machines' DAQ
+    assert not sampled_in_step(16_000.0, 125e-6)  # faster than the loop: reads the hold
+    assert not sampled_in_step(3000.0, 125e-6)  # 2.67 periods per sample

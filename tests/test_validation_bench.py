@@ -39,7 +39,6 @@ KNOWN = {
                               "-9.7 um) gives the other the larger: a sign flip of 19 um "
                               "with each lobe within 0.3 um"
        for case in ("ccw_fast", "cw_fast")},
-    ("e", "contour", "ccw_fast"): "contour 0.56 um off at F10000",
 }
 #: The guideway share of every axis of machines C, D, E (true 0.28-0.66) comes from the
 #: TCP deflection of the sweep within 0.007 of the truth (standard deviations
@@ -96,6 +95,22 @@ def test_tcp_reversal_spikes_within_1um(letter, case):
 def test_tcp_contour_error_within_half_a_micrometre(letter, case):
     row, _ = tcp_row(letter, case)
     assert abs(row["contour_error_um"]) < CONTOUR_TARGET_UM, row["contour_error_um"]
+
+
+#: Inertias, masses and stiffnesses of machines C, D and E come out within 1.6 % of the
+#: truth (most within 0.6 %; D's motor inertia is the widest). With the hold of the
+#: current modelled although the 10 kHz records read the held current of the 8 kHz loop
+#: themselves, all of them came out 0.4-2.3 % high together. Tolerance 2 %.
+INERTIA_TOL = 0.02
+
+
+@pytest.mark.parametrize("letter", ["c", "d", "e"])
+def test_inertias_and_stiffnesses_are_the_machines_own(letter):
+    truth = machine_from_truth(bench_path(letter) / "truth.yaml")
+    for name, a in identified(letter).axes.items():
+        m, t = a.axis.mechanics, truth.axes[name].mechanics
+        for p in ("J_m", "J_L", "K_L", "M_t", "K_t", "M_b", "K_b", "M_h", "K_h"):
+            assert getattr(m, p) == pytest.approx(getattr(t, p), rel=INERTIA_TOL), (name, p)
 
 
 @pytest.mark.parametrize("letter", ["c", "d", "e"])

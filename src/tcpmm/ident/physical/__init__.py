@@ -16,7 +16,13 @@ from .greybox import (
     nut_path,
 )
 from .jacobian import PARAMS, log_sensitivities, residual_jacobian
-from .loop_timing import COMPUTATION_DELAY, LoopTiming, identify_loop_timing, sweep_timing
+from .loop_timing import (
+    COMPUTATION_DELAY,
+    LoopTiming,
+    identify_loop_timing,
+    sampled_in_step,
+    sweep_timing,
+)
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
 from .structure import STRUCTURE, fit_structure
 from .uncertainty import axis_uncertainty
@@ -24,4 +30,5 @@ from .uncertainty import axis_uncertainty
 __all__ = ["COMPUTATION_DELAY", "FITTED", "PARAMS", "STRUCTURE", "FRFData", "LoopTiming",
            "PhysicalFit", "SweepPlay", "axis_uncertainty", "fit_physical", "fit_structure",
            "guesses_from_tf", "identify_loop_timing", "initial_guesses", "j_total_from_g_m",
-           "log_sensitivities", "model_frfs", "nut_path", "residual_jacobian", "sweep_timing"]
+           "log_sensitivities", "model_frfs", "nut_path", "residual_jacobian",
+           "sampled_in_step", "sweep_timing"]

@@ -29,7 +29,8 @@ from ...errors import InputError
 from ...servo.currentfilters import filters_freqresp
 from ..frf.response import frf_against_reference
 
-__all__ = ["COMPUTATION_DELAY", "LoopTiming", "identify_loop_timing", "sweep_timing"]
+__all__ = ["COMPUTATION_DELAY", "LoopTiming", "identify_loop_timing", "sampled_in_step",
+           "sweep_timing"]
 
 #: Computation delay taken where the sweep does not show it: the current a digital velocity
 #: loop computes from the samples of one period is applied in the next [velocity-loop
@@ -152,15 +153,35 @@ def identify_loop_timing(sweep, cfg) -> LoopTiming | None:
     weight = coh / (1.0 - coh + 1e-6)
     tau, gain, resid = _fit_delay(w, h, np.minimum(weight, 1e4))
     T_v = cfg.servo.velocity_loop_period_s
-    ratio = T_v * sweep.fs_hz
-    in_step = abs(1.0 / ratio - round(1.0 / ratio)) < 1e-6 if ratio <= 1.0 else False
-    periods = tau / T_v - (0.0 if in_step else 0.5)
+    periods = tau / T_v - (0.0 if sampled_in_step(sweep.fs_hz, T_v) else 0.5)
     half = round(2.0 * periods)
     delay, diff = max(half // 2, 0), half % 2 == 1
     determined = (abs(periods - 0.5 * half) <= MATCH_TOL and half >= 0
                   and GAIN_RANGE[0] < gain < GAIN_RANGE[1] and resid < MAX_RESIDUAL)
     return LoopTiming(int(delay), "difference" if diff else "state", float(tau / T_v),
                       float(gain), bool(determined))
+
+
+def sampled_in_step(fs_hz: float, T_v: float) -> bool:
+    """Whether a record samples the drive at its velocity-loop ticks: one sample every
+    whole number of velocity periods.
+
+    Parameters
+    ----------
+    fs_hz : float
+        Sample rate of the record [Hz].
+    T_v : float
+        Velocity-loop period [s].
+
+    Returns
+    -------
+    bool
+        ``True`` when the samples fall on the ticks; ``False`` for a record that reads the
+        held current at other instants (a DAQ on its own clock, or faster than the loop)
+        [-].
+    """
+    ratio = T_v * fs_hz
+    return ratio <= 1.0 and abs(1.0 / ratio - round(1.0 / ratio)) < 1e-6
 
 
 def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:

@@ -141,8 +141,10 @@ class AxisIdentification:
     lost_motion_sensitivity: LostMotionSensitivity | None = None
 
     def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
+        T_v = self.axis.servo.T_v
+        hold = T_v if self.record is None or sampled_in_step(self.record.fs_hz, T_v) else 0.0
         return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,
-                          self.axis.servo.T_v, self.physical.nut_gain)[name]
+                          hold, self.physical.nut_gain)[name]
 
     def notes(self) -> dict:
         """What identification found on the way besides the parameters, for the JSON

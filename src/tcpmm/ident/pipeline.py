@@ -141,10 +141,9 @@ class AxisIdentification:
     lost_motion_sensitivity: LostMotionSensitivity | None = None
 
     def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
-        T_v = self.axis.servo.T_v
-        hold = T_v if self.record is None or sampled_in_step(self.record.fs_hz, T_v) else 0.0
         return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,
-                          hold, self.physical.nut_gain)[name]
+                          _current_hold(self.record, self.axis.servo.T_v),
+                          self.physical.nut_gain)[name]
 
     def notes(self) -> dict:
         """What identification found on the way besides the parameters, for the JSON
@@ -457,7 +456,7 @@ def identify_axis(
     data = {k: FRFData(f.freq_hz, f.H, _weights(f)) for k, f in frfs.items()}
     fit = partial(fit_physical, data, cfg.lead_m, cfg.torque_constant,
                   fit_current_loop=fit_current_loop, tf_fits=tf_fits,
-                  hold_period_s=_current_hold(sweep, cfg))
+                  hold_period_s=_current_hold(sweep, cfg.servo.velocity_loop_period_s))
     phys: PhysicalFit = fit()
     kept = AxisFit(phys, phys.mechanics)
     presliding_m = presliding_fit = None
@@ -466,7 +465,7 @@ def identify_axis(
                               guideway_share=guideway_share,
                               sweep=sweep_deflection(sweep, velocity))
         kept = _fit_with_friction(name, sweep, data, fit, friction_on, phys, v_travel,
-                                  (fmin, fmax), _whole_record_data(sweep, frfs, fmin, fmax))
+                                  (fmin, fmax), partial(_whole_record_data, sweep, frfs))
         message = share_uncertainty_warning(name, kept.split, kept.curve, kept.mechanics, cfg)
         if message is not None:
             from ..io.csvutil import warn_input
@@ -544,8 +543,9 @@ def _tf_fits(frfs: dict) -> dict:
     return tf_fits
 
 
-def _current_hold(sweep, cfg) -> float:
-    """Hold of the current command that ``G_M`` carries beyond the record [s].
+def _current_hold(record, T_v: float) -> float:
+    """Hold of the current command that ``G_M`` carries beyond the record (``None``: a
+    record sampled at the ticks) of a loop of period ``T_v`` [s].
 
     A record sampled at the velocity-loop ticks holds the command values, and the drive
     holds each over the period that follows: ``G_M`` from the samples carries that
@@ -553,20 +553,14 @@ def _current_hold(sweep, cfg) -> float:
     staircase the motor is driven by: modelled with the hold as well, reference machines
     C, D and E (10 kHz records of an 8 kHz loop) came out with every inertia, mass and
     stiffness 0.4-2.3 % high, and E's F10000 contour 0.56 um off (0.46 without)."""
-    T_v = cfg.servo.velocity_loop_period_s
-    return T_v if sampled_in_step(sweep.fs_hz, T_v) else 0.0
+    return T_v if record is None or sampled_in_step(record.fs_hz, T_v) else 0.0
 
 
-def _whole_record_data(sweep, frfs: dict, fmin: float, fmax) -> dict | None:
+def _whole_record_data(sweep, frfs: dict) -> dict:
     """The FRFs weighed against their estimates from the whole record, as fit data
-    (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`); ``None`` without a
-    TCP record, where they would only be fitted again without a structure to hold."""
-    if "G_tcp" not in frfs:
-        return None
+    (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`)."""
     f = reduced_with_whole_record(frfs, sweep.excitation_A, sweep.current_cmd_A,
-                                  sweep.motor_angle_rad, sweep.scale_m, sweep.tcp_m,
-                                  frfs["G_M"].meta["fs_hz"], fmin_hz=fmin, fmax_hz=fmax,
-                                  file=sweep.source)
+                                  sweep.motor_angle_rad, sweep.scale_m, sweep.tcp_m)
     return {k: FRFData(v.freq_hz, v.H, _weights(v)) for k, v in f.items()}
 
 
@@ -594,9 +588,10 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         Steady travel speed of the sweep, 0 when it stands [m/s].
     band : tuple
         ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
-    whole : dict, optional
-        The FRFs weighed against the whole record, for the fits of an axis whose sweep
-        does not cross lost motion [-].
+    whole : callable, optional
+        ``whole()``: the FRFs weighed against the whole record, for the fits of an axis
+        with a TCP record whose sweep does not cross lost motion; worked out only there
+        [-].
     """
     kept = AxisFit(phys, *friction_on(phys))
     structure = None
@@ -610,8 +605,8 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         # the sweep crosses the play: there the refits with the play, which swing about
         # their fixed point, stopped settling, and G_M and G_T went into other minima.
         if not (whole is None or _play_significant(kept.split)):
-            data = whole
-            fit = partial(fit.func, whole, *fit.args[1:], **fit.keywords)
+            data = whole()
+            fit = partial(fit.func, data, *fit.args[1:], **fit.keywords)
         structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
         phys = fit(initial=_fit_values(phys), structure=structure)
         kept = AxisFit(phys, *friction_on(phys))

@@ -46,7 +46,6 @@ from ._spectral import (
     sample_rate_hz,
 )
 from .periodic import detect_period, periodic_frf
-from .wholerecord import WholeRecord
 
 __all__ = [
     "FRF",
@@ -355,15 +354,11 @@ def frf_against_reference(
     fmax_hz: float | None = None,
     reference: str = "r",
     file=None,
-    whole_record: bool = False,
 ) -> dict[str, FRF]:
     """H1 of every signal against the injected excitation ``r``.
 
     ``r`` is generated, not measured, and enters the loop from outside, so H1 against it is
-    unbiased even with the loops closed; ratios of these FRFs give plant FRFs. With
-    ``whole_record`` the response and its standard deviation come from the whole record
-    instead (:class:`~tcpmm.ident.frf.wholerecord.WholeRecord`), the coherence still from
-    the segments.
+    unbiased even with the loops closed; ratios of these FRFs give plant FRFs.
 
     Parameters
     ----------
@@ -389,8 +384,6 @@ def frf_against_reference(
         Name of ``r`` (column name in errors and labels) [-].
     file : str or Path, optional
         Source file for error messages [-].
-    whole_record : bool
-        Estimate the response from the whole record [-].
 
     Returns
     -------
@@ -409,9 +402,15 @@ def frf_against_reference(
     f, p_rr = signal.welch(r, **kw)
     keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference, file)
     n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
-    meta = {"nperseg": m, "n_segments": k, "window": window, "overlap": overlap,
-            "estimator": "whole record" if whole_record else "H1", "fs_hz": fs_hz}
-    whole = WholeRecord(r, m, np.flatnonzero(keep)) if whole_record else None
+    meta = {
+        "nperseg": m,
+        "n_segments": k,
+        "window": window,
+        "overlap": overlap,
+        "estimator": "H1",
+        "fs_hz": fs_hz,
+        "detrend": order,
+    }
     result = {}
     for key, y in outs.items():
         y = remove_trend(y, order)
@@ -421,15 +420,12 @@ def frf_against_reference(
             H = p_ry[keep] / p_rr[keep]
             coh = np.abs(p_ry[keep]) ** 2 / (p_rr[keep] * p_yy[keep])
         coh = np.nan_to_num(np.clip(coh, 0.0, 1.0))
-        rel_std = _rel_std(coh, n_eff)
-        if whole is not None:
-            H, rel_std = whole.response(y)
         result[key] = FRF(
             freq_hz=f[keep],
             H=H,
             coherence=coh,
             n_averages=n_eff,
-            rel_std=rel_std,
+            rel_std=_rel_std(coh, n_eff),
             name=f"{key}/{reference}",
             input=reference,
             output=key,

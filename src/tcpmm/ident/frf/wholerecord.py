@@ -18,12 +18,11 @@ frequencies) swells the whole record's local residual.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import replace
 
 import numpy as np
 
-from ...errors import InputWarning
+from ._spectral import remove_trend
 
 __all__ = ["WholeRecord", "combine_estimates", "reduced_with_whole_record"]
 
@@ -127,10 +126,10 @@ def combine_estimates(H_a, rel_a, H_b, rel_b):
     return H, np.minimum(rel_a, rel_b)
 
 
-def reduced_with_whole_record(segments: dict, r, current, angle, scale, tcp, fs_hz: float,
-                              **options) -> dict:
+def reduced_with_whole_record(segments: dict, r, current, angle, scale, tcp=None) -> dict:
     """The reduced FRFs (``G_M``, ``G_T``, ``G_tcp``) from the segments, each weighed
-    against the same ratio from the whole record (:func:`combine_estimates`).
+    against the same ratio from the whole record (:func:`combine_estimates`), on the
+    segments' grid and with their trend removed alike.
 
     The ratios are weighed, not their responses apart: apart, the two responses of a ratio
     leaned to different estimators where a sweep sticks and slips, and their ratio came out
@@ -145,36 +144,27 @@ def reduced_with_whole_record(segments: dict, r, current, angle, scale, tcp, fs_
         The excitation [A].
     current, angle, scale : array_like
         Current command [A], motor angle [rad] and scale [m] of the record [SI].
-    tcp : array_like or None
+    tcp : array_like, optional
         TCP position [m].
-    fs_hz : float
-        Sample rate [Hz].
-    **options
-        ``fmin_hz``, ``fmax_hz``, ``detrend``, ``file`` as given for ``segments`` [-].
 
     Returns
     -------
     dict of str to FRF
         The same names as ``segments``, weighed [SI].
     """
-    from .response import frf_against_reference
-
-    signals = {"current_A": current, "motor_angle_rad": angle, "scale_m": scale}
-    if tcp is not None:
-        signals["tcp_m"] = tcp
-    meta = segments["G_M"].meta
-    with warnings.catch_warnings():  # the segments' estimate of this record gave them
-        warnings.simplefilter("ignore", InputWarning)
-        g = frf_against_reference(r, signals, fs_hz, whole_record=True,
-                                  nperseg=meta["nperseg"], window=meta["window"],
-                                  overlap=meta["overlap"], reference="excitation_A",
-                                  **options)
-    whole = {"G_M": g["motor_angle_rad"].differentiate(output="omega_m") / g["current_A"],
-             "G_T": g["scale_m"] / g["motor_angle_rad"]}
-    if tcp is not None:
-        whole["G_tcp"] = g["tcp_m"] / g["scale_m"]
+    meta, f = segments["G_M"].meta, segments["G_M"].freq_hz
+    order, m = meta["detrend"], meta["nperseg"]
+    whole = WholeRecord(remove_trend(r, order), m, np.rint(f * m / meta["fs_hz"]).astype(int))
+    (i, rel_i), (th, rel_th), (x, rel_x) = (whole.response(remove_trend(y, order))
+                                            for y in (current, angle, scale))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = {"G_M": (th * (2j * np.pi * f) / i, np.hypot(rel_th, rel_i)),
+                  "G_T": (x / th, np.hypot(rel_x, rel_th))}
+        if tcp is not None:
+            t, rel_t = whole.response(remove_trend(tcp, order))
+            ratios["G_tcp"] = (t / x, np.hypot(rel_t, rel_x))
     out = {}
-    for k, w in whole.items():
-        H, rel = combine_estimates(segments[k].H, segments[k].rel_std, w.H, w.rel_std)
+    for k, (H_w, rel_w) in ratios.items():
+        H, rel = combine_estimates(segments[k].H, segments[k].rel_std, H_w, rel_w)
         out[k] = replace(segments[k], H=H, rel_std=rel)
     return out

@@ -125,3 +125,15 @@ def test_noise_on_a_creeping_path_ratchets_a_contact_unless_it_passes_the_play()
     assert contact_force_along_path(noisy, h, p)[-50:].mean() < 0.9 * clean
     held = contact_force_along_path(play_operator(noisy, 30e-9), h, p)[-50:].mean()
     assert held == pytest.approx(clean, rel=1e-3)
+
+
+def test_the_range_holds_the_fit_and_the_truth(axis_with_bristles, runs):
+    """The range spans the fit's two standard deviations and the refits with the noise
+    play halved and doubled; on a record whose contacts have one distance it holds it."""
+    a = axis_with_bristles
+    fit = fit_presliding(runs, a.mechanics, a.friction)
+    lo, hi = fit.presliding_range
+    spread = math.exp(2.0 * fit.presliding_std / fit.presliding)
+    assert lo <= fit.presliding / spread * 1.01 and hi >= fit.presliding * spread * 0.99
+    assert lo < 3e-6 < hi
+    assert fit.to_dict()["presliding_range_m"] == [lo, hi]

@@ -33,3 +33,32 @@ def test_the_same_friction_moves_nothing_and_a_play_moves_the_spikes(machine_c):
     assert lost_motion_spike_range(machine_c, "Y", (0.0, 3e-6)) > 0.5e-6
     assert spike_range(machine_c.model_copy(update={"axes": {"Y": machine_c.axes["Y"]}}),
                        "Y", (fr, fr)) is None  # no second axis for a circle
+
+
+def _fitted(machine, lo, hi):
+    """An identified axis whose pre-sliding fit left the range ``lo``-``hi`` [m]."""
+    from types import SimpleNamespace
+
+    from tcpmm.ident.friction import PreslidingFit
+
+    z = (lo + hi) / 2
+    fit = PreslidingFit(z, (hi - lo) / 4, 0.5, 0.05, 6, 1.0, 1.0, True, "", (lo, hi))
+    return SimpleNamespace(presliding_fit=fit, presliding_sensitivity=None)
+
+
+def test_the_presliding_range_is_simulated_and_warned_about_when_it_matters(machine_c):
+    import warnings
+
+    from tcpmm.errors import InputWarning
+    from tcpmm.ident.friction import presliding_spike_range, warn_presliding_sensitivity
+
+    assert presliding_spike_range(machine_c, "Y", (4e-6, 4e-6), 0.5) == 0.0
+    wide, narrow = _fitted(machine_c, 2e-6, 8e-6), _fitted(machine_c, 4.00e-6, 4.02e-6)
+    with pytest.warns(InputWarning, match=r"axis Y: .* between 2\.00 and 8\.00 um"):
+        warn_presliding_sensitivity("Y", wide, machine_c, None)
+    assert wide.presliding_sensitivity.spike_change_m > 1e-6
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        warn_presliding_sensitivity("Y", narrow, machine_c, None)
+    assert 0.0 < narrow.presliding_sensitivity.spike_change_m < 1e-6
+    assert narrow.presliding_sensitivity.to_dict()["presliding_m"] == [4.00e-6, 4.02e-6]

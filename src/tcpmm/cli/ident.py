@@ -184,11 +184,22 @@ def _print_presliding(idn, presliding) -> None:
             out.print(f"friction {name}: pre-sliding {fit.presliding * 1e6:.2f} "
                       f"+- {fit.presliding_std * 1e6:.2f} um, bristle damping ratio "
                       f"{fit.damping_ratio:.2f} +- {fit.damping_ratio_std:.2f} "
-                      f"(fitted to {fit.reversals} reversals of the friction runs)")
+                      f"(fitted to {fit.reversals} reversals of the friction runs)"
+                      + _presliding_range_note(a))
         else:
             why = fit.reason if fit is not None else "no friction runs"
             out.print(f"friction {name}: pre-sliding of {PRESLIDING * 1e6:g} um assumed "
                       f"({why}; --presliding-um sets it)")
+
+
+def _presliding_range_note(a) -> str:
+    """The range the pre-sliding fit leaves and what it does to the spikes, or ``""``."""
+    sens = a.presliding_sensitivity
+    if sens is None:
+        return ""
+    lo, hi = sens.presliding_m
+    return (f"; {lo * 1e6:.2f}-{hi * 1e6:.2f} um possible, over which the TCP spikes of a "
+            f"circle move by up to {sens.spike_change_m * 1e6:.2f} um")
 
 
 def _identification_report(idn, report: Path, bundle: Path, model: Path) -> None:

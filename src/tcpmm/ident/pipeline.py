@@ -24,8 +24,10 @@ from .friction.presliding import PRESLIDING, with_presliding
 from .friction.preslidingfit import PreslidingFit, fit_presliding
 from .friction.sensitivity import (
     LostMotionSensitivity,
+    PreslidingSensitivity,
     ShareSensitivity,
     warn_lost_motion_sensitivity,
+    warn_presliding_sensitivity,
     warn_share_sensitivity,
 )
 from .friction.split import (
@@ -122,6 +124,8 @@ class AxisIdentification:
         How far the TCP spikes move over a guideway share the runs leave open [m].
     lost_motion_sensitivity : LostMotionSensitivity, optional
         How far they move with a lost motion the runs would not find [m].
+    presliding_sensitivity : PreslidingSensitivity, optional
+        How far they move over the pre-sliding distances the fit leaves [m].
     """
 
     name: str
@@ -139,6 +143,7 @@ class AxisIdentification:
     loop_timing: LoopTiming | None = None
     share_sensitivity: ShareSensitivity | None = None
     lost_motion_sensitivity: LostMotionSensitivity | None = None
+    presliding_sensitivity: PreslidingSensitivity | None = None
 
     def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
         return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,
@@ -156,7 +161,8 @@ class AxisIdentification:
                  "presliding_m": self.presliding_m, "presliding_fit": self.presliding_fit,
                  "loop_timing": self.loop_timing,
                  "share_sensitivity": self.share_sensitivity,
-                 "lost_motion_sensitivity": self.lost_motion_sensitivity}
+                 "lost_motion_sensitivity": self.lost_motion_sensitivity,
+                 "presliding_sensitivity": self.presliding_sensitivity}
         return {k: v.to_dict() if hasattr(v, "to_dict") else v
                 for k, v in found.items() if v is not None}
 
@@ -854,5 +860,6 @@ def identify_bundle(
     for name, a in axes.items():
         warn_share_sensitivity(name, a, machine, bundle.axes[name].friction)
         warn_lost_motion_sensitivity(name, a, machine, bundle.axes[name].friction)
+        warn_presliding_sensitivity(name, a, machine, bundle.axes[name].friction)
     return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
                           findings)

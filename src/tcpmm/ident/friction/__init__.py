@@ -23,11 +23,14 @@ from .presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
 from .preslidingfit import PreslidingFit, fit_presliding
 from .sensitivity import (
     LostMotionSensitivity,
+    PreslidingSensitivity,
     ShareSensitivity,
     lost_motion_spike_range,
+    presliding_spike_range,
     share_spike_range,
     spike_range,
     warn_lost_motion_sensitivity,
+    warn_presliding_sensitivity,
     warn_share_sensitivity,
     with_share,
 )
@@ -59,13 +62,16 @@ __all__ = [
     "BRISTLE_DAMPING_RATIO", "CUTOFFS_HZ", "GUIDEWAY_SHARE", "LOST_MOTION_Z",
     "PLATEAU_DURATIONS_S", "PRESLIDING", "SHARE_WARN_STD", "FrictionSplit",
     "LostMotionEstimate", "LostMotionOptions", "LostMotionSensitivity", "NoPlateauError",
-    "NutEstimate", "ParameterEstimate", "Plateau", "PreslidingFit", "ShareSensitivity",
+    "NutEstimate", "ParameterEstimate", "Plateau", "PreslidingFit", "PreslidingSensitivity",
+    "ShareSensitivity",
     "SweepDeflection", "dead_zone_gain", "estimate_lost_motion", "estimate_nut",
     "find_plateaus", "fit_presliding", "fit_stribeck", "fit_stribeck_transients",
     "friction_record_arrays", "identify_friction", "identify_stribeck_run",
     "lost_motion_spike_range", "nut_deflection_amplitude", "place_steady_viscous", "play_gain",
+    "presliding_spike_range",
     "quantisation_bias_std", "read_friction_csv", "share_from_sweep", "share_spike_range",
     "share_uncertainty_warning", "slowest_plateau", "spike_range", "steady_curve",
     "stribeck_from_record", "sweep_deflection", "sweep_motion", "travel_velocity",
-    "warn_lost_motion_sensitivity", "warn_share_sensitivity", "with_presliding", "with_share",
+    "warn_lost_motion_sensitivity", "warn_presliding_sensitivity", "warn_share_sensitivity",
+    "with_presliding", "with_share",
 ]

@@ -4,11 +4,14 @@ Where the friction runs do not determine how the friction divides between guidew
 screw, a prior share is used, and a warning that says so does not tell a user whether it
 matters. Guideway friction reverses the nut force that drives the structure at a quadrant
 point and screw friction does not, so on some axes the share moves the TCP spikes by
-micrometres and on others by nothing; so does a lost motion below what the runs resolve.
+micrometres and on others by nothing; so does a lost motion below what the runs resolve,
+and so does the pre-sliding distance over the range its fit leaves
+(:attr:`tcpmm.ident.friction.preslidingfit.PreslidingFit.presliding_range`).
 :func:`spike_range` simulates a circular test in the plane of the axis (R 35 mm,
 5000 mm/min, counter-clockwise, started between two quadrant points) with two frictions
 and gives the largest change of a TCP spike; :func:`share_spike_range` and
-:func:`lost_motion_spike_range` put the ends of a plausible range into it.
+:func:`lost_motion_spike_range` and :func:`presliding_spike_range` put the ends of a
+plausible range into it.
 """
 
 from __future__ import annotations
@@ -21,9 +24,10 @@ import numpy as np
 from ...model import Machine
 from .split import SHARE_WARN_STD
 
-__all__ = ["LostMotionSensitivity", "ShareSensitivity", "lost_motion_spike_range",
-           "share_spike_range", "spike_range",
-           "warn_lost_motion_sensitivity", "warn_share_sensitivity", "with_share"]
+__all__ = ["LostMotionSensitivity", "PreslidingSensitivity", "ShareSensitivity",
+           "lost_motion_spike_range", "presliding_spike_range", "share_spike_range",
+           "spike_range", "warn_lost_motion_sensitivity", "warn_presliding_sensitivity",
+           "warn_share_sensitivity", "with_share"]
 
 @dataclass(frozen=True)
 class ShareSensitivity:
@@ -66,6 +70,27 @@ class LostMotionSensitivity:
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report [-]."""
         return {"lost_motion_m": list(self.lost_motion_m), "spike_change_m": self.spike_change_m}
+
+
+@dataclass(frozen=True)
+class PreslidingSensitivity:
+    """How far the TCP spikes of a circle move over the range of pre-sliding distances
+    that the fit to the friction runs leaves.
+
+    Parameters
+    ----------
+    presliding_m : tuple of float
+        Ends of the range simulated [m].
+    spike_change_m : float
+        Largest change of a TCP reversal spike between them [m].
+    """
+
+    presliding_m: tuple
+    spike_change_m: float
+
+    def to_dict(self) -> dict:
+        """Plain dictionary for the JSON report [-]."""
+        return {"presliding_m": list(self.presliding_m), "spike_change_m": self.spike_change_m}
 
 
 #: Circle of the check: radius [m], feed [m/s], start angle [rad].
@@ -160,6 +185,19 @@ def lost_motion_spike_range(machine: Machine, name: str, plays) -> float | None:
                                        for p in plays])
 
 
+def presliding_spike_range(machine: Machine, name: str, distances,
+                           damping_ratio: float) -> float | None:
+    """:func:`spike_range` as the pre-sliding distance of both contacts of axis ``name``
+    goes over ``distances`` [m], at the bristle damping ratio ``damping_ratio`` [-]."""
+    from .presliding import with_presliding
+
+    a = machine.axes[name]
+    if a.friction is None:
+        return None
+    return spike_range(machine, name, [with_presliding(a.friction, a.mechanics, float(z),
+                                                       damping_ratio) for z in distances])
+
+
 #: Smallest undetected lost motion (three standard deviations of a lost motion the runs do
 #: not find) worth a simulation of what it would do to the spikes [m].
 LOST_MOTION_CHECK_M = 0.2e-6
@@ -246,4 +284,51 @@ def warn_share_sensitivity(name: str, a, machine, friction) -> None:
         f"reversal spikes of a circle in its plane (R35 mm, F5000) move by up to "
         f"{moved * 1e6:.2f} um. Finer sensors, or runs at speeds that do not advance whole "
         "sensor steps per sample, fix the share; --guideway-share sets it",
+        file=getattr(friction, "source", None))
+
+
+#: Change of a TCP spike over the pre-sliding range of a fit that identify warns about: the
+#: accuracy asked of a predicted spike. A fitted distance always leaves a range, and on
+#: the reference machines it moves the spikes by 0.8-3.3 um; the warnings of a prior share
+#: or an unfound lost motion (:data:`SPIKE_WARN_M`) are about quantities not measured at all.
+PRESLIDING_SPIKE_WARN_M = 1.0e-6
+
+
+def warn_presliding_sensitivity(name: str, a, machine, friction) -> None:
+    """Where the pre-sliding distance was fitted to the friction runs, say how far the TCP
+    spikes of a circle move over the range the fit leaves (:func:`presliding_spike_range`)
+    when that is more than :data:`PRESLIDING_SPIKE_WARN_M`; noted as
+    ``a.presliding_sensitivity`` in any case.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    a : AxisIdentification
+        The identified axis [-].
+    machine : Machine
+        The identified machine [SI].
+    friction : FrictionRecord or None
+        Its friction runs, for the file the warning names [-].
+    """
+    fit = a.presliding_fit
+    if fit is None or not fit.determined or not np.all(np.isfinite(fit.presliding_range)):
+        return
+    lo, hi = fit.presliding_range
+    moved = presliding_spike_range(machine, name, (lo, hi), fit.damping_ratio)
+    if moved is None:
+        return
+    a.presliding_sensitivity = PreslidingSensitivity((lo, hi), moved)
+    if moved < PRESLIDING_SPIKE_WARN_M:
+        return
+    from ...io.csvutil import warn_input
+
+    warn_input(
+        f"axis {name}: the friction runs' reversals fix the pre-sliding distance only to "
+        f"between {lo * 1e6:.2f} and {hi * 1e6:.2f} um ({fit.presliding * 1e6:.2f} used; two "
+        "standard deviations of the fit, with the play that keeps the encoder's noise out "
+        "of the contacts halved and doubled). Over that range the TCP reversal spikes of a "
+        f"circle in its plane (R35 mm, F5000) move by up to {moved * 1e6:.2f} um. A finer "
+        "encoder, reversals that turn round faster, or a measured distance "
+        "(--presliding-um) fixes it",
         file=getattr(friction, "source", None))

@@ -62,3 +62,29 @@ def test_the_presliding_range_is_simulated_and_warned_about_when_it_matters(mach
         warn_presliding_sensitivity("Y", narrow, machine_c, None)
     assert 0.0 < narrow.presliding_sensitivity.spike_change_m < 1e-6
     assert narrow.presliding_sensitivity.to_dict()["presliding_m"] == [4.00e-6, 4.02e-6]
+
+
+def test_a_spread_draws_the_presliding_distance(machine_c):
+    """The uncertainty's ``presliding`` draws the distance of both contacts (log-normal),
+    their damping ratio kept; without it the bristles stay as they are."""
+    import math
+
+    import numpy as np
+
+    from tcpmm.model import AxisUncertainty
+    from tcpmm.spread import draw_axis
+
+    a = machine_c.axes["Y"]
+    fr = a.friction
+    drawn = [draw_axis(a.replace(uncertainty=AxisUncertainty(presliding=0.2)),
+                       np.random.default_rng(k)).friction for k in range(64)]
+    z = np.array([d.guideway.fs_pos / d.guideway.sigma0 for d in drawn])
+    z0 = fr.guideway.fs_pos / fr.guideway.sigma0
+    assert np.std(np.log(z / z0)) == pytest.approx(0.2, rel=0.3)
+    for d in drawn[:4]:
+        k = fr.guideway.sigma0 / d.guideway.sigma0
+        assert fr.screw.sigma0 / d.screw.sigma0 == pytest.approx(k)  # one distance for both
+        assert d.guideway.sigma1 == pytest.approx(fr.guideway.sigma1 / math.sqrt(k))
+    same = draw_axis(a.replace(uncertainty=AxisUncertainty()), np.random.default_rng(0))
+    g = same.friction.guideway
+    assert g.fs_pos / g.sigma0 == pytest.approx(z0, rel=1e-12)

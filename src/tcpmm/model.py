@@ -102,6 +102,9 @@ class AxisUncertainty(BaseModel):
         data do not determine the share (it is then drawn from 0 to 1) [-].
     backlash : float
         Standard deviation of the lost motion [m].
+    presliding : float
+        Standard deviation of the logarithm of the contacts' pre-sliding distance (one
+        for both), a quarter of the logarithm of the range its fit leaves [-].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -110,6 +113,7 @@ class AxisUncertainty(BaseModel):
     friction_level: float = Field(0.0, ge=0.0, allow_inf_nan=False)
     guideway_share: float = Field(0.0, ge=0.0)
     backlash: float = Field(0.0, ge=0.0, allow_inf_nan=False)
+    presliding: float = Field(0.0, ge=0.0, allow_inf_nan=False)
 
     @field_validator("mechanics")
     @classmethod

@@ -116,8 +116,8 @@ def scaled_contact(c, k: float):
 
 
 def _friction(fr, u, floors, rng, normal):
-    """Friction with a drawn level, guideway share and lost motion (``normal``: the
-    standard normal number of a quantity, :func:`_normals`)."""
+    """Friction with a drawn level, guideway share, lost motion and pre-sliding distance
+    (``normal``: the standard normal number of a quantity, :func:`_normals`)."""
     if fr.guideway is None and fr.screw is None:
         return fr
     level = math.exp(max(u.friction_level, floors.get("friction_level", 0.0))
@@ -139,9 +139,18 @@ def _friction(fr, u, floors, rng, normal):
         k_g = k_s = level
     sd = max(u.backlash, floors.get("backlash", 0.0)) if fr.backlash > 0 else u.backlash
     play = max(fr.backlash + sd * normal("backlash"), 0.0)
-    return fr.model_copy(update={"guideway": scaled_contact(g, k_g),
-                                 "screw": scaled_contact(w, k_s),
+    k_z = math.exp(u.presliding * normal("presliding")) if u.presliding > 0 else 1.0
+    return fr.model_copy(update={"guideway": _longer(scaled_contact(g, k_g), k_z),
+                                 "screw": _longer(scaled_contact(w, k_s), k_z),
                                  "backlash": min(play, 1e-3)})
+
+
+def _longer(c, k: float):
+    """A LuGre contact with its pre-sliding distance times ``k`` and its bristle damping
+    ratio kept (``sigma0 / k``, ``sigma1 / sqrt(k)``); others as they are [-]."""
+    if k == 1.0 or c is None or not hasattr(c, "sigma0"):
+        return c
+    return c.model_copy(update={"sigma0": c.sigma0 / k, "sigma1": c.sigma1 / math.sqrt(k)})
 
 
 def draw_axis(axis: Axis, rng: np.random.Generator, floors: dict | None = None) -> Axis:

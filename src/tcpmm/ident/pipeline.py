@@ -487,7 +487,8 @@ def identify_axis(
         servo=axis_config_to_servo(cfg, phys.current_bandwidth_hz, timing),
         sensors=axis_config_to_sensors(cfg),
         friction=kept.friction,
-        uncertainty=axis_uncertainty(phys, kept.mechanics, kept.curve, kept.split),
+        uncertainty=axis_uncertainty(phys, kept.mechanics, kept.curve, kept.split,
+                                     presliding_fit),
     )
     return AxisIdentification(
         name, frfs, tf_fits, phys, axis, sweep, kept.curve, kept.split, friction_hold=held,

@@ -31,7 +31,8 @@ _HEADER = """\
 #          screw-nut), guideway_velocity [table|relative]
 #   sensors: encoder_counts_per_rev [-], scale_resolution [m], tcp_resolution [m]
 #   uncertainty (identified models): one standard deviation of the mechanics [as above],
-#          friction_level [-] (relative), guideway_share [-], backlash [m]
+#          friction_level [-] (relative), guideway_share [-], backlash [m],
+#          presliding [-] (of the logarithm of the pre-sliding distance)
 #   interpolation (CNC interpolator, docs/paths.md): period_s [s], profile
 #          [trapezoid|scurve], path_accel_m_per_s2 [m/s^2], path_jerk_m_per_s3 [m/s^3],
 #          axis_velocity_m_per_s [m/s], axis_accel_m_per_s2 [m/s^2], rapid_m_per_s [m/s],

@@ -24,7 +24,8 @@ def _finite(x) -> bool:
     return x is not None and math.isfinite(float(x))
 
 
-def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty:
+def axis_uncertainty(phys, mechanics, curve=None, split=None,
+                     presliding_fit=None) -> AxisUncertainty:
     """Standard deviations of an identified axis.
 
     Parameters
@@ -37,6 +38,9 @@ def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty
         The Stribeck curve of the friction runs [-].
     split : FrictionSplit, optional
         Guideway share, lost motion and their estimates [-].
+    presliding_fit : PreslidingFit, optional
+        The pre-sliding fit; its range taken as four standard deviations of the
+        logarithm [-].
 
     Returns
     -------
@@ -69,5 +73,14 @@ def axis_uncertainty(phys, mechanics, curve=None, split=None) -> AxisUncertainty
             mech["B_L"] = math.hypot(sd["Fv"], ct) * mechanics.R_L**2
             mech.pop("B_m", None)
     return AxisUncertainty(mechanics=mech, friction_level=level, guideway_share=share,
-                           backlash=play)
+                           backlash=play, presliding=_presliding_sd(presliding_fit))
+
+
+def _presliding_sd(fit) -> float:
+    """A quarter of the logarithm of the range a determined pre-sliding fit leaves, else 0
+    (a distance given or assumed is not drawn) [-]."""
+    if fit is None or not fit.determined:
+        return 0.0
+    lo, hi = fit.presliding_range
+    return math.log(hi / lo) / 4.0 if _finite(lo) and _finite(hi) and 0 < lo <= hi else 0.0
 

@@ -179,3 +179,17 @@ def test_identification_writes_what_its_estimates_say(unseen, identify_unseen):
     assert u.backlash == pytest.approx(split.backlash_std) and 0 < u.backlash < 0.2e-6
     assert 0 < u.mechanics["C_t"] < 0.2 * idn.axis.mechanics.C_t
     assert "B_m" not in u.mechanics and 0 < u.friction_level < 0.05
+
+
+def test_a_point_without_a_spike_is_not_reported(tmp_path, capsys, played):
+    """The example program meets A on its feed-in: A has no spike, so nothing to settle,
+    and no NaN reaches the user."""
+    from pathlib import Path
+
+    nc = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"
+    write_machine(with_uncertainty(played, guideway_share=0.05), tmp_path / "m.yaml")
+    code = main(["spread", str(tmp_path / "m.yaml"), "--gcode", str(nc), "--radius", "35",
+                 "--draws", "2"])
+    out = capsys.readouterr().out
+    assert code == 0 and "nan" not in out.lower()
+    assert "A: the sign is not settled" not in out

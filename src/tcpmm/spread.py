@@ -248,8 +248,9 @@ class SpikeSpread:
         return out
 
     def unsettled(self) -> list[dict]:
-        """The rows whose spike sign the draws do not settle."""
-        return [r for r in self.rows() if not r["settled"]]
+        """The rows whose spike sign the draws do not settle (a point without a spike, as
+        one on a feed-in, has nothing to settle and is left out)."""
+        return [r for r in self.rows() if math.isfinite(r["spike_um"]) and not r["settled"]]
 
     def loose(self) -> list[dict]:
         """The rows whose sign is settled but whose size too few draws hold within the

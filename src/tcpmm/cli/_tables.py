@@ -21,9 +21,16 @@ def header(column: str) -> str:
     return column.replace("_", " ")
 
 
+def _cell(v) -> str:
+    """A number to two decimals; one that does not exist (NaN) as a dash [-]."""
+    if isinstance(v, float):
+        return f"{v:.2f}" if v == v else "-"
+    return str(v)
+
+
 def print_table(table, console, title: str) -> None:
     """Print a result table (pandas) as a rich table without vertical rules, numbers to
-    two decimals, so that nine columns fit in 80.
+    two decimals (a dash where there is none), so that nine columns fit in 80.
 
     Parameters
     ----------
@@ -41,5 +48,5 @@ def print_table(table, console, title: str) -> None:
     for c in table.columns:
         t.add_column(header(str(c)), justify="right", overflow="fold")
     for _, row in table.iterrows():
-        t.add_row(*[f"{v:.2f}" if isinstance(v, float) else str(v) for v in row])
+        t.add_row(*[_cell(v) for v in row])
     console.print(t)

@@ -460,17 +460,16 @@ def identify_axis(
                    "micrometres at the reversals", file=getattr(sweep, "source", None))
     tf_fits = _tf_fits(frfs)
     data = {k: FRFData(f.freq_hz, f.H, _weights(f)) for k, f in frfs.items()}
-    fit = partial(fit_physical, data, cfg.lead_m, cfg.torque_constant,
-                  fit_current_loop=fit_current_loop, tf_fits=tf_fits,
-                  hold_period_s=_current_hold(sweep, cfg.servo.velocity_loop_period_s))
-    phys: PhysicalFit = fit()
+    fit_on = _physical_fit_on(cfg, fit_current_loop, tf_fits,
+                              _current_hold(sweep, cfg.servo.velocity_loop_period_s))
+    phys: PhysicalFit = fit_on(data)()
     kept = AxisFit(phys, phys.mechanics)
     presliding_m = presliding_fit = None
     if friction is not None:
         friction_on = partial(_friction_and_mechanics, name, friction, cfg,
                               guideway_share=guideway_share,
                               sweep=sweep_deflection(sweep, velocity))
-        kept = _fit_with_friction(name, sweep, data, fit, friction_on, phys, v_travel,
+        kept = _fit_with_friction(name, sweep, data, fit_on, friction_on, phys, v_travel,
                                   (fmin, fmax), partial(_whole_record_data, sweep, frfs))
         message = share_uncertainty_warning(name, kept.split, kept.curve, kept.mechanics, cfg)
         if message is not None:
@@ -563,6 +562,17 @@ def _current_hold(record, T_v: float) -> float:
     return T_v if record is None or sampled_in_step(record.fs_hz, T_v) else 0.0
 
 
+def _physical_fit_on(cfg, fit_current_loop: bool, tf_fits: dict, hold_period_s: float):
+    """``fit_on(data)``: :func:`fit_physical` on the FRFs ``data`` with the axis's known
+    values bound; called with the remaining keywords (start, structure, nut) [-]."""
+    def fit_on(data: dict):
+        return partial(fit_physical, data, cfg.lead_m, cfg.torque_constant,
+                       fit_current_loop=fit_current_loop, tf_fits=tf_fits,
+                       hold_period_s=hold_period_s)
+
+    return fit_on
+
+
 def _whole_record_data(sweep, frfs: dict) -> dict:
     """The FRFs weighed against their estimates from the whole record, as fit data
     (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`)."""
@@ -571,7 +581,7 @@ def _whole_record_data(sweep, frfs: dict) -> dict:
     return {k: FRFData(v.freq_hz, v.H, _weights(v)) for k, v in f.items()}
 
 
-def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: PhysicalFit,
+def _fit_with_friction(name: str, sweep, data: dict, fit_on, friction_on, phys: PhysicalFit,
                        v_travel: float, band: tuple, whole=None) -> AxisFit:
     """The friction runs on the physical fit; with lost motion that the sweep crosses, the
     structure held at what ``G_tcp`` alone says and the refits with the play
@@ -585,8 +595,9 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         The sweep record [-].
     data : dict
         The FRFs to fit, :class:`FRFData` per name [SI].
-    fit : callable
-        :func:`fit_physical` with the data and the axis's known values bound [-].
+    fit_on : callable
+        ``fit_on(data)``: :func:`fit_physical` with those FRFs and the axis's known values
+        bound [-].
     friction_on : callable
         :func:`_friction_and_mechanics` with the runs bound [-].
     phys : PhysicalFit
@@ -601,7 +612,7 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         [-].
     """
     kept = AxisFit(phys, *friction_on(phys))
-    structure = None
+    structure, fit = None, fit_on(data)
     if "G_tcp" in data:
         # G_tcp does not see the nut force, so nothing that distorts G_M and G_T (lost
         # motion crossed by the sweep, the friction it travels against, a drive mode the
@@ -613,7 +624,7 @@ def _fit_with_friction(name: str, sweep, data: dict, fit, friction_on, phys: Phy
         # their fixed point, stopped settling, and G_M and G_T went into other minima.
         if not (whole is None or _play_significant(kept.split)):
             data = whole()
-            fit = partial(fit.func, data, *fit.args[1:], **fit.keywords)
+            fit = fit_on(data)
         structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
         phys = fit(initial=_fit_values(phys), structure=structure)
         kept = AxisFit(phys, *friction_on(phys))

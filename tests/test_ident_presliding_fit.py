@@ -137,3 +137,29 @@ def test_the_range_holds_the_fit_and_the_truth(axis_with_bristles, runs):
     assert lo <= fit.presliding / spread * 1.01 and hi >= fit.presliding * spread * 0.99
     assert lo < 3e-6 < hi
     assert fit.to_dict()["presliding_range_m"] == [lo, hi]
+
+
+def test_the_play_is_the_width_whose_fit_explains_the_force_best():
+    """``_over_band`` fits at every width of the grid, refines about the lowest cost by a
+    parabola in the logarithm of the width, and spans the range over the chosen fit and its
+    neighbours, each widened by two standard deviations (here 0.1 in the log). Known
+    answer: a cost with its minimum at 2**0.7 widths, the distance 1 um times the width."""
+    from types import SimpleNamespace
+
+    from tcpmm.ident.friction.preslidingfit import BAND_GRID, _over_band
+
+    tried = []
+
+    def fit_at(k):
+        tried.append(k)
+        r = SimpleNamespace(cost=(math.log2(k) - 0.7) ** 2 + 1.0, x=[math.log(1e-6 * k)])
+        return r, 0.1, 0.01
+
+    (r, _, _), (lo, hi) = _over_band(fit_at)
+    assert tried[:len(BAND_GRID)] == list(BAND_GRID) and len(tried) == len(BAND_GRID) + 1
+    assert math.exp(r.x[0]) == pytest.approx(1e-6 * 2**0.7, rel=1e-12)
+    # the lowest cost on the grid is at 2 widths: the neighbours are 1 and 4
+    assert lo == pytest.approx(1e-6 * math.exp(-0.2)) and hi == pytest.approx(4e-6 * math.exp(0.2))
+    # a minimum at the edge of the grid is kept as it is
+    (r, _, _), _ = _over_band(lambda k: (SimpleNamespace(cost=k, x=[math.log(k)]), 0.1, 0.0))
+    assert math.exp(r.x[0]) == pytest.approx(BAND_GRID[0])

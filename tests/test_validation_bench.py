@@ -35,9 +35,9 @@ _MODELS = {}
 #: kind, or by letter, kind and case.
 KNOWN = {
     **{("c", "spikes", case): "at F10000 the rise and fall after A and C are nearly equal "
-                              "(9.8 and -9.6 um measured) and the prediction (9.4-9.5 and "
-                              "-9.7 to -9.8 um) gives the other the larger: a sign flip of 19 um "
-                              "with each lobe within 0.3 um"
+                              "(9.8 and -9.6 um measured) and the prediction (9.5-9.6 and "
+                              "-9.8 um) gives the other the larger: a sign flip of 19 um "
+                              "with each lobe within 0.25 um"
        for case in ("ccw_fast", "cw_fast")},
 }
 #: The guideway share of every axis of machines C, D, E (true 0.28-0.66) comes from the

@@ -26,23 +26,25 @@ reversal (from :data:`PRE` before the turning point to :data:`POST` after it).
 One distance for both contacts: the two contacts give force-travel curves of nearly the
 same shape, and on records of an independent simulator a separate distance per contact
 came out with screw and guideway interchanged, so the data are not taken to separate them.
-The encoder position is smoothed over :data:`SMOOTH_S` and passed through a play of
-:data:`JITTER_SIGMAS` standard deviations of the noise left in it before it drives the
-contacts; the motor force is smoothed over :data:`FORCE_SMOOTH_S` before it deflects the
-springs. A LuGre contact ratchets on noise: where a position loop brings the axis to its
-turning point creeping at micrometres per second, every step back of a noisy path
-relaxes the bristles twice as fast as a step forward loads them, the modelled force sinks
-while the measured one holds, and the fit takes softer bristles (a longer distance) for
-it. The play lets through every travel longer than its width (tens of nanometres, against
-micrometres of pre-sliding) and none of the noise's back-and-forth.
+The encoder position is smoothed over :data:`SMOOTH_S` and passed through a play before
+it drives the contacts; the motor force is smoothed over :data:`FORCE_SMOOTH_S` before it
+deflects the springs. A LuGre contact ratchets on noise: where a position loop brings the
+axis to its turning point creeping at micrometres per second, every step back of a noisy
+path relaxes the bristles twice as fast as a step forward loads them, the modelled force
+sinks while the measured one holds, and the fit takes softer bristles (a longer
+distance) for it. The play lets through every travel longer than its width (tens of
+nanometres, against micrometres of pre-sliding) and none of the back-and-forth within it.
 
-The play's width is a choice of the method, and on records of an independent simulator
-the distance moved with it (by a factor 1.6 between half and twice the width on two of
-three machines, by 4 % on the third): the contacts' turning points creep, and real motion
-of a few tens of nanometres is not told from noise. The fit is therefore repeated with
-half and twice the width, and ``presliding_range`` spans the three distances, each widened
-by two standard deviations of its fit: the range over which identify says how far the
-predicted spikes move (:mod:`tcpmm.ident.friction.sensitivity`).
+How wide the play must be is not known beforehand: the creeping turns carry real motion of
+a few tens of nanometres that is not told from noise by its size, and on records of an
+independent simulator the distance moved by a factor of three between no play and 50 nm.
+So the width is fitted as well (:func:`_over_band`). The distance and damping are fitted
+at :data:`BAND_GRID` times :data:`JITTER_SIGMAS` standard deviations of the noise left in
+the smoothed path. About the width whose fit leaves the smallest force residual, the width
+is refined to the vertex of a parabola and fitted once more. ``presliding_range`` spans that
+fit and those at the neighbouring widths, each widened by two standard deviations of its
+fit: the range over which identify says how far the predicted spikes move
+(:mod:`tcpmm.ident.friction.sensitivity`).
 
 The standard deviations come from the Jacobian, inflated by the correlation time of the
 residual. The fit counts as not determined, and the caller keeps its prior, when fewer
@@ -79,8 +81,9 @@ SMOOTH_S = 0.015
 JITTER_SIGMAS = 6.0
 #: Smoothing span of the motor force that deflects torsion and nut springs [s].
 FORCE_SMOOTH_S = 0.031
-#: Factors on the play's width of the refits that give the distance's range [-].
-BAND_FACTORS = (0.5, 2.0)
+#: Widths of the play tried, in :data:`JITTER_SIGMAS` noise deviations: the one whose fit
+#: explains the force best is refined and kept [-].
+BAND_GRID = tuple(2.0 ** k for k in range(-4, 5))
 #: Bounds of the pre-sliding distance [m].
 BOUNDS = (0.05e-6, 15e-6)
 #: Bounds of the bristle damping ratio [-].
@@ -297,6 +300,38 @@ def _fit_with_sd(fun, lo, hi):
     return r, log_sd, zeta_sd
 
 
+def _vertex(x, f) -> float:
+    """Abscissa of the vertex of the parabola through three points [as x]."""
+    (x0, x1, x2), (f0, f1, f2) = x, f
+    den = (x1 - x0) * (f1 - f2) - (x1 - x2) * (f1 - f0)
+    if den == 0.0:
+        return x1
+    return x1 - 0.5 * ((x1 - x0) ** 2 * (f1 - f2) - (x1 - x2) ** 2 * (f1 - f0)) / den
+
+
+def _over_band(fit_at):
+    """The fit at the play's width that explains the force best, and the range of the
+    distance: ``fit_at(k)`` fits at ``k`` times :data:`JITTER_SIGMAS` noise deviations.
+
+    The fits over :data:`BAND_GRID` are compared by their cost; about the lowest, the
+    width is refined to the vertex of the parabola through it and its neighbours (in the
+    logarithm of the width) and fitted once more. The range spans the chosen fit and its
+    two neighbours on the grid, each widened by two standard deviations [-]."""
+    grid = [fit_at(k) for k in BAND_GRID]
+    cost = [g[0].cost for g in grid]
+    i = int(np.argmin(cost))
+    best = grid[i]
+    if 0 < i < len(grid) - 1:
+        x = [math.log2(BAND_GRID[j]) for j in (i - 1, i, i + 1)]
+        best = fit_at(2.0 ** _vertex(x, cost[i - 1:i + 2]))
+        if best[0].cost > cost[i]:  # the parabola does not describe the costs
+            best = grid[i]
+    ends = []
+    for r, sd, _ in [best, *grid[max(i - 1, 0):i + 2]]:
+        ends += [math.exp(r.x[0] - 2.0 * sd), math.exp(r.x[0] + 2.0 * sd)]
+    return best, (min(ends), max(ends))
+
+
 def fit_presliding(record, mechanics, friction) -> PreslidingFit:
     """Fit one pre-sliding distance and bristle damping to the friction-run reversals.
 
@@ -329,19 +364,15 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
     def model(p):
         return with_presliding(friction, mechanics, math.exp(p[0]), p[1])
 
-    def fun(p):
-        return _residual(m, windows, model(p), mechanics, margin)
+    def fit_at(k):
+        mk = {**m, "band": k * m["band"]}
+        return _fit_with_sd(lambda p: _residual(mk, windows, model(p), mechanics, margin),
+                            lo, hi)
 
     lo = [math.log(BOUNDS[0]), ZETA_BOUNDS[0]]
     hi = [math.log(BOUNDS[1]), ZETA_BOUNDS[1]]
-    r, log_sd, zeta_sd = _fit_with_sd(fun, lo, hi)
+    (r, log_sd, zeta_sd), ends = _over_band(fit_at)
     z = math.exp(r.x[0])
-    ends = [z * math.exp(-2.0 * log_sd), z * math.exp(2.0 * log_sd)]
-    for k in BAND_FACTORS:
-        mk = {**m, "band": k * m["band"]}
-        rk, sd_k, _ = _fit_with_sd(lambda p, mk=mk: _residual(mk, windows, model(p),
-                                                              mechanics, margin), lo, hi)
-        ends += [math.exp(rk.x[0] - 2.0 * sd_k), math.exp(rk.x[0] + 2.0 * sd_k)]
     rms = float(np.sqrt(np.mean(r.fun**2)))
     noise = _force_noise(m["fm"], windows)
     reason = ""
@@ -361,4 +392,4 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
     elif min(r.x[0] - lo[0], hi[0] - r.x[0]) < 0.01:
         reason = f"the distance ends on a bound of the fit ({z * 1e6:.3g} um)"
     return PreslidingFit(z, z * log_sd, float(r.x[1]), zeta_sd, len(windows), rms, noise,
-                         not reason, reason, (min(ends), max(ends)))
+                         not reason, reason, ends)

@@ -289,7 +289,7 @@ def warn_share_sensitivity(name: str, a, machine, friction) -> None:
 
 #: Change of a TCP spike over the pre-sliding range of a fit that identify warns about: the
 #: accuracy asked of a predicted spike. A fitted distance always leaves a range, and on
-#: the reference machines it moves the spikes by 0.8-3.3 um; the warnings of a prior share
+#: the reference machines it moves the spikes by 0.7-2.3 um; the warnings of a prior share
 #: or an unfound lost motion (:data:`SPIKE_WARN_M`) are about quantities not measured at all.
 PRESLIDING_SPIKE_WARN_M = 1.0e-6
 

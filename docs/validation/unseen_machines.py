@@ -71,8 +71,8 @@ its machines differ from those of the same index without it.
 Usage::
 
     python docs/validation/unseen_machines.py [--n 6] [--seed 0] [--backlash] [--only 2 5]
-                                       [--lugre-fraction 0.33] [--presliding-um 0.5]
-                                       [--json FILE] [--keep DIR]
+                                       [--lugre-fraction 0.33] [--json FILE] [--keep DIR]
+                                       [--presliding-um 0.5 | --fit-presliding]
 """
 
 from __future__ import annotations
@@ -312,7 +312,7 @@ def backlash_effect(true: Machine, cmd) -> float:
 
 
 def evaluate(true: Machine, cmd, workdir: Path, attribute: bool = True,
-             presliding: float = PRESLIDING) -> dict:
+             presliding: float | None = PRESLIDING) -> dict:
     """Bundle, circle, identification, prediction and attribution of one machine.
 
     Parameters
@@ -325,9 +325,10 @@ def evaluate(true: Machine, cmd, workdir: Path, attribute: bool = True,
         Folder for the bundle [-].
     attribute : bool
         Also predict with the hybrid models [-].
-    presliding : float
+    presliding : float or None
         Pre-sliding displacement given to the identified contacts, ``0`` for static
-        friction (:mod:`tcpmm.ident.friction.presliding`) [m].
+        friction (:mod:`tcpmm.ident.friction.presliding`), ``None`` to fit it to the
+        friction runs [m].
 
     Returns
     -------
@@ -554,10 +555,13 @@ def main(argv=None) -> int:
     ap.add_argument("--no-attribution", action="store_true", help="skip the hybrid models")
     ap.add_argument("--presliding-um", type=float, default=PRESLIDING * 1e6,
                     help="pre-sliding displacement of the identified contacts [um]; 0: static")
+    ap.add_argument("--fit-presliding", action="store_true",
+                    help="fit the pre-sliding to the friction runs' reversals, as identify "
+                         "does by default, instead of --presliding-um")
     ap.add_argument("--json", type=Path, help="write the numbers (SI) to this file")
     ap.add_argument("--keep", type=Path, help="keep the bundles in this folder")
     args = ap.parse_args(argv)
-    presliding = args.presliding_um * 1e-6
+    presliding = None if args.fit_presliding else args.presliding_um * 1e-6
 
     cmd = paper_circle_command()
     indices = args.only if args.only else list(range(args.n))

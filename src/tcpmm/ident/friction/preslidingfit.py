@@ -126,8 +126,9 @@ class PreslidingFit:
     reason : str
         Why the fit does not count, or ``""`` [-].
     presliding_range : tuple of float
-        Smallest and largest distance of the fits with the play's width halved and
-        doubled, each widened by two of its standard deviations [m].
+        Smallest and largest distance of the chosen fit and of the fits at the
+        neighbouring widths of the play (half and twice), each widened by two of its
+        standard deviations [m].
     """
 
     presliding: float

@@ -247,19 +247,32 @@ def warn_uncrossed(names, direction: str) -> None:
         stacklevel=3)
 
 
+def _spike(dev) -> float:
+    return float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
+
+
+def _lobes(dev) -> tuple:
+    nan = float("nan")
+    return (nan, nan) if dev is None else (float(dev.max()), float(dev.min()))
+
+
 def reversal_spikes(angle_rad, e, direction: str) -> dict:
     """Signed reversal spike at A-D (docs/formats.md section 4) [m]."""
-    return {name: float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
-            for name, dev in _after_reversal(angle_rad, e, direction)}
+    return {name: _spike(dev) for name, dev in _after_reversal(angle_rad, e, direction)}
 
 
 def reversal_lobes(angle_rad, e, direction: str) -> dict:
     """Rise and fall after each quadrant point, ``{P: (max(e - b), min(e - b))}`` over
     the window of the reversal spike; the spike is the one larger in magnitude, so where
     the two are of similar size a small change turns its sign [m]."""
-    nan = (float("nan"), float("nan"))
-    return {name: nan if dev is None else (float(dev.max()), float(dev.min()))
-            for name, dev in _after_reversal(angle_rad, e, direction)}
+    return {name: _lobes(dev) for name, dev in _after_reversal(angle_rad, e, direction)}
+
+
+def spikes_and_lobes(angle_rad, e, direction: str) -> tuple[dict, dict]:
+    """:func:`reversal_spikes` and :func:`reversal_lobes` from one pass over the
+    windows [m]."""
+    devs = dict(_after_reversal(angle_rad, e, direction))
+    return ({n: _spike(d) for n, d in devs.items()}, {n: _lobes(d) for n, d in devs.items()})
 
 
 def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
@@ -282,8 +295,7 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
     cx, cy, _ = lsq_circle(x, y)
     rl = np.hypot(x - cx, y - cy)
     return SensorCircle(ang, e, float(np.max(np.abs(e))), float(rl.max() - rl.min()),
-                        (float(cx), float(cy)), reversal_spikes(ang, e, direction),
-                        reversal_lobes(ang, e, direction))
+                        (float(cx), float(cy)), *spikes_and_lobes(ang, e, direction))
 
 
 def find_passes(x, y, radius, centre, tol=None, turns=None):

@@ -168,6 +168,12 @@ class StribeckFriction(_Holder):
                     data[fs] = data[fc]
         return data
 
+    @property
+    def slides_both_ways(self) -> bool:
+        """A Coulomb level above 0 in both directions: what LuGre bristles relax towards
+        while sliding [-]."""
+        return min(self.fc_pos, self.fc_neg) > 0.0
+
     @classmethod
     def symmetric(cls, fc, fv=0.0, fs=None, vs=1e-3, delta=2.0, v_stick=1e-6):
         """Direction-independent friction.
@@ -222,7 +228,7 @@ class LuGreFriction(StribeckFriction):
 
     @model_validator(mode="after")
     def _slides(self):
-        if not min(self.fc_pos, self.fc_neg) > 0.0:
+        if not self.slides_both_ways:
             raise ValueError(
                 f"a LuGre contact needs a Coulomb level above 0 in both directions (got "
                 f"fc_pos {self.fc_pos}, fc_neg {self.fc_neg} N): its bristles relax towards "

@@ -39,9 +39,9 @@ def _contact(c, presliding: float, mass: float, zeta: float):
     """One contact with the bristles of ``presliding`` (``None`` stays ``None``)."""
     if c is None:
         return None
-    fs = max(c.fs_pos, c.fs_neg, c.fc_pos, c.fc_neg)
-    if not min(c.fc_pos, c.fc_neg) > 0.0:
+    if not c.slides_both_ways:
         return c  # no sliding friction for the bristles to relax towards: stays static
+    fs = max(c.fs_pos, c.fs_neg, c.fc_pos, c.fc_neg)
     base = c.model_dump()
     for k in ("sigma0", "sigma1"):
         base.pop(k, None)

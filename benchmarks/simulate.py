@@ -66,7 +66,7 @@ def circle_kernel(machine):
         n = int(np.floor((t[-1] - t[0]) / ax.servo.T_v + 1e-9)) + 1
         every = round(T_c / ax.servo.T_v)
         k = axis_kernel_inputs(ax, pos[0], False, every, True, T_c, n)
-        jobs.append((k, pos, vel, np.zeros(t.size), np.zeros(((n - 1) // every + 1, 5))))
+        jobs.append((k, pos, vel, np.zeros(t.size), np.zeros((7, (n - 1) // every + 1))))
 
     def run():
         for k, pos, vel, exc, rec in jobs:

@@ -192,17 +192,17 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
                              "give one excitation value per command sample")
     x_start = pos[0] if x_start is None else x_start
     k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback, T_c, n)
-    rec = np.zeros(((n - 1) // rec_every + 1, 5))
+    rec = np.empty((7, (n - 1) // rec_every + 1))
     run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s,
              k.pf_g, k.vtaps, k.AdgT, k.BdgT, k.fsec)
-    t_rec = np.arange(rec.shape[0]) * (rec_every * T_v)
-    cmd_rec = np.interp(t_rec, t - t[0], pos)
-    exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]
-    R = axis.mechanics.R_L
+    if excitation_A is None:
+        exc_rec = np.zeros(rec.shape[1])
+    else:
+        t_rec = np.arange(rec.shape[1]) * (rec_every * T_v)
+        exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]
     return AxisRun(
-        cmd=cmd_rec, motor=rec[:, 0] * R, scale=rec[:, 1], tcp=rec[:, 2],
-        current=rec[:, 4], motor_angle=rec[:, 0], motor_speed=rec[:, 3],
-        excitation=exc_rec,
+        cmd=rec[6], motor=rec[5], scale=rec[1], tcp=rec[2], current=rec[4],
+        motor_angle=rec[0], motor_speed=rec[3], excitation=exc_rec,
     )
 
 

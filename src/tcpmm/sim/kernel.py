@@ -71,7 +71,7 @@ from numba import njit
 from ..mechanics.friction import MODEL_NONE, MODEL_STATIC, STUCK
 from .contact import at_rest, friction_force, static_stop_or_slide
 
-REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c")
+REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c", "X_M", "cmd")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
 #: size lets the compiler keep the state update in registers; unused states are zero.
 NX = 11
@@ -309,13 +309,15 @@ def _diff_velocity(hist, c_h, th_q, vtaps, T_v):
 
 
 @njit(cache=True, inline="always")
-def _record(rec, r, x, i_app):
-    """Row ``r`` of the record: ``th_m, X_LS, X_TCP, w_m, i_c``."""
-    rec[r, 0] = x[0]
-    rec[r, 1] = x[2] - x[3]
-    rec[r, 2] = x[2] - x[4]
-    rec[r, 3] = x[5]
-    rec[r, 4] = i_app
+def _record(rec, r, x, i_app, R, c_k):
+    """Column ``r`` of the record: ``th_m, X_LS, X_TCP, w_m, i_c, R th_m, cmd``."""
+    rec[0, r] = x[0]
+    rec[1, r] = x[2] - x[3]
+    rec[2, r] = x[2] - x[4]
+    rec[3, r] = x[5]
+    rec[4, r] = i_app
+    rec[5, r] = R * x[0]
+    rec[6, r] = c_k
 
 
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
@@ -339,8 +341,10 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         computation delay), at the command period [A].
     fp, ip : ndarray
         Parameters, see the module docstring [SI].
-    rec : ndarray (ip[7] // ip[5] + 1, 5)
-        Filled with ``th_m, X_LS, X_TCP, w_m, i_c`` every ``ip[5]`` steps [SI].
+    rec : ndarray (7, ip[7] // ip[5] + 1)
+        Filled every ``ip[5]`` steps, one column per record, with ``th_m, X_LS, X_TCP,
+        w_m, i_c``, the motor angle at the table ``R_L th_m`` and the position command
+        the step is at (interpolated like the position loop's) [SI].
     AdsT, BdsT : ndarray
         As ``AdT``, ``BdT`` for one sub-step of ``T_v / ip[6]`` [-].
     pf_s, pf_g : ndarray
@@ -498,7 +502,9 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
         elif i_app < -i_lim:
             i_app = -i_lim
         if c_rec == 0:
-            _record(rec, r, x, i_app)
+            j = min(int(pos), last)
+            j1 = min(j + 1, last)
+            _record(rec, r, x, i_app, R, cmd[j] + (pos - j) * (cmd[j1] - cmd[j]))
             r += 1
         c_rec += 1
         if c_rec == rec_every:

@@ -105,6 +105,7 @@ from tcpmm.unseen import (
     PAPER_MIN,
     QUADRANTS,
     RADIUS,
+    SHARE_RANGE,
     as_stribeck,
     differences,
     draw_machine,
@@ -552,6 +553,8 @@ def main(argv=None) -> int:
     ap.add_argument("--backlash", action="store_true", help="draw a lost motion of 0-8 um")
     ap.add_argument("--lugre-fraction", type=float, default=1 / 3,
                     help="probability of LuGre friction per axis")
+    ap.add_argument("--share", type=float, nargs=2, default=SHARE_RANGE, metavar=("LO", "HI"),
+                    help="range of the guideway share of the friction drawn per axis")
     ap.add_argument("--no-attribution", action="store_true", help="skip the hybrid models")
     ap.add_argument("--presliding-um", type=float, default=PRESLIDING * 1e6,
                     help="pre-sliding displacement of the identified contacts [um]; 0: static")
@@ -568,7 +571,8 @@ def main(argv=None) -> int:
     results, descs = {}, {}
     t_start = time.perf_counter()
     for i in indices:
-        true, desc = draw_machine(args.seed, i, args.backlash, args.lugre_fraction)
+        true, desc = draw_machine(args.seed, i, args.backlash, args.lugre_fraction,
+                                   tuple(args.share))
         descs[i] = desc
         try:
             if args.keep:
@@ -591,6 +595,7 @@ def main(argv=None) -> int:
     if args.json:
         args.json.write_text(json.dumps(to_json({
             "seed": args.seed, "backlash": args.backlash, "lugre_fraction": args.lugre_fraction,
+            "share_range": list(args.share),
             "presliding": presliding,
             "units": "SI (m, N, s); spikes signed, measured minus predicted",
             "machines": {i: {"draw": descs[i], **results[i]} for i in indices},

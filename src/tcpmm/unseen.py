@@ -43,6 +43,9 @@ DIRECTIONS = ("ccw", "cw")
 #: Spike-difference bounds of the paper's Table 2 [m].
 PAPER_MAX = 4.1e-6
 PAPER_MIN = 0.4e-6
+#: Range of the guideway share of the friction that machines are drawn from [-].
+SHARE_RANGE = (0.2, 0.9)
+
 #: Table velocity at which the guideway share of friction is evaluated [m/s].
 V_SHARE = 0.01
 RADIUS = mm_to_m(RADIUS_MM)
@@ -142,7 +145,8 @@ def draw_contact(rng, fc, fs_ratio, fv, lugre, m_t):
 
 
 def draw_axis(rng, base: Axis, base_fric: dict, servo_mode: str, K_pp: float, k_ff: float,
-              sensors: Sensors, lugre_fraction: float, backlash: bool):
+              sensors: Sensors, lugre_fraction: float, backlash: bool,
+              share_range: tuple = SHARE_RANGE):
     """One perturbed axis and a description of the draw.
 
     Parameters
@@ -165,13 +169,15 @@ def draw_axis(rng, base: Axis, base_fric: dict, servo_mode: str, K_pp: float, k_
         Probability of LuGre friction [-].
     backlash : bool
         Draw a lost motion of 0-8 um [-].
+    share_range : tuple of float
+        Range of the guideway share of the friction, drawn uniformly [-].
     """
     mf = {k: log_uniform(rng, 0.6, 1.6) for k in MASSES}
     mf.update({k: log_uniform(rng, 0.4, 2.5) for k in STIFFNESSES})
     mf.update({k: log_uniform(rng, 0.5, 2.0) for k in DAMPINGS})
     mech = base.mechanics.scaled(**mf)
     level = log_uniform(rng, 0.3, 2.0)
-    share = rng.uniform(0.2, 0.9)
+    share = rng.uniform(*share_range)
     fc_tot = (base_fric["guideway"][0] + base_fric["screw"][0]) * level
     fv_tot = (base_fric["guideway"][2] + base_fric["screw"][2]) * level * log_uniform(rng, 0.5, 2)
     fs_ratio = rng.uniform(1.1, 1.4)
@@ -219,7 +225,8 @@ def axis_stable(axis: Axis) -> bool:
     return not rho >= MAX_SPECTRAL_RADIUS
 
 
-def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: float = 1 / 3):
+def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: float = 1 / 3,
+                 share_range: tuple = SHARE_RANGE):
     """Random machine number ``index`` of a study seeded by ``seed``.
 
     Parameters
@@ -232,6 +239,8 @@ def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: 
         Draw a lost motion per axis [-].
     lugre_fraction : float
         Probability of LuGre friction per axis [-].
+    share_range : tuple of float
+        Range of the guideway share of the friction, drawn uniformly per axis [-].
 
     Returns
     -------
@@ -254,7 +263,7 @@ def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: 
         for name in AXES:
             axes[name], desc[name] = draw_axis(
                 rng, base.axes[name], _FRICTION[name], servo_mode, K_pp, k_ff, sensors,
-                lugre_fraction, backlash)
+                lugre_fraction, backlash, share_range)
         if all(axis_stable(axes[n]) for n in AXES):
             desc.update(redraws=attempt, servo_mode=servo_mode, k_ff=k_ff,
                         sensors=sensors.model_dump(),

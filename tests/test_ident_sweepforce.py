@@ -12,6 +12,7 @@ from tcpmm.ident.friction import (
     SweepDeflection,
     share_from_sweep,
     sweep_deflection,
+    table_viscous_estimate,
     travel_velocity,
 )
 from tcpmm.ident.pipeline import identify_axis
@@ -85,3 +86,41 @@ def test_identified_share_of_an_axis_whose_guide_reacts_on_the_bed():
     assert split.guideway_share_std < 0.03
     assert abs(split.guideway_share - true) < 3 * split.guideway_share_std, (
         split.guideway_share, true)
+
+
+def plateaus(value, std):
+    """A stand-in for the plateaus' estimate: its table damping and standard deviation."""
+    return dataclasses.make_dataclass("LM", ["table_viscous", "table_viscous_std"])(value, std)
+
+
+def test_the_table_damping_weighs_plateaus_and_frfs_by_their_variances():
+    mech = builtin_machine().axes["X"].mechanics.replace(C_t=1000.0)
+    # 1/100 and 1/400 of the weight: (1200/100 + 1000/400) / (1/100 + 1/400) = 1160
+    tv, sd = table_viscous_estimate(plateaus(1200.0, 10.0), mech, 5000.0, 20.0)
+    assert tv == pytest.approx(1160.0)
+    # 8.9 standard deviations apart: the spread widens the deviation by that ratio
+    assert sd == pytest.approx(math.sqrt(1 / (1 / 100 + 1 / 400)) * 200 / math.sqrt(500))
+    agree = table_viscous_estimate(plateaus(1005.0, 10.0), mech, 5000.0, 20.0)
+    assert agree[1] == pytest.approx(math.sqrt(1 / (1 / 100 + 1 / 400)))
+
+
+@pytest.mark.parametrize("lm_std, frf_std, expected", [
+    (float("nan"), 20.0, 1000.0),  # the plateaus do not tell
+    (0.0, 20.0, 1000.0),
+    (10.0, 0.0, 1200.0),  # the FRFs' deviation is unknown
+    (10.0, float("nan"), 1200.0),
+])
+def test_a_measure_without_a_deviation_does_not_count(lm_std, frf_std, expected):
+    mech = builtin_machine().axes["X"].mechanics.replace(C_t=1000.0)
+    tv, _ = table_viscous_estimate(plateaus(1200.0, lm_std), mech, 5000.0, frf_std)
+    assert tv == pytest.approx(expected)
+
+
+def test_the_table_damping_stays_within_the_steady_slope():
+    mech = builtin_machine().axes["X"].mechanics.replace(C_t=1000.0)
+    assert table_viscous_estimate(plateaus(-300.0, 10.0), mech, 5000.0, 0.0)[0] == 0.0
+    assert table_viscous_estimate(plateaus(1200.0, 10.0), mech, 900.0, 20.0)[0] == 900.0
+    # neither measure: the FRFs' C_t within the slope less the screw side's damping
+    room = 5000.0 - (mech.B_m + mech.B_L) / mech.R_L**2
+    tv, _ = table_viscous_estimate(plateaus(float("nan"), float("nan")), mech, 5000.0, 0.0)
+    assert tv == pytest.approx(min(1000.0, max(room, 0.0)))

@@ -33,16 +33,11 @@ _MODELS = {}
 
 #: Cases that miss the target today, and by how much (spike / contour, um): by letter and
 #: kind, or by letter, kind and case.
-KNOWN = {
-    **{("c", "spikes", case): "at F10000 the rise and fall after A and C are nearly equal "
-                              "(9.8 and -9.6 um measured) and the prediction (9.5-9.6 and "
-                              "-9.8 um) gives the other the larger: a sign flip of 19 um "
-                              "with each lobe within 0.25 um"
-       for case in ("ccw_fast", "cw_fast")},
-}
+KNOWN: dict = {}
+
 #: The guideway share of every axis of machines C, D, E (true 0.28-0.66) comes from the
 #: TCP deflection of the sweep within 0.007 of the truth (standard deviations
-#: 0.004-0.011); the friction runs' 1 um scales left two of them open and put another
+#: 0.002-0.006); the friction runs' 1 um scales left two of them open and put another
 #: 0.07 off. Tolerance 0.03: three standard deviations.
 SHARE_TOL = 0.03
 

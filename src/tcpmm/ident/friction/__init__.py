@@ -44,6 +44,7 @@ from .split import (
     slowest_plateau,
     steady_curve,
     stribeck_from_record,
+    table_viscous_estimate,
 )
 from .stribeck import (
     PLATEAU_DURATIONS_S,
@@ -71,7 +72,8 @@ __all__ = [
     "presliding_spike_range",
     "quantisation_bias_std", "read_friction_csv", "share_from_sweep", "share_spike_range",
     "share_uncertainty_warning", "slowest_plateau", "spike_range", "steady_curve",
-    "stribeck_from_record", "sweep_deflection", "sweep_motion", "travel_velocity",
+    "stribeck_from_record", "sweep_deflection", "sweep_motion", "table_viscous_estimate",
+    "travel_velocity",
     "warn_lost_motion_sensitivity", "warn_presliding_sensitivity", "warn_share_sensitivity",
     "with_presliding", "with_share",
 ]

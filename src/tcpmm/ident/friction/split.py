@@ -37,7 +37,7 @@ from .sweepforce import share_from_sweep
 from .transients import fit_stribeck_transients
 
 __all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
-           "place_steady_viscous", "share_uncertainty_warning"]
+           "place_steady_viscous", "share_uncertainty_warning", "table_viscous_estimate"]
 
 #: Share of the identified friction put on the guideway when the friction runs do not
 #: determine it (see :mod:`tcpmm.ident.friction.lostmotion`): preloaded, sealed linear guides
@@ -54,9 +54,6 @@ TRANSIENT_CUTOFF_HZ = 30.0
 #: Largest relative standard deviation of the Stribeck speed and static levels of a fit to
 #: the plateaus that is taken as determining the hump [-].
 HUMP_REL_STD = 0.25
-#: Largest relative standard deviation of the plateaus' table damping that is taken as
-#: determining it [-].
-VISCOUS_REL_STD = 0.1
 #: Largest difference of the Coulomb levels of the two directions, relative to their mean,
 #: for which a sweep travelling one way gives the share [-].
 SWEEP_ASYMMETRY = 0.2
@@ -465,22 +462,61 @@ def _sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std:
 
     A record whose Coulomb levels differ by direction more than :data:`SWEEP_ASYMMETRY`
     carries a constant force (a weight the mechanics do not hold) that a sweep in one
-    direction does not tell from friction. The model takes the table's viscous force from
-    the plateaus when they determine it; else the mechanics' ``C_t``, at most the steady
-    force's slope less the screw side's damping (a sweep also sees the friction's local
-    slope as damping)."""
+    direction does not tell from friction. The table's viscous force is the plateaus' and
+    the FRFs' measures of it together (:func:`table_viscous_estimate`)."""
     m = mechanics
     up, down = abs(float(curve["Fc+"])), abs(float(curve["Fc-"]))
     if abs(up - down) > SWEEP_ASYMMETRY * 0.5 * (up + down):
         return None  # a constant force (a weight) that one direction of travel cannot tell
-    tv, tv_sd = float(lm.table_viscous), float(lm.table_viscous_std)
-    if not (np.isfinite(tv) and np.isfinite(tv_sd) and 0 < tv_sd < VISCOUS_REL_STD * tv):
-        room = float(curve["Fv"]) - (m.B_m + m.B_L) / m.R_L**2
-        tv, tv_sd = min(m.C_t, max(room, 0.0)), C_t_std
+    tv, tv_sd = table_viscous_estimate(lm, m, float(curve["Fv"]), C_t_std)
     level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
     got = share_from_sweep(sweep, m, level, tv, K_h_rel_std=K_h_rel_std,
                            table_viscous_std=tv_sd)
     return None if got is None else (*got, tv)
+
+
+def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):
+    """The viscous force per speed on the table side of the nut from its two measures:
+    the plateaus' nut deflection (``lm``) and the sweep's FRFs (``C_t``).
+
+    Each is weighted by its inverse variance, and the standard deviation is widened by
+    the scatter of the two about their mean where they disagree by more than their
+    standard deviations say (Birge's ratio). An estimate without a finite, positive
+    standard deviation does not count. Without either, the FRFs' ``C_t``, at most the
+    steady force's slope less the screw side's damping (a sweep also sees the friction's
+    local slope as damping).
+
+    Parameters
+    ----------
+    lm : LostMotionEstimate
+        The plateaus' estimate, with ``table_viscous`` and its standard deviation
+        [N s/m].
+    mechanics : AxisMechanics
+        Identified mechanics: ``C_t``, ``B_m``, ``B_L`` and ``R_L`` are used [SI].
+    total_viscous : float
+        Slope of the steady motor force over the speed, at the table [N s/m].
+    C_t_std : float
+        Standard deviation of the FRFs' ``C_t``; 0 or NaN when unknown [N s/m].
+
+    Returns
+    -------
+    tuple of float
+        ``(table_viscous, std)``, the value within ``[0, total_viscous]`` [N s/m].
+    """
+    m = mechanics
+    found = [(float(v), float(sd)) for v, sd in ((lm.table_viscous, lm.table_viscous_std),
+                                                 (m.C_t, C_t_std))
+             if np.isfinite(v) and np.isfinite(sd) and sd > 0.0]
+    if not found:
+        room = total_viscous - (m.B_m + m.B_L) / m.R_L**2
+        return min(m.C_t, max(room, 0.0)), float(C_t_std)
+    vals = np.array([v for v, _ in found])
+    w = 1.0 / np.array([sd for _, sd in found]) ** 2
+    mean = float(np.sum(w * vals) / np.sum(w))
+    sd = float(1.0 / math.sqrt(np.sum(w)))
+    if vals.size > 1:
+        sd *= max(1.0, math.sqrt(float(np.sum(w * (vals - mean) ** 2)) / (vals.size - 1)))
+    return min(max(mean, 0.0), max(total_viscous, 0.0)), sd
 
 
 def share_uncertainty_warning(axis: str, split: FrictionSplit, curve, mechanics,

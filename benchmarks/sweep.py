@@ -23,6 +23,7 @@ import statistics
 import tempfile
 import time
 
+from tcpmm._heap import keep_freed_memory
 from tcpmm.builtin import builtin_machine
 from tcpmm.sweep import CircleProgram, evaluate_variant, lhs_design, parse_param, run_sweep
 
@@ -118,6 +119,7 @@ def main(argv=None) -> dict:
     m, program = builtin_machine(), CircleProgram()
     specs = [parse_param(t) for t in ("X.servo.K_pp=20:60", "Y.servo.K_pp=20:60")]
     variants = lhs_design(specs, a.n, seed=0)
+    keep_freed_memory()  # as the sweep's workers do: the serial time with the same heap
     evaluate_variant(m, program, variants[0])  # compile and build the command
     cores = []
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from itertools import islice
 from pathlib import Path
 
+from .._heap import keep_freed_memory
 from ..errors import InputError
 from .store import (
     PARTS_DIR,
@@ -114,6 +115,7 @@ def check_design(machine, program, variants) -> None:
 
 
 def _serial(task, args, todo, sink) -> None:
+    keep_freed_memory()
     for v in todo:
         sink(v, task(*args(v)))
 
@@ -129,6 +131,7 @@ VARIANT_S = 0.025
 def _run_chunk(task, machine, program, chunk, *rest) -> list:
     """``task(machine, program, v, *rest)`` for each variant ``v`` of ``chunk``; one that
     fails gives its error instead of a result, and the others go on [-]."""
+    keep_freed_memory()
     out = []
     for v in chunk:
         try:

@@ -86,6 +86,14 @@ def test_identified_share_of_an_axis_whose_guide_reacts_on_the_bed():
     assert split.guideway_share_std < 0.03
     assert abs(split.guideway_share - true) < 3 * split.guideway_share_std, (
         split.guideway_share, true)
+    # the table damping the share rests on is the weighed one, and its deviation goes
+    # into the model's uncertainty
+    phys = idn.physical
+    fv = dict(zip(idn.friction.names, idn.friction.values, strict=True))["Fv"]
+    tv, tv_sd = table_viscous_estimate(split.estimate, phys.mechanics, fv, phys.std["C_t"])
+    assert (split.table_viscous, split.table_viscous_std) == pytest.approx((tv, tv_sd))
+    assert tv_sd != pytest.approx(split.estimate.table_viscous_std)
+    assert idn.axis.uncertainty.mechanics["C_t"] == pytest.approx(tv_sd)
 
 
 def plateaus(value, std):
@@ -124,3 +132,4 @@ def test_the_table_damping_stays_within_the_steady_slope():
     room = 5000.0 - (mech.B_m + mech.B_L) / mech.R_L**2
     tv, _ = table_viscous_estimate(plateaus(float("nan"), float("nan")), mech, 5000.0, 0.0)
     assert tv == pytest.approx(min(1000.0, max(room, 0.0)))
+

@@ -90,6 +90,8 @@ class FrictionSplit:
     viscous_on_table : float
         Viscous force per speed on the table side that a share from the sweep was
         worked out with, which the model then takes; NaN otherwise [N s/m].
+    viscous_on_table_std : float
+        Its standard deviation; NaN otherwise [N s/m].
     """
 
     guideway_share: float
@@ -100,6 +102,7 @@ class FrictionSplit:
     guideway_share_std: float = float("nan")
     unfound_backlash_std: float = float("nan")
     viscous_on_table: float = float("nan")
+    viscous_on_table_std: float = float("nan")
 
     @property
     def backlash_std(self) -> float:
@@ -131,6 +134,8 @@ class FrictionSplit:
     @property
     def table_viscous_std(self) -> float:
         """Standard deviation of :attr:`table_viscous` [N s/m]."""
+        if np.isfinite(self.viscous_on_table):
+            return float(self.viscous_on_table_std)
         src = self._table_viscous_from
         return float(src.table_viscous_std) if src is not None else float("nan")
 
@@ -374,7 +379,8 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             from_sweep, lambda s: plateau_split(m_split, stiffness_rel_std, share=s),
             lambda est: _sweep_share(sweep, m, v, est, K_h_rel_std, C_t_std))
         split = FrictionSplit(from_sweep[0], lm.backlash if lm.determined else 0.0, "sweep",
-                              lm, None, from_sweep[1], viscous_on_table=from_sweep[2])
+                              lm, None, from_sweep[1], viscous_on_table=from_sweep[2],
+                              viscous_on_table_std=from_sweep[3])
     else:
         split = _split_of(lm, nut, play, given, axis)
     if nut is not None and not nut.lost_motion_found() and np.isfinite(nut.backlash_std):
@@ -383,8 +389,8 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
 
 
 def _settle_sweep_share(from_sweep, plateaus_at, share_from):
-    """The sweep's share and the plateaus' table damping, each worked out on the other in
-    turn until the share moves by at most :data:`SWEEP_SHARE_TOL`.
+    """The sweep's share and the table damping, each worked out on the other in turn until
+    the share moves by at most :data:`SWEEP_SHARE_TOL`.
 
     The plateaus with the share held give the lost motion and the table damping (with the
     share free, the share takes part of the damping's slope); the sweep's share rests on
@@ -393,12 +399,13 @@ def _settle_sweep_share(from_sweep, plateaus_at, share_from):
     Parameters
     ----------
     from_sweep : tuple
-        ``(share, share_std, table_viscous)`` of the first round [-, -, N s/m].
+        ``(share, share_std, table_viscous, table_viscous_std)`` of the first round
+        [-, -, N s/m, N s/m].
     plateaus_at : callable
         Plateau estimate with the share held at its argument [-].
     share_from : callable
-        The sweep's ``(share, share_std, table_viscous)`` on a plateau estimate, or
-        ``None`` [-].
+        The sweep's ``(share, share_std, table_viscous, table_viscous_std)`` on a plateau
+        estimate, or ``None`` [-].
 
     Returns
     -------
@@ -458,7 +465,8 @@ def _axis_friction(v: dict, m, split: FrictionSplit) -> AxisFriction:
 
 def _sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std: float):
     """Share from a travelling sweep's deflection, or ``None`` when the sweep does not
-    determine it; with it the viscous force per speed the table side is given [-].
+    determine it; with it the viscous force per speed the table side is given and its
+    standard deviation [-].
 
     A record whose Coulomb levels differ by direction more than :data:`SWEEP_ASYMMETRY`
     carries a constant force (a weight the mechanics do not hold) that a sweep in one
@@ -472,7 +480,7 @@ def _sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std:
     level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
     got = share_from_sweep(sweep, m, level, tv, K_h_rel_std=K_h_rel_std,
                            table_viscous_std=tv_sd)
-    return None if got is None else (*got, tv)
+    return None if got is None else (*got, tv, tv_sd)
 
 
 def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):

@@ -136,7 +136,10 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
         code, out, err = run(capsys, "identify", tmp_path / "b", "-o", model,
                              "--presliding-um", um, "--json")
         assert code == 0, err
-        assert json.loads(out)["axes"]["X"]["presliding_m"] == pytest.approx(um * 1e-6)
+        x = json.loads(out)["axes"]["X"]
+        assert x["presliding_m"] == pytest.approx(um * 1e-6)
+        tv = x["friction_split"]["table_viscous_N_s_per_m"]
+        assert tv["value"] > 0 and 0 < tv["std"] < tv["value"]
         g = read_machine(model).axes["X"].friction.guideway
         if um:
             assert g.sigma0 * 1.5e-6 == pytest.approx(max(g.fs_pos, g.fs_neg), rel=1e-6)
@@ -150,4 +153,7 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
     assert 'alt="Bode plots of axis X" src="data:image/png;base64,' in page
     from tcpmm.ident.friction import PRESLIDING
 
-    assert f"pre-sliding of {PRESLIDING * 1e6:g} um assumed" in out.replace("\n", " ")
+    text = " ".join(out.split())
+    assert f"pre-sliding of {PRESLIDING * 1e6:g} um assumed" in text
+    # where the share came from, and the table damping it rests on
+    assert "friction X: guideway share " in text and " N s/m (plateaus " in text

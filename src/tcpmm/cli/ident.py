@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import typer
@@ -166,8 +167,37 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     from ._tables import print_table
 
     print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
+    _print_split(idn)
     _print_presliding(idn, presliding)
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
+
+
+#: How each source of the guideway share reads in the summary.
+_SHARE_FROM = {"sweep": "from the TCP deflection of the travelling sweep",
+               "data": "from the nut deflection of the friction runs",
+               "given": "as given", "prior": "the prior: the runs do not determine it"}
+
+
+def _print_split(idn) -> None:
+    """One line per axis: the guideway share, where it came from, and the table damping
+    it rests on with the measures it was weighed from."""
+    for name, a in idn.axes.items():
+        sp = a.friction_split
+        if sp is None:
+            continue
+        sd = (f" +- {sp.guideway_share_std:.3f}" if sp.source in ("sweep", "data")
+              and math.isfinite(sp.guideway_share_std) else "")
+        line = (f"friction {name}: guideway share {sp.guideway_share:.3f}{sd} "
+                f"({_SHARE_FROM.get(sp.source, sp.source)})")
+        if sp.source != "prior" and math.isfinite(sp.table_viscous):
+            line += (f"; table damping {sp.table_viscous:.0f} +- {sp.table_viscous_std:.0f} "
+                     "N s/m")
+            lm, phys = sp.estimate, a.physical
+            if math.isfinite(sp.viscous_on_table) and lm is not None:
+                line += (f" (plateaus {lm.table_viscous:.0f} +- {lm.table_viscous_std:.0f}, "
+                         f"FRFs {phys.mechanics.C_t:.0f} +- "
+                         f"{phys.std.get('C_t', float('nan')):.0f})")
+        out.print(line)
 
 
 def _print_presliding(idn, presliding) -> None:

@@ -62,6 +62,11 @@ SWEEP_ASYMMETRY = 0.2
 SWEEP_ITERATIONS, SWEEP_SHARE_TOL = 5, 1e-4
 
 
+def _or_none(x: float):
+    """``x`` as a float, ``None`` when it is not finite (JSON has no NaN) [-]."""
+    return float(x) if math.isfinite(x) else None
+
+
 @dataclass(frozen=True)
 class FrictionSplit:
     """How the identified friction was split between guideway and screw.
@@ -159,6 +164,9 @@ class FrictionSplit:
                                "std": sd(self.guideway_share_std, ("data", "sweep"))},
             "backlash_m": {"value": float(self.backlash),
                            "std": sd(self.backlash_std, ("data", "given", "sweep"))},
+            "table_viscous_N_s_per_m": {
+                "value": _or_none(self.table_viscous if self.source != "prior" else math.nan),
+                "std": _or_none(self.table_viscous_std if self.source != "prior" else math.nan)},
             "source": self.source,
             "estimate": e.to_dict() if e is not None else None,
             "nut": self.nut.to_dict() if self.nut is not None else None,

@@ -44,7 +44,6 @@ from .split import (
     slowest_plateau,
     steady_curve,
     stribeck_from_record,
-    table_viscous_estimate,
 )
 from .stribeck import (
     PLATEAU_DURATIONS_S,
@@ -56,7 +55,13 @@ from .stribeck import (
     identify_stribeck_run,
     read_friction_csv,
 )
-from .sweepforce import SweepDeflection, share_from_sweep, sweep_deflection, travel_velocity
+from .sweepforce import (
+    SweepDeflection,
+    share_from_sweep,
+    sweep_deflection,
+    table_viscous_estimate,
+    travel_velocity,
+)
 from .transients import fit_stribeck_transients
 
 __all__ = [

@@ -33,11 +33,11 @@ from .stribeck import (
     identify_stribeck_run,
     without_undetermined_hump,
 )
-from .sweepforce import share_from_sweep
+from .sweepforce import share_from_sweep, table_viscous_estimate
 from .transients import fit_stribeck_transients
 
 __all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
-           "place_steady_viscous", "share_uncertainty_warning", "table_viscous_estimate"]
+           "place_steady_viscous", "share_uncertainty_warning"]
 
 #: Share of the identified friction put on the guideway when the friction runs do not
 #: determine it (see :mod:`tcpmm.ident.friction.lostmotion`): preloaded, sealed linear guides
@@ -489,50 +489,6 @@ def _sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std:
     got = share_from_sweep(sweep, m, level, tv, K_h_rel_std=K_h_rel_std,
                            table_viscous_std=tv_sd)
     return None if got is None else (*got, tv, tv_sd)
-
-
-def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):
-    """The viscous force per speed on the table side of the nut from its two measures:
-    the plateaus' nut deflection (``lm``) and the sweep's FRFs (``C_t``).
-
-    Each is weighted by its inverse variance, and the standard deviation is widened by
-    the scatter of the two about their mean where they disagree by more than their
-    standard deviations say (Birge's ratio). An estimate without a finite, positive
-    standard deviation does not count. Without either, the FRFs' ``C_t``, at most the
-    steady force's slope less the screw side's damping (a sweep also sees the friction's
-    local slope as damping).
-
-    Parameters
-    ----------
-    lm : LostMotionEstimate
-        The plateaus' estimate, with ``table_viscous`` and its standard deviation
-        [N s/m].
-    mechanics : AxisMechanics
-        Identified mechanics: ``C_t``, ``B_m``, ``B_L`` and ``R_L`` are used [SI].
-    total_viscous : float
-        Slope of the steady motor force over the speed, at the table [N s/m].
-    C_t_std : float
-        Standard deviation of the FRFs' ``C_t``; 0 or NaN when unknown [N s/m].
-
-    Returns
-    -------
-    tuple of float
-        ``(table_viscous, std)``, the value within ``[0, total_viscous]`` [N s/m].
-    """
-    m = mechanics
-    found = [(float(v), float(sd)) for v, sd in ((lm.table_viscous, lm.table_viscous_std),
-                                                 (m.C_t, C_t_std))
-             if np.isfinite(v) and np.isfinite(sd) and sd > 0.0]
-    if not found:
-        room = total_viscous - (m.B_m + m.B_L) / m.R_L**2
-        return min(m.C_t, max(room, 0.0)), float(C_t_std)
-    vals = np.array([v for v, _ in found])
-    w = 1.0 / np.array([sd for _, sd in found]) ** 2
-    mean = float(np.sum(w * vals) / np.sum(w))
-    sd = float(1.0 / math.sqrt(np.sum(w)))
-    if vals.size > 1:
-        sd *= max(1.0, math.sqrt(float(np.sum(w * (vals - mean) ** 2)) / (vals.size - 1)))
-    return min(max(mean, 0.0), max(total_viscous, 0.0)), sd
 
 
 def share_uncertainty_warning(axis: str, split: FrictionSplit, curve, mechanics,

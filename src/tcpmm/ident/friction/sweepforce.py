@@ -18,7 +18,9 @@ a reversal: the column springs back by twice ``F_g / K_h``.
 
 The share is the one for which the identified model reproduces the measured mean
 deflection; its standard deviation counts the scatter of the deflection over the record,
-the uncertainty of ``K_h`` and of the table's viscous force.
+the uncertainty of ``K_h`` and of the table's viscous force. That force has two measures,
+the friction runs' plateaus and the FRFs' ``C_t``, which :func:`table_viscous_estimate`
+weighs together.
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection", "travel_velocity"]
+__all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection", "table_viscous_estimate",
+           "travel_velocity"]
 
 #: Blocks the record is cut into to see the scatter of its mean deflection [-].
 N_BLOCKS = 16
@@ -153,3 +156,47 @@ def share_from_sweep(defl: SweepDeflection, mechanics, level: float, table_visco
     if share < -OUTSIDE_Z * std or share > 1.0 + OUTSIDE_Z * std:
         return None
     return min(max(share, 0.0), 1.0), std
+
+
+def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):
+    """The viscous force per speed on the table side of the nut from its two measures:
+    the plateaus' nut deflection (``lm``) and the sweep's FRFs (``C_t``).
+
+    Each is weighted by its inverse variance, and the standard deviation is widened by
+    the scatter of the two about their mean where they disagree by more than their
+    standard deviations say (Birge's ratio). An estimate without a finite, positive
+    standard deviation does not count. Without either, the FRFs' ``C_t``, at most the
+    steady force's slope less the screw side's damping (a sweep also sees the friction's
+    local slope as damping).
+
+    Parameters
+    ----------
+    lm : LostMotionEstimate
+        The plateaus' estimate, with ``table_viscous`` and its standard deviation
+        [N s/m].
+    mechanics : AxisMechanics
+        Identified mechanics: ``C_t``, ``B_m``, ``B_L`` and ``R_L`` are used [SI].
+    total_viscous : float
+        Slope of the steady motor force over the speed, at the table [N s/m].
+    C_t_std : float
+        Standard deviation of the FRFs' ``C_t``; 0 or NaN when unknown [N s/m].
+
+    Returns
+    -------
+    tuple of float
+        ``(table_viscous, std)``, the value within ``[0, total_viscous]`` [N s/m].
+    """
+    m = mechanics
+    found = [(float(v), float(sd)) for v, sd in ((lm.table_viscous, lm.table_viscous_std),
+                                                 (m.C_t, C_t_std))
+             if np.isfinite(v) and np.isfinite(sd) and sd > 0.0]
+    if not found:
+        room = total_viscous - (m.B_m + m.B_L) / m.R_L**2
+        return min(m.C_t, max(room, 0.0)), float(C_t_std)
+    vals = np.array([v for v, _ in found])
+    w = 1.0 / np.array([sd for _, sd in found]) ** 2
+    mean = float(np.sum(w * vals) / np.sum(w))
+    sd = float(1.0 / math.sqrt(np.sum(w)))
+    if vals.size > 1:
+        sd *= max(1.0, math.sqrt(float(np.sum(w * (vals - mean) ** 2)) / (vals.size - 1)))
+    return min(max(mean, 0.0), max(total_viscous, 0.0)), sd

@@ -117,6 +117,7 @@ def test_the_table_damping_weighs_plateaus_and_frfs_by_their_variances():
     (0.0, 20.0, 1000.0),
     (10.0, 0.0, 1200.0),  # the FRFs' deviation is unknown
     (10.0, float("nan"), 1200.0),
+    (100.0, 600.0, 1200.0),  # the FRFs do not determine C_t (60 %)
 ])
 def test_a_measure_without_a_deviation_does_not_count(lm_std, frf_std, expected):
     mech = builtin_machine().axes["X"].mechanics.replace(C_t=1000.0)

@@ -35,6 +35,10 @@ __all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection", "table_vis
 
 #: Blocks the record is cut into to see the scatter of its mean deflection [-].
 N_BLOCKS = 16
+#: Largest relative standard deviation of the FRFs' ``C_t`` that counts as a measure of
+#: the table damping: above it the FRFs do not determine it (the physical fit's own test),
+#: and a spread that wide in the fit's log-parameters is too skewed to weigh [-].
+FRF_C_T_REL_STD = 0.5
 #: Largest share outside [0, 1], in standard deviations, still taken as [0, 1]; beyond
 #: it the data contradict the model of where the friction acts [-].
 OUTSIDE_Z = 3.0
@@ -165,7 +169,8 @@ def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):
     Each is weighted by its inverse variance, and the standard deviation is widened by
     the scatter of the two about their mean where they disagree by more than their
     standard deviations say (Birge's ratio). An estimate without a finite, positive
-    standard deviation does not count. Without either, the FRFs' ``C_t``, at most the
+    standard deviation does not count, nor the FRFs' ``C_t`` where they do not determine it
+    (:data:`FRF_C_T_REL_STD`). Without either, the FRFs' ``C_t``, at most the
     steady force's slope less the screw side's damping (a sweep also sees the friction's
     local slope as damping).
 
@@ -187,8 +192,8 @@ def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):
         ``(table_viscous, std)``, the value within ``[0, total_viscous]`` [N s/m].
     """
     m = mechanics
-    found = [(float(v), float(sd)) for v, sd in ((lm.table_viscous, lm.table_viscous_std),
-                                                 (m.C_t, C_t_std))
+    frf = (m.C_t, C_t_std if C_t_std <= FRF_C_T_REL_STD * m.C_t else math.nan)
+    found = [(float(v), float(sd)) for v, sd in ((lm.table_viscous, lm.table_viscous_std), frf)
              if np.isfinite(v) and np.isfinite(sd) and sd > 0.0]
     if not found:
         room = total_viscous - (m.B_m + m.B_L) / m.R_L**2

@@ -413,14 +413,18 @@ def _starts(binned: dict, full: dict, lead: float, K_tc: float, tf_fits, f_top: 
 def _std(r, names: list, tied: dict):
     """Standard deviation per parameter [SI], the correlation matrix of the
     log-parameters [-] and the parameters the data do not determine (relative std above
-    50 %) of a ``least_squares`` result; ``nan`` for a TCP structure not fitted."""
+    50 %, or held at a bound of the fit) of a ``least_squares`` result; ``nan`` for a TCP
+    structure not fitted and for a parameter at a bound, whose linearised deviation says
+    nothing (the cost does not rise across the bound, and it often comes out 0)."""
     sd_log, corr = _log_covariance(r)
+    at_bound = np.asarray(getattr(r, "active_mask", np.zeros(len(names)))) != 0
+    sd_log = np.where(at_bound, np.nan, sd_log)
     vals = dict(zip(names, np.exp(r.x), strict=True))
     std = {p: float(vals[p] * sd_log[i]) for i, p in enumerate(names)}
     std.update({p: float(r * std["M_t"]) for p, r in tied.items()})
     for p in ("M_h", "C_h", "K_h"):
         std.setdefault(p, float("nan"))
-    return std, corr, [p for i, p in enumerate(names) if sd_log[i] > 0.5]
+    return std, corr, [p for i, p in enumerate(names) if at_bound[i] or sd_log[i] > 0.5]
 
 
 def _multistart(resid, jac, starts, names, fit_current_loop: bool, max_nfev: int):

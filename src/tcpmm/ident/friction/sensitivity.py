@@ -206,6 +206,16 @@ LOST_MOTION_CHECK_M = 0.2e-6
 SPIKE_WARN_M = 0.5e-6
 
 
+def _warn_from(friction, due: bool, message: str) -> None:
+    """A sensitivity warning, when ``due``, naming the file of the friction runs it rests
+    on (``friction.source``, when there is one) [-]."""
+    if not due:
+        return
+    from ...io.csvutil import warn_input
+
+    warn_input(message, file=getattr(friction, "source", None))
+
+
 def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
     """Where the friction runs find no lost motion but could miss one of three standard
     deviations, say how far that would move the TCP spikes of a circle
@@ -232,16 +242,12 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
     if moved is None:
         return
     a.lost_motion_sensitivity = LostMotionSensitivity((0.0, hidden), moved)
-    if moved < SPIKE_WARN_M:
-        return
-    from ...io.csvutil import warn_input
-
-    warn_input(
+    _warn_from(
+        friction, moved >= SPIKE_WARN_M,
         f"axis {name}: the friction runs find no lost motion in the nut, but would not "
         f"find one of up to {hidden * 1e6:.2f} um (three standard deviations); that much "
         f"would move the TCP reversal spikes of a circle in its plane (R35 mm, F5000) by up "
-        f"to {moved * 1e6:.2f} um. A reversal test at low speed, or finer sensors, fixes it",
-        file=getattr(friction, "source", None))
+        f"to {moved * 1e6:.2f} um. A reversal test at low speed, or finer sensors, fixes it")
 
 
 def warn_share_sensitivity(name: str, a, machine, friction) -> None:
@@ -276,15 +282,13 @@ def warn_share_sensitivity(name: str, a, machine, friction) -> None:
     if moved is None:
         return
     a.share_sensitivity = ShareSensitivity((lo, hi), moved)
-    from ...io.csvutil import warn_input
-
-    warn_input(
+    _warn_from(
+        friction, True,
         f"axis {name}: the guideway share is not determined by the friction runs "
         f"({split.guideway_share:.2f} used); between shares {lo:.2f} and {hi:.2f} the TCP "
         f"reversal spikes of a circle in its plane (R35 mm, F5000) move by up to "
         f"{moved * 1e6:.2f} um. Finer sensors, or runs at speeds that do not advance whole "
-        "sensor steps per sample, fix the share; --guideway-share sets it",
-        file=getattr(friction, "source", None))
+        "sensor steps per sample, fix the share; --guideway-share sets it")
 
 
 #: Change of a TCP spike over the pre-sliding range of a fit that identify warns about: the
@@ -319,16 +323,12 @@ def warn_presliding_sensitivity(name: str, a, machine, friction) -> None:
     if moved is None:
         return
     a.presliding_sensitivity = PreslidingSensitivity((lo, hi), moved)
-    if moved < PRESLIDING_SPIKE_WARN_M:
-        return
-    from ...io.csvutil import warn_input
-
-    warn_input(
+    _warn_from(
+        friction, moved >= PRESLIDING_SPIKE_WARN_M,
         f"axis {name}: the friction runs' reversals fix the pre-sliding distance only to "
         f"between {lo * 1e6:.2f} and {hi * 1e6:.2f} um ({fit.presliding * 1e6:.2f} used; two "
         "standard deviations of the fit, with the play that keeps the encoder's noise out "
         "of the contacts halved and doubled). Over that range the TCP reversal spikes of a "
         f"circle in its plane (R35 mm, F5000) move by up to {moved * 1e6:.2f} um. A finer "
         "encoder, reversals that turn round faster, or a measured distance "
-        "(--presliding-um) fixes it",
-        file=getattr(friction, "source", None))
+        "(--presliding-um) fixes it")

@@ -289,7 +289,7 @@ def log_residual(model, measured, weight) -> np.ndarray:
 
 def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = None,
                  current_bandwidth_hz=None, fit_current_loop: bool = False,
-                 max_nfev: int = 200, tf_fits: dict | None = None,
+                 max_nfev: int = 2000, tf_fits: dict | None = None,
                  hold_period_s: float = 0.0, nut_gain=None,
                  structure: dict | None = None) -> PhysicalFit:
     """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.

@@ -30,7 +30,7 @@ from threadpoolctl import threadpool_limits
 from tcpmm.builtin import builtin_machine
 from tcpmm.demo import paper_circle_command
 from tcpmm.servo.sampled import initial_state, lifted_closed_loop
-from tcpmm.sim.kernel import run_axis
+from tcpmm.sim.compiled import run_axis, status
 from tcpmm.simulate import axis_kernel_inputs, command_velocity, simulate_axis
 
 DURATION_S = 60.0
@@ -135,10 +135,12 @@ def main(argv=None) -> dict:
         "dlsim_ratio_own_rates": t_dl / t_fr,
         "dlsim_ratio_own_rates_linear": t_dl / t_lin,
         "max_relative_difference_to_dlsim": pr["rel_diff"],
+        "kernel": status(),
     }
     if args.json:
         print(json.dumps(out, indent=1))
         return out
+    print(f"Kernel: {out['kernel']}")
     print(f"The paper's circle, 3 axes, {T:.2f} s, kernel on one thread, {rounds} rounds "
           f"(min / median, {args.clock} clock):")
     for name, (lo, med, _) in circ.items():

@@ -25,7 +25,8 @@ from .path.command import Command
 from .result import AxisRun, Run
 from .servo.currentfilters import biquads
 from .servo.sampled import sampled_spectral_radius
-from .sim.kernel import NX, run_axis
+from .sim.compiled import run_axis
+from .sim.layout import NX
 
 
 class KernelInputs(NamedTuple):

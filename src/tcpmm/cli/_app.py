@@ -53,8 +53,10 @@ out = Console()
 def _print_version(value: bool) -> None:
     if value:
         from .. import __version__
+        from ..sim.compiled import describe
 
         out.print(f"tcpmm {__version__}")
+        out.print(f"kernel: {describe()}", highlight=False, soft_wrap=True)
         raise typer.Exit()
 
 

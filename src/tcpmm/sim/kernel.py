@@ -70,11 +70,7 @@ from numba import njit
 
 from ..mechanics.friction import MODEL_NONE, MODEL_STATIC, STUCK
 from .contact import at_rest, friction_force, static_stop_or_slide
-
-REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c", "X_M", "cmd")
-#: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
-#: size lets the compiler keep the state update in registers; unused states are zero.
-NX = 11
+from .layout import NX, REC_COLUMNS  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
 
 
 @njit(cache=True, inline="always")

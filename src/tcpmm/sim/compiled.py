@@ -1,0 +1,277 @@
+"""The axis kernel compiled ahead of time, so that a command starts without numba.
+
+numba compiles :func:`tcpmm.sim.kernel.run_axis` on its first call and caches the
+machine code, but loading a cached function still costs its import and the set-up of
+its compiler (some 0.5 s of every command that simulates). The first run on a machine
+therefore also builds the same kernel, from the same source, into a Python extension
+module (numba's ``pycc``, for this CPU, releasing the GIL like the compiled kernel);
+later runs import that module in about a millisecond and never import numba. It gives
+the same numbers to the bit: the same code compiled by the same compiler.
+
+The module is kept beside numba's cache (the package's ``__pycache__``, else the
+user's cache folder, else ``NUMBA_CACHE_DIR``), under a name keyed on the kernel's
+sources, numba's and Python's versions and the CPU, so an edit, an upgrade or another
+machine builds a new one. The build needs a C compiler; where it fails, the reason is
+kept beside it for a day (:func:`status` says it) and the kernel runs through numba as
+before. ``TCPMM_COMPILED=0`` in the environment uses numba's kernel always.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.machinery
+import importlib.util
+import logging
+import os
+import shutil
+import sys
+import tempfile
+import threading
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+from .._numba_cache import _writable
+from .layout import ARG_NDIMS, INT_ARG
+
+#: Sources the kernel is compiled from (relative to the package): an edit makes a new key.
+KERNEL_SOURCES = ("sim/kernel.py", "sim/contact.py", "sim/layout.py", "mechanics/friction.py")
+#: A failed build is not tried again for this long [s]; a build lock older than
+#: :data:`LOCK_STALE_S` is taken to be left by a process that died [s].
+RETRY_AFTER_S = 86400.0
+LOCK_STALE_S = 900.0
+_PKG = Path(__file__).resolve().parent.parent
+_LOG = logging.getLogger(__name__)
+_LOCK = threading.Lock()
+_chosen: list = []  # [function, description] once chosen
+
+
+def run_axis(*args):
+    """:func:`tcpmm.sim.kernel.run_axis`, from the module compiled ahead of time where
+    there is one (built on the first call where there is none), else through numba.
+    Same arguments and results [SI]."""
+    fn = _chosen[0] if _chosen else _choose()[0]
+    return fn(*args)
+
+
+def status() -> str:
+    """Which kernel this process runs, and why (after its first run, else chooses now)."""
+    return (_chosen or _choose())[1]
+
+
+def describe() -> str:
+    """Which kernel a command would run, without building anything [-]."""
+    if _chosen:
+        return _chosen[1]
+    if os.environ.get("TCPMM_COMPILED", "1").strip() == "0":
+        return "numba's kernel (TCPMM_COMPILED=0)"
+    try:
+        path = module_path()
+        failed = path.with_suffix(".failed")
+        if path.exists():
+            return f"compiled module {path}"
+        if failed.exists():
+            why = failed.read_text().strip()
+            return f"numba's kernel (the compiled module's build failed: {why})"
+    except OSError as exc:
+        return f"numba's kernel (no place for the compiled module: {exc})"
+    return f"numba's kernel until the first run builds the compiled module {path}"
+
+
+def _choose():
+    with _LOCK:
+        if not _chosen:
+            _chosen.extend(_compiled_or_jit())
+        return _chosen
+
+
+def _jit(why: str):
+    from . import kernel
+
+    return kernel.run_axis, f"numba's kernel ({why})"
+
+
+def _compiled_or_jit():
+    if os.environ.get("TCPMM_COMPILED", "1").strip() == "0":
+        return _jit("TCPMM_COMPILED=0")
+    try:
+        path = module_path()
+        if not path.exists():
+            reason = _build_once(path)
+            if reason:
+                return _jit(reason)
+        mod = _import(path)
+    except Exception as exc:  # a tool chain can fail in many ways; the kernel still runs
+        _LOG.debug("compiled kernel not used", exc_info=True)
+        return _jit(f"the compiled module failed: {type(exc).__name__}: {exc}")
+    return _guarded(mod.run_axis), f"compiled module {path}"
+
+
+def _guarded(fn):
+    """The compiled entry for the arguments it was built for, numba's kernel for others:
+    the compiled module's wrapper checks types and dimensions but not the memory layout,
+    and would read a strided array as if it were contiguous."""
+    import numpy as np
+
+    kinds = tuple((np.dtype(np.int64 if i == INT_ARG else np.float64), nd)
+                  for i, nd in enumerate(ARG_NDIMS))
+
+    def run(*args):
+        if len(args) == len(kinds) and all(
+                type(a) is np.ndarray and a.dtype == dt and a.ndim == nd and a.flags.c_contiguous
+                for a, (dt, nd) in zip(args, kinds, strict=True)):
+            return fn(*args)
+        from . import kernel
+
+        return kernel.run_axis(*args)
+
+    return run
+
+
+def module_path() -> Path:
+    """Where the compiled module for this kernel, numba, Python and CPU is kept [-]."""
+    name = f"_run_axis_{_key()}"
+    return _folder() / (name + importlib.machinery.EXTENSION_SUFFIXES[0])
+
+
+def _folder() -> Path:
+    env = os.environ.get("NUMBA_CACHE_DIR")
+    if env:
+        return Path(env) / "tcpmm-compiled"
+    here = Path(__file__).resolve().parent / "__pycache__"
+    if _writable(here):
+        return here
+    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(home) / "tcpmm" / "compiled"
+
+
+def _key() -> str:
+    """Hash of the kernel's sources, numba's, llvmlite's and Python's versions and the
+    CPU (which the module is compiled for)."""
+    h = hashlib.sha256()
+    for rel in KERNEL_SOURCES:
+        h.update((_PKG / rel).read_bytes())
+    for package in ("numba", "llvmlite"):
+        h.update((Path(importlib.util.find_spec(package).origin).parent
+                  / "_version.py").read_bytes())
+    h.update(f"{sys.version}|{_cpu()}".encode())
+    return h.hexdigest()[:20]
+
+
+def _cpu() -> str:
+    """The CPU: model and instruction-set flags from ``/proc/cpuinfo`` where there is one
+    (a millisecond), else the name and features LLVM finds (loading LLVM, 50 ms)."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
+            first = f.read().split("\n\n", 1)[0]
+    except OSError:
+        first = ""
+    wanted = ("vendor_id", "model name", "cpu family", "model", "flags", "features",
+              "cpu implementer", "cpu part", "isa")
+    lines = sorted(ln.strip() for ln in first.splitlines()
+                   if ln.split(":", 1)[0].strip().lower() in wanted)
+    if any(ln.lower().startswith(("flags", "features", "isa")) for ln in lines):
+        return "\n".join(lines)
+    import llvmlite.binding as ll
+
+    return f"{ll.get_host_cpu_name()}|{ll.get_host_cpu_features().flatten()}"
+
+
+def _import(path: Path):
+    name = path.name.split(".")[0]
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _build_once(path: Path) -> str:
+    """Build the module unless a build failed lately or runs in another process; returns
+    why the module is not there, or ``""`` once it is."""
+    failed = path.with_suffix(".failed")
+    if failed.exists() and time.time() - failed.stat().st_mtime < RETRY_AFTER_S:
+        return f"its build failed: {failed.read_text().strip()}"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with _build_lock(path.with_suffix(".lock")) as mine:
+        if not mine:
+            return "the compiled module is being built by another process"
+        if path.exists():
+            return ""
+        try:
+            build(path)
+        except Exception as exc:  # no C compiler, a full disk, ...
+            _LOG.debug("building the compiled kernel failed", exc_info=True)
+            failed.write_text(f"{type(exc).__name__}: {exc}\n")
+            return f"its build failed: {type(exc).__name__}: {exc}"
+    return ""
+
+
+@contextmanager
+def _build_lock(lock: Path):
+    """Hold ``lock`` (a file made exclusively) for the build; yields whether it was had."""
+    try:
+        if time.time() - lock.stat().st_mtime > LOCK_STALE_S:
+            lock.unlink(missing_ok=True)
+    except FileNotFoundError:
+        pass
+    try:
+        os.close(os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600))
+    except FileExistsError:
+        yield False
+        return
+    try:
+        yield True
+    finally:
+        lock.unlink(missing_ok=True)
+
+
+def build(path: Path) -> None:
+    """Compile the kernel into the extension module ``path`` (written beside, then
+    renamed: a reader never sees half a module).
+
+    Parameters
+    ----------
+    path : Path
+        The module's file; its name up to the first dot is the module's name [-].
+    """
+    import warnings
+
+    import numba
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # pycc is marked as pending deprecation
+        import numba.pycc.compiler as pcc
+        from numba.pycc import CC
+    from . import kernel
+
+    name = path.name.split(".")[0]
+    tmp = tempfile.mkdtemp(prefix=f".{name}-", dir=path.parent)
+    try:
+        cc = CC(name)
+        cc.output_dir, cc.target_cpu, cc.verbose = tmp, "host", False
+        arrays = [numba.types.Array(numba.int64 if i == INT_ARG else numba.float64, nd, "C")
+                  for i, nd in enumerate(ARG_NDIMS)]
+        cc.export("run_axis", numba.float64[::1](*arrays))(kernel._run_axis.py_func)
+        with kernel._COMPILING, _vectorised_without_gil(numba, pcc):
+            cc.compile()
+        os.replace(Path(tmp) / cc.output_file, path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+@contextmanager
+def _vectorised_without_gil(numba, pcc):
+    """pycc's compilation with LLVM's SLP vectoriser on (as numba's kernel is compiled)
+    and a wrapper that releases the GIL (so that axes run in parallel threads)."""
+
+    class Flags(pcc.Flags):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            self.release_gil = True
+
+    before, plain = numba.config.SLP_VECTORIZE, pcc.Flags
+    numba.config.SLP_VECTORIZE, pcc.Flags = 1, Flags
+    try:
+        yield
+    finally:
+        numba.config.SLP_VECTORIZE, pcc.Flags = before, plain

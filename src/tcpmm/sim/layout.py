@@ -1,0 +1,11 @@
+"""Shapes the compiled kernel and its callers share (no numba: imported at start-up)."""
+
+#: The rows of the kernel's record, one per signal [SI].
+REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c", "X_M", "cmd")
+#: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
+#: size lets the compiler keep the state update in registers; unused states are zero.
+NX = 11
+#: Dimensions of :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order; all are
+#: C-contiguous float64 but ``ip`` (int64, the eighth).
+ARG_NDIMS = (2, 2, 1, 1, 1, 1, 1, 1, 2, 2, 2, 1, 1, 1, 2, 2, 2)
+INT_ARG = 7

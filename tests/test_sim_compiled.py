@@ -1,0 +1,126 @@
+"""The axis kernel compiled ahead of time (tcpmm.sim.compiled): the same numbers as numba's
+kernel to the bit, a command that simulates without importing numba or scipy, and numba's
+kernel wherever the compiled module cannot be had."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from tcpmm import builtin_machine, paper_circle_command
+from tcpmm.sim import compiled, kernel
+from tcpmm.simulate import axis_kernel_inputs, command_velocity
+
+
+def built_or_skip():
+    why = compiled.status()
+    if not why.startswith("compiled module"):
+        pytest.skip(f"no compiled kernel here: {why}")
+
+
+def kernel_args(axis_name="X", rec_every=1):
+    """Inputs of one axis of the paper's circle, as simulate_axis makes them."""
+    command = paper_circle_command()
+    axis = builtin_machine().axes[axis_name]
+    t, pos = command.time_s, command.positions[axis_name]
+    T_c = float(t[1] - t[0])
+    n = int(np.floor((t[-1] - t[0]) / axis.servo.T_v + 1e-9)) + 1
+    k = axis_kernel_inputs(axis, pos[0], False, rec_every, True, T_c, n)
+    vel = command_velocity(pos, T_c, axis.servo.feedforward)
+    rec = np.empty((7, (n - 1) // rec_every + 1))
+    return [k.AdT, k.BdT, k.x0, pos, vel, np.zeros(t.size), k.fp, k.ip, rec, k.AdsT, k.BdsT,
+            k.pf_s, k.pf_g, k.vtaps, k.AdgT, k.BdgT, k.fsec]
+
+
+@pytest.mark.parametrize("axis_name", ["X", "Y"])
+def test_same_numbers_as_numbas_kernel(axis_name):
+    built_or_skip()
+    a, b = kernel_args(axis_name), kernel_args(axis_name)
+    xa, xb = compiled.run_axis(*a), kernel.run_axis(*b)
+    assert np.array_equal(a[8], b[8]) and np.array_equal(xa, xb)
+    assert np.ptp(a[8][2]) > 0.01  # the circle was run: the TCP travels 70 mm
+
+
+def test_argument_types_it_was_not_built_for_go_to_numba():
+    built_or_skip()
+    a, b = kernel_args(), kernel_args()
+    a[3] = np.asfortranarray(np.stack([a[3], a[3]]))[0]  # a strided view, not contiguous
+    assert not a[3].flags.c_contiguous
+    compiled.run_axis(*a)
+    kernel.run_axis(*b)
+    assert np.array_equal(a[8], b[8])
+
+
+def test_a_simulating_command_imports_neither_numba_nor_scipy(tmp_path):
+    built_or_skip()
+    cmd = tmp_path / "cmd.csv"
+    from tcpmm.path import write_command_csv
+
+    write_command_csv(paper_circle_command(), cmd)
+    code = ("import sys; from tcpmm.cli import main; rc = main(['simulate', 'builtin:vmc', "
+            f"'--command', {str(cmd)!r}, '-o', {str(tmp_path / 'run.csv')!r}]); "
+            "print(sorted(m for m in ('numba', 'scipy', 'pandas', 'matplotlib', 'llvmlite') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip().splitlines()[-1] == "[]"
+    assert (tmp_path / "run.csv").stat().st_size > 0
+
+
+@pytest.fixture
+def fresh(tmp_path, monkeypatch):
+    """The choice made again, with the compiled modules kept in an empty folder."""
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(compiled, "_chosen", [])
+    return tmp_path
+
+
+def test_a_failed_build_runs_numbas_kernel_and_is_not_tried_again(fresh, monkeypatch):
+    calls = []
+
+    def broken(path):
+        calls.append(path)
+        raise OSError("no C compiler")
+
+    monkeypatch.setattr(compiled, "build", broken)
+    assert "until the first run builds" in compiled.describe()  # describing builds nothing
+    assert not calls
+    assert "its build failed: OSError: no C compiler" in compiled.status()
+    a, b = kernel_args(), kernel_args()
+    compiled.run_axis(*a)
+    kernel.run_axis(*b)
+    assert np.array_equal(a[8], b[8])
+    monkeypatch.setattr(compiled, "_chosen", [])
+    assert "its build failed" in compiled.status()
+    assert len(calls) == 1  # the failure is kept beside the module's place
+    assert list(fresh.rglob("*.failed"))
+    monkeypatch.setattr(compiled, "_chosen", [])
+    assert "build failed: OSError: no C compiler" in compiled.describe()
+
+
+def test_a_build_in_another_process_is_not_waited_for(fresh, monkeypatch):
+    monkeypatch.setattr(compiled, "build", lambda path: pytest.fail("built twice"))
+    path = compiled.module_path()
+    path.parent.mkdir(parents=True)
+    path.with_suffix(".lock").touch()
+    assert "being built by another process" in compiled.status()
+
+
+def test_switched_off_by_the_environment(fresh, monkeypatch):
+    monkeypatch.setenv("TCPMM_COMPILED", "0")
+    monkeypatch.setattr(compiled, "build", lambda path: pytest.fail("built"))
+    assert "TCPMM_COMPILED=0" in compiled.status()
+
+
+def test_the_key_follows_the_kernels_sources(fresh, monkeypatch, tmp_path):
+    before = compiled.module_path().name
+    src = tmp_path / "pkg"
+    for rel in compiled.KERNEL_SOURCES:
+        (src / rel).parent.mkdir(parents=True, exist_ok=True)
+        (src / rel).write_bytes((compiled._PKG / rel).read_bytes())
+    monkeypatch.setattr(compiled, "_PKG", src)
+    assert compiled.module_path().name == before
+    with open(src / "sim" / "contact.py", "a") as f:
+        f.write("\n# an edit\n")
+    assert compiled.module_path().name != before

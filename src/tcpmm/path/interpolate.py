@@ -17,9 +17,6 @@ from .blend import blend_corners
 from .command import Command
 from .filters import FilterShape, apply_filter, filter_shape
 from .geometry import ARC, PathArrays, evaluate, to_arrays
-from .lookahead import junction_limits, lookahead, segment_limits
-from .profile import segment_profiles
-from .sampling import sample, timeline
 from .segments import AXES, Dwell
 from .settings import InterpolatorSettings
 
@@ -92,6 +89,15 @@ def _used_axes(p: PathArrays) -> list[int]:
     return sorted(used)
 
 
+def _compiled():
+    """The look-ahead, profile and sampling modules, compiled by numba on first use:
+    imported with the first interpolation, so a command that reads a command file (and
+    not a program) starts without numba."""
+    from . import lookahead, profile, sampling
+
+    return lookahead, profile, sampling
+
+
 def interpolate_detailed(
     segments, settings: InterpolatorSettings | None = None, start_position_m=None
 ) -> Interpolation:
@@ -132,19 +138,19 @@ def interpolate_detailed(
         raise InputError("the path is empty: give at least one motion or dwell")
     segments = blend_corners(segments, settings.blend_tolerance_m)
     p = to_arrays(segments, settings.rapid())
-    filt = filter_shape(
-        settings.filter_kind, settings.filter_time_s, dt, settings.corner_tolerance_m
-    )
-    vmax, acc, seg_cause = segment_limits(
+    filt = filter_shape(settings.filter_kind, settings.filter_time_s, dt,
+                        settings.corner_tolerance_m)
+    la, pr, sa = _compiled()
+    vmax, acc, seg_cause = la.segment_limits(
         p, settings.axis_velocity(), settings.axis_accel(), settings.path_accel_m_per_s2, filt
     )
-    vj, junction_cause = junction_limits(p, vmax, acc, settings.axis_accel(), filt)
+    vj, junction_cause = la.junction_limits(p, vmax, acc, settings.axis_accel(), filt)
     jerk = settings.jerk()
-    v = lookahead(p.length, vj, acc, jerk)
-    prof = segment_profiles(p.length, v, vmax, acc, jerk)
+    v = la.lookahead(p.length, vj, acc, jerk)
+    prof = pr.segment_profiles(p.length, v, vmax, acc, jerk)
     durations = prof[:, 1] + prof[:, 4] + prof[:, 5]
     settle = filt.kernel.size - 1
-    k0, off, dur, k_end = timeline(p.kind, durations, v, p.dwell_s, dt, settle)
+    k0, off, dur, k_end = sa.timeline(p.kind, durations, v, p.dwell_s, dt, settle)
     n_samples = max(int(k_end) + 1, 2)
     if n_samples > MAX_SAMPLES:
         i = int(np.argmax(dur))
@@ -154,7 +160,7 @@ def interpolate_detailed(
             "check its feed rate and coordinates",
             line=None if p.line[i] < 0 else int(p.line[i]),
         )
-    seg, s = sample(k0, off, dur, p.length, v, prof, n_samples, dt)
+    seg, s = sa.sample(k0, off, dur, p.length, v, prof, n_samples, dt)
     pos = evaluate(p, seg, s)
     cum = np.concatenate([[0.0], np.cumsum(p.length)])
     path_s = cum[seg] + s

@@ -109,6 +109,8 @@ def test_a_command_in_the_wrong_unit_is_named(tmp_path):
 
 def test_compiled_kernels_find_a_cache_when_nothing_of_the_user_is_writable(tmp_path,
                                                                           monkeypatch):
+    import tempfile
+
     import numba
 
     from tcpmm import _numba_cache
@@ -117,7 +119,7 @@ def test_compiled_kernels_find_a_cache_when_nothing_of_the_user_is_writable(tmp_
     monkeypatch.delenv("NUMBA_CACHE_DIR")
     monkeypatch.setattr(numba.config, "CACHE_DIR", numba.config.CACHE_DIR)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    monkeypatch.setattr(_numba_cache.tempfile, "gettempdir", lambda: str(tmp_path))
+    monkeypatch.setattr(tempfile, "gettempdir", lambda: str(tmp_path))
     monkeypatch.setattr(_numba_cache.os, "access", lambda path, mode: False)
     folder = _numba_cache.ensure_cache_dir()
     assert folder is not None and os.environ["NUMBA_CACHE_DIR"] == folder
@@ -137,4 +139,6 @@ def test_version(capsys):
     from tcpmm import __version__
 
     assert main(["--version"]) == 0
-    assert capsys.readouterr().out.strip() == f"tcpmm {__version__}"
+    version, kernel = capsys.readouterr().out.strip().splitlines()
+    assert version == f"tcpmm {__version__}"
+    assert kernel.startswith(("kernel: compiled module ", "kernel: numba's kernel ("))

@@ -9,7 +9,6 @@ then goes to a folder of this user in the system's temporary directory.
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 
@@ -31,6 +30,8 @@ def ensure_cache_dir() -> str | None:
     home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     if _writable(Path(home)):
         return None
+    import tempfile  # only here: 10 ms of every command's start
+
     uid = os.getuid() if hasattr(os, "getuid") else "user"
     folder = Path(tempfile.gettempdir()) / f"tcpmm-numba-cache-{uid}"
     folder.mkdir(mode=0o700, exist_ok=True)

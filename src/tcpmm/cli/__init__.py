@@ -8,8 +8,12 @@ from __future__ import annotations
 import sys
 import warnings
 
-from ..errors import InputWarning, TcpmmError
-from . import (  # noqa: F401  (importing them registers their commands)
+from .._threads import single_threaded_from_start
+
+single_threaded_from_start()  # before the commands' modules load numpy
+
+from ..errors import InputWarning, TcpmmError  # noqa: E402
+from . import (  # noqa: E402, F401  (importing them registers their commands)
     contour,
     frf,
     ident,
@@ -19,7 +23,7 @@ from . import (  # noqa: F401  (importing them registers their commands)
     sweep,
     tune,
 )
-from ._app import _esc, app, console
+from ._app import _esc, app, console  # noqa: E402
 
 
 def main(argv=None) -> int:

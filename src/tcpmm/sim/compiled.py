@@ -23,9 +23,7 @@ import importlib.machinery
 import importlib.util
 import logging
 import os
-import shutil
 import sys
-import tempfile
 import threading
 import time
 from contextlib import contextmanager
@@ -234,6 +232,8 @@ def build(path: Path) -> None:
     path : Path
         The module's file; its name up to the first dot is the module's name [-].
     """
+    import shutil
+    import tempfile
     import warnings
 
     import numba

@@ -1,0 +1,41 @@
+"""BLAS on one thread: set before numpy loads where the command line starts, else limited
+through threadpoolctl; either way every BLAS pool the process has runs one thread."""
+
+import json
+import os
+import subprocess
+import sys
+
+CHECK = """
+import json, sys
+import tcpmm.cli
+from tcpmm._threads import limit_blas_threads
+import numpy as np
+np.ones((64, 64)) @ np.ones((64, 64))
+limited = limit_blas_threads()
+loaded = "threadpoolctl" in sys.modules
+from threadpoolctl import threadpool_info
+print(json.dumps({"limiter": limited is not None, "threadpoolctl_before": loaded,
+                  "threads": sorted({p["num_threads"] for p in threadpool_info()})}))
+"""
+
+
+def run(env_extra):
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+                        "VECLIB_MAXIMUM_THREADS", "OMP_NUM_THREADS")}
+    out = subprocess.run([sys.executable, "-c", CHECK], env={**env, **env_extra},
+                         capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def test_the_command_line_starts_blas_on_one_thread():
+    got = run({})
+    assert got["threads"] == [1]
+    assert not got["limiter"] and not got["threadpoolctl_before"]
+
+
+def test_a_thread_count_of_the_users_is_kept_and_limited_afterwards():
+    got = run({"OPENBLAS_NUM_THREADS": "2"})
+    assert got["limiter"] and got["threadpoolctl_before"]
+    assert got["threads"] == [1]

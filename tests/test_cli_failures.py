@@ -141,4 +141,4 @@ def test_version(capsys):
     assert main(["--version"]) == 0
     version, kernel = capsys.readouterr().out.strip().splitlines()
     assert version == f"tcpmm {__version__}"
-    assert kernel.startswith(("kernel: compiled module ", "kernel: numba's kernel ("))
+    assert kernel.startswith(("kernel: compiled module ", "kernel: numba's kernels ("))

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..sim.compiled import expm
 from .lumped import AxisMechanics
-from .matexp import expm
 
 STATES = ("th_m", "th_L", "X_t", "X_b", "X_h", "w_m", "w_L", "v_t", "v_b", "v_h")
 INPUTS = ("i_c", "T_m", "T_L", "F_t")

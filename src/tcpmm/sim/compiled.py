@@ -1,19 +1,22 @@
-"""The axis kernel compiled ahead of time, so that a command starts without numba.
+"""The axis kernel and the matrix exponential compiled ahead of time, so that a command
+starts without numba.
 
-numba compiles :func:`tcpmm.sim.kernel.run_axis` on its first call and caches the
-machine code, but loading a cached function still costs its import and the set-up of
-its compiler (some 0.5 s of every command that simulates). The first run on a machine
-therefore also builds the same kernel, from the same source, into a Python extension
-module (numba's ``pycc``, for this CPU, releasing the GIL like the compiled kernel);
-later runs import that module in about a millisecond and never import numba. It gives
-the same numbers to the bit: the same code compiled by the same compiler.
+numba compiles :func:`tcpmm.sim.kernel.run_axis` and :func:`tcpmm.sim.expm.expm` on
+their first call and caches the machine code, but loading a cached function still costs
+its import and the set-up of its compiler (some 0.5 s of every command that simulates).
+The first run on a machine therefore also builds the same functions, from the same
+source, into a Python extension module (numba's ``pycc``, for this CPU, its ``run_axis``
+releasing the GIL like the compiled kernel); later runs import that module in about a
+millisecond and never import numba. It gives the same numbers to the bit: the same code
+compiled by the same compiler.
 
 The module is kept beside numba's cache (the package's ``__pycache__``, else the
-user's cache folder, else ``NUMBA_CACHE_DIR``), under a name keyed on the kernel's
-sources, numba's and Python's versions and the CPU, so an edit, an upgrade or another
-machine builds a new one. The build needs a C compiler; where it fails, the reason is
-kept beside it for a day (:func:`status` says it) and the kernel runs through numba as
-before. ``TCPMM_COMPILED=0`` in the environment uses numba's kernel always.
+user's cache folder, else ``NUMBA_CACHE_DIR``), under a name keyed on the sources,
+numba's and Python's versions and the CPU, so an edit, an upgrade or another machine
+builds a new one. The build needs a C compiler; where it fails, the reason is kept
+beside it for a day (:func:`describe` says it, and ``tcpmm --version``) and the
+functions run through numba as before. ``TCPMM_COMPILED=0`` in the environment uses
+numba's always.
 """
 
 from __future__ import annotations
@@ -33,7 +36,8 @@ from .._numba_cache import _writable
 from .layout import ARG_NDIMS, INT_ARG
 
 #: Sources the kernel is compiled from (relative to the package): an edit makes a new key.
-KERNEL_SOURCES = ("sim/kernel.py", "sim/contact.py", "sim/layout.py", "mechanics/friction.py")
+KERNEL_SOURCES = ("sim/kernel.py", "sim/contact.py", "sim/layout.py", "sim/expm.py",
+                  "mechanics/friction.py")
 #: A failed build is not tried again for this long [s]; a build lock older than
 #: :data:`LOCK_STALE_S` is taken to be left by a process that died [s].
 RETRY_AFTER_S = 86400.0
@@ -41,15 +45,49 @@ LOCK_STALE_S = 900.0
 _PKG = Path(__file__).resolve().parent.parent
 _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
-_chosen: list = []  # [function, description] once chosen
+_chosen: list = []  # [module or None, description] once chosen
+_NUMBA = "numba's kernels"
 
 
 def run_axis(*args):
     """:func:`tcpmm.sim.kernel.run_axis`, from the module compiled ahead of time where
     there is one (built on the first call where there is none), else through numba.
     Same arguments and results [SI]."""
-    fn = _chosen[0] if _chosen else _choose()[0]
-    return fn(*args)
+    mod = (_chosen or _choose())[0]
+    if mod is not None and _built_for(args):
+        return mod.run_axis(*args)
+    from . import kernel
+
+    return kernel.run_axis(*args)
+
+
+def expm(A):
+    """The matrix exponential ``exp(A)`` (:func:`tcpmm.sim.expm.expm`, compiled like
+    :func:`run_axis`).
+
+    Parameters
+    ----------
+    A : array_like (n, n)
+        A real square matrix, finite [-].
+
+    Returns
+    -------
+    ndarray (n, n)
+        ``exp(A)`` [-].
+    """
+    import numpy as np
+
+    A = np.ascontiguousarray(A, dtype=np.float64)
+    if A.ndim != 2 or A.shape[0] != A.shape[1]:
+        raise ValueError(f"expm needs a square matrix, not one of shape {A.shape}")
+    if not np.all(np.isfinite(A)):
+        raise ValueError("expm needs a finite matrix")
+    mod = (_chosen or _choose())[0]
+    if mod is not None:
+        return mod.expm(A)
+    from .expm import expm as compiled_expm
+
+    return compiled_expm(A)
 
 
 def status() -> str:
@@ -62,7 +100,7 @@ def describe() -> str:
     if _chosen:
         return _chosen[1]
     if os.environ.get("TCPMM_COMPILED", "1").strip() == "0":
-        return "numba's kernel (TCPMM_COMPILED=0)"
+        return _NUMBA + " (TCPMM_COMPILED=0)"
     try:
         path = module_path()
         failed = path.with_suffix(".failed")
@@ -70,10 +108,10 @@ def describe() -> str:
             return f"compiled module {path}"
         if failed.exists():
             why = failed.read_text().strip()
-            return f"numba's kernel (the compiled module's build failed: {why})"
+            return f"{_NUMBA} (the compiled module's build failed: {why})"
     except OSError as exc:
-        return f"numba's kernel (no place for the compiled module: {exc})"
-    return f"numba's kernel until the first run builds the compiled module {path}"
+        return f"{_NUMBA} (no place for the compiled module: {exc})"
+    return f"{_NUMBA} until the first run builds the compiled module {path}"
 
 
 def _choose():
@@ -83,52 +121,39 @@ def _choose():
         return _chosen
 
 
-def _jit(why: str):
-    from . import kernel
-
-    return kernel.run_axis, f"numba's kernel ({why})"
-
-
 def _compiled_or_jit():
+    """``(module, description)``: the compiled module, or ``None`` (numba's kernels) and
+    why."""
     if os.environ.get("TCPMM_COMPILED", "1").strip() == "0":
-        return _jit("TCPMM_COMPILED=0")
+        return None, _NUMBA + " (TCPMM_COMPILED=0)"
     try:
         path = module_path()
         if not path.exists():
             reason = _build_once(path)
             if reason:
-                return _jit(reason)
+                return None, f"{_NUMBA} ({reason})"
         mod = _import(path)
     except Exception as exc:  # a tool chain can fail in many ways; the kernel still runs
         _LOG.debug("compiled kernel not used", exc_info=True)
-        return _jit(f"the compiled module failed: {type(exc).__name__}: {exc}")
-    return _guarded(mod.run_axis), f"compiled module {path}"
+        return None, f"{_NUMBA} (the compiled module failed: {type(exc).__name__}: {exc})"
+    return mod, f"compiled module {path}"
 
 
-def _guarded(fn):
-    """The compiled entry for the arguments it was built for, numba's kernel for others:
-    the compiled module's wrapper checks types and dimensions but not the memory layout,
-    and would read a strided array as if it were contiguous."""
+def _built_for(args) -> bool:
+    """Whether ``args`` are of the types the module's ``run_axis`` was built for: its
+    wrapper checks types and dimensions but not the memory layout, and would read a
+    strided array as if it were contiguous."""
     import numpy as np
 
-    kinds = tuple((np.dtype(np.int64 if i == INT_ARG else np.float64), nd)
-                  for i, nd in enumerate(ARG_NDIMS))
-
-    def run(*args):
-        if len(args) == len(kinds) and all(
-                type(a) is np.ndarray and a.dtype == dt and a.ndim == nd and a.flags.c_contiguous
-                for a, (dt, nd) in zip(args, kinds, strict=True)):
-            return fn(*args)
-        from . import kernel
-
-        return kernel.run_axis(*args)
-
-    return run
+    return len(args) == len(ARG_NDIMS) and all(
+        type(a) is np.ndarray and a.ndim == nd and a.flags.c_contiguous
+        and a.dtype == (np.int64 if i == INT_ARG else np.float64)
+        for i, (a, nd) in enumerate(zip(args, ARG_NDIMS, strict=True)))
 
 
 def module_path() -> Path:
     """Where the compiled module for this kernel, numba, Python and CPU is kept [-]."""
-    name = f"_run_axis_{_key()}"
+    name = f"_kernels_{_key()}"
     return _folder() / (name + importlib.machinery.EXTENSION_SUFFIXES[0])
 
 
@@ -242,7 +267,7 @@ def build(path: Path) -> None:
         warnings.simplefilter("ignore")  # pycc is marked as pending deprecation
         import numba.pycc.compiler as pcc
         from numba.pycc import CC
-    from . import kernel
+    from . import expm, kernel
 
     name = path.name.split(".")[0]
     tmp = tempfile.mkdtemp(prefix=f".{name}-", dir=path.parent)
@@ -252,6 +277,8 @@ def build(path: Path) -> None:
         arrays = [numba.types.Array(numba.int64 if i == INT_ARG else numba.float64, nd, "C")
                   for i, nd in enumerate(ARG_NDIMS)]
         cc.export("run_axis", numba.float64[::1](*arrays))(kernel._run_axis.py_func)
+        square = numba.types.Array(numba.float64, 2, "C")
+        cc.export("expm", square(square))(expm.expm.py_func)
         with kernel._COMPILING, _vectorised_without_gil(numba, pcc):
             cc.compile()
         os.replace(Path(tmp) / cc.output_file, path)

@@ -119,7 +119,7 @@ def test_a_held_axis_stays_held_whatever_the_rounding(vmc, seed):
     a = vmc.axes["Z"]
     t = np.arange(0.0, 0.5, 1e-3)
     pos = np.zeros_like(t)
-    n = int(round(t[-1] / a.servo.T_v)) + 1
+    n = int(np.rint(t[-1] / a.servo.T_v)) + 1
     k = axis_kernel_inputs(a, 0.0, False, 1, True, 1e-3, n)
     rng = np.random.default_rng(seed)
     for M in (k.AdT, k.BdT, k.AdsT, k.BdsT):

@@ -5,6 +5,7 @@ kernel wherever the compiled module cannot be had."""
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -62,20 +63,41 @@ def test_argument_types_it_was_not_built_for_go_to_numba():
     assert np.array_equal(a[8], b[8])
 
 
-def test_a_simulating_command_imports_neither_numba_nor_scipy(tmp_path):
-    built_or_skip()
-    cmd = tmp_path / "cmd.csv"
-    from tcpmm.path import write_command_csv
+PROGRAM = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"
 
-    write_command_csv(paper_circle_command(), cmd)
+
+@pytest.mark.parametrize("source", ["--command", "--gcode"])
+def test_a_simulating_command_imports_neither_numba_nor_scipy(tmp_path, source):
+    built_or_skip()
+    if source == "--command":
+        from tcpmm.path import write_command_csv
+
+        write_command_csv(paper_circle_command(), given := tmp_path / "cmd.csv")
+    else:
+        given = PROGRAM
     code = ("import sys; from tcpmm.cli import main; rc = main(['simulate', 'builtin:vmc', "
-            f"'--command', {str(cmd)!r}, '-o', {str(tmp_path / 'run.csv')!r}]); "
+            f"{source!r}, {str(given)!r}, '-o', {str(tmp_path / 'run.csv')!r}]); "
             "print(sorted(m for m in ('numba', 'scipy', 'pandas', 'matplotlib', 'llvmlite') "
             "if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout
     assert out.strip().splitlines()[-1] == "[]"
     assert (tmp_path / "run.csv").stat().st_size > 0
+
+
+def test_the_interpolation_is_numbas_to_the_bit(monkeypatch):
+    """The paper's circle as an NC program, interpolated with the look-ahead, profiles and
+    sampling of the compiled module and with numba's."""
+    from tcpmm.path import program_to_command, read_program
+
+    built_or_skip()
+    program = read_program(PROGRAM)
+    ours = program_to_command(program)
+    monkeypatch.setattr(compiled, "_chosen", [None, "numba's kernels (forced)"])
+    theirs = program_to_command(program)
+    assert ours.time_s.size > 1000
+    for axis, pos in theirs.positions.items():
+        assert np.array_equal(ours.positions[axis], pos)
 
 
 @pytest.fixture

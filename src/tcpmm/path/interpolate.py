@@ -13,12 +13,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..sim import compiled as ck  # the look-ahead, profiles and sampling, compiled
 from .blend import blend_corners
 from .command import Command
 from .filters import FilterShape, apply_filter, filter_shape
 from .geometry import ARC, PathArrays, evaluate, to_arrays
 from .segments import AXES, Dwell
 from .settings import InterpolatorSettings
+from .speedlimits import junction_limits, segment_limits
 
 #: longest command the interpolator makes (about 2.8 h at 1 ms) [-]
 MAX_SAMPLES = 10_000_000
@@ -43,11 +45,11 @@ class Interpolation:
     filter : FilterShape
         The post-interpolation filter [-].
     segment_cause : ndarray of int
-        What sets each segment's speed limit (``lookahead.SEGMENT_CAUSES``) [-].
+        What sets each segment's speed limit (``speedlimits.SEGMENT_CAUSES``) [-].
     junction_limit_m_per_s : ndarray
         Speed limit of each junction before the look-ahead [m/s].
     junction_cause : ndarray of int
-        What sets it (``lookahead.JUNCTION_CAUSES``) [-].
+        What sets it (``speedlimits.JUNCTION_CAUSES``) [-].
     segment_peak_m_per_s : ndarray
         Highest speed each segment reaches [m/s].
     jerk_limited : bool
@@ -87,15 +89,6 @@ def _used_axes(p: PathArrays) -> list[int]:
         arc = p.kind == ARC
         used |= set(np.unique(p.ia[arc]).tolist()) | set(np.unique(p.ib[arc]).tolist())
     return sorted(used)
-
-
-def _compiled():
-    """The look-ahead, profile and sampling modules, compiled by numba on first use:
-    imported with the first interpolation, so a command that reads a command file (and
-    not a program) starts without numba."""
-    from . import lookahead, profile, sampling
-
-    return lookahead, profile, sampling
 
 
 def interpolate_detailed(
@@ -140,17 +133,16 @@ def interpolate_detailed(
     p = to_arrays(segments, settings.rapid())
     filt = filter_shape(settings.filter_kind, settings.filter_time_s, dt,
                         settings.corner_tolerance_m)
-    la, pr, sa = _compiled()
-    vmax, acc, seg_cause = la.segment_limits(
+    vmax, acc, seg_cause = segment_limits(
         p, settings.axis_velocity(), settings.axis_accel(), settings.path_accel_m_per_s2, filt
     )
-    vj, junction_cause = la.junction_limits(p, vmax, acc, settings.axis_accel(), filt)
+    vj, junction_cause = junction_limits(p, vmax, acc, settings.axis_accel(), filt)
     jerk = settings.jerk()
-    v = la.lookahead(p.length, vj, acc, jerk)
-    prof = pr.segment_profiles(p.length, v, vmax, acc, jerk)
+    v = ck.lookahead(p.length, vj, acc, jerk)
+    prof = ck.segment_profiles(p.length, v, vmax, acc, jerk)
     durations = prof[:, 1] + prof[:, 4] + prof[:, 5]
     settle = filt.kernel.size - 1
-    k0, off, dur, k_end = sa.timeline(p.kind, durations, v, p.dwell_s, dt, settle)
+    k0, off, dur, k_end = ck.timeline(p.kind, durations, v, p.dwell_s, dt, settle)
     n_samples = max(int(k_end) + 1, 2)
     if n_samples > MAX_SAMPLES:
         i = int(np.argmax(dur))
@@ -160,7 +152,7 @@ def interpolate_detailed(
             "check its feed rate and coordinates",
             line=None if p.line[i] < 0 else int(p.line[i]),
         )
-    seg, s = sa.sample(k0, off, dur, p.length, v, prof, n_samples, dt)
+    seg, s = ck.sample(k0, off, dur, p.length, v, prof, n_samples, dt)
     pos = evaluate(p, seg, s)
     cum = np.concatenate([[0.0], np.cumsum(p.length)])
     path_s = cum[seg] + s

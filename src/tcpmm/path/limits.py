@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .geometry import DWELL
-from .lookahead import JUNCTION_CAUSES, SEGMENT_CAUSES
+from .speedlimits import JUNCTION_CAUSES, SEGMENT_CAUSES
 
 #: a block reaching less than this share of its feed is held back [-]
 HELD_SHARE = 0.99

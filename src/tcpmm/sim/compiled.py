@@ -1,8 +1,9 @@
-"""The axis kernel and the matrix exponential compiled ahead of time, so that a command
-starts without numba.
+"""The axis kernel, the matrix exponential and the interpolator's compiled functions
+built ahead of time, so that a command starts without numba.
 
-numba compiles :func:`tcpmm.sim.kernel.run_axis` and :func:`tcpmm.sim.expm.expm` on
-their first call and caches the machine code, but loading a cached function still costs
+numba compiles :func:`tcpmm.sim.kernel.run_axis`, :func:`tcpmm.sim.expm.expm` and the
+look-ahead, profiles and sampling of :mod:`tcpmm.path` (:data:`FUNCTIONS`) on their
+first call and caches the machine code, but loading a cached function still costs
 its import and the set-up of its compiler (some 0.5 s of every command that simulates).
 The first run on a machine therefore also builds the same functions, from the same
 source, into a Python extension module (numba's ``pycc``, for this CPU, its ``run_axis``
@@ -35,9 +36,27 @@ from pathlib import Path
 from .._numba_cache import _writable
 from .layout import ARG_NDIMS, INT_ARG
 
-#: Sources the kernel is compiled from (relative to the package): an edit makes a new key.
+#: Sources the functions are compiled from (relative to the package): an edit makes a
+#: new key.
 KERNEL_SOURCES = ("sim/kernel.py", "sim/contact.py", "sim/layout.py", "sim/expm.py",
-                  "mechanics/friction.py")
+                  "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
+                  "path/sampling.py", "path/geometry.py")
+_KERNEL_KINDS = tuple(("i" if i == INT_ARG else "f") + str(nd) for i, nd in enumerate(ARG_NDIMS))
+#: The functions built into the module: name -> (module of tcpmm, numba's entry point,
+#: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``
+#: C-contiguous float64 or int64 arrays of 1 or 2 dimensions; ``f``, ``i`` a float64 or
+#: int64 number; a tuple for a tuple.
+FUNCTIONS = {
+    "run_axis": ("sim.kernel", "run_axis", "_run_axis", _KERNEL_KINDS, "f1"),
+    "expm": ("sim.expm", "expm", "expm", ("f2",), "f2"),
+    "lookahead": ("path.lookahead", "lookahead", "lookahead", ("f1", "f1", "f1", "f"), "f1"),
+    "segment_profiles": ("path.profile", "segment_profiles", "segment_profiles",
+                         ("f1", "f1", "f1", "f1", "f"), "f2"),
+    "timeline": ("path.sampling", "timeline", "timeline",
+                 ("i1", "f1", "f1", "f1", "f", "i"), ("i1", "f1", "f1", "i")),
+    "sample": ("path.sampling", "sample", "sample",
+               ("i1", "f1", "f1", "f1", "f1", "f2", "i", "f"), ("i1", "f1")),
+}
 #: A failed build is not tried again for this long [s]; a build lock older than
 #: :data:`LOCK_STALE_S` is taken to be left by a process that died [s].
 RETRY_AFTER_S = 86400.0
@@ -49,16 +68,40 @@ _chosen: list = []  # [module or None, description] once chosen
 _NUMBA = "numba's kernels"
 
 
-def run_axis(*args):
-    """:func:`tcpmm.sim.kernel.run_axis`, from the module compiled ahead of time where
-    there is one (built on the first call where there is none), else through numba.
-    Same arguments and results [SI]."""
+def call(name: str, *args):
+    """Function ``name`` of :data:`FUNCTIONS` from the module compiled ahead of time where
+    there is one (built on the first call where there is none) and the arguments are of
+    the kinds it was built for, else numba's; the same arguments and results [SI]."""
     mod = (_chosen or _choose())[0]
-    if mod is not None and _built_for(args):
-        return mod.run_axis(*args)
-    from . import kernel
+    if mod is not None and _fits(FUNCTIONS[name][3], args):
+        return getattr(mod, name)(*args)
+    module, entry = FUNCTIONS[name][:2]
+    return getattr(importlib.import_module(f"tcpmm.{module}"), entry)(*args)
 
-    return kernel.run_axis(*args)
+
+def run_axis(*args):
+    """:func:`tcpmm.sim.kernel.run_axis` through :func:`call` [SI]."""
+    return call("run_axis", *args)
+
+
+def lookahead(*args):
+    """:func:`tcpmm.path.lookahead.lookahead` through :func:`call` [SI]."""
+    return call("lookahead", *args)
+
+
+def segment_profiles(*args):
+    """:func:`tcpmm.path.profile.segment_profiles` through :func:`call` [SI]."""
+    return call("segment_profiles", *args)
+
+
+def timeline(*args):
+    """:func:`tcpmm.path.sampling.timeline` through :func:`call` [SI]."""
+    return call("timeline", *args)
+
+
+def sample(*args):
+    """:func:`tcpmm.path.sampling.sample` through :func:`call` [SI]."""
+    return call("sample", *args)
 
 
 def expm(A):
@@ -82,12 +125,7 @@ def expm(A):
         raise ValueError(f"expm needs a square matrix, not one of shape {A.shape}")
     if not np.all(np.isfinite(A)):
         raise ValueError("expm needs a finite matrix")
-    mod = (_chosen or _choose())[0]
-    if mod is not None:
-        return mod.expm(A)
-    from .expm import expm as compiled_expm
-
-    return compiled_expm(A)
+    return call("expm", A)
 
 
 def status() -> str:
@@ -139,16 +177,23 @@ def _compiled_or_jit():
     return mod, f"compiled module {path}"
 
 
-def _built_for(args) -> bool:
-    """Whether ``args`` are of the types the module's ``run_axis`` was built for: its
-    wrapper checks types and dimensions but not the memory layout, and would read a
+def _fits(kinds, args) -> bool:
+    """Whether ``args`` are of the ``kinds`` a function was built for: the module's
+    wrappers check types and dimensions but not the memory layout, and would read a
     strided array as if it were contiguous."""
     import numpy as np
 
-    return len(args) == len(ARG_NDIMS) and all(
-        type(a) is np.ndarray and a.ndim == nd and a.flags.c_contiguous
-        and a.dtype == (np.int64 if i == INT_ARG else np.float64)
-        for i, (a, nd) in enumerate(zip(args, ARG_NDIMS, strict=True)))
+    if len(args) != len(kinds):
+        return False
+    for a, k in zip(args, kinds, strict=True):
+        if len(k) == 2:
+            if not (type(a) is np.ndarray and a.ndim == int(k[1]) and a.flags.c_contiguous
+                    and a.dtype == (np.int64 if k[0] == "i" else np.float64)):
+                return False
+        elif isinstance(a, bool | np.bool_) or not isinstance(
+                a, (int, np.integer) if k == "i" else (int, float, np.integer, np.floating)):
+            return False
+    return True
 
 
 def module_path() -> Path:
@@ -267,23 +312,30 @@ def build(path: Path) -> None:
         warnings.simplefilter("ignore")  # pycc is marked as pending deprecation
         import numba.pycc.compiler as pcc
         from numba.pycc import CC
-    from . import expm, kernel
+    from . import kernel
 
     name = path.name.split(".")[0]
     tmp = tempfile.mkdtemp(prefix=f".{name}-", dir=path.parent)
     try:
         cc = CC(name)
         cc.output_dir, cc.target_cpu, cc.verbose = tmp, "host", False
-        arrays = [numba.types.Array(numba.int64 if i == INT_ARG else numba.float64, nd, "C")
-                  for i, nd in enumerate(ARG_NDIMS)]
-        cc.export("run_axis", numba.float64[::1](*arrays))(kernel._run_axis.py_func)
-        square = numba.types.Array(numba.float64, 2, "C")
-        cc.export("expm", square(square))(expm.expm.py_func)
+        for fname, (module, _, source, kinds, result) in FUNCTIONS.items():
+            fn = getattr(importlib.import_module(f"tcpmm.{module}"), source)
+            sig = _numba_type(numba, result)(*(_numba_type(numba, k) for k in kinds))
+            cc.export(fname, sig)(fn.py_func)
         with kernel._COMPILING, _vectorised_without_gil(numba, pcc):
             cc.compile()
         os.replace(Path(tmp) / cc.output_file, path)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _numba_type(numba, kind):
+    """numba's type for a kind of :data:`FUNCTIONS`."""
+    if isinstance(kind, tuple):
+        return numba.types.Tuple(tuple(_numba_type(numba, k) for k in kind))
+    scalar = numba.int64 if kind[0] == "i" else numba.float64
+    return numba.types.Array(scalar, int(kind[1]), "C") if len(kind) == 2 else scalar
 
 
 @contextmanager

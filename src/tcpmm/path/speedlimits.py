@@ -1,0 +1,188 @@
+"""Speed limits of segments and corners (numpy; the look-ahead over them is compiled, in
+:mod:`tcpmm.path.lookahead`).
+
+Segment limits: programmed feed, per-axis velocity, tangential acceleration shared
+with the centripetal acceleration on arcs, and the radius loss the post-interpolation
+filter causes on arcs. Corner limits: the per-axis velocity step at a corner is at most
+``a_axis * T`` (``T`` = the time over which the filter, or one period, spreads it), and
+the filter must not cut the corner by more than the corner tolerance.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
+
+#: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
+REVERSAL_TOL = 1e-9
+#: what sets a segment's speed limit (index = the code :func:`segment_limits` returns)
+SEGMENT_CAUSES = ("programmed feed", "axis velocity", "curvature (centripetal acceleration)",
+                  "filter tolerance on arcs")
+#: what sets a junction's speed limit (index = the code :func:`junction_limits` returns)
+JUNCTION_CAUSES = ("segment limit", "corner: axis acceleration", "corner: filter tolerance",
+                   "exact stop")
+
+
+def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
+    """Speed limit and tangential acceleration limit of every segment.
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    vel_axis, acc_axis : sequence of float
+        Velocity [m/s] and acceleration [m/s^2] limit of X, Y, Z.
+    acc_path : float
+        Path (tangential) acceleration limit [m/s^2].
+    filt : filters.FilterShape
+        The post-interpolation filter [-].
+
+    Returns
+    -------
+    vmax : ndarray
+        Speed limit per segment [m/s].
+    acc : ndarray
+        Tangential acceleration limit per segment [m/s^2].
+    cause : ndarray of int
+        What sets ``vmax``, an index into ``SEGMENT_CAUSES`` [-].
+    """
+    vel_axis = np.asarray(vel_axis, float)
+    acc_axis = np.asarray(acc_axis, float)
+    n = p.n
+    L = np.where(p.length > 0, p.length, 1.0)
+    u = np.abs(p.end - p.start) / L[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v_axis = np.min(vel_axis[None, :] / u, axis=1)
+        vmax = np.minimum(p.feed, v_axis)
+        acc = np.minimum(acc_path, np.min(acc_axis[None, :] / u, axis=1))
+    cause = np.where(v_axis < p.feed, 1, 0)
+    a = np.flatnonzero(p.kind == ARC)
+    if a.size:
+        ia, ib, ih = p.ia[a], p.ib[a], p.ih[a]
+        La = p.length[a]
+        sw = np.abs(p.sweep[a])
+        rmax = np.maximum(p.r0[a], p.r1[a])
+        dr = np.abs(p.r1[a] - p.r0[a])
+        mcos, msin = max_abs_trig(p.theta0[a], p.sweep[a])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # axis velocity: first plane axis moves with sin, second with cos
+            va = vel_axis[ia] * La / (dr + rmax * sw * msin)
+            vb = vel_axis[ib] * La / (dr + rmax * sw * mcos)
+            vh = vel_axis[ih] * La / np.abs(p.dh[a])
+            a_plane = np.minimum(acc_axis[ia], acc_axis[ib])
+            a_t = np.minimum.reduce(
+                [
+                    np.full(a.size, acc_path),
+                    a_plane / math.sqrt(2.0),
+                    acc_axis[ih] * La / np.abs(p.dh[a]),
+                ]
+            )
+            a_n = np.sqrt(a_plane**2 - a_t**2)
+            kappa = rmax * sw**2 / La**2
+            vc = np.sqrt(a_n / kappa)
+            vf = np.full(a.size, np.inf)
+            if filt.variance_s2 > 0.0:
+                # radius loss of a circle through the filter ~ r*omega^2*var/2 <= tol
+                omega = np.sqrt(2.0 * filt.tolerance_m / (rmax * filt.variance_s2))
+                vf = omega * La / sw
+        parts = np.stack([p.feed[a], np.minimum.reduce([va, vb, vh]), vc, vf])
+        vmax[a] = parts.min(axis=0)
+        cause[a] = np.argmin(parts, axis=0)
+        acc[a] = a_t
+    _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
+    vmax[p.kind == DWELL] = 0.0
+    acc[p.kind == DWELL] = acc_path
+    if n and not np.all(vmax[p.kind != DWELL] > 0):
+        raise AssertionError("segment speed limit must be positive")
+    return vmax, acc, cause
+
+
+def _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause):
+    """Speed and tangential acceleration limits of the corner blends, set in place: an
+    axis moves along a blend at most ``sqrt(e1^2 + e2^2)`` times the path's velocity and
+    acceleration; the acceleration is shared between tangent and normal as on arcs."""
+    b = np.flatnonzero(p.kind == BLEND)
+    if not b.size:
+        return
+    share = np.sqrt(p.e1[b] ** 2 + p.e2[b] ** 2)
+    r = p.r0[b]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v_axis = np.min(vel_axis[None, :] / share, axis=1)
+        a_plane = np.min(acc_axis[None, :] / share, axis=1)
+    a_t = np.minimum(acc_path, a_plane / math.sqrt(2.0))
+    vc = np.sqrt(np.sqrt(a_plane**2 - a_t**2) * r)
+    vf = np.full(b.size, np.inf)
+    if filt.variance_s2 > 0.0:
+        vf = np.sqrt(2.0 * filt.tolerance_m / (r * filt.variance_s2)) * r
+    parts = np.stack([p.feed[b], v_axis, vc, vf])
+    vmax[b] = parts.min(axis=0)
+    cause[b] = np.argmin(parts, axis=0)
+    acc[b] = a_t
+
+
+def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
+    """Speed limit at the start of each segment and at the end of the path [m/s].
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    vmax : ndarray
+        Speed limit per segment [m/s].
+    acc : ndarray
+        Tangential acceleration limit per segment [m/s^2].
+    acc_axis : sequence of float
+        Acceleration limit of X, Y, Z [m/s^2].
+    filt : filters.FilterShape
+        The post-interpolation filter [-].
+
+    Returns
+    -------
+    vj : ndarray
+        ``n + 1`` junction speed limits; the first and last are zero [m/s].
+    cause : ndarray of int
+        What sets each, an index into ``JUNCTION_CAUSES`` [-].
+
+    Notes
+    -----
+    With the speed ``v`` at a corner and the tangential acceleration ``a`` on either
+    side, the filter pulls the path off the corner point by about
+    ``|du|/2 * (v*MAD + a*VAR/2)`` (``du`` change of the unit tangent, ``MAD`` and
+    ``VAR`` the mean absolute deviation and variance of the filter's impulse response).
+    Where even ``v = 0`` exceeds the tolerance, the corner becomes an exact stop, and
+    the next move waits until the filter has settled.
+    """
+    n = p.n
+    vj = np.zeros(n + 1)
+    cause = np.full(n + 1, 3)
+    if n < 2:
+        return vj, cause
+    t_out = tangents(p, at_end=True)[:-1]
+    t_in = tangents(p, at_end=False)[1:]
+    du = t_in - t_out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = np.asarray(acc_axis, float)[None, :] * filt.spread_s / np.abs(du)
+        cap = np.min(step, axis=1)
+        dun = np.linalg.norm(du, axis=1)
+        tol = np.full(n - 1, np.inf)
+        if filt.mad_s > 0.0:
+            a_side = np.maximum(acc[:-1], acc[1:])
+            room = 2.0 * filt.tolerance_m / dun - 0.5 * a_side * filt.variance_s2
+            tol = np.maximum(room, 0.0) / filt.mad_s
+    parts = np.stack([np.minimum(vmax[:-1], vmax[1:]), cap, tol])
+    cap = parts.min(axis=0)
+    why = np.argmin(parts, axis=0)
+    stop = (
+        (np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
+        | (p.kind[:-1] == DWELL)
+        | (p.kind[1:] == DWELL)
+        | p.rapid[:-1]
+        | p.rapid[1:]
+        | p.exact_stop[:-1]
+    )
+    vj[1:-1] = np.where(stop, 0.0, cap)
+    cause[1:-1] = np.where(stop, 3, why)
+    return vj, cause

@@ -42,7 +42,8 @@ is advanced with the matrices of the plant without the nut spring (``AdgT``, ``B
 sub-step period), so the play is exact apart from the instant contact changes within a
 sub-step. Friction is exact in stick: the
 force over a step is the one that brings the body to rest when the static level allows
-(its effective mass over the step comes from the discrete input column). A step in which
+(its effective mass over the step comes from the discrete input column); where screw and
+guideway both stick, the two forces that stop both together. A step in which
 a friction velocity reaches or crosses zero, or a held contact breaks away, is redone in
 ``ip[6]`` sub-steps; a contact that stays held over a whole step needs none.
 

@@ -146,7 +146,8 @@ def describe() -> str:
             return f"compiled module {path}"
         if failed.exists():
             why = failed.read_text().strip()
-            return f"{_NUMBA} (the compiled module's build failed: {why})"
+            return (f"{_NUMBA} (the compiled module's build failed: {why}; it is tried again "
+                    f"a day later, or at once after deleting {failed})")
     except OSError as exc:
         return f"{_NUMBA} (no place for the compiled module: {exc})"
     return f"{_NUMBA} until the first run builds the compiled module {path}"
@@ -258,7 +259,8 @@ def _build_once(path: Path) -> str:
     why the module is not there, or ``""`` once it is."""
     failed = path.with_suffix(".failed")
     if failed.exists() and time.time() - failed.stat().st_mtime < RETRY_AFTER_S:
-        return f"its build failed: {failed.read_text().strip()}"
+        return (f"its build failed: {failed.read_text().strip()}; it is tried again a day "
+                f"later, or at once after deleting {failed}")
     path.parent.mkdir(parents=True, exist_ok=True)
     with _build_lock(path.with_suffix(".lock")) as mine:
         if not mine:

@@ -66,6 +66,7 @@ _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
 _chosen: list = []  # [module or None, description] once chosen
 _NUMBA = "numba's kernels"
+_OFF = _NUMBA + " (TCPMM_COMPILED=0)"
 
 
 def call(name: str, *args):
@@ -137,17 +138,15 @@ def describe() -> str:
     """Which kernel a command would run, without building anything [-]."""
     if _chosen:
         return _chosen[1]
-    if os.environ.get("TCPMM_COMPILED", "1").strip() == "0":
-        return _NUMBA + " (TCPMM_COMPILED=0)"
+    if _switched_off():
+        return _OFF
     try:
         path = module_path()
-        failed = path.with_suffix(".failed")
         if path.exists():
             return f"compiled module {path}"
-        if failed.exists():
-            why = failed.read_text().strip()
-            return (f"{_NUMBA} (the compiled module's build failed: {why}; it is tried again "
-                    f"a day later, or at once after deleting {failed})")
+        failure = _recent_failure(path)
+        if failure:
+            return f"{_NUMBA} ({failure})"
     except OSError as exc:
         return f"{_NUMBA} (no place for the compiled module: {exc})"
     return f"{_NUMBA} until the first run builds the compiled module {path}"
@@ -163,8 +162,8 @@ def _choose():
 def _compiled_or_jit():
     """``(module, description)``: the compiled module, or ``None`` (numba's kernels) and
     why."""
-    if os.environ.get("TCPMM_COMPILED", "1").strip() == "0":
-        return None, _NUMBA + " (TCPMM_COMPILED=0)"
+    if _switched_off():
+        return None, _OFF
     try:
         path = module_path()
         if not path.exists():
@@ -257,10 +256,9 @@ def _import(path: Path):
 def _build_once(path: Path) -> str:
     """Build the module unless a build failed lately or runs in another process; returns
     why the module is not there, or ``""`` once it is."""
-    failed = path.with_suffix(".failed")
-    if failed.exists() and time.time() - failed.stat().st_mtime < RETRY_AFTER_S:
-        return (f"its build failed: {failed.read_text().strip()}; it is tried again a day "
-                f"later, or at once after deleting {failed}")
+    failure = _recent_failure(path)
+    if failure:
+        return failure
     path.parent.mkdir(parents=True, exist_ok=True)
     with _build_lock(path.with_suffix(".lock")) as mine:
         if not mine:
@@ -271,9 +269,24 @@ def _build_once(path: Path) -> str:
             build(path)
         except Exception as exc:  # no C compiler, a full disk, ...
             _LOG.debug("building the compiled kernel failed", exc_info=True)
-            failed.write_text(f"{type(exc).__name__}: {exc}\n")
-            return f"its build failed: {type(exc).__name__}: {exc}"
+            path.with_suffix(".failed").write_text(f"{type(exc).__name__}: {exc}\n")
+            return _recent_failure(path)
     return ""
+
+
+def _recent_failure(path: Path) -> str:
+    """Why the build of the module ``path`` failed, where it failed less than
+    :data:`RETRY_AFTER_S` ago (kept beside it); else ``""``."""
+    failed = path.with_suffix(".failed")
+    if not (failed.exists() and time.time() - failed.stat().st_mtime < RETRY_AFTER_S):
+        return ""
+    return (f"its build failed: {failed.read_text().strip()}; it is tried again a day "
+            f"later, or at once after deleting {failed}")
+
+
+def _switched_off() -> bool:
+    """Whether ``TCPMM_COMPILED=0`` asks for numba's kernels always [-]."""
+    return os.environ.get("TCPMM_COMPILED", "1").strip() == "0"
 
 
 @contextmanager
@@ -325,7 +338,7 @@ def build(path: Path) -> None:
             fn = getattr(importlib.import_module(f"tcpmm.{module}"), source)
             sig = _numba_type(numba, result)(*(_numba_type(numba, k) for k in kinds))
             cc.export(fname, sig)(fn.py_func)
-        with kernel._COMPILING, _vectorised_without_gil(numba, pcc):
+        with kernel.vectorised(), _releasing_the_gil(pcc):
             cc.compile()
         os.replace(Path(tmp) / cc.output_file, path)
     finally:
@@ -341,18 +354,17 @@ def _numba_type(numba, kind):
 
 
 @contextmanager
-def _vectorised_without_gil(numba, pcc):
-    """pycc's compilation with LLVM's SLP vectoriser on (as numba's kernel is compiled)
-    and a wrapper that releases the GIL (so that axes run in parallel threads)."""
+def _releasing_the_gil(pcc):
+    """pycc's compilation with wrappers that release the GIL (so that axes run in parallel
+    threads)."""
 
     class Flags(pcc.Flags):
         def __init__(self, *args, **kwargs):
             super().__init__(*args, **kwargs)
             self.release_gil = True
 
-    before, plain = numba.config.SLP_VECTORIZE, pcc.Flags
-    numba.config.SLP_VECTORIZE, pcc.Flags = 1, Flags
+    plain, pcc.Flags = pcc.Flags, Flags
     try:
         yield
     finally:
-        numba.config.SLP_VECTORIZE, pcc.Flags = before, plain
+        pcc.Flags = plain

@@ -64,6 +64,7 @@ and scratch swap roles instead of being copied.
 from __future__ import annotations
 
 import threading
+from contextlib import contextmanager
 
 import numba
 import numpy as np
@@ -410,13 +411,21 @@ def _compile_vectorised(args) -> None:
     sig = tuple(numba.typeof(a) for a in args)
     if sig in _run_axis.overloads:
         return
+    with vectorised():
+        if sig not in _run_axis.overloads:
+            _run_axis.compile(sig)
+
+
+@contextmanager
+def vectorised():
+    """Compilations in this block with LLVM's SLP vectoriser on, one at a time in the
+    process (numba's setting is global): the kernel's here, and the ahead-of-time build
+    of :mod:`tcpmm.sim.compiled`."""
     with _COMPILING:
-        if sig in _run_axis.overloads:
-            return
         before = numba.config.SLP_VECTORIZE
         numba.config.SLP_VECTORIZE = 1
         try:
-            _run_axis.compile(sig)
+            yield
         finally:
             numba.config.SLP_VECTORIZE = before
 

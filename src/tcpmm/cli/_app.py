@@ -58,7 +58,7 @@ def _print_version(value: bool) -> None:
         from ..sim.compiled import describe
 
         out.print(f"tcpmm {__version__}")
-        out.print(f"kernel: {describe()}", highlight=False, soft_wrap=True)
+        out.print(f"kernel: {describe()}", soft_wrap=True)
         raise typer.Exit()
 
 

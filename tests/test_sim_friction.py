@@ -107,6 +107,45 @@ def test_axes_in_turn_give_the_run_of_axes_side_by_side(vmc, circle):
 
 
 @pytest.mark.parametrize("seed", range(4))
+def _run_kernel(axis, t, pos, shortcut):
+    from tcpmm.sim.kernel import run_axis
+    from tcpmm.simulate import axis_kernel_inputs, command_velocity
+
+    T_c = float(t[1] - t[0])
+    n = int(np.rint((t[-1] - t[0]) / axis.servo.T_v)) + 1
+    k = axis_kernel_inputs(axis, pos[0], False, 1, True, T_c, n)
+    k.ip[10] = shortcut
+    rec = np.empty((7, n))
+    x = run_axis(k.AdT, k.BdT, k.x0, pos, command_velocity(pos, T_c, axis.servo.feedforward),
+                 np.zeros(t.size), k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s, k.pf_g, k.vtaps,
+                 k.AdgT, k.BdgT, k.fsec)
+    return rec, x
+
+
+@pytest.mark.parametrize("variant", ["built-in", "relative guideway", "screw only",
+                                     "guideway only", "LuGre screw"])
+def test_the_sliding_shortcut_changes_no_bit(vmc, circle, variant):
+    """A step in which both contacts slide on is taken in registers (``_sliding_step``)
+    instead of the general path: the same tests on the same numbers, so every state of
+    every step is the same to the bit, through reversals, stick and break-away."""
+    from tcpmm.mechanics.friction import LuGreFriction
+
+    a = vmc.axes["X"]
+    fr = a.friction
+    update = {"built-in": {}, "relative guideway": {"guideway_velocity": "relative"},
+              "screw only": {"guideway": None}, "guideway only": {"screw": None},
+              "LuGre screw": {"screw": LuGreFriction(**fr.screw.model_dump(), sigma0=1e8,
+                                                     sigma1=300.0)}}[variant]
+    fr = fr.model_copy(update=update)
+    axis = a.replace(friction=fr)
+    t = circle.time_s[circle.time_s < 4.0]
+    pos = np.ascontiguousarray(circle.positions["X"][: t.size])
+    rec_on, x_on = _run_kernel(axis, t, pos, 1)
+    rec_off, x_off = _run_kernel(axis, t, pos, 0)
+    assert np.array_equal(rec_on, rec_off) and np.array_equal(x_on, x_off)
+    assert np.ptp(rec_on[3]) > 0.1  # the axis moved (and reversed: the circle's quadrants)
+
+
 def test_a_held_axis_stays_held_whatever_the_rounding(vmc, seed):
     """The built-in machine's Z held still, screw and guideway both stuck, with its
     discrete matrices changed by one unit in the last place here and there (another

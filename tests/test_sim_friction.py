@@ -106,7 +106,6 @@ def test_axes_in_turn_give_the_run_of_axes_side_by_side(vmc, circle):
             np.testing.assert_array_equal(getattr(turn.axes[name], col), getattr(r, col))
 
 
-@pytest.mark.parametrize("seed", range(4))
 def _run_kernel(axis, t, pos, shortcut):
     from tcpmm.sim.kernel import run_axis
     from tcpmm.simulate import axis_kernel_inputs, command_velocity
@@ -146,6 +145,7 @@ def test_the_sliding_shortcut_changes_no_bit(vmc, circle, variant):
     assert np.ptp(rec_on[3]) > 0.1  # the axis moved (and reversed: the circle's quadrants)
 
 
+@pytest.mark.parametrize("seed", range(4))
 def test_a_held_axis_stays_held_whatever_the_rounding(vmc, seed):
     """The built-in machine's Z held still, screw and guideway both stuck, with its
     discrete matrices changed by one unit in the last place here and there (another

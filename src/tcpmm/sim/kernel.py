@@ -268,13 +268,10 @@ def _same_contact(x, xn, R, play):
 
 
 @njit(cache=True, inline="always")
-def _sliding(fk, k, v, pf):
-    """``(F, ok)``: the sliding friction of contact ``k`` at ``v``, and whether the
-    contact is one :func:`_sliding_step` takes: without friction, or of the static model,
-    moving and with an effective mass."""
-    if pf[0] == MODEL_NONE:
-        return 0.0, True
-    return sliding_friction(v, pf), pf[0] == MODEL_STATIC and v != 0.0 and fk[k, FK_B] > 0.0
+def _takes(fk, k, v, pf):
+    """Whether contact ``k`` moving at ``v`` is one :func:`_sliding_step` takes: without
+    friction, or of the static model, moving and with an effective mass."""
+    return pf[0] == MODEL_NONE or (pf[0] == MODEL_STATIC and v != 0.0 and fk[k, FK_B] > 0.0)
 
 
 @njit(cache=True, inline="always")
@@ -318,10 +315,10 @@ def _sliding_step(AdT, BdT, c, x, xn, u0, pf_s, pf_g, st, R, g_ref, fk):
     processor predicts, not a data dependence of the next step on comparisons, stores
     and loads: a moving axis steps in about 0.8 of the time of the general path."""
     v_s, v_g = R * x[6], _rel(x, 7, g_ref)
-    F_s, ok_s = _sliding(fk, 0, v_s, pf_s)
-    F_g, ok_g = _sliding(fk, 1, v_g, pf_g)
-    if not (ok_s and ok_g and (g_ref < 0 or g_ref == _BED)):
+    if not (_takes(fk, 0, v_s, pf_s) and _takes(fk, 1, v_g, pf_g)
+            and (g_ref < 0 or g_ref == _BED)):
         return False
+    F_s, F_g = sliding_friction(v_s, pf_s), sliding_friction(v_g, pf_g)  # 0 without
     y = _free_end(AdT, BdT, c, x, u0, 0.0)
     ys = _minus(y, fk[0], F_s)
     if not ((pf_s[0] == MODEL_NONE

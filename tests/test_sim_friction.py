@@ -122,16 +122,18 @@ def _run_kernel(axis, t, pos, shortcut):
 
 
 @pytest.mark.parametrize("variant", ["built-in", "relative guideway", "screw only",
-                                     "guideway only", "LuGre screw"])
-def test_the_sliding_shortcut_changes_no_bit(vmc, circle, variant):
-    """A step in which both contacts slide on is taken in registers (``_sliding_step``)
-    instead of the general path: the same tests on the same numbers, so every state of
-    every step is the same to the bit, through reversals, stick and break-away."""
+                                     "guideway only", "LuGre screw", "held"])
+def test_the_shortcuts_change_no_bit(vmc, circle, variant):
+    """A step in which both contacts slide on, or both stay held, is taken in registers
+    (``_sliding_step``, ``_held_step``) instead of the general path: the same tests on
+    the same numbers, so every state of every step is the same to the bit, through
+    reversals, stick and break-away, and on an axis held still (Z, both contacts stuck
+    against its load)."""
     from tcpmm.mechanics.friction import LuGreFriction
 
-    a = vmc.axes["X"]
+    a = vmc.axes["Z" if variant == "held" else "X"]
     fr = a.friction
-    update = {"built-in": {}, "relative guideway": {"guideway_velocity": "relative"},
+    update = {"built-in": {}, "held": {}, "relative guideway": {"guideway_velocity": "relative"},
               "screw only": {"guideway": None}, "guideway only": {"screw": None},
               "LuGre screw": {"screw": LuGreFriction(**fr.screw.model_dump(), sigma0=1e8,
                                                      sigma1=300.0)}}[variant]
@@ -139,10 +141,15 @@ def test_the_sliding_shortcut_changes_no_bit(vmc, circle, variant):
     axis = a.replace(friction=fr)
     t = circle.time_s[circle.time_s < 4.0]
     pos = np.ascontiguousarray(circle.positions["X"][: t.size])
+    if variant == "held":
+        pos = np.zeros(t.size)
     rec_on, x_on = _run_kernel(axis, t, pos, 1)
     rec_off, x_off = _run_kernel(axis, t, pos, 0)
     assert np.array_equal(rec_on, rec_off) and np.array_equal(x_on, x_off)
-    assert np.ptp(rec_on[3]) > 0.1  # the axis moved (and reversed: the circle's quadrants)
+    if variant == "held":
+        assert x_on[6] == 0.0 and x_on[7] == 0.0
+    else:  # the axis moved, and reversed (the circle's quadrants)
+        assert np.ptp(rec_on[3]) > 0.1
 
 
 @pytest.mark.parametrize("seed", range(4))

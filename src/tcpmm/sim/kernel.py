@@ -16,9 +16,9 @@ stiffness ``K_t`` [N/m].
 of a step in which friction reverses or sticks or the nut is in its free play, 7 number
 of velocity-loop steps, 8 feedforward from the slope of the current command segment (1)
 or interpolated between the samples of ``vcmd`` (0), 9 state the guideway friction's
-velocity is relative to (8, the bed, or -1 for none), 10 the shortcut of a step in which
-both contacts slide on (1), or the general path for every step (0; the same numbers,
-more slowly: for tests).
+velocity is relative to (8, the bed, or -1 for none), 10 the shortcuts of a step in which
+both contacts slide on or both stay held (1), or the general path for every step (0; the
+same numbers, more slowly: for tests).
 
 The velocity-loop output is applied ``ip[3]`` steps later (computation delay); the
 excitation is added to the applied current without delay, and the sum is limited.
@@ -58,8 +58,9 @@ line, say) is allocated in ``_run_axis`` and passed in the same way. The helpers
 loop, and the friction functions of :mod:`tcpmm.sim.contact`, are inlined
 (``inline="always"``): a call per step, with its arrays, would cost more than the step.
 The whole step and its sub-steps share one loop body in ``_nonlinear_step``, so that the
-friction code is inlined once; before it, ``_sliding_step`` takes the common step in which
-both contacts slide on, with the same numbers, in registers. What does not change from
+friction code is inlined once; before it, ``_sliding_step`` and ``_held_step`` take the
+common steps in which both contacts slide on or both stay held, with the same numbers, in
+registers. What does not change from
 step to step (the friction's effective masses and input columns per matrix set) is
 computed before the loop; state and scratch swap roles instead of being copied.
 """
@@ -135,8 +136,10 @@ def _rel(x, idx, ref):
 
 
 #: Columns of the friction constants ``fk[set, contact]`` (:func:`_friction_constants`):
-#: ``b``, the effective mass ``h / b``, ``1 / b``, then the contact's input column.
-FK_B, FK_MASS, FK_INV_B, FK_COL = 0, 1, 2, 3
+#: ``b``, the effective mass ``h / b``, ``1 / b``, the inverse determinant of the joint
+#: stop (:func:`_both_stopped`; row 0, 0 where there is none), then the contact's input
+#: column.
+FK_B, FK_MASS, FK_INV_B, FK_JOINT, FK_COL = 0, 1, 2, 3, 4
 
 
 @njit(cache=True)
@@ -153,6 +156,17 @@ def _friction_constants(BdT, h, R, g_ref, fk):
         fk[k, FK_INV_B] = 1.0 / b if b > 0.0 else 0.0
         for i in range(NX):
             fk[k, FK_COL + i] = BdT[col, i] * ratio
+    c_gs, c_sg = _couplings(fk, R, g_ref)
+    det = fk[0, FK_B] * fk[1, FK_B] - c_sg * c_gs
+    fk[0, FK_JOINT] = 1.0 / det if det > 0.0 else 0.0
+
+
+@njit(cache=True, inline="always")
+def _couplings(fk, R, g_ref):
+    """How the screw's friction moves the guideway's velocity, and the guideway's the
+    screw's, over a step (per newton)."""
+    return (fk[0, FK_COL + 7] - (fk[0, FK_COL + g_ref] if g_ref >= 0 else 0.0),
+            R * fk[1, FK_COL + 6])
 
 
 @njit(cache=True, inline="always")
@@ -192,7 +206,8 @@ def _frictions(fk, x, xn, h, pf_s, pf_g, st, R, g_ref):
     F_g, stuck_g = _contact_friction(fk, 1, _rel(x, 7, g_ref), v_g, h, pf_g, st)
     joint = False
     if stuck_s and stuck_g:
-        F_s, F_g, joint = _both_stopped(fk, xn, R, g_ref, pf_s, pf_g, F_s, F_g)
+        F_s, F_g, joint = _both_stopped(fk, R * xn[6], _rel(xn, 7, g_ref), R, g_ref, pf_s,
+                                        pf_g, F_s, F_g)
     for i in range(NX):
         xi = xn[i] - fk[0, FK_COL + i] * F_s
         if i == 6 and stuck_s:
@@ -205,25 +220,22 @@ def _frictions(fk, x, xn, h, pf_s, pf_g, st, R, g_ref):
 
 
 @njit(cache=True, inline="always")
-def _both_stopped(fk, xn, R, g_ref, pf_s, pf_g, F_s, F_g):
+def _both_stopped(fk, v_s, v_g, R, g_ref, pf_s, pf_g, F_s, F_g):
     """The two forces that bring screw and guideway to rest together at the end of the
-    step, where each alone sticks: ``(F_s, F_g, joint)``. Taken one after the other, the
+    step, where each alone sticks (``v_s``, ``v_g``: their velocities at the end of the
+    free step): ``(F_s, F_g, joint)``. Taken one after the other, the
     guideway's stopping force moves the stopped screw by its coupling (the nut), and the
     screw's velocity, then some 1e-16 m/s instead of 0, changed sign from step to step
     with the rounding of the discretisation, each time a reversal redone in sub-steps: a
     held axis cost 1.7 times a moving one. Solved jointly (2 x 2), both velocities are 0
     and the contact stays held; the forces sequentially found are kept where the joint
     ones leave a static band."""
-    b_s, b_g = fk[0, FK_B], fk[1, FK_B]
-    c_gs = fk[0, FK_COL + 7] - (fk[0, FK_COL + g_ref] if g_ref >= 0 else 0.0)
-    c_sg = R * fk[1, FK_COL + 6]
-    v_s = R * xn[6]
-    v_g = _rel(xn, 7, g_ref)
-    det = b_s * b_g - c_sg * c_gs
-    if not det > 0.0:
+    b_s, b_g, inv_det = fk[0, FK_B], fk[1, FK_B], fk[0, FK_JOINT]
+    c_gs, c_sg = _couplings(fk, R, g_ref)
+    if not inv_det > 0.0:
         return F_s, F_g, False
-    js = (v_s * b_g - c_sg * v_g) / det
-    jg = (b_s * v_g - c_gs * v_s) / det
+    js = (v_s * b_g - c_sg * v_g) * inv_det
+    jg = (b_s * v_g - c_gs * v_s) * inv_det
     if (-pf_s[P_FS_NEG] <= js <= pf_s[P_FS_POS]) and (-pf_g[P_FS_NEG] <= jg <= pf_g[P_FS_POS]):
         return js, jg, True
     return F_s, F_g, False
@@ -336,6 +348,38 @@ def _sliding_step(AdT, BdT, c, x, xn, u0, pf_s, pf_g, st, R, g_ref, fk):
 
 
 @njit(cache=True, inline="always")
+def _held_step(AdT, BdT, c, x, xn, u0, pf_s, pf_g, st, R, g_ref, fk):
+    """The whole step when screw and guideway (static model) are held and stay held, as
+    the general path of :func:`_nonlinear_step` takes it, to the bit (see
+    :func:`_sliding_step`): each one's stop force within its static band, then the two
+    that stop both together (:func:`_both_stopped`), applied to the free end state in
+    registers. Whether it was that step (else ``xn`` is not written)."""
+    if not (pf_s[0] == MODEL_STATIC and pf_g[0] == MODEL_STATIC
+            and _held(x, 6, -1, pf_s, st[0]) and _held(x, 7, g_ref, pf_g, st[1])
+            and fk[0, FK_B] > 0.0 and fk[1, FK_B] > 0.0 and (g_ref < 0 or g_ref == _BED)):
+        return False
+    y = _free_end(AdT, BdT, c, x, u0, 0.0)
+    F_s = R * y[6] * fk[0, FK_INV_B]
+    if not -pf_s[P_FS_NEG] <= F_s <= pf_s[P_FS_POS]:
+        return False
+    v_g = y[7] - fk[0, FK_COL + 7] * F_s
+    if g_ref >= 0:
+        v_g -= y[_BED] - fk[0, FK_COL + _BED] * F_s
+    F_g = v_g * fk[1, FK_INV_B]
+    if not -pf_g[P_FS_NEG] <= F_g <= pf_g[P_FS_POS]:
+        return False
+    F_s, F_g, joint = _both_stopped(fk, R * y[6], _guide_end(y, g_ref), R, g_ref, pf_s, pf_g,
+                                    F_s, F_g)
+    y = _minus(_minus(y, fk[0], F_s), fk[1], F_g)
+    w_s = 0.0 if joint else 0.0 - fk[1, FK_COL + 6] * F_g  # the screw's, set to 0 first
+    w_g = y[_BED] if g_ref >= 0 else 0.0
+    y = (y[0], y[1], y[2], y[3], y[4], y[5], w_s, w_g, y[8], y[9], y[10])
+    for i in range(NX):
+        xn[i] = y[i]
+    return True
+
+
+@njit(cache=True, inline="always")
 def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u0, h, n_sub, pf_s, pf_g,
                     st, R, play, K_t, g_ref, fk, shortcut):
     """One velocity-loop step with friction and lost motion; sub-steps where a friction
@@ -343,11 +387,14 @@ def _nonlinear_step(AdT, BdT, AdsT, BdsT, AdgT, BdgT, c, x, xn, u0, h, n_sub, pf
     is inside or crosses its free play. A contact that stays held over the whole step
     needs none: its friction is exact in stick. Returns ``(x, xn)``: the end state and
     the scratch (the two arrays swap roles at each (sub-)step instead of copying).
-    ``shortcut``: try :func:`_sliding_step` first (never with free play).
+    ``shortcut``: try :func:`_sliding_step` and :func:`_held_step` first (never with free
+    play).
 
     The whole step and the sub-steps share one loop body, so that the friction code is
     compiled once (it is inlined: a call per step would cost more than the step)."""
-    if shortcut and _sliding_step(AdT, BdT, c[0], x, xn, u0, pf_s, pf_g, st, R, g_ref, fk[0]):
+    if shortcut and (
+            _sliding_step(AdT, BdT, c[0], x, xn, u0, pf_s, pf_g, st, R, g_ref, fk[0])
+            or _held_step(AdT, BdT, c[0], x, xn, u0, pf_s, pf_g, st, R, g_ref, fk[0])):
         return xn, x
     whole, n, hh = True, 1, h
     u4 = 0.0  # force added to the nut spring

@@ -136,18 +136,20 @@ def _rel(x, idx, ref):
 
 
 #: Columns of the friction constants ``fk[set, contact]`` (:func:`_friction_constants`):
-#: ``b``, the effective mass ``h / b``, ``1 / b``, the inverse determinant of the joint
-#: stop (:func:`_both_stopped`; row 0, 0 where there is none), then the contact's input
-#: column.
-FK_B, FK_MASS, FK_INV_B, FK_JOINT, FK_COL = 0, 1, 2, 3, 4
+#: ``b``, the effective mass ``h / b``, ``1 / b``, whether the two contacts can be stopped
+#: together (1 or 0), the contact's force of that joint stop per unit of the screw's and
+#: of the guideway's velocity (:func:`_both_stopped`), then the contact's input column.
+FK_B, FK_MASS, FK_INV_B, FK_JOINT, FK_PER_VS, FK_PER_VG, FK_COL = 0, 1, 2, 3, 4, 5, 6
 
 
 @njit(cache=True)
 def _friction_constants(BdT, h, R, g_ref, fk):
     """Constants of the screw (row 0) and guideway (row 1) friction over a step ``h`` of
     one matrix set: ``b = d v_end / d F`` (the contact's velocity change per newton of
-    its friction over the step, > 0), the effective mass ``h / b``, ``1 / b`` and the
-    input column times the velocity ratio (``d x_end / d F``)."""
+    its friction over the step, > 0), the effective mass ``h / b``, ``1 / b``, the input
+    column times the velocity ratio (``d x_end / d F``), and the forces that stop both
+    contacts together per unit of their free velocities (the inverse of their 2 x 2
+    coupling, :func:`_both_stopped`), so that a held step divides nothing."""
     for k in range(2):
         col, idx, ref, ratio = (2, 6, -1, R) if k == 0 else (5, 7, g_ref, 1.0)
         b = (BdT[col, idx] - BdT[col, ref] if ref >= 0 else BdT[col, idx]) * ratio * ratio
@@ -156,17 +158,15 @@ def _friction_constants(BdT, h, R, g_ref, fk):
         fk[k, FK_INV_B] = 1.0 / b if b > 0.0 else 0.0
         for i in range(NX):
             fk[k, FK_COL + i] = BdT[col, i] * ratio
-    c_gs, c_sg = _couplings(fk, R, g_ref)
-    det = fk[0, FK_B] * fk[1, FK_B] - c_sg * c_gs
-    fk[0, FK_JOINT] = 1.0 / det if det > 0.0 else 0.0
-
-
-@njit(cache=True, inline="always")
-def _couplings(fk, R, g_ref):
-    """How the screw's friction moves the guideway's velocity, and the guideway's the
-    screw's, over a step (per newton)."""
-    return (fk[0, FK_COL + 7] - (fk[0, FK_COL + g_ref] if g_ref >= 0 else 0.0),
-            R * fk[1, FK_COL + 6])
+    # how the screw's friction moves the guideway's velocity, and the guideway's the screw's
+    c_gs = fk[0, FK_COL + 7] - (fk[0, FK_COL + g_ref] if g_ref >= 0 else 0.0)
+    c_sg = R * fk[1, FK_COL + 6]
+    b_s, b_g = fk[0, FK_B], fk[1, FK_B]
+    det = b_s * b_g - c_sg * c_gs
+    if det > 0.0:  # [js, jg] = [[b_g, -c_sg], [-c_gs, b_s]] / det [v_s, v_g]
+        fk[:, FK_JOINT] = 1.0
+        fk[0, FK_PER_VS], fk[0, FK_PER_VG] = b_g / det, -c_sg / det
+        fk[1, FK_PER_VS], fk[1, FK_PER_VG] = -c_gs / det, b_s / det
 
 
 @njit(cache=True, inline="always")
@@ -206,8 +206,8 @@ def _frictions(fk, x, xn, h, pf_s, pf_g, st, R, g_ref):
     F_g, stuck_g = _contact_friction(fk, 1, _rel(x, 7, g_ref), v_g, h, pf_g, st)
     joint = False
     if stuck_s and stuck_g:
-        F_s, F_g, joint = _both_stopped(fk, R * xn[6], _rel(xn, 7, g_ref), R, g_ref, pf_s,
-                                        pf_g, F_s, F_g)
+        F_s, F_g, joint = _both_stopped(fk, R * xn[6], _rel(xn, 7, g_ref), pf_s, pf_g, F_s,
+                                        F_g)
     for i in range(NX):
         xi = xn[i] - fk[0, FK_COL + i] * F_s
         if i == 6 and stuck_s:
@@ -220,7 +220,7 @@ def _frictions(fk, x, xn, h, pf_s, pf_g, st, R, g_ref):
 
 
 @njit(cache=True, inline="always")
-def _both_stopped(fk, v_s, v_g, R, g_ref, pf_s, pf_g, F_s, F_g):
+def _both_stopped(fk, v_s, v_g, pf_s, pf_g, F_s, F_g):
     """The two forces that bring screw and guideway to rest together at the end of the
     step, where each alone sticks (``v_s``, ``v_g``: their velocities at the end of the
     free step): ``(F_s, F_g, joint)``. Taken one after the other, the
@@ -230,12 +230,10 @@ def _both_stopped(fk, v_s, v_g, R, g_ref, pf_s, pf_g, F_s, F_g):
     held axis cost 1.7 times a moving one. Solved jointly (2 x 2), both velocities are 0
     and the contact stays held; the forces sequentially found are kept where the joint
     ones leave a static band."""
-    b_s, b_g, inv_det = fk[0, FK_B], fk[1, FK_B], fk[0, FK_JOINT]
-    c_gs, c_sg = _couplings(fk, R, g_ref)
-    if not inv_det > 0.0:
+    if fk[0, FK_JOINT] == 0.0:
         return F_s, F_g, False
-    js = (v_s * b_g - c_sg * v_g) * inv_det
-    jg = (b_s * v_g - c_gs * v_s) * inv_det
+    js = fk[0, FK_PER_VS] * v_s + fk[0, FK_PER_VG] * v_g
+    jg = fk[1, FK_PER_VS] * v_s + fk[1, FK_PER_VG] * v_g
     if (-pf_s[P_FS_NEG] <= js <= pf_s[P_FS_POS]) and (-pf_g[P_FS_NEG] <= jg <= pf_g[P_FS_POS]):
         return js, jg, True
     return F_s, F_g, False
@@ -368,8 +366,7 @@ def _held_step(AdT, BdT, c, x, xn, u0, pf_s, pf_g, st, R, g_ref, fk):
     F_g = v_g * fk[1, FK_INV_B]
     if not -pf_g[P_FS_NEG] <= F_g <= pf_g[P_FS_POS]:
         return False
-    F_s, F_g, joint = _both_stopped(fk, R * y[6], _guide_end(y, g_ref), R, g_ref, pf_s, pf_g,
-                                    F_s, F_g)
+    F_s, F_g, joint = _both_stopped(fk, R * y[6], _guide_end(y, g_ref), pf_s, pf_g, F_s, F_g)
     y = _minus(_minus(y, fk[0], F_s), fk[1], F_g)
     w_s = 0.0 if joint else 0.0 - fk[1, FK_COL + 6] * F_g  # the screw's, set to 0 first
     w_g = y[_BED] if g_ref >= 0 else 0.0

@@ -38,7 +38,8 @@ from .layout import ARG_NDIMS, INT_ARG
 
 #: Sources the functions are compiled from (relative to the package): an edit makes a
 #: new key.
-KERNEL_SOURCES = ("sim/kernel.py", "sim/contact.py", "sim/layout.py", "sim/expm.py",
+KERNEL_SOURCES = ("sim/kernel.py", "sim/linearstep.py", "sim/frictionstep.py",
+                  "sim/contact.py", "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py")
 _KERNEL_KINDS = tuple(("i" if i == INT_ARG else "f") + str(nd) for i, nd in enumerate(ARG_NDIMS))

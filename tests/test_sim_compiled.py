@@ -2,6 +2,7 @@
 kernel to the bit, a command that simulates without importing numba or scipy, and numba's
 kernel wherever the compiled module cannot be had."""
 
+import os
 import subprocess
 import sys
 import time
@@ -156,3 +157,28 @@ def test_the_key_follows_the_kernels_sources(fresh, monkeypatch, tmp_path):
     with open(src / "sim" / "contact.py", "a") as f:
         f.write("\n# an edit\n")
     assert compiled.module_path().name != before
+
+
+def test_a_new_build_deletes_all_but_the_most_recently_used_old_ones(fresh, monkeypatch):
+    """An upgrade or an edit of the kernel builds a new module (about 1 MB): the others
+    beyond the four most recently used go, with their failure records; locks stay."""
+    monkeypatch.setattr(compiled, "build", lambda path: path.write_bytes(b"module"))
+    path = compiled.module_path()
+    path.parent.mkdir(parents=True)
+    suffix = "".join(path.suffixes)
+    for age in range(7):
+        old = path.parent / f"_kernels_old{age}{suffix}"
+        old.write_bytes(b"old")
+        t = time.time() - 86400.0 * (age + 1)
+        os.utime(old, (t, t))
+        if age == 6:
+            record = path.parent / f"_kernels_old{age}.cpython-x.failed"
+            record.write_text("failed")
+            os.utime(record, (t, t))
+    (path.parent / "_kernels_other.lock").touch()
+    compiled.module_path()  # naming it builds nothing
+    assert len(list(path.parent.glob("_kernels_*"))) == 9
+    assert compiled._build_once(path) == "" and path.read_bytes() == b"module"
+    left = sorted(p.name.split(".")[0] for p in path.parent.glob("_kernels_*"))
+    assert left == sorted([path.name.split(".")[0], "_kernels_other"]
+                          + [f"_kernels_old{age}" for age in range(4)])

@@ -62,6 +62,10 @@ FUNCTIONS = {
 #: :data:`LOCK_STALE_S` is taken to be left by a process that died [s].
 RETRY_AFTER_S = 86400.0
 LOCK_STALE_S = 900.0
+#: Builds for other sources, numba, Python or CPUs kept beside a new one (the most
+#: recently used; a folder shared by machines of several CPUs keeps one each); older
+#: ones are deleted when a new one is built.
+KEEP_OTHER_BUILDS = 4
 _PKG = Path(__file__).resolve().parent.parent
 _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
@@ -272,7 +276,29 @@ def _build_once(path: Path) -> str:
             _LOG.debug("building the compiled kernel failed", exc_info=True)
             path.with_suffix(".failed").write_text(f"{type(exc).__name__}: {exc}\n")
             return _recent_failure(path)
+        _prune(path)
     return ""
+
+
+def _prune(path: Path, keep: int = KEEP_OTHER_BUILDS) -> None:
+    """Delete the builds beside ``path`` other than it and the ``keep`` most recently used
+    (modules and failure records; an upgrade or an edit leaves a module of about 1 MB
+    each time). A module still loaded elsewhere stays usable where the system allows its
+    deletion, and stays where it does not."""
+    builds: dict[str, float] = {}
+    mine = path.name.split(".")[0]
+    for p in path.parent.glob("_kernels_*"):
+        stem = p.name.split(".")[0]
+        if stem != mine and p.suffix != ".lock" and p.is_file():
+            st = p.stat()
+            builds[stem] = max(builds.get(stem, 0.0), st.st_atime, st.st_mtime)
+    old = sorted(builds, key=builds.get, reverse=True)[keep:]
+    for p in path.parent.glob("_kernels_*"):
+        if p.name.split(".")[0] in old and p.suffix != ".lock":
+            try:
+                p.unlink()
+            except OSError:
+                pass
 
 
 def _recent_failure(path: Path) -> str:

@@ -12,9 +12,10 @@
    included), with friction (the headline) and without (the like-for-like check: its
    output is compared with dlsim's).
 
-Every tool is timed the same way: rounds in which each runs once in turn (interleaved, so
-that a change of machine load hits all alike), min and median over the rounds. BLAS is
-limited to one thread. Not a test:
+Every tool is timed the same way: rounds in which each of the six runs once in turn (the
+circle's among the peers', interleaved, so that a change of machine load hits all alike
+and a slow second of the machine not all the rounds of one tool), min and median over the
+rounds. BLAS is limited to one thread. Not a test:
 ``python benchmarks/simulate.py [--rounds N] [--json] [--clock wall|cpu]``.
 """
 
@@ -76,8 +77,10 @@ def circle_kernel(machine):
     return run, float(t[-1] - t[0])
 
 
-def peers(rounds: int, clock) -> dict:
-    """One axis at the servo's own rates: tcpmm against the lifted loop in the peers."""
+def peers() -> tuple:
+    """One axis at the servo's own rates, tcpmm and the lifted loop in the peers: the
+    tools, the number of position steps, and the relative difference of tcpmm's linear
+    run from dlsim's given the tools' outputs."""
     import control
     from scipy.signal import dlsim
 
@@ -99,10 +102,13 @@ def peers(rounds: int, clock) -> dict:
         "scipy dlsim": lambda: dlsim((Phi, Gam, C, D, T_p), u, x0=z0)[1],
         "control.forced_response": lambda: control.forced_response(sys_d, T=t, U=u.T, X0=z0),
     }
-    res = interleaved(tools, rounds, clock)
-    y_dl = res["scipy dlsim"][2]
-    err = np.max(np.abs(res["tcpmm, linear"][2].scale - y_dl[:, 1])) / np.max(np.abs(y_dl[:, 1]))
-    return {"res": res, "steps": t.size, "rel_diff": float(err)}
+
+    def rel_diff(res):
+        y_dl = res["scipy dlsim"][2]
+        return float(np.max(np.abs(res["tcpmm, linear"][2].scale - y_dl[:, 1]))
+                     / np.max(np.abs(y_dl[:, 1])))
+
+    return tools, t.size, rel_diff
 
 
 def main(argv=None) -> dict:
@@ -117,10 +123,14 @@ def main(argv=None) -> dict:
     fric, T = circle_kernel(builtin_machine())
     lin, _ = circle_kernel(builtin_machine(friction=False))
     fric(), lin()  # compile or load the cache
-    clock = CLOCKS[args.clock]
-    circ = interleaved({"with friction": fric, "without friction": lin}, rounds, clock)
-    pr = peers(rounds, clock)
-    res = pr["res"]
+    axis_tools, steps, rel_diff = peers()
+    # every tool once per round, the circle's among the peers' (a round is some seconds):
+    # a change of the machine's load hits all alike, and a slow second not all of a tool
+    both = interleaved({"with friction": fric, "without friction": lin} | axis_tools,
+                       rounds, CLOCKS[args.clock])
+    circ = {k: both[k] for k in ("with friction", "without friction")}
+    res = {k: both[k] for k in axis_tools}
+    pr = {"steps": steps, "rel_diff": rel_diff(res)}
     t_fr, t_lin = res["tcpmm, with friction"][0], res["tcpmm, linear"][0]
     t_ctrl, t_dl = res["control.forced_response"][0], res["scipy dlsim"][0]
     out = {

@@ -178,3 +178,13 @@ def test_a_held_axis_stays_held_whatever_the_rounding(vmc, seed):
                  k.AdgT, k.BdgT, k.fsec)
     assert a.friction is not None and x[6] == 0.0 and x[7] == 0.0
     assert np.ptp(rec[1]) < 1e-15  # the scale does not creep
+
+
+def test_the_kernels_bed_velocity_is_the_plants():
+    """A relative guideway velocity is taken to the kernel's ``BED_VELOCITY``, which must
+    be the plant's ``v_b`` (a change of the state order would silently relate the
+    guideway to another body)."""
+    from tcpmm.mechanics.statespace import STATES
+    from tcpmm.sim.layout import BED_VELOCITY
+
+    assert STATES[BED_VELOCITY] == "v_b"

@@ -26,7 +26,7 @@ from .result import AxisRun, Run
 from .servo.currentfilters import biquads
 from .servo.sampled import sampled_spectral_radius
 from .sim.compiled import run_axis
-from .sim.layout import NX
+from .sim.layout import BED_VELOCITY, NX
 
 
 class KernelInputs(NamedTuple):
@@ -93,7 +93,8 @@ def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_
     n_sub = fr.substeps if fr is not None else 1
     ip = np.array([s.n_pos, s.position_feedback == "scale", s.velocity_feedback == "difference",
                    s.delay_samples, not open_loop, rec_every, n_sub, n_steps,
-                   s.feedforward == "segment", 8 if relative else -1, 1], dtype=np.int64)
+                   s.feedforward == "segment", BED_VELOCITY if relative else -1, 1],
+                  dtype=np.int64)
     AdsT, BdsT = np.zeros((NX, NX)), np.zeros((6, NX))
     AdgT, BdgT = np.zeros((NX, NX)), np.zeros((6, NX))
     if fr is not None:

@@ -16,7 +16,7 @@ from numba import njit
 
 from ..mechanics.friction import MODEL_NONE, MODEL_STATIC, P_FS_NEG, P_FS_POS, SLIDING, STUCK
 from .contact import at_rest, friction_force, sliding_friction, static_stop_or_slide
-from .layout import NX
+from .layout import BED_VELOCITY, NX
 from .linearstep import free_end, free_step, rel
 
 #: Columns of the friction constants ``fk[set, contact]`` (:func:`friction_constants`):
@@ -104,6 +104,13 @@ def _frictions(fk, x, xn, h, pf_s, pf_g, st, R, g_ref):
 
 
 @njit(cache=True, inline="always")
+def _in_band(F, pf):
+    """Whether a stop force ``F`` lies within the static band of friction ``pf``: the test
+    of :func:`static_stop_or_slide` for a contact it stops [-]."""
+    return -pf[P_FS_NEG] <= F <= pf[P_FS_POS]
+
+
+@njit(cache=True, inline="always")
 def _both_stopped(fk, v_s, v_g, pf_s, pf_g, F_s, F_g):
     """The two forces that bring screw and guideway to rest together at the end of the
     step, where each alone sticks (``v_s``, ``v_g``: their velocities at the end of the
@@ -118,7 +125,7 @@ def _both_stopped(fk, v_s, v_g, pf_s, pf_g, F_s, F_g):
         return F_s, F_g, False
     js = fk[0, FK_PER_VS] * v_s + fk[0, FK_PER_VG] * v_g
     jg = fk[1, FK_PER_VS] * v_s + fk[1, FK_PER_VG] * v_g
-    if (-pf_s[P_FS_NEG] <= js <= pf_s[P_FS_POS]) and (-pf_g[P_FS_NEG] <= jg <= pf_g[P_FS_POS]):
+    if _in_band(js, pf_s) and _in_band(jg, pf_g):
         return js, jg, True
     return F_s, F_g, False
 
@@ -175,15 +182,12 @@ def _slides_on(v, F, f_stop):
     return (v > 0.0 and F < f_stop) or (v < 0.0 and F > f_stop)
 
 
-#: The state of the bed's velocity, the one a relative guideway velocity is taken to.
-_BED = 8
-
-
 @njit(cache=True, inline="always")
 def _guide_end(y, g_ref):
-    """The guideway's velocity in the state tuple ``y``, ``g_ref`` -1 or ``_BED`` (a
-    tuple is indexed by constants, so that it stays in registers)."""
-    return y[7] - y[_BED] if g_ref >= 0 else y[7]
+    """The guideway's velocity in the state tuple ``y``, ``g_ref`` -1 or
+    :data:`BED_VELOCITY` (a tuple is indexed by constants, so that it stays in
+    registers)."""
+    return y[7] - y[BED_VELOCITY] if g_ref >= 0 else y[7]
 
 
 @njit(cache=True, inline="always")
@@ -210,7 +214,7 @@ def _sliding_step(AdT, BdT, c, x, xn, u0, pf_s, pf_g, st, R, g_ref, fk):
     and loads: a moving axis steps in about 0.8 of the time of the general path."""
     v_s, v_g = R * x[6], rel(x, 7, g_ref)
     if not (_takes(fk, 0, v_s, pf_s) and _takes(fk, 1, v_g, pf_g)
-            and (g_ref < 0 or g_ref == _BED)):
+            and (g_ref < 0 or g_ref == BED_VELOCITY)):
         return False
     F_s, F_g = sliding_friction(v_s, pf_s), sliding_friction(v_g, pf_g)  # 0 without
     y = free_end(AdT, BdT, c, x, u0, 0.0)
@@ -238,22 +242,19 @@ def _held_step(AdT, BdT, c, x, xn, u0, pf_s, pf_g, st, R, g_ref, fk):
     registers. Whether it was that step (else ``xn`` is not written)."""
     if not (pf_s[0] == MODEL_STATIC and pf_g[0] == MODEL_STATIC
             and _held(x, 6, -1, pf_s, st[0]) and _held(x, 7, g_ref, pf_g, st[1])
-            and fk[0, FK_B] > 0.0 and fk[1, FK_B] > 0.0 and (g_ref < 0 or g_ref == _BED)):
+            and fk[0, FK_B] > 0.0 and fk[1, FK_B] > 0.0 and (g_ref < 0 or g_ref == BED_VELOCITY)):
         return False
     y = free_end(AdT, BdT, c, x, u0, 0.0)
     F_s = R * y[6] * fk[0, FK_INV_B]
-    if not -pf_s[P_FS_NEG] <= F_s <= pf_s[P_FS_POS]:
+    if not _in_band(F_s, pf_s):
         return False
-    v_g = y[7] - fk[0, FK_COL + 7] * F_s
-    if g_ref >= 0:
-        v_g -= y[_BED] - fk[0, FK_COL + _BED] * F_s
-    F_g = v_g * fk[1, FK_INV_B]
-    if not -pf_g[P_FS_NEG] <= F_g <= pf_g[P_FS_POS]:
+    F_g = _guide_end(_minus(y, fk[0], F_s), g_ref) * fk[1, FK_INV_B]
+    if not _in_band(F_g, pf_g):
         return False
     F_s, F_g, joint = _both_stopped(fk, R * y[6], _guide_end(y, g_ref), pf_s, pf_g, F_s, F_g)
     y = _minus(_minus(y, fk[0], F_s), fk[1], F_g)
     w_s = 0.0 if joint else 0.0 - fk[1, FK_COL + 6] * F_g  # the screw's, set to 0 first
-    w_g = y[_BED] if g_ref >= 0 else 0.0
+    w_g = y[BED_VELOCITY] if g_ref >= 0 else 0.0
     y = (y[0], y[1], y[2], y[3], y[4], y[5], w_s, w_g, y[8], y[9], y[10])
     for i in range(NX):
         xn[i] = y[i]

@@ -5,6 +5,9 @@ REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c", "X_M", "cmd")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
 #: size lets the compiler keep the state update in registers; unused states are zero.
 NX = 11
+#: The bed's velocity, the state a relative guideway velocity is taken to (``v_b`` of
+#: :data:`tcpmm.mechanics.statespace.STATES`).
+BED_VELOCITY = 8
 #: Dimensions of :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order; all are
 #: C-contiguous float64 but ``ip`` (int64, the eighth).
 ARG_NDIMS = (2, 2, 1, 1, 1, 1, 1, 1, 2, 2, 2, 1, 1, 1, 2, 2, 2)

@@ -130,7 +130,7 @@ def main(argv=None) -> dict:
                        rounds, CLOCKS[args.clock])
     circ = {k: both[k] for k in ("with friction", "without friction")}
     res = {k: both[k] for k in axis_tools}
-    pr = {"steps": steps, "rel_diff": rel_diff(res)}
+    diff = rel_diff(res)
     t_fr, t_lin = res["tcpmm, with friction"][0], res["tcpmm, linear"][0]
     t_ctrl, t_dl = res["control.forced_response"][0], res["scipy dlsim"][0]
     out = {
@@ -144,7 +144,7 @@ def main(argv=None) -> dict:
         "forced_response_ratio_own_rates_linear": t_ctrl / t_lin,
         "dlsim_ratio_own_rates": t_dl / t_fr,
         "dlsim_ratio_own_rates_linear": t_dl / t_lin,
-        "max_relative_difference_to_dlsim": pr["rel_diff"],
+        "max_relative_difference_to_dlsim": diff,
         "kernel": status(),
     }
     if args.json:
@@ -156,14 +156,14 @@ def main(argv=None) -> dict:
     for name, (lo, med, _) in circ.items():
         print(f"  {name:18s} {lo * 1e3:7.1f} / {med * 1e3:7.1f} ms   real-time factor "
               f"{T / lo:6.0f} / {T / med:6.0f}")
-    print(f"One axis, {DURATION_S:.0f} s at the servo's own rates ({pr['steps']} position "
+    print(f"One axis, {DURATION_S:.0f} s at the servo's own rates ({steps} position "
           f"steps), min / median of {rounds}; ratio = peer min / tcpmm-with-friction min "
           "(tcpmm-linear min):")
     for name, (lo, med, _) in res.items():
         ratio = "" if name.startswith("tcpmm") else \
             f"   ratio {lo / t_fr:5.1f}x ({lo / t_lin:5.1f}x)"
         print(f"  {name:24s} {lo * 1e3:8.1f} / {med * 1e3:8.1f} ms{ratio}")
-    print(f"  tcpmm linear vs dlsim, max relative difference of the scale: {pr['rel_diff']:.1e}")
+    print(f"  tcpmm linear vs dlsim, max relative difference of the scale: {diff:.1e}")
     return out
 
 

@@ -142,3 +142,17 @@ def test_cli_errors_exit_2_without_traceback(capsys, tmp_path, args):
     code, out, err = run(capsys, *[a.format(csv=csv, txt=tmp_path / "m.txt") for a in args])
     assert code == 2
     assert "Traceback" not in out + err
+
+
+def test_cli_lines_are_not_wrapped_in_a_pipe(capsys, tmp_path):
+    """A message naming a long path stays one line when stdout is not a terminal (a log or
+    a pipe), whatever the temporary folder's length."""
+    deep = tmp_path / ("d" * 120) / ("e" * 120)
+    deep.mkdir(parents=True)
+    p = write_frf_csv(noisy_frf(0), deep / "m.csv", polar=True)
+    code, out, _ = run(capsys, "frf", "fit", p, "--poles", 5, "--delay", "none",
+                       "--weight", "magnitude")
+    assert code == 0
+    assert any(str(p) in line and "5 poles" in line for line in out.splitlines()), out
+    code, _, err = run(capsys, "frf", "fit", deep / "missing.csv")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err

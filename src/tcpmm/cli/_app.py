@@ -12,7 +12,7 @@ from enum import StrEnum
 from pathlib import Path
 
 import typer
-from rich.console import Console
+from rich.console import Console, ConsoleDimensions
 from typer.core import TyperGroup
 
 from ..errors import InputError
@@ -46,10 +46,28 @@ app = typer.Typer(cls=_Workflow, add_completion=False, pretty_exceptions_enable=
                   help="Virtual machine tool: mechatronic model of the tool center point.")
 machine_app = typer.Typer(help="Built-in machines and model files.", rich_markup_mode=None)
 app.add_typer(machine_app, name="machine")
+
+class _Console(Console):
+    """Wraps at the terminal's width on a terminal, and never in a pipe or a log: a table
+    row or a message stays on one line whatever the path lengths in it (rich's default of
+    80 columns for a file split cells and sentences across lines)."""
+
+    UNWRAPPED = 1_000_000
+
+    @property
+    def size(self) -> ConsoleDimensions:
+        dims = super().size
+        return dims if self.is_terminal else ConsoleDimensions(self.UNWRAPPED, dims.height)
+
+    @size.setter
+    def size(self, new_size) -> None:
+        Console.size.fset(self, new_size)
+
+
 # No automatic highlighting of numbers and paths: its regular expressions took 20 ms of
 # the first message (a third of a short command's work); colours come from markup.
-console = Console(stderr=True, highlight=False)
-out = Console(highlight=False)
+console = _Console(stderr=True, highlight=False)
+out = _Console(highlight=False)
 
 
 def _print_version(value: bool) -> None:

@@ -182,3 +182,48 @@ def test_a_share_from_the_sweep_carries_its_spread_into_the_model(letter):
         assert split.source == "sweep", name
         got = idn.machine.axis(name).uncertainty.guideway_share
         assert got == pytest.approx(split.guideway_share_std) and 0 < got < 0.02, name
+
+
+def _measured_figures(letter):
+    """The measured circles that hold a full circle as tests, and their TCP figures."""
+    from tcpmm.analysis.circular import QUADRANTS
+    from tcpmm.errors import InputError
+    from tcpmm.uncertainty import CircleTest
+
+    d, tests, meas = bench_path(letter), [], {}
+    for case in CASES:
+        try:
+            res = analyse_circle(read_run_csv(d / f"circle_{case}_meas.csv"), R)
+        except InputError:  # a lagging circle the analysis does not find whole
+            continue
+        tests.append(CircleTest(case, read_command_csv(d / f"circle_{case}_cmd.csv"), R))
+        for p in res.passes:
+            s = p.sensors["tcp"]
+            meas.update({(case, p.direction, f"spike {q}"): s.spikes[q] for q in QUADRANTS})
+            meas[(case, p.direction, "contour error")] = s.contour_error
+            meas[(case, p.direction, "G")] = s.circular_deviation
+    return tests, meas
+
+
+@pytest.mark.parametrize("letter", ["c", "d", "e", "h", "r05", "r17"])
+def test_a_firm_figure_meets_its_target_and_the_interval_holds_the_measurement(letter):
+    """On the measured circles, no figure called firm misses its target, and at least nine
+    in ten measured figures lie inside their predicted 90 % interval (the calibration of
+    docs/validation/calibration.md). H's Y share, read from a nut deflection of about one
+    scale step, makes its spikes undetermined; the C, D and E models are firm on some."""
+    from tcpmm.uncertainty import prediction_verdict
+
+    tests, meas = _measured_figures(letter)
+    v = prediction_verdict(identified(letter).machine, tests)
+    judged = [(f, abs(meas[(f.test, f.direction, f.figure)] - f.nominal)) for f in v.figures
+              if (f.test, f.direction, f.figure) in meas]
+    assert len(judged) >= 12
+    misses = [f for f, err in judged if f.verdict == "firm" and err > f.target]
+    assert not misses, misses
+    inside = sum(err <= f.half_width for f, err in judged)
+    assert inside >= 0.9 * len(judged), (inside, len(judged))
+    if letter in "cde":
+        assert any(f.verdict == "firm" for f, _ in judged)
+    if letter == "h":
+        assert v.axes["Y"]["verdict"] == "undetermined"
+        assert {r["quantity"] for r in v.axes["Y"]["open"]} >= {"guideway_share", "backlash"}

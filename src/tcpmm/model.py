@@ -85,6 +85,33 @@ class AxisFriction(BaseModel):
     substeps: int = Field(16, ge=1, le=1024)
 
 
+class OpenRange(BaseModel):
+    """A quantity the identification data leave open: the range it may lie in, why, and
+    the measurement that would settle it.
+
+    Parameters
+    ----------
+    quantity : str
+        ``guideway_share`` [-], ``backlash`` [m], ``presliding`` [m], ``C_t`` [N s/m],
+        ``B_m`` [N m s/rad] or ``mechanics`` (a factor on the table mass and the structure
+        behind it, ``M_t``, ``M_b``, ``K_b``, ``M_h``, ``K_h``) [-].
+    low, high : float
+        The range, in the quantity's unit [SI].
+    cause : str
+        Why the data do not determine it [-].
+    settle : str
+        The measurement that would determine it [-].
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics"]
+    low: float = Field(ge=0.0, allow_inf_nan=False)
+    high: float = Field(ge=0.0, allow_inf_nan=False)
+    cause: str
+    settle: str
+
+
 class AxisUncertainty(BaseModel):
     """One standard deviation of what identification determined for an axis.
 
@@ -105,6 +132,9 @@ class AxisUncertainty(BaseModel):
     presliding : float
         Standard deviation of the logarithm of the contacts' pre-sliding distance (one
         for both), a quarter of the logarithm of the range its fit leaves [-].
+    open : tuple of OpenRange
+        Quantities the data leave open, with the range each may lie in; a prediction's
+        interval takes each over its whole range [-].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -114,6 +144,7 @@ class AxisUncertainty(BaseModel):
     guideway_share: float = Field(0.0, ge=0.0)
     backlash: float = Field(0.0, ge=0.0, allow_inf_nan=False)
     presliding: float = Field(0.0, ge=0.0, allow_inf_nan=False)
+    open: tuple[OpenRange, ...] = ()
 
     @field_validator("mechanics")
     @classmethod

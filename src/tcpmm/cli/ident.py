@@ -22,6 +22,7 @@ from ._app import (
     _report_file,
     _warn_suspect,
     app,
+    console,
     out,
 )
 
@@ -64,8 +65,9 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                             tolerance_m=tol_m, progress=adv)
     if plot is not None:
         res.plot(path=plot)
+    verdict = _spread_verdict(m, cmd, radius, c, sensor.value)
     if as_json:
-        _emit_json(res.to_dict())
+        _emit_json({**res.to_dict(), "verdict": verdict.to_dict()})
         return
     table = res.to_pandas()
     print_table(table, out, f"{sensor.value} spikes over {draws} drawn machines")
@@ -78,6 +80,17 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
         out.print(f"{r['direction'].upper()} {r['point']}: the size is not firm "
                   f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} um of "
                   f"{r['spike_um']:.2f} um; range {r['low_um']:.2f} to {r['high_um']:.2f} um)")
+    _print_verdict(verdict)
+
+
+def _spread_verdict(machine, command, radius_mm: float, centre_mm, sensor: str):
+    """The verdict on the figures of the user's circle (:mod:`tcpmm.uncertainty`)."""
+    from ..uncertainty import CircleTest, prediction_verdict
+
+    plane = tuple(list(machine.axes)[:2])
+    test = CircleTest(f"R{radius_mm:g}", command, radius_mm * 1e-3,
+                      (centre_mm[0] * 1e-3, centre_mm[1] * 1e-3), plane)
+    return prediction_verdict(machine, [test], sensor)
 
 @app.command()
 def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"),
@@ -132,11 +145,17 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
                       "(static friction beyond the drive, a negative fit, an unstable "
                       "sampled loop, a time column in the wrong unit), marked as suspect "
                       "in the file."),
+             strict: bool = typer.Option(
+                 False, "--strict",
+                 help="Exit with code 3 when a predicted figure of the reference circles is "
+                      "not firm (the model is written all the same)."),
              as_json: bool = typer.Option(False, "--json")):
     """Identify every axis of a measurement bundle into a model file.
 
     A model that the gates (tcpmm.ident.gates) find physically suspect is an error and is
-    not written, unless --accept-suspect.
+    not written, unless --accept-suspect. It ends with a verdict per axis and per predicted
+    figure of the reference circles (R35 mm, F5000 and F10000): firm, uncertain +- X um
+    (cause) or undetermined (cause), with the measurement that would settle it.
     """
     from ..ident.pipeline import identify_bundle
     from ..io.atomic import output_folder
@@ -163,13 +182,40 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     _warn_suspect(idn.machine, f"the model written to {output}")
     if as_json:
         _emit_json(idn.to_dict())
-        return
-    from ._tables import print_table
+    else:
+        from ._tables import print_table
 
-    print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
-    _print_split(idn)
-    _print_presliding(idn, presliding)
-    out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
+        print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
+        _print_split(idn)
+        _print_presliding(idn, presliding)
+        _print_verdict(idn.verdict)
+        out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
+    _exit_if_not_firm(idn.verdict, strict)
+
+
+def _print_verdict(verdict) -> None:
+    """Per axis its verdict and what its data leave open; per figure of the reference
+    circles the least firm verdict over both directions, with what would settle it."""
+    if verdict is None:
+        return
+    for name, d in verdict.axes.items():
+        line = f"verdict axis {name}: {d['verdict']}"
+        for r in d["open"]:
+            line += f"; open: {r['quantity']} ({r['cause']}; to settle: {r['settle']})"
+        out.print(line)
+    for key, f in verdict.worst().items():
+        settle = f"; to settle: {f.settle}" if f.verdict != "firm" and f.settle else ""
+        out.print(f"verdict {key}: {f.nominal * 1e6:.2f} um, {f.text()}{settle}")
+
+
+def _exit_if_not_firm(verdict, strict: bool) -> None:
+    """With --strict, exit 3 where a predicted figure is not firm."""
+    if not strict or verdict is None or verdict.firm:
+        return
+    loose = [f for f in verdict.figures if f.verdict != "firm"]
+    console.print(f"[red]strict:[/red] {len(loose)} of {len(verdict.figures)} predicted "
+                  "figures of the reference circles are not firm (see the verdict lines)")
+    raise typer.Exit(3)
 
 
 #: How each source of the guideway share reads in the summary.

@@ -16,6 +16,7 @@ from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
 from ..sim.contact import sliding_friction
+from ..uncertainty import open_ranges, prediction_verdict
 from .frf.response import reduced_frfs
 from .frf.wholerecord import reduced_with_whole_record
 from .friction.nutstiffness import LOST_MOTION_Z
@@ -219,12 +220,16 @@ class Identification:
     findings : list of Finding
         What the gates (:mod:`tcpmm.ident.gates`) found physically suspect; non-empty only
         when identification was told to accept a suspect model [-].
+    verdict : Verdict, optional
+        How far the figures the model predicts may be wrong, per figure and per axis
+        (:func:`tcpmm.uncertainty.prediction_verdict`) [-].
     """
 
     axes: dict
     machine: Machine
     meta: dict = field(default_factory=dict)
     findings: list = field(default_factory=list)
+    verdict: object = None
 
     def to_dict(self) -> dict:
         """JSON summary: fit percentage per transfer function and physical parameters."""
@@ -255,7 +260,8 @@ class Identification:
             if a.friction_split is not None:
                 out[name]["friction_split"] = a.friction_split.to_dict()
         return {"machine": self.machine.name, "axes": out,
-                "suspect": [str(f) for f in self.findings]}
+                "suspect": [str(f) for f in self.findings],
+                **({"verdict": self.verdict.to_dict()} if self.verdict is not None else {})}
 
     def bode_curves(self, name: str) -> dict:
         """Measured FRFs with coherence, TF fits and the physical model's response of axis
@@ -811,7 +817,7 @@ def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) ->
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
     guideway_share: float | None = None, presliding: float | None = None,
-    accept_suspect: bool = False,
+    accept_suspect: bool = False, verdict: bool = True,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
 
@@ -839,6 +845,9 @@ def identify_bundle(
         determine it (:mod:`tcpmm.ident.friction.preslidingfit`) [m].
     accept_suspect : bool
         Return a model the gates find physically suspect, marked, instead of raising [-].
+    verdict : bool
+        Judge the figures the model predicts on the reference circles
+        (:func:`tcpmm.uncertainty.prediction_verdict`) [-].
 
     Raises
     ------
@@ -865,6 +874,9 @@ def identify_bundle(
             progress(name)
     if findings and not accept_suspect:
         raise SuspectModelError(findings, file=source)
+    for a in axes.values():
+        a.axis = a.axis.replace(uncertainty=a.axis.uncertainty.model_copy(
+            update={"open": open_ranges(a)}))
     machine = Machine(
         name=f"{bundle.machine.name} (identified)", axes={n: a.axis for n, a in axes.items()},
         suspect=tuple(str(f) for f in findings),
@@ -874,4 +886,4 @@ def identify_bundle(
         warn_lost_motion_sensitivity(name, a, machine, bundle.axes[name].friction)
         warn_presliding_sensitivity(name, a, machine, bundle.axes[name].friction)
     return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
-                          findings)
+                          findings, prediction_verdict(machine) if verdict else None)

@@ -32,7 +32,8 @@ _HEADER = """\
 #   sensors: encoder_counts_per_rev [-], scale_resolution [m], tcp_resolution [m]
 #   uncertainty (identified models): one standard deviation of the mechanics [as above],
 #          friction_level [-] (relative), guideway_share [-], backlash [m],
-#          presliding [-] (of the logarithm of the pre-sliding distance)
+#          presliding [-] (of the logarithm of the pre-sliding distance), open: what the
+#          data leave open, {{quantity, low, high [SI], cause, settle}}
 #   interpolation (CNC interpolator, docs/paths.md): period_s [s], profile
 #          [trapezoid|scurve], path_accel_m_per_s2 [m/s^2], path_jerk_m_per_s3 [m/s^3],
 #          axis_velocity_m_per_s [m/s], axis_accel_m_per_s2 [m/s^2], rapid_m_per_s [m/s],
@@ -53,6 +54,10 @@ def machine_to_dict(machine: Machine) -> dict:
     for a in d["axes"].values():
         if a.get("uncertainty") is None:
             a.pop("uncertainty", None)  # files of hand-made models stay as they were
+        elif not a["uncertainty"].get("open"):
+            a["uncertainty"].pop("open", None)
+        else:
+            a["uncertainty"]["open"] = [dict(r) for r in a["uncertainty"]["open"]]
         if not a["servo"].get("filters"):
             a["servo"].pop("filters", None)
     out = {"format": FORMAT, "name": d["name"]}

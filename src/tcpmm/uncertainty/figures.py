@@ -1,0 +1,156 @@
+"""The figures of circular tests a user reads, and how far each moves over what the
+identification leaves uncertain.
+
+Each uncertain quantity of each axis in the test's plane is moved to both ends of its range
+(:mod:`tcpmm.uncertainty.perturb`) and the tests simulated again; a figure's change is the
+larger of the two. The changes of independent quantities add in quadrature.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..analysis.circular import QUADRANTS, analyse_circle
+from ..errors import InputError
+from .perturb import axis_variants
+
+__all__ = ["CircleTest", "figure_changes", "figures", "reference_tests"]
+
+#: The reference circles of a verdict made without the user's command: the paper's test,
+#: R 35 mm about the origin, CCW then CW from 45 deg, at two feeds [m], [mm/min].
+REFERENCE_RADIUS_M = 0.035
+REFERENCE_FEEDS_MM_PER_MIN = (5000.0, 10000.0)
+
+
+@dataclass(frozen=True)
+class CircleTest:
+    """A circular test: its command and how to analyse it.
+
+    Parameters
+    ----------
+    label : str
+        Name of the test in tables [-].
+    command : Command
+        Position command [m].
+    radius_m : float
+        Nominal radius [m].
+    centre_m : tuple of float
+        Nominal centre in the plane [m].
+    plane : tuple of str
+        The two axes of the plane [-].
+    """
+
+    label: str
+    command: object
+    radius_m: float
+    centre_m: tuple = (0.0, 0.0)
+    plane: tuple = ("X", "Y")
+
+
+def reference_tests(machine) -> list[CircleTest]:
+    """The reference circles in the plane of the machine's first two axes (none for a
+    machine of one axis) [-]."""
+    from ..path.circle import circle_command
+    from ..path.command import concatenate
+
+    names = list(machine.axes)
+    if len(names) < 2:
+        return []
+    plane = (names[0], names[1])
+    tests = []
+    for feed in REFERENCE_FEEDS_MM_PER_MIN:
+        cmd = concatenate([circle_command(REFERENCE_RADIUS_M, feed / 60000.0, direction=d,
+                                          start_angle_rad=math.pi / 4, plane_axes=plane)
+                           for d in ("ccw", "cw")])
+        tests.append(CircleTest(f"R{REFERENCE_RADIUS_M * 1e3:g} F{feed:g}", cmd,
+                                REFERENCE_RADIUS_M, (0.0, 0.0), plane))
+    return tests
+
+
+def _in_plane(machine, plane):
+    """The machine with only the axes of the plane (the others stand still) [-]."""
+    if all(n in plane for n in machine.axes):
+        return machine
+    return machine.model_copy(update={"axes": {n: machine.axes[n] for n in plane}})
+
+
+def figures(machine, tests, sensor: str = "tcp") -> dict:
+    """Spikes A-D, contour error and G of each pass of each test.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    tests : list of CircleTest
+        The tests [-].
+    sensor : str
+        Sensor analysed [-].
+
+    Returns
+    -------
+    dict
+        ``{(test label, pass, figure): value}`` with pass ``"ccw"``, ``"cw"`` (``"ccw 2"``
+        for a second pass of a direction) and figure ``"spike A"`` ... ``"spike D"``,
+        ``"contour error"``, ``"G"`` [m].
+    """
+    from ..simulate import simulate
+
+    out = {}
+    for t in tests:
+        m = _in_plane(machine, t.plane)
+        res = analyse_circle(simulate(m, t.command), t.radius_m, t.centre_m, plane=t.plane)
+        seen: dict = {}
+        for p in res.passes:
+            seen[p.direction] = seen.get(p.direction, 0) + 1
+            name = p.direction + ("" if seen[p.direction] == 1 else f" {seen[p.direction]}")
+            s = p.sensors[sensor]
+            for q in QUADRANTS:
+                out[(t.label, name, f"spike {q}")] = float(s.spikes[q])
+            out[(t.label, name, "contour error")] = float(s.contour_error)
+            out[(t.label, name, "G")] = float(s.circular_deviation)
+    return out
+
+
+def figure_changes(machine, tests, sensor: str = "tcp", progress=None):
+    """The nominal figures and, per figure, the change each uncertain quantity of each
+    axis in the tests' planes makes.
+
+    Parameters
+    ----------
+    machine : Machine
+        An identified model [SI].
+    tests : list of CircleTest
+        The tests [-].
+    sensor : str
+        Sensor analysed [-].
+    progress : callable, optional
+        Called with no argument after each variant [-].
+
+    Returns
+    -------
+    tuple
+        ``(nominal, changes, opens)``: the figures (:func:`figures`); per figure
+        ``{(axis, quantity): change}`` [m] (``inf`` where a variant could not be
+        simulated); per ``(axis, quantity)`` the open range or ``None`` [-].
+    """
+    nominal = figures(machine, tests, sensor)
+    changes = {k: {} for k in nominal}
+    opens = {}
+    axes = {n for t in tests for n in t.plane}
+    for name in [n for n in machine.axes if n in axes]:
+        u = machine.axes[name].uncertainty
+        by_q = {r.quantity: r for r in (u.open if u is not None else ())}
+        for v in axis_variants(machine.axes[name]):
+            key = (name, v.quantity)
+            opens[key] = by_q.get(v.quantity) if v.open else None
+            try:
+                moved = figures(machine.with_axis(name, v.axis), tests, sensor)
+            except (InputError, ValueError, FloatingPointError):
+                moved = {}
+            for k, x in nominal.items():
+                d = abs(moved[k] - x) if k in moved and math.isfinite(moved[k]) else math.inf
+                changes[k][key] = max(changes[k].get(key, 0.0), d)
+            if progress is not None:
+                progress()
+    return nominal, changes, opens

@@ -1,0 +1,140 @@
+"""Variants of an identified axis: each uncertain quantity at the two ends of its 90 %
+range (a determined one) or of its whole range (an open one), the others as identified."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..model import Axis
+
+__all__ = ["QUANTILE_90", "Variant", "axis_variants"]
+
+#: Standard normal quantile of a two-sided 90 % interval [-].
+QUANTILE_90 = 1.6449
+#: The mechanics a circle's TCP figures follow: table, nut, head and the torsion that sets
+#: the velocity loop's bandwidth [-].
+SENSITIVE = ("M_t", "K_t", "C_t", "M_h", "K_h", "C_h", "K_L")
+#: What the ``mechanics`` open range scales: the table mass and the structure behind it [-].
+STRUCTURE = ("M_t", "M_b", "K_b", "M_h", "K_h")
+
+
+@dataclass(frozen=True)
+class Variant:
+    """An axis with one quantity moved to one end of its range.
+
+    Parameters
+    ----------
+    quantity : str
+        What was moved [-].
+    open : bool
+        The data leave it open (whole range), else a determined quantity at its 90 %
+        bound [-].
+    axis : Axis
+        The moved axis [SI].
+    """
+
+    quantity: str
+    open: bool
+    axis: Axis
+
+
+def _mechanics_variants(axis: Axis, u) -> list[Variant]:
+    m = axis.mechanics
+    out = []
+    for p in SENSITIVE:
+        v = getattr(m, p)
+        if v <= 0.0:
+            continue
+        rel = u.mechanics.get(p, 0.0) / v
+        if rel <= 0.0:
+            continue
+        for sign in (-1.0, 1.0):
+            upd = {p: v * math.exp(sign * QUANTILE_90 * rel)}
+            if p == "C_t":  # the steady viscous force moves to the screw, its total kept
+                upd["B_L"] = max(m.B_L + (v - upd[p]) * m.R_L ** 2, 0.0)
+            out.append(Variant(p, False, axis.replace(mechanics=m.replace(**upd))))
+    return out
+
+
+def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
+    from ..ident.friction.sensitivity import with_share
+    from ..spread import _longer, scaled_contact
+
+    fr = axis.friction
+    if fr is None:
+        return []
+    out = []
+    lvl = u.friction_level * QUANTILE_90
+    for k in (math.exp(-lvl), math.exp(lvl)) if lvl > 0.0 else ():
+        out.append(Variant("friction_level", False, axis.replace(friction=fr.model_copy(
+            update={"guideway": scaled_contact(fr.guideway, k),
+                    "screw": scaled_contact(fr.screw, k)}))))
+    size = [0.0 if c is None else c.fc_pos + c.fc_neg for c in (fr.guideway, fr.screw)]
+    if ("guideway_share" not in open_q and sum(size) > 0 and math.isfinite(u.guideway_share)
+            and u.guideway_share > 0.0):
+        share = size[0] / sum(size)
+        sd = u.guideway_share * QUANTILE_90
+        for s in (share - sd, share + sd):
+            new = with_share(fr, min(max(s, 0.01), 0.99))
+            if new is not None:
+                out.append(Variant("guideway_share", False, axis.replace(friction=new)))
+    if "backlash" not in open_q and fr.backlash > 0.0 and u.backlash > 0.0:
+        sd = u.backlash * QUANTILE_90
+        for b in (max(fr.backlash - sd, 0.0), fr.backlash + sd):
+            out.append(Variant("backlash", False,
+                               axis.replace(friction=fr.model_copy(update={"backlash": b}))))
+    if "presliding" not in open_q and u.presliding > 0.0:
+        sd = u.presliding * QUANTILE_90
+        for k in (math.exp(-sd), math.exp(sd)):
+            out.append(Variant("presliding", False, axis.replace(friction=fr.model_copy(
+                update={"guideway": _longer(fr.guideway, k), "screw": _longer(fr.screw, k)}))))
+    return out
+
+
+def _open_variants(axis: Axis, r) -> list[Variant]:
+    """The axis at both ends of an open range ``r`` (:class:`tcpmm.model.OpenRange`)."""
+    from ..ident.friction.presliding import with_presliding
+    from ..ident.friction.sensitivity import with_share
+
+    m, fr = axis.mechanics, axis.friction
+    out = []
+    for x in (r.low, r.high):
+        if r.quantity == "guideway_share":
+            new = with_share(fr, x) if fr is not None else None
+            moved = axis.replace(friction=new) if new is not None else None
+        elif r.quantity == "backlash":
+            moved = axis.replace(friction=fr.model_copy(update={"backlash": x}))
+        elif r.quantity == "presliding":
+            moved = axis.replace(friction=with_presliding(fr, m, x))
+        elif r.quantity == "mechanics":
+            moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
+                                                        for p in STRUCTURE}))
+        else:  # B_m: the motor-bearing share of the steady viscous torque
+            moved = axis.replace(mechanics=m.replace(B_m=x, B_L=max(m.B_L - x, 0.0)))
+        if moved is not None:
+            out.append(Variant(r.quantity, True, moved))
+    return out
+
+
+def axis_variants(axis: Axis) -> list[Variant]:
+    """Every variant of an identified axis a prediction's interval is built from.
+
+    Parameters
+    ----------
+    axis : Axis
+        An identified axis with its :class:`~tcpmm.model.AxisUncertainty` [SI].
+
+    Returns
+    -------
+    list of Variant
+        Two per quantity (its low and high end); none without an uncertainty [-].
+    """
+    u = axis.uncertainty
+    if u is None:
+        return []
+    open_q = {r.quantity for r in u.open}
+    out = _mechanics_variants(axis, u) + _friction_variants(axis, u, open_q)
+    for r in u.open:
+        out += _open_variants(axis, r)
+    return out

@@ -1,0 +1,127 @@
+"""What the identification data of an axis leave open, and the range each open quantity may
+lie in.
+
+A fit's standard deviation counts the noise of the data it was fitted to; it says nothing of
+a quantity whose signal never rose above the sensor's resolution, or that rests on a motion
+the records never made. Such a quantity is *open*: a prediction takes it over its whole
+plausible range (:class:`tcpmm.model.OpenRange`), never over a small deviation.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..model import OpenRange
+
+__all__ = ["MECHANICS_RANGE", "PRESLIDING_RANGE_M", "SCALE_STEPS", "SHARE_RANGE",
+           "open_ranges"]
+
+#: A deflection between encoder and scale of fewer scale steps than this rests on the
+#: sensor's resolution: its rounding, not the nut, shapes what the runs see [-].
+SCALE_STEPS = 2.0
+#: Range of an open guideway share: preloaded guides and sealed nuts span nearly all of it [-].
+SHARE_RANGE = (0.02, 0.98)
+#: Range of an open pre-sliding distance: that of rolling guides and ball-screw nuts [m].
+PRESLIDING_RANGE_M = (0.2e-6, 10e-6)
+#: Factor on the table mass and the structure behind it where the sweep's FRFs are not
+#: those of the linear mechanics (friction held the axis) [-].
+MECHANICS_RANGE = (0.7, 1.3)
+
+_SETTLE_SHARE = ("a sweep with a TCP device while the axis travels at constant speed, or a "
+                 "scale at least ten times finer than the nut's deflection")
+_SETTLE_PLAY = "a reversal test at low speed with a finer scale, or a TCP device"
+_SETTLE_PRESLIDING = ("friction runs with slow reversals (0.5 mm/s or less) recorded at 1 kHz "
+                      "or more")
+_SETTLE_HOLD = ("a sweep while the axis travels at constant speed, or a larger sweep "
+                "amplitude (within the current limit)")
+
+
+def _friction_total(a) -> float:
+    """Coulomb level of the friction runs, mean of both directions [N]; 0 without."""
+    if a.friction is None:
+        return 0.0
+    v = dict(zip(a.friction.names, a.friction.values, strict=True))
+    return 0.5 * (abs(v.get("Fc+", 0.0)) + abs(v.get("Fc-", 0.0)))
+
+
+def _share_open(a) -> str | None:
+    """Why the guideway share is open, or ``None`` when the data determine it."""
+    split = a.friction_split
+    if split is None or split.source == "given":
+        return None
+    if split.source == "prior":
+        return "the friction runs do not determine the guideway share"
+    if split.source != "data":
+        return None
+    res = a.axis.sensors.scale_resolution
+    sd = split.guideway_share_std if math.isfinite(split.guideway_share_std) else 1.0
+    share = min(split.guideway_share + 2.0 * sd, 1.0)
+    # the jump of the nut's deflection at a reversal that the share was read from
+    step = 2.0 * share * _friction_total(a) / a.axis.mechanics.K_t
+    if res > 0.0 and step < SCALE_STEPS * res:
+        return (f"the nut's deflection at a reversal that the share was read from "
+                f"({step * 1e6:.2f} um, with the share two deviations higher) is under "
+                f"{SCALE_STEPS:g} steps of the {res * 1e6:g} um scale: the share rests on the "
+                "scale's rounding")
+    return None
+
+
+def _play_open(a) -> OpenRange | None:
+    """The lost motion as an open range where the runs found one of about a scale step."""
+    split = a.friction_split
+    res = a.axis.sensors.scale_resolution
+    if split is None or split.source == "given" or not split.backlash > 0.0 or res <= 0.0:
+        return None
+    if split.backlash >= SCALE_STEPS * res:
+        return None
+    sd = split.backlash_std if math.isfinite(split.backlash_std) else split.backlash
+    return OpenRange(quantity="backlash", low=0.0, high=split.backlash + 3.0 * sd,
+                     cause=f"the lost motion found ({split.backlash * 1e6:.2f} um) is within "
+                           f"{SCALE_STEPS:g} steps of the {res * 1e6:g} um scale",
+                     settle=_SETTLE_PLAY)
+
+
+def open_ranges(a) -> tuple[OpenRange, ...]:
+    """The quantities an identified axis leaves open, each with its range, cause and the
+    measurement that would settle it.
+
+    Parameters
+    ----------
+    a : AxisIdentification
+        The identified axis, with its friction split and pre-sliding fit [-].
+
+    Returns
+    -------
+    tuple of OpenRange
+        Open quantities; empty where the data determine everything they are asked [-].
+    """
+    out = []
+    why = _share_open(a)
+    if why is not None and a.axis.friction is not None:
+        out.append(OpenRange(quantity="guideway_share", low=SHARE_RANGE[0],
+                             high=SHARE_RANGE[1], cause=why, settle=_SETTLE_SHARE))
+    play = _play_open(a)
+    if play is not None:
+        out.append(play)
+    fit = a.presliding_fit
+    if fit is not None and not fit.determined and a.axis.friction is not None:
+        out.append(OpenRange(quantity="presliding", low=PRESLIDING_RANGE_M[0],
+                             high=PRESLIDING_RANGE_M[1],
+                             cause=f"pre-sliding assumed: {fit.reason}",
+                             settle=_SETTLE_PRESLIDING))
+    if a.friction_hold is not None:
+        out.append(OpenRange(quantity="mechanics", low=MECHANICS_RANGE[0],
+                             high=MECHANICS_RANGE[1],
+                             cause="friction held the axis during the sweep: its FRFs are not "
+                                   "those of the linear mechanics",
+                             settle=_SETTLE_HOLD))
+    # the runs fix the steady viscous torque on the motor side, B_m + B_L: only its
+    # division is open
+    mech = a.axis.mechanics
+    b_high = min(a.physical.mechanics.B_m, mech.B_L)
+    if b_high > 0.0 and mech.B_m == 0.0:
+        out.append(OpenRange(quantity="B_m", low=0.0, high=b_high,
+                             cause="the FRFs do not separate the motor-bearing damping from "
+                                   "the rest; taken as 0",
+                             settle="a run-down of the motor decoupled from the screw"))
+    return tuple(out)

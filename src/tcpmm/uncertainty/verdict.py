@@ -1,0 +1,221 @@
+"""A verdict per predicted figure and per axis: *firm*, *uncertain +- X um (cause)* or
+*undetermined (cause)*, with the measurement that would settle it.
+
+A figure's 90 % interval is its nominal value plus or minus the quadrature sum of the
+changes each uncertain quantity makes (:func:`tcpmm.uncertainty.figures.figure_changes`),
+times the calibration factor, plus the noise floor of a circle measured against itself
+(:data:`CALIBRATION`). It is *firm* when that half-width is within the figure's target,
+*undetermined* when a quantity the data leave open drives an interval as wide as the figure
+itself (or a variant could not be simulated), else *uncertain*.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .figures import figure_changes, reference_tests
+
+__all__ = ["CALIBRATION", "FigureVerdict", "Verdict", "prediction_verdict", "target"]
+
+#: The interval's calibration: ``factor`` on the quadrature sum of the changes, split-
+#: conformal over machines of an independent simulator (the largest ratio of a true error
+#: to that sum on any of them; docs/validation/calibration.md), and ``floor_m``, the noise
+#: floor of comparing a measured circle with itself through its sensors [-], [m].
+CALIBRATION = {"factor": 1.5, "floor_m": 0.15e-6}
+#: Targets of a firm figure: the larger of an absolute and a relative bound, per kind [m], [-].
+TARGETS = {"spike": (1.0e-6, 0.01), "contour error": (0.5e-6, 0.01), "G": (1.0e-6, 0.01)}
+
+
+def target(figure: str, nominal: float) -> float:
+    """The accuracy a firm figure must have: the larger of the absolute and the relative
+    bound of :data:`TARGETS` [m].
+
+    Parameters
+    ----------
+    figure : str
+        ``"spike A"`` ... ``"spike D"``, ``"contour error"`` or ``"G"`` [-].
+    nominal : float
+        The predicted value [m].
+    """
+    absolute, relative = TARGETS[figure.split()[0] if figure.startswith("spike") else figure]
+    return max(absolute, relative * abs(nominal))
+
+
+@dataclass(frozen=True)
+class FigureVerdict:
+    """The verdict on one predicted figure.
+
+    Parameters
+    ----------
+    test, direction, figure : str
+        Which figure: the circle, its pass and the figure's name [-].
+    nominal : float
+        Predicted value [m].
+    half_width : float
+        Half-width of its 90 % interval [m].
+    target : float
+        The accuracy a firm figure has (:func:`target`) [m].
+    verdict : str
+        ``firm``, ``uncertain`` or ``undetermined`` [-].
+    cause : str
+        What drives the interval: ``axis NAME QUANTITY``, with ``, open`` where the data
+        leave it open (the axis verdict says why) [-].
+    settle : str
+        The measurement that would settle it; empty when firm [-].
+    """
+
+    test: str
+    direction: str
+    figure: str
+    nominal: float
+    half_width: float
+    target: float
+    verdict: str
+    cause: str = ""
+    settle: str = ""
+
+    def text(self) -> str:
+        """One line: the verdict as a user reads it, in um [-]."""
+        if self.verdict == "firm":
+            return f"firm (+- {self.half_width * 1e6:.2f} um)"
+        if self.verdict == "uncertain":
+            return f"uncertain +- {self.half_width * 1e6:.2f} um ({self.cause})"
+        return f"undetermined ({self.cause})"
+
+    def to_dict(self) -> dict:
+        """JSON-ready, in um [-]."""
+        return {"test": self.test, "direction": self.direction, "figure": self.figure,
+                "nominal_um": self.nominal * 1e6, "half_width_um": self.half_width * 1e6,
+                "target_um": self.target * 1e6, "verdict": self.verdict,
+                "cause": self.cause, "settle": self.settle}
+
+
+def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
+    """The verdict on one figure from its changes (:func:`figure_changes`)."""
+    test, direction, figure = key
+    total = math.sqrt(sum(d * d for d in changes.values())) if changes else 0.0
+    half = CALIBRATION["factor"] * total + CALIBRATION["floor_m"]
+    tol = target(figure, nominal)
+    if half <= tol:
+        return FigureVerdict(test, direction, figure, nominal, half, tol, "firm")
+    axis, quantity = max(changes, key=changes.get)
+    r = opens.get((axis, quantity))
+    cause = f"axis {axis} {quantity}" + (", open" if r is not None else "")
+    settle = r.settle if r is not None else _SETTLE.get(quantity, "")
+    undetermined = not math.isfinite(half) or (r is not None and half >= abs(nominal))
+    return FigureVerdict(test, direction, figure, nominal, half, tol,
+                         "undetermined" if undetermined else "uncertain", cause, settle)
+
+
+#: The measurement that narrows a determined quantity's deviation [-].
+_SETTLE = {"M_t": "a sweep with a TCP device and more excitation at the axial modes",
+           "K_t": "friction runs with a finer scale", "C_t": "friction runs at more speeds",
+           "M_h": "a sweep with a TCP device", "K_h": "a sweep with a TCP device",
+           "C_h": "a sweep with a TCP device", "K_L": "a sweep with more excitation",
+           "friction_level": "longer friction-run plateaus",
+           "guideway_share": "friction runs with a finer scale, or a TCP device",
+           "backlash": "a reversal test at low speed", "presliding": "slower reversals"}
+
+
+@dataclass
+class Verdict:
+    """Verdicts on every predicted figure of some circular tests, and per axis.
+
+    Parameters
+    ----------
+    figures : list of FigureVerdict
+        One per figure [-].
+    axes : dict
+        Per axis: ``{"verdict": ..., "open": [OpenRange as dict, ...]}`` [-].
+    tests : list of str
+        The tests' labels [-].
+    """
+
+    figures: list
+    axes: dict = field(default_factory=dict)
+    tests: list = field(default_factory=list)
+
+    @property
+    def firm(self) -> bool:
+        """Every figure is firm [-]."""
+        return all(f.verdict == "firm" for f in self.figures)
+
+    def worst(self) -> dict:
+        """Per figure name, the least firm verdict over the tests and passes [-]."""
+        rank = {"firm": 0, "uncertain": 1, "undetermined": 2}
+        out: dict = {}
+        for f in self.figures:
+            k = f"{f.test} {f.figure}"
+            if k not in out or (rank[f.verdict], f.half_width) > (rank[out[k].verdict],
+                                                                  out[k].half_width):
+                out[k] = f
+        return out
+
+    def to_dict(self) -> dict:
+        """JSON-ready [-]."""
+        return {"firm": self.firm, "tests": self.tests, "axes": self.axes,
+                "figures": [f.to_dict() for f in self.figures]}
+
+    def to_pandas(self):
+        """One row per figure, in um [-]."""
+        import pandas as pd
+
+        return pd.DataFrame([f.to_dict() for f in self.figures])
+
+    def plot(self, ax=None, path=None):
+        """Each figure's 90 % interval against its target; the figure [-].
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when omitted [-].
+        path : str or Path, optional
+            Also save it there (PNG/PDF/SVG) [-].
+        """
+        from ..plot.verdict import plot_verdict
+
+        return plot_verdict(self, path, ax=ax)
+
+
+def _axis_verdicts(machine, figures: list) -> dict:
+    """Per axis: the least firm verdict among the figures it drives, and its open
+    quantities with the measurement that would settle each [-]."""
+    out = {}
+    for name, a in machine.axes.items():
+        mine = [f for f in figures if f.cause.startswith(f"axis {name} ")
+                and f.verdict != "firm"]
+        kinds = {f.verdict for f in mine}
+        verdict = ("undetermined" if "undetermined" in kinds else
+                   "uncertain" if "uncertain" in kinds else "firm")
+        opens = [r.model_dump() for r in (a.uncertainty.open if a.uncertainty else ())]
+        out[name] = {"verdict": verdict, "open": opens,
+                     "causes": sorted({f.cause for f in mine})}
+    return out
+
+
+def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None) -> Verdict:
+    """The verdict on the figures of circular tests predicted by an identified model.
+
+    Parameters
+    ----------
+    machine : Machine
+        An identified model with its uncertainty [SI].
+    tests : list of CircleTest, optional
+        The tests; the reference circles (:func:`reference_tests`) when omitted [-].
+    sensor : str
+        Sensor analysed [-].
+    progress : callable, optional
+        Called after each simulated variant [-].
+
+    Returns
+    -------
+    Verdict
+        Per figure and per axis [-].
+    """
+    tests = reference_tests(machine) if tests is None else tests
+    if not tests:
+        return Verdict([], _axis_verdicts(machine, []), [])
+    nominal, changes, opens = figure_changes(machine, tests, sensor, progress)
+    figs = [_judge(k, x, changes[k], opens) for k, x in nominal.items() if math.isfinite(x)]
+    return Verdict(figs, _axis_verdicts(machine, figs), [t.label for t in tests])

@@ -1,0 +1,134 @@
+"""The verdict on predicted figures: intervals from what identification leaves uncertain,
+open quantities taken over their whole range, and a verdict a user can act on."""
+
+from __future__ import annotations
+
+import json
+import math
+from types import SimpleNamespace
+
+import pytest
+
+from tcpmm.model import AxisUncertainty, OpenRange
+from tcpmm.uncertainty import CALIBRATION, open_ranges, prediction_verdict, target
+from tcpmm.uncertainty.ranges import SCALE_STEPS
+
+
+def _xy(machine):
+    return machine.model_copy(update={"axes": {n: machine.axes[n] for n in ("X", "Y")}})
+
+
+def _with(machine, axis, **u):
+    a = machine.axes[axis]
+    return machine.with_axis(axis, a.replace(uncertainty=AxisUncertainty(**u)))
+
+
+@pytest.fixture(scope="module")
+def known(vmc):
+    """The built-in X-Y machine with every quantity known exactly."""
+    m = _xy(vmc)
+    return _with(_with(m, "X"), "Y")
+
+
+def test_targets_are_the_larger_of_absolute_and_relative():
+    assert target("spike B", 20e-6) == pytest.approx(1e-6)
+    assert target("spike B", -300e-6) == pytest.approx(3e-6)
+    assert target("contour error", 10e-6) == pytest.approx(0.5e-6)
+    assert target("G", 250e-6) == pytest.approx(2.5e-6)
+
+
+def test_a_model_known_exactly_is_firm_at_the_noise_floor(known):
+    v = prediction_verdict(known)
+    assert v.firm and v.tests == ["R35 F5000", "R35 F10000"]
+    # both directions, spikes A-D, contour error and G, at two feeds
+    assert len(v.figures) == 2 * 2 * 6
+    assert all(f.half_width == pytest.approx(CALIBRATION["floor_m"]) for f in v.figures)
+    assert {d["verdict"] for d in v.axes.values()} == {"firm"}
+
+
+def test_an_open_share_is_taken_over_its_whole_range(known):
+    """A share the data leave open makes the spikes of its axis not firm, names it as the
+    cause with the measurement that settles it, and is wider than a determined one."""
+    open_share = OpenRange(quantity="guideway_share", low=0.02, high=0.98,
+                           cause="test", settle="a finer scale")
+    m = _with(known, "Y", open=(open_share,))
+    v = prediction_verdict(m)
+    loose = [f for f in v.figures if f.verdict != "firm"]
+    assert loose and all(f.cause == "axis Y guideway_share, open" for f in loose)
+    assert all(f.settle == "a finer scale" for f in loose)
+    assert v.axes["Y"]["verdict"] != "firm" and v.axes["X"]["verdict"] == "firm"
+    assert v.axes["Y"]["open"][0]["quantity"] == "guideway_share"
+    determined = prediction_verdict(_with(known, "Y", guideway_share=0.02))
+    by_key = {(f.test, f.direction, f.figure): f.half_width for f in determined.figures}
+    wider = [f.half_width >= by_key[(f.test, f.direction, f.figure)] for f in v.figures]
+    assert all(wider)
+
+
+def test_interval_grows_with_the_deviation(known):
+    """Twice the table mass's deviation widens the contour error's interval and the
+    intervals in total (a single spike near its extremum over the mass may not move)."""
+    m = known.axes["X"].mechanics
+    half = []
+    for rel in (0.02, 0.04):
+        v = prediction_verdict(_with(known, "X", mechanics={"M_t": rel * m.M_t}))
+        half.append({(f.test, f.direction, f.figure): f.half_width for f in v.figures})
+    assert sum(half[1].values()) > sum(half[0].values())
+    ce = [k for k in half[0] if k[2] == "contour error"]
+    assert all(half[1][k] > half[0][k] for k in ce)
+
+
+def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resolution=1e-6,
+                k_t=4e8, fc=300.0):
+    """A stand-in for an identified axis with what :func:`open_ranges` reads."""
+    split = SimpleNamespace(source=source, guideway_share=share, guideway_share_std=share_std,
+                            backlash=backlash, backlash_std=0.3e-6)
+    return SimpleNamespace(
+        friction_split=split, presliding_fit=None, friction_hold=None,
+        friction=SimpleNamespace(names=["Fc+", "Fc-"], values=[fc, -fc]),
+        physical=SimpleNamespace(mechanics=SimpleNamespace(B_m=0.0)),
+        axis=SimpleNamespace(friction=object(), sensors=SimpleNamespace(
+            scale_resolution=resolution), mechanics=SimpleNamespace(K_t=k_t, B_m=0.0,
+                                                                     B_L=1e-3)))
+
+
+def test_a_share_read_from_a_deflection_under_two_scale_steps_is_open():
+    # (0.2 + 2 * 0.05) * 300 N * 2 / 4e8 N/m = 0.45 um, under two 1 um steps
+    names = [r.quantity for r in open_ranges(_axis_ident())]
+    assert names == ["guideway_share"]
+    # the same axis with a 0.05 um scale reads the share from nine steps
+    assert open_ranges(_axis_ident(resolution=0.05e-6)) == ()
+    # a share the user gave is never open
+    assert open_ranges(_axis_ident(source="given")) == ()
+
+
+def test_lost_motion_of_about_one_scale_step_is_open_down_to_none():
+    res = 1e-6
+    found = open_ranges(_axis_ident(resolution=res, backlash=1.6e-6, k_t=1e7))
+    play = [r for r in found if r.quantity == "backlash"]
+    assert play and play[0].low == 0.0 and play[0].high == pytest.approx(1.6e-6 + 0.9e-6)
+    clear = open_ranges(_axis_ident(resolution=res, backlash=SCALE_STEPS * res * 1.5,
+                                    k_t=1e7))
+    assert not [r for r in clear if r.quantity == "backlash"]
+
+
+def test_open_ranges_round_trip_through_the_model_file(known, tmp_path):
+    from tcpmm.io.modelfile import read_machine, write_machine
+
+    r = OpenRange(quantity="presliding", low=0.2e-6, high=10e-6, cause="c", settle="s")
+    m = _with(known, "X", open=(r,))
+    write_machine(m, tmp_path / "m.yaml")
+    assert read_machine(tmp_path / "m.yaml").axes["X"].uncertainty.open == (r,)
+    import yaml
+
+    write_machine(known, tmp_path / "k.yaml")
+    written = yaml.safe_load((tmp_path / "k.yaml").read_text())
+    assert "open" not in written["axes"]["X"]["uncertainty"]
+
+
+def test_verdict_to_dict_is_json(known):
+    v = prediction_verdict(_with(known, "X", guideway_share=0.05))
+    d = json.loads(json.dumps(v.to_dict()))
+    assert set(d) == {"firm", "tests", "axes", "figures"}
+    f = d["figures"][0]
+    assert f["verdict"] in ("firm", "uncertain", "undetermined")
+    assert math.isfinite(f["half_width_um"]) and f["target_um"] >= 0.5

@@ -205,6 +205,10 @@ def identification_section(summary: dict, images: dict | None = None):
                 "does, without the worst 1 % of bins.", "lead")
     for s in summary.get("suspect", []):
         body += para(f"physically suspect: {s}", "warn")
+    if summary.get("verdict") is not None:
+        from .verdict import verdict_html
+
+        body += verdict_html(summary["verdict"])
     for name, axis in summary["axes"].items():
         body += f"<h3>Axis {esc(name)}</h3>"
         if f"bode_{name}" in images:

@@ -1,0 +1,39 @@
+"""The verdict on the predicted figures as the report shows it: per axis what the data leave
+open and what would settle it, per figure its 90 % interval against its target."""
+
+from __future__ import annotations
+
+from .html import esc, para, table
+
+_TEXT = {"firm": "firm", "uncertain": "uncertain", "undetermined": "undetermined"}
+
+
+def verdict_html(verdict: dict) -> str:
+    """HTML of a verdict (``Verdict.to_dict()``, as ``identification.json`` holds it).
+
+    Parameters
+    ----------
+    verdict : dict
+        ``{"firm", "tests", "axes", "figures"}`` [-].
+    """
+    import pandas as pd
+
+    tests = ", ".join(verdict.get("tests", [])) or "none (one axis)"
+    lead = ("Every predicted figure below is firm: within its target (the larger of 1 um "
+            "and 1 % for spikes and G, of 0.5 um and 1 % for the contour error) at 90 %."
+            if verdict.get("firm") else
+            "Not every predicted figure is firm: the table gives each one's 90 % interval, "
+            "what drives it and the measurement that would settle it.")
+    body = f"<h3>Verdict on the predicted figures ({esc(tests)})</h3>" + para(lead, "lead")
+    for name, a in verdict.get("axes", {}).items():
+        for r in a.get("open", []):
+            body += para(f"axis {name}, {r['quantity']} open ({r['low']:.3g} to "
+                         f"{r['high']:.3g}): {r['cause']}; to settle: {r['settle']}", "warn")
+    rows = [{"circle": f["test"], "pass": f["direction"], "figure": f["figure"],
+             "predicted [µm]": f["nominal_um"], "± 90 % [µm]": f["half_width_um"],
+             "target [µm]": f["target_um"], "verdict": _TEXT[f["verdict"]],
+             "cause": f["cause"], "to settle": f["settle"]}
+            for f in verdict.get("figures", [])]
+    if rows:
+        body += table(pd.DataFrame(rows), "verdict.csv", digits=2)
+    return body

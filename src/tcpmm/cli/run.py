@@ -293,7 +293,8 @@ _REMEDY = {"axis velocity": "axis_velocity_m_per_s",
 
 def _print_feed(limits) -> None:
     """Share of the path at the programmed feed, and per limit where it holds it back."""
-    out.print(f"at the programmed feed on {limits.share_at_feed() * 100:.1f} % of the path")
+    out.print(f"at the programmed feed (within 1 %) on {limits.share_at_feed() * 100:.1f} % "
+              "of the path length of the feed moves")
     for r in limits.summary():
         lines = ("" if r["first_line"] is None else f", lines {r['first_line']}-"
                  f"{r['last_line']}")
@@ -301,6 +302,10 @@ def _print_feed(limits) -> None:
                   f"{r['blocks']} block{'s' * (r['blocks'] > 1)}{lines}, peak feed as low as "
                   f"{r['lowest_m_per_s'] * 6e4:.0f} mm/min ({_REMEDY[r['cause']]})",
                   highlight=False)
+    if limits.ramp_length_m() > 1e-6:
+        out.print(f"  below it where blocks that reach it speed up and slow down: "
+                  f"{limits.ramp_length_m() * 1e3:.3g} mm (at corners, exact stops, start and "
+                  "end)", highlight=False)
 
 
 def _command_plane(option, cmd) -> tuple[str, str]:

@@ -154,14 +154,15 @@ def _print_passes(res, title: str) -> None:
     """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
     from rich.table import Table
 
-    t = Table(title=f"{title} [µm]", caption="A-D reversal spikes (n/a: left out), "
-              "contour max |e|, G circular deviation")
+    t = Table(title=f"{title} [µm]", caption="A-D: reversal spike after the fitted terms "
+              "(centre, radius, servo and scale mismatch, squareness; n/a: left out), raw "
+              "e - b in --json (spike_A_um ...); contour max |e|; G circular deviation")
     for name in ("dir", "sensor", "A", "B", "C", "D", "contour", "G"):
         t.add_column(name, justify="left" if name in ("dir", "sensor") else "right")
     for p in res.passes:
         for row in p.table():
             t.add_row(p.direction.upper(), row["sensor"],
-                      *[_cell(row[f"spike_{q}_um"]) for q in "ABCD"],
+                      *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
                       _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
     out.print(t)
 
@@ -181,7 +182,7 @@ def _print_diagnostics(diag) -> None:
     t.add_row("circularity G, G(b)", *[_cell(rows[f"circularity_{d}"][0])
                                        for d in ("ccw", "cw", "pair")])
     for q in "ABCD":
-        t.add_row(f"reversal spike {q}", _cell(rows[f"spike_{q}_ccw"][0]),
+        t.add_row(f"spike {q} after the pair's terms", _cell(rows[f"spike_{q}_ccw"][0]),
                   _cell(rows[f"spike_{q}_cw"][0]), "")
     out.print(t)
     t = Table()

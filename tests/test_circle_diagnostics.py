@@ -242,7 +242,7 @@ def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
     lines = out.splitlines()
     assert max(len(line) for line in lines) <= 80 and "…" not in out  # COLUMNS=80 for rich
     for text in ("backlash X", "squareness", "µm/m", "scale mismatch", "ppm", "servo mismatch",
-                 "ms", "circularity G, G(b)", "reversal spike A"):
+                 "ms", "circularity G, G(b)", "spike A after the pair's terms"):
         assert text in out, text
     code, out, _ = cli(capsys, "circle", pair / "cw.csv", pair / "ccw.csv", "--radius", 35,
                        "--json")
@@ -290,3 +290,51 @@ def test_bench_c_pair_finds_no_geometric_error(capsys):
     assert abs(terms["squareness"]) < 2.0  # um/m: 0.035 um of radial error
     assert abs(terms["lateral_play_X"]) < 0.2 and abs(terms["lateral_play_Y"]) < 0.2
     assert abs(terms["centre_offset_X"]) < 0.2 and abs(terms["centre_offset_Y"]) < 0.2
+
+
+SPIKE_5 = {(d, "B"): (5e-6, 6.0) for d in ("ccw", "cw")}
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize("err, spike_b", [
+    ({"tau_y": 1e-3}, 0.0),
+    ({"cx": 10e-6}, 0.0),
+    ({"tau_y": 1e-3, "cx": 10e-6, "spikes": SPIKE_5}, 5e-6),
+    ({"tau_y": 1e-3, "cx": 10e-6, "eps_x": 80e-6, "alpha": 50e-6, "spikes": SPIKE_5}, 5e-6),
+], ids=["servo", "centre", "spike+servo+centre", "spike+all"])
+def test_the_headline_spike_is_after_the_fitted_terms(direction, err, spike_b):
+    """A servo mismatch of 1 ms alone makes raw spikes of 18.6 um at A-D, a centre offset of
+    10 um 6.5 um at B and D: the headline spike, after the terms fitted to the circle, is
+    the reversal transient alone (0, or the 5 um injected at B); the raw e - b stays."""
+    res = analyse_circle(run_of(direction, err), R)
+    [p] = res.passes
+    sc = p.sensors["tcp"]
+    after = sc.spikes_after_terms()
+    for q in "ABCD":
+        want = spike_b if q == "B" else 0.0
+        assert after[q] == pytest.approx(want, abs=0.1e-6 + 0.02 * want), q
+    raw = sc.spikes
+    assert max(abs(raw[q] - (spike_b if q == "B" else 0.0)) for q in "ABCD") > 5e-6
+    [row] = [r for r in p.table() if r["sensor"] == "tcp"]
+    assert row["spike_after_terms_B_um"] == pytest.approx(after["B"] * 1e6)
+    assert row["spike_B_um"] == pytest.approx(raw["B"] * 1e6)  # what compare takes
+
+
+def test_the_circle_table_and_the_report_lead_with_the_spike_after_the_terms(capsys,
+                                                                            tmp_path):
+    from tcpmm.report.circles import key_figures
+
+    err = {"tau_y": 1e-3, "cx": 10e-6, "spikes": SPIKE_5}
+    run = run_of("ccw", err)
+    run.write_csv(tmp_path / "r.csv")
+    code, out, _ = cli(capsys, "circle", tmp_path / "r.csv", "--radius", 35)
+    assert code == 0 and "after the fitted terms" in " ".join(out.split())
+    row = next(line for line in out.splitlines() if "tcp" in line).split("│")
+    assert [float(c) for c in row[3:7]] == pytest.approx([0, 5, 0, 0], abs=0.06)
+    code, out, _ = cli(capsys, "circle", tmp_path / "r.csv", "--radius", 35, "--json")
+    [tcp] = [r for r in json.loads(out)["passes"][0]["sensors"] if r["sensor"] == "tcp"]
+    assert tcp["spike_after_terms_B_um"] == pytest.approx(5.0, abs=0.06)
+    assert tcp["spike_B_um"] == pytest.approx(analyse_circle(run, R).passes[0]
+                                              .sensors["tcp"].spikes["B"] * 1e6)
+    text = key_figures(analyse_circle(run, R))
+    assert "largest reversal spike after the fitted terms 5.0" in text and " at B" in text

@@ -203,3 +203,74 @@ def test_the_result_shares_the_protocol(tmp_path):
     assert res.plot(ax=axs) is fig
     assert res.plot(ax=axs[0], sensor="scale") is fig  # the coloured path alone
     pyplot().close("all")
+
+
+def _spiral_program(n=500, turns=3, r0=0.2, r1=20.2) -> str:
+    th = np.linspace(0, 2 * np.pi * turns, n + 1)
+    r = np.linspace(r0, r1, n + 1)
+    pts = "\n".join(f"X{a:.4f} Y{b:.4f}" for a, b in zip(r * np.cos(th), r * np.sin(th),
+                                                          strict=True))
+    return f"G21 G17 G90 G64 P0.01\nG0 X0 Y0\nG1 F3000\n{pts}\nG4 P0.3\nM30\n"
+
+
+@pytest.mark.parametrize("program", [
+    _spiral_program(),
+    "G21 G18 G90\nG2 X0 Z0 I20 K0 F3000\nG4 P0.3\nM30\n",
+    "G21 G19 G90\nG3 Y0 Z0 J0 K20 F3000\nG4 P0.3\nM30\n",
+], ids=["spiral", "G18", "G19"])
+def test_a_curve_has_no_corner_and_its_end_no_overshoot_of_its_size(program, tmp_path,
+                                                                   capsys):
+    """A spiral of 500 blended blocks turns tightly inside but evenly: no corner. A circle
+    ends where it started: the end's overshoot is measured near the end, not across the
+    circle (which gave the radius, 20 000 um, and on the spiral 13 000 um)."""
+    (tmp_path / "p.nc").write_text(program)
+    for args in (["path", tmp_path / "p.nc", "-o", tmp_path / "cmd.csv"],
+                 ["simulate", "builtin:vmc", "--command", tmp_path / "cmd.csv", "-o",
+                  tmp_path / "run.csv"]):
+        assert main([str(a) for a in args]) == 0
+    capsys.readouterr()
+    assert main(["contour", str(tmp_path / "run.csv"), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert [r["turn_deg"] for r in res["corners"]] == [None] * len(res["sensors"])
+    for r in res["corners"]:
+        # within the sensor's own contour error, which is tens of um
+        assert 0 <= r["overshoot_um"] <= res["sensors"][r["sensor"]]["max_abs_um"]
+        assert r["overshoot_um"] < 15
+
+
+@pytest.mark.parametrize("turn_deg", [45.0, 135.0])
+def test_a_corner_of_any_turn_overshoots_across_its_outgoing_leg(turn_deg):
+    """A followed path has no overshoot at a 45 or 135 degree corner (along the incoming
+    direction, the outgoing leg of a 45 degree turn runs on 'past' the corner); a bump
+    outwards across the outgoing leg right after the corner is the overshoot."""
+    a = np.radians(turn_deg)
+    t_out = np.array([np.cos(a), np.sin(a)])
+    leg = np.linspace(0, 0.02, 400)[1:, None]
+    p = np.vstack([np.c_[np.linspace(-0.02, 0, 400), np.zeros(400)],
+                   np.repeat([[0.0, 0.0]], 50, axis=0), leg * t_out])
+    run = make_run({"X": p[:, 0], "Y": p[:, 1]}, {"X": p[:, 0], "Y": p[:, 1]})
+    [corner, _] = contour_error(run).corners
+    assert np.degrees(corner["turn_rad"]) == pytest.approx(turn_deg, abs=0.1)
+    assert corner["tcp"]["overshoot_m"] == 0 and corner["tcp"]["rounding_m"] == 0
+    delta = 4e-6
+    n_out = np.array([np.sin(a), -np.cos(a)])  # right of the outgoing leg: outside
+    u = np.clip(np.arange(p.shape[0]) - 460, 0, None) * DT / 0.02
+    act = p + (delta * u * np.exp(1 - u))[:, None] * n_out
+    res = contour_error(make_run({"X": p[:, 0], "Y": p[:, 1]}, {"X": act[:, 0],
+                                                                "Y": act[:, 1]}))
+    assert res.corners[0]["tcp"]["overshoot_m"] == pytest.approx(delta, rel=1e-3)
+    assert res.errors["tcp"].min() == pytest.approx(-delta, rel=1e-3)
+
+
+def test_a_circle_run_twice_in_one_place_has_its_end_measured_at_the_end():
+    """A circle that ends on its start, followed with a lag and a static deflection along
+    the last direction: the start's samples lie 'past' the end along the incoming direction
+    by up to the radius, and the deflection is where it rests, not an overshoot."""
+    x, y = circle(0.02, n=4000)
+    x, y = np.r_[x, np.full(300, x[-1])], np.r_[y, np.full(300, y[-1])]
+    lag = 5
+    ax, ay = np.r_[np.full(lag, x[0]), x[:-lag]], np.r_[np.full(lag, y[0]), y[:-lag]] + 3e-6
+    [end] = contour_error(make_run({"X": x, "Y": y}, {"X": ax, "Y": ay})).corners
+    assert np.isnan(end["turn_rad"])
+    assert end["tcp"]["overshoot_m"] == 0
+    assert end["tcp"]["rounding_m"] == pytest.approx(3e-6, rel=1e-6)

@@ -7,7 +7,9 @@ positive); contour error ``max |e|`` over the full circle without the feed-in an
 feed-out arcs; circular deviation G (ISO 230-4) ``max r - min r`` about the least-squares
 centre; the reversal spike at a quadrant point P is the value of ``e - b`` with the
 largest magnitude in the 20 deg that follow P in the direction of travel, where ``b`` is
-the median of ``e`` over 30 deg to 5 deg before P.
+the median of ``e`` over 30 deg to 5 deg before P. That raw spike holds every other error
+that changes the radius there (a centre offset, a servo mismatch); the headline spike is
+taken after them (:meth:`SensorCircle.spikes_after_terms`, :mod:`.circle_terms`).
 
 A quadrant point whose windows do not both lie on the circle (a circle that starts or ends
 at it) is left out: its spike is NaN and an :class:`InputWarning` names it.
@@ -53,6 +55,8 @@ class SensorCircle:
     lobes : dict
         Per quadrant point ``(rise, fall)``: the largest and the smallest ``e - b`` in the
         window of the spike, which is whichever is larger in magnitude [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
     """
 
     angle_rad: np.ndarray
@@ -62,6 +66,18 @@ class SensorCircle:
     lsq_centre: tuple
     spikes: dict
     lobes: dict = field(default_factory=dict)
+    direction: str = "ccw"
+    _after: dict | None = field(default=None, repr=False)
+
+    def spikes_after_terms(self) -> dict:
+        """Signed reversal spike per quadrant point after the error terms fitted to this
+        circle (:mod:`tcpmm.analysis.circle_terms`); ``spikes`` are the raw ``e - b`` [m]."""
+        if self._after is None:
+            from .circle_terms import spikes_after_terms
+
+            self._after = spikes_after_terms(self.angle_rad, self.radial_error,
+                                             self.direction)
+        return self._after
 
 
 @dataclass
@@ -86,13 +102,17 @@ class CirclePass:
     rate_rad_s: float = float("nan")
 
     def table(self) -> list[dict]:
-        """One row per sensor: spikes A-D and contour error in um, G in um."""
+        """One row per sensor [um]: the reversal spikes A-D after the fitted terms
+        (``spike_after_terms_A_um``...), contour error, G, and the raw spikes ``e - b``
+        (``spike_A_um``..., which ``compare`` and the paper's Table 2 take)."""
         rows = []
         for name, s in self.sensors.items():
             row = {"direction": self.direction, "sensor": name}
-            row.update({f"spike_{k}_um": v * 1e6 for k, v in s.spikes.items()})
+            row.update({f"spike_after_terms_{k}_um": v * 1e6
+                        for k, v in s.spikes_after_terms().items()})
             row["contour_error_um"] = s.contour_error * 1e6
             row["circular_deviation_um"] = s.circular_deviation * 1e6
+            row.update({f"spike_{k}_um": v * 1e6 for k, v in s.spikes.items()})
             rows.append(row)
         return rows
 
@@ -295,7 +315,8 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
     cx, cy, _ = lsq_circle(x, y)
     rl = np.hypot(x - cx, y - cy)
     return SensorCircle(ang, e, float(np.max(np.abs(e))), float(rl.max() - rl.min()),
-                        (float(cx), float(cy)), *spikes_and_lobes(ang, e, direction))
+                        (float(cx), float(cy)), *spikes_and_lobes(ang, e, direction),
+                        direction)
 
 
 def find_passes(x, y, radius, centre, tol=None, turns=None):

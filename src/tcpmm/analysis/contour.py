@@ -9,11 +9,18 @@ sought among the command samples within ``window_s`` of the actual sample, so a 
 that passes a place twice (CCW then CW) is matched with the pass being run.
 
 Corners are where the command's direction, over ``corner_span_m`` before and after a
-point, turns by more than ``corner_deg``; the end of the path counts as one (turn NaN),
-where a step test overshoots and settles: there the distance to the end point settles,
-counted from the command's arrival. Per corner and sensor: overshoot, the largest
-travel past the corner along the incoming direction (0 when it never passes it); rounding,
-the closest approach to the corner point; settling, the time and the command's path length
+point, turns by more than ``corner_deg``, most of it within a quarter of that span (a curve
+that turns as much evenly, a small arc or the inside of a spiral, is no corner); the end of
+the path counts as one (turn NaN), where a step test overshoots and settles: there the
+distance to the end point settles, counted from the command's arrival. Each corner is
+measured on the samples whose closest command point lies near it: from ``corner_span_m``
+before it to ``corner_span_m`` after it, or further while the command runs straight on.
+Per corner and sensor: overshoot, the largest distance the point lies outside the path once
+past the corner, across the outgoing leg towards the side the incoming direction points to
+(at a right angle, the travel past the corner along the incoming direction); at the end,
+the travel past the end point, or past where the point comes to rest if that lies beyond
+it (a static deflection is no overshoot); 0 when it never passes; rounding, the closest
+approach to the corner point; settling, the time and the command's path length
 from when the command leaves the corner until the contour error stays within
 ``settle_tol_m`` of the level it ends at before the next corner (the median of the last
 quarter of the stretch; a static deflection on the straight is not a settling error);
@@ -22,13 +29,13 @@ NaN when it never does.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import InputError
 from ..result import Run
+from .corners import corner_metrics, find_corners
 
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]
@@ -209,50 +216,6 @@ def _cross(t, v):
     return t[..., 0] * v[..., 1] - t[..., 1] * v[..., 0]
 
 
-def find_corners(p, corner_deg=30.0, span_m=0.5e-3):
-    """Corners of a polyline: ``(vertex index, turn angle)`` each.
-
-    Parameters
-    ----------
-    p : ndarray, shape (m, d)
-        Polyline [m].
-    corner_deg : float
-        Least turn of the direction over ``span_m`` before and after [deg].
-    span_m : float
-        Path length over which the direction is taken on either side [m].
-
-    Returns
-    -------
-    list of tuple
-        Vertex index (the last one on the corner point) and turn [rad]; the end of the
-        path last, with a turn of NaN [-].
-    """
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-    if s[-1] <= 0.0:
-        return []
-    ok = (s >= span_m) & (s <= s[-1] - span_m)
-    before = np.stack([np.interp(s - span_m, s, p[:, i]) for i in range(p.shape[1])], 1)
-    after = np.stack([np.interp(s + span_m, s, p[:, i]) for i in range(p.shape[1])], 1)
-    u, w = p - before, after - p
-    cos = np.einsum("ij,ij->i", u, w) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1)
-                                        + 1e-300)
-    turn = np.arccos(np.clip(cos, -1.0, 1.0))
-    cand = ok & (turn > np.radians(corner_deg))
-    out = []
-    for g in np.split(np.flatnonzero(cand), np.flatnonzero(np.diff(np.flatnonzero(cand)) > 1)
-                      + 1):
-        if g.size:
-            i = g[np.argmax(turn[g])]
-            # the corner point: the last sample where the command stands there
-            while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
-                i += 1
-            out.append((int(i), float(turn[i])))
-    # the end of the path: where a step test overshoots and settles
-    if not out or out[-1][0] != p.shape[0] - 1:
-        out.append((p.shape[0] - 1, float("nan")))
-    return out
-
-
 def _run_signals(run, command, axes):
     """Times, command polyline and actual paths per sensor of a run."""
     missing = [a for a in axes if a not in run.axes]
@@ -331,69 +294,5 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     corners = find_corners(cmd, corner_deg, corner_span_m)
     out = ContourResult(tuple(axes), signed, t, cmd, tc, path_s, errors, [], settle_tol_m,
                         actual)
-    out.corners = corner_metrics(out, corners, t)
+    out.corners = corner_metrics(out, corners, t, feet, corner_span_m)
     return out
-
-
-def corner_metrics(res: ContourResult, corners, t) -> list:
-    """Overshoot, rounding and settling of every sensor at every corner (module docstring).
-
-    Parameters
-    ----------
-    res : ContourResult
-        Contour errors and command [-].
-    corners : list of tuple
-        ``(vertex index, turn [rad])`` from :func:`find_corners` [-].
-    t : ndarray
-        Times of the actual samples [s].
-    """
-    p, tc, s = res.command, res.command_time_s, res.path_s_m
-    idx = [i for i, _ in corners]
-    # each corner owns the samples from halfway after the previous to halfway to the next
-    bounds = [tc[0]] + [0.5 * (tc[a] + tc[b]) for a, b in itertools.pairwise(idx)] + [tc[-1]]
-    out = []
-    for n, (i, turn) in enumerate(corners):
-        c = p[i]
-        first = i
-        while first > 0 and np.array_equal(p[first - 1], c):
-            first -= 1
-        back = np.searchsorted(s, s[first] - 1e-3 * 0.5)  # incoming direction over 0.5 mm
-        t_in = c - p[min(back, first - 1)] if first > 0 else np.zeros_like(c)
-        t_in = t_in / (np.linalg.norm(t_in) or 1.0)
-        own = (t >= bounds[n]) & (t <= bounds[n + 1])
-        t0 = tc[first] if np.isnan(turn) else tc[i]  # the end: from the arrival
-        after = own & (t >= t0)
-        entry = {"number": n + 1, "index": int(i), "point_m": c.tolist(), "turn_rad": turn}
-        for name, q in res.actual.items():
-            rel = q[own] - c
-            over = float(max(np.max(rel @ t_in), 0.0)) if rel.size else float("nan")
-            rnd = float(np.min(np.linalg.norm(rel, axis=1))) if rel.size else float("nan")
-            entry[name] = {"overshoot_m": over, "rounding_m": rnd,
-                           **_settling(_settle_error(res, name, after, c, turn), t[after],
-                                       t0, tc, s, res.settle_tol_m)}
-        out.append(entry)
-    return out
-
-
-def _settle_error(res, name, k, c, turn):
-    """What settles: the contour error after a corner, the distance to the end point at the
-    end of the path (the command rests there, so lag along the path counts too) [m]."""
-    if np.isnan(turn):
-        return np.linalg.norm(res.actual[name][k] - c, axis=1)
-    return res.errors[name][k]
-
-
-def _settling(e, t, t0, tc, s, tol) -> dict:
-    """Time and command path length from ``t0`` until ``e`` stays within ``tol`` of its
-    level at the end of the stretch (the median of its last quarter)."""
-    nan = {"settle_s": float("nan"), "settle_m": float("nan")}
-    if e.size < 4:
-        return nan
-    dev = np.abs(e - np.median(e[-(e.size // 4):]))
-    if dev[-1] > tol:
-        return nan
-    out = np.flatnonzero(dev > tol)
-    k = 0 if out.size == 0 else out[-1] + 1
-    ts = t[k]
-    return {"settle_s": float(ts - t0),
-            "settle_m": float(np.interp(ts, tc, s) - np.interp(t0, tc, s))}

@@ -68,8 +68,9 @@ def _print(res, sensor: str, title: str) -> None:
     out.print(t)
     if not res.corners:
         return
-    t = Table(title=f"corners, {sensor}", caption=f"overshoot past the corner, rounding: "
-              f"closest approach [µm]; settled within {res.settle_tol_m * 1e6:g} µm")
+    t = Table(title=f"corners, {sensor}", caption="overshoot: outside the path past the "
+              f"corner, rounding: closest approach [µm]; settled within "
+              f"{res.settle_tol_m * 1e6:g} µm")
     for col in ("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"):
         t.add_column(col, justify="right")
     for row in res.corners_table().to_dict("records"):

@@ -154,14 +154,15 @@ def _print_passes(res, title: str) -> None:
     """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
     from rich.table import Table
 
-    t = Table(title=f"{title} [µm]", caption="A-D reversal spikes (n/a: left out), "
-              "contour max |e|, G circular deviation")
+    t = Table(title=f"{title} [µm]", caption="A-D: reversal spike after the fitted terms "
+              "(centre, radius, servo and scale mismatch, squareness; n/a: left out), raw "
+              "e - b in --json (spike_A_um ...); contour max |e|; G circular deviation")
     for name in ("dir", "sensor", "A", "B", "C", "D", "contour", "G"):
         t.add_column(name, justify="left" if name in ("dir", "sensor") else "right")
     for p in res.passes:
         for row in p.table():
             t.add_row(p.direction.upper(), row["sensor"],
-                      *[_cell(row[f"spike_{q}_um"]) for q in "ABCD"],
+                      *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
                       _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
     out.print(t)
 
@@ -181,7 +182,7 @@ def _print_diagnostics(diag) -> None:
     t.add_row("circularity G, G(b)", *[_cell(rows[f"circularity_{d}"][0])
                                        for d in ("ccw", "cw", "pair")])
     for q in "ABCD":
-        t.add_row(f"reversal spike {q}", _cell(rows[f"spike_{q}_ccw"][0]),
+        t.add_row(f"spike {q} after the pair's terms", _cell(rows[f"spike_{q}_ccw"][0]),
                   _cell(rows[f"spike_{q}_cw"][0]), "")
     out.print(t)
     t = Table()
@@ -293,7 +294,8 @@ _REMEDY = {"axis velocity": "axis_velocity_m_per_s",
 
 def _print_feed(limits) -> None:
     """Share of the path at the programmed feed, and per limit where it holds it back."""
-    out.print(f"at the programmed feed on {limits.share_at_feed() * 100:.1f} % of the path")
+    out.print(f"at the programmed feed (within 1 %) on {limits.share_at_feed() * 100:.1f} % "
+              "of the path length of the feed moves")
     for r in limits.summary():
         lines = ("" if r["first_line"] is None else f", lines {r['first_line']}-"
                  f"{r['last_line']}")
@@ -301,6 +303,10 @@ def _print_feed(limits) -> None:
                   f"{r['blocks']} block{'s' * (r['blocks'] > 1)}{lines}, peak feed as low as "
                   f"{r['lowest_m_per_s'] * 6e4:.0f} mm/min ({_REMEDY[r['cause']]})",
                   highlight=False)
+    if limits.ramp_length_m() > 1e-6:
+        out.print(f"  below it where blocks that reach it speed up and slow down: "
+                  f"{limits.ramp_length_m() * 1e3:.3g} mm (at corners, exact stops, start and "
+                  "end)", highlight=False)
 
 
 def _command_plane(option, cmd) -> tuple[str, str]:

@@ -9,6 +9,11 @@ filter's spread, the filter's tolerance at the corner, an exact stop); else the 
 acceleration (the path jerk for the S-curve): the block is too short to reach the feed
 from a slower place before or after it. The look-ahead spans the whole program, so its
 depth never limits.
+
+The share at the feed is taken from the samples, not the blocks: the path length of the
+feed blocks along which the commanded path speed is within 1 % (``HELD_SHARE``) of the
+programmed feed. A block that reaches its feed in the middle still slows down at its
+corners; counted whole it made a square "at the feed on 100 % of the path".
 """
 
 from __future__ import annotations
@@ -42,6 +47,11 @@ class FeedLimits:
         Below ``HELD_SHARE`` of the feed [-].
     cause : ndarray of str
         What holds it back ("" where nothing does) [-].
+    feed_length_m : float
+        Path length of the feed blocks (no rapids, no dwells) [m].
+    length_at_feed_m : float
+        Of that, the path length along which the commanded path speed is within
+        ``1 - HELD_SHARE`` of the programmed feed, from the samples [m].
     """
 
     CAUSES = (*SEGMENT_CAUSES[1:], *JUNCTION_CAUSES[1:], "path acceleration", "path jerk")
@@ -52,6 +62,8 @@ class FeedLimits:
     limit_m_per_s: np.ndarray
     held: np.ndarray
     cause: np.ndarray
+    feed_length_m: float
+    length_at_feed_m: float
 
     def summary(self) -> list[dict]:
         """Per cause: path length held back, blocks, lines, lowest speed reached [SI]."""
@@ -67,9 +79,17 @@ class FeedLimits:
         return sorted(rows, key=lambda r: -r["length_m"])
 
     def share_at_feed(self) -> float:
-        """Share of the path length at the programmed feed [-]."""
-        total = self.length_m.sum()
-        return float(self.length_m[~self.held].sum() / total) if total > 0 else 1.0
+        """Share of the feed blocks' path length along which the commanded path speed is
+        within 1 % of the programmed feed (module docstring) [-]."""
+        if self.feed_length_m <= 0:
+            return 1.0
+        return self.length_at_feed_m / self.feed_length_m
+
+    def ramp_length_m(self) -> float:
+        """Path length below the feed in the blocks that reach it: speeding up and slowing
+        down at their ends [m]."""
+        below = self.feed_length_m - self.length_at_feed_m
+        return float(max(below - self.length_m[self.held].sum(), 0.0))
 
     def to_pandas(self):
         """Per block: line, length [mm], feed and speed reached [mm/min], cause."""
@@ -97,6 +117,8 @@ class FeedLimits:
     def to_dict(self) -> dict:
         """JSON-ready: share at the feed and the causes (mm, mm/min)."""
         return {"share_at_feed": self.share_at_feed(),
+                "feed_length_mm": self.feed_length_m * 1e3,
+                "length_at_feed_mm": self.length_at_feed_m * 1e3,
                 "held_back": [{"cause": r["cause"], "length_mm": r["length_m"] * 1e3,
                                "blocks": r["blocks"], "first_line": r["first_line"],
                                "last_line": r["last_line"],
@@ -130,4 +152,17 @@ def feed_limits(interp) -> FeedLimits:
         own = jc != 0 and v[j] >= vj[j] * (1 - 1e-9) and vj[j] < HELD_SHARE * feed[i]
         cause[i] = JUNCTION_CAUSES[jc] if own else ramp
     return FeedLimits(p.line.copy(), p.length.copy(), feed.copy(), np.where(motion, peak, 0.0),
-                      held, cause.astype(str))
+                      held, cause.astype(str), *_length_at_feed(interp, motion))
+
+
+def _length_at_feed(interp, motion) -> tuple[float, float]:
+    """Path length of the feed blocks, and the part of it that the command runs within
+    ``1 - HELD_SHARE`` of the programmed feed, from the samples before the filter [m]."""
+    p, cmd = interp.path, interp.command
+    s = np.asarray(cmd.meta["path_s_m"], float)
+    ds = np.diff(s)
+    cum = np.concatenate([[0.0], np.cumsum(p.length)])
+    seg = np.clip(np.searchsorted(cum, s[:-1] + 0.5 * ds, side="right") - 1, 0, p.n - 1)
+    feed = motion[seg] & (ds > 0)
+    at = feed & (ds >= HELD_SHARE * p.feed[seg] * cmd.period_s)
+    return float(ds[feed].sum()), float(ds[at].sum())

@@ -18,7 +18,8 @@ _PER_DIRECTION = ("radial_deviation", "circularity", "spike")
 
 def _um_columns(frame):
     """A circle table with its µm columns named for a reader: ``spike A [µm]`` [-]."""
-    names = {f"spike_{q}_um": f"spike {q} [µm]" for q in "ABCD"}
+    names = {f"spike_after_terms_{q}_um": f"spike {q} after the terms [µm]" for q in "ABCD"}
+    names.update({f"spike_{q}_um": f"raw spike {q} [µm]" for q in "ABCD"})
     names.update(contour_error_um="contour error [µm]", circular_deviation_um="G [µm]",
                  radial_rms_um="radial rms [µm]", radial_max_um="radial max [µm]")
     frame = frame.rename(columns=names)
@@ -49,9 +50,12 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None):
     body = para(f"Nominal radius {result.radius * 1e3:g} mm about "
                 f"({result.centre[0] * 1e3:g}, {result.centre[1] * 1e3:g}) mm"
                 + (f", run {_names(source)}" if source else "")
-                + ". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg (n/a: the circle "
-                  "starts or ends there); contour error: largest |radial error|; G: circular "
-                  "deviation about the least-squares centre (ISO 230-4).", "lead")
+                + ". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg after the error "
+                  "terms fitted to the circle (centre, radius, servo and scale mismatch, "
+                  "squareness; n/a: the circle starts or ends there); raw spikes: the radial "
+                  "error's own step, which those terms enter; contour "
+                  "error: largest |radial error|; G: circular deviation about the "
+                  "least-squares centre (ISO 230-4).", "lead")
     body += key_figures(result, diagnostics)
     body += figure(result_plot(result), "circle plot",
                    "radial error magnified about the nominal circle; the dotted rings are "
@@ -76,12 +80,13 @@ def key_figures(result, diag=None) -> str:
     items = []
     for p in result.passes:
         sc = p.sensors[sensor]
-        spikes = {q: v for q, v in sc.spikes.items() if v == v}
+        spikes = {q: v for q, v in sc.spikes_after_terms().items() if v == v}
         text = (f"G {number(sc.circular_deviation * 1e6, 2)} µm, contour error "
                 f"{number(sc.contour_error * 1e6, 2)} µm")
         if spikes:
             q = max(spikes, key=lambda k: abs(spikes[k]))
-            text += f", largest reversal spike {number(spikes[q] * 1e6, 2)} µm at {q}"
+            text += (f", largest reversal spike after the fitted terms "
+                     f"{number(spikes[q] * 1e6, 2)} µm at {q}")
         items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
     if diag is not None:
         t = {k: (number(v, 2), u) for k, v, u in display_terms(diag)}
@@ -122,7 +127,7 @@ def diagnostics_html(diag, stem: str) -> str:
             "pair [µm]": rows.get(f"{base}_pair", (float("nan"),))[0]}
            for base, label in (("radial_deviation", "radial deviation"),
                                ("circularity", "circularity G, G(b)"))]
-    per += [{"figure": f"reversal spike {q} (after the terms)",
+    per += [{"figure": f"reversal spike {q} (after the pair's terms)",
              "CCW [µm]": rows[f"spike_{q}_ccw"][0], "CW [µm]": rows[f"spike_{q}_cw"][0],
              "pair [µm]": float("nan")} for q in "ABCD"]
     terms = pd.DataFrame([{"term": t.replace("_", " "), "value": v, "unit": u,

@@ -151,3 +151,13 @@ def test_implausible_numbers_name_the_key(vmc, old, new, key):
     assert err.column == key and err.line == _line(text, new.strip())
     assert "outside the plausible range" in err.message
 
+
+
+@pytest.mark.parametrize("value", ["{}", "[tcpmm-model/1]", "1"])
+def test_format_that_is_not_text(vmc, value):
+    """A mapping for ``format:`` was looked up among the known formats and raised a
+    TypeError (unhashable dict) instead of naming the key."""
+    text = dumps_machine(vmc).replace("format: tcpmm-model/1\n", f"format: {value}\n", 1)
+    err = _error(text)
+    assert err.column == "format" and err.line == _line(text, "format:")
+    assert "tcpmm-model/1" in err.message

@@ -110,8 +110,8 @@ def check_format(data: dict, fmt: str, what: str, file, line=None) -> None:
         Line of the ``format`` key [-].
     """
     got = data.get("format", fmt)
-    if got == fmt or got not in FORMATS:
-        return  # the schema reports an unknown version
+    if got == fmt or not isinstance(got, str) or got not in FORMATS:
+        return  # the schema reports an unknown version, or a value that is no text
     noun, advice = FORMATS[got]
     raise InputError(f"this is a {noun} (format {got}), not a {what}; {advice}",
                      file=file, line=line, column="format")

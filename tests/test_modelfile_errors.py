@@ -161,3 +161,14 @@ def test_format_that_is_not_text(vmc, value):
     err = _error(text)
     assert err.column == "format" and err.line == _line(text, "format:")
     assert "tcpmm-model/1" in err.message
+
+
+def test_every_problem_on_one_line(vmc):
+    """An error is one line on stderr; the problems of a model file were listed one a
+    line, under a heading."""
+    text = (dumps_machine(vmc).replace("      K_L: 4000.0", "      K_L: -1.0", 1)
+            .replace("      K_pp: 40.0", "      Kpp: 40.0", 1))
+    err = _error(text)
+    assert "\n" not in str(err)
+    assert err.message.startswith("3 problem(s) in machine model: axes.X.servo.Kpp (line ")
+    assert "; axes.X.mechanics.K_L (line " in err.message

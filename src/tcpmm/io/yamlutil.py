@@ -188,7 +188,7 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
             at = f" (line {line})" if line is not None else ""
             parts.append(f"{key}{at}: {describe(err, hint)}")
         first = errors[0][0]
-        raise InputError(f"{len(errors)} problem(s) in {what}:\n  " + "\n  ".join(parts),
+        raise InputError(f"{len(errors)} problem(s) in {what}: " + "; ".join(parts),
                          file=file, line=line_for(first, lines),
                          column=".".join(str(p) for p in first) or None) from None
 

@@ -261,3 +261,19 @@ def test_blocks_on_a_percent_line_are_an_error_not_dropped():
     with pytest.raises(InputError, match=r"line 2, column 2.*'%' line"):
         parse_gcode("%\n%G1 X50 F1000\n")
     assert len(parse_gcode("% (program 12)\nG1 X10 F1000\n")) == 1
+
+
+@pytest.mark.parametrize("sep", ["\n", "\r\n", "\r"])
+def test_line_numbers_count_only_line_breaks(sep):
+    """A form feed, or \\x85 (cp1252's ellipsis read as latin-1) in a comment, ended a
+    line for str.splitlines, and every error after it named a line too far."""
+    text = sep.join(["G21 G90", "(page\x0c two)", "(wait\x85)", "G1 X1.2.3", ""])
+    with pytest.raises(InputError) as e:
+        parse_gcode(text, "p.nc")
+    assert (e.value.line, e.value.column) == (4, 4)
+
+
+def test_a_form_feed_in_a_block_is_named():
+    with pytest.raises(InputError, match=r"unexpected character '\\x0c' \(a control") as e:
+        parse_gcode("G21 G90\nG1 X10 F1000\x0cG1 X20\nG1 X1.2.3\n", "p.nc")
+    assert (e.value.line, e.value.column) == (2, 13)

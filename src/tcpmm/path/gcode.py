@@ -24,6 +24,7 @@ import math
 import warnings
 
 from ..errors import InputError, InputWarning
+from ..io.text import file_lines
 from .gcode_lexer import Word, strip_comments, tokenize
 from .gcode_words import (
     G_GROUP,
@@ -430,7 +431,7 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
     if len(tuple(start_position_m)) != 3:
         raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
     it = _Interpreter(file, start_position_m)
-    lines = text.splitlines()
+    lines = file_lines(text)
     opened = started = False
     for number, raw in enumerate(lines, start=1):
         if _tape_marker(raw, file, number):

@@ -11,7 +11,9 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 
-_TOKEN = re.compile(r"[ \t]*(?:(?P<l>[A-Za-z])[ \t]*(?P<n>[-+]?[0-9.]*)|(?P<o>\S))")
+# ``o``: any other character, a form feed or a control character too (\S would miss
+# those, and the match would fail)
+_TOKEN = re.compile(r"[ \t]*(?:(?P<l>[A-Za-z])[ \t]*(?P<n>[-+]?[0-9.]*)|(?P<o>.))", re.S)
 _NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z")
 
 
@@ -127,7 +129,8 @@ def tokenize(text: str, file=None, line=None) -> list[Word]:
         if m.group("o") is not None:
             col = m.start("o") + 1
             ch = m.group("o")
-            hint = " (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789" else ""
+            hint = (" (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789"
+                    else "" if ch.isprintable() else " (a control character; remove it)")
             raise InputError(f"unexpected character {ch!r}{hint}", file=file, line=line, column=col)
         col = m.start("l") + 1
         letter = m.group("l").upper()

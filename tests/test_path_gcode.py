@@ -277,3 +277,21 @@ def test_a_form_feed_in_a_block_is_named():
     with pytest.raises(InputError, match=r"unexpected character '\\x0c' \(a control") as e:
         parse_gcode("G21 G90\nG1 X10 F1000\x0cG1 X20\nG1 X1.2.3\n", "p.nc")
     assert (e.value.line, e.value.column) == (2, 13)
+
+
+@pytest.mark.parametrize(("text", "column", "needle"), [
+    ("G" + "9" * 400, 1, "the number after G has 400 characters"),
+    ("G1 X" + "9" * 400 + " F100", 4, "the number after X has 400 characters"),
+    ("G" + "9" * 30, 1, "is not a G-code"),
+    ("M" + "9" * 30, 1, "is not an M-code"),
+    ("M" + "9" * 400, 1, "the number after M has 400 characters"),
+])
+def test_numbers_of_hundreds_of_digits(text, column, needle):
+    """A number of 309 digits or more is infinite as a float, and a G or M code took its
+    round() or int(): an OverflowError traceback. Long words are cut short in the
+    message."""
+    with pytest.raises(InputError, match=needle) as e:
+        parse_gcode(f"G21 G90\n{text}\nM30\n", "p.nc")
+    assert (e.value.line, e.value.column) == (2, column)
+    assert len(str(e.value)) < 200
+

@@ -33,6 +33,7 @@ from .gcode_words import (
     KNOWN_LETTERS,
     LETTER_IGNORED,
     M_IGNORED,
+    MAX_CODE,
     MOTION,
     OTHER_AXES,
 )
@@ -46,6 +47,11 @@ ARC_ABS_TOL_M = 5e-6
 ARC_REL_TOL = 1e-4
 
 _CENTRE_LETTER = {"X": "I", "Y": "J", "Z": "K"}
+
+
+def _short(text: str) -> str:
+    """A word as written, cut short where its number is very long [-]."""
+    return text if len(text) <= 20 else f"{text[:16]}... ({len(text) - 1} characters)"
 
 
 def _where(file, line, column):
@@ -170,6 +176,8 @@ class _Interpreter:
         """The block's G-codes by modal group, one per group."""
         new = {}
         for g in gs:
+            if not abs(g.value) < MAX_CODE:
+                self.error(f"{_short(g.text)} is not a G-code", line, g.column)
             code = round(g.value * 10)
             if abs(g.value * 10 - code) > 1e-9:
                 self.error(f"{g.text} is not a G-code", line, g.column)
@@ -201,8 +209,8 @@ class _Interpreter:
         end = False
         for m in ms:
             code = m.value
-            if code != int(code):
-                self.error(f"{m.text} is not an M-code", line, m.column)
+            if not abs(code) < MAX_CODE or code != int(code):
+                self.error(f"{_short(m.text)} is not an M-code", line, m.column)
             code = int(code)
             if code in (2, 30):
                 end = True

@@ -6,6 +6,7 @@ with ``%`` is a tape marker and holds no words. Columns are 1-based.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -160,6 +161,10 @@ def tokenize(text: str, file=None, line=None) -> list[Word]:
                 line=line,
                 column=col,
             )
-        words.append(Word(letter, float(num), letter + num, col))
+        value = float(num)
+        if not math.isfinite(value):  # over 308 digits
+            raise InputError(f"the number after {letter} has {len(num)} characters, too large "
+                             "for any word; check it", file=file, line=line, column=col)
+        words.append(Word(letter, value, letter + num, col))
         pos = m.end()
     return words

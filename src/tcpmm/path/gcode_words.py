@@ -6,6 +6,8 @@ refused code carries the sentence that tells the user why.
 
 from __future__ import annotations
 
+#: G and M numbers at or above this are no code of any controller [-]
+MAX_CODE = 1000
 #: motion codes -> 0 (G0) .. 3 (G3)
 MOTION = {0: 0, 10: 1, 20: 2, 30: 3}
 #: executed G codes -> their modal group

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -295,3 +296,28 @@ def test_numbers_of_hundreds_of_digits(text, column, needle):
     assert (e.value.line, e.value.column) == (2, column)
     assert len(str(e.value)) < 200
 
+
+@pytest.mark.parametrize(("block", "line", "column", "needle"), [
+    ("G1 X10 Y1000000000000000000 F1000", 2, 8, "Y would be at 1e+18 mm, beyond 1e+06 mm"),
+    ("G91 G1 X900000 F1000\nX200000", 3, 1, "X would be at 1.1e+06 mm"),
+    ("G20 G1 X40000 F10", 2, 8, "X would be at 40000 in, beyond 39370.1 in"),
+    ("G2 X10 Y0 R10000000 F1000", 2, 11, "R10000000 is beyond 1e+06 mm"),
+    ("G2 X0 Y0 I-10000000 F1000", 2, 10, "I-10000000 is beyond 1e+06 mm"),
+    ("G1 X10 F10000000", 2, 8, "feed F10000000 is above F1000000"),
+])
+def test_numbers_beyond_any_machine(block, line, column, needle):
+    """A coordinate of 1e18 mm interpolated to a command of two samples, exit 0: the
+    travel's duration overflowed the sample counter. A coordinate, centre offset or
+    radius beyond a thousand metres, or a feed beyond 1000 m/min, is a typo."""
+    with pytest.raises(InputError, match=re.escape(needle)) as e:
+        parse_gcode(f"G21 G90\n{block}\nM30\n", "p.nc")
+    assert (e.value.line, e.value.column) == (line, column)
+
+
+@pytest.mark.parametrize("block", ["G1 X10 F0.000000000000000000001", "G4 P" + "9" * 30])
+def test_a_command_too_long_to_count_is_refused(block):
+    """Ten millimetres at 1e-21 mm/min last 6e23 s: their periods overflowed the 64-bit
+    counter of the compiled timeline into a command of two samples, exit 0."""
+    with pytest.raises(InputError, match="the command would last") as e:
+        program_to_command(f"G21 G90\n{block}\nM30\n")
+    assert e.value.line == 2

@@ -34,6 +34,8 @@ from .gcode_words import (
     LETTER_IGNORED,
     M_IGNORED,
     MAX_CODE,
+    MAX_COORDINATE_M,
+    MAX_FEED,
     MOTION,
     OTHER_AXES,
 )
@@ -206,6 +208,10 @@ class _Interpreter:
                 self.error(
                     f"feed {f.text} must be positive (mm/min, or in/min with G20)", line, f.column
                 )
+            if not f.value <= MAX_FEED:
+                self.error(f"feed {_short(f.text)} is above F{MAX_FEED:.0f} (mm/min, or in/min "
+                           "with G20), faster than any feed axis; check the number", line,
+                           f.column)
         end = False
         for m in ms:
             code = m.value
@@ -273,6 +279,7 @@ class _Interpreter:
                 i = AXIS_INDEX[axis]
                 target[i] = v if self.absolute else target[i] + v
         target = tuple(target)
+        self._check_sizes(w, target, line)
         if self.motion in (0, 1):
             for L in "IJKR":
                 if L in w:
@@ -299,6 +306,21 @@ class _Interpreter:
         else:
             self.segments.append(self.arc(w, target, gword, line))
         self.pos = target
+
+    def _check_sizes(self, w, target, line):
+        """Coordinates, centre offsets and radii within :data:`MAX_COORDINATE_M`."""
+        unit_name = "in" if self.unit == INCH_M else "mm"
+        limit = f"{MAX_COORDINATE_M / self.unit:.6g} {unit_name}"
+        for axis in "XYZ":
+            at = target[AXIS_INDEX[axis]]
+            if axis in w and not abs(at) <= MAX_COORDINATE_M:
+                self.error(f"{axis} would be at {at / self.unit:.6g} {unit_name}, beyond "
+                           f"{limit} from zero, more than any machine travels; check the "
+                           "number (and G20/G21, G90/G91)", line, w[axis].column)
+        for L in "IJKR":
+            if L in w and not abs(w[L].value * self.unit) <= MAX_COORDINATE_M:
+                self.error(f"{_short(w[L].text)} is beyond {limit}, more than any machine "
+                           "travels; check the number (and G20/G21)", line, w[L].column)
 
     def arc(self, w, end, gword, line):
         a, b = PLANES[self.plane]

@@ -321,3 +321,14 @@ def test_a_command_too_long_to_count_is_refused(block):
     with pytest.raises(InputError, match="the command would last") as e:
         program_to_command(f"G21 G90\n{block}\nM30\n")
     assert e.value.line == 2
+
+
+def test_the_interpolators_errors_name_the_program_file(tmp_path):
+    """What the interpolator refuses named the line but not the file, as `tcpmm path`
+    printed it; the interpreter's errors named both."""
+    prog = tmp_path / "s.nc"
+    prog.write_text("G21 G90\nG1 X10 F0.0000001\nM30\n")
+    with pytest.raises(InputError, match="the command would last") as e:
+        program_to_command(prog)
+    assert (e.value.file, e.value.line) == (str(prog), 2)
+    assert str(e.value).startswith(f"{prog}, line 2: ")

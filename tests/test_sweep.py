@@ -232,3 +232,14 @@ def test_cli(tmp_path, capsys):
     assert "no such field of X.servo" in capsys.readouterr().err.replace("\n", " ")
     assert main(["sweep", "builtin:vmc", "--list-params"]) == 0
     assert "X.servo.K_pp" in capsys.readouterr().out
+
+
+def test_a_programs_errors_name_its_file(vmc):
+    """A sweep's program was interpreted from its text alone: its errors named a line but
+    no file."""
+    from tcpmm.sweep.task import program_command
+
+    for text in ("G21 G90\nG1 X10 F0.0000001\nM30\n", "G21 G90\nG1 X10 F1000 G2\nM30\n"):
+        with pytest.raises(InputError) as e:
+            program_command(GcodeProgram(text, "prog.nc"), vmc, {})
+        assert (e.value.file, e.value.line) == ("prog.nc", 2)

@@ -126,3 +126,49 @@ def test_tab_in_indentation(vmc):
 def test_directory_instead_of_model(tmp_path):
     with pytest.raises(InputError, match="is a directory; give the path of the machine model"):
         read_machine(tmp_path)
+
+
+@pytest.mark.parametrize(("old", "new", "key"), [
+    ("      K_h: 40000000.0", "      K_h: 1.0e+300", "axes.X.mechanics.K_h"),
+    ("      K_t: 150000000.0", "      K_t: 1.0e+300", "axes.X.mechanics.K_t"),
+    ("      M_h: 400.0", "      M_h: 1.0e-300", "axes.X.mechanics.M_h"),
+    ("      current_bandwidth_hz: null", "      current_bandwidth_hz: 1.0e+300",
+     "axes.X.servo.current_bandwidth_hz"),
+    ("      K_vp: 0.9260929279788198", "      K_vp: 1.0e+300", "axes.X.servo.K_vp"),
+    ("        fc_pos: 25.0", "        fc_pos: .inf", "axes.X.friction.screw.fc_pos"),
+    ("      scale_resolution: 1.0e-06", "      scale_resolution: 1.0e+300",
+     "axes.X.sensors.scale_resolution"),
+])
+def test_implausible_numbers_name_the_key(vmc, old, new, key):
+    """A stiffness of 1e300 (a typo, a wrong unit) overflowed the plant's matrices: the
+    matrix exponential's balancing hung, other commands ended in a LinAlgError traceback
+    or printed nonsense. Every physical parameter has a range decades wide around real
+    machines'."""
+    text = dumps_machine(vmc)
+    assert old in text
+    text = text.replace(old, new, 1)
+    err = _error(text)
+    assert err.column == key and err.line == _line(text, new.strip())
+    assert "outside the plausible range" in err.message
+
+
+
+@pytest.mark.parametrize("value", ["{}", "[tcpmm-model/1]", "1"])
+def test_format_that_is_not_text(vmc, value):
+    """A mapping for ``format:`` was looked up among the known formats and raised a
+    TypeError (unhashable dict) instead of naming the key."""
+    text = dumps_machine(vmc).replace("format: tcpmm-model/1\n", f"format: {value}\n", 1)
+    err = _error(text)
+    assert err.column == "format" and err.line == _line(text, "format:")
+    assert "tcpmm-model/1" in err.message
+
+
+def test_every_problem_on_one_line(vmc):
+    """An error is one line on stderr; the problems of a model file were listed one a
+    line, under a heading."""
+    text = (dumps_machine(vmc).replace("      K_L: 4000.0", "      K_L: -1.0", 1)
+            .replace("      K_pp: 40.0", "      Kpp: 40.0", 1))
+    err = _error(text)
+    assert "\n" not in str(err)
+    assert err.message.startswith("3 problem(s) in machine model: axes.X.servo.Kpp (line ")
+    assert "; axes.X.mechanics.K_L (line " in err.message

@@ -93,3 +93,12 @@ def test_bad_files_name_file_line_and_column(tmp_path, text, line, column, msg):
 def test_missing_file(tmp_path):
     with pytest.raises(InputError, match="not found"):
         read_command_csv(tmp_path / "nope.csv")
+
+
+def test_line_numbers_count_only_line_breaks(tmp_path):
+    """A form feed split a row in two for str.splitlines: the rows were misread."""
+    p = tmp_path / "c.csv"
+    p.write_text("time_s,x_mm,y_mm\n0.0,0,0\x0c\n0.001,0,0\n0.002,x,0\n")
+    with pytest.raises(InputError) as e:
+        read_command_csv(p)
+    assert e.value.line == 4

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -261,3 +262,73 @@ def test_blocks_on_a_percent_line_are_an_error_not_dropped():
     with pytest.raises(InputError, match=r"line 2, column 2.*'%' line"):
         parse_gcode("%\n%G1 X50 F1000\n")
     assert len(parse_gcode("% (program 12)\nG1 X10 F1000\n")) == 1
+
+
+@pytest.mark.parametrize("sep", ["\n", "\r\n", "\r"])
+def test_line_numbers_count_only_line_breaks(sep):
+    """A form feed, or \\x85 (cp1252's ellipsis read as latin-1) in a comment, ended a
+    line for str.splitlines, and every error after it named a line too far."""
+    text = sep.join(["G21 G90", "(page\x0c two)", "(wait\x85)", "G1 X1.2.3", ""])
+    with pytest.raises(InputError) as e:
+        parse_gcode(text, "p.nc")
+    assert (e.value.line, e.value.column) == (4, 4)
+
+
+def test_a_form_feed_in_a_block_is_named():
+    with pytest.raises(InputError, match=r"unexpected character '\\x0c' \(a control") as e:
+        parse_gcode("G21 G90\nG1 X10 F1000\x0cG1 X20\nG1 X1.2.3\n", "p.nc")
+    assert (e.value.line, e.value.column) == (2, 13)
+
+
+@pytest.mark.parametrize(("text", "column", "needle"), [
+    ("G" + "9" * 400, 1, "the number after G has 400 characters"),
+    ("G1 X" + "9" * 400 + " F100", 4, "the number after X has 400 characters"),
+    ("G" + "9" * 30, 1, "is not a G-code"),
+    ("M" + "9" * 30, 1, "is not an M-code"),
+    ("M" + "9" * 400, 1, "the number after M has 400 characters"),
+])
+def test_numbers_of_hundreds_of_digits(text, column, needle):
+    """A number of 309 digits or more is infinite as a float, and a G or M code took its
+    round() or int(): an OverflowError traceback. Long words are cut short in the
+    message."""
+    with pytest.raises(InputError, match=needle) as e:
+        parse_gcode(f"G21 G90\n{text}\nM30\n", "p.nc")
+    assert (e.value.line, e.value.column) == (2, column)
+    assert len(str(e.value)) < 200
+
+
+@pytest.mark.parametrize(("block", "line", "column", "needle"), [
+    ("G1 X10 Y1000000000000000000 F1000", 2, 8, "Y would be at 1e+18 mm, beyond 1e+06 mm"),
+    ("G91 G1 X900000 F1000\nX200000", 3, 1, "X would be at 1.1e+06 mm"),
+    ("G20 G1 X40000 F10", 2, 8, "X would be at 40000 in, beyond 39370.1 in"),
+    ("G2 X10 Y0 R10000000 F1000", 2, 11, "R10000000 is beyond 1e+06 mm"),
+    ("G2 X0 Y0 I-10000000 F1000", 2, 10, "I-10000000 is beyond 1e+06 mm"),
+    ("G1 X10 F10000000", 2, 8, "feed F10000000 is above F1000000"),
+])
+def test_numbers_beyond_any_machine(block, line, column, needle):
+    """A coordinate of 1e18 mm interpolated to a command of two samples, exit 0: the
+    travel's duration overflowed the sample counter. A coordinate, centre offset or
+    radius beyond a thousand metres, or a feed beyond 1000 m/min, is a typo."""
+    with pytest.raises(InputError, match=re.escape(needle)) as e:
+        parse_gcode(f"G21 G90\n{block}\nM30\n", "p.nc")
+    assert (e.value.line, e.value.column) == (line, column)
+
+
+@pytest.mark.parametrize("block", ["G1 X10 F0.000000000000000000001", "G4 P" + "9" * 30])
+def test_a_command_too_long_to_count_is_refused(block):
+    """Ten millimetres at 1e-21 mm/min last 6e23 s: their periods overflowed the 64-bit
+    counter of the compiled timeline into a command of two samples, exit 0."""
+    with pytest.raises(InputError, match="the command would last") as e:
+        program_to_command(f"G21 G90\n{block}\nM30\n")
+    assert e.value.line == 2
+
+
+def test_the_interpolators_errors_name_the_program_file(tmp_path):
+    """What the interpolator refuses named the line but not the file, as `tcpmm path`
+    printed it; the interpreter's errors named both."""
+    prog = tmp_path / "s.nc"
+    prog.write_text("G21 G90\nG1 X10 F0.0000001\nM30\n")
+    with pytest.raises(InputError, match="the command would last") as e:
+        program_to_command(prog)
+    assert (e.value.file, e.value.line) == (str(prog), 2)
+    assert str(e.value).startswith(f"{prog}, line 2: ")

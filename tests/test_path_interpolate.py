@@ -376,3 +376,26 @@ def test_100k_short_blocks_interpolate_quickly():
     assert cmd.meta["path_length_m"] == pytest.approx(
         np.linalg.norm(np.diff(np.array(pts), axis=0), axis=1).sum(), rel=1e-12
     )
+
+
+def test_a_segment_the_doubles_cannot_resolve_is_named():
+    """An arc's centre of infinity (a radius of 1e200 mm squared) gave a speed limit of
+    NaN and an AssertionError traceback; it is an input error naming the line."""
+    from dataclasses import replace
+
+    from tcpmm.path import Arc
+    from tcpmm.path.filters import filter_shape
+    from tcpmm.path.geometry import to_arrays
+    from tcpmm.path.speedlimits import segment_limits
+
+    arc = Arc((0.0, 0.0, 0.0), (0.01, 0.0, 0.0), (0.005, math.inf, 0.0), ("X", "Y"), "cw",
+              0.01, line=2)
+    with pytest.raises(InputError, match="arc centres must be finite") as e:
+        interpolate([arc])
+    assert e.value.line == 2
+    p = to_arrays([replace(arc, centre_m=(0.005, 1.0, 0.0))], (0.5, 0.5, 0.5))
+    p = replace(p, length=np.array([math.nan]))
+    with pytest.raises(InputError, match="no speed limit can be computed") as e:
+        segment_limits(p, (1.0, 1.0, 1.0), (1.0, 1.0, 1.0), 1.0,
+                       filter_shape("none", 0.0, 1e-3, 1e-5))
+    assert e.value.line == 2

@@ -94,3 +94,27 @@ def test_rejects_what_it_cannot_take():
         expm(np.zeros((2, 3)))
     with pytest.raises(ValueError, match="finite"):
         expm([[np.nan, 0.0], [0.0, 1.0]])
+
+
+def test_balancing_ends_on_entries_beyond_the_range_of_a_norm():
+    """An entry over 1e154 makes a row's or column's 2-norm overflow, and halving an
+    infinite norm never reached the other: `tcpmm machine show` of a model with a
+    stiffness of 1e300 hung, deaf to SIGTERM inside the compiled loop. Numba's function
+    runs as Python first, under an alarm, so that the test fails rather than hangs."""
+    import signal
+
+    A = np.array([[0.0, 1e200], [-1.0, 0.0]])
+
+    def late(signum, frame):
+        raise TimeoutError("the balancing did not end")
+
+    before = signal.signal(signal.SIGALRM, late)
+    signal.alarm(5)
+    try:
+        d = numba_expm._balance.py_func(A)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, before)
+    assert np.all(np.isfinite(d)) and np.all(d > 0)
+    assert np.array_equal(numba_expm._balance(A), d)
+    expm(A)  # ends; its value is not meaningful at this scale

@@ -232,3 +232,27 @@ def test_cli(tmp_path, capsys):
     assert "no such field of X.servo" in capsys.readouterr().err.replace("\n", " ")
     assert main(["sweep", "builtin:vmc", "--list-params"]) == 0
     assert "X.servo.K_pp" in capsys.readouterr().out
+
+
+def test_a_programs_errors_name_its_file(vmc):
+    """A sweep's program was interpreted from its text alone: its errors named a line but
+    no file."""
+    from tcpmm.sweep.task import program_command
+
+    for text in ("G21 G90\nG1 X10 F0.0000001\nM30\n", "G21 G90\nG1 X10 F1000 G2\nM30\n"):
+        with pytest.raises(InputError) as e:
+            program_command(GcodeProgram(text, "prog.nc"), vmc, {})
+        assert (e.value.file, e.value.line) == ("prog.nc", 2)
+
+
+def test_a_refused_sweep_prints_its_error_alone(tmp_path, capsys):
+    """The progress bar's end left a blank line on stderr, before the error too, where
+    stderr is no terminal (a log, a pipe)."""
+    prog = tmp_path / "bad.nc"
+    prog.write_text("G21 G90\nG1 X10 F1000 G2\nM30\n")
+    args = ["sweep", "builtin:vmc", "--gcode", str(prog), "-p", "X.servo.position_gain=20,30",
+            "-o", str(tmp_path / "o"), "--workers", "1"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {prog}, line 2, column 14: ")
+    assert not (tmp_path / "o").exists()

@@ -57,3 +57,27 @@ def build(model_cls, data: dict, prefix: str = "", file=None):
         return model_cls.model_validate(data)
     except ValidationError as err:
         raise InputError(validation_message(err, prefix), file=file) from None
+
+
+def plausible(value, field: str, ranges: dict):
+    """``value`` if it lies in its field's plausible range, else a ``ValueError`` saying
+    the range. A number far outside what a machine tool has (a stiffness of 1e300, a mass
+    of 1e-300) is a typo or a wrong unit, and would overflow the plant's matrices.
+
+    Parameters
+    ----------
+    value : float or None
+        The validated number; ``None`` passes [SI].
+    field : str
+        The field's name [-].
+    ranges : dict of str to (float, float, str)
+        Per field the lowest and highest plausible value and the unit [SI].
+    """
+    if value is None or field not in ranges:
+        return value
+    low, high, unit = ranges[field]
+    if not low <= value <= high:  # also NaN
+        unit = "" if unit == "-" else f" {unit}"
+        raise ValueError(f"outside the plausible range {low:g} to {high:g}{unit} of a "
+                         "machine tool's feed axis; check the number and that its unit is SI")
+    return value

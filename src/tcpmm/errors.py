@@ -31,6 +31,13 @@ class InputError(TcpmmError, ValueError):
         self.column = column
         super().__init__(self.format())
 
+    def in_file(self, file) -> InputError:
+        """This error, naming ``file`` where it names no file (a line of the file, found by
+        code that has the content but not its name) [-]."""
+        if self.file is not None or file is None:
+            return self
+        return InputError(self.message, file=file, line=self.line, column=self.column)
+
     def format(self) -> str:
         where = []
         if self.file is not None:

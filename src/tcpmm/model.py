@@ -5,9 +5,16 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_validator,
+)
 
-from ._validate import upper_names
+from ._validate import plausible, upper_names
 from .mechanics.friction import LuGreFriction, StribeckFriction
 from .mechanics.lumped import AxisMechanics
 from .servo.params import ServoParams
@@ -25,6 +32,10 @@ def _contact(data):
     kind.__pydantic_validator__.validate_python(data, self_instance=contact)
     return contact
 
+
+#: Plausible range of the sensors' resolutions: lowest, highest [SI] and the unit [-].
+SENSOR_RANGES = {"encoder_counts_per_rev": (0, 1e12, "counts/rev"),
+                 "scale_resolution": (0.0, 1e-2, "m"), "tcp_resolution": (0.0, 1e-2, "m")}
 
 FrictionModel = Annotated[LuGreFriction | StribeckFriction, BeforeValidator(_contact)]
 
@@ -47,6 +58,11 @@ class Sensors(BaseModel):
     encoder_counts_per_rev: int = Field(0, ge=0)
     scale_resolution: float = Field(0.0, ge=0, allow_inf_nan=False)
     tcp_resolution: float = Field(0.0, ge=0, allow_inf_nan=False)
+
+    @field_validator("*")
+    @classmethod
+    def _plausible(cls, v, info: ValidationInfo):
+        return plausible(v, info.field_name, SENSOR_RANGES)
 
     @property
     def encoder_quantum(self) -> float:

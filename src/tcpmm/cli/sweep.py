@@ -21,7 +21,11 @@ _PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs r
 
 @contextmanager
 def _bar(description: str):
-    """``progress(done, total)`` drawing a bar on stderr."""
+    """``progress(done, total)`` drawing a bar on stderr on a terminal; nothing in a pipe
+    or a log, where the bar's end left a blank line, before an error too."""
+    if not console.is_terminal:
+        yield lambda done, total: None
+        return
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,

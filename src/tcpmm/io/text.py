@@ -58,3 +58,26 @@ def read_text(path, what: str) -> str:
         raise InputError(f"not a UTF-8 text file (byte {data[exc.start]:#04x}); save the "
                          f"{what} as UTF-8 text", file=path,
                          line=data.count(b"\n", 0, exc.start) + 1) from None
+
+
+def file_lines(text: str) -> list[str]:
+    """The lines of a text file as an editor counts them: only ``\\n``, ``\\r\\n`` and
+    ``\\r`` end a line. ``str.splitlines`` also ends one at a form feed, a vertical tab,
+    ``\\x1c``-``\\x1e``, ``\\x85`` (an ellipsis of cp1252 read as latin-1), ``\\u2028``
+    and ``\\u2029``, and then every message after one named the wrong line; a final line
+    break ends the last line rather than starting an empty one.
+
+    Parameters
+    ----------
+    text : str
+        The file's text [-].
+
+    Returns
+    -------
+    list of str
+        The lines without their line breaks [-].
+    """
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()
+    return lines

@@ -110,8 +110,8 @@ def check_format(data: dict, fmt: str, what: str, file, line=None) -> None:
         Line of the ``format`` key [-].
     """
     got = data.get("format", fmt)
-    if got == fmt or got not in FORMATS:
-        return  # the schema reports an unknown version
+    if got == fmt or not isinstance(got, str) or got not in FORMATS:
+        return  # the schema reports an unknown version, or a value that is no text
     noun, advice = FORMATS[got]
     raise InputError(f"this is a {noun} (format {got}), not a {what}; {advice}",
                      file=file, line=line, column="format")
@@ -188,7 +188,7 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
             at = f" (line {line})" if line is not None else ""
             parts.append(f"{key}{at}: {describe(err, hint)}")
         first = errors[0][0]
-        raise InputError(f"{len(errors)} problem(s) in {what}:\n  " + "\n  ".join(parts),
+        raise InputError(f"{len(errors)} problem(s) in {what}: " + "; ".join(parts),
                          file=file, line=line_for(first, lines),
                          column=".".join(str(p) for p in first) or None) from None
 

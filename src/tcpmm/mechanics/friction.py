@@ -56,8 +56,17 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
+from tcpmm._validate import plausible
 from tcpmm.errors import InputError
 
 __all__ = [
@@ -92,6 +101,13 @@ P_SIGMA1 = 10
 P_V_STICK = 11
 P_SIGMA1_FADES = 12
 N_FRICTION_PARAMS = 13
+
+#: Plausible range of a contact's parameters, decades beyond a feed axis's: lowest,
+#: highest [SI] and the unit [-].
+RANGES = {**{f"{k}_{d}": (0.0, 1e6, "N") for k in ("fc", "fs") for d in ("pos", "neg")},
+          **{f"fv_{d}": (0.0, 1e7, "N s/m") for d in ("pos", "neg")},
+          "vs": (1e-9, 10.0, "m/s"), "delta": (0.0, 100.0, "-"), "v_stick": (0.0, 1.0, "m/s"),
+          "sigma0": (0.0, 1e13, "N/m"), "sigma1": (0.0, 1e9, "N s/m")}
 
 SLIDING = 0.0
 STUCK = 1.0
@@ -157,6 +173,11 @@ class StribeckFriction(_Holder):
     fv_pos: float = Field(default=0.0, ge=0.0)
     fv_neg: float = Field(default=0.0, ge=0.0)
     v_stick: float = Field(default=1e-6, ge=0.0)
+
+    @field_validator("*")
+    @classmethod
+    def _plausible(cls, v, info: ValidationInfo):
+        return plausible(v, info.field_name, RANGES)
 
     @model_validator(mode="before")
     @classmethod

@@ -4,13 +4,30 @@ from __future__ import annotations
 
 import math
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
-from .._validate import validation_message
+from .._validate import plausible, validation_message
 from ..errors import InputError
 
 _POS = {"gt": 0.0, "allow_inf_nan": False}
 _NONNEG = {"ge": 0.0, "allow_inf_nan": False}
+_J, _B, _M, _C, _K = ("kg m^2", "N m s/rad", "kg", "N s/m", "N/m")
+#: Plausible range of each parameter, decades beyond the feed axes of real machines, from
+#: a desktop mill's to a gantry's: lowest, highest [SI] and the unit [-].
+RANGES = {"J_m": (1e-8, 10.0, _J), "J_L": (1e-8, 10.0, _J), "B_m": (0.0, 1e4, _B),
+          "B_L": (0.0, 1e4, _B), "K_L": (1.0, 1e10, "N m/rad"), "lead": (1e-4, 1.0, "m"),
+          **{f"M_{s}": (1e-2, 1e6, _M) for s in "tbh"},
+          **{f"C_{s}": (0.0, 1e10, _C) for s in "tbh"},
+          **{f"K_{s}": (1.0, 1e16, _K) for s in "tbh"},
+          "K_tc": (1e-3, 1e3, "N m/A"), "load_force": (-1e7, 1e7, "N")}
 
 
 class AxisMechanics(BaseModel):
@@ -68,6 +85,11 @@ class AxisMechanics(BaseModel):
                 if isinstance(v, bool):
                     raise ValueError(f"{k} must be a number, not a boolean")
         return data
+
+    @field_validator("*")
+    @classmethod
+    def _plausible(cls, v, info: ValidationInfo):
+        return plausible(v, info.field_name, RANGES)
 
     @classmethod
     def create(cls, **values) -> AxisMechanics:

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.atomic import atomic_path
-from ..io.text import read_text
+from ..io.text import file_lines, read_text
 from .command import Command
 
 _AXIS_COLUMNS = {"x_mm": "X", "y_mm": "Y", "z_mm": "Z"}
@@ -87,7 +87,7 @@ def read_command_csv(path) -> Command:
     """
     path = Path(path)
     text = read_text(path, "command file")
-    lines = text.splitlines()
+    lines = file_lines(text)
     while lines and not lines[-1].strip():
         lines.pop()
     if not lines:

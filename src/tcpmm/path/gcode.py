@@ -24,6 +24,7 @@ import math
 import warnings
 
 from ..errors import InputError, InputWarning
+from ..io.text import file_lines
 from .gcode_lexer import Word, strip_comments, tokenize
 from .gcode_words import (
     G_GROUP,
@@ -32,6 +33,9 @@ from .gcode_words import (
     KNOWN_LETTERS,
     LETTER_IGNORED,
     M_IGNORED,
+    MAX_CODE,
+    MAX_COORDINATE_M,
+    MAX_FEED,
     MOTION,
     OTHER_AXES,
 )
@@ -45,6 +49,11 @@ ARC_ABS_TOL_M = 5e-6
 ARC_REL_TOL = 1e-4
 
 _CENTRE_LETTER = {"X": "I", "Y": "J", "Z": "K"}
+
+
+def _short(text: str) -> str:
+    """A word as written, cut short where its number is very long [-]."""
+    return text if len(text) <= 20 else f"{text[:16]}... ({len(text) - 1} characters)"
 
 
 def _where(file, line, column):
@@ -169,6 +178,8 @@ class _Interpreter:
         """The block's G-codes by modal group, one per group."""
         new = {}
         for g in gs:
+            if not abs(g.value) < MAX_CODE:
+                self.error(f"{_short(g.text)} is not a G-code", line, g.column)
             code = round(g.value * 10)
             if abs(g.value * 10 - code) > 1e-9:
                 self.error(f"{g.text} is not a G-code", line, g.column)
@@ -197,11 +208,15 @@ class _Interpreter:
                 self.error(
                     f"feed {f.text} must be positive (mm/min, or in/min with G20)", line, f.column
                 )
+            if not f.value <= MAX_FEED:
+                self.error(f"feed {_short(f.text)} is above F{MAX_FEED:.0f} (mm/min, or in/min "
+                           "with G20), faster than any feed axis; check the number", line,
+                           f.column)
         end = False
         for m in ms:
             code = m.value
-            if code != int(code):
-                self.error(f"{m.text} is not an M-code", line, m.column)
+            if not abs(code) < MAX_CODE or code != int(code):
+                self.error(f"{_short(m.text)} is not an M-code", line, m.column)
             code = int(code)
             if code in (2, 30):
                 end = True
@@ -264,6 +279,7 @@ class _Interpreter:
                 i = AXIS_INDEX[axis]
                 target[i] = v if self.absolute else target[i] + v
         target = tuple(target)
+        self._check_sizes(w, target, line)
         if self.motion in (0, 1):
             for L in "IJKR":
                 if L in w:
@@ -290,6 +306,21 @@ class _Interpreter:
         else:
             self.segments.append(self.arc(w, target, gword, line))
         self.pos = target
+
+    def _check_sizes(self, w, target, line):
+        """Coordinates, centre offsets and radii within :data:`MAX_COORDINATE_M`."""
+        unit_name = "in" if self.unit == INCH_M else "mm"
+        limit = f"{MAX_COORDINATE_M / self.unit:.6g} {unit_name}"
+        for axis in "XYZ":
+            at = target[AXIS_INDEX[axis]]
+            if axis in w and not abs(at) <= MAX_COORDINATE_M:
+                self.error(f"{axis} would be at {at / self.unit:.6g} {unit_name}, beyond "
+                           f"{limit} from zero, more than any machine travels; check the "
+                           "number (and G20/G21, G90/G91)", line, w[axis].column)
+        for L in "IJKR":
+            if L in w and not abs(w[L].value * self.unit) <= MAX_COORDINATE_M:
+                self.error(f"{_short(w[L].text)} is beyond {limit}, more than any machine "
+                           "travels; check the number (and G20/G21)", line, w[L].column)
 
     def arc(self, w, end, gword, line):
         a, b = PLANES[self.plane]
@@ -430,7 +461,7 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
     if len(tuple(start_position_m)) != 3:
         raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
     it = _Interpreter(file, start_position_m)
-    lines = text.splitlines()
+    lines = file_lines(text)
     opened = started = False
     for number, raw in enumerate(lines, start=1):
         if _tape_marker(raw, file, number):

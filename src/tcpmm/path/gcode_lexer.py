@@ -6,12 +6,15 @@ with ``%`` is a tape marker and holds no words. Columns are 1-based.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
 from ..errors import InputError
 
-_TOKEN = re.compile(r"[ \t]*(?:(?P<l>[A-Za-z])[ \t]*(?P<n>[-+]?[0-9.]*)|(?P<o>\S))")
+# ``o``: any other character, a form feed or a control character too (\S would miss
+# those, and the match would fail)
+_TOKEN = re.compile(r"[ \t]*(?:(?P<l>[A-Za-z])[ \t]*(?P<n>[-+]?[0-9.]*)|(?P<o>.))", re.S)
 _NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z")
 
 
@@ -127,7 +130,8 @@ def tokenize(text: str, file=None, line=None) -> list[Word]:
         if m.group("o") is not None:
             col = m.start("o") + 1
             ch = m.group("o")
-            hint = " (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789" else ""
+            hint = (" (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789"
+                    else "" if ch.isprintable() else " (a control character; remove it)")
             raise InputError(f"unexpected character {ch!r}{hint}", file=file, line=line, column=col)
         col = m.start("l") + 1
         letter = m.group("l").upper()
@@ -157,6 +161,10 @@ def tokenize(text: str, file=None, line=None) -> list[Word]:
                 line=line,
                 column=col,
             )
-        words.append(Word(letter, float(num), letter + num, col))
+        value = float(num)
+        if not math.isfinite(value):  # over 308 digits
+            raise InputError(f"the number after {letter} has {len(num)} characters, too large "
+                             "for any word; check it", file=file, line=line, column=col)
+        words.append(Word(letter, value, letter + num, col))
         pos = m.end()
     return words

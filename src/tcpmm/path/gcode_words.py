@@ -6,6 +6,15 @@ refused code carries the sentence that tells the user why.
 
 from __future__ import annotations
 
+#: G and M numbers at or above this are no code of any controller [-]
+MAX_CODE = 1000
+#: Largest coordinate, centre offset or radius taken, a thousand metres: beyond any
+#: machine's travel, a typo; next to it the interpolator's doubles lose the path's
+#: micrometres, and past 1e308 a coordinate is infinite [m].
+MAX_COORDINATE_M = 1e3
+#: Highest feed taken, 16.7 m/s, faster than any feed axis [mm/min or in/min].
+MAX_FEED = 1e6
+
 #: motion codes -> 0 (G0) .. 3 (G3)
 MOTION = {0: 0, 10: 1, 20: 2, 30: 3}
 #: executed G codes -> their modal group

@@ -154,7 +154,7 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
     n = len(segments)
     kind, start, end, centre, feed, rapid, exact, dwell, line, plane, ccw, turns = (
         _segment_columns(segments))
-    _check(start, end, feed, dwell, kind, rapid, line)
+    _check(start, end, centre, feed, dwell, kind, rapid, line)
 
     # lines
     diff = end - start
@@ -241,10 +241,12 @@ def _line(line, i):
     return None if line[i] < 0 else int(line[i])
 
 
-def _check(start, end, feed, dwell, kind, rapid, line):
-    if not (np.all(np.isfinite(start)) and np.all(np.isfinite(end))):
-        i = int(np.argmax(~np.all(np.isfinite(start) & np.isfinite(end), axis=1)))
-        raise InputError(f"segment {i}: positions must be finite numbers", line=_line(line, i))
+def _check(start, end, centre, feed, dwell, kind, rapid, line):
+    finite = np.all(np.isfinite(start) & np.isfinite(end) & np.isfinite(centre), axis=1)
+    if not np.all(finite):
+        i = int(np.argmax(~finite))
+        raise InputError(f"segment {i}: positions and arc centres must be finite numbers",
+                         line=_line(line, i))
     gap = np.linalg.norm(start[1:] - end[:-1], axis=1)
     if np.any(gap > CONTINUITY_TOL_M):
         i = int(np.argmax(gap > CONTINUITY_TOL_M)) + 1

@@ -17,7 +17,7 @@ from ..sim import compiled as ck  # the look-ahead, profiles and sampling, compi
 from .blend import blend_corners
 from .command import Command
 from .filters import FilterShape, apply_filter, filter_shape
-from .geometry import ARC, PathArrays, evaluate, to_arrays
+from .geometry import ARC, DWELL, PathArrays, evaluate, to_arrays
 from .segments import AXES, Dwell
 from .settings import InterpolatorSettings
 from .speedlimits import junction_limits, segment_limits
@@ -91,6 +91,33 @@ def _used_axes(p: PathArrays) -> list[int]:
     return sorted(used)
 
 
+def _check_samples(dur, dt: float, line, n_samples: int | None = None) -> None:
+    """Refuse a command of more than :data:`MAX_SAMPLES` samples, naming the line of the
+    longest segment.
+
+    Parameters
+    ----------
+    dur : ndarray
+        Duration of each segment [s].
+    dt : float
+        Interpolation period [s].
+    line : ndarray of int
+        Source line of each segment, -1 where unknown [-].
+    n_samples : int, optional
+        The command's samples; by default the segments' durations over the period [-].
+    """
+    total = float(np.sum(dur)) / dt if n_samples is None else float(n_samples)
+    if total <= MAX_SAMPLES:  # not NaN either
+        return
+    i = int(np.argmax(np.where(np.isnan(dur), np.inf, dur)))
+    raise InputError(
+        f"the command would last {total * dt:.4g} s ({total:.4g} samples), more than "
+        f"the limit of {MAX_SAMPLES} samples; the longest segment takes {dur[i]:.4g} s: "
+        "check its feed rate and coordinates",
+        line=None if line[i] < 0 else int(line[i]),
+    )
+
+
 def interpolate_detailed(
     segments, settings: InterpolatorSettings | None = None, start_position_m=None
 ) -> Interpolation:
@@ -141,17 +168,13 @@ def interpolate_detailed(
     v = ck.lookahead(p.length, vj, acc, jerk)
     prof = ck.segment_profiles(p.length, v, vmax, acc, jerk)
     durations = prof[:, 1] + prof[:, 4] + prof[:, 5]
+    # before the compiled timeline counts the periods in 64-bit integers, which a feed of
+    # 1e-21 mm/min overflowed into a command of two samples
+    _check_samples(np.where(p.kind == DWELL, p.dwell_s, durations), dt, p.line)
     settle = filt.kernel.size - 1
     k0, off, dur, k_end = ck.timeline(p.kind, durations, v, p.dwell_s, dt, settle)
     n_samples = max(int(k_end) + 1, 2)
-    if n_samples > MAX_SAMPLES:
-        i = int(np.argmax(dur))
-        raise InputError(
-            f"the command would last {n_samples * dt:.4g} s ({n_samples} samples), more than "
-            f"the limit of {MAX_SAMPLES} samples; the longest segment takes {dur[i]:.4g} s: "
-            "check its feed rate and coordinates",
-            line=None if p.line[i] < 0 else int(p.line[i]),
-        )
+    _check_samples(dur, dt, p.line, n_samples)
     seg, s = ck.sample(k0, off, dur, p.length, v, prof, n_samples, dt)
     pos = evaluate(p, seg, s)
     cum = np.concatenate([[0.0], np.cumsum(p.length)])

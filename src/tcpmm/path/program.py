@@ -109,7 +109,10 @@ def program_to_interpolation(
         raise InputError(
             "the program has no motion and no dwell; nothing to interpolate", file=file
         )
-    result = interpolate_detailed(segments, settings)
+    try:
+        result = interpolate_detailed(segments, settings)
+    except InputError as exc:  # the interpolator knows the line, not the file
+        raise exc.in_file(file) from None
     command = result.command
     command.meta["file"] = None if file is None else str(file)
     planes = [s.plane_axes for s in segments if isinstance(s, Arc)]

@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from ..errors import InputError
 from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
@@ -51,7 +52,6 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
     """
     vel_axis = np.asarray(vel_axis, float)
     acc_axis = np.asarray(acc_axis, float)
-    n = p.n
     L = np.where(p.length > 0, p.length, 1.0)
     u = np.abs(p.end - p.start) / L[:, None]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -95,8 +95,14 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
     _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
     vmax[p.kind == DWELL] = 0.0
     acc[p.kind == DWELL] = acc_path
-    if n and not np.all(vmax[p.kind != DWELL] > 0):
-        raise AssertionError("segment speed limit must be positive")
+    bad = np.flatnonzero((p.kind != DWELL) & ~(vmax > 0.0))
+    if bad.size:  # NaN too: numbers so far apart that doubles cannot resolve the segment
+        i = int(bad[0])
+        raise InputError(
+            f"segment {i}: no speed limit can be computed for it (length {p.length[i]:.4g} m, "
+            f"feed {p.feed[i]:.4g} m/s); its coordinates, arc centre or radius are beyond "
+            "what the interpolator resolves: check them",
+            line=None if p.line[i] < 0 else int(p.line[i]))
     return vmax, acc, cause
 
 

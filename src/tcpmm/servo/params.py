@@ -10,16 +10,22 @@ from pydantic import (
     ConfigDict,
     Field,
     ValidationError,
+    ValidationInfo,
     field_validator,
     model_validator,
 )
 
-from .._validate import validation_message
+from .._validate import plausible, validation_message
 from ..errors import InputError
 from .currentfilters import MAX_FILTERS, ServoFilter, check_filters
 
 #: Most FIR taps of the velocity estimate.
 MAX_VELOCITY_TAPS = 8
+#: Plausible range of the gains, periods and current loop, decades beyond those of real
+#: drives: lowest, highest [SI] and the unit [-].
+RANGES = {"K_pp": (0.0, 1e5, "1/s"), "K_vp": (0.0, 1e6, "A s/rad"),
+          "K_vi": (0.0, 1e9, "A/rad"), "T_p": (1e-6, 1.0, "s"), "T_v": (1e-6, 1.0, "s"),
+          "current_limit": (1e-3, 1e5, "A"), "current_bandwidth_hz": (1.0, 1e6, "Hz")}
 
 
 class ServoParams(BaseModel):
@@ -80,6 +86,11 @@ class ServoParams(BaseModel):
     velocity_filter: list[float] = Field(default_factory=lambda: [1.0], min_length=1,
                                          max_length=MAX_VELOCITY_TAPS)
     filters: list[ServoFilter] = Field(default_factory=list, max_length=MAX_FILTERS)
+
+    @field_validator(*RANGES)
+    @classmethod
+    def _plausible(cls, v, info: ValidationInfo):
+        return plausible(v, info.field_name, RANGES)
 
     @field_validator("velocity_filter")
     @classmethod

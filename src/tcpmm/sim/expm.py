@@ -46,6 +46,10 @@ THETA = np.array([1.495585217958292e-2, 2.539398330063230e-1, 9.504178996162932e
 #: ``|c_(2m+1)|^-1``, the reciprocal of the Padé error's leading coefficient (eq. 1.2) [-].
 C_RECIP = np.array([float(math.comb(2 * m, m) * math.factorial(2 * m + 1)) for m in DEGREES])
 UNIT_ROUNDOFF = 2.0**-53
+#: Sweeps of the balancing at most: the plants need six; each sweep that changes a scale
+#: lowers a sum of norms by 5 %, so a bound only cuts short a matrix whose entries span
+#: far more than a double's range, which stays a valid similarity, just less balanced [-].
+MAX_BALANCE_SWEEPS = 100
 
 
 @njit(cache=True)
@@ -68,12 +72,13 @@ def expm(A):
 def _balance(A):
     """Powers of two ``d`` with ``D^-1 A D`` balanced, LAPACK ``dgebal``'s scaling: per
     state in turn, the power of two that brings its column's and row's 2-norms within a
-    factor 2, applied where it lowers their sum by 5 %; until none does."""
+    factor 2, applied where it lowers their sum by 5 %; until none does, or for
+    :data:`MAX_BALANCE_SWEEPS` sweeps. A state whose norm overflows (entries beyond
+    1e154) keeps its scale: halving an infinite norm would never end."""
     n = A.shape[0]
     B = A.copy()
     d = np.ones(n)
-    changed = True
-    while changed:
+    for _ in range(MAX_BALANCE_SWEEPS):
         changed = False
         for i in range(n):
             c, r = 0.0, 0.0
@@ -81,7 +86,7 @@ def _balance(A):
                 c += B[k, i] * B[k, i]
                 r += B[i, k] * B[i, k]
             c, r = math.sqrt(c), math.sqrt(r)
-            if c == 0.0 or r == 0.0:
+            if c == 0.0 or r == 0.0 or not (math.isfinite(c) and math.isfinite(r)):
                 continue
             f, s = 1.0, c + r
             while c < r / 2.0:
@@ -95,6 +100,8 @@ def _balance(A):
                 B[i, k] /= f
                 B[k, i] *= f
             changed = True
+        if not changed:
+            break
     return d
 
 

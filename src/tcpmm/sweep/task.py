@@ -87,15 +87,19 @@ def _circle_command(radius_m: float, feed_m_per_s: float):
 
 
 @functools.lru_cache(maxsize=8)
-def _gcode_command(text: str, override: float, settings_json: str):
+def _gcode_command(text: str, name: str, override: float, settings_json: str):
+    from ..errors import InputError
     from ..path import InterpolatorSettings, interpolate, parse_gcode
     from ..path.segments import Arc, Line
 
-    segments = parse_gcode(text)
+    segments = parse_gcode(text, name or None)
     if override != 1.0:
         segments = [replace(s, feed_m_per_s=s.feed_m_per_s * override)
                     if isinstance(s, Line | Arc) else s for s in segments]
-    return interpolate(segments, InterpolatorSettings.model_validate_json(settings_json))
+    try:
+        return interpolate(segments, InterpolatorSettings.model_validate_json(settings_json))
+    except InputError as exc:  # the interpolator knows the line, not the file
+        raise exc.in_file(name or None) from None
 
 
 def program_command(program, machine, values: dict):
@@ -132,7 +136,7 @@ def program_command(program, machine, values: dict):
     if not override > 0.0:
         raise InputError(f"program.feed_override must be positive, got {override:g}")
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})
-    return _gcode_command(program.text, override, settings.model_dump_json())
+    return _gcode_command(program.text, program.name, override, settings.model_dump_json())
 
 
 def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:

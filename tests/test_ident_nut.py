@@ -28,6 +28,7 @@ from tcpmm.ident.friction.split import (
 )
 from tcpmm.ident.physical import fit_physical
 from tcpmm.ident.pipeline import Identification, identify_axis
+from tcpmm.ident.steps import fitcontext
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]
@@ -360,7 +361,7 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
         fits.append(kwargs.get("nut_gain"))
         return fit_physical(*args, **kwargs)
 
-    monkeypatch.setattr(pipeline, "fit_physical", counted)
+    monkeypatch.setattr(fitcontext, "fit_physical", counted)
     _, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     refits = sum(g is not None for g in fits)
     assert 2 <= refits < pipeline.PLAY_ITERATIONS

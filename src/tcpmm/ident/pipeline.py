@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field, replace
-from functools import partial
 
 import numpy as np
 
@@ -31,8 +30,6 @@ from .friction.sensitivity import (
     warn_share_sensitivity,
 )
 from .friction.split import (
-    identify_friction,
-    place_steady_viscous,
     share_uncertainty_warning,
     stribeck_from_record,
 )
@@ -46,10 +43,17 @@ from .gates.findings import (
 from .gates.sanity import FrictionHold, warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .lti.goodness import fit_percent
 from .lti.tffit import fit_tf
-from .physical.greybox import FRFData, PhysicalFit, SweepPlay, fit_physical, model_frfs
-from .physical.loop_timing import COMPUTATION_DELAY, LoopTiming, sampled_in_step, sweep_timing
+from .physical.greybox import FRFData, PhysicalFit, SweepPlay, model_frfs
+from .physical.loop_timing import COMPUTATION_DELAY, LoopTiming, sweep_timing
 from .physical.structure import fit_structure
 from .physical.uncertainty import axis_uncertainty
+from .steps.fitcontext import (
+    FitContext,
+    current_hold,
+    fit_values,
+    friction_on,
+    physical_fit,
+)
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
 #: five-inertia axis: G_M has the drive's three modes and the rigid-body integrator, and
@@ -147,7 +151,7 @@ class AxisIdentification:
 
     def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
         return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,
-                          _current_hold(self.record, self.axis.servo.T_v),
+                          current_hold(self.record, self.axis.servo.T_v),
                           self.physical.nut_gain)[name]
 
     def notes(self) -> dict:
@@ -394,12 +398,6 @@ def _weights(frf) -> np.ndarray:
     return np.where(frf.coherence >= MIN_COHERENCE, w, 0.0)
 
 
-#: Largest relative standard deviation of the identified ``B_m``, ``B_L`` and ``C_t`` for
-#: which the friction split takes them as known; a few per cent of ``C_t`` already moves the
-#: share by 0.02, so otherwise the speed-proportional deflection is fitted [-].
-DAMPING_KNOWN_REL_STD = 0.03
-
-
 def identify_axis(
     name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
     friction=None, guideway_share: float | None = None, presliding: float | None = None,
@@ -460,17 +458,15 @@ def identify_axis(
                    "micrometres at the reversals", file=getattr(sweep, "source", None))
     tf_fits = _tf_fits(frfs)
     data = {k: FRFData(f.freq_hz, f.H, _weights(f)) for k, f in frfs.items()}
-    fit_on = _physical_fit_on(cfg, fit_current_loop, tf_fits,
-                              _current_hold(sweep, cfg.servo.velocity_loop_period_s))
-    phys: PhysicalFit = fit_on(data)()
+    ctx = FitContext(name, cfg, fit_current_loop, tf_fits,
+                     current_hold(sweep, cfg.servo.velocity_loop_period_s), friction,
+                     guideway_share,
+                     sweep_deflection(sweep, velocity) if friction is not None else None)
+    phys: PhysicalFit = physical_fit(ctx, data)
     kept = AxisFit(phys, phys.mechanics)
     presliding_m = presliding_fit = None
     if friction is not None:
-        friction_on = partial(_friction_and_mechanics, name, friction, cfg,
-                              guideway_share=guideway_share,
-                              sweep=sweep_deflection(sweep, velocity))
-        kept = _fit_with_friction(name, sweep, data, fit_on, friction_on, phys, v_travel,
-                                  (fmin, fmax), partial(_whole_record_data, sweep, frfs))
+        kept = _fit_with_friction(ctx, sweep, frfs, data, phys, v_travel, (fmin, fmax))
         message = share_uncertainty_warning(name, kept.split, kept.curve, kept.mechanics, cfg)
         if message is not None:
             from ..io.csvutil import warn_input
@@ -549,30 +545,6 @@ def _tf_fits(frfs: dict) -> dict:
     return tf_fits
 
 
-def _current_hold(record, T_v: float) -> float:
-    """Hold of the current command that ``G_M`` carries beyond the record (``None``: a
-    record sampled at the ticks) of a loop of period ``T_v`` [s].
-
-    A record sampled at the velocity-loop ticks holds the command values, and the drive
-    holds each over the period that follows: ``G_M`` from the samples carries that
-    hold. A record that reads the held current on a clock of its own already holds the
-    staircase the motor is driven by: modelled with the hold as well, reference machines
-    C, D and E (10 kHz records of an 8 kHz loop) came out with every inertia, mass and
-    stiffness 0.4-2.3 % high, and E's F10000 contour 0.56 um off (0.46 without)."""
-    return T_v if record is None or sampled_in_step(record.fs_hz, T_v) else 0.0
-
-
-def _physical_fit_on(cfg, fit_current_loop: bool, tf_fits: dict, hold_period_s: float):
-    """``fit_on(data)``: :func:`fit_physical` on the FRFs ``data`` with the axis's known
-    values bound; called with the remaining keywords (start, structure, nut) [-]."""
-    def fit_on(data: dict):
-        return partial(fit_physical, data, cfg.lead_m, cfg.torque_constant,
-                       fit_current_loop=fit_current_loop, tf_fits=tf_fits,
-                       hold_period_s=hold_period_s)
-
-    return fit_on
-
-
 def _whole_record_data(sweep, frfs: dict) -> dict:
     """The FRFs weighed against their estimates from the whole record, as fit data
     (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`)."""
@@ -581,38 +553,32 @@ def _whole_record_data(sweep, frfs: dict) -> dict:
     return {k: FRFData(v.freq_hz, v.H, _weights(v)) for k, v in f.items()}
 
 
-def _fit_with_friction(name: str, sweep, data: dict, fit_on, friction_on, phys: PhysicalFit,
-                       v_travel: float, band: tuple, whole=None) -> AxisFit:
+def _fit_with_friction(ctx: FitContext, sweep, frfs: dict, data: dict, phys: PhysicalFit,
+                       v_travel: float, band: tuple) -> AxisFit:
     """The friction runs on the physical fit; with lost motion that the sweep crosses, the
     structure held at what ``G_tcp`` alone says and the refits with the play
     (:func:`_refit_with_play`), or a warning where the play cannot be modelled.
 
     Parameters
     ----------
-    name : str
-        Axis name [-].
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
     sweep : SweepRecord
         The sweep record [-].
+    frfs : dict
+        The measured FRFs; with a TCP record whose sweep does not cross lost motion, the
+        fits weigh them against the whole record [SI].
     data : dict
         The FRFs to fit, :class:`FRFData` per name [SI].
-    fit_on : callable
-        ``fit_on(data)``: :func:`fit_physical` with those FRFs and the axis's known values
-        bound [-].
-    friction_on : callable
-        :func:`_friction_and_mechanics` with the runs bound [-].
     phys : PhysicalFit
         The linear fit [SI].
     v_travel : float
         Steady travel speed of the sweep, 0 when it stands [m/s].
     band : tuple
         ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
-    whole : callable, optional
-        ``whole()``: the FRFs weighed against the whole record, for the fits of an axis
-        with a TCP record whose sweep does not cross lost motion; worked out only there
-        [-].
     """
-    kept = AxisFit(phys, *friction_on(phys))
-    structure, fit = None, fit_on(data)
+    kept = AxisFit(phys, *friction_on(ctx, phys))
+    structure = None
     if "G_tcp" in data:
         # G_tcp does not see the nut force, so nothing that distorts G_M and G_T (lost
         # motion crossed by the sweep, the friction it travels against, a drive mode the
@@ -622,34 +588,35 @@ def _fit_with_friction(name: str, sweep, data: dict, fit_on, friction_on, phys: 
         # damped mode, so from here on each FRF weighs in the whole record, except where
         # the sweep crosses the play: there the refits with the play, which swing about
         # their fixed point, stopped settling, and G_M and G_T went into other minima.
-        if not (whole is None or _play_significant(kept.split)):
-            data = whole()
-            fit = fit_on(data)
+        if not _play_significant(kept.split):
+            data = _whole_record_data(sweep, frfs)
         structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
-        phys = fit(initial=_fit_values(phys), structure=structure)
-        kept = AxisFit(phys, *friction_on(phys))
+        phys = physical_fit(ctx, data, initial=fit_values(phys), structure=structure)
+        kept = AxisFit(phys, *friction_on(ctx, phys))
     bias = _bias_force(v_travel, kept.mechanics, kept.friction)
     if _play_significant(kept.split) and bias > 0:
-        kept = _refit_with_play(sweep, fit, friction_on, kept, structure, v_travel, bias, band)
+        kept = _refit_with_play(ctx, sweep, data, kept, structure, v_travel, bias, band)
         if kept.physical.nut_gain is None:
-            _warn_sweep_crosses_play(name, sweep, kept.split, modelled=True)
+            _warn_sweep_crosses_play(ctx.name, sweep, kept.split, modelled=True)
     elif kept.split.nut is not None or _play_significant(kept.split):
-        _warn_sweep_crosses_play(name, sweep, kept.split)
+        _warn_sweep_crosses_play(ctx.name, sweep, kept.split)
     return kept
 
 
-def _refit_with_play(sweep, fit, friction_on, kept: AxisFit, structure, v_travel: float,
-                     bias: float, band: tuple) -> AxisFit:
+def _refit_with_play(ctx: FitContext, sweep, data: dict, kept: AxisFit, structure,
+                     v_travel: float, bias: float, band: tuple) -> AxisFit:
     """Refit with the nut as soft as the sweep saw it, and keep whichever fit, linear or
     with the play, explains the FRFs best; a refit counts only if it agrees with the
     describing function it was fitted with (:data:`SELF_CONSISTENT_REL`).
 
     Parameters
     ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
     sweep : SweepRecord
         The sweep record [-].
-    fit, friction_on : callable
-        As for :func:`_fit_with_friction` [-].
+    data : dict
+        The FRFs to fit, :class:`FRFData` per name [SI].
     kept : AxisFit
         The linear fit with the friction on it [SI].
     structure : dict or None
@@ -667,9 +634,9 @@ def _refit_with_play(sweep, fit, friction_on, kept: AxisFit, structure, v_travel
         seen = current.mechanics
         amp = nut_deflection_amplitude(freq, theta_m, scale, seen)
         gain = play_gain(freq, amp, current.split.backlash, bias, seen.K_t)
-        phys = fit(initial=_fit_values(current.physical) if structure else None,
-                   nut_gain=gain, structure=structure)
-        current = AxisFit(phys, *friction_on(phys))
+        phys = physical_fit(ctx, data, initial=fit_values(current.physical) if structure
+                            else None, nut_gain=gain, structure=structure)
+        current = AxisFit(phys, *friction_on(ctx, phys))
         if (phys.cost < (1.0 - COST_MARGIN_REL) * best.cost
                 and _self_consistent(seen, current.mechanics, fitted=phys.mechanics)):
             g = gain(freq)
@@ -697,55 +664,6 @@ def _self_consistent(seen, mech, rel: float = SELF_CONSISTENT_REL, fitted=None) 
     same = all(abs(getattr(mech, p) / getattr(seen, p) - 1.0) <= rel for p in ("M_t", "K_t"))
     return same and (fitted is None
                      or abs(fitted.K_t / seen.K_t - 1.0) <= FITTED_STIFFNESS_REL)
-
-
-def _fit_values(phys: PhysicalFit) -> dict:
-    """The values of a physical fit as a starting point for another [SI]."""
-    start = phys.mechanics.model_dump()
-    if phys.current_bandwidth_hz is not None:
-        start["f_i"] = phys.current_bandwidth_hz
-    return start
-
-
-def _friction_and_mechanics(name: str, friction, cfg, phys: PhysicalFit, guideway_share,
-                            sweep=None):
-    """Friction from the runs on the mechanics of a physical fit, the nut stiffness and
-    the steady viscous force placed."""
-    mech = phys.mechanics
-
-    def rel_std(p):
-        sd = phys.std.get(p, float("nan"))
-        return float(sd / getattr(mech, p)) if np.isfinite(sd) else float("inf")
-
-    damping_known = all(rel_std(p) <= DAMPING_KNOWN_REL_STD for p in ("B_m", "B_L", "C_t"))
-    fr, est, split = identify_friction(
-        friction, cfg, mech, guideway_share, axis=name,
-        stiffness_rel_std=_finite_or(rel_std("K_t"), 0.0),
-        viscous="known" if damping_known else "fit",
-        neglect_motor_bearing=not damping_known, sweep=sweep,
-        K_h_rel_std=_finite_or(rel_std("K_h"), 0.0),
-        C_t_std=_finite_or(phys.std.get("C_t", float("nan")), 0.0))
-    if split.source != "prior" and not damping_known:
-        # Motor-bearing damping does not twist the shaft, so with it the runs would put
-        # less of the steady viscous force through the nut. A sweep does not tell it
-        # from the rest of the damping (it came out up to 30 times too large): the
-        # motor-bearing part is taken as negligible, which shifts the nut's share by
-        # K_t B_m/K_L, a few per cent for usual bearings. (Without a split from the
-        # data the viscous force is not placed, and the FRF damping stays.)
-        mech = mech.replace(B_m=0.0)
-    if split.nut is not None:
-        # the nut in contact, as the accelerations of the friction runs show it
-        mech = mech.replace(K_t=split.nut.stiffness)
-    table_viscous = split.table_viscous
-    if split.source != "prior" and np.isfinite(table_viscous) and "Fv" in est.names:
-        mech, fr = place_steady_viscous(
-            mech, fr, est.values[est.names.index("Fv")], table_viscous)
-    return mech, fr, est, split
-
-
-def _finite_or(x: float, default: float) -> float:
-    """``x``, or ``default`` where it is not finite (an undetermined std) [-]."""
-    return float(x) if np.isfinite(x) else default
 
 
 def _play_significant(split, z: float = LOST_MOTION_Z) -> bool:

@@ -22,8 +22,8 @@ import importlib
 _ENTRY_POINTS = {
     "identify_bundle": "pipeline",
     "identify_axis": "pipeline",
-    "Identification": "pipeline",
-    "AxisIdentification": "pipeline",
+    "Identification": "identification",
+    "AxisIdentification": "identification",
     "design_excitation": "excitation",
     "Excitation": "excitation",
     "FRF": "frf",

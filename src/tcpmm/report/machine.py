@@ -223,7 +223,7 @@ def identification_section(summary: dict, images: dict | None = None):
 
 def identification_result_section(identification):
     """:func:`identification_section` of an identification in memory, from the figures and
-    the summary its :meth:`~tcpmm.ident.pipeline.Identification.write_report` writes.
+    the summary its :meth:`~tcpmm.ident.identification.Identification.write_report` writes.
 
     Parameters
     ----------

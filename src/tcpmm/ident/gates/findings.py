@@ -13,7 +13,7 @@ returns a list of :class:`Finding`; an empty list means the check passed. The ch
 * :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it.
 
 :func:`time_base_findings` and :func:`axis_findings` run them on a bundle's records and on an
-:class:`~tcpmm.ident.pipeline.AxisIdentification`; :class:`SuspectModelError` reports them.
+:class:`~tcpmm.ident.identification.AxisIdentification`; :class:`SuspectModelError` reports them.
 """
 
 from __future__ import annotations

@@ -5,17 +5,10 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from .._threads import limit_blas_threads
-from ..mechanics.friction import friction_params_array
 from ..model import Axis, Machine, Sensors
 from ..servo.params import ServoParams
-from ..sim.contact import sliding_friction
 from .frf.response import reduced_frfs
-from .frf.wholerecord import reduced_with_whole_record
-from .friction.nutstiffness import LOST_MOTION_Z
-from .friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion
 from .friction.presliding import PRESLIDING, with_presliding
 from .friction.preslidingfit import fit_presliding
 from .friction.sensitivity import (
@@ -35,47 +28,23 @@ from .gates.findings import (
 )
 from .gates.sanity import warn_friction_holds_sweep, warn_unstable_sampled_loop
 from .identification import AxisFit, AxisIdentification, Identification
-from .physical.greybox import PhysicalFit, SweepPlay
+from .physical.greybox import PhysicalFit
 from .physical.loop_timing import COMPUTATION_DELAY, sweep_timing
-from .physical.structure import fit_structure
 from .physical.uncertainty import axis_uncertainty
 from .steps.fitcontext import (
     FitContext,
     current_hold,
-    fit_values,
-    friction_on,
     physical_fit,
 )
 from .steps.frfs import MIN_COHERENCE, fit_data
+from .steps.frictionfit import fit_friction
 from .steps.ltifits import TF_DELAY, TF_ORDERS, fit_transfer_functions
+from .steps.playrefit import fit_with_play
 
 __all__ = ["MIN_COHERENCE", "TF_DELAY", "TF_ORDERS", "AxisFit", "AxisIdentification",
            "Identification", "axis_config_to_sensors", "axis_config_to_servo",
            "identify_axis", "identify_bundle"]
 
-#: Refits of the mechanics with the nut's lost motion as the sweep saw it; each one takes
-#: the nut deflection through the torsion of the previous fit. They can swing about their
-#: fixed point before they settle (M_t 1.34 -> 1.10 -> 1.04 -> 1.09 -> 1.05 -> 1.06 of the
-#: truth on one axis, self-consistent from the fourth) [-].
-PLAY_ITERATIONS = 8
-#: A refit with the play counts only when it is a solution of its own describing function:
-#: its table mass and the nut stiffness of the runs on it within this of those the
-#: describing function was computed with. Where the FRFs barely fix the table mass, the
-#: refits wander (0.9 -> 1.26 -> 0.56 -> 0.79 of the truth on one axis), and the least
-#: cost among them is chance [-].
-SELF_CONSISTENT_REL = 0.05
-#: ... and the nut stiffness the FRFs give through the play's factor within this of the one
-#: the factor was computed with (the friction runs'): 4-12 % on one unseen axis whose refits
-#: settle (M_t 1.04-1.08 of the truth), 1.8-5.8 times on one where they wander, one of
-#: them a false fixed point at M_t 0.45 of the truth with a nut fitted 5.8 times stiffer
-#: than the factor assumed [-].
-FITTED_STIFFNESS_REL = 0.25
-#: Refits stop once one comes back within this of the fit before it: the next would
-#: repeat it [-].
-CONVERGED_REL = 0.01
-#: A refit with the play replaces the linear fit only when it explains the FRFs better by
-#: more than this share of the linear fit's cost: a tie is not decided by rounding [-].
-COST_MARGIN_REL = 0.01
 #: Travel over a sweep record below which it counts as standing still: the guideway
 #: friction then holds the nut on no particular flank [m].
 MIN_SWEEP_TRAVEL_M = 1e-3
@@ -185,7 +154,8 @@ def identify_axis(
     kept = AxisFit(phys, phys.mechanics)
     presliding_m = presliding_fit = None
     if friction is not None:
-        kept = _fit_with_friction(ctx, sweep, frfs, data, phys, v_travel, (fmin, fmax))
+        kept = fit_with_play(ctx, sweep, fit_friction(ctx, sweep, frfs, data, phys), v_travel,
+                             (fmin, fmax))
         message = share_uncertainty_warning(name, kept.split, kept.curve, kept.mechanics, cfg)
         if message is not None:
             from ..io.csvutil import warn_input
@@ -221,185 +191,10 @@ def _presliding(fr, mech, record, presliding):
     return with_presliding(fr, mech, fit.presliding, fit.damping_ratio), fit.presliding, fit
 
 
-def _whole_record_data(sweep, frfs: dict) -> dict:
-    """The FRFs weighed against their estimates from the whole record, as fit data
-    (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`)."""
-    f = reduced_with_whole_record(frfs, sweep.excitation_A, sweep.current_cmd_A,
-                                  sweep.motor_angle_rad, sweep.scale_m, sweep.tcp_m)
-    return fit_data(f)
-
-
-def _fit_with_friction(ctx: FitContext, sweep, frfs: dict, data: dict, phys: PhysicalFit,
-                       v_travel: float, band: tuple) -> AxisFit:
-    """The friction runs on the physical fit; with lost motion that the sweep crosses, the
-    structure held at what ``G_tcp`` alone says and the refits with the play
-    (:func:`_refit_with_play`), or a warning where the play cannot be modelled.
-
-    Parameters
-    ----------
-    ctx : FitContext
-        The axis's known values, TF fits, hold and friction runs [-].
-    sweep : SweepRecord
-        The sweep record [-].
-    frfs : dict
-        The measured FRFs; with a TCP record whose sweep does not cross lost motion, the
-        fits weigh them against the whole record [SI].
-    data : dict
-        The FRFs to fit, :class:`FRFData` per name [SI].
-    phys : PhysicalFit
-        The linear fit [SI].
-    v_travel : float
-        Steady travel speed of the sweep, 0 when it stands [m/s].
-    band : tuple
-        ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
-    """
-    kept = AxisFit(phys, *friction_on(ctx, phys))
-    structure = None
-    if "G_tcp" in data:
-        # G_tcp does not see the nut force, so nothing that distorts G_M and G_T (lost
-        # motion crossed by the sweep, the friction it travels against, a drive mode the
-        # model lacks) reaches it: hold the bed and TCP structure at what G_tcp alone
-        # says, relative to the table. A joint fit let G_M and G_T pull the head damping
-        # 12-16 % above what G_tcp alone gives. The segments cut the ringing of a lightly
-        # damped mode, so from here on each FRF weighs in the whole record, except where
-        # the sweep crosses the play: there the refits with the play, which swing about
-        # their fixed point, stopped settling, and G_M and G_T went into other minima.
-        if not _play_significant(kept.split):
-            data = _whole_record_data(sweep, frfs)
-        structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
-        phys = physical_fit(ctx, data, initial=fit_values(phys), structure=structure)
-        kept = AxisFit(phys, *friction_on(ctx, phys))
-    bias = _bias_force(v_travel, kept.mechanics, kept.friction)
-    if _play_significant(kept.split) and bias > 0:
-        kept = _refit_with_play(ctx, sweep, data, kept, structure, v_travel, bias, band)
-        if kept.physical.nut_gain is None:
-            _warn_sweep_crosses_play(ctx.name, sweep, kept.split, modelled=True)
-    elif kept.split.nut is not None or _play_significant(kept.split):
-        _warn_sweep_crosses_play(ctx.name, sweep, kept.split)
-    return kept
-
-
-def _refit_with_play(ctx: FitContext, sweep, data: dict, kept: AxisFit, structure,
-                     v_travel: float, bias: float, band: tuple) -> AxisFit:
-    """Refit with the nut as soft as the sweep saw it, and keep whichever fit, linear or
-    with the play, explains the FRFs best; a refit counts only if it agrees with the
-    describing function it was fitted with (:data:`SELF_CONSISTENT_REL`).
-
-    Parameters
-    ----------
-    ctx : FitContext
-        The axis's known values, TF fits, hold and friction runs [-].
-    sweep : SweepRecord
-        The sweep record [-].
-    data : dict
-        The FRFs to fit, :class:`FRFData` per name [SI].
-    kept : AxisFit
-        The linear fit with the friction on it [SI].
-    structure : dict or None
-        Bed and TCP structure held in proportion to ``M_t`` [SI / kg].
-    v_travel : float
-        Steady travel speed of the sweep [m/s].
-    bias : float
-        Friction force holding the nut on one flank on the linear fit [N].
-    band : tuple
-        ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
-    """
-    best, current = kept, kept
-    freq, theta_m, scale = sweep_motion(sweep, *band)
-    for _ in range(PLAY_ITERATIONS):
-        seen = current.mechanics
-        amp = nut_deflection_amplitude(freq, theta_m, scale, seen)
-        gain = play_gain(freq, amp, current.split.backlash, bias, seen.K_t)
-        phys = physical_fit(ctx, data, initial=fit_values(current.physical) if structure
-                            else None, nut_gain=gain, structure=structure)
-        current = AxisFit(phys, *friction_on(ctx, phys))
-        if (phys.cost < (1.0 - COST_MARGIN_REL) * best.cost
-                and _self_consistent(seen, current.mechanics, fitted=phys.mechanics)):
-            g = gain(freq)
-            lowest = int(np.argmin(g))
-            phys.sweep_play = SweepPlay(bias_force_N=bias, lowest_nut_gain=float(g[lowest]),
-                                        at_hz=float(freq[lowest]),
-                                        nut_amplitude_there_m=float(amp[lowest]))
-            best = current
-        bias = _bias_force(v_travel, current.mechanics, current.friction)
-        converged = _self_consistent(seen, current.mechanics, CONVERGED_REL)
-        if converged or not (_play_significant(current.split) and bias > 0):
-            break
-    return best
-
-
-def _self_consistent(seen, mech, rel: float = SELF_CONSISTENT_REL, fitted=None) -> bool:
-    """Whether a refit with the play's describing function came back to the table mass
-    and nut stiffness the describing function was computed with, within ``rel`` [-].
-
-    ``fitted``, the mechanics as the FRFs gave them before the friction runs replaced the
-    nut stiffness, must also have the contact stiffness the describing function assumed:
-    the fit scales ``K_t`` by the factor per frequency, and a fit that needs a nut several
-    times stiffer than the one the factor was computed for is not a solution of it, even
-    where the runs then hand back the same stiffness and table mass."""
-    same = all(abs(getattr(mech, p) / getattr(seen, p) - 1.0) <= rel for p in ("M_t", "K_t"))
-    return same and (fitted is None
-                     or abs(fitted.K_t / seen.K_t - 1.0) <= FITTED_STIFFNESS_REL)
-
-
-def _play_significant(split, z: float = LOST_MOTION_Z) -> bool:
-    """Whether the friction runs found lost motion beyond ``z`` standard deviations."""
-    if split is None or not split.backlash > 0:
-        return False
-    if split.nut is not None:
-        return split.nut.lost_motion_found(z)
-    lm = split.estimate
-    return bool(lm is not None and lm.determined and split.backlash > z * lm.backlash_std)
-
-
 def _travel_speed(sweep) -> float:
     """Steady travel speed of a sweep record, zero when it travels less than
     :data:`MIN_SWEEP_TRAVEL_M` [m/s]."""
     return abs(travel_velocity(sweep, MIN_SWEEP_TRAVEL_M))
-
-
-def _bias_force(v: float, mech, fr) -> float:
-    """Friction force on the table at travel speed ``v``: it holds the nut on one flank of
-    its play [N]. Zero without travel or guideway friction."""
-    if v <= 0 or fr is None or fr.guideway is None:
-        return 0.0
-    return float(sliding_friction(v, friction_params_array(fr.guideway))) + mech.C_t * v
-
-
-def _warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) -> None:
-    """Warn that the sweep crossed the nut's play and the mechanics fitted to it are
-    those of a linear axis.
-
-    Parameters
-    ----------
-    name : str
-        Axis name [-].
-    sweep : SweepRecord
-        The sweep, for the file named in the warning [-].
-    split : FrictionSplit
-        The split of the kept fit: its lost motion and that estimate's std [m].
-    modelled : bool
-        The play was modelled in refits, none of which was kept [-].
-    """
-    from ..io.csvutil import warn_input
-
-    remedy = ("no refit with the play modelled both fitted the FRFs better and came back to "
-              "the table mass and nut stiffness its describing function was computed with, "
-              "so the linear fit is kept"
-              if modelled else "a sweep recorded while the axis travels at constant speed "
-              "lets the play be modelled (the guideway friction holds the nut on one flank)")
-    stiffness = ("The nut stiffness is taken from the friction runs" if split.nut is not None
-                 else "The friction runs do not determine the nut stiffness either: K_t is "
-                 "the sweep's, as soft as the play made it look")
-    warn_input(
-        f"axis {name}: the friction runs show {split.backlash * 1e6:.2f} +/- "
-        f"{split.backlash_std * 1e6:.2f} um of lost motion in the nut, which the sweep crosses "
-        "every cycle; around the axial modes its FRFs are not those of a linear axis, and "
-        "the fitted split of inertia between motor side and table (M_t, and with it the "
-        f"structure's M_b, K_b, M_h, K_h) can be off by tens of per cent. {stiffness}; "
-        f"{remedy}. A larger excitation amplitude (within "
-        "the current limit) makes the play a smaller part of the vibration; a smaller one "
-        "makes it worse", file=getattr(sweep, "source", None))
 
 
 def identify_bundle(

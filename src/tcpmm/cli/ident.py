@@ -138,7 +138,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     A model that the gates (tcpmm.ident.gates) find physically suspect is an error and is
     not written, unless --accept-suspect.
     """
-    from ..ident.pipeline import identify_bundle
+    from ..ident.chain import identify_bundle
     from ..io.atomic import output_folder
     from ..io.bundle import read_bundle
     from ..io.modelfile import write_machine

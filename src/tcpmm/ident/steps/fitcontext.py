@@ -6,12 +6,18 @@ friction runs, in one frozen :class:`FitContext`; and the two fits it serves,
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..friction.split import identify_friction, place_steady_viscous
+from ..friction.sweepforce import sweep_deflection
 from ..physical.greybox import PhysicalFit, fit_physical
 from ..physical.loop_timing import sampled_in_step
+
+if TYPE_CHECKING:
+    from ..chain import AxisRun
+    from ..options import IdentifyOptions
 
 #: Largest relative standard deviation of the identified ``B_m``, ``B_L`` and ``C_t`` for
 #: which the friction split takes them as known; a few per cent of ``C_t`` already moves the
@@ -52,6 +58,23 @@ class FitContext:
     runs: object = None
     guideway_share: float | None = None
     sweep_force: object = None
+
+
+def fit_context(run: AxisRun, options: IdentifyOptions) -> FitContext:
+    """What the fits of one axis share, once its transfer functions are fitted.
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis with its records, its excitation check and its TF fits [-].
+    options : IdentifyOptions
+        ``fit_current_loop`` and ``guideway_share`` [-].
+    """
+    cfg, sweep, runs = run.cfg, run.sweep, run.runs
+    return FitContext(run.name, cfg, options.fit_current_loop, run.tf_fits,
+                      current_hold(sweep, cfg.servo.velocity_loop_period_s), runs,
+                      options.guideway_share,
+                      None if runs is None else sweep_deflection(sweep, run.excitation.velocity))
 
 
 def current_hold(record, T_v: float) -> float:

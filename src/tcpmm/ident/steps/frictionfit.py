@@ -5,6 +5,7 @@ and the runs read on that fit."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..frf.wholerecord import reduced_with_whole_record
 from ..identification import AxisFit
@@ -13,6 +14,10 @@ from ..physical.structure import fit_structure
 from .fitcontext import FitContext, fit_values, friction_on, physical_fit
 from .frfs import fit_data
 from .playrefit import play_significant
+
+if TYPE_CHECKING:
+    from ..chain import AxisRun
+    from ..options import IdentifyOptions
 
 
 @dataclass(frozen=True)
@@ -33,6 +38,23 @@ class FrictionFit:
     kept: AxisFit
     data: dict
     structure: dict | None = None
+
+
+def read_friction(run: AxisRun, options: IdentifyOptions) -> FrictionFit | None:
+    """The friction runs of one axis on its physical fit (:func:`fit_friction`); ``None``
+    without runs.
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis with its FRFs, fit context and linear fit [-].
+    options : IdentifyOptions
+        Not read by this step: the context carries the share asked for [-].
+    """
+    if run.runs is None:
+        return None
+    return fit_friction(run.context, run.sweep, run.frfs.frfs, run.linear.data,
+                        run.linear.physical)
 
 
 def fit_friction(ctx: FitContext, sweep, frfs: dict, data: dict,

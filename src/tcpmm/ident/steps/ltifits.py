@@ -3,8 +3,14 @@ to the FRFs; their modes are reported and their poles and zeros seed the physica
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ..lti.tffit import fit_tf
 from .frfs import MIN_COHERENCE
+
+if TYPE_CHECKING:
+    from ..chain import AxisRun
+    from ..options import IdentifyOptions
 
 #: Minimal orders (numerator, denominator, integrators) of the reduced models of the
 #: five-inertia axis: G_M has the drive's three modes and the rigid-body integrator, and
@@ -24,3 +30,17 @@ def fit_transfer_functions(frfs: dict) -> dict:
             tf_fits[k] = fit_tf(frf, nn, nd, n_integrators=ni, delay_s=TF_DELAY.get(k),
                                 min_coherence=MIN_COHERENCE)
     return tf_fits
+
+
+def fit_lti(run: AxisRun, options: IdentifyOptions) -> dict:
+    """Rational transfer functions fitted to an axis's FRFs
+    (:func:`fit_transfer_functions`) [SI].
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis with its FRFs [-].
+    options : IdentifyOptions
+        Not read by this step [-].
+    """
+    return fit_transfer_functions(run.frfs.frfs)

@@ -20,6 +20,8 @@ from ..physical.greybox import SweepPlay
 from .fitcontext import FitContext, fit_values, friction_on, physical_fit
 
 if TYPE_CHECKING:
+    from ..chain import AxisRun
+    from ..options import IdentifyOptions
     from .frictionfit import FrictionFit
 
 #: Refits of the mechanics with the nut's lost motion as the sweep saw it; each one takes
@@ -45,6 +47,23 @@ CONVERGED_REL = 0.01
 #: A refit with the play replaces the linear fit only when it explains the FRFs better by
 #: more than this share of the linear fit's cost: a tie is not decided by rounding [-].
 COST_MARGIN_REL = 0.01
+
+
+def keep_fit(run: AxisRun, options: IdentifyOptions) -> AxisFit:
+    """The fit kept for one axis: the linear one without friction runs, otherwise the one
+    :func:`fit_with_play` keeps.
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis with its excitation check, FRFs, linear fit and friction fit [-].
+    options : IdentifyOptions
+        Not read by this step [-].
+    """
+    if run.friction is None:
+        return AxisFit(run.linear.physical, run.linear.physical.mechanics)
+    return fit_with_play(run.context, run.sweep, run.friction, run.excitation.travel_speed,
+                         run.frfs.band)
 
 
 def fit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,

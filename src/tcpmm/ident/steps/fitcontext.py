@@ -84,9 +84,7 @@ def current_hold(record, T_v: float) -> float:
     A record sampled at the velocity-loop ticks holds the command values, and the drive
     holds each over the period that follows: ``G_M`` from the samples carries that
     hold. A record that reads the held current on a clock of its own already holds the
-    staircase the motor is driven by: modelled with the hold as well, reference machines
-    C, D and E (10 kHz records of an 8 kHz loop) came out with every inertia, mass and
-    stiffness 0.4-2.3 % high, and E's F10000 contour 0.56 um off (0.46 without)."""
+    staircase the motor is driven by, and a second hold would count it twice."""
     return T_v if record is None or sampled_in_step(record.fs_hz, T_v) else 0.0
 
 

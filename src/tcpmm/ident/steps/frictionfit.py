@@ -82,11 +82,9 @@ def fit_friction(ctx: FitContext, sweep, frfs: dict, data: dict,
         # G_tcp does not see the nut force, so nothing that distorts G_M and G_T (lost
         # motion crossed by the sweep, the friction it travels against, a drive mode the
         # model lacks) reaches it: hold the bed and TCP structure at what G_tcp alone
-        # says, relative to the table. A joint fit let G_M and G_T pull the head damping
-        # 12-16 % above what G_tcp alone gives. The segments cut the ringing of a lightly
-        # damped mode, so from here on each FRF weighs in the whole record, except where
-        # the sweep crosses the play: there the refits with the play, which swing about
-        # their fixed point, stopped settling, and G_M and G_T went into other minima.
+        # says, relative to the table. The segments cut the ringing of a lightly damped
+        # mode, so from here on each FRF weighs in the whole record, except where the
+        # sweep crosses the play: the refits with the play do not settle on it.
         if not play_significant(kept.split):
             data = whole_record_data(sweep, frfs)
         structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])

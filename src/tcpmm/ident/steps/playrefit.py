@@ -24,22 +24,14 @@ if TYPE_CHECKING:
     from ..options import IdentifyOptions
     from .frictionfit import FrictionFit
 
-#: Refits of the mechanics with the nut's lost motion as the sweep saw it; each one takes
-#: the nut deflection through the torsion of the previous fit. They can swing about their
-#: fixed point before they settle (M_t 1.34 -> 1.10 -> 1.04 -> 1.09 -> 1.05 -> 1.06 of the
-#: truth on one axis, self-consistent from the fourth) [-].
+#: Most refits with the play: each takes the nut deflection through the torsion of the fit
+#: before it, so they can swing about their fixed point a few times before they settle [-].
 PLAY_ITERATIONS = 8
-#: A refit with the play counts only when it is a solution of its own describing function:
-#: its table mass and the nut stiffness of the runs on it within this of those the
-#: describing function was computed with. Where the FRFs barely fix the table mass, the
-#: refits wander (0.9 -> 1.26 -> 0.56 -> 0.79 of the truth on one axis), and the least
-#: cost among them is chance [-].
+#: A refit counts only when its table mass and the runs' nut stiffness on it come back
+#: within this to those its describing function assumed: only then is it a solution of it [-].
 SELF_CONSISTENT_REL = 0.05
-#: ... and the nut stiffness the FRFs give through the play's factor within this of the one
-#: the factor was computed with (the friction runs'): 4-12 % on one unseen axis whose refits
-#: settle (M_t 1.04-1.08 of the truth), 1.8-5.8 times on one where they wander, one of
-#: them a false fixed point at M_t 0.45 of the truth with a nut fitted 5.8 times stiffer
-#: than the factor assumed [-].
+#: ... and when the nut stiffness the FRFs give through the play's factor is within this of
+#: the one the factor assumed: a nut fitted far stiffer marks a false fixed point [-].
 FITTED_STIFFNESS_REL = 0.25
 #: Refits stop once one comes back within this of the fit before it: the next would
 #: repeat it [-].

@@ -228,7 +228,7 @@ def identification_result_section(identification):
     Parameters
     ----------
     identification : Identification
-        :func:`tcpmm.ident.pipeline.identify_bundle` [-].
+        :func:`tcpmm.ident.chain.identify_bundle` [-].
     """
     import tempfile
 

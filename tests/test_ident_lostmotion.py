@@ -461,12 +461,12 @@ def test_friction_runs_without_passes_name_file_axis_and_fix(machine):
 def test_bundle_with_bad_friction_runs_fails_before_any_fit(machine, monkeypatch):
     from types import SimpleNamespace
 
-    from tcpmm.ident import pipeline
+    from tcpmm.ident import chain
 
     def no_fit(*args, **kwargs):
         raise AssertionError("an axis was fitted before the friction runs were checked")
 
-    monkeypatch.setattr(pipeline, "identify_axis", no_fit)
+    monkeypatch.setattr(chain, "run_axis", no_fit)
     t = np.arange(4000) * 1e-3
     still = np.zeros_like(t)
     bad = FrictionRecord(t, 0.1 * np.sin(t), still, still, source="b/Y/friction.csv", axis="Y")
@@ -475,5 +475,5 @@ def test_bundle_with_bad_friction_runs_fails_before_any_fit(machine, monkeypatch
               "Y": SimpleNamespace(sweep=None, friction=bad)},
         machine=SimpleNamespace(axes={a: axis_config(machine, a) for a in ("X", "Y")}))
     with pytest.raises(InputError, match="axis Y: no constant-speed passes") as info:
-        pipeline.identify_bundle(bundle)
+        chain.identify_bundle(bundle)
     assert info.value.file == "b/Y/friction.csv"

@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from tcpmm.builtin import builtin_machine
-from tcpmm.ident import pipeline
 from tcpmm.ident.friction import (
     CUTOFFS_HZ,
     LOST_MOTION_Z,
@@ -28,6 +27,7 @@ from tcpmm.ident.friction.split import (
 )
 from tcpmm.ident.physical import fit_physical
 from tcpmm.ident.pipeline import Identification, identify_axis
+from tcpmm.ident.steps import fitcontext, playrefit
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]
@@ -360,10 +360,10 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
         fits.append(kwargs.get("nut_gain"))
         return fit_physical(*args, **kwargs)
 
-    monkeypatch.setattr(pipeline, "fit_physical", counted)
+    monkeypatch.setattr(fitcontext, "fit_physical", counted)
     _, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     refits = sum(g is not None for g in fits)
-    assert 2 <= refits < pipeline.PLAY_ITERATIONS
+    assert 2 <= refits < playrefit.PLAY_ITERATIONS
     assert idn.physical.nut_gain is not None
     m = idn.axis.mechanics
     assert m.M_t == pytest.approx(a.mechanics.M_t, rel=0.1)
@@ -415,7 +415,7 @@ def test_the_user_is_told_when_no_refit_with_the_play_is_kept(identify_unseen, m
     only the plateaus give it (4.48 +- 0.10 um) and there is no nut estimate: the user must
     still be told that the sweep crossed the play, with that lost motion and that the
     stiffness is the sweep's."""
-    monkeypatch.setattr(pipeline, "PLAY_ITERATIONS", 1)
+    monkeypatch.setattr(playrefit, "PLAY_ITERATIONS", 1)
     true, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
     split = idn.friction_split
     assert split.nut is None and idn.physical.nut_gain is None

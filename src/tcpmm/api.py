@@ -134,8 +134,8 @@ def identify(bundle, band_hz=None, guideway_share=None, presliding_m=None,
         ``.machine`` (the model), per-axis fits, ``.to_dict()`` (the report) and
         ``.write_report(folder)`` (plots and tables) [-].
     """
+    from .ident.chain import identify_bundle
     from .ident.friction import PRESLIDING
-    from .ident.pipeline import identify_bundle
     from .io.bundle import Bundle, read_bundle
 
     b = bundle if isinstance(bundle, Bundle) else read_bundle(bundle)

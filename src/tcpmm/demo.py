@@ -140,7 +140,7 @@ def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
 def identify_and_predict(machine, cmd, out, step, files):
     """Virtual bundle -> identified model -> predicted circle vs measured (Table 2)."""
     from .analysis.compare import compare_circles
-    from .ident.pipeline import identify_bundle
+    from .ident.chain import identify_bundle
     from .io.bundle import read_bundle
     from .plot.circle import plot_circle
     from .virtual import virtual_bundle, virtual_run

@@ -157,7 +157,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     figure of the reference circles (R35 mm, F5000 and F10000): firm, uncertain +- X um
     (cause) or undetermined (cause), with the measurement that would settle it.
     """
-    from ..ident.pipeline import identify_bundle
+    from ..ident.chain import identify_bundle
     from ..io.atomic import output_folder
     from ..io.bundle import read_bundle
     from ..io.modelfile import write_machine

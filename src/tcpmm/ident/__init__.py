@@ -8,7 +8,10 @@ The rooms, each a sub-package exporting its public functions:
 * :mod:`~tcpmm.ident.physical` -- the physical (grey-box) fit of the axis mechanics;
 * :mod:`~tcpmm.ident.friction` -- friction, its split, lost motion and the nut's play;
 * :mod:`~tcpmm.ident.gates` -- what keeps a suspect model from passing silently;
-* :mod:`~tcpmm.ident.pipeline` -- all of it, per axis and per bundle.
+* :mod:`~tcpmm.ident.chain` -- all of it, per axis and per bundle, as an ordered list of
+  steps (:mod:`~tcpmm.ident.steps`) over one :class:`~tcpmm.ident.options.IdentifyOptions`,
+  into the results of :mod:`~tcpmm.ident.identification`
+  (:mod:`~tcpmm.ident.pipeline` keeps the names it had).
 
 The main entry points are importable from here; they load on first use, so importing
 ``tcpmm.ident`` costs nothing until one is needed.
@@ -20,10 +23,10 @@ import importlib
 
 #: Entry point -> the module that defines it.
 _ENTRY_POINTS = {
-    "identify_bundle": "pipeline",
-    "identify_axis": "pipeline",
-    "Identification": "pipeline",
-    "AxisIdentification": "pipeline",
+    "identify_bundle": "chain",
+    "identify_axis": "chain",
+    "Identification": "identification",
+    "AxisIdentification": "identification",
     "design_excitation": "excitation",
     "Excitation": "excitation",
     "FRF": "frf",

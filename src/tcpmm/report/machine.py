@@ -227,12 +227,12 @@ def identification_section(summary: dict, images: dict | None = None):
 
 def identification_result_section(identification):
     """:func:`identification_section` of an identification in memory, from the figures and
-    the summary its :meth:`~tcpmm.ident.pipeline.Identification.write_report` writes.
+    the summary its :meth:`~tcpmm.ident.identification.Identification.write_report` writes.
 
     Parameters
     ----------
     identification : Identification
-        :func:`tcpmm.ident.pipeline.identify_bundle` [-].
+        :func:`tcpmm.ident.chain.identify_bundle` [-].
     """
     import tempfile
 

@@ -13,7 +13,7 @@ returns a list of :class:`Finding`; an empty list means the check passed. The ch
 * :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it.
 
 :func:`time_base_findings` and :func:`axis_findings` run them on a bundle's records and on an
-:class:`~tcpmm.ident.pipeline.AxisIdentification`; :class:`SuspectModelError` reports them.
+:class:`~tcpmm.ident.identification.AxisIdentification`; :class:`SuspectModelError` reports them.
 """
 
 from __future__ import annotations
@@ -443,11 +443,12 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
     list of Finding
         Empty when the axis passes [-].
     """
-    from ..pipeline import MIN_COHERENCE, _travel_speed
+    from ..steps.excitationcheck import travel_speed
+    from ..steps.frfs import MIN_COHERENCE
 
     name, axis = ident.name, ident.axis
     sweep = records.sweep.source or f"{name}/sweep.csv"
-    remedy = STANDING_SWEEP if _travel_speed(records.sweep) == 0.0 else None
+    remedy = STANDING_SWEEP if travel_speed(records.sweep) == 0.0 else None
     out = []
     for tf, frf in ident.frfs.items():
         good = frf.coherence >= MIN_COHERENCE

@@ -1,0 +1,275 @@
+"""Identification as a chain of named steps over one set of options.
+
+A bundle's records are checked first (time base, friction runs); then each axis goes
+through :data:`AXIS_STEPS` in order, each step a plain function ``step(run, options)`` in
+its own module under :mod:`tcpmm.ident.steps` whose result fills one field of the
+axis's :class:`AxisRun`:
+
+FRFs -> excitation check -> LTI fits -> fit context -> physical fit -> friction ->
+lost motion -> pre-sliding -> model and uncertainty.
+
+The identified axes pass the gates of :mod:`tcpmm.ident.gates`, and the bundle's model
+gets the sensitivities of its TCP spikes to what the friction runs leave open.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from .._threads import limit_blas_threads
+from ..model import Machine
+from ..uncertainty import open_ranges, prediction_verdict
+from .friction.sensitivity import (
+    warn_lost_motion_sensitivity,
+    warn_presliding_sensitivity,
+    warn_share_sensitivity,
+)
+from .friction.split import stribeck_from_record
+from .gates.findings import SuspectModelError, axis_findings, time_base_findings
+from .identification import AxisFit, AxisIdentification, Identification
+from .options import IdentifyOptions
+from .steps.axismodel import AxisModel, build_axis
+from .steps.excitationcheck import ExcitationCheck, check_excitation
+from .steps.fitcontext import FitContext, fit_context
+from .steps.frfs import BandFRFs, measure_frfs
+from .steps.frictionfit import FrictionFit, read_friction
+from .steps.ltifits import fit_lti
+from .steps.modelfriction import ModelFriction, friction_for_model
+from .steps.physicalfit import LinearFit, fit_linear
+from .steps.playrefit import keep_fit
+
+
+@dataclass(frozen=True)
+class AxisRun:
+    """One axis on its way through :data:`AXIS_STEPS`: its records, and what each step
+    has found so far (``None`` until it ran, or where it has nothing to give).
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    sweep : SweepRecord
+        Servo-excitation record (SI) [-].
+    cfg : AxisConfig
+        What the user knows: lead, torque constant, servo, sensors [-].
+    runs : FrictionRecord, optional
+        Constant-velocity friction runs [-].
+    frfs : BandFRFs, optional
+        The sweep's FRFs and their band [SI].
+    excitation : ExcitationCheck, optional
+        The sweep's travel and whether friction held it [-].
+    tf_fits : dict, optional
+        Rational transfer-function fits per FRF [SI].
+    context : FitContext, optional
+        What the physical fits and the friction on them share [-].
+    linear : LinearFit, optional
+        The physical fit of a linear axis [SI].
+    friction : FrictionFit, optional
+        The fit with the friction runs on it [SI].
+    kept : AxisFit, optional
+        The fit kept, with the play modelled where it was [SI].
+    model_friction : ModelFriction, optional
+        The friction of the model, with its pre-sliding [-].
+    model : AxisModel, optional
+        The identified axis [SI].
+    """
+
+    name: str
+    sweep: object
+    cfg: object
+    runs: object = None
+    frfs: BandFRFs | None = None
+    excitation: ExcitationCheck | None = None
+    tf_fits: dict | None = None
+    context: FitContext | None = None
+    linear: LinearFit | None = None
+    friction: FrictionFit | None = None
+    kept: AxisFit | None = None
+    model_friction: ModelFriction | None = None
+    model: AxisModel | None = None
+
+    def identification(self) -> AxisIdentification:
+        """Everything identified for the axis, once the steps have run [-]."""
+        kept, model, mf = self.kept, self.model, self.model_friction
+        return AxisIdentification(
+            self.name, self.frfs.frfs, self.tf_fits, kept.physical, model.axis, self.sweep,
+            kept.curve, kept.split, friction_hold=self.excitation.friction_hold,
+            sampled_loop_spectral_radius=model.sampled_loop_spectral_radius,
+            presliding_m=None if mf is None else mf.presliding_m,
+            presliding_fit=None if mf is None else mf.presliding_fit,
+            loop_timing=model.loop_timing)
+
+
+#: The steps of one axis in the order they run: the field of :class:`AxisRun` each
+#: fills, and the step.
+AXIS_STEPS = (
+    ("frfs", measure_frfs),
+    ("excitation", check_excitation),
+    ("tf_fits", fit_lti),
+    ("context", fit_context),
+    ("linear", fit_linear),
+    ("friction", read_friction),
+    ("kept", keep_fit),
+    ("model_friction", friction_for_model),
+    ("model", build_axis),
+)
+
+
+def run_axis(run: AxisRun, options: IdentifyOptions) -> AxisIdentification:
+    """Run :data:`AXIS_STEPS` on one axis.
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis with its records [-].
+    options : IdentifyOptions
+        What the steps share [-].
+    """
+    limit_blas_threads()
+    for name, step in AXIS_STEPS:
+        run = replace(run, **{name: step(run, options)})
+    return run.identification()
+
+
+def identify_axis(
+    name: str, sweep, cfg, fmin_hz=None, fmax_hz=None, fit_current_loop: bool = True,
+    friction=None, guideway_share: float | None = None, presliding: float | None = None,
+) -> AxisIdentification:
+    """Identify one axis from its sweep record and its known configuration.
+
+    With friction runs that show lost motion in the nut and a sweep that travels, the
+    mechanics are fitted again with the nut as soft as the sweep saw it (the describing
+    function of the play at the measured nut deflection, the guideway friction holding the
+    nut on one flank; :mod:`tcpmm.ident.friction.playdf`), and the friction on those mechanics.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    sweep : SweepRecord
+        Servo-excitation record (SI) [-].
+    cfg : AxisConfig
+        What the user knows: lead, torque constant, servo, sensors [-].
+    fmin_hz, fmax_hz : float, optional
+        Band of the FRFs [Hz].
+    fit_current_loop : bool
+        Also fit a first-order current-loop bandwidth from G_M [-].
+    friction : FrictionRecord, optional
+        Constant-velocity runs; their Stribeck curve becomes the axis friction [-].
+    guideway_share : float, optional
+        Share of that friction put on the guideway, the rest on the screw; ``None``: from
+        the friction runs (encoder-minus-scale deflection) [-].
+    presliding : float, optional
+        Pre-sliding displacement given to the identified contacts (LuGre); ``0``: static
+        friction that sticks rigidly; ``None``: fitted to the reversals of the friction
+        runs (:mod:`tcpmm.ident.friction.preslidingfit`), or
+        :data:`~tcpmm.ident.friction.presliding.PRESLIDING` where they do not determine
+        it [m].
+    """
+    options = IdentifyOptions(fmin_hz, fmax_hz, fit_current_loop, guideway_share, presliding)
+    return run_axis(AxisRun(name, sweep, cfg, friction), options)
+
+
+def check_records(bundle, options: IdentifyOptions) -> list:
+    """The records' check before any fit: their time base (a bad one fails fast) and the
+    plateaus of the friction runs; the findings [-].
+
+    Parameters
+    ----------
+    bundle : Bundle
+        The measurement bundle [-].
+    options : IdentifyOptions
+        ``accept_suspect``: return a bad time base's findings instead of raising [-].
+    """
+    findings = time_base_findings(bundle)
+    if findings and not options.accept_suspect:
+        raise SuspectModelError(findings, file=getattr(bundle, "path", None))
+    for name, rec in bundle.axes.items():
+        if rec.friction is not None:
+            stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
+    return findings
+
+
+def run_bundle(bundle, options: IdentifyOptions, progress=None) -> Identification:
+    """Check a bundle's records, run :data:`AXIS_STEPS` on each axis, pass the gates, and
+    tell the TCP spikes' sensitivity to what the friction runs leave open.
+
+    Parameters
+    ----------
+    bundle : Bundle
+        Read with :func:`tcpmm.io.bundle.read_bundle` [-].
+    options : IdentifyOptions
+        What the steps share [-].
+    progress : callable, optional
+        Called with the axis name after each axis [-].
+    """
+    findings = check_records(bundle, options)
+    axes = {}
+    for name, rec in bundle.axes.items():
+        cfg = bundle.machine.axes[name]
+        axes[name] = run_axis(AxisRun(name, rec.sweep, cfg, rec.friction), options)
+        findings += axis_findings(axes[name], rec, cfg)
+        if progress is not None:
+            progress(name)
+    if findings and not options.accept_suspect:
+        raise SuspectModelError(findings, file=getattr(bundle, "path", None))
+    for a in axes.values():  # what the data leave open goes into the model with its range
+        a.axis = a.axis.replace(uncertainty=a.axis.uncertainty.model_copy(
+            update={"open": open_ranges(a)}))
+    machine = Machine(
+        name=f"{bundle.machine.name} (identified)", axes={n: a.axis for n, a in axes.items()},
+        suspect=tuple(str(f) for f in findings),
+    )
+    for name, a in axes.items():
+        runs = bundle.axes[name].friction
+        warn_share_sensitivity(name, a, machine, runs)
+        warn_lost_motion_sensitivity(name, a, machine, runs)
+        warn_presliding_sensitivity(name, a, machine, runs)
+    return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
+                          findings, prediction_verdict(machine) if options.verdict else None)
+
+
+def identify_bundle(
+    bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
+    guideway_share: float | None = None, presliding: float | None = None,
+    accept_suspect: bool = False, verdict: bool = True,
+) -> Identification:
+    """Identify every axis of a measurement bundle.
+
+    The records and the identified axes pass the gates of :mod:`tcpmm.ident.gates`
+    (time base, static friction, fit quality, sampled-loop stability); a physically
+    suspect result is an error unless ``accept_suspect``, and the model then carries the
+    findings (``Machine.suspect``).
+
+    Parameters
+    ----------
+    bundle : Bundle
+        Read with :func:`tcpmm.io.bundle.read_bundle` [-].
+    fmin_hz, fmax_hz : float, optional
+        Band of the FRFs [Hz].
+    progress : callable, optional
+        Called with the axis name after each axis [-].
+    fit_current_loop : bool
+        Fit a first-order current-loop bandwidth per axis [-].
+    guideway_share : float, optional
+        Share of the friction put on the guideway, the rest on the screw; ``None``: from
+        each axis's friction runs [-].
+    presliding : float, optional
+        Pre-sliding displacement of the identified friction contacts; ``0``: static
+        friction; ``None``: fitted to each axis's friction-run reversals where they
+        determine it (:mod:`tcpmm.ident.friction.preslidingfit`) [m].
+    accept_suspect : bool
+        Return a model the gates find physically suspect, marked, instead of raising [-].
+    verdict : bool
+        Judge the figures the model predicts on the reference circles
+        (:func:`tcpmm.uncertainty.prediction_verdict`) [-].
+
+    Raises
+    ------
+    SuspectModelError
+        The gates found the records or the identified model physically suspect (and
+        ``accept_suspect`` is false); raised before the FRF fits for a bad time base.
+    """
+    options = IdentifyOptions(fmin_hz, fmax_hz, fit_current_loop, guideway_share, presliding,
+                              accept_suspect, verdict)
+    return run_bundle(bundle, options, progress)

@@ -1,0 +1,83 @@
+"""FRF step: the reduced FRFs of a sweep in the identification's band, and how much each
+of their bins weighs in the physical fit."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..frf.response import reduced_frfs
+from ..physical.greybox import FRFData
+
+if TYPE_CHECKING:
+    from ..chain import AxisRun
+    from ..options import IdentifyOptions
+
+#: Bins of an FRF with a coherence below this carry no weight in the fits and are left out
+#: of the fit percentages: less than half of the output's power there follows the input [-].
+MIN_COHERENCE = 0.5
+
+
+@dataclass(frozen=True)
+class BandFRFs:
+    """The FRFs of a sweep and the band they were estimated in.
+
+    Parameters
+    ----------
+    frfs : dict
+        ``G_M``, ``G_T`` and, with a TCP record, ``G_tcp``
+        (:class:`~tcpmm.ident.frf.response.FRF`) [SI].
+    fmin_hz : float
+        Lower end of the band [Hz].
+    fmax_hz : float, optional
+        Upper end; ``None``: the bins the excitation reaches [Hz].
+    """
+
+    frfs: dict
+    fmin_hz: float
+    fmax_hz: float | None = None
+
+    @property
+    def band(self) -> tuple:
+        """``(fmin_hz, fmax_hz)`` [Hz]."""
+        return (self.fmin_hz, self.fmax_hz)
+
+
+def measure_frfs(run: AxisRun, options: IdentifyOptions) -> BandFRFs:
+    """The FRFs of an axis's sweep against the injected excitation.
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis and its sweep [-].
+    options : IdentifyOptions
+        Its band, ``fmin_hz`` and ``fmax_hz`` [-].
+    """
+    sweep = run.sweep
+    fmin = options.fmin_hz if options.fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
+    frfs = reduced_frfs(
+        sweep.excitation_A,
+        sweep.current_cmd_A,
+        sweep.motor_angle_rad,
+        sweep.scale_m,
+        sweep.tcp_m,
+        time_s=sweep.time_s,
+        fmin_hz=fmin,
+        fmax_hz=options.fmax_hz,
+        file=sweep.source,
+    )
+    return BandFRFs(frfs, fmin, options.fmax_hz)
+
+
+def frf_weights(frf) -> np.ndarray:
+    """Weight of each bin of an FRF in the physical fit: the inverse of its relative
+    standard deviation (at most 100), zero below :data:`MIN_COHERENCE` [-]."""
+    w = 1.0 / np.maximum(frf.rel_std, 0.01)
+    return np.where(frf.coherence >= MIN_COHERENCE, w, 0.0)
+
+
+def fit_data(frfs: dict) -> dict:
+    """The FRFs as data of the physical fit, :class:`FRFData` per name [SI]."""
+    return {k: FRFData(f.freq_hz, f.H, frf_weights(f)) for k, f in frfs.items()}

@@ -1,0 +1,101 @@
+"""Friction step: the friction runs read on the physical fit; with a TCP record, the
+mechanics fitted again with the bed and TCP structure held at what ``G_tcp`` alone says,
+and the runs read on that fit."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from ..frf.wholerecord import reduced_with_whole_record
+from ..identification import AxisFit
+from ..physical.greybox import PhysicalFit
+from ..physical.structure import fit_structure
+from .fitcontext import FitContext, fit_values, friction_on, physical_fit
+from .frfs import fit_data
+from .playrefit import play_significant
+
+if TYPE_CHECKING:
+    from ..chain import AxisRun
+    from ..options import IdentifyOptions
+
+
+@dataclass(frozen=True)
+class FrictionFit:
+    """The fit with the friction runs on it, and what a refit with the play starts from.
+
+    Parameters
+    ----------
+    kept : AxisFit
+        The physical fit with the friction of the runs on it [SI].
+    data : dict
+        The FRFs it was fitted to, :class:`~tcpmm.ident.physical.greybox.FRFData` per
+        name [SI].
+    structure : dict, optional
+        Bed and TCP structure held in proportion to ``M_t``, with a TCP record [SI / kg].
+    """
+
+    kept: AxisFit
+    data: dict
+    structure: dict | None = None
+
+
+def read_friction(run: AxisRun, options: IdentifyOptions) -> FrictionFit | None:
+    """The friction runs of one axis on its physical fit (:func:`fit_friction`); ``None``
+    without runs.
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis with its FRFs, fit context and linear fit [-].
+    options : IdentifyOptions
+        Not read by this step: the context carries the share asked for [-].
+    """
+    if run.runs is None:
+        return None
+    return fit_friction(run.context, run.sweep, run.frfs.frfs, run.linear.data,
+                        run.linear.physical)
+
+
+def fit_friction(ctx: FitContext, sweep, frfs: dict, data: dict,
+                 phys: PhysicalFit) -> FrictionFit:
+    """The friction runs on the physical fit; with a TCP record, the fit again with the
+    structure held at what ``G_tcp`` alone says, and the runs on that.
+
+    Parameters
+    ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
+    sweep : SweepRecord
+        The sweep record [-].
+    frfs : dict
+        The measured FRFs; with a TCP record whose sweep does not cross lost motion, the
+        fits weigh them against the whole record [SI].
+    data : dict
+        The FRFs the linear fit was fitted to, :class:`FRFData` per name [SI].
+    phys : PhysicalFit
+        The linear fit [SI].
+    """
+    kept = AxisFit(phys, *friction_on(ctx, phys))
+    structure = None
+    if "G_tcp" in data:
+        # G_tcp does not see the nut force, so nothing that distorts G_M and G_T (lost
+        # motion crossed by the sweep, the friction it travels against, a drive mode the
+        # model lacks) reaches it: hold the bed and TCP structure at what G_tcp alone
+        # says, relative to the table. The segments cut the ringing of a lightly damped
+        # mode, so from here on each FRF weighs in the whole record, except where the
+        # sweep crosses the play: the refits with the play do not settle on it.
+        if not play_significant(kept.split):
+            data = whole_record_data(sweep, frfs)
+        structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
+        phys = physical_fit(ctx, data, initial=fit_values(phys), structure=structure)
+        kept = AxisFit(phys, *friction_on(ctx, phys))
+    return FrictionFit(kept, data, structure)
+
+
+def whole_record_data(sweep, frfs: dict) -> dict:
+    """The FRFs weighed against their estimates from the whole record, as fit data
+    (:func:`~tcpmm.ident.frf.wholerecord.reduced_with_whole_record`) [SI]."""
+    f = reduced_with_whole_record(frfs, sweep.excitation_A, sweep.current_cmd_A,
+                                  sweep.motor_angle_rad, sweep.scale_m, sweep.tcp_m)
+    return fit_data(f)

@@ -1,0 +1,203 @@
+"""Lost-motion step: where the friction runs find play in the nut that the sweep crosses,
+the mechanics fitted again with the nut as soft as the sweep saw it (the describing
+function of the play at the measured nut deflection, the guideway friction holding the nut
+on one flank; :mod:`tcpmm.ident.friction.playdf`), and the fit kept that explains the FRFs
+best and is a solution of its own describing function; or a warning where the play cannot
+be modelled."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ...mechanics.friction import friction_params_array
+from ...sim.contact import sliding_friction
+from ..friction.nutstiffness import LOST_MOTION_Z
+from ..friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion
+from ..identification import AxisFit
+from ..physical.greybox import SweepPlay
+from .fitcontext import FitContext, fit_values, friction_on, physical_fit
+
+if TYPE_CHECKING:
+    from ..chain import AxisRun
+    from ..options import IdentifyOptions
+    from .frictionfit import FrictionFit
+
+#: Most refits with the play: each takes the nut deflection through the torsion of the fit
+#: before it, so they can swing about their fixed point a few times before they settle [-].
+PLAY_ITERATIONS = 8
+#: A refit counts only when its table mass and the runs' nut stiffness on it come back
+#: within this to those its describing function assumed: only then is it a solution of it [-].
+SELF_CONSISTENT_REL = 0.05
+#: ... and when the nut stiffness the FRFs give through the play's factor is within this of
+#: the one the factor assumed: a nut fitted far stiffer marks a false fixed point [-].
+FITTED_STIFFNESS_REL = 0.25
+#: Refits stop once one comes back within this of the fit before it: the next would
+#: repeat it [-].
+CONVERGED_REL = 0.01
+#: A refit with the play replaces the linear fit only when it explains the FRFs better by
+#: more than this share of the linear fit's cost: a tie is not decided by rounding [-].
+COST_MARGIN_REL = 0.01
+
+
+def keep_fit(run: AxisRun, options: IdentifyOptions) -> AxisFit:
+    """The fit kept for one axis: the linear one without friction runs, otherwise the one
+    :func:`fit_with_play` keeps.
+
+    Parameters
+    ----------
+    run : AxisRun
+        The axis with its excitation check, FRFs, linear fit and friction fit [-].
+    options : IdentifyOptions
+        Not read by this step [-].
+    """
+    if run.friction is None:
+        return AxisFit(run.linear.physical, run.linear.physical.mechanics)
+    return fit_with_play(run.context, run.sweep, run.friction, run.excitation.travel_speed,
+                         run.frfs.band)
+
+
+def fit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
+                  band: tuple) -> AxisFit:
+    """The fit kept for an axis with friction runs: where they find lost motion and the
+    sweep travels, the refits with the play (:func:`refit_with_play`); a warning where
+    the sweep crossed the play and no refit models it.
+
+    Parameters
+    ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
+    sweep : SweepRecord
+        The sweep record [-].
+    start : FrictionFit
+        The fit with the friction runs on it [SI].
+    v_travel : float
+        Steady travel speed of the sweep, 0 when it stands [m/s].
+    band : tuple
+        ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
+    """
+    kept = start.kept
+    bias = bias_force(v_travel, kept.mechanics, kept.friction)
+    if play_significant(kept.split) and bias > 0:
+        kept = refit_with_play(ctx, sweep, start, v_travel, bias, band)
+        if kept.physical.nut_gain is None:
+            warn_sweep_crosses_play(ctx.name, sweep, kept.split, modelled=True)
+    elif kept.split.nut is not None or play_significant(kept.split):
+        warn_sweep_crosses_play(ctx.name, sweep, kept.split)
+    return kept
+
+
+def refit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
+                    bias: float, band: tuple) -> AxisFit:
+    """Refit with the nut as soft as the sweep saw it, and keep whichever fit, linear or
+    with the play, explains the FRFs best; a refit counts only if it agrees with the
+    describing function it was fitted with (:data:`SELF_CONSISTENT_REL`).
+
+    Parameters
+    ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
+    sweep : SweepRecord
+        The sweep record [-].
+    start : FrictionFit
+        The linear fit with the friction on it, the FRFs it was fitted to and the
+        structure it held [SI].
+    v_travel : float
+        Steady travel speed of the sweep [m/s].
+    bias : float
+        Friction force holding the nut on one flank on the linear fit [N].
+    band : tuple
+        ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
+    """
+    data, structure = start.data, start.structure
+    best = current = start.kept
+    freq, theta_m, scale = sweep_motion(sweep, *band)
+    for _ in range(PLAY_ITERATIONS):
+        seen = current.mechanics
+        amp = nut_deflection_amplitude(freq, theta_m, scale, seen)
+        gain = play_gain(freq, amp, current.split.backlash, bias, seen.K_t)
+        phys = physical_fit(ctx, data, initial=fit_values(current.physical) if structure
+                            else None, nut_gain=gain, structure=structure)
+        current = AxisFit(phys, *friction_on(ctx, phys))
+        if (phys.cost < (1.0 - COST_MARGIN_REL) * best.cost
+                and self_consistent(seen, current.mechanics, fitted=phys.mechanics)):
+            g = gain(freq)
+            lowest = int(np.argmin(g))
+            phys.sweep_play = SweepPlay(bias_force_N=bias, lowest_nut_gain=float(g[lowest]),
+                                        at_hz=float(freq[lowest]),
+                                        nut_amplitude_there_m=float(amp[lowest]))
+            best = current
+        bias = bias_force(v_travel, current.mechanics, current.friction)
+        converged = self_consistent(seen, current.mechanics, CONVERGED_REL)
+        if converged or not (play_significant(current.split) and bias > 0):
+            break
+    return best
+
+
+def self_consistent(seen, mech, rel: float = SELF_CONSISTENT_REL, fitted=None) -> bool:
+    """Whether a refit with the play's describing function came back to the table mass
+    and nut stiffness the describing function was computed with, within ``rel`` [-].
+
+    ``fitted``, the mechanics as the FRFs gave them before the friction runs replaced the
+    nut stiffness, must also have the contact stiffness the describing function assumed:
+    the fit scales ``K_t`` by the factor per frequency, and a fit that needs a nut several
+    times stiffer than the one the factor was computed for is not a solution of it, even
+    where the runs then hand back the same stiffness and table mass."""
+    same = all(abs(getattr(mech, p) / getattr(seen, p) - 1.0) <= rel for p in ("M_t", "K_t"))
+    return same and (fitted is None
+                     or abs(fitted.K_t / seen.K_t - 1.0) <= FITTED_STIFFNESS_REL)
+
+
+def play_significant(split, z: float = LOST_MOTION_Z) -> bool:
+    """Whether the friction runs found lost motion beyond ``z`` standard deviations."""
+    if split is None or not split.backlash > 0:
+        return False
+    if split.nut is not None:
+        return split.nut.lost_motion_found(z)
+    lm = split.estimate
+    return bool(lm is not None and lm.determined and split.backlash > z * lm.backlash_std)
+
+
+def bias_force(v: float, mech, fr) -> float:
+    """Friction force on the table at travel speed ``v``: it holds the nut on one flank of
+    its play [N]. Zero without travel or guideway friction."""
+    if v <= 0 or fr is None or fr.guideway is None:
+        return 0.0
+    return float(sliding_friction(v, friction_params_array(fr.guideway))) + mech.C_t * v
+
+
+def warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) -> None:
+    """Warn that the sweep crossed the nut's play and the mechanics fitted to it are
+    those of a linear axis.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    sweep : SweepRecord
+        The sweep, for the file named in the warning [-].
+    split : FrictionSplit
+        The split of the kept fit: its lost motion and that estimate's std [m].
+    modelled : bool
+        The play was modelled in refits, none of which was kept [-].
+    """
+    from ...io.csvutil import warn_input
+
+    remedy = ("no refit with the play modelled both fitted the FRFs better and came back to "
+              "the table mass and nut stiffness its describing function was computed with, "
+              "so the linear fit is kept"
+              if modelled else "a sweep recorded while the axis travels at constant speed "
+              "lets the play be modelled (the guideway friction holds the nut on one flank)")
+    stiffness = ("The nut stiffness is taken from the friction runs" if split.nut is not None
+                 else "The friction runs do not determine the nut stiffness either: K_t is "
+                 "the sweep's, as soft as the play made it look")
+    warn_input(
+        f"axis {name}: the friction runs show {split.backlash * 1e6:.2f} +/- "
+        f"{split.backlash_std * 1e6:.2f} um of lost motion in the nut, which the sweep crosses "
+        "every cycle; around the axial modes its FRFs are not those of a linear axis, and "
+        "the fitted split of inertia between motor side and table (M_t, and with it the "
+        f"structure's M_b, K_b, M_h, K_h) can be off by tens of per cent. {stiffness}; "
+        f"{remedy}. A larger excitation amplitude (within "
+        "the current limit) makes the play a smaller part of the vibration; a smaller one "
+        "makes it worse", file=getattr(sweep, "source", None))

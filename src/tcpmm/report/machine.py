@@ -206,7 +206,7 @@ def identification_section(summary: dict, images: dict | None = None):
     for s in summary.get("suspect", []):
         body += para(f"physically suspect: {s}", "warn")
     if summary.get("verdict") is not None:
-        from .verdict import verdict_html
+        from .accuracy import verdict_html
 
         body += verdict_html(summary["verdict"])
     for name, axis in summary["axes"].items():

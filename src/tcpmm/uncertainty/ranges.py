@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from ..ident.friction.nutstiffness import RESOLUTION_STEPS
 from ..model import OpenRange
 
 __all__ = ["MECHANICS_RANGE", "PRESLIDING_RANGE_M", "SCALE_STEPS", "SHARE_RANGE",
@@ -18,7 +19,7 @@ __all__ = ["MECHANICS_RANGE", "PRESLIDING_RANGE_M", "SCALE_STEPS", "SHARE_RANGE"
 
 #: A deflection between encoder and scale of fewer scale steps than this rests on the
 #: sensor's resolution: its rounding, not the nut, shapes what the runs see [-].
-SCALE_STEPS = 2.0
+SCALE_STEPS = RESOLUTION_STEPS
 #: Range of an open guideway share: preloaded guides and sealed nuts span nearly all of it [-].
 SHARE_RANGE = (0.02, 0.98)
 #: Range of an open pre-sliding distance: that of rolling guides and ball-screw nuts [m].
@@ -70,7 +71,16 @@ def _play_open(a) -> OpenRange | None:
     """The lost motion as an open range where the runs found one of about a scale step."""
     split = a.friction_split
     res = a.axis.sensors.scale_resolution
-    if split is None or split.source == "given" or not split.backlash > 0.0 or res <= 0.0:
+    if split is None or split.source == "given" or res <= 0.0:
+        return None
+    hidden = split.backlash_at_resolution
+    if math.isfinite(hidden) and hidden > split.backlash:
+        return OpenRange(quantity="backlash", low=0.0, high=hidden,
+                         cause=f"the friction runs show a lost motion within {SCALE_STEPS:g} "
+                               f"steps of the {res * 1e6:g} um scale, which they cannot tell "
+                               "from its rounding; none modelled",
+                         settle=_SETTLE_PLAY)
+    if not split.backlash > 0.0:
         return None
     if split.backlash >= SCALE_STEPS * res:
         return None

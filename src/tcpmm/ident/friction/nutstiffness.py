@@ -53,7 +53,7 @@ import numpy as np
 from ...errors import InputError
 from ..frf.signals import central_difference, lowpass_filtfilt
 
-__all__ = ["CUTOFFS_HZ", "LOST_MOTION_Z", "NutEstimate", "estimate_nut"]
+__all__ = ["CUTOFFS_HZ", "LOST_MOTION_Z", "RESOLUTION_STEPS", "NutEstimate", "estimate_nut"]
 
 #: Cut-offs tried for the low-pass before differencing [Hz]. A low one smears every change
 #: of acceleration over many samples, which are then left out, so few samples of a known
@@ -79,6 +79,9 @@ TRANSIENT_FREE_HZ = 40.0
 #: real 0.7 um play came out at 0.57 +- 0.15 um (3.8); dropped, the plateaus took its
 #: hysteresis for guideway friction (share 0.88 against a true 0.41).
 LOST_MOTION_Z = 3.0
+#: Lost motion within this many scale steps rests on the scale's rounding, not on the nut:
+#: it is not taken as found, whatever its standard deviation [-].
+RESOLUTION_STEPS = 2.0
 
 
 @dataclass(frozen=True)
@@ -115,6 +118,8 @@ class NutEstimate:
         Root mean square of the residual deflection [m].
     cutoff : float
         Low-pass cut-off of the signals the estimate was taken from [Hz].
+    scale_resolution : float
+        Resolution of the scale the deflection was read with [m].
     """
 
     stiffness: float
@@ -131,6 +136,7 @@ class NutEstimate:
     samples: int
     rms: float
     cutoff: float = float("nan")
+    scale_resolution: float = 0.0
 
     def lost_motion_found(self, z: float = LOST_MOTION_Z) -> bool:
         """Whether the lost motion is significant: more than ``z`` standard deviations.
@@ -143,9 +149,23 @@ class NutEstimate:
         Returns
         -------
         bool
-            Determined and ``backlash > z * backlash_std`` [-].
+            Determined, ``backlash > z * backlash_std`` and at least
+            :data:`RESOLUTION_STEPS` scale steps [-].
         """
-        return bool(self.determined and self.backlash > z * self.backlash_std)
+        return bool(self.determined and self.backlash > z * self.backlash_std
+                    and self.backlash >= RESOLUTION_STEPS * self.scale_resolution)
+
+    def at_resolution(self, z: float = LOST_MOTION_Z) -> bool:
+        """Whether a significant lost motion lies within :data:`RESOLUTION_STEPS` scale
+        steps, so that the record cannot tell it from the scale's rounding [-].
+
+        Parameters
+        ----------
+        z : float
+            Significance in standard deviations [-].
+        """
+        return bool(self.determined and self.backlash > z * self.backlash_std
+                    and not self.lost_motion_found(z))
 
     def to_dict(self) -> dict:
         """Plain dictionary for a JSON report (SI units) [-]."""
@@ -246,7 +266,8 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
                   if e.determined and np.isfinite(e.guideway_share_std)
                   and (usable[k] <= TRANSIENT_FREE_HZ
                        or (k > 0 and _same_nut(e, found[k - 1])))]
-    return min(determined, key=lambda e: e.guideway_share_std) if determined else found[0]
+    best = min(determined, key=lambda e: e.guideway_share_std) if determined else found[0]
+    return replace(best, scale_resolution=float(scale_resolution))
 
 
 def _same_nut(e: NutEstimate, lower: NutEstimate) -> bool:

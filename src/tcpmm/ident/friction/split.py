@@ -24,7 +24,7 @@ from ...errors import InputError, InputWarning
 from ...mechanics.friction import StribeckFriction
 from ...model import AxisFriction
 from .lostmotion import estimate_lost_motion
-from .nutstiffness import estimate_nut
+from .nutstiffness import LOST_MOTION_Z, estimate_nut
 from .stribeck import (
     PLATEAU_DURATIONS_S,
     NoPlateauError,
@@ -97,6 +97,10 @@ class FrictionSplit:
         worked out with, which the model then takes; NaN otherwise [N s/m].
     viscous_on_table_std : float
         Its standard deviation; NaN otherwise [N s/m].
+    backlash_at_resolution : float
+        The largest lost motion the whole record cannot tell from the scale's rounding,
+        where it shows one within two scale steps (its value plus three standard
+        deviations); NaN otherwise [m].
     """
 
     guideway_share: float
@@ -108,6 +112,7 @@ class FrictionSplit:
     unfound_backlash_std: float = float("nan")
     viscous_on_table: float = float("nan")
     viscous_on_table_std: float = float("nan")
+    backlash_at_resolution: float = float("nan")
 
     @property
     def backlash_std(self) -> float:
@@ -393,6 +398,9 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         split = _split_of(lm, nut, play, given, axis)
     if nut is not None and not nut.lost_motion_found() and np.isfinite(nut.backlash_std):
         split = dataclasses.replace(split, unfound_backlash_std=float(nut.backlash_std))
+    if nut is not None and nut.at_resolution():
+        split = dataclasses.replace(split, backlash_at_resolution=float(
+            nut.backlash + LOST_MOTION_Z * nut.backlash_std))
     return _axis_friction(v, m, split), est, split
 
 

@@ -157,7 +157,7 @@ def test_bad_values_name_key_and_line(old, new, key):
 @pytest.mark.parametrize(("old", "new", "key"), [
     ("position_gain_1_per_s: 40.0", "position_gain_1_per_s: 1.0e+300",
      "axes.X.servo.position_gain_1_per_s"),
-    ("lead_mm: 10.0", "lead_mm: 10000.0", "axes.X.lead_mm"),
+    ("lead_mm: 10.0", "lead_mm: 100000.0", "axes.X.lead_mm"),
     ("current_limit_A: 20.0", "current_limit_A: 1.0e+300", "axes.X.servo.current_limit_A"),
 ])
 def test_implausible_numbers_name_key_and_line(old, new, key):

@@ -37,6 +37,7 @@ from .friction.split import (
     stribeck_from_record,
 )
 from .friction.sweepforce import sweep_deflection, travel_velocity
+from .gates.columns import check_record_units
 from .gates.findings import (
     SuspectModelError,
     axis_findings,
@@ -847,6 +848,7 @@ def identify_bundle(
         ``accept_suspect`` is false); raised before the FRF fits for a bad time base.
     """
     source = getattr(bundle, "path", None)
+    check_record_units(bundle)  # a column in mA or degrees overflowed the fits
     findings = time_base_findings(bundle)  # before the FRF fits: a bad record fails fast
     if findings and not accept_suspect:
         raise SuspectModelError(findings, file=source)
@@ -856,10 +858,13 @@ def identify_bundle(
     axes = {}
     for name, rec in bundle.axes.items():
         cfg = bundle.machine.axes[name]
-        axes[name] = identify_axis(
-            name, rec.sweep, cfg, fmin_hz, fmax_hz, fit_current_loop, rec.friction,
-            guideway_share, presliding,
-        )
+        try:
+            axes[name] = identify_axis(
+                name, rec.sweep, cfg, fmin_hz, fmax_hz, fit_current_loop, rec.friction,
+                guideway_share, presliding,
+            )
+        except InputError as exc:  # a fit knows its numbers, not the bundle they came from
+            raise exc.in_file(source) from None
         findings += axis_findings(axes[name], rec, cfg)
         if progress is not None:
             progress(name)

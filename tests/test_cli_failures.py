@@ -142,3 +142,25 @@ def test_version(capsys):
     version, kernel = capsys.readouterr().out.strip().splitlines()
     assert version == f"tcpmm {__version__}"
     assert kernel.startswith(("kernel: compiled module ", "kernel: numba's kernels ("))
+
+
+def test_a_refused_command_leaves_no_output_folder(tmp_path, capsys):
+    """The output's folders were made before the work, and stayed when the work was
+    refused; they are made when something is written."""
+    bad, good = tmp_path / "bad.nc", tmp_path / "good.nc"
+    bad.write_text("G21 G90\nG1 X10 F1000 G2\nM30\n")
+    good.write_text("G21 G90\nG1 X1 F1000\nM30\n")
+    out = tmp_path / "nd" / "a" / "cmd.csv"
+    assert main(["path", str(bad), "-o", str(out)]) == 2
+    assert "line 2, column 14" in capsys.readouterr().err
+    assert not (tmp_path / "nd").exists()
+    assert main(["path", str(good), "-o", str(out)]) == 0
+    assert out.is_file()
+
+
+def test_an_output_folder_under_a_file_is_refused_before_the_work(tmp_path, capsys):
+    (tmp_path / "f").write_text("")
+    prog = tmp_path / "good.nc"
+    prog.write_text("G21 G90\nG1 X1 F1000\nM30\n")
+    assert main(["path", str(prog), "-o", str(tmp_path / "f" / "a" / "cmd.csv")]) == 2
+    assert "is a file, so the output folder" in capsys.readouterr().err

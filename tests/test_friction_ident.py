@@ -250,3 +250,23 @@ def test_a_lugre_contact_needs_sliding_friction():
     with pytest.raises(InputError, match="Coulomb level above 0"):
         LuGreFriction(fc_pos=0.0, fc_neg=10.0, fs_pos=50.0, fs_neg=50.0, sigma0=1e8)
     assert LuGreFriction(fc_pos=10.0, fc_neg=10.0, sigma0=1e8).fs_pos == 10.0
+
+
+def test_a_gap_in_the_friction_runs_names_the_file(stribeck_run):
+    """Rows missing from friction.csv were refused by the fit as 'time must increase with
+    a uniform step', naming no file."""
+    from types import SimpleNamespace
+
+    from tcpmm.ident.friction.split import stribeck_from_record
+    from tcpmm.io.records import FrictionRecord
+
+    r, _ = stribeck_run
+    lead, ktc = 0.01, 0.5
+    keep = np.r_[0:500, 521:r.t.size]
+    rec = FrictionRecord.from_arrays(r.t[keep], (r.force * lead / (2 * np.pi * ktc))[keep],
+                                     (r.q * 2 * np.pi / lead)[keep], r.q[keep],
+                                     source="X/friction.csv", axis="X")
+    with pytest.raises(InputError, match="sampled uniformly") as e:
+        stribeck_from_record(rec, SimpleNamespace(lead_m=lead, torque_constant=ktc), "X")
+    assert (e.value.file, e.value.column) == ("X/friction.csv", "time_s")
+    assert f"the step after t = {r.t[499]:.6g} s" in e.value.message

@@ -215,3 +215,37 @@ def test_friction_runs_of_an_axis_without_friction(vmc_linear):
         if c is not None:
             assert c.fs_pos == c.fc_pos and c.fs_neg == c.fc_neg
             assert c.fc_pos < 1.0 and c.fc_neg < 1.0  # [N], noise
+
+
+@pytest.fixture(scope="module")
+def sweep_x(vmc):
+    from tcpmm.virtual import virtual_sweep
+
+    return virtual_sweep(vmc.axes["X"], duration_s=3.0, band_hz=(10.0, 1000.0), name="X")
+
+
+@pytest.mark.parametrize(("current", "angle", "column", "needle"), [
+    (1e3, 1.0, "current_cmd_A", "is the column in mA?"),
+    (1.0, 180 / math.pi, "motor_angle_rad", "the motor angle looks like degrees"),
+])
+def test_a_column_in_the_wrong_unit_is_named(vmc, sweep_x, tmp_path, capsys, current, angle,
+                                             column, needle):
+    """A current in mA or a motor angle in degrees overflowed identification's fits into
+    an OverflowError traceback, with or without --accept-suspect."""
+    from tcpmm.io.bundle import write_bundle
+    from tcpmm.io.records import SweepRecord
+    from tcpmm.virtual import bundle_machine_yaml
+
+    s = sweep_x
+    bad = SweepRecord.from_arrays(s.time_s, s.excitation_A * current, s.current_cmd_A * current,
+                                  s.motor_angle_rad * angle, s.scale_m, s.tcp_m, axis="X")
+    root = write_bundle({"machine": bundle_machine_yaml(vmc, ["X"]), "axes": {"X": bad}},
+                        tmp_path / "b")
+    model = tmp_path / "m.yaml"
+    with warnings.catch_warnings():  # reading warns of the same columns
+        warnings.simplefilter("ignore")
+        code = main(["identify", str(root), "-o", str(model), "--accept-suspect"])
+    err = capsys.readouterr().err
+    assert code == 2 and not model.exists() and err.count("\n") == 1
+    assert err.startswith(f"error: {root / 'X' / 'sweep.csv'}, column '{column}': ")
+    assert needle in err

@@ -154,6 +154,22 @@ def test_bad_values_name_key_and_line(old, new, key):
     assert exc.value.line == _line_of(text, new)
 
 
+@pytest.mark.parametrize(("old", "new", "key"), [
+    ("position_gain_1_per_s: 40.0", "position_gain_1_per_s: 1.0e+300",
+     "axes.X.servo.position_gain_1_per_s"),
+    ("lead_mm: 10.0", "lead_mm: 100000.0", "axes.X.lead_mm"),
+    ("current_limit_A: 20.0", "current_limit_A: 1.0e+300", "axes.X.servo.current_limit_A"),
+])
+def test_implausible_numbers_name_key_and_line(old, new, key):
+    """A position gain of 1e300 passed the schema, and identification divided by zero: a
+    ZeroDivisionError traceback. The numbers take the model parameters' ranges."""
+    text = MACHINE_YAML.replace(old, new)
+    with pytest.raises(InputError, match="outside the plausible range") as exc:
+        parse_machine_yaml(text)
+    assert exc.value.column == key
+    assert exc.value.line == _line_of(text, new)
+
+
 def test_missing_key_and_wrong_version():
     text = MACHINE_YAML.replace("      current_limit_A: 20.0\n", "")
     with pytest.raises(InputError, match=r"axes\.X\.servo\.current_limit_A.*missing"):

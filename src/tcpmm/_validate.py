@@ -79,5 +79,5 @@ def plausible(value, field: str, ranges: dict):
     if not low <= value <= high:  # also NaN
         unit = "" if unit == "-" else f" {unit}"
         raise ValueError(f"outside the plausible range {low:g} to {high:g}{unit} of a "
-                         "machine tool's feed axis; check the number and that its unit is SI")
+                         "machine tool's feed axis; check the number and its unit")
     return value

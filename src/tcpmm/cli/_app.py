@@ -140,10 +140,11 @@ def _band(text: str | None, what: str) -> tuple[float, float] | tuple[None, None
 
 
 def _output(output: Path, *inputs) -> Path:
-    """Refuse an output that would replace one of the inputs; prepare its folder."""
+    """Refuse an output that would replace one of the inputs, or whose folder cannot be
+    written or made; the folder is made when the output is written."""
     from ..io.atomic import output_file
 
-    target = output_file(output)
+    target = output_file(output, create=False)
     for i in inputs:
         if i is not None and Path(i).exists() and Path(i).resolve() == target.resolve():
             raise typer.BadParameter(f"{output} is also an input; write the output elsewhere")

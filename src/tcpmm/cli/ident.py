@@ -167,7 +167,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     if html:
         _report_file(report, bundle, output)
     elif report is not None:
-        output_folder(report)
+        output_folder(report, create=False)
     f0, f1 = _band(band, "--band")
     b = read_bundle(bundle)
     presliding = None if presliding_um is None else presliding_um * 1e-6

@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from .._threads import limit_blas_threads
+from ..errors import InputError
 from ..model import Machine
 from ..uncertainty import open_ranges, prediction_verdict
 from .friction.sensitivity import (
@@ -25,6 +26,7 @@ from .friction.sensitivity import (
     warn_share_sensitivity,
 )
 from .friction.split import stribeck_from_record
+from .gates.columns import check_record_units
 from .gates.findings import SuspectModelError, axis_findings, time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
 from .options import IdentifyOptions
@@ -181,6 +183,7 @@ def check_records(bundle, options: IdentifyOptions) -> list:
     options : IdentifyOptions
         ``accept_suspect``: return a bad time base's findings instead of raising [-].
     """
+    check_record_units(bundle)  # a column in mA or degrees overflowed the fits
     findings = time_base_findings(bundle)
     if findings and not options.accept_suspect:
         raise SuspectModelError(findings, file=getattr(bundle, "path", None))
@@ -207,7 +210,10 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None) -> Identificatio
     axes = {}
     for name, rec in bundle.axes.items():
         cfg = bundle.machine.axes[name]
-        axes[name] = run_axis(AxisRun(name, rec.sweep, cfg, rec.friction), options)
+        try:
+            axes[name] = run_axis(AxisRun(name, rec.sweep, cfg, rec.friction), options)
+        except InputError as exc:  # a fit knows its numbers, not the bundle they came from
+            raise exc.in_file(getattr(bundle, "path", None)) from None
         findings += axis_findings(axes[name], rec, cfg)
         if progress is not None:
             progress(name)

@@ -16,13 +16,16 @@ from pathlib import Path
 from ..errors import InputError
 
 
-def output_folder(path) -> Path:
+def output_folder(path, create: bool = True) -> Path:
     """Create the folder ``path`` (and its parents) for outputs; refuse what cannot be one.
 
     Parameters
     ----------
     path : str or Path
         Folder [-].
+    create : bool
+        Create it; else only check, before any work, that it is or can be made, so that
+        a command refused later leaves no empty folders behind [-].
 
     Returns
     -------
@@ -34,6 +37,9 @@ def output_folder(path) -> Path:
         if p.exists() and not p.is_dir():
             raise InputError(f"is a file, so the output folder {path} cannot be made; "
                              "choose another folder", file=p)
+    if not create:
+        _check_writable(path)
+        return path
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -41,15 +47,28 @@ def output_folder(path) -> Path:
     return path
 
 
-def output_file(path) -> Path:
+def _check_writable(path: Path) -> None:
+    """Refuse a folder that cannot be written or made: the nearest one that exists must
+    take new entries."""
+    there = next((p for p in (path, *path.parents) if p.exists()), Path("."))
+    if not os.access(there, os.W_OK | os.X_OK):
+        what = "write in" if there == path else "create the output folder in"
+        raise InputError(f"cannot {what} this folder (Permission denied); choose a folder "
+                         "you can write to", file=there)
+
+
+def output_file(path, create: bool = True) -> Path:
     """The file an output goes to: ``path``, or the target of a symbolic link there.
 
-    Its folder is created; a folder at ``path`` or a file among its parents is an error.
+    Its folder is created (with ``create``, else only checked); a folder at ``path`` or a
+    file among its parents is an error.
 
     Parameters
     ----------
     path : str or Path
         Output file [-].
+    create : bool
+        Create its folder; else only check that it is or can be made [-].
 
     Returns
     -------
@@ -63,7 +82,7 @@ def output_file(path) -> Path:
         path = Path(os.path.realpath(path))
     if path.is_dir():
         raise InputError("is a folder; give the output a file name", file=path)
-    output_folder(path.parent)
+    output_folder(path.parent, create)
     return path
 
 

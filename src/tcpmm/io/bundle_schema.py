@@ -13,13 +13,23 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
+from tcpmm._validate import plausible
 from tcpmm.errors import InputError
 from tcpmm.io.atomic import write_text_atomic
 from tcpmm.io.text import read_text
 from tcpmm.io.yamlutil import validate_yaml
+from tcpmm.mechanics.lumped import RANGES as MECHANICS_RANGES
 from tcpmm.servo.currentfilters import MAX_FILTERS, ServoFilter
+from tcpmm.servo.params import RANGES as SERVO_RANGES
 from tcpmm.units import MM, UM
 
 FORMAT_VERSION = "tcpmm-bundle/1"
@@ -28,8 +38,36 @@ PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 
 
+
+def _in(ranges: dict, key: str, scale: float = 1.0, unit: str | None = None) -> tuple:
+    """A model parameter's plausible range in the unit of machine.yaml: lowest, highest
+    [that unit] and the unit [-]."""
+    low, high, si_unit = ranges[key]
+    return low * scale, high * scale, unit or si_unit
+
+
+#: Plausible range of the numbers of machine.yaml, those of the model's parameters
+#: (:data:`tcpmm.servo.params.RANGES`, :data:`tcpmm.mechanics.lumped.RANGES`) in its
+#: units: a gain of 1e300 made identification divide by zero [-].
+RANGES = {"position_gain_1_per_s": _in(SERVO_RANGES, "K_pp"),
+          "velocity_gain_A_s_per_rad": _in(SERVO_RANGES, "K_vp"),
+          "velocity_integral_gain_A_per_rad": _in(SERVO_RANGES, "K_vi"),
+          "position_loop_period_s": _in(SERVO_RANGES, "T_p"),
+          "velocity_loop_period_s": _in(SERVO_RANGES, "T_v"),
+          "current_limit_A": _in(SERVO_RANGES, "current_limit"),
+          "lead_mm": _in(MECHANICS_RANGES, "lead", 1e3, "mm"),
+          "torque_constant_Nm_per_A": _in(MECHANICS_RANGES, "K_tc"),
+          "scale_resolution_um": (0.0, 1e4, "um"), "tcp_resolution_um": (0.0, 1e4, "um"),
+          "encoder_counts_per_rev": (0, 1e12, "counts/rev")}
+
+
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
+
+    @field_validator("*")
+    @classmethod
+    def _plausible(cls, v, info: ValidationInfo):
+        return plausible(v, info.field_name, RANGES)
 
 
 class ServoConfig(_Strict):

@@ -102,12 +102,12 @@ P_V_STICK = 11
 P_SIGMA1_FADES = 12
 N_FRICTION_PARAMS = 13
 
-#: Plausible range of a contact's parameters, decades beyond a feed axis's: lowest,
-#: highest [SI] and the unit [-].
-RANGES = {**{f"{k}_{d}": (0.0, 1e6, "N") for k in ("fc", "fs") for d in ("pos", "neg")},
-          **{f"fv_{d}": (0.0, 1e7, "N s/m") for d in ("pos", "neg")},
-          "vs": (1e-9, 10.0, "m/s"), "delta": (0.0, 100.0, "-"), "v_stick": (0.0, 1.0, "m/s"),
-          "sigma0": (0.0, 1e13, "N/m"), "sigma1": (0.0, 1e9, "N s/m")}
+#: Plausible range of a contact's parameters, decades beyond a feed axis's (and a suspect
+#: identified model's): lowest, highest [SI] and the unit [-].
+RANGES = {**{f"{k}_{d}": (0.0, 1e8, "N") for k in ("fc", "fs") for d in ("pos", "neg")},
+          **{f"fv_{d}": (0.0, 1e10, "N s/m") for d in ("pos", "neg")},
+          "vs": (1e-12, 100.0, "m/s"), "delta": (0.0, 100.0, "-"), "v_stick": (0.0, 10.0, "m/s"),
+          "sigma0": (0.0, 1e16, "N/m"), "sigma1": (0.0, 1e12, "N s/m")}
 
 SLIDING = 0.0
 STUCK = 1.0

@@ -20,17 +20,16 @@ from ..errors import InputError
 _POS = {"gt": 0.0, "allow_inf_nan": False}
 _NONNEG = {"ge": 0.0, "allow_inf_nan": False}
 _J, _B, _M, _C, _K = ("kg m^2", "N m s/rad", "kg", "N s/m", "N/m")
-#: Plausible range of each parameter, decades beyond the feed axes of real machines, from
-#: a desktop mill's to a gantry's: lowest, highest [SI] and the unit [-]. The lower ends
-#: stay far below any machine: a record in the wrong unit (milliseconds for seconds) fits
-#: masses and stiffnesses a million times too small, which the gates mark as suspect and
-#: --accept-suspect still writes.
-RANGES = {"J_m": (1e-14, 10.0, _J), "J_L": (1e-14, 10.0, _J), "B_m": (0.0, 1e4, _B),
-          "B_L": (0.0, 1e4, _B), "K_L": (1e-6, 1e10, "N m/rad"), "lead": (1e-4, 1.0, "m"),
-          **{f"M_{s}": (1e-8, 1e6, _M) for s in "tbh"},
-          **{f"C_{s}": (0.0, 1e10, _C) for s in "tbh"},
+#: Plausible range of each parameter: decades beyond the feed axes of real machines,
+#: from a desktop mill's to a gantry's, so that a model the gates of identification find
+#: suspect (a time column in ms scales stiffnesses by 1e-6) can still be written, marked;
+#: but not 1e300, which overflows the plant's matrices: lowest, highest [SI], unit [-].
+RANGES = {"J_m": (1e-12, 1e4, _J), "J_L": (1e-12, 1e4, _J), "B_m": (0.0, 1e6, _B),
+          "B_L": (0.0, 1e6, _B), "K_L": (1e-6, 1e12, "N m/rad"), "lead": (1e-5, 10.0, "m"),
+          **{f"M_{s}": (1e-6, 1e8, _M) for s in "tbh"},
+          **{f"C_{s}": (0.0, 1e12, _C) for s in "tbh"},
           **{f"K_{s}": (1e-6, 1e16, _K) for s in "tbh"},
-          "K_tc": (1e-3, 1e3, "N m/A"), "load_force": (-1e7, 1e7, "N")}
+          "K_tc": (1e-4, 1e4, "N m/A"), "load_force": (-1e8, 1e8, "N")}
 
 
 class AxisMechanics(BaseModel):

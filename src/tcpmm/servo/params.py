@@ -22,10 +22,10 @@ from .currentfilters import MAX_FILTERS, ServoFilter, check_filters
 #: Most FIR taps of the velocity estimate.
 MAX_VELOCITY_TAPS = 8
 #: Plausible range of the gains, periods and current loop, decades beyond those of real
-#: drives: lowest, highest [SI] and the unit [-].
-RANGES = {"K_pp": (0.0, 1e5, "1/s"), "K_vp": (0.0, 1e6, "A s/rad"),
-          "K_vi": (0.0, 1e9, "A/rad"), "T_p": (1e-6, 1.0, "s"), "T_v": (1e-6, 1.0, "s"),
-          "current_limit": (1e-3, 1e5, "A"), "current_bandwidth_hz": (1.0, 1e6, "Hz")}
+#: drives (and of a suspect identified model): lowest, highest [SI] and the unit [-].
+RANGES = {"K_pp": (0.0, 1e6, "1/s"), "K_vp": (0.0, 1e8, "A s/rad"),
+          "K_vi": (0.0, 1e12, "A/rad"), "T_p": (1e-7, 10.0, "s"), "T_v": (1e-7, 10.0, "s"),
+          "current_limit": (1e-4, 1e6, "A"), "current_bandwidth_hz": (1e-3, 1e7, "Hz")}
 
 
 class ServoParams(BaseModel):

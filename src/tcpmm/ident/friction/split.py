@@ -202,6 +202,7 @@ def stribeck_from_record(record, cfg, axis: str | None = None):
         When the record holds no constant-speed passes long enough for the fit.
     """
     t, x, force = friction_record_arrays(record, cfg.lead_m, cfg.torque_constant)
+    _check_uniform(t, record.source)
     try:
         est, plateaus = _memo(record, ("plateaus", cfg.lead_m, cfg.torque_constant),
                               lambda: identify_stribeck_run(t, x, force))
@@ -215,7 +216,23 @@ def stribeck_from_record(record, cfg, axis: str | None = None):
             file=record.source,
             column="scale_mm",
         ) from None
+    except InputError as exc:  # the fit knows the column, not the file
+        raise exc.in_file(record.source) from None
     return t, x, force, est, plateaus
+
+
+def _check_uniform(t, source) -> None:
+    """Refuse friction runs whose sampling is not uniform within the 1 % the fit needs,
+    naming the file and the first step that differs [-]."""
+    dt = np.diff(t)
+    step = float(np.median(dt))
+    off = np.flatnonzero(~(np.abs(dt - step) <= 0.01 * step))
+    if off.size:
+        i = int(off[0])
+        raise InputError(
+            f"the friction runs must be sampled uniformly (1 % tolerance): the step after "
+            f"t = {t[i]:.6g} s is {dt[i]:.6g} s, {step:.6g} s elsewhere; record without gaps, "
+            "or resample", file=source, column="time_s")
 
 
 def slowest_plateau(plateaus) -> float:

@@ -81,7 +81,8 @@ def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resoluti
                 k_t=4e8, fc=300.0):
     """A stand-in for an identified axis with what :func:`open_ranges` reads."""
     split = SimpleNamespace(source=source, guideway_share=share, guideway_share_std=share_std,
-                            backlash=backlash, backlash_std=0.3e-6)
+                            backlash=backlash, backlash_std=0.3e-6,
+                            backlash_at_resolution=float("nan"))
     return SimpleNamespace(
         friction_split=split, presliding_fit=None, friction_hold=None,
         friction=SimpleNamespace(names=["Fc+", "Fc-"], values=[fc, -fc]),

@@ -79,8 +79,8 @@ TRANSIENT_FREE_HZ = 40.0
 #: real 0.7 um play came out at 0.57 +- 0.15 um (3.8); dropped, the plateaus took its
 #: hysteresis for guideway friction (share 0.88 against a true 0.41).
 LOST_MOTION_Z = 3.0
-#: Lost motion within this many scale steps rests on the scale's rounding, not on the nut:
-#: it is not taken as found, whatever its standard deviation [-].
+#: Lost motion within this many scale steps may be the scale's rounding as well as the
+#: nut's play, whatever its standard deviation [-].
 RESOLUTION_STEPS = 2.0
 
 
@@ -149,11 +149,9 @@ class NutEstimate:
         Returns
         -------
         bool
-            Determined, ``backlash > z * backlash_std`` and at least
-            :data:`RESOLUTION_STEPS` scale steps [-].
+            Determined and ``backlash > z * backlash_std`` [-].
         """
-        return bool(self.determined and self.backlash > z * self.backlash_std
-                    and self.backlash >= RESOLUTION_STEPS * self.scale_resolution)
+        return bool(self.determined and self.backlash > z * self.backlash_std)
 
     def at_resolution(self, z: float = LOST_MOTION_Z) -> bool:
         """Whether a significant lost motion lies within :data:`RESOLUTION_STEPS` scale
@@ -164,8 +162,8 @@ class NutEstimate:
         z : float
             Significance in standard deviations [-].
         """
-        return bool(self.determined and self.backlash > z * self.backlash_std
-                    and not self.lost_motion_found(z))
+        return bool(self.lost_motion_found(z)
+                    and self.backlash < RESOLUTION_STEPS * self.scale_resolution)
 
     def to_dict(self) -> dict:
         """Plain dictionary for a JSON report (SI units) [-]."""

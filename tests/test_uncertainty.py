@@ -133,3 +133,23 @@ def test_verdict_to_dict_is_json(known):
     f = d["figures"][0]
     assert f["verdict"] in ("firm", "uncertain", "undetermined")
     assert math.isfinite(f["half_width_um"]) and f["target_um"] >= 0.5
+
+
+def test_table_2_rows_carry_the_predicted_interval(known):
+    """A measured circle compared with the prediction: each TCP difference is set against
+    the interval of the predicted figure; a measurement equal to the prediction lies
+    inside it."""
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.analysis.compare import compare_circles
+    from tcpmm.simulate import simulate
+    from tcpmm.uncertainty import reference_tests
+
+    test = reference_tests(known)[0]
+    res = analyse_circle(simulate(known, test.command), test.radius_m)
+    v = prediction_verdict(known, [test])
+    rows = compare_circles(res, res).judged(v)
+    assert {r["direction"] for r in rows} == {"CCW", "CW"}
+    for r in rows:
+        assert r["spike_B_inside"] and r["contour_error_inside"]
+        assert r["spike_B_90_um"] == pytest.approx(CALIBRATION["floor_m"] * 1e6)
+        assert r["contour_error_verdict"] == "firm"

@@ -62,6 +62,33 @@ class Comparison:
         return plot_circle(self.measured, path, sensors=[sensor], overlay=self.predicted,
                            ax=ax)
 
+    def judged(self, verdict) -> list[dict]:
+        """The TCP rows with each difference set against the predicted figure's 90 %
+        interval (:func:`tcpmm.uncertainty.prediction_verdict` of the same circle): per
+        figure the half-width, the verdict and whether the measurement lies inside [um].
+
+        Parameters
+        ----------
+        verdict : Verdict
+            The verdict on the predicted circle, one test [-].
+        """
+        by = {(f.direction, f.figure): f for f in verdict.figures}
+        out = []
+        for r in self.rows:
+            if r["sensor"] != "tcp":
+                continue
+            row = dict(r)
+            for col, fig in [(f"spike_{q}_um", f"spike {q}") for q in QUADRANTS] + [
+                    ("contour_error_um", "contour error")]:
+                f = by.get((r["direction"].lower(), fig))
+                if f is None:
+                    continue
+                row[col.replace("_um", "_90_um")] = f.half_width * 1e6
+                row[col.replace("_um", "_inside")] = bool(abs(r[col]) <= f.half_width * 1e6)
+                row[col.replace("_um", "_verdict")] = f.verdict
+            out.append(row)
+        return out
+
     def notes(self) -> list[str]:
         """One sentence per sign flip: the spike difference there is the sum of two
         lobes, and how far apart the lobes themselves are."""

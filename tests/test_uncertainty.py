@@ -153,3 +153,20 @@ def test_table_2_rows_carry_the_predicted_interval(known):
         assert r["spike_B_inside"] and r["contour_error_inside"]
         assert r["spike_B_90_um"] == pytest.approx(CALIBRATION["floor_m"] * 1e6)
         assert r["contour_error_verdict"] == "firm"
+
+
+def test_cli_compare_with_the_model_sets_table_2_against_the_interval(tmp_path, capsys):
+    from tcpmm.builtin import builtin_machine
+    from tcpmm.cli import main
+    from tcpmm.path import write_command_csv
+    from tcpmm.uncertainty import reference_tests
+
+    write_command_csv(reference_tests(builtin_machine())[0].command, tmp_path / "c.csv")
+    assert main(["simulate", "builtin:vmc", "--command", str(tmp_path / "c.csv"),
+                 "-o", str(tmp_path / "p.csv")]) == 0
+    capsys.readouterr()
+    code = main(["compare", str(tmp_path / "p.csv"), str(tmp_path / "p.csv"), "--radius",
+                 "35", "--model", "builtin:vmc", "--json"])
+    assert code == 0
+    rows = json.loads(capsys.readouterr().out)["tcp_judged"]
+    assert len(rows) == 2 and all(r["spike_C_inside"] for r in rows)

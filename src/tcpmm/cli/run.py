@@ -206,7 +206,11 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save an overlay plot."),
             report: Path = typer.Option(None, "--report",
-                                        help="Also write the HTML report REPORT.html.")):
+                                        help="Also write the HTML report REPORT.html."),
+            model: str = typer.Option(
+                None, "--model", help="The identified MODEL.yaml the prediction came from: "
+                                      "each TCP difference is set against the predicted "
+                                      "figure's 90 % interval and verdict.")):
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
     from ..analysis.circular import analyse_circle
     from ..analysis.compare import compare_circles
@@ -235,12 +239,34 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                                                   f"{measured.name}", measured)],
                      "Measured against predicted", [("measured", measured),
                                                     ("predicted", predicted)])
+    judged = _judged(cmp, model, runs[1], radius, ctr, axes)
     if as_json:
-        _emit_json(cmp.to_dict())
+        _emit_json({**cmp.to_dict(), **({"tcp_judged": judged} if judged else {})})
     else:
         print_table(cmp.to_pandas(), out, "measured - predicted")
         for line in cmp.notes():
             out.print(line)
+        if judged:
+            import pandas as pd
+
+            print_table(pd.DataFrame(judged), out,
+                        "tcp: measured - predicted against the predicted 90 % interval [um]")
+
+
+def _judged(cmp, model, predicted_run, radius_mm: float, centre_m, plane):
+    """The TCP rows against the verdict of the model on the predicted run's command
+    (``None`` without a model) [-]."""
+    if model is None:
+        return None
+    from ..path.command import Command
+    from ..uncertainty import CircleTest, prediction_verdict
+
+    m = _read_model(model)
+    cmd = Command(predicted_run.time_s,
+                  {n: a.cmd for n, a in predicted_run.axes.items() if a.cmd is not None})
+    plane = tuple(plane) if plane else tuple(list(m.axes)[:2])
+    test = CircleTest(f"R{radius_mm:g}", cmd, radius_mm * 1e-3, centre_m, plane)
+    return cmp.judged(prediction_verdict(m, [test]))
 
 
 @app.command()

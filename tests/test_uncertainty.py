@@ -162,8 +162,9 @@ def test_cli_compare_with_the_model_sets_table_2_against_the_interval(tmp_path, 
     from tcpmm.uncertainty import reference_tests
 
     write_command_csv(reference_tests(builtin_machine())[0].command, tmp_path / "c.csv")
-    assert main(["simulate", "builtin:vmc", "--command", str(tmp_path / "c.csv"),
-                 "-o", str(tmp_path / "p.csv")]) == 0
+    code = main(["simulate", "builtin:vmc", "--command", str(tmp_path / "c.csv"),
+                 "-o", str(tmp_path / "p.csv")])
+    assert code == 0, capsys.readouterr().err
     capsys.readouterr()
     code = main(["compare", str(tmp_path / "p.csv"), str(tmp_path / "p.csv"), "--radius",
                  "35", "--model", "builtin:vmc", "--json"])

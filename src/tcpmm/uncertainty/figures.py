@@ -9,7 +9,7 @@ larger of the two. The changes of independent quantities add in quadrature.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
@@ -99,7 +99,11 @@ def figures(machine, tests, sensor: str = "tcp") -> dict:
     out = {}
     for t in tests:
         m = _in_plane(machine, t.plane)
-        res = analyse_circle(simulate(m, t.command), t.radius_m, t.centre_m, plane=t.plane)
+        cmd = t.command
+        if set(cmd.positions) - set(t.plane):  # the other axes stand still in the model too
+            cmd = replace(cmd, positions={n: cmd.positions[n] for n in t.plane
+                                          if n in cmd.positions})
+        res = analyse_circle(simulate(m, cmd), t.radius_m, t.centre_m, plane=t.plane)
         seen: dict = {}
         for p in res.passes:
             seen[p.direction] = seen.get(p.direction, 0) + 1

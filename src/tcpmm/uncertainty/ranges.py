@@ -52,6 +52,9 @@ def _share_open(a) -> str | None:
         return None
     if split.source == "prior":
         return "the friction runs do not determine the guideway share"
+    if split.source == "sweep" and a.friction_hold is not None:
+        return ("the share read from the travelling sweep rests on steady sliding, and "
+                "friction held the axis during the sweep")
     if split.source != "data":
         return None
     res = a.axis.sensors.scale_resolution

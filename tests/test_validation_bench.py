@@ -186,9 +186,8 @@ def test_a_share_from_the_sweep_carries_its_spread_into_the_model(letter):
 
 def _measured_figures(letter):
     """The measured circles that hold a full circle as tests, and their TCP figures."""
-    from tcpmm.analysis.circular import QUADRANTS
     from tcpmm.errors import InputError
-    from tcpmm.uncertainty import CircleTest
+    from tcpmm.uncertainty import CircleTest, circle_figures
 
     d, tests, meas = bench_path(letter), [], {}
     for case in CASES:
@@ -197,11 +196,7 @@ def _measured_figures(letter):
         except InputError:  # a lagging circle the analysis does not find whole
             continue
         tests.append(CircleTest(case, read_command_csv(d / f"circle_{case}_cmd.csv"), R))
-        for p in res.passes:
-            s = p.sensors["tcp"]
-            meas.update({(case, p.direction, f"spike {q}"): s.spikes[q] for q in QUADRANTS})
-            meas[(case, p.direction, "contour error")] = s.contour_error
-            meas[(case, p.direction, "G")] = s.circular_deviation
+        meas.update(circle_figures(res, case))
     return tests, meas
 
 

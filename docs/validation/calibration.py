@@ -22,13 +22,13 @@ import statistics
 import warnings
 from pathlib import Path
 
-from tcpmm.analysis.circular import QUADRANTS, analyse_circle
+from tcpmm.analysis.circular import analyse_circle
 from tcpmm.errors import InputError
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.runfile import read_run_csv
 from tcpmm.path.commandfile import read_command_csv
-from tcpmm.uncertainty import CALIBRATION, CircleTest, prediction_verdict
+from tcpmm.uncertainty import CALIBRATION, CircleTest, circle_figures, prediction_verdict
 
 CASES = ("ccw", "cw", "ccw_fast", "cw_fast")
 R = 0.035  # [m]
@@ -43,11 +43,7 @@ def measured(folder: Path):
         except InputError:
             continue
         tests.append(CircleTest(case, read_command_csv(folder / f"circle_{case}_cmd.csv"), R))
-        for p in res.passes:
-            s = p.sensors["tcp"]
-            meas.update({(case, p.direction, f"spike {q}"): s.spikes[q] for q in QUADRANTS})
-            meas[(case, p.direction, "contour error")] = s.contour_error
-            meas[(case, p.direction, "G")] = s.circular_deviation
+        meas.update(circle_figures(res, case))
     return tests, meas
 
 

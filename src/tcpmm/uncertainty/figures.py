@@ -15,7 +15,7 @@ from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from .perturb import axis_variants
 
-__all__ = ["CircleTest", "figure_changes", "figures", "reference_tests"]
+__all__ = ["CircleTest", "circle_figures", "figure_changes", "figures", "reference_tests"]
 
 #: The reference circles of a verdict made without the user's command: the paper's test,
 #: R 35 mm about the origin, CCW then CW from 45 deg, at two feeds [m], [mm/min].
@@ -114,15 +114,37 @@ def _test_figures(t, machine, sensor: str, simulate, out: dict) -> None:
         cmd = replace(cmd, positions={n: cmd.positions[n] for n in t.plane
                                       if n in cmd.positions})
     res = analyse_circle(simulate(m, cmd), t.radius_m, t.centre_m, plane=t.plane)
-    seen: dict = {}
-    for p in res.passes:
+    out.update(circle_figures(res, t.label, sensor))
+
+
+def circle_figures(result, label: str, sensor: str = "tcp") -> dict:
+    """The figures of an analysed circle (measured or predicted) keyed as :func:`figures`
+    keys them.
+
+    Parameters
+    ----------
+    result : CircleResult
+        The analysed circle [-].
+    label : str
+        The test's label [-].
+    sensor : str
+        Sensor [-].
+
+    Returns
+    -------
+    dict
+        ``{(label, pass, figure): value}`` [m].
+    """
+    out, seen = {}, {}
+    for p in result.passes:
         seen[p.direction] = seen.get(p.direction, 0) + 1
         name = p.direction + ("" if seen[p.direction] == 1 else f" {seen[p.direction]}")
         s = p.sensors[sensor]
         for q in QUADRANTS:
-            out[(t.label, name, f"spike {q}")] = float(s.spikes[q])
-        out[(t.label, name, "contour error")] = float(s.contour_error)
-        out[(t.label, name, "G")] = float(s.circular_deviation)
+            out[(label, name, f"spike {q}")] = float(s.spikes[q])
+        out[(label, name, "contour error")] = float(s.contour_error)
+        out[(label, name, "G")] = float(s.circular_deviation)
+    return out
 
 
 def figure_changes(machine, tests, sensor: str = "tcp", progress=None):

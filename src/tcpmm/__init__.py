@@ -13,6 +13,7 @@ The public API, by step of the work (each name is imported on first use, so that
     predict    program_to_command, circle_command, paper_circle_command, read_command,
                simulate
     analyse    read_run, analyse_circle, circle_diagnostics, compare, contour_error
+    accuracy   prediction_verdict, CircleTest
     what-if    circle_spread, run_sweep, tune_servos
 
 Results share one protocol: ``.to_pandas()`` (a table in file units), ``.to_dict()``
@@ -58,6 +59,8 @@ _API = {
     "circle_diagnostics": "tcpmm.analysis.diagnostics:circle_diagnostics",
     "compare": "tcpmm.api:compare",
     "contour_error": "tcpmm.analysis.contour:contour_error",
+    "prediction_verdict": "tcpmm.uncertainty:prediction_verdict",
+    "CircleTest": "tcpmm.uncertainty:CircleTest",
     "circle_spread": "tcpmm.spread:circle_spread",
     "run_sweep": "tcpmm.sweep.run:run_sweep",
     "tune_servos": "tcpmm.tuning:tune_and_predict",

@@ -406,8 +406,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         stiffness_rel_std = nut.stiffness_std / nut.stiffness
         lm = plateau_split(m_split, stiffness_rel_std, backlash=nut.backlash,
                            backlash_std=nut.backlash_std)
-    # With play the sweep's FRFs, and with them K_h, change with each refit of the nut
-    # (tcpmm.ident.friction.playdf): the share stays with the friction runs there.
+    # with play K_h changes with each refit of the nut (playdf): the share stays with the runs
     from_sweep = None if given is not None or sweep is None or play else _sweep_share(
         sweep, m, v, lm, K_h_rel_std, C_t_std)
     if from_sweep is not None:
@@ -419,12 +418,19 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
                               viscous_on_table_std=from_sweep[3])
     else:
         split = _split_of(lm, nut, play, given, axis)
+    split = _with_open_play(split, nut, coarse is not None)
+    return _axis_friction(v, m, split), est, split
+
+
+def _with_open_play(split, nut, at_resolution: bool):
+    """The split with the lost motion the nut's runs leave open: the deviation of a play
+    not found, or the bound of one found within the scale's rounding [-]."""
     if nut is not None and not nut.lost_motion_found() and np.isfinite(nut.backlash_std):
         split = dataclasses.replace(split, unfound_backlash_std=float(nut.backlash_std))
-    if coarse is not None:
+    if at_resolution:
         split = dataclasses.replace(split, backlash_at_resolution=float(
             nut.backlash + LOST_MOTION_Z * nut.backlash_std))
-    return _axis_friction(v, m, split), est, split
+    return split
 
 
 def _settle_sweep_share(from_sweep, plateaus_at, share_from):

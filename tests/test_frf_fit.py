@@ -156,3 +156,35 @@ def test_cli_lines_are_not_wrapped_in_a_pipe(capsys, tmp_path):
     assert any(str(p) in line and "5 poles" in line for line in out.splitlines()), out
     code, _, err = run(capsys, "frf", "fit", deep / "missing.csv")
     assert code == 2 and len(err.strip().splitlines()) == 1, err
+
+
+def rising_frf():
+    """A response rising beyond the band (two zeros at 10 Hz over one pole at 100 Hz): a
+    fit with as many zeros as poles pushes one pole far beyond the band."""
+    s = 2j * np.pi * F
+    H = (1 + s / (2 * np.pi * 10)) ** 2 / (1 + s / (2 * np.pi * 100))
+    return FRF(F, H, np.ones(F.size), 10, np.zeros(F.size), name="rising")
+
+
+@pytest.mark.parametrize("poles", [1, 2, 3])
+def test_a_far_pole_folded_into_the_gain_leaves_the_model_proper(poles):
+    import control
+
+    res = fit_frf(rising_frf(), poles=poles, delay_s=None)
+    tf = res.tf
+    assert tf.n_num <= tf.n_den + tf.n_integrators
+    assert tf.pn.size == tf.n_den and len(tf.num) <= len(tf.den)
+    assert tf.n_params == tf.n_num + 1 + tf.n_den
+    d = res.to_dict()
+    assert d["n_zeros"] <= d["n_poles"] == len(d["poles"])
+    # the cost is that of the model kept, not of the one with the far pole
+    h = tf.freqresp(tf.freq_hz)
+    assert tf.cost == pytest.approx(np.sum(np.abs(tf.weight * (h / tf.H - 1)) ** 2), rel=1e-9)
+    control.ss(tf.to_control())
+
+
+def test_fit_tf_refuses_more_zeros_than_poles():
+    from tcpmm.ident.lti import fit_tf
+
+    with pytest.raises(InputError, match="improper"):
+        fit_tf((F, true_response(F)), 3, 2)

@@ -188,3 +188,19 @@ def test_fit_tf_refuses_more_zeros_than_poles():
 
     with pytest.raises(InputError, match="improper"):
         fit_tf((F, true_response(F)), 3, 2)
+
+
+def test_damping_floor_follows_the_measurement_grid_not_the_coherence_gaps():
+    """A mode narrower than one 1 Hz bin, with every other bin near it lost to coherence:
+    its damping is raised to a half-power bandwidth of one bin, 1/(2 * 200) = 0.0025, not
+    to the double that the gaps would imply."""
+    f = np.arange(20.0, 1000.0, 1.0)
+    s = 2j * np.pi * f
+    wn = 2 * np.pi * 200.0
+    H = 1 / (s**2 / wn**2 + 2 * 0.0005 * s / wn + 1)
+    coh = np.ones(f.size)
+    coh[(f > 150) & (f < 250) & (f % 2 == 1)] = 0.1
+    res = fit_frf(FRF(f, H, coh, 10, np.zeros(f.size), name="gaps"), poles=2, delay_s=None,
+                  damping_floor=0.0)
+    np.testing.assert_allclose(res.tf.damping, [1 / 400], rtol=1e-6)
+    assert res.tf.freq_hz.size < f.size

@@ -179,13 +179,15 @@ class TFFit:
         m = 2 * self.freq_hz.size
         return m * np.log(self.cost / m) + self.n_params * np.log(m)
 
-    def to_control(self, pade_order: int = 0):
-        """The fit as a :class:`control.TransferFunction`.
+    def to_control(self, pade_order="auto"):
+        """The fit as a :class:`control.TransferFunction`, its delay included.
 
         Parameters
         ----------
-        pade_order : int
-            Order of the Pade approximation of the delay; 0 leaves the delay out (read it
+        pade_order : int or "auto"
+            Order of the Pade approximation of the delay; ``"auto"`` takes the smallest
+            that holds the relative error below 1e-3 over the band fitted
+            (:func:`~tcpmm.ident.lti.pade.pade_order`); 0 leaves the delay out (read it
             from ``delay_s``) [-].
 
         Returns
@@ -195,11 +197,10 @@ class TFFit:
         """
         import control
 
+        from .pade import with_delay
+
         tf = control.TransferFunction(self.num, self.den)
-        if pade_order > 0 and self.delay_s > 0:
-            nd, dd = control.pade(self.delay_s, pade_order)
-            tf = tf * control.TransferFunction(nd, dd)
-        return tf
+        return with_delay(tf, self.delay_s, float(self.freq_hz[-1]), pade_order)
 
     def to_pandas(self):
         """Pole table: one row per real pole or complex pair.

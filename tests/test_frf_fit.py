@@ -204,3 +204,36 @@ def test_damping_floor_follows_the_measurement_grid_not_the_coherence_gaps():
                   damping_floor=0.0)
     np.testing.assert_allclose(res.tf.damping, [1 / 400], rtol=1e-6)
     assert res.tf.freq_hz.size < f.size
+
+
+def test_model_fragment_reads_back_and_load_model_points_to_its_reader(capsys, tmp_path):
+    """The fragment that `frf fit --model-fragment` writes reads back through the
+    documented reader to the fit's own response; load_model names that reader."""
+    import tcpmm
+
+    p = write_frf_csv(noisy_frf(1), tmp_path / "m.csv", polar=True)
+    frag, js = tmp_path / "frag.yaml", tmp_path / "fit.json"
+    code, _, err = run(capsys, "frf", "fit", p, "--poles", 5, "--model-fragment", frag,
+                       "-o", js)
+    assert code == 0, err
+    tfs = tcpmm.read_tf_fragment(frag)
+    (tf,) = tfs.values()
+    d = json.loads(js.read_text())
+    assert tf.delay_s == d["delay_s"] and tuple(tf.band_hz) == tuple(d["band_hz"])
+    res = fit_frf(noisy_frf(1), poles=5)
+    np.testing.assert_allclose(tf.freqresp(F), res.freqresp(F), rtol=1e-9)
+    np.testing.assert_allclose(tf.to_control()(2j * np.pi * F), res.freqresp(F), rtol=2e-3)
+    with pytest.raises(InputError, match="read_tf_fragment"):
+        tcpmm.load_model(frag)
+
+
+def test_a_fragment_with_an_unknown_key_or_an_improper_function_is_refused(tmp_path):
+    from tcpmm.io.tffragment import loads_tf_fragment
+
+    base = "format: tcpmm-tf/1\ntransfer_functions:\n  a:\n    num: [1.0]\n" \
+           "    den: [1.0, 2.0]\n    band_hz: [1, 100]\n"
+    assert loads_tf_fragment(base)["a"].freqresp([0.0])[0] == pytest.approx(0.5)
+    with pytest.raises(InputError, match="gain"):
+        loads_tf_fragment(base + "    gain: 2\n")
+    with pytest.raises(InputError, match="improper"):
+        loads_tf_fragment(base.replace("num: [1.0]", "num: [1.0, 0.0, 0.0]"))

@@ -56,12 +56,17 @@ $(VENV)/.docs: $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,docs]'
 	touch $(VENV)/.docs
 
-bench: $(STAMP)
+bench: $(VENV)/.bench
 	$(BIN)/python benchmarks/simulate.py
 	$(BIN)/python benchmarks/fit.py
 	$(BIN)/python benchmarks/interpolate.py
 	$(BIN)/python benchmarks/identify.py
 	$(BIN)/python benchmarks/memory.py
+	$(BIN)/python benchmarks/frf_fit.py
+
+$(VENV)/.bench: $(STAMP)
+	$(BIN)/python -m pip install -q -e '.[test,bench]'
+	touch $(VENV)/.bench
 
 clean:
 	rm -rf $(VENV) out build site *.egg-info src/*.egg-info

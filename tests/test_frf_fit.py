@@ -237,3 +237,27 @@ def test_a_fragment_with_an_unknown_key_or_an_improper_function_is_refused(tmp_p
         loads_tf_fragment(base + "    gain: 2\n")
     with pytest.raises(InputError, match="improper"):
         loads_tf_fragment(base.replace("num: [1.0]", "num: [1.0, 0.0, 0.0]"))
+
+
+def _bench():
+    import importlib.util
+
+    path = Path(__file__).parents[1] / "benchmarks" / "frf_fit.py"
+    spec = importlib.util.spec_from_file_location("bench_frf_fit", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_benchmark_against_vector_fitting_runs_or_skips(capsys, monkeypatch, tmp_path):
+    """The comparison prints both errors of both fitters side by side; without scikit-rf
+    it says how to install it and ends cleanly."""
+    bench = _bench()
+    pytest.importorskip("skrf")
+    assert bench.main(["--poles", "4", "--file", str(tmp_path / "none.xml"), "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert {r["fitter"] for r in rows} == {"tcpmm", "skrf VF"}
+    assert all(r["total_rel"] < 0.2 and r["median_rel"] < 0.2 for r in rows)
+    monkeypatch.setitem(__import__("sys").modules, "skrf", None)
+    assert bench.main([]) == 0
+    assert "pip install" in capsys.readouterr().out

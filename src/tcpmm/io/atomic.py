@@ -16,8 +16,11 @@ from pathlib import Path
 from ..errors import InputError
 
 
-def output_folder(path) -> Path:
-    """Create the folder ``path`` (and its parents) for outputs; refuse what cannot be one.
+def check_output_folder(path) -> Path:
+    """Check that the folder ``path`` is or can be made an output folder, creating nothing.
+
+    A command checks its outputs before any work and creates their folders only when it
+    writes into them: one that fails on its input leaves no empty folder behind.
 
     Parameters
     ----------
@@ -34,6 +37,27 @@ def output_folder(path) -> Path:
         if p.exists() and not p.is_dir():
             raise InputError(f"is a file, so the output folder {path} cannot be made; "
                              "choose another folder", file=p)
+    base = next((p for p in (path, *path.parents) if p.exists()), Path("."))
+    if not os.access(base, os.W_OK | os.X_OK):
+        raise InputError(f"cannot write into {base}, so the output folder {path} cannot be "
+                         "made there; choose a folder you can write to", file=path)
+    return path
+
+
+def output_folder(path) -> Path:
+    """Create the folder ``path`` (and its parents) for outputs; refuse what cannot be one.
+
+    Parameters
+    ----------
+    path : str or Path
+        Folder [-].
+
+    Returns
+    -------
+    Path
+        The folder [-].
+    """
+    path = check_output_folder(path)
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -44,7 +68,8 @@ def output_folder(path) -> Path:
 def output_file(path) -> Path:
     """The file an output goes to: ``path``, or the target of a symbolic link there.
 
-    Its folder is created; a folder at ``path`` or a file among its parents is an error.
+    Its folder is checked, not created (:func:`atomic_path` creates it when writing); a
+    folder at ``path`` or a file among its parents is an error.
 
     Parameters
     ----------
@@ -63,7 +88,7 @@ def output_file(path) -> Path:
         path = Path(os.path.realpath(path))
     if path.is_dir():
         raise InputError("is a folder; give the output a file name", file=path)
-    output_folder(path.parent)
+    check_output_folder(path.parent)
     return path
 
 
@@ -85,6 +110,7 @@ def atomic_path(path, suffix: str = ""):
         Suffix of the temporary file (some writers infer the format from it) [-].
     """
     path = output_file(path)
+    output_folder(path.parent)
     mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()
     try:
         fd, tmp = tempfile.mkstemp(

@@ -23,6 +23,7 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/tcpmm demo -o $(OUT)
+	@echo "README's five steps: D=$(abspath $(OUT)) T=$(abspath $(BIN))/tcpmm"
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples docs

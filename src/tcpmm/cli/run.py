@@ -39,7 +39,7 @@ def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Out
         res = run_demo(out_dir, progress=adv, console=out, report=report)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
     for k, v in res["files"].items():
-        out.print(f"  {k:12s} {v}")
+        out.print(f"  {k:12s} {Path(v).resolve()}")
 
 
 

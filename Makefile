@@ -23,6 +23,7 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/tcpmm demo -o $(OUT)
+	@echo "README's five steps: D=$(abspath $(OUT)) T=$(abspath $(BIN))/tcpmm"
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples docs
@@ -31,20 +32,15 @@ test: $(STAMP)
 # The demo's HTML report rendered in headless Chromium with no network; screenshots of the
 # first screen and of the whole page go to $(REPORT). A finished demo in $(OUT) is reused.
 check-report: $(STAMP)
-	@if [ ! -f $(OUT)/spread.json ]; then \
-		$(BIN)/tcpmm demo -o $(OUT) --report $(REPORT)/report.html; \
-	else \
-		cd $(OUT) && $(abspath $(BIN))/tcpmm report -o $(abspath $(REPORT))/report.html \
-			--title "tcpmm demo: the paper's circular test" --model model.yaml \
-			--ident-dir identification --run run.csv --measured measured_run.csv \
-			--predicted predicted_run.csv --radius 35 --spread spread.json; \
-	fi
+	@if [ ! -f $(OUT)/report.html ]; then $(BIN)/tcpmm demo -o $(OUT); fi
+	@mkdir -p $(REPORT)
 	@command -v chromium >/dev/null || \
 		{ $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq chromium; }
-	$(CHROMIUM) --window-size=1280,4000 --screenshot=$(REPORT)/report.png \
-		file://$(abspath $(REPORT))/report.html 2>$(REPORT)/chromium.log
-	$(CHROMIUM) --window-size=1280,16000 --screenshot=$(REPORT)/report_full.png \
-		file://$(abspath $(REPORT))/report.html 2>>$(REPORT)/chromium.log
+	$(CHROMIUM) --window-size=1280,4000 --screenshot=$(abspath $(REPORT))/report.png \
+		file://$(abspath $(OUT))/report.html 2>$(REPORT)/chromium.log
+	$(CHROMIUM) --window-size=1280,16000 --screenshot=$(abspath $(REPORT))/report_full.png \
+		file://$(abspath $(OUT))/report.html 2>>$(REPORT)/chromium.log
+	@echo "report: $(abspath $(OUT))/report.html"
 	@echo "screenshots: $(REPORT)/report.png (first screen), $(REPORT)/report_full.png"
 
 # The documentation site (site/), built strictly: a warning (a broken link, a page left
@@ -56,12 +52,17 @@ $(VENV)/.docs: $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,docs]'
 	touch $(VENV)/.docs
 
-bench: $(STAMP)
+bench: $(VENV)/.bench
 	$(BIN)/python benchmarks/simulate.py
 	$(BIN)/python benchmarks/fit.py
 	$(BIN)/python benchmarks/interpolate.py
 	$(BIN)/python benchmarks/identify.py
 	$(BIN)/python benchmarks/memory.py
+	$(BIN)/python benchmarks/frf_fit.py
+
+$(VENV)/.bench: $(STAMP)
+	$(BIN)/python -m pip install -q -e '.[test,bench]'
+	touch $(VENV)/.bench
 
 clean:
 	rm -rf $(VENV) out build site *.egg-info src/*.egg-info

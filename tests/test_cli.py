@@ -94,18 +94,25 @@ def test_bad_model_file_names_line(capsys, tmp_path):
 
 
 def test_demo_writes_everything(capsys, tmp_path):
-    code, out, _ = run(capsys, "demo", "-o", tmp_path / "demo", "--report",
-                       tmp_path / "report.html")
+    """The demo writes its report by default and prints its absolute path; the page opens
+    with the verdict on the measured circle against the tolerance given."""
+    code, out, _ = run(capsys, "demo", "-o", tmp_path / "demo", "--tolerance-um", 100)
     assert code == 0
     for name in ("model.yaml", "run.csv", "circle.png", "bode_X.png", "bode_Y.png",
                  "time.png", "circle_table.csv", "circle.json", "table2.csv", "spread.csv",
-                 "spread.json", "spread.png"):
+                 "spread.json", "spread.png", "report.html"):
         assert (tmp_path / "demo" / name).stat().st_size > 0, name
     flat = out.replace("\n", "")
+    report = (tmp_path / "demo" / "report.html").resolve()
     assert str((tmp_path / "demo").resolve()) in flat and "Spread over 16 drawn machines" in flat
-    page = (tmp_path / "report.html").read_text(encoding="utf-8")
-    for kind in ("model", "identification", "circle", "comparison", "spread"):
-        assert f'data-section="{kind}"' in page, kind
+    assert f"report: {report}" in flat
+    page = report.read_text(encoding="utf-8")
+    order = [page.index(f'data-section="{kind}"') for kind in
+             ("verdict", "circle", "comparison", "spread", "identification", "model")]
+    assert order == sorted(order)
+    assert '<p class="pass">PASS' in page
+    for fact in ("35 mm", "5000 mm/min", "CCW then CW", "1000 Hz", "measured_run.csv"):
+        assert fact in page[order[0]:order[1]], fact
     assert page.count("<h3>Diagnostics (TCP)</h3>") == 2  # simulated and virtual measurement
 
 

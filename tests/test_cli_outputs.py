@@ -165,3 +165,39 @@ def test_command_faster_than_the_machine_warns(rapid, speed, warns):
         simulate(m, cmd)
     texts = [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
     assert any(f"moves at {speed * 60:.4g} m/min" in s for s in texts) == warns
+
+
+@pytest.mark.parametrize("case", ["identify", "simulate", "circle", "report"])
+def test_a_failing_command_leaves_no_output_folder(capsys, tmp_path, case):
+    """Output folders are checked before the work and made only when something is written:
+    a command that fails on its input leaves none behind."""
+    bad = tmp_path / "bad.csv"
+    bad.write_text("garbage\n")
+    (tmp_path / "bundle").mkdir()
+    args, made = {
+        "identify": (["identify", tmp_path / "bundle", "-o", tmp_path / "m.yaml",
+                      "--report", tmp_path / "ident"], "ident"),
+        "simulate": (["simulate", "builtin:vmc", "--command", bad, "-o",
+                      tmp_path / "out" / "run.csv"], "out"),
+        "circle": (["circle", bad, "--radius", 35, "--plot", tmp_path / "plots" / "c.png"],
+                   "plots"),
+        "report": (["report", "-o", tmp_path / "rep" / "r.html", "--run", bad, "--radius",
+                    35], "rep"),
+    }[case]
+    code, _, err = run(capsys, *args)
+    assert code == 2, err
+    assert not (tmp_path / made).exists()
+
+
+def test_an_output_folder_that_cannot_be_made_is_refused_before_the_work(capsys, tmp_path):
+    if os.geteuid() == 0:
+        pytest.skip("root writes anywhere")
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o500)
+    try:
+        code, _, err = run(capsys, "machine", "export", "vmc", "-o", ro / "sub" / "m.yaml")
+    finally:
+        ro.chmod(0o700)
+    assert code == 2 and "cannot write into" in err
+    assert not (ro / "sub").exists()

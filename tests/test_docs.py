@@ -69,3 +69,53 @@ def test_the_formats_page_machine_yaml_parses():
     x_only = block.split("\n  Y:")[0]
     m = parse_machine_yaml(x_only)
     assert m.axes["X"].lead_m == 0.010
+
+
+def _readme_steps() -> list[str]:
+    """The command lines of the README's five steps (comments dropped)."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    part = text[text.index("## Command line in five steps"):]
+    block = re.search(r"```sh\n(.*?)```", part, flags=re.S).group(1)
+    return [ln.split("  #")[0].strip() for ln in block.splitlines()
+            if ln.strip() and not ln.lstrip().startswith("#")]
+
+
+def test_readme_steps_read_the_demo_by_variable_and_write_only_where_run():
+    """Every step reads the demo through $D (absolute, set in the checkout) and writes
+    relative names, so that from any folder the steps find their inputs and write only
+    into that folder, not into the checkout."""
+    lines = _readme_steps()
+    setup, steps = lines[:2], [ln for ln in lines[2:] if ln.startswith("$T ")]
+    assert setup[0].startswith("D=$(pwd)/out/demo") and "T=$(pwd)/.venv/bin/tcpmm" in setup[0]
+    assert "cd " in setup[1] and len(steps) == 5
+    for ln in steps:
+        words = ln.split()
+        assert not any(w.startswith("out/") for w in words), ln
+        for flag in ("-o", "--report", "--plot"):
+            if flag in words:
+                target = words[words.index(flag) + 1]
+                assert not target.startswith(("/", "$")), ln
+
+
+def test_readme_steps_run_from_another_folder(tmp_path):
+    """With a finished demo in the checkout (make demo), the five steps run in an empty
+    folder and write only there."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+
+    demo = ROOT / "out" / "demo"
+    exe = Path(sys.executable).with_name("tcpmm")
+    if not (demo / "bundle").is_dir() or not exe.is_file() or shutil.which("bash") is None:
+        import pytest
+
+        pytest.skip("needs a finished demo in out/demo (make demo)")
+    script = "\n".join(["set -e", f"D={demo} T={exe}", *_readme_steps()[1:]])
+    env = {**os.environ, "HOME": str(tmp_path / "home")}
+    before = sorted(p.name for p in demo.iterdir())
+    subprocess.run(["bash", "-c", script.replace("~/tcpmm-work", str(tmp_path / "w"))],
+                   cwd=tmp_path, env=env, check=True, capture_output=True)
+    assert {p.name for p in (tmp_path / "w").iterdir()} == {"model.yaml", "ident",
+                                                           "predicted.csv", "circle.png"}
+    assert sorted(p.name for p in demo.iterdir()) == before

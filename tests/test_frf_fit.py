@@ -156,3 +156,108 @@ def test_cli_lines_are_not_wrapped_in_a_pipe(capsys, tmp_path):
     assert any(str(p) in line and "5 poles" in line for line in out.splitlines()), out
     code, _, err = run(capsys, "frf", "fit", deep / "missing.csv")
     assert code == 2 and len(err.strip().splitlines()) == 1, err
+
+
+def rising_frf():
+    """A response rising beyond the band (two zeros at 10 Hz over one pole at 100 Hz): a
+    fit with as many zeros as poles pushes one pole far beyond the band."""
+    s = 2j * np.pi * F
+    H = (1 + s / (2 * np.pi * 10)) ** 2 / (1 + s / (2 * np.pi * 100))
+    return FRF(F, H, np.ones(F.size), 10, np.zeros(F.size), name="rising")
+
+
+@pytest.mark.parametrize("poles", [1, 2, 3])
+def test_a_far_pole_folded_into_the_gain_leaves_the_model_proper(poles):
+    import control
+
+    res = fit_frf(rising_frf(), poles=poles, delay_s=None)
+    tf = res.tf
+    assert tf.n_num <= tf.n_den + tf.n_integrators
+    assert tf.pn.size == tf.n_den and len(tf.num) <= len(tf.den)
+    assert tf.n_params == tf.n_num + 1 + tf.n_den
+    d = res.to_dict()
+    assert d["n_zeros"] <= d["n_poles"] == len(d["poles"])
+    # the cost is that of the model kept, not of the one with the far pole
+    h = tf.freqresp(tf.freq_hz)
+    assert tf.cost == pytest.approx(np.sum(np.abs(tf.weight * (h / tf.H - 1)) ** 2), rel=1e-9)
+    control.ss(tf.to_control())
+
+
+def test_fit_tf_refuses_more_zeros_than_poles():
+    from tcpmm.ident.lti import fit_tf
+
+    with pytest.raises(InputError, match="improper"):
+        fit_tf((F, true_response(F)), 3, 2)
+
+
+def test_damping_floor_follows_the_measurement_grid_not_the_coherence_gaps():
+    """A mode narrower than one 1 Hz bin, with every other bin near it lost to coherence:
+    its damping is raised to a half-power bandwidth of one bin, 1/(2 * 200) = 0.0025, not
+    to the double that the gaps would imply."""
+    f = np.arange(20.0, 1000.0, 1.0)
+    s = 2j * np.pi * f
+    wn = 2 * np.pi * 200.0
+    H = 1 / (s**2 / wn**2 + 2 * 0.0005 * s / wn + 1)
+    coh = np.ones(f.size)
+    coh[(f > 150) & (f < 250) & (f % 2 == 1)] = 0.1
+    res = fit_frf(FRF(f, H, coh, 10, np.zeros(f.size), name="gaps"), poles=2, delay_s=None,
+                  damping_floor=0.0)
+    np.testing.assert_allclose(res.tf.damping, [1 / 400], rtol=1e-6)
+    assert res.tf.freq_hz.size < f.size
+
+
+def test_model_fragment_reads_back_and_load_model_points_to_its_reader(capsys, tmp_path):
+    """The fragment that `frf fit --model-fragment` writes reads back through the
+    documented reader to the fit's own response; load_model names that reader."""
+    import tcpmm
+
+    p = write_frf_csv(noisy_frf(1), tmp_path / "m.csv", polar=True)
+    frag, js = tmp_path / "frag.yaml", tmp_path / "fit.json"
+    code, _, err = run(capsys, "frf", "fit", p, "--poles", 5, "--model-fragment", frag,
+                       "-o", js)
+    assert code == 0, err
+    tfs = tcpmm.read_tf_fragment(frag)
+    (tf,) = tfs.values()
+    d = json.loads(js.read_text())
+    assert tf.delay_s == d["delay_s"] and tuple(tf.band_hz) == tuple(d["band_hz"])
+    res = fit_frf(noisy_frf(1), poles=5)
+    np.testing.assert_allclose(tf.freqresp(F), res.freqresp(F), rtol=1e-9)
+    np.testing.assert_allclose(tf.to_control()(2j * np.pi * F), res.freqresp(F), rtol=2e-3)
+    with pytest.raises(InputError, match="read_tf_fragment"):
+        tcpmm.load_model(frag)
+
+
+def test_a_fragment_with_an_unknown_key_or_an_improper_function_is_refused(tmp_path):
+    from tcpmm.io.tffragment import loads_tf_fragment
+
+    base = "format: tcpmm-tf/1\ntransfer_functions:\n  a:\n    num: [1.0]\n" \
+           "    den: [1.0, 2.0]\n    band_hz: [1, 100]\n"
+    assert loads_tf_fragment(base)["a"].freqresp([0.0])[0] == pytest.approx(0.5)
+    with pytest.raises(InputError, match="gain"):
+        loads_tf_fragment(base + "    gain: 2\n")
+    with pytest.raises(InputError, match="improper"):
+        loads_tf_fragment(base.replace("num: [1.0]", "num: [1.0, 0.0, 0.0]"))
+
+
+def _bench():
+    import importlib.util
+
+    path = Path(__file__).parents[1] / "benchmarks" / "frf_fit.py"
+    spec = importlib.util.spec_from_file_location("bench_frf_fit", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_benchmark_against_vector_fitting_runs_or_skips(capsys, monkeypatch, tmp_path):
+    """The comparison prints both errors of both fitters side by side; without scikit-rf
+    it says how to install it and ends cleanly."""
+    bench = _bench()
+    pytest.importorskip("skrf")
+    assert bench.main(["--poles", "4", "--file", str(tmp_path / "none.xml"), "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert {r["fitter"] for r in rows} == {"tcpmm", "skrf VF"}
+    assert all(r["total_rel"] < 0.2 and r["median_rel"] < 0.2 for r in rows)
+    monkeypatch.setitem(__import__("sys").modules, "skrf", None)
+    assert bench.main([]) == 0
+    assert "pip install" in capsys.readouterr().out

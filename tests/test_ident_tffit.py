@@ -108,8 +108,8 @@ def test_integrator_is_factored_out():
     f_low = np.array([0.01, 0.001])
     np.testing.assert_allclose(np.abs(fit.freqresp(f_low)) * 2 * np.pi * f_low, 600.0, rtol=0.01)
     np.testing.assert_allclose(fit.natural_freq_hz, [85.0], rtol=0.01)
-    # ignoring the integrator (same number of parameters) fits much worse
-    bad = fit_tf((f, noisy(H_true, 0.01, 3)), 3, 2)
+    # ignoring the integrator (same number of parameters, proper) fits much worse
+    bad = fit_tf((f, noisy(H_true, 0.01, 3)), 1, 3)
     assert bad.rel_error > 5 * fit.rel_error
 
 

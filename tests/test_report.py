@@ -130,9 +130,16 @@ def test_every_image_is_embedded_and_nothing_points_outside(full):
 
 
 def test_sections_and_diagnostics_of_all_inputs(full):
+    """In the order a customer reads them: the verdict on the circle, the circle, the
+    prediction, the spread, the identification, the model."""
     text, page = full
-    assert sorted(page.sections) == sorted(ALL)
+    assert page.sections == ["verdict", "circle", "comparison", "spread", "identification",
+                             "model"]
     assert "Diagnostics (TCP)" in text  # the run holds a CCW and a CW circle
+
+
+#: Sections of a report of one input: a circle opens with its verdict.
+SHOWN = {"circle": ["verdict", "circle"], "comparison": ["verdict", "circle", "comparison"]}
 
 
 @pytest.mark.parametrize("given", sorted(ALL))
@@ -140,7 +147,42 @@ def test_a_section_is_there_exactly_when_its_input_is(capsys, tmp_path, inputs, 
     _, opts = inputs
     code, text, err = report(capsys, tmp_path, *opts[given])
     assert code == 0, err
-    assert Page(text).sections == [given]
+    assert Page(text).sections == SHOWN.get(given, [given])
+
+
+def _verdict(text):
+    """Text of the verdict section, tags dropped [-]."""
+    import re
+
+    part = text[text.index('data-section="verdict"'):]
+    part = part[:part.index("</section>")]
+    return " ".join(re.sub(r"<[^>]+>", " ", part).split())
+
+
+@pytest.mark.parametrize(("tolerance", "verdict"), [(None, "No tolerance was given"),
+                                                    (50.0, "PASS"), (3.0, "FAIL")])
+def test_the_page_opens_with_the_circle_verdict(capsys, tmp_path, inputs, tolerance, verdict):
+    """The measured circle has G of about 4 µm (an ellipse of ±2 µm): within 50 µm,
+    beyond 3 µm; without a tolerance its ISO 230-4 deviations are given, unjudged. Test
+    conditions and the error sources ranked follow; scale mismatch leads them."""
+    _, opts = inputs
+    extra = [] if tolerance is None else ["--tolerance-um", tolerance]
+    code, text, err = report(capsys, tmp_path, *opts["comparison"], *extra)
+    assert code == 0, err
+    page = Page(text)
+    assert page.sections[0] == "verdict"
+    v = _verdict(text)
+    assert verdict in v and "G(b), both directions" in v
+    for fact in ("radius", "feed", "plane XY", "direction CCW then CW", "sample rate",
+                 "Hz", "sensor TCP", "run measured.csv"):
+        assert fact in v, fact
+    if tolerance is not None:
+        cls = "pass" if verdict == "PASS" else "fail"
+        assert f'<p class="{cls}">' in text
+    sources = next(t for t in page.tables if t["csv"] == "error_sources.csv")["rows"]
+    assert sources[0][:2] == ["rank", "source"] and sources[1][1] == "scale mismatch"
+    sizes = [float(r[2]) for r in sources[1:]]
+    assert sizes == sorted(sizes, reverse=True)
 
 
 def test_csv_downloads_hold_the_tables(full):
@@ -243,7 +285,7 @@ def test_a_ccw_and_a_cw_run_are_diagnosed_together(capsys, tmp_path):
                              "--run", tmp_path / "ccw.csv", "--radius", R * 1e3)
     assert code == 0, err
     page = Page(text)
-    assert page.sections == ["circle", "circle"]
+    assert page.sections == ["verdict", "circle", "circle"]
     assert text.count("Diagnostics (TCP)") == 1 and "run ccw.csv and cw.csv." in text
     scale = next(t for t in page.tables if t["csv"] == "circle_1_diagnostics.csv")["rows"]
     row = next(r for r in scale if r[0] == "scale mismatch")  # 2 um cos 2a = m R/2 cos 2a

@@ -91,3 +91,48 @@ def test_result_shares_the_protocol(vmc, tmp_path):
     fig = res.plot(path=tmp_path / "t.png")
     assert fig.axes and (tmp_path / "t.png").stat().st_size > 0
     assert tcpmm.tune_servos is tune_and_predict
+
+
+def test_every_changed_setting_says_why_and_what_limits_it(capsys):
+    """On the built-in machine the proposal lowers K_pp from 40 1/s and raises K_vp until
+    the velocity loop crosses over far above the 0.0005-damped torsion mode near 729 Hz
+    (X): each change names its limit, the crossover above the mode is a warning, and the
+    feedforward choice, one for all axes, is printed once."""
+    assert main(["tune", "builtin:vmc"]) == 0
+    text = capsys.readouterr().out
+    assert text.count("feedforward k_ff") == 1
+    assert main(["tune", "builtin:vmc", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert len(data["notes"]) == 1 and data["notes"][0].startswith("feedforward")
+    lead = []
+    for n, a in data["axes"].items():
+        notes = {note.split(" ")[0]: note for note in a["notes"]}
+        assert a["after"]["K_pp"] < a["before"]["K_pp"]
+        for key in ("K_vp", "K_vi", "K_pp"):
+            assert key in notes, (n, a["notes"])
+        assert "velocity loop's gain margin" in notes["K_vp"]
+        assert "common position gain" in notes["K_pp"]
+        assert "position loop's gain margin" in notes["K_pp"]
+        lead.append("set by this axis" in notes["K_pp"])
+        fc = a["margins_after"]["velocity"]["gain_crossover_hz"]
+        assert fc > 1000
+        assert any(f"crosses over at {fc:.0f} Hz" in w and "damping" in w
+                   for w in a["warnings"]), a["warnings"]
+        assert f"crosses over at {fc:.0f} Hz" in text
+    assert sum(lead) == 1
+    assert "above the 729 Hz mode" in " ".join(data["axes"]["X"]["warnings"])
+
+
+def test_warning_only_when_the_crossover_lies_above_a_light_mode(vmc):
+    """The 729 Hz mode of X (damping 0.0005): a last crossover at 500 Hz leaves it out of
+    the loop's margins, one at 800 Hz rests on it. (The built-in gains already lift its
+    peak of 1/(2 zeta) = 60 dB above 1: the crossover is at 915 Hz.)"""
+    from tcpmm.servo.margins import LoopMargins
+    from tcpmm.servo.tune import light_mode_warnings
+
+    mech = vmc.axes["X"].mechanics
+    at = lambda fc: {"velocity": LoopMargins(8.0, 60.0, fc, 4000.0, 80.0)}  # noqa: E731
+    assert light_mode_warnings(mech, at(500.0)) == []
+    (w,) = light_mode_warnings(mech, at(800.0))
+    assert "729 Hz mode" in w and "800 Hz" in w
+    assert light_mode_warnings(mech, axis_margins(mech, vmc.axes["X"].servo))

@@ -9,7 +9,7 @@ The public API, by step of the work (each name is imported on first use, so that
 
     model      load_model, save_model, builtin_machine
     measure    design_excitation, read_bundle, virtual_bundle, virtual_run
-    identify   identify, read_frf, fit_frf
+    identify   identify, read_frf, fit_frf, read_tf_fragment
     predict    program_to_command, circle_command, paper_circle_command, read_command,
                simulate
     analyse    read_run, analyse_circle, circle_diagnostics, compare, contour_error
@@ -48,6 +48,7 @@ _API = {
     "identify": "tcpmm.api:identify",
     "read_frf": "tcpmm.io.frffile:read_frf",
     "fit_frf": "tcpmm.ident.lti.frffit:fit_frf",
+    "read_tf_fragment": "tcpmm.io.tffragment:read_tf_fragment",
     "program_to_command": "tcpmm.path.program:program_to_command",
     "circle_command": "tcpmm.path.circle:circle_command",
     "paper_circle_command": "tcpmm.demo:paper_circle_command",

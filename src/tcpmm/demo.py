@@ -56,7 +56,7 @@ DEMO_STEPS = ("built-in machine", "circle command", "simulation", "circular test
               "plots", "virtual measurement", "identification", "prediction", "spread")
 
 
-def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
+def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None) -> dict:
     """The paper end to end on the built-in machine, and everything written.
 
     Simulates the circular test (Figs. 11-12, Bode plots of Figs. 8-10), then measures
@@ -75,7 +75,10 @@ def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
     console : rich.console.Console, optional
         Where to print the table [-].
     report : str or Path, optional
-        HTML report to write besides (:mod:`tcpmm.report`) [-].
+        The HTML report (:mod:`tcpmm.report`); default ``report.html`` in ``out_dir`` [-].
+    tolerance_m : float, optional
+        Largest circular deviation the report's verdict accepts; without it the report
+        gives the ISO 230-4 deviations unjudged [m].
 
     Returns
     -------
@@ -131,8 +134,9 @@ def run_demo(out_dir, progress=None, console=None, report=None) -> dict:
     spread = write_spread(identified, cmd, out, files)
     if console is not None:
         console.print(spread_summary(spread))
-    if report is not None:
-        files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out)
+    report = out / "report.html" if report is None else report
+    files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out,
+                                        tolerance_m)
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
             "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
@@ -176,9 +180,12 @@ def identify_and_predict(machine, cmd, out, step, files):
     return cmp, idn.machine, (rm, rp)
 
 
-def write_demo_report(path, machine, res, cmp, circles, spread, out):
-    """The demo's HTML report: the model, its identification, the circle with its
-    diagnostics, Table 2 and the spread."""
+def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m=None):
+    """The demo's HTML report, in the order a customer reads it: the verdict on the
+    measured circle (conditions, pass or fail against ``tolerance_m`` [m], ranked error
+    sources) with its diagnostics, the prediction against it and its spread, the
+    identification, then the model and its own circle."""
+    from .io.runfile import read_run
     from .report import (
         circle_test_section,
         comparison_section,
@@ -186,20 +193,23 @@ def write_demo_report(path, machine, res, cmp, circles, spread, out):
         model_section,
         read_identification_folder,
         spread_section,
+        verdict_sections,
         write_report,
     )
 
-    sections = [model_section(machine, out / "model.yaml"),
-                identification_section(*read_identification_folder(out / "identification")),
-                circle_test_section(res, "circle", "Circular test of the built-in machine "
-                                    f"(R{RADIUS_MM:g} mm, F{FEED_MM_PER_MIN:g} mm/min)",
-                                    out / "run.csv"),
-                circle_test_section(circles[0], "circle-measured",
-                                    "Circular test, virtual measurement",
-                                    out / "measured_run.csv"),
+    t = read_run(out / "measured_run.csv").time_s
+    rate = 1.0 / float(np.median(np.diff(t))) if t.size > 1 else None
+    sections = [*verdict_sections(circles[0], "circle-measured",
+                                  "Circular test, virtual measurement",
+                                  out / "measured_run.csv", tolerance_m, rate),
                 comparison_section(cmp, *circles, (out / "measured_run.csv",
                                                     out / "predicted_run.csv")),
-                spread_section(spread)]
+                spread_section(spread),
+                identification_section(*read_identification_folder(out / "identification")),
+                model_section(machine, out / "model.yaml"),
+                circle_test_section(res, "circle", "Circular test of the built-in machine "
+                                    f"(R{RADIUS_MM:g} mm, F{FEED_MM_PER_MIN:g} mm/min)",
+                                    out / "run.csv")]
     return write_report(path, sections, "tcpmm demo: the paper's circular test",
                         [("model", out / "model.yaml"), ("bundle", out / "bundle")])
 

@@ -7,7 +7,7 @@ or an NC program with the model as given and as tuned.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -36,17 +36,21 @@ class TuneResult:
     path_before, path_after : dict
         Predicted path figures: per pass (circle) or for the program, the largest spike
         and the contour error of the TCP [um].
+    notes : list of str
+        What was decided for all axes at once (the feedforward) and why [-].
     """
 
     tuned: Machine
     axes: dict
     path_before: dict
     path_after: dict
+    notes: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """JSON-ready summary."""
         return {"axes": {k: v.to_dict() for k, v in self.axes.items()},
-                "path_before_um": self.path_before, "path_after_um": self.path_after}
+                "path_before_um": self.path_before, "path_after_um": self.path_after,
+                "notes": list(self.notes)}
 
     def to_pandas(self):
         """Table: per axis, gains, margins and bandwidths before and after (SI gains;
@@ -157,13 +161,18 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     tuned = machine.model_copy(update={"axes": {
         n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
     tuned, after = _best_feedforward(tuned, axes, cmd, circle)
-    what = "largest contour error" if circle else "RMS deviation"
-    axes = {n: replace(t, after=tuned.axes[n].servo, notes=[
-        *t.notes, f"feedforward k_ff = {tuned.axes[n].servo.k_ff:g}: the smallest {what} "
-        f"of the path ({_worst(after):.2f} um) over k_ff = "
-        f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)}"]) if t.met else t
-        for n, t in axes.items()}
-    return TuneResult(tuned, axes, path_figures(machine, cmd, circle), after)
+    axes = {n: replace(t, after=tuned.axes[n].servo) if t.met else t for n, t in axes.items()}
+    notes = []
+    met = [n for n, t in axes.items() if t.met]
+    if met:
+        # one fraction for all tuned axes: the note belongs to the machine, not to each axis
+        what = "largest contour error of the circle passes" if circle else \
+            "RMS deviation from the program's path"
+        k_ff = tuned.axes[met[0]].servo.k_ff
+        notes.append(f"feedforward k_ff = {k_ff:g} on axes {', '.join(met)}: of k_ff = "
+                     f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} it gives the smallest "
+                     f"{what} ({_worst(after):.2f} um); it does not change the margins")
+    return TuneResult(tuned, axes, path_figures(machine, cmd, circle), after, notes)
 
 
 def _worst(figures: dict) -> float:

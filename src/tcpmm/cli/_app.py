@@ -144,7 +144,7 @@ def _output(output: Path, *inputs) -> Path:
     written or made; the folder is made when the output is written."""
     from ..io.atomic import output_file
 
-    target = output_file(output, create=False)
+    target = output_file(output)
     for i in inputs:
         if i is not None and Path(i).exists() and Path(i).resolve() == target.resolve():
             raise typer.BadParameter(f"{output} is also an input; write the output elsewhere")

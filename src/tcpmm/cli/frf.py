@@ -119,6 +119,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
     from ..ident.lti import DAMPING_FLOOR, fit_frf
     from ..io.atomic import write_text_atomic
     from ..io.frffile import read_frf
+    from ..io.tffragment import dumps_tf_fragment
 
     n = _poles(poles)
     tau = _delay(delay)
@@ -134,7 +135,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
     if output is not None:
         write_text_atomic(output, json.dumps(d, indent=1) + "\n")
     if fragment is not None:
-        write_text_atomic(fragment, fragment_text(res, file))
+        write_text_atomic(fragment, dumps_tf_fragment(res, file))
     if plot is not None:
         res.plot(path=plot, frf=frf)
     if as_json:
@@ -163,20 +164,3 @@ def _print_fit(res, file) -> None:
     out.print(t)
     for note in res.notes:
         out.print(f"note: {_esc(note)}")
-
-
-def fragment_text(res, file) -> str:
-    """A model-file fragment (YAML) holding the fitted transfer function."""
-    import yaml
-
-    d = res.to_dict()
-    key = "".join(c if c.isalnum() else "_" for c in (res.name or "response")).strip("_")
-    body = {"format": "tcpmm-tf/1", "transfer_functions": {key or "response": {
-        "source": str(file), "input": d["input"], "output": d["output"], "unit": d["unit"],
-        "num": d["num"], "den": d["den"], "delay": d["delay_s"], "poles": d["poles"],
-        "zeros": d["zeros"], "band_hz": d["band_hz"], "rel_rms": d["quality"]["rel_rms"]}}}
-    head = ("# tcpmm transfer-function fragment (tcpmm-tf/1), fitted by tcpmm frf fit.\n"
-            "# SI units: H(s) = num(s) / den(s) * exp(-s delay), coefficients highest power\n"
-            "# of s first [s^k]; delay [s]; poles and zeros [rad/s] as [real, imaginary];\n"
-            "# band_hz [Hz]; rel_rms: relative RMS residual over the band [-].\n")
-    return head + yaml.safe_dump(body, sort_keys=False, default_flow_style=None)

@@ -158,7 +158,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     (cause) or undetermined (cause), with the measurement that would settle it.
     """
     from ..ident.chain import identify_bundle
-    from ..io.atomic import output_folder
+    from ..io.atomic import check_output_folder
     from ..io.bundle import read_bundle
     from ..io.modelfile import write_machine
 
@@ -167,7 +167,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     if html:
         _report_file(report, bundle, output)
     elif report is not None:
-        output_folder(report, create=False)
+        check_output_folder(report)
     f0, f1 = _band(band, "--band")
     b = read_bundle(bundle)
     presliding = None if presliding_um is None else presliding_um * 1e-6

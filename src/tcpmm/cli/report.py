@@ -31,10 +31,16 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
            spread: Path = typer.Option(None, "--spread", help="SPREAD.json: tcpmm spread "
                                        "--json > SPREAD.json, or the demo's spread.json."),
-           title: str = typer.Option("Commissioning report", "--title", help="Page title.")):
-    """One self-contained HTML file: model, identification, circular tests with their
-    diagnostics, measured - predicted (Table 2) and spread; a section for each input given.
-    It opens with no network; every table downloads as CSV from the page."""
+           title: str = typer.Option("Commissioning report", "--title", help="Page title."),
+           tolerance_um: float = typer.Option(
+               None, "--tolerance-um", help="Largest circular deviation G accepted [µm]: the "
+                                            "verdict on the first circle is PASS or FAIL "
+                                            "against it; without it G is given unjudged.")):
+    """One self-contained HTML file, in the order a customer reads it: the verdict on the
+    first circle (test conditions, pass or fail, error sources ranked), the circular tests
+    with their diagnostics, measured - predicted (Table 2), spread, identification, model;
+    a section for each input given. It opens with no network; every table downloads as CSV
+    from the page."""
     from ..report import (
         identification_section,
         model_section,
@@ -58,57 +64,76 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     if not (model or ident_dir or runs or measured or spread):
         raise typer.BadParameter("nothing to report: give --model, --ident-dir, --run, "
                                  "--measured/--predicted or --spread")
+    tol = None if tolerance_um is None else _positive(tolerance_um, "--tolerance-um") * 1e-6
     sections, inputs = [], []
-    if model is not None:
-        sections.append(model_section(_read_model(model), model))
-        inputs.append(("model", model))
-    if ident_dir is not None:
-        sections.append(identification_section(*read_identification_folder(ident_dir)))
-        inputs.append(("identification", ident_dir))
     if runs or measured:
         c = _floats(centre, "--centre", 2)
         circle = (_positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
-        sections += _run_sections(runs, circle)
-        sections += [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
-                                 f"comparison-{i + 1}")
-                     for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
+        comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
+                                   f"comparison-{i + 1}", not runs and i == 0, tol)
+                       for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
+        sections += _run_sections(runs, circle, tol)
+        sections += [s for group in comparisons for s in group]
         inputs += [("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
     if spread is not None:
         sections.append(spread_section(read_spread_json(spread)))
         inputs.append(("spread", spread))
+    if ident_dir is not None:
+        sections.append(identification_section(*read_identification_folder(ident_dir)))
+        inputs.append(("identification", ident_dir))
+    if model is not None:
+        sections.append(model_section(_read_model(model), model))
+        inputs.append(("model", model))
     write_report(output, sections, title, inputs)
     out.print(f"wrote {output} ({', '.join(t for _, t, _ in sections)})")
 
 
 def _circle(path: Path, circle):
-    """The circular test of one run file."""
+    """The circular test of one run file and the run's sample rate [-, Hz]."""
+    import numpy as np
+
     from ..analysis.circular import analyse_circle
     from ..io.runfile import read_run
 
     run = read_run(path)
     with _in_file(path):
-        return analyse_circle(run, *circle)
+        res = analyse_circle(run, *circle)
+    dt = np.diff(run.time_s)
+    return res, (1.0 / float(np.median(dt)) if dt.size else None)
 
 
-def _run_sections(runs, circle) -> list:
-    """A circle section per run or pair of runs; keys numbered when there are several."""
+def _run_sections(runs, circle, tolerance_m) -> list:
+    """A circle section per run or pair of runs, keys numbered when there are several;
+    the first opens with the verdict."""
     from ..analysis.circular import CircleResult
-    from ..report import circle_test_section
+    from ..report import circle_test_section, verdict_sections
 
     sections = []
     for i, files in enumerate(runs):
-        res = [_circle(f, circle) for f in files]
-        both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes])
-        sections.append(circle_test_section(
-            both, "circle" if len(runs) == 1 else f"circle-{i + 1}",
-            f"Circular test: {' and '.join(f.name for f in files)}", files))
+        got = [_circle(f, circle) for f in files]
+        res = [r for r, _ in got]
+        both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes],
+                            res[0].plane)
+        key = "circle" if len(runs) == 1 else f"circle-{i + 1}"
+        title = f"Circular test: {' and '.join(f.name for f in files)}"
+        if i == 0:
+            sections += verdict_sections(both, key, title, files, tolerance_m, got[0][1])
+        else:
+            sections.append(circle_test_section(both, key, title, files))
     return sections
 
 
-def _comparison(measured: Path, predicted: Path, circle, key: str):
-    """Measured minus predicted of one pair of runs."""
+def _comparison(measured: Path, predicted: Path, circle, key: str, verdict: bool,
+                tolerance_m=None):
+    """Measured minus predicted of one pair of runs; with ``verdict`` (no --run given) the
+    measured circle opens the page with its verdict (``tolerance_m`` [m])."""
     from ..analysis.compare import compare_circles
-    from ..report import comparison_section
+    from ..report import comparison_section, verdict_sections
 
-    rm, rp = _circle(measured, circle), _circle(predicted, circle)
-    return comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)
+    (rm, rate), (rp, _) = _circle(measured, circle), _circle(predicted, circle)
+    cmp = comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)
+    if not verdict:
+        return [cmp]
+    head = verdict_sections(rm, "circle-measured", f"Circular test: {measured.name}",
+                            measured, tolerance_m, rate)
+    return [*head, cmp]

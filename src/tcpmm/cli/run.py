@@ -29,17 +29,25 @@ from ._plane import PLANE_HELP, plane_option, run_plane_said
 
 @app.command()
 def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder."),
-         report: Path = typer.Option(None, "--report", help="Also write the HTML report "
-                                     "REPORT.html (tcpmm report).")):
+         report: Path = typer.Option(None, "--report", help="The HTML report REPORT.html "
+                                     "(tcpmm report); default report.html in the output "
+                                     "folder."),
+         tolerance_um: float = typer.Option(None, "--tolerance-um", help="Largest circular "
+                                            "deviation G the report's verdict accepts [µm]; "
+                                            "without it G is given unjudged.")):
     """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
     from ..demo import DEMO_STEPS, run_demo
+    from ..io.atomic import check_output_folder
 
+    check_output_folder(out_dir)
     _report_file(report)
+    tol = None if tolerance_um is None else _positive(tolerance_um, "--tolerance-um") * 1e-6
     with _progress(len(DEMO_STEPS), "demo") as adv:
-        res = run_demo(out_dir, progress=adv, console=out, report=report)
+        res = run_demo(out_dir, progress=adv, console=out, report=report, tolerance_m=tol)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
     for k, v in res["files"].items():
-        out.print(f"  {k:12s} {v}")
+        out.print(f"  {k:12s} {Path(v).resolve()}")
+    out.print(f"report: [bold]{Path(res['files']['report']).resolve()}[/bold]")
 
 
 

@@ -90,6 +90,10 @@ def _print_result(res, gm, pm) -> None:
         out.print(tab)
         for note in t.notes:
             out.print(f"  {_esc(note)}")
+        for warning in t.warnings:
+            out.print(f"  [yellow]warning:[/yellow] {_esc(warning)}")
+    for note in res.notes:
+        out.print(_esc(note))
     tab = Table(title=_esc("predicted path (TCP) [um]"))
     for c in ("", "before", "after"):
         tab.add_column(c, justify="right")

@@ -16,16 +16,16 @@ from pathlib import Path
 from ..errors import InputError
 
 
-def output_folder(path, create: bool = True) -> Path:
-    """Create the folder ``path`` (and its parents) for outputs; refuse what cannot be one.
+def check_output_folder(path) -> Path:
+    """Check that the folder ``path`` is or can be made an output folder, creating nothing.
+
+    A command checks its outputs before any work and creates their folders only when it
+    writes into them: one that fails on its input leaves no empty folder behind.
 
     Parameters
     ----------
     path : str or Path
         Folder [-].
-    create : bool
-        Create it; else only check, before any work, that it is or can be made, so that
-        a command refused later leaves no empty folders behind [-].
 
     Returns
     -------
@@ -37,9 +37,27 @@ def output_folder(path, create: bool = True) -> Path:
         if p.exists() and not p.is_dir():
             raise InputError(f"is a file, so the output folder {path} cannot be made; "
                              "choose another folder", file=p)
-    if not create:
-        _check_writable(path)
-        return path
+    base = next((p for p in (path, *path.parents) if p.exists()), Path("."))
+    if not os.access(base, os.W_OK | os.X_OK):
+        raise InputError(f"cannot write into {base}, so the output folder {path} cannot be "
+                         "made there; choose a folder you can write to", file=path)
+    return path
+
+
+def output_folder(path) -> Path:
+    """Create the folder ``path`` (and its parents) for outputs; refuse what cannot be one.
+
+    Parameters
+    ----------
+    path : str or Path
+        Folder [-].
+
+    Returns
+    -------
+    Path
+        The folder [-].
+    """
+    path = check_output_folder(path)
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -47,28 +65,16 @@ def output_folder(path, create: bool = True) -> Path:
     return path
 
 
-def _check_writable(path: Path) -> None:
-    """Refuse a folder that cannot be written or made: the nearest one that exists must
-    take new entries."""
-    there = next((p for p in (path, *path.parents) if p.exists()), Path("."))
-    if not os.access(there, os.W_OK | os.X_OK):
-        what = "write in" if there == path else "create the output folder in"
-        raise InputError(f"cannot {what} this folder (Permission denied); choose a folder "
-                         "you can write to", file=there)
-
-
-def output_file(path, create: bool = True) -> Path:
+def output_file(path) -> Path:
     """The file an output goes to: ``path``, or the target of a symbolic link there.
 
-    Its folder is created (with ``create``, else only checked); a folder at ``path`` or a
-    file among its parents is an error.
+    Its folder is checked, not created (:func:`atomic_path` creates it when writing); a
+    folder at ``path`` or a file among its parents is an error.
 
     Parameters
     ----------
     path : str or Path
         Output file [-].
-    create : bool
-        Create its folder; else only check that it is or can be made [-].
 
     Returns
     -------
@@ -82,7 +88,7 @@ def output_file(path, create: bool = True) -> Path:
         path = Path(os.path.realpath(path))
     if path.is_dir():
         raise InputError("is a folder; give the output a file name", file=path)
-    output_folder(path.parent, create)
+    check_output_folder(path.parent)
     return path
 
 
@@ -104,6 +110,7 @@ def atomic_path(path, suffix: str = ""):
         Suffix of the temporary file (some writers infer the format from it) [-].
     """
     path = output_file(path)
+    output_folder(path.parent)
     mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()
     try:
         fd, tmp = tempfile.mkstemp(

@@ -19,6 +19,7 @@ from .text import read_text
 FORMATS = {
     "tcpmm-model/1": ("machine model", "give it where a model file is expected"),
     "tcpmm-bundle/1": ("measurement-bundle description", "run `tcpmm identify` on its folder"),
+    "tcpmm-tf/1": ("transfer-function fragment", "read it with tcpmm.read_tf_fragment"),
 }
 
 

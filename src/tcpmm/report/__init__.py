@@ -12,6 +12,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import InputError, InputWarning
+from .acceptance import acceptance_section
 from .circles import circle_section, comparison_section, result_section, spread_section
 from .html import page
 from .machine import (
@@ -21,10 +22,10 @@ from .machine import (
     read_identification_folder,
 )
 
-__all__ = ["circle_section", "circle_test_section", "comparison_section", "contour_section",
-           "identification_result_section", "identification_section", "model_section",
-           "read_identification_folder", "report_file", "result_section", "spread_section",
-           "write_report"]
+__all__ = ["acceptance_section", "circle_section", "circle_test_section", "comparison_section",
+           "contour_section", "identification_result_section", "identification_section",
+           "model_section", "read_identification_folder", "report_file", "result_section",
+           "spread_section", "verdict_sections", "write_report"]
 
 
 def report_file(path) -> Path:
@@ -82,16 +83,50 @@ def circle_test_section(result, key: str = "circle", title: str = "Circular test
     sensor : str, optional
         Sensor of the diagnostics; default tcp, else scale, motor [-].
     """
+    diag = _diagnostics(result, title, sensor)
+    return circle_section(result, key, title, diagnostics=diag, source=source)
+
+
+def verdict_sections(result, key: str = "circle", title: str = "Circular test", source=None,
+                     tolerance_m=None, sample_rate_hz=None):
+    """The circle verdict (:func:`~tcpmm.report.acceptance.acceptance_section`), to open
+    the page, and the circular test with its diagnostics.
+
+    Parameters
+    ----------
+    result : CircleResult
+        The circular test judged [-].
+    key, title : str
+        Anchor and title of the circular-test section [-].
+    source : str or list of str, optional
+        The run file or files [-].
+    tolerance_m : float, optional
+        Largest circular deviation accepted [m].
+    sample_rate_hz : float, optional
+        Sample rate of the run [Hz].
+
+    Returns
+    -------
+    list of tuple
+        The two sections [-].
+    """
+    diag = _diagnostics(result, title, None)
+    return [acceptance_section(result, diag, tolerance_m, sample_rate_hz, source),
+            circle_section(result, key, title, diagnostics=diag, source=source)]
+
+
+def _diagnostics(result, title, sensor):
+    """Diagnostics of a CCW and a CW circle, or None (with a warning when they fail)."""
     from ..analysis.diagnostics import circle_diagnostics
 
-    diag = None
-    if {p.direction for p in result.passes} == {"ccw", "cw"}:
-        try:
-            diag = circle_diagnostics(result, sensor=sensor)
-        except InputError as exc:
-            warnings.warn(InputWarning(f"{title}: no circle diagnostics in the report: "
-                                       f"{exc.message}"), stacklevel=2)
-    return circle_section(result, key, title, diagnostics=diag, source=source)
+    if {p.direction for p in result.passes} != {"ccw", "cw"}:
+        return None
+    try:
+        return circle_diagnostics(result, sensor=sensor)
+    except InputError as exc:
+        warnings.warn(InputWarning(f"{title}: no circle diagnostics in the report: "
+                                   f"{exc.message}"), stacklevel=3)
+    return None
 
 
 def contour_section(result, title: str = "Contour error of the program run"):

@@ -33,6 +33,11 @@ h2 { font-size: 20px; margin: 10px 0 6px; color: var(--accent); }
 h3 { font-size: 15px; margin: 18px 0 6px; }
 p.note, p.lead { color: var(--muted); font-size: 13px; margin: 4px 0 8px; max-width: 900px; }
 p.warn { color: var(--warn); font-size: 13px; margin: 4px 0; }
+p.pass, p.fail, p.open { font-size: 20px; font-weight: 600; margin: 8px 0; padding: 8px 14px;
+                         border-left: 6px solid; max-width: 900px; }
+p.pass { color: #1e6b33; border-color: #2e8b47; background: #eef8f0; }
+p.fail { color: #9b1c1c; border-color: #c53030; background: #fcefef; }
+p.open { color: var(--ink); border-color: var(--accent); background: var(--band); }
 table { border-collapse: collapse; font-size: 13px; margin: 6px 0 2px;
         font-variant-numeric: tabular-nums; }
 th, td { border-bottom: 1px solid var(--line); padding: 3px 10px; }
@@ -155,7 +160,8 @@ def facts(items) -> str:
 
 
 def para(text: str, kind: str = "note") -> str:
-    """A paragraph of class ``kind`` (note, lead or warn) [-]."""
+    """A paragraph of class ``kind`` (note, lead, warn; pass, fail or open for a
+    verdict) [-]."""
     return f'<p class="{kind}">{esc(text)}</p>'
 
 

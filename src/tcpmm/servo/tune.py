@@ -18,6 +18,13 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
    value depends on friction and the path, so :func:`tcpmm.tuning.tune_and_predict`
    chooses it by simulating the path.
 
+Every changed setting gets a note saying why it changed and what limits it: the margin
+(and its crossover frequency) that fails just above a gain, the quarter of the velocity
+bandwidth, or the axis whose position loop sets the common ``K_pp``. A loop whose last
+gain crossover lies above a plant mode of damping below :data:`LIGHT_ZETA` gets a
+warning: its margins there rest on that mode's frequency and damping, which an
+identified model rarely has right.
+
 A proposal is checked once more at the end: both loops meet the margins and the
 spectral radius of the sampled closed loop is below 1; an axis for which no gain meets
 the margins keeps its settings and is reported as not met.
@@ -41,6 +48,8 @@ from .sampled import sampled_spectral_radius
 _STEP, _RESOLUTION = 1.25, 0.005
 #: Lightly damped modes that notches may target, and how near the limiting crossing [-].
 _NOTCH_ZETA, _NOTCH_NEAR = 0.1, 0.2
+#: A loop crossing over above a mode damped less than this gets a warning [-].
+LIGHT_ZETA = 0.01
 
 
 @dataclass(frozen=True)
@@ -57,6 +66,8 @@ class AxisTuning:
         Whether the proposal meets the required margins [-].
     notes : list of str
         What was decided and why [-].
+    warnings : list of str
+        What in the proposal rests on the model being right where it may not be [-].
     """
 
     before: ServoParams
@@ -65,6 +76,7 @@ class AxisTuning:
     margins_after: dict
     met: bool
     notes: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """JSON-ready summary (SI gains, margins in dB, deg, Hz)."""
@@ -75,7 +87,7 @@ class AxisTuning:
         return {"met": self.met, "before": servo(self.before), "after": servo(self.after),
                 "margins_before": {k: v.to_dict() for k, v in self.margins_before.items()},
                 "margins_after": {k: v.to_dict() for k, v in self.margins_after.items()},
-                "notes": list(self.notes)}
+                "notes": list(self.notes), "warnings": list(self.warnings)}
 
 
 def _with(servo: ServoParams, **changes) -> ServoParams:
@@ -175,13 +187,87 @@ def tune_velocity(mech, servo, gm, pm, notes):
 
 def tune_position(mech, servo, gm, pm):
     """Largest position gain meeting the margins, at most a quarter of the velocity-loop
-    bandwidth [1/s]; ``None`` if none."""
+    bandwidth, and what limits it; ``(None, reason)`` if none [1/s, -]."""
     bw = velocity_margins(mech, servo).bandwidth_hz
     cap = 2 * math.pi * bw / 4 if np.isfinite(bw) else math.inf
 
     def ok(k):
         return position_margins(mech, _with(servo, K_pp=k)).meets(gm, pm)
-    return _largest(ok, servo.K_pp, cap)
+    k = _largest(ok, servo.K_pp, cap)
+    if k is None:
+        return None, "no position gain meets the margins"
+    if k >= cap * (1 - _RESOLUTION):
+        return k, f"a quarter of the velocity-loop bandwidth ({bw:.1f} Hz)"
+    return k, "the position loop's " + _limit(
+        lambda g: position_margins(mech, _with(servo, K_pp=g)), None, k, gm, pm)
+
+
+def _limit(margins, radius, k, gm, pm) -> str:
+    """What fails just above the gain ``k``: the gain or phase margin (with its value at
+    ``k`` and crossover) or the stability of the sampled loop [-]."""
+    m, above = margins(k), margins(k * (1 + 3 * _RESOLUTION))
+    if above.gain_margin_db < gm:
+        return (f"gain margin ({m.gain_margin_db:.1f} dB at its phase crossover "
+                f"{m.phase_crossover_hz:.0f} Hz)")
+    if above.phase_margin_deg < pm:
+        return (f"phase margin ({m.phase_margin_deg:.1f} deg at its gain crossover "
+                f"{m.gain_crossover_hz:.0f} Hz)")
+    if radius is not None and radius(k * (1 + 3 * _RESOLUTION)) >= 1:
+        return "stability of the sampled loop (spectral radius reaching 1)"
+    return (f"margins ({m.gain_margin_db:.1f} dB, {m.phase_margin_deg:.1f} deg; the scan "
+            "found no larger gain meeting them)")
+
+
+def _velocity_limit(mech, servo, gm, pm) -> str:
+    """What limits the velocity gain of a proposal (see :func:`_limit`) [-]."""
+    return "the velocity loop's " + _limit(
+        lambda g: velocity_margins(mech, _pi(mech, servo, g)),
+        lambda g: sampled_spectral_radius(mech, _pi(mech, servo, g)), servo.K_vp, gm, pm)
+
+
+def light_mode_warnings(mech, margins: dict) -> list[str]:
+    """Warnings for loops whose last gain crossover lies above a mode of damping below
+    :data:`LIGHT_ZETA`.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        The axis [SI].
+    margins : dict of str to LoopMargins
+        ``velocity`` and ``position`` margins of the settings judged [dB, deg, Hz].
+
+    Returns
+    -------
+    list of str
+        One warning per loop and mode [-].
+    """
+    freqs, zetas = _modes(mech)
+    out = []
+    for loop, m in margins.items():
+        fc = m.gain_crossover_hz
+        for f0, z in sorted(zip(freqs, zetas, strict=True)):
+            if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0:
+                out.append(
+                    f"the {loop} loop crosses over at {fc:.0f} Hz, above the {f0:.0f} Hz mode "
+                    f"of damping {z:.2g}: its margins there rest on that mode's frequency and "
+                    "damping, which the model may have wrong; measure the loop's frequency "
+                    "response on the machine before using these gains, or notch the mode")
+    return out
+
+
+def _gain_notes(before, after, limits) -> list[str]:
+    """A note per changed gain saying why it changed and what limits it [-]."""
+    notes = []
+    if not math.isclose(after.K_vp, before.K_vp, rel_tol=1e-9):
+        notes.append(f"K_vp {before.K_vp:.4g} -> {after.K_vp:.4g} A s/rad: the largest "
+                     f"velocity gain meeting the margins, limited by {limits['K_vp']}")
+    if not math.isclose(after.K_vi, before.K_vi, rel_tol=1e-9):
+        notes.append(f"K_vi {before.K_vi:.4g} -> {after.K_vi:.4g} A/rad: the integral action "
+                     "follows K_vp (PI corner at a quarter of the rigid-body crossover "
+                     "K_vp K_tc / J)")
+    if not math.isclose(after.K_pp, before.K_pp, rel_tol=1e-9):
+        notes.append(f"K_pp {before.K_pp:.4g} -> {after.K_pp:.4g} 1/s: {limits['K_pp']}")
+    return notes
 
 
 def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
@@ -206,12 +292,13 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
         vel[name] = tune_velocity(a.mechanics, a.servo, gm_db, pm_deg, notes[name])
     kpp = {n: tune_position(machine.axes[n].mechanics, s, gm_db, pm_deg)
            for n, s in vel.items() if s is not None}
-    common = min((k for k in kpp.values() if k is not None), default=None)
+    found = {n: kr for n, kr in kpp.items() if kr[0] is not None}
+    lead = min(found, key=lambda n: found[n][0], default=None)
     out = {}
     for name, a in machine.axes.items():
         m, s = a.mechanics, vel[name]
-        if s is not None and common is not None:
-            s = _with(s, K_pp=common)
+        if s is not None and lead is not None:
+            s = _with(s, K_pp=found[lead][0])
         after = s if s is not None else a.servo
         mg_after = axis_margins(m, after)
         met = (s is not None and all(v.meets(gm_db, pm_deg) for v in mg_after.values())
@@ -219,6 +306,19 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
         if s is not None and not met:
             notes[name].append("the combined proposal misses the margins; settings kept")
             after, mg_after = a.servo, axis_margins(m, a.servo)
+        elif met:
+            limits = {"K_vp": _velocity_limit(m, after, gm_db, pm_deg),
+                      "K_pp": _kpp_reason(name, lead, found)}
+            notes[name] = _gain_notes(a.servo, after, limits) + notes[name]
         out[name] = AxisTuning(a.servo, after, axis_margins(m, a.servo), mg_after, met,
-                               notes[name])
+                               notes[name], light_mode_warnings(m, mg_after))
     return out
+
+
+def _kpp_reason(name, lead, found) -> str:
+    """Why an axis has the common position gain [-]."""
+    why = "the common position gain of all axes (equal gains keep a circle round)"
+    if name == lead:
+        return f"{why}, set by this axis: {found[lead][1]}"
+    return f"{why}, set by axis {lead}: {found[lead][1]}; this axis alone would take " \
+           f"{found[name][0]:.4g} 1/s"

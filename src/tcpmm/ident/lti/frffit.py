@@ -15,7 +15,8 @@
   bins). The scan stops once the residual reaches the noise (``chi2 <= 2 N``) or the
   criterion has not improved over :data:`PATIENCE` pole counts.
 * **No needles.** A pole pair less damped than the floor (``damping_floor``, or a
-  half-power bandwidth below the bin spacing) is raised to it and the numerator fitted
+  half-power bandwidth below the spacing of the measured bins, gaps left by the
+  coherence cut not counted) is raised to it and the numerator fitted
   again. Then a pole and a zero (pairs or real) whose joint factor changes the response by
   more than :data:`CANCEL_SIGMA` noise levels at fewer than :data:`SUPPORT_BINS` bins are
   not supported by the data (a resonance needs more than one bin) and are removed, the
@@ -251,8 +252,10 @@ def fit_frf(
                          f"{min_coherence:g}; widen the band or measure again with more "
                          "excitation")
     f, H, sigma = data.freq_hz[keep], data.H[keep], sigma_all[keep]
+    # the damping floor follows the measurement's own bin spacing: the bins left after the
+    # coherence cut have gaps (most often at resonances), which would double it there
     ctx = {"f": f, "H": H, "sigma": sigma, "w": _weights(H, sigma, weighting),
-           "delay": delay_s, "floor": float(damping_floor)}
+           "delay": delay_s, "floor": float(damping_floor), "grid": data.freq_hz}
     if poles == "auto":
         best, cands = _auto(ctx, int(max_poles))
     else:
@@ -283,7 +286,8 @@ def _auto(ctx, max_poles):
     """Candidates by pole count until the noise is reached or the criterion stalls,
     screened on at most about 400 bins; the winner is fitted again on all of them."""
     stride = max(1, int(np.ceil(ctx["f"].size / 400)))
-    sub = {k: (v[::stride] if isinstance(v, np.ndarray) else v) for k, v in ctx.items()}
+    sub = {k: (v[::stride] if isinstance(v, np.ndarray) and k != "grid" else v)
+           for k, v in ctx.items()}
     cands, best_bic, stall = [], np.inf, 0
     for n in range(1, max_poles + 1):
         tries = [_candidate(sub, nn, n) for nn in (n - 1, n)]
@@ -311,7 +315,7 @@ def _candidate(ctx, n_num, n_den):
         fit = fit_tf((f, H, w), n_num, n_den, delay_s=ctx["delay"], max_nfev=100)
     except InputError:
         return None
-    fit, notes = _clean(fit, sigma, ctx["floor"])
+    fit, notes = _clean(fit, sigma, ctx["floor"], ctx["grid"])
     e2 = np.abs(fit.freqresp(f) / H - 1) ** 2
     chi2 = float(np.sum(e2 / sigma**2))
     m = 2 * f.size
@@ -346,13 +350,14 @@ def _factor_deviation(x, p, z, sigma):
     return float(dev[min(SUPPORT_BINS, dev.size) - 1])
 
 
-def _clean(fit: TFFit, sigma, floor):
-    """Raise damping to the floor, then remove the pole-zero pairs the data do not support;
+def _clean(fit: TFFit, sigma, floor, grid):
+    """Raise damping to the floor (``floor`` [-], or the spacing of the measurement's
+    frequency grid ``grid`` [Hz]), then remove the pole-zero pairs the data do not support;
     the numerator is fitted again after each change."""
     f, omega0 = fit.freq_hz, fit.omega0
     x = 2j * np.pi * f / omega0
     notes = []
-    pn = _floor(fit.pn, f, omega0, floor, notes)
+    pn = _floor(fit.pn, grid, omega0, floor, notes)
     if notes:
         fit = _refit_numerator(fit, pn, fit.n_num)
     while fit.n_num > 0 and fit.pn.size > 0:
@@ -371,7 +376,8 @@ def _clean(fit: TFFit, sigma, floor):
 
 
 def _floor(pn, f, omega0, floor, notes):
-    """Poles with every pair damped at least by the floor or by the bin spacing."""
+    """Poles with every pair damped at least by the floor or by the bin spacing of the
+    frequency grid ``f`` [Hz] (a half-power bandwidth below one bin is not measured)."""
     pn = pn.copy()
     df = np.gradient(f) if f.size > 1 else np.zeros(1)
     for i, p in enumerate(pn):

@@ -179,13 +179,15 @@ class TFFit:
         m = 2 * self.freq_hz.size
         return m * np.log(self.cost / m) + self.n_params * np.log(m)
 
-    def to_control(self, pade_order: int = 0):
-        """The fit as a :class:`control.TransferFunction`.
+    def to_control(self, pade_order="auto"):
+        """The fit as a :class:`control.TransferFunction`, its delay included.
 
         Parameters
         ----------
-        pade_order : int
-            Order of the Pade approximation of the delay; 0 leaves the delay out (read it
+        pade_order : int or "auto"
+            Order of the Pade approximation of the delay; ``"auto"`` takes the smallest
+            that holds the relative error below 1e-3 over the band fitted
+            (:func:`~tcpmm.ident.lti.pade.pade_order`); 0 leaves the delay out (read it
             from ``delay_s``) [-].
 
         Returns
@@ -195,11 +197,10 @@ class TFFit:
         """
         import control
 
+        from .pade import with_delay
+
         tf = control.TransferFunction(self.num, self.den)
-        if pade_order > 0 and self.delay_s > 0:
-            nd, dd = control.pade(self.delay_s, pade_order)
-            tf = tf * control.TransferFunction(nd, dd)
-        return tf
+        return with_delay(tf, self.delay_s, float(self.freq_hz[-1]), pade_order)
 
     def to_pandas(self):
         """Pole table: one row per real pole or complex pair.
@@ -392,10 +393,15 @@ def _coarse_delay(f, max_delay_s, starts, linear_stage, iterations: int) -> floa
 
 
 def _check_structure(n_num: int, n_den: int, k: int, delay_s) -> bool:
-    """Raise for negative orders or a delay that is neither ``None``, a time nor
-    ``"fit"``; whether the delay is fitted [-]."""
+    """Raise for negative orders, more zeros than poles, or a delay that is neither
+    ``None``, a time nor ``"fit"``; whether the delay is fitted [-]."""
     if n_num < 0 or n_den < 0 or k < 0:
         raise InputError("orders and number of integrators must be >= 0")
+    if n_num > n_den + k:
+        raise InputError(
+            f"{n_num} zeros over {n_den + k} poles make an improper model (its response grows "
+            "without bound and it has no state space); fit at most as many zeros as poles"
+        )
     fit_delay = isinstance(delay_s, str)
     if fit_delay and delay_s != "fit":
         raise InputError(f"delay_s must be None, a number or 'fit', got {delay_s!r}")
@@ -419,12 +425,37 @@ def _linear_starts(f, H, x, k: int, n_num: int, n_den: int, omega0: float) -> li
     return starts
 
 
-def _result(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost):
-    # a pole far beyond the band acts as a constant gain -1/p there: fold it into B
+def _proper(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost):
+    """Fold poles far beyond the band into the gain and keep the model proper.
+
+    Such a pole acts as a constant gain over the band, but dropping it (or a pole the
+    linear stage lost to a vanishing leading coefficient) leaves fewer poles under a
+    numerator of the same degree: an improper model, with no state space. The numerator
+    is then fitted again with at most as many zeros as poles are left (integrators
+    included), and cost and parameter count follow the model kept.
+
+    Returns
+    -------
+    tuple
+        ``(bn, pn, n_num, n_params, cost)`` [-].
+    """
     xmax = 2 * np.pi * f[-1] / omega0
-    far = np.abs(pn) > FAR_POLE * xmax
-    bn = np.real_if_close(bn / np.prod(-pn[far])).real if np.any(far) else bn
-    pn = pn[~far]
+    pn = pn[np.abs(pn) <= FAR_POLE * xmax]
+    if pn.size == n_den:
+        return bn, pn, n_num, n_params, cost
+    new_num = min(n_num, pn.size + k)
+    x = 2j * np.pi * f / omega0
+    bn = _numerator(x, H * x**k * np.exp(x * omega0 * tau), w, pn, new_num)
+    n_params -= (n_den - pn.size) + (n_num - new_num)
+    cost = _relative_cost(f, H, w, bn, pn, omega0, k, tau)
+    return bn, pn, new_num, n_params, cost
+
+
+def _result(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost):
+    bn, pn, n_num, n_params, cost = _proper(
+        f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost
+    )
+    n_den = pn.size
     # conjugate pairs exactly conjugate, real poles exactly real
     pn = np.where(np.abs(pn.imag) <= 1e-12 * np.abs(pn), pn.real + 0j, pn)
     pn = pn[np.lexsort((pn.imag, np.abs(pn)))]
@@ -545,6 +576,7 @@ def suggest_order(
         ic = fit.bic if criterion == "bic" else fit.aic
         fn, zeta = fit.natural_freq_hz, fit.damping
         outside = np.any((zeta < 0.2) & ((fn < f[0]) | (fn > f[-1])))
-        fitted.append((bool(outside), ic, n_den, n_num))
+        # a fit that folded far poles into the gain is the lower order it kept
+        fitted.append((bool(outside), ic, fit.n_den, fit.n_num))
     best = min(fitted, key=lambda c: (c[0], c[1]))
     return best[3], best[2]

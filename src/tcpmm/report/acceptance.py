@@ -1,0 +1,146 @@
+"""The section a customer reads first: the circular test's conditions, its pass or fail
+against the user's tolerance (or, without one, the ISO 230-4 circular deviations), and the
+error sources ranked by the radial error each causes on that circle.
+
+The verdict judges the bidirectional circular deviation G(b) and G of each direction
+(ISO 230-4: the radial band about the least-squares centre that holds the path) of the
+best sensor the run has (TCP, else linear scale, motor encoder, command): PASS when every
+one is within the tolerance. The ranking gives each fitted term the peak-to-valley radial
+error it makes on a circle of radius R: backlash and lateral play their radial step,
+squareness ``a`` and scale mismatch ``m`` an ellipse of ``R |a|`` and ``R |m|``, servo
+mismatch of angle ``phi`` one of ``R |phi|``, a cyclic error twice its amplitude; the
+largest reversal spike after the terms enters as its height.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .circles import SENSOR_NAMES, _names
+from .html import facts, number, para, section, table
+
+#: Term (without axis) -> (label, peak-to-valley radial error [m] from value [SI], radius [m]).
+_EFFECT = {
+    "backlash": ("backlash", lambda v, r: abs(v)),
+    "lateral_play": ("lateral play", lambda v, r: abs(v)),
+    "squareness": ("squareness", lambda v, r: abs(v) * r),
+    "scale_mismatch": ("scale mismatch", lambda v, r: abs(v) * r),
+    "servo_mismatch_angle": ("servo mismatch", lambda v, r: abs(v) * r),
+    "cyclic_amplitude": ("cyclic error", lambda v, r: 2 * abs(v)),
+}
+
+
+def ranked_sources(diag) -> list[tuple[str, float, str]]:
+    """Error sources of a CCW and CW circle, largest radial error first.
+
+    Parameters
+    ----------
+    diag : CircleDiagnostics
+        The diagnostics [SI].
+
+    Returns
+    -------
+    list of tuple
+        ``(source, peak-to-valley radial error [m], what its sign says)`` [-].
+    """
+    from ..analysis.diagnostics import term_note
+
+    rows = []
+    for term, (value, _) in diag.terms.items():
+        base, _, axis = term.rpartition("_")
+        key, label_axis = (term, "") if term in _EFFECT else (base, axis)
+        if key not in _EFFECT or not math.isfinite(value):
+            continue
+        label, effect = _EFFECT[key]
+        rows.append((f"{label} {label_axis}".strip(), effect(value, diag.radius),
+                     term_note(term, diag.axes)))
+    spikes = [(k, v) for k, (v, _) in diag.terms.items()
+              if k.startswith("spike_") and math.isfinite(v)]
+    if spikes:
+        k, v = max(spikes, key=lambda kv: abs(kv[1]))
+        _, q, d = k.split("_")
+        rows.append((f"reversal spike after the pair's terms (largest: {d.upper()} {q})", abs(v),
+                     "dynamics of the reversal: friction, lost motion, servo"))
+    return sorted(rows, key=lambda r: -r[1])
+
+
+def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> list:
+    """``(name, value)`` of the circle's test conditions, in mm, mm/min and Hz [-]."""
+    rates = [p.rate_rad_s for p in result.passes if math.isfinite(p.rate_rad_s)]
+    feed = (f"{number(60e3 * result.radius * sum(rates) / len(rates), 0)} mm/min"
+            if rates else "not known")
+    items = [("radius", f"{result.radius * 1e3:g} mm about ({result.centre[0] * 1e3:g}, "
+                        f"{result.centre[1] * 1e3:g}) mm"),
+             ("feed", feed), ("plane", "".join(result.plane)),
+             ("direction", " then ".join(p.direction.upper() for p in result.passes)),
+             ("sample rate", f"{number(sample_rate_hz, 0)} Hz" if sample_rate_hz else
+              "not known"),
+             ("sensor", SENSOR_NAMES.get(sensor, sensor))]
+    if source:
+        items.append(("run", _names(source)))
+    return items
+
+
+def _deviations(result, sensor, diag) -> list[tuple[str, float]]:
+    """``(figure, value [m])``: G per direction and, with both, G(b) [-]."""
+    out = [(f"G {p.direction.upper()}", p.sensors[sensor].circular_deviation)
+           for p in result.passes]
+    if diag is not None and "circularity_pair" in diag.terms:
+        out.append(("G(b), both directions", diag["circularity_pair"]))
+    return out
+
+
+def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_hz=None,
+                       source=None):
+    """The circle verdict: test conditions, pass or fail, ranked error sources.
+
+    Parameters
+    ----------
+    result : CircleResult
+        The circular test judged [-].
+    diagnostics : CircleDiagnostics, optional
+        Its diagnostics (a CCW and a CW circle), for G(b) and the ranking [-].
+    tolerance_m : float, optional
+        Largest circular deviation accepted; without it the deviations are given as
+        ISO 230-4 figures, unjudged [m].
+    sample_rate_hz : float, optional
+        Sample rate of the run [Hz].
+    source : str or list of str, optional
+        The run file or files [-].
+    """
+    import pandas as pd
+
+    from ..analysis.diagnostics import PREFERRED_SENSORS
+
+    sensor = diagnostics.sensor if diagnostics is not None else next(
+        s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes))
+    body = facts(circle_conditions(result, sensor, sample_rate_hz, source))
+    devs = _deviations(result, sensor, diagnostics)
+    shown = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs)
+    if tolerance_m is None:
+        body += para(f"Circular deviation (ISO 230-4): {shown}. No tolerance was given "
+                     "(--tolerance-um), so nothing is judged.", "open")
+    else:
+        worst = max(devs, key=lambda kv: kv[1])
+        ok = all(v <= tolerance_m for _, v in devs)
+        rest = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs if k != worst[0])
+        body += para(f"{'PASS' if ok else 'FAIL'}: {worst[0]} {number(worst[1] * 1e6, 2)} µm "
+                     f"{'within' if ok else 'beyond'} the tolerance of "
+                     f"{number(tolerance_m * 1e6, 2)} µm" + (f" ({rest})" if rest else ""),
+                     "pass" if ok else "fail")
+    if diagnostics is not None:
+        rows = ranked_sources(diagnostics)
+        gb = diagnostics["circularity_pair"]
+        frame = pd.DataFrame([{"rank": i + 1, "source": s, "radial error [µm]": e * 1e6,
+                               "of G(b) [%]": 100 * e / gb if gb > 0 else float("nan"),
+                               "meaning": n} for i, (s, e, n) in enumerate(rows)])
+        body += ("<h3>Error sources, largest first</h3>"
+                 + para("Peak-to-valley radial error each fitted term makes on this circle "
+                        "(module tcpmm.report.acceptance); the diagnostics below give the "
+                        "terms with their signs.")
+                 + table(frame, "error_sources.csv",
+                         digits={"radial error [µm]": 2, "of G(b) [%]": 0, "rank": 0}))
+    else:
+        body += para("One direction only: the error sources need a CCW and a CW circle.",
+                     "warn")
+    return section("verdict", f"Circle verdict ({SENSOR_NAMES.get(sensor, sensor)})", body)

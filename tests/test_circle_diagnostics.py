@@ -18,7 +18,7 @@ from conftest import bench_path
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
 from tcpmm.cli import main
-from tcpmm.errors import InputError
+from tcpmm.errors import InputError, InputWarning
 from tcpmm.result import AxisRun, Run
 
 R, DT, N = 0.035, 1e-3, 7200  # 7.2 s per turn
@@ -363,3 +363,150 @@ def test_the_circle_table_and_the_report_lead_with_the_spike_after_the_terms(cap
                                               .sensors["tcp"].spikes["B"] * 1e6)
     text = key_figures(analyse_circle(run, R))
     assert "largest reversal spike after the fitted terms 5.0" in text and " at B" in text
+
+
+def test_the_terms_are_ranked_by_the_radial_error_each_makes():
+    """Each term's contribution is the peak to valley of its radial error alone: b for
+    backlash, m R for a scale mismatch, w dt R for a servo mismatch, a R for squareness,
+    2 |c| for a centre offset, 2 k for a bow, the spike's height for the spikes."""
+    err = {"b_x": 4e-6, "eps_x": 150e-6, "tau_y": 0.2e-3, "alpha": 80e-6, "cx": 1e-6,
+           "str_y": 1.5e-6, "spikes": {("ccw", "B"): (8e-6, 6.0)}}
+    diag = diagnose(err)
+    want = {"backlash_X": 4e-6, "scale_mismatch": 150e-6 * R, "servo_mismatch": W * 0.2e-3 * R,
+            "squareness": 80e-6 * R, "centre_offset": 2e-6, "straightness_Y": 3e-6,
+            "reversal_spikes": 8e-6}
+    got = {r["term"]: r for r in diag.ranking}
+    for term, v in want.items():
+        assert got[term]["contribution_m"] == pytest.approx(v, rel=0.02, abs=0.1e-6), term
+    order = [r["term"] for r in diag.ranking]
+    assert order[:len(want)] == sorted(want, key=lambda k: -want[k])
+    assert [r["rank"] for r in diag.ranking] == list(range(1, len(order) + 1))
+    assert sum(r["share"] for r in diag.ranking) == pytest.approx(1.0)
+    assert diag.to_dict()["ranking"][0]["term"] == "reversal_spikes"
+
+
+def test_one_direction_gives_what_it_determines_and_says_why_the_rest_needs_the_pair():
+    """A CCW circle alone: radius, centre, scale mismatch, straightness, backlash and the
+    45 deg ellipse of squareness and servo mismatch together; squareness and servo
+    mismatch apart, lateral play, hysteresis and G(b) need the CW circle, and it says so."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    err = {"eps_x": 120e-6, "str_x": 2e-6, "cx": 4e-6, "cy": -2e-6, "b_x": 5e-6,
+           "b_y": -3e-6, "alpha": 50e-6, "tau_y": 0.3e-3, "cyc_x": ALL["cyc_x"]}
+    for d, s in (("ccw", 1.0), ("cw", -1.0)):
+        diag = diagnose_single(*circle(d, err, 3), d, R, W)
+        want = {k: v for k, v in expected(err).items()
+                if k in ("scale_mismatch", "straightness_X", "straightness_Y",
+                         "centre_offset_X", "centre_offset_Y", "backlash_X", "backlash_Y",
+                         "cyclic_amplitude_X", "cyclic_period_X", f"radial_deviation_{d}")}
+        want["squareness_or_servo"] = 50e-6 + s * W * 0.3e-3
+        assert_recovered(diag, want)
+        assert diag.directions == (d,)
+        for term in ("squareness", "servo_mismatch", "lateral_play_X", "hysteresis",
+                     "circularity_pair"):
+            assert term in diag.undetermined, term
+        assert "squareness keeps its sign" in diag.undetermined["servo_mismatch"]
+
+
+def test_cli_one_direction_prints_its_terms_and_why_the_others_need_the_pair(capsys, pair):
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35)
+    assert code == 0
+    text = " ".join(out.split())
+    assert "squareness or servo" in text and "terms ranked by their contribution" in text
+    assert "servo mismatch: not determined; one direction shows" in text
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
+    one = json.loads(out)["diagnostics_one_direction"]
+    terms = {t["term"]: t["value"] for t in one["terms"]}
+    # 50 um/m of squareness and 0.2 ms of Y lag at 0.87 rad/s: 224.5 um/m of ellipse
+    assert terms["squareness_or_servo"] == pytest.approx(50.0 + W * 0.2e-3 * 1e6, rel=0.01)
+    assert terms["scale_mismatch"] == pytest.approx(80.0, rel=0.01)
+    assert "hysteresis" in one["undetermined"] and one["directions"] == ["ccw"]
+    assert one["ranking"][0]["rank"] == 1 and "share_percent" in one["ranking"][0]
+
+
+def arc(direction, err, lo, span, seed=0):
+    """The part of a turn from ``lo`` over ``span`` deg, run in ``direction`` [rad, m]."""
+    start = (lo if direction == "ccw" else lo + span) + 0.5 * np.degrees(W * DT)
+    a, e = circle(direction, err, seed, start_deg=start)
+    m = round(span / 360 * N)
+    return a[:m + 1], e[:m + 1]
+
+
+#: Errors of a 220 deg arc test; of those the arc cannot determine, the one lying along the
+#: arc's chord is left out (an arc from -20 deg cannot tell X's lateral play and bow)
+ARC_ERR = {"alpha": 60e-6, "eps_x": 80e-6, "b_x": 4e-6, "b_y": -3e-6, "tau_y": 0.3e-3,
+           "cx": 5e-6, "cy": -3e-6, "p_x": 2e-6, "p_y": 2e-6, "str_x": 2e-6, "str_y": 2e-6}
+
+
+@pytest.mark.parametrize("lo, blind", [(-20.0, "X"), (70.0, "Y"), (160.0, "X")])
+def test_a_pair_of_220_deg_arcs_gives_the_terms_it_determines(lo, blind):
+    """A ballbar's 220 deg arcs, out and back: squareness, scale and servo mismatch,
+    backlash, centre and the other axis' lateral play and bow are recovered; the lateral play
+    and the bow of the axis whose ends the arc does not both reach are named undetermined."""
+    err = {k: v for k, v in ARC_ERR.items() if k not in (f"p_{blind.lower()}",
+                                                        f"str_{blind.lower()}")}
+    diag = diagnose_pair(arc("ccw", err, lo, 220, 1), arc("cw", err, lo, 220, 2), R, (W, W))
+    assert set(diag.undetermined) == {f"lateral_play_{blind}", f"straightness_{blind}"}
+    assert np.isnan(diag[f"straightness_{blind}"])
+    want = {k: v for k, v in expected(err).items() if k not in diag.undetermined
+            and not k.startswith(("spike", "cyclic", "radial_deviation"))}
+    for d in ("ccw", "cw"):  # the mean radius over the arc
+        want[f"radial_deviation_{d}"] = float(np.mean(arc(d, err, lo, 220)[1]))
+    assert_recovered(diag, want)
+
+
+def arc_run(err, lo, span, axes=("X", "Y")):
+    """A run out along an arc CCW and back CW, the command and the TCP with ``err``, in the
+    plane of ``axes`` [-]."""
+    cmd, tcp = [], []
+    for i, d in enumerate(("ccw", "cw")):
+        s = 1.0 if d == "ccw" else -1.0
+        a, e = arc(d, err, lo, span, i)
+        start = (lo if d == "ccw" else lo + span) + 0.5 * np.degrees(W * DT)
+        th = np.radians(start) + s * W * DT * np.arange(a.size)
+        cmd.append(R * np.c_[np.cos(th), np.sin(th)])
+        tcp.append((R + e)[:, None] * np.c_[np.cos(a), np.sin(a)])
+    cmd, tcp = np.vstack(cmd), np.vstack(tcp)
+    return Run(DT * np.arange(len(cmd)), {ax: AxisRun(cmd=cmd[:, j], tcp=tcp[:, j])
+                                          for j, ax in enumerate(axes)})
+
+
+@pytest.mark.parametrize("axes", [("X", "Z"), ("Y", "Z")])
+def test_220_deg_arcs_in_xz_and_yz_are_found_and_diagnosed(axes, tmp_path, capsys):
+    """A run of a ballbar's 220 deg arcs out and back, in XZ and YZ, was refused as holding
+    no full circle; now each arc is a pass and the pair is diagnosed with the terms it
+    determines."""
+    err = {k: v for k, v in ARC_ERR.items() if k not in ("p_x", "str_x")}
+    run = arc_run(err, -20.0, 220.0, axes)
+    res = analyse_circle(run, R, plane=axes)
+    assert [(p.direction, p.is_arc) for p in res.passes] == [("ccw", True), ("cw", True)]
+    assert [p.arc_deg for p in res.passes] == pytest.approx([220.0, 220.0], abs=0.5)
+    diag = circle_diagnostics(res)
+    a, b = axes
+    assert set(diag.undetermined) == {f"lateral_play_{a}", f"straightness_{a}"}
+    assert diag["squareness"] == pytest.approx(60e-6, rel=0.02)
+    assert diag["scale_mismatch"] == pytest.approx(80e-6, rel=0.02)
+    assert diag[f"backlash_{b}"] == pytest.approx(-3e-6, rel=0.02)
+    assert diag["servo_mismatch"] == pytest.approx(0.3e-3, rel=0.02)
+    run.write_csv(tmp_path / "arcs.csv")
+    code, out, _ = cli(capsys, "circle", tmp_path / "arcs.csv", "--radius", 35, "--plane",
+                       "".join(axes))
+    text = " ".join(out.split())
+    assert code == 0 and "CCW: an arc of 220 deg" in text
+    assert f"straightness {a}: not determined" in text
+
+
+def test_a_90_deg_arc_is_analysed_with_the_terms_it_determines():
+    """A quarter circle over B, refused before: its spike at B after the terms it
+    determines is the 5 um injected there, the points it does not hold are left out."""
+    err = {"spikes": {("ccw", "B"): (5e-6, 6.0)}, "r0": 2e-6}
+    run = arc_run(err, 30.0, 90.0)
+    with pytest.warns(InputWarning, match="arc of 90 deg does not hold quadrant points A"):
+        res = analyse_circle(run, R, direction="ccw")
+    [p] = res.passes
+    assert p.is_arc and p.arc_deg == pytest.approx(90.0, abs=0.5)
+    after = p.sensors["tcp"].spikes_after_terms()
+    assert after["B"] == pytest.approx(5e-6, abs=0.1e-6)
+    assert all(np.isnan(after[q]) for q in "ACD")
+    diag = circle_diagnostics(analyse_circle(run, R))
+    assert {"centre_offset_X", "centre_offset_Y"} <= set(diag.undetermined)

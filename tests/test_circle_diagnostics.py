@@ -510,3 +510,24 @@ def test_a_90_deg_arc_is_analysed_with_the_terms_it_determines():
     assert all(np.isnan(after[q]) for q in "ACD")
     diag = circle_diagnostics(analyse_circle(run, R))
     assert {"centre_offset_X", "centre_offset_Y"} <= set(diag.undetermined)
+
+
+def test_the_report_has_the_command_deviation_the_ranking_and_one_directions_terms(
+        capsys, tmp_path):
+    """A CCW run whose command a filter has pulled in: the report says how far, gives the
+    one direction's diagnostics with the ranking, and what needs the CW circle and why."""
+    from test_circle import filtered_circle, make_run, polar_perturb
+
+    cmd, shrink = filtered_circle(feed_m_s=5.0 / 60, window_s=0.120)
+    tcp = polar_perturb(cmd, (0, 0), lambda a: 2e-6 * np.cos(2 * a))
+    make_run(cmd, tcp).write_csv(tmp_path / "ccw.csv")
+    out = tmp_path / "r.html"
+    code = main(["report", "-o", str(out), "--run", str(tmp_path / "ccw.csv"), "--radius",
+                 "35"])
+    assert code == 0, capsys.readouterr().err
+    text = " ".join(out.read_text(encoding="utf-8").split())
+    assert f"the command lies {-shrink * 1e6:.2f} µm inside the nominal radius" in text
+    assert "command radius - nominal [µm]" in text
+    assert "Diagnostics of the CCW circle alone (TCP)" in text
+    assert "Terms ranked by their contribution" in text and "scale mismatch" in text
+    assert "servo mismatch: not determined; one direction shows" in text

@@ -9,6 +9,7 @@ from . import finish, panels
 STYLE = {"ccw": dict(color="tab:blue", label="CCW"), "cw": dict(color="tab:red", label="CW")}
 SUMMARY = (("backlash_{X}", "backlash {X}", 1e6, "µm"), ("backlash_{Y}", "backlash {Y}", 1e6, "µm"),
            ("squareness", "squareness", 1e6, "µm/m"),
+           ("squareness_or_servo", "squareness or servo", 1e6, "µm/m"),
            ("scale_mismatch", "scale mismatch", 1e6, "ppm"),
            ("servo_mismatch", "servo mismatch", 1e3, "ms"),
            ("circularity_pair", "G(b)", 1e6, "µm"))
@@ -46,7 +47,8 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
     lines = []
     for key, label, scale, unit in SUMMARY:
         value = diag.terms.get(key.format(**names), (float("nan"),))[0]
-        lines.append(f"{label.format(**names)} {value * scale:+.2f} {unit}")
+        if value == value:  # what the circles do not determine is not shown
+            lines.append(f"{label.format(**names)} {value * scale:+.2f} {unit}")
     ax.text(1.01, 1.0, "\n".join(lines), transform=ax.transAxes, va="top", fontsize=8,
             family="monospace")
     ax.set_xlim(0, 360)

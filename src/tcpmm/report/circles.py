@@ -90,9 +90,10 @@ def key_figures(result, diag=None) -> str:
                      f"{number(spikes[q] * 1e6, 2)} µm at {q}")
         if p.is_arc:
             text += f"; an arc of {p.arc_deg:.0f} deg"
-        if abs(p.command_radial_deviation) >= 0.5e-6:
-            text += (f"; the command lies {number(p.command_radial_deviation * 1e6, 2)} µm "
-                     "off the nominal radius")
+        dev = p.command_radial_deviation
+        if abs(dev) >= 0.5e-6:
+            text += (f"; the command lies {number(abs(dev) * 1e6, 2)} µm "
+                     f"{'inside' if dev < 0 else 'outside'} the nominal radius")
         items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
     if diag is not None and len(diag.directions) == 2:
         t = {k: (number(v, 2), u) for k, v, u in display_terms(diag)}

@@ -382,6 +382,10 @@ def test_the_terms_are_ranked_by_the_radial_error_each_makes():
     assert order[:len(want)] == sorted(want, key=lambda k: -want[k])
     assert [r["rank"] for r in diag.ranking] == list(range(1, len(order) + 1))
     assert sum(r["share"] for r in diag.ranking) == pytest.approx(1.0)
+    for r in diag.ranking:  # what of G(b) each would make alone; a centre offset none
+        want_g = 0.0 if r["term"] == "centre_offset" else \
+            r["contribution_m"] / diag["circularity_pair"]
+        assert r["share_of_G"] == pytest.approx(want_g)
     assert diag.to_dict()["ranking"][0]["term"] == "reversal_spikes"
 
 
@@ -422,6 +426,7 @@ def test_cli_one_direction_prints_its_terms_and_why_the_others_need_the_pair(cap
     assert terms["scale_mismatch"] == pytest.approx(80.0, rel=0.01)
     assert "hysteresis" in one["undetermined"] and one["directions"] == ["ccw"]
     assert one["ranking"][0]["rank"] == 1 and "share_percent" in one["ranking"][0]
+    assert "percent_of_G" in one["ranking"][0]
 
 
 def arc(direction, err, lo, span, seed=0):

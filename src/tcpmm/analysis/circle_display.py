@@ -57,20 +57,26 @@ def term_note(term: str, axes=("X", "Y")) -> str:
     return notes.get(term) or notes.get(term.rsplit("_", 1)[0], "")
 
 
-def ranking_rows(contributions: dict) -> list[dict]:
+def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
     """The terms ranked by their contribution, largest first: ``term``,
-    ``contribution_m`` [m], ``share`` of the sum of the contributions [-] and ``rank``
+    ``contribution_m`` [m], ``share`` of the sum of the contributions [-],
+    ``share_of_G``, the contribution over the circular deviation G, 0 for the centre
+    offset, which makes no G (G is about the least-squares centre) [-], and ``rank``
     (1 the largest) [-].
 
     Parameters
     ----------
     contributions : dict of str to float
-        Peak-to-valley radial error each term makes over the circle alone; NaN for a term
+        Peak-to-valley radial error each term makes alone over the circle; NaN for a term
         not determined, which is left out [m].
+    g : float
+        Circular deviation: G(b) of a pair, G of one direction [m].
     """
     have = {k: float(v) for k, v in contributions.items() if v == v}
     total = sum(have.values())
     order = sorted(have, key=lambda k: -have[k])
     return [{"term": k, "contribution_m": have[k],
-             "share": have[k] / total if total > 0 else 0.0, "rank": i + 1}
+             "share": have[k] / total if total > 0 else 0.0,
+             "share_of_G": 0.0 if k == "centre_offset" else
+             (have[k] / g if g > 0 else float("nan")), "rank": i + 1}
             for i, k in enumerate(order)]

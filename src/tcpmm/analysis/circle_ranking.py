@@ -4,9 +4,10 @@ radial deviations and circular deviations of the circles fitted.
 A term's contribution is the peak-to-valley of the radial error it makes alone over the
 angles the circle covers, about the nominal centre, the larger of the directions; that of
 the reversal spikes is the largest spike of the residual. Each term is ranked by its
-contribution and given its share of their sum. A centre offset makes ``2 |c|`` of radial
-error about the nominal centre but nothing of G, which is taken about the least-squares
-centre: so the shares are of the sum of the contributions, with G beside them.
+contribution and given its share of their sum and its share of G (G(b) for a pair): what
+of G the term alone would make. A centre offset makes ``2 |c|`` of radial error about the
+nominal centre, which the contour error sees, but nothing of G, which is taken about the
+least-squares centre: its share of G is 0.
 """
 
 from __future__ import annotations
@@ -135,7 +136,8 @@ def rank_terms(fit, arcs, radius, shared, terms, axes, names=None):
     spikes = [v for k, (v, _) in terms.items() if k.startswith("spike_")]
     c = contributions(fit, arcs, radius, shared, spikes)
     c = {(names or {}).get(k, k): v for k, v in c.items()}
-    rows = ranking_rows(c)
+    g = [v for k, (v, _) in terms.items() if k.startswith("circularity_")]
+    rows = ranking_rows(c, terms.get("circularity_pair", (max(g),))[0])
     for r in rows:
         r["term"] = _rename(r["term"], axes)
     return rows

@@ -122,7 +122,9 @@ class CircleDiagnostics:
                 "directions": list(self.directions),
                 "terms": [{"term": k, "value": None if np.isnan(v) else float(v), "unit": u}
                           for k, (v, u) in self.terms.items()],
-                "undetermined": dict(self.undetermined), "ranking": list(self.ranking)}
+                "undetermined": dict(self.undetermined),
+                "ranking": [{k: None if isinstance(v, float) and np.isnan(v) else v
+                             for k, v in r.items()} for r in self.ranking]}
 
     def plot(self, ax=None, path=None):
         """Radial error of the circles against angle with the fitted terms; the figure.

@@ -13,8 +13,14 @@ def _diagnostics_json(diag) -> dict:
                       for t, v, u in _display_terms(diag, ascii_units=True)],
             "undetermined": dict(diag.undetermined),
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
-                         "share_percent": 100.0 * r["share"], "rank": r["rank"]}
-                        for r in diag.ranking]}
+                         "share_percent": 100.0 * r["share"],
+                         "percent_of_G": _json_number(100.0 * r["share_of_G"]),
+                         "rank": r["rank"]} for r in diag.ranking]}
+
+
+def _json_number(v: float):
+    """A number for JSON; NaN as None [-]."""
+    return None if v != v else v
 
 
 def _display_terms(diag, ascii_units=False):
@@ -105,12 +111,15 @@ def _print_ranking(diag) -> None:
     """The terms by the radial error each makes alone over the circle."""
     from rich.table import Table
 
+    g = "G(b)" if len(diag.directions) == 2 else "G"
     t = Table(title="terms ranked by their contribution", caption="contribution: peak to "
-              "valley of the radial error the term makes alone (centre offset about the "
-              "nominal centre; it makes no G); share: of the sum")
-    for name in ("rank", "term", "µm", "share %"):
+              "valley of the radial error the term makes alone; share: of the sum; "
+              f"% {g}: of {g} (a centre offset makes none of it: it shows in the contour "
+              "error)")
+    for name in ("rank", "term", "µm", "share %", f"% {g}"):
         t.add_column(name, justify="left" if name == "term" else "right")
     for r in diag.ranking:
         t.add_row(str(r["rank"]), r["term"].replace("_", " "),
-                  _cell(r["contribution_m"] * 1e6), _cell(100 * r["share"], 1))
+                  _cell(r["contribution_m"] * 1e6), _cell(100 * r["share"], 1),
+                  _cell(100 * r["share_of_G"], 1))
     out.print(t)

@@ -165,12 +165,15 @@ def ranking_html(diag, stem: str) -> str:
         return ""
     frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " "),
                            "contribution [µm]": r["contribution_m"] * 1e6,
-                           "share [%]": 100 * r["share"]} for r in diag.ranking])
+                           "share [%]": 100 * r["share"],
+                           "of G [%]": 100 * r["share_of_G"]} for r in diag.ranking])
     return (para("Terms ranked by their contribution: the peak to valley of the radial "
                  "error each makes alone over the circle (a centre offset about the nominal "
-                 "centre: it makes no G, which is about the least-squares centre), and its "
-                 "share of the sum of the contributions.")
-            + table(frame, f"{stem}_diagnostics_ranking.csv", digits={"share [%]": 1}))
+                 "centre: it makes no G, which is about the least-squares centre), its "
+                 "share of the sum of the contributions, and what of G (G(b) of a pair) it "
+                 "alone would make.")
+            + table(frame, f"{stem}_diagnostics_ranking.csv",
+                    digits={"share [%]": 1, "of G [%]": 1}))
 
 
 def undetermined_html(diag) -> str:

@@ -53,7 +53,7 @@ def search_cyclic(pb, mu) -> tuple:
 
     Parameters
     ----------
-    pb : circle_fit._Problem
+    pb : circle_fit.FitProblem
         The arcs and their fitted samples [-].
     mu : float
         Servo mismatch angle of the fit [rad].

@@ -57,6 +57,20 @@ def term_note(term: str, axes=("X", "Y")) -> str:
     return notes.get(term) or notes.get(term.rsplit("_", 1)[0], "")
 
 
+def rename_axes(term: str, axes) -> str:
+    """A term's name with the plane's axes for X and Y, e.g. ``backlash_Z`` [-].
+
+    Parameters
+    ----------
+    term : str
+        Name with the axis last as ``_X`` or ``_Y`` where it has one [-].
+    axes : tuple of str
+        The plane's first and second axis [-].
+    """
+    names = {"X": axes[0], "Y": axes[1]}
+    return term[:-1] + names[term[-1]] if term[-2:] in ("_X", "_Y") else term
+
+
 def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
     """The terms ranked by their contribution, largest first: ``term``,
     ``contribution_m`` [m], ``share`` of the sum of the contributions [-],

@@ -111,8 +111,18 @@ def _names(n_arcs, shared, waves):
     return names
 
 
-class _Problem:
-    """The arcs, their fitted samples and the columns they determine."""
+class FitProblem:
+    """The arcs, their fitted samples and the columns they determine.
+
+    Parameters
+    ----------
+    arcs : list of Arc
+        The circles or arcs [-].
+    radius : float
+        Nominal radius [m].
+    shared : sequence of str
+        Terms common to the arcs [-].
+    """
 
     def __init__(self, arcs, radius, shared):
         self.arcs, self.radius, self.shared = arcs, radius, list(shared)
@@ -123,6 +133,7 @@ class _Problem:
         self.keep = determined(A, protect=[3 * i for i in range(len(arcs))])
 
     def matrix(self, mu, waves):
+        """Design matrix over the fitted samples of every arc [m/unit]."""
         n = len(self.arcs)
         return np.vstack([design(a, i, n, self.radius, self.shared, mu, waves,
                                  a.angle[m], p)
@@ -130,12 +141,14 @@ class _Problem:
                                                             strict=True))])
 
     def data(self, mu):
+        """The fitted samples' radial error less the servo mismatch's remainder [m]."""
         return np.concatenate([
             (a.e - servo_remainder(a.angle, a.s, self.radius, a.ratio * mu))[m]
             for a, m in zip(self.arcs, self.masks, strict=True)])
 
     def solve(self, mu, waves):
-        """Coefficients (NaN where undetermined), residual, orthonormal basis."""
+        """Coefficients (NaN where undetermined) [SI], residual [m] and an orthonormal
+        basis of the columns fitted [-]."""
         A, y = self.matrix(mu, waves), self.data(mu)
         keep = np.r_[self.keep, np.ones(A.shape[1] - self.keep.size, bool)]
         q, r = np.linalg.qr(A[:, keep])
@@ -146,6 +159,7 @@ class _Problem:
         return coef, y - A[:, keep] @ c, basis
 
     def mu_of(self, coef):
+        """The servo mismatch angle of a solution; 0 where it is not fitted [rad]."""
         if "servo_angle" not in self.shared:
             return 0.0
         v = coef[3 * len(self.arcs) + self.shared.index("servo_angle")]
@@ -169,7 +183,7 @@ def fit_terms(arcs, radius, shared, cyclic=True) -> TermFit:
     """
     from .circle_cyclic import search_cyclic
 
-    pb = _Problem(arcs, radius, shared)
+    pb = FitProblem(arcs, radius, shared)
     mu = pb.mu_of(pb.solve(0.0, (None, None))[0])
     waves = search_cyclic(pb, mu) if cyclic else (None, None)
     coef = pb.solve(mu, waves)[0]

@@ -181,3 +181,16 @@ def fit_mask(angle, s, after_deg=(0.0, 20.0), points=(0.0, 90.0, 180.0, 270.0)):
         d = (u - s * deg) % 360.0
         keep &= ~((d >= after_deg[0]) & (d <= after_deg[1]))
     return keep
+
+
+def is_full(angle) -> bool:
+    """Whether an unwrapped angle covers a full turn; a turn cut to whole samples may lack
+    up to one sample spacing at either end [-].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle, unwrapped [rad].
+    """
+    slack = 2 * min(float(np.max(np.abs(np.diff(angle)))), np.radians(1.0))
+    return abs(angle[-1] - angle[0]) >= 2 * np.pi * (1 - 1e-3) - slack

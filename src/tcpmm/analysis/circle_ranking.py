@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_display import ranking_rows
+from .circle_display import ranking_rows, rename_axes
 from .circle_fit import design, model_curve
-from .circle_model import servo_remainder
+from .circle_model import is_full, servo_remainder
 from .circular import lsq_circle
 
 #: Reported name of a fitted column group
@@ -25,8 +25,6 @@ GROUP_NAMES = {"servo_angle": "servo_mismatch"}
 
 def arc_grid(angle, n=3600):
     """Angles to evaluate a fitted circle on: a full turn, or the arc covered [rad]."""
-    from .diagnostics import is_full
-
     if is_full(angle):
         return np.linspace(0, 2 * np.pi, n, endpoint=False)
     return np.linspace(min(angle[0], angle[-1]), max(angle[0], angle[-1]), n)
@@ -131,13 +129,11 @@ def rank_terms(fit, arcs, radius, shared, terms, axes, names=None):
     names : dict, optional
         Reported name of a term where it differs from its column's [-].
     """
-    from .diagnostics import _rename
-
     spikes = [v for k, (v, _) in terms.items() if k.startswith("spike_")]
     c = contributions(fit, arcs, radius, shared, spikes)
     c = {(names or {}).get(k, k): v for k, v in c.items()}
     g = [v for k, (v, _) in terms.items() if k.startswith("circularity_")]
     rows = ranking_rows(c, terms.get("circularity_pair", (max(g),))[0])
     for r in rows:
-        r["term"] = _rename(r["term"], axes)
+        r["term"] = rename_axes(r["term"], axes)
     return rows

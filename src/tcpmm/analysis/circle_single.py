@@ -16,17 +16,17 @@ import numpy as np
 
 from .._threads import limit_blas_threads
 from ..errors import InputError
+from .circle_display import rename_axes
 from .circle_fit import Arc, fit_terms
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .diagnostics import (
     ARC_WHY,
     CircleDiagnostics,
-    _rename,
-    _undetermined,
     check_arc,
     cyclic_terms,
     pick_passes,
     pick_sensor,
+    undetermined_terms,
 )
 
 SINGLE = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -81,13 +81,13 @@ def diagnose_single(angle, e, direction, radius_m, rate_rad_s=float("nan"),
     curves, grids = per_circle_terms(fit, arcs, radius_m, SINGLE, (direction,))
     terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves)
     terms["residual_rms"] = (fit.residual_rms, "m")
-    why = {_rename(k, axes): v for k, v in NEEDS_PAIR.items()}
-    why.update({_rename(k, axes): ARC_WHY for k in _undetermined(fit)
+    why = {rename_axes(k, axes): v for k, v in NEEDS_PAIR.items()}
+    why.update({rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)
                 if k != "squareness" and k not in NEEDS_PAIR})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
-                             {_rename(k, axes): (float(v), u) for k, (v, u) in terms.items()},
+                             {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking)
 
 

@@ -56,8 +56,15 @@ import numpy as np
 
 from .._threads import limit_blas_threads
 from ..errors import InputError
-from .circle_display import DISPLAY_UNITS, TERM_NOTES, display_terms, term_note  # noqa: F401
+from .circle_display import (  # noqa: F401
+    DISPLAY_UNITS,
+    TERM_NOTES,
+    display_terms,
+    rename_axes,
+    term_note,
+)
 from .circle_fit import Arc, fit_terms
+from .circle_model import is_full
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
@@ -162,13 +169,6 @@ def check_arc(angle, e, what, arc_ok=False):
     return angle, e
 
 
-def is_full(angle) -> bool:
-    """Whether an unwrapped angle covers a full turn; a turn cut to whole samples may lack
-    up to one sample spacing at either end [-]."""
-    slack = 2 * min(float(np.max(np.abs(np.diff(angle)))), np.radians(1.0))
-    return abs(angle[-1] - angle[0]) >= 2 * np.pi * (1 - 1e-3) - slack
-
-
 def _same_angles(paths) -> None:
     """Refuse two arcs that do not cover the same angles (to within 10 % of either)."""
     lo = [np.mod(min(a[0], a[-1]), 2 * np.pi) for a, _ in paths]
@@ -217,20 +217,14 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
     terms = _terms(fit, grids, deviations(paths, radius_m), curves, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
-    why = {_rename(k, axes): ARC_WHY for k in _undetermined(fit)}
+    why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
-                             {_rename(k, axes): (float(v), u) for k, (v, u) in terms.items()},
+                             {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking)
 
 
-def _rename(term: str, axes) -> str:
-    """A term's name with the plane's axes for X and Y [-]."""
-    names = {"X": axes[0], "Y": axes[1]}
-    return term[:-1] + names[term[-1]] if term[-2:] in ("_X", "_Y") else term
-
-
-def _undetermined(fit) -> list:
+def undetermined_terms(fit) -> list:
     """The reported terms a fit leaves undetermined [-]."""
     out = []
     for n in fit.undetermined():

@@ -536,3 +536,19 @@ def test_the_report_has_the_command_deviation_the_ranking_and_one_directions_ter
     assert "Diagnostics of the CCW circle alone (TCP)" in text
     assert "Terms ranked by their contribution" in text and "scale mismatch" in text
     assert "servo mismatch: not determined; one direction shows" in text
+
+
+def test_one_arc_in_one_direction_names_what_the_arc_and_the_direction_leave_open():
+    """A single CCW arc of 220 deg from -20 deg: the one direction's terms the arc
+    determines are recovered, and both reasons for the rest are given (in one direction
+    the arc cannot tell X's centre offset from X's backlash and the ellipses)."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    err = {"eps_x": 80e-6, "b_y": -3e-6, "cy": -3e-6}
+    diag = diagnose_single(*arc("ccw", err, -20.0, 220.0, 1), "ccw", R, W)
+    assert "squareness keeps its sign" in diag.undetermined["squareness"]
+    for term in ("centre_offset_X", "straightness_X"):
+        assert "arc does not determine" in diag.undetermined[term]
+        assert np.isnan(diag[term])
+    assert_recovered(diag, {k: v for k, v in expected(err).items()
+                            if k in ("scale_mismatch", "backlash_Y", "centre_offset_Y")})

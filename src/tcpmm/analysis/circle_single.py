@@ -29,8 +29,10 @@ from .diagnostics import (
     undetermined_terms,
 )
 
-SINGLE = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
-          "scale_mismatch", "straightness_X", "straightness_Y")
+#: The terms fitted to one direction; lateral play is not among them: in one direction
+#: only 7 % of its column is independent of the radius and the scale mismatch
+SINGLE = ("backlash_X", "backlash_Y", "squareness", "scale_mismatch", "straightness_X",
+          "straightness_Y")
 #: What only a CCW and a CW circle together tell, in a sentence
 PAIR_ONLY = ("squareness from servo mismatch, the lateral play, the hysteresis and G(b)")
 _ELLIPSE = ("one direction shows squareness and servo mismatch as one ellipse at 45 deg "
@@ -99,7 +101,8 @@ def _terms(fit, grids, g, curves):
     terms = {f"radial_deviation_{d}": (float(np.mean(grid)), "m"),
              f"circularity_{d}": (g, "m")}
     terms.update({f"centre_offset_{a}": (fit[f"centre_{a}_0"], "m") for a in "XY"})
-    terms.update({k: (fit[k], "m") for k in SINGLE[:4]})
+    terms.update({k: (fit[k], "m") for k in SINGLE[:2]})
+    terms.update({f"lateral_play_{a}": (float("nan"), "m") for a in "XY"})
     for d, (a, e, model) in curves.items():
         spikes = reversal_spikes(a, e - model, d)
         terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})

@@ -398,7 +398,7 @@ def test_one_direction_gives_what_it_determines_and_says_why_the_rest_needs_the_
     err = {"eps_x": 120e-6, "str_x": 2e-6, "cx": 4e-6, "cy": -2e-6, "b_x": 5e-6,
            "b_y": -3e-6, "alpha": 50e-6, "tau_y": 0.3e-3, "cyc_x": ALL["cyc_x"]}
     for d, s in (("ccw", 1.0), ("cw", -1.0)):
-        diag = diagnose_single(*circle(d, err, 3), d, R, W)
+        diag = diagnose_single(*circle(d, err, 3), d, R)
         want = {k: v for k, v in expected(err).items()
                 if k in ("scale_mismatch", "straightness_X", "straightness_Y",
                          "centre_offset_X", "centre_offset_Y", "backlash_X", "backlash_Y",
@@ -515,6 +515,13 @@ def test_a_90_deg_arc_is_analysed_with_the_terms_it_determines():
     assert all(np.isnan(after[q]) for q in "ACD")
     diag = circle_diagnostics(analyse_circle(run, R))
     assert {"centre_offset_X", "centre_offset_Y"} <= set(diag.undetermined)
+    from tcpmm.analysis.circle_single import one_direction_diagnostics
+
+    one = one_direction_diagnostics(res)
+    for d in (diag, one):  # every term left open says why
+        nan = {t for t, (v, _) in d.terms.items() if np.isnan(v) and not t.startswith(
+            ("spike", "cyclic_period"))}
+        assert nan <= set(d.undetermined), nan - set(d.undetermined)
 
 
 def test_the_report_has_the_command_deviation_the_ranking_and_one_directions_terms(
@@ -545,7 +552,7 @@ def test_one_arc_in_one_direction_names_what_the_arc_and_the_direction_leave_ope
     from tcpmm.analysis.circle_single import diagnose_single
 
     err = {"eps_x": 80e-6, "b_y": -3e-6, "cy": -3e-6}
-    diag = diagnose_single(*arc("ccw", err, -20.0, 220.0, 1), "ccw", R, W)
+    diag = diagnose_single(*arc("ccw", err, -20.0, 220.0, 1), "ccw", R)
     assert "squareness keeps its sign" in diag.undetermined["squareness"]
     for term in ("centre_offset_X", "straightness_X"):
         assert "arc does not determine" in diag.undetermined[term]

@@ -49,8 +49,8 @@ NEEDS_PAIR = {"squareness": _ELLIPSE, "servo_mismatch": _ELLIPSE,
 NEEDS_PAIR["lateral_play_Y"] = NEEDS_PAIR["lateral_play_X"]
 
 
-def diagnose_single(angle, e, direction, radius_m, rate_rad_s=float("nan"),
-                    axes=("X", "Y"), sensor="tcp") -> CircleDiagnostics:
+def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
+                    sensor="tcp") -> CircleDiagnostics:
     """The terms one direction determines (module docstring), and why the others need the
     pair (``undetermined``).
 
@@ -65,8 +65,6 @@ def diagnose_single(angle, e, direction, radius_m, rate_rad_s=float("nan"),
         Direction of travel [-].
     radius_m : float
         Nominal radius [m].
-    rate_rad_s : float
-        Angular speed, for the record [rad/s].
     axes : tuple of str
         The plane's first and second axis [-].
     sensor : str
@@ -84,8 +82,8 @@ def diagnose_single(angle, e, direction, radius_m, rate_rad_s=float("nan"),
     terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves)
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): v for k, v in NEEDS_PAIR.items()}
-    why.update({rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)
-                if k != "squareness" and k not in NEEDS_PAIR})
+    why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
+                for k in undetermined_terms(fit) if k not in NEEDS_PAIR or k == "squareness"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
@@ -134,5 +132,4 @@ def one_direction_diagnostics(result, sensor=None, axes=None) -> CircleDiagnosti
     d = next(iter(pick))
     sensor = pick_sensor({d: pick[d]}, sensor)
     sc = pick[d].sensors[sensor]
-    return diagnose_single(sc.angle_rad, sc.radial_error, d, result.radius,
-                           pick[d].rate_rad_s, axes, sensor)
+    return diagnose_single(sc.angle_rad, sc.radial_error, d, result.radius, axes, sensor)

@@ -218,6 +218,9 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     terms = _terms(fit, grids, deviations(paths, radius_m), curves, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
+    if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
+        why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
+                                 "given as an angle only (servo_mismatch_angle)")
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
@@ -231,7 +234,7 @@ def undetermined_terms(fit) -> list:
         if n.startswith("centre_"):
             out.append(f"centre_offset_{n.split('_')[1]}")
         elif n == "servo_angle":
-            out.append("servo_mismatch")
+            out += ["servo_mismatch", "servo_mismatch_angle"]
         elif not n.startswith("radius"):
             out.append(n)
     return list(dict.fromkeys(out))

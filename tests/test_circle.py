@@ -280,3 +280,16 @@ def test_the_bench_h_fast_circle_is_found_with_its_command_pulled_in(capsys):
     code = main(["compare", str(d / "circle_ccw_fast_meas.csv"),
                  str(d / "circle_ccw_fast_meas.csv"), "--radius", "35"])
     assert code == 0
+
+
+def test_a_dwell_on_the_circle_of_a_noisy_sensor_does_not_split_it():
+    """A run with no command, its TCP at rest for 0.3 s half-way round with 0.05 um of
+    noise: the noise turns the path back and forth at rest, yet it is one full circle."""
+    p = circle_path()
+    half = 600 + 3600
+    p = np.vstack([p[:half], np.repeat(p[half:half + 1], 300, axis=0), p[half:]])
+    p = p + 0.05e-6 * np.random.default_rng(1).standard_normal(p.shape)
+    t = np.arange(len(p)) * 1e-3
+    run = Run(t, {"X": AxisRun(cmd=None, tcp=p[:, 0]), "Y": AxisRun(cmd=None, tcp=p[:, 1])})
+    [ps] = analyse_circle(run, R).passes
+    assert not ps.is_arc and ps.direction == "ccw"

@@ -88,9 +88,13 @@ def _on_circle(dx, dy, radius, tol, offset):
 
 def _one_way(ang):
     """``(start, stop)`` of the parts of a stretch that turn one way: an arc out and back
-    (a ballbar's 220 deg arcs) is two arcs; steps under a microradian are rest [-]."""
+    (a ballbar's 220 deg arcs) is two arcs. Steps under a twentieth of the travel's (its 90th
+    percentile) are rest, so that a sensor's noise during a dwell does not split a circle
+    [-]."""
     d = np.diff(ang)
-    moving = np.flatnonzero(np.abs(d) > 1e-6)
+    if d.size == 0:
+        return [(0, ang.size)]
+    moving = np.flatnonzero(np.abs(d) > max(1e-9, 0.05 * np.percentile(np.abs(d), 90)))
     if moving.size < 2:
         return [(0, ang.size)]
     way = np.sign(d[moving])

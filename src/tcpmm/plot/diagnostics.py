@@ -39,7 +39,10 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
         deg = np.degrees(np.mod(angle, 2 * np.pi))
         order = np.argsort(deg)
         ax.plot(deg, e * 1e6, ".", ms=1.5, alpha=0.5, color=STYLE[d]["color"])
-        ax.plot(deg[order], model[order] * 1e6, lw=1.2, **STYLE[d])
+        line = model[order] * 1e6
+        # an arc's model is not drawn across the angles the arc does not cover
+        gap = np.r_[False, np.diff(deg[order]) > 2.0]
+        ax.plot(deg[order], np.where(gap, np.nan, line), lw=1.2, **STYLE[d])
     for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
         ax.axvline(deg, color="gray", lw=0.6)
         ax.annotate(q, (deg + 2, 0.98), xycoords=("data", "axes fraction"), va="top")

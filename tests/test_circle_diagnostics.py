@@ -483,7 +483,8 @@ def test_220_deg_arcs_in_xz_and_yz_are_found_and_diagnosed(axes, tmp_path, capsy
     determines."""
     err = {k: v for k, v in ARC_ERR.items() if k not in ("p_x", "str_x")}
     run = arc_run(err, -20.0, 220.0, axes)
-    res = analyse_circle(run, R, plane=axes)
+    with pytest.warns(InputWarning, match="arc of 220 deg does not hold quadrant points A"):
+        res = analyse_circle(run, R, plane=axes)
     assert [(p.direction, p.is_arc) for p in res.passes] == [("ccw", True), ("cw", True)]
     assert [p.arc_deg for p in res.passes] == pytest.approx([220.0, 220.0], abs=0.5)
     diag = circle_diagnostics(res)
@@ -513,7 +514,8 @@ def test_a_90_deg_arc_is_analysed_with_the_terms_it_determines():
     after = p.sensors["tcp"].spikes_after_terms()
     assert after["B"] == pytest.approx(5e-6, abs=0.1e-6)
     assert all(np.isnan(after[q]) for q in "ACD")
-    diag = circle_diagnostics(analyse_circle(run, R))
+    with pytest.warns(InputWarning, match="CW arc of 90 deg"):
+        diag = circle_diagnostics(analyse_circle(run, R))
     assert {"centre_offset_X", "centre_offset_Y"} <= set(diag.undetermined)
     from tcpmm.analysis.circle_single import one_direction_diagnostics
 

@@ -204,3 +204,92 @@ def test_lsq_circle_exact():
     th = np.linspace(0, 2 * np.pi, 50, endpoint=False)
     cx, cy, r = lsq_circle(1 + 2 * np.cos(th), -3 + 2 * np.sin(th))
     assert (cx, cy, r) == pytest.approx((1, -3, 2))
+
+
+def filtered_circle(radius=R, feed_m_s=10.0 / 60, window_s=0.040, dt=1e-3, turns=1.25):
+    """A command from rest at (R, 0) round ``turns`` and back to rest, through a moving
+    average of ``window_s`` as a controller's acceleration filter after interpolation is,
+    and the radius it pulls the circle in by [m]."""
+    w = feed_m_s / radius
+    n = round(turns * 2 * np.pi / (w * dt))
+    ang = np.r_[np.zeros(300), w * dt * np.arange(n), np.full(600, w * dt * (n - 1))]
+    k = round(window_s / dt)
+    p = radius * np.c_[np.cos(ang), np.sin(ang)]
+    pad = np.vstack([np.repeat(p[:1], k - 1, axis=0), p])
+    f = np.c_[[np.convolve(pad[:, j], np.ones(k) / k, "valid") for j in (0, 1)]].T
+    shrink = radius * (np.sin(k * w * dt / 2) / (k * np.sin(w * dt / 2)) - 1)
+    return f, shrink
+
+
+def test_a_command_the_controller_has_pulled_in_is_found_and_its_deviation_said():
+    """A 40 ms moving average at F10000 pulls R 35 in by 53 um, beyond the 35 um the
+    command had to keep to R: the circle was refused. It is found, and the command's radial
+    deviation is reported; the TCP's radial error stays about the nominal radius."""
+    cmd, shrink = filtered_circle()
+    assert shrink == pytest.approx(-52.9e-6, abs=0.5e-6)
+    tcp = polar_perturb(cmd, (0, 0), lambda a: 3e-6 + 0 * a)
+    res = analyse_circle(make_run(cmd, tcp), R)
+    [p] = res.passes
+    assert p.command_radial_deviation == pytest.approx(shrink, abs=0.05e-6)
+    assert np.mean(p.sensors["tcp"].radial_error) == pytest.approx(shrink + 3e-6, abs=0.05e-6)
+    assert abs(p.sensors["tcp"].angle_rad[-1] - p.sensors["tcp"].angle_rad[0]) == \
+        pytest.approx(2 * np.pi, abs=np.radians(0.5))
+    [row] = [r for r in p.table() if r["sensor"] == "tcp"]
+    assert row["command_radial_deviation_um"] == pytest.approx(shrink * 1e6, abs=0.05)
+    assert res.to_dict()["passes"][0]["command_radial_deviation_um"] == \
+        pytest.approx(shrink * 1e6, abs=0.05)
+
+
+@pytest.mark.parametrize("offset, found", [(0.3e-3, True), (-0.3e-3, True), (0.8e-3, False),
+                                           (-5e-3, False)])
+def test_a_command_off_the_radius_is_a_circle_up_to_two_percent_of_it(offset, found):
+    """A radius offset of 0.3 mm is the circle asked for, 0.3 mm off; 0.8 mm (over 2 % of
+    R 35) or 5 mm is another circle and stays refused."""
+    p = circle_path()
+    p = polar_perturb(p, (0, 0), lambda a: offset + 0 * a)
+    if not found:
+        with pytest.raises(InputError, match="no full circle of radius 35 mm"):
+            analyse_circle(make_run(p, p), R)
+        return
+    [ps] = analyse_circle(make_run(p, p), R).passes
+    assert ps.command_radial_deviation == pytest.approx(offset, abs=1e-9)
+
+
+def test_a_path_of_no_constant_radius_near_r_is_no_circle():
+    """A square whose corners touch the circle passes through R but never keeps to it."""
+    s = np.linspace(-1, 1, 4000)
+    h = R / np.sqrt(2)
+    p = np.vstack([np.c_[h + 0 * s, h * s], np.c_[-h * s, h + 0 * s],
+                   np.c_[-h + 0 * s, -h * s], np.c_[h * s, -h + 0 * s]])
+    with pytest.raises(InputError, match="no full circle"):
+        analyse_circle(make_run(p, p), R)
+
+
+def test_the_bench_h_fast_circle_is_found_with_its_command_pulled_in(capsys):
+    """Machine H's controller filter takes 52.85 um off the F10000 circle's command."""
+    from conftest import bench_path
+    from tcpmm.cli import main
+    from tcpmm.io.runfile import read_run
+
+    d = bench_path("h")
+    [p] = analyse_circle(read_run(d / "circle_ccw_fast_meas.csv"), R).passes
+    assert p.command_radial_deviation == pytest.approx(-52.85e-6, abs=0.05e-6)
+    code = main(["circle", str(d / "circle_ccw_fast_meas.csv"), "--radius", "35"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert code == 0 and "the command lies 52.85 µm inside the nominal radius" in out
+    code = main(["compare", str(d / "circle_ccw_fast_meas.csv"),
+                 str(d / "circle_ccw_fast_meas.csv"), "--radius", "35"])
+    assert code == 0
+
+
+def test_a_dwell_on_the_circle_of_a_noisy_sensor_does_not_split_it():
+    """A run with no command, its TCP at rest for 0.3 s half-way round with 0.05 um of
+    noise: the noise turns the path back and forth at rest, yet it is one full circle."""
+    p = circle_path()
+    half = 600 + 3600
+    p = np.vstack([p[:half], np.repeat(p[half:half + 1], 300, axis=0), p[half:]])
+    p = p + 0.05e-6 * np.random.default_rng(1).standard_normal(p.shape)
+    t = np.arange(len(p)) * 1e-3
+    run = Run(t, {"X": AxisRun(cmd=None, tcp=p[:, 0]), "Y": AxisRun(cmd=None, tcp=p[:, 1])})
+    [ps] = analyse_circle(run, R).passes
+    assert not ps.is_arc and ps.direction == "ccw"

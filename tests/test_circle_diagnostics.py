@@ -18,7 +18,7 @@ from conftest import bench_path
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
 from tcpmm.cli import main
-from tcpmm.errors import InputError
+from tcpmm.errors import InputError, InputWarning
 from tcpmm.result import AxisRun, Run
 
 R, DT, N = 0.035, 1e-3, 7200  # 7.2 s per turn
@@ -33,25 +33,31 @@ SPIKE_AT = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
 START = 45.0 + 0.5 * np.degrees(W * DT)  # no sample on a reversal, where a step has no side
 
 
-def circle(direction, err, seed=0, start_deg=START, noise=NOISE):
-    """``(angle, radial error)`` of one turn from ``start_deg`` with the errors ``err``
-    applied as position errors of the tool, plus noise on each axis [rad, m]."""
+def circle(direction, err, seed=0, start_deg=START, noise=NOISE, n=N):
+    """``(angle, radial error)`` of one turn of ``n`` samples from ``start_deg`` with the
+    errors ``err`` applied as position errors of the tool, plus noise on each axis; each axis
+    lags its command by its ``tau``, reverses where its own velocity turns and has its
+    cyclic error and its bow at its own position [rad, m]."""
     s = 1.0 if direction == "ccw" else -1.0
-    th = np.radians(start_deg) + s * W * DT * np.arange(N + 1)
+    w = 2 * np.pi / (n * DT)
+    th = np.radians(start_deg) + s * w * DT * np.arange(n + 1)
     g = err.get
-    x = R * np.cos(th - s * W * g("tau_x", 0.0))
-    y = R * np.sin(th - s * W * g("tau_y", 0.0))
-    x, y = (1 + g("eps_x", 0.0)) * x, (1 + g("eps_y", 0.0)) * y
+    ax, ay = th - s * w * g("tau_x", 0.0), th - s * w * g("tau_y", 0.0)
+    xa, ya = R * np.cos(ax), R * np.sin(ay)  # the axes where they are
+    x, y = (1 + g("eps_x", 0.0)) * xa, (1 + g("eps_y", 0.0)) * ya
     x = x - g("alpha", 0.0) * y
-    sx, sy = np.sign(-s * np.sin(th)), np.sign(s * np.cos(th))
+    sx, sy = np.sign(-s * np.sin(ax)), np.sign(s * np.cos(ay))
     x = x - g("b_x", 0.0) / 2 * sx + g("p_y", 0.0) / 2 * sy
     y = y - g("b_y", 0.0) / 2 * sy + g("p_x", 0.0) / 2 * sx
-    for axis, pos in (("x", R * np.cos(th)), ("y", R * np.sin(th))):
+    y = y + g("str_x", 0.0) * (1 - (xa / R) ** 2)
+    x = x + g("str_y", 0.0) * (1 - (ya / R) ** 2)
+    for axis, pos in (("x", xa), ("y", ya)):
         c, lam, ph = g(f"cyc_{axis}", (0.0, 1.0, 0.0))
         d = c * np.sin(2 * np.pi * pos / lam + ph)
         x, y = (x + d, y) if axis == "x" else (x, y + d)
-    bump = g("r0", 0.0) + sum(
-        h * np.exp(-0.5 * (((s * (np.degrees(th) - SPIKE_AT[q]) - at) % 360) / 1.5) ** 2)
+    bump = g("r0", 0.0) + sum(  # a Gaussian of 1.5 deg, ``at`` deg after the point
+        h * np.exp(-0.5 * (((s * (np.degrees(th) - SPIKE_AT[q]) - at + 180) % 360 - 180)
+                           / 1.5) ** 2)
         for (d, q), (h, at) in g("spikes", {}).items() if d == direction)
     x, y = x + bump * np.cos(th) + g("cx", 0.0), y + bump * np.sin(th) + g("cy", 0.0)
     rng = np.random.default_rng(seed)
@@ -59,18 +65,20 @@ def circle(direction, err, seed=0, start_deg=START, noise=NOISE):
     return np.unwrap(np.arctan2(y, x)), np.hypot(x, y) - R
 
 
-def diagnose(err, noise=NOISE, **kw):
-    return diagnose_pair(circle("ccw", err, 1, noise=noise, **kw),
-                         circle("cw", err, 2, noise=noise, **kw), R, (W, W))
+def diagnose(err, noise=NOISE, n=N, **kw):
+    w = 2 * np.pi / (n * DT)
+    return diagnose_pair(circle("ccw", err, 1, noise=noise, n=n, **kw),
+                         circle("cw", err, 2, noise=noise, n=n, **kw), R, (w, w))
 
 
-def expected(err):
+def expected(err, n=N):
     """The terms ``err`` should give, in the units of the diagnostics [SI]."""
     g = err.get
     out = {"backlash_X": g("b_x", 0.0), "backlash_Y": g("b_y", 0.0),
            "lateral_play_X": g("p_x", 0.0), "lateral_play_Y": g("p_y", 0.0),
            "squareness": g("alpha", 0.0), "servo_mismatch": g("tau_y", 0.0) - g("tau_x", 0.0),
            "scale_mismatch": g("eps_x", 0.0) - g("eps_y", 0.0),
+           "straightness_X": g("str_x", 0.0), "straightness_Y": g("str_y", 0.0),
            "centre_offset_X": g("cx", 0.0), "centre_offset_Y": g("cy", 0.0)}
     for axis in "XY":
         c, lam, _ = g(f"cyc_{axis.lower()}", (0.0, float("nan"), 0.0))
@@ -80,15 +88,19 @@ def expected(err):
     for d in ("ccw", "cw"):
         for q in "ABCD":
             out[f"spike_{q}_{d}"] = g("spikes", {}).get((d, q), (0.0, 0.0))[0]
-        # mean radius minus nominal: the noise-free circle without its spikes
+        # mean radius minus nominal over the angle: the noise-free circle without its
+        # spikes (a lag spaces the samples unevenly in angle)
         clean = {k: v for k, v in err.items() if k != "spikes"}
-        out[f"radial_deviation_{d}"] = float(np.mean(circle(d, clean, noise=0.0)[1][:-1]))
+        a, e = circle(d, clean, noise=0.0, n=n)
+        grid = np.linspace(0, 2 * np.pi, 3600, endpoint=False)
+        out[f"radial_deviation_{d}"] = float(np.mean(np.interp(grid, a, e, period=2 * np.pi)))
     return out
 
 
-def assert_recovered(diag, want):
+def assert_recovered(diag, want, w=W):
+    per_unit = dict(PER_UNIT, servo_mismatch=R * w / 2)
     for term, true in want.items():
-        tol = max(0.02 * abs(true), 0.1e-6 / PER_UNIT.get(term, 1.0))
+        tol = max(0.02 * abs(true), 0.1e-6 / per_unit.get(term, 1.0))
         if term.startswith("cyclic_period"):
             tol = 0.02 * true
         if term.startswith("spike"):
@@ -112,12 +124,13 @@ def draw(rng):
             "cyc_x": (rng.uniform(0.5e-6, 2e-6), rng.uniform(3e-3, 12e-3), rng.uniform(0, 6)),
             "cyc_y": (rng.uniform(0.5e-6, 2e-6), rng.uniform(3e-3, 12e-3), rng.uniform(0, 6)),
             "spikes": {(d, q): (pm(8e-6, 20e-6), rng.uniform(4.0, 8.0))
-                       for d in ("ccw", "cw") for q in "ABCD"}}
+                       for d in ("ccw", "cw") for q in "ABCD"},
+            "str_x": pm(1e-6, 5e-6), "str_y": pm(1e-6, 5e-6)}
 
 
 ALL = draw(np.random.default_rng(2305))
 SINGLE = ["r0", "cx", "b_x", "b_y", "p_x", "p_y", "alpha", "tau_y", "tau_x", "eps_x", "eps_y",
-          "cyc_x", "cyc_y", "spikes"]
+          "cyc_x", "cyc_y", "spikes", "str_x", "str_y"]
 
 
 @pytest.mark.parametrize("name", SINGLE)
@@ -135,6 +148,18 @@ def test_all_errors_together_are_recovered():
     assert_recovered(diag, expected(ALL))
     assert diag["radial_deviation_pair"] == pytest.approx(
         (diag["radial_deviation_ccw"] + diag["radial_deviation_cw"]) / 2)
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("n", [N, 1320], ids=["F1800", "F10000"])
+def test_all_errors_with_a_servo_mismatch_of_1_ms(seed, n):
+    """With Y lagging X by 1 ms each axis reverses where its own velocity turns, a sample
+    or more from the quadrant point of the tool's angle (at F10000 on R35, 1320 samples a
+    turn, 0.27 deg), and the lag's ellipse has a part at four times the angle of 0.2 um:
+    neither may read as backlash, scale mismatch or a cyclic error."""
+    err = draw(np.random.default_rng(seed))
+    err["tau_y"] = np.sign(err["tau_y"]) * 1e-3
+    assert_recovered(diagnose(err, n=n), expected(err, n), w=2 * np.pi / (n * DT))
 
 
 def test_squareness_and_servo_mismatch_part_on_the_direction():
@@ -338,3 +363,201 @@ def test_the_circle_table_and_the_report_lead_with_the_spike_after_the_terms(cap
                                               .sensors["tcp"].spikes["B"] * 1e6)
     text = key_figures(analyse_circle(run, R))
     assert "largest reversal spike after the fitted terms 5.0" in text and " at B" in text
+
+
+def test_the_terms_are_ranked_by_the_radial_error_each_makes():
+    """Each term's contribution is the peak to valley of its radial error alone: b for
+    backlash, m R for a scale mismatch, w dt R for a servo mismatch, a R for squareness,
+    2 |c| for a centre offset, 2 k for a bow, the spike's height for the spikes."""
+    err = {"b_x": 4e-6, "eps_x": 150e-6, "tau_y": 0.2e-3, "alpha": 80e-6, "cx": 1e-6,
+           "str_y": 1.5e-6, "spikes": {("ccw", "B"): (8e-6, 6.0)}}
+    diag = diagnose(err)
+    want = {"backlash_X": 4e-6, "scale_mismatch": 150e-6 * R, "servo_mismatch": W * 0.2e-3 * R,
+            "squareness": 80e-6 * R, "centre_offset": 2e-6, "straightness_Y": 3e-6,
+            "reversal_spikes": 8e-6}
+    got = {r["term"]: r for r in diag.ranking}
+    for term, v in want.items():
+        assert got[term]["contribution_m"] == pytest.approx(v, rel=0.02, abs=0.1e-6), term
+    order = [r["term"] for r in diag.ranking]
+    assert order[:len(want)] == sorted(want, key=lambda k: -want[k])
+    assert [r["rank"] for r in diag.ranking] == list(range(1, len(order) + 1))
+    assert sum(r["share"] for r in diag.ranking) == pytest.approx(1.0)
+    for r in diag.ranking:  # what of G(b) each would make alone; a centre offset none
+        want_g = 0.0 if r["term"] == "centre_offset" else \
+            r["contribution_m"] / diag["circularity_pair"]
+        assert r["share_of_G"] == pytest.approx(want_g)
+    assert diag.to_dict()["ranking"][0]["term"] == "reversal_spikes"
+
+
+def test_one_direction_gives_what_it_determines_and_says_why_the_rest_needs_the_pair():
+    """A CCW circle alone: radius, centre, scale mismatch, straightness, backlash and the
+    45 deg ellipse of squareness and servo mismatch together; squareness and servo
+    mismatch apart, lateral play, hysteresis and G(b) need the CW circle, and it says so."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    err = {"eps_x": 120e-6, "str_x": 2e-6, "cx": 4e-6, "cy": -2e-6, "b_x": 5e-6,
+           "b_y": -3e-6, "alpha": 50e-6, "tau_y": 0.3e-3, "cyc_x": ALL["cyc_x"]}
+    for d, s in (("ccw", 1.0), ("cw", -1.0)):
+        diag = diagnose_single(*circle(d, err, 3), d, R)
+        want = {k: v for k, v in expected(err).items()
+                if k in ("scale_mismatch", "straightness_X", "straightness_Y",
+                         "centre_offset_X", "centre_offset_Y", "backlash_X", "backlash_Y",
+                         "cyclic_amplitude_X", "cyclic_period_X", f"radial_deviation_{d}")}
+        want["squareness_or_servo"] = 50e-6 + s * W * 0.3e-3
+        assert_recovered(diag, want)
+        assert diag.directions == (d,)
+        for term in ("squareness", "servo_mismatch", "lateral_play_X", "hysteresis",
+                     "circularity_pair"):
+            assert term in diag.undetermined, term
+        assert "squareness keeps its sign" in diag.undetermined["servo_mismatch"]
+
+
+def test_cli_one_direction_prints_its_terms_and_why_the_others_need_the_pair(capsys, pair):
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35)
+    assert code == 0
+    text = " ".join(out.split())
+    assert "squareness or servo" in text and "terms ranked by their contribution" in text
+    assert "servo mismatch: not determined; one direction shows" in text
+    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
+    one = json.loads(out)["diagnostics_one_direction"]
+    terms = {t["term"]: t["value"] for t in one["terms"]}
+    # 50 um/m of squareness and 0.2 ms of Y lag at 0.87 rad/s: 224.5 um/m of ellipse
+    assert terms["squareness_or_servo"] == pytest.approx(50.0 + W * 0.2e-3 * 1e6, rel=0.01)
+    assert terms["scale_mismatch"] == pytest.approx(80.0, rel=0.01)
+    assert "hysteresis" in one["undetermined"] and one["directions"] == ["ccw"]
+    assert one["ranking"][0]["rank"] == 1 and "share_percent" in one["ranking"][0]
+    assert "percent_of_G" in one["ranking"][0]
+
+
+def arc(direction, err, lo, span, seed=0):
+    """The part of a turn from ``lo`` over ``span`` deg, run in ``direction`` [rad, m]."""
+    start = (lo if direction == "ccw" else lo + span) + 0.5 * np.degrees(W * DT)
+    a, e = circle(direction, err, seed, start_deg=start)
+    m = round(span / 360 * N)
+    return a[:m + 1], e[:m + 1]
+
+
+#: Errors of a 220 deg arc test; of those the arc cannot determine, the one lying along the
+#: arc's chord is left out (an arc from -20 deg cannot tell X's lateral play and bow)
+ARC_ERR = {"alpha": 60e-6, "eps_x": 80e-6, "b_x": 4e-6, "b_y": -3e-6, "tau_y": 0.3e-3,
+           "cx": 5e-6, "cy": -3e-6, "p_x": 2e-6, "p_y": 2e-6, "str_x": 2e-6, "str_y": 2e-6}
+
+
+@pytest.mark.parametrize("lo, blind", [(-20.0, "X"), (70.0, "Y"), (160.0, "X")])
+def test_a_pair_of_220_deg_arcs_gives_the_terms_it_determines(lo, blind):
+    """A ballbar's 220 deg arcs, out and back: squareness, scale and servo mismatch,
+    backlash, centre and the other axis' lateral play and bow are recovered; the lateral play
+    and the bow of the axis whose ends the arc does not both reach are named undetermined."""
+    err = {k: v for k, v in ARC_ERR.items() if k not in (f"p_{blind.lower()}",
+                                                        f"str_{blind.lower()}")}
+    diag = diagnose_pair(arc("ccw", err, lo, 220, 1), arc("cw", err, lo, 220, 2), R, (W, W))
+    assert set(diag.undetermined) == {f"lateral_play_{blind}", f"straightness_{blind}"}
+    assert np.isnan(diag[f"straightness_{blind}"])
+    want = {k: v for k, v in expected(err).items() if k not in diag.undetermined
+            and not k.startswith(("spike", "cyclic", "radial_deviation"))}
+    for d in ("ccw", "cw"):  # the mean radius over the arc
+        want[f"radial_deviation_{d}"] = float(np.mean(arc(d, err, lo, 220)[1]))
+    assert_recovered(diag, want)
+
+
+def arc_run(err, lo, span, axes=("X", "Y")):
+    """A run out along an arc CCW and back CW, the command and the TCP with ``err``, in the
+    plane of ``axes`` [-]."""
+    cmd, tcp = [], []
+    for i, d in enumerate(("ccw", "cw")):
+        s = 1.0 if d == "ccw" else -1.0
+        a, e = arc(d, err, lo, span, i)
+        start = (lo if d == "ccw" else lo + span) + 0.5 * np.degrees(W * DT)
+        th = np.radians(start) + s * W * DT * np.arange(a.size)
+        cmd.append(R * np.c_[np.cos(th), np.sin(th)])
+        tcp.append((R + e)[:, None] * np.c_[np.cos(a), np.sin(a)])
+    cmd, tcp = np.vstack(cmd), np.vstack(tcp)
+    return Run(DT * np.arange(len(cmd)), {ax: AxisRun(cmd=cmd[:, j], tcp=tcp[:, j])
+                                          for j, ax in enumerate(axes)})
+
+
+@pytest.mark.parametrize("axes", [("X", "Z"), ("Y", "Z")])
+def test_220_deg_arcs_in_xz_and_yz_are_found_and_diagnosed(axes, tmp_path, capsys):
+    """A run of a ballbar's 220 deg arcs out and back, in XZ and YZ, was refused as holding
+    no full circle; now each arc is a pass and the pair is diagnosed with the terms it
+    determines."""
+    err = {k: v for k, v in ARC_ERR.items() if k not in ("p_x", "str_x")}
+    run = arc_run(err, -20.0, 220.0, axes)
+    with pytest.warns(InputWarning, match="arc of 220 deg does not hold quadrant points A"):
+        res = analyse_circle(run, R, plane=axes)
+    assert [(p.direction, p.is_arc) for p in res.passes] == [("ccw", True), ("cw", True)]
+    assert [p.arc_deg for p in res.passes] == pytest.approx([220.0, 220.0], abs=0.5)
+    diag = circle_diagnostics(res)
+    a, b = axes
+    assert set(diag.undetermined) == {f"lateral_play_{a}", f"straightness_{a}"}
+    assert diag["squareness"] == pytest.approx(60e-6, rel=0.02)
+    assert diag["scale_mismatch"] == pytest.approx(80e-6, rel=0.02)
+    assert diag[f"backlash_{b}"] == pytest.approx(-3e-6, rel=0.02)
+    assert diag["servo_mismatch"] == pytest.approx(0.3e-3, rel=0.02)
+    run.write_csv(tmp_path / "arcs.csv")
+    code, out, _ = cli(capsys, "circle", tmp_path / "arcs.csv", "--radius", 35, "--plane",
+                       "".join(axes))
+    text = " ".join(out.split())
+    assert code == 0 and "CCW: an arc of 220 deg" in text
+    assert f"straightness {a}: not determined" in text
+
+
+def test_a_90_deg_arc_is_analysed_with_the_terms_it_determines():
+    """A quarter circle over B, refused before: its spike at B after the terms it
+    determines is the 5 um injected there, the points it does not hold are left out."""
+    err = {"spikes": {("ccw", "B"): (5e-6, 6.0)}, "r0": 2e-6}
+    run = arc_run(err, 30.0, 90.0)
+    with pytest.warns(InputWarning, match="arc of 90 deg does not hold quadrant points A"):
+        res = analyse_circle(run, R, direction="ccw")
+    [p] = res.passes
+    assert p.is_arc and p.arc_deg == pytest.approx(90.0, abs=0.5)
+    after = p.sensors["tcp"].spikes_after_terms()
+    assert after["B"] == pytest.approx(5e-6, abs=0.1e-6)
+    assert all(np.isnan(after[q]) for q in "ACD")
+    with pytest.warns(InputWarning, match="CW arc of 90 deg"):
+        diag = circle_diagnostics(analyse_circle(run, R))
+    assert {"centre_offset_X", "centre_offset_Y"} <= set(diag.undetermined)
+    from tcpmm.analysis.circle_single import one_direction_diagnostics
+
+    one = one_direction_diagnostics(res)
+    for d in (diag, one):  # every term left open says why
+        nan = {t for t, (v, _) in d.terms.items() if np.isnan(v) and not t.startswith(
+            ("spike", "cyclic_period"))}
+        assert nan <= set(d.undetermined), nan - set(d.undetermined)
+
+
+def test_the_report_has_the_command_deviation_the_ranking_and_one_directions_terms(
+        capsys, tmp_path):
+    """A CCW run whose command a filter has pulled in: the report says how far, gives the
+    one direction's diagnostics with the ranking, and what needs the CW circle and why."""
+    from test_circle import filtered_circle, make_run, polar_perturb
+
+    cmd, shrink = filtered_circle(feed_m_s=5.0 / 60, window_s=0.120)
+    tcp = polar_perturb(cmd, (0, 0), lambda a: 2e-6 * np.cos(2 * a))
+    make_run(cmd, tcp).write_csv(tmp_path / "ccw.csv")
+    out = tmp_path / "r.html"
+    code = main(["report", "-o", str(out), "--run", str(tmp_path / "ccw.csv"), "--radius",
+                 "35"])
+    assert code == 0, capsys.readouterr().err
+    text = " ".join(out.read_text(encoding="utf-8").split())
+    assert f"the command lies {-shrink * 1e6:.2f} µm inside the nominal radius" in text
+    assert "command radius - nominal [µm]" in text
+    assert "Diagnostics of the CCW circle alone (TCP)" in text
+    assert "Terms ranked by their contribution" in text and "scale mismatch" in text
+    assert "servo mismatch: not determined; one direction shows" in text
+
+
+def test_one_arc_in_one_direction_names_what_the_arc_and_the_direction_leave_open():
+    """A single CCW arc of 220 deg from -20 deg: the one direction's terms the arc
+    determines are recovered, and both reasons for the rest are given (in one direction
+    the arc cannot tell X's centre offset from X's backlash and the ellipses)."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    err = {"eps_x": 80e-6, "b_y": -3e-6, "cy": -3e-6}
+    diag = diagnose_single(*arc("ccw", err, -20.0, 220.0, 1), "ccw", R)
+    assert "squareness keeps its sign" in diag.undetermined["squareness"]
+    for term in ("centre_offset_X", "straightness_X"):
+        assert "arc does not determine" in diag.undetermined[term]
+        assert np.isnan(diag[term])
+    assert_recovered(diag, {k: v for k, v in expected(err).items()
+                            if k in ("scale_mismatch", "backlash_Y", "centre_offset_Y")})

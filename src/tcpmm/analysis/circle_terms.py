@@ -11,13 +11,15 @@ cannot tell apart) and the ellipse along the axes (scale mismatch). As in
 fit. Backlash and lateral play are not fitted here: in one circle their steps at the
 reversals have the shape of the reversal's own transient and take part of it, turning a
 spike's sign; the diagnostics of a CCW and a CW circle, where backlash changes sign with the
-direction and the transient does not, fit them, and cyclic errors too.
+direction and the transient does not, fit them, and cyclic errors too. An arc is fitted
+with the terms it determines (:func:`tcpmm.analysis.circle_model.determined`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .circle_model import determined
 from .circular import AFTER_DEG, QUADRANTS, reversal_spikes
 
 #: Fewest samples on a circle for the fit [-].
@@ -58,6 +60,8 @@ def residual_after_terms(angle_rad, e, direction: str):
     basis = np.column_stack([np.ones_like(a), np.cos(a), np.sin(a), np.sin(2 * a),
                              np.cos(2 * a)])
     keep = _fit_mask(a, direction)
+    # an arc determines fewer of them; a full circle all
+    basis = basis[:, determined(basis[keep], protect=[0])]
     coef = np.linalg.lstsq(basis[keep], e[keep], rcond=None)[0]
     return e - basis @ coef
 

@@ -15,19 +15,22 @@ A quadrant point whose windows do not both lie on the circle (a circle that star
 at it) is left out: its spike is NaN and an :class:`InputWarning` names it.
 
 Full circles are found from the command when the run has one (else from the first sensor
-present): the longest stretches whose radius is within a tolerance of R; feed-in and
-feed-out arcs that join the circle tangentially are trimmed symmetrically so that
-exactly the programmed turns remain.
+present): the stretches whose radius keeps within a tolerance of one level near R (a
+command a controller's filter has pulled in counts, and its radial deviation is reported);
+feed-in and feed-out arcs that join the circle tangentially are trimmed symmetrically so
+that exactly the programmed turns remain. A run without a full circle is analysed on its
+arcs (:mod:`tcpmm.analysis.circle_passes`).
 """
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError, InputWarning
+from ..errors import InputError
+from .circle_checks import not_found_error, present_sensors, warn_uncrossed
+from .circle_passes import find_passes, find_stretches, radial_deviation, rate  # noqa: F401
 
 QUADRANTS = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
 SENSORS = ("cmd", "motor", "scale", "tcp")
@@ -94,17 +97,30 @@ class CirclePass:
         Results per sensor (``cmd``, ``motor``, ``scale``, ``tcp``) [-].
     rate_rad_s : float
         Mean angular speed about the nominal centre; NaN when unknown [rad/s].
+    command_radial_deviation : float
+        Mean radius of the command minus the nominal: a controller's filter pulls a circle
+        in, a radius offset moves it; NaN without a command [m].
+    arc_deg : float
+        Angle covered: 360 per turn for a full circle, less for an arc [deg].
     """
 
     direction: str
     index: slice
     sensors: dict = field(default_factory=dict)
     rate_rad_s: float = float("nan")
+    command_radial_deviation: float = float("nan")
+    arc_deg: float = 360.0
+
+    @property
+    def is_arc(self) -> bool:
+        """Whether the pass is an arc, not a full circle [-]."""
+        return self.arc_deg < 360.0
 
     def table(self) -> list[dict]:
         """One row per sensor [um]: the reversal spikes A-D after the fitted terms
         (``spike_after_terms_A_um``...), contour error, G, and the raw spikes ``e - b``
-        (``spike_A_um``..., which ``compare`` and the paper's Table 2 take)."""
+        (``spike_A_um``..., which ``compare`` and the paper's Table 2 take), and the
+        command's radial deviation of the pass."""
         rows = []
         for name, s in self.sensors.items():
             row = {"direction": self.direction, "sensor": name}
@@ -113,6 +129,7 @@ class CirclePass:
             row["contour_error_um"] = s.contour_error * 1e6
             row["circular_deviation_um"] = s.circular_deviation * 1e6
             row.update({f"spike_{k}_um": v * 1e6 for k, v in s.spikes.items()})
+            row["command_radial_deviation_um"] = self.command_radial_deviation * 1e6
             rows.append(row)
         return rows
 
@@ -152,7 +169,10 @@ class CircleResult:
 
         return {"plane": "".join(self.plane), "radius_mm": self.radius * 1e3,
                 "centre_mm": [c * 1e3 for c in self.centre],
-                "passes": [{"direction": p.direction, "sensors": [clean(r) for r in p.table()]}
+                "passes": [{"direction": p.direction, "arc_deg": p.arc_deg,
+                            "command_radial_deviation_um": clean(
+                                {"v": p.command_radial_deviation * 1e6})["v"],
+                            "sensors": [clean(r) for r in p.table()]}
                            for p in self.passes]}
 
     def pass_for(self, direction: str) -> CirclePass:
@@ -245,28 +265,6 @@ def uncrossed_quadrants(angle_rad, direction: str) -> list:
                                                                        deg)[0]]
 
 
-def warn_uncrossed(names, direction: str) -> None:
-    """Warn (:class:`InputWarning`) that quadrant points are left out of a circle.
-
-    Parameters
-    ----------
-    names : list of str
-        The points left out, e.g. ``["A"]``; nothing is said when empty [-].
-    direction : {"ccw", "cw"}
-        Direction of travel [-].
-    """
-    if not names:
-        return
-    pts = ", ".join(f"{n} ({QUADRANTS[n]:g} deg)" for n in names)
-    one = len(names) == 1
-    warnings.warn(InputWarning(
-        f"the {direction.upper()} circle starts or ends at quadrant point{'' if one else 's'} "
-        f"{pts} or within {'its' if one else 'their'} reversal window (30 deg before to 20 "
-        f"deg after), so no reversal spike is reported at {', '.join(names)}; start the "
-        f"circle between quadrant points (e.g. at 45 deg) to measure {'it' if one else 'them'}"),
-        stacklevel=3)
-
-
 def _spike(dev) -> float:
     return float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
 
@@ -319,57 +317,10 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
                         direction)
 
 
-def find_passes(x, y, radius, centre, tol=None, turns=None):
-    """Index ranges of full circles: ``(slice, direction, turns)`` each.
-
-    Parameters
-    ----------
-    x, y : ndarray
-        Reference path, the command if there is one [m].
-    radius : float
-        Nominal radius [m].
-    centre : tuple
-        Nominal centre [m].
-    tol : float, optional
-        Radius tolerance for "on the circle"; default 0.1 % of R [m].
-    turns : float, optional
-        Turns per pass; default the whole number of turns each stretch covers [-].
-    """
-    tol = 1e-3 * radius if tol is None else tol
-    dx, dy = x - centre[0], y - centre[1]
-    on = np.abs(np.hypot(dx, dy) - radius) < tol
-    edges = np.flatnonzero(np.diff(np.r_[0, on.astype(int), 0]))
-    out = []
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
-        if b - a < 8:
-            continue
-        ang = np.unwrap(np.arctan2(dy[a:b], dx[a:b]))
-        span = ang[-1] - ang[0]
-        n_turns = turns if turns is not None else np.floor(abs(span) / (2 * np.pi) + 1e-3)
-        if n_turns < 1:
-            continue
-        excess = (abs(span) - 2 * np.pi * n_turns) / 2
-        if excess < -1e-3:
-            continue
-        rel = np.abs(ang - ang[0])
-        keep = np.flatnonzero((rel >= excess) & (rel <= abs(span) - excess))
-        if keep.size < 8:
-            continue
-        out.append((slice(a + keep[0], a + keep[-1] + 1), "ccw" if span > 0 else "cw",
-                    int(n_turns)))
-    return out
-
-
-def _rate(t, x, y, centre):
-    """Mean angular speed over a pass [rad/s]; NaN without a time span."""
-    ang = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
-    span = t[-1] - t[0]
-    return float(abs(ang[-1] - ang[0]) / span) if span > 0 else float("nan")
-
-
 def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
                    sensors=SENSORS) -> CircleResult:
-    """Circular-test analysis of a run.
+    """Circular-test analysis of a run: its full circles, else its arcs
+    (:mod:`tcpmm.analysis.circle_passes`).
 
     Parameters
     ----------
@@ -389,44 +340,33 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     """
     if not radius_m > 0:
         raise InputError(f"the circle radius must be positive (got {radius_m})")
-    ax, ay = (p.upper() for p in plane)
-    for a in (ax, ay):
+    axes = tuple(p.upper() for p in plane)
+    for a in axes:
         if a not in run.axes:
             raise InputError(f"the run has no axis {a} (axes: {', '.join(run.axes)})")
-    X, Y = run.axes[ax], run.axes[ay]
-    present = []
-    for s in sensors:
-        have = [a for a, r in ((ax, X), (ay, Y)) if r.sensor(s) is not None]
-        if len(have) == 2:
-            present.append(s)
-        elif have:
-            lack = ay if have[0] == ax else ax
-            warnings.warn(InputWarning(
-                f"the {s} signal is present for {have[0]} but not for {lack}; the {s} "
-                "sensor is left out of the circular test"), stacklevel=2)
-    if not present:
-        raise InputError(f"the run has no position signals for both {ax} and {ay}")
+    X, Y = run.axes[axes[0]], run.axes[axes[1]]
+    present = present_sensors(run, axes, sensors)
     ref = "cmd" if "cmd" in present else present[0]
     tol = 1e-3 * radius_m if ref == "cmd" else 2e-2 * radius_m
-    found = find_passes(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol)
     passes = []
-    for sl, d, _ in found:
-        if direction is not None and d != direction:
+    for st in find_stretches(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol):
+        if direction is not None and st.direction != direction:
             continue
-        cp = CirclePass(d, sl, rate_rad_s=_rate(run.time_s[sl], X.sensor(ref)[sl],
-                                                Y.sensor(ref)[sl], centre_m))
+        sl, d = st.index, st.direction
+        cp = CirclePass(d, sl, rate_rad_s=rate(run.time_s[sl], X.sensor(ref)[sl],
+                                               Y.sensor(ref)[sl], centre_m),
+                        arc_deg=360.0 * st.turns if st.turns else st.span_deg)
+        if "cmd" in present:
+            cp.command_radial_deviation = radial_deviation(X.sensor("cmd")[sl],
+                                                           Y.sensor("cmd")[sl], radius_m,
+                                                           centre_m)
         for s in present:
             cp.sensors[s] = analyse_sensor(X.sensor(s)[sl], Y.sensor(s)[sl], radius_m,
                                            centre_m, d)
         warn_uncrossed([q for q in QUADRANTS if any(np.isnan(sc.spikes[q])
-                                                   for sc in cp.sensors.values())], d)
+                                                   for sc in cp.sensors.values())], d,
+                       cp.arc_deg)
         passes.append(cp)
     if not passes:
-        what = f" {direction.upper()}" if direction else ""
-        where = (f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm" if (ax, ay) == ("X", "Y")
-                 else f"{ax} {centre_m[0] * 1e3:g} mm, {ay} {centre_m[1] * 1e3:g} mm")
-        raise InputError(
-            f"no full{what} circle of radius {radius_m * 1e3:g} mm about {where} in the "
-            f"{ax}{ay} plane found in the {ref} signals; check --radius, --centre and "
-            "--plane")
-    return CircleResult(radius_m, tuple(centre_m), passes, (ax, ay))
+        raise not_found_error(radius_m, centre_m, axes, ref, direction)
+    return CircleResult(radius_m, tuple(centre_m), passes, axes)

@@ -24,6 +24,7 @@ from ._app import (
     app,
     out,
 )
+from ._circles import _diagnostics_json, _print_diagnostics, _print_passes
 from ._plane import PLANE_HELP, plane_option, run_plane_said
 
 
@@ -103,7 +104,6 @@ def circle(run_file: Path = typer.Argument(
     with a CCW and a CW circle (one run or two) also the diagnostics: backlash, lateral
     play, servo and scale mismatch, squareness, cyclic error, G(b), hysteresis."""
     from ..analysis.circular import CircleResult, analyse_circle
-    from ..analysis.diagnostics import circle_diagnostics
     from ..io.runfile import read_run
 
     if direction is not None and direction.lower() not in ("ccw", "cw"):
@@ -124,10 +124,8 @@ def circle(run_file: Path = typer.Argument(
                                           direction=direction.lower() if direction else None))
     res = CircleResult(results[0].radius, results[0].centre,
                        [p for r in results for p in r.passes], axes)
-    diag = None
-    if other is not None or sensor is not None or diag_plot is not None or \
-            {p.direction for p in res.passes} == {"ccw", "cw"}:
-        diag = circle_diagnostics(*results, sensor=sensor.value if sensor else None)
+    diag = _diagnostics(res, results, other is not None or sensor is not None
+                        or diag_plot is not None, sensor.value if sensor else None)
     if plot is not None:
         res.plot(path=plot)
     if diag_plot is not None:
@@ -135,9 +133,8 @@ def circle(run_file: Path = typer.Argument(
     if as_json:
         data = res.to_dict()
         if diag is not None:
-            data["diagnostics"] = {"sensor": diag.sensor, "terms": [
-                {"term": t, "value": None if v != v else v, "unit": u}
-                for t, v, u in _display_terms(diag, ascii_units=True)]}
+            key = "diagnostics" if len(diag.directions) == 2 else "diagnostics_one_direction"
+            data[key] = _diagnostics_json(diag)
         _emit_json(data)
         return
     title = f"{run_file}" + (f" and {other}" if other is not None else "")
@@ -147,61 +144,16 @@ def circle(run_file: Path = typer.Argument(
         _print_diagnostics(diag)
 
 
-def _display_terms(diag, ascii_units=False):
-    """``(term, value, unit)`` in the display units (µm, ms, µm/m, ppm, mm)."""
-    from ..analysis.diagnostics import display_terms
+def _diagnostics(res, results, asked: bool, sensor):
+    """The pair's diagnostics where there are both directions or they are asked for
+    (refused without them), else those of the one direction there is [-]."""
+    from ..analysis.circle_single import one_direction_diagnostics
+    from ..analysis.diagnostics import circle_diagnostics
 
-    return display_terms(diag, ascii_units)
-
-
-def _cell(v: float, digits: int = 2) -> str:
-    return "n/a" if v != v else f"{v:.{digits}f}"
-
-
-def _print_passes(res, title: str) -> None:
-    """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
-    from rich.table import Table
-
-    t = Table(title=f"{title} [µm]", caption="A-D: reversal spike after the fitted terms "
-              "(centre, radius, servo and scale mismatch, squareness; n/a: left out), raw "
-              "e - b in --json (spike_A_um ...); contour max |e|; G circular deviation")
-    for name in ("dir", "sensor", "A", "B", "C", "D", "contour", "G"):
-        t.add_column(name, justify="left" if name in ("dir", "sensor") else "right")
-    for p in res.passes:
-        for row in p.table():
-            t.add_row(p.direction.upper(), row["sensor"],
-                      *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
-                      _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
-    out.print(t)
-
-
-def _print_diagnostics(diag) -> None:
-    """The diagnostics as two tables: per direction, and the terms with their signs."""
-    from rich.table import Table
-
-    from ..analysis.diagnostics import term_note
-
-    rows = {t: (v, u) for t, v, u in _display_terms(diag)}
-    t = Table(title=f"circle diagnostics ({diag.sensor}) [µm]")
-    for name in ("", "CCW", "CW", "pair"):
-        t.add_column(name, justify="left" if not name else "right")
-    t.add_row("radial deviation", *[_cell(rows[f"radial_deviation_{d}"][0])
-                                    for d in ("ccw", "cw", "pair")])
-    t.add_row("circularity G, G(b)", *[_cell(rows[f"circularity_{d}"][0])
-                                       for d in ("ccw", "cw", "pair")])
-    for q in "ABCD":
-        t.add_row(f"spike {q} after the pair's terms", _cell(rows[f"spike_{q}_ccw"][0]),
-                  _cell(rows[f"spike_{q}_cw"][0]), "")
-    out.print(t)
-    t = Table()
-    for name in ("term", "value", "unit", "sign"):
-        t.add_column(name, justify="right" if name == "value" else "left")
-    for term, (v, u) in rows.items():
-        if term.startswith(("radial_deviation", "circularity", "spike")):
-            continue
-        note = term_note(term, diag.axes)
-        t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u, note)
-    out.print(t)
+    dirs = {p.direction for p in res.passes}
+    if asked or dirs == {"ccw", "cw"}:
+        return circle_diagnostics(*results, sensor=sensor)
+    return one_direction_diagnostics(res) if len(dirs) == 1 else None
 
 
 @app.command()

@@ -9,6 +9,7 @@ from . import finish, panels
 STYLE = {"ccw": dict(color="tab:blue", label="CCW"), "cw": dict(color="tab:red", label="CW")}
 SUMMARY = (("backlash_{X}", "backlash {X}", 1e6, "µm"), ("backlash_{Y}", "backlash {Y}", 1e6, "µm"),
            ("squareness", "squareness", 1e6, "µm/m"),
+           ("squareness_or_servo", "squareness or servo", 1e6, "µm/m"),
            ("scale_mismatch", "scale mismatch", 1e6, "ppm"),
            ("servo_mismatch", "servo mismatch", 1e3, "ms"),
            ("circularity_pair", "G(b)", 1e6, "µm"))
@@ -38,7 +39,10 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
         deg = np.degrees(np.mod(angle, 2 * np.pi))
         order = np.argsort(deg)
         ax.plot(deg, e * 1e6, ".", ms=1.5, alpha=0.5, color=STYLE[d]["color"])
-        ax.plot(deg[order], model[order] * 1e6, lw=1.2, **STYLE[d])
+        line = model[order] * 1e6
+        # an arc's model is not drawn across the angles the arc does not cover
+        gap = np.r_[False, np.diff(deg[order]) > 2.0]
+        ax.plot(deg[order], np.where(gap, np.nan, line), lw=1.2, **STYLE[d])
     for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
         ax.axvline(deg, color="gray", lw=0.6)
         ax.annotate(q, (deg + 2, 0.98), xycoords=("data", "axes fraction"), va="top")
@@ -46,7 +50,8 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
     lines = []
     for key, label, scale, unit in SUMMARY:
         value = diag.terms.get(key.format(**names), (float("nan"),))[0]
-        lines.append(f"{label.format(**names)} {value * scale:+.2f} {unit}")
+        if value == value:  # what the circles do not determine is not shown
+            lines.append(f"{label.format(**names)} {value * scale:+.2f} {unit}")
     ax.text(1.01, 1.0, "\n".join(lines), transform=ax.transAxes, va="top", fontsize=8,
             family="monospace")
     ax.set_xlim(0, 360)

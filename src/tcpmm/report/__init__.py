@@ -67,7 +67,8 @@ def write_report(path, sections, title: str = "Commissioning report", inputs=())
 
 def circle_test_section(result, key: str = "circle", title: str = "Circular test",
                         source=None, sensor: str | None = None):
-    """A circular test with its diagnostics when it holds a CCW and a CW circle.
+    """A circular test with its diagnostics: of the pair when it holds a CCW and a CW
+    circle, else of the one direction it holds.
 
     Diagnostics that cannot be made (too short a circle, a sensor not in both) are left
     out with an :class:`InputWarning` saying why.
@@ -116,13 +117,17 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
 
 
 def _diagnostics(result, title, sensor):
-    """Diagnostics of a CCW and a CW circle, or None (with a warning when they fail)."""
+    """Diagnostics of a CCW and a CW circle, or of the one direction a circle holds; None
+    (with a warning) when they cannot be made."""
+    from ..analysis.circle_single import one_direction_diagnostics
     from ..analysis.diagnostics import circle_diagnostics
 
-    if {p.direction for p in result.passes} != {"ccw", "cw"}:
+    dirs = {p.direction for p in result.passes}
+    if not dirs:
         return None
     try:
-        return circle_diagnostics(result, sensor=sensor)
+        return (circle_diagnostics(result, sensor=sensor) if dirs == {"ccw", "cw"}
+                else one_direction_diagnostics(result, sensor=sensor))
     except InputError as exc:
         warnings.warn(InputWarning(f"{title}: no circle diagnostics in the report: "
                                    f"{exc.message}"), stacklevel=3)

@@ -21,6 +21,7 @@ def _um_columns(frame):
     names = {f"spike_after_terms_{q}_um": f"spike {q} after the terms [µm]" for q in "ABCD"}
     names.update({f"spike_{q}_um": f"raw spike {q} [µm]" for q in "ABCD"})
     names.update(contour_error_um="contour error [µm]", circular_deviation_um="G [µm]",
+                 command_radial_deviation_um="command radius - nominal [µm]",
                  radial_rms_um="radial rms [µm]", radial_max_um="radial max [µm]")
     frame = frame.rename(columns=names)
     if "direction" in frame:
@@ -87,8 +88,14 @@ def key_figures(result, diag=None) -> str:
             q = max(spikes, key=lambda k: abs(spikes[k]))
             text += (f", largest reversal spike after the fitted terms "
                      f"{number(spikes[q] * 1e6, 2)} µm at {q}")
+        if p.is_arc:
+            text += f"; an arc of {p.arc_deg:.0f} deg"
+        dev = p.command_radial_deviation
+        if abs(dev) >= 0.5e-6:
+            text += (f"; the command lies {number(abs(dev) * 1e6, 2)} µm "
+                     f"{'inside' if dev < 0 else 'outside'} the nominal radius")
         items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
-    if diag is not None:
+    if diag is not None and len(diag.directions) == 2:
         t = {k: (number(v, 2), u) for k, v, u in display_terms(diag)}
         x, y = diag.axes
         items += [("backlash", f"{x} {' '.join(t[f'backlash_{x}'])}, "
@@ -115,31 +122,64 @@ def result_plot(result, overlay=None):
 
 
 def diagnostics_html(diag, stem: str) -> str:
-    """Circle diagnostics: radial error with the fitted terms, per-direction figures and
-    the terms with units and sign conventions [-]."""
+    """Circle diagnostics: radial error with the fitted terms, per-direction figures, the
+    terms with units and sign conventions, their ranking and what is left undetermined
+    [-]."""
     import pandas as pd
 
     from ..analysis.diagnostics import display_terms, term_note
 
     rows = {t: (v, u) for t, v, u in display_terms(diag)}
-    per = [{"figure": label, "CCW [µm]": rows[f"{base}_ccw"][0],
-            "CW [µm]": rows[f"{base}_cw"][0],
-            "pair [µm]": rows.get(f"{base}_pair", (float("nan"),))[0]}
+    dirs = diag.directions
+    cols = {d: f"{d.upper()} [µm]" for d in dirs}
+    if len(dirs) == 2:
+        cols["pair"] = "pair [µm]"
+    nan = (float("nan"),)
+    per = [{"figure": label, **{c: rows.get(f"{base}_{d}", nan)[0] for d, c in cols.items()}}
            for base, label in (("radial_deviation", "radial deviation"),
                                ("circularity", "circularity G, G(b)"))]
-    per += [{"figure": f"reversal spike {q} (after the pair's terms)",
-             "CCW [µm]": rows[f"spike_{q}_ccw"][0], "CW [µm]": rows[f"spike_{q}_cw"][0],
-             "pair [µm]": float("nan")} for q in "ABCD"]
+    per += [{"figure": f"reversal spike {q} (after the fitted terms)",
+             **{c: rows.get(f"spike_{q}_{d}", nan)[0] for d, c in cols.items()}}
+            for q in "ABCD"]
     terms = pd.DataFrame([{"term": t.replace("_", " "), "value": v, "unit": u,
                            "sign": term_note(t, diag.axes)}
                           for t, (v, u) in rows.items() if not t.startswith(_PER_DIRECTION)])
-    return (f"<h3>Diagnostics ({esc(SENSOR_NAMES.get(diag.sensor, diag.sensor))})</h3>"
-            + para("The CCW and the CW circle fitted together to the usual ballbar error "
-                   "terms; the 20 deg after each quadrant point are left out of the fit.")
+    what = ("The CCW and the CW circle fitted together" if len(dirs) == 2 else
+            f"The {dirs[0].upper()} circle alone fitted")
+    alone = "" if len(dirs) == 2 else f" of the {dirs[0].upper()} circle alone"
+    return (f"<h3>Diagnostics{alone} ({esc(SENSOR_NAMES.get(diag.sensor, diag.sensor))})</h3>"
+            + para(f"{what} to the usual ballbar error terms; the 20 deg after each "
+                   "quadrant point are left out of the fit.")
             + figure(diag.plot(), "circle diagnostics plot",
-                     "radial error of both circles (dots) and the fitted terms (lines)")
+                     "radial error of the circles (dots) and the fitted terms (lines)")
             + table(pd.DataFrame(per), f"{stem}_diagnostics_per_direction.csv")
-            + table(terms, f"{stem}_diagnostics.csv", digits={"value": 3}))
+            + table(terms, f"{stem}_diagnostics.csv", digits={"value": 3})
+            + ranking_html(diag, stem) + undetermined_html(diag))
+
+
+def ranking_html(diag, stem: str) -> str:
+    """The terms ranked by the radial error each makes alone [-]."""
+    import pandas as pd
+
+    if not diag.ranking:
+        return ""
+    frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " "),
+                           "contribution [µm]": r["contribution_m"] * 1e6,
+                           "share [%]": 100 * r["share"],
+                           "of G [%]": 100 * r["share_of_G"]} for r in diag.ranking])
+    return (para("Terms ranked by their contribution: the peak to valley of the radial "
+                 "error each makes alone over the circle (a centre offset about the nominal "
+                 "centre: it makes no G, which is about the least-squares centre), its "
+                 "share of the sum of the contributions, and what of G (G(b) of a pair) it "
+                 "alone would make.")
+            + table(frame, f"{stem}_diagnostics_ranking.csv",
+                    digits={"share [%]": 1, "of G [%]": 1}))
+
+
+def undetermined_html(diag) -> str:
+    """What the circles do not determine, and why [-]."""
+    return "".join(para(f"{t.replace('_', ' ')}: not determined; {why}.", "warn")
+                   for t, why in diag.undetermined.items())
 
 
 def comparison_section(comparison, measured=None, predicted=None, sources=(),

@@ -1,0 +1,75 @@
+"""What the circular-test analysis says about a run it cannot fully use: a sensor of one
+axis only, quadrant points a circle or arc does not hold, no circle of the radius asked
+for."""
+
+from __future__ import annotations
+
+import warnings
+
+from ..errors import InputError, InputWarning
+
+
+def warn_uncrossed(names, direction: str, arc_deg: float = 360.0) -> None:
+    """Warn (:class:`InputWarning`) that quadrant points are left out of a circle.
+
+    Parameters
+    ----------
+    names : list of str
+        The points left out, e.g. ``["A"]``; nothing is said when empty [-].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    arc_deg : float
+        Angle the pass covers; under 360 an arc, whose points outside it are no news [deg].
+    """
+    from .circular import QUADRANTS
+
+    if not names:
+        return
+    pts = ", ".join(f"{n} ({QUADRANTS[n]:g} deg)" for n in names)
+    one = len(names) == 1
+    if arc_deg < 360.0:
+        warnings.warn(InputWarning(
+            f"the {direction.upper()} arc of {arc_deg:.0f} deg does not hold quadrant "
+            f"point{'' if one else 's'} {pts} with 30 deg before and 20 deg after "
+            f"{'it' if one else 'them'}, so no reversal spike is reported there"),
+            stacklevel=3)
+        return
+    warnings.warn(InputWarning(
+        f"the {direction.upper()} circle starts or ends at quadrant point{'' if one else 's'} "
+        f"{pts} or within {'its' if one else 'their'} reversal window (30 deg before to 20 "
+        f"deg after), so no reversal spike is reported at {', '.join(names)}; start the "
+        f"circle between quadrant points (e.g. at 45 deg) to measure {'it' if one else 'them'}"),
+        stacklevel=3)
+
+
+def present_sensors(run, axes, sensors) -> list:
+    """The sensors both plane axes have; a sensor of one axis only is warned of [-]."""
+    (ax, X), (ay, Y) = ((a, run.axes[a]) for a in axes)
+    present = []
+    for s in sensors:
+        have = [a for a, r in ((ax, X), (ay, Y)) if r.sensor(s) is not None]
+        if len(have) == 2:
+            present.append(s)
+        elif have:
+            lack = ay if have[0] == ax else ax
+            warnings.warn(InputWarning(
+                f"the {s} signal is present for {have[0]} but not for {lack}; the {s} "
+                "sensor is left out of the circular test"), stacklevel=3)
+    if not present:
+        raise InputError(f"the run has no position signals for both {ax} and {ay}")
+    return present
+
+
+def not_found_error(radius_m, centre_m, axes, ref, direction) -> InputError:
+    """The error of a run without the circle asked for [-]."""
+    from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE
+
+    ax, ay = axes
+    what = f" {direction.upper()}" if direction else ""
+    where = (f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm" if (ax, ay) == ("X", "Y")
+             else f"{ax} {centre_m[0] * 1e3:g} mm, {ay} {centre_m[1] * 1e3:g} mm")
+    return InputError(
+        f"no full{what} circle of radius {radius_m * 1e3:g} mm about {where} in the "
+        f"{ax}{ay} plane found in the {ref} signals, nor an arc of {MIN_ARC_DEG:g} deg or "
+        f"more (a path of constant radius within {OFFSET_SHARE * radius_m * 1e3:.3g} mm of "
+        "it); check --radius, --centre and --plane")

@@ -1,0 +1,102 @@
+"""The cyclic error of each axis (a screw's pitch error, say) in the residual of a circle
+fit: its period is found by a scan (the three highest peaks on the grid each refined),
+the stronger axis first, then the other with it fitted, then each again over all periods
+with the other fitted. An axis' cyclic error counts when it lowers the sum of squares by
+30 noise variances, the noise taken from successive differences.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .circle_model import cyclic_columns
+
+
+def _scan(pos, w, resid, basis, radius, band, spacing):
+    """``(power, wavenumber)`` of the strongest cyclic error of an axis at ``pos`` seen
+    along the radius by ``w`` in the residual of a fit whose columns span the orthonormal
+    ``basis``: the drop of the sum of squares that adding it to that fit brings [m^2] and
+    its wavenumber [1/m], searched over ``band`` (``None``: periods from the radius down
+    to ten sample spacings)."""
+    step = 1.0 / (4.0 * radius)  # a quarter of the peak's width over the diameter
+    lo, hi = band if band is not None else (1.0 / radius, 1.0 / (10.0 * spacing))
+
+    def power(ks):
+        S, C = _columns(pos, w, ks)
+        S, C = S - (S @ basis) @ basis.T, C - (C @ basis) @ basis.T
+        ss, cc, sc = (S * S).sum(1), (C * C).sum(1), (S * C).sum(1)
+        bs, bc = S @ resid, C @ resid
+        det = ss * cc - sc * sc
+        return (cc * bs * bs - 2 * sc * bs * bc + ss * bc * bc) / np.where(det > 0, det, np.inf)
+
+    ks = np.arange(lo, hi, step)
+    if ks.size == 0:
+        return 0.0, None
+    p = np.concatenate([power(ks[j:j + 64]) for j in range(0, ks.size, 64)])
+    # the grid can fall beside a peak and lower it under a smaller one: the three highest
+    # peaks on the grid are each refined, and the highest after refining is taken
+    peaks = np.flatnonzero((p >= np.r_[-np.inf, p[:-1]]) & (p >= np.r_[p[1:], -np.inf]))
+    found = []
+    for k in ks[peaks[np.argsort(p[peaks])[::-1][:3]]]:
+        width = step
+        for _ in range(3):
+            fine = np.linspace(k - width, k + width, 21)
+            k, width = fine[np.argmax(power(fine))], width / 10.0
+        found.append((float(power(np.array([k]))[0]), k))
+    return max(found)
+
+
+def _columns(pos, w, ks):
+    """:func:`.circle_model.cyclic_columns` for evenly spaced wavenumbers ``ks``, one row
+    each: the phases by repeated multiplication, which costs a tenth of a sine and a cosine
+    per sample and wavenumber [m/m]."""
+    ks = np.asarray(ks, float)
+    if ks.size < 2:
+        return cyclic_columns(pos, w, ks[:, None])
+    steps = np.empty((ks.size, pos.size), complex)
+    steps[0] = np.exp(2j * np.pi * ks[0] * pos)
+    steps[1:] = np.exp(2j * np.pi * (ks[1] - ks[0]) * pos)
+    z = np.cumprod(steps, axis=0)
+    return w * z.imag, w * z.real
+
+
+def _noise(arcs):
+    """Sample noise from successive differences, robust to steps and spikes [m]."""
+    d = np.concatenate([np.diff(a.e) for a in arcs])
+    return 1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2)
+
+
+def search_cyclic(pb, mu) -> tuple:
+    """Wavenumber of the cyclic error of X and Y, None where none stands out (module
+    docstring) [1/m].
+
+    Parameters
+    ----------
+    pb : circle_fit.FitProblem
+        The arcs and their fitted samples [-].
+    mu : float
+        Servo mismatch angle of the fit [rad].
+    """
+    ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
+    pos = [np.concatenate([p[axis] for p in pb.pos]) for axis in (0, 1)]
+    ws = (np.cos(ang), np.sin(ang))
+    floor = 30.0 * _noise(pb.arcs) ** 2
+    spacing = pb.radius * max(np.median(np.abs(np.diff(a.angle))) for a in pb.arcs)
+    waves = [None, None]
+    _, res, basis = pb.solve(mu, waves)
+    for _ in range(2):
+        found = [(0.0, None) if waves[ax] is not None else
+                 _scan(pos[ax], ws[ax], res, basis, pb.radius, None, spacing) for ax in (0, 1)]
+        ax = int(np.argmax([f[0] for f in found]))
+        if found[ax][0] <= floor:
+            break
+        waves[ax] = found[ax][1]
+        _, res, basis = pb.solve(mu, waves)
+    if all(k is not None for k in waves):  # each period again, the other one fitted
+        for ax in (0, 1):
+            others = [k if i != ax else None for i, k in enumerate(waves)]
+            _, res_o, basis_o = pb.solve(mu, others)
+            # over the whole band: the first scan, with the other axis' error unfitted, may
+            # have put the peak at a period of the other's
+            waves[ax] = _scan(pos[ax], ws[ax], res_o, basis_o, pb.radius, None, spacing)[1]
+    return tuple(waves)

@@ -1,0 +1,96 @@
+"""Circle diagnostics for a reader: display units, what the sign of each term means, and
+the terms ranked by what they contribute to the circle's form."""
+
+from __future__ import annotations
+
+#: SI unit -> (display unit, factor); the cyclic periods are shown in mm
+DISPLAY_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
+                 "rad": ("µrad", 1e6)}
+#: What the sign of a term means, by term name or its name without the axis; ``{a}`` and
+#: ``{b}`` stand for the plane's first and second axis
+TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
+              "centre_offset": "circle centre - nominal",
+              "backlash": "+: radius steps out at reversal",
+              "lateral_play_{a}": "+: moving +{a} shifts {a} to +{b}",
+              "lateral_play_{b}": "+: moving +{b} shifts {b} to +{a}",
+              "servo_mismatch": "+: {b} lags {a}",
+              "squareness": "+: angle +{a} to +{b} over 90 deg",
+              "squareness_or_servo": "+: radius short at 45 deg",
+              "scale_mismatch": "+: {a} travels further than {b}",
+              "straightness_{a}": "+: {a} bows to +{b} mid-travel",
+              "straightness_{b}": "+: {b} bows to +{a} mid-travel",
+              "cyclic_amplitude": "e.g. screw pitch error",
+              "command_radial_deviation": "command radius - nominal",
+              "residual_rms": "what the terms leave unexplained"}
+
+
+def display_terms(diag, ascii_units: bool = False) -> list[tuple]:
+    """``(term, value, unit)`` of the diagnostics in display units: µm, ms, µm/m, ppm,
+    µrad, and mm for the cyclic periods.
+
+    Parameters
+    ----------
+    diag : CircleDiagnostics
+        The diagnostics [SI].
+    ascii_units : bool
+        Write µ as u [-].
+    """
+    rows = []
+    for term, (value, unit) in diag.terms.items():
+        shown, k = ("mm", 1e3) if term.startswith("cyclic_period") else DISPLAY_UNITS[unit]
+        rows.append((term, value * k, shown.replace("µ", "u") if ascii_units else shown))
+    return rows
+
+
+def term_note(term: str, axes=("X", "Y")) -> str:
+    """What the sign of a diagnostics term means; empty when nothing needs saying [-].
+
+    Parameters
+    ----------
+    term : str
+        Term name, e.g. ``lateral_play_Z`` [-].
+    axes : tuple of str
+        The plane's first and second axis (``CircleDiagnostics.axes``) [-].
+    """
+    a, b = axes
+    notes = {k.format(a=a, b=b): v.format(a=a, b=b) for k, v in TERM_NOTES.items()}
+    return notes.get(term) or notes.get(term.rsplit("_", 1)[0], "")
+
+
+def rename_axes(term: str, axes) -> str:
+    """A term's name with the plane's axes for X and Y, e.g. ``backlash_Z`` [-].
+
+    Parameters
+    ----------
+    term : str
+        Name with the axis last as ``_X`` or ``_Y`` where it has one [-].
+    axes : tuple of str
+        The plane's first and second axis [-].
+    """
+    names = {"X": axes[0], "Y": axes[1]}
+    return term[:-1] + names[term[-1]] if term[-2:] in ("_X", "_Y") else term
+
+
+def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
+    """The terms ranked by their contribution, largest first: ``term``,
+    ``contribution_m`` [m], ``share`` of the sum of the contributions [-],
+    ``share_of_G``, the contribution over the circular deviation G, 0 for the centre
+    offset, which makes no G (G is about the least-squares centre) [-], and ``rank``
+    (1 the largest) [-].
+
+    Parameters
+    ----------
+    contributions : dict of str to float
+        Peak-to-valley radial error each term makes alone over the circle; NaN for a term
+        not determined, which is left out [m].
+    g : float
+        Circular deviation: G(b) of a pair, G of one direction [m].
+    """
+    have = {k: float(v) for k, v in contributions.items() if v == v}
+    total = sum(have.values())
+    order = sorted(have, key=lambda k: -have[k])
+    return [{"term": k, "contribution_m": have[k],
+             "share": have[k] / total if total > 0 else 0.0,
+             "share_of_G": 0.0 if k == "centre_offset" else
+             (have[k] / g if g > 0 else float("nan")), "rank": i + 1}
+            for i, k in enumerate(order)]

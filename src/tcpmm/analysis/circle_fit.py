@@ -1,0 +1,204 @@
+"""Least-squares fit of error terms to one or more circles (or arcs) at once.
+
+Each circle has its own radius and centre; the named terms (:mod:`.circle_model`) are
+shared. Terms an arc does not determine are left out of the fit and reported as such
+(:func:`.circle_model.determined`); a cyclic error per axis is searched for in the
+residual; a servo mismatch among the terms is fitted again with the axes' reversals where
+the previous fit puts them and its remainder beyond the ellipse taken off the data.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .circle_model import (
+    cyclic_columns,
+    determined,
+    fit_mask,
+    servo_remainder,
+    term_column,
+)
+
+OWN = ("radius", "centre_X", "centre_Y")
+
+
+@dataclass
+class Arc:
+    """One circle or arc to fit.
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis about the nominal centre, unwrapped [rad].
+    e : ndarray
+        Radial error about the nominal centre [m].
+    s : float
+        +1 CCW, -1 CW [-].
+    ratio : float
+        Angular speed over the mean of the arcs fitted together [-].
+    """
+
+    angle: np.ndarray
+    e: np.ndarray
+    s: float
+    ratio: float = 1.0
+
+    @property
+    def mask(self):
+        """Samples outside the reversals' transients [-]."""
+        return fit_mask(self.angle, self.s)
+
+    def positions(self, radius, angle=None, e=None):
+        """``(x, y)`` of the tool about the nominal centre [m]."""
+        a = self.angle if angle is None else angle
+        r = radius + (self.e if e is None else e)
+        return r * np.cos(a), r * np.sin(a)
+
+
+@dataclass
+class TermFit:
+    """Coefficients of a fit; NaN for a term the arcs do not determine.
+
+    Parameters
+    ----------
+    names : list of str
+        Column names: per arc ``radius_i``, ``centre_X_i``, ``centre_Y_i``, then the shared
+        terms, then the cyclic sine and cosine of each axis found [-].
+    coef : ndarray
+        Coefficient per column [SI].
+    waves : tuple
+        Wavenumber of the cyclic error of X and Y, None where none is found [1/m].
+    mu : float
+        Servo mismatch angle placing the reversals [rad].
+    residual_rms : float
+        Root mean square of what the terms leave over the fitted samples [m].
+    """
+
+    names: list
+    coef: np.ndarray
+    waves: tuple
+    mu: float
+    residual_rms: float
+
+    def __getitem__(self, name):
+        return float(self.coef[self.names.index(name)])
+
+    def undetermined(self) -> list:
+        """Names of the terms left out of the fit [-]."""
+        return [n for n, c in zip(self.names, self.coef, strict=True) if np.isnan(c)]
+
+
+def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None):
+    """Design matrix of arc ``i`` of ``n_arcs`` over ``angle`` (default its own) [m/unit]."""
+    a = arc.angle if angle is None else angle
+    own = np.zeros((a.size, 3 * n_arcs))
+    own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), np.cos(a), np.sin(a)]
+    cols = [term_column(t, a, arc.s, radius, arc.ratio, mu) for t in shared]
+    pos = pos if pos is not None else (radius * np.cos(a), radius * np.sin(a))
+    for axis, k in enumerate(waves):
+        if k is not None:
+            cols += cyclic_columns(pos[axis], np.cos(a) if axis == 0 else np.sin(a), k)
+    return np.column_stack([own, *cols]) if cols else own
+
+
+def _names(n_arcs, shared, waves):
+    names = [f"{o}_{i}" for i in range(n_arcs) for o in OWN] + list(shared)
+    for axis, k in zip("XY", waves, strict=True):
+        if k is not None:
+            names += [f"cyclic_sin_{axis}", f"cyclic_cos_{axis}"]
+    return names
+
+
+class FitProblem:
+    """The arcs, their fitted samples and the columns they determine.
+
+    Parameters
+    ----------
+    arcs : list of Arc
+        The circles or arcs [-].
+    radius : float
+        Nominal radius [m].
+    shared : sequence of str
+        Terms common to the arcs [-].
+    """
+
+    def __init__(self, arcs, radius, shared):
+        self.arcs, self.radius, self.shared = arcs, radius, list(shared)
+        self.masks = [a.mask for a in arcs]
+        self.pos = [tuple(p[m] for p in a.positions(radius)) for a, m in
+                    zip(arcs, self.masks, strict=True)]
+        A = self.matrix(0.0, (None, None))
+        self.keep = determined(A, protect=[3 * i for i in range(len(arcs))])
+
+    def matrix(self, mu, waves):
+        """Design matrix over the fitted samples of every arc [m/unit]."""
+        n = len(self.arcs)
+        return np.vstack([design(a, i, n, self.radius, self.shared, mu, waves,
+                                 a.angle[m], p)
+                          for i, (a, m, p) in enumerate(zip(self.arcs, self.masks, self.pos,
+                                                            strict=True))])
+
+    def data(self, mu):
+        """The fitted samples' radial error less the servo mismatch's remainder [m]."""
+        return np.concatenate([
+            (a.e - servo_remainder(a.angle, a.s, self.radius, a.ratio * mu))[m]
+            for a, m in zip(self.arcs, self.masks, strict=True)])
+
+    def solve(self, mu, waves):
+        """Coefficients (NaN where undetermined) [SI], residual [m] and an orthonormal
+        basis of the columns fitted [-]."""
+        A, y = self.matrix(mu, waves), self.data(mu)
+        keep = np.r_[self.keep, np.ones(A.shape[1] - self.keep.size, bool)]
+        q, r = np.linalg.qr(A[:, keep])
+        c = np.linalg.lstsq(A[:, keep], y, rcond=None)[0]
+        coef = np.full(A.shape[1], np.nan)
+        coef[keep] = c
+        basis = q[:, np.abs(np.diag(r)) > 1e-12 * np.abs(r).max()]
+        return coef, y - A[:, keep] @ c, basis
+
+    def mu_of(self, coef):
+        """The servo mismatch angle of a solution; 0 where it is not fitted [rad]."""
+        if "servo_angle" not in self.shared:
+            return 0.0
+        v = coef[3 * len(self.arcs) + self.shared.index("servo_angle")]
+        return float(v) if np.isfinite(v) else 0.0
+
+
+def fit_terms(arcs, radius, shared, cyclic=True) -> TermFit:
+    """Fit the terms ``shared`` and each arc's radius and centre to the arcs (module
+    docstring).
+
+    Parameters
+    ----------
+    arcs : list of Arc
+        The circles or arcs [-].
+    radius : float
+        Nominal radius [m].
+    shared : sequence of str
+        Terms common to the arcs (:func:`.circle_model.term_column`) [-].
+    cyclic : bool
+        Search for a cyclic error of each axis [-].
+    """
+    from .circle_cyclic import search_cyclic
+
+    pb = FitProblem(arcs, radius, shared)
+    mu = pb.mu_of(pb.solve(0.0, (None, None))[0])
+    waves = search_cyclic(pb, mu) if cyclic else (None, None)
+    coef = pb.solve(mu, waves)[0]
+    mu = pb.mu_of(coef)
+    coef, res, _ = pb.solve(mu, waves)
+    return TermFit(_names(len(arcs), shared, waves), coef, tuple(waves), mu,
+                   float(np.sqrt(np.mean(res**2))))
+
+
+def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
+    """The fitted radial error of arc ``i`` over ``angle`` (default its own samples), the
+    servo mismatch's remainder included; undetermined terms count as 0 [m]."""
+    arc = arcs[i]
+    a = arc.angle if angle is None else angle
+    pos = arc.positions(radius, a, e) if e is not None else None
+    A = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a, pos)
+    return (A @ np.nan_to_num(fit.coef)
+            + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu))

@@ -1,0 +1,196 @@
+"""The error terms of a circle as columns of a least-squares fit of its radial error.
+
+Each column is the first-order radial effect ``e = dx cos(theta) + dy sin(theta)`` of a
+position error ``(dx, dy)`` of the tool per unit of the term (the table in
+:mod:`tcpmm.analysis.diagnostics`). Two things are not first order and are handled here:
+
+* where each axis reverses: an axis reverses where its own velocity changes sign, and
+  with a servo mismatch ``mu = w (ty - tx)`` that is not at the quadrant point of the tool's
+  angle but ``-s mu`` (X) and ``+s mu`` (Y) from it; a backlash step placed a sample off
+  reads as part of the ellipses and of a cyclic error;
+* the ellipse of a servo mismatch: the radial error of a lag has, besides the ellipse at
+  45 deg, a part of order ``R mu^2`` at four times the angle (0.2 um at F10000 on R 35 with
+  1 ms), which a cyclic error scan would take for a cyclic error. The fit takes it off the
+  data (:func:`servo_remainder`) with the mismatch of the previous fit.
+
+Which terms an arc determines is read from the columns themselves (:func:`determined`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: A term is determined where at least this share of its column (unit norm) is independent
+#: of the other columns: noise then enters it at most tenfold [-].
+MIN_SHARE = 0.1
+
+
+def axis_signs(angle, s, mu=0.0):
+    """``(sx, sy)``: signs of the X and Y velocities, each axis reversing where it does with
+    a servo mismatch angle ``mu`` (module docstring) [-].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    mu : float
+        Servo mismatch as an angle, ``w (ty - tx)`` [rad].
+    """
+    return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
+
+
+def term_column(name, angle, s, radius, ratio=1.0, mu=0.0):
+    """Radial error per unit of a term [m/unit].
+
+    Parameters
+    ----------
+    name : str
+        ``backlash_X``, ``backlash_Y``, ``lateral_play_X``, ``lateral_play_Y``,
+        ``squareness``, ``servo_angle``, ``scale_mismatch``, ``straightness_X``,
+        ``straightness_Y`` [-].
+    angle : ndarray
+        Angle CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    radius : float
+        Nominal radius [m].
+    ratio : float
+        This circle's angular speed over the mean of the circles fitted together [-].
+    mu : float
+        Servo mismatch angle placing the axes' reversals [rad].
+    """
+    c, n = np.cos(angle), np.sin(angle)
+    sx, sy = axis_signs(angle, s, ratio * mu)
+    cols = {"backlash_X": lambda: -0.5 * sx * c, "backlash_Y": lambda: -0.5 * sy * n,
+            "lateral_play_X": lambda: 0.5 * sx * n, "lateral_play_Y": lambda: 0.5 * sy * c,
+            "squareness": lambda: -radius * n * c,
+            "servo_angle": lambda: -s * ratio * radius * n * c,
+            "scale_mismatch": lambda: 0.5 * radius * (c * c - n * n),
+            # a bow of the axis by 1 at the middle of its travel +-R, 0 at its ends
+            "straightness_X": lambda: n**3, "straightness_Y": lambda: c**3}
+    return cols[name]()
+
+
+def cyclic_columns(pos, w, wavenumber):
+    """Sine and cosine columns of an axis' cyclic error: ``dx = c sin(2 pi k x + phi)``
+    seen along the radius by ``w`` (cos for X, sin for Y) [m/m].
+
+    Parameters
+    ----------
+    pos : ndarray
+        Position of the axis [m].
+    w : ndarray
+        ``cos(theta)`` for the first axis, ``sin(theta)`` for the second [-].
+    wavenumber : float
+        One over the period [1/m].
+    """
+    phase = 2 * np.pi * wavenumber * pos
+    return [w * np.sin(phase), w * np.cos(phase)]
+
+
+def servo_remainder(angle, s, radius, mu):
+    """The radial error of a servo mismatch angle ``mu`` beyond its ellipse at 45 deg
+    (module docstring) [m].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    radius : float
+        Nominal radius [m].
+    mu : float
+        Servo mismatch angle of this circle, ``w (ty - tx)`` [rad].
+    """
+    angle = np.asarray(angle, float)
+    if mu == 0.0 or not np.isfinite(mu):
+        return np.zeros_like(angle)
+    u = np.linspace(0.0, 2 * np.pi, 8193)
+    # X at its place, Y lagging it by the angle mu along the travel
+    x, y = np.cos(u), np.sin(u - s * mu)
+    th = np.mod(np.arctan2(y, x), 2 * np.pi)
+    order = np.argsort(th)
+    exact = np.interp(np.mod(angle, 2 * np.pi), th[order],
+                      radius * (np.hypot(x, y)[order] - 1.0), period=2 * np.pi)
+    return exact - mu * term_column("servo_angle", angle, s, radius)
+
+
+def column_shares(A):
+    """Per column the share of it (scaled to unit norm) independent of the others [-].
+
+    Parameters
+    ----------
+    A : ndarray
+        Design matrix, one column per term [m/unit].
+    """
+    norm = np.linalg.norm(A, axis=0)
+    An = A / np.where(norm > 0, norm, 1.0)
+    inv = np.linalg.pinv(An.T @ An)
+    d = np.abs(np.diag(inv))
+    return np.where((norm > 0) & (d > 0), 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 0.0)
+
+
+def determined(A, protect=()):
+    """Which columns the data determine: the least independent column is dropped until
+    each left has :data:`MIN_SHARE` of itself independent of the others [-].
+
+    Parameters
+    ----------
+    A : ndarray
+        Design matrix over the fitted samples [m/unit].
+    protect : sequence of int
+        Columns always kept (the radius of each circle) [-].
+
+    Returns
+    -------
+    ndarray of bool
+        Kept columns [-].
+    """
+    keep = np.ones(A.shape[1], bool)
+    while True:
+        idx = np.flatnonzero(keep)
+        share = column_shares(A[:, idx])
+        share[np.isin(idx, protect)] = np.inf
+        worst = int(np.argmin(share))
+        if share[worst] >= MIN_SHARE:
+            return keep
+        keep[idx[worst]] = False
+
+
+def fit_mask(angle, s, after_deg=(0.0, 20.0), points=(0.0, 90.0, 180.0, 270.0)):
+    """Samples outside the ``after_deg`` window after every quadrant point in the travel
+    direction, where the reversal's transient lies [-].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    after_deg : tuple of float
+        The window after a point, along the travel [deg].
+    points : tuple of float
+        The quadrant points [deg].
+    """
+    u = s * np.degrees(angle)
+    keep = np.ones(np.size(angle), bool)
+    for deg in points:
+        d = (u - s * deg) % 360.0
+        keep &= ~((d >= after_deg[0]) & (d <= after_deg[1]))
+    return keep
+
+
+def is_full(angle) -> bool:
+    """Whether an unwrapped angle covers a full turn; a turn cut to whole samples may lack
+    up to one sample spacing at either end [-].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle, unwrapped [rad].
+    """
+    slack = 2 * min(float(np.max(np.abs(np.diff(angle)))), np.radians(1.0))
+    return abs(angle[-1] - angle[0]) >= 2 * np.pi * (1 - 1e-3) - slack

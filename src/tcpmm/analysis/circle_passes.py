@@ -1,0 +1,197 @@
+"""Where a run holds its circles and arcs.
+
+The reference path (the command when the run has one) is on the circle where its radius
+keeps within a tolerance of one level, and that level lies within
+:data:`OFFSET_SHARE` of the nominal radius: a controller's acceleration filter after
+interpolation pulls a commanded circle inward (33-40 ms of moving average at F10000 take
+36-53 um off R 35 mm), a radius offset programmed moves it either way, and both are still
+the circle asked for; a path of another radius, or of no constant radius, is not. The
+level is the radius at which most of the angle is travelled, so that the samples at rest
+before and after the circle do not count. A level within the tolerance is taken as the
+nominal radius itself.
+
+A stretch that turns back is split where it does. Full circles are trimmed symmetrically
+to whole turns, which cuts off feed-in and feed-out
+arcs that join the circle tangentially. A run that holds no full circle is searched for
+arcs of :data:`MIN_ARC_DEG` or more (a ballbar's 220 deg arcs in XZ and YZ).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import pairwise
+
+import numpy as np
+
+#: The shortest arc analysed [deg]
+MIN_ARC_DEG = 30.0
+#: Largest distance of the path's radius from the nominal, as a share of it, for the path
+#: to count as that circle: 0.7 mm on R 35 mm [-]
+OFFSET_SHARE = 0.02
+#: Fewest samples of a stretch on the circle [-]
+_MIN_SAMPLES = 8
+
+
+@dataclass(frozen=True)
+class Stretch:
+    """A full circle or an arc of a path.
+
+    Parameters
+    ----------
+    index : slice
+        Its samples [-].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    turns : int
+        Whole turns; 0 for an arc [-].
+    span_deg : float
+        Angle covered [deg].
+    """
+
+    index: slice
+    direction: str
+    turns: int
+    span_deg: float
+
+
+def _level(r, ang) -> float:
+    """The radius at which most of the angle is travelled: the median of ``r`` weighted
+    by each sample's step of angle [m]."""
+    w = np.abs(np.gradient(ang)) if ang.size > 1 else np.ones_like(r)
+    if not np.any(w > 0):
+        return float(np.median(r))
+    order = np.argsort(r)
+    cum = np.cumsum(w[order])
+    return float(r[order][np.searchsorted(cum, 0.5 * cum[-1])])
+
+
+def _runs(mask):
+    """``(start, stop)`` of the runs of True [-]."""
+    edges = np.flatnonzero(np.diff(np.r_[0, mask.astype(int), 0]))
+    return list(zip(edges[::2], edges[1::2], strict=True))
+
+
+def _on_circle(dx, dy, radius, tol, offset):
+    """``(start, stop)`` of the stretches on one circle of constant radius near R [-]."""
+    r = np.hypot(dx, dy) - radius
+    out = []
+    for a, b in _runs(np.abs(r) < max(offset, tol)):
+        if b - a < _MIN_SAMPLES:
+            continue
+        level = _level(r[a:b], np.unwrap(np.arctan2(dy[a:b], dx[a:b])))
+        level = 0.0 if abs(level) < tol else level
+        for a2, b2 in _runs(np.abs(r[a:b] - level) < tol):
+            ang = np.unwrap(np.arctan2(dy[a + a2:a + b2], dx[a + a2:a + b2]))
+            out += [(a + a2 + c, a + a2 + d) for c, d in _one_way(ang)]
+    return out
+
+
+def _one_way(ang):
+    """``(start, stop)`` of the parts of a stretch that turn one way: an arc out and back
+    (a ballbar's 220 deg arcs) is two arcs. Steps under a twentieth of the travel's (its 90th
+    percentile) are rest, so that a sensor's noise during a dwell does not split a circle
+    [-]."""
+    d = np.diff(ang)
+    if d.size == 0:
+        return [(0, ang.size)]
+    moving = np.flatnonzero(np.abs(d) > max(1e-9, 0.05 * np.percentile(np.abs(d), 90)))
+    if moving.size < 2:
+        return [(0, ang.size)]
+    way = np.sign(d[moving])
+    flips = moving[1:][way[1:] != way[:-1]]
+    bounds = [0, *flips.tolist(), ang.size - 1]
+    return [(lo, hi + 1) for lo, hi in pairwise(bounds)]
+
+
+def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> list:
+    """Full circles in a path, else its arcs (module docstring).
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Reference path, the command if there is one [m].
+    radius : float
+        Nominal radius [m].
+    centre : tuple
+        Nominal centre [m].
+    tol : float, optional
+        Radius tolerance about the path's own level; default 0.1 % of R [m].
+    turns : float, optional
+        Turns per pass; default the whole number of turns each stretch covers [-].
+    offset : float, optional
+        Largest distance of that level from R; default :data:`OFFSET_SHARE` of R [m].
+
+    Returns
+    -------
+    list of Stretch
+        In path order [-].
+    """
+    tol = 1e-3 * radius if tol is None else tol
+    offset = OFFSET_SHARE * radius if offset is None else offset
+    dx, dy = x - centre[0], y - centre[1]
+    full, arcs = [], []
+    for a, b in _on_circle(dx, dy, radius, tol, offset):
+        if b - a < _MIN_SAMPLES:
+            continue
+        ang = np.unwrap(np.arctan2(dy[a:b], dx[a:b]))
+        span = ang[-1] - ang[0]
+        direction = "ccw" if span > 0 else "cw"
+        n_turns = turns if turns is not None else np.floor(abs(span) / (2 * np.pi) + 1e-3)
+        if n_turns < 1:
+            if np.degrees(abs(span)) >= MIN_ARC_DEG:
+                arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))
+            continue
+        excess = (abs(span) - 2 * np.pi * n_turns) / 2
+        if excess < -1e-3:
+            continue
+        rel = np.abs(ang - ang[0])
+        keep = np.flatnonzero((rel >= excess) & (rel <= abs(span) - excess))
+        if keep.size < _MIN_SAMPLES:
+            continue
+        full.append(Stretch(slice(a + keep[0], a + keep[-1] + 1), direction, int(n_turns),
+                            360.0 * int(n_turns)))
+    return full or arcs
+
+
+def find_passes(x, y, radius, centre, tol=None, turns=None, offset=None):
+    """Index ranges of full circles, else of arcs: ``(slice, direction, turns)`` each, the
+    turns 0 for an arc (:func:`find_stretches`) [-]."""
+    return [(s.index, s.direction, s.turns)
+            for s in find_stretches(x, y, radius, centre, tol, turns, offset)]
+
+
+def rate(t, x, y, centre):
+    """Mean angular speed over a pass [rad/s]; NaN without a time span.
+
+    Parameters
+    ----------
+    t : ndarray
+        Time [s].
+    x, y : ndarray
+        Path [m].
+    centre : tuple
+        Nominal centre [m].
+    """
+    ang = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
+    span = t[-1] - t[0]
+    return float(abs(ang[-1] - ang[0]) / span) if span > 0 else float("nan")
+
+
+def radial_deviation(x, y, radius, centre) -> float:
+    """Mean radius of a path minus the nominal, weighted by the angle each sample covers:
+    how far the command lies outside (+) or inside (-) the circle asked for [m].
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Path [m].
+    radius : float
+        Nominal radius [m].
+    centre : tuple
+        Nominal centre [m].
+    """
+    dx, dy = x - centre[0], y - centre[1]
+    ang = np.unwrap(np.arctan2(dy, dx))
+    w = np.abs(np.gradient(ang)) if ang.size > 1 else np.ones_like(ang)
+    r = np.hypot(dx, dy) - radius
+    return float(np.sum(w * r) / np.sum(w)) if np.sum(w) > 0 else float(np.mean(r))

@@ -1,0 +1,139 @@
+"""What each error term of a circle fit contributes to the circle's form, and the curves,
+radial deviations and circular deviations of the circles fitted.
+
+A term's contribution is the peak-to-valley of the radial error it makes alone over the
+angles the circle covers, about the nominal centre, the larger of the directions; that of
+the reversal spikes is the largest spike of the residual. Each term is ranked by its
+contribution and given its share of their sum and its share of G (G(b) for a pair): what
+of G the term alone would make. A centre offset makes ``2 |c|`` of radial error about the
+nominal centre, which the contour error sees, but nothing of G, which is taken about the
+least-squares centre: its share of G is 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .circle_display import ranking_rows, rename_axes
+from .circle_fit import design, model_curve
+from .circle_model import is_full, servo_remainder
+from .circular import lsq_circle
+
+#: Reported name of a fitted column group
+GROUP_NAMES = {"servo_angle": "servo_mismatch"}
+
+
+def arc_grid(angle, n=3600):
+    """Angles to evaluate a fitted circle on: a full turn, or the arc covered [rad]."""
+    if is_full(angle):
+        return np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return np.linspace(min(angle[0], angle[-1]), max(angle[0], angle[-1]), n)
+
+
+def per_circle_terms(fit, arcs, radius, shared, directions):
+    """``(curves, grids)``: per direction ``(angle, e, model)`` on the samples and the
+    model on :func:`arc_grid` [rad, m]."""
+    curves, grids = {}, {}
+    for i, (d, arc) in enumerate(zip(directions, arcs, strict=True)):
+        curves[d] = (arc.angle, arc.e, model_curve(fit, arcs, i, radius, shared, e=arc.e))
+        grids[d] = model_curve(fit, arcs, i, radius, shared, angle=arc_grid(arc.angle))
+    return curves, grids
+
+
+def deviations(paths, radius):
+    """Circular deviation G per circle, and for two G(b) and the hysteresis H over the
+    angles both cover; NaN for one circle [m]."""
+    xy = [(radius + e) * np.array([np.cos(a), np.sin(a)]) for a, e in paths]
+    g = []
+    for p in xy:
+        cx, cy, _ = lsq_circle(*p)
+        r = np.hypot(p[0] - cx, p[1] - cy)
+        g.append(float(r.max() - r.min()))
+    if len(xy) < 2:
+        return g, float("nan"), float("nan")
+    both = np.hstack(xy)
+    cx, cy, _ = lsq_circle(*both)
+    rb = [np.hypot(p[0] - cx, p[1] - cy) for p in xy]
+    allr = np.concatenate(rb)
+    on = []
+    grid = _common_grid([np.arctan2(p[1] - cy, p[0] - cx) for p in xy])
+    for p, r in zip(xy, rb, strict=True):
+        a = np.unwrap(np.arctan2(p[1] - cy, p[0] - cx))
+        order = np.argsort(a)
+        a, r = a[order], r[order]
+        shift = np.round((grid[0] - a[0]) / (2 * np.pi)) * 2 * np.pi
+        period = 2 * np.pi if np.ptp(a) > 2 * np.pi * (1 - 1e-2) else None
+        on.append(np.interp(grid, a + shift if period is None else a, r, period=period))
+    return g, float(allr.max() - allr.min()), float(np.max(np.abs(on[0] - on[1])))
+
+
+def _common_grid(angles, n=3600):
+    """Angles both circles cover: a full turn, or the overlap of two arcs [rad]."""
+    spans = [np.ptp(np.unwrap(a)) for a in angles]
+    if min(spans) > 2 * np.pi * (1 - 1e-2):
+        return np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ua = [np.unwrap(a) for a in angles]
+    lo = [u.min() for u in ua]
+    shift = np.round((lo[0] - lo[1]) / (2 * np.pi)) * 2 * np.pi
+    a0, a1 = max(lo[0], lo[1] + shift), min(ua[0].max(), ua[1].max() + shift)
+    return np.linspace(a0, a1, n) if a1 > a0 else np.array([a0])
+
+
+def contributions(fit, arcs, radius, shared, spikes):
+    """Peak-to-valley radial error of each term alone, the larger over the circles; NaN
+    for a term not determined (module docstring) [m]."""
+    groups = {"centre_offset": [f"centre_{a}_{i}" for i in range(len(arcs)) for a in "XY"]}
+    groups.update({GROUP_NAMES.get(t, t): [t] for t in shared})
+    for axis, k in zip("XY", fit.waves, strict=True):
+        if k is not None:
+            groups[f"cyclic_{axis}"] = [f"cyclic_sin_{axis}", f"cyclic_cos_{axis}"]
+    out = {}
+    for name, cols in groups.items():
+        idx = [fit.names.index(c) for c in cols]
+        if all(np.isnan(fit.coef[j]) for j in idx):
+            out[name] = float("nan")
+            continue
+        coef = np.zeros_like(fit.coef)
+        coef[idx] = np.nan_to_num(fit.coef[idx])
+        p2v = []
+        for i, arc in enumerate(arcs):
+            a = arc_grid(arc.angle)
+            curve = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a) @ coef
+            if name == "servo_mismatch":
+                curve = curve + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu)
+            p2v.append(float(np.ptp(curve)))
+        out[name] = max(p2v)
+    finite = [abs(v) for v in spikes if v == v]
+    out["reversal_spikes"] = max(finite) if finite else float("nan")
+    return out
+
+
+def rank_terms(fit, arcs, radius, shared, terms, axes, names=None):
+    """The terms ranked by their contribution (:func:`.circle_display.ranking_rows`), the
+    axes named as the plane's [m, -].
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit [-].
+    arcs : list of Arc
+        The circles fitted [-].
+    radius : float
+        Nominal radius [m].
+    shared : sequence of str
+        The fitted terms [-].
+    terms : dict
+        The reported terms, whose ``spike_*`` are the residual's spikes [SI].
+    axes : tuple of str
+        The plane's axes [-].
+    names : dict, optional
+        Reported name of a term where it differs from its column's [-].
+    """
+    spikes = [v for k, (v, _) in terms.items() if k.startswith("spike_")]
+    c = contributions(fit, arcs, radius, shared, spikes)
+    c = {(names or {}).get(k, k): v for k, v in c.items()}
+    g = [v for k, (v, _) in terms.items() if k.startswith("circularity_")]
+    rows = ranking_rows(c, terms.get("circularity_pair", (max(g),))[0])
+    for r in rows:
+        r["term"] = rename_axes(r["term"], axes)
+    return rows

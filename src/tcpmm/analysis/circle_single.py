@@ -1,0 +1,135 @@
+"""Diagnostics of a circle (or arc) run in one direction only.
+
+One direction determines the radius, the centre, the scale mismatch, the straightness of
+each axis, the cyclic errors and the backlash (its steps at the reversals, read outside the
+20 deg of the reversal's transient). It does not tell apart what only the change of
+direction tells apart: squareness and servo mismatch are one ellipse at 45 deg in one
+direction (squareness keeps its sign in the other direction, a servo mismatch turns it),
+reported together as ``squareness_or_servo``; lateral play's radial error in one direction
+is nearly a radius and a scale mismatch, and it turns sign with the direction; hysteresis,
+G(b) and the pair's radial deviation are of both directions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._threads import limit_blas_threads
+from ..errors import InputError
+from .circle_display import rename_axes
+from .circle_fit import Arc, fit_terms
+from .circle_ranking import deviations, per_circle_terms, rank_terms
+from .diagnostics import (
+    ARC_WHY,
+    CircleDiagnostics,
+    check_arc,
+    cyclic_terms,
+    pick_passes,
+    pick_sensor,
+    undetermined_terms,
+)
+
+#: The terms fitted to one direction; lateral play is not among them: in one direction
+#: only 7 % of its column is independent of the radius and the scale mismatch
+SINGLE = ("backlash_X", "backlash_Y", "squareness", "scale_mismatch", "straightness_X",
+          "straightness_Y")
+#: What only a CCW and a CW circle together tell, in a sentence
+PAIR_ONLY = ("squareness from servo mismatch, the lateral play, the hysteresis and G(b)")
+_ELLIPSE = ("one direction shows squareness and servo mismatch as one ellipse at 45 deg "
+            "(squareness_or_servo); the other direction tells them apart: squareness keeps "
+            "its sign, a servo mismatch turns it")
+#: Terms of the pair one direction cannot give, and why
+NEEDS_PAIR = {"squareness": _ELLIPSE, "servo_mismatch": _ELLIPSE,
+              "lateral_play_X": "in one direction its radial error is nearly a radius and a "
+                                "scale mismatch; the other direction, where it turns sign, "
+                                "tells it apart",
+              "hysteresis": "the difference between the CCW and the CW circle",
+              "circularity_pair": "G(b) is taken over both directions",
+              "radial_deviation_pair": "the mean of both directions"}
+NEEDS_PAIR["lateral_play_Y"] = NEEDS_PAIR["lateral_play_X"]
+
+
+def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
+                    sensor="tcp") -> CircleDiagnostics:
+    """The terms one direction determines (module docstring), and why the others need the
+    pair (``undetermined``).
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle about the nominal centre, CCW from the first axis, unwrapped: a full turn,
+        or an arc [rad].
+    e : ndarray
+        Radial error about the nominal centre [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    radius_m : float
+        Nominal radius [m].
+    axes : tuple of str
+        The plane's first and second axis [-].
+    sensor : str
+        Sensor the path is from, for the record [-].
+    """
+    if not radius_m > 0:
+        raise InputError(f"the circle radius must be positive (got {radius_m})")
+    if direction not in ("ccw", "cw"):
+        raise InputError(f"the direction must be ccw or cw (got {direction!r})")
+    a, e = check_arc(angle, e, direction, arc_ok=True)
+    limit_blas_threads()
+    arcs = [Arc(a, e, 1.0 if direction == "ccw" else -1.0)]
+    fit = fit_terms(arcs, radius_m, SINGLE)
+    curves, grids = per_circle_terms(fit, arcs, radius_m, SINGLE, (direction,))
+    terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves)
+    terms["residual_rms"] = (fit.residual_rms, "m")
+    why = {rename_axes(k, axes): v for k, v in NEEDS_PAIR.items()}
+    why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
+                for k in undetermined_terms(fit) if k not in NEEDS_PAIR or k == "squareness"})
+    ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
+                         {"squareness": "squareness_or_servo"})
+    return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
+                             {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
+                             curves, why, ranking)
+
+
+def _terms(fit, grids, g, curves):
+    """The terms one direction gives, ``name -> (value, unit)`` [SI]."""
+    from .circular import reversal_spikes
+
+    [(d, grid)] = grids.items()
+    terms = {f"radial_deviation_{d}": (float(np.mean(grid)), "m"),
+             f"circularity_{d}": (g, "m")}
+    terms.update({f"centre_offset_{a}": (fit[f"centre_{a}_0"], "m") for a in "XY"})
+    terms.update({k: (fit[k], "m") for k in SINGLE[:2]})
+    terms.update({f"lateral_play_{a}": (float("nan"), "m") for a in "XY"})
+    for d, (a, e, model) in curves.items():
+        spikes = reversal_spikes(a, e - model, d)
+        terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})
+    terms["squareness_or_servo"] = (fit["squareness"], "m/m")
+    terms["scale_mismatch"] = (fit["scale_mismatch"], "-")
+    terms["straightness_X"] = (fit["straightness_X"], "m")
+    terms["straightness_Y"] = (fit["straightness_Y"], "m")
+    terms.update(cyclic_terms(fit))
+    return terms
+
+
+def one_direction_diagnostics(result, sensor=None, axes=None) -> CircleDiagnostics:
+    """:func:`diagnose_single` of the first pass of a circle analysis that has one
+    direction only.
+
+    Parameters
+    ----------
+    result : CircleResult
+        The analysis [-].
+    sensor : str, optional
+        Sensor to diagnose; default the first of tcp, scale, motor, cmd [-].
+    axes : tuple of str, optional
+        The plane's axes; default that of ``result`` [-].
+    """
+    axes = tuple(axes) if axes is not None else tuple(getattr(result, "plane", ("X", "Y")))
+    pick = pick_passes(result)
+    if not pick:
+        raise InputError("the analysis holds no circle to diagnose")
+    d = next(iter(pick))
+    sensor = pick_sensor({d: pick[d]}, sensor)
+    sc = pick[d].sensors[sensor]
+    return diagnose_single(sc.angle_rad, sc.radial_error, d, result.radius, axes, sensor)

@@ -1,0 +1,125 @@
+"""Printing of the circular test and its diagnostics for ``tcpmm circle``."""
+
+from __future__ import annotations
+
+from ._app import out
+
+
+def _diagnostics_json(diag) -> dict:
+    """The diagnostics in display units (um, ms, ...), with the terms not determined and
+    why, and the ranking [-]."""
+    return {"sensor": diag.sensor, "directions": list(diag.directions),
+            "terms": [{"term": t, "value": None if v != v else v, "unit": u}
+                      for t, v, u in _display_terms(diag, ascii_units=True)],
+            "undetermined": dict(diag.undetermined),
+            "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
+                         "share_percent": 100.0 * r["share"],
+                         "percent_of_G": _json_number(100.0 * r["share_of_G"]),
+                         "rank": r["rank"]} for r in diag.ranking]}
+
+
+def _json_number(v: float):
+    """A number for JSON; NaN as None [-]."""
+    return None if v != v else v
+
+
+def _display_terms(diag, ascii_units=False):
+    """``(term, value, unit)`` in the display units (µm, ms, µm/m, ppm, mm)."""
+    from ..analysis.diagnostics import display_terms
+
+    return display_terms(diag, ascii_units)
+
+
+def _cell(v: float, digits: int = 2) -> str:
+    return "n/a" if v != v else f"{v:.{digits}f}"
+
+
+def _print_passes(res, title: str) -> None:
+    """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
+    from rich.table import Table
+
+    t = Table(title=f"{title} [µm]", caption="A-D: reversal spike after the fitted terms "
+              "(centre, radius, servo and scale mismatch, squareness; n/a: left out), raw "
+              "e - b in --json (spike_A_um ...); contour max |e|; G circular deviation")
+    for name in ("dir", "sensor", "A", "B", "C", "D", "contour", "G"):
+        t.add_column(name, justify="left" if name in ("dir", "sensor") else "right")
+    for p in res.passes:
+        for row in p.table():
+            t.add_row(p.direction.upper(), row["sensor"],
+                      *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
+                      _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
+    out.print(t)
+    for p in res.passes:
+        for line in _pass_notes(p):
+            out.print(line, highlight=False)
+
+
+def _pass_notes(p) -> list[str]:
+    """What a reader should know of a pass: an arc, a command off the nominal radius."""
+    notes = []
+    if p.is_arc:
+        notes.append(f"{p.direction.upper()}: an arc of {p.arc_deg:.0f} deg (the run holds "
+                     "no full circle); spikes only where it holds a quadrant point")
+    dev = p.command_radial_deviation * 1e6
+    if abs(dev) >= 0.5:
+        side = "inside" if dev < 0 else "outside"
+        notes.append(f"{p.direction.upper()}: the command lies {abs(dev):.2f} µm {side} the "
+                     "nominal radius (command_radial_deviation_um: a controller's filter "
+                     "pulls a circle in, a radius offset moves it); the radial errors are "
+                     "about the nominal radius")
+    return notes
+
+
+def _print_diagnostics(diag) -> None:
+    """The diagnostics: per direction, the terms with their signs, the terms ranked by
+    what each contributes, and what the circles leave undetermined and why."""
+    from rich.table import Table
+
+    from ..analysis.diagnostics import term_note
+
+    rows = {t: (v, u) for t, v, u in _display_terms(diag)}
+    cols = [*diag.directions, *(("pair",) if len(diag.directions) == 2 else ())]
+    t = Table(title=f"circle diagnostics ({diag.sensor}) [µm]")
+    for name in ("", *(c.upper() if c != "pair" else c for c in cols)):
+        t.add_column(name, justify="left" if not name else "right")
+    nan = (float("nan"),)
+    for label, base in (("radial deviation", "radial_deviation"),
+                        ("circularity G" + (", G(b)" if len(cols) == 3 else ""),
+                         "circularity")):
+        t.add_row(label, *[_cell(rows.get(f"{base}_{d}", nan)[0]) for d in cols])
+    whose = "the pair's" if len(cols) == 3 else "the"
+    for q in "ABCD":
+        t.add_row(f"spike {q} after {whose} terms",
+                  *[_cell(rows[f"spike_{q}_{d}"][0]) for d in diag.directions],
+                  *([""] if len(cols) == 3 else []))
+    out.print(t)
+    t = Table()
+    for name in ("term", "value", "unit", "sign"):
+        t.add_column(name, justify="right" if name == "value" else "left")
+    for term, (v, u) in rows.items():
+        if term.startswith(("radial_deviation", "circularity", "spike")):
+            continue
+        t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u,
+                  term_note(term, diag.axes))
+    out.print(t)
+    _print_ranking(diag)
+    for term, why in diag.undetermined.items():
+        out.print(f"{term.replace('_', ' ')}: not determined; {why}", highlight=False)
+
+
+def _print_ranking(diag) -> None:
+    """The terms by the radial error each makes alone over the circle."""
+    from rich.table import Table
+
+    g = "G(b)" if len(diag.directions) == 2 else "G"
+    t = Table(title="terms ranked by their contribution", caption="contribution: peak to "
+              "valley of the radial error the term makes alone; share: of the sum; "
+              f"% {g}: of {g} (a centre offset makes none of it: it shows in the contour "
+              "error)")
+    for name in ("rank", "term", "µm", "share %", f"% {g}"):
+        t.add_column(name, justify="left" if name == "term" else "right")
+    for r in diag.ranking:
+        t.add_row(str(r["rank"]), r["term"].replace("_", " "),
+                  _cell(r["contribution_m"] * 1e6), _cell(100 * r["share"], 1),
+                  _cell(100 * r["share_of_G"], 1))
+    out.print(t)

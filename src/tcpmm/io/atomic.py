@@ -38,7 +38,26 @@ def output_folder(path) -> Path:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"cannot create the output folder: {exc.strerror}", file=path) from None
+    probe_writable(path)
     return path
+
+
+def probe_writable(folder) -> None:
+    """Refuse a folder no file can be made in, before the work whose outputs go there
+    rather than after it (a read-only folder, a full disk).
+
+    Parameters
+    ----------
+    folder : str or Path
+        An existing folder [-].
+    """
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".tcpmm-probe.", dir=folder)
+    except OSError as exc:
+        raise _cannot_write(exc, Path(folder)) from None
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
 
 
 def output_file(path) -> Path:

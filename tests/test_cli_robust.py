@@ -1,0 +1,43 @@
+"""Faults of the system and of the user's input met by the command line: one line, exit 2,
+nothing half-written, and the work not started where its output cannot be written."""
+
+import errno
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from tcpmm.cli import main
+
+
+def _refuse_in(folder: Path, monkeypatch):
+    """Make ``folder`` refuse new files, as a read-only folder does for a user."""
+    mkstemp = tempfile.mkstemp
+
+    def refuse(*args, **kwargs):
+        if Path(kwargs.get("dir", "")).resolve() == folder.resolve():
+            raise PermissionError(errno.EACCES, "Permission denied")
+        return mkstemp(*args, **kwargs)
+
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+
+
+@pytest.mark.parametrize("where", ["model", "report"])
+def test_identify_refuses_a_read_only_output_before_the_work(tmp_path, monkeypatch, capsys,
+                                                             where):
+    from tcpmm.io import bundle
+
+    def work(*args, **kwargs):
+        raise AssertionError("the identification started")
+
+    monkeypatch.setattr(bundle, "read_bundle", work)
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    _refuse_in(ro, monkeypatch)
+    model = (ro if where == "model" else tmp_path) / "model.yaml"
+    args = ["identify", str(tmp_path / "bundle"), "-o", str(model)]
+    if where == "report":
+        args += ["--report", str(ro)]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "Permission denied" in err[0] and str(ro) in err[0]

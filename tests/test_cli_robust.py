@@ -41,3 +41,45 @@ def test_identify_refuses_a_read_only_output_before_the_work(tmp_path, monkeypat
     assert main(args) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "Permission denied" in err[0] and str(ro) in err[0]
+
+
+def _identified(fail):
+    """An identification of no axis whose JSON summary fails as told."""
+    from tcpmm.ident.identification import Identification
+
+    class Identified(Identification):
+        def __init__(self):
+            self.axes = {}
+
+        def quality_table(self):
+            import pandas as pd
+
+            return pd.DataFrame({"axis": ["X"], "fit": [0.99]})
+
+        parameters_table = quality_table
+
+        def to_dict(self):
+            if fail is not None:
+                raise fail
+            return {"axes": {}}
+
+    return Identified()
+
+
+@pytest.mark.parametrize("fail", [OSError(errno.ENOSPC, "No space left on device"),
+                                  SystemExit(143), KeyboardInterrupt()])
+def test_a_report_folder_is_written_whole_or_not_at_all(tmp_path, fail):
+    from tcpmm.errors import InputError
+
+    rep = tmp_path / "rep"
+    (rep / "keep.txt").parent.mkdir()
+    (rep / "keep.txt").write_text("the user's\n")
+    with pytest.raises(InputError if isinstance(fail, OSError) else type(fail)):
+        _identified(fail).write_report(rep)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+    assert sorted(p.name for p in rep.iterdir()) == ["keep.txt"]
+    files = _identified(None).write_report(rep)
+    assert sorted(p.name for p in rep.iterdir()) == ["fit_quality.csv", "identification.json",
+                                                     "keep.txt", "parameters.csv"]
+    assert all(p.parent == rep and p.exists() for p in files.values())
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]

@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import shutil
 import stat
 import tempfile
 from pathlib import Path
@@ -122,6 +123,34 @@ def atomic_path(path, suffix: str = ""):
         if isinstance(exc, OSError):
             raise _cannot_write(exc, path) from None
         raise
+
+
+@contextlib.contextmanager
+def staged_folder(path):
+    """Yield a temporary folder beside the output folder ``path``; on success move its
+    files into ``path``, on any failure (a full disk, a signal, an error of the work)
+    remove it, so that a report is there whole or not at all.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output folder, created [-].
+    """
+    out = output_folder(path)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    except OSError as exc:
+        raise _cannot_write(exc, out) from None
+    try:
+        yield tmp
+        for f in sorted(tmp.iterdir()):
+            os.replace(f, out / f.name)
+    except BaseException as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        if isinstance(exc, OSError):
+            raise _cannot_write(exc, out) from None
+        raise
+    shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _cannot_write(exc: OSError, path: Path) -> InputError:

@@ -114,10 +114,19 @@ def check_design(machine, program, variants) -> None:
             program_command(program, apply_parameters(machine, one), one)
 
 
-def _serial(task, args, todo, sink) -> None:
+def _serial(task, args, todo, sink) -> list[dict]:
+    """Run the tasks in this process; returns the variants that failed, as
+    :func:`_on_client` does."""
     keep_freed_memory()
+    failed = []
     for v in todo:
-        sink(v, task(*args(v)))
+        try:
+            result = task(*args(v))
+        except Exception as exc:  # reported per variant; the others go on
+            failed.append({"variant": v.id, "reason": f"{type(exc).__name__}: {exc}"})
+            result = None
+        sink(v, result)
+    return failed
 
 
 #: Seconds of work a task on a cluster should hold: a task costs the scheduler a few
@@ -268,6 +277,8 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
 
         output_folder(runs)
     done = done_variants(out)
+    if runs is not None:  # a row without its run is not done (its run was not written)
+        done = {d for d in done if Path(runs, f"{d}.csv").is_file()}
     todo = list({v.id: v for v in variants if v.id not in done}.values())
     writer = PartWriter(out, batch)
     count = [0]
@@ -290,7 +301,7 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
         elif client is not None:
             failed = _on_client(client, task, args, todo, sink)
         elif workers == 1 or len(todo) == 1:
-            _serial(task, args, todo, sink)
+            failed = _serial(task, args, todo, sink)
         else:
             from distributed import Client
 

@@ -212,7 +212,7 @@ def write_summary(out_dir, variants) -> Path:
     import pandas as pd
 
     table = read_results(out_dir).set_index("variant")
-    kept = [c for c in table.columns if c.endswith("_um")] + ["warning", "error"]
+    kept = [c for c in table.columns if c.endswith("_um") or c in ("warning", "error")]
     design = pd.DataFrame([{"index": i, **{k: x for k, x in to_row(v, {}).items()
                                            if k not in kept}}
                            for i, v in enumerate(variants)])

@@ -157,8 +157,16 @@ def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
     else:
         metrics = path_metrics(run, cmd.axes, sensor)
     if runs_dir is not None:
-        run.write_csv(Path(runs_dir) / f"{variant.id}.csv")
+        try:
+            run.write_csv(Path(runs_dir) / f"{variant.id}.csv")
+        except (OSError, TcpmmError) as exc:  # a fault of the system, not a result
+            raise RunNotWritten(str(exc)) from None
     return metrics
+
+
+class RunNotWritten(Exception):
+    """The run of a variant could not be written (a full disk, a folder gone): the
+    variant failed, rather than giving a row without metrics that a rerun would keep."""
 
 
 def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=None,

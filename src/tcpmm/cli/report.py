@@ -59,8 +59,9 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
         raise typer.BadParameter("nothing to report: give --model, --ident-dir, --run, "
                                  "--measured/--predicted or --spread")
     sections, inputs = [], []
+    machine = _read_model(model) if model is not None else None
     if model is not None:
-        sections.append(model_section(_read_model(model), model))
+        sections.append(model_section(machine, model))
         inputs.append(("model", model))
     if ident_dir is not None:
         sections.append(identification_section(*read_identification_folder(ident_dir)))
@@ -68,6 +69,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     if runs or measured:
         c = _floats(centre, "--centre", 2)
         circle = (_positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
+        sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
         sections += _run_sections(runs, circle)
         sections += [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
                                  f"comparison-{i + 1}")
@@ -78,6 +80,22 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
         inputs.append(("spread", spread))
     write_report(output, sections, title, inputs)
     out.print(f"wrote {output} ({', '.join(t for _, t, _ in sections)})")
+
+
+def _faults(machine, files) -> list:
+    """The section of the runs' axes that ran away or saturated, said on stderr too; none
+    without the model, whose gains and current limits tell them."""
+    from ..analysis.runaway import run_faults
+    from ..io.runfile import read_run
+    from ..report import faults_section
+    from ._app import _esc, console
+
+    if machine is None:
+        return []
+    found = [(f, fault) for f in files for fault in run_faults(machine, read_run(f))]
+    for f, fault in found:
+        console.print(f"[yellow]warning:[/yellow] {_esc(str(f))}: {_esc(fault.text())}")
+    return [faults_section(found)] if found else []
 
 
 def _circle(path: Path, circle):

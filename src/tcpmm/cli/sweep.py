@@ -8,7 +8,18 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
-from ._app import Sensor, _emit_json, _esc, _floats, _positive, _read_model, app, console, out
+from ._app import (
+    Sensor,
+    _emit_json,
+    _esc,
+    _floats,
+    _positive,
+    _read_model,
+    _warn_unstable,
+    app,
+    console,
+    out,
+)
 
 _PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs range) or "
                "NAME=V1,V2,... (values; one value fixes it). Repeat for each parameter. "
@@ -79,8 +90,30 @@ def _report(res) -> None:
     out.print(f"  summary  {res.summary}")
     for f in res.failed:
         out.print(f"  failed   {f['variant']}: {f['reason']}")
+    _warn_faults(res)
     if res.failed:
         out.print("Run the same command again to retry the failed variants.")
+
+
+#: Variants whose faults are said one by one; the rest are counted [-].
+SAID_FAULTS = 10
+
+
+def _warn_faults(res) -> None:
+    """A warning line per variant that ran away, saturated its current or has an
+    unstable loop (the first :data:`SAID_FAULTS`), as ``tcpmm simulate`` says them."""
+    bad = []
+    for r in res.to_pandas().to_dict("records"):
+        fault, warning = (r.get(c) if isinstance(r.get(c), str) else "" for c in
+                          ("fault", "warning"))
+        if fault or "unstable" in warning:
+            bad.append(("; ".join(t for t in (fault, warning) if t), r["variant"]))
+    for text, v in bad[:SAID_FAULTS]:
+        console.print(f"[yellow]warning:[/yellow] variant {_esc(str(v))}: {_esc(text)}")
+    if len(bad) > SAID_FAULTS:
+        console.print(f"[yellow]warning:[/yellow] {len(bad) - SAID_FAULTS} more variants ran "
+                      "away, saturated their current or are unstable: see the columns fault "
+                      f"and warning of {_esc(str(res.summary))}")
 
 
 @app.command()
@@ -125,6 +158,8 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
     m = _read_model(model)
     kind = "gcode" if gcode is not None else "circle"
+    if not list_params:
+        _warn_unstable(m, f"model {model}")
     if list_params:
         for name in parameter_names(m, kind):
             out.print(name, highlight=False)

@@ -128,3 +128,40 @@ def test_the_report_says_a_runaway_run(vmc, tmp_path, capsys):
     assert "run.csv: axis Z: leaves the command" in err
     page = (tmp_path / "r.html").read_text(encoding="utf-8")
     assert "Runaway and saturation" in page and "axis Z: leaves the command" in page
+
+
+def test_a_lost_scheduler_is_one_line_and_a_rerun_resumes(tmp_path, monkeypatch, capsys):
+    import contextlib
+    import logging
+    import time
+
+    from distributed import Client, LocalCluster
+
+    from tcpmm.cli import sweep as sweep_cli
+
+    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                           dashboard_address=":0", silence_logs=logging.ERROR)
+    client = Client(cluster, timeout="1s")  # its reconnection gives up at once
+    monkeypatch.setattr(sweep_cli, "_client", lambda address: client)
+
+    @contextlib.contextmanager
+    def stopping(description):  # the scheduler stops after the second variant
+        yield lambda done, total: done == 2 and cluster.sync(cluster.scheduler.close)
+
+    monkeypatch.setattr(sweep_cli, "_bar", stopping)
+    args = ["sweep", "builtin:vmc", "-p", "X.servo.position_gain=20:40:1", "--circle",
+            "5,6000", "-o", str(tmp_path / "o"), "--scheduler", "tcp://example:8786"]
+    t0 = time.monotonic()
+    try:
+        assert main(args) == 2
+        assert time.monotonic() - t0 < 20
+    finally:
+        with contextlib.suppress(Exception):
+            client.close(timeout=1)
+            cluster.close(timeout=1)
+    cap = capsys.readouterr()
+    err = cap.err.strip().splitlines()
+    assert len(err) == 1 and "the Dask scheduler at " in err[0] and "rerun to resume" in err[0]
+    assert "failed" not in cap.out
+    kept = len(read_results(tmp_path / "o"))
+    assert 2 <= kept < 21

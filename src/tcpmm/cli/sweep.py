@@ -73,14 +73,28 @@ def _program(gcode: Path | None, circle: str | None, centre: str):
 
 
 def _client(scheduler: str):
+    import logging
+
     from distributed import Client
 
+    # the sweep says what becomes of the scheduler in one line; distributed's own logs
+    # would add a traceback of its reconnection attempts
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
     try:
         return Client(scheduler, timeout="10s")
     except (OSError, TimeoutError, ValueError) as exc:
         raise InputError(f"cannot reach the Dask scheduler at {scheduler} ({exc}); start one "
                          "(`dask scheduler`, then `dask worker tcp://HOST:8786`) or check the "
                          "address") from None
+
+
+def _close(client) -> None:
+    """Close the client, within a second: one whose scheduler stopped would otherwise
+    wait for it to come back."""
+    import contextlib
+
+    with contextlib.suppress(Exception):
+        client.close(timeout=1)
 
 
 def _report(res) -> None:
@@ -189,7 +203,7 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         raise
     finally:
         if client is not None:
-            client.close()
+            _close(client)
     if as_json:
         _emit_json(res.to_dict())
     else:

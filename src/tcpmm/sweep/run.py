@@ -16,7 +16,7 @@ from itertools import islice
 from pathlib import Path
 
 from .._heap import keep_freed_memory
-from ..errors import InputError
+from ..errors import InputError, TcpmmError
 from .store import (
     PARTS_DIR,
     PartWriter,
@@ -182,6 +182,8 @@ def _on_client(client, task, args, todo, sink, window: int | None = None) -> lis
         try:
             results = fut.result()
         except Exception as exc:  # a worker lost for good, or a fault of the code
+            if _scheduler_lost(client, exc):
+                raise SchedulerLost(client) from None
             results = [exc] * len(chunk)
         for v, result in zip(chunk, results, strict=True):
             if isinstance(result, Exception):
@@ -195,6 +197,30 @@ def _on_client(client, task, args, todo, sink, window: int | None = None) -> lis
         if nxt is not None:
             flow.add(submit(nxt))
     return failed
+
+
+class SchedulerLost(TcpmmError):
+    """The Dask scheduler stopped mid-sweep: every task still out is lost with it, none of
+    them a failure of its variant; the rows computed are kept and a rerun resumes.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The client that lost its scheduler [-].
+    """
+
+    def __init__(self, client):
+        address = getattr(getattr(client, "scheduler", None), "address", None) or "?"
+        super().__init__(f"the Dask scheduler at {address} stopped: rerun to resume (the "
+                         "variants computed so far are kept)")
+
+
+def _scheduler_lost(client, exc: Exception) -> bool:
+    """Whether a task's error is the loss of the scheduler rather than its own [-]."""
+    from distributed.comm import CommClosedError
+
+    return (isinstance(exc, CommClosedError) or "scheduler-connection-lost" in str(exc)
+            or getattr(client, "status", "running") not in ("running", "newly-created"))
 
 
 #: Dask's nanny starts each worker with glibc's malloc trimming memory back to the system

@@ -83,3 +83,34 @@ def test_a_report_folder_is_written_whole_or_not_at_all(tmp_path, fail):
                                                      "keep.txt", "parameters.csv"]
     assert all(p.parent == rep and p.exists() for p in files.values())
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+@pytest.mark.parametrize(("name", "code"), [("SIGINT", 130), ("SIGTERM", 143)])
+def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
+    """A signal mid-sweep: out within a second, one line or two of what is kept, no
+    traceback; the rows computed stay for the rerun."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = ("import sys; from tcpmm.cli import main; sys.exit(main(sys.argv[1:]))")
+    args = [sys.executable, "-c", script, "sweep", "builtin:vmc", "-p",
+            "X.servo.position_gain=20:60:0.01", "--circle", "5,6000", "--workers", "1",
+            "-o", str(tmp_path / "o")]
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env)
+    try:
+        deadline = time.monotonic() + 60
+        while not list((tmp_path / "o").glob("results/part-*")) and time.monotonic() < deadline:
+            time.sleep(0.2)  # until the first rows are written: the sweep is under way
+        t0 = time.monotonic()
+        proc.send_signal(getattr(signal, name))
+        _, err = proc.communicate(timeout=30)
+        waited = time.monotonic() - t0
+    finally:
+        proc.kill()
+    assert proc.returncode == code and waited < 1.5
+    assert "Traceback" not in err and len(err.strip().splitlines()) <= 2

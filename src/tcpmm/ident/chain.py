@@ -25,6 +25,7 @@ from .friction.sensitivity import (
     warn_share_sensitivity,
 )
 from .friction.split import stribeck_from_record
+from .gates.columns import column_findings
 from .gates.findings import SuspectModelError, axis_findings, time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
 from .options import IdentifyOptions
@@ -171,8 +172,9 @@ def identify_axis(
 
 
 def check_records(bundle, options: IdentifyOptions) -> list:
-    """The records' check before any fit: their time base (a bad one fails fast) and the
-    plateaus of the friction runs; the findings [-].
+    """The records' check before any fit: their time base and their columns (swapped, or
+    in the wrong unit; a bad one fails fast) and the plateaus of the friction runs; the
+    findings [-].
 
     Parameters
     ----------
@@ -181,7 +183,7 @@ def check_records(bundle, options: IdentifyOptions) -> list:
     options : IdentifyOptions
         ``accept_suspect``: return a bad time base's findings instead of raising [-].
     """
-    findings = time_base_findings(bundle)
+    findings = time_base_findings(bundle) + column_findings(bundle)
     if findings and not options.accept_suspect:
         raise SuspectModelError(findings, file=getattr(bundle, "path", None))
     for name, rec in bundle.axes.items():

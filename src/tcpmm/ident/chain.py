@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from .._threads import limit_blas_threads
+from ..errors import InputError
 from ..model import Machine
 from ..uncertainty import open_ranges, prediction_verdict
 from .friction.sensitivity import (
@@ -188,7 +189,10 @@ def check_records(bundle, options: IdentifyOptions) -> list:
         raise SuspectModelError(findings, file=getattr(bundle, "path", None))
     for name, rec in bundle.axes.items():
         if rec.friction is not None:
-            stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
+            try:
+                stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
+            except InputError as exc:  # the fit knows the column, not the file
+                raise exc.in_file(rec.friction.source) from None
     return findings
 
 

@@ -12,7 +12,7 @@ CHROMIUM := chromium --headless --no-sandbox --disable-gpu --hide-scrollbars \
 	--proxy-server=127.0.0.1:9 --proxy-bypass-list='<-loopback>' \
 	--host-resolver-rules='MAP * ~NOTFOUND'
 
-.PHONY: demo test docs lint bench clean check-report
+.PHONY: demo test docs lint bench clean check-report fuzz
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -28,6 +28,13 @@ demo: $(STAMP)
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples docs
 	$(BIN)/python -m pytest -q -n 2
+
+# The long fuzz run: 10 000 cases per target of tests/test_fuzz.py (NC programs, model files
+# changed key by key, bundles with columns swapped, scaled and cut short); the normal suite
+# runs 30 of each. Last result in docs/validation/fuzz.md.
+fuzz: $(STAMP)
+	TCPMM_FUZZ_EXAMPLES=10000 $(BIN)/python -m pytest -q -p no:xdist tests/test_fuzz.py \
+		--hypothesis-show-statistics
 
 # The demo's HTML report rendered in headless Chromium with no network; screenshots of the
 # first screen and of the whole page go to $(REPORT). A finished demo in $(OUT) is reused.

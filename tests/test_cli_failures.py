@@ -121,6 +121,7 @@ def test_compiled_kernels_find_a_cache_when_nothing_of_the_user_is_writable(tmp_
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     monkeypatch.setattr(tempfile, "gettempdir", lambda: str(tmp_path))
     monkeypatch.setattr(_numba_cache.os, "access", lambda path, mode: False)
+    monkeypatch.setattr(_numba_cache, "FALLBACK", [])
     folder = _numba_cache.ensure_cache_dir()
     assert folder is not None and os.environ["NUMBA_CACHE_DIR"] == folder
     assert os.path.isdir(folder)
@@ -164,3 +165,29 @@ def test_an_output_folder_under_a_file_is_refused_before_the_work(tmp_path, caps
     prog.write_text("G21 G90\nG1 X1 F1000\nM30\n")
     assert main(["path", str(prog), "-o", str(tmp_path / "f" / "a" / "cmd.csv")]) == 2
     assert "is a file, so the output folder" in capsys.readouterr().err
+
+
+def test_a_read_only_pycache_of_a_subpackage_moves_the_cache(tmp_path, monkeypatch, capsys):
+    """The package folder writable but ``sim/__pycache__`` not, nor the home: numba would
+    refuse at import ("no locator available") unless the cache moves."""
+    import tempfile
+
+    import numba
+
+    from tcpmm import _numba_cache
+    from tcpmm.cli import main
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "")
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setattr(numba.config, "CACHE_DIR", numba.config.CACHE_DIR)
+    monkeypatch.setattr(_numba_cache, "FALLBACK", [])
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "home"))
+    monkeypatch.setattr(tempfile, "gettempdir", lambda: str(tmp_path))
+    writable = _numba_cache._writable
+    monkeypatch.setattr(_numba_cache, "_writable", lambda p: writable(p) and not (
+        p.name == "__pycache__" and p.parent.name == "sim") and "home" not in p.parts)
+    folder = _numba_cache.ensure_cache_dir()
+    assert folder is not None and os.environ["NUMBA_CACHE_DIR"] == folder
+    assert main(["machine", "--help"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "warning:" in err[0] and folder in err[0]

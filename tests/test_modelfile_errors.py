@@ -172,3 +172,25 @@ def test_every_problem_on_one_line(vmc):
     assert "\n" not in str(err)
     assert err.message.startswith("3 problem(s) in machine model: axes.X.servo.Kpp (line ")
     assert "; axes.X.mechanics.K_L (line " in err.message
+
+
+@pytest.mark.parametrize(("old", "new", "key"), [
+    ("current_limit: 20.0", "current_limit: true", "axes.X.servo.current_limit"),
+    ("M_t: ", "M_t: false #", "axes.X.mechanics.M_t"),
+    ("encoder_counts_per_rev: ", "encoder_counts_per_rev: yes #",
+     "axes.X.sensors.encoder_counts_per_rev"),
+    ("delay_samples: 0", "delay_samples: true", "axes.X.servo.delay_samples"),
+])
+def test_a_boolean_for_a_number_is_refused_with_its_key(vmc, old, new, key):
+    """pydantic reads ``true`` as 1: a current limit of 1 A nobody wrote."""
+    text = dumps_machine(vmc)
+    assert old in text
+    text = text.replace(old, new, 1)
+    err = _error(text)
+    assert err.column == key and err.line == _line(text, new.split(":")[0] + ":")
+    assert "must be a number, not a boolean" in err.message and "\n" not in str(err)
+
+
+def test_booleans_where_the_schema_takes_them_still_load(vmc):
+    text = dumps_machine(vmc)
+    assert loads_machine(text, "m.yaml") == vmc

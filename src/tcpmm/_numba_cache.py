@@ -3,13 +3,20 @@
 The compiled kernels are cached (``cache=True``) beside their sources, or else in the
 user's cache folder. Where neither can be written (a read-only installation run by a user
 without a writable home), numba refuses at import with "no locator available"; the cache
-then goes to a folder of this user in the system's temporary directory.
+then goes to a folder of this user in the system's temporary directory, and
+:data:`FALLBACK` says so for the command line to warn once.
 """
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
+
+#: Subpackages with functions cached by numba: each is cached in its own ``__pycache__``,
+#: which may be read-only where the package folder is not.
+CACHED_SUBPACKAGES = ("sim", "path", "mechanics")
+#: The temporary cache folder chosen by :func:`ensure_cache_dir`, or ``None`` [-].
+FALLBACK: list[str] = []
 
 
 def _writable(folder: Path) -> bool:
@@ -25,7 +32,8 @@ def ensure_cache_dir() -> str | None:
     the user's cache folder can be written; returns the folder set, or ``None``."""
     if os.environ.get("NUMBA_CACHE_DIR"):
         return None
-    if _writable(Path(__file__).parent):
+    pkg = Path(__file__).parent
+    if all(_writable(pkg / sub / "__pycache__") for sub in CACHED_SUBPACKAGES):
         return None
     home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     if _writable(Path(home)):
@@ -35,6 +43,7 @@ def ensure_cache_dir() -> str | None:
     uid = os.getuid() if hasattr(os, "getuid") else "user"
     folder = Path(tempfile.gettempdir()) / f"tcpmm-numba-cache-{uid}"
     folder.mkdir(mode=0o700, exist_ok=True)
+    FALLBACK[:] = [str(folder)]
     os.environ["NUMBA_CACHE_DIR"] = str(folder)
     import sys
 

@@ -53,3 +53,8 @@ class InputError(TcpmmError, ValueError):
 
 class InputWarning(UserWarning):
     """Input that can be used but probably is not what the user meant."""
+
+
+class RunFaultWarning(InputWarning):
+    """A simulated axis that ran away from its command or held its current at the limit:
+    the run is a result to report, not a prediction (:mod:`tcpmm.analysis.runaway`)."""

@@ -97,13 +97,15 @@ class Run:
         write_run(self, path)
 
     def to_dict(self) -> dict:
-        """JSON-ready summary: samples, duration, axes and the sensors recorded [-]."""
+        """JSON-ready summary: samples, duration, axes and the sensors recorded, and the
+        axes that ran away or saturated (:mod:`tcpmm.analysis.runaway`) [-]."""
         t = self.time_s
         return {"samples": int(t.size), "duration_s": float(t[-1] - t[0]) if t.size else 0.0,
                 "axes": {n: [s for s, attr in RUN_COLUMNS.items() if getattr(a, attr) is not None]
                          for n, a in self.axes.items()},
                 "meta": {k: v for k, v in self.meta.items()
-                         if isinstance(v, (str, int, float, bool, type(None)))}}
+                         if isinstance(v, (str, int, float, bool, type(None)))},
+                "faults": list(self.meta.get("faults", []))}
 
     def plot(self, ax=None, path=None, axes=None):
         """Time plots of command, motor, scale and TCP following errors per axis; the

@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._threads import limit_blas_threads
+from .analysis.runaway import say_faults
 from .errors import InputError, InputWarning
 from .mechanics.friction import friction_params_array
 from .mechanics.statespace import (
@@ -281,6 +282,9 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     InputWarning
         An axis whose sampled loop is unstable, or a command faster than the machine's
         rapid traverse (see :func:`_check_speeds`).
+    RunFaultWarning
+        An axis that ran away from its command or saturated its current
+        (:mod:`tcpmm.analysis.runaway`); the faults are also in ``run.meta["faults"]``.
     """
     unknown = [a for a in command.axes if a not in machine.axes]
     if unknown:
@@ -317,4 +321,6 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}
     time = command.time_s[0] + np.arange(n) * rp
-    return Run(time_s=time, axes=runs, meta={**command.meta, "machine": machine.name})
+    run = Run(time_s=time, axes=runs, meta={**command.meta, "machine": machine.name})
+    say_faults(machine, run)
+    return run

@@ -38,6 +38,7 @@ def main(argv=None) -> int:
             shown(message, category, filename, lineno, file, line)
 
     warnings.showwarning = show
+    _warn_cache_fallback()
     handlers = _exit_on_signals()
     try:
         app(args=argv, standalone_mode=True)
@@ -54,6 +55,17 @@ def main(argv=None) -> int:
         warnings.showwarning = shown
         _restore_signals(handlers)
     return 0
+
+
+def _warn_cache_fallback() -> None:
+    """One line when numba's compiled functions could be cached neither beside the package
+    nor in the user's cache folder: they then compile again in every new temporary folder."""
+    from .._numba_cache import FALLBACK
+
+    if FALLBACK:
+        console.print(f"[yellow]warning:[/yellow] neither the package's __pycache__ folders "
+                      f"nor the user's cache folder can be written; numba's compiled "
+                      f"functions are cached in {_esc(FALLBACK[0])}")
 
 
 def _exit_on_signals() -> dict:

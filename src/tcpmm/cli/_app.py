@@ -221,6 +221,21 @@ def _refuse_unstable(machine, model: str) -> None:
                          file=model)
 
 
+def _warn_unstable(machine, what: str, axes=None) -> None:
+    """A warning line per axis (of ``axes``, default all) whose sampled loop is unstable:
+    what is computed from it describes no machine that holds still."""
+    from ..servo.sampled import sampled_spectral_radius
+
+    for n in axes or machine.axes:
+        a = machine.axes[n]
+        r = sampled_spectral_radius(a.mechanics, a.servo)
+        if r >= 1.0:
+            console.print(f"[yellow]warning:[/yellow] axis {_esc(n)} of {_esc(what)}: the "
+                          f"sampled servo loop is unstable (spectral radius {r:.4f}); its "
+                          "closed-loop responses and runs are no prediction: check the gains "
+                          "and periods (tcpmm machine show)")
+
+
 def _load_command(command: Path | None, gcode: Path | None, machine):
     from ..path import program_to_command, read_command_csv
 

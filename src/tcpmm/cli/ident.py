@@ -158,7 +158,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     (cause) or undetermined (cause), with the measurement that would settle it.
     """
     from ..ident.chain import identify_bundle
-    from ..io.atomic import check_output_folder
+    from ..io.atomic import check_output_folder, staged_folder
     from ..io.bundle import read_bundle
     from ..io.modelfile import write_machine
 
@@ -176,9 +176,13 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
                               presliding=presliding, accept_suspect=accept_suspect)
     if html:
         _identification_report(idn, report, bundle, output)
+        write_machine(idn.machine, output)
     elif report is not None:
-        idn.write_report(report)
-    write_machine(idn.machine, output)
+        with staged_folder(report) as rep:  # a model that cannot be written: no report
+            idn.write_report(rep)
+            write_machine(idn.machine, output)
+    else:
+        write_machine(idn.machine, output)
     _warn_suspect(idn.machine, f"the model written to {output}")
     if as_json:
         _emit_json(idn.to_dict())

@@ -12,6 +12,7 @@ from ._app import (
     _output,
     _plot,
     _read_model,
+    _warn_unstable,
     app,
     machine_app,
     out,
@@ -124,6 +125,8 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     f = np.array(_floats(freq_hz, "--freq-hz")) if freq_hz else np.logspace(0, 3.2, 200)
     if np.any(f <= 0):
         raise typer.BadParameter("--freq-hz values must be positive")
+    if tf in CLOSED_LOOP_TFS:
+        _warn_unstable(m, f"model {model}", [axis.upper()])
     if tf in REDUCED:
         H = reduced_freqresp(a.mechanics, tf, f, a.servo.current_bandwidth_hz)
     elif tf in CLOSED_LOOP_TFS:

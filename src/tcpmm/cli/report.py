@@ -66,6 +66,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
                                  "--measured/--predicted or --spread")
     tol = None if tolerance_um is None else _positive(tolerance_um, "--tolerance-um") * 1e-6
     sections, inputs = [], []
+    machine = _read_model(model) if model is not None else None
     if runs or measured:
         c = _floats(centre, "--centre", 2)
         circle = (_positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
@@ -73,6 +74,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
                                    f"comparison-{i + 1}", not runs and i == 0, tol)
                        for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
         sections += _run_sections(runs, circle, tol)
+        sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
         sections += [s for group in comparisons for s in group]
         inputs += [("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
     if spread is not None:
@@ -82,10 +84,26 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
         sections.append(identification_section(*read_identification_folder(ident_dir)))
         inputs.append(("identification", ident_dir))
     if model is not None:
-        sections.append(model_section(_read_model(model), model))
+        sections.append(model_section(machine, model))
         inputs.append(("model", model))
     write_report(output, sections, title, inputs)
     out.print(f"wrote {output} ({', '.join(t for _, t, _ in sections)})")
+
+
+def _faults(machine, files) -> list:
+    """The section of the runs' axes that ran away or saturated, said on stderr too; none
+    without the model, whose gains and current limits tell them."""
+    from ..analysis.runaway import run_faults
+    from ..io.runfile import read_run
+    from ..report import faults_section
+    from ._app import _esc, console
+
+    if machine is None:
+        return []
+    found = [(f, fault) for f in files for fault in run_faults(machine, read_run(f))]
+    for f, fault in found:
+        console.print(f"[yellow]warning:[/yellow] {_esc(str(f))}: {_esc(fault.text())}")
+    return [faults_section(found)] if found else []
 
 
 def _circle(path: Path, circle):

@@ -65,8 +65,11 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
              allow_unstable: bool = typer.Option(
                  False, "--allow-unstable",
                  help="Simulate even where the sampled servo loop is unstable (the run "
-                      "then diverges; for studying the instability itself).")):
-    """Drive the machine model with a position command; write the run file."""
+                      "then diverges; for studying the instability itself)."),
+             as_json: bool = typer.Option(False, "--json")):
+    """Drive the machine model with a position command; write the run file. An axis that
+    runs away from its command or holds its current at the limit is said on stderr (and
+    in --json, "faults")."""
     from ..simulate import simulate as _simulate
 
     _output(output, model, command, gcode)
@@ -79,6 +82,9 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
     run.write(output)
+    if as_json:
+        _emit_json({"output": str(output), **run.to_dict()})
+        return
     out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
 
 

@@ -8,7 +8,18 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
-from ._app import Sensor, _emit_json, _esc, _floats, _positive, _read_model, app, console, out
+from ._app import (
+    Sensor,
+    _emit_json,
+    _esc,
+    _floats,
+    _positive,
+    _read_model,
+    _warn_unstable,
+    app,
+    console,
+    out,
+)
 
 _PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs range) or "
                "NAME=V1,V2,... (values; one value fixes it). Repeat for each parameter. "
@@ -62,14 +73,28 @@ def _program(gcode: Path | None, circle: str | None, centre: str):
 
 
 def _client(scheduler: str):
+    import logging
+
     from distributed import Client
 
+    # the sweep says what becomes of the scheduler in one line; distributed's own logs
+    # would add a traceback of its reconnection attempts
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
     try:
         return Client(scheduler, timeout="10s")
     except (OSError, TimeoutError, ValueError) as exc:
         raise InputError(f"cannot reach the Dask scheduler at {scheduler} ({exc}); start one "
                          "(`dask scheduler`, then `dask worker tcp://HOST:8786`) or check the "
                          "address") from None
+
+
+def _close(client) -> None:
+    """Close the client, within a second: one whose scheduler stopped would otherwise
+    wait for it to come back."""
+    import contextlib
+
+    with contextlib.suppress(Exception):
+        client.close(timeout=1)
 
 
 def _report(res) -> None:
@@ -79,8 +104,30 @@ def _report(res) -> None:
     out.print(f"  summary  {res.summary}")
     for f in res.failed:
         out.print(f"  failed   {f['variant']}: {f['reason']}")
+    _warn_faults(res)
     if res.failed:
         out.print("Run the same command again to retry the failed variants.")
+
+
+#: Variants whose faults are said one by one; the rest are counted [-].
+SAID_FAULTS = 10
+
+
+def _warn_faults(res) -> None:
+    """A warning line per variant that ran away, saturated its current or has an
+    unstable loop (the first :data:`SAID_FAULTS`), as ``tcpmm simulate`` says them."""
+    bad = []
+    for r in res.to_pandas().to_dict("records"):
+        fault, warning = (r.get(c) if isinstance(r.get(c), str) else "" for c in
+                          ("fault", "warning"))
+        if fault or "unstable" in warning:
+            bad.append(("; ".join(t for t in (fault, warning) if t), r["variant"]))
+    for text, v in bad[:SAID_FAULTS]:
+        console.print(f"[yellow]warning:[/yellow] variant {_esc(str(v))}: {_esc(text)}")
+    if len(bad) > SAID_FAULTS:
+        console.print(f"[yellow]warning:[/yellow] {len(bad) - SAID_FAULTS} more variants ran "
+                      "away, saturated their current or are unstable: see the columns fault "
+                      f"and warning of {_esc(str(res.summary))}")
 
 
 @app.command()
@@ -125,6 +172,8 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
     m = _read_model(model)
     kind = "gcode" if gcode is not None else "circle"
+    if not list_params:
+        _warn_unstable(m, f"model {model}")
     if list_params:
         for name in parameter_names(m, kind):
             out.print(name, highlight=False)
@@ -154,7 +203,7 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         raise
     finally:
         if client is not None:
-            client.close()
+            _close(client)
     if as_json:
         _emit_json(res.to_dict())
     else:

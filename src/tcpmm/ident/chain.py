@@ -26,7 +26,7 @@ from .friction.sensitivity import (
     warn_share_sensitivity,
 )
 from .friction.split import stribeck_from_record
-from .gates.columns import check_record_units
+from .gates.columns import check_record_units, column_findings
 from .gates.findings import SuspectModelError, axis_findings, time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
 from .options import IdentifyOptions
@@ -173,8 +173,9 @@ def identify_axis(
 
 
 def check_records(bundle, options: IdentifyOptions) -> list:
-    """The records' check before any fit: their time base (a bad one fails fast) and the
-    plateaus of the friction runs; the findings [-].
+    """The records' check before any fit: their time base and their columns (swapped, or
+    in the wrong unit; a bad one fails fast) and the plateaus of the friction runs; the
+    findings [-].
 
     Parameters
     ----------
@@ -183,13 +184,16 @@ def check_records(bundle, options: IdentifyOptions) -> list:
     options : IdentifyOptions
         ``accept_suspect``: return a bad time base's findings instead of raising [-].
     """
-    check_record_units(bundle)  # a column in mA or degrees overflowed the fits
-    findings = time_base_findings(bundle)
+    findings = time_base_findings(bundle) + column_findings(bundle)
     if findings and not options.accept_suspect:
         raise SuspectModelError(findings, file=getattr(bundle, "path", None))
+    check_record_units(bundle)  # accepted or not, a column in mA or degrees overflows the fits
     for name, rec in bundle.axes.items():
         if rec.friction is not None:
-            stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
+            try:
+                stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
+            except InputError as exc:  # the fit knows the column, not the file
+                raise exc.in_file(rec.friction.source) from None
     return findings
 
 

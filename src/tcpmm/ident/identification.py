@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -266,11 +267,18 @@ class Identification:
     def write_report(self, out_dir) -> dict:
         """Sweep time plots (Fig. 7), measured and fitted Bode plots with coherence
         (Figs. 8-10), the plateau deflections of the friction runs and the tables, into a
-        folder. Returns the written paths."""
-        from ..io.atomic import output_folder, write_table_atomic, write_text_atomic
+        folder; all of them or, where one fails, none. Returns the written paths."""
+        from ..io.atomic import staged_folder
+
+        with staged_folder(out_dir) as tmp:
+            files = self._write_report_files(tmp)
+        return {k: Path(out_dir) / p.name for k, p in files.items()}
+
+    def _write_report_files(self, out: Path) -> dict:
+        """The files of :meth:`write_report`, written into the folder ``out`` [-]."""
+        from ..io.atomic import write_table_atomic, write_text_atomic
         from ..plot.ident import plot_lost_motion, plot_sweep
 
-        out = output_folder(out_dir)
         files = {}
         for name, a in self.axes.items():
             if a.record is not None:
@@ -284,15 +292,11 @@ class Identification:
                                        f"({split.source})")
             files[f"bode_{name}"] = out / f"bode_{name}.png"
             self.plot(name, path=files[f"bode_{name}"])
-        q, p = self.quality_table(), self.parameters_table()
-        write_table_atomic(q, out / "fit_quality.csv")
-        write_table_atomic(p, out / "parameters.csv")
-        write_text_atomic(out / "identification.json", json.dumps(self.to_dict(), indent=2))
-        files.update(
-            quality=out / "fit_quality.csv",
-            parameters=out / "parameters.csv",
-            json=out / "identification.json",
-        )
+        files.update(quality=out / "fit_quality.csv", parameters=out / "parameters.csv",
+                     json=out / "identification.json")
+        write_table_atomic(self.quality_table(), files["quality"])
+        write_table_atomic(self.parameters_table(), files["parameters"])
+        write_text_atomic(files["json"], json.dumps(self.to_dict(), indent=2))
         return files
 
 

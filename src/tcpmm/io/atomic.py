@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import shutil
 import stat
 import tempfile
 from pathlib import Path
@@ -62,7 +63,26 @@ def output_folder(path) -> Path:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"cannot create the output folder: {exc.strerror}", file=path) from None
+    probe_writable(path)
     return path
+
+
+def probe_writable(folder) -> None:
+    """Refuse a folder no file can be made in, before the work whose outputs go there
+    rather than after it (a read-only folder, a full disk).
+
+    Parameters
+    ----------
+    folder : str or Path
+        An existing folder [-].
+    """
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".tcpmm-probe.", dir=folder)
+    except OSError as exc:
+        raise _cannot_write(exc, Path(folder)) from None
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
 
 
 def output_file(path) -> Path:
@@ -129,6 +149,34 @@ def atomic_path(path, suffix: str = ""):
         if isinstance(exc, OSError):
             raise _cannot_write(exc, path) from None
         raise
+
+
+@contextlib.contextmanager
+def staged_folder(path):
+    """Yield a temporary folder beside the output folder ``path``; on success move its
+    files into ``path``, on any failure (a full disk, a signal, an error of the work)
+    remove it, so that a report is there whole or not at all.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output folder, created [-].
+    """
+    out = output_folder(path)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    except OSError as exc:
+        raise _cannot_write(exc, out) from None
+    try:
+        yield tmp
+        for f in sorted(tmp.iterdir()):
+            os.replace(f, out / f.name)
+    except BaseException as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        if isinstance(exc, OSError):
+            raise _cannot_write(exc, out) from None
+        raise
+    shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _cannot_write(exc: OSError, path: Path) -> InputError:

@@ -15,6 +15,7 @@ from pydantic import ValidationError
 
 from ..errors import InputError
 from .text import read_text
+from .yamlbools import refuse_bools
 
 FORMATS = {
     "tcpmm-model/1": ("machine model", "give it where a model file is expected"),
@@ -175,6 +176,11 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
     lines = key_lines(node)
     if fmt is not None:
         check_format(data, fmt, what, file, lines.get(("format",)))
+    try:
+        refuse_bools(data, model_cls)
+    except InputError as exc:
+        raise InputError(exc.message, file=file, line=line_for(exc.column.split("."), lines),
+                         column=exc.column) from None
     try:
         return model_cls.model_validate(data)
     except ValidationError as exc:

@@ -23,9 +23,10 @@ from .machine import (
 )
 
 __all__ = ["acceptance_section", "circle_section", "circle_test_section", "comparison_section",
-           "contour_section", "identification_result_section", "identification_section",
-           "model_section", "read_identification_folder", "report_file", "result_section",
-           "spread_section", "verdict_sections", "write_report"]
+           "contour_section", "faults_section", "identification_result_section",
+           "identification_section", "model_section", "read_identification_folder",
+           "report_file", "result_section", "spread_section", "verdict_sections",
+           "write_report"]
 
 
 def report_file(path) -> Path:
@@ -140,3 +141,23 @@ def contour_section(result, title: str = "Contour error of the program run"):
     return result_section(result, "contour", title,
                           "Signed contour error: shortest distance from the actual to the "
                           "commanded path.")
+
+
+def faults_section(faults, key: str = "faults"):
+    """The axes of the runs that ran away from their command or held their current at the
+    limit (:mod:`tcpmm.analysis.runaway`): their figures are no prediction of a machine.
+
+    Parameters
+    ----------
+    faults : list of tuple
+        ``(run file, AxisFault)`` [-].
+    key : str
+        Section anchor [-].
+    """
+    from .html import para, section
+
+    body = para("These runs are no prediction of a machine: an axis left its command or held "
+                "its current at the drive's limit. The circular tests below show them as they "
+                "are.", "lead")
+    body += "".join(para(f"{Path(f).name}: {fault.text()}", "warn") for f, fault in faults)
+    return section(key, "Runaway and saturation", body)

@@ -16,7 +16,7 @@ from itertools import islice
 from pathlib import Path
 
 from .._heap import keep_freed_memory
-from ..errors import InputError
+from ..errors import InputError, TcpmmError
 from .store import (
     PARTS_DIR,
     PartWriter,
@@ -114,10 +114,19 @@ def check_design(machine, program, variants) -> None:
             program_command(program, apply_parameters(machine, one), one)
 
 
-def _serial(task, args, todo, sink) -> None:
+def _serial(task, args, todo, sink) -> list[dict]:
+    """Run the tasks in this process; returns the variants that failed, as
+    :func:`_on_client` does."""
     keep_freed_memory()
+    failed = []
     for v in todo:
-        sink(v, task(*args(v)))
+        try:
+            result = task(*args(v))
+        except Exception as exc:  # reported per variant; the others go on
+            failed.append({"variant": v.id, "reason": f"{type(exc).__name__}: {exc}"})
+            result = None
+        sink(v, result)
+    return failed
 
 
 #: Seconds of work a task on a cluster should hold: a task costs the scheduler a few
@@ -173,6 +182,8 @@ def _on_client(client, task, args, todo, sink, window: int | None = None) -> lis
         try:
             results = fut.result()
         except Exception as exc:  # a worker lost for good, or a fault of the code
+            if _scheduler_lost(client, exc):
+                raise SchedulerLost(client) from None
             results = [exc] * len(chunk)
         for v, result in zip(chunk, results, strict=True):
             if isinstance(result, Exception):
@@ -186,6 +197,30 @@ def _on_client(client, task, args, todo, sink, window: int | None = None) -> lis
         if nxt is not None:
             flow.add(submit(nxt))
     return failed
+
+
+class SchedulerLost(TcpmmError):
+    """The Dask scheduler stopped mid-sweep: every task still out is lost with it, none of
+    them a failure of its variant; the rows computed are kept and a rerun resumes.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The client that lost its scheduler [-].
+    """
+
+    def __init__(self, client):
+        address = getattr(getattr(client, "scheduler", None), "address", None) or "?"
+        super().__init__(f"the Dask scheduler at {address} stopped: rerun to resume (the "
+                         "variants computed so far are kept)")
+
+
+def _scheduler_lost(client, exc: Exception) -> bool:
+    """Whether a task's error is the loss of the scheduler rather than its own [-]."""
+    from distributed.comm import CommClosedError
+
+    return (isinstance(exc, CommClosedError) or "scheduler-connection-lost" in str(exc)
+            or getattr(client, "status", "running") not in ("running", "newly-created"))
 
 
 #: Dask's nanny starts each worker with glibc's malloc trimming memory back to the system
@@ -268,6 +303,8 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
 
         output_folder(runs)
     done = done_variants(out)
+    if runs is not None:  # a row without its run is not done (its run was not written)
+        done = {d for d in done if Path(runs, f"{d}.csv").is_file()}
     todo = list({v.id: v for v in variants if v.id not in done}.values())
     writer = PartWriter(out, batch)
     count = [0]
@@ -290,7 +327,7 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
         elif client is not None:
             failed = _on_client(client, task, args, todo, sink)
         elif workers == 1 or len(todo) == 1:
-            _serial(task, args, todo, sink)
+            failed = _serial(task, args, todo, sink)
         else:
             from distributed import Client
 

@@ -7,7 +7,8 @@
     OUT_DIR/summary.csv             the design's rows in its order, written at the end
 
 A row holds the variant's id, its parameters (in the unit of each name), its draw, its
-metrics in um (``*_um``) and its warning and error. Every file is written to a temporary
+metrics in um (``*_um``), its warning, its fault (an axis that ran away or saturated
+its current) and its error. Every file is written to a temporary
 name and renamed, so a stopped sweep leaves only whole files; a rerun reads the ids of
 the rows present and runs the others.
 """
@@ -26,6 +27,8 @@ from ..io.atomic import atomic_path, output_folder, write_table_atomic, write_te
 
 STUDY_FILE, PARTS_DIR, SUMMARY_FILE = "study.json", "results", "summary.csv"
 LOCK_FILE = ".writing"
+#: Columns of a row that are text, not metrics [-].
+TEXT_COLUMNS = ("variant", "warning", "fault", "error")
 
 
 def study_record(machine, program, sensor: str, floors=None) -> dict:
@@ -142,9 +145,9 @@ def to_row(variant, result: dict) -> dict:
     if variant.draw is not None:
         row.update(draw=int(variant.draw), seed=int(variant.seed or 0))
     for k, v in result.items():
-        if k not in ("variant", "warning", "error"):
+        if k not in TEXT_COLUMNS:
             row[f"{k}_um"] = float(v) * 1e6
-    row.update(warning=result.get("warning", ""), error=result.get("error", ""))
+    row.update({k: result.get(k, "") for k in TEXT_COLUMNS[1:]})
     return row
 
 
@@ -212,7 +215,7 @@ def write_summary(out_dir, variants) -> Path:
     import pandas as pd
 
     table = read_results(out_dir).set_index("variant")
-    kept = [c for c in table.columns if c.endswith("_um")] + ["warning", "error"]
+    kept = [c for c in table.columns if c.endswith("_um") or c in TEXT_COLUMNS[1:]]
     design = pd.DataFrame([{"index": i, **{k: x for k, x in to_row(v, {}).items()
                                            if k not in kept}}
                            for i, v in enumerate(variants)])

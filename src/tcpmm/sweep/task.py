@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputWarning, TcpmmError
+from ..errors import InputWarning, RunFaultWarning, TcpmmError
 from .metrics import circle_metric_names, circle_metrics, path_metric_names, path_metrics
 from .space import apply_parameters
 
@@ -157,8 +157,16 @@ def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
     else:
         metrics = path_metrics(run, cmd.axes, sensor)
     if runs_dir is not None:
-        run.write_csv(Path(runs_dir) / f"{variant.id}.csv")
+        try:
+            run.write_csv(Path(runs_dir) / f"{variant.id}.csv")
+        except (OSError, TcpmmError) as exc:  # a fault of the system, not a result
+            raise RunNotWritten(str(exc)) from None
     return metrics
+
+
+class RunNotWritten(Exception):
+    """The run of a variant could not be written (a full disk, a folder gone): the
+    variant failed, rather than giving a row without metrics that a rerun would keep."""
 
 
 def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=None,
@@ -184,16 +192,20 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     -------
     dict
         ``variant`` (its id), every metric (:func:`metric_names`; NaN when the variant
-        failed) [m], ``warning`` and ``error`` (empty when none) [-].
+        failed) [m], ``warning``, ``fault`` (axes that ran away or saturated their current,
+        :mod:`tcpmm.analysis.runaway`) and ``error`` (empty when none) [-].
     """
     row = {"variant": variant.id, **dict.fromkeys(metric_names(program), math.nan),
-           "warning": "", "error": ""}
+           "warning": "", "fault": "", "error": ""}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
             row.update(_run(machine, program, variant, sensor, runs_dir, floors))
         except TcpmmError as exc:
             row["error"] = str(exc)
-    said = dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, InputWarning))
-    row["warning"] = "; ".join(said)
+    said = dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, InputWarning)
+                         and not issubclass(w.category, RunFaultWarning))
+    faults = dict.fromkeys(str(w.message) for w in caught
+                           if issubclass(w.category, RunFaultWarning))
+    row["warning"], row["fault"] = "; ".join(said), "; ".join(faults)
     return row

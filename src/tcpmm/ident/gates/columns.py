@@ -1,7 +1,18 @@
-"""Columns in the wrong unit, refused before identification: a current in mA, a motor
-angle in degrees. Numbers a thousand or sixty times too large overflowed the fits into
-tracebacks, or gave models of absurd parameters that named no column; here the error
-names the file, the column and why it looks wrong.
+"""Gates on the columns of a bundle's records, before any fit: a column swapped with
+another, or in the wrong unit, gives a model of absurd masses and friction levels that
+the fits alone do not see (a current column holding the motor angle gave a Coulomb level
+of 1250 N for 23 N; the excitation swapped with the TCP a head mass of 0.24 kg for 403 kg).
+
+* :func:`check_current_columns` -- ``current_cmd_A`` and ``excitation_A`` within the
+  drive's current limit (the drive clips its current command there); a hundred to a
+  hundred thousand times it, but within it once divided by 1000: milliamperes;
+* :func:`check_position_columns` -- ``motor_angle_rad`` and ``scale_mm`` agree through the
+  lead (the scale moves ``lead / 2 pi`` per radian, give or take the screw's deflection),
+  and ``tcp_mm`` follows ``scale_mm``; a ratio of ``pi / 180``: the angle in degrees.
+
+:func:`column_findings` runs them on every record of a bundle. A column in the wrong unit
+is refused even where suspect findings are accepted (:func:`check_record_units`): numbers a
+thousand or sixty times too large overflow the fits into errors that name no column.
 """
 
 from __future__ import annotations
@@ -11,7 +22,164 @@ import math
 import numpy as np
 
 from ...errors import InputError
-from ...io.checks import _ratio
+from .findings import Finding
+
+#: Peak of a current column above this many times the current limit counts as beyond it:
+#: the drive clips its command at the limit; the margin covers a limit given rounded [-].
+CURRENT_MARGIN = 1.05
+#: Ratio of the scale's travel to the motor angle's (through the lead), or of the TCP's to
+#: the scale's, taken as agreeing: the screw's and the structure's deflection under the
+#: drive's force stay within a few per cent of a travel of millimetres [-].
+RATIO_RANGE = (0.8, 1.25)
+#: Smallest correlation of two position columns taken as one motion [-].
+MIN_CORRELATION = 0.9
+#: Least travel of a record, relative to the scale's resolution and absolute, on which the
+#: columns' agreement is judged: below it the deflection and quantisation dominate.
+MIN_TRAVEL_M = 1e-3
+#: Known unit errors of a position ratio: factor -> what it means.
+UNIT_RATIOS = {math.pi / 180.0: "the motor angle in degrees (write radians)",
+               1e-3: "the scale in metres or the angle in milliradians (write mm, rad)",
+               1e3: "the scale in micrometres (write mm)"}
+
+
+def _peak(x) -> float:
+    x = np.abs(np.asarray(x, dtype=float))
+    x = x[np.isfinite(x)]
+    return float(np.max(x)) if x.size else 0.0
+
+
+def check_current_columns(axis: str, record, kind: str, limit_A: float) -> list[Finding]:
+    """The record's current columns against the drive's current limit.
+
+    Parameters
+    ----------
+    axis : str
+        Axis name [-].
+    record : SweepRecord or FrictionRecord
+        The record, SI [-].
+    kind : str
+        Its file name, e.g. ``sweep.csv`` [-].
+    limit_A : float
+        The drive's current limit, ``current_limit_A`` of machine.yaml [A].
+
+    Returns
+    -------
+    list of Finding
+        One per column beyond the limit [-].
+    """
+    out = []
+    source = getattr(record, "source", None) or f"{axis}/{kind}"
+    for col in ("current_cmd_A", "excitation_A"):
+        x = getattr(record, col, None)
+        if x is None:
+            continue
+        peak = _peak(x)
+        if peak <= CURRENT_MARGIN * limit_A:
+            continue
+        if peak / 1e3 <= CURRENT_MARGIN * limit_A and peak > 100 * limit_A:
+            why = ("a unit problem: it reads as milliamperes (within the limit once divided "
+                   f"by 1000); write {col} in A")
+        else:
+            why = ("not a current of this drive: a column swapped with another (a position "
+                   "or an angle?); check the header of the file against its columns, and "
+                   "current_limit_A in machine.yaml")
+        out.append(Finding(axis, f"{kind} column {col}", peak, "A",
+                           f"peaks above the drive's current limit {limit_A:g} A",
+                           f"{source}, column {col}", why))
+    return out
+
+
+def _ratio(x, y) -> tuple[float, float]:
+    """Slope of ``y`` on ``x`` and their correlation, means removed [-]."""
+    x = np.asarray(x, dtype=float) - np.mean(x)
+    y = np.asarray(y, dtype=float) - np.mean(y)
+    sxx, syy, sxy = float(x @ x), float(y @ y), float(x @ y)
+    if sxx <= 0.0 or syy <= 0.0:
+        return float("nan"), 0.0
+    return sxy / sxx, sxy / math.sqrt(sxx * syy)
+
+
+def _disagreement(ratio: float, corr: float, cols: str) -> str | None:
+    """Why two position columns do not agree, or ``None`` where they do [-]."""
+    lo, hi = RATIO_RANGE
+    if lo <= ratio <= hi and corr >= MIN_CORRELATION:
+        return None
+    for factor, what in UNIT_RATIOS.items():
+        if lo <= ratio / factor <= hi and corr >= MIN_CORRELATION:
+            return f"a unit problem: {cols} differ by {ratio:.4g}, as {what}"
+    return (f"{cols} do not move together (correlation {corr:.2f}): one of them holds "
+            "another quantity, a column swapped with another; check the header of the file "
+            "against its columns")
+
+
+def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Finding]:
+    """The record's position columns against each other: motor angle and scale through
+    the lead, the TCP against the scale.
+
+    Parameters
+    ----------
+    axis : str
+        Axis name [-].
+    record : SweepRecord or FrictionRecord
+        The record, SI [-].
+    kind : str
+        Its file name, e.g. ``sweep.csv`` [-].
+    R_L : float
+        Lead over 2 pi of machine.yaml [m/rad].
+
+    Returns
+    -------
+    list of Finding
+        One per pair of columns that disagree, on a record that travels [-].
+    """
+    scale = np.asarray(record.scale_m, dtype=float)
+    if not np.all(np.isfinite(scale)) or np.ptp(scale) < MIN_TRAVEL_M:
+        return []
+    source = getattr(record, "source", None) or f"{axis}/{kind}"
+    pairs = [("motor_angle_rad", np.asarray(record.motor_angle_rad) * R_L, "scale_mm",
+              scale, "check lead_mm in machine.yaml")]
+    tcp = getattr(record, "tcp_m", None)
+    if tcp is not None:
+        pairs.append(("scale_mm", scale, "tcp_mm", np.asarray(tcp), ""))
+    out = []
+    for a, x, b, y, also in pairs:
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+            continue
+        ratio, corr = _ratio(x, y)
+        why = _disagreement(ratio, corr, f"{b} and {a}")
+        if why is not None:
+            note = f"{why}; {also}" if also else why
+            out.append(Finding(axis, f"{kind} columns {b} / {a}", ratio, "",
+                               f"outside {RATIO_RANGE[0]:g} to {RATIO_RANGE[1]:g}, the "
+                               "ratio of one motion (through the lead for the motor angle)",
+                               f"{source}, columns {a} and {b}", note))
+    return out
+
+
+def column_findings(bundle) -> list[Finding]:
+    """:func:`check_current_columns` and :func:`check_position_columns` on every record
+    of a bundle.
+
+    Parameters
+    ----------
+    bundle : Bundle
+        Read with :func:`tcpmm.io.bundle.read_bundle` [-].
+
+    Returns
+    -------
+    list of Finding
+        Empty when every column is plausible [-].
+    """
+    out = []
+    for name, rec in bundle.axes.items():
+        cfg = bundle.machine.axes[name]
+        for record, kind in ((rec.sweep, "sweep.csv"), (rec.friction, "friction.csv")):
+            if record is None:
+                continue
+            out += check_current_columns(name, record, kind, cfg.servo.current_limit_A)
+            out += check_position_columns(name, record, kind, cfg.screw_ratio_m_per_rad)
+    return out
+
 
 #: A current command beyond this many times the drive's current limit is not one the
 #: drive gave: the drive clips its command at the limit [-].
@@ -19,8 +187,9 @@ CURRENT_OVER_LIMIT = 1.5
 #: The scale following the motor angle times lead/(2 pi) by more than this factor, or by
 #: less than its inverse, is a column in another unit, not a wrong lead or a loose screw [-].
 MOTOR_SCALE_FACTOR = 5.0
-#: Correlation of scale and motor angle above which their ratio is taken as meaningful [-].
-MIN_CORRELATION = 0.8
+#: Correlation of scale and motor angle above which their ratio is taken as meaningful
+#: for a refusal [-].
+UNIT_CORRELATION = 0.8
 
 
 def check_record_units(bundle) -> None:
@@ -63,8 +232,8 @@ def _check_motor_angle(record, cfg) -> None:
     x_motor = np.asarray(record.motor_angle_rad) * cfg.screw_ratio_m_per_rad
     if np.ptp(x_motor) < 20 * cfg.sensors.scale_resolution_m:
         return
-    slope, corr = _ratio(np.asarray(record.scale_m, dtype=float), x_motor)
-    if not abs(corr) > MIN_CORRELATION or 1 / MOTOR_SCALE_FACTOR <= abs(slope) <= (
+    slope, corr = _ratio(x_motor, np.asarray(record.scale_m, dtype=float))
+    if not abs(corr) > UNIT_CORRELATION or 1 / MOTOR_SCALE_FACTOR <= abs(slope) <= (
             MOTOR_SCALE_FACTOR):
         return
     said = f"scale_mm moves {slope:.3g} times motor_angle_rad * lead/(2 pi), about 1 expected"

@@ -1,0 +1,116 @@
+"""Faults of the system and of the user's input met by the command line: one line, exit 2,
+nothing half-written, and the work not started where its output cannot be written."""
+
+import errno
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from tcpmm.cli import main
+
+
+def _refuse_in(folder: Path, monkeypatch):
+    """Make ``folder`` refuse new files, as a read-only folder does for a user."""
+    mkstemp = tempfile.mkstemp
+
+    def refuse(*args, **kwargs):
+        if Path(kwargs.get("dir", "")).resolve() == folder.resolve():
+            raise PermissionError(errno.EACCES, "Permission denied")
+        return mkstemp(*args, **kwargs)
+
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+
+
+@pytest.mark.parametrize("where", ["model", "report"])
+def test_identify_refuses_a_read_only_output_before_the_work(tmp_path, monkeypatch, capsys,
+                                                             where):
+    from tcpmm.io import bundle
+
+    def work(*args, **kwargs):
+        raise AssertionError("the identification started")
+
+    monkeypatch.setattr(bundle, "read_bundle", work)
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    _refuse_in(ro, monkeypatch)
+    model = (ro if where == "model" else tmp_path) / "model.yaml"
+    args = ["identify", str(tmp_path / "bundle"), "-o", str(model)]
+    if where == "report":
+        args += ["--report", str(ro)]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "Permission denied" in err[0] and str(ro) in err[0]
+
+
+def _identified(fail):
+    """An identification of no axis whose JSON summary fails as told."""
+    from tcpmm.ident.identification import Identification
+
+    class Identified(Identification):
+        def __init__(self):
+            self.axes = {}
+
+        def quality_table(self):
+            import pandas as pd
+
+            return pd.DataFrame({"axis": ["X"], "fit": [0.99]})
+
+        parameters_table = quality_table
+
+        def to_dict(self):
+            if fail is not None:
+                raise fail
+            return {"axes": {}}
+
+    return Identified()
+
+
+@pytest.mark.parametrize("fail", [OSError(errno.ENOSPC, "No space left on device"),
+                                  SystemExit(143), KeyboardInterrupt()])
+def test_a_report_folder_is_written_whole_or_not_at_all(tmp_path, fail):
+    from tcpmm.errors import InputError
+
+    rep = tmp_path / "rep"
+    (rep / "keep.txt").parent.mkdir()
+    (rep / "keep.txt").write_text("the user's\n")
+    with pytest.raises(InputError if isinstance(fail, OSError) else type(fail)):
+        _identified(fail).write_report(rep)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+    assert sorted(p.name for p in rep.iterdir()) == ["keep.txt"]
+    files = _identified(None).write_report(rep)
+    assert sorted(p.name for p in rep.iterdir()) == ["fit_quality.csv", "identification.json",
+                                                     "keep.txt", "parameters.csv"]
+    assert all(p.parent == rep and p.exists() for p in files.values())
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+@pytest.mark.parametrize(("name", "code"), [("SIGINT", 130), ("SIGTERM", 143)])
+def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
+    """A signal mid-sweep: out within a second, one line or two of what is kept, no
+    traceback; the rows computed stay for the rerun."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = ("import sys; from tcpmm.cli import main; sys.exit(main(sys.argv[1:]))")
+    args = [sys.executable, "-c", script, "sweep", "builtin:vmc", "-p",
+            "X.servo.position_gain=20:60:0.01", "--circle", "5,6000", "--workers", "1",
+            "-o", str(tmp_path / "o")]
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env)
+    try:
+        deadline = time.monotonic() + 60
+        while not list((tmp_path / "o").glob("results/part-*")) and time.monotonic() < deadline:
+            time.sleep(0.2)  # until the first rows are written: the sweep is under way
+        t0 = time.monotonic()
+        proc.send_signal(getattr(signal, name))
+        _, err = proc.communicate(timeout=30)
+        waited = time.monotonic() - t0
+    finally:
+        proc.kill()
+    assert proc.returncode == code and waited < 1.5
+    assert "Traceback" not in err and len(err.strip().splitlines()) <= 2

@@ -1,0 +1,77 @@
+"""Gates on the columns of a bundle's records: swapped columns and columns in the wrong
+unit are named, with the column and why, before any fit."""
+
+import dataclasses
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from tcpmm.cli import main
+from tcpmm.ident.gates.columns import column_findings
+
+
+@pytest.fixture(scope="module")
+def records(vmc):
+    from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
+
+    a = vmc.axes["X"]
+    return (bundle_machine_yaml(vmc, ["X"]),
+            virtual_sweep(a, duration_s=2.0, band_hz=(10.0, 1000.0), name="X"),
+            virtual_friction(a, name="X"))
+
+
+def _bundle(records, sweep=None, friction=None):
+    from tcpmm.io.bundle_schema import MachineConfig
+
+    machine, s, f = records
+    axes = {"X": SimpleNamespace(sweep=sweep or s, friction=friction or f)}
+    return SimpleNamespace(machine=MachineConfig.model_validate(machine), axes=axes)
+
+
+def _swap(record, a, b):
+    return dataclasses.replace(record, **{a: getattr(record, b), b: getattr(record, a)})
+
+
+def _scaled(record, col, k):
+    return dataclasses.replace(record, **{col: getattr(record, col) * k})
+
+
+def test_the_columns_of_a_sane_bundle_pass(records):
+    assert column_findings(_bundle(records)) == []
+
+
+@pytest.mark.parametrize(("kind", "change", "needles"), [
+    ("friction", lambda r: _swap(r, "current_cmd_A", "motor_angle_rad"),
+     ["friction.csv column current_cmd_A", "swapped", "do not move together"]),
+    ("friction", lambda r: _scaled(r, "current_cmd_A", 1e3),
+     ["friction.csv column current_cmd_A", "milliamperes"]),
+    ("sweep", lambda r: _scaled(r, "current_cmd_A", 1e3),
+     ["sweep.csv column current_cmd_A", "milliamperes"]),
+    ("friction", lambda r: _scaled(r, "motor_angle_rad", 180 / np.pi),
+     ["friction.csv columns scale_mm / motor_angle_rad", "in degrees"]),
+    ("sweep", lambda r: _scaled(r, "motor_angle_rad", 180 / np.pi),
+     ["sweep.csv columns scale_mm / motor_angle_rad", "in degrees"]),
+    ("sweep", lambda r: _swap(r, "excitation_A", "tcp_m"),
+     ["sweep.csv columns tcp_mm / scale_mm", "do not move together"]),
+])
+def test_a_swapped_or_misscaled_column_is_named(records, kind, change, needles):
+    _, s, f = records
+    b = _bundle(records, **{kind: change(s if kind == "sweep" else f)})
+    text = " ".join(str(x) for x in column_findings(b))
+    for n in needles:
+        assert n in text
+
+
+def test_identify_refuses_swapped_friction_columns_before_the_fit(records, tmp_path, capsys):
+    from tcpmm.io.bundle import write_bundle
+
+    machine, s, f = records
+    bad = _swap(f, "current_cmd_A", "motor_angle_rad")
+    path = write_bundle({"machine": machine, "axes": {"X": {"sweep": s, "friction": bad}}},
+                        tmp_path / "b")
+    model = tmp_path / "m.yaml"
+    assert main(["identify", str(path), "-o", str(model)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "column current_cmd_A" in err[0] and "Traceback" not in err[0]
+    assert not model.exists()

@@ -121,7 +121,11 @@ def main(argv=None) -> None:
         model = model_of(name, args.cache)
         truth = machine_from_truth(DATA / f"bench_{name}" / "truth.yaml")
         for label, command, radius in programs(name, model):
-            rows.append(one(name, model, truth, label, command, radius, args.draws))
+            try:
+                rows.append(one(name, model, truth, label, command, radius, args.draws))
+            except Exception as exc:  # one machine's refusal does not end the study
+                print(f"{name.upper()} {label}: {exc}", flush=True)
+                continue
             print(table(rows[-1:]).splitlines()[-1], flush=True)
     text = table(rows)
     print(text)

@@ -40,7 +40,7 @@ def impulse_response(axis: Axis, period_s: float, n: int = 4096) -> np.ndarray:
     axis : Axis
         The axis [SI].
     period_s : float
-        Command period, a multiple of the position-loop period [s].
+        Command period, a multiple or a whole fraction of the position-loop period [s].
     n : int
         Samples simulated [-].
 
@@ -51,17 +51,24 @@ def impulse_response(axis: Axis, period_s: float, n: int = 4096) -> np.ndarray:
         :data:`LEAD_SAMPLES` [-].
     """
     ratio = period_s / axis.servo.T_p
-    if ratio < 1.0 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
-        raise InputError(f"the command period {period_s:g} s is not a multiple of the "
-                         f"position-loop period {axis.servo.T_p:g} s; the compensation "
-                         "needs commands the position loop samples whole")
+    whole = abs(ratio - round(ratio)) < 1e-6 and ratio > 0.5
+    phases = round(1.0 / ratio) if not whole else 1
+    if not whole and abs(1.0 / ratio - phases) > 1e-6:
+        raise InputError(f"the command period {period_s:g} s and the position-loop period "
+                         f"{axis.servo.T_p:g} s are not multiples of one another; the "
+                         "compensation needs one to sample the other whole")
     linear = axis.model_copy(update={"friction": None})
     t = np.arange(n) * period_s
-    u = np.zeros(n)
-    u[LEAD_SAMPLES] = PROBE_M
     rest = simulate_axis(linear, t, np.zeros(n), quantise_feedback=False).tcp
-    moved = simulate_axis(linear, t, u, quantise_feedback=False).tcp
-    return (moved - rest) / PROBE_M
+    h = np.zeros(n)
+    # A position loop slower than the command sees an impulse differently by the phase it
+    # falls on; the learning operator takes the mean over the phases.
+    for k in range(phases):
+        u = np.zeros(n)
+        u[LEAD_SAMPLES + k] = PROBE_M
+        moved = simulate_axis(linear, t, u, quantise_feedback=False).tcp
+        h += np.roll(moved - rest, -k) / PROBE_M
+    return h / phases
 
 
 def lag_samples(h: np.ndarray) -> float:

@@ -15,6 +15,7 @@ The public API, by step of the work (each name is imported on first use, so that
     analyse    read_run, analyse_circle, circle_diagnostics, compare, contour_error
     accuracy   prediction_verdict, CircleTest
     what-if    circle_spread, run_sweep, tune_servos
+    correct    compensate
 
 Results share one protocol: ``.to_pandas()`` (a table in file units), ``.to_dict()``
 (what ``--json`` prints) and ``.plot(ax=None, path=None)``, which returns the matplotlib
@@ -65,6 +66,7 @@ _API = {
     "circle_spread": "tcpmm.spread:circle_spread",
     "run_sweep": "tcpmm.sweep.run:run_sweep",
     "tune_servos": "tcpmm.tuning:tune_and_predict",
+    "compensate": "tcpmm.api:compensate",
 }
 
 __all__ = ["__version__", *_API]

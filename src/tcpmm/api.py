@@ -181,3 +181,37 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
         return analyse_circle(run, radius_m, centre_m)
 
     return compare_circles(analysed(measured), analysed(predicted))
+
+
+def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0):
+    """Pre-compensate a command on an identified model, scaled back over draws of the model
+    from its uncertainty, with the predicted figures before and after.
+
+    Parameters
+    ----------
+    machine : Machine or str or Path
+        The identified model, a model file or ``builtin:vmc`` [-].
+    command : Command or str or Path
+        The programmed command, an NC program file or a command CSV [-].
+    draws : int
+        Machines drawn from the model's uncertainty to test the compensation on; 0 for
+        none [-].
+    radius_m : float, optional
+        Radius of a circular test, to judge its spikes and G too [m].
+    seed : int
+        Seed of the draws [-].
+
+    Returns
+    -------
+    Compensation
+        ``.command`` is the compensated command (:mod:`tcpmm.compensate`) [-].
+    """
+    from .compensate import compensate as _compensate
+    from .compensate import predicted_scores, robust_factors
+
+    m = load_model(machine)
+    comp = _compensate(m, as_command(command, m))
+    if draws > 0:
+        robust_factors(m, comp, n_draws=draws, seed=seed)
+    comp.scores = predicted_scores(m, comp, radius_m)
+    return comp

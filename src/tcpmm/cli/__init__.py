@@ -14,6 +14,7 @@ single_threaded_from_start()  # before the commands' modules load numpy
 
 from ..errors import InputWarning, TcpmmError  # noqa: E402
 from . import (  # noqa: E402, F401  (importing them registers their commands)
+    compensate,
     contour,
     frf,
     ident,

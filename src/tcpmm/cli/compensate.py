@@ -1,0 +1,67 @@
+"""Command that pre-compensates a position command on an identified model: compensate."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ._app import _emit_json, _in_file, _load_command, _output, _read_model, app, out
+
+
+def _row(label: str, fig: dict) -> str:
+    path = fig["path"]
+    text = f"  {label:7s} contour error {path['contour_error_um']:8.2f} µm (rms " \
+           f"{path['contour_rms_um']:.2f})"
+    if "circle" in fig:
+        c = fig["circle"]
+        text += f", largest spike {c['largest_spike_um']:.2f} µm, G " \
+                f"{c['circular_deviation_um']:.2f} µm"
+    return text
+
+
+@app.command()
+def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or builtin:vmc"),
+               command: Path = typer.Option(None, "--command", help="Command file CMD.csv."),
+               gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
+               output: Path = typer.Option(..., "-o", "--output",
+                                           help="Compensated command CMD_comp.csv."),
+               gcode_out: Path = typer.Option(None, "--gcode-out",
+                                              help="Also write it as a dense G1 program."),
+               radius: float = typer.Option(None, "--radius",
+                                            help="Circle radius [mm]: also judge spikes "
+                                                 "and G."),
+               draws: int = typer.Option(8, "--draws", help="Machines drawn from the "
+                                         "model's uncertainty to test it on (0: none)."),
+               iterations: int = typer.Option(30, "--iterations", help="Learning steps."),
+               as_json: bool = typer.Option(False, "--json")):
+    """Pre-compensate a command so that the model's predicted TCP follows the programmed
+    path; write the command (for tcpmm simulate --command) and report before and after."""
+    from ..compensate import compensate as _compensate
+    from ..compensate import predicted_scores, robust_factors
+    from ..compensate.gcodeout import write_dense_program
+    from ..path import write_command_csv
+
+    _output(output, model, command, gcode)
+    m = _read_model(model)
+    cmd = _load_command(command, gcode, m)
+    with _in_file(command or gcode):
+        comp = _compensate(m, cmd, iterations=iterations)
+        if draws > 0:
+            robust_factors(m, comp, n_draws=draws)
+        comp.scores = predicted_scores(m, comp, None if radius is None else radius * 1e-3)
+    result = comp.command
+    write_command_csv(result, output)
+    if gcode_out is not None:
+        write_dense_program(result, gcode_out)
+    if as_json:
+        _emit_json(comp.to_dict())
+        return
+    out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
+              f"{comp.delay_s * 1e3:.1f} ms)")
+    out.print(_row("before", comp.scores["before"]))
+    out.print(_row("after", comp.scores["after"]))
+    if comp.robustness:
+        f = ", ".join(f"{a} {v:g}" for a, v in comp.robustness["factors"].items())
+        out.print(f"  share of the correction applied: {f}; trusted on "
+                  f"{comp.robustness['trusted_share']:.0%} of the samples")

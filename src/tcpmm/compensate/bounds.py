@@ -1,0 +1,124 @@
+"""What the compensated command may ask of an axis: velocity, acceleration and jerk from the
+model's interpolation settings, and the servo's current limit.
+
+A limit applies where the programmed command itself stays within it; where the program
+already asks for more, the compensation may not ask for more than the program does.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Share of the current limit the nominal compensated run may use [-].
+CURRENT_SHARE = 0.95
+
+#: Length of the window over which a correction is scaled back around an excess [s].
+SHRINK_WINDOW_S = 0.03
+
+
+@dataclass(frozen=True)
+class AxisBounds:
+    """Limits of one axis.
+
+    Parameters
+    ----------
+    velocity : float
+        Velocity limit [m/s].
+    accel : float
+        Acceleration limit [m/s^2].
+    jerk : float
+        Jerk limit, ``inf`` where the interpolator sets none [m/s^3].
+    current : float
+        Current limit of the servo [A].
+    """
+
+    velocity: float
+    accel: float
+    jerk: float
+    current: float
+
+    def to_dict(self) -> dict:
+        """The limits in SI, ``None`` for no limit [-]."""
+        return {k: (None if not math.isfinite(v) else float(v)) for k, v in
+                (("velocity_m_per_s", self.velocity), ("accel_m_per_s2", self.accel),
+                 ("jerk_m_per_s3", self.jerk), ("current_A", self.current))}
+
+
+def machine_bounds(machine) -> dict[str, AxisBounds]:
+    """Limits per axis from the model's interpolation settings and servo [-]."""
+    from ..path.settings import AXES, InterpolatorSettings
+
+    s = InterpolatorSettings.model_validate(machine.interpolation or {})
+    vel = dict(zip(AXES, s.axis_velocity(), strict=True))
+    rapid = dict(zip(AXES, s.rapid(), strict=True))
+    acc = dict(zip(AXES, s.axis_accel(), strict=True))
+    out = {}
+    for name, axis in machine.axes.items():
+        v = min(vel.get(name, math.inf), rapid.get(name, max(rapid.values())))
+        out[name] = AxisBounds(v, acc.get(name, s.path_accel_m_per_s2), s.jerk(),
+                               axis.servo.current_limit)
+    return out
+
+
+def derivative(x: np.ndarray, order: int, period_s: float) -> np.ndarray:
+    """Backward difference of an order, on the samples' time line (first ones 0) [m/s^n]."""
+    d = np.zeros_like(x)
+    d[order:] = np.diff(x, order) / period_s ** order
+    return d
+
+
+def excess(reference: np.ndarray, correction: np.ndarray, period_s: float,
+           bounds: AxisBounds) -> np.ndarray:
+    """Largest factor the correction may keep at each sample, 1 where nothing is exceeded.
+
+    Parameters
+    ----------
+    reference, correction : ndarray
+        Programmed command and the correction added to it [m].
+    period_s : float
+        Command period [s].
+    bounds : AxisBounds
+        The axis's limits [-].
+    """
+    keep = np.ones_like(reference)
+    for order, lim in ((1, bounds.velocity), (2, bounds.accel), (3, bounds.jerk)):
+        if not math.isfinite(lim):
+            continue
+        r = derivative(reference, order, period_s)
+        c = derivative(correction, order, period_s)
+        allowed = np.maximum(lim, np.abs(r))
+        over = np.abs(r + c) > allowed * (1 + 1e-9)
+        room = np.clip((allowed - np.abs(r)) / np.maximum(np.abs(c), 1e-300), 0.0, 1.0)
+        keep = np.where(over, np.minimum(keep, room), keep)
+    return keep
+
+
+def shrink(correction: np.ndarray, keep: np.ndarray, period_s: float) -> np.ndarray:
+    """The correction scaled back smoothly around the samples whose ``keep`` is below 1 [m]."""
+    w = max(3, round(SHRINK_WINDOW_S / period_s))
+    low = keep.copy()
+    for k in np.flatnonzero(keep < 1.0):  # the whole window down to the sample's factor
+        lo, hi = max(0, k - w), min(keep.size, k + w + 1)
+        low[lo:hi] = np.minimum(low[lo:hi], 0.9 * keep[k])
+    kernel = np.hanning(2 * w + 1)
+    smooth = np.convolve(low - 1.0, kernel / kernel.sum(), mode="same") + 1.0
+    # The box reaches a window beyond each sample, so the smoothed factor at the sample
+    # itself is the box's value.
+    return correction * smooth
+
+
+def fit_within(reference: np.ndarray, correction: np.ndarray, period_s: float,
+               bounds: AxisBounds, rounds: int = 40) -> np.ndarray:
+    """The correction scaled back until the command keeps the velocity, acceleration and
+    jerk limits (:func:`excess`) [m]."""
+    for _ in range(rounds):
+        keep = excess(reference, correction, period_s, bounds)
+        if np.all(keep >= 1.0):
+            return correction
+        correction = shrink(correction, keep, period_s)
+    # What is left over: the correction dropped wherever a limit is still exceeded.
+    keep = excess(reference, correction, period_s, bounds)
+    return shrink(correction, np.where(keep < 1.0, 0.0, 1.0), period_s)

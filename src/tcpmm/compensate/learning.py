@@ -1,0 +1,168 @@
+"""Learning control on the identified model: the position command iterated until the
+predicted TCP follows the programmed path.
+
+Per axis ``u_{k+1} = u_k + g L (r_d - y_tcp,k)``, with ``L`` the Q-filtered inverse of the
+model's linear response (:mod:`.inverse`), ``g`` a learning gain below one because friction
+and play make the model's response differ from its linear part, and ``r_d`` the programmed
+path delayed by the model's mean lag: a common delay leaves the path as it is and spares
+the command the steep lead it would need to cancel the lag outright. After every step the
+correction is scaled back to the axis's limits (:mod:`.bounds`), so the iteration converges
+to the best command that keeps them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ..path.command import Command
+from ..simulate import simulate_axis
+from .bounds import CURRENT_SHARE, fit_within, machine_bounds, shrink
+from .inverse import (
+    apply_filter,
+    fft_length,
+    impulse_response,
+    lag_samples,
+    learning_filter,
+    settle_samples,
+)
+from .outcome import Compensation
+
+#: Default corner of the Q-filter: friction transients and the lag lie below it, the
+#: head and bed modes that identification places least firmly lie around and above it [Hz].
+CUTOFF_HZ = 40.0
+
+#: Samples over which the correction fades in at the start [-].
+FADE_SAMPLES = 5
+
+#: Longest hold after the program for the TCP to settle [s].
+TAIL_S = 0.6
+
+
+def extended(command: Command, delay: int, tail: int) -> tuple[Command, Command]:
+    """The programmed command held ``delay + tail`` samples longer, and the path the TCP is
+    to follow: the same delayed by ``delay`` samples [-]."""
+    n = command.time_s.size + delay + tail
+    t = command.time_s[0] + np.arange(n) * command.period_s
+    ref, tgt = {}, {}
+    for a, p in command.positions.items():
+        ref[a] = np.concatenate([p, np.full(delay + tail, p[-1])])
+        tgt[a] = np.concatenate([np.full(delay, p[0]), p, np.full(tail, p[-1])])
+    return Command(t, ref, dict(command.meta)), Command(t, tgt, dict(command.meta))
+
+
+def fade(n: int, tail: int) -> np.ndarray:
+    """Window that is 0 at the first and last sample and 1 between, with raised-cosine
+    edges: a few samples at the start (the axis starts at rest on the first command) and
+    the second half of the hold at the end."""
+    w = np.ones(n)
+    k, m = min(FADE_SAMPLES, n // 4), max(2, min(tail // 2, n // 4))
+    w[:k] = 0.5 - 0.5 * np.cos(np.pi * np.arange(k) / k)
+    w[n - m:] = 0.5 + 0.5 * np.cos(np.pi * np.arange(1, m + 1) / m)
+    return w
+
+
+def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations: int,
+               gain: float, tail: int):
+    """Learning control of one axis on its model.
+
+    Parameters
+    ----------
+    axis : Axis
+        The model axis [SI].
+    time_s : ndarray
+        Time line [s].
+    reference, target : ndarray
+        Programmed command and the path the TCP is to follow [m].
+    gain_filter : ndarray
+        Learning operator (:func:`.inverse.learning_filter`) [-].
+    bounds : AxisBounds
+        The axis's limits [-].
+    iterations : int
+        Learning steps [-].
+    gain : float
+        Learning gain ``g`` [-].
+    tail : int
+        Samples of the hold after the program [-].
+
+    Returns
+    -------
+    tuple
+        The correction of the best iterate [m] and the largest TCP error per
+        iteration [m].
+    """
+    T = float(time_s[1] - time_s[0])
+    pad = (2 * (gain_filter.size - 1) - reference.size) // 2
+    window = fade(reference.size, tail)
+    corr, history, best = np.zeros_like(reference), [], (np.inf, None)
+    for _ in range(iterations + 1):
+        run = simulate_axis(axis, time_s, reference + corr, quantise_feedback=False)
+        err = target - run.tcp
+        history.append(float(np.max(np.abs(err))))
+        rms = float(np.sqrt(np.mean(err ** 2)))  # the max may sit where no command can help
+        if rms < best[0]:
+            best = (rms, corr, run.current)
+        step = gain * apply_filter(gain_filter, err, pad)
+        corr = fit_within(reference, (corr + step) * window, T, bounds)
+    _, corr, current = best
+    over = np.abs(current) > CURRENT_SHARE * bounds.current
+    if np.any(over):  # the current the correction needs is more than the drive gives
+        corr = fit_within(reference, shrink(corr, np.where(over, 0.5, 1.0), T), T, bounds)
+    return corr, history
+
+
+def compensate(machine, command: Command, *, iterations: int = 30, gain: float = 0.5,
+               cutoff_hz: float = CUTOFF_HZ, progress=None) -> Compensation:
+    """Pre-compensated position command: the command whose predicted TCP path follows the
+    programmed one, within the axes' limits.
+
+    Parameters
+    ----------
+    machine : Machine
+        The identified model [SI].
+    command : Command
+        The programmed command, at the interpolator's period [m].
+    iterations : int
+        Learning steps per axis [-].
+    gain : float
+        Learning gain, in (0, 1] [-].
+    cutoff_hz : float
+        Corner of the Q-filter; at most a quarter of the command's sample rate [Hz].
+    progress : callable, optional
+        Called with ``(axis_name, done, total)`` after each axis [-].
+
+    Returns
+    -------
+    Compensation
+        The programmed and the compensated command on one time line, held for the TCP to
+        settle; every axis's compensation factor 1 (:func:`.robust.robust_factors` scales
+        it back) [-].
+    """
+    T = command.period_s
+    if not 0.0 < gain <= 1.0 or iterations < 1:
+        raise InputError("the learning gain must lie in (0, 1] and iterations be >= 1")
+    if not 0.0 < cutoff_hz <= 0.25 / T:
+        raise InputError(f"the Q-filter corner must lie in (0, {0.25 / T:g}] Hz, a quarter "
+                         f"of the command rate; got {cutoff_hz:g} Hz")
+    unknown = [a for a in command.axes if a not in machine.axes]
+    if unknown:
+        raise InputError(f"the command drives axis {', '.join(unknown)} that the model lacks")
+    h = {a: impulse_response(machine.axes[a], T) for a in command.axes}
+    delay = round(float(np.mean([lag_samples(v) for v in h.values()])))
+    tail = delay + min(max(settle_samples(v) for v in h.values()), int(TAIL_S / T))
+    ref, tgt = extended(command, max(delay, 0), tail)
+    n = ref.time_s.size
+    n_fft = fft_length(n, max(v.size for v in h.values()))
+    bounds = machine_bounds(machine)
+    corr, history = {}, {}
+    for k, a in enumerate(command.axes):
+        gf = learning_filter(h[a], n_fft, T, cutoff_hz)
+        corr[a], history[a] = learn_axis(machine.axes[a], ref.time_s, ref.positions[a],
+                                         tgt.positions[a], gf, bounds[a], iterations, gain,
+                                         tail)
+        if progress is not None:
+            progress(a, k + 1, len(command.axes))
+    factors = {a: np.ones(n) for a in command.axes}
+    return Compensation(ref, tgt, corr, factors, max(delay, 0) * T, history,
+                        {a: bounds[a] for a in command.axes},
+                        {"iterations": iterations, "gain": gain, "cutoff_hz": cutoff_hz})

@@ -1,0 +1,141 @@
+"""The compensation against the model's own error: run on machines drawn from the model's
+uncertainty, scaled back per region where the draws cannot guarantee an improvement.
+
+Regions are the windows around every reversal of an axis and the stretches between them. A
+share of the correction in {0, 1/4, ..., 1} is chosen per axis: the shares whose largest
+contour error is smallest on the worst draw, among those that leave no region of any draw
+worse than the uncompensated command. A region is trusted where the chosen shares improve
+it on every draw. The axes run apart
+in the model, so that each share is simulated once per axis and draw and every
+combination of shares is a sum.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ..simulate import simulate_axis
+from ..spread import draw_machine
+
+#: Shares of the correction tried [-].
+LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
+
+#: Half-width of the window around a reversal [s].
+REVERSAL_WINDOW_S = 0.06
+
+#: Time around a sample in which its closest point on the path is sought [s].
+CONTOUR_WINDOW_S = 0.1
+
+#: Error below which two errors count as equal: the sensors' resolution [m].
+EQUAL_M = 0.1e-6
+
+
+def regions(target, window_s: float = REVERSAL_WINDOW_S) -> np.ndarray:
+    """Region number per sample: windows around each axis reversal (merged where they
+    overlap) and the stretches between them, numbered in time order [-]."""
+    T = target.period_s
+    near = np.zeros(target.time_s.size, dtype=bool)
+    w = round(window_s / T)
+    for p in target.positions.values():
+        v = np.diff(p)
+        moving = np.flatnonzero(np.abs(v) > 1e-12)
+        s = np.sign(v[moving])
+        for k in moving[1:][s[1:] != s[:-1]]:
+            near[max(0, k - w):k + w + 1] = True
+    return np.concatenate([[0], np.cumsum(near[1:] != near[:-1])])
+
+
+def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.ndarray:
+    """Distance of the TCP from the path per sample, shape (n,) [m].
+
+    Parameters
+    ----------
+    err : ndarray
+        TCP error per axis, target minus TCP, shape (axes, n) [m].
+    target : Command
+        The path the TCP is to follow [m].
+    window_s : float
+        Time around each sample in which its closest point on the path is sought [s].
+    """
+    from ..analysis.contour import distance_to_polyline
+
+    p = np.array(list(target.positions.values())).T
+    t = target.time_s
+    return np.abs(distance_to_polyline(p - err.T, p, t, t, window_s, False)[0])
+
+
+def axis_errors(machines, comp) -> np.ndarray:
+    """TCP error per machine, axis, share and sample, shape (m, axes, levels, n) [m]."""
+    t = comp.reference.time_s
+    axes = comp.reference.axes
+    out = np.empty((len(machines), len(axes), len(LEVELS), t.size))
+    for i, m in enumerate(machines):
+        for j, a in enumerate(axes):
+            for k, lev in enumerate(LEVELS):
+                u = comp.reference.positions[a] + lev * comp.correction[a]
+                y = simulate_axis(m.axes[a], t, u, quantise_feedback=False).tcp
+                out[i, j, k] = comp.target.positions[a] - y
+    return out
+
+
+def region_peaks(errs: np.ndarray, combo, target, labels: np.ndarray) -> np.ndarray:
+    """Largest error across the path per machine and region for shares ``combo``, shape
+    (machines, regions) [m]."""
+    n_ax = errs.shape[1]
+    e = errs[:, np.arange(n_ax), list(combo)]  # (machines, axes, n)
+    across = np.array([contour(ei, target) for ei in e])
+    return np.array([across[:, labels == r].max(axis=1) for r in range(labels.max() + 1)]).T
+
+
+def choose(errs: np.ndarray, target, labels: np.ndarray) -> tuple[list, list]:
+    """Share per axis, and per region the worst draws' errors before and after
+    (:mod:`module docstring <.robust>`) [-]."""
+    n_ax = errs.shape[1]
+    zero = tuple([0] * n_ax)
+    before = region_peaks(errs, zero, target, labels)
+    best, best_worst, best_peaks = zero, before.max(), before
+    for c in itertools.product(range(len(LEVELS)), repeat=n_ax):
+        after = region_peaks(errs, c, target, labels)
+        if np.all(after <= before + EQUAL_M) and after.max() < best_worst - EQUAL_M:
+            best, best_worst, best_peaks = c, after.max(), after
+    rows = []
+    for r in range(labels.max() + 1):
+        sel = labels == r
+        b, a = before[:, r], best_peaks[:, r]
+        rows.append({"region": r, "start_s": float(target.time_s[sel][0]),
+                     "end_s": float(target.time_s[sel][-1]),
+                     "worst_before_um": float(b.max() * 1e6),
+                     "worst_after_um": float(a.max() * 1e6),
+                     "least_ratio": float(np.min(b / np.maximum(a, EQUAL_M))),
+                     "improves_on_every_draw": bool(np.all(a < b - EQUAL_M))})
+    return [LEVELS[k] for k in best], rows
+
+
+def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0) -> None:
+    """Scale the compensation back where draws of the model cannot guarantee an improvement;
+    sets ``comp.factors``, ``comp.robustness`` and ``comp.trusted`` in place.
+
+    Parameters
+    ----------
+    machine : Machine
+        The identified model with its uncertainty (``axes[..].uncertainty``) [SI].
+    comp : Compensation
+        From :func:`.learning.compensate` [-].
+    n_draws : int
+        Machines drawn from the uncertainty; the model as identified is judged too [-].
+    seed : int
+        Seed of the draws [-].
+    """
+    rng = np.random.default_rng(seed)
+    machines = [machine] + [draw_machine(machine, rng) for _ in range(n_draws)]
+    labels = regions(comp.target)
+    shares, rows = choose(axis_errors(machines, comp), comp.target, labels)
+    for a, f in zip(comp.reference.axes, shares, strict=True):
+        comp.factors[a] = np.full(labels.size, f)
+    good = {r["region"] for r in rows if r["improves_on_every_draw"]}
+    comp.trusted = np.isin(labels, list(good))
+    comp.robustness = {"draws": n_draws, "seed": seed, "regions": rows,
+                       "factors": dict(zip(comp.reference.axes, shares, strict=True)),
+                       "trusted_share": float(np.mean(comp.trusted))}

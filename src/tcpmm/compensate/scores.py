@@ -1,0 +1,91 @@
+"""The figures a compensation is judged by: the TCP's contour error along any program, and
+for a circle its reversal spikes and circular deviation G."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..path.command import Command
+from ..simulate import simulate
+
+
+def runs_before_after(machine, comp, quantise_feedback: bool = True):
+    """The model run on the programmed and on the compensated command; each run's command
+    signals are the path it is judged against (the programmed path, delayed for the
+    compensated run) [-]."""
+    before = simulate(machine, comp.reference, quantise_feedback=quantise_feedback)
+    after = simulate(machine, comp.command, quantise_feedback=quantise_feedback)
+    for run, path in ((before, comp.reference), (after, comp.target)):
+        for a, r in run.axes.items():
+            if a in path.positions:
+                r.cmd = path.positions[a][:run.time_s.size]
+    return before, after
+
+
+def contour_figures(run, path: Command) -> dict:
+    """Largest and rms TCP contour error along the path, in um [-]."""
+    from ..analysis.contour import contour_error
+
+    e = np.abs(contour_error(run, command=path).errors["tcp"])
+    e = e[np.isfinite(e)]
+    return {"contour_error_um": float(np.max(e) * 1e6),
+            "contour_rms_um": float(np.sqrt(np.mean(e ** 2)) * 1e6)}
+
+
+def circle_figures(run, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y")) -> dict:
+    """Per circle pass at the TCP: contour error, G and spikes A-D, all in um [-]."""
+    from ..analysis.circular import analyse_circle
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = analyse_circle(run, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))
+    out = []
+    for p in res.passes:
+        s = p.sensors["tcp"]
+        spikes = {k: float(v * 1e6) for k, v in s.spikes.items()}
+        out.append({"direction": p.direction, "contour_error_um": s.contour_error * 1e6,
+                    "circular_deviation_um": s.circular_deviation * 1e6,
+                    "spikes_um": spikes,
+                    "largest_spike_um": max((abs(v) for v in spikes.values()), default=0.0)})
+    return {"passes": out,
+            "contour_error_um": max((p["contour_error_um"] for p in out), default=np.nan),
+            "largest_spike_um": max((p["largest_spike_um"] for p in out), default=np.nan),
+            "circular_deviation_um": max((p["circular_deviation_um"] for p in out),
+                                         default=np.nan)}
+
+
+def judge(run, path: Command, radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")) -> dict:
+    """Contour figures of a run, and the circle's when a radius is given [-]."""
+    out = {"path": contour_figures(run, path)}
+    if radius_m is not None:
+        out["circle"] = circle_figures(run, radius_m, centre_m, plane)
+    return out
+
+
+def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
+                     plane=("X", "Y")) -> dict:
+    """Figures of the model's TCP before and after the compensation.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model the figures are predicted with [SI].
+    comp : Compensation
+        The compensation [-].
+    radius_m : float, optional
+        Radius of a circular test: its spikes and G are judged too [m].
+    centre_m : tuple of float
+        Centre of the circle [m].
+    plane : tuple of str
+        Axes of the circle's plane [-].
+
+    Returns
+    -------
+    dict
+        ``{"before": ..., "after": ...}``, each from :func:`judge` [-].
+    """
+    before, after = runs_before_after(machine, comp)
+    return {"before": judge(before, comp.reference, radius_m, centre_m, plane),
+            "after": judge(after, comp.target, radius_m, centre_m, plane)}

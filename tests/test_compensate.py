@@ -1,0 +1,79 @@
+"""Compensation on the model: known answers and physical properties."""
+
+import numpy as np
+import pytest
+
+from tcpmm.builtin import builtin_machine
+from tcpmm.compensate import compensate, robust_factors
+from tcpmm.compensate.bounds import excess
+from tcpmm.compensate.gcodeout import dense_program
+from tcpmm.compensate.robust import EQUAL_M
+from tcpmm.path.command import Command
+
+
+def _command(T=1e-3, duration=1.6):
+    """A smooth figure in XY with reversals on both axes, at rest at both ends [m]."""
+    t = np.arange(int(duration / T)) * T
+    s = np.clip(t / (duration - 0.3), 0.0, 1.0)
+    ramp = s - np.sin(2 * np.pi * s) / (2 * np.pi)  # zero velocity and acceleration at ends
+    x = 4e-3 * np.sin(2 * np.pi * ramp)
+    y = 4e-3 * (1 - np.cos(2 * np.pi * ramp))
+    return Command(t, {"X": x, "Y": y})
+
+
+@pytest.fixture(scope="module")
+def machine():
+    return builtin_machine()
+
+
+@pytest.fixture(scope="module")
+def linear(machine):
+    return machine.model_copy(update={"axes": {n: a.model_copy(update={"friction": None})
+                                               for n, a in machine.axes.items()}})
+
+
+def test_linear_model_compensated_to_near_zero(linear):
+    """Without friction the inverse is exact: the largest TCP error falls a hundredfold."""
+    comp = compensate(linear, _command())
+    for h in comp.history.values():
+        assert min(h) < 0.01 * h[0]
+
+
+def test_command_keeps_the_limits(machine):
+    comp = compensate(machine, _command(), iterations=10)
+    cmd = comp.command
+    for a, b in comp.bounds.items():
+        corr = cmd.positions[a] - comp.reference.positions[a]
+        assert np.all(excess(comp.reference.positions[a], corr, cmd.period_s, b) >= 1.0)
+        assert np.abs(corr[0]) < 1e-12  # the axis starts where the program does
+
+
+def test_never_worse_on_drawn_machines(machine):
+    comp = compensate(machine, _command(), iterations=10)
+    robust_factors(machine, comp, n_draws=3, seed=1)
+    for r in comp.robustness["regions"]:
+        assert r["worst_after_um"] <= r["worst_before_um"] + EQUAL_M * 1e6
+    assert all(0.0 <= f <= 1.0 for f in comp.robustness["factors"].values())
+    assert comp.trusted is not None and comp.trusted.shape == comp.reference.time_s.shape
+
+
+def test_dense_program_has_one_block_per_sample():
+    cmd = _command(duration=0.5)
+    text = dense_program(cmd)
+    moves = [ln for ln in text.splitlines() if ln.startswith(("G1", "G4"))]
+    assert len(moves) == cmd.time_s.size - 1
+
+
+def test_cli_output_drives_simulate(tmp_path):
+    from tcpmm.cli import main
+    from tcpmm.path import read_command_csv, write_command_csv
+
+    src = tmp_path / "cmd.csv"
+    write_command_csv(_command(duration=0.8), src)
+    comp_csv, nc = tmp_path / "comp.csv", tmp_path / "comp.nc"
+    assert main(["compensate", "builtin:vmc", "--command", str(src), "-o", str(comp_csv),
+                 "--gcode-out", str(nc), "--draws", "2", "--iterations", "5"]) == 0
+    assert read_command_csv(comp_csv).time_s.size > 800 and nc.exists()
+    run = tmp_path / "run.csv"
+    assert main(["simulate", "builtin:vmc", "--command", str(comp_csv), "-o", str(run)]) == 0
+    assert run.exists()

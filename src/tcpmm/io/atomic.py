@@ -42,6 +42,7 @@ def check_output_folder(path) -> Path:
     if not os.access(base, os.W_OK | os.X_OK):
         raise InputError(f"cannot write into {base}, so the output folder {path} cannot be "
                          "made there; choose a folder you can write to", file=path)
+    probe_writable(base)  # a read-only mount or a full disk, which the mode bits do not show
     return path
 
 

@@ -130,17 +130,20 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
                      "pass" if ok else "fail")
     if diagnostics is not None:
         rows = ranked_sources(diagnostics)
-        gb = diagnostics["circularity_pair"]
+        # one direction's diagnostics have no G(b): the share is of that circle's G
+        pair = "circularity_pair" in diagnostics.terms
+        gb = diagnostics["circularity_pair"] if pair else max(v for _, v in devs)
+        of = "of G(b) [%]" if pair else "of G [%]"
         frame = pd.DataFrame([{"rank": i + 1, "source": s, "radial error [µm]": e * 1e6,
-                               "of G(b) [%]": 100 * e / gb if gb > 0 else float("nan"),
+                               of: 100 * e / gb if gb > 0 else float("nan"),
                                "meaning": n} for i, (s, e, n) in enumerate(rows)])
         body += ("<h3>Error sources, largest first</h3>"
                  + para("Peak-to-valley radial error each fitted term makes on this circle "
                         "(module tcpmm.report.acceptance); the diagnostics below give the "
                         "terms with their signs.")
                  + table(frame, "error_sources.csv",
-                         digits={"radial error [µm]": 2, "of G(b) [%]": 0, "rank": 0}))
+                         digits={"radial error [µm]": 2, of: 0, "rank": 0}))
     else:
-        body += para("One direction only: the error sources need a CCW and a CW circle.",
-                     "warn")
+        body += para("No error sources: the circle's diagnostics could not be made (the "
+                     "warnings say why).", "warn")
     return section("verdict", f"Circle verdict ({SENSOR_NAMES.get(sensor, sensor)})", body)

@@ -65,6 +65,28 @@ def test_an_open_share_is_taken_over_its_whole_range(known):
     assert all(wider)
 
 
+def test_open_axial_damping_covers_a_machine_with_half_of_it(known):
+    """The axial modes' damping open over x0.5-2 (a sweep that crossed the nut's play) puts
+    the figures of a machine with half that damping inside the intervals, and the figures
+    it moves are not firm."""
+    from tcpmm.uncertainty import figures, reference_tests
+    from tcpmm.uncertainty.ranges import DAMPING_RANGE
+
+    m = known.axes["Y"].mechanics
+    truth = known.with_axis("Y", known.axes["Y"].replace(mechanics=m.replace(
+        C_t=0.5 * m.C_t, C_b=0.5 * m.C_b, C_h=0.5 * m.C_h,
+        B_L=m.B_L + 0.5 * m.C_t * m.R_L ** 2)))
+    damping = OpenRange(quantity="damping", low=DAMPING_RANGE[0], high=DAMPING_RANGE[1],
+                        cause="test", settle="a travelling sweep")
+    v = prediction_verdict(_with(known, "Y", open=(damping,)))
+    true = figures(truth, reference_tests(truth))
+    moved = [f for f in v.figures
+             if abs(true[(f.test, f.direction, f.figure)] - f.nominal) > 0.5e-6]
+    assert moved and all(f.verdict != "firm" for f in moved)
+    assert all(abs(true[(f.test, f.direction, f.figure)] - f.nominal) <= f.half_width
+               for f in v.figures)
+
+
 def test_interval_grows_with_the_deviation(known):
     """Twice the table mass's deviation widens the contour error's interval and the
     intervals in total (a single spike near its extremum over the mass may not move)."""

@@ -17,6 +17,8 @@ QUANTILE_90 = 1.6449
 SENSITIVE = ("M_t", "K_t", "C_t", "M_h", "K_h", "C_h", "K_L")
 #: What the ``mechanics`` open range scales: the table mass and the structure behind it [-].
 STRUCTURE = ("M_t", "M_b", "K_b", "M_h", "K_h")
+#: What the ``damping`` open range scales: the axial modes' damping [-].
+AXIAL_DAMPING = ("C_t", "C_b", "C_h")
 
 
 @dataclass(frozen=True)
@@ -110,6 +112,10 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
+        elif r.quantity == "damping":  # the steady viscous force kept, as for C_t below
+            upd = {p: getattr(m, p) * x for p in AXIAL_DAMPING}
+            upd["B_L"] = max(m.B_L + (m.C_t - upd["C_t"]) * m.R_L ** 2, 0.0)
+            moved = axis.replace(mechanics=m.replace(**upd))
         else:  # B_m: the motor-bearing share of the steady viscous torque
             moved = axis.replace(mechanics=m.replace(B_m=x, B_L=max(m.B_L - x, 0.0)))
         if moved is not None:

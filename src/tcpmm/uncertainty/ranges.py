@@ -14,8 +14,8 @@ import math
 from ..ident.friction.nutstiffness import RESOLUTION_STEPS
 from ..model import OpenRange
 
-__all__ = ["MECHANICS_RANGE", "PRESLIDING_RANGE_M", "SCALE_STEPS", "SHARE_RANGE",
-           "open_ranges"]
+__all__ = ["DAMPING_RANGE", "MECHANICS_RANGE", "PRESLIDING_RANGE_M", "SCALE_STEPS",
+           "SHARE_RANGE", "open_ranges"]
 
 #: A deflection between encoder and scale of fewer scale steps than this rests on the
 #: sensor's resolution: its rounding, not the nut, shapes what the runs see [-].
@@ -27,12 +27,18 @@ PRESLIDING_RANGE_M = (0.2e-6, 10e-6)
 #: Factor on the table mass and the structure behind it where the sweep's FRFs are not
 #: those of the linear mechanics (friction held the axis) [-].
 MECHANICS_RANGE = (0.7, 1.3)
+#: Factor on the axial modes' damping where a sweep crossed the nut's lost motion and the
+#: fit took the nut as linear: the play's impacts and the friction inside it dissipate
+#: energy a linear damper is fitted to, up to doubling it [-].
+DAMPING_RANGE = (0.5, 2.0)
 
 _SETTLE_SHARE = ("a sweep with a TCP device while the axis travels at constant speed, or a "
                  "scale at least ten times finer than the nut's deflection")
 _SETTLE_PLAY = "a reversal test at low speed with a finer scale, or a TCP device"
 _SETTLE_PRESLIDING = ("friction runs with slow reversals (0.5 mm/s or less) recorded at 1 kHz "
                       "or more")
+_SETTLE_CROSSED = ("a sweep while the axis travels at constant speed (the guideway friction "
+                   "holds the nut on one flank), or a larger sweep amplitude")
 _SETTLE_HOLD = ("a sweep while the axis travels at constant speed, or a larger sweep "
                 "amplitude (within the current limit)")
 
@@ -94,6 +100,28 @@ def _play_open(a) -> OpenRange | None:
                      settle=_SETTLE_PLAY)
 
 
+def _nonlinear_sweep(a) -> list[OpenRange]:
+    """The structure (and with play the axial damping) as open ranges where the sweep's
+    FRFs are not those of the linear mechanics: friction held the axis, or the sweep
+    crossed the nut's lost motion and the fit kept took the nut as linear."""
+    crossed = bool(getattr(a.physical, "play_crossed", False))
+    causes = []
+    if a.friction_hold is not None:
+        causes.append("friction held the axis during the sweep")
+    if crossed:
+        causes.append("the sweep crossed the nut's lost motion")
+    if not causes:
+        return []
+    why = " and ".join(causes) + ": its FRFs are not those of the linear mechanics"
+    settle = _SETTLE_HOLD if a.friction_hold is not None else _SETTLE_CROSSED
+    out = [OpenRange(quantity="mechanics", low=MECHANICS_RANGE[0], high=MECHANICS_RANGE[1],
+                     cause=why, settle=settle)]
+    if crossed:
+        out.append(OpenRange(quantity="damping", low=DAMPING_RANGE[0], high=DAMPING_RANGE[1],
+                             cause=why, settle=_SETTLE_CROSSED))
+    return out
+
+
 def open_ranges(a) -> tuple[OpenRange, ...]:
     """The quantities an identified axis leaves open, each with its range, cause and the
     measurement that would settle it.
@@ -122,12 +150,7 @@ def open_ranges(a) -> tuple[OpenRange, ...]:
                              high=PRESLIDING_RANGE_M[1],
                              cause=f"pre-sliding assumed: {fit.reason}",
                              settle=_SETTLE_PRESLIDING))
-    if a.friction_hold is not None:
-        out.append(OpenRange(quantity="mechanics", low=MECHANICS_RANGE[0],
-                             high=MECHANICS_RANGE[1],
-                             cause="friction held the axis during the sweep: its FRFs are not "
-                                   "those of the linear mechanics",
-                             settle=_SETTLE_HOLD))
+    out += _nonlinear_sweep(a)
     # the runs fix the steady viscous torque on the motor side, B_m + B_L: only its
     # division is open
     mech = a.axis.mechanics

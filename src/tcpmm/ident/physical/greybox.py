@@ -130,6 +130,10 @@ class PhysicalFit:
     sweep_play : SweepPlay or None
         How the play softened the nut where the sweep crossed it, when the fit was made
         with ``nut_gain`` and kept [-].
+    play_crossed : bool
+        The sweep crossed a lost motion the friction runs found, and the fit kept treats
+        the nut as linear: the axial modes' masses and damping are those of a describing
+        function, not of the mechanics [-].
     """
 
     mechanics: AxisMechanics
@@ -144,6 +148,7 @@ class PhysicalFit:
     tied: dict = field(default_factory=dict)
     nut_gain: Callable | None = None
     sweep_play: SweepPlay | None = None
+    play_crossed: bool = False
 
     def to_pandas(self):
         """Table of parameters, standard deviations and relative uncertainty."""

@@ -83,8 +83,10 @@ def fit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
         kept = refit_with_play(ctx, sweep, start, v_travel, bias, band)
         if kept.physical.nut_gain is None:
             warn_sweep_crosses_play(ctx.name, sweep, kept.split, modelled=True)
+            kept.physical.play_crossed = True
     elif kept.split.nut is not None or play_significant(kept.split):
         warn_sweep_crosses_play(ctx.name, sweep, kept.split)
+        kept.physical.play_crossed = True
     return kept
 
 

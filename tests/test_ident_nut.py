@@ -194,6 +194,25 @@ def test_a_standing_sweep_leaves_the_play_unmodelled(machine):
     assert idn.physical.nut_gain is None
 
 
+def test_the_plays_softening_at_the_modes_grows_with_the_play(machine):
+    """The factor the play puts on the nut at the axial modes, from the sweep's own motion
+    there: 1 without play, lower the larger the play against the same vibration."""
+    from types import SimpleNamespace
+
+    from tcpmm.ident.steps.playrefit import lowest_nut_gain
+
+    a = machine.axes["X"]
+    sweep = virtual_sweep(a, name="X", travel_speed_m_per_s=0.0)
+
+    def gain(play):
+        kept = SimpleNamespace(mechanics=a.mechanics, split=SimpleNamespace(backlash=play))
+        return lowest_nut_gain(sweep, kept, 0.0, (10.0, 1000.0))
+
+    g = [gain(p) for p in (0.0, 0.2e-6, 2e-6, 20e-6)]
+    assert g[0] == pytest.approx(1.0)
+    assert g[0] > g[1] > g[2] > g[3] >= 0.0
+
+
 def test_without_play_the_plateau_split_is_kept(machine):
     a = machine.axes["Y"]
     with warnings.catch_warnings():

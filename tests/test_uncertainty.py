@@ -101,7 +101,7 @@ def test_interval_grows_with_the_deviation(known):
 
 
 def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resolution=1e-6,
-                k_t=4e8, fc=300.0):
+                k_t=4e8, fc=300.0, crossed_play_gain=None):
     """A stand-in for an identified axis with what :func:`open_ranges` reads."""
     split = SimpleNamespace(source=source, guideway_share=share, guideway_share_std=share_std,
                             backlash=backlash, backlash_std=0.3e-6,
@@ -109,7 +109,8 @@ def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resoluti
     return SimpleNamespace(
         friction_split=split, presliding_fit=None, friction_hold=None,
         friction=SimpleNamespace(names=["Fc+", "Fc-"], values=[fc, -fc]),
-        physical=SimpleNamespace(mechanics=SimpleNamespace(B_m=0.0)),
+        physical=SimpleNamespace(mechanics=SimpleNamespace(B_m=0.0),
+                                 crossed_play_gain=crossed_play_gain),
         axis=SimpleNamespace(friction=object(), sensors=SimpleNamespace(
             scale_resolution=resolution), mechanics=SimpleNamespace(K_t=k_t, B_m=0.0,
                                                                      B_L=1e-3)))
@@ -133,6 +134,18 @@ def test_lost_motion_of_about_one_scale_step_is_open_down_to_none():
     clear = open_ranges(_axis_ident(resolution=res, backlash=SCALE_STEPS * res * 1.5,
                                     k_t=1e7))
     assert not [r for r in clear if r.quantity == "backlash"]
+
+
+def test_a_sweep_the_play_softened_at_its_modes_leaves_structure_and_damping_open():
+    from tcpmm.uncertainty.ranges import PLAY_GAIN_OPEN
+
+    share_known = {"resolution": 0.05e-6}
+    soft = open_ranges(_axis_ident(crossed_play_gain=PLAY_GAIN_OPEN - 0.03, **share_known))
+    assert [r.quantity for r in soft] == ["mechanics", "damping"]
+    assert all("lost motion" in r.cause for r in soft)
+    # a play that hardly softens the nut at the modes leaves the fit's deviations
+    assert open_ranges(_axis_ident(crossed_play_gain=PLAY_GAIN_OPEN + 0.01,
+                                   **share_known)) == ()
 
 
 def test_open_ranges_round_trip_through_the_model_file(known, tmp_path):

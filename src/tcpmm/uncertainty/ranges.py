@@ -31,6 +31,10 @@ MECHANICS_RANGE = (0.7, 1.3)
 #: fit took the nut as linear: the play's impacts and the friction inside it dissipate
 #: energy a linear damper is fitted to, up to doubling it [-].
 DAMPING_RANGE = (0.5, 2.0)
+#: Lowest factor the play may put on the nut's stiffness at an axial mode of a sweep fitted
+#: as linear before the structure and the axial damping are open: beyond 2 % softening the
+#: fitted modes take up the play's describing function (validation/calibration.md) [-].
+PLAY_GAIN_OPEN = 0.98
 
 _SETTLE_SHARE = ("a sweep with a TCP device while the axis travels at constant speed, or a "
                  "scale at least ten times finer than the nut's deflection")
@@ -104,7 +108,8 @@ def _nonlinear_sweep(a) -> list[OpenRange]:
     """The structure (and with play the axial damping) as open ranges where the sweep's
     FRFs are not those of the linear mechanics: friction held the axis, or the sweep
     crossed the nut's lost motion and the fit kept took the nut as linear."""
-    crossed = bool(getattr(a.physical, "play_crossed", False))
+    gain = getattr(a.physical, "crossed_play_gain", None)
+    crossed = gain is not None and gain < PLAY_GAIN_OPEN
     causes = []
     if a.friction_hold is not None:
         causes.append("friction held the axis during the sweep")

@@ -130,10 +130,11 @@ class PhysicalFit:
     sweep_play : SweepPlay or None
         How the play softened the nut where the sweep crossed it, when the fit was made
         with ``nut_gain`` and kept [-].
-    play_crossed : bool
-        The sweep crossed a lost motion the friction runs found, and the fit kept treats
-        the nut as linear: the axial modes' masses and damping are those of a describing
-        function, not of the mechanics [-].
+    crossed_play_gain : float or None
+        Where the sweep crossed a lost motion the friction runs found and the fit kept
+        treats the nut as linear, the lowest factor the play put on the nut's stiffness
+        over the band (:func:`tcpmm.ident.steps.playrefit.lowest_nut_gain`): the axial
+        modes' masses and damping are then those of a describing function [-].
     """
 
     mechanics: AxisMechanics
@@ -148,7 +149,7 @@ class PhysicalFit:
     tied: dict = field(default_factory=dict)
     nut_gain: Callable | None = None
     sweep_play: SweepPlay | None = None
-    play_crossed: bool = False
+    crossed_play_gain: float | None = None
 
     def to_pandas(self):
         """Table of parameters, standard deviations and relative uncertainty."""

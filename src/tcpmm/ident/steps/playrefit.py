@@ -7,6 +7,7 @@ be modelled."""
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -14,7 +15,12 @@ import numpy as np
 from ...mechanics.friction import friction_params_array
 from ...sim.contact import sliding_friction
 from ..friction.nutstiffness import LOST_MOTION_Z
-from ..friction.playdf import nut_deflection_amplitude, play_gain, sweep_motion
+from ..friction.playdf import (
+    dead_zone_gain,
+    nut_deflection_amplitude,
+    play_gain,
+    sweep_motion,
+)
 from ..identification import AxisFit
 from ..physical.greybox import SweepPlay
 from .fitcontext import FitContext, fit_values, friction_on, physical_fit
@@ -83,11 +89,28 @@ def fit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
         kept = refit_with_play(ctx, sweep, start, v_travel, bias, band)
         if kept.physical.nut_gain is None:
             warn_sweep_crosses_play(ctx.name, sweep, kept.split, modelled=True)
-            kept.physical.play_crossed = True
+            kept.physical.crossed_play_gain = lowest_nut_gain(sweep, kept, bias, band)
     elif kept.split.nut is not None or play_significant(kept.split):
         warn_sweep_crosses_play(ctx.name, sweep, kept.split)
-        kept.physical.play_crossed = True
+        kept.physical.crossed_play_gain = lowest_nut_gain(sweep, kept, bias, band)
     return kept
+
+
+def lowest_nut_gain(sweep, kept: AxisFit, bias: float, band: tuple) -> float:
+    """The lowest factor the play puts on the nut's stiffness at the axial modes (table on
+    the nut, bed, head), as the kept fit's mechanics and lost motion give it from the
+    sweep's motion there: near 1 the play is a small part of the nut's vibration where
+    the modes' masses and damping are fitted, near 0 the nut mostly floats in it [-]."""
+    freq, theta_m, scale = sweep_motion(sweep, *band)
+    m = kept.mechanics
+    amp = nut_deflection_amplitude(freq, theta_m, scale, m)
+    g = dead_zone_gain(amp, kept.split.backlash, bias / m.K_t)
+    modes = [math.sqrt(k / mass) / (2 * math.pi) for k, mass in
+             ((m.K_t, m.M_t), (m.K_b, m.M_b + m.M_h), (m.K_h, m.M_h)) if k > 0 and mass > 0]
+    inside = [f for f in modes if freq[0] <= f <= freq[-1]]
+    if not inside or g.size < 2:
+        return 1.0
+    return float(min(np.interp(np.log(inside), np.log(freq), g)))
 
 
 def refit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,

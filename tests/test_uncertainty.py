@@ -101,13 +101,15 @@ def test_interval_grows_with_the_deviation(known):
 
 
 def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resolution=1e-6,
-                k_t=4e8, fc=300.0, crossed_play_gain=None):
+                k_t=4e8, fc=300.0, crossed_play_gain=None, hold=None,
+                plateau=(math.nan, math.nan)):
     """A stand-in for an identified axis with what :func:`open_ranges` reads."""
     split = SimpleNamespace(source=source, guideway_share=share, guideway_share_std=share_std,
                             backlash=backlash, backlash_std=0.3e-6,
-                            backlash_at_resolution=float("nan"))
+                            backlash_at_resolution=float("nan"), plateau_share=plateau[0],
+                            plateau_share_std=plateau[1])
     return SimpleNamespace(
-        friction_split=split, presliding_fit=None, friction_hold=None,
+        friction_split=split, presliding_fit=None, friction_hold=hold,
         friction=SimpleNamespace(names=["Fc+", "Fc-"], values=[fc, -fc]),
         physical=SimpleNamespace(mechanics=SimpleNamespace(B_m=0.0),
                                  crossed_play_gain=crossed_play_gain),
@@ -146,6 +148,25 @@ def test_a_sweep_the_play_softened_at_its_modes_leaves_structure_and_damping_ope
     # a play that hardly softens the nut at the modes leaves the fit's deviations
     assert open_ranges(_axis_ident(crossed_play_gain=PLAY_GAIN_OPEN + 0.01,
                                    **share_known)) == ()
+
+
+def test_a_share_from_a_held_sweep_is_open_between_its_two_measures():
+    """Friction held the sweep: its share rests on a sliding that did not happen. The
+    plateaus' own share, read above the scale's rounding, bounds it with the sweep's; a
+    plateau share on the rounding leaves the whole range."""
+    from tcpmm.uncertainty.ranges import SHARE_RANGE
+
+    held = {"source": "sweep", "share": 0.24, "share_std": 0.005, "hold": object(),
+            "resolution": 0.05e-6, "k_t": 1e8, "crossed_play_gain": None}
+    r = open_ranges(_axis_ident(plateau=(0.37, 0.004), **held))
+    share = next(x for x in r if x.quantity == "guideway_share")
+    assert share.low == pytest.approx(0.24 - 0.010) and share.high == pytest.approx(0.378)
+    assert "0.370" in share.cause
+    # the plateaus' reversal step, 2.3 um, under two steps of a 2 um scale
+    whole = next(x for x in open_ranges(_axis_ident(**{**held, "resolution": 2e-6},
+                                                    plateau=(0.37, 0.004)))
+                 if x.quantity == "guideway_share")
+    assert (whole.low, whole.high) == SHARE_RANGE
 
 
 def test_open_ranges_round_trip_through_the_model_file(known, tmp_path):

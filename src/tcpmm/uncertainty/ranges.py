@@ -55,28 +55,52 @@ def _friction_total(a) -> float:
     return 0.5 * (abs(v.get("Fc+", 0.0)) + abs(v.get("Fc-", 0.0)))
 
 
-def _share_open(a) -> str | None:
-    """Why the guideway share is open, or ``None`` when the data determine it."""
+def _reversal_step(a, share: float, sd: float) -> float:
+    """The jump of the nut's deflection at a reversal that a share is read from, with the
+    share two deviations higher [m]."""
+    sd = sd if math.isfinite(sd) else 1.0
+    return 2.0 * min(share + 2.0 * sd, 1.0) * _friction_total(a) / a.axis.mechanics.K_t
+
+
+def _held_sweep_share(a) -> tuple[str, float, float]:
+    """The range of a share read from a sweep that friction held: between it and the
+    plateaus' own share, two deviations beyond each, where the plateaus read theirs
+    above the scale's rounding; the whole range otherwise."""
+    split = a.friction_split
+    why = ("the share read from the travelling sweep rests on steady sliding, and friction "
+           "held the axis during the sweep")
+    p, p_sd = split.plateau_share, split.plateau_share_std
+    res = a.axis.sensors.scale_resolution
+    if not (math.isfinite(p) and math.isfinite(p_sd)) or (
+            res > 0.0 and _reversal_step(a, p, p_sd) < SCALE_STEPS * res):
+        return why, *SHARE_RANGE
+    s = split.guideway_share
+    s_sd = split.guideway_share_std if math.isfinite(split.guideway_share_std) else 0.0
+    lo = max(SHARE_RANGE[0], min(s - 2.0 * s_sd, p - 2.0 * p_sd))
+    hi = min(SHARE_RANGE[1], max(s + 2.0 * s_sd, p + 2.0 * p_sd))
+    return (f"{why}; taken between it ({s:.3f}) and the friction runs' plateaus' "
+            f"({p:.3f})", lo, hi)
+
+
+def _share_open(a) -> tuple[str, float, float] | None:
+    """Why the guideway share is open and its range, or ``None`` when the data determine
+    it."""
     split = a.friction_split
     if split is None or split.source == "given":
         return None
     if split.source == "prior":
-        return "the friction runs do not determine the guideway share"
+        return ("the friction runs do not determine the guideway share", *SHARE_RANGE)
     if split.source == "sweep" and a.friction_hold is not None:
-        return ("the share read from the travelling sweep rests on steady sliding, and "
-                "friction held the axis during the sweep")
+        return _held_sweep_share(a)
     if split.source != "data":
         return None
     res = a.axis.sensors.scale_resolution
-    sd = split.guideway_share_std if math.isfinite(split.guideway_share_std) else 1.0
-    share = min(split.guideway_share + 2.0 * sd, 1.0)
-    # the jump of the nut's deflection at a reversal that the share was read from
-    step = 2.0 * share * _friction_total(a) / a.axis.mechanics.K_t
+    step = _reversal_step(a, split.guideway_share, split.guideway_share_std)
     if res > 0.0 and step < SCALE_STEPS * res:
         return (f"the nut's deflection at a reversal that the share was read from "
                 f"({step * 1e6:.2f} um, with the share two deviations higher) is under "
                 f"{SCALE_STEPS:g} steps of the {res * 1e6:g} um scale: the share rests on the "
-                "scale's rounding")
+                "scale's rounding", *SHARE_RANGE)
     return None
 
 
@@ -142,10 +166,11 @@ def open_ranges(a) -> tuple[OpenRange, ...]:
         Open quantities; empty where the data determine everything they are asked [-].
     """
     out = []
-    why = _share_open(a)
-    if why is not None and a.axis.friction is not None:
-        out.append(OpenRange(quantity="guideway_share", low=SHARE_RANGE[0],
-                             high=SHARE_RANGE[1], cause=why, settle=_SETTLE_SHARE))
+    share = _share_open(a)
+    if share is not None and a.axis.friction is not None:
+        why, lo, hi = share
+        out.append(OpenRange(quantity="guideway_share", low=lo, high=hi, cause=why,
+                             settle=_SETTLE_SHARE))
     play = _play_open(a)
     if play is not None:
         out.append(play)

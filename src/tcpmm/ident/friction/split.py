@@ -101,6 +101,10 @@ class FrictionSplit:
         The largest lost motion the whole record cannot tell from the scale's rounding,
         where it shows one within two scale steps (its value plus three standard
         deviations); NaN otherwise [m].
+    plateau_share, plateau_share_std : float
+        Where the share came from a sweep: the share the plateaus of the friction runs give
+        alone and its standard deviation, a second measure a verdict can weigh the sweep's
+        against; NaN otherwise, or where the plateaus do not determine it [-].
     """
 
     guideway_share: float
@@ -113,6 +117,8 @@ class FrictionSplit:
     viscous_on_table: float = float("nan")
     viscous_on_table_std: float = float("nan")
     backlash_at_resolution: float = float("nan")
+    plateau_share: float = float("nan")
+    plateau_share_std: float = float("nan")
 
     @property
     def backlash_std(self) -> float:
@@ -388,7 +394,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
             total_viscous=float(v["Fv"]), **kw)  # the Stribeck fit's: it models the hump
 
     m_split = m.replace(B_m=0.0) if neglect_motor_bearing else m
-    lm = plateau_split(m_split, stiffness_rel_std, share=given)
+    lm = first = plateau_split(m_split, stiffness_rel_std, share=given)
     nut = _nut_estimate(t, record, m_split, v, cfg.sensors.scale_resolution_m,
                         share=lm.guideway_share
                         if np.isfinite(lm.guideway_share) else GUIDEWAY_SHARE)
@@ -418,13 +424,18 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
                               viscous_on_table_std=from_sweep[3])
     else:
         split = _split_of(lm, nut, play, given, axis)
-    split = _with_open_play(split, nut, coarse is not None)
+    split = _with_open_play(split, nut, coarse is not None, first)
     return _axis_friction(v, m, split), est, split
 
 
-def _with_open_play(split, nut, at_resolution: bool):
-    """The split with the lost motion the nut's runs leave open: the deviation of a play
-    not found, or the bound of one found within the scale's rounding [-]."""
+def _with_open_play(split, nut, at_resolution: bool, first):
+    """The split with the lost motion the nut's runs leave open (the deviation of a play
+    not found, or the bound of one found within the scale's rounding) and, for a share
+    from the sweep, the plateaus' own share (``first``, their estimate before it) [-]."""
+    if (split.source == "sweep" and first.determined and np.isfinite(first.guideway_share)
+            and np.isfinite(first.guideway_share_std)):
+        split = dataclasses.replace(split, plateau_share=float(first.guideway_share),
+                                    plateau_share_std=float(first.guideway_share_std))
     if nut is not None and not nut.lost_motion_found() and np.isfinite(nut.backlash_std):
         split = dataclasses.replace(split, unfound_backlash_std=float(nut.backlash_std))
     if at_resolution:

@@ -16,7 +16,8 @@ Printed: coverage of the 90 % intervals, their median half-width, the firm figur
 firm figures that miss their target, with the shipped factor and with the one the even
 half gives.
 
-Run: ``.venv/bin/python docs/validation/population.py --n 30 [--seed 0] [--json FILE]``
+Run: ``.venv/bin/python docs/validation/population.py --n 24 [--seed 0] [--json FILE]``;
+``--rows FILE [FILE ...]`` summarises saved rows (of several seeds) without running.
 """
 
 from __future__ import annotations
@@ -155,33 +156,55 @@ def conformal_factor(rows: list[dict]) -> float:
     return scores[rank - 1] if scores else math.nan
 
 
-def main(argv=None) -> None:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--n", type=int, default=30)
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--json", type=Path)
-    args = p.parse_args(argv)
+def _run(n: int, seed: int) -> list[dict]:
+    """Judge machines ``0..n-1`` of population ``seed``, printing one line per machine."""
     rows = []
-    for i in range(args.n):
-        got = judge(args.seed, i)
-        rows += got
+    for i in range(n):
+        got = judge(seed, i)
+        rows += [{**r, "seed": seed} for r in got]
         ok = [r for r in got if "refused" not in r]
         worst = max((r["error_m"] / r["raw_m"] for r in ok if r["raw_m"] > 0), default=0.0)
         print(f"machine {i:3d} ({got[0]['template']}): "
               + (f"refused: {got[0]['refused']}" if not ok else
                  f"{sum(r['verdict'] == 'firm' for r in ok)} of {len(ok)} firm, "
                  f"largest score {worst:.2f}"), flush=True)
-    if args.json:
-        args.json.write_text(json.dumps(rows, indent=1))
-    ok = [r for r in rows if "refused" not in r]
-    calib = [r for r in ok if r["machine"] % 2 == 0]
-    check = [r for r in ok if r["machine"] % 2 == 1]
+    return rows
+
+
+def report(rows: list[dict]) -> None:
+    """The factor the even machines give, its check on the odd ones, and per template the
+    coverage and widths with the shipped factor."""
+    ok = [{**r, "machine": (r.get("seed", 0), r["machine"])} for r in rows
+          if "refused" not in r]
+    calib = [r for r in ok if r["machine"][1] % 2 == 0]
+    check = [r for r in ok if r["machine"][1] % 2 == 1]
     k = conformal_factor(calib)
-    print(f"refused: {sum('refused' in r for r in rows)} of {args.n} machines")
-    print(f"factor from the even machines: {k:.2f}")
+    machines = {(r.get("seed", 0), r["machine"]) for r in rows}
+    print(f"refused: {sum('refused' in r for r in rows)} of {len(machines)} machines")
+    print(f"factor from the even machines: {k:.2f}; from all: {conformal_factor(ok):.2f}")
     for name, part in (("odd machines", check), ("all machines", ok)):
         for label, f in (("shipped", CALIBRATION["factor"]), ("even half's", k)):
             print(f"{name}, {label} factor {f:.2f}: {summary(part, f)}")
+    for letter in TEMPLATES:
+        part = [r for r in ok if r["template"] == letter]
+        if part:
+            print(f"about {letter}: {summary(part, CALIBRATION['factor'])}")
+
+
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--n", type=int, default=24)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", type=Path)
+    p.add_argument("--rows", type=Path, nargs="+")
+    args = p.parse_args(argv)
+    if args.rows:
+        rows = [r for f in args.rows for r in json.loads(f.read_text())]
+    else:
+        rows = _run(args.n, args.seed)
+        if args.json:
+            args.json.write_text(json.dumps(rows, indent=1))
+    report(rows)
 
 
 if __name__ == "__main__":

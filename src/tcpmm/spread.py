@@ -34,7 +34,7 @@ from .model import Axis, Machine
 from .simulate import simulate
 
 __all__ = ["MODEL_ERROR", "SETTLED_FRACTION", "TOLERANCE", "SpikeSpread", "circle_spread",
-           "draw_axis", "draw_machine", "scaled_contact"]
+           "draw_axis", "draw_machine", "longer_presliding", "scaled_contact"]
 
 #: Share of the draws that must give the nominal sign for a spike to count as settled, and
 #: that must lie within the tolerance of it for it to count as firm [-].
@@ -140,14 +140,22 @@ def _friction(fr, u, floors, rng, normal):
     sd = max(u.backlash, floors.get("backlash", 0.0)) if fr.backlash > 0 else u.backlash
     play = max(fr.backlash + sd * normal("backlash"), 0.0)
     k_z = math.exp(u.presliding * normal("presliding")) if u.presliding > 0 else 1.0
-    return fr.model_copy(update={"guideway": _longer(scaled_contact(g, k_g), k_z),
-                                 "screw": _longer(scaled_contact(w, k_s), k_z),
+    return fr.model_copy(update={"guideway": longer_presliding(scaled_contact(g, k_g), k_z),
+                                 "screw": longer_presliding(scaled_contact(w, k_s), k_z),
                                  "backlash": min(play, 1e-3)})
 
 
-def _longer(c, k: float):
+def longer_presliding(c, k: float):
     """A LuGre contact with its pre-sliding distance times ``k`` and its bristle damping
-    ratio kept (``sigma0 / k``, ``sigma1 / sqrt(k)``); others as they are [-]."""
+    ratio kept (``sigma0 / k``, ``sigma1 / sqrt(k)``); others as they are.
+
+    Parameters
+    ----------
+    c : LuGreFriction or None
+        The contact; anything without ``sigma0`` is returned as it is [-].
+    k : float
+        Factor on the pre-sliding distance [-].
+    """
     if k == 1.0 or c is None or not hasattr(c, "sigma0"):
         return c
     return c.model_copy(update={"sigma0": c.sigma0 / k, "sigma1": c.sigma1 / math.sqrt(k)})

@@ -61,7 +61,7 @@ def _mechanics_variants(axis: Axis, u) -> list[Variant]:
 
 def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
     from ..ident.friction.sensitivity import with_share
-    from ..spread import _longer, scaled_contact
+    from ..spread import longer_presliding, scaled_contact
 
     fr = axis.friction
     if fr is None:
@@ -90,7 +90,8 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
         sd = u.presliding * QUANTILE_90
         for k in (math.exp(-sd), math.exp(sd)):
             out.append(Variant("presliding", False, axis.replace(friction=fr.model_copy(
-                update={"guideway": _longer(fr.guideway, k), "screw": _longer(fr.screw, k)}))))
+                update={"guideway": longer_presliding(fr.guideway, k),
+                        "screw": longer_presliding(fr.screw, k)}))))
     return out
 
 

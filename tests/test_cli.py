@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from tcpmm.cli import main
@@ -114,6 +115,12 @@ def test_demo_writes_everything(capsys, tmp_path):
     for fact in ("35 mm", "5000 mm/min", "CCW then CW", "1000 Hz", "measured_run.csv"):
         assert fact in page[order[0]:order[1]], fact
     assert page.count("<h3>Diagnostics (TCP)</h3>") == 2  # simulated and virtual measurement
+    # Table 2 with its uncertainty: the virtual measurement has the model's structure, so
+    # each of its differences lies inside the identified model's 90 % interval
+    judged = pd.read_csv(tmp_path / "demo" / "table2_judged.csv")
+    assert len(judged) == 10 and judged["inside"].all()
+    assert set(judged["verdict"]) <= {"firm", "uncertain", "undetermined"}
+    assert "prediction's 90 % interval" in page[order[2]:order[3]]
 
 
 @pytest.mark.parametrize("command", ["compare", "circle", "identify", "excite"])

@@ -53,7 +53,8 @@ def bode_curves(machine, f_hz, names=("G_M", "G_T", "G_tcp")):
 
 
 DEMO_STEPS = ("built-in machine", "circle command", "simulation", "circular test analysis",
-              "plots", "virtual measurement", "identification", "prediction", "spread")
+              "plots", "virtual measurement", "identification", "prediction", "verdict",
+              "spread")
 
 
 def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None) -> dict:
@@ -130,15 +131,43 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
                            "Table 2: virtual measurement - prediction of the identified model [um]")
         for line in cmp.notes():
             console.print(line)
+    step("verdict")
+    judged = judged_table2(identified, cmd, cmp, out, files)
+    if console is not None:
+        print_table(judged, console, "Table 2 at the TCP against the predicted 90 % interval "
+                                     "[um]")
     step("spread")
     spread = write_spread(identified, cmd, out, files)
     if console is not None:
         console.print(spread_summary(spread))
     report = out / "report.html" if report is None else report
     files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out,
-                                        tolerance_m)
+                                        tolerance_m, judged)
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
             "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
+
+
+def judged_table2(identified, cmd, cmp, out, files):
+    """Table 2's TCP rows set against the 90 % intervals of the identified model's
+    prediction of the same circle (:meth:`Comparison.judged`), one row per direction and
+    figure, written to ``table2_judged.csv`` [um]."""
+    import pandas as pd
+
+    from .uncertainty import CircleTest, prediction_verdict
+
+    test = CircleTest("R35 F5000", cmd, mm_to_m(RADIUS_MM))
+    rows = []
+    for r in cmp.judged(prediction_verdict(identified, [test])):
+        for col in ("spike_A", "spike_B", "spike_C", "spike_D", "contour_error"):
+            if f"{col}_90_um" in r:
+                rows.append({"direction": r["direction"], "figure": col.replace("_", " "),
+                             "measured_minus_predicted_um": r[f"{col}_um"],
+                             "half_width_90_um": r[f"{col}_90_um"],
+                             "inside": r[f"{col}_inside"], "verdict": r[f"{col}_verdict"]})
+    frame = pd.DataFrame(rows)
+    files["table2_judged"] = out / "table2_judged.csv"
+    write_table_atomic(frame, files["table2_judged"], "%.3f")
+    return frame
 
 
 def identify_and_predict(machine, cmd, out, step, files):
@@ -180,7 +209,8 @@ def identify_and_predict(machine, cmd, out, step, files):
     return cmp, idn.machine, (rm, rp)
 
 
-def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m=None):
+def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m=None,
+                      judged=None):
     """The demo's HTML report, in the order a customer reads it: the verdict on the
     measured circle (conditions, pass or fail against ``tolerance_m`` [m], ranked error
     sources) with its diagnostics, the prediction against it and its spread, the
@@ -203,7 +233,8 @@ def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m
                                   "Circular test, virtual measurement",
                                   out / "measured_run.csv", tolerance_m, rate),
                 comparison_section(cmp, *circles, (out / "measured_run.csv",
-                                                    out / "predicted_run.csv")),
+                                                    out / "predicted_run.csv"),
+                                   judged=judged),
                 spread_section(spread),
                 identification_section(*read_identification_folder(out / "identification")),
                 model_section(machine, out / "model.yaml"),

@@ -183,7 +183,7 @@ def undetermined_html(diag) -> str:
 
 
 def comparison_section(comparison, measured=None, predicted=None, sources=(),
-                       key: str = "comparison"):
+                       key: str = "comparison", judged=None):
     """Measured minus predicted (the paper's Table 2), with the two circles overlaid.
 
     Parameters
@@ -196,6 +196,9 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
         The measured and the predicted run file, for the record [-].
     key : str
         Section anchor, ``comparison-...`` when there are several [-].
+    judged : pandas.DataFrame, optional
+        The TCP differences against the prediction's 90 % intervals, one row per direction
+        and figure (``tcpmm.demo.judged_table2``) [um].
     """
     files = _names(sources).replace(" and ", " against ")
     body = para("Reversal spikes A-D and contour error of the measured run minus those of "
@@ -209,6 +212,12 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
                   f"measured_minus_predicted{key[len('comparison'):].replace('-', '_')}.csv")
     for line in comparison.notes():
         body += para(line)
+    if judged is not None and len(judged):
+        body += ("<h3>At the TCP, against the prediction's 90 % interval</h3>"
+                 + para("Each difference beside the half-width of the predicted figure's 90 % "
+                        "interval and its verdict (firm, uncertain or undetermined, from what "
+                        "the identification data leave open).")
+                 + table(judged, f"table2_judged{key[len('comparison'):].replace('-', '_')}.csv"))
     return section(key, "Measured − predicted (Table 2)", body)
 
 

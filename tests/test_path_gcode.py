@@ -332,3 +332,19 @@ def test_the_interpolators_errors_name_the_program_file(tmp_path):
         program_to_command(prog)
     assert (e.value.file, e.value.line) == (str(prog), 2)
     assert str(e.value).startswith(f"{prog}, line 2: ")
+
+
+def test_repeated_points_are_skipped_and_counted():
+    """CAM output repeats points; a controller skips such blocks. The path is the one
+    without them, and one warning counts them with the first line."""
+    clean = "G21 G90\nG1 X10 Y0 F3000\nG1 X10 Y10\nG1 X0 Y10\nM30\n"
+    repeated = "G21 G90\nG1 X10 Y0 F3000\nG1 X10 Y0\nG1 X10 Y10\nG1 X10.000 Y10\nG0 X10 Y10\n" \
+               "G1 X0 Y10\nM30\n"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        got = parse_gcode(repeated, "cam.nc")
+    want = parse_gcode(clean)
+    assert [(s.start_m, s.end_m) for s in got] == [(s.start_m, s.end_m) for s in want]
+    said = [str(w.message) for w in caught if "zero-length" in str(w.message)]
+    assert said == ["cam.nc, line 3, column 4: zero-length move ignored (and 2 more times): "
+                    "a G0/G1 to where the tool already is, skipped"]

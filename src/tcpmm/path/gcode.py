@@ -296,13 +296,15 @@ class _Interpreter:
                 line,
                 col,
             )
-        if self.motion == 0:
-            if target != self.pos:
-                self.segments.append(Rapid(self.pos, target, line))
+        if self.motion in (0, 1) and target == self.pos:
+            # CAM output repeats points; a controller skips such a block
+            self.warn("zero-length move", "a G0/G1 to where the tool already is, skipped",
+                      line, first.column)
+        elif self.motion == 0:
+            self.segments.append(Rapid(self.pos, target, line))
         elif self.motion == 1:
-            if target != self.pos:
-                self.segments.append(Line(self.pos, target, self.feed, self.exact_stop, line,
-                                          self.tolerance))
+            self.segments.append(Line(self.pos, target, self.feed, self.exact_stop, line,
+                                      self.tolerance))
         else:
             self.segments.append(self.arc(w, target, gword, line))
         self.pos = target

@@ -23,6 +23,7 @@ reported as not firm.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
 
@@ -43,31 +44,24 @@ SETTLED_FRACTION = 0.9
 #: the paper's Table 2 (4.1 um) [m].
 TOLERANCE = 4.1e-6
 
-#: Floors of the standard deviations drawn from: the robust spread (1.4826 median absolute
-#: deviation) of identified over true values on the 96 axes with lost motion of the
-#: unseen-machine study (machines of :mod:`tcpmm.unseen`; the per-axis ``mechanics_id`` /
-#: ``mechanics_true``, ``friction_id`` / ``friction_true``, ``share_id`` - ``share_true`` and
-#: ``backlash_id`` - ``backlash_true`` of ``python docs/validation/unseen_machines.py --n 12
-#: --seed S --backlash --json FILE`` for S = 0-3; docs/validation/unseen_machines.md). The
-#: fits' own standard deviations count noise only and are often ten times smaller. Relative
-#: for the mechanics and the friction level, absolute for the share [-] and the lost motion
-#: [m].
-#: ``correlation`` holds the rank correlation of those errors on the same axes, in the order
-#: of its ``quantities``.
-MODEL_ERROR = {"mechanics": {"J_m": 0.025, "J_L": 0.025, "M_t": 0.06, "K_t": 0.07,
-                             "C_t": 0.10},
-               "friction_level": 0.02, "guideway_share": 0.06, "backlash": 0.04e-6,
-               "correlation": {
-                   "quantities": ("J_m", "J_L", "M_t", "K_t", "C_t", "friction_level",
-                                  "guideway_share", "backlash"),
-                   "matrix": ((1.00, -0.01, -0.42, -0.59, -0.22, 0.08, -0.34, 0.01),
-                              (-0.01, 1.00, -0.49, -0.32, -0.25, -0.03, -0.10, -0.22),
-                              (-0.42, -0.49, 1.00, 0.89, 0.47, 0.02, 0.51, 0.17),
-                              (-0.59, -0.32, 0.89, 1.00, 0.44, -0.04, 0.50, 0.18),
-                              (-0.22, -0.25, 0.47, 0.44, 1.00, 0.01, 0.17, 0.24),
-                              (0.08, -0.03, 0.02, -0.04, 0.01, 1.00, 0.02, 0.03),
-                              (-0.34, -0.10, 0.51, 0.50, 0.17, 0.02, 1.00, -0.56),
-                              (0.01, -0.22, 0.17, 0.18, 0.24, 0.03, -0.56, 1.00))}}
+def _model_error() -> dict:
+    """The floors of :data:`MODEL_ERROR` from the package's data file, which records their
+    provenance."""
+    from importlib.resources import files
+
+    text = files("tcpmm").joinpath("data/model_error.json").read_text(encoding="utf-8")
+    doc = json.loads(text)
+    return {k: doc[k] for k in ("mechanics", "friction_level", "guideway_share", "backlash",
+                                "correlation")}
+
+
+#: Floors of the standard deviations drawn from: the robust spread of identified over true
+#: values on the axes with lost motion of the unseen-machine study; the fits' own standard
+#: deviations count noise only and are often ten times smaller. Relative for the mechanics
+#: and the friction level, absolute for the share [-] and the lost motion [m];
+#: ``correlation`` holds the rank correlation of those errors. Values and provenance:
+#: ``tcpmm/data/model_error.json``.
+MODEL_ERROR = _model_error()
 
 
 def _normals(floors: dict, rng):

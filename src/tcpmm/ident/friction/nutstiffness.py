@@ -56,17 +56,10 @@ from ..frf.signals import central_difference, lowpass_filtfilt
 __all__ = ["CUTOFFS_HZ", "LOST_MOTION_Z", "RESOLUTION_STEPS", "NutEstimate", "estimate_nut"]
 
 #: Cut-offs tried for the low-pass before differencing [Hz]. A low one smears every change
-#: of acceleration over many samples, which are then left out, so few samples of a known
-#: nut-force sign remain on the short ramps between the plateaus; a high one lets more
-#: noise into the acceleration. The estimate that determines the share best is kept. From
-#: 60 Hz the servo's transients after each change of acceleration enter the fit: with ramps
-#: too gentle to load the nut (3 N), 80 Hz reports a stiffness 14 % off as determined within
-#: 4 %, and 60 Hz one that 20 and 40 Hz do not determine; on speeds that advance whole
-#: sensor steps per sample, 60 Hz found 0.6 um of play in a nut without any. So a cut-off
-#: above :data:`TRANSIENT_FREE_HZ` counts only where the next lower one determines the same
-#: stiffness (:data:`CUTOFF_AGREEMENT`) and the same finding on lost motion. With 1 um
-#: sensors, 60 Hz keeps enough of the short braking ramps to halve the error of the share
-#: on some axes (0.64 +- 0.07 at 40 Hz, 0.81 +- 0.05 at 60 Hz, true 0.86).
+#: of acceleration over many samples, which are then left out; a high one lets more noise,
+#: and from 60 Hz the servo's transients, into the acceleration. The estimate that
+#: determines the share best is kept, and a cut-off above :data:`TRANSIENT_FREE_HZ` counts
+#: only where the next lower one agrees with it (docs/validation/identification_findings.md).
 CUTOFFS_HZ = (20.0, 40.0, 60.0)
 #: Standard deviations (the two cut-offs' combined) within which the stiffness at a
 #: cut-off must agree with that at the next lower one for the higher to count [-].
@@ -74,10 +67,9 @@ CUTOFF_AGREEMENT = 3.0
 #: Highest cut-off that the servo's transients do not reach into [Hz].
 TRANSIENT_FREE_HZ = 40.0
 
-#: Standard deviations by which the lost motion must exceed zero to be modelled. Axes
-#: without play came out at up to 4.7 of them (0.1 um: harmless when modelled), while a
-#: real 0.7 um play came out at 0.57 +- 0.15 um (3.8); dropped, the plateaus took its
-#: hysteresis for guideway friction (share 0.88 against a true 0.41).
+#: Standard deviations by which the lost motion must exceed zero to be modelled: axes
+#: without play reach a few of them, and a real play dropped leaves its hysteresis to be
+#: taken for guideway friction (docs/validation/identification_findings.md) [-].
 LOST_MOTION_Z = 3.0
 #: Lost motion within this many scale steps may be the scale's rounding as well as the
 #: nut's play, whatever its standard deviation [-].

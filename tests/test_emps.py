@@ -93,6 +93,27 @@ def test_published_figures_are_an_unconverged_sign_integration(emps):
     assert exact["acceleration"] < 0.95 * pub["acceleration"]  # no chatter at rest
 
 
+def test_idim_cross_validation_is_computed_as_the_benchmark_defines_it(emps):
+    """``Script_IDIM_LS_CTV.m`` repeats the direct validation of ``Script_IDIM_LS.m`` (same
+    filter, first 49 samples dropped, regressors and recorded force decimated by 10) on
+    another file, so on DATA_EMPS.mat it must print the direct validation's figures,
+    published in EMPS_Description.txt section 3.4: relative error 4.0834 %, error norm
+    108.7569 N, deviation 2.1843 N, condition number 25.9883. The tolerances are half a unit
+    of the last printed digit (plus rounding of the estimates)."""
+    if not EST.is_file():
+        pytest.skip(f"EMPS data not found: expected {EST}")
+    rec = emps.load_emps(EST)
+    params = emps._reference_estimate(rec).to_dict()["parameters"]
+    ctv = emps.idim_cross_validation(rec, params)
+    assert ctv["relative_error_percent"] == pytest.approx(4.0834, abs=1e-4)
+    assert ctv["error_norm_N"] == pytest.approx(108.7569, abs=1e-3)
+    assert ctv["error_std_N"] == pytest.approx(2.1843, abs=1e-4)
+    assert ctv["condition_number"] == pytest.approx(25.9883, abs=1e-3)
+    assert ctv["n_samples"] == -(-(rec.t.size - emps.N_BORDER + 1) // emps.DECIMATION)
+    # every sample, undecimated, is another figure: 0.5 points higher on the same data
+    assert emps.applied_force_error_undecimated(rec, params) > 4.5
+
+
 def test_improved_models_beat_reference_on_velocity_and_force(report):
     est = report["estimation"]
     errs = est["errors_percent"]
@@ -172,6 +193,17 @@ def test_validation_file_runs_through_main(tmp_path, emps, capsys):
         assert p[name]["value"] == pytest.approx(true, rel=0.03), name
     val_sec = rep["validation"]
     assert val_sec["file"] == "val.mat" and val_sec["vir_includes_pulses"] is False
+    # the inverse model's figure carries the benchmark's definition in its name, the
+    # published figure beside it; the closed-loop rows say what they are
+    assert "idim_cross_validation_force_error_percent" not in val_sec
+    ctv = val_sec["idim_cross_validation_benchmark_definition"]
+    assert ctv == emps.idim_cross_validation(
+        emps.load_emps(val), rep["estimation"]["identification"]["reference"]["parameters"])
+    assert rep["published"]["idim_cross_validation"]["relative_error_percent"] == 5.9824
+    assert "not available" in val_sec["simulation_definition"]
+    emps._print_table(rep)
+    out = capsys.readouterr().out
+    assert "published (other definition)" in out and "Script_IDIM_LS_CTV.m" in out
     assert set(val_sec["errors_percent"]) == set(rep["models"])
     good = val_sec["errors_percent"]["asymmetric_delay"]
     assert good["velocity"] < 0.1 and good["force"] < 1.0
@@ -200,6 +232,14 @@ def test_pulse_units_and_recording_are_read_from_the_data(tmp_path, emps, unit, 
     assert plain["validation"]["pulses_unit"] == "controller"
     assert other["validation"]["pulses_unit"] == unit
     assert other["validation"]["vir_includes_pulses"] is included
+    # the figure against the applied force does not depend on how the pulses were
+    # recorded; the benchmark's takes the recorded vir as it is, pulses in it or not
+    key = "idim_force_error_applied_force_undecimated_percent"
+    assert other["validation"][key] == pytest.approx(plain["validation"][key], rel=1e-9)
+    ctv = "idim_cross_validation_benchmark_definition"
+    same = other["validation"][ctv]["relative_error_percent"] == pytest.approx(
+        plain["validation"][ctv]["relative_error_percent"], rel=1e-9)
+    assert same is not included
     for name, e in plain["validation"]["errors_percent"].items():
         for k, v in e.items():
             # a vir that holds the pulses is compared with the simulated output plus the

@@ -28,10 +28,10 @@ import time
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from tcpmm._compiled import run_axis, status
 from tcpmm.builtin import builtin_machine
 from tcpmm.demo import paper_circle_command
 from tcpmm.servo.sampled import initial_state, lifted_closed_loop
-from tcpmm.sim.compiled import run_axis, status
 from tcpmm.simulate import axis_kernel_inputs, command_velocity, simulate_axis
 
 DURATION_S = 60.0

@@ -10,6 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._compiled import run_axis
 from ._threads import limit_blas_threads
 from .analysis.runaway import say_faults
 from .errors import InputError, InputWarning
@@ -26,7 +27,6 @@ from .path.command import Command
 from .result import AxisRun, Run
 from .servo.currentfilters import biquads
 from .servo.sampled import sampled_spectral_radius
-from .sim.compiled import run_axis
 from .sim.layout import BED_VELOCITY, NX
 
 

@@ -68,13 +68,11 @@ instead of being copied.
 
 from __future__ import annotations
 
-import threading
-from contextlib import contextmanager
-
 import numba
 import numpy as np
 from numba import njit
 
+from .._pycc import vectorised
 from ..mechanics.friction import MODEL_NONE
 from .frictionstep import FK_COL, friction_constants, nonlinear_step
 from .layout import NX, REC_COLUMNS  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
@@ -184,9 +182,6 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     return _run_axis(*args)
 
 
-_COMPILING = threading.Lock()
-
-
 def _compile_vectorised(args) -> None:
     """Compile (or load from the cache) the kernel for these argument types with LLVM's
     SLP vectoriser on: it puts the state update and the friction corrections into vector
@@ -202,20 +197,6 @@ def _compile_vectorised(args) -> None:
     with vectorised():
         if sig not in _run_axis.overloads:
             _run_axis.compile(sig)
-
-
-@contextmanager
-def vectorised():
-    """Compilations in this block with LLVM's SLP vectoriser on, one at a time in the
-    process (numba's setting is global): the kernel's here, and the ahead-of-time build
-    of :mod:`tcpmm.sim.compiled`."""
-    with _COMPILING:
-        before = numba.config.SLP_VECTORIZE
-        numba.config.SLP_VECTORIZE = 1
-        try:
-            yield
-        finally:
-            numba.config.SLP_VECTORIZE = before
 
 
 @njit(cache=True, nogil=True)

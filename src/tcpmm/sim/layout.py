@@ -8,7 +8,3 @@ NX = 11
 #: The bed's velocity, the state a relative guideway velocity is taken to (``v_b`` of
 #: :data:`tcpmm.mechanics.statespace.STATES`).
 BED_VELOCITY = 8
-#: Dimensions of :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order; all are
-#: C-contiguous float64 but ``ip`` (int64, the eighth).
-ARG_NDIMS = (2, 2, 1, 1, 1, 1, 1, 1, 2, 2, 2, 1, 1, 1, 2, 2, 2)
-INT_ARG = 7

@@ -1,4 +1,4 @@
-"""The axis kernel compiled ahead of time (tcpmm.sim.compiled): the same numbers as numba's
+"""The axis kernel compiled ahead of time (tcpmm._compiled): the same numbers as numba's
 kernel to the bit, a command that simulates without importing numba or scipy, and numba's
 kernel wherever the compiled module cannot be had."""
 
@@ -11,8 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tcpmm import _compiled as compiled
 from tcpmm import builtin_machine, paper_circle_command
-from tcpmm.sim import compiled, kernel
+from tcpmm.sim import kernel
 from tcpmm.simulate import axis_kernel_inputs, command_velocity
 
 

@@ -28,11 +28,12 @@ import time
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from tcpmm._compiled import run_axis, status
 from tcpmm.builtin import builtin_machine
 from tcpmm.demo import paper_circle_command
 from tcpmm.servo.sampled import initial_state, lifted_closed_loop
-from tcpmm.sim.compiled import run_axis, status
-from tcpmm.simulate import axis_kernel_inputs, command_velocity, simulate_axis
+from tcpmm.sim.inputs import command_velocity, kernel_inputs
+from tcpmm.simulate import simulate_axis
 
 DURATION_S = 60.0
 
@@ -63,16 +64,14 @@ def circle_kernel(machine):
     jobs = []
     for name, ax in machine.axes.items():
         pos = np.ascontiguousarray(cmd.positions.get(name, np.zeros_like(t)))
-        vel = command_velocity(pos, T_c, ax.servo.feedforward)
         n = int(np.floor((t[-1] - t[0]) / ax.servo.T_v + 1e-9)) + 1
         every = round(T_c / ax.servo.T_v)
-        k = axis_kernel_inputs(ax, pos[0], False, every, True, T_c, n)
-        jobs.append((k, pos, vel, np.zeros(t.size), np.zeros((7, (n - 1) // every + 1))))
+        k = kernel_inputs(ax, pos, np.zeros(t.size), T_c, n, rec_every=every)
+        jobs.append(k.as_args(k.empty_record()))
 
     def run():
-        for k, pos, vel, exc, rec in jobs:
-            run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT,
-                     k.pf_s, k.pf_g, k.vtaps, k.AdgT, k.BdgT, k.fsec)
+        for args in jobs:
+            run_axis(*args)
 
     return run, float(t[-1] - t[0])
 

@@ -14,7 +14,8 @@ from tcpmm.servo.sampled import (
     lifted_closed_loop,
     sampled_spectral_radius,
 )
-from tcpmm.simulate import command_velocity, simulate_axis
+from tcpmm.sim.inputs import command_velocity
+from tcpmm.simulate import simulate_axis
 
 
 @pytest.mark.parametrize("ax", ["X", "Y", "Z"])

@@ -1,5 +1,5 @@
 """The matrix exponential of the exact discretisation (tcpmm.sim.expm, compiled; entry
-point tcpmm.sim.compiled.expm).
+point tcpmm._compiled.expm).
 
 Known answers, the group property, and agreement with scipy.linalg.expm (Al-Mohy and
 Higham's algorithm, the reference implementation) on the discretisations the simulator
@@ -14,10 +14,10 @@ import scipy.linalg
 
 from conftest import bench_path
 from tcpmm import builtin_machine
+from tcpmm._compiled import expm
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.mechanics.statespace import plant
 from tcpmm.sim import expm as numba_expm
-from tcpmm.sim.compiled import expm
 
 
 def zoh_blocks(machine):

@@ -106,18 +106,18 @@ def test_axes_in_turn_give_the_run_of_axes_side_by_side(vmc, circle):
             np.testing.assert_array_equal(getattr(turn.axes[name], col), getattr(r, col))
 
 
-def _run_kernel(axis, t, pos, shortcut):
+def _run_kernel(axis, t, pos, shortcuts):
+    import dataclasses
+
+    from tcpmm.sim.inputs import kernel_inputs
     from tcpmm.sim.kernel import run_axis
-    from tcpmm.simulate import axis_kernel_inputs, command_velocity
 
     T_c = float(t[1] - t[0])
     n = int(np.rint((t[-1] - t[0]) / axis.servo.T_v)) + 1
-    k = axis_kernel_inputs(axis, pos[0], False, 1, True, T_c, n)
-    k.ip[10] = shortcut
-    rec = np.empty((7, n))
-    x = run_axis(k.AdT, k.BdT, k.x0, pos, command_velocity(pos, T_c, axis.servo.feedforward),
-                 np.zeros(t.size), k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s, k.pf_g, k.vtaps,
-                 k.AdgT, k.BdgT, k.fsec)
+    k = kernel_inputs(axis, pos, np.zeros(t.size), T_c, n)
+    k = dataclasses.replace(k, shortcuts=shortcuts)
+    rec = k.empty_record()
+    x = run_axis(*k.as_args(rec))
     return rec, x
 
 
@@ -143,8 +143,8 @@ def test_the_shortcuts_change_no_bit(vmc, circle, variant):
     pos = np.ascontiguousarray(circle.positions["X"][: t.size])
     if variant == "held":
         pos = np.zeros(t.size)
-    rec_on, x_on = _run_kernel(axis, t, pos, 1)
-    rec_off, x_off = _run_kernel(axis, t, pos, 0)
+    rec_on, x_on = _run_kernel(axis, t, pos, True)
+    rec_off, x_off = _run_kernel(axis, t, pos, False)
     assert np.array_equal(rec_on, rec_off) and np.array_equal(x_on, x_off)
     if variant == "held":
         assert x_on[6] == 0.0 and x_on[7] == 0.0
@@ -159,23 +159,21 @@ def test_a_held_axis_stays_held_whatever_the_rounding(vmc, seed):
     build of the discretisation): both contacts end every step at exactly zero velocity.
     Stopped one after the other, the guideway's force left the screw at some 1e-16 m/s,
     whose sign flipped with the rounding: a reversal, sub-stepped, at every step."""
+    from tcpmm.sim.inputs import kernel_inputs
     from tcpmm.sim.kernel import run_axis
-    from tcpmm.simulate import axis_kernel_inputs, command_velocity
 
     a = vmc.axes["Z"]
     t = np.arange(0.0, 0.5, 1e-3)
     pos = np.zeros_like(t)
     n = int(np.rint(t[-1] / a.servo.T_v)) + 1
-    k = axis_kernel_inputs(a, 0.0, False, 1, True, 1e-3, n)
+    k = kernel_inputs(a, pos, np.zeros(t.size), 1e-3, n, x_start=0.0)
     rng = np.random.default_rng(seed)
     for M in (k.AdT, k.BdT, k.AdsT, k.BdsT):
         flip = rng.random(M.shape) < 0.3
         M[flip] = np.nextafter(M[flip], np.where(rng.random(flip.sum()) < 0.5, -1.0, 1.0)
                                * np.inf)
-    rec = np.empty((7, n))
-    x = run_axis(k.AdT, k.BdT, k.x0, pos, command_velocity(pos, 1e-3, a.servo.feedforward),
-                 np.zeros(t.size), k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s, k.pf_g, k.vtaps,
-                 k.AdgT, k.BdgT, k.fsec)
+    rec = k.empty_record()
+    x = run_axis(*k.as_args(rec))
     assert a.friction is not None and x[6] == 0.0 and x[7] == 0.0
     assert np.ptp(rec[1]) < 1e-15  # the scale does not creep
 

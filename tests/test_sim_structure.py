@@ -17,7 +17,8 @@ from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.mechanics.friction import LuGreFriction, friction_params_array
 from tcpmm.path.commandfile import read_command_csv
 from tcpmm.sim.contact import friction_force
-from tcpmm.simulate import command_velocity, simulate, simulate_axis
+from tcpmm.sim.inputs import command_velocity
+from tcpmm.simulate import simulate, simulate_axis
 
 R = 0.035  # [m]
 _MEAS = {}

@@ -6,140 +6,35 @@ import os
 import warnings
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import nullcontext
-from typing import NamedTuple
 
 import numpy as np
 
 from ._threads import limit_blas_threads
 from .analysis.runaway import say_faults
 from .errors import InputError, InputWarning
-from .mechanics.friction import friction_params_array
-from .mechanics.statespace import (
-    discretize_zoh,
-    guideway_force_input,
-    nut_force_input,
-    plant,
-    static_equilibrium,
-)
 from .model import Axis, Machine
 from .path.command import Command
 from .result import AxisRun, Run
-from .servo.currentfilters import biquads
 from .servo.sampled import sampled_spectral_radius
-from .sim.compiled import run_axis
-from .sim.layout import BED_VELOCITY, NX
+from .sim.inputs import kernel_inputs, run_kernel
 
 
-class KernelInputs(NamedTuple):
-    """Arrays for :func:`tcpmm.sim.kernel.run_axis` (see its docstring)."""
-
-    AdT: np.ndarray
-    BdT: np.ndarray
-    x0: np.ndarray
-    fp: np.ndarray
-    ip: np.ndarray
-    AdsT: np.ndarray
-    BdsT: np.ndarray
-    pf_s: np.ndarray
-    pf_g: np.ndarray
-    vtaps: np.ndarray
-    AdgT: np.ndarray
-    BdgT: np.ndarray
-    fsec: np.ndarray
-
-
-def axis_kernel_inputs(axis: Axis, x_start: float, open_loop: bool = False, rec_every: int = 1,
-                       quantise_feedback: bool = True, cmd_period_s: float | None = None,
-                       n_steps: int = 0):
-    """Matrices, initial state and parameter vectors of :func:`tcpmm.sim.kernel.run_axis`.
-
-    Parameters
-    ----------
-    axis : Axis
-        The axis [SI].
-    x_start : float
-        Position held at the start (feedback sensor reads this) [m].
-    open_loop : bool
-        Torque mode: the current is the excitation alone [-].
-    rec_every : int
-        Record every N velocity-loop steps [-].
-    quantise_feedback : bool
-        Quantise encoder and scale feedback to the sensor resolution [-].
-    cmd_period_s : float, optional
-        Period of the command and excitation arrays, default the velocity-loop period [s].
-    n_steps : int
-        Velocity-loop steps to run [-].
-    """
-    m, s, sen, fr = axis.mechanics, axis.servo, axis.sensors, axis.friction
-    play = fr.backlash if fr is not None else 0.0
-    p = plant(m, s.current_bandwidth_hz)
-    n = p.A.shape[0]
-    relative = fr is not None and fr.guideway_velocity == "relative"
-    B = np.column_stack([p.B, nut_force_input(m, n), guideway_force_input(m, n, relative)])
-    Ad, Bd = discretize_zoh(p.A, B, s.T_v)
-    x0_mech, i_hold = static_equilibrium(m, x_start, s.position_feedback, play)
-    AdT, BdT = np.zeros((NX, NX)), np.zeros((6, NX))
-    AdT[:n, :n], BdT[:, :n] = Ad.T, Bd.T
-    x0 = np.zeros(NX)
-    x0[:10] = x0_mech
-    if s.current_bandwidth_hz is not None:
-        x0[10] = i_hold
-    I0 = i_hold / s.K_vi if s.K_vi > 0 and not open_loop else 0.0
-    q = quantise_feedback
-    fp = np.array([
-        s.K_pp, s.K_vp, s.K_vi, s.k_ff, m.R_L, s.current_limit, s.T_v,
-        sen.encoder_quantum if q else 0.0, sen.scale_resolution if q else 0.0,
-        I0, 0.0, 0.0, m.load_force, s.T_v / (cmd_period_s or s.T_v), 0.5 * play, m.K_t,
-    ])
-    n_sub = fr.substeps if fr is not None else 1
-    ip = np.array([s.n_pos, s.position_feedback == "scale", s.velocity_feedback == "difference",
-                   s.delay_samples, not open_loop, rec_every, n_sub, n_steps,
-                   s.feedforward == "segment", BED_VELOCITY if relative else -1, 1],
-                  dtype=np.int64)
-    AdsT, BdsT = np.zeros((NX, NX)), np.zeros((6, NX))
-    AdgT, BdgT = np.zeros((NX, NX)), np.zeros((6, NX))
-    if fr is not None:
-        Ads, Bds = discretize_zoh(p.A, B, s.T_v / n_sub)
-        AdsT[:n, :n], BdsT[:, :n] = Ads.T, Bds.T
-    if play > 0.0:  # inside the play: the nut force cancelled by state feedback
-        A_gap = p.A - np.outer(B[:, 4], p.output_row("F_t"))
-        Adg, Bdg = discretize_zoh(A_gap, B, s.T_v / n_sub)
-        AdgT[:n, :n], BdgT[:, :n] = Adg.T, Bdg.T
-    pf_s = friction_params_array(fr.screw if fr is not None else None)
-    pf_g = friction_params_array(fr.guideway if fr is not None else None)
-    vtaps = np.asarray(s.velocity_filter, dtype=float)
-    fsec = biquads(s.filters, s.T_v)
-    return KernelInputs(AdT, BdT, x0, fp, ip, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec)
-
-
-def command_velocity(position_m, period_s: float, kind: str = "segment") -> np.ndarray:
-    """Command velocity of the feedforward at the command samples.
-
-    Parameters
-    ----------
-    position_m : ndarray
-        Position command, uniformly sampled [m].
-    period_s : float
-        Command period [s].
-    kind : {"segment", "centred"}
-        ``segment``: the slope of the segment that starts at each sample, held over it
-        (what a drive fed interpolated commands knows); ``centred``: the centred
-        difference, which looks half a period ahead [-].
-
-    Returns
-    -------
-    numpy.ndarray
-        Velocity per sample [m/s].
-    """
-    pos = np.asarray(position_m, dtype=float)
-    if pos.size < 2:
-        return np.zeros(pos.size)
-    if kind == "centred":
-        return np.gradient(pos, period_s)
-    v = np.empty(pos.size)
-    v[:-1] = np.diff(pos) / period_s
-    v[-1] = 0.0 if pos.size < 3 else v[-2]
-    return v
+def _record_every(record_period_s: float | None, cmd_period_s: float, T_v: float) -> int:
+    """Velocity-loop steps per record [-]: the record period [s] (default the command
+    period [s]) over the velocity-loop period ``T_v`` [s], refused unless a whole number."""
+    rp = record_period_s if record_period_s is not None else cmd_period_s
+    what = ("the record period" if record_period_s is not None
+            else "the record period (by default the command's sample period)")
+    if not (np.isfinite(rp) and rp > 0):
+        raise InputError(f"{what} must be a positive number of seconds, got {rp}")
+    rec_every = round(rp / T_v)
+    if rec_every < 1 or abs(rec_every * T_v - rp) > 1e-9 * rp + 1e-12:
+        near = max(1, rec_every) * T_v
+        raise InputError(
+            f"{what}, {rp:g} s, is not a multiple of the velocity-loop period {T_v:g} s; "
+            f"give a record period that is, e.g. {near:g} s"
+        )
+    return rec_every
 
 
 def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loop=False,
@@ -167,25 +62,12 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
         Initial position, default the first command sample [m].
     """
     limit_blas_threads()
-    s = axis.servo
     t = np.asarray(time_s, dtype=float)
-    T_v = s.T_v
-    rp = record_period_s if record_period_s is not None else float(t[1] - t[0])
-    what = ("the record period" if record_period_s is not None
-            else "the record period (by default the command's sample period)")
-    if not (np.isfinite(rp) and rp > 0):
-        raise InputError(f"{what} must be a positive number of seconds, got {rp}")
-    rec_every = round(rp / T_v)
-    if rec_every < 1 or abs(rec_every * T_v - rp) > 1e-9 * rp + 1e-12:
-        near = max(1, rec_every) * T_v
-        raise InputError(
-            f"{what}, {rp:g} s, is not a multiple of the velocity-loop period {T_v:g} s; "
-            f"give a record period that is, e.g. {near:g} s"
-        )
+    T_v = axis.servo.T_v
+    rec_every = _record_every(record_period_s, float(t[1] - t[0]), T_v)
     n = int(np.floor((t[-1] - t[0]) / T_v + 1e-9)) + 1
     T_c = float(t[1] - t[0])
     pos = np.ascontiguousarray(position_m, dtype=float)
-    vel = command_velocity(pos, T_c, s.feedforward)
     if excitation_A is None:
         exc = np.zeros(t.size)
     else:
@@ -193,11 +75,9 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
         if exc.shape != t.shape:
             raise InputError(f"{exc.size} excitation samples for {t.size} command samples; "
                              "give one excitation value per command sample")
-    x_start = pos[0] if x_start is None else x_start
-    k = axis_kernel_inputs(axis, x_start, open_loop, rec_every, quantise_feedback, T_c, n)
-    rec = np.empty((7, (n - 1) // rec_every + 1))
-    run_axis(k.AdT, k.BdT, k.x0, pos, vel, exc, k.fp, k.ip, rec, k.AdsT, k.BdsT, k.pf_s,
-             k.pf_g, k.vtaps, k.AdgT, k.BdgT, k.fsec)
+    rec, _ = run_kernel(kernel_inputs(axis, pos, exc, T_c, n, x_start=x_start,
+                                      open_loop=open_loop, rec_every=rec_every,
+                                      quantise_feedback=quantise_feedback))
     if excitation_A is None:
         exc_rec = np.zeros(rec.shape[1])
     else:
@@ -255,6 +135,32 @@ def _check_speeds(machine: Machine, command: Command) -> None:
                 "check the command's units (mm) and sampling", InputWarning, stacklevel=3)
 
 
+def _check_stability(machine: Machine) -> None:
+    """Warn of each axis whose sampled servo loop is unstable (from :func:`simulate`)."""
+    for name, a in machine.axes.items():
+        rho = sampled_spectral_radius(a.mechanics, a.servo)
+        if rho >= 1.0:
+            warnings.warn(f"axis {name}: the sampled servo loop is unstable (spectral radius "
+                          f"{rho:.4f}); the run is not a meaningful prediction: check the "
+                          "gains (tcpmm machine show)", InputWarning, stacklevel=3)
+
+
+def _run_axes(one, names: list, threads: int | None, progress) -> dict:
+    """``{name: one(name)}`` for the axes ``names``, in ``threads`` threads (default one
+    per axis up to the cores), calling ``progress(name, done, total)`` after each [-]."""
+    runs = {}
+    # The kernel releases the GIL: axes run in parallel on the available cores.
+    n_threads = min(len(names), threads or os.cpu_count() or 1)
+    pool = ThreadPoolExecutor(max_workers=n_threads) if n_threads > 1 else nullcontext()
+    with pool:
+        done = pool.map(one, names) if n_threads > 1 else map(one, names)
+        for k, (name, r) in enumerate(zip(names, done, strict=True)):
+            runs[name] = r
+            if progress is not None:
+                progress(name, k + 1, len(names))
+    return runs
+
+
 def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
              quantise_feedback=True, threads: int | None = None) -> Run:
     """Run the machine model on a position command, every axis of the model.
@@ -295,29 +201,14 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     rp = record_period_s if record_period_s is not None else command.period_s
     names = list(machine.axes)
     _check_speeds(machine, command)
-    for name in names:
-        a = machine.axes[name]
-        rho = sampled_spectral_radius(a.mechanics, a.servo)
-        if rho >= 1.0:
-            warnings.warn(f"axis {name}: the sampled servo loop is unstable (spectral radius "
-                          f"{rho:.4f}); the run is not a meaningful prediction: check the "
-                          "gains (tcpmm machine show)", InputWarning, stacklevel=2)
+    _check_stability(machine)
 
     def one(name):
         pos = command.positions.get(name, np.zeros_like(command.time_s))
         return simulate_axis(machine.axes[name], command.time_s, pos, record_period_s=rp,
                              quantise_feedback=quantise_feedback)
 
-    runs = {}
-    # The kernel releases the GIL: axes run in parallel on the available cores.
-    n_threads = min(len(names), threads or os.cpu_count() or 1)
-    pool = ThreadPoolExecutor(max_workers=n_threads) if n_threads > 1 else nullcontext()
-    with pool:
-        done = pool.map(one, names) if n_threads > 1 else map(one, names)
-        for k, (name, r) in enumerate(zip(names, done, strict=True)):
-            runs[name] = r
-            if progress is not None:
-                progress(name, k + 1, len(names))
+    runs = _run_axes(one, names, threads, progress)
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}
     time = command.time_s[0] + np.arange(n) * rp

@@ -73,7 +73,7 @@ out = _Console(highlight=False)
 def _print_version(value: bool) -> None:
     if value:
         from .. import __version__
-        from ..sim.compiled import describe
+        from .._compiled import describe
 
         out.print(f"tcpmm {__version__}")
         out.print(f"kernel: {describe()}", soft_wrap=True)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..sim.compiled import expm
+from .._compiled import expm
 from .lumped import AxisMechanics
 
 STATES = ("th_m", "th_L", "X_t", "X_b", "X_h", "w_m", "w_L", "v_t", "v_b", "v_h")

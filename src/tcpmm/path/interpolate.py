@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _compiled as ck  # the look-ahead, profiles and sampling, compiled
 from ..errors import InputError
-from ..sim import compiled as ck  # the look-ahead, profiles and sampling, compiled
 from .blend import blend_corners
 from .command import Command
 from .filters import FilterShape, apply_filter, filter_shape

@@ -14,8 +14,8 @@ up to seven digits.
 
 Written out in loops (products, and the Padé quotient by Gaussian elimination with
 partial pivoting) so that it needs no LAPACK: it is built into the compiled module with
-the axis kernel (:mod:`tcpmm.sim.compiled`), and a command that simulates needs neither
-numba nor scipy at start-up. ``tcpmm.sim.compiled.expm`` is the entry point; it checks
+the axis kernel (:mod:`tcpmm._compiled`), and a command that simulates needs neither
+numba nor scipy at start-up. ``tcpmm._compiled.expm`` is the entry point; it checks
 the argument. Agrees with ``scipy.linalg.expm`` to 1e-12 in every entry of the plants'
 matrices (``tests/test_matexp.py``).
 """

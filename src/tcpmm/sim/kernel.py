@@ -1,26 +1,11 @@
 """Compiled per-step loop of one axis: discrete cascade servo around the exactly
 discretised plant. Arrays in, arrays out.
 
-Layout of the parameter vectors (built by :func:`tcpmm.simulate.axis_kernel_inputs`):
+The scalar parameters come in the vectors ``fp`` (float) and ``ip`` (int), whose entries
+:mod:`tcpmm.sim.layout` names (``FP_*``, ``IP_*``); :class:`tcpmm.sim.inputs.KernelInputs`
+holds them as named fields and builds the vectors.
 
-``fp`` (float): 0 K_pp [1/s], 1 K_vp [A s/rad], 2 K_vi [A/rad], 3 k_ff [-], 4 R_L [m/rad],
-5 current limit [A], 6 T_v [s], 7 encoder quantum [rad] (0: none), 8 scale quantum [m]
-(0: none), 9 initial integrator [rad], 10 constant motor torque [N m], 11 constant screw
-torque [N m], 12 constant carriage force [N], 13 command samples per velocity-loop step
-(``T_v / T_cmd``), 14 half the free play of the screw-nut [m] (0: none), 15 nut
-stiffness ``K_t`` [N/m].
-
-``ip`` (int): 0 velocity-loop steps per position-loop step, 1 feedback (1 scale,
-0 encoder), 2 velocity feedback (0 state, 1 backward difference), 3 delay [samples],
-4 loops closed (1) or open-loop torque mode (0), 5 record every N steps, 6 sub-steps
-of a step in which friction reverses or sticks or the nut is in its free play, 7 number
-of velocity-loop steps, 8 feedforward from the slope of the current command segment (1)
-or interpolated between the samples of ``vcmd`` (0), 9 state the guideway friction's
-velocity is relative to (8, the bed, or -1 for none), 10 the shortcuts of a step in which
-both contacts slide on or both stay held (1), or the general path for every step (0; the
-same numbers, more slowly: for tests).
-
-The velocity-loop output is applied ``ip[3]`` steps later (computation delay); the
+The velocity-loop output is applied ``ip[IP_DELAY]`` steps later (computation delay); the
 excitation is added to the applied current without delay, and the sum is limited.
 
 ``vtaps``: FIR taps on the encoder angle (newest first) of the difference velocity.
@@ -47,7 +32,7 @@ force over a step is the one that brings the body to rest when the static level 
 (its effective mass over the step comes from the discrete input column); where screw and
 guideway both stick, the two forces that stop both together. A step in which
 a friction velocity reaches or crosses zero, or a held contact breaks away, is redone in
-``ip[6]`` sub-steps; a contact that stays held over a whole step needs none.
+``ip[IP_N_SUB]`` sub-steps; a contact that stays held over a whole step needs none.
 
 Structure (what keeps a step at tens of nanoseconds, ``docs/performance.md``):
 :func:`run_axis` compiles the kernel with LLVM's SLP vectoriser on (same operations in
@@ -68,16 +53,41 @@ instead of being copied.
 
 from __future__ import annotations
 
-import threading
-from contextlib import contextmanager
-
 import numba
 import numpy as np
 from numba import njit
 
-from ..mechanics.friction import MODEL_NONE
+from .._pycc import vectorised
+from ..mechanics.friction import MODEL_NONE, P_MODEL
 from .frictionstep import FK_COL, friction_constants, nonlinear_step
-from .layout import NX, REC_COLUMNS  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
+from .layout import (  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
+    FP_CMD_PER_STEP,
+    FP_HALF_PLAY,
+    FP_I_LIMIT,
+    FP_INTEGRATOR0,
+    FP_K_FF,
+    FP_K_NUT,
+    FP_K_PP,
+    FP_K_VI,
+    FP_K_VP,
+    FP_Q_ENCODER,
+    FP_Q_SCALE,
+    FP_R_L,
+    FP_T_V,
+    IP_CLOSED,
+    IP_DELAY,
+    IP_DIFFERENCE_VELOCITY,
+    IP_GUIDEWAY_REF,
+    IP_N_POS,
+    IP_N_STEPS,
+    IP_N_SUB,
+    IP_REC_EVERY,
+    IP_SCALE_FEEDBACK,
+    IP_SEGMENT_FEEDFORWARD,
+    IP_SHORTCUTS,
+    NX,
+    REC_COLUMNS,
+)
 from .linearstep import constant_inputs, free_step
 
 
@@ -138,7 +148,7 @@ def _record(rec, r, x, i_app, R, c_k):
 
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
              vtaps, AdgT, BdgT, fsec):
-    """Simulate one axis for ``ip[7]`` velocity-loop steps.
+    """Simulate one axis for ``ip[IP_N_STEPS]`` velocity-loop steps.
 
     Parameters
     ----------
@@ -156,13 +166,13 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         Current added to the applied current command (servo excitation, after the
         computation delay), at the command period [A].
     fp, ip : ndarray
-        Parameters, see the module docstring [SI].
-    rec : ndarray (7, ip[7] // ip[5] + 1)
-        Filled every ``ip[5]`` steps, one column per record, with ``th_m, X_LS, X_TCP,
+        Parameters, entries named in :mod:`tcpmm.sim.layout` [SI].
+    rec : ndarray (7, (ip[IP_N_STEPS] - 1) // ip[IP_REC_EVERY] + 1)
+        Filled every ``ip[IP_REC_EVERY]`` steps, one column per record, with ``th_m, X_LS, X_TCP,
         w_m, i_c``, the motor angle at the table ``R_L th_m`` and the position command
         the step is at (interpolated like the position loop's) [SI].
     AdsT, BdsT : ndarray
-        As ``AdT``, ``BdT`` for one sub-step of ``T_v / ip[6]`` [-].
+        As ``AdT``, ``BdT`` for one sub-step of ``T_v / ip[IP_N_SUB]`` [-].
     pf_s, pf_g : ndarray
         Friction parameter vectors of the screw and the guideway, table units [-].
     vtaps : ndarray
@@ -184,9 +194,6 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
     return _run_axis(*args)
 
 
-_COMPILING = threading.Lock()
-
-
 def _compile_vectorised(args) -> None:
     """Compile (or load from the cache) the kernel for these argument types with LLVM's
     SLP vectoriser on: it puts the state update and the friction corrections into vector
@@ -194,7 +201,7 @@ def _compile_vectorised(args) -> None:
     setting when it optimises, so it is switched on for this compilation alone. The
     vector code does the same IEEE operations in the same order as the scalar code: the
     results are the same to the bit. Done for the types of the first call's arguments
-    (those of :func:`tcpmm.simulate.axis_kernel_inputs`); other types would be compiled
+    (those of :meth:`tcpmm.sim.inputs.KernelInputs.as_args`); other types would be compiled
     by numba as usual, without it: the same numbers, more slowly."""
     sig = tuple(numba.typeof(a) for a in args)
     if sig in _run_axis.overloads:
@@ -204,36 +211,24 @@ def _compile_vectorised(args) -> None:
             _run_axis.compile(sig)
 
 
-@contextmanager
-def vectorised():
-    """Compilations in this block with LLVM's SLP vectoriser on, one at a time in the
-    process (numba's setting is global): the kernel's here, and the ahead-of-time build
-    of :mod:`tcpmm.sim.compiled`."""
-    with _COMPILING:
-        before = numba.config.SLP_VECTORIZE
-        numba.config.SLP_VECTORIZE = 1
-        try:
-            yield
-        finally:
-            numba.config.SLP_VECTORIZE = before
-
-
 @njit(cache=True, nogil=True)
 def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
               vtaps, AdgT, BdgT, fsec):
     """:func:`run_axis`, compiled: allocates the work arrays and runs the loop."""
     x = x0.copy()
-    delay, n_taps = ip[3], vtaps.size
-    dl = np.full(delay + 1, fp[2] * fp[9] if ip[4] else 0.0)  # delay line of i_c
-    hist = np.full(n_taps + 1, _quantise(x[0], fp[7]))  # ring buffer of encoder angles
+    delay, n_taps = ip[IP_DELAY], vtaps.size
+    i_hold = fp[FP_K_VI] * fp[FP_INTEGRATOR0] if ip[IP_CLOSED] else 0.0
+    dl = np.full(delay + 1, i_hold)  # delay line of i_c
+    hist = np.full(n_taps + 1, _quantise(x[0], fp[FP_Q_ENCODER]))  # ring buffer of angles
     fst = np.zeros((fsec.shape[0], 2))  # states of the current-setpoint filters
     if fsec.shape[0] > 0:
         _filter_rest(fsec, fst, dl[0])
     c = np.zeros((3, NX))  # per matrix set: step, sub-step, sub-step in the play
     fk = np.zeros((3, 2, FK_COL + NX))
-    for s, (B, h) in enumerate(((BdT, fp[6]), (BdsT, fp[6] / ip[6]), (BdgT, fp[6] / ip[6]))):
+    T_v, h_sub = fp[FP_T_V], fp[FP_T_V] / ip[IP_N_SUB]
+    for s, (B, h) in enumerate(((BdT, T_v), (BdsT, h_sub), (BdgT, h_sub))):
         constant_inputs(B, fp, c[s])
-        friction_constants(B, h, fp[4], ip[9], fk[s])
+        friction_constants(B, h, fp[FP_R_L], ip[IP_GUIDEWAY_REF], fk[s])
     excited = np.any(excitation != 0.0)
     _steps(AdT, BdT, x, np.empty(NX), c, np.zeros(2), dl, hist, cmd, vcmd, excitation,
            excited, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk)
@@ -252,15 +247,15 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     ``dl``, the encoder history ``hist`` and the states ``fst`` of the current-setpoint
     filters ``fsec``; ``excited``: whether ``excitation`` is not all zero."""
     x = x_out
-    play, K_t = fp[14], fp[15]
-    nonlinear = pf_s[0] != MODEL_NONE or pf_g[0] != MODEL_NONE or play > 0.0
-    n_sub = ip[6]
-    K_pp, K_vp, K_vi, k_ff, R = fp[0], fp[1], fp[2], fp[3], fp[4]
-    i_lim, T_v, q_enc, q_scale = fp[5], fp[6], fp[7], fp[8]
-    I_w = fp[9]
-    n_pos, fb_scale, vel_diff, delay, closed, rec_every = ip[0], ip[1], ip[2], ip[3], ip[4], ip[5]
-    ff_segment, g_ref = ip[8], ip[9]
-    shortcut = ip[10] != 0 and play == 0.0
+    play, K_t = fp[FP_HALF_PLAY], fp[FP_K_NUT]
+    nonlinear = pf_s[P_MODEL] != MODEL_NONE or pf_g[P_MODEL] != MODEL_NONE or play > 0.0
+    K_pp, K_vp, K_vi, k_ff = fp[FP_K_PP], fp[FP_K_VP], fp[FP_K_VI], fp[FP_K_FF]
+    R, i_lim, T_v = fp[FP_R_L], fp[FP_I_LIMIT], fp[FP_T_V]
+    q_enc, q_scale, I_w = fp[FP_Q_ENCODER], fp[FP_Q_SCALE], fp[FP_INTEGRATOR0]
+    n_pos, fb_scale, vel_diff = ip[IP_N_POS], ip[IP_SCALE_FEEDBACK], ip[IP_DIFFERENCE_VELOCITY]
+    delay, closed, rec_every = ip[IP_DELAY], ip[IP_CLOSED], ip[IP_REC_EVERY]
+    ff_segment, g_ref, n_sub = ip[IP_SEGMENT_FEEDFORWARD], ip[IP_GUIDEWAY_REF], ip[IP_N_SUB]
+    shortcut = ip[IP_SHORTCUTS] != 0 and play == 0.0
     filtered = fsec.shape[0] > 0
     n_taps = vtaps.size
     c_h = 0  # index of the newest angle in hist
@@ -269,9 +264,8 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     c_pos = 0  # steps since the last position-loop update
     c_rec = 0  # steps since the last recorded sample
     c_dl = 0  # write index of the delay line
-    ratio = fp[13]
-    last = cmd.size - 1
-    for k in range(ip[7]):
+    ratio, last = fp[FP_CMD_PER_STEP], cmd.size - 1
+    for k in range(ip[IP_N_STEPS]):
         if vel_diff:
             th_q = _quantise(x[0], q_enc)
         pos = k * ratio

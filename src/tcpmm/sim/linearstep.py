@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from .layout import NX
+from .layout import FP_CARRIAGE_FORCE, FP_MOTOR_TORQUE, FP_SCREW_TORQUE, NX
 
 
 @njit(cache=True, inline="always")
@@ -43,10 +43,11 @@ def free_end(AdT, BdT, c, x, u0, u4):
 
 @njit(cache=True)
 def constant_inputs(BdT, fp, c):
-    """``c`` = the part of ``Bd u`` from the constant inputs ``fp[10:13]`` (T_m, T_L,
-    F_t)."""
+    """``c`` = the part of ``Bd u`` from the constant inputs of ``fp``: the motor torque,
+    the screw torque and the carriage force."""
     for i in range(NX):
-        c[i] = BdT[1, i] * fp[10] + BdT[2, i] * fp[11] + BdT[3, i] * fp[12]
+        c[i] = (BdT[1, i] * fp[FP_MOTOR_TORQUE] + BdT[2, i] * fp[FP_SCREW_TORQUE]
+                + BdT[3, i] * fp[FP_CARRIAGE_FORCE])
 
 
 @njit(cache=True, inline="always")

@@ -18,6 +18,11 @@ builds a new one. The build needs a C compiler; where it fails, the reason is ke
 beside it for a day (:func:`describe` says it, and ``tcpmm --version``) and the
 functions run through numba as before. ``TCPMM_COMPILED=0`` in the environment uses
 numba's always.
+
+It sits at the foot of the package: :mod:`tcpmm.path`, :mod:`tcpmm.mechanics` and
+:mod:`tcpmm.sim` call their compiled functions through it, and it imports none of them
+(numba's entry points are imported by name when called, the sources read as files), so
+that it adds no import between them.
 """
 
 from __future__ import annotations
@@ -33,8 +38,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from .._numba_cache import _writable
-from .layout import ARG_NDIMS, INT_ARG
+from ._numba_cache import _writable
 
 #: Sources the functions are compiled from (relative to the package): an edit makes a
 #: new key.
@@ -42,7 +46,10 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/linearstep.py", "sim/frictionstep.py",
                   "sim/contact.py", "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py")
-_KERNEL_KINDS = tuple(("i" if i == INT_ARG else "f") + str(nd) for i, nd in enumerate(ARG_NDIMS))
+#: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
+#: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
+_KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
+                 "f1", "f2", "f2", "f2")
 #: The functions built into the module: name -> (module of tcpmm, numba's entry point,
 #: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``
 #: C-contiguous float64 or int64 arrays of 1 or 2 dimensions; ``f``, ``i`` a float64 or
@@ -66,7 +73,7 @@ LOCK_STALE_S = 900.0
 #: recently used; a folder shared by machines of several CPUs keeps one each); older
 #: ones are deleted when a new one is built.
 KEEP_OTHER_BUILDS = 4
-_PKG = Path(__file__).resolve().parent.parent
+_PKG = Path(__file__).resolve().parent
 _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
 _chosen: list = []  # [module or None, description] once chosen
@@ -336,62 +343,14 @@ def _build_lock(lock: Path):
 
 
 def build(path: Path) -> None:
-    """Compile the kernel into the extension module ``path`` (written beside, then
-    renamed: a reader never sees half a module).
+    """Compile :data:`FUNCTIONS` into the extension module ``path``
+    (:func:`tcpmm._pycc.build_module`).
 
     Parameters
     ----------
     path : Path
         The module's file; its name up to the first dot is the module's name [-].
     """
-    import shutil
-    import tempfile
-    import warnings
+    from ._pycc import build_module
 
-    import numba
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # pycc is marked as pending deprecation
-        import numba.pycc.compiler as pcc
-        from numba.pycc import CC
-    from . import kernel
-
-    name = path.name.split(".")[0]
-    tmp = tempfile.mkdtemp(prefix=f".{name}-", dir=path.parent)
-    try:
-        cc = CC(name)
-        cc.output_dir, cc.target_cpu, cc.verbose = tmp, "host", False
-        for fname, (module, _, source, kinds, result) in FUNCTIONS.items():
-            fn = getattr(importlib.import_module(f"tcpmm.{module}"), source)
-            sig = _numba_type(numba, result)(*(_numba_type(numba, k) for k in kinds))
-            cc.export(fname, sig)(fn.py_func)
-        with kernel.vectorised(), _releasing_the_gil(pcc):
-            cc.compile()
-        os.replace(Path(tmp) / cc.output_file, path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-
-
-def _numba_type(numba, kind):
-    """numba's type for a kind of :data:`FUNCTIONS`."""
-    if isinstance(kind, tuple):
-        return numba.types.Tuple(tuple(_numba_type(numba, k) for k in kind))
-    scalar = numba.int64 if kind[0] == "i" else numba.float64
-    return numba.types.Array(scalar, int(kind[1]), "C") if len(kind) == 2 else scalar
-
-
-@contextmanager
-def _releasing_the_gil(pcc):
-    """pycc's compilation with wrappers that release the GIL (so that axes run in parallel
-    threads)."""
-
-    class Flags(pcc.Flags):
-        def __init__(self, *args, **kwargs):
-            super().__init__(*args, **kwargs)
-            self.release_gil = True
-
-    plain, pcc.Flags = pcc.Flags, Flags
-    try:
-        yield
-    finally:
-        pcc.Flags = plain
+    build_module(path, FUNCTIONS)

@@ -1,4 +1,4 @@
-"""The axis kernel compiled ahead of time (tcpmm.sim.compiled): the same numbers as numba's
+"""The axis kernel compiled ahead of time (tcpmm._compiled): the same numbers as numba's
 kernel to the bit, a command that simulates without importing numba or scipy, and numba's
 kernel wherever the compiled module cannot be had."""
 
@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tcpmm import _compiled as compiled
 from tcpmm import builtin_machine, paper_circle_command
-from tcpmm.sim import compiled, kernel
-from tcpmm.simulate import axis_kernel_inputs, command_velocity
+from tcpmm.sim import kernel
+from tcpmm.sim.inputs import kernel_inputs
 
 
 def built_or_skip():
@@ -38,11 +39,8 @@ def kernel_args(axis_name="X", rec_every=1):
     t, pos = command.time_s, command.positions[axis_name]
     T_c = float(t[1] - t[0])
     n = int(np.floor((t[-1] - t[0]) / axis.servo.T_v + 1e-9)) + 1
-    k = axis_kernel_inputs(axis, pos[0], False, rec_every, True, T_c, n)
-    vel = command_velocity(pos, T_c, axis.servo.feedforward)
-    rec = np.empty((7, (n - 1) // rec_every + 1))
-    return [k.AdT, k.BdT, k.x0, pos, vel, np.zeros(t.size), k.fp, k.ip, rec, k.AdsT, k.BdsT,
-            k.pf_s, k.pf_g, k.vtaps, k.AdgT, k.BdgT, k.fsec]
+    k = kernel_inputs(axis, pos, np.zeros(t.size), T_c, n, rec_every=rec_every)
+    return list(k.as_args(k.empty_record()))
 
 
 @pytest.mark.parametrize("axis_name", ["X", "Y"])

@@ -336,7 +336,8 @@ def test_the_interpolators_errors_name_the_program_file(tmp_path):
 
 def test_repeated_points_are_skipped_and_counted():
     """CAM output repeats points; a controller skips such blocks. The path is the one
-    without them, and one warning counts them with the first line."""
+    without them, and one warning counts the feed moves among them with the first line (a
+    G0 to where the tool is, a routine header, is skipped without a word)."""
     clean = "G21 G90\nG1 X10 Y0 F3000\nG1 X10 Y10\nG1 X0 Y10\nM30\n"
     repeated = "G21 G90\nG1 X10 Y0 F3000\nG1 X10 Y0\nG1 X10 Y10\nG1 X10.000 Y10\nG0 X10 Y10\n" \
                "G1 X0 Y10\nM30\n"
@@ -346,5 +347,5 @@ def test_repeated_points_are_skipped_and_counted():
     want = parse_gcode(clean)
     assert [(s.start_m, s.end_m) for s in got] == [(s.start_m, s.end_m) for s in want]
     said = [str(w.message) for w in caught if "zero-length" in str(w.message)]
-    assert said == ["cam.nc, line 3, column 4: zero-length move ignored (and 2 more times): "
-                    "a G0/G1 to where the tool already is, skipped"]
+    assert said == ["cam.nc, line 3, column 4: zero-length move ignored (and 1 more time): "
+                    "a G1 to where the tool already is, skipped"]

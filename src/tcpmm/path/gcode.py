@@ -297,9 +297,11 @@ class _Interpreter:
                 col,
             )
         if self.motion in (0, 1) and target == self.pos:
-            # CAM output repeats points; a controller skips such a block
-            self.warn("zero-length move", "a G0/G1 to where the tool already is, skipped",
-                      line, first.column)
+            # a controller skips such a block; CAM output repeats points in G1, and a G0 to
+            # the start is a routine header, not worth a word
+            if self.motion == 1:
+                self.warn("zero-length move", "a G1 to where the tool already is, skipped",
+                          line, first.column)
         elif self.motion == 0:
             self.segments.append(Rapid(self.pos, target, line))
         elif self.motion == 1:

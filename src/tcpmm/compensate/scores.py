@@ -48,12 +48,18 @@ def circle_figures(run, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y")) 
         out.append({"direction": p.direction, "contour_error_um": s.contour_error * 1e6,
                     "circular_deviation_um": s.circular_deviation * 1e6,
                     "spikes_um": spikes,
-                    "largest_spike_um": max((abs(v) for v in spikes.values()), default=0.0)})
+                    "largest_spike_um": _largest(abs(v) for v in spikes.values())})
     return {"passes": out,
-            "contour_error_um": max((p["contour_error_um"] for p in out), default=np.nan),
-            "largest_spike_um": max((p["largest_spike_um"] for p in out), default=np.nan),
-            "circular_deviation_um": max((p["circular_deviation_um"] for p in out),
-                                         default=np.nan)}
+            "contour_error_um": _largest(p["contour_error_um"] for p in out),
+            "largest_spike_um": _largest(p["largest_spike_um"] for p in out),
+            "circular_deviation_um": _largest(p["circular_deviation_um"] for p in out)}
+
+
+def _largest(values) -> float:
+    """Largest of the values that are numbers; NaN where none is, as for a quadrant point
+    the circle starts on and so never crosses [-]."""
+    v = [x for x in values if np.isfinite(x)]
+    return max(v) if v else float("nan")
 
 
 def judge(run, path: Command, radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")) -> dict:

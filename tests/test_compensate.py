@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 from tcpmm.builtin import builtin_machine
-from tcpmm.compensate import compensate, robust_factors
+from tcpmm.compensate import compensate, predicted_scores, robust_factors
 from tcpmm.compensate.bounds import excess
 from tcpmm.compensate.gcodeout import dense_program
 from tcpmm.compensate.robust import EQUAL_M
+from tcpmm.path.circle import circle_command
 from tcpmm.path.command import Command
 
 
@@ -55,6 +56,20 @@ def test_never_worse_on_drawn_machines(machine):
         assert r["worst_after_um"] <= r["worst_before_um"] + EQUAL_M * 1e6
     assert all(0.0 <= f <= 1.0 for f in comp.robustness["factors"].values())
     assert comp.trusted is not None and comp.trusted.shape == comp.reference.time_s.shape
+
+
+def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
+    """At F10000 on R 35 mm the 1 m/s2 limit leaves the correction little room: the shares
+    with the smallest contour error (X 1/2, Y 1/4) make G 9 um worse, so the choice judges
+    the largest reversal spike and G of every draw too."""
+    comp = compensate(machine, circle_command(0.035, 10000 / 60e3), iterations=10)
+    robust_factors(machine, comp, n_draws=2, seed=1, radius_m=0.035)
+    for figure in comp.robustness["circle"].values():
+        assert figure["worst_after_um"] <= figure["worst_before_um"] + EQUAL_M * 1e6
+    predicted = predicted_scores(machine, comp, 0.035)
+    before, after = predicted["before"]["circle"], predicted["after"]["circle"]
+    for k in ("largest_spike_um", "circular_deviation_um"):
+        assert after[k] <= before[k] + 0.5  # the model with its quantised feedback
 
 
 def test_dense_program_has_one_block_per_sample():

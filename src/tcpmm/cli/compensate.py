@@ -30,7 +30,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                               help="Also write it as a dense G1 program."),
                radius: float = typer.Option(None, "--radius",
                                             help="Circle radius [mm]: also judge spikes "
-                                                 "and G."),
+                                                 "and G, and keep them from getting "
+                                                 "worse on any draw."),
                draws: int = typer.Option(8, "--draws", help="Machines drawn from the "
                                          "model's uncertainty to test it on (0: none)."),
                iterations: int = typer.Option(30, "--iterations", help="Learning steps."),
@@ -47,9 +48,10 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     cmd = _load_command(command, gcode, m)
     with _in_file(command or gcode):
         comp = _compensate(m, cmd, iterations=iterations)
+        radius_m = None if radius is None else radius * 1e-3
         if draws > 0:
-            robust_factors(m, comp, n_draws=draws)
-        comp.scores = predicted_scores(m, comp, None if radius is None else radius * 1e-3)
+            robust_factors(m, comp, n_draws=draws, radius_m=radius_m)
+        comp.scores = predicted_scores(m, comp, radius_m)
     result = comp.command
     write_command_csv(result, output)
     if gcode_out is not None:

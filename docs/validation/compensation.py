@@ -17,7 +17,7 @@ import warnings
 from pathlib import Path
 
 from tcpmm.compensate import compensate, robust_factors
-from tcpmm.compensate.scores import judge, runs_before_after
+from tcpmm.compensate.scores import judge, judged_path, runs_before_after
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path import InterpolatorSettings, program_to_command, read_command_csv
@@ -72,10 +72,10 @@ def programs(name: str, model):
 def one(name: str, model, truth, label, command, radius, draws: int) -> dict:
     """Figures at the true machine's TCP before and after, and the draws' verdict [-]."""
     comp = compensate(model, command)
-    robust_factors(model, comp, n_draws=draws)
+    robust_factors(model, comp, n_draws=draws, radius_m=radius)
     before, after = runs_before_after(truth, comp)
     b = judge(before, comp.reference, radius)
-    a = judge(after, comp.target, radius)
+    a = judge(after, judged_path(comp), radius)
     rows = comp.robustness["regions"]
     return {"machine": name.upper(), "program": label,
             "factors": comp.robustness["factors"],
@@ -90,21 +90,34 @@ def one(name: str, model, truth, label, command, radius, draws: int) -> dict:
             "g_after": a.get("circle", {}).get("circular_deviation_um")}
 
 
+def ratio(before, after) -> str:
+    """Reduction ``before / after``, ``-`` where the figure is not judged [-]."""
+    if before is None or after is None:
+        return "-"
+    return f"{before / max(after, 1e-3):.1f}x"
+
+
 def table(rows: list) -> str:
-    """The results as a Markdown table [-]."""
+    """The results as a Markdown table; "worse" names a figure that grew on the true
+    machine by more than the sensors' resolution, 0.1 um [-]."""
     def f(v):
         return "-" if v is None else f"{v:.2f}"
 
     out = ["| machine | program | factors X/Y | trusted | contour error before -> after [µm] "
            "| rms before -> after [µm] | largest spike before -> after [µm] "
-           "| G before -> after [µm] |", "|---|---|---|---|---|---|---|---|"]
+           "| G before -> after [µm] | reduction contour / spike / G | worse |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         fx = "/".join(f"{v:g}" for v in r["factors"].values())
+        red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
+        worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
+                 if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]
         out.append(f"| {r['machine']} | {r['program']} | {fx} | {r['trusted']:.0%} "
                    f"| {f(r['ce_before'])} -> {f(r['ce_after'])} "
                    f"| {f(r['rms_before'])} -> {f(r['rms_after'])} "
                    f"| {f(r['spike_before'])} -> {f(r['spike_after'])} "
-                   f"| {f(r['g_before'])} -> {f(r['g_after'])} |")
+                   f"| {f(r['g_before'])} -> {f(r['g_after'])} | {red} "
+                   f"| {', '.join(worse) or '-'} |")
     return "\n".join(out) + "\n"
 
 

@@ -5,9 +5,10 @@ import pytest
 
 from tcpmm.builtin import builtin_machine
 from tcpmm.compensate import compensate, predicted_scores, robust_factors
-from tcpmm.compensate.bounds import excess
+from tcpmm.compensate.bounds import derivative, excess, machine_bounds
 from tcpmm.compensate.gcodeout import dense_program
 from tcpmm.compensate.robust import EQUAL_M
+from tcpmm.errors import InputError
 from tcpmm.path.circle import circle_command
 from tcpmm.path.command import Command
 
@@ -49,6 +50,24 @@ def test_command_keeps_the_limits(machine):
         assert np.abs(corr[0]) < 1e-12  # the axis starts where the program does
 
 
+def test_axis_limits_given_leave_the_correction_room(machine):
+    """The circle at F10000 uses 0.79 of the default 1 m/s2 in its centripetal acceleration
+    alone; at the 4 m/s2 an axis may really use, the learning gets the lag out."""
+    cmd = circle_command(0.035, 10000 / 60e3)
+    tight = compensate(machine, cmd, iterations=10)
+    room = compensate(machine, cmd, iterations=10,
+                      bounds=machine_bounds(machine, accel_m_per_s2=4.0, jerk_m_per_s3=2e3))
+    assert room.bounds["X"].accel == 4.0 and room.bounds["Y"].jerk == 2e3
+    assert min(room.history["X"]) < 0.5 * min(tight.history["X"])
+    out = room.command
+    for a, p in out.positions.items():
+        ref = room.reference.positions[a]
+        lim = np.maximum(4.0, np.abs(derivative(ref, 2, out.period_s)))
+        assert np.all(np.abs(derivative(p, 2, out.period_s)) <= lim * (1 + 1e-6))
+    with pytest.raises(InputError):
+        machine_bounds(machine, accel_m_per_s2=-1.0)
+
+
 def test_never_worse_on_drawn_machines(machine):
     comp = compensate(machine, _command(), iterations=10)
     robust_factors(machine, comp, n_draws=3, seed=1)
@@ -87,7 +106,8 @@ def test_cli_output_drives_simulate(tmp_path):
     write_command_csv(_command(duration=0.8), src)
     comp_csv, nc = tmp_path / "comp.csv", tmp_path / "comp.nc"
     assert main(["compensate", "builtin:vmc", "--command", str(src), "-o", str(comp_csv),
-                 "--gcode-out", str(nc), "--draws", "2", "--iterations", "5"]) == 0
+                 "--gcode-out", str(nc), "--draws", "2", "--iterations", "5",
+                 "--accel-m-per-s2", "3"]) == 0
     assert read_command_csv(comp_csv).time_s.size > 800 and nc.exists()
     run = tmp_path / "run.csv"
     assert main(["simulate", "builtin:vmc", "--command", str(comp_csv), "-o", str(run)]) == 0

@@ -91,6 +91,14 @@ def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
         assert after[k] <= before[k] + 0.5  # the model with its quantised feedback
 
 
+def test_no_share_applied_is_judged_as_the_programmed_command(machine):
+    """With every share 0 the command is the programmed one, and so are its figures."""
+    comp = compensate(machine, circle_command(0.01, 2000 / 60e3), iterations=2)
+    comp.factors = {a: np.zeros_like(f) for a, f in comp.factors.items()}
+    s = predicted_scores(machine, comp, 0.01)
+    np.testing.assert_equal(s["after"], s["before"])  # NaN where a spike is not crossed
+
+
 def test_dense_program_has_one_block_per_sample():
     cmd = _command(duration=0.5)
     text = dense_program(cmd)

@@ -98,8 +98,8 @@ def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> n
 
 
 def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
-    """Share per axis, and per region the worst draws' errors before and after
-    (:mod:`module docstring <.robust>`) [-]."""
+    """Share per axis, per region the worst draws' errors before and after, and for a
+    circle the same of its largest spike and G (:mod:`module docstring <.robust>`) [-]."""
     n_ax, n_reg = errs.shape[1], labels.max() + 1
     zero = tuple([0] * n_ax)
     before = judged(errs, zero, target, labels, guard)
@@ -118,13 +118,12 @@ def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
     return [LEVELS[k] for k in best], rows, _circle_rows(before, best_figs, guard)
 
 
-def _worst(b: np.ndarray, a: np.ndarray, key: str = "") -> dict:
+def _worst(b: np.ndarray, a: np.ndarray) -> dict:
     """The worst draw's figure before and after, the least ratio over the draws and
     whether every draw improves, from per-draw figures ``b`` and ``a`` [m]."""
-    return {f"worst_{key}before_um": float(b.max() * 1e6),
-            f"worst_{key}after_um": float(a.max() * 1e6),
-            f"least_{key}ratio": float(np.min(b / np.maximum(a, EQUAL_M))),
-            f"{key}improves_on_every_draw": bool(np.all(a < b - EQUAL_M))}
+    return {"worst_before_um": float(b.max() * 1e6), "worst_after_um": float(a.max() * 1e6),
+            "least_ratio": float(np.min(b / np.maximum(a, EQUAL_M))),
+            "improves_on_every_draw": bool(np.all(a < b - EQUAL_M))}
 
 
 def _circle_rows(before: np.ndarray, after: np.ndarray, guard) -> dict:

@@ -99,6 +99,15 @@ def test_no_share_applied_is_judged_as_the_programmed_command(machine):
     np.testing.assert_equal(s["after"], s["before"])  # NaN where a spike is not crossed
 
 
+def test_top_level_compensate_guards_the_circle():
+    import tcpmm
+
+    cmd = circle_command(0.01, 2000 / 60e3)
+    comp = tcpmm.compensate("builtin:vmc", cmd, draws=1, radius_m=0.01, accel_m_per_s2=3.0)
+    assert set(comp.robustness["circle"]) == {"spike", "circular_deviation"}
+    assert comp.bounds["X"].accel == 3.0
+
+
 def test_dense_program_has_one_block_per_sample():
     cmd = _command(duration=0.5)
     text = dense_program(cmd)

@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from tcpmm.builtin import builtin_machine
-from tcpmm.compensate import compensate, robust_factors
-from tcpmm.compensate.bounds import excess
+from tcpmm.compensate import compensate, predicted_scores, robust_factors
+from tcpmm.compensate.bounds import derivative, excess, machine_bounds
 from tcpmm.compensate.gcodeout import dense_program
 from tcpmm.compensate.robust import EQUAL_M
+from tcpmm.errors import InputError
+from tcpmm.path.circle import circle_command
 from tcpmm.path.command import Command
 
 
@@ -48,6 +50,24 @@ def test_command_keeps_the_limits(machine):
         assert np.abs(corr[0]) < 1e-12  # the axis starts where the program does
 
 
+def test_axis_limits_given_leave_the_correction_room(machine):
+    """The circle at F10000 uses 0.79 of the default 1 m/s2 in its centripetal acceleration
+    alone; at the 4 m/s2 an axis may really use, the learning gets the lag out."""
+    cmd = circle_command(0.035, 10000 / 60e3)
+    tight = compensate(machine, cmd, iterations=10)
+    room = compensate(machine, cmd, iterations=10,
+                      bounds=machine_bounds(machine, accel_m_per_s2=4.0, jerk_m_per_s3=2e3))
+    assert room.bounds["X"].accel == 4.0 and room.bounds["Y"].jerk == 2e3
+    assert min(room.history["X"]) < 0.5 * min(tight.history["X"])
+    out = room.command
+    for a, p in out.positions.items():
+        ref = room.reference.positions[a]
+        lim = np.maximum(4.0, np.abs(derivative(ref, 2, out.period_s)))
+        assert np.all(np.abs(derivative(p, 2, out.period_s)) <= lim * (1 + 1e-6))
+    with pytest.raises(InputError):
+        machine_bounds(machine, accel_m_per_s2=-1.0)
+
+
 def test_never_worse_on_drawn_machines(machine):
     comp = compensate(machine, _command(), iterations=10)
     robust_factors(machine, comp, n_draws=3, seed=1)
@@ -55,6 +75,37 @@ def test_never_worse_on_drawn_machines(machine):
         assert r["worst_after_um"] <= r["worst_before_um"] + EQUAL_M * 1e6
     assert all(0.0 <= f <= 1.0 for f in comp.robustness["factors"].values())
     assert comp.trusted is not None and comp.trusted.shape == comp.reference.time_s.shape
+
+
+def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
+    """At F10000 on R 35 mm the 1 m/s2 limit leaves the correction little room: the shares
+    with the smallest contour error (X 1/2, Y 1/4) make G 9 um worse, so the choice judges
+    the largest reversal spike and G of every draw too."""
+    comp = compensate(machine, circle_command(0.035, 10000 / 60e3), iterations=10)
+    robust_factors(machine, comp, n_draws=2, seed=1, radius_m=0.035)
+    for figure in comp.robustness["circle"].values():
+        assert figure["worst_after_um"] <= figure["worst_before_um"] + EQUAL_M * 1e6
+    predicted = predicted_scores(machine, comp, 0.035)
+    before, after = predicted["before"]["circle"], predicted["after"]["circle"]
+    for k in ("largest_spike_um", "circular_deviation_um"):
+        assert after[k] <= before[k] + 0.5  # the model with its quantised feedback
+
+
+def test_no_share_applied_is_judged_as_the_programmed_command(machine):
+    """With every share 0 the command is the programmed one, and so are its figures."""
+    comp = compensate(machine, circle_command(0.01, 2000 / 60e3), iterations=2)
+    comp.factors = {a: np.zeros_like(f) for a, f in comp.factors.items()}
+    s = predicted_scores(machine, comp, 0.01)
+    np.testing.assert_equal(s["after"], s["before"])  # NaN where a spike is not crossed
+
+
+def test_top_level_compensate_guards_the_circle():
+    import tcpmm
+
+    cmd = circle_command(0.01, 2000 / 60e3)
+    comp = tcpmm.compensate("builtin:vmc", cmd, draws=1, radius_m=0.01, accel_m_per_s2=3.0)
+    assert set(comp.robustness["circle"]) == {"spike", "circular_deviation"}
+    assert comp.bounds["X"].accel == 3.0
 
 
 def test_dense_program_has_one_block_per_sample():
@@ -72,7 +123,8 @@ def test_cli_output_drives_simulate(tmp_path):
     write_command_csv(_command(duration=0.8), src)
     comp_csv, nc = tmp_path / "comp.csv", tmp_path / "comp.nc"
     assert main(["compensate", "builtin:vmc", "--command", str(src), "-o", str(comp_csv),
-                 "--gcode-out", str(nc), "--draws", "2", "--iterations", "5"]) == 0
+                 "--gcode-out", str(nc), "--draws", "2", "--iterations", "5",
+                 "--accel-m-per-s2", "3"]) == 0
     assert read_command_csv(comp_csv).time_s.size > 800 and nc.exists()
     run = tmp_path / "run.csv"
     assert main(["simulate", "builtin:vmc", "--command", str(comp_csv), "-o", str(run)]) == 0

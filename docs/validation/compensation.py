@@ -6,7 +6,12 @@ that model (scaled back over draws of the model), and the compensated command is
 TRUE machine (its truth.yaml); the TCP figures before and after are printed as a table.
 
     .venv/bin/python docs/validation/compensation.py [--machines c,d,e,h,r05,r17]
+        [--programs "circle F10000,..."] [--accel-m-per-s2 4] [--jerk-m-per-s3 J]
         [--draws 6] [--cache DIR] [--out docs/validation/compensation_table.md]
+
+Without --accel-m-per-s2 the correction keeps the models' interpolation settings (none of
+the identified models has any, so 1 m/s^2); with it, every axis's limit for the correction,
+and the rows are labelled with it. The programs themselves stay as interpolated.
 """
 
 from __future__ import annotations
@@ -16,8 +21,8 @@ import pickle
 import warnings
 from pathlib import Path
 
-from tcpmm.compensate import compensate, robust_factors
-from tcpmm.compensate.scores import judge, runs_before_after
+from tcpmm.compensate import compensate, machine_bounds, robust_factors
+from tcpmm.compensate.scores import judge, judged_path, runs_before_after
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path import InterpolatorSettings, program_to_command, read_command_csv
@@ -69,13 +74,14 @@ def programs(name: str, model):
     yield "square G64", program_to_command(SQUARE, settings), None
 
 
-def one(name: str, model, truth, label, command, radius, draws: int) -> dict:
-    """Figures at the true machine's TCP before and after, and the draws' verdict [-]."""
-    comp = compensate(model, command)
-    robust_factors(model, comp, n_draws=draws)
+def one(name: str, model, truth, label, command, radius, draws: int, limits=(None, None)):
+    """Figures at the true machine's TCP before and after, and the draws' verdict; the
+    correction within the axes' ``limits`` (acceleration [m/s^2], jerk [m/s^3]) [-]."""
+    comp = compensate(model, command, bounds=machine_bounds(model, *limits))
+    robust_factors(model, comp, n_draws=draws, radius_m=radius)
     before, after = runs_before_after(truth, comp)
     b = judge(before, comp.reference, radius)
-    a = judge(after, comp.target, radius)
+    a = judge(after, judged_path(comp), radius)
     rows = comp.robustness["regions"]
     return {"machine": name.upper(), "program": label,
             "factors": comp.robustness["factors"],
@@ -90,39 +96,67 @@ def one(name: str, model, truth, label, command, radius, draws: int) -> dict:
             "g_after": a.get("circle", {}).get("circular_deviation_um")}
 
 
+def ratio(before, after) -> str:
+    """Reduction ``before / after``, ``-`` where the figure is not judged [-]."""
+    if before is None or after is None:
+        return "-"
+    return f"{before / max(after, 1e-3):.1f}x"
+
+
 def table(rows: list) -> str:
-    """The results as a Markdown table [-]."""
+    """The results as a Markdown table; "worse" names a figure that grew on the true
+    machine by more than the sensors' resolution, 0.1 um [-]."""
     def f(v):
         return "-" if v is None else f"{v:.2f}"
 
     out = ["| machine | program | factors X/Y | trusted | contour error before -> after [µm] "
            "| rms before -> after [µm] | largest spike before -> after [µm] "
-           "| G before -> after [µm] |", "|---|---|---|---|---|---|---|---|"]
+           "| G before -> after [µm] | reduction contour / spike / G | worse |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         fx = "/".join(f"{v:g}" for v in r["factors"].values())
+        red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
+        worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
+                 if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]
         out.append(f"| {r['machine']} | {r['program']} | {fx} | {r['trusted']:.0%} "
                    f"| {f(r['ce_before'])} -> {f(r['ce_after'])} "
                    f"| {f(r['rms_before'])} -> {f(r['rms_after'])} "
                    f"| {f(r['spike_before'])} -> {f(r['spike_after'])} "
-                   f"| {f(r['g_before'])} -> {f(r['g_after'])} |")
+                   f"| {f(r['g_before'])} -> {f(r['g_after'])} | {red} "
+                   f"| {', '.join(worse) or '-'} |")
     return "\n".join(out) + "\n"
+
+
+def limits_label(limits) -> str:
+    """What a row's correction was allowed, where it is not the models' default [-]."""
+    parts = [f"{v:g} {u}" for v, u in zip(limits, ("m/s²", "m/s³"), strict=True)
+             if v is not None]
+    return f" (correction ≤ {', '.join(parts)})" if parts else ""
 
 
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--machines", default="c,d,e,h,r05,r17")
+    p.add_argument("--programs", default=None,
+                   help="comma-separated program labels, e.g. 'circle F10000'")
+    p.add_argument("--accel-m-per-s2", type=float, default=None)
+    p.add_argument("--jerk-m-per-s3", type=float, default=None)
     p.add_argument("--draws", type=int, default=6)
     p.add_argument("--cache", type=Path, default=Path("/tmp/compensate"))
     p.add_argument("--out", type=Path, default=None)
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
-    rows = []
+    rows, limits = [], (args.accel_m_per_s2, args.jerk_m_per_s3)
     for name in args.machines.split(","):
         model = model_of(name, args.cache)
         truth = machine_from_truth(DATA / f"bench_{name}" / "truth.yaml")
         for label, command, radius in programs(name, model):
+            if args.programs is not None and label not in args.programs.split(","):
+                continue
+            label += limits_label(limits)
             try:
-                rows.append(one(name, model, truth, label, command, radius, args.draws))
+                rows.append(one(name, model, truth, label, command, radius, args.draws,
+                                limits))
             except Exception as exc:  # one machine's refusal does not end the study
                 print(f"{name.upper()} {label}: {exc}", flush=True)
                 continue

@@ -183,7 +183,8 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
     return compare_circles(analysed(measured), analysed(predicted))
 
 
-def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0):
+def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
+               accel_m_per_s2=None, jerk_m_per_s3=None):
     """Pre-compensate a command on an identified model, scaled back over draws of the model
     from its uncertainty, with the predicted figures before and after.
 
@@ -197,9 +198,13 @@ def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0):
         Machines drawn from the model's uncertainty to test the compensation on; 0 for
         none [-].
     radius_m : float, optional
-        Radius of a circular test, to judge its spikes and G too [m].
+        Radius of a circular test, to judge its spikes and G too and keep them from
+        getting worse on any draw [m].
     seed : int
         Seed of the draws [-].
+    accel_m_per_s2, jerk_m_per_s3 : float, optional
+        Axis acceleration [m/s^2] and jerk [m/s^3] the compensated command may use;
+        default the model's interpolation settings.
 
     Returns
     -------
@@ -207,11 +212,12 @@ def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0):
         ``.command`` is the compensated command (:mod:`tcpmm.compensate`) [-].
     """
     from .compensate import compensate as _compensate
-    from .compensate import predicted_scores, robust_factors
+    from .compensate import machine_bounds, predicted_scores, robust_factors
 
     m = load_model(machine)
-    comp = _compensate(m, as_command(command, m))
+    bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
+    comp = _compensate(m, as_command(command, m), bounds=bounds)
     if draws > 0:
-        robust_factors(m, comp, n_draws=draws, seed=seed)
+        robust_factors(m, comp, n_draws=draws, seed=seed, radius_m=radius_m)
     comp.scores = predicted_scores(m, comp, radius_m)
     return comp

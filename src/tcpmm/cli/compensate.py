@@ -30,26 +30,42 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                               help="Also write it as a dense G1 program."),
                radius: float = typer.Option(None, "--radius",
                                             help="Circle radius [mm]: also judge spikes "
-                                                 "and G."),
+                                                 "and G, and keep them from getting "
+                                                 "worse on any draw."),
                draws: int = typer.Option(8, "--draws", help="Machines drawn from the "
                                          "model's uncertainty to test it on (0: none)."),
                iterations: int = typer.Option(30, "--iterations", help="Learning steps."),
+               accel: float = typer.Option(None, "--accel-m-per-s2",
+                                           help="Axis acceleration the compensated command "
+                                                "may use [m/s^2]; default the model's "
+                                                "interpolation settings (1 without them)."),
+               jerk: float = typer.Option(None, "--jerk-m-per-s3",
+                                          help="Axis jerk the compensated command may use "
+                                               "[m/s^3]; default the model's S-curve jerk, "
+                                               "none for a trapezoid."),
                as_json: bool = typer.Option(False, "--json")):
     """Pre-compensate a command so that the model's predicted TCP follows the programmed
-    path; write the command (for tcpmm simulate --command) and report before and after."""
+    path; write the command (for tcpmm simulate --command) and report before and after.
+
+    The correction keeps the axes' velocity, acceleration and jerk limits; a program at
+    the interpolator's acceleration leaves it no room, so give the machine's real axis
+    limits (--accel-m-per-s2) where they are higher. An NC program (--gcode) is still
+    interpolated with the model's own settings."""
     from ..compensate import compensate as _compensate
-    from ..compensate import predicted_scores, robust_factors
+    from ..compensate import machine_bounds, predicted_scores, robust_factors
     from ..compensate.gcodeout import write_dense_program
     from ..path import write_command_csv
 
     _output(output, model, command, gcode)
     m = _read_model(model)
+    bounds = machine_bounds(m, accel, jerk)
     cmd = _load_command(command, gcode, m)
     with _in_file(command or gcode):
-        comp = _compensate(m, cmd, iterations=iterations)
+        comp = _compensate(m, cmd, iterations=iterations, bounds=bounds)
+        radius_m = None if radius is None else radius * 1e-3
         if draws > 0:
-            robust_factors(m, comp, n_draws=draws)
-        comp.scores = predicted_scores(m, comp, None if radius is None else radius * 1e-3)
+            robust_factors(m, comp, n_draws=draws, radius_m=radius_m)
+        comp.scores = predicted_scores(m, comp, radius_m)
     result = comp.command
     write_command_csv(result, output)
     if gcode_out is not None:

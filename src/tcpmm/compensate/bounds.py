@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
+
 #: Share of the current limit the nominal compensated run may use [-].
 CURRENT_SHARE = 0.95
 
@@ -47,19 +49,35 @@ class AxisBounds:
                  ("jerk_m_per_s3", self.jerk), ("current_A", self.current))}
 
 
-def machine_bounds(machine) -> dict[str, AxisBounds]:
-    """Limits per axis from the model's interpolation settings and servo [-]."""
+def machine_bounds(machine, accel_m_per_s2=None, jerk_m_per_s3=None) -> dict[str, AxisBounds]:
+    """Limits per axis from the model's interpolation settings and servo.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model; without an ``interpolation`` block the interpolator's defaults
+        apply [SI].
+    accel_m_per_s2 : float, optional
+        Acceleration limit of every axis instead of the settings' [m/s^2].
+    jerk_m_per_s3 : float, optional
+        Jerk limit of every axis instead of the settings' (none for a trapezoid
+        profile) [m/s^3].
+    """
     from ..path.settings import AXES, InterpolatorSettings
 
+    for name, v in (("acceleration", accel_m_per_s2), ("jerk", jerk_m_per_s3)):
+        if v is not None and not (math.isfinite(v) and v > 0.0):
+            raise InputError(f"the {name} limit must be a positive number (got {v})")
     s = InterpolatorSettings.model_validate(machine.interpolation or {})
     vel = dict(zip(AXES, s.axis_velocity(), strict=True))
     rapid = dict(zip(AXES, s.rapid(), strict=True))
     acc = dict(zip(AXES, s.axis_accel(), strict=True))
+    jerk = s.jerk() if jerk_m_per_s3 is None else jerk_m_per_s3
     out = {}
     for name, axis in machine.axes.items():
         v = min(vel.get(name, math.inf), rapid.get(name, max(rapid.values())))
-        out[name] = AxisBounds(v, acc.get(name, s.path_accel_m_per_s2), s.jerk(),
-                               axis.servo.current_limit)
+        a = acc.get(name, s.path_accel_m_per_s2) if accel_m_per_s2 is None else accel_m_per_s2
+        out[name] = AxisBounds(v, a, jerk, axis.servo.current_limit)
     return out
 
 

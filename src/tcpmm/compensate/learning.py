@@ -111,8 +111,21 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     return corr, history
 
 
+def _check(machine, command: Command, iterations: int, gain: float, cutoff_hz: float):
+    """Refuse settings the learning cannot run with [-]."""
+    T = command.period_s
+    if not 0.0 < gain <= 1.0 or iterations < 1:
+        raise InputError("the learning gain must lie in (0, 1] and iterations be >= 1")
+    if not 0.0 < cutoff_hz <= 0.25 / T:
+        raise InputError(f"the Q-filter corner must lie in (0, {0.25 / T:g}] Hz, a quarter "
+                         f"of the command rate; got {cutoff_hz:g} Hz")
+    unknown = [a for a in command.axes if a not in machine.axes]
+    if unknown:
+        raise InputError(f"the command drives axis {', '.join(unknown)} that the model lacks")
+
+
 def compensate(machine, command: Command, *, iterations: int = 30, gain: float = 0.5,
-               cutoff_hz: float = CUTOFF_HZ, progress=None) -> Compensation:
+               cutoff_hz: float = CUTOFF_HZ, bounds=None, progress=None) -> Compensation:
     """Pre-compensated position command: the command whose predicted TCP path follows the
     programmed one, within the axes' limits.
 
@@ -128,6 +141,9 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         Learning gain, in (0, 1] [-].
     cutoff_hz : float
         Corner of the Q-filter; at most a quarter of the command's sample rate [Hz].
+    bounds : dict of str to AxisBounds, optional
+        Limits of the compensated command per axis; default the model's
+        (:func:`.bounds.machine_bounds`) [-].
     progress : callable, optional
         Called with ``(axis_name, done, total)`` after each axis [-].
 
@@ -138,22 +154,15 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         settle; every axis's compensation factor 1 (:func:`.robust.robust_factors` scales
         it back) [-].
     """
+    _check(machine, command, iterations, gain, cutoff_hz)
     T = command.period_s
-    if not 0.0 < gain <= 1.0 or iterations < 1:
-        raise InputError("the learning gain must lie in (0, 1] and iterations be >= 1")
-    if not 0.0 < cutoff_hz <= 0.25 / T:
-        raise InputError(f"the Q-filter corner must lie in (0, {0.25 / T:g}] Hz, a quarter "
-                         f"of the command rate; got {cutoff_hz:g} Hz")
-    unknown = [a for a in command.axes if a not in machine.axes]
-    if unknown:
-        raise InputError(f"the command drives axis {', '.join(unknown)} that the model lacks")
     h = {a: impulse_response(machine.axes[a], T) for a in command.axes}
     delay = round(float(np.mean([lag_samples(v) for v in h.values()])))
     tail = delay + min(max(settle_samples(v) for v in h.values()), int(TAIL_S / T))
     ref, tgt = extended(command, max(delay, 0), tail)
     n = ref.time_s.size
     n_fft = fft_length(n, max(v.size for v in h.values()))
-    bounds = machine_bounds(machine)
+    bounds = machine_bounds(machine) if bounds is None else bounds
     corr, history = {}, {}
     for k, a in enumerate(command.axes):
         gf = learning_filter(h[a], n_fft, T, cutoff_hz)

@@ -3,9 +3,10 @@ uncertainty, scaled back per region where the draws cannot guarantee an improvem
 
 Regions are the windows around every reversal of an axis and the stretches between them. A
 share of the correction in {0, 1/4, ..., 1} is chosen per axis: the shares whose largest
-contour error is smallest on the worst draw, among those that leave no region of any draw
-worse than the uncompensated command. A region is trusted where the chosen shares improve
-it on every draw. The axes run apart
+contour error is smallest on the worst draw, among those that leave no draw worse than the
+uncompensated command: not in any region, and for a circle not on its largest reversal
+spike or its G either (:mod:`.circleguard`). A region is trusted where the chosen shares
+improve it on every draw. The axes run apart
 in the model, so that each share is simulated once per axis and draw and every
 combination of shares is a sum.
 """
@@ -18,6 +19,7 @@ import numpy as np
 
 from ..simulate import simulate_axis
 from ..spread import draw_machine
+from .circleguard import CircleGuard
 
 #: Shares of the correction tried [-].
 LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
@@ -80,40 +82,60 @@ def axis_errors(machines, comp) -> np.ndarray:
     return out
 
 
-def region_peaks(errs: np.ndarray, combo, target, labels: np.ndarray) -> np.ndarray:
-    """Largest error across the path per machine and region for shares ``combo``, shape
-    (machines, regions) [m]."""
+def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> np.ndarray:
+    """Per machine for shares ``combo``: the largest error across the path in each region,
+    then with a circle its largest reversal spike and G (:mod:`.circleguard`), shape
+    (machines, regions [+ 2]) [m]."""
     n_ax = errs.shape[1]
     e = errs[:, np.arange(n_ax), list(combo)]  # (machines, axes, n)
     across = np.array([contour(ei, target) for ei in e])
-    return np.array([across[:, labels == r].max(axis=1) for r in range(labels.max() + 1)]).T
+    out = np.array([across[:, labels == r].max(axis=1) for r in range(labels.max() + 1)]).T
+    if guard is None:
+        return out
+    path = np.array(list(target.positions.values()))
+    circle = np.array([guard.figures(path - ei, any(combo)) for ei in e])
+    return np.hstack([out, circle])
 
 
-def choose(errs: np.ndarray, target, labels: np.ndarray) -> tuple[list, list]:
-    """Share per axis, and per region the worst draws' errors before and after
-    (:mod:`module docstring <.robust>`) [-]."""
-    n_ax = errs.shape[1]
+def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
+    """Share per axis, per region the worst draws' errors before and after, and for a
+    circle the same of its largest spike and G (:mod:`module docstring <.robust>`) [-]."""
+    n_ax, n_reg = errs.shape[1], labels.max() + 1
     zero = tuple([0] * n_ax)
-    before = region_peaks(errs, zero, target, labels)
-    best, best_worst, best_peaks = zero, before.max(), before
+    before = judged(errs, zero, target, labels, guard)
+    best, best_worst, best_figs = zero, before[:, :n_reg].max(), before
     for c in itertools.product(range(len(LEVELS)), repeat=n_ax):
-        after = region_peaks(errs, c, target, labels)
-        if np.all(after <= before + EQUAL_M) and after.max() < best_worst - EQUAL_M:
-            best, best_worst, best_peaks = c, after.max(), after
+        after = judged(errs, c, target, labels, guard)
+        worst = after[:, :n_reg].max()
+        if np.all(after <= before + EQUAL_M) and worst < best_worst - EQUAL_M:
+            best, best_worst, best_figs = c, worst, after
     rows = []
-    for r in range(labels.max() + 1):
+    for r in range(n_reg):
         sel = labels == r
-        b, a = before[:, r], best_peaks[:, r]
         rows.append({"region": r, "start_s": float(target.time_s[sel][0]),
                      "end_s": float(target.time_s[sel][-1]),
-                     "worst_before_um": float(b.max() * 1e6),
-                     "worst_after_um": float(a.max() * 1e6),
-                     "least_ratio": float(np.min(b / np.maximum(a, EQUAL_M))),
-                     "improves_on_every_draw": bool(np.all(a < b - EQUAL_M))})
-    return [LEVELS[k] for k in best], rows
+                     **_worst(before[:, r], best_figs[:, r])})
+    return [LEVELS[k] for k in best], rows, _circle_rows(before, best_figs, guard)
 
 
-def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0) -> None:
+def _worst(b: np.ndarray, a: np.ndarray) -> dict:
+    """The worst draw's figure before and after, the least ratio over the draws and
+    whether every draw improves, from per-draw figures ``b`` and ``a`` [m]."""
+    return {"worst_before_um": float(b.max() * 1e6), "worst_after_um": float(a.max() * 1e6),
+            "least_ratio": float(np.min(b / np.maximum(a, EQUAL_M))),
+            "improves_on_every_draw": bool(np.all(a < b - EQUAL_M))}
+
+
+def _circle_rows(before: np.ndarray, after: np.ndarray, guard) -> dict:
+    """The draws' verdict on the circle's largest spike and G, empty without a circle."""
+    if guard is None:
+        return {}
+    return {"spike": _worst(before[:, -2], after[:, -2]),
+            "circular_deviation": _worst(before[:, -1], after[:, -1])}
+
+
+def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None,
+                   centre_m=(0.0, 0.0), plane=("X", "Y")) -> None:
     """Scale the compensation back where draws of the model cannot guarantee an improvement;
     sets ``comp.factors``, ``comp.robustness`` and ``comp.trusted`` in place.
 
@@ -127,11 +149,19 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0) -> None:
         Machines drawn from the uncertainty; the model as identified is judged too [-].
     seed : int
         Seed of the draws [-].
+    radius_m : float, optional
+        Radius of the circle the command holds: no draw's largest reversal spike or G may
+        get worse either [m].
+    centre_m : tuple of float
+        Centre of the circle [m].
+    plane : tuple of str
+        The circle's axes [-].
     """
+    guard = None if radius_m is None else CircleGuard.of(comp, radius_m, centre_m, plane)
     rng = np.random.default_rng(seed)
     machines = [machine] + [draw_machine(machine, rng) for _ in range(n_draws)]
     labels = regions(comp.target)
-    shares, rows = choose(axis_errors(machines, comp), comp.target, labels)
+    shares, rows, circle = choose(axis_errors(machines, comp), comp.target, labels, guard)
     for a, f in zip(comp.reference.axes, shares, strict=True):
         comp.factors[a] = np.full(labels.size, f)
     good = {r["region"] for r in rows if r["improves_on_every_draw"]}
@@ -139,3 +169,5 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0) -> None:
     comp.robustness = {"draws": n_draws, "seed": seed, "regions": rows,
                        "factors": dict(zip(comp.reference.axes, shares, strict=True)),
                        "trusted_share": float(np.mean(comp.trusted))}
+    if circle:
+        comp.robustness["circle"] = circle

@@ -1,0 +1,93 @@
+"""The circular test's own figures on every draw of the model: the largest reversal spike
+and the circular deviation G, which the contour error per region does not bound.
+
+A correction limited by the axes' acceleration can lower the contour error of every region
+while it moves the TCP's radius unevenly round the circle: G and the spikes, read against
+the TCP's own least-squares circle and the radius just before each quadrant point, then
+grow although no region got worse. The robust choice (:mod:`.robust`) therefore judges
+them as the circle's analysis does (:func:`tcpmm.analysis.circular.analyse_sensor`), on the
+passes the command holds: the programmed command's for the uncompensated run, the delayed
+path's for the compensated one, as :func:`.scores.runs_before_after` judges them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..analysis.circle_passes import find_stretches
+from ..analysis.circular import analyse_sensor
+from ..errors import InputError
+
+
+@dataclass(frozen=True)
+class CircleGuard:
+    """Where a command holds its circles, and how to read their figures.
+
+    Parameters
+    ----------
+    radius_m : float
+        Nominal radius [m].
+    centre_m : tuple of float
+        Nominal centre in the plane [m].
+    plane : tuple of int
+        Indices of the plane's two axes in the command's axes [-].
+    before, after : list of Stretch
+        Passes of the programmed command and of the delayed path [-].
+    """
+
+    radius_m: float
+    centre_m: tuple
+    plane: tuple
+    before: list
+    after: list
+
+    @classmethod
+    def of(cls, comp, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y")):
+        """The guard of a compensation's circle.
+
+        Parameters
+        ----------
+        comp : Compensation
+            The compensation [-].
+        radius_m : float
+            Nominal radius [m].
+        centre_m : tuple of float
+            Nominal centre [m].
+        plane : tuple of str
+            The plane's axes [-].
+        """
+        axes = list(comp.reference.axes)
+        missing = [a for a in plane if a.upper() not in axes]
+        if missing:
+            raise InputError(f"the command has no axis {', '.join(missing)} of the circle")
+        ij = tuple(axes.index(a.upper()) for a in plane)
+        passes = []
+        for path in (comp.reference, comp.target):
+            x, y = (path.positions[axes[k]] for k in ij)
+            passes.append(find_stretches(x, y, radius_m, centre_m))
+        if not passes[0] or not passes[1]:
+            raise InputError(f"the command holds no circle of radius {radius_m * 1e3:g} mm "
+                             f"about {tuple(c * 1e3 for c in centre_m)} mm")
+        return cls(radius_m, tuple(centre_m), ij, passes[0], passes[1])
+
+    def figures(self, tcp: np.ndarray, compensated: bool) -> np.ndarray:
+        """Largest reversal spike and largest G over the passes, ``[spike, G]`` [m].
+
+        Parameters
+        ----------
+        tcp : ndarray
+            TCP position per axis, shape (axes, n) [m].
+        compensated : bool
+            Judge on the delayed path's passes [-].
+        """
+        x, y = tcp[self.plane[0]], tcp[self.plane[1]]
+        spike = g = 0.0
+        for st in self.after if compensated else self.before:
+            s = analyse_sensor(x[st.index], y[st.index], self.radius_m, self.centre_m,
+                               st.direction)
+            sp = np.abs([v for v in s.spikes.values() if np.isfinite(v)])
+            spike = max(spike, float(sp.max()) if sp.size else 0.0)
+            g = max(g, s.circular_deviation)
+        return np.array([spike, g])

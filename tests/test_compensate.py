@@ -122,10 +122,17 @@ def test_cli_output_drives_simulate(tmp_path):
     src = tmp_path / "cmd.csv"
     write_command_csv(_command(duration=0.8), src)
     comp_csv, nc = tmp_path / "comp.csv", tmp_path / "comp.nc"
+    page = tmp_path / "comp.html"
     assert main(["compensate", "builtin:vmc", "--command", str(src), "-o", str(comp_csv),
                  "--gcode-out", str(nc), "--draws", "2", "--iterations", "5",
-                 "--accel-m-per-s2", "3"]) == 0
+                 "--accel-m-per-s2", "3", "--report", str(page)]) == 0
     assert read_command_csv(comp_csv).time_s.size > 800 and nc.exists()
+    # the report: the error before and after, the figures reduced, the settings per axis
+    html = page.read_text(encoding="utf-8")
+    assert 'data-section="compensation"' in html and "<img" in html
+    for needle in ("contour error [µm]", "reduced by [x]", "share applied",
+                   "limit accel_m_per_s2"):
+        assert needle in html, needle
     run = tmp_path / "run.csv"
     assert main(["simulate", "builtin:vmc", "--command", str(comp_csv), "-o", str(run)]) == 0
     assert run.exists()

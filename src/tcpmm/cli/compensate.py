@@ -6,7 +6,16 @@ from pathlib import Path
 
 import typer
 
-from ._app import _emit_json, _in_file, _load_command, _output, _read_model, app, out
+from ._app import (
+    _emit_json,
+    _in_file,
+    _load_command,
+    _output,
+    _read_model,
+    _report_file,
+    app,
+    out,
+)
 
 
 def _row(label: str, fig: dict) -> str:
@@ -43,6 +52,10 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                           help="Axis jerk the compensated command may use "
                                                "[m/s^3]; default the model's S-curve jerk, "
                                                "none for a trapezoid."),
+               report: Path = typer.Option(None, "--report",
+                                           help="REPORT.html: the TCP error before and "
+                                                "after, the figures and the settings per "
+                                                "axis."),
                as_json: bool = typer.Option(False, "--json")):
     """Pre-compensate a command so that the model's predicted TCP follows the programmed
     path; write the command (for tcpmm simulate --command) and report before and after.
@@ -57,6 +70,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     from ..path import write_command_csv
 
     _output(output, model, command, gcode)
+    _report_file(report, model, command, gcode, output)
     m = _read_model(model)
     bounds = machine_bounds(m, accel, jerk)
     cmd = _load_command(command, gcode, m)
@@ -70,14 +84,25 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     write_command_csv(result, output)
     if gcode_out is not None:
         write_dense_program(result, gcode_out)
+    if report is not None:
+        _write_report(report, comp, m, model, command or gcode)
     if as_json:
         _emit_json(comp.to_dict())
         return
     out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
-              f"{comp.delay_s * 1e3:.1f} ms)")
+              f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
     out.print(_row("before", comp.scores["before"]))
     out.print(_row("after", comp.scores["after"]))
     if comp.robustness:
         f = ", ".join(f"{a} {v:g}" for a, v in comp.robustness["factors"].items())
         out.print(f"  share of the correction applied: {f}; trusted on "
                   f"{comp.robustness['trusted_share']:.0%} of the samples")
+
+
+def _write_report(path: Path, comp, machine, model: str, source) -> None:
+    """The compensation's report page: its section, then the model's."""
+    from ..report import model_section, write_report
+    from ..report.compensation import compensation_section
+
+    sections = [compensation_section(comp, str(source)), model_section(machine, model)]
+    write_report(path, sections, "Compensation", [("model", model), ("program", source)])

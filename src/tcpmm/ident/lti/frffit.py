@@ -23,6 +23,11 @@
   resonance needs more than one bin) and are removed, the numerator fitted again each
   time. A lightly damped pair (damping below 0.2) outside the
   band counts against a candidate order.
+* **Both error measures.** The fit of the pole count chosen or given must leave a total
+  relative error ``sum |H - H_model|^2 / sum |H|^2`` no larger than vector fitting's
+  relocated poles do; where the relative fit leaves more (too few poles spent on the small
+  top of the band), the bins are weighted also by ``|H|``, no more than needed, and the
+  fit started again from those poles (:mod:`~tcpmm.ident.lti._select`; a note says so).
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ import numpy as np
 from ...errors import InputError
 from ..frf.response import FRF
 from ._needles import _clean
+from ._select import choose, score
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
 
 __all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
@@ -252,9 +258,11 @@ def fit_frf(
     # the damping floor follows the measurement's own bin spacing: the bins left after the
     # coherence cut have gaps (most often at resonances), which would double it there
     ctx = {"f": f, "H": H, "sigma": sigma, "w": _weights(H, sigma, weighting),
-           "delay": delay_s, "floor": float(damping_floor), "grid": data.freq_hz}
+           "delay": delay_s, "floor": float(damping_floor), "grid": data.freq_hz,
+           "omega0": 2 * np.pi * float(np.sqrt(f[0] * f[-1]))}
     if poles == "auto":
         best, cands = _auto(ctx, int(max_poles))
+        best = choose(ctx, [best], best["tried"][0])
     else:
         n = int(poles)
         if n < 0:
@@ -264,7 +272,7 @@ def fit_frf(
         if not tries:
             raise InputError(f"{f.size} bins cannot determine {n} poles; fewer poles or a "
                              "wider band")
-        best, cands = min(tries, key=lambda t: t["bic"]), tries
+        best, cands = choose(ctx, tries, n), tries
     fit = best["fit"]
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
@@ -307,18 +315,10 @@ def _auto(ctx, max_poles):
 
 def _candidate(ctx, n_num, n_den):
     """Fit, clean and score one order; None if the bins cannot determine it."""
-    f, H, sigma, w = ctx["f"], ctx["H"], ctx["sigma"], ctx["w"]
+    f, H, w = ctx["f"], ctx["H"], ctx["w"]
     try:
         fit = fit_tf((f, H, w), n_num, n_den, delay_s=ctx["delay"], max_nfev=100)
     except InputError:
         return None
-    fit, notes = _clean(fit, sigma, ctx["floor"], ctx["grid"])
-    e2 = np.abs(fit.freqresp(f) / H - 1) ** 2
-    chi2 = float(np.sum(e2 / sigma**2))
-    m = 2 * f.size
-    fn, zeta = fit.natural_freq_hz, fit.damping
-    unsupported = bool(np.any((zeta < 0.2) & ((fn < f[0]) | (fn > f[-1]))))
-    return {"fit": fit, "notes": notes, "tried": [n_den, n_num],
-            "n_poles": int(fit.n_den), "n_zeros": int(fit.n_num),
-            "chi2_ratio": chi2 / m, "bic": chi2 + fit.n_params * np.log(m),
-            "unsupported": unsupported}
+    fit, notes = _clean(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
+    return score(ctx, fit, notes, (n_den, n_num))

@@ -16,12 +16,18 @@
   criterion has not improved over :data:`PATIENCE` pole counts.
 * **No needles.** A pole pair less damped than the floor (``damping_floor``, or a
   half-power bandwidth below the spacing of the measured bins, gaps left by the
-  coherence cut not counted) is raised to it and the numerator fitted
-  again. Then a pole and a zero (pairs or real) whose joint factor changes the response by
-  more than :data:`CANCEL_SIGMA` noise levels at fewer than :data:`SUPPORT_BINS` bins are
-  not supported by the data (a resonance needs more than one bin) and are removed, the
-  numerator fitted again each time. A lightly damped pair (damping below 0.2) outside the
+  coherence cut not counted) is raised to it and the numerator fitted again. Then a pole
+  and a zero (pairs or real) whose joint factor changes the response by more than
+  :data:`~tcpmm.ident.lti._needles.CANCEL_SIGMA` noise levels at fewer than
+  :data:`~tcpmm.ident.lti._needles.SUPPORT_BINS` bins are not supported by the data (a
+  resonance needs more than one bin) and are removed, the numerator fitted again each
+  time. A lightly damped pair (damping below 0.2) outside the
   band counts against a candidate order.
+* **Both error measures.** The fit of the pole count chosen or given must leave a total
+  relative error ``sum |H - H_model|^2 / sum |H|^2`` no larger than vector fitting's
+  relocated poles do; where the relative fit leaves more (too few poles spent on the small
+  top of the band), the bins are weighted also by ``|H|``, no more than needed, and the
+  fit started again from those poles (:mod:`~tcpmm.ident.lti._select`; a note says so).
 """
 
 from __future__ import annotations
@@ -32,8 +38,9 @@ import numpy as np
 
 from ...errors import InputError
 from ..frf.response import FRF
-from ._tfcore import _numerator, _relative_cost
-from .tffit import WEIGHT_FLOOR, TFFit, _result, fit_tf
+from ._needles import _clean
+from ._select import choose, score
+from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
 
 __all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
 
@@ -43,10 +50,6 @@ DAMPING_FLOOR = 0.002
 MAX_POLES = 16
 #: Bins of the running median of the roughness noise estimate [-].
 NOISE_WINDOW = 31
-#: A pole-zero pair changing the response by less than this many sigma is removed [-].
-CANCEL_SIGMA = 2.0
-#: Bins a pole-zero pair must change beyond CANCEL_SIGMA to be kept [-].
-SUPPORT_BINS = 3
 #: Pole counts without improvement of the criterion before the scan stops [-].
 PATIENCE = 3
 WEIGHTINGS = ("relative", "absolute", "magnitude")
@@ -255,9 +258,11 @@ def fit_frf(
     # the damping floor follows the measurement's own bin spacing: the bins left after the
     # coherence cut have gaps (most often at resonances), which would double it there
     ctx = {"f": f, "H": H, "sigma": sigma, "w": _weights(H, sigma, weighting),
-           "delay": delay_s, "floor": float(damping_floor), "grid": data.freq_hz}
+           "delay": delay_s, "floor": float(damping_floor), "grid": data.freq_hz,
+           "omega0": 2 * np.pi * float(np.sqrt(f[0] * f[-1]))}
     if poles == "auto":
         best, cands = _auto(ctx, int(max_poles))
+        best = choose(ctx, [best], best["tried"][0])
     else:
         n = int(poles)
         if n < 0:
@@ -267,7 +272,7 @@ def fit_frf(
         if not tries:
             raise InputError(f"{f.size} bins cannot determine {n} poles; fewer poles or a "
                              "wider band")
-        best, cands = min(tries, key=lambda t: t["bic"]), tries
+        best, cands = choose(ctx, tries, n), tries
     fit = best["fit"]
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
@@ -310,104 +315,10 @@ def _auto(ctx, max_poles):
 
 def _candidate(ctx, n_num, n_den):
     """Fit, clean and score one order; None if the bins cannot determine it."""
-    f, H, sigma, w = ctx["f"], ctx["H"], ctx["sigma"], ctx["w"]
+    f, H, w = ctx["f"], ctx["H"], ctx["w"]
     try:
         fit = fit_tf((f, H, w), n_num, n_den, delay_s=ctx["delay"], max_nfev=100)
     except InputError:
         return None
-    fit, notes = _clean(fit, sigma, ctx["floor"], ctx["grid"])
-    e2 = np.abs(fit.freqresp(f) / H - 1) ** 2
-    chi2 = float(np.sum(e2 / sigma**2))
-    m = 2 * f.size
-    fn, zeta = fit.natural_freq_hz, fit.damping
-    unsupported = bool(np.any((zeta < 0.2) & ((fn < f[0]) | (fn > f[-1]))))
-    return {"fit": fit, "notes": notes, "tried": [n_den, n_num],
-            "n_poles": int(fit.n_den), "n_zeros": int(fit.n_num),
-            "chi2_ratio": chi2 / m, "bic": chi2 + fit.n_params * np.log(m),
-            "unsupported": unsupported}
-
-
-# ----------------------------------------------------------------------------- needles
-
-
-def _units(r: np.ndarray) -> list[np.ndarray]:
-    """Roots grouped as conjugate pairs (upper first) and single real roots."""
-    r = np.asarray(r, dtype=complex)
-    real = np.abs(r.imag) <= 1e-9 * np.maximum(np.abs(r), 1e-300)
-    units = [np.array([p]) for p in r[real]]
-    units += [np.array([p, np.conj(p)]) for p in r[~real] if p.imag > 0]
-    return units
-
-
-def _factor_deviation(x, p, z, sigma):
-    """The change, in sigma, that the factor prod(x - z) / prod(x - p) makes to the
-    response beyond the best constant gain, at the SUPPORT_BINS-th most changed bin."""
-    F = np.prod([x - zz for zz in z], axis=0) / np.prod([x - pp for pp in p], axis=0)
-    g = np.sum(F / sigma**2) / np.sum(1 / sigma**2)
-    if g == 0 or not np.isfinite(g):
-        return np.inf
-    dev = np.sort(np.abs(F / g - 1) / sigma)[::-1]
-    return float(dev[min(SUPPORT_BINS, dev.size) - 1])
-
-
-def _clean(fit: TFFit, sigma, floor, grid):
-    """Raise damping to the floor (``floor`` [-], or the spacing of the measurement's
-    frequency grid ``grid`` [Hz]), then remove the pole-zero pairs the data do not support;
-    the numerator is fitted again after each change."""
-    f, omega0 = fit.freq_hz, fit.omega0
-    x = 2j * np.pi * f / omega0
-    notes = []
-    pn = _floor(fit.pn, grid, omega0, floor, notes)
-    if notes:
-        fit = _refit_numerator(fit, pn, fit.n_num)
-    while fit.n_num > 0 and fit.pn.size > 0:
-        zn = fit.zeros / omega0
-        found = [(_factor_deviation(x, p, z, sigma), p, z)
-                 for p in _units(fit.pn) for z in _units(zn) if p.size == z.size]
-        if not found:
-            break
-        dev, p, z = min(found, key=lambda c: c[0])
-        if dev >= CANCEL_SIGMA:
-            break
-        fit = _refit_numerator(fit, _without(fit.pn, p), fit.n_num - z.size)
-        notes.append(f"removed a pole-zero pair at {abs(p[0]) * omega0 / 2 / np.pi:.4g} Hz "
-                     f"(it changes the response by {dev:.2g} noise levels at most)")
-    return fit, notes
-
-
-def _floor(pn, f, omega0, floor, notes):
-    """Poles with every pair damped at least by the floor or by the bin spacing of the
-    frequency grid ``f`` [Hz] (a half-power bandwidth below one bin is not measured)."""
-    pn = pn.copy()
-    df = np.gradient(f) if f.size > 1 else np.zeros(1)
-    for i, p in enumerate(pn):
-        if abs(p.imag) <= 1e-9 * abs(p):
-            continue
-        fn = abs(p) * omega0 / (2 * np.pi)
-        least = max(floor, float(np.interp(fn, f, df)) / (2 * fn))
-        zeta = -p.real / abs(p)
-        if zeta < least:
-            pn[i] = abs(p) * (-least + 1j * np.sign(p.imag) * np.sqrt(1 - least**2))
-            if p.imag > 0:
-                notes.append(f"raised the damping of the pair at {fn:.4g} Hz from "
-                             f"{zeta:.2g} to {least:.2g}")
-    return pn
-
-
-def _without(roots, unit):
-    out = list(roots)
-    for r in unit:
-        out.pop(int(np.argmin(np.abs(np.asarray(out) - r))))
-    return np.asarray(out, dtype=complex)
-
-
-def _refit_numerator(fit: TFFit, pn, n_num):
-    f, H, w, omega0, k, tau = fit.freq_hz, fit.H, fit.weight, fit.omega0, fit.n_integrators, \
-        fit.delay_s
-    s = 2j * np.pi * f
-    x = s / omega0
-    bn = _numerator(x, H * x**k * np.exp(s * tau), w, pn, n_num)
-    n_params = n_num + 1 + pn.size + (fit.n_params - fit.n_num - 1 - fit.n_den)
-    cost = _relative_cost(f, H, w, bn, pn, omega0, k, tau)
-    return _result(f, H, w, bn, pn, omega0, k, tau, n_num, pn.size, n_params, cost)
-
+    fit, notes = _clean(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
+    return score(ctx, fit, notes, (n_den, n_num))

@@ -1,0 +1,97 @@
+"""Needles out of a fitted transfer function: damping raised to a floor, and pole-zero pairs
+the measured bins do not support removed (see :mod:`~tcpmm.ident.lti.frffit`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._tfcore import _numerator, _relative_cost
+from .tffit import TFFit, _result
+
+#: A pole-zero pair changing the response by less than this many sigma is removed [-].
+CANCEL_SIGMA = 2.0
+#: Bins a pole-zero pair must change beyond CANCEL_SIGMA to be kept [-].
+SUPPORT_BINS = 3
+
+
+def _units(r: np.ndarray) -> list[np.ndarray]:
+    """Roots grouped as conjugate pairs (upper first) and single real roots."""
+    r = np.asarray(r, dtype=complex)
+    real = np.abs(r.imag) <= 1e-9 * np.maximum(np.abs(r), 1e-300)
+    units = [np.array([p]) for p in r[real]]
+    units += [np.array([p, np.conj(p)]) for p in r[~real] if p.imag > 0]
+    return units
+
+
+def _factor_deviation(x, p, z, sigma):
+    """The change, in sigma, that the factor prod(x - z) / prod(x - p) makes to the
+    response beyond the best constant gain, at the SUPPORT_BINS-th most changed bin."""
+    F = np.prod([x - zz for zz in z], axis=0) / np.prod([x - pp for pp in p], axis=0)
+    g = np.sum(F / sigma**2) / np.sum(1 / sigma**2)
+    if g == 0 or not np.isfinite(g):
+        return np.inf
+    dev = np.sort(np.abs(F / g - 1) / sigma)[::-1]
+    return float(dev[min(SUPPORT_BINS, dev.size) - 1])
+
+
+def _clean(fit: TFFit, sigma, floor, grid):
+    """Raise damping to the floor (``floor`` [-], or the spacing of the measurement's
+    frequency grid ``grid`` [Hz]), then remove the pole-zero pairs the data do not support;
+    the numerator is fitted again after each change."""
+    f, omega0 = fit.freq_hz, fit.omega0
+    x = 2j * np.pi * f / omega0
+    notes = []
+    pn = _floor(fit.pn, grid, omega0, floor, notes)
+    if notes:
+        fit = _refit_numerator(fit, pn, fit.n_num)
+    while fit.n_num > 0 and fit.pn.size > 0:
+        zn = fit.zeros / omega0
+        found = [(_factor_deviation(x, p, z, sigma), p, z)
+                 for p in _units(fit.pn) for z in _units(zn) if p.size == z.size]
+        if not found:
+            break
+        dev, p, z = min(found, key=lambda c: c[0])
+        if dev >= CANCEL_SIGMA:
+            break
+        fit = _refit_numerator(fit, _without(fit.pn, p), fit.n_num - z.size)
+        notes.append(f"removed a pole-zero pair at {abs(p[0]) * omega0 / 2 / np.pi:.4g} Hz "
+                     f"(it changes the response by {dev:.2g} noise levels at most)")
+    return fit, notes
+
+
+def _floor(pn, f, omega0, floor, notes):
+    """Poles with every pair damped at least by the floor or by the bin spacing of the
+    frequency grid ``f`` [Hz] (a half-power bandwidth below one bin is not measured)."""
+    pn = pn.copy()
+    df = np.gradient(f) if f.size > 1 else np.zeros(1)
+    for i, p in enumerate(pn):
+        if abs(p.imag) <= 1e-9 * abs(p):
+            continue
+        fn = abs(p) * omega0 / (2 * np.pi)
+        least = max(floor, float(np.interp(fn, f, df)) / (2 * fn))
+        zeta = -p.real / abs(p)
+        if zeta < least:
+            pn[i] = abs(p) * (-least + 1j * np.sign(p.imag) * np.sqrt(1 - least**2))
+            if p.imag > 0:
+                notes.append(f"raised the damping of the pair at {fn:.4g} Hz from "
+                             f"{zeta:.2g} to {least:.2g}")
+    return pn
+
+
+def _without(roots, unit):
+    out = list(roots)
+    for r in unit:
+        out.pop(int(np.argmin(np.abs(np.asarray(out) - r))))
+    return np.asarray(out, dtype=complex)
+
+
+def _refit_numerator(fit: TFFit, pn, n_num):
+    f, H, w, omega0, k, tau = fit.freq_hz, fit.H, fit.weight, fit.omega0, fit.n_integrators, \
+        fit.delay_s
+    s = 2j * np.pi * f
+    x = s / omega0
+    bn = _numerator(x, H * x**k * np.exp(s * tau), w, pn, n_num)
+    n_params = n_num + 1 + pn.size + (fit.n_params - fit.n_num - 1 - fit.n_den)
+    cost = _relative_cost(f, H, w, bn, pn, omega0, k, tau)
+    return _result(f, H, w, bn, pn, omega0, k, tau, n_num, pn.size, n_params, cost)
+

@@ -1,0 +1,158 @@
+"""The choice between fits of one pole count that respects both error measures of
+:mod:`~tcpmm.ident.lti.frffit`.
+
+The fit minimises the relative error of each bin weighted by its noise; with fewer poles
+than the response needs, that can spend them on the band's small top, leaving a total
+error ``sum |H - H_model|^2 / sum |H|^2`` (the large part of the response) many times what
+vector fitting's absolute fit leaves. The total error of vector fitting's poles
+(:mod:`~tcpmm.ident.lti._relocate`) with their best partial fractions is therefore the
+reference. If the fits of the pole count miss it, the weights are mixed with the
+magnitude of the response,
+
+    ``w_mix^2 = w^2 + mu mean(w^2) |H|^2 / mean(|H|^2)``,
+
+for ``mu`` rising by decades (:data:`MIXES`), each fit refined from the relocated poles,
+from the relative fit's and from the previous ``mu``'s, until one reaches the reference.
+Of the fits that do, the lowest information criterion wins, so the relative error is
+given up no further than the total error needs; if none does, the lowest total error
+wins. Every fit keeps the stable sections, the fitted delay and the needle removal.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._needles import _clean
+from ._relocate import partial_fraction_response, relocated_poles
+from ._tfcore import _numerator, _refine, _relative_cost
+from .tffit import _result
+
+#: Weights of the magnitude in the mixed weights, rising by decades [-].
+MIXES = (0.0, 1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4)
+#: Residual evaluations of each refinement [-].
+MIX_NFEV = 100
+
+
+def total_error(H, h) -> float:
+    """Total relative error ``sum |H - h|^2 / sum |H|^2`` [-]."""
+    return float(np.sum(np.abs(H - h) ** 2) / np.sum(np.abs(H) ** 2))
+
+
+def score(ctx, fit, notes, tried) -> dict:
+    """A fit with its criterion: ``chi2 + p ln(2 N)`` of the noise-weighted relative
+    error, its total error, and whether it puts a lightly damped pair outside the band."""
+    f, H, sigma = ctx["f"], ctx["H"], ctx["sigma"]
+    h = fit.freqresp(f)
+    chi2 = float(np.sum(np.abs(h / H - 1) ** 2 / sigma**2))
+    m = 2 * f.size
+    fn, zeta = fit.natural_freq_hz, fit.damping
+    unsupported = bool(np.any((zeta < 0.2) & ((fn < f[0]) | (fn > f[-1]))))
+    return {"fit": fit, "notes": notes, "tried": list(tried),
+            "n_poles": int(fit.n_den), "n_zeros": int(fit.n_num),
+            "chi2_ratio": chi2 / m, "bic": chi2 + fit.n_params * np.log(m),
+            "unsupported": unsupported, "total": total_error(H, h)}
+
+
+def _references(ctx, n_poles, taus):
+    """Vector fitting's poles for each delay tried, the best first, with the total error
+    of the best [-]."""
+    f, H, omega0 = ctx["f"], ctx["H"], ctx["omega0"]
+    x = 2j * np.pi * f / omega0
+    found = []
+    for tau in taus:
+        lag = np.exp(-2 * np.pi * 1j * f * tau)
+        pn = relocated_poles(x, H / lag, n_poles)
+        if pn is not None:
+            h = partial_fraction_response(x, H / lag, pn) * lag
+            found.append((total_error(H, h), pn, tau))
+    found.sort(key=lambda c: c[0])
+    return (found[0][0], [(pn, tau) for _, pn, tau in found]) if found else (None, [])
+
+
+def _refit(ctx, w, n_num, starts):
+    """The least weighted cost over refinements from ``starts`` (poles in ``x`` and delay
+    [s]), as ``(bn, pn, tau, cost)``; None if no start can carry ``n_num`` zeros."""
+    f, H, omega0 = ctx["f"], ctx["H"], ctx["omega0"]
+    x = 2j * np.pi * f / omega0
+    best = None
+    for pn, tau in starts:
+        if n_num > pn.size:
+            continue
+        with np.errstate(all="ignore"):
+            try:
+                bn = _numerator(x, H * np.exp(x * omega0 * tau), w, pn, n_num)
+                cost = _relative_cost(f, H, w, bn, pn, omega0, 0, tau)
+                cand = _refine(f, H, w, omega0, 0, n_num, True, ctx["delay"] == "fit", bn,
+                               pn, tau, cost, MIX_NFEV)
+            except (np.linalg.LinAlgError, ValueError):
+                continue
+        if np.isfinite(cand[3]) and (best is None or cand[3] < best[3]):
+            best = cand
+    return best
+
+
+def _mixed(ctx, w, n_num, starts, mu):
+    """The mixed-weight fit of ``n_num`` zeros, cleaned and scored, and its poles and delay
+    before cleaning (the next start); None if no start gives a finite fit."""
+    got = _refit(ctx, w, n_num, starts)
+    if got is None:
+        return None
+    bn, pn, tau, cost = got
+    f, H, omega0 = ctx["f"], ctx["H"], ctx["omega0"]
+    n_params = n_num + 1 + pn.size + int(ctx["delay"] == "fit")
+    try:
+        with np.errstate(all="ignore"):
+            fit = _result(f, H, w, bn, pn, omega0, 0, tau, n_num, pn.size, n_params, cost)
+            fit, notes = _clean(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    return {**score(ctx, fit, notes, (pn.size, n_num)), "mix": mu}, (pn, tau)
+
+
+def choose(ctx, tries, n_poles: int) -> dict:
+    """The fit of ``n_poles`` poles chosen from the relative fits ``tries`` (scored) and
+    the mixed-weight fits, as the module says [-]."""
+    key = lambda t: (t["unsupported"], t["bic"])  # noqa: E731
+    first = min(tries, key=key)
+    taus = [0.0]
+    if ctx["delay"] == "fit":
+        taus.append(first["fit"].delay_s)
+    elif ctx["delay"] is not None:
+        taus = [float(ctx["delay"])]
+    ref, vf_starts = _references(ctx, n_poles, dict.fromkeys(taus))
+    if ref is None or any(t["total"] <= ref for t in tries):
+        return min((t for t in tries if ref is None or t["total"] <= ref), key=key)
+    n_nums = sorted({max(n_poles - 1, 0), n_poles})
+    base = [(first["fit"].pn, first["fit"].delay_s), *vf_starts[:1]]
+    pool, prev = list(tries), {}
+    for mu in MIXES:
+        pool += _at_mix(ctx, mu, n_nums, base, prev)
+        if any(c["total"] <= ref for c in pool):
+            return _noted(min((c for c in pool if c["total"] <= ref), key=key), ref)
+    return _noted(min(pool, key=lambda t: (t["unsupported"], t["total"])), ref)
+
+
+def _at_mix(ctx, mu, n_nums, base, prev) -> list:
+    """Scored fits of each numerator degree with the mixed weights of ``mu``; ``prev``
+    (numerator degree: start) is updated with their poles for the next mix."""
+    w = ctx["w"]
+    mag = np.abs(ctx["H"]) ** 2 / np.mean(np.abs(ctx["H"]) ** 2)
+    wm = np.sqrt(w**2 + mu * np.mean(w**2) * mag)
+    out = []
+    for n_num in n_nums:
+        got = _mixed(ctx, wm, n_num, base + prev.get(n_num, []), mu)
+        if got is not None:
+            out.append(got[0])
+            prev[n_num] = [got[1]]
+    return out
+
+
+def _noted(cand, ref) -> dict:
+    """The candidate with a note of the weights mixed and the total error reached."""
+    mu = cand.get("mix", 0.0)
+    if mu == 0:
+        return cand
+    how = "reaching" if cand["total"] <= ref else "short of"
+    note = (f"bins weighted also by |H| (mu = {mu:g}): total error {cand['total']:.3g}, "
+            f"{how} the {ref:.3g} of vector fitting's poles")
+    return {**cand, "notes": [*cand["notes"], note]}

@@ -202,9 +202,12 @@ def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
         getting worse on any draw [m].
     seed : int
         Seed of the draws [-].
-    accel_m_per_s2, jerk_m_per_s3 : float, optional
-        Axis acceleration [m/s^2] and jerk [m/s^3] the compensated command may use;
-        default the model's interpolation settings.
+    accel_m_per_s2 : float, optional
+        Axis acceleration the compensated command may use; default the model's
+        interpolation settings [m/s^2].
+    jerk_m_per_s3 : float, optional
+        Axis jerk the compensated command may use; default the model's S-curve jerk, none
+        for a trapezoid [m/s^3].
 
     Returns
     -------

@@ -136,3 +136,62 @@ def test_cli_output_drives_simulate(tmp_path):
     run = tmp_path / "run.csv"
     assert main(["simulate", "builtin:vmc", "--command", str(comp_csv), "-o", str(run)]) == 0
     assert run.exists()
+
+
+def test_controller_side_parameters_from_the_model():
+    """Friction pulses and cross-talk feed-forward computed on the model: the cross-talk
+    gain is the structure's static deflection per acceleration, the pulse is applied only
+    where it lowers the model's largest spike, and the model with them is not worse."""
+    import math
+
+    from tcpmm import builtin_machine
+    from tcpmm.compensate.controller import (
+        controller_compensation,
+        cross_talk_gain,
+        reversal_pulses,
+    )
+    from tcpmm.path.circle import circle_command
+
+    m = builtin_machine()
+    m = m.model_copy(update={"axes": {a: m.axes[a] for a in ("X", "Y")}})
+    # a stiffer head and bed deflect less under the same acceleration
+    x = m.axes["X"]
+    stiff = x.replace(mechanics=x.mechanics.replace(K_h=4 * x.mechanics.K_h,
+                                                   K_b=4 * x.mechanics.K_b))
+    assert abs(cross_talk_gain(stiff)) < abs(cross_talk_gain(x))
+    cmd = circle_command(0.01, 5000 / 60e3, turns=1.0, start_angle_rad=math.pi / 4)
+    p = reversal_pulses(cmd, "X", 0.5, 0.01)
+    v = np.gradient(cmd.positions["X"], cmd.period_s)
+    first = int(np.argmax(p != 0.0))
+    assert np.sign(p[first]) == np.sign(v[first + 5]) and abs(p[first]) == 0.5
+    cc = controller_compensation(m, cmd, 0.01)
+    before, after = cc.scores["before"], cc.scores["after"]
+    assert after["circle"]["largest_spike_um"] <= before["circle"]["largest_spike_um"]
+    assert after["path"]["contour_error_um"] <= before["path"]["contour_error_um"] + 1e-9
+    text = cc.parameter_text()
+    assert "FRICT_COMP_TIME_s" in text and "cross_talk_um_per_m_per_s2" in text
+
+
+def test_cli_writes_the_controller_parameters(tmp_path, capsys):
+    import math
+
+    from tcpmm.cli import main
+    from tcpmm.path import write_command_csv
+    from tcpmm.path.circle import circle_command
+
+    src = tmp_path / "circle.csv"
+    write_command_csv(circle_command(0.01, 5000 / 60e3, start_angle_rad=math.pi / 4), src)
+    params = tmp_path / "ctl.yaml"
+    base = ["compensate", "builtin:vmc", "--command", str(src), "-o", str(tmp_path / "c.csv"),
+            "--draws", "0", "--iterations", "3", "--controller-out", str(params)]
+    assert main(base) == 2 and not params.exists()
+    assert "--radius" in capsys.readouterr().err
+    page = tmp_path / "comp.html"
+    assert main([*base, "--radius", "10", "--report", str(page)]) == 0
+    text = params.read_text()
+    assert "X:" in text and "FRICT_COMP_CONST_MAX_mm_per_min" in text
+    assert "controller-side compensation" in capsys.readouterr().out
+    # the report: the circle before and after in polar form, and the parameters
+    html = page.read_text(encoding="utf-8")
+    assert 'alt="TCP before and after on the circle"' in html
+    assert "Controller-side compensation" in html and "friction_pulse_A" in html

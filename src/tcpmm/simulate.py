@@ -162,7 +162,8 @@ def _run_axes(one, names: list, threads: int | None, progress) -> dict:
 
 
 def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
-             quantise_feedback=True, threads: int | None = None) -> Run:
+             quantise_feedback=True, threads: int | None = None,
+             current_feedforward_A: dict | None = None) -> Run:
     """Run the machine model on a position command, every axis of the model.
 
     Axes of the model that the command does not name hold position 0.
@@ -182,6 +183,9 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     threads : int, optional
         Axes run at once, in threads; default one per axis up to the cores. A process
         that is one of several on the same cores (a sweep's worker) runs them in turn [-].
+    current_feedforward_A : dict of str to ndarray, optional
+        Per axis a current added to its current command, one value per command sample and
+        held, as a drive adds a friction compensation's feed-forward [A].
 
     Warns
     -----
@@ -203,10 +207,12 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     _check_speeds(machine, command)
     _check_stability(machine)
 
+    feed = current_feedforward_A or {}
+
     def one(name):
         pos = command.positions.get(name, np.zeros_like(command.time_s))
         return simulate_axis(machine.axes[name], command.time_s, pos, record_period_s=rp,
-                             quantise_feedback=quantise_feedback)
+                             quantise_feedback=quantise_feedback, excitation_A=feed.get(name))
 
     runs = _run_axes(one, names, threads, progress)
     n = min(r.cmd.size for r in runs.values())

@@ -52,6 +52,12 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                           help="Axis jerk the compensated command may use "
                                                "[m/s^3]; default the model's S-curve jerk, "
                                                "none for a trapezoid."),
+               controller_out: Path = typer.Option(
+                   None, "--controller-out",
+                   help="PARAMS.yaml: also compute the controller-side compensation of the "
+                        "circle (--radius): a friction pulse at each reversal and a "
+                        "cross-talk feed-forward per axis, simulated as the drive applies "
+                        "them."),
                report: Path = typer.Option(None, "--report",
                                            help="REPORT.html: the TCP error before and "
                                                 "after, the figures and the settings per "
@@ -71,6 +77,10 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
 
     _output(output, model, command, gcode)
     _report_file(report, model, command, gcode, output)
+    if controller_out is not None:
+        _output(controller_out, model, command, gcode, output)
+        if radius is None:
+            raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
     m = _read_model(model)
     bounds = machine_bounds(m, accel, jerk)
     cmd = _load_command(command, gcode, m)
@@ -84,10 +94,12 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     write_command_csv(result, output)
     if gcode_out is not None:
         write_dense_program(result, gcode_out)
+    cc = None if controller_out is None else _controller(m, cmd, radius * 1e-3,
+                                                           controller_out)
     if report is not None:
-        _write_report(report, comp, m, model, command or gcode)
+        _write_report(report, comp, m, model, command or gcode, radius_m, cc)
     if as_json:
-        _emit_json(comp.to_dict())
+        _emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
     out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
@@ -97,12 +109,30 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
         f = ", ".join(f"{a} {v:g}" for a, v in comp.robustness["factors"].items())
         out.print(f"  share of the correction applied: {f}; trusted on "
                   f"{comp.robustness['trusted_share']:.0%} of the samples")
+    if cc is not None:
+        out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
+                  "and cross-talk feed-forward, as the model predicts them):")
+        out.print(_row("before", cc.scores["before"]))
+        out.print(_row("after", cc.scores["after"]))
 
 
-def _write_report(path: Path, comp, machine, model: str, source) -> None:
+def _write_report(path: Path, comp, machine, model: str, source, radius_m, cc) -> None:
     """The compensation's report page: its section, then the model's."""
     from ..report import model_section, write_report
     from ..report.compensation import compensation_section
 
-    sections = [compensation_section(comp, str(source)), model_section(machine, model)]
+    sections = [compensation_section(comp, str(source), machine, radius_m, cc),
+                model_section(machine, model)]
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])
+
+
+def _controller(machine, cmd, radius_m: float, path: Path):
+    """The controller-side compensation of the circle, its parameters written to
+    ``path`` [-]."""
+    from ..compensate.controller import controller_compensation
+    from ..io.atomic import write_text_atomic
+
+    plane = tuple(a for a in ("X", "Y", "Z") if a in cmd.axes)[:2]
+    cc = controller_compensation(machine, cmd, radius_m, plane=plane)
+    write_text_atomic(path, cc.parameter_text())
+    return cc

@@ -35,3 +35,33 @@ def plot_compensation(comp, path=None, ax=None):
     for a in ax:
         a.legend(loc="best", fontsize=8)
     return finish(fig, path, own)
+
+
+def plot_controller_compensation(cc, path=None, ax=None):
+    """The predicted TCP figures before and after a controller-side compensation, as bars;
+    the figure.
+
+    Parameters
+    ----------
+    cc : ControllerCompensation
+        The compensation with its scores [-].
+    path : str or Path, optional
+        Also save the figure there [-].
+    ax : matplotlib Axes, optional
+        Where to draw [-].
+    """
+    fig, axs, own = panels(ax, 1, 1, figsize=(6, 3.5))
+    a = axs[0, 0]
+    keys = [("path", "contour_error_um", "contour error"),
+            ("circle", "largest_spike_um", "largest spike"),
+            ("circle", "circular_deviation_um", "G")]
+    shown = [(lab, cc.scores["before"].get(p, {}).get(k), cc.scores["after"].get(p, {}).get(k))
+             for p, k, lab in keys]
+    shown = [s for s in shown if s[1] is not None and s[2] is not None]
+    x = np.arange(len(shown))
+    a.bar(x - 0.2, [s[1] for s in shown], 0.4, label="before")
+    a.bar(x + 0.2, [s[2] for s in shown], 0.4, label="after")
+    a.set_xticks(x, [s[0] for s in shown])
+    a.set_ylabel("TCP [µm]")
+    a.legend(loc="best", fontsize=8)
+    return finish(fig, path, own)

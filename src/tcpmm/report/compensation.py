@@ -42,10 +42,29 @@ def _axes_frame(comp):
     return pd.DataFrame(rows)
 
 
-def compensation_section(comp, source=None):
-    """The compensation: the model's predicted TCP error before and after (polar for a
-    circle), the figures with their reduction, and per axis the share of the correction
-    applied, its size and the limits it keeps.
+def _polar(machine, comp, radius_m: float):
+    """The model's TCP on the circle before (solid) and after (dotted) the compensation,
+    one polar panel per pass; ``None`` where the circle is not found whole."""
+    from ..analysis.circular import analyse_circle
+    from ..compensate import runs_before_after
+    from ..errors import InputError
+    from ..plot.circle import plot_circle
+
+    before, after = runs_before_after(machine, comp)
+    try:
+        rb = analyse_circle(before, radius_m, sensors=("cmd", "tcp"))
+        ra = analyse_circle(after, radius_m, sensors=("cmd", "tcp"))
+    except InputError:
+        return None
+    return plot_circle(rb, sensors=["tcp"], overlay=ra,
+                       title="TCP before (solid) and after (dotted) the compensation")
+
+
+def compensation_section(comp, source=None, machine=None, radius_m=None, controller=None):
+    """The compensation: the model's TCP on the circle before and after (polar, with the
+    model and the circle's radius), the correction and its share along the path, the
+    figures with their reduction, per axis the share of the correction applied, its size
+    and the limits it keeps, and the controller-side parameters when computed.
 
     Parameters
     ----------
@@ -53,6 +72,12 @@ def compensation_section(comp, source=None):
         From :func:`tcpmm.compensate.compensate`, with its scores [-].
     source : str, optional
         The programmed command or program, for the record [-].
+    machine : Machine, optional
+        The model it was computed on, for the polar plot [SI].
+    radius_m : float, optional
+        The circle's radius, for the polar plot [m].
+    controller : ControllerCompensation, optional
+        Friction pulses and cross-talk feed-forward (:mod:`tcpmm.compensate.controller`) [-].
     """
     trusted = comp.to_dict().get("trusted_share")
     lead = ("The programmed command pre-compensated on the identified model: the model's "
@@ -61,9 +86,20 @@ def compensation_section(comp, source=None):
     if trusted is not None:
         lead += (f" The compensation improves the error on every machine drawn from the "
                  f"model's uncertainty on {trusted:.0%} of the samples (trusted).")
-    body = para(lead, "lead") + figure(comp.plot(), "TCP error before and after")
+    body = para(lead, "lead")
+    polar = None if machine is None or radius_m is None else _polar(machine, comp, radius_m)
+    if polar is not None:
+        body += figure(polar, "TCP before and after on the circle")
+    body += figure(comp.plot(), "correction and its share along the path")
     frame = _figures_frame(comp.scores)
     if len(frame):
         body += "<h3>Predicted figures</h3>" + table(frame, "compensation_figures.csv")
     body += ("<h3>Per axis</h3>" + table(_axes_frame(comp), "compensation_axes.csv"))
+    if controller is not None:
+        body += ("<h3>Controller-side compensation</h3>"
+                 + para("Instead of a new command: a friction pulse at each reversal and a "
+                        "cross-talk feed-forward per axis, to type into the controller, and "
+                        "the figures the model predicts with them.")
+                 + table(controller.to_pandas(), "controller_parameters.csv")
+                 + table(_figures_frame(controller.scores), "controller_figures.csv"))
     return section("compensation", "Compensation", body)

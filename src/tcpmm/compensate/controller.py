@@ -1,0 +1,277 @@
+"""Controller-side compensation computed from the identified model: per axis a friction
+pulse at each reversal (the quadrant-error compensation of a CNC: a current, or velocity
+setpoint, pulse that decays) and a cross-talk feed-forward (a position offset proportional
+to the axis's commanded acceleration, cancelling the structure's deflection at the TCP).
+
+Both are simulated as the drive applies them: the pulse is added to the current command
+(:func:`tcpmm.simulate.simulate`, ``current_feedforward_A``), the offset to the position
+setpoint. The pulse's amplitude and decay are those that minimise the model's largest TCP
+reversal spike of the circle given, among amplitudes up to the axis's Coulomb friction and
+decays of a few milliseconds; a pulse that does not lower it is not applied.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..path.command import Command
+
+#: Shares of the Coulomb current tried as the pulse amplitude [-].
+PULSE_SHARES = (0.25, 0.5, 1.0, 1.5, 2.0)
+#: Decay time constants tried [s].
+PULSE_DECAYS_S = (0.003, 0.01, 0.03, 0.1, 0.3)
+#: Probe of the cross-talk gain: a sine of this amplitude and frequency, slow against every
+#: mode of the structure, whose deflection then follows the acceleration [m], [Hz].
+PROBE_AMPLITUDE_M, PROBE_HZ = 5e-3, 2.0
+
+
+@dataclass(frozen=True)
+class AxisController:
+    """The controller-side compensation of one axis.
+
+    Parameters
+    ----------
+    pulse_A : float
+        Amplitude of the current pulse at a reversal, signed with the new direction [A].
+    decay_s : float
+        Its exponential decay time [s].
+    velocity_pulse_m_per_s : float
+        The same pulse as a velocity setpoint pulse (current over the velocity loop's
+        proportional gain), as a quadrant-error compensation takes it [m/s].
+    cross_talk_s2 : float
+        TCP deflection relative to the scale per commanded acceleration; the position
+        setpoint is offset by minus this times the acceleration [m/(m/s^2)].
+    """
+
+    pulse_A: float
+    decay_s: float
+    velocity_pulse_m_per_s: float
+    cross_talk_s2: float
+
+    def to_dict(self) -> dict:
+        """The parameters in the units a commissioning engineer types [-]."""
+        return {"friction_pulse_A": self.pulse_A, "friction_pulse_decay_ms": self.decay_s * 1e3,
+                "friction_pulse_velocity_mm_per_min": self.velocity_pulse_m_per_s * 6e4,
+                "cross_talk_um_per_m_per_s2": self.cross_talk_s2 * 1e6}
+
+
+@dataclass
+class ControllerCompensation:
+    """Controller-side compensation of every axis and what the model predicts of it.
+
+    Parameters
+    ----------
+    axes : dict of str to AxisController
+        Per axis [-].
+    scores : dict
+        Predicted TCP figures ``before`` and ``after`` (:func:`.scores.judge`) [-].
+    """
+
+    axes: dict
+    scores: dict = field(default_factory=dict)
+
+    def to_pandas(self):
+        """One row per axis with its parameters [-]."""
+        import pandas as pd
+
+        return pd.DataFrame([{"axis": a, **c.to_dict()} for a, c in self.axes.items()])
+
+    def to_dict(self) -> dict:
+        """JSON-ready: the parameters per axis and the figures before and after [-]."""
+        return {"axes": {a: c.to_dict() for a, c in self.axes.items()},
+                "scores": self.scores}
+
+    def plot(self, ax=None, path=None):
+        """The predicted figures before and after, as bars; the figure [-]."""
+        from ..plot.compensation import plot_controller_compensation
+
+        return plot_controller_compensation(self, path=path, ax=ax)
+
+    def parameter_text(self) -> str:
+        """The parameters as a commissioning engineer types them, per axis [-]."""
+        lines = ["# Controller-side compensation computed by tcpmm from the identified model.",
+                 "# Friction pulse at each reversal: current feed-forward (Fanuc-style) or",
+                 "# velocity setpoint pulse (Sinumerik quadrant error compensation:",
+                 "# FRICT_COMP_CONST_MAX [mm/min], FRICT_COMP_TIME [s]); cross-talk",
+                 "# feed-forward: position setpoint offset = -gain * commanded acceleration."]
+        for a, c in self.axes.items():
+            d = c.to_dict()
+            lines += [f"{a}:",
+                      f"  friction_pulse_A: {d['friction_pulse_A']:.4g}",
+                      f"  friction_pulse_decay_ms: {d['friction_pulse_decay_ms']:.4g}",
+                      f"  FRICT_COMP_CONST_MAX_mm_per_min: "
+                      f"{d['friction_pulse_velocity_mm_per_min']:.4g}",
+                      f"  FRICT_COMP_TIME_s: {c.decay_s:.4g}",
+                      f"  cross_talk_um_per_m_per_s2: {d['cross_talk_um_per_m_per_s2']:.4g}"]
+        return "\n".join(lines) + "\n"
+
+
+def coulomb_current(axis) -> float:
+    """The motor current that balances the axis's Coulomb friction, the mean of both
+    directions, guideway and screw [A]; 0 without friction."""
+    fr = axis.friction
+    if fr is None:
+        return 0.0
+    force = sum(0.5 * (c.fc_pos + c.fc_neg) for c in (fr.guideway, fr.screw) if c is not None)
+    m = axis.mechanics
+    return force * m.R_L / m.K_tc
+
+
+def cross_talk_gain(axis) -> float:
+    """The TCP's deflection relative to the scale per commanded acceleration, from a slow
+    sine run on the model: the least-squares slope of ``tcp - scale`` on the commanded
+    acceleration [m/(m/s^2)]."""
+    from ..simulate import simulate_axis
+
+    T = axis.servo.T_p
+    t = np.arange(0.0, 3.0 / PROBE_HZ, T)
+    w = 2 * math.pi * PROBE_HZ
+    x = PROBE_AMPLITUDE_M * (1.0 - np.cos(w * t))
+    run = simulate_axis(axis.replace(friction=None), t, x, quantise_feedback=False)
+    n = min(run.tcp.size, t.size)
+    a = PROBE_AMPLITUDE_M * w * w * np.cos(w * t[:n])
+    d = run.tcp[:n] - run.scale[:n]
+    keep = t[:n] >= 1.0 / PROBE_HZ  # after the start's transient
+    a, d = a[keep] - np.mean(a[keep]), d[keep] - np.mean(d[keep])
+    return float(a @ d / (a @ a)) if a @ a > 0 else 0.0
+
+
+def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: float):
+    """The current feed-forward of one axis: at each reversal of its commanded velocity a
+    pulse of ``amplitude_A`` signed with the new direction, decaying with ``decay_s`` until
+    the next reversal; per command sample [A]."""
+    x = command.positions[axis]
+    out = np.zeros(x.size)
+    if amplitude_A == 0.0 or x.size < 3:
+        return out
+    v = np.gradient(x, command.period_s)
+    s = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
+    moving = np.flatnonzero(s)
+    if moving.size < 2:
+        return out
+    turns = moving[1:][s[moving[1:]] != s[moving[:-1]]]
+    t = command.time_s
+    for k, i in enumerate(turns):
+        end = turns[k + 1] if k + 1 < turns.size else x.size
+        out[i:end] = s[i] * amplitude_A * np.exp(-(t[i:end] - t[i]) / decay_s)
+    return out
+
+
+def with_cross_talk(command: Command, gains: dict) -> Command:
+    """The command with each axis's position setpoint offset by minus its cross-talk gain
+    times its commanded acceleration [m]."""
+    T = command.period_s
+    pos = {}
+    for a, x in command.positions.items():
+        acc = np.gradient(np.gradient(x, T), T)
+        pos[a] = x - gains.get(a, 0.0) * acc
+    return Command(command.time_s, pos, {**command.meta, "cross_talk_feedforward": True})
+
+
+def _figures(machine, command: Command, programmed: Command, pulses: dict, radius_m,
+             centre_m, plane) -> dict:
+    """The model's TCP figures of ``command`` run with the current pulses, judged against
+    the programmed path [-]."""
+    from ..simulate import simulate
+    from .scores import judge
+
+    run = simulate(machine, command, current_feedforward_A=pulses or None)
+    return judge(run, programmed, radius_m, centre_m, plane)
+
+
+def _spike(fig: dict) -> float:
+    v = fig.get("circle", {}).get("largest_spike_um", math.nan)
+    return v if math.isfinite(v) else math.inf
+
+
+def tune_pulse(machine, command: Command, axis: str, pulses: dict, judge_args: tuple):
+    """The amplitude and decay of ``axis``'s pulse that give the smallest largest TCP
+    spike with the other axes' ``pulses``; ``(0, shortest decay)`` where that does not
+    lower the spike, or raises the contour error.
+
+    Parameters
+    ----------
+    machine : Machine
+        The identified model [SI].
+    command : Command
+        The command run [m].
+    axis : str
+        The axis tuned [-].
+    pulses : dict of str to ndarray
+        The pulses of the axes tuned before [A].
+    judge_args : tuple
+        ``(programmed, radius_m, centre_m, plane)`` of :func:`_figures` [-].
+
+    Returns
+    -------
+    tuple of float
+        ``(amplitude [A], decay [s])`` [-].
+    """
+    i_c = coulomb_current(machine.axes[axis])
+
+    def figures(share: float, tau: float) -> dict:
+        trial = {**pulses, axis: reversal_pulses(command, axis, share * i_c, tau)}
+        return _figures(machine, command, judge_args[0], trial, *judge_args[1:])
+
+    def spike(share: float, tau: float) -> float:
+        return _spike(figures(share, tau))
+
+    if i_c <= 0.0:
+        return 0.0, PULSE_DECAYS_S[0]
+    # one coordinate at a time: the amplitude at a middle decay, the decay at that
+    # amplitude, then the amplitude again
+    tau = PULSE_DECAYS_S[len(PULSE_DECAYS_S) // 2]
+    share = min(PULSE_SHARES, key=lambda k: spike(k, tau))
+    tau = min(PULSE_DECAYS_S, key=lambda d: spike(share, d))
+    share = min(PULSE_SHARES, key=lambda k: spike(k, tau))
+    none, got = figures(0.0, tau), figures(share, tau)
+    better = (_spike(got) < _spike(none) and got["path"]["contour_error_um"]
+              <= none["path"]["contour_error_um"])
+    return (share * i_c, tau) if better else (0.0, PULSE_DECAYS_S[0])
+
+
+def controller_compensation(machine, command: Command, radius_m: float,
+                            centre_m=(0.0, 0.0), plane=("X", "Y")) -> ControllerCompensation:
+    """Friction pulses and cross-talk feed-forward for the axes of a circle, from the
+    model, with the figures it predicts before and after.
+
+    The cross-talk feed-forward is kept where it lowers the model's contour error; each
+    axis's pulse is tuned in turn on the circle's largest TCP spike (:func:`tune_pulse`).
+
+    Parameters
+    ----------
+    machine : Machine
+        The identified model [SI].
+    command : Command
+        The circle's programmed command [m].
+    radius_m : float
+        Its radius [m].
+    centre_m : tuple of float
+        Its centre [m].
+    plane : tuple of str
+        Its axes [-].
+
+    Returns
+    -------
+    ControllerCompensation
+        The parameters per axis and the scores before and after [-].
+    """
+    axes = [a for a in plane if a in command.axes]
+    args = (command, radius_m, centre_m, plane)
+    before = _figures(machine, command, command, {}, *args[1:])
+    gains = {a: cross_talk_gain(machine.axes[a]) for a in axes}
+    ctc = with_cross_talk(command, gains)
+    if (_figures(machine, ctc, command, {}, *args[1:])["path"]["contour_error_um"]
+            >= before["path"]["contour_error_um"]):
+        gains, ctc = dict.fromkeys(axes, 0.0), command
+    pulses, params = {}, {}
+    for a in axes:
+        amp, tau = tune_pulse(machine, ctc, a, pulses, args)
+        pulses[a] = reversal_pulses(ctc, a, amp, tau)
+        ax = machine.axes[a]
+        params[a] = AxisController(amp, tau, amp / ax.servo.K_vp * ax.mechanics.R_L, gains[a])
+    after = _figures(machine, ctc, command, pulses, *args[1:])
+    return ControllerCompensation(params, {"before": before, "after": after})

@@ -57,14 +57,8 @@ from tcpmm.errors import InputError
 from tcpmm.ident.frf import central_difference, decimate, lowpass_filtfilt
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
 
-from .rigidaxis import (
-    DiscreteServo,
-    RigidAxis,
-    RigidServoResult,
-    friction_from_idim,
-    idim_ls,
-    simulate_rigid_servo,
-)
+from .rigidaxis import friction_from_idim, idim_ls
+from .rigidaxis.simulator import DiscreteServo, RigidAxis, RigidServoResult, simulate_rigid_servo
 
 PUBLISHED = {
     "identification": {"M": 95.1089, "Fv": 203.5034, "Fc": 20.3935, "offset": -3.1648,

@@ -26,7 +26,7 @@ demo: $(STAMP)
 	@echo "README's five steps: D=$(abspath $(OUT)) T=$(abspath $(BIN))/tcpmm"
 
 test: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks examples docs
+	$(BIN)/ruff check src tests benchmarks examples docs studies
 	$(BIN)/python -m pytest -q -n 2
 
 # The long fuzz run: 10 000 cases per target of tests/test_fuzz.py (NC programs, model files

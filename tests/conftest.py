@@ -24,8 +24,8 @@ def vmc_linear():
 
 @pytest.fixture(scope="session")
 def unseen():
-    """:mod:`tcpmm.unseen`, whose random machines some known-answer cases use."""
-    from tcpmm import unseen
+    """:mod:`studies.unseen`, whose random machines some known-answer cases use."""
+    from studies import unseen
 
     return unseen
 
@@ -33,7 +33,7 @@ def unseen():
 @pytest.fixture(scope="session")
 def identify_unseen(unseen):
     """``identify(seed, index, ax, sweep_seed=0, **options)``: axis ``ax`` of machine
-    ``index`` of the unseen machines with play of seed ``seed`` (:mod:`tcpmm.unseen`),
+    ``index`` of the unseen machines with play of seed ``seed`` (:mod:`studies.unseen`),
     identified from its sweep and friction runs (``options`` go to ``identify_axis``);
     returns the machine, the axis, the identification and the warnings given on the way
     [-]."""
@@ -52,31 +52,6 @@ def identify_unseen(unseen):
         return true, a, idn, [str(w.message) for w in caught]
 
     return identify
-
-
-#: The validation studies' scripts (docs/validation): the tests that import them check that
-#: the figures the documentation quotes still come out of them.
-VALIDATION = Path(__file__).resolve().parents[1] / "docs" / "validation"
-
-
-def validation_script(name: str):
-    """The study script ``docs/validation/NAME.py`` as a module; its folder is put on
-    ``sys.path`` for the loading, as when the script is run [-]."""
-    import importlib.util
-    import sys
-
-    key = f"tcpmm_validation_{name}"
-    if key in sys.modules:
-        return sys.modules[key]
-    spec = importlib.util.spec_from_file_location(key, VALIDATION / f"{name}.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[key] = mod
-    sys.path.insert(0, str(VALIDATION))
-    try:
-        spec.loader.exec_module(mod)
-    finally:
-        sys.path.remove(str(VALIDATION))
-    return mod
 
 
 #: Reference machines of an independent simulator, beside the checkout (`../shared`).

@@ -146,3 +146,21 @@ def test_the_import_check_can_fail(tmp_path, monkeypatch):
     module.write_text("from ..sim import compiled\n\ndef f():\n    import tcpmm.sim.kernel\n")
     monkeypatch.setitem(globals(), "SRC", tmp_path / "tcpmm")
     assert imported_modules(module) == {"tcpmm.sim", "tcpmm.sim.compiled", "tcpmm.sim.kernel"}
+
+
+def test_the_package_imports_no_study():
+    """The studies (``studies/`` in the checkout) are not installed: an import of them from
+    the package would work in a checkout and fail for every user."""
+    found = {}
+    for path in sorted(SRC.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level:
+                names = [node.module or ""]
+            else:
+                continue
+            hits = [n for n in names if n.split(".")[0] == "studies"]
+            if hits:
+                found[path.relative_to(SRC).as_posix()] = hits
+    assert not found, f"the package imports the studies: {found}"

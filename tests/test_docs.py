@@ -38,11 +38,14 @@ def test_every_page_is_in_the_nav():
 
 def test_the_docs_the_code_points_to_exist():
     """Error messages and docstrings name docs pages ("see docs/formats.md section 1"),
-    the README and the pages name study scripts; each must exist."""
+    the README and the pages name study scripts (``studies/NAME.py`` or ``-m
+    studies.NAME``); each must exist."""
     named = set()
     sources = [*(ROOT / "src").rglob("*.py"), ROOT / "README.md", *DOCS.rglob("*.md")]
     for f in sources:
-        named.update(re.findall(r"\bdocs/[\w/]+\.(?:md|py)\b", f.read_text(encoding="utf-8")))
+        text = f.read_text(encoding="utf-8")
+        named.update(re.findall(r"\b(?:docs|studies)/[\w/]+\.(?:md|py)\b", text))
+        named.update(f"studies/{m}.py" for m in re.findall(r"-m studies\.([a-z_]+)", text))
     assert named, "nothing names a docs page"
     missing = sorted(n for n in named if not (ROOT / n).is_file())
     assert not missing, f"named but missing: {missing}"

@@ -9,10 +9,9 @@ import numpy as np
 import pytest
 from scipy.io import savemat
 
-from conftest import validation_script
+from studies.rigidaxis import DiscreteServo, RigidAxis, simulate_rigid_servo
 from tcpmm.errors import InputError
 from tcpmm.mechanics.friction import StribeckFriction
-from tcpmm.sim.rigid import DiscreteServo, RigidAxis, simulate_rigid_servo
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT.parent / "shared" / "data" / "emps"
@@ -24,7 +23,9 @@ PUB_ASYM = {"M": 95.1540, "Fv+": 166.7061, "Fc+": 20.1440, "Fv-": 240.4236, "Fc-
 
 @pytest.fixture(scope="module")
 def emps():
-    return validation_script("emps")
+    import studies.emps
+
+    return studies.emps
 
 
 @pytest.fixture(scope="module")
@@ -83,7 +84,8 @@ def test_published_figures_are_an_unconverged_sign_integration(emps):
     as the step shrinks they rise towards the closed-form solution's."""
     if not EST.is_file():
         pytest.skip(f"EMPS data not found: expected {EST}")
-    emps_numerics = validation_script("emps_numerics")
+    import studies.emps_numerics as emps_numerics
+
     res = emps_numerics.study(EST, steps=(2, 10), schemes=("rk4",))
     pub, exact, rk = res["published"], res["closed_form"], res["explicit"]["rk4"]
     for k in ("velocity", "force"):

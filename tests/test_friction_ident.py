@@ -3,6 +3,13 @@
 import numpy as np
 import pytest
 
+from studies.rigidaxis import (
+    DiscreteServo,
+    RigidAxis,
+    friction_from_idim,
+    idim_ls,
+    simulate_rigid_servo,
+)
 from tcpmm.errors import InputError
 from tcpmm.ident.frf import decimate
 from tcpmm.ident.friction import (
@@ -13,8 +20,6 @@ from tcpmm.ident.friction import (
     read_friction_csv,
 )
 from tcpmm.mechanics.friction import StribeckFriction
-from tcpmm.rigidaxis import friction_from_idim, idim_ls
-from tcpmm.sim.rigid import DiscreteServo, RigidAxis, simulate_rigid_servo
 
 T = 1e-3
 EMPS_LIKE = DiscreteServo(period=T, kp=160.18, kv=243.45, delay=0.0, u_max=10.0,

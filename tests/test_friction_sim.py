@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from studies.rigidaxis import DiscreteServo, RigidAxis, simulate_rigid_servo
 from tcpmm.errors import InputError
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
-from tcpmm.sim.rigid import DiscreteServo, RigidAxis, simulate_rigid_servo
 
 T = 1e-3
 FRIC = StribeckFriction(fc_pos=20.0, fc_neg=25.0, fs_pos=35.0, fs_neg=30.0, vs=2e-3,

@@ -428,7 +428,7 @@ def test_the_stribeck_hump_does_not_tilt_the_viscous_slope():
 
 
 def test_the_runs_give_the_table_viscous_force_of_an_unseen_axis(unseen):
-    """Axis Y of machine 1 of ``docs/validation/unseen_machines.py --seed 0 --backlash``, on its
+    """Axis Y of machine 1 of ``studies/unseen_machines.py --seed 0 --backlash``, on its
     true mechanics: 4.4 um of play, guideway share 0.33, Stribeck velocities of 4.0 mm/s
     on the screw and 5.8 mm/s on the guideway. The table's viscous force (``C_t`` and the
     guideway's viscous friction), which sets when the nut crosses its play before a

@@ -224,7 +224,7 @@ def test_without_play_the_plateau_split_is_kept(machine):
 
 
 def test_the_nut_stiffness_does_not_rest_on_the_logged_current(unseen):
-    """Axis X of machine 3 of ``docs/validation/unseen_machines.py --seed 0 --backlash``, on its
+    """Axis X of machine 3 of ``studies/unseen_machines.py --seed 0 --backlash``, on its
     true mechanics: 1.1 um of play, share 0.49, velocity feedforward 0.5. Its current is
     logged every 1 ms, in step with the command, so each sample reads the ripple of a
     feedforward step at the same phase: the logged force shows 12 % more inertia than
@@ -243,7 +243,7 @@ def test_the_nut_stiffness_does_not_rest_on_the_logged_current(unseen):
 
 
 def test_the_nut_force_signs_do_not_rest_on_the_sweeps_table_damping(unseen):
-    """Axis Y of machine 3 of ``docs/validation/unseen_machines.py --seed 1 --backlash``: 7.1 um
+    """Axis Y of machine 3 of ``studies/unseen_machines.py --seed 1 --backlash``: 7.1 um
     of play, guideway share 0.20. Its sweep put ``C_t`` at 5.6 times the truth, and with
     that ``C_t`` deciding the nut-force signs the accelerations gave a share of -0.8, so
     the split fell back to share 1 and 6.6 um. The record's own viscous fit decides them
@@ -269,7 +269,7 @@ def test_the_nut_force_signs_do_not_rest_on_the_sweeps_table_damping(unseen):
 
 
 def test_the_short_ramps_decide_the_share(unseen):
-    """Axis X of machine 11 of ``docs/validation/unseen_machines.py --seed 1 --backlash``, on its
+    """Axis X of machine 11 of ``studies/unseen_machines.py --seed 1 --backlash``, on its
     true mechanics: 3.6 um of play, a stiff nut and LuGre friction, so the guideway's part
     of the nut deflection is 0.09 um. Only the ramps between the plateaus tell it from the
     play. Low-passed at 20 Hz, the smear of each change of acceleration leaves few ramp
@@ -292,7 +292,7 @@ def test_the_short_ramps_decide_the_share(unseen):
 
 
 def test_a_small_play_is_modelled_rather_than_taken_for_guideway_friction(unseen):
-    """Axis X of machine 0 of ``docs/validation/unseen_machines.py --seed 3 --backlash``, on its
+    """Axis X of machine 0 of ``studies/unseen_machines.py --seed 3 --backlash``, on its
     true mechanics: 0.73 um of play, guideway share 0.41, a soft shaft, LuGre friction and
     a 1 um scale. Low-passed at 40 Hz, the accelerations give 0.58 +- 0.15 um of play (3.8
     standard deviations); below 4 the play used to be dropped, and the plateaus then read
@@ -319,7 +319,7 @@ def test_a_small_play_is_modelled_rather_than_taken_for_guideway_friction(unseen
 
 def test_a_stiff_coupling_is_not_traded_for_a_soft_one_when_the_sweep_crosses_the_play(
         identify_unseen):
-    """Axis Y of machine 8 of ``docs/validation/unseen_machines.py --seed 2 --backlash``: 2.5 um
+    """Axis Y of machine 8 of ``studies/unseen_machines.py --seed 2 --backlash``: 2.5 um
     of play, a stiff motor-screw coupling (torsion near 930 Hz, which the rational fit of
     G_M does not resolve) and a light motor. With the torsion starts only on G_M's highest
     resolved mode (212 Hz, the axial mode made soft by the play) every start of the linear
@@ -334,7 +334,7 @@ def test_a_stiff_coupling_is_not_traded_for_a_soft_one_when_the_sweep_crosses_th
 
 
 def test_a_share_the_runs_barely_determine_is_reported(unseen, identify_unseen):
-    """Axis X of machine 3 of ``docs/validation/unseen_machines.py --seed 1 --backlash``: 3.3 um
+    """Axis X of machine 3 of ``studies/unseen_machines.py --seed 1 --backlash``: 3.3 um
     of play, a stiff nut (0.78 of 42 N of Coulomb friction on the guideway deflects it by
     0.13 um) and sensors that step by 1.22 um (encoder) and 1 um (scale). The braking
     between the plateaus gives the play to 0.08 um, and the share only to 0.53 +- 0.25 (true
@@ -366,7 +366,7 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen, identify_unseen):
 
 
 def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, monkeypatch):
-    """Axis X of machine 7 of ``docs/validation/unseen_machines.py --seed 0 --backlash``: 4.6 um of
+    """Axis X of machine 7 of ``studies/unseen_machines.py --seed 0 --backlash``: 4.6 um of
     play and a light table (15 % of the inertia). The linear fit puts M_t at 1.34-1.60 of
     the truth; the refits with the play swing about their fixed point before they settle
     (1.12, 1.05, 1.11, 1.12, 1.08, 1.08 in one build of the simulation kernel, 1.02, 1.04,

@@ -2,7 +2,7 @@
 
 Known answers through the simulator: the built-in X axis with 5 um of free play in the
 nut, swept while it travels, recorded by its own quantised sensors; and an axis of
-``docs/validation/unseen_machines.py`` on which the joint fit of G_M, G_T and G_tcp lost the bed.
+``studies/unseen_machines.py`` on which the joint fit of G_M, G_T and G_tcp lost the bed.
 """
 
 import warnings
@@ -103,7 +103,7 @@ def test_a_joint_fit_holds_the_structure_it_is_given(swept):
 
 
 def test_the_play_does_not_take_the_bed_away(unseen):
-    """Axis Y of machine 3 of ``docs/validation/unseen_machines.py --seed 0 --backlash``: 6.3 um of
+    """Axis Y of machine 3 of ``studies/unseen_machines.py --seed 0 --backlash``: 6.3 um of
     play. The joint fit put the bed mass at 0.05 of the truth (its G_tcp off by 30-160 %
     at 50-200 Hz, where the measured one matched the true within 2 %). With the structure
     held at what G_tcp alone says, the bed follows the table mass: ``M_b/M_t`` within 5 %

@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-from conftest import validation_script
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.mechanics.friction import StribeckFriction
 from tcpmm.model import AxisFriction
@@ -123,8 +122,9 @@ def test_play_makes_the_reversal_spike_ill_conditioned(unseen):
     closed on the scale): a table 2 % lighter or heavier moves a rise or fall after a
     reversal by more than the paper's largest spike difference, 4.1 um; with the play
     taken out, by less than 0.5 um. This is why no identification predicts every spike of
-    such a machine within 4.1 um (README, ``docs/validation/spike_sensitivity.py``)."""
-    ss = validation_script("spike_sensitivity")
+    such a machine within 4.1 um (README, ``studies/spike_sensitivity.py``)."""
+    import studies.spike_sensitivity as ss
+
     true, _ = unseen.draw_machine(0, 8, backlash=True)
     assert true.axes["Y"].friction.backlash > 5.9e-6
     cmd = unseen.paper_circle_command()

@@ -165,7 +165,7 @@ def test_cli_spread(tmp_path, capsys, played):
 
 
 def test_identification_writes_what_its_estimates_say(unseen, identify_unseen):
-    """Axis X of machine 3 of ``docs/validation/unseen_machines.py --seed 1 --backlash`` (3.3 um
+    """Axis X of machine 3 of ``studies/unseen_machines.py --seed 1 --backlash`` (3.3 um
     of play, 1.22 um encoder steps): the runs give the share only to 0.53 +- 0.25 (true
     0.78). The model's uncertainty carries that deviation, the nut estimate's for ``K_t``
     and the lost motion, and the table damping's; the motor-bearing damping, taken as zero,

@@ -179,7 +179,7 @@ class LostMotionOptions:
         slope comes out low, and what the speed-proportional deflection then gives for
         the table's viscous force as well, by the share times that error (measured: 4 %
         low on the built-in axes, 14 % on axis Y of machine 1 of
-        ``docs/validation/unseen_machines.py --seed 0 --backlash``) [N s/m].
+        ``studies/unseen_machines.py --seed 0 --backlash``) [N s/m].
     """
 
     encoder_quantum: float = 0.0

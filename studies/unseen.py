@@ -8,11 +8,11 @@ feedforward (0, 0.5, 0.9), sensor resolutions and, with ``backlash=True``, a los
 of 0-8 um per axis. Machine ``index`` of a study seeded by ``seed`` comes from a generator
 seeded by ``(seed, index)``, so it can be drawn alone (:func:`draw_machine`).
 
-Used by the validation studies (``docs/validation/unseen_machines.py``,
-``docs/validation/spike_sensitivity.py``), whose robust spread of identified over true
-values on the machines with play of seeds 0-3 is :data:`tcpmm.spread.MODEL_ERROR`, and by
-the known-answer tests that replay the machines those studies found hard. It lives in the
-package, not in ``tests/``, so that an installed tcpmm re-runs the studies.
+Used by the validation studies (``studies/unseen_machines.py``,
+``studies/spike_sensitivity.py``), whose robust spread of identified over true values on
+the machines with play of seeds 0-3 is :data:`tcpmm.spread.MODEL_ERROR`, and by the
+known-answer tests that replay the machines those studies found hard. It is research
+code, so it stays out of the installed package.
 """
 
 from __future__ import annotations
@@ -21,18 +21,18 @@ import math
 
 import numpy as np
 
-from .analysis.circular import QUADRANTS, analyse_circle
-from .analysis.compare import lobe_difference
-from .builtin import builtin_machine
-from .demo import RADIUS_MM, paper_circle_command
-from .mechanics.friction import LuGreFriction, StribeckFriction, friction_params_array
-from .model import Axis, AxisFriction, Machine, Sensors
-from .servo.closedloop import is_stable
-from .servo.params import ServoParams
-from .servo.sampled import sampled_spectral_radius
-from .sim.contact import sliding_friction
-from .simulate import simulate
-from .units import mm_to_m
+from tcpmm.analysis.circular import QUADRANTS, analyse_circle
+from tcpmm.analysis.compare import lobe_difference
+from tcpmm.builtin import builtin_machine
+from tcpmm.demo import RADIUS_MM, paper_circle_command
+from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction, friction_params_array
+from tcpmm.model import Axis, AxisFriction, Machine, Sensors
+from tcpmm.servo.closedloop import is_stable
+from tcpmm.servo.params import ServoParams
+from tcpmm.servo.sampled import sampled_spectral_radius
+from tcpmm.sim.contact import sliding_friction
+from tcpmm.simulate import simulate
+from tcpmm.units import mm_to_m
 
 __all__ = ["PAPER_MAX", "RADIUS", "differences", "draw_machine", "friction_split",
            "paper_circle_command", "predicted_figures", "tcp_figures", "with_axes",
@@ -247,7 +247,7 @@ def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: 
     Machine, dict
         The true machine and a description of the draw (with the number of redraws) [-].
     """
-    from .builtin import _FRICTION
+    from tcpmm.builtin import _FRICTION
 
     rng = np.random.default_rng([seed, index])
     base = builtin_machine()

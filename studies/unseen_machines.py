@@ -70,7 +70,7 @@ its machines differ from those of the same index without it.
 
 Usage::
 
-    python docs/validation/unseen_machines.py [--n 6] [--seed 0] [--backlash] [--only 2 5]
+    python -m studies.unseen_machines [--n 6] [--seed 0] [--backlash] [--only 2 5]
                                        [--lugre-fraction 0.33] [--json FILE] [--keep DIR]
                                        [--presliding-um 0.5 | --fit-presliding]
 """
@@ -97,7 +97,9 @@ from tcpmm.mechanics.friction import LuGreFriction
 from tcpmm.model import Axis, AxisFriction, Machine
 from tcpmm.servo.params import ServoParams
 from tcpmm.simulate import simulate
-from tcpmm.unseen import (
+from tcpmm.virtual import virtual_bundle, virtual_run
+
+from .unseen import (
     AXES,
     DIRECTIONS,
     LINEAR_DAMPING,
@@ -118,7 +120,6 @@ from tcpmm.unseen import (
     with_axes,
     without_backlash,
 )
-from tcpmm.virtual import virtual_bundle, virtual_run
 
 # ------------------------------------------------------------------------- evaluation
 

@@ -11,7 +11,7 @@ interval and whether a figure called firm misses its target. The split-conformal
 machines is the largest per-machine score: with six machines, the 90 % level of the
 conformal rule (rank ceil(0.9 (n + 1)) of n) needs the largest.
 
-Run: ``.venv/bin/python docs/validation/calibration.py [--data DIR] [--machines c,d,...]``
+Run: ``.venv/bin/python -m studies.calibration [--data DIR] [--machines c,d,...]``
 """
 
 from __future__ import annotations
@@ -29,6 +29,8 @@ from tcpmm.io.bundle import read_bundle
 from tcpmm.io.runfile import read_run_csv
 from tcpmm.path.commandfile import read_command_csv
 from tcpmm.uncertainty import CALIBRATION, CircleTest, circle_figures, prediction_verdict
+
+from . import DATA
 
 CASES = ("ccw", "cw", "ccw_fast", "cw_fast")
 R = 0.035  # [m]
@@ -72,7 +74,7 @@ def judge(letter: str, data: Path) -> list[dict]:
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--data", type=Path,
-                   default=Path(__file__).resolve().parents[3] / "shared" / "data")
+                   default=DATA)
     p.add_argument("--machines", default="c,d,e,h,r05,r17")
     args = p.parse_args(argv)
     rows = []

@@ -35,7 +35,7 @@ decimation by 10), and, under a name that says so, against the applied force und
 
 Usage::
 
-    python docs/validation/emps.py --estimation DATA_EMPS.mat [--validation DATA_EMPS_PULSES.mat]
+    python -m studies.emps --estimation DATA_EMPS.mat [--validation DATA_EMPS_PULSES.mat]
                             [--json] [--plot FIGURE.png]
 """
 
@@ -56,8 +56,9 @@ from scipy import optimize
 from tcpmm.errors import InputError
 from tcpmm.ident.frf import central_difference, decimate, lowpass_filtfilt
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
-from tcpmm.rigidaxis import friction_from_idim, idim_ls
-from tcpmm.sim.rigid import DiscreteServo, RigidAxis, RigidServoResult, simulate_rigid_servo
+
+from .rigidaxis import friction_from_idim, idim_ls
+from .rigidaxis.simulator import DiscreteServo, RigidAxis, RigidServoResult, simulate_rigid_servo
 
 PUBLISHED = {
     "identification": {"M": 95.1089, "Fv": 203.5034, "Fc": 20.3935, "offset": -3.1648,
@@ -143,7 +144,7 @@ class EmpsModel:
         What differs from the reference [-].
     integrator : str
         How the closed loop is integrated: ``"exact"`` (closed-form sub-steps with the rest
-        phase) or an explicit scheme of :data:`tcpmm.sim.rigid.TABLEAUS` with
+        phase) or an explicit scheme of :data:`studies.rigidaxis.TABLEAUS` with
         ``sign(0) = 0``, as the benchmark's Simulink model is integrated [-].
     steps : int
         Integration steps per sample; 0 for the run's ``--substeps`` [-].
@@ -835,7 +836,7 @@ def _print_estimation(sec: dict) -> None:
                    **errs})
     print("(reference: sign(v) by Dormand-Prince steps of T/10 as published, on the data's "
           "time base; published script: also its tec = t(10) - t(9);\n converged: the "
-          "same model solved exactly, docs/validation/emps_numerics.py shows the step study)")
+          "same model solved exactly, python -m studies.emps_numerics shows the step study)")
 
 
 def _print_validation(sec: dict) -> None:

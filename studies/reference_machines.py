@@ -6,7 +6,7 @@ largest |measured - predicted| TCP reversal spike at B-D (A lies on the feed-in)
 TCP contour-error difference, in um. ``--truth`` does the same with the true parameters
 written into a model (``tcpmm.io.truthfile``): the floor of any identified model.
 
-Run: ``.venv/bin/python docs/validation/reference_machines.py [--truth] [--data DIR]``
+Run: ``.venv/bin/python -m studies.reference_machines [--truth] [--data DIR]``
 """
 
 from __future__ import annotations
@@ -24,6 +24,8 @@ from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path.commandfile import read_command_csv
 from tcpmm.simulate import simulate
 
+from . import DATA
+
 CASES = ("ccw", "cw", "ccw_fast", "cw_fast")
 R = 0.035  # [m]
 
@@ -40,7 +42,7 @@ def misfit(machine, folder: Path, case: str) -> tuple[float, float]:
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--data", type=Path,
-                   default=Path(__file__).resolve().parents[3] / "shared" / "data")
+                   default=DATA)
     p.add_argument("--truth", action="store_true", help="the true parameters, not identified")
     args = p.parse_args(argv)
     print("machine  " + "  ".join(f"{c:>17s}" for c in CASES) + "   (spike / contour, um)")

@@ -16,7 +16,7 @@ Printed: coverage of the 90 % intervals, their median half-width, the firm figur
 firm figures that miss their target, with the shipped factor and with the one the even
 half gives.
 
-Run: ``.venv/bin/python docs/validation/population.py --n 24 [--seed 0] [--json FILE]``;
+Run: ``.venv/bin/python -m studies.population --n 24 [--seed 0] [--json FILE]``;
 ``--rows FILE [FILE ...]`` summarises saved rows (of several seeds) without running.
 """
 
@@ -37,10 +37,11 @@ from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle, write_bundle
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.uncertainty import CALIBRATION, figures, prediction_verdict, reference_tests
-from tcpmm.unseen import axis_stable
 from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
 
-DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
+from . import DATA
+from .unseen import axis_stable
+
 TEMPLATES = ("c", "d", "e", "h", "r05", "r17")
 SCALES_M = (0.05e-6, 0.1e-6, 0.5e-6, 1e-6)
 POSITION_PERIODS_S = (0.5e-3, 1e-3, 2e-3)

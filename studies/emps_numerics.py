@@ -10,7 +10,7 @@ with Simulink's ode45 (Dormand-Prince), the step capped at a tenth of the sample
 zero-crossing detection off. ``sign(q')`` has no stick phase: where the axis should rest,
 the solver chatters around zero velocity, and how much of that chatter reaches the
 results depends on the step. This script integrates the model the same way at fixed
-steps (:func:`tcpmm.sim.rigid.simulate_rigid_servo` with ``integrator="rk4"`` or
+steps (:func:`studies.rigidaxis.simulate_rigid_servo` with ``integrator="rk4"`` or
 ``"dopri5"``: the classical 4th-order scheme and the Dormand-Prince 5th-order one that
 Simulink calls ``ode4`` and ``ode5``) at step sizes from one sample down, with the
 controller and time base of the published script (``tec = t(10) - t(9)``, two-tap
@@ -23,7 +23,7 @@ schemes give the published figures to about three digits; as the step shrinks, v
 and force converge to 0.2296 % and 5.852 %, which is what the closed-form simulation gives
 at any number of sub-steps. The published velocity and force figures are therefore those
 of an integration that has not converged, 0.2 % and 0.1 % below the model's own value.
-``docs/validation/emps.py`` therefore reports the reference model integrated as published
+``studies/emps.py`` therefore reports the reference model integrated as published
 (Dormand-Prince, steps of T/10) and, beside it, converged.
 The acceleration of a chattering integration does not converge at all (the sampled
 acceleration jumps by ``2 Fc / M`` wherever the velocity changes sign); with the rest
@@ -31,7 +31,7 @@ phase solved exactly it is 8.01 %.
 
 Usage::
 
-    python docs/validation/emps_numerics.py --estimation DATA_EMPS.mat [--json]
+    python -m studies.emps_numerics --estimation DATA_EMPS.mat [--json]
 """
 
 from __future__ import annotations
@@ -41,7 +41,9 @@ import dataclasses
 import json
 import sys
 
-from emps import (
+from tcpmm.errors import InputError
+
+from .emps import (
     N_SUB,
     PUBLISHED,
     _json_default,
@@ -53,8 +55,6 @@ from emps import (
     relative_errors,
     simulate,
 )
-
-from tcpmm.errors import InputError
 
 #: Sub-steps per sample of the study.
 STEPS = (1, 2, 5, 10, 30)
@@ -71,7 +71,7 @@ def study(estimation, steps=STEPS, schemes=("rk4", "dopri5")) -> dict:
     steps : sequence of int
         Integration steps per controller period [-].
     schemes : sequence of str
-        Runge-Kutta schemes (keys of :data:`tcpmm.sim.rigid.TABLEAUS`) [-].
+        Runge-Kutta schemes (keys of :data:`studies.rigidaxis.TABLEAUS`) [-].
 
     Returns
     -------

@@ -17,10 +17,9 @@ import numpy as np
 from scipy import optimize
 
 from tcpmm.errors import InputError
+from tcpmm.ident.frf.signals import _as_1d, central_difference, decimate, lowpass_filtfilt
+from tcpmm.ident.friction.estimate import ParameterEstimate
 from tcpmm.mechanics.friction import StribeckFriction
-
-from ..ident.frf.signals import _as_1d, central_difference, decimate, lowpass_filtfilt
-from ..ident.friction.estimate import ParameterEstimate
 
 __all__ = ["friction_from_idim", "idim_ls"]
 

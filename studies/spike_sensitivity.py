@@ -1,6 +1,6 @@
 """How much a small parameter error moves the reversal spikes of a circular test.
 
-The random machines of ``docs/validation/unseen_machines.py`` are taken as they are drawn (no
+The random machines of ``studies/unseen_machines.py`` are taken as they are drawn (no
 identification, no measurement noise): each one's circle (R35 mm, F5000 mm/min, CCW then
 CW) is simulated, then simulated again with one parameter of both axes changed by a small
 step up and down, and the TCP figures of the two are compared as ``unseen_machines.py``
@@ -30,7 +30,7 @@ can predict that spike within 4.1 um.
 
 Usage::
 
-    python docs/validation/spike_sensitivity.py [--seeds 0 1 2 3] [--n 12] [--backlash]
+    python -m studies.spike_sensitivity [--seeds 0 1 2 3] [--n 12] [--backlash]
                                          [--only 2 5] [--json FILE]
 """
 
@@ -46,7 +46,8 @@ import numpy as np
 
 from tcpmm.demo import paper_circle_command
 from tcpmm.model import Axis
-from tcpmm.unseen import (
+
+from .unseen import (
     AXES,
     DIRECTIONS,
     PAPER_MAX,

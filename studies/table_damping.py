@@ -16,7 +16,7 @@ table damping from them with the truth:
 
 The plateau measure is the one identify ended with (its share settled with the weighed
 damping), so the other rules are judged on the same plateaus. Run:
-``.venv/bin/python docs/validation/table_damping.py [--seeds 0 1] [--n 12] [--json FILE]``.
+``.venv/bin/python -m studies.table_damping [--seeds 0 1] [--n 12] [--json FILE]``.
 """
 
 from __future__ import annotations
@@ -33,8 +33,10 @@ import numpy as np
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
-from tcpmm.unseen import draw_machine
 from tcpmm.virtual import virtual_bundle
+
+from . import DATA
+from .unseen import draw_machine
 
 #: The own studies: (label, LuGre fraction, range of the guideway share, pre-sliding of
 #: the identified contacts: 0.5 um as the unseen-machine study gives them, or fitted).
@@ -116,7 +118,7 @@ def summary(rows: list[dict], title: str) -> None:
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--data", type=Path,
-                   default=Path(__file__).resolve().parents[3] / "shared" / "data")
+                   default=DATA)
     p.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     p.add_argument("--n", type=int, default=12, help="machines per seed")
     p.add_argument("--json", type=Path, help="write the rows to this file")

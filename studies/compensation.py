@@ -5,7 +5,7 @@ For each machine the model is identified from its bundle, the command is compens
 that model (scaled back over draws of the model), and the compensated command is run on the
 TRUE machine (its truth.yaml); the TCP figures before and after are printed as a table.
 
-    .venv/bin/python docs/validation/compensation.py [--machines c,d,e,h,r05,r17]
+    .venv/bin/python -m studies.compensation [--machines c,d,e,h,r05,r17]
         [--programs "circle F10000,..."] [--accel-m-per-s2 4] [--jerk-m-per-s3 J]
         [--draws 6] [--cache DIR] [--out docs/validation/compensation_table.md]
 
@@ -27,7 +27,7 @@ from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path import InterpolatorSettings, program_to_command, read_command_csv
 
-DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
+from . import DATA
 
 #: CAM-style square, 40 mm, continuous path with a contour tolerance [mm].
 SQUARE = """G90 G17 G64 P0.01 F5000

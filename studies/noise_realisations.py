@@ -13,7 +13,7 @@ B-D / TCP contour-error difference of each circle, in um (as ``reference_machine
 and the parameters that moved most: the current-loop bandwidth, the motor inertia against
 the screw's, and the pre-sliding distance of each axis.
 
-Run: ``.venv/bin/python docs/validation/noise_realisations.py [--seeds 0,1,2,3]
+Run: ``.venv/bin/python -m studies.noise_realisations [--seeds 0,1,2,3]
 [--machines cde] [--sigma 0.5]``.
 """
 
@@ -27,10 +27,12 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from reference_machines import CASES, misfit
 
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
+
+from . import DATA
+from .reference_machines import CASES, misfit
 
 #: Recorded position columns that get the extra noise.
 COLUMNS = ("motor_angle_rad", "scale_mm", "tcp_mm")
@@ -74,7 +76,7 @@ def _parameters(idn) -> str:
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--data", type=Path,
-                   default=Path(__file__).resolve().parents[3] / "shared" / "data")
+                   default=DATA)
     p.add_argument("--machines", default="cde")
     p.add_argument("--seeds", default="0,1,2,3")
     p.add_argument("--sigma", type=float, default=0.5, help="noise [sensor steps]")

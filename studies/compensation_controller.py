@@ -8,20 +8,15 @@ machine (its truth.yaml) as a drive applies them: the pulses added to the curren
 the feed-forward to the position setpoint. Printed: the TCP figures on the true machine
 before and after, and what the model predicted.
 
-    .venv/bin/python docs/validation/compensation_controller.py [--machines c,d,e,h,r05,r17]
+    .venv/bin/python -m studies.compensation_controller [--machines c,d,e,h,r05,r17]
         [--cache DIR]
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 import warnings
 from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from compensation import DATA, model_of
 
 from tcpmm.compensate.controller import (
     controller_compensation,
@@ -32,6 +27,9 @@ from tcpmm.compensate.scores import judge
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path import read_command_csv
 from tcpmm.simulate import simulate
+
+from . import DATA
+from .compensation import model_of
 
 R = 0.035  # [m]
 

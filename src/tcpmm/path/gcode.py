@@ -14,17 +14,17 @@ The parser is our own regex tokeniser plus a modal interpreter rather than a lib
 Of the Python G-code parsers, ``pygcode`` was last released in 2017, and ``gcodeparser``
 and ``gcode-lib`` target 3D-printer dialects: they split lines into words but report no
 column, keep no modal state, and check neither arcs nor repeated words. The dialect
-needed here is small, so owning a few hundred lines (``gcode_lexer``, ``gcode_words``
-and this module) keeps every error message exact and adds no dependency.
+needed here is small, so owning a few hundred lines (``gcode_lexer``, ``gcode_words``,
+``gcode_geometry`` and this module) keeps every error message exact and adds no dependency.
 """
 
 from __future__ import annotations
 
-import math
 import warnings
 
 from ..errors import InputError, InputWarning
 from ..io.text import file_lines
+from .gcode_geometry import INCH_M, MM_M, GeometryMixin, short_text
 from .gcode_lexer import Word, strip_comments, tokenize
 from .gcode_words import (
     G_GROUP,
@@ -34,26 +34,11 @@ from .gcode_words import (
     LETTER_IGNORED,
     M_IGNORED,
     MAX_CODE,
-    MAX_COORDINATE_M,
     MAX_FEED,
     MOTION,
     OTHER_AXES,
 )
-from .segments import AXIS_INDEX, FULL_CIRCLE_TOL_M, PLANES, Arc, Dwell, Line, Rapid
-
-MM_M = 1e-3
-INCH_M = 25.4e-3
-#: allowed difference between the radius to the start and to the end of an arc:
-#: the larger of this [m] and ARC_REL_TOL times the radius
-ARC_ABS_TOL_M = 5e-6
-ARC_REL_TOL = 1e-4
-
-_CENTRE_LETTER = {"X": "I", "Y": "J", "Z": "K"}
-
-
-def _short(text: str) -> str:
-    """A word as written, cut short where its number is very long [-]."""
-    return text if len(text) <= 20 else f"{text[:16]}... ({len(text) - 1} characters)"
+from .segments import AXIS_INDEX, Dwell, Line, Rapid
 
 
 def _where(file, line, column):
@@ -64,7 +49,7 @@ def _where(file, line, column):
     return ", ".join(parts)
 
 
-class _Interpreter:
+class _Interpreter(GeometryMixin):
     def __init__(self, file, start):
         self.file = file
         self.pos = tuple(float(c) for c in start)
@@ -179,7 +164,7 @@ class _Interpreter:
         new = {}
         for g in gs:
             if not abs(g.value) < MAX_CODE:
-                self.error(f"{_short(g.text)} is not a G-code", line, g.column)
+                self.error(f"{short_text(g.text)} is not a G-code", line, g.column)
             code = round(g.value * 10)
             if abs(g.value * 10 - code) > 1e-9:
                 self.error(f"{g.text} is not a G-code", line, g.column)
@@ -209,14 +194,14 @@ class _Interpreter:
                     f"feed {f.text} must be positive (mm/min, or in/min with G20)", line, f.column
                 )
             if not f.value <= MAX_FEED:
-                self.error(f"feed {_short(f.text)} is above F{MAX_FEED:.0f} (mm/min, or in/min "
+                self.error(f"feed {short_text(f.text)} is above F{MAX_FEED:.0f} (mm/min, or in/min "
                            "with G20), faster than any feed axis; check the number", line,
                            f.column)
         end = False
         for m in ms:
             code = m.value
             if not abs(code) < MAX_CODE or code != int(code):
-                self.error(f"{_short(m.text)} is not an M-code", line, m.column)
+                self.error(f"{short_text(m.text)} is not an M-code", line, m.column)
             code = int(code)
             if code in (2, 30):
                 end = True
@@ -311,126 +296,6 @@ class _Interpreter:
             self.segments.append(self.arc(w, target, gword, line))
         self.pos = target
 
-    def _check_sizes(self, w, target, line):
-        """Coordinates, centre offsets and radii within :data:`MAX_COORDINATE_M`."""
-        unit_name = "in" if self.unit == INCH_M else "mm"
-        limit = f"{MAX_COORDINATE_M / self.unit:.6g} {unit_name}"
-        for axis in "XYZ":
-            at = target[AXIS_INDEX[axis]]
-            if axis in w and not abs(at) <= MAX_COORDINATE_M:
-                self.error(f"{axis} would be at {at / self.unit:.6g} {unit_name}, beyond "
-                           f"{limit} from zero, more than any machine travels; check the "
-                           "number (and G20/G21, G90/G91)", line, w[axis].column)
-        for L in "IJKR":
-            if L in w and not abs(w[L].value * self.unit) <= MAX_COORDINATE_M:
-                self.error(f"{_short(w[L].text)} is beyond {limit}, more than any machine "
-                           "travels; check the number (and G20/G21)", line, w[L].column)
-
-    def arc(self, w, end, gword, line):
-        a, b = PLANES[self.plane]
-        ia, ib = AXIS_INDEX[a], AXIS_INDEX[b]
-        ca_letter, cb_letter = _CENTRE_LETTER[a], _CENTRE_LETTER[b]
-        self._check_arc_words(w, gword, line, a + b, ca_letter, cb_letter)
-        s = self.pos
-        da, db = end[ia] - s[ia], end[ib] - s[ib]
-        chord = math.hypot(da, db)
-        unit_name = "in" if self.unit == INCH_M else "mm"
-        if "R" in w:
-            rw = w["R"]
-            r = rw.value * self.unit
-            if chord < FULL_CIRCLE_TOL_M:
-                self.error(
-                    f"the R form cannot describe a full circle (end = start); give "
-                    f"the centre with {ca_letter} and {cb_letter}",
-                    line,
-                    rw.column,
-                )
-            if r == 0.0:
-                self.error("arc radius R0 is zero; give the radius of the arc", line, rw.column)
-            half = 0.5 * chord
-            h2 = r * r - half * half
-            if h2 < 0.0:
-                if half - abs(r) > max(ARC_ABS_TOL_M, ARC_REL_TOL * abs(r)):
-                    self.error(
-                        f"radius {rw.text} is smaller than half the distance from "
-                        f"start to end ({half / self.unit:.6g} {unit_name}); "
-                        "increase R or move the end point",
-                        line,
-                        rw.column,
-                    )
-                h2 = 0.0
-            h = math.sqrt(h2)
-            # centre left of the chord for a short CCW arc; R < 0 takes the long way
-            side = (1.0 if self.motion == 3 else -1.0) * (1.0 if r > 0 else -1.0)
-            ca = s[ia] + 0.5 * da - side * h * db / chord
-            cb = s[ib] + 0.5 * db + side * h * da / chord
-        else:
-            cw_a, cw_b = w.get(ca_letter), w.get(cb_letter)
-            col = (cw_a or cw_b).column
-            if self.arc_absolute:
-                if cw_a is None or cw_b is None:
-                    self.error(
-                        f"with G90.1 the centre needs both {ca_letter} and {cb_letter}", line, col
-                    )
-                ca, cb = cw_a.value * self.unit, cw_b.value * self.unit
-            else:
-                ca = s[ia] + (cw_a.value * self.unit if cw_a else 0.0)
-                cb = s[ib] + (cw_b.value * self.unit if cw_b else 0.0)
-            r0 = math.hypot(s[ia] - ca, s[ib] - cb)
-            r1 = math.hypot(end[ia] - ca, end[ib] - cb)
-            if r0 == 0.0 or r1 == 0.0:
-                self.error(
-                    "arc of zero radius: the centre is on the start or end point; "
-                    f"check {ca_letter} and {cb_letter}",
-                    line,
-                    col,
-                )
-            if abs(r1 - r0) > max(ARC_ABS_TOL_M, ARC_REL_TOL * r0):
-                self.error(
-                    f"the arc's radius to the start is {r0 / self.unit:.6g} "
-                    f"{unit_name} but to the end {r1 / self.unit:.6g} {unit_name}; "
-                    f"correct the end point or the centre ({ca_letter}, {cb_letter})",
-                    line,
-                    col,
-                )
-        centre = [0.0, 0.0, 0.0]
-        centre[ia], centre[ib] = ca, cb
-        centre[3 - ia - ib] = s[3 - ia - ib]
-        direction = "ccw" if self.motion == 3 else "cw"
-        return Arc(
-            s,
-            end,
-            tuple(centre),
-            (a, b),
-            direction,
-            self.feed,
-            exact_stop=self.exact_stop,
-            line=line,
-        )
-
-    def _check_arc_words(self, w, gword, line, plane_axes, ca_letter, cb_letter):
-        """The centre words of the plane, or R, one of the two."""
-        name = f"G{self.motion}"
-        for L in "IJK":
-            if L in w and L not in (ca_letter, cb_letter):
-                self.error(
-                    f"{L} is not a centre word of the G{self.plane} plane ({plane_axes}); "
-                    f"use {ca_letter} and {cb_letter}",
-                    line,
-                    w[L].column,
-                )
-        has_ijk = ca_letter in w or cb_letter in w
-        if has_ijk and "R" in w:
-            self.error(
-                f"give the arc centre ({ca_letter}, {cb_letter}) or the radius R, not both",
-                line,
-                w["R"].column,
-            )
-        if not has_ijk and "R" not in w:
-            col = gword.column if gword is not None else next(w[k] for k in "XYZ" if k in w).column
-            self.error(
-                f"{name} needs the centre ({ca_letter}, {cb_letter}) or the radius R", line, col
-            )
 
 
 def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):

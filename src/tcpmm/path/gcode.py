@@ -15,7 +15,8 @@ Of the Python G-code parsers, ``pygcode`` was last released in 2017, and ``gcode
 and ``gcode-lib`` target 3D-printer dialects: they split lines into words but report no
 column, keep no modal state, and check neither arcs nor repeated words. The dialect
 needed here is small, so owning a few hundred lines (``gcode_lexer``, ``gcode_words``,
-``gcode_geometry`` and this module) keeps every error message exact and adds no dependency.
+``gcode_geometry``, ``gcode_fast`` and this module) keeps every error message exact and
+adds no dependency.
 """
 
 from __future__ import annotations
@@ -24,8 +25,9 @@ import warnings
 
 from ..errors import InputError, InputWarning
 from ..io.text import file_lines
+from .gcode_fast import plain_run
 from .gcode_geometry import INCH_M, MM_M, GeometryMixin, short_text
-from .gcode_lexer import Word, strip_comments, tokenize
+from .gcode_lexer import Word, tape_marker, tokenize
 from .gcode_words import (
     G_GROUP,
     G_IGNORED,
@@ -329,11 +331,46 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
     """
     if len(tuple(start_position_m)) != 3:
         raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
+    it = run_program(text, file, start_position_m)
+    it.emit_warnings()
+    return it.segments
+
+
+def run_program(text: str, file, start_position_m, fast: bool = True) -> _Interpreter:
+    """The interpreter after the program, its warnings not yet issued.
+
+    Parameters
+    ----------
+    text : str
+        The program [-].
+    file : str or Path or None
+        Where the program came from, for messages [-].
+    start_position_m : sequence of float
+        Position of X, Y, Z before the program starts [m].
+    fast : bool
+        Execute plain G0/G1 blocks through :func:`~tcpmm.path.gcode_fast.plain_run`;
+        ``False`` sends every line through the tokeniser, the reference the fast path
+        is tested against [-].
+
+    Returns
+    -------
+    _Interpreter
+        With the segments and the warnings collected [-].
+    """
     it = _Interpreter(file, start_position_m)
     lines = file_lines(text)
     opened = started = False
-    for number, raw in enumerate(lines, start=1):
-        if _tape_marker(raw, file, number):
+    k = 0
+    while k < len(lines):
+        if fast:
+            j = plain_run(it, lines, k)
+            started = started or j > k
+            if j == len(lines):
+                break
+            k = j
+        number, raw = k + 1, lines[k]
+        k += 1
+        if tape_marker(raw, file, number):
             if opened or started:  # the closing %: the program ends here
                 _warn_rest(it, lines, number, "blocks after the closing %")
                 break
@@ -346,21 +383,7 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
         if it.block(words, number):
             _warn_rest(it, lines, number, "blocks after M2/M30")
             break
-    it.emit_warnings()
-    return it.segments
-
-
-def _tape_marker(raw: str, file, number: int) -> bool:
-    """Whether a line is a ``%`` tape marker; text after the ``%`` is an error, since a
-    controller would not run it."""
-    body = strip_comments(raw, file, number).strip()
-    if not body.startswith("%"):
-        return False
-    if body[1:].strip():
-        raise InputError("a '%' line marks the start or end of the program and holds "
-                         "nothing else; put the blocks after it on lines of their own",
-                         file=file, line=number, column=raw.index("%") + 2)
-    return True
+    return it
 
 
 def _warn_rest(it, lines, number: int, what: str) -> None:

@@ -168,3 +168,16 @@ def tokenize(text: str, file=None, line=None) -> list[Word]:
         words.append(Word(letter, value, letter + num, col))
         pos = m.end()
     return words
+
+
+def tape_marker(raw: str, file, number: int) -> bool:
+    """Whether a line is a ``%`` tape marker; text after the ``%`` is an error, since a
+    controller would not run it."""
+    body = strip_comments(raw, file, number).strip()
+    if not body.startswith("%"):
+        return False
+    if body[1:].strip():
+        raise InputError("a '%' line marks the start or end of the program and holds "
+                         "nothing else; put the blocks after it on lines of their own",
+                         file=file, line=number, column=raw.index("%") + 2)
+    return True

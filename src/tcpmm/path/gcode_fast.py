@@ -1,0 +1,98 @@
+"""The common block of CAM output, a plain G0/G1 move, without the tokeniser.
+
+A program of short segments is almost all blocks like ``G1 X12.5 Y-3.25`` or
+``X12.5 Y-3.25 F3000``. :data:`PLAIN_MOVE` matches such a line as a whole, and
+:func:`plain_run` executes a run of them as long as the reference interpreter would do
+so without an error or a warning. Anything else (comments, other words, another word order, a feed
+or coordinate out of range, a zero-length move, no motion mode or feed yet) is left to
+the tokeniser and the interpreter, so every message keeps its text, line and column.
+"""
+
+from __future__ import annotations
+
+import re
+
+from .gcode_words import MAX_COORDINATE_M, MAX_FEED
+from .segments import Line, Rapid
+
+# a number as the tokeniser accepts it; a line the tokeniser would refuse ("X.",
+# "X1.2.3", "X1e3") does not match here
+_NUMBER = r"[ \t]*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))[ \t]*"
+#: ``G0``/``G1`` (also ``G00``/``G01``), then X, Y, Z, F, each at most once and in that
+#: order; groups: motion, X, Y, Z, F [-]
+PLAIN_MOVE = re.compile(
+    r"[ \t]*(?:[Gg][ \t]*0*([01])[ \t]*)?"
+    + "".join(f"(?:[{c}{c.lower()}]{_NUMBER})?" for c in "XYZF")
+)
+
+
+def plain_run(it, lines: list[str], k: int) -> int:
+    """Execute the plain moves from ``lines[k]`` on, as the interpreter would.
+
+    Parameters
+    ----------
+    it : tcpmm.path.gcode._Interpreter
+        The interpreter, which gets the segments and the modal state after them [-].
+    lines : list of str
+        The program's lines [-].
+    k : int
+        0-based index of the first line to try [-].
+
+    Returns
+    -------
+    int
+        0-based index of the first line not executed here, ``k`` if none was: that line
+        goes to the tokeniser and the interpreter [-].
+    """
+    # modal state in locals and one loop over a run of blocks: attribute look-ups and
+    # a call per block cost as much as the block's arithmetic
+    fullmatch, append = PLAIN_MOVE.fullmatch, it.segments.append
+    pos, motion, feed = it.pos, it.motion, it.feed
+    unit, absolute, exact, tol = it.unit, it.absolute, it.exact_stop, it.tolerance
+    n = len(lines)
+    while k < n:
+        m = fullmatch(lines[k])
+        if m is None:
+            break
+        g, x, y, z, f = m.groups()
+        mo = motion if g is None else int(g)
+        fe = feed
+        if f is not None:
+            fe = float(f)
+            if not 0.0 < fe <= MAX_FEED:
+                break
+            fe = fe * unit / 60.0
+        if x is None and y is None and z is None:
+            break
+        if mo is None or mo > 1 or (mo == 1 and fe is None):
+            break
+        # written out per axis: a helper with a loop took a third of the block's time;
+        # only the axes the block names are checked against the range, as there
+        px, py, pz = pos
+        if x is not None:
+            v = float(x) * unit
+            px = v if absolute else px + v
+            if not abs(px) <= MAX_COORDINATE_M:
+                break
+        if y is not None:
+            v = float(y) * unit
+            py = v if absolute else py + v
+            if not abs(py) <= MAX_COORDINATE_M:
+                break
+        if z is not None:
+            v = float(z) * unit
+            pz = v if absolute else pz + v
+            if not abs(pz) <= MAX_COORDINATE_M:
+                break
+        target = (px, py, pz)
+        if target == pos:  # a zero-length G1 warns: the interpreter's business
+            break
+        if mo == 0:
+            append(Rapid(pos, target, k + 1))
+        else:
+            append(Line(pos, target, fe, exact, k + 1, tol))
+        pos, motion, feed = target, mo, fe
+        k += 1
+    it.pos, it.motion, it.feed = pos, motion, feed
+    return k
+

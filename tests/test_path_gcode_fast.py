@@ -1,0 +1,97 @@
+"""The fast path for plain G0/G1 blocks against the reference tokeniser and interpreter:
+the same segments, modal state and warnings, and the same errors, on generated programs."""
+
+from __future__ import annotations
+
+import warnings
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from tcpmm.errors import InputError
+from tcpmm.path import gcode, parse_gcode
+from tcpmm.path.gcode_fast import PLAIN_MOVE
+
+# numbers the tokeniser takes and ones it refuses, in and out of range
+NUMBERS = ["0", "-0", "+1", "1.", ".5", "-.25", "12.3456", "007", "-3", "1000000",
+           "1000001", "0.0", "999999.9", "2e3", ".", "-", "1.2.3", "", "9" * 320]
+SPACES = ["", " ", "  ", "\t"]
+# lines the fast path leaves to the reference: modes, arcs, comments, junk
+OTHER = ["G91", "G90", "G20", "G21", "G61", "G64 P0.01", "G9 G1 X1", "G2 X1 Y0 I0.5 J0",
+         "G3 X0 Y0 R2", "G4 P0.1", "M30", "M3 S1000", "%", "(comment)", "X1 ; note",
+         "X1 (a", "X1 X2", "Y1 X2", "G1 G0 X1", "F0", "F-5", "G1 F100", "T1 M6", "",
+         "   ", "X1\f", "#1=2", "A5", "G17", "G18", "N10 G1 X2", "G1 X1e3", "G0", "g1x2y3"]
+
+
+decimals = st.floats(-500.0, 500.0).map(lambda v: f"{v:.4f}")
+feeds = st.floats(1.0, 1e4).map(lambda v: f"{v:.1f}")
+
+
+@st.composite
+def plain_line(draw):
+    """A line shaped like a plain move, often one the fast path takes [-]."""
+    parts = []
+    if draw(st.booleans()):
+        parts.append(draw(st.sampled_from(["G0", "G1", "G00", "G01", "g1", "G 1", "G2"])))
+    letters = draw(st.lists(st.sampled_from("XYZF"), min_size=1, max_size=4, unique=True))
+    if draw(st.integers(0, 3)):  # mostly in the order the fast path takes
+        letters.sort(key="XYZF".index)
+    else:  # or shuffled, a letter twice, lower case
+        letters = draw(st.permutations(letters + draw(st.sampled_from([[], ["X"], ["y"]]))))
+        letters = [c.lower() if draw(st.booleans()) else c for c in letters]
+    for letter in letters:
+        good = feeds if letter in "Ff" else decimals
+        number = draw(st.one_of([good] * 5 + [st.sampled_from(NUMBERS)]))
+        parts.append(letter + draw(st.sampled_from(SPACES)) + number)
+    sep = draw(st.sampled_from(SPACES))
+    return draw(st.sampled_from(SPACES)) + sep.join(parts) + draw(st.sampled_from(SPACES))
+
+
+# mostly plain lines, so that runs of them reach the fast path before an error
+lines = st.one_of([plain_line()] * 4 + [st.sampled_from(OTHER)])
+programs = st.tuples(st.sampled_from(["", "G1 F3000\n", "G0\n"]), st.lists(lines, max_size=25)
+                     ).map(lambda p: p[0] + "\n".join(p[1]) + "\n")
+
+
+def _outcome(text, fast):
+    """What the program gives: segments, modal state and warnings, or the error [-]."""
+    try:
+        it = gcode.run_program(text, "p.nc", (0.0, 0.0, 0.0), fast=fast)
+    except InputError as err:
+        return ("error", err.message, err.file, err.line, err.column)
+    state = (it.pos, it.motion, it.feed, it.unit, it.absolute, it.exact_stop, it.tolerance)
+    # repr keeps the sign of a zero, which == does not
+    return ("ok", repr(it.segments), repr(state), repr(it.warned))
+
+
+@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(programs)
+def test_fast_path_matches_the_reference(text):
+    assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(plain_line(), min_size=1, max_size=10))
+def test_fast_path_matches_the_reference_after_a_header(lines):
+    text = "G21 G90 G1 X0 Y0 F3000\n" + "\n".join(lines) + "\n"
+    assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
+def test_plain_blocks_skip_the_tokeniser(monkeypatch):
+    calls = []
+    tokenize = gcode.tokenize
+    monkeypatch.setattr(gcode, "tokenize", lambda *a: calls.append(a) or tokenize(*a))
+    text = "G21 G90\nG1 X1 Y0 F3000\nX2 Y1\ng0 x0 y0 z1\nG01 X 1.5\nM30\n"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        segments = parse_gcode(text)
+    assert [c[2] for c in calls] == [1, 6]  # the header and the end only
+    assert [s.line for s in segments] == [2, 3, 4, 5]
+
+
+@pytest.mark.parametrize("text", ["X1 (c)", "X1;", "X1 X2", "Y1 X1", "X1e3", "X.", "G2 X1",
+                                  "X1 S5", "A1", "%", ""])
+def test_lines_that_are_not_plain_moves_do_not_match(text):
+    m = PLAIN_MOVE.fullmatch(text)
+    assert m is None or m.group(1) == m.group(2) == m.group(3) == m.group(4) is None

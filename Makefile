@@ -63,6 +63,7 @@ bench: $(VENV)/.bench
 	$(BIN)/python benchmarks/simulate.py
 	$(BIN)/python benchmarks/fit.py
 	$(BIN)/python benchmarks/interpolate.py
+	$(BIN)/python benchmarks/gcode.py
 	$(BIN)/python benchmarks/identify.py
 	$(BIN)/python benchmarks/memory.py
 	$(BIN)/python benchmarks/frf_fit.py

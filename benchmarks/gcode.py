@@ -1,0 +1,81 @@
+"""G-code parse speed: ``parse_gcode`` per block on a 100 000-block spiral of
+``G1 X.. Y..`` lines, against the reference path (every line through the tokeniser and
+the interpreter) measured in the same run.
+
+The two run in turn, ``--rounds`` times, so that a change of machine load hits both
+alike; min and median over the rounds. The target is 2 us a block. Not a test:
+``python benchmarks/gcode.py [--blocks N] [--rounds N] [--json]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+import warnings
+
+from tcpmm.errors import InputWarning
+from tcpmm.path import gcode, parse_gcode
+
+TARGET_US = 2.0
+
+
+def spiral_program(blocks: int) -> str:
+    """A spiral of ``blocks`` G1 blocks about 0.01 mm long, as issue #52 timed it [-]."""
+    lines = ["G21 G90 G64 P0.01", "G1 X0 Y0 F3000"]
+    for i in range(1, blocks + 1):
+        r, phi = 5 + 0.1 * i * 0.002, i * 0.002
+        lines.append(f"G1 X{r * math.cos(phi):.4f} Y{r * math.sin(phi):.4f}")
+    return "\n".join([*lines, "M30"]) + "\n"
+
+
+def reference(text: str):
+    """The program through the tokeniser and interpreter only [-]."""
+    it = gcode.run_program(text, None, (0.0, 0.0, 0.0), fast=False)
+    it.emit_warnings()
+    return it.segments
+
+
+def main(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--blocks", type=int, default=100_000, help="G1 blocks [-]")
+    ap.add_argument("--rounds", type=int, default=5, help="timed rounds [-]")
+    ap.add_argument("--json", action="store_true", help="print the figures as JSON")
+    a = ap.parse_args(argv)
+    text = spiral_program(a.blocks)
+    tools = {"fast": parse_gcode, "reference": reference}
+    times = {k: [] for k in tools}
+    outs = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)  # the G1 X0 Y0 at the start
+        for _ in range(a.rounds):
+            for name, f in tools.items():
+                t0 = time.perf_counter()
+                outs[name] = f(text)
+                times[name].append(time.perf_counter() - t0)
+    if outs["fast"] != outs["reference"]:
+        raise SystemExit("the fast path and the reference gave different segments")
+    lines = text.count("\n")
+    us = {k: sorted(v) for k, v in times.items()}
+    res = {"blocks": a.blocks, "rounds": a.rounds,
+           "fast_us_per_block": us["fast"][0] / lines * 1e6,
+           "fast_us_per_block_median": us["fast"][len(us["fast"]) // 2] / lines * 1e6,
+           "reference_us_per_block": us["reference"][0] / lines * 1e6,
+           "reference_us_per_block_median":
+               us["reference"][len(us["reference"]) // 2] / lines * 1e6}
+    res["speedup"] = res["reference_us_per_block"] / res["fast_us_per_block"]
+    if a.json:
+        print(json.dumps(res, indent=1))
+    else:
+        print(f"blocks:     {a.blocks} ({a.rounds} rounds, min / median)")
+        print(f"fast:       {res['fast_us_per_block']:.2f} / "
+              f"{res['fast_us_per_block_median']:.2f} us a block (target {TARGET_US:g})")
+        print(f"reference:  {res['reference_us_per_block']:.2f} / "
+              f"{res['reference_us_per_block_median']:.2f} us a block")
+        print(f"speed-up:   {res['speedup']:.2f}")
+    return res
+
+
+if __name__ == "__main__":
+    main()

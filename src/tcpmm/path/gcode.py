@@ -25,7 +25,7 @@ import warnings
 
 from ..errors import InputError, InputWarning
 from ..io.text import file_lines
-from .gcode_fast import plain_run
+from .gcode_fast import collector_paused, plain_run
 from .gcode_geometry import INCH_M, MM_M, GeometryMixin, short_text
 from .gcode_lexer import Word, tape_marker, tokenize
 from .gcode_words import (
@@ -331,7 +331,8 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
     """
     if len(tuple(start_position_m)) != 3:
         raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
-    it = run_program(text, file, start_position_m)
+    with collector_paused():
+        it = run_program(text, file, start_position_m)
     it.emit_warnings()
     return it.segments
 

@@ -95,3 +95,12 @@ def test_plain_blocks_skip_the_tokeniser(monkeypatch):
 def test_lines_that_are_not_plain_moves_do_not_match(text):
     m = PLAIN_MOVE.fullmatch(text)
     assert m is None or m.group(1) == m.group(2) == m.group(3) == m.group(4) is None
+
+
+def test_the_collector_runs_again_after_a_parse_that_fails():
+    import gc
+
+    assert gc.isenabled()
+    with pytest.raises(InputError):
+        parse_gcode("G1 X1 F100\nX1 X2\n")
+    assert gc.isenabled()

@@ -33,7 +33,7 @@ from tcpmm.builtin import builtin_machine
 from tcpmm.demo import paper_circle_command
 from tcpmm.servo.sampled import initial_state, lifted_closed_loop
 from tcpmm.sim.inputs import command_velocity, kernel_inputs
-from tcpmm.simulate import simulate_axis
+from tcpmm.sim.simulate import simulate_axis
 
 DURATION_S = 60.0
 

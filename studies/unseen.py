@@ -31,7 +31,7 @@ from tcpmm.servo.closedloop import is_stable
 from tcpmm.servo.params import ServoParams
 from tcpmm.servo.sampled import sampled_spectral_radius
 from tcpmm.sim.contact import sliding_friction
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 from tcpmm.units import mm_to_m
 
 __all__ = ["PAPER_MAX", "RADIUS", "differences", "draw_machine", "friction_split",

@@ -96,7 +96,7 @@ from tcpmm.io.bundle import read_bundle
 from tcpmm.mechanics.friction import LuGreFriction
 from tcpmm.model import Axis, AxisFriction, Machine
 from tcpmm.servo.params import ServoParams
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 from tcpmm.virtual import virtual_bundle, virtual_run
 
 from .unseen import (

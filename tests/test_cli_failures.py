@@ -97,7 +97,7 @@ def test_a_command_in_the_wrong_unit_is_named(tmp_path):
 
     from tcpmm.builtin import builtin_machine
     from tcpmm.path.command import Command
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
 
     t = np.arange(3) * 1e-3
     cmd = Command(time_s=t, positions={"X": np.full(3, 1e9)})  # 1e12 mm written as m

@@ -15,7 +15,7 @@ from tcpmm.io.atomic import write_text_atomic
 from tcpmm.io.modelfile import write_machine
 from tcpmm.path import write_command_csv
 from tcpmm.path.command import Command
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 
 PROGRAM = "G21 G90 G17\nG0 X0 Y0\nG1 X10 Y0 F1000\nM30\n"
 

@@ -149,7 +149,7 @@ def _short_step():
 @given(data=st.data())
 def test_fuzz_model_file(tmp_path_factory, model_text, data):
     from tcpmm.io.modelfile import read_machine
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
 
     doc = yaml.safe_load(model_text)
     path = data.draw(st.sampled_from(sorted(_leaves(doc), key=str)))

@@ -11,7 +11,7 @@ from tcpmm.ident.friction import BRISTLE_DAMPING_RATIO, PRESLIDING, with_preslid
 from tcpmm.ident.pipeline import identify_axis
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
 from tcpmm.model import AxisFriction
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_run, virtual_sweep
 
 

@@ -67,7 +67,7 @@ def test_identified_model_predicts_the_circle(machine):
     from tcpmm.analysis.circular import analyse_circle
     from tcpmm.analysis.compare import compare_circles
     from tcpmm.demo import paper_circle_command
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
 
     identified = machine
     for ax in ("X", "Y"):

@@ -59,7 +59,7 @@ def test_a_runaway_axis_is_said_in_the_run_and_on_stderr(vmc, capsys):
     import warnings
 
     from tcpmm.errors import RunFaultWarning
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
     from tcpmm.sweep.task import _circle_command
 
     cmd = _circle_command(5e-3, 0.1)
@@ -77,7 +77,7 @@ def test_a_runaway_axis_is_said_in_the_run_and_on_stderr(vmc, capsys):
 def test_a_saturating_axis_is_said(vmc):
     from tcpmm.analysis.runaway import run_faults
     from tcpmm.errors import RunFaultWarning
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
     from tcpmm.sweep.task import _circle_command
 
     x = vmc.axes["X"]
@@ -115,7 +115,7 @@ def test_bode_and_sweep_warn_of_an_unstable_model(tmp_path, capsys):
 
 def test_the_report_says_a_runaway_run(vmc, tmp_path, capsys):
     from tcpmm.io.modelfile import write_machine
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
     from tcpmm.sweep.task import _circle_command
 
     bad = _runaway(vmc)

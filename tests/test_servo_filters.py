@@ -11,7 +11,7 @@ from tcpmm.servo.currentfilters import LowPass, Notch, biquads, filters_freqresp
 from tcpmm.servo.margins import discrete_freqresp
 from tcpmm.servo.params import ServoParams
 from tcpmm.servo.sampled import lifted_closed_loop, sampled_spectral_radius
-from tcpmm.simulate import simulate_axis
+from tcpmm.sim.simulate import simulate_axis
 
 T_V = 1.25e-4
 

@@ -198,7 +198,7 @@ def test_table_2_rows_carry_the_predicted_interval(known):
     inside it."""
     from tcpmm.analysis.circular import analyse_circle
     from tcpmm.analysis.compare import compare_circles
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
     from tcpmm.uncertainty import reference_tests
 
     test = reference_tests(known)[0]

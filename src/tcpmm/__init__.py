@@ -90,10 +90,10 @@ def __dir__():
 
 
 class _Package(_types.ModuleType):
-    """The package module. A public name that is also a submodule's (``simulate``) stays
-    the public function when the submodule is imported, which would otherwise set the
-    package attribute to the module; the submodule stays importable by its path
-    (``from tcpmm.simulate import simulate_axis``)."""
+    """The package module. A public name that is also a subpackage's (``compensate``)
+    stays the public function when the subpackage is imported, which would otherwise set
+    the package attribute to the module; the subpackage stays importable by its path
+    (``from tcpmm.compensate.scores import judge``)."""
 
     def __setattr__(self, name, value):
         if name in _API and isinstance(value, _types.ModuleType):

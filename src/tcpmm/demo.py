@@ -14,7 +14,7 @@ from .io.modelfile import write_machine
 from .mechanics.transfer import reduced_freqresp
 from .path import circle_command
 from .path.command import concatenate
-from .simulate import simulate
+from .sim.simulate import simulate
 from .units import feed_mm_per_min_to_m_per_s, mm_to_m
 
 RADIUS_MM = 35.0

@@ -32,7 +32,7 @@ import numpy as np
 from .analysis.circular import QUADRANTS, analyse_circle
 from .errors import InputError
 from .model import Axis, Machine
-from .simulate import simulate
+from .sim.simulate import simulate
 
 __all__ = ["MODEL_ERROR", "SETTLED_FRACTION", "TOLERANCE", "SpikeSpread", "circle_spread",
            "draw_axis", "draw_machine", "longer_presliding", "scaled_contact"]

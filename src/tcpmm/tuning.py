@@ -14,7 +14,7 @@ import numpy as np
 from .demo import RADIUS_MM, paper_circle_command
 from .model import Machine
 from .servo.tune import tune_machine
-from .simulate import simulate
+from .sim.simulate import simulate
 from .units import mm_to_m
 
 #: Command samples either side searched for the nearest command segment [-].

@@ -12,7 +12,7 @@ from .ident.excitation import log_sweep
 from .io.records import FrictionRecord, SweepRecord
 from .model import Axis, Machine
 from .result import Run
-from .simulate import simulate, simulate_axis
+from .sim.simulate import simulate, simulate_axis
 
 
 def quantise(x, q):

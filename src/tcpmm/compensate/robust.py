@@ -17,7 +17,7 @@ import itertools
 
 import numpy as np
 
-from ..simulate import simulate_axis
+from ..sim.simulate import simulate_axis
 from ..spread import draw_machine
 from .circleguard import CircleGuard
 

@@ -140,7 +140,7 @@ def program_command(program, machine, values: dict):
 
 
 def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
-    from ..simulate import simulate
+    from ..sim.simulate import simulate
     from ..spread import draw_machine
 
     values = variant.params

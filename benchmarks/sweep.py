@@ -24,7 +24,7 @@ import tempfile
 import time
 
 from tcpmm._heap import keep_freed_memory
-from tcpmm.builtin import builtin_machine
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.sweep import CircleProgram, evaluate_variant, lhs_design, parse_param, run_sweep
 
 #: Variants of a serial sample, spread over the design.

@@ -36,8 +36,8 @@ from tcpmm.ident.friction.sensitivity import with_share
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle, write_bundle
 from tcpmm.io.truthfile import machine_from_truth
+from tcpmm.machines.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
 from tcpmm.uncertainty import CALIBRATION, figures, prediction_verdict, reference_tests
-from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
 
 from . import DATA
 from .unseen import axis_stable

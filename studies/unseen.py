@@ -23,8 +23,8 @@ import numpy as np
 
 from tcpmm.analysis.circular import QUADRANTS, analyse_circle
 from tcpmm.analysis.compare import lobe_difference
-from tcpmm.builtin import builtin_machine
 from tcpmm.demo import RADIUS_MM, paper_circle_command
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction, friction_params_array
 from tcpmm.model import Axis, AxisFriction, Machine, Sensors
 from tcpmm.servo.closedloop import is_stable
@@ -247,7 +247,7 @@ def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: 
     Machine, dict
         The true machine and a description of the draw (with the number of redraws) [-].
     """
-    from tcpmm.builtin import _FRICTION
+    from tcpmm.machines.builtin import _FRICTION
 
     rng = np.random.default_rng([seed, index])
     base = builtin_machine()

@@ -7,12 +7,12 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.cli import main
 from tcpmm.demo import paper_circle_command
 from tcpmm.errors import InputWarning
 from tcpmm.io.atomic import write_text_atomic
 from tcpmm.io.modelfile import write_machine
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.path import write_command_csv
 from tcpmm.path.command import Command
 from tcpmm.sim.simulate import simulate

@@ -5,10 +5,10 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.ident.pipeline import identify_axis
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import axis_config, virtual_sweep
 from tcpmm.mechanics.statespace import plant
-from tcpmm.virtual import axis_config, virtual_sweep
 
 #: Parameters that shape the motion of carriage, bed and TCP structure; they must lie
 #: within 3 reported standard deviations of the truth.

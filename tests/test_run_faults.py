@@ -100,8 +100,8 @@ def test_a_sweep_says_its_runaway_variants(tmp_path, capsys):
 
 
 def test_bode_and_sweep_warn_of_an_unstable_model(tmp_path, capsys):
-    from tcpmm.builtin import builtin_machine
     from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
 
     vmc = builtin_machine("vmc")
     x = vmc.axes["X"]

@@ -213,8 +213,8 @@ def test_table_2_rows_carry_the_predicted_interval(known):
 
 
 def test_cli_compare_with_the_model_sets_table_2_against_the_interval(tmp_path, capsys):
-    from tcpmm.builtin import builtin_machine
     from tcpmm.cli import main
+    from tcpmm.machines.builtin import builtin_machine
     from tcpmm.path import write_command_csv
     from tcpmm.uncertainty import reference_tests
 

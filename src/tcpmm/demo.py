@@ -8,9 +8,9 @@ import math
 import numpy as np
 
 from .analysis.circular import analyse_circle
-from .builtin import builtin_machine
 from .io.atomic import output_folder, write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
+from .machines.builtin import builtin_machine
 from .mechanics.transfer import reduced_freqresp
 from .path import circle_command
 from .path.command import concatenate
@@ -175,8 +175,8 @@ def identify_and_predict(machine, cmd, out, step, files):
     from .analysis.compare import compare_circles
     from .ident.chain import identify_bundle
     from .io.bundle import read_bundle
+    from .machines.virtual import virtual_bundle, virtual_run
     from .plot.circle import plot_circle
-    from .virtual import virtual_bundle, virtual_run
 
     step("virtual measurement")
     virtual_bundle(machine, out / "bundle", axes=("X", "Y"))

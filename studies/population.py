@@ -68,7 +68,7 @@ def _draw_axis(rng, axis):
         "k_ff": float(rng.uniform(0.0, 1.0)), "T_p": t_p})
     fr = axis.friction
     if fr is not None:
-        from tcpmm.spread import scaled_contact
+        from tcpmm.whatif.spread import scaled_contact
 
         k = _log_uniform(rng, 0.5, 2.0)
         fr = fr.model_copy(update={"guideway": scaled_contact(fr.guideway, k),

@@ -10,7 +10,7 @@ seeded by ``(seed, index)``, so it can be drawn alone (:func:`draw_machine`).
 
 Used by the validation studies (``studies/unseen_machines.py``,
 ``studies/spike_sensitivity.py``), whose robust spread of identified over true values on
-the machines with play of seeds 0-3 is :data:`tcpmm.spread.MODEL_ERROR`, and by the
+the machines with play of seeds 0-3 is :data:`tcpmm.whatif.spread.MODEL_ERROR`, and by the
 known-answer tests that replay the machines those studies found hard. It is research
 code, so it stays out of the installed package.
 """

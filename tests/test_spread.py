@@ -15,7 +15,7 @@ from tcpmm.machines.builtin import builtin_machine
 from tcpmm.mechanics.friction import LuGreFriction
 from tcpmm.model import AxisUncertainty
 from tcpmm.path import write_command_csv
-from tcpmm.spread import MODEL_ERROR, circle_spread, draw_axis, scaled_contact
+from tcpmm.whatif.spread import MODEL_ERROR, circle_spread, draw_axis, scaled_contact
 
 
 def with_uncertainty(machine, **u):

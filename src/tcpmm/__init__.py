@@ -63,9 +63,9 @@ _API = {
     "contour_error": "tcpmm.analysis.contour:contour_error",
     "prediction_verdict": "tcpmm.uncertainty:prediction_verdict",
     "CircleTest": "tcpmm.uncertainty:CircleTest",
-    "circle_spread": "tcpmm.spread:circle_spread",
-    "run_sweep": "tcpmm.sweep.run:run_sweep",
-    "tune_servos": "tcpmm.tuning:tune_and_predict",
+    "circle_spread": "tcpmm.whatif.spread:circle_spread",
+    "run_sweep": "tcpmm.whatif.sweep.run:run_sweep",
+    "tune_servos": "tcpmm.whatif.tuning:tune_and_predict",
     "compensate": "tcpmm.api:compensate",
 }
 

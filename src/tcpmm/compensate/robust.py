@@ -18,7 +18,7 @@ import itertools
 import numpy as np
 
 from ..sim.simulate import simulate_axis
-from ..spread import draw_machine
+from ..whatif.spread import draw_machine
 from .circleguard import CircleGuard
 
 #: Shares of the correction tried [-].

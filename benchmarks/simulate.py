@@ -29,11 +29,11 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from tcpmm._compiled import run_axis, status
-from tcpmm.builtin import builtin_machine
 from tcpmm.demo import paper_circle_command
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.servo.sampled import initial_state, lifted_closed_loop
 from tcpmm.sim.inputs import command_velocity, kernel_inputs
-from tcpmm.simulate import simulate_axis
+from tcpmm.sim.simulate import simulate_axis
 
 DURATION_S = 60.0
 

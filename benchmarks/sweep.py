@@ -24,8 +24,8 @@ import tempfile
 import time
 
 from tcpmm._heap import keep_freed_memory
-from tcpmm.builtin import builtin_machine
-from tcpmm.sweep import CircleProgram, evaluate_variant, lhs_design, parse_param, run_sweep
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.whatif.sweep import CircleProgram, evaluate_variant, lhs_design, parse_param, run_sweep
 
 #: Variants of a serial sample, spread over the design.
 SERIAL_SAMPLE = 60
@@ -114,7 +114,7 @@ def main(argv=None) -> dict:
     a = ap.parse_args(argv)
     from distributed import Client
 
-    from tcpmm.sweep import local_cluster
+    from tcpmm.whatif.sweep import local_cluster
 
     m, program = builtin_machine(), CircleProgram()
     specs = [parse_param(t) for t in ("X.servo.K_pp=20:60", "Y.servo.K_pp=20:60")]

@@ -26,7 +26,7 @@ from tcpmm.compensate.controller import (
 from tcpmm.compensate.scores import judge
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path import read_command_csv
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 
 from . import DATA
 from .compensation import model_of

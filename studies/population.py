@@ -36,8 +36,8 @@ from tcpmm.ident.friction.sensitivity import with_share
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle, write_bundle
 from tcpmm.io.truthfile import machine_from_truth
+from tcpmm.machines.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
 from tcpmm.uncertainty import CALIBRATION, figures, prediction_verdict, reference_tests
-from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
 
 from . import DATA
 from .unseen import axis_stable
@@ -68,7 +68,7 @@ def _draw_axis(rng, axis):
         "k_ff": float(rng.uniform(0.0, 1.0)), "T_p": t_p})
     fr = axis.friction
     if fr is not None:
-        from tcpmm.spread import scaled_contact
+        from tcpmm.whatif.spread import scaled_contact
 
         k = _log_uniform(rng, 0.5, 2.0)
         fr = fr.model_copy(update={"guideway": scaled_contact(fr.guideway, k),

@@ -22,7 +22,7 @@ from tcpmm.io.bundle import read_bundle
 from tcpmm.io.runfile import read_run_csv
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path.commandfile import read_command_csv
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 
 from . import DATA
 

@@ -5,7 +5,7 @@ identification, no measurement noise): each one's circle (R35 mm, F5000 mm/min, 
 CW) is simulated, then simulated again with one parameter of both axes changed by a small
 step up and down, and the TCP figures of the two are compared as ``unseen_machines.py``
 compares measured and predicted ones. Each step is at most what identification gets wrong
-on machines it has not seen (:data:`tcpmm.spread.MODEL_ERROR`); those of the share and
+on machines it has not seen (:data:`tcpmm.whatif.spread.MODEL_ERROR`); those of the share and
 the mechanics are a third to a half of it:
 
 ``level``

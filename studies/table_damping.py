@@ -33,7 +33,7 @@ import numpy as np
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
-from tcpmm.virtual import virtual_bundle
+from tcpmm.machines.virtual import virtual_bundle
 
 from . import DATA
 from .unseen import draw_machine

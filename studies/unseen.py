@@ -10,7 +10,7 @@ seeded by ``(seed, index)``, so it can be drawn alone (:func:`draw_machine`).
 
 Used by the validation studies (``studies/unseen_machines.py``,
 ``studies/spike_sensitivity.py``), whose robust spread of identified over true values on
-the machines with play of seeds 0-3 is :data:`tcpmm.spread.MODEL_ERROR`, and by the
+the machines with play of seeds 0-3 is :data:`tcpmm.whatif.spread.MODEL_ERROR`, and by the
 known-answer tests that replay the machines those studies found hard. It is research
 code, so it stays out of the installed package.
 """
@@ -23,15 +23,15 @@ import numpy as np
 
 from tcpmm.analysis.circular import QUADRANTS, analyse_circle
 from tcpmm.analysis.compare import lobe_difference
-from tcpmm.builtin import builtin_machine
 from tcpmm.demo import RADIUS_MM, paper_circle_command
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction, friction_params_array
 from tcpmm.model import Axis, AxisFriction, Machine, Sensors
 from tcpmm.servo.closedloop import is_stable
 from tcpmm.servo.params import ServoParams
 from tcpmm.servo.sampled import sampled_spectral_radius
 from tcpmm.sim.contact import sliding_friction
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 from tcpmm.units import mm_to_m
 
 __all__ = ["PAPER_MAX", "RADIUS", "differences", "draw_machine", "friction_split",
@@ -247,7 +247,7 @@ def draw_machine(seed: int, index: int, backlash: bool = False, lugre_fraction: 
     Machine, dict
         The true machine and a description of the draw (with the number of redraws) [-].
     """
-    from tcpmm.builtin import _FRICTION
+    from tcpmm.machines.builtin import _FRICTION
 
     rng = np.random.default_rng([seed, index])
     base = builtin_machine()

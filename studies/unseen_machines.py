@@ -6,9 +6,9 @@ servo gains, velocity feedforward, sensor resolutions, optionally lost motion), 
 script runs what a user would do on a real machine:
 
 1. record the measurement bundle (servo-excitation sweep and constant-speed friction runs
-   per axis) with :func:`tcpmm.virtual.virtual_bundle`;
+   per axis) with :func:`tcpmm.machines.virtual.virtual_bundle`;
 2. record the circular test (R35 mm, F5000 mm/min, CCW then CW) with
-   :func:`tcpmm.virtual.virtual_run`;
+   :func:`tcpmm.machines.virtual.virtual_run`;
 3. identify a model from the bundle alone with :func:`tcpmm.ident.pipeline.identify_bundle`;
 4. predict the circle with the identified model and compare (the paper's Table 2):
    reversal spike heights at the quadrant points A-D and the contour error at the TCP,
@@ -93,11 +93,11 @@ from tcpmm.analysis.compare import compare_circles
 from tcpmm.ident.friction import PRESLIDING
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
+from tcpmm.machines.virtual import virtual_bundle, virtual_run
 from tcpmm.mechanics.friction import LuGreFriction
 from tcpmm.model import Axis, AxisFriction, Machine
 from tcpmm.servo.params import ServoParams
-from tcpmm.simulate import simulate
-from tcpmm.virtual import virtual_bundle, virtual_run
+from tcpmm.sim.simulate import simulate
 
 from .unseen import (
     AXES,

@@ -3,7 +3,7 @@ from pathlib import Path
 
 import pytest
 
-from tcpmm.builtin import builtin_machine
+from tcpmm.machines.builtin import builtin_machine
 
 
 @pytest.fixture(scope="session")
@@ -38,7 +38,7 @@ def identify_unseen(unseen):
     returns the machine, the axis, the identification and the warnings given on the way
     [-]."""
     from tcpmm.ident.pipeline import identify_axis
-    from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
+    from tcpmm.machines.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
     def identify(seed, index, ax, sweep_seed=0, **options):
         true, _ = unseen.draw_machine(seed, index, backlash=True)

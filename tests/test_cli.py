@@ -60,8 +60,8 @@ def test_bode_targets(capsys, files):
     h = json.loads(out)[0]
     assert abs(complex(h["re"], h["im"]) / (0.01 / (2 * np.pi)) - 1) < 1e-3
     # Rigid bed and structure: G_tcp -> 1 up to 500 Hz.
-    from tcpmm.builtin import builtin_machine
     from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
 
     m = builtin_machine()
     x = m.axes["X"]
@@ -139,10 +139,10 @@ def test_help_shows_units(capsys, command):
 def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
     """``--presliding-um`` reaches the model file: the guideway of X builds its static
     level over 1.5 um, and 0 keeps the static model."""
-    from tcpmm.builtin import builtin_machine
     from tcpmm.io.modelfile import read_machine
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.machines.virtual import virtual_bundle
     from tcpmm.mechanics.friction import LuGreFriction
-    from tcpmm.virtual import virtual_bundle
 
     virtual_bundle(builtin_machine(), tmp_path / "b", axes=("X",))
     for um in (1.5, 0.0):

@@ -74,8 +74,8 @@ def test_a_termination_signal_during_a_write_leaves_nothing(tmp_path, name):
 
 
 def test_an_unstable_loop_is_refused_unless_asked_for(tmp_path, capsys):
-    from tcpmm.builtin import builtin_machine
     from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
 
     m = builtin_machine()
     x = m.axes["X"]
@@ -95,9 +95,9 @@ def test_an_unstable_loop_is_refused_unless_asked_for(tmp_path, capsys):
 def test_a_command_in_the_wrong_unit_is_named(tmp_path):
     import warnings
 
-    from tcpmm.builtin import builtin_machine
+    from tcpmm.machines.builtin import builtin_machine
     from tcpmm.path.command import Command
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
 
     t = np.arange(3) * 1e-3
     cmd = Command(time_s=t, positions={"X": np.full(3, 1e9)})  # 1e12 mm written as m

@@ -7,15 +7,15 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.cli import main
 from tcpmm.demo import paper_circle_command
 from tcpmm.errors import InputWarning
 from tcpmm.io.atomic import write_text_atomic
 from tcpmm.io.modelfile import write_machine
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.path import write_command_csv
 from tcpmm.path.command import Command
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 
 PROGRAM = "G21 G90 G17\nG0 X0 Y0\nG1 X10 Y0 F1000\nM30\n"
 

@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.compensate import compensate, predicted_scores, robust_factors
 from tcpmm.compensate.bounds import derivative, excess, machine_bounds
 from tcpmm.compensate.gcodeout import dense_program
 from tcpmm.compensate.robust import EQUAL_M
 from tcpmm.errors import InputError
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.path.circle import circle_command
 from tcpmm.path.command import Command
 

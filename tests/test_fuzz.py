@@ -124,8 +124,8 @@ def _leaves(d, path=()):
 
 @pytest.fixture(scope="module")
 def model_text():
-    from tcpmm.builtin import builtin_machine
     from tcpmm.io.modelfile import dumps_machine, with_interpolation
+    from tcpmm.machines.builtin import builtin_machine
 
     return dumps_machine(with_interpolation(builtin_machine("vmc")))
 
@@ -149,7 +149,7 @@ def _short_step():
 @given(data=st.data())
 def test_fuzz_model_file(tmp_path_factory, model_text, data):
     from tcpmm.io.modelfile import read_machine
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
 
     doc = yaml.safe_load(model_text)
     path = data.draw(st.sampled_from(sorted(_leaves(doc), key=str)))
@@ -187,7 +187,7 @@ WRONG_UNITS = {1e3: ("current_cmd_A", "time_s"), 180.0 / math.pi: ("motor_angle_
 @pytest.fixture(scope="module")
 def small_bundle(tmp_path_factory, vmc):
     from tcpmm.io.bundle import write_bundle
-    from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
+    from tcpmm.machines.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
 
     a = vmc.axes["X"]
     recs = {"sweep": virtual_sweep(a, duration_s=1.0, band_hz=(10.0, 1000.0), name="X"),

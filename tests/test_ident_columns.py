@@ -13,7 +13,7 @@ from tcpmm.ident.gates.columns import column_findings
 
 @pytest.fixture(scope="module")
 def records(vmc):
-    from tcpmm.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
+    from tcpmm.machines.virtual import bundle_machine_yaml, virtual_friction, virtual_sweep
 
     a = vmc.axes["X"]
     return (bundle_machine_yaml(vmc, ["X"]),

@@ -102,7 +102,7 @@ def _friction_runs(speeds, plateau_s=0.5, dt=1e-3):
 
 
 def test_slowest_plateau_of_the_friction_runs(vmc):
-    from tcpmm.virtual import axis_config
+    from tcpmm.machines.virtual import axis_config
 
     rec = _friction_runs((0.002, 0.005, 0.01, 0.02))
     v = gates.slowest_plateau_speed(rec, axis_config(vmc, "X"), "X")
@@ -167,7 +167,7 @@ def ms_bundle(tmp_path_factory, vmc):
     """A one-axis bundle whose 8 kHz sweep has its time column in milliseconds."""
     from tcpmm.io.bundle import write_bundle
     from tcpmm.io.records import SweepRecord
-    from tcpmm.virtual import bundle_machine_yaml, virtual_sweep
+    from tcpmm.machines.virtual import bundle_machine_yaml, virtual_sweep
 
     s = virtual_sweep(vmc.axes["X"], duration_s=3.0, band_hz=(10.0, 1000.0), name="X")
     ms = SweepRecord.from_arrays(s.time_s * 1e3, s.excitation_A, s.current_cmd_A,
@@ -202,7 +202,7 @@ def test_friction_runs_of_an_axis_without_friction(vmc_linear):
     """The runs show no friction: the Stribeck fit to noise is not taken for a static
     level, identification ends with a warning and the model simulates."""
     from tcpmm.ident.pipeline import identify_axis
-    from tcpmm.virtual import axis_config, virtual_friction, virtual_sweep
+    from tcpmm.machines.virtual import axis_config, virtual_friction, virtual_sweep
 
     a = vmc_linear.axes["X"]
     with warnings.catch_warnings(record=True) as caught:
@@ -219,7 +219,7 @@ def test_friction_runs_of_an_axis_without_friction(vmc_linear):
 
 @pytest.fixture(scope="module")
 def sweep_x(vmc):
-    from tcpmm.virtual import virtual_sweep
+    from tcpmm.machines.virtual import virtual_sweep
 
     return virtual_sweep(vmc.axes["X"], duration_s=3.0, band_hz=(10.0, 1000.0), name="X")
 
@@ -234,7 +234,7 @@ def test_a_column_in_the_wrong_unit_is_named(vmc, sweep_x, tmp_path, capsys, cur
     an OverflowError traceback, with or without --accept-suspect."""
     from tcpmm.io.bundle import write_bundle
     from tcpmm.io.records import SweepRecord
-    from tcpmm.virtual import bundle_machine_yaml
+    from tcpmm.machines.virtual import bundle_machine_yaml
 
     s = sweep_x
     bad = SweepRecord.from_arrays(s.time_s, s.excitation_A * current, s.current_cmd_A * current,

@@ -12,7 +12,6 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.ident.friction import (
     GUIDEWAY_SHARE,
@@ -24,7 +23,8 @@ from tcpmm.ident.friction import (
 )
 from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.io.records import FrictionRecord
-from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 Q = 1e-6  # encoder step at the table and scale step of the built-in machine [m]
 #: Round speeds: a whole number of sensor steps per 1 ms sample [m/s].

@@ -11,7 +11,6 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.ident.friction import (
     CUTOFFS_HZ,
     LOST_MOTION_Z,
@@ -28,7 +27,8 @@ from tcpmm.ident.friction.split import (
 from tcpmm.ident.physical import fit_physical
 from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.ident.steps import fitcontext, playrefit
-from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]
 #: Whether the refit with the play as the sweep saw it explains the built-in axes' FRFs

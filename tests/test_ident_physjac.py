@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.ident.physical import PARAMS, log_sensitivities, model_frfs, residual_jacobian
+from tcpmm.machines.builtin import builtin_machine
 
 F_HZ = np.geomspace(2.0, 1500.0, 120)
 STEP = 1e-6  # relative step of the central differences [-]

@@ -9,10 +9,16 @@ from tcpmm.analysis.circular import analyse_circle
 from tcpmm.errors import InputError
 from tcpmm.ident.friction import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
 from tcpmm.ident.pipeline import identify_axis
+from tcpmm.machines.virtual import (
+    FRICTION_SPEEDS,
+    axis_config,
+    virtual_friction,
+    virtual_run,
+    virtual_sweep,
+)
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
 from tcpmm.model import AxisFriction
-from tcpmm.simulate import simulate
-from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_run, virtual_sweep
+from tcpmm.sim.simulate import simulate
 
 
 @pytest.fixture(scope="module")

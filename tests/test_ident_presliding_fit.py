@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.ident.friction import with_presliding
 from tcpmm.ident.friction.preslidingfit import fit_presliding
 from tcpmm.io.records import FrictionRecord
-from tcpmm.virtual import virtual_friction
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import virtual_friction
 
 SLOW = (0.0005, 0.002)  # plateau speeds [m/s]
 #: Turning round gently, as a position loop does that stops on a point and goes back: the

@@ -5,10 +5,10 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.ident.pipeline import identify_axis
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import axis_config, virtual_sweep
 from tcpmm.mechanics.statespace import plant
-from tcpmm.virtual import axis_config, virtual_sweep
 
 #: Parameters that shape the motion of carriage, bed and TCP structure; they must lie
 #: within 3 reported standard deviations of the truth.
@@ -67,7 +67,7 @@ def test_identified_model_predicts_the_circle(machine):
     from tcpmm.analysis.circular import analyse_circle
     from tcpmm.analysis.compare import compare_circles
     from tcpmm.demo import paper_circle_command
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
 
     identified = machine
     for ax in ("X", "Y"):

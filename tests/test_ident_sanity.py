@@ -6,12 +6,12 @@ import warnings
 
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.cli import main
 from tcpmm.ident.gates import FRICTION_LEAD_DEG, friction_holds_sweep, warn_unstable_sampled_loop
 from tcpmm.ident.pipeline import MIN_COHERENCE, identify_axis
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import axis_config, virtual_friction, virtual_sweep
 from tcpmm.servo.sampled import sampled_spectral_radius
-from tcpmm.virtual import axis_config, virtual_friction, virtual_sweep
 
 
 def identify(machine, travel, friction=True):

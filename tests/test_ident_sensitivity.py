@@ -72,7 +72,7 @@ def test_a_spread_draws_the_presliding_distance(machine_c):
     import numpy as np
 
     from tcpmm.model import AxisUncertainty
-    from tcpmm.spread import draw_axis
+    from tcpmm.whatif.spread import draw_axis
 
     a = machine_c.axes["Y"]
     fr = a.friction

@@ -10,11 +10,11 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.ident.frf import reduced_frfs
 from tcpmm.ident.physical import STRUCTURE, FRFData, fit_physical, fit_structure, model_frfs
 from tcpmm.ident.pipeline import identify_axis
-from tcpmm.virtual import axis_config, virtual_friction, virtual_sweep
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import axis_config, virtual_friction, virtual_sweep
 
 PLAY = 5e-6  # [m]
 

@@ -7,7 +7,6 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.ident.friction import (
     SweepDeflection,
     share_from_sweep,
@@ -16,7 +15,8 @@ from tcpmm.ident.friction import (
     travel_velocity,
 )
 from tcpmm.ident.pipeline import identify_axis
-from tcpmm.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
+from tcpmm.machines.builtin import builtin_machine
+from tcpmm.machines.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
 
 def deflection_of(mech, share, level, table_viscous, v):

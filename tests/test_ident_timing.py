@@ -12,8 +12,8 @@ import pytest
 from conftest import bench_path
 from tcpmm.ident.physical import identify_loop_timing
 from tcpmm.io.bundle import read_bundle
+from tcpmm.machines.virtual import axis_config, virtual_sweep
 from tcpmm.servo.sampled import sampled_spectral_radius
-from tcpmm.virtual import axis_config, virtual_sweep
 
 
 @pytest.mark.parametrize("delay, kind", [(0, "state"), (0, "difference"), (1, "state"),

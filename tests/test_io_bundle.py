@@ -427,8 +427,8 @@ def test_numpy_values_in_machine_dict_and_crlf_bom_csv(tmp_path):
 
 
 def test_model_file_given_as_bundle_description_is_named_in_one_line():
-    from tcpmm.builtin import builtin_machine
     from tcpmm.io.modelfile import dumps_machine
+    from tcpmm.machines.builtin import builtin_machine
 
     with pytest.raises(InputError, match=r"this is a machine model \(format tcpmm-model/1\)"):
         parse_machine_yaml(dumps_machine(builtin_machine("vmc")))

@@ -92,11 +92,11 @@ def test_the_api_is_flat_and_lazy():
     assert out.stdout.strip() == "0"
 
 
-def test_simulate_stays_the_function_after_its_module_is_imported():
-    import tcpmm.simulate as _  # noqa: F401  (the submodule of the same name)
-    from tcpmm.simulate import simulate_axis
+def test_compensate_stays_the_function_after_its_package_is_imported():
+    from tcpmm.compensate.scores import judge  # the subpackage of the same name
 
-    assert callable(simulate_axis)
+    assert callable(judge)
+    assert tcpmm.compensate.__module__ == "tcpmm.api"
     assert tcpmm.simulate.__module__ == "tcpmm.api"
 
 

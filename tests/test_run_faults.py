@@ -8,7 +8,7 @@ import json
 import pytest
 
 from tcpmm.cli import main
-from tcpmm.sweep import read_results
+from tcpmm.whatif.sweep import read_results
 
 ARGS = ["sweep", "builtin:vmc", "-p", "X.servo.position_gain=30,40", "--circle", "5,6000",
         "--workers", "1", "--json"]
@@ -59,8 +59,8 @@ def test_a_runaway_axis_is_said_in_the_run_and_on_stderr(vmc, capsys):
     import warnings
 
     from tcpmm.errors import RunFaultWarning
-    from tcpmm.simulate import simulate
-    from tcpmm.sweep.task import _circle_command
+    from tcpmm.sim.simulate import simulate
+    from tcpmm.whatif.sweep.task import _circle_command
 
     cmd = _circle_command(5e-3, 0.1)
     with warnings.catch_warnings(record=True) as caught:
@@ -77,8 +77,8 @@ def test_a_runaway_axis_is_said_in_the_run_and_on_stderr(vmc, capsys):
 def test_a_saturating_axis_is_said(vmc):
     from tcpmm.analysis.runaway import run_faults
     from tcpmm.errors import RunFaultWarning
-    from tcpmm.simulate import simulate
-    from tcpmm.sweep.task import _circle_command
+    from tcpmm.sim.simulate import simulate
+    from tcpmm.whatif.sweep.task import _circle_command
 
     x = vmc.axes["X"]
     weak = vmc.with_axis("X", x.replace(servo=x.servo.model_copy(update={"current_limit": 0.5})))
@@ -100,8 +100,8 @@ def test_a_sweep_says_its_runaway_variants(tmp_path, capsys):
 
 
 def test_bode_and_sweep_warn_of_an_unstable_model(tmp_path, capsys):
-    from tcpmm.builtin import builtin_machine
     from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
 
     vmc = builtin_machine("vmc")
     x = vmc.axes["X"]
@@ -115,8 +115,8 @@ def test_bode_and_sweep_warn_of_an_unstable_model(tmp_path, capsys):
 
 def test_the_report_says_a_runaway_run(vmc, tmp_path, capsys):
     from tcpmm.io.modelfile import write_machine
-    from tcpmm.simulate import simulate
-    from tcpmm.sweep.task import _circle_command
+    from tcpmm.sim.simulate import simulate
+    from tcpmm.whatif.sweep.task import _circle_command
 
     bad = _runaway(vmc)
     write_machine(bad, tmp_path / "m.yaml")

@@ -15,7 +15,7 @@ from tcpmm.servo.sampled import (
     sampled_spectral_radius,
 )
 from tcpmm.sim.inputs import command_velocity
-from tcpmm.simulate import simulate_axis
+from tcpmm.sim.simulate import simulate_axis
 
 
 @pytest.mark.parametrize("ax", ["X", "Y", "Z"])

@@ -11,7 +11,7 @@ from tcpmm.servo.currentfilters import LowPass, Notch, biquads, filters_freqresp
 from tcpmm.servo.margins import discrete_freqresp
 from tcpmm.servo.params import ServoParams
 from tcpmm.servo.sampled import lifted_closed_loop, sampled_spectral_radius
-from tcpmm.simulate import simulate_axis
+from tcpmm.sim.simulate import simulate_axis
 
 T_V = 1.25e-4
 
@@ -102,7 +102,7 @@ def test_kernel_sine_matches_the_sampled_model(vmc_linear, filters):
 def test_declared_filters_reach_the_identified_servo(vmc):
     """A drive's filters, declared in the bundle, are carried into the identified model."""
     from tcpmm.ident.pipeline import axis_config_to_servo
-    from tcpmm.virtual import axis_config, bundle_machine_yaml
+    from tcpmm.machines.virtual import axis_config, bundle_machine_yaml
 
     notch = Notch(f_hz=728.8, bandwidth_hz=150.0, depth_db=-20.0)
     a = vmc.axes["X"]

@@ -7,7 +7,7 @@ from tcpmm.analysis.circular import analyse_circle
 from tcpmm.mechanics.friction import StribeckFriction
 from tcpmm.model import AxisFriction
 from tcpmm.path import circle_command
-from tcpmm.simulate import simulate, simulate_axis
+from tcpmm.sim.simulate import simulate, simulate_axis
 
 R = 0.035
 

@@ -18,7 +18,7 @@ from tcpmm.mechanics.friction import LuGreFriction, friction_params_array
 from tcpmm.path.commandfile import read_command_csv
 from tcpmm.sim.contact import friction_force
 from tcpmm.sim.inputs import command_velocity
-from tcpmm.simulate import simulate, simulate_axis
+from tcpmm.sim.simulate import simulate, simulate_axis
 
 R = 0.035  # [m]
 _MEAS = {}

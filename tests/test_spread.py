@@ -7,15 +7,15 @@ import numpy as np
 import pytest
 import yaml
 
-from tcpmm.builtin import builtin_machine
 from tcpmm.cli import main
 from tcpmm.demo import paper_circle_command
 from tcpmm.errors import InputError
 from tcpmm.io.modelfile import dumps_machine, read_machine, write_machine
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.mechanics.friction import LuGreFriction
 from tcpmm.model import AxisUncertainty
 from tcpmm.path import write_command_csv
-from tcpmm.spread import MODEL_ERROR, circle_spread, draw_axis, scaled_contact
+from tcpmm.whatif.spread import MODEL_ERROR, circle_spread, draw_axis, scaled_contact
 
 
 def with_uncertainty(machine, **u):

@@ -11,7 +11,7 @@ import pytest
 from tcpmm.cli import main
 from tcpmm.errors import InputError
 from tcpmm.model import AxisUncertainty
-from tcpmm.sweep import (
+from tcpmm.whatif.sweep import (
     CircleProgram,
     GcodeProgram,
     Variant,
@@ -56,7 +56,7 @@ def serial(vmc, design, tmp_path_factory):
 def client():
     from distributed import Client
 
-    from tcpmm.sweep import local_cluster
+    from tcpmm.whatif.sweep import local_cluster
 
     with local_cluster(2) as cluster, Client(cluster) as c:
         yield c
@@ -194,7 +194,7 @@ def test_a_stopped_sweep_resumes_with_the_missing_variants(vmc, design, serial, 
 def test_a_folder_another_sweep_is_writing_into_is_refused(vmc, design, serial):
     """Two sweeps into one folder at once would both compute and write the variants
     missing there: the second is refused while the first runs, and runs after it."""
-    from tcpmm.sweep.store import writing
+    from tcpmm.whatif.sweep.store import writing
 
     with writing(serial.out_dir), pytest.raises(InputError, match="another sweep"):
         run_sweep(vmc, SHORT, design, serial.out_dir, workers=1)
@@ -237,7 +237,7 @@ def test_cli(tmp_path, capsys):
 def test_a_programs_errors_name_its_file(vmc):
     """A sweep's program was interpreted from its text alone: its errors named a line but
     no file."""
-    from tcpmm.sweep.task import program_command
+    from tcpmm.whatif.sweep.task import program_command
 
     for text in ("G21 G90\nG1 X10 F0.0000001\nM30\n", "G21 G90\nG1 X10 F1000 G2\nM30\n"):
         with pytest.raises(InputError) as e:

@@ -10,7 +10,7 @@ from tcpmm.io.modelfile import read_machine
 from tcpmm.servo.margins import axis_margins
 from tcpmm.servo.params import ServoParams
 from tcpmm.servo.sampled import sampled_spectral_radius
-from tcpmm.tuning import polyline_distance, tune_and_predict
+from tcpmm.whatif.tuning import polyline_distance, tune_and_predict
 
 GM, PM = 6.0, 45.0
 
@@ -79,7 +79,7 @@ def test_polyline_distance_of_an_offset_line():
 def test_result_shares_the_protocol(vmc, tmp_path):
     import tcpmm
     from tcpmm.servo.tune import AxisTuning
-    from tcpmm.tuning import TuneResult
+    from tcpmm.whatif.tuning import TuneResult
 
     a = vmc.axes["X"]
     m = axis_margins(a.mechanics, a.servo)

@@ -198,7 +198,7 @@ def test_table_2_rows_carry_the_predicted_interval(known):
     inside it."""
     from tcpmm.analysis.circular import analyse_circle
     from tcpmm.analysis.compare import compare_circles
-    from tcpmm.simulate import simulate
+    from tcpmm.sim.simulate import simulate
     from tcpmm.uncertainty import reference_tests
 
     test = reference_tests(known)[0]
@@ -213,8 +213,8 @@ def test_table_2_rows_carry_the_predicted_interval(known):
 
 
 def test_cli_compare_with_the_model_sets_table_2_against_the_interval(tmp_path, capsys):
-    from tcpmm.builtin import builtin_machine
     from tcpmm.cli import main
+    from tcpmm.machines.builtin import builtin_machine
     from tcpmm.path import write_command_csv
     from tcpmm.uncertainty import reference_tests
 

@@ -24,7 +24,7 @@ from tcpmm.io.bundle import read_bundle
 from tcpmm.io.runfile import read_run_csv
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path.commandfile import read_command_csv
-from tcpmm.simulate import simulate
+from tcpmm.sim.simulate import simulate
 
 R = 0.035  # [m]
 CASES = ("ccw", "cw", "ccw_fast", "cw_fast")

@@ -41,11 +41,11 @@ __version__ = "0.1.0"
 _API = {
     "load_model": "tcpmm.api:load_model",
     "save_model": "tcpmm.api:save_model",
-    "builtin_machine": "tcpmm.builtin:builtin_machine",
+    "builtin_machine": "tcpmm.machines.builtin:builtin_machine",
     "design_excitation": "tcpmm.ident.excitation:design_excitation",
     "read_bundle": "tcpmm.io.bundle:read_bundle",
-    "virtual_bundle": "tcpmm.virtual:virtual_bundle",
-    "virtual_run": "tcpmm.virtual:virtual_run",
+    "virtual_bundle": "tcpmm.machines.virtual:virtual_bundle",
+    "virtual_run": "tcpmm.machines.virtual:virtual_run",
     "identify": "tcpmm.api:identify",
     "read_frf": "tcpmm.io.frffile:read_frf",
     "fit_frf": "tcpmm.ident.lti.frffit:fit_frf",
@@ -63,9 +63,9 @@ _API = {
     "contour_error": "tcpmm.analysis.contour:contour_error",
     "prediction_verdict": "tcpmm.uncertainty:prediction_verdict",
     "CircleTest": "tcpmm.uncertainty:CircleTest",
-    "circle_spread": "tcpmm.spread:circle_spread",
-    "run_sweep": "tcpmm.sweep.run:run_sweep",
-    "tune_servos": "tcpmm.tuning:tune_and_predict",
+    "circle_spread": "tcpmm.whatif.spread:circle_spread",
+    "run_sweep": "tcpmm.whatif.sweep.run:run_sweep",
+    "tune_servos": "tcpmm.whatif.tuning:tune_and_predict",
     "compensate": "tcpmm.api:compensate",
 }
 
@@ -90,10 +90,10 @@ def __dir__():
 
 
 class _Package(_types.ModuleType):
-    """The package module. A public name that is also a submodule's (``simulate``) stays
-    the public function when the submodule is imported, which would otherwise set the
-    package attribute to the module; the submodule stays importable by its path
-    (``from tcpmm.simulate import simulate_axis``)."""
+    """The package module. A public name that is also a subpackage's (``compensate``)
+    stays the public function when the subpackage is imported, which would otherwise set
+    the package attribute to the module; the subpackage stays importable by its path
+    (``from tcpmm.compensate.scores import judge``)."""
 
     def __setattr__(self, name, value):
         if name in _API and isinstance(value, _types.ModuleType):

@@ -101,7 +101,7 @@ def simulate(machine, command, record_period_s=None, progress=None):
     Run
         Command, motor encoder, linear scale, TCP and current per axis [SI].
     """
-    from .simulate import simulate as _simulate
+    from .sim.simulate import simulate as _simulate
 
     m = load_model(machine)
     return _simulate(m, as_command(command, m), record_period_s=record_period_s,

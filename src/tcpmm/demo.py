@@ -8,13 +8,13 @@ import math
 import numpy as np
 
 from .analysis.circular import analyse_circle
-from .builtin import builtin_machine
 from .io.atomic import output_folder, write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
+from .machines.builtin import builtin_machine
 from .mechanics.transfer import reduced_freqresp
 from .path import circle_command
 from .path.command import concatenate
-from .simulate import simulate
+from .sim.simulate import simulate
 from .units import feed_mm_per_min_to_m_per_s, mm_to_m
 
 RADIUS_MM = 35.0
@@ -65,7 +65,7 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
     and noise), identifies a model from those records alone, predicts the circle with
     it and compares the prediction with the virtual measurement (Table 2). Last, the
     spikes of machines drawn from the identified uncertainty say which quadrant points
-    the prediction settles (:func:`tcpmm.spread.circle_spread`).
+    the prediction settles (:func:`tcpmm.whatif.spread.circle_spread`).
 
     Parameters
     ----------
@@ -175,8 +175,8 @@ def identify_and_predict(machine, cmd, out, step, files):
     from .analysis.compare import compare_circles
     from .ident.chain import identify_bundle
     from .io.bundle import read_bundle
+    from .machines.virtual import virtual_bundle, virtual_run
     from .plot.circle import plot_circle
-    from .virtual import virtual_bundle, virtual_run
 
     step("virtual measurement")
     virtual_bundle(machine, out / "bundle", axes=("X", "Y"))
@@ -247,7 +247,7 @@ def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m
 
 def write_spread(identified, cmd, out, files, draws: int = 16):
     """Spikes of the identified model over ``draws`` machines drawn from its uncertainty."""
-    from .spread import circle_spread
+    from .whatif.spread import circle_spread
 
     res = circle_spread(identified, cmd, mm_to_m(RADIUS_MM), n=draws)
     write_table_atomic(res.to_pandas(), out / "spread.csv", "%.3f")
@@ -259,7 +259,7 @@ def write_spread(identified, cmd, out, files, draws: int = 16):
 
 def spread_summary(spread) -> str:
     """One line on the quadrant points the drawn machines do not settle or hold."""
-    from .spread import SETTLED_FRACTION
+    from .whatif.spread import SETTLED_FRACTION
 
     n, tol = spread.spikes.shape[0], spread.tolerance * 1e6
     head = (f"Spread over {n} drawn machines ({100 * SETTLED_FRACTION:.0f} % of the draws "

@@ -133,7 +133,7 @@ class OpenRange(BaseModel):
 class AxisUncertainty(BaseModel):
     """One standard deviation of what identification determined for an axis.
 
-    A prediction's spread (:mod:`tcpmm.spread`) draws machines from it. Quantities the
+    A prediction's spread (:mod:`tcpmm.whatif.spread`) draws machines from it. Quantities the
     data do not determine are left out and not varied, except the guideway share.
 
     Parameters

@@ -39,15 +39,15 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
            fit_only: bool = typer.Option(
                False, "--fit-only",
                help="Draw from the fits' own standard deviations alone, without the "
-                    "floors of tcpmm.spread.MODEL_ERROR."),
+                    "floors of tcpmm.whatif.spread.MODEL_ERROR."),
            tolerance: float = typer.Option(
                None, "--tolerance-um",
                help="Spike difference to hold at nine in ten draws [um]; default: the "
-                    "largest of the paper's Table 2, 4.1 um (tcpmm.spread.TOLERANCE)."),
+                    "largest of the paper's Table 2, 4.1 um (tcpmm.whatif.spread.TOLERANCE)."),
            as_json: bool = typer.Option(False, "--json"),
            plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
     """Reversal spikes of a circle with their spread over the identified uncertainty."""
-    from ..spread import MODEL_ERROR, TOLERANCE, circle_spread
+    from ..whatif.spread import MODEL_ERROR, TOLERANCE, circle_spread
     from ._tables import print_table
 
     if tolerance is not None:

@@ -24,8 +24,8 @@ def machine_export(name: str = typer.Argument(..., help="Built-in machine name (
                    output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml")):
     """Write a built-in machine as a model file, with the interpolator settings that
     tcpmm path, simulate --gcode and sweep use, to be read and edited there."""
-    from ..builtin import builtin_machine
     from ..io.modelfile import with_interpolation, write_machine
+    from ..machines.builtin import builtin_machine
 
     write_machine(with_interpolation(builtin_machine(name)), _output(output))
     out.print(f"wrote {output}")

@@ -70,7 +70,7 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     """Drive the machine model with a position command; write the run file. An axis that
     runs away from its command or holds its current at the limit is said on stderr (and
     in --json, "faults")."""
-    from ..simulate import simulate as _simulate
+    from ..sim.simulate import simulate as _simulate
 
     _output(output, model, command, gcode)
     if record_period_s is not None:

@@ -59,7 +59,7 @@ def _bar(description: str):
 
 def _program(gcode: Path | None, circle: str | None, centre: str):
     from ..path import read_program
-    from ..sweep import CircleProgram, GcodeProgram
+    from ..whatif.sweep import CircleProgram, GcodeProgram
 
     if gcode is not None and circle is not None:
         raise typer.BadParameter("give one of --gcode PROG.nc or --circle R,F")
@@ -167,8 +167,8 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     Example: tcpmm sweep builtin:vmc -p X.servo.position_gain=20:60:5
     -p Y.servo.position_gain=20:60:5 --circle 35,5000 -o out/kpp
     """
-    from ..spread import MODEL_ERROR
-    from ..sweep import DESIGNS, canonical_name, make_design, parameter_names, run_sweep
+    from ..whatif.spread import MODEL_ERROR
+    from ..whatif.sweep import DESIGNS, canonical_name, make_design, parameter_names, run_sweep
 
     m = _read_model(model)
     kind = "gcode" if gcode is not None else "circle"
@@ -185,7 +185,7 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     if scheduler is not None and workers is not None:
         raise typer.BadParameter("--workers sets up a local cluster; with --scheduler the "
                                  "cluster's own workers run the sweep")
-    from ..sweep import parse_param
+    from ..whatif.sweep import parse_param
 
     program = _program(gcode, circle, centre)
     specs = [parse_param(p, lambda name: canonical_name(m, name, kind)) for p in param or []]

@@ -37,7 +37,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     """Propose velocity-loop gains, notch filters, position gain and feedforward that meet
     the margins on the sampled loops; predict the path before and after."""
     from ..io.modelfile import write_machine
-    from ..tuning import tune_and_predict
+    from ..whatif.tuning import tune_and_predict
 
     gm, pm = parse_margins(margins)
     if output is not None:

@@ -4,7 +4,7 @@ setpoint, pulse that decays) and a cross-talk feed-forward (a position offset pr
 to the axis's commanded acceleration, cancelling the structure's deflection at the TCP).
 
 Both are simulated as the drive applies them: the pulse is added to the current command
-(:func:`tcpmm.simulate.simulate`, ``current_feedforward_A``), the offset to the position
+(:func:`tcpmm.sim.simulate.simulate`, ``current_feedforward_A``), the offset to the position
 setpoint. The pulse's amplitude and decay are those that minimise the model's largest TCP
 reversal spike of the circle given, among amplitudes up to the axis's Coulomb friction and
 decays of a few milliseconds; a pulse that does not lower it is not applied.
@@ -124,7 +124,7 @@ def cross_talk_gain(axis) -> float:
     """The TCP's deflection relative to the scale per commanded acceleration, from a slow
     sine run on the model: the least-squares slope of ``tcp - scale`` on the commanded
     acceleration [m/(m/s^2)]."""
-    from ..simulate import simulate_axis
+    from ..sim.simulate import simulate_axis
 
     T = axis.servo.T_p
     t = np.arange(0.0, 3.0 / PROBE_HZ, T)
@@ -175,7 +175,7 @@ def _figures(machine, command: Command, programmed: Command, pulses: dict, radiu
              centre_m, plane) -> dict:
     """The model's TCP figures of ``command`` run with the current pulses, judged against
     the programmed path [-]."""
-    from ..simulate import simulate
+    from ..sim.simulate import simulate
     from .scores import judge
 
     run = simulate(machine, command, current_feedforward_A=pulses or None)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Axis
-from ..simulate import simulate_axis
+from ..sim.simulate import simulate_axis
 
 #: Step of the impulse that probes the linear map; small enough to stay linear and large
 #: enough to stand far above round-off of the positions [m].

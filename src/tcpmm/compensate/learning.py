@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..path.command import Command
-from ..simulate import simulate_axis
+from ..sim.simulate import simulate_axis
 from .bounds import CURRENT_SHARE, fit_within, machine_bounds, shrink
 from .inverse import (
     apply_filter,

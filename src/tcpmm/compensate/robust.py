@@ -17,8 +17,8 @@ import itertools
 
 import numpy as np
 
-from ..simulate import simulate_axis
-from ..spread import draw_machine
+from ..sim.simulate import simulate_axis
+from ..whatif.spread import draw_machine
 from .circleguard import CircleGuard
 
 #: Shares of the correction tried [-].

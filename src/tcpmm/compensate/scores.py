@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 
 from ..path.command import Command
-from ..simulate import simulate
+from ..sim.simulate import simulate
 
 
 def runs_before_after(machine, comp, quantise_feedback: bool = True):

@@ -115,7 +115,7 @@ def read_machine(path) -> Machine:
     """
     s = str(path)
     if s.startswith("builtin:"):
-        from ..builtin import builtin_machine
+        from ..machines.builtin import builtin_machine
 
         return builtin_machine(s.split(":", 1)[1])
     return _to_machine(read_yaml_model(path, ModelFile, "machine model", _HINT, FORMAT))

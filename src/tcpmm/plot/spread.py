@@ -15,7 +15,7 @@ def plot_spike_spread(spread, path=None, ax=None):
     Parameters
     ----------
     spread : SpikeSpread
-        Result of :func:`tcpmm.spread.circle_spread` [-].
+        Result of :func:`tcpmm.whatif.spread.circle_spread` [-].
     path : str or Path, optional
         Output file (PNG/PDF/SVG) [-].
     ax : matplotlib Axes or array-like of Axes, optional

@@ -11,7 +11,7 @@ def plot_sweep(table, ax=None, x: str | None = None, y: str = "spike_max_um", pa
     Parameters
     ----------
     table : pandas.DataFrame
-        The summary of a sweep (:meth:`tcpmm.sweep.SweepResult.to_pandas`) [-].
+        The summary of a sweep (:meth:`tcpmm.whatif.sweep.SweepResult.to_pandas`) [-].
     ax : matplotlib.axes.Axes, optional
         Where to draw; a new figure when omitted [-].
     x : str, optional

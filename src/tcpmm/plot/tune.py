@@ -14,7 +14,7 @@ def plot_tuning(result, path=None, ax=None):
     Parameters
     ----------
     result : TuneResult
-        Result of :func:`tcpmm.tuning.tune_and_predict` [-].
+        Result of :func:`tcpmm.whatif.tuning.tune_and_predict` [-].
     path : str or Path, optional
         Output file (PNG/PDF/SVG) [-].
     ax : matplotlib Axes or array-like of Axes, optional

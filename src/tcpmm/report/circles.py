@@ -228,7 +228,7 @@ def spread_section(spread):
     Parameters
     ----------
     spread : SpikeSpread or dict
-        :func:`tcpmm.spread.circle_spread`, or its ``to_dict()`` (``tcpmm spread --json``)
+        :func:`tcpmm.whatif.spread.circle_spread`, or its ``to_dict()`` (``tcpmm spread --json``)
         [-].
     """
     import pandas as pd

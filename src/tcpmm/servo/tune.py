@@ -15,7 +15,7 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
    the velocity loop's bandwidth; every axis then takes the smallest of them (equal
    position gains keep a circle round).
 4. **Feedforward** is left as it is here: it does not change the margins, and its best
-   value depends on friction and the path, so :func:`tcpmm.tuning.tune_and_predict`
+   value depends on friction and the path, so :func:`tcpmm.whatif.tuning.tune_and_predict`
    chooses it by simulating the path.
 
 Every changed setting gets a note saying why it changed and what limits it: the margin

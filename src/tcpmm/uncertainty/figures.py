@@ -96,7 +96,7 @@ def figures(machine, tests, sensor: str = "tcp") -> dict:
     """
     import warnings
 
-    from ..simulate import simulate
+    from ..sim.simulate import simulate
 
     out = {}
     with warnings.catch_warnings():  # a variant's run warns of what the verdict reports

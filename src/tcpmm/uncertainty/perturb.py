@@ -61,7 +61,7 @@ def _mechanics_variants(axis: Axis, u) -> list[Variant]:
 
 def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
     from ..ident.friction.sensitivity import with_share
-    from ..spread import longer_presliding, scaled_contact
+    from ..whatif.spread import longer_presliding, scaled_contact
 
     fr = axis.friction
     if fr is None:

@@ -146,7 +146,7 @@ def spike_range(machine: Machine, name: str, frictions) -> float | None:
     """
     from ...analysis.circular import analyse_circle
     from ...path.circle import circle_command
-    from ...simulate import simulate
+    from ...sim.simulate import simulate
 
     other = next((n for n in machine.axes if n != name), None)
     if other is None:

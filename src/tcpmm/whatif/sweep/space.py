@@ -35,11 +35,11 @@ from __future__ import annotations
 
 import math
 
-from .._validate import did_you_mean
-from ..errors import InputError
-from ..mechanics.lumped import AxisMechanics
-from ..model import Machine, Sensors
-from ..servo.params import ServoParams
+from ..._validate import did_you_mean
+from ...errors import InputError
+from ...mechanics.lumped import AxisMechanics
+from ...model import Machine, Sensors
+from ...servo.params import ServoParams
 
 #: Other names of servo fields [-].
 SERVO_ALIASES = {"position_gain": "K_pp", "velocity_gain": "K_vp",
@@ -179,7 +179,7 @@ def _axis_with(axis, group: str, field: str, value: float, name: str):
 def apply_parameters(machine: Machine, values: dict) -> Machine:
     """The model with the axis and interpolation parameters of ``values`` set.
 
-    Names ``program.*`` are left to the program (:mod:`tcpmm.sweep.task`).
+    Names ``program.*`` are left to the program (:mod:`tcpmm.whatif.sweep.task`).
 
     Parameters
     ----------
@@ -206,7 +206,7 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
             elif head != "program":
                 axes[head] = _axis_with(axes[head], rest[0], ".".join(rest[1:]), value, name)
         except ValidationError as err:
-            from .._validate import validation_message
+            from ..._validate import validation_message
 
             raise InputError(f"{name} = {value:g} is not a valid value: "
                              f"{validation_message(err)}") from None
@@ -218,7 +218,7 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
             update["interpolation"] = Machine.model_validate(
                 {"axes": axes, "interpolation": interp}).interpolation
         except ValidationError as err:
-            from .._validate import validation_message
+            from ..._validate import validation_message
 
             raise InputError(f"invalid interpolation setting: {validation_message(err)}") from None
     return machine.model_copy(update=update)

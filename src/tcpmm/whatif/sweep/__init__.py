@@ -1,11 +1,12 @@
-"""What-if studies: a model and program run over variants of named parameters.
+"""Sweeps: a model and program run over variants of named parameters.
 
-A design (:mod:`~tcpmm.sweep.design`: ``grid``, ``lhs`` or ``draws``) lists variants of
-named parameters (:mod:`~tcpmm.sweep.space`); each variant is simulated and analysed as
-an independent task (:func:`~tcpmm.sweep.task.evaluate_variant`), here, on the local
-cores or on a Dask cluster (:func:`~tcpmm.sweep.run.run_sweep`), and its row is written to
-the results folder as it arrives (:mod:`~tcpmm.sweep.store`). A rerun of the same sweep
-runs only the variants whose rows are missing.
+A design (:mod:`~tcpmm.whatif.sweep.design`: ``grid``, ``lhs`` or ``draws``) lists
+variants of named parameters (:mod:`~tcpmm.whatif.sweep.space`); each variant is simulated
+and analysed as an independent task (:func:`~tcpmm.whatif.sweep.task.evaluate_variant`),
+here, on the local cores or on a Dask cluster (:func:`~tcpmm.whatif.sweep.run.run_sweep`),
+and its row is written to the results folder as it arrives
+(:mod:`~tcpmm.whatif.sweep.store`). A rerun of the same sweep runs only the variants whose
+rows are missing.
 """
 
 from .design import (

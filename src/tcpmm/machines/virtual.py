@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .ident.excitation import log_sweep
-from .io.records import FrictionRecord, SweepRecord
-from .model import Axis, Machine
-from .result import Run
-from .simulate import simulate, simulate_axis
+from ..ident.excitation import log_sweep
+from ..io.records import FrictionRecord, SweepRecord
+from ..model import Axis, Machine
+from ..result import Run
+from ..sim.simulate import simulate, simulate_axis
 
 
 def quantise(x, q):
@@ -174,7 +174,7 @@ def bundle_machine_yaml(machine: Machine, axes) -> dict:
 def axis_config(machine: Machine, name: str):
     """The validated configuration of one axis a user would write (``machine.yaml``),
     which identification is given [-]."""
-    from .io.bundle_schema import MachineConfig
+    from ..io.bundle_schema import MachineConfig
 
     return MachineConfig.model_validate(bundle_machine_yaml(machine, [name])).axes[name]
 
@@ -200,7 +200,7 @@ def virtual_bundle(machine: Machine, path, axes=("X", "Y"), seed: int = 0):
     Path
         The bundle folder [-].
     """
-    from .io.bundle import write_bundle
+    from ..io.bundle import write_bundle
 
     recs = {}
     for k, name in enumerate(axes):

@@ -9,14 +9,14 @@ from contextlib import nullcontext
 
 import numpy as np
 
-from ._threads import limit_blas_threads
-from .analysis.runaway import say_faults
-from .errors import InputError, InputWarning
-from .model import Axis, Machine
-from .path.command import Command
-from .result import AxisRun, Run
-from .servo.sampled import sampled_spectral_radius
-from .sim.inputs import kernel_inputs, run_kernel
+from .._threads import limit_blas_threads
+from ..analysis.runaway import say_faults
+from ..errors import InputError, InputWarning
+from ..model import Axis, Machine
+from ..path.command import Command
+from ..result import AxisRun, Run
+from ..servo.sampled import sampled_spectral_radius
+from .inputs import kernel_inputs, run_kernel
 
 
 def _record_every(record_period_s: float | None, cmd_period_s: float, T_v: float) -> int:
@@ -106,7 +106,7 @@ def _check_speeds(machine: Machine, command: Command) -> None:
     The limit is 1.05 times the rapid traverse of the model's interpolation settings, or
     :data:`SPEED_LIMIT_M_PER_S` when it has none.
     """
-    from .path.settings import AXES, InterpolatorSettings
+    from ..path.settings import AXES, InterpolatorSettings
 
     rapid = {}
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})

@@ -29,10 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .analysis.circular import QUADRANTS, analyse_circle
-from .errors import InputError
-from .model import Axis, Machine
-from .simulate import simulate
+from ..analysis.circular import QUADRANTS, analyse_circle
+from ..errors import InputError
+from ..model import Axis, Machine
+from ..sim.simulate import simulate
 
 __all__ = ["MODEL_ERROR", "SETTLED_FRACTION", "TOLERANCE", "SpikeSpread", "circle_spread",
            "draw_axis", "draw_machine", "longer_presliding", "scaled_contact"]
@@ -288,7 +288,7 @@ class SpikeSpread:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from .plot.spread import plot_spike_spread
+        from ..plot.spread import plot_spike_spread
 
         return plot_spike_spread(self, path, ax=ax)
 

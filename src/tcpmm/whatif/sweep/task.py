@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputWarning, RunFaultWarning, TcpmmError
+from ...errors import InputWarning, RunFaultWarning, TcpmmError
 from .metrics import circle_metric_names, circle_metrics, path_metric_names, path_metrics
 from .space import apply_parameters
 
@@ -77,9 +77,9 @@ def metric_names(program) -> list[str]:
 
 @functools.lru_cache(maxsize=8)
 def _circle_command(radius_m: float, feed_m_per_s: float):
-    from ..demo import START_ANGLE_DEG
-    from ..path import circle_command
-    from ..path.command import concatenate
+    from ...demo import START_ANGLE_DEG
+    from ...path import circle_command
+    from ...path.command import concatenate
 
     kw = dict(radius_m=radius_m, feed_m_per_s=feed_m_per_s,
               start_angle_rad=math.radians(START_ANGLE_DEG))
@@ -88,9 +88,9 @@ def _circle_command(radius_m: float, feed_m_per_s: float):
 
 @functools.lru_cache(maxsize=8)
 def _gcode_command(text: str, name: str, override: float, settings_json: str):
-    from ..errors import InputError
-    from ..path import InterpolatorSettings, interpolate, parse_gcode
-    from ..path.segments import Arc, Line
+    from ...errors import InputError
+    from ...path import InterpolatorSettings, interpolate, parse_gcode
+    from ...path.segments import Arc, Line
 
     segments = parse_gcode(text, name or None)
     if override != 1.0:
@@ -119,7 +119,7 @@ def program_command(program, machine, values: dict):
     Command
         The command; built once per process for each program and setting [m].
     """
-    from ..errors import InputError
+    from ...errors import InputError
 
     if program.kind == "circle":
         radius = values.get("program.radius_mm", program.radius_m * 1e3) * 1e-3
@@ -130,7 +130,7 @@ def program_command(program, machine, values: dict):
             cmd = type(cmd)(cmd.time_s, {a: p + (c[0] if a == "X" else c[1] if a == "Y" else 0)
                                          for a, p in cmd.positions.items()}, cmd.meta)
         return cmd
-    from ..path import InterpolatorSettings
+    from ...path import InterpolatorSettings
 
     override = float(values.get("program.feed_override", 1.0))
     if not override > 0.0:
@@ -140,7 +140,7 @@ def program_command(program, machine, values: dict):
 
 
 def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
-    from ..simulate import simulate
+    from ...sim.simulate import simulate
     from ..spread import draw_machine
 
     values = variant.params
@@ -180,13 +180,13 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     program : CircleProgram or GcodeProgram
         The program [-].
     variant : Variant
-        What the variant sets (:mod:`tcpmm.sweep.design`) [-].
+        What the variant sets (:mod:`tcpmm.whatif.sweep.design`) [-].
     sensor : str
         Sensor analysed: ``tcp``, ``scale`` or ``motor`` [-].
     runs_dir : str or Path, optional
         Folder to write the run to, as ``VARIANT_ID.csv`` [-].
     floors : dict, optional
-        Smallest standard deviations of a draw (:data:`tcpmm.spread.MODEL_ERROR`) [-].
+        Smallest standard deviations of a draw (:data:`tcpmm.whatif.spread.MODEL_ERROR`) [-].
 
     Returns
     -------

@@ -1,6 +1,6 @@
 """Figures of one run of a sweep: circular-test metrics, or the contour error of a path.
 
-All in metres; the results table gives them in um (:mod:`tcpmm.sweep.store`).
+All in metres; the results table gives them in um (:mod:`tcpmm.whatif.sweep.store`).
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ..analysis.circular import QUADRANTS, analyse_circle
+from ...analysis.circular import QUADRANTS, analyse_circle
 
 #: Directions of the circular test of a sweep, in the order it runs them [-].
 DIRECTIONS = ("ccw", "cw")

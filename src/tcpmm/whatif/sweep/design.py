@@ -1,6 +1,6 @@
 """Designs of a sweep: which variants of the model and program are run.
 
-A parameter is given as ``NAME=SPEC`` (names: :mod:`tcpmm.sweep.space`), where SPEC is
+A parameter is given as ``NAME=SPEC`` (names: :mod:`tcpmm.whatif.sweep.space`), where SPEC is
 
 * ``START:STOP:STEP`` -- from START to STOP inclusive in steps of STEP (grid);
 * ``LOW:HIGH`` -- a range (Latin hypercube);
@@ -8,7 +8,7 @@ A parameter is given as ``NAME=SPEC`` (names: :mod:`tcpmm.sweep.space`), where S
 
 :func:`grid_design` runs every combination; :func:`lhs_design` draws ``n`` points of a
 Latin hypercube over the ranges, with a seed; :func:`draws_design` runs ``n`` machines
-drawn from the identified uncertainty (as :func:`tcpmm.spread.draw_machine` draws them),
+drawn from the identified uncertainty (as :func:`tcpmm.whatif.spread.draw_machine` draws them),
 for every point of the grid of the parameters given. Each variant is known by a hash of
 what it sets (:attr:`Variant.id`), the same in every run of the same design.
 """
@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 
 DESIGNS = ("grid", "lhs", "draws")
 
@@ -110,7 +110,7 @@ def parse_param(text: str, canonical=lambda n: n) -> ParamSpec:
         E.g. ``X.servo.K_pp=20:60:5`` [-].
     canonical : callable
         Maps a name as given to its canonical form, raising on an unknown one
-        (:func:`tcpmm.sweep.space.canonical_name`) [-].
+        (:func:`tcpmm.whatif.sweep.space.canonical_name`) [-].
 
     Returns
     -------

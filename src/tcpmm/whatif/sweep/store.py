@@ -22,8 +22,8 @@ import time
 import uuid
 from pathlib import Path
 
-from ..errors import InputError
-from ..io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
+from ...errors import InputError
+from ...io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
 
 STUDY_FILE, PARTS_DIR, SUMMARY_FILE = "study.json", "results", "summary.csv"
 LOCK_FILE = ".writing"

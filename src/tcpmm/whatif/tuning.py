@@ -11,11 +11,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .demo import RADIUS_MM, paper_circle_command
-from .model import Machine
-from .servo.tune import tune_machine
-from .simulate import simulate
-from .units import mm_to_m
+from ..demo import RADIUS_MM, paper_circle_command
+from ..model import Machine
+from ..servo.tune import tune_machine
+from ..sim.simulate import simulate
+from ..units import mm_to_m
 
 #: Command samples either side searched for the nearest command segment [-].
 _WINDOW = 400
@@ -79,7 +79,7 @@ class TuneResult:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from .plot.tune import plot_tuning
+        from ..plot.tune import plot_tuning
 
         return plot_tuning(self, path, ax=ax)
 
@@ -117,7 +117,7 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     TCP path from the commanded path."""
     run = simulate(machine, command)
     if circle:
-        from .analysis.circular import analyse_circle
+        from ..analysis.circular import analyse_circle
 
         res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
         out = {}

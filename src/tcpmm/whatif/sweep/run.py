@@ -1,7 +1,7 @@
 """Running a sweep: the variants not yet in the results folder, in this process, on the
 local cores or on a Dask cluster, each row written as it arrives.
 
-Every variant is an independent task (:func:`tcpmm.sweep.task.evaluate_variant`). On a
+Every variant is an independent task (:func:`tcpmm.whatif.sweep.task.evaluate_variant`). On a
 cluster a task whose worker dies is run again on another (Dask counts the death against
 the task, and ``retries`` more tries are allowed for an exception); a task that fails for
 good is reported and left out, so that the next run of the same sweep tries it again.
@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 from itertools import islice
 from pathlib import Path
 
-from .._heap import keep_freed_memory
-from ..errors import InputError, TcpmmError
+from ..._heap import keep_freed_memory
+from ...errors import InputError, TcpmmError
 from .store import (
     PARTS_DIR,
     PartWriter,
@@ -90,7 +90,7 @@ class SweepResult:
         y : str
             Metric column [um].
         """
-        from ..plot.sweep import plot_sweep
+        from ...plot.sweep import plot_sweep
 
         return plot_sweep(self.to_pandas(), ax=ax, x=x, y=y, path=path)
 
@@ -255,7 +255,7 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
     program : CircleProgram or GcodeProgram
         The program [-].
     variants : list of Variant
-        The design (:mod:`tcpmm.sweep.design`) [-].
+        The design (:mod:`tcpmm.whatif.sweep.design`) [-].
     out_dir : str or Path
         Results folder; rows already there are kept and their variants not run again [-].
     sensor : str
@@ -268,7 +268,7 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
         Folder for each variant's run file (``VARIANT_ID.csv``); it must be reachable
         by every worker [-].
     floors : dict, optional
-        Smallest standard deviations of a draw (:data:`tcpmm.spread.MODEL_ERROR`) [-].
+        Smallest standard deviations of a draw (:data:`tcpmm.whatif.spread.MODEL_ERROR`) [-].
     progress : callable, optional
         ``progress(done, total)`` after each variant [-].
     batch : int
@@ -299,7 +299,7 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
 
     runs = None if keep_runs is None else str(Path(keep_runs).resolve())
     if runs is not None:
-        from ..io.atomic import output_folder
+        from ...io.atomic import output_folder
 
         output_folder(runs)
     done = done_variants(out)

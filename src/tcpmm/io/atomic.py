@@ -33,16 +33,31 @@ def check_output_folder(path) -> Path:
     Path
         The folder [-].
     """
-    path = Path(path)
-    for p in (path, *path.parents):
-        if p.exists() and not p.is_dir():
-            raise InputError(f"is a file, so the output folder {path} cannot be made; "
-                             "choose another folder", file=p)
+    path = _no_file_above(path)
     base = next((p for p in (path, *path.parents) if p.exists()), Path("."))
     if not os.access(base, os.W_OK | os.X_OK):
         raise InputError(f"cannot write into {base}, so the output folder {path} cannot be "
                          "made there; choose a folder you can write to", file=path)
     probe_writable(base)  # a read-only mount or a full disk, which the mode bits do not show
+    return path
+
+
+def _no_file_above(path) -> Path:
+    """``path`` as a Path, refused where it or one of its parents is a file [-]."""
+    path = Path(path)
+    for p in (path, *path.parents):
+        if p.exists() and not p.is_dir():
+            raise InputError(f"is a file, so the output folder {path} cannot be made; "
+                             "choose another folder", file=p)
+    return path
+
+
+def _make_folder(path: Path) -> Path:
+    """Create the folder ``path`` and its parents [-]."""
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the output folder: {exc.strerror}", file=path) from None
     return path
 
 
@@ -59,13 +74,8 @@ def output_folder(path) -> Path:
     Path
         The folder [-].
     """
-    path = check_output_folder(path)
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create the output folder: {exc.strerror}", file=path) from None
-    probe_writable(path)
-    return path
+    # the check probed the nearest folder that exists, on the same disk as the new ones
+    return _make_folder(check_output_folder(path))
 
 
 def probe_writable(folder) -> None:
@@ -102,6 +112,14 @@ def output_file(path) -> Path:
     Path
         The file to replace [-].
     """
+    path = _file_target(path)
+    check_output_folder(path.parent)
+    return path
+
+
+def _file_target(path) -> Path:
+    """The file ``path`` names (a symbolic link's target), refused where it is no file
+    name or a folder [-]."""
     path = Path(path)
     if str(path) in ("", "."):
         raise InputError("the output needs a file name")
@@ -109,7 +127,6 @@ def output_file(path) -> Path:
         path = Path(os.path.realpath(path))
     if path.is_dir():
         raise InputError("is a folder; give the output a file name", file=path)
-    check_output_folder(path.parent)
     return path
 
 
@@ -130,8 +147,9 @@ def atomic_path(path, suffix: str = ""):
     suffix : str
         Suffix of the temporary file (some writers infer the format from it) [-].
     """
-    path = output_file(path)
-    output_folder(path.parent)
+    # the temporary file made below is the test that the folder takes a file
+    path = _file_target(path)
+    _make_folder(_no_file_above(path.parent))
     mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()
     try:
         fd, tmp = tempfile.mkstemp(

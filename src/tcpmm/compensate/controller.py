@@ -212,9 +212,14 @@ def tune_pulse(machine, command: Command, axis: str, pulses: dict, judge_args: t
     """
     i_c = coulomb_current(machine.axes[axis])
 
+    seen = {}
+
     def figures(share: float, tau: float) -> dict:
-        trial = {**pulses, axis: reversal_pulses(command, axis, share * i_c, tau)}
-        return _figures(machine, command, judge_args[0], trial, *judge_args[1:])
+        key = (share, tau if share else 0.0)  # without a pulse the decay does not matter
+        if key not in seen:
+            trial = {**pulses, axis: reversal_pulses(command, axis, share * i_c, tau)}
+            seen[key] = _figures(machine, command, judge_args[0], trial, *judge_args[1:])
+        return seen[key]
 
     def spike(share: float, tau: float) -> float:
         return _spike(figures(share, tau))

@@ -199,14 +199,15 @@ def test_the_plays_softening_at_the_modes_grows_with_the_play(machine):
     there: 1 without play, lower the larger the play against the same vibration."""
     from types import SimpleNamespace
 
+    from tcpmm.ident.friction.playdf import sweep_motion
     from tcpmm.ident.steps.playrefit import lowest_nut_gain
 
     a = machine.axes["X"]
-    sweep = virtual_sweep(a, name="X", travel_speed_m_per_s=0.0)
+    motion = sweep_motion(virtual_sweep(a, name="X", travel_speed_m_per_s=0.0), 10.0, 1000.0)
 
     def gain(play):
         kept = SimpleNamespace(mechanics=a.mechanics, split=SimpleNamespace(backlash=play))
-        return lowest_nut_gain(sweep, kept, 0.0, (10.0, 1000.0))
+        return lowest_nut_gain(motion, kept, 0.0)
 
     g = [gain(p) for p in (0.0, 0.2e-6, 2e-6, 20e-6)]
     assert g[0] == pytest.approx(1.0)

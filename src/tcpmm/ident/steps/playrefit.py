@@ -85,23 +85,36 @@ def fit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
     """
     kept = start.kept
     bias = bias_force(v_travel, kept.mechanics, kept.friction)
+    if not (play_significant(kept.split) or kept.split.nut is not None):
+        return kept
+    motion = sweep_motion(sweep, *band)
     if play_significant(kept.split) and bias > 0:
-        kept = refit_with_play(ctx, sweep, start, v_travel, bias, band)
-        if kept.physical.nut_gain is None:
-            warn_sweep_crosses_play(ctx.name, sweep, kept.split, modelled=True)
-            kept.physical.crossed_play_gain = lowest_nut_gain(sweep, kept, bias, band)
-    elif kept.split.nut is not None or play_significant(kept.split):
+        kept = refit_with_play(ctx, start, v_travel, bias, motion)
+        if kept.physical.nut_gain is not None:
+            return kept
+        warn_sweep_crosses_play(ctx.name, sweep, kept.split, modelled=True)
+    else:
         warn_sweep_crosses_play(ctx.name, sweep, kept.split)
-        kept.physical.crossed_play_gain = lowest_nut_gain(sweep, kept, bias, band)
+    kept.physical.crossed_play_gain = lowest_nut_gain(motion, kept, bias)
     return kept
 
 
-def lowest_nut_gain(sweep, kept: AxisFit, bias: float, band: tuple) -> float:
+def lowest_nut_gain(motion, kept: AxisFit, bias: float) -> float:
     """The lowest factor the play puts on the nut's stiffness at the axial modes (table on
     the nut, bed, head), as the kept fit's mechanics and lost motion give it from the
     sweep's motion there: near 1 the play is a small part of the nut's vibration where
-    the modes' masses and damping are fitted, near 0 the nut mostly floats in it [-]."""
-    freq, theta_m, scale = sweep_motion(sweep, *band)
+    the modes' masses and damping are fitted, near 0 the nut mostly floats in it [-].
+
+    Parameters
+    ----------
+    motion : tuple of ndarray
+        The sweep's frequencies, motor angle and scale (:func:`sweep_motion`) [Hz, rad, m].
+    kept : AxisFit
+        The fit kept, with its mechanics and lost motion [SI].
+    bias : float
+        Friction force holding the nut on one flank [N].
+    """
+    freq, theta_m, scale = motion
     m = kept.mechanics
     amp = nut_deflection_amplitude(freq, theta_m, scale, m)
     g = dead_zone_gain(amp, kept.split.backlash, bias / m.K_t)
@@ -113,8 +126,8 @@ def lowest_nut_gain(sweep, kept: AxisFit, bias: float, band: tuple) -> float:
     return float(min(np.interp(np.log(inside), np.log(freq), g)))
 
 
-def refit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
-                    bias: float, band: tuple) -> AxisFit:
+def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: float,
+                    motion) -> AxisFit:
     """Refit with the nut as soft as the sweep saw it, and keep whichever fit, linear or
     with the play, explains the FRFs best; a refit counts only if it agrees with the
     describing function it was fitted with (:data:`SELF_CONSISTENT_REL`).
@@ -123,8 +136,6 @@ def refit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
     ----------
     ctx : FitContext
         The axis's known values, TF fits, hold and friction runs [-].
-    sweep : SweepRecord
-        The sweep record [-].
     start : FrictionFit
         The linear fit with the friction on it, the FRFs it was fitted to and the
         structure it held [SI].
@@ -132,12 +143,12 @@ def refit_with_play(ctx: FitContext, sweep, start: FrictionFit, v_travel: float,
         Steady travel speed of the sweep [m/s].
     bias : float
         Friction force holding the nut on one flank on the linear fit [N].
-    band : tuple
-        ``(fmin_hz, fmax_hz)`` of the FRFs [Hz].
+    motion : tuple of ndarray
+        The sweep's frequencies, motor angle and scale (:func:`sweep_motion`) [Hz, rad, m].
     """
     data, structure = start.data, start.structure
     best = current = start.kept
-    freq, theta_m, scale = sweep_motion(sweep, *band)
+    freq, theta_m, scale = motion
     for _ in range(PLAY_ITERATIONS):
         seen = current.mechanics
         amp = nut_deflection_amplitude(freq, theta_m, scale, seen)

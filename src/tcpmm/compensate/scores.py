@@ -29,6 +29,33 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True):
     return before, after
 
 
+#: The figures of a score shown before and after: ``(part, key, label)`` [-].
+SCORE_FIGURES = (("path", "contour_error_um", "contour error"),
+                 ("path", "contour_rms_um", "contour rms"),
+                 ("circle", "largest_spike_um", "largest reversal spike"),
+                 ("circle", "circular_deviation_um", "G"))
+
+
+def before_after(scores: dict, keys=None) -> list[tuple[str, float, float]]:
+    """``(label, before, after)`` of each figure both scores hold, in the order of
+    :data:`SCORE_FIGURES`, of those named in ``keys`` when given [um].
+
+    Parameters
+    ----------
+    scores : dict
+        ``{"before": ..., "after": ...}`` of :func:`judge` [-].
+    keys : collection of str, optional
+        The figures' keys to keep [-].
+    """
+    out = []
+    for part, key, label in SCORE_FIGURES:
+        b = scores.get("before", {}).get(part, {}).get(key)
+        a = scores.get("after", {}).get(part, {}).get(key)
+        if b is not None and a is not None and (keys is None or key in keys):
+            out.append((label, b, a))
+    return out
+
+
 def judged_path(comp) -> Command:
     """The path the compensated command's TCP is judged against: the delayed path, or the
     programmed one where no share of the correction is applied [m]."""

@@ -51,13 +51,11 @@ def plot_controller_compensation(cc, path=None, ax=None):
         Where to draw [-].
     """
     fig, axs, own = panels(ax, 1, 1, figsize=(6, 3.5))
+    from ..compensate.scores import before_after
+
     a = axs[0, 0]
-    keys = [("path", "contour_error_um", "contour error"),
-            ("circle", "largest_spike_um", "largest spike"),
-            ("circle", "circular_deviation_um", "G")]
-    shown = [(lab, cc.scores["before"].get(p, {}).get(k), cc.scores["after"].get(p, {}).get(k))
-             for p, k, lab in keys]
-    shown = [s for s in shown if s[1] is not None and s[2] is not None]
+    shown = before_after(cc.scores, ("contour_error_um", "largest_spike_um",
+                                     "circular_deviation_um"))
     x = np.arange(len(shown))
     a.bar(x - 0.2, [s[1] for s in shown], 0.4, label="before")
     a.bar(x + 0.2, [s[2] for s in shown], 0.4, label="after")

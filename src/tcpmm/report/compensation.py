@@ -5,26 +5,16 @@ from __future__ import annotations
 
 from .html import figure, para, section, table
 
-#: Figures of a compensation's scores shown, with their labels [-].
-FIGURES = (("path", "contour_error_um", "contour error [µm]"),
-           ("path", "contour_rms_um", "contour rms [µm]"),
-           ("circle", "largest_spike_um", "largest reversal spike [µm]"),
-           ("circle", "circular_deviation_um", "G [µm]"))
-
 
 def _figures_frame(scores: dict):
     """Before, after and their ratio per predicted figure [µm, -]."""
     import pandas as pd
 
-    rows = []
-    for part, key, label in FIGURES:
-        b = scores.get("before", {}).get(part, {}).get(key)
-        a = scores.get("after", {}).get(part, {}).get(key)
-        if b is None or a is None:
-            continue
-        rows.append({"figure": label, "before": b, "after": a,
-                     "reduced by [x]": b / a if a > 0 else float("inf")})
-    return pd.DataFrame(rows)
+    from ..compensate.scores import before_after
+
+    return pd.DataFrame([{"figure": f"{label} [µm]", "before": b, "after": a,
+                          "reduced by [x]": b / a if a > 0 else float("inf")}
+                         for label, b, a in before_after(scores)])
 
 
 def _axes_frame(comp):

@@ -125,14 +125,15 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
         plot_bode(curves, files[f"bode_{ax}"], title=f"axis {ax}")
     if console is not None:
         print_table(table, console, "Circular test on the built-in machine")
-    cmp, identified, circles = identify_and_predict(machine, cmd, out, step, files)
+    cmp, idn, circles = identify_and_predict(machine, cmd, out, step, files)
+    identified = idn.machine
     if console is not None:
         print_table(cmp.to_pandas(), console,
                            "Table 2: virtual measurement - prediction of the identified model [um]")
         for line in cmp.notes():
             console.print(line)
     step("verdict")
-    judged = judged_table2(identified, cmd, cmp, out, files)
+    judged = judged_table2(idn.verdict, cmp, out, files)
     if console is not None:
         print_table(judged, console, "Table 2 at the TCP against the predicted 90 % interval "
                                      "[um]")
@@ -147,17 +148,22 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
             "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
 
-def judged_table2(identified, cmd, cmp, out, files):
+def judged_table2(verdict, cmp, out, files):
     """Table 2's TCP rows set against the 90 % intervals of the identified model's
     prediction of the same circle (:meth:`Comparison.judged`), one row per direction and
-    figure, written to ``table2_judged.csv`` [um]."""
+    figure, written to ``table2_judged.csv`` [um].
+
+    The demo's circle is identification's reference circle at its feed (R35 mm, CCW then
+    CW from 45 deg), so the verdict identification gave on that test is the one taken."""
+    import dataclasses
+
     import pandas as pd
 
-    from .uncertainty import CircleTest, prediction_verdict
-
-    test = CircleTest("R35 F5000", cmd, mm_to_m(RADIUS_MM))
+    test = f"R{RADIUS_MM:g} F{FEED_MM_PER_MIN:g}"
+    verdict = dataclasses.replace(verdict, tests=[test],
+                                  figures=[f for f in verdict.figures if f.test == test])
     rows = []
-    for r in cmp.judged(prediction_verdict(identified, [test])):
+    for r in cmp.judged(verdict):
         for col in ("spike_A", "spike_B", "spike_C", "spike_D", "contour_error"):
             if f"{col}_90_um" in r:
                 rows.append({"direction": r["direction"], "figure": col.replace("_", " "),
@@ -171,7 +177,8 @@ def judged_table2(identified, cmd, cmp, out, files):
 
 
 def identify_and_predict(machine, cmd, out, step, files):
-    """Virtual bundle -> identified model -> predicted circle vs measured (Table 2)."""
+    """Virtual bundle -> identification (model and verdict) -> predicted circle vs measured
+    (Table 2)."""
     from .analysis.compare import compare_circles
     from .ident.chain import identify_bundle
     from .io.bundle import read_bundle
@@ -206,7 +213,7 @@ def identify_and_predict(machine, cmd, out, step, files):
     files["prediction_plot"] = out / "prediction.png"
     plot_circle(rm, files["prediction_plot"], sensors=["tcp"], overlay=rp,
                 title="Exp-TCP (virtual) and Sim-TCP")
-    return cmp, idn.machine, (rm, rp)
+    return cmp, idn, (rm, rp)
 
 
 def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m=None,

@@ -424,11 +424,11 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
                               viscous_on_table_std=from_sweep[3])
     else:
         split = _split_of(lm, nut, play, given, axis)
-    split = _with_open_play(split, nut, coarse is not None, first)
+    split = _with_open_quantities(split, nut, coarse is not None, first)
     return _axis_friction(v, m, split), est, split
 
 
-def _with_open_play(split, nut, at_resolution: bool, first):
+def _with_open_quantities(split, nut, at_resolution: bool, first):
     """The split with the lost motion the nut's runs leave open (the deviation of a play
     not found, or the bound of one found within the scale's rounding) and, for a share
     from the sweep, the plateaus' own share (``first``, their estimate before it) [-]."""

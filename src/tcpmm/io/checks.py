@@ -144,8 +144,17 @@ def check_excitation_band(
     return gaps
 
 
-def _ratio(y: np.ndarray, x: np.ndarray) -> tuple[float, float]:
-    """Least-squares slope of y on x and their correlation, both mean-removed [-]."""
+def slope_and_correlation(y, x) -> tuple[float, float]:
+    """Least-squares slope of ``y`` on ``x`` and their correlation, both mean-removed; NaN
+    and 0 where either is constant.
+
+    Parameters
+    ----------
+    y, x : array_like
+        Two signals of the same length [any].
+    """
+    y = np.asarray(y, dtype=float)
+    x = np.asarray(x, dtype=float)
     y = y - y.mean()
     x = x - x.mean()
     sxx, syy = float(x @ x), float(y @ y)
@@ -199,7 +208,7 @@ def check_sweep_plausibility(record, axis) -> None:
     for name, y, x, ref, what in pairs:
         if np.ptp(x) < 20 * res:
             continue
-        slope, corr = _ratio(y, x)
+        slope, corr = slope_and_correlation(y, x)
         if abs(corr) > 0.8 and not 0.5 <= slope <= 2.0:
             warn_input(
                 f"{name} moves {slope:.3g} times {ref}; about 1 is expected. Check {what}",

@@ -22,6 +22,7 @@ import math
 import numpy as np
 
 from ...errors import InputError
+from ...io.checks import slope_and_correlation
 from .findings import Finding
 
 #: Peak of a current column above this many times the current limit counts as beyond it:
@@ -89,16 +90,6 @@ def check_current_columns(axis: str, record, kind: str, limit_A: float) -> list[
     return out
 
 
-def _ratio(x, y) -> tuple[float, float]:
-    """Slope of ``y`` on ``x`` and their correlation, means removed [-]."""
-    x = np.asarray(x, dtype=float) - np.mean(x)
-    y = np.asarray(y, dtype=float) - np.mean(y)
-    sxx, syy, sxy = float(x @ x), float(y @ y), float(x @ y)
-    if sxx <= 0.0 or syy <= 0.0:
-        return float("nan"), 0.0
-    return sxy / sxx, sxy / math.sqrt(sxx * syy)
-
-
 def _disagreement(ratio: float, corr: float, cols: str) -> str | None:
     """Why two position columns do not agree, or ``None`` where they do [-]."""
     lo, hi = RATIO_RANGE
@@ -145,7 +136,7 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
     for a, x, b, y, also in pairs:
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
             continue
-        ratio, corr = _ratio(x, y)
+        ratio, corr = slope_and_correlation(y, x)
         why = _disagreement(ratio, corr, f"{b} and {a}")
         if why is not None:
             note = f"{why}; {also}" if also else why
@@ -232,7 +223,7 @@ def _check_motor_angle(record, cfg) -> None:
     x_motor = np.asarray(record.motor_angle_rad) * cfg.screw_ratio_m_per_rad
     if np.ptp(x_motor) < 20 * cfg.sensors.scale_resolution_m:
         return
-    slope, corr = _ratio(x_motor, np.asarray(record.scale_m, dtype=float))
+    slope, corr = slope_and_correlation(record.scale_m, x_motor)
     if not abs(corr) > UNIT_CORRELATION or 1 / MOTOR_SCALE_FACTOR <= abs(slope) <= (
             MOTOR_SCALE_FACTOR):
         return

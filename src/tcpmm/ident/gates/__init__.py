@@ -1,5 +1,7 @@
 """What keeps a misleading identified model from passing silently: the gates that make a
-physically suspect record or model an error (:mod:`~tcpmm.ident.gates.findings`), and the
+physically suspect record or model an error (:mod:`~tcpmm.ident.gates.findings`, on the
+columns :mod:`~tcpmm.ident.gates.columns`, on the masses
+:mod:`~tcpmm.ident.gates.masses`), and the
 sanity checks that warn before a model misleads a prediction
 (:mod:`~tcpmm.ident.gates.sanity`)."""
 

@@ -174,13 +174,17 @@ class Identification:
         out = {}
         for name, a in self.axes.items():
             d = a.axis.mechanics.model_dump()
+            # the deviation the model carries (scaled to the real error, with the friction
+            # runs' where they replaced a value), not the physical fit's own
+            u = a.axis.uncertainty
+            std = u.mechanics if u is not None else a.physical.std
             out[name] = {
                 "fit": {
                     q["tf"]: {k: v for k, v in q.items() if k not in ("axis", "tf")}
                     for q in a.quality()
                 },
                 "parameters": {
-                    p: {"value": d[p], "std": a.physical.std.get(p)}
+                    p: {"value": d[p], "std": std.get(p)}
                     for p in a.physical.names
                     if p in d
                 },

@@ -152,16 +152,27 @@ def test_a_sweep_the_play_softened_at_its_modes_leaves_structure_and_damping_ope
 
 def test_a_share_from_a_held_sweep_is_open_between_its_two_measures():
     """Friction held the sweep: its share rests on a sliding that did not happen. The
-    plateaus' own share, read above the scale's rounding, bounds it with the sweep's; a
-    plateau share on the rounding leaves the whole range."""
+    plateaus' own share, read above the scale's rounding and to within a quarter of itself,
+    bounds it from below with the sweep's, two of its deviations scaled to their real error
+    beyond it; neither bounds it from above (both read a guideway that carries most of the
+    friction low). A plateau share on the rounding, or a loose one, leaves the whole range."""
+    from tcpmm.ident.physical.uncertainty import FIT_DEVIATION_SCALE
     from tcpmm.uncertainty.ranges import SHARE_RANGE
 
     held = {"source": "sweep", "share": 0.24, "share_std": 0.005, "hold": object(),
             "resolution": 0.05e-6, "k_t": 1e8, "crossed_play_gain": None}
     r = open_ranges(_axis_ident(plateau=(0.37, 0.004), **held))
     share = next(x for x in r if x.quantity == "guideway_share")
-    assert share.low == pytest.approx(0.24 - 0.010) and share.high == pytest.approx(0.378)
+    k = FIT_DEVIATION_SCALE.get("plateau_share", 1.0)
+    assert share.low == pytest.approx(0.24 - 0.010) and share.high == SHARE_RANGE[1]
     assert "0.370" in share.cause
+    below = next(x for x in open_ranges(_axis_ident(plateau=(0.2, 0.004), **held))
+                 if x.quantity == "guideway_share")
+    assert below.low == pytest.approx(0.2 - 2 * 0.004 * k)
+    # the plateaus' share read to 40 % of itself: they barely see the guideway
+    loose = next(x for x in open_ranges(_axis_ident(plateau=(0.2, 0.08), **held))
+                 if x.quantity == "guideway_share")
+    assert (loose.low, loose.high) == SHARE_RANGE and "too loose" in loose.cause
     # the plateaus' reversal step, 2.3 um, under two steps of a 2 um scale
     whole = next(x for x in open_ranges(_axis_ident(**{**held, "resolution": 2e-6},
                                                     plateau=(0.37, 0.004)))

@@ -12,10 +12,11 @@ from __future__ import annotations
 import math
 
 from ..ident.friction.nutstiffness import RESOLUTION_STEPS
+from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from ..model import OpenRange
 
-__all__ = ["DAMPING_RANGE", "MECHANICS_RANGE", "PRESLIDING_RANGE_M", "SCALE_STEPS",
-           "SHARE_RANGE", "open_ranges"]
+__all__ = ["DAMPING_RANGE", "MECHANICS_RANGE", "PLATEAU_SHARE_REL_SD", "PRESLIDING_RANGE_M",
+           "SCALE_STEPS", "SHARE_RANGE", "open_ranges"]
 
 #: A deflection between encoder and scale of fewer scale steps than this rests on the
 #: sensor's resolution: its rounding, not the nut, shapes what the runs see [-].
@@ -35,6 +36,10 @@ DAMPING_RANGE = (0.5, 2.0)
 #: as linear before the structure and the axial damping are open: beyond 2 % softening the
 #: fitted modes take up the play's describing function (validation/calibration.md) [-].
 PLAY_GAIN_OPEN = 0.98
+#: Largest deviation of the plateaus' own guideway share, relative to it, at which it bounds
+#: the share of a sweep that friction held from below. Beyond it the plateaus barely tell
+#: the guideway's force from the screw's (docs/validation/calibration.md) [-].
+PLATEAU_SHARE_REL_SD = 0.25
 
 _SETTLE_SHARE = ("a sweep with a TCP device while the axis travels at constant speed, or a "
                  "scale at least ten times finer than the nut's deflection")
@@ -63,9 +68,13 @@ def _reversal_step(a, share: float, sd: float) -> float:
 
 
 def _held_sweep_share(a) -> tuple[str, float, float]:
-    """The range of a share read from a sweep that friction held: between it and the
-    plateaus' own share, two deviations beyond each, where the plateaus read theirs
-    above the scale's rounding; the whole range otherwise."""
+    """The range of a share read from a sweep that friction held: from the lower of it and
+    the plateaus' own share, two deviations below each (the plateaus' scaled to their real
+    error, :data:`~tcpmm.ident.physical.uncertainty.FIT_DEVIATION_SCALE`), to the top of
+    :data:`SHARE_RANGE`. A held sweep reads the guideway's share low, and the plateaus can
+    read it low as well where the guideway carries most of the friction, so neither bounds
+    it from above. The plateaus count where they read their share above the scale's rounding
+    and within :data:`PLATEAU_SHARE_REL_SD` of it; else the whole range."""
     split = a.friction_split
     why = ("the share read from the travelling sweep rests on steady sliding, and friction "
            "held the axis during the sweep")
@@ -74,12 +83,16 @@ def _held_sweep_share(a) -> tuple[str, float, float]:
     if not (math.isfinite(p) and math.isfinite(p_sd)) or (
             res > 0.0 and _reversal_step(a, p, p_sd) < SCALE_STEPS * res):
         return why, *SHARE_RANGE
+    if p_sd > PLATEAU_SHARE_REL_SD * p:
+        return (f"{why}; the friction runs' plateaus read {p:.3f} +- {p_sd:.3f}, too loose "
+                "to bound it", *SHARE_RANGE)
+    p_sd *= FIT_DEVIATION_SCALE.get("plateau_share", 1.0)
     s = split.guideway_share
     s_sd = split.guideway_share_std if math.isfinite(split.guideway_share_std) else 0.0
     lo = max(SHARE_RANGE[0], min(s - 2.0 * s_sd, p - 2.0 * p_sd))
-    hi = min(SHARE_RANGE[1], max(s + 2.0 * s_sd, p + 2.0 * p_sd))
-    return (f"{why}; taken between it ({s:.3f}) and the friction runs' plateaus' "
-            f"({p:.3f})", lo, hi)
+    return (f"{why}; taken from the lower of it ({s:.3f}) and the friction runs' plateaus' "
+            f"({p:.3f}) up, both of which read a guideway that carries most of the friction "
+            "low", lo, SHARE_RANGE[1])
 
 
 def _share_open(a) -> tuple[str, float, float] | None:

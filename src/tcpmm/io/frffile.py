@@ -21,8 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..ident.frf import FRF
-from ..ident.frf._spectral import _rel_std
+from ..frfdata import FRF, coherence_rel_std
 from .csvutil import atomic_write_columns, read_header, read_numeric_csv
 from .text import existing_file
 
@@ -147,7 +146,7 @@ def _coherence(coh, n, path, name):
 
 def _frf(f, H, coh, path) -> FRF:
     return FRF(freq_hz=f, H=H, coherence=coh, n_averages=AVERAGES,
-               rel_std=_rel_std(coh, AVERAGES), name=Path(path).stem,
+               rel_std=coherence_rel_std(coh, AVERAGES), name=Path(path).stem,
                meta={"file": str(path)})
 
 

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...errors import InputError
-from ..frf.response import FRF
+from ...frfdata import FRF
 from ._needles import _clean
 from ._select import choose, score
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..._threads import limit_blas_threads
 from ...errors import InputError
-from ..frf.response import FRF
+from ...frfdata import FRF
 from ._tfcore import (
     _extrema,
     _model,

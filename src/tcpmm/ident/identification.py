@@ -18,10 +18,10 @@ from .friction.sensitivity import LostMotionSensitivity, PreslidingSensitivity, 
 from .gates.findings import trimmed_fit_percent
 from .gates.sanity import FrictionHold
 from .lti.goodness import fit_percent
+from .options import MIN_COHERENCE
 from .physical.greybox import PhysicalFit, model_frfs
 from .physical.loop_timing import LoopTiming
 from .steps.fitcontext import current_hold
-from .steps.frfs import MIN_COHERENCE
 from .steps.ltifits import TF_ORDERS
 
 

@@ -24,6 +24,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from ...servo.sampled import sampled_spectral_radius
+from ..friction.split import slowest_plateau, stribeck_from_record
+from ..friction.sweepforce import travel_speed
+from ..lti.goodness import fit_percent
+from ..options import MIN_COHERENCE
 
 __all__ = ["FIT_TRIM", "MAX_DAQ_PERIOD_S", "MAX_FEED_SPEED", "MIN_DAQ_PERIOD_S",
            "STATIC_OVER_COULOMB", "Finding", "SuspectModelError", "axis_findings",
@@ -268,8 +273,6 @@ def slowest_plateau_speed(record, cfg, axis: str | None = None) -> float:
     float
         Smallest absolute plateau velocity [m/s].
     """
-    from ..friction.split import slowest_plateau, stribeck_from_record
-
     return slowest_plateau(stribeck_from_record(record, cfg, axis)[4])
 
 
@@ -330,8 +333,6 @@ def trimmed_fit_percent(H, H_model, trim: float = FIT_TRIM) -> float:
     trim : float
         Share of bins left out [-].
     """
-    from ..lti.goodness import fit_percent
-
     H, h = np.asarray(H, dtype=complex), np.asarray(H_model, dtype=complex)
     ok = (np.abs(H) > 0) & (np.abs(h) > 0)
     H, h = H[ok], h[ok]
@@ -380,8 +381,6 @@ def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep",
     list of Finding
         Empty when the fit is not negative [-].
     """
-    from ..lti.goodness import fit_percent
-
     remedy = remedy or ("check the sweep (time unit, columns, excitation amplitude) and the "
                         "band (--band)")
     if np.asarray(H).size < 2:
@@ -415,8 +414,6 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep") -> list[Finding
     list of Finding
         Empty when the sampled loop is stable [-].
     """
-    from ...servo.sampled import sampled_spectral_radius
-
     rho = sampled_spectral_radius(axis.mechanics, axis.servo)
     if rho < 1.0:
         return []
@@ -443,9 +440,6 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
     list of Finding
         Empty when the axis passes [-].
     """
-    from ..steps.excitationcheck import travel_speed
-    from ..steps.frfs import MIN_COHERENCE
-
     name, axis = ident.name, ident.axis
     sweep = records.sweep.source or f"{name}/sweep.csv"
     remedy = STANDING_SWEEP if travel_speed(records.sweep) == 0.0 else None

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..io.atomic import staged_folder, write_table_atomic, write_text_atomic
 from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, Machine
 from .friction.preslidingfit import PreslidingFit
@@ -268,15 +269,12 @@ class Identification:
         """Sweep time plots (Fig. 7), measured and fitted Bode plots with coherence
         (Figs. 8-10), the plateau deflections of the friction runs and the tables, into a
         folder; all of them or, where one fails, none. Returns the written paths."""
-        from ..io.atomic import staged_folder
-
         with staged_folder(out_dir) as tmp:
             files = self._write_report_files(tmp)
         return {k: Path(out_dir) / p.name for k, p in files.items()}
 
     def _write_report_files(self, out: Path) -> dict:
         """The files of :meth:`write_report`, written into the folder ``out`` [-]."""
-        from ..io.atomic import write_table_atomic, write_text_atomic
         from ..plot.ident import plot_lost_motion, plot_sweep
 
         files = {}

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..errors import InputError
 from .html import esc, facts, figure, number, para, section, table
 
@@ -72,8 +73,6 @@ def key_figures(result, diag=None) -> str:
     """What a reader looks at first: per pass G, contour error and the largest spike of the
     best sensor there is; with diagnostics, backlash, squareness, scale and servo mismatch
     and G(b) [-]."""
-    from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms
-
     sensor = next((s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes)),
                   None)
     if sensor is None:
@@ -126,8 +125,6 @@ def diagnostics_html(diag, stem: str) -> str:
     terms with units and sign conventions, their ranking and what is left undetermined
     [-]."""
     import pandas as pd
-
-    from ..analysis.diagnostics import display_terms, term_note
 
     rows = {t: (v, u) for t, v, u in display_terms(diag)}
     dirs = diag.directions

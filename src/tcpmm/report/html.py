@@ -13,6 +13,8 @@ import math
 from datetime import UTC, datetime
 from pathlib import Path
 
+from .. import __version__
+
 MINUS, DASH = "\u2212", "\u2014"
 
 #: The page's style sheet: system fonts only, printable, no external resource.
@@ -184,8 +186,6 @@ def page(title: str, sections, inputs=()) -> str:
     inputs : list of tuple
         ``(what, file)`` named in the header [-].
     """
-    from .. import __version__
-
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
     toc = "".join(f'<a href="#{esc(k)}">{esc(t)}</a>' for k, t, _ in sections)
     given = "; ".join(f"{w}: {Path(f).name}" for w, f in inputs)

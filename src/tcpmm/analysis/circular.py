@@ -200,7 +200,7 @@ class CircleResult:
         magnification : float, optional
             Radial-error magnification, automatic when omitted [-].
         """
-        from ..plot.circle import plot_circle
+        from ..plot.circle import plot_circle  # tcpmm.plot is a floor above this one
 
         return plot_circle(self, path=path, magnification=magnification, ax=ax)
 

@@ -147,7 +147,9 @@ class CircleDiagnostics:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.diagnostics import plot_circle_diagnostics
+        from ..plot.diagnostics import (
+            plot_circle_diagnostics,  # tcpmm.plot is a floor above this one
+        )
 
         return plot_circle_diagnostics(self, ax=ax, path=path)
 

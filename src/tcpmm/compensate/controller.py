@@ -88,7 +88,9 @@ class ControllerCompensation:
 
     def plot(self, ax=None, path=None):
         """The predicted figures before and after, as bars; the figure [-]."""
-        from ..plot.compensation import plot_controller_compensation
+        from ..plot.compensation import (
+            plot_controller_compensation,  # tcpmm.plot is a floor above this one
+        )
 
         return plot_controller_compensation(self, path=path, ax=ax)
 

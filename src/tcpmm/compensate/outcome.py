@@ -105,6 +105,6 @@ class Compensation:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.compensation import plot_compensation
+        from ..plot.compensation import plot_compensation  # tcpmm.plot is a floor above this one
 
         return plot_compensation(self, path, ax=ax)

@@ -237,7 +237,7 @@ class Identification:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.bode import plot_bode
+        from ..plot.bode import plot_bode  # tcpmm.plot is a floor above this one
 
         name = axis if axis is not None else next(iter(self.axes))
         if name not in self.axes:
@@ -275,7 +275,10 @@ class Identification:
 
     def _write_report_files(self, out: Path) -> dict:
         """The files of :meth:`write_report`, written into the folder ``out`` [-]."""
-        from ..plot.ident import plot_lost_motion, plot_sweep
+        from ..plot.ident import (  # tcpmm.plot is a floor above this one
+            plot_lost_motion,
+            plot_sweep,
+        )
 
         files = {}
         for name, a in self.axes.items():

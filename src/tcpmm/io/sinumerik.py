@@ -102,7 +102,7 @@ class SinumerikTrace:
 
     def plot(self, ax=None, path=None):
         """Bode plot of the response with its coherence; see :func:`tcpmm.plot.frf.plot_frf`."""
-        from ..plot.frf import plot_frf
+        from ..plot.frf import plot_frf  # tcpmm.plot is a floor above this one
 
         return plot_frf(self.frf, path=path, ax=ax)
 

@@ -9,6 +9,8 @@ from pathlib import Path
 
 from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..errors import InputError
+from ..plot.circle import plot_circle
+from ..plot.spread import plot_spread_rows
 from .html import esc, facts, figure, number, para, section, table
 
 SENSOR_NAMES = {"cmd": "command", "motor": "motor encoder", "scale": "linear scale",
@@ -113,8 +115,6 @@ def _names(files) -> str:
 
 def result_plot(result, overlay=None):
     """The polar plot of a circular test, with a prediction drawn over it [-]."""
-    from ..plot.circle import plot_circle
-
     if overlay is None:
         return plot_circle(result)
     return plot_circle(result, sensors=["tcp"], overlay=overlay)
@@ -238,8 +238,6 @@ def spread_section(spread):
     if hasattr(spread, "plot"):
         fig, what = spread.plot(), "draws (dots) and their range (bar)"
     else:
-        from ..plot.spread import plot_spread_rows
-
         fig = plot_spread_rows(data["spikes"], data["sensor"], data["tolerance_um"] * 1e-6,
                                data["draws"])
         what = "the range of the draws (bar)"

@@ -7,6 +7,7 @@ from ..analysis.circular import analyse_circle
 from ..compensate import runs_before_after
 from ..compensate.scores import before_after
 from ..errors import InputError
+from ..plot.circle import plot_circle
 from .html import figure, para, section, table
 
 
@@ -37,8 +38,6 @@ def _axes_frame(comp):
 def _polar(machine, comp, radius_m: float):
     """The model's TCP on the circle before (solid) and after (dotted) the compensation,
     one polar panel per pass; ``None`` where the circle is not found whole."""
-    from ..plot.circle import plot_circle
-
     before, after = runs_before_after(machine, comp)
     try:
         rb = analyse_circle(before, radius_m, sensors=("cmd", "tcp"))

@@ -14,6 +14,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from .. import __version__
+from ..plot import pyplot
 
 MINUS, DASH = "\u2212", "\u2014"
 
@@ -75,8 +76,6 @@ def data_uri(data: bytes, mime: str) -> str:
 
 def figure_png(fig, dpi: int = 110) -> bytes:
     """A matplotlib figure as PNG bytes; the figure is closed [-]."""
-    from ..plot import pyplot
-
     buf = io.BytesIO()
     try:
         fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")

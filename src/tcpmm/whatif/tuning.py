@@ -81,7 +81,7 @@ class TuneResult:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.tune import plot_tuning
+        from ..plot.tune import plot_tuning  # tcpmm.plot is a floor above this one
 
         return plot_tuning(self, path, ax=ax)
 

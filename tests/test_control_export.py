@@ -137,8 +137,8 @@ def test_fitted_trace_exports_with_its_delay():
     phase by 8 rad) exported by default matches the fit's own response over its band:
     the delay is in the exported model as a Pade approximant, not left out."""
     from tcpmm.ident.lti import fit_frf
-    from tcpmm.ident.lti.pade import PADE_TOLERANCE
     from tcpmm.io.frffile import read_frf
+    from tcpmm.pade import PADE_TOLERANCE
 
     fit = fit_frf(read_frf(TRACE)).tf
     assert fit.delay_s > 1e-4

@@ -10,7 +10,7 @@ import pytest
 from tcpmm.ident.frf.response import reduced_frfs
 from tcpmm.ident.gates.columns import MIN_TRAVEL_M
 from tcpmm.ident.gates.masses import MASS_RANGE, check_mass_line, mass_findings
-from tcpmm.ident.steps.frfs import MIN_COHERENCE
+from tcpmm.ident.options import MIN_COHERENCE
 
 
 def _sweep(axis, travel_speed_m_per_s):

@@ -16,21 +16,21 @@ ARGS = ["sweep", "builtin:vmc", "-p", "X.servo.position_gain=30,40", "--circle",
 
 def test_a_run_that_cannot_be_written_fails_its_variant_and_is_retried(tmp_path,
                                                                       monkeypatch, capsys):
-    from tcpmm.io import runfile
+    from tcpmm.io import runwrite
 
-    write = runfile.write_run_csv
+    write = runwrite.write_run_csv
 
     def full(run, path):
         raise OSError(errno.ENOSPC, "No space left on device")
 
     args = [*ARGS, "-o", str(tmp_path / "o"), "--keep-runs", str(tmp_path / "runs")]
-    monkeypatch.setattr(runfile, "write_run_csv", full)
+    monkeypatch.setattr(runwrite, "write_run_csv", full)
     assert main(args) != 0
     got = json.loads(capsys.readouterr().out)
     assert (got["computed"], len(got["failed"])) == (0, 2)
     assert "No space left on device" in got["failed"][0]["reason"]
     assert len(read_results(tmp_path / "o")) == 0
-    monkeypatch.setattr(runfile, "write_run_csv", write)
+    monkeypatch.setattr(runwrite, "write_run_csv", write)
     assert main(args) == 0
     got = json.loads(capsys.readouterr().out)
     assert (got["computed"], got["reused"], got["failed"]) == (2, 0, [])

@@ -52,7 +52,7 @@ _API = {
     "read_tf_fragment": "tcpmm.io.tffragment:read_tf_fragment",
     "program_to_command": "tcpmm.path.program:program_to_command",
     "circle_command": "tcpmm.path.circle:circle_command",
-    "paper_circle_command": "tcpmm.demo:paper_circle_command",
+    "paper_circle_command": "tcpmm.machines.paper:paper_circle_command",
     "read_command": "tcpmm.path.commandfile:read_command_csv",
     "as_command": "tcpmm.api:as_command",
     "simulate": "tcpmm.api:simulate",

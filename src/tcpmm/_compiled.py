@@ -39,6 +39,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ._numba_cache import _writable
+from ._pycc import build_module
 
 #: Sources the functions are compiled from (relative to the package): an edit makes a
 #: new key.
@@ -351,6 +352,4 @@ def build(path: Path) -> None:
     path : Path
         The module's file; its name up to the first dot is the module's name [-].
     """
-    from ._pycc import build_module
-
     build_module(path, FUNCTIONS)

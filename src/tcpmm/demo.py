@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 
 import numpy as np
 
@@ -11,37 +10,10 @@ from .analysis.circular import analyse_circle
 from .io.atomic import output_folder, write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
 from .machines.builtin import builtin_machine
+from .machines.paper import FEED_MM_PER_MIN, RADIUS_MM, paper_circle_command
 from .mechanics.transfer import reduced_freqresp
-from .path import circle_command
-from .path.command import concatenate
 from .sim.simulate import simulate
-from .units import feed_mm_per_min_to_m_per_s, mm_to_m
-
-RADIUS_MM = 35.0
-FEED_MM_PER_MIN = 5000.0
-#: The circle starts between quadrant points, so that none of A-D lies on the transient
-#: that follows the feed-in arc.
-START_ANGLE_DEG = 45.0
-
-
-def paper_circle_command(machine=None):
-    """CCW then CW circle, R35 mm at 5000 mm/min in XY, with feed-in and feed-out, each
-    starting at 45 deg (the paper's Section 3.3 test).
-
-    Parameters
-    ----------
-    machine : Machine, optional
-        Not used: the command is the same for every machine [-].
-
-    Returns
-    -------
-    Command
-        The position command [m].
-    """
-    kw = dict(radius_m=mm_to_m(RADIUS_MM),
-              feed_m_per_s=feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN),
-              start_angle_rad=math.radians(START_ANGLE_DEG))
-    return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])
+from .units import mm_to_m
 
 
 def bode_curves(machine, f_hz, names=("G_M", "G_T", "G_tcp")):

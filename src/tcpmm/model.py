@@ -15,8 +15,10 @@ from pydantic import (
 )
 
 from ._validate import plausible, upper_names
+from .errors import InputError
 from .mechanics.friction import LuGreFriction, StribeckFriction
 from .mechanics.lumped import AxisMechanics
+from .path.settings import InterpolatorSettings
 from .servo.params import ServoParams
 
 
@@ -247,8 +249,6 @@ class Machine(BaseModel):
     @classmethod
     def _interpolation(cls, v):
         if v is not None:
-            from .path.settings import InterpolatorSettings
-
             InterpolatorSettings.model_validate(v)
         return v
 
@@ -257,8 +257,6 @@ class Machine(BaseModel):
         try:
             return self.axes[name.upper()]
         except KeyError:
-            from .errors import InputError
-
             raise InputError(
                 f"no axis {name!r} in machine '{self.name}'; axes: {', '.join(self.axes)}"
             ) from None

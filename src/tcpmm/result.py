@@ -6,6 +6,8 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from .io import runwrite
+
 #: Run-file column suffix -> AxisRun field (docs/formats.md section 3), values in mm or A.
 RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_mm": "tcp",
                "current_A": "current"}
@@ -86,15 +88,11 @@ class Run:
 
     def write_csv(self, path) -> None:
         """Write the run file as CSV, atomically."""
-        from .io.runfile import write_run_csv
-
-        write_run_csv(self, path)
+        runwrite.write_run_csv(self, path)
 
     def write(self, path) -> None:
         """Write the run file, atomically: Parquet for ``.parquet``, else CSV."""
-        from .io.runfile import write_run
-
-        write_run(self, path)
+        runwrite.write_run(self, path)
 
     def to_dict(self) -> dict:
         """JSON-ready summary: samples, duration, axes and the sensors recorded, and the

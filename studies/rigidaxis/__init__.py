@@ -4,7 +4,7 @@ identification (IDIM-LS, :mod:`studies.rigidaxis.idim`), as the EMPS benchmark p
 
 This is not the five-inertia feed axis that :mod:`tcpmm.ident` identifies from servo
 sweeps: one body, the force known from the drive, the friction fitted in the time domain.
-Only the EMPS study (``studies/emps.py``) uses it, so it lives with the studies, outside
+Only the EMPS study (``studies/emps/``) uses it, so it lives with the studies, outside
 the installed package; its compiled kernel (:mod:`studies.rigidaxis.simulator`) calls the
 package's contact functions, so it steps friction as the feed-axis simulator does.
 """

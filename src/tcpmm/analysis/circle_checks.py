@@ -7,6 +7,8 @@ from __future__ import annotations
 import warnings
 
 from ..errors import InputError, InputWarning
+from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE
+from .circle_spikes import QUADRANTS
 
 
 def warn_uncrossed(names, direction: str, arc_deg: float = 360.0) -> None:
@@ -21,8 +23,6 @@ def warn_uncrossed(names, direction: str, arc_deg: float = 360.0) -> None:
     arc_deg : float
         Angle the pass covers; under 360 an arc, whose points outside it are no news [deg].
     """
-    from .circular import QUADRANTS
-
     if not names:
         return
     pts = ", ".join(f"{n} ({QUADRANTS[n]:g} deg)" for n in names)
@@ -62,8 +62,6 @@ def present_sensors(run, axes, sensors) -> list:
 
 def not_found_error(radius_m, centre_m, axes, ref, direction) -> InputError:
     """The error of a run without the circle asked for [-]."""
-    from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE
-
     ax, ay = axes
     what = f" {direction.upper()}" if direction else ""
     where = (f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm" if (ax, ay) == ("X", "Y")

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .circle_cyclic import search_cyclic
 from .circle_model import (
     cyclic_columns,
     determined,
@@ -181,8 +182,6 @@ def fit_terms(arcs, radius, shared, cyclic=True) -> TermFit:
     cyclic : bool
         Search for a cyclic error of each axis [-].
     """
-    from .circle_cyclic import search_cyclic
-
     pb = FitProblem(arcs, radius, shared)
     mu = pb.mu_of(pb.solve(0.0, (None, None))[0])
     waves = search_cyclic(pb, mu) if cyclic else (None, None)

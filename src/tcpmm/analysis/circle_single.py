@@ -19,6 +19,7 @@ from ..errors import InputError
 from .circle_display import rename_axes
 from .circle_fit import Arc, fit_terms
 from .circle_ranking import deviations, per_circle_terms, rank_terms
+from .circle_spikes import reversal_spikes
 from .diagnostics import (
     ARC_WHY,
     CircleDiagnostics,
@@ -33,8 +34,6 @@ from .diagnostics import (
 #: only 7 % of its column is independent of the radius and the scale mismatch
 SINGLE = ("backlash_X", "backlash_Y", "squareness", "scale_mismatch", "straightness_X",
           "straightness_Y")
-#: What only a CCW and a CW circle together tell, in a sentence
-PAIR_ONLY = ("squareness from servo mismatch, the lateral play, the hysteresis and G(b)")
 _ELLIPSE = ("one direction shows squareness and servo mismatch as one ellipse at 45 deg "
             "(squareness_or_servo); the other direction tells them apart: squareness keeps "
             "its sign, a servo mismatch turns it")
@@ -93,8 +92,6 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
 
 def _terms(fit, grids, g, curves):
     """The terms one direction gives, ``name -> (value, unit)`` [SI]."""
-    from .circular import reversal_spikes
-
     [(d, grid)] = grids.items()
     terms = {f"radial_deviation_{d}": (float(np.mean(grid)), "m"),
              f"circularity_{d}": (g, "m")}

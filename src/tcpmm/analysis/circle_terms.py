@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from .circle_model import determined
-from .circular import AFTER_DEG, QUADRANTS, reversal_spikes
+from .circle_spikes import AFTER_DEG, QUADRANTS, reversal_spikes
 
 #: Fewest samples on a circle for the fit [-].
 _MIN_SAMPLES = 100

@@ -31,10 +31,16 @@ import numpy as np
 from ..errors import InputError
 from .circle_checks import not_found_error, present_sensors, warn_uncrossed
 from .circle_passes import find_passes, find_stretches, radial_deviation, rate  # noqa: F401
+from .circle_spikes import (  # noqa: F401  (the spikes are part of this module's interface)
+    QUADRANTS,
+    reversal_lobes,
+    reversal_spikes,
+    spikes_and_lobes,
+    uncrossed_quadrants,
+)
+from .circle_terms import spikes_after_terms
 
-QUADRANTS = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
 SENSORS = ("cmd", "motor", "scale", "tcp")
-AFTER_DEG, BEFORE_DEG = (0.0, 20.0), (-30.0, -5.0)
 
 
 @dataclass
@@ -76,8 +82,6 @@ class SensorCircle:
         """Signed reversal spike per quadrant point after the error terms fitted to this
         circle (:mod:`tcpmm.analysis.circle_terms`); ``spikes`` are the raw ``e - b`` [m]."""
         if self._after is None:
-            from .circle_terms import spikes_after_terms
-
             self._after = spikes_after_terms(self.angle_rad, self.radial_error,
                                              self.direction)
         return self._after
@@ -196,7 +200,7 @@ class CircleResult:
         magnification : float, optional
             Radial-error magnification, automatic when omitted [-].
         """
-        from ..plot.circle import plot_circle
+        from ..plot.circle import plot_circle  # tcpmm.plot is a floor above this one
 
         return plot_circle(self, path=path, magnification=magnification, ax=ax)
 
@@ -221,76 +225,6 @@ def lsq_circle(x, y):
         step = np.linalg.lstsq(J, -(r - rr), rcond=None)[0]
         cx, cy = cx + step[0], cy + step[1]
     return cx, cy, float(np.hypot(x - cx, y - cy).mean())
-
-
-def _crossings(angle_rad, direction: str, deg: float) -> list:
-    """``(crossings, u)``: the travel-direction angles [deg] at which the path crosses the
-    point at ``deg`` with both the window before it and the window after it on the path,
-    and the travel-direction angle ``u`` of every sample [deg]."""
-    sign = 1.0 if direction == "ccw" else -1.0
-    u = sign * np.degrees(angle_rad)  # increasing along the travel
-    at = sign * deg
-    lo = np.ceil((u.min() - BEFORE_DEG[0] - at) / 360.0 - 1e-9)
-    hi = np.floor((u.max() - AFTER_DEG[1] - at) / 360.0 + 1e-9)
-    return [at + 360.0 * k for k in np.arange(lo, hi + 1)], u
-
-
-def _after_reversal(angle_rad, e, direction: str):
-    """``(P, e - b)`` over the 20 deg after each quadrant point P, pooled over every
-    crossing of P whose windows both lie on the path; ``None`` where P is never crossed
-    so (the path starts or ends at P) [m]."""
-    for name, deg in QUADRANTS.items():
-        at, u = _crossings(angle_rad, direction, deg)
-        if not at:
-            yield name, None
-            continue
-        d = u[:, None] - np.asarray(at)[None, :]
-        before = ((d >= BEFORE_DEG[0]) & (d <= BEFORE_DEG[1])).any(axis=1)
-        after = ((d >= AFTER_DEG[0]) & (d <= AFTER_DEG[1])).any(axis=1)
-        yield name, e[after] - np.median(e[before])
-
-
-def uncrossed_quadrants(angle_rad, direction: str) -> list:
-    """Quadrant points the path does not cross with 30 deg before and 20 deg after them on
-    it, as when a circle starts or ends at one [-].
-
-    Parameters
-    ----------
-    angle_rad : ndarray
-        Angle about the nominal centre, CCW from +X, unwrapped [rad].
-    direction : {"ccw", "cw"}
-        Direction of travel [-].
-    """
-    return [name for name, deg in QUADRANTS.items() if not _crossings(angle_rad, direction,
-                                                                       deg)[0]]
-
-
-def _spike(dev) -> float:
-    return float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
-
-
-def _lobes(dev) -> tuple:
-    nan = float("nan")
-    return (nan, nan) if dev is None else (float(dev.max()), float(dev.min()))
-
-
-def reversal_spikes(angle_rad, e, direction: str) -> dict:
-    """Signed reversal spike at A-D (docs/formats.md section 4) [m]."""
-    return {name: _spike(dev) for name, dev in _after_reversal(angle_rad, e, direction)}
-
-
-def reversal_lobes(angle_rad, e, direction: str) -> dict:
-    """Rise and fall after each quadrant point, ``{P: (max(e - b), min(e - b))}`` over
-    the window of the reversal spike; the spike is the one larger in magnitude, so where
-    the two are of similar size a small change turns its sign [m]."""
-    return {name: _lobes(dev) for name, dev in _after_reversal(angle_rad, e, direction)}
-
-
-def spikes_and_lobes(angle_rad, e, direction: str) -> tuple[dict, dict]:
-    """:func:`reversal_spikes` and :func:`reversal_lobes` from one pass over the
-    windows [m]."""
-    devs = dict(_after_reversal(angle_rad, e, direction))
-    return ({n: _spike(d) for n, d in devs.items()}, {n: _lobes(d) for n, d in devs.items()})
 
 
 def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:

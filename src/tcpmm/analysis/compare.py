@@ -54,7 +54,7 @@ class Comparison:
         sensor : str
             Measured sensor drawn [-].
         """
-        from ..plot.circle import plot_circle
+        from ..plot.circle import plot_circle  # tcpmm.plot is a floor above this one
 
         if self.measured is None:
             raise InputError("this comparison holds no circles to plot; make it with "

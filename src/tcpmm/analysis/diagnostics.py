@@ -65,7 +65,9 @@ from .circle_display import (  # noqa: F401
 )
 from .circle_fit import Arc, fit_terms
 from .circle_model import is_full
+from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
+from .circle_spikes import reversal_spikes
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -73,6 +75,8 @@ SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squar
 PREFERRED_SENSORS = ("tcp", "scale", "motor", "cmd")
 #: Why an arc leaves a term undetermined
 ARC_WHY = "the arc does not determine it: its radial error there is nearly that of other terms"
+#: What only a CCW and a CW circle together tell, in a sentence
+PAIR_ONLY = ("squareness from servo mismatch, the lateral play, the hysteresis and G(b)")
 
 
 @dataclass
@@ -143,7 +147,9 @@ class CircleDiagnostics:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.diagnostics import plot_circle_diagnostics
+        from ..plot.diagnostics import (
+            plot_circle_diagnostics,  # tcpmm.plot is a floor above this one
+        )
 
         return plot_circle_diagnostics(self, ax=ax, path=path)
 
@@ -151,8 +157,6 @@ class CircleDiagnostics:
 def check_arc(angle, e, what, arc_ok=False):
     """The arrays of one circle, checked: one full turn or more, or with ``arc_ok`` an arc
     of :data:`tcpmm.analysis.circle_passes.MIN_ARC_DEG` or more [rad, m]."""
-    from .circle_passes import MIN_ARC_DEG
-
     angle, e = np.asarray(angle, float), np.asarray(e, float)
     if angle.shape != e.shape or angle.ndim != 1 or angle.size < 100:
         raise InputError(f"the {what} circle needs angle and radial error of the same length, "
@@ -242,8 +246,6 @@ def undetermined_terms(fit) -> list:
 
 def _terms(fit, grids, deviations, curves, mean_rate):
     """The reported terms, ``name -> (value, unit)``, axes named X and Y [SI]."""
-    from .circular import reversal_spikes
-
     g, gb, h = deviations
     terms = {f"radial_deviation_{d}": (float(np.mean(m)), "m") for d, m in grids.items()}
     terms["radial_deviation_pair"] = ((terms["radial_deviation_ccw"][0]
@@ -321,8 +323,6 @@ def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiag
         The plane the circles were analysed in, for the term names; default the plane of
         ``result`` [-].
     """
-    from .circle_single import PAIR_ONLY
-
     axes = tuple(axes) if axes is not None else tuple(getattr(result, "plane", ("X", "Y")))
     pick = pick_passes(result, other)
     for d in ("ccw", "cw"):

@@ -17,6 +17,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ..errors import RunFaultWarning
+
 #: Samples in a row at the current limit beyond which an axis counts as saturated: a
 #: sample or two at a sharp corner's acceleration are the drive's ordinary work [-].
 SATURATED_SAMPLES = 5
@@ -186,8 +188,6 @@ def say_faults(machine, run) -> list[AxisFault]:
         Its run, whose ``meta`` is updated [SI].
     """
     import warnings
-
-    from ..errors import RunFaultWarning
 
     faults = run_faults(machine, run)
     run.meta["faults"] = [f.to_dict() for f in faults]

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..path.settings import AXES, InterpolatorSettings
 
 #: Share of the current limit the nominal compensated run may use [-].
 CURRENT_SHARE = 0.95
@@ -63,8 +64,6 @@ def machine_bounds(machine, accel_m_per_s2=None, jerk_m_per_s3=None) -> dict[str
         Jerk limit of every axis instead of the settings' (none for a trapezoid
         profile) [m/s^3].
     """
-    from ..path.settings import AXES, InterpolatorSettings
-
     for name, v in (("acceleration", accel_m_per_s2), ("jerk", jerk_m_per_s3)):
         if v is not None and not (math.isfinite(v) and v > 0.0):
             raise InputError(f"the {name} limit must be a positive number (got {v})")

@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..path.command import Command
+from ..sim.simulate import simulate, simulate_axis
+from .scores import judge
 
 #: Shares of the Coulomb current tried as the pulse amplitude [-].
 PULSE_SHARES = (0.25, 0.5, 1.0, 1.5, 2.0)
@@ -86,7 +88,9 @@ class ControllerCompensation:
 
     def plot(self, ax=None, path=None):
         """The predicted figures before and after, as bars; the figure [-]."""
-        from ..plot.compensation import plot_controller_compensation
+        from ..plot.compensation import (
+            plot_controller_compensation,  # tcpmm.plot is a floor above this one
+        )
 
         return plot_controller_compensation(self, path=path, ax=ax)
 
@@ -124,8 +128,6 @@ def cross_talk_gain(axis) -> float:
     """The TCP's deflection relative to the scale per commanded acceleration, from a slow
     sine run on the model: the least-squares slope of ``tcp - scale`` on the commanded
     acceleration [m/(m/s^2)]."""
-    from ..sim.simulate import simulate_axis
-
     T = axis.servo.T_p
     t = np.arange(0.0, 3.0 / PROBE_HZ, T)
     w = 2 * math.pi * PROBE_HZ
@@ -175,9 +177,6 @@ def _figures(machine, command: Command, programmed: Command, pulses: dict, radiu
              centre_m, plane) -> dict:
     """The model's TCP figures of ``command`` run with the current pulses, judged against
     the programmed path [-]."""
-    from ..sim.simulate import simulate
-    from .scores import judge
-
     run = simulate(machine, command, current_feedforward_A=pulses or None)
     return judge(run, programmed, radius_m, centre_m, plane)
 

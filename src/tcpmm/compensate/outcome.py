@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..path.command import Command
+from .bounds import fit_within
 
 
 @dataclass
@@ -56,8 +57,6 @@ class Compensation:
     def command(self) -> Command:
         """The compensated command: programmed plus the applied share of the correction,
         within the axes' limits [m]."""
-        from .bounds import fit_within
-
         T = self.reference.period_s
         pos = {a: p + fit_within(p, self.factors[a] * self.correction[a], T, self.bounds[a])
                for a, p in self.reference.positions.items()}
@@ -106,6 +105,6 @@ class Compensation:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.compensation import plot_compensation
+        from ..plot.compensation import plot_compensation  # tcpmm.plot is a floor above this one
 
         return plot_compensation(self, path, ax=ax)

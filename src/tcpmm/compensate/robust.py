@@ -17,6 +17,7 @@ import itertools
 
 import numpy as np
 
+from ..analysis.contour import distance_to_polyline
 from ..sim.simulate import simulate_axis
 from ..whatif.spread import draw_machine
 from .circleguard import CircleGuard
@@ -61,8 +62,6 @@ def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.n
     window_s : float
         Time around each sample in which its closest point on the path is sought [s].
     """
-    from ..analysis.contour import distance_to_polyline
-
     p = np.array(list(target.positions.values())).T
     t = target.time_s
     return np.abs(distance_to_polyline(p - err.T, p, t, t, window_s, False)[0])

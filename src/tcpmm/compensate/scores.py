@@ -7,6 +7,8 @@ import warnings
 
 import numpy as np
 
+from ..analysis.circular import analyse_circle
+from ..analysis.contour import contour_error
 from ..path.command import Command
 from ..sim.simulate import simulate
 
@@ -65,8 +67,6 @@ def judged_path(comp) -> Command:
 
 def contour_figures(run, path: Command) -> dict:
     """Largest and rms TCP contour error along the path, in um [-]."""
-    from ..analysis.contour import contour_error
-
     e = np.abs(contour_error(run, command=path).errors["tcp"])
     e = e[np.isfinite(e)]
     return {"contour_error_um": float(np.max(e) * 1e6),
@@ -75,8 +75,6 @@ def contour_figures(run, path: Command) -> dict:
 
 def circle_figures(run, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y")) -> dict:
     """Per circle pass at the TCP: contour error, G and spikes A-D, all in um [-]."""
-    from ..analysis.circular import analyse_circle
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         res = analyse_circle(run, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))

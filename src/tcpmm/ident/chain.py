@@ -27,14 +27,15 @@ from .friction.sensitivity import (
 )
 from .friction.split import stribeck_from_record
 from .gates.columns import check_record_units, column_findings
-from .gates.findings import SuspectModelError, axis_findings, time_base_findings
+from .gates.findings import SuspectModelError, axis_findings
 from .gates.masses import mass_findings
+from .gates.timebase import time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
-from .options import IdentifyOptions
+from .options import MIN_COHERENCE, IdentifyOptions
 from .steps.axismodel import AxisModel, build_axis
 from .steps.excitationcheck import ExcitationCheck, check_excitation
 from .steps.fitcontext import FitContext, fit_context
-from .steps.frfs import MIN_COHERENCE, BandFRFs, measure_frfs
+from .steps.frfs import BandFRFs, measure_frfs
 from .steps.frictionfit import FrictionFit, read_friction
 from .steps.ltifits import fit_lti
 from .steps.modelfriction import ModelFriction, friction_for_model

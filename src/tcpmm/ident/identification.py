@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..io.atomic import staged_folder, write_table_atomic, write_text_atomic
 from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, Machine
 from .friction.preslidingfit import PreslidingFit
@@ -18,10 +19,10 @@ from .friction.sensitivity import LostMotionSensitivity, PreslidingSensitivity, 
 from .gates.findings import trimmed_fit_percent
 from .gates.sanity import FrictionHold
 from .lti.goodness import fit_percent
+from .options import MIN_COHERENCE
 from .physical.greybox import PhysicalFit, model_frfs
 from .physical.loop_timing import LoopTiming
 from .steps.fitcontext import current_hold
-from .steps.frfs import MIN_COHERENCE
 from .steps.ltifits import TF_ORDERS
 
 
@@ -240,7 +241,7 @@ class Identification:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.bode import plot_bode
+        from ..plot.bode import plot_bode  # tcpmm.plot is a floor above this one
 
         name = axis if axis is not None else next(iter(self.axes))
         if name not in self.axes:
@@ -272,16 +273,16 @@ class Identification:
         """Sweep time plots (Fig. 7), measured and fitted Bode plots with coherence
         (Figs. 8-10), the plateau deflections of the friction runs and the tables, into a
         folder; all of them or, where one fails, none. Returns the written paths."""
-        from ..io.atomic import staged_folder
-
         with staged_folder(out_dir) as tmp:
             files = self._write_report_files(tmp)
         return {k: Path(out_dir) / p.name for k, p in files.items()}
 
     def _write_report_files(self, out: Path) -> dict:
         """The files of :meth:`write_report`, written into the folder ``out`` [-]."""
-        from ..io.atomic import write_table_atomic, write_text_atomic
-        from ..plot.ident import plot_lost_motion, plot_sweep
+        from ..plot.ident import (  # tcpmm.plot is a floor above this one
+            plot_lost_motion,
+            plot_sweep,
+        )
 
         files = {}
         for name, a in self.axes.items():

@@ -4,6 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+#: Bins of an FRF with a coherence below this carry no weight in the fits and are left out
+#: of the fit percentages: less than half of the output's power there follows the input [-].
+MIN_COHERENCE = 0.5
+
 
 @dataclass(frozen=True)
 class IdentifyOptions:

@@ -4,8 +4,8 @@ use: the chain of steps is :mod:`tcpmm.ident.chain`, the results
 
 from .chain import identify_axis, identify_bundle
 from .identification import AxisFit, AxisIdentification, Identification
+from .options import MIN_COHERENCE
 from .steps.axismodel import axis_config_to_sensors, axis_config_to_servo
-from .steps.frfs import MIN_COHERENCE
 from .steps.ltifits import TF_DELAY, TF_ORDERS
 
 __all__ = ["MIN_COHERENCE", "TF_DELAY", "TF_ORDERS", "AxisFit", "AxisIdentification",

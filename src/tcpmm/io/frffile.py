@@ -21,9 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..ident.frf import FRF
-from ..ident.frf._spectral import _rel_std
+from ..frfdata import FRF, coherence_rel_std
 from .csvutil import atomic_write_columns, read_header, read_numeric_csv
+from .matfile import _array, _load
+from .sinumerik import read_sinumerik_frf
 from .text import existing_file
 
 __all__ = ["read_frf", "read_frf_csv", "read_frf_mat", "write_frf_csv"]
@@ -59,8 +60,6 @@ def read_frf(path) -> FRF:
     if ext == ".mat":
         return read_frf_mat(path)
     if ext == ".xml":
-        from .sinumerik import read_sinumerik_frf
-
         return read_sinumerik_frf(path)
     raise InputError(f"unknown FRF file type '{path.suffix}'; use .csv, .mat or a Sinumerik "
                      "Operate .xml", file=path)
@@ -147,7 +146,7 @@ def _coherence(coh, n, path, name):
 
 def _frf(f, H, coh, path) -> FRF:
     return FRF(freq_hz=f, H=H, coherence=coh, n_averages=AVERAGES,
-               rel_std=_rel_std(coh, AVERAGES), name=Path(path).stem,
+               rel_std=coherence_rel_std(coh, AVERAGES), name=Path(path).stem,
                meta={"file": str(path)})
 
 
@@ -191,8 +190,6 @@ def read_frf_mat(path) -> FRF:
     FRF
         The response [unit].
     """
-    from .matfile import _array, _load
-
     path = existing_file(path, ".mat file", "MAT file")
     names, _, get = _load(path)
 

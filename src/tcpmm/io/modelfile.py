@@ -10,7 +10,9 @@ from typing import Literal
 
 import yaml
 
+from ..machines.builtin import builtin_machine
 from ..model import Machine
+from ..path.settings import InterpolatorSettings
 from .atomic import write_text_atomic
 from .yamlutil import read_yaml_model, validate_yaml
 
@@ -78,8 +80,6 @@ def with_interpolation(machine: Machine) -> Machine:
     machine : Machine
         The model [-].
     """
-    from ..path.settings import InterpolatorSettings
-
     full = InterpolatorSettings.model_validate(machine.interpolation or {})
     return machine.model_copy(update={"interpolation": full.model_dump(mode="python")})
 
@@ -115,7 +115,5 @@ def read_machine(path) -> Machine:
     """
     s = str(path)
     if s.startswith("builtin:"):
-        from ..machines.builtin import builtin_machine
-
         return builtin_machine(s.split(":", 1)[1])
     return _to_machine(read_yaml_model(path, ModelFile, "machine model", _HINT, FORMAT))

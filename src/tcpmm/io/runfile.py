@@ -15,44 +15,15 @@ import numpy as np
 
 from ..errors import InputError
 from ..result import RUN_COLUMNS, AxisRun, Run
-from .atomic import CSV_BLOCK_ROWS, atomic_path, write_columns_atomic
+from .runwrite import (  # noqa: F401  (the writers are part of this module's interface)
+    PARQUET_SUFFIXES,
+    is_parquet,
+    write_run,
+    write_run_csv,
+    write_run_parquet,
+)
 
 _COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
-#: Extensions read and written as Parquet; every other one is CSV.
-PARQUET_SUFFIXES = (".parquet", ".pq")
-
-
-def is_parquet(path) -> bool:
-    """Whether a run file is Parquet (by its extension)."""
-    return Path(path).suffix.lower() in PARQUET_SUFFIXES
-
-
-def write_run(run: Run, path) -> None:
-    """Write a run file atomically: Parquet for ``.parquet``, else CSV."""
-    if is_parquet(path):
-        write_run_parquet(run, path)
-    else:
-        write_run_csv(run, path)
-
-
-def write_run_csv(run: Run, path) -> None:
-    """Write a run file as CSV atomically (``%.10g``, as always)."""
-    write_columns_atomic(path, run.columns(), "%.10g")
-
-
-def write_run_parquet(run: Run, path) -> None:
-    """Write a run file as Parquet atomically (float64 columns, the CSV's names), a row
-    group of :data:`~tcpmm.io.atomic.CSV_BLOCK_ROWS` rows at a time (bounded memory)."""
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    cols = {k: np.asarray(v, dtype=float) for k, v in run.columns().items()}
-    schema = pa.schema([(k, pa.float64()) for k in cols])
-    n = run.time_s.size
-    with atomic_path(path) as tmp, pq.ParquetWriter(tmp, schema, use_dictionary=False) as w:
-        for k in range(0, max(n, 1), CSV_BLOCK_ROWS):
-            w.write_table(pa.table({c: v[k:k + CSV_BLOCK_ROWS] for c, v in cols.items()},
-                                   schema=schema))
 
 
 def read_run(path) -> Run:

@@ -28,8 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..ident.frf import FRF
-from ..ident.frf._spectral import _rel_std
+from ..frfdata import FRF, coherence_rel_std
 from .sinumerik_b85 import decode_doubles
 from .text import existing_file
 
@@ -103,7 +102,7 @@ class SinumerikTrace:
 
     def plot(self, ax=None, path=None):
         """Bode plot of the response with its coherence; see :func:`tcpmm.plot.frf.plot_frf`."""
-        from ..plot.frf import plot_frf
+        from ..plot.frf import plot_frf  # tcpmm.plot is a floor above this one
 
         return plot_frf(self.frf, path=path, ax=ax)
 
@@ -158,7 +157,7 @@ def read_sinumerik(path) -> SinumerikTrace:
         coh = np.nan_to_num(np.clip(np.abs(s_io) ** 2 / (s_ii * s_oo), 0.0, 1.0))
     name = f"{loop_name} loop" if loop_name else "response"
     frf = FRF(freq_hz=f, H=s_io / s_ii, coherence=coh, n_averages=float(n_avg),
-              rel_std=_rel_std(coh, float(n_avg)), name=name, input=node_in["name"],
+              rel_std=coherence_rel_std(coh, float(n_avg)), name=name, input=node_in["name"],
               output=node_out["name"], meta={"unit": "-" if unit else "", "file": str(path)})
     dt = _float(root, "m_dProcessUpdateTime")
     meta = {"file": str(path), "control_loop": loop_name or f"type {loop}",

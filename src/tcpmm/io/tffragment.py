@@ -26,6 +26,7 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from ..pade import with_delay
 from .yamlutil import read_yaml_model, validate_yaml
 
 __all__ = ["FORMAT", "FittedTF", "dumps_tf_fragment", "loads_tf_fragment", "read_tf_fragment"]
@@ -126,9 +127,7 @@ class FittedTF:
         control.TransferFunction
             Continuous-time transfer function [SI].
         """
-        import control
-
-        from ..ident.lti.pade import with_delay
+        import control  # python-control is slow to import and needed only here
 
         tf = control.TransferFunction(self.num, self.den)
         return with_delay(tf, self.delay_s, self.band_hz[1], pade_order)

@@ -9,6 +9,7 @@ inertia than X so that the TCP oscillates more after B/D than after A/C.
 
 from __future__ import annotations
 
+from ..errors import InputError
 from ..mechanics.friction import StribeckFriction
 from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, AxisFriction, Machine, Sensors
@@ -60,8 +61,6 @@ def builtin_machine(name: str = "vmc", friction: bool = True, k_ff: float = 0.9)
         Velocity feedforward of the position loops [-].
     """
     if name != "vmc":
-        from ..errors import InputError
-
         raise InputError(f"unknown built-in machine {name!r}; available: vmc")
     axes = {}
     for ax, values in _MECH.items():

@@ -9,6 +9,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..ident.excitation import log_sweep
+from ..io.bundle import write_bundle
+from ..io.bundle_schema import MachineConfig
 from ..io.records import FrictionRecord, SweepRecord
 from ..model import Axis, Machine
 from ..result import Run
@@ -174,8 +176,6 @@ def bundle_machine_yaml(machine: Machine, axes) -> dict:
 def axis_config(machine: Machine, name: str):
     """The validated configuration of one axis a user would write (``machine.yaml``),
     which identification is given [-]."""
-    from ..io.bundle_schema import MachineConfig
-
     return MachineConfig.model_validate(bundle_machine_yaml(machine, [name])).axes[name]
 
 
@@ -200,8 +200,6 @@ def virtual_bundle(machine: Machine, path, axes=("X", "Y"), seed: int = 0):
     Path
         The bundle folder [-].
     """
-    from ..io.bundle import write_bundle
-
     recs = {}
     for k, name in enumerate(axes):
         a = machine.axes[name]

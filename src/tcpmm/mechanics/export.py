@@ -147,12 +147,3 @@ def reduced_ss(mech: AxisMechanics, name: str, current_bandwidth_hz=None) -> Sta
         states = ("bed_1", "bed_2", "structure_1", "structure_2")
         return StateSpace(s.A, s.B, -s.C, 1.0 - s.D, states, ("X_LS",), ("X_TCP",))
     raise KeyError(f"unknown transfer function {name!r}; known: G_M, G_T, G_tcp")
-
-
-def to_control(ss: StateSpace, name: str | None = None, dt=None):
-    """A :class:`StateSpace` as a named ``control.StateSpace`` (``dt`` for a discrete one)."""
-    import control
-
-    kw = {} if dt is None else {"dt": dt}
-    return control.ss(ss.A, ss.B, ss.C, ss.D, states=list(ss.states), inputs=list(ss.inputs),
-                      outputs=list(ss.outputs), name=name, **kw)

@@ -50,8 +50,6 @@ class StateSpace:
 
     def to_control(self, name: str | None = None):
         """The same system as a ``control.StateSpace`` with its signal names."""
-        from .export import to_control
-
         return to_control(self, name)
 
 
@@ -230,3 +228,12 @@ def static_equilibrium(mech: AxisMechanics, x_fb: float, feedback: str = "scale"
     x0 = np.zeros(10)
     x0[:5] = [th_m, th_L, x_ls + X_b, X_b, X_h]
     return x0, i_hold
+
+
+def to_control(ss: StateSpace, name: str | None = None, dt=None):
+    """A :class:`StateSpace` as a named ``control.StateSpace`` (``dt`` for a discrete one)."""
+    import control  # python-control is slow to import and needed only here
+
+    kw = {} if dt is None else {"dt": dt}
+    return control.ss(ss.A, ss.B, ss.C, ss.D, states=list(ss.states), inputs=list(ss.inputs),
+                      outputs=list(ss.outputs), name=name, **kw)

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from .export import reduced_ss
 from .lumped import AxisMechanics
-from .statespace import StateSpace, plant
+from .statespace import StateSpace, plant, to_control
 
 #: Reduced transfer functions: name -> (numerator output, denominator output).
 REDUCED = {
@@ -123,9 +124,7 @@ def to_control_tf(mech: AxisMechanics, name: str, current_bandwidth_hz=None):
     a polynomial of their order would lose the poles to rounding. Blocks come from their
     closed forms as ``control.TransferFunction``.
     """
-    import control
-
-    from .export import reduced_ss, to_control
+    import control  # python-control is slow to import and needed only here
 
     m = mech
     blocks = {

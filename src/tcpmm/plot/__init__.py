@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..errors import InputError
+from ..io.atomic import atomic_path
+
 SENSOR_STYLE = {
     "cmd": dict(color="black", ls="--", lw=1.0, label="Reference"),
     "motor": dict(color="tab:green", ls="-", lw=1.0, label="ENC (motor encoder)"),
@@ -31,8 +34,6 @@ def plot_file(path) -> Path:
         Plot file [-].
     """
     from matplotlib.backend_bases import FigureCanvasBase
-
-    from ..errors import InputError
 
     path = Path(path)
     kinds = FigureCanvasBase.get_supported_filetypes()
@@ -90,7 +91,6 @@ def save(fig, path, close: bool = True):
     """
     if path is None:
         return fig
-    from ..io.atomic import atomic_path
 
     try:
         path = plot_file(path)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..compensate.scores import before_after
 from . import finish, panels
 
 
@@ -51,7 +52,6 @@ def plot_controller_compensation(cc, path=None, ax=None):
         Where to draw [-].
     """
     fig, axs, own = panels(ax, 1, 1, figsize=(6, 3.5))
-    from ..compensate.scores import before_after
 
     a = axs[0, 0]
     shown = before_after(cc.scores, ("contour_error_um", "largest_spike_um",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..errors import InputError
 from . import finish, panels
 
 
@@ -26,8 +27,6 @@ def plot_sweep(table, ax=None, x: str | None = None, y: str = "spike_max_um", pa
     matplotlib Figure
         The figure (saved too when ``path`` is given) [-].
     """
-    from ..errors import InputError
-
     if y not in table.columns:
         metrics = [c for c in table.columns if c.endswith("_um")]
         raise InputError(f"no metric {y!r} in the sweep; metrics: {', '.join(metrics)}")

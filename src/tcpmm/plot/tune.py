@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..servo.margins import velocity_loop_gain
 from . import finish, panels
 
 
@@ -26,8 +27,6 @@ def plot_tuning(result, path=None, ax=None):
     matplotlib Figure
         The figure (saved too when ``path`` is given) [-].
     """
-    from ..servo.margins import velocity_loop_gain
-
     names = list(result.axes)
     fig, axes, own = panels(ax, 2, len(names), figsize=(4.2 * len(names), 5.4), sharex="col")
     for k, name in enumerate(names):

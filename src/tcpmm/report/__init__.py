@@ -11,10 +11,13 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
+from ..analysis.circle_single import one_direction_diagnostics
+from ..analysis.diagnostics import circle_diagnostics
 from ..errors import InputError, InputWarning
+from ..io.atomic import write_text_atomic
 from .acceptance import acceptance_section
 from .circles import circle_section, comparison_section, result_section, spread_section
-from .html import page
+from .html import page, para, section
 from .machine import (
     identification_result_section,
     identification_section,
@@ -56,8 +59,6 @@ def write_report(path, sections, title: str = "Commissioning report", inputs=())
     Path
         The file written [-].
     """
-    from ..io.atomic import write_text_atomic
-
     path = report_file(path)
     if not sections:
         raise InputError("nothing to report: give a model, an identification, runs or a "
@@ -120,9 +121,6 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
 def _diagnostics(result, title, sensor):
     """Diagnostics of a CCW and a CW circle, or of the one direction a circle holds; None
     (with a warning) when they cannot be made."""
-    from ..analysis.circle_single import one_direction_diagnostics
-    from ..analysis.diagnostics import circle_diagnostics
-
     dirs = {p.direction for p in result.passes}
     if not dirs:
         return None
@@ -154,8 +152,6 @@ def faults_section(faults, key: str = "faults"):
     key : str
         Section anchor [-].
     """
-    from .html import para, section
-
     body = para("These runs are no prediction of a machine: an axis left its command or held "
                 "its current at the drive's limit. The circular tests below show them as they "
                 "are.", "lead")

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
 from .circles import SENSOR_NAMES, _names
 from .html import facts, number, para, section, table
 
@@ -43,8 +44,6 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
     list of tuple
         ``(source, peak-to-valley radial error [m], what its sign says)`` [-].
     """
-    from ..analysis.diagnostics import term_note
-
     rows = []
     for term, (value, _) in diag.terms.items():
         base, _, axis = term.rpartition("_")
@@ -109,8 +108,6 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         The run file or files [-].
     """
     import pandas as pd
-
-    from ..analysis.diagnostics import PREFERRED_SENSORS
 
     sensor = diagnostics.sensor if diagnostics is not None else next(
         s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes))

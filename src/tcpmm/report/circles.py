@@ -7,7 +7,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..errors import InputError
+from ..plot.circle import plot_circle
+from ..plot.spread import plot_spread_rows
 from .html import esc, facts, figure, number, para, section, table
 
 SENSOR_NAMES = {"cmd": "command", "motor": "motor encoder", "scale": "linear scale",
@@ -72,8 +75,6 @@ def key_figures(result, diag=None) -> str:
     """What a reader looks at first: per pass G, contour error and the largest spike of the
     best sensor there is; with diagnostics, backlash, squareness, scale and servo mismatch
     and G(b) [-]."""
-    from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms
-
     sensor = next((s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes)),
                   None)
     if sensor is None:
@@ -114,8 +115,6 @@ def _names(files) -> str:
 
 def result_plot(result, overlay=None):
     """The polar plot of a circular test, with a prediction drawn over it [-]."""
-    from ..plot.circle import plot_circle
-
     if overlay is None:
         return plot_circle(result)
     return plot_circle(result, sensors=["tcp"], overlay=overlay)
@@ -126,8 +125,6 @@ def diagnostics_html(diag, stem: str) -> str:
     terms with units and sign conventions, their ranking and what is left undetermined
     [-]."""
     import pandas as pd
-
-    from ..analysis.diagnostics import display_terms, term_note
 
     rows = {t: (v, u) for t, v, u in display_terms(diag)}
     dirs = diag.directions
@@ -241,8 +238,6 @@ def spread_section(spread):
     if hasattr(spread, "plot"):
         fig, what = spread.plot(), "draws (dots) and their range (bar)"
     else:
-        from ..plot.spread import plot_spread_rows
-
         fig = plot_spread_rows(data["spikes"], data["sensor"], data["tolerance_um"] * 1e-6,
                                data["draws"])
         what = "the range of the draws (bar)"

@@ -3,14 +3,17 @@ model predicts, and what the command was given per axis."""
 
 from __future__ import annotations
 
+from ..analysis.circular import analyse_circle
+from ..compensate import runs_before_after
+from ..compensate.scores import before_after
+from ..errors import InputError
+from ..plot.circle import plot_circle
 from .html import figure, para, section, table
 
 
 def _figures_frame(scores: dict):
     """Before, after and their ratio per predicted figure [µm, -]."""
     import pandas as pd
-
-    from ..compensate.scores import before_after
 
     return pd.DataFrame([{"figure": f"{label} [µm]", "before": b, "after": a,
                           "reduced by [x]": b / a if a > 0 else float("inf")}
@@ -35,11 +38,6 @@ def _axes_frame(comp):
 def _polar(machine, comp, radius_m: float):
     """The model's TCP on the circle before (solid) and after (dotted) the compensation,
     one polar panel per pass; ``None`` where the circle is not found whole."""
-    from ..analysis.circular import analyse_circle
-    from ..compensate import runs_before_after
-    from ..errors import InputError
-    from ..plot.circle import plot_circle
-
     before, after = runs_before_after(machine, comp)
     try:
         rb = analyse_circle(before, radius_m, sensors=("cmd", "tcp"))

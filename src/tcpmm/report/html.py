@@ -13,6 +13,9 @@ import math
 from datetime import UTC, datetime
 from pathlib import Path
 
+from .. import __version__
+from ..plot import pyplot
+
 MINUS, DASH = "\u2212", "\u2014"
 
 #: The page's style sheet: system fonts only, printable, no external resource.
@@ -73,8 +76,6 @@ def data_uri(data: bytes, mime: str) -> str:
 
 def figure_png(fig, dpi: int = 110) -> bytes:
     """A matplotlib figure as PNG bytes; the figure is closed [-]."""
-    from ..plot import pyplot
-
     buf = io.BytesIO()
     try:
         fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
@@ -184,8 +185,6 @@ def page(title: str, sections, inputs=()) -> str:
     inputs : list of tuple
         ``(what, file)`` named in the header [-].
     """
-    from .. import __version__
-
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
     toc = "".join(f'<a href="#{esc(k)}">{esc(t)}</a>' for k, t, _ in sections)
     given = "; ".join(f"{w}: {Path(f).name}" for w, f in inputs)

@@ -7,6 +7,9 @@ import math
 from pathlib import Path
 
 from ..errors import InputError
+from ..mechanics.statespace import plant
+from ..servo.sampled import sampled_spectral_radius
+from .accuracy import verdict_html
 from .html import esc, facts, figure, para, section, table
 
 #: Mechanics parameter -> (description, display unit, factor from SI).
@@ -77,9 +80,6 @@ def _dynamics(axis) -> tuple:
     """Natural frequencies of the open mechanics, lowest first, as text [Hz], and the
     spectral radius of the sampled closed loop [-]."""
     import numpy as np
-
-    from ..mechanics.statespace import plant
-    from ..servo.sampled import sampled_spectral_radius
 
     ev = np.linalg.eigvals(plant(axis.mechanics).A)
     f = np.sort(np.abs(ev[ev.imag > 0])) / (2 * np.pi)
@@ -206,8 +206,6 @@ def identification_section(summary: dict, images: dict | None = None):
     for s in summary.get("suspect", []):
         body += para(f"physically suspect: {s}", "warn")
     if summary.get("verdict") is not None:
-        from .accuracy import verdict_html
-
         body += verdict_html(summary["verdict"])
     for name, axis in summary["axes"].items():
         body += f"<h3>Axis {esc(name)}</h3>"

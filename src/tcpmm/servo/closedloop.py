@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
+from ..mechanics.export import relative_coordinates, structural_minimal
 from ..mechanics.lumped import AxisMechanics
-from ..mechanics.statespace import StateSpace, plant
+from ..mechanics.statespace import StateSpace, plant, to_control
 from ..mechanics.transfer import freqresp_ss
 from .currentfilters import continuous_ss
 from .params import ServoParams
@@ -117,9 +119,6 @@ def closed_loop_ss(mech: AxisMechanics, servo: ServoParams, name: str) -> StateS
     name : str
         One of :data:`CLOSED_LOOP_TFS` [-].
     """
-    from ..errors import InputError
-    from ..mechanics.export import relative_coordinates, structural_minimal
-
     if name == "G_v":
         cl = velocity_closed_loop(mech, servo)
         return structural_minimal(relative_coordinates(cl, mech), ["w_c"], ["w_m"])
@@ -163,8 +162,6 @@ def closed_loop_to_control(mech: AxisMechanics, servo: ServoParams, name: str | 
         A SISO loop of :data:`CLOSED_LOOP_TFS` (:func:`closed_loop_ss`); ``None`` for
         the continuous position loop with inputs ``x_cmd, v_cmd`` and every output [-].
     """
-    from ..mechanics.export import to_control
-
     if name is None:
         return to_control(position_closed_loop(mech, servo), name="position_loop")
     return to_control(closed_loop_ss(mech, servo, name), name=name)

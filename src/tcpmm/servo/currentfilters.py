@@ -26,6 +26,8 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from ..mechanics.export import biquad, series
+
 #: Most current-setpoint filters per axis (as Sinumerik's p1656).
 MAX_FILTERS = 4
 
@@ -170,8 +172,6 @@ def continuous_ss(filters):
         ``x' = A x + b u``, ``y = c x + d u`` [-]; empty ``A`` and ``d = 1`` without
         filters.
     """
-    from ..mechanics.export import biquad, series
-
     if not filters:
         return np.zeros((0, 0)), np.zeros(0), np.zeros(0), 1.0
     sections = [biquad(*f.continuous()) for f in filters]

@@ -13,6 +13,9 @@ from dataclasses import dataclass, replace
 
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
+from ..path.circle import circle_command
+from ..path.command import concatenate
+from ..sim.simulate import simulate
 from .perturb import axis_variants
 
 __all__ = ["CircleTest", "circle_figures", "figure_changes", "figures", "reference_tests"]
@@ -51,9 +54,6 @@ class CircleTest:
 def reference_tests(machine) -> list[CircleTest]:
     """The reference circles in the plane of the machine's first two axes (none for a
     machine of one axis) [-]."""
-    from ..path.circle import circle_command
-    from ..path.command import concatenate
-
     names = list(machine.axes)
     if len(names) < 2:
         return []
@@ -95,8 +95,6 @@ def figures(machine, tests, sensor: str = "tcp") -> dict:
         ``"contour error"``, ``"G"`` [m].
     """
     import warnings
-
-    from ..sim.simulate import simulate
 
     out = {}
     with warnings.catch_warnings():  # a variant's run warns of what the verdict reports

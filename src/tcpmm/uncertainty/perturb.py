@@ -6,7 +6,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..ident.friction.presliding import with_presliding
+from ..ident.friction.sensitivity import with_share
 from ..model import Axis
+from ..whatif.spread import longer_presliding, scaled_contact
 
 __all__ = ["QUANTILE_90", "Variant", "axis_variants"]
 
@@ -60,9 +63,6 @@ def _mechanics_variants(axis: Axis, u) -> list[Variant]:
 
 
 def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
-    from ..ident.friction.sensitivity import with_share
-    from ..whatif.spread import longer_presliding, scaled_contact
-
     fr = axis.friction
     if fr is None:
         return []
@@ -97,9 +97,6 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
 
 def _open_variants(axis: Axis, r) -> list[Variant]:
     """The axis at both ends of an open range ``r`` (:class:`tcpmm.model.OpenRange`)."""
-    from ..ident.friction.presliding import with_presliding
-    from ..ident.friction.sensitivity import with_share
-
     m, fr = axis.mechanics, axis.friction
     out = []
     for x in (r.low, r.high):

@@ -178,7 +178,7 @@ class Verdict:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.verdict import plot_verdict
+        from ..plot.verdict import plot_verdict  # tcpmm.plot is a floor above this one
 
         return plot_verdict(self, path, ax=ax)
 

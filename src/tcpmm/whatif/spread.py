@@ -288,7 +288,7 @@ class SpikeSpread:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.spread import plot_spike_spread
+        from ..plot.spread import plot_spike_spread  # tcpmm.plot is a floor above this one
 
         return plot_spike_spread(self, path, ax=ax)
 

@@ -1,8 +1,9 @@
 """Tune a machine's servos for margins and predict the path before and after.
 
 The proposal comes from :func:`tcpmm.servo.tune.tune_machine`; the prediction simulates
-the paper's circle (R35 mm, F5000 mm/min, CCW and CW, :func:`tcpmm.demo.paper_circle_command`)
-or an NC program with the model as given and as tuned.
+the paper's circle (R35 mm, F5000 mm/min, CCW and CW,
+:func:`tcpmm.machines.paper.paper_circle_command`) or an NC program with the model as given
+and as tuned.
 """
 
 from __future__ import annotations
@@ -11,7 +12,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..demo import RADIUS_MM, paper_circle_command
+from ..analysis.circular import analyse_circle
+from ..machines.paper import RADIUS_MM, paper_circle_command
 from ..model import Machine
 from ..servo.tune import tune_machine
 from ..sim.simulate import simulate
@@ -79,7 +81,7 @@ class TuneResult:
         path : str or Path, optional
             Also save it there (PNG/PDF/SVG) [-].
         """
-        from ..plot.tune import plot_tuning
+        from ..plot.tune import plot_tuning  # tcpmm.plot is a floor above this one
 
         return plot_tuning(self, path, ax=ax)
 
@@ -117,8 +119,6 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     TCP path from the commanded path."""
     run = simulate(machine, command)
     if circle:
-        from ..analysis.circular import analyse_circle
-
         res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
         out = {}
         for p in res.passes:

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from tcpmm.errors import InputError
+from tcpmm.io.csvutil import atomic_write_columns
 
 #: PRBS power is down 3 dB at this fraction of the clock frequency [-].
 PRBS_3DB_FRACTION = 0.443
@@ -99,8 +100,6 @@ class Excitation:
         Path
             The file written.
         """
-        from tcpmm.io.csvutil import atomic_write_columns
-
         return atomic_write_columns(
             path, {"time_s": self.time_s, "excitation_A": self.signal_A}, "%.12g"
         )

@@ -222,9 +222,3 @@ def _select_band(freq, p_uu, fmin_hz, fmax_hz, name, file=None):
                 keep &= np.arange(freq.size) <= exc[-1]
     _power_gaps(freq[keep], p_uu[keep], name, file)
     return keep
-
-
-def _rel_std(coh: np.ndarray, n_eff: float) -> np.ndarray:
-    # n_d - 1 instead of n_d: estimated coherence is biased up by about (1 - gamma^2) / n_d
-    c = np.clip(coh, 1e-12, 1.0)
-    return np.sqrt((1.0 - c) / (2.0 * max(n_eff - 1.0, 1.0) * c))

@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 
 from ...errors import InputError, InputWarning
+from ...frfdata import FRF
 
 #: Relative RMS difference between successive periods accepted as periodic [-].
 PERIOD_TOL = 1e-4
@@ -92,8 +93,6 @@ def periodic_frf(u, y, fs_hz: float, period: int, fmin_hz=None, fmax_hz=None, **
         ``H`` at the excited bins; ``rel_std`` and ``coherence`` from the spread across
         periods (NaN from a single period, with a warning) [-].
     """
-    from .response import FRF
-
     k_all = u.size // period
     if k_all < 1:
         raise InputError(f"the record ({u.size} samples) is shorter than one period of the "

@@ -1,10 +1,10 @@
 """The weighted fits of the plateau hysteresis behind
 :func:`~tcpmm.ident.friction.lostmotion.estimate_lost_motion`, and their result.
 
-The plateau deflections are set up once (:class:`_Plateaus`); which unknowns are fitted
-depends on what is given: the share (:func:`_share_given`), the lost motion
-(:func:`_lost_motion_given`) or neither (:func:`_both_free`, which keeps share and lost
-motion together only when the lost motion is significant). The model and the decision are
+The plateau deflections are set up once (:class:`PlateauDeflections`); which unknowns
+are fitted depends on what is given: the share (:func:`fit_share_given`), the lost motion
+(:func:`fit_lost_motion_given`) or neither (:func:`fit_both_free`, which keeps share and
+lost motion together only when the lost motion is significant). The model and the decision are
 described in :mod:`tcpmm.ident.friction.lostmotion`.
 """
 
@@ -12,14 +12,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .lostmotion import LostMotionOptions
+from .lostmotionoptions import LostMotionOptions
 
-__all__ = ["LostMotionEstimate"]
+__all__ = ["LostMotionEstimate", "PlateauDeflections", "fit_both_free",
+           "fit_lost_motion_given", "fit_share_given"]
 
 
 @dataclass(frozen=True)
@@ -160,7 +159,7 @@ def _speed_groups(v, rel_tol):
 
 
 @dataclass(frozen=True)
-class _Plateaus:
+class PlateauDeflections:
     """The plateau deflections set up for the weighted fits of offsets, share and lost
     motion, with the fits and the result built from them.
 
@@ -182,7 +181,7 @@ class _Plateaus:
     n_off: int
 
     @classmethod
-    def build(cls, v, d, d_sd, fric, y, m, opt: LostMotionOptions) -> _Plateaus:
+    def build(cls, v, d, d_sd, fric, y, m, opt: LostMotionOptions) -> PlateauDeflections:
         """From the plateau table (velocity [m/s], deflection and its std [m]), the
         friction force [N] and the left side of the fit [m]."""
         # offsets (common or per speed) and, when fitted, the speed-proportional part
@@ -295,7 +294,7 @@ class _Plateaus:
         return est
 
 
-def _share_given(p: _Plateaus, s: float) -> LostMotionEstimate:
+def fit_share_given(p: PlateauDeflections, s: float) -> LostMotionEstimate:
     """The share given: offsets and lost motion from the remaining hysteresis."""
     k = p.k
     theta, sd, chi2 = p.fit_fixed(s, True)
@@ -307,7 +306,7 @@ def _share_given(p: _Plateaus, s: float) -> LostMotionEstimate:
                     theta, ok, why, "lost-motion", chi2, sd)
 
 
-def _lost_motion_given(p: _Plateaus) -> LostMotionEstimate:
+def fit_lost_motion_given(p: PlateauDeflections) -> LostMotionEstimate:
     """The lost motion given: offsets, speed-proportional part and share; the share's
     std includes what the lost motion's moves it by."""
     k, opt, nan = p.k, p.opt, float("nan")
@@ -338,7 +337,7 @@ def _lost_motion_given(p: _Plateaus) -> LostMotionEstimate:
                               "lost-motion given", chi2, sd_t))
 
 
-def _both_free(p: _Plateaus) -> LostMotionEstimate:
+def fit_both_free(p: PlateauDeflections) -> LostMotionEstimate:
     """Share without lost motion first; its unscaled std tells whether the plateau
     deflections resolve the nut deflection at all. Then share and lost motion together
     (:func:`_share_and_lost_motion`), kept only if the lost motion is significant; else
@@ -383,7 +382,7 @@ def _both_free(p: _Plateaus) -> LostMotionEstimate:
                               f"motion", "lost-motion", chi_c, sd_c))
 
 
-def _share_and_lost_motion(p: _Plateaus, s_ref: float) -> LostMotionEstimate | None:
+def _share_and_lost_motion(p: PlateauDeflections, s_ref: float) -> LostMotionEstimate | None:
     """Share and lost motion both from the speed dependence of the friction, from the
     share ``s_ref`` of the fit without lost motion; ``None`` unless the nut force reverses
     and the lost motion is significant with the share in [0, 1] and resolved."""

@@ -43,18 +43,19 @@ latter).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from ...errors import InputError
 from .hysteresis import (
     LostMotionEstimate,
-    _both_free,
-    _lost_motion_given,
-    _Plateaus,
-    _share_given,
+    PlateauDeflections,
+    fit_both_free,
+    fit_lost_motion_given,
+    fit_share_given,
 )
+from .lostmotionoptions import LostMotionOptions
 
 __all__ = ["LostMotionEstimate", "LostMotionOptions", "estimate_lost_motion",
            "quantisation_bias_std"]
@@ -124,89 +125,6 @@ def _plateau_mean(d, start, stop):
     return m, float(np.std(blocks, ddof=1) / math.sqrt(nb))
 
 
-@dataclass(frozen=True)
-class LostMotionOptions:
-    """Settings of :func:`estimate_lost_motion`.
-
-    Parameters
-    ----------
-    encoder_quantum : float
-        Encoder step at the motor; 0 for ideal [rad].
-    scale_resolution : float
-        Scale step; 0 for ideal [m].
-    stiffness_rel_std : float
-        Relative standard deviation of ``K_t``; the share scales with it [-].
-    viscous : {"known", "fit"}
-        ``"known"``: the viscous forces of the mechanics (``B_m``, ``B_L``, ``C_t``) are
-        taken as known, ``F_fric`` is the plateau force minus them and ``s`` applies to
-        all of it. ``"fit"``: the part of the deflection proportional to the speed is a
-        free parameter (it takes up ``C_t``, ``B_m`` and the viscous friction, which FRF
-        fits rarely determine), ``F_fric`` is the plateau force minus its viscous part
-        (``total_viscous`` times the speed), and ``s`` is the share of the Coulomb and
-        Stribeck friction only [-].
-    offset : {"common", "per_speed"}
-        One encoder-to-scale offset for the whole record, or one per speed (forward and
-        back plateaus of a speed cover the same travel, so lead errors of the screw and
-        slow thermal drift cancel) [-].
-    share : float, optional
-        Guideway share given by the user: only offset and lost motion are fitted [-].
-    backlash : float, optional
-        Lost motion (total free play) known from elsewhere (e.g.
-        :func:`tcpmm.ident.friction.estimate_nut`): only offsets, the speed-proportional
-        part and the share are fitted [m].
-    backlash_std : float
-        Standard deviation of that lost motion; it enters the share's [m].
-    max_share_std : float
-        Largest standard deviation of the share for which the split counts as
-        determined [-].
-    z_lost_motion : float
-        Lost motion and share are both fitted only when the lost motion exceeds this many
-        of its standard deviations [-].
-    min_plateaus : float
-        Fewest plateaus that must carry the fit, counted by weight
-        ``(sum w)^2 / sum w^2`` with ``w = 1/std^2``; fewer means that the quantisation
-        averages out on too few plateaus to trust the split [-].
-    max_chi2 : float
-        Largest reduced chi-square of the kept fit; above it the deflections do not
-        follow the model (wrong damping or stiffness, position-dependent errors) and the
-        split counts as not determined [-].
-    rel_tol : float
-        Relative speed tolerance that groups plateaus of one speed [-].
-    total_viscous : float, optional
-        Viscous slope of the plateau forces, all contacts and damping together, from a
-        friction curve that models the Stribeck hump; ``viscous="fit"`` only. Default: a
-        line through the plateau forces, which the hump at the slow plateaus tilts: its
-        slope comes out low, and what the speed-proportional deflection then gives for
-        the table's viscous force as well, by the share times that error (measured: 4 %
-        low on the built-in axes, 14 % on axis Y of machine 1 of
-        ``studies/unseen_machines.py --seed 0 --backlash``) [N s/m].
-    """
-
-    encoder_quantum: float = 0.0
-    scale_resolution: float = 0.0
-    stiffness_rel_std: float = 0.0
-    viscous: str = "known"
-    offset: str = "common"
-    share: float | None = None
-    backlash: float | None = None
-    backlash_std: float = 0.0
-    max_share_std: float = 0.1
-    z_lost_motion: float = 4.0
-    min_plateaus: float = 4.0
-    max_chi2: float = 25.0
-    rel_tol: float = 0.05
-    total_viscous: float | None = None
-
-    def check(self) -> None:
-        """Raise :class:`~tcpmm.errors.InputError` for a setting out of its choices."""
-        if self.offset not in ("common", "per_speed"):
-            raise InputError(f"offset must be 'common' or 'per_speed', got {self.offset!r}",
-                             column="offset")
-        if self.viscous not in ("known", "fit"):
-            raise InputError(f"viscous must be 'known' or 'fit', got {self.viscous!r}",
-                             column="viscous")
-
-
 def estimate_lost_motion(t, motor_angle, scale, force, R_L: float, mechanics, plateaus,
                          options: LostMotionOptions | None = None,
                          **settings) -> LostMotionEstimate:
@@ -251,7 +169,7 @@ def estimate_lost_motion(t, motor_angle, scale, force, R_L: float, mechanics, pl
     opt.check()
     v, d, d_sd, fm = _plateau_table(t, th, xs, f, R_L, plateaus, opt)
     fric, y = _friction_side(v, d, fm, R_L, mechanics, opt)
-    p = _Plateaus.build(v, d, d_sd, fric, y, mechanics, opt)
+    p = PlateauDeflections.build(v, d, d_sd, fric, y, mechanics, opt)
     n_pos, n_neg = int(np.sum(p.use & (p.v > 0))), int(np.sum(p.use & (p.v < 0)))
     if n_pos < 2 or n_neg < 2 or p.use.sum() < p.k + 2:
         nan = float("nan")
@@ -260,10 +178,10 @@ def estimate_lost_motion(t, motor_angle, scale, force, R_L: float, mechanics, pl
                         f"{'at speeds run both ways ' if opt.offset == 'per_speed' else ''}"
                         f"(have {n_pos} forward, {n_neg} back)", "none", nan)
     if opt.share is not None:
-        return _share_given(p, float(opt.share))
+        return fit_share_given(p, float(opt.share))
     if opt.backlash is not None:
-        return _lost_motion_given(p)
-    return _both_free(p)
+        return fit_lost_motion_given(p)
+    return fit_both_free(p)
 
 
 def _plateau_table(t, th, xs, f, R_L: float, plateaus, opt: LostMotionOptions):

@@ -52,6 +52,7 @@ import numpy as np
 
 from ...errors import InputError
 from ..frf.signals import central_difference, lowpass_filtfilt
+from .lostmotion import quantisation_bias_std
 
 __all__ = ["CUTOFFS_HZ", "LOST_MOTION_Z", "RESOLUTION_STEPS", "NutEstimate", "estimate_nut"]
 
@@ -315,8 +316,6 @@ def _stretch_bias_std(t: bytes, x: bytes, quantum: float) -> float:
     by the bytes of its samples, kept: the same stretches come back in every fit of the
     nut (each start, each share, each refit of the mechanics), and working them out again
     was most of an identification's time [m]."""
-    from .lostmotion import quantisation_bias_std
-
     return quantisation_bias_std(np.frombuffer(t), np.frombuffer(x), quantum)
 
 

@@ -64,6 +64,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...mechanics.friction import friction_params_array
+from ...sim.pathforce import contact_force_along_path, play_operator
 from .presliding import with_presliding
 
 __all__ = ["PreslidingFit", "fit_presliding"]
@@ -227,8 +229,6 @@ def _windows(s, v, margin: int):
 def _contact_force(params, path, h, band: float):
     """Force of a contact (parameter vector, ``None`` for none) along ``path`` through a
     play of width ``band`` [N]."""
-    from ...sim.pathforce import contact_force_along_path, play_operator
-
     if params is None:
         return np.zeros_like(path)
     return contact_force_along_path(play_operator(path, band), h, params)
@@ -236,8 +236,6 @@ def _contact_force(params, path, h, band: float):
 
 def _residual(m, windows, fr, mech, margin: int) -> np.ndarray:
     """Measured minus predicted motor force over every window [N]."""
-    from ...mechanics.friction import friction_params_array
-
     R, h = m["R"], m["h"]
     drive = (mech.J_m + mech.J_L) / R**2
     drive_c = (mech.B_m + mech.B_L) / R**2

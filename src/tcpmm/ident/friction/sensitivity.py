@@ -21,7 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...analysis.circular import analyse_circle
+from ...io.csvutil import warn_input
 from ...model import Machine
+from ...path.circle import circle_command
+from ...sim.simulate import simulate
+from .presliding import with_presliding
 from .split import SHARE_WARN_STD
 
 __all__ = ["LostMotionSensitivity", "PreslidingSensitivity", "ShareSensitivity",
@@ -144,10 +149,6 @@ def spike_range(machine: Machine, name: str, frictions) -> float | None:
     float or None
         The change [m]; ``None`` when the machine has no second axis for a circle [-].
     """
-    from ...analysis.circular import analyse_circle
-    from ...path.circle import circle_command
-    from ...sim.simulate import simulate
-
     other = next((n for n in machine.axes if n != name), None)
     if other is None:
         return None
@@ -189,8 +190,6 @@ def presliding_spike_range(machine: Machine, name: str, distances,
                            damping_ratio: float) -> float | None:
     """:func:`spike_range` as the pre-sliding distance of both contacts of axis ``name``
     goes over ``distances`` [m], at the bristle damping ratio ``damping_ratio`` [-]."""
-    from .presliding import with_presliding
-
     a = machine.axes[name]
     if a.friction is None:
         return None
@@ -211,7 +210,6 @@ def _warn_from(friction, due: bool, message: str) -> None:
     on (``friction.source``, when there is one) [-]."""
     if not due:
         return
-    from ...io.csvutil import warn_input
 
     warn_input(message, file=getattr(friction, "source", None))
 

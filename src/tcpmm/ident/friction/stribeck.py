@@ -21,6 +21,7 @@ from scipy import optimize
 
 from tcpmm.errors import InputError
 
+from ...io.bundle import read_friction_csv as read_record
 from ..frf.signals import _as_1d, central_difference, lowpass_filtfilt
 from .estimate import ParameterEstimate
 
@@ -411,8 +412,6 @@ def read_friction_csv(path, lead: float, torque_constant: float, position: str =
         ``(t, x, force)``: time [s], position [m] and the motor force at the table
         ``K_tc i 2 pi / lead`` (losses of the screw not included) [N].
     """
-    from ...io.bundle import read_friction_csv as read_record
-
     return friction_record_arrays(read_record(path), lead, torque_constant, position)
 
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection", "table_viscous_estimate",
-           "travel_velocity"]
+           "travel_speed", "travel_velocity"]
 
 #: Blocks the record is cut into to see the scatter of its mean deflection [-].
 N_BLOCKS = 16
@@ -42,6 +42,9 @@ FRF_C_T_REL_STD = 0.5
 #: Largest share outside [0, 1], in standard deviations, still taken as [0, 1]; beyond
 #: it the data contradict the model of where the friction acts [-].
 OUTSIDE_Z = 3.0
+#: Travel over a sweep record below which it counts as standing still: the guideway
+#: friction then holds the nut on no particular flank [m].
+MIN_SWEEP_TRAVEL_M = 1e-3
 
 
 @dataclass(frozen=True)
@@ -67,6 +70,12 @@ class SweepDeflection:
         """Plain dictionary for the JSON report, SI units [-]."""
         return {"velocity_m_per_s": self.velocity, "deflection_m": self.deflection,
                 "deflection_std_m": self.deflection_std}
+
+
+def travel_speed(sweep) -> float:
+    """Steady travel speed of a sweep record, zero when it travels less than
+    :data:`MIN_SWEEP_TRAVEL_M` [m/s]."""
+    return abs(travel_velocity(sweep, MIN_SWEEP_TRAVEL_M))
 
 
 def travel_velocity(sweep, min_travel: float) -> float:

@@ -1,15 +1,12 @@
 """What keeps a misleading identified model from passing silently: the gates that make a
-physically suspect record or model an error (:mod:`~tcpmm.ident.gates.findings`, on the
-columns :mod:`~tcpmm.ident.gates.columns`, on the masses
-:mod:`~tcpmm.ident.gates.masses`), and the
-sanity checks that warn before a model misleads a prediction
-(:mod:`~tcpmm.ident.gates.sanity`)."""
+physically suspect record or model an error (:mod:`~tcpmm.ident.gates.findings`, the time
+base of a record in :mod:`~tcpmm.ident.gates.timebase`, the columns in
+:mod:`~tcpmm.ident.gates.columns`, the masses against the FRFs' static gains in
+:mod:`~tcpmm.ident.gates.masses`), and the sanity checks that warn before a model misleads
+a prediction (:mod:`~tcpmm.ident.gates.sanity`)."""
 
 from .findings import (
     FIT_TRIM,
-    MAX_DAQ_PERIOD_S,
-    MAX_FEED_SPEED,
-    MIN_DAQ_PERIOD_S,
     STANDING_SWEEP,
     STATIC_OVER_COULOMB,
     Finding,
@@ -19,10 +16,8 @@ from .findings import (
     check_sampled_loop,
     check_static_friction_vs_drive,
     check_static_over_coulomb,
-    check_time_base,
     drive_force_limit,
     slowest_plateau_speed,
-    time_base_findings,
     trimmed_fit_percent,
 )
 from .sanity import (
@@ -32,6 +27,13 @@ from .sanity import (
     friction_holds_sweep,
     warn_friction_holds_sweep,
     warn_unstable_sampled_loop,
+)
+from .timebase import (
+    MAX_DAQ_PERIOD_S,
+    MAX_FEED_SPEED,
+    MIN_DAQ_PERIOD_S,
+    check_time_base,
+    time_base_findings,
 )
 
 __all__ = ["FIT_TRIM", "FRICTION_LEAD_DEG", "LOW_BAND_HZ", "MAX_DAQ_PERIOD_S", "MAX_FEED_SPEED",

@@ -3,8 +3,9 @@
 Each check takes the identified axis (or a record and what ``machine.yaml`` declares) and
 returns a list of :class:`Finding`; an empty list means the check passed. The checks:
 
-* :func:`check_time_base` -- the time column of a record against plausible DAQ periods and
-  feed speeds (e.g. a sweep written with milliseconds under ``time_s``);
+* :func:`~tcpmm.ident.gates.timebase.check_time_base` -- the time column of a record against
+  plausible DAQ periods and feed speeds (e.g. a sweep written with milliseconds under
+  ``time_s``), in a module of its own;
 * :func:`check_static_friction_vs_drive` -- friction at rest above what the drive can push
   at its current limit;
 * :func:`check_static_over_coulomb` -- a static level far above Coulomb that the friction
@@ -12,8 +13,9 @@ returns a list of :class:`Finding`; an empty list means the check passed. The ch
 * :func:`check_fit_percent` -- a physical model worse than the mean of its FRF;
 * :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it.
 
-:func:`time_base_findings` and :func:`axis_findings` run them on a bundle's records and on an
-:class:`~tcpmm.ident.identification.AxisIdentification`; :class:`SuspectModelError` reports them.
+:func:`~tcpmm.ident.gates.timebase.time_base_findings` and :func:`axis_findings` run them on
+a bundle's records and on an :class:`~tcpmm.ident.identification.AxisIdentification`;
+:class:`SuspectModelError` reports them.
 """
 
 from __future__ import annotations
@@ -24,30 +26,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from ...servo.sampled import sampled_spectral_radius
+from ..friction.split import slowest_plateau, stribeck_from_record
+from ..friction.sweepforce import travel_speed
+from ..lti.goodness import fit_percent
+from ..options import MIN_COHERENCE
 
-__all__ = ["FIT_TRIM", "MAX_DAQ_PERIOD_S", "MAX_FEED_SPEED", "MIN_DAQ_PERIOD_S",
-           "STATIC_OVER_COULOMB", "Finding", "SuspectModelError", "axis_findings",
+__all__ = ["FIT_TRIM", "STATIC_OVER_COULOMB", "Finding", "SuspectModelError", "axis_findings",
            "check_fit_percent", "check_sampled_loop", "check_static_friction_vs_drive",
-           "check_static_over_coulomb", "check_time_base", "drive_force_limit",
-           "slowest_plateau_speed", "time_base_findings", "trimmed_fit_percent"]
+           "check_static_over_coulomb", "drive_force_limit", "slowest_plateau_speed",
+           "trimmed_fit_percent"]
 
-#: Shortest plausible DAQ sample period: 100 kHz, beyond any drive or DAQ that records
-#: feed axes [s].
-MIN_DAQ_PERIOD_S = 1e-5
-#: Longest plausible DAQ sample period: 100 Hz. A sweep sampled slower has its Nyquist
-#: frequency (50 Hz) below the axial modes of a feed drive, and friction runs sampled slower
-#: do not resolve their reversals; a period beyond this is almost always a time column in
-#: the wrong unit (milliseconds under ``time_s`` gives 0.1 s at 10 kHz) [s].
-MAX_DAQ_PERIOD_S = 1e-2
-#: Fastest plausible feed speed of a measured axis: rapid traverses of machine tools stay
-#: below about 2 m/s, linear-motor axes below 5 m/s [m/s].
-MAX_FEED_SPEED = 5.0
-#: Window over which the feed speed is taken from the position, so that the position's
-#: quantisation does not read as speed [s].
-SPEED_WINDOW_S = 1e-3
-#: Quantile of the windowed speeds taken as the record's top speed, so that a few glitched
-#: samples do not count [-].
-SPEED_QUANTILE = 0.999
 #: Static friction above this many times the Coulomb level counts as far above it. Static
 #: over Coulomb friction of feed axes is 1.1 to 1.5 for preloaded rolling guides and ball
 #: screws and up to about 2 for sliding (plastic-lined) guides; 3 leaves margin above the
@@ -124,77 +113,6 @@ class SuspectModelError(InputError):
             file=file)
 
 
-def _top_speed(t, x) -> float:
-    """Top feed speed of a position record over windows of :data:`SPEED_WINDOW_S` [m/s]."""
-    t = np.asarray(t, dtype=float)
-    x = np.asarray(x, dtype=float)
-    dt = float(np.median(np.diff(t)))
-    k = min(max(1, math.ceil(SPEED_WINDOW_S / dt)), x.size - 1)
-    v = np.abs(x[k:] - x[:-k]) / (t[k:] - t[:-k])
-    return float(np.quantile(v, SPEED_QUANTILE))
-
-
-def check_time_base(axis: str, record, kind: str) -> list[Finding]:
-    """The time column of a record against plausible DAQ periods and feed speeds.
-
-    A DAQ rate is free, but its sample period must lie within [:data:`MIN_DAQ_PERIOD_S`,
-    :data:`MAX_DAQ_PERIOD_S`], and the scale's rate of change over that time must be a
-    feed speed (at most :data:`MAX_FEED_SPEED`). Time in milliseconds or microseconds
-    under ``time_s`` fails one of the two.
-
-    Parameters
-    ----------
-    axis : str
-        Axis name [-].
-    record : SweepRecord or FrictionRecord
-        The record, SI [-].
-    kind : str
-        Its file name, e.g. ``sweep.csv``, for messages [-].
-
-    Returns
-    -------
-    list of Finding
-        Empty when the time base is plausible [-].
-    """
-    t = np.asarray(record.time_s, dtype=float)
-    dt = float(np.median(np.diff(t)))
-    data = f"{getattr(record, 'source', None) or kind}, column time_s"
-    remedy = (f"time_s must be in seconds: check the unit of the time column of {kind} "
-              "(milliseconds give 1000 times the sample period)")
-    out = []
-    if not MIN_DAQ_PERIOD_S <= dt <= MAX_DAQ_PERIOD_S:
-        out.append(Finding(axis, f"{kind} sample period", dt, "s",
-                           f"outside the plausible DAQ periods {MIN_DAQ_PERIOD_S:g} to "
-                           f"{MAX_DAQ_PERIOD_S:g} s", data, remedy))
-    speed = _top_speed(t, record.scale_m)
-    if speed > MAX_FEED_SPEED:
-        out.append(Finding(axis, f"{kind} feed speed", speed, "m/s",
-                           f"above the fastest plausible feed speed {MAX_FEED_SPEED:g} m/s",
-                           f"{data} and scale_mm", remedy + " and of scale_mm (mm)"))
-    return out
-
-
-def time_base_findings(bundle) -> list[Finding]:
-    """:func:`check_time_base` on every sweep and friction record of a bundle.
-
-    Parameters
-    ----------
-    bundle : Bundle
-        Read with :func:`tcpmm.io.bundle.read_bundle` [-].
-
-    Returns
-    -------
-    list of Finding
-        Empty when every time base is plausible [-].
-    """
-    out = []
-    for name, rec in bundle.axes.items():
-        for record, kind in ((rec.sweep, "sweep.csv"), (rec.friction, "friction.csv")):
-            if record is not None:
-                out += check_time_base(name, record, kind)
-    return out
-
-
 def drive_force_limit(axis) -> float:
     """Force the drive delivers at the table at its current limit,
     ``current_limit K_tc / R_L`` with ``R_L = lead / 2 pi`` [N].
@@ -268,8 +186,6 @@ def slowest_plateau_speed(record, cfg, axis: str | None = None) -> float:
     float
         Smallest absolute plateau velocity [m/s].
     """
-    from ..friction.split import slowest_plateau, stribeck_from_record
-
     return slowest_plateau(stribeck_from_record(record, cfg, axis)[4])
 
 
@@ -330,8 +246,6 @@ def trimmed_fit_percent(H, H_model, trim: float = FIT_TRIM) -> float:
     trim : float
         Share of bins left out [-].
     """
-    from ..lti.goodness import fit_percent
-
     H, h = np.asarray(H, dtype=complex), np.asarray(H_model, dtype=complex)
     ok = (np.abs(H) > 0) & (np.abs(h) > 0)
     H, h = H[ok], h[ok]
@@ -380,8 +294,6 @@ def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep",
     list of Finding
         Empty when the fit is not negative [-].
     """
-    from ..lti.goodness import fit_percent
-
     remedy = remedy or ("check the sweep (time unit, columns, excitation amplitude) and the "
                         "band (--band)")
     if np.asarray(H).size < 2:
@@ -415,8 +327,6 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep") -> list[Finding
     list of Finding
         Empty when the sampled loop is stable [-].
     """
-    from ...servo.sampled import sampled_spectral_radius
-
     rho = sampled_spectral_radius(axis.mechanics, axis.servo)
     if rho < 1.0:
         return []
@@ -443,9 +353,6 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
     list of Finding
         Empty when the axis passes [-].
     """
-    from ..steps.excitationcheck import travel_speed
-    from ..steps.frfs import MIN_COHERENCE
-
     name, axis = ident.name, ident.axis
     sweep = records.sweep.source or f"{name}/sweep.csv"
     remedy = STANDING_SWEEP if travel_speed(records.sweep) == 0.0 else None

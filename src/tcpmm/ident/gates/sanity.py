@@ -22,6 +22,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ...errors import InputWarning
+from ...io.csvutil import warn_input
 from ...servo.sampled import sampled_spectral_radius
 
 __all__ = ["FRICTION_LEAD_DEG", "LOW_BAND_HZ", "FrictionHold", "friction_holds_sweep",
@@ -111,7 +112,6 @@ def warn_friction_holds_sweep(name: str, sweep, frf, min_coherence: float,
     held = friction_holds_sweep(frf, min_coherence)
     if held is None:
         return None
-    from ...io.csvutil import warn_input
 
     remedy = ("The sweep stands still: record it while the axis travels at constant speed "
               "(e.g. 20 mm/s), which keeps the friction sliding, or raise its amplitude."

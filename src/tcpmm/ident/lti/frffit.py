@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...errors import InputError
-from ..frf.response import FRF
+from ...frfdata import FRF
 from ._needles import _clean
 from ._select import choose, score
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
@@ -147,7 +147,7 @@ class FRFFit:
         frf : FRF, optional
             The whole measurement, drawn beyond the bins fitted [-].
         """
-        from ...plot.frf import plot_frf_fit
+        from ...plot.frf import plot_frf_fit  # tcpmm.plot is a floor above this one
 
         if frf is not None:
             f, H, coh = frf.freq_hz, frf.H, frf.coherence

@@ -37,7 +37,8 @@ import numpy as np
 
 from ..._threads import limit_blas_threads
 from ...errors import InputError
-from ..frf.response import FRF
+from ...frfdata import FRF
+from ...pade import with_delay
 from ._tfcore import (
     _extrema,
     _model,
@@ -187,7 +188,7 @@ class TFFit:
         pade_order : int or "auto"
             Order of the Pade approximation of the delay; ``"auto"`` takes the smallest
             that holds the relative error below 1e-3 over the band fitted
-            (:func:`~tcpmm.ident.lti.pade.pade_order`); 0 leaves the delay out (read it
+            (:func:`~tcpmm.pade.pade_order`); 0 leaves the delay out (read it
             from ``delay_s``) [-].
 
         Returns
@@ -195,9 +196,7 @@ class TFFit:
         control.TransferFunction
             Continuous-time transfer function [SI].
         """
-        import control
-
-        from .pade import with_delay
+        import control  # python-control is slow to import and needed only here
 
         tf = control.TransferFunction(self.num, self.den)
         return with_delay(tf, self.delay_s, float(self.freq_hz[-1]), pade_order)

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from ...io.csvutil import warn_input
 from ...servo.currentfilters import filters_freqresp
 from ..frf.response import frf_against_reference
 
@@ -206,8 +207,6 @@ def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:
     if timing is None:
         return None
     if not timing.determined:
-        from ...io.csvutil import warn_input
-
         warn_input(
             f"axis {name}: the controller output in the sweep does not match the declared "
             f"velocity-loop gains with any computation delay (fitted gain factor "

@@ -7,17 +7,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..friction.sweepforce import travel_velocity
+from ...io.csvutil import warn_input
+from ..friction.sweepforce import MIN_SWEEP_TRAVEL_M, travel_velocity
+from ..gates.findings import STANDING_SWEEP
 from ..gates.sanity import FrictionHold, warn_friction_holds_sweep
-from .frfs import MIN_COHERENCE
+from ..options import MIN_COHERENCE
 
 if TYPE_CHECKING:
     from ..chain import AxisRun
     from ..options import IdentifyOptions
-
-#: Travel over a sweep record below which it counts as standing still: the guideway
-#: friction then holds the nut on no particular flank [m].
-MIN_SWEEP_TRAVEL_M = 1e-3
 
 
 @dataclass(frozen=True)
@@ -57,15 +55,6 @@ def check_excitation(run: AxisRun, options: IdentifyOptions) -> ExcitationCheck:
     held = warn_friction_holds_sweep(name, sweep, run.frfs.frfs["G_M"], MIN_COHERENCE,
                                      standing=standing)
     if standing:
-        from ...io.csvutil import warn_input
-        from ..gates.findings import STANDING_SWEEP
-
         warn_input(f"axis {name}: {STANDING_SWEEP}; the model fitted to it can be off by "
                    "micrometres at the reversals", file=getattr(sweep, "source", None))
     return ExcitationCheck(velocity, held)
-
-
-def travel_speed(sweep) -> float:
-    """Steady travel speed of a sweep record, zero when it travels less than
-    :data:`MIN_SWEEP_TRAVEL_M` [m/s]."""
-    return abs(travel_velocity(sweep, MIN_SWEEP_TRAVEL_M))

@@ -9,15 +9,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..frf.response import reduced_frfs
+from ..options import MIN_COHERENCE
 from ..physical.greybox import FRFData
 
 if TYPE_CHECKING:
     from ..chain import AxisRun
     from ..options import IdentifyOptions
-
-#: Bins of an FRF with a coherence below this carry no weight in the fits and are left out
-#: of the fit percentages: less than half of the output's power there follows the input [-].
-MIN_COHERENCE = 0.5
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ..lti.tffit import fit_tf
-from .frfs import MIN_COHERENCE
+from ..options import MIN_COHERENCE
 
 if TYPE_CHECKING:
     from ..chain import AxisRun

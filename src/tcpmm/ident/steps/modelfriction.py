@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ...io.csvutil import warn_input
 from ..friction.presliding import PRESLIDING, with_presliding
 from ..friction.preslidingfit import PreslidingFit, fit_presliding
 from ..friction.split import share_uncertainty_warning
@@ -51,8 +52,6 @@ def friction_for_model(run: AxisRun, options: IdentifyOptions) -> ModelFriction 
     message = share_uncertainty_warning(run.name, kept.split, kept.curve, kept.mechanics,
                                         run.cfg)
     if message is not None:
-        from ...io.csvutil import warn_input
-
         warn_input(message, file=getattr(run.runs, "source", None))
     return ModelFriction(*with_fitted_presliding(kept.friction, kept.mechanics, run.runs,
                                                  options.presliding))

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ...io.csvutil import warn_input
 from ...mechanics.friction import friction_params_array
 from ...sim.contact import sliding_friction
 from ..friction.nutstiffness import LOST_MOTION_Z
@@ -218,8 +219,6 @@ def warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) -> 
     modelled : bool
         The play was modelled in refits, none of which was kept [-].
     """
-    from ...io.csvutil import warn_input
-
     remedy = ("no refit with the play modelled both fitted the FRFs better and came back to "
               "the table mass and nut stiffness its describing function was computed with, "
               "so the linear fit is kept"

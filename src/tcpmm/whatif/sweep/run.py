@@ -17,6 +17,8 @@ from pathlib import Path
 
 from ..._heap import keep_freed_memory
 from ...errors import InputError, TcpmmError
+from ...io.atomic import output_folder
+from .space import apply_parameters
 from .store import (
     PARTS_DIR,
     PartWriter,
@@ -90,7 +92,7 @@ class SweepResult:
         y : str
             Metric column [um].
         """
-        from ...plot.sweep import plot_sweep
+        from ...plot.sweep import plot_sweep  # tcpmm.plot is a floor above this one
 
         return plot_sweep(self.to_pandas(), ax=ax, x=x, y=y, path=path)
 
@@ -104,7 +106,6 @@ def check_design(machine, program, variants) -> None:
         raise InputError(f"machine '{machine.name}' carries no uncertainty to draw from: "
                          "the draws design needs a model written by `tcpmm identify`; or use "
                          "--design grid or lhs")
-    from .space import apply_parameters
 
     names = {n for v in variants for n, _ in v.values}
     for name in sorted(names):
@@ -299,8 +300,6 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
 
     runs = None if keep_runs is None else str(Path(keep_runs).resolve())
     if runs is not None:
-        from ...io.atomic import output_folder
-
         output_folder(runs)
     done = done_variants(out)
     if runs is not None:  # a row without its run is not done (its run was not written)

@@ -35,11 +35,12 @@ from __future__ import annotations
 
 import math
 
-from ..._validate import did_you_mean
+from ..._validate import did_you_mean, validation_message
 from ...errors import InputError
 from ...mechanics.lumped import AxisMechanics
 from ...model import Machine, Sensors
 from ...servo.params import ServoParams
+from ..spread import scaled_contact
 
 #: Other names of servo fields [-].
 SERVO_ALIASES = {"position_gain": "K_pp", "velocity_gain": "K_vp",
@@ -162,8 +163,6 @@ def _axis_with(axis, group: str, field: str, value: float, name: str):
         return axis.replace(sensors=Sensors(**{**axis.sensors.model_dump(), field: value}))
     fr = axis.friction
     if field == "level":
-        from ..spread import scaled_contact
-
         if not value >= 0.0:
             raise InputError(f"{name} is a factor, 0 or more; got {value:g}")
         upd = {c: scaled_contact(getattr(fr, c), value) for c in ("guideway", "screw")}
@@ -206,8 +205,6 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
             elif head != "program":
                 axes[head] = _axis_with(axes[head], rest[0], ".".join(rest[1:]), value, name)
         except ValidationError as err:
-            from ..._validate import validation_message
-
             raise InputError(f"{name} = {value:g} is not a valid value: "
                              f"{validation_message(err)}") from None
         except InputError as err:
@@ -218,7 +215,5 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
             update["interpolation"] = Machine.model_validate(
                 {"axes": axes, "interpolation": interp}).interpolation
         except ValidationError as err:
-            from ..._validate import validation_message
-
             raise InputError(f"invalid interpolation setting: {validation_message(err)}") from None
     return machine.model_copy(update=update)

@@ -12,7 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputWarning, RunFaultWarning, TcpmmError
+from ...errors import InputError, InputWarning, RunFaultWarning, TcpmmError
+from ...machines.paper import START_ANGLE_DEG
+from ...path import InterpolatorSettings, circle_command, interpolate, parse_gcode
+from ...path.command import concatenate
+from ...path.segments import Arc, Line
+from ...sim.simulate import simulate
+from ..spread import draw_machine
 from .metrics import circle_metric_names, circle_metrics, path_metric_names, path_metrics
 from .space import apply_parameters
 
@@ -77,10 +83,6 @@ def metric_names(program) -> list[str]:
 
 @functools.lru_cache(maxsize=8)
 def _circle_command(radius_m: float, feed_m_per_s: float):
-    from ...demo import START_ANGLE_DEG
-    from ...path import circle_command
-    from ...path.command import concatenate
-
     kw = dict(radius_m=radius_m, feed_m_per_s=feed_m_per_s,
               start_angle_rad=math.radians(START_ANGLE_DEG))
     return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])
@@ -88,10 +90,6 @@ def _circle_command(radius_m: float, feed_m_per_s: float):
 
 @functools.lru_cache(maxsize=8)
 def _gcode_command(text: str, name: str, override: float, settings_json: str):
-    from ...errors import InputError
-    from ...path import InterpolatorSettings, interpolate, parse_gcode
-    from ...path.segments import Arc, Line
-
     segments = parse_gcode(text, name or None)
     if override != 1.0:
         segments = [replace(s, feed_m_per_s=s.feed_m_per_s * override)
@@ -119,8 +117,6 @@ def program_command(program, machine, values: dict):
     Command
         The command; built once per process for each program and setting [m].
     """
-    from ...errors import InputError
-
     if program.kind == "circle":
         radius = values.get("program.radius_mm", program.radius_m * 1e3) * 1e-3
         feed = values.get("program.feed_mm_per_min", program.feed_m_per_s * 6e4) / 6e4
@@ -130,7 +126,6 @@ def program_command(program, machine, values: dict):
             cmd = type(cmd)(cmd.time_s, {a: p + (c[0] if a == "X" else c[1] if a == "Y" else 0)
                                          for a, p in cmd.positions.items()}, cmd.meta)
         return cmd
-    from ...path import InterpolatorSettings
 
     override = float(values.get("program.feed_override", 1.0))
     if not override > 0.0:
@@ -140,9 +135,6 @@ def program_command(program, machine, values: dict):
 
 
 def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
-    from ...sim.simulate import simulate
-    from ..spread import draw_machine
-
     values = variant.params
     m = machine
     if variant.draw is not None:

@@ -1,4 +1,6 @@
-"""The pure delay of a fitted transfer function as a rational factor for python-control.
+"""The pure delay of a fitted transfer function as a rational factor for python-control,
+for the fits of :mod:`tcpmm.ident.lti` and the transfer functions read by
+:mod:`tcpmm.io.tffragment`.
 
 A state-space model cannot hold ``exp(-s tau)``; the Pade approximant of order ``n`` is
 an all-pass of ``n`` poles and zeros whose phase matches the delay's at low frequency
@@ -12,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...errors import InputError
+from .errors import InputError
 
 __all__ = ["MAX_PADE_ORDER", "PADE_TOLERANCE", "pade_error", "pade_order", "with_delay"]
 

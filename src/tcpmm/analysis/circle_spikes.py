@@ -1,0 +1,80 @@
+"""Reversal spikes and lobes at the quadrant points A-D of a circle (docs/formats.md
+section 4): the radial error in the window after each point, against its median in the
+window before it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+QUADRANTS = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
+AFTER_DEG, BEFORE_DEG = (0.0, 20.0), (-30.0, -5.0)
+
+
+def _crossings(angle_rad, direction: str, deg: float) -> list:
+    """``(crossings, u)``: the travel-direction angles [deg] at which the path crosses the
+    point at ``deg`` with both the window before it and the window after it on the path,
+    and the travel-direction angle ``u`` of every sample [deg]."""
+    sign = 1.0 if direction == "ccw" else -1.0
+    u = sign * np.degrees(angle_rad)  # increasing along the travel
+    at = sign * deg
+    lo = np.ceil((u.min() - BEFORE_DEG[0] - at) / 360.0 - 1e-9)
+    hi = np.floor((u.max() - AFTER_DEG[1] - at) / 360.0 + 1e-9)
+    return [at + 360.0 * k for k in np.arange(lo, hi + 1)], u
+
+
+def _after_reversal(angle_rad, e, direction: str):
+    """``(P, e - b)`` over the 20 deg after each quadrant point P, pooled over every
+    crossing of P whose windows both lie on the path; ``None`` where P is never crossed
+    so (the path starts or ends at P) [m]."""
+    for name, deg in QUADRANTS.items():
+        at, u = _crossings(angle_rad, direction, deg)
+        if not at:
+            yield name, None
+            continue
+        d = u[:, None] - np.asarray(at)[None, :]
+        before = ((d >= BEFORE_DEG[0]) & (d <= BEFORE_DEG[1])).any(axis=1)
+        after = ((d >= AFTER_DEG[0]) & (d <= AFTER_DEG[1])).any(axis=1)
+        yield name, e[after] - np.median(e[before])
+
+
+def uncrossed_quadrants(angle_rad, direction: str) -> list:
+    """Quadrant points the path does not cross with 30 deg before and 20 deg after them on
+    it, as when a circle starts or ends at one [-].
+
+    Parameters
+    ----------
+    angle_rad : ndarray
+        Angle about the nominal centre, CCW from +X, unwrapped [rad].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    return [name for name, deg in QUADRANTS.items() if not _crossings(angle_rad, direction,
+                                                                       deg)[0]]
+
+
+def _spike(dev) -> float:
+    return float("nan") if dev is None else float(dev[np.argmax(np.abs(dev))])
+
+
+def _lobes(dev) -> tuple:
+    nan = float("nan")
+    return (nan, nan) if dev is None else (float(dev.max()), float(dev.min()))
+
+
+def reversal_spikes(angle_rad, e, direction: str) -> dict:
+    """Signed reversal spike at A-D (docs/formats.md section 4) [m]."""
+    return {name: _spike(dev) for name, dev in _after_reversal(angle_rad, e, direction)}
+
+
+def reversal_lobes(angle_rad, e, direction: str) -> dict:
+    """Rise and fall after each quadrant point, ``{P: (max(e - b), min(e - b))}`` over
+    the window of the reversal spike; the spike is the one larger in magnitude, so where
+    the two are of similar size a small change turns its sign [m]."""
+    return {name: _lobes(dev) for name, dev in _after_reversal(angle_rad, e, direction)}
+
+
+def spikes_and_lobes(angle_rad, e, direction: str) -> tuple[dict, dict]:
+    """:func:`reversal_spikes` and :func:`reversal_lobes` from one pass over the
+    windows [m]."""
+    devs = dict(_after_reversal(angle_rad, e, direction))
+    return ({n: _spike(d) for n, d in devs.items()}, {n: _lobes(d) for n, d in devs.items()})

@@ -1,0 +1,36 @@
+"""The paper's Section 3.3 circular test: the command that the demo, the what-if sweeps
+and the servo tuning all run on the machine."""
+
+from __future__ import annotations
+
+import math
+
+from ..path import circle_command
+from ..path.command import concatenate
+from ..units import feed_mm_per_min_to_m_per_s, mm_to_m
+
+RADIUS_MM = 35.0
+FEED_MM_PER_MIN = 5000.0
+#: The circle starts between quadrant points, so that none of A-D lies on the transient
+#: that follows the feed-in arc.
+START_ANGLE_DEG = 45.0
+
+
+def paper_circle_command(machine=None):
+    """CCW then CW circle, R35 mm at 5000 mm/min in XY, with feed-in and feed-out, each
+    starting at 45 deg (the paper's Section 3.3 test).
+
+    Parameters
+    ----------
+    machine : Machine, optional
+        Not used: the command is the same for every machine [-].
+
+    Returns
+    -------
+    Command
+        The position command [m].
+    """
+    kw = dict(radius_m=mm_to_m(RADIUS_MM),
+              feed_m_per_s=feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN),
+              start_angle_rad=math.radians(START_ANGLE_DEG))
+    return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])

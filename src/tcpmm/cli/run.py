@@ -26,6 +26,7 @@ from ._app import (
 )
 from ._circles import _diagnostics_json, _print_diagnostics, _print_passes
 from ._plane import PLANE_HELP, plane_option, run_plane_said
+from ._stream import CHUNK_HELP, simulate_to_parquet
 
 
 @app.command()
@@ -66,10 +67,15 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                  False, "--allow-unstable",
                  help="Simulate even where the sampled servo loop is unstable (the run "
                       "then diverges; for studying the instability itself)."),
+             chunk_blocks: int = typer.Option(None, "--chunk-blocks", min=1,
+                                              help=CHUNK_HELP),
              as_json: bool = typer.Option(False, "--json")):
     """Drive the machine model with a position command; write the run file. An axis that
     runs away from its command or holds its current at the limit is said on stderr (and
-    in --json, "faults")."""
+    in --json, "faults"). An NC program run to Parquet streams: it is read, interpolated,
+    simulated and written a chunk of blocks at a time, in bounded memory (faults are then
+    not sought)."""
+    from ..io.runfile import is_parquet
     from ..sim.simulate import simulate as _simulate
 
     _output(output, model, command, gcode)
@@ -78,14 +84,27 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     m = _read_model(model)
     if not allow_unstable:
         _refuse_unstable(m, model)
+    if gcode is not None and command is None and is_parquet(output):
+        with _in_file(gcode):
+            res = simulate_to_parquet(m, gcode, output, _interp_settings(m),
+                                      record_period_s=record_period_s,
+                                      chunk_blocks=chunk_blocks)
+        _said_run(output, res, as_json)
+        return
     cmd = _load_command(command, gcode, m)
     with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
     run.write(output)
+    _said_run(output, run.to_dict(), as_json)
+
+
+def _said_run(output: Path, summary: dict, as_json: bool) -> None:
+    """Say the run file written: its samples and axes (``Run.to_dict``'s summary)."""
     if as_json:
-        _emit_json({"output": str(output), **run.to_dict()})
+        _emit_json({"output": str(output), **summary})
         return
-    out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
+    out.print(f"wrote {output} ({summary['samples']} samples, axes "
+              f"{', '.join(summary['axes'])})")
 
 
 @app.command()

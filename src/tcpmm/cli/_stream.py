@@ -1,0 +1,91 @@
+"""The streaming runs of the command line: a program a chunk of blocks at a time, the run
+to Parquet a row group a chunk, and a progress bar of the blocks read."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from pathlib import Path
+
+from ._app import console
+
+#: help of ``--chunk-blocks``
+CHUNK_HELP = ("Blocks of the NC program read, interpolated and simulated at a time "
+              "(default 100000); the results do not depend on it, the memory does.")
+
+
+def count_lines(path: Path) -> int:
+    """Lines of a text file (``\\n``, ``\\r\\n`` or ``\\r`` ending them), for the progress
+    bar's total [-]."""
+    n, last = 0, b""
+    with open(path, "rb") as f:
+        while block := f.read(1 << 24):
+            n += block.count(b"\n") + block.count(b"\r") - block.count(b"\r\n")
+            if last == b"\r" and block[:1] == b"\n":
+                n -= 1  # a \r\n cut between two blocks
+            last = block[-1:]
+    return n + (last not in (b"", b"\n", b"\r"))
+
+
+@contextmanager
+def block_progress(program: Path, description: str):
+    """A progress bar of the program's blocks read, with the time left, on a terminal;
+    nothing in a pipe or a log. Yields ``update(lines_read)``."""
+    if not console.is_terminal:
+        yield lambda *_: None
+        return
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeRemainingColumn,
+    )
+
+    total = count_lines(program)
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TextColumn("blocks"), TimeRemainingColumn(), console=console,
+                  transient=True) as p:
+        task = p.add_task(description, total=total)
+        yield lambda lines: p.update(task, completed=lines)
+
+
+def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
+                        record_period_s=None, chunk_blocks: int | None = None) -> dict:
+    """Simulate an NC program on a model streaming, to a Parquet run file.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    program : Path
+        The NC program [-].
+    output : Path
+        The Parquet run file [-].
+    settings : InterpolatorSettings
+        Interpolator settings [-].
+    record_period_s : float, optional
+        Output period [s].
+    chunk_blocks : int, optional
+        Blocks a chunk, default :data:`tcpmm.path.stream.CHUNK_BLOCKS` [-].
+
+    Returns
+    -------
+    dict
+        ``samples``, ``duration_s`` and ``axes`` of the run written [-].
+    """
+    from ..io.runfile import run_parquet_writer
+    from ..path.stream import CHUNK_BLOCKS
+    from ..sim.streamrun import stream_simulate
+
+    chunk_blocks = chunk_blocks or CHUNK_BLOCKS
+    samples, last_t, axes = 0, 0.0, None
+    with block_progress(program, "simulate") as update, run_parquet_writer(output) as write:
+        for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
+                                   record_period_s=record_period_s):
+            if run.time_s.size:
+                write(run)
+                samples += run.time_s.size
+                last_t = float(run.time_s[-1])
+            axes = axes or run.to_dict()["axes"]
+            update(run.meta["lines_read"])
+    return {"samples": samples, "duration_s": last_t, "axes": axes}

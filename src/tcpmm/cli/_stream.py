@@ -89,3 +89,49 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
             axes = axes or run.to_dict()["axes"]
             update(run.meta["lines_read"])
     return {"samples": samples, "duration_s": last_t, "axes": axes}
+
+
+#: a Parquet run of more rows than this is read in chunks by ``tcpmm contour`` [-]
+STREAM_ABOVE_ROWS = 2_000_000
+
+
+def streamed(run_file: Path, chunk_rows: int | None) -> bool:
+    """Whether ``tcpmm contour`` reads the run in chunks: a Parquet run, with
+    ``--chunk-rows`` or longer than :data:`STREAM_ABOVE_ROWS` [-]."""
+    from ..io.runfile import is_parquet
+
+    if not is_parquet(run_file) or not Path(run_file).is_file():
+        return False
+    from ..analysis.contour_stream import parquet_rows
+
+    return chunk_rows is not None or parquet_rows(run_file) > STREAM_ABOVE_ROWS
+
+
+def contour_streamed(run_file: Path, plane: str | None, window_s: float,
+                     chunk_rows: int | None):
+    """The contour error summary of a Parquet run read in chunks, in the plane of
+    ``--plane`` or the one its command moves in (said on stderr, as for a whole run).
+
+    Parameters
+    ----------
+    run_file : Path
+        The Parquet run [-].
+    plane : str or None
+        ``--plane`` [-].
+    window_s : float
+        ``--window-s`` [s].
+    chunk_rows : int or None
+        Rows a chunk [-].
+    """
+    import numpy as np
+
+    from ..analysis.contour_stream import STREAM_ROWS, stream_contour, travel_positions
+    from ..result import AxisRun, Run
+    from ._plane import run_plane_said
+
+    travel = travel_positions(run_file)
+    ends = Run(np.array([0.0, 1.0]), {a: AxisRun(cmd=v) for a, v in travel.items()})
+    how = run_plane_said(plane, ends, run_file, allow_3d=True)
+    axes, signed = (tuple(how), True) if how else (tuple(a for a in "XYZ" if a in travel),
+                                                   False)
+    return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS)

@@ -215,3 +215,13 @@ def test_a_bad_line_far_in_is_named_and_leaves_no_file(tmp_path, capsys):
                        "--chunk-blocks", 100)
     assert code == 2 and "line 2501" in err and "Traceback" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.nc"]
+
+
+@pytest.mark.parametrize("name", ["spiral", "arcs"])  # Z kept where it moves, else not
+def test_cli_path_in_chunks_writes_the_same_file(tmp_path, capsys, name):
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS[name])
+    assert cli(capsys, "path", prog, "-o", tmp_path / "a.csv")[0] == 0
+    assert cli(capsys, "path", prog, "-o", tmp_path / "b.csv", "--chunk-blocks", 3)[0] == 0
+    whole, chunked = (tmp_path / "a.csv").read_bytes(), (tmp_path / "b.csv").read_bytes()
+    assert chunked == whole and (b"z_mm" in whole) == (name == "arcs")

@@ -135,3 +135,42 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
     axes, signed = (tuple(how), True) if how else (tuple(a for a in "XYZ" if a in travel),
                                                    False)
     return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS)
+
+
+#: an NC program of more lines than this is interpolated in chunks by ``tcpmm path`` [-]
+PATH_STREAM_ABOVE_LINES = 1_000_000
+
+
+def path_to_csv(program: Path, output: Path, settings, chunk_blocks: int | None) -> dict:
+    """Interpolate an NC program streaming into a command file (the text of the whole
+    program's, :func:`tcpmm.path.write_command_csv`).
+
+    Parameters
+    ----------
+    program : Path
+        The NC program [-].
+    output : Path
+        The command file [-].
+    settings : InterpolatorSettings
+        Interpolator settings [-].
+    chunk_blocks : int, optional
+        Blocks a chunk, default :data:`tcpmm.path.stream.CHUNK_BLOCKS` [-].
+
+    Returns
+    -------
+    dict
+        ``samples``, ``period_s`` and ``duration_s`` of the command written [-].
+    """
+    from ..path.commandfile import command_csv_writer
+    from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
+
+    ip = StreamInterpolator(settings)
+    last = 0.0
+    with block_progress(program, "path") as update, command_csv_writer(output) as w:
+        for piece in stream_program(program, settings, chunk_blocks or CHUNK_BLOCKS,
+                                    interpolator=ip):
+            w.write(piece.time_s, piece.positions)
+            last = float(piece.time_s[-1])
+            update(piece.lines_read)
+        w.axes = tuple(a for a in ("X", "Y", "Z") if a in ip.used_axes)
+    return {"samples": w.samples, "period_s": settings.period_s, "duration_s": last}

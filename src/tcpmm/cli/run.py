@@ -26,7 +26,13 @@ from ._app import (
 )
 from ._circles import _diagnostics_json, _print_diagnostics, _print_passes
 from ._plane import PLANE_HELP, plane_option, run_plane_said
-from ._stream import CHUNK_HELP, simulate_to_parquet
+from ._stream import (
+    CHUNK_HELP,
+    PATH_STREAM_ABOVE_LINES,
+    count_lines,
+    path_to_csv,
+    simulate_to_parquet,
+)
 
 
 @app.command()
@@ -261,7 +267,12 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          plot: bool = typer.Option(False, "--plot", help="Also save CMD.png beside the CSV."),
          plane: str = typer.Option(None, "--plane", help="Plane of the plotted path: XY, XZ, "
                                    "YZ (or ZX); default the plane of the program's arcs "
-                                   "(G17/G18/G19), else the one it moves in.")):
+                                   "(G17/G18/G19), else the one it moves in."),
+         chunk_blocks: int = typer.Option(
+             None, "--chunk-blocks", min=1,
+             help="Interpolate this many blocks at a time (bounded memory; no feed summary, "
+                  f"no plot). Default: whole, unless the program has more than "
+                  f"{PATH_STREAM_ABOVE_LINES} lines.")):
     """Interpolate an NC program into the position command per axis; say how much of the
     path runs at the programmed feed and which limit holds it back where it does not."""
     from ..path import write_command_csv
@@ -277,6 +288,15 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         from ..io.modelfile import read_machine
 
         m = read_machine(model)
+    if chunk_blocks is not None or (program.is_file() and
+                                    count_lines(program) > PATH_STREAM_ABOVE_LINES):
+        if plot:
+            raise typer.BadParameter("a program interpolated in chunks is not plotted",
+                                     param_hint="--plot")
+        res = path_to_csv(program, output, _interp_settings(m), chunk_blocks)
+        out.print(f"wrote {output} ({res['samples']} samples at {res['period_s'] * 1e3:g} "
+                  f"ms, {res['duration_s']:.3f} s)")
+        return
     interp = program_to_interpolation(program, _interp_settings(m))
     cmd = interp.command
     write_command_csv(cmd, output)

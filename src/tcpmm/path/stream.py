@@ -24,6 +24,7 @@ from .blend import CornerBlender
 from .filters import filter_shape
 from .gcode_stream import interpret_chunks
 from .geometry import evaluate
+from .interpolate import _used_axes
 from .program import _is_path, check_program_file
 from .segments import AXES, Arc
 from .settings import InterpolatorSettings
@@ -81,6 +82,8 @@ class StreamInterpolator:
         self.x0 = self.x_last = None
         self.plane_axes = None
         self.segments_in = 0
+        #: the axes the path moves (X and Y always), as the whole command has them [-]
+        self.used_axes: set = {"X", "Y"}
         #: most segments held back at once, the look-ahead's carried tail [-]
         self.most_held = 0
 
@@ -104,7 +107,10 @@ class StreamInterpolator:
         smp, k = plan_piece(self.pending, self.settings, self.filt, self.state, final)
         del self.pending[:k]
         self.most_held = max(self.most_held, len(self.pending))
-        return None if smp is None else self._filtered(smp)
+        if smp is None:
+            return None
+        self.used_axes.update(AXES[a] for a in _used_axes(smp.path))
+        return self._filtered(smp)
 
     def _filtered(self, smp: Samples) -> CommandChunk:
         """The samples as positions through the filter; at the end, its settling [-]."""

@@ -92,7 +92,6 @@ from .layout import (  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
     S_C_POS,
     S_C_REC,
     S_CMD0,
-    S_FRICTION,
     S_HEADER,
     S_INTEGRATOR,
     S_SET,
@@ -250,42 +249,36 @@ def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s
     st = np.zeros(2)  # friction states: screw, guideway
     carried = state.size > 0 and state[S_SET] != 0.0
     if carried:
-        _unpack(state, st, dl, hist, fst)
+        _carry(state, st, dl, hist, fst, False)
     _steps(AdT, BdT, x, np.empty(NX), c, st, dl, hist, cmd, vcmd, excitation,
            excited, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk,
            state, carried)
     if state.size > 0:
-        _pack(state, st, dl, hist, fst)
+        _carry(state, st, dl, hist, fst, True)
     return x
 
 
 @njit(cache=True)
-def _unpack(state, st, dl, hist, fst):
-    """The carried arrays from ``state`` (layout: :mod:`tcpmm.sim.layout`)."""
-    st[0], st[1] = state[S_FRICTION], state[S_FRICTION + 1]
+def _carry(state, st, dl, hist, fst, save):
+    """The carried arrays into ``state`` where ``save``, else out of it (layout:
+    :mod:`tcpmm.sim.layout`)."""
     i = S_HEADER
-    for a in (dl, hist):
+    for a in (st, dl, hist):
         for q in range(a.size):
-            a[q] = state[i]
+            if save:
+                state[i] = a[q]
+            else:
+                a[q] = state[i]
             i += 1
     for q in range(fst.shape[0]):
-        fst[q, 0], fst[q, 1] = state[i], state[i + 1]
-        i += 2
-
-
-@njit(cache=True)
-def _pack(state, st, dl, hist, fst):
-    """The carried arrays into ``state``, the inverse of :func:`_unpack`."""
-    state[S_FRICTION], state[S_FRICTION + 1] = st[0], st[1]
-    i = S_HEADER
-    for a in (dl, hist):
-        for q in range(a.size):
-            state[i] = a[q]
+        for c in range(2):
+            if save:
+                state[i] = fst[q, c]
+            else:
+                fst[q, c] = state[i]
             i += 1
-    for q in range(fst.shape[0]):
-        state[i], state[i + 1] = fst[q, 0], fst[q, 1]
-        i += 2
-    state[S_SET] = 1.0
+    if save:
+        state[S_SET] = 1.0
 
 
 # Compiled without reference counting (``_nrt=False``): the loop allocates nothing, and

@@ -88,9 +88,10 @@ IP_SHORTCUTS = 10
 N_IP = 11
 
 # Entries of ``state``, what a run hands the next when a command is simulated in pieces
-# (empty: a run from rest, nothing kept). The header, then the delay line of the current
-# command (``IP_DELAY + 1``), the encoder history (taps + 1) and the states of the
-# current-setpoint filters (2 per section).
+# (empty: a run from rest, nothing kept). The header, then the friction states of the
+# screw and the guideway (2), the delay line of the current command (``IP_DELAY + 1``),
+# the encoder history (taps + 1) and the states of the current-setpoint filters (2 per
+# section).
 #: Non-zero once a run has written the state; zero: start from rest [-].
 S_SET = 0
 #: Global index of the first command sample the run is given (the input) [-].
@@ -107,12 +108,10 @@ S_C_POS = 5
 S_C_REC = 6
 S_C_DL = 7
 S_C_H = 8
-#: Friction states of the screw and the guideway (two entries) [-].
-S_FRICTION = 9
 #: Length of the header [-].
-S_HEADER = 11
+S_HEADER = 9
 
 
 def state_size(delay: int, n_taps: int, n_sections: int) -> int:
     """Length of the ``state`` vector for a delay, velocity taps and filter sections [-]."""
-    return S_HEADER + delay + 1 + n_taps + 1 + 2 * n_sections
+    return S_HEADER + 2 + delay + 1 + n_taps + 1 + 2 * n_sections

@@ -13,8 +13,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
-from concurrent.futures import ThreadPoolExecutor
-from contextlib import nullcontext
+from concurrent.futures import Future, ThreadPoolExecutor
 
 import numpy as np
 
@@ -49,7 +48,8 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
     quantise_feedback : bool
         Quantise the feedback sensors to their resolution [-].
     threads : int, optional
-        Axes run at once, in threads; default one per axis up to the cores [-].
+        Cores to use: one reads and interpolates, the others run the axes; default all;
+        1 does all in turn [-].
     interpolator : StreamInterpolator, optional
         The interpolator to feed (to read its state afterwards) [-].
 
@@ -71,25 +71,47 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
     rp = dt if record_period_s is None else record_period_s
     names = list(machine.axes)
     axes = {a: AxisStream(machine.axes[a], dt, rp, quantise_feedback) for a in names}
-    n_threads = min(len(names), threads or os.cpu_count() or 1)
-    pool = ThreadPoolExecutor(max_workers=n_threads) if n_threads > 1 else nullcontext()
     ip = interpolator or StreamInterpolator(settings)
-    r0 = 0
-    with pool:
-        run_map = pool.map if n_threads > 1 else map
-        for piece, final in _with_last(stream_program(program, settings, chunk_blocks,
-                                                      interpolator=ip)):
+    pieces = _with_last(stream_program(program, settings, chunk_blocks, interpolator=ip))
+    # the axes run in worker threads, each its own in order, while the main thread reads
+    # and interpolates the next chunk (the kernel releases the GIL): one core is left to
+    # that, the others share the axes
+    cores = threads or os.cpu_count() or 1
+    workers = min(len(names), cores - 1) if cores > 1 else 0
+    groups = [names[k::workers] for k in range(workers)]
+    pools = [ThreadPoolExecutor(max_workers=1) for _ in groups]
+    r0, running = 0, None  # the records (or their futures) of the piece under way, and it
+    try:
+        for piece, final in pieces:
             span = float(piece.time_s[-1])
 
-            def one(name, piece=piece, final=final, span=span):
-                return axes[name].push(piece.positions[name], final, span)
+            def run_axes(group, piece=piece, final=final, span=span):
+                return {a: axes[a].push(piece.positions[a], final, span) for a in group}
 
-            runs = dict(zip(names, run_map(one, names), strict=True))
-            n = next(iter(runs.values())).cmd.size
-            yield Run(time_s=(r0 + np.arange(n)) * rp, axes=runs,
-                      meta={"lines_read": piece.lines_read, "machine": machine.name,
-                            "plane_axes": ip.plane_axes})
-            r0 += n
+            res = ([pool.submit(run_axes, g) for pool, g in zip(pools, groups, strict=True)]
+                   if pools else [run_axes(names)])
+            if running is not None:
+                run = _collect(*running, names, r0, rp, machine, ip)
+                r0 += run.time_s.size
+                yield run
+            running = (res, piece)
+        if running is not None:
+            yield _collect(*running, names, r0, rp, machine, ip)
+    finally:
+        for pool in pools:
+            pool.shutdown(cancel_futures=True)
+
+
+def _collect(res, piece, names, r0: int, rp: float, machine, ip) -> Run:
+    """The run of one piece from its axes' records (or their futures) [SI]."""
+    runs = {}
+    for r in res:
+        runs.update(r.result() if isinstance(r, Future) else r)
+    runs = {a: runs[a] for a in names}
+    n = next(iter(runs.values())).cmd.size
+    return Run(time_s=(r0 + np.arange(n)) * rp, axes=runs,
+               meta={"lines_read": piece.lines_read, "machine": machine.name,
+                     "plane_axes": ip.plane_axes})
 
 
 def _with_last(items) -> Iterator[tuple]:

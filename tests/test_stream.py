@@ -19,8 +19,8 @@ from tcpmm.io.runfile import read_run
 from tcpmm.path import InterpolatorSettings
 from tcpmm.path.program import program_to_command
 from tcpmm.path.stream import StreamInterpolator, stream_program
+from tcpmm.sim.axisstream import AxisStream
 from tcpmm.sim.simulate import simulate
-from tcpmm.sim.stream import AxisStream
 from tcpmm.sim.streamrun import stream_simulate
 
 

@@ -291,9 +291,8 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     ``Bd u`` ``c`` and the friction constants ``fk`` (both per matrix set: step, sub-step,
     sub-step in the play), friction states ``st`` (screw, guideway), the delay line
     ``dl``, the encoder history ``hist`` and the states ``fst`` of the current-setpoint
-    filters ``fsec``; ``excited``: whether ``excitation`` is not all zero; the counters
-    and the loop's scalars come from ``state`` where ``carried``, and go back to it where
-    it is not empty."""
+    filters ``fsec``; ``excited``: whether ``excitation`` is not all zero; the loop's
+    counters from ``state`` where ``carried``, and back to it where it is not empty."""
     x = x_out
     play, K_t = fp[FP_HALF_PLAY], fp[FP_K_NUT]
     nonlinear = pf_s[P_MODEL] != MODEL_NONE or pf_g[P_MODEL] != MODEL_NONE or play > 0.0
@@ -306,19 +305,8 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     shortcut = ip[IP_SHORTCUTS] != 0 and play == 0.0
     filtered = fsec.shape[0] > 0
     n_taps = vtaps.size
-    c_h = 0  # index of the newest angle in hist
-    w_c = 0.0
     r = 0
-    c_pos = 0  # steps since the last position-loop update
-    c_rec = 0  # steps since the last recorded sample
-    c_dl = 0  # write index of the delay line
-    k_first, j0 = 0, 0  # the first step; the sample of the whole command cmd[0] is
-    if state.size > 0:
-        j0 = int(state[S_CMD0])
-    if carried:
-        k_first, I_w, w_c = int(state[S_STEP]), state[S_INTEGRATOR], state[S_SPEED_CMD]
-        c_pos, c_rec = int(state[S_C_POS]), int(state[S_C_REC])
-        c_dl, c_h = int(state[S_C_DL]), int(state[S_C_H])
+    k_first, j0, I_w, w_c, c_pos, c_rec, c_dl, c_h = _loop_start(state, carried, I_w)
     ratio, last = fp[FP_CMD_PER_STEP], cmd.size - 1 + j0
     for k in range(k_first, k_first + ip[IP_N_STEPS]):
         if vel_diff:
@@ -333,9 +321,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
                 else:
                     x_fb = R * _quantise(x[0], q_enc)
                 j = min(int(pos), last)
-                fr = pos - j
-                j1 = min(j + 1, last) - j0
-                j -= j0
+                fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
                 c_k = cmd[j] + fr * (cmd[j1] - cmd[j])
                 if ff_segment:
                     v_k = vcmd[j]
@@ -378,9 +364,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
             i_app = -i_lim
         if c_rec == 0:
             j = min(int(pos), last)
-            j1 = min(j + 1, last) - j0
-            fr = pos - j
-            j -= j0
+            fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
             _record(rec, r, x, i_app, R, cmd[j] + fr * (cmd[j1] - cmd[j]))
             r += 1
         c_rec += 1
@@ -396,6 +380,25 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     for i in range(NX):
         x_out[i] = x[i]
     if state.size > 0:
-        state[S_STEP], state[S_INTEGRATOR], state[S_SPEED_CMD] = (
-            k_first + ip[IP_N_STEPS], I_w, w_c)
-        state[S_C_POS], state[S_C_REC], state[S_C_DL], state[S_C_H] = c_pos, c_rec, c_dl, c_h
+        _loop_end(state, k_first + ip[IP_N_STEPS], I_w, w_c, c_pos, c_rec, c_dl, c_h)
+
+
+@njit(cache=True, inline="always")
+def _loop_start(state, carried, I_w):
+    """The loop's counters and scalars at its start, from rest or carried in ``state``:
+    the first step, the sample of the whole command that ``cmd[0]`` is, the integrator,
+    the speed command, the steps since the last position-loop update and record, the
+    write index of the delay line and the index of the newest angle in ``hist``."""
+    j0 = int(state[S_CMD0]) if state.size > 0 else 0
+    if carried:
+        return (int(state[S_STEP]), j0, state[S_INTEGRATOR], state[S_SPEED_CMD],
+                int(state[S_C_POS]), int(state[S_C_REC]), int(state[S_C_DL]),
+                int(state[S_C_H]))
+    return 0, j0, I_w, 0.0, 0, 0, 0, 0
+
+
+@njit(cache=True, inline="always")
+def _loop_end(state, k_next, I_w, w_c, c_pos, c_rec, c_dl, c_h):
+    """The loop's counters and scalars into ``state``, for the next piece."""
+    state[S_STEP], state[S_INTEGRATOR], state[S_SPEED_CMD] = k_next, I_w, w_c
+    state[S_C_POS], state[S_C_REC], state[S_C_DL], state[S_C_H] = c_pos, c_rec, c_dl, c_h

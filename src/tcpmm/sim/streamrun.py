@@ -23,8 +23,8 @@ from ..model import Machine
 from ..path.settings import AXES, InterpolatorSettings
 from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
 from ..result import Run
+from .axisstream import AxisStream
 from .simulate import _check_stability
-from .stream import AxisStream
 
 
 def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | None = None,

@@ -64,6 +64,8 @@ def main(argv=None) -> None:
                    help="blocks of the program (10000000 for the 10 M target)")
     p.add_argument("--chunk-blocks", type=int, default=100_000, help="blocks a chunk")
     p.add_argument("--chunk-rows", type=int, default=200_000, help="run rows a chunk")
+    p.add_argument("--no-contour", action="store_true",
+                   help="time the simulation alone (the contour error takes longest)")
     p.add_argument("--json", action="store_true", help="print the figures as JSON")
     a = p.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
@@ -72,8 +74,8 @@ def main(argv=None) -> None:
         sim = timed(["simulate", "builtin:vmc", "--gcode", str(prog), "-o", str(run),
                      "--chunk-blocks", str(a.chunk_blocks)])
         size_mb = run.stat().st_size / 1e6
-        con = timed(["contour", str(run), "--plane", "XY", "--chunk-rows",
-                     str(a.chunk_rows)])
+        con = (0.0, 0.0) if a.no_contour else timed(
+            ["contour", str(run), "--plane", "XY", "--chunk-rows", str(a.chunk_rows)])
     res = {"blocks": a.blocks, "simulate_s": sim[0], "simulate_peak_mb": sim[1],
            "contour_s": con[0], "contour_peak_mb": con[1], "total_s": sim[0] + con[0],
            "peak_mb": max(sim[1], con[1]), "run_file_mb": size_mb}

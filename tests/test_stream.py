@@ -225,3 +225,11 @@ def test_cli_path_in_chunks_writes_the_same_file(tmp_path, capsys, name):
     assert cli(capsys, "path", prog, "-o", tmp_path / "b.csv", "--chunk-blocks", 3)[0] == 0
     whole, chunked = (tmp_path / "a.csv").read_bytes(), (tmp_path / "b.csv").read_bytes()
     assert chunked == whole and (b"z_mm" in whole) == (name == "arcs")
+
+
+def test_chunks_are_asked_only_where_they_stream(tmp_path, capsys):
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS["zigzag"])
+    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                       tmp_path / "run.csv", "--chunk-blocks", 5)
+    assert code == 2 and "-o RUN.parquet" in err

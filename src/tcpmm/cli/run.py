@@ -90,7 +90,11 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     m = _read_model(model)
     if not allow_unstable:
         _refuse_unstable(m, model)
-    if gcode is not None and command is None and is_parquet(output):
+    streams = gcode is not None and command is None and is_parquet(output)
+    if chunk_blocks is not None and not streams:
+        raise typer.BadParameter("only an NC program run to Parquet streams: give --gcode "
+                                 "PROG.nc and -o RUN.parquet", param_hint="--chunk-blocks")
+    if streams:
         with _in_file(gcode):
             res = simulate_to_parquet(m, gcode, output, _interp_settings(m),
                                       record_period_s=record_period_s,

@@ -161,5 +161,7 @@ class CornerBlender:
         self.held = raw[max(stop - 1, 0):]
         if stop <= first:
             return []
+        if not (self.tol > 0.0 or any(type(s) is Line and s.tolerance_m for s in raw)):
+            return raw[first:stop]  # no corner has a tolerance: none is blended
         d = _tangent_lengths(raw, self.tol)
         return _assemble(raw, d, first, stop)

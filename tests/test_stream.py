@@ -233,3 +233,25 @@ def test_chunks_are_asked_only_where_they_stream(tmp_path, capsys):
     code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
                        tmp_path / "run.csv", "--chunk-blocks", 5)
     assert code == 2 and "-o RUN.parquet" in err
+
+
+def test_an_interrupted_stream_leaves_no_file(vmc, tmp_path, monkeypatch):
+    """The row groups go to a temporary file that an interrupt removes."""
+    from tcpmm.cli import _stream
+    from tcpmm.sim import streamrun
+
+    real = streamrun.stream_simulate
+
+    def interrupted(*args, **kw):
+        for k, run in enumerate(real(*args, **kw)):
+            if k == 2:
+                raise KeyboardInterrupt
+            yield run
+
+    monkeypatch.setattr(streamrun, "stream_simulate", interrupted)
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS["zigzag"])
+    with pytest.raises(KeyboardInterrupt):
+        quiet(_stream.simulate_to_parquet, vmc, prog, tmp_path / "run.parquet",
+              InterpolatorSettings(), chunk_blocks=3)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.nc"]

@@ -255,3 +255,30 @@ def test_an_interrupted_stream_leaves_no_file(vmc, tmp_path, monkeypatch):
         quiet(_stream.simulate_to_parquet, vmc, prog, tmp_path / "run.parquet",
               InterpolatorSettings(), chunk_blocks=3)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.nc"]
+
+
+@pytest.mark.parametrize("case", ["runaway", "saturating"])
+def test_faults_of_a_streamed_run_are_the_whole_runs(vmc, case):
+    from tcpmm.analysis.runaway import run_faults
+    from tcpmm.analysis.runaway_stream import FaultWatch
+
+    if case == "runaway":  # a load on Z its drive cannot hold
+        z = vmc.axes["Z"]
+        m = vmc.with_axis("Z", z.replace(mechanics=z.mechanics.model_copy(
+            update={"load_force": -20000.0})))
+    else:  # a current limit the corners reach
+        x = vmc.axes["X"]
+        m = vmc.with_axis("X", x.replace(servo=x.servo.model_copy(
+            update={"current_limit": 0.5})))
+    text = PROGRAMS["zigzag"]
+    whole = run_faults(m, quiet(simulate, m, quiet(program_to_command, text)))
+    watch = FaultWatch(m)
+    for run in quiet(lambda: list(stream_simulate(m, text, chunk_blocks=3))):
+        watch.add(run)
+    got = watch.faults()
+    assert whole and [f.axis for f in got] == [f.axis for f in whole]
+    for a, b in zip(got, whole, strict=True):
+        assert a.deviation_m == b.deviation_m and a.runaway_from_s == b.runaway_from_s
+        assert a.saturated_s == pytest.approx(b.saturated_s, rel=1e-12)
+        assert a.saturated_from_s == b.saturated_from_s
+        assert a.tolerance_m == pytest.approx(b.tolerance_m, rel=1e-12)

@@ -71,24 +71,32 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
     Returns
     -------
     dict
-        ``samples``, ``duration_s`` and ``axes`` of the run written [-].
+        ``samples``, ``duration_s``, ``axes`` and ``faults`` of the run written (the
+        faults also warned, :class:`tcpmm.errors.RunFaultWarning`) [-].
     """
+    from ..analysis.runaway import warn_faults
+    from ..analysis.runaway_stream import FaultWatch
     from ..io.runfile import run_parquet_writer
     from ..path.stream import CHUNK_BLOCKS
     from ..sim.streamrun import stream_simulate
 
     chunk_blocks = chunk_blocks or CHUNK_BLOCKS
     samples, last_t, axes = 0, 0.0, None
+    watch = FaultWatch(machine)
     with block_progress(program, "simulate") as update, run_parquet_writer(output) as write:
         for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
                                    record_period_s=record_period_s):
             if run.time_s.size:
                 write(run)
+                watch.add(run)
                 samples += run.time_s.size
                 last_t = float(run.time_s[-1])
             axes = axes or run.to_dict()["axes"]
             update(run.meta["lines_read"])
-    return {"samples": samples, "duration_s": last_t, "axes": axes}
+    faults = watch.faults()
+    warn_faults(faults)
+    return {"samples": samples, "duration_s": last_t, "axes": axes,
+            "faults": [f.to_dict() for f in faults]}
 
 
 #: a Parquet run of more rows than this is read in chunks by ``tcpmm contour`` [-]

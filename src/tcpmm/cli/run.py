@@ -79,8 +79,7 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     """Drive the machine model with a position command; write the run file. An axis that
     runs away from its command or holds its current at the limit is said on stderr (and
     in --json, "faults"). An NC program run to Parquet streams: it is read, interpolated,
-    simulated and written a chunk of blocks at a time, in bounded memory (faults are then
-    not sought)."""
+    simulated and written a chunk of blocks at a time, in bounded memory."""
     from ..io.runfile import is_parquet
     from ..sim.simulate import simulate as _simulate
 

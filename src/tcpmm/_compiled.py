@@ -50,7 +50,7 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/linearstep.py", "sim/frictionstep.py",
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
 #: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
 _KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
-                 "f1", "f2", "f2", "f2")
+                 "f1", "f2", "f2", "f2", "f1")
 #: The functions built into the module: name -> (module of tcpmm, numba's entry point,
 #: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``
 #: C-contiguous float64 or int64 arrays of 1 or 2 dimensions; ``f``, ``i`` a float64 or
@@ -59,6 +59,7 @@ FUNCTIONS = {
     "run_axis": ("sim.kernel", "run_axis", "_run_axis", _KERNEL_KINDS, "f1"),
     "expm": ("sim.expm", "expm", "expm", ("f2",), "f2"),
     "lookahead": ("path.lookahead", "lookahead", "lookahead", ("f1", "f1", "f1", "f"), "f1"),
+    "backward": ("path.lookahead", "backward", "backward", ("f1", "f1", "f1", "f"), "f1"),
     "segment_profiles": ("path.profile", "segment_profiles", "segment_profiles",
                          ("f1", "f1", "f1", "f1", "f"), "f2"),
     "timeline": ("path.sampling", "timeline", "timeline",
@@ -101,6 +102,11 @@ def run_axis(*args):
 def lookahead(*args):
     """:func:`tcpmm.path.lookahead.lookahead` through :func:`call` [SI]."""
     return call("lookahead", *args)
+
+
+def backward(*args):
+    """:func:`tcpmm.path.lookahead.backward` through :func:`call` [SI]."""
+    return call("backward", *args)
 
 
 def segment_profiles(*args):

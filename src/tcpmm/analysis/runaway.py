@@ -13,6 +13,7 @@ of micrometres, of one without feedforward a few millimetres at a fast feed). It
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -105,7 +106,14 @@ def runaway_tolerance(servo, command_m, period_s: float) -> float:
         following error at the command's top speed, ``v (1 - k_ff) / K_pp`` [m].
     """
     cmd = np.asarray(command_m, dtype=float)
-    v = float(np.max(np.abs(np.diff(cmd)))) / period_s if cmd.size > 1 else 0.0
+    step = float(np.max(np.abs(np.diff(cmd)))) if cmd.size > 1 else 0.0
+    return tolerance_at_step(servo, step, period_s)
+
+
+def tolerance_at_step(servo, step_m: float, period_s: float) -> float:
+    """:func:`runaway_tolerance` of a command whose largest step between two samples is
+    ``step_m`` [m], sampled every ``period_s`` [s]; the tolerance [m]."""
+    v = step_m / period_s
     lag = v * abs(1.0 - servo.k_ff) / servo.K_pp if servo.K_pp > 0 else np.inf
     return max(RUNAWAY_FLOOR_M, RUNAWAY_FACTOR * lag if np.isfinite(lag) else 0.0)
 
@@ -187,10 +195,14 @@ def say_faults(machine, run) -> list[AxisFault]:
     run : Run
         Its run, whose ``meta`` is updated [SI].
     """
-    import warnings
-
     faults = run_faults(machine, run)
     run.meta["faults"] = [f.to_dict() for f in faults]
-    for f in faults:
-        warnings.warn(f.text(), RunFaultWarning, stacklevel=3)
+    warn_faults(faults, stacklevel=4)
     return faults
+
+
+def warn_faults(faults, stacklevel: int = 3) -> None:
+    """Warn once per fault (:class:`tcpmm.errors.RunFaultWarning`), at the caller's
+    caller by default [-]."""
+    for f in faults:
+        warnings.warn(f.text(), RunFaultWarning, stacklevel=stacklevel)

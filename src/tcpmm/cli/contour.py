@@ -8,6 +8,7 @@ import typer
 
 from ._app import Sensor, _emit_json, _in_file, _plot, _positive, app, out
 from ._plane import run_plane_said
+from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
 
 
 @app.command()
@@ -25,6 +26,11 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             window_s: float = typer.Option(
                 0.2, "--window-s", help="Time around each sample in which its closest command "
                                         "point is sought [s]."),
+            chunk_rows: int = typer.Option(
+                None, "--chunk-rows", min=2,
+                help="Read a Parquet run this many rows at a time (bounded memory; the "
+                     "error summary only, no corners, no plot). Default: whole, unless it "
+                     f"has more than {STREAM_ABOVE_ROWS} rows."),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
     """Contour error along any program: the shortest distance from each sensor's path to the
@@ -36,11 +42,19 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                     (window_s, "--window-s [s]")):
         _positive(v, what)
     _plot(plot)
-    run = read_run(run_file)
-    with _in_file(run_file):
-        how = run_plane_said(plane, run, run_file, allow_3d=True)
-        res = contour_error(run, plane=how, window_s=window_s, corner_deg=corner_deg,
-                            settle_tol_m=settle_um * 1e-6)
+    if streamed(run_file, chunk_rows):
+        if plot is not None:
+            raise typer.BadParameter(f"a run streamed (--chunk-rows, or more than "
+                                     f"{STREAM_ABOVE_ROWS} rows) is not plotted",
+                                     param_hint="--plot")
+        with _in_file(run_file):
+            res = contour_streamed(run_file, plane, window_s, chunk_rows)
+    else:
+        run = read_run(run_file)
+        with _in_file(run_file):
+            how = run_plane_said(plane, run, run_file, allow_3d=True)
+            res = contour_error(run, plane=how, window_s=window_s, corner_deg=corner_deg,
+                                settle_tol_m=settle_um * 1e-6)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:

@@ -26,6 +26,13 @@ from ._app import (
 )
 from ._circles import _diagnostics_json, _print_diagnostics, _print_passes
 from ._plane import PLANE_HELP, plane_option, run_plane_said
+from ._stream import (
+    CHUNK_HELP,
+    PATH_STREAM_ABOVE_LINES,
+    count_lines,
+    path_to_csv,
+    simulate_to_parquet,
+)
 
 
 @app.command()
@@ -66,10 +73,14 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                  False, "--allow-unstable",
                  help="Simulate even where the sampled servo loop is unstable (the run "
                       "then diverges; for studying the instability itself)."),
+             chunk_blocks: int = typer.Option(None, "--chunk-blocks", min=1,
+                                              help=CHUNK_HELP),
              as_json: bool = typer.Option(False, "--json")):
     """Drive the machine model with a position command; write the run file. An axis that
     runs away from its command or holds its current at the limit is said on stderr (and
-    in --json, "faults")."""
+    in --json, "faults"). An NC program run to Parquet streams: it is read, interpolated,
+    simulated and written a chunk of blocks at a time, in bounded memory."""
+    from ..io.runfile import is_parquet
     from ..sim.simulate import simulate as _simulate
 
     _output(output, model, command, gcode)
@@ -78,14 +89,31 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     m = _read_model(model)
     if not allow_unstable:
         _refuse_unstable(m, model)
+    streams = gcode is not None and command is None and is_parquet(output)
+    if chunk_blocks is not None and not streams:
+        raise typer.BadParameter("only an NC program run to Parquet streams: give --gcode "
+                                 "PROG.nc and -o RUN.parquet", param_hint="--chunk-blocks")
+    if streams:
+        with _in_file(gcode):
+            res = simulate_to_parquet(m, gcode, output, _interp_settings(m),
+                                      record_period_s=record_period_s,
+                                      chunk_blocks=chunk_blocks)
+        _said_run(output, res, as_json)
+        return
     cmd = _load_command(command, gcode, m)
     with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
     run.write(output)
+    _said_run(output, run.to_dict(), as_json)
+
+
+def _said_run(output: Path, summary: dict, as_json: bool) -> None:
+    """Say the run file written: its samples and axes (``Run.to_dict``'s summary)."""
     if as_json:
-        _emit_json({"output": str(output), **run.to_dict()})
+        _emit_json({"output": str(output), **summary})
         return
-    out.print(f"wrote {output} ({run.time_s.size} samples, axes {', '.join(run.axes)})")
+    out.print(f"wrote {output} ({summary['samples']} samples, axes "
+              f"{', '.join(summary['axes'])})")
 
 
 @app.command()
@@ -242,7 +270,12 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          plot: bool = typer.Option(False, "--plot", help="Also save CMD.png beside the CSV."),
          plane: str = typer.Option(None, "--plane", help="Plane of the plotted path: XY, XZ, "
                                    "YZ (or ZX); default the plane of the program's arcs "
-                                   "(G17/G18/G19), else the one it moves in.")):
+                                   "(G17/G18/G19), else the one it moves in."),
+         chunk_blocks: int = typer.Option(
+             None, "--chunk-blocks", min=1,
+             help="Interpolate this many blocks at a time (bounded memory; no feed summary, "
+                  f"no plot). Default: whole, unless the program has more than "
+                  f"{PATH_STREAM_ABOVE_LINES} lines.")):
     """Interpolate an NC program into the position command per axis; say how much of the
     path runs at the programmed feed and which limit holds it back where it does not."""
     from ..path import write_command_csv
@@ -258,6 +291,15 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         from ..io.modelfile import read_machine
 
         m = read_machine(model)
+    if chunk_blocks is not None or (program.is_file() and
+                                    count_lines(program) > PATH_STREAM_ABOVE_LINES):
+        if plot:
+            raise typer.BadParameter("a program interpolated in chunks is not plotted",
+                                     param_hint="--plot")
+        res = path_to_csv(program, output, _interp_settings(m), chunk_blocks)
+        out.print(f"wrote {output} ({res['samples']} samples at {res['period_s'] * 1e3:g} "
+                  f"ms, {res['duration_s']:.3f} s)")
+        return
     interp = program_to_interpolation(program, _interp_settings(m))
     cmd = interp.command
     write_command_csv(cmd, output)

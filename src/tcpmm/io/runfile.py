@@ -7,6 +7,7 @@ the better choice for long runs. :func:`read_run` reads either, by the file's ex
 
 from __future__ import annotations
 
+import contextlib
 import io
 import re
 from pathlib import Path
@@ -24,6 +25,44 @@ from .runwrite import (  # noqa: F401  (the writers are part of this module's in
 )
 
 _COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
+
+
+@contextlib.contextmanager
+def run_parquet_writer(path):
+    """Write a run that comes in pieces as a Parquet run file, a row group a piece: the
+    file is written under a temporary name beside ``path`` and renamed onto it when the
+    ``with`` block ends, removed when it fails or is interrupted.
+
+    Parameters
+    ----------
+    path : str or Path
+        The run file [-].
+
+    Yields
+    ------
+    callable
+        ``write(run)``: appends the pieces's rows (:class:`~tcpmm.result.Run`, the
+        columns of the first piece) [-].
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    with atomic_path(path) as tmp:
+        opened: list = []
+
+        def write(run: Run) -> None:
+            cols = {k: np.asarray(v, dtype=float) for k, v in run.columns().items()}
+            if not opened:
+                schema = pa.schema([(k, pa.float64()) for k in cols])
+                opened.append(pq.ParquetWriter(tmp, schema, use_dictionary=False))
+            w = opened[0]
+            w.write_table(pa.table(cols, schema=w.schema))
+
+        try:
+            yield write
+        finally:
+            if opened:
+                opened[0].close()
 
 
 def read_run(path) -> Run:

@@ -84,28 +84,84 @@ def blend_corners(segments, default_tol_m: float = 0.0) -> list:
         The path with a blend arc at each corner blended; the input when none is [-].
     """
     segs = list(segments)
+    d = _tangent_lengths(segs, default_tol_m)
+    if not any(d):
+        return segs
+    return _assemble(segs, d, 0, len(segs))
+
+
+def _tangent_lengths(segs: list, default_tol_m: float) -> list:
+    """``d[i + 1]``: tangent length of the corner at the end of block ``i`` (``d[0]`` and
+    ``d[n]`` zero) [m]."""
     n = len(segs)
-    d = [0.0] * (n + 1)  # d[i + 1]: tangent length of the corner at the end of block i
+    d = [0.0] * (n + 1)
     for i in range(n - 1):
         a, b = segs[i], segs[i + 1]
         if type(a) is Line and type(b) is Line:
             tol = default_tol_m if a.tolerance_m is None else a.tolerance_m
             d[i + 1] = tangent_length(a, b, tol)
-    if not any(d):
-        return segs
+    return d
+
+
+def _assemble(segs: list, d: list, first: int, stop: int) -> list:
+    """The blended path of blocks ``first`` to ``stop - 1``: each block, trimmed, and the
+    blend after it; block ``first - 1`` gives the blend its start is joined to [-]."""
     out = []
-    for i, s in enumerate(segs):
+    last = None  # the segment the blended path has so far ended with
+    for i in range(max(first - 1, 0), stop):
+        s = segs[i]
+        mine = []
         if type(s) is Line and (d[i] or d[i + 1]):
             u = _unit(s)
             start = np.asarray(s.start_m, float) + d[i] * u
             end = np.asarray(s.end_m, float) - d[i + 1] * u
-            if out and d[i]:
-                start = np.asarray(out[-1].end_m)  # exactly where the blend ends
+            if last is not None and d[i]:
+                start = np.asarray(last.end_m)  # exactly where the blend ends
             if np.linalg.norm(end - start) > 1e-12 * max(s.length_m, 1e-3):
-                out.append(Line(tuple(start), tuple(end), s.feed_m_per_s, s.exact_stop,
-                                s.line, s.tolerance_m))
+                mine.append(Line(tuple(start), tuple(end), s.feed_m_per_s, s.exact_stop,
+                                 s.line, s.tolerance_m))
         else:
-            out.append(s)
+            mine.append(s)
         if d[i + 1]:
-            out.append(blend_arc(s, segs[i + 1], d[i + 1]))
+            mine.append(blend_arc(s, segs[i + 1], d[i + 1]))
+        if mine:
+            last = mine[-1]
+        if i >= first:
+            out.extend(mine)
     return out
+
+
+class CornerBlender:
+    """:func:`blend_corners` over a path that comes in pieces: the last block of a piece
+    waits for the next piece, whose first block makes the corner at its end.
+
+    Parameters
+    ----------
+    default_tol_m : float
+        Contour tolerance of a corner whose block carries none [m].
+    """
+
+    def __init__(self, default_tol_m: float = 0.0):
+        self.tol = default_tol_m
+        self.held: list = []  # the last block given out (for its blend) and the next one
+
+    def push(self, segments, final: bool = False) -> list:
+        """The blended path as far as it is known after ``segments`` [-].
+
+        Parameters
+        ----------
+        segments : sequence of Line, Rapid, Arc, Dwell
+            The next blocks of the path [-].
+        final : bool
+            They are the last: the path ends with them [-].
+        """
+        raw = self.held + list(segments)
+        first = max(len(self.held) - 1, 0)
+        stop = len(raw) if final else len(raw) - 1
+        self.held = raw[max(stop - 1, 0):]
+        if stop <= first:
+            return []
+        if not (self.tol > 0.0 or any(type(s) is Line and s.tolerance_m for s in raw)):
+            return raw[first:stop]  # no corner has a tolerance: none is blended
+        d = _tangent_lengths(raw, self.tol)
+        return _assemble(raw, d, first, stop)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -168,3 +171,61 @@ def write_command_csv(command: Command, path) -> None:
     fmt = ["%.12f"] + ["%.9f"] * len(axes)
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as fh:
         np.savetxt(fh, table, fmt=fmt, delimiter=",", header=header, comments="")
+
+
+@contextlib.contextmanager
+def command_csv_writer(path):
+    """Write a command that comes in pieces as a command file, atomically: the pieces'
+    X, Y and Z go to a temporary file beside ``path``, Z is dropped at the end where the
+    command does not move it, and the file is renamed onto ``path``; removed where the
+    work fails or is interrupted. The text is that of :func:`write_command_csv`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file [-].
+
+    Yields
+    ------
+    writer : _PieceWriter
+        ``writer.write(time_s, positions)`` appends a piece (``positions`` of X, Y, Z
+        [m], times [s]); ``writer.axes`` is set to the axes kept before the block
+        ends [-].
+    """
+    with atomic_path(path) as tmp:
+        w = _PieceWriter(tmp)
+        try:
+            yield w
+        finally:
+            w.fh.close()
+        if "Z" not in w.axes:
+            _drop_last_column(tmp)
+
+
+class _PieceWriter:
+    """The rows of a command file, X, Y and Z, a piece at a time."""
+
+    def __init__(self, tmp: Path):
+        self.fh = open(tmp, "w", encoding="utf-8", newline="\n")
+        self.fh.write("time_s,x_mm,y_mm,z_mm\n")
+        self.axes = ("X", "Y", "Z")
+        self.samples = 0
+
+    def write(self, time_s, positions) -> None:
+        table = np.column_stack([time_s] + [positions[a] * 1e3 for a in ("X", "Y", "Z")])
+        np.savetxt(self.fh, table, fmt=["%.12f"] + ["%.9f"] * 3, delimiter=",")
+        self.samples += table.shape[0]
+
+
+def _drop_last_column(path: Path) -> None:
+    """Remove the last column of a CSV file, line by line (bounded memory)."""
+    fd, short = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with open(path, encoding="utf-8") as src, os.fdopen(fd, "w", encoding="utf-8",
+                                                            newline="\n") as dst:
+            dst.writelines(ln[:ln.rindex(",")] + "\n" for ln in src)
+        os.replace(short, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(short)
+        raise

@@ -24,10 +24,9 @@ from __future__ import annotations
 import warnings
 
 from ..errors import InputError, InputWarning
-from ..io.text import file_lines
-from .gcode_fast import collector_paused, plain_run
+from .gcode_fast import collector_paused
 from .gcode_geometry import INCH_M, MM_M, GeometryMixin, short_text
-from .gcode_lexer import Word, tape_marker, tokenize
+from .gcode_lexer import Word, tokenize  # noqa: F401  (gcode_stream calls it from here)
 from .gcode_words import (
     G_GROUP,
     G_IGNORED,
@@ -337,64 +336,9 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
     return it.segments
 
 
-def run_program(text: str, file, start_position_m, fast: bool = True) -> _Interpreter:
-    """The interpreter after the program, its warnings not yet issued.
+def run_program(text: str, file, start_position_m, fast: bool = True):
+    """The interpreter after the program, its warnings not yet issued
+    (:func:`tcpmm.path.gcode_stream.run_program`) [-]."""
+    from .gcode_stream import run_program as run
 
-    Parameters
-    ----------
-    text : str
-        The program [-].
-    file : str or Path or None
-        Where the program came from, for messages [-].
-    start_position_m : sequence of float
-        Position of X, Y, Z before the program starts [m].
-    fast : bool
-        Execute plain G0/G1 blocks through :func:`~tcpmm.path.gcode_fast.plain_run`;
-        ``False`` sends every line through the tokeniser, the reference the fast path
-        is tested against [-].
-
-    Returns
-    -------
-    _Interpreter
-        With the segments and the warnings collected [-].
-    """
-    it = _Interpreter(file, start_position_m)
-    lines = file_lines(text)
-    opened = started = False
-    k = 0
-    while k < len(lines):
-        if fast:
-            j = plain_run(it, lines, k)
-            started = started or j > k
-            if j == len(lines):
-                break
-            k = j
-        number, raw = k + 1, lines[k]
-        k += 1
-        if tape_marker(raw, file, number):
-            if opened or started:  # the closing %: the program ends here
-                _warn_rest(it, lines, number, "blocks after the closing %")
-                break
-            opened = True
-            continue
-        words = tokenize(raw, file, number)
-        if not words:
-            continue
-        started = True
-        if it.block(words, number):
-            _warn_rest(it, lines, number, "blocks after M2/M30")
-            break
-    return it
-
-
-def _warn_rest(it, lines, number: int, what: str) -> None:
-    rest = next((k for k in range(number, len(lines)) if _has_words(lines[k])), None)
-    if rest is not None:
-        it.warn(what, f"the program ends on line {number}", rest + 1, None)
-
-
-def _has_words(raw: str) -> bool:
-    try:
-        return bool(tokenize(raw))
-    except InputError:
-        return True
+    return run(text, file, start_position_m, fast)

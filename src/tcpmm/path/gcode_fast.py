@@ -29,7 +29,7 @@ PLAIN_MOVE = re.compile(
 )
 
 
-def plain_run(it, lines: list[str], k: int) -> int:
+def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
     """Execute the plain moves from ``lines[k]`` on, as the interpreter would.
 
     Parameters
@@ -40,6 +40,8 @@ def plain_run(it, lines: list[str], k: int) -> int:
         The program's lines [-].
     k : int
         0-based index of the first line to try [-].
+    offset : int
+        Lines of the program before ``lines[0]`` (when it comes in chunks) [-].
 
     Returns
     -------
@@ -52,7 +54,7 @@ def plain_run(it, lines: list[str], k: int) -> int:
     fullmatch, append = PLAIN_MOVE.fullmatch, it.segments.append
     pos, motion, feed = it.pos, it.motion, it.feed
     unit, absolute, exact, tol = it.unit, it.absolute, it.exact_stop, it.tolerance
-    n = len(lines)
+    n, first = len(lines), offset + 1
     while k < n:
         m = fullmatch(lines[k])
         if m is None:
@@ -82,9 +84,9 @@ def plain_run(it, lines: list[str], k: int) -> int:
         if target == pos:  # a zero-length G1 warns: the interpreter's business
             break
         if mo == 0:
-            append(Rapid(pos, target, k + 1))
+            append(Rapid(pos, target, k + first))
         else:
-            append(Line(pos, target, fe, exact, k + 1, tol))
+            append(Line(pos, target, fe, exact, k + first, tol))
         pos, motion, feed = target, mo, fe
         k += 1
     it.pos, it.motion, it.feed = pos, motion, feed

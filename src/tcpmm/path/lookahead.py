@@ -44,3 +44,17 @@ def lookahead(length, vj, acc, j):
     for i in range(n):
         v[i + 1] = reach(v[i], length[i], acc[i], j, v[i + 1])
     return v
+
+
+@njit(cache=True)
+def backward(length, vj, acc, j):
+    """Junction speeds after the backward pass alone: from each junction, the highest
+    speed from which everything after it can still be reached (within the limits).
+
+    Parameters and result as :func:`lookahead` [m], [m/s], [m/s^2], [m/s^3].
+    """
+    n = length.size
+    v = vj.copy()
+    for i in range(n - 1, -1, -1):
+        v[i] = reach(v[i + 1], length[i], acc[i], j, v[i])
+    return v

@@ -32,20 +32,41 @@ def read_program(path) -> str:
     path = Path(path)
     try:
         data = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError("NC program not found; check the path", file=path) from None
     except OSError as exc:
-        raise InputError(f"cannot read the NC program: {exc.strerror}", file=path) from None
-    if data[:2] in (b"\xff\xfe", b"\xfe\xff") or b"\x00" in data[:4096]:
+        raise _unreadable(path, exc) from None
+    _check_text(path, data[:4096])
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")  # controllers often write latin-1 comments
+
+
+def check_program_file(path: Path) -> Path:
+    """``path`` when it can be read as an NC program (as :func:`read_program` checks its
+    start), else an :class:`~tcpmm.errors.InputError` [-]."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(4096)
+    except OSError as exc:
+        raise _unreadable(path, exc) from None
+    _check_text(path, head)
+    return path
+
+
+def _unreadable(path: Path, exc: OSError) -> InputError:
+    if isinstance(exc, FileNotFoundError):
+        return InputError("NC program not found; check the path", file=path)
+    return InputError(f"cannot read the NC program: {exc.strerror}", file=path)
+
+
+def _check_text(path: Path, head: bytes) -> None:
+    """Refuse a file whose first bytes ``head`` are UTF-16 or binary [-]."""
+    if head[:2] in (b"\xff\xfe", b"\xfe\xff") or b"\x00" in head:
         raise InputError(
             "the file is not plain text (UTF-16 or binary); save the program as ASCII or "
             "UTF-8 text",
             file=path,
         )
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        return data.decode("latin-1")  # controllers often write latin-1 comments
 
 
 def _is_path(x) -> bool:

@@ -10,7 +10,7 @@ a command, :func:`run_kernel` runs it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -122,6 +122,9 @@ class KernelInputs:
     shortcuts : bool
         The shortcuts of a step in which both contacts slide on or both stay held, else
         the general path for every step (the same numbers, more slowly) [-].
+    state : ndarray
+        Empty for a run from rest; else the state a run of a piece of the command hands
+        the next, read and written by the kernel (:mod:`tcpmm.sim.layout`, ``S_*``) [-].
     """
 
     AdT: np.ndarray
@@ -165,6 +168,7 @@ class KernelInputs:
     segment_feedforward: bool
     guideway_ref: int
     shortcuts: bool = True
+    state: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def n_records(self) -> int:
@@ -211,7 +215,7 @@ class KernelInputs:
         """
         return (self.AdT, self.BdT, self.x0, self.cmd, self.vcmd, self.excitation,
                 self.float_params(), self.int_params(), rec, self.AdsT, self.BdsT,
-                self.pf_s, self.pf_g, self.vtaps, self.AdgT, self.BdgT, self.fsec)
+                self.pf_s, self.pf_g, self.vtaps, self.AdgT, self.BdgT, self.fsec, self.state)
 
 
 def run_kernel(inputs: KernelInputs) -> tuple[np.ndarray, np.ndarray]:

@@ -87,6 +87,16 @@ from .layout import (  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
     IP_SHORTCUTS,
     NX,
     REC_COLUMNS,
+    S_C_DL,
+    S_C_H,
+    S_C_POS,
+    S_C_REC,
+    S_CMD0,
+    S_HEADER,
+    S_INTEGRATOR,
+    S_SET,
+    S_SPEED_CMD,
+    S_STEP,
 )
 from .linearstep import constant_inputs, free_step
 
@@ -147,7 +157,7 @@ def _record(rec, r, x, i_app, R, c_k):
 
 
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
-             vtaps, AdgT, BdgT, fsec):
+             vtaps, AdgT, BdgT, fsec, state):
     """Simulate one axis for ``ip[IP_N_STEPS]`` velocity-loop steps.
 
     Parameters
@@ -181,6 +191,12 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         As ``AdsT``, ``BdsT`` for the plant without the nut spring (inside the play) [-].
     fsec : ndarray (n, 5)
         Current-setpoint filter sections, none for no filters [-].
+    state : ndarray
+        Empty for a run from rest; else what a run of a piece of the command hands the
+        next (entries ``S_*`` of :mod:`tcpmm.sim.layout`, :func:`~tcpmm.sim.layout.state_size`
+        long): read at the start unless ``state[S_SET]`` is zero, written at the end. Its
+        ``S_CMD0`` says which sample of the whole command ``cmd[0]`` is; the steps
+        continue from ``S_STEP`` [-].
 
     Returns
     -------
@@ -188,7 +204,7 @@ def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s,
         The plant state after the last step [SI].
     """
     args = (AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps,
-            AdgT, BdgT, fsec)
+            AdgT, BdgT, fsec, state)
     if not _run_axis.overloads:  # the first call: typing the arguments costs 0.1 ms
         _compile_vectorised(args)
     return _run_axis(*args)
@@ -213,7 +229,7 @@ def _compile_vectorised(args) -> None:
 
 @njit(cache=True, nogil=True)
 def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
-              vtaps, AdgT, BdgT, fsec):
+              vtaps, AdgT, BdgT, fsec, state):
     """:func:`run_axis`, compiled: allocates the work arrays and runs the loop."""
     x = x0.copy()
     delay, n_taps = ip[IP_DELAY], vtaps.size
@@ -230,22 +246,53 @@ def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s
         constant_inputs(B, fp, c[s])
         friction_constants(B, h, fp[FP_R_L], ip[IP_GUIDEWAY_REF], fk[s])
     excited = np.any(excitation != 0.0)
-    _steps(AdT, BdT, x, np.empty(NX), c, np.zeros(2), dl, hist, cmd, vcmd, excitation,
-           excited, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk)
+    st = np.zeros(2)  # friction states: screw, guideway
+    carried = state.size > 0 and state[S_SET] != 0.0
+    if carried:
+        _carry(state, st, dl, hist, fst, False)
+    _steps(AdT, BdT, x, np.empty(NX), c, st, dl, hist, cmd, vcmd, excitation,
+           excited, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk,
+           state, carried)
+    if state.size > 0:
+        _carry(state, st, dl, hist, fst, True)
     return x
+
+
+@njit(cache=True)
+def _carry(state, st, dl, hist, fst, save):
+    """The carried arrays into ``state`` where ``save``, else out of it (layout:
+    :mod:`tcpmm.sim.layout`)."""
+    i = S_HEADER
+    for a in (st, dl, hist):
+        for q in range(a.size):
+            if save:
+                state[i] = a[q]
+            else:
+                a[q] = state[i]
+            i += 1
+    for q in range(fst.shape[0]):
+        for c in range(2):
+            if save:
+                state[i] = fst[q, c]
+            else:
+                fst[q, c] = state[i]
+            i += 1
+    if save:
+        state[S_SET] = 1.0
 
 
 # Compiled without reference counting (``_nrt=False``): the loop allocates nothing, and
 # the counts numba keeps on every array passed to an inlined helper were most of its time.
 @njit(cache=True, nogil=True, _nrt=False)
 def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited, fp, ip,
-           rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk):
+           rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk, state, carried):
     """The loop of :func:`run_axis` on its work arrays: state ``x_out`` (advanced in
     place), scratch ``xn`` (the two swap roles each step), the constant inputs' share of
     ``Bd u`` ``c`` and the friction constants ``fk`` (both per matrix set: step, sub-step,
     sub-step in the play), friction states ``st`` (screw, guideway), the delay line
     ``dl``, the encoder history ``hist`` and the states ``fst`` of the current-setpoint
-    filters ``fsec``; ``excited``: whether ``excitation`` is not all zero."""
+    filters ``fsec``; ``excited``: whether ``excitation`` is not all zero; the loop's
+    counters from ``state`` where ``carried``, and back to it where it is not empty."""
     x = x_out
     play, K_t = fp[FP_HALF_PLAY], fp[FP_K_NUT]
     nonlinear = pf_s[P_MODEL] != MODEL_NONE or pf_g[P_MODEL] != MODEL_NONE or play > 0.0
@@ -258,18 +305,14 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     shortcut = ip[IP_SHORTCUTS] != 0 and play == 0.0
     filtered = fsec.shape[0] > 0
     n_taps = vtaps.size
-    c_h = 0  # index of the newest angle in hist
-    w_c = 0.0
     r = 0
-    c_pos = 0  # steps since the last position-loop update
-    c_rec = 0  # steps since the last recorded sample
-    c_dl = 0  # write index of the delay line
-    ratio, last = fp[FP_CMD_PER_STEP], cmd.size - 1
-    for k in range(ip[IP_N_STEPS]):
+    k_first, j0, I_w, w_c, c_pos, c_rec, c_dl, c_h = _loop_start(state, carried, I_w)
+    ratio, last = fp[FP_CMD_PER_STEP], cmd.size - 1 + j0
+    for k in range(k_first, k_first + ip[IP_N_STEPS]):
         if vel_diff:
             th_q = _quantise(x[0], q_enc)
         pos = k * ratio
-        i_exc = excitation[min(int(pos + 1e-9), last)] if excited else 0.0
+        i_exc = excitation[min(int(pos + 1e-9), last) - j0] if excited else 0.0
         i_c = 0.0
         if closed:
             if c_pos == 0:
@@ -278,8 +321,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
                 else:
                     x_fb = R * _quantise(x[0], q_enc)
                 j = min(int(pos), last)
-                fr = pos - j
-                j1 = min(j + 1, last)
+                fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
                 c_k = cmd[j] + fr * (cmd[j1] - cmd[j])
                 if ff_segment:
                     v_k = vcmd[j]
@@ -322,8 +364,8 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
             i_app = -i_lim
         if c_rec == 0:
             j = min(int(pos), last)
-            j1 = min(j + 1, last)
-            _record(rec, r, x, i_app, R, cmd[j] + (pos - j) * (cmd[j1] - cmd[j]))
+            fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
+            _record(rec, r, x, i_app, R, cmd[j] + fr * (cmd[j1] - cmd[j]))
             r += 1
         c_rec += 1
         if c_rec == rec_every:
@@ -337,3 +379,26 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
         x, xn = xn, x
     for i in range(NX):
         x_out[i] = x[i]
+    if state.size > 0:
+        _loop_end(state, k_first + ip[IP_N_STEPS], I_w, w_c, c_pos, c_rec, c_dl, c_h)
+
+
+@njit(cache=True, inline="always")
+def _loop_start(state, carried, I_w):
+    """The loop's counters and scalars at its start, from rest or carried in ``state``:
+    the first step, the sample of the whole command that ``cmd[0]`` is, the integrator,
+    the speed command, the steps since the last position-loop update and record, the
+    write index of the delay line and the index of the newest angle in ``hist``."""
+    j0 = int(state[S_CMD0]) if state.size > 0 else 0
+    if carried:
+        return (int(state[S_STEP]), j0, state[S_INTEGRATOR], state[S_SPEED_CMD],
+                int(state[S_C_POS]), int(state[S_C_REC]), int(state[S_C_DL]),
+                int(state[S_C_H]))
+    return 0, j0, I_w, 0.0, 0, 0, 0, 0
+
+
+@njit(cache=True, inline="always")
+def _loop_end(state, k_next, I_w, w_c, c_pos, c_rec, c_dl, c_h):
+    """The loop's counters and scalars into ``state``, for the next piece."""
+    state[S_STEP], state[S_INTEGRATOR], state[S_SPEED_CMD] = k_next, I_w, w_c
+    state[S_C_POS], state[S_C_REC], state[S_C_DL], state[S_C_H] = c_pos, c_rec, c_dl, c_h

@@ -86,3 +86,32 @@ IP_GUIDEWAY_REF = 9
 IP_SHORTCUTS = 10
 #: Length of ``ip`` [-].
 N_IP = 11
+
+# Entries of ``state``, what a run hands the next when a command is simulated in pieces
+# (empty: a run from rest, nothing kept). The header, then the friction states of the
+# screw and the guideway (2), the delay line of the current command (``IP_DELAY + 1``),
+# the encoder history (taps + 1) and the states of the current-setpoint filters (2 per
+# section).
+#: Non-zero once a run has written the state; zero: start from rest [-].
+S_SET = 0
+#: Global index of the first command sample the run is given (the input) [-].
+S_CMD0 = 1
+#: Next velocity-loop step, counted from the start of the command [-].
+S_STEP = 2
+#: The velocity loop's integrator [rad].
+S_INTEGRATOR = 3
+#: The speed command of the last position-loop update [rad/s].
+S_SPEED_CMD = 4
+#: Steps since the last position-loop update, since the last record; write index of the
+#: delay line; index of the newest angle in the encoder history [-].
+S_C_POS = 5
+S_C_REC = 6
+S_C_DL = 7
+S_C_H = 8
+#: Length of the header [-].
+S_HEADER = 9
+
+
+def state_size(delay: int, n_taps: int, n_sections: int) -> int:
+    """Length of the ``state`` vector for a delay, velocity taps and filter sections [-]."""
+    return S_HEADER + 2 + delay + 1 + n_taps + 1 + 2 * n_sections

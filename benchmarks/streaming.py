@@ -1,0 +1,91 @@
+"""Streaming end to end: an NC program of N blocks (0.1 mm G1 blocks of a spiral at
+F3000) through ``tcpmm simulate --gcode ... -o RUN.parquet`` (read, interpolated and
+simulated a chunk of blocks at a time, written a row group at a time) and ``tcpmm contour
+RUN.parquet --chunk-rows ...`` (the contour error summary, read in chunks).
+
+Each command runs in a process of its own, started by a small parent that reads the
+child's maximum resident set (``getrusage(RUSAGE_CHILDREN).ru_maxrss``) and its wall
+time. Targets of issue #52: 1 M blocks in 6 s, 10 M blocks in 60 s under 2 GB. Not a
+test: ``python benchmarks/streaming.py [--blocks N] [--chunk-blocks N] [--json]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+#: Runs the command given as its arguments; prints its exit code and peak memory [kB].
+_PEAK = ("import resource, subprocess, sys; "
+         "rc = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL).returncode; "
+         "print(rc, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+_TCPMM = ("import sys; from tcpmm.cli import main; sys.exit(main())",)
+
+
+def spiral_program(blocks: int, path: Path) -> Path:
+    """A spiral of ``blocks`` G1 blocks 0.1 mm long at F3000, from a radius of 20 mm
+    outwards by 0.01 mm a turn [-]."""
+    r, phi = 20.0, 0.0
+    with open(path, "w") as f:
+        f.write("G21 G90 G17\nG1 X20 Y0 F3000\n")
+        rows = []
+        for _ in range(blocks):
+            phi += 0.1 / r
+            r = 20.0 + 0.01 * phi / (2 * math.pi)
+            rows.append(f"G1 X{r * math.cos(phi):.4f} Y{r * math.sin(phi):.4f}\n")
+            if len(rows) == 100_000:
+                f.writelines(rows)
+                rows.clear()
+        f.writelines(rows)
+        f.write("M30\n")
+    return path
+
+
+def timed(args: list[str]) -> tuple[float, float]:
+    """Wall time [s] and peak resident memory [MB] of ``tcpmm args`` in a process of its
+    own."""
+    t0 = time.perf_counter()
+    out = subprocess.run([sys.executable, "-c", _PEAK, sys.executable, "-c", *_TCPMM,
+                          *args], capture_output=True, text=True, check=True).stdout.split()
+    wall = time.perf_counter() - t0
+    if out[0] != "0":
+        raise SystemExit(f"tcpmm {' '.join(args)} failed with exit code {out[0]}")
+    return wall, int(out[1]) / 1024.0
+
+
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--blocks", type=int, default=1_000_000,
+                   help="blocks of the program (10000000 for the 10 M target)")
+    p.add_argument("--chunk-blocks", type=int, default=100_000, help="blocks a chunk")
+    p.add_argument("--chunk-rows", type=int, default=200_000, help="run rows a chunk")
+    p.add_argument("--no-contour", action="store_true",
+                   help="time the simulation alone (the contour error takes longest)")
+    p.add_argument("--json", action="store_true", help="print the figures as JSON")
+    a = p.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        prog = spiral_program(a.blocks, Path(tmp) / "spiral.nc")
+        run = Path(tmp) / "run.parquet"
+        sim = timed(["simulate", "builtin:vmc", "--gcode", str(prog), "-o", str(run),
+                     "--chunk-blocks", str(a.chunk_blocks)])
+        size_mb = run.stat().st_size / 1e6
+        con = (0.0, 0.0) if a.no_contour else timed(
+            ["contour", str(run), "--plane", "XY", "--chunk-rows", str(a.chunk_rows)])
+    res = {"blocks": a.blocks, "simulate_s": sim[0], "simulate_peak_mb": sim[1],
+           "contour_s": con[0], "contour_peak_mb": con[1], "total_s": sim[0] + con[0],
+           "peak_mb": max(sim[1], con[1]), "run_file_mb": size_mb}
+    if a.json:
+        print(json.dumps(res))
+        return
+    print(f"{a.blocks} blocks: simulate {sim[0]:.1f} s, {sim[1]:.0f} MB; contour "
+          f"{con[0]:.1f} s, {con[1]:.0f} MB; total {res['total_s']:.1f} s, peak "
+          f"{res['peak_mb']:.0f} MB (run file {size_mb:.0f} MB)")
+
+
+if __name__ == "__main__":
+    main()

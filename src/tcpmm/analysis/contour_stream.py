@@ -1,0 +1,202 @@
+"""The contour error of a Parquet run read a row group at a time, in bounded memory.
+
+Each actual sample is matched, as :func:`tcpmm.analysis.contour.distance_to_polyline`
+does, with the command samples within the time window around it; the rows are kept from
+a window before the first sample not yet measured to a window after the last one
+measured (and on to where the command moves again, which a resting segment's direction
+needs). The error of every sample is that of the whole run to the bit; the summary's
+largest, smallest and largest magnitude too, its RMS to a relative 1e-12 (the sum of the
+squares is taken chunk by chunk, not in numpy's pairwise order over the whole run). The
+plane is the one the command moves in (:func:`tcpmm.analysis.plane.motion_plane`, from
+each axis' travel); corners are not sought.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .contour import SENSORS, distance_to_polyline
+
+#: rows read at a time [-]
+STREAM_ROWS = 200_000
+
+
+@dataclass
+class _Summary:
+    """Running largest, smallest and largest magnitude of the error, sum of squares [m]."""
+
+    n: int = 0
+    sq: float = 0.0
+    hi: float = -np.inf
+    lo: float = np.inf
+    top: float = 0.0
+
+    def add(self, e: np.ndarray) -> None:
+        if e.size:
+            self.n += e.size
+            self.sq += float(np.sum(e * e))
+            self.hi, self.lo = max(self.hi, float(np.max(e))), min(self.lo, float(np.min(e)))
+            self.top = max(self.top, float(np.max(np.abs(e))))
+
+    def result(self) -> dict:
+        return {"max_abs_m": self.top, "rms_m": float(np.sqrt(self.sq / self.n)),
+                "max_m": self.hi, "min_m": self.lo}
+
+
+@dataclass
+class StreamedContour:
+    """The contour error summary of a streamed run.
+
+    Parameters
+    ----------
+    axes : tuple of str
+        Axes the distance is measured in; two for a plane (signed) [-].
+    signed : bool
+        Whether the error is signed [-].
+    rows : int
+        Samples measured [-].
+    sums : dict of str to _Summary
+        Per sensor, the running figures [m].
+    most_rows : int
+        Most rows held at once [-].
+    """
+
+    axes: tuple
+    signed: bool
+    rows: int = 0
+    sums: dict = field(default_factory=dict)
+    most_rows: int = 0
+    corners: list = field(default_factory=list)
+    settle_tol_m: float = 1e-6
+
+    @property
+    def errors(self) -> dict:
+        """The sensors measured (their errors are not kept) [-]."""
+        return dict.fromkeys(self.sums)
+
+    def summary(self) -> dict:
+        """Per sensor: largest magnitude, RMS, largest and smallest value [m]."""
+        return {s: v.result() for s, v in self.sums.items()}
+
+    def to_dict(self) -> dict:
+        """JSON-ready: axes and summary [um]; no corners."""
+        return {"axes": "".join(self.axes), "signed": self.signed,
+                "settle_tol_um": self.settle_tol_m * 1e6,
+                "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
+                            for s, d in self.summary().items()},
+                "corners": []}
+
+
+def parquet_rows(path) -> int:
+    """Rows of a Parquet file, from its footer [-]."""
+    import pyarrow.parquet as pq
+
+    return pq.ParquetFile(path).metadata.num_rows
+
+
+def travel_positions(path) -> dict:
+    """Per axis of the run's command, its smallest and largest position, as a two-sample
+    signal whose travel is the command's (for :func:`~tcpmm.analysis.plane.motion_plane`)
+    [m]."""
+    lo, hi = {}, {}
+    for cols in _batches(path, None, lambda c: c.endswith("_cmd_mm")):
+        for c, v in cols.items():
+            a = c.split("_")[0].upper()
+            lo[a] = min(lo.get(a, np.inf), float(np.min(v)))
+            hi[a] = max(hi.get(a, -np.inf), float(np.max(v)))
+    return {a: np.array([lo[a], hi[a]]) * 1e-3 for a in lo}
+
+
+def _batches(path, rows, keep):
+    """The columns ``keep`` accepts of a Parquet file, ``rows`` rows at a time [-]."""
+    import pyarrow.parquet as pq
+
+    f = pq.ParquetFile(path)
+    names = [c for c in f.schema_arrow.names if keep(c)]
+    for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
+        yield {c: b.column(c).to_numpy().astype(float) for c in names}
+
+
+def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
+                   rows: int = STREAM_ROWS, each=None) -> StreamedContour:
+    """Contour error summary of a Parquet run file, read ``rows`` rows at a time.
+
+    Parameters
+    ----------
+    path : str or Path
+        The Parquet run file [-].
+    axes : tuple of str
+        The axes measured in [-].
+    signed : bool
+        Signed in the plane of two axes [-].
+    window_s : float
+        Time around each sample in which its closest command point is sought [s].
+    rows : int
+        Rows read at a time [-].
+    each : callable, optional
+        Called with the sensor and the errors of each chunk of samples, in order [-], [m].
+    """
+    path = Path(path)
+    cmd_cols = [f"{a.lower()}_cmd_mm" for a in axes]
+    want = {"time_s", *cmd_cols, *(f"{a.lower()}_{s}_mm" for a in axes for s in SENSORS)}
+    res = StreamedContour(tuple(axes), signed)
+    buf, first, pending = None, 0, None  # first: the first row not yet measured
+    for cols in _batches(path, rows, lambda c: c in want):
+        if pending is not None:
+            buf, first = _step(res, buf, pending, first, window_s, cmd_cols, False, each)
+        pending = cols
+    if pending is None or not pending["time_s"].size:
+        raise InputError("the run has no rows", file=path)
+    _step(res, buf, pending, first, window_s, cmd_cols, True, each)
+    return res
+
+
+def _step(res: StreamedContour, buf, cols, first: int, w: float, cmd_cols, final: bool,
+          each):
+    """Add rows ``cols`` to the buffer and measure the samples whose window (and one
+    more) it holds; the buffer from a window before the next sample to measure, and that
+    sample's index in it [-]."""
+    buf = cols if buf is None else {c: np.concatenate([buf[c], cols[c]]) for c in buf}
+    t = buf["time_s"]
+    n = t.size
+    res.most_rows = max(res.most_rows, n)
+    b = n if final else int(np.searchsorted(t, t[-1] - 2.0 * w, side="left"))
+    cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
+    window = _window(cmd, t, first, b, w, final) if b > first else None
+    if window is None:
+        return buf, first
+    c0, c1 = window
+    for s in SENSORS:
+        cols_s = [c.replace("_cmd_", f"_{s}_") for c in cmd_cols]
+        if all(c in buf for c in cols_s):
+            q = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
+            e, _ = distance_to_polyline(q, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed)
+            res.sums.setdefault(s, _Summary()).add(e)
+            if each is not None:
+                each(s, e)
+    res.rows += b - first
+    drop = min(int(np.searchsorted(t, t[b] - w, side="left")), b) if b < n else n
+    return {c: v[drop:].copy() for c, v in buf.items()}, b - drop
+
+
+def _window(cmd, t, first: int, b: int, w: float, final: bool):
+    """The command rows ``c0:c1`` that samples ``first:b`` are measured against: their
+    windows, the end of the last segment, and on to a segment that moves (a resting
+    segment takes the direction of the next moving one); ``None`` where the buffer does
+    not reach that far yet [-]."""
+    n = t.size
+    c0 = int(np.searchsorted(t, t[first] - w, side="left"))
+    c1 = min(int(np.searchsorted(t, t[b - 1] + w, side="right")) + 1, n)
+    moves = np.any(np.diff(cmd, axis=0) != 0.0, axis=1)  # segment i: rows i, i + 1
+    while c1 < n and not moves[c1 - 2]:
+        c1 += 1
+    if not final and not moves[c1 - 2]:
+        return None
+    if final:  # at the end the last moving segment of all stands in for the next
+        while c0 > 0 and not moves[c0:c1 - 1].any():
+            c0 -= 1
+    return c0, c1

@@ -1,0 +1,184 @@
+"""The streaming runs of the command line: a program a chunk of blocks at a time, the run
+to Parquet a row group a chunk, and a progress bar of the blocks read."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from pathlib import Path
+
+from ._app import console
+
+#: help of ``--chunk-blocks``
+CHUNK_HELP = ("Blocks of the NC program read, interpolated and simulated at a time "
+              "(default 100000); the results do not depend on it, the memory does.")
+
+
+def count_lines(path: Path) -> int:
+    """Lines of a text file (``\\n``, ``\\r\\n`` or ``\\r`` ending them), for the progress
+    bar's total [-]."""
+    n, last = 0, b""
+    with open(path, "rb") as f:
+        while block := f.read(1 << 24):
+            n += block.count(b"\n") + block.count(b"\r") - block.count(b"\r\n")
+            if last == b"\r" and block[:1] == b"\n":
+                n -= 1  # a \r\n cut between two blocks
+            last = block[-1:]
+    return n + (last not in (b"", b"\n", b"\r"))
+
+
+@contextmanager
+def block_progress(program: Path, description: str):
+    """A progress bar of the program's blocks read, with the time left, on a terminal;
+    nothing in a pipe or a log. Yields ``update(lines_read)``."""
+    if not console.is_terminal:
+        yield lambda *_: None
+        return
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeRemainingColumn,
+    )
+
+    total = count_lines(program)
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TextColumn("blocks"), TimeRemainingColumn(), console=console,
+                  transient=True) as p:
+        task = p.add_task(description, total=total)
+        yield lambda lines: p.update(task, completed=lines)
+
+
+def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
+                        record_period_s=None, chunk_blocks: int | None = None) -> dict:
+    """Simulate an NC program on a model streaming, to a Parquet run file.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    program : Path
+        The NC program [-].
+    output : Path
+        The Parquet run file [-].
+    settings : InterpolatorSettings
+        Interpolator settings [-].
+    record_period_s : float, optional
+        Output period [s].
+    chunk_blocks : int, optional
+        Blocks a chunk, default :data:`tcpmm.path.stream.CHUNK_BLOCKS` [-].
+
+    Returns
+    -------
+    dict
+        ``samples``, ``duration_s``, ``axes`` and ``faults`` of the run written (the
+        faults also warned, :class:`tcpmm.errors.RunFaultWarning`) [-].
+    """
+    from ..analysis.runaway import warn_faults
+    from ..analysis.runaway_stream import FaultWatch
+    from ..io.runfile import run_parquet_writer
+    from ..path.stream import CHUNK_BLOCKS
+    from ..sim.streamrun import stream_simulate
+
+    chunk_blocks = chunk_blocks or CHUNK_BLOCKS
+    samples, last_t, axes = 0, 0.0, None
+    watch = FaultWatch(machine)
+    with block_progress(program, "simulate") as update, run_parquet_writer(output) as write:
+        for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
+                                   record_period_s=record_period_s):
+            if run.time_s.size:
+                write(run)
+                watch.add(run)
+                samples += run.time_s.size
+                last_t = float(run.time_s[-1])
+            axes = axes or run.to_dict()["axes"]
+            update(run.meta["lines_read"])
+    faults = watch.faults()
+    warn_faults(faults)
+    return {"samples": samples, "duration_s": last_t, "axes": axes,
+            "faults": [f.to_dict() for f in faults]}
+
+
+#: a Parquet run of more rows than this is read in chunks by ``tcpmm contour`` [-]
+STREAM_ABOVE_ROWS = 2_000_000
+
+
+def streamed(run_file: Path, chunk_rows: int | None) -> bool:
+    """Whether ``tcpmm contour`` reads the run in chunks: a Parquet run, with
+    ``--chunk-rows`` or longer than :data:`STREAM_ABOVE_ROWS` [-]."""
+    from ..io.runfile import is_parquet
+
+    if not is_parquet(run_file) or not Path(run_file).is_file():
+        return False
+    from ..analysis.contour_stream import parquet_rows
+
+    return chunk_rows is not None or parquet_rows(run_file) > STREAM_ABOVE_ROWS
+
+
+def contour_streamed(run_file: Path, plane: str | None, window_s: float,
+                     chunk_rows: int | None):
+    """The contour error summary of a Parquet run read in chunks, in the plane of
+    ``--plane`` or the one its command moves in (said on stderr, as for a whole run).
+
+    Parameters
+    ----------
+    run_file : Path
+        The Parquet run [-].
+    plane : str or None
+        ``--plane`` [-].
+    window_s : float
+        ``--window-s`` [s].
+    chunk_rows : int or None
+        Rows a chunk [-].
+    """
+    import numpy as np
+
+    from ..analysis.contour_stream import STREAM_ROWS, stream_contour, travel_positions
+    from ..result import AxisRun, Run
+    from ._plane import run_plane_said
+
+    travel = travel_positions(run_file)
+    ends = Run(np.array([0.0, 1.0]), {a: AxisRun(cmd=v) for a, v in travel.items()})
+    how = run_plane_said(plane, ends, run_file, allow_3d=True)
+    axes, signed = (tuple(how), True) if how else (tuple(a for a in "XYZ" if a in travel),
+                                                   False)
+    return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS)
+
+
+#: an NC program of more lines than this is interpolated in chunks by ``tcpmm path`` [-]
+PATH_STREAM_ABOVE_LINES = 1_000_000
+
+
+def path_to_csv(program: Path, output: Path, settings, chunk_blocks: int | None) -> dict:
+    """Interpolate an NC program streaming into a command file (the text of the whole
+    program's, :func:`tcpmm.path.write_command_csv`).
+
+    Parameters
+    ----------
+    program : Path
+        The NC program [-].
+    output : Path
+        The command file [-].
+    settings : InterpolatorSettings
+        Interpolator settings [-].
+    chunk_blocks : int, optional
+        Blocks a chunk, default :data:`tcpmm.path.stream.CHUNK_BLOCKS` [-].
+
+    Returns
+    -------
+    dict
+        ``samples``, ``period_s`` and ``duration_s`` of the command written [-].
+    """
+    from ..path.commandfile import command_csv_writer
+    from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
+
+    ip = StreamInterpolator(settings)
+    last = 0.0
+    with block_progress(program, "path") as update, command_csv_writer(output) as w:
+        for piece in stream_program(program, settings, chunk_blocks or CHUNK_BLOCKS,
+                                    interpolator=ip):
+            w.write(piece.time_s, piece.positions)
+            last = float(piece.time_s[-1])
+            update(piece.lines_read)
+        w.axes = tuple(a for a in ("X", "Y", "Z") if a in ip.used_axes)
+    return {"samples": w.samples, "period_s": settings.period_s, "duration_s": last}

@@ -1,0 +1,138 @@
+"""The interpreter over a program that comes in chunks of lines.
+
+A long program is read and interpreted a chunk of lines at a time
+(:func:`interpret_chunks`), its modal state carried from one chunk to the next, so that
+the segments come out in pieces and no chunk's text stays in memory. A whole program is
+the same with one chunk (:func:`run_program`): the segments, warnings and errors (line
+and column counted over the whole program) are the same however it is cut.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+
+from ..errors import InputError
+from ..io.text import file_lines
+from . import gcode
+from .gcode import _Interpreter
+from .gcode_fast import plain_run
+from .gcode_lexer import tape_marker
+
+
+@dataclass
+class _Progress:
+    """Where the interpretation stands between chunks: a ``%`` opened the program, a block
+    ran, and where the program ended (its line and why) if it did [-]."""
+
+    opened: bool = False
+    started: bool = False
+    end_line: int | None = None
+    end_what: str = ""
+    rest_warned: bool = False
+
+
+def run_program(text: str, file, start_position_m, fast: bool = True) -> _Interpreter:
+    """The interpreter after the program, its warnings not yet issued.
+
+    Parameters
+    ----------
+    text : str
+        The program [-].
+    file : str or Path or None
+        Where the program came from, for messages [-].
+    start_position_m : sequence of float
+        Position of X, Y, Z before the program starts [m].
+    fast : bool
+        Execute plain G0/G1 blocks through :func:`~tcpmm.path.gcode_fast.plain_run`;
+        ``False`` sends every line through the tokeniser, the reference the fast path
+        is tested against [-].
+
+    Returns
+    -------
+    _Interpreter
+        With the segments and the warnings collected [-].
+    """
+    (it,) = interpret_chunks([file_lines(text)], file, start_position_m, fast)
+    return it
+
+
+def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
+                     fast: bool = True) -> Iterator[_Interpreter]:
+    """Interpret a program given as consecutive chunks of its lines.
+
+    Parameters
+    ----------
+    chunks : iterable of list of str
+        The program's lines without their line breaks, in chunks [-].
+    file : str or Path or None
+        Where the program came from, for messages [-].
+    start_position_m : sequence of float
+        Position of X, Y, Z before the program starts [m].
+    fast : bool
+        As for :func:`run_program` [-].
+
+    Yields
+    ------
+    _Interpreter
+        The interpreter after each chunk; its ``segments`` are those made so far, which
+        the caller may take and clear (``it.segments = []``) [-].
+    """
+    it = _Interpreter(file, start_position_m)
+    st = _Progress()
+    offset = 0
+    for lines in chunks:
+        if st.end_line is None:
+            _run_lines(it, lines, offset, st, fast)
+        elif not st.rest_warned:
+            st.rest_warned = _warn_rest(it, lines, 0, offset, st)
+        yield it
+        offset += len(lines)
+
+
+def _run_lines(it: _Interpreter, lines: list[str], offset: int, st: _Progress,
+               fast: bool) -> None:
+    """Interpret one chunk of lines, the first of them line ``offset + 1``."""
+    k = 0
+    while k < len(lines):
+        if fast:
+            j = plain_run(it, lines, k, offset)
+            st.started = st.started or j > k
+            if j == len(lines):
+                return
+            k = j
+        number, raw = offset + k + 1, lines[k]
+        k += 1
+        if tape_marker(raw, it.file, number):
+            if st.opened or st.started:  # the closing %: the program ends here
+                st.end_line, st.end_what = number, "blocks after the closing %"
+                st.rest_warned = _warn_rest(it, lines, k, offset, st)
+                return
+            st.opened = True
+            continue
+        words = gcode.tokenize(raw, it.file, number)
+        if not words:
+            continue
+        st.started = True
+        if it.block(words, number):
+            st.end_line, st.end_what = number, "blocks after M2/M30"
+            st.rest_warned = _warn_rest(it, lines, k, offset, st)
+            return
+
+
+def _warn_rest(it: _Interpreter, lines: list[str], k: int, offset: int,
+               st: _Progress) -> bool:
+    """Warn of the first line with words from ``lines[k]`` on, after the program's end;
+    whether there was one [-]."""
+    rest = next((i for i in range(k, len(lines)) if _has_words(lines[i])), None)
+    if rest is None:
+        return False
+    it.warn(st.end_what, f"the program ends on line {st.end_line}", offset + rest + 1, None)
+    return True
+
+
+def _has_words(raw: str) -> bool:
+    try:
+        return bool(gcode.tokenize(raw))
+    except InputError:
+        return True

@@ -1,0 +1,127 @@
+"""An NC program through the interpolator and the machine model a chunk of blocks at a
+time: the run comes out in pieces, and neither the command nor the run is ever held
+whole.
+
+The pieces put end to end are the run of :func:`tcpmm.sim.simulate.simulate` on the
+command of :func:`tcpmm.path.program_to_command`, signal for signal to the bit. Its
+times are the record index times the record period, where the whole run takes the
+period as the command's span over its samples less one: that quotient can differ from
+the period in the last bit, and then a time differs by as much (a relative 2.2e-16).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from concurrent.futures import Future, ThreadPoolExecutor
+
+import numpy as np
+
+from .._threads import limit_blas_threads
+from ..errors import InputError
+from ..model import Machine
+from ..path.settings import AXES, InterpolatorSettings
+from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
+from ..result import Run
+from .axisstream import AxisStream
+from .simulate import _check_stability
+
+
+def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | None = None,
+                    *, chunk_blocks: int = CHUNK_BLOCKS, record_period_s=None,
+                    quantise_feedback: bool = True, threads: int | None = None,
+                    interpolator: StreamInterpolator | None = None) -> Iterator[Run]:
+    """Run the machine model on an NC program, piece by piece.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine model [SI].
+    program : str or Path
+        The NC program file, or its text [-].
+    settings : InterpolatorSettings, optional
+        Interpolator settings, default the model's [-].
+    chunk_blocks : int
+        Blocks read and interpolated at a time [-].
+    record_period_s : float, optional
+        Output period, default the interpolation period [s].
+    quantise_feedback : bool
+        Quantise the feedback sensors to their resolution [-].
+    threads : int, optional
+        Cores to use: one reads and interpolates, the others run the axes; default all;
+        1 does all in turn [-].
+    interpolator : StreamInterpolator, optional
+        The interpolator to feed (to read its state afterwards) [-].
+
+    Yields
+    ------
+    Run
+        The run's records in order; ``meta["lines_read"]`` the program's lines read so
+        far [SI].
+    """
+    if settings is None:
+        settings = InterpolatorSettings.model_validate(machine.interpolation or {})
+    extra = [a for a in machine.axes if a not in AXES]
+    if extra:
+        raise InputError(f"an NC program drives X, Y and Z; the machine's axis "
+                         f"{', '.join(extra)} has no command from it")
+    limit_blas_threads()
+    _check_stability(machine)
+    dt = settings.period_s
+    rp = dt if record_period_s is None else record_period_s
+    names = list(machine.axes)
+    axes = {a: AxisStream(machine.axes[a], dt, rp, quantise_feedback) for a in names}
+    ip = interpolator or StreamInterpolator(settings)
+    pieces = _with_last(stream_program(program, settings, chunk_blocks, interpolator=ip))
+    # the axes run in worker threads, each its own in order, while the main thread reads
+    # and interpolates the next chunk (the kernel releases the GIL): one core is left to
+    # that, the others share the axes
+    cores = threads or os.cpu_count() or 1
+    workers = min(len(names), cores - 1) if cores > 1 else 0
+    groups = [names[k::workers] for k in range(workers)]
+    pools = [ThreadPoolExecutor(max_workers=1) for _ in groups]
+    r0, running = 0, None  # the records (or their futures) of the piece under way, and it
+    try:
+        for piece, final in pieces:
+            span = float(piece.time_s[-1])
+
+            def run_axes(group, piece=piece, final=final, span=span):
+                return {a: axes[a].push(piece.positions[a], final, span) for a in group}
+
+            res = ([pool.submit(run_axes, g) for pool, g in zip(pools, groups, strict=True)]
+                   if pools else [run_axes(names)])
+            if running is not None:
+                run = _collect(*running, names, r0, rp, machine, ip)
+                r0 += run.time_s.size
+                yield run
+            running = (res, piece)
+        if running is not None:
+            yield _collect(*running, names, r0, rp, machine, ip)
+    finally:
+        for pool in pools:
+            pool.shutdown(cancel_futures=True)
+
+
+def _collect(res, piece, names, r0: int, rp: float, machine, ip) -> Run:
+    """The run of one piece from its axes' records (or their futures) [SI]."""
+    runs = {}
+    for r in res:
+        runs.update(r.result() if isinstance(r, Future) else r)
+    runs = {a: runs[a] for a in names}
+    n = next(iter(runs.values())).cmd.size
+    return Run(time_s=(r0 + np.arange(n)) * rp, axes=runs,
+               meta={"lines_read": piece.lines_read, "machine": machine.name,
+                     "plane_axes": ip.plane_axes})
+
+
+def _with_last(items) -> Iterator[tuple]:
+    """``(item, is_last)`` for each item of an iterator [-]."""
+    it = iter(items)
+    try:
+        prev = next(it)
+    except StopIteration:
+        return
+    for item in it:
+        yield prev, False
+        prev = item
+    yield prev, True

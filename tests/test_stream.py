@@ -1,0 +1,284 @@
+"""Streaming end to end: a program in chunks gives the command, the run and the contour
+error of the whole program, to the bit (the run's times to one part in 1e15, the RMS
+to 1e-12), in memory bounded by the chunk, not by the program."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.contour import contour_error
+from tcpmm.analysis.contour_stream import stream_contour
+from tcpmm.cli import main
+from tcpmm.errors import InputError
+from tcpmm.io.runfile import read_run
+from tcpmm.path import InterpolatorSettings
+from tcpmm.path.program import program_to_command
+from tcpmm.path.stream import StreamInterpolator, stream_program
+from tcpmm.sim.axisstream import AxisStream
+from tcpmm.sim.simulate import simulate
+from tcpmm.sim.streamrun import stream_simulate
+
+
+def spiral(n: int, feed: float = 3000.0, mode: str = "") -> str:
+    lines = [f"G21 G90 {mode}", f"G1 X5 Y0 F{feed:g}"]
+    for i in range(1, n + 1):
+        r, phi = 5 + 0.0002 * i, i * 0.02
+        lines.append(f"G1 X{r * math.cos(phi):.4f} Y{r * math.sin(phi):.4f}")
+    return "\n".join([*lines, "M30"]) + "\n"
+
+
+def zigzag(n: int) -> str:
+    lines = ["G21 G90 G64 P0.01", "G1 X0 Y0.5 F2000"]
+    lines += [f"G1 X{(i % 2) * 3:.3f} Y{i * 0.5 + 0.5:.3f}" for i in range(1, n + 1)]
+    return "\n".join(lines) + "\n"
+
+
+def arcs(n: int) -> str:
+    lines = ["G21 G90 G17", "G1 X10 Y0 F1500"]
+    for i in range(n):
+        lines.append("G3 X-10 Y0 I-10 J0" if i % 2 == 0 else "G3 X10 Y0 I10 J0")
+        if i % 3 == 2:
+            lines += ["G4 P0.05", "G1 X10 Y0 Z0.1" if i % 2 == 0 else "G1 X10 Y0 Z0"]
+    return "\n".join(lines) + "\n"
+
+
+def repeated(n: int) -> str:
+    """Short blocks, each point given twice (a zero-length move, warned and skipped), and
+    a reversal at the end of a long straight run: a deceleration over many blocks."""
+    lines = ["G21 G90", "G1 X0 Y0 F6000"]
+    for i in range(1, n + 1):
+        lines += [f"G1 X{i * 0.2:.3f} Y0"] * 2
+    lines += ["G1 X0 Y0"]
+    return "\n".join(lines) + "\n"
+
+
+PROGRAMS = {"spiral": spiral(150), "zigzag": zigzag(30), "arcs": arcs(5),
+            "repeated": repeated(60)}
+SETTINGS = {"default": InterpolatorSettings(),
+            "bell": InterpolatorSettings(filter_kind="bell", filter_time_s=0.016),
+            "scurve_blend": InterpolatorSettings(profile="scurve", filter_kind="linear",
+                                                 filter_time_s=0.01, blend_tolerance_m=2e-5)}
+
+
+def quiet(fn, *args, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fn(*args, **kw)
+
+
+def pieces(text, settings, chunk, ip=None):
+    return quiet(lambda: list(stream_program(text, settings, chunk_blocks=chunk,
+                                             interpolator=ip)))
+
+
+@pytest.mark.parametrize("name", list(PROGRAMS))
+@pytest.mark.parametrize("how", list(SETTINGS))
+@pytest.mark.parametrize("chunk", [1, 4, 37])
+def test_chunked_command_is_the_whole_programs(name, how, chunk):
+    text, settings = PROGRAMS[name], SETTINGS[how]
+    ref = quiet(program_to_command, text, settings)
+    got = pieces(text, settings, chunk)
+    assert len(got) > 1 or how == "scurve_blend"  # an S-curve brakes over all the blocks
+    assert np.array_equal(np.concatenate([p.time_s for p in got]), ref.time_s)
+    for axis, x in ref.positions.items():
+        assert np.array_equal(np.concatenate([p.positions[axis] for p in got]), x), axis
+    assert np.array_equal(np.concatenate([p.path_s_m for p in got]), ref.meta["path_s_m"])
+
+
+@pytest.mark.parametrize("chunk", [1, 2, 3, 5])
+def test_a_chunk_boundary_inside_a_deceleration(chunk):
+    """The straight run of 0.2 mm blocks at 6 m/min brakes over many blocks before the
+    reversal: the cuts fall inside the braking, whose blocks are held back."""
+    text = repeated(60)
+    ip = StreamInterpolator()
+    got = pieces(text, None, chunk, ip)
+    ref = quiet(program_to_command, text)
+    assert np.array_equal(np.concatenate([p.positions["X"] for p in got]), ref.positions["X"])
+    assert ip.most_held > 5  # the braking distance, in blocks, waited for the next chunk
+
+
+def test_the_held_tail_does_not_grow_with_the_program():
+    held = []
+    for n in (200, 800):
+        ip = StreamInterpolator()
+        pieces(spiral(n), None, 20, ip)
+        held.append(ip.most_held)
+    assert held[1] <= held[0] + 2 and held[1] < 60
+
+
+def run_pieces(machine, text, chunk):
+    """The records of each axis, run on the command piece by piece [SI]."""
+    got = pieces(text, None, chunk)
+    axes = {a: AxisStream(machine.axes[a], 1e-3) for a in machine.axes}
+    out = {a: [] for a in axes}
+    for k, p in enumerate(got):
+        for a, s in axes.items():
+            out[a].append(s.push(p.positions[a], k == len(got) - 1, float(p.time_s[-1])))
+    return out, axes
+
+
+@pytest.mark.parametrize("name", ["spiral", "zigzag", "arcs"])
+@pytest.mark.parametrize("chunk", [3, 29])
+def test_kernel_state_is_carried_to_the_bit(vmc, name, chunk):
+    text = PROGRAMS[name]
+    ref = quiet(simulate, vmc, quiet(program_to_command, text))
+    out, _ = run_pieces(vmc, text, chunk)
+    for a in vmc.axes:
+        for sig in ("cmd", "motor", "scale", "tcp", "current", "motor_speed"):
+            got = np.concatenate([getattr(r, sig) for r in out[a]])
+            assert np.array_equal(got, getattr(ref.axes[a], sig)), (a, sig)
+
+
+def test_the_samples_an_axis_holds_stay_bounded(vmc):
+    most = []
+    for n in (150, 600):
+        _, axes = run_pieces(vmc, spiral(n), 10)
+        most.append(max(s.most_held for s in axes.values()))
+    assert most[1] <= most[0] + 5
+
+
+def test_stream_simulate_is_simulate(vmc):
+    text = PROGRAMS["arcs"]
+    ref = quiet(simulate, vmc, quiet(program_to_command, text))
+    runs = quiet(lambda: list(stream_simulate(vmc, text, chunk_blocks=2)))
+    t = np.concatenate([r.time_s for r in runs])
+    assert np.allclose(t, ref.time_s, rtol=1e-15, atol=0.0)
+    for a in vmc.axes:
+        assert np.array_equal(np.concatenate([r.axes[a].tcp for r in runs]), ref.axes[a].tcp)
+
+
+def test_contour_in_chunks_is_the_whole_runs(vmc, tmp_path):
+    text = PROGRAMS["zigzag"]
+    run = quiet(simulate, vmc, quiet(program_to_command, text))
+    run.write(tmp_path / "run.parquet")
+    ref = contour_error(read_run(tmp_path / "run.parquet"), plane=("X", "Y"))
+    errors = {}
+    res = stream_contour(tmp_path / "run.parquet", ("X", "Y"), True, rows=97,
+                         each=lambda s, e: errors.setdefault(s, []).append(e))
+    for s, e in ref.errors.items():
+        assert np.array_equal(np.concatenate(errors[s]), e), s
+        got, want = res.summary()[s], ref.summary()[s]
+        assert all(got[k] == want[k] for k in ("max_abs_m", "max_m", "min_m"))
+        assert got["rms_m"] == pytest.approx(want["rms_m"], rel=1e-12)
+    assert res.most_rows < 97 + 2 * 400  # a chunk and the windows around it (0.2 s)
+
+
+def cli(capsys, *args):
+    code = main([str(a) for a in args])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
+
+def test_cli_writes_row_groups_that_contour_reads(vmc, tmp_path, capsys):
+    import pyarrow.parquet as pq
+
+    prog = tmp_path / "zig.nc"
+    prog.write_text(PROGRAMS["zigzag"])
+    out = tmp_path / "run.parquet"
+    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", out,
+                       "--chunk-blocks", 5)
+    assert code == 0, err
+    assert pq.ParquetFile(out).metadata.num_row_groups > 2
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp file
+    quiet(simulate, vmc, quiet(program_to_command, prog)).write(tmp_path / "whole.parquet")
+    run, ref = read_run(out), read_run(tmp_path / "whole.parquet")  # both through mm
+    for a in "XYZ":
+        assert np.array_equal(run.axes[a].tcp, ref.axes[a].tcp)
+        assert np.array_equal(run.axes[a].current, ref.axes[a].current)
+    code, whole, _ = cli(capsys, "contour", out, "--plane", "XY", "--json")
+    code2, chunked, _ = cli(capsys, "contour", out, "--plane", "XY", "--json",
+                            "--chunk-rows", 300)
+    assert code == code2 == 0
+    a, b = json.loads(whole)["sensors"], json.loads(chunked)["sensors"]
+    for s in a:
+        assert a[s]["max_abs_um"] == b[s]["max_abs_um"]
+        assert a[s]["rms_um"] == pytest.approx(b[s]["rms_um"], rel=1e-12)
+
+
+def test_a_bad_line_far_in_is_named_and_leaves_no_file(tmp_path, capsys):
+    lines = ["G21 G90", "G1 X0 Y0 F3000"]
+    lines += [f"G1 X{i * 0.01:.3f} Y{(i % 7) * 0.01:.3f}" for i in range(1, 3000)]
+    lines[2500] = "G1 X1 Y2 Q"
+    prog = tmp_path / "bad.nc"
+    prog.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError) as exc:
+        pieces(prog, None, 64)
+    assert exc.value.line == 2501 and exc.value.column is not None
+    assert str(prog) in str(exc.value)
+    out = tmp_path / "run.parquet"
+    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", out,
+                       "--chunk-blocks", 100)
+    assert code == 2 and "line 2501" in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.nc"]
+
+
+@pytest.mark.parametrize("name", ["spiral", "arcs"])  # Z kept where it moves, else not
+def test_cli_path_in_chunks_writes_the_same_file(tmp_path, capsys, name):
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS[name])
+    assert cli(capsys, "path", prog, "-o", tmp_path / "a.csv")[0] == 0
+    assert cli(capsys, "path", prog, "-o", tmp_path / "b.csv", "--chunk-blocks", 3)[0] == 0
+    whole, chunked = (tmp_path / "a.csv").read_bytes(), (tmp_path / "b.csv").read_bytes()
+    assert chunked == whole and (b"z_mm" in whole) == (name == "arcs")
+
+
+def test_chunks_are_asked_only_where_they_stream(tmp_path, capsys):
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS["zigzag"])
+    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                       tmp_path / "run.csv", "--chunk-blocks", 5)
+    assert code == 2 and "-o RUN.parquet" in err
+
+
+def test_an_interrupted_stream_leaves_no_file(vmc, tmp_path, monkeypatch):
+    """The row groups go to a temporary file that an interrupt removes."""
+    from tcpmm.cli import _stream
+    from tcpmm.sim import streamrun
+
+    real = streamrun.stream_simulate
+
+    def interrupted(*args, **kw):
+        for k, run in enumerate(real(*args, **kw)):
+            if k == 2:
+                raise KeyboardInterrupt
+            yield run
+
+    monkeypatch.setattr(streamrun, "stream_simulate", interrupted)
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS["zigzag"])
+    with pytest.raises(KeyboardInterrupt):
+        quiet(_stream.simulate_to_parquet, vmc, prog, tmp_path / "run.parquet",
+              InterpolatorSettings(), chunk_blocks=3)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.nc"]
+
+
+@pytest.mark.parametrize("case", ["runaway", "saturating"])
+def test_faults_of_a_streamed_run_are_the_whole_runs(vmc, case):
+    from tcpmm.analysis.runaway import run_faults
+    from tcpmm.analysis.runaway_stream import FaultWatch
+
+    if case == "runaway":  # a load on Z its drive cannot hold
+        z = vmc.axes["Z"]
+        m = vmc.with_axis("Z", z.replace(mechanics=z.mechanics.model_copy(
+            update={"load_force": -20000.0})))
+    else:  # a current limit the corners reach
+        x = vmc.axes["X"]
+        m = vmc.with_axis("X", x.replace(servo=x.servo.model_copy(
+            update={"current_limit": 0.5})))
+    text = PROGRAMS["zigzag"]
+    whole = run_faults(m, quiet(simulate, m, quiet(program_to_command, text)))
+    watch = FaultWatch(m)
+    for run in quiet(lambda: list(stream_simulate(m, text, chunk_blocks=3))):
+        watch.add(run)
+    got = watch.faults()
+    assert whole and [f.axis for f in got] == [f.axis for f in whole]
+    for a, b in zip(got, whole, strict=True):
+        assert a.deviation_m == b.deviation_m and a.runaway_from_s == b.runaway_from_s
+        assert a.saturated_s == pytest.approx(b.saturated_s, rel=1e-12)
+        assert a.saturated_from_s == b.saturated_from_s
+        assert a.tolerance_m == pytest.approx(b.tolerance_m, rel=1e-12)

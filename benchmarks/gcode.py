@@ -16,7 +16,8 @@ import time
 import warnings
 
 from tcpmm.errors import InputWarning
-from tcpmm.path import gcode, parse_gcode
+from tcpmm.path import gcode_stream, parse_gcode
+from tcpmm.path.gcode_fast import collector_paused
 
 TARGET_US = 2.0
 
@@ -32,8 +33,8 @@ def spiral_program(blocks: int) -> str:
 
 def reference(text: str):
     """The program through the tokeniser and interpreter only [-]."""
-    with gcode.collector_paused():  # as parse_gcode, so that the ratio is the fast path's
-        it = gcode.run_program(text, None, (0.0, 0.0, 0.0), fast=False)
+    with collector_paused():  # as parse_gcode, so that the ratio is the fast path's
+        it = gcode_stream.run_program(text, None, (0.0, 0.0, 0.0), fast=False)
     it.emit_warnings()
     return it.segments
 

@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tcpmm.errors import InputError
-from tcpmm.path import gcode, parse_gcode
+from tcpmm.path import gcode_stream, parse_gcode
 from tcpmm.path.gcode_fast import PLAIN_MOVE
 
 # numbers the tokeniser takes and ones it refuses, in and out of range
@@ -57,7 +57,7 @@ programs = st.tuples(st.sampled_from(["", "G1 F3000\n", "G0\n"]), st.lists(lines
 def _outcome(text, fast):
     """What the program gives: segments, modal state and warnings, or the error [-]."""
     try:
-        it = gcode.run_program(text, "p.nc", (0.0, 0.0, 0.0), fast=fast)
+        it = gcode_stream.run_program(text, "p.nc", (0.0, 0.0, 0.0), fast=fast)
     except InputError as err:
         return ("error", err.message, err.file, err.line, err.column)
     state = (it.pos, it.motion, it.feed, it.unit, it.absolute, it.exact_stop, it.tolerance)
@@ -80,8 +80,8 @@ def test_fast_path_matches_the_reference_after_a_header(lines):
 
 def test_plain_blocks_skip_the_tokeniser(monkeypatch):
     calls = []
-    tokenize = gcode.tokenize
-    monkeypatch.setattr(gcode, "tokenize", lambda *a: calls.append(a) or tokenize(*a))
+    tokenize = gcode_stream.tokenize
+    monkeypatch.setattr(gcode_stream, "tokenize", lambda *a: calls.append(a) or tokenize(*a))
     text = "G21 G90\nG1 X1 Y0 F3000\nX2 Y1\ng0 x0 y0 z1\nG01 X 1.5\nM30\n"
     with warnings.catch_warnings():
         warnings.simplefilter("error")

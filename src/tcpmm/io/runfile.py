@@ -16,6 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..result import RUN_COLUMNS, AxisRun, Run
+from .atomic import atomic_path
 from .runwrite import (  # noqa: F401  (the writers are part of this module's interface)
     PARQUET_SUFFIXES,
     is_parquet,

@@ -8,7 +8,7 @@ Entry points: :func:`circle_command`, :func:`parse_gcode`, :func:`program_to_com
 from .circle import circle_command, circle_segments, circle_settings
 from .command import Command
 from .commandfile import read_command_csv, write_command_csv
-from .gcode import parse_gcode
+from .gcode_stream import parse_gcode
 from .interpolate import Interpolation, interpolate, interpolate_detailed
 from .program import program_to_command, read_program
 from .segments import Arc, Dwell, Line, Rapid

@@ -24,9 +24,8 @@ from __future__ import annotations
 import warnings
 
 from ..errors import InputError, InputWarning
-from .gcode_fast import collector_paused
 from .gcode_geometry import INCH_M, MM_M, GeometryMixin, short_text
-from .gcode_lexer import Word, tokenize  # noqa: F401  (gcode_stream calls it from here)
+from .gcode_lexer import Word
 from .gcode_words import (
     G_GROUP,
     G_IGNORED,
@@ -296,49 +295,3 @@ class _Interpreter(GeometryMixin):
         else:
             self.segments.append(self.arc(w, target, gword, line))
         self.pos = target
-
-
-
-def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
-    """Interpret an NC program.
-
-    Parameters
-    ----------
-    text : str
-        The program [-].
-    file : str or Path, optional
-        Where the program came from, for messages [-].
-    start_position_m : sequence of float
-        Position of X, Y, Z before the program starts [m].
-
-    Returns
-    -------
-    list of Line, Rapid, Arc, Dwell
-        The continuous tool path in SI, each segment with its source line [-].
-
-    Raises
-    ------
-    InputError
-        For anything the program says that cannot be executed as written, with file,
-        line and column.
-
-    Warns
-    -----
-    InputWarning
-        Once per kind of ignored word (spindle, coolant, tool, offsets, ...), naming the
-        first line where it occurs.
-    """
-    if len(tuple(start_position_m)) != 3:
-        raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
-    with collector_paused():
-        it = run_program(text, file, start_position_m)
-    it.emit_warnings()
-    return it.segments
-
-
-def run_program(text: str, file, start_position_m, fast: bool = True):
-    """The interpreter after the program, its warnings not yet issued
-    (:func:`tcpmm.path.gcode_stream.run_program`) [-]."""
-    from .gcode_stream import run_program as run
-
-    return run(text, file, start_position_m, fast)

@@ -14,10 +14,9 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..io.text import file_lines
-from . import gcode
 from .gcode import _Interpreter
-from .gcode_fast import plain_run
-from .gcode_lexer import tape_marker
+from .gcode_fast import collector_paused, plain_run
+from .gcode_lexer import tape_marker, tokenize
 
 
 @dataclass
@@ -110,7 +109,7 @@ def _run_lines(it: _Interpreter, lines: list[str], offset: int, st: _Progress,
                 return
             st.opened = True
             continue
-        words = gcode.tokenize(raw, it.file, number)
+        words = tokenize(raw, it.file, number)
         if not words:
             continue
         st.started = True
@@ -133,6 +132,43 @@ def _warn_rest(it: _Interpreter, lines: list[str], k: int, offset: int,
 
 def _has_words(raw: str) -> bool:
     try:
-        return bool(gcode.tokenize(raw))
+        return bool(tokenize(raw))
     except InputError:
         return True
+
+
+def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
+    """Interpret an NC program.
+
+    Parameters
+    ----------
+    text : str
+        The program [-].
+    file : str or Path, optional
+        Where the program came from, for messages [-].
+    start_position_m : sequence of float
+        Position of X, Y, Z before the program starts [m].
+
+    Returns
+    -------
+    list of Line, Rapid, Arc, Dwell
+        The continuous tool path in SI, each segment with its source line [-].
+
+    Raises
+    ------
+    InputError
+        For anything the program says that cannot be executed as written, with file,
+        line and column.
+
+    Warns
+    -----
+    InputWarning
+        Once per kind of ignored word (spindle, coolant, tool, offsets, ...), naming the
+        first line where it occurs.
+    """
+    if len(tuple(start_position_m)) != 3:
+        raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
+    with collector_paused():
+        it = run_program(text, file, start_position_m)
+    it.emit_warnings()
+    return it.segments

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from .command import Command
-from .gcode import parse_gcode
+from .gcode_stream import parse_gcode
 from .interpolate import Interpolation, interpolate_detailed
 from .segments import Arc
 from .settings import InterpolatorSettings

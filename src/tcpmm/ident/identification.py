@@ -256,12 +256,14 @@ class Identification:
         return self.parameters_table()
 
     def parameters_table(self):
-        """Identified parameters with standard deviations, all axes."""
+        """Identified parameters with standard deviations, all axes: the value and deviation
+        the model carries (the friction runs' where they replaced the fit's, deviations
+        scaled to their real error), and the physical fit's own beside them."""
         import pandas as pd
 
         return pd.concat(
-            [a.physical.to_pandas().assign(axis=n) for n, a in self.axes.items()], ignore_index=True
-        )
+            [_model_parameters(a).assign(axis=n) for n, a in self.axes.items()],
+            ignore_index=True)
 
     def quality_table(self):
         """Fit quality, all axes and transfer functions."""
@@ -334,3 +336,14 @@ class AxisFit:
     def cost(self) -> float:
         """Least-squares cost of the physical fit [-]."""
         return self.physical.cost
+
+
+def _model_parameters(a):
+    """One axis's parameter table (:meth:`Identification.parameters_table`) [-]."""
+    df = a.physical.to_pandas().rename(columns={"value": "fit_value", "std": "fit_std"})
+    model = a.axis.mechanics.model_dump()
+    sd = a.axis.uncertainty.mechanics if a.axis.uncertainty is not None else {}
+    df.insert(1, "value", [model[p] for p in df["parameter"]])
+    df.insert(2, "std", [sd.get(p, float("nan")) for p in df["parameter"]])
+    df["rel_std_percent"] = 100.0 * df["std"] / df["value"].where(df["value"] != 0.0)
+    return df

@@ -94,3 +94,21 @@ def test_identify_refuses_the_swap_in_one_line_naming_the_file(vmc, standing, tm
            if not x.startswith("warning:")]
     assert len(err) == 1 and "G_tcp" in err[0] and "sweep.csv" in err[0], err
     assert not model.exists()
+
+
+def test_a_column_with_a_low_first_mode_is_not_read_as_a_swapped_tcp(vmc):
+    """A heavy column whose first mode lies at about 6 Hz, lightly damped, bends in the
+    lowest octave of the sweep: G_tcp there is far from one, and only the band below the
+    mode tells the rigid body (here too narrow to judge)."""
+    from tcpmm.ident.gates.masses import check_static_gains, first_mode_hz
+
+    a = vmc.axes["X"]
+    r = 6.0 / 50.3  # the head's mode from 50.3 Hz to 6 Hz at the same damping ratio
+    soft = a.replace(mechanics=a.mechanics.replace(K_h=a.mechanics.K_h * r**2,
+                                                   C_h=a.mechanics.C_h * r))
+    assert first_mode_hz(soft.mechanics) == pytest.approx(6.0, rel=0.05)
+    frfs = _frfs(_sweep(soft, 0.02))
+    whole_octave = check_static_gains("X", frfs, soft.mechanics.R_L, "X/sweep.csv",
+                                      MIN_COHERENCE)
+    assert whole_octave and "G_tcp" in whole_octave[0].parameter
+    assert mass_findings("X", frfs, soft.mechanics, "X/sweep.csv", MIN_COHERENCE) == []

@@ -12,7 +12,10 @@ frequency domain, also on a sweep that stands still:
 * :func:`check_static_gains` -- ``G_T`` against the lead and ``G_tcp`` against one;
 * :func:`check_mass_line` -- the identified rigid inertia against the mass line of
   ``G_M``, where friction does not hold the axis (:func:`friction_holds_sweep`): a fit that
-  gave up the low band for its modes, or an inertia outside what the loop gains allow.
+  gave up the low band for its modes.
+
+Both judge the good bins up to a third of the model's first mode (and 15 Hz), where a
+mode moves a static gain by at most 12 %.
 """
 
 from __future__ import annotations
@@ -21,21 +24,45 @@ import math
 
 import numpy as np
 
+from ...mechanics.statespace import plant
 from .columns import RATIO_RANGE
 from .findings import Finding
-from .sanity import FRICTION_LEAD_DEG, LOW_BAND_HZ
+from .sanity import LOW_BAND_HZ, friction_holds_sweep
 
-__all__ = ["MASS_RANGE", "check_mass_line", "check_static_gains", "low_band", "mass_findings"]
+__all__ = ["MASS_RANGE", "MIN_BINS", "MODE_MARGIN", "check_mass_line", "check_static_gains",
+           "first_mode_hz", "low_band", "mass_findings"]
 
 #: Ratio of the inertia the mass line of ``G_M`` shows to the identified one taken as
 #: agreeing. On free axes of six machines of an independent simulator the two agree within
 #: 8 %; the axis' modes and the friction's slope move the bottom octave by a few per cent,
 #: a factor of two is a different machine [-].
 MASS_RANGE = (0.5, 2.0)
+#: The band judged ends this many times below the model's first mode: there a mode moves a
+#: static gain by at most 1/(MODE_MARGIN^2 - 1), 12 %, inside the ranges above. A heavy
+#: column whose first mode lies at 6 Hz would otherwise read as a swapped TCP column [-].
+MODE_MARGIN = 3.0
+#: Fewest bins a band must hold to be judged: the lowest bins of a sweep sit at the edge of
+#: its excitation, where one bin alone can be off by a factor of two; the median of three
+#: or more is not [-].
+MIN_BINS = 3
 
 
-def low_band(frf, min_coherence: float) -> np.ndarray:
-    """Bins of the lowest octave of good bins, at most up to :data:`LOW_BAND_HZ` [-].
+def first_mode_hz(mechanics) -> float:
+    """Natural frequency of the mechanics' lowest oscillating mode [Hz]; ``inf`` without
+    one.
+
+    Parameters
+    ----------
+    mechanics : AxisMechanics
+        The axis' mechanics [SI].
+    """
+    ev = np.linalg.eigvals(plant(mechanics).A)
+    osc = np.abs(ev[np.abs(ev.imag) > 1e-9 * np.maximum(np.abs(ev), 1.0)])
+    return float(np.min(osc)) / (2.0 * math.pi) if osc.size else math.inf
+
+
+def low_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ) -> np.ndarray:
+    """Good bins up to ``top_hz`` (at most :data:`LOW_BAND_HZ`).
 
     Parameters
     ----------
@@ -43,22 +70,22 @@ def low_band(frf, min_coherence: float) -> np.ndarray:
         Any FRF of a sweep [-].
     min_coherence : float
         Bins with a lower coherence are not used [-].
+    top_hz : float
+        Highest frequency used [Hz].
 
     Returns
     -------
     ndarray of bool
-        Mask over the FRF's bins; all false when no good bin is low enough [-].
+        Mask over the FRF's bins; all false when fewer than :data:`MIN_BINS` good bins are
+        low enough [-].
     """
     f = np.asarray(frf.freq_hz, dtype=float)
-    good = np.asarray(frf.coherence) >= min_coherence
-    if not np.any(good) or f[good][0] > LOW_BAND_HZ:
-        return np.zeros(f.shape, dtype=bool)
-    f0 = f[good][0]
-    return good & (f <= min(2.0 * f0, LOW_BAND_HZ))
+    band = (np.asarray(frf.coherence) >= min_coherence) & (f <= min(top_hz, LOW_BAND_HZ))
+    return band if np.count_nonzero(band) >= MIN_BINS else np.zeros(f.shape, dtype=bool)
 
 
 def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
-                       min_coherence: float) -> list[Finding]:
+                       min_coherence: float, top_hz: float = LOW_BAND_HZ) -> list[Finding]:
     """``G_T`` against the lead and ``G_tcp`` against one in the low band.
 
     Parameters
@@ -73,6 +100,8 @@ def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
         The sweep's file, for the message [-].
     min_coherence : float
         Bins with a lower coherence are not used [-].
+    top_hz : float
+        Highest frequency judged (:func:`low_band`) [Hz].
 
     Returns
     -------
@@ -90,7 +119,7 @@ def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
         frf = frfs.get(name)
         if frf is None:
             continue
-        low = low_band(frf, min_coherence)
+        low = low_band(frf, min_coherence, top_hz)
         if not np.any(low):
             continue
         gain = float(np.median(np.abs(np.asarray(frf.H)[low]))) / expected
@@ -104,8 +133,8 @@ def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
     return out
 
 
-def check_mass_line(axis: str, frf, mechanics, source: str,
-                    min_coherence: float) -> list[Finding]:
+def check_mass_line(axis: str, frf, mechanics, source: str, min_coherence: float,
+                    top_hz: float = LOW_BAND_HZ) -> list[Finding]:
     """The identified rigid inertia against the mass line of ``G_M``.
 
     Parameters
@@ -120,20 +149,19 @@ def check_mass_line(axis: str, frf, mechanics, source: str,
         The sweep's file, for the message [-].
     min_coherence : float
         Bins with a lower coherence are not used [-].
+    top_hz : float
+        Highest frequency judged (:func:`low_band`) [Hz].
 
     Returns
     -------
     list of Finding
         One when the ratio is outside :data:`MASS_RANGE`; none where friction holds the
-        low band (the phase leads the mass's -90 deg by more than
-        :data:`FRICTION_LEAD_DEG`) [-].
+        bottom of the band (:func:`~tcpmm.ident.gates.sanity.friction_holds_sweep`) [-].
     """
-    low = low_band(frf, min_coherence)
-    if not np.any(low):
+    low = low_band(frf, min_coherence, top_hz)
+    if not np.any(low) or friction_holds_sweep(frf, min_coherence) is not None:
         return []
     H = np.asarray(frf.H)[low]
-    if float(np.median(np.degrees(np.angle(H)))) + 90.0 > FRICTION_LEAD_DEG:
-        return []
     m = mechanics
     j_fit = m.J_m + m.J_L + m.M_t * m.R_L**2
     w = 2.0 * math.pi * np.asarray(frf.freq_hz, dtype=float)[low]
@@ -152,7 +180,8 @@ def check_mass_line(axis: str, frf, mechanics, source: str,
 
 def mass_findings(axis: str, frfs: dict, mechanics, source: str,
                   min_coherence: float) -> list[Finding]:
-    """Both gates of this module on one identified axis [-].
+    """Both gates of this module on one identified axis, in the band
+    :data:`MODE_MARGIN` times below the model's first mode [-].
 
     Parameters
     ----------
@@ -167,7 +196,8 @@ def mass_findings(axis: str, frfs: dict, mechanics, source: str,
     min_coherence : float
         Bins with a lower coherence are not used [-].
     """
-    out = check_static_gains(axis, frfs, mechanics.R_L, source, min_coherence)
+    top = first_mode_hz(mechanics) / MODE_MARGIN
+    out = check_static_gains(axis, frfs, mechanics.R_L, source, min_coherence, top)
     if "G_M" in frfs:
-        out += check_mass_line(axis, frfs["G_M"], mechanics, source, min_coherence)
+        out += check_mass_line(axis, frfs["G_M"], mechanics, source, min_coherence, top)
     return out

@@ -85,6 +85,14 @@ def test_a_report_folder_is_written_whole_or_not_at_all(tmp_path, fail):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
 
 
+def _sigint_default() -> None:
+    """In the child before it runs: SIGINT at its default disposition, and not blocked."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
 @pytest.mark.parametrize(("name", "code"), [("SIGINT", 130), ("SIGTERM", 143)])
 def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
     """A signal mid-sweep: out within a second, one line or two of what is kept, no
@@ -100,8 +108,11 @@ def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
             "X.servo.position_gain=20:60:0.01", "--circle", "5,6000", "--workers", "1",
             "-o", str(tmp_path / "o")]
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
+    # started as a command typed at a terminal, SIGINT at its default: in the full suite the
+    # worker that starts it sometimes passes SIGINT on ignored (a C-level disposition, not
+    # Python's handler), and the sweep then rightly never sees the signal
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=env)
+                            env=env, preexec_fn=_sigint_default)
     try:
         deadline = time.monotonic() + 60
         while not list((tmp_path / "o").glob("results/part-*")) and time.monotonic() < deadline:
@@ -112,5 +123,5 @@ def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
         waited = time.monotonic() - t0
     finally:
         proc.kill()
-    assert proc.returncode == code and waited < 1.5
+    assert proc.returncode == code and waited < 1.5, (proc.returncode, waited, err[-2000:])
     assert "Traceback" not in err and len(err.strip().splitlines()) <= 2

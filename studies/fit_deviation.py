@@ -28,16 +28,12 @@ import argparse
 import json
 import math
 import statistics
-import tempfile
-import warnings
 from pathlib import Path
 
 from tcpmm.ident.physical.uncertainty import FIT_DEVIATION_SCALE
-from tcpmm.ident.pipeline import identify_bundle
-from tcpmm.io.bundle import read_bundle
 from tcpmm.uncertainty.ranges import PLATEAU_SHARE_REL_SD
 
-from .population import draw, measure
+from .population import identified
 
 MECHANICS = ("J_m", "J_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b", "M_h", "C_h", "K_h")
 QUANTITIES = (*MECHANICS, "plateau_share")
@@ -76,14 +72,9 @@ def _plateau_row(truth_axis, ident_axis):
 
 def axis_rows(seed: int, index: int) -> list[dict]:
     """One row per axis of machine ``index`` of population ``seed``."""
-    truth, letter = draw(seed, index)
-    with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            idn = identify_bundle(read_bundle(measure(truth, Path(tmp) / "b", index)),
-                                  accept_suspect=True, verdict=False)
-        except Exception:  # a refused machine has no deviations to judge
-            return []
+    truth, letter, idn = identified(seed, index)
+    if isinstance(idn, Exception):  # a refused machine has no deviations to judge
+        return []
     rows = []
     for name, a in truth.axes.items():
         b = idn.machine.axes[name]

@@ -109,16 +109,25 @@ def measure(machine, folder: Path, seed: int) -> Path:
                          "axes": recs}, folder)
 
 
-def judge(seed: int, index: int) -> list[dict]:
-    """One row per reference figure of machine ``index``: predicted, true, interval."""
+def identified(seed: int, index: int):
+    """Machine ``index`` of population ``seed``, its template, and its identification from
+    the bench protocol's bundle alone (the exception, where identification refused it)."""
     truth, letter = draw(seed, index)
     with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            idn = identify_bundle(read_bundle(measure(truth, Path(tmp) / "b", index)),
-                                  accept_suspect=True, verdict=False)
+            return truth, letter, identify_bundle(
+                read_bundle(measure(truth, Path(tmp) / "b", index)), accept_suspect=True,
+                verdict=False)
         except Exception as exc:  # a refusal is a result of the study, not its end
-            return [{"machine": index, "template": letter, "refused": str(exc)[:200]}]
+            return truth, letter, exc
+
+
+def judge(seed: int, index: int) -> list[dict]:
+    """One row per reference figure of machine ``index``: predicted, true, interval."""
+    truth, letter, idn = identified(seed, index)
+    if isinstance(idn, Exception):
+        return [{"machine": index, "template": letter, "refused": str(idn)[:200]}]
     tests = reference_tests(idn.machine)
     true = figures(truth, tests)
     rows = []

@@ -6,7 +6,9 @@ the point lies left of the direction of travel (seen with ``+a`` to the right an
 up), so positive is inside a CCW circle and outside a CW one, and an overshoot past a
 left-hand corner is negative. In 3-D it is the distance, unsigned. The closest point is
 sought among the command samples within ``window_s`` of the actual sample, so a path
-that passes a place twice (CCW then CW) is matched with the pass being run.
+that passes a place twice (CCW then CW) is matched with the pass being run. The search
+(:mod:`tcpmm.path.nearest`) passes over blocks of segments that lie too far to hold the
+closest point, and gives what measuring every segment of the window gives, to the bit.
 
 Corners are where the command's direction, over ``corner_span_m`` before and after a
 point, turns by more than ``corner_deg``, most of it within a quarter of that span (a curve
@@ -40,6 +42,9 @@ from .corners import corner_metrics, find_corners
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]
 _CHUNK = 256
+#: coordinates the compiled search takes: finite, and far from where their squares
+#: overflow [m]
+_HUGE = 1e100
 
 
 @dataclass
@@ -187,6 +192,23 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
+    from ..path.nearest import BLOCK, MOST_AXES, block_balls, nearest_segments
+
+    if q.shape[1] > MOST_AXES or not all(v.dtype == np.float64 and np.all(np.abs(v) < _HUGE)
+                                         for v in (q, p)):
+        return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+
+    p = np.ascontiguousarray(p)
+    centre, radius = block_balls(p, BLOCK)
+    return nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir,
+                            lo.astype(np.int64), hi.astype(np.int64), centre, radius,
+                            BLOCK, bool(signed))
+
+
+def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
+    """:func:`distance_to_polyline` measuring every segment of each window, in numpy:
+    where a point or vertex is not a finite float, or has many coordinates [m]."""
+    m = p.shape[0]
     width = int(np.max(hi - lo)) + 1
     dist = np.empty(q.shape[0])
     foot = np.empty(q.shape[0], np.int64)

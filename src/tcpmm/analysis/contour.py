@@ -199,9 +199,8 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
         return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
 
     p = np.ascontiguousarray(p)
-    centre, radius = block_balls(p, BLOCK)
     return nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir,
-                            lo.astype(np.int64), hi.astype(np.int64), centre, radius,
+                            lo.astype(np.int64), hi.astype(np.int64), block_balls(p, BLOCK),
                             BLOCK, bool(signed))
 
 

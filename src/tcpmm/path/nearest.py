@@ -5,8 +5,9 @@ Each point is measured against the segments ``a..b`` of its window. Segments are
 in blocks of :data:`BLOCK`, each inside a ball; a block whose ball lies further from the
 point than the closest segment found so far (with a margin far above the rounding of
 either distance) cannot hold the closest segment nor one that ties with it, and is passed
-over. The search starts at the previous point's segment, so the closest one found so far
-is close from the start. Every segment measured is measured with the same operations in
+over, and so are the blocks after it within the path length by which it is too far. The
+search starts at the previous point's segment, so the closest one found so far is close
+from the start. Every segment measured is measured with the same operations in
 the same order as :func:`tcpmm.analysis.contour.distance_to_polyline`'s whole window, so
 the result is that of the whole window to the bit.
 """
@@ -22,7 +23,7 @@ from numba import njit
 #: distances follow, sums more in another order [-]
 MOST_AXES = 7
 #: segments per block [-]
-BLOCK = 16
+BLOCK = 8
 #: a segment within this relative distance of the closest, plus :data:`NEAR_ABS`, ties
 #: with it [-]
 NEAR_REL = 1e-9
@@ -50,11 +51,14 @@ def block_balls(p, block):
         Centre of each block's ball [m].
     radius : ndarray, shape (nb,)
         Radius of each block's ball [m].
+    length : ndarray, shape (nb,)
+        Path length of each block, rounded up [m].
     """
     m, d = p.shape
     nb = (m - 2) // block + 1
     centre = np.empty((nb, d))
     radius = np.zeros(nb)
+    length = np.zeros(nb)
     for b in range(nb):
         v0, v1 = b * block, min(b * block + block, m - 1)
         for c in range(d):
@@ -67,7 +71,12 @@ def block_balls(p, block):
             for c in range(d):
                 s += (p[v, c] - centre[b, c]) ** 2
             radius[b] = max(radius[b], math.sqrt(s))
-    return centre, radius
+            if v > v0:
+                s = 0.0
+                for c in range(d):
+                    s += (p[v, c] - p[v - 1, c]) ** 2
+                length[b] += math.sqrt(s) * (1 + _MARGIN)
+    return centre, radius, length
 
 
 @njit(cache=True, inline="always")
@@ -102,25 +111,33 @@ def _segment(q, k, p, seg, ln2, tdir, j):
 
 @njit(cache=True, inline="always")
 def _far(q, k, centre, radius, bi, level):
-    """Whether every point of block ``bi`` lies further than ``level`` from point
-    ``k`` [-]."""
+    """How much further than ``level`` every point of block ``bi`` lies from point ``k``
+    at the least; not positive where some may not [m]."""
     s = 0.0
     for c in range(q.shape[1]):
         s += (q[k, c] - centre[bi, c]) ** 2
     dq = math.sqrt(s)
-    return dq - radius[bi] > level + _MARGIN * (dq + radius[bi])
+    return dq - radius[bi] - level - _MARGIN * (dq + radius[bi])
 
 
 @njit(cache=True)
-def _measure(q, k, p, seg, ln2, tdir, centre, radius, a, b, seed, block, dd, cross, at):
+def _measure(q, k, p, seg, ln2, tdir, balls, a, b, seed, block, dd, cross, at):
     """Distance and cross product (``dd``, ``cross``) of the segments ``a..b`` not passed
     over, in order, their segments in ``at``; how many, and the smallest distance [m]."""
+    centre, radius, length = balls
     best = _segment(q, k, p, seg, ln2, tdir, seed)[0]
     count = 0
-    for bi in range(a // block, b // block + 1):
-        if _far(q, k, centre, radius, bi, best * (1 + NEAR_REL) + NEAR_ABS):
+    bi = a // block
+    while bi <= b // block:
+        gap = _far(q, k, centre, radius, bi, best * (1 + NEAR_REL) + NEAR_ABS)
+        bi += 1
+        if gap > 0:  # the blocks that follow within that path length are as far
+            run = 0.0
+            while bi <= b // block and run + length[bi] < gap:
+                run += length[bi]
+                bi += 1
             continue
-        for j in range(max(a, bi * block), min(b, bi * block + block - 1) + 1):
+        for j in range(max(a, bi * block - block), min(b, bi * block - 1) + 1):
             dd[count], cross[count] = _segment(q, k, p, seg, ln2, tdir, j)
             at[count] = j
             best = min(best, dd[count])
@@ -129,7 +146,7 @@ def _measure(q, k, p, seg, ln2, tdir, centre, radius, a, b, seed, block, dd, cro
 
 
 @njit(cache=True)
-def nearest_segments(q, p, seg, ln2, tdir, lo, hi, centre, radius, block, signed):
+def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
     """Distance from each point to the nearest of the segments of its window.
 
     Parameters
@@ -147,10 +164,10 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, centre, radius, block, signed
     lo, hi : ndarray of int, shape (n,)
         The window of each point: segments ``lo`` to ``max(hi, lo + 1) - 1``, each taken
         no further than the last [-].
-    centre, radius : ndarray
+    balls : tuple of ndarray
         :func:`block_balls` of ``p`` [m].
     block : int
-        Segments per block of ``centre`` and ``radius`` [-].
+        Segments per block of ``balls`` [-].
     signed : bool
         Negative where the point lies right of the travel (``d == 2``) [-].
 
@@ -173,7 +190,7 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, centre, radius, block, signed
     for k in range(n):
         a = min(lo[k], last)
         b = min(max(hi[k], lo[k] + 1) - 1, last)
-        count, level = _measure(q, k, p, seg, ln2, tdir, centre, radius, a, b,
+        count, level = _measure(q, k, p, seg, ln2, tdir, balls, a, b,
                                 min(max(prev, a), b), block, dd, cross, at)
         # the closest segment, and any that ties with it, are among those measured
         level = level * (1 + NEAR_REL) + NEAR_ABS

@@ -8,13 +8,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tcpmm.analysis.contour import _windowed, distance_to_polyline
+from tcpmm.analysis.contour import _dot, _windowed, distance_to_polyline
 
 
 def whole_window(q, p, t_q, t_p, window_s, signed):
     """:func:`distance_to_polyline` with every segment of each window measured."""
     seg = np.diff(p, axis=0)
-    ln2 = np.einsum("ij,ij->i", seg, seg)
+    ln2 = _dot(seg, seg)
     moving = np.flatnonzero(ln2 > 0)
     nxt = moving[np.minimum(np.searchsorted(moving, np.arange(p.shape[0] - 1)),
                             moving.size - 1)]

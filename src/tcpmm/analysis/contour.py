@@ -183,7 +183,7 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     if m < 2:
         raise InputError("the command needs at least two samples")
     seg = np.diff(p, axis=0)
-    ln2 = np.einsum("ij,ij->i", seg, seg)
+    ln2 = _dot(seg, seg)
     moving = np.flatnonzero(ln2 > 0)
     if moving.size == 0:
         raise InputError("the command does not move; there is no path to measure from")
@@ -192,11 +192,10 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
-    from ..path.nearest import BLOCK, MOST_AXES, block_balls, nearest_segments
-
-    if q.shape[1] > MOST_AXES or not all(v.dtype == np.float64 and np.all(np.abs(v) < _HUGE)
-                                         for v in (q, p)):
+    if not all(v.dtype == np.float64 and np.all(np.abs(v) < _HUGE) for v in (q, p)):
         return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+    # the compiled search loads numba, which a command that measures no contour never needs
+    from ..path.nearest import BLOCK, block_balls, nearest_segments
 
     p = np.ascontiguousarray(p)
     return nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir,
@@ -217,10 +216,10 @@ def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
         valid = (lo[k, None] + np.arange(width)[None, :]) < np.maximum(hi[k, None], lo[k, None] + 1)
         a, d = p[j], seg[j]
         rel = q[k, None, :] - a
-        f = np.clip(np.divide(np.einsum("kjd,kjd->kj", rel, d), ln2[j],
+        f = np.clip(np.divide(_dot(rel, d), ln2[j],
                               out=np.zeros(j.shape), where=ln2[j] > 0), 0.0, 1.0)
         off = rel - f[..., None] * d
-        dd = np.where(valid, np.sqrt(np.einsum("kjd,kjd->kj", off, off)), np.inf)
+        dd = np.where(valid, np.sqrt(_dot(off, off)), np.inf)
         cross = _cross(tdir[j], off) if q.shape[1] == 2 else np.zeros(j.shape)
         # on a shared vertex, the segment that sees the point most to its side decides
         near = dd <= dd.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-15
@@ -231,6 +230,15 @@ def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
         if signed:
             dist[k] *= np.where(cross[rows, best] < 0, -1.0, 1.0)
     return dist, foot
+
+
+def _dot(a, b):
+    """Sum over the last axis of ``a * b``, its coordinates added first to last: the same
+    bits on every CPU, as the compiled search sums them [-]."""
+    s = a[..., 0] * b[..., 0]
+    for c in range(1, a.shape[-1]):
+        s = s + a[..., c] * b[..., c]
+    return s
 
 
 def _cross(t, v):

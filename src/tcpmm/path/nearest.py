@@ -19,9 +19,6 @@ import math
 import numpy as np
 from numba import njit
 
-#: most coordinates a point may have: numpy's einsum, whose order of summation the
-#: distances follow, sums more in another order [-]
-MOST_AXES = 7
 #: segments per block [-]
 BLOCK = 8
 #: a segment within this relative distance of the closest, plus :data:`NEAR_ABS`, ties
@@ -84,29 +81,24 @@ def _segment(q, k, p, seg, ln2, tdir, j):
     """Distance from point ``k`` to segment ``j`` and the travel direction's cross
     product with the offset (0 outside a plane) [m]."""
     d = q.shape[1]
-    # numpy's einsum sums the products of even and of odd coordinates apart, then adds
-    dot_e = dot_o = 0.0
+    # coordinates summed first to last, as the numpy reference does: the same bits on
+    # every CPU, where a library's vectorised sum may pair them otherwise
+    dot = 0.0
     for c in range(d):
-        if c % 2 == 0:
-            dot_e += (q[k, c] - p[j, c]) * seg[j, c]
-        else:
-            dot_o += (q[k, c] - p[j, c]) * seg[j, c]
-    f = (dot_e + dot_o) / ln2[j] if ln2[j] > 0 else 0.0
+        dot += (q[k, c] - p[j, c]) * seg[j, c]
+    f = dot / ln2[j] if ln2[j] > 0 else 0.0
     f = min(max(f, 0.0), 1.0)
-    s_e = s_o = 0.0
+    s2 = 0.0
     o0 = o1 = 0.0
     for c in range(d):
         o = (q[k, c] - p[j, c]) - f * seg[j, c]
-        if c % 2 == 0:
-            s_e += o * o
-        else:
-            s_o += o * o
+        s2 += o * o
         if c == 0:
             o0 = o
         elif c == 1:
             o1 = o
     cross = tdir[j, 0] * o1 - tdir[j, 1] * o0 if d == 2 else 0.0
-    return math.sqrt(s_e + s_o), cross
+    return math.sqrt(s2), cross
 
 
 @njit(cache=True, inline="always")
@@ -152,7 +144,7 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
     Parameters
     ----------
     q : ndarray, shape (n, d)
-        Points, finite, of at most :data:`MOST_AXES` coordinates [m].
+        Points, finite [m].
     p : ndarray, shape (m, d)
         Polyline vertices, finite, ``m >= 2`` [m].
     seg : ndarray, shape (m - 1, d)

@@ -6,7 +6,9 @@ the point lies left of the direction of travel (seen with ``+a`` to the right an
 up), so positive is inside a CCW circle and outside a CW one, and an overshoot past a
 left-hand corner is negative. In 3-D it is the distance, unsigned. The closest point is
 sought among the command samples within ``window_s`` of the actual sample, so a path
-that passes a place twice (CCW then CW) is matched with the pass being run.
+that passes a place twice (CCW then CW) is matched with the pass being run. The search
+(:mod:`tcpmm.path.nearest`) passes over blocks of segments that lie too far to hold the
+closest point, and gives what measuring every segment of the window gives, to the bit.
 
 Corners are where the command's direction, over ``corner_span_m`` before and after a
 point, turns by more than ``corner_deg``, most of it within a quarter of that span (a curve
@@ -40,6 +42,9 @@ from .corners import corner_metrics, find_corners
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]
 _CHUNK = 256
+#: coordinates the compiled search takes: finite, and far from where their squares
+#: overflow [m]
+_HUGE = 1e100
 
 
 @dataclass
@@ -178,7 +183,7 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     if m < 2:
         raise InputError("the command needs at least two samples")
     seg = np.diff(p, axis=0)
-    ln2 = np.einsum("ij,ij->i", seg, seg)
+    ln2 = _dot(seg, seg)
     moving = np.flatnonzero(ln2 > 0)
     if moving.size == 0:
         raise InputError("the command does not move; there is no path to measure from")
@@ -187,6 +192,21 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
+    if not all(v.dtype == np.float64 and np.all(np.abs(v) < _HUGE) for v in (q, p)):
+        return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+    # the compiled search loads numba, which a command that measures no contour never needs
+    from ..path.nearest import BLOCK, block_balls, nearest_segments
+
+    p = np.ascontiguousarray(p)
+    return nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir,
+                            lo.astype(np.int64), hi.astype(np.int64), block_balls(p, BLOCK),
+                            BLOCK, bool(signed))
+
+
+def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
+    """:func:`distance_to_polyline` measuring every segment of each window, in numpy:
+    where a point or vertex is not a finite float, or has many coordinates [m]."""
+    m = p.shape[0]
     width = int(np.max(hi - lo)) + 1
     dist = np.empty(q.shape[0])
     foot = np.empty(q.shape[0], np.int64)
@@ -196,10 +216,10 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
         valid = (lo[k, None] + np.arange(width)[None, :]) < np.maximum(hi[k, None], lo[k, None] + 1)
         a, d = p[j], seg[j]
         rel = q[k, None, :] - a
-        f = np.clip(np.divide(np.einsum("kjd,kjd->kj", rel, d), ln2[j],
+        f = np.clip(np.divide(_dot(rel, d), ln2[j],
                               out=np.zeros(j.shape), where=ln2[j] > 0), 0.0, 1.0)
         off = rel - f[..., None] * d
-        dd = np.where(valid, np.sqrt(np.einsum("kjd,kjd->kj", off, off)), np.inf)
+        dd = np.where(valid, np.sqrt(_dot(off, off)), np.inf)
         cross = _cross(tdir[j], off) if q.shape[1] == 2 else np.zeros(j.shape)
         # on a shared vertex, the segment that sees the point most to its side decides
         near = dd <= dd.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-15
@@ -210,6 +230,15 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
         if signed:
             dist[k] *= np.where(cross[rows, best] < 0, -1.0, 1.0)
     return dist, foot
+
+
+def _dot(a, b):
+    """Sum over the last axis of ``a * b``, its coordinates added first to last: the same
+    bits on every CPU, as the compiled search sums them [-]."""
+    s = a[..., 0] * b[..., 0]
+    for c in range(1, a.shape[-1]):
+        s = s + a[..., c] * b[..., c]
+    return s
 
 
 def _cross(t, v):

@@ -115,7 +115,8 @@ def _batches(path, rows, keep):
     """The columns ``keep`` accepts of a Parquet file, ``rows`` rows at a time [-]."""
     import pyarrow.parquet as pq
 
-    f = pq.ParquetFile(path)
+    # pre-buffered reads keep every row group's bytes read so far until the scan ends
+    f = pq.ParquetFile(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
         yield {c: b.column(c).to_numpy().astype(float) for c in names}

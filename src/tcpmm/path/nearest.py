@@ -1,0 +1,195 @@
+"""The nearest point of a polyline to each of a run of points, among a window of its
+segments.
+
+Each point is measured against the segments ``a..b`` of its window. Segments are grouped
+in blocks of :data:`BLOCK`, each inside a ball; a block whose ball lies further from the
+point than the closest segment found so far (with a margin far above the rounding of
+either distance) cannot hold the closest segment nor one that ties with it, and is passed
+over, and so are the blocks after it within the path length by which it is too far. The
+search starts at the previous point's segment, so the closest one found so far is close
+from the start. Every segment measured is measured with the same operations in
+the same order as :func:`tcpmm.analysis.contour.distance_to_polyline`'s whole window, so
+the result is that of the whole window to the bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+#: segments per block [-]
+BLOCK = 8
+#: a segment within this relative distance of the closest, plus :data:`NEAR_ABS`, ties
+#: with it [-]
+NEAR_REL = 1e-9
+#: see :data:`NEAR_REL` [m]
+NEAR_ABS = 1e-15
+#: margin of a block's pass-over, relative to the distances involved: rounding errs by
+#: some 1e-15 of them [-]
+_MARGIN = 1e-10
+
+
+@njit(cache=True)
+def block_balls(p, block):
+    """Centre and radius of a ball around the vertices of each block of segments.
+
+    Parameters
+    ----------
+    p : ndarray, shape (m, d)
+        Polyline vertices [m].
+    block : int
+        Segments per block [-].
+
+    Returns
+    -------
+    centre : ndarray, shape (nb, d)
+        Centre of each block's ball [m].
+    radius : ndarray, shape (nb,)
+        Radius of each block's ball [m].
+    length : ndarray, shape (nb,)
+        Path length of each block, rounded up [m].
+    """
+    m, d = p.shape
+    nb = (m - 2) // block + 1
+    centre = np.empty((nb, d))
+    radius = np.zeros(nb)
+    length = np.zeros(nb)
+    for b in range(nb):
+        v0, v1 = b * block, min(b * block + block, m - 1)
+        for c in range(d):
+            lo, hi = p[v0, c], p[v0, c]
+            for v in range(v0 + 1, v1 + 1):
+                lo, hi = min(lo, p[v, c]), max(hi, p[v, c])
+            centre[b, c] = 0.5 * (lo + hi)
+        for v in range(v0, v1 + 1):
+            s = 0.0
+            for c in range(d):
+                s += (p[v, c] - centre[b, c]) ** 2
+            radius[b] = max(radius[b], math.sqrt(s))
+            if v > v0:
+                s = 0.0
+                for c in range(d):
+                    s += (p[v, c] - p[v - 1, c]) ** 2
+                length[b] += math.sqrt(s) * (1 + _MARGIN)
+    return centre, radius, length
+
+
+@njit(cache=True, inline="always")
+def _segment(q, k, p, seg, ln2, tdir, j):
+    """Distance from point ``k`` to segment ``j`` and the travel direction's cross
+    product with the offset (0 outside a plane) [m]."""
+    d = q.shape[1]
+    # coordinates summed first to last, as the numpy reference does: the same bits on
+    # every CPU, where a library's vectorised sum may pair them otherwise
+    dot = 0.0
+    for c in range(d):
+        dot += (q[k, c] - p[j, c]) * seg[j, c]
+    f = dot / ln2[j] if ln2[j] > 0 else 0.0
+    f = min(max(f, 0.0), 1.0)
+    s2 = 0.0
+    o0 = o1 = 0.0
+    for c in range(d):
+        o = (q[k, c] - p[j, c]) - f * seg[j, c]
+        s2 += o * o
+        if c == 0:
+            o0 = o
+        elif c == 1:
+            o1 = o
+    cross = tdir[j, 0] * o1 - tdir[j, 1] * o0 if d == 2 else 0.0
+    return math.sqrt(s2), cross
+
+
+@njit(cache=True, inline="always")
+def _far(q, k, centre, radius, bi, level):
+    """How much further than ``level`` every point of block ``bi`` lies from point ``k``
+    at the least; not positive where some may not [m]."""
+    s = 0.0
+    for c in range(q.shape[1]):
+        s += (q[k, c] - centre[bi, c]) ** 2
+    dq = math.sqrt(s)
+    return dq - radius[bi] - level - _MARGIN * (dq + radius[bi])
+
+
+@njit(cache=True)
+def _measure(q, k, p, seg, ln2, tdir, balls, a, b, seed, block, dd, cross, at):
+    """Distance and cross product (``dd``, ``cross``) of the segments ``a..b`` not passed
+    over, in order, their segments in ``at``; how many, and the smallest distance [m]."""
+    centre, radius, length = balls
+    best = _segment(q, k, p, seg, ln2, tdir, seed)[0]
+    count = 0
+    bi = a // block
+    while bi <= b // block:
+        gap = _far(q, k, centre, radius, bi, best * (1 + NEAR_REL) + NEAR_ABS)
+        bi += 1
+        if gap > 0:  # the blocks that follow within that path length are as far
+            run = 0.0
+            while bi <= b // block and run + length[bi] < gap:
+                run += length[bi]
+                bi += 1
+            continue
+        for j in range(max(a, bi * block - block), min(b, bi * block - 1) + 1):
+            dd[count], cross[count] = _segment(q, k, p, seg, ln2, tdir, j)
+            at[count] = j
+            best = min(best, dd[count])
+            count += 1
+    return count, best
+
+
+@njit(cache=True)
+def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
+    """Distance from each point to the nearest of the segments of its window.
+
+    Parameters
+    ----------
+    q : ndarray, shape (n, d)
+        Points, finite [m].
+    p : ndarray, shape (m, d)
+        Polyline vertices, finite, ``m >= 2`` [m].
+    seg : ndarray, shape (m - 1, d)
+        Segment vectors ``p[j + 1] - p[j]`` [m].
+    ln2 : ndarray, shape (m - 1,)
+        Their squared lengths [m^2].
+    tdir : ndarray, shape (m - 1, d)
+        Direction of travel on each segment [-].
+    lo, hi : ndarray of int, shape (n,)
+        The window of each point: segments ``lo`` to ``max(hi, lo + 1) - 1``, each taken
+        no further than the last [-].
+    balls : tuple of ndarray
+        :func:`block_balls` of ``p`` [m].
+    block : int
+        Segments per block of ``balls`` [-].
+    signed : bool
+        Negative where the point lies right of the travel (``d == 2``) [-].
+
+    Returns
+    -------
+    dist : ndarray, shape (n,)
+        Distance to the closest segment; among those within ``NEAR_REL`` and
+        ``NEAR_ABS`` of it, the first that sees the point most to its side [m].
+    foot : ndarray of int, shape (n,)
+        That segment [-].
+    """
+    n, last = q.shape[0], p.shape[0] - 2
+    dist = np.empty(n)
+    foot = np.empty(n, np.int64)
+    width = 1
+    for k in range(n):
+        width = max(width, hi[k] - lo[k] + 1)
+    dd, cross, at = np.empty(width), np.empty(width), np.empty(width, np.int64)
+    prev = 0
+    for k in range(n):
+        a = min(lo[k], last)
+        b = min(max(hi[k], lo[k] + 1) - 1, last)
+        count, level = _measure(q, k, p, seg, ln2, tdir, balls, a, b,
+                                min(max(prev, a), b), block, dd, cross, at)
+        # the closest segment, and any that ties with it, are among those measured
+        level = level * (1 + NEAR_REL) + NEAR_ABS
+        pick = 0
+        for i in range(count):
+            if (dd[i] <= level and abs(cross[i]) > abs(cross[pick])) or dd[pick] > level:
+                pick = i
+        dist[k] = -dd[pick] if signed and cross[pick] < 0 else dd[pick]
+        foot[k] = prev = at[pick]
+    return dist, foot

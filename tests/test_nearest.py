@@ -1,0 +1,93 @@
+"""The compiled closest-segment search gives the contour error and its foot of measuring
+every segment of the window in numpy, to the bit: on spirals, zig-zags, sharp corners,
+arcs, paths that cross or come back on themselves, exact ties on a grid, resting
+segments, one to seven axes and windows of any width."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from tcpmm.analysis.contour import _dot, _windowed, distance_to_polyline
+
+
+def whole_window(q, p, t_q, t_p, window_s, signed):
+    """:func:`distance_to_polyline` with every segment of each window measured."""
+    seg = np.diff(p, axis=0)
+    ln2 = _dot(seg, seg)
+    moving = np.flatnonzero(ln2 > 0)
+    nxt = moving[np.minimum(np.searchsorted(moving, np.arange(p.shape[0] - 1)),
+                            moving.size - 1)]
+    tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
+    lo = np.searchsorted(t_p, t_q - window_s, side="left")
+    hi = np.searchsorted(t_p, t_q + window_s, side="right")
+    return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+
+
+def same_to_the_bit(q, p, t_q, t_p, window_s, signed):
+    fast = distance_to_polyline(q, p, t_q, t_p, window_s, signed)
+    ref = whole_window(q, p, t_q, t_p, window_s, signed)
+    np.testing.assert_array_equal(fast[0].view(np.int64), ref[0].view(np.int64))
+    np.testing.assert_array_equal(fast[1], ref[1])
+
+
+def shape(kind, n, rng):
+    """Command vertices of a kind of path [m]."""
+    s = np.linspace(0.0, 1.0, n)
+    th = 2 * np.pi * s
+    if kind == "spiral":
+        return np.c_[(1e-3 + 0.01 * s) * np.cos(10 * th), (1e-3 + 0.01 * s) * np.sin(10 * th)]
+    if kind == "figure_eight":
+        return 0.01 * np.c_[np.sin(2 * th), np.sin(2 * th) * np.cos(2 * th)]
+    if kind == "zigzag":
+        return np.c_[np.abs((20 * s) % 2 - 1) * 0.01, s * 1e-3]
+    if kind == "square":
+        return np.round(0.01 * np.c_[np.clip(2 * np.sin(3 * th), -1, 1),
+                                     np.clip(2 * np.cos(3 * th), -1, 1)], 6)
+    if kind == "arc_back":  # out along an arc and back along the same arc
+        a = np.pi * (1 - np.abs(2 * s - 1))
+        return 0.01 * np.c_[np.cos(a), np.sin(a)]
+    if kind == "grid_3d":  # exact ties on shared vertices, resting segments
+        return np.cumsum(np.round(rng.normal(size=(n, 3)) * 2) * 1e-4, axis=0)
+    return np.cumsum(rng.normal(size=(n, int(rng.integers(1, 8)))) * 1e-4, axis=0)
+
+
+@pytest.mark.parametrize("kind", ["spiral", "figure_eight", "zigzag", "square", "arc_back",
+                                  "grid_3d", "walk"])
+@pytest.mark.parametrize("window_s", [0.002, 0.2, 5.0])
+def test_the_same_as_every_segment_of_the_window(kind, window_s):
+    rng = np.random.default_rng(len(kind))
+    p = shape(kind, 3000, rng)
+    t = np.arange(p.shape[0]) * 1e-3
+    for scale in (0.0, 1e-7, 1e-5, 3e-3):  # on the path, near, on a neighbouring pass
+        q = p + rng.normal(size=p.shape) * scale
+        same_to_the_bit(q, p, t, t, window_s, p.shape[1] == 2)
+        same_to_the_bit(np.round(q, 6), p, t, t, window_s, False)
+
+
+@settings(max_examples=150, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 400), nq=st.integers(1, 300),
+       d=st.integers(1, 7), grid=st.booleans(), window_s=st.sampled_from([1e-4, 0.01, 0.1, 9.0]))
+def test_random_paths_and_windows(seed, n, nq, d, grid, window_s):
+    """Points near random vertices, at times off the command's, some before and after it."""
+    rng = np.random.default_rng(seed)
+    p = rng.normal(size=(n, d)) * 1e-2
+    if grid:
+        p = np.round(p * 1e3) * 1e-3
+    if np.all(p[1:] == p[:-1]):
+        p[-1] += 1e-3
+    at = np.sort(rng.integers(0, n, nq))
+    q = p[at] + (np.round(rng.normal(size=(nq, d))) * 1e-4 if grid else
+                 rng.normal(size=(nq, d)) * 10.0 ** rng.uniform(-8, -2))
+    t_p = np.arange(n) * 1e-2
+    t_q = np.sort(at * 1e-2 + rng.normal(size=nq) * 0.05)
+    same_to_the_bit(q, p, t_q, t_p, window_s, d == 2 and seed % 2 == 0)
+
+
+def test_points_not_finite_are_measured_in_numpy():
+    p = np.c_[np.linspace(0, 1e-2, 50), np.zeros(50)]
+    q = p + 1e-6
+    q[7, 0] = np.nan
+    t = np.arange(50) * 1e-3
+    same_to_the_bit(q, p, t, t, 0.01, True)
+    assert np.isnan(distance_to_polyline(q, p, t, t, 0.01, True)[0][7])

@@ -27,11 +27,11 @@ from .friction.sensitivity import (
 )
 from .friction.split import stribeck_from_record
 from .gates.columns import check_record_units, column_findings
-from .gates.findings import SuspectModelError, axis_findings
-from .gates.masses import mass_findings
+from .gates.finding import SuspectModelError
+from .gates.findings import axis_findings
 from .gates.timebase import time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
-from .options import MIN_COHERENCE, IdentifyOptions
+from .options import IdentifyOptions
 from .steps.axismodel import AxisModel, build_axis
 from .steps.excitationcheck import ExcitationCheck, check_excitation
 from .steps.fitcontext import FitContext, fit_context
@@ -220,9 +220,7 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None) -> Identificatio
             axes[name] = run_axis(AxisRun(name, rec.sweep, cfg, rec.friction), options)
         except InputError as exc:  # a fit knows its numbers, not the bundle they came from
             raise exc.in_file(getattr(bundle, "path", None)) from None
-        findings += axis_findings(axes[name], rec, cfg) + mass_findings(
-            name, axes[name].frfs, axes[name].axis.mechanics,
-            rec.sweep.source or f"{name}/sweep.csv", MIN_COHERENCE)
+        findings += axis_findings(axes[name], rec, cfg)
         if progress is not None:
             progress(name)
     if findings and not options.accept_suspect:

@@ -5,12 +5,11 @@ base of a record in :mod:`~tcpmm.ident.gates.timebase`, the columns in
 :mod:`~tcpmm.ident.gates.masses`), and the sanity checks that warn before a model misleads
 a prediction (:mod:`~tcpmm.ident.gates.sanity`)."""
 
+from .finding import Finding, SuspectModelError
 from .findings import (
     FIT_TRIM,
     STANDING_SWEEP,
     STATIC_OVER_COULOMB,
-    Finding,
-    SuspectModelError,
     axis_findings,
     check_fit_percent,
     check_sampled_loop,

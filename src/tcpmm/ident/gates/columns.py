@@ -23,7 +23,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...io.checks import slope_and_correlation
-from .findings import Finding
+from .finding import Finding, bundle_records
 
 #: Peak of a current column above this many times the current limit counts as beyond it:
 #: the drive clips its command at the limit; the margin covers a limit given rounded [-].
@@ -162,13 +162,10 @@ def column_findings(bundle) -> list[Finding]:
         Empty when every column is plausible [-].
     """
     out = []
-    for name, rec in bundle.axes.items():
+    for name, record, kind in bundle_records(bundle):
         cfg = bundle.machine.axes[name]
-        for record, kind in ((rec.sweep, "sweep.csv"), (rec.friction, "friction.csv")):
-            if record is None:
-                continue
-            out += check_current_columns(name, record, kind, cfg.servo.current_limit_A)
-            out += check_position_columns(name, record, kind, cfg.screw_ratio_m_per_rad)
+        out += check_current_columns(name, record, kind, cfg.servo.current_limit_A)
+        out += check_position_columns(name, record, kind, cfg.screw_ratio_m_per_rad)
     return out
 
 
@@ -198,12 +195,10 @@ def check_record_units(bundle) -> None:
         limit (mA for A), or a scale that does not follow the motor angle times
         lead/(2 pi) within a factor :data:`MOTOR_SCALE_FACTOR` (degrees for radians).
     """
-    for name, rec in bundle.axes.items():
+    for name, record, _ in bundle_records(bundle):
         cfg = bundle.machine.axes[name]
-        for record in (rec.sweep, rec.friction):
-            if record is not None:
-                _check_current(record, cfg.servo.current_limit_A)
-                _check_motor_angle(record, cfg)
+        _check_current(record, cfg.servo.current_limit_A)
+        _check_motor_angle(record, cfg)
 
 
 def _check_current(record, limit: float) -> None:

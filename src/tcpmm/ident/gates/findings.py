@@ -14,25 +14,26 @@ returns a list of :class:`Finding`; an empty list means the check passed. The ch
 * :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it.
 
 :func:`~tcpmm.ident.gates.timebase.time_base_findings` and :func:`axis_findings` run them on
-a bundle's records and on an :class:`~tcpmm.ident.identification.AxisIdentification`;
-:class:`SuspectModelError` reports them.
+a bundle's records and on an :class:`~tcpmm.ident.identification.AxisIdentification`, the
+latter with the masses against the FRFs' static gains (:mod:`~tcpmm.ident.gates.masses`);
+:class:`~tcpmm.ident.gates.finding.SuspectModelError` reports them.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InputError
 from ...servo.sampled import sampled_spectral_radius
 from ..friction.split import slowest_plateau, stribeck_from_record
 from ..friction.sweepforce import travel_speed
 from ..lti.goodness import fit_percent
 from ..options import MIN_COHERENCE
+from .finding import Finding
+from .masses import mass_findings
 
-__all__ = ["FIT_TRIM", "STATIC_OVER_COULOMB", "Finding", "SuspectModelError", "axis_findings",
+__all__ = ["FIT_TRIM", "STATIC_OVER_COULOMB", "axis_findings",
            "check_fit_percent", "check_sampled_loop", "check_static_friction_vs_drive",
            "check_static_over_coulomb", "drive_force_limit", "slowest_plateau_speed",
            "trimmed_fit_percent"]
@@ -54,63 +55,6 @@ FIT_TRIM = 0.01
 #: an axis whose sweep crossed free play in the nut read -16 % there and predicted its
 #: circle within 3.7 um, while a model of the wrong sign or scale reads -200 % or less.
 FIT_FLOOR = {"G_M": 0.0, "G_T": -50.0, "G_tcp": -50.0}
-
-
-@dataclass(frozen=True)
-class Finding:
-    """A physically suspect result of identification.
-
-    Parameters
-    ----------
-    axis : str
-        Axis name [-].
-    parameter : str
-        What is suspect, e.g. ``friction.guideway.fs_pos`` [-].
-    value : float
-        Its value, in ``unit`` [unit].
-    unit : str
-        Unit of ``value`` as shown, e.g. ``N`` [-].
-    bound : str
-        The bound it violates, with its value and unit [-].
-    data : str
-        Which data led there (file and what in it) [-].
-    remedy : str
-        What to do about it [-].
-    """
-
-    axis: str
-    parameter: str
-    value: float
-    unit: str
-    bound: str
-    data: str
-    remedy: str
-
-    def __str__(self) -> str:
-        unit = f" {self.unit}" if self.unit else ""
-        return (f"axis {self.axis}: {self.parameter} = {self.value:.4g}{unit}, {self.bound} "
-                f"(from {self.data}); {self.remedy}")
-
-
-class SuspectModelError(InputError):
-    """Identification gave a physically suspect model, which is therefore not written.
-
-    Parameters
-    ----------
-    findings : list of Finding
-        What the gates found [-].
-    file : str or Path, optional
-        The bundle [-].
-    """
-
-    def __init__(self, findings, file=None):
-        self.findings = list(findings)
-        text = " | ".join(str(f) for f in self.findings)
-        super().__init__(
-            f"the identified model is physically suspect and was not written: {text}. "
-            "Fix the data as said, or write the model anyway, marked as suspect, with "
-            "--accept-suspect (Python: identify_bundle(..., accept_suspect=True))",
-            file=file)
 
 
 def drive_force_limit(axis) -> float:
@@ -363,6 +307,7 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
                                  ident.fitted_response(tf, frf.freq_hz)[good], sweep,
                                  remedy)
     out += check_sampled_loop(name, axis, sweep)
+    out += mass_findings(name, ident.frfs, axis.mechanics, sweep, MIN_COHERENCE)
     if records.friction is not None and axis.friction is not None:
         runs = records.friction.source or f"{name}/friction.csv"
         out += check_static_friction_vs_drive(name, axis, runs)

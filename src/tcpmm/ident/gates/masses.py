@@ -26,7 +26,7 @@ import numpy as np
 
 from ...mechanics.statespace import plant
 from .columns import RATIO_RANGE
-from .findings import Finding
+from .finding import Finding
 from .sanity import LOW_BAND_HZ, friction_holds_sweep
 
 __all__ = ["MASS_RANGE", "MIN_BINS", "MODE_MARGIN", "check_mass_line", "check_static_gains",

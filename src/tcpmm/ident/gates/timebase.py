@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from .findings import Finding
+from .finding import Finding, bundle_records
 
 __all__ = ["MAX_DAQ_PERIOD_S", "MAX_FEED_SPEED", "MIN_DAQ_PERIOD_S", "check_time_base",
            "time_base_findings"]
@@ -95,9 +95,5 @@ def time_base_findings(bundle) -> list[Finding]:
     list of Finding
         Empty when every time base is plausible [-].
     """
-    out = []
-    for name, rec in bundle.axes.items():
-        for record, kind in ((rec.sweep, "sweep.csv"), (rec.friction, "friction.csv")):
-            if record is not None:
-                out += check_time_base(name, record, kind)
-    return out
+    return [f for name, record, kind in bundle_records(bundle)
+            for f in check_time_base(name, record, kind)]

@@ -23,12 +23,12 @@ reported as not firm.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._datafile import read_data_json
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from ..model import Axis, Machine
@@ -47,10 +47,7 @@ TOLERANCE = 4.1e-6
 def _model_error() -> dict:
     """The floors of :data:`MODEL_ERROR` from the package's data file, which records their
     provenance."""
-    from importlib.resources import files
-
-    text = files("tcpmm").joinpath("data/model_error.json").read_text(encoding="utf-8")
-    doc = json.loads(text)
+    doc = read_data_json("model_error.json")
     return {k: doc[k] for k in ("mechanics", "friction_level", "guideway_share", "backlash",
                                 "correlation")}
 

@@ -16,10 +16,9 @@ determined quantity, from the fits that produced it.
 
 from __future__ import annotations
 
-import json
 import math
-from importlib.resources import files
 
+from ..._datafile import read_data_json
 from ...model import AxisUncertainty
 
 __all__ = ["FIT_DEVIATION_SCALE", "axis_uncertainty"]
@@ -28,8 +27,7 @@ __all__ = ["FIT_DEVIATION_SCALE", "axis_uncertainty"]
 def _fit_deviation_scale() -> dict:
     """The factors of :data:`FIT_DEVIATION_SCALE` from the package's data file, which records
     their provenance."""
-    text = files("tcpmm").joinpath("data/fit_deviation.json").read_text(encoding="utf-8")
-    return {k: float(v) for k, v in json.loads(text)["scale"].items()}
+    return {k: float(v) for k, v in read_data_json("fit_deviation.json")["scale"].items()}
 
 
 #: Factor per mechanical quantity on the standard deviation its fit reports, so that it

@@ -30,6 +30,7 @@ import math
 import statistics
 from pathlib import Path
 
+from tcpmm.ident.friction.sensitivity import coulomb_share
 from tcpmm.ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from tcpmm.uncertainty.ranges import PLATEAU_SHARE_REL_SD
 
@@ -51,14 +52,6 @@ def _true_value(axis, p: str) -> float:
     return float(v)
 
 
-def _true_share(axis) -> float:
-    """The true guideway share of the Coulomb friction [-]."""
-    fr = axis.friction
-    g = 0.0 if fr.guideway is None else fr.guideway.fc_pos + fr.guideway.fc_neg
-    s = 0.0 if fr.screw is None else fr.screw.fc_pos + fr.screw.fc_neg
-    return g / (g + s) if g + s > 0 else math.nan
-
-
 def _plateau_row(truth_axis, ident_axis):
     """True share, the plateaus' own share and its deviation, on an axis whose sweep
     friction held; ``None`` elsewhere."""
@@ -67,7 +60,8 @@ def _plateau_row(truth_axis, ident_axis):
         return None
     if not (math.isfinite(sp.plateau_share) and math.isfinite(sp.plateau_share_std)):
         return None
-    return [_true_share(truth_axis), float(sp.plateau_share), float(sp.plateau_share_std)]
+    return [coulomb_share(truth_axis.friction), float(sp.plateau_share),
+            float(sp.plateau_share_std)]
 
 
 def axis_rows(seed: int, index: int) -> list[dict]:

@@ -7,7 +7,7 @@ import math
 from dataclasses import dataclass
 
 from ..ident.friction.presliding import with_presliding
-from ..ident.friction.sensitivity import with_share
+from ..ident.friction.sensitivity import coulomb_share, with_share
 from ..model import Axis
 from ..whatif.spread import longer_presliding, scaled_contact
 
@@ -72,10 +72,9 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
         out.append(Variant("friction_level", False, axis.replace(friction=fr.model_copy(
             update={"guideway": scaled_contact(fr.guideway, k),
                     "screw": scaled_contact(fr.screw, k)}))))
-    size = [0.0 if c is None else c.fc_pos + c.fc_neg for c in (fr.guideway, fr.screw)]
-    if ("guideway_share" not in open_q and sum(size) > 0 and math.isfinite(u.guideway_share)
-            and u.guideway_share > 0.0):
-        share = size[0] / sum(size)
+    share = coulomb_share(fr)
+    if ("guideway_share" not in open_q and math.isfinite(share)
+            and math.isfinite(u.guideway_share) and u.guideway_share > 0.0):
         sd = u.guideway_share * QUANTILE_90
         for s in (share - sd, share + sd):
             new = with_share(fr, min(max(s, 0.01), 0.99))

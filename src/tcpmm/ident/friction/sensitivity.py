@@ -30,9 +30,9 @@ from .presliding import with_presliding
 from .split import SHARE_WARN_STD
 
 __all__ = ["LostMotionSensitivity", "PreslidingSensitivity", "ShareSensitivity",
-           "lost_motion_spike_range", "presliding_spike_range", "share_spike_range",
-           "spike_range", "warn_lost_motion_sensitivity", "warn_presliding_sensitivity",
-           "warn_share_sensitivity", "with_share"]
+           "coulomb_share", "lost_motion_spike_range", "presliding_spike_range",
+           "share_spike_range", "spike_range", "warn_lost_motion_sensitivity",
+           "warn_presliding_sensitivity", "warn_share_sensitivity", "with_share"]
 
 @dataclass(frozen=True)
 class ShareSensitivity:
@@ -114,6 +114,20 @@ def _resplit(contact, part: dict):
         k = max(part["fs_pos"], part["fs_neg"]) / fs_old if fs_old > 0 else 1.0
         upd.update(sigma0=contact.sigma0 * k, sigma1=contact.sigma1 * math.sqrt(k))
     return contact.model_copy(update=upd)
+
+
+def coulomb_share(friction) -> float:
+    """The guideway's share of the Coulomb levels of both directions, the share
+    :func:`with_share` sets [-]; NaN without Coulomb friction.
+
+    Parameters
+    ----------
+    friction : AxisFriction
+        Friction of the axis [SI].
+    """
+    g, s = (0.0 if c is None else c.fc_pos + c.fc_neg for c in (friction.guideway,
+                                                                 friction.screw))
+    return g / (g + s) if g + s > 0.0 else math.nan
 
 
 def with_share(friction, share: float):

@@ -142,21 +142,37 @@ def circle_settings(
     )
 
 
+def _circle_meta(radius_m, feed_m_per_s, centre_m, direction, start_angle_rad, turns,
+                 plane_axes) -> dict:
+    """What a circle command's ``meta`` says of the test, beside the interpolator's keys.
+
+    Parameters
+    ----------
+    radius_m, feed_m_per_s, centre_m, direction, start_angle_rad, turns, plane_axes
+        As in :func:`circle_command` [m], [m/s], [m], [-], [rad], [-], [-].
+
+    Returns
+    -------
+    dict
+        ``source`` "circle" and the parameters as plain floats and strings, the plane
+        axes upper case [-].
+    """
+    return dict(
+        source="circle",
+        radius_m=float(radius_m),
+        centre_m=(float(centre_m[0]), float(centre_m[1])),
+        direction=direction,
+        start_angle_rad=float(start_angle_rad),
+        plane_axes=tuple(str(a).upper() for a in plane_axes),
+        turns=float(turns),
+        feed_m_per_s=float(feed_m_per_s),
+    )
+
+
 def circle_command(
-    radius_m,
-    feed_m_per_s,
-    centre_m=(0.0, 0.0),
-    direction="ccw",
-    start_angle_rad=0.0,
-    turns=1.0,
-    plane_axes=("X", "Y"),
-    accel_limit_m_per_s2=1.0,
-    jerk_limit_m_per_s3=None,
-    smoothing_time_s=0.0,
-    smoothing="linear",
-    period_s=1e-3,
-    feed_in=True,
-    dwell_s=0.0,
+    radius_m, feed_m_per_s, centre_m=(0.0, 0.0), direction="ccw", start_angle_rad=0.0,
+    turns=1.0, plane_axes=("X", "Y"), accel_limit_m_per_s2=1.0, jerk_limit_m_per_s3=None,
+    smoothing_time_s=0.0, smoothing="linear", period_s=1e-3, feed_in=True, dwell_s=0.0,
 ) -> Command:
     """Position command of a circular test (feed-in, circle, feed-out), from rest to rest.
 
@@ -202,33 +218,13 @@ def circle_command(
         ``feed_m_per_s`` [m/s] and ``circle_index_range`` (first, stop) of the samples
         on the circle (shifted by the filter delay when smoothed) [-].
     """
-    segs = circle_segments(
-        radius_m,
-        feed_m_per_s,
-        centre_m,
-        direction,
-        start_angle_rad,
-        turns,
-        plane_axes,
-        feed_in,
-        dwell_s,
-    )
-    pa = tuple(str(a).upper() for a in plane_axes)
-    settings = circle_settings(
-        accel_limit_m_per_s2, jerk_limit_m_per_s3, smoothing_time_s, smoothing, period_s
-    )
+    segs = circle_segments(radius_m, feed_m_per_s, centre_m, direction, start_angle_rad,
+                           turns, plane_axes, feed_in, dwell_s)
+    settings = circle_settings(accel_limit_m_per_s2, jerk_limit_m_per_s3, smoothing_time_s,
+                               smoothing, period_s)
     result = interpolate_detailed(segs, settings)
-    circle = int(dwell_s > 0) + int(bool(feed_in))
-    cmd = result.command
-    cmd.meta.update(
-        source="circle",
-        radius_m=float(radius_m),
-        centre_m=(float(centre_m[0]), float(centre_m[1])),
-        direction=direction,
-        start_angle_rad=float(start_angle_rad),
-        plane_axes=pa,
-        turns=float(turns),
-        feed_m_per_s=float(feed_m_per_s),
-        circle_index_range=result.sample_range(circle),
-    )
-    return cmd
+    circle = int(dwell_s > 0) + int(bool(feed_in))  # the arcs before the circle [-]
+    meta = _circle_meta(radius_m, feed_m_per_s, centre_m, direction, start_angle_rad, turns,
+                        plane_axes)
+    result.command.meta.update(meta, circle_index_range=result.sample_range(circle))
+    return result.command

@@ -68,6 +68,76 @@ def _locate_bad_value(rows, names, file):
                 ) from None
 
 
+def _numbers(rows, names, file) -> np.ndarray:
+    """The samples of a command file as a table of finite numbers.
+
+    Parameters
+    ----------
+    rows : list of str
+        The lines after the header [-].
+    names : list of str
+        The columns of the header [-].
+    file : Path
+        The file, for the messages [-].
+
+    Returns
+    -------
+    ndarray, shape (len(rows), len(names))
+        The values as written: time [s] and positions [mm].
+    """
+    try:
+        data = np.array([row.split(",") for row in rows], dtype=float)
+    except ValueError:
+        data = None
+    if data is None or data.ndim != 2 or data.shape[1] != len(names):
+        _locate_bad_value(rows, names, file)
+        raise InputError("the rows cannot be read as numbers", file=file)
+    bad = ~np.isfinite(data)
+    if bad.any():
+        r, c = np.argwhere(bad)[0]
+        raise InputError(
+            f"{rows[r].split(',')[c].strip()!r} is not a finite number",
+            file=file,
+            line=int(r) + 2,
+            column=names[c],
+        )
+    return data
+
+
+def _check_uniform_time(t, file) -> None:
+    """Refuse a time column that does not increase by one constant step.
+
+    Parameters
+    ----------
+    t : ndarray
+        The time column [s].
+    file : Path
+        The file, for the messages [-].
+    """
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        r = int(np.argmax(dt <= 0)) + 1
+        raise InputError(
+            f"time must increase from row to row ({t[r - 1]} s, then {t[r]} s)",
+            file=file,
+            line=r + 2,
+            column="time_s",
+        )
+    step = (t[-1] - t[0]) / (t.size - 1)
+    off = np.abs(dt - step) > UNIFORM_REL_TOL * step + 1e-12
+    if np.any(off):
+        # point at the first step that differs from the first one, if any does
+        first = np.abs(dt - dt[0]) > UNIFORM_REL_TOL * dt[0] + 1e-12
+        r = int(np.argmax(first if np.any(first) else off)) + 1
+        raise InputError(
+            f"time must be uniformly sampled: the step is {dt[r - 1]:.9g} s here but "
+            f"{dt[0]:.9g} s at the start; write one row per interpolation period",
+            file=file,
+            line=r + 2,
+            column="time_s",
+        )
+
+
 def read_command_csv(path) -> Command:
     """Read a command file.
 
@@ -101,45 +171,9 @@ def read_command_csv(path) -> Command:
         raise InputError(
             "a command file needs at least two rows of samples", file=path, line=len(lines) + 1
         )
-    try:
-        data = np.array([row.split(",") for row in rows], dtype=float)
-    except ValueError:
-        data = None
-    if data is None or data.ndim != 2 or data.shape[1] != len(names):
-        _locate_bad_value(rows, names, path)
-        raise InputError("the rows cannot be read as numbers", file=path)
-    bad = ~np.isfinite(data)
-    if bad.any():
-        r, c = np.argwhere(bad)[0]
-        raise InputError(
-            f"{rows[r].split(',')[c].strip()!r} is not a finite number",
-            file=path,
-            line=int(r) + 2,
-            column=names[c],
-        )
+    data = _numbers(rows, names, path)
     t = data[:, 0]
-    dt = np.diff(t)
-    if np.any(dt <= 0):
-        r = int(np.argmax(dt <= 0)) + 1
-        raise InputError(
-            f"time must increase from row to row ({t[r - 1]} s, then {t[r]} s)",
-            file=path,
-            line=r + 2,
-            column="time_s",
-        )
-    step = (t[-1] - t[0]) / (t.size - 1)
-    off = np.abs(dt - step) > UNIFORM_REL_TOL * step + 1e-12
-    if np.any(off):
-        # point at the first step that differs from the first one, if any does
-        first = np.abs(dt - dt[0]) > UNIFORM_REL_TOL * dt[0] + 1e-12
-        r = int(np.argmax(first if np.any(first) else off)) + 1
-        raise InputError(
-            f"time must be uniformly sampled: the step is {dt[r - 1]:.9g} s here but "
-            f"{dt[0]:.9g} s at the start; write one row per interpolation period",
-            file=path,
-            line=r + 2,
-            column="time_s",
-        )
+    _check_uniform_time(t, path)
     positions = {_AXIS_COLUMNS[n]: data[:, k] * 1e-3 for k, n in enumerate(names) if k}
     order = [a for a in ("X", "Y", "Z") if a in positions]
     return Command(

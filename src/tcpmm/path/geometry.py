@@ -136,6 +136,83 @@ def _segment_columns(segments):
     return kind, start, end, centre, feed, rapid, exact, dwell, line, plane, ccw, turns
 
 
+def _straight_lengths(start, end, rapid, feed, rapid_m_per_s) -> np.ndarray:
+    """Straight distance of each segment; the speed of each rapid set in ``feed``.
+
+    Parameters
+    ----------
+    start, end : ndarray, shape (n, 3)
+        Start and end points [m].
+    rapid : ndarray of bool
+        G0 segment [-].
+    feed : ndarray
+        Programmed speed, where each rapid's is set: the fastest along its direction
+        that no axis's rapid speed is exceeded [m/s].
+    rapid_m_per_s : tuple of float
+        Rapid speed of X, Y, Z [m/s].
+
+    Returns
+    -------
+    ndarray
+        Distance from start to end [m].
+    """
+    diff = end - start
+    length = np.linalg.norm(diff, axis=1)
+    if np.any(rapid):
+        u = np.abs(diff[rapid]) / np.maximum(length[rapid], 1e-300)[:, None]
+        with np.errstate(divide="ignore"):
+            feed[rapid] = np.min(np.asarray(rapid_m_per_s)[None, :] / u, axis=1)
+    return length
+
+
+def _arc_columns(kind, start, end, centre, plane, ccw, turns, line) -> dict:
+    """The arc geometry of every segment, named as the fields of :class:`PathArrays`.
+
+    Parameters
+    ----------
+    kind : ndarray of int
+        Segment kind [-].
+    start, end, centre : ndarray, shape (n, 3)
+        Start, end and arc centre points [m].
+    plane : ndarray of int, shape (n, 2)
+        Arc plane axes [-].
+    ccw : ndarray of bool
+        Counter-clockwise arc [-].
+    turns : ndarray of int
+        Whole turns an arc makes beyond its sweep [-].
+    line : ndarray of int
+        Source line of each segment, -1 where unknown [-].
+
+    Returns
+    -------
+    dict
+        ``ia``, ``ib``, ``ih`` [-], ``ca``, ``cb``, ``r0``, ``r1`` [m], ``theta0``,
+        ``sweep`` [rad], ``h0``, ``dh`` [m]; the sweep is 0 for all but arcs.
+    """
+    n = kind.size
+    ia, ib = plane[:, 0], plane[:, 1]
+    idx = np.arange(n)
+    ca, cb = centre[idx, ia], centre[idx, ib]
+    xs, ys = start[idx, ia] - ca, start[idx, ib] - cb
+    xe, ye = end[idx, ia] - ca, end[idx, ib] - cb
+    r0, r1 = np.hypot(xs, ys), np.hypot(xe, ye)
+    arc = kind == ARC
+    sweep = np.zeros(n)
+    if np.any(arc):
+        sweep[arc] = arc_sweep(xs[arc], ys[arc], xe[arc], ye[arc], ccw[arc], turns[arc])
+        bad = arc & ((r0 <= 0.0) | (r1 <= 0.0))
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise InputError(
+                f"segment {i}: arc with zero radius; move the centre off the start and end",
+                line=_line(line, i),
+            )
+    ih = 3 - ia - ib
+    h0 = start[idx, ih]
+    return dict(ia=ia, ib=ib, ih=ih, ca=ca, cb=cb, r0=r0, r1=r1, theta0=np.arctan2(ys, xs),
+                sweep=sweep, h0=h0, dh=end[idx, ih] - h0)
+
+
 def to_arrays(segments, rapid_m_per_s) -> PathArrays:
     """Convert a segment list into :class:`PathArrays`.
 
@@ -151,72 +228,21 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
     PathArrays
         The path as arrays [-].
     """
-    n = len(segments)
     kind, start, end, centre, feed, rapid, exact, dwell, line, plane, ccw, turns = (
         _segment_columns(segments))
     _check(start, end, centre, feed, dwell, kind, rapid, line)
-
-    # lines
-    diff = end - start
-    length = np.linalg.norm(diff, axis=1)
-    if np.any(rapid):
-        u = np.abs(diff[rapid]) / np.maximum(length[rapid], 1e-300)[:, None]
-        with np.errstate(divide="ignore"):
-            feed[rapid] = np.min(np.asarray(rapid_m_per_s)[None, :] / u, axis=1)
-
-    # arcs
-    ia, ib = plane[:, 0], plane[:, 1]
-    ih = 3 - ia - ib
-    idx = np.arange(n)
-    ca, cb = centre[idx, ia], centre[idx, ib]
-    xs, ys = start[idx, ia] - ca, start[idx, ib] - cb
-    xe, ye = end[idx, ia] - ca, end[idx, ib] - cb
-    r0, r1 = np.hypot(xs, ys), np.hypot(xe, ye)
-    theta0 = np.arctan2(ys, xs)
-    arc = kind == ARC
-    sweep = np.zeros(n)
-    if np.any(arc):
-        sweep[arc] = arc_sweep(xs[arc], ys[arc], xe[arc], ye[arc], ccw[arc], turns[arc])
-        bad = arc & ((r0 <= 0.0) | (r1 <= 0.0))
-        if np.any(bad):
-            i = int(np.argmax(bad))
-            raise InputError(
-                f"segment {i}: arc with zero radius; move the centre off the start and end",
-                line=_line(line, i),
-            )
-    h0 = start[idx, ih]
-    dh = end[idx, ih] - h0
-    length = np.where(arc, np.hypot(0.5 * (r0 + r1) * sweep, dh), length)
+    length = _straight_lengths(start, end, rapid, feed, rapid_m_per_s)
+    arcs = _arc_columns(kind, start, end, centre, plane, ccw, turns, line)
+    r0, r1, theta0, sweep = arcs["r0"], arcs["r1"], arcs["theta0"], arcs["sweep"]
+    length = np.where(kind == ARC, np.hypot(0.5 * (r0 + r1) * sweep, arcs["dh"]), length)
     e1, e2 = _blends(kind == BLEND, start, end, centre, r0, r1, theta0, sweep, length)
     zero = (kind != DWELL) & (length <= 0.0)
     if np.any(zero):
         i = int(np.argmax(zero))
         raise InputError(f"segment {i}: motion of zero length; remove it", line=_line(line, i))
-    return PathArrays(
-        kind=kind,
-        start=start,
-        end=end,
-        length=length,
-        feed=feed,
-        rapid=rapid,
-        exact_stop=exact,
-        dwell_s=dwell,
-        line=line,
-        ia=ia,
-        ib=ib,
-        ih=ih,
-        ca=ca,
-        cb=cb,
-        r0=r0,
-        r1=r1,
-        theta0=theta0,
-        sweep=sweep,
-        h0=h0,
-        dh=dh,
-        centre=centre,
-        e1=e1,
-        e2=e2,
-    )
+    return PathArrays(kind=kind, start=start, end=end, length=length, feed=feed, rapid=rapid,
+                      exact_stop=exact, dwell_s=dwell, line=line, centre=centre, e1=e1, e2=e2,
+                      **arcs)
 
 
 def _blends(bl, start, end, centre, r0, r1, theta0, sweep, length):

@@ -118,6 +118,86 @@ def _check_samples(dur, dt: float, line, n_samples: int | None = None) -> None:
     )
 
 
+def _starting_path(segments, start_position_m) -> list:
+    """The segments to interpolate, checked against where the axes stand.
+
+    Parameters
+    ----------
+    segments : sequence of Line, Rapid, Arc, Dwell
+        The continuous tool path [-].
+    start_position_m : sequence of float or None
+        Where the axes stand before the first segment (X, Y, Z) [m].
+
+    Returns
+    -------
+    list
+        The segments; a zero dwell at the start position when the path is empty and a
+        start position is given [-].
+    """
+    segments = list(segments)
+    if start_position_m is not None:
+        start = tuple(float(c) for c in start_position_m)
+        if len(start) != 3:
+            raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
+        if segments and np.linalg.norm(np.subtract(segments[0].start_m, start)) > 1e-9:
+            raise InputError(
+                f"the path starts at {tuple(segments[0].start_m)} m but the axes stand at "
+                f"{start} m; start the path where the axes are"
+            )
+        if not segments:
+            segments = [Dwell(start, 0.0)]
+    if not segments:
+        raise InputError("the path is empty: give at least one motion or dwell")
+    return segments
+
+
+def _command(p: PathArrays, settings: InterpolatorSettings, filt: FilterShape, seg, s,
+             seg_start, dur, n_samples: int) -> Command:
+    """The filtered position command of the sampled path, with its meta data.
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path as arrays [-].
+    settings : InterpolatorSettings
+        Interpolator settings [-].
+    filt : FilterShape
+        The post-interpolation filter [-].
+    seg, s : ndarray
+        Segment index [-] and distance along it [m] of each sample before the filter.
+    seg_start, dur : ndarray
+        When each segment starts [s] and how long it lasts [s].
+    n_samples : int
+        Samples before the filter [-].
+
+    Returns
+    -------
+    Command
+        Positions of the used axes after the filter [m].
+    """
+    dt = settings.period_s
+    pos = evaluate(p, seg, s)
+    cum = np.concatenate([[0.0], np.cumsum(p.length)])
+    path_s = cum[seg] + s
+    positions = {AXES[a]: apply_filter(pos[:, a], filt) for a in _used_axes(p)}
+    n_out = next(iter(positions.values())).size
+    time_s = np.arange(n_out) * dt
+    meta = {
+        "source": "interpolator",
+        "period_s": dt,
+        "profile": settings.profile,
+        "filter_kind": settings.filter_kind,
+        "filter_time_s": settings.filter_time_s,
+        "filter_delay_s": filt.delay_s,
+        "path_s_m": np.concatenate([path_s, np.full(n_out - n_samples, path_s[-1])]),
+        "path_length_m": float(cum[-1]),
+        "segment_line": p.line.copy(),
+        "segment_start_s": seg_start,
+        "segment_end_s": seg_start + dur,
+    }
+    return Command(time_s=time_s, positions=positions, meta=meta)
+
+
 def interpolate_detailed(
     segments, settings: InterpolatorSettings | None = None, start_position_m=None
 ) -> Interpolation:
@@ -142,21 +222,8 @@ def interpolate_detailed(
     """
     settings = settings or InterpolatorSettings()
     dt = settings.period_s
-    segments = list(segments)
-    if start_position_m is not None:
-        start = tuple(float(c) for c in start_position_m)
-        if len(start) != 3:
-            raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")
-        if segments and np.linalg.norm(np.subtract(segments[0].start_m, start)) > 1e-9:
-            raise InputError(
-                f"the path starts at {tuple(segments[0].start_m)} m but the axes stand at "
-                f"{start} m; start the path where the axes are"
-            )
-        if not segments:
-            segments = [Dwell(start, 0.0)]
-    if not segments:
-        raise InputError("the path is empty: give at least one motion or dwell")
-    segments = blend_corners(segments, settings.blend_tolerance_m)
+    segments = blend_corners(_starting_path(segments, start_position_m),
+                             settings.blend_tolerance_m)
     p = to_arrays(segments, settings.rapid())
     filt = filter_shape(settings.filter_kind, settings.filter_time_s, dt,
                         settings.corner_tolerance_m)
@@ -176,31 +243,9 @@ def interpolate_detailed(
     n_samples = max(int(k_end) + 1, 2)
     _check_samples(dur, dt, p.line, n_samples)
     seg, s = ck.sample(k0, off, dur, p.length, v, prof, n_samples, dt)
-    pos = evaluate(p, seg, s)
-    cum = np.concatenate([[0.0], np.cumsum(p.length)])
-    path_s = cum[seg] + s
-
-    axes = _used_axes(p)
-    positions = {AXES[a]: apply_filter(pos[:, a], filt) for a in axes}
-    n_out = next(iter(positions.values())).size
-    time_s = np.arange(n_out) * dt
     seg_start = k0 * dt + off
-    meta = {
-        "source": "interpolator",
-        "period_s": dt,
-        "profile": settings.profile,
-        "filter_kind": settings.filter_kind,
-        "filter_time_s": settings.filter_time_s,
-        "filter_delay_s": filt.delay_s,
-        "path_s_m": np.concatenate([path_s, np.full(n_out - n_samples, path_s[-1])]),
-        "path_length_m": float(cum[-1]),
-        "segment_line": p.line.copy(),
-        "segment_start_s": seg_start,
-        "segment_end_s": seg_start + dur,
-    }
-    command = Command(time_s=time_s, positions=positions, meta=meta)
     return Interpolation(
-        command=command,
+        command=_command(p, settings, filt, seg, s, seg_start, dur, n_samples),
         path=p,
         junction_speed_m_per_s=v,
         segment_vmax_m_per_s=vmax,

@@ -59,42 +59,78 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
         vmax = np.minimum(p.feed, v_axis)
         acc = np.minimum(acc_path, np.min(acc_axis[None, :] / u, axis=1))
     cause = np.where(v_axis < p.feed, 1, 0)
-    a = np.flatnonzero(p.kind == ARC)
-    if a.size:
-        ia, ib, ih = p.ia[a], p.ib[a], p.ih[a]
-        La = p.length[a]
-        sw = np.abs(p.sweep[a])
-        rmax = np.maximum(p.r0[a], p.r1[a])
-        dr = np.abs(p.r1[a] - p.r0[a])
-        mcos, msin = max_abs_trig(p.theta0[a], p.sweep[a])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            # axis velocity: first plane axis moves with sin, second with cos
-            va = vel_axis[ia] * La / (dr + rmax * sw * msin)
-            vb = vel_axis[ib] * La / (dr + rmax * sw * mcos)
-            vh = vel_axis[ih] * La / np.abs(p.dh[a])
-            a_plane = np.minimum(acc_axis[ia], acc_axis[ib])
-            a_t = np.minimum.reduce(
-                [
-                    np.full(a.size, acc_path),
-                    a_plane / math.sqrt(2.0),
-                    acc_axis[ih] * La / np.abs(p.dh[a]),
-                ]
-            )
-            a_n = np.sqrt(a_plane**2 - a_t**2)
-            kappa = rmax * sw**2 / La**2
-            vc = np.sqrt(a_n / kappa)
-            vf = np.full(a.size, np.inf)
-            if filt.variance_s2 > 0.0:
-                # radius loss of a circle through the filter ~ r*omega^2*var/2 <= tol
-                omega = np.sqrt(2.0 * filt.tolerance_m / (rmax * filt.variance_s2))
-                vf = omega * La / sw
-        parts = np.stack([p.feed[a], np.minimum.reduce([va, vb, vh]), vc, vf])
-        vmax[a] = parts.min(axis=0)
-        cause[a] = np.argmin(parts, axis=0)
-        acc[a] = a_t
+    _arc_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
     _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
     vmax[p.kind == DWELL] = 0.0
     acc[p.kind == DWELL] = acc_path
+    _check_limits(p, vmax)
+    return vmax, acc, cause
+
+
+def _arc_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause):
+    """Speed and tangential acceleration limits of the arcs, set in place.
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    vel_axis, acc_axis : ndarray
+        Velocity [m/s] and acceleration [m/s^2] limit of X, Y, Z.
+    acc_path : float
+        Path (tangential) acceleration limit [m/s^2].
+    filt : filters.FilterShape
+        The post-interpolation filter [-].
+    vmax, acc, cause : ndarray
+        Speed limit [m/s], tangential acceleration limit [m/s^2] and what sets the speed
+        limit [-] per segment, the arcs' entries overwritten: the axis velocities over the
+        angle range, the centripetal acceleration and the filter's radius loss.
+    """
+    a = np.flatnonzero(p.kind == ARC)
+    if not a.size:
+        return
+    ia, ib, ih = p.ia[a], p.ib[a], p.ih[a]
+    La = p.length[a]
+    sw = np.abs(p.sweep[a])
+    rmax = np.maximum(p.r0[a], p.r1[a])
+    dr = np.abs(p.r1[a] - p.r0[a])
+    mcos, msin = max_abs_trig(p.theta0[a], p.sweep[a])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # axis velocity: first plane axis moves with sin, second with cos
+        va = vel_axis[ia] * La / (dr + rmax * sw * msin)
+        vb = vel_axis[ib] * La / (dr + rmax * sw * mcos)
+        vh = vel_axis[ih] * La / np.abs(p.dh[a])
+        a_plane = np.minimum(acc_axis[ia], acc_axis[ib])
+        a_t = np.minimum.reduce(
+            [
+                np.full(a.size, acc_path),
+                a_plane / math.sqrt(2.0),
+                acc_axis[ih] * La / np.abs(p.dh[a]),
+            ]
+        )
+        a_n = np.sqrt(a_plane**2 - a_t**2)
+        kappa = rmax * sw**2 / La**2
+        vc = np.sqrt(a_n / kappa)
+        vf = np.full(a.size, np.inf)
+        if filt.variance_s2 > 0.0:
+            # radius loss of a circle through the filter ~ r*omega^2*var/2 <= tol
+            omega = np.sqrt(2.0 * filt.tolerance_m / (rmax * filt.variance_s2))
+            vf = omega * La / sw
+    parts = np.stack([p.feed[a], np.minimum.reduce([va, vb, vh]), vc, vf])
+    vmax[a] = parts.min(axis=0)
+    cause[a] = np.argmin(parts, axis=0)
+    acc[a] = a_t
+
+
+def _check_limits(p, vmax) -> None:
+    """Refuse a motion segment whose speed limit is not positive, naming its line.
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    vmax : ndarray
+        Speed limit per segment [m/s].
+    """
     bad = np.flatnonzero((p.kind != DWELL) & ~(vmax > 0.0))
     if bad.size:  # NaN too: numbers so far apart that doubles cannot resolve the segment
         i = int(bad[0])
@@ -103,7 +139,6 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
             f"feed {p.feed[i]:.4g} m/s); its coordinates, arc centre or radius are beyond "
             "what the interpolator resolves: check them",
             line=None if p.line[i] < 0 else int(p.line[i]))
-    return vmax, acc, cause
 
 
 def _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause):
@@ -168,19 +203,7 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
         return vj, cause
     t_out = tangents(p, at_end=True)[:-1]
     t_in = tangents(p, at_end=False)[1:]
-    du = t_in - t_out
-    with np.errstate(divide="ignore", invalid="ignore"):
-        step = np.asarray(acc_axis, float)[None, :] * filt.spread_s / np.abs(du)
-        cap = np.min(step, axis=1)
-        dun = np.linalg.norm(du, axis=1)
-        tol = np.full(n - 1, np.inf)
-        if filt.mad_s > 0.0:
-            a_side = np.maximum(acc[:-1], acc[1:])
-            room = 2.0 * filt.tolerance_m / dun - 0.5 * a_side * filt.variance_s2
-            tol = np.maximum(room, 0.0) / filt.mad_s
-    parts = np.stack([np.minimum(vmax[:-1], vmax[1:]), cap, tol])
-    cap = parts.min(axis=0)
-    why = np.argmin(parts, axis=0)
+    cap, why = _corner_limits(t_in - t_out, vmax, acc, acc_axis, filt)
     stop = (
         (np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
         | (p.kind[:-1] == DWELL)
@@ -192,3 +215,40 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
     vj[1:-1] = np.where(stop, 0.0, cap)
     cause[1:-1] = np.where(stop, 3, why)
     return vj, cause
+
+
+def _corner_limits(du, vmax, acc, acc_axis, filt):
+    """Speed limit of each inner junction before exact stops, and what sets it.
+
+    Parameters
+    ----------
+    du : ndarray, shape (n - 1, 3)
+        Change of the unit tangent at each inner junction [-].
+    vmax : ndarray
+        Speed limit per segment [m/s].
+    acc : ndarray
+        Tangential acceleration limit per segment [m/s^2].
+    acc_axis : sequence of float
+        Acceleration limit of X, Y, Z [m/s^2].
+    filt : filters.FilterShape
+        The post-interpolation filter [-].
+
+    Returns
+    -------
+    cap : ndarray
+        The lowest of the two segments' limits, the axis velocity step and the filter
+        tolerance [m/s].
+    why : ndarray of int
+        Which of the three sets it, an index into ``JUNCTION_CAUSES`` [-].
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = np.asarray(acc_axis, float)[None, :] * filt.spread_s / np.abs(du)
+        cap = np.min(step, axis=1)
+        dun = np.linalg.norm(du, axis=1)
+        tol = np.full(du.shape[0], np.inf)
+        if filt.mad_s > 0.0:
+            a_side = np.maximum(acc[:-1], acc[1:])
+            room = 2.0 * filt.tolerance_m / dun - 0.5 * a_side * filt.variance_s2
+            tol = np.maximum(room, 0.0) / filt.mad_s
+    parts = np.stack([np.minimum(vmax[:-1], vmax[1:]), cap, tol])
+    return parts.min(axis=0), np.argmin(parts, axis=0)

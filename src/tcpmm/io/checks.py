@@ -13,6 +13,8 @@ from tcpmm.io.csvutil import warn_input
 MIN_PERIODS = 3.0
 #: Band level below this, relative to the strongest band, counts as "no power" [dB].
 FLOOR_DB = -30.0
+#: The column the messages name [-].
+_COLUMN = "excitation_A"
 
 
 def _excitation_of(record) -> tuple[np.ndarray, float, str | None]:
@@ -49,14 +51,93 @@ def band_edges(fmin_hz: float, fmax_hz: float, df_hz: float) -> np.ndarray:
     return np.asarray(edges)
 
 
-def check_excitation_band(
-    record,
-    fmin_hz: float,
-    fmax_hz: float,
-    *,
-    min_periods: float = MIN_PERIODS,
-    floor_db: float = FLOOR_DB,
-) -> list[tuple[float, float]]:
+def _check_covers(n: int, fs: float, fmin_hz: float, fmax_hz: float, min_periods: float,
+                  source) -> None:
+    """Refuse a band that is not one, or that a record of ``n`` samples cannot resolve.
+
+    Parameters
+    ----------
+    n : int
+        Samples in the record [-].
+    fs : float
+        Sampling frequency [Hz].
+    fmin_hz, fmax_hz : float
+        The band wanted [Hz].
+    min_periods : float
+        Periods of fmin the record must hold [-].
+    source : str or None
+        The record's file, for the messages [-].
+    """
+    col = _COLUMN
+    if not (np.isfinite(fmin_hz) and np.isfinite(fmax_hz) and 0 < fmin_hz < fmax_hz):
+        raise InputError(
+            f"band [{fmin_hz:g}, {fmax_hz:g}] Hz: need 0 < fmin < fmax", file=source, column=col
+        )
+    if fmax_hz > fs / 2:
+        raise InputError(
+            f"fmax {fmax_hz:g} Hz is above the Nyquist frequency {fs / 2:g} Hz of a record "
+            f"sampled at {fs:g} Hz; lower fmax or sample faster",
+            file=source,
+            column=col,
+        )
+    duration = n / fs
+    need = min_periods / fmin_hz
+    if duration < need:
+        raise InputError(
+            f"record is {duration:.4g} s long; the lowest frequency asked, {fmin_hz:g} Hz, "
+            f"needs at least {min_periods:g} periods = {need:.4g} s. Record longer or "
+            f"raise fmin to at least {min_periods / duration:.4g} Hz",
+            file=source,
+            column=col,
+        )
+
+
+def _quiet_bands(x, fs: float, fmin_hz: float, fmax_hz: float,
+                 floor_db: float) -> list[tuple[float, float]]:
+    """The third-octave bands of [fmin, fmax] where a signal has no power, neighbours joined.
+
+    Parameters
+    ----------
+    x : ndarray
+        The excitation, mean removed [A].
+    fs : float
+        Sampling frequency [Hz].
+    fmin_hz, fmax_hz : float
+        The band wanted [Hz].
+    floor_db : float
+        Band level below this, relative to the strongest band, counts as no power [dB].
+
+    Returns
+    -------
+    list of (float, float)
+        Lower and upper edge of each quiet stretch, increasing [Hz].
+    """
+    n = x.size
+    # Rectangular periodogram of the whole record: exact for periodic signals (multisine,
+    # whole PRBS periods) and it does not suppress the band edges that a sweep visits
+    # only at the start and end of the record, as a tapered window would.
+    psd = np.abs(np.fft.rfft(x)) ** 2
+    f = np.fft.rfftfreq(n, 1 / fs)
+    edges = band_edges(fmin_hz, fmax_hz, fs / n)
+    idx = np.searchsorted(f, edges)
+    density = np.array([psd[a : max(b, a + 1)].mean() for a, b in itertools.pairwise(idx)])
+    # Weight by sqrt(f), between per-Hz and per-octave, so that linear sweeps (flat per Hz)
+    # and logarithmic sweeps (flat per octave) both read within 5 dB per decade.
+    density = density * np.sqrt(np.sqrt(edges[:-1] * edges[1:]))
+    empty = density < density.max() * 10 ** (floor_db / 10)
+    gaps: list[tuple[float, float]] = []
+    for k in np.flatnonzero(empty):
+        lo, hi = float(edges[k]), float(edges[k + 1])
+        if gaps and gaps[-1][1] == lo:
+            gaps[-1] = (gaps[-1][0], hi)
+        else:
+            gaps.append((lo, hi))
+    return gaps
+
+
+def check_excitation_band(record, fmin_hz: float, fmax_hz: float, *,
+                          min_periods: float = MIN_PERIODS, floor_db: float = FLOOR_DB,
+                          ) -> list[tuple[float, float]]:
     """Check that a record can give an FRF over [fmin, fmax].
 
     Raises when the record is too short for the lowest frequency; warns, naming the
@@ -87,51 +168,12 @@ def check_excitation_band(
         Bad band, band above Nyquist, record too short, constant excitation.
     """
     x, fs, source = _excitation_of(record)
-    col = "excitation_A"
-    if not (np.isfinite(fmin_hz) and np.isfinite(fmax_hz) and 0 < fmin_hz < fmax_hz):
-        raise InputError(
-            f"band [{fmin_hz:g}, {fmax_hz:g}] Hz: need 0 < fmin < fmax", file=source, column=col
-        )
-    if fmax_hz > fs / 2:
-        raise InputError(
-            f"fmax {fmax_hz:g} Hz is above the Nyquist frequency {fs / 2:g} Hz of a record "
-            f"sampled at {fs:g} Hz; lower fmax or sample faster",
-            file=source,
-            column=col,
-        )
-    n = x.size
-    duration = n / fs
-    need = min_periods / fmin_hz
-    if duration < need:
-        raise InputError(
-            f"record is {duration:.4g} s long; the lowest frequency asked, {fmin_hz:g} Hz, "
-            f"needs at least {min_periods:g} periods = {need:.4g} s. Record longer or "
-            f"raise fmin to at least {min_periods / duration:.4g} Hz",
-            file=source,
-            column=col,
-        )
+    _check_covers(x.size, fs, fmin_hz, fmax_hz, min_periods, source)
     x = x - x.mean()
     if not np.any(x):
-        raise InputError("excitation is constant: nothing was excited", file=source, column=col)
-    # Rectangular periodogram of the whole record: exact for periodic signals (multisine,
-    # whole PRBS periods) and it does not suppress the band edges that a sweep visits
-    # only at the start and end of the record, as a tapered window would.
-    psd = np.abs(np.fft.rfft(x)) ** 2
-    f = np.fft.rfftfreq(n, 1 / fs)
-    edges = band_edges(fmin_hz, fmax_hz, fs / n)
-    idx = np.searchsorted(f, edges)
-    density = np.array([psd[a : max(b, a + 1)].mean() for a, b in itertools.pairwise(idx)])
-    # Weight by sqrt(f), between per-Hz and per-octave, so that linear sweeps (flat per Hz)
-    # and logarithmic sweeps (flat per octave) both read within 5 dB per decade.
-    density = density * np.sqrt(np.sqrt(edges[:-1] * edges[1:]))
-    empty = density < density.max() * 10 ** (floor_db / 10)
-    gaps: list[tuple[float, float]] = []
-    for k in np.flatnonzero(empty):
-        lo, hi = float(edges[k]), float(edges[k + 1])
-        if gaps and gaps[-1][1] == lo:
-            gaps[-1] = (gaps[-1][0], hi)
-        else:
-            gaps.append((lo, hi))
+        raise InputError("excitation is constant: nothing was excited", file=source,
+                         column=_COLUMN)
+    gaps = _quiet_bands(x, fs, fmin_hz, fmax_hz, floor_db)
     if gaps:
         text = ", ".join(f"{lo:.4g}-{hi:.4g} Hz" for lo, hi in gaps)
         warn_input(
@@ -139,7 +181,7 @@ def check_excitation_band(
             f"strongest part of {fmin_hz:g}-{fmax_hz:g} Hz); the FRF there is noise. Extend "
             "the excitation band or narrow the identification band",
             file=source,
-            column=col,
+            column=_COLUMN,
         )
     return gaps
 

@@ -84,33 +84,21 @@ def pipe_text(path: Path, what: str = "CSV file") -> str | None:
         raise unreadable(path, what) from None
 
 
-def read_header(path: Path, what: str = "CSV file", text: str | None = None) -> list[str]:
-    """Return the stripped column names of a CSV file's first line.
-
-    The first data row is checked too: pandas would take surplus fields there as an
-    index column and shift every column, so the fault would surface later at the wrong
-    line and column.
+def _header_names(first: str, path: Path) -> list[str]:
+    """The column names of a header line, refused where the line is not a header.
 
     Parameters
     ----------
+    first : str
+        The first line, without its line break [-].
     path : Path
-        CSV file [-].
-    what : str
-        What the file is, for messages [-].
-    text : str, optional
-        Its text, when it was read already (:func:`pipe_text`) [-].
+        CSV file, for the messages [-].
 
     Returns
     -------
     list of str
-        Column names [-].
+        Column names, stripped, none empty or twice [-].
     """
-    try:  # the first two lines only: the rest is left to the parser
-        with (io.StringIO(text) if text is not None
-              else open(path, encoding="utf-8-sig", newline="")) as fh:
-            first, row = fh.readline().strip("\r\n"), fh.readline().strip("\r\n")
-    except (OSError, UnicodeDecodeError):
-        raise unreadable(path, what) from None
     if not first.strip():
         raise InputError(
             "the first line must be the header (column names separated by commas); "
@@ -143,6 +131,37 @@ def read_header(path: Path, what: str = "CSV file", text: str | None = None) -> 
                 line=1,
                 column=name,
             )
+    return names
+
+
+def read_header(path: Path, what: str = "CSV file", text: str | None = None) -> list[str]:
+    """Return the stripped column names of a CSV file's first line.
+
+    The first data row is checked too: pandas would take surplus fields there as an
+    index column and shift every column, so the fault would surface later at the wrong
+    line and column.
+
+    Parameters
+    ----------
+    path : Path
+        CSV file [-].
+    what : str
+        What the file is, for messages [-].
+    text : str, optional
+        Its text, when it was read already (:func:`pipe_text`) [-].
+
+    Returns
+    -------
+    list of str
+        Column names [-].
+    """
+    try:  # the first two lines only: the rest is left to the parser
+        with (io.StringIO(text) if text is not None
+              else open(path, encoding="utf-8-sig", newline="")) as fh:
+            first, row = fh.readline().strip("\r\n"), fh.readline().strip("\r\n")
+    except (OSError, UnicodeDecodeError):
+        raise unreadable(path, what) from None
+    names = _header_names(first, path)
     if row.strip() and len(row.split(",")) > len(names):
         raise _fields_error(path, 2, len(row.split(",")), len(names))
     return names
@@ -184,6 +203,71 @@ def no_rows_error(path: Path) -> InputError:
     return InputError("the file has a header but no data rows", file=path, line=2)
 
 
+def _check_required(names: list[str], required: list[str], optional: list[str],
+                    path: Path) -> None:
+    """Refuse a header that lacks a required column, naming the nearest one it has.
+
+    Parameters
+    ----------
+    names : list of str
+        The header's column names [-].
+    required, optional : list of str
+        Columns that must be and that may be present [-].
+    path : Path
+        CSV file, for the message [-].
+    """
+    missing = [c for c in required if c not in names]
+    if missing:
+        hints = "".join(did_you_mean(m, names) for m in missing[:1])
+        raise InputError(
+            f"missing column(s) {', '.join(missing)}{hints}; the file has "
+            f"{', '.join(names)}; expected {', '.join(required)}"
+            + (f" and optionally {', '.join(optional)}" if optional else "")
+            + " (units are part of the name, see docs/formats.md)",
+            file=path,
+            line=1,
+            column=missing[0],
+        )
+
+
+def _data_rows(path: Path, text: str | None) -> pd.DataFrame:
+    """The rows of a CSV file under its header, trailing blank lines dropped.
+
+    Parameters
+    ----------
+    path : Path
+        CSV file [-].
+    text : str or None
+        Its text, when it was read already (:func:`pipe_text`) [-].
+
+    Returns
+    -------
+    DataFrame
+        Every column, names stripped, at least one row [-].
+    """
+    # all columns are read: usecols would silently drop surplus fields of a row
+    try:
+        frame = pd.read_csv(
+            io.StringIO(text) if text is not None else path,
+            skip_blank_lines=False,
+            skipinitialspace=True,
+            encoding="utf-8-sig",
+            na_filter=True,
+        )
+    except pd.errors.ParserError as exc:
+        raise parse_error(exc, path) from None
+    except UnicodeDecodeError:
+        raise unreadable(path, "CSV file") from None
+    frame.columns = [c.strip() for c in frame.columns]
+    # A final blank line is harmless; blank lines inside the data are not.
+    n = len(frame)
+    while n > 0 and frame.iloc[n - 1].isna().all():
+        n -= 1
+    if n == 0:
+        raise no_rows_error(path)
+    return frame.iloc[:n]
+
+
 def read_numeric_csv(
     path: str | Path,
     required: Iterable[str],
@@ -221,18 +305,7 @@ def read_numeric_csv(
     expected = required + optional
     text = pipe_text(path)
     names = read_header(path, text=text)
-    missing = [c for c in required if c not in names]
-    if missing:
-        hints = "".join(did_you_mean(m, names) for m in missing[:1])
-        raise InputError(
-            f"missing column(s) {', '.join(missing)}{hints}; the file has "
-            f"{', '.join(names)}; expected {', '.join(required)}"
-            + (f" and optionally {', '.join(optional)}" if optional else "")
-            + " (units are part of the name, see docs/formats.md)",
-            file=path,
-            line=1,
-            column=missing[0],
-        )
+    _check_required(names, required, optional, path)
     extra = [c for c in names if c not in expected]
     for c in extra:
         warn_input(
@@ -242,27 +315,7 @@ def read_numeric_csv(
             column=c,
         )
     use = [c for c in expected if c in names]
-    # all columns are read: usecols would silently drop surplus fields of a row
-    try:
-        frame = pd.read_csv(
-            io.StringIO(text) if text is not None else path,
-            skip_blank_lines=False,
-            skipinitialspace=True,
-            encoding="utf-8-sig",
-            na_filter=True,
-        )
-    except pd.errors.ParserError as exc:
-        raise parse_error(exc, path) from None
-    except UnicodeDecodeError:
-        raise unreadable(path, "CSV file") from None
-    frame.columns = [c.strip() for c in frame.columns]
-    # A final blank line is harmless; blank lines inside the data are not.
-    n = len(frame)
-    while n > 0 and frame.iloc[n - 1].isna().all():
-        n -= 1
-    if n == 0:
-        raise no_rows_error(path)
-    frame = frame.iloc[:n]
+    frame = _data_rows(path, text)
     return {name: _finite_column(frame[name], name, path) for name in use}
 
 

@@ -27,45 +27,79 @@ def _load(path: Path):
     import h5py
 
     existing_file(path, ".mat file", "MAT file")
-    if h5py.is_hdf5(path):
-        paths = []
+    return _load_v73(path) if h5py.is_hdf5(path) else _load_v5(path)
 
-        def visit(key, obj):
-            if isinstance(obj, h5py.Dataset) and not key.startswith("#"):
-                paths.append(key.replace("/", "."))
 
+def _load_v73(path: Path):
+    """:func:`_load` of a MATLAB v7.3 file, which is HDF5: read a variable at a time.
+
+    Parameters
+    ----------
+    path : Path
+        The .mat file [-].
+
+    Returns
+    -------
+    tuple
+        Top-level names, dotted paths of all variables and the getter of a dotted
+        path [-].
+    """
+    import h5py
+
+    paths = []
+
+    def visit(key, obj):
+        if isinstance(obj, h5py.Dataset) and not key.startswith("#"):
+            paths.append(key.replace("/", "."))
+
+    try:
+        with h5py.File(path, "r") as f:
+            names = [k for k in f if not k.startswith("#")]
+            f.visititems(visit)
+    except OSError as exc:  # damaged or truncated HDF5
+        raise InputError(
+            f"cannot read as a MATLAB v7.3 (HDF5) file: {exc}. Save it again from MATLAB",
+            file=path,
+        ) from None
+
+    def get73(dotted: str):
         try:
             with h5py.File(path, "r") as f:
-                names = [k for k in f if not k.startswith("#")]
-                f.visititems(visit)
-        except OSError as exc:  # damaged or truncated HDF5
+                obj = f.get(dotted.replace(".", "/"))
+                if isinstance(obj, h5py.Group):  # a struct: report its fields
+                    return dict.fromkeys(obj)
+                if not isinstance(obj, h5py.Dataset):
+                    return None
+                cls = obj.attrs.get("MATLAB_class", b"")
+                if obj.attrs.get("MATLAB_empty", 0):  # MATLAB stores [] as its size
+                    return np.zeros(0)
+                a = obj[()]
+        except OSError as exc:
             raise InputError(
-                f"cannot read as a MATLAB v7.3 (HDF5) file: {exc}. Save it again from MATLAB",
-                file=path,
+                f"cannot read variable '{dotted}' of a MATLAB v7.3 file: {exc}", file=path
             ) from None
+        if cls in (b"char", "char"):
+            return "".join(map(chr, np.ravel(a)))
+        # MATLAB stores column-major, so h5py sees the transpose
+        return np.asarray(a).T
 
-        def get73(dotted: str):
-            try:
-                with h5py.File(path, "r") as f:
-                    obj = f.get(dotted.replace(".", "/"))
-                    if isinstance(obj, h5py.Group):  # a struct: report its fields
-                        return dict.fromkeys(obj)
-                    if not isinstance(obj, h5py.Dataset):
-                        return None
-                    cls = obj.attrs.get("MATLAB_class", b"")
-                    if obj.attrs.get("MATLAB_empty", 0):  # MATLAB stores [] as its size
-                        return np.zeros(0)
-                    a = obj[()]
-            except OSError as exc:
-                raise InputError(
-                    f"cannot read variable '{dotted}' of a MATLAB v7.3 file: {exc}", file=path
-                ) from None
-            if cls in (b"char", "char"):
-                return "".join(map(chr, np.ravel(a)))
-            # MATLAB stores column-major, so h5py sees the transpose
-            return np.asarray(a).T
+    return names, paths, get73
 
-        return names, paths, get73
+
+def _load_v5(path: Path):
+    """:func:`_load` of a MATLAB v4 to v7 file, read whole by scipy.
+
+    Parameters
+    ----------
+    path : Path
+        The .mat file [-].
+
+    Returns
+    -------
+    tuple
+        Top-level names, dotted paths of all variables and the getter of a dotted
+        path [-].
+    """
     from scipy.io import loadmat
 
     try:
@@ -154,6 +188,45 @@ def _fetcher(get, path: Path):
     return fetch
 
 
+def _sample_rate(fs_hz, fetch, path: Path) -> float:
+    """The sample rate given for a record without a time vector.
+
+    Parameters
+    ----------
+    fs_hz : float or str or None
+        Sample rate, or the name of a scalar variable holding it [Hz].
+    fetch : callable
+        Returns a variable's samples by name, None when absent [-].
+    path : Path
+        The .mat file, for the messages [-].
+
+    Returns
+    -------
+    float
+        The positive, finite sample rate [Hz].
+    """
+    if isinstance(fs_hz, str):
+        v = fetch(fs_hz)
+        if v is None or np.size(v) != 1 or v.dtype.kind not in "biuf":
+            raise InputError(f"fs_hz variable '{fs_hz}' not found or not a scalar", file=path)
+        fs_hz = float(np.ravel(v)[0])
+    if fs_hz is None:
+        raise InputError(
+            "no time base: map a time vector as variable_map['time_s'] or give fs_hz",
+            file=path,
+        )
+    try:
+        fs_hz = float(fs_hz)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"fs_hz must be a number [Hz] or the name of a scalar variable, got {fs_hz!r}",
+            file=path,
+        ) from None
+    if not (np.isfinite(fs_hz) and fs_hz > 0):
+        raise InputError(f"fs_hz must be positive, got {fs_hz!r}", file=path)
+    return fs_hz
+
+
 def read_record_mat(
     path: str | Path,
     kind: str,
@@ -196,27 +269,8 @@ def read_record_mat(
             column=exc.column,
         ) from None
     if "time_s" not in cols:
-        if isinstance(fs_hz, str):
-            v = fetch(fs_hz)
-            if v is None or np.size(v) != 1 or v.dtype.kind not in "biuf":
-                raise InputError(f"fs_hz variable '{fs_hz}' not found or not a scalar", file=path)
-            fs_hz = float(np.ravel(v)[0])
-        if fs_hz is None:
-            raise InputError(
-                "no time base: map a time vector as variable_map['time_s'] or give fs_hz",
-                file=path,
-            )
-        try:
-            fs_hz = float(fs_hz)
-        except (TypeError, ValueError):
-            raise InputError(
-                f"fs_hz must be a number [Hz] or the name of a scalar variable, got {fs_hz!r}",
-                file=path,
-            ) from None
-        if not (np.isfinite(fs_hz) and fs_hz > 0):
-            raise InputError(f"fs_hz must be positive, got {fs_hz!r}", file=path)
-        n = next(iter(cols.values())).size
-        cols["time_s"] = np.arange(n) / float(fs_hz)
+        fs = _sample_rate(fs_hz, fetch, path)
+        cols["time_s"] = np.arange(next(iter(cols.values())).size) / fs
     return build_record(kind, cols, path, axis)
 
 

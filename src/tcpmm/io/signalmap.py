@@ -63,33 +63,20 @@ def _scale_of(value, key: str, file) -> float:
     )
 
 
-def parse_signal_map(mapping: Mapping | None, kind: str, file=None) -> dict[str, SignalSource]:
-    """Validate a signal map; ``None`` means "the file uses the tcpmm names".
+def _check_keys(mapping, kind: str, file) -> None:
+    """Refuse a map that is not a dict, names an unknown signal or lacks a required one.
 
     Parameters
     ----------
-    mapping : mapping or None
-        tcpmm name to file name, ``(name, scale)`` or ``{"name": ..., "scale": ...}`` [-].
+    mapping : object
+        The map as given [-].
     kind : {"sweep", "friction"}
         Record kind [-].
-    file : str or Path, optional
+    file : str or Path or None
         File named in messages [-].
-
-    Returns
-    -------
-    dict of str to SignalSource
-        One entry per signal to read, ``time_s`` included when mapped.
     """
-    if kind not in SIGNALS:
-        raise InputError(
-            f"unknown record kind {kind!r}; use one of {', '.join(SIGNALS)}", file=file
-        )
     required, optional = SIGNALS[kind]
     known = ("time_s", *required, *optional)
-    if mapping is None:
-        out = {n: SignalSource(n) for n in required}
-        out.update({n: SignalSource(n, optional=True) for n in ("time_s", *optional)})
-        return out
     if not isinstance(mapping, Mapping):
         raise InputError(
             f"the signal map must be a dict from tcpmm name to file name, got "
@@ -111,40 +98,86 @@ def parse_signal_map(mapping: Mapping | None, kind: str, file=None) -> dict[str,
             file=file,
             column=missing[0],
         )
-    out = {}
-    for key, value in mapping.items():
-        if isinstance(value, str):
-            src = SignalSource(value)
-        elif isinstance(value, Mapping):
-            extra = set(value) - {"name", "scale"}
-            if extra or "name" not in value:
-                raise InputError(
-                    f"map entry for {key} must be {{'name': ..., 'scale': ...}}, got {value!r}",
-                    file=file,
-                    column=key,
-                )
-            src = SignalSource(value["name"], _scale_of(value.get("scale", 1.0), key, file))
-        elif isinstance(value, tuple | list) and len(value) == 2:
-            src = SignalSource(value[0], _scale_of(value[1], key, file))
-        else:
+
+
+def _entry(key: str, value, file) -> SignalSource:
+    """One map entry as a :class:`SignalSource`, its name and scale checked.
+
+    Parameters
+    ----------
+    key : str
+        The tcpmm signal name [-].
+    value : str, (str, float) or mapping
+        The file's name, with its scale factor when given [-].
+    file : str or Path or None
+        File named in messages [-].
+
+    Returns
+    -------
+    SignalSource
+        Where the signal comes from [-].
+    """
+    if isinstance(value, str):
+        src = SignalSource(value)
+    elif isinstance(value, Mapping):
+        extra = set(value) - {"name", "scale"}
+        if extra or "name" not in value:
             raise InputError(
-                f"map entry for {key} must be a name, (name, scale) or "
-                f"{{'name': ..., 'scale': ...}}; got {value!r}",
+                f"map entry for {key} must be {{'name': ..., 'scale': ...}}, got {value!r}",
                 file=file,
                 column=key,
             )
-        if not (isinstance(src.name, str) and src.name.strip()):
-            raise InputError(
-                f"map entry for {key}: the name must be a non-empty string, got {src.name!r}",
-                file=file,
-                column=key,
-            )
-        if not (math.isfinite(src.scale) and src.scale != 0):
-            raise InputError(
-                f"scale factor {src.scale!r} must be finite and non-zero", file=file, column=key
-            )
-        out[key] = src
-    return out
+        src = SignalSource(value["name"], _scale_of(value.get("scale", 1.0), key, file))
+    elif isinstance(value, tuple | list) and len(value) == 2:
+        src = SignalSource(value[0], _scale_of(value[1], key, file))
+    else:
+        raise InputError(
+            f"map entry for {key} must be a name, (name, scale) or "
+            f"{{'name': ..., 'scale': ...}}; got {value!r}",
+            file=file,
+            column=key,
+        )
+    if not (isinstance(src.name, str) and src.name.strip()):
+        raise InputError(
+            f"map entry for {key}: the name must be a non-empty string, got {src.name!r}",
+            file=file,
+            column=key,
+        )
+    if not (math.isfinite(src.scale) and src.scale != 0):
+        raise InputError(
+            f"scale factor {src.scale!r} must be finite and non-zero", file=file, column=key
+        )
+    return src
+
+
+def parse_signal_map(mapping: Mapping | None, kind: str, file=None) -> dict[str, SignalSource]:
+    """Validate a signal map; ``None`` means "the file uses the tcpmm names".
+
+    Parameters
+    ----------
+    mapping : mapping or None
+        tcpmm name to file name, ``(name, scale)`` or ``{"name": ..., "scale": ...}`` [-].
+    kind : {"sweep", "friction"}
+        Record kind [-].
+    file : str or Path, optional
+        File named in messages [-].
+
+    Returns
+    -------
+    dict of str to SignalSource
+        One entry per signal to read, ``time_s`` included when mapped [-].
+    """
+    if kind not in SIGNALS:
+        raise InputError(
+            f"unknown record kind {kind!r}; use one of {', '.join(SIGNALS)}", file=file
+        )
+    required, optional = SIGNALS[kind]
+    if mapping is None:
+        out = {n: SignalSource(n) for n in required}
+        out.update({n: SignalSource(n, optional=True) for n in ("time_s", *optional)})
+        return out
+    _check_keys(mapping, kind, file)
+    return {key: _entry(key, value, file) for key, value in mapping.items()}
 
 
 def _samples(data, name: str, key: str, file) -> np.ndarray:

@@ -89,6 +89,58 @@ def _property(channel, prop: str, key: str, path: Path, default=None) -> float:
         ) from None
 
 
+def _waveform_time(smap, channels: dict, cols: dict, path: Path) -> np.ndarray:
+    """The time base of unmapped time: the channels' common ``wf_increment`` from their
+    ``wf_start_offset``.
+
+    Parameters
+    ----------
+    smap : dict of str to SignalSource
+        Parsed map [-].
+    channels : dict
+        The TDMS channel of each file name read [-].
+    cols : dict of str to ndarray
+        The signals read, for their length [-].
+    path : Path
+        The file, for the messages [-].
+
+    Returns
+    -------
+    ndarray
+        Time of each sample [s].
+    """
+    incs = {}
+    for key, src in smap.items():
+        ch = channels.get(src.name)
+        if ch is not None and "wf_increment" in ch.properties:
+            incs[key] = _property(ch, "wf_increment", key, path)
+            if not (np.isfinite(incs[key]) and incs[key] > 0):
+                raise InputError(
+                    f"wf_increment of '{src.name}' is {incs[key]!r} s; it must be the "
+                    "positive sample interval. Map a time channel as "
+                    "channel_map['time_s']",
+                    file=path,
+                    column=key,
+                )
+    if not incs:
+        raise InputError(
+            "no time base: no channel has a wf_increment property. Map a time channel "
+            "as channel_map['time_s']",
+            file=path,
+        )
+    values = np.array(list(incs.values()))
+    if np.ptp(values) > 1e-9 * values.max():
+        raise InputError(
+            f"channels have different wf_increment {incs}; resample to one rate",
+            file=path,
+        )
+    first = next(iter(incs))
+    t0 = _property(channels[smap[first].name], "wf_start_offset", first, path, 0.0)
+    n = next(iter(cols.values())).size
+    return t0 + np.arange(n) * values[0]
+    cols["time_s"] = t0 + np.arange(n) * values[0]
+
+
 def read_record_tdms(
     path: str | Path,
     kind: str,
@@ -139,35 +191,7 @@ def read_record_tdms(
             column=exc.column,
         ) from None
     if "time_s" not in cols:
-        incs = {}
-        for key, src in smap.items():
-            ch = channels.get(src.name)
-            if ch is not None and "wf_increment" in ch.properties:
-                incs[key] = _property(ch, "wf_increment", key, path)
-                if not (np.isfinite(incs[key]) and incs[key] > 0):
-                    raise InputError(
-                        f"wf_increment of '{src.name}' is {incs[key]!r} s; it must be the "
-                        "positive sample interval. Map a time channel as "
-                        "channel_map['time_s']",
-                        file=path,
-                        column=key,
-                    )
-        if not incs:
-            raise InputError(
-                "no time base: no channel has a wf_increment property. Map a time channel "
-                "as channel_map['time_s']",
-                file=path,
-            )
-        values = np.array(list(incs.values()))
-        if np.ptp(values) > 1e-9 * values.max():
-            raise InputError(
-                f"channels have different wf_increment {incs}; resample to one rate",
-                file=path,
-            )
-        first = next(iter(incs))
-        t0 = _property(channels[smap[first].name], "wf_start_offset", first, path, 0.0)
-        n = next(iter(cols.values())).size
-        cols["time_s"] = t0 + np.arange(n) * values[0]
+        cols["time_s"] = _waveform_time(smap, channels, cols, path)
     return build_record(kind, cols, path, axis)
 
 

@@ -59,13 +59,62 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
         Paths of the written files and the circular-test table [-].
     """
     from .cli._tables import print_table
-    from .plot.bode import plot_bode
-    from .plot.circle import plot_circle, plot_radial_error
-    from .plot.time import plot_run
 
     out = output_folder(out_dir)
     step = progress or (lambda name: None)
     files = {}
+    machine, cmd, run, res, table = _builtin_circle(out, step, files)
+    _plot_builtin(machine, run, res, out, step, files)
+    if console is not None:
+        print_table(table, console, "Circular test on the built-in machine")
+    cmp, idn, circles = identify_and_predict(machine, cmd, out, step, files)
+    if console is not None:
+        print_table(cmp.to_pandas(), console,
+                    "Table 2: virtual measurement - prediction of the identified model [um]")
+        for line in cmp.notes():
+            console.print(line)
+    step("verdict")
+    judged = judged_table2(idn.verdict, cmp, out, files)
+    if console is not None:
+        print_table(judged, console, "Table 2 at the TCP against the predicted 90 % interval "
+                                     "[um]")
+    step("spread")
+    spread = write_spread(idn.machine, cmd, out, files)
+    if console is not None:
+        console.print(spread_summary(spread))
+    report = out / "report.html" if report is None else report
+    files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out,
+                                        tolerance_m, judged)
+    return {"files": {k: str(v) for k, v in files.items()}, "table": table,
+            "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
+
+
+def _builtin_circle(out, step, files):
+    """The built-in machine, the paper's circle command, its simulated run and the
+    circular test of the run, each written.
+
+    Parameters
+    ----------
+    out : Path
+        Output folder [-].
+    step : callable
+        ``step(step_name)`` before each step [-].
+    files : dict
+        Written files by name, to which the model, command, run and table are added [-].
+
+    Returns
+    -------
+    machine : Machine
+        The built-in machine [-].
+    cmd : Command
+        The circle command [m].
+    run : Run
+        Its simulated run [SI].
+    res : CircleResult
+        The circular test of the run [SI].
+    table : DataFrame
+        Its table, one row per pass and sensor, as written to ``circle_table.csv`` [um].
+    """
     step("built-in machine")
     machine = builtin_machine()
     write_machine(machine, out / "model.yaml")
@@ -84,6 +133,31 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
     write_table_atomic(table, out / "circle_table.csv", "%.4f")
     write_text_atomic(out / "circle.json", json.dumps(res.to_dict(), indent=2))
     files["table"] = out / "circle_table.csv"
+    return machine, cmd, run, res, table
+
+
+def _plot_builtin(machine, run, res, out, step, files) -> None:
+    """The built-in machine's circle, radial error, time plot and Bode plots, written.
+
+    Parameters
+    ----------
+    machine : Machine
+        The built-in machine [-].
+    run : Run
+        Its simulated circle [SI].
+    res : CircleResult
+        The circular test of the run [SI].
+    out : Path
+        Output folder [-].
+    step : callable
+        ``step(step_name)`` before each step [-].
+    files : dict
+        Written files by name, to which the plots are added [-].
+    """
+    from .plot.bode import plot_bode
+    from .plot.circle import plot_circle, plot_radial_error
+    from .plot.time import plot_run
+
     step("plots")
     files.update(circle_plot=out / "circle.png", radial_plot=out / "radial_error.png",
                  time_plot=out / "time.png")
@@ -95,29 +169,6 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
     for ax, curves in bode_curves(machine, f).items():
         files[f"bode_{ax}"] = out / f"bode_{ax}.png"
         plot_bode(curves, files[f"bode_{ax}"], title=f"axis {ax}")
-    if console is not None:
-        print_table(table, console, "Circular test on the built-in machine")
-    cmp, idn, circles = identify_and_predict(machine, cmd, out, step, files)
-    identified = idn.machine
-    if console is not None:
-        print_table(cmp.to_pandas(), console,
-                           "Table 2: virtual measurement - prediction of the identified model [um]")
-        for line in cmp.notes():
-            console.print(line)
-    step("verdict")
-    judged = judged_table2(idn.verdict, cmp, out, files)
-    if console is not None:
-        print_table(judged, console, "Table 2 at the TCP against the predicted 90 % interval "
-                                     "[um]")
-    step("spread")
-    spread = write_spread(identified, cmd, out, files)
-    if console is not None:
-        console.print(spread_summary(spread))
-    report = out / "report.html" if report is None else report
-    files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out,
-                                        tolerance_m, judged)
-    return {"files": {k: str(v) for k, v in files.items()}, "table": table,
-            "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
 
 def judged_table2(verdict, cmp, out, files):

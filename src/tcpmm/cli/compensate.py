@@ -70,37 +70,104 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     the interpolator's acceleration leaves it no room, so give the machine's real axis
     limits (--accel-m-per-s2) where they are higher. An NC program (--gcode) is still
     interpolated with the model's own settings."""
-    from ..compensate import compensate as _compensate
-    from ..compensate import machine_bounds, predicted_scores, robust_factors
+    from ..compensate import machine_bounds
     from ..compensate.gcodeout import write_dense_program
     from ..path import write_command_csv
 
+    _check_outputs(output, report, controller_out, radius, model, command, gcode)
+    m = _read_model(model)
+    bounds = machine_bounds(m, accel, jerk)
+    cmd = _load_command(command, gcode, m)
+    radius_m = None if radius is None else radius * 1e-3
+    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, radius_m)
+    write_command_csv(comp.command, output)
+    if gcode_out is not None:
+        write_dense_program(comp.command, gcode_out)
+    cc = None if controller_out is None else _controller(m, cmd, radius_m, controller_out)
+    if report is not None:
+        _write_report(report, comp, m, model, command or gcode, radius_m, cc)
+    if as_json:
+        _emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
+        return
+    _say(output, report, comp, controller_out, cc)
+
+
+def _check_outputs(output: Path, report, controller_out, radius, model: str, command,
+                   gcode) -> None:
+    """Refuse output paths that clash with the inputs or each other before any work, and
+    a controller-side compensation without the circle's radius.
+
+    Parameters
+    ----------
+    output : Path
+        The compensated command file [-].
+    report, controller_out : Path or None
+        The report page and the controller parameters file, where asked [-].
+    radius : float or None
+        The circle's radius [mm].
+    model : str
+        The model file or builtin name [-].
+    command, gcode : Path or None
+        The program's command file or NC program [-].
+    """
     _output(output, model, command, gcode)
     _report_file(report, model, command, gcode, output)
     if controller_out is not None:
         _output(controller_out, model, command, gcode, output)
         if radius is None:
             raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
-    m = _read_model(model)
-    bounds = machine_bounds(m, accel, jerk)
-    cmd = _load_command(command, gcode, m)
-    with _in_file(command or gcode):
-        comp = _compensate(m, cmd, iterations=iterations, bounds=bounds)
-        radius_m = None if radius is None else radius * 1e-3
+
+
+def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radius_m):
+    """The compensation of a command, tested on drawn machines and scored.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [-].
+    cmd : Command
+        The programmed command [m].
+    source : Path
+        The program's file, named by input errors [-].
+    iterations : int
+        Learning steps [-].
+    bounds : dict
+        The axes' limits the command keeps (``machine_bounds``) [SI].
+    draws : int
+        Machines drawn from the model's uncertainty, 0 for none [-].
+    radius_m : float or None
+        The circle's radius, where it is one [m].
+
+    Returns
+    -------
+    Compensation
+        The compensated command with its robustness and scores [-].
+    """
+    from ..compensate import compensate, predicted_scores, robust_factors
+
+    with _in_file(source):
+        comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
         if draws > 0:
-            robust_factors(m, comp, n_draws=draws, radius_m=radius_m)
-        comp.scores = predicted_scores(m, comp, radius_m)
+            robust_factors(machine, comp, n_draws=draws, radius_m=radius_m)
+        comp.scores = predicted_scores(machine, comp, radius_m)
+    return comp
+
+
+def _say(output: Path, report, comp, controller_out, cc) -> None:
+    """Print what was written and the TCP error before and after, on the console.
+
+    Parameters
+    ----------
+    output : Path
+        The compensated command file [-].
+    report, controller_out : Path or None
+        The report page and the controller parameters file, where written [-].
+    comp : Compensation
+        The compensation [-].
+    cc : ControllerCompensation or None
+        The controller-side compensation, where computed [-].
+    """
     result = comp.command
-    write_command_csv(result, output)
-    if gcode_out is not None:
-        write_dense_program(result, gcode_out)
-    cc = None if controller_out is None else _controller(m, cmd, radius * 1e-3,
-                                                           controller_out)
-    if report is not None:
-        _write_report(report, comp, m, model, command or gcode, radius_m, cc)
-    if as_json:
-        _emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
-        return
     out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
     out.print(_row("before", comp.scores["before"]))

@@ -158,9 +158,8 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     (cause) or undetermined (cause), with the measurement that would settle it.
     """
     from ..ident.chain import identify_bundle
-    from ..io.atomic import check_output_folder, staged_folder
+    from ..io.atomic import check_output_folder
     from ..io.bundle import read_bundle
-    from ..io.modelfile import write_machine
 
     _output(output)
     html = report is not None and report.suffix.lower() in (".html", ".htm")
@@ -174,6 +173,35 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     with _progress(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
                               presliding=presliding, accept_suspect=accept_suspect)
+    _write_identified(idn, output, report, html, bundle)
+    _warn_suspect(idn.machine, f"the model written to {output}")
+    if as_json:
+        _emit_json(idn.to_dict())
+    else:
+        _print_identification(idn, presliding, output, report)
+    _exit_if_not_firm(idn.verdict, strict)
+
+
+def _write_identified(idn, output: Path, report, html: bool, bundle: Path) -> None:
+    """Write the model file and, where asked, its report: the HTML page, or the folder of
+    plots and tables, which is not left behind when the model cannot be written.
+
+    Parameters
+    ----------
+    idn : Identification
+        The identification [-].
+    output : Path
+        The model file [-].
+    report : Path or None
+        The report page or folder [-].
+    html : bool
+        The report is an HTML page [-].
+    bundle : Path
+        The measurement bundle, named in the page [-].
+    """
+    from ..io.atomic import staged_folder
+    from ..io.modelfile import write_machine
+
     if html:
         _identification_report(idn, report, bundle, output)
         write_machine(idn.machine, output)
@@ -183,18 +211,30 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
             write_machine(idn.machine, output)
     else:
         write_machine(idn.machine, output)
-    _warn_suspect(idn.machine, f"the model written to {output}")
-    if as_json:
-        _emit_json(idn.to_dict())
-    else:
-        from ._tables import print_table
 
-        print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
-        _print_split(idn)
-        _print_presliding(idn, presliding)
-        _print_verdict(idn.verdict)
-        out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
-    _exit_if_not_firm(idn.verdict, strict)
+
+def _print_identification(idn, presliding, output: Path, report) -> None:
+    """Print the fit quality, the friction split, the pre-sliding, the verdict and what
+    was written, on the console.
+
+    Parameters
+    ----------
+    idn : Identification
+        The identification [-].
+    presliding : float or None
+        The pre-sliding displacement given, None where fitted [m].
+    output : Path
+        The model file [-].
+    report : Path or None
+        The report page or folder [-].
+    """
+    from ._tables import print_table
+
+    print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
+    _print_split(idn)
+    _print_presliding(idn, presliding)
+    _print_verdict(idn.verdict)
+    out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 
 
 def _print_verdict(verdict) -> None:

@@ -41,17 +41,43 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     with their diagnostics, measured - predicted (Table 2), spread, identification, model;
     a section for each input given. It opens with no network; every table downloads as CSV
     from the page."""
-    from ..report import (
-        identification_section,
-        model_section,
-        read_identification_folder,
-        spread_section,
-        write_report,
-    )
-    from ..report.circles import read_spread_json
+    from ..report import write_report
 
     runs = [[Path(f) for f in r.split(",")] for r in runs or []]
     measured, predicted = measured or [], predicted or []
+    _check_inputs(output, model, ident_dir, spread, runs, measured, predicted, radius)
+    tol = None if tolerance_um is None else _positive(tolerance_um, "--tolerance-um") * 1e-6
+    machine = _read_model(model) if model is not None else None
+    sections, inputs = [], []
+    if runs or measured:
+        sections, inputs = _circle_sections(runs, measured, predicted, radius, centre, tol,
+                                            machine)
+    more, given = _summary_sections(spread, ident_dir, model, machine)
+    sections += more
+    write_report(output, sections, title, inputs + given)
+    out.print(f"wrote {output} ({', '.join(t for _, t, _ in sections)})")
+
+
+def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predicted,
+                  radius) -> None:
+    """Refuse a report that is given nothing, pairs runs wrongly, lacks the circles'
+    radius, or would overwrite one of its inputs.
+
+    Parameters
+    ----------
+    output : Path
+        The report page [-].
+    model : str or None
+        The model file or builtin name [-].
+    ident_dir, spread : Path or None
+        The identification folder and the spread file [-].
+    runs : list of list of Path
+        The run files of each circular test, one or two [-].
+    measured, predicted : list of Path
+        The measured and predicted runs, pair by pair [-].
+    radius : float or None
+        The circles' nominal radius [mm].
+    """
     if any(len(r) > 2 or not all(str(f) for f in r) for r in runs):
         raise typer.BadParameter("--run takes RUN.csv or RUN_CCW.csv,RUN_CW.csv")
     _report_file(output, model, ident_dir, spread, *(f for r in runs for f in r), *measured,
@@ -64,19 +90,75 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     if not (model or ident_dir or runs or measured or spread):
         raise typer.BadParameter("nothing to report: give --model, --ident-dir, --run, "
                                  "--measured/--predicted or --spread")
-    tol = None if tolerance_um is None else _positive(tolerance_um, "--tolerance-um") * 1e-6
+
+
+def _circle_sections(runs, measured, predicted, radius: float, centre: str, tolerance_m,
+                     machine) -> tuple[list, list]:
+    """The sections of the circular tests: each run's, the runs' faults, and measured
+    minus predicted of each pair.
+
+    Parameters
+    ----------
+    runs : list of list of Path
+        The run files of each circular test [-].
+    measured, predicted : list of Path
+        The measured and predicted runs, pair by pair [-].
+    radius : float
+        The circles' nominal radius [mm].
+    centre : str
+        Their nominal centre, ``X,Y`` [mm].
+    tolerance_m : float or None
+        The largest circular deviation the verdict accepts [m].
+    machine : Machine or None
+        The model, which tells the runs' faults [-].
+
+    Returns
+    -------
+    sections : list
+        The report's sections [-].
+    inputs : list of (str, Path)
+        The files they come from, by role [-].
+    """
+    c = _floats(centre, "--centre", 2)
+    circle = (_positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
+    comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
+                               f"comparison-{i + 1}", not runs and i == 0, tolerance_m)
+                   for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
+    sections = _run_sections(runs, circle, tolerance_m)
+    sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
+    sections += [s for group in comparisons for s in group]
+    inputs = [("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
+    return sections, inputs
+
+
+def _summary_sections(spread, ident_dir, model, machine) -> tuple[list, list]:
+    """The sections of the spread, the identification and the model, each where given.
+
+    Parameters
+    ----------
+    spread, ident_dir : Path or None
+        The spread file and the identification folder [-].
+    model : str or None
+        The model file or builtin name [-].
+    machine : Machine or None
+        The model read [-].
+
+    Returns
+    -------
+    sections : list
+        The report's sections, in that order [-].
+    inputs : list of (str, Path)
+        The files they come from, by role [-].
+    """
+    from ..report import (
+        identification_section,
+        model_section,
+        read_identification_folder,
+        spread_section,
+    )
+    from ..report.circles import read_spread_json
+
     sections, inputs = [], []
-    machine = _read_model(model) if model is not None else None
-    if runs or measured:
-        c = _floats(centre, "--centre", 2)
-        circle = (_positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
-        comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
-                                   f"comparison-{i + 1}", not runs and i == 0, tol)
-                       for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
-        sections += _run_sections(runs, circle, tol)
-        sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
-        sections += [s for group in comparisons for s in group]
-        inputs += [("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
     if spread is not None:
         sections.append(spread_section(read_spread_json(spread)))
         inputs.append(("spread", spread))
@@ -86,8 +168,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     if model is not None:
         sections.append(model_section(machine, model))
         inputs.append(("model", model))
-    write_report(output, sections, title, inputs)
-    out.print(f"wrote {output} ({', '.join(t for _, t, _ in sections)})")
+    return sections, inputs
 
 
 def _faults(machine, files) -> list:

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..analysis.contour import distance_to_polyline
 from ..sim.simulate import simulate_axis
-from ..whatif.spread import draw_machine
+from ..whatif.draws import draw_machine
 from .circleguard import CircleGuard
 
 #: Shares of the correction tried [-].

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from ..ident.friction.presliding import with_presliding
 from ..ident.friction.sensitivity import coulomb_share, with_share
 from ..model import Axis
-from ..whatif.spread import longer_presliding, scaled_contact
+from ..whatif.draws import longer_presliding, scaled_contact
 
 __all__ = ["QUANTILE_90", "Variant", "axis_variants"]
 

@@ -20,18 +20,7 @@ _NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\.[A-Za-z]\w*)*)\s*(?:\(\s*:\s*,\s*(\d+)
 
 
 def _load(path: Path):
-    """Return (top-level names, dotted paths of all variables, getter of a dotted path).
-
-    The getter returns an ndarray, a dict (struct), a str (char) or None when absent.
-    """
-    import h5py
-
-    existing_file(path, ".mat file", "MAT file")
-    return _load_v73(path) if h5py.is_hdf5(path) else _load_v5(path)
-
-
-def _load_v73(path: Path):
-    """:func:`_load` of a MATLAB v7.3 file, which is HDF5: read a variable at a time.
+    """The variables of a .mat file of any version.
 
     Parameters
     ----------
@@ -41,9 +30,18 @@ def _load_v73(path: Path):
     Returns
     -------
     tuple
-        Top-level names, dotted paths of all variables and the getter of a dotted
-        path [-].
+        Top-level names, dotted paths of all variables and the getter of a dotted path,
+        which returns an ndarray, a dict (struct), a str (char) or None when absent [-].
     """
+    import h5py
+
+    existing_file(path, ".mat file", "MAT file")
+    return _load_v73(path) if h5py.is_hdf5(path) else _load_v5(path)
+
+
+def _load_v73(path: Path):
+    """:func:`_load` of a MATLAB v7.3 file, which is HDF5: read a variable at a time
+    (parameters and result as there)."""
     import h5py
 
     paths = []
@@ -87,19 +85,8 @@ def _load_v73(path: Path):
 
 
 def _load_v5(path: Path):
-    """:func:`_load` of a MATLAB v4 to v7 file, read whole by scipy.
-
-    Parameters
-    ----------
-    path : Path
-        The .mat file [-].
-
-    Returns
-    -------
-    tuple
-        Top-level names, dotted paths of all variables and the getter of a dotted
-        path [-].
-    """
+    """:func:`_load` of a MATLAB v4 to v7 file, read whole by scipy (parameters and result
+    as there)."""
     from scipy.io import loadmat
 
     try:

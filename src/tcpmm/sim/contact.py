@@ -57,21 +57,19 @@ plain floats inside ``@njit`` code::
     The same step completed for a single free body of mass ``m_eff > 0``.
 ``at_rest(state, params) -> bool``
     True when a static-model step ended in stick.
-``sliding_friction(v, params) -> F``
-    Steady-state friction at velocity ``v`` (the Stribeck curve, ``0.0`` at ``v == 0``).
 ``static_stop_or_slide(v, f_stop, params) -> (F, new_state)``
     The static model's step given the force ``f_stop`` that brings the body to rest at
     the end of the step (what ``friction_force`` does with ``m_eff > 0``), for callers
     that have ``f_stop`` more directly.
-``static_levels(params) -> (Fs_plus, Fs_minus)``
-    Break-away levels, both non-negative [N].
-``lugre_steady_state(v, params) -> z``
-    Bristle deflection in steady sliding at ``v`` [m].
 ``backlash_force(delta, delta_dot, params) -> F``
     Force transmitted across a backlash element of relative displacement ``delta`` [m]
     and relative velocity ``delta_dot`` [m/s]; zero inside the gap ``|delta| <= b``,
     ``k (delta - b) + c delta_dot`` beyond ``+b`` (never pulling, i.e. clipped at 0),
     symmetric beyond ``-b``. Parameters from ``backlash_params_array(model)``.
+
+The friction laws at a velocity these steps use (``sliding_friction``, ``static_levels``,
+``lugre_steady_state``, ``lugre_decay_rate``, ``stribeck_level``) are
+:mod:`tcpmm.sim.frictionlaw`'s; they are named here too, beside the steps.
 """
 
 from __future__ import annotations
@@ -87,21 +85,24 @@ from tcpmm.mechanics.friction import (
     MODEL_LUGRE,
     MODEL_NONE,
     MODEL_STATIC,
-    P_DELTA,
-    P_FC_NEG,
-    P_FC_POS,
     P_FS_NEG,
     P_FS_POS,
-    P_FV_NEG,
-    P_FV_POS,
     P_MODEL,
     P_SIGMA0,
-    P_SIGMA1,
-    P_SIGMA1_FADES,
     P_V_STICK,
-    P_VS,
     SLIDING,
     STUCK,
+)
+
+# the friction laws stay importable from here, where the simulator's callers take them
+from .frictionlaw import (
+    lugre_decay_rate,
+    lugre_steady_state,
+    micro_damping,
+    sliding_friction,
+    static_levels,
+    stribeck_level,
+    viscous_coefficient,
 )
 
 __all__ = [
@@ -116,118 +117,6 @@ __all__ = [
     "static_stop_or_slide",
     "stribeck_level",
 ]
-
-
-@njit(cache=True)
-def static_levels(params):
-    """Break-away levels of a friction parameter vector.
-
-    Parameters
-    ----------
-    params : numpy.ndarray
-        Vector from ``friction_params_array`` [-].
-
-    Returns
-    -------
-    tuple of float
-        ``(Fs_plus, Fs_minus)``, both non-negative [N].
-    """
-    if params[P_MODEL] == MODEL_NONE:
-        return 0.0, 0.0
-    return params[P_FS_POS], params[P_FS_NEG]
-
-
-@njit(cache=True, inline="always")
-def stribeck_level(v, params):
-    """Coulomb + Stribeck part of the sliding friction, as a magnitude.
-
-    Parameters
-    ----------
-    v : float
-        Velocity, non-zero; its sign selects the direction-dependent levels [m/s].
-    params : numpy.ndarray
-        Vector from ``friction_params_array`` [-].
-
-    Returns
-    -------
-    float
-        ``g(v) = Fc_d + (Fs_d - Fc_d) exp(-|v / vs|**delta)`` [N].
-    """
-    if v > 0.0:
-        fc = params[P_FC_POS]
-        fs = params[P_FS_POS]
-    else:
-        fc = params[P_FC_NEG]
-        fs = params[P_FS_NEG]
-    if fs == fc:
-        return fc
-    return fc + (fs - fc) * _stribeck_shape(v, params)
-
-
-@njit(cache=True, inline="always")
-def _stribeck_shape(v, params):
-    """``exp(-|v / vs|**delta)``, taken as 0 where it is below double precision [-]."""
-    x = abs(v) / params[P_VS]
-    d = params[P_DELTA]
-    if d == 2.0:  # the usual Gaussian form: spare the general power
-        p = x * x
-    elif d == 1.0:
-        p = x
-    else:
-        p = x**d
-    if p > 40.0:  # exp(-40) is below double precision relative to fc
-        return 0.0
-    return math.exp(-p)
-
-
-@njit(cache=True, inline="always")
-def _fv(v, params):
-    return params[P_FV_POS] if v >= 0.0 else params[P_FV_NEG]
-
-
-@njit(cache=True, inline="always")
-def sliding_friction(v, params):
-    """Steady-state friction at velocity ``v`` (the Stribeck curve).
-
-    Parameters
-    ----------
-    v : float
-        Velocity [m/s].
-    params : numpy.ndarray
-        Vector from ``friction_params_array`` [-].
-
-    Returns
-    -------
-    float
-        Friction force against the motion, with the sign of ``v``; ``0.0`` at ``v == 0``
-        [N].
-    """
-    if params[P_MODEL] == MODEL_NONE or v == 0.0:
-        return 0.0
-    g = stribeck_level(v, params)
-    return (g if v > 0.0 else -g) + _fv(v, params) * v
-
-
-@njit(cache=True)
-def lugre_steady_state(v, params):
-    """Bristle deflection of the LuGre model in steady sliding.
-
-    Parameters
-    ----------
-    v : float
-        Velocity [m/s].
-    params : numpy.ndarray
-        Vector from ``friction_params_array`` of a LuGre model [-].
-
-    Returns
-    -------
-    float
-        ``z_ss = sign(v) g(v) / sigma0``; ``0.0`` at ``v == 0`` [m].
-    """
-    if v == 0.0 or params[P_SIGMA0] <= 0.0:
-        return 0.0
-    g = stribeck_level(v, params)
-    return (g if v > 0.0 else -g) / params[P_SIGMA0]
 
 
 @njit(cache=True, inline="always")
@@ -287,41 +176,11 @@ def _static_step(v, f_applied, params, dt, m_eff):
 
 
 @njit(cache=True)
-def lugre_decay_rate(v, params):
-    """Rate ``sigma0 |v| / g(v)`` of the LuGre bristle equation ``z' = v - rate * z``.
-
-    Parameters
-    ----------
-    v : float
-        Velocity [m/s].
-    params : numpy.ndarray
-        Vector from ``friction_params_array`` of a LuGre model [-].
-
-    Returns
-    -------
-    float
-        Decay rate, ``0.0`` at ``v == 0`` [1/s].
-    """
-    if v == 0.0:
-        return 0.0
-    return params[P_SIGMA0] * abs(v) / stribeck_level(v, params)
-
-
-@njit(cache=True)
-def _micro_damping(v, params):
-    """LuGre micro-damping at ``v``: ``sigma1``, faded by the Stribeck shape if asked."""
-    s1 = params[P_SIGMA1]
-    if params[P_SIGMA1_FADES] == 0.0 or v == 0.0 or s1 == 0.0:
-        return s1
-    return s1 * _stribeck_shape(v, params)
-
-
-@njit(cache=True)
 def _lugre_step(v, f_applied, z, params, dt, m_eff):
     s0 = params[P_SIGMA0]
-    s1 = _micro_damping(v, params)
+    s1 = micro_damping(v, params)
     c = lugre_decay_rate(v, params)
-    fv = _fv(v, params)
+    fv = viscous_coefficient(v, params)
     if m_eff > 0.0:
         # backward Euler on (v, z) with c frozen:
         #   m (v1 - v)/dt = f_applied - F1

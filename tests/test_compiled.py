@@ -157,6 +157,38 @@ def test_the_key_follows_the_kernels_sources(fresh, monkeypatch, tmp_path):
     assert compiled.module_path().name != before
 
 
+def _compiled_imports(sources) -> set:
+    """The package's modules, as paths relative to it, that the given sources import at
+    their tops and that hold compiled (``@njit``) functions."""
+    import ast
+
+    found = set()
+    for rel in sources:
+        base = rel.split("/")[:-1]
+        tree = ast.parse((compiled._PKG / rel).read_text(encoding="utf-8"))
+        for node in tree.body:
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            if node.level:
+                parts = base[:len(base) - node.level + 1] + (node.module or "").split(".")
+            elif (node.module or "").startswith("tcpmm."):
+                parts = node.module.split(".")[1:]
+            else:
+                continue
+            path = compiled._PKG.joinpath(*parts).with_suffix(".py")
+            if path.is_file() and "@njit" in path.read_text(encoding="utf-8"):
+                found.add(path.relative_to(compiled._PKG).as_posix())
+    return found
+
+
+def test_the_key_covers_every_compiled_module_the_kernels_import():
+    """A compiled function the kernel inlines from a module left out of the key would be
+    edited without a new module being built: the old one would keep the old code."""
+    assert "sim/contact.py" in _compiled_imports(["sim/frictionstep.py"])  # it sees imports
+    missing = _compiled_imports(compiled.KERNEL_SOURCES) - set(compiled.KERNEL_SOURCES)
+    assert not missing, f"add to KERNEL_SOURCES: {sorted(missing)}"
+
+
 def test_a_new_build_deletes_all_but_the_most_recently_used_old_ones(fresh, monkeypatch):
     """An upgrade or an edit of the kernel builds a new module (about 1 MB): the others
     beyond the four most recently used go, with their failure records; locks stay."""

@@ -82,18 +82,40 @@ def one(name: str, model, truth, label, command, radius, draws: int, limits=(Non
     before, after = runs_before_after(truth, comp)
     b = judge(before, comp.reference, radius)
     a = judge(after, judged_path(comp), radius)
-    rows = comp.robustness["regions"]
+    rob = comp.robustness
     return {"machine": name.upper(), "program": label,
-            "factors": comp.robustness["factors"],
-            "trusted": comp.robustness["trusted_share"],
-            "firm": all(r["least_ratio"] >= 5 for r in rows if r["improves_on_every_draw"])
-            and comp.robustness["trusted_share"] > 0.99,
+            "factors": rob["factors"], "trusted": rob["trusted_share"],
+            "firm": rob["firm_share"], "firm_truth": truth_where_firm(comp, before, after),
+            "spike_verdict": rob.get("circle", {}).get("spike", {}).get("verdict", "-"),
             "ce_before": b["path"]["contour_error_um"], "ce_after": a["path"]["contour_error_um"],
             "rms_before": b["path"]["contour_rms_um"], "rms_after": a["path"]["contour_rms_um"],
             "spike_before": b.get("circle", {}).get("largest_spike_um"),
             "spike_after": a.get("circle", {}).get("largest_spike_um"),
             "g_before": b.get("circle", {}).get("circular_deviation_um"),
             "g_after": a.get("circle", {}).get("circular_deviation_um")}
+
+
+def truth_where_firm(comp, before, after):
+    """The true machine's largest contour error before / after over the samples of the
+    regions the draws call firm, ``None`` where none is [-]."""
+    import numpy as np
+
+    from tcpmm.analysis.contour import contour_error
+    from tcpmm.compensate.robust import regions
+
+    labels = regions(comp.target)
+    firm = [r["region"] for r in comp.robustness["regions"] if r["verdict"] == "firm"]
+    if not firm:
+        return None
+    mask = np.isin(labels, firm)
+    # the programmed run lags the delayed path by the compensation's delay
+    shift = round(comp.delay_s / comp.target.period_s)
+    mask_before = np.concatenate([mask[shift:], np.zeros(shift, dtype=bool)])
+    e_b = np.abs(contour_error(before, command=comp.reference).errors["tcp"])
+    e_a = np.abs(contour_error(after, command=judged_path(comp)).errors["tcp"])
+    n = min(mask.size, e_a.size, e_b.size)
+    b, a = np.nanmax(e_b[:n][mask_before[:n]]), np.nanmax(e_a[:n][mask[:n]])
+    return float(b / max(a, 1e-9))
 
 
 def ratio(before, after) -> str:
@@ -109,21 +131,24 @@ def table(rows: list) -> str:
     def f(v):
         return "-" if v is None else f"{v:.2f}"
 
-    out = ["| machine | program | factors X/Y | trusted | contour error before -> after [µm] "
-           "| rms before -> after [µm] | largest spike before -> after [µm] "
-           "| G before -> after [µm] | reduction contour / spike / G | worse |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
+    out = ["| machine | program | factors X/Y | trusted | firm | contour error before -> after "
+           "[µm] | rms before -> after [µm] | largest spike before -> after [µm] "
+           "| G before -> after [µm] | reduction contour / spike / G | true reduction where "
+           "firm | spike verdict | worse |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         fx = "/".join(f"{v:g}" for v in r["factors"].values())
         red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
         worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
                  if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]
+        firm = "-" if r["firm_truth"] is None else f"{r['firm_truth']:.1f}x"
         out.append(f"| {r['machine']} | {r['program']} | {fx} | {r['trusted']:.0%} "
+                   f"| {r['firm']:.0%} "
                    f"| {f(r['ce_before'])} -> {f(r['ce_after'])} "
                    f"| {f(r['rms_before'])} -> {f(r['rms_after'])} "
                    f"| {f(r['spike_before'])} -> {f(r['spike_after'])} "
-                   f"| {f(r['g_before'])} -> {f(r['g_after'])} | {red} "
-                   f"| {', '.join(worse) or '-'} |")
+                   f"| {f(r['g_before'])} -> {f(r['g_after'])} | {red} | {firm} "
+                   f"| {r['spike_verdict']} | {', '.join(worse) or '-'} |")
     return "\n".join(out) + "\n"
 
 

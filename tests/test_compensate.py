@@ -6,7 +6,7 @@ import pytest
 from tcpmm.compensate import compensate, predicted_scores, robust_factors
 from tcpmm.compensate.bounds import derivative, excess, machine_bounds
 from tcpmm.compensate.gcodeout import dense_program
-from tcpmm.compensate.robust import EQUAL_M
+from tcpmm.compensate.robust import EQUAL_M, FIRM_RATIO, over_draws, verdict
 from tcpmm.errors import InputError
 from tcpmm.machines.builtin import builtin_machine
 from tcpmm.path.circle import circle_command
@@ -75,6 +75,26 @@ def test_never_worse_on_drawn_machines(machine):
         assert r["worst_after_um"] <= r["worst_before_um"] + EQUAL_M * 1e6
     assert all(0.0 <= f <= 1.0 for f in comp.robustness["factors"].values())
     assert comp.trusted is not None and comp.trusted.shape == comp.reference.time_s.shape
+    rob = comp.robustness
+    for r in rob["regions"]:  # each region's verdict is what its own figures say
+        assert r["verdict"] == verdict(r["least_ratio"], r["improves_on_every_draw"])
+    firm_s = sum(r["end_s"] - r["start_s"] for r in rob["regions"] if r["verdict"] == "firm")
+    span = comp.reference.time_s[-1] - comp.reference.time_s[0]
+    assert rob["firm_share"] <= rob["trusted_share"]
+    assert abs(rob["firm_share"] - firm_s / span) < 0.02  # samples against time spans
+
+
+@pytest.mark.parametrize("before, after, expected", [
+    ([10.0, 8.0], [1.0, 1.5], "firm"),          # 10x and 5.3x
+    ([10.0, 8.0], [1.0, 1.7], "improves"),      # the worse draw only 4.7x
+    ([10.0, 8.0], [1.0, 8.0], "uncertain"),     # one draw not improved
+    ([0.05, 0.05], [0.0, 0.0], "uncertain"),    # below the sensors' resolution: no change
+])
+def test_verdict_over_draws(before, after, expected):
+    figs = over_draws(np.array(before) * 1e-6, np.array(after) * 1e-6)
+    assert figs["verdict"] == expected
+    assert figs["worst_before_um"] == pytest.approx(max(before))
+    assert FIRM_RATIO == 5.0  # the reduction the compensation is to deliver
 
 
 def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
@@ -115,7 +135,7 @@ def test_dense_program_has_one_block_per_sample():
     assert len(moves) == cmd.time_s.size - 1
 
 
-def test_cli_output_drives_simulate(tmp_path):
+def test_cli_output_drives_simulate(tmp_path, capsys):
     from tcpmm.cli import main
     from tcpmm.path import read_command_csv, write_command_csv
 
@@ -127,11 +147,13 @@ def test_cli_output_drives_simulate(tmp_path):
                  "--gcode-out", str(nc), "--draws", "2", "--iterations", "5",
                  "--accel-m-per-s2", "3", "--report", str(page)]) == 0
     assert read_command_csv(comp_csv).time_s.size > 800 and nc.exists()
+    said = capsys.readouterr().out  # the draws' verdict: improved share and firm share
+    assert "over 2 draws of the model it improves" in said and "(firm)" in said
     # the report: the error before and after, the figures reduced, the settings per axis
     html = page.read_text(encoding="utf-8")
     assert 'data-section="compensation"' in html and "<img" in html
     for needle in ("contour error [µm]", "reduced by [x]", "share applied",
-                   "limit accel_m_per_s2"):
+                   "limit accel_m_per_s2", "(firm)"):
         assert needle in html, needle
     run = tmp_path / "run.csv"
     assert main(["simulate", "builtin:vmc", "--command", str(comp_csv), "-o", str(run)]) == 0

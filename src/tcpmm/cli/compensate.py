@@ -173,14 +173,41 @@ def _say(output: Path, report, comp, controller_out, cc) -> None:
     out.print(_row("before", comp.scores["before"]))
     out.print(_row("after", comp.scores["after"]))
     if comp.robustness:
-        f = ", ".join(f"{a} {v:g}" for a, v in comp.robustness["factors"].items())
-        out.print(f"  share of the correction applied: {f}; trusted on "
-                  f"{comp.robustness['trusted_share']:.0%} of the samples")
+        for line in _verdict_lines(comp.robustness):
+            out.print(line)
     if cc is not None:
         out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
                   "and cross-talk feed-forward, as the model predicts them):")
         out.print(_row("before", cc.scores["before"]))
         out.print(_row("after", cc.scores["after"]))
+
+
+#: How each verdict over the draws reads [-].
+_VERDICT_TEXT = {"firm": "firm: every draw at least {r:.1f}x smaller",
+                 "improves": "improves: every draw smaller, the least by {r:.1f}x",
+                 "uncertain": "uncertain: some draw not smaller; the share applied keeps "
+                              "it from growing"}
+
+
+def _verdict_lines(robustness: dict) -> list[str]:
+    """The shares applied and what the draws of the model say of them, on the console.
+
+    Parameters
+    ----------
+    robustness : dict
+        ``Compensation.robustness`` (:func:`tcpmm.compensate.robust_factors`) [-].
+    """
+    from ..compensate.robust import FIRM_RATIO
+
+    f = ", ".join(f"{a} {v:g}" for a, v in robustness["factors"].items())
+    lines = [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
+             f"the model it improves {robustness['trusted_share']:.0%} of the samples, "
+             f"at least {FIRM_RATIO:g}x (firm) {robustness['firm_share']:.0%}"]
+    names = {"spike": "largest reversal spike", "circular_deviation": "G"}
+    for key, figure in robustness.get("circle", {}).items():
+        text = _VERDICT_TEXT[figure["verdict"]].format(r=figure["least_ratio"])
+        lines.append(f"  {names[key]}: {text}")
+    return lines
 
 
 def _write_report(path: Path, comp, machine, model: str, source, radius_m, cc) -> None:

@@ -6,7 +6,10 @@ share of the correction in {0, 1/4, ..., 1} is chosen per axis: the shares whose
 contour error is smallest on the worst draw, among those that leave no draw worse than the
 uncompensated command: not in any region, and for a circle not on its largest reversal
 spike or its G either (:mod:`.circleguard`). A region is trusted where the chosen shares
-improve it on every draw. The axes run apart
+improve it on every draw, and *firm* where every draw improves it at least
+:data:`FIRM_RATIO` times. The draws carry the model error's floors that ``tcpmm spread``
+uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`), so that an axis identified with a small
+deviation is not drawn tighter than identification can be right. The axes run apart
 in the model, so that each share is simulated once per axis and draw and every
 combination of shares is a sum.
 """
@@ -19,7 +22,7 @@ import numpy as np
 
 from ..analysis.contour import distance_to_polyline
 from ..sim.simulate import simulate_axis
-from ..whatif.draws import draw_machine
+from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 
 #: Shares of the correction tried [-].
@@ -33,6 +36,26 @@ CONTOUR_WINDOW_S = 0.1
 
 #: Error below which two errors count as equal: the sensors' resolution [m].
 EQUAL_M = 0.1e-6
+
+#: Reduction every draw must reach for a firm verdict: the reduction the compensation is
+#: to deliver [-].
+FIRM_RATIO = 5.0
+
+
+def verdict(least_ratio: float, improves: bool) -> str:
+    """``firm`` where every draw improves at least :data:`FIRM_RATIO` times, ``improves``
+    where every draw improves by less, ``uncertain`` where some draw does not improve [-].
+
+    Parameters
+    ----------
+    least_ratio : float
+        The least ratio before / after over the draws [-].
+    improves : bool
+        Whether every draw improves by more than :data:`EQUAL_M` [-].
+    """
+    if not improves:
+        return "uncertain"
+    return "firm" if least_ratio >= FIRM_RATIO else "improves"
 
 
 def regions(target, window_s: float = REVERSAL_WINDOW_S) -> np.ndarray:
@@ -113,24 +136,32 @@ def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
         sel = labels == r
         rows.append({"region": r, "start_s": float(target.time_s[sel][0]),
                      "end_s": float(target.time_s[sel][-1]),
-                     **_worst(before[:, r], best_figs[:, r])})
+                     **over_draws(before[:, r], best_figs[:, r])})
     return [LEVELS[k] for k in best], rows, _circle_rows(before, best_figs, guard)
 
 
-def _worst(b: np.ndarray, a: np.ndarray) -> dict:
-    """The worst draw's figure before and after, the least ratio over the draws and
-    whether every draw improves, from per-draw figures ``b`` and ``a`` [m]."""
+def over_draws(b: np.ndarray, a: np.ndarray) -> dict:
+    """The worst draw's figure before and after, the least ratio over the draws, whether
+    every draw improves and the :func:`verdict`, from per-draw figures ``b`` and ``a``.
+
+    Parameters
+    ----------
+    b, a : ndarray
+        One figure per draw before and after the compensation [m].
+    """
+    least = float(np.min(b / np.maximum(a, EQUAL_M)))
+    improves = bool(np.all(a < b - EQUAL_M))
     return {"worst_before_um": float(b.max() * 1e6), "worst_after_um": float(a.max() * 1e6),
-            "least_ratio": float(np.min(b / np.maximum(a, EQUAL_M))),
-            "improves_on_every_draw": bool(np.all(a < b - EQUAL_M))}
+            "least_ratio": least, "improves_on_every_draw": improves,
+            "verdict": verdict(least, improves)}
 
 
 def _circle_rows(before: np.ndarray, after: np.ndarray, guard) -> dict:
     """The draws' verdict on the circle's largest spike and G, empty without a circle."""
     if guard is None:
         return {}
-    return {"spike": _worst(before[:, -2], after[:, -2]),
-            "circular_deviation": _worst(before[:, -1], after[:, -1])}
+    return {"spike": over_draws(before[:, -2], after[:, -2]),
+            "circular_deviation": over_draws(before[:, -1], after[:, -1])}
 
 
 def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None,
@@ -158,15 +189,17 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None
     """
     guard = None if radius_m is None else CircleGuard.of(comp, radius_m, centre_m, plane)
     rng = np.random.default_rng(seed)
-    machines = [machine] + [draw_machine(machine, rng) for _ in range(n_draws)]
+    machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
     labels = regions(comp.target)
     shares, rows, circle = choose(axis_errors(machines, comp), comp.target, labels, guard)
     for a, f in zip(comp.reference.axes, shares, strict=True):
         comp.factors[a] = np.full(labels.size, f)
     good = {r["region"] for r in rows if r["improves_on_every_draw"]}
+    firm = {r["region"] for r in rows if r["verdict"] == "firm"}
     comp.trusted = np.isin(labels, list(good))
     comp.robustness = {"draws": n_draws, "seed": seed, "regions": rows,
                        "factors": dict(zip(comp.reference.axes, shares, strict=True)),
-                       "trusted_share": float(np.mean(comp.trusted))}
+                       "trusted_share": float(np.mean(comp.trusted)),
+                       "firm_share": float(np.mean(np.isin(labels, list(firm))))}
     if circle:
         comp.robustness["circle"] = circle

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..analysis.circular import analyse_circle
 from ..compensate import runs_before_after
+from ..compensate.robust import FIRM_RATIO
 from ..compensate.scores import before_after
 from ..errors import InputError
 from ..plot.circle import plot_circle
@@ -68,12 +69,15 @@ def compensation_section(comp, source=None, machine=None, radius_m=None, control
         Friction pulses and cross-talk feed-forward (:mod:`tcpmm.compensate.controller`) [-].
     """
     trusted = comp.to_dict().get("trusted_share")
+    firm = (comp.robustness or {}).get("firm_share")
     lead = ("The programmed command pre-compensated on the identified model: the model's "
             "TCP error before and after, as it predicts them"
             + (f" (from {source})" if source else "") + ".")
     if trusted is not None:
         lead += (f" The compensation improves the error on every machine drawn from the "
-                 f"model's uncertainty on {trusted:.0%} of the samples (trusted).")
+                 f"model's uncertainty on {trusted:.0%} of the samples (trusted)")
+        lead += ("." if firm is None else
+                 f", and at least {FIRM_RATIO:g} times on {firm:.0%} (firm).")
     body = para(lead, "lead")
     polar = None if machine is None or radius_m is None else _polar(machine, comp, radius_m)
     if polar is not None:

@@ -217,3 +217,31 @@ def test_cli_writes_the_controller_parameters(tmp_path, capsys):
     html = page.read_text(encoding="utf-8")
     assert 'alt="TCP before and after on the circle"' in html
     assert "Controller-side compensation" in html and "friction_pulse_A" in html
+
+
+def test_controller_parameters_scaled_back_where_a_draw_gets_worse():
+    """Pulses tuned on a model with friction, judged on the same axes without friction:
+    every pulse now pushes the reversal the wrong way, so the share falls until no draw
+    is worse; judged on the model they were tuned on, a share is kept that no draw
+    contradicts."""
+    import math
+
+    from tcpmm.compensate.controller import controller_compensation
+    from tcpmm.compensate.controller_robust import robust_controller
+
+    m = builtin_machine()
+    m = m.model_copy(update={"axes": {a: m.axes[a] for a in ("X", "Y")}})
+    cmd = circle_command(0.01, 5000 / 60e3, turns=1.0, start_angle_rad=math.pi / 4)
+    tuned = controller_compensation(m, cmd, 0.01)
+    assert any(c.pulse_A != 0.0 for c in tuned.axes.values())
+    smooth = m.model_copy(update={"axes": {a: x.replace(friction=None)
+                                           for a, x in m.axes.items()}})
+    for machine, kept in ((smooth, lambda s: s < 1.0), (m, lambda s: s > 0.0)):
+        cc = controller_compensation(m, cmd, 0.01)
+        robust_controller(machine, cc, cmd, 0.01, n_draws=2, seed=3)
+        rob = cc.robustness
+        assert kept(rob["share"]), rob["share"]
+        for name in ("contour_error", "spike", "circular_deviation"):
+            assert rob[name]["worst_after_um"] <= rob[name]["worst_before_um"] + EQUAL_M * 1e6
+        assert all(c.pulse_A == pytest.approx(rob["share"] * tuned.axes[a].pulse_A)
+                   for a, c in cc.axes.items())

@@ -83,7 +83,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     write_command_csv(comp.command, output)
     if gcode_out is not None:
         write_dense_program(comp.command, gcode_out)
-    cc = None if controller_out is None else _controller(m, cmd, radius_m, controller_out)
+    cc = (None if controller_out is None
+          else _controller(m, cmd, radius_m, controller_out, draws))
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, radius_m, cc)
     if as_json:
@@ -180,6 +181,10 @@ def _say(output: Path, report, comp, controller_out, cc) -> None:
                   "and cross-talk feed-forward, as the model predicts them):")
         out.print(_row("before", cc.scores["before"]))
         out.print(_row("after", cc.scores["after"]))
+        if cc.robustness:
+            out.print(f"  share of the parameters kept: {cc.robustness['share']:g}")
+            for line in _figure_verdicts(cc.robustness):
+                out.print(line)
 
 
 #: How each verdict over the draws reads [-].
@@ -200,14 +205,24 @@ def _verdict_lines(robustness: dict) -> list[str]:
     from ..compensate.robust import FIRM_RATIO
 
     f = ", ".join(f"{a} {v:g}" for a, v in robustness["factors"].items())
-    lines = [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
-             f"the model it improves {robustness['trusted_share']:.0%} of the samples, "
-             f"at least {FIRM_RATIO:g}x (firm) {robustness['firm_share']:.0%}"]
+    return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
+            f"the model it improves {robustness['trusted_share']:.0%} of the samples, "
+            f"at least {FIRM_RATIO:g}x (firm) {robustness['firm_share']:.0%}",
+            *_figure_verdicts(robustness.get("circle", {}))]
+
+
+def _figure_verdicts(figures: dict) -> list[str]:
+    """A line per circle figure with the draws' verdict on it.
+
+    Parameters
+    ----------
+    figures : dict
+        ``{"spike": ..., "circular_deviation": ...}``, each of
+        :func:`tcpmm.compensate.robust.over_draws` [-].
+    """
     names = {"spike": "largest reversal spike", "circular_deviation": "G"}
-    for key, figure in robustness.get("circle", {}).items():
-        text = _VERDICT_TEXT[figure["verdict"]].format(r=figure["least_ratio"])
-        lines.append(f"  {names[key]}: {text}")
-    return lines
+    return [f"  {name}: " + _VERDICT_TEXT[figures[key]["verdict"]].format(
+        r=figures[key]["least_ratio"]) for key, name in names.items() if key in figures]
 
 
 def _write_report(path: Path, comp, machine, model: str, source, radius_m, cc) -> None:
@@ -220,13 +235,16 @@ def _write_report(path: Path, comp, machine, model: str, source, radius_m, cc) -
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])
 
 
-def _controller(machine, cmd, radius_m: float, path: Path):
-    """The controller-side compensation of the circle, its parameters written to
-    ``path`` [-]."""
+def _controller(machine, cmd, radius_m: float, path: Path, draws: int):
+    """The controller-side compensation of the circle, scaled back over ``draws`` draws of
+    the model, its parameters written to ``path`` [-]."""
     from ..compensate.controller import controller_compensation
+    from ..compensate.controller_robust import robust_controller
     from ..io.atomic import write_text_atomic
 
     plane = tuple(a for a in ("X", "Y", "Z") if a in cmd.axes)[:2]
     cc = controller_compensation(machine, cmd, radius_m, plane=plane)
+    if draws > 0:
+        robust_controller(machine, cc, cmd, radius_m, plane=plane, n_draws=draws)
     write_text_atomic(path, cc.parameter_text())
     return cc

@@ -70,10 +70,14 @@ class ControllerCompensation:
         Per axis [-].
     scores : dict
         Predicted TCP figures ``before`` and ``after`` (:func:`.scores.judge`) [-].
+    robustness : dict
+        The share kept over draws of the model and their verdict
+        (:func:`.controller_robust.robust_controller`); empty where not judged [-].
     """
 
     axes: dict
     scores: dict = field(default_factory=dict)
+    robustness: dict = field(default_factory=dict)
 
     def to_pandas(self):
         """One row per axis with its parameters [-]."""
@@ -84,7 +88,7 @@ class ControllerCompensation:
     def to_dict(self) -> dict:
         """JSON-ready: the parameters per axis and the figures before and after [-]."""
         return {"axes": {a: c.to_dict() for a, c in self.axes.items()},
-                "scores": self.scores}
+                "scores": self.scores, "robustness": self.robustness}
 
     def plot(self, ax=None, path=None):
         """The predicted figures before and after, as bars; the figure [-]."""
@@ -173,7 +177,7 @@ def with_cross_talk(command: Command, gains: dict) -> Command:
     return Command(command.time_s, pos, {**command.meta, "cross_talk_feedforward": True})
 
 
-def _figures(machine, command: Command, programmed: Command, pulses: dict, radius_m,
+def controller_figures(machine, command: Command, programmed: Command, pulses: dict, radius_m,
              centre_m, plane) -> dict:
     """The model's TCP figures of ``command`` run with the current pulses, judged against
     the programmed path [-]."""
@@ -181,7 +185,9 @@ def _figures(machine, command: Command, programmed: Command, pulses: dict, radiu
     return judge(run, programmed, radius_m, centre_m, plane)
 
 
-def _spike(fig: dict) -> float:
+def largest_spike(fig: dict) -> float:
+    """The largest TCP reversal spike of figures from :func:`.scores.judge`; infinite where
+    the circle gave none, so that such a trial never wins [um]."""
     v = fig.get("circle", {}).get("largest_spike_um", math.nan)
     return v if math.isfinite(v) else math.inf
 
@@ -202,7 +208,7 @@ def tune_pulse(machine, command: Command, axis: str, pulses: dict, judge_args: t
     pulses : dict of str to ndarray
         The pulses of the axes tuned before [A].
     judge_args : tuple
-        ``(programmed, radius_m, centre_m, plane)`` of :func:`_figures` [-].
+        ``(programmed, radius_m, centre_m, plane)`` of :func:`controller_figures` [-].
 
     Returns
     -------
@@ -217,11 +223,11 @@ def tune_pulse(machine, command: Command, axis: str, pulses: dict, judge_args: t
         key = (share, tau if share else 0.0)  # without a pulse the decay does not matter
         if key not in seen:
             trial = {**pulses, axis: reversal_pulses(command, axis, share * i_c, tau)}
-            seen[key] = _figures(machine, command, judge_args[0], trial, *judge_args[1:])
+            seen[key] = controller_figures(machine, command, judge_args[0], trial, *judge_args[1:])
         return seen[key]
 
     def spike(share: float, tau: float) -> float:
-        return _spike(figures(share, tau))
+        return largest_spike(figures(share, tau))
 
     if i_c <= 0.0:
         return 0.0, PULSE_DECAYS_S[0]
@@ -232,7 +238,7 @@ def tune_pulse(machine, command: Command, axis: str, pulses: dict, judge_args: t
     tau = min(PULSE_DECAYS_S, key=lambda d: spike(share, d))
     share = min(PULSE_SHARES, key=lambda k: spike(k, tau))
     none, got = figures(0.0, tau), figures(share, tau)
-    better = (_spike(got) < _spike(none) and got["path"]["contour_error_um"]
+    better = (largest_spike(got) < largest_spike(none) and got["path"]["contour_error_um"]
               <= none["path"]["contour_error_um"])
     return (share * i_c, tau) if better else (0.0, PULSE_DECAYS_S[0])
 
@@ -265,10 +271,10 @@ def controller_compensation(machine, command: Command, radius_m: float,
     """
     axes = [a for a in plane if a in command.axes]
     args = (command, radius_m, centre_m, plane)
-    before = _figures(machine, command, command, {}, *args[1:])
+    before = controller_figures(machine, command, command, {}, *args[1:])
     gains = {a: cross_talk_gain(machine.axes[a]) for a in axes}
     ctc = with_cross_talk(command, gains)
-    if (_figures(machine, ctc, command, {}, *args[1:])["path"]["contour_error_um"]
+    if (controller_figures(machine, ctc, command, {}, *args[1:])["path"]["contour_error_um"]
             >= before["path"]["contour_error_um"]):
         gains, ctc = dict.fromkeys(axes, 0.0), command
     pulses, params = {}, {}
@@ -277,5 +283,5 @@ def controller_compensation(machine, command: Command, radius_m: float,
         pulses[a] = reversal_pulses(ctc, a, amp, tau)
         ax = machine.axes[a]
         params[a] = AxisController(amp, tau, amp / ax.servo.K_vp * ax.mechanics.R_L, gains[a])
-    after = _figures(machine, ctc, command, pulses, *args[1:])
+    after = controller_figures(machine, ctc, command, pulses, *args[1:])
     return ControllerCompensation(params, {"before": before, "after": after})

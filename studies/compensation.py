@@ -7,7 +7,8 @@ TRUE machine (its truth.yaml); the TCP figures before and after are printed as a
 
     .venv/bin/python -m studies.compensation [--machines c,d,e,h,r05,r17]
         [--programs "circle F10000,..."] [--accel-m-per-s2 4] [--jerk-m-per-s3 J]
-        [--draws 6] [--cache DIR] [--out docs/validation/compensation_table.md]
+        [--draws 6] [--headroom 0.25] [--cache DIR]
+        [--out docs/validation/compensation_table.md]
 
 Without --accel-m-per-s2 the correction keeps the models' interpolation settings (none of
 the identified models has any, so 1 m/s^2); with it, every axis's limit for the correction,
@@ -22,10 +23,11 @@ import warnings
 from pathlib import Path
 
 from tcpmm.compensate import compensate, machine_bounds, robust_factors
-from tcpmm.compensate.scores import judge, judged_path, runs_before_after
+from tcpmm.compensate.headroom import DEFAULT_HEADROOM, program_with_headroom
+from tcpmm.compensate.scores import judge, judged_path, programmed_path, runs_before_after
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
-from tcpmm.path import InterpolatorSettings, program_to_command, read_command_csv
+from tcpmm.path import InterpolatorSettings, read_command_csv
 
 from . import DATA
 
@@ -64,28 +66,38 @@ def model_of(name: str, cache: Path):
     return ident.machine
 
 
-def programs(name: str, model):
-    """(label, command, circle radius or None) of the machine [-]."""
+def programs(name: str, model, headroom: float):
+    """(label, command at the full limits, command the correction is learned on, circle
+    radius or None) of the machine; the NC programs planned with ``headroom`` as
+    ``tcpmm compensate --gcode`` plans them [-]."""
     d = DATA / f"bench_{name}"
     settings = InterpolatorSettings.model_validate(model.interpolation or {})
-    yield "circle F5000", read_command_csv(d / "circle_ccw_cmd.csv"), 0.035
-    yield "circle F10000", read_command_csv(d / "circle_ccw_fast_cmd.csv"), 0.035
-    yield "spiral G64", program_to_command(spiral(), settings), None
-    yield "square G64", program_to_command(SQUARE, settings), None
+    for label, file in (("circle F5000", "circle_ccw_cmd.csv"),
+                        ("circle F10000", "circle_ccw_fast_cmd.csv")):
+        cmd = read_command_csv(d / file)
+        yield label, cmd, cmd, 0.035
+    for label, text in (("spiral G64", spiral()), ("square G64", SQUARE)):
+        full, planned = program_with_headroom(text, settings, headroom)
+        yield label + (f" (headroom {headroom:g})" if headroom else ""), full, planned, None
 
 
-def one(name: str, model, truth, label, command, radius, draws: int, limits=(None, None)):
-    """Figures at the true machine's TCP before and after, and the draws' verdict; the
-    correction within the axes' ``limits`` (acceleration [m/s^2], jerk [m/s^3]) [-]."""
-    comp = compensate(model, command, bounds=machine_bounds(model, *limits))
+def one(name: str, model, truth, label, commands, radius, draws: int, limits=(None, None)):
+    """Figures at the true machine's TCP before (the program at the full limits) and after,
+    and the draws' verdict; the correction within the axes' ``limits`` (acceleration
+    [m/s^2], jerk [m/s^3]) [-]."""
+    full, planned = commands
+    comp = compensate(model, planned, bounds=machine_bounds(model, *limits))
     robust_factors(model, comp, n_draws=draws, radius_m=radius)
-    before, after = runs_before_after(truth, comp)
-    b = judge(before, comp.reference, radius)
+    before, after = runs_before_after(truth, comp, programmed=full)
+    b = judge(before, programmed_path(comp, full), radius)
     a = judge(after, judged_path(comp), radius)
     rob = comp.robustness
+    # the draws judge the compensation against the program they were given, uncompensated
+    planned_run = before if planned is full else runs_before_after(truth, comp)[0]
     return {"machine": name.upper(), "program": label,
             "factors": rob["factors"], "trusted": rob["trusted_share"],
-            "firm": rob["firm_share"], "firm_truth": truth_where_firm(comp, before, after),
+            "firm": rob["firm_share"],
+            "firm_truth": truth_where_firm(comp, planned_run, after),
             "spike_verdict": rob.get("circle", {}).get("spike", {}).get("verdict", "-"),
             "ce_before": b["path"]["contour_error_um"], "ce_after": a["path"]["contour_error_um"],
             "rms_before": b["path"]["contour_rms_um"], "rms_after": a["path"]["contour_rms_um"],
@@ -167,6 +179,9 @@ def main(argv=None) -> None:
     p.add_argument("--accel-m-per-s2", type=float, default=None)
     p.add_argument("--jerk-m-per-s3", type=float, default=None)
     p.add_argument("--draws", type=int, default=6)
+    p.add_argument("--headroom", type=float, default=DEFAULT_HEADROOM,
+                   help="share of the acceleration and jerk the NC programs leave to the "
+                        "correction, as tcpmm compensate --gcode")
     p.add_argument("--cache", type=Path, default=Path("/tmp/compensate"))
     p.add_argument("--out", type=Path, default=None)
     args = p.parse_args(argv)
@@ -175,13 +190,13 @@ def main(argv=None) -> None:
     for name in args.machines.split(","):
         model = model_of(name, args.cache)
         truth = machine_from_truth(DATA / f"bench_{name}" / "truth.yaml")
-        for label, command, radius in programs(name, model):
-            if args.programs is not None and label not in args.programs.split(","):
+        for label, full, planned, radius in programs(name, model, args.headroom):
+            if args.programs is not None and label.split(" (")[0] not in args.programs.split(","):
                 continue
             label += limits_label(limits)
             try:
-                rows.append(one(name, model, truth, label, command, radius, args.draws,
-                                limits))
+                rows.append(one(name, model, truth, label, (full, planned), radius,
+                                args.draws, limits))
             except Exception as exc:  # one machine's refusal does not end the study
                 print(f"{name.upper()} {label}: {exc}", flush=True)
                 continue

@@ -1,5 +1,7 @@
 """Compensation on the model: known answers and physical properties."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -245,3 +247,45 @@ def test_controller_parameters_scaled_back_where_a_draw_gets_worse():
             assert rob[name]["worst_after_um"] <= rob[name]["worst_before_um"] + EQUAL_M * 1e6
         assert all(c.pulse_A == pytest.approx(rob["share"] * tuned.axes[a].pulse_A)
                    for a, c in cc.axes.items())
+
+
+def test_headroom_plans_the_program_with_the_rest_of_the_limits(tmp_path, capsys):
+    """An NC program planned with 75 % of the acceleration: the same corners, reached
+    later; the compensated command may use the full limit, and the figures before are
+    those of the program at the full limits, as the machine would run it."""
+    from tcpmm.cli import main
+    from tcpmm.compensate.bounds import derivative
+    from tcpmm.compensate.headroom import planned_settings, program_with_headroom
+    from tcpmm.path import InterpolatorSettings, read_command_csv
+
+    prog = tmp_path / "square.nc"
+    prog.write_text("G90 G17 G64 P0.01 F5000\nG1 X20 Y0\nG1 X20 Y20\nG1 X0 Y20\nG1 X0 Y0\n")
+    settings = InterpolatorSettings()
+    full, planned = program_with_headroom(prog, settings, 0.25)
+    assert planned.time_s[-1] > full.time_s[-1]
+    for a in ("X", "Y"):
+        assert planned.positions[a][-1] == pytest.approx(full.positions[a][-1], abs=1e-12)
+        peak = np.max(np.abs(derivative(planned.positions[a], 2, planned.period_s)))
+        assert peak <= 0.75 * settings.path_accel_m_per_s2 * 1.02  # sampled ramps
+    with pytest.raises(InputError):
+        planned_settings(settings, 1.0)
+    out = tmp_path / "c.csv"
+    runs = {}
+    for h in ("0", "0.25"):
+        assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
+                     "--draws", "0", "--iterations", "4", "--headroom", h, "--json"]) == 0
+        runs[h] = json.loads(capsys.readouterr().out)
+    assert runs["0.25"]["scores"]["before"] == runs["0"]["scores"]["before"]
+    assert runs["0.25"]["settings"]["planned_duration_s"] > runs["0"]["settings"][
+        "planned_duration_s"] == runs["0.25"]["settings"]["programmed_duration_s"]
+    comp = read_command_csv(out)
+    for a in ("X", "Y"):
+        acc = np.abs(derivative(comp.positions[a], 2, comp.period_s))
+        assert np.max(acc) <= settings.path_accel_m_per_s2 * (1 + 1e-6)
+    cmd_file = tmp_path / "cmd.csv"
+    from tcpmm.path import write_command_csv
+
+    write_command_csv(full, cmd_file)
+    assert main(["compensate", "builtin:vmc", "--command", str(cmd_file), "-o", str(out),
+                 "--headroom", "0.2"]) == 2
+    assert "already timed" in capsys.readouterr().err

@@ -184,7 +184,7 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
 
 
 def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
-               accel_m_per_s2=None, jerk_m_per_s3=None):
+               accel_m_per_s2=None, jerk_m_per_s3=None, headroom=None):
     """Pre-compensate a command on an identified model, scaled back over draws of the model
     from its uncertainty, with the predicted figures before and after.
 
@@ -208,6 +208,10 @@ def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
     jerk_m_per_s3 : float, optional
         Axis jerk the compensated command may use; default the model's S-curve jerk, none
         for a trapezoid [m/s^3].
+    headroom : float, optional
+        Share of the axes' acceleration and jerk left to the correction when ``command``
+        is an NC program, planned with the rest (:mod:`tcpmm.compensate.headroom`);
+        default :data:`~tcpmm.compensate.headroom.DEFAULT_HEADROOM` [-].
 
     Returns
     -------
@@ -219,8 +223,30 @@ def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
 
     m = load_model(machine)
     bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
-    comp = _compensate(m, as_command(command, m), bounds=bounds)
+    full, cmd, headroom = _with_headroom(command, m, headroom)
+    comp = _compensate(m, cmd, bounds=bounds)
     if draws > 0:
         robust_factors(m, comp, n_draws=draws, seed=seed, radius_m=radius_m)
-    comp.scores = predicted_scores(m, comp, radius_m)
+    comp.scores = predicted_scores(m, comp, radius_m, programmed=full)
+    comp.settings.update(headroom=headroom, programmed_duration_s=float(full.time_s[-1]),
+                         planned_duration_s=float(cmd.time_s[-1]))
     return comp
+
+
+def _with_headroom(command, machine, headroom):
+    """The command at the axes' full limits, the one the correction is learned on, and
+    the headroom: only an NC program is planned anew [-]."""
+    from .compensate.headroom import DEFAULT_HEADROOM, program_with_headroom
+    from .errors import InputError
+    from .path import Command, InterpolatorSettings
+    from .path.program import PROGRAM_SUFFIXES
+
+    if isinstance(command, Command) or Path(command).suffix.lower() not in PROGRAM_SUFFIXES:
+        if headroom:
+            raise InputError("headroom re-plans an NC program; a command is already timed")
+        cmd = as_command(command, machine)
+        return cmd, cmd, 0.0
+    headroom = DEFAULT_HEADROOM if headroom is None else headroom
+    settings = InterpolatorSettings.model_validate(machine.interpolation or {})
+    full, planned = program_with_headroom(Path(command), settings, headroom)
+    return full, planned, headroom

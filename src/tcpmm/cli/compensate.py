@@ -9,6 +9,7 @@ import typer
 from ._app import (
     _emit_json,
     _in_file,
+    _interp_settings,
     _load_command,
     _output,
     _read_model,
@@ -27,6 +28,13 @@ def _row(label: str, fig: dict) -> str:
         text += f", largest spike {c['largest_spike_um']:.2f} µm, G " \
                 f"{c['circular_deviation_um']:.2f} µm"
     return text
+
+
+_HEADROOM_HELP = ("Share of the axes' acceleration and jerk left to the correction: an NC "
+                  "program (--gcode) is planned with the rest, so that the correction has "
+                  "room in the feed ramps and corners; the path and feed are the same, the "
+                  "program takes longer. Default 0.25 for --gcode; a command file is "
+                  "already timed.")
 
 
 @app.command()
@@ -52,6 +60,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                           help="Axis jerk the compensated command may use "
                                                "[m/s^3]; default the model's S-curve jerk, "
                                                "none for a trapezoid."),
+               headroom: float = typer.Option(None, "--headroom", help=_HEADROOM_HELP),
                controller_out: Path = typer.Option(
                    None, "--controller-out",
                    help="PARAMS.yaml: also compute the controller-side compensation of the "
@@ -64,12 +73,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                                 "axis."),
                as_json: bool = typer.Option(False, "--json")):
     """Pre-compensate a command so that the model's predicted TCP follows the programmed
-    path; write the command (for tcpmm simulate --command) and report before and after.
-
-    The correction keeps the axes' velocity, acceleration and jerk limits; a program at
-    the interpolator's acceleration leaves it no room, so give the machine's real axis
-    limits (--accel-m-per-s2) where they are higher. An NC program (--gcode) is still
-    interpolated with the model's own settings."""
+    path, within the axes' limits (an NC program is planned with headroom for the
+    correction); write it (for tcpmm simulate --command) and report before and after."""
     from ..compensate import machine_bounds
     from ..compensate.gcodeout import write_dense_program
     from ..path import write_command_csv
@@ -77,14 +82,15 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     _check_outputs(output, report, controller_out, radius, model, command, gcode)
     m = _read_model(model)
     bounds = machine_bounds(m, accel, jerk)
-    cmd = _load_command(command, gcode, m)
+    full, cmd, headroom = _planned(command, gcode, m, headroom)
     radius_m = None if radius is None else radius * 1e-3
-    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, radius_m)
+    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, radius_m, full)
+    comp.settings["headroom"] = headroom
     write_command_csv(comp.command, output)
     if gcode_out is not None:
         write_dense_program(comp.command, gcode_out)
-    cc = (None if controller_out is None
-          else _controller(m, cmd, radius_m, controller_out, draws))
+    cc = None if controller_out is None else _controller(m, full, radius_m, controller_out,
+                                                         draws)
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, radius_m, cc)
     if as_json:
@@ -119,7 +125,35 @@ def _check_outputs(output: Path, report, controller_out, radius, model: str, com
             raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
 
 
-def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radius_m):
+def _planned(command, gcode, machine, headroom):
+    """The program at the axes' full limits, the one the correction is learned on and the
+    headroom left to it (:mod:`tcpmm.compensate.headroom`).
+
+    Parameters
+    ----------
+    command, gcode : Path or None
+        The command file or the NC program [-].
+    machine : Machine
+        Whose interpolator settings plan the program [-].
+    headroom : float or None
+        ``--headroom`` [-].
+    """
+    from ..compensate.headroom import DEFAULT_HEADROOM, program_with_headroom
+
+    if gcode is None or command is not None:
+        if headroom:
+            raise typer.BadParameter("--headroom re-plans an NC program (--gcode); a "
+                                     "command file is already timed")
+        cmd = _load_command(command, gcode, machine)
+        return cmd, cmd, 0.0
+    headroom = DEFAULT_HEADROOM if headroom is None else headroom
+    with _in_file(gcode):
+        full, planned = program_with_headroom(gcode, _interp_settings(machine), headroom)
+    return full, planned, headroom
+
+
+def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radius_m,
+                 programmed=None):
     """The compensation of a command, tested on drawn machines and scored.
 
     Parameters
@@ -138,6 +172,9 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radi
         Machines drawn from the model's uncertainty, 0 for none [-].
     radius_m : float or None
         The circle's radius, where it is one [m].
+    programmed : Command, optional
+        The program at the axes' full limits, judged before, where ``cmd`` was planned
+        with headroom [m].
 
     Returns
     -------
@@ -150,7 +187,10 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radi
         comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
         if draws > 0:
             robust_factors(machine, comp, n_draws=draws, radius_m=radius_m)
-        comp.scores = predicted_scores(machine, comp, radius_m)
+        comp.scores = predicted_scores(machine, comp, radius_m, programmed=programmed)
+    full = cmd if programmed is None else programmed
+    comp.settings.update(programmed_duration_s=float(full.time_s[-1]),
+                         planned_duration_s=float(cmd.time_s[-1]))
     return comp
 
 
@@ -173,6 +213,11 @@ def _say(output: Path, report, comp, controller_out, cc) -> None:
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
     out.print(_row("before", comp.scores["before"]))
     out.print(_row("after", comp.scores["after"]))
+    st = comp.settings
+    if st.get("headroom"):
+        out.print(f"  planned with {1 - st['headroom']:.0%} of the axes' acceleration and "
+                  f"jerk, the rest left to the correction: {st['planned_duration_s']:.2f} s "
+                  f"instead of {st['programmed_duration_s']:.2f} s")
     if comp.robustness:
         for line in _verdict_lines(comp.robustness):
             out.print(line)

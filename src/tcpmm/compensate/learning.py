@@ -174,4 +174,5 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
     factors = {a: np.ones(n) for a in command.axes}
     return Compensation(ref, tgt, corr, factors, max(delay, 0) * T, history,
                         {a: bounds[a] for a in command.axes},
-                        {"iterations": iterations, "gain": gain, "cutoff_hz": cutoff_hz})
+                        {"iterations": iterations, "gain": gain, "cutoff_hz": cutoff_hz,
+                         "hold_samples": max(delay, 0) + tail})

@@ -11,20 +11,35 @@ from ..analysis.circular import analyse_circle
 from ..analysis.contour import contour_error
 from ..path.command import Command
 from ..sim.simulate import simulate
+from .learning import extended
 
 
-def runs_before_after(machine, comp, quantise_feedback: bool = True):
+def programmed_path(comp, programmed=None) -> Command:
+    """The command run and judged before the compensation: ``comp.reference``, or
+    ``programmed`` (the program at the axes' full limits, :mod:`.headroom`) held at its end
+    as long as the compensated command is, for the same time to settle [m]."""
+    if programmed is None:
+        return comp.reference
+    return extended(programmed, 0, comp.settings.get("hold_samples", 0))[0]
+
+
+def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=None):
     """The model run on the programmed and on the compensated command; each run's command
     signals are the path it is judged against (the programmed path, delayed for the
     compensated run) [-].
+
+    ``programmed``, where given, is the command run before instead of ``comp.reference``:
+    the program at the axes' full limits where the compensation was planned with headroom
+    (:mod:`.headroom`).
 
     Where every share is 0 the compensated command is the programmed one and is judged on
     the same path: a lagging machine's G read over passes a few milliseconds apart differs
     by tens of micrometres, which is no effect of the compensation.
     """
-    before = simulate(machine, comp.reference, quantise_feedback=quantise_feedback)
+    programmed = programmed_path(comp, programmed)
+    before = simulate(machine, programmed, quantise_feedback=quantise_feedback)
     after = simulate(machine, comp.command, quantise_feedback=quantise_feedback)
-    for run, path in ((before, comp.reference), (after, judged_path(comp))):
+    for run, path in ((before, programmed), (after, judged_path(comp))):
         for a, r in run.axes.items():
             if a in path.positions:
                 r.cmd = path.positions[a][:run.time_s.size]
@@ -108,7 +123,7 @@ def judge(run, path: Command, radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y
 
 
 def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
-                     plane=("X", "Y")) -> dict:
+                     plane=("X", "Y"), programmed=None) -> dict:
     """Figures of the model's TCP before and after the compensation.
 
     Parameters
@@ -123,12 +138,16 @@ def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
         Centre of the circle [m].
     plane : tuple of str
         Axes of the circle's plane [-].
+    programmed : Command, optional
+        The command judged before, where not ``comp.reference`` (:func:`runs_before_after`)
+        [m].
 
     Returns
     -------
     dict
         ``{"before": ..., "after": ...}``, each from :func:`judge` [-].
     """
-    before, after = runs_before_after(machine, comp)
-    return {"before": judge(before, comp.reference, radius_m, centre_m, plane),
+    before, after = runs_before_after(machine, comp, programmed=programmed)
+    return {"before": judge(before, programmed_path(comp, programmed), radius_m, centre_m,
+                            plane),
             "after": judge(after, judged_path(comp), radius_m, centre_m, plane)}

@@ -1,0 +1,62 @@
+"""Room for the correction: an NC program planned with a share of the axes' acceleration and
+jerk, the rest left to the correction.
+
+A program interpolated at the axes' own limits leaves the correction nothing where the
+feed ramps and at the corners, and that is where the TCP's error is largest. Planned with
+less, the path is the same and only its timing changes: the ramps and corners take longer,
+the feed is unchanged. The figures before are those of the program planned at the full
+limits, as the machine would run it without compensation.
+"""
+
+from __future__ import annotations
+
+from ..errors import InputError
+from ..path.program import program_to_command
+from ..path.settings import InterpolatorSettings
+
+#: Share of the acceleration and jerk left to the correction of an NC program [-].
+DEFAULT_HEADROOM = 0.25
+
+
+def planned_settings(settings: InterpolatorSettings, headroom: float) -> InterpolatorSettings:
+    """The interpolator settings with the path's and every axis's acceleration and the
+    path's jerk times ``1 - headroom``.
+
+    Parameters
+    ----------
+    settings : InterpolatorSettings
+        The machine's settings [-].
+    headroom : float
+        Share left to the correction, in [0, 1) [-].
+    """
+    if not 0.0 <= headroom < 1.0:
+        raise InputError(f"headroom {headroom:g} is not in [0, 1): the share of the axes' "
+                         "acceleration and jerk left to the correction")
+    k = 1.0 - headroom
+    return settings.model_copy(update={
+        "path_accel_m_per_s2": settings.path_accel_m_per_s2 * k,
+        "path_jerk_m_per_s3": settings.path_jerk_m_per_s3 * k,
+        "axis_accel_m_per_s2": {a: v * k for a, v in settings.axis_accel_m_per_s2.items()}})
+
+
+def program_with_headroom(program, settings: InterpolatorSettings, headroom: float):
+    """The program interpolated at the full limits and with the headroom.
+
+    Parameters
+    ----------
+    program : str or Path
+        NC program text or file [-].
+    settings : InterpolatorSettings
+        The machine's settings [-].
+    headroom : float
+        Share of the acceleration and jerk left to the correction [-].
+
+    Returns
+    -------
+    tuple of Command
+        ``(at the full limits, planned with the headroom)`` [m].
+    """
+    full = program_to_command(program, settings)
+    if headroom == 0.0:
+        return full, full
+    return full, program_to_command(program, planned_settings(settings, headroom))

@@ -13,9 +13,12 @@ from __future__ import annotations
 
 import glob
 import json
+import re
 import tempfile
+import threading
 import time
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -26,8 +29,9 @@ from ...io.atomic import atomic_path, output_folder, write_table_atomic, write_t
 PROGRAM_SUFFIXES = (".nc", ".ngc", ".gcode", ".g", ".tap", ".mpf", ".spf", ".cnc", ".iso")
 #: columns of a row, in order [-]
 COLUMNS = ("model", "program", "status", "blocks", "zero_length_skipped", "duration_s",
-           "samples", "plane", "contour_rms_um", "contour_max_um", "corners", "faults",
-           "task_s", "error", "error_file", "error_line")
+           "samples", "plane", "contour_rms_um", "contour_max_um", "corners",
+           "corner_rounding_max_um", "faults",
+           "warnings", "task_s", "error", "error_file", "error_line")
 #: file names of the table in the results folder [-]
 TABLE = "programs"
 
@@ -57,23 +61,54 @@ def program_files(spec) -> list[Path]:
     return sorted(files)
 
 
-def _zero_length(caught) -> int:
-    """Zero-length moves skipped, from the interpreter's warnings: the first said, and
-    "(and N more times)" [-]."""
-    import re
+_task = threading.local()
+_hook_lock = threading.Lock()
 
-    n = 0
-    for w in caught:
-        text = str(w.message)
+
+def _show(message, category, filename, lineno, file=None, line=None):
+    """Into the list of the task running in this thread, else as Python would [-]."""
+    sink = getattr(_task, "warnings", None)
+    if sink is None:
+        return _show.passed_on(message, category, filename, lineno, file, line)
+    sink.append(str(message))
+
+
+@contextmanager
+def _warnings_of_this_task():
+    """The warnings of the task running in this thread, in a list: a Dask worker runs
+    tasks in threads, and ``warnings.catch_warnings`` swaps the process's warning state,
+    which one task's exit would restore under another's feet [-]."""
+    from ...errors import InputWarning
+
+    with _hook_lock:
+        if warnings.showwarning is not _show:
+            _show.passed_on = warnings.showwarning
+            warnings.showwarning = _show
+        # each program's warnings are counted, not only the first of a kind
+        warnings.filterwarnings("always", category=InputWarning)
+    _task.warnings = said = []
+    try:
+        yield said
+    finally:
+        _task.warnings = None
+
+
+def _zero_length(said) -> tuple[int, str]:
+    """Zero-length moves skipped, from the interpreter's warnings (the first said, and
+    "(and N more times)"); the other warnings, joined [-]."""
+    n, rest = 0, []
+    for text in said:
         if "zero-length move" in text:
             more = re.search(r"\(and (\d+) more time", text)
             n += 1 + (int(more.group(1)) if more else 0)
-    return n
+        else:
+            rest.append(text)
+    return n, "; ".join(rest)
 
 
 def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict:
     """Stream ``program`` through ``machine`` into the Parquet ``run_file``; its blocks,
-    samples, duration and faults [-], [s]."""
+    samples, duration, faults and warnings [-], [s]."""
     from ...analysis.runaway_stream import FaultWatch
     from ...io.runfile import run_parquet_writer
     from ...path.settings import InterpolatorSettings
@@ -81,8 +116,7 @@ def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict
 
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})
     watch, samples, last_t, lines = FaultWatch(machine), 0, 0.0, 0
-    with warnings.catch_warnings(record=True) as caught, run_parquet_writer(run_file) as write:
-        warnings.simplefilter("always")
+    with _warnings_of_this_task() as said, run_parquet_writer(run_file) as write:
         # one core a task: the cluster's workers are the parallelism
         for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
                                    threads=1):
@@ -93,8 +127,9 @@ def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict
                 last_t = float(run.time_s[-1])
             lines = run.meta["lines_read"]
     faults = "; ".join(f.text() for f in watch.faults())
-    return {"blocks": lines, "zero_length_skipped": _zero_length(caught), "samples": samples,
-            "duration_s": last_t, "faults": faults}
+    skipped, said = _zero_length(said)
+    return {"blocks": lines, "zero_length_skipped": skipped, "samples": samples,
+            "duration_s": last_t, "faults": faults, "warnings": said}
 
 
 def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
@@ -114,7 +149,8 @@ def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
     -------
     dict
         ``plane``, ``contour_rms_um``, ``contour_max_um`` (largest magnitude) and
-        ``corners`` (found while streaming, where the analysis finds any) [-], [um].
+        ``corners`` and ``corner_rounding_max_um`` (where the streamed analysis finds
+        corners, else ``None``) [-], [um].
     """
     import numpy as np
 
@@ -133,8 +169,12 @@ def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
     res = stream_contour(run_file, tuple(axes), flat, window_s)
     d = res.to_dict()
     s = d["sensors"].get(sensor) or next(iter(d["sensors"].values()))
+    # the streamed analysis may seek no corners: then the row has none to say, not zero
+    corners = [c for c in d.get("corners") or [] if c.get("sensor", sensor) == sensor]
     return {"plane": d["axes"] if flat else "3D", "contour_rms_um": s["rms_um"],
-            "contour_max_um": s["max_abs_um"], "corners": len(d.get("corners") or [])}
+            "contour_max_um": s["max_abs_um"], "corners": len(corners) or None,
+            "corner_rounding_max_um": max((c.get("rounding_um") or 0.0 for c in corners),
+                                          default=None)}
 
 
 def _failure(exc: Exception) -> dict:
@@ -262,7 +302,8 @@ def write_table(rows, out_dir) -> dict:
 
     out = output_folder(out_dir)
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
-    frame["error_line"] = frame["error_line"].astype("Int64")
+    for c in ("blocks", "zero_length_skipped", "samples", "corners", "error_line"):
+        frame[c] = frame[c].astype("Int64")
     files = {"csv": out / f"{TABLE}.csv", "parquet": out / f"{TABLE}.parquet",
              "json": out / f"{TABLE}.json"}
     write_table_atomic(frame, files["csv"])

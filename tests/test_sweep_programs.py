@@ -162,7 +162,7 @@ def test_cli_on_a_cluster_on_loopback(study, serial, loopback, capsys, tmp_path)
 
 def test_cli_text_report_and_refusals(study, capsys, tmp_path):
     code, out, err = _cli(capsys, "sweep", "builtin:vmc", "--programs",
-                          study["progs"] / "square.nc", "-o", tmp_path)
+                          study["progs"] / "square.nc", "--workers", 1, "-o", tmp_path)
     assert code == 0 and "1 (model, program) pairs: 1 ran, 0 failed" in out
     assert "programs.csv" in out
     code, _, err = _cli(capsys, "sweep", *study["models"], "-p", "X.servo.K_pp=20,30",

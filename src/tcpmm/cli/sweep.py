@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -264,6 +265,8 @@ def _sweep_programs(models, programs: str, output, scheduler, workers, chunk_blo
             raise typer.BadParameter(f"model {name} given twice")
         machines[name] = _read_model(name)
         _warn_unstable(machines[name], f"model {name}")
+    if workers is None and scheduler is None:
+        workers = os.cpu_count() or 1  # as a sweep of variants: every local core
     res = _on_cluster(scheduler, "programs", lambda client, progress: run_programs(
         machines, files, output, client=client, workers=workers, chunk_blocks=chunk_blocks,
         progress=progress))

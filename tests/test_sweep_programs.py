@@ -13,7 +13,7 @@ from tcpmm.cli import main
 from tcpmm.errors import InputError
 from tcpmm.io.modelfile import read_machine, write_machine
 from tcpmm.whatif.sweep import apply_parameters
-from tcpmm.whatif.sweep.programs import COLUMNS, program_files, run_programs
+from tcpmm.whatif.sweep.programs import COLUMNS, program_files, program_task, run_programs
 
 #: a square with a repeated point and a first move to where the tool stands: two
 #: zero-length moves skipped
@@ -64,6 +64,9 @@ def test_program_files(study, tmp_path):
     assert [p.name for p in program_files(study["progs"] / "*.nc")] == ["bad.nc", "square.nc"]
     with pytest.raises(InputError, match="no NC program found"):
         program_files(tmp_path)
+    (tmp_path / "a" / "b").mkdir(parents=True)
+    (tmp_path / "a" / "b" / "deep.nc").write_text(SQUARE)
+    assert [p.name for p in program_files(tmp_path / "**" / "*.nc")] == ["deep.nc"]
     with pytest.raises(InputError, match="no such folder"):
         program_files(tmp_path / "missing")
 
@@ -174,3 +177,16 @@ def test_cli_text_report_and_refusals(study, capsys, tmp_path):
     code, _, err = _cli(capsys, "sweep", "builtin:vmc", "--programs", tmp_path / "none",
                         "-o", tmp_path)
     assert code == 2 and "no such folder" in err.replace("\n", " ")
+
+
+def test_tasks_in_threads_count_their_own_warnings(study):
+    """A Dask worker runs tasks in threads: each counts the zero-length moves of its own
+    program, however the threads interleave."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    vmc = read_machine("builtin:vmc")
+    progs = [study["progs"] / ("square.nc" if k % 2 else "arc.ngc") for k in range(8)]
+    with ThreadPoolExecutor(4) as pool:
+        rows = list(pool.map(lambda p: program_task("vmc", vmc, p, 1), progs))
+    assert [r["zero_length_skipped"] for r in rows] == [0, 2] * 4
+    assert all(r["status"] == "ok" and r["warnings"] == "" for r in rows)

@@ -115,6 +115,12 @@ def test_a_malformed_program_is_a_row_naming_its_line(study, serial):
         assert "bad.nc, line 3, column 7" in r["error"] and "letter Y" in r["error"]
         assert r["contour_rms_um"] is None
     assert len(serial.failed) == 2
+    from tcpmm.whatif.sweep.programs import _failure
+
+    # a cluster's error of several lines (advice after the first) is a row of one line
+    lost = _failure(RuntimeError("Error during deserialization\nFor more information"))
+    assert lost == {"error": "RuntimeError: Error during deserialization",
+                    "error_file": None, "error_line": None}
 
 
 def test_the_table_files(serial):

@@ -181,7 +181,9 @@ def _failure(exc: Exception) -> dict:
     """The row's columns of a task that failed: the cause, its file and line [-]."""
     if isinstance(exc, InputError):
         return {"error": exc.format(), "error_file": exc.file, "error_line": exc.line}
-    return {"error": f"{type(exc).__name__}: {exc}", "error_file": None, "error_line": None}
+    # a row a line: Dask's errors run over several, with advice after the first
+    first = (str(exc).strip().splitlines() or [""])[0]
+    return {"error": f"{type(exc).__name__}: {first}", "error_file": None, "error_line": None}
 
 
 def program_task(model: str, machine, program, chunk_blocks: int,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -20,6 +21,7 @@ from ._app import (
     console,
     out,
 )
+from ._stream import CHUNK_HELP
 
 _PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs range) or "
                "NAME=V1,V2,... (values; one value fixes it). Repeat for each parameter. "
@@ -28,6 +30,11 @@ _PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs r
                "program.radius_mm, program.feed_mm_per_min (circle), program.feed_override, "
                "interpolation.F (NC program); values in the model file's units (SI). "
                "--list-params lists them all.")
+_PROGRAMS_HELP = ("NC programs: a folder (its .nc, .ngc, .gcode, .tap, .mpf ... files) or a "
+                  "glob pattern such as 'cam/**/*.nc'; every model runs every program, each "
+                  "pair one streaming task. The workers read the programs at these paths.")
+
+_ALONE = "--param, --gcode, --circle, --keep-runs and --list-params go without it"
 
 
 @contextmanager
@@ -131,7 +138,8 @@ def _warn_faults(res) -> None:
 
 
 @app.command()
-def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
+def sweep(models: list[str] = typer.Argument(
+              ..., help="MODEL.yaml or builtin:vmc; with --programs, one or more models."),
           param: list[str] = typer.Option(None, "--param", "-p", help=_PARAM_HELP),
           design: str = typer.Option("grid", "--design", help="grid, lhs or draws."),
           n: int = typer.Option(16, "--n", help="Variants of lhs; draws per grid point [-]."),
@@ -142,6 +150,8 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
               help="Circular test R,F: radius [mm], feed [mm/min], CCW then CW; the "
                    "default without --gcode is the paper's 35,5000."),
           centre: str = typer.Option("0,0", "--centre", help="Circle centre X,Y [mm]."),
+          programs: str = typer.Option(None, "--programs", help=_PROGRAMS_HELP),
+          chunk_blocks: int = typer.Option(None, "--chunk-blocks", min=1, help=CHUNK_HELP),
           output: Path = typer.Option(None, "-o", "--out", help="Results folder OUT_DIR."),
           scheduler: str = typer.Option(
               None, "--scheduler", help="Run on this Dask cluster, e.g. tcp://host:8786."),
@@ -164,49 +174,109 @@ def sweep(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     OUT_DIR/results as they arrive; OUT_DIR/summary.csv holds the design's rows at the end.
     Rerunning the same command runs only the variants whose rows are missing.
 
+    With --programs, every (model, program) pair is one task streaming its program, and
+    OUT_DIR/programs.csv (.parquet, .json) holds a row a pair; a program that fails gives
+    a row with its error.
+
     Example: tcpmm sweep builtin:vmc -p X.servo.position_gain=20:60:5
     -p Y.servo.position_gain=20:60:5 --circle 35,5000 -o out/kpp
     """
+    if output is None and not list_params:
+        raise typer.BadParameter("give the results folder with -o OUT_DIR")
+    if scheduler is not None and workers is not None:
+        raise typer.BadParameter("--workers sets up a local cluster; with --scheduler the "
+                                 "cluster's own workers run the sweep")
+    if programs is not None:
+        if param or gcode or circle or keep_runs or list_params:
+            raise typer.BadParameter(f"--programs runs each model as it is: {_ALONE}")
+        return _sweep_programs(models, programs, output, scheduler, workers, chunk_blocks,
+                               as_json)
+    if len(models) != 1:
+        raise typer.BadParameter(f"a sweep of variants takes one model, got {len(models)}; "
+                                 "several models go with --programs DIR")
+    how = dict(design=design, n=n, seed=seed, sensor=sensor.value, fit_only=fit_only)
+    _sweep_variants(models[0], param, (gcode, circle, centre), output, scheduler, workers,
+                    keep_runs, how, list_params, as_json)
+
+
+def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, how: dict,
+                    list_params: bool, as_json: bool) -> None:
+    """``tcpmm sweep`` over variants of named parameters of one model."""
     from ..whatif.spread import MODEL_ERROR
     from ..whatif.sweep import DESIGNS, canonical_name, make_design, parameter_names, run_sweep
 
     m = _read_model(model)
-    kind = "gcode" if gcode is not None else "circle"
-    if not list_params:
-        _warn_unstable(m, f"model {model}")
+    kind = "gcode" if prog[0] is not None else "circle"
     if list_params:
         for name in parameter_names(m, kind):
             out.print(name, highlight=False)
         return
-    if output is None:
-        raise typer.BadParameter("give the results folder with -o OUT_DIR")
-    if design not in DESIGNS:
+    _warn_unstable(m, f"model {model}")
+    if how["design"] not in DESIGNS:
         raise typer.BadParameter(f"--design must be one of {', '.join(DESIGNS)}")
-    if scheduler is not None and workers is not None:
-        raise typer.BadParameter("--workers sets up a local cluster; with --scheduler the "
-                                 "cluster's own workers run the sweep")
     from ..whatif.sweep import parse_param
 
-    program = _program(gcode, circle, centre)
+    program = _program(*prog)
     specs = [parse_param(p, lambda name: canonical_name(m, name, kind)) for p in param or []]
-    variants = make_design(design, specs, n, seed)
-    floors = None if fit_only or design != "draws" else MODEL_ERROR
-    client = _client(scheduler) if scheduler is not None else None
+    variants = make_design(how["design"], specs, how["n"], how["seed"])
+    floors = None if how["fit_only"] or how["design"] != "draws" else MODEL_ERROR
     try:
-        with _bar("sweep") as progress:
-            res = run_sweep(m, program, variants, output, sensor=sensor.value, client=client,
-                            workers=workers, keep_runs=keep_runs, floors=floors,
-                            progress=progress)
+        res = _on_cluster(scheduler, "sweep", lambda client, progress: run_sweep(
+            m, program, variants, output, sensor=how["sensor"], client=client,
+            workers=workers, keep_runs=keep_runs, floors=floors, progress=progress))
     except (KeyboardInterrupt, SystemExit):
         console.print(f"stopped: the variants computed so far are kept in "
                       f"{_esc(str(output))}; the same command goes on from there")
         raise
+    _finish(res, as_json, _report)
+
+
+def _on_cluster(scheduler, description: str, run):
+    """``run(client, progress)`` with the client of ``--scheduler`` (``None`` without),
+    closed after, and a progress bar."""
+    client = _client(scheduler) if scheduler is not None else None
+    try:
+        with _bar(description) as progress:
+            return run(client, progress)
     finally:
         if client is not None:
             _close(client)
+
+
+def _finish(res, as_json: bool, report) -> None:
+    """The result as JSON or as ``report`` says it; exit status 1 when any task failed."""
     if as_json:
         _emit_json(res.to_dict())
     else:
-        _report(res)
+        report(res)
     if res.failed:
         raise typer.Exit(1)
+
+
+def _sweep_programs(models, programs: str, output, scheduler, workers, chunk_blocks,
+                    as_json: bool) -> None:
+    """``tcpmm sweep --programs``: every model over every NC program."""
+    from ..whatif.sweep.programs import program_files, run_programs
+
+    files = program_files(programs)
+    machines = {}
+    for name in models:
+        if name in machines:
+            raise typer.BadParameter(f"model {name} given twice")
+        machines[name] = _read_model(name)
+        _warn_unstable(machines[name], f"model {name}")
+    if workers is None and scheduler is None:
+        workers = os.cpu_count() or 1  # as a sweep of variants: every local core
+    res = _on_cluster(scheduler, "programs", lambda client, progress: run_programs(
+        machines, files, output, client=client, workers=workers, chunk_blocks=chunk_blocks,
+        progress=progress))
+    _finish(res, as_json, _report_programs)
+
+
+def _report_programs(res) -> None:
+    out.print(f"{len(res.rows)} (model, program) pairs: {len(res.rows) - len(res.failed)} "
+              f"ran, {len(res.failed)} failed ({res.wall_s:.1f} s)")
+    for kind, path in res.files.items():
+        out.print(f"  {kind:<8} {path}", highlight=False)
+    for r in res.failed:
+        out.print(f"  failed   {r['model']}: {r['error']}", highlight=False)

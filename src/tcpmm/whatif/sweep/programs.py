@@ -1,0 +1,366 @@
+"""A study over many NC programs and several machine models: every (model, program) pair
+one task that streams its program (:func:`tcpmm.sim.streamrun.stream_simulate`, the run
+to a Parquet file a chunk at a time, its contour error then read back a chunk at a time,
+:func:`tcpmm.analysis.contour_stream.stream_contour`) and gives one summary row, here, on
+local worker processes or on a Dask cluster.
+
+A program that cannot be run (malformed G-code, a motion the machine cannot make) gives a
+row with its error, the file and the line, and the study goes on. The table is written at
+the end, atomically, as CSV, Parquet and JSON.
+"""
+
+from __future__ import annotations
+
+import glob
+import json
+import re
+import tempfile
+import threading
+import time
+import warnings
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ...errors import InputError
+from ...io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
+
+#: file endings taken as NC programs in a folder [-]
+PROGRAM_SUFFIXES = (".nc", ".ngc", ".gcode", ".g", ".tap", ".mpf", ".spf", ".cnc", ".iso")
+#: columns of a row, in order [-]
+COLUMNS = ("model", "program", "status", "blocks", "zero_length_skipped", "duration_s",
+           "samples", "plane", "contour_rms_um", "contour_max_um", "corners",
+           "corner_rounding_max_um", "faults",
+           "warnings", "task_s", "error", "error_file", "error_line")
+#: file names of the table in the results folder [-]
+TABLE = "programs"
+
+
+def program_files(spec) -> list[Path]:
+    """The NC programs of a folder (the files ending in :data:`PROGRAM_SUFFIXES`) or of a
+    glob pattern (every file it matches), sorted by name.
+
+    Parameters
+    ----------
+    spec : str or Path
+        A folder, or a pattern such as ``cam/*.nc`` (``**`` goes into sub-folders) [-].
+    """
+    p = Path(spec)
+    if p.is_dir():
+        files = [f for f in p.iterdir() if f.is_file() and f.suffix.lower() in PROGRAM_SUFFIXES]
+        fix = f"name them with one of {', '.join(PROGRAM_SUFFIXES)} or give a glob pattern"
+    elif glob.has_magic(str(spec)):
+        files = [Path(f) for f in glob.glob(str(spec), recursive=True) if Path(f).is_file()]
+        fix = "check the pattern"
+    elif p.is_file():
+        files = [p]
+    else:
+        raise InputError("no such folder, file or pattern of NC programs", file=spec)
+    if not files:
+        raise InputError(f"no NC program found; {fix}", file=spec)
+    return sorted(files)
+
+
+_task = threading.local()
+_hook_lock = threading.Lock()
+
+
+def _show(message, category, filename, lineno, file=None, line=None):
+    """Into the list of the task running in this thread, else as Python would [-]."""
+    sink = getattr(_task, "warnings", None)
+    if sink is None:
+        return _show.passed_on(message, category, filename, lineno, file, line)
+    sink.append(str(message))
+
+
+@contextmanager
+def _warnings_of_this_task():
+    """The warnings of the task running in this thread, in a list: a Dask worker runs
+    tasks in threads, and ``warnings.catch_warnings`` swaps the process's warning state,
+    which one task's exit would restore under another's feet [-]."""
+    from ...errors import InputWarning
+
+    with _hook_lock:
+        if warnings.showwarning is not _show:
+            _show.passed_on = warnings.showwarning
+            warnings.showwarning = _show
+        # each program's warnings are counted, not only the first of a kind
+        warnings.filterwarnings("always", category=InputWarning)
+    _task.warnings = said = []
+    try:
+        yield said
+    finally:
+        _task.warnings = None
+
+
+def _zero_length(said) -> tuple[int, str]:
+    """Zero-length moves skipped, from the interpreter's warnings (the first said, and
+    "(and N more times)"); the other warnings, joined [-]."""
+    n, rest = 0, []
+    for text in said:
+        if "zero-length move" in text:
+            more = re.search(r"\(and (\d+) more time", text)
+            n += 1 + (int(more.group(1)) if more else 0)
+        else:
+            rest.append(text)
+    return n, "; ".join(rest)
+
+
+def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict:
+    """Stream ``program`` through ``machine`` into the Parquet ``run_file``; its blocks,
+    samples, duration, faults and warnings [-], [s]."""
+    from ...analysis.runaway_stream import FaultWatch
+    from ...io.runfile import run_parquet_writer
+    from ...path.settings import InterpolatorSettings
+    from ...sim.streamrun import stream_simulate
+
+    settings = InterpolatorSettings.model_validate(machine.interpolation or {})
+    watch, samples, last_t, lines = FaultWatch(machine), 0, 0.0, 0
+    with _warnings_of_this_task() as said, run_parquet_writer(run_file) as write:
+        # one core a task: the cluster's workers are the parallelism
+        for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
+                                   threads=1):
+            if run.time_s.size:
+                write(run)
+                watch.add(run)
+                samples += run.time_s.size
+                last_t = float(run.time_s[-1])
+            lines = run.meta["lines_read"]
+    faults = "; ".join(f.text() for f in watch.faults())
+    skipped, said = _zero_length(said)
+    return {"blocks": lines, "zero_length_skipped": skipped, "samples": samples,
+            "duration_s": last_t, "faults": faults, "warnings": said}
+
+
+def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
+    """The contour error of a Parquet run read in chunks, in the plane its command moves
+    in (unsigned in 3-D where it moves out of a plane), as ``tcpmm contour`` takes it.
+
+    Parameters
+    ----------
+    run_file : Path
+        The Parquet run [-].
+    window_s : float
+        Time around each sample in which its closest command point is sought [s].
+    sensor : str
+        Sensor reported [-].
+
+    Returns
+    -------
+    dict
+        ``plane``, ``contour_rms_um``, ``contour_max_um`` (largest magnitude) and
+        ``corners`` and ``corner_rounding_max_um`` (where the streamed analysis finds
+        corners, else ``None``) [-], [um].
+    """
+    import numpy as np
+
+    from ...analysis.contour_stream import stream_contour, travel_positions
+    from ...analysis.plane import run_plane
+    from ...result import AxisRun, Run
+
+    travel = travel_positions(run_file)
+    ends = Run(np.array([0.0, 1.0]), {a: AxisRun(cmd=v) for a, v in travel.items()})
+    try:
+        axes, _, flat = run_plane(ends)
+    except InputError:
+        flat = False
+    if not flat:
+        axes = tuple(a for a in "XYZ" if a in travel)
+    res = stream_contour(run_file, tuple(axes), flat, window_s)
+    d = res.to_dict()
+    s = d["sensors"].get(sensor) or next(iter(d["sensors"].values()))
+    # the streamed analysis may seek no corners: then the row has none to say, not zero
+    corners = [c for c in d.get("corners") or [] if c.get("sensor", sensor) == sensor]
+    return {"plane": d["axes"] if flat else "3D", "contour_rms_um": s["rms_um"],
+            "contour_max_um": s["max_abs_um"], "corners": len(corners) or None,
+            "corner_rounding_max_um": max((c.get("rounding_um") or 0.0 for c in corners),
+                                          default=None)}
+
+
+def _failure(exc: Exception) -> dict:
+    """The row's columns of a task that failed: the cause, its file and line [-]."""
+    if isinstance(exc, InputError):
+        return {"error": exc.format(), "error_file": exc.file, "error_line": exc.line}
+    # a row a line: Dask's errors run over several, with advice after the first
+    first = (str(exc).strip().splitlines() or [""])[0]
+    return {"error": f"{type(exc).__name__}: {first}", "error_file": None, "error_line": None}
+
+
+def program_task(model: str, machine, program, chunk_blocks: int,
+                 window_s: float = 0.2) -> dict:
+    """One (model, program) pair: the program streamed through the model, the run's
+    contour error streamed back; a failure becomes the row's error, never an exception.
+
+    Parameters
+    ----------
+    model : str
+        The model's name in the table [-].
+    machine : Machine
+        The model [SI].
+    program : str or Path
+        The NC program file, at a path the worker reads [-].
+    chunk_blocks : int
+        Blocks read, interpolated and simulated at a time [-].
+    window_s : float
+        Contour error search window [s].
+
+    Returns
+    -------
+    dict
+        The row, columns :data:`COLUMNS` [-], [s], [um].
+    """
+    from ..._heap import keep_freed_memory
+
+    keep_freed_memory()
+    t0 = time.perf_counter()
+    row = dict.fromkeys(COLUMNS)
+    row.update(model=model, program=str(program), status="ok")
+    try:
+        with tempfile.TemporaryDirectory(prefix="tcpmm-sweep-") as tmp:
+            run_file = Path(tmp) / "run.parquet"
+            row.update(_simulate(machine, Path(program), run_file, chunk_blocks))
+            row.update(run_contour(run_file, window_s))
+    except Exception as exc:  # the row says it; the other pairs go on
+        row.update(status="failed", **_failure(exc))
+    row["task_s"] = time.perf_counter() - t0
+    return row
+
+
+@dataclass
+class ProgramSweep:
+    """The rows of a study over programs and where they were written.
+
+    Parameters
+    ----------
+    rows : list of dict
+        One per (model, program), models in the order given, programs sorted [-].
+    files : dict of str to Path
+        ``csv``, ``parquet`` and ``json`` [-].
+    wall_s : float
+        Wall time of the study [s].
+    """
+
+    rows: list
+    files: dict = field(default_factory=dict)
+    wall_s: float = 0.0
+
+    @property
+    def failed(self) -> list:
+        """The rows that failed [-]."""
+        return [r for r in self.rows if r["status"] != "ok"]
+
+    def to_dict(self) -> dict:
+        """JSON-ready [-]."""
+        return {"pairs": len(self.rows), "failed": len(self.failed), "wall_s": self.wall_s,
+                "files": {k: str(v) for k, v in self.files.items()}, "rows": self.rows}
+
+
+def _serial(pairs, args, progress) -> list:
+    """The tasks in this process, in turn [-]."""
+    rows = []
+    for i, (name, machine, prog) in enumerate(pairs):
+        rows.append(program_task(name, machine, prog, *args))
+        progress(i + 1, len(pairs))
+    return rows
+
+
+def _on_client(client, pairs, args, progress) -> list:
+    """The tasks on a Dask client, one a pair, each model sent to the workers once; a
+    task lost with its worker for good becomes a failed row [-]."""
+    import uuid
+
+    from distributed import as_completed
+
+    from .run import RETRIES, SchedulerLost, _scheduler_lost
+
+    token = uuid.uuid4().hex[:8]
+    models = {}
+    for name, machine, _ in pairs:
+        if name not in models:
+            models[name] = client.scatter(machine, broadcast=True, hash=False)
+    futures = {client.submit(program_task, name, models[name], str(prog), *args,
+                             key=f"tcpmm-program-{i}-{token}", retries=RETRIES): i
+               for i, (name, _, prog) in enumerate(pairs)}
+    rows = [None] * len(pairs)
+    for done, fut in enumerate(as_completed(futures), start=1):
+        i = futures[fut]
+        try:
+            rows[i] = fut.result()
+        except Exception as exc:  # the worker lost, or the scheduler
+            if _scheduler_lost(client, exc):
+                raise SchedulerLost(client) from None
+            name, _, prog = pairs[i]
+            rows[i] = {**dict.fromkeys(COLUMNS), "model": name, "program": str(prog),
+                       "status": "failed", **_failure(exc)}
+        fut.release()
+        progress(done, len(pairs))
+    return rows
+
+
+def write_table(rows, out_dir) -> dict:
+    """The rows as ``programs.csv``, ``programs.parquet`` and ``programs.json`` in
+    ``out_dir``, each written atomically [-]."""
+    import pandas as pd
+
+    out = output_folder(out_dir)
+    frame = pd.DataFrame(rows, columns=list(COLUMNS))
+    for c in ("blocks", "zero_length_skipped", "samples", "corners", "error_line"):
+        frame[c] = frame[c].astype("Int64")
+    files = {"csv": out / f"{TABLE}.csv", "parquet": out / f"{TABLE}.parquet",
+             "json": out / f"{TABLE}.json"}
+    write_table_atomic(frame, files["csv"])
+    with atomic_path(files["parquet"]) as tmp:
+        frame.to_parquet(tmp, index=False)
+    write_text_atomic(files["json"], json.dumps(rows, indent=1, default=str) + "\n")
+    return files
+
+
+def run_programs(models: dict, programs, out_dir, *, client=None, workers: int | None = None,
+                 chunk_blocks: int | None = None, window_s: float = 0.2,
+                 progress=None) -> ProgramSweep:
+    """Every program through every model, each pair a streaming task; the table written.
+
+    Parameters
+    ----------
+    models : dict of str to Machine
+        The models by the name the table gives them [SI].
+    programs : list of Path
+        The NC programs, at paths the workers read too [-].
+    out_dir : str or Path
+        The results folder [-].
+    client : distributed.Client, optional
+        Run on this Dask cluster [-].
+    workers : int, optional
+        Without a client: local worker processes; default and 1 run in this process [-].
+    chunk_blocks : int, optional
+        Blocks a chunk, default :data:`tcpmm.path.stream.CHUNK_BLOCKS` [-].
+    window_s : float
+        Contour error search window [s].
+    progress : callable, optional
+        Called with the pairs done and their total [-].
+    """
+    from ...path.stream import CHUNK_BLOCKS
+
+    output_folder(out_dir)  # a folder that cannot be written is refused before any work
+    t0 = time.perf_counter()
+    pairs = [(name, m, Path(p)) for name, m in models.items() for p in programs]
+    args = (chunk_blocks or CHUNK_BLOCKS, window_s)
+    progress = progress or (lambda done, total: None)
+    if client is not None:
+        rows = _on_client(client, pairs, args, progress)
+    elif workers is not None and workers > 1:
+        rows = _on_local_cluster(workers, pairs, args, progress)
+    else:
+        rows = _serial(pairs, args, progress)
+    files = write_table(rows, out_dir)
+    return ProgramSweep(rows, files, time.perf_counter() - t0)
+
+
+def _on_local_cluster(workers: int, pairs, args, progress) -> list:
+    """The tasks on a Dask cluster of ``workers`` processes on this machine [-]."""
+    from distributed import Client
+
+    from .run import local_cluster
+
+    with local_cluster(workers) as cluster, Client(cluster) as client:
+        return _on_client(client, pairs, args, progress)

@@ -1,0 +1,198 @@
+"""A study over many programs: every (model, NC program) pair one streaming task, here and
+on a real Dask scheduler with workers on loopback; each row is what ``tcpmm simulate
+--gcode`` and ``tcpmm contour`` give for the pair alone, and a malformed program is a row
+naming its line."""
+
+import json
+import logging
+
+import pandas as pd
+import pytest
+
+from tcpmm.cli import main
+from tcpmm.errors import InputError
+from tcpmm.io.modelfile import read_machine, write_machine
+from tcpmm.whatif.sweep import apply_parameters
+from tcpmm.whatif.sweep.programs import COLUMNS, program_files, program_task, run_programs
+
+#: a square with a repeated point and a first move to where the tool stands: two
+#: zero-length moves skipped
+SQUARE = ("G90 G17 G21\nG1 X0 Y0 F3000\nG1 X10 Y0\nG1 X10 Y0\nG1 X10 Y10\nG1 X0 Y10\n"
+          "G1 X0 Y0\nM30\n")
+ARC = "G90 G21\nG1 X5 F2000\nG2 X10 Y5 I0 J5\nG1 Y0\nM30\n"
+#: line 3 has a letter without its number
+BAD = "G90 G21\nG1 X5 F2000\nG1 X5 Y QQ\nM30\n"
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """Three programs (one malformed) in a folder, a note that is no program beside them,
+    and two models: the built-in one and a copy with a softer position loop."""
+    root = tmp_path_factory.mktemp("study")
+    progs = root / "progs"
+    progs.mkdir()
+    for name, text in (("square.nc", SQUARE), ("arc.ngc", ARC), ("bad.nc", BAD),
+                       ("notes.txt", "not a program\n")):
+        (progs / name).write_text(text)
+    soft = root / "soft.yaml"
+    vmc = read_machine("builtin:vmc")
+    write_machine(apply_parameters(vmc, {"X.servo.K_pp": 20.0, "Y.servo.K_pp": 20.0}), soft)
+    return {"root": root, "progs": progs, "models": ["builtin:vmc", str(soft)]}
+
+
+@pytest.fixture(scope="module")
+def serial(study):
+    models = {m: read_machine(m) for m in study["models"]}
+    import warnings
+
+    with warnings.catch_warnings():
+        # the tasks count the interpreter's warnings into their rows, not pass them on
+        warnings.simplefilter("error")
+        return run_programs(models, program_files(study["progs"]), study["root"] / "serial",
+                            chunk_blocks=2)
+
+
+def _cli(capsys, *args):
+    code = main([str(a) for a in args])
+    got = capsys.readouterr()
+    return code, got.out, got.err
+
+
+def test_program_files(study, tmp_path):
+    names = [p.name for p in program_files(study["progs"])]
+    assert names == ["arc.ngc", "bad.nc", "square.nc"]  # sorted; notes.txt is no program
+    assert [p.name for p in program_files(study["progs"] / "*.nc")] == ["bad.nc", "square.nc"]
+    with pytest.raises(InputError, match="no NC program found"):
+        program_files(tmp_path)
+    (tmp_path / "a" / "b").mkdir(parents=True)
+    (tmp_path / "a" / "b" / "deep.nc").write_text(SQUARE)
+    assert [p.name for p in program_files(tmp_path / "**" / "*.nc")] == ["deep.nc"]
+    with pytest.raises(InputError, match="no such folder"):
+        program_files(tmp_path / "missing")
+
+
+def _direct(capsys, model, program, tmp_path):
+    """The pair through ``tcpmm simulate --gcode`` and ``tcpmm contour`` [-]."""
+    run = tmp_path / "run.parquet"
+    code, out, _ = _cli(capsys, "simulate", model, "--gcode", program, "-o", run, "--json")
+    assert code == 0
+    sim = json.loads(out)
+    code, out, _ = _cli(capsys, "contour", run, "--json")
+    assert code == 0
+    return sim, json.loads(out)
+
+
+def test_rows_are_the_single_program_results(study, serial, capsys, tmp_path):
+    rows = {(r["model"], r["program"].rsplit("/", 1)[-1]): r for r in serial.rows}
+    assert len(rows) == 6
+    for model in study["models"]:
+        for name, lines in (("square.nc", 8), ("arc.ngc", 5)):
+            row = rows[model, name]
+            sim, con = _direct(capsys, model, study["progs"] / name, tmp_path)
+            assert row["status"] == "ok" and row["error"] is None
+            assert row["blocks"] == lines
+            assert row["samples"] == sim["samples"]
+            assert row["duration_s"] == sim["duration_s"]
+            assert row["plane"] == con["axes"] == "XY"
+            tcp = con["sensors"]["tcp"]
+            # the streamed RMS sums the squares chunk by chunk (a relative 1e-12)
+            assert row["contour_rms_um"] == pytest.approx(tcp["rms_um"], rel=1e-10)
+            assert row["contour_max_um"] == tcp["max_abs_um"]
+            assert row["task_s"] > 0
+    assert rows["builtin:vmc", "square.nc"]["zero_length_skipped"] == 2
+    assert rows["builtin:vmc", "arc.ngc"]["zero_length_skipped"] == 0
+    # the softer position loop follows the square further off
+    soft, stiff = (rows[m, "square.nc"]["contour_max_um"] for m in study["models"][::-1])
+    assert soft > 1.5 * stiff
+
+
+def test_a_malformed_program_is_a_row_naming_its_line(study, serial):
+    bad = [r for r in serial.rows if r["program"].endswith("bad.nc")]
+    assert [r["model"] for r in bad] == study["models"]
+    for r in bad:
+        assert r["status"] == "failed"
+        assert r["error_line"] == 3 and r["error_file"].endswith("bad.nc")
+        assert "bad.nc, line 3, column 7" in r["error"] and "letter Y" in r["error"]
+        assert r["contour_rms_um"] is None
+    assert len(serial.failed) == 2
+    from tcpmm.whatif.sweep.programs import _failure
+
+    # a cluster's error of several lines (advice after the first) is a row of one line
+    lost = _failure(RuntimeError("Error during deserialization\nFor more information"))
+    assert lost == {"error": "RuntimeError: Error during deserialization",
+                    "error_file": None, "error_line": None}
+
+
+def test_the_table_files(serial):
+    csv = pd.read_csv(serial.files["csv"])
+    par = pd.read_parquet(serial.files["parquet"])
+    js = json.loads(serial.files["json"].read_text())
+    assert list(csv.columns) == list(par.columns) == list(COLUMNS)
+    assert len(csv) == len(par) == len(js) == 6
+    assert list(par["error_line"].dropna()) == [3, 3]
+    nan = float("nan")
+    assert csv["contour_rms_um"].tolist() == pytest.approx(
+        [nan if r["contour_rms_um"] is None else r["contour_rms_um"] for r in serial.rows],
+        rel=1e-15, nan_ok=True)
+    assert not list(serial.files["csv"].parent.glob("*.tmp*"))
+
+
+@pytest.fixture(scope="module")
+def loopback():
+    """A real scheduler and two workers on 127.0.0.1 over TCP, on ports the system gives
+    (threads of this process: a loaded two-core machine starts them in a second)."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp://",
+                      host="127.0.0.1", dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster:
+        yield cluster.scheduler_address
+
+
+def _same(a: dict, b: dict) -> bool:
+    """Rows equal but for the time a task took [-]."""
+    return ({k: v for k, v in a.items() if k != "task_s"}
+            == {k: v for k, v in b.items() if k != "task_s"})
+
+
+def test_cli_on_a_cluster_on_loopback(study, serial, loopback, capsys, tmp_path):
+    assert loopback.startswith("tcp://127.0.0.1:")
+    code, out, _ = _cli(capsys, "sweep", *study["models"], "--programs", study["progs"],
+                        "--scheduler", loopback, "--chunk-blocks", 3, "-o", tmp_path,
+                        "--json")
+    assert code == 1  # the malformed program's rows; the others ran
+    got = json.loads(out)
+    assert got["pairs"] == 6 and got["failed"] == 2
+    assert len(got["rows"]) == len(serial.rows)
+    for a, b in zip(got["rows"], serial.rows, strict=True):
+        assert _same(a, b), {k: (a[k], b[k]) for k in a if a[k] != b[k]}
+    assert (tmp_path / "programs.parquet").is_file()
+
+
+def test_cli_text_report_and_refusals(study, capsys, tmp_path):
+    code, out, err = _cli(capsys, "sweep", "builtin:vmc", "--programs",
+                          study["progs"] / "square.nc", "--workers", 1, "-o", tmp_path)
+    assert code == 0 and "1 (model, program) pairs: 1 ran, 0 failed" in out
+    assert "programs.csv" in out
+    code, _, err = _cli(capsys, "sweep", *study["models"], "-p", "X.servo.K_pp=20,30",
+                        "-o", tmp_path)
+    assert code == 2 and "takes one model" in err.replace("\n", " ")
+    code, _, err = _cli(capsys, "sweep", "builtin:vmc", "--programs", study["progs"],
+                        "-p", "X.servo.K_pp=20,30", "-o", tmp_path)
+    assert code == 2 and "--param" in err
+    code, _, err = _cli(capsys, "sweep", "builtin:vmc", "--programs", tmp_path / "none",
+                        "-o", tmp_path)
+    assert code == 2 and "no such folder" in err.replace("\n", " ")
+
+
+def test_tasks_in_threads_count_their_own_warnings(study):
+    """A Dask worker runs tasks in threads: each counts the zero-length moves of its own
+    program, however the threads interleave."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    vmc = read_machine("builtin:vmc")
+    progs = [study["progs"] / ("square.nc" if k % 2 else "arc.ngc") for k in range(8)]
+    with ThreadPoolExecutor(4) as pool:
+        rows = list(pool.map(lambda p: program_task("vmc", vmc, p, 1), progs))
+    assert [r["zero_length_skipped"] for r in rows] == [0, 2] * 4
+    assert all(r["status"] == "ok" and r["warnings"] == "" for r in rows)

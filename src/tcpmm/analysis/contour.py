@@ -37,7 +37,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..result import Run
-from .corners import corner_metrics, find_corners
+from .contour_corners import CornerStream
+from .corners import dot_rows as _dot
+from .corners import find_corners, path_length
 
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]
@@ -232,15 +234,6 @@ def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
     return dist, foot
 
 
-def _dot(a, b):
-    """Sum over the last axis of ``a * b``, its coordinates added first to last: the same
-    bits on every CPU, as the compiled search sums them [-]."""
-    s = a[..., 0] * b[..., 0]
-    for c in range(1, a.shape[-1]):
-        s = s + a[..., c] * b[..., c]
-    return s
-
-
 def _cross(t, v):
     return t[..., 0] * v[..., 1] - t[..., 1] * v[..., 0]
 
@@ -319,9 +312,8 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     errors, feet = {}, {}
     for s, q in actual.items():
         errors[s], feet[s] = distance_to_polyline(q, cmd, t, tc, window_s, signed)
-    path_s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(cmd, axis=0), axis=1))])
-    corners = find_corners(cmd, corner_deg, corner_span_m)
-    out = ContourResult(tuple(axes), signed, t, cmd, tc, path_s, errors, [], settle_tol_m,
-                        actual)
-    out.corners = corner_metrics(out, corners, t, feet, corner_span_m)
-    return out
+    corners = CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s)
+    corners.add_command(tc, cmd)
+    corners.add_samples(t, actual, errors, feet)
+    return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
+                         corners.finish(), settle_tol_m, actual)

@@ -39,7 +39,7 @@ from ..errors import InputError
 from ..result import Run
 from .contour_corners import CornerStream
 from .corners import dot_rows as _dot
-from .corners import find_corners, path_length
+from .corners import path_length
 
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]

@@ -120,3 +120,29 @@ def test_the_cli_streams_the_corner_table(run_file, capsys):
     assert out[1]["corners"] == out[0]["corners"] and len(out[0]["corners"]) > 30
     code = main(["contour", str(run_file), "--plane", "XY", "--chunk-rows", "53"])
     assert code == 0 and "corners, tcp" in capsys.readouterr().out
+
+
+def test_a_tape_reads_back_across_its_file_and_memory():
+    from tcpmm.analysis.tape import Tape
+
+    tape, rows = Tape(spill_rows=11), np.column_stack([np.arange(47.0) * 0.5,
+                                                        np.arange(47.0) ** 2])
+    for k in range(0, 47, 6):  # blocks of 6 rows, to the file past 11
+        tape.add(rows[k:k + 6])
+    assert tape.in_file == 36 and tape.in_mem == 11
+    for a, b in ((0, 47), (3, 41), (40, 44), (43, 47), (12, 13)):
+        assert np.array_equal(tape.rows(a, b), rows[a:b])
+    for x in (-1.0, 0.0, 2.75, 3.0, 20.5, 23.0, 99.0):
+        for side in ("left", "right"):
+            assert tape.count(x, side) == np.searchsorted(rows[:, 0], x, side=side)
+    tape.close()
+
+
+def test_long_settling_stretches_go_to_disk_and_give_the_same(run_file, monkeypatch):
+    from tcpmm.analysis import contour_corners, tape
+
+    ref = contour_error(read_run(run_file), plane=("X", "Y"))
+    monkeypatch.setattr(tape, "SPILL_ROWS", 50)
+    monkeypatch.setattr(contour_corners, "_BACK_ROWS", 7)
+    assert_same_corners(stream_contour(run_file, ("X", "Y"), True, rows=61).corners,
+                        ref.corners)

@@ -25,8 +25,11 @@ from .corners import (
     outward,
     path_length,
     rest_start,
-    settling,
 )
+from .tape import Tape
+
+#: rows of a settling stretch read back at a time [-]
+_BACK_ROWS = 1 << 18
 
 
 class _Corner:
@@ -39,7 +42,7 @@ class _Corner:
         self.b0, self.b1 = b0, None
         self.s_on = s_i if self.end else np.inf  # path length to which the leg runs on
         self.checked = i  # the first segment not yet looked at for the bend
-        self.near, self.after = {}, []
+        self.near, self.after, self.sensors = {}, Tape(), []
 
 
 class CornerStream:
@@ -167,7 +170,8 @@ class CornerStream:
             # what settles: the contour error after a corner, the distance to the end
             # point at the end of the path (the command rests there: lag counts too)
             row[name] = norm_rows(q[after] - c.c) if c.end else errors[name][after]
-        c.after.append((t[after], sp, row))
+        c.sensors = list(row)
+        c.after.add(np.column_stack([t[after], sp, *row.values()]))
 
     def _settle(self) -> None:
         """Sum up the corners whose samples are all in, and let go of what no corner
@@ -175,7 +179,8 @@ class CornerStream:
         while self.open and self.open[0].b1 is not None and self.t_done >= self.open[0].b1:
             c = self.open.pop(0)
             c.figures = _figures(c, self.tol)
-            c.near = c.after = None
+            c.near = None
+            c.after.close()
             self.done.append(c)
         if self.p is not None and np.isfinite(self.t_done):
             self._trim()
@@ -202,11 +207,9 @@ def _figures(c, tol) -> dict:
     """Per sensor: overshoot, rounding and settling of a corner from its tapes, over the
     samples it owns (halfway from the previous corner to halfway to the next) [SI]."""
     out = {}
-    ta = np.concatenate([a[0] for a in c.after])
-    own_a = (ta >= c.b0) & (ta <= c.b1)
-    sp = np.concatenate([a[1] for a in c.after])[own_a]
-    for name, tape in c.near.items():
-        t, dist, dev, past = (np.concatenate(v) for v in zip(*tape, strict=True))
+    a0, a1 = c.after.count(c.b0, "left"), c.after.count(c.b1, "right")
+    for col, name in enumerate(c.sensors, start=2):
+        t, dist, dev, past = (np.concatenate(v) for v in zip(*c.near[name], strict=True))
         own = (t >= c.b0) & (t <= c.b1)
         if not own.any():
             fig = {"overshoot_m": float("nan"), "rounding_m": float("nan")}
@@ -218,9 +221,32 @@ def _figures(c, tol) -> dict:
                 dv = dev[own & past]
             fig = {"overshoot_m": float(max(np.max(dv), 0.0)) if dv.size else 0.0,
                    "rounding_m": float(np.min(dist[own]))}
-        e = np.concatenate([a[2][name] for a in c.after])[own_a]
-        out[name] = {**fig, **settling(e, ta[own_a], sp, c.t0, c.sp0, tol)}
+        out[name] = {**fig, **_settling(c.after, a0, a1, col, c.t0, c.sp0, tol)}
     return out
+
+
+def _settling(tape, a0: int, a1: int, col: int, t0: float, sp0: float, tol: float) -> dict:
+    """Time and command path length from ``t0`` (where the path length is ``sp0``) until
+    the error in column ``col`` of rows ``a0:a1`` of the tape (time, path length, errors)
+    stays within ``tol`` of its level at the end of the stretch (the median of its last
+    quarter) [s, m]; the stretch is read back from its end a block at a time."""
+    nan = {"settle_s": float("nan"), "settle_m": float("nan")}
+    size = a1 - a0
+    if size < 4:
+        return nan
+    level = np.median(tape.rows(a1 - size // 4, a1)[:, col])
+    if abs(tape.rows(a1 - 1, a1)[0, col] - level) > tol:
+        return nan
+    k, hi = a0, a1
+    while hi > a0:
+        lo = max(a0, hi - _BACK_ROWS)
+        out = np.flatnonzero(np.abs(tape.rows(lo, hi)[:, col] - level) > tol)
+        if out.size:
+            k = lo + int(out[-1]) + 1
+            break
+        hi = lo
+    t, sp = tape.rows(k, k + 1)[0, :2]
+    return {"settle_s": float(t - t0), "settle_m": float(sp - sp0)}
 
 
 def _numbered(k, c) -> dict:

@@ -202,18 +202,3 @@ def closest_on(q, p, s, foot):
     f = np.clip(np.divide(dot_rows(q - a, d), ln2, out=np.zeros(ln2.shape),
                           where=ln2 > 0), 0.0, 1.0)
     return a + f[:, None] * d, s[foot] + f * np.sqrt(ln2)
-
-
-def settling(e, t, sp, t0, sp0, tol) -> dict:
-    """Time and command path length from ``t0`` (where the path length is ``sp0``) until
-    ``e`` stays within ``tol`` of its level at the end of the stretch (the median of its
-    last quarter); ``sp`` the command's path length at each time ``t`` [s, m]."""
-    nan = {"settle_s": float("nan"), "settle_m": float("nan")}
-    if e.size < 4:
-        return nan
-    dev = np.abs(e - np.median(e[-(e.size // 4):]))
-    if dev[-1] > tol:
-        return nan
-    out = np.flatnonzero(dev > tol)
-    k = 0 if out.size == 0 else out[-1] + 1
-    return {"settle_s": float(t[k] - t0), "settle_m": float(sp[k] - sp0)}

@@ -181,6 +181,26 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     foot : ndarray of int
         Index of the segment the closest point lies on [-].
     """
+    return distances_to_polyline({0: q}, p, t_q, t_p, window_s, signed)[0]
+
+
+def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
+    """:func:`distance_to_polyline` of several paths sampled at the same times (each
+    sensor's), the polyline's segments, directions and blocks and the windows worked out
+    once for all.
+
+    Parameters
+    ----------
+    qs : dict of ndarray, shape (n, d)
+        Points of each path, at the times ``t_q`` [m].
+    p, t_q, t_p, window_s, signed
+        As :func:`distance_to_polyline` [m], [s], [s], [s], [-].
+
+    Returns
+    -------
+    dict of tuple
+        Per path, the distance [m] and the segment of the closest point [-].
+    """
     m = p.shape[0]
     if m < 2:
         raise InputError("the command needs at least two samples")
@@ -194,15 +214,23 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
-    if not all(v.dtype == np.float64 and np.all(np.abs(v) < _HUGE) for v in (q, p)):
-        return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
-    # the compiled search loads numba, which a command that measures no contour never needs
-    from ..path.nearest import BLOCK, block_balls, nearest_segments
+    fine = p.dtype == np.float64 and np.all(np.abs(p) < _HUGE)
+    out, balls = {}, None
+    for k, q in qs.items():
+        if not (fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE)):
+            out[k] = _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+            continue
+        # the compiled search loads numba, which a command that measures no contour
+        # never needs
+        from ..path.nearest import BLOCK, block_balls, nearest_segments
 
-    p = np.ascontiguousarray(p)
-    return nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir,
-                            lo.astype(np.int64), hi.astype(np.int64), block_balls(p, BLOCK),
-                            BLOCK, bool(signed))
+        if balls is None:
+            p = np.ascontiguousarray(p)
+            balls = block_balls(p, BLOCK)
+            lo, hi = lo.astype(np.int64), hi.astype(np.int64)
+        out[k] = nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir, lo, hi, balls,
+                                  BLOCK, bool(signed))
+    return out
 
 
 def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
@@ -309,9 +337,8 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         run = run_from_table(run)
     axes, signed = _axes(run, plane)
     t, tc, cmd, actual = _run_signals(run, command, axes)
-    errors, feet = {}, {}
-    for s, q in actual.items():
-        errors[s], feet[s] = distance_to_polyline(q, cmd, t, tc, window_s, signed)
+    found = distances_to_polyline(actual, cmd, t, tc, window_s, signed)
+    errors, feet = ({s: v[i] for s, v in found.items()} for i in (0, 1))
     corners = CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s)
     corners.add_command(tc, cmd)
     corners.add_samples(t, actual, errors, feet)

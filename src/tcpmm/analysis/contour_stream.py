@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .contour import SENSORS, ContourResult, distance_to_polyline
+from .contour import SENSORS, ContourResult, distances_to_polyline
 from .contour_corners import CornerStream
 
 #: rows read at a time [-]
@@ -122,7 +122,17 @@ def _batches(path, rows, keep):
     f = pq.ParquetFile(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
-        yield {c: b.column(c).to_numpy().astype(float) for c in names}
+        yield {c: _floats(b.column(c)) for c in names}
+
+
+def _floats(col) -> np.ndarray:
+    """A column as float64: a view of a float64 column without nulls (which spares the
+    import of pandas that pyarrow's conversion makes), else converted [-]."""
+    import pyarrow as pa
+
+    if col.type == pa.float64() and col.null_count == 0:
+        return np.frombuffer(col.buffers()[1], np.float64, len(col), col.offset * 8)
+    return col.to_numpy(zero_copy_only=False).astype(float)
 
 
 def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
@@ -194,18 +204,18 @@ class _Scan:
         if window is None:
             return
         c0, c1 = window
-        got = ({}, {}, {})
+        qs = {}
         for s in SENSORS:
             cols_s = [c.replace("_cmd_", f"_{s}_") for c in cmd_cols]
             if all(c in buf for c in cols_s):
-                q = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
-                e, foot = distance_to_polyline(q, cmd[c0:c1], t[first:b], t[c0:c1], w,
-                                               res.signed)
-                res.sums.setdefault(s, _Summary()).add(e)
-                for d, v in zip(got, (q, e, foot + self.base + c0), strict=True):
-                    d[s] = v
-                if self.each is not None:
-                    self.each(s, e)
+                qs[s] = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
+        found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed)
+        for s, (e, _) in found.items():
+            res.sums.setdefault(s, _Summary()).add(e)
+            if self.each is not None:
+                self.each(s, e)
+        got = (qs, {s: v[0] for s, v in found.items()},
+               {s: v[1] + self.base + c0 for s, v in found.items()})
         self.corners.add_samples(t[first:b], *got)
         res.rows += b - first
         drop = min(int(np.searchsorted(t, t[b] - w, side="left")), b) if b < n else n

@@ -103,8 +103,9 @@ class CornerFinder:
         turn = turn_at(p, s, idx, self.span)
         x = s[idx]
         ok = (x >= self.span) & ((x <= s[-1] - self.span) if final else True)
-        cand = ok & (turn > self.min_turn) & (
-            turn_at(p, s, idx, self.span / 4) > _SHARP * turn)
+        cand = ok & (turn > self.min_turn)
+        k = np.flatnonzero(cand)  # the quarter span's turn only where it decides
+        cand[k] = turn_at(p, s, idx[k], self.span / 4) > _SHARP * turn[k]
         k = np.flatnonzero(cand)
         out = []
         for g in np.split(k, np.flatnonzero(np.diff(k) > 1) + 1) if k.size else []:

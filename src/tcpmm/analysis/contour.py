@@ -108,13 +108,16 @@ class ContourResult:
             data[f"{s}_contour_um"] = e * 1e6
         return pd.DataFrame(data)
 
+    def corner_rows(self) -> list:
+        """Per corner and sensor, a dict: position [mm], turn [deg], overshoot, rounding
+        [um], settling [ms, mm] (NaN where there is none)."""
+        return [_corner_row(self.axes, c, s) for c in self.corners for s in self.errors]
+
     def corners_table(self):
-        """Per corner and sensor: position [mm], turn [deg], overshoot, rounding [um],
-        settling [ms, mm]."""
+        """:meth:`corner_rows` as a table."""
         import pandas as pd
 
-        return pd.DataFrame([_corner_row(self.axes, c, s) for c in self.corners
-                             for s in self.errors])
+        return pd.DataFrame(self.corner_rows())
 
     def to_dict(self) -> dict:
         """JSON-ready: axes, summary [um] and corners (um, ms, mm; NaN as ``None``)."""
@@ -125,8 +128,8 @@ class ContourResult:
                 "settle_tol_um": self.settle_tol_m * 1e6,
                 "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
                             for s, d in self.summary().items()},
-                "corners": [{k: clean(v) for k, v in _corner_row(self.axes, c, s).items()}
-                            for c in self.corners for s in self.errors]}
+                "corners": [{k: clean(v) for k, v in row.items()}
+                            for row in self.corner_rows()]}
 
     def plot(self, ax=None, path=None, sensor=None):
         """One sensor's path coloured by its contour error, and every sensor's error in

@@ -90,6 +90,7 @@ class StreamedContour:
         """Per sensor: largest magnitude, RMS, largest and smallest value [m]."""
         return {s: v.result() for s, v in self.sums.items()}
 
+    corner_rows = ContourResult.corner_rows
     corners_table = ContourResult.corners_table
     to_dict = ContourResult.to_dict
 

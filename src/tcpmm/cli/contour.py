@@ -88,7 +88,7 @@ def _print(res, sensor: str, title: str) -> None:
               f"{res.settle_tol_m * 1e6:g} µm")
     for col in ("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"):
         t.add_column(col, justify="right")
-    for row in res.corners_table().to_dict("records"):
+    for row in res.corner_rows():
         if row["sensor"] != sensor:
             continue
         at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)

@@ -132,6 +132,7 @@ def test_a_tape_reads_back_across_its_file_and_memory():
     assert tape.in_file == 36 and tape.in_mem == 11
     for a, b in ((0, 47), (3, 41), (40, 44), (43, 47), (12, 13)):
         assert np.array_equal(tape.rows(a, b), rows[a:b])
+        assert np.array_equal(tape.column(a, b, 1, block=4), rows[a:b, 1])
     for x in (-1.0, 0.0, 2.75, 3.0, 20.5, 23.0, 99.0):
         for side in ("left", "right"):
             assert tape.count(x, side) == np.searchsorted(rows[:, 0], x, side=side)

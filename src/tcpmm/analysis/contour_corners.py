@@ -234,7 +234,7 @@ def _settling(tape, a0: int, a1: int, col: int, t0: float, sp0: float, tol: floa
     size = a1 - a0
     if size < 4:
         return nan
-    level = np.median(tape.rows(a1 - size // 4, a1)[:, col])
+    level = np.median(tape.column(a1 - size // 4, a1, col, _BACK_ROWS))
     if abs(tape.rows(a1 - 1, a1)[0, col] - level) > tol:
         return nan
     k, hi = a0, a1

@@ -56,6 +56,12 @@ class Tape:
             parts.append(mem[max(a - self.in_file, 0):b - self.in_file])
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
+    def column(self, a: int, b: int, col: int, block: int = 1 << 18) -> np.ndarray:
+        """Column ``col`` of rows ``a:b``, read ``block`` rows at a time so the other
+        columns of a long stretch are never all in memory [-]."""
+        return np.concatenate([self.rows(lo, min(lo + block, b))[:, col]
+                               for lo in range(a, b, block)] or [np.empty(0)])
+
     def count(self, x: float, side: str) -> int:
         """Rows whose time is before ``x`` (``"left"``) or not after it (``"right"``)
         [-]."""

@@ -7,7 +7,8 @@ import json
 import numpy as np
 import pytest
 
-from tcpmm.analysis.contour import contour_error, distance_to_polyline, find_corners
+from tcpmm.analysis.contour import contour_error, distance_to_polyline
+from tcpmm.analysis.corners import find_corners
 from tcpmm.cli import main
 from tcpmm.errors import InputError
 from tcpmm.result import AxisRun, Run

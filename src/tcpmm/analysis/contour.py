@@ -37,7 +37,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..result import Run
-from .corners import corner_metrics, find_corners
+from .contour_corners import CornerStream
+from .corners import dot_rows as _dot
+from .corners import path_length
 
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]
@@ -106,13 +108,16 @@ class ContourResult:
             data[f"{s}_contour_um"] = e * 1e6
         return pd.DataFrame(data)
 
+    def corner_rows(self) -> list:
+        """Per corner and sensor, a dict: position [mm], turn [deg], overshoot, rounding
+        [um], settling [ms, mm] (NaN where there is none)."""
+        return [_corner_row(self.axes, c, s) for c in self.corners for s in self.errors]
+
     def corners_table(self):
-        """Per corner and sensor: position [mm], turn [deg], overshoot, rounding [um],
-        settling [ms, mm]."""
+        """:meth:`corner_rows` as a table."""
         import pandas as pd
 
-        return pd.DataFrame([_corner_row(self.axes, c, s) for c in self.corners
-                             for s in self.errors])
+        return pd.DataFrame(self.corner_rows())
 
     def to_dict(self) -> dict:
         """JSON-ready: axes, summary [um] and corners (um, ms, mm; NaN as ``None``)."""
@@ -123,8 +128,8 @@ class ContourResult:
                 "settle_tol_um": self.settle_tol_m * 1e6,
                 "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
                             for s, d in self.summary().items()},
-                "corners": [{k: clean(v) for k, v in _corner_row(self.axes, c, s).items()}
-                            for c in self.corners for s in self.errors]}
+                "corners": [{k: clean(v) for k, v in row.items()}
+                            for row in self.corner_rows()]}
 
     def plot(self, ax=None, path=None, sensor=None):
         """One sensor's path coloured by its contour error, and every sensor's error in
@@ -179,6 +184,26 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     foot : ndarray of int
         Index of the segment the closest point lies on [-].
     """
+    return distances_to_polyline({0: q}, p, t_q, t_p, window_s, signed)[0]
+
+
+def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
+    """:func:`distance_to_polyline` of several paths sampled at the same times (each
+    sensor's), the polyline's segments, directions and blocks and the windows worked out
+    once for all.
+
+    Parameters
+    ----------
+    qs : dict of ndarray, shape (n, d)
+        Points of each path, at the times ``t_q`` [m].
+    p, t_q, t_p, window_s, signed
+        As :func:`distance_to_polyline` [m], [s], [s], [s], [-].
+
+    Returns
+    -------
+    dict of tuple
+        Per path, the distance [m] and the segment of the closest point [-].
+    """
     m = p.shape[0]
     if m < 2:
         raise InputError("the command needs at least two samples")
@@ -192,15 +217,23 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
-    if not all(v.dtype == np.float64 and np.all(np.abs(v) < _HUGE) for v in (q, p)):
-        return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
-    # the compiled search loads numba, which a command that measures no contour never needs
-    from ..path.nearest import BLOCK, block_balls, nearest_segments
+    fine = p.dtype == np.float64 and np.all(np.abs(p) < _HUGE)
+    out, balls = {}, None
+    for k, q in qs.items():
+        if not (fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE)):
+            out[k] = _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+            continue
+        # the compiled search loads numba, which a command that measures no contour
+        # never needs
+        from ..path.nearest import BLOCK, block_balls, nearest_segments
 
-    p = np.ascontiguousarray(p)
-    return nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir,
-                            lo.astype(np.int64), hi.astype(np.int64), block_balls(p, BLOCK),
-                            BLOCK, bool(signed))
+        if balls is None:
+            p = np.ascontiguousarray(p)
+            balls = block_balls(p, BLOCK)
+            lo, hi = lo.astype(np.int64), hi.astype(np.int64)
+        out[k] = nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir, lo, hi, balls,
+                                  BLOCK, bool(signed))
+    return out
 
 
 def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
@@ -230,15 +263,6 @@ def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
         if signed:
             dist[k] *= np.where(cross[rows, best] < 0, -1.0, 1.0)
     return dist, foot
-
-
-def _dot(a, b):
-    """Sum over the last axis of ``a * b``, its coordinates added first to last: the same
-    bits on every CPU, as the compiled search sums them [-]."""
-    s = a[..., 0] * b[..., 0]
-    for c in range(1, a.shape[-1]):
-        s = s + a[..., c] * b[..., c]
-    return s
 
 
 def _cross(t, v):
@@ -316,12 +340,10 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         run = run_from_table(run)
     axes, signed = _axes(run, plane)
     t, tc, cmd, actual = _run_signals(run, command, axes)
-    errors, feet = {}, {}
-    for s, q in actual.items():
-        errors[s], feet[s] = distance_to_polyline(q, cmd, t, tc, window_s, signed)
-    path_s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(cmd, axis=0), axis=1))])
-    corners = find_corners(cmd, corner_deg, corner_span_m)
-    out = ContourResult(tuple(axes), signed, t, cmd, tc, path_s, errors, [], settle_tol_m,
-                        actual)
-    out.corners = corner_metrics(out, corners, t, feet, corner_span_m)
-    return out
+    found = distances_to_polyline(actual, cmd, t, tc, window_s, signed)
+    errors, feet = ({s: v[i] for s, v in found.items()} for i in (0, 1))
+    corners = CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s)
+    corners.add_command(tc, cmd)
+    corners.add_samples(t, actual, errors, feet)
+    return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
+                         corners.finish(), settle_tol_m, actual)

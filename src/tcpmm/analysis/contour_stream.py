@@ -8,7 +8,10 @@ needs). The error of every sample is that of the whole run to the bit; the summa
 largest, smallest and largest magnitude too, its RMS to a relative 1e-12 (the sum of the
 squares is taken chunk by chunk, not in numpy's pairwise order over the whole run). The
 plane is the one the command moves in (:func:`tcpmm.analysis.plane.motion_plane`, from
-each axis' travel); corners are not sought.
+each axis' travel). The corners are found and measured as the rows come
+(:class:`~tcpmm.analysis.contour_corners.CornerStream`), the whole run's to the bit; the
+samples of a corner's settling stretch (up to halfway to the next corner) are held, a few
+numbers each, until the next corner is found.
 """
 
 from __future__ import annotations
@@ -19,7 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .contour import SENSORS, distance_to_polyline
+from .contour import SENSORS, ContourResult, distances_to_polyline
+from .contour_corners import CornerStream
 
 #: rows read at a time [-]
 STREAM_ROWS = 200_000
@@ -63,6 +67,10 @@ class StreamedContour:
         Per sensor, the running figures [m].
     most_rows : int
         Most rows held at once [-].
+    corners : list of dict
+        As :attr:`tcpmm.analysis.contour.ContourResult.corners` [SI].
+    settle_tol_m : float
+        The band of the settling figures [m].
     """
 
     axes: tuple
@@ -82,13 +90,9 @@ class StreamedContour:
         """Per sensor: largest magnitude, RMS, largest and smallest value [m]."""
         return {s: v.result() for s, v in self.sums.items()}
 
-    def to_dict(self) -> dict:
-        """JSON-ready: axes and summary [um]; no corners."""
-        return {"axes": "".join(self.axes), "signed": self.signed,
-                "settle_tol_um": self.settle_tol_m * 1e6,
-                "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
-                            for s, d in self.summary().items()},
-                "corners": []}
+    corner_rows = ContourResult.corner_rows
+    corners_table = ContourResult.corners_table
+    to_dict = ContourResult.to_dict
 
 
 def parquet_rows(path) -> int:
@@ -119,12 +123,25 @@ def _batches(path, rows, keep):
     f = pq.ParquetFile(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
-        yield {c: b.column(c).to_numpy().astype(float) for c in names}
+        yield {c: _floats(b.column(c)) for c in names}
+
+
+def _floats(col) -> np.ndarray:
+    """A column as float64: a view of a float64 column without nulls (which spares the
+    import of pandas that pyarrow's conversion makes), else converted [-]."""
+    import pyarrow as pa
+
+    if col.type == pa.float64() and col.null_count == 0:
+        return np.frombuffer(col.buffers()[1], np.float64, len(col), col.offset * 8)
+    return col.to_numpy(zero_copy_only=False).astype(float)
 
 
 def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
-                   rows: int = STREAM_ROWS, each=None) -> StreamedContour:
-    """Contour error summary of a Parquet run file, read ``rows`` rows at a time.
+                   rows: int = STREAM_ROWS, each=None, *, corner_deg: float = 30.0,
+                   corner_span_m: float = 0.5e-3,
+                   settle_tol_m: float = 1e-6) -> StreamedContour:
+    """Contour error summary and corners of a Parquet run file, read ``rows`` rows at a
+    time.
 
     Parameters
     ----------
@@ -140,48 +157,71 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
         Rows read at a time [-].
     each : callable, optional
         Called with the sensor and the errors of each chunk of samples, in order [-], [m].
+    corner_deg, corner_span_m, settle_tol_m : float
+        The corners' least turn, span and settling band, as for
+        :func:`~tcpmm.analysis.contour.contour_error` [deg], [m], [m].
     """
     path = Path(path)
     cmd_cols = [f"{a.lower()}_cmd_mm" for a in axes]
     want = {"time_s", *cmd_cols, *(f"{a.lower()}_{s}_mm" for a in axes for s in SENSORS)}
-    res = StreamedContour(tuple(axes), signed)
-    buf, first, pending = None, 0, None  # first: the first row not yet measured
+    res = StreamedContour(tuple(axes), signed, settle_tol_m=settle_tol_m)
+    scan = _Scan(res, window_s, cmd_cols, each,
+                 CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s))
+    pending = None
     for cols in _batches(path, rows, lambda c: c in want):
         if pending is not None:
-            buf, first = _step(res, buf, pending, first, window_s, cmd_cols, False, each)
+            scan.step(pending, False)
         pending = cols
     if pending is None or not pending["time_s"].size:
         raise InputError("the run has no rows", file=path)
-    _step(res, buf, pending, first, window_s, cmd_cols, True, each)
+    scan.step(pending, True)
+    res.corners = scan.corners.finish()
     return res
 
 
-def _step(res: StreamedContour, buf, cols, first: int, w: float, cmd_cols, final: bool,
-          each):
-    """Add rows ``cols`` to the buffer and measure the samples whose window (and one
-    more) it holds; the buffer from a window before the next sample to measure, and that
-    sample's index in it [-]."""
-    buf = cols if buf is None else {c: np.concatenate([buf[c], cols[c]]) for c in buf}
-    t = buf["time_s"]
-    n = t.size
-    res.most_rows = max(res.most_rows, n)
-    b = n if final else int(np.searchsorted(t, t[-1] - 2.0 * w, side="left"))
-    cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
-    window = _window(cmd, t, first, b, w, final) if b > first else None
-    if window is None:
-        return buf, first
-    c0, c1 = window
-    for s in SENSORS:
-        cols_s = [c.replace("_cmd_", f"_{s}_") for c in cmd_cols]
-        if all(c in buf for c in cols_s):
-            q = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
-            e, _ = distance_to_polyline(q, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed)
+class _Scan:
+    """The rows held: from a window before the next sample to measure (``first`` in the
+    buffer, whose row 0 is the run's row ``base``) to the last read."""
+
+    def __init__(self, res, w, cmd_cols, each, corners):
+        self.res, self.w, self.cmd_cols, self.each, self.corners = res, w, cmd_cols, each, corners
+        self.buf, self.first, self.base = None, 0, 0
+
+    def step(self, cols, final: bool) -> None:
+        """Add rows ``cols`` and measure the samples whose window (and one more) the
+        buffer holds."""
+        res, w, cmd_cols = self.res, self.w, self.cmd_cols
+        buf = cols if self.buf is None else {c: np.concatenate([self.buf[c], cols[c]])
+                                             for c in self.buf}
+        self.buf = buf
+        self.corners.add_command(cols["time_s"],
+                                 np.column_stack([cols[c] * 1e-3 for c in cmd_cols]))
+        t, first = buf["time_s"], self.first
+        n = t.size
+        res.most_rows = max(res.most_rows, n)
+        b = n if final else int(np.searchsorted(t, t[-1] - 2.0 * w, side="left"))
+        cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
+        window = _window(cmd, t, first, b, w, final) if b > first else None
+        if window is None:
+            return
+        c0, c1 = window
+        qs = {}
+        for s in SENSORS:
+            cols_s = [c.replace("_cmd_", f"_{s}_") for c in cmd_cols]
+            if all(c in buf for c in cols_s):
+                qs[s] = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
+        found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed)
+        for s, (e, _) in found.items():
             res.sums.setdefault(s, _Summary()).add(e)
-            if each is not None:
-                each(s, e)
-    res.rows += b - first
-    drop = min(int(np.searchsorted(t, t[b] - w, side="left")), b) if b < n else n
-    return {c: v[drop:].copy() for c, v in buf.items()}, b - drop
+            if self.each is not None:
+                self.each(s, e)
+        got = (qs, {s: v[0] for s, v in found.items()},
+               {s: v[1] + self.base + c0 for s, v in found.items()})
+        self.corners.add_samples(t[first:b], *got)
+        res.rows += b - first
+        drop = min(int(np.searchsorted(t, t[b] - w, side="left")), b) if b < n else n
+        self.buf = {c: v[drop:].copy() for c, v in buf.items()}
+        self.first, self.base = b - drop, self.base + drop
 
 
 def _window(cmd, t, first: int, b: int, w: float, final: bool):

@@ -116,9 +116,11 @@ def streamed(run_file: Path, chunk_rows: int | None) -> bool:
 
 
 def contour_streamed(run_file: Path, plane: str | None, window_s: float,
-                     chunk_rows: int | None):
-    """The contour error summary of a Parquet run read in chunks, in the plane of
-    ``--plane`` or the one its command moves in (said on stderr, as for a whole run).
+                     chunk_rows: int | None, *, corner_deg: float = 30.0,
+                     settle_tol_m: float = 1e-6):
+    """The contour error summary and the corners of a Parquet run read in chunks, in the
+    plane of ``--plane`` or the one its command moves in (said on stderr, as for a whole
+    run).
 
     Parameters
     ----------
@@ -130,6 +132,10 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
         ``--window-s`` [s].
     chunk_rows : int or None
         Rows a chunk [-].
+    corner_deg : float
+        ``--corner-deg`` [deg].
+    settle_tol_m : float
+        ``--settle-um``, in metres [m].
     """
     import numpy as np
 
@@ -142,7 +148,8 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
     how = run_plane_said(plane, ends, run_file, allow_3d=True)
     axes, signed = (tuple(how), True) if how else (tuple(a for a in "XYZ" if a in travel),
                                                    False)
-    return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS)
+    return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS,
+                          corner_deg=corner_deg, settle_tol_m=settle_tol_m)
 
 
 #: an NC program of more lines than this is interpolated in chunks by ``tcpmm path`` [-]

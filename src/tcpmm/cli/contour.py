@@ -29,7 +29,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             chunk_rows: int = typer.Option(
                 None, "--chunk-rows", min=2,
                 help="Read a Parquet run this many rows at a time (bounded memory; the "
-                     "error summary only, no corners, no plot). Default: whole, unless it "
+                     "error summary and the corners, no plot). Default: whole, unless it "
                      f"has more than {STREAM_ABOVE_ROWS} rows."),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
@@ -48,7 +48,8 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                                      f"{STREAM_ABOVE_ROWS} rows) is not plotted",
                                      param_hint="--plot")
         with _in_file(run_file):
-            res = contour_streamed(run_file, plane, window_s, chunk_rows)
+            res = contour_streamed(run_file, plane, window_s, chunk_rows,
+                                   corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
     else:
         run = read_run(run_file)
         with _in_file(run_file):
@@ -87,7 +88,7 @@ def _print(res, sensor: str, title: str) -> None:
               f"{res.settle_tol_m * 1e6:g} µm")
     for col in ("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"):
         t.add_column(col, justify="right")
-    for row in res.corners_table().to_dict("records"):
+    for row in res.corner_rows():
         if row["sensor"] != sensor:
             continue
         at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)

@@ -1,0 +1,254 @@
+"""Overshoot, rounding and settling at every corner of a run given a piece at a time (the
+definitions are in :mod:`tcpmm.analysis.contour`): the command as it is read, the actual
+samples with their contour errors as they are measured.
+
+A corner is found (:class:`~tcpmm.analysis.corners.CornerFinder`) once the command runs
+on a corner span past it. From then on every sample measured is taken down on the
+corner's tapes: where its closest command point lies near the corner, its distance to the
+corner point and how far outside the path it lies; from the corner on, its contour error.
+The samples between the corner and the next one found (its settling stretch) are kept so,
+a few numbers each; the command and the samples are kept only as far back as a corner not
+found yet may reach. A corner is summed up when the next one is found and the samples up
+to halfway to it are in: the figures are the whole run's to the bit, whatever the pieces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .corners import (
+    CornerFinder,
+    closest_on,
+    dot_rows,
+    first_bend,
+    norm_rows,
+    outward,
+    path_length,
+    rest_start,
+)
+from .tape import Tape
+
+#: rows of a settling stretch read back at a time [-]
+_BACK_ROWS = 1 << 18
+
+
+class _Corner:
+    """One corner being measured: its geometry, bounds and tapes."""
+
+    def __init__(self, i, turn, first, t_i, t0, sp0, c, n, t_out, s_i, s_first, b0):
+        self.i, self.turn, self.first, self.t_i, self.t0, self.sp0 = i, turn, first, t_i, t0, sp0
+        self.c, self.n, self.t_out, self.s_i, self.s_first = c, n, t_out, s_i, s_first
+        self.end = bool(np.isnan(turn))
+        self.b0, self.b1 = b0, None
+        self.s_on = s_i if self.end else np.inf  # path length to which the leg runs on
+        self.checked = i  # the first segment not yet looked at for the bend
+        self.near, self.after, self.sensors = {}, Tape(), []
+
+
+class CornerStream:
+    """The corner metrics of :func:`tcpmm.analysis.contour.contour_error`, accumulated.
+
+    Parameters
+    ----------
+    corner_deg : float
+        Least turn that makes a corner [deg].
+    span_m : float
+        Path length before and after a point over which its turn is taken [m].
+    settle_tol_m : float
+        Band within which the error has settled after a corner [m].
+    window_s : float
+        Time around each sample in which its closest command point was sought [s].
+    """
+
+    def __init__(self, corner_deg=30.0, span_m=0.5e-3, settle_tol_m=1e-6, window_s=0.2):
+        self.finder = CornerFinder(corner_deg, span_m)
+        self.span, self.tol, self.w = span_m, settle_tol_m, window_s
+        self.tc = self.p = self.s = None
+        self.off = 0  # the command's vertex of row 0 of the buffer
+        self.smp = None  # samples kept for corners not found yet: t, actual, errors, feet
+        self.open, self.done = [], []
+        self.t_done = -np.inf  # the last sample measured
+        self.tc0 = None
+
+    def add_command(self, tc, p) -> None:
+        """The next command samples: times [s] and points, shape (m, d) [m]."""
+        tc, p = np.asarray(tc, float), np.asarray(p, float)
+        if not tc.size:
+            return
+        if self.p is None:
+            self.tc0, self.tc, self.p, self.s = float(tc[0]), tc, p, path_length(p)
+        else:
+            s = path_length(np.vstack([self.p[-1:], p]), self.s[-1])[1:]
+            self.tc, self.p = np.concatenate([self.tc, tc]), np.vstack([self.p, p])
+            self.s = np.concatenate([self.s, s])
+        self._found(self.finder.step(self.p, self.s, self.off, False))
+        self._settle()
+
+    def add_samples(self, t, actual, errors, feet) -> None:
+        """The next actual samples, measured: times [s], per sensor the points, shape
+        (n, d) [m], contour errors [m] and the command segments closest to them [-]."""
+        t = np.asarray(t, float)
+        if not t.size:
+            return
+        new = (t, actual, errors, feet)
+        if self.smp is None:
+            self.smp = new
+        else:
+            self.smp = tuple([np.concatenate([self.smp[0], t])] + [
+                {k: np.concatenate([old[k], v[k]]) for k in v}
+                for old, v in zip(self.smp[1:], new[1:], strict=True)])
+        self._bends()
+        for c in self.open:
+            self._feed(c, *new)
+        self.t_done = float(t[-1])
+        self._settle()
+
+    def finish(self) -> list:
+        """The corners of the whole run, the end of the path last: per corner ``number``,
+        ``index`` (command sample), ``point_m``, ``turn_rad`` and per sensor
+        ``overshoot_m``, ``rounding_m``, ``settle_s``, ``settle_m`` [SI]."""
+        if self.p is None:
+            return []
+        self._found(self.finder.step(self.p, self.s, self.off, True))
+        if self.open:
+            self.open[-1].b1 = float(self.tc[-1])
+        self._bends()
+        self.t_done = np.inf
+        self._settle()
+        return [_numbered(k + 1, c) for k, c in enumerate(self.done)]
+
+    def _found(self, corners) -> None:
+        """Open the corners just found and take down the samples kept for them."""
+        for i, turn in corners:
+            li = i - self.off
+            first = rest_start(self.p, li)
+            n, t_out = outward(self.p, self.s, li, turn, self.span)
+            t_i = float(self.tc[li])
+            t0 = float(self.tc[first]) if np.isnan(turn) else t_i  # the end: the arrival
+            prev = self.open[-1] if self.open else (self.done[-1] if self.done else None)
+            b0 = self.tc0 if prev is None else 0.5 * (prev.t_i + t_i)
+            if prev is not None:
+                prev.b1 = b0
+            c = _Corner(i, turn, first + self.off, t_i, t0,
+                        float(np.interp(t0, self.tc, self.s)), self.p[li].copy(), n, t_out,
+                        float(self.s[li]), float(self.s[first]), b0)
+            self.open.append(c)
+            self._bends()
+            if self.smp is not None:
+                self._feed(c, *self.smp)
+
+    def _bends(self) -> None:
+        """Look for the bend that ends each open corner's outgoing leg in the command read
+        since."""
+        for c in self.open:
+            if c.s_on == np.inf:
+                j = first_bend(self.p, self.s, c.checked - self.off, c.t_out,
+                               c.s_i + self.span)
+                if j is None:
+                    c.checked = self.off + self.s.size - 1
+                else:
+                    c.s_on = float(self.s[j])
+
+    def _feed(self, c, t, actual, errors, feet) -> None:
+        """Take down on a corner's tapes the samples that concern it."""
+        after = t >= c.t0
+        sp = np.interp(t[after], self.tc, self.s)
+        row = {}
+        for name, q in actual.items():
+            lf = feet[name] - self.off
+            mine = lf >= 0  # a segment dropped lies before every corner not yet found
+            at = self.s[np.where(mine, lf, 0)]
+            near = mine & (at >= c.s_i - self.span) & (
+                (at <= c.s_i + self.span) | (at <= c.s_on))
+            qn = q[near]
+            if c.end:  # the travel past the end point
+                dev, past = dot_rows(qn - c.c, c.n), np.ones(qn.shape[0], bool)
+            else:  # how far outside the path the point lies, once past the corner
+                foot_point, at_foot = closest_on(qn, self.p, self.s, lf[near])
+                dev, past = dot_rows(qn - foot_point, c.n), at_foot >= c.s_first - 1e-12
+            c.near.setdefault(name, []).append((t[near], norm_rows(qn - c.c), dev, past))
+            # what settles: the contour error after a corner, the distance to the end
+            # point at the end of the path (the command rests there: lag counts too)
+            row[name] = norm_rows(q[after] - c.c) if c.end else errors[name][after]
+        c.sensors = list(row)
+        c.after.add(np.column_stack([t[after], sp, *row.values()]))
+
+    def _settle(self) -> None:
+        """Sum up the corners whose samples are all in, and let go of what no corner
+        needs any more."""
+        while self.open and self.open[0].b1 is not None and self.t_done >= self.open[0].b1:
+            c = self.open.pop(0)
+            c.figures = _figures(c, self.tol)
+            c.near = None
+            c.after.close()
+            self.done.append(c)
+        if self.p is not None and np.isfinite(self.t_done):
+            self._trim()
+
+    def _trim(self) -> None:
+        keep = self.finder.keep(self.p, self.s, self.off)
+        t_keep = float(self.tc[keep - self.off]) - self.w
+        # future samples: their closest segment lies a window before them at the least
+        nxt = int(np.searchsorted(self.tc, self.t_done - self.w, side="left")) - 1
+        cut = min([keep - self.off, nxt] + [c.checked - self.off for c in self.open
+                                            if c.s_on == np.inf])
+        cut = max(cut, 0)
+        if cut:
+            self.tc, self.p, self.s = self.tc[cut:], self.p[cut:], self.s[cut:]
+            self.off += cut
+        if self.smp is not None:
+            k = int(np.searchsorted(self.smp[0], t_keep, side="left"))
+            if k:
+                t, *rest = self.smp
+                self.smp = (t[k:], *({n: v[k:] for n, v in d.items()} for d in rest))
+
+
+def _figures(c, tol) -> dict:
+    """Per sensor: overshoot, rounding and settling of a corner from its tapes, over the
+    samples it owns (halfway from the previous corner to halfway to the next) [SI]."""
+    out = {}
+    a0, a1 = c.after.count(c.b0, "left"), c.after.count(c.b1, "right")
+    for col, name in enumerate(c.sensors, start=2):
+        t, dist, dev, past = (np.concatenate(v) for v in zip(*c.near[name], strict=True))
+        own = (t >= c.b0) & (t <= c.b1)
+        if not own.any():
+            fig = {"overshoot_m": float("nan"), "rounding_m": float("nan")}
+        else:
+            if c.end:  # a static deflection along the path is where it settles
+                dv = dev[own]
+                dv = dv - max(float(np.median(dv[-(dv.size // 4 or 1):])), 0.0)
+            else:
+                dv = dev[own & past]
+            fig = {"overshoot_m": float(max(np.max(dv), 0.0)) if dv.size else 0.0,
+                   "rounding_m": float(np.min(dist[own]))}
+        out[name] = {**fig, **_settling(c.after, a0, a1, col, c.t0, c.sp0, tol)}
+    return out
+
+
+def _settling(tape, a0: int, a1: int, col: int, t0: float, sp0: float, tol: float) -> dict:
+    """Time and command path length from ``t0`` (where the path length is ``sp0``) until
+    the error in column ``col`` of rows ``a0:a1`` of the tape (time, path length, errors)
+    stays within ``tol`` of its level at the end of the stretch (the median of its last
+    quarter) [s, m]; the stretch is read back from its end a block at a time."""
+    nan = {"settle_s": float("nan"), "settle_m": float("nan")}
+    size = a1 - a0
+    if size < 4:
+        return nan
+    level = np.median(tape.column(a1 - size // 4, a1, col, _BACK_ROWS))
+    if abs(tape.rows(a1 - 1, a1)[0, col] - level) > tol:
+        return nan
+    k, hi = a0, a1
+    while hi > a0:
+        lo = max(a0, hi - _BACK_ROWS)
+        out = np.flatnonzero(np.abs(tape.rows(lo, hi)[:, col] - level) > tol)
+        if out.size:
+            k = lo + int(out[-1]) + 1
+            break
+        hi = lo
+    t, sp = tape.rows(k, k + 1)[0, :2]
+    return {"settle_s": float(t - t0), "settle_m": float(sp - sp0)}
+
+
+def _numbered(k, c) -> dict:
+    return {"number": k, "index": int(c.i), "point_m": c.c.tolist(), "turn_rad": c.turn,
+            **c.figures}

@@ -1,0 +1,149 @@
+"""Corners of a run read in chunks: every figure of every corner is the whole run's to the
+bit, with the chunk boundaries falling anywhere, inside corners, rests and blends."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.contour import contour_error
+from tcpmm.analysis.contour_corners import CornerStream
+from tcpmm.analysis.contour_stream import stream_contour
+from tcpmm.analysis.corners import find_corners
+from tcpmm.cli import main
+from tcpmm.io.runfile import read_run
+from tcpmm.path.program import program_to_command
+from tcpmm.sim.simulate import simulate
+
+#: a G64 zig-zag, sharp and blended corners of 60 to 170 degrees, an exact-stop square
+#: (the command rests on each corner) and a dwell: corners with and without rests
+PROGRAM = "\n".join([
+    "G21 G90 G64 P0.01", "G1 X0 Y0 F2000",
+    *[f"G1 X{(i % 2) * 2:.3f} Y{i * 0.4:.3f}" for i in range(1, 9)],
+    "G64 P0", "G1 X0.5 Y4", "G1 X1 Y3.8", "G1 X1.2 Y4.5",
+    "G61", "G1 X3 Y4.5", "G1 X3 Y6", "G1 X1 Y6", "G4 P0.05", "G1 X1 Y4.5", "M30"]) + "\n"
+
+
+def quiet(fn, *args, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fn(*args, **kw)
+
+
+@pytest.fixture(scope="module")
+def run_file(vmc, tmp_path_factory):
+    path = tmp_path_factory.mktemp("corners") / "run.parquet"
+    quiet(simulate, vmc, quiet(program_to_command, PROGRAM)).write(path)
+    return path
+
+
+def same(a, b) -> bool:
+    """Equal to the bit, NaN equal to NaN."""
+    return a == b or (a != a and b != b)
+
+
+def assert_same_corners(got, want):
+    assert len(got) == len(want)
+    for g, w in zip(got, want, strict=True):
+        assert set(g) == set(w)
+        for k, v in w.items():
+            if isinstance(v, dict):
+                assert all(same(g[k][f], x) for f, x in v.items()), (w["number"], k, g[k], v)
+            else:
+                assert same(g[k], v), (w["number"], k)
+
+
+def test_the_program_has_corners_of_every_kind(run_file):
+    res = contour_error(read_run(run_file), plane=("X", "Y"))
+    turns = [c["turn_rad"] for c in res.corners]
+    assert len(turns) >= 14 and np.isnan(turns[-1])
+    assert all(np.degrees(v) > 30 for v in turns[:-1])
+    over = [c["tcp"]["overshoot_m"] for c in res.corners]
+    settle = [c["tcp"]["settle_s"] for c in res.corners]
+    assert max(over) > 0 and any(v == v for v in settle) and any(v != v for v in settle)
+
+
+@pytest.mark.parametrize("rows", [5, 37, 97, 1000, 10**6])
+def test_corners_in_chunks_are_the_whole_runs(run_file, rows):
+    ref = contour_error(read_run(run_file), plane=("X", "Y"))
+    res = stream_contour(run_file, ("X", "Y"), True, rows=rows)
+    assert_same_corners(res.corners, ref.corners)
+    assert res.to_dict()["corners"] == ref.to_dict()["corners"]
+
+
+def test_corners_of_other_settings_and_in_3d(run_file):
+    run = read_run(run_file)
+    for kw in ({"corner_deg": 60.0, "settle_tol_m": 0.2e-6},
+               {"corner_deg": 20.0, "corner_span_m": 0.2e-3, "settle_tol_m": 5e-6}):
+        ref = contour_error(run, plane=None, **kw)
+        res = stream_contour(run_file, ("X", "Y", "Z"), False, rows=41, **kw)
+        assert_same_corners(res.corners, ref.corners)
+
+
+def test_corners_fed_a_row_at_a_time_are_found_once(run_file):
+    """A command given in pieces of any size (here one and three rows) finds the corners
+    of :func:`find_corners` on the whole; the samples come later or earlier."""
+    ref = contour_error(read_run(run_file), plane=("X", "Y"))
+    want = find_corners(ref.command)
+    assert [i for i, _ in want] == [c["index"] for c in ref.corners]
+    for piece in (1, 3):
+        cs = CornerStream()
+        for k in range(0, ref.command.shape[0], piece):
+            cs.add_command(ref.command_time_s[k:k + piece], ref.command[k:k + piece])
+            lag = slice(max(k - 50, 0), max(k - 50 + piece, 0)) if k >= 50 else slice(0, 0)
+            if lag.stop > lag.start:
+                _samples(cs, ref, lag)
+        _samples(cs, ref, slice(max(ref.command.shape[0] - 50, 0), None))
+        assert_same_corners(cs.finish(), ref.corners)
+
+
+def _samples(cs, ref, k):
+    from tcpmm.analysis.contour import distance_to_polyline
+
+    feet = {s: distance_to_polyline(q, ref.command, ref.time_s, ref.command_time_s, 0.2,
+                                    True)[1][k] for s, q in ref.actual.items()}
+    cs.add_samples(ref.time_s[k], {s: q[k] for s, q in ref.actual.items()},
+                   {s: e[k] for s, e in ref.errors.items()}, feet)
+
+
+def test_the_cli_streams_the_corner_table(run_file, capsys):
+    out = []
+    for extra in ([], ["--chunk-rows", "53"]):
+        code = main(["contour", str(run_file), "--plane", "XY", "--json", "--corner-deg",
+                     "45", "--settle-um", "2", *extra])
+        cap = capsys.readouterr()
+        assert code == 0, cap.err
+        out.append(json.loads(cap.out))
+    assert out[1]["corners"] == out[0]["corners"] and len(out[0]["corners"]) > 30
+    code = main(["contour", str(run_file), "--plane", "XY", "--chunk-rows", "53"])
+    assert code == 0 and "corners, tcp" in capsys.readouterr().out
+
+
+def test_a_tape_reads_back_across_its_file_and_memory():
+    from tcpmm.analysis.tape import Tape
+
+    tape, rows = Tape(spill_rows=11), np.column_stack([np.arange(47.0) * 0.5,
+                                                        np.arange(47.0) ** 2])
+    for k in range(0, 47, 6):  # blocks of 6 rows, to the file past 11
+        tape.add(rows[k:k + 6])
+    assert tape.in_file == 36 and tape.in_mem == 11
+    for a, b in ((0, 47), (3, 41), (40, 44), (43, 47), (12, 13)):
+        assert np.array_equal(tape.rows(a, b), rows[a:b])
+        assert np.array_equal(tape.column(a, b, 1, block=4), rows[a:b, 1])
+    for x in (-1.0, 0.0, 2.75, 3.0, 20.5, 23.0, 99.0):
+        for side in ("left", "right"):
+            assert tape.count(x, side) == np.searchsorted(rows[:, 0], x, side=side)
+    tape.close()
+
+
+def test_long_settling_stretches_go_to_disk_and_give_the_same(run_file, monkeypatch):
+    from tcpmm.analysis import contour_corners, tape
+
+    ref = contour_error(read_run(run_file), plane=("X", "Y"))
+    monkeypatch.setattr(tape, "SPILL_ROWS", 50)
+    monkeypatch.setattr(contour_corners, "_BACK_ROWS", 7)
+    assert_same_corners(stream_contour(run_file, ("X", "Y"), True, rows=61).corners,
+                        ref.corners)

@@ -1,16 +1,18 @@
 """Friction and lost motion from constant-velocity runs: the Stribeck curve of the plateaus
 (:mod:`~tcpmm.ident.friction.stribeck`) and of the transients between them
-(:mod:`~tcpmm.ident.friction.transients`); its split between guideway and screw-nut
-(:mod:`~tcpmm.ident.friction.split`) from the deflection between encoder and scale
-(:mod:`~tcpmm.ident.friction.lostmotion`), the nut's stiffness and play from the runs'
-accelerations (:mod:`~tcpmm.ident.friction.nutstiffness`) or the force a travelling sweep
-shows (:mod:`~tcpmm.ident.friction.sweepforce`); the play as the sweep sees it
-(:mod:`~tcpmm.ident.friction.playdf`); pre-sliding given to the identified contacts
-(:mod:`~tcpmm.ident.friction.presliding`) or fitted to the runs' reversals
+(:mod:`~tcpmm.ident.friction.transients`), the one kept per record
+(:mod:`~tcpmm.ident.friction.steadycurve`); its split between guideway and screw-nut
+(:mod:`~tcpmm.ident.friction.split`, recorded in :mod:`~tcpmm.ident.friction.frictionsplit`)
+from the deflection between encoder and scale (:mod:`~tcpmm.ident.friction.lostmotion`), the
+nut's stiffness and play from the runs' accelerations (:mod:`~tcpmm.ident.friction.nutstiffness`)
+or the force a travelling sweep shows (:mod:`~tcpmm.ident.friction.sweepforce`); the play as
+the sweep sees it (:mod:`~tcpmm.ident.friction.playdf`); pre-sliding given to the identified
+contacts (:mod:`~tcpmm.ident.friction.presliding`) or fitted to the runs' reversals
 (:mod:`~tcpmm.ident.friction.preslidingfit`); and how much the circles care about what the
 runs leave open (:mod:`~tcpmm.ident.friction.sensitivity`)."""
 
 from .estimate import ParameterEstimate
+from .frictionsplit import FrictionSplit
 from .lostmotion import (
     LostMotionEstimate,
     LostMotionOptions,
@@ -37,14 +39,11 @@ from .sensitivity import (
 from .split import (
     GUIDEWAY_SHARE,
     SHARE_WARN_STD,
-    FrictionSplit,
     identify_friction,
     place_steady_viscous,
     share_uncertainty_warning,
-    slowest_plateau,
-    steady_curve,
-    stribeck_from_record,
 )
+from .steadycurve import slowest_plateau, steady_curve, stribeck_from_record
 from .stribeck import (
     PLATEAU_DURATIONS_S,
     NoPlateauError,

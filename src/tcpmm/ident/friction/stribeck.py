@@ -28,10 +28,12 @@ from .estimate import ParameterEstimate
 __all__ = [
     "PLATEAU_DURATIONS_S",
     "Plateau",
+    "coulomb_stribeck",
     "find_plateaus",
     "fit_stribeck",
     "identify_stribeck_run",
     "read_friction_csv",
+    "stribeck_curve",
     "without_undetermined_hump",
 ]
 
@@ -154,7 +156,11 @@ def find_plateaus(
     return out
 
 
-def _stribeck_curve(p, v, delta, tie):
+def stribeck_curve(p, v, delta: float, tie: bool):
+    """The Stribeck curve at velocities ``v`` [m/s] from the parameter vector ``p`` =
+    ``(Fc+, Fc-, Fs+, Fs-, log10 vs, Fv)`` [N or A, log10 m/s, N s/m or A s/m], with the
+    exponent ``delta`` [-]; ``tie`` takes ``Fs-`` as ``Fs+`` [-]. Returns the force with
+    the sign of the velocity [N or A]."""
     fcp, fcn, fsp, fsn, logvs, fv = p
     if tie:
         fsn = fsp
@@ -228,7 +234,7 @@ def fit_stribeck(
     def resid(x):
         p = p0.copy()
         p[free] = x
-        return _stribeck_curve(p, v, delta, tie_static) - f
+        return stribeck_curve(p, v, delta, tie_static) - f
 
     lo = np.array([0.0, 0.0, 0.0, 0.0, math.log10(vs_init) - 3.0, 0.0])[free]
     hi = np.array([np.inf, np.inf, np.inf, np.inf, math.log10(np.max(np.abs(v))) + 1.0, np.inf])[
@@ -316,6 +322,29 @@ def without_undetermined_hump(est: ParameterEstimate):
            " mm/s), so the model keeps the Coulomb level at rest there; record runs slower "
            "than the Stribeck speed (0.1-0.5 mm/s) to fix the break-away level")
     return dataclasses.replace(est, values=values, std=std), why
+
+
+def coulomb_stribeck(curve: dict):
+    """The Coulomb and Stribeck part (no viscous slope) of a fitted steady friction curve.
+
+    Parameters
+    ----------
+    curve : dict
+        Fitted values by name (``Fc+``, ``Fc-``, ``Fs+``, ``Fs-``, ``vs``), table units
+        [N, m/s].
+
+    Returns
+    -------
+    callable
+        Friction at a velocity array, with the sign of the velocity [N].
+    """
+    p = (curve["Fc+"], curve["Fc-"], curve["Fs+"], curve["Fs-"],
+         np.log10(max(float(curve["vs"]), 1e-6)), 0.0)
+
+    def part(vel):
+        return stribeck_curve(p, vel, 2.0, False)
+
+    return part
 
 
 def identify_stribeck_run(

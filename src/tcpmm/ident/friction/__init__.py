@@ -1,6 +1,6 @@
 """Friction and lost motion from constant-velocity runs: the Stribeck curve of the plateaus
-(:mod:`~tcpmm.ident.friction.stribeck`) and of the transients between them
-(:mod:`~tcpmm.ident.friction.transients`), the one kept per record
+(:mod:`~tcpmm.ident.friction.plateaus`, :mod:`~tcpmm.ident.friction.stribeck`) and of the
+transients between them (:mod:`~tcpmm.ident.friction.transients`), the one kept per record
 (:mod:`~tcpmm.ident.friction.steadycurve`); its split between guideway and screw-nut
 (:mod:`~tcpmm.ident.friction.split`, recorded in :mod:`~tcpmm.ident.friction.frictionsplit`)
 from the deflection between encoder and scale (:mod:`~tcpmm.ident.friction.lostmotion`), the
@@ -20,6 +20,7 @@ from .lostmotion import (
     quantisation_bias_std,
 )
 from .nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, NutEstimate, estimate_nut
+from .plateaus import Plateau, find_plateaus
 from .playdf import dead_zone_gain, nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
 from .preslidingfit import PreslidingFit, fit_presliding
@@ -47,8 +48,6 @@ from .steadycurve import slowest_plateau, steady_curve, stribeck_from_record
 from .stribeck import (
     PLATEAU_DURATIONS_S,
     NoPlateauError,
-    Plateau,
-    find_plateaus,
     fit_stribeck,
     friction_record_arrays,
     identify_stribeck_run,

@@ -23,7 +23,8 @@ from .nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, NutEstimate, estimate_nut
 from .plateaus import Plateau, find_plateaus
 from .playdf import dead_zone_gain, nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
-from .preslidingfit import PreslidingFit, fit_presliding
+from .preslidingfit import fit_presliding
+from .preslidingresult import PreslidingFit
 from .sensitivity import (
     LostMotionSensitivity,
     PreslidingSensitivity,

@@ -261,7 +261,7 @@ def identify_stribeck_run(t, position, effort, *, cutoff: float = 20.0, delta: f
     Plateaus are looked for with the shortest duration ``min_duration``; by default with
     each of :data:`PLATEAU_DURATIONS_S` in turn, down to the first that finds enough for the
     fit (two per direction and more than the fitted parameters), so that passes of 0.3 s
-    or less are used too while longer ones are judged as before.
+    or less are used too and records of longer passes keep the longest duration.
 
     Parameters
     ----------

@@ -43,7 +43,6 @@ GUIDEWAY_SHARE = 0.7
 SHARE_WARN_STD = 0.1
 
 
-
 def identify_friction(record, cfg, mechanics, guideway_share: float | None = None, *,
                       axis: str = "", stiffness_rel_std: float = 0.0,
                       viscous: str = "fit", neglect_motor_bearing: bool = False,
@@ -166,7 +165,7 @@ class _Runs:
         """The travelling sweep's share on the plateau estimate ``lm``, or ``None``
         (:func:`~tcpmm.ident.friction.sweepforce.sweep_share`) [-]."""
         return sweep_share(self.sweep, self.mechanics, self.curve, lm, self.K_h_rel_std,
-                            self.C_t_std)
+                           self.C_t_std)
 
 
 def _split_of_runs(runs: _Runs, mech, rel_std: float, given, axis) -> FrictionSplit:

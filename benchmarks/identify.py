@@ -28,9 +28,9 @@ BENCHES = ("bench_c", "bench_d", "bench_e")
 
 def axis_times(bundle) -> dict:
     """Wall time per axis of one identification [s]."""
-    from tcpmm.ident.friction import nutstiffness
+    from tcpmm.ident.friction import nutrounding
 
-    nutstiffness._stretch_bias_std.cache_clear()  # each run as a first identification
+    nutrounding.stretch_bias_std.cache_clear()  # each run as a first identification
     marks = []
     t0 = time.perf_counter()
     with warnings.catch_warnings():

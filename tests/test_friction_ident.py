@@ -262,7 +262,7 @@ def test_a_gap_in_the_friction_runs_names_the_file(stribeck_run):
     a uniform step', naming no file."""
     from types import SimpleNamespace
 
-    from tcpmm.ident.friction.split import stribeck_from_record
+    from tcpmm.ident.friction.steadycurve import stribeck_from_record
     from tcpmm.io.records import FrictionRecord
 
     r, _ = stribeck_run

@@ -20,10 +20,10 @@ from tcpmm.ident.friction import (
 )
 from tcpmm.ident.friction.split import (
     SHARE_WARN_STD,
-    coulomb_stribeck,
     identify_friction,
     share_uncertainty_warning,
 )
+from tcpmm.ident.friction.stribeck import coulomb_stribeck
 from tcpmm.ident.physical import fit_physical
 from tcpmm.ident.pipeline import Identification, identify_axis
 from tcpmm.ident.steps import fitcontext, playrefit

@@ -14,7 +14,7 @@ from ..errors import InputError
 from ..io.atomic import staged_folder, write_table_atomic, write_text_atomic
 from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, Machine
-from .friction.preslidingfit import PreslidingFit
+from .friction.preslidingresult import PreslidingFit
 from .friction.sensitivity import LostMotionSensitivity, PreslidingSensitivity, ShareSensitivity
 from .gates.findings import trimmed_fit_percent
 from .gates.sanity import FrictionHold

@@ -1,16 +1,18 @@
 """Friction and lost motion from constant-velocity runs: the Stribeck curve of the plateaus
-(:mod:`~tcpmm.ident.friction.stribeck`) and of the transients between them
-(:mod:`~tcpmm.ident.friction.transients`); its split between guideway and screw-nut
-(:mod:`~tcpmm.ident.friction.split`) from the deflection between encoder and scale
-(:mod:`~tcpmm.ident.friction.lostmotion`), the nut's stiffness and play from the runs'
-accelerations (:mod:`~tcpmm.ident.friction.nutstiffness`) or the force a travelling sweep
-shows (:mod:`~tcpmm.ident.friction.sweepforce`); the play as the sweep sees it
-(:mod:`~tcpmm.ident.friction.playdf`); pre-sliding given to the identified contacts
-(:mod:`~tcpmm.ident.friction.presliding`) or fitted to the runs' reversals
+(:mod:`~tcpmm.ident.friction.plateaus`, :mod:`~tcpmm.ident.friction.stribeck`) and of the
+transients between them (:mod:`~tcpmm.ident.friction.transients`), the one kept per record
+(:mod:`~tcpmm.ident.friction.steadycurve`); its split between guideway and screw-nut
+(:mod:`~tcpmm.ident.friction.split`, recorded in :mod:`~tcpmm.ident.friction.frictionsplit`)
+from the deflection between encoder and scale (:mod:`~tcpmm.ident.friction.lostmotion`), the
+nut's stiffness and play from the runs' accelerations (:mod:`~tcpmm.ident.friction.nutstiffness`)
+or the force a travelling sweep shows (:mod:`~tcpmm.ident.friction.sweepforce`); the play as
+the sweep sees it (:mod:`~tcpmm.ident.friction.playdf`); pre-sliding given to the identified
+contacts (:mod:`~tcpmm.ident.friction.presliding`) or fitted to the runs' reversals
 (:mod:`~tcpmm.ident.friction.preslidingfit`); and how much the circles care about what the
 runs leave open (:mod:`~tcpmm.ident.friction.sensitivity`)."""
 
 from .estimate import ParameterEstimate
+from .frictionsplit import FrictionSplit
 from .lostmotion import (
     LostMotionEstimate,
     LostMotionOptions,
@@ -18,9 +20,11 @@ from .lostmotion import (
     quantisation_bias_std,
 )
 from .nutstiffness import CUTOFFS_HZ, LOST_MOTION_Z, NutEstimate, estimate_nut
+from .plateaus import Plateau, find_plateaus
 from .playdf import dead_zone_gain, nut_deflection_amplitude, play_gain, sweep_motion
 from .presliding import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
-from .preslidingfit import PreslidingFit, fit_presliding
+from .preslidingfit import fit_presliding
+from .preslidingresult import PreslidingFit
 from .sensitivity import (
     LostMotionSensitivity,
     PreslidingSensitivity,
@@ -37,19 +41,14 @@ from .sensitivity import (
 from .split import (
     GUIDEWAY_SHARE,
     SHARE_WARN_STD,
-    FrictionSplit,
     identify_friction,
     place_steady_viscous,
     share_uncertainty_warning,
-    slowest_plateau,
-    steady_curve,
-    stribeck_from_record,
 )
+from .steadycurve import slowest_plateau, steady_curve, stribeck_from_record
 from .stribeck import (
     PLATEAU_DURATIONS_S,
     NoPlateauError,
-    Plateau,
-    find_plateaus,
     fit_stribeck,
     friction_record_arrays,
     identify_stribeck_run,

@@ -49,12 +49,12 @@ import numpy as np
 
 from ...errors import InputError
 from .hysteresis import (
-    LostMotionEstimate,
     PlateauDeflections,
     fit_both_free,
     fit_lost_motion_given,
     fit_share_given,
 )
+from .lostmotionestimate import LostMotionEstimate
 from .lostmotionoptions import LostMotionOptions
 
 __all__ = ["LostMotionEstimate", "LostMotionOptions", "estimate_lost_motion",

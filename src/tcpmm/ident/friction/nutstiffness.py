@@ -44,7 +44,6 @@ the share best is kept.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, replace
 
@@ -52,7 +51,7 @@ import numpy as np
 
 from ...errors import InputError
 from ..frf.signals import central_difference, lowpass_filtfilt
-from .lostmotion import quantisation_bias_std
+from .nutrounding import quantisation_cov
 
 __all__ = ["CUTOFFS_HZ", "LOST_MOTION_Z", "RESOLUTION_STEPS", "NutEstimate", "estimate_nut"]
 
@@ -186,16 +185,9 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
                  max_rel_std: float = 0.3, scale_resolution: float = 0.0) -> NutEstimate:
     """Nut stiffness, guideway share and lost motion from a record with accelerations.
 
-    The sign of the nut force ``F_t = M_t a + C_t v + s F_f(v)`` must be known where a
-    sample enters the fit. It is that of ``v`` where the table does not decelerate (all
-    terms agree for any share ``s`` in ``[0, 1]``) or decelerates only a little
-    (``M_t |a|`` below a quarter of ``share |F_f| + C_t |v|``), and that of ``a`` where
-    the deceleration force exceeds ``margin`` times ``|F_f| + C_t |v|``; the samples in
-    between, and those within the filter's smear of them, are left out. The sweep rarely
-    determines ``C_t`` (it can come out several times too large, and then the braking
-    samples that separate play from share are lost), so the signs are decided a second
-    time with the viscous force through the nut and the share of the first fit; the
-    second fit is kept unless only the first is determined.
+    Samples enter the fit where the sign of the nut force is sure (:func:`_sure_signs`),
+    decided twice at each cut-off (:func:`_estimate_at`); of the cut-offs, the one that
+    determines the share best is kept (:func:`_best_cutoff`).
 
     Parameters
     ----------
@@ -217,19 +209,14 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
         Slope of the steady motor force over the speed, at the table; the motor
         bearing's ``B_m/R_L^2`` of it does not twist the shaft [N s/m].
     share : float
-        Guideway share assumed to decide the nut-force signs of nearly steady samples
-        [-].
+        Guideway share assumed to decide the nut-force signs of nearly steady samples [-].
     cutoff : float or sequence of float
-        Zero-phase low-pass before differencing; with several, the estimate with the
-        smallest standard deviation of the share among the determined ones is kept, one
-        above :data:`TRANSIENT_FREE_HZ` only where the next lower agrees (see
-        :data:`CUTOFFS_HZ`); cut-offs at or above 0.8 times the Nyquist frequency are
-        skipped [Hz].
+        Zero-phase low-pass before differencing (see :data:`CUTOFFS_HZ`); cut-offs at or
+        above 0.8 times the Nyquist frequency are skipped [Hz].
     min_speed : float
         Samples slower than this are left out (stiction) [m/s].
     margin : float
-        Factor on the largest friction force a deceleration must exceed to set the
-        nut-force sign [-].
+        Factor on the largest friction force a deceleration must exceed to set the sign [-].
     max_rel_std : float
         Largest relative standard deviation of ``M_t/K_t`` for which the record counts
         as determining the stiffness [-].
@@ -244,21 +231,26 @@ def estimate_nut(t, motor_angle, scale, R_L: float, mechanics, friction_curve,
     """
     t = np.asarray(t, dtype=float)
     if not (t.size == np.size(motor_angle) == np.size(scale)):
-        raise InputError("time, motor angle and scale must have the same length",
-                         column="scale")
+        raise InputError("time, motor angle and scale must have the same length", column="scale")
     dt = float(np.median(np.diff(t)))
     cutoffs = [float(c) for c in np.atleast_1d(cutoff)]
     usable = sorted(c for c in cutoffs if c < 0.4 / dt) or cutoffs[:1]
     found = [_estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve,
                           total_viscous, share, c, min_speed, margin, max_rel_std,
-                          scale_resolution)
-             for c in usable]
+                          scale_resolution) for c in usable]
+    return replace(_best_cutoff(found, usable), scale_resolution=float(scale_resolution))
+
+
+def _best_cutoff(found: list, cutoffs: list) -> NutEstimate:
+    """Of the estimates ``found`` at the ``cutoffs`` [Hz], the determined one with the
+    smallest standard deviation of the share; one above :data:`TRANSIENT_FREE_HZ` counts
+    only where the next lower cut-off agrees (:func:`_same_nut`). Without any, the
+    first [-]."""
     determined = [e for k, e in enumerate(found)
                   if e.determined and np.isfinite(e.guideway_share_std)
-                  and (usable[k] <= TRANSIENT_FREE_HZ
+                  and (cutoffs[k] <= TRANSIENT_FREE_HZ
                        or (k > 0 and _same_nut(e, found[k - 1])))]
-    best = min(determined, key=lambda e: e.guideway_share_std) if determined else found[0]
-    return replace(best, scale_resolution=float(scale_resolution))
+    return min(determined, key=lambda e: e.guideway_share_std) if determined else found[0]
 
 
 def _same_nut(e: NutEstimate, lower: NutEstimate) -> bool:
@@ -273,7 +265,13 @@ def _same_nut(e: NutEstimate, lower: NutEstimate) -> bool:
 def _estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve, total_viscous,
                  share, cutoff, min_speed, margin, max_rel_std,
                  scale_resolution=0.0) -> NutEstimate:
-    """:func:`estimate_nut` at one cut-off [Hz]; the other arguments as there [SI]."""
+    """:func:`estimate_nut` at one cut-off [Hz]; the other arguments as there [SI].
+
+    The sweep rarely determines ``C_t`` (it can come out several times too large, and then
+    the braking samples that separate play from share are lost), so the nut-force signs
+    are decided a second time with the viscous force through the nut and the share of the
+    first fit; the second fit is kept unless only the first is determined.
+    """
     m = mechanics
     th = lowpass_filtfilt(motor_angle, dt, cutoff)
     x = lowpass_filtfilt(scale, dt, cutoff)
@@ -298,51 +296,37 @@ def _estimate_at(t, dt, motor_angle, scale, R_L, mechanics, friction_curve, tota
     return replace(kept, cutoff=cutoff)
 
 
-def _steady_stretches(idx, v, rel: float = 0.02):
-    """``(start, stop)`` positions in ``idx`` of the runs of consecutive samples whose
-    speed stays within ``rel`` of the run's first: a plateau is one run, a ramp many."""
-    out, i0 = [], 0
-    for i in range(1, idx.size + 1):
-        if (i == idx.size or idx[i] != idx[i - 1] + 1
-                or abs(v[idx[i]] - v[idx[i0]]) > rel * abs(v[idx[i0]])):
-            out.append((i0, i))
-            i0 = i
-    return out
+def _sure_signs(v, a, ff, guard: int, M_t: float, C_t: float, share: float,
+                min_speed: float, margin: float):
+    """The sign of the nut force ``F_t = M_t a + C_t v + s F_f(v)`` and where it is sure.
 
+    It is that of ``v`` where the table does not decelerate (all terms agree for any share
+    ``s`` in ``[0, 1]``) or decelerates only a little (``M_t |a|`` below a quarter of
+    ``share |F_f| + C_t |v|``), and that of ``a`` where the deceleration force exceeds
+    ``margin`` times ``|F_f| + C_t |v|``; the samples in between, those slower than
+    ``min_speed`` [m/s], and those within the filter's smear (``guard`` samples) of a
+    change, are left out. ``v``, ``a`` and ``ff`` are the filtered speed, acceleration and
+    friction [m/s, m/s^2, N], ``M_t`` [kg], ``C_t`` [N s/m], ``share`` and ``margin`` [-].
 
-@functools.lru_cache(maxsize=8192)
-def _stretch_bias_std(t: bytes, x: bytes, quantum: float) -> float:
-    """:func:`tcpmm.ident.friction.lostmotion.quantisation_bias_std` of one stretch, given
-    by the bytes of its samples, kept: the same stretches come back in every fit of the
-    nut (each start, each share, each refit of the mechanics), and working them out again
-    was most of an identification's time [m]."""
-    return quantisation_bias_std(np.frombuffer(t), np.frombuffer(x), quantum)
-
-
-def _quantisation_cov(t, use, P, scale, quantum: float, v) -> np.ndarray:
-    """Covariance the scale's rounding adds to least-squares coefficients ``P y``.
-
-    On a stretch of steady motion whose speed advances a whole number of sensor steps per
-    sample, the rounding error of the scale is one unknown constant (it does not average
-    out); it passes the low-pass unchanged into ``y``. Each steady stretch of fitted
-    samples (:func:`_steady_stretches`, ``v`` the filtered speed [m/s]) gets the variance
-    of its mean rounding error
-    (:func:`tcpmm.ident.friction.lostmotion.quantisation_bias_std`), and its weight in each
-    coefficient is the sum of ``P`` over it.
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The sign of the nut force, and whether each sample enters the fit [-].
     """
+    from scipy.ndimage import binary_dilation
 
-    k = P.shape[0]
-    cov = np.zeros((k, k))
-    if quantum <= 0.0:
-        return cov
-    idx = np.flatnonzero(use)
-    for i0, i1 in _steady_stretches(idx, v):
-        seg = idx[i0:i1]
-        sd = _stretch_bias_std(np.asarray(t[seg], dtype=float).tobytes(),
-                               np.asarray(scale[seg], dtype=float).tobytes(), float(quantum))
-        w = P[:, i0:i1].sum(axis=1)
-        cov += np.outer(w, w) * sd**2
-    return cov
+    inertia = M_t * np.abs(a)
+    largest = np.abs(ff) + C_t * np.abs(v)
+    along = a * v >= 0.0
+    steady = inertia < 0.25 * (share * np.abs(ff) + C_t * np.abs(v))
+    braking = ~along & (inertia > margin * largest)
+    sgn = np.where(braking, np.sign(a), np.sign(v))
+    sure = (along | steady | braking) & (np.abs(v) >= min_speed)
+    jump = np.zeros(v.size, dtype=bool)
+    jump[1:] = (sgn[1:] != sgn[:-1]) | (sure[1:] != sure[:-1])
+    use = sure & ~binary_dilation(jump | ~sure, np.ones(2 * guard + 1, dtype=bool))
+    use[:3 * guard] = use[-3 * guard:] = False  # filter start-up
+    return sgn, use
 
 
 def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed: float,
@@ -350,19 +334,7 @@ def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed:
     """The least-squares fit of :func:`estimate_nut` on the filtered signals, with the
     nut-force signs decided by ``C_t`` [N s/m] and ``share`` [-]; ``scale_q`` is the
     recorded scale and its resolution ([m], [m]), whose rounding enters the covariance."""
-    from scipy.ndimage import binary_dilation
-
-    inertia = m.M_t * np.abs(a)
-    largest = np.abs(ff) + C_t * np.abs(v)
-    along = a * v >= 0.0
-    steady = inertia < 0.25 * (share * np.abs(ff) + C_t * np.abs(v))
-    braking = ~along & (inertia > margin * largest)
-    sgn = np.where(braking, np.sign(a), np.sign(v))
-    sure = (along | steady | braking) & (np.abs(v) >= min_speed)
-    jump = np.zeros(t.size, dtype=bool)
-    jump[1:] = (sgn[1:] != sgn[:-1]) | (sure[1:] != sure[:-1])
-    use = sure & ~binary_dilation(jump | ~sure, np.ones(2 * guard + 1, dtype=bool))
-    use[:3 * guard] = use[-3 * guard:] = False  # filter start-up
+    sgn, use = _sure_signs(v, a, ff, guard, m.M_t, C_t, share, min_speed, margin)
     n = int(use.sum())
     nan = float("nan")
     if n < 20 * guard:
@@ -377,7 +349,7 @@ def _fit_nut(t, v, a, y, ff, guard: int, m, C_t: float, share: float, min_speed:
         inv = np.linalg.inv(A.T @ A)
         cov = inv * s2
         if scale_q[0] is not None:
-            cov = cov + _quantisation_cov(t, use, inv @ A.T, np.asarray(scale_q[0]),
+            cov = cov + quantisation_cov(t, use, inv @ A.T, np.asarray(scale_q[0]),
                                           scale_q[1], v)
     except np.linalg.LinAlgError:
         cov = np.full((5, 5), np.inf)

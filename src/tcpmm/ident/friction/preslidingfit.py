@@ -60,15 +60,15 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from ...mechanics.friction import friction_params_array
 from ...sim.pathforce import contact_force_along_path, play_operator
 from .presliding import with_presliding
+from .preslidingresult import PreslidingFit
 
-__all__ = ["PreslidingFit", "fit_presliding"]
+__all__ = ["fit_presliding"]
 
 #: Travel before the turning point that the window starts at [m].
 PRE = 20e-6
@@ -101,57 +101,6 @@ MAX_QUANTUM_REL = 0.1
 MAX_LOST_MOTION_REL = 0.1
 #: Largest ratio of the force residual to the force noise for the model to count [-].
 MAX_MISFIT = 1.5
-
-
-@dataclass(frozen=True)
-class PreslidingFit:
-    """Pre-sliding of an axis's contacts fitted to its friction-run reversals.
-
-    Parameters
-    ----------
-    presliding : float
-        Pre-sliding distance of both contacts at the static level [m].
-    presliding_std : float
-        Its standard deviation [m].
-    damping_ratio : float
-        Bristle damping ratio against the table mass [-].
-    damping_ratio_std : float
-        Its standard deviation [-].
-    reversals : int
-        Reversals the fit used [-].
-    rms_force : float
-        Root mean square of the force residual [N].
-    noise_force : float
-        Sample-to-sample noise of the measured motor force in the windows [N].
-    determined : bool
-        The reversals determine the distance; when ``False`` see ``reason`` [-].
-    reason : str
-        Why the fit does not count, or ``""`` [-].
-    presliding_range : tuple of float
-        Smallest and largest distance of the chosen fit and of the fits at the
-        neighbouring widths of the play (half and twice), each widened by two of its
-        standard deviations [m].
-    """
-
-    presliding: float
-    presliding_std: float
-    damping_ratio: float
-    damping_ratio_std: float
-    reversals: int
-    rms_force: float
-    noise_force: float
-    determined: bool
-    reason: str = ""
-    presliding_range: tuple = (float("nan"), float("nan"))
-
-    def to_dict(self) -> dict:
-        """The fit as plain numbers (SI) for JSON reports [-]."""
-        return {"presliding_m": self.presliding, "presliding_std_m": self.presliding_std,
-                "damping_ratio": self.damping_ratio,
-                "damping_ratio_std": self.damping_ratio_std, "reversals": self.reversals,
-                "rms_force_N": self.rms_force, "noise_force_N": self.noise_force,
-                "determined": self.determined,
-                "reason": self.reason, "presliding_range_m": list(self.presliding_range)}
 
 
 def _odd(n: float) -> int:
@@ -374,21 +323,31 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
     z = math.exp(r.x[0])
     rms = float(np.sqrt(np.mean(r.fun**2)))
     noise = _force_noise(m["fm"], windows)
-    reason = ""
-    if friction.backlash > MAX_LOST_MOTION_REL * z:
-        reason = (f"the nut has {friction.backlash * 1e6:.3g} um of lost motion, which the "
-                  f"reversal model leaves out, against a pre-sliding of {z * 1e6:.3g} um")
-    elif m["quantum"] > MAX_QUANTUM_REL * z:
-        reason = (f"the encoder resolves {m['quantum'] * 1e6:.3g} um at the table, too "
-                  f"coarse for a pre-sliding of {z * 1e6:.3g} um")
-    elif rms > MAX_MISFIT * noise:
-        reason = (f"the reversals do not follow the pre-sliding model (force residual "
-                  f"{rms:.3g} N against {noise:.3g} N of noise): stick-slip, or a turn "
-                  "too fast for the record")
-    elif log_sd > MAX_LOG_STD:
-        reason = (f"the reversals leave the distance uncertain by a factor "
-                  f"{math.exp(log_sd):.2f}")
-    elif min(r.x[0] - lo[0], hi[0] - r.x[0]) < 0.01:
-        reason = f"the distance ends on a bound of the fit ({z * 1e6:.3g} um)"
+    reason = _why_not(friction.backlash, m["quantum"], z, rms, noise, log_sd,
+                      min(r.x[0] - lo[0], hi[0] - r.x[0]))
     return PreslidingFit(z, z * log_sd, float(r.x[1]), zeta_sd, len(windows), rms, noise,
                          not reason, reason, ends)
+
+
+def _why_not(backlash: float, quantum: float, z: float, rms: float, noise: float,
+             log_sd: float, to_bound: float) -> str:
+    """Why a fitted distance ``z`` [m] does not count, or ``""``: the nut's lost motion
+    ``backlash`` [m] or the encoder step ``quantum`` [m] too large against it, a force
+    residual ``rms`` too large against the ``noise`` [N], its log standard deviation
+    ``log_sd`` [-] too large, or its logarithm within 0.01 of a bound (``to_bound``) [-]."""
+    if backlash > MAX_LOST_MOTION_REL * z:
+        return (f"the nut has {backlash * 1e6:.3g} um of lost motion, which the "
+                f"reversal model leaves out, against a pre-sliding of {z * 1e6:.3g} um")
+    if quantum > MAX_QUANTUM_REL * z:
+        return (f"the encoder resolves {quantum * 1e6:.3g} um at the table, too "
+                f"coarse for a pre-sliding of {z * 1e6:.3g} um")
+    if rms > MAX_MISFIT * noise:
+        return (f"the reversals do not follow the pre-sliding model (force residual "
+                f"{rms:.3g} N against {noise:.3g} N of noise): stick-slip, or a turn "
+                "too fast for the record")
+    if log_sd > MAX_LOG_STD:
+        return (f"the reversals leave the distance uncertain by a factor "
+                f"{math.exp(log_sd):.2f}")
+    if to_bound < 0.01:
+        return f"the distance ends on a bound of the fit ({z * 1e6:.3g} um)"
+    return ""

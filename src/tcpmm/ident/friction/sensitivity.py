@@ -6,7 +6,7 @@ matters. Guideway friction reverses the nut force that drives the structure at a
 point and screw friction does not, so on some axes the share moves the TCP spikes by
 micrometres and on others by nothing; so does a lost motion below what the runs resolve,
 and so does the pre-sliding distance over the range its fit leaves
-(:attr:`tcpmm.ident.friction.preslidingfit.PreslidingFit.presliding_range`).
+(:attr:`tcpmm.ident.friction.preslidingresult.PreslidingFit.presliding_range`).
 :func:`spike_range` simulates a circular test in the plane of the axis (R 35 mm,
 5000 mm/min, counter-clockwise, started between two quadrant points) with two frictions
 and gives the largest change of a TCP spike; :func:`share_spike_range` and

@@ -1,8 +1,9 @@
 """Stribeck friction curve from constant-velocity runs.
 
 The axis is moved back and forth at several constant speeds (``friction.csv``); the
-plateaus of constant velocity are detected in both directions (``find_plateaus``), the
-force (or current) is averaged on each, and the curve
+plateaus of constant velocity are detected in both directions
+(:func:`~tcpmm.ident.friction.plateaus.find_plateaus`), the force (or current) is averaged
+on each, and the curve
 ``F(v) = sign(v) (Fc_d + (Fs_d - Fc_d) exp(-|v/vs|**delta)) + Fv v`` is fitted by
 nonlinear least squares (``fit_stribeck``). ``identify_stribeck_run`` does both on a
 record of time, position and effort; ``read_friction_csv`` and
@@ -12,9 +13,7 @@ record of time, position and effort; ``read_friction_csv`` and
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from scipy import optimize
@@ -24,41 +23,18 @@ from tcpmm.errors import InputError
 from ...io.bundle import read_friction_csv as read_record
 from ..frf.signals import _as_1d, central_difference, lowpass_filtfilt
 from .estimate import ParameterEstimate
+from .plateaus import Plateau, find_plateaus
 
 __all__ = [
     "PLATEAU_DURATIONS_S",
-    "Plateau",
-    "find_plateaus",
+    "NoPlateauError",
+    "coulomb_stribeck",
     "fit_stribeck",
     "identify_stribeck_run",
     "read_friction_csv",
+    "stribeck_curve",
     "without_undetermined_hump",
 ]
-
-
-@dataclass(frozen=True)
-class Plateau:
-    """A stretch of (nearly) constant velocity.
-
-    Parameters
-    ----------
-    start : int
-        First sample index (after trimming) [-].
-    stop : int
-        One past the last sample index [-].
-    velocity : float
-        Mean velocity [m/s].
-    force : float
-        Mean force or current on the plateau [N or A].
-    force_std : float
-        Sample standard deviation of the force on the plateau [N or A].
-    """
-
-    start: int
-    stop: int
-    velocity: float
-    force: float
-    force_std: float
 
 
 #: Shortest plateau durations tried in turn by :func:`identify_stribeck_run`, longest
@@ -70,91 +46,11 @@ class NoPlateauError(InputError):
     """A record without constant-velocity passes long enough for a friction fit."""
 
 
-def find_plateaus(
-    t,
-    v,
-    effort,
-    *,
-    v_min: float | None = None,
-    rel_tol: float = 0.05,
-    min_duration: float = 0.2,
-    trim: float = 0.1,
-) -> list[Plateau]:
-    """Detect constant-velocity plateaus in both directions.
-
-    A sample is steady when the velocity stays within ``rel_tol`` of its value over a
-    window of ``min_duration / 4``; consecutive steady samples of one sign form a
-    plateau, split wherever the velocity drifts by more than ``rel_tol``; plateaus are
-    trimmed by ``trim`` of their length at each end and kept if they last at least
-    ``min_duration``.
-
-    Parameters
-    ----------
-    t : array_like
-        Time [s].
-    v : array_like
-        Velocity (e.g. filtered central difference of the position) [m/s].
-    effort : array_like
-        Force or current to average on each plateau [N or A].
-    v_min : float, optional
-        Slowest speed treated as motion; default 0.2 % of the largest speed [m/s].
-    rel_tol : float
-        Relative velocity tolerance [-].
-    min_duration : float
-        Shortest plateau kept [s].
-    trim : float
-        Fraction cut at each end of a plateau [-].
-
-    Returns
-    -------
-    list of Plateau
-        Plateaus in time order [-].
-    """
-    from scipy.ndimage import maximum_filter1d, minimum_filter1d
-
-    t = _as_1d(t, "t")
-    v = _as_1d(v, "v")
-    effort = _as_1d(effort, "effort")
-    if not (t.size == v.size == effort.size):
-        raise InputError("t, v and effort must have the same length", column="effort")
-    dt = float(np.median(np.diff(t)))
-    vmax = float(np.max(np.abs(v)))
-    if v_min is None:
-        v_min = 2e-3 * vmax
-    w = max(round(0.25 * min_duration / dt), 3)
-    vhi = maximum_filter1d(v, w)
-    vlo = minimum_filter1d(v, w)
-    steady = (np.abs(v) > v_min) & ((vhi - vlo) <= rel_tol * np.abs(v))
-    sgn = np.sign(v) * steady
-    out = []
-    edges = np.flatnonzero(np.diff(np.r_[0.0, sgn, 0.0]) != 0)
-    for i0, i1 in itertools.pairwise(edges):
-        if sgn[i0] == 0:
-            continue
-        i = i0
-        while i < i1:
-            ref = v[i]
-            drift = np.flatnonzero(np.abs(v[i:i1] - ref) > rel_tol * abs(ref))
-            j = i1 if drift.size == 0 else i + int(drift[0])
-            n = j - i
-            cut = int(trim * n)
-            a, b = i + cut, j - cut
-            if b > a + 1 and (t[b - 1] - t[a]) >= min_duration:
-                seg = effort[a:b]
-                out.append(
-                    Plateau(
-                        int(a),
-                        int(b),
-                        float(np.mean(v[a:b])),
-                        float(np.mean(seg)),
-                        float(np.std(seg, ddof=1)),
-                    )
-                )
-            i = j
-    return out
-
-
-def _stribeck_curve(p, v, delta, tie):
+def stribeck_curve(p, v, delta: float, tie: bool):
+    """The Stribeck curve at velocities ``v`` [m/s] from the parameter vector ``p`` =
+    ``(Fc+, Fc-, Fs+, Fs-, log10 vs, Fv)`` [N or A, log10 m/s, N s/m or A s/m], with the
+    exponent ``delta`` [-]; ``tie`` takes ``Fs-`` as ``Fs+`` [-]. Returns the force with
+    the sign of the velocity [N or A]."""
     fcp, fcn, fsp, fsn, logvs, fv = p
     if tie:
         fsn = fsp
@@ -211,16 +107,7 @@ def fit_stribeck(
     if lacking is not None:
         raise InputError(lacking, column="velocity")
     vs_init = float(np.min(np.abs(v))) if vs0 is None else float(vs0)
-    # linear start: Coulomb + viscous from the faster half of each side
-    fast = np.abs(v) >= np.median(np.abs(v))
-    pos = ((v > 0) & fast).astype(float)
-    neg = ((v < 0) & fast).astype(float)
-    A = np.column_stack([pos, -neg, v * fast])
-    c0, *_ = np.linalg.lstsq(A, f * fast, rcond=None)
-    fcp0, fcn0, fv0 = max(c0[0], 0.0), max(c0[1], 0.0), max(c0[2], 0.0)
-    slow_p = f[v > 0][np.argmin(v[v > 0])]
-    slow_n = -f[v < 0][np.argmax(v[v < 0])]
-    p0 = np.array([fcp0, fcn0, max(slow_p, fcp0), max(slow_n, fcn0), math.log10(vs_init), fv0])
+    p0 = _start(v, f, vs_init)
     free = np.ones(6, dtype=bool)
     if tie_static:
         free[3] = False
@@ -228,7 +115,7 @@ def fit_stribeck(
     def resid(x):
         p = p0.copy()
         p[free] = x
-        return _stribeck_curve(p, v, delta, tie_static) - f
+        return stribeck_curve(p, v, delta, tie_static) - f
 
     lo = np.array([0.0, 0.0, 0.0, 0.0, math.log10(vs_init) - 3.0, 0.0])[free]
     hi = np.array([np.inf, np.inf, np.inf, np.inf, math.log10(np.max(np.abs(v))) + 1.0, np.inf])[
@@ -240,6 +127,30 @@ def fit_stribeck(
     p[free] = sol.x
     if tie_static:
         p[3] = p[2]
+    return _estimate(p, free, sol, v, f, delta, tie_static)
+
+
+def _start(v, f, vs_init: float) -> np.ndarray:
+    """Start of the Stribeck fit to plateau velocities ``v`` [m/s] and forces ``f`` [N]:
+    Coulomb and viscous levels by linear least squares on the faster half of each side,
+    the static levels at the slowest plateau's force, the Stribeck speed ``vs_init``
+    [m/s]; in the order of :func:`stribeck_curve` [-]."""
+    fast = np.abs(v) >= np.median(np.abs(v))
+    pos = ((v > 0) & fast).astype(float)
+    neg = ((v < 0) & fast).astype(float)
+    A = np.column_stack([pos, -neg, v * fast])
+    c0, *_ = np.linalg.lstsq(A, f * fast, rcond=None)
+    fcp0, fcn0, fv0 = max(c0[0], 0.0), max(c0[1], 0.0), max(c0[2], 0.0)
+    slow_p = f[v > 0][np.argmin(v[v > 0])]
+    slow_n = -f[v < 0][np.argmax(v[v < 0])]
+    return np.array([fcp0, fcn0, max(slow_p, fcp0), max(slow_n, fcn0), math.log10(vs_init),
+                     fv0])
+
+
+def _estimate(p, free, sol, v, f, delta: float, tie_static: bool) -> ParameterEstimate:
+    """The fitted parameters ``p`` (order of :func:`stribeck_curve`) with standard
+    deviations from the Jacobian of the least-squares solution ``sol`` over the ``free``
+    ones, as :func:`fit_stribeck` returns them [-]."""
     r = sol.fun
     dof = max(v.size - int(free.sum()), 1)
     sigma2 = float(r @ r) / dof
@@ -318,25 +229,39 @@ def without_undetermined_hump(est: ParameterEstimate):
     return dataclasses.replace(est, values=values, std=std), why
 
 
-def identify_stribeck_run(
-    t,
-    position,
-    effort,
-    *,
-    cutoff: float = 20.0,
-    delta: float = 2.0,
-    tie_static: bool = False,
-    v_min: float | None = None,
-    rel_tol: float = 0.05,
-    min_duration: float | None = None,
-    trim: float = 0.1,
-):
+def coulomb_stribeck(curve: dict):
+    """The Coulomb and Stribeck part (no viscous slope) of a fitted steady friction curve.
+
+    Parameters
+    ----------
+    curve : dict
+        Fitted values by name (``Fc+``, ``Fc-``, ``Fs+``, ``Fs-``, ``vs``), table units
+        [N, m/s].
+
+    Returns
+    -------
+    callable
+        Friction at a velocity array, with the sign of the velocity [N].
+    """
+    p = (curve["Fc+"], curve["Fc-"], curve["Fs+"], curve["Fs-"],
+         np.log10(max(float(curve["vs"]), 1e-6)), 0.0)
+
+    def part(vel):
+        return stribeck_curve(p, vel, 2.0, False)
+
+    return part
+
+
+def identify_stribeck_run(t, position, effort, *, cutoff: float = 20.0, delta: float = 2.0,
+                          tie_static: bool = False, v_min: float | None = None,
+                          rel_tol: float = 0.05, min_duration: float | None = None,
+                          trim: float = 0.1):
     """Stribeck curve from a record of back-and-forth runs at constant speeds.
 
     Plateaus are looked for with the shortest duration ``min_duration``; by default with
     each of :data:`PLATEAU_DURATIONS_S` in turn, down to the first that finds enough for the
     fit (two per direction and more than the fitted parameters), so that passes of 0.3 s
-    or less are used too while longer ones are judged as before.
+    or less are used too and records of longer passes keep the longest duration.
 
     Parameters
     ----------
@@ -371,10 +296,31 @@ def identify_stribeck_run(
     if dt <= 0 or np.max(np.abs(dts - dt)) > 0.01 * dt:
         raise InputError("time must increase with a uniform step (1 % tolerance)", column="time_s")
     v = central_difference(lowpass_filtfilt(x, dt, cutoff), dt)
+    plateaus = _plateaus_for_fit(t, v, u, tie_static, min_duration, v_min=v_min,
+                                 rel_tol=rel_tol, trim=trim)
+    est = fit_stribeck(
+        [p.velocity for p in plateaus],
+        [p.force for p in plateaus],
+        delta=delta,
+        tie_static=tie_static,
+    )
+    return est, plateaus
+
+
+def _plateaus_for_fit(t, v, u, tie_static: bool, min_duration, **detect) -> list[Plateau]:
+    """The plateaus of velocity ``v`` [m/s] and effort ``u`` [N or A] found with the
+    shortest duration ``min_duration`` [s], or with the first of :data:`PLATEAU_DURATIONS_S`
+    that finds enough for the fit; ``detect`` the other settings of
+    :func:`~tcpmm.ident.friction.plateaus.find_plateaus` [-].
+
+    Raises
+    ------
+    NoPlateauError
+        When no plateau is found at all.
+    """
     durations = PLATEAU_DURATIONS_S if min_duration is None else (min_duration,)
     for d in durations:
-        plateaus = find_plateaus(t, v, u, v_min=v_min, rel_tol=rel_tol, min_duration=d,
-                                 trim=trim)
+        plateaus = find_plateaus(t, v, u, min_duration=d, **detect)
         if _too_few_plateaus(np.array([p.velocity for p in plateaus]), tie_static) is None:
             break
     if not plateaus:
@@ -383,13 +329,7 @@ def identify_stribeck_run(
             "longer constant-speed passes or lower min_duration",
             column="position",
         )
-    est = fit_stribeck(
-        [p.velocity for p in plateaus],
-        [p.force for p in plateaus],
-        delta=delta,
-        tie_static=tie_static,
-    )
-    return est, plateaus
+    return plateaus
 
 
 def read_friction_csv(path, lead: float, torque_constant: float, position: str = "scale"):

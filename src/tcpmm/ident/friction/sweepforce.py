@@ -20,7 +20,8 @@ The share is the one for which the identified model reproduces the measured mean
 deflection; its standard deviation counts the scatter of the deflection over the record,
 the uncertainty of ``K_h`` and of the table's viscous force. That force has two measures,
 the friction runs' plateaus and the FRFs' ``C_t``, which :func:`table_viscous_estimate`
-weighs together.
+weighs together. :func:`sweep_share` gives the share on the friction runs' steady curve, and
+:func:`settle_sweep_share` works it and the plateaus' table damping out on each other.
 """
 
 from __future__ import annotations
@@ -30,8 +31,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SweepDeflection", "share_from_sweep", "sweep_deflection", "table_viscous_estimate",
-           "travel_speed", "travel_velocity"]
+from .stribeck import coulomb_stribeck
+
+__all__ = ["SweepDeflection", "settle_sweep_share", "share_from_sweep", "sweep_deflection",
+           "sweep_share", "table_viscous_estimate", "travel_speed", "travel_velocity"]
 
 #: Blocks the record is cut into to see the scatter of its mean deflection [-].
 N_BLOCKS = 16
@@ -45,6 +48,12 @@ OUTSIDE_Z = 3.0
 #: Travel over a sweep record below which it counts as standing still: the guideway
 #: friction then holds the nut on no particular flank [m].
 MIN_SWEEP_TRAVEL_M = 1e-3
+#: Largest difference of the Coulomb levels of the two directions, relative to their mean,
+#: for which a sweep travelling one way gives the share [-].
+SWEEP_ASYMMETRY = 0.2
+#: Rounds of plateau damping and sweep share, each resting on the other, and the change of
+#: the share that ends them [-].
+SWEEP_ITERATIONS, SWEEP_SHARE_TOL = 5, 1e-4
 
 
 @dataclass(frozen=True)
@@ -214,3 +223,80 @@ def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):
     if vals.size > 1:
         sd *= max(1.0, math.sqrt(float(np.sum(w * (vals - mean) ** 2)) / (vals.size - 1)))
     return min(max(mean, 0.0), max(total_viscous, 0.0)), sd
+
+
+def sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std: float):
+    """Share from a travelling sweep's deflection on the friction runs' steady curve.
+
+    A record whose Coulomb levels differ by direction more than :data:`SWEEP_ASYMMETRY`
+    carries a constant force (a weight the mechanics do not hold) that a sweep in one
+    direction does not tell from friction. The table's viscous force is the plateaus' and
+    the FRFs' measures of it together (:func:`table_viscous_estimate`).
+
+    Parameters
+    ----------
+    sweep : SweepDeflection
+        Mean deflection of the travelling sweep [SI].
+    mechanics : AxisMechanics
+        Identified mechanics [SI].
+    curve : dict
+        Steady friction curve by name (``Fc+, Fc-, Fs+, Fs-, vs, Fv``) [N, N, N, N, m/s,
+        N s/m].
+    lm : LostMotionEstimate
+        The plateau estimate, for its measure of the table damping [-].
+    K_h_rel_std, C_t_std : float
+        Uncertainty of the FRFs' ``K_h`` (relative) and ``C_t`` (standard deviation)
+        [-, N s/m].
+
+    Returns
+    -------
+    tuple or None
+        ``(share, share_std, table_viscous, table_viscous_std)`` [-, -, N s/m, N s/m], or
+        ``None`` when the sweep does not determine the share.
+    """
+    m = mechanics
+    up, down = abs(float(curve["Fc+"])), abs(float(curve["Fc-"]))
+    if abs(up - down) > SWEEP_ASYMMETRY * 0.5 * (up + down):
+        return None  # a constant force (a weight) that one direction of travel cannot tell
+    tv, tv_sd = table_viscous_estimate(lm, m, float(curve["Fv"]), C_t_std)
+    level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
+    got = share_from_sweep(sweep, m, level, tv, K_h_rel_std=K_h_rel_std,
+                           table_viscous_std=tv_sd)
+    return None if got is None else (*got, tv, tv_sd)
+
+
+def settle_sweep_share(from_sweep, plateaus_at, share_from):
+    """The sweep's share and the table damping, each worked out on the other in turn until
+    the share moves by at most :data:`SWEEP_SHARE_TOL`.
+
+    The plateaus with the share held give the lost motion and the table damping (with the
+    share free, the share takes part of the damping's slope); the sweep's share rests on
+    that damping.
+
+    Parameters
+    ----------
+    from_sweep : tuple
+        ``(share, share_std, table_viscous, table_viscous_std)`` of the first round
+        [-, -, N s/m, N s/m].
+    plateaus_at : callable
+        Plateau estimate with the share held at its argument [-].
+    share_from : callable
+        The sweep's ``(share, share_std, table_viscous, table_viscous_std)`` on a plateau
+        estimate, or ``None`` [-].
+
+    Returns
+    -------
+    tuple
+        The settled ``from_sweep`` and the last plateau estimate [-].
+    """
+    lm = None
+    for _ in range(SWEEP_ITERATIONS):
+        lm = plateaus_at(from_sweep[0])
+        again = share_from(lm)
+        if again is None:
+            break
+        done = abs(again[0] - from_sweep[0]) <= SWEEP_SHARE_TOL
+        from_sweep = again
+        if done:
+            break
+    return from_sweep, lm

@@ -159,14 +159,27 @@ def fit_stribeck_transients(t, position, force, *, slowest_plateau: float,
     """
     t, x, u = _as_1d(t, "t"), _as_1d(position, "position"), _as_1d(force, "force")
     p = _prepare(t, x, u, cutoff_hz, v_min)
-    v = p["v"][p["moving"]]
+    _require_slow_motion(p["v"][p["moving"]], slowest_plateau)
+    vs = _profile_min(p, delta)
+    return _estimate(p, vs, delta, cutoff_hz, v_min)
+
+
+def _require_slow_motion(v, slowest_plateau: float) -> None:
+    """Refuse a record whose moving samples ``v`` [m/s] pass below the slowest plateau
+    [m/s] in fewer than :data:`MIN_SLOW_SAMPLES` in either direction: there the
+    accelerations do not show the Stribeck hump."""
     slow = np.abs(v) < slowest_plateau
     n_pos, n_neg = int(np.sum(slow & (v > 0))), int(np.sum(slow & (v < 0)))
     if min(n_pos, n_neg) < MIN_SLOW_SAMPLES:
         raise InputError(f"the friction runs move below their slowest pass in too few samples "
                          f"({n_pos} positive, {n_neg} negative; at least {MIN_SLOW_SAMPLES} "
                          "each): the accelerations do not show the Stribeck hump")
-    vs = _profile_min(p, delta)
+
+
+def _estimate(p, vs: float, delta: float, cutoff_hz: float, v_min: float) -> ParameterEstimate:
+    """The fit at the Stribeck speed ``vs`` [m/s] as :func:`fit_stribeck_transients`
+    returns it, the covariance inflated by the residuals' correlation over
+    ``1 / (2 cutoff_hz)`` [s]; ``delta`` [-] and ``v_min`` [m/s] as there [-]."""
     theta, cost, A = _solve(p, vs, delta)
     n = A.shape[0]
     n_eff = max(n * min(2.0 * cutoff_hz * p["dt"], 1.0), A.shape[1] + 1.0)
@@ -195,4 +208,3 @@ def fit_stribeck_transients(t, position, force, *, slowest_plateau: float,
                "cutoff_hz": float(cutoff_hz), "v_min": float(v_min),
                "stribeck_delta": float(delta)},
     )
-

@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from ...servo.sampled import sampled_spectral_radius
-from ..friction.split import slowest_plateau, stribeck_from_record
+from ..friction.steadycurve import slowest_plateau, stribeck_from_record
 from ..friction.sweepforce import travel_speed
 from ..lti.goodness import fit_percent
 from ..options import MIN_COHERENCE

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._tfcore import _numerator, _relative_cost
-from .tffit import TFFit, _result
+from .tfresult import TFFit, tf_result
 
 #: A pole-zero pair changing the response by less than this many sigma is removed [-].
 CANCEL_SIGMA = 2.0
@@ -93,5 +93,5 @@ def _refit_numerator(fit: TFFit, pn, n_num):
     bn = _numerator(x, H * x**k * np.exp(s * tau), w, pn, n_num)
     n_params = n_num + 1 + pn.size + (fit.n_params - fit.n_num - 1 - fit.n_den)
     cost = _relative_cost(f, H, w, bn, pn, omega0, k, tau)
-    return _result(f, H, w, bn, pn, omega0, k, tau, n_num, pn.size, n_params, cost)
+    return tf_result(f, H, w, bn, pn, omega0, k, tau, n_num, pn.size, n_params, cost)
 

@@ -25,7 +25,7 @@ import numpy as np
 from ._needles import _clean
 from ._relocate import partial_fraction_response, relocated_poles
 from ._tfcore import _numerator, _refine, _relative_cost
-from .tffit import _result
+from .tfresult import tf_result
 
 #: Weights of the magnitude in the mixed weights, rising by decades [-].
 MIXES = (0.0, 1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4)
@@ -102,7 +102,7 @@ def _mixed(ctx, w, n_num, starts, mu):
     n_params = n_num + 1 + pn.size + int(ctx["delay"] == "fit")
     try:
         with np.errstate(all="ignore"):
-            fit = _result(f, H, w, bn, pn, omega0, 0, tau, n_num, pn.size, n_params, cost)
+            fit = tf_result(f, H, w, bn, pn, omega0, 0, tau, n_num, pn.size, n_params, cost)
             fit, notes = _clean(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
     except (np.linalg.LinAlgError, ValueError):
         return None

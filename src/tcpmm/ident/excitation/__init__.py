@@ -1,9 +1,9 @@
 """Excitation signals for the current command: the signal type and swept sines
 (:mod:`~tcpmm.ident.excitation.waveforms`), multisines
 (:mod:`~tcpmm.ident.excitation.multisines`), PRBS (:mod:`~tcpmm.ident.excitation.prbsignal`)
-and the design of one for a frequency band (:mod:`~tcpmm.ident.excitation.design`)."""
+and the design of one for a frequency band (:mod:`~tcpmm.ident.excitation.kinds`)."""
 
-from .design import KINDS, design_excitation
+from .kinds import KINDS, design_excitation
 from .multisines import multisine, schroeder_phases
 from .prbsignal import prbs, prbs_for_band
 from .waveforms import Excitation, linear_sweep, log_sweep

@@ -6,7 +6,7 @@ an :class:`Excitation` whose :meth:`Excitation.write_csv` gives ``time_s,excitat
 This module holds the signal type, the checks of the designers' arguments and the swept
 sines; multisines are in :mod:`~tcpmm.ident.excitation.multisines`, PRBS in
 :mod:`~tcpmm.ident.excitation.prbsignal`, the choice by kind in
-:mod:`~tcpmm.ident.excitation.design`.
+:mod:`~tcpmm.ident.excitation.kinds`.
 """
 
 from __future__ import annotations

@@ -37,13 +37,13 @@ from scipy import signal
 from ...errors import InputError
 from ...frfdata import FRF, coherence_rel_std
 from ._spectral import (
-    _check_signal,
-    _detrend_order,
-    _effective_averages,
-    _segmenting,
-    _select_band,
+    band_bins,
+    checked_signal,
+    detrend_order,
+    effective_averages,
     remove_trend,
     sample_rate_hz,
+    segmenting,
 )
 from .periodic import detect_period, periodic_frf
 
@@ -111,8 +111,8 @@ def estimate_frf(u, y, fs_hz: float, nperseg: int | None = None, window: str = "
     """
     fs_hz = _checked_rate(fs_hz)
     est = _checked_estimator(estimator)
-    u = _check_signal(u, input, None, file)
-    y = _check_signal(y, output, u.size, file)
+    u = checked_signal(u, input, None, file)
+    y = checked_signal(y, output, u.size, file)
     p = _excitation_period(u, period, nperseg)
     if p is not None:
         return periodic_frf(u, y, fs_hz, p, fmin_hz, fmax_hz, name=name, input=input,
@@ -142,11 +142,11 @@ def _welch_estimate(u, y, fs_hz: float, nperseg, window: str, overlap: float, es
                     file) -> FRF:
     """The FRF by Welch-averaged spectra of the signals detrended over the whole record,
     with its coherence and random error [-]."""
-    m, noverlap, k = _segmenting(u.size, fs_hz, nperseg, fmin_hz, overlap, file)
-    order = _detrend_order(detrend)
+    m, noverlap, k = segmenting(u.size, fs_hz, nperseg, fmin_hz, overlap, file)
+    order = detrend_order(detrend)
     f, H, coh = _welch_frf(remove_trend(u, order), remove_trend(y, order), fs_hz, window, m,
                            noverlap, est, fmin_hz, fmax_hz, input, file)
-    n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
+    n_eff = effective_averages(signal.get_window(window, m), m - noverlap, k)
     return FRF(freq_hz=f, H=H, coherence=coh, n_averages=n_eff,
                rel_std=coherence_rel_std(coh, n_eff), name=name,
                input=input, output=output,
@@ -169,7 +169,7 @@ def _welch_frf(u, y, fs_hz, window, m, noverlap, est, fmin_hz, fmax_hz, input, f
     f, p_uu = signal.welch(u, **kw)
     _, p_yy = signal.welch(y, **kw)
     _, p_uy = signal.csd(u, y, **kw)
-    keep = _select_band(f, p_uu, fmin_hz, fmax_hz, input, file)
+    keep = band_bins(f, p_uu, fmin_hz, fmax_hz, input, file)
     f, p_uu, p_yy, p_uy = f[keep], p_uu[keep], p_yy[keep], p_uy[keep]
     with np.errstate(divide="ignore", invalid="ignore"):
         H = p_uy / p_uu if est == "H1" else p_yy / np.conj(p_uy)
@@ -217,15 +217,15 @@ def frf_against_reference(r, signals: dict, fs_hz: float, nperseg: int | None = 
         ``signals[name] / r`` for every name, on one common frequency grid [-].
     """
     fs_hz = _checked_rate(fs_hz)
-    r = _check_signal(r, reference, None, file)
-    outs = {k: _check_signal(v, k, r.size, file) for k, v in signals.items()}
-    order = _detrend_order(detrend)
-    m, noverlap, k = _segmenting(r.size, fs_hz, nperseg, fmin_hz, overlap, file)
+    r = checked_signal(r, reference, None, file)
+    outs = {k: checked_signal(v, k, r.size, file) for k, v in signals.items()}
+    order = detrend_order(detrend)
+    m, noverlap, k = segmenting(r.size, fs_hz, nperseg, fmin_hz, overlap, file)
     r = remove_trend(r, order)
     kw = dict(fs=fs_hz, window=window, nperseg=m, noverlap=noverlap, detrend="constant")
     f, p_rr = signal.welch(r, **kw)
-    keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference, file)
-    n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
+    keep = band_bins(f, p_rr, fmin_hz, fmax_hz, reference, file)
+    n_eff = effective_averages(signal.get_window(window, m), m - noverlap, k)
     meta = {"nperseg": m, "n_segments": k, "window": window, "overlap": overlap,
             "estimator": "H1", "fs_hz": fs_hz, "detrend": order}
     result = {}

@@ -38,7 +38,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...frfdata import FRF
-from ._needles import _clean
+from ._needles import clean_fit
 from ._select import choose, score
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
 
@@ -331,5 +331,5 @@ def _candidate(ctx, n_num, n_den):
         fit = fit_tf((f, H, w), n_num, n_den, delay_s=ctx["delay"], max_nfev=100)
     except InputError:
         return None
-    fit, notes = _clean(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
+    fit, notes = clean_fit(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
     return score(ctx, fit, notes, (n_den, n_num))

@@ -37,13 +37,13 @@ from ..._threads import limit_blas_threads
 from ...errors import InputError
 from ...frfdata import FRF
 from ._tfcore import (
-    _numerator,
-    _peak_poles,
-    _refine,
-    _reflect,
-    _relative_cost,
-    _sk,
-    _spread_poles,
+    fit_numerator,
+    peak_poles,
+    refine_vp,
+    reflect_poles,
+    relative_cost,
+    sanathanan_koerner,
+    spread_poles,
 )
 from .tfresult import TFFit, tf_result
 
@@ -177,12 +177,12 @@ def _linear_stage(f, H, w, omega0: float, k: int, n_num: int, n_den: int, stable
 
     def linear_stage(tau, start, sel=slice(None), n_iter=iterations):
         Hd = Hk[sel] * np.exp(s[sel] * tau)
-        bn, an = _sk(x[sel], Hd, w[sel], start[1], n_den, n_iter, start[0])
+        bn, an = sanathanan_koerner(x[sel], Hd, w[sel], start[1], n_den, n_iter, start[0])
         pn = np.roots(an[::-1])
         if stable:
-            pn = _reflect(pn)
-        bn = _numerator(x[sel], Hd, w[sel], pn, n_num)
-        return bn, pn, _relative_cost(f[sel], H[sel], w[sel], bn, pn, omega0, k, tau)
+            pn = reflect_poles(pn)
+        bn = fit_numerator(x[sel], Hd, w[sel], pn, n_num)
+        return bn, pn, relative_cost(f[sel], H[sel], w[sel], bn, pn, omega0, k, tau)
 
     return linear_stage
 
@@ -196,7 +196,7 @@ def _best_refined(linear: list, f, H, w, omega0: float, k: int, n_num: int, stab
     for bn, pn, cost in linear:
         if best is not None and cost > REFINE_RATIO * best[3]:
             continue
-        cand = _refine(f, H, w, omega0, k, n_num, stable, fit_delay, bn, pn, tau, cost, max_nfev)
+        cand = refine_vp(f, H, w, omega0, k, n_num, stable, fit_delay, bn, pn, tau, cost, max_nfev)
         if best is None or cand[3] < best[3]:
             best = cand
     return best
@@ -243,9 +243,9 @@ def _linear_starts(f, H, x, k: int, n_num: int, n_den: int, omega0: float) -> li
     pair) [-]."""
     starts = [(None, n_num)]
     if n_den > 0:
-        starts.append((_spread_poles(n_den, x[0].imag, x[-1].imag), n_num))
+        starts.append((spread_poles(n_den, x[0].imag, x[-1].imag), n_num))
     if n_den >= 2:
-        starts.append((_peak_poles(f, H, k, n_den, omega0), n_num))
+        starts.append((peak_poles(f, H, k, n_den, omega0), n_num))
     if n_num >= 2 and n_den > 0:
         starts.append((None, n_num - 2))
     return starts

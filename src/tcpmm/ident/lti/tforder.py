@@ -7,7 +7,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...frfdata import FRF
-from ._tfcore import _extrema
+from ._tfcore import peaks_and_dips
 from .tffit import fit_data, fit_tf
 
 __all__ = ["suggest_order"]
@@ -73,7 +73,7 @@ def _counted_order(data, f, H, k: int, prominence_db: float, max_order: int) -> 
         coh, rel = data.coherence[sel], data.rel_std[sel]
     else:
         coh, rel = np.ones(f.size), None
-    peaks, dips = _extrema(f, H, coh, k, prominence_db, rel_std=rel)
+    peaks, dips = peaks_and_dips(f, H, coh, k, prominence_db, rel_std=rel)
     n_den0 = min(max(2 * len(peaks), 1), max_order)
     n_num0 = min(2 * len(dips), n_den0)
     return n_num0, n_den0

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...pade import with_delay
-from ._tfcore import _model, _numerator, _pairs, _relative_cost
+from ._tfcore import fit_numerator, relative_cost, tf_response, upper_pairs
 from .goodness import fit_percent, rel_error
 
 __all__ = ["FAR_POLE", "TFFit", "tf_result"]
@@ -92,7 +92,7 @@ class TFFit:
             Response [SI].
         """
         f = np.asarray(f_hz, dtype=float)
-        return _model(f, self.bn, self.pn, self.omega0, self.n_integrators, self.delay_s)
+        return tf_response(f, self.bn, self.pn, self.omega0, self.n_integrators, self.delay_s)
 
     @property
     def poles(self) -> np.ndarray:
@@ -114,13 +114,13 @@ class TFFit:
     @property
     def natural_freq_hz(self) -> np.ndarray:
         """Undamped natural frequencies of the complex pole pairs, ascending [Hz]."""
-        p = _pairs(self.poles)
+        p = upper_pairs(self.poles)
         return np.abs(p) / (2 * np.pi)
 
     @property
     def damping(self) -> np.ndarray:
         """Damping ratios of the complex pole pairs, same order as natural_freq_hz [-]."""
-        p = _pairs(self.poles)
+        p = upper_pairs(self.poles)
         return -p.real / np.abs(p)
 
     @property
@@ -205,9 +205,9 @@ def _proper(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost):
         return bn, pn, n_num, n_params, cost
     new_num = min(n_num, pn.size + k)
     x = 2j * np.pi * f / omega0
-    bn = _numerator(x, H * x**k * np.exp(x * omega0 * tau), w, pn, new_num)
+    bn = fit_numerator(x, H * x**k * np.exp(x * omega0 * tau), w, pn, new_num)
     n_params -= (n_den - pn.size) + (n_num - new_num)
-    cost = _relative_cost(f, H, w, bn, pn, omega0, k, tau)
+    cost = relative_cost(f, H, w, bn, pn, omega0, k, tau)
     return bn, pn, new_num, n_params, cost
 
 
@@ -219,7 +219,7 @@ def tf_result(f, H, w, bn, pn, omega0, k, tau, n_num, n_den, n_params, cost):
     # conjugate pairs exactly conjugate, real poles exactly real
     pn = np.where(np.abs(pn.imag) <= 1e-12 * np.abs(pn), pn.real + 0j, pn)
     pn = pn[np.lexsort((pn.imag, np.abs(pn)))]
-    h = _model(f, bn, pn, omega0, k, tau)
+    h = tf_response(f, bn, pn, omega0, k, tau)
     fit = fit_percent(H, h)
     rel = rel_error(H, h)
     # physical coefficients: x = s / omega0, B(x) / (prod(x - pn) x^k)

@@ -20,7 +20,8 @@ from .gates.findings import trimmed_fit_percent
 from .gates.sanity import FrictionHold
 from .lti.goodness import fit_percent
 from .options import MIN_COHERENCE
-from .physical.greybox import PhysicalFit, model_frfs
+from .physical.axisfrfs import model_frfs
+from .physical.greybox import PhysicalFit
 from .physical.loop_timing import LoopTiming
 from .steps.fitcontext import current_hold
 from .steps.ltifits import TF_ORDERS

@@ -3,12 +3,15 @@
 The signal is a current [A] to inject into the current command of a drive (paper
 section 3.2: a swept sine fed into the driver's current command). Each designer returns
 an :class:`Excitation` whose :meth:`Excitation.write_csv` gives ``time_s,excitation_A``.
+This module holds the signal type, the checks of the designers' arguments and the swept
+sines; multisines are in :mod:`~tcpmm.ident.excitation.multisines`, PRBS in
+:mod:`~tcpmm.ident.excitation.prbsignal`, the choice by kind in
+:mod:`~tcpmm.ident.excitation.kinds`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,17 +21,8 @@ import pandas as pd
 from tcpmm.errors import InputError
 from tcpmm.io.csvutil import atomic_write_columns
 
-#: PRBS power is down 3 dB at this fraction of the clock frequency [-].
-PRBS_3DB_FRACTION = 0.443
-#: Kinds accepted by :func:`design_excitation` and their aliases.
-KINDS = {
-    "linear": "linear_sweep",
-    "linear_sweep": "linear_sweep",
-    "log": "log_sweep",
-    "log_sweep": "log_sweep",
-    "multisine": "multisine",
-    "prbs": "prbs",
-}
+__all__ = ["MAX_SAMPLES", "Excitation", "checked_band", "linear_sweep", "log_sweep",
+           "n_samples", "positive", "whole_number"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,7 +103,8 @@ class Excitation:
 MAX_SAMPLES = 10**8
 
 
-def _positive(name: str, value, unit: str) -> float:
+def positive(name: str, value, unit: str) -> float:
+    """``value`` as a float; raises unless a positive finite number [unit]."""
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -119,7 +114,9 @@ def _positive(name: str, value, unit: str) -> float:
     return v
 
 
-def _count(name: str, value, lo: int, hi: int | None) -> int:
+def whole_number(name: str, value, lo: int, hi: int | None) -> int:
+    """``value`` as an int; raises unless an integer in ``lo..hi`` (no upper bound for
+    ``hi=None``) [-]."""
     ok = isinstance(value, int | np.integer) and not isinstance(value, bool)
     if not (ok and value >= lo and (hi is None or value <= hi)):
         rng = f">= {lo}" if hi is None else f"{lo}..{hi}"
@@ -127,9 +124,11 @@ def _count(name: str, value, lo: int, hi: int | None) -> int:
     return int(value)
 
 
-def _band(f0_hz, f1_hz, fs_hz, *, log: bool) -> tuple[float, float, float]:
-    fs = _positive("fs_hz", fs_hz, "Hz")
-    f1 = _positive("f1_hz", f1_hz, "Hz")
+def checked_band(f0_hz, f1_hz, fs_hz, *, log: bool) -> tuple[float, float, float]:
+    """``(f0, f1, fs)`` of a band below Nyquist, ``f0 > 0`` for a logarithmic one; raises
+    otherwise [Hz]."""
+    fs = positive("fs_hz", fs_hz, "Hz")
+    f1 = positive("f1_hz", f1_hz, "Hz")
     try:
         f0 = float(f0_hz)
     except (TypeError, ValueError):
@@ -151,8 +150,9 @@ def _band(f0_hz, f1_hz, fs_hz, *, log: bool) -> tuple[float, float, float]:
     return f0, f1, fs
 
 
-def _n_samples(duration_s, fs: float) -> int:
-    dur = _positive("duration_s", duration_s, "s")
+def n_samples(duration_s, fs: float) -> int:
+    """Samples of ``duration_s`` at ``fs``; raises for fewer than 2 [-]."""
+    dur = positive("duration_s", duration_s, "s")
     n = round(dur * fs)
     if n < 2:
         raise InputError(
@@ -181,9 +181,9 @@ def _taper(n: int, fs: float, taper_s: float) -> np.ndarray:
 
 
 def _sweep(kind, f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, taper_s):
-    f0, f1, fs = _band(f0_hz, f1_hz, fs_hz, log=kind == "log_sweep")
-    amp = _positive("amplitude_A", amplitude_A, "A")
-    n = _n_samples(duration_s, fs)
+    f0, f1, fs = checked_band(f0_hz, f1_hz, fs_hz, log=kind == "log_sweep")
+    amp = positive("amplitude_A", amplitude_A, "A")
+    n = n_samples(duration_s, fs)
     T = n / fs
     t = np.arange(n) / fs
     if kind == "log_sweep":
@@ -246,277 +246,3 @@ def log_sweep(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, *, taper_s=0.0) -> E
         The sweep.
     """
     return _sweep("log_sweep", f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, taper_s)
-
-
-def schroeder_phases(amplitudes) -> np.ndarray:
-    """Schroeder phases for lines of given amplitudes (low crest factor).
-
-    ``phi_k = -2 pi sum_{l<k} (k - l) p_l`` with ``p_l`` the power fraction of line l;
-    for equal amplitudes ``phi_k = -pi k (k - 1) / K``.
-
-    Parameters
-    ----------
-    amplitudes : array_like
-        Line amplitudes, any scale [-].
-
-    Returns
-    -------
-    ndarray
-        Phases [rad].
-    """
-    a = np.asarray(amplitudes, dtype=float)
-    p = a**2 / np.sum(a**2)
-    s = np.concatenate(([0.0], np.cumsum(np.cumsum(p))[:-1]))
-    return -2 * np.pi * s
-
-
-def _line_amplitudes(spectrum, f: np.ndarray) -> np.ndarray:
-    if isinstance(spectrum, str):
-        if spectrum == "flat":
-            return np.ones_like(f)
-        if spectrum == "pink":
-            return 1 / np.sqrt(f)
-        raise InputError(
-            f"spectrum '{spectrum}' unknown; use 'flat', 'pink', a function of f [Hz] or one "
-            "amplitude per line",
-            column="spectrum",
-        )
-    a = spectrum(f) if callable(spectrum) else spectrum
-    a = np.broadcast_to(np.asarray(a, dtype=float), f.shape).copy()
-    if not (np.all(np.isfinite(a)) and np.all(a >= 0) and np.any(a > 0)):
-        raise InputError("spectrum amplitudes must be finite, >= 0, not all 0", column="spectrum")
-    return a
-
-
-def multisine(
-    f0_hz,
-    f1_hz,
-    amplitude_A,
-    duration_s,
-    fs_hz,
-    *,
-    n_periods: int = 1,
-    spectrum: str | Callable | np.ndarray = "flat",
-    phases: str = "schroeder",
-    seed: int | None = None,
-) -> Excitation:
-    """Periodic multisine with lines on the period's frequency grid inside [f0, f1].
-
-    Parameters
-    ----------
-    f0_hz : float
-        Lowest line wanted [Hz].
-    f1_hz : float
-        Highest line wanted, at most fs/2 [Hz].
-    amplitude_A : float
-        Peak current of the signal [A].
-    duration_s : float
-        Total length, ``n_periods`` periods; one period is rounded to whole samples [s].
-    fs_hz : float
-        Sample rate [Hz].
-    n_periods : int
-        Number of identical periods (the first may be dropped as transient) [-].
-    spectrum : {"flat", "pink"}, callable or array_like
-        Line amplitude shape: flat, 1/sqrt(f), a function of f [Hz], or one value per
-        line [-].
-    phases : {"schroeder", "random"}
-        Schroeder phases (low crest factor) or uniform random phases [-].
-    seed : int, optional
-        Seed of the random phases [-].
-
-    Returns
-    -------
-    Excitation
-        The multisine; ``params`` holds ``lines_hz``, ``period_s`` and ``crest_factor``.
-    """
-    f0, f1, fs = _band(f0_hz, f1_hz, fs_hz, log=False)
-    amp = _positive("amplitude_A", amplitude_A, "A")
-    n_periods = _count("n_periods", n_periods, 1, None)
-    n_total = _n_samples(duration_s, fs)
-    n_per = n_total // n_periods
-    df = fs / max(n_per, 1)
-    k = np.arange(max(1, math.ceil(f0 / df - 1e-9)), math.floor(f1 / df + 1e-9) + 1)
-    k = k[k < n_per / 2]
-    if k.size == 0:
-        raise InputError(
-            f"no frequency line in {f0:g}-{f1:g} Hz: one period is {n_per / fs:g} s, so lines "
-            f"are {df:g} Hz apart. Lengthen the period (duration_s / n_periods)",
-            column="duration_s",
-        )
-    f = k * df
-    a = _line_amplitudes(spectrum, f)
-    if phases == "schroeder":
-        phi = schroeder_phases(a)
-    elif phases == "random":
-        phi = np.random.default_rng(seed).uniform(0, 2 * np.pi, k.size)
-    else:
-        raise InputError(f"phases '{phases}' unknown; use 'schroeder' or 'random'", column="phases")
-    spec = np.zeros(n_per // 2 + 1, dtype=complex)
-    spec[k] = a * np.exp(1j * phi)
-    one = np.fft.irfft(spec, n_per)
-    one *= amp / np.max(np.abs(one))
-    x = np.tile(one, n_periods)
-    t = np.arange(x.size) / fs
-    cf = float(np.max(np.abs(one)) / np.sqrt(np.mean(one**2)))
-    params = {
-        "f0_hz": f0,
-        "f1_hz": f1,
-        "amplitude_A": amp,
-        "n_periods": int(n_periods),
-        "period_s": n_per / fs,
-        "lines_hz": f,
-        "n_lines": int(k.size),
-        "phases": phases,
-        "crest_factor": cf,
-    }
-    return Excitation(t, x, fs, "multisine", (float(f[0]), float(f[-1])), params)
-
-
-def prbs(order, clock_hz, amplitude_A, fs_hz, *, n_periods: int = 1) -> Excitation:
-    """Maximum-length binary sequence (PRBS) held for ``fs/clock`` samples per bit.
-
-    One period has ``2**order - 1`` bits; its lines are ``clock/(2**order - 1)`` apart and
-    its power is 3 dB down at 0.443 clock, zero at the clock frequency.
-
-    Parameters
-    ----------
-    order : int
-        Shift-register length, 2..32 [-].
-    clock_hz : float
-        Bit rate; fs_hz / clock_hz must be a whole number [Hz].
-    amplitude_A : float
-        Level of the two states, +/- amplitude [A].
-    fs_hz : float
-        Sample rate [Hz].
-    n_periods : int
-        Number of sequence periods [-].
-
-    Returns
-    -------
-    Excitation
-        The sequence; ``band_hz`` is (first line, -3 dB frequency).
-    """
-    from scipy.signal import max_len_seq
-
-    order = _count("order", order, 2, 32)
-    n_periods = _count("n_periods", n_periods, 1, None)
-    fs = _positive("fs_hz", fs_hz, "Hz")
-    clock = _positive("clock_hz", clock_hz, "Hz")
-    amp = _positive("amplitude_A", amplitude_A, "A")
-    ratio = fs / clock
-    m = round(ratio)
-    if m < 1 or abs(ratio - m) > 1e-9 * ratio:
-        hint = f"; e.g. clock_hz = {fs / max(1, math.floor(ratio)):g}" if ratio >= 1 else ""
-        raise InputError(
-            f"fs_hz / clock_hz = {ratio:g} must be a whole number >= 1{hint}", column="clock_hz"
-        )
-    length = 2**order - 1
-    bits = max_len_seq(order)[0].astype(float) * 2 - 1
-    one = np.repeat(bits * amp, m)
-    x = np.tile(one, n_periods)
-    t = np.arange(x.size) / fs
-    band = (clock / length, PRBS_3DB_FRACTION * clock)
-    params = {
-        "order": int(order),
-        "clock_hz": clock,
-        "amplitude_A": amp,
-        "n_periods": int(n_periods),
-        "period_s": length * m / fs,
-        "samples_per_bit": m,
-    }
-    return Excitation(t, x, fs, "prbs", band, params)
-
-
-def prbs_for_band(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz) -> Excitation:
-    """PRBS whose clock keeps f1 within the -3 dB band and whose lines reach down to f0.
-
-    Parameters
-    ----------
-    f0_hz : float
-        Lowest frequency wanted; sets the order [Hz].
-    f1_hz : float
-        Highest frequency wanted; sets the clock [Hz].
-    amplitude_A : float
-        Level [A].
-    duration_s : float
-        Length available; as many whole periods as fit [s].
-    fs_hz : float
-        Sample rate [Hz].
-
-    Returns
-    -------
-    Excitation
-        The sequence.
-    """
-    f0, f1, fs = _band(f0_hz, f1_hz, fs_hz, log=True)
-    dur = _positive("duration_s", duration_s, "s")
-    m = max(1, math.floor(fs * PRBS_3DB_FRACTION / f1))
-    clock = fs / m
-    if PRBS_3DB_FRACTION * clock < f1:
-        raise InputError(
-            f"f1_hz={f1:g} is above the PRBS -3 dB limit {PRBS_3DB_FRACTION * fs:g} Hz at "
-            f"fs_hz={fs:g}; lower f1 or sample faster",
-            column="f1_hz",
-        )
-    order = max(2, math.ceil(math.log2(clock / f0 + 1)))
-    if order > 32:
-        raise InputError(f"f0_hz={f0:g} needs a PRBS longer than order 32", column="f0_hz")
-    period = (2**order - 1) / clock
-    n_periods = math.floor(dur / period + 1e-9)
-    if n_periods < 1:
-        raise InputError(
-            f"one PRBS period reaching down to {f0:g} Hz lasts {period:.4g} s, longer than "
-            f"duration_s={dur:g} s; record longer or raise f0",
-            column="duration_s",
-        )
-    return prbs(order, clock, amplitude_A, fs, n_periods=n_periods)
-
-
-def design_excitation(kind, f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **options):
-    """Dispatch for ``tcpmm excite KIND --band F0,F1 --amplitude-A --duration-s --fs-hz``.
-
-    Parameters
-    ----------
-    kind : str
-        ``linear``, ``log``, ``multisine`` or ``prbs`` (or the function names) [-].
-    f0_hz : float
-        Band start [Hz].
-    f1_hz : float
-        Band end [Hz].
-    amplitude_A : float
-        Peak current [A].
-    duration_s : float
-        Length [s].
-    fs_hz : float
-        Sample rate [Hz].
-    **options
-        Keyword options of the chosen designer (``taper_s``, ``n_periods``, ``phases``,
-        ``spectrum``, ``seed``); options set to None are dropped, so a CLI can pass all
-        of its flags unconditionally [-].
-
-    Returns
-    -------
-    Excitation
-        The signal.
-    """
-    name = KINDS.get(str(kind).lower().replace("-", "_"))
-    if name is None:
-        raise InputError(
-            f"excitation kind '{kind}' unknown; use linear, log, multisine or prbs",
-            column="kind",
-        )
-    options = {k: v for k, v in options.items() if v is not None}
-    n = _positive("duration_s", duration_s, "s") * _positive("fs_hz", fs_hz, "Hz")
-    if n > MAX_SAMPLES:
-        raise InputError(f"{duration_s:g} s at {fs_hz:g} Hz is {n:.3g} samples; at most "
-                         f"{MAX_SAMPLES:.0e} are designed at once: shorten the signal or "
-                         "lower the sample rate", column="duration_s")
-    if name == "prbs":
-        if options:
-            raise InputError(f"prbs from a band takes no options, got {sorted(options)}")
-        return prbs_for_band(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz)
-    fn = {"linear_sweep": linear_sweep, "log_sweep": log_sweep, "multisine": multisine}[name]
-    try:
-        return fn(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **options)
-    except TypeError as exc:
-        raise InputError(f"{name}: {exc}") from None

@@ -81,7 +81,7 @@ def remove_trend(x, order: int | None = 1) -> np.ndarray:
     return x - np.polynomial.legendre.legval(tau, coef)
 
 
-def _detrend_order(detrend) -> int | None:
+def detrend_order(detrend) -> int | None:
     names = {"none": None, "constant": 0, "linear": 1, "quadratic": 2, "cubic": 3}
     if detrend is None or detrend is False:
         return None
@@ -96,7 +96,7 @@ def _detrend_order(detrend) -> int | None:
     return order
 
 
-def _check_signal(x, name: str, n: int | None, file=None) -> np.ndarray:
+def checked_signal(x, name: str, n: int | None, file=None) -> np.ndarray:
     a = np.asarray(x, dtype=float)
     if a.ndim != 1:
         raise InputError(f"signal {name} must be one-dimensional", file=file, column=name)
@@ -115,7 +115,7 @@ def _check_signal(x, name: str, n: int | None, file=None) -> np.ndarray:
     return a
 
 
-def _effective_averages(win: np.ndarray, step: int, n_seg: int) -> float:
+def effective_averages(win: np.ndarray, step: int, n_seg: int) -> float:
     """Welch's number of independent averages for overlapping windowed segments."""
     m = win.size
     w2 = float(np.dot(win, win))
@@ -128,7 +128,7 @@ def _effective_averages(win: np.ndarray, step: int, n_seg: int) -> float:
     return n_seg / (1.0 + 2.0 * total)
 
 
-def _segmenting(n: int, fs_hz: float, nperseg, fmin_hz, overlap: float, file=None):
+def segmenting(n: int, fs_hz: float, nperseg, fmin_hz, overlap: float, file=None):
     """Choose and check the segment length."""
     if not 0.0 <= overlap < 1.0:
         raise InputError(f"overlap must be in [0, 1), got {overlap}")
@@ -203,7 +203,7 @@ def _power_gaps(freq_hz: np.ndarray, p_uu: np.ndarray, name: str, file=None):
     return excited
 
 
-def _select_band(freq, p_uu, fmin_hz, fmax_hz, name, file=None):
+def band_bins(freq, p_uu, fmin_hz, fmax_hz, name, file=None):
     """Bins to keep: the band asked for, or (if not asked) the excited span without DC."""
     keep = freq > 0
     if fmin_hz is not None:

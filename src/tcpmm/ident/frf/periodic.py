@@ -71,6 +71,21 @@ def detect_period(u, min_period: int = MIN_PERIOD, tol: float = PERIOD_TOL) -> i
     return None
 
 
+def _period_spread(U, Y, Um, Ym, k: int) -> tuple:
+    """Relative standard deviation of ``H`` [-] and the coherence it implies [-] from the
+    spread of the ``k >= 2`` periods' spectra ``U``, ``Y`` about their means ``Um``, ``Ym``."""
+    dY, dU = Y - Ym, U - Um
+    vy = np.sum(np.abs(dY) ** 2, axis=0) / (k - 1) / k
+    vu = np.sum(np.abs(dU) ** 2, axis=0) / (k - 1) / k
+    cyu = np.sum(dY * np.conj(dU), axis=0) / (k - 1) / k
+    # complex variance of H/H; |H| and the phase each carry half of it
+    rel_var = (vy / np.abs(Ym) ** 2 + vu / np.abs(Um) ** 2
+               - 2 * np.real(cyu / (Ym * np.conj(Um))))
+    rel_std = np.sqrt(np.maximum(0.5 * rel_var, 0.0))
+    coh = 1.0 / (1.0 + 2 * k * rel_std**2)  # the Bendat-Piersol relation, inverted
+    return rel_std, coh
+
+
 def periodic_frf(u, y, fs_hz: float, period: int, fmin_hz=None, fmax_hz=None, **labels):
     """FRF of ``y`` against ``u`` from whole periods (no window).
 
@@ -113,15 +128,7 @@ def periodic_frf(u, y, fs_hz: float, period: int, fmin_hz=None, fmax_hz=None, **
     f, U, Y, Um, Ym = f[keep], U[:, keep], Y[:, keep], Um[keep], Ym[keep]
     H = Ym / Um
     if k >= 2:
-        dY, dU = Y - Ym, U - Um
-        vy = np.sum(np.abs(dY) ** 2, axis=0) / (k - 1) / k
-        vu = np.sum(np.abs(dU) ** 2, axis=0) / (k - 1) / k
-        cyu = np.sum(dY * np.conj(dU), axis=0) / (k - 1) / k
-        # complex variance of H/H; |H| and the phase each carry half of it
-        rel_var = (vy / np.abs(Ym) ** 2 + vu / np.abs(Um) ** 2
-                   - 2 * np.real(cyu / (Ym * np.conj(Um))))
-        rel_std = np.sqrt(np.maximum(0.5 * rel_var, 0.0))
-        coh = 1.0 / (1.0 + 2 * k * rel_std**2)  # the Bendat-Piersol relation, inverted
+        rel_std, coh = _period_spread(U, Y, Um, Ym, k)
     else:
         warnings.warn("one period of the excitation: the FRF is exact at the excited bins "
                       "but its noise is unknown; record two or more periods to estimate it",

@@ -37,13 +37,13 @@ from scipy import signal
 from ...errors import InputError
 from ...frfdata import FRF, coherence_rel_std
 from ._spectral import (
-    _check_signal,
-    _detrend_order,
-    _effective_averages,
-    _segmenting,
-    _select_band,
+    band_bins,
+    checked_signal,
+    detrend_order,
+    effective_averages,
     remove_trend,
     sample_rate_hz,
+    segmenting,
 )
 from .periodic import detect_period, periodic_frf
 
@@ -60,23 +60,10 @@ __all__ = [
 # ----------------------------------------------------------------------------- estimators
 
 
-def estimate_frf(
-    u,
-    y,
-    fs_hz: float,
-    nperseg: int | None = None,
-    window: str = "hann",
-    overlap: float = 0.5,
-    estimator: str = "H1",
-    detrend="linear",
-    fmin_hz: float | None = None,
-    fmax_hz: float | None = None,
-    name: str = "",
-    input: str = "u",
-    output: str = "y",
-    file=None,
-    period="auto",
-) -> FRF:
+def estimate_frf(u, y, fs_hz: float, nperseg: int | None = None, window: str = "hann",
+                 overlap: float = 0.5, estimator: str = "H1", detrend="linear",
+                 fmin_hz: float | None = None, fmax_hz: float | None = None, name: str = "",
+                 input: str = "u", output: str = "y", file=None, period="auto") -> FRF:
     """FRF of ``y`` against ``u`` by Welch-averaged spectra, or from whole periods when
     the excitation is periodic (:mod:`tcpmm.ident.frf.periodic`).
 
@@ -107,10 +94,8 @@ def estimate_frf(
         Highest frequency of interest; default the highest excited bin [Hz].
     name : str
         Name of the FRF [-].
-    input : str
-        Input label, also used as column name in errors [-].
-    output : str
-        Output label, also used as column name in errors [-].
+    input, output : str
+        Input and output labels, also used as column names in errors [-].
     file : str or Path, optional
         Source file for error messages [-].
     period : "auto", int or None
@@ -124,29 +109,57 @@ def estimate_frf(
     FRF
         Response, coherence and random error per bin [-].
     """
-    fs_hz = float(fs_hz)
-    if not np.isfinite(fs_hz) or fs_hz <= 0:
-        raise InputError(f"sample rate must be > 0, got {fs_hz}")
+    fs_hz = _checked_rate(fs_hz)
+    est = _checked_estimator(estimator)
+    u = checked_signal(u, input, None, file)
+    y = checked_signal(y, output, u.size, file)
+    p = _excitation_period(u, period, nperseg)
+    if p is not None:
+        return periodic_frf(u, y, fs_hz, p, fmin_hz, fmax_hz, name=name, input=input,
+                            output=output)
+    return _welch_estimate(u, y, fs_hz, nperseg, window, overlap, est, detrend, fmin_hz,
+                           fmax_hz, name or f"{output}/{input}", input, output, file)
+
+
+def _checked_estimator(estimator: str) -> str:
+    """``"H1"`` or ``"H2"`` in capitals; raises for any other estimator [-]."""
     est = estimator.upper()
     if est not in ("H1", "H2"):
         raise InputError(f"estimator must be 'H1' or 'H2', got {estimator!r}")
-    u = _check_signal(u, input, None, file)
-    y = _check_signal(y, output, u.size, file)
-    if period is not None and not (period == "auto" and nperseg is not None):
-        p = detect_period(u) if period == "auto" else int(period)
-        if p is not None:
-            return periodic_frf(u, y, fs_hz, p, fmin_hz, fmax_hz, name=name, input=input,
-                                output=output)
-    m, noverlap, k = _segmenting(u.size, fs_hz, nperseg, fmin_hz, overlap, file)
-    order = _detrend_order(detrend)
+    return est
+
+
+def _excitation_period(u, period, nperseg) -> int | None:
+    """The period of the excitation ``u`` the FRF is taken over: detected for ``"auto"``
+    unless a segment length is given, as given, or ``None`` for Welch averaging [samples]."""
+    if period is None or (period == "auto" and nperseg is not None):
+        return None
+    return detect_period(u) if period == "auto" else int(period)
+
+
+def _welch_estimate(u, y, fs_hz: float, nperseg, window: str, overlap: float, est: str,
+                    detrend, fmin_hz, fmax_hz, name: str, input: str, output: str,
+                    file) -> FRF:
+    """The FRF by Welch-averaged spectra of the signals detrended over the whole record,
+    with its coherence and random error [-]."""
+    m, noverlap, k = segmenting(u.size, fs_hz, nperseg, fmin_hz, overlap, file)
+    order = detrend_order(detrend)
     f, H, coh = _welch_frf(remove_trend(u, order), remove_trend(y, order), fs_hz, window, m,
                            noverlap, est, fmin_hz, fmax_hz, input, file)
-    n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
+    n_eff = effective_averages(signal.get_window(window, m), m - noverlap, k)
     return FRF(freq_hz=f, H=H, coherence=coh, n_averages=n_eff,
-               rel_std=coherence_rel_std(coh, n_eff), name=name or f"{output}/{input}",
+               rel_std=coherence_rel_std(coh, n_eff), name=name,
                input=input, output=output,
                meta={"nperseg": m, "n_segments": k, "window": window, "overlap": overlap,
                      "estimator": est, "fs_hz": fs_hz})
+
+
+def _checked_rate(fs_hz) -> float:
+    """The sample rate as a float; raises unless finite and positive [Hz]."""
+    fs_hz = float(fs_hz)
+    if not np.isfinite(fs_hz) or fs_hz <= 0:
+        raise InputError(f"sample rate must be > 0, got {fs_hz}")
+    return fs_hz
 
 
 def _welch_frf(u, y, fs_hz, window, m, noverlap, est, fmin_hz, fmax_hz, input, file):
@@ -156,7 +169,7 @@ def _welch_frf(u, y, fs_hz, window, m, noverlap, est, fmin_hz, fmax_hz, input, f
     f, p_uu = signal.welch(u, **kw)
     _, p_yy = signal.welch(y, **kw)
     _, p_uy = signal.csd(u, y, **kw)
-    keep = _select_band(f, p_uu, fmin_hz, fmax_hz, input, file)
+    keep = band_bins(f, p_uu, fmin_hz, fmax_hz, input, file)
     f, p_uu, p_yy, p_uy = f[keep], p_uu[keep], p_yy[keep], p_uy[keep]
     with np.errstate(divide="ignore", invalid="ignore"):
         H = p_uy / p_uu if est == "H1" else p_yy / np.conj(p_uy)
@@ -164,19 +177,10 @@ def _welch_frf(u, y, fs_hz, window, m, noverlap, est, fmin_hz, fmax_hz, input, f
     return f, H, np.nan_to_num(np.clip(coh, 0.0, 1.0))
 
 
-def frf_against_reference(
-    r,
-    signals: dict,
-    fs_hz: float,
-    nperseg: int | None = None,
-    window: str = "hann",
-    overlap: float = 0.5,
-    detrend="linear",
-    fmin_hz: float | None = None,
-    fmax_hz: float | None = None,
-    reference: str = "r",
-    file=None,
-) -> dict[str, FRF]:
+def frf_against_reference(r, signals: dict, fs_hz: float, nperseg: int | None = None,
+                          window: str = "hann", overlap: float = 0.5, detrend="linear",
+                          fmin_hz: float | None = None, fmax_hz: float | None = None,
+                          reference: str = "r", file=None) -> dict[str, FRF]:
     """H1 of every signal against the injected excitation ``r``.
 
     ``r`` is generated, not measured, and enters the loop from outside, so H1 against it is
@@ -212,66 +216,43 @@ def frf_against_reference(
     dict of str to FRF
         ``signals[name] / r`` for every name, on one common frequency grid [-].
     """
-    fs_hz = float(fs_hz)
-    if not np.isfinite(fs_hz) or fs_hz <= 0:
-        raise InputError(f"sample rate must be > 0, got {fs_hz}")
-    r = _check_signal(r, reference, None, file)
-    outs = {k: _check_signal(v, k, r.size, file) for k, v in signals.items()}
-    order = _detrend_order(detrend)
-    m, noverlap, k = _segmenting(r.size, fs_hz, nperseg, fmin_hz, overlap, file)
+    fs_hz = _checked_rate(fs_hz)
+    r = checked_signal(r, reference, None, file)
+    outs = {k: checked_signal(v, k, r.size, file) for k, v in signals.items()}
+    order = detrend_order(detrend)
+    m, noverlap, k = segmenting(r.size, fs_hz, nperseg, fmin_hz, overlap, file)
     r = remove_trend(r, order)
     kw = dict(fs=fs_hz, window=window, nperseg=m, noverlap=noverlap, detrend="constant")
     f, p_rr = signal.welch(r, **kw)
-    keep = _select_band(f, p_rr, fmin_hz, fmax_hz, reference, file)
-    n_eff = _effective_averages(signal.get_window(window, m), m - noverlap, k)
-    meta = {
-        "nperseg": m,
-        "n_segments": k,
-        "window": window,
-        "overlap": overlap,
-        "estimator": "H1",
-        "fs_hz": fs_hz,
-        "detrend": order,
-    }
+    keep = band_bins(f, p_rr, fmin_hz, fmax_hz, reference, file)
+    n_eff = effective_averages(signal.get_window(window, m), m - noverlap, k)
+    meta = {"nperseg": m, "n_segments": k, "window": window, "overlap": overlap,
+            "estimator": "H1", "fs_hz": fs_hz, "detrend": order}
     result = {}
     for key, y in outs.items():
-        y = remove_trend(y, order)
-        _, p_yy = signal.welch(y, **kw)
-        _, p_ry = signal.csd(r, y, **kw)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            H = p_ry[keep] / p_rr[keep]
-            coh = np.abs(p_ry[keep]) ** 2 / (p_rr[keep] * p_yy[keep])
-        coh = np.nan_to_num(np.clip(coh, 0.0, 1.0))
-        result[key] = FRF(
-            freq_hz=f[keep],
-            H=H,
-            coherence=coh,
-            n_averages=n_eff,
-            rel_std=coherence_rel_std(coh, n_eff),
-            name=f"{key}/{reference}",
-            input=reference,
-            output=key,
-            meta=dict(meta),
-        )
+        H, coh = _h1_against(r, remove_trend(y, order), kw, keep, p_rr)
+        result[key] = FRF(freq_hz=f[keep], H=H, coherence=coh, n_averages=n_eff,
+                          rel_std=coherence_rel_std(coh, n_eff), name=f"{key}/{reference}",
+                          input=reference, output=key, meta=dict(meta))
     return result
 
 
-def reduced_frfs(
-    excitation_A,
-    current_A,
-    motor_angle_rad,
-    scale_m,
-    tcp_m=None,
-    fs_hz: float | None = None,
-    time_s=None,
-    nperseg: int | None = None,
-    window: str = "hann",
-    overlap: float = 0.5,
-    detrend="linear",
-    fmin_hz: float | None = None,
-    fmax_hz: float | None = None,
-    file=None,
-) -> dict[str, FRF]:
+def _h1_against(r, y, kw: dict, keep, p_rr) -> tuple:
+    """H1 of the detrended ``y`` against the detrended reference ``r`` of auto-spectrum
+    ``p_rr``, and their coherence, at the bins ``keep`` of the band [SI, -]."""
+    _, p_yy = signal.welch(y, **kw)
+    _, p_ry = signal.csd(r, y, **kw)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        H = p_ry[keep] / p_rr[keep]
+        coh = np.abs(p_ry[keep]) ** 2 / (p_rr[keep] * p_yy[keep])
+    return H, np.nan_to_num(np.clip(coh, 0.0, 1.0))
+
+
+def reduced_frfs(excitation_A, current_A, motor_angle_rad, scale_m, tcp_m=None,
+                 fs_hz: float | None = None, time_s=None, nperseg: int | None = None,
+                 window: str = "hann", overlap: float = 0.5, detrend="linear",
+                 fmin_hz: float | None = None, fmax_hz: float | None = None,
+                 file=None) -> dict[str, FRF]:
     """The FRFs of the reduced models of one axis from a servo-excitation record.
 
     ``G_M = omega_m/i_c = (j 2 pi f theta_m/r) / (i_c/r)``, ``G_T = X_LS/theta_m =
@@ -319,19 +300,15 @@ def reduced_frfs(
     signals = {"current_A": current_A, "motor_angle_rad": motor_angle_rad, "scale_m": scale_m}
     if tcp_m is not None:
         signals["tcp_m"] = tcp_m
-    f = frf_against_reference(
-        excitation_A,
-        signals,
-        fs_hz,
-        nperseg=nperseg,
-        window=window,
-        overlap=overlap,
-        detrend=detrend,
-        fmin_hz=fmin_hz,
-        fmax_hz=fmax_hz,
-        reference="excitation_A",
-        file=file,
-    )
+    f = frf_against_reference(excitation_A, signals, fs_hz, nperseg=nperseg, window=window,
+                              overlap=overlap, detrend=detrend, fmin_hz=fmin_hz,
+                              fmax_hz=fmax_hz, reference="excitation_A", file=file)
+    return _plant_ratios(f)
+
+
+def _plant_ratios(f: dict) -> dict:
+    """G_M, G_T and (with ``tcp_m``) G_tcp as ratios of the FRFs against the excitation;
+    the motor speed from the motor angle in the frequency domain [SI]."""
     omega = f["motor_angle_rad"].differentiate(output="omega_m")
     out = {
         "G_M": replace(omega / f["current_A"], name="G_M", input="i_c", output="omega_m"),
@@ -339,7 +316,7 @@ def reduced_frfs(
             f["scale_m"] / f["motor_angle_rad"], name="G_T", input="theta_m", output="X_LS"
         ),
     }
-    if tcp_m is not None:
+    if "tcp_m" in f:
         out["G_tcp"] = replace(
             f["tcp_m"] / f["scale_m"], name="G_tcp", input="X_LS", output="X_TCP"
         )

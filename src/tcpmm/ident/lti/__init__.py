@@ -1,12 +1,14 @@
 """Rational transfer functions fitted to frequency responses: the fit of given orders
 (:mod:`~tcpmm.ident.lti.tffit`, on the variable-projection core of
-:mod:`~tcpmm.ident.lti._tfcore`), the fit of a measured FRF file with its order chosen
+:mod:`~tcpmm.ident.lti._tfcore`, its result in :mod:`~tcpmm.ident.lti.tfresult`), the choice
+of orders (:mod:`~tcpmm.ident.lti.tforder`), the fit of a measured FRF file with its order chosen
 (:mod:`~tcpmm.ident.lti.frffit`), and the goodness-of-fit measures
 (:mod:`~tcpmm.ident.lti.goodness`)."""
 
 from .frffit import DAMPING_FLOOR, FRFFit, fit_frf, noise_level
 from .goodness import fit_percent, rel_error
-from .tffit import TFFit, fit_tf, suggest_order
+from .tffit import TFFit, fit_tf
+from .tforder import suggest_order
 
 __all__ = ["DAMPING_FLOOR", "FRFFit", "TFFit", "fit_frf", "fit_percent", "fit_tf", "noise_level",
            "rel_error", "suggest_order"]

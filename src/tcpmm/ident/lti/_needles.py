@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._tfcore import _numerator, _relative_cost
-from .tffit import TFFit, _result
+from ._tfcore import fit_numerator, relative_cost
+from .tfresult import TFFit, tf_result
 
 #: A pole-zero pair changing the response by less than this many sigma is removed [-].
 CANCEL_SIGMA = 2.0
@@ -34,7 +34,7 @@ def _factor_deviation(x, p, z, sigma):
     return float(dev[min(SUPPORT_BINS, dev.size) - 1])
 
 
-def _clean(fit: TFFit, sigma, floor, grid):
+def clean_fit(fit: TFFit, sigma, floor, grid):
     """Raise damping to the floor (``floor`` [-], or the spacing of the measurement's
     frequency grid ``grid`` [Hz]), then remove the pole-zero pairs the data do not support;
     the numerator is fitted again after each change."""
@@ -90,8 +90,8 @@ def _refit_numerator(fit: TFFit, pn, n_num):
         fit.delay_s
     s = 2j * np.pi * f
     x = s / omega0
-    bn = _numerator(x, H * x**k * np.exp(s * tau), w, pn, n_num)
+    bn = fit_numerator(x, H * x**k * np.exp(s * tau), w, pn, n_num)
     n_params = n_num + 1 + pn.size + (fit.n_params - fit.n_num - 1 - fit.n_den)
-    cost = _relative_cost(f, H, w, bn, pn, omega0, k, tau)
-    return _result(f, H, w, bn, pn, omega0, k, tau, n_num, pn.size, n_params, cost)
+    cost = relative_cost(f, H, w, bn, pn, omega0, k, tau)
+    return tf_result(f, H, w, bn, pn, omega0, k, tau, n_num, pn.size, n_params, cost)
 

@@ -22,10 +22,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._needles import _clean
+from ._needles import clean_fit
 from ._relocate import partial_fraction_response, relocated_poles
-from ._tfcore import _numerator, _refine, _relative_cost
-from .tffit import _result
+from ._tfcore import fit_numerator, refine_vp, relative_cost
+from .tfresult import tf_result
 
 #: Weights of the magnitude in the mixed weights, rising by decades [-].
 MIXES = (0.0, 1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4)
@@ -80,9 +80,9 @@ def _refit(ctx, w, n_num, starts):
             continue
         with np.errstate(all="ignore"):
             try:
-                bn = _numerator(x, H * np.exp(x * omega0 * tau), w, pn, n_num)
-                cost = _relative_cost(f, H, w, bn, pn, omega0, 0, tau)
-                cand = _refine(f, H, w, omega0, 0, n_num, True, ctx["delay"] == "fit", bn,
+                bn = fit_numerator(x, H * np.exp(x * omega0 * tau), w, pn, n_num)
+                cost = relative_cost(f, H, w, bn, pn, omega0, 0, tau)
+                cand = refine_vp(f, H, w, omega0, 0, n_num, True, ctx["delay"] == "fit", bn,
                                pn, tau, cost, MIX_NFEV)
             except (np.linalg.LinAlgError, ValueError):
                 continue
@@ -102,8 +102,8 @@ def _mixed(ctx, w, n_num, starts, mu):
     n_params = n_num + 1 + pn.size + int(ctx["delay"] == "fit")
     try:
         with np.errstate(all="ignore"):
-            fit = _result(f, H, w, bn, pn, omega0, 0, tau, n_num, pn.size, n_params, cost)
-            fit, notes = _clean(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
+            fit = tf_result(f, H, w, bn, pn, omega0, 0, tau, n_num, pn.size, n_params, cost)
+            fit, notes = clean_fit(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
     except (np.linalg.LinAlgError, ValueError):
         return None
     return {**score(ctx, fit, notes, (pn.size, n_num)), "mix": mu}, (pn, tau)

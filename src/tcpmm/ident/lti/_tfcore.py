@@ -11,7 +11,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 
-def _pairs(p: np.ndarray) -> np.ndarray:
+def upper_pairs(p: np.ndarray) -> np.ndarray:
     c = p[p.imag > 1e-9 * np.maximum(np.abs(p), 1e-300)]
     return c[np.argsort(np.abs(c))]
 
@@ -23,7 +23,7 @@ def _den_value(x, pn):
     return d
 
 
-def _model(f_hz, bn, pn, omega0, k, delay_s):
+def tf_response(f_hz, bn, pn, omega0, k, delay_s):
     s = 2j * np.pi * f_hz
     x = s / omega0
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -33,7 +33,7 @@ def _model(f_hz, bn, pn, omega0, k, delay_s):
     return h
 
 
-def _sk(x, Hd, w, nb, na, iterations, start=None):
+def sanathanan_koerner(x, Hd, w, nb, na, iterations, start=None):
     """Levy start plus Sanathanan-Koerner iterations on the relative error.
 
     ``start`` (poles in ``x``) replaces Levy's first step ``A_prev = 1`` by
@@ -76,7 +76,7 @@ def _sk(x, Hd, w, nb, na, iterations, start=None):
     return bn, an
 
 
-def _spread_poles(n: int, x_lo: float, x_hi: float) -> np.ndarray:
+def spread_poles(n: int, x_lo: float, x_hi: float) -> np.ndarray:
     """Lightly damped pole pairs spread log-uniformly over the band (and one real pole)."""
     mags = np.geomspace(x_lo, x_hi, n // 2 + 2)[1:-1] if n >= 2 else np.zeros(0)
     p = [m * (-0.01 + 1j) for m in mags]
@@ -86,7 +86,7 @@ def _spread_poles(n: int, x_lo: float, x_hi: float) -> np.ndarray:
     return np.asarray(p, complex)
 
 
-def _reflect(p: np.ndarray) -> np.ndarray:
+def reflect_poles(p: np.ndarray) -> np.ndarray:
     """Poles with those in the closed right half plane mirrored into the left half plane."""
     scale = np.maximum(np.abs(p), 1e-12)
     re = np.where(p.real >= 0, -np.maximum(p.real, 1e-9 * scale), p.real)
@@ -236,13 +236,13 @@ class _VarPro:
         return self.J
 
 
-def _relative_cost(f, H, w, bn, pn, omega0, k, tau):
-    h = _model(f, bn, pn, omega0, k, tau)
+def relative_cost(f, H, w, bn, pn, omega0, k, tau):
+    h = tf_response(f, bn, pn, omega0, k, tau)
     r = w * (h / H - 1.0)
     return float(np.sum(r.real**2 + r.imag**2))
 
 
-def _refine(f, H, w, omega0, k, n_num, stable, fit_delay, bn, pn, tau, cost, max_nfev):
+def refine_vp(f, H, w, omega0, k, n_num, stable, fit_delay, bn, pn, tau, cost, max_nfev):
     """Nonlinear least squares from a linear-stage result; keeps the start if no better."""
     theta0, n_quad, has_first = _sections_from_poles(pn, stable)
     vp = _VarPro(f, H, w, omega0, k, n_num, n_quad, has_first, stable, None if fit_delay else tau)
@@ -256,7 +256,7 @@ def _refine(f, H, w, omega0, k, n_num, stable, fit_delay, bn, pn, tau, cost, max
         vp(sol.x)
         pn_new = _poles_from_sections(th, n_quad, has_first, stable)
         bn_new = vp.bn
-        cost_new = _relative_cost(f, H, w, bn_new, pn_new, omega0, k, tau_new)
+        cost_new = relative_cost(f, H, w, bn_new, pn_new, omega0, k, tau_new)
         if np.isfinite(cost_new) and cost_new <= cost and (not fit_delay or tau_new >= 0):
             return bn_new, pn_new, float(tau_new), cost_new
     except (np.linalg.LinAlgError, ValueError):
@@ -264,7 +264,7 @@ def _refine(f, H, w, omega0, k, n_num, stable, fit_delay, bn, pn, tau, cost, max
     return bn, pn, tau, cost
 
 
-def _numerator(x, Hd, w, pn, nb):
+def fit_numerator(x, Hd, w, pn, nb):
     """Least-squares numerator for fixed poles (relative error)."""
     g = w / (Hd * _den_value(x, pn))
     G = g[:, None] * x[:, None] ** np.arange(nb + 1)
@@ -275,7 +275,7 @@ def _numerator(x, Hd, w, pn, nb):
     return np.linalg.lstsq(Gr / scale, rhs, rcond=None)[0] / scale
 
 
-def _extrema(f, H, coherence, k, prominence_db, min_phase_deg=30.0, rel_std=None):
+def peaks_and_dips(f, H, coherence, k, prominence_db, min_phase_deg=30.0, rel_std=None):
     """Resonance peaks and antiresonance dips of ``|H (j omega)^k|``.
 
     A peak counts if the phase falls across it, a dip if the phase rises across it, each
@@ -319,12 +319,12 @@ def _extrema(f, H, coherence, k, prominence_db, min_phase_deg=30.0, rel_std=None
     return find(1.0), find(-1.0)
 
 
-def _peak_poles(f, H, k, n, x_scale):
+def peak_poles(f, H, k, n, x_scale):
     """Start poles in ``x``: pairs at the most prominent resonance peaks, the rest spread."""
-    peaks, _ = _extrema(f, H, np.ones(f.size), k, 3.0)
+    peaks, _ = peaks_and_dips(f, H, np.ones(f.size), k, 3.0)
     p = []
     for _, fp, zeta in peaks[: n // 2]:
         wn = 2 * np.pi * fp / x_scale
         p += [wn * (-zeta + 1j * np.sqrt(1 - zeta**2)), wn * (-zeta - 1j * np.sqrt(1 - zeta**2))]
-    rest = _spread_poles(n - len(p), 2 * np.pi * f[0] / x_scale, 2 * np.pi * f[-1] / x_scale)
+    rest = spread_poles(n - len(p), 2 * np.pi * f[0] / x_scale, 2 * np.pi * f[-1] / x_scale)
     return np.r_[np.asarray(p, complex), rest]

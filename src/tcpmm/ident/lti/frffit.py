@@ -38,7 +38,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...frfdata import FRF
-from ._needles import _clean
+from ._needles import clean_fit
 from ._select import choose, score
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
 
@@ -205,16 +205,9 @@ def _weights(H, sigma, mode):
 # ----------------------------------------------------------------------------- fitting
 
 
-def fit_frf(
-    frf: FRF,
-    poles="auto",
-    band_hz: tuple[float | None, float | None] | None = None,
-    weighting: str = "relative",
-    delay_s="fit",
-    damping_floor: float = DAMPING_FLOOR,
-    max_poles: int = MAX_POLES,
-    min_coherence: float = 0.5,
-) -> FRFFit:
+def fit_frf(frf: FRF, poles="auto", band_hz: tuple[float | None, float | None] | None = None,
+            weighting: str = "relative", delay_s="fit", damping_floor: float = DAMPING_FLOOR,
+            max_poles: int = MAX_POLES, min_coherence: float = 0.5) -> FRFFit:
     """Fit a transfer function to a measured frequency response.
 
     Parameters
@@ -248,6 +241,19 @@ def fit_frf(
         raise InputError(f"the damping floor must be in [0, 1), got {damping_floor}")
     lo, hi = band_hz if band_hz is not None else (None, None)
     data = frf.band(lo, hi)
+    ctx = _context(data, weighting, delay_s, damping_floor, min_coherence)
+    if poles == "auto":
+        best, cands = _auto(ctx, int(max_poles))
+        best = choose(ctx, [best], best["tried"][0])
+    else:
+        best, cands = _given_order(ctx, int(poles))
+    return _frf_fit(frf, data, ctx, best, cands, weighting)
+
+
+def _context(data: FRF, weighting: str, delay_s, damping_floor: float,
+             min_coherence: float) -> dict:
+    """What every candidate fit needs: the bins of the band of enough coherence, their
+    noise and weights, the delay handling, the damping floor and the frequency scale [-]."""
     sigma_all = noise_level(data.freq_hz, data.H, data.rel_std)
     keep = (data.coherence >= min_coherence) & np.isfinite(data.H) & (data.H != 0)
     if np.count_nonzero(keep) < 4:
@@ -257,22 +263,27 @@ def fit_frf(
     f, H, sigma = data.freq_hz[keep], data.H[keep], sigma_all[keep]
     # the damping floor follows the measurement's own bin spacing: the bins left after the
     # coherence cut have gaps (most often at resonances), which would double it there
-    ctx = {"f": f, "H": H, "sigma": sigma, "w": _weights(H, sigma, weighting),
-           "delay": delay_s, "floor": float(damping_floor), "grid": data.freq_hz,
-           "omega0": 2 * np.pi * float(np.sqrt(f[0] * f[-1]))}
-    if poles == "auto":
-        best, cands = _auto(ctx, int(max_poles))
-        best = choose(ctx, [best], best["tried"][0])
-    else:
-        n = int(poles)
-        if n < 0:
-            raise InputError(f"the number of poles must be >= 0, got {n}")
-        tries = [_candidate(ctx, nn, n) for nn in sorted({max(n - 1, 0), n})]
-        tries = [t for t in tries if t is not None]
-        if not tries:
-            raise InputError(f"{f.size} bins cannot determine {n} poles; fewer poles or a "
-                             "wider band")
-        best, cands = choose(ctx, tries, n), tries
+    return {"f": f, "H": H, "sigma": sigma, "w": _weights(H, sigma, weighting),
+            "delay": delay_s, "floor": float(damping_floor), "grid": data.freq_hz,
+            "omega0": 2 * np.pi * float(np.sqrt(f[0] * f[-1]))}
+
+
+def _given_order(ctx: dict, n: int) -> tuple:
+    """The best of ``n`` poles over ``n - 1`` or ``n`` zeros, and the candidates [-]."""
+    if n < 0:
+        raise InputError(f"the number of poles must be >= 0, got {n}")
+    tries = [_candidate(ctx, nn, n) for nn in sorted({max(n - 1, 0), n})]
+    tries = [t for t in tries if t is not None]
+    if not tries:
+        raise InputError(f"{ctx['f'].size} bins cannot determine {n} poles; fewer poles or a "
+                         "wider band")
+    return choose(ctx, tries, n), tries
+
+
+def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
+             weighting: str) -> FRFFit:
+    """The chosen candidate with its quality against the noise and the orders tried [-]."""
+    f, H, sigma = ctx["f"], ctx["H"], ctx["sigma"]
     fit = best["fit"]
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
@@ -281,7 +292,7 @@ def fit_frf(
         weighting=weighting, rel_rms=float(np.sqrt(np.mean(e2))),
         noise_rms=float(np.sqrt(np.mean(2 * sigma**2))),
         chi2_ratio=float(np.sum(e2 / sigma**2) / (2 * f.size)),
-        damping_floor=float(damping_floor), notes=best["notes"],
+        damping_floor=ctx["floor"], notes=best["notes"],
         candidates=[{k: c[k] for k in ("tried", "n_poles", "n_zeros", "chi2_ratio", "bic",
                                         "unsupported")} for c in cands],
         name=frf.name, input=frf.input, output=frf.output, unit=frf.meta.get("unit", ""))
@@ -320,5 +331,5 @@ def _candidate(ctx, n_num, n_den):
         fit = fit_tf((f, H, w), n_num, n_den, delay_s=ctx["delay"], max_nfev=100)
     except InputError:
         return None
-    fit, notes = _clean(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
+    fit, notes = clean_fit(fit, ctx["sigma"], ctx["floor"], ctx["grid"])
     return score(ctx, fit, notes, (n_den, n_num))

@@ -1,20 +1,16 @@
 """The physical (grey-box) fit of an axis: the five-inertia parameters fitted jointly to
-G_M, G_T and G_tcp (:mod:`~tcpmm.ident.physical.greybox`) with an analytic Jacobian
+G_M, G_T and G_tcp (:mod:`~tcpmm.ident.physical.greybox`; the model's FRFs in
+:mod:`~tcpmm.ident.physical.axisfrfs`, the binned data in
+:mod:`~tcpmm.ident.physical.fitdata`) with an analytic Jacobian
 (:mod:`~tcpmm.ident.physical.jacobian`) from starts built from the data
 (:mod:`~tcpmm.ident.physical.starts`); the bed and TCP structure from G_tcp alone
 (:mod:`~tcpmm.ident.physical.structure`); the model file's uncertainty block
 (:mod:`~tcpmm.ident.physical.uncertainty`); and the servo loop's timing read from the
 sweep (:mod:`~tcpmm.ident.physical.loop_timing`)."""
 
-from .greybox import (
-    FITTED,
-    FRFData,
-    PhysicalFit,
-    SweepPlay,
-    fit_physical,
-    model_frfs,
-    nut_path,
-)
+from .axisfrfs import model_frfs, nut_path
+from .fitdata import FRFData
+from .greybox import FITTED, PhysicalFit, SweepPlay, fit_physical
 from .jacobian import PARAMS, log_sensitivities, residual_jacobian
 from .loop_timing import (
     COMPUTATION_DELAY,

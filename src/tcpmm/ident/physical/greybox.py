@@ -27,46 +27,19 @@ from ..._threads import limit_blas_threads
 from ...errors import InputError, InputWarning
 from ...mechanics.lumped import AxisMechanics
 from ..lti.goodness import rel_error
+from .axisfrfs import model_frfs, nut_path
+from .fitdata import band_model, fit_weight, log_binned, log_residual
 from .jacobian import residual_jacobian
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
+
+# nut_path is imported from here as well as from its module
+__all__ = ["FITTED", "TIGHT", "PhysicalFit", "SweepPlay", "fit_physical", "nut_path"]
 
 FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h")
 #: Tolerances of the final refinements: tight enough that the point where a fit stops does
 #: not follow rounding in the records (analytic Jacobians make them reachable) [-].
 TIGHT = dict(ftol=1e-12, xtol=1e-12, gtol=1e-12)
-_OUT = {"G_M": ("w_m", None), "G_T": ("X_LS", "th_m"), "G_tcp": ("X_TCP", "X_LS")}
-_ROWS = ("w_m", "th_m", "X_LS", "X_TCP")
-
-
-@dataclass
-class FRFData:
-    """A measured frequency response to fit.
-
-    Parameters
-    ----------
-    freq_hz : ndarray
-        Frequencies [Hz].
-    H : ndarray
-        Complex response [output unit / input unit].
-    weight : ndarray
-        Non-negative weight per bin, e.g. ``1/rel_std`` or coherence based [-].
-    spread_hz : ndarray, optional
-        Standard deviation of the frequencies each value averages over; a model is
-        compared with it averaged alike (:func:`band_model`). ``None``: point values [Hz].
-    """
-
-    freq_hz: np.ndarray
-    H: np.ndarray
-    weight: np.ndarray
-    spread_hz: np.ndarray | None = None
-
-    def band_points(self) -> np.ndarray:
-        """The two frequencies per bin, ``f - spread`` then ``f + spread``, at which the
-        mean of a model over each bin's band is taken [Hz]."""
-        sd = np.zeros_like(self.freq_hz) if self.spread_hz is None else self.spread_hz
-        return np.concatenate([self.freq_hz - sd, self.freq_hz + sd])
-
 
 @dataclass(frozen=True)
 class SweepPlay:
@@ -162,137 +135,6 @@ class PhysicalFit:
         return pd.DataFrame(rows)
 
 
-def nut_path(mech: AxisMechanics, s, K_t=None):
-    """Block algebra of the table side at Laplace points ``s``.
-
-    Parameters
-    ----------
-    mech : AxisMechanics
-        Parameters [SI].
-    s : numpy.ndarray
-        Laplace points ``j 2 pi f`` [rad/s].
-    K_t : float or numpy.ndarray, optional
-        Nut stiffness, per point if it varies; default ``mech.K_t`` [N/m].
-
-    Returns
-    -------
-    tuple of numpy.ndarray
-        The table's impedance ``M_t s^2 + C_t s`` [N/m], the compliance between table and
-        bed under the nut force ``D = G_t - G_b`` [m/N], and the screw's load-side
-        impedance ``Z_L`` seen through the nut [N m/rad].
-    """
-    m = mech
-    K_t = m.K_t if K_t is None else K_t
-    den_t = m.M_t * s**2 + m.C_t * s
-    D = 1 / den_t + 1 / (m.M_b * s**2 + m.C_b * s + m.K_b)
-    ZL = m.J_L * s**2 + m.B_L * s + K_t * m.R_L**2 / (1 + K_t * D)
-    return den_t, D, ZL
-
-
-def model_frfs(mech: AxisMechanics, freqs: dict, current_bandwidth_hz=None,
-               hold_period_s: float = 0.0, nut_gain=None) -> dict:
-    """G_M, G_T, G_tcp of a mechanics at the frequencies of each FRF.
-
-    Uses the block algebra of the equations of motion (equal to the state-space
-    responses, see the tests); vectorised, so cheap enough for least squares.
-
-    Parameters
-    ----------
-    mech : AxisMechanics
-        Parameters [SI].
-    freqs : dict
-        Frequencies per transfer-function name [Hz].
-    current_bandwidth_hz : float, optional
-        First-order current loop in G_M [Hz].
-    hold_period_s : float
-        The drive holds the current command over its velocity-loop period; seen from
-        the sampled command this is a zero-order hold in G_M [s].
-    nut_gain : callable, optional
-        ``nut_gain(f)``: factor on ``K_t`` per frequency, the nut's lost motion as the
-        excitation sees it (:func:`tcpmm.ident.friction.playdf.play_gain`) [-].
-    """
-    out = {}
-    m = mech
-    R = m.R_L
-    for name, f in freqs.items():
-        s = 2j * np.pi * np.asarray(f, dtype=float)
-        K_t = m.K_t if nut_gain is None or name == "G_tcp" else m.K_t * nut_gain(f)
-        den_t, D, ZL = nut_path(m, s, K_t)
-        if name == "G_tcp":
-            den_h = m.M_h * s**2 + m.C_h * s + m.K_h
-            out[name] = (1 / den_t - 1 / den_h) / D
-            continue
-        KtD = K_t * D
-        if name == "G_T":
-            out[name] = (m.K_L / (ZL + m.K_L)) * R * KtD / (1 + KtD)
-            continue
-        Zm = m.K_L * ZL / (ZL + m.K_L)
-        G_M = m.K_tc * s / (m.J_m * s**2 + m.B_m * s + Zm)
-        if current_bandwidth_hz is not None:
-            G_M = G_M / (1 + s / (2 * np.pi * current_bandwidth_hz))
-        if hold_period_s > 0:
-            G_M = G_M * zoh(s, hold_period_s)
-        out[name] = G_M
-    return out
-
-
-def zoh(s, T):
-    """Zero-order hold (1 - exp(-sT))/(sT) [-]."""
-    x = s * T
-    return np.where(np.abs(x) < 1e-8, 1.0 - x / 2, -np.expm1(-x) / np.where(x == 0, 1, x))
-
-
-def log_binned(d: FRFData, n_per_decade: int = 60) -> FRFData:
-    """Average an FRF over log-spaced bands, weights combined as independent data."""
-    good = d.weight > 0
-    f, H, w = d.freq_hz[good], d.H[good], d.weight[good]
-    if f.size < 2:
-        return d
-    n = max(8, int(n_per_decade * np.log10(f[-1] / f[0])))
-    edges = np.geomspace(f[0], f[-1] * (1 + 1e-9), n + 1)
-    k = np.searchsorted(edges, f, side="right") - 1
-    w2 = w**2
-    sw = np.bincount(k, w2, n)
-    use = sw > 0
-    Hr = np.bincount(k, w2 * H.real, n)[use] / sw[use]
-    Hi = np.bincount(k, w2 * H.imag, n)[use] / sw[use]
-    fm = np.bincount(k, w2 * f, n)[use] / sw[use]
-    sd = np.zeros_like(f) if d.spread_hz is None else np.asarray(d.spread_hz)[good]
-    m2 = np.bincount(k, w2 * (f**2 + sd**2), n)[use] / sw[use]
-    spread = np.sqrt(np.clip(m2 - fm**2, 0.0, None))
-    return FRFData(fm, Hr + 1j * Hi, np.sqrt(sw[use]), spread)
-
-
-def band_model(pair: np.ndarray) -> np.ndarray:
-    """Mean of a model over each bin's band from its values at
-    :meth:`FRFData.band_points`: the two-point rule that matches the band's mean
-    frequency and spread, exact where the model is quadratic across the band.
-
-    Averaging the data over a band flattens a resonance whose width is comparable to
-    the band (a mode at 16 Hz with 3.5 % damping across 0.6 Hz loses 2-3 % of its peak);
-    a model evaluated at the band's centre then fits the flattened peak with too much
-    damping. Averaged alike, it does not [-].
-    """
-    n = pair.size // 2
-    return 0.5 * (pair[:n] + pair[n:])
-
-
-def fit_weight(d: FRFData) -> np.ndarray:
-    """Per-bin weights of a fit, divided by the root of the number of weighted bins so
-    that each FRF counts alike whatever its number of bins [-]."""
-    weight = np.asarray(d.weight, float)
-    return weight / np.sqrt(np.sum(weight > 0))
-
-
-def log_residual(model, measured, weight) -> np.ndarray:
-    """Weighted log-magnitude and phase error of a model FRF against a measured one, real
-    parts then imaginary parts; where it is not finite (e.g. a pole on a bin) it counts
-    as 1e3 [-]."""
-    e = np.log(np.asarray(model) / measured) * weight
-    r = np.concatenate([e.real, e.imag])
-    return np.where(np.isfinite(r), r, 1e3)
-
-
 def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = None,
                  current_bandwidth_hz=None, fit_current_loop: bool = False,
                  max_nfev: int = 2000, tf_fits: dict | None = None,
@@ -330,6 +172,24 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         they are not fitted, and their standard deviations are those of ``M_t`` [SI / kg].
     """
     limit_blas_threads()
+    names, tied, reported = _fitted_names(data, structure, fit_current_loop)
+    f_top = max(float(d.freq_hz.max()) for d in data.values())
+    binned = {k: log_binned(v) for k, v in data.items()}
+    fixed = dict(lead=lead, K_tc=K_tc, M_h=1.0, C_h=1.0, K_h=1e9)
+    objective = _Objective(binned, names, tied, fixed, fit_current_loop, current_bandwidth_hz,
+                           hold_period_s, nut_gain)
+    if initial is not None:
+        starts = [initial]
+    else:
+        starts = _starts(binned, data, lead, K_tc, tf_fits, f_top)
+    r = _multistart(objective.resid, objective.jac, starts, names, fit_current_loop, max_nfev)
+    return _physical_fit(r, objective, data, reported, f_top)
+
+
+def _fitted_names(data: dict, structure: dict | None, fit_current_loop: bool) -> tuple:
+    """The parameters fitted (``f_i`` last when the current loop is), those held in
+    proportion to ``M_t`` ``{name: value / M_t}``, and those reported; raises without
+    G_M or G_T [-]."""
     for need in ("G_M", "G_T"):
         if need not in data:
             raise InputError(f"the physical fit needs {need}; only {', '.join(data)} given")
@@ -338,57 +198,80 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     tied = {p: float(r) for p, r in (structure or {}).items() if p in names}
     reported = list(names)
     names = [p for p in names if p not in tied]
-    full = data
-    f_top = max(float(d.freq_hz.max()) for d in full.values())
-    data = {k: log_binned(v) for k, v in data.items()}
-    freqs = {k: v.band_points() for k, v in data.items()}
-    w = {k: fit_weight(v) for k, v in data.items()}
-    fixed = dict(lead=lead, K_tc=K_tc, M_h=1.0, C_h=1.0, K_h=1e9)
-
-    n_mech = len(names)
     if fit_current_loop:
         names = [*names, "f_i"]
+    return names, tied, reported
 
-    def mech_of(theta):
-        vals = dict(zip(names[:n_mech], np.exp(theta[:n_mech]), strict=True))
-        vals.update({p: r * vals["M_t"] for p, r in tied.items()})
-        return AxisMechanics.model_construct(**{**fixed, **vals, "load_force": 0.0})
 
-    def bandwidth(theta):
-        return float(np.exp(theta[n_mech])) if fit_current_loop else current_bandwidth_hz
+class _Objective:
+    """The weighted log residual of the binned FRFs against the model and its analytic
+    Jacobian, as functions of the log-parameters ``theta`` (in the order of ``names``).
 
-    last = {}  # the residual at the last point: the Jacobian there needs its fallbacks
+    The residual at the last point is kept: the Jacobian there needs its fallbacks."""
 
-    def resid(theta):
-        r, model = _band_residual(mech_of(theta), data, freqs, w, bandwidth(theta),
-                                  hold_period_s, nut_gain)
-        last.update(x=np.array(theta), r=r, model=model)
+    def __init__(self, binned: dict, names: list, tied: dict, fixed: dict,
+                 fit_current_loop: bool, current_bandwidth_hz, hold_period_s: float,
+                 nut_gain):
+        self.data = binned
+        self.freqs = {k: v.band_points() for k, v in binned.items()}
+        self.w = {k: fit_weight(v) for k, v in binned.items()}
+        self.names, self.tied, self.fixed = names, tied, fixed
+        self.n_mech = len(names) - int(fit_current_loop)
+        self.fit_current_loop = fit_current_loop
+        self.current_bandwidth_hz = current_bandwidth_hz
+        self.hold_period_s, self.nut_gain = hold_period_s, nut_gain
+        self.last = {}
+
+    def mech_of(self, theta) -> AxisMechanics:
+        """The mechanics at ``theta``, unchecked [SI]."""
+        n = self.n_mech
+        vals = dict(zip(self.names[:n], np.exp(theta[:n]), strict=True))
+        vals.update({p: r * vals["M_t"] for p, r in self.tied.items()})
+        return AxisMechanics.model_construct(**{**self.fixed, **vals, "load_force": 0.0})
+
+    def bandwidth(self, theta):
+        """The current-loop bandwidth at ``theta``, fitted or given [Hz]."""
+        if self.fit_current_loop:
+            return float(np.exp(theta[self.n_mech]))
+        return self.current_bandwidth_hz
+
+    def resid(self, theta) -> np.ndarray:
+        """The stacked weighted log residual [-]."""
+        r, model = _band_residual(self.mech_of(theta), self.data, self.freqs, self.w,
+                                  self.bandwidth(theta), self.hold_period_s, self.nut_gain)
+        self.last.update(x=np.array(theta), r=r, model=model)
         return r
 
-    def jac(theta):
-        if not np.array_equal(last.get("x"), theta):
-            resid(theta)
-        return residual_jacobian(mech_of(theta), freqs, w, last["r"], names, tied,
-                                 bandwidth(theta), nut_gain, pairs=last.get("model"))
+    def jac(self, theta) -> np.ndarray:
+        """Its Jacobian by ``theta`` [-]."""
+        if not np.array_equal(self.last.get("x"), theta):
+            self.resid(theta)
+        return residual_jacobian(self.mech_of(theta), self.freqs, self.w, self.last["r"],
+                                 self.names, self.tied, self.bandwidth(theta), self.nut_gain,
+                                 pairs=self.last.get("model"))
 
-    starts = [initial] if initial is not None else _starts(data, full, lead, K_tc, tf_fits, f_top)
-    r = _multistart(resid, jac, starts, names, fit_current_loop, max_nfev)
-    m = mech_of(r.x)
-    mech = AxisMechanics.create(**m.model_dump())
-    f_i = bandwidth(r.x)
+
+def _physical_fit(r, objective: _Objective, full: dict, reported: list,
+                  f_top: float) -> PhysicalFit:
+    """The fit at the ``least_squares`` result ``r``: mechanics, uncertainty (a warning
+    names what the data do not determine) and the error against the unbinned FRFs
+    ``full``; a current loop beyond the data's reach is kept ideal [-]."""
+    names, tied, n_mech = objective.names, objective.tied, objective.n_mech
+    mech = AxisMechanics.create(**objective.mech_of(r.x).model_dump())
+    f_i = objective.bandwidth(r.x)
     std, corr, undetermined = _std(r, names, tied)
     if undetermined:
         warnings.warn("the FRFs do not determine " + ", ".join(undetermined) +
                       " (relative standard deviation above 50 %); their values are a guess",
-                      InputWarning, stacklevel=2)
-    model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i, hold_period_s,
-                       nut_gain)
+                      InputWarning, stacklevel=3)
+    model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i,
+                       objective.hold_period_s, objective.nut_gain)
     rel = {k: rel_error(d.H[d.weight > 0], model[k][d.weight > 0]) for k, d in full.items()}
-    if fit_current_loop and ("f_i" in undetermined or f_i > 3 * f_top):
+    if objective.fit_current_loop and ("f_i" in undetermined or f_i > 3 * f_top):
         f_i = None  # the data cannot see the current loop: keep it ideal
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
                        names=reported + names[n_mech:], nfev=int(r.nfev),
-                       current_bandwidth_hz=f_i, tied=tied, nut_gain=nut_gain)
+                       current_bandwidth_hz=f_i, tied=tied, nut_gain=objective.nut_gain)
 
 
 def _band_residual(mech, data: dict, freqs: dict, w: dict, f_i, hold_period_s: float,

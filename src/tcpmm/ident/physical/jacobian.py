@@ -1,6 +1,6 @@
 """Analytic sensitivities of the physical model's FRFs to its log-parameters.
 
-The chain rule through the block algebra of :func:`tcpmm.ident.physical.greybox.model_frfs`:
+The chain rule through the block algebra of :func:`tcpmm.ident.physical.axisfrfs.model_frfs`:
 ``d log G / d log p`` for every parameter at once, one row per parameter. The least-squares
 fit of the log-parameters gets its Jacobian from these in a few array operations per FRF,
 where a finite-difference Jacobian costs one model evaluation per parameter.
@@ -41,7 +41,7 @@ def _nut_side(m: AxisMechanics, s, K_t):
 
 def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz=None,
                       nut_gain=None) -> np.ndarray:
-    """``d log G / d log p`` of one FRF of :func:`~tcpmm.ident.physical.greybox.model_frfs`.
+    """``d log G / d log p`` of one FRF of :func:`~tcpmm.ident.physical.axisfrfs.model_frfs`.
 
     The zero-order hold does not depend on any parameter and drops out.
 
@@ -98,7 +98,7 @@ def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz
 def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
                       names, tied: dict, current_bandwidth_hz=None,
                       nut_gain=None, pairs: dict | None = None) -> np.ndarray:
-    """Jacobian of the stacked log residuals of :func:`~tcpmm.ident.physical.greybox.log_residual`
+    """Jacobian of the stacked log residuals of :func:`~tcpmm.ident.physical.fitdata.log_residual`
     with respect to the fitted log-parameters.
 
     Parameters
@@ -120,7 +120,7 @@ def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
         Factor on ``K_t`` per frequency [-].
     pairs : dict, optional
         Model values at ``freqs`` where these are the two points per bin of
-        :meth:`~tcpmm.ident.physical.greybox.FRFData.band_points` and the residual
+        :meth:`~tcpmm.ident.physical.fitdata.FRFData.band_points` and the residual
         compares the mean of each pair: the sensitivity of that mean [SI].
 
     Returns

@@ -70,6 +70,29 @@ def _pairs_hz(roots):
     return [(abs(x) / (2 * np.pi), -x.real / abs(x)) for x in r[order]]
 
 
+def _tcp_assignments(tcp_p: list, tcp_z) -> list:
+    """``(f_h, zeta_h, f_b, zeta_b, M_b/M_t, M_h/M_t)`` per way of reading the poles
+    ``tcp_p`` [(Hz, -)] and zeros ``tcp_z`` [Hz] of G_tcp as TCP and bed modes: each pole
+    taken as the bed's, its zero the next above; a fixed guess when G_tcp shows too
+    little [-]."""
+    assignments = []
+    if len(tcp_p) >= 2 and len(tcp_z) >= 2:
+        for (fh, zh), (fb, zb) in ((tcp_p[0], tcp_p[1]), (tcp_p[1], tcp_p[0])):
+            above = [z for z in tcp_z if z > fb * 1.0001]
+            if not above:
+                continue
+            fzb = min(above, key=lambda z: z - fb)
+            rest = [z for z in tcp_z if z != fzb]
+            fzh = rest[0] if rest else 2 * fh
+            rb = 1.0 / ((fzb / fb) ** 2 - 1.0)
+            rh_den = 1.0 - (fh / fzh) ** 2
+            rh = 1.0 / rh_den if rh_den > 0.01 else 2.5
+            assignments.append((fh, zh, fb, zb, min(max(rb, 0.05), 50), min(max(rh, 0.05), 50)))
+    if not assignments:
+        assignments.append((50.0, 0.03, 200.0, 0.05, 5.0, 2.5))
+    return assignments
+
+
 def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float,
                     f_top_hz: float | None = None) -> list[dict]:
     """Starting points from rational fits of the FRFs (their poles and zeros).
@@ -96,21 +119,7 @@ def guesses_from_tf(tf_fits: dict, lead: float, K_tc: float, J_total: float,
     f_torsion = [f_modes[-1]]  # the stiff, light mode
     if f_top_hz is not None and f_top_hz > TORSION_SPREAD * f_modes[-1]:
         f_torsion += list(np.geomspace(f_modes[-1], f_top_hz, 4)[1:3])
-    assignments = []
-    if len(tcp_p) >= 2 and len(tcp_z) >= 2:
-        for (fh, zh), (fb, zb) in ((tcp_p[0], tcp_p[1]), (tcp_p[1], tcp_p[0])):
-            above = [z for z in tcp_z if z > fb * 1.0001]
-            if not above:
-                continue
-            fzb = min(above, key=lambda z: z - fb)
-            rest = [z for z in tcp_z if z != fzb]
-            fzh = rest[0] if rest else 2 * fh
-            rb = 1.0 / ((fzb / fb) ** 2 - 1.0)
-            rh_den = 1.0 - (fh / fzh) ** 2
-            rh = 1.0 / rh_den if rh_den > 0.01 else 2.5
-            assignments.append((fh, zh, fb, zb, min(max(rb, 0.05), 50), min(max(rh, 0.05), 50)))
-    if not assignments:
-        assignments.append((50.0, 0.03, 200.0, 0.05, 5.0, 2.5))
+    assignments = _tcp_assignments(tcp_p, tcp_z)
     out = []
     for share_t, share_m in ((0.5, 0.2), (0.3, 0.3), (0.7, 0.12), (0.18, 0.25)):
         M_t = share_t * J_total / R**2

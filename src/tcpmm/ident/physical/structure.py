@@ -21,15 +21,9 @@ from scipy.optimize import least_squares
 
 from ...mechanics.lumped import AxisMechanics
 from ..lti.goodness import rel_error
-from .greybox import (
-    TIGHT,
-    FRFData,
-    band_model,
-    fit_weight,
-    log_binned,
-    log_residual,
-    model_frfs,
-)
+from .axisfrfs import model_frfs
+from .fitdata import FRFData, band_model, fit_weight, log_binned, log_residual
+from .greybox import TIGHT
 from .jacobian import residual_jacobian
 
 __all__ = ["STRUCTURE", "fit_structure"]

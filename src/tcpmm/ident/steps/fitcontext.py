@@ -98,7 +98,7 @@ def physical_fit(ctx: FitContext, data: dict, initial: dict | None = None, nut_g
     ctx : FitContext
         The axis's known values, TF fits and hold [-].
     data : dict
-        The FRFs to fit, :class:`~tcpmm.ident.physical.greybox.FRFData` per name [SI].
+        The FRFs to fit, :class:`~tcpmm.ident.physical.fitdata.FRFData` per name [SI].
     initial : dict, optional
         Starting values; default from the data [SI].
     nut_gain : callable, optional

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..frf.response import reduced_frfs
 from ..options import MIN_COHERENCE
-from ..physical.greybox import FRFData
+from ..physical.fitdata import FRFData
 
 if TYPE_CHECKING:
     from ..chain import AxisRun

@@ -29,7 +29,7 @@ class FrictionFit:
     kept : AxisFit
         The physical fit with the friction of the runs on it [SI].
     data : dict
-        The FRFs it was fitted to, :class:`~tcpmm.ident.physical.greybox.FRFData` per
+        The FRFs it was fitted to, :class:`~tcpmm.ident.physical.fitdata.FRFData` per
         name [SI].
     structure : dict, optional
         Bed and TCP structure held in proportion to ``M_t``, with a TCP record [SI / kg].

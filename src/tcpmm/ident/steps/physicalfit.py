@@ -22,7 +22,7 @@ class LinearFit:
     Parameters
     ----------
     data : dict
-        The FRFs it was fitted to, :class:`~tcpmm.ident.physical.greybox.FRFData` per
+        The FRFs it was fitted to, :class:`~tcpmm.ident.physical.fitdata.FRFData` per
         name [SI].
     physical : PhysicalFit
         The fit, with standard deviations [SI].

@@ -1,0 +1,71 @@
+"""The excitation of a kind for a band, as ``tcpmm excite`` asks for it."""
+
+from __future__ import annotations
+
+from tcpmm.errors import InputError
+
+from .multisines import multisine
+from .prbsignal import prbs_for_band
+from .waveforms import MAX_SAMPLES, linear_sweep, log_sweep, positive
+
+__all__ = ["KINDS", "design_excitation"]
+
+#: Kinds accepted by :func:`design_excitation` and their aliases.
+KINDS = {
+    "linear": "linear_sweep",
+    "linear_sweep": "linear_sweep",
+    "log": "log_sweep",
+    "log_sweep": "log_sweep",
+    "multisine": "multisine",
+    "prbs": "prbs",
+}
+
+
+def design_excitation(kind, f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **options):
+    """Dispatch for ``tcpmm excite KIND --band F0,F1 --amplitude-A --duration-s --fs-hz``.
+
+    Parameters
+    ----------
+    kind : str
+        ``linear``, ``log``, ``multisine`` or ``prbs`` (or the function names) [-].
+    f0_hz : float
+        Band start [Hz].
+    f1_hz : float
+        Band end [Hz].
+    amplitude_A : float
+        Peak current [A].
+    duration_s : float
+        Length [s].
+    fs_hz : float
+        Sample rate [Hz].
+    **options
+        Keyword options of the chosen designer (``taper_s``, ``n_periods``, ``phases``,
+        ``spectrum``, ``seed``); options set to None are dropped, so a CLI can pass all
+        of its flags unconditionally [-].
+
+    Returns
+    -------
+    Excitation
+        The signal.
+    """
+    name = KINDS.get(str(kind).lower().replace("-", "_"))
+    if name is None:
+        raise InputError(
+            f"excitation kind '{kind}' unknown; use linear, log, multisine or prbs",
+            column="kind",
+        )
+    options = {k: v for k, v in options.items() if v is not None}
+    n = positive("duration_s", duration_s, "s") * positive("fs_hz", fs_hz, "Hz")
+    if n > MAX_SAMPLES:
+        raise InputError(f"{duration_s:g} s at {fs_hz:g} Hz is {n:.3g} samples; at most "
+                         f"{MAX_SAMPLES:.0e} are designed at once: shorten the signal or "
+                         "lower the sample rate", column="duration_s")
+    if name == "prbs":
+        if options:
+            raise InputError(f"prbs from a band takes no options, got {sorted(options)}")
+        return prbs_for_band(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz)
+    fn = {"linear_sweep": linear_sweep, "log_sweep": log_sweep, "multisine": multisine}[name]
+    try:
+        return fn(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **options)
+    except TypeError as exc:
+        raise InputError(f"{name}: {exc}") from None

@@ -35,13 +35,15 @@ def test_help_lists_every_command(capsys):
     assert listed == set(cli.COMMANDS)
 
 
-def test_a_command_imports_only_its_own_module():
-    code = ("import sys; from tcpmm.cli import main; rc = main(['simulate', '--help']); "
+@pytest.mark.parametrize(("argv", "modules"), [(["simulate", "--help"], ["tcpmm.cli.run"]),
+                                               (["--version"], [])])
+def test_a_command_imports_only_its_own_module(argv, modules):
+    code = (f"import sys; from tcpmm.cli import main; rc = main({argv!r}); "
             "print(sorted(m for m in sys.modules if m.startswith('tcpmm.cli.') "
             "and not m.startswith('tcpmm.cli._')))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True)
-    assert done.stdout.strip().splitlines()[-1] == "['tcpmm.cli.run']"
+    assert done.stdout.strip().splitlines()[-1] == repr(modules)
 
 
 def test_a_mistyped_command_gets_a_suggestion(capsys):

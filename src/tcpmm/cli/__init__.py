@@ -31,9 +31,12 @@ COMMANDS = {
 
 def register(argv) -> None:
     """Import the module of the command ``argv`` names (its first word that is no
-    option; the root takes no option with a value), or every command's module where it
-    names none or one unknown: the list of commands and click's suggestions need them."""
+    option; the root takes no option with a value); none for ``--version`` alone; every
+    command's module where it names none or one unknown: the list of commands and
+    click's suggestions need them."""
     name = next((a for a in argv if not a.startswith("-")), None)
+    if name is None and argv and "--help" not in argv:
+        return  # --version: the root's own option
     wanted = {COMMANDS[name]} if name in COMMANDS else set(COMMANDS.values())
     for module in sorted(wanted):
         importlib.import_module(f"{__name__}.{module}")

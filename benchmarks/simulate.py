@@ -166,6 +166,33 @@ def peers() -> tuple:
     return tools, t.size, rel_diff
 
 
+def print_figures(out: dict, circ: dict, res: dict, steps: int, n_steps: int) -> None:
+    """The figures as text: the circle's kernel and floor, then the one axis's peers."""
+    T, rounds = out["circle_duration_s"], out["rounds"]
+    diff = out["max_relative_difference_to_dlsim"]
+    t_fr, t_lin = res["tcpmm, with friction"][0], res["tcpmm, linear"][0]
+    print(f"Kernel: {out['kernel']}")
+    print(f"The paper's circle, 3 axes, {T:.2f} s, kernel on one thread, {rounds} rounds "
+          f"(min / median, {out['clock']} clock):")
+    for name, (lo, med, _) in circ.items():
+        print(f"  {name:18s} {lo * 1e3:7.1f} / {med * 1e3:7.1f} ms   real-time factor "
+              f"{T / lo:6.0f} / {T / med:6.0f}")
+    print(f"  per axis-step {circ['with friction'][0] / n_steps * 1e9:.1f} ns with friction, "
+          f"{circ['without friction'][0] / n_steps * 1e9:.1f} ns without, compute floor "
+          f"{out['floor_ns_per_step']:.1f} ns: ratio {out['floor_ratio_friction']:.2f}x / "
+          f"{out['floor_ratio_friction_median']:.2f}x with friction, "
+          f"{out['floor_ratio_linear']:.2f}x / {out['floor_ratio_linear_median']:.2f}x "
+          "without (min / median)")
+    print(f"One axis, {DURATION_S:.0f} s at the servo's own rates ({steps} position "
+          f"steps), min / median of {rounds}; ratio = peer min / tcpmm-with-friction min "
+          "(tcpmm-linear min):")
+    for name, (lo, med, _) in res.items():
+        ratio = "" if name.startswith("tcpmm") else \
+            f"   ratio {lo / t_fr:5.1f}x ({lo / t_lin:5.1f}x)"
+        print(f"  {name:24s} {lo * 1e3:8.1f} / {med * 1e3:8.1f} ms{ratio}")
+    print(f"  tcpmm linear vs dlsim, max relative difference of the scale: {diff:.1e}")
+
+
 def main(argv=None) -> dict:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--rounds", type=int, default=7, help="timed rounds (>= 5)")
@@ -212,26 +239,7 @@ def main(argv=None) -> dict:
     if args.json:
         print(json.dumps(out, indent=1))
         return out
-    print(f"Kernel: {out['kernel']}")
-    print(f"The paper's circle, 3 axes, {T:.2f} s, kernel on one thread, {rounds} rounds "
-          f"(min / median, {args.clock} clock):")
-    for name, (lo, med, _) in circ.items():
-        print(f"  {name:18s} {lo * 1e3:7.1f} / {med * 1e3:7.1f} ms   real-time factor "
-              f"{T / lo:6.0f} / {T / med:6.0f}")
-    print(f"  per axis-step {circ['with friction'][0] / n_steps * 1e9:.1f} ns with friction, "
-          f"{circ['without friction'][0] / n_steps * 1e9:.1f} ns without, compute floor "
-          f"{out['floor_ns_per_step']:.1f} ns: ratio {out['floor_ratio_friction']:.2f}x / "
-          f"{out['floor_ratio_friction_median']:.2f}x with friction, "
-          f"{out['floor_ratio_linear']:.2f}x / {out['floor_ratio_linear_median']:.2f}x "
-          "without (min / median)")
-    print(f"One axis, {DURATION_S:.0f} s at the servo's own rates ({steps} position "
-          f"steps), min / median of {rounds}; ratio = peer min / tcpmm-with-friction min "
-          "(tcpmm-linear min):")
-    for name, (lo, med, _) in res.items():
-        ratio = "" if name.startswith("tcpmm") else \
-            f"   ratio {lo / t_fr:5.1f}x ({lo / t_lin:5.1f}x)"
-        print(f"  {name:24s} {lo * 1e3:8.1f} / {med * 1e3:8.1f} ms{ratio}")
-    print(f"  tcpmm linear vs dlsim, max relative difference of the scale: {diff:.1e}")
+    print_figures(out, circ, res, steps, n_steps)
     return out
 
 

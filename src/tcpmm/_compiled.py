@@ -43,8 +43,9 @@ from ._pycc import build_module
 
 #: Sources the functions are compiled from (relative to the package): an edit makes a
 #: new key.
-KERNEL_SOURCES = ("sim/kernel.py", "sim/linearstep.py", "sim/frictionstep.py",
-                  "sim/contact.py", "sim/frictionlaw.py", "sim/layout.py", "sim/expm.py",
+KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
+                  "sim/frictionstep.py", "sim/contact.py", "sim/frictionlaw.py",
+                  "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of

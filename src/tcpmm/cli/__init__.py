@@ -1,10 +1,14 @@
 """Command-line interface: ``tcpmm --help``.
 
-One module per command group; no logic beyond parsing and printing.
+One module per command group; no logic beyond parsing and printing. A command's module
+is imported when that command runs (:data:`COMMANDS`): a command does not pay for the
+imports of the others (numpy, scipy, pydantic models); the list of commands (``tcpmm
+--help``, a mistyped command) imports them all.
 """
 
 from __future__ import annotations
 
+import importlib
 import sys
 import warnings
 
@@ -13,18 +17,29 @@ from .._threads import single_threaded_from_start
 single_threaded_from_start()  # before the commands' modules load numpy
 
 from ..errors import InputWarning, TcpmmError  # noqa: E402
-from . import (  # noqa: E402, F401  (importing them registers their commands)
-    compensate,
-    contour,
-    frf,
-    ident,
-    machine,
-    report,
-    run,
-    sweep,
-    tune,
-)
 from ._app import _esc, app, console  # noqa: E402
+
+#: The module of this package that registers each command (or command group) on
+#: :data:`tcpmm.cli._app.app` when it is imported.
+COMMANDS = {
+    "demo": "run", "machine": "machine", "excite": "ident", "identify": "ident",
+    "frf": "frf", "bode": "machine", "path": "run", "simulate": "run", "circle": "run",
+    "contour": "contour", "compare": "run", "spread": "ident", "sweep": "sweep",
+    "tune": "tune", "report": "report", "compensate": "compensate",
+}
+
+
+def register(argv) -> None:
+    """Import the module of the command ``argv`` names (its first word that is no
+    option; the root takes no option with a value); none for ``--version`` alone; every
+    command's module where it names none or one unknown: the list of commands and
+    click's suggestions need them."""
+    name = next((a for a in argv if not a.startswith("-")), None)
+    if name is None and argv and "--help" not in argv:
+        return  # --version: the root's own option
+    wanted = {COMMANDS[name]} if name in COMMANDS else set(COMMANDS.values())
+    for module in sorted(wanted):
+        importlib.import_module(f"{__name__}.{module}")
 
 
 def main(argv=None) -> int:
@@ -42,6 +57,7 @@ def main(argv=None) -> int:
     _warn_cache_fallback()
     handlers = _exit_on_signals()
     try:
+        register(sys.argv[1:] if argv is None else list(argv))
         app(args=argv, standalone_mode=True)
     except TcpmmError as exc:
         console.print(f"[red]error:[/red] {_esc(str(exc))}")

@@ -99,61 +99,7 @@ from .layout import (  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
     S_STEP,
 )
 from .linearstep import constant_inputs, free_step
-
-
-@njit(cache=True, inline="always")
-def _quantise(v, q):
-    if q > 0.0:
-        return np.floor(v / q + 0.5) * q
-    return v
-
-
-@njit(cache=True)
-def _filter_rest(fsec, fst, i0):
-    """Filter states at rest under a constant input ``i0``."""
-    u = i0
-    for q in range(fsec.shape[0]):
-        b0, b1, b2, a1, a2 = fsec[q, 0], fsec[q, 1], fsec[q, 2], fsec[q, 3], fsec[q, 4]
-        y = u * (b0 + b1 + b2) / (1.0 + a1 + a2)
-        fst[q, 0] = y - b0 * u
-        fst[q, 1] = b2 * u - a2 * y
-        u = y
-
-
-@njit(cache=True, inline="always")
-def _filter_step(fsec, fst, u):
-    """One step of the filter cascade (transposed direct form II); its output."""
-    for q in range(fsec.shape[0]):
-        y = fsec[q, 0] * u + fst[q, 0]
-        fst[q, 0] = fsec[q, 1] * u - fsec[q, 3] * y + fst[q, 1]
-        fst[q, 1] = fsec[q, 2] * u - fsec[q, 4] * y
-        u = y
-    return u
-
-
-@njit(cache=True, inline="always")
-def _diff_velocity(hist, c_h, th_q, vtaps, T_v):
-    """Motor speed from the FIR of encoder differences, newest first [rad/s]."""
-    n_taps = vtaps.size
-    w_fb = 0.0
-    newer = th_q
-    for i in range(n_taps):
-        older = hist[(c_h - i) % (n_taps + 1)]
-        w_fb += vtaps[i] * (newer - older)
-        newer = older
-    return w_fb / T_v
-
-
-@njit(cache=True, inline="always")
-def _record(rec, r, x, i_app, R, c_k):
-    """Column ``r`` of the record: ``th_m, X_LS, X_TCP, w_m, i_c, R th_m, cmd``."""
-    rec[0, r] = x[0]
-    rec[1, r] = x[2] - x[3]
-    rec[2, r] = x[2] - x[4]
-    rec[3, r] = x[5]
-    rec[4, r] = i_app
-    rec[5, r] = R * x[0]
-    rec[6, r] = c_k
+from .servoparts import diff_velocity, filter_rest, filter_step, quantise, record
 
 
 def run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s, pf_g,
@@ -235,10 +181,10 @@ def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s
     delay, n_taps = ip[IP_DELAY], vtaps.size
     i_hold = fp[FP_K_VI] * fp[FP_INTEGRATOR0] if ip[IP_CLOSED] else 0.0
     dl = np.full(delay + 1, i_hold)  # delay line of i_c
-    hist = np.full(n_taps + 1, _quantise(x[0], fp[FP_Q_ENCODER]))  # ring buffer of angles
+    hist = np.full(n_taps + 1, quantise(x[0], fp[FP_Q_ENCODER]))  # ring buffer of angles
     fst = np.zeros((fsec.shape[0], 2))  # states of the current-setpoint filters
     if fsec.shape[0] > 0:
-        _filter_rest(fsec, fst, dl[0])
+        filter_rest(fsec, fst, dl[0])
     c = np.zeros((3, NX))  # per matrix set: step, sub-step, sub-step in the play
     fk = np.zeros((3, 2, FK_COL + NX))
     T_v, h_sub = fp[FP_T_V], fp[FP_T_V] / ip[IP_N_SUB]
@@ -310,16 +256,16 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     ratio, last = fp[FP_CMD_PER_STEP], cmd.size - 1 + j0
     for k in range(k_first, k_first + ip[IP_N_STEPS]):
         if vel_diff:
-            th_q = _quantise(x[0], q_enc)
+            th_q = quantise(x[0], q_enc)
         pos = k * ratio
         i_exc = excitation[min(int(pos + 1e-9), last) - j0] if excited else 0.0
         i_c = 0.0
         if closed:
             if c_pos == 0:
                 if fb_scale:
-                    x_fb = _quantise(x[2] - x[3], q_scale)
+                    x_fb = quantise(x[2] - x[3], q_scale)
                 else:
-                    x_fb = R * _quantise(x[0], q_enc)
+                    x_fb = R * quantise(x[0], q_enc)
                 j = min(int(pos), last)
                 fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
                 c_k = cmd[j] + fr * (cmd[j1] - cmd[j])
@@ -328,7 +274,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
                 else:
                     v_k = vcmd[j] + fr * (vcmd[j1] - vcmd[j])
                 w_c = (K_pp * (c_k - x_fb) + k_ff * v_k) / R
-            w_fb = _diff_velocity(hist, c_h, th_q, vtaps, T_v) if vel_diff else x[5]
+            w_fb = diff_velocity(hist, c_h, th_q, vtaps, T_v) if vel_diff else x[5]
             e = w_c - w_fb
             I_new = I_w + e * T_v
             i_c = K_vp * e + K_vi * I_new
@@ -343,7 +289,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
             else:
                 I_w = I_new
             if filtered:
-                i_c = _filter_step(fsec, fst, i_c)
+                i_c = filter_step(fsec, fst, i_c)
         if vel_diff:
             c_h = (c_h + 1) % (n_taps + 1)
             hist[c_h] = th_q
@@ -365,7 +311,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
         if c_rec == 0:
             j = min(int(pos), last)
             fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
-            _record(rec, r, x, i_app, R, cmd[j] + fr * (cmd[j1] - cmd[j]))
+            record(rec, r, x, i_app, R, cmd[j] + fr * (cmd[j1] - cmd[j]))
             r += 1
         c_rec += 1
         if c_rec == rec_every:

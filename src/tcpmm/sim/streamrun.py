@@ -59,20 +59,34 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
         The run's records in order; ``meta["lines_read"]`` the program's lines read so
         far [SI].
     """
+    limit_blas_threads()
+    settings = _checked_settings(machine, settings)
+    dt = settings.period_s
+    rp = dt if record_period_s is None else record_period_s
+    axes = {a: AxisStream(machine.axes[a], dt, rp, quantise_feedback) for a in machine.axes}
+    ip = interpolator or StreamInterpolator(settings)
+    pieces = _with_last(stream_program(program, settings, chunk_blocks, interpolator=ip))
+    yield from _run_pieces(pieces, axes, threads, rp, machine, ip)
+
+
+def _checked_settings(machine: Machine, settings: InterpolatorSettings | None):
+    """The interpolator settings, default the model's, after refusing a machine an NC
+    program cannot drive or whose sampled loops are unstable [-]."""
     if settings is None:
         settings = InterpolatorSettings.model_validate(machine.interpolation or {})
     extra = [a for a in machine.axes if a not in AXES]
     if extra:
         raise InputError(f"an NC program drives X, Y and Z; the machine's axis "
                          f"{', '.join(extra)} has no command from it")
-    limit_blas_threads()
     _check_stability(machine)
-    dt = settings.period_s
-    rp = dt if record_period_s is None else record_period_s
-    names = list(machine.axes)
-    axes = {a: AxisStream(machine.axes[a], dt, rp, quantise_feedback) for a in names}
-    ip = interpolator or StreamInterpolator(settings)
-    pieces = _with_last(stream_program(program, settings, chunk_blocks, interpolator=ip))
+    return settings
+
+
+def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Machine,
+                ip: StreamInterpolator) -> Iterator[Run]:
+    """The runs of the ``(piece, is_last)`` command pieces through the axes' streams, in
+    order [SI]."""
+    names = list(axes)
     # the axes run in worker threads, each its own in order, while the main thread reads
     # and interpolates the next chunk (the kernel releases the GIL): one core is left to
     # that, the others share the axes

@@ -1,0 +1,51 @@
+"""The command map of the command line: each command's module is imported when that
+command runs, and the list of commands still names every one."""
+
+import importlib
+import subprocess
+import sys
+
+import pytest
+import typer
+
+from tcpmm import cli
+from tcpmm.cli._app import app
+
+
+def _registered() -> set:
+    """The commands and command groups registered on the application so far."""
+    return set(typer.main.get_command(app).commands)
+
+
+@pytest.mark.parametrize("name", sorted(cli.COMMANDS))
+def test_every_command_in_the_map_resolves_to_its_module(name):
+    importlib.import_module(f"tcpmm.cli.{cli.COMMANDS[name]}")
+    assert name in _registered()
+
+
+def test_the_map_names_every_command_the_modules_register():
+    cli.register([])  # no command named: every module
+    assert _registered() == set(cli.COMMANDS)
+
+
+def test_help_lists_every_command(capsys):
+    assert cli.main(["--help"]) == 0
+    listing = capsys.readouterr().out.split("Commands:", 1)[1]
+    listed = {line.split()[0] for line in listing.splitlines() if line.strip()}
+    assert listed == set(cli.COMMANDS)
+
+
+@pytest.mark.parametrize(("argv", "modules"), [(["simulate", "--help"], ["tcpmm.cli.run"]),
+                                               (["--version"], [])])
+def test_a_command_imports_only_its_own_module(argv, modules):
+    code = (f"import sys; from tcpmm.cli import main; rc = main({argv!r}); "
+            "print(sorted(m for m in sys.modules if m.startswith('tcpmm.cli.') "
+            "and not m.startswith('tcpmm.cli._')))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.strip().splitlines()[-1] == repr(modules)
+
+
+def test_a_mistyped_command_gets_a_suggestion(capsys):
+    assert cli.main(["simulat"]) == 2
+    assert "Did you mean 'simulate'" in capsys.readouterr().err

@@ -78,6 +78,64 @@ def test_fast_path_matches_the_reference_after_a_header(lines):
     assert _outcome(text, fast=True) == _outcome(text, fast=False)
 
 
+# modal changes, arcs, numbered and commented blocks and malformed lines, to be mixed
+# into runs of plain moves at random positions
+MODAL = ["G91", "G90", "G20", "G21", "G61", "G64", "G64 P0.01", "G64 P0.02 Q0.1", "G9 G1 X1",
+         "G17", "G18", "G19", "G90.1", "G91.1", "F1500", "G0", "G1", "G2", "G3"]
+MALFORMED = ["X1 X2", "G1 X", "X1.2.3", "X-", "G1 X1e3", "A5", "G41 X1", "X1 (open",
+             "X1 )", "((a))", "#1=2", "X1\f", "N-5 X1", "N1.5 X1", "G4", "G1 I1", "P1 X1",
+             "M98", "F0", "G2 X0 Y0 R1", "X1 Y1 F-3", "G9", "g1 x2 e5"]
+signed = st.sampled_from(["-0.0", "0.0", "-0", "+0", "-0.000", "0.5", "-0.5", "-.0"])
+coords = st.one_of([decimals] * 3 + [signed])
+
+
+@st.composite
+def arc_line(draw):
+    """A G2/G3 block with I/J or R, most of them well formed for the current point [-]."""
+    parts = [draw(st.sampled_from(["G2", "G3", "G02", "g3", ""]))]
+    parts += [f"{L}{draw(coords)}" for L in draw(st.sampled_from(["XY", "X", "Y", "XYZ"]))]
+    if draw(st.booleans()):
+        parts.append(f"R{draw(st.one_of(decimals, signed))}")
+    else:
+        parts += [f"{L}{draw(coords)}" for L in draw(st.sampled_from(["IJ", "I", "J", "IK"]))]
+    if draw(st.booleans()):
+        parts.append(f"F{draw(feeds)}")
+    return " ".join(p for p in parts if p)
+
+
+@st.composite
+def incremental_line(draw):
+    """A plain move of small signed steps, -0.0 among them [-]."""
+    letters = draw(st.lists(st.sampled_from("XYZ"), min_size=1, max_size=3, unique=True))
+    letters.sort()
+    head = draw(st.sampled_from(["", "G1 ", "G0 ", "N10 ", "N20 G1 "]))
+    tail = draw(st.sampled_from(["", " F2000", " F1000001", " F0", " (c)", " ; c"]))
+    return head + " ".join(f"{L}{draw(coords)}" for L in letters) + tail
+
+
+mixed_lines = st.one_of([plain_line()] * 3 + [incremental_line()] * 3 + [
+    arc_line(), st.sampled_from(MODAL), st.sampled_from(MALFORMED), st.sampled_from(OTHER)])
+mixed_programs = st.tuples(
+    st.sampled_from(["", "G1 F3000\n", "G91 G1 F3000\n", "G21 G90 G64 P0.01 G1 X0 Y0 F3000\n"]),
+    st.lists(mixed_lines, max_size=40)).map(lambda p: p[0] + "\n".join(p[1]) + "\n")
+
+
+@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(mixed_programs)
+def test_fast_path_matches_the_reference_on_mixed_programs(text):
+    assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(incremental_line(), min_size=1, max_size=20), st.sampled_from(MALFORMED),
+       st.integers(0, 20))
+def test_an_error_in_a_run_of_incremental_moves_names_the_same_line(lines, bad, at):
+    lines = [*lines]
+    lines.insert(min(at, len(lines)), bad)
+    text = "G21 G91 G1 F3000\n" + "\n".join(lines) + "\n"
+    assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
 def test_plain_blocks_skip_the_tokeniser(monkeypatch):
     calls = []
     tokenize = gcode_stream.tokenize

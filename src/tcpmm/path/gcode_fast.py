@@ -12,6 +12,7 @@ the tokeniser and the interpreter, so every message keeps its text, line and col
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import gc
 import re
 
@@ -27,6 +28,11 @@ PLAIN_MOVE = re.compile(
     r"[ \t]*(?:[Gg][ \t]*0*([01])[ \t]*)?"
     + "".join(f"(?:[{c}{c.lower()}]{_NUMBER})?" for c in "XYZF")
 )
+
+#: the slot setters of Line's fields in order: a frozen dataclass's ``__init__`` sets each
+#: field through ``object.__setattr__``, which costs twice as much as the setters, and a
+#: run of short segments makes a Line for every block
+_LINE_SETTERS = tuple(getattr(Line, f.name).__set__ for f in dataclasses.fields(Line))
 
 
 def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
@@ -49,12 +55,21 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
         0-based index of the first line not executed here, ``k`` if none was: that line
         goes to the tokeniser and the interpreter [-].
     """
+    k, it.pos, it.motion, it.feed = _run(
+        lines, k, offset + 1, it.segments.append, (it.pos, it.motion, it.feed),
+        (it.unit, it.absolute, it.exact_stop, it.tolerance))
+    return k
+
+
+def _run(lines, k, first, append, state, modes):
+    """The loop of :func:`plain_run`: the index of the first line it leaves, and the
+    position, motion mode and feed after the blocks it ran [-]."""
     # modal state in locals and one loop over a run of blocks: attribute look-ups and
     # a call per block cost as much as the block's arithmetic
-    fullmatch, append = PLAIN_MOVE.fullmatch, it.segments.append
-    pos, motion, feed = it.pos, it.motion, it.feed
-    unit, absolute, exact, tol = it.unit, it.absolute, it.exact_stop, it.tolerance
-    n, first = len(lines), offset + 1
+    fullmatch, n = PLAIN_MOVE.fullmatch, len(lines)
+    pos, motion, feed = state
+    unit, absolute, exact, tol = modes
+    new, (s_start, s_end, s_feed, s_exact, s_line, s_tol) = object.__new__, _LINE_SETTERS
     while k < n:
         m = fullmatch(lines[k])
         if m is None:
@@ -86,11 +101,17 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
         if mo == 0:
             append(Rapid(pos, target, k + first))
         else:
-            append(Line(pos, target, fe, exact, k + first, tol))
+            seg = new(Line)  # as Line(pos, target, fe, exact, k + first, tol)
+            s_start(seg, pos)
+            s_end(seg, target)
+            s_feed(seg, fe)
+            s_exact(seg, exact)
+            s_line(seg, k + first)
+            s_tol(seg, tol)
+            append(seg)
         pos, motion, feed = target, mo, fe
         k += 1
-    it.pos, it.motion, it.feed = pos, motion, feed
-    return k
+    return k, pos, motion, feed
 
 
 @contextlib.contextmanager

@@ -51,67 +51,10 @@ class GeometryMixin:
         ca_letter, cb_letter = _CENTRE_LETTER[a], _CENTRE_LETTER[b]
         self._check_arc_words(w, gword, line, a + b, ca_letter, cb_letter)
         s = self.pos
-        da, db = end[ia] - s[ia], end[ib] - s[ib]
-        chord = math.hypot(da, db)
-        unit_name = "in" if self.unit == INCH_M else "mm"
         if "R" in w:
-            rw = w["R"]
-            r = rw.value * self.unit
-            if chord < FULL_CIRCLE_TOL_M:
-                self.error(
-                    f"the R form cannot describe a full circle (end = start); give "
-                    f"the centre with {ca_letter} and {cb_letter}",
-                    line,
-                    rw.column,
-                )
-            if r == 0.0:
-                self.error("arc radius R0 is zero; give the radius of the arc", line, rw.column)
-            half = 0.5 * chord
-            h2 = r * r - half * half
-            if h2 < 0.0:
-                if half - abs(r) > max(ARC_ABS_TOL_M, ARC_REL_TOL * abs(r)):
-                    self.error(
-                        f"radius {rw.text} is smaller than half the distance from "
-                        f"start to end ({half / self.unit:.6g} {unit_name}); "
-                        "increase R or move the end point",
-                        line,
-                        rw.column,
-                    )
-                h2 = 0.0
-            h = math.sqrt(h2)
-            # centre left of the chord for a short CCW arc; R < 0 takes the long way
-            side = (1.0 if self.motion == 3 else -1.0) * (1.0 if r > 0 else -1.0)
-            ca = s[ia] + 0.5 * da - side * h * db / chord
-            cb = s[ib] + 0.5 * db + side * h * da / chord
+            ca, cb = self._radius_centre(w["R"], end, ia, ib, (ca_letter, cb_letter), line)
         else:
-            cw_a, cw_b = w.get(ca_letter), w.get(cb_letter)
-            col = (cw_a or cw_b).column
-            if self.arc_absolute:
-                if cw_a is None or cw_b is None:
-                    self.error(
-                        f"with G90.1 the centre needs both {ca_letter} and {cb_letter}", line, col
-                    )
-                ca, cb = cw_a.value * self.unit, cw_b.value * self.unit
-            else:
-                ca = s[ia] + (cw_a.value * self.unit if cw_a else 0.0)
-                cb = s[ib] + (cw_b.value * self.unit if cw_b else 0.0)
-            r0 = math.hypot(s[ia] - ca, s[ib] - cb)
-            r1 = math.hypot(end[ia] - ca, end[ib] - cb)
-            if r0 == 0.0 or r1 == 0.0:
-                self.error(
-                    "arc of zero radius: the centre is on the start or end point; "
-                    f"check {ca_letter} and {cb_letter}",
-                    line,
-                    col,
-                )
-            if abs(r1 - r0) > max(ARC_ABS_TOL_M, ARC_REL_TOL * r0):
-                self.error(
-                    f"the arc's radius to the start is {r0 / self.unit:.6g} "
-                    f"{unit_name} but to the end {r1 / self.unit:.6g} {unit_name}; "
-                    f"correct the end point or the centre ({ca_letter}, {cb_letter})",
-                    line,
-                    col,
-                )
+            ca, cb = self._offset_centre(w, end, ia, ib, (ca_letter, cb_letter), line)
         centre = [0.0, 0.0, 0.0]
         centre[ia], centre[ib] = ca, cb
         centre[3 - ia - ib] = s[3 - ia - ib]
@@ -126,6 +69,77 @@ class GeometryMixin:
             exact_stop=self.exact_stop,
             line=line,
         )
+
+    def _unit_name(self) -> str:
+        return "in" if self.unit == INCH_M else "mm"
+
+    def _radius_centre(self, rw, end, ia, ib, letters, line):
+        """The centre (in the plane's two axes) of an arc given by its radius R [m]."""
+        s = self.pos
+        da, db = end[ia] - s[ia], end[ib] - s[ib]
+        chord = math.hypot(da, db)
+        r = rw.value * self.unit
+        if chord < FULL_CIRCLE_TOL_M:
+            self.error(
+                f"the R form cannot describe a full circle (end = start); give "
+                f"the centre with {letters[0]} and {letters[1]}",
+                line,
+                rw.column,
+            )
+        if r == 0.0:
+            self.error("arc radius R0 is zero; give the radius of the arc", line, rw.column)
+        half = 0.5 * chord
+        h2 = r * r - half * half
+        if h2 < 0.0:
+            if half - abs(r) > max(ARC_ABS_TOL_M, ARC_REL_TOL * abs(r)):
+                self.error(
+                    f"radius {rw.text} is smaller than half the distance from "
+                    f"start to end ({half / self.unit:.6g} {self._unit_name()}); "
+                    "increase R or move the end point",
+                    line,
+                    rw.column,
+                )
+            h2 = 0.0
+        h = math.sqrt(h2)
+        # centre left of the chord for a short CCW arc; R < 0 takes the long way
+        side = (1.0 if self.motion == 3 else -1.0) * (1.0 if r > 0 else -1.0)
+        return (s[ia] + 0.5 * da - side * h * db / chord,
+                s[ib] + 0.5 * db + side * h * da / chord)
+
+    def _offset_centre(self, w, end, ia, ib, letters, line):
+        """The centre (in the plane's two axes) of an arc given by I, J or K [m]."""
+        s = self.pos
+        ca_letter, cb_letter = letters
+        cw_a, cw_b = w.get(ca_letter), w.get(cb_letter)
+        col = (cw_a or cw_b).column
+        if self.arc_absolute:
+            if cw_a is None or cw_b is None:
+                self.error(
+                    f"with G90.1 the centre needs both {ca_letter} and {cb_letter}", line, col
+                )
+            ca, cb = cw_a.value * self.unit, cw_b.value * self.unit
+        else:
+            ca = s[ia] + (cw_a.value * self.unit if cw_a else 0.0)
+            cb = s[ib] + (cw_b.value * self.unit if cw_b else 0.0)
+        r0 = math.hypot(s[ia] - ca, s[ib] - cb)
+        r1 = math.hypot(end[ia] - ca, end[ib] - cb)
+        if r0 == 0.0 or r1 == 0.0:
+            self.error(
+                "arc of zero radius: the centre is on the start or end point; "
+                f"check {ca_letter} and {cb_letter}",
+                line,
+                col,
+            )
+        if abs(r1 - r0) > max(ARC_ABS_TOL_M, ARC_REL_TOL * r0):
+            unit_name = self._unit_name()
+            self.error(
+                f"the arc's radius to the start is {r0 / self.unit:.6g} "
+                f"{unit_name} but to the end {r1 / self.unit:.6g} {unit_name}; "
+                f"correct the end point or the centre ({ca_letter}, {cb_letter})",
+                line,
+                col,
+            )
+        return ca, cb
 
     def _check_arc_words(self, w, gword, line, plane_axes, ca_letter, cb_letter):
         """The centre words of the plane, or R, one of the two."""

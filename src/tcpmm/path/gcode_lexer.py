@@ -128,46 +128,47 @@ def tokenize(text: str, file=None, line=None) -> list[Word]:
     while pos < n:
         m = match(body, pos)
         if m.group("o") is not None:
-            col = m.start("o") + 1
-            ch = m.group("o")
-            hint = (" (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789"
-                    else "" if ch.isprintable() else " (a control character; remove it)")
-            raise InputError(f"unexpected character {ch!r}{hint}", file=file, line=line, column=col)
-        col = m.start("l") + 1
-        letter = m.group("l").upper()
-        num = m.group("n")
-        if letter == "E" and words and col > 1 and body[col - 2] in "0123456789." and num:
-            prev = words[-1]
-            mantissa = body[prev.column : col - 1].strip()
-            raise InputError(
-                f"exponent notation '{prev.letter}{mantissa}{m.group('l')}{num}' is not "
-                f"G-code; write the number out, {_plain(prev.letter, prev.value, num)}",
-                file=file,
-                line=line,
-                column=prev.column,
-            )
-        if not num:
-            raise InputError(
-                f"letter {letter} has no number after it; write e.g. {letter}0",
-                file=file,
-                line=line,
-                column=col,
-            )
-        if _NUMBER.match(num) is None:
-            raise InputError(
-                f"malformed number {num!r} after {letter}; write a decimal "
-                "number such as 12.5 or -0.25",
-                file=file,
-                line=line,
-                column=col,
-            )
-        value = float(num)
-        if not math.isfinite(value):  # over 308 digits
-            raise InputError(f"the number after {letter} has {len(num)} characters, too large "
-                             "for any word; check it", file=file, line=line, column=col)
-        words.append(Word(letter, value, letter + num, col))
+            _stray(m, file, line)
+        words.append(_word(m, body, words, file, line))
         pos = m.end()
     return words
+
+
+def _stray(m, file, line):
+    """Refuse the character that starts no word [-]."""
+    ch = m.group("o")
+    hint = (" (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789"
+            else "" if ch.isprintable() else " (a control character; remove it)")
+    raise InputError(f"unexpected character {ch!r}{hint}", file=file, line=line,
+                     column=m.start("o") + 1)
+
+
+def _word(m, body: str, words: list[Word], file, line) -> Word:
+    """The word of a match of a letter and its number, checked [-]."""
+    col = m.start("l") + 1
+    letter = m.group("l").upper()
+    num = m.group("n")
+    if letter == "E" and words and col > 1 and body[col - 2] in "0123456789." and num:
+        prev = words[-1]
+        mantissa = body[prev.column : col - 1].strip()
+        raise InputError(
+            f"exponent notation '{prev.letter}{mantissa}{m.group('l')}{num}' is not "
+            f"G-code; write the number out, {_plain(prev.letter, prev.value, num)}",
+            file=file,
+            line=line,
+            column=prev.column,
+        )
+    if not num:
+        raise InputError(f"letter {letter} has no number after it; write e.g. {letter}0",
+                         file=file, line=line, column=col)
+    if _NUMBER.match(num) is None:
+        raise InputError(f"malformed number {num!r} after {letter}; write a decimal "
+                         "number such as 12.5 or -0.25", file=file, line=line, column=col)
+    value = float(num)
+    if not math.isfinite(value):  # over 308 digits
+        raise InputError(f"the number after {letter} has {len(num)} characters, too large "
+                         "for any word; check it", file=file, line=line, column=col)
+    return Word(letter, value, letter + num, col)
 
 
 def tape_marker(raw: str, file, number: int) -> bool:

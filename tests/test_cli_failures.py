@@ -183,8 +183,8 @@ def test_a_read_only_pycache_of_a_subpackage_moves_the_cache(tmp_path, monkeypat
     monkeypatch.setattr(_numba_cache, "FALLBACK", [])
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "home"))
     monkeypatch.setattr(tempfile, "gettempdir", lambda: str(tmp_path))
-    writable = _numba_cache._writable
-    monkeypatch.setattr(_numba_cache, "_writable", lambda p: writable(p) and not (
+    writable = _numba_cache.writable
+    monkeypatch.setattr(_numba_cache, "writable", lambda p: writable(p) and not (
         p.name == "__pycache__" and p.parent.name == "sim") and "home" not in p.parts)
     folder = _numba_cache.ensure_cache_dir()
     assert folder is not None and os.environ["NUMBA_CACHE_DIR"] == folder

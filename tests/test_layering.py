@@ -228,3 +228,61 @@ def test_the_import_checks_can_fail(tmp_path, monkeypatch):
     assert not circles(import_graph())
     assert circles(import_graph(in_functions=True)) == [["tcpmm.path.interp",
                                                          "tcpmm.path.other"]]
+
+
+def _module_of(path: Path) -> tuple[str, bool]:
+    rel = path.relative_to(SRC.parent).with_suffix("")
+    parts = list(rel.parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts), path.name == "__init__.py"
+
+
+def _imported_from(node: ast.ImportFrom, module: str, is_package: bool) -> str:
+    if not node.level:
+        return node.module or ""
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    base = base[:len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def _is_module(name: str) -> bool:
+    p = SRC.parent.joinpath(*name.split("."))
+    return p.with_suffix(".py").exists() or (p / "__init__.py").exists()
+
+
+def private_imports() -> dict:
+    """``{(module, name): importers}`` of every name with one leading underscore that a
+    tcpmm module imports from another; private modules (``_compiled``) are not names."""
+    out = {}
+    for path in sorted(SRC.rglob("*.py")):
+        module, is_package = _module_of(path)
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            source = _imported_from(node, module, is_package)
+            if not source.startswith("tcpmm"):
+                continue
+            for alias in node.names:
+                name = alias.name
+                if (name.startswith("_") and not name.startswith("__")
+                        and not _is_module(f"{source}.{name}")):
+                    out.setdefault((source, name), []).append(module)
+    return out
+
+
+def test_no_private_name_crosses_a_module():
+    """A name with a leading underscore belongs to its module; what another module needs
+    is public, so that the reader knows what a change may break."""
+    assert not private_imports(), private_imports()
+
+
+def test_the_private_name_check_can_fail(tmp_path, monkeypatch):
+    import sys
+
+    pkg = tmp_path / "tcpmm"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("def _helper():\n    pass\n")
+    (pkg / "b.py").write_text("from .a import _helper\nfrom . import _compiled\n")
+    (pkg / "_compiled.py").write_text("")
+    monkeypatch.setattr(sys.modules[__name__], "SRC", pkg)
+    assert private_imports() == {("tcpmm.a", "_helper"): ["tcpmm.b"]}

@@ -38,7 +38,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from ._numba_cache import _writable
+from ._numba_cache import writable
 from ._pycc import build_module
 
 #: Sources the functions are compiled from (relative to the package): an edit makes a
@@ -227,7 +227,7 @@ def _folder() -> Path:
     if env:
         return Path(env) / "tcpmm-compiled"
     here = Path(__file__).resolve().parent / "__pycache__"
-    if _writable(here):
+    if writable(here):
         return here
     home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(home) / "tcpmm" / "compiled"

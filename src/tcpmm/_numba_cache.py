@@ -19,7 +19,7 @@ CACHED_SUBPACKAGES = ("sim", "path", "mechanics")
 FALLBACK: list[str] = []
 
 
-def _writable(folder: Path) -> bool:
+def writable(folder: Path) -> bool:
     """Whether files can be made in ``folder``, or it can be created."""
     for p in (folder, *folder.parents):
         if p.exists():
@@ -33,10 +33,10 @@ def ensure_cache_dir() -> str | None:
     if os.environ.get("NUMBA_CACHE_DIR"):
         return None
     pkg = Path(__file__).parent
-    if all(_writable(pkg / sub / "__pycache__") for sub in CACHED_SUBPACKAGES):
+    if all(writable(pkg / sub / "__pycache__") for sub in CACHED_SUBPACKAGES):
         return None
     home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    if _writable(Path(home)):
+    if writable(Path(home)):
         return None
     import tempfile  # only here: 10 ms of every command's start
 

@@ -17,7 +17,7 @@ import numpy as np
 from scipy import optimize
 
 from tcpmm.errors import InputError
-from tcpmm.ident.frf.signals import _as_1d, central_difference, decimate, lowpass_filtfilt
+from tcpmm.ident.frf.signals import as_1d, central_difference, decimate, lowpass_filtfilt
 from tcpmm.ident.friction.estimate import ParameterEstimate
 from tcpmm.mechanics.friction import StribeckFriction
 
@@ -179,8 +179,8 @@ def idim_ls(
 def _checked(q, force, friction: str, skip: int):
     """Position [m] and force [N] as 1-D arrays of one length, the friction model and the
     samples skipped checked [-]."""
-    q = _as_1d(q, "q")
-    force = _as_1d(force, "force")
+    q = as_1d(q, "q")
+    force = as_1d(force, "force")
     if q.size != force.size:
         raise InputError(
             f"q and force must have the same length, got {q.size} and {force.size}",

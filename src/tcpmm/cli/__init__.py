@@ -17,7 +17,7 @@ from .._threads import single_threaded_from_start
 single_threaded_from_start()  # before the commands' modules load numpy
 
 from ..errors import InputWarning, TcpmmError  # noqa: E402
-from ._app import _esc, app, console  # noqa: E402
+from ._app import app, console, esc  # noqa: E402
 
 #: The module of this package that registers each command (or command group) on
 #: :data:`tcpmm.cli._app.app` when it is imported.
@@ -49,7 +49,7 @@ def main(argv=None) -> int:
     def show(message, category, filename, lineno, file=None, line=None):
         """Print input warnings as the user's problem, not as a place in the package."""
         if issubclass(category, InputWarning):
-            console.print(f"[yellow]warning:[/yellow] {_esc(str(message))}")
+            console.print(f"[yellow]warning:[/yellow] {esc(str(message))}")
         else:
             shown(message, category, filename, lineno, file, line)
 
@@ -60,11 +60,11 @@ def main(argv=None) -> int:
         register(sys.argv[1:] if argv is None else list(argv))
         app(args=argv, standalone_mode=True)
     except TcpmmError as exc:
-        console.print(f"[red]error:[/red] {_esc(str(exc))}")
+        console.print(f"[red]error:[/red] {esc(str(exc))}")
         return 2
     except OSError as exc:  # the system refused a file or a folder the command used
         where = f" ({exc.filename})" if exc.filename else ""
-        console.print(f"[red]error:[/red] {_esc((exc.strerror or str(exc)) + where)}")
+        console.print(f"[red]error:[/red] {esc((exc.strerror or str(exc)) + where)}")
         return 2
     except SystemExit as exc:
         return int(exc.code or 0) if not isinstance(exc.code, str) else 1
@@ -82,7 +82,7 @@ def _warn_cache_fallback() -> None:
     if FALLBACK:
         console.print(f"[yellow]warning:[/yellow] neither the package's __pycache__ folders "
                       f"nor the user's cache folder can be written; numba's compiled "
-                      f"functions are cached in {_esc(FALLBACK[0])}")
+                      f"functions are cached in {esc(FALLBACK[0])}")
 
 
 def _exit_on_signals() -> dict:

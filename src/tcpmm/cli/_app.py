@@ -87,7 +87,7 @@ def _root(version: bool = typer.Option(False, "--version", callback=_print_versi
 
 
 @contextmanager
-def _progress(total: int, description: str):
+def progress_bar(total: int, description: str):
     """A progress bar on a terminal; nothing in a pipe or a log."""
     if not console.is_terminal:
         yield lambda *_: None
@@ -104,7 +104,7 @@ def _progress(total: int, description: str):
         yield advance
 
 
-def _floats(text: str | None, what: str, n: int | None = None) -> list[float] | None:
+def floats(text: str | None, what: str, n: int | None = None) -> list[float] | None:
     if text is None:
         return None
     try:
@@ -124,22 +124,22 @@ def _finite(vals, what):
     return vals
 
 
-def _positive(value: float, what: str) -> float:
+def positive(value: float, what: str) -> float:
     if not (math.isfinite(value) and value > 0):
         raise typer.BadParameter(f"{what} must be a positive number, got {value:g}")
     return value
 
 
-def _band(text: str | None, what: str) -> tuple[float, float] | tuple[None, None]:
+def parse_band(text: str | None, what: str) -> tuple[float, float] | tuple[None, None]:
     if text is None:
         return None, None
-    f0, f1 = _floats(text, what, 2)
+    f0, f1 = floats(text, what, 2)
     if not 0 <= f0 < f1:
         raise typer.BadParameter(f"{what} F0,F1 needs 0 <= F0 < F1 [Hz], got {text}")
     return f0, f1
 
 
-def _output(output: Path, *inputs) -> Path:
+def checked_output(output: Path, *inputs) -> Path:
     """Refuse an output that would replace one of the inputs, or whose folder cannot be
     written or made; the folder is made when the output is written."""
     from ..io.atomic import output_file
@@ -151,17 +151,17 @@ def _output(output: Path, *inputs) -> Path:
     return output
 
 
-def _plot(plot: Path | None) -> Path | None:
+def checked_plot(plot: Path | None) -> Path | None:
     """Check a --plot file name before any work is done."""
     if plot is None:
         return None
     from ..plot import plot_file
 
-    _output(plot)
+    checked_output(plot)
     return plot_file(plot)
 
 
-def _report_file(report: Path | None, *inputs) -> Path | None:
+def checked_report_file(report: Path | None, *inputs) -> Path | None:
     """Check a --report HTML file name, and that it is none of the inputs, before any work
     is done."""
     if report is None:
@@ -169,11 +169,11 @@ def _report_file(report: Path | None, *inputs) -> Path | None:
     from ..report import report_file
 
     report_file(report)
-    return _output(report, *inputs)
+    return checked_output(report, *inputs)
 
 
 @contextmanager
-def _in_file(path):
+def in_file(path):
     """Name ``path`` in an input error that names no file (the analysis of its content)."""
     try:
         yield
@@ -183,31 +183,31 @@ def _in_file(path):
         raise InputError(exc.message, file=path, line=exc.line, column=exc.column) from None
 
 
-def _emit_json(data) -> None:
+def emit_json(data) -> None:
     out.print_json(json.dumps(data))
 
 
-def _warn_suspect(machine, what: str) -> None:
+def warn_suspect(machine, what: str) -> None:
     """Say loudly, on stderr, that a model carries the suspect marks of identification."""
     if not machine.suspect:
         return
-    console.print(f"[bold red]WARNING: {_esc(what)} is marked physically suspect[/bold red] "
+    console.print(f"[bold red]WARNING: {esc(what)} is marked physically suspect[/bold red] "
                   "(written by tcpmm identify --accept-suspect); its predictions may be "
                   "meaningless:")
     for s in machine.suspect:
-        console.print(f"[red]  - {_esc(s)}[/red]")
+        console.print(f"[red]  - {esc(s)}[/red]")
 
 
-def _read_model(model: str):
+def read_model(model: str):
     """Read a model file, warning when it carries suspect marks."""
     from ..io.modelfile import read_machine
 
     m = read_machine(model)
-    _warn_suspect(m, f"model {model}")
+    warn_suspect(m, f"model {model}")
     return m
 
 
-def _refuse_unstable(machine, model: str) -> None:
+def refuse_unstable(machine, model: str) -> None:
     """An error naming each axis whose sampled loop is unstable: its run would diverge."""
     from ..servo.sampled import sampled_spectral_radius
 
@@ -221,7 +221,7 @@ def _refuse_unstable(machine, model: str) -> None:
                          file=model)
 
 
-def _warn_unstable(machine, what: str, axes=None) -> None:
+def warn_unstable(machine, what: str, axes=None) -> None:
     """A warning line per axis (of ``axes``, default all) whose sampled loop is unstable:
     what is computed from it describes no machine that holds still."""
     from ..servo.sampled import sampled_spectral_radius
@@ -230,24 +230,24 @@ def _warn_unstable(machine, what: str, axes=None) -> None:
         a = machine.axes[n]
         r = sampled_spectral_radius(a.mechanics, a.servo)
         if r >= 1.0:
-            console.print(f"[yellow]warning:[/yellow] axis {_esc(n)} of {_esc(what)}: the "
+            console.print(f"[yellow]warning:[/yellow] axis {esc(n)} of {esc(what)}: the "
                           f"sampled servo loop is unstable (spectral radius {r:.4f}); its "
                           "closed-loop responses and runs are no prediction: check the gains "
                           "and periods (tcpmm machine show)")
 
 
-def _load_command(command: Path | None, gcode: Path | None, machine):
+def load_command(command: Path | None, gcode: Path | None, machine):
     from ..path import program_to_command, read_command_csv
 
     if (command is None) == (gcode is None):
         raise typer.BadParameter("give exactly one of --command CMD.csv or --gcode PROG.nc")
     if command is not None:
         return read_command_csv(command)
-    with _in_file(gcode):
-        return program_to_command(gcode, _interp_settings(machine))
+    with in_file(gcode):
+        return program_to_command(gcode, interp_settings(machine))
 
 
-def _interp_settings(machine):
+def interp_settings(machine):
     from ..path import InterpolatorSettings
 
     if machine is not None and machine.interpolation is not None:
@@ -255,7 +255,7 @@ def _interp_settings(machine):
     return InterpolatorSettings()
 
 
-def _esc(text: str) -> str:
+def esc(text: str) -> str:
     from rich.markup import escape
 
     return escape(text)

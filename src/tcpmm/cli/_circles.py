@@ -5,7 +5,7 @@ from __future__ import annotations
 from ._app import out
 
 
-def _diagnostics_json(diag) -> dict:
+def diagnostics_json(diag) -> dict:
     """The diagnostics in display units (um, ms, ...), with the terms not determined and
     why, and the ranking [-]."""
     return {"sensor": diag.sensor, "directions": list(diag.directions),
@@ -34,7 +34,7 @@ def _cell(v: float, digits: int = 2) -> str:
     return "n/a" if v != v else f"{v:.{digits}f}"
 
 
-def _print_passes(res, title: str) -> None:
+def print_passes(res, title: str) -> None:
     """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
     from rich.table import Table
 
@@ -70,7 +70,7 @@ def _pass_notes(p) -> list[str]:
     return notes
 
 
-def _print_diagnostics(diag) -> None:
+def print_diagnostics(diag) -> None:
     """The diagnostics: per direction, the terms with their signs, the terms ranked by
     what each contributes, and what the circles leave undetermined and why."""
     from rich.table import Table

@@ -6,7 +6,7 @@ from __future__ import annotations
 import typer
 
 from ..errors import InputError
-from ._app import _in_file, console
+from ._app import console, in_file
 
 PLANE_HELP = ("Plane: XY, XZ, YZ (or ZX as G18 has it); CCW turns the first axis into the "
               "second. Default: the plane in which the command moves.")
@@ -32,7 +32,7 @@ def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
 
     if option is not None:
         return None if allow_3d and option.strip().upper() == "3D" else plane_option(option)
-    with _in_file(what):
+    with in_file(what):
         try:
             axes, why, flat = run_plane(run)
         except InputError as exc:

@@ -7,15 +7,15 @@ from pathlib import Path
 import typer
 
 from ._app import (
-    _emit_json,
-    _in_file,
-    _interp_settings,
-    _load_command,
-    _output,
-    _read_model,
-    _report_file,
     app,
+    checked_output,
+    checked_report_file,
+    emit_json,
+    in_file,
+    interp_settings,
+    load_command,
     out,
+    read_model,
 )
 
 
@@ -80,7 +80,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     from ..path import write_command_csv
 
     _check_outputs(output, report, controller_out, radius, model, command, gcode)
-    m = _read_model(model)
+    m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
     full, cmd, headroom = _planned(command, gcode, m, headroom)
     radius_m = None if radius is None else radius * 1e-3
@@ -94,7 +94,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, radius_m, cc)
     if as_json:
-        _emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
+        emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
     _say(output, report, comp, controller_out, cc)
 
@@ -117,10 +117,10 @@ def _check_outputs(output: Path, report, controller_out, radius, model: str, com
     command, gcode : Path or None
         The program's command file or NC program [-].
     """
-    _output(output, model, command, gcode)
-    _report_file(report, model, command, gcode, output)
+    checked_output(output, model, command, gcode)
+    checked_report_file(report, model, command, gcode, output)
     if controller_out is not None:
-        _output(controller_out, model, command, gcode, output)
+        checked_output(controller_out, model, command, gcode, output)
         if radius is None:
             raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
 
@@ -144,11 +144,11 @@ def _planned(command, gcode, machine, headroom):
         if headroom:
             raise typer.BadParameter("--headroom re-plans an NC program (--gcode); a "
                                      "command file is already timed")
-        cmd = _load_command(command, gcode, machine)
+        cmd = load_command(command, gcode, machine)
         return cmd, cmd, 0.0
     headroom = DEFAULT_HEADROOM if headroom is None else headroom
-    with _in_file(gcode):
-        full, planned = program_with_headroom(gcode, _interp_settings(machine), headroom)
+    with in_file(gcode):
+        full, planned = program_with_headroom(gcode, interp_settings(machine), headroom)
     return full, planned, headroom
 
 
@@ -183,7 +183,7 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radi
     """
     from ..compensate import compensate, predicted_scores, robust_factors
 
-    with _in_file(source):
+    with in_file(source):
         comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
         if draws > 0:
             robust_factors(machine, comp, n_draws=draws, radius_m=radius_m)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ._app import Sensor, _emit_json, _in_file, _plot, _positive, app, out
+from ._app import Sensor, app, checked_plot, emit_json, in_file, out, positive
 from ._plane import run_plane_said
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
 
@@ -40,19 +40,19 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
 
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
                     (window_s, "--window-s [s]")):
-        _positive(v, what)
-    _plot(plot)
+        positive(v, what)
+    checked_plot(plot)
     if streamed(run_file, chunk_rows):
         if plot is not None:
             raise typer.BadParameter(f"a run streamed (--chunk-rows, or more than "
                                      f"{STREAM_ABOVE_ROWS} rows) is not plotted",
                                      param_hint="--plot")
-        with _in_file(run_file):
+        with in_file(run_file):
             res = contour_streamed(run_file, plane, window_s, chunk_rows,
                                    corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
     else:
         run = read_run(run_file)
-        with _in_file(run_file):
+        with in_file(run_file):
             how = run_plane_said(plane, run, run_file, allow_3d=True)
             res = contour_error(run, plane=how, window_s=window_s, corner_deg=corner_deg,
                                 settle_tol_m=settle_um * 1e-6)
@@ -64,7 +64,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     if plot is not None:
         res.plot(sensor=name, path=plot)
     if as_json:
-        _emit_json(res.to_dict())
+        emit_json(res.to_dict())
         return
     _print(res, name, f"{run_file}")
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from ._app import _band, _emit_json, _esc, _output, _plot, app, out
+from ._app import app, checked_output, checked_plot, emit_json, esc, out, parse_band
 
 frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XML): show "
                       "and fit.", rich_markup_mode=None)
@@ -60,8 +60,8 @@ def show(file: Path = typer.Argument(..., help=_FILE),
     from ..ident.lti import noise_level
     from ..io.frffile import read_frf
 
-    _plot(plot)
-    f0, f1 = _band(band, "--band")
+    checked_plot(plot)
+    f0, f1 = parse_band(band, "--band")
     frf = read_frf(file).band(f0, f1)
     sigma = noise_level(frf.freq_hz, frf.H, frf.rel_std)
     summary = {"file": str(file), "name": frf.name, "input": frf.input, "output": frf.output,
@@ -75,17 +75,17 @@ def show(file: Path = typer.Argument(..., help=_FILE),
 
         plot_frf(frf, path=plot)
     if as_json:
-        _emit_json(summary)
+        emit_json(summary)
         return
     from rich.table import Table
 
-    out.print(f"{_esc(str(file))}: {_esc(frf.name)}"
-              + (f" ({_esc(frf.output)} / {_esc(frf.input)})" if frf.input else ""))
+    out.print(f"{esc(str(file))}: {esc(frf.name)}"
+              + (f" ({esc(frf.output)} / {esc(frf.input)})" if frf.input else ""))
     out.print(f"{summary['bins']} bins, {summary['freq_min_hz']:.4g}-"
               f"{summary['freq_max_hz']:.4g} Hz; coherence median "
               f"{summary['coherence_median']:.3f}, {summary['bins_coherence_0_5']} bins >= 0.5;"
               f" relative noise median {summary['noise_rel_median']:.3g}")
-    t = Table(*map(_esc, ("f [Hz]", "|H| [dB]", "phase [deg]", "coherence [-]", "noise [-]")))
+    t = Table(*map(esc, ("f [Hz]", "|H| [dB]", "phase [deg]", "coherence [-]", "noise [-]")))
     idx = np.unique(np.searchsorted(frf.freq_hz, np.geomspace(frf.freq_hz[0],
                                                                frf.freq_hz[-1], 12)))
     for i in idx[idx < frf.freq_hz.size]:
@@ -123,11 +123,11 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
 
     n = _poles(poles)
     tau = _delay(delay)
-    f0, f1 = _band(band, "--band")
+    f0, f1 = parse_band(band, "--band")
     for o in (output, fragment):
         if o is not None:
-            _output(o, file)
-    _plot(plot)
+            checked_output(o, file)
+    checked_plot(plot)
     frf = read_frf(file)
     res = fit_frf(frf, poles=n, band_hz=(f0, f1), weighting=weight.value, delay_s=tau,
                   damping_floor=DAMPING_FLOOR if damping_floor is None else damping_floor)
@@ -139,7 +139,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
     if plot is not None:
         res.plot(path=plot, frf=frf)
     if as_json:
-        _emit_json(d)
+        emit_json(d)
         return
     _print_fit(res, file)
     for p in (output, fragment, plot):
@@ -151,16 +151,16 @@ def _print_fit(res, file) -> None:
     from rich.table import Table
 
     tf = res.tf
-    out.print(f"{_esc(str(file))}: {_esc(res.name)}: {tf.n_den} poles, {tf.n_num} zeros, "
+    out.print(f"{esc(str(file))}: {esc(res.name)}: {tf.n_den} poles, {tf.n_num} zeros, "
               f"delay {tf.delay_s * 1e3:.4g} ms; band {res.band_hz[0]:.4g}-"
               f"{res.band_hz[1]:.4g} Hz, {tf.freq_hz.size} bins ({res.weighting} error)")
     out.print(f"residual: relative RMS {res.rel_rms:.3g} against a noise of "
               f"{res.noise_rms:.3g} (chi2 ratio {res.chi2_ratio:.3g}); "
               f"fit {tf.fit_percent:.1f} %")
-    t = Table(*map(_esc, ("kind", "f [Hz]", "damping [-]", "real [rad/s]", "imag [rad/s]")))
+    t = Table(*map(esc, ("kind", "f [Hz]", "damping [-]", "real [rad/s]", "imag [rad/s]")))
     for _, r in res.to_pandas().iterrows():
         t.add_row(r["kind"], f"{r['freq_hz']:.5g}", f"{r['damping']:.4g}",
                   f"{r['real_rad_s']:.6g}", f"{r['imag_rad_s']:.6g}")
     out.print(t)
     for note in res.notes:
-        out.print(f"note: {_esc(note)}")
+        out.print(f"note: {esc(note)}")

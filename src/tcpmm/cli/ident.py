@@ -10,20 +10,20 @@ import typer
 from ..errors import InputError
 from ._app import (
     Sensor,
-    _band,
-    _emit_json,
-    _floats,
-    _load_command,
-    _output,
-    _plot,
-    _positive,
-    _progress,
-    _read_model,
-    _report_file,
-    _warn_suspect,
     app,
+    checked_output,
+    checked_plot,
+    checked_report_file,
     console,
+    emit_json,
+    floats,
+    load_command,
     out,
+    parse_band,
+    positive,
+    progress_bar,
+    read_model,
+    warn_suspect,
 )
 
 
@@ -51,14 +51,14 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     from ._tables import print_table
 
     if tolerance is not None:
-        _positive(tolerance, "--tolerance-um [um]")
-    _positive(radius, "--radius [mm]")
-    _plot(plot)
+        positive(tolerance, "--tolerance-um [um]")
+    positive(radius, "--radius [mm]")
+    checked_plot(plot)
     tol_m = TOLERANCE if tolerance is None else tolerance * 1e-6
-    m = _read_model(model)
-    cmd = _load_command(command, gcode, m)
-    c = _floats(centre, "--centre", 2)
-    with _progress(draws + 1, "spread") as adv:
+    m = read_model(model)
+    cmd = load_command(command, gcode, m)
+    c = floats(centre, "--centre", 2)
+    with progress_bar(draws + 1, "spread") as adv:
         res = circle_spread(m, cmd, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), n=draws,
                             seed=seed, sensor=sensor.value,
                             floors=None if fit_only else MODEL_ERROR,
@@ -67,7 +67,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
         res.plot(path=plot)
     verdict = _spread_verdict(m, cmd, radius, c, sensor.value)
     if as_json:
-        _emit_json({**res.to_dict(), "verdict": verdict.to_dict()})
+        emit_json({**res.to_dict(), "verdict": verdict.to_dict()})
         return
     table = res.to_pandas()
     print_table(table, out, f"{sensor.value} spikes over {draws} drawn machines")
@@ -105,8 +105,8 @@ def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"
     """Design an excitation signal for the current command (time_s, excitation_A)."""
     from ..ident.excitation import design_excitation
 
-    f0, f1 = _band(band, "--band")
-    _output(output)
+    f0, f1 = parse_band(band, "--band")
+    checked_output(output)
     options = {"f0_hz": "--band", "f1_hz": "--band", "amplitude_A": "--amplitude-A",
                "duration_s": "--duration-s", "fs_hz": "--fs-hz", "taper_s": "--taper-s",
                "kind": "KIND", "seed": "--seed"}
@@ -161,22 +161,22 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     from ..io.atomic import check_output_folder
     from ..io.bundle import read_bundle
 
-    _output(output)
+    checked_output(output)
     html = report is not None and report.suffix.lower() in (".html", ".htm")
     if html:
-        _report_file(report, bundle, output)
+        checked_report_file(report, bundle, output)
     elif report is not None:
         check_output_folder(report)
-    f0, f1 = _band(band, "--band")
+    f0, f1 = parse_band(band, "--band")
     b = read_bundle(bundle)
     presliding = None if presliding_um is None else presliding_um * 1e-6
-    with _progress(len(b.axes), "identify") as adv:
+    with progress_bar(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
                               presliding=presliding, accept_suspect=accept_suspect)
     _write_identified(idn, output, report, html, bundle)
-    _warn_suspect(idn.machine, f"the model written to {output}")
+    warn_suspect(idn.machine, f"the model written to {output}")
     if as_json:
-        _emit_json(idn.to_dict())
+        emit_json(idn.to_dict())
     else:
         _print_identification(idn, presliding, output, report)
     _exit_if_not_firm(idn.verdict, strict)

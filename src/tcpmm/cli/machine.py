@@ -7,15 +7,15 @@ from pathlib import Path
 import typer
 
 from ._app import (
-    _emit_json,
-    _floats,
-    _output,
-    _plot,
-    _read_model,
-    _warn_unstable,
     app,
+    checked_output,
+    checked_plot,
+    emit_json,
+    floats,
     machine_app,
     out,
+    read_model,
+    warn_unstable,
 )
 
 
@@ -27,7 +27,7 @@ def machine_export(name: str = typer.Argument(..., help="Built-in machine name (
     from ..io.modelfile import with_interpolation, write_machine
     from ..machines.builtin import builtin_machine
 
-    write_machine(with_interpolation(builtin_machine(name)), _output(output))
+    write_machine(with_interpolation(builtin_machine(name)), checked_output(output))
     out.print(f"wrote {output}")
 
 
@@ -43,7 +43,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     from ..servo.margins import axis_margins
     from ..servo.sampled import sampled_spectral_radius
 
-    m = _read_model(model)
+    m = read_model(model)
     data = {}
     for ax, a in m.axes.items():
         ev = np.linalg.eigvals(plant(a.mechanics).A)
@@ -57,7 +57,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
                                 axis_margins(a.mechanics, a.servo).items()},
                     "filters": [f.model_dump() for f in a.servo.filters]}
     if as_json:
-        _emit_json(data)
+        emit_json(data)
         return
     for ax, d in data.items():
         modes = ", ".join(f"{f:.1f} Hz (zeta {z:.3f})" for f, z in
@@ -119,14 +119,14 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     from ..mechanics.transfer import REDUCED, reduced_freqresp
     from ..servo.closedloop import CLOSED_LOOP_TFS, closed_loop_freqresp
 
-    _plot(plot)
-    m = _read_model(model)
+    checked_plot(plot)
+    m = read_model(model)
     a = m.axis(axis)
-    f = np.array(_floats(freq_hz, "--freq-hz")) if freq_hz else np.logspace(0, 3.2, 200)
+    f = np.array(floats(freq_hz, "--freq-hz")) if freq_hz else np.logspace(0, 3.2, 200)
     if np.any(f <= 0):
         raise typer.BadParameter("--freq-hz values must be positive")
     if tf in CLOSED_LOOP_TFS:
-        _warn_unstable(m, f"model {model}", [axis.upper()])
+        warn_unstable(m, f"model {model}", [axis.upper()])
     if tf in REDUCED:
         H = reduced_freqresp(a.mechanics, tf, f, a.servo.current_bandwidth_hz)
     elif tf in CLOSED_LOOP_TFS:
@@ -143,7 +143,7 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag)}
             for fi, h in zip(f, H, strict=True)]
     if as_json:
-        _emit_json(rows)
+        emit_json(rows)
     else:
         for r in rows:
             h = complex(r["re"], r["im"])

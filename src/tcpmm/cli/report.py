@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ._app import _floats, _in_file, _positive, _read_model, _report_file, app, out
+from ._app import app, checked_report_file, floats, in_file, out, positive, read_model
 
 
 @app.command()
@@ -46,8 +46,8 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     runs = [[Path(f) for f in r.split(",")] for r in runs or []]
     measured, predicted = measured or [], predicted or []
     _check_inputs(output, model, ident_dir, spread, runs, measured, predicted, radius)
-    tol = None if tolerance_um is None else _positive(tolerance_um, "--tolerance-um") * 1e-6
-    machine = _read_model(model) if model is not None else None
+    tol = None if tolerance_um is None else positive(tolerance_um, "--tolerance-um") * 1e-6
+    machine = read_model(model) if model is not None else None
     sections, inputs = [], []
     if runs or measured:
         sections, inputs = _circle_sections(runs, measured, predicted, radius, centre, tol,
@@ -80,7 +80,7 @@ def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predic
     """
     if any(len(r) > 2 or not all(str(f) for f in r) for r in runs):
         raise typer.BadParameter("--run takes RUN.csv or RUN_CCW.csv,RUN_CW.csv")
-    _report_file(output, model, ident_dir, spread, *(f for r in runs for f in r), *measured,
+    checked_report_file(output, model, ident_dir, spread, *(f for r in runs for f in r), *measured,
                  *predicted)
     if len(measured) != len(predicted):
         raise typer.BadParameter(f"give one --predicted per --measured (got {len(measured)} "
@@ -119,8 +119,8 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, tole
     inputs : list of (str, Path)
         The files they come from, by role [-].
     """
-    c = _floats(centre, "--centre", 2)
-    circle = (_positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
+    c = floats(centre, "--centre", 2)
+    circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
     comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
                                f"comparison-{i + 1}", not runs and i == 0, tolerance_m)
                    for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
@@ -177,13 +177,13 @@ def _faults(machine, files) -> list:
     from ..analysis.runaway import run_faults
     from ..io.runfile import read_run
     from ..report import faults_section
-    from ._app import _esc, console
+    from ._app import console, esc
 
     if machine is None:
         return []
     found = [(f, fault) for f in files for fault in run_faults(machine, read_run(f))]
     for f, fault in found:
-        console.print(f"[yellow]warning:[/yellow] {_esc(str(f))}: {_esc(fault.text())}")
+        console.print(f"[yellow]warning:[/yellow] {esc(str(f))}: {esc(fault.text())}")
     return [faults_section(found)] if found else []
 
 
@@ -195,7 +195,7 @@ def _circle(path: Path, circle):
     from ..io.runfile import read_run
 
     run = read_run(path)
-    with _in_file(path):
+    with in_file(path):
         res = analyse_circle(run, *circle)
     dt = np.diff(run.time_s)
     return res, (1.0 / float(np.median(dt)) if dt.size else None)

@@ -9,22 +9,22 @@ import typer
 
 from ._app import (
     Sensor,
-    _emit_json,
-    _floats,
-    _in_file,
-    _interp_settings,
-    _load_command,
-    _output,
-    _plot,
-    _positive,
-    _progress,
-    _read_model,
-    _refuse_unstable,
-    _report_file,
     app,
+    checked_output,
+    checked_plot,
+    checked_report_file,
+    emit_json,
+    floats,
+    in_file,
+    interp_settings,
+    load_command,
     out,
+    positive,
+    progress_bar,
+    read_model,
+    refuse_unstable,
 )
-from ._circles import _diagnostics_json, _print_diagnostics, _print_passes
+from ._circles import diagnostics_json, print_diagnostics, print_passes
 from ._plane import PLANE_HELP, plane_option, run_plane_said
 from ._stream import (
     CHUNK_HELP,
@@ -48,9 +48,9 @@ def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Out
     from ..io.atomic import check_output_folder
 
     check_output_folder(out_dir)
-    _report_file(report)
-    tol = None if tolerance_um is None else _positive(tolerance_um, "--tolerance-um") * 1e-6
-    with _progress(len(DEMO_STEPS), "demo") as adv:
+    checked_report_file(report)
+    tol = None if tolerance_um is None else positive(tolerance_um, "--tolerance-um") * 1e-6
+    with progress_bar(len(DEMO_STEPS), "demo") as adv:
         res = run_demo(out_dir, progress=adv, console=out, report=report, tolerance_m=tol)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
     for k, v in res["files"].items():
@@ -83,25 +83,25 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     from ..io.runfile import is_parquet
     from ..sim.simulate import simulate as _simulate
 
-    _output(output, model, command, gcode)
+    checked_output(output, model, command, gcode)
     if record_period_s is not None:
-        _positive(record_period_s, "--record-period-s [s]")
-    m = _read_model(model)
+        positive(record_period_s, "--record-period-s [s]")
+    m = read_model(model)
     if not allow_unstable:
-        _refuse_unstable(m, model)
+        refuse_unstable(m, model)
     streams = gcode is not None and command is None and is_parquet(output)
     if chunk_blocks is not None and not streams:
         raise typer.BadParameter("only an NC program run to Parquet streams: give --gcode "
                                  "PROG.nc and -o RUN.parquet", param_hint="--chunk-blocks")
     if streams:
-        with _in_file(gcode):
-            res = simulate_to_parquet(m, gcode, output, _interp_settings(m),
+        with in_file(gcode):
+            res = simulate_to_parquet(m, gcode, output, interp_settings(m),
                                       record_period_s=record_period_s,
                                       chunk_blocks=chunk_blocks)
         _said_run(output, res, as_json)
         return
-    cmd = _load_command(command, gcode, m)
-    with _progress(len(m.axes), "simulate") as adv, _in_file(command or gcode):
+    cmd = load_command(command, gcode, m)
+    with progress_bar(len(m.axes), "simulate") as adv, in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
     run.write(output)
     _said_run(output, run.to_dict(), as_json)
@@ -110,7 +110,7 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 def _said_run(output: Path, summary: dict, as_json: bool) -> None:
     """Say the run file written: its samples and axes (``Run.to_dict``'s summary)."""
     if as_json:
-        _emit_json({"output": str(output), **summary})
+        emit_json({"output": str(output), **summary})
         return
     out.print(f"wrote {output} ({summary['samples']} samples, axes "
               f"{', '.join(summary['axes'])})")
@@ -144,15 +144,15 @@ def circle(run_file: Path = typer.Argument(
         raise typer.BadParameter("--direction must be ccw or cw")
     if direction is not None and other is not None:
         raise typer.BadParameter("give --direction or a second run, not both")
-    c = _floats(centre, "--centre", 2)
-    _positive(radius, "--radius [mm]")
-    _plot(plot)
-    _plot(diag_plot)
+    c = floats(centre, "--centre", 2)
+    positive(radius, "--radius [mm]")
+    checked_plot(plot)
+    checked_plot(diag_plot)
     results, axes = [], None
     for f in (run_file, other) if other is not None else (run_file,):
         run = read_run(f)
         axes = axes or run_plane_said(plane, run, f)
-        with _in_file(f):
+        with in_file(f):
             results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
                                           plane=axes,
                                           direction=direction.lower() if direction else None))
@@ -168,14 +168,14 @@ def circle(run_file: Path = typer.Argument(
         data = res.to_dict()
         if diag is not None:
             key = "diagnostics" if len(diag.directions) == 2 else "diagnostics_one_direction"
-            data[key] = _diagnostics_json(diag)
-        _emit_json(data)
+            data[key] = diagnostics_json(diag)
+        emit_json(data)
         return
     title = f"{run_file}" + (f" and {other}" if other is not None else "")
     title += f", {''.join(axes)} plane" if axes != ("X", "Y") else ""
-    _print_passes(res, title)
+    print_passes(res, title)
     if diag is not None:
-        _print_diagnostics(diag)
+        print_diagnostics(diag)
 
 
 def _diagnostics(res, results, asked: bool, sensor):
@@ -211,16 +211,16 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     from ..io.runfile import read_run
     from ._tables import print_table
 
-    c = _floats(centre, "--centre", 2)
+    c = floats(centre, "--centre", 2)
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
-    _positive(radius, "--radius [mm]")
-    _plot(plot)
-    _report_file(report, measured, predicted)
+    positive(radius, "--radius [mm]")
+    checked_plot(plot)
+    checked_report_file(report, measured, predicted)
     runs = [read_run(f) for f in (measured, predicted)]
     axes = run_plane_said(plane, runs[0], measured)
-    with _in_file(measured):
+    with in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
-    with _in_file(predicted):
+    with in_file(predicted):
         rp = analyse_circle(runs[1], radius * 1e-3, ctr, plane=axes)
     cmp = compare_circles(rm, rp)
     if plot is not None:
@@ -235,7 +235,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                                                     ("predicted", predicted)])
     judged = _judged(cmp, model, runs[1], radius, ctr, axes)
     if as_json:
-        _emit_json({**cmp.to_dict(), **({"tcp_judged": judged} if judged else {})})
+        emit_json({**cmp.to_dict(), **({"tcp_judged": judged} if judged else {})})
     else:
         print_table(cmp.to_pandas(), out, "measured - predicted")
         for line in cmp.notes():
@@ -255,7 +255,7 @@ def _judged(cmp, model, predicted_run, radius_mm: float, centre_m, plane):
     from ..path.command import Command
     from ..uncertainty import CircleTest, prediction_verdict
 
-    m = _read_model(model)
+    m = read_model(model)
     cmd = Command(predicted_run.time_s,
                   {n: a.cmd for n, a in predicted_run.axes.items() if a.cmd is not None})
     plane = tuple(plane) if plane else tuple(list(m.axes)[:2])
@@ -282,7 +282,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     from ..path.limits import feed_limits
     from ..path.program import program_to_interpolation
 
-    _output(output, program, model)
+    checked_output(output, program, model)
     if plot and output.suffix.lower() == ".png":
         raise typer.BadParameter(f"{output} would be overwritten by the plot of --plot; "
                                  "give the command file the extension .csv")
@@ -296,11 +296,11 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         if plot:
             raise typer.BadParameter("a program interpolated in chunks is not plotted",
                                      param_hint="--plot")
-        res = path_to_csv(program, output, _interp_settings(m), chunk_blocks)
+        res = path_to_csv(program, output, interp_settings(m), chunk_blocks)
         out.print(f"wrote {output} ({res['samples']} samples at {res['period_s'] * 1e3:g} "
                   f"ms, {res['duration_s']:.3f} s)")
         return
-    interp = program_to_interpolation(program, _interp_settings(m))
+    interp = program_to_interpolation(program, interp_settings(m))
     cmd = interp.command
     write_command_csv(cmd, output)
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "

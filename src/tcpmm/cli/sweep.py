@@ -11,15 +11,15 @@ import typer
 from ..errors import InputError
 from ._app import (
     Sensor,
-    _emit_json,
-    _esc,
-    _floats,
-    _positive,
-    _read_model,
-    _warn_unstable,
     app,
     console,
+    emit_json,
+    esc,
+    floats,
     out,
+    positive,
+    read_model,
+    warn_unstable,
 )
 from ._stream import CHUNK_HELP
 
@@ -72,10 +72,10 @@ def _program(gcode: Path | None, circle: str | None, centre: str):
         raise typer.BadParameter("give one of --gcode PROG.nc or --circle R,F")
     if gcode is not None:
         return GcodeProgram(read_program(gcode), str(gcode))
-    r, f = _floats(circle or "35,5000", "--circle R,F [mm, mm/min]", 2)
-    _positive(r, "--circle radius [mm]")
-    _positive(f, "--circle feed [mm/min]")
-    c = _floats(centre, "--centre", 2)
+    r, f = floats(circle or "35,5000", "--circle R,F [mm, mm/min]", 2)
+    positive(r, "--circle radius [mm]")
+    positive(f, "--circle feed [mm/min]")
+    c = floats(centre, "--centre", 2)
     return CircleProgram(r * 1e-3, f / 6e4, (c[0] * 1e-3, c[1] * 1e-3))
 
 
@@ -130,11 +130,11 @@ def _warn_faults(res) -> None:
         if fault or "unstable" in warning:
             bad.append(("; ".join(t for t in (fault, warning) if t), r["variant"]))
     for text, v in bad[:SAID_FAULTS]:
-        console.print(f"[yellow]warning:[/yellow] variant {_esc(str(v))}: {_esc(text)}")
+        console.print(f"[yellow]warning:[/yellow] variant {esc(str(v))}: {esc(text)}")
     if len(bad) > SAID_FAULTS:
         console.print(f"[yellow]warning:[/yellow] {len(bad) - SAID_FAULTS} more variants ran "
                       "away, saturated their current or are unstable: see the columns fault "
-                      f"and warning of {_esc(str(res.summary))}")
+                      f"and warning of {esc(str(res.summary))}")
 
 
 @app.command()
@@ -205,13 +205,13 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     from ..whatif.spread import MODEL_ERROR
     from ..whatif.sweep import DESIGNS, canonical_name, make_design, parameter_names, run_sweep
 
-    m = _read_model(model)
+    m = read_model(model)
     kind = "gcode" if prog[0] is not None else "circle"
     if list_params:
         for name in parameter_names(m, kind):
             out.print(name, highlight=False)
         return
-    _warn_unstable(m, f"model {model}")
+    warn_unstable(m, f"model {model}")
     if how["design"] not in DESIGNS:
         raise typer.BadParameter(f"--design must be one of {', '.join(DESIGNS)}")
     from ..whatif.sweep import parse_param
@@ -226,7 +226,7 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
             workers=workers, keep_runs=keep_runs, floors=floors, progress=progress))
     except (KeyboardInterrupt, SystemExit):
         console.print(f"stopped: the variants computed so far are kept in "
-                      f"{_esc(str(output))}; the same command goes on from there")
+                      f"{esc(str(output))}; the same command goes on from there")
         raise
     _finish(res, as_json, _report)
 
@@ -246,7 +246,7 @@ def _on_cluster(scheduler, description: str, run):
 def _finish(res, as_json: bool, report) -> None:
     """The result as JSON or as ``report`` says it; exit status 1 when any task failed."""
     if as_json:
-        _emit_json(res.to_dict())
+        emit_json(res.to_dict())
     else:
         report(res)
     if res.failed:
@@ -263,8 +263,8 @@ def _sweep_programs(models, programs: str, output, scheduler, workers, chunk_blo
     for name in models:
         if name in machines:
             raise typer.BadParameter(f"model {name} given twice")
-        machines[name] = _read_model(name)
-        _warn_unstable(machines[name], f"model {name}")
+        machines[name] = read_model(name)
+        warn_unstable(machines[name], f"model {name}")
     if workers is None and scheduler is None:
         workers = os.cpu_count() or 1  # as a sweep of variants: every local core
     res = _on_cluster(scheduler, "programs", lambda client, progress: run_programs(

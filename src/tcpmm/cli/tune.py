@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from ._app import _emit_json, _esc, _in_file, _interp_settings, _output, _read_model, app, out
+from ._app import app, checked_output, emit_json, esc, in_file, interp_settings, out, read_model
 
 _MARGINS = re.compile(r"^\s*([0-9.]+)\s*db\s*,\s*([0-9.]+)\s*deg\s*$", re.IGNORECASE)
 
@@ -41,19 +41,19 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
     gm, pm = parse_margins(margins)
     if output is not None:
-        _output(output, model, gcode)
-    m = _read_model(model)
+        checked_output(output, model, gcode)
+    m = read_model(model)
     command = None
     if gcode is not None:
         from ..path import program_to_command
 
-        with _in_file(gcode):
-            command = program_to_command(gcode, _interp_settings(m))
+        with in_file(gcode):
+            command = program_to_command(gcode, interp_settings(m))
     res = tune_and_predict(m, gm, pm, command)
     if output is not None:
         write_machine(res.tuned, output)
     if as_json:
-        _emit_json({"margins_required": {"gain_db": gm, "phase_deg": pm}, **res.to_dict(),
+        emit_json({"margins_required": {"gain_db": gm, "phase_deg": pm}, **res.to_dict(),
                     "output": None if output is None else str(output)})
         return
     _print_result(res, gm, pm)
@@ -69,7 +69,7 @@ def _print_result(res, gm, pm) -> None:
     from rich.table import Table
 
     for name, t in res.axes.items():
-        tab = Table(title=_esc(f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
+        tab = Table(title=esc(f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
                                f"{'met' if t.met else 'NOT MET, settings kept'}"))
         for c in ("", "before", "after"):
             tab.add_column(c, justify="right")
@@ -77,24 +77,24 @@ def _print_result(res, gm, pm) -> None:
         rows = [("K_vp [A s/rad]", b.K_vp, a.K_vp, 4), ("T_i = K_vp/K_vi [ms]", _ti(b), _ti(a), 2),
                 ("K_pp [1/s]", b.K_pp, a.K_pp, 2), ("k_ff [-]", b.k_ff, a.k_ff, 2)]
         for label, x, y, d in rows:
-            tab.add_row(_esc(label), _fmt(x, d), _fmt(y, d))
+            tab.add_row(esc(label), _fmt(x, d), _fmt(y, d))
         tab.add_row("filters", _filters(b), _filters(a))
         for loop in ("velocity", "position"):
             mb, ma = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
-            tab.add_row(_esc(f"{loop} gain margin [dB]"), _fmt(mb["gain_margin_db"]),
+            tab.add_row(esc(f"{loop} gain margin [dB]"), _fmt(mb["gain_margin_db"]),
                         _fmt(ma["gain_margin_db"]))
-            tab.add_row(_esc(f"{loop} phase margin [deg]"), _fmt(mb["phase_margin_deg"]),
+            tab.add_row(esc(f"{loop} phase margin [deg]"), _fmt(mb["phase_margin_deg"]),
                         _fmt(ma["phase_margin_deg"]))
-            tab.add_row(_esc(f"{loop} bandwidth [Hz]"), _fmt(mb["bandwidth_hz"]),
+            tab.add_row(esc(f"{loop} bandwidth [Hz]"), _fmt(mb["bandwidth_hz"]),
                         _fmt(ma["bandwidth_hz"]))
         out.print(tab)
         for note in t.notes:
-            out.print(f"  {_esc(note)}")
+            out.print(f"  {esc(note)}")
         for warning in t.warnings:
-            out.print(f"  [yellow]warning:[/yellow] {_esc(warning)}")
+            out.print(f"  [yellow]warning:[/yellow] {esc(warning)}")
     for note in res.notes:
-        out.print(_esc(note))
-    tab = Table(title=_esc("predicted path (TCP) [um]"))
+        out.print(esc(note))
+    tab = Table(title=esc("predicted path (TCP) [um]"))
     for c in ("", "before", "after"):
         tab.add_column(c, justify="right")
     for key, fig in res.path_before.items():

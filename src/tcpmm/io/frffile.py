@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import InputError
 from ..frfdata import FRF, coherence_rel_std
 from .csvutil import atomic_write_columns, read_header, read_numeric_csv
-from .matfile import _array, _load
+from .matfile import load, mat_array
 from .sinumerik import read_sinumerik_frf
 from .text import existing_file
 
@@ -191,13 +191,13 @@ def read_frf_mat(path) -> FRF:
         The response [unit].
     """
     path = existing_file(path, ".mat file", "MAT file")
-    names, _, get = _load(path)
+    names, _, get = load(path)
 
     def var(choices, what):
         name = _pick(names, choices)
         if name is None:
             return None, None
-        a = _array(get(name), name, path)
+        a = mat_array(get(name), name, path)
         if a.ndim > 2 or (a.ndim == 2 and 1 not in a.shape):
             raise InputError(f"variable '{name}' ({what}) has shape {a.shape}; store a "
                              "vector", file=path, column=name)

@@ -19,7 +19,7 @@ from tcpmm.io.text import existing_file
 _NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\.[A-Za-z]\w*)*)\s*(?:\(\s*:\s*,\s*(\d+)\s*\))?\s*$")
 
 
-def _load(path: Path):
+def load(path: Path):
     """The variables of a .mat file of any version.
 
     Parameters
@@ -40,7 +40,7 @@ def _load(path: Path):
 
 
 def _load_v73(path: Path):
-    """:func:`_load` of a MATLAB v7.3 file, which is HDF5: read a variable at a time
+    """:func:`load` of a MATLAB v7.3 file, which is HDF5: read a variable at a time
     (parameters and result as there)."""
     import h5py
 
@@ -85,7 +85,7 @@ def _load_v73(path: Path):
 
 
 def _load_v5(path: Path):
-    """:func:`_load` of a MATLAB v4 to v7 file, read whole by scipy (parameters and result
+    """:func:`load` of a MATLAB v4 to v7 file, read whole by scipy (parameters and result
     as there)."""
     from scipy.io import loadmat
 
@@ -119,7 +119,7 @@ def _load_v5(path: Path):
     return names, paths, get
 
 
-def _array(value, name: str, path: Path) -> np.ndarray:
+def mat_array(value, name: str, path: Path) -> np.ndarray:
     """A variable as a numeric ndarray (may be complex), or an InputError saying what it is."""
     if isinstance(value, dict):
         fields = ", ".join(f"{name}.{k}" for k in value) or "none"
@@ -157,7 +157,7 @@ def _fetcher(get, path: Path):
         value = get(m.group(1))
         if value is None:
             return None
-        value = _array(value, m.group(1), path)
+        value = mat_array(value, m.group(1), path)
         if m.group(2) is not None:
             k = int(m.group(2))
             if value.ndim == 2 and 1 in value.shape:  # a vector: v5 and v7.3 alike
@@ -244,7 +244,7 @@ def read_record_mat(
         The record, SI.
     """
     path = Path(path)
-    names, paths, get = _load(path)
+    names, paths, get = load(path)
     smap = parse_signal_map(variable_map, kind, file=path)
     fetch = _fetcher(get, path)
     try:

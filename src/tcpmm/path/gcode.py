@@ -49,7 +49,7 @@ def _where(file, line, column):
     return ", ".join(parts)
 
 
-class _Interpreter(GeometryMixin):
+class Interpreter(GeometryMixin):
     def __init__(self, file, start):
         self.file = file
         self.pos = tuple(float(c) for c in start)

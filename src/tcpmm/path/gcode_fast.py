@@ -40,7 +40,7 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
 
     Parameters
     ----------
-    it : tcpmm.path.gcode._Interpreter
+    it : tcpmm.path.gcode.Interpreter
         The interpreter, which gets the segments and the modal state after them [-].
     lines : list of str
         The program's lines [-].

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..io.text import file_lines
-from .gcode import _Interpreter
+from .gcode import Interpreter
 from .gcode_fast import collector_paused, plain_run
 from .gcode_lexer import tape_marker, tokenize
 
@@ -31,7 +31,7 @@ class _Progress:
     rest_warned: bool = False
 
 
-def run_program(text: str, file, start_position_m, fast: bool = True) -> _Interpreter:
+def run_program(text: str, file, start_position_m, fast: bool = True) -> Interpreter:
     """The interpreter after the program, its warnings not yet issued.
 
     Parameters
@@ -49,7 +49,7 @@ def run_program(text: str, file, start_position_m, fast: bool = True) -> _Interp
 
     Returns
     -------
-    _Interpreter
+    Interpreter
         With the segments and the warnings collected [-].
     """
     (it,) = interpret_chunks([file_lines(text)], file, start_position_m, fast)
@@ -57,7 +57,7 @@ def run_program(text: str, file, start_position_m, fast: bool = True) -> _Interp
 
 
 def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
-                     fast: bool = True) -> Iterator[_Interpreter]:
+                     fast: bool = True) -> Iterator[Interpreter]:
     """Interpret a program given as consecutive chunks of its lines.
 
     Parameters
@@ -73,11 +73,11 @@ def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
 
     Yields
     ------
-    _Interpreter
+    Interpreter
         The interpreter after each chunk; its ``segments`` are those made so far, which
         the caller may take and clear (``it.segments = []``) [-].
     """
-    it = _Interpreter(file, start_position_m)
+    it = Interpreter(file, start_position_m)
     st = _Progress()
     offset = 0
     for lines in chunks:
@@ -89,7 +89,7 @@ def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
         offset += len(lines)
 
 
-def _run_lines(it: _Interpreter, lines: list[str], offset: int, st: _Progress,
+def _run_lines(it: Interpreter, lines: list[str], offset: int, st: _Progress,
                fast: bool) -> None:
     """Interpret one chunk of lines, the first of them line ``offset + 1``."""
     k = 0
@@ -119,7 +119,7 @@ def _run_lines(it: _Interpreter, lines: list[str], offset: int, st: _Progress,
             return
 
 
-def _warn_rest(it: _Interpreter, lines: list[str], k: int, offset: int,
+def _warn_rest(it: Interpreter, lines: list[str], k: int, offset: int,
                st: _Progress) -> bool:
     """Warn of the first line with words from ``lines[k]`` on, after the program's end;
     whether there was one [-]."""

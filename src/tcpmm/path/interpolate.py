@@ -81,7 +81,7 @@ class Interpolation:
         return first, stop
 
 
-def _used_axes(p: PathArrays) -> list[int]:
+def used_axes(p: PathArrays) -> list[int]:
     used = {0, 1}
     if p.n:
         moved = np.any(np.abs(p.end - p.start) > 0.0, axis=0)
@@ -91,7 +91,7 @@ def _used_axes(p: PathArrays) -> list[int]:
     return sorted(used)
 
 
-def _check_samples(dur, dt: float, line, n_samples: int | None = None) -> None:
+def check_samples(dur, dt: float, line, n_samples: int | None = None) -> None:
     """Refuse a command of more than :data:`MAX_SAMPLES` samples, naming the line of the
     longest segment.
 
@@ -179,7 +179,7 @@ def _command(p: PathArrays, settings: InterpolatorSettings, filt: FilterShape, s
     pos = evaluate(p, seg, s)
     cum = np.concatenate([[0.0], np.cumsum(p.length)])
     path_s = cum[seg] + s
-    positions = {AXES[a]: apply_filter(pos[:, a], filt) for a in _used_axes(p)}
+    positions = {AXES[a]: apply_filter(pos[:, a], filt) for a in used_axes(p)}
     n_out = next(iter(positions.values())).size
     time_s = np.arange(n_out) * dt
     meta = {
@@ -237,11 +237,11 @@ def interpolate_detailed(
     durations = prof[:, 1] + prof[:, 4] + prof[:, 5]
     # before the compiled timeline counts the periods in 64-bit integers, which a feed of
     # 1e-21 mm/min overflowed into a command of two samples
-    _check_samples(np.where(p.kind == DWELL, p.dwell_s, durations), dt, p.line)
+    check_samples(np.where(p.kind == DWELL, p.dwell_s, durations), dt, p.line)
     settle = filt.kernel.size - 1
     k0, off, dur, k_end = ck.timeline(p.kind, durations, v, p.dwell_s, dt, settle)
     n_samples = max(int(k_end) + 1, 2)
-    _check_samples(dur, dt, p.line, n_samples)
+    check_samples(dur, dt, p.line, n_samples)
     seg, s = ck.sample(k0, off, dur, p.length, v, prof, n_samples, dt)
     seg_start = k0 * dt + off
     return Interpolation(

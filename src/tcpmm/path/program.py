@@ -69,7 +69,7 @@ def _check_text(path: Path, head: bytes) -> None:
         )
 
 
-def _is_path(x) -> bool:
+def is_path(x) -> bool:
     if isinstance(x, os.PathLike):
         return True
     if not isinstance(x, str) or "\n" in x or "\r" in x:
@@ -116,7 +116,7 @@ def program_to_interpolation(
         says what holds the feed back) [-].
     """
     file = None
-    if _is_path(path_or_text):
+    if is_path(path_or_text):
         file = Path(path_or_text)
         text = read_program(file)
     elif isinstance(path_or_text, str):

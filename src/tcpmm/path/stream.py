@@ -24,8 +24,8 @@ from .blend import CornerBlender
 from .filters import filter_shape
 from .gcode_stream import interpret_chunks
 from .geometry import evaluate
-from .interpolate import _used_axes
-from .program import _is_path, check_program_file
+from .interpolate import used_axes
+from .program import check_program_file, is_path
 from .segments import AXES, Arc
 from .settings import InterpolatorSettings
 from .stream_plan import PlanState, Samples, plan_piece
@@ -109,7 +109,7 @@ class StreamInterpolator:
         self.most_held = max(self.most_held, len(self.pending))
         if smp is None:
             return None
-        self.used_axes.update(AXES[a] for a in _used_axes(smp.path))
+        self.used_axes.update(AXES[a] for a in used_axes(smp.path))
         return self._filtered(smp)
 
     def _filtered(self, smp: Samples) -> CommandChunk:
@@ -169,7 +169,7 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
     """
     if chunk_blocks < 1:
         raise InputError(f"chunk_blocks must be at least 1, got {chunk_blocks}")
-    file = Path(program) if _is_path(program) else None
+    file = Path(program) if is_path(program) else None
     if file is None and not isinstance(program, str):
         raise InputError(f"expected an NC program file or its text, got "
                          f"{type(program).__name__}")

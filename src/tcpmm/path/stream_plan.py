@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import _compiled as ck
 from .geometry import DWELL, PathArrays, to_arrays
-from .interpolate import _check_samples
+from .interpolate import check_samples
 from .speedlimits import junction_limits, segment_limits
 
 
@@ -138,7 +138,7 @@ def plan_piece(segments: list, settings, filt, st: PlanState, final: bool):
     prof = ck.segment_profiles(q.length, vk, np.ascontiguousarray(vmax[:k]),
                                np.ascontiguousarray(acc[:k]), settings.jerk())
     durations = prof[:, 1] + prof[:, 4] + prof[:, 5]
-    _check_samples(np.where(q.kind == DWELL, q.dwell_s, durations), filt.period_s, q.line)
+    check_samples(np.where(q.kind == DWELL, q.dwell_s, durations), filt.period_s, q.line)
     nxt = None if final else (int(p.kind[k]), float(v[k]))
     k0, off, dur, k_end, k0n, offn = _timeline(q, durations, vk, filt, st, nxt)
     dt = filt.period_s

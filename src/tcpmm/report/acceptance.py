@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 
 from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
-from .circles import SENSOR_NAMES, _names
+from .circles import SENSOR_NAMES, file_names
 from .html import facts, number, para, section, table
 
 #: Term (without axis) -> (label, peak-to-valley radial error [m] from value [SI], radius [m]).
@@ -76,7 +76,7 @@ def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> 
               "not known"),
              ("sensor", SENSOR_NAMES.get(sensor, sensor))]
     if source:
-        items.append(("run", _names(source)))
+        items.append(("run", file_names(source)))
     return items
 
 

@@ -53,7 +53,7 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None):
     """
     body = para(f"Nominal radius {result.radius * 1e3:g} mm about "
                 f"({result.centre[0] * 1e3:g}, {result.centre[1] * 1e3:g}) mm"
-                + (f", run {_names(source)}" if source else "")
+                + (f", run {file_names(source)}" if source else "")
                 + ". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg after the error "
                   "terms fitted to the circle (centre, radius, servo and scale mismatch, "
                   "squareness; n/a: the circle starts or ends there); raw spikes: the radial "
@@ -107,7 +107,7 @@ def key_figures(result, diag=None) -> str:
     return facts(items)
 
 
-def _names(files) -> str:
+def file_names(files) -> str:
     """File names without their folders, joined [-]."""
     files = [files] if isinstance(files, str | Path) else files
     return " and ".join(Path(str(f)).name for f in files)
@@ -197,7 +197,7 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
         The TCP differences against the prediction's 90 % intervals, one row per direction
         and figure (``tcpmm.demo.judged_table2``) [um].
     """
-    files = _names(sources).replace(" and ", " against ")
+    files = file_names(sources).replace(" and ", " against ")
     body = para("Reversal spikes A-D and contour error of the measured run minus those of "
                 "the prediction, per direction and sensor; radial rms and max: point by "
                 "point difference of the radial error over the circle."

@@ -20,7 +20,7 @@ from ..model import Axis
 from ..result import AxisRun
 from . import layout as L
 from .inputs import kernel_inputs
-from .simulate import _record_every
+from .simulate import record_every
 
 
 class AxisStream:
@@ -43,7 +43,7 @@ class AxisStream:
                  quantise_feedback: bool = True):
         self.axis = axis
         self.T_c = float(cmd_period_s)
-        self.rec_every = _record_every(record_period_s, self.T_c, axis.servo.T_v)
+        self.rec_every = record_every(record_period_s, self.T_c, axis.servo.T_v)
         self.quantise = quantise_feedback
         self.buf = np.zeros(0)  # command samples from index j0 of the whole command on
         self.j0 = 0

@@ -19,7 +19,7 @@ from ..servo.sampled import sampled_spectral_radius
 from .inputs import kernel_inputs, run_kernel
 
 
-def _record_every(record_period_s: float | None, cmd_period_s: float, T_v: float) -> int:
+def record_every(record_period_s: float | None, cmd_period_s: float, T_v: float) -> int:
     """Velocity-loop steps per record [-]: the record period [s] (default the command
     period [s]) over the velocity-loop period ``T_v`` [s], refused unless a whole number."""
     rp = record_period_s if record_period_s is not None else cmd_period_s
@@ -64,7 +64,7 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     limit_blas_threads()
     t = np.asarray(time_s, dtype=float)
     T_v = axis.servo.T_v
-    rec_every = _record_every(record_period_s, float(t[1] - t[0]), T_v)
+    rec_every = record_every(record_period_s, float(t[1] - t[0]), T_v)
     n = int(np.floor((t[-1] - t[0]) / T_v + 1e-9)) + 1
     T_c = float(t[1] - t[0])
     pos = np.ascontiguousarray(position_m, dtype=float)
@@ -135,7 +135,7 @@ def _check_speeds(machine: Machine, command: Command) -> None:
                 "check the command's units (mm) and sampling", InputWarning, stacklevel=3)
 
 
-def _check_stability(machine: Machine) -> None:
+def check_stability(machine: Machine) -> None:
     """Warn of each axis whose sampled servo loop is unstable (from :func:`simulate`)."""
     for name, a in machine.axes.items():
         rho = sampled_spectral_radius(a.mechanics, a.servo)
@@ -205,7 +205,7 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     rp = record_period_s if record_period_s is not None else command.period_s
     names = list(machine.axes)
     _check_speeds(machine, command)
-    _check_stability(machine)
+    check_stability(machine)
 
     feed = current_feedforward_A or {}
 

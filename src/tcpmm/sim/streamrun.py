@@ -24,7 +24,7 @@ from ..path.settings import AXES, InterpolatorSettings
 from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
 from ..result import Run
 from .axisstream import AxisStream
-from .simulate import _check_stability
+from .simulate import check_stability
 
 
 def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | None = None,
@@ -78,7 +78,7 @@ def _checked_settings(machine: Machine, settings: InterpolatorSettings | None):
     if extra:
         raise InputError(f"an NC program drives X, Y and Z; the machine's axis "
                          f"{', '.join(extra)} has no command from it")
-    _check_stability(machine)
+    check_stability(machine)
     return settings
 
 

@@ -20,7 +20,7 @@ from tcpmm.errors import InputError
 __all__ = ["central_difference", "decimate", "lowpass_filtfilt"]
 
 
-def _as_1d(x, name: str) -> np.ndarray:
+def as_1d(x, name: str) -> np.ndarray:
     a = np.asarray(x, dtype=float).ravel()
     if a.size == 0 or not np.all(np.isfinite(a)):
         raise InputError(f"{name} must be a non-empty array of finite numbers", column=name)
@@ -46,7 +46,7 @@ def lowpass_filtfilt(x, dt: float, cutoff: float, order: int = 4) -> np.ndarray:
     numpy.ndarray
         Filtered signal, same length and unit as ``x`` [any].
     """
-    x = _as_1d(x, "x")
+    x = as_1d(x, "x")
     nyq = 0.5 / dt
     if not 0.0 < cutoff < nyq:
         raise InputError(
@@ -75,7 +75,7 @@ def central_difference(x, dt: float) -> np.ndarray:
     numpy.ndarray
         ``dx/dt``, same length as ``x`` [unit of x per s].
     """
-    x = _as_1d(x, "x")
+    x = as_1d(x, "x")
     if x.size < 2:
         raise InputError("need at least 2 samples to differentiate", column="x")
     dx = np.empty_like(x)

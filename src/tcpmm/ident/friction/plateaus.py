@@ -16,7 +16,7 @@ import numpy as np
 
 from tcpmm.errors import InputError
 
-from ..frf.signals import _as_1d
+from ..frf.signals import as_1d
 
 __all__ = ["Plateau", "find_plateaus"]
 
@@ -78,9 +78,9 @@ def find_plateaus(t, v, effort, *, v_min: float | None = None, rel_tol: float = 
     list of Plateau
         Plateaus in time order [-].
     """
-    t = _as_1d(t, "t")
-    v = _as_1d(v, "v")
-    effort = _as_1d(effort, "effort")
+    t = as_1d(t, "t")
+    v = as_1d(v, "v")
+    effort = as_1d(effort, "effort")
     if not (t.size == v.size == effort.size):
         raise InputError("t, v and effort must have the same length", column="effort")
     sgn = np.sign(v) * _steady(t, v, v_min, rel_tol, min_duration)

@@ -21,7 +21,7 @@ from scipy import optimize
 from tcpmm.errors import InputError
 
 from ...io.bundle import read_friction_csv as read_record
-from ..frf.signals import _as_1d, central_difference, lowpass_filtfilt
+from ..frf.signals import as_1d, central_difference, lowpass_filtfilt
 from .estimate import ParameterEstimate
 from .plateaus import Plateau, find_plateaus
 
@@ -99,8 +99,8 @@ def fit_stribeck(
         no separate std when tied) with standard deviations from the Jacobian
         (``sigma^2 (J^T J)^-1``) [-].
     """
-    v = _as_1d(velocity, "velocity")
-    f = _as_1d(force, "force")
+    v = as_1d(velocity, "velocity")
+    f = as_1d(force, "force")
     if v.size != f.size:
         raise InputError("velocity and force must have the same length", column="force")
     lacking = _too_few_plateaus(v, tie_static)
@@ -286,9 +286,9 @@ def identify_stribeck_run(t, position, effort, *, cutoff: float = 20.0, delta: f
     tuple
         ``(ParameterEstimate, list of Plateau)`` [-].
     """
-    t = _as_1d(t, "t")
-    x = _as_1d(position, "position")
-    u = _as_1d(effort, "effort")
+    t = as_1d(t, "t")
+    x = as_1d(position, "position")
+    u = as_1d(effort, "effort")
     if not (t.size == x.size == u.size):
         raise InputError("time, position and effort must have the same length", column="effort")
     dts = np.diff(t)

@@ -32,7 +32,7 @@ from scipy.optimize import lsq_linear, minimize_scalar
 
 from tcpmm.errors import InputError
 
-from ..frf.signals import _as_1d, central_difference, lowpass_filtfilt
+from ..frf.signals import as_1d, central_difference, lowpass_filtfilt
 from .estimate import ParameterEstimate
 
 __all__ = ["fit_stribeck_transients"]
@@ -157,7 +157,7 @@ def fit_stribeck_transients(t, position, force, *, slowest_plateau: float,
     InputError
         When the record has too little motion below the slowest plateau in a direction.
     """
-    t, x, u = _as_1d(t, "t"), _as_1d(position, "position"), _as_1d(force, "force")
+    t, x, u = as_1d(t, "t"), as_1d(position, "position"), as_1d(force, "force")
     p = _prepare(t, x, u, cutoff_hz, v_min)
     _require_slow_motion(p["v"][p["moving"]], slowest_plateau)
     vs = _profile_min(p, delta)

@@ -271,7 +271,7 @@ def _on_client(client, pairs, args, progress) -> list:
 
     from distributed import as_completed
 
-    from .run import RETRIES, SchedulerLost, _scheduler_lost
+    from .run import RETRIES, SchedulerLost, scheduler_lost
 
     token = uuid.uuid4().hex[:8]
     models = {}
@@ -287,7 +287,7 @@ def _on_client(client, pairs, args, progress) -> list:
         try:
             rows[i] = fut.result()
         except Exception as exc:  # the worker lost, or the scheduler
-            if _scheduler_lost(client, exc):
+            if scheduler_lost(client, exc):
                 raise SchedulerLost(client) from None
             name, _, prog = pairs[i]
             rows[i] = {**dict.fromkeys(COLUMNS), "model": name, "program": str(prog),

@@ -183,7 +183,7 @@ def _on_client(client, task, args, todo, sink, window: int | None = None) -> lis
         try:
             results = fut.result()
         except Exception as exc:  # a worker lost for good, or a fault of the code
-            if _scheduler_lost(client, exc):
+            if scheduler_lost(client, exc):
                 raise SchedulerLost(client) from None
             results = [exc] * len(chunk)
         for v, result in zip(chunk, results, strict=True):
@@ -216,7 +216,7 @@ class SchedulerLost(TcpmmError):
                          "variants computed so far are kept)")
 
 
-def _scheduler_lost(client, exc: Exception) -> bool:
+def scheduler_lost(client, exc: Exception) -> bool:
     """Whether a task's error is the loss of the scheduler rather than its own [-]."""
     from distributed.comm import CommClosedError
 

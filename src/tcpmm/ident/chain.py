@@ -14,6 +14,7 @@ gets the sensitivities of its TCP spikes to what the friction runs leave open.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from .._threads import limit_blas_threads
@@ -29,9 +30,10 @@ from .friction.split import stribeck_from_record
 from .gates.columns import check_record_units, column_findings
 from .gates.finding import SuspectModelError
 from .gates.findings import axis_findings
+from .gates.masses import check_static_gains
 from .gates.timebase import time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
-from .options import IdentifyOptions
+from .options import MIN_COHERENCE, IdentifyOptions
 from .steps.axismodel import AxisModel, build_axis
 from .steps.excitationcheck import ExcitationCheck, check_excitation
 from .steps.fitcontext import FitContext, fit_context
@@ -131,8 +133,25 @@ def run_axis(run: AxisRun, options: IdentifyOptions) -> AxisIdentification:
     """
     limit_blas_threads()
     for name, step in AXIS_STEPS:
-        run = replace(run, **{name: step(run, options)})
+        try:
+            run = replace(run, **{name: step(run, options)})
+        except InputError:
+            _static_gains_first(run)
+            raise
     return run.identification()
+
+
+def _static_gains_first(run: AxisRun) -> None:
+    """Where a step fails on mechanics beyond any machine tool, a column swapped or in the
+    wrong unit is the likely cause, and the FRFs' static gains, which need no fitted model,
+    say which: raise that instead (:func:`~tcpmm.ident.gates.masses.check_static_gains`)."""
+    if run.frfs is None:
+        return
+    sweep = run.sweep.source or f"{run.name}/sweep.csv"
+    found = check_static_gains(run.name, run.frfs.frfs, run.cfg.lead_m / (2 * math.pi), sweep,
+                               MIN_COHERENCE)
+    if found:
+        raise SuspectModelError(found) from None
 
 
 def identify_axis(

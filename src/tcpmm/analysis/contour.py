@@ -36,10 +36,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream
 from .corners import dot_rows as _dot
 from .corners import path_length
+from .plane import plane_axes, run_plane
 
 SENSORS = ("motor", "scale", "tcp")
 #: rows of actual points handled at once [-]
@@ -292,8 +294,6 @@ def _run_signals(run, command, axes):
 
 def _axes(run, plane):
     """``(axes, signed)`` for a plane given, ``"auto"`` or ``None`` (3-D)."""
-    from .plane import plane_axes, run_plane
-
     if plane is None or str(plane).upper() == "3D":
         names = [a for a in ("X", "Y", "Z") if a in run.axes and run.axes[a].cmd is not None]
         return tuple(names or run.axes), False
@@ -335,8 +335,6 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         if not (np.isfinite(v) and v > 0):
             raise InputError(f"{what} must be a positive number, got {v}")
     if not isinstance(run, Run):  # a table in the run-file layout
-        from ..io.runfile import run_from_table
-
         run = run_from_table(run)
     axes, signed = _axes(run, plane)
     t, tc, cmd, actual = _run_signals(run, command, axes)

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..io.text import file_lines
 from .blend import CornerBlender
 from .filters import filter_shape
 from .gcode_stream import interpret_chunks
@@ -203,7 +204,6 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
 
 
 def _text_chunks(text: str, n: int) -> Iterator[list[str]]:
-    from ..io.text import file_lines
 
     lines = file_lines(text)
     for i in range(0, max(len(lines), 1), n):

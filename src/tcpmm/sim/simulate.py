@@ -14,6 +14,7 @@ from ..analysis.runaway import say_faults
 from ..errors import InputError, InputWarning
 from ..model import Axis, Machine
 from ..path.command import Command
+from ..path.settings import AXES, InterpolatorSettings
 from ..result import AxisRun, Run
 from ..servo.sampled import sampled_spectral_radius
 from .inputs import kernel_inputs, run_kernel
@@ -106,7 +107,6 @@ def _check_speeds(machine: Machine, command: Command) -> None:
     The limit is 1.05 times the rapid traverse of the model's interpolation settings, or
     :data:`SPEED_LIMIT_M_PER_S` when it has none.
     """
-    from ..path.settings import AXES, InterpolatorSettings
 
     rapid = {}
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})

@@ -22,8 +22,18 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ...errors import InputError
+from ..._heap import keep_freed_memory
+from ...analysis.contour_stream import stream_contour, travel_positions
+from ...analysis.plane import run_plane
+from ...analysis.runaway_stream import FaultWatch
+from ...errors import InputError, InputWarning
 from ...io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
+from ...io.runfile import run_parquet_writer
+from ...path.settings import InterpolatorSettings
+from ...path.stream import CHUNK_BLOCKS
+from ...result import AxisRun, Run
+from ...sim.streamrun import stream_simulate
+from .run import RETRIES, SchedulerLost, local_cluster, scheduler_lost
 
 #: file endings taken as NC programs in a folder [-]
 PROGRAM_SUFFIXES = (".nc", ".ngc", ".gcode", ".g", ".tap", ".mpf", ".spf", ".cnc", ".iso")
@@ -78,8 +88,6 @@ def _warnings_of_this_task():
     """The warnings of the task running in this thread, in a list: a Dask worker runs
     tasks in threads, and ``warnings.catch_warnings`` swaps the process's warning state,
     which one task's exit would restore under another's feet [-]."""
-    from ...errors import InputWarning
-
     with _hook_lock:
         if warnings.showwarning is not _show:
             _show.passed_on = warnings.showwarning
@@ -109,11 +117,6 @@ def _zero_length(said) -> tuple[int, str]:
 def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict:
     """Stream ``program`` through ``machine`` into the Parquet ``run_file``; its blocks,
     samples, duration, faults and warnings [-], [s]."""
-    from ...analysis.runaway_stream import FaultWatch
-    from ...io.runfile import run_parquet_writer
-    from ...path.settings import InterpolatorSettings
-    from ...sim.streamrun import stream_simulate
-
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})
     watch, samples, last_t, lines = FaultWatch(machine), 0, 0.0, 0
     with _warnings_of_this_task() as said, run_parquet_writer(run_file) as write:
@@ -153,10 +156,6 @@ def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
         corners, else ``None``) [-], [um].
     """
     import numpy as np
-
-    from ...analysis.contour_stream import stream_contour, travel_positions
-    from ...analysis.plane import run_plane
-    from ...result import AxisRun, Run
 
     travel = travel_positions(run_file)
     ends = Run(np.array([0.0, 1.0]), {a: AxisRun(cmd=v) for a, v in travel.items()})
@@ -209,8 +208,6 @@ def program_task(model: str, machine, program, chunk_blocks: int,
     dict
         The row, columns :data:`COLUMNS` [-], [s], [um].
     """
-    from ..._heap import keep_freed_memory
-
     keep_freed_memory()
     t0 = time.perf_counter()
     row = dict.fromkeys(COLUMNS)
@@ -270,8 +267,6 @@ def _on_client(client, pairs, args, progress) -> list:
     import uuid
 
     from distributed import as_completed
-
-    from .run import RETRIES, SchedulerLost, scheduler_lost
 
     token = uuid.uuid4().hex[:8]
     models = {}
@@ -339,8 +334,6 @@ def run_programs(models: dict, programs, out_dir, *, client=None, workers: int |
     progress : callable, optional
         Called with the pairs done and their total [-].
     """
-    from ...path.stream import CHUNK_BLOCKS
-
     output_folder(out_dir)  # a folder that cannot be written is refused before any work
     t0 = time.perf_counter()
     pairs = [(name, m, Path(p)) for name, m in models.items() for p in programs]
@@ -359,8 +352,6 @@ def run_programs(models: dict, programs, out_dir, *, client=None, workers: int |
 def _on_local_cluster(workers: int, pairs, args, progress) -> list:
     """The tasks on a Dask cluster of ``workers`` processes on this machine [-]."""
     from distributed import Client
-
-    from .run import local_cluster
 
     with local_cluster(workers) as cluster, Client(cluster) as client:
         return _on_client(client, pairs, args, progress)

@@ -17,7 +17,6 @@ import numpy as np
 from ..errors import InputError
 from ..result import RUN_COLUMNS, AxisRun, Run
 from .atomic import atomic_path
-from .csvutil import no_rows_error, parse_error, pipe_text, read_header, unreadable
 from .runwrite import (  # noqa: F401  (the writers are part of this module's interface)
     PARQUET_SUFFIXES,
     is_parquet,
@@ -114,6 +113,9 @@ def read_run_csv(path) -> Run:
         The CSV file [-].
     """
     import pandas as pd
+
+    # the CSV readers load pandas, which a command that only writes a run never needs
+    from .csvutil import no_rows_error, parse_error, pipe_text, read_header, unreadable
 
     path = Path(path)
     text = pipe_text(path, "run file")

@@ -66,19 +66,27 @@ def interleaved(tools: dict, rounds: int, clock=time.perf_counter) -> dict:
     return {k: (min(v), float(np.median(v)), outs[k]) for k, v in times.items()}
 
 
-def circle_kernel(machine):
-    """A function running the kernel on every axis of ``machine`` for the paper's circle,
-    one axis after the other; and the circle's duration [s]."""
+def circle_inputs(machine):
+    """Per axis of ``machine`` for the paper's circle: the axis, its command, the steps the
+    kernel takes and the kernel's inputs; and the command's time [s]."""
     cmd = paper_circle_command(machine)
     t = cmd.time_s
     T_c = float(t[1] - t[0])
-    jobs = []
+    axes = []
     for name, ax in machine.axes.items():
         pos = np.ascontiguousarray(cmd.positions.get(name, np.zeros_like(t)))
         n = int(np.floor((t[-1] - t[0]) / ax.servo.T_v + 1e-9)) + 1
         every = round(T_c / ax.servo.T_v)
-        k = kernel_inputs(ax, pos, np.zeros(t.size), T_c, n, rec_every=every)
-        jobs.append(k.as_args(k.empty_record()))
+        axes.append((ax, pos, n, kernel_inputs(ax, pos, np.zeros(t.size), T_c, n,
+                                               rec_every=every)))
+    return axes, t
+
+
+def circle_kernel(machine):
+    """A function running the kernel on every axis of ``machine`` for the paper's circle,
+    one axis after the other; and the circle's duration [s]."""
+    axes, t = circle_inputs(machine)
+    jobs = [k.as_args(k.empty_record()) for _, _, _, k in axes]
 
     def run():
         for args in jobs:
@@ -110,14 +118,9 @@ def compute_floor(machine):
     """A function running the bare state update on every axis of ``machine`` for as many
     steps as the kernel takes on the paper's circle, with that axis's matrices and a
     current that follows the command; and the number of steps [-]."""
-    cmd = paper_circle_command(machine)
-    t = cmd.time_s
-    T_c = float(t[1] - t[0])
+    axes, t = circle_inputs(machine)
     jobs = []
-    for name, ax in machine.axes.items():
-        pos = np.ascontiguousarray(cmd.positions.get(name, np.zeros_like(t)))
-        n = int(np.floor((t[-1] - t[0]) / ax.servo.T_v + 1e-9)) + 1
-        k = kernel_inputs(ax, pos, np.zeros(t.size), T_c, n)
+    for ax, pos, n, k in axes:
         AdT, BdT, x0 = k.as_args(k.empty_record())[:3]
         # a current of the order of the kernel's, changing every step: nothing to hoist
         u = np.interp(np.arange(n) * ax.servo.T_v, t - t[0], pos) * 100.0

@@ -236,17 +236,16 @@ def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
 def _with_headroom(command, machine, headroom):
     """The command at the axes' full limits, the one the correction is learned on, and
     the headroom: only an NC program is planned anew [-]."""
-    from .compensate.headroom import DEFAULT_HEADROOM, program_with_headroom
-    from .errors import InputError
+    from .compensate.headroom import headroom_for, program_with_headroom
     from .path import Command, InterpolatorSettings
     from .path.program import PROGRAM_SUFFIXES
 
-    if isinstance(command, Command) or Path(command).suffix.lower() not in PROGRAM_SUFFIXES:
-        if headroom:
-            raise InputError("headroom re-plans an NC program; a command is already timed")
+    is_program = (not isinstance(command, Command)
+                  and Path(command).suffix.lower() in PROGRAM_SUFFIXES)
+    headroom = headroom_for(is_program, headroom)
+    if not is_program:
         cmd = as_command(command, machine)
         return cmd, cmd, 0.0
-    headroom = DEFAULT_HEADROOM if headroom is None else headroom
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})
     full, planned = program_with_headroom(Path(command), settings, headroom)
     return full, planned, headroom

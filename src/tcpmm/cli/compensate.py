@@ -138,15 +138,12 @@ def _planned(command, gcode, machine, headroom):
     headroom : float or None
         ``--headroom`` [-].
     """
-    from ..compensate.headroom import DEFAULT_HEADROOM, program_with_headroom
+    from ..compensate.headroom import headroom_for, program_with_headroom
 
+    headroom = headroom_for(gcode is not None and command is None, headroom)
     if gcode is None or command is not None:
-        if headroom:
-            raise typer.BadParameter("--headroom re-plans an NC program (--gcode); a "
-                                     "command file is already timed")
         cmd = load_command(command, gcode, machine)
         return cmd, cmd, 0.0
-    headroom = DEFAULT_HEADROOM if headroom is None else headroom
     with in_file(gcode):
         full, planned = program_with_headroom(gcode, interp_settings(machine), headroom)
     return full, planned, headroom

@@ -18,6 +18,25 @@ from ..path.settings import InterpolatorSettings
 DEFAULT_HEADROOM = 0.25
 
 
+def headroom_for(is_program: bool, headroom: float | None) -> float:
+    """The headroom a command gets: the one asked or :data:`DEFAULT_HEADROOM` for an NC
+    program; 0 for a command already timed, which cannot be planned anew.
+
+    Parameters
+    ----------
+    is_program : bool
+        Whether the command is an NC program [-].
+    headroom : float or None
+        The share asked, ``None`` for the default [-].
+    """
+    if not is_program:
+        if headroom:
+            raise InputError("headroom re-plans an NC program (--gcode); a command file is "
+                             "already timed")
+        return 0.0
+    return DEFAULT_HEADROOM if headroom is None else headroom
+
+
 def planned_settings(settings: InterpolatorSettings, headroom: float) -> InterpolatorSettings:
     """The interpolator settings with the path's and every axis's acceleration and the
     path's jerk times ``1 - headroom``.

@@ -1,3 +1,6 @@
+import fcntl
+import os
+import pickle
 import warnings
 from pathlib import Path
 
@@ -70,3 +73,31 @@ def bench_path(letter: str) -> Path:
             pytest.fail(msg)
         pytest.skip(msg)
     return d
+
+
+@pytest.fixture(scope="session")
+def once(tmp_path_factory):
+    """``once(key, make)``: ``make()``, computed once per test run and shared by the workers
+    of ``pytest -n`` through a pickle in the run's temporary folder (identifying a
+    reference machine takes half a minute, and the tests of one are spread over the
+    workers); a lock makes the others wait for the first [-]."""
+    base = tmp_path_factory.getbasetemp()
+    folder = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "once"
+    folder.mkdir(exist_ok=True)
+    memo = {}
+
+    def get(key, make):
+        if key not in memo:
+            path = folder / f"{key}.pickle"
+            with open(folder / f"{key}.lock", "w") as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX)
+                if path.exists():
+                    memo[key] = pickle.loads(path.read_bytes())
+                else:
+                    memo[key] = make()
+                    part = path.with_suffix(".part")
+                    part.write_bytes(pickle.dumps(memo[key]))
+                    part.replace(path)
+        return memo[key]
+
+    return get

@@ -29,7 +29,6 @@ from tcpmm.sim.simulate import simulate
 R = 0.035  # [m]
 CASES = ("ccw", "cw", "ccw_fast", "cw_fast")
 SPIKE_TARGET_UM, CONTOUR_TARGET_UM = 1.0, 0.5
-_MODELS = {}
 
 #: Cases that miss the target today, and by how much (spike / contour, um): by letter and
 #: kind, or by letter, kind and case.
@@ -42,15 +41,23 @@ KNOWN: dict = {}
 SHARE_TOL = 0.03
 
 
-def identified(letter):
-    if letter not in _MODELS:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            _MODELS[letter] = identify_bundle(read_bundle(bench_path(letter) / "bundle"))
-    return _MODELS[letter]
+@pytest.fixture(scope="module")
+def identified(once):
+    """``identified(letter)``: the identification of reference machine ``letter`` from its
+    bundle, once for the whole run [-]."""
+
+    def get(letter):
+        def make():
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                return identify_bundle(read_bundle(bench_path(letter) / "bundle"))
+
+        return once(f"bench_{letter}", make)
+
+    return get
 
 
-def tcp_row(letter, case):
+def tcp_row(identified, letter, case):
     d = bench_path(letter)
     run = simulate(identified(letter).machine, read_command_csv(d / f"circle_{case}_cmd.csv"))
     meas = analyse_circle(read_run_csv(d / f"circle_{case}_meas.csv"), R)
@@ -64,7 +71,7 @@ def known(letter, what, case=None):
 
 
 @pytest.mark.parametrize("letter", ["c", "d", "e"])
-def test_identification_passes_its_gates_and_every_axis_moves(letter):
+def test_identification_passes_its_gates_and_every_axis_moves(letter, identified):
     """No physically absurd parameter (identify_bundle raises on one), and in every
     predicted circle each axis travels the span of its command: none sits stuck."""
     idn = identified(letter)
@@ -72,23 +79,23 @@ def test_identification_passes_its_gates_and_every_axis_moves(letter):
         fr = a.friction
         for c in (fr.screw, fr.guideway):
             assert c.fs_pos < 2.0 * c.fc_pos and c.fs_neg < 2.0 * c.fc_neg
-    _, run = tcp_row(letter, "ccw")
+    _, run = tcp_row(identified, letter, "ccw")
     for name, r in run.axes.items():
         assert r.scale.max() - r.scale.min() > 0.99 * (r.cmd.max() - r.cmd.min()), name
 
 
 @pytest.mark.parametrize("letter, case", [
     pytest.param(x, c, marks=known(x, "spikes", c)) for x in "cde" for c in CASES])
-def test_tcp_reversal_spikes_within_1um(letter, case):
-    row, _ = tcp_row(letter, case)
+def test_tcp_reversal_spikes_within_1um(letter, case, identified):
+    row, _ = tcp_row(identified, letter, case)
     worst = max(abs(row[f"spike_{q}_um"]) for q in "BCD")  # A lies on the feed-in
     assert worst < SPIKE_TARGET_UM, worst
 
 
 @pytest.mark.parametrize("letter, case", [
     pytest.param(x, c, marks=known(x, "contour", c)) for x in "cde" for c in CASES])
-def test_tcp_contour_error_within_half_a_micrometre(letter, case):
-    row, _ = tcp_row(letter, case)
+def test_tcp_contour_error_within_half_a_micrometre(letter, case, identified):
+    row, _ = tcp_row(identified, letter, case)
     assert abs(row["contour_error_um"]) < CONTOUR_TARGET_UM, row["contour_error_um"]
 
 
@@ -100,7 +107,7 @@ INERTIA_TOL = 0.02
 
 
 @pytest.mark.parametrize("letter", ["c", "d", "e"])
-def test_inertias_and_stiffnesses_are_the_machines_own(letter):
+def test_inertias_and_stiffnesses_are_the_machines_own(letter, identified):
     truth = machine_from_truth(bench_path(letter) / "truth.yaml")
     for name, a in identified(letter).axes.items():
         m, t = a.axis.mechanics, truth.axes[name].mechanics
@@ -109,7 +116,7 @@ def test_inertias_and_stiffnesses_are_the_machines_own(letter):
 
 
 @pytest.mark.parametrize("letter", ["c", "d", "e"])
-def test_the_share_comes_from_the_tcp_deflection_of_the_sweep(letter):
+def test_the_share_comes_from_the_tcp_deflection_of_the_sweep(letter, identified):
     """Every axis's guideway share is the one its travelling sweep's column deflection
     implies (``tcpmm.ident.friction.sweepforce``), near the truth of the reference simulator."""
     truth = machine_from_truth(bench_path(letter) / "truth.yaml")
@@ -122,7 +129,7 @@ def test_the_share_comes_from_the_tcp_deflection_of_the_sweep(letter):
         assert abs(split.guideway_share - true) < SHARE_TOL, (name, split.guideway_share, true)
 
 
-def test_what_the_friction_runs_leave_open_is_measured_in_spikes():
+def test_what_the_friction_runs_leave_open_is_measured_in_spikes(identified):
     """Without a TCP record, machine C's Y has only its friction runs, on a 1 um scale at
     speeds locked to its steps: the share stays open and a lost motion of up to three
     standard deviations could hide; identify measures in spikes what each could do (true
@@ -153,7 +160,7 @@ def test_a_standing_sweep_is_named_with_its_cause():
     assert all("travels at constant speed" in s for s in said)
 
 
-def test_an_identification_shares_the_result_protocol(tmp_path):
+def test_an_identification_shares_the_result_protocol(tmp_path, identified):
     """``to_pandas`` (the parameters), ``to_dict`` (JSON-ready), ``plot`` returning the
     Bode figure of one axis, and a report folder whose entries are the files written."""
     import json
@@ -173,7 +180,7 @@ def test_an_identification_shares_the_result_protocol(tmp_path):
 
 
 @pytest.mark.parametrize("letter", ["c", "d", "e"])
-def test_a_share_from_the_sweep_carries_its_spread_into_the_model(letter):
+def test_a_share_from_the_sweep_carries_its_spread_into_the_model(letter, identified):
     """The model's share uncertainty, which ``tcpmm spread`` draws from, is the sweep
     share's standard deviation (an infinite one drew any share and settled no point)."""
     idn = identified(letter)
@@ -201,7 +208,7 @@ def _measured_figures(letter):
 
 
 @pytest.mark.parametrize("letter", ["c", "d", "e", "h", "r05", "r17"])
-def test_a_firm_figure_meets_its_target_and_the_interval_holds_the_measurement(letter):
+def test_a_firm_figure_meets_its_target_and_the_interval_holds_the_measurement(letter, identified):
     """On the measured circles, no figure called firm misses its target, and at least nine
     in ten measured figures lie inside their predicted 90 % interval (the calibration of
     docs/validation/calibration.md). H's Y share, read from a nut deflection of about one
@@ -223,7 +230,7 @@ def test_a_firm_figure_meets_its_target_and_the_interval_holds_the_measurement(l
         assert "backlash" in {r["quantity"] for r in v.axes["Y"]["open"]}
 
 
-def test_a_lost_motion_of_one_scale_step_leaves_the_share_to_the_sweep():
+def test_a_lost_motion_of_one_scale_step_leaves_the_share_to_the_sweep(identified):
     """Machine H's Y friction runs show 1.6 um of lost motion on a 1 um scale, where the
     machine has none: within two scale steps it is not taken as found, so the travelling
     sweep gives the share (true 0.665 and 0.676: guideway 350 and 450 N against screws of

@@ -1,4 +1,5 @@
 import fcntl
+import hashlib
 import os
 import pickle
 import warnings
@@ -34,16 +35,21 @@ def unseen():
 
 
 @pytest.fixture(scope="session")
-def identify_unseen(unseen):
-    """``identify(seed, index, ax, sweep_seed=0, **options)``: axis ``ax`` of machine
-    ``index`` of the unseen machines with play of seed ``seed`` (:mod:`studies.unseen`),
-    identified from its sweep and friction runs (``options`` go to ``identify_axis``);
-    returns the machine, the axis, the identification and the warnings given on the way
-    [-]."""
+def identify_unseen(unseen, once):
+    """``identify(seed, index, ax, sweep_seed=0, shared=False, **options)``: axis ``ax`` of
+    machine ``index`` of the unseen machines with play of seed ``seed``
+    (:mod:`studies.unseen`), identified from its sweep and friction runs (``options`` go
+    to ``identify_axis``); returns the machine, the axis, the identification and the
+    warnings given on the way. ``shared``: once per test run, for tests that change
+    nothing in the package on the way [-]."""
     from tcpmm.ident.pipeline import identify_axis
     from tcpmm.machines.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
 
-    def identify(seed, index, ax, sweep_seed=0, **options):
+    def identify(seed, index, ax, sweep_seed=0, shared=False, **options):
+        if shared:
+            what = repr((seed, index, ax, sweep_seed, sorted(options.items())))
+            key = "unseen_" + hashlib.sha1(what.encode()).hexdigest()
+            return once(key, lambda: identify(seed, index, ax, sweep_seed, **options))
         true, _ = unseen.draw_machine(seed, index, backlash=True)
         a = true.axes[ax]
         with warnings.catch_warnings(record=True) as caught:

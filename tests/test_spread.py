@@ -172,7 +172,7 @@ def test_identification_writes_what_its_estimates_say(unseen, identify_unseen):
     (scaled to its real error like every mechanical deviation) and the lost motion, and the
     table damping's; the motor-bearing damping, taken as zero,
     is not varied."""
-    _, a, idn, _ = identify_unseen(1, 3, "X", sweep_seed=1)
+    _, a, idn, _ = identify_unseen(1, 3, "X", sweep_seed=1, shared=True)
     u, split = idn.axis.uncertainty, idn.friction_split
     assert u.guideway_share == pytest.approx(split.guideway_share_std) and u.guideway_share > 0.1
     true_share, _ = unseen.friction_split(a.friction)

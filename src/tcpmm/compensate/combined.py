@@ -6,14 +6,15 @@ instant the controller sees the commanded velocity reverse. The correction acts 
 pulse cannot: on the servo's lag and the structure's deflection, slow and everywhere on the
 path. So the controller's pulse and feed-forward are fixed first, and the correction is
 learned on the model as the controller runs it with them (:func:`.drive.axis_plant`: the
-pulses at the reversals of the corrected setpoint, each learning step): it corrects what
-the pulse leaves, also what the pulse overdoes below the Q-filter corner. Tuning the pulse
+pulses at the reversals of the corrected setpoint, each learning step), once for each share
+of them the draws may keep: it corrects what the pulse leaves, also what the pulse
+overdoes below the Q-filter corner. Tuning the pulse
 on a corrected command instead would leave the correction cancelling, without the pulse, the
 slow part of the friction the pulse then answers a second time.
 
 The robust choice then judges the combination on draws of the model: a share of the
-parameters in {0, 1/2, 1} and per axis a share of the correction in {0, 1/4, ..., 1}; kept
-is the pair with the smallest worst-draw contour error plus largest spike (the command is
+parameters in {0, 1/2, 1}, the correction learned with it, and per axis a share of that
+correction in {0, 1/4, ..., 1}; kept is the pair with the smallest worst-draw contour error plus largest spike (the command is
 there for the first, the pulse for the second), among those that leave no region of any
 draw worse and whose spike and G the draws vouch for (:func:`.robust.vouched`): each falls
 on every draw by more than :func:`.robust.margin`, or stays within the sensors' resolution.
@@ -104,17 +105,18 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
     return best[0], [LEVELS[k] for k in best[1]], before, best[2]
 
 
-def robust_combined(machine, comp, params: dict, n_draws: int = 6, seed: int = 0,
-                    radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")) -> None:
-    """Scale the combination back where draws of the model cannot vouch for it; sets
-    ``comp.factors``, ``comp.controller``, ``comp.trusted`` and ``comp.robustness``.
+def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: int = 0,
+                    radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")):
+    """The combination the draws of the model vouch for, with its shares, verdicts and the
+    parameters kept (module docstring).
 
     Parameters
     ----------
     machine : Machine
         The identified model with its uncertainty [SI].
-    comp : Compensation
-        Learned with ``params`` on the controller (:func:`combined_compensation`) [-].
+    comps : dict of float to Compensation
+        Per share of the parameters the correction learned with that share on the
+        controller (:func:`combined_compensation`) [-].
     params : dict of str to AxisController
         The controller-side parameters tuned on the model [-].
     n_draws : int
@@ -128,27 +130,38 @@ def robust_combined(machine, comp, params: dict, n_draws: int = 6, seed: int = 0
         Its centre [m].
     plane : tuple of str
         Its axes [-].
+
+    Returns
+    -------
+    Compensation
+        The chosen one, its ``factors``, ``controller``, ``trusted`` and ``robustness``
+        set [-].
     """
-    guard = None if radius_m is None else CircleGuard.of(comp, radius_m, centre_m, plane)
+    first = comps[0.0]
+    guard = None if radius_m is None else CircleGuard.of(first, radius_m, centre_m, plane)
     rng = np.random.default_rng(seed)
     machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
-    labels = regions(comp.target)
-    errs = {s: axis_errors(machines, comp, plants(params, s)) for s in PARAMETER_SHARES}
-    share, shares, before, after = choose_combined(errs, comp.target, labels, guard)
+    labels = regions(first.target)
+    errs = {s: axis_errors(machines, c, plants(params, s)) for s, c in comps.items()}
+    share, shares, before, after = choose_combined(errs, first.target, labels, guard)
     n_reg = labels.max() + 1
     circle = {} if guard is None else {
         name: over_draws(before[:, j], after[:, j], margin(before[:, j]))
         for name, j in (("spike", n_reg), ("circular_deviation", n_reg + 1))}
+    comp = comps[share]
     record(comp, shares, region_rows(before, after, comp.target, labels), circle, labels,
            {"draws": n_draws, "seed": seed, "parameter_share": share})
     comp.controller = scaled_params(params, share)
+    return comp
 
 
 def combined_compensation(machine, command, params: dict, *, bounds=None,
                           iterations: int = 30, n_draws: int = 6, seed: int = 0,
                           radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")):
     """The command correction learned with the controller-side parameters applied, scaled
-    back together with them over draws of the model (module docstring).
+    back together with them over draws of the model (module docstring). A correction is
+    learned for each share of the parameters the draws may keep: a correction learned with
+    the pulse is wrong without it.
 
     Parameters
     ----------
@@ -164,7 +177,8 @@ def combined_compensation(machine, command, params: dict, *, bounds=None,
     iterations : int
         Learning steps [-].
     n_draws : int
-        Draws of the model it is judged on; 0 keeps everything as learned [-].
+        Draws of the model it is judged on; 0 keeps the parameters and the correction
+        as learned [-].
     seed : int
         Seed of the draws [-].
     radius_m, centre_m, plane
@@ -176,9 +190,10 @@ def combined_compensation(machine, command, params: dict, *, bounds=None,
     Compensation
         With ``controller`` the parameters kept: the command is right only with them [-].
     """
-    comp = compensate(machine, command, iterations=iterations, bounds=bounds,
-                      plants=plants(params))
-    comp.controller = dict(params)
-    if n_draws > 0:
-        robust_combined(machine, comp, params, n_draws, seed, radius_m, centre_m, plane)
-    return comp
+    shares = PARAMETER_SHARES if n_draws > 0 else (1.0,)
+    comps = {s: compensate(machine, command, iterations=iterations, bounds=bounds,
+                           plants=plants(params, s)) for s in shares}
+    if n_draws == 0:
+        comps[1.0].controller = dict(params)
+        return comps[1.0]
+    return robust_combined(machine, comps, params, n_draws, seed, radius_m, centre_m, plane)

@@ -2,10 +2,11 @@
 as the command correction is (:mod:`.robust`): the pulses and the cross-talk feed-forward
 are scaled together to the largest share in {1, 3/4, ..., 0} under which every draw's
 largest reversal spike falls by more than the margin the draws can see
-(:func:`.robust.margin`), and its contour error and G either fall by more than that margin
-too or stay within the sensors' resolution (:func:`.robust.vouched`). A pulse tuned on a
-model whose friction is off by its uncertainty can push a reversal the wrong way; the
-share is what every draw still gains from, by more than the model's error could hide.
+(:func:`.robust.margin`), its G falls by more than that margin too or stays within the
+sensors' resolution (:func:`.robust.vouched`), and its contour error grows on no draw. A
+pulse tuned on a model whose friction is off by its uncertainty can push a reversal the
+wrong way; the share is what every draw still gains from, by more than the model's error
+could hide.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .controller import AxisController, ControllerCompensation
 from .drive import controlled_run
-from .robust import margin, over_draws, vouched
+from .robust import EQUAL_M, margin, over_draws, vouched
 from .scores import judge
 
 #: Shares of the tuned parameters tried, largest first [-].
@@ -56,12 +57,18 @@ def _figure_array(figs: list, part: str, key: str) -> np.ndarray:
 
 
 def never_worse(before: list, after: list) -> bool:
-    """Whether the draws vouch for the parameters: the largest spike falls on every draw
-    by more than :func:`.robust.margin`, and no judged figure changes by less than that
-    margin nor rises beyond the sensors' resolution (:func:`.robust.vouched`) [-]."""
-    b, a = _figure_array(before, *JUDGED["spike"]), _figure_array(after, *JUDGED["spike"])
-    return bool(np.all(a <= b - margin(b))) and all(
-        vouched(_figure_array(before, *k), _figure_array(after, *k)) for k in JUDGED.values())
+    """Whether the draws vouch for the parameters: the largest spike, which the pulse is
+    for, falls on every draw by more than :func:`.robust.margin`; G, which the spikes
+    shape, falls by more than that too or stays within the sensors' resolution
+    (:func:`.robust.vouched`); the contour error, which the servo's lag sets more than a
+    reversal does, grows on no draw beyond the sensors' resolution [-]."""
+    def fig(runs, name):
+        return _figure_array(runs, *JUDGED[name])
+
+    b, a = fig(before, "spike"), fig(after, "spike")
+    return bool(np.all(a <= b - margin(b))) and vouched(
+        fig(before, "circular_deviation"), fig(after, "circular_deviation")) and bool(
+        np.all(fig(after, "contour_error") <= fig(before, "contour_error") + EQUAL_M))
 
 
 def robust_controller(machine, cc: ControllerCompensation, command, radius_m: float,

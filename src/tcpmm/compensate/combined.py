@@ -31,7 +31,7 @@ from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 from .controller import AxisController
 from .drive import axis_plant
-from .learning import compensate
+from .learning import CUTOFF_HZ, compensate
 from .robust import (
     EQUAL_M,
     LEVELS,
@@ -156,8 +156,9 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
 
 
 def combined_compensation(machine, command, params: dict, *, bounds=None,
-                          iterations: int = 30, n_draws: int = 6, seed: int = 0,
-                          radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")):
+                          iterations: int = 30, cutoff_hz: float = CUTOFF_HZ,
+                          n_draws: int = 6, seed: int = 0, radius_m=None,
+                          centre_m=(0.0, 0.0), plane=("X", "Y")):
     """The command correction learned with the controller-side parameters applied, scaled
     back together with them over draws of the model (module docstring). A correction is
     learned for each share of the parameters the draws may keep: a correction learned with
@@ -176,6 +177,8 @@ def combined_compensation(machine, command, params: dict, *, bounds=None,
         Limits of the compensated command [-].
     iterations : int
         Learning steps [-].
+    cutoff_hz : float
+        Corner of the learning's Q-filter (:func:`.learning.compensate`) [Hz].
     n_draws : int
         Draws of the model it is judged on; 0 keeps the parameters and the correction
         as learned [-].
@@ -191,8 +194,8 @@ def combined_compensation(machine, command, params: dict, *, bounds=None,
         With ``controller`` the parameters kept: the command is right only with them [-].
     """
     shares = PARAMETER_SHARES if n_draws > 0 else (1.0,)
-    comps = {s: compensate(machine, command, iterations=iterations, bounds=bounds,
-                           plants=plants(params, s)) for s in shares}
+    comps = {s: compensate(machine, command, iterations=iterations, cutoff_hz=cutoff_hz,
+                           bounds=bounds, plants=plants(params, s)) for s in shares}
     if n_draws == 0:
         comps[1.0].controller = dict(params)
         return comps[1.0]

@@ -14,10 +14,11 @@ slow part of the friction the pulse then answers a second time.
 
 The robust choice then judges the combination on draws of the model: a share of the
 parameters in {0, 1/2, 1}, the correction learned with it, and per axis a share of that
-correction in {0, 1/4, ..., 1}; kept is the pair with the smallest worst-draw contour error plus largest spike (the command is
-there for the first, the pulse for the second), among those that leave no region of any
-draw worse and whose spike and G the draws vouch for (:func:`.robust.vouched`): each falls
-on every draw by more than :func:`.robust.margin`, or stays within the sensors' resolution.
+correction in {0, 1/4, ..., 1}; kept is the pair with the smallest worst-draw contour
+error plus largest spike (the command is there for the first, the pulse for the second),
+among those that leave no region of any draw worse and whose spike and G the draws vouch
+for (:func:`.robust.vouched`): each falls on every draw by more than
+:func:`.robust.margin`, or stays within the sensors' resolution.
 The corrected command is only right with the parameters kept on the controller.
 """
 

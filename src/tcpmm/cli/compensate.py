@@ -66,7 +66,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                    help="PARAMS.yaml: also compute the controller-side compensation of the "
                         "circle (--radius): a friction pulse at each reversal and a "
                         "cross-talk feed-forward per axis, simulated as the drive applies "
-                        "them."),
+                        "them; the command is then learned with them on the controller and "
+                        "is right only with them."),
                report: Path = typer.Option(None, "--report",
                                            help="REPORT.html: the TCP error before and "
                                                 "after, the figures and the settings per "

@@ -64,10 +64,9 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                controller_out: Path = typer.Option(
                    None, "--controller-out",
                    help="PARAMS.yaml: also compute the controller-side compensation of the "
-                        "circle (--radius): a friction pulse at each reversal and a "
-                        "cross-talk feed-forward per axis, simulated as the drive applies "
-                        "them; the command is then learned with them on the controller and "
-                        "is right only with them."),
+                        "circle (--radius), a friction pulse per reversal and a cross-talk "
+                        "feed-forward per axis, and learn the command with them on the "
+                        "controller: it is right only with them."),
                report: Path = typer.Option(None, "--report",
                                            help="REPORT.html: the TCP error before and "
                                                 "after, the figures and the settings per "
@@ -306,5 +305,7 @@ def _write_parameters(comp, path: Path, command_file: Path):
     note = (f"# These parameters go with the compensated command {command_file.name}: it was "
             "learned with them\n# on the controller and is right only with them "
             f"(share of the tuned parameters kept: {share:g}).\n")
+    if share == 0.0:  # the draws kept none: the command is for a controller without them
+        note += "# No share is kept: all are 0, the command needs the controller without them.\n"
     write_text_atomic(path, note + cc.parameter_text())
     return cc

@@ -11,7 +11,7 @@ scaled back over N draws of the model (:mod:`tcpmm.compensate.controller_robust`
 before and after, what the model predicted, the share kept and the draws' spike verdict.
 
     .venv/bin/python -m studies.compensation_controller [--machines c,d,e,h,r05,r17]
-        [--cache DIR] [--draws 6] [--combined]
+        [--cache DIR] [--draws 6] [--combined] [--programs F5000,F10000]
 
 With ``--combined`` each circle is compensated three ways on the model, each scaled back
 over the draws, and run on the true machine: the command correction alone

@@ -214,7 +214,10 @@ def test_cli_writes_the_controller_parameters(tmp_path, capsys):
     assert main([*base, "--radius", "10", "--report", str(page)]) == 0
     text = params.read_text()
     assert "X:" in text and "FRICT_COMP_CONST_MAX_mm_per_min" in text
-    assert "controller-side compensation" in capsys.readouterr().out
+    # the command was learned with these parameters and says so, in the file and on screen
+    assert "go with the compensated command c.csv" in text and "right only with them" in text
+    said = capsys.readouterr().out
+    assert "controller-side compensation" in said and "right only with them" in said
     # the report: the circle before and after in polar form, and the parameters
     html = page.read_text(encoding="utf-8")
     assert 'alt="TCP before and after on the circle"' in html

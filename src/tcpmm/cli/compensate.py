@@ -64,9 +64,9 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                controller_out: Path = typer.Option(
                    None, "--controller-out",
                    help="PARAMS.yaml: also compute the controller-side compensation of the "
-                        "circle (--radius): a friction pulse at each reversal and a "
-                        "cross-talk feed-forward per axis, simulated as the drive applies "
-                        "them."),
+                        "circle (--radius), a friction pulse per reversal and a cross-talk "
+                        "feed-forward per axis, and learn the command with them on the "
+                        "controller: it is right only with them."),
                report: Path = typer.Option(None, "--report",
                                            help="REPORT.html: the TCP error before and "
                                                 "after, the figures and the settings per "
@@ -84,13 +84,14 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     bounds = machine_bounds(m, accel, jerk)
     full, cmd, headroom = _planned(command, gcode, m, headroom)
     radius_m = None if radius is None else radius * 1e-3
-    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, radius_m, full)
+    tuned = None if controller_out is None else _tuned(m, cmd, radius_m)
+    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, radius_m, full,
+                        tuned)
     comp.settings["headroom"] = headroom
     write_command_csv(comp.command, output)
     if gcode_out is not None:
         write_dense_program(comp.command, gcode_out)
-    cc = None if controller_out is None else _controller(m, full, radius_m, controller_out,
-                                                         draws)
+    cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, radius_m, cc)
     if as_json:
@@ -150,7 +151,7 @@ def _planned(command, gcode, machine, headroom):
 
 
 def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radius_m,
-                 programmed=None):
+                 programmed=None, tuned=None):
     """The compensation of a command, tested on drawn machines and scored.
 
     Parameters
@@ -172,6 +173,10 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radi
     programmed : Command, optional
         The program at the axes' full limits, judged before, where ``cmd`` was planned
         with headroom [m].
+    tuned : ControllerCompensation, optional
+        Controller-side parameters tuned on the model: the correction is learned with
+        them on the controller and scaled back together with them
+        (:mod:`tcpmm.compensate.combined`) [-].
 
     Returns
     -------
@@ -179,10 +184,16 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radi
         The compensated command with its robustness and scores [-].
     """
     from ..compensate import compensate, predicted_scores, robust_factors
+    from ..compensate.combined import combined_compensation
 
     with in_file(source):
-        comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
-        if draws > 0:
+        if tuned is not None:
+            comp = combined_compensation(machine, cmd, tuned.axes, bounds=bounds,
+                                         iterations=iterations, n_draws=draws,
+                                         radius_m=radius_m)
+        else:
+            comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
+        if draws > 0 and tuned is None:
             robust_factors(machine, comp, n_draws=draws, radius_m=radius_m)
         comp.scores = predicted_scores(machine, comp, radius_m, programmed=programmed)
     full = cmd if programmed is None else programmed
@@ -220,13 +231,11 @@ def _say(output: Path, report, comp, controller_out, cc) -> None:
             out.print(line)
     if cc is not None:
         out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
-                  "and cross-talk feed-forward, as the model predicts them):")
-        out.print(_row("before", cc.scores["before"]))
-        out.print(_row("after", cc.scores["after"]))
+                  f"and cross-talk feed-forward; {output} was learned with them and is "
+                  "right only with them on the controller; the figures above are with "
+                  "both)")
         if cc.robustness:
-            out.print(f"  share of the parameters kept: {cc.robustness['share']:g}")
-            for line in _figure_verdicts(cc.robustness):
-                out.print(line)
+            out.print(f"  share of the tuned parameters kept: {cc.robustness['share']:g}")
 
 
 #: How each verdict over the draws reads [-].
@@ -277,16 +286,26 @@ def _write_report(path: Path, comp, machine, model: str, source, radius_m, cc) -
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])
 
 
-def _controller(machine, cmd, radius_m: float, path: Path, draws: int):
-    """The controller-side compensation of the circle, scaled back over ``draws`` draws of
-    the model, its parameters written to ``path`` [-]."""
+def _tuned(machine, cmd, radius_m: float):
+    """The controller-side compensation of the circle tuned on the model, unscaled [-]."""
     from ..compensate.controller import controller_compensation
-    from ..compensate.controller_robust import robust_controller
-    from ..io.atomic import write_text_atomic
 
     plane = tuple(a for a in ("X", "Y", "Z") if a in cmd.axes)[:2]
-    cc = controller_compensation(machine, cmd, radius_m, plane=plane)
-    if draws > 0:
-        robust_controller(machine, cc, cmd, radius_m, plane=plane, n_draws=draws)
-    write_text_atomic(path, cc.parameter_text())
+    return controller_compensation(machine, cmd, radius_m, plane=plane)
+
+
+def _write_parameters(comp, path: Path, command_file: Path):
+    """The parameters the compensated command was learned with, as kept over the draws,
+    written to ``path`` with a note that the command needs them [-]."""
+    from ..compensate.controller import ControllerCompensation
+    from ..io.atomic import write_text_atomic
+
+    share = comp.robustness.get("parameter_share", 1.0) if comp.robustness else 1.0
+    cc = ControllerCompensation(comp.controller, comp.scores, {"share": share})
+    note = (f"# These parameters go with the compensated command {command_file.name}: it was "
+            "learned with them\n# on the controller and is right only with them "
+            f"(share of the tuned parameters kept: {share:g}).\n")
+    if share == 0.0:  # the draws kept none: the command is for a controller without them
+        note += "# No share is kept: all are 0, the command needs the controller without them.\n"
+    write_text_atomic(path, note + cc.parameter_text())
     return cc

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..path.command import Command
 from ..sim.simulate import simulate, simulate_axis
+from .drive import reversal_pulses, with_cross_talk
 from .scores import judge
 
 #: Shares of the Coulomb current tried as the pulse amplitude [-].
@@ -143,38 +144,6 @@ def cross_talk_gain(axis) -> float:
     keep = t[:n] >= 1.0 / PROBE_HZ  # after the start's transient
     a, d = a[keep] - np.mean(a[keep]), d[keep] - np.mean(d[keep])
     return float(a @ d / (a @ a)) if a @ a > 0 else 0.0
-
-
-def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: float):
-    """The current feed-forward of one axis: at each reversal of its commanded velocity a
-    pulse of ``amplitude_A`` signed with the new direction, decaying with ``decay_s`` until
-    the next reversal; per command sample [A]."""
-    x = command.positions[axis]
-    out = np.zeros(x.size)
-    if amplitude_A == 0.0 or x.size < 3:
-        return out
-    v = np.gradient(x, command.period_s)
-    s = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
-    moving = np.flatnonzero(s)
-    if moving.size < 2:
-        return out
-    turns = moving[1:][s[moving[1:]] != s[moving[:-1]]]
-    t = command.time_s
-    for k, i in enumerate(turns):
-        end = turns[k + 1] if k + 1 < turns.size else x.size
-        out[i:end] = s[i] * amplitude_A * np.exp(-(t[i:end] - t[i]) / decay_s)
-    return out
-
-
-def with_cross_talk(command: Command, gains: dict) -> Command:
-    """The command with each axis's position setpoint offset by minus its cross-talk gain
-    times its commanded acceleration [m]."""
-    T = command.period_s
-    pos = {}
-    for a, x in command.positions.items():
-        acc = np.gradient(np.gradient(x, T), T)
-        pos[a] = x - gains.get(a, 0.0) * acc
-    return Command(command.time_s, pos, {**command.meta, "cross_talk_feedforward": True})
 
 
 def controller_figures(machine, command: Command, programmed: Command, pulses: dict, radius_m,

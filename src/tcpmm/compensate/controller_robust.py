@@ -1,9 +1,12 @@
 """The controller-side compensation judged on machines drawn from the model's uncertainty,
 as the command correction is (:mod:`.robust`): the pulses and the cross-talk feed-forward
-are scaled together to the largest share in {1, 3/4, ..., 0} that leaves no draw worse than
-without them, on the circle's contour error, largest reversal spike or G. A pulse tuned on
-a model whose friction is off by its uncertainty can push a reversal the wrong way; the
-share is what every draw still gains from.
+are scaled together to the largest share in {1, 3/4, ..., 0} under which every draw's
+largest reversal spike falls by more than the margin the draws can see
+(:func:`.robust.margin`), its G falls by more than that margin too or stays within the
+sensors' resolution (:func:`.robust.vouched`), and its contour error grows on no draw. A
+pulse tuned on a model whose friction is off by its uncertainty can push a reversal the
+wrong way; the share is what every draw still gains from, by more than the model's error
+could hide.
 """
 
 from __future__ import annotations
@@ -11,14 +14,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..whatif.draws import MODEL_ERROR, draw_machine
-from .controller import (
-    AxisController,
-    ControllerCompensation,
-    controller_figures,
-    reversal_pulses,
-    with_cross_talk,
-)
-from .robust import EQUAL_M, over_draws
+from .controller import AxisController, ControllerCompensation
+from .drive import controlled_run
+from .robust import EQUAL_M, margin, over_draws, vouched
+from .scores import judge
 
 #: Shares of the tuned parameters tried, largest first [-].
 SHARES = (1.0, 0.75, 0.5, 0.25)
@@ -49,10 +48,7 @@ def applied(machine, command, params: dict, judge_args: tuple) -> dict:
     judge_args : tuple
         ``(radius_m, centre_m, plane)`` [-].
     """
-    ctc = with_cross_talk(command, {a: c.cross_talk_s2 for a, c in params.items()})
-    pulses = {a: reversal_pulses(ctc, a, c.pulse_A, c.decay_s) for a, c in params.items()
-              if c.pulse_A != 0.0}
-    return controller_figures(machine, ctc, command, pulses, *judge_args)
+    return judge(controlled_run(machine, command, params), command, *judge_args)
 
 
 def _figure_array(figs: list, part: str, key: str) -> np.ndarray:
@@ -61,9 +57,18 @@ def _figure_array(figs: list, part: str, key: str) -> np.ndarray:
 
 
 def never_worse(before: list, after: list) -> bool:
-    """Whether no draw's judged figure grew by more than the sensors' resolution [-]."""
-    return all(np.all(_figure_array(after, *k) <= _figure_array(before, *k) + EQUAL_M)
-               for k in JUDGED.values())
+    """Whether the draws vouch for the parameters: the largest spike, which the pulse is
+    for, falls on every draw by more than :func:`.robust.margin`; G, which the spikes
+    shape, falls by more than that too or stays within the sensors' resolution
+    (:func:`.robust.vouched`); the contour error, which the servo's lag sets more than a
+    reversal does, grows on no draw beyond the sensors' resolution [-]."""
+    def fig(runs, name):
+        return _figure_array(runs, *JUDGED[name])
+
+    b, a = fig(before, "spike"), fig(after, "spike")
+    return bool(np.all(a <= b - margin(b))) and vouched(
+        fig(before, "circular_deviation"), fig(after, "circular_deviation")) and bool(
+        np.all(fig(after, "contour_error") <= fig(before, "contour_error") + EQUAL_M))
 
 
 def robust_controller(machine, cc: ControllerCompensation, command, radius_m: float,
@@ -110,5 +115,11 @@ def robust_controller(machine, cc: ControllerCompensation, command, radius_m: fl
     cc.axes = scaled(cc, share)
     cc.scores["after"] = after[0]
     cc.robustness = {"draws": n_draws, "seed": seed, "share": share,
-                     **{name: over_draws(_figure_array(before, *k), _figure_array(after, *k))
-                        for name, k in JUDGED.items()}}
+                     **{name: figure_verdict(before, after, k) for name, k in JUDGED.items()}}
+
+
+def figure_verdict(before: list, after: list, key: tuple) -> dict:
+    """:func:`.robust.over_draws` of one judged figure, an improvement counted beyond
+    :func:`.robust.margin` [-]."""
+    b, a = _figure_array(before, *key), _figure_array(after, *key)
+    return over_draws(b, a, margin(b))

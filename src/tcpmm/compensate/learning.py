@@ -62,8 +62,13 @@ def fade(n: int, tail: int) -> np.ndarray:
     return w
 
 
+def plain(axis, time_s, position_m):
+    """The axis run on a position command alone, feedback unquantised [-]."""
+    return simulate_axis(axis, time_s, position_m, quantise_feedback=False)
+
+
 def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations: int,
-               gain: float, tail: int):
+               gain: float, tail: int, plant=plain):
     """Learning control of one axis on its model.
 
     Parameters
@@ -84,6 +89,9 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         Learning gain ``g`` [-].
     tail : int
         Samples of the hold after the program [-].
+    plant : callable
+        ``(axis, time_s, position_m) -> AxisRun``: how the axis runs a command, with the
+        controller's own compensation where it has one (:func:`.drive.axis_plant`) [-].
 
     Returns
     -------
@@ -96,7 +104,7 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     window = fade(reference.size, tail)
     corr, history, best = np.zeros_like(reference), [], (np.inf, None)
     for _ in range(iterations + 1):
-        run = simulate_axis(axis, time_s, reference + corr, quantise_feedback=False)
+        run = plant(axis, time_s, reference + corr)
         err = target - run.tcp
         history.append(float(np.max(np.abs(err))))
         rms = float(np.sqrt(np.mean(err ** 2)))  # the max may sit where no command can help
@@ -125,7 +133,8 @@ def _check(machine, command: Command, iterations: int, gain: float, cutoff_hz: f
 
 
 def compensate(machine, command: Command, *, iterations: int = 30, gain: float = 0.5,
-               cutoff_hz: float = CUTOFF_HZ, bounds=None, progress=None) -> Compensation:
+               cutoff_hz: float = CUTOFF_HZ, bounds=None, progress=None,
+               plants=None) -> Compensation:
     """Pre-compensated position command: the command whose predicted TCP path follows the
     programmed one, within the axes' limits.
 
@@ -146,6 +155,10 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         (:func:`.bounds.machine_bounds`) [-].
     progress : callable, optional
         Called with ``(axis_name, done, total)`` after each axis [-].
+    plants : dict of str to callable, optional
+        Per axis how it runs a command (:func:`learn_axis`); default the command alone.
+        With the controller's pulse and feed-forward the correction learns what they
+        leave [-].
 
     Returns
     -------
@@ -168,7 +181,7 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         gf = learning_filter(h[a], n_fft, T, cutoff_hz)
         corr[a], history[a] = learn_axis(machine.axes[a], ref.time_s, ref.positions[a],
                                          tgt.positions[a], gf, bounds[a], iterations, gain,
-                                         tail)
+                                         tail, (plants or {}).get(a, plain))
         if progress is not None:
             progress(a, k + 1, len(command.axes))
     factors = {a: np.ones(n) for a in command.axes}

@@ -39,6 +39,10 @@ class Compensation:
         What the draws of the model say (:func:`.robust.robust_factors`) [-].
     trusted : ndarray or None
         Per sample: the compensation improves the error on every draw of the model [-].
+    controller : dict of str to AxisController
+        The controller-side parameters the command was learned with
+        (:mod:`.combined`): the command is right only with them on the controller;
+        empty for a command alone [-].
     """
 
     reference: Command
@@ -52,6 +56,7 @@ class Compensation:
     scores: dict = field(default_factory=dict)
     robustness: dict = field(default_factory=dict)
     trusted: np.ndarray | None = None
+    controller: dict = field(default_factory=dict)
 
     @property
     def command(self) -> Command:
@@ -92,6 +97,8 @@ class Compensation:
                "correction": corr, "scores": self.scores, "robustness": self.robustness}
         if self.trusted is not None:
             out["trusted_share"] = float(np.mean(self.trusted))
+        if self.controller:
+            out["controller"] = {a: c.to_dict() for a, c in self.controller.items()}
         return out
 
     def plot(self, ax=None, path=None):

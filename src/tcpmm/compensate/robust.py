@@ -21,9 +21,9 @@ import itertools
 import numpy as np
 
 from ..analysis.contour import distance_to_polyline
-from ..sim.simulate import simulate_axis
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
+from .learning import plain
 
 #: Shares of the correction tried [-].
 LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
@@ -37,9 +37,41 @@ CONTOUR_WINDOW_S = 0.1
 #: Error below which two errors count as equal: the sensors' resolution [m].
 EQUAL_M = 0.1e-6
 
+#: Relative change of a figure below which the draws cannot tell an improvement: the floor
+#: of the friction level's model error (:data:`tcpmm.whatif.draws.MODEL_ERROR`). A pulse
+#: and the friction it answers are known to that share only, and a machine whose friction
+#: differs in form rather than level, which no draw varies, moves the figure by as much.
+RELATIVE_MARGIN = MODEL_ERROR["friction_level"]
+
 #: Reduction every draw must reach for a firm verdict: the reduction the compensation is
 #: to deliver [-].
 FIRM_RATIO = 5.0
+
+
+def margin(before: np.ndarray) -> np.ndarray:
+    """The least fall of a figure that counts as an improvement: the sensors' resolution,
+    or :data:`RELATIVE_MARGIN` of the figure where that is more [m].
+
+    Parameters
+    ----------
+    before : ndarray
+        The figure without the compensation, per draw [m].
+    """
+    return np.maximum(EQUAL_M, RELATIVE_MARGIN * np.asarray(before))
+
+
+def vouched(before: np.ndarray, after: np.ndarray) -> bool:
+    """Whether the draws vouch for the change of a figure: on every draw it falls by more
+    than :func:`margin`, or it stays within the sensors' resolution. A fall smaller than
+    the margin is no improvement the draws can see, and may be a rise on the machine [-].
+
+    Parameters
+    ----------
+    before, after : ndarray
+        The figure per draw without and with the compensation [m].
+    """
+    d = np.asarray(after) - np.asarray(before)
+    return bool(np.all((d <= -margin(before)) | (np.abs(d) <= EQUAL_M)))
 
 
 def verdict(least_ratio: float, improves: bool) -> str:
@@ -90,8 +122,10 @@ def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.n
     return np.abs(distance_to_polyline(p - err.T, p, t, t, window_s, False)[0])
 
 
-def axis_errors(machines, comp) -> np.ndarray:
-    """TCP error per machine, axis, share and sample, shape (m, axes, levels, n) [m]."""
+def axis_errors(machines, comp, plants=None) -> np.ndarray:
+    """TCP error per machine, axis, share and sample, shape (m, axes, levels, n); each
+    axis run as ``plants`` says (:func:`.learning.learn_axis`), default the command
+    alone [m]."""
     t = comp.reference.time_s
     axes = comp.reference.axes
     out = np.empty((len(machines), len(axes), len(LEVELS), t.size))
@@ -99,7 +133,7 @@ def axis_errors(machines, comp) -> np.ndarray:
         for j, a in enumerate(axes):
             for k, lev in enumerate(LEVELS):
                 u = comp.reference.positions[a] + lev * comp.correction[a]
-                y = simulate_axis(m.axes[a], t, u, quantise_feedback=False).tcp
+                y = (plants or {}).get(a, plain)(m.axes[a], t, u).tcp
                 out[i, j, k] = comp.target.positions[a] - y
     return out
 
@@ -131,16 +165,23 @@ def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
         worst = after[:, :n_reg].max()
         if np.all(after <= before + EQUAL_M) and worst < best_worst - EQUAL_M:
             best, best_worst, best_figs = c, worst, after
+    return [LEVELS[k] for k in best], region_rows(before, best_figs, target, labels), \
+        _circle_rows(before, best_figs, guard)
+
+
+def region_rows(before: np.ndarray, after: np.ndarray, target, labels: np.ndarray) -> list:
+    """Per region its time span and :func:`over_draws` of its worst errors, from the
+    figures of :func:`judged` without and with the compensation [-]."""
     rows = []
-    for r in range(n_reg):
+    for r in range(labels.max() + 1):
         sel = labels == r
         rows.append({"region": r, "start_s": float(target.time_s[sel][0]),
                      "end_s": float(target.time_s[sel][-1]),
-                     **over_draws(before[:, r], best_figs[:, r])})
-    return [LEVELS[k] for k in best], rows, _circle_rows(before, best_figs, guard)
+                     **over_draws(before[:, r], after[:, r])})
+    return rows
 
 
-def over_draws(b: np.ndarray, a: np.ndarray) -> dict:
+def over_draws(b: np.ndarray, a: np.ndarray, margin_m=EQUAL_M) -> dict:
     """The worst draw's figure before and after, the least ratio over the draws, whether
     every draw improves and the :func:`verdict`, from per-draw figures ``b`` and ``a``.
 
@@ -148,9 +189,11 @@ def over_draws(b: np.ndarray, a: np.ndarray) -> dict:
     ----------
     b, a : ndarray
         One figure per draw before and after the compensation [m].
+    margin_m : float or ndarray
+        The least fall that counts as an improvement, per draw (:func:`margin`) [m].
     """
     least = float(np.min(b / np.maximum(a, EQUAL_M)))
-    improves = bool(np.all(a < b - EQUAL_M))
+    improves = bool(np.all(a < b - margin_m))
     return {"worst_before_um": float(b.max() * 1e6), "worst_after_um": float(a.max() * 1e6),
             "least_ratio": least, "improves_on_every_draw": improves,
             "verdict": verdict(least, improves)}
@@ -192,12 +235,33 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None
     machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
     labels = regions(comp.target)
     shares, rows, circle = choose(axis_errors(machines, comp), comp.target, labels, guard)
+    record(comp, shares, rows, circle, labels, {"draws": n_draws, "seed": seed})
+
+
+def record(comp, shares: list, rows: list, circle: dict, labels: np.ndarray,
+           extra: dict) -> None:
+    """Set the chosen shares per axis, the samples trusted and what the draws say on the
+    compensation, in place [-].
+
+    Parameters
+    ----------
+    comp : Compensation
+        The compensation [-].
+    shares : list of float
+        Share of the correction per axis [-].
+    rows, circle
+        Per region and for a circle the draws' verdicts (:func:`choose`) [-].
+    labels : ndarray
+        Region per sample (:func:`regions`) [-].
+    extra : dict
+        Further entries of ``comp.robustness``, first: the draws and their seed [-].
+    """
     for a, f in zip(comp.reference.axes, shares, strict=True):
         comp.factors[a] = np.full(labels.size, f)
     good = {r["region"] for r in rows if r["improves_on_every_draw"]}
     firm = {r["region"] for r in rows if r["verdict"] == "firm"}
     comp.trusted = np.isin(labels, list(good))
-    comp.robustness = {"draws": n_draws, "seed": seed, "regions": rows,
+    comp.robustness = {**extra, "regions": rows,
                        "factors": dict(zip(comp.reference.axes, shares, strict=True)),
                        "trusted_share": float(np.mean(comp.trusted)),
                        "firm_share": float(np.mean(np.isin(labels, list(firm))))}

@@ -11,6 +11,7 @@ from ..analysis.circular import analyse_circle
 from ..analysis.contour import contour_error
 from ..path.command import Command
 from ..sim.simulate import simulate
+from .drive import controlled_run
 from .learning import extended
 
 
@@ -35,10 +36,13 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=
     Where every share is 0 the compensated command is the programmed one and is judged on
     the same path: a lagging machine's G read over passes a few milliseconds apart differs
     by tens of micrometres, which is no effect of the compensation.
+
+    A command learned with controller-side parameters (``comp.controller``) is run with
+    them, as the controller applies them; the programmed command without.
     """
     programmed = programmed_path(comp, programmed)
     before = simulate(machine, programmed, quantise_feedback=quantise_feedback)
-    after = simulate(machine, comp.command, quantise_feedback=quantise_feedback)
+    after = controlled_run(machine, comp.command, comp.controller, quantise_feedback)
     for run, path in ((before, programmed), (after, judged_path(comp))):
         for a, r in run.axes.items():
             if a in path.positions:

@@ -1,0 +1,203 @@
+"""The command correction and the controller-side compensation together.
+
+The friction pulse acts where the command correction cannot: the friction's fast transient
+at a reversal lies above the learning's Q-filter corner, and the pulse is tied to the
+instant the controller sees the commanded velocity reverse. The correction acts where the
+pulse cannot: on the servo's lag and the structure's deflection, slow and everywhere on the
+path. So the controller's pulse and feed-forward are fixed first, and the correction is
+learned on the model as the controller runs it with them (:func:`.drive.axis_plant`: the
+pulses at the reversals of the corrected setpoint, each learning step), once for each share
+of them the draws may keep: it corrects what the pulse leaves, also what the pulse
+overdoes below the Q-filter corner. Tuning the pulse
+on a corrected command instead would leave the correction cancelling, without the pulse, the
+slow part of the friction the pulse then answers a second time.
+
+The robust choice then judges the combination on draws of the model: a share of the
+parameters in {0, 1/2, 1}, the correction learned with it, and per axis a share of that
+correction in {0, 1/4, ..., 1}; kept is the pair with the smallest worst-draw contour
+error plus largest spike (the command is there for the first, the pulse for the second),
+among those that leave no region of any draw worse and whose spike and G the draws vouch
+for (:func:`.robust.vouched`): each falls on every draw by more than
+:func:`.robust.margin`, or stays within the sensors' resolution.
+The corrected command is only right with the parameters kept on the controller.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ..whatif.draws import MODEL_ERROR, draw_machine
+from .circleguard import CircleGuard
+from .controller import AxisController
+from .drive import axis_plant
+from .learning import CUTOFF_HZ, compensate
+from .robust import (
+    EQUAL_M,
+    LEVELS,
+    axis_errors,
+    judged,
+    margin,
+    over_draws,
+    record,
+    region_rows,
+    regions,
+    vouched,
+)
+
+#: Shares of the controller-side parameters tried [-].
+PARAMETER_SHARES = (0.0, 0.5, 1.0)
+
+
+def scaled_params(params: dict, share: float) -> dict:
+    """Every axis's pulse and feed-forward times ``share``; the decay as it is [-]."""
+    return {a: AxisController(c.pulse_A * share, c.decay_s, c.velocity_pulse_m_per_s * share,
+                              c.cross_talk_s2 * share) for a, c in params.items()}
+
+
+def plants(params: dict, share: float = 1.0) -> dict:
+    """Per axis how the controller runs a command with ``share`` of its parameters [-]."""
+    return {a: axis_plant(c, share) for a, c in params.items()}
+
+
+def acceptable(before: np.ndarray, after: np.ndarray, n_reg: int) -> bool:
+    """No region of any draw worse than the sensors' resolution, and the draws vouch for
+    every circle figure's change (:func:`.robust.vouched`) [-]."""
+    if np.any(after[:, :n_reg] > before[:, :n_reg] + EQUAL_M):
+        return False
+    return all(vouched(before[:, j], after[:, j]) for j in range(n_reg, before.shape[1]))
+
+
+def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple:
+    """The share of the parameters and per axis of the correction (module docstring).
+
+    Parameters
+    ----------
+    errs : dict of float to ndarray
+        Per share of the parameters the TCP errors of :func:`.robust.axis_errors` [m].
+    target : Command
+        The path the TCP is to follow [m].
+    labels : ndarray
+        Region per sample [-].
+    guard : CircleGuard, optional
+        The circle's figures [-].
+
+    Returns
+    -------
+    tuple
+        ``(parameter share, shares per axis, figures before, figures after)`` [-].
+    """
+    n_ax, n_reg = next(iter(errs.values())).shape[1], labels.max() + 1
+    zero = tuple([0] * n_ax)
+    before = judged(errs[0.0], zero, target, labels, guard)
+
+    def objective(figs):
+        return figs[:, :n_reg].max() + (figs[:, n_reg].max() if guard is not None else 0.0)
+
+    best = (0.0, zero, before, objective(before))
+    for s, c in itertools.product(PARAMETER_SHARES, itertools.product(range(len(LEVELS)),
+                                                                       repeat=n_ax)):
+        if s == 0.0 and c == zero:
+            continue
+        after = judged(errs[s], c, target, labels, guard)
+        if acceptable(before, after, n_reg) and objective(after) < best[3] - EQUAL_M:
+            best = (s, c, after, objective(after))
+    return best[0], [LEVELS[k] for k in best[1]], before, best[2]
+
+
+def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: int = 0,
+                    radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")):
+    """The combination the draws of the model vouch for, with its shares, verdicts and the
+    parameters kept (module docstring).
+
+    Parameters
+    ----------
+    machine : Machine
+        The identified model with its uncertainty [SI].
+    comps : dict of float to Compensation
+        Per share of the parameters the correction learned with that share on the
+        controller (:func:`combined_compensation`) [-].
+    params : dict of str to AxisController
+        The controller-side parameters tuned on the model [-].
+    n_draws : int
+        Machines drawn with the floors of ``tcpmm spread``; the model itself is judged
+        too [-].
+    seed : int
+        Seed of the draws [-].
+    radius_m : float, optional
+        The circle's radius: its spike and G are judged too [m].
+    centre_m : tuple of float
+        Its centre [m].
+    plane : tuple of str
+        Its axes [-].
+
+    Returns
+    -------
+    Compensation
+        The chosen one, its ``factors``, ``controller``, ``trusted`` and ``robustness``
+        set [-].
+    """
+    first = comps[0.0]
+    guard = None if radius_m is None else CircleGuard.of(first, radius_m, centre_m, plane)
+    rng = np.random.default_rng(seed)
+    machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
+    labels = regions(first.target)
+    errs = {s: axis_errors(machines, c, plants(params, s)) for s, c in comps.items()}
+    share, shares, before, after = choose_combined(errs, first.target, labels, guard)
+    n_reg = labels.max() + 1
+    circle = {} if guard is None else {
+        name: over_draws(before[:, j], after[:, j], margin(before[:, j]))
+        for name, j in (("spike", n_reg), ("circular_deviation", n_reg + 1))}
+    comp = comps[share]
+    record(comp, shares, region_rows(before, after, comp.target, labels), circle, labels,
+           {"draws": n_draws, "seed": seed, "parameter_share": share})
+    comp.controller = scaled_params(params, share)
+    return comp
+
+
+def combined_compensation(machine, command, params: dict, *, bounds=None,
+                          iterations: int = 30, cutoff_hz: float = CUTOFF_HZ,
+                          n_draws: int = 6, seed: int = 0, radius_m=None,
+                          centre_m=(0.0, 0.0), plane=("X", "Y")):
+    """The command correction learned with the controller-side parameters applied, scaled
+    back together with them over draws of the model (module docstring). A correction is
+    learned for each share of the parameters the draws may keep: a correction learned with
+    the pulse is wrong without it.
+
+    Parameters
+    ----------
+    machine : Machine
+        The identified model [SI].
+    command : Command
+        The programmed command [m].
+    params : dict of str to AxisController
+        The controller-side parameters tuned on the model
+        (:func:`.controller.controller_compensation`) [-].
+    bounds : dict of str to AxisBounds, optional
+        Limits of the compensated command [-].
+    iterations : int
+        Learning steps [-].
+    cutoff_hz : float
+        Corner of the learning's Q-filter (:func:`.learning.compensate`) [Hz].
+    n_draws : int
+        Draws of the model it is judged on; 0 keeps the parameters and the correction
+        as learned [-].
+    seed : int
+        Seed of the draws [-].
+    radius_m, centre_m, plane
+        The circle the command holds, where it is one: radius [m], centre [m] and its
+        axes [-] (:func:`robust_combined`).
+
+    Returns
+    -------
+    Compensation
+        With ``controller`` the parameters kept: the command is right only with them [-].
+    """
+    shares = PARAMETER_SHARES if n_draws > 0 else (1.0,)
+    comps = {s: compensate(machine, command, iterations=iterations, cutoff_hz=cutoff_hz,
+                           bounds=bounds, plants=plants(params, s)) for s in shares}
+    if n_draws == 0:
+        comps[1.0].controller = dict(params)
+        return comps[1.0]
+    return robust_combined(machine, comps, params, n_draws, seed, radius_m, centre_m, plane)

@@ -1,0 +1,91 @@
+"""How a drive applies the controller-side compensation: a current pulse at each reversal of
+an axis's commanded velocity, added to its current command, and a position setpoint offset
+proportional to its commanded acceleration (the cross-talk feed-forward). A position command
+and these parameters together are what the machine runs (:func:`controlled_run`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..path.command import Command
+from ..sim.simulate import simulate, simulate_axis
+
+__all__ = ["axis_plant", "controlled_run", "reversal_pulses", "with_cross_talk"]
+
+
+def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: float):
+    """The current feed-forward of one axis: at each reversal of its commanded velocity a
+    pulse of ``amplitude_A`` signed with the new direction, decaying with ``decay_s`` until
+    the next reversal; per command sample [A]."""
+    x = command.positions[axis]
+    out = np.zeros(x.size)
+    if amplitude_A == 0.0 or x.size < 3:
+        return out
+    v = np.gradient(x, command.period_s)
+    s = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
+    moving = np.flatnonzero(s)
+    if moving.size < 2:
+        return out
+    turns = moving[1:][s[moving[1:]] != s[moving[:-1]]]
+    t = command.time_s
+    for k, i in enumerate(turns):
+        end = turns[k + 1] if k + 1 < turns.size else x.size
+        out[i:end] = s[i] * amplitude_A * np.exp(-(t[i:end] - t[i]) / decay_s)
+    return out
+
+
+def with_cross_talk(command: Command, gains: dict) -> Command:
+    """The command with each axis's position setpoint offset by minus its cross-talk gain
+    times its commanded acceleration [m]."""
+    T = command.period_s
+    pos = {}
+    for a, x in command.positions.items():
+        acc = np.gradient(np.gradient(x, T), T)
+        pos[a] = x - gains.get(a, 0.0) * acc
+    return Command(command.time_s, pos, {**command.meta, "cross_talk_feedforward": True})
+
+
+def controlled_run(machine, command: Command, params: dict, quantise_feedback: bool = True):
+    """The machine run on ``command`` with the controller-side parameters applied as the
+    drive applies them: the setpoint offset by the cross-talk feed-forward, the pulses at
+    the reversals of that setpoint added to the current command.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine run [SI].
+    command : Command
+        The position command the controller receives [m].
+    params : dict of str to AxisController
+        Per axis; an empty dict runs the command alone [-].
+    quantise_feedback : bool
+        Quantise the feedback sensors to their resolution [-].
+    """
+    ctc = with_cross_talk(command, {a: c.cross_talk_s2 for a, c in params.items()})
+    pulses = {a: reversal_pulses(ctc, a, c.pulse_A, c.decay_s) for a, c in params.items()
+              if c.pulse_A != 0.0 and a in ctc.positions}
+    return simulate(machine, ctc, current_feedforward_A=pulses or None,
+                    quantise_feedback=quantise_feedback)
+
+
+def axis_plant(params, share: float = 1.0):
+    """One axis as its controller runs it with ``share`` of its parameters: a function of
+    ``(axis, time_s, position_m)`` giving the axis's run, as
+    :func:`tcpmm.sim.simulate.simulate_axis` with unquantised feedback [-].
+
+    Parameters
+    ----------
+    params : AxisController or None
+        The axis's parameters; ``None`` runs the command alone [-].
+    share : float
+        Share of the pulse and the feed-forward applied [-].
+    """
+    def run(axis, time_s, position_m):
+        if params is None or share == 0.0:
+            return simulate_axis(axis, time_s, position_m, quantise_feedback=False)
+        cmd = with_cross_talk(Command(time_s, {"A": position_m}),
+                              {"A": share * params.cross_talk_s2})
+        pulse = reversal_pulses(cmd, "A", share * params.pulse_A, params.decay_s)
+        return simulate_axis(axis, time_s, cmd.positions["A"], excitation_A=pulse,
+                             quantise_feedback=False)
+    return run

@@ -1,0 +1,128 @@
+"""The command correction learned with the controller's friction pulse applied: known
+answers on a small model and the robust choice over draws."""
+
+import math
+
+import numpy as np
+import pytest
+
+from tcpmm import builtin_machine
+from tcpmm.compensate import compensate, predicted_scores
+from tcpmm.compensate.combined import (
+    PARAMETER_SHARES,
+    combined_compensation,
+    plants,
+    robust_combined,
+)
+from tcpmm.compensate.controller import AxisController, coulomb_current
+from tcpmm.compensate.controller_robust import never_worse
+from tcpmm.compensate.drive import controlled_run
+from tcpmm.compensate.robust import EQUAL_M, LEVELS, margin, vouched
+from tcpmm.compensate.scores import judge
+from tcpmm.path.circle import circle_command
+
+R = 0.01  # [m]
+
+
+def _rough(k: float):
+    """The built-in X and Y with ``k`` times their Coulomb and static friction [-]."""
+    m = builtin_machine()
+
+    def scaled(c):
+        return c.model_copy(update={n: k * getattr(c, n)
+                                    for n in ("fc_pos", "fc_neg", "fs_pos", "fs_neg")})
+
+    def axis(a):
+        f = a.friction
+        return a.replace(friction=f.model_copy(update={"screw": scaled(f.screw),
+                                                       "guideway": scaled(f.guideway)}))
+
+    return m.model_copy(update={"axes": {n: axis(m.axes[n]) for n in ("X", "Y")}})
+
+
+@pytest.fixture(scope="module")
+def rough():
+    return _rough(4.0)
+
+
+@pytest.fixture(scope="module")
+def circle():
+    return circle_command(R, 5000 / 60e3, turns=1.0, start_angle_rad=math.pi / 4)
+
+
+def _pulses(machine, share=1.0, decay_s=0.03):
+    return {a: AxisController(share * coulomb_current(machine.axes[a]), decay_s, 0.0, 0.0)
+            for a in ("X", "Y")}
+
+
+def _spike(fig):
+    return fig["circle"]["largest_spike_um"]
+
+
+def test_pulse_and_correction_together_beat_each_alone(rough, circle):
+    """On a model whose reversals carry four times the built-in friction the pulse lowers
+    the spike a little and the correction much more; the correction learned with the pulse
+    on the controller lowers it further than either, and the parameters go with it."""
+    params = _pulses(rough)
+    before = _spike(judge(controlled_run(rough, circle, {}), circle, R))
+    pulse = _spike(judge(controlled_run(rough, circle, params), circle, R))
+    alone = compensate(rough, circle, iterations=5)
+    both = combined_compensation(rough, circle, params, iterations=5, n_draws=0)
+    assert both.controller == params
+    command = _spike(predicted_scores(rough, alone, R)["after"])
+    together = _spike(predicted_scores(rough, both, R)["after"])
+    assert pulse < 0.97 * before and command < 0.6 * before
+    assert together < 0.9 * min(pulse, command), (before, pulse, command, together)
+    # the same command without the pulse on the controller is worse than with it
+    without = alone.__class__(**{**both.__dict__, "controller": {}})
+    assert _spike(predicted_scores(rough, without, R)["after"]) > together + 1.0
+
+
+def test_robust_choice_leaves_no_draw_worse_with_both(rough, circle):
+    """Pulse and correction learned for four times the built-in friction, judged on the
+    same axes without friction: together and in full they make the spike worse there.
+    Over the draws the chosen shares of pulse and correction leave no region, spike or G
+    worse, and the full pulse is not kept."""
+    params = _pulses(rough)
+    smooth = rough.model_copy(update={"axes": {a: x.replace(friction=None)
+                                               for a, x in rough.axes.items()}})
+    comps = {s: compensate(rough, circle, iterations=3, plants=plants(params, s))
+             for s in PARAMETER_SHARES}
+    comps[1.0].controller = params
+    naive = predicted_scores(smooth, comps[1.0], R)
+    assert _spike(naive["after"]) > _spike(naive["before"]) + 1.0  # the choice has work
+    comp = robust_combined(smooth, comps, params, n_draws=1, radius_m=R)
+    rob = comp.robustness
+    assert rob["parameter_share"] < 1.0
+    assert set(rob["factors"].values()) <= set(LEVELS)
+    for r in rob["regions"]:
+        assert r["worst_after_um"] <= r["worst_before_um"] + EQUAL_M * 1e6
+    for fig in rob["circle"].values():
+        assert fig["worst_after_um"] <= fig["worst_before_um"] + EQUAL_M * 1e6
+    assert all(c.pulse_A == pytest.approx(rob["parameter_share"] * params[a].pulse_A)
+               for a, c in comp.controller.items())
+    after = predicted_scores(smooth, comp, R)
+    assert _spike(after["after"]) <= _spike(after["before"]) + 0.5
+
+
+def test_a_fall_within_the_margin_is_no_improvement():
+    """A figure the draws predict lower by less than the model-error floor is not vouched
+    for, and a pulse whose spike falls that little is not kept: such a fall can be a rise
+    on the machine."""
+    before = np.array([87.2, 87.4, 87.0]) * 1e-6
+    small = before - 0.3e-6  # below 2 % of 87 um
+    assert np.all(margin(before) > 0.3e-6)
+    assert not vouched(before, small)
+    assert vouched(before, before - 5e-6) and vouched(before, before + 0.05e-6)
+    assert not vouched(before, before - 5e-6 + np.array([0.0, 0.0, 4.9e-6]))
+
+    def figs(spike, g, ce):
+        return [{"path": {"contour_error_um": c}, "circle": {"largest_spike_um": s,
+                                                            "circular_deviation_um": gg}}
+                for s, gg, c in zip(spike, g, ce, strict=True)]
+
+    b = figs([87.2, 87.4, 87.0], [95.6, 95.9, 95.4], [158.3, 158.4, 158.2])
+    assert not never_worse(b, figs([86.9, 87.1, 86.7], [95.6, 95.9, 95.4],
+                                   [158.3, 158.4, 158.2]))
+    assert never_worse(b, figs([80.0, 80.1, 79.9], [95.6, 95.9, 95.4],
+                               [158.3, 158.4, 158.2]))

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..io.text import file_lines
 from .gcode import Interpreter
-from .gcode_fast import collector_paused, plain_run
+from .gcode_fast import collector_paused, plain_run, scan_chunk
 from .gcode_lexer import tape_marker, tokenize
 
 
@@ -93,9 +93,10 @@ def _run_lines(it: Interpreter, lines: list[str], offset: int, st: _Progress,
                fast: bool) -> None:
     """Interpret one chunk of lines, the first of them line ``offset + 1``."""
     k = 0
+    scan = scan_chunk(lines) if fast else None
     while k < len(lines):
         if fast:
-            j = plain_run(it, lines, k, offset)
+            j = plain_run(it, lines, k, offset, scan)
             st.started = st.started or j > k
             if j == len(lines):
                 return

@@ -18,6 +18,7 @@ stops (G61, G9) and at reversals stay sharp.
 from __future__ import annotations
 
 import math
+from itertools import repeat
 
 import numpy as np
 
@@ -161,7 +162,8 @@ class CornerBlender:
         self.held = raw[max(stop - 1, 0):]
         if stop <= first:
             return []
-        if not (self.tol > 0.0 or any(type(s) is Line and s.tolerance_m for s in raw)):
+        # only a Line has a tolerance; getattr over the blocks in C, not a loop in Python
+        if not (self.tol > 0.0 or any(map(getattr, raw, repeat("tolerance_m"), repeat(None)))):
             return raw[first:stop]  # no corner has a tolerance: none is blended
         d = _tangent_lengths(raw, self.tol)
         return _assemble(raw, d, first, stop)

@@ -82,7 +82,10 @@ def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
     offset = 0
     for lines in chunks:
         if st.end_line is None:
-            _run_lines(it, lines, offset, st, fast)
+            # the collector paused while a chunk's segments are made, not while the
+            # caller works on them (collector_paused)
+            with collector_paused():
+                _run_lines(it, lines, offset, st, fast)
         elif not st.rest_warned:
             st.rest_warned = _warn_rest(it, lines, 0, offset, st)
         yield it

@@ -7,7 +7,8 @@ with vectorised numpy. Arcs are evaluated on the arc (angle and radius), never o
 from __future__ import annotations
 
 from dataclasses import dataclass
-from operator import attrgetter
+from itertools import chain, repeat
+from operator import attrgetter, is_
 
 import numpy as np
 
@@ -99,7 +100,7 @@ def _segment_columns(segments):
     plane = np.tile(np.array([0, 1], np.int64), (n, 1))
     ccw = np.zeros(n, bool)
     turns = np.zeros(n, np.int64)
-    is_line = np.array(list(map(type, segments)), dtype=object) == Line
+    is_line = np.fromiter(map(is_, map(type, segments), repeat(Line)), bool, n)
     _line_columns(segments, is_line, (start, end, feed, exact, line))
     for i in np.flatnonzero(~is_line).tolist():
         s = segments[i]
@@ -153,6 +154,9 @@ def _line_columns(segments, is_line, columns) -> None:
         values = list(map(get, lines))
         if get is _LINE_FIELDS[-1] and None in values:
             values = [-1 if v is None else v for v in values]
+        if col.ndim == 2:  # the points' coordinates in one pass, not a tuple at a time
+            flat = np.fromiter(chain.from_iterable(values), float)
+            values = flat.reshape(-1, 3) if flat.size == 3 * len(values) else values
         col[rows] = values
 
 

@@ -55,7 +55,7 @@ def scan_chunk(lines: list[str]):
         return None
     # bytes above 127 (any other character) make a line no plain move, as for PLAIN_MOVE
     data = ("\n".join(lines) + "\n").encode("utf-8", "surrogatepass")
-    codes, vals = ck.scan_lines(np.frombuffer(data, np.uint8).astype(np.int64))
+    codes, vals = ck.scan_lines(np.frombuffer(data, np.uint8))
     return (codes, vals) if codes.shape[0] == len(lines) else None
 
 

@@ -107,7 +107,7 @@ def scan_lines(buf):
 
     Parameters
     ----------
-    buf : ndarray of int64
+    buf : ndarray of uint8
         The chunk's bytes, every line ended by ``\\n`` (10) [-].
 
     Returns

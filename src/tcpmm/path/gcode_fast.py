@@ -17,16 +17,14 @@ and ``float``. :func:`collector_paused` keeps the garbage collector out of a lon
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import gc
 import re
-from collections import deque
-from itertools import repeat
 
 import numpy as np
 
 from .. import _compiled as ck
 from .gcode_words import MAX_COORDINATE_M, MAX_FEED
+from .runs import LINE_SETTERS, LineRun
 from .segments import Line, Rapid
 
 # a number as the tokeniser accepts it; a line the tokeniser would refuse ("X.",
@@ -39,10 +37,6 @@ PLAIN_MOVE = re.compile(
     + "".join(f"(?:[{c}{c.lower()}]{_NUMBER})?" for c in "XYZF")
 )
 
-#: the slot setters of Line's fields in order: a frozen dataclass's ``__init__`` sets each
-#: field through ``object.__setattr__``, which costs twice as much as the setters, and a
-#: run of short segments makes a Line for every block
-_LINE_SETTERS = tuple(getattr(Line, f.name).__set__ for f in dataclasses.fields(Line))
 #: statuses of :func:`tcpmm.path.gcode_scan.scan_lines`: executed there, and a plain
 #: move whose numbers only ``float`` converts exactly [-]
 _PLAIN, _PLAIN_SLOW = 1, 2
@@ -104,7 +98,8 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0, scan=None) -> int:
 
 def _compiled_run(it, scan, k: int, first: int) -> int:
     """The blocks from ``k`` on through :func:`tcpmm.path.gcode_scan.run_plain`, their
-    segments appended; the index of the first line left [-]."""
+    segments appended (a :class:`~tcpmm.path.runs.LineRun` where the interpreter takes
+    runs and they are all G1); the index of the first line left [-]."""
     state = np.array([*it.pos, -1.0 if it.motion is None else it.motion,
                       np.nan if it.feed is None else it.feed, it.unit,
                       1.0 if it.absolute else 0.0, MAX_FEED, MAX_COORDINATE_M])
@@ -112,29 +107,19 @@ def _compiled_run(it, scan, k: int, first: int) -> int:
     if stop == k:
         return k
     feeds = feeds.tolist()
-    it.segments += _segments(it.pos, ends, feeds, motions, k + first, it.exact_stop,
-                             it.tolerance)
-    it.pos, it.motion = it.segments[-1].end_m, int(motions[-1])
+    run = LineRun(it.pos, ends, feeds, it.exact_stop, k + first, it.tolerance)
+    if it.takes_runs and motions.all():
+        it.segments.append(run)
+        it.pos = tuple(ends[-1].tolist())
+    else:
+        segs = run.lines()
+        for i in np.flatnonzero(motions == 0).tolist():
+            segs[i] = Rapid(segs[i].start_m, segs[i].end_m, k + first + i)
+        it.segments += segs
+        it.pos = segs[-1].end_m
+    it.motion = int(motions[-1])
     it.feed = None if np.isnan(feeds[-1]) else feeds[-1]
     return stop
-
-
-def _segments(pos, ends, feeds, motions, first, exact, tol) -> list:
-    """The segments of a run of blocks: their end points, feeds and motion codes, the
-    line of the first [m], [m/s], [-]."""
-    targets = list(zip(*ends.T.tolist(), strict=True))
-    starts = [pos]
-    starts += targets[:-1]
-    # a Line for every block, the slots set by C loops over the run (map), not per block
-    new, (s_start, s_end, s_feed, s_exact, s_line, s_tol) = object.__new__, _LINE_SETTERS
-    segs = list(map(new, repeat(Line, len(targets))))
-    for setter, values in ((s_start, starts), (s_end, targets), (s_feed, feeds),
-                           (s_exact, repeat(exact)), (s_line, range(first, first + len(segs))),
-                           (s_tol, repeat(tol))):
-        deque(map(setter, segs, values), maxlen=0)
-    for i in np.flatnonzero(motions == 0).tolist():
-        segs[i] = Rapid(starts[i], targets[i], first + i)
-    return segs
 
 
 def _run(lines, k, n, first, append, state, modes):
@@ -146,7 +131,7 @@ def _run(lines, k, n, first, append, state, modes):
     fullmatch = PLAIN_MOVE.fullmatch
     pos, motion, feed = state
     unit, absolute, exact, tol = modes
-    new, (s_start, s_end, s_feed, s_exact, s_line, s_tol) = object.__new__, _LINE_SETTERS
+    new, (s_start, s_end, s_feed, s_exact, s_line, s_tol) = object.__new__, LINE_SETTERS
     while k < n:
         m = fullmatch(lines[k])
         if m is None:

@@ -57,7 +57,7 @@ def run_program(text: str, file, start_position_m, fast: bool = True) -> Interpr
 
 
 def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
-                     fast: bool = True) -> Iterator[Interpreter]:
+                     fast: bool = True, runs: bool = False) -> Iterator[Interpreter]:
     """Interpret a program given as consecutive chunks of its lines.
 
     Parameters
@@ -70,6 +70,9 @@ def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
         Position of X, Y, Z before the program starts [m].
     fast : bool
         As for :func:`run_program` [-].
+    runs : bool
+        A run of plain G1 blocks goes into ``segments`` as one
+        :class:`~tcpmm.path.runs.LineRun` rather than a Line each [-].
 
     Yields
     ------
@@ -78,6 +81,7 @@ def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
         the caller may take and clear (``it.segments = []``) [-].
     """
     it = Interpreter(file, start_position_m)
+    it.takes_runs = runs
     st = _Progress()
     offset = 0
     for lines in chunks:

@@ -13,6 +13,7 @@ from operator import attrgetter, is_
 import numpy as np
 
 from ..errors import InputError
+from .runs import path_columns
 from .segments import AXIS_INDEX, Arc, Blend, Dwell, Line, Rapid, arc_sweep
 
 LINE, ARC, DWELL, BLEND = 0, 1, 2, 3
@@ -242,7 +243,7 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
 
     Parameters
     ----------
-    segments : sequence of Line, Rapid, Arc, Dwell
+    segments : sequence of Line, Rapid, Arc, Dwell, LineRun
         The continuous tool path [-].
     rapid_m_per_s : tuple of float
         Rapid speed of X, Y, Z [m/s].
@@ -253,7 +254,7 @@ def to_arrays(segments, rapid_m_per_s) -> PathArrays:
         The path as arrays [-].
     """
     kind, start, end, centre, feed, rapid, exact, dwell, line, plane, ccw, turns = (
-        _segment_columns(segments))
+        path_columns(segments, _segment_columns))
     _check(start, end, centre, feed, dwell, kind, rapid, line)
     length = _straight_lengths(start, end, rapid, feed, rapid_m_per_s)
     arcs = _arc_columns(kind, start, end, centre, plane, ccw, turns, line)

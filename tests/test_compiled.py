@@ -99,6 +99,27 @@ def test_the_interpolation_is_numbas_to_the_bit(monkeypatch):
         assert np.array_equal(ours.positions[axis], pos)
 
 
+def test_the_g_code_lexer_is_numbas_to_the_bit(monkeypatch):
+    """Plain moves of random numbers, absolute and incremental, in mm and inches, lexed
+    and executed by the compiled module and by numba."""
+    from tcpmm.path import parse_gcode
+    from tcpmm.path.gcode_fast import scan_chunk
+
+    built_or_skip()
+    rng = np.random.default_rng(5)
+    blocks = []
+    for scale in (500.0, 5.0, 10.0):  # absolute mm, incremental mm, absolute inches
+        v = rng.uniform(-scale, scale, (200, 3))
+        blocks.append([f"G1 X{x:.{k}f} Y{y:.4f} Z{z:.9f}"
+                       for (x, y, z), k in zip(v, rng.integers(0, 9, 200), strict=True)])
+    text = "\n".join(["G21 G90 F3000", *blocks[0], "G91", *blocks[1], "G20 G90", *blocks[2]])
+    assert (scan_chunk(text.split("\n"))[0][:, 0] == 1).sum() == 600  # all compiled
+    ours = parse_gcode(text)
+    monkeypatch.setattr(compiled, "_chosen", [None, "numba's kernels (forced)"])
+    theirs = parse_gcode(text)
+    assert len(ours) == 600 and repr(ours) == repr(theirs)
+
+
 @pytest.fixture
 def fresh(tmp_path, monkeypatch):
     """The choice made again, with the compiled modules kept in an empty folder."""

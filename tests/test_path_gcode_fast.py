@@ -3,6 +3,8 @@ the same segments, modal state and warnings, and the same errors, on generated p
 
 from __future__ import annotations
 
+import math
+import struct
 import warnings
 
 import pytest
@@ -11,7 +13,8 @@ from hypothesis import strategies as st
 
 from tcpmm.errors import InputError
 from tcpmm.path import gcode_stream, parse_gcode
-from tcpmm.path.gcode_fast import PLAIN_MOVE
+from tcpmm.path.gcode_fast import PLAIN_MOVE, scan_chunk
+from tcpmm.path.gcode_scan import NOT_PLAIN, PLAIN, PLAIN_SLOW
 
 # numbers the tokeniser takes and ones it refuses, in and out of range
 NUMBERS = ["0", "-0", "+1", "1.", ".5", "-.25", "12.3456", "007", "-3", "1000000",
@@ -26,6 +29,14 @@ OTHER = ["G91", "G90", "G20", "G21", "G61", "G64 P0.01", "G9 G1 X1", "G2 X1 Y0 I
 
 decimals = st.floats(-500.0, 500.0).map(lambda v: f"{v:.4f}")
 feeds = st.floats(1.0, 1e4).map(lambda v: f"{v:.1f}")
+# numbers of any length: up to 25 digits before and after the point, leading zeros, the
+# shortest repr of a double; the compiled lexer converts some, the rest go to float
+digits = st.text("0123456789", max_size=25)
+long_numbers = st.one_of(
+    st.tuples(st.sampled_from(["", "-", "+"]), digits, st.sampled_from([".", ""]), digits)
+    .map("".join),
+    st.floats(-1e6, 1e6).map(repr),
+    st.floats(-1e3, 1e3).map(lambda v: f"{v:.{len(repr(v))}f}"))
 
 
 @st.composite
@@ -42,7 +53,7 @@ def plain_line(draw):
         letters = [c.lower() if draw(st.booleans()) else c for c in letters]
     for letter in letters:
         good = feeds if letter in "Ff" else decimals
-        number = draw(st.one_of([good] * 5 + [st.sampled_from(NUMBERS)]))
+        number = draw(st.one_of([good] * 5 + [st.sampled_from(NUMBERS), long_numbers]))
         parts.append(letter + draw(st.sampled_from(SPACES)) + number)
     sep = draw(st.sampled_from(SPACES))
     return draw(st.sampled_from(SPACES)) + sep.join(parts) + draw(st.sampled_from(SPACES))
@@ -133,6 +144,55 @@ def test_an_error_in_a_run_of_incremental_moves_names_the_same_line(lines, bad, 
     lines = [*lines]
     lines.insert(min(at, len(lines)), bad)
     text = "G21 G91 G1 F3000\n" + "\n".join(lines) + "\n"
+    assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
+def _bits(v: float) -> bytes:
+    return struct.pack("<d", v)
+
+
+@settings(max_examples=500, deadline=None)
+@given(long_numbers, st.sampled_from("XYZF"))
+def test_the_compiled_lexer_converts_a_number_as_float_does(number, letter):
+    """To the bit, -0.0 included; and it converts every number of at most 15 significant
+    digits and 22 decimals, so that such blocks stay off the regular expression."""
+    codes, vals = scan_chunk([f"G1 {letter}{number}"])
+    slot = "XYZF".index(letter)
+    if PLAIN_MOVE.fullmatch(f"G1 {letter}{number}") is None:
+        assert codes[0, 0] == NOT_PLAIN
+        return
+    assert codes[0, 0] in (PLAIN, PLAIN_SLOW) and codes[0, 1] == 1
+    assert codes[0, 2] == 1 << slot
+    mantissa = number.lstrip("+-").replace(".", "").lstrip("0") or "0"
+    decimals_ = len(number.partition(".")[2])
+    if len(mantissa) <= 15 and decimals_ <= 22:
+        assert codes[0, 0] == PLAIN
+    if codes[0, 0] == PLAIN:
+        assert _bits(vals[0, slot]) == _bits(float(number))
+
+
+def test_the_compiled_lexer_on_a_chunk():
+    lines = ["G1 X1.5 Y-2 Z.25 F3000", "  g00x+1y2  ", "X1 X2", "Y1 X1", "G2 X1", "",
+             "G1 X" + "1" * 17, "G1 X1e3", "G 01 Z-0", "G10 X1", "X1 (c)", "F100"]
+    codes, vals = scan_chunk(lines)
+    assert codes[:, 0].tolist() == [PLAIN, PLAIN, 0, 0, 0, PLAIN, PLAIN_SLOW, 0, PLAIN, 0,
+                                    0, PLAIN]
+    assert codes[:, 1].tolist() == [1, 0, -1, -1, -1, -1, 1, -1, 1, -1, -1, -1]
+    assert codes[:, 2].tolist() == [15, 3, 0, 0, 0, 0, 1, 0, 4, 0, 0, 8]
+    assert vals[0].tolist() == [1.5, -2.0, 0.25, 3000.0] and vals[1, :2].tolist() == [1, 2]
+    assert math.copysign(1.0, vals[8, 2]) == -1.0
+    assert scan_chunk([]) is None and scan_chunk(["X1\nX2"]) is None
+
+
+def test_a_number_float_alone_converts_exactly_goes_through_it():
+    """A mantissa beyond 2^53 is converted by float, not the compiled lexer, and the run
+    of compiled blocks goes on after it."""
+    big = "0.12345678901234567890123"
+    third = repr(1 / 3)
+    text = f"G1 F3000\nX1\nX{big}\nX2 Y{third}\nX3\n"
+    segments = parse_gcode(text)
+    assert [s.end_m[0] for s in segments] == [1e-3, float(big) * 1e-3, 2e-3, 3e-3]
+    assert segments[2].end_m[1] == float(third) * 1e-3
     assert _outcome(text, fast=True) == _outcome(text, fast=False)
 
 

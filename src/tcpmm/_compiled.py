@@ -47,15 +47,15 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "sim/frictionstep.py", "sim/contact.py", "sim/frictionlaw.py",
                   "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
-                  "path/sampling.py", "path/geometry.py")
+                  "path/sampling.py", "path/geometry.py", "path/gcode_scan.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
 #: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
 _KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
                  "f1", "f2", "f2", "f2", "f1")
 #: The functions built into the module: name -> (module of tcpmm, numba's entry point,
-#: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``
-#: C-contiguous float64 or int64 arrays of 1 or 2 dimensions; ``f``, ``i`` a float64 or
-#: int64 number; a tuple for a tuple.
+#: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``,
+#: ``u1`` C-contiguous float64, int64 or uint8 arrays of 1 or 2 dimensions; ``f``, ``i`` a
+#: float64 or int64 number; a tuple for a tuple.
 FUNCTIONS = {
     "run_axis": ("sim.kernel", "run_axis", "_run_axis", _KERNEL_KINDS, "f1"),
     "expm": ("sim.expm", "expm", "expm", ("f2",), "f2"),
@@ -67,6 +67,9 @@ FUNCTIONS = {
                  ("i1", "f1", "f1", "f1", "f", "i"), ("i1", "f1", "f1", "i")),
     "sample": ("path.sampling", "sample", "sample",
                ("i1", "f1", "f1", "f1", "f1", "f2", "i", "f"), ("i1", "f1")),
+    "scan_lines": ("path.gcode_scan", "scan_lines", "scan_lines", ("u1",), ("i2", "f2")),
+    "run_plain": ("path.gcode_scan", "run_plain", "run_plain", ("i2", "f2", "i", "f1"),
+                  ("i", "f2", "f1", "i1")),
 }
 #: A failed build is not tried again for this long [s]; a build lock older than
 #: :data:`LOCK_STALE_S` is taken to be left by a process that died [s].
@@ -123,6 +126,16 @@ def timeline(*args):
 def sample(*args):
     """:func:`tcpmm.path.sampling.sample` through :func:`call` [SI]."""
     return call("sample", *args)
+
+
+def scan_lines(*args):
+    """:func:`tcpmm.path.gcode_scan.scan_lines` through :func:`call` [-]."""
+    return call("scan_lines", *args)
+
+
+def run_plain(*args):
+    """:func:`tcpmm.path.gcode_scan.run_plain` through :func:`call` [SI]."""
+    return call("run_plain", *args)
 
 
 def expm(A):
@@ -208,7 +221,7 @@ def _fits(kinds, args) -> bool:
     for a, k in zip(args, kinds, strict=True):
         if len(k) == 2:
             if not (type(a) is np.ndarray and a.ndim == int(k[1]) and a.flags.c_contiguous
-                    and a.dtype == (np.int64 if k[0] == "i" else np.float64)):
+                    and a.dtype == {"i": np.int64, "u": np.uint8, "f": np.float64}[k[0]]):
                 return False
         elif isinstance(a, bool | np.bool_) or not isinstance(
                 a, (int, np.integer) if k == "i" else (int, float, np.integer, np.floating)):

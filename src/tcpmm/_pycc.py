@@ -58,7 +58,7 @@ def _numba_type(numba, kind):
     """numba's type for a kind of :data:`tcpmm._compiled.FUNCTIONS`."""
     if isinstance(kind, tuple):
         return numba.types.Tuple(tuple(_numba_type(numba, k) for k in kind))
-    scalar = numba.int64 if kind[0] == "i" else numba.float64
+    scalar = {"i": numba.int64, "u": numba.uint8, "f": numba.float64}[kind[0]]
     return numba.types.Array(scalar, int(kind[1]), "C") if len(kind) == 2 else scalar
 
 

@@ -18,9 +18,11 @@ stops (G61, G9) and at reversals stay sharp.
 from __future__ import annotations
 
 import math
+from itertools import repeat
 
 import numpy as np
 
+from .runs import LineRun, as_lines
 from .segments import Blend, Line
 
 #: blends shorter than this along either line are not worth a segment [m]
@@ -156,12 +158,30 @@ class CornerBlender:
             They are the last: the path ends with them [-].
         """
         raw = self.held + list(segments)
+        # only a Line or a run has a tolerance; getattr over the blocks in C, not a loop
+        blend = self.tol > 0.0 or any(map(getattr, raw, repeat("tolerance_m"), repeat(None)))
+        # a run is cut so that the blocks held are single ones (a block given out for its
+        # blend, the next); where corners are blended, a run's blocks are made Lines
+        raw = as_lines(raw) if blend else _last_block_apart(raw, final)
         first = max(len(self.held) - 1, 0)
         stop = len(raw) if final else len(raw) - 1
-        self.held = raw[max(stop - 1, 0):]
+        self.held = [_last_block(s) for s in raw[max(stop - 1, 0):]]
         if stop <= first:
             return []
-        if not (self.tol > 0.0 or any(type(s) is Line and s.tolerance_m for s in raw)):
+        if not blend:
             return raw[first:stop]  # no corner has a tolerance: none is blended
         d = _tangent_lengths(raw, self.tol)
         return _assemble(raw, d, first, stop)
+
+
+def _last_block_apart(raw: list, final: bool) -> list:
+    """``raw`` with its last block apart from a run it ends [-]."""
+    if final or not raw or type(raw[-1]) is not LineRun or len(raw[-1]) < 2:
+        return raw
+    n = len(raw[-1])
+    return [*raw[:-1], raw[-1].cut(0, n - 1), raw[-1].cut(n - 1, n)]
+
+
+def _last_block(s):
+    """The last block of a run, else the segment [-]."""
+    return s.cut(len(s) - 1, len(s)) if type(s) is LineRun and len(s) > 1 else s

@@ -63,6 +63,8 @@ class Interpreter(GeometryMixin):
         self.tolerance = None
         self.segments = []
         self.warned = {}
+        #: a run of plain G1 blocks may go into ``segments`` as one LineRun [-]
+        self.takes_runs = False
 
     # ---- reporting -------------------------------------------------------------------
     def error(self, msg, line, column=None):

@@ -6,17 +6,25 @@ A program of short segments is almost all blocks like ``G1 X12.5 Y-3.25`` or
 so without an error or a warning. Anything else (comments, other words, another word order, a feed
 or coordinate out of range, a zero-length move, no motion mode or feed yet) is left to
 the tokeniser and the interpreter, so every message keeps its text, line and column.
-:func:`collector_paused` keeps the garbage collector out of a long parse.
+
+A chunk of lines is lexed once, compiled (:func:`scan_chunk`,
+:mod:`tcpmm.path.gcode_scan`), into arrays of what each line says; the blocks are
+executed on those arrays and only their segments are made as Python objects. A line
+whose numbers the compiled lexer cannot convert exactly goes through :data:`PLAIN_MOVE`
+and ``float``. :func:`collector_paused` keeps the garbage collector out of a long parse.
 """
 
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import gc
 import re
 
+import numpy as np
+
+from .. import _compiled as ck
 from .gcode_words import MAX_COORDINATE_M, MAX_FEED
+from .runs import LINE_SETTERS, LineRun
 from .segments import Line, Rapid
 
 # a number as the tokeniser accepts it; a line the tokeniser would refuse ("X.",
@@ -29,13 +37,23 @@ PLAIN_MOVE = re.compile(
     + "".join(f"(?:[{c}{c.lower()}]{_NUMBER})?" for c in "XYZF")
 )
 
-#: the slot setters of Line's fields in order: a frozen dataclass's ``__init__`` sets each
-#: field through ``object.__setattr__``, which costs twice as much as the setters, and a
-#: run of short segments makes a Line for every block
-_LINE_SETTERS = tuple(getattr(Line, f.name).__set__ for f in dataclasses.fields(Line))
+#: statuses of :func:`tcpmm.path.gcode_scan.scan_lines`: executed there, and a plain
+#: move whose numbers only ``float`` converts exactly [-]
+_PLAIN, _PLAIN_SLOW = 1, 2
 
 
-def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
+def scan_chunk(lines: list[str]):
+    """The chunk's lines lexed (:func:`tcpmm.path.gcode_scan.scan_lines`): codes and
+    values, or ``None`` where a line holds a line break of its own [-]."""
+    if not lines:
+        return None
+    # bytes above 127 (any other character) make a line no plain move, as for PLAIN_MOVE
+    data = ("\n".join(lines) + "\n").encode("utf-8", "surrogatepass")
+    codes, vals = ck.scan_lines(np.frombuffer(data, np.uint8))
+    return (codes, vals) if codes.shape[0] == len(lines) else None
+
+
+def plain_run(it, lines: list[str], k: int, offset: int = 0, scan=None) -> int:
     """Execute the plain moves from ``lines[k]`` on, as the interpreter would.
 
     Parameters
@@ -48,6 +66,9 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
         0-based index of the first line to try [-].
     offset : int
         Lines of the program before ``lines[0]`` (when it comes in chunks) [-].
+    scan : tuple, optional
+        :func:`scan_chunk` of ``lines``; without it every line goes through
+        :data:`PLAIN_MOVE` [-].
 
     Returns
     -------
@@ -55,21 +76,62 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0) -> int:
         0-based index of the first line not executed here, ``k`` if none was: that line
         goes to the tokeniser and the interpreter [-].
     """
-    k, it.pos, it.motion, it.feed = _run(
-        lines, k, offset + 1, it.segments.append, (it.pos, it.motion, it.feed),
-        (it.unit, it.absolute, it.exact_stop, it.tolerance))
+    modes = (it.unit, it.absolute, it.exact_stop, it.tolerance)
+    if scan is None:
+        k, it.pos, it.motion, it.feed = _run(
+            lines, k, len(lines), offset + 1, it.segments.append,
+            (it.pos, it.motion, it.feed), modes)
+        return k
+    codes = scan[0]
+    while k < len(lines):
+        k = _compiled_run(it, scan, k, offset + 1)
+        if k == len(lines) or codes[k, 0] != _PLAIN_SLOW:
+            break
+        j, it.pos, it.motion, it.feed = _run(
+            lines, k, k + 1, offset + 1, it.segments.append,
+            (it.pos, it.motion, it.feed), modes)
+        if j == k:
+            break
+        k = j
     return k
 
 
-def _run(lines, k, first, append, state, modes):
-    """The loop of :func:`plain_run`: the index of the first line it leaves, and the
-    position, motion mode and feed after the blocks it ran [-]."""
+def _compiled_run(it, scan, k: int, first: int) -> int:
+    """The blocks from ``k`` on through :func:`tcpmm.path.gcode_scan.run_plain`, their
+    segments appended (a :class:`~tcpmm.path.runs.LineRun` where the interpreter takes
+    runs and they are all G1); the index of the first line left [-]."""
+    state = np.array([*it.pos, -1.0 if it.motion is None else it.motion,
+                      np.nan if it.feed is None else it.feed, it.unit,
+                      1.0 if it.absolute else 0.0, MAX_FEED, MAX_COORDINATE_M])
+    stop, ends, feeds, motions = ck.run_plain(scan[0], scan[1], k, state)
+    if stop == k:
+        return k
+    feeds = feeds.tolist()
+    run = LineRun(it.pos, ends, feeds, it.exact_stop, k + first, it.tolerance)
+    if it.takes_runs and motions.all():
+        it.segments.append(run)
+        it.pos = tuple(ends[-1].tolist())
+    else:
+        segs = run.lines()
+        for i in np.flatnonzero(motions == 0).tolist():
+            segs[i] = Rapid(segs[i].start_m, segs[i].end_m, k + first + i)
+        it.segments += segs
+        it.pos = segs[-1].end_m
+    it.motion = int(motions[-1])
+    it.feed = None if np.isnan(feeds[-1]) else feeds[-1]
+    return stop
+
+
+def _run(lines, k, n, first, append, state, modes):
+    """The loop of :func:`plain_run` through :data:`PLAIN_MOVE` over ``lines[k:n]``: the
+    index of the first line it leaves, and the position, motion mode and feed after the
+    blocks it ran [-]."""
     # modal state in locals and one loop over a run of blocks: attribute look-ups and
     # a call per block cost as much as the block's arithmetic
-    fullmatch, n = PLAIN_MOVE.fullmatch, len(lines)
+    fullmatch = PLAIN_MOVE.fullmatch
     pos, motion, feed = state
     unit, absolute, exact, tol = modes
-    new, (s_start, s_end, s_feed, s_exact, s_line, s_tol) = object.__new__, _LINE_SETTERS
+    new, (s_start, s_end, s_feed, s_exact, s_line, s_tol) = object.__new__, LINE_SETTERS
     while k < n:
         m = fullmatch(lines[k])
         if m is None:

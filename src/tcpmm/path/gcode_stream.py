@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..io.text import file_lines
 from .gcode import Interpreter
-from .gcode_fast import collector_paused, plain_run
+from .gcode_fast import collector_paused, plain_run, scan_chunk
 from .gcode_lexer import tape_marker, tokenize
 
 
@@ -57,7 +57,7 @@ def run_program(text: str, file, start_position_m, fast: bool = True) -> Interpr
 
 
 def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
-                     fast: bool = True) -> Iterator[Interpreter]:
+                     fast: bool = True, runs: bool = False) -> Iterator[Interpreter]:
     """Interpret a program given as consecutive chunks of its lines.
 
     Parameters
@@ -70,6 +70,9 @@ def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
         Position of X, Y, Z before the program starts [m].
     fast : bool
         As for :func:`run_program` [-].
+    runs : bool
+        A run of plain G1 blocks goes into ``segments`` as one
+        :class:`~tcpmm.path.runs.LineRun` rather than a Line each [-].
 
     Yields
     ------
@@ -78,11 +81,15 @@ def interpret_chunks(chunks: Iterable[list[str]], file, start_position_m,
         the caller may take and clear (``it.segments = []``) [-].
     """
     it = Interpreter(file, start_position_m)
+    it.takes_runs = runs
     st = _Progress()
     offset = 0
     for lines in chunks:
         if st.end_line is None:
-            _run_lines(it, lines, offset, st, fast)
+            # the collector paused while a chunk's segments are made, not while the
+            # caller works on them (collector_paused)
+            with collector_paused():
+                _run_lines(it, lines, offset, st, fast)
         elif not st.rest_warned:
             st.rest_warned = _warn_rest(it, lines, 0, offset, st)
         yield it
@@ -93,9 +100,10 @@ def _run_lines(it: Interpreter, lines: list[str], offset: int, st: _Progress,
                fast: bool) -> None:
     """Interpret one chunk of lines, the first of them line ``offset + 1``."""
     k = 0
+    scan = scan_chunk(lines) if fast else None
     while k < len(lines):
         if fast:
-            j = plain_run(it, lines, k, offset)
+            j = plain_run(it, lines, k, offset, scan)
             st.started = st.started or j > k
             if j == len(lines):
                 return

@@ -27,6 +27,7 @@ from .gcode_stream import interpret_chunks
 from .geometry import evaluate
 from .interpolate import used_axes
 from .program import check_program_file, is_path
+from .runs import blocks, drop_blocks
 from .segments import AXES, Arc
 from .settings import InterpolatorSettings
 from .stream_plan import PlanState, Samples, plan_piece
@@ -93,21 +94,21 @@ class StreamInterpolator:
 
         Parameters
         ----------
-        segments : sequence of Line, Rapid, Arc, Dwell
+        segments : sequence of Line, Rapid, Arc, Dwell, LineRun
             The next segments of the path [-].
         final : bool
             The path ends with them [-].
         """
         segments = list(segments)
-        self.segments_in += len(segments)
+        self.segments_in += blocks(segments)
         if self.plane_axes is None:
             self.plane_axes = next((s.plane_axes for s in segments if type(s) is Arc), None)
         if final and not self.segments_in:
             raise InputError("the path is empty: give at least one motion or dwell")
         self.pending.extend(self.blender.push(segments, final))
         smp, k = plan_piece(self.pending, self.settings, self.filt, self.state, final)
-        del self.pending[:k]
-        self.most_held = max(self.most_held, len(self.pending))
+        self.pending = drop_blocks(self.pending, k)
+        self.most_held = max(self.most_held, blocks(self.pending))
         if smp is None:
             return None
         self.used_axes.update(AXES[a] for a in used_axes(smp.path))
@@ -185,7 +186,7 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
 
     it = None
     try:
-        for it in interpret_chunks(counted(), file, start_position_m):
+        for it in interpret_chunks(counted(), file, start_position_m, runs=True):
             segs, it.segments = it.segments, []
             piece = ip.push(segs)
             if piece is not None and piece.time_s.size:

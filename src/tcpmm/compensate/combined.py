@@ -36,14 +36,13 @@ from .learning import CUTOFF_HZ, compensate
 from .robust import (
     EQUAL_M,
     LEVELS,
+    acceptable,
     axis_errors,
+    circle_rows,
     judged,
-    margin,
-    over_draws,
     record,
     region_rows,
     regions,
-    vouched,
 )
 
 #: Shares of the controller-side parameters tried [-].
@@ -59,14 +58,6 @@ def scaled_params(params: dict, share: float) -> dict:
 def plants(params: dict, share: float = 1.0) -> dict:
     """Per axis how the controller runs a command with ``share`` of its parameters [-]."""
     return {a: axis_plant(c, share) for a, c in params.items()}
-
-
-def acceptable(before: np.ndarray, after: np.ndarray, n_reg: int) -> bool:
-    """No region of any draw worse than the sensors' resolution, and the draws vouch for
-    every circle figure's change (:func:`.robust.vouched`) [-]."""
-    if np.any(after[:, :n_reg] > before[:, :n_reg] + EQUAL_M):
-        return False
-    return all(vouched(before[:, j], after[:, j]) for j in range(n_reg, before.shape[1]))
 
 
 def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple:
@@ -145,12 +136,9 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     labels = regions(first.target)
     errs = {s: axis_errors(machines, c, plants(params, s)) for s, c in comps.items()}
     share, shares, before, after = choose_combined(errs, first.target, labels, guard)
-    n_reg = labels.max() + 1
-    circle = {} if guard is None else {
-        name: over_draws(before[:, j], after[:, j], margin(before[:, j]))
-        for name, j in (("spike", n_reg), ("circular_deviation", n_reg + 1))}
     comp = comps[share]
-    record(comp, shares, region_rows(before, after, comp.target, labels), circle, labels,
+    record(comp, shares, region_rows(before, after, comp.target, labels),
+           circle_rows(before, after, guard), labels,
            {"draws": n_draws, "seed": seed, "parameter_share": share})
     comp.controller = scaled_params(params, share)
     return comp

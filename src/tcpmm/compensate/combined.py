@@ -60,6 +60,14 @@ def plants(params: dict, share: float = 1.0) -> dict:
     return {a: axis_plant(c, share) for a, c in params.items()}
 
 
+def acceptable_combined(before: np.ndarray, after: np.ndarray, n_reg: int) -> bool:
+    """No region of any draw worse than the sensors' resolution, and the draws vouch for
+    every circle figure's change (:func:`.robust.acceptable`) [-]."""
+    if np.any(after[:, :n_reg] > before[:, :n_reg] + EQUAL_M):
+        return False
+    return acceptable(before[:, n_reg:], after[:, n_reg:])
+
+
 def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple:
     """The share of the parameters and per axis of the correction (module docstring).
 
@@ -92,7 +100,7 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
         if s == 0.0 and c == zero:
             continue
         after = judged(errs[s], c, target, labels, guard)
-        if acceptable(before, after, n_reg) and objective(after) < best[3] - EQUAL_M:
+        if acceptable_combined(before, after, n_reg) and objective(after) < best[3] - EQUAL_M:
             best = (s, c, after, objective(after))
     return best[0], [LEVELS[k] for k in best[1]], before, best[2]
 

@@ -3,14 +3,17 @@ uncertainty, scaled back per region where the draws cannot guarantee an improvem
 
 Regions are the windows around every reversal of an axis and the stretches between them. A
 share of the correction in {0, 1/4, ..., 1} is chosen per axis: the shares whose largest
-contour error is smallest on the worst draw, among those that leave no region of any draw
-worse than the uncompensated command and, for a circle (:mod:`.circleguard`), whose change
-of its largest reversal spike and G the draws vouch for (:func:`vouched`). A share is kept
-only where it lowers the worst draw's contour error by more than :func:`margin`, and a
-region, spike or G counts as improved only where every draw falls by more than that margin:
-the correction acts on the servo's lag and the structure's deflection, which set the
-contour error, so that figure is the one it claims to improve, and a fall smaller than the
-model's error can be a rise on the machine. A region is *trusted* where the chosen shares
+contour error is smallest on the worst draw, among those whose every figure the draws vouch
+for (:func:`vouched`: on every draw it falls by more than :func:`margin` or stays within the
+sensors' resolution): the contour error of each region and, for a circle
+(:mod:`.circleguard`), its largest reversal spike and G. A share is kept only where it
+lowers the worst draw's contour error by more than the margin, and a region, spike or G
+counts as improved only where every draw falls by more than it. The margin holds for the
+contour error too: the correction acts on the servo's lag and the structure's deflection,
+which set that error, so it is the figure the correction moves and claims to improve (a
+friction pulse hardly moves it, so the controller-side choice only keeps it from growing),
+and a fall smaller than the model's error can be a rise on the machine. A region is
+*trusted* where the chosen shares
 improve it on every draw, and *firm* where every draw improves it at least
 :data:`FIRM_RATIO` times. The draws carry the model error's floors that ``tcpmm spread``
 uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`), so that an axis identified with a small
@@ -158,20 +161,17 @@ def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> n
     return np.hstack([out, circle])
 
 
-def acceptable(before: np.ndarray, after: np.ndarray, n_reg: int) -> bool:
-    """No region of any draw worse than the sensors' resolution, and the draws vouch for
-    the change of every circle figure (:func:`vouched`) [-].
+def acceptable(before: np.ndarray, after: np.ndarray) -> bool:
+    """Whether the draws vouch for the change of every figure (:func:`vouched`): each
+    region's contour error and, for a circle, its largest spike and G fall on every draw by
+    more than :func:`margin`, or stay within the sensors' resolution [-].
 
     Parameters
     ----------
     before, after : ndarray
         The figures of :func:`judged` per draw without and with the compensation [m].
-    n_reg : int
-        The regions' number: the columns after them are the circle's figures [-].
     """
-    if np.any(after[:, :n_reg] > before[:, :n_reg] + EQUAL_M):
-        return False
-    return all(vouched(before[:, j], after[:, j]) for j in range(n_reg, before.shape[1]))
+    return all(vouched(before[:, j], after[:, j]) for j in range(before.shape[1]))
 
 
 def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
@@ -184,7 +184,7 @@ def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
     for c in itertools.product(range(len(LEVELS)), repeat=n_ax):
         after = judged(errs, c, target, labels, guard)
         worst = after[:, :n_reg].max()
-        if acceptable(before, after, n_reg) and worst < best_worst - margin(best_worst):
+        if acceptable(before, after) and worst < best_worst - margin(best_worst):
             best, best_worst, best_figs = c, worst, after
     return [LEVELS[k] for k in best], region_rows(before, best_figs, target, labels), \
         circle_rows(before, best_figs, guard)

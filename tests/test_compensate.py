@@ -359,6 +359,7 @@ def test_a_region_falling_within_the_margin_keeps_no_share():
     error (0.4 um): that fall may be a rise on the machine, so the share is scaled back to
     1/4, where the other changes by less than the sensors see; with no change there beyond
     the sensors' resolution the whole share is kept."""
+    from tcpmm.compensate.combined import choose_combined
     from tcpmm.compensate.robust import choose
 
     labels = np.repeat([0, 1], 100)
@@ -368,3 +369,5 @@ def test_a_region_falling_within_the_margin_keeps_no_share():
         shares, rows, _ = choose(errs, target, labels)
         assert shares == [0.0, share]
         assert [r["verdict"] for r in rows] == ["improves", "uncertain"]
+        both = choose_combined({k: errs for k in (0.0, 0.5, 1.0)}, target, labels)
+        assert both[:2] == (0.0, [0.0, share])  # the same rule with the controller's share

@@ -292,3 +292,82 @@ def test_headroom_plans_the_program_with_the_rest_of_the_limits(tmp_path, capsys
     assert main(["compensate", "builtin:vmc", "--command", str(cmd_file), "-o", str(out),
                  "--headroom", "0.2"]) == 2
     assert "already timed" in capsys.readouterr().err
+
+
+class _SpikeOf:
+    """A circle's figures read off the TCP: a spike that moves ``slope`` times as much as
+    the largest error across the path, and a G that does not move [m]."""
+
+    def __init__(self, spike_m, slope, base_m):
+        self.spike_m, self.slope, self.base_m = spike_m, slope, base_m
+
+    def figures(self, tcp, compensated):
+        moved = np.abs(tcp[1]).max() - self.base_m
+        return np.array([self.spike_m + self.slope * moved, 5e-6])
+
+
+def _line_errors(base_m, fall_m, n=200, draws=3):
+    """TCP errors across a straight path along X, shape (draws, axes, levels, n): X exact,
+    Y off by ``base_m`` less ``fall_m`` times the share, a little differently per draw [m];
+    either may hold one value per sample."""
+    from tcpmm.compensate.robust import LEVELS
+
+    t = np.arange(n) * 1e-3
+    target = Command(t, {"X": 0.05 * t, "Y": np.zeros(n)})
+    errs = np.zeros((draws, 2, len(LEVELS), n))
+    for i in range(draws):
+        for k, lev in enumerate(LEVELS):
+            errs[i, 1, k] = (1 + 0.01 * i) * (np.asarray(base_m) - lev * np.asarray(fall_m))
+    return errs, target
+
+
+@pytest.mark.parametrize("fall_um, share, verdict_", [
+    (0.5, 0.0, "uncertain"),  # 1 % of 50 um on every draw: within the model's error
+    (5.0, 1.0, "improves"),   # 10 %: an improvement the draws can see
+])
+def test_a_fall_within_the_margin_keeps_no_share(fall_um, share, verdict_):
+    """The contour error of the region falls on every draw; the share is kept, and the
+    region called improved, only where it falls by more than the model-error margin."""
+    from tcpmm.compensate.robust import choose, judged, region_rows
+
+    errs, target = _line_errors(50e-6, fall_um * 1e-6)
+    shares, rows, _ = choose(errs, target, np.zeros(200, dtype=int))
+    assert shares == [0.0, share]
+    assert rows[0]["verdict"] == verdict_
+    labels = np.zeros(200, dtype=int)
+    full = region_rows(judged(errs, (0, 0), target, labels),
+                       judged(errs, (0, 4), target, labels), target, labels)
+    assert full[0]["verdict"] == verdict_  # the full share's own verdict
+    assert full[0]["worst_after_um"] == pytest.approx(1.02 * (50 - fall_um), rel=1e-6)
+
+
+def test_a_circle_figure_falling_within_the_margin_keeps_no_share():
+    """The regions fall by 10 % on every draw, the circle's spike by 0.125 to 0.5 um of 40 um: no
+    fall the draws can see, so no share is kept; a spike that falls 2.5 um lets it be."""
+    from tcpmm.compensate.robust import choose
+
+    errs, target = _line_errors(50e-6, 5e-6)
+    labels = np.zeros(200, dtype=int)
+    shares, _, circle = choose(errs, target, labels, _SpikeOf(40e-6, 0.1, 50e-6))
+    assert shares == [0.0, 0.0] and circle["spike"]["verdict"] == "uncertain"
+    shares, _, circle = choose(errs, target, labels, _SpikeOf(40e-6, 0.5, 50e-6))
+    assert shares == [0.0, 1.0] and circle["spike"]["verdict"] == "improves"
+
+
+def test_a_region_falling_within_the_margin_keeps_no_share():
+    """One region falls 10 % on every draw, the other 1.5 % of 20 um, within the model's
+    error (0.4 um): that fall may be a rise on the machine, so the share is scaled back to
+    1/4, where the other changes by less than the sensors see; with no change there beyond
+    the sensors' resolution the whole share is kept."""
+    from tcpmm.compensate.combined import choose_combined
+    from tcpmm.compensate.robust import choose
+
+    labels = np.repeat([0, 1], 100)
+    for other_um, share in ((0.3, 0.25), (0.05, 1.0)):
+        errs, target = _line_errors(np.where(labels == 0, 50e-6, 20e-6),
+                                    np.where(labels == 0, 5e-6, other_um * 1e-6))
+        shares, rows, _ = choose(errs, target, labels)
+        assert shares == [0.0, share]
+        assert [r["verdict"] for r in rows] == ["improves", "uncertain"]
+        both = choose_combined({k: errs for k in (0.0, 0.5, 1.0)}, target, labels)
+        assert both[:2] == (0.0, [0.0, share])  # the same rule with the controller's share

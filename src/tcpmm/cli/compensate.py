@@ -240,9 +240,10 @@ def _say(output: Path, report, comp, controller_out, cc) -> None:
 
 #: How each verdict over the draws reads [-].
 _VERDICT_TEXT = {"firm": "firm: every draw at least {r:.1f}x smaller",
-                 "improves": "improves: every draw smaller, the least by {r:.1f}x",
-                 "uncertain": "uncertain: some draw not smaller; the share applied keeps "
-                              "it from growing"}
+                 "improves": "improves: every draw smaller by more than the model's "
+                             "error, the least by {r:.1f}x",
+                 "uncertain": "uncertain: some draw not smaller by more than the model's "
+                              "error; the share applied keeps it from growing"}
 
 
 def _verdict_lines(robustness: dict) -> list[str]:

@@ -16,9 +16,10 @@ The robust choice then judges the combination on draws of the model: a share of 
 parameters in {0, 1/2, 1}, the correction learned with it, and per axis a share of that
 correction in {0, 1/4, ..., 1}; kept is the pair with the smallest worst-draw contour
 error plus largest spike (the command is there for the first, the pulse for the second),
-among those that leave no region of any draw worse and whose spike and G the draws vouch
-for (:func:`.robust.vouched`): each falls on every draw by more than
-:func:`.robust.margin`, or stays within the sensors' resolution.
+lower by more than :func:`.robust.margin` than the uncompensated one, among those whose
+every figure the draws vouch for (:func:`.robust.acceptable`): each region's contour error
+and the circle's spike and G fall on every draw by more than the margin, or stay within the
+sensors' resolution, as in the choice of the command correction alone.
 The corrected command is only right with the parameters kept on the controller.
 """
 
@@ -34,16 +35,15 @@ from .controller import AxisController
 from .drive import axis_plant
 from .learning import CUTOFF_HZ, compensate
 from .robust import (
-    EQUAL_M,
     LEVELS,
+    acceptable,
     axis_errors,
+    circle_rows,
     judged,
     margin,
-    over_draws,
     record,
     region_rows,
     regions,
-    vouched,
 )
 
 #: Shares of the controller-side parameters tried [-].
@@ -59,14 +59,6 @@ def scaled_params(params: dict, share: float) -> dict:
 def plants(params: dict, share: float = 1.0) -> dict:
     """Per axis how the controller runs a command with ``share`` of its parameters [-]."""
     return {a: axis_plant(c, share) for a, c in params.items()}
-
-
-def acceptable(before: np.ndarray, after: np.ndarray, n_reg: int) -> bool:
-    """No region of any draw worse than the sensors' resolution, and the draws vouch for
-    every circle figure's change (:func:`.robust.vouched`) [-]."""
-    if np.any(after[:, :n_reg] > before[:, :n_reg] + EQUAL_M):
-        return False
-    return all(vouched(before[:, j], after[:, j]) for j in range(n_reg, before.shape[1]))
 
 
 def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple:
@@ -101,7 +93,7 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
         if s == 0.0 and c == zero:
             continue
         after = judged(errs[s], c, target, labels, guard)
-        if acceptable(before, after, n_reg) and objective(after) < best[3] - EQUAL_M:
+        if acceptable(before, after) and objective(after) < best[3] - margin(best[3]):
             best = (s, c, after, objective(after))
     return best[0], [LEVELS[k] for k in best[1]], before, best[2]
 
@@ -145,12 +137,9 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     labels = regions(first.target)
     errs = {s: axis_errors(machines, c, plants(params, s)) for s, c in comps.items()}
     share, shares, before, after = choose_combined(errs, first.target, labels, guard)
-    n_reg = labels.max() + 1
-    circle = {} if guard is None else {
-        name: over_draws(before[:, j], after[:, j], margin(before[:, j]))
-        for name, j in (("spike", n_reg), ("circular_deviation", n_reg + 1))}
     comp = comps[share]
-    record(comp, shares, region_rows(before, after, comp.target, labels), circle, labels,
+    record(comp, shares, region_rows(before, after, comp.target, labels),
+           circle_rows(before, after, guard), labels,
            {"draws": n_draws, "seed": seed, "parameter_share": share})
     comp.controller = scaled_params(params, share)
     return comp

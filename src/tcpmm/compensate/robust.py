@@ -3,9 +3,17 @@ uncertainty, scaled back per region where the draws cannot guarantee an improvem
 
 Regions are the windows around every reversal of an axis and the stretches between them. A
 share of the correction in {0, 1/4, ..., 1} is chosen per axis: the shares whose largest
-contour error is smallest on the worst draw, among those that leave no draw worse than the
-uncompensated command: not in any region, and for a circle not on its largest reversal
-spike or its G either (:mod:`.circleguard`). A region is trusted where the chosen shares
+contour error is smallest on the worst draw, among those whose every figure the draws vouch
+for (:func:`vouched`: on every draw it falls by more than :func:`margin` or stays within the
+sensors' resolution): the contour error of each region and, for a circle
+(:mod:`.circleguard`), its largest reversal spike and G. A share is kept only where it
+lowers the worst draw's contour error by more than the margin, and a region, spike or G
+counts as improved only where every draw falls by more than it. The margin holds for the
+contour error too: the correction acts on the servo's lag and the structure's deflection,
+which set that error, so it is the figure the correction moves and claims to improve (a
+friction pulse hardly moves it, so the controller-side choice only keeps it from growing),
+and a fall smaller than the model's error can be a rise on the machine. A region is
+*trusted* where the chosen shares
 improve it on every draw, and *firm* where every draw improves it at least
 :data:`FIRM_RATIO` times. The draws carry the model error's floors that ``tcpmm spread``
 uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`), so that an axis identified with a small
@@ -83,7 +91,7 @@ def verdict(least_ratio: float, improves: bool) -> str:
     least_ratio : float
         The least ratio before / after over the draws [-].
     improves : bool
-        Whether every draw improves by more than :data:`EQUAL_M` [-].
+        Whether every draw improves by more than :func:`margin` [-].
     """
     if not improves:
         return "uncertain"
@@ -153,6 +161,19 @@ def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> n
     return np.hstack([out, circle])
 
 
+def acceptable(before: np.ndarray, after: np.ndarray) -> bool:
+    """Whether the draws vouch for the change of every figure (:func:`vouched`): each
+    region's contour error and, for a circle, its largest spike and G fall on every draw by
+    more than :func:`margin`, or stay within the sensors' resolution [-].
+
+    Parameters
+    ----------
+    before, after : ndarray
+        The figures of :func:`judged` per draw without and with the compensation [m].
+    """
+    return all(vouched(before[:, j], after[:, j]) for j in range(before.shape[1]))
+
+
 def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
     """Share per axis, per region the worst draws' errors before and after, and for a
     circle the same of its largest spike and G (:mod:`module docstring <.robust>`) [-]."""
@@ -163,10 +184,10 @@ def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
     for c in itertools.product(range(len(LEVELS)), repeat=n_ax):
         after = judged(errs, c, target, labels, guard)
         worst = after[:, :n_reg].max()
-        if np.all(after <= before + EQUAL_M) and worst < best_worst - EQUAL_M:
+        if acceptable(before, after) and worst < best_worst - margin(best_worst):
             best, best_worst, best_figs = c, worst, after
     return [LEVELS[k] for k in best], region_rows(before, best_figs, target, labels), \
-        _circle_rows(before, best_figs, guard)
+        circle_rows(before, best_figs, guard)
 
 
 def region_rows(before: np.ndarray, after: np.ndarray, target, labels: np.ndarray) -> list:
@@ -177,7 +198,7 @@ def region_rows(before: np.ndarray, after: np.ndarray, target, labels: np.ndarra
         sel = labels == r
         rows.append({"region": r, "start_s": float(target.time_s[sel][0]),
                      "end_s": float(target.time_s[sel][-1]),
-                     **over_draws(before[:, r], after[:, r])})
+                     **over_draws(before[:, r], after[:, r], margin(before[:, r]))})
     return rows
 
 
@@ -199,12 +220,12 @@ def over_draws(b: np.ndarray, a: np.ndarray, margin_m=EQUAL_M) -> dict:
             "verdict": verdict(least, improves)}
 
 
-def _circle_rows(before: np.ndarray, after: np.ndarray, guard) -> dict:
+def circle_rows(before: np.ndarray, after: np.ndarray, guard) -> dict:
     """The draws' verdict on the circle's largest spike and G, empty without a circle."""
     if guard is None:
         return {}
-    return {"spike": over_draws(before[:, -2], after[:, -2]),
-            "circular_deviation": over_draws(before[:, -1], after[:, -1])}
+    return {name: over_draws(before[:, j], after[:, j], margin(before[:, j]))
+            for name, j in (("spike", -2), ("circular_deviation", -1))}
 
 
 def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None,

@@ -47,3 +47,54 @@ def test_tied_parameters_move_with_the_table_mass():
     np.testing.assert_allclose(tied[:, 0], free[:, i["M_t"]] + free[:, i["M_b"]]
                                + free[:, i["K_b"]])
     np.testing.assert_allclose(tied[:, 1], free[:, i["C_t"]])
+
+
+def jacobian_reference(mech, freqs, weights, residual, names, tied, f_i=None, gain=None,
+                       pairs=None):
+    """:func:`residual_jacobian` from the sensitivities of every parameter."""
+    row = {p: i for i, p in enumerate(PARAMS)}
+    blocks = []
+    for k, f in freqs.items():
+        d = log_sensitivities(mech, k, f, f_i, gain)
+        if pairs is not None:
+            g, n = pairs[k], f.size // 2
+            d = (g[:n] * d[:, :n] + g[n:] * d[:, n:]) / (g[:n] + g[n:])
+        d = d * weights[k]
+        blocks += [d.real, d.imag]
+    S = np.concatenate(blocks, axis=1)
+    if tied:
+        S[row["M_t"]] += sum(S[row[p]] for p in tied)
+    J = S[[row[p] for p in names]].T
+    J[~np.isfinite(J).all(axis=1) | (residual == 1e3)] = 0.0
+    return np.ascontiguousarray(J)
+
+
+def same_bits(a, b):
+    """Equal to the bit, the sign of zero and NaNs included."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+@pytest.mark.parametrize("name", ["G_M", "G_T", "G_tcp"])
+@pytest.mark.parametrize("params", [PARAMS[::-1], ("K_t",), ("f_i", "J_m", "M_h"), ("C_b",)])
+def test_rows_left_out_leave_the_others_to_the_bit(name, params):
+    mech = builtin_machine().axes["X"].mechanics
+    full = log_sensitivities(mech, name, F_HZ, 1500.0, nut_gain)
+    some = log_sensitivities(mech, name, F_HZ, 1500.0, nut_gain, params)
+    assert same_bits(some, full[[PARAMS.index(p) for p in params]])
+
+
+@pytest.mark.parametrize("names, tied", [
+    (PARAMS[:-1], {}), (PARAMS, {}), (("M_t", "C_t"), {"M_b": 1.0, "K_b": 1.0}),
+    (("K_t", "J_m", "f_i"), {}), (("C_t", "K_L"), {"M_h": 1.0})])
+def test_jacobian_to_the_bit_of_all_rows(names, tied):
+    mech = builtin_machine().axes["X"].mechanics
+    freqs = {"G_M": F_HZ, "G_T": F_HZ, "G_tcp": F_HZ}
+    rng = np.random.default_rng(3)
+    pairs = {k: rng.uniform(0.5, 1.5, F_HZ.size) + 0.1j for k in freqs}
+    for p, size in ((None, F_HZ.size), (pairs, F_HZ.size // 2)):
+        w = {k: rng.uniform(0.0, 2.0, size) for k in freqs}
+        r = np.zeros(6 * size)
+        r[::7] = 1e3
+        assert same_bits(residual_jacobian(mech, freqs, w, r, names, tied, 1500.0, nut_gain, p),
+                         jacobian_reference(mech, freqs, w, r, names, tied, 1500.0, nut_gain, p))

@@ -62,6 +62,8 @@ __all__ = ["LostMotionEstimate", "LostMotionOptions", "estimate_lost_motion",
 
 #: Highest harmonic of the quantisation saw-tooth used for the residual bias [-].
 _HARMONICS = 100
+#: Complex entries [-] worked on at once by :func:`quantisation_bias_std`.
+_BLOCK = 1 << 18
 #: Blocks a plateau is cut into for the statistical error of its mean [-].
 _BLOCKS = 8
 
@@ -104,11 +106,18 @@ def quantisation_bias_std(t, x, quantum: float) -> float:
     phase = (line - line[0]) / quantum
     n = np.arange(1, _HARMONICS + 1)
     z = np.exp(2j * np.pi * phase)
+    # powers of the first harmonic, one exp per sample, not n, as the same products from 1;
+    # the means of a block of rows at once (each the same pairwise sum as a 1-D mean) and
+    # abs of each complex scalar, as numpy's vectorised abs may differ in the last bit
     zn = np.ones_like(z)
-    c = np.empty(n.size)
-    for i in range(n.size):  # powers of the first harmonic: one exp per sample, not n
-        zn *= z
-        c[i] = abs(zn.mean()) ** 2
+    block = np.empty((min(n.size, max(1, _BLOCK // z.size)), z.size), dtype=complex)
+    c = []
+    for a in range(0, n.size, block.shape[0]):
+        rows = block[:min(block.shape[0], n.size - a)]
+        for row in rows:
+            zn = np.multiply(zn, z, out=row)
+        c.extend(abs(m) ** 2 for m in rows.mean(axis=1))
+    c = np.array(c)
     var_phase = float(np.sum(c / (2.0 * np.pi**2 * n**2)))
     # the few highest harmonics stand for the rest of the series (sum of 1/n^2 beyond)
     var_phase += float(np.mean(c[-10:])) / (2.0 * np.pi**2 * _HARMONICS)

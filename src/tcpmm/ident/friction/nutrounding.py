@@ -21,12 +21,19 @@ def steady_stretches(idx, v, rel: float = 0.02):
     """``(start, stop)`` positions in the sample indices ``idx`` [-] of the runs of
     consecutive samples whose speed ``v`` [m/s] stays within ``rel`` [-] of the run's
     first: a plateau is one run, a ramp many."""
+    n = idx.size
+    # a run's end depends on its own first sample, so the scan stays sequential; on plain
+    # floats and a precomputed gap mask it costs a small part of indexing numpy scalars
+    gap = [*(np.diff(idx) != 1).tolist(), True]
+    speed = np.asarray(v)[idx].tolist()
     out, i0 = [], 0
-    for i in range(1, idx.size + 1):
-        if (i == idx.size or idx[i] != idx[i - 1] + 1
-                or abs(v[idx[i]] - v[idx[i0]]) > rel * abs(v[idx[i0]])):
+    v0, lim = (speed[0], rel * abs(speed[0])) if n else (0.0, 0.0)
+    for i in range(1, n + 1):
+        if gap[i - 1] or abs(speed[i] - v0) > lim:
             out.append((i0, i))
             i0 = i
+            if i < n:
+                v0, lim = speed[i], rel * abs(speed[i])
     return out
 
 

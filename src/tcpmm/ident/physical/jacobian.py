@@ -16,31 +16,32 @@ from ...mechanics.lumped import AxisMechanics
 #: current-loop bandwidth ``f_i``.
 PARAMS = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h", "f_i")
-_ROW = {p: i for i, p in enumerate(PARAMS)}
 
 
-def _rows(n: int, **terms) -> np.ndarray:
-    """A (parameters, bins) array holding ``terms`` in their rows, zero elsewhere [-]."""
-    out = np.zeros((len(PARAMS), n), dtype=complex)
+def _rows(row: dict, n: int, **terms) -> np.ndarray:
+    """A (parameters, bins) array holding those ``terms`` that have a row in ``row`` in
+    it, zero elsewhere [-]."""
+    out = np.zeros((len(row), n), dtype=complex)
     for p, v in terms.items():
-        out[_ROW[p]] = v
+        if p in row:
+            out[row[p]] = v
     return out
 
 
-def _nut_side(m: AxisMechanics, s, K_t):
+def _nut_side(m: AxisMechanics, s, K_t, row: dict):
     """Table and bed admittances and their log-parameter derivatives [m/N]."""
     n = s.size
     den_t = m.M_t * s**2 + m.C_t * s
     den_b = m.M_b * s**2 + m.C_b * s + m.K_b
-    d_den_t = _rows(n, M_t=m.M_t * s**2, C_t=m.C_t * s)
-    d_den_b = _rows(n, M_b=m.M_b * s**2, C_b=m.C_b * s, K_b=np.full(n, m.K_b))
+    d_den_t = _rows(row, n, M_t=m.M_t * s**2, C_t=m.C_t * s)
+    d_den_b = _rows(row, n, M_b=m.M_b * s**2, C_b=m.C_b * s, K_b=np.full(n, m.K_b))
     D = 1 / den_t + 1 / den_b
     dD = -d_den_t / den_t**2 - d_den_b / den_b**2
     return den_t, d_den_t, D, dD
 
 
 def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz=None,
-                      nut_gain=None) -> np.ndarray:
+                      nut_gain=None, params=PARAMS) -> np.ndarray:
     """``d log G / d log p`` of one FRF of :func:`~tcpmm.ident.physical.axisfrfs.model_frfs`.
 
     The zero-order hold does not depend on any parameter and drops out.
@@ -57,11 +58,14 @@ def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz
         First-order current loop in G_M [Hz].
     nut_gain : callable, optional
         Factor on ``K_t`` per frequency, as in ``model_frfs`` [-].
+    params : sequence of str, optional
+        The rows wanted, each in :data:`PARAMS`: every value is computed by the same
+        operations whichever rows are left out [-].
 
     Returns
     -------
     numpy.ndarray
-        Complex sensitivities, one row per entry of :data:`PARAMS`, one column per
+        Complex sensitivities, one row per entry of ``params``, one column per
         frequency [-].
     """
     m = mech
@@ -69,29 +73,30 @@ def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz
     s = 2j * np.pi * f
     n = s.size
     K_t = m.K_t if nut_gain is None or name == "G_tcp" else m.K_t * nut_gain(f)
-    den_t, d_den_t, D, dD = _nut_side(m, s, K_t)
+    row = {p: i for i, p in enumerate(params)}
+    den_t, d_den_t, D, dD = _nut_side(m, s, K_t, row)
     if name == "G_tcp":
         den_h = m.M_h * s**2 + m.C_h * s + m.K_h
-        d_den_h = _rows(n, M_h=m.M_h * s**2, C_h=m.C_h * s, K_h=np.full(n, m.K_h))
+        d_den_h = _rows(row, n, M_h=m.M_h * s**2, C_h=m.C_h * s, K_h=np.full(n, m.K_h))
         A = 1 / den_t - 1 / den_h
         return (-d_den_t / den_t**2 + d_den_h / den_h**2) / A - dD / D
     R2 = m.R_L**2
     KtD = K_t * D
-    dKt = _rows(n, K_t=np.broadcast_to(K_t, s.shape))
+    dKt = _rows(row, n, K_t=np.broadcast_to(K_t, s.shape))
     dKtD = dKt * D + K_t * dD
     ZL = m.J_L * s**2 + m.B_L * s + K_t * R2 / (1 + KtD)
-    dZL = (_rows(n, J_L=m.J_L * s**2, B_L=m.B_L * s)
+    dZL = (_rows(row, n, J_L=m.J_L * s**2, B_L=m.B_L * s)
            + R2 * (dKt / (1 + KtD) - K_t * dKtD / (1 + KtD) ** 2))
-    dKL = _rows(n, K_L=np.full(n, m.K_L))
+    dKL = _rows(row, n, K_L=np.full(n, m.K_L))
     if name == "G_T":
         return dKL / m.K_L - (dZL + dKL) / (ZL + m.K_L) + dKtD / (KtD * (1 + KtD))
     Zm = m.K_L * ZL / (ZL + m.K_L)
     dZm = Zm**2 * (dKL / m.K_L**2 + dZL / ZL**2)
     den_m = m.J_m * s**2 + m.B_m * s + Zm
-    out = -(_rows(n, J_m=m.J_m * s**2, B_m=m.B_m * s) + dZm) / den_m
-    if current_bandwidth_hz is not None:
+    out = -(_rows(row, n, J_m=m.J_m * s**2, B_m=m.B_m * s) + dZm) / den_m
+    if current_bandwidth_hz is not None and "f_i" in row:
         x = s / (2 * np.pi * current_bandwidth_hz)
-        out[_ROW["f_i"]] = x / (1 + x)
+        out[row["f_i"]] = x / (1 + x)
     return out
 
 
@@ -128,9 +133,12 @@ def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
     numpy.ndarray
         Real Jacobian, residuals by parameters [-].
     """
+    # only the rows that reach the Jacobian: the others cost most of the arithmetic
+    used = tuple(p for p in PARAMS if p in names or p in tied or (tied and p == "M_t"))
+    row = {p: i for i, p in enumerate(used)}
     blocks = []
     for k, f in freqs.items():
-        d = log_sensitivities(mech, k, f, current_bandwidth_hz, nut_gain)
+        d = log_sensitivities(mech, k, f, current_bandwidth_hz, nut_gain, used)
         if pairs is not None:
             g, n = pairs[k], f.size // 2
             d = (g[:n] * d[:, :n] + g[n:] * d[:, n:]) / (g[:n] + g[n:])
@@ -138,7 +146,7 @@ def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,
         blocks += [d.real, d.imag]
     S = np.concatenate(blocks, axis=1)
     if tied:
-        S[_ROW["M_t"]] += sum(S[_ROW[p]] for p in tied)
-    J = S[[_ROW[p] for p in names]].T
+        S[row["M_t"]] += sum(S[row[p]] for p in tied)
+    J = S[[row[p] for p in names]].T
     J[~np.isfinite(J).all(axis=1) | (residual == 1e3)] = 0.0
     return np.ascontiguousarray(J)

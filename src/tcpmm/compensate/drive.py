@@ -9,8 +9,10 @@ import numpy as np
 
 from ..path.command import Command
 from ..sim.simulate import simulate, simulate_axis
+from .learning import plain
 
-__all__ = ["axis_plant", "controlled_run", "reversal_pulses", "with_cross_talk"]
+__all__ = ["axis_plant", "controlled_run", "drive_inputs", "reversal_pulses",
+           "with_cross_talk"]
 
 
 def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: float):
@@ -61,11 +63,29 @@ def controlled_run(machine, command: Command, params: dict, quantise_feedback: b
     quantise_feedback : bool
         Quantise the feedback sensors to their resolution [-].
     """
-    ctc = with_cross_talk(command, {a: c.cross_talk_s2 for a, c in params.items()})
-    pulses = {a: reversal_pulses(ctc, a, c.pulse_A, c.decay_s) for a, c in params.items()
-              if c.pulse_A != 0.0 and a in ctc.positions}
+    ctc, pulses = drive_inputs(command, params)
     return simulate(machine, ctc, current_feedforward_A=pulses or None,
                     quantise_feedback=quantise_feedback)
+
+
+def drive_inputs(command: Command, params: dict, share: float = 1.0):
+    """What the drives receive with ``share`` of the controller-side parameters: the
+    setpoint offset by the cross-talk feed-forward, and per axis with a pulse the current
+    pulses at the reversals of that setpoint [m, A].
+
+    Parameters
+    ----------
+    command : Command
+        The position command the controller receives [m].
+    params : dict of str to AxisController
+        Per axis [-].
+    share : float
+        Share of the pulse and the feed-forward applied [-].
+    """
+    ctc = with_cross_talk(command, {a: share * c.cross_talk_s2 for a, c in params.items()})
+    pulses = {a: reversal_pulses(ctc, a, share * c.pulse_A, c.decay_s)
+              for a, c in params.items() if c.pulse_A != 0.0 and a in ctc.positions}
+    return ctc, pulses
 
 
 def axis_plant(params, share: float = 1.0):
@@ -80,12 +100,12 @@ def axis_plant(params, share: float = 1.0):
     share : float
         Share of the pulse and the feed-forward applied [-].
     """
+    if params is None or share == 0.0:
+        return plain
+
     def run(axis, time_s, position_m):
-        if params is None or share == 0.0:
-            return simulate_axis(axis, time_s, position_m, quantise_feedback=False)
-        cmd = with_cross_talk(Command(time_s, {"A": position_m}),
-                              {"A": share * params.cross_talk_s2})
-        pulse = reversal_pulses(cmd, "A", share * params.pulse_A, params.decay_s)
-        return simulate_axis(axis, time_s, cmd.positions["A"], excitation_A=pulse,
+        cmd, pulses = drive_inputs(Command(time_s, {"A": position_m}), {"A": params}, share)
+        return simulate_axis(axis, time_s, cmd.positions["A"],
+                             excitation_A=pulses.get("A", np.zeros(time_s.size)),
                              quantise_feedback=False)
     return run

@@ -201,3 +201,24 @@ def test_an_output_folder_that_cannot_be_made_is_refused_before_the_work(capsys,
         ro.chmod(0o700)
     assert code == 2 and "cannot write into" in err
     assert not (ro / "sub").exists()
+
+
+def test_a_warning_is_printed_once_whatever_the_filters_did_between(capsys, monkeypatch):
+    """The same input warning given twice in one command, with a filter changed between
+    (any ``catch_warnings`` on the way resets Python's record of what it showed), is
+    printed once; another text is printed too."""
+    import tcpmm.cli as cli
+    from tcpmm.io.csvutil import warn_input
+
+    def command(args=None, standalone_mode=True):
+        warn_input("axis X: the same thing")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+        warn_input("axis X: the same thing")
+        warn_input("axis Y: another thing")
+
+    monkeypatch.setattr(cli, "app", command)
+    monkeypatch.setattr(cli, "register", lambda argv: None)
+    assert cli.main(["path"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("the same thing") == 1 and err.count("another thing") == 1

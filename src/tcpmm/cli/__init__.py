@@ -45,11 +45,16 @@ def register(argv) -> None:
 def main(argv=None) -> int:
     """Entry point of the ``tcpmm`` console script."""
     shown = warnings.showwarning
+    told = set()
 
     def show(message, category, filename, lineno, file=None, line=None):
-        """Print input warnings as the user's problem, not as a place in the package."""
+        """Print input warnings as the user's problem, not as a place in the package, each
+        text once: Python's own once-per-place rule forgets what it showed whenever a
+        filter changes on the way, and a warning's place says nothing to the user."""
         if issubclass(category, InputWarning):
-            console.print(f"[yellow]warning:[/yellow] {esc(str(message))}")
+            if str(message) not in told:
+                told.add(str(message))
+                console.print(f"[yellow]warning:[/yellow] {esc(str(message))}")
         else:
             shown(message, category, filename, lineno, file, line)
 

@@ -245,7 +245,7 @@ def warn_play_solutions(name: str, masses: list, mean: float, std: float) -> Non
     """Warn that the refits with the play settle on table masses the FRFs cannot tell
     apart, and that their spread is in the reported uncertainty [kg]."""
     warn_input(
-        f"axis {name}: the refits with the lost motion in the nut settle on table masses "
+        f"axis {name}: the refits with the play of the nut settle on table masses "
         f"from {min(masses):.3g} to {max(masses):.3g} kg: the describing function of the play "
         "has several solutions, and the sweep does not tell them apart. M_t is reported as "
         "their mean, "

@@ -209,7 +209,16 @@ def joint_fit(ctx: FitContext, modelled: list) -> AxisFit:
     """Distinct solutions of their own describing functions as one fit: each fitted
     parameter at their geometric mean, its standard deviation widened by their spread, the
     describing function of the one nearest in table mass, and the friction runs on it; a
-    warning where they are more than one [SI]."""
+    warning where they are more than one.
+
+    Parameters
+    ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
+    modelled : list of AxisFit
+        The refits with the play, each a solution of its own describing function, their
+        table masses more than :data:`SELF_CONSISTENT_REL` apart [SI].
+    """
     if len(modelled) == 1:
         return modelled[0]
     mid = modelled[0].physical
@@ -243,7 +252,19 @@ def joint_fit(ctx: FitContext, modelled: list) -> AxisFit:
 
 def warn_play_solutions(name: str, masses: list, mean: float, std: float) -> None:
     """Warn that the refits with the play settle on table masses the FRFs cannot tell
-    apart, and that their spread is in the reported uncertainty [kg]."""
+    apart, and that their spread is in the reported uncertainty.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    masses : list of float
+        Table masses of the solutions [kg].
+    mean : float
+        Their geometric mean, the table mass kept [kg].
+    std : float
+        Its reported standard deviation, the spread included [kg].
+    """
     warn_input(
         f"axis {name}: the refits with the play of the nut settle on table masses "
         f"from {min(masses):.3g} to {max(masses):.3g} kg: the describing function of the play "

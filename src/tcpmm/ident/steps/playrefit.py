@@ -7,6 +7,7 @@ be modelled."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import TYPE_CHECKING
 
@@ -24,6 +25,7 @@ from ..friction.playdf import (
 )
 from ..identification import AxisFit
 from ..physical.greybox import SweepPlay
+from ..physical.uncertainty import FIT_DEVIATION_SCALE
 from .fitcontext import FitContext, fit_values, friction_on, physical_fit
 
 if TYPE_CHECKING:
@@ -46,6 +48,10 @@ CONVERGED_REL = 0.01
 #: A refit with the play replaces the linear fit only when it explains the FRFs better by
 #: more than this share of the linear fit's cost: a tie is not decided by rounding [-].
 COST_MARGIN_REL = 0.01
+#: Table masses, relative to the linear fit's, of the first describing functions of the
+#: refits with the play: the play makes the linear fit read a heavier table, and each
+#: start may settle on another solution [-].
+START_SCALES = (1.0, 0.8, 0.65, 0.5)
 
 
 def keep_fit(run: AxisRun, options: IdentifyOptions) -> AxisFit:
@@ -129,9 +135,14 @@ def lowest_nut_gain(motion, kept: AxisFit, bias: float) -> float:
 
 def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: float,
                     motion) -> AxisFit:
-    """Refit with the nut as soft as the sweep saw it, and keep whichever fit, linear or
-    with the play, explains the FRFs best; a refit counts only if it agrees with the
-    describing function it was fitted with (:data:`SELF_CONSISTENT_REL`).
+    """Refit with the nut as soft as the sweep saw it, from the linear fit and from lighter
+    tables (:data:`START_SCALES`); the linear fit where no refit is a solution of its own
+    describing function, otherwise the solutions found as one fit (:func:`joint_fit`).
+
+    The describing function can have several solutions: on one axis with 4.6 um of play,
+    records that differ only by the rounding of the simulation settled on a table mass of
+    0.71 or of 1.0-1.1 of the truth, the two within a tenth of each other in cost. The
+    data do not choose between them, so the fit kept stands for all that are found.
 
     Parameters
     ----------
@@ -147,17 +158,38 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
     motion : tuple of ndarray
         The sweep's frequencies, motor angle and scale (:func:`sweep_motion`) [Hz, rad, m].
     """
-    data, structure = start.data, start.structure
-    best = current = start.kept
-    freq, theta_m, scale = motion
+    found = []
+    for scale in START_SCALES:
+        fit = play_chain(ctx, start.data, start.structure, start.kept, v_travel, bias,
+                         motion, scale)
+        if fit is not None and not any(
+                abs(fit.mechanics.M_t / f.mechanics.M_t - 1.0) <= SELF_CONSISTENT_REL
+                for f in found):
+            found.append(fit)
+    if not found:
+        return start.kept
+    return joint_fit(ctx, found)
+
+
+def play_chain(ctx: FitContext, data: dict, structure: dict | None, linear: AxisFit,
+               v_travel: float, bias: float, motion, scale: float = 1.0) -> AxisFit | None:
+    """The refits with the play of the FRFs ``data`` from their linear fit ``linear``,
+    each with the describing function of the one before, until they settle; the best that
+    explains the FRFs better than the linear fit and is a solution of its own describing
+    function (:data:`SELF_CONSISTENT_REL`), ``None`` without one. ``structure``, the bed
+    and TCP structure held in proportion to ``M_t`` [SI / kg]; the others as
+    :func:`refit_with_play`."""
+    best, current = None, linear
+    seen = linear.mechanics.replace(M_t=scale * linear.mechanics.M_t)
+    initial = {**fit_values(linear.physical), "M_t": seen.M_t}
+    freq, theta_m, scale_m = motion
     for _ in range(PLAY_ITERATIONS):
-        seen = current.mechanics
-        amp = nut_deflection_amplitude(freq, theta_m, scale, seen)
+        amp = nut_deflection_amplitude(freq, theta_m, scale_m, seen)
         gain = play_gain(freq, amp, current.split.backlash, bias, seen.K_t)
-        phys = physical_fit(ctx, data, initial=fit_values(current.physical) if structure
-                            else None, nut_gain=gain, structure=structure)
+        phys = physical_fit(ctx, data, initial=initial if structure else None, nut_gain=gain,
+                            structure=structure)
         current = AxisFit(phys, *friction_on(ctx, phys))
-        if (phys.cost < (1.0 - COST_MARGIN_REL) * best.cost
+        if (phys.cost < (1.0 - COST_MARGIN_REL) * (best or linear).cost
                 and self_consistent(seen, current.mechanics, fitted=phys.mechanics)):
             g = gain(freq)
             lowest = int(np.argmin(g))
@@ -169,7 +201,78 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
         converged = self_consistent(seen, current.mechanics, CONVERGED_REL)
         if converged or not (play_significant(current.split) and bias > 0):
             break
+        seen, initial = current.mechanics, fit_values(phys)
     return best
+
+
+def joint_fit(ctx: FitContext, modelled: list) -> AxisFit:
+    """Distinct solutions of their own describing functions as one fit: each fitted
+    parameter at their geometric mean, its standard deviation widened by their spread, the
+    describing function of the one nearest in table mass, and the friction runs on it; a
+    warning where they are more than one.
+
+    Parameters
+    ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
+    modelled : list of AxisFit
+        The refits with the play, each a solution of its own describing function, their
+        table masses more than :data:`SELF_CONSISTENT_REL` apart [SI].
+    """
+    if len(modelled) == 1:
+        return modelled[0]
+    mid = modelled[0].physical
+    mean, spread = {}, {}
+    for p in mid.names:
+        v = np.array([getattr(m.physical.mechanics, p, np.nan) for m in modelled])
+        if v.size and np.all(v > 0):
+            mean[p] = float(np.exp(np.mean(np.log(v))))
+            spread[p] = mean[p] * float(np.std(np.log(v), ddof=1))
+    near = min(modelled, key=lambda m: abs(math.log(m.physical.mechanics.M_t / mean["M_t"])))
+    phys = near.physical
+    # the reported deviation is the fit's scaled to the real error; the spread is one
+    std = {p: math.hypot(sd, spread.get(p, 0.0) / FIT_DEVIATION_SCALE.get(p, 1.0))
+           for p, sd in phys.std.items()}
+    wide = sorted({*phys.undetermined,
+                   *(p for p in mean if std.get(p, 0.0) > 0.5 * mean[p])})
+    fused = dataclasses.replace(phys, mechanics=phys.mechanics.replace(**mean), std=std,
+                                undetermined=wide)
+    kept = AxisFit(fused, *friction_on(ctx, fused))
+    kt = np.log([m.mechanics.K_t for m in modelled])
+    split = kept.split
+    if split.nut is not None:
+        nut = dataclasses.replace(split.nut, stiffness_std=math.hypot(
+            split.nut.stiffness_std,
+            kept.mechanics.K_t * float(np.std(kt, ddof=1)) / FIT_DEVIATION_SCALE["K_t"]))
+        kept = dataclasses.replace(kept, split=dataclasses.replace(split, nut=nut))
+    warn_play_solutions(ctx.name, [m.physical.mechanics.M_t for m in modelled], mean["M_t"],
+                        std["M_t"] * FIT_DEVIATION_SCALE["M_t"])
+    return kept
+
+
+def warn_play_solutions(name: str, masses: list, mean: float, std: float) -> None:
+    """Warn that the refits with the play settle on table masses the FRFs cannot tell
+    apart, and that their spread is in the reported uncertainty.
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    masses : list of float
+        Table masses of the solutions [kg].
+    mean : float
+        Their geometric mean, the table mass kept [kg].
+    std : float
+        Its reported standard deviation, the spread included [kg].
+    """
+    warn_input(
+        f"axis {name}: the refits with the play of the nut settle on table masses "
+        f"from {min(masses):.3g} to {max(masses):.3g} kg: the describing function of the play "
+        "has several solutions, and the sweep does not tell them apart. M_t is reported as "
+        "their mean, "
+        f"{mean:.3g} +/- {std:.2g} kg, with the parameters held to it; a larger excitation "
+        "amplitude (within the current limit) makes the play a smaller part of the "
+        "vibration")
 
 
 def self_consistent(seen, mech, rel: float = SELF_CONSISTENT_REL, fitted=None) -> bool:

@@ -341,7 +341,7 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen, identify_unseen):
     between the plateaus gives the play to 0.08 um, and the share only to 0.53 +- 0.25 (true
     0.78): identification says so, once, with the sensor steps and what would determine
     it. The same runs with fine sensors give 0.74 +- 0.01, and nothing to report."""
-    true, a, idn, caught = identify_unseen(1, 3, "X", sweep_seed=1)
+    true, a, idn, caught = identify_unseen(1, 3, "X", sweep_seed=1, shared=True)
     share, _ = unseen.friction_split(a.friction)
     split = idn.friction_split
     told = [w for w in caught if "guideway share only" in w]

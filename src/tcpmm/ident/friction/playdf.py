@@ -21,6 +21,8 @@ angle through the screw's torsion, minus the scale. :func:`play_gain` combines b
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ...mechanics.lumped import AxisMechanics
@@ -179,14 +181,32 @@ def play_gain(freq_hz, amplitude_m, backlash_m: float, bias_force_N: float,
 
     Returns
     -------
-    callable
+    PlayGain
         ``gain(f)``: the factor at frequencies ``f`` [Hz], interpolated in log frequency
         (1 outside the record's band) [-].
     """
     lf = np.log(np.asarray(freq_hz, dtype=float))
-    g = dead_zone_gain(amplitude_m, backlash_m, bias_force_N / stiffness_N_per_m)
+    return PlayGain(lf, dead_zone_gain(amplitude_m, backlash_m, bias_force_N / stiffness_N_per_m))
 
-    def gain(f):
-        return np.interp(np.log(np.asarray(f, dtype=float)), lf, g, left=1.0, right=1.0)
 
-    return gain
+@dataclass(frozen=True, eq=False)
+class PlayGain:
+    """The nut-stiffness factor of :func:`play_gain`, a value that can be pickled (an
+    axis's identification goes from the process that made it to the one that writes it);
+    compared as the function it stands for, by identity.
+
+    Parameters
+    ----------
+    log_freq : ndarray
+        Natural logarithm of the frequencies of the factors [log Hz].
+    factor : ndarray
+        The factor at each [-].
+    """
+
+    log_freq: np.ndarray
+    factor: np.ndarray
+
+    def __call__(self, f):
+        """The factor at frequencies ``f`` [Hz], 1 outside the band [-]."""
+        return np.interp(np.log(np.asarray(f, dtype=float)), self.log_freq, self.factor,
+                         left=1.0, right=1.0)

@@ -125,3 +125,48 @@ def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
         proc.kill()
     assert proc.returncode == code and waited < 1.5, (proc.returncode, waited, err[-2000:])
     assert "Traceback" not in err and len(err.strip().splitlines()) <= 2
+
+
+def _children(pid: int) -> list[int]:
+    """The processes ``pid`` has started that are still there (Linux's /proc) [-]."""
+    kids = []
+    for task in Path(f"/proc/{pid}/task").glob("*/children"):
+        kids += [int(k) for k in task.read_text().split()]
+    return kids
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="needs Linux's /proc")
+def test_an_interrupt_while_the_axes_identify_side_by_side_ends_them_all(tmp_path):
+    """Ctrl-C at a terminal reaches the whole process group: the command is out within a
+    second and a half without a traceback, and no process of the axes is left."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from conftest import bench_path
+
+    script = ("import sys; from tcpmm.cli import main; sys.exit(main(sys.argv[1:]))")
+    args = [sys.executable, "-c", script, "identify", str(bench_path("c") / "bundle"),
+            "-o", str(tmp_path / "m.yaml"), "--jobs", "2"]
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env, preexec_fn=_sigint_default, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 60
+        while len(_children(proc.pid)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.1)  # until both axes are under way
+        kids = _children(proc.pid)
+        t0 = time.monotonic()
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=30)
+        waited = time.monotonic() - t0
+    finally:
+        proc.kill()
+    assert len(kids) == 2, err[-2000:]
+    assert proc.returncode != 0 and waited < 1.5, (proc.returncode, waited, err[-2000:])
+    assert "Traceback" not in err and not (tmp_path / "m.yaml").exists()
+    for kid in kids:
+        with pytest.raises(ProcessLookupError):
+            os.kill(kid, 0)

@@ -109,7 +109,7 @@ def simulate(machine, command, record_period_s=None, progress=None):
 
 
 def identify(bundle, band_hz=None, guideway_share=None, presliding_m=None,
-             accept_suspect=False, progress=None):
+             accept_suspect=False, progress=None, jobs=1):
     """Identify every axis of a measurement bundle into a model.
 
     Parameters
@@ -127,6 +127,9 @@ def identify(bundle, band_hz=None, guideway_share=None, presliding_m=None,
         Return a model the gates find physically suspect, marked, instead of raising [-].
     progress : callable, optional
         Called with the axis name after each axis [-].
+    jobs : int, optional
+        Axes identified at once, each in a forked process of its own; ``0``: one per
+        core. The numbers are the same [-].
 
     Returns
     -------
@@ -142,7 +145,7 @@ def identify(bundle, band_hz=None, guideway_share=None, presliding_m=None,
     f0, f1 = band_hz if band_hz is not None else (None, None)
     return identify_bundle(b, f0, f1, progress=progress, guideway_share=guideway_share,
                            presliding=PRESLIDING if presliding_m is None else presliding_m,
-                           accept_suspect=accept_suspect)
+                           accept_suspect=accept_suspect, jobs=jobs)
 
 
 def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):

@@ -220,7 +220,7 @@ def identify_and_predict(machine, cmd, out, step, files):
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)  # reported in the identification JSON
-        idn = identify_bundle(read_bundle(out / "bundle"))
+        idn = identify_bundle(read_bundle(out / "bundle"), jobs=0)
     write_machine(idn.machine, out / "identified_model.yaml")
     files.update(identified=out / "identified_model.yaml")
     report = idn.write_report(out / "identification")

@@ -90,7 +90,7 @@ def _spread_verdict(machine, command, radius_mm: float, centre_mm, sensor: str):
     plane = tuple(list(machine.axes)[:2])
     test = CircleTest(f"R{radius_mm:g}", command, radius_mm * 1e-3,
                       (centre_mm[0] * 1e-3, centre_mm[1] * 1e-3), plane)
-    return prediction_verdict(machine, [test], sensor)
+    return prediction_verdict(machine, [test], sensor, jobs=0)
 
 @app.command()
 def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"),
@@ -149,6 +149,9 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
                  False, "--strict",
                  help="Exit with code 3 when a predicted figure of the reference circles is "
                       "not firm (the model is written all the same)."),
+             jobs: int = typer.Option(0, "--jobs", min=0, help=(
+                 "Axes identified at once, each in a process of its own; 0: one per core. "
+                 "The numbers do not depend on it.")),
              as_json: bool = typer.Option(False, "--json")):
     """Identify every axis of a measurement bundle into a model file.
 
@@ -172,7 +175,8 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     presliding = None if presliding_um is None else presliding_um * 1e-6
     with progress_bar(len(b.axes), "identify") as adv:
         idn = identify_bundle(b, f0, f1, progress=adv, guideway_share=guideway_share,
-                              presliding=presliding, accept_suspect=accept_suspect)
+                              presliding=presliding, accept_suspect=accept_suspect,
+                              jobs=jobs)
     _write_identified(idn, output, report, html, bundle)
     warn_suspect(idn.machine, f"the model written to {output}")
     if as_json:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from .._forked import results_in_order, usable_jobs
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from ..model import Machine
@@ -218,7 +219,8 @@ def check_records(bundle, options: IdentifyOptions) -> list:
     return findings
 
 
-def run_bundle(bundle, options: IdentifyOptions, progress=None) -> Identification:
+def run_bundle(bundle, options: IdentifyOptions, progress=None,
+               jobs: int | None = 1) -> Identification:
     """Check a bundle's records, run :data:`AXIS_STEPS` on each axis, pass the gates, and
     tell the TCP spikes' sensitivity to what the friction runs leave open.
 
@@ -230,18 +232,23 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None) -> Identificatio
         What the steps share [-].
     progress : callable, optional
         Called with the axis name after each axis [-].
+    jobs : int, optional
+        Axes identified at once, each in a process of its own; ``None`` or 0: as many as
+        there are cores (:func:`~tcpmm._forked.usable_jobs`) [-].
     """
     findings = check_records(bundle, options)
     axes = {}
-    for name, rec in bundle.axes.items():
-        cfg = bundle.machine.axes[name]
-        try:
-            axes[name] = run_axis(AxisRun(name, rec.sweep, cfg, rec.friction), options)
-        except InputError as exc:  # a fit knows its numbers, not the bundle they came from
-            raise exc.in_file(getattr(bundle, "path", None)) from None
-        findings += axis_findings(axes[name], rec, cfg)
-        if progress is not None:
-            progress(name)
+    runs = [AxisRun(name, rec.sweep, bundle.machine.axes[name], rec.friction)
+            for name, rec in bundle.axes.items()]
+    with results_in_order(run_axis, runs, options, usable_jobs(jobs, len(runs))) as results:
+        for run, result in zip(runs, results, strict=True):
+            try:
+                axes[run.name] = result()
+            except InputError as exc:  # a fit knows its numbers, not the bundle's file
+                raise exc.in_file(getattr(bundle, "path", None)) from None
+            findings += axis_findings(axes[run.name], bundle.axes[run.name], run.cfg)
+            if progress is not None:
+                progress(run.name)
     if findings and not options.accept_suspect:
         raise SuspectModelError(findings, file=getattr(bundle, "path", None))
     for a in axes.values():  # what the data leave open goes into the model with its range
@@ -257,13 +264,14 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None) -> Identificatio
         warn_lost_motion_sensitivity(name, a, machine, runs)
         warn_presliding_sensitivity(name, a, machine, runs)
     return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
-                          findings, prediction_verdict(machine) if options.verdict else None)
+                          findings,
+                          prediction_verdict(machine, jobs=jobs) if options.verdict else None)
 
 
 def identify_bundle(
     bundle, fmin_hz=None, fmax_hz=None, progress=None, fit_current_loop: bool = True,
     guideway_share: float | None = None, presliding: float | None = None,
-    accept_suspect: bool = False, verdict: bool = True,
+    accept_suspect: bool = False, verdict: bool = True, jobs: int | None = 1,
 ) -> Identification:
     """Identify every axis of a measurement bundle.
 
@@ -294,6 +302,9 @@ def identify_bundle(
     verdict : bool
         Judge the figures the model predicts on the reference circles
         (:func:`tcpmm.uncertainty.prediction_verdict`) [-].
+    jobs : int, optional
+        Axes identified at once, each in a process of its own (forked; the same numbers
+        as one after the other); ``None`` or 0: as many as there are cores [-].
 
     Raises
     ------
@@ -303,4 +314,4 @@ def identify_bundle(
     """
     options = IdentifyOptions(fmin_hz, fmax_hz, fit_current_loop, guideway_share, presliding,
                               accept_suspect, verdict)
-    return run_bundle(bundle, options, progress)
+    return run_bundle(bundle, options, progress, jobs)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from .._forked import results_in_order, usable_jobs
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from ..path.circle import circle_command
@@ -145,7 +146,7 @@ def circle_figures(result, label: str, sensor: str = "tcp") -> dict:
     return out
 
 
-def figure_changes(machine, tests, sensor: str = "tcp", progress=None):
+def figure_changes(machine, tests, sensor: str = "tcp", progress=None, jobs: int | None = 1):
     """The nominal figures and, per figure, the change each uncertain quantity of each
     axis in the tests' planes makes.
 
@@ -159,6 +160,9 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None):
         Sensor analysed [-].
     progress : callable, optional
         Called with no argument after each variant [-].
+    jobs : int, optional
+        Variants run at once, each in a forked process of its own; ``None`` or 0: one
+        per core (:func:`tcpmm._forked.usable_jobs`). The same numbers [-].
 
     Returns
     -------
@@ -169,21 +173,30 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None):
     """
     nominal = figures(machine, tests, sensor)
     changes = {k: {} for k in nominal}
-    opens = {}
+    opens, varied = {}, []
     axes = {n for t in tests for n in t.plane}
     for name in [n for n in machine.axes if n in axes]:
         u = machine.axes[name].uncertainty
         by_q = {r.quantity: r for r in (u.open if u is not None else ())}
         for v in axis_variants(machine.axes[name]):
-            key = (name, v.quantity)
-            opens[key] = by_q.get(v.quantity) if v.open else None
-            try:
-                moved = figures(machine.with_axis(name, v.axis), tests, sensor)
-            except (InputError, ValueError, FloatingPointError):
-                moved = {}
+            opens[(name, v.quantity)] = by_q.get(v.quantity) if v.open else None
+            varied.append((name, v))
+    with results_in_order(_moved_figures, varied, (machine, tests, sensor),
+                          usable_jobs(jobs, len(varied))) as results:
+        for (name, v), result in zip(varied, results, strict=True):
+            moved, key = result(), (name, v.quantity)
             for k, x in nominal.items():
                 d = abs(moved[k] - x) if k in moved and math.isfinite(moved[k]) else math.inf
                 changes[k][key] = max(changes[k].get(key, 0.0), d)
             if progress is not None:
                 progress()
     return nominal, changes, opens
+
+
+def _moved_figures(varied: tuple, shared: tuple) -> dict:
+    """The figures with one axis varied, ``{}`` where it cannot be simulated [m]."""
+    (name, v), (machine, tests, sensor) = varied, shared
+    try:
+        return figures(machine.with_axis(name, v.axis), tests, sensor)
+    except (InputError, ValueError, FloatingPointError):
+        return {}

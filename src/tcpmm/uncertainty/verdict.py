@@ -201,7 +201,8 @@ def _axis_verdicts(machine, figures: list) -> dict:
     return out
 
 
-def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None) -> Verdict:
+def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
+                       jobs: int | None = 1) -> Verdict:
     """The verdict on the figures of circular tests predicted by an identified model.
 
     Parameters
@@ -214,6 +215,9 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None) 
         Sensor analysed [-].
     progress : callable, optional
         Called after each simulated variant [-].
+    jobs : int, optional
+        Variants simulated at once, each in a forked process of its own; ``None`` or 0:
+        one per core. The same numbers [-].
 
     Returns
     -------
@@ -223,6 +227,6 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None) 
     tests = reference_tests(machine) if tests is None else tests
     if not tests:
         return Verdict([], _axis_verdicts(machine, []), [])
-    nominal, changes, opens = figure_changes(machine, tests, sensor, progress)
+    nominal, changes, opens = figure_changes(machine, tests, sensor, progress, jobs)
     figs = [_judge(k, x, changes[k], opens) for k, x in nominal.items() if math.isfinite(x)]
     return Verdict(figs, _axis_verdicts(machine, figs), [t.label for t in tests])

@@ -1,0 +1,88 @@
+"""Work done side by side in forked processes (:mod:`tcpmm._forked`), as the axes of an
+identification are: the results, warnings and errors of one piece after the other, in
+the same order."""
+
+import multiprocessing
+import os
+import warnings
+
+import pytest
+
+from tcpmm._forked import results_in_order, usable_jobs
+from tcpmm.errors import InputError, InputWarning
+
+
+def _axis(run, options):
+    """A stand-in for one axis's identification: warns as identification does (the same
+    text from the same place twice, another category), then returns or fails."""
+    for _ in range(2):
+        warnings.warn(InputWarning(f"axis {run}: {options}"), stacklevel=1)
+    warnings.warn(f"axis {run}: numbers", RuntimeWarning, stacklevel=1)
+    if run == "Y":
+        raise InputError(f"axis {run}: no fit", column="scale_m")
+    if run == "Z":
+        raise ZeroDivisionError("a defect, not the input")
+    return run, os.getpid()
+
+
+def _collect(runs, jobs):
+    """What each axis gave, with the warnings in the order they reached this process."""
+    got = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        with results_in_order(_axis, runs, "look", jobs) as results:
+            for result in results:
+                try:
+                    got.append(result())
+                except InputError as exc:
+                    got.append(("error", exc.format(), exc.column))
+    return got, [(w.category, str(w.message)) for w in caught]
+
+
+def test_side_by_side_gives_what_one_after_the_other_gives():
+    runs = ["X", "Y", "A"]
+    one, said_one = _collect(runs, 1)
+    two, said_two = _collect(runs, 2)
+    assert said_two == said_one
+    # shown once per place as Python shows them, the failing axis's included
+    assert said_one == [(InputWarning, "axis X: look"), (RuntimeWarning, "axis X: numbers"),
+                        (InputWarning, "axis Y: look"), (RuntimeWarning, "axis Y: numbers"),
+                        (InputWarning, "axis A: look"), (RuntimeWarning, "axis A: numbers")]
+    assert [g[:1] for g in two] == [("X",), ("error",), ("A",)]
+    assert two[1][1:] == one[1][1:] == ("column 'scale_m': axis Y: no fit", "scale_m")
+    assert {two[0][1], two[2][1]}.isdisjoint({os.getpid()})  # in other processes
+    assert one[0][1] == os.getpid()
+    assert not multiprocessing.active_children()
+
+
+def test_a_defect_in_one_axis_reaches_the_caller_and_no_process_is_left():
+    with pytest.raises(ZeroDivisionError, match="a defect"):
+        with results_in_order(_axis, ["X", "Z", "A"], "look", 2) as results:
+            for result in results:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    result()
+    assert not multiprocessing.active_children()
+
+
+def test_the_processes_asked_for_are_capped_by_the_axes():
+    assert usable_jobs(8, 2) == 2
+    assert usable_jobs(1, 3) == 1
+    assert 1 <= usable_jobs(0, 3) <= 3
+    assert usable_jobs(None, 1) == 1
+
+
+def test_the_play_an_axis_was_fitted_with_goes_between_processes():
+    """An axis refitted with the nut's play carries the play's stiffness factor; it goes
+    from the process that identified the axis to the parent and gives the same factors."""
+    import pickle
+
+    import numpy as np
+
+    from tcpmm.ident.friction.playdf import play_gain
+
+    gain = play_gain([10.0, 100.0, 1000.0], [1e-6, 3e-6, 8e-6], 4e-6, 10.0, 1e8)
+    back = pickle.loads(pickle.dumps(gain))
+    f = np.array([5.0, 20.0, 300.0, 2000.0])
+    np.testing.assert_array_equal(back(f), gain(f))
+    assert back(f)[0] == 1.0 and back(f)[1] < 1.0

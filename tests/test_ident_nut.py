@@ -394,7 +394,8 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
     assert not [w for w in caught if "lost motion in the nut" in w]
 
 
-def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(unseen):
+def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(unseen,
+                                                                         identify_unseen):
     """The axis above is chaotic in simulation (play, stick-slip): its moment of inertia
     moved by 2e-15 relative, as another CPU's rounding moves it, changes thousands of
     samples of the sweep by up to micrometres. The two records are equally true; from
@@ -405,20 +406,18 @@ def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(unseen
     CPU gives: the truth within 3 reported deviations of both, the two M_t within the
     larger deviation of each other, and a warning wherever several solutions were
     found."""
-    true, _ = unseen.draw_machine(0, 7, backlash=True)
-    a = true.axes["X"]
+    true, a, idn, caught = identify_unseen(0, 7, "X", shared=True)
+    b = a.model_copy(update={"mechanics": a.mechanics.replace(J_m=a.mechanics.J_m * (1 + 2e-15))})
+    with warnings.catch_warnings(record=True) as moved:
+        warnings.simplefilter("always")
+        other = identify_axis("X", sweep := virtual_sweep(b, name="X", seed=0),
+                              axis_config(true, "X"),
+                              friction=virtual_friction(b, FRICTION_SPEEDS, name="X"))
     got = []
-    for rel in (0.0, 2e-15):
-        b = a.model_copy(update={"mechanics": a.mechanics.replace(
-            J_m=a.mechanics.J_m * (1.0 + rel))})
-        sweep = virtual_sweep(b, name="X", seed=0)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            idn = identify_axis("X", sweep, axis_config(true, "X"),
-                                friction=virtual_friction(b, FRICTION_SPEEDS, name="X"))
-        told = [str(w.message) for w in caught if "play of the nut settle" in str(w.message)]
-        got.append((sweep.scale_m, idn.axis.mechanics.M_t,
-                    idn.axis.uncertainty.mechanics["M_t"], told))
+    for x, i, said in ((virtual_sweep(a, name="X", seed=0).scale_m, idn, caught),
+                       (sweep.scale_m, other, [str(w.message) for w in moved])):
+        told = [w for w in said if "play of the nut settle" in w]
+        got.append((x, i.axis.mechanics.M_t, i.axis.uncertainty.mechanics["M_t"], told))
     (x0, m0, sd0, _), (x1, m1, sd1, _) = got
     assert np.count_nonzero(x1 != x0) > 100  # the rounding reaches the records
     for _, m, sd, told in got:
@@ -428,7 +427,7 @@ def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(unseen
     assert abs(m1 - m0) < max(sd0, sd1)
 
 
-def test_identification_does_not_follow_rounding_in_the_records(unseen):
+def test_identification_does_not_follow_rounding_in_the_records(identify_unseen):
     """The axis above, whose refits with the play settle, identified from its records and
     from the same records perturbed by 1e-12 relative (rounding, as another build of the
     simulation kernel or another summation order gives): the same fit is kept, with the
@@ -437,8 +436,7 @@ def test_identification_does_not_follow_rounding_in_the_records(unseen):
     Jacobians)."""
     import dataclasses
 
-    true, _ = unseen.draw_machine(0, 7, backlash=True)
-    a = true.axes["X"]
+    true, a, one, _ = identify_unseen(0, 7, "X", shared=True)
     sweep = virtual_sweep(a, name="X", seed=0)
     runs = virtual_friction(a, FRICTION_SPEEDS, name="X")
     rng = np.random.default_rng(1)
@@ -450,12 +448,10 @@ def test_identification_does_not_follow_rounding_in_the_records(unseen):
             if f.name != "time_s" and isinstance(v := getattr(rec, f.name), np.ndarray)
             and v.dtype.kind == "f"})
 
-    got = []
-    for s, r in ((sweep, runs), (perturbed(sweep), perturbed(runs))):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            got.append(identify_axis("X", s, axis_config(true, "X"), friction=r))
-    one, two = got
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        two = identify_axis("X", perturbed(sweep), axis_config(true, "X"),
+                            friction=perturbed(runs))
     assert (one.physical.nut_gain is None) == (two.physical.nut_gain is None)
     assert (one.friction_split.nut is None) == (two.friction_split.nut is None)
     m1, m2 = one.axis.mechanics.model_dump(), two.axis.mechanics.model_dump()

@@ -93,3 +93,26 @@ def test_points_not_finite_are_measured_in_numpy():
     t = np.arange(50) * 1e-3
     same_to_the_bit(q, p, t, t, 0.01, True)
     assert np.isnan(distance_to_polyline(q, p, t, t, 0.01, True)[0][7])
+
+
+def test_paths_searched_in_threads_give_each_path_alone():
+    """A run's three paths, together long enough to be searched in threads of their own
+    (``_THREADED``), each the same to the bit as that path searched alone; a path that is
+    not finite goes to numpy beside them."""
+    from tcpmm.analysis.contour import _THREADED, distances_to_polyline
+
+    rng = np.random.default_rng(3)
+    p = shape("spiral", 12_000, rng)
+    t = np.arange(p.shape[0]) * 1e-3
+    qs = {s: p + rng.normal(size=p.shape) * 10.0 ** -e for s, e in
+          (("motor", 6), ("scale", 5), ("tcp", 4))}
+    qs["bad"] = qs["tcp"].copy()
+    qs["bad"][5, 1] = np.inf
+    assert sum(q.shape[0] for q in qs.values()) >= _THREADED
+    together = distances_to_polyline(qs, p, t, t, 0.2, True)
+    assert list(together) == list(qs)
+    for name, q in qs.items():
+        alone = distance_to_polyline(q, p, t, t, 0.2, True)
+        np.testing.assert_array_equal(together[name][0].view(np.int64),
+                                      alone[0].view(np.int64))
+        np.testing.assert_array_equal(together[name][1], alone[1])

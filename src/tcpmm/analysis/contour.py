@@ -31,6 +31,8 @@ NaN when it never does.
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -49,6 +51,9 @@ _CHUNK = 256
 #: coordinates the compiled search takes: finite, and far from where their squares
 #: overflow [m]
 _HUGE = 1e100
+#: points of all paths together from which the paths are searched in threads: below, a
+#: thread's start costs more than it saves [-]
+_THREADED = 20_000
 
 
 @dataclass
@@ -220,22 +225,36 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     fine = p.dtype == np.float64 and np.all(np.abs(p) < _HUGE)
-    out, balls = {}, None
+    out, searched = {}, {}
     for k, q in qs.items():
-        if not (fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE)):
+        if fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE):
+            searched[k] = out[k] = np.ascontiguousarray(q)  # the compiled search, below
+        else:
             out[k] = _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
-            continue
-        # the compiled search loads numba, which a command that measures no contour
-        # never needs
-        from ..path.nearest import BLOCK, block_balls, nearest_segments
-
-        if balls is None:
-            p = np.ascontiguousarray(p)
-            balls = block_balls(p, BLOCK)
-            lo, hi = lo.astype(np.int64), hi.astype(np.int64)
-        out[k] = nearest_segments(np.ascontiguousarray(q), p, seg, ln2, tdir, lo, hi, balls,
-                                  BLOCK, bool(signed))
+    if searched:
+        out.update(_searched(searched, np.ascontiguousarray(p), seg, ln2, tdir,
+                             lo.astype(np.int64), hi.astype(np.int64), bool(signed)))
     return out
+
+
+def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool) -> dict:
+    """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs``; the paths in
+    threads of their own where they are long and there are cores (the compiled search
+    lets go of the interpreter lock; each path's result is the same) [m], [-]."""
+    # the compiled search loads numba, which a command that measures no contour never needs
+    from ..path.nearest import BLOCK, block_balls, nearest_segments
+
+    balls = block_balls(p, BLOCK)
+
+    def search(q):
+        return nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, BLOCK, signed)
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+    if cores < 2 or len(qs) < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:
+        return {k: search(q) for k, q in qs.items()}
+    with ThreadPoolExecutor(min(cores, len(qs))) as pool:
+        found = [pool.submit(search, q) for q in qs.values()]
+        return {k: f.result() for k, f in zip(qs, found, strict=True)}
 
 
 def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):

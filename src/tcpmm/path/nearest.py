@@ -137,7 +137,7 @@ def _measure(q, k, p, seg, ln2, tdir, balls, a, b, seed, block, dd, cross, at):
     return count, best
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # the paths of a run are searched in threads of their own
 def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
     """Distance from each point to the nearest of the segments of its window.
 

@@ -19,6 +19,7 @@ from ..result import RUN_COLUMNS, AxisRun, Run
 from .atomic import atomic_path
 from .runwrite import (  # noqa: F401  (the writers are part of this module's interface)
     PARQUET_SUFFIXES,
+    arrow_table,
     is_parquet,
     write_run,
     write_run_csv,
@@ -57,7 +58,7 @@ def run_parquet_writer(path):
                 schema = pa.schema([(k, pa.float64()) for k in cols])
                 opened.append(pq.ParquetWriter(tmp, schema, use_dictionary=False))
             w = opened[0]
-            w.write_table(pa.table(cols, schema=w.schema))
+            w.write_table(arrow_table(cols, w.schema))
 
         try:
             yield write

@@ -86,3 +86,32 @@ def test_the_play_an_axis_was_fitted_with_goes_between_processes():
     f = np.array([5.0, 20.0, 300.0, 2000.0])
     np.testing.assert_array_equal(back(f), gain(f))
     assert back(f)[0] == 1.0 and back(f)[1] < 1.0
+
+
+def _dies(piece, shared):
+    """A piece whose process is killed (as the system kills one out of memory)."""
+    import signal
+
+    if piece == "dies":
+        os.kill(os.getpid(), signal.SIGKILL)
+    return piece
+
+
+def test_a_process_that_dies_is_an_error_not_a_wait():
+    from tcpmm.errors import TcpmmError
+
+    with pytest.raises(TcpmmError, match="ended before its work was done"):
+        with results_in_order(_dies, ["X", "dies", "A"], None, 2) as results:
+            assert results[0]() == "X"
+            results[1]()
+    assert not multiprocessing.active_children()
+
+
+def test_a_result_that_cannot_go_between_processes_is_an_error():
+    from tcpmm.errors import TcpmmError
+
+    with pytest.raises(TcpmmError, match="could not be sent between processes"):
+        with results_in_order(lambda piece, shared: (lambda: piece), ["X", "Y"], None,
+                              2) as results:
+            results[0]()
+    assert not multiprocessing.active_children()

@@ -16,6 +16,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import sys
 import warnings
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
@@ -57,9 +58,10 @@ def results_in_order(work: Callable, pieces: list, shared, jobs: int
                      ) -> Iterator[list[Callable]]:
     """Per piece, in order, a function that gives the warnings of ``work(piece, shared)``
     and returns its result or raises its error (the package's errors; any other is
-    raised too, as a defect). With ``jobs`` > 1 the pieces are done in forked processes,
-    which the context ends whatever happens; the results are those of one piece after
-    the other.
+    raised too, as a defect). With ``jobs`` > 1 the pieces are dealt to that many forked
+    processes (piece ``k`` to process ``k % jobs``), which the context ends whatever
+    happens; the results are those of one piece after the other. A process that dies
+    before it sends a result (killed, out of memory) is an error, not a wait.
 
     Parameters
     ----------
@@ -77,14 +79,53 @@ def results_in_order(work: Callable, pieces: list, shared, jobs: int
         return
     global _WORK
     _WORK = (work, pieces, shared)
-    pool = multiprocessing.get_context("fork").Pool(jobs, initializer=_quiet_child)
+    for stream in (sys.stdout, sys.stderr):  # a child must not write what is buffered again
+        if stream is not None:
+            stream.flush()
+    context = multiprocessing.get_context("fork")
+    children = []
     try:
-        pending = [pool.apply_async(_do_in_child, (i,)) for i in range(len(pieces))]
-        yield [(lambda p=p: _given_back(p.get())) for p in pending]
+        for j in range(jobs):
+            receive, send = context.Pipe(duplex=False)
+            child = context.Process(target=_child, args=(send, range(j, len(pieces), jobs)),
+                                    daemon=True)
+            child.start()
+            send.close()
+            children.append((child, receive))
+        yield [(lambda k=k: _given_back(_received(*children[k % jobs])))
+               for k in range(len(pieces))]
     finally:
         _WORK = ()
-        pool.terminate()
-        pool.join()
+        for child, receive in children:
+            if child.is_alive():
+                child.terminate()
+            child.join()
+            receive.close()
+
+
+def _child(send, indices) -> None:
+    """In a forked process: each piece of ``indices`` in turn, its outcome sent."""
+    _quiet_child()
+    for index in indices:
+        outcome = _do_in_child(index)
+        try:
+            send.send(outcome)
+        except Exception as exc:  # a result or error that cannot be pickled: a defect
+            send.send((None, TcpmmError(f"a result could not be sent between processes: "
+                                        f"{type(exc).__name__}: {exc}"), outcome[2]))
+    send.close()
+
+
+def _received(child, receive):
+    """The next outcome ``child`` sends; an error where it ended without one."""
+    try:
+        return receive.recv()
+    except EOFError:
+        child.join()
+        raise TcpmmError(
+            f"a process of this command ended before its work was done (exit code "
+            f"{child.exitcode}: killed, or out of memory); run it again with one process "
+            "(--jobs 1)") from None
 
 
 def _quiet_child() -> None:
@@ -101,7 +142,7 @@ def _do_in_child(index: int):
         warnings.simplefilter("always")
         try:
             result, error = work(pieces[index], shared), None
-        except TcpmmError as exc:
+        except Exception as exc:  # the package's errors and defects alike, raised above
             result, error = None, exc
     said = [(w.message, w.category, w.filename, w.lineno) for w in caught]
     return result, error, said

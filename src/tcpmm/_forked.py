@@ -56,11 +56,12 @@ def usable_jobs(jobs: int | None, pieces: int) -> int:
 @contextmanager
 def results_in_order(work: Callable, pieces: list, shared, jobs: int
                      ) -> Iterator[list[Callable]]:
-    """Per piece, in order, a function that gives the warnings of ``work(piece, shared)``
-    and returns its result or raises its error (the package's errors; any other is
-    raised too, as a defect). With ``jobs`` > 1 the pieces are dealt to that many forked
-    processes (piece ``k`` to process ``k % jobs``), which the context ends whatever
-    happens; the results are those of one piece after the other. A process that dies
+    """Per piece, a function that gives the warnings of ``work(piece, shared)`` and
+    returns its result or raises its error (the package's errors; any other is raised
+    too, as a defect); the functions are called in the pieces' order. With ``jobs`` > 1
+    the pieces are dealt to that many forked processes (piece ``k`` to process
+    ``k % jobs``), which the context ends whatever happens; the results are those of one
+    piece after the other. A process that dies
     before it sends a result (killed, out of memory) is an error, not a wait.
 
     Parameters

@@ -9,6 +9,11 @@ import pytest
 
 from tcpmm.machines.builtin import builtin_machine
 
+# The run has a worker per core already (pytest -n): identify's axes and verdict, asked for
+# one process per core, run here one after the other, in the commands the tests start too.
+# The tests of the processes themselves ask for them by number.
+os.environ.setdefault("TCPMM_JOBS", "1")
+
 
 @pytest.fixture(scope="session")
 def vmc():

@@ -65,11 +65,18 @@ def test_a_defect_in_one_axis_reaches_the_caller_and_no_process_is_left():
     assert not multiprocessing.active_children()
 
 
-def test_the_processes_asked_for_are_capped_by_the_axes():
+def test_the_processes_asked_for_are_capped_by_the_axes(monkeypatch):
     assert usable_jobs(8, 2) == 2
     assert usable_jobs(1, 3) == 1
+    monkeypatch.delenv("TCPMM_JOBS", raising=False)
     assert 1 <= usable_jobs(0, 3) <= 3
     assert usable_jobs(None, 1) == 1
+    monkeypatch.setenv("TCPMM_JOBS", "1")  # as the test run sets it
+    assert usable_jobs(0, 3) == usable_jobs(None, 3) == 1
+    assert usable_jobs(2, 3) == 2  # asked for, it is not the environment's
+    monkeypatch.setenv("TCPMM_JOBS", "two")
+    with pytest.raises(InputError, match="TCPMM_JOBS='two': give a whole number"):
+        usable_jobs(0, 3)
 
 
 def test_the_play_an_axis_was_fitted_with_goes_between_processes():

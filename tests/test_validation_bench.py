@@ -44,14 +44,13 @@ SHARE_TOL = 0.03
 @pytest.fixture(scope="module")
 def identified(once):
     """``identified(letter)``: the identification of reference machine ``letter`` from its
-    bundle, once for the whole run, its axes side by side (the other worker may be
-    waiting for it) [-]."""
+    bundle, once for the whole run [-]."""
 
     def get(letter):
         def make():
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                return identify_bundle(read_bundle(bench_path(letter) / "bundle"), jobs=2)
+                return identify_bundle(read_bundle(bench_path(letter) / "bundle"))
 
         return once(f"bench_{letter}", make)
 
@@ -59,22 +58,22 @@ def identified(once):
 
 
 def test_axes_identified_side_by_side_give_the_same_bits(identified):
-    """Machine D's two axes identified at once in processes of their own (as the shared
-    identifications of these tests are): the identification of one axis after the other,
-    every number to the bit (its dictionary as JSON, where NaN is text; the verdict's
-    varied models, run side by side the same way, are left out here)."""
+    """Machine D's two axes identified at once in processes of their own: the
+    identification of one axis after the other (the shared one), every number to the bit
+    (its dictionary as JSON, where NaN is text; the verdict's varied models, run side by
+    side the same way, are left out here)."""
     import json
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        one = identify_bundle(read_bundle(bench_path("d") / "bundle"), jobs=1, verdict=False)
+        two = identify_bundle(read_bundle(bench_path("d") / "bundle"), jobs=2, verdict=False)
 
     def dump(idn):
         return json.dumps({k: v for k, v in idn.to_dict().items() if k != "verdict"},
                           sort_keys=True, default=repr)
 
-    assert dump(identified("d")) == dump(one)
-    assert identified("d").machine == one.machine
+    assert dump(two) == dump(identified("d"))
+    assert two.machine == identified("d").machine
 
 
 def tcp_row(identified, letter, case):

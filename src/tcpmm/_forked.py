@@ -21,7 +21,7 @@ import warnings
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
-from .errors import TcpmmError
+from .errors import InputError, TcpmmError
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Iterator
@@ -35,8 +35,10 @@ _SHOWN: dict = {}
 
 
 def usable_jobs(jobs: int | None, pieces: int) -> int:
-    """Processes for ``pieces`` pieces of work: ``jobs``, or with ``None`` or 0 the cores
-    this process may run on; at most one per piece; 1 where processes cannot be forked.
+    """Processes for ``pieces`` pieces of work: ``jobs``, or with ``None`` or 0 the
+    environment's ``TCPMM_JOBS`` where it is set (a machine shared with other work, a test
+    run that has a process per core already), else the cores this process may run on; at
+    most one per piece; 1 where processes cannot be forked.
 
     Parameters
     ----------
@@ -48,9 +50,21 @@ def usable_jobs(jobs: int | None, pieces: int) -> int:
     if "fork" not in multiprocessing.get_all_start_methods():
         return 1
     if not jobs:
-        jobs = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (
+        jobs = _jobs_from_environment() or (
+            len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else
             os.cpu_count() or 1)
     return max(1, min(int(jobs), pieces))
+
+
+def _jobs_from_environment() -> int:
+    """``TCPMM_JOBS`` as a number of processes, 0 where it is not set [-]."""
+    text = os.environ.get("TCPMM_JOBS", "").strip()
+    if not text:
+        return 0
+    if not text.isdigit():
+        raise InputError(f"TCPMM_JOBS={text!r}: give a whole number of processes (0: one "
+                         "per core), or unset it")
+    return int(text)
 
 
 @contextmanager

@@ -21,6 +21,7 @@ import warnings
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
+from ._threads import usable_cores
 from .errors import InputError, TcpmmError
 
 if TYPE_CHECKING:
@@ -50,9 +51,7 @@ def usable_jobs(jobs: int | None, pieces: int) -> int:
     if "fork" not in multiprocessing.get_all_start_methods():
         return 1
     if not jobs:
-        jobs = _jobs_from_environment() or (
-            len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else
-            os.cpu_count() or 1)
+        jobs = _jobs_from_environment() or usable_cores()
     return max(1, min(int(jobs), pieces))
 
 

@@ -49,3 +49,11 @@ def limit_blas_threads(n: int = 1):
     from threadpoolctl import threadpool_limits
 
     return threadpool_limits(limits=n)
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system says it, as a
+    container or ``taskset`` limits it), at least 1 [-]."""
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return os.cpu_count() or 1

@@ -31,12 +31,12 @@ NaN when it never does.
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._threads import usable_cores
 from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
@@ -249,7 +249,7 @@ def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool) -> dict:
     def search(q):
         return nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, BLOCK, signed)
 
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+    cores = usable_cores()
     if cores < 2 or len(qs) < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:
         return {k: search(q) for k, q in qs.items()}
     with ThreadPoolExecutor(min(cores, len(qs))) as pool:

@@ -238,10 +238,11 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None,
     """
     findings = check_records(bundle, options)
     axes = {}
-    runs = [AxisRun(name, rec.sweep, bundle.machine.axes[name], rec.friction)
-            for name, rec in bundle.axes.items()]
-    with results_in_order(run_axis, runs, options, usable_jobs(jobs, len(runs))) as results:
-        for run, result in zip(runs, results, strict=True):
+    axis_runs = [AxisRun(name, rec.sweep, bundle.machine.axes[name], rec.friction)
+                 for name, rec in bundle.axes.items()]
+    jobs_used = usable_jobs(jobs, len(axis_runs))
+    with results_in_order(run_axis, axis_runs, options, jobs_used) as results:
+        for run, result in zip(axis_runs, results, strict=True):
             try:
                 axes[run.name] = result()
             except InputError as exc:  # a fit knows its numbers, not the bundle's file

@@ -52,14 +52,34 @@ def test_same_numbers_as_numbas_kernel(axis_name):
     assert np.ptp(a[8][2]) > 0.01  # the circle was run: the TCP travels 70 mm
 
 
-def test_argument_types_it_was_not_built_for_go_to_numba():
+def test_a_strided_array_is_given_as_a_contiguous_copy_and_written_back(monkeypatch):
+    """Neither the module (it would read it as contiguous) nor numba (it would compile the
+    kernel anew for that layout, about two minutes) is given a strided array."""
     built_or_skip()
+
+    def numbas(*args):
+        raise AssertionError("numba's kernel called")
+
+    monkeypatch.setattr(kernel, "run_axis", numbas)
     a, b = kernel_args(), kernel_args()
-    a[3] = np.asfortranarray(np.stack([a[3], a[3]]))[0]  # a strided view, not contiguous
-    assert not a[3].flags.c_contiguous
+    a[3] = np.asfortranarray(np.stack([a[3], a[3]]))[0]  # an input
+    a[8] = np.stack([a[8], a[8]], axis=-1)[..., 0]  # the record, written by the kernel
+    assert not (a[3].flags.c_contiguous or a[8].flags.c_contiguous)
     compiled.run_axis(*a)
-    kernel.run_axis(*b)
-    assert np.array_equal(a[8], b[8])
+    compiled.run_axis(*b)
+    assert np.array_equal(a[8], b[8]) and np.any(b[8] != 0.0)
+
+
+def test_argument_types_it_was_not_built_for_go_to_numba(monkeypatch):
+    built_or_skip()
+    calls = []
+    monkeypatch.setattr(kernel, "run_axis", lambda *args: calls.append(args))
+    a = kernel_args()
+    a[7] = a[7].astype(np.int32)  # built for int64
+    compiled.run_axis(*a)
+    assert len(calls) == 1 and calls[0][7].dtype == np.int32
+    compiled.run_axis(*kernel_args())
+    assert len(calls) == 1
 
 
 PROGRAM = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"

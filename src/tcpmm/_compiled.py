@@ -90,12 +90,26 @@ _OFF = _NUMBA + " (TCPMM_COMPILED=0)"
 def call(name: str, *args):
     """Function ``name`` of :data:`FUNCTIONS` from the module compiled ahead of time where
     there is one (built on the first call where there is none) and the arguments are of
-    the kinds it was built for, else numba's; the same arguments and results [SI]."""
+    the kinds it was built for, else numba's; the same arguments and results [SI].
+
+    A strided array is given to either as a contiguous copy, written back after the call
+    where it may be an output: the compiled module would read it as contiguous, and numba
+    would compile the function anew for that layout (about two minutes for the kernel)."""
+    import numpy as np
+
+    given = [(a, np.ascontiguousarray(a)) if type(a) is np.ndarray
+             and not a.flags.c_contiguous else (a, a) for a in args]
+    args = tuple(c for _, c in given)
     mod = (_chosen or _choose())[0]
     if mod is not None and _fits(FUNCTIONS[name][3], args):
-        return getattr(mod, name)(*args)
-    module, entry = FUNCTIONS[name][:2]
-    return getattr(importlib.import_module(f"tcpmm.{module}"), entry)(*args)
+        out = getattr(mod, name)(*args)
+    else:
+        module, entry = FUNCTIONS[name][:2]
+        out = getattr(importlib.import_module(f"tcpmm.{module}"), entry)(*args)
+    for a, c in given:
+        if c is not a and a.flags.writeable:
+            a[...] = c
+    return out
 
 
 def run_axis(*args):
@@ -213,7 +227,7 @@ def _compiled_or_jit():
 def _fits(kinds, args) -> bool:
     """Whether ``args`` are of the ``kinds`` a function was built for: the module's
     wrappers check types and dimensions but not the memory layout, and would read a
-    strided array as if it were contiguous."""
+    strided array as if it were contiguous (:func:`call` gives none)."""
     import numpy as np
 
     if len(args) != len(kinds):

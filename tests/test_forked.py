@@ -122,3 +122,23 @@ def test_a_result_that_cannot_go_between_processes_is_an_error():
                               2) as results:
             results[0]()
     assert not multiprocessing.active_children()
+
+
+def test_an_interrupt_between_the_fork_and_the_work_is_left_to_the_parent(monkeypatch):
+    """Ctrl-C reaches the whole process group, also a child that has only just been
+    forked: it must not end it with a traceback of its own (it did, from inside
+    multiprocessing's start-up, where the signal came before the child ignored it)."""
+    import signal
+
+    from tcpmm import _forked
+
+    quiet = _forked._quiet_child
+
+    def interrupted_first():
+        os.kill(os.getpid(), signal.SIGINT)  # as the terminal would, just after the fork
+        quiet()
+
+    monkeypatch.setattr(_forked, "_quiet_child", interrupted_first)
+    with results_in_order(lambda piece, shared: piece, ["X", "Y"], None, 2) as results:
+        assert [r() for r in results] == ["X", "Y"]
+    assert not multiprocessing.active_children()

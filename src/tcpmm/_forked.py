@@ -33,6 +33,8 @@ _WORK: tuple = ()
 #: per source file, the record of warnings shown once per place (as Python keeps per
 #: module), for the warnings given again in the parent [-]
 _SHOWN: dict = {}
+#: the signals a child takes otherwise than its parent, held over the fork [-]
+_HELD = {signal.SIGINT, signal.SIGTERM}
 
 
 def usable_jobs(jobs: int | None, pieces: int) -> int:
@@ -103,7 +105,11 @@ def results_in_order(work: Callable, pieces: list, shared, jobs: int
             receive, send = context.Pipe(duplex=False)
             child = context.Process(target=_child, args=(send, range(j, len(pieces), jobs)),
                                     daemon=True)
-            child.start()
+            held = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+            try:  # a child would take an interrupt as its own until it ignores it
+                child.start()
+            finally:
+                signal.pthread_sigmask(signal.SIG_SETMASK, held)
             send.close()
             children.append((child, receive))
         yield [(lambda k=k: _given_back(_received(*children[k % jobs])))
@@ -143,9 +149,11 @@ def _received(child, receive):
 
 
 def _quiet_child() -> None:
-    """A child leaves an interrupt to its parent and ends on SIGTERM at once."""
+    """A child leaves an interrupt to its parent and ends on SIGTERM at once; both signals
+    are held from the fork until here, so that one sent meanwhile is taken so too."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
 
 
 def _do_in_child(index: int):

@@ -19,6 +19,11 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -e '.[test]'
 	$(BIN)/python -m compileall -q src
+	@# The simulation kernel compiled for this CPU (once; minutes on a fresh install):
+	@# else the first command that simulates builds it, and a second process started
+	@# meanwhile compiles numba's kernel for itself.
+	@echo "compiling the simulation kernel for this CPU (once; a few minutes)"
+	$(BIN)/python -c "from tcpmm import _compiled; print('kernel:', _compiled.status())"
 	touch $(STAMP)
 
 demo: $(STAMP)

@@ -255,3 +255,17 @@ def test_a_new_build_deletes_all_but_the_most_recently_used_old_ones(fresh, monk
     left = sorted(p.name.split(".")[0] for p in path.parent.glob("_kernels_*"))
     assert left == sorted([path.name.split(".")[0], "_kernels_other"]
                           + [f"_kernels_old{age}" for age in range(4)])
+
+
+def test_a_build_is_announced_and_the_command_line_shows_it(fresh, monkeypatch, capsys):
+    """A build takes minutes on a fresh install; a command that starts one says so on
+    stderr rather than sit silent."""
+    from tcpmm.cli import main
+
+    monkeypatch.setattr(compiled, "ON_BUILD", [])
+    assert main(["--version"]) == 0
+    capsys.readouterr()
+    monkeypatch.setattr(compiled, "build", lambda path: (_ for _ in ()).throw(OSError("no cc")))
+    assert "its build failed" in compiled.status()
+    out, err = capsys.readouterr()
+    assert not out and err.count("note: compiling the simulation kernel") == 1

@@ -83,6 +83,9 @@ _PKG = Path(__file__).resolve().parent
 _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
 _chosen: list = []  # [module or None, description] once chosen
+#: Told, as a line of text, where a build starts: it can take minutes (the command line
+#: shows it on stderr) [-].
+ON_BUILD: list = []
 _NUMBA = "numba's kernels"
 _OFF = _NUMBA + " (TCPMM_COMPILED=0)"
 
@@ -312,6 +315,9 @@ def _build_once(path: Path) -> str:
             return "the compiled module is being built by another process"
         if path.exists():
             return ""
+        for tell in ON_BUILD:
+            tell("compiling the simulation kernel for this CPU: once after an install or "
+                 "an upgrade, a few minutes")
         try:
             build(path)
         except Exception as exc:  # no C compiler, a full disk, ...

@@ -16,6 +16,7 @@ from .._threads import single_threaded_from_start
 
 single_threaded_from_start()  # before the commands' modules load numpy
 
+from .. import _compiled  # noqa: E402
 from ..errors import InputWarning, TcpmmError  # noqa: E402
 from ._app import app, console, esc  # noqa: E402
 
@@ -60,6 +61,7 @@ def main(argv=None) -> int:
 
     warnings.showwarning = show
     _warn_cache_fallback()
+    _compiled.ON_BUILD[:] = [lambda text: console.print(f"note: {esc(text)}")]
     handlers = _exit_on_signals()
     try:
         register(sys.argv[1:] if argv is None else list(argv))

@@ -53,7 +53,7 @@ def friction_constants(BdT, h, R, g_ref, fk):
         fk[1, FK_PER_VS], fk[1, FK_PER_VG] = -c_gs / det, b_s / det
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)  # called, not inlined: see tcpmm.sim.kernel on its compilation
 def _contact_friction(fk, k, v, v_free, h, pf, st):
     """Friction force of contact ``k`` over a step in which its velocity goes from ``v``
     to ``v_free`` without it; ``(F, stuck)``: the force (0 without friction) and whether

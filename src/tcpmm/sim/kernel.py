@@ -40,8 +40,11 @@ the same order, in vector instructions); ``_run_axis`` allocates every work arra
 hands it to ``_steps``, the loop, which is compiled without reference counting
 (``_nrt=False``) and so may allocate nothing; a new per-axis state (a filter's delay
 line, say) is allocated in ``_run_axis`` and passed in the same way. The helpers of the
-loop, and the friction functions of :mod:`tcpmm.sim.contact`, are inlined
-(``inline="always"``): a call per step, with its arrays, would cost more than the step.
+loop are inlined (``inline="always"``): a call per step, with its arrays, would cost more
+than the step. One is not: the friction of one contact in the general step (reversals,
+stick, LuGre), which numba would inline twice per loop with every friction law in it;
+called, it halves the kernel's compilation on a fresh install, at no cost found in the
+step (``docs/performance.md``).
 The free step is :mod:`tcpmm.sim.linearstep`'s; the step with friction and lost motion
 :mod:`tcpmm.sim.frictionstep`'s, whose whole step and sub-steps share one loop body, so
 that the friction code is inlined once, and whose shortcuts take the common steps in

@@ -39,3 +39,20 @@ def test_a_thread_count_of_the_users_is_kept_and_limited_afterwards():
     got = run({"OPENBLAS_NUM_THREADS": "2"})
     assert got["limiter"] and got["threadpoolctl_before"]
     assert got["threads"] == [1]
+
+
+def test_the_axes_run_on_the_cores_the_process_may_use(monkeypatch):
+    """A process confined to one core (a container's CPU set, taskset) runs the axes one
+    after the other, however many cores the machine has."""
+    from tcpmm import builtin_machine, paper_circle_command, simulate
+    from tcpmm._threads import os as threads_os
+    from tcpmm.sim import simulate as sim_module
+
+    def no_pool(*args, **kwargs):
+        raise AssertionError("a thread pool on one usable core")
+
+    monkeypatch.setattr(threads_os, "sched_getaffinity", lambda pid: {0}, raising=False)
+    monkeypatch.setattr(threads_os, "cpu_count", lambda: 64)
+    monkeypatch.setattr(sim_module, "ThreadPoolExecutor", no_pool)
+    run = simulate(builtin_machine(), paper_circle_command())
+    assert set(run.axes) == {"X", "Y", "Z"}

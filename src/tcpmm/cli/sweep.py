@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import os
 from contextlib import contextmanager
 from pathlib import Path
 
 import typer
 
+from .._threads import usable_cores
 from ..errors import InputError
 from ._app import (
     Sensor,
@@ -266,7 +266,7 @@ def _sweep_programs(models, programs: str, output, scheduler, workers, chunk_blo
         machines[name] = read_model(name)
         warn_unstable(machines[name], f"model {name}")
     if workers is None and scheduler is None:
-        workers = os.cpu_count() or 1  # as a sweep of variants: every local core
+        workers = usable_cores()  # as a sweep of variants: every core it may use
     res = _on_cluster(scheduler, "programs", lambda client, progress: run_programs(
         machines, files, output, client=client, workers=workers, chunk_blocks=chunk_blocks,
         progress=progress))

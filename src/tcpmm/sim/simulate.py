@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import os
 import warnings
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import nullcontext
 
 import numpy as np
 
-from .._threads import limit_blas_threads
+from .._threads import limit_blas_threads, usable_cores
 from ..analysis.runaway import say_faults
 from ..errors import InputError, InputWarning
 from ..model import Axis, Machine
@@ -150,7 +149,7 @@ def _run_axes(one, names: list, threads: int | None, progress) -> dict:
     per axis up to the cores), calling ``progress(name, done, total)`` after each [-]."""
     runs = {}
     # The kernel releases the GIL: axes run in parallel on the available cores.
-    n_threads = min(len(names), threads or os.cpu_count() or 1)
+    n_threads = min(len(names), threads or usable_cores())
     pool = ThreadPoolExecutor(max_workers=n_threads) if n_threads > 1 else nullcontext()
     with pool:
         done = pool.map(one, names) if n_threads > 1 else map(one, names)

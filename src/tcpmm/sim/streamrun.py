@@ -11,13 +11,12 @@ the period in the last bit, and then a time differs by as much (a relative 2.2e-
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 
 import numpy as np
 
-from .._threads import limit_blas_threads
+from .._threads import limit_blas_threads, usable_cores
 from ..errors import InputError
 from ..model import Machine
 from ..path.settings import AXES, InterpolatorSettings
@@ -90,7 +89,7 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
     # the axes run in worker threads, each its own in order, while the main thread reads
     # and interpolates the next chunk (the kernel releases the GIL): one core is left to
     # that, the others share the axes
-    cores = threads or os.cpu_count() or 1
+    cores = threads or usable_cores()
     workers = min(len(names), cores - 1) if cores > 1 else 0
     groups = [names[k::workers] for k in range(workers)]
     pools = [ThreadPoolExecutor(max_workers=1) for _ in groups]

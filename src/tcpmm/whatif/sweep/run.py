@@ -16,6 +16,7 @@ from itertools import islice
 from pathlib import Path
 
 from ..._heap import keep_freed_memory
+from ..._threads import usable_cores
 from ...errors import InputError, TcpmmError
 from ...io.atomic import output_folder
 from .space import apply_parameters
@@ -296,7 +297,6 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
 def _run_held(machine, program, variants, out, sensor, client, workers, keep_runs, floors,
               progress, batch, task, t0) -> SweepResult:
     """:func:`run_sweep` with the folder held [-]."""
-    import os
 
     runs = None if keep_runs is None else str(Path(keep_runs).resolve())
     if runs is not None:
@@ -319,7 +319,7 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
         return machine, program, v, sensor, runs, floors
 
     failed = []
-    workers = workers or os.cpu_count() or 1
+    workers = workers or usable_cores()
     try:
         if not todo:
             pass

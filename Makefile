@@ -22,7 +22,6 @@ $(STAMP): pyproject.toml
 	@# The simulation kernel compiled for this CPU (once; minutes on a fresh install):
 	@# else the first command that simulates builds it, and a second process started
 	@# meanwhile compiles numba's kernel for itself.
-	@echo "compiling the simulation kernel for this CPU (once; a few minutes)"
 	$(BIN)/python -c "from tcpmm import _compiled; print('kernel:', _compiled.status())"
 	touch $(STAMP)
 

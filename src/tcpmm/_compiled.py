@@ -35,11 +35,13 @@ import os
 import sys
 import threading
 import time
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
 from ._numba_cache import writable
 from ._pycc import build_module
+from .errors import BuildNotice
 
 #: Sources the functions are compiled from (relative to the package): an edit makes a
 #: new key.
@@ -83,9 +85,6 @@ _PKG = Path(__file__).resolve().parent
 _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
 _chosen: list = []  # [module or None, description] once chosen
-#: Told, as a line of text, where a build starts: it can take minutes (the command line
-#: shows it on stderr) [-].
-ON_BUILD: list = []
 _NUMBA = "numba's kernels"
 _OFF = _NUMBA + " (TCPMM_COMPILED=0)"
 
@@ -229,15 +228,15 @@ def _compiled_or_jit():
 
 def _fits(kinds, args) -> bool:
     """Whether ``args`` are of the ``kinds`` a function was built for: the module's
-    wrappers check types and dimensions but not the memory layout, and would read a
-    strided array as if it were contiguous (:func:`call` gives none)."""
+    wrappers check types and dimensions; the memory layout is :func:`call`'s (it gives
+    contiguous arrays only: a wrapper would read a strided one as if it were contiguous)."""
     import numpy as np
 
     if len(args) != len(kinds):
         return False
     for a, k in zip(args, kinds, strict=True):
         if len(k) == 2:
-            if not (type(a) is np.ndarray and a.ndim == int(k[1]) and a.flags.c_contiguous
+            if not (type(a) is np.ndarray and a.ndim == int(k[1])
                     and a.dtype == {"i": np.int64, "u": np.uint8, "f": np.float64}[k[0]]):
                 return False
         elif isinstance(a, bool | np.bool_) or not isinstance(
@@ -315,9 +314,8 @@ def _build_once(path: Path) -> str:
             return "the compiled module is being built by another process"
         if path.exists():
             return ""
-        for tell in ON_BUILD:
-            tell("compiling the simulation kernel for this CPU: once after an install or "
-                 "an upgrade, a few minutes")
+        warnings.warn(BuildNotice("compiling the simulation kernel for this CPU: once after "
+                                  "an install or an upgrade, a few minutes"), stacklevel=2)
         try:
             build(path)
         except Exception as exc:  # no C compiler, a full disk, ...

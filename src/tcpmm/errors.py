@@ -55,6 +55,11 @@ class InputWarning(UserWarning):
     """Input that can be used but probably is not what the user meant."""
 
 
+class BuildNotice(UserWarning):
+    """Work of minutes done once (the simulation kernel compiled for this CPU), said as it
+    starts so that the wait is not taken for a hang; not a fault."""
+
+
 class RunFaultWarning(InputWarning):
     """A simulated axis that ran away from its command or held its current at the limit:
     the run is a result to report, not a prediction (:mod:`tcpmm.analysis.runaway`)."""

@@ -16,8 +16,7 @@ from .._threads import single_threaded_from_start
 
 single_threaded_from_start()  # before the commands' modules load numpy
 
-from .. import _compiled  # noqa: E402
-from ..errors import InputWarning, TcpmmError  # noqa: E402
+from ..errors import BuildNotice, InputWarning, TcpmmError  # noqa: E402
 from ._app import app, console, esc  # noqa: E402
 
 #: The module of this package that registers each command (or command group) on
@@ -56,12 +55,13 @@ def main(argv=None) -> int:
             if str(message) not in told:
                 told.add(str(message))
                 console.print(f"[yellow]warning:[/yellow] {esc(str(message))}")
+        elif issubclass(category, BuildNotice):
+            console.print(f"note: {esc(str(message))}")
         else:
             shown(message, category, filename, lineno, file, line)
 
     warnings.showwarning = show
     _warn_cache_fallback()
-    _compiled.ON_BUILD[:] = [lambda text: console.print(f"note: {esc(text)}")]
     handlers = _exit_on_signals()
     try:
         register(sys.argv[1:] if argv is None else list(argv))

@@ -297,7 +297,6 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
 def _run_held(machine, program, variants, out, sensor, client, workers, keep_runs, floors,
               progress, batch, task, t0) -> SweepResult:
     """:func:`run_sweep` with the folder held [-]."""
-
     runs = None if keep_runs is None else str(Path(keep_runs).resolve())
     if runs is not None:
         output_folder(runs)

@@ -9,7 +9,7 @@ import pytest
 
 from tcpmm.cli import main
 from tcpmm.demo import paper_circle_command
-from tcpmm.errors import InputWarning
+from tcpmm.errors import InputWarning, RunFaultWarning
 from tcpmm.io.atomic import write_text_atomic
 from tcpmm.io.modelfile import write_machine
 from tcpmm.machines.builtin import builtin_machine
@@ -123,7 +123,8 @@ def test_unstable_model_simulates_with_a_warning():
     bad = m.with_axis("X", ax.replace(servo=ax.servo.model_copy(update={"K_pp": 40000.0})))
     t = np.arange(200) * 1e-3
     cmd = Command(t, {"X": 1e-3 * t, "Y": 0 * t})
-    with pytest.warns(InputWarning, match="axis X: the sampled servo loop is unstable"):
+    with (pytest.warns(InputWarning, match="axis X: the sampled servo loop is unstable"),
+          pytest.warns(RunFaultWarning, match="axis X: holds its current at the limit")):
         simulate(bad, cmd)
     with warnings.catch_warnings():
         warnings.simplefilter("error", InputWarning)

@@ -2,6 +2,7 @@
 kernel to the bit, a command that simulates without importing numba or scipy, and numba's
 kernel wherever the compiled module cannot be had."""
 
+import ast
 import os
 import subprocess
 import sys
@@ -97,14 +98,19 @@ def test_a_simulating_command_imports_neither_numba_nor_scipy(tmp_path, source, 
         write_command_csv(paper_circle_command(), given := tmp_path / "cmd.csv")
     else:
         given = PROGRAM
-    code = ("import sys; from tcpmm.cli import main; rc = main(['simulate', 'builtin:vmc', "
-            f"{source!r}, {str(given)!r}, '-o', {str(tmp_path / ('run' + suffix))!r}]); "
+    run = tmp_path / f"run{suffix}"
+    assert heavy_imports(["simulate", "builtin:vmc", source, str(given), "-o", str(run)]) == []
+    assert run.stat().st_size > 0
+
+
+def heavy_imports(args: list) -> list:
+    """The heavy libraries that ``tcpmm ARGS``, run in a new process, imported."""
+    code = (f"import sys; from tcpmm.cli import main; main({args!r}); "
             "print(sorted(m for m in ('numba', 'scipy', 'pandas', 'matplotlib', 'llvmlite') "
             "if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout
-    assert out.strip().splitlines()[-1] == "[]"
-    assert (tmp_path / f"run{suffix}").stat().st_size > 0
+    return ast.literal_eval(out.strip().splitlines()[-1])
 
 
 def test_the_interpolation_is_numbas_to_the_bit(monkeypatch):
@@ -141,6 +147,45 @@ def test_the_g_code_lexer_is_numbas_to_the_bit(monkeypatch):
     monkeypatch.setattr(compiled, "_chosen", [None, "numba's kernels (forced)"])
     theirs = parse_gcode(text)
     assert len(ours) == 600 and repr(ours) == repr(theirs)
+
+
+def test_the_contour_search_is_numbas_to_the_bit(monkeypatch):
+    """The three sensors of the paper's circle on the built-in machine against their
+    command, signed in the plane and unsigned in space, searched by the compiled module
+    and by numba."""
+    from tcpmm import simulate
+    from tcpmm.analysis.contour import distances_to_polyline
+
+    built_or_skip()
+    run = simulate(builtin_machine(), paper_circle_command())
+    t = np.asarray(run.time_s, float)
+    cmd = np.column_stack([run.axes[a].cmd for a in "XYZ"])
+    qs = {s: np.column_stack([run.axes[a].sensor(s) for a in "XYZ"])
+          for s in ("motor", "scale", "tcp")}
+
+    def both():
+        return [distances_to_polyline({k: q[:, :d] for k, q in qs.items()}, cmd[:, :d], t, t,
+                                      0.2, d == 2) for d in (2, 3)]
+
+    ours = both()
+    monkeypatch.setattr(compiled, "_chosen", [None, "numba's kernels (forced)"])
+    theirs = both()
+    assert t.size > 1000 and np.ptp(ours[0]["tcp"][0]) > 1e-6
+    for a, b in zip(ours, theirs, strict=True):
+        for k in qs:
+            np.testing.assert_array_equal(a[k][0].view(np.int64), b[k][0].view(np.int64))
+            np.testing.assert_array_equal(a[k][1], b[k][1])
+
+
+@pytest.mark.parametrize("suffix", [".parquet", ".csv"])
+def test_measuring_a_contour_imports_neither_numba_nor_scipy(tmp_path, suffix):
+    """Nor pandas from a Parquet run (a CSV run is read with it)."""
+    from tcpmm import simulate
+
+    built_or_skip()
+    simulate(builtin_machine(), paper_circle_command()).write(run := tmp_path / f"r{suffix}")
+    got = heavy_imports(["contour", str(run), "--plane", "XY", "--json"])
+    assert got == ([] if suffix == ".parquet" else ["pandas"])
 
 
 @pytest.fixture

@@ -57,6 +57,29 @@ def test_parquet_run_checked_like_csv(tmp_path):
         read_run(tmp_path / "bad.parquet")
 
 
+def test_parquet_of_any_layout_and_number_type_reads_as_written(tmp_path):
+    """Row groups of several sizes, chunks that start inside a buffer (a sliced table),
+    float32 and integer columns; a missing value is named with its row."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    rng = np.random.default_rng(8)
+    t, x = np.arange(1000) * 1e-3, rng.normal(size=1000)
+    whole = pa.table({"time_s": t, "x_cmd_mm": x, "x_tcp_mm": x.astype(np.float32),
+                      "x_scale_mm": np.round(x * 1e3).astype(np.int64)})
+    pq.write_table(whole.slice(3, 900), tmp_path / "r.parquet", row_group_size=128)
+    assert pq.ParquetFile(tmp_path / "r.parquet").metadata.num_row_groups == 8
+    ax = read_run(tmp_path / "r.parquet").axes["X"]
+    np.testing.assert_array_equal(ax.cmd, x[3:903] * 1e-3)
+    np.testing.assert_array_equal(ax.tcp, x[3:903].astype(np.float32).astype(float) * 1e-3)
+    np.testing.assert_array_equal(ax.scale, np.round(x[3:903] * 1e3) * 1e-3)
+    assert ax.cmd.flags.writeable
+    pq.write_table(whole.set_column(1, "x_cmd_mm", pa.array([*x[:7], None, *x[8:]])),
+                   tmp_path / "n.parquet")
+    with pytest.raises(InputError, match=r"missing or not a number \(row 8\)"):
+        read_run(tmp_path / "n.parquet")
+
+
 def test_simulate_to_parquet_then_circle(tmp_path, capsys):
     t = np.arange(0.0, 3.0, 1e-3)
     w = 2 * np.pi / 2.6

@@ -1,13 +1,13 @@
-"""The axis kernel, the matrix exponential and the interpolator's compiled functions
-built ahead of time, so that a command starts without numba.
+"""The axis kernel, the matrix exponential, the interpolator's functions and the contour's
+search built ahead of time, so that a command starts without numba.
 
-numba compiles :func:`tcpmm.sim.kernel.run_axis`, :func:`tcpmm.sim.expm.expm` and the
-look-ahead, profiles and sampling of :mod:`tcpmm.path` (:data:`FUNCTIONS`) on their
-first call and caches the machine code, but loading a cached function still costs
-its import and the set-up of its compiler (some 0.5 s of every command that simulates).
-The first run on a machine therefore also builds the same functions, from the same
-source, into a Python extension module (numba's ``pycc``, for this CPU, its ``run_axis``
-releasing the GIL like the compiled kernel); later runs import that module in about a
+numba compiles :func:`tcpmm.sim.kernel.run_axis`, :func:`tcpmm.sim.expm.expm`, the
+look-ahead, profiles, sampling and G-code lexer of :mod:`tcpmm.path` and its nearest
+segment search (:data:`FUNCTIONS`) on their first call and caches the machine code, but
+loading a cached function costs its import and the set-up of its compiler (0.5 s and
+more of every command that simulates or measures a contour). The first run on a machine
+therefore also builds them, from the same source, into a Python extension module (numba's
+``pycc``, for this CPU, each releasing the GIL); later runs import that module in about a
 millisecond and never import numba. It gives the same numbers to the bit: the same code
 compiled by the same compiler.
 
@@ -19,10 +19,9 @@ beside it for a day (:func:`describe` says it, and ``tcpmm --version``) and the
 functions run through numba as before. ``TCPMM_COMPILED=0`` in the environment uses
 numba's always.
 
-It sits at the foot of the package: :mod:`tcpmm.path`, :mod:`tcpmm.mechanics` and
-:mod:`tcpmm.sim` call their compiled functions through it, and it imports none of them
-(numba's entry points are imported by name when called, the sources read as files), so
-that it adds no import between them.
+It sits at the foot of the package: the packages whose functions it compiles call them
+through it, and it imports none of them (numba's entry points are imported by name when
+called, the sources read as files), so that it adds no import between them.
 """
 
 from __future__ import annotations
@@ -49,7 +48,8 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "sim/frictionstep.py", "sim/contact.py", "sim/frictionlaw.py",
                   "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
-                  "path/sampling.py", "path/geometry.py", "path/gcode_scan.py")
+                  "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
+                  "path/nearest.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
 #: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
 _KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
@@ -72,6 +72,8 @@ FUNCTIONS = {
     "scan_lines": ("path.gcode_scan", "scan_lines", "scan_lines", ("u1",), ("i2", "f2")),
     "run_plain": ("path.gcode_scan", "run_plain", "run_plain", ("i2", "f2", "i", "f1"),
                   ("i", "f2", "f1", "i1")),
+    "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
+                         ("f2", "f2", "f2", "f1", "f2", "i1", "i1", "i"), ("f1", "i1")),
 }
 #: A failed build is not tried again for this long [s]; a build lock older than
 #: :data:`LOCK_STALE_S` is taken to be left by a process that died [s].
@@ -152,6 +154,11 @@ def scan_lines(*args):
 def run_plain(*args):
     """:func:`tcpmm.path.gcode_scan.run_plain` through :func:`call` [SI]."""
     return call("run_plain", *args)
+
+
+def nearest_segments(*args):
+    """:func:`tcpmm.path.nearest.nearest_segments` through :func:`call` [m], [-]."""
+    return call("nearest_segments", *args)
 
 
 def expm(A):

@@ -238,16 +238,14 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
 
 
 def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool) -> dict:
-    """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs``; the paths in
-    threads of their own where they are long and there are cores (the compiled search
-    lets go of the interpreter lock; each path's result is the same) [m], [-]."""
-    # the compiled search loads numba, which a command that measures no contour never needs
-    from ..path.nearest import BLOCK, block_balls, nearest_segments
-
-    balls = block_balls(p, BLOCK)
+    """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs`` (from the module
+    compiled ahead of time, which spares the command numba's start); the paths in threads
+    of their own where they are long and there are cores (the compiled search lets go of
+    the interpreter lock; each path's result is the same) [m], [-]."""
+    from .. import _compiled
 
     def search(q):
-        return nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, BLOCK, signed)
+        return _compiled.nearest_segments(q, p, seg, ln2, tdir, lo, hi, int(signed))
 
     cores = usable_cores()
     if cores < 2 or len(qs) < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..io.runfile import float_values
 from .contour import SENSORS, ContourResult, distances_to_polyline
 from .contour_corners import CornerStream
 
@@ -123,17 +124,7 @@ def _batches(path, rows, keep):
     f = pq.ParquetFile(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
-        yield {c: _floats(b.column(c)) for c in names}
-
-
-def _floats(col) -> np.ndarray:
-    """A column as float64: a view of a float64 column without nulls (which spares the
-    import of pandas that pyarrow's conversion makes), else converted [-]."""
-    import pyarrow as pa
-
-    if col.type == pa.float64() and col.null_count == 0:
-        return np.frombuffer(col.buffers()[1], np.float64, len(col), col.offset * 8)
-    return col.to_numpy(zero_copy_only=False).astype(float)
+        yield {c: float_values(b.column(c)) for c in names}
 
 
 def stream_contour(path, axes, signed: bool, window_s: float = 0.2,

@@ -138,7 +138,7 @@ def _measure(q, k, p, seg, ln2, tdir, balls, a, b, seed, block, dd, cross, at):
 
 
 @njit(cache=True, nogil=True)  # the paths of a run are searched in threads of their own
-def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
+def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
     """Distance from each point to the nearest of the segments of its window.
 
     Parameters
@@ -156,12 +156,9 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
     lo, hi : ndarray of int, shape (n,)
         The window of each point: segments ``lo`` to ``max(hi, lo + 1) - 1``, each taken
         no further than the last [-].
-    balls : tuple of ndarray
-        :func:`block_balls` of ``p`` [m].
-    block : int
-        Segments per block of ``balls`` [-].
-    signed : bool
-        Negative where the point lies right of the travel (``d == 2``) [-].
+    signed : int
+        Not 0: negative where the point lies right of the travel (``d == 2``); an integer,
+        as the compiled module of :mod:`tcpmm._compiled` takes it [-].
 
     Returns
     -------
@@ -172,6 +169,8 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
         That segment [-].
     """
     n, last = q.shape[0], p.shape[0] - 2
+    block = BLOCK
+    balls = block_balls(p, block)
     dist = np.empty(n)
     foot = np.empty(n, np.int64)
     width = 1
@@ -190,6 +189,6 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, balls, block, signed):
         for i in range(count):
             if (dd[i] <= level and abs(cross[i]) > abs(cross[pick])) or dd[pick] > level:
                 pick = i
-        dist[k] = -dd[pick] if signed and cross[pick] < 0 else dd[pick]
+        dist[k] = -dd[pick] if signed != 0 and cross[pick] < 0 else dd[pick]
         foot[k] = prev = at[pick]
     return dist, foot

@@ -112,7 +112,7 @@ def _far(q, k, centre, radius, bi, level):
     return dq - radius[bi] - level - _MARGIN * (dq + radius[bi])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a call a point counts every array it is given
 def _measure(q, k, p, seg, ln2, tdir, balls, a, b, seed, block, dd, cross, at):
     """Distance and cross product (``dd``, ``cross``) of the segments ``a..b`` not passed
     over, in order, their segments in ``at``; how many, and the smallest distance [m]."""

@@ -80,6 +80,27 @@ def test_parquet_of_any_layout_and_number_type_reads_as_written(tmp_path):
         read_run(tmp_path / "n.parquet")
 
 
+def test_a_column_of_any_kind_reads_as_floats_with_nulls_as_nan():
+    """A record batch's column (streamed runs) and a table's (whole runs): float64 with and
+    without nulls, sliced, in several chunks, float32 and integers."""
+    import pyarrow as pa
+
+    from tcpmm.io.runfile import float_values
+
+    v = np.arange(10.0)
+    cases = [pa.array(v), pa.array(v).slice(3, 5), pa.array([*v[:4], None, *v[5:]]),
+             pa.chunked_array([pa.array(v[:4]), pa.array(v[4:]).slice(1)]),
+             pa.chunked_array([pa.array([0.0, None]), pa.array(v[2:])]),
+             pa.chunked_array([], pa.float64()), pa.array(v, pa.float32()),
+             pa.chunked_array([pa.array(np.arange(10))])]
+    want = [v, v[3:8], np.r_[v[:4], np.nan, v[5:]], np.r_[v[:4], v[5:]],
+            np.r_[0.0, np.nan, v[2:]], np.empty(0), v, v]
+    for col, w in zip(cases, want, strict=True):
+        got = float_values(col)
+        assert got.dtype == np.float64
+        np.testing.assert_array_equal(got, w)
+
+
 def test_simulate_to_parquet_then_circle(tmp_path, capsys):
     t = np.arange(0.0, 3.0, 1e-3)
     w = 2 * np.pi / 2.6

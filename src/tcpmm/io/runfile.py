@@ -119,7 +119,7 @@ def float_values(col) -> np.ndarray:
         parts = [np.frombuffer(c.buffers()[1], np.float64, len(c), c.offset * 8)
                  for c in chunks]
         return parts[0] if len(parts) == 1 else np.concatenate(parts or [np.empty(0)])
-    return col.to_numpy().astype(float)
+    return col.to_numpy(zero_copy_only=False).astype(float)  # nulls as NaN
 
 
 def read_run_csv(path) -> Run:

@@ -1,15 +1,13 @@
-"""The axis kernel, the matrix exponential, the interpolator's functions and the contour's
-search built ahead of time, so that a command starts without numba.
+"""The compiled functions of :data:`FUNCTIONS` (the axis kernel, the matrix exponential,
+the interpolator's, the G-code lexer's and the contour's nearest-segment search) built
+ahead of time, so that a command starts without numba.
 
-numba compiles :func:`tcpmm.sim.kernel.run_axis`, :func:`tcpmm.sim.expm.expm`, the
-look-ahead, profiles, sampling and G-code lexer of :mod:`tcpmm.path` and its nearest
-segment search (:data:`FUNCTIONS`) on their first call and caches the machine code, but
-loading a cached function costs its import and the set-up of its compiler (0.5 s and
-more of every command that simulates or measures a contour). The first run on a machine
-therefore also builds them, from the same source, into a Python extension module (numba's
-``pycc``, for this CPU, each releasing the GIL); later runs import that module in about a
-millisecond and never import numba. It gives the same numbers to the bit: the same code
-compiled by the same compiler.
+numba compiles them on their first call and caches the machine code, but loading a
+cached function costs its import and the set-up of its compiler (0.5 s and more of every
+command that simulates or measures a contour). The first run on a machine therefore also
+builds them, from the same source, into a Python extension module (numba's ``pycc``, for
+this CPU, each releasing the GIL); later runs import it in about a millisecond and never
+import numba. It gives the same numbers to the bit: the same code compiled by the same compiler.
 
 The module is kept beside numba's cache (the package's ``__pycache__``, else the
 user's cache folder, else ``NUMBA_CACHE_DIR``), under a name keyed on the sources,

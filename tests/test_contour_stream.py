@@ -122,6 +122,31 @@ def test_the_cli_streams_the_corner_table(run_file, capsys):
     assert code == 0 and "corners, tcp" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize(("column", "row", "value", "message"), [
+    ("x_tcp_mm", 120, None, "value is missing or not a number (row 120)"),
+    ("y_scale_mm", 7, float("inf"), "value is missing or not a number (row 7)"),
+    ("time_s", 200, float("nan"), "time is missing or not a number (row 200)"),
+    ("time_s", 150, 0.0, "time must increase strictly (row 150)")])
+def test_a_run_read_in_chunks_is_checked_as_a_whole_one(run_file, tmp_path, capsys, column,
+                                                      row, value, message):
+    """A gap, a number that is not finite or a time that goes back, in any chunk: the
+    error of the whole run's reader, with its row, and no figure."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(run_file)
+    values = table.column(column).to_pylist()
+    values[row - 1] = value
+    bad = tmp_path / "bad.parquet"
+    pq.write_table(table.set_column(table.column_names.index(column), column,
+                                    pa.array(values, pa.float64())), bad, row_group_size=64)
+    for extra in ([], ["--chunk-rows", "53"]):
+        code = main(["contour", str(bad), "--plane", "XY", *extra])
+        cap = capsys.readouterr()
+        assert code == 2 and not cap.out
+        assert message in cap.err and column in cap.err
+
+
 def test_a_tape_reads_back_across_its_file_and_memory():
     from tcpmm.analysis.tape import Tape
 

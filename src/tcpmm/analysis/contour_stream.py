@@ -117,14 +117,38 @@ def travel_positions(path) -> dict:
 
 
 def _batches(path, rows, keep):
-    """The columns ``keep`` accepts of a Parquet file, ``rows`` rows at a time [-]."""
+    """The columns ``keep`` accepts of a Parquet file, ``rows`` rows at a time, checked as
+    :func:`~tcpmm.io.runfile.read_run` checks a whole run [-]."""
     import pyarrow.parquet as pq
 
     # pre-buffered reads keep every row group's bytes read so far until the scan ends
     f = pq.ParquetFile(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
+    row0, t_before = 0, -np.inf
     for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
-        yield {c: float_values(b.column(c)) for c in names}
+        cols = {c: float_values(b.column(c)) for c in names}
+        t_before = _checked(cols, path, row0, t_before)
+        row0 += b.num_rows
+        yield cols
+
+
+def _checked(cols: dict, path, row0: int, t_before: float) -> float:
+    """Refuse a missing or non-finite value, or a time not after the one before, naming its
+    row (``row0``: rows before these); the last time [s]."""
+    for c, v in cols.items():
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            what = "time" if c == "time_s" else "value"
+            raise InputError(f"{what} is missing or not a number (row {row0 + bad[0] + 1})",
+                             file=path, column=c)
+    t = cols.get("time_s")
+    if t is None or not t.size:
+        return t_before
+    back = np.flatnonzero(np.diff(t, prepend=t_before) <= 0)
+    if back.size:
+        raise InputError(f"time must increase strictly (row {row0 + back[0] + 1})",
+                         file=path, column="time_s")
+    return float(t[-1])
 
 
 def stream_contour(path, axes, signed: bool, window_s: float = 0.2,

@@ -147,6 +147,32 @@ def test_a_run_read_in_chunks_is_checked_as_a_whole_one(run_file, tmp_path, caps
         assert message in cap.err and column in cap.err
 
 
+@pytest.mark.parametrize("defect", ["no time", "no command", "no sensor", "text"])
+def test_a_run_without_what_it_needs_is_refused_in_chunks_as_whole(run_file, tmp_path, capsys,
+                                                                 defect):
+    """The same error, with no traceback and no figure, whether the run is read whole or in
+    chunks."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(run_file)
+    if defect == "text":
+        table = table.set_column(1, table.column_names[1], pa.array(["1.0"] * table.num_rows))
+    else:
+        drop = {"no time": ("time_s",), "no command": ("x_cmd_mm",),
+                "no sensor": tuple(c for c in table.column_names
+                                   if c.split("_")[1] in ("motor", "scale", "tcp"))}[defect]
+        table = table.drop(list(drop))
+    pq.write_table(table, bad := tmp_path / "bad.parquet")
+    errs = []
+    for extra in ([], ["--chunk-rows", "53"]):
+        code = main(["contour", str(bad), "--plane", "XY", *extra])
+        cap = capsys.readouterr()
+        assert code == 2 and not cap.out and "Traceback" not in cap.err
+        errs.append(cap.err)
+    assert errs[0] == errs[1] and errs[0].startswith("error: ")
+
+
 def test_a_tape_reads_back_across_its_file_and_memory():
     from tcpmm.analysis.tape import Tape
 

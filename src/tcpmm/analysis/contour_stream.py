@@ -119,11 +119,16 @@ def travel_positions(path) -> dict:
 def _batches(path, rows, keep):
     """The columns ``keep`` accepts of a Parquet file, ``rows`` rows at a time, checked as
     :func:`~tcpmm.io.runfile.read_run` checks a whole run [-]."""
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
     # pre-buffered reads keep every row group's bytes read so far until the scan ends
     f = pq.ParquetFile(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
+    for c in names:
+        kind = f.schema_arrow.field(c).type
+        if not (pa.types.is_floating(kind) or pa.types.is_integer(kind)):
+            raise InputError(f"column holds {kind}, not numbers", file=path, column=c)
     row0, t_before = 0, -np.inf
     for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
         cols = {c: float_values(b.column(c)) for c in names}
@@ -182,6 +187,7 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
     res = StreamedContour(tuple(axes), signed, settle_tol_m=settle_tol_m)
     scan = _Scan(res, window_s, cmd_cols, each,
                  CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s))
+    _has_columns(path, cmd_cols, axes)
     pending = None
     for cols in _batches(path, rows, lambda c: c in want):
         if pending is not None:
@@ -192,6 +198,24 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
     scan.step(pending, True)
     res.corners = scan.corners.finish()
     return res
+
+
+def _has_columns(path, cmd_cols: list, axes) -> None:
+    """Refuse a run without time, command or any sensor of the axes, as
+    :func:`~tcpmm.analysis.contour.contour_error` refuses it [-]."""
+    import pyarrow.parquet as pq
+
+    found = pq.ParquetFile(path).schema_arrow.names
+    names = set(found)
+    if "time_s" not in names:
+        raise InputError(f"missing column 'time_s' (found: {', '.join(found)})", file=path)
+    if not names.issuperset(cmd_cols):
+        raise InputError("the run has no command signals (<axis>_cmd_mm); give the command",
+                         file=path)
+    if not any(names.issuperset(c.replace("_cmd_", f"_{s}_") for c in cmd_cols)
+               for s in SENSORS):
+        raise InputError(f"the run has no motor, scale or tcp signals of {', '.join(axes)}",
+                         file=path)
 
 
 class _Scan:

@@ -31,7 +31,7 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples docs studies
-	$(BIN)/python -m pytest -q -n 2
+	$(BIN)/python -m pytest -q -n 2 --dist worksteal
 
 # The long fuzz run: 10 000 cases per target of tests/test_fuzz.py (NC programs, model files
 # changed key by key, bundles with columns swapped, scaled and cut short); the normal suite

@@ -46,6 +46,8 @@ from .corners import path_length
 from .plane import plane_axes, run_plane
 
 SENSORS = ("motor", "scale", "tcp")
+#: What a run without its command signals is told (no command given) [-].
+NO_COMMAND = "the run has no command signals (<axis>_cmd_mm); give the command"
 #: rows of actual points handled at once [-]
 _CHUNK = 256
 #: coordinates the compiled search takes: finite, and far from where their squares
@@ -300,13 +302,18 @@ def _run_signals(run, command, axes):
         cmd = np.column_stack([command.positions[a] for a in axes])
     else:
         if any(run.axes[a].cmd is None for a in axes):
-            raise InputError("the run has no command signals (<axis>_cmd_mm); give the command")
+            raise InputError(NO_COMMAND)
         tc, cmd = t, np.column_stack([run.axes[a].cmd for a in axes])
     actual = {s: np.column_stack([run.axes[a].sensor(s) for a in axes]) for s in SENSORS
               if all(run.axes[a].sensor(s) is not None for a in axes)}
     if not actual:
-        raise InputError(f"the run has no motor, scale or tcp signals of {', '.join(axes)}")
+        raise InputError(no_sensors(axes))
     return t, tc, cmd, actual
+
+
+def no_sensors(axes) -> str:
+    """What a run without the signals of any sensor of ``axes`` is told [-]."""
+    return f"the run has no motor, scale or tcp signals of {', '.join(axes)}"
 
 
 def _axes(run, plane):

@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..io.runfile import float_values
-from .contour import SENSORS, ContourResult, distances_to_polyline
+from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
+from .contour import NO_COMMAND, SENSORS, ContourResult, distances_to_polyline, no_sensors
 from .contour_corners import CornerStream
 
 #: rows read at a time [-]
@@ -119,41 +119,24 @@ def travel_positions(path) -> dict:
 def _batches(path, rows, keep):
     """The columns ``keep`` accepts of a Parquet file, ``rows`` rows at a time, checked as
     :func:`~tcpmm.io.runfile.read_run` checks a whole run [-]."""
-    import pyarrow as pa
     import pyarrow.parquet as pq
 
     # pre-buffered reads keep every row group's bytes read so far until the scan ends
     f = pq.ParquetFile(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for c in names:
-        kind = f.schema_arrow.field(c).type
-        if not (pa.types.is_floating(kind) or pa.types.is_integer(kind)):
-            raise InputError(f"column holds {kind}, not numbers", file=path, column=c)
+        refuse_not_numbers(c, f.schema_arrow.field(c).type, path)
     row0, t_before = 0, -np.inf
     for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
         cols = {c: float_values(b.column(c)) for c in names}
-        t_before = _checked(cols, path, row0, t_before)
+        for c, v in cols.items():
+            refuse_gaps(c, v, path, row0 + 1)
+        t = cols.get("time_s")
+        if t is not None and t.size:
+            refuse_time_back(t, path, row0 + 1, t_before=t_before)
+            t_before = float(t[-1])
         row0 += b.num_rows
         yield cols
-
-
-def _checked(cols: dict, path, row0: int, t_before: float) -> float:
-    """Refuse a missing or non-finite value, or a time not after the one before, naming its
-    row (``row0``: rows before these); the last time [s]."""
-    for c, v in cols.items():
-        bad = np.flatnonzero(~np.isfinite(v))
-        if bad.size:
-            what = "time" if c == "time_s" else "value"
-            raise InputError(f"{what} is missing or not a number (row {row0 + bad[0] + 1})",
-                             file=path, column=c)
-    t = cols.get("time_s")
-    if t is None or not t.size:
-        return t_before
-    back = np.flatnonzero(np.diff(t, prepend=t_before) <= 0)
-    if back.size:
-        raise InputError(f"time must increase strictly (row {row0 + back[0] + 1})",
-                         file=path, column="time_s")
-    return float(t[-1])
 
 
 def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
@@ -210,12 +193,10 @@ def _has_columns(path, cmd_cols: list, axes) -> None:
     if "time_s" not in names:
         raise InputError(f"missing column 'time_s' (found: {', '.join(found)})", file=path)
     if not names.issuperset(cmd_cols):
-        raise InputError("the run has no command signals (<axis>_cmd_mm); give the command",
-                         file=path)
+        raise InputError(NO_COMMAND, file=path)
     if not any(names.issuperset(c.replace("_cmd_", f"_{s}_") for c in cmd_cols)
                for s in SENSORS):
-        raise InputError(f"the run has no motor, scale or tcp signals of {', '.join(axes)}",
-                         file=path)
+        raise InputError(no_sensors(axes), file=path)
 
 
 class _Scan:

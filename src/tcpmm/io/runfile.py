@@ -101,11 +101,47 @@ def read_run_parquet(path) -> Run:
     cols = {}
     for name in table.column_names:
         col = table.column(name)
-        if not (pa.types.is_floating(col.type) or pa.types.is_integer(col.type)):
-            raise InputError(f"column holds {col.type}, not numbers", file=path, column=name)
+        refuse_not_numbers(name, col.type, path)
         v = float_values(col)
         cols[name] = v if v.flags.writeable else v.copy()  # the run's own, as from a CSV
     return _run_from_columns(cols, path, first_row=1, what="row")
+
+
+def refuse_not_numbers(name: str, kind, path) -> None:
+    """Refuse Parquet column ``name`` of Arrow type ``kind`` unless it holds numbers [-]."""
+    import pyarrow as pa
+
+    if not (pa.types.is_floating(kind) or pa.types.is_integer(kind)):
+        raise InputError(f"column holds {kind}, not numbers", file=path, column=name)
+
+
+def refuse_gaps(name: str, v, path, first_row: int = 1, what: str = "row") -> None:
+    """Refuse a value of column ``name`` that is missing or not finite, naming its row or
+    line: ``first_row`` is the file's number of ``v[0]``, ``what`` ``row`` or ``line`` [-]."""
+    bad = np.flatnonzero(~np.isfinite(v))
+    if bad.size:
+        text, place = _place(int(bad[0]), first_row, what)
+        kind = "time" if name == "time_s" else "value"
+        raise InputError(f"{kind} is missing or not a number{text}", file=path, column=name,
+                         **place)
+
+
+def refuse_time_back(t, path, first_row: int = 1, what: str = "row",
+                     t_before: float = -np.inf) -> None:
+    """Refuse a time not after the one before it (``t_before`` before ``t[0]``), naming its
+    row or line as :func:`refuse_gaps` does [s]."""
+    back = np.flatnonzero(np.diff(t, prepend=t_before) <= 0)
+    if back.size:
+        text, place = _place(int(back[0]), first_row, what)
+        raise InputError(f"time must increase strictly{text}", file=path, column="time_s",
+                         **place)
+
+
+def _place(i: int, first_row: int, what: str) -> tuple[str, dict]:
+    """Where the ``i``-th value is: as text after a message, and as the error's line [-]."""
+    if what == "line":
+        return "", {"line": i + first_row}
+    return f" (row {i + first_row})", {}
 
 
 def float_values(col) -> np.ndarray:
@@ -177,12 +213,6 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
     ``first_row`` is the number of the first data row in the file's own counting (CSV
     lines count the header), ``what`` its name in messages (``line`` or ``row``).
     """
-    def where(i):
-        return {"line": i + first_row} if what == "line" else {}
-
-    def at(i):
-        return "" if what == "line" else f" (row {i + first_row})"
-
     names = list(cols)
     if "time_s" not in names:
         raise InputError(f"missing column 'time_s' (found: {', '.join(names)})", file=path,
@@ -199,23 +229,18 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
                 file=path, line=1 if what == "line" else None, column=c,
             )
         v = cols[c]
-        bad = np.flatnonzero(~np.isfinite(v))
-        if bad.size:
-            raise InputError(f"value is missing or not a number{at(int(bad[0]))}", file=path,
-                             column=c, **where(int(bad[0])))
+        refuse_gaps(c, v, path, first_row, what)
         scale = 1.0 if m.group(2) == "current_A" else 1e-3
         axes.setdefault(m.group(1).upper(), {})[RUN_COLUMNS[m.group(2)]] = v * scale
     t = cols["time_s"]
     if t.size == 0:
         raise InputError("the run has no rows", file=path)
-    bad = np.flatnonzero(~np.isfinite(t))
-    if bad.size:
-        raise InputError(f"time is missing or not a number{at(int(bad[0]))}", file=path,
-                         column="time_s", **where(int(bad[0])))
-    if t.size < 2 or np.any(np.diff(t) <= 0):
-        k = int(np.flatnonzero(np.diff(t) <= 0)[0]) + 1 if t.size >= 2 else 0
-        raise InputError(f"time must increase strictly{at(k)}", file=path, column="time_s",
-                         **where(k))
+    refuse_gaps("time_s", t, path, first_row, what)
+    if t.size < 2:
+        text, place = _place(0, first_row, what)
+        raise InputError(f"time must increase strictly{text}", file=path, column="time_s",
+                         **place)
+    refuse_time_back(t, path, first_row, what)
     if not axes:
         raise InputError("no axis columns (e.g. x_tcp_mm)", file=path,
                          line=1 if what == "line" else None)

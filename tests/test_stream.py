@@ -152,6 +152,51 @@ def test_stream_simulate_is_simulate(vmc):
         assert np.array_equal(np.concatenate([r.axes[a].tcp for r in runs]), ref.axes[a].tcp)
 
 
+def _slow_workers(monkeypatch, log):
+    """AxisStream.push logging whether the main thread runs it, and slow in worker
+    threads, so that the main thread finds axes no worker has started [-]."""
+    import threading
+    import time
+
+    push = AxisStream.push
+
+    def logged(self, *args, **kw):
+        main_thread = threading.current_thread() is threading.main_thread()
+        if not main_thread:
+            time.sleep(0.01)
+        log.append(main_thread)
+        return push(self, *args, **kw)
+
+    monkeypatch.setattr(AxisStream, "push", logged)
+
+
+def test_axes_the_main_thread_takes_over_run_in_order(vmc, monkeypatch):
+    text = PROGRAMS["arcs"]
+    ref = quiet(simulate, vmc, quiet(program_to_command, text))
+    log = []
+    _slow_workers(monkeypatch, log)
+    runs = quiet(lambda: list(stream_simulate(vmc, text, chunk_blocks=2, threads=2)))
+    assert set(log) == {True, False}  # both threads ran pieces of axes
+    for a in vmc.axes:
+        assert np.array_equal(np.concatenate([r.axes[a].tcp for r in runs]), ref.axes[a].tcp)
+        assert np.array_equal(np.concatenate([r.axes[a].current for r in runs]),
+                              ref.axes[a].current)
+
+
+def test_a_stream_given_up_early_ends_its_workers(vmc, monkeypatch):
+    import threading
+
+    log = []
+    _slow_workers(monkeypatch, log)
+    before = threading.active_count()
+    gen = stream_simulate(vmc, PROGRAMS["spiral"], chunk_blocks=5, threads=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        next(gen)
+        gen.close()
+    assert threading.active_count() == before
+
+
 def test_contour_in_chunks_is_the_whole_runs(vmc, tmp_path):
     text = PROGRAMS["zigzag"]
     run = quiet(simulate, vmc, quiet(program_to_command, text))

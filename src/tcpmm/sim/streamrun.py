@@ -11,8 +11,9 @@ the period in the last bit, and then a time differs by as much (a relative 2.2e-
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterator
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import CancelledError, Future, ThreadPoolExecutor
 
 import numpy as np
 
@@ -21,7 +22,7 @@ from ..errors import InputError
 from ..model import Machine
 from ..path.settings import AXES, InterpolatorSettings
 from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
-from ..result import Run
+from ..result import AxisRun, Run
 from .axisstream import AxisStream
 from .simulate import check_stability
 
@@ -86,41 +87,72 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
     """The runs of the ``(piece, is_last)`` command pieces through the axes' streams, in
     order [SI]."""
     names = list(axes)
-    # the axes run in worker threads, each its own in order, while the main thread reads
-    # and interpolates the next chunk (the kernel releases the GIL): one core is left to
-    # that, the others share the axes
+    # the axes run in worker threads while the main thread reads and interpolates the next
+    # chunk and hands on the last (the kernel releases the GIL): one core is left to that,
+    # the others share the axes; an axis of the piece it needs that no worker has started
+    # yet, the main thread runs itself rather than wait
     cores = threads or usable_cores()
     workers = min(len(names), cores - 1) if cores > 1 else 0
-    groups = [names[k::workers] for k in range(workers)]
-    pools = [ThreadPoolExecutor(max_workers=1) for _ in groups]
-    r0, running = 0, None  # the records (or their futures) of the piece under way, and it
+    pool = ThreadPoolExecutor(max_workers=workers) if workers else None
+    turns = _Turns(names)
+    r0, running, k = 0, None, 0  # the futures of the piece under way, it, its number
     try:
         for piece, final in pieces:
             span = float(piece.time_s[-1])
-
-            def run_axes(group, piece=piece, final=final, span=span):
-                return {a: axes[a].push(piece.positions[a], final, span) for a in group}
-
-            res = ([pool.submit(run_axes, g) for pool, g in zip(pools, groups, strict=True)]
-                   if pools else [run_axes(names)])
+            tasks = [(turns.run, axes[a], a, k, piece.positions[a], final, span)
+                     for a in names]
+            res = [pool.submit(*t) for t in tasks] if pool else [t[0](*t[1:]) for t in tasks]
             if running is not None:
                 run = _collect(*running, names, r0, rp, machine, ip)
                 r0 += run.time_s.size
                 yield run
-            running = (res, piece)
+            running, k = (res, tasks, piece), k + 1
         if running is not None:
             yield _collect(*running, names, r0, rp, machine, ip)
     finally:
-        for pool in pools:
+        turns.close()
+        if pool is not None:
             pool.shutdown(cancel_futures=True)
 
 
-def _collect(res, piece, names, r0: int, rp: float, machine, ip) -> Run:
-    """The run of one piece from its axes' records (or their futures) [SI]."""
-    runs = {}
-    for r in res:
-        runs.update(r.result() if isinstance(r, Future) else r)
-    runs = {a: runs[a] for a in names}
+class _Turns:
+    """Each axis's pieces pushed in order, whichever thread runs them: the push of piece
+    ``k`` waits for that of piece ``k - 1`` [-]."""
+
+    def __init__(self, names):
+        self.next = dict.fromkeys(names, 0)
+        self.cv = threading.Condition()
+        self.closed = False
+
+    def run(self, stream: AxisStream, name: str, k: int, *args) -> AxisRun:
+        """``stream.push(*args)`` as piece ``k`` of axis ``name`` [SI]."""
+        with self.cv:
+            self.cv.wait_for(lambda: self.next[name] == k or self.closed)
+            if self.next[name] != k:  # the run was given up while this piece waited
+                raise CancelledError
+        try:
+            return stream.push(*args)
+        finally:
+            with self.cv:
+                self.next[name] = k + 1
+                self.cv.notify_all()
+
+    def close(self) -> None:
+        """Give up: pieces still waiting for their turn end [-]."""
+        with self.cv:
+            self.closed = True
+            self.cv.notify_all()
+
+
+def _collect(res, tasks, piece, names, r0: int, rp: float, machine, ip) -> Run:
+    """The run of one piece from its axes' records or futures; an axis no worker has
+    started is run here, the last first (the workers take them from the first) [SI]."""
+    out = list(res)
+    for i in reversed(range(len(out))):
+        if isinstance(out[i], Future) and out[i].cancel():
+            out[i] = tasks[i][0](*tasks[i][1:])
+    runs = dict(zip(names, (r.result() if isinstance(r, Future) else r for r in out),
+                    strict=True))
     n = next(iter(runs.values())).cmd.size
     return Run(time_s=(r0 + np.arange(n)) * rp, axes=runs,
                meta={"lines_read": piece.lines_read, "machine": machine.name,

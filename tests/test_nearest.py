@@ -95,11 +95,16 @@ def test_points_not_finite_are_measured_in_numpy():
     assert np.isnan(distance_to_polyline(q, p, t, t, 0.01, True)[0][7])
 
 
-def test_paths_searched_in_threads_give_each_path_alone():
-    """A run's three paths, together long enough to be searched in threads of their own
-    (``_THREADED``), each the same to the bit as that path searched alone; a path that is
-    not finite goes to numpy beside them."""
+@pytest.mark.parametrize("cores", [2, 3])
+def test_paths_searched_in_threads_give_each_path_alone(cores, monkeypatch):
+    """A run's three paths, together long enough to be searched in threads
+    (``_THREADED``), each cut into as many runs of points as there are cores, each the
+    same to the bit as that path searched alone in one piece; a path that is not finite
+    goes to numpy beside them."""
+    from tcpmm.analysis import contour
     from tcpmm.analysis.contour import _THREADED, distances_to_polyline
+
+    monkeypatch.setattr(contour, "usable_cores", lambda: cores)
 
     rng = np.random.default_rng(3)
     p = shape("spiral", 12_000, rng)

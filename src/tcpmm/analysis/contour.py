@@ -31,6 +31,7 @@ NaN when it never does.
 
 from __future__ import annotations
 
+import itertools
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -241,20 +242,32 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
 
 def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool) -> dict:
     """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs`` (from the module
-    compiled ahead of time, which spares the command numba's start); the paths in threads
-    of their own where they are long and there are cores (the compiled search lets go of
-    the interpreter lock; each path's result is the same) [m], [-]."""
+    compiled ahead of time, which spares the command numba's start); where the paths are
+    long and there are cores, in threads, each path cut into as many runs of points as
+    there are cores so that the threads finish together (the compiled search lets go of
+    the interpreter lock, and each point's result is the same whatever run it is in)
+    [m], [-]."""
     from .. import _compiled
 
-    def search(q):
-        return _compiled.nearest_segments(q, p, seg, ln2, tdir, lo, hi, int(signed))
+    def search(q, i0, i1):
+        return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, lo[i0:i1],
+                                          hi[i0:i1], int(signed))
 
     cores = usable_cores()
-    if cores < 2 or len(qs) < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:
-        return {k: search(q) for k, q in qs.items()}
-    with ThreadPoolExecutor(min(cores, len(qs))) as pool:
-        found = [pool.submit(search, q) for q in qs.values()]
-        return {k: f.result() for k, f in zip(qs, found, strict=True)}
+    if cores < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:
+        return {k: search(q, 0, q.shape[0]) for k, q in qs.items()}
+    with ThreadPoolExecutor(cores) as pool:
+        found = {k: [pool.submit(search, q, *r) for r in _runs(q.shape[0], cores)]
+                 for k, q in qs.items()}
+        parts = {k: [f.result() for f in fs] for k, fs in found.items()}
+    return {k: tuple(np.concatenate(c) for c in zip(*ps, strict=True))
+            for k, ps in parts.items()}
+
+
+def _runs(n: int, parts: int) -> list:
+    """``parts`` runs ``(i0, i1)`` of ``n`` points as near equal as may be [-]."""
+    cut = [n * i // parts for i in range(parts + 1)]
+    return list(itertools.pairwise(cut))
 
 
 def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):

@@ -56,3 +56,41 @@ def test_the_axes_run_on_the_cores_the_process_may_use(monkeypatch):
     monkeypatch.setattr(sim_module, "ThreadPoolExecutor", no_pool)
     run = simulate(builtin_machine(), paper_circle_command())
     assert set(run.axes) == {"X", "Y", "Z"}
+
+
+def _items(n, fail_at=None):
+    for i in range(n):
+        if i == fail_at:
+            raise ValueError(f"bad item {i}")
+        yield i
+
+
+def test_reading_ahead_gives_every_item_in_order():
+    from tcpmm._threads import read_ahead
+
+    assert list(read_ahead(_items(50))) == list(range(50))
+    assert list(read_ahead(_items(0))) == []
+
+
+def test_an_error_read_ahead_comes_where_its_item_would_have():
+    import pytest
+
+    from tcpmm._threads import read_ahead
+
+    got = []
+    with pytest.raises(ValueError, match="bad item 7"):
+        for i in read_ahead(_items(20, fail_at=7)):
+            got.append(i)
+    assert got == list(range(7))
+
+
+def test_reading_ahead_given_up_early_ends_its_thread():
+    import threading
+
+    from tcpmm._threads import read_ahead
+
+    before = threading.active_count()
+    it = read_ahead(_items(1000))
+    assert [next(it) for _ in range(3)] == [0, 1, 2]
+    it.close()
+    assert threading.active_count() == before

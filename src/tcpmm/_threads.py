@@ -1,10 +1,14 @@
-"""Keep BLAS single-threaded: on small matrices, threads cost far more than they give."""
+"""Threads: BLAS kept single-threaded (on small matrices, threads cost far more than they
+give), the cores this process may use, and reading ahead in a thread."""
 
 from __future__ import annotations
 
 import functools
 import os
+import queue
 import sys
+import threading
+from collections.abc import Iterator
 
 #: The variables by which OpenBLAS, MKL, BLIS, Accelerate and OpenMP read their thread
 #: count when they load [-].
@@ -57,3 +61,44 @@ def usable_cores() -> int:
     if hasattr(os, "sched_getaffinity"):
         return max(1, len(os.sched_getaffinity(0)))
     return os.cpu_count() or 1
+
+
+def read_ahead(items: Iterator) -> Iterator:
+    """The items of ``items``, the next one produced in a thread of its own while the
+    caller works on the last: for an iterator that reads (a file's next chunk) and lets go
+    of the interpreter lock as it does. An error it raises is raised where its item would
+    have come; closed early, the thread stops after the item it is on [-]."""
+    q: queue.Queue = queue.Queue(maxsize=1)
+    stop = threading.Event()
+
+    def produce():
+        try:
+            for item in items:
+                q.put((True, item))
+                if stop.is_set():
+                    return
+            q.put((True, _END))
+        except BaseException as exc:  # handed to the caller, raised there
+            q.put((False, exc))
+
+    t = threading.Thread(target=produce, daemon=True, name="read-ahead")
+    t.start()
+    try:
+        while True:
+            ok, item = q.get()
+            if not ok:
+                raise item
+            if item is _END:
+                return
+            yield item
+    finally:
+        stop.set()
+        while t.is_alive():  # let a producer blocked on a full queue finish
+            try:
+                q.get(timeout=0.05)
+            except queue.Empty:
+                pass
+        t.join()
+
+
+_END = object()

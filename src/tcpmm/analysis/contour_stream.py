@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._threads import read_ahead
 from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
 from .contour import NO_COMMAND, SENSORS, ContourResult, distances_to_polyline, no_sensors
@@ -172,7 +173,8 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                  CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s))
     _has_columns(path, cmd_cols, axes)
     pending = None
-    for cols in _batches(path, rows, lambda c: c in want):
+    # the next chunk is read (pyarrow lets go of the interpreter lock) while one is measured
+    for cols in read_ahead(_batches(path, rows, lambda c: c in want)):
         if pending is not None:
             scan.step(pending, False)
         pending = cols

@@ -66,12 +66,33 @@ def test_the_program_has_corners_of_every_kind(run_file):
     assert max(over) > 0 and any(v == v for v in settle) and any(v != v for v in settle)
 
 
+@pytest.mark.parametrize("cores", [1, 2])  # 2: the corners take the chunks in a thread
 @pytest.mark.parametrize("rows", [5, 37, 97, 1000, 10**6])
-def test_corners_in_chunks_are_the_whole_runs(run_file, rows):
+def test_corners_in_chunks_are_the_whole_runs(run_file, rows, cores, monkeypatch):
+    from tcpmm.analysis import contour_stream
+
+    monkeypatch.setattr(contour_stream, "usable_cores", lambda: cores)
     ref = contour_error(read_run(run_file), plane=("X", "Y"))
     res = stream_contour(run_file, ("X", "Y"), True, rows=rows)
     assert_same_corners(res.corners, ref.corners)
     assert res.to_dict()["corners"] == ref.to_dict()["corners"]
+
+
+def test_a_fault_of_the_corners_thread_reaches_the_caller(run_file, monkeypatch):
+    import threading
+
+    from tcpmm.analysis import contour_stream
+    from tcpmm.analysis.contour_corners import CornerStream
+
+    def fails(self, *args):
+        raise RuntimeError("corners failed")
+
+    monkeypatch.setattr(contour_stream, "usable_cores", lambda: 2)
+    monkeypatch.setattr(CornerStream, "add_samples", fails)
+    before = threading.active_count()
+    with pytest.raises(RuntimeError, match="corners failed"):
+        stream_contour(run_file, ("X", "Y"), True, rows=37)
+    assert threading.active_count() == before
 
 
 def test_corners_of_other_settings_and_in_3d(run_file):

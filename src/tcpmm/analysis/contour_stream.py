@@ -16,12 +16,14 @@ numbers each, until the next corner is found.
 
 from __future__ import annotations
 
+from collections import deque
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .._threads import read_ahead
+from .._threads import read_ahead, usable_cores
 from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
 from .contour import NO_COMMAND, SENSORS, ContourResult, distances_to_polyline, no_sensors
@@ -29,6 +31,9 @@ from .contour_corners import CornerStream
 
 #: rows read at a time [-]
 STREAM_ROWS = 200_000
+#: calls (two a chunk) the corners may lag behind the search, their chunks held until
+#: the corners take them [-]
+CORNERS_BEHIND = 2
 
 
 @dataclass
@@ -174,14 +179,19 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
     _has_columns(path, cmd_cols, axes)
     pending = None
     # the next chunk is read (pyarrow lets go of the interpreter lock) while one is measured
-    for cols in read_ahead(_batches(path, rows, lambda c: c in want)):
-        if pending is not None:
-            scan.step(pending, False)
-        pending = cols
-    if pending is None or not pending["time_s"].size:
-        raise InputError("the run has no rows", file=path)
-    scan.step(pending, True)
-    res.corners = scan.corners.finish()
+    chunks = read_ahead(_batches(path, rows, lambda c: c in want))
+    try:
+        for cols in chunks:
+            if pending is not None:
+                scan.step(pending, False)
+            pending = cols
+        if pending is None or not pending["time_s"].size:
+            raise InputError("the run has no rows", file=path)
+        scan.step(pending, True)
+        res.corners = scan.finish()
+    finally:
+        chunks.close()
+        scan.close()
     return res
 
 
@@ -208,6 +218,30 @@ class _Scan:
     def __init__(self, res, w, cmd_cols, each, corners):
         self.res, self.w, self.cmd_cols, self.each, self.corners = res, w, cmd_cols, each, corners
         self.buf, self.first, self.base = None, 0, 0
+        # the corners take the chunks in a thread of their own, in order, while the next
+        # chunk is searched; at most CORNERS_BEHIND calls behind
+        self.pool = ThreadPoolExecutor(1) if usable_cores() > 1 else None
+        self.behind: deque = deque()
+
+    def _to_corners(self, fn, *args) -> None:
+        """``fn(*args)`` of the corners, in the corners' thread where there is one [-]."""
+        if self.pool is None:
+            fn(*args)
+            return
+        self.behind.append(self.pool.submit(fn, *args))
+        while len(self.behind) > CORNERS_BEHIND:
+            self.behind.popleft().result()
+
+    def finish(self) -> list:
+        """The corners, once they have taken every chunk [-]."""
+        while self.behind:
+            self.behind.popleft().result()
+        return self.corners.finish()
+
+    def close(self) -> None:
+        """Let go of the corners' thread [-]."""
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
 
     def step(self, cols, final: bool) -> None:
         """Add rows ``cols`` and measure the samples whose window (and one more) the
@@ -216,8 +250,8 @@ class _Scan:
         buf = cols if self.buf is None else {c: np.concatenate([self.buf[c], cols[c]])
                                              for c in self.buf}
         self.buf = buf
-        self.corners.add_command(cols["time_s"],
-                                 np.column_stack([cols[c] * 1e-3 for c in cmd_cols]))
+        self._to_corners(self.corners.add_command, cols["time_s"],
+                         np.column_stack([cols[c] * 1e-3 for c in cmd_cols]))
         t, first = buf["time_s"], self.first
         n = t.size
         res.most_rows = max(res.most_rows, n)
@@ -239,7 +273,7 @@ class _Scan:
                 self.each(s, e)
         got = (qs, {s: v[0] for s, v in found.items()},
                {s: v[1] + self.base + c0 for s, v in found.items()})
-        self.corners.add_samples(t[first:b], *got)
+        self._to_corners(self.corners.add_samples, t[first:b], *got)
         res.rows += b - first
         drop = min(int(np.searchsorted(t, t[b] - w, side="left")), b) if b < n else n
         self.buf = {c: v[drop:].copy() for c, v in buf.items()}

@@ -183,6 +183,35 @@ def test_axes_the_main_thread_takes_over_run_in_order(vmc, monkeypatch):
                               ref.axes[a].current)
 
 
+def test_a_piece_runs_before_the_next_is_interpolated(vmc, monkeypatch):
+    """The axes take a piece as soon as it is interpolated (the end of the command is
+    told them after the last): the workers start a chunk earlier, and the run is the
+    same."""
+    from tcpmm.sim import streamrun
+
+    log = []
+    pieces, push = streamrun.stream_program, AxisStream.push
+
+    def logged_pieces(*args, **kw):
+        for piece in pieces(*args, **kw):
+            log.append("piece")
+            yield piece
+
+    def logged_push(self, *args, **kw):
+        log.append("push")
+        return push(self, *args, **kw)
+
+    monkeypatch.setattr(streamrun, "stream_program", logged_pieces)
+    monkeypatch.setattr(AxisStream, "push", logged_push)
+    text = PROGRAMS["zigzag"]
+    runs = quiet(lambda: list(stream_simulate(vmc, text, chunk_blocks=3, threads=1)))
+    assert log[:2] == ["piece", "push"]
+    ref = quiet(simulate, vmc, quiet(program_to_command, text))
+    for a in vmc.axes:
+        assert np.array_equal(np.concatenate([r.axes[a].scale for r in runs]),
+                              ref.axes[a].scale)
+
+
 def test_a_stream_given_up_early_ends_its_workers(vmc, monkeypatch):
     import threading
 

@@ -11,6 +11,7 @@ the period in the last bit, and then a time differs by as much (a relative 2.2e-
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 from collections.abc import Iterator
 from concurrent.futures import CancelledError, Future, ThreadPoolExecutor
@@ -65,7 +66,7 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
     rp = dt if record_period_s is None else record_period_s
     axes = {a: AxisStream(machine.axes[a], dt, rp, quantise_feedback) for a in machine.axes}
     ip = interpolator or StreamInterpolator(settings)
-    pieces = _with_last(stream_program(program, settings, chunk_blocks, interpolator=ip))
+    pieces = stream_program(program, settings, chunk_blocks, interpolator=ip)
     yield from _run_pieces(pieces, axes, threads, rp, machine, ip)
 
 
@@ -84,31 +85,36 @@ def _checked_settings(machine: Machine, settings: InterpolatorSettings | None):
 
 def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Machine,
                 ip: StreamInterpolator) -> Iterator[Run]:
-    """The runs of the ``(piece, is_last)`` command pieces through the axes' streams, in
-    order [SI]."""
+    """The runs of the command pieces through the axes' streams, in order [SI]."""
     names = list(axes)
     # the axes run in worker threads while the main thread reads and interpolates the next
     # chunk and hands on the last (the kernel releases the GIL): one core is left to that,
     # the others share the axes; an axis of the piece it needs that no worker has started
-    # yet, the main thread runs itself rather than wait
+    # yet, the main thread runs itself rather than wait. A piece starts as soon as it is
+    # interpolated, as if more were to come; after the last, the axes run the steps its
+    # end leaves, and those records join the last piece's.
     cores = threads or usable_cores()
     workers = min(len(names), cores - 1) if cores > 1 else 0
     pool = ThreadPoolExecutor(max_workers=workers) if workers else None
     turns = _Turns(names)
-    r0, running, k = 0, None, 0  # the futures of the piece under way, it, its number
+
+    def start(k, positions, final, span):
+        tasks = [(turns.run, axes[a], a, k, positions[a], final, span) for a in names]
+        return [pool.submit(*t) for t in tasks] if pool else [t[0](*t[1:]) for t in tasks], tasks
+
+    r0, running, k, span = 0, None, 0, 0.0  # the piece under way, its number, its span
     try:
-        for piece, final in pieces:
+        for piece in pieces:
             span = float(piece.time_s[-1])
-            tasks = [(turns.run, axes[a], a, k, piece.positions[a], final, span)
-                     for a in names]
-            res = [pool.submit(*t) for t in tasks] if pool else [t[0](*t[1:]) for t in tasks]
+            res, tasks = start(k, piece.positions, False, span)
             if running is not None:
                 run = _collect(*running, names, r0, rp, machine, ip)
                 r0 += run.time_s.size
                 yield run
             running, k = (res, tasks, piece), k + 1
         if running is not None:
-            yield _collect(*running, names, r0, rp, machine, ip)
+            end = start(k, dict.fromkeys(names, np.empty(0)), True, span)
+            yield _collect(*running, names, r0, rp, machine, ip, end)
     finally:
         turns.close()
         if pool is not None:
@@ -144,29 +150,29 @@ class _Turns:
             self.cv.notify_all()
 
 
-def _collect(res, tasks, piece, names, r0: int, rp: float, machine, ip) -> Run:
-    """The run of one piece from its axes' records or futures; an axis no worker has
-    started is run here, the last first (the workers take them from the first) [SI]."""
-    out = list(res)
-    for i in reversed(range(len(out))):
-        if isinstance(out[i], Future) and out[i].cancel():
-            out[i] = tasks[i][0](*tasks[i][1:])
-    runs = dict(zip(names, (r.result() if isinstance(r, Future) else r for r in out),
-                    strict=True))
+def _collect(res, tasks, piece, names, r0: int, rp: float, machine, ip, end=None) -> Run:
+    """The run of one piece from its axes' records or futures, and those of ``end`` (the
+    steps the end of the command leaves) joined to them; an axis no worker has started is
+    run here, the last first (the workers take them from the first) [SI]."""
+    runs = dict(zip(names, _results(res, tasks), strict=True))
+    if end is not None:
+        runs = {a: _joined(runs[a], r) for a, r in zip(names, _results(*end), strict=True)}
     n = next(iter(runs.values())).cmd.size
     return Run(time_s=(r0 + np.arange(n)) * rp, axes=runs,
                meta={"lines_read": piece.lines_read, "machine": machine.name,
                      "plane_axes": ip.plane_axes})
 
 
-def _with_last(items) -> Iterator[tuple]:
-    """``(item, is_last)`` for each item of an iterator [-]."""
-    it = iter(items)
-    try:
-        prev = next(it)
-    except StopIteration:
-        return
-    for item in it:
-        yield prev, False
-        prev = item
-    yield prev, True
+def _results(res, tasks) -> list:
+    """The records of each axis's task, those no worker has started run here [SI]."""
+    out = list(res)
+    for i in reversed(range(len(out))):
+        if isinstance(out[i], Future) and out[i].cancel():
+            out[i] = tasks[i][0](*tasks[i][1:])
+    return [r.result() if isinstance(r, Future) else r for r in out]
+
+
+def _joined(a: AxisRun, b: AxisRun) -> AxisRun:
+    """The signals of ``a`` followed by those of ``b`` [SI]."""
+    return AxisRun(**{f.name: np.concatenate([getattr(a, f.name), getattr(b, f.name)])
+                      for f in dataclasses.fields(AxisRun)})

@@ -78,8 +78,8 @@ def block_balls(p, block):
 
 @njit(cache=True, inline="always")
 def _segment(q, k, p, seg, ln2, tdir, j):
-    """Distance from point ``k`` to segment ``j`` and the travel direction's cross
-    product with the offset (0 outside a plane) [m]."""
+    """Squared distance from point ``k`` to segment ``j`` and the travel direction's
+    cross product with the offset (0 outside a plane) [m^2], [m]."""
     d = q.shape[1]
     # coordinates summed first to last, as the numpy reference does: the same bits on
     # every CPU, where a library's vectorised sum may pair them otherwise
@@ -98,7 +98,7 @@ def _segment(q, k, p, seg, ln2, tdir, j):
         elif c == 1:
             o1 = o
     cross = tdir[j, 0] * o1 - tdir[j, 1] * o0 if d == 2 else 0.0
-    return math.sqrt(s2), cross
+    return s2, cross
 
 
 @njit(cache=True, inline="always")
@@ -113,11 +113,14 @@ def _far(q, k, centre, radius, bi, level):
 
 
 @njit(cache=True, inline="always")  # a call a point counts every array it is given
-def _measure(q, k, p, seg, ln2, tdir, balls, a, b, seed, block, dd, cross, at):
-    """Distance and cross product (``dd``, ``cross``) of the segments ``a..b`` not passed
-    over, in order, their segments in ``at``; how many, and the smallest distance [m]."""
-    centre, radius, length = balls
-    best = _segment(q, k, p, seg, ln2, tdir, seed)[0]
+def _measure(q, k, p, seg, ln2, tdir, centre, radius, length, a, b, seed, block, dd, cross,
+             at):
+    """Squared distance and cross product (``dd``, ``cross``) of the segments ``a..b`` not
+    passed over, in order, their segments in ``at``; how many, and the smallest distance
+    (the root of the smallest squared one: the smallest of the roots, as the root rounds
+    monotonically) [m^2], [m]."""
+    best2 = _segment(q, k, p, seg, ln2, tdir, seed)[0]
+    best = math.sqrt(best2)
     count = 0
     bi = a // block
     while bi <= b // block:
@@ -132,7 +135,9 @@ def _measure(q, k, p, seg, ln2, tdir, balls, a, b, seed, block, dd, cross, at):
         for j in range(max(a, bi * block - block), min(b, bi * block - 1) + 1):
             dd[count], cross[count] = _segment(q, k, p, seg, ln2, tdir, j)
             at[count] = j
-            best = min(best, dd[count])
+            if dd[count] < best2:
+                best2 = dd[count]
+                best = math.sqrt(best2)
             count += 1
     return count, best
 
@@ -168,27 +173,48 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
     foot : ndarray of int, shape (n,)
         That segment [-].
     """
-    n, last = q.shape[0], p.shape[0] - 2
-    block = BLOCK
-    balls = block_balls(p, block)
+    n = q.shape[0]
+    centre, radius, length = block_balls(p, BLOCK)
     dist = np.empty(n)
     foot = np.empty(n, np.int64)
     width = 1
     for k in range(n):
         width = max(width, hi[k] - lo[k] + 1)
     dd, cross, at = np.empty(width), np.empty(width), np.empty(width, np.int64)
+    _search(q, p, seg, ln2, tdir, lo, hi, signed, centre, radius, length, dd, cross, at,
+            dist, foot)
+    return dist, foot
+
+
+# Compiled without reference counting (``_nrt=False``): the loop allocates nothing, and the
+# counts numba kept on every array handed to the inlined helpers, up and down for each
+# point, were a fifth of the search's time.
+@njit(cache=True, nogil=True, _nrt=False)
+def _search(q, p, seg, ln2, tdir, lo, hi, signed, centre, radius, length, dd, cross, at,
+            dist, foot):
+    """The loop of :func:`nearest_segments` over the points, on its work arrays: the
+    blocks' balls ``centre``, ``radius``, ``length`` and a window's squared distances, cross
+    products and segments ``dd``, ``cross``, ``at``; the results into ``dist`` and
+    ``foot``."""
+    n, last = q.shape[0], p.shape[0] - 2
+    block = BLOCK
     prev = 0
     for k in range(n):
         a = min(lo[k], last)
         b = min(max(hi[k], lo[k] + 1) - 1, last)
-        count, level = _measure(q, k, p, seg, ln2, tdir, balls, a, b,
+        count, level = _measure(q, k, p, seg, ln2, tdir, centre, radius, length, a, b,
                                 min(max(prev, a), b), block, dd, cross, at)
-        # the closest segment, and any that ties with it, are among those measured
+        # the closest segment, and any that ties with it, are among those measured: of
+        # those within the level, the first that sees the point most to its side. A root
+        # is taken only where the squared distance may give one within the level (its
+        # square, widened far beyond the roundings), and the test made on the root.
         level = level * (1 + NEAR_REL) + NEAR_ABS
-        pick = 0
+        level2 = level * level * (1 + 1e-9)
+        pick, d_pick = -1, 0.0
         for i in range(count):
-            if (dd[i] <= level and abs(cross[i]) > abs(cross[pick])) or dd[pick] > level:
-                pick = i
-        dist[k] = -dd[pick] if signed != 0 and cross[pick] < 0 else dd[pick]
+            if dd[i] <= level2:
+                d = math.sqrt(dd[i])
+                if d <= level and (pick < 0 or abs(cross[i]) > abs(cross[pick])):
+                    pick, d_pick = i, d
+        dist[k] = -d_pick if signed != 0 and cross[pick] < 0 else d_pick
         foot[k] = prev = at[pick]
-    return dist, foot

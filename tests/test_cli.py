@@ -171,3 +171,18 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
     assert f"pre-sliding of {PRESLIDING * 1e6:g} um assumed" in text
     # where the share came from, and the table damping it rests on
     assert "friction X: guideway share " in text and " N s/m (plateaus " in text
+
+
+def test_json_in_a_pipe_is_written_as_it_is(capsys, monkeypatch):
+    """Not on a terminal, ``--json`` is the JSON indented by two, not rich's highlighted
+    rendering (seconds for the thousands of corners of a long run); the same text."""
+    import rich.json
+
+    def refused(*args, **kw):
+        raise AssertionError("rendered by rich in a pipe")
+
+    monkeypatch.setattr(rich.json.JSON, "__init__", refused)
+    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_T",
+                       "--freq-hz", "0.01,1", "--json")
+    assert code == 0
+    assert out == json.dumps(json.loads(out), indent=2, ensure_ascii=False) + "\n"

@@ -184,7 +184,15 @@ def in_file(path):
 
 
 def emit_json(data) -> None:
-    out.print_json(json.dumps(data))
+    """``data`` as JSON on stdout, indented by two: coloured on a terminal, written as it is
+    elsewhere (rich's highlighter took seconds over the thousands of corners of a long
+    run, for colours a pipe does not show)."""
+    text = json.dumps(data, indent=2, ensure_ascii=False)
+    if out.is_terminal:
+        out.print_json(text)
+    else:
+        out.file.write(text + "\n")
+        out.file.flush()
 
 
 def warn_suspect(machine, what: str) -> None:

@@ -67,6 +67,7 @@ class CornerStream:
         self.off = 0  # the command's vertex of row 0 of the buffer
         self.smp = None  # samples kept for corners not found yet: t, actual, errors, feet
         self.open, self.done = [], []
+        self.unbent = []  # the open corners whose outgoing leg's bend is not found yet
         self.t_done = -np.inf  # the last sample measured
         self.tc0 = None
 
@@ -133,24 +134,33 @@ class CornerStream:
                         float(np.interp(t0, self.tc, self.s)), self.p[li].copy(), n, t_out,
                         float(self.s[li]), float(self.s[first]), b0)
             self.open.append(c)
+            if c.s_on == np.inf:
+                self.unbent.append(c)
             self._bends()
             if self.smp is not None:
                 self._feed(c, *self.smp)
 
     def _bends(self) -> None:
         """Look for the bend that ends each open corner's outgoing leg in the command read
-        since."""
-        for c in self.open:
-            if c.s_on == np.inf:
-                j = first_bend(self.p, self.s, c.checked - self.off, c.t_out,
-                               c.s_i + self.span)
-                if j is None:
-                    c.checked = self.off + self.s.size - 1
-                else:
-                    c.s_on = float(self.s[j])
+        since (only the corners still without one: a run of many corners finds them
+        one after the other)."""
+        for c in list(self.unbent):
+            j = first_bend(self.p, self.s, c.checked - self.off, c.t_out, c.s_i + self.span)
+            if j is None:
+                c.checked = self.off + self.s.size - 1
+            else:
+                c.s_on = float(self.s[j])
+                self.unbent.remove(c)
 
     def _feed(self, c, t, actual, errors, feet) -> None:
-        """Take down on a corner's tapes the samples that concern it."""
+        """Take down on a corner's tapes the samples that concern it: those from the
+        earlier of its start and the halfway point from the corner before, up to halfway
+        to the next where that is known (its figures take no other)."""
+        i0 = int(np.searchsorted(t, min(c.b0, c.t0), side="left"))
+        i1 = t.size if c.b1 is None else int(np.searchsorted(t, c.b1, side="right"))
+        t = t[i0:i1]
+        actual, errors, feet = ({k: v[i0:i1] for k, v in d.items()}
+                                for d in (actual, errors, feet))
         after = t >= c.t0
         sp = np.interp(t[after], self.tc, self.s)
         row = {}
@@ -178,6 +188,8 @@ class CornerStream:
         needs any more."""
         while self.open and self.open[0].b1 is not None and self.t_done >= self.open[0].b1:
             c = self.open.pop(0)
+            if c in self.unbent:
+                self.unbent.remove(c)
             c.figures = _figures(c, self.tol)
             c.near = None
             c.after.close()

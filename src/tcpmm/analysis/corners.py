@@ -47,6 +47,15 @@ def _at(p, s, x):
     return np.stack([np.interp(x, s, p[:, k]) for k in range(p.shape[1])], 1)
 
 
+def _near_at(p, s, x):
+    """:func:`_at` from the vertices around ``x`` alone (the same numbers: interpolation
+    takes the two vertices about each point; a copy of every coordinate is not made for a
+    few points) [m]."""
+    a = max(int(np.searchsorted(s, np.min(x), side="left")) - 1, 0)
+    b = int(np.searchsorted(s, np.max(x), side="right")) + 1
+    return _at(p[a:b], s[a:b], x)
+
+
 def turn_at(p, s, idx, span_m):
     """Angle between the chords over ``span_m`` before and after the vertices ``idx``
     [rad]."""
@@ -58,9 +67,16 @@ def turn_at(p, s, idx, span_m):
 
 def rest_start(p, i):
     """The first vertex of the rest ``p[i]`` ends: the command stands there from it to
-    ``i`` [-]."""
-    moved = np.flatnonzero(np.any(p[:i] != p[i], axis=1))
-    return int(moved[-1]) + 1 if moved.size else 0
+    ``i`` [-]. Looked for back from ``i`` in growing blocks: the rest is short where the
+    command moves, and the polyline long."""
+    hi, step = i, 64
+    while hi > 0:
+        lo = max(hi - step, 0)
+        moved = np.flatnonzero(np.any(p[lo:hi] != p[i], axis=1))
+        if moved.size:
+            return lo + int(moved[-1]) + 1
+        hi, step = lo, step * 8
+    return 0
 
 
 class CornerFinder:
@@ -173,7 +189,7 @@ def outward(p, s, i, turn, span_m):
     to the side the incoming direction points to; at the end of the path (or a reversal)
     the incoming direction [-]. And the outgoing direction [-]."""
     c = p[i]
-    back, ahead = _at(p, s, np.array([s[i] - span_m, s[i] + span_m]))
+    back, ahead = _near_at(p, s, np.array([s[i] - span_m, s[i] + span_m]))
     t_in = (c - back) / (np.sqrt(dot_rows(c - back, c - back)) or 1.0)
     if np.isnan(turn):
         return t_in, t_in
@@ -186,13 +202,21 @@ def outward(p, s, i, turn, span_m):
 def first_bend(p, s, j0, t_out, after_m):
     """The first segment from ``j0`` on, beyond the path length ``after_m``, that leaves the
     outgoing direction by more than ``_STRAIGHT_DEG`` (across a straight leg the overshoot is
-    the contour error, across a curve it is not); ``None`` if none of ``p`` does [-]."""
-    seg = np.diff(p[j0:], axis=0)
-    ln = norm_rows(seg)
-    bent = (dot_rows(seg, t_out) < np.cos(np.radians(_STRAIGHT_DEG)) * ln) & (ln > 0)
-    bent &= s[j0:-1] > after_m  # within the span a blend still turns
-    k = np.flatnonzero(bent)
-    return j0 + int(k[0]) if k.size else None
+    the contour error, across a curve it is not); ``None`` if none of ``p`` does [-].
+    Looked for in growing blocks: the leg is short where corners follow one another, and
+    the polyline long."""
+    lo, step, n = j0, 64, p.shape[0]
+    while lo < n - 1:
+        hi = min(lo + step, n - 1)  # segments lo .. hi - 1
+        seg = np.diff(p[lo:hi + 1], axis=0)
+        ln = norm_rows(seg)
+        bent = (dot_rows(seg, t_out) < np.cos(np.radians(_STRAIGHT_DEG)) * ln) & (ln > 0)
+        bent &= s[lo:hi] > after_m  # within the span a blend still turns
+        k = np.flatnonzero(bent)
+        if k.size:
+            return lo + int(k[0])
+        lo, step = hi, step * 4
+    return None
 
 
 def closest_on(q, p, s, foot):

@@ -1,0 +1,92 @@
+"""Corners of long runs with many of them (a CAM zig-zag: a corner every few millimetres):
+each corner's geometry is looked up around it and takes down only the samples it owns, so
+the work grows with the run, not with the run times its corners. The local look-ups give
+the numbers of the whole-polyline ones to the bit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from tcpmm.analysis import corners as C
+from tcpmm.analysis.contour import contour_error
+from tcpmm.analysis.tape import Tape
+from tcpmm.path.program import program_to_command
+from tcpmm.sim.simulate import simulate
+
+
+def _rest_start_whole(p, i):
+    moved = np.flatnonzero(np.any(p[:i] != p[i], axis=1))
+    return int(moved[-1]) + 1 if moved.size else 0
+
+
+def _first_bend_whole(p, s, j0, t_out, after_m):
+    seg = np.diff(p[j0:], axis=0)
+    ln = C.norm_rows(seg)
+    bent = (C.dot_rows(seg, t_out) < np.cos(np.radians(C._STRAIGHT_DEG)) * ln) & (ln > 0)
+    bent &= s[j0:-1] > after_m
+    k = np.flatnonzero(bent)
+    return j0 + int(k[0]) if k.size else None
+
+
+@st.composite
+def polylines(draw):
+    """A polyline of straight legs and rests (repeated points), up to a few thousand
+    vertices, with legs long enough that blocks of 64 and more are crossed."""
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    pts, at = [np.zeros(2)], np.zeros(2)
+    for _ in range(draw(st.integers(1, 12))):
+        if rng.random() < 0.3:
+            pts += [at.copy()] * int(rng.integers(1, 400))  # a rest
+            continue
+        step = rng.normal(size=2) * 1e-4
+        for _ in range(int(rng.integers(1, 600))):
+            at = at + step
+            pts.append(at.copy())
+    p = np.array(pts)
+    return p, C.path_length(p)
+
+
+@settings(max_examples=60, deadline=None)
+@given(polylines(), st.data())
+def test_looked_up_around_a_vertex_as_over_the_whole_polyline(ps, data):
+    p, s = ps
+    i = data.draw(st.integers(0, p.shape[0] - 1))
+    assert C.rest_start(p, i) == _rest_start_whole(p, i)
+    t_out = np.array([np.cos(data.draw(st.floats(0, 6.3))), 0.0])
+    t_out[1] = np.sqrt(1 - t_out[0] ** 2)
+    after = float(s[i]) + data.draw(st.floats(0, 1e-3))
+    assert C.first_bend(p, s, i, t_out, after) == _first_bend_whole(p, s, i, t_out, after)
+    span = data.draw(st.floats(1e-6, 1e-2))
+    x = np.array([s[i] - span, s[i] + span])
+    np.testing.assert_array_equal(C._near_at(p, s, x).view(np.int64),
+                                  C._at(p, s, x).view(np.int64))
+
+
+def zigzag(passes: int) -> str:
+    """Passes of 2 mm in 0.1 mm blocks, 0.05 mm apart, blended (G64)."""
+    lines, x, d = ["G21 G90 G17 G64 P0.01", "G1 X0 Y0 F3000"], 0.0, 1
+    for k in range(passes):
+        for _ in range(20):
+            x += 0.1 * d
+            lines.append(f"G1 X{x:.4f}")
+        lines.append(f"G1 Y{(k + 1) * 0.05:.4f}")
+        d = -d
+    return "\n".join([*lines, "M30"]) + "\n"
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_each_corner_takes_down_the_samples_it_owns(vmc, monkeypatch):
+    run = simulate(vmc, program_to_command(zigzag(40)))
+    rows = []
+    add = Tape.add
+    monkeypatch.setattr(Tape, "add", lambda self, block: (rows.append(len(block)),
+                                                          add(self, block))[1])
+    res = contour_error(run, plane=("X", "Y"))
+    assert len(res.corners) >= 40  # the turn at each end of a pass is one corner
+    # each sample is on the tapes of the corner it settles after (and of the next, where
+    # the two meet); taken down by every corner after which it came, the tapes held about
+    # a sample for each corner before it: some 40 times the run here
+    assert sum(rows) < 2 * run.time_s.size

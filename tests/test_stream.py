@@ -102,6 +102,44 @@ def test_a_chunk_boundary_inside_a_deceleration(chunk):
     assert ip.most_held > 5  # the braking distance, in blocks, waited for the next chunk
 
 
+def test_long_blocks_are_read_fewer_at_a_time(monkeypatch):
+    """A program of long blocks: the chunks are sized by the samples a block gives, so
+    that no chunk's command passes the samples a command may have at once; read the size
+    given, a chunk of them did. The command is the whole program's."""
+    import importlib
+
+    from tcpmm.path import stream
+
+    interpolate = importlib.import_module("tcpmm.path.interpolate")  # not the function
+    text = arcs(40)  # semicircles of 10 mm radius at F1500, some 1.3 s each
+    ref = quiet(program_to_command, text)
+    monkeypatch.setattr(interpolate, "MAX_SAMPLES", 25_000)
+    with pytest.raises(InputError, match="more than the limit"):
+        pieces(text, None, 60)  # 60 blocks at once: some 60 000 samples
+    monkeypatch.setattr(stream, "FIRST_CHUNK", 2)
+    monkeypatch.setattr(stream, "LEAST_CHUNK", 1)
+    monkeypatch.setattr(stream, "CHUNK_SAMPLES", 2_000)
+    got = pieces(text, None, 60)
+    assert max(p.time_s.size for p in got) <= 25_000
+    assert np.array_equal(np.concatenate([p.time_s for p in got]), ref.time_s)
+    for axis, x in ref.positions.items():
+        assert np.array_equal(np.concatenate([p.positions[axis] for p in got]), x), axis
+
+
+def test_chunk_sizes_follow_the_samples_a_block_gives():
+    from tcpmm.path.stream import CHUNK_SAMPLES, FIRST_CHUNK, LEAST_CHUNK, ChunkSize
+
+    size = ChunkSize(100_000)
+    assert size() == FIRST_CHUNK
+    size.seen(FIRST_CHUNK, 2 * FIRST_CHUNK)  # 2 samples a block: as many as allowed
+    assert size() == 100_000
+    size.seen(10_000, 10_000 * CHUNK_SAMPLES)  # a block lasting long: the fewest
+    assert size() == LEAST_CHUNK
+    size.seen(1_000, 0)  # nothing given out yet: kept
+    assert size() == LEAST_CHUNK
+    assert ChunkSize(3)() == 3  # fewer asked for: never more
+
+
 def test_the_held_tail_does_not_grow_with_the_program():
     held = []
     for n in (200, 800):

@@ -32,8 +32,16 @@ from .segments import AXES, Arc
 from .settings import InterpolatorSettings
 from .stream_plan import PlanState, Samples, plan_piece
 
-#: blocks (lines) read and interpolated at a time [-]
+#: blocks (lines) read and interpolated at a time, at most [-]
 CHUNK_BLOCKS = 100_000
+#: samples a chunk is sized to give, at the samples a block has given so far: a program
+#: of long blocks is read fewer blocks at a time, so that a chunk's command stays within
+#: memory and within :data:`~tcpmm.path.interpolate.MAX_SAMPLES` [-]
+CHUNK_SAMPLES = 500_000
+#: blocks of the first chunk at most, before the blocks' durations are known [-]
+FIRST_CHUNK = 2_000
+#: fewest blocks a chunk is sized to [-]
+LEAST_CHUNK = 500
 #: characters read from the file at a time [-]
 _READ_CHARS = 1 << 22
 
@@ -175,7 +183,8 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
     if file is None and not isinstance(program, str):
         raise InputError(f"expected an NC program file or its text, got "
                          f"{type(program).__name__}")
-    chunks = line_chunks(file, chunk_blocks) if file else _text_chunks(program, chunk_blocks)
+    size = ChunkSize(chunk_blocks)
+    chunks = line_chunks(file, size) if file else _text_chunks(program, size)
     ip = interpolator or StreamInterpolator(settings)
     read = [0]
 
@@ -191,6 +200,7 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
             piece = ip.push(segs)
             if piece is not None and piece.time_s.size:
                 piece.lines_read = read[0]
+                size.seen(read[0], piece.first + piece.time_s.size)
                 yield piece
         if it is not None:
             it.emit_warnings()
@@ -204,11 +214,34 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
     yield piece
 
 
-def _text_chunks(text: str, n: int) -> Iterator[list[str]]:
+class ChunkSize:
+    """Blocks of the next chunk: at most ``most``; :data:`FIRST_CHUNK` at first, then as
+    many as give about :data:`CHUNK_SAMPLES` samples at the samples a block has given so
+    far (the chunks do not change the command, :mod:`tcpmm.path.stream`) [-]."""
 
+    def __init__(self, most: int):
+        self.most = int(most)
+        self.n = min(self.most, FIRST_CHUNK)
+
+    def __call__(self) -> int:
+        return self.n
+
+    def seen(self, lines: int, samples: int) -> None:
+        """``samples`` given out after ``lines`` lines read [-]."""
+        if lines > 0 and samples > 0:
+            self.n = min(self.most, max(LEAST_CHUNK, int(CHUNK_SAMPLES * lines / samples)))
+
+
+def _text_chunks(text: str, size) -> Iterator[list[str]]:
+    """The lines of a program's text, ``size()`` at a time [-]."""
     lines = file_lines(text)
-    for i in range(0, max(len(lines), 1), n):
+    i = 0
+    while True:
+        n = size()
         yield lines[i:i + n]
+        i += n
+        if i >= len(lines):
+            return
 
 
 def _encoding(path: Path) -> str:
@@ -225,17 +258,20 @@ def _encoding(path: Path) -> str:
     return "utf-8-sig"
 
 
-def line_chunks(path, n: int) -> Iterator[list[str]]:
-    """The lines of a program file, ``n`` at a time, without their line breaks (``\\n``,
-    ``\\r\\n`` or ``\\r``, as :func:`~tcpmm.io.text.file_lines` counts them).
+def line_chunks(path, size) -> Iterator[list[str]]:
+    """The lines of a program file, ``size()`` at a time (asked before each chunk),
+    without their line breaks (``\\n``, ``\\r\\n`` or ``\\r``, as
+    :func:`~tcpmm.io.text.file_lines` counts them).
 
     Parameters
     ----------
     path : str or Path
         The program file [-].
-    n : int
-        Lines a chunk [-].
+    size : callable or int
+        Lines of the next chunk [-].
     """
+    if not callable(size):
+        size = (lambda n: lambda: n)(int(size))
     path = check_program_file(Path(path))
     lines: list[str] = []
     rest = ""
@@ -244,11 +280,12 @@ def line_chunks(path, n: int) -> Iterator[list[str]]:
             parts = (rest + block).split("\n")
             rest = parts.pop()
             lines.extend(parts)
-            while len(lines) >= n:
+            while len(lines) >= (n := size()):
                 yield lines[:n]
                 del lines[:n]
     if rest:
         lines.append(rest)
     while lines:
+        n = size()
         yield lines[:n]
         del lines[:n]

@@ -209,3 +209,53 @@ def test_feed_limits_and_the_command_plot_share_the_protocol(tmp_path):
     with pytest.raises(ValueError, match="4 panels"):
         res.command.plot(ax=axs[:3])
     pyplot().close("all")
+
+
+def _tangent_length_reference(a, b, tol):
+    """The tangent length of one corner in Python floats (the module's formula)."""
+    if not tol > 0.0 or a.exact_stop:
+        return 0.0
+
+    def unit(p, q):
+        v = [q[i] - p[i] for i in range(3)]
+        n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        return [x / n for x in v]
+
+    u1, u2 = unit(a.start_m, a.end_m), unit(b.start_m, b.end_m)
+    c = min(max(u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2], -1.0), 1.0)
+    cr = [u1[1] * u2[2] - u1[2] * u2[1], u1[2] * u2[0] - u1[0] * u2[2],
+          u1[0] * u2[1] - u1[1] * u2[0]]
+    theta = math.acos(c)
+    if theta < 1e-12 or math.sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) < 1e-12:
+        return 0.0
+    h = 0.5 * theta
+    d = min(tol * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2), 0.5 * a.length_m,
+            0.5 * b.length_m)
+    return d if d >= 1e-9 else 0.0
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_corners_of_a_long_run_taken_at_once_are_each_ones(seed):
+    """Collinear runs, turns of every size, reversals, exact stops and tolerances of a
+    block's own, none or 0: the tangent lengths worked out for all the corners at once
+    are those of each corner alone, to the bit."""
+    from tcpmm.path.blend import _tangent_lengths
+
+    rng = np.random.default_rng(seed)
+    pts, segs = [np.zeros(3)], []
+    for _ in range(400):
+        kind = rng.integers(4)
+        step = (rng.normal(size=3) if kind == 0 else
+                -(pts[-1] - pts[-2]) if kind == 1 and len(pts) > 1 else
+                (pts[-1] - pts[-2]) if len(pts) > 1 else rng.normal(size=3))
+        step = step / np.linalg.norm(step) * 10.0 ** rng.uniform(-5, -2)
+        pts.append(pts[-1] + step)
+        tol = [None, 0.0, 1e-5, 10.0 ** rng.uniform(-7, -3)][rng.integers(4)]
+        segs.append(Line(tuple(pts[-2]), tuple(pts[-1]), 0.05,
+                         exact_stop=bool(rng.random() < 0.05), tolerance_m=tol))
+    got = _tangent_lengths(segs, 2e-6)
+    want = [0.0] + [_tangent_length_reference(a, b, 2e-6 if a.tolerance_m is None
+                                              else a.tolerance_m)
+                    for a, b in zip(segs, segs[1:])] + [0.0]
+    assert [v.hex() for v in got] == [float(v).hex() for v in want]
+    assert sum(v > 0 for v in got) > 50

@@ -47,15 +47,7 @@ def tangent_length(a: Line, b: Line, tol_m: float) -> float:
     """
     if not tol_m > 0.0 or a.exact_stop:
         return 0.0
-    u1, u2 = _unit(a), _unit(b)
-    c = float(np.clip(np.dot(u1, u2), -1.0, 1.0))
-    theta = math.acos(c)
-    if theta < 1e-12 or float(np.linalg.norm(np.cross(u1, u2))) < 1e-12:
-        return 0.0  # straight on, or a reversal
-    h = 0.5 * theta
-    d_tol = tol_m * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2)
-    d = min(d_tol, 0.5 * a.length_m, 0.5 * b.length_m)
-    return d if d >= MIN_BLEND_M else 0.0
+    return _corner_lengths([a], [b], [tol_m])[0]
 
 
 def blend_arc(a: Line, b: Line, d: float) -> Blend:
@@ -97,12 +89,57 @@ def _tangent_lengths(segs: list, default_tol_m: float) -> list:
     ``d[n]`` zero) [m]."""
     n = len(segs)
     d = [0.0] * (n + 1)
+    pairs, tols = [], []
     for i in range(n - 1):
         a, b = segs[i], segs[i + 1]
-        if type(a) is Line and type(b) is Line:
+        if type(a) is Line and type(b) is Line and not a.exact_stop:
             tol = default_tol_m if a.tolerance_m is None else a.tolerance_m
-            d[i + 1] = tangent_length(a, b, tol)
+            if tol > 0.0:
+                pairs.append(i)
+                tols.append(tol)
+    if pairs:
+        found = _corner_lengths([segs[i] for i in pairs], [segs[i + 1] for i in pairs], tols)
+        for i, dk in zip(pairs, found, strict=True):
+            d[i + 1] = dk
     return d
+
+
+def _corner_lengths(a: list, b: list, tols: list) -> list:
+    """:func:`tangent_length` of the corners of the lines ``a[k]`` into ``b[k]``, each of
+    tolerance ``tols[k]`` > 0 [m]. Their directions are taken all at once (sums over
+    coordinates first to last, the same on every CPU); only where a corner turns are its
+    angle and length worked out one by one: a long run of short blocks is mostly straight
+    on."""
+    a0, a1, b0, b1 = (np.array([getattr(x, f) for x in lines], float)
+                      for lines, f in ((a, "start_m"), (a, "end_m"), (b, "start_m"),
+                                       (b, "end_m")))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u1, u2 = _units(a1 - a0), _units(b1 - b0)
+        c = np.clip(_dots(u1, u2), -1.0, 1.0)
+        cross = np.stack([u1[:, 1] * u2[:, 2] - u1[:, 2] * u2[:, 1],
+                          u1[:, 2] * u2[:, 0] - u1[:, 0] * u2[:, 2],
+                          u1[:, 0] * u2[:, 1] - u1[:, 1] * u2[:, 0]], axis=1)
+        turns = np.sqrt(_dots(cross, cross)) >= 1e-12  # else straight on, or a reversal
+    d = [0.0] * len(a)
+    for k in np.flatnonzero(turns).tolist():
+        theta = math.acos(float(c[k]))
+        if theta < 1e-12:
+            continue
+        h = 0.5 * theta
+        d_tol = tols[k] * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2)
+        dk = min(d_tol, 0.5 * a[k].length_m, 0.5 * b[k].length_m)
+        d[k] = dk if dk >= MIN_BLEND_M else 0.0
+    return d
+
+
+def _dots(u, v) -> np.ndarray:
+    """Row-wise dot products of two (n, 3) arrays, coordinates summed first to last [-]."""
+    return u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1] + u[:, 2] * v[:, 2]
+
+
+def _units(v) -> np.ndarray:
+    """Each row of an (n, 3) array over its length [-]."""
+    return v / np.sqrt(_dots(v, v))[:, None]
 
 
 def _assemble(segs: list, d: list, first: int, stop: int) -> list:

@@ -90,3 +90,23 @@ def test_each_corner_takes_down_the_samples_it_owns(vmc, monkeypatch):
     # the two meet); taken down by every corner after which it came, the tapes held about
     # a sample for each corner before it: some 40 times the run here
     assert sum(rows) < 2 * run.time_s.size
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_a_terminal_lists_the_corners_of_largest_overshoot(vmc, tmp_path, capsys):
+    """Thousands of corners are no table to read: the command line lists those of the
+    largest overshoots, says how many there are, and leaves them all to --json."""
+    from tcpmm.cli import main
+    from tcpmm.cli.contour import CORNER_ROWS
+
+    simulate(vmc, program_to_command(zigzag(40))).write(tmp_path / "run.csv")
+    assert main(["contour", str(tmp_path / "run.csv"), "--plane", "XY"]) == 0
+    out = capsys.readouterr().out
+    assert "the 20 of largest overshoot shown" in " ".join(out.split())
+    table = out[out.index("corners, tcp"):]
+    assert sum(line.startswith("│") for line in table.splitlines()) == CORNER_ROWS
+    assert main(["contour", str(tmp_path / "run.csv"), "--plane", "XY", "--json"]) == 0
+    import json
+
+    rows = json.loads(capsys.readouterr().out)["corners"]
+    assert len([r for r in rows if r["sensor"] == "tcp"]) >= 40

@@ -2,6 +2,7 @@
 of short blocks at the programmed feed, what holds the feed back, and the interpolator
 settings in the model file."""
 
+import itertools
 import math
 import warnings
 
@@ -256,6 +257,6 @@ def test_the_corners_of_a_long_run_taken_at_once_are_each_ones(seed):
     got = _tangent_lengths(segs, 2e-6)
     want = [0.0] + [_tangent_length_reference(a, b, 2e-6 if a.tolerance_m is None
                                               else a.tolerance_m)
-                    for a, b in zip(segs, segs[1:])] + [0.0]
+                    for a, b in itertools.pairwise(segs)] + [0.0]
     assert [v.hex() for v in got] == [float(v).hex() for v in want]
     assert sum(v > 0 for v in got) > 50

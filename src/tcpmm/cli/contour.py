@@ -69,6 +69,10 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     _print(res, name, f"{run_file}")
 
 
+#: corners a terminal lists at most: a CAM program has thousands, ``--json`` gives them all
+CORNER_ROWS = 20
+
+
 def _print(res, sensor: str, title: str) -> None:
     """Error per sensor and the corner table of one sensor, 80 columns wide."""
     from rich.table import Table
@@ -83,20 +87,37 @@ def _print(res, sensor: str, title: str) -> None:
     out.print(t)
     if not res.corners:
         return
+    rows, more = _shown_corners([r for r in res.corner_rows() if r["sensor"] == sensor])
     t = Table(title=f"corners, {sensor}", caption="overshoot: outside the path past the "
               f"corner, rounding: closest approach [µm]; settled within "
-              f"{res.settle_tol_m * 1e6:g} µm")
+              f"{res.settle_tol_m * 1e6:g} µm{more}")
     for col in ("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"):
         t.add_column(col, justify="right")
-    for row in res.corner_rows():
-        if row["sensor"] != sensor:
-            continue
+    for row in rows:
         at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)
         turn = "end" if row["turn_deg"] != row["turn_deg"] else f"{row['turn_deg']:.0f}°"
         t.add_row(str(row["corner"]), at, turn,
                   *[_num(row[k]) for k in ("overshoot_um", "rounding_um", "settle_ms",
                                            "settle_mm")])
     out.print(t)
+
+
+def _shown_corners(rows: list) -> tuple:
+    """The corner rows a terminal shows, and what the caption adds: all of them, or those
+    of the :data:`CORNER_ROWS` largest overshoots in their order, with the count and the
+    overshoots' median and largest [-]."""
+    if len(rows) <= CORNER_ROWS:
+        return rows, ""
+    import numpy as np
+
+    over = np.array([r["overshoot_um"] for r in rows], float)
+    worst = np.sort(np.argsort(-np.where(np.isnan(over), -np.inf, over),
+                               kind="stable")[:CORNER_ROWS])
+    seen = over[~np.isnan(over)]
+    spread = (f"; overshoot median {np.median(seen):.2f}, largest {np.max(seen):.2f} µm"
+              if seen.size else "")
+    return ([rows[i] for i in worst], f"; {len(rows)} corners, the {CORNER_ROWS} of largest "
+            f"overshoot shown (all with --json){spread}")
 
 
 def _num(v: float) -> str:

@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from tcpmm._rows import dot_rows, norm_rows
 from tcpmm.analysis import corners as C
 from tcpmm.analysis.contour import contour_error
 from tcpmm.analysis.tape import Tape
@@ -24,8 +25,8 @@ def _rest_start_whole(p, i):
 
 def _first_bend_whole(p, s, j0, t_out, after_m):
     seg = np.diff(p[j0:], axis=0)
-    ln = C.norm_rows(seg)
-    bent = (C.dot_rows(seg, t_out) < np.cos(np.radians(C._STRAIGHT_DEG)) * ln) & (ln > 0)
+    ln = norm_rows(seg)
+    bent = (dot_rows(seg, t_out) < np.cos(np.radians(C._STRAIGHT_DEG)) * ln) & (ln > 0)
     bent &= s[j0:-1] > after_m
     k = np.flatnonzero(bent)
     return j0 + int(k[0]) if k.size else None

@@ -37,12 +37,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._rows import dot_rows as _dot
 from .._threads import usable_cores
 from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream
-from .corners import dot_rows as _dot
 from .corners import path_length
 from .plane import plane_axes, run_plane
 

@@ -16,16 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .corners import (
-    CornerFinder,
-    closest_on,
-    dot_rows,
-    first_bend,
-    norm_rows,
-    outward,
-    path_length,
-    rest_start,
-)
+from .._rows import dot_rows, norm_rows
+from .corners import CornerFinder, closest_on, first_bend, outward, path_length, rest_start
 from .tape import Tape
 
 #: rows of a settling stretch read back at a time [-]
@@ -202,8 +194,7 @@ class CornerStream:
         t_keep = float(self.tc[keep - self.off]) - self.w
         # future samples: their closest segment lies a window before them at the least
         nxt = int(np.searchsorted(self.tc, self.t_done - self.w, side="left")) - 1
-        cut = min([keep - self.off, nxt] + [c.checked - self.off for c in self.open
-                                            if c.s_on == np.inf])
+        cut = min([keep - self.off, nxt] + [c.checked - self.off for c in self.unbent])
         cut = max(cut, 0)
         if cut:
             self.tc, self.p, self.s = self.tc[cut:], self.p[cut:], self.s[cut:]

@@ -250,13 +250,13 @@ class _Scan:
         buf = cols if self.buf is None else {c: np.concatenate([self.buf[c], cols[c]])
                                              for c in self.buf}
         self.buf = buf
-        self._to_corners(self.corners.add_command, cols["time_s"],
-                         np.column_stack([cols[c] * 1e-3 for c in cmd_cols]))
         t, first = buf["time_s"], self.first
         n = t.size
+        cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
+        self._to_corners(self.corners.add_command, cols["time_s"],
+                         cmd[n - cols["time_s"].size:])  # the rows just read
         res.most_rows = max(res.most_rows, n)
         b = n if final else int(np.searchsorted(t, t[-1] - 2.0 * w, side="left"))
-        cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
         window = _window(cmd, t, first, b, w, final) if b > first else None
         if window is None:
             return

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._rows import dot_rows, norm_rows
+
 #: Least share of the turn over the corner span that a corner makes over a quarter of it;
 #: a curve of even curvature makes a quarter, a corner (sharp or blended within the quarter
 #: span) all of it [-].
@@ -21,20 +23,6 @@ _SHARP = 0.5
 #: Largest angle between the command's direction and the outgoing one for which the
 #: command after a corner still runs straight on [deg].
 _STRAIGHT_DEG = 5.0
-
-
-def dot_rows(a, b):
-    """Sum over the last axis of ``a * b``, its coordinates added first to last: the same
-    bits on every CPU and for any number of rows [-]."""
-    s = a[..., 0] * b[..., 0]
-    for c in range(1, a.shape[-1]):
-        s = s + a[..., c] * b[..., c]
-    return s
-
-
-def norm_rows(v):
-    """Length of each row [m]."""
-    return np.sqrt(dot_rows(v, v))
 
 
 def path_length(p, s0=0.0):

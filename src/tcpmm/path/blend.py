@@ -22,6 +22,7 @@ from itertools import repeat
 
 import numpy as np
 
+from .._rows import dot_rows, norm_rows
 from .runs import LineRun, as_lines
 from .segments import Blend, Line
 
@@ -32,22 +33,6 @@ MIN_BLEND_M = 1e-9
 def _unit(a: Line) -> np.ndarray:
     d = np.subtract(a.end_m, a.start_m)
     return d / np.linalg.norm(d)
-
-
-def tangent_length(a: Line, b: Line, tol_m: float) -> float:
-    """Distance ``d`` from the corner at which the blend of ``a`` into ``b`` starts and
-    ends; 0 where the corner stays sharp (module docstring) [m].
-
-    Parameters
-    ----------
-    a, b : Line
-        The block ending at the corner and the one starting there [-].
-    tol_m : float
-        Contour tolerance of the corner [m].
-    """
-    if not tol_m > 0.0 or a.exact_stop:
-        return 0.0
-    return _corner_lengths([a], [b], [tol_m])[0]
 
 
 def blend_arc(a: Line, b: Line, d: float) -> Blend:
@@ -86,7 +71,8 @@ def blend_corners(segments, default_tol_m: float = 0.0) -> list:
 
 def _tangent_lengths(segs: list, default_tol_m: float) -> list:
     """``d[i + 1]``: tangent length of the corner at the end of block ``i`` (``d[0]`` and
-    ``d[n]`` zero) [m]."""
+    ``d[n]`` zero; :func:`_corner_lengths`), 0 where a block is no straight feed move, is
+    an exact stop or has no tolerance [m]."""
     n = len(segs)
     d = [0.0] * (n + 1)
     pairs, tols = [], []
@@ -105,21 +91,21 @@ def _tangent_lengths(segs: list, default_tol_m: float) -> list:
 
 
 def _corner_lengths(a: list, b: list, tols: list) -> list:
-    """:func:`tangent_length` of the corners of the lines ``a[k]`` into ``b[k]``, each of
-    tolerance ``tols[k]`` > 0 [m]. Their directions are taken all at once (sums over
-    coordinates first to last, the same on every CPU); only where a corner turns are its
-    angle and length worked out one by one: a long run of short blocks is mostly straight
-    on."""
+    """Distance ``d`` from the corner of the line ``a[k]`` into ``b[k]``, of contour
+    tolerance ``tols[k]`` > 0, at which its blend starts and ends; 0 where it stays sharp
+    (module docstring) [m]. The directions are taken all at once (sums over coordinates
+    first to last, the same on every CPU); only where a corner turns are its angle and
+    length worked out one by one: a long run of short blocks is mostly straight on."""
     a0, a1, b0, b1 = (np.array([getattr(x, f) for x in lines], float)
                       for lines, f in ((a, "start_m"), (a, "end_m"), (b, "start_m"),
                                        (b, "end_m")))
     with np.errstate(invalid="ignore", divide="ignore"):
         u1, u2 = _units(a1 - a0), _units(b1 - b0)
-        c = np.clip(_dots(u1, u2), -1.0, 1.0)
+        c = np.clip(dot_rows(u1, u2), -1.0, 1.0)
         cross = np.stack([u1[:, 1] * u2[:, 2] - u1[:, 2] * u2[:, 1],
                           u1[:, 2] * u2[:, 0] - u1[:, 0] * u2[:, 2],
                           u1[:, 0] * u2[:, 1] - u1[:, 1] * u2[:, 0]], axis=1)
-        turns = np.sqrt(_dots(cross, cross)) >= 1e-12  # else straight on, or a reversal
+        turns = norm_rows(cross) >= 1e-12  # else straight on, or a reversal
     d = [0.0] * len(a)
     for k in np.flatnonzero(turns).tolist():
         theta = math.acos(float(c[k]))
@@ -132,14 +118,9 @@ def _corner_lengths(a: list, b: list, tols: list) -> list:
     return d
 
 
-def _dots(u, v) -> np.ndarray:
-    """Row-wise dot products of two (n, 3) arrays, coordinates summed first to last [-]."""
-    return u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1] + u[:, 2] * v[:, 2]
-
-
 def _units(v) -> np.ndarray:
     """Each row of an (n, 3) array over its length [-]."""
-    return v / np.sqrt(_dots(v, v))[:, None]
+    return v / norm_rows(v)[:, None]
 
 
 def _assemble(segs: list, d: list, first: int, stop: int) -> list:

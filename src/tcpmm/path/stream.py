@@ -267,11 +267,9 @@ def line_chunks(path, size) -> Iterator[list[str]]:
     ----------
     path : str or Path
         The program file [-].
-    size : callable or int
-        Lines of the next chunk [-].
+    size : callable
+        Lines of the next chunk, asked before each (:class:`ChunkSize`) [-].
     """
-    if not callable(size):
-        size = (lambda n: lambda: n)(int(size))
     path = check_program_file(Path(path))
     lines: list[str] = []
     rest = ""

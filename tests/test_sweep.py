@@ -153,6 +153,23 @@ def test_a_worker_that_dies_costs_no_variant(vmc, design, serial, client, tmp_pa
     pd.testing.assert_frame_equal(table(tmp_path / "o"), table(serial.out_dir))
 
 
+def test_model_lost_with_the_only_worker_holding_it_is_scattered_again(vmc, design, serial,
+                                                                        tmp_path):
+    """With one worker, the model scattered to it dies with it; the scheduler cannot run
+    scattered data again, so the sweep scatters it anew to the restarted worker."""
+    from distributed import Client
+
+    from tcpmm.whatif.sweep import local_cluster
+
+    marker = tmp_path / "died"
+    task = functools.partial(_dies_once, str(marker), design[2].id)
+    with local_cluster(1) as cluster, Client(cluster) as one:
+        res = run_sweep(vmc, SHORT, design, tmp_path / "o", client=one, task=task)
+    assert marker.exists()
+    assert (res.computed, res.failed) == (len(design), [])
+    pd.testing.assert_frame_equal(table(tmp_path / "o"), table(serial.out_dir))
+
+
 def _raises_for(victim, machine, program, variant, *rest):
     """The task, except that it raises for ``victim``."""
     if variant.id == victim:

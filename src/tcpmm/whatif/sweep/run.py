@@ -152,13 +152,43 @@ def _run_chunk(task, machine, program, chunk, *rest) -> list:
     return out
 
 
+class _Shared:
+    """The model and the program scattered to every worker of a cluster; scattered anew
+    when the cluster has lost them with the last worker that held them.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The cluster's client [-].
+    objects : tuple
+        What every task takes [-].
+    """
+
+    def __init__(self, client, objects):
+        self.client, self.objects, self.gen = client, list(objects), 0
+        self.futures = self._scatter()
+
+    def _scatter(self):
+        return self.client.scatter(self.objects, broadcast=True, hash=False)
+
+    def renewed(self, gen: int) -> bool:
+        """Whether the data a task of generation ``gen`` took is lost and has been
+        scattered anew since (now, if it is lost now) [-]."""
+        if gen == self.gen and any(f.status != "finished" for f in self.futures):
+            self.futures = self._scatter()
+            self.gen += 1
+        return gen < self.gen
+
+
 def _on_client(client, task, args, todo, sink, window: int | None = None) -> list[dict]:
     """Run the tasks on a Dask client, in chunks of variants that hold :data:`TASK_S` of
     work each, ``window`` chunks at a time; returns the variants that failed.
 
     ``args(v)`` is ``(machine, program, v, *rest)``: the model and the program go to every
     worker once (scattered), not with each task. A worker lost mid-task costs its chunk,
-    which the scheduler runs again (``RETRIES``).
+    which the scheduler runs again (``RETRIES``). Scattered data a cluster loses with the
+    last worker that held it cannot be run again by the scheduler: it is scattered anew and
+    the chunks that needed it are submitted again, as many times.
     """
     from distributed import as_completed
 
@@ -167,25 +197,28 @@ def _on_client(client, task, args, todo, sink, window: int | None = None) -> lis
         window = max(8, 4 * threads)
     size = max(1, min(int(TASK_S / VARIANT_S), -(-len(todo) // (2 * threads))))
     machine, program, _, *rest = args(todo[0])
-    shared = client.scatter([machine, program], broadcast=True, hash=False)
+    shared = _Shared(client, (machine, program))
     token = uuid.uuid4().hex[:8]
     pending, failed = {}, []
 
-    def submit(chunk):
-        fut = client.submit(_run_chunk, task, *shared, chunk, *rest,
-                            key=f"tcpmm-variants-{chunk[0].id}-{token}", retries=RETRIES)
-        pending[fut.key] = chunk
+    def submit(chunk, n=0):
+        fut = client.submit(_run_chunk, task, *shared.futures, chunk, *rest, retries=RETRIES,
+                            key=f"tcpmm-variants-{chunk[0].id}-{token}-{n}")
+        pending[fut.key] = (chunk, shared.gen, n)
         return fut
 
     chunks = iter([todo[i:i + size] for i in range(0, len(todo), size)])
     flow = as_completed([submit(c) for c in islice(chunks, window)])
     for fut in flow:
-        chunk = pending.pop(fut.key)
+        chunk, gen, n = pending.pop(fut.key)
         try:
             results = fut.result()
         except Exception as exc:  # a worker lost for good, or a fault of the code
             if scheduler_lost(client, exc):
                 raise SchedulerLost(client) from None
+            if shared.renewed(gen) and n < RETRIES:
+                flow.add(submit(chunk, n + 1))
+                continue
             results = [exc] * len(chunk)
         for v, result in zip(chunk, results, strict=True):
             if isinstance(result, Exception):

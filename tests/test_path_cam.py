@@ -235,16 +235,12 @@ def _tangent_length_reference(a, b, tol):
     return d if d >= 1e-9 else 0.0
 
 
-@pytest.mark.parametrize("seed", range(5))
-def test_the_corners_of_a_long_run_taken_at_once_are_each_ones(seed):
-    """Collinear runs, turns of every size, reversals, exact stops and tolerances of a
-    block's own, none or 0: the tangent lengths worked out for all the corners at once
-    are those of each corner alone, to the bit."""
-    from tcpmm.path.blend import _tangent_lengths
-
+def _random_run(seed, n=400):
+    """Straight blocks of random length: turns of every size, collinear runs, reversals,
+    exact stops, and tolerances of a block's own, none or 0."""
     rng = np.random.default_rng(seed)
     pts, segs = [np.zeros(3)], []
-    for _ in range(400):
+    for _ in range(n):
         kind = rng.integers(4)
         step = (rng.normal(size=3) if kind == 0 else
                 -(pts[-1] - pts[-2]) if kind == 1 and len(pts) > 1 else
@@ -252,11 +248,71 @@ def test_the_corners_of_a_long_run_taken_at_once_are_each_ones(seed):
         step = step / np.linalg.norm(step) * 10.0 ** rng.uniform(-5, -2)
         pts.append(pts[-1] + step)
         tol = [None, 0.0, 1e-5, 10.0 ** rng.uniform(-7, -3)][rng.integers(4)]
-        segs.append(Line(tuple(pts[-2]), tuple(pts[-1]), 0.05,
+        segs.append(Line(tuple(pts[-2]), tuple(pts[-1]), 0.05 + 0.01 * rng.integers(3),
                          exact_stop=bool(rng.random() < 0.05), tolerance_m=tol))
+    return segs
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_corners_of_a_long_run_taken_at_once_are_each_ones(seed):
+    """Collinear runs, turns of every size, reversals, exact stops and tolerances of a
+    block's own, none or 0: the tangent lengths worked out for all the corners at once
+    are those of each corner alone, to the bit."""
+    from tcpmm.path.blend import _tangent_lengths
+
+    segs = _random_run(seed)
     got = _tangent_lengths(segs, 2e-6)
     want = [0.0] + [_tangent_length_reference(a, b, 2e-6 if a.tolerance_m is None
                                               else a.tolerance_m)
                     for a, b in itertools.pairwise(segs)] + [0.0]
     assert [v.hex() for v in got] == [float(v).hex() for v in want]
     assert sum(v > 0 for v in got) > 50
+
+
+def _unit_reference(p, q):
+    v = [q[i] - p[i] for i in range(3)]
+    n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    return [x / n for x in v]
+
+
+def _blended_reference(segs, d):
+    """The blended path in Python floats, one block at a time (the module's formulas)."""
+    out = []
+    for i, s in enumerate(segs):
+        if d[i] or d[i + 1]:
+            u = _unit_reference(s.start_m, s.end_m)
+            p = segs[i - 1].end_m if d[i] else s.start_m
+            a = tuple(p[c] + d[i] * u[c] for c in range(3))
+            b = tuple(s.end_m[c] - d[i + 1] * u[c] for c in range(3))
+            gap = math.sqrt(sum((b[c] - a[c]) ** 2 for c in range(3)))
+            span = math.sqrt(sum((s.end_m[c] - s.start_m[c]) ** 2 for c in range(3)))
+            if gap > 1e-12 * max(span, 1e-3):
+                out.append(Line(a, b, s.feed_m_per_s, s.exact_stop, s.line, s.tolerance_m))
+        else:
+            out.append(s)
+        if d[i + 1]:
+            nxt, dk, p = segs[i + 1], d[i + 1], s.end_m
+            u1, u2 = u, _unit_reference(nxt.start_m, nxt.end_m)
+            h = 0.5 * math.acos(min(max(u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2],
+                                        -1.0), 1.0))
+            reach = dk / math.tan(h) / math.cos(h)
+            bis = _unit_reference(u1, u2)
+            out.append(Blend(tuple(p[c] - dk * u1[c] for c in range(3)),
+                             tuple(p[c] + dk * u2[c] for c in range(3)),
+                             tuple(p[c] + bis[c] * reach for c in range(3)),
+                             min(s.feed_m_per_s, nxt.feed_m_per_s), line=nxt.line))
+    return out
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_blends_of_a_long_run_taken_at_once_are_each_ones(seed):
+    """The trimmed lines and blend arcs worked out for all the corners at once are those
+    of each corner alone in Python floats, to the bit: no sum of a library that pairs the
+    coordinates otherwise on another CPU, no vector unit's sine."""
+    from tcpmm.path.blend import _tangent_lengths
+
+    segs = _random_run(seed)
+    got = blend_corners(segs, 2e-6)
+    want = _blended_reference(segs, _tangent_lengths(segs, 2e-6))
+    assert sum(type(s) is Blend for s in got) > 50
+    assert got == want

@@ -30,23 +30,6 @@ from .segments import Blend, Line
 MIN_BLEND_M = 1e-9
 
 
-def _unit(a: Line) -> np.ndarray:
-    d = np.subtract(a.end_m, a.start_m)
-    return d / np.linalg.norm(d)
-
-
-def blend_arc(a: Line, b: Line, d: float) -> Blend:
-    """The arc tangent to ``a`` and ``b`` at the distance ``d`` from their corner [-]."""
-    u1, u2 = _unit(a), _unit(b)
-    p = np.asarray(a.end_m, float)
-    h = 0.5 * math.acos(float(np.clip(np.dot(u1, u2), -1.0, 1.0)))
-    rho = d / math.tan(h)
-    bis = (u2 - u1) / np.linalg.norm(u2 - u1)
-    centre = p + bis * (rho / math.cos(h))
-    return Blend(tuple(p - d * u1), tuple(p + d * u2), tuple(centre),
-                 min(a.feed_m_per_s, b.feed_m_per_s), line=b.line)
-
-
 def blend_corners(segments, default_tol_m: float = 0.0) -> list:
     """The path with the corners between straight blocks rounded off (module docstring).
 
@@ -125,30 +108,86 @@ def _units(v) -> np.ndarray:
 
 def _assemble(segs: list, d: list, first: int, stop: int) -> list:
     """The blended path of blocks ``first`` to ``stop - 1``: each block, trimmed, and the
-    blend after it; block ``first - 1`` gives the blend its start is joined to [-]."""
+    blend after it; block ``first - 1`` gives the blend its start is joined to [-].
+
+    The points of the trimmed lines and of the blends are worked out for all corners at
+    once (:func:`_trim_and_blend`); the segments are then made in order."""
+    lo = max(first - 1, 0)
+    touched = [i for i in range(lo, stop) if (d[i] or d[i + 1]) and type(segs[i]) is Line]
+    trimmed, blends = _trim_and_blend(segs, d, touched, [i for i in touched if d[i + 1]])
     out = []
-    last = None  # the segment the blended path has so far ended with
-    for i in range(max(first - 1, 0), stop):
+    for i in range(first, stop):
         s = segs[i]
-        mine = []
-        if type(s) is Line and (d[i] or d[i + 1]):
-            u = _unit(s)
-            start = np.asarray(s.start_m, float) + d[i] * u
-            end = np.asarray(s.end_m, float) - d[i + 1] * u
-            if last is not None and d[i]:
-                start = np.asarray(last.end_m)  # exactly where the blend ends
-            if np.linalg.norm(end - start) > 1e-12 * max(s.length_m, 1e-3):
-                mine.append(Line(tuple(start), tuple(end), s.feed_m_per_s, s.exact_stop,
-                                 s.line, s.tolerance_m))
+        if i in trimmed:
+            ends = trimmed[i]
+            if ends is not None:
+                out.append(Line(ends[0], ends[1], s.feed_m_per_s, s.exact_stop, s.line,
+                                s.tolerance_m))
         else:
-            mine.append(s)
+            out.append(s)
         if d[i + 1]:
-            mine.append(blend_arc(s, segs[i + 1], d[i + 1]))
-        if mine:
-            last = mine[-1]
-        if i >= first:
-            out.extend(mine)
+            b = segs[i + 1]
+            p0, p1, centre = blends[i]
+            out.append(Blend(p0, p1, centre, min(s.feed_m_per_s, b.feed_m_per_s),
+                             line=b.line))
     return out
+
+
+def _trim_and_blend(segs: list, d: list, touched: list, corners: list) -> tuple:
+    """Ends of the lines ``touched`` trimmed by the tangent lengths ``d`` (None where
+    nothing is left of a line), and start, end and centre of the blend at the end of each
+    line of ``corners``, as ``{i: points}`` [m].
+
+    Each line's direction is its difference over its length; a trimmed line starts where
+    the blend before it ends, ``d`` along it from the corner. The blend at a corner ``p``
+    of half-angle ``h`` runs from ``p - d u1`` to ``p + d u2`` about the centre on the
+    bisector at ``d / (tan h cos h)``; the angles are taken one corner at a time with
+    :mod:`math`, whose results do not depend on the CPU's vector units."""
+    rows = sorted(set(touched).union(i + 1 for i in corners))
+    if not rows:
+        return {}, {}
+    at = {i: k for k, i in enumerate(rows)}
+    start = np.array([segs[i].start_m for i in rows], float)
+    end = np.array([segs[i].end_m for i in rows], float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = _units(end - start)
+    dd = np.asarray(d, float)
+    trimmed = {}
+    if touched:
+        k = np.array([at[i] for i in touched])
+        ti = np.array(touched)
+        # a line whose corner before is blended starts where that blend ends
+        before = np.array([segs[i - 1].end_m if d[i] else segs[i].start_m for i in touched],
+                          float)
+        t0 = before + dd[ti][:, None] * u[k]
+        t1 = end[k] - dd[ti + 1][:, None] * u[k]
+        kept = norm_rows(t1 - t0) > 1e-12 * np.maximum(norm_rows(end[k] - start[k]), 1e-3)
+        for i, a0, a1, keep in zip(touched, t0.tolist(), t1.tolist(), kept.tolist(),
+                                   strict=True):
+            trimmed[i] = (tuple(a0), tuple(a1)) if keep else None
+    return trimmed, _blends(corners, end, u, at, dd)
+
+
+def _blends(corners, end, u, at, dd) -> dict:
+    """Start, end and centre of the blend at the end of each line of ``corners`` (rows
+    ``at`` of its end points ``end`` and directions ``u``; tangent lengths ``dd``) [m]."""
+    if not corners:
+        return {}
+    ka = np.array([at[i] for i in corners])
+    kb = np.array([at[i + 1] for i in corners])
+    dk = dd[np.array(corners) + 1]
+    p, u1, u2 = end[ka], u[ka], u[kb]
+    c = np.clip(dot_rows(u1, u2), -1.0, 1.0).tolist()
+    reach = []
+    for cos_theta, dist in zip(c, dk.tolist(), strict=True):
+        h = 0.5 * math.acos(cos_theta)
+        reach.append(dist / math.tan(h) / math.cos(h))
+    bis = _units(u2 - u1)
+    centre = p + bis * np.array(reach)[:, None]
+    p0 = p - dk[:, None] * u1
+    p1 = p + dk[:, None] * u2
+    return {i: (tuple(a), tuple(b), tuple(c)) for i, a, b, c in
+            zip(corners, p0.tolist(), p1.tolist(), centre.tolist(), strict=True)}
 
 
 class CornerBlender:

@@ -258,10 +258,10 @@ def test_the_corners_of_a_long_run_taken_at_once_are_each_ones(seed):
     """Collinear runs, turns of every size, reversals, exact stops and tolerances of a
     block's own, none or 0: the tangent lengths worked out for all the corners at once
     are those of each corner alone, to the bit."""
-    from tcpmm.path.blend import _tangent_lengths
+    from tcpmm.path.blendrows import block_table, tangent_lengths
 
     segs = _random_run(seed)
-    got = _tangent_lengths(segs, 2e-6)
+    got = tangent_lengths(block_table(segs), 2e-6).tolist()
     want = [0.0] + [_tangent_length_reference(a, b, 2e-6 if a.tolerance_m is None
                                               else a.tolerance_m)
                     for a, b in itertools.pairwise(segs)] + [0.0]
@@ -309,10 +309,10 @@ def test_the_blends_of_a_long_run_taken_at_once_are_each_ones(seed):
     """The trimmed lines and blend arcs worked out for all the corners at once are those
     of each corner alone in Python floats, to the bit: no sum of a library that pairs the
     coordinates otherwise on another CPU, no vector unit's sine."""
-    from tcpmm.path.blend import _tangent_lengths
+    from tcpmm.path.blendrows import block_table, tangent_lengths
 
     segs = _random_run(seed)
     got = blend_corners(segs, 2e-6)
-    want = _blended_reference(segs, _tangent_lengths(segs, 2e-6))
+    want = _blended_reference(segs, tangent_lengths(block_table(segs), 2e-6).tolist())
     assert sum(type(s) is Blend for s in got) > 50
     assert got == want

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from tcpmm.path import InterpolatorSettings, parse_gcode
-from tcpmm.path.blend import CornerBlender
-from tcpmm.path.geometry import to_arrays
-from tcpmm.path.runs import LineRun, as_lines, blocks, drop_blocks
+from tcpmm.path.blend import CornerBlender, blend_corners
+from tcpmm.path.geometry import _segment_columns, to_arrays
+from tcpmm.path.runs import LineRun, as_lines, blocks, drop_blocks, path_columns
 from tcpmm.path.stream import StreamInterpolator
 
 PROGRAM = "G21 G90 G1 X10 Y0 F3000\n" + "".join(
@@ -18,10 +18,13 @@ PROGRAM = "G21 G90 G1 X10 Y0 F3000\n" + "".join(
 
 
 def _runs_of(segments):
-    """The Lines of ``segments`` in runs of consecutive Lines where they are 2 or more [-]."""
+    """The Lines of ``segments`` in runs of consecutive Lines where they are 2 or more
+    (of one exact stop and tolerance, as the interpreter makes them) [-]."""
     out, lines = [], []
     for s in [*segments, None]:
-        if type(s).__name__ == "Line" and (not lines or lines[-1].end_m == s.start_m):
+        if type(s).__name__ == "Line" and (not lines or (
+                lines[-1].end_m == s.start_m and lines[-1].exact_stop == s.exact_stop
+                and lines[-1].tolerance_m == s.tolerance_m)):
             lines.append(s)
             continue
         if len(lines) > 1:
@@ -53,6 +56,8 @@ def test_a_run_is_its_lines():
 @pytest.mark.parametrize("tol", [0.0, 1e-5])
 @pytest.mark.parametrize("cut", [1, 3, 7, 50])
 def test_the_blender_and_the_look_ahead_take_runs_as_their_lines(tol, cut):
+    """The blended path a piece at a time, of Lines or of runs, has the columns of the
+    whole path's blended at once, to the bit; so has the command."""
     segments = parse_gcode(PROGRAM)
     pieces = [segments[i:i + cut] for i in range(0, len(segments), cut)]
     out = {}
@@ -62,12 +67,50 @@ def test_the_blender_and_the_look_ahead_take_runs_as_their_lines(tol, cut):
         given, command = [], []
         for piece in pieces:
             piece = _runs_of(piece) if how == "runs" else piece
-            given += as_lines(blender.push(piece))
+            given += blender.push(piece)
             c = ip.push(piece)
             command += [] if c is None else [c.positions[a] for a in "XYZ"]
-        given += as_lines(blender.push([], final=True))
+        given += blender.push([], final=True)
         c = ip.push([], final=True)
         command += [c.positions[a] for a in "XYZ"]
-        out[how] = (repr(given), [x.tobytes() for x in command], ip.most_held,
+        out[how] = (_column_bytes(given), [x.tobytes() for x in command], ip.most_held,
                     ip.segments_in, [blocks([s]) for s in blender.held])
     assert out["runs"] == out["lines"]
+    assert out["lines"][0] == _column_bytes(blend_corners(segments, tol))
+
+
+def _column_bytes(segments) -> list:
+    """The look-ahead's columns of ``segments``, as bytes [-]."""
+    return [c.tobytes() for c in path_columns(segments, _segment_columns)]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_blended_path_in_pieces_is_the_whole_ones(seed):
+    """Random straight blocks (turns of every size, collinear stretches, reversals, exact
+    stops, tolerances of a block's own, none or 0) with dwells between, in runs and in
+    pieces of random size: the blender's columns are those of the whole path blended at
+    once, to the bit."""
+    from tcpmm.path.segments import Dwell, Line
+
+    rng = np.random.default_rng(seed)
+    p, segs = np.zeros(3), []
+    for i in range(600):
+        if rng.random() < 0.02:
+            segs.append(Dwell(tuple(p), 0.01, line=i + 1))
+            continue
+        step = rng.normal(size=3) if rng.random() < 0.4 or not segs else np.subtract(
+            segs[-1].end_m, segs[-1].start_m) * (1 if rng.random() < 0.8 else -1) \
+            if type(segs[-1]) is Line else rng.normal(size=3)
+        q = p + step / np.linalg.norm(step) * 10.0 ** rng.uniform(-5, -2)
+        tol = [None, 0.0, 1e-5, 10.0 ** rng.uniform(-7, -3)][rng.integers(4)]
+        segs.append(Line(tuple(p), tuple(q), 0.05 + 0.01 * rng.integers(3),
+                         exact_stop=bool(rng.random() < 0.03), line=i + 1, tolerance_m=tol))
+        p = q
+    blender, given, i = CornerBlender(2e-6), [], 0
+    while i < len(segs):
+        k = int(rng.integers(1, 80))
+        given += blender.push(_runs_of(segs[i:i + k]))
+        i += k
+    given += blender.push([], final=True)
+    assert _column_bytes(given) == _column_bytes(blend_corners(segs, 2e-6))
+    assert sum(type(s).__name__ == "ColumnRun" for s in given) > 1

@@ -17,17 +17,14 @@ stops (G61, G9) and at reversals stay sharp.
 
 from __future__ import annotations
 
-import math
 from itertools import repeat
 
 import numpy as np
 
-from .._rows import dot_rows, norm_rows
-from .runs import LineRun, as_lines
+from .blendrows import blended_rows, block_table, tangent_lengths
+from .geometry import BLEND
+from .runs import ColumnRun, LineRun
 from .segments import Blend, Line
-
-#: blends shorter than this along either line are not worth a segment [m]
-MIN_BLEND_M = 1e-9
 
 
 def blend_corners(segments, default_tol_m: float = 0.0) -> list:
@@ -46,153 +43,74 @@ def blend_corners(segments, default_tol_m: float = 0.0) -> list:
         The path with a blend arc at each corner blended; the input when none is [-].
     """
     segs = list(segments)
-    d = _tangent_lengths(segs, default_tol_m)
-    if not any(d):
+    tb = block_table(segs)
+    d = tangent_lengths(tb, default_tol_m)
+    if not d.any():
         return segs
-    return _assemble(segs, d, 0, len(segs))
+    return _as_segments(segs, blended_rows(tb, d, 0, len(segs)))
 
 
-def _tangent_lengths(segs: list, default_tol_m: float) -> list:
-    """``d[i + 1]``: tangent length of the corner at the end of block ``i`` (``d[0]`` and
-    ``d[n]`` zero; :func:`_corner_lengths`), 0 where a block is no straight feed move, is
-    an exact stop or has no tolerance [m]."""
-    n = len(segs)
-    d = [0.0] * (n + 1)
-    pairs, tols = [], []
-    for i in range(n - 1):
-        a, b = segs[i], segs[i + 1]
-        if type(a) is Line and type(b) is Line and not a.exact_stop:
-            tol = default_tol_m if a.tolerance_m is None else a.tolerance_m
-            if tol > 0.0:
-                pairs.append(i)
-                tols.append(tol)
-    if pairs:
-        found = _corner_lengths([segs[i] for i in pairs], [segs[i + 1] for i in pairs], tols)
-        for i, dk in zip(pairs, found, strict=True):
-            d[i + 1] = dk
-    return d
-
-
-def _corner_lengths(a: list, b: list, tols: list) -> list:
-    """Distance ``d`` from the corner of the line ``a[k]`` into ``b[k]``, of contour
-    tolerance ``tols[k]`` > 0, at which its blend starts and ends; 0 where it stays sharp
-    (module docstring) [m]. The directions are taken all at once (sums over coordinates
-    first to last, the same on every CPU); only where a corner turns are its angle and
-    length worked out one by one: a long run of short blocks is mostly straight on."""
-    a0, a1, b0, b1 = (np.array([getattr(x, f) for x in lines], float)
-                      for lines, f in ((a, "start_m"), (a, "end_m"), (b, "start_m"),
-                                       (b, "end_m")))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        u1, u2 = _units(a1 - a0), _units(b1 - b0)
-        c = np.clip(dot_rows(u1, u2), -1.0, 1.0)
-        cross = np.stack([u1[:, 1] * u2[:, 2] - u1[:, 2] * u2[:, 1],
-                          u1[:, 2] * u2[:, 0] - u1[:, 0] * u2[:, 2],
-                          u1[:, 0] * u2[:, 1] - u1[:, 1] * u2[:, 0]], axis=1)
-        turns = norm_rows(cross) >= 1e-12  # else straight on, or a reversal
-    d = [0.0] * len(a)
-    for k in np.flatnonzero(turns).tolist():
-        theta = math.acos(float(c[k]))
-        if theta < 1e-12:
-            continue
-        h = 0.5 * theta
-        d_tol = tols[k] * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2)
-        dk = min(d_tol, 0.5 * a[k].length_m, 0.5 * b[k].length_m)
-        d[k] = dk if dk >= MIN_BLEND_M else 0.0
-    return d
-
-
-def _units(v) -> np.ndarray:
-    """Each row of an (n, 3) array over its length [-]."""
-    return v / norm_rows(v)[:, None]
-
-
-def _assemble(segs: list, d: list, first: int, stop: int) -> list:
-    """The blended path of blocks ``first`` to ``stop - 1``: each block, trimmed, and the
-    blend after it; block ``first - 1`` gives the blend its start is joined to [-].
-
-    The points of the trimmed lines and of the blends are worked out for all corners at
-    once (:func:`_trim_and_blend`); the segments are then made in order."""
-    lo = max(first - 1, 0)
-    touched = [i for i in range(lo, stop) if (d[i] or d[i + 1]) and type(segs[i]) is Line]
-    trimmed, blends = _trim_and_blend(segs, d, touched, [i for i in touched if d[i + 1]])
+def _as_segments(segs: list, rows) -> list:
+    """The rows of a blended path as segments: a block left as it was is itself [-]."""
     out = []
-    for i in range(first, stop):
+    for i, k, a, b, c in zip(rows.src.tolist(), rows.kind.tolist(), rows.start.tolist(),
+                             rows.end.tolist(), rows.centre.tolist(), strict=True):
         s = segs[i]
-        if i in trimmed:
-            ends = trimmed[i]
-            if ends is not None:
-                out.append(Line(ends[0], ends[1], s.feed_m_per_s, s.exact_stop, s.line,
-                                s.tolerance_m))
+        if k == 1:
+            out.append(Line(tuple(a), tuple(b), s.feed_m_per_s, s.exact_stop, s.line,
+                            s.tolerance_m))
+        elif k == 2:
+            nxt = segs[i + 1]
+            out.append(Blend(tuple(a), tuple(b), tuple(c),
+                             min(s.feed_m_per_s, nxt.feed_m_per_s), line=nxt.line))
         else:
             out.append(s)
-        if d[i + 1]:
-            b = segs[i + 1]
-            p0, p1, centre = blends[i]
-            out.append(Blend(p0, p1, centre, min(s.feed_m_per_s, b.feed_m_per_s),
-                             line=b.line))
     return out
 
 
-def _trim_and_blend(segs: list, d: list, touched: list, corners: list) -> tuple:
-    """Ends of the lines ``touched`` trimmed by the tangent lengths ``d`` (None where
-    nothing is left of a line), and start, end and centre of the blend at the end of each
-    line of ``corners``, as ``{i: points}`` [m].
-
-    Each line's direction is its difference over its length; a trimmed line starts where
-    the blend before it ends, ``d`` along it from the corner. The blend at a corner ``p``
-    of half-angle ``h`` runs from ``p - d u1`` to ``p + d u2`` about the centre on the
-    bisector at ``d / (tan h cos h)``; the angles are taken one corner at a time with
-    :mod:`math`, whose results do not depend on the CPU's vector units."""
-    rows = sorted(set(touched).union(i + 1 for i in corners))
-    if not rows:
-        return {}, {}
-    at = {i: k for k, i in enumerate(rows)}
-    start = np.array([segs[i].start_m for i in rows], float)
-    end = np.array([segs[i].end_m for i in rows], float)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        u = _units(end - start)
-    dd = np.asarray(d, float)
-    trimmed = {}
-    if touched:
-        k = np.array([at[i] for i in touched])
-        ti = np.array(touched)
-        # a line whose corner before is blended starts where that blend ends
-        before = np.array([segs[i - 1].end_m if d[i] else segs[i].start_m for i in touched],
-                          float)
-        t0 = before + dd[ti][:, None] * u[k]
-        t1 = end[k] - dd[ti + 1][:, None] * u[k]
-        kept = norm_rows(t1 - t0) > 1e-12 * np.maximum(norm_rows(end[k] - start[k]), 1e-3)
-        for i, a0, a1, keep in zip(touched, t0.tolist(), t1.tolist(), kept.tolist(),
-                                   strict=True):
-            trimmed[i] = (tuple(a0), tuple(a1)) if keep else None
-    return trimmed, _blends(corners, end, u, at, dd)
+def _as_runs(raw: list, tb, rows) -> list:
+    """The rows of a blended path as runs of columns (:class:`ColumnRun`), a block that
+    is no straight feed move between them as it is [-]."""
+    objects = _other_blocks(raw)
+    out = []
+    cut = np.flatnonzero(rows.kind < 0).tolist()
+    for a, b in zip([-1, *cut], [*cut, rows.kind.size], strict=True):
+        if b - a > 1:
+            out.append(_columns(tb, rows, a + 1, b))
+        if b < rows.kind.size:
+            out.append(objects[int(rows.src[b])])
+    return out
 
 
-def _blends(corners, end, u, at, dd) -> dict:
-    """Start, end and centre of the blend at the end of each line of ``corners`` (rows
-    ``at`` of its end points ``end`` and directions ``u``; tangent lengths ``dd``) [m]."""
-    if not corners:
-        return {}
-    ka = np.array([at[i] for i in corners])
-    kb = np.array([at[i + 1] for i in corners])
-    dk = dd[np.array(corners) + 1]
-    p, u1, u2 = end[ka], u[ka], u[kb]
-    c = np.clip(dot_rows(u1, u2), -1.0, 1.0).tolist()
-    reach = []
-    for cos_theta, dist in zip(c, dk.tolist(), strict=True):
-        h = 0.5 * math.acos(cos_theta)
-        reach.append(dist / math.tan(h) / math.cos(h))
-    bis = _units(u2 - u1)
-    centre = p + bis * np.array(reach)[:, None]
-    p0 = p - dk[:, None] * u1
-    p1 = p + dk[:, None] * u2
-    return {i: (tuple(a), tuple(b), tuple(c)) for i, a, b, c in
-            zip(corners, p0.tolist(), p1.tolist(), centre.tolist(), strict=True)}
+def _columns(tb, rows, a: int, b: int) -> ColumnRun:
+    """Rows ``a`` to ``b - 1`` (lines and blends) as a run of columns [-]."""
+    src, blend = rows.src[a:b], rows.kind[a:b] == 2
+    nxt = np.where(blend, src + 1, src)
+    n = b - a
+    feed = np.where(blend, np.minimum(tb.feed[src], tb.feed[nxt]), tb.feed[src])
+    return ColumnRun((np.where(blend, BLEND, 0).astype(np.int64), rows.start[a:b],
+                      rows.end[a:b], rows.centre[a:b], feed, np.zeros(n, bool),
+                      tb.exact[src] & ~blend, np.zeros(n), tb.line[nxt],
+                      np.tile(np.array([0, 1], np.int64), (n, 1)), np.zeros(n, bool),
+                      np.zeros(n, np.int64)))
+
+
+def _other_blocks(raw: list) -> dict:
+    """``{block index: segment}`` of the blocks of ``raw`` that are no straight feed
+    move (a run counted block by block) [-]."""
+    out, i = {}, 0
+    for s in raw:
+        t = type(s)
+        if t is not LineRun and t is not Line:
+            out[i] = s
+        i += len(s) if t is LineRun else 1
+    return out
 
 
 class CornerBlender:
     """:func:`blend_corners` over a path that comes in pieces: the last block of a piece
-    waits for the next piece, whose first block makes the corner at its end.
+    waits for the next piece, whose first block makes the corner at its end. Where
+    corners are blended, the path comes out as runs of columns (:class:`ColumnRun`).
 
     Parameters
     ----------
@@ -217,18 +135,34 @@ class CornerBlender:
         raw = self.held + list(segments)
         # only a Line or a run has a tolerance; getattr over the blocks in C, not a loop
         blend = self.tol > 0.0 or any(map(getattr, raw, repeat("tolerance_m"), repeat(None)))
-        # a run is cut so that the blocks held are single ones (a block given out for its
-        # blend, the next); where corners are blended, a run's blocks are made Lines
-        raw = as_lines(raw) if blend else _last_block_apart(raw, final)
+        if not blend:  # no corner has a tolerance: none is blended
+            raw = _last_block_apart(raw, final)
+            first = max(len(self.held) - 1, 0)
+            stop = len(raw) if final else len(raw) - 1
+            self.held = [_last_block(s) for s in raw[max(stop - 1, 0):]]
+            return raw[first:stop] if stop > first else []
+        tb = block_table(raw)
         first = max(len(self.held) - 1, 0)
-        stop = len(raw) if final else len(raw) - 1
-        self.held = [_last_block(s) for s in raw[max(stop - 1, 0):]]
+        stop = tb.n if final else tb.n - 1
+        self.held = _last_blocks(raw, tb.n - max(stop - 1, 0))
         if stop <= first:
             return []
-        if not blend:
-            return raw[first:stop]  # no corner has a tolerance: none is blended
-        d = _tangent_lengths(raw, self.tol)
-        return _assemble(raw, d, first, stop)
+        rows = blended_rows(tb, tangent_lengths(tb, self.tol), first, stop)
+        return _as_runs(raw, tb, rows)
+
+
+def _last_blocks(raw: list, k: int) -> list:
+    """The last ``k`` blocks of ``raw``, each a segment of its own [-]."""
+    out = []
+    for s in reversed(raw):
+        if len(out) == k:
+            break
+        if type(s) is LineRun:
+            n = len(s)
+            out += [s.cut(j, j + 1) for j in range(n - 1, max(n - 1 - (k - len(out)), -1), -1)]
+        else:
+            out.append(s)
+    return out[::-1]
 
 
 def _last_block_apart(raw: list, final: bool) -> list:

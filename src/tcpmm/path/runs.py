@@ -3,9 +3,10 @@
 The interpreter of a streamed program hands the interpolator a run of plain G1 blocks as
 one :class:`LineRun` (their points, feeds and lines as arrays) rather than a
 :class:`~tcpmm.path.segments.Line` per block: the look-ahead reads the arrays as they
-are (:func:`tcpmm.path.geometry.to_arrays`), and only corner blending, which works on
-pairs of blocks, makes Lines of them (:func:`as_lines`). A run stands for its Lines
-exactly: the same points, feeds, exact stop, lines and tolerance.
+are (:func:`tcpmm.path.geometry.to_arrays`), and so does corner blending, which hands
+the look-ahead the lines and blend arcs of a blended stretch as one :class:`ColumnRun`.
+A run stands for its Lines exactly (:func:`as_lines`): the same points, feeds, exact
+stop, lines and tolerance.
 """
 
 from __future__ import annotations
@@ -82,7 +83,7 @@ class LineRun:
 
 def blocks(segments) -> int:
     """Blocks in ``segments``, a run counting its blocks [-]."""
-    return sum(len(s) if type(s) is LineRun else 1 for s in segments)
+    return sum(len(s) if type(s) in RUNS else 1 for s in segments)
 
 
 def as_lines(segments) -> list:
@@ -100,7 +101,7 @@ def drop_blocks(segments: list, k: int) -> list:
     """``segments`` without their first ``k`` blocks (a run cut where they end) [-]."""
     i = 0
     while k > 0 and i < len(segments):
-        n = len(segments[i]) if type(segments[i]) is LineRun else 1
+        n = len(segments[i]) if type(segments[i]) in RUNS else 1
         if n > k:
             return [segments[i].cut(k, n), *segments[i + 1:]]
         k -= n
@@ -112,20 +113,47 @@ def path_columns(segments, plain_columns) -> tuple:
     """The columns of :func:`tcpmm.path.geometry.to_arrays` (kind, start, end, centre,
     feed, rapid, exact stop, dwell, line, plane axes, ccw, extra turns) of ``segments``
     with runs among them: a run's from its arrays, the others' by ``plain_columns`` [SI]."""
-    if not any(type(s) is LineRun for s in segments):
+    if not any(type(s) in RUNS for s in segments):
         return plain_columns(segments)
     parts, span = [], []
     for s in segments:
-        if type(s) is not LineRun:
+        if type(s) not in RUNS:
             span.append(s)
             continue
         if span:
             parts.append(plain_columns(span))
             span = []
-        parts.append(_run_columns(s))
+        parts.append(_run_columns(s) if type(s) is LineRun else s.columns)
     if span:
         parts.append(plain_columns(span))
     return tuple(np.concatenate(c) for c in zip(*parts, strict=True))
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ColumnRun:
+    """Consecutive segments already in the look-ahead's columns, those
+    :func:`tcpmm.path.geometry.to_arrays` reads: the lines and blend arcs of a blended
+    stretch of a streamed path (:class:`tcpmm.path.blend.CornerBlender`).
+
+    Parameters
+    ----------
+    columns : tuple of ndarray
+        Kind, start, end, centre, feed, rapid, exact stop, dwell, line, plane axes, ccw
+        and extra turns, a row per segment [SI].
+    """
+
+    columns: tuple
+
+    def __len__(self) -> int:
+        return self.columns[0].size
+
+    def cut(self, a: int, b: int) -> ColumnRun:
+        """Segments ``a`` to ``b - 1`` as a run of their own [-]."""
+        return ColumnRun(tuple(c[a:b] for c in self.columns))
+
+
+#: the segment types that stand for several blocks or segments
+RUNS = (LineRun, ColumnRun)
 
 
 def _run_columns(run: LineRun) -> tuple:

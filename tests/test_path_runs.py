@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from tcpmm.path import InterpolatorSettings, parse_gcode
-from tcpmm.path.blend import CornerBlender, blend_corners
+from tcpmm.path.blend import CornerBlender, blend_corners, blended_path
 from tcpmm.path.geometry import _segment_columns, to_arrays
 from tcpmm.path.runs import LineRun, as_lines, blocks, drop_blocks, path_columns
 from tcpmm.path.stream import StreamInterpolator
@@ -112,5 +112,7 @@ def test_a_blended_path_in_pieces_is_the_whole_ones(seed):
         given += blender.push(_runs_of(segs[i:i + k]))
         i += k
     given += blender.push([], final=True)
-    assert _column_bytes(given) == _column_bytes(blend_corners(segs, 2e-6))
+    whole = _column_bytes(blend_corners(segs, 2e-6))
+    assert _column_bytes(given) == whole
     assert sum(type(s).__name__ == "ColumnRun" for s in given) > 1
+    assert _column_bytes(blended_path(_runs_of(segs), 2e-6)) == whole

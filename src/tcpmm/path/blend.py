@@ -50,6 +50,25 @@ def blend_corners(segments, default_tol_m: float = 0.0) -> list:
     return _as_segments(segs, blended_rows(tb, d, 0, len(segs)))
 
 
+def blended_path(segments, default_tol_m: float = 0.0) -> list:
+    """:func:`blend_corners` for the look-ahead: each blended stretch one run of columns
+    (:class:`~tcpmm.path.runs.ColumnRun`) instead of a segment per line and blend [-].
+
+    Parameters
+    ----------
+    segments : sequence of Line, Rapid, Arc, Dwell, LineRun
+        The continuous tool path [-].
+    default_tol_m : float
+        Contour tolerance of a corner whose block carries none (no ``G64 P``) [m].
+    """
+    segs = list(segments)
+    tb = block_table(segs)
+    d = tangent_lengths(tb, default_tol_m)
+    if not d.any():
+        return segs
+    return _as_runs(segs, tb, blended_rows(tb, d, 0, tb.n))
+
+
 def _as_segments(segs: list, rows) -> list:
     """The rows of a blended path as segments: a block left as it was is itself [-]."""
     out = []

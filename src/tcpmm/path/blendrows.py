@@ -59,20 +59,21 @@ class BlockTable:
 
 def block_table(segments) -> BlockTable:
     """The table of ``segments`` (Lines, runs of them, and any other segment) [-]."""
-    parts = []
-    for s in segments:
+    parts, lines = [], []
+    for s in [*segments, None]:
         t = type(s)
+        if t is Line:
+            lines.append(s)
+            continue
+        if lines:  # a field per column over the Lines, one conversion each
+            parts.append(_line_rows(lines))
+            lines = []
         if t is LineRun:
             k = len(s)
             parts.append((s.starts(), np.asarray(s.end_m, float), np.ones(k, bool),
                           np.full(k, s.exact_stop), np.full(k, _tol(s.tolerance_m)),
                           np.asarray(s.feed_m_per_s, float), np.arange(s.line, s.line + k)))
-        elif t is Line:
-            parts.append((np.array([s.start_m], float), np.array([s.end_m], float),
-                          np.ones(1, bool), np.full(1, s.exact_stop),
-                          np.full(1, _tol(s.tolerance_m)), np.full(1, s.feed_m_per_s),
-                          np.full(1, -1 if s.line is None else s.line)))
-        else:
+        elif s is not None:
             parts.append((np.full((1, 3), np.nan), np.full((1, 3), np.nan), np.zeros(1, bool),
                           np.zeros(1, bool), np.full(1, np.nan), np.zeros(1),
                           np.full(1, -1)))
@@ -83,6 +84,17 @@ def block_table(segments) -> BlockTable:
     cols = [np.concatenate(c) for c in zip(*parts, strict=True)]
     cols[-1] = cols[-1].astype(np.int64)
     return BlockTable(*cols)
+
+
+def _line_rows(lines: list) -> tuple:
+    """The table's columns of consecutive Lines [-]."""
+    k = len(lines)
+    return (np.array([s.start_m for s in lines], float).reshape(k, 3),
+            np.array([s.end_m for s in lines], float).reshape(k, 3), np.ones(k, bool),
+            np.array([s.exact_stop for s in lines], bool),
+            np.array([_tol(s.tolerance_m) for s in lines], float),
+            np.array([s.feed_m_per_s for s in lines], float),
+            np.array([-1 if s.line is None else s.line for s in lines], np.int64))
 
 
 def _tol(t) -> float:

@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import _compiled as ck  # the look-ahead, profiles and sampling, compiled
 from ..errors import InputError
-from .blend import blend_corners
+from .blend import blended_path
 from .command import Command
 from .filters import FilterShape, apply_filter, filter_shape
 from .geometry import ARC, DWELL, PathArrays, evaluate, to_arrays
@@ -222,8 +222,8 @@ def interpolate_detailed(
     """
     settings = settings or InterpolatorSettings()
     dt = settings.period_s
-    segments = blend_corners(_starting_path(segments, start_position_m),
-                             settings.blend_tolerance_m)
+    segments = blended_path(_starting_path(segments, start_position_m),
+                            settings.blend_tolerance_m)
     p = to_arrays(segments, settings.rapid())
     filt = filter_shape(settings.filter_kind, settings.filter_time_s, dt,
                         settings.corner_tolerance_m)

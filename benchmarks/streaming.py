@@ -1,12 +1,16 @@
 """Streaming end to end: an NC program of N blocks (0.1 mm G1 blocks of a spiral at
-F3000) through ``tcpmm simulate --gcode ... -o RUN.parquet`` (read, interpolated and
-simulated a chunk of blocks at a time, written a row group at a time) and ``tcpmm contour
-RUN.parquet --chunk-rows ...`` (the contour error summary, read in chunks).
+F3000; with ``--program spiral-g64`` the same under ``G64 P0.01``; with ``zigzag`` a CAM
+finishing pattern, passes of 2 mm in 0.1 mm blocks 0.05 mm apart under ``G64 P0.01``, a
+corner every 21 blocks) through ``tcpmm simulate --gcode ... -o RUN.parquet`` (read,
+interpolated and simulated a chunk of blocks at a time, written a row group at a time)
+and ``tcpmm contour RUN.parquet --chunk-rows ...`` (the contour error summary, read in
+chunks).
 
 Each command runs in a process of its own, started by a small parent that reads the
 child's maximum resident set (``getrusage(RUSAGE_CHILDREN).ru_maxrss``) and its wall
 time. Targets of issue #52: 1 M blocks in 6 s, 10 M blocks in 60 s under 2 GB. Not a
-test: ``python benchmarks/streaming.py [--blocks N] [--chunk-blocks N] [--json]``.
+test: ``python benchmarks/streaming.py [--blocks N] [--program P] [--chunk-blocks N]
+[--json]``.
 """
 
 from __future__ import annotations
@@ -27,12 +31,12 @@ _PEAK = ("import resource, subprocess, sys; "
 _TCPMM = ("import sys; from tcpmm.cli import main; sys.exit(main())",)
 
 
-def spiral_program(blocks: int, path: Path) -> Path:
+def spiral_program(blocks: int, path: Path, head: str = "G21 G90 G17") -> Path:
     """A spiral of ``blocks`` G1 blocks 0.1 mm long at F3000, from a radius of 20 mm
     outwards by 0.01 mm a turn [-]."""
     r, phi = 20.0, 0.0
     with open(path, "w") as f:
-        f.write("G21 G90 G17\nG1 X20 Y0 F3000\n")
+        f.write(f"{head}\nG1 X20 Y0 F3000\n")
         rows = []
         for _ in range(blocks):
             phi += 0.1 / r
@@ -44,6 +48,35 @@ def spiral_program(blocks: int, path: Path) -> Path:
         f.writelines(rows)
         f.write("M30\n")
     return path
+
+
+def zigzag_program(blocks: int, path: Path) -> Path:
+    """A CAM finishing pattern of ``blocks`` G1 blocks under ``G64 P0.01`` at F3000:
+    passes of 2 mm in 0.1 mm blocks along X, a 0.05 mm step in Y between them [-]."""
+    x, y, dx = 0.0, 0.0, 0.1
+    with open(path, "w") as f:
+        f.write("G21 G90 G17 G64 P0.01\nG1 X0 Y0 F3000\n")
+        rows = []
+        for k in range(blocks):
+            if k % 21 == 20:
+                y += 0.05
+                dx = -dx
+                rows.append(f"G1 Y{y:.4f}\n")
+            else:
+                x += dx
+                rows.append(f"G1 X{x:.4f}\n")
+            if len(rows) == 100_000:
+                f.writelines(rows)
+                rows.clear()
+        f.writelines(rows)
+        f.write("M30\n")
+    return path
+
+
+#: The programs the benchmark makes, by name.
+PROGRAMS = {"spiral": spiral_program,
+            "spiral-g64": lambda n, path: spiral_program(n, path, "G21 G90 G17 G64 P0.01"),
+            "zigzag": zigzag_program}
 
 
 def timed(args: list[str]) -> tuple[float, float]:
@@ -62,6 +95,8 @@ def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--blocks", type=int, default=1_000_000,
                    help="blocks of the program (10000000 for the 10 M target)")
+    p.add_argument("--program", choices=sorted(PROGRAMS), default="spiral",
+                   help="the program made (module docstring)")
     p.add_argument("--chunk-blocks", type=int, default=100_000, help="blocks a chunk")
     p.add_argument("--chunk-rows", type=int, default=200_000, help="run rows a chunk")
     p.add_argument("--no-contour", action="store_true",
@@ -69,20 +104,20 @@ def main(argv=None) -> None:
     p.add_argument("--json", action="store_true", help="print the figures as JSON")
     a = p.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
-        prog = spiral_program(a.blocks, Path(tmp) / "spiral.nc")
+        prog = PROGRAMS[a.program](a.blocks, Path(tmp) / "program.nc")
         run = Path(tmp) / "run.parquet"
         sim = timed(["simulate", "builtin:vmc", "--gcode", str(prog), "-o", str(run),
                      "--chunk-blocks", str(a.chunk_blocks)])
         size_mb = run.stat().st_size / 1e6
         con = (0.0, 0.0) if a.no_contour else timed(
             ["contour", str(run), "--plane", "XY", "--chunk-rows", str(a.chunk_rows)])
-    res = {"blocks": a.blocks, "simulate_s": sim[0], "simulate_peak_mb": sim[1],
-           "contour_s": con[0], "contour_peak_mb": con[1], "total_s": sim[0] + con[0],
-           "peak_mb": max(sim[1], con[1]), "run_file_mb": size_mb}
+    res = {"program": a.program, "blocks": a.blocks, "simulate_s": sim[0],
+           "simulate_peak_mb": sim[1], "contour_s": con[0], "contour_peak_mb": con[1],
+           "total_s": sim[0] + con[0], "peak_mb": max(sim[1], con[1]), "run_file_mb": size_mb}
     if a.json:
         print(json.dumps(res))
         return
-    print(f"{a.blocks} blocks: simulate {sim[0]:.1f} s, {sim[1]:.0f} MB; contour "
+    print(f"{a.program}, {a.blocks} blocks: simulate {sim[0]:.1f} s, {sim[1]:.0f} MB; contour "
           f"{con[0]:.1f} s, {con[1]:.0f} MB; total {res['total_s']:.1f} s, peak "
           f"{res['peak_mb']:.0f} MB (run file {size_mb:.0f} MB)")
 

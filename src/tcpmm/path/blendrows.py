@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from itertools import repeat
 
 import numpy as np
 
@@ -136,21 +137,25 @@ def corner_lengths(a0, a1, b0, b1, tols) -> np.ndarray:
         turns = norm_rows(cross) >= 1e-12  # else straight on, or a reversal
     d = np.zeros(len(a0))
     ks = np.flatnonzero(turns)
-    found = []
-    # Python floats from here: numpy's scalars cost a microsecond each
-    for ck, tk, p0, p1, q0, q1 in zip(c[ks].tolist(), np.asarray(tols)[ks].tolist(),
-                                      a0[ks].tolist(), a1[ks].tolist(), b0[ks].tolist(),
-                                      b1[ks].tolist(), strict=True):
-        theta = math.acos(ck)
-        if theta < 1e-12:
-            found.append(0.0)
-            continue
-        h = 0.5 * theta
-        d_tol = tk * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2)
-        dk = min(d_tol, 0.5 * math.dist(p0, p1), 0.5 * math.dist(q0, q1))
-        found.append(dk if dk >= MIN_BLEND_M else 0.0)
-    d[ks] = found
+    # the functions of math over lists (libm's results, whatever the CPU's vector units):
+    # Python's x ** 2 is libm's pow, and math.hypot of a line's differences is math.dist
+    # of its ends, to the bit
+    theta = _math(math.acos, c[ks])
+    h = 0.5 * theta
+    sq = _math(math.pow, _math(math.sin, 0.5 * h), 2.0)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a turn too small to blend
+        d_tol = np.asarray(tols)[ks] * _math(math.sin, h) / (2.0 * sq)
+    len_a = np.array(list(map(math.hypot, *(a1[ks] - a0[ks]).T.tolist())))
+    len_b = np.array(list(map(math.hypot, *(b1[ks] - b0[ks]).T.tolist())))
+    dk = np.minimum(np.minimum(d_tol, 0.5 * len_a), 0.5 * len_b)
+    d[ks] = np.where((theta >= 1e-12) & (dk >= MIN_BLEND_M), dk, 0.0)
     return d
+
+
+def _math(fn, x, *args) -> np.ndarray:
+    """``fn`` of :mod:`math` on each value of ``x`` (with the further arguments) [-]."""
+    return np.array(list(map(fn, np.asarray(x, float).tolist(),
+                             *(repeat(a) for a in args))), float)
 
 
 def units(v) -> np.ndarray:
@@ -224,12 +229,9 @@ def blended_rows(tb: BlockTable, d: np.ndarray, first: int, stop: int) -> Blende
 def _blend_points(p, u1, u2, dk) -> tuple:
     """Start, end and centre of the blends at the corners ``p`` from the directions
     ``u1`` into ``u2``, tangent lengths ``dk`` [m]."""
-    cos_theta = np.clip(dot_rows(u1, u2), -1.0, 1.0).tolist()
-    reach = []
-    for ct, dist in zip(cos_theta, dk.tolist(), strict=True):
-        h = 0.5 * math.acos(ct)
-        reach.append(dist / math.tan(h) / math.cos(h))
+    h = 0.5 * _math(math.acos, np.clip(dot_rows(u1, u2), -1.0, 1.0))
+    reach = dk / _math(math.tan, h) / _math(math.cos, h)
     with np.errstate(invalid="ignore", divide="ignore"):
         bis = units(u2 - u1)
-    centre = p + bis * np.array(reach).reshape(-1, 1)
+    centre = p + bis * reach.reshape(-1, 1)
     return p - dk[:, None] * u1, p + dk[:, None] * u2, centre

@@ -31,46 +31,49 @@ _PEAK = ("import resource, subprocess, sys; "
 _TCPMM = ("import sys; from tcpmm.cli import main; sys.exit(main())",)
 
 
-def spiral_program(blocks: int, path: Path, head: str = "G21 G90 G17") -> Path:
-    """A spiral of ``blocks`` G1 blocks 0.1 mm long at F3000, from a radius of 20 mm
-    outwards by 0.01 mm a turn [-]."""
-    r, phi = 20.0, 0.0
+def _write_program(path: Path, head: str, blocks) -> Path:
+    """``head``, the lines ``blocks`` gives and ``M30``, written 100 000 lines at a time [-]."""
     with open(path, "w") as f:
-        f.write(f"{head}\nG1 X20 Y0 F3000\n")
+        f.write(head)
         rows = []
-        for _ in range(blocks):
-            phi += 0.1 / r
-            r = 20.0 + 0.01 * phi / (2 * math.pi)
-            rows.append(f"G1 X{r * math.cos(phi):.4f} Y{r * math.sin(phi):.4f}\n")
+        for row in blocks:
+            rows.append(row)
             if len(rows) == 100_000:
                 f.writelines(rows)
                 rows.clear()
         f.writelines(rows)
         f.write("M30\n")
     return path
+
+
+def spiral_program(blocks: int, path: Path, head: str = "G21 G90 G17") -> Path:
+    """A spiral of ``blocks`` G1 blocks 0.1 mm long at F3000, from a radius of 20 mm
+    outwards by 0.01 mm a turn [-]."""
+    def rows():
+        r, phi = 20.0, 0.0
+        for _ in range(blocks):
+            phi += 0.1 / r
+            r = 20.0 + 0.01 * phi / (2 * math.pi)
+            yield f"G1 X{r * math.cos(phi):.4f} Y{r * math.sin(phi):.4f}\n"
+
+    return _write_program(path, f"{head}\nG1 X20 Y0 F3000\n", rows())
 
 
 def zigzag_program(blocks: int, path: Path) -> Path:
     """A CAM finishing pattern of ``blocks`` G1 blocks under ``G64 P0.01`` at F3000:
     passes of 2 mm in 0.1 mm blocks along X, a 0.05 mm step in Y between them [-]."""
-    x, y, dx = 0.0, 0.0, 0.1
-    with open(path, "w") as f:
-        f.write("G21 G90 G17 G64 P0.01\nG1 X0 Y0 F3000\n")
-        rows = []
+    def rows():
+        x, y, dx = 0.0, 0.0, 0.1
         for k in range(blocks):
             if k % 21 == 20:
                 y += 0.05
                 dx = -dx
-                rows.append(f"G1 Y{y:.4f}\n")
+                yield f"G1 Y{y:.4f}\n"
             else:
                 x += dx
-                rows.append(f"G1 X{x:.4f}\n")
-            if len(rows) == 100_000:
-                f.writelines(rows)
-                rows.clear()
-        f.writelines(rows)
-        f.write("M30\n")
-    return path
+                yield f"G1 X{x:.4f}\n"
+
+    return _write_program(path, "G21 G90 G17 G64 P0.01\nG1 X0 Y0 F3000\n", rows())
 
 
 #: The programs the benchmark makes, by name.

@@ -151,27 +151,32 @@ class CornerStream:
         i0 = int(np.searchsorted(t, min(c.b0, c.t0), side="left"))
         i1 = t.size if c.b1 is None else int(np.searchsorted(t, c.b1, side="right"))
         t = t[i0:i1]
-        actual, errors, feet = ({k: v[i0:i1] for k, v in d.items()}
-                                for d in (actual, errors, feet))
+        m, names = t.size, list(actual)
         after = t >= c.t0
         sp = np.interp(t[after], self.tc, self.s)
+        # every sensor's samples at once, their rows stacked: the arithmetic is row by row
+        q = np.concatenate([actual[k][i0:i1] for k in names])
+        lf = np.concatenate([feet[k][i0:i1] for k in names]) - self.off
+        mine = lf >= 0  # a segment dropped lies before every corner not yet found
+        at = self.s[np.where(mine, lf, 0)]
+        near = mine & (at >= c.s_i - self.span) & (
+            (at <= c.s_i + self.span) | (at <= c.s_on))
+        qn = q[near]
+        if c.end:  # the travel past the end point
+            dev, past = dot_rows(qn - c.c, c.n), np.ones(qn.shape[0], bool)
+        else:  # how far outside the path the point lies, once past the corner
+            foot_point, at_foot = closest_on(qn, self.p, self.s, lf[near])
+            dev, past = dot_rows(qn - foot_point, c.n), at_foot >= c.s_first - 1e-12
+        cut = np.cumsum(near.reshape(len(names), m).sum(axis=1))[:-1]
+        each = (np.split(x, cut) for x in (np.tile(t, len(names))[near],
+                                           norm_rows(qn - c.c), dev, past))
         row = {}
-        for name, q in actual.items():
-            lf = feet[name] - self.off
-            mine = lf >= 0  # a segment dropped lies before every corner not yet found
-            at = self.s[np.where(mine, lf, 0)]
-            near = mine & (at >= c.s_i - self.span) & (
-                (at <= c.s_i + self.span) | (at <= c.s_on))
-            qn = q[near]
-            if c.end:  # the travel past the end point
-                dev, past = dot_rows(qn - c.c, c.n), np.ones(qn.shape[0], bool)
-            else:  # how far outside the path the point lies, once past the corner
-                foot_point, at_foot = closest_on(qn, self.p, self.s, lf[near])
-                dev, past = dot_rows(qn - foot_point, c.n), at_foot >= c.s_first - 1e-12
-            c.near.setdefault(name, []).append((t[near], norm_rows(qn - c.c), dev, past))
+        for j, (name, *got) in enumerate(zip(names, *each, strict=True)):
+            c.near.setdefault(name, []).append(tuple(got))
             # what settles: the contour error after a corner, the distance to the end
             # point at the end of the path (the command rests there: lag counts too)
-            row[name] = norm_rows(q[after] - c.c) if c.end else errors[name][after]
+            row[name] = (norm_rows(q[j * m:(j + 1) * m][after] - c.c) if c.end
+                         else errors[name][i0:i1][after])
         c.sensors = list(row)
         c.after.add(np.column_stack([t[after], sp, *row.values()]))
 
@@ -211,7 +216,8 @@ def _figures(c, tol) -> dict:
     samples it owns (halfway from the previous corner to halfway to the next) [SI]."""
     out = {}
     a0, a1 = c.after.count(c.b0, "left"), c.after.count(c.b1, "right")
-    for col, name in enumerate(c.sensors, start=2):
+    settled = _settling(c.after, a0, a1, range(2, 2 + len(c.sensors)), c.t0, c.sp0, tol)
+    for name, settle in zip(c.sensors, settled, strict=True):
         t, dist, dev, past = (np.concatenate(v) for v in zip(*c.near[name], strict=True))
         own = (t >= c.b0) & (t <= c.b1)
         if not own.any():
@@ -224,32 +230,44 @@ def _figures(c, tol) -> dict:
                 dv = dev[own & past]
             fig = {"overshoot_m": float(max(np.max(dv), 0.0)) if dv.size else 0.0,
                    "rounding_m": float(np.min(dist[own]))}
-        out[name] = {**fig, **_settling(c.after, a0, a1, col, c.t0, c.sp0, tol)}
+        out[name] = {**fig, **settle}
     return out
 
 
-def _settling(tape, a0: int, a1: int, col: int, t0: float, sp0: float, tol: float) -> dict:
-    """Time and command path length from ``t0`` (where the path length is ``sp0``) until
-    the error in column ``col`` of rows ``a0:a1`` of the tape (time, path length, errors)
-    stays within ``tol`` of its level at the end of the stretch (the median of its last
-    quarter) [s, m]; the stretch is read back from its end a block at a time."""
+def _settling(tape, a0: int, a1: int, cols, t0: float, sp0: float, tol: float) -> list:
+    """Per column of ``cols``: time and command path length from ``t0`` (where the path
+    length is ``sp0``) until the error in that column of rows ``a0:a1`` of the tape (time,
+    path length, errors) stays within ``tol`` of its level at the end of the stretch (the
+    median of its last quarter) [s, m]; the stretch is read back from its end a block at
+    a time, for every column at once."""
+    cols = list(cols)
     nan = {"settle_s": float("nan"), "settle_m": float("nan")}
     size = a1 - a0
     if size < 4:
-        return nan
-    level = np.median(tape.column(a1 - size // 4, a1, col, _BACK_ROWS))
-    if abs(tape.rows(a1 - 1, a1)[0, col] - level) > tol:
-        return nan
-    k, hi = a0, a1
-    while hi > a0:
+        return [nan] * len(cols)
+    tail = [tape.rows(lo, min(lo + _BACK_ROWS, a1))[:, cols]
+            for lo in range(a1 - size // 4, a1, _BACK_ROWS)]
+    level = np.median(np.concatenate(tail), axis=0)
+    last = np.abs(tape.rows(a1 - 1, a1)[0, cols] - level) > tol
+    k = {j: a0 for j in range(len(cols)) if not last[j]}  # the columns that settle
+    left, hi = set(k), a1
+    while left and hi > a0:
         lo = max(a0, hi - _BACK_ROWS)
-        out = np.flatnonzero(np.abs(tape.rows(lo, hi)[:, col] - level) > tol)
-        if out.size:
-            k = lo + int(out[-1]) + 1
-            break
+        block = tape.rows(lo, hi)
+        for j in list(left):
+            out = np.flatnonzero(np.abs(block[:, cols[j]] - level[j]) > tol)
+            if out.size:
+                k[j] = lo + int(out[-1]) + 1
+                left.discard(j)
         hi = lo
-    t, sp = tape.rows(k, k + 1)[0, :2]
-    return {"settle_s": float(t - t0), "settle_m": float(sp - sp0)}
+    res = []
+    for j in range(len(cols)):
+        if j not in k:
+            res.append(nan)
+            continue
+        t, sp = tape.rows(k[j], k[j] + 1)[0, :2]
+        res.append({"settle_s": float(t - t0), "settle_m": float(sp - sp0)})
+    return res
 
 
 def _numbered(k, c) -> dict:

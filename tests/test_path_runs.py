@@ -87,20 +87,32 @@ def _column_bytes(segments) -> list:
 @pytest.mark.parametrize("seed", range(4))
 def test_a_blended_path_in_pieces_is_the_whole_ones(seed):
     """Random straight blocks (turns of every size, collinear stretches, reversals, exact
-    stops, tolerances of a block's own, none or 0) with dwells between, in runs and in
-    pieces of random size: the blender's columns are those of the whole path blended at
-    once, to the bit."""
-    from tcpmm.path.segments import Dwell, Line
+    stops, tolerances of a block's own, none or 0) with dwells, rapids and arcs between,
+    in runs and in pieces of random size: the blender's columns are those of the whole
+    path blended at once, to the bit."""
+    from tcpmm.path.segments import Arc, Dwell, Line, Rapid
 
     rng = np.random.default_rng(seed)
     p, segs = np.zeros(3), []
     for i in range(600):
-        if rng.random() < 0.02:
-            segs.append(Dwell(tuple(p), 0.01, line=i + 1))
+        other = rng.random()
+        if other < 0.06:
+            if other < 0.02:
+                segs.append(Dwell(tuple(p), 0.01, line=i + 1))
+                continue
+            q = p + rng.normal(size=3) * 1e-3
+            c = p + np.array([*rng.normal(size=2) * 1e-3, 0.0])
+            a = rng.uniform(0.2, 2.0)
+            r = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+            q[:2] = c[:2] + r @ (p[:2] - c[:2])
+            segs.append(Rapid(tuple(p), tuple(q), line=i + 1) if other < 0.04 else
+                        Arc(tuple(p), tuple(q), tuple(c), ("X", "Y"), "ccw", 0.05,
+                            line=i + 1))
+            p = q
             continue
         step = rng.normal(size=3) if rng.random() < 0.4 or not segs else np.subtract(
             segs[-1].end_m, segs[-1].start_m) * (1 if rng.random() < 0.8 else -1) \
-            if type(segs[-1]) is Line else rng.normal(size=3)
+            if type(segs[-1]) in (Line, Rapid) else rng.normal(size=3)
         q = p + step / np.linalg.norm(step) * 10.0 ** rng.uniform(-5, -2)
         tol = [None, 0.0, 1e-5, 10.0 ** rng.uniform(-7, -3)][rng.integers(4)]
         segs.append(Line(tuple(p), tuple(q), 0.05 + 0.01 * rng.integers(3),

@@ -84,8 +84,9 @@ def _column_bytes(segments) -> list:
     return [c.tobytes() for c in path_columns(segments, _segment_columns)]
 
 
-@pytest.mark.parametrize("seed", range(4))
-def test_a_blended_path_in_pieces_is_the_whole_ones(seed):
+@pytest.mark.parametrize(("seed", "default_tol"), [(0, 2e-6), (1, 2e-6), (2, 0.0),
+                                                   (3, 0.0)])
+def test_a_blended_path_in_pieces_is_the_whole_ones(seed, default_tol):
     """Random straight blocks (turns of every size, collinear stretches, reversals, exact
     stops, tolerances of a block's own, none or 0) with dwells, rapids and arcs between,
     in runs and in pieces of random size: the blender's columns are those of the whole
@@ -114,17 +115,20 @@ def test_a_blended_path_in_pieces_is_the_whole_ones(seed):
             segs[-1].end_m, segs[-1].start_m) * (1 if rng.random() < 0.8 else -1) \
             if type(segs[-1]) in (Line, Rapid) else rng.normal(size=3)
         q = p + step / np.linalg.norm(step) * 10.0 ** rng.uniform(-5, -2)
-        tol = [None, 0.0, 1e-5, 10.0 ** rng.uniform(-7, -3)][rng.integers(4)]
+        # without a default, stretches of blocks without a tolerance of their own leave
+        # whole pieces unblended
+        tol = [None, 0.0, 1e-5, 10.0 ** rng.uniform(-7, -3)][rng.integers(4)] if (
+            default_tol or i % 200 < 100) else None
         segs.append(Line(tuple(p), tuple(q), 0.05 + 0.01 * rng.integers(3),
                          exact_stop=bool(rng.random() < 0.03), line=i + 1, tolerance_m=tol))
         p = q
-    blender, given, i = CornerBlender(2e-6), [], 0
+    blender, given, i = CornerBlender(default_tol), [], 0
     while i < len(segs):
         k = int(rng.integers(1, 80))
         given += blender.push(_runs_of(segs[i:i + k]))
         i += k
     given += blender.push([], final=True)
-    whole = _column_bytes(blend_corners(segs, 2e-6))
+    whole = _column_bytes(blend_corners(segs, default_tol))
     assert _column_bytes(given) == whole
     assert sum(type(s).__name__ == "ColumnRun" for s in given) > 1
-    assert _column_bytes(blended_path(_runs_of(segs), 2e-6)) == whole
+    assert _column_bytes(blended_path(_runs_of(segs), default_tol)) == whole

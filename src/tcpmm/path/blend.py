@@ -23,7 +23,7 @@ import numpy as np
 
 from .blendrows import blended_rows, block_table, tangent_lengths
 from .geometry import BLEND
-from .runs import ColumnRun, LineRun
+from .runs import ColumnRun, LineRun, as_lines
 from .segments import Blend, Line
 
 
@@ -32,7 +32,7 @@ def blend_corners(segments, default_tol_m: float = 0.0) -> list:
 
     Parameters
     ----------
-    segments : sequence of Line, Rapid, Arc, Dwell
+    segments : sequence of Line, Rapid, Arc, Dwell, LineRun
         The continuous tool path [-].
     default_tol_m : float
         Contour tolerance of a corner whose block carries none (no ``G64 P``) [m].
@@ -40,14 +40,15 @@ def blend_corners(segments, default_tol_m: float = 0.0) -> list:
     Returns
     -------
     list
-        The path with a blend arc at each corner blended; the input when none is [-].
+        The path with a blend arc at each corner blended; its blocks as they are (a run
+        as its Lines) when none is [-].
     """
-    segs = list(segments)
+    segs = as_lines(segments)  # a segment per block: the rows point at the blocks
     tb = block_table(segs)
     d = tangent_lengths(tb, default_tol_m)
     if not d.any():
         return segs
-    return _as_segments(segs, blended_rows(tb, d, 0, len(segs)))
+    return _as_segments(segs, blended_rows(tb, d, 0, tb.n))
 
 
 def blended_path(segments, default_tol_m: float = 0.0) -> list:

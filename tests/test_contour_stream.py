@@ -219,3 +219,17 @@ def test_long_settling_stretches_go_to_disk_and_give_the_same(run_file, monkeypa
     monkeypatch.setattr(contour_corners, "_BACK_ROWS", 7)
     assert_same_corners(stream_contour(run_file, ("X", "Y"), True, rows=61).corners,
                         ref.corners)
+
+
+def test_corners_of_a_run_without_sensors_are_found_without_figures():
+    """Samples with no sensor's points still go through the corners: they are found, and
+    carry no figures."""
+    t = np.arange(0.0, 2.0, 1e-3)
+    p = np.column_stack([np.minimum(t, 1.0) * 0.01, np.maximum(t - 1.0, 0.0) * 0.01])
+    cs = CornerStream()
+    cs.add_command(t, p)
+    cs.add_samples(t, {}, {}, {})
+    got = cs.finish()
+    assert [c["number"] for c in got] == [1, 2]
+    assert got[0]["index"] == 1000 and np.isnan(got[1]["turn_rad"])
+    assert not any(k in c for c in got for k in ("tcp", "scale", "motor"))

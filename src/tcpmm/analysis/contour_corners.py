@@ -154,6 +154,10 @@ class CornerStream:
         m, names = t.size, list(actual)
         after = t >= c.t0
         sp = np.interp(t[after], self.tc, self.s)
+        if not names:
+            c.sensors = []
+            c.after.add(np.column_stack([t[after], sp]))
+            return
         # every sensor's samples at once, their rows stacked: the arithmetic is row by row
         q = np.concatenate([actual[k][i0:i1] for k in names])
         lf = np.concatenate([feet[k][i0:i1] for k in names]) - self.off

@@ -14,6 +14,8 @@ to halfway to it are in: the figures are the whole run's to the bit, whatever th
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from .._rows import dot_rows, norm_rows
@@ -171,9 +173,9 @@ class CornerStream:
         else:  # how far outside the path the point lies, once past the corner
             foot_point, at_foot = closest_on(qn, self.p, self.s, lf[near])
             dev, past = dot_rows(qn - foot_point, c.n), at_foot >= c.s_first - 1e-12
-        cut = np.cumsum(near.reshape(len(names), m).sum(axis=1))[:-1]
-        each = (np.split(x, cut) for x in (np.tile(t, len(names))[near],
-                                           norm_rows(qn - c.c), dev, past))
+        cut = [0, *np.cumsum(near.reshape(len(names), m).sum(axis=1)).tolist()]
+        each = ([x[a:b] for a, b in itertools.pairwise(cut)]
+                for x in (np.tile(t, len(names))[near], norm_rows(qn - c.c), dev, past))
         row = {}
         for j, (name, *got) in enumerate(zip(names, *each, strict=True)):
             c.near.setdefault(name, []).append(tuple(got))
@@ -222,7 +224,8 @@ def _figures(c, tol) -> dict:
     a0, a1 = c.after.count(c.b0, "left"), c.after.count(c.b1, "right")
     settled = _settling(c.after, a0, a1, range(2, 2 + len(c.sensors)), c.t0, c.sp0, tol)
     for name, settle in zip(c.sensors, settled, strict=True):
-        t, dist, dev, past = (np.concatenate(v) for v in zip(*c.near[name], strict=True))
+        t, dist, dev, past = (v[0] if len(v) == 1 else np.concatenate(v)
+                              for v in zip(*c.near[name], strict=True))
         own = (t >= c.b0) & (t <= c.b1)
         if not own.any():
             fig = {"overshoot_m": float("nan"), "rounding_m": float("nan")}

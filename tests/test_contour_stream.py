@@ -143,6 +143,28 @@ def test_the_cli_streams_the_corner_table(run_file, capsys):
     assert code == 0 and "corners, tcp" in capsys.readouterr().out
 
 
+def test_a_streamed_contour_shows_the_rows_measured_on_a_terminal(run_file, monkeypatch,
+                                                                   capsys):
+    """On a terminal a bar counts the rows measured up to the run's; in a pipe there is
+    none (the other tests run in one)."""
+    import io
+
+    from rich.console import Console
+
+    from tcpmm.analysis.contour_stream import parquet_rows
+    from tcpmm.cli import _stream
+
+    screen = io.StringIO()
+    monkeypatch.setattr(_stream, "console", Console(file=screen, force_terminal=True,
+                                                     width=120))
+    assert main(["contour", str(run_file), "--plane", "XY", "--chunk-rows", "500"]) == 0
+    total = parquet_rows(run_file)
+    shown = screen.getvalue()
+    assert f"{total}/{total}" in shown and "rows" in shown
+    assert f"/{total}" in shown.split(f"{total}/{total}")[0]  # counted up to it
+    assert "rows" not in capsys.readouterr().err
+
+
 @pytest.mark.parametrize(("column", "row", "value", "message"), [
     ("x_tcp_mm", 120, None, "value is missing or not a number (row 120)"),
     ("y_scale_mm", 7, float("inf"), "value is missing or not a number (row 7)"),

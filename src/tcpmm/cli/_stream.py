@@ -1,5 +1,6 @@
 """The streaming runs of the command line: a program a chunk of blocks at a time, the run
-to Parquet a row group a chunk, and a progress bar of the blocks read."""
+to Parquet a row group a chunk, and a progress bar of the blocks read (of the rows
+measured, for a run's contour error)."""
 
 from __future__ import annotations
 
@@ -31,6 +32,15 @@ def count_lines(path: Path) -> int:
 def block_progress(program: Path, description: str):
     """A progress bar of the program's blocks read, with the time left, on a terminal;
     nothing in a pipe or a log. Yields ``update(lines_read)``."""
+    with count_progress(lambda: count_lines(program), description, "blocks") as update:
+        yield update
+
+
+@contextmanager
+def count_progress(total, description: str, unit: str):
+    """A progress bar of ``total()`` things (counted only on a terminal) named ``unit``,
+    with the time left, on a terminal; nothing in a pipe or a log. Yields
+    ``update(done)``."""
     if not console.is_terminal:
         yield lambda *_: None
         return
@@ -42,12 +52,11 @@ def block_progress(program: Path, description: str):
         TimeRemainingColumn,
     )
 
-    total = count_lines(program)
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                  TextColumn("blocks"), TimeRemainingColumn(), console=console,
+                  TextColumn(unit), TimeRemainingColumn(), console=console,
                   transient=True) as p:
-        task = p.add_task(description, total=total)
-        yield lambda lines: p.update(task, completed=lines)
+        task = p.add_task(description, total=total())
+        yield lambda done: p.update(task, completed=done)
 
 
 def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
@@ -140,7 +149,12 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
     """
     import numpy as np
 
-    from ..analysis.contour_stream import STREAM_ROWS, stream_contour, travel_positions
+    from ..analysis.contour_stream import (
+        STREAM_ROWS,
+        parquet_rows,
+        stream_contour,
+        travel_positions,
+    )
     from ..result import AxisRun, Run
     from ._plane import run_plane_said
 
@@ -149,8 +163,17 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
     how = run_plane_said(plane, ends, run_file, allow_3d=True)
     axes, signed = (tuple(how), True) if how else (tuple(a for a in "XYZ" if a in travel),
                                                    False)
-    return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS,
-                          corner_deg=corner_deg, settle_tol_m=settle_tol_m)
+    with count_progress(lambda: parquet_rows(run_file), "contour", "rows") as update:
+        counted = {}
+
+        def each(sensor, errors):  # rows measured so far, counted on the first sensor
+            first = counted.setdefault("sensor", sensor)
+            if sensor == first:
+                counted["rows"] = counted.get("rows", 0) + errors.size
+                update(counted["rows"])
+
+        return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS,
+                              each, corner_deg=corner_deg, settle_tol_m=settle_tol_m)
 
 
 #: an NC program of more lines than this is interpolated in chunks by ``tcpmm path`` [-]

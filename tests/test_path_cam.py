@@ -212,17 +212,19 @@ def test_feed_limits_and_the_command_plot_share_the_protocol(tmp_path):
     pyplot().close("all")
 
 
+def _unit_reference(p, q):
+    """The direction from ``p`` to ``q`` in Python floats, coordinates summed first to
+    last [-]."""
+    v = [q[i] - p[i] for i in range(3)]
+    n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    return [x / n for x in v]
+
+
 def _tangent_length_reference(a, b, tol):
     """The tangent length of one corner in Python floats (the module's formula)."""
     if not tol > 0.0 or a.exact_stop:
         return 0.0
-
-    def unit(p, q):
-        v = [q[i] - p[i] for i in range(3)]
-        n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-        return [x / n for x in v]
-
-    u1, u2 = unit(a.start_m, a.end_m), unit(b.start_m, b.end_m)
+    u1, u2 = _unit_reference(a.start_m, a.end_m), _unit_reference(b.start_m, b.end_m)
     c = min(max(u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2], -1.0), 1.0)
     cr = [u1[1] * u2[2] - u1[2] * u2[1], u1[2] * u2[0] - u1[0] * u2[2],
           u1[0] * u2[1] - u1[1] * u2[0]]
@@ -267,12 +269,6 @@ def test_the_corners_of_a_long_run_taken_at_once_are_each_ones(seed):
                     for a, b in itertools.pairwise(segs)] + [0.0]
     assert [v.hex() for v in got] == [float(v).hex() for v in want]
     assert sum(v > 0 for v in got) > 50
-
-
-def _unit_reference(p, q):
-    v = [q[i] - p[i] for i in range(3)]
-    n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-    return [x / n for x in v]
 
 
 def _blended_reference(segs, d):

@@ -153,14 +153,26 @@ class CornerStream:
         i0 = int(np.searchsorted(t, min(c.b0, c.t0), side="left"))
         i1 = t.size if c.b1 is None else int(np.searchsorted(t, c.b1, side="right"))
         t = t[i0:i1]
-        m, names = t.size, list(actual)
         after = t >= c.t0
         sp = np.interp(t[after], self.tc, self.s)
+        row = {}
+        for name, got in zip(actual, self._near(c, t, i0, i1, actual, feet), strict=True):
+            c.near.setdefault(name, []).append(got)
+            # what settles: the contour error after a corner, the distance to the end
+            # point at the end of the path (the command rests there: lag counts too)
+            row[name] = (norm_rows(actual[name][i0:i1][after] - c.c) if c.end
+                         else errors[name][i0:i1][after])
+        c.sensors = list(row)
+        c.after.add(np.column_stack([t[after], sp, *row.values()]))
+
+    def _near(self, c, t, i0: int, i1: int, actual, feet) -> list:
+        """Per sensor, of its samples ``i0:i1`` (times ``t``) whose closest command point
+        lies near the corner: times, distance to the corner point, how far outside the
+        path and whether past the corner [s], [m], [m], [-]. Every sensor's samples at
+        once, their rows stacked: the arithmetic is row by row."""
+        names = list(actual)
         if not names:
-            c.sensors = []
-            c.after.add(np.column_stack([t[after], sp]))
-            return
-        # every sensor's samples at once, their rows stacked: the arithmetic is row by row
+            return []
         q = np.concatenate([actual[k][i0:i1] for k in names])
         lf = np.concatenate([feet[k][i0:i1] for k in names]) - self.off
         mine = lf >= 0  # a segment dropped lies before every corner not yet found
@@ -173,18 +185,9 @@ class CornerStream:
         else:  # how far outside the path the point lies, once past the corner
             foot_point, at_foot = closest_on(qn, self.p, self.s, lf[near])
             dev, past = dot_rows(qn - foot_point, c.n), at_foot >= c.s_first - 1e-12
-        cut = [0, *np.cumsum(near.reshape(len(names), m).sum(axis=1)).tolist()]
-        each = ([x[a:b] for a, b in itertools.pairwise(cut)]
-                for x in (np.tile(t, len(names))[near], norm_rows(qn - c.c), dev, past))
-        row = {}
-        for j, (name, *got) in enumerate(zip(names, *each, strict=True)):
-            c.near.setdefault(name, []).append(tuple(got))
-            # what settles: the contour error after a corner, the distance to the end
-            # point at the end of the path (the command rests there: lag counts too)
-            row[name] = (norm_rows(q[j * m:(j + 1) * m][after] - c.c) if c.end
-                         else errors[name][i0:i1][after])
-        c.sensors = list(row)
-        c.after.add(np.column_stack([t[after], sp, *row.values()]))
+        cut = [0, *np.cumsum(near.reshape(len(names), t.size).sum(axis=1)).tolist()]
+        cols = (np.tile(t, len(names))[near], norm_rows(qn - c.c), dev, past)
+        return [tuple(x[a:b] for x in cols) for a, b in itertools.pairwise(cut)]
 
     def _settle(self) -> None:
         """Sum up the corners whose samples are all in, and let go of what no corner

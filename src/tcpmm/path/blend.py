@@ -23,7 +23,7 @@ import numpy as np
 
 from .blendrows import blended_rows, block_table, tangent_lengths
 from .geometry import BLEND
-from .runs import ColumnRun, LineRun, as_lines
+from .runs import ColumnRun, LineRun, as_lines, feed_columns
 from .segments import Blend, Line
 
 
@@ -44,11 +44,8 @@ def blend_corners(segments, default_tol_m: float = 0.0) -> list:
         as its Lines) when none is [-].
     """
     segs = as_lines(segments)  # a segment per block: the rows point at the blocks
-    tb = block_table(segs)
-    d = tangent_lengths(tb, default_tol_m)
-    if not d.any():
-        return segs
-    return _as_segments(segs, blended_rows(tb, d, 0, tb.n))
+    rows = _blended(segs, default_tol_m)[1]
+    return segs if rows is None else _as_segments(segs, rows)
 
 
 def blended_path(segments, default_tol_m: float = 0.0) -> list:
@@ -63,11 +60,16 @@ def blended_path(segments, default_tol_m: float = 0.0) -> list:
         Contour tolerance of a corner whose block carries none (no ``G64 P``) [m].
     """
     segs = list(segments)
+    tb, rows = _blended(segs, default_tol_m)
+    return segs if rows is None else _as_runs(segs, tb, rows)
+
+
+def _blended(segs: list, default_tol_m: float) -> tuple:
+    """The table of ``segs`` and the rows of the whole path blended; None for the rows
+    where no corner is [-]."""
     tb = block_table(segs)
     d = tangent_lengths(tb, default_tol_m)
-    if not d.any():
-        return segs
-    return _as_runs(segs, tb, blended_rows(tb, d, 0, tb.n))
+    return tb, (blended_rows(tb, d, 0, tb.n) if d.any() else None)
 
 
 def _as_segments(segs: list, rows) -> list:
@@ -106,13 +108,10 @@ def _columns(tb, rows, a: int, b: int) -> ColumnRun:
     """Rows ``a`` to ``b - 1`` (lines and blends) as a run of columns [-]."""
     src, blend = rows.src[a:b], rows.kind[a:b] == 2
     nxt = np.where(blend, src + 1, src)
-    n = b - a
     feed = np.where(blend, np.minimum(tb.feed[src], tb.feed[nxt]), tb.feed[src])
-    return ColumnRun((np.where(blend, BLEND, 0).astype(np.int64), rows.start[a:b],
-                      rows.end[a:b], rows.centre[a:b], feed, np.zeros(n, bool),
-                      tb.exact[src] & ~blend, np.zeros(n), tb.line[nxt],
-                      np.tile(np.array([0, 1], np.int64), (n, 1)), np.zeros(n, bool),
-                      np.zeros(n, np.int64)))
+    return ColumnRun(feed_columns(np.where(blend, BLEND, 0).astype(np.int64),
+                                  rows.start[a:b], rows.end[a:b], rows.centre[a:b], feed,
+                                  tb.exact[src] & ~blend, tb.line[nxt]))
 
 
 def _other_blocks(raw: list) -> dict:

@@ -133,7 +133,8 @@ def path_columns(segments, plain_columns) -> tuple:
 class ColumnRun:
     """Consecutive segments already in the look-ahead's columns, those
     :func:`tcpmm.path.geometry.to_arrays` reads: the lines and blend arcs of a blended
-    stretch of a streamed path (:class:`tcpmm.path.blend.CornerBlender`).
+    stretch of a path (:class:`tcpmm.path.blend.CornerBlender`,
+    :func:`tcpmm.path.blend.blended_path`).
 
     Parameters
     ----------
@@ -159,8 +160,30 @@ RUNS = (LineRun, ColumnRun)
 def _run_columns(run: LineRun) -> tuple:
     """The columns of a run's blocks, straight lines (kind 0) [SI]."""
     n = len(run)
-    return (np.zeros(n, np.int64), run.starts(), np.array(run.end_m, float), np.zeros((n, 3)),
-            np.array(run.feed_m_per_s, float), np.zeros(n, bool), np.full(n, run.exact_stop),
-            np.zeros(n), np.arange(run.line, run.line + n, dtype=np.int64),
+    return feed_columns(np.zeros(n, np.int64), run.starts(), np.array(run.end_m, float),
+                        np.zeros((n, 3)), np.array(run.feed_m_per_s, float),
+                        np.full(n, run.exact_stop),
+                        np.arange(run.line, run.line + n, dtype=np.int64))
+
+
+def feed_columns(kind, start, end, centre, feed, exact, line) -> tuple:
+    """The look-ahead's columns (those of :func:`path_columns`) of feed moves that are
+    lines or blend arcs: no rapid, dwell, arc plane, direction or extra turn [SI].
+
+    Parameters
+    ----------
+    kind : ndarray of int
+        Kind of each segment (:mod:`tcpmm.path.geometry`: line or blend) [-].
+    start, end, centre : ndarray, shape (n, 3)
+        Its points; the centre of a blend, zeros for a line [m].
+    feed : ndarray
+        Its programmed feed [m/s].
+    exact : ndarray of bool
+        It stops exactly at its end [-].
+    line : ndarray of int
+        Its source line, -1 for none [-].
+    """
+    n = kind.size
+    return (kind, start, end, centre, feed, np.zeros(n, bool), exact, np.zeros(n), line,
             np.tile(np.array([0, 1], np.int64), (n, 1)), np.zeros(n, bool),
             np.zeros(n, np.int64))

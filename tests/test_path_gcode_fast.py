@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from tcpmm.errors import InputError
 from tcpmm.path import gcode_stream, parse_gcode
 from tcpmm.path.gcode_fast import PLAIN_MOVE, scan_chunk
-from tcpmm.path.gcode_scan import NOT_PLAIN, PLAIN, PLAIN_SLOW
+from tcpmm.path.gcode_scan import ARC, NOT_PLAIN, PLAIN, PLAIN_SLOW
 
 # numbers the tokeniser takes and ones it refuses, in and out of range
 NUMBERS = ["0", "-0", "+1", "1.", ".5", "-.25", "12.3456", "007", "-3", "1000000",
@@ -137,6 +137,70 @@ def test_fast_path_matches_the_reference_on_mixed_programs(text):
     assert _outcome(text, fast=True) == _outcome(text, fast=False)
 
 
+_PLANE_WORDS = {"G17": ("XYZ", "IJ"), "G18": ("ZXY", "KI"), "G19": ("YZX", "JK")}
+
+
+@st.composite
+def arc_program(draw):
+    """Arcs that chain from the current point (centre words or R, in every plane, absolute
+    or incremental, centres absolute or incremental, mm or inch, full circles, helices,
+    feed changes), now and then a modal code, a malformed line or a broken arc among them
+    [-]."""
+    plane = draw(st.sampled_from(sorted(_PLANE_WORDS)))
+    (a, b, h), (ca, cb) = _PLANE_WORDS[plane]
+    absolute, centre_abs = draw(st.booleans()), draw(st.booleans())
+    lines = [f"{draw(st.sampled_from(['G20', 'G21']))} {plane} {'G90' if absolute else 'G91'}"
+             f" {'G90.1' if centre_abs else 'G91.1'} G1 X0 Y0 Z0 F1000"]
+    pos = [0.0, 0.0, 0.0]  # in the plane's axes a, b, h, as the interpreter has it
+    for k in range(draw(st.integers(1, 12))):
+        r = draw(st.floats(0.5, 50.0))
+        phi0, turn = draw(st.floats(-math.pi, math.pi)), draw(st.floats(-6.0, 6.0))
+        c = (pos[0] - r * math.cos(phi0), pos[1] - r * math.sin(phi0))
+        full = draw(st.integers(0, 9)) == 0 or abs(turn) < 0.05
+        end = pos[:2] if full else [c[0] + r * math.cos(phi0 + turn),
+                                    c[1] + r * math.sin(phi0 + turn)]
+        end += [pos[2] + draw(st.sampled_from([0.0, 1.5]))]
+        move = [f"{e if absolute else e - p:.4f}" for e, p in zip(end, pos, strict=True)]
+        # a word left out (it stays where it is: mostly an arc off its circle)
+        words = [f"{L}{v}" for L, v in zip((a, b, h), move, strict=True)
+                 if full or draw(st.integers(0, 19))]
+        if not full and draw(st.booleans()):
+            words.append(f"R{-r if abs(turn) > math.pi else r:.4f}")
+        else:
+            cw = c if centre_abs else [c[0] - pos[0], c[1] - pos[1]]
+            words += [f"{L}{v:.4f}" for L, v in zip((ca, cb), cw, strict=True)]
+        pos = [(p if f"{L}{v}" not in words else float(v) if absolute else p + float(v))
+               for L, v, p in zip((a, b, h), move, pos, strict=True)]
+        if draw(st.integers(0, 3)) == 0:
+            words.append(f"F{draw(feeds)}")
+        g = "G3" if turn > 0 else "G2"
+        lines.append(" ".join([g if k == 0 or draw(st.integers(0, 3)) else "", *words]).strip())
+    if draw(st.integers(0, 2)) == 0:
+        other = draw(st.sampled_from([*MODAL, *MALFORMED, "G2 X1 Y1 I0.3 J0"]))
+        lines.insert(draw(st.integers(1, len(lines))), other)
+    return "\n".join(lines) + "\n"
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(arc_program())
+def test_fast_arcs_match_the_reference(text):
+    assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
+def test_plain_arcs_skip_the_tokeniser(monkeypatch):
+    calls = []
+    tokenize = gcode_stream.tokenize
+    monkeypatch.setattr(gcode_stream, "tokenize", lambda *a: calls.append(a) or tokenize(*a))
+    text = ("G21 G90 G17\nG1 X10 Y0 F3000\nG3 X0 Y10 I-10 J0\nG3 X-10 Y0 R10\n"
+            "G2 X0 Y10 I10 J0 F1500\nX10 Y0 R-10\nG1 X20\nM30\n")
+    segments = parse_gcode(text)
+    assert [c[2] for c in calls] == [1, 8]  # the header and the end only
+    assert [type(s).__name__ for s in segments] == ["Line", "Arc", "Arc", "Arc", "Arc", "Line"]
+    assert [s.direction for s in segments[1:5]] == ["ccw", "ccw", "cw", "cw"]
+    assert segments[3].feed_m_per_s == 1500e-3 / 60
+    assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(incremental_line(), min_size=1, max_size=20), st.sampled_from(MALFORMED),
        st.integers(0, 20))
@@ -175,13 +239,29 @@ def test_the_compiled_lexer_on_a_chunk():
     lines = ["G1 X1.5 Y-2 Z.25 F3000", "  g00x+1y2  ", "X1 X2", "Y1 X1", "G2 X1", "",
              "G1 X" + "1" * 17, "G1 X1e3", "G 01 Z-0", "G10 X1", "X1 (c)", "F100"]
     codes, vals = scan_chunk(lines)
-    assert codes[:, 0].tolist() == [PLAIN, PLAIN, 0, 0, 0, PLAIN, PLAIN_SLOW, 0, PLAIN, 0,
+    assert codes[:, 0].tolist() == [PLAIN, PLAIN, 0, 0, ARC, PLAIN, PLAIN_SLOW, 0, PLAIN, 0,
                                     0, PLAIN]
-    assert codes[:, 1].tolist() == [1, 0, -1, -1, -1, -1, 1, -1, 1, -1, -1, -1]
-    assert codes[:, 2].tolist() == [15, 3, 0, 0, 0, 0, 1, 0, 4, 0, 0, 8]
-    assert vals[0].tolist() == [1.5, -2.0, 0.25, 3000.0] and vals[1, :2].tolist() == [1, 2]
+    assert codes[:, 1].tolist() == [1, 0, -1, -1, 2, -1, 1, -1, 1, -1, -1, -1]
+    assert codes[:, 2].tolist() == [15, 3, 0, 0, 1, 0, 1, 0, 4, 0, 0, 8]
+    assert vals[0, :4].tolist() == [1.5, -2.0, 0.25, 3000.0] and vals[1, :2].tolist() == [1, 2]
     assert math.copysign(1.0, vals[8, 2]) == -1.0
     assert scan_chunk([]) is None and scan_chunk(["X1\nX2"]) is None
+
+
+def test_the_compiled_lexer_marks_plain_arcs():
+    """An arc block of X, Y, Z, I, J, K, R and F in that order, every number exact, is a
+    plain arc; a centre word with G0/G1, another order, an inexact number or no word of a
+    move is left to the tokeniser."""
+    lines = ["G3 X1 Y2 I-0.5 J0 F1200", "g02x1y2r-3", "I1 J2", "G2 Z-1 I2 K0.5",
+             "G1 X1 I1", "G2 I1 X1", "G2 F100", "G3 X1 R" + "1" * 17, "G2 X1 Y1 R1 R2",
+             "G03 X1 Y1 Z2 I3 J4 K5 R6 F7", "G4 X1"]
+    codes, vals = scan_chunk(lines)
+    assert codes[:, 0].tolist() == [ARC, ARC, ARC, ARC, 0, 0, 0, 0, 0, ARC, 0]
+    assert codes[:, 1].tolist() == [3, 2, -1, 2, -1, -1, -1, -1, -1, 3, -1]
+    assert codes[0, 2] == 1 | 2 | 8 | 16 | 32 and codes[1, 2] == 1 | 2 | 128
+    assert vals[0].tolist() == [1.0, 2.0, 0.0, 1200.0, -0.5, 0.0, 0.0, 0.0]
+    assert vals[9].tolist() == [1.0, 1.0, 2.0, 7.0, 3.0, 4.0, 5.0, 6.0]
+    assert vals[1, 7] == -3.0
 
 
 def test_a_number_float_alone_converts_exactly_goes_through_it():

@@ -23,6 +23,7 @@ import re
 import numpy as np
 
 from .. import _compiled as ck
+from .gcode_arcs import ARC, arc_run
 from .gcode_words import MAX_COORDINATE_M, MAX_FEED
 from .runs import LINE_SETTERS, LineRun
 from .segments import Line, Rapid
@@ -37,9 +38,9 @@ PLAIN_MOVE = re.compile(
     + "".join(f"(?:[{c}{c.lower()}]{_NUMBER})?" for c in "XYZF")
 )
 
-#: statuses of :func:`tcpmm.path.gcode_scan.scan_lines`: executed there, and a plain
-#: move whose numbers only ``float`` converts exactly [-]
-_PLAIN, _PLAIN_SLOW = 1, 2
+#: statuses of :func:`tcpmm.path.gcode_scan.scan_lines`: executed there, a plain move
+#: whose numbers only ``float`` converts exactly, a plain arc (:mod:`tcpmm.path.gcode_arcs`)
+_PLAIN, _PLAIN_SLOW, _ARC = 1, 2, ARC
 
 
 def scan_chunk(lines: list[str]):
@@ -84,12 +85,19 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0, scan=None) -> int:
         return k
     codes = scan[0]
     while k < len(lines):
-        k = _compiled_run(it, scan, k, offset + 1)
-        if k == len(lines) or codes[k, 0] != _PLAIN_SLOW:
+        # a line of other words (a comment, a modal code) goes to the tokeniser without a
+        # call to the compiled run, which sizes its outputs for the rest of the chunk
+        status = codes[k, 0]
+        if status == _PLAIN:
+            j = _compiled_run(it, scan, k, offset + 1)
+        elif status == _PLAIN_SLOW:
+            j, it.pos, it.motion, it.feed = _run(
+                lines, k, k + 1, offset + 1, it.segments.append,
+                (it.pos, it.motion, it.feed), modes)
+        elif status == _ARC:
+            j = arc_run(it, scan, k, offset + 1)
+        else:
             break
-        j, it.pos, it.motion, it.feed = _run(
-            lines, k, k + 1, offset + 1, it.segments.append,
-            (it.pos, it.motion, it.feed), modes)
         if j == k:
             break
         k = j

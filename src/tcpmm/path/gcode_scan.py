@@ -2,7 +2,9 @@
 
 :func:`scan_lines` reads the bytes of a chunk of lines (each ended by ``\\n``) and finds
 for every line whether it is a plain move as :data:`tcpmm.path.gcode_fast.PLAIN_MOVE`
-matches it, its motion code and its X, Y, Z and F values. A number is converted only
+matches it, its motion code and its X, Y, Z and F values; or a plain arc (``G2``/``G3``
+or none, then X, Y, Z, I, J, K, R and F, each at most once and in that order, every
+number exact), executed by :func:`tcpmm.path.gcode_arcs.arc_run`. A number is converted only
 where the conversion is exact: a mantissa of at most 2^53 and at most 22 digits after the
 point, divided by a power of ten that is a double exactly, is one correctly rounded
 division, the value Python's ``float`` gives for the same text (Clinger's fast path);
@@ -19,11 +21,16 @@ import numpy as np
 from numba import njit
 
 #: a line's status in :func:`scan_lines`' codes: not a plain move, a plain move with
-#: its numbers converted, a plain move with a number converted only by ``float`` [-]
-NOT_PLAIN, PLAIN, PLAIN_SLOW = 0, 1, 2
-#: columns of the codes: status, motion code (-1 for none), present words (bit 0..3 for
-#: X, Y, Z, F) [-]
+#: its numbers converted, a plain move with a number converted only by ``float``, a
+#: plain arc with its numbers converted [-]
+NOT_PLAIN, PLAIN, PLAIN_SLOW, ARC = 0, 1, 2, 3
+#: columns of the codes: status, motion code (-1 for none), present words (bit j for
+#: the value in column j of the values: X, Y, Z, F, I, J, K, R) [-]
 STATUS, MOTION, WORDS = 0, 1, 2
+#: the letters of a line in the order they may come, each with its column of the values
+_LETTERS = ((88, 0), (89, 1), (90, 2), (73, 4), (74, 5), (75, 6), (82, 7), (70, 3))
+#: the words of a move (X, Y, Z) and of an arc's centre or radius (I, J, K, R) [-]
+MOVE_WORDS, ARC_WORDS = 7, 240
 #: the largest mantissa a double holds exactly [-]
 _MANTISSA_MAX = 1 << 53
 #: the state :func:`run_plain` starts from and its layout: position, motion code (-1
@@ -78,8 +85,8 @@ def _scan_line(buf, i, end, vals, pow10):
         j = i
         while j < end and 48 <= buf[j] <= 57:
             j += 1
-        # 0*[01]: zeros, and a last digit 0 or 1
-        if j == i or buf[j - 1] > 49:
+        # 0*[0-3]: zeros, and a last digit 0 to 3
+        if j == i or buf[j - 1] > 51:
             return NOT_PLAIN, -1, 0
         for q in range(i, j - 1):
             if buf[q] != 48:
@@ -87,7 +94,7 @@ def _scan_line(buf, i, end, vals, pow10):
         motion = buf[j - 1] - 48
         i = _blank(buf, j, end)
     status, words = PLAIN, 0
-    for slot, letter in enumerate((88, 89, 90, 70)):  # X, Y, Z, F
+    for letter, slot in _LETTERS:
         if i < end and (buf[i] == letter or buf[i] == letter + 32):
             i, value, exact = _number(buf, _blank(buf, i + 1, end), end, pow10)
             if i < 0:
@@ -98,7 +105,12 @@ def _scan_line(buf, i, end, vals, pow10):
             i = _blank(buf, i, end)
     if i != end:
         return NOT_PLAIN, -1, 0
-    return status, motion, words
+    if motion < 2 and not words & ARC_WORDS:
+        return status, motion, words
+    # an arc (or a centre word where G0/G1 is given: the interpreter's message)
+    if status != PLAIN or 0 <= motion < 2 or not words & (MOVE_WORDS | ARC_WORDS):
+        return NOT_PLAIN, -1, 0
+    return ARC, motion, words
 
 
 @njit(cache=True)
@@ -115,14 +127,14 @@ def scan_lines(buf):
     codes : ndarray of int64, shape (lines, 3)
         Per line its status, motion code and present words (:data:`STATUS`,
         :data:`MOTION`, :data:`WORDS`) [-].
-    vals : ndarray, shape (lines, 4)
-        Per line the values of X, Y, Z and F as written (0 where absent) [-].
+    vals : ndarray, shape (lines, 8)
+        Per line the values of X, Y, Z, F, I, J, K and R as written (0 where absent) [-].
     """
     n = 0
     for b in buf:
         n += b == 10
     codes = np.zeros((n, 3), dtype=np.int64)
-    vals = np.zeros((n, 4))
+    vals = np.zeros((n, 8))
     pow10 = np.empty(23)
     pow10[0] = 1.0
     for e in range(1, 23):

@@ -7,14 +7,15 @@ with vectorised numpy. Arcs are evaluated on the arc (angle and radius), never o
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import chain, repeat
-from operator import attrgetter, is_
+from itertools import repeat
+from operator import is_
 
 import numpy as np
 
 from ..errors import InputError
 from .runs import path_columns
-from .segments import AXIS_INDEX, Arc, Blend, Dwell, Line, Rapid, arc_sweep
+from .segcolumns import arc_columns, line_columns
+from .segments import Arc, Blend, Dwell, Line, Rapid, arc_sweep
 
 LINE, ARC, DWELL, BLEND = 0, 1, 2, 3
 #: consecutive segments must meet within this distance [m]
@@ -101,22 +102,16 @@ def _segment_columns(segments):
     plane = np.tile(np.array([0, 1], np.int64), (n, 1))
     ccw = np.zeros(n, bool)
     turns = np.zeros(n, np.int64)
-    is_line = np.fromiter(map(is_, map(type, segments), repeat(Line)), bool, n)
-    _line_columns(segments, is_line, (start, end, feed, exact, line))
-    for i in np.flatnonzero(~is_line).tolist():
+    types = list(map(type, segments))
+    is_line = np.fromiter(map(is_, types, repeat(Line)), bool, n)
+    line_columns(segments, is_line, (start, end, feed, exact, line))
+    is_arc = np.fromiter(map(is_, types, repeat(Arc)), bool, n)
+    kind[is_arc] = ARC
+    arc_columns(segments, is_arc, (start, end, centre, feed, exact, plane, ccw, turns, line))
+    for i in np.flatnonzero(~(is_line | is_arc)).tolist():
         s = segments[i]
         t = type(s)
-        if t is Arc:
-            kind[i] = ARC
-            start[i] = s.start_m
-            end[i] = s.end_m
-            centre[i] = s.centre_m
-            feed[i] = s.feed_m_per_s
-            exact[i] = s.exact_stop
-            plane[i] = AXIS_INDEX[s.plane_axes[0]], AXIS_INDEX[s.plane_axes[1]]
-            ccw[i] = s.direction == "ccw"
-            turns[i] = s.extra_turns
-        elif t is Blend:
+        if t is Blend:
             kind[i] = BLEND
             start[i] = s.start_m
             end[i] = s.end_m
@@ -135,30 +130,6 @@ def _segment_columns(segments):
         if s.line is not None:
             line[i] = s.line
     return kind, start, end, centre, feed, rapid, exact, dwell, line, plane, ccw, turns
-
-
-#: the columns :func:`_line_columns` reads from each Line, in order
-_LINE_FIELDS = tuple(map(attrgetter, ("start_m", "end_m", "feed_m_per_s", "exact_stop",
-                                      "line")))
-
-
-def _line_columns(segments, is_line, columns) -> None:
-    """Fill the rows of the Lines among ``segments`` (``is_line``) in ``columns``: start,
-    end, feed, exact stop and line (-1 for none) [SI]."""
-    # a list of a field per column and one conversion each: a path of short blocks is
-    # almost all Lines, and setting a row at a time cost microseconds a block
-    rows = slice(None) if is_line.all() else np.flatnonzero(is_line)
-    lines = segments if type(rows) is slice else [segments[i] for i in rows.tolist()]
-    if not len(lines):
-        return
-    for get, col in zip(_LINE_FIELDS, columns, strict=True):
-        values = list(map(get, lines))
-        if get is _LINE_FIELDS[-1] and None in values:
-            values = [-1 if v is None else v for v in values]
-        if col.ndim == 2:  # the points' coordinates in one pass, not a tuple at a time
-            flat = np.fromiter(chain.from_iterable(values), float)
-            values = flat.reshape(-1, 3) if flat.size == 3 * len(values) else values
-        col[rows] = values
 
 
 def _straight_lengths(start, end, rapid, feed, rapid_m_per_s) -> np.ndarray:

@@ -1,8 +1,9 @@
 """Streaming end to end: an NC program of N blocks (0.1 mm G1 blocks of a spiral at
 F3000; with ``--program spiral-g64`` the same under ``G64 P0.01``; with ``zigzag`` a CAM
 finishing pattern, passes of 2 mm in 0.1 mm blocks 0.05 mm apart under ``G64 P0.01``, a
-corner every 21 blocks) through ``tcpmm simulate --gcode ... -o RUN.parquet`` (read,
-interpolated and simulated a chunk of blocks at a time, written a row group at a time)
+corner every 21 blocks; with ``arcs`` the spiral as G3 arcs of I and J) through
+``tcpmm simulate --gcode ... -o RUN.parquet`` (read, interpolated and simulated a chunk
+of blocks at a time, written a row group at a time)
 and ``tcpmm contour RUN.parquet --chunk-rows ...`` (the contour error summary, read in
 chunks).
 
@@ -76,10 +77,26 @@ def zigzag_program(blocks: int, path: Path) -> Path:
     return _write_program(path, "G21 G90 G17 G64 P0.01\nG1 X0 Y0 F3000\n", rows())
 
 
+def arc_program(blocks: int, path: Path) -> Path:
+    """The spiral of :func:`spiral_program` as ``blocks`` G3 arcs 0.1 mm long, each about
+    the centre of the spiral, its centre given by I and J from its start (a CAM program
+    that fits its curves with arcs) [-]."""
+    def rows():
+        x, y, r, phi = 20.0, 0.0, 20.0, 0.0
+        for _ in range(blocks):
+            phi += 0.1 / r
+            r = 20.0 + 0.01 * phi / (2 * math.pi)
+            nx, ny = float(f"{r * math.cos(phi):.4f}"), float(f"{r * math.sin(phi):.4f}")
+            yield f"G3 X{nx:.4f} Y{ny:.4f} I{-x:.4f} J{-y:.4f}\n"
+            x, y = nx, ny
+
+    return _write_program(path, "G21 G90 G17\nG1 X20 Y0 F3000\n", rows())
+
+
 #: The programs the benchmark makes, by name.
 PROGRAMS = {"spiral": spiral_program,
             "spiral-g64": lambda n, path: spiral_program(n, path, "G21 G90 G17 G64 P0.01"),
-            "zigzag": zigzag_program}
+            "zigzag": zigzag_program, "arcs": arc_program}
 
 
 def timed(args: list[str]) -> tuple[float, float]:

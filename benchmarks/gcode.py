@@ -1,10 +1,10 @@
 """G-code parse speed: ``parse_gcode`` per block on a 100 000-block spiral of
-``G1 X.. Y..`` lines, against the reference path (every line through the tokeniser and
-the interpreter) measured in the same run.
+``G1 X.. Y..`` lines (``--arcs``: of ``G3 X.. Y.. I.. J..`` arcs), against the reference
+path (every line through the tokeniser and the interpreter) measured in the same run.
 
 The two run in turn, ``--rounds`` times, so that a change of machine load hits both
 alike; min and median over the rounds. The target is 2 us a block. Not a test:
-``python benchmarks/gcode.py [--blocks N] [--rounds N] [--json]``.
+``python benchmarks/gcode.py [--blocks N] [--rounds N] [--arcs] [--json]``.
 """
 
 from __future__ import annotations
@@ -31,6 +31,18 @@ def spiral_program(blocks: int) -> str:
     return "\n".join([*lines, "M30"]) + "\n"
 
 
+def arc_program(blocks: int) -> str:
+    """The spiral of :func:`spiral_program` as G3 arcs about its centre, each centre
+    given by I and J from the arc's start [-]."""
+    lines, x, y = ["G21 G90", "G1 X5 Y0 F3000"], 5.0, 0.0
+    for i in range(1, blocks + 1):
+        r, phi = 5 + 0.1 * i * 0.002, i * 0.002
+        nx, ny = float(f"{r * math.cos(phi):.4f}"), float(f"{r * math.sin(phi):.4f}")
+        lines.append(f"G3 X{nx:.4f} Y{ny:.4f} I{-x:.4f} J{-y:.4f}")
+        x, y = nx, ny
+    return "\n".join([*lines, "M30"]) + "\n"
+
+
 def reference(text: str):
     """The program through the tokeniser and interpreter only [-]."""
     with collector_paused():  # as parse_gcode, so that the ratio is the fast path's
@@ -43,9 +55,10 @@ def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--blocks", type=int, default=100_000, help="G1 blocks [-]")
     ap.add_argument("--rounds", type=int, default=5, help="timed rounds [-]")
+    ap.add_argument("--arcs", action="store_true", help="G3 arcs instead of G1 blocks")
     ap.add_argument("--json", action="store_true", help="print the figures as JSON")
     a = ap.parse_args(argv)
-    text = spiral_program(a.blocks)
+    text = (arc_program if a.arcs else spiral_program)(a.blocks)
     tools = {"fast": parse_gcode, "reference": reference}
     times = {k: [] for k in tools}
     outs = {}
@@ -60,7 +73,7 @@ def main(argv=None) -> dict:
         raise SystemExit("the fast path and the reference gave different segments")
     lines = text.count("\n")
     us = {k: sorted(v) for k, v in times.items()}
-    res = {"blocks": a.blocks, "rounds": a.rounds,
+    res = {"blocks": a.blocks, "arcs": a.arcs, "rounds": a.rounds,
            "fast_us_per_block": us["fast"][0] / lines * 1e6,
            "fast_us_per_block_median": us["fast"][len(us["fast"]) // 2] / lines * 1e6,
            "reference_us_per_block": us["reference"][0] / lines * 1e6,

@@ -263,6 +263,48 @@ def test_a_corner_of_any_turn_overshoots_across_its_outgoing_leg(turn_deg):
     assert res.errors["tcp"].min() == pytest.approx(-delta, rel=1e-3)
 
 
+@pytest.mark.parametrize("direction", [(1.0, 0.0), (0.6, -0.8)])
+def test_a_reversal_is_its_turning_point(direction):
+    """Out along a line and back (a plunge and retract, a step test out and back): every
+    point within half a span of the turning point turns by 180 degrees over the span; the
+    corner is the turning point, and a point that turns back short of it by delta has a
+    rounding of delta."""
+    u = np.array(direction)
+    t = np.arange(2001) * DT
+    x = 0.01 * (1 - np.cos(np.pi * t / 1.0))  # 0 -> 20 mm -> 0, at rest at the turn
+    p = x[:, None] * u
+    delta = 30e-6
+    act = (x * (1 - delta / 0.02))[:, None] * u
+    res = contour_error(make_run({"X": p[:, 0], "Y": p[:, 1]}, {"X": act[:, 0],
+                                                                "Y": act[:, 1]}))
+    [corner, end] = res.corners
+    assert corner["index"] == 1000 and np.isnan(end["turn_rad"])
+    assert corner["turn_rad"] == pytest.approx(np.pi, abs=1e-6)
+    assert corner["tcp"]["rounding_m"] == pytest.approx(delta, rel=1e-6)
+    assert corner["tcp"]["overshoot_m"] == pytest.approx(0.0, abs=1e-15)
+
+
+def test_a_sag_across_the_outgoing_leg_is_no_overshoot():
+    """A square in XZ whose tool hangs a constant 50 um low (under its weight): past the
+    corner where the -Z plunge turns to -X the tool lies 50 um outside the path all along
+    the leg; that is contour error, not overshoot. A bump on top of it is the overshoot."""
+    leg = np.linspace(0, 0.02, 401)
+    p = np.vstack([np.c_[leg, np.zeros(401)], np.c_[np.full(400, 0.02), -leg[1:]],
+                   np.c_[0.02 - leg[1:], np.full(400, -0.02)]])
+    sag = np.array([0.0, -50e-6])
+    i = 800  # the corner at (20, -20) mm
+    u = np.clip(np.arange(p.shape[0]) - i, 0, None) * DT / 0.01  # settled by halfway on
+    delta = 5e-6
+    for bump, want in ((0.0, 0.0), (delta, delta)):
+        act = p + sag + (bump * u * np.exp(1 - u))[:, None] * np.array([0.0, -1.0])
+        res = contour_error(make_run({"X": p[:, 0], "Z": p[:, 1]}, {"X": act[:, 0],
+                                                                    "Z": act[:, 1]}))
+        second = res.corners[1]
+        assert second["index"] == i
+        assert second["tcp"]["overshoot_m"] == pytest.approx(want, abs=1e-9)
+        assert abs(res.errors["tcp"][-100:]).min() == pytest.approx(50e-6, rel=1e-9)
+
+
 def test_a_circle_run_twice_in_one_place_has_its_end_measured_at_the_end():
     """A circle that ends on its start, followed with a lag and a static deflection along
     the last direction: the start's samples lie 'past' the end along the incoming direction

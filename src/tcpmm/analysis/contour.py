@@ -14,19 +14,21 @@ Corners are where the command's direction, over ``corner_span_m`` before and aft
 point, turns by more than ``corner_deg``, most of it within a quarter of that span (a curve
 that turns as much evenly, a small arc or the inside of a spiral, is no corner); the end of
 the path counts as one (turn NaN), where a step test overshoots and settles: there the
-distance to the end point settles, counted from the command's arrival. Each corner is
+distance to the end point settles, counted from the command's arrival. Where the path runs
+back on itself (a reversal) the corner is the turning point. Each corner is
 measured on the samples whose closest command point lies near it: from ``corner_span_m``
 before it to ``corner_span_m`` after it, or further while the command runs straight on.
 Per corner and sensor: overshoot, the largest distance the point lies outside the path once
 past the corner, across the outgoing leg towards the side the incoming direction points to
-(at a right angle, the travel past the corner along the incoming direction); at the end,
-the travel past the end point, or past where the point comes to rest if that lies beyond
-it (a static deflection is no overshoot); 0 when it never passes; rounding, the closest
-approach to the corner point; settling, the time and the command's path length
-from when the command leaves the corner until the contour error stays within
-``settle_tol_m`` of the level it ends at before the next corner (the median of the last
-quarter of the stretch; a static deflection on the straight is not a settling error);
-NaN when it never does.
+(at a right angle, the travel past the corner along the incoming direction), beyond where
+the point holds on the outgoing leg if that lies outside the path (within ``settle_tol_m``
+over the last quarter of the corner's samples); at the end, the travel past the end point,
+or past where the point comes to rest if that lies beyond it (a static deflection is no
+overshoot); 0 when it never passes; rounding, the closest approach to the corner point;
+settling, the time and the command's path length from when the command leaves the corner
+until the contour error stays within ``settle_tol_m`` of the level it ends at halfway to
+the next corner (the median of the last quarter of the stretch the corner owns; a static
+deflection on the straight is not a settling error); NaN when it has not settled by then.
 """
 
 from __future__ import annotations

@@ -236,12 +236,25 @@ def _figures(c, tol) -> dict:
             if c.end:  # a static deflection along the path is where it settles
                 dv = dev[own]
                 dv = dv - max(float(np.median(dv[-(dv.size // 4 or 1):])), 0.0)
-            else:
+            else:  # and one across the outgoing leg (a sag of the tool) where it holds
                 dv = dev[own & past]
+                dv = dv - _held(dv, tol)
             fig = {"overshoot_m": float(max(np.max(dv), 0.0)) if dv.size else 0.0,
                    "rounding_m": float(np.min(dist[own]))}
         out[name] = {**fig, **settle}
     return out
+
+
+def _held(dev, tol: float) -> float:
+    """How far outside the path a point lies where it holds on the outgoing leg: the
+    median of the last quarter of ``dev`` where that quarter stays within ``tol`` of it
+    and lies outside the band ``tol``, else 0 (a point still moving about is not at rest;
+    within the band it has settled) [m]."""
+    tail = dev[-(dev.size // 4 or 1):]
+    if tail.size < 4:
+        return 0.0
+    level = float(np.median(tail))
+    return level if level > tol and float(np.max(np.abs(tail - level))) <= tol else 0.0
 
 
 def _settling(tape, a0: int, a1: int, cols, t0: float, sp0: float, tol: float) -> list:

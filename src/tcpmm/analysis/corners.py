@@ -23,6 +23,10 @@ _SHARP = 0.5
 #: Largest angle between the command's direction and the outgoing one for which the
 #: command after a corner still runs straight on [deg].
 _STRAIGHT_DEG = 5.0
+#: Least turn of a reversal: where the path runs back on itself every vertex within half
+#: a span of the turning point turns by pi (the chord ahead points back), up to the
+#: roundings of the chords' directions [rad].
+_REVERSAL = np.pi - 1e-6
 
 
 def path_length(p, s0=0.0):
@@ -83,7 +87,9 @@ class CornerFinder:
     def __init__(self, corner_deg=30.0, span_m=0.5e-3):
         self.min_turn, self.span = np.radians(corner_deg), span_m
         self.ev = 0  # the first vertex not judged yet
-        self.group = None  # the open run of candidates: [first vertex, best, its turn]
+        # the open run of candidates: [first vertex, best, its turn, first and last vertex
+        # of a reversal (None if none)]
+        self.group = None
         self.last = -1  # the last corner's vertex
 
     def step(self, p, s, off: int, final: bool) -> list:
@@ -114,25 +120,35 @@ class CornerFinder:
         out = []
         for g in np.split(k, np.flatnonzero(np.diff(k) > 1) + 1) if k.size else []:
             j = int(g[np.argmax(turn[g])])
+            back = g[turn[g] >= _REVERSAL]
+            back = [int(idx[back[0]]) + off, int(idx[back[-1]]) + off] if back.size else None
             if self.group is not None and g[0] == 0:  # the run goes on from the last piece
                 if turn[j] > self.group[2]:
-                    self.group[1:] = [idx[j] + off, float(turn[j])]
+                    self.group[1:3] = [idx[j] + off, float(turn[j])]
+                if back is not None:
+                    self.group[3] = back if self.group[3] is None else [self.group[3][0],
+                                                                        back[1]]
             else:
-                self._close(p, off, out)
-                self.group = [idx[g[0]] + off, idx[j] + off, float(turn[j])]
+                self._close(p, s, off, out)
+                self.group = [idx[g[0]] + off, idx[j] + off, float(turn[j]), back]
             if g[-1] != idx.size - 1 or final:
-                self._close(p, off, out)
+                self._close(p, s, off, out)
         if not cand[-1]:
-            self._close(p, off, out)
+            self._close(p, s, off, out)
         self.ev = hi
         return out
 
-    def _close(self, p, off, out) -> None:
+    def _close(self, p, s, off, out) -> None:
         """End the open run: its corner on the last vertex where the command stands at the
-        run's sharpest turn."""
+        run's sharpest turn; at a reversal, at the vertex halfway along the path between
+        the first and the last that turn back (the turning point: the first such vertex
+        lies half a span before it)."""
         if self.group is None:
             return
         i = self.group[1] - off
+        if self.group[3] is not None:
+            a, b = self.group[3][0] - off, self.group[3][1] - off + 1
+            i = a + int(np.argmin(np.abs(s[a:b] - 0.5 * (s[a] + s[b - 1]))))
         while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
             i += 1
         out.append((i + off, self.group[2]))

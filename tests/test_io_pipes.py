@@ -43,3 +43,23 @@ def test_a_run_and_a_record_read_from_a_pipe(tmp_path):
 def test_a_broken_run_in_a_pipe_is_named_at_its_line(tmp_path):
     with pytest.raises(InputError, match="line 4, column 'x_cmd_mm'"):
         through_fifo(tmp_path, RUN + "0.002,oops,1.5\n", read_run_csv)
+
+
+def test_an_output_that_is_a_pipe_is_written_into_not_replaced(tmp_path):
+    """``-o`` onto a FIFO (as onto /dev/null, /dev/stdout or a device) writes into it; a
+    temporary file renamed onto it replaced the node with a regular file (as root,
+    ``-o /dev/full`` replaced the device)."""
+    import stat
+
+    from tcpmm.io.atomic import write_text_atomic
+
+    fifo = tmp_path / "out"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_text()), daemon=True)
+    reader.start()  # a daemon: where the pipe was replaced it waits on it for good
+    write_text_atomic(fifo, "a,b\n1,2\n")
+    reader.join(timeout=10)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert got == ["a,b\n1,2\n"]
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]  # no temporary file left

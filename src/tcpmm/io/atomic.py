@@ -123,8 +123,9 @@ def _file_target(path) -> Path:
     path = Path(path)
     if str(path) in ("", "."):
         raise InputError("the output needs a file name")
-    if path.is_symlink():
-        path = Path(os.path.realpath(path))
+    if path.is_symlink():  # a link to a pipe (/dev/stdout) names no file: kept as it is
+        real = Path(os.path.realpath(path))
+        path = real if real.exists() or not path.exists() else path
     if path.is_dir():
         raise InputError("is a folder; give the output a file name", file=path)
     return path
@@ -150,18 +151,24 @@ def atomic_path(path, suffix: str = ""):
     # the temporary file made below is the test that the folder takes a file
     path = _file_target(path)
     _make_folder(_no_file_above(path.parent))
+    # a device or a pipe (/dev/null, /dev/stdout, a FIFO) is written into, not replaced
+    special = path.exists() and not path.is_file()
     mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()
     try:
-        fd, tmp = tempfile.mkstemp(
-            prefix=f".{path.name}.", suffix=suffix or path.suffix, dir=path.parent
-        )
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or path.suffix,
+                                   dir=None if special else path.parent)
     except OSError as exc:
         raise _cannot_write(exc, path) from None
     os.close(fd)
     try:
         yield Path(tmp)
-        os.chmod(tmp, mode)
-        os.replace(tmp, path)
+        if special:
+            with open(tmp, "rb") as src, open(path, "wb") as dst:
+                shutil.copyfileobj(src, dst)
+            os.unlink(tmp)
+        else:
+            os.chmod(tmp, mode)
+            os.replace(tmp, path)
     except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)

@@ -154,6 +154,21 @@ def test_compare_is_measured_minus_predicted():
     assert row["radial_rms_um"] == pytest.approx(2.0, abs=1e-3)
 
 
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+def test_runs_that_start_at_other_angles_are_compared_at_the_same_places(direction):
+    """The same radial error as a function of the angle (a smooth bump at 95 degrees), the
+    measured circle started at 45 degrees and the predicted at 40: nothing between them."""
+    def bump(a):
+        return 2e-6 + 3e-6 * np.exp(-0.5 * ((np.degrees(a) % 360 - 95.0) / 8.0) ** 2)
+
+    runs = {}
+    for name, start in (("measured", 45.0), ("predicted", 40.0)):
+        p = circle_path(direction, start_deg=start)
+        runs[name] = analyse_circle(make_run(p, polar_perturb(p, (0, 0), bump)), R)
+    row = compare_circles(runs["measured"], runs["predicted"]).rows[0]
+    assert row["radial_max_um"] < 0.01 and row["radial_rms_um"] < 0.005
+
+
 def two_lobes(rise, fall):
     """Radial error with a rise at 93 deg then a fall at 100 deg (after B, CCW) [m]."""
     def de(a):

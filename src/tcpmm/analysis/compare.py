@@ -105,12 +105,11 @@ class Comparison:
         return out
 
 
-def _on_grid(angle, e, direction, grid):
-    a = angle - angle[0]
-    if direction == "cw":
-        a = -a
-    order = np.argsort(a)
-    return np.interp(grid, a[order], e[order])
+def _on_grid(angle, e, direction, start, grid):
+    """The error ``e`` at the travel angles ``grid`` from the angle ``start``, over one
+    turn (a run that starts elsewhere on the circle is taken at the same places) [m]."""
+    a = np.mod((angle - start) * (-1.0 if direction == "cw" else 1.0), 2 * np.pi)
+    return np.interp(grid, a, e, period=2 * np.pi)
 
 
 def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparison:
@@ -139,11 +138,9 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             row["contour_error_um"] = (sm.contour_error - sp.contour_error) * 1e6
             # Point by point on a common grid of travel angle from a common start angle.
             grid = np.linspace(0, 2 * np.pi, 721)[:-1]
-            start = np.angle(np.exp(1j * sm.angle_rad[0]))
-            em = _on_grid(sm.angle_rad - start, sm.radial_error, pm.direction, grid)
-            ap = np.angle(np.exp(1j * (sp.angle_rad - start)))
-            ap = np.unwrap(np.where(ap < -np.pi + 1e-9, ap + 2 * np.pi, ap))
-            ep = _on_grid(ap, sp.radial_error, pm.direction, grid)
+            start = sm.angle_rad[0]
+            em = _on_grid(sm.angle_rad, sm.radial_error, pm.direction, start, grid)
+            ep = _on_grid(sp.angle_rad, sp.radial_error, pm.direction, start, grid)
             d = em - ep
             row["radial_rms_um"] = float(np.sqrt(np.mean(d**2)) * 1e6)
             row["radial_max_um"] = float(np.max(np.abs(d)) * 1e6)

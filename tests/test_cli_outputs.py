@@ -223,3 +223,21 @@ def test_a_warning_is_printed_once_whatever_the_filters_did_between(capsys, monk
     assert cli.main(["path"]) == 0
     err = capsys.readouterr().err
     assert err.count("the same thing") == 1 and err.count("another thing") == 1
+
+
+def test_json_holds_no_nan_a_strict_reader_refuses(capsys):
+    """A figure not determined (NaN) or infinite is null: JSON has no NaN, and `compare
+    --json` of two arcs wrote a bare NaN that strict readers (jq, JavaScript) refuse."""
+    import json
+
+    from tcpmm.cli._app import emit_json
+
+    emit_json({"rows": [{"spike_A_um": float("nan"), "max_um": np.float64(np.inf),
+                         "ok": 1.5}], "flips": (float("-inf"),)})
+
+    def refuse(name):
+        raise ValueError(name)
+
+    got = json.loads(capsys.readouterr().out, parse_constant=refuse)
+    assert got == {"rows": [{"spike_A_um": None, "max_um": None, "ok": 1.5}],
+                   "flips": [None]}

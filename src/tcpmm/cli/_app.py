@@ -186,13 +186,25 @@ def in_file(path):
 def emit_json(data) -> None:
     """``data`` as JSON on stdout, indented by two: coloured on a terminal, written as it is
     elsewhere (rich's highlighter took seconds over the thousands of corners of a long
-    run, for colours a pipe does not show)."""
-    text = json.dumps(data, indent=2, ensure_ascii=False)
+    run, for colours a pipe does not show). A number that is not finite (a figure not
+    determined) is ``null``: JSON has no NaN, and a strict reader refuses it."""
+    text = json.dumps(_json_ready(data), indent=2, ensure_ascii=False, allow_nan=False)
     if out.is_terminal:
         out.print_json(text)
     else:
         out.file.write(text + "\n")
         out.file.flush()
+
+
+def _json_ready(data):
+    """``data`` with every float that is not finite replaced by ``None`` [-]."""
+    if isinstance(data, float):
+        return data if math.isfinite(data) else None
+    if isinstance(data, dict):
+        return {k: _json_ready(v) for k, v in data.items()}
+    if isinstance(data, list | tuple):
+        return [_json_ready(v) for v in data]
+    return data
 
 
 def warn_suspect(machine, what: str) -> None:

@@ -561,3 +561,15 @@ def test_one_arc_in_one_direction_names_what_the_arc_and_the_direction_leave_ope
         assert np.isnan(diag[term])
     assert_recovered(diag, {k: v for k, v in expected(err).items()
                             if k in ("scale_mismatch", "backlash_Y", "centre_offset_Y")})
+
+
+def test_a_circle_of_no_error_shares_out_no_g():
+    """Where G is a rounding (a circle of a centre offset alone, noise free), a term's share
+    of it is no figure: it read 77 392 800 %."""
+    from tcpmm.analysis.circle_display import ranking_rows
+
+    rows = ranking_rows({"centre_offset": 13e-6, "squareness": 2e-15, "backlash_X": np.nan},
+                        g=3e-21)
+    assert [r["term"] for r in rows] == ["centre_offset", "squareness"]
+    assert rows[0]["share_of_G"] == 0.0 and np.isnan(rows[1]["share_of_G"])
+    assert ranking_rows({"squareness": 2e-6}, g=4e-6)[0]["share_of_G"] == 0.5

@@ -71,6 +71,11 @@ def rename_axes(term: str, axes) -> str:
     return term[:-1] + names[term[-1]] if term[-2:] in ("_X", "_Y") else term
 
 
+#: A circular deviation below this is none to share out: a circle of no error, where a
+#: term's share of G would be a ratio of roundings [m].
+G_RESOLUTION_M = 1e-9
+
+
 def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
     """The terms ranked by their contribution, largest first: ``term``,
     ``contribution_m`` [m], ``share`` of the sum of the contributions [-],
@@ -92,5 +97,5 @@ def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
     return [{"term": k, "contribution_m": have[k],
              "share": have[k] / total if total > 0 else 0.0,
              "share_of_G": 0.0 if k == "centre_offset" else
-             (have[k] / g if g > 0 else float("nan")), "rank": i + 1}
+             (have[k] / g if g >= G_RESOLUTION_M else float("nan")), "rank": i + 1}
             for i, k in enumerate(order)]

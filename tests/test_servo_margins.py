@@ -92,7 +92,8 @@ def test_machine_show_and_bode_give_the_margins(capsys):
     data = json.loads(capsys.readouterr().out)
     mv = data["X"]["margins"]["velocity"]
     assert set(mv) == {"gain_margin_db", "phase_margin_deg", "gain_crossover_hz",
-                       "phase_crossover_hz", "bandwidth_hz"}
+                       "phase_crossover_hz", "bandwidth_hz", "last_crossover_hz"}
+    assert mv["bandwidth_hz"] <= mv["gain_crossover_hz"] <= mv["last_crossover_hz"]
     assert main(["bode", "builtin:vmc", "--axis", "X", "--tf", "L_v", "--json", "--freq-hz",
                  f"{mv['gain_crossover_hz']!r}"]) == 0
     row = json.loads(capsys.readouterr().out)[0]

@@ -43,6 +43,9 @@ class LoopMargins:
         Frequency of the gain margin (phase -180 deg), ``nan`` if none [Hz].
     bandwidth_hz : float
         Lowest gain crossover, ``nan`` if none [Hz].
+    last_crossover_hz : float
+        Highest gain crossover, ``nan`` if none: above it the loop gain stays below 1, and
+        a mode below it lies inside the loop [Hz].
     """
 
     gain_margin_db: float
@@ -50,6 +53,7 @@ class LoopMargins:
     gain_crossover_hz: float
     phase_crossover_hz: float
     bandwidth_hz: float
+    last_crossover_hz: float = float("nan")
 
     def to_dict(self) -> dict:
         """Plain dict of floats; an infinite margin or a missing crossover is ``None``."""
@@ -127,12 +131,13 @@ def margins_of(L, f_nyquist: float, f_low: float = 1e-3, poles=(), dt: float = 0
         g = np.array([-20 * np.log10(abs(L(w)[0])) for w in w180])
         k = int(np.argmin(np.abs(g)))
         gm, f180 = float(g[k]), float(w180[k])
-    pm, fc, bw = np.inf, np.nan, (float(min(wc)) if wc else np.nan)
+    pm, fc = np.inf, np.nan
+    bw, last = (float(min(wc)), float(max(wc))) if wc else (np.nan, np.nan)
     if wc:
         p = np.array([np.remainder(np.degrees(np.angle(L(w)[0])), 360.0) - 180.0 for w in wc])
         k = int(np.argmin(np.abs(p)))
         pm, fc = float(p[k]), float(wc[k])
-    return LoopMargins(gm, pm, fc, f180, bw)
+    return LoopMargins(gm, pm, fc, f180, bw, last)
 
 
 def velocity_loop_gain(mech: AxisMechanics, servo: ServoParams, f_hz) -> np.ndarray:

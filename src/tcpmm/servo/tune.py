@@ -244,7 +244,9 @@ def light_mode_warnings(mech, margins: dict) -> list[str]:
     freqs, zetas = _modes(mech)
     out = []
     for loop, m in margins.items():
-        fc = m.gain_crossover_hz
+        # the last crossover, not the one of the least phase margin: a loop that crosses
+        # back above 1 at a resonance holds every mode below its last crossover
+        fc = m.last_crossover_hz if np.isfinite(m.last_crossover_hz) else m.gain_crossover_hz
         for f0, z in sorted(zip(freqs, zetas, strict=True)):
             if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0:
                 out.append(

@@ -573,3 +573,28 @@ def test_a_circle_of_no_error_shares_out_no_g():
     assert [r["term"] for r in rows] == ["centre_offset", "squareness"]
     assert rows[0]["share_of_G"] == 0.0 and np.isnan(rows[1]["share_of_G"])
     assert ranking_rows({"squareness": 2e-6}, g=4e-6)[0]["share_of_G"] == 0.5
+
+
+@pytest.mark.parametrize("start_deg", [START, 47.3, 51.1])
+def test_a_centre_offset_moves_no_reversal_step_into_the_spikes(start_deg):
+    """The axes of a circle off the nominal centre by c reverse c / R from the nominal
+    quadrant points (about the circle's own centre). Sampled finer than that (0.2 mrad a
+    sample, c / R = 0.29 mrad), a backlash step placed at the nominal point left a spike of
+    the whole backlash after the pair's terms, ranked second."""
+    n = 30_000
+    w = 2 * np.pi / (n * DT)
+    err = {"cx": 10e-6, "b_y": 5e-6}
+    diag = diagnose(err, n=n, start_deg=start_deg)
+    assert_recovered(diag, expected(err, n=n), w=w)
+    ranked = {r["term"]: r for r in diag.ranking}
+    assert ranked["reversal_spikes"]["contribution_m"] < 4.5 * NOISE
+
+
+def test_lateral_play_makes_its_size_of_g_between_the_directions():
+    """A lateral play p shifts the circles of the two directions apart by p: all of G(b),
+    which the ranking gave as p / 2 (the most within one direction) and 50 %."""
+    diag = diagnose({"p_y": 2e-6, "p_x": 1.5e-6}, noise=0.0)
+    ranked = {r["term"]: r for r in diag.ranking}
+    assert ranked["lateral_play_Y"]["contribution_m"] == pytest.approx(2e-6, rel=0.02)
+    assert ranked["lateral_play_X"]["contribution_m"] == pytest.approx(1.5e-6, rel=0.02)
+    assert ranked["lateral_play_Y"]["share_of_G"] == pytest.approx(1.0, rel=0.02)

@@ -75,6 +75,9 @@ class TermFit:
         Servo mismatch angle placing the reversals [rad].
     residual_rms : float
         Root mean square of what the terms leave over the fitted samples [m].
+    centres : tuple
+        Per arc, the centre ``(x, y)`` about which its axes reverse: its fitted centre
+        offset [m].
     """
 
     names: list
@@ -82,6 +85,7 @@ class TermFit:
     waves: tuple
     mu: float
     residual_rms: float
+    centres: tuple = ()
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -91,13 +95,17 @@ class TermFit:
         return [n for n, c in zip(self.names, self.coef, strict=True) if np.isnan(c)]
 
 
-def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None):
-    """Design matrix of arc ``i`` of ``n_arcs`` over ``angle`` (default its own) [m/unit]."""
+def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
+           centre=(0.0, 0.0)):
+    """Design matrix of arc ``i`` of ``n_arcs`` over ``angle`` (default its own), its
+    tool at ``pos`` (default on the nominal radius) and its axes reversing about
+    ``centre`` [m/unit]."""
     a = arc.angle if angle is None else angle
     own = np.zeros((a.size, 3 * n_arcs))
     own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), np.cos(a), np.sin(a)]
-    cols = [term_column(t, a, arc.s, radius, arc.ratio, mu) for t in shared]
     pos = pos if pos is not None else (radius * np.cos(a), radius * np.sin(a))
+    rev = None if not any(centre) else np.arctan2(pos[1] - centre[1], pos[0] - centre[0])
+    cols = [term_column(t, a, arc.s, radius, arc.ratio, mu, rev) for t in shared]
     for axis, k in enumerate(waves):
         if k is not None:
             cols += cyclic_columns(pos[axis], np.cos(a) if axis == 0 else np.sin(a), k)
@@ -130,6 +138,7 @@ class FitProblem:
         self.masks = [a.mask for a in arcs]
         self.pos = [tuple(p[m] for p in a.positions(radius)) for a, m in
                     zip(arcs, self.masks, strict=True)]
+        self.centres = [(0.0, 0.0)] * len(arcs)  # about which the axes reverse
         A = self.matrix(0.0, (None, None))
         self.keep = determined(A, protect=[3 * i for i in range(len(arcs))])
 
@@ -137,9 +146,14 @@ class FitProblem:
         """Design matrix over the fitted samples of every arc [m/unit]."""
         n = len(self.arcs)
         return np.vstack([design(a, i, n, self.radius, self.shared, mu, waves,
-                                 a.angle[m], p)
-                          for i, (a, m, p) in enumerate(zip(self.arcs, self.masks, self.pos,
-                                                            strict=True))])
+                                 a.angle[m], p, c)
+                          for i, (a, m, p, c) in enumerate(zip(
+                              self.arcs, self.masks, self.pos, self.centres, strict=True))])
+
+    def centres_of(self, coef) -> list:
+        """Each arc's fitted centre offset, 0 where it is not determined [m]."""
+        c = np.nan_to_num(coef[:3 * len(self.arcs)]).reshape(-1, 3)
+        return [(float(x), float(y)) for _, x, y in c]
 
     def data(self, mu):
         """The fitted samples' radial error less the servo mismatch's remainder [m]."""
@@ -183,13 +197,16 @@ def fit_terms(arcs, radius, shared, cyclic=True) -> TermFit:
         Search for a cyclic error of each axis [-].
     """
     pb = FitProblem(arcs, radius, shared)
-    mu = pb.mu_of(pb.solve(0.0, (None, None))[0])
+    coef = pb.solve(0.0, (None, None))[0]
+    # the axes' reversals where the first fit puts them: the servo mismatch, and the
+    # centre each circle runs about
+    mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     waves = search_cyclic(pb, mu) if cyclic else (None, None)
     coef = pb.solve(mu, waves)[0]
-    mu = pb.mu_of(coef)
+    mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     coef, res, _ = pb.solve(mu, waves)
     return TermFit(_names(len(arcs), shared, waves), coef, tuple(waves), mu,
-                   float(np.sqrt(np.mean(res**2))))
+                   float(np.sqrt(np.mean(res**2))), tuple(pb.centres))
 
 
 def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
@@ -198,6 +215,7 @@ def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
     arc = arcs[i]
     a = arc.angle if angle is None else angle
     pos = arc.positions(radius, a, e) if e is not None else None
-    A = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a, pos)
+    A = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a, pos,
+               fit.centres[i] if fit.centres else (0.0, 0.0))
     return (A @ np.nan_to_num(fit.coef)
             + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu))

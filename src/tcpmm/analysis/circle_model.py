@@ -41,7 +41,7 @@ def axis_signs(angle, s, mu=0.0):
     return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
 
 
-def term_column(name, angle, s, radius, ratio=1.0, mu=0.0):
+def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None):
     """Radial error per unit of a term [m/unit].
 
     Parameters
@@ -60,9 +60,13 @@ def term_column(name, angle, s, radius, ratio=1.0, mu=0.0):
         This circle's angular speed over the mean of the circles fitted together [-].
     mu : float
         Servo mismatch angle placing the axes' reversals [rad].
+    rev : ndarray, optional
+        The angle about the circle's own centre, where its axes reverse (a circle off the
+        nominal centre by ``c`` reverses some ``c / R`` from the nominal quadrant points);
+        ``angle`` where omitted [rad].
     """
     c, n = np.cos(angle), np.sin(angle)
-    sx, sy = axis_signs(angle, s, ratio * mu)
+    sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
     cols = {"backlash_X": lambda: -0.5 * sx * c, "backlash_Y": lambda: -0.5 * sy * n,
             "lateral_play_X": lambda: 0.5 * sx * n, "lateral_play_Y": lambda: 0.5 * sy * c,
             "squareness": lambda: -radius * n * c,

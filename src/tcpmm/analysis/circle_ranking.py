@@ -2,7 +2,8 @@
 radial deviations and circular deviations of the circles fitted.
 
 A term's contribution is the peak-to-valley of the radial error it makes alone over the
-angles the circle covers, about the nominal centre, the larger of the directions; that of
+angles the circles cover, about the nominal centre, the directions together (as G(b) takes
+them: a lateral play of p makes p between the directions); that of
 the reversal spikes is the largest spike of the residual. Each term is ranked by its
 contribution and given its share of their sum and its share of G (G(b) for a pair): what
 of G the term alone would make. A centre offset makes ``2 |c|`` of radial error about the
@@ -80,8 +81,8 @@ def _common_grid(angles, n=3600):
 
 
 def contributions(fit, arcs, radius, shared, spikes):
-    """Peak-to-valley radial error of each term alone, the larger over the circles; NaN
-    for a term not determined (module docstring) [m]."""
+    """Peak-to-valley radial error of each term alone over the circles together; NaN for
+    a term not determined (module docstring) [m]."""
     groups = {"centre_offset": [f"centre_{a}_{i}" for i in range(len(arcs)) for a in "XY"]}
     groups.update({GROUP_NAMES.get(t, t): [t] for t in shared})
     for axis, k in zip("XY", fit.waves, strict=True):
@@ -95,14 +96,17 @@ def contributions(fit, arcs, radius, shared, spikes):
             continue
         coef = np.zeros_like(fit.coef)
         coef[idx] = np.nan_to_num(fit.coef[idx])
-        p2v = []
+        curves = []
         for i, arc in enumerate(arcs):
             a = arc_grid(arc.angle)
-            curve = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a) @ coef
+            curve = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a,
+                           centre=fit.centres[i] if fit.centres else (0.0, 0.0)) @ coef
             if name == "servo_mismatch":
                 curve = curve + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu)
-            p2v.append(float(np.ptp(curve)))
-        out[name] = max(p2v)
+            curves.append(curve)
+        # over the circles together, as G(b) is: a term that differs between the
+        # directions (lateral play) makes its size between them, not within one
+        out[name] = float(np.ptp(np.concatenate(curves)))
     finite = [abs(v) for v in spikes if v == v]
     out["reversal_spikes"] = max(finite) if finite else float("nan")
     return out

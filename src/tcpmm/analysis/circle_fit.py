@@ -17,6 +17,7 @@ from .circle_cyclic import search_cyclic
 from .circle_model import (
     cyclic_columns,
     determined,
+    drop_twins,
     fit_mask,
     servo_remainder,
     term_column,
@@ -140,7 +141,12 @@ class FitProblem:
                     zip(arcs, self.masks, strict=True)]
         self.centres = [(0.0, 0.0)] * len(arcs)  # about which the axes reverse
         A = self.matrix(0.0, (None, None))
-        self.keep = determined(A, protect=[3 * i for i in range(len(arcs))])
+        # each circle's radius and centre first, where the arc determines them: every
+        # set-up has a centre offset, and a term that stood in for it (a bow, a
+        # squareness over a part of the circle) would read it as an error of the machine
+        own = np.arange(3 * len(arcs))
+        sure = own[determined(A[:, own], protect=own[::3])]
+        self.keep = drop_twins(A, determined(A, protect=sure), protect=sure)
 
     def matrix(self, mu, waves):
         """Design matrix over the fitted samples of every arc [m/unit]."""

@@ -132,9 +132,16 @@ def column_shares(A):
     """
     norm = np.linalg.norm(A, axis=0)
     An = A / np.where(norm > 0, norm, 1.0)
-    inv = np.linalg.pinv(An.T @ An)
-    d = np.abs(np.diag(inv))
-    return np.where((norm > 0) & (d > 0), 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 0.0)
+    G = An.T @ An
+    share = np.zeros(A.shape[1])
+    for j in np.flatnonzero(norm > 0):
+        # what of the column the others leave: 1 - its best fit by them, squared. (The
+        # diagonal of the Gram matrix's pseudo-inverse gives the same where the columns
+        # are independent, but a finite share to two columns that are the same.)
+        o = np.flatnonzero(np.arange(A.shape[1]) != j)
+        c = np.linalg.lstsq(G[np.ix_(o, o)], G[o, j], rcond=None)[0] if o.size else o
+        share[j] = np.sqrt(max(1.0 - float(G[j, o] @ c), 0.0))
+    return share
 
 
 def determined(A, protect=()):
@@ -162,6 +169,25 @@ def determined(A, protect=()):
         if share[worst] >= MIN_SHARE:
             return keep
         keep[idx[worst]] = False
+
+
+#: Columns this alike (the cosine of their angle) are twins: the data cannot say which of
+#: the two terms they hold [-].
+TWIN = 0.99
+
+
+def drop_twins(A, keep, protect=()):
+    """``keep`` less every column that is the twin of one left out: a term kept for a
+    twin the arc does not tell from it would carry both under its one name (over an arc
+    inside a quadrant, backlash X and lateral play Y) [-]."""
+    norm = np.linalg.norm(A, axis=0)
+    An = A / np.where(norm > 0, norm, 1.0)
+    out = keep.copy()
+    for j in np.flatnonzero(~keep):
+        twins = np.abs(An[:, keep].T @ An[:, j]) >= TWIN
+        out[np.flatnonzero(keep)[twins]] = False
+    out[list(protect)] = keep[list(protect)]
+    return out
 
 
 def fit_mask(angle, s, after_deg=(0.0, 20.0), points=(0.0, 90.0, 180.0, 270.0)):

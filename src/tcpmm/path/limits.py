@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._rows import norm_rows
 from .geometry import DWELL
 from .speedlimits import JUNCTION_CAUSES, SEGMENT_CAUSES
 
@@ -157,12 +158,19 @@ def feed_limits(interp) -> FeedLimits:
 
 def _length_at_feed(interp, motion) -> tuple[float, float]:
     """Path length of the feed blocks, and the part of it that the command runs within
-    ``1 - HELD_SHARE`` of the programmed feed, from the samples before the filter [m]."""
+    ``1 - HELD_SHARE`` of the programmed feed: of the command as it is written, after the
+    interpolation filter (which slows the path where its direction turns or its speed
+    changes), each sample against the block the samples before the filter were on a
+    filter delay earlier [m]."""
     p, cmd = interp.path, interp.command
     s = np.asarray(cmd.meta["path_s_m"], float)
     ds = np.diff(s)
     cum = np.concatenate([[0.0], np.cumsum(p.length)])
     seg = np.clip(np.searchsorted(cum, s[:-1] + 0.5 * ds, side="right") - 1, 0, p.n - 1)
+    if interp.filter is not None and interp.filter.kernel.size > 1:
+        lag = round(interp.filter.delay_s / cmd.period_s)
+        seg = seg[np.clip(np.arange(ds.size) - lag, 0, ds.size - 1)]
+        ds = norm_rows(np.diff(np.column_stack(list(cmd.positions.values())), axis=0))
     feed = motion[seg] & (ds > 0)
     at = feed & (ds >= HELD_SHARE * p.feed[seg] * cmd.period_s)
     return float(ds[feed].sum()), float(ds[at].sum())

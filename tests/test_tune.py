@@ -141,3 +141,24 @@ def test_warning_only_when_the_crossover_lies_above_a_light_mode(vmc):
     (w,) = light_mode_warnings(mech, {"velocity": LoopMargins(8.0, 60.0, 90.0, 4000.0, 80.0,
                                                               1497.0)})
     assert "crosses over at 1497 Hz" in w and "729 Hz mode" in w
+
+
+def test_settings_that_run_away_have_no_path_before_and_are_still_tuned(vmc):
+    """The velocity gain of every axis twenty times the built-in's: the circle before runs
+    away. Its figures were printed as ordinary numbers (or the circle analysis of the
+    diverged run aborted the tuning with 'no full circle ... check --radius'); now they are
+    no figures, a note says why, and the proposal and its path stand."""
+    import warnings
+
+    from tcpmm.errors import InputWarning
+
+    wild = vmc.model_copy(update={"axes": {n: a.replace(servo=a.servo.model_copy(
+        update={"K_vp": 20 * a.servo.K_vp})) for n, a in vmc.axes.items()}})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)  # the runaway, said for the CLI
+        res = tune_and_predict(wild, GM, PM)
+    for d in ("ccw", "cw"):
+        assert all(np.isnan(v) for v in res.path_before[d].values())
+        assert np.isfinite(res.path_after[d]["contour_error_um"])
+    assert any(n.startswith("before: the settings as they are run away") for n in res.notes)
+    assert json.loads(json.dumps(res.to_dict(), default=str))

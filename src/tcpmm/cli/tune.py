@@ -62,7 +62,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
 
 def _fmt(v, digits=1):
-    return "-" if v is None else f"{v:.{digits}f}"
+    return "-" if v is None else "n/a" if v != v else f"{v:.{digits}f}"
 
 
 def _print_result(res, gm, pm) -> None:

@@ -113,11 +113,20 @@ def polyline_distance(points, path) -> np.ndarray:
     return best
 
 
+#: The figures of a circle pass and of a program's path [um].
+CIRCLE_KEYS = ("spike_um", "contour_error_um")
+PROGRAM_KEYS = ("max_deviation_um", "rms_deviation_um")
+
+
 def path_figures(machine: Machine, command, circle: bool) -> dict:
     """Simulate and reduce to figures in um: per circle pass the largest reversal spike
     and the contour error of the TCP; for a program the largest and RMS distance of the
-    TCP path from the commanded path."""
+    TCP path from the commanded path. NaN where the run is no prediction: its servo
+    loops run away (:mod:`tcpmm.analysis.runaway`)."""
     run = simulate(machine, command)
+    if run.meta.get("faults"):
+        keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
+        return {case: dict.fromkeys(k, float("nan")) for case, k in keys.items()}
     if circle:
         res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
         out = {}
@@ -172,14 +181,20 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         notes.append(f"feedforward k_ff = {k_ff:g} on axes {', '.join(met)}: of k_ff = "
                      f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} it gives the smallest "
                      f"{what} ({_worst(after):.2f} um); it does not change the margins")
-    return TuneResult(tuned, axes, path_figures(machine, cmd, circle), after, notes)
+    before = path_figures(machine, cmd, circle)
+    if _worst(before) == float("inf"):
+        notes.append("before: the settings as they are run away on the model (a servo loop "
+                     "is unstable), so their path is no prediction and is left out")
+    return TuneResult(tuned, axes, before, after, notes)
 
 
 def _worst(figures: dict) -> float:
     """The figure a path is judged by: the largest contour error of the circle passes, or
-    the RMS deviation from a program's path [um]."""
+    the RMS deviation from a program's path; infinite for a run that is no prediction
+    [um]."""
     keys = ("contour_error_um", "rms_deviation_um")
-    return max(v[k] for v in figures.values() for k in keys if k in v)
+    v = max(v[k] for v in figures.values() for k in keys if k in v)
+    return v if v == v else float("inf")
 
 
 def _best_feedforward(tuned: Machine, axes: dict, cmd, circle: bool):

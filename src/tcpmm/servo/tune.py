@@ -4,8 +4,10 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
 
 1. **Velocity loop.** The largest proportional gain ``K_vp`` whose open loop meets the
    gain and phase margins, with the PI corner tied to the gain (integral action
-   ``K_vi = K_vp w_c / 4``, ``w_c = K_vp K_tc / J_total`` the rigid-body crossover). The
-   gain is scanned upwards in steps of 1.25 until the margins fail, then bisected.
+   ``K_vi = K_vp w_c / 4``, ``w_c = K_vp K_tc / J_total`` the rigid-body crossover), its
+   sampled closed loop stable with a position loop too slow to move its poles (the
+   settings' own ``K_pp``, which step 3 replaces, does not decide it). The gain is scanned
+   upwards in steps of 1.25 until the margins fail, then bisected.
 2. **Notches.** When the crossing that limits the gain lies within 20 % of a lightly
    damped plant mode (damping below 0.1), a notch is placed on that mode (bandwidth
    0.3 f0, depth ``20 log10(4 zeta)`` within -40..-10 dB: deep enough to flatten the
@@ -128,10 +130,18 @@ def _largest(ok, start: float, cap: float = math.inf):
     return lo
 
 
+#: Position gain the velocity loop's own stability is judged with: a position loop this
+#: slow leaves the velocity loop's poles where they are, where the settings' own K_pp
+#: (which step 3 replaces) would make the velocity gain depend on it [1/s].
+VELOCITY_ONLY_K_PP = 1.0
+
+
 def _velocity_gain(mech, servo, gm, pm):
     def ok(k):
         s = _pi(mech, servo, k)
-        return velocity_margins(mech, s).meets(gm, pm) and sampled_spectral_radius(mech, s) < 1
+        alone = _with(s, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
+        return velocity_margins(mech, s).meets(gm, pm) and sampled_spectral_radius(
+            mech, alone) < 1
     return _largest(ok, servo.K_vp)
 
 

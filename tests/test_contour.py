@@ -161,6 +161,24 @@ def test_a_square_on_the_builtin_machine_from_the_cli(tmp_path, capsys):
     assert code == 0 and "contour error in XYZ" in text and "3D, unsigned" in text
 
 
+def test_a_long_run_name_stays_on_one_line_and_cmd_is_no_sensor(tmp_path, capsys):
+    """In a pipe no line is wrapped: the run's name, a table's title, was wrapped to the
+    table's width in the middle of a long name. --sensor cmd said 'the run has no cmd
+    signals' of a run that has them: the error is measured from the command."""
+    name = "a_rather_long_run_file_name_from_the_cam_system_2024_v3_final.csv"
+    cmd = tmp_path / "cmd.csv"
+    (tmp_path / "sq.nc").write_text("G21 G17 G90\nG0 X0 Y0\nG1 X20 Y0 F3000\nX20 Y20\nM30\n")
+    assert main(["path", str(tmp_path / "sq.nc"), "-o", str(cmd)]) == 0
+    assert main(["simulate", "builtin:vmc", "--command", str(cmd), "-o",
+                 str(tmp_path / name)]) == 0
+    capsys.readouterr()
+    assert main(["contour", str(tmp_path / name)]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == f"{tmp_path / name}: contour error in XY [µm]"
+    assert main(["contour", str(tmp_path / name), "--sensor", "cmd"]) == 2
+    assert "measured from the command" in " ".join(capsys.readouterr().err.split())
+
+
 def test_a_step_along_one_axis_overshoots_and_settles_at_its_end(capsys, tmp_path):
     """A move of 10 mm along X and a rest: the end overshoots by delta and rings down."""
     n_move, n_rest = 200, 300

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ._app import Sensor, app, checked_plot, emit_json, in_file, out, positive
+from ._app import Sensor, app, checked_plot, emit_json, esc, in_file, out, positive
 from ._plane import run_plane_said
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
 
@@ -42,6 +42,9 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                     (window_s, "--window-s [s]")):
         positive(v, what)
     checked_plot(plot)
+    if sensor is Sensor.cmd:
+        raise typer.BadParameter("the contour error is measured from the command; choose "
+                                 "tcp, scale or motor", param_hint="--sensor")
     if streamed(run_file, chunk_rows):
         if plot is not None:
             raise typer.BadParameter(f"a run streamed (--chunk-rows, or more than "
@@ -78,8 +81,11 @@ def _print(res, sensor: str, title: str) -> None:
     from rich.table import Table
 
     sign = "signed, +: left of travel" if res.signed else "3D, unsigned"
-    t = Table(title=f"{title}: contour error in {''.join(res.axes)} [µm]",
-              caption=f"{sign}")
+    # the run's name on a line of its own: as a table's title a long one was wrapped to
+    # the table's width, in a pipe too, where no line is wrapped
+    out.print(esc(f"{title}: contour error in {''.join(res.axes)} [µm]"), soft_wrap=True,
+              highlight=False)
+    t = Table(caption=f"{sign}")
     for col in ("sensor", "max |e|", "RMS", "max", "min"):
         t.add_column(col, justify="left" if col == "sensor" else "right")
     for s, d in res.summary().items():

@@ -308,3 +308,15 @@ def test_a_dwell_on_the_circle_of_a_noisy_sensor_does_not_split_it():
     run = Run(t, {"X": AxisRun(cmd=None, tcp=p[:, 0]), "Y": AxisRun(cmd=None, tcp=p[:, 1])})
     [ps] = analyse_circle(run, R).passes
     assert not ps.is_arc and ps.direction == "ccw"
+
+
+def test_a_circle_short_of_a_turn_by_less_than_a_sample_is_a_full_circle():
+    """F10000 on R 35 at 1 kHz is 4.8 mrad a sample: a run of one turn that ends 2.3 mrad
+    short (359.87 deg) was refused ('no full circle ... nor an arc'), and not offered as an
+    arc either."""
+    step = 10.0 / 60 / R * 1e-3
+    span = 2 * np.pi - 0.48 * step
+    th = np.radians(45.0) + np.linspace(0.0, span, round(span / step) + 1)
+    p = R * np.c_[np.cos(th), np.sin(th)]
+    [pas] = analyse_circle(make_run(p, p), R).passes
+    assert pas.direction == "ccw" and not pas.is_arc

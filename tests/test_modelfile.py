@@ -52,3 +52,16 @@ def test_builtin_reference_and_missing_file(tmp_path):
         read_machine(tmp_path / "nope.yaml")
     with pytest.raises(InputError, match="unknown built-in"):
         read_machine("builtin:lathe")
+
+
+def test_a_reference_machines_truth_file_reads_as_its_model(capsys):
+    """A truth.yaml handed where a model goes failed with '138 problem(s)', the format
+    buried at the end; it is the true machine, and reads as machine_from_truth gives it."""
+    from conftest import bench_path
+    from tcpmm.cli import main
+    from tcpmm.io.truthfile import machine_from_truth
+
+    path = bench_path("c") / "truth.yaml"
+    assert read_machine(path) == machine_from_truth(path)
+    assert main(["machine", "show", str(path)]) == 0
+    assert "velocity loop: gain margin" in capsys.readouterr().out

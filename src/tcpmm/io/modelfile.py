@@ -14,7 +14,10 @@ from ..machines.builtin import builtin_machine
 from ..model import Machine
 from ..path.settings import InterpolatorSettings
 from .atomic import write_text_atomic
-from .yamlutil import read_yaml_model, validate_yaml
+from .text import read_text
+from .truthfile import FORMAT as TRUTH_FORMAT
+from .truthfile import machine_from_truth
+from .yamlutil import load_yaml, validate_yaml
 
 FORMAT = "tcpmm-model/1"
 _HINT = "see the keys that `tcpmm machine export` writes"
@@ -111,9 +114,15 @@ def read_machine(path) -> Machine:
     Parameters
     ----------
     path : str or Path
-        Model file, or ``builtin:vmc`` [-].
+        Model file, a reference machine's ``truth.yaml`` (:func:`~tcpmm.io.truthfile.
+        machine_from_truth`), or ``builtin:vmc`` [-].
     """
     s = str(path)
     if s.startswith("builtin:"):
         return builtin_machine(s.split(":", 1)[1])
-    return _to_machine(read_yaml_model(path, ModelFile, "machine model", _HINT, FORMAT))
+    text = read_text(path, "machine model")
+    if TRUTH_FORMAT in text:  # a reference machine's true parameters are a model too
+        d, _ = load_yaml(text, path)
+        if isinstance(d, dict) and d.get("format") == TRUTH_FORMAT:
+            return machine_from_truth(path)
+    return _to_machine(validate_yaml(text, ModelFile, path, "machine model", _HINT, FORMAT))

@@ -63,3 +63,24 @@ def test_an_output_that_is_a_pipe_is_written_into_not_replaced(tmp_path):
     assert stat.S_ISFIFO(os.stat(fifo).st_mode)
     assert got == ["a,b\n1,2\n"]
     assert [p.name for p in tmp_path.iterdir()] == ["out"]  # no temporary file left
+
+
+def test_a_model_and_a_truth_file_read_from_a_pipe(tmp_path, vmc):
+    """`tcpmm tune <(cat model.yaml)` said 'machine model not found': a model read from a
+    pipe (once: a truth file's format is looked at in the text read) reads as its file."""
+    from tcpmm.io.modelfile import dumps_machine, read_machine
+
+    assert through_fifo(tmp_path, dumps_machine(vmc), read_machine) == vmc
+    from conftest import bench_path
+
+    truth = bench_path("c") / "truth.yaml"
+    fifo_dir = tmp_path / "truth"
+    fifo_dir.mkdir()
+    assert through_fifo(fifo_dir, truth.read_text(), read_machine) == read_machine(truth)
+
+
+def test_a_device_is_no_model_file():
+    from tcpmm.io.modelfile import read_machine
+
+    with pytest.raises(InputError, match="this is a device, not a file"):
+        read_machine("/dev/null")

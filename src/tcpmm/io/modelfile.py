@@ -16,7 +16,7 @@ from ..path.settings import InterpolatorSettings
 from .atomic import write_text_atomic
 from .text import read_text
 from .truthfile import FORMAT as TRUTH_FORMAT
-from .truthfile import machine_from_truth
+from .truthfile import truth_machine
 from .yamlutil import load_yaml, validate_yaml
 
 FORMAT = "tcpmm-model/1"
@@ -114,8 +114,8 @@ def read_machine(path) -> Machine:
     Parameters
     ----------
     path : str or Path
-        Model file, a reference machine's ``truth.yaml`` (:func:`~tcpmm.io.truthfile.
-        machine_from_truth`), or ``builtin:vmc`` [-].
+        Model file, a reference machine's ``truth.yaml`` (as
+        :func:`~tcpmm.io.truthfile.machine_from_truth` reads it), or ``builtin:vmc`` [-].
     """
     s = str(path)
     if s.startswith("builtin:"):
@@ -124,5 +124,5 @@ def read_machine(path) -> Machine:
     if TRUTH_FORMAT in text:  # a reference machine's true parameters are a model too
         d, _ = load_yaml(text, path)
         if isinstance(d, dict) and d.get("format") == TRUTH_FORMAT:
-            return machine_from_truth(path)
+            return truth_machine(d, path)
     return _to_machine(validate_yaml(text, ModelFile, path, "machine model", _HINT, FORMAT))

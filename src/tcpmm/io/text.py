@@ -23,9 +23,12 @@ def existing_file(path, what: str, missing: str | None = None) -> Path:
     path = Path(path)
     if path.is_dir():
         raise InputError(f"this is a directory; give the path of the {what}", file=path)
-    if not path.is_file():
-        raise InputError(f"{missing or what} not found", file=path)
-    return path
+    if path.is_file() or path.is_fifo():  # a pipe: a shell's <(...), read once
+        return path
+    if path.exists():
+        raise InputError(f"this is a device, not a file; give the path of the {what}",
+                         file=path)
+    raise InputError(f"{missing or what} not found", file=path)
 
 
 def read_text(path, what: str) -> str:

@@ -82,6 +82,11 @@ def machine_from_truth(path) -> Machine:
         command segment, velocity from the backward difference of the encoder [SI].
     """
     d, _ = load_yaml(read_text(path, "truth file"), path)
+    return truth_machine(d, path)
+
+
+def truth_machine(d, path=None) -> Machine:
+    """:func:`machine_from_truth` of a truth file's contents ``d``, read from ``path`` [-]."""
     if not isinstance(d, dict) or d.get("format") != FORMAT:
         got = d.get("format") if isinstance(d, dict) else None
         raise InputError(f"not a {FORMAT} file (format: {got!r})", file=path)

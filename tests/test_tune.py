@@ -183,3 +183,20 @@ def test_the_velocity_gain_does_not_depend_on_the_position_gain_it_replaces(vmc,
     for n in vmc.axes:
         assert got[n].after.K_vp == pytest.approx(want[n].after.K_vp, rel=1e-9), n
         assert got[n].after.K_pp == pytest.approx(want[n].after.K_pp, rel=1e-3), n
+
+
+def test_a_mode_already_notched_is_not_advised_a_notch(vmc):
+    """Right under the note that placed a notch on the 746 Hz mode, the warning advised to
+    'notch the mode'; and an axis got the same 300-character advice once per mode."""
+    from tcpmm.servo.currentfilters import Notch
+    from tcpmm.servo.margins import LoopMargins
+    from tcpmm.servo.tune import light_mode_warnings
+
+    mech, servo = vmc.axes["X"].mechanics, vmc.axes["X"].servo
+    at = {"velocity": LoopMargins(8.0, 60.0, 90.0, 4000.0, 80.0, 1500.0)}
+    (bare,) = light_mode_warnings(mech, at, servo)
+    assert "or notch the 729 Hz mode" in bare
+    notched = servo.model_copy(update={"filters": [Notch(f_hz=728.8, bandwidth_hz=220.0,
+                                                         depth_db=-40.0)]})
+    (w,) = light_mode_warnings(mech, at, notched)
+    assert "729 Hz mode" in w and "or notch" not in w and "notches placed" in w

@@ -235,9 +235,9 @@ def _velocity_limit(mech, servo, gm, pm) -> str:
         lambda g: sampled_spectral_radius(mech, _pi(mech, servo, g)), servo.K_vp, gm, pm)
 
 
-def light_mode_warnings(mech, margins: dict) -> list[str]:
+def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
     """Warnings for loops whose last gain crossover lies above a mode of damping below
-    :data:`LIGHT_ZETA`.
+    :data:`LIGHT_ZETA`: one per loop, naming its modes.
 
     Parameters
     ----------
@@ -245,25 +245,34 @@ def light_mode_warnings(mech, margins: dict) -> list[str]:
         The axis [SI].
     margins : dict of str to LoopMargins
         ``velocity`` and ``position`` margins of the settings judged [dB, deg, Hz].
+    servo : ServoParams, optional
+        The settings judged: a mode they already notch is not advised a notch [-].
 
     Returns
     -------
     list of str
-        One warning per loop and mode [-].
+        One warning per loop [-].
     """
     freqs, zetas = _modes(mech)
+    notched = [f.f_hz for f in (servo.filters if servo is not None else ())
+               if f.type == "notch"]
     out = []
     for loop, m in margins.items():
         # the last crossover, not the one of the least phase margin: a loop that crosses
         # back above 1 at a resonance holds every mode below its last crossover
         fc = m.last_crossover_hz if np.isfinite(m.last_crossover_hz) else m.gain_crossover_hz
-        for f0, z in sorted(zip(freqs, zetas, strict=True)):
-            if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0:
-                out.append(
-                    f"the {loop} loop crosses over at {fc:.0f} Hz, above the {f0:.0f} Hz mode "
-                    f"of damping {z:.2g}: its margins there rest on that mode's frequency and "
-                    "damping, which the model may have wrong; measure the loop's frequency "
-                    "response on the machine before using these gains, or notch the mode")
+        below = [(f0, z) for f0, z in sorted(zip(freqs, zetas, strict=True))
+                 if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0]
+        if not below:
+            continue
+        modes = ", ".join(f"the {f0:.0f} Hz mode of damping {z:.2g}" for f0, z in below)
+        bare = [f0 for f0, _ in below if not any(abs(n - f0) < 0.05 * f0 for n in notched)]
+        advice = (f", or notch {' and '.join(f'the {f0:.0f} Hz mode' for f0 in bare)}"
+                  if bare else " (the notches placed flatten these modes, not take them out)")
+        out.append(f"the {loop} loop crosses over at {fc:.0f} Hz, above {modes}: its margins "
+                   "there rest on those modes' frequencies and damping, which the model may "
+                   "have wrong; measure the loop's frequency response on the machine before "
+                   f"using these gains{advice}")
     return out
 
 
@@ -323,7 +332,7 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
                       "K_pp": _kpp_reason(name, lead, found)}
             notes[name] = _gain_notes(a.servo, after, limits) + notes[name]
         out[name] = AxisTuning(a.servo, after, axis_margins(m, a.servo), mg_after, met,
-                               notes[name], light_mode_warnings(m, mg_after))
+                               notes[name], light_mode_warnings(m, mg_after, after))
     return out
 
 

@@ -28,6 +28,9 @@ def test_export_simulate_circle_compare(capsys, files):
     d = files
     code, _, _ = run(capsys, "machine", "export", "vmc", "-o", d / "m.yaml")
     assert code == 0 and (d / "m.yaml").is_file()
+    # builtin:vmc, as every other command takes it, was 'unknown built-in machine'
+    code, _, _ = run(capsys, "machine", "export", "builtin:vmc", "-o", d / "m2.yaml")
+    assert code == 0 and (d / "m2.yaml").read_text() == (d / "m.yaml").read_text()
     code, out, _ = run(capsys, "simulate", d / "m.yaml", "--command", d / "cmd.csv",
                        "-o", d / "run.csv")
     assert code == 0, out

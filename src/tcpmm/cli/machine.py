@@ -20,14 +20,16 @@ from ._app import (
 
 
 @machine_app.command("export")
-def machine_export(name: str = typer.Argument(..., help="Built-in machine name (vmc)."),
+def machine_export(name: str = typer.Argument(
+        ..., help="Built-in machine name (vmc, or builtin:vmc as elsewhere)."),
                    output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml")):
     """Write a built-in machine as a model file, with the interpolator settings that
     tcpmm path, simulate --gcode and sweep use, to be read and edited there."""
     from ..io.modelfile import with_interpolation, write_machine
     from ..machines.builtin import builtin_machine
 
-    write_machine(with_interpolation(builtin_machine(name)), checked_output(output))
+    write_machine(with_interpolation(builtin_machine(name.removeprefix("builtin:"))),
+                  checked_output(output))
     out.print(f"wrote {output}")
 
 

@@ -666,3 +666,20 @@ def test_one_direction_leaves_the_backlash_open_where_its_ellipse_may_move_the_r
     small = diagnose_single(*circle("ccw", {"alpha": 20e-6, "b_x": 4e-6}, 1, n=n), "ccw", R)
     assert small["backlash_X"] == pytest.approx(4e-6, abs=0.1e-6)
     assert "backlash_X" not in small.undetermined
+
+
+def test_a_circle_of_few_samples_keeps_its_table_and_says_why_no_diagnostics(tmp_path,
+                                                                             capsys):
+    """A full circle of 13 samples lost its whole table to an internal message ('needs
+    angle and radial error ... at least 100 samples (got (13,) and (13,))')."""
+    th = np.radians(30.0) + np.linspace(0, 2 * np.pi, 13)
+    x, y = 35 * np.cos(th), 35 * np.sin(th)
+    rows = "\n".join(f"{k * 0.05:.3f},{a:.6f},{a:.6f},{b:.6f},{b:.6f}"
+                     for k, (a, b) in enumerate(zip(x, y, strict=True)))
+    run = tmp_path / "few.csv"
+    run.write_text("time_s,x_cmd_mm,x_tcp_mm,y_cmd_mm,y_tcp_mm\n" + rows + "\n")
+    assert main(["circle", str(run), "--radius", "35"]) == 0
+    cap = capsys.readouterr()
+    assert "CCW" in cap.out
+    assert ("no diagnostics: the diagnostics need at least 100 samples of a circle; the ccw "
+            "one has 13") in " ".join(cap.err.split())

@@ -34,6 +34,9 @@ def _after_reversal(angle_rad, e, direction: str):
         d = u[:, None] - np.asarray(at)[None, :]
         before = ((d >= BEFORE_DEG[0]) & (d <= BEFORE_DEG[1])).any(axis=1)
         after = ((d >= AFTER_DEG[0]) & (d <= AFTER_DEG[1])).any(axis=1)
+        if not (before.any() and after.any()):  # sampled too coarsely to hold the windows
+            yield name, None
+            continue
         yield name, e[after] - np.median(e[before])
 
 

@@ -158,9 +158,12 @@ def check_arc(angle, e, what, arc_ok=False):
     """The arrays of one circle, checked: one full turn or more, or with ``arc_ok`` an arc
     of :data:`tcpmm.analysis.circle_passes.MIN_ARC_DEG` or more [rad, m]."""
     angle, e = np.asarray(angle, float), np.asarray(e, float)
-    if angle.shape != e.shape or angle.ndim != 1 or angle.size < 100:
-        raise InputError(f"the {what} circle needs angle and radial error of the same length, "
-                         f"at least 100 samples (got {angle.shape} and {e.shape})")
+    if angle.shape != e.shape or angle.ndim != 1:
+        raise InputError(f"the {what} circle needs angle and radial error of the same length "
+                         f"(got {angle.shape} and {e.shape})")
+    if angle.size < 100:
+        raise InputError(f"the diagnostics need at least 100 samples of a circle; the {what} "
+                         f"one has {angle.size}: sample faster or run the circle slower")
     if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(e))):
         raise InputError(f"the {what} circle has non-finite angles or radial errors")
     span = np.degrees(abs(angle[-1] - angle[0]))

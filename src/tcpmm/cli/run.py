@@ -181,13 +181,22 @@ def circle(run_file: Path = typer.Argument(
 def _diagnostics(res, results, asked: bool, sensor):
     """The pair's diagnostics where there are both directions or they are asked for
     (refused without them), else those of the one direction there is [-]."""
+    import warnings
+
     from ..analysis.circle_single import one_direction_diagnostics
     from ..analysis.diagnostics import circle_diagnostics
+    from ..errors import InputError, InputWarning
 
     dirs = {p.direction for p in res.passes}
-    if asked or dirs == {"ccw", "cw"}:
+    if asked:
         return circle_diagnostics(*results, sensor=sensor)
-    return one_direction_diagnostics(res) if len(dirs) == 1 else None
+    try:  # not asked for: the circle's table stands without them
+        if dirs == {"ccw", "cw"}:
+            return circle_diagnostics(*results, sensor=sensor)
+        return one_direction_diagnostics(res) if len(dirs) == 1 else None
+    except InputError as exc:
+        warnings.warn(f"no diagnostics: {exc.message}", InputWarning, stacklevel=2)
+        return None
 
 
 @app.command()

@@ -107,6 +107,23 @@ def test_a_command_in_the_wrong_unit_is_named(tmp_path):
             simulate(builtin_machine(), cmd)
 
 
+def test_a_one_axis_machine_runs_a_program_that_holds_the_other_axes_still(vmc):
+    """A program of X moves on a one-axis rig: the interpolator writes the Y it names held
+    at its start, and simulate refused it ('drives axis Y that the machine does not
+    have'). An axis held still is left out; one that moves is still refused."""
+    from tcpmm.errors import InputError
+    from tcpmm.path.command import Command
+    from tcpmm.sim.simulate import simulate
+
+    rig = vmc.model_copy(update={"axes": {"X": vmc.axes["X"]}})
+    t = np.arange(200) * 1e-3
+    x = 1e-3 * np.sin(np.pi * t / t[-1])
+    run = simulate(rig, Command(time_s=t, positions={"X": x, "Y": np.full(t.size, 5e-3)}))
+    assert list(run.axes) == ["X"] and run.axes["X"].cmd.max() > 0.9e-3
+    with pytest.raises(InputError, match="drives axis Y that the machine does not have"):
+        simulate(rig, Command(time_s=t, positions={"X": x, "Y": x}))
+
+
 def test_compiled_kernels_find_a_cache_when_nothing_of_the_user_is_writable(tmp_path,
                                                                           monkeypatch):
     import tempfile

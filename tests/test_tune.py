@@ -200,3 +200,19 @@ def test_a_mode_already_notched_is_not_advised_a_notch(vmc):
                                                          depth_db=-40.0)]})
     (w,) = light_mode_warnings(mech, at, notched)
     assert "729 Hz mode" in w and "or notch" not in w and "notches placed" in w
+
+
+def test_a_one_axis_machine_is_tuned_without_a_circle(vmc):
+    """A one-axis rig was refused ('the command drives axis Y that the machine does not
+    have'): tune always predicted the XY circle. It is tuned, and says why no circle; a
+    program of its axis is predicted (its other axes held still by the program)."""
+    from tcpmm.path.program import program_to_command
+
+    rig = vmc.model_copy(update={"axes": {"X": vmc.axes["X"]}})
+    res = tune_and_predict(rig, GM, PM)
+    assert res.axes["X"].met and res.path_before == {} == res.path_after
+    assert res.notes == ["no circle predicted: the machine has no Y axis; give a program "
+                         "(--gcode) to predict its path"]
+    cmd = program_to_command("G90 G17 G1 X1 Y0 F3000\nX10\nX0\nM30\n")
+    res = tune_and_predict(rig, GM, PM, cmd)
+    assert np.isfinite(res.path_after["program"]["max_deviation_um"])

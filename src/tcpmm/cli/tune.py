@@ -94,6 +94,8 @@ def _print_result(res, gm, pm) -> None:
             out.print(f"  [yellow]warning:[/yellow] {esc(warning)}")
     for note in res.notes:
         out.print(esc(note))
+    if not res.path_before:
+        return
     tab = Table(title=esc("predicted path (TCP) [um]"))
     for c in ("", "before", "after"):
         tab.add_column(c, justify="right")

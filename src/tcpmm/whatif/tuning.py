@@ -136,7 +136,7 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
             out[p.direction] = {"spike_um": max(spikes, default=float("nan")) * 1e6,
                                 "contour_error_um": s.contour_error * 1e6}
         return out
-    names = list(command.positions)
+    names = [n for n in command.positions if n in run.axes]  # an axis held still may lack
     act = np.column_stack([run.axes[n].tcp for n in names])
     ref = np.column_stack([run.axes[n].cmd for n in names])
     d = polyline_distance(act, ref)
@@ -165,8 +165,15 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         The tuned machine, the proposal per axis and the path figures [-].
     """
     circle = command is None
-    cmd = paper_circle_command(machine) if circle else command
     axes = tune_machine(machine, gm_db, pm_deg)
+    if circle and not {"X", "Y"} <= set(machine.axes):  # no XY plane to run the circle in
+        lacks = " and ".join(sorted({"X", "Y"} - set(machine.axes)))
+        note = (f"no circle predicted: the machine has no {lacks} axis; give a program "
+                "(--gcode) to predict its path")
+        tuned = machine.model_copy(update={"axes": {
+            n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
+        return TuneResult(tuned, axes, {}, {}, [note])
+    cmd = paper_circle_command(machine) if circle else command
     tuned = machine.model_copy(update={"axes": {
         n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
     tuned, after = _best_feedforward(tuned, axes, cmd, circle)

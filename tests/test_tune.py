@@ -216,3 +216,30 @@ def test_a_one_axis_machine_is_tuned_without_a_circle(vmc):
     cmd = program_to_command("G90 G17 G1 X1 Y0 F3000\nX10\nX0\nM30\n")
     res = tune_and_predict(rig, GM, PM, cmd)
     assert np.isfinite(res.path_after["program"]["max_deviation_um"])
+
+
+def test_an_axis_that_misses_sets_no_gain_and_the_unequal_gains_are_said(vmc):
+    """Y without any damping (its sampled loop at the edge of stability, spectral radius
+    1): it misses and keeps its settings, so it must not set the common K_pp of the
+    others ('set by axis Z' was said of an axis that was not tuned), the reason is its
+    stability, not the margins it meets, and the gains left unequal are said."""
+    import warnings
+
+    from tcpmm.errors import InputWarning
+
+    m = vmc.axes["Y"].mechanics
+    undamped = m.model_copy(update={k: 0.0 for k in ("B_m", "B_L", "C_t", "C_b", "C_h")})
+    machine = vmc.model_copy(update={"axes": {**vmc.axes, "Y": vmc.axes["Y"].replace(
+        mechanics=undamped)}})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        res = tune_and_predict(machine, GM, PM)
+    y = res.axes["Y"]
+    assert not y.met and y.after == y.before
+    assert any("misses the stability" in n for n in y.notes)
+    tuned = [n for n in ("X", "Z") if res.axes[n].met]
+    assert tuned and len({res.axes[n].after.K_pp for n in tuned}) == 1
+    for n in tuned:
+        assert "set by axis Y" not in " ".join(res.axes[n].notes)
+    assert any(n.startswith("the axes do not share one position gain") and "Y keep" in n
+               for n in res.notes)

@@ -149,7 +149,7 @@ def _modes(mech: AxisMechanics):
     """Frequencies [Hz] and damping ratios [-] of the lightly damped modes of G_M."""
     ev = np.linalg.eigvals(reduced_ss(mech, "G_M").A)
     ev = ev[ev.imag > 0]
-    zeta = -ev.real / np.abs(ev)
+    zeta = np.maximum(-ev.real / np.abs(ev), 0.0)  # an undamped mode's rounding is no sign
     keep = zeta < _NOTCH_ZETA
     return np.abs(ev[keep]) / (2 * np.pi), zeta[keep]
 
@@ -181,7 +181,8 @@ def tune_velocity(mech, servo, gm, pm, notes):
         if f0 is None:
             break
         zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
-        depth = float(np.clip(20 * np.log10(4 * zeta), -40.0, -10.0))
+        # an undamped mode (zeta 0, or a rounding below) takes the deepest notch
+        depth = float(np.clip(20 * np.log10(4 * max(zeta, 1e-9)), -40.0, -10.0))
         notch = Notch(f_hz=f0, bandwidth_hz=0.3 * f0, depth_db=round(depth, 1))
         trial = _with(best, filters=[*best.filters, notch])
         K2 = _velocity_gain(mech, trial, gm, pm)
@@ -265,15 +266,21 @@ def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
                  if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0]
         if not below:
             continue
-        modes = ", ".join(f"the {f0:.0f} Hz mode of damping {z:.2g}" for f0, z in below)
+        modes = _listed([f"the {f0:.0f} Hz mode of damping {z:.2g}" if z >= 1e-9 else
+                         f"the {f0:.0f} Hz mode of no damping" for f0, z in below])
         bare = [f0 for f0, _ in below if not any(abs(n - f0) < 0.05 * f0 for n in notched)]
-        advice = (f", or notch {' and '.join(f'the {f0:.0f} Hz mode' for f0 in bare)}"
+        advice = (f", or notch {_listed([f'the {f0:.0f} Hz mode' for f0 in bare])}"
                   if bare else " (the notches placed flatten these modes, not take them out)")
         out.append(f"the {loop} loop crosses over at {fc:.0f} Hz, above {modes}: its margins "
                    "there rest on those modes' frequencies and damping, which the model may "
                    "have wrong; measure the loop's frequency response on the machine before "
                    f"using these gains{advice}")
     return out
+
+
+def _listed(items: list) -> str:
+    """``a``, ``a and b``, ``a, b and c`` [-]."""
+    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
 
 
 def _gain_notes(before, after, limits) -> list[str]:
@@ -314,7 +321,7 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
     kpp = {n: tune_position(machine.axes[n].mechanics, s, gm_db, pm_deg)
            for n, s in vel.items() if s is not None}
     found = {n: kr for n, kr in kpp.items() if kr[0] is not None}
-    lead = min(found, key=lambda n: found[n][0], default=None)
+    lead = _lead(machine, vel, found, gm_db, pm_deg)
     out = {}
     for name, a in machine.axes.items():
         m, s = a.mechanics, vel[name]
@@ -322,10 +329,13 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
             s = _with(s, K_pp=found[lead][0])
         after = s if s is not None else a.servo
         mg_after = axis_margins(m, after)
+        rho = sampled_spectral_radius(m, after)
         met = (s is not None and all(v.meets(gm_db, pm_deg) for v in mg_after.values())
-               and sampled_spectral_radius(m, after) < 1.0)
+               and rho < 1.0)
         if s is not None and not met:
-            notes[name].append("the combined proposal misses the margins; settings kept")
+            why = "margins" if rho < 1.0 else f"stability (sampled loop spectral radius " \
+                                              f"{rho:.4f}, not below 1)"
+            notes[name].append(f"the combined proposal misses the {why}; settings kept")
             after, mg_after = a.servo, axis_margins(m, a.servo)
         elif met:
             limits = {"K_vp": _velocity_limit(m, after, gm_db, pm_deg),
@@ -334,6 +344,28 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
         out[name] = AxisTuning(a.servo, after, axis_margins(m, a.servo), mg_after, met,
                                notes[name], light_mode_warnings(m, mg_after, after))
     return out
+
+
+def _lead(machine, vel, found, gm_db, pm_deg):
+    """The axis whose position gain all take: the smallest of ``found``, among the axes
+    that meet the margins and are stable with it (an axis that misses keeps its settings
+    and sets nothing) [-]; ``found`` loses the others."""
+    while found:
+        lead = min(found, key=lambda n: found[n][0])
+        k = found[lead][0]
+        misses = [n for n in found if not _combined(machine.axes[n].mechanics,
+                                                    _with(vel[n], K_pp=k), gm_db, pm_deg)]
+        if not misses:
+            return lead
+        for n in misses:
+            del found[n]
+    return None
+
+
+def _combined(m, servo, gm_db, pm_deg) -> bool:
+    """Both loops meet the margins and the sampled loop is stable [-]."""
+    return (all(v.meets(gm_db, pm_deg) for v in axis_margins(m, servo).values())
+            and sampled_spectral_radius(m, servo) < 1.0)
 
 
 def _kpp_reason(name, lead, found) -> str:

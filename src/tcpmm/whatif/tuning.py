@@ -188,6 +188,14 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         notes.append(f"feedforward k_ff = {k_ff:g} on axes {', '.join(met)}: of k_ff = "
                      f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} it gives the smallest "
                      f"{what} ({_worst(after):.2f} um); it does not change the margins")
+    kpp = {n: t.after.K_pp for n, t in axes.items()}
+    if max(kpp.values()) > min(kpp.values()) * (1 + 1e-9):
+        kept = [n for n, t in axes.items() if not t.met]
+        notes.append("the axes do not share one position gain ("
+                     + ", ".join(f"{n} {v:.4g}" for n, v in kpp.items()) + " 1/s): "
+                     + (f"{', '.join(kept)} keep their settings; " if kept else "")
+                     + "a path through axes of different position gains is distorted (a "
+                       "circle becomes an ellipse); give them one by hand")
     before = path_figures(machine, cmd, circle)
     if _worst(before) == float("inf"):
         notes.append("before: the settings as they are run away on the model (a servo loop "

@@ -15,16 +15,19 @@ def header(column: str) -> str:
     if column in HEADERS:
         return HEADERS[column]
     if column.startswith("spike_") and column.endswith("_um"):
-        return f"{column[6:-3]} [µm]"
+        return f"{column[6:-3] or 'spike'} [µm]"
     if column.endswith("_um"):
         return f"{column[:-3].replace('_', ' ')} [µm]"
     return column.replace("_", " ")
 
 
 def _cell(v) -> str:
-    """A number to two decimals; one that does not exist (NaN) as a dash [-]."""
+    """A number to two decimals (a value that rounds to zero without a sign); one that
+    does not exist (NaN) as a dash; yes or no [-]."""
+    if isinstance(v, bool) or type(v).__name__ == "bool_":
+        return "yes" if v else "no"
     if isinstance(v, float):
-        return f"{v:.2f}" if v == v else "-"
+        return "-" if v != v else f"{v:.2f}".replace("-0.00", "0.00")
     return str(v)
 
 

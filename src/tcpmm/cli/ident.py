@@ -69,8 +69,11 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     if as_json:
         emit_json({**res.to_dict(), "verdict": verdict.to_dict()})
         return
-    table = res.to_pandas()
+    table = res.to_pandas().rename(columns={"settled": "sign held", "firm": "draws agree"})
     print_table(table, out, f"{sensor.value} spikes over {draws} drawn machines")
+    out.print(f"draws agree: nine in ten drawn machines within {tol_m * 1e6:g} um of the "
+              "spike; the verdicts below also count what the data leave open (as the "
+              "pre-sliding), which the draws do not vary", highlight=False)
     for r in res.unsettled():
         out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
                   f"({100 * r['same_sign']:.0f} % of the draws give it): rise "

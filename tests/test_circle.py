@@ -320,3 +320,35 @@ def test_a_circle_short_of_a_turn_by_less_than_a_sample_is_a_full_circle():
     p = R * np.c_[np.cos(th), np.sin(th)]
     [pas] = analyse_circle(make_run(p, p), R).passes
     assert pas.direction == "ccw" and not pas.is_arc
+
+
+def test_a_point_one_sensor_holds_by_a_sample_is_left_out_for_all_as_said():
+    """A 220 deg arc out and back, the TCP's Y leading by 0.5 ms: the command's arc ends a
+    hair short of C's 20 deg window, the TCP's just holds it. The warning said the CCW arc
+    does not hold C while the TCP's row printed a spike there."""
+    r, w, dt = 0.1, 2000.0 / 60e3 / 0.1, 1e-3
+    n = round(np.radians(220.0) / (w * dt))
+    u = np.r_[w * dt * np.arange(n + 1), w * dt * (n - np.arange(1, n + 1))]
+    s = np.r_[np.ones(n + 1), -np.ones(n)]
+    th = np.radians(-20.0) + u
+    cmd = r * np.c_[np.cos(th), np.sin(th)]
+    tcp = np.c_[cmd[:, 0], r * np.sin(th - s * w * -0.5e-3)]
+    run = Run(np.arange(th.size) * dt, {
+        "X": AxisRun(cmd=cmd[:, 0], tcp=tcp[:, 0]), "Y": AxisRun(cmd=cmd[:, 1], tcp=tcp[:, 1])})
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        res = analyse_circle(run, r)
+    assert any("CCW arc of 220 deg does not hold quadrant points A (0 deg), C (180 deg)"
+               in str(w.message) for w in said)
+    for p in res.passes:
+        out = {q for q, v in p.sensors["cmd"].spikes.items() if np.isnan(v)}
+        for sc in p.sensors.values():
+            assert {q for q, v in sc.spikes.items() if np.isnan(v)} == out
+            assert {q for q, v in sc.spikes_after_terms().items() if np.isnan(v)} == out
+
+
+def test_a_value_that_rounds_to_zero_prints_without_a_sign():
+    from tcpmm.cli._tables import fixed
+
+    assert [fixed(v) for v in (-0.0, -0.004, -1e-12, 0.004, -0.02, -12.0)] == \
+        ["0.00", "0.00", "0.00", "0.00", "-0.02", "-12.00"]

@@ -66,6 +66,9 @@ class SensorCircle:
         window of the spike, which is whichever is larger in magnitude [m].
     direction : {"ccw", "cw"}
         Direction of travel [-].
+    left_out : tuple of str
+        Quadrant points whose windows the pass does not hold, in any of its sensors: no
+        spike there, for any sensor [-].
     """
 
     angle_rad: np.ndarray
@@ -77,14 +80,23 @@ class SensorCircle:
     lobes: dict = field(default_factory=dict)
     direction: str = "ccw"
     _after: dict | None = field(default=None, repr=False)
+    left_out: tuple = ()
 
     def spikes_after_terms(self) -> dict:
         """Signed reversal spike per quadrant point after the error terms fitted to this
         circle (:mod:`tcpmm.analysis.circle_terms`); ``spikes`` are the raw ``e - b`` [m]."""
         if self._after is None:
-            self._after = spikes_after_terms(self.angle_rad, self.radial_error,
-                                             self.direction)
+            after = spikes_after_terms(self.angle_rad, self.radial_error, self.direction)
+            self._after = {q: np.nan if q in self.left_out else v for q, v in after.items()}
         return self._after
+
+    def leave_out(self, points) -> None:
+        """Report no spike at ``points`` (a sensor that holds a point's windows where the
+        pass's other sensors do not, by a fraction of a sample) [-]."""
+        self.left_out = tuple(points)
+        self.spikes = {q: np.nan if q in points else v for q, v in self.spikes.items()}
+        self.lobes = {q: (np.nan, np.nan) if q in points else v for q, v in self.lobes.items()}
+        self._after = None
 
 
 @dataclass
@@ -297,9 +309,11 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         for s in present:
             cp.sensors[s] = analyse_sensor(X.sensor(s)[sl], Y.sensor(s)[sl], radius_m,
                                            centre_m, d)
-        warn_uncrossed([q for q in QUADRANTS if any(np.isnan(sc.spikes[q])
-                                                   for sc in cp.sensors.values())], d,
-                       cp.arc_deg)
+        missing = [q for q in QUADRANTS if any(np.isnan(sc.spikes[q])
+                                               for sc in cp.sensors.values())]
+        for sc in cp.sensors.values():  # what the warning says holds for every sensor
+            sc.leave_out(missing)
+        warn_uncrossed(missing, d, cp.arc_deg)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

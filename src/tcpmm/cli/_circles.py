@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ._app import out
+from ._tables import fixed
 
 
 def diagnostics_json(diag) -> dict:
@@ -31,7 +32,7 @@ def _display_terms(diag, ascii_units=False):
 
 
 def _cell(v: float, digits: int = 2) -> str:
-    return "n/a" if v != v else f"{v:.{digits}f}"
+    return "n/a" if v != v else fixed(v, digits)
 
 
 def print_passes(res, title: str) -> None:

@@ -21,13 +21,20 @@ def header(column: str) -> str:
     return column.replace("_", " ")
 
 
+def fixed(v: float, digits: int = 2) -> str:
+    """``v`` to ``digits`` decimals, a value that rounds to zero without a sign (-0.00
+    reads as a small negative value that is not there) [-]."""
+    text = f"{v:.{digits}f}"
+    return text[1:] if text.startswith("-") and not text.strip("-0.") else text
+
+
 def _cell(v) -> str:
-    """A number to two decimals (a value that rounds to zero without a sign); one that
-    does not exist (NaN) as a dash; yes or no [-]."""
+    """A number to two decimals (:func:`fixed`); one that does not exist (NaN) as a dash;
+    yes or no [-]."""
     if isinstance(v, bool) or type(v).__name__ == "bool_":
         return "yes" if v else "no"
     if isinstance(v, float):
-        return "-" if v != v else f"{v:.2f}".replace("-0.00", "0.00")
+        return "-" if v != v else fixed(v)
     return str(v)
 
 

@@ -9,6 +9,7 @@ import typer
 from ._app import Sensor, app, checked_plot, emit_json, esc, in_file, out, positive
 from ._plane import run_plane_said
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
+from ._tables import fixed
 
 
 @app.command()
@@ -127,4 +128,4 @@ def _shown_corners(rows: list) -> tuple:
 
 
 def _num(v: float) -> str:
-    return "n/a" if v != v else f"{v:.2f}"
+    return "n/a" if v != v else fixed(v)

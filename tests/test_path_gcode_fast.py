@@ -153,6 +153,16 @@ def arc_program(draw):
              f" {'G90.1' if centre_abs else 'G91.1'} G1 X0 Y0 Z0 F1000"]
     pos = [0.0, 0.0, 0.0]  # in the plane's axes a, b, h, as the interpreter has it
     for k in range(draw(st.integers(1, 12))):
+        straight = draw(st.sampled_from([0, 0, 1, 2, 9]))
+        for i in range(straight):  # straight moves between: G1 modal, the arc names G2/G3
+            step = [draw(st.floats(-5.0, 5.0)) for _ in range(2)]
+            words = [f"{L}{v:.4f}" for L, v in zip((a, b), step if not absolute else
+                                                   [p + d for p, d in zip(pos, step,
+                                                                          strict=False)],
+                                                   strict=True)]
+            lines.append(("G1 " if i == 0 or draw(st.booleans()) else "") + " ".join(words))
+            vals = [float(w[1:]) for w in words]
+            pos[:2] = vals if absolute else [p + v for p, v in zip(pos, vals, strict=False)]
         r = draw(st.floats(0.5, 50.0))
         phi0, turn = draw(st.floats(-math.pi, math.pi)), draw(st.floats(-6.0, 6.0))
         c = (pos[0] - r * math.cos(phi0), pos[1] - r * math.sin(phi0))
@@ -174,7 +184,8 @@ def arc_program(draw):
         if draw(st.integers(0, 3)) == 0:
             words.append(f"F{draw(feeds)}")
         g = "G3" if turn > 0 else "G2"
-        lines.append(" ".join([g if k == 0 or draw(st.integers(0, 3)) else "", *words]).strip())
+        modal = k > 0 and not straight and not draw(st.integers(0, 3))
+        lines.append(" ".join(["" if modal else g, *words]).strip())
     if draw(st.integers(0, 2)) == 0:
         other = draw(st.sampled_from([*MODAL, *MALFORMED, "G2 X1 Y1 I0.3 J0"]))
         lines.insert(draw(st.integers(1, len(lines))), other)
@@ -185,6 +196,31 @@ def arc_program(draw):
 @given(arc_program())
 def test_fast_arcs_match_the_reference(text):
     assert _outcome(text, fast=True) == _outcome(text, fast=False)
+
+
+def _in_chunks(text, size):
+    """What the program gives read ``size`` lines at a time, as :func:`_outcome` [-]."""
+    from tcpmm.io.text import file_lines
+
+    lines = file_lines(text)
+    chunks = [lines[i:i + size] for i in range(0, len(lines), size)]
+    segments = []
+    try:
+        for it in gcode_stream.interpret_chunks(chunks, "p.nc", (0.0, 0.0, 0.0)):
+            segments += it.segments
+            it.segments = []
+    except InputError as err:
+        return ("error", err.message, err.file, err.line, err.column)
+    state = (it.pos, it.motion, it.feed, it.unit, it.absolute, it.exact_stop, it.tolerance)
+    return ("ok", repr(segments), repr(state), repr(it.warned))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(arc_program(), st.sampled_from([1, 2, 3, 7]))
+def test_fast_arcs_in_chunks_match_the_reference(text, size):
+    """Runs of arcs and of lines cut anywhere by the chunks: each run ends where its chunk
+    does, and a run of arcs between lines is a few lines long."""
+    assert _in_chunks(text, size) == _outcome(text, fast=False)
 
 
 def test_plain_arcs_skip_the_tokeniser(monkeypatch):
@@ -220,7 +256,7 @@ def _bits(v: float) -> bytes:
 def test_the_compiled_lexer_converts_a_number_as_float_does(number, letter):
     """To the bit, -0.0 included; and it converts every number of at most 15 significant
     digits and 22 decimals, so that such blocks stay off the regular expression."""
-    codes, vals = scan_chunk([f"G1 {letter}{number}"])
+    codes, vals, _ = scan_chunk([f"G1 {letter}{number}"])
     slot = "XYZF".index(letter)
     if PLAIN_MOVE.fullmatch(f"G1 {letter}{number}") is None:
         assert codes[0, 0] == NOT_PLAIN
@@ -238,7 +274,7 @@ def test_the_compiled_lexer_converts_a_number_as_float_does(number, letter):
 def test_the_compiled_lexer_on_a_chunk():
     lines = ["G1 X1.5 Y-2 Z.25 F3000", "  g00x+1y2  ", "X1 X2", "Y1 X1", "G2 X1", "",
              "G1 X" + "1" * 17, "G1 X1e3", "G 01 Z-0", "G10 X1", "X1 (c)", "F100"]
-    codes, vals = scan_chunk(lines)
+    codes, vals, _ = scan_chunk(lines)
     assert codes[:, 0].tolist() == [PLAIN, PLAIN, 0, 0, ARC, PLAIN, PLAIN_SLOW, 0, PLAIN, 0,
                                     0, PLAIN]
     assert codes[:, 1].tolist() == [1, 0, -1, -1, 2, -1, 1, -1, 1, -1, -1, -1]
@@ -255,7 +291,7 @@ def test_the_compiled_lexer_marks_plain_arcs():
     lines = ["G3 X1 Y2 I-0.5 J0 F1200", "g02x1y2r-3", "I1 J2", "G2 Z-1 I2 K0.5",
              "G1 X1 I1", "G2 I1 X1", "G2 F100", "G3 X1 R" + "1" * 17, "G2 X1 Y1 R1 R2",
              "G03 X1 Y1 Z2 I3 J4 K5 R6 F7", "G4 X1"]
-    codes, vals = scan_chunk(lines)
+    codes, vals, _ = scan_chunk(lines)
     assert codes[:, 0].tolist() == [ARC, ARC, ARC, ARC, 0, 0, 0, 0, 0, ARC, 0]
     assert codes[:, 1].tolist() == [3, 2, -1, 2, -1, -1, -1, -1, -1, 3, -1]
     assert codes[0, 2] == 1 | 2 | 8 | 16 | 32 and codes[1, 2] == 1 | 2 | 128

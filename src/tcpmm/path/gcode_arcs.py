@@ -51,9 +51,8 @@ def arc_run(it, scan, k: int, first: int) -> int:
     int
         0-based index of the first line not executed here, ``k`` if none was [-].
     """
-    codes, vals = scan
-    run = codes[k:, 0] != ARC
-    stop = k + (int(run.argmax()) if run.any() else run.size)
+    codes, vals, run_end = scan
+    stop = int(run_end[k])  # the run of arcs from k: nothing past it is looked at
     a, b = PLANES[it.plane]
     ia, ib = AXIS_INDEX[a], AXIS_INDEX[b]
     # a centre word out of the plane: the interpreter's message

@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import gc
 import re
+from typing import NamedTuple
 
 import numpy as np
 
@@ -38,20 +39,38 @@ PLAIN_MOVE = re.compile(
     + "".join(f"(?:[{c}{c.lower()}]{_NUMBER})?" for c in "XYZF")
 )
 
+#: plain moves in a row below which the expression runs them rather than the compiled
+#: run (a call and a LineRun cost some 50 us; the expression about 5 us a block) [-]
+SHORT_RUN = 8
 #: statuses of :func:`tcpmm.path.gcode_scan.scan_lines`: executed there, a plain move
 #: whose numbers only ``float`` converts exactly, a plain arc (:mod:`tcpmm.path.gcode_arcs`)
 _PLAIN, _PLAIN_SLOW, _ARC = 1, 2, ARC
 
 
+class Scan(NamedTuple):
+    """A chunk's lines lexed: per line its codes and values
+    (:func:`tcpmm.path.gcode_scan.scan_lines`), and where the run of lines of its status
+    ends (a run is executed without looking past it: a program of lines and arcs taken in
+    turn would otherwise cost the rest of the chunk at every block) [-]."""
+
+    codes: np.ndarray
+    vals: np.ndarray
+    run_end: np.ndarray
+
+
 def scan_chunk(lines: list[str]):
-    """The chunk's lines lexed (:func:`tcpmm.path.gcode_scan.scan_lines`): codes and
-    values, or ``None`` where a line holds a line break of its own [-]."""
+    """The chunk's lines lexed, a :class:`Scan`, or ``None`` where a line holds a line break
+    of its own [-]."""
     if not lines:
         return None
     # bytes above 127 (any other character) make a line no plain move, as for PLAIN_MOVE
     data = ("\n".join(lines) + "\n").encode("utf-8", "surrogatepass")
     codes, vals = ck.scan_lines(np.frombuffer(data, np.uint8))
-    return (codes, vals) if codes.shape[0] == len(lines) else None
+    if codes.shape[0] != len(lines):
+        return None
+    n = codes.shape[0]
+    ends = np.r_[np.flatnonzero(np.diff(codes[:, 0])) + 1, n]
+    return Scan(codes, vals, ends[np.searchsorted(ends, np.arange(n), side="right")])
 
 
 def plain_run(it, lines: list[str], k: int, offset: int = 0, scan=None) -> int:
@@ -83,16 +102,17 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0, scan=None) -> int:
             lines, k, len(lines), offset + 1, it.segments.append,
             (it.pos, it.motion, it.feed), modes)
         return k
-    codes = scan[0]
+    codes, run_end = scan.codes, scan.run_end
     while k < len(lines):
         # a line of other words (a comment, a modal code) goes to the tokeniser without a
-        # call to the compiled run, which sizes its outputs for the rest of the chunk
+        # call to the compiled run; a short run of plain moves (between arcs) takes the
+        # expression, whose cost is the blocks', not a call's and a run's set-up
         status = codes[k, 0]
-        if status == _PLAIN:
+        if status == _PLAIN and run_end[k] - k >= SHORT_RUN:
             j = _compiled_run(it, scan, k, offset + 1)
-        elif status == _PLAIN_SLOW:
+        elif status in (_PLAIN, _PLAIN_SLOW):
             j, it.pos, it.motion, it.feed = _run(
-                lines, k, k + 1, offset + 1, it.segments.append,
+                lines, k, int(run_end[k]), offset + 1, it.segments.append,
                 (it.pos, it.motion, it.feed), modes)
         elif status == _ARC:
             j = arc_run(it, scan, k, offset + 1)
@@ -111,7 +131,9 @@ def _compiled_run(it, scan, k: int, first: int) -> int:
     state = np.array([*it.pos, -1.0 if it.motion is None else it.motion,
                       np.nan if it.feed is None else it.feed, it.unit,
                       1.0 if it.absolute else 0.0, MAX_FEED, MAX_COORDINATE_M])
-    stop, ends, feeds, motions = ck.run_plain(scan[0], scan[1], k, state)
+    end = int(scan.run_end[k])  # its outputs sized for the run, not the rest of the chunk
+    stop, ends, feeds, motions = ck.run_plain(scan.codes[k:end], scan.vals[k:end], 0, state)
+    stop += k
     if stop == k:
         return k
     feeds = feeds.tolist()

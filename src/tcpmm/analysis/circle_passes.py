@@ -145,7 +145,7 @@ def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> l
         # short of whole turns by up to a sample's angle (a circle sampled at 1 kHz at
         # F10000 ends 0.13 deg short) is a full circle, as is_full takes one; shorter,
         # the stretch is an arc
-        step = float(np.median(np.abs(np.diff(ang))))
+        step = float(np.median(np.abs(np.diff(ang)))) if ang.size > 1 else 0.0
         if excess < -max(1e-3, step):
             if n_turns == 1 and np.degrees(abs(span)) >= MIN_ARC_DEG:
                 arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))

@@ -108,8 +108,10 @@ class Comparison:
 def _on_grid(angle, e, direction, start, grid):
     """The error ``e`` at the travel angles ``grid`` from the angle ``start``, over one
     turn (a run that starts elsewhere on the circle is taken at the same places) [m]."""
-    a = np.mod((angle - start) * (-1.0 if direction == "cw" else 1.0), 2 * np.pi)
-    return np.interp(grid, a, e, period=2 * np.pi)
+    sgn = -1.0 if direction == "cw" else 1.0
+    turn = (angle - angle[0]) * sgn < 2 * np.pi  # one turn of the run: no overlap mixed in
+    a = np.mod((angle[turn] - start) * sgn, 2 * np.pi)
+    return np.interp(grid, a, e[turn], period=2 * np.pi)
 
 
 def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparison:

@@ -158,10 +158,10 @@ def feed_limits(interp) -> FeedLimits:
 
 def _length_at_feed(interp, motion) -> tuple[float, float]:
     """Path length of the feed blocks, and the part of it that the command runs within
-    ``1 - HELD_SHARE`` of the programmed feed: of the command as it is written, after the
-    interpolation filter (which slows the path where its direction turns or its speed
-    changes), each sample against the block the samples before the filter were on a
-    filter delay earlier [m]."""
+    ``1 - HELD_SHARE`` of the programmed feed: both of the command as it is written, after
+    the interpolation filter (which slows the path and cuts it short where its direction
+    turns or its speed changes), each sample against the block the samples before the
+    filter were on a filter delay earlier [m]."""
     p, cmd = interp.path, interp.command
     s = np.asarray(cmd.meta["path_s_m"], float)
     ds = np.diff(s)

@@ -160,6 +160,19 @@ def _run_axes(one, names: list, threads: int | None, progress) -> dict:
     return runs
 
 
+def _refuse_unknown_axes(machine, command) -> None:
+    """Refuse a command that moves an axis the machine does not have; one it holds still is
+    no matter (the interpreter writes every axis a program names: an X-only test on a
+    one-axis rig too) [-]."""
+    unknown = [a for a in command.axes if a not in machine.axes
+               and np.ptp(np.asarray(command.positions[a], float)) > 0.0]
+    if unknown:
+        raise InputError(
+            f"the command drives axis {', '.join(unknown)} that the machine does not have "
+            f"(machine axes: {', '.join(machine.axes)})"
+        )
+
+
 def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
              quantise_feedback=True, threads: int | None = None,
              current_feedforward_A: dict | None = None) -> Run:
@@ -195,15 +208,7 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
         An axis that ran away from its command or saturated its current
         (:mod:`tcpmm.analysis.runaway`); the faults are also in ``run.meta["faults"]``.
     """
-    # an axis the machine does not have is no matter while the command holds it still (the
-    # interpolator writes every axis a program names, an X-only test on a one-axis rig too)
-    unknown = [a for a in command.axes if a not in machine.axes
-               and np.ptp(np.asarray(command.positions[a], float)) > 0.0]
-    if unknown:
-        raise InputError(
-            f"the command drives axis {', '.join(unknown)} that the machine does not have "
-            f"(machine axes: {', '.join(machine.axes)})"
-        )
+    _refuse_unknown_axes(machine, command)
     rp = record_period_s if record_period_s is not None else command.period_s
     names = list(machine.axes)
     _check_speeds(machine, command)

@@ -122,6 +122,13 @@ def servo_remainder(angle, s, radius, mu):
     return exact - mu * term_column("servo_angle", angle, s, radius)
 
 
+def _unit_columns(A):
+    """``A`` with each column scaled to unit norm (a zero column left as it is), and the
+    norms [-]."""
+    norm = np.linalg.norm(A, axis=0)
+    return A / np.where(norm > 0, norm, 1.0), norm
+
+
 def column_shares(A):
     """Per column the share of it (scaled to unit norm) independent of the others [-].
 
@@ -130,8 +137,7 @@ def column_shares(A):
     A : ndarray
         Design matrix, one column per term [m/unit].
     """
-    norm = np.linalg.norm(A, axis=0)
-    An = A / np.where(norm > 0, norm, 1.0)
+    An, norm = _unit_columns(A)
     G = An.T @ An
     share = np.zeros(A.shape[1])
     for j in np.flatnonzero(norm > 0):
@@ -180,8 +186,7 @@ def drop_twins(A, keep, protect=()):
     """``keep`` less every column that is the twin of one left out: a term kept for a
     twin the arc does not tell from it would carry both under its one name (over an arc
     inside a quadrant, backlash X and lateral play Y) [-]."""
-    norm = np.linalg.norm(A, axis=0)
-    An = A / np.where(norm > 0, norm, 1.0)
+    An = _unit_columns(A)[0]
     out = keep.copy()
     for j in np.flatnonzero(~keep):
         twins = np.abs(An[:, keep].T @ An[:, j]) >= TWIN

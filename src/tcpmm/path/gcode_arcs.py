@@ -12,11 +12,11 @@ tokeniser and the interpreter for its message, line and column.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 from .gcode_geometry import ARC_ABS_TOL_M, ARC_REL_TOL
 from .gcode_words import MAX_COORDINATE_M, MAX_FEED
+from .runs import slot_setters
 from .segments import AXIS_INDEX, FULL_CIRCLE_TOL_M, PLANES, Arc
 
 #: the status of a plain arc in the scanner's codes, and the bits of its words of an
@@ -26,9 +26,8 @@ ARC, ARC_WORDS = 3, 240
 #: the columns of the scanner's values and their bits in its words: F, then I, J, K
 #: (the centre word of X, Y, Z) and R
 _F, _I, _R = 3, 4, 7
-#: the slot setters of Arc's fields in order (a frozen dataclass's ``__init__`` sets each
-#: through ``object.__setattr__``, which costs twice as much)
-_SETTERS = tuple(getattr(Arc, f.name).__set__ for f in dataclasses.fields(Arc))
+#: the slot setters of Arc's fields in order (:func:`tcpmm.path.runs.slot_setters`)
+_SETTERS = slot_setters(Arc)
 
 
 def arc_run(it, scan, k: int, first: int) -> int:

@@ -20,9 +20,15 @@ import numpy as np
 
 from .segments import Line
 
-#: the slot setters of Line's fields in order: a frozen dataclass's ``__init__`` sets each
-#: field through ``object.__setattr__``, which costs twice as much as the setters
-LINE_SETTERS = tuple(getattr(Line, f.name).__set__ for f in dataclasses.fields(Line))
+
+def slot_setters(cls) -> tuple:
+    """The slot setters of a frozen dataclass's fields in order: its ``__init__`` sets each
+    field through ``object.__setattr__``, which costs twice as much as the setters [-]."""
+    return tuple(getattr(cls, f.name).__set__ for f in dataclasses.fields(cls))
+
+
+#: the slot setters of Line's fields (:func:`slot_setters`)
+LINE_SETTERS = slot_setters(Line)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -166,16 +166,14 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     """
     circle = command is None
     axes = tune_machine(machine, gm_db, pm_deg)
+    tuned = machine.model_copy(update={"axes": {
+        n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
     if circle and not {"X", "Y"} <= set(machine.axes):  # no XY plane to run the circle in
         lacks = " and ".join(sorted({"X", "Y"} - set(machine.axes)))
         note = (f"no circle predicted: the machine has no {lacks} axis; give a program "
                 "(--gcode) to predict its path")
-        tuned = machine.model_copy(update={"axes": {
-            n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
         return TuneResult(tuned, axes, {}, {}, [note])
     cmd = paper_circle_command(machine) if circle else command
-    tuned = machine.model_copy(update={"axes": {
-        n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
     tuned, after = _best_feedforward(tuned, axes, cmd, circle)
     axes = {n: replace(t, after=tuned.axes[n].servo) if t.met else t for n, t in axes.items()}
     notes = []

@@ -1,6 +1,6 @@
 """The compiled functions of :data:`FUNCTIONS` (the axis kernel, the matrix exponential,
-the interpolator's, the G-code lexer's and the contour's nearest-segment search) built
-ahead of time, so that a command starts without numba.
+the interpolator's, the G-code lexer's, the contour's nearest-segment search and corner
+figures) built ahead of time, so that a command starts without numba.
 
 numba compiles them on their first call and caches the machine code, but loading a
 cached function costs its import and the set-up of its compiler (0.5 s and more of every
@@ -36,43 +36,11 @@ import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
+from ._compiled_table import FUNCTIONS, KERNEL_SOURCES
 from ._numba_cache import writable
 from ._pycc import build_module
 from .errors import BuildNotice
 
-#: Sources the functions are compiled from (relative to the package): an edit makes a
-#: new key.
-KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
-                  "sim/frictionstep.py", "sim/contact.py", "sim/frictionlaw.py",
-                  "sim/layout.py", "sim/expm.py",
-                  "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
-                  "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
-                  "path/nearest.py")
-#: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
-#: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
-_KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
-                 "f1", "f2", "f2", "f2", "f1")
-#: The functions built into the module: name -> (module of tcpmm, numba's entry point,
-#: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``,
-#: ``u1`` C-contiguous float64, int64 or uint8 arrays of 1 or 2 dimensions; ``f``, ``i`` a
-#: float64 or int64 number; a tuple for a tuple.
-FUNCTIONS = {
-    "run_axis": ("sim.kernel", "run_axis", "_run_axis", _KERNEL_KINDS, "f1"),
-    "expm": ("sim.expm", "expm", "expm", ("f2",), "f2"),
-    "lookahead": ("path.lookahead", "lookahead", "lookahead", ("f1", "f1", "f1", "f"), "f1"),
-    "backward": ("path.lookahead", "backward", "backward", ("f1", "f1", "f1", "f"), "f1"),
-    "segment_profiles": ("path.profile", "segment_profiles", "segment_profiles",
-                         ("f1", "f1", "f1", "f1", "f"), "f2"),
-    "timeline": ("path.sampling", "timeline", "timeline",
-                 ("i1", "f1", "f1", "f1", "f", "i"), ("i1", "f1", "f1", "i")),
-    "sample": ("path.sampling", "sample", "sample",
-               ("i1", "f1", "f1", "f1", "f1", "f2", "i", "f"), ("i1", "f1")),
-    "scan_lines": ("path.gcode_scan", "scan_lines", "scan_lines", ("u1",), ("i2", "f2")),
-    "run_plain": ("path.gcode_scan", "run_plain", "run_plain", ("i2", "f2", "i", "f1"),
-                  ("i", "f2", "f1", "i1")),
-    "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
-                         ("f2", "f2", "f2", "f1", "f2", "i1", "i1", "i"), ("f1", "i1")),
-}
 #: A failed build is not tried again for this long [s]; a build lock older than
 #: :data:`LOCK_STALE_S` is taken to be left by a process that died [s].
 RETRY_AFTER_S = 86400.0
@@ -85,6 +53,7 @@ _PKG = Path(__file__).resolve().parent
 _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
 _chosen: list = []  # [module or None, description] once chosen
+_DTYPES: dict = {}  # kind's letter -> numpy's dtype, once numpy is imported
 _NUMBA = "numba's kernels"
 _OFF = _NUMBA + " (TCPMM_COMPILED=0)"
 
@@ -239,13 +208,16 @@ def _fits(kinds, args) -> bool:
 
     if len(args) != len(kinds):
         return False
+    if not _DTYPES:
+        _DTYPES.update(i=np.dtype(np.int64), u=np.dtype(np.uint8), f=np.dtype(np.float64),
+                       bool=(bool, np.bool_), int=(int, np.integer),
+                       float=(int, float, np.integer, np.floating))
     for a, k in zip(args, kinds, strict=True):
         if len(k) == 2:
-            if not (type(a) is np.ndarray and a.ndim == int(k[1])
-                    and a.dtype == {"i": np.int64, "u": np.uint8, "f": np.float64}[k[0]]):
+            if not (type(a) is np.ndarray and a.ndim == int(k[1]) and a.dtype == _DTYPES[k[0]]):
                 return False
-        elif isinstance(a, bool | np.bool_) or not isinstance(
-                a, (int, np.integer) if k == "i" else (int, float, np.integer, np.floating)):
+        elif isinstance(a, _DTYPES["bool"]) or not isinstance(
+                a, _DTYPES["int"] if k == "i" else _DTYPES["float"]):
             return False
     return True
 

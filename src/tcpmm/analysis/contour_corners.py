@@ -14,12 +14,11 @@ to halfway to it are in: the figures are the whole run's to the bit, whatever th
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 
-from .._rows import dot_rows, norm_rows
-from .corners import CornerFinder, closest_on, first_bend, outward, path_length, rest_start
+from .._compiled import call
+from .._rows import norm_rows
+from .corners import CornerFinder, first_bend, outward, path_length, rest_start
 from .tape import Tape
 
 #: rows of a settling stretch read back at a time [-]
@@ -36,7 +35,7 @@ class _Corner:
         self.b0, self.b1 = b0, None
         self.s_on = s_i if self.end else np.inf  # path length to which the leg runs on
         self.checked = i  # the first segment not yet looked at for the bend
-        self.near, self.after, self.sensors = {}, Tape(), []
+        self.near, self.after, self.sensors = [], Tape(), []
 
 
 class CornerStream:
@@ -155,9 +154,10 @@ class CornerStream:
         t = t[i0:i1]
         after = t >= c.t0
         sp = np.interp(t[after], self.tc, self.s)
+        if actual:
+            c.near.append(self._near(c, t, i0, i1, actual, feet))
         row = {}
-        for name, got in zip(actual, self._near(c, t, i0, i1, actual, feet), strict=True):
-            c.near.setdefault(name, []).append(got)
+        for name in actual:
             # what settles: the contour error after a corner, the distance to the end
             # point at the end of the path (the command rests there: lag counts too)
             row[name] = (norm_rows(actual[name][i0:i1][after] - c.c) if c.end
@@ -165,29 +165,19 @@ class CornerStream:
         c.sensors = list(row)
         c.after.add(np.column_stack([t[after], sp, *row.values()]))
 
-    def _near(self, c, t, i0: int, i1: int, actual, feet) -> list:
-        """Per sensor, of its samples ``i0:i1`` (times ``t``) whose closest command point
-        lies near the corner: times, distance to the corner point, how far outside the
-        path and whether past the corner [s], [m], [m], [-]. Every sensor's samples at
-        once, their rows stacked: the arithmetic is row by row."""
+    def _near(self, c, t, i0: int, i1: int, actual, feet) -> tuple:
+        """Of every sensor's samples ``i0:i1`` (times ``t``), those whose closest command
+        point lies near the corner, the sensors' one after the other: where each
+        sensor's start [-], their times, distances to the corner point, how far outside
+        the path and whether past the corner [s], [m], [m], [-]."""
         names = list(actual)
-        if not names:
-            return []
         q = np.concatenate([actual[k][i0:i1] for k in names])
         lf = np.concatenate([feet[k][i0:i1] for k in names]) - self.off
-        mine = lf >= 0  # a segment dropped lies before every corner not yet found
-        at = self.s[np.where(mine, lf, 0)]
-        near = mine & (at >= c.s_i - self.span) & (
-            (at <= c.s_i + self.span) | (at <= c.s_on))
-        qn = q[near]
-        if c.end:  # the travel past the end point
-            dev, past = dot_rows(qn - c.c, c.n), np.ones(qn.shape[0], bool)
-        else:  # how far outside the path the point lies, once past the corner
-            foot_point, at_foot = closest_on(qn, self.p, self.s, lf[near])
-            dev, past = dot_rows(qn - foot_point, c.n), at_foot >= c.s_first - 1e-12
-        cut = [0, *np.cumsum(near.reshape(len(names), t.size).sum(axis=1)).tolist()]
-        cols = (np.tile(t, len(names))[near], norm_rows(qn - c.c), dev, past)
-        return [tuple(x[a:b] for x in cols) for a, b in itertools.pairwise(cut)]
+        rows, dist, dev, past = call(
+            "near_rows", q, lf, self.s, self.p, c.c, c.n, c.s_i, self.span, c.s_on,
+            c.s_first, int(c.end))
+        cut = np.searchsorted(rows, np.arange(len(names) + 1) * t.size)
+        return cut, t[rows % t.size], dist, dev, past
 
     def _settle(self) -> None:
         """Sum up the corners whose samples are all in, and let go of what no corner
@@ -222,52 +212,67 @@ class CornerStream:
 
 def _figures(c, tol) -> dict:
     """Per sensor: overshoot, rounding and settling of a corner from its tapes, over the
-    samples it owns (halfway from the previous corner to halfway to the next) [SI]."""
+    samples it owns (halfway from the previous corner to halfway to the next) [SI].
+
+    The overshoot (:func:`tcpmm.sim.cornerfigs.corner_shapes`) is taken from where the point
+    holds: at the end of the path a static deflection along it is where it settles
+    (it is taken off), across the outgoing leg a sag of the tool where it holds there."""
     out = {}
     a0, a1 = c.after.count(c.b0, "left"), c.after.count(c.b1, "right")
     settled = _settling(c.after, a0, a1, range(2, 2 + len(c.sensors)), c.t0, c.sp0, tol)
-    for name, settle in zip(c.sensors, settled, strict=True):
-        t, dist, dev, past = (v[0] if len(v) == 1 else np.concatenate(v)
-                              for v in zip(*c.near[name], strict=True))
-        own = (t >= c.b0) & (t <= c.b1)
-        if not own.any():
-            fig = {"overshoot_m": float("nan"), "rounding_m": float("nan")}
-        else:
-            if c.end:  # a static deflection along the path is where it settles
-                dv = dev[own]
-                dv = dv - max(float(np.median(dv[-(dv.size // 4 or 1):])), 0.0)
-            else:  # and one across the outgoing leg (a sag of the tool) where it holds
-                dv = dev[own & past]
-                dv = dv - _held(dv, tol)
-            fig = {"overshoot_m": float(max(np.max(dv), 0.0)) if dv.size else 0.0,
-                   "rounding_m": float(np.min(dist[own]))}
-        out[name] = {**fig, **settle}
+    if not c.sensors:
+        return out
+    cut, *cols = c.near[0] if len(c.near) == 1 else _by_sensor(c.near, len(c.sensors))
+    shapes = call("corner_shapes", *cols, cut, c.b0, c.b1, int(c.end), tol)
+    for (name, settle), (over, rounding) in zip(zip(c.sensors, settled, strict=True),
+                                                shapes.tolist(), strict=True):
+        out[name] = {"overshoot_m": over, "rounding_m": rounding, **settle}
     return out
 
 
-def _held(dev, tol: float) -> float:
-    """How far outside the path a point lies where it holds on the outgoing leg: the
-    median of the last quarter of ``dev`` where that quarter stays within ``tol`` of it
-    and lies outside the band ``tol``, else 0 (a point still moving about is not at rest;
-    within the band it has settled) [m]."""
-    tail = dev[-(dev.size // 4 or 1):]
-    if tail.size < 4:
-        return 0.0
-    level = float(np.median(tail))
-    return level if level > tol and float(np.max(np.abs(tail - level))) <= tol else 0.0
+def _by_sensor(pieces, sensors: int) -> tuple:
+    """The pieces of :meth:`CornerStream._near`, joined: each sensor's rows of every
+    piece, one sensor after the other, and where each sensor's start [-]."""
+    order = [(piece, k) for k in range(sensors) for piece in pieces]
+    cols = tuple(np.concatenate([piece[1 + j][piece[0][k]:piece[0][k + 1]]
+                                 for piece, k in order]) for j in range(4))
+    counts = [sum(int(p[0][k + 1] - p[0][k]) for p in pieces) for k in range(sensors)]
+    return (np.concatenate([[0], np.cumsum(counts)]).astype(np.int64), *cols)
 
 
 def _settling(tape, a0: int, a1: int, cols, t0: float, sp0: float, tol: float) -> list:
     """Per column of ``cols``: time and command path length from ``t0`` (where the path
     length is ``sp0``) until the error in that column of rows ``a0:a1`` of the tape (time,
     path length, errors) stays within ``tol`` of its level at the end of the stretch (the
-    median of its last quarter) [s, m]; the stretch is read back from its end a block at
-    a time, for every column at once."""
+    median of its last quarter) [s, m]. A stretch of up to :data:`_BACK_ROWS` rows is
+    read at once (:func:`tcpmm.sim.cornerfigs.settle_rows`), a longer one back from its end a
+    block at a time, for every column at once."""
     cols = list(cols)
     nan = {"settle_s": float("nan"), "settle_m": float("nan")}
     size = a1 - a0
     if size < 4:
         return [nan] * len(cols)
+    if size <= _BACK_ROWS:
+        rows = tape.rows(a0, a1)
+        k = {j: a0 + int(x) for j, x in enumerate(
+            call("settle_rows", np.ascontiguousarray(rows), np.array(cols, np.int64), tol))
+            if x >= 0}
+    else:
+        k = _settled_back(tape, a0, a1, cols, tol)
+    res = []
+    for j in range(len(cols)):
+        if j not in k:
+            res.append(nan)
+            continue
+        t, sp = tape.rows(k[j], k[j] + 1)[0, :2]
+        res.append({"settle_s": float(t - t0), "settle_m": float(sp - sp0)})
+    return res
+
+
+def _settled_back(tape, a0: int, a1: int, cols: list, tol: float) -> dict:
+    """:func:`tcpmm.sim.cornerfigs.settle_rows` over a stretch read back a block at a time:
+    per column that settles, the first row from which it stays in the band [-]."""
+    size = a1 - a0
     tail = [tape.rows(lo, min(lo + _BACK_ROWS, a1))[:, cols]
             for lo in range(a1 - size // 4, a1, _BACK_ROWS)]
     level = np.median(np.concatenate(tail), axis=0)
@@ -283,14 +288,7 @@ def _settling(tape, a0: int, a1: int, cols, t0: float, sp0: float, tol: float) -
                 k[j] = lo + int(out[-1]) + 1
                 left.discard(j)
         hi = lo
-    res = []
-    for j in range(len(cols)):
-        if j not in k:
-            res.append(nan)
-            continue
-        t, sp = tape.rows(k[j], k[j] + 1)[0, :2]
-        res.append({"settle_s": float(t - t0), "settle_m": float(sp - sp0)})
-    return res
+    return k
 
 
 def _numbered(k, c) -> dict:

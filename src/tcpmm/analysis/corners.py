@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._compiled import call
 from .._rows import dot_rows, norm_rows
 
 #: Least share of the turn over the corner span that a corner makes over a quarter of it;
@@ -207,27 +208,8 @@ def first_bend(p, s, j0, t_out, after_m):
     """The first segment from ``j0`` on, beyond the path length ``after_m``, that leaves the
     outgoing direction by more than ``_STRAIGHT_DEG`` (across a straight leg the overshoot is
     the contour error, across a curve it is not); ``None`` if none of ``p`` does [-].
-    Looked for in growing blocks: the leg is short where corners follow one another, and
-    the polyline long."""
-    lo, step, n = j0, 64, p.shape[0]
-    while lo < n - 1:
-        hi = min(lo + step, n - 1)  # segments lo .. hi - 1
-        seg = np.diff(p[lo:hi + 1], axis=0)
-        ln = norm_rows(seg)
-        bent = (dot_rows(seg, t_out) < np.cos(np.radians(_STRAIGHT_DEG)) * ln) & (ln > 0)
-        bent &= s[lo:hi] > after_m  # within the span a blend still turns
-        k = np.flatnonzero(bent)
-        if k.size:
-            return lo + int(k[0])
-        lo, step = hi, step * 4
-    return None
-
-
-def closest_on(q, p, s, foot):
-    """The closest point on segment ``foot`` of the polyline to each point, and its path
-    length [m]."""
-    a, d = p[foot], p[foot + 1] - p[foot]
-    ln2 = dot_rows(d, d)
-    f = np.clip(np.divide(dot_rows(q - a, d), ln2, out=np.zeros(ln2.shape),
-                          where=ln2 > 0), 0.0, 1.0)
-    return a + f[:, None] * d, s[foot] + f * np.sqrt(ln2)
+    Looked for a segment at a time, compiled (:func:`tcpmm.sim.cornerfigs.first_bend`): the
+    leg is short where corners follow one another."""
+    j = call("first_bend", p, s, int(j0), np.ascontiguousarray(t_out, float),
+             float(after_m), float(np.cos(np.radians(_STRAIGHT_DEG))))
+    return None if j < 0 else int(j)

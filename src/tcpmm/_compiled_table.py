@@ -1,0 +1,48 @@
+"""The functions :mod:`tcpmm._compiled` builds ahead of time, the sources they are compiled
+from and the kinds of their arguments and results (this file is one of the sources: an
+edit of a kind makes a new module)."""
+
+from __future__ import annotations
+
+#: Sources the functions are compiled from (relative to the package): an edit makes a
+#: new key.
+KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
+                  "sim/frictionstep.py", "sim/contact.py", "sim/frictionlaw.py",
+                  "sim/layout.py", "sim/expm.py",
+                  "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
+                  "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
+                  "path/nearest.py", "sim/cornerfigs.py", "_compiled_table.py")
+#: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
+#: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
+_KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
+                 "f1", "f2", "f2", "f2", "f1")
+#: :mod:`tcpmm.sim.cornerfigs`' arguments and results.
+_SHAPE_KINDS = ("f1", "f1", "f1", "u1", "i1", "f", "f", "i", "f")
+_NEAR_KINDS, _NEAR_RESULT = ("f2", "i1", "f1", "f2", "f1", "f1") + ("f",) * 4 + ("i",), (
+    "i1", "f1", "f1", "u1")
+#: The functions built into the module: name -> (module of tcpmm, numba's entry point,
+#: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``,
+#: ``u1`` C-contiguous float64, int64 or uint8 arrays of 1 or 2 dimensions; ``f``, ``i`` a
+#: float64 or int64 number; a tuple for a tuple.
+FUNCTIONS = {
+    "run_axis": ("sim.kernel", "run_axis", "_run_axis", _KERNEL_KINDS, "f1"),
+    "expm": ("sim.expm", "expm", "expm", ("f2",), "f2"),
+    "lookahead": ("path.lookahead", "lookahead", "lookahead", ("f1", "f1", "f1", "f"), "f1"),
+    "backward": ("path.lookahead", "backward", "backward", ("f1", "f1", "f1", "f"), "f1"),
+    "segment_profiles": ("path.profile", "segment_profiles", "segment_profiles",
+                         ("f1", "f1", "f1", "f1", "f"), "f2"),
+    "timeline": ("path.sampling", "timeline", "timeline",
+                 ("i1", "f1", "f1", "f1", "f", "i"), ("i1", "f1", "f1", "i")),
+    "sample": ("path.sampling", "sample", "sample",
+               ("i1", "f1", "f1", "f1", "f1", "f2", "i", "f"), ("i1", "f1")),
+    "scan_lines": ("path.gcode_scan", "scan_lines", "scan_lines", ("u1",), ("i2", "f2")),
+    "run_plain": ("path.gcode_scan", "run_plain", "run_plain", ("i2", "f2", "i", "f1"),
+                  ("i", "f2", "f1", "i1")),
+    "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
+                         ("f2", "f2", "f2", "f1", "f2", "i1", "i1", "i"), ("f1", "i1")),
+    "corner_shapes": ("sim.cornerfigs", "corner_shapes", "corner_shapes", _SHAPE_KINDS, "f2"),
+    "settle_rows": ("sim.cornerfigs", "settle_rows", "settle_rows", ("f2", "i1", "f"), "i1"),
+    "near_rows": ("sim.cornerfigs", "near_rows", "near_rows", _NEAR_KINDS, _NEAR_RESULT),
+    "first_bend": ("sim.cornerfigs", "first_bend", "first_bend", ("f2", "f1", "i", "f1", "f", "f"),
+                   "i"),
+}

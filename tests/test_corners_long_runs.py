@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from tcpmm._compiled import call
 from tcpmm._rows import dot_rows, norm_rows
 from tcpmm.analysis import corners as C
 from tcpmm.analysis.contour import contour_error
@@ -60,10 +61,14 @@ def test_looked_up_around_a_vertex_as_over_the_whole_polyline(ps, data):
     t_out[1] = np.sqrt(1 - t_out[0] ** 2)
     after = float(s[i]) + data.draw(st.floats(0, 1e-3))
     assert C.first_bend(p, s, i, t_out, after) == _first_bend_whole(p, s, i, t_out, after)
+    # the compiled frame looks the chord before the corner up around it
     span = data.draw(st.floats(1e-6, 1e-2))
-    x = np.array([s[i] - span, s[i] + span])
-    np.testing.assert_array_equal(C._near_at(p, s, x).view(np.int64),
-                                  C._at(p, s, x).view(np.int64))
+    frame = call("corner_frame", p, s, np.arange(p.shape[0]) * 1e-3, i, float("nan"), span)
+    assert frame[0] == _rest_start_whole(p, i)
+    v = p[i] - C._at(p, s, np.array([s[i] - span]))[0]
+    t_in = v / (np.sqrt(dot_rows(v, v)) or 1.0)
+    np.testing.assert_array_equal(frame[2:].view(np.int64),
+                                  np.concatenate([t_in, t_in]).view(np.int64))
 
 
 def zigzag(passes: int) -> str:

@@ -90,29 +90,70 @@ def test_settle_rows_finds_where_numpy_does(data):
 
 @pytest.mark.parametrize("end", [0, 1])
 @pytest.mark.parametrize("d", [2, 3])
-def test_near_rows_are_numpys_rows(end, d):
+def test_feed_rows_are_numpys_rows(end, d):
+    """Two sensors' samples of a window of a batch: those near the corner, their
+    figures, and the settling rows from the corner's time on."""
     rng = np.random.default_rng(7 + d + 10 * end)
     p = np.cumsum(rng.normal(0, 1e-4, (60, d)), axis=0)
     p[20] = p[19]  # a rest: a segment of no length
     s = np.cumsum(np.concatenate([[0.0], norm_rows(np.diff(p, axis=0))]))
-    q = p[rng.integers(0, 59, 300)] + rng.normal(0, 2e-5, (300, d))
-    lf = rng.integers(-3, 59, 300)
+    tc = np.arange(60) * 1e-3
+    m, off = 300, 5
+    t = np.sort(rng.uniform(0, 0.06, m))
+    q = p[rng.integers(0, 59, (2, m))] + rng.normal(0, 2e-5, (2, m, d))
+    e, f = rng.normal(0, 1e-6, (2, m)), rng.integers(-3 + off, 59 + off, (2, m))
     c, n = p[30].copy(), rng.normal(size=d)
-    s_i, span, s_on, s_first = float(s[30]), 4e-4, float(s[40]), float(s[29])
-    rows, dist, dev, past = call("near_rows", q, lf, s, p, c, n, s_i, span, s_on, s_first,
-                                 end)
-    mine = lf >= 0
-    at = s[np.where(mine, lf, 0)]
-    near = mine & (at >= s_i - span) & ((at <= s_i + span) | (at <= s_on))
-    assert np.array_equal(rows, np.flatnonzero(near))
-    qn, foot = q[near], lf[near]
-    assert np.array_equal(dist, norm_rows(qn - c))
-    if end:
-        assert np.array_equal(dev, dot_rows(qn - c, n)) and past.all()
-        return
-    a, dd = p[foot], p[foot + 1] - p[foot]
-    ln2 = dot_rows(dd, dd)
-    f = np.clip(np.divide(dot_rows(qn - a, dd), ln2, out=np.zeros(ln2.shape),
-                          where=ln2 > 0), 0.0, 1.0)
-    assert np.array_equal(dev, dot_rows(qn - (a + f[:, None] * dd), n))
-    assert np.array_equal(past.astype(bool), s[foot] + f * np.sqrt(ln2) >= s_first - 1e-12)
+    lims = np.array([0.01, 0.05, 0.03, float(s[30]), 4e-4, float(s[40]), float(s[29])])
+    cut, tn, dist, dev, past, rows = call("feed_rows", t, q, e, f, off, tc, s, p, c, n,
+                                          lims, end)
+    t_lo, t_hi, t0, s_i, span, s_on, s_first = lims
+    w = slice(np.searchsorted(t, t_lo, "left"), np.searchsorted(t, t_hi, "right"))
+    after = t[w] >= t0
+    assert np.array_equal(rows[:, 0], t[w][after])
+    assert np.array_equal(rows[:, 1], np.interp(t[w][after], tc, s))
+    for k in range(2):
+        qk, lf = q[k, w], f[k, w] - off
+        mine = lf >= 0
+        at = s[np.where(mine, lf, 0)]
+        near = mine & (at >= s_i - span) & ((at <= s_i + span) | (at <= s_on))
+        got = slice(cut[k], cut[k + 1])
+        qn, foot = qk[near], lf[near]
+        assert np.array_equal(tn[got], t[w][near])
+        assert np.array_equal(dist[got], norm_rows(qn - c))
+        assert np.array_equal(rows[:, 2 + k], norm_rows(qk[after] - c) if end
+                              else e[k, w][after])
+        if end:
+            assert np.array_equal(dev[got], dot_rows(qn - c, n)) and past[got].all()
+            continue
+        a, dd = p[foot], p[foot + 1] - p[foot]
+        ln2 = dot_rows(dd, dd)
+        fr = np.clip(np.divide(dot_rows(qn - a, dd), ln2, out=np.zeros(ln2.shape),
+                               where=ln2 > 0), 0.0, 1.0)
+        assert np.array_equal(dev[got], dot_rows(qn - (a + fr[:, None] * dd), n))
+        assert np.array_equal(past[got].astype(bool),
+                              s[foot] + fr * np.sqrt(ln2) >= s_first - 1e-12)
+    assert cut[-1] > 20 and rows.shape[0] > 20  # the window holds samples of both kinds
+
+
+@pytest.mark.parametrize("turn", [0.9, np.nan])
+def test_corner_frame_is_numpys_geometry(turn):
+    """The rest's first vertex, the path length at the corner's time, the outward and
+    outgoing directions, with numpy's interpolation."""
+    rng = np.random.default_rng(3)
+    p = np.cumsum(rng.normal(0, 1e-4, (80, 2)), axis=0)
+    p[38:41] = p[41]  # the command rests on the corner point
+    s = np.cumsum(np.concatenate([[0.0], norm_rows(np.diff(p, axis=0))]))
+    tc = np.arange(80) * 1e-3
+    i, span = 41, 3e-4
+    got = call("corner_frame", p, s, tc, i, float(turn), span)
+    assert got[0] == 38
+    t0 = tc[38] if np.isnan(turn) else tc[i]
+    assert got[1] == np.interp(t0, tc, s)
+    back = np.array([np.interp(s[i] - span, s, p[:, k]) for k in range(2)])
+    ahead = np.array([np.interp(s[i] + span, s, p[:, k]) for k in range(2)])
+    t_in = (p[i] - back) / np.sqrt(dot_rows(p[i] - back, p[i] - back))
+    t_out = (ahead - p[i]) / np.sqrt(dot_rows(ahead - p[i], ahead - p[i]))
+    nn = t_in - dot_rows(t_in, t_out) * t_out
+    want = t_in if np.isnan(turn) else nn / np.sqrt(dot_rows(nn, nn))
+    assert np.array_equal(got[2:4], want)
+    assert np.array_equal(got[4:], t_in if np.isnan(turn) else t_out)

@@ -18,8 +18,8 @@ _KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2
                  "f1", "f2", "f2", "f2", "f1")
 #: :mod:`tcpmm.sim.cornerfigs`' arguments and results.
 _SHAPE_KINDS = ("f1", "f1", "f1", "u1", "i1", "f", "f", "i", "f")
-_NEAR_KINDS, _NEAR_RESULT = ("f2", "i1", "f1", "f2", "f1", "f1") + ("f",) * 4 + ("i",), (
-    "i1", "f1", "f1", "u1")
+_FEED_KINDS = ("f1", "f3", "f2", "i2", "i", "f1", "f1", "f2", "f1", "f1", "f1", "i")
+_FEED_RESULT = ("i1", "f1", "f1", "f1", "u1", "f2")
 #: The functions built into the module: name -> (module of tcpmm, numba's entry point,
 #: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``,
 #: ``u1`` C-contiguous float64, int64 or uint8 arrays of 1 or 2 dimensions; ``f``, ``i`` a
@@ -42,7 +42,11 @@ FUNCTIONS = {
                          ("f2", "f2", "f2", "f1", "f2", "i1", "i1", "i"), ("f1", "i1")),
     "corner_shapes": ("sim.cornerfigs", "corner_shapes", "corner_shapes", _SHAPE_KINDS, "f2"),
     "settle_rows": ("sim.cornerfigs", "settle_rows", "settle_rows", ("f2", "i1", "f"), "i1"),
-    "near_rows": ("sim.cornerfigs", "near_rows", "near_rows", _NEAR_KINDS, _NEAR_RESULT),
+    "corner_figures": ("sim.cornerfigs", "corner_figures", "corner_figures",
+                       ("f2", "f1", *_SHAPE_KINDS[:5], "i"), "f2"),
+    "feed_rows": ("sim.cornerfigs", "feed_rows", "feed_rows", _FEED_KINDS, _FEED_RESULT),
     "first_bend": ("sim.cornerfigs", "first_bend", "first_bend", ("f2", "f1", "i", "f1", "f", "f"),
                    "i"),
+    "corner_frame": ("sim.cornerfigs", "corner_frame", "corner_frame",
+                     ("f2", "f1", "f1", "i", "f", "f"), "f1"),
 }

@@ -17,12 +17,13 @@ from __future__ import annotations
 import numpy as np
 
 from .._compiled import call
-from .._rows import norm_rows
-from .corners import CornerFinder, first_bend, outward, path_length, rest_start
+from .corners import CornerFinder, first_bend, path_length
 from .tape import Tape
 
 #: rows of a settling stretch read back at a time [-]
 _BACK_ROWS = 1 << 18
+#: a corner's figures per sensor, in :func:`tcpmm.sim.cornerfigs.corner_figures`' order
+_FIGURES = ("overshoot_m", "rounding_m", "settle_s", "settle_m")
 
 
 class _Corner:
@@ -92,8 +93,9 @@ class CornerStream:
                 {k: np.concatenate([old[k], v[k]]) for k in v}
                 for old, v in zip(self.smp[1:], new[1:], strict=True)])
         self._bends()
+        batch = _stacked(*new)
         for c in self.open:
-            self._feed(c, *new)
+            self._feed(c, batch)
         self.t_done = float(t[-1])
         self._settle()
 
@@ -112,26 +114,32 @@ class CornerStream:
         return [_numbered(k + 1, c) for k, c in enumerate(self.done)]
 
     def _found(self, corners) -> None:
-        """Open the corners just found and take down the samples kept for them."""
+        """Open the corners just found and take down the samples kept for them, once
+        each knows where the next begins (else each would take the samples kept up to
+        the last: a chunk of a run with a corner every few blocks)."""
+        new = []
         for i, turn in corners:
-            li = i - self.off
-            first = rest_start(self.p, li)
-            n, t_out = outward(self.p, self.s, li, turn, self.span)
+            li, d = i - self.off, self.p.shape[1]
+            frame = call("corner_frame", self.p, self.s, self.tc, li, float(turn), self.span)
+            first = int(frame[0])
             t_i = float(self.tc[li])
             t0 = float(self.tc[first]) if np.isnan(turn) else t_i  # the end: the arrival
             prev = self.open[-1] if self.open else (self.done[-1] if self.done else None)
             b0 = self.tc0 if prev is None else 0.5 * (prev.t_i + t_i)
             if prev is not None:
                 prev.b1 = b0
-            c = _Corner(i, turn, first + self.off, t_i, t0,
-                        float(np.interp(t0, self.tc, self.s)), self.p[li].copy(), n, t_out,
+            c = _Corner(i, turn, first + self.off, t_i, t0, float(frame[1]),
+                        self.p[li].copy(), frame[2:2 + d], frame[2 + d:],
                         float(self.s[li]), float(self.s[first]), b0)
             self.open.append(c)
+            new.append(c)
             if c.s_on == np.inf:
                 self.unbent.append(c)
-            self._bends()
-            if self.smp is not None:
-                self._feed(c, *self.smp)
+        self._bends()
+        if self.smp is not None and new:
+            batch = _stacked(*self.smp)
+            for c in new:
+                self._feed(c, batch)
 
     def _bends(self) -> None:
         """Look for the bend that ends each open corner's outgoing leg in the command read
@@ -145,39 +153,22 @@ class CornerStream:
                 c.s_on = float(self.s[j])
                 self.unbent.remove(c)
 
-    def _feed(self, c, t, actual, errors, feet) -> None:
-        """Take down on a corner's tapes the samples that concern it: those from the
-        earlier of its start and the halfway point from the corner before, up to halfway
-        to the next where that is known (its figures take no other)."""
-        i0 = int(np.searchsorted(t, min(c.b0, c.t0), side="left"))
-        i1 = t.size if c.b1 is None else int(np.searchsorted(t, c.b1, side="right"))
-        t = t[i0:i1]
-        after = t >= c.t0
-        sp = np.interp(t[after], self.tc, self.s)
-        if actual:
-            c.near.append(self._near(c, t, i0, i1, actual, feet))
-        row = {}
-        for name in actual:
-            # what settles: the contour error after a corner, the distance to the end
-            # point at the end of the path (the command rests there: lag counts too)
-            row[name] = (norm_rows(actual[name][i0:i1][after] - c.c) if c.end
-                         else errors[name][i0:i1][after])
-        c.sensors = list(row)
-        c.after.add(np.column_stack([t[after], sp, *row.values()]))
-
-    def _near(self, c, t, i0: int, i1: int, actual, feet) -> tuple:
-        """Of every sensor's samples ``i0:i1`` (times ``t``), those whose closest command
-        point lies near the corner, the sensors' one after the other: where each
-        sensor's start [-], their times, distances to the corner point, how far outside
-        the path and whether past the corner [s], [m], [m], [-]."""
-        names = list(actual)
-        q = np.concatenate([actual[k][i0:i1] for k in names])
-        lf = np.concatenate([feet[k][i0:i1] for k in names]) - self.off
-        rows, dist, dev, past = call(
-            "near_rows", q, lf, self.s, self.p, c.c, c.n, c.s_i, self.span, c.s_on,
-            c.s_first, int(c.end))
-        cut = np.searchsorted(rows, np.arange(len(names) + 1) * t.size)
-        return cut, t[rows % t.size], dist, dev, past
+    def _feed(self, c, batch) -> None:
+        """Take down on a corner's tapes the samples of a batch (:func:`_stacked`) that
+        concern it: those from the earlier of its start and the halfway point from the
+        corner before, up to halfway to the next where that is known (its figures take no
+        other); near the corner, and from it on (:func:`tcpmm.sim.cornerfigs.feed_rows`).
+        What settles is the contour error after a corner, the distance to the end point
+        at the end of the path (the command rests there: lag counts too)."""
+        t, q, e, f, names = batch
+        lims = np.array([min(c.b0, c.t0), np.inf if c.b1 is None else c.b1, c.t0, c.s_i,
+                         self.span, c.s_on, c.s_first])
+        *near, rows = call("feed_rows", t, q, e, f, self.off, self.tc, self.s, self.p,
+                           c.c, c.n, lims, int(c.end))
+        if names:
+            c.near.append(tuple(near))
+        c.sensors = names
+        c.after.add(rows)
 
     def _settle(self) -> None:
         """Sum up the corners whose samples are all in, and let go of what no corner
@@ -210,24 +201,42 @@ class CornerStream:
                 self.smp = (t[k:], *({n: v[k:] for n, v in d.items()} for d in rest))
 
 
+def _stacked(t, actual, errors, feet) -> tuple:
+    """A batch of samples as :func:`tcpmm.sim.cornerfigs.feed_rows` takes them: times,
+    and per sensor (a row each) points, contour errors and closest segments; the
+    sensors' names [SI]."""
+    names = list(actual)
+    if not names:
+        return (t, np.empty((0, t.size, 1)), np.empty((0, t.size)),
+                np.empty((0, t.size), np.int64), names)
+    return (t, np.stack([actual[k] for k in names]), np.stack([errors[k] for k in names]),
+            np.stack([feet[k] for k in names]).astype(np.int64, copy=False), names)
+
+
 def _figures(c, tol) -> dict:
     """Per sensor: overshoot, rounding and settling of a corner from its tapes, over the
     samples it owns (halfway from the previous corner to halfway to the next) [SI].
 
-    The overshoot (:func:`tcpmm.sim.cornerfigs.corner_shapes`) is taken from where the point
-    holds: at the end of the path a static deflection along it is where it settles
-    (it is taken off), across the outgoing leg a sag of the tool where it holds there."""
-    out = {}
+    The overshoot (:func:`tcpmm.sim.cornerfigs.corner_shapes`) is taken from where the
+    point holds: at the end of the path a static deflection along it is where it settles
+    (it is taken off), across the outgoing leg a sag of the tool where it holds there.
+    A settling stretch held in memory is measured in the same call
+    (:func:`tcpmm.sim.cornerfigs.corner_figures`); one on disk a block at a time."""
+    if not c.sensors:
+        return {}
+    cut, *cols = c.near[0] if len(c.near) == 1 else _by_sensor(c.near, len(c.sensors))
+    if not c.after.in_file:
+        rows = c.after.rows(0, c.after.n) if c.after.n else np.empty((0, 2 + len(cut) - 1))
+        figs = call("corner_figures", np.ascontiguousarray(rows),
+                    np.array([c.b0, c.b1, c.t0, c.sp0, tol]), *cols, cut, int(c.end))
+        return {name: dict(zip(_FIGURES, row, strict=True))
+                for name, row in zip(c.sensors, figs.tolist(), strict=True)}
     a0, a1 = c.after.count(c.b0, "left"), c.after.count(c.b1, "right")
     settled = _settling(c.after, a0, a1, range(2, 2 + len(c.sensors)), c.t0, c.sp0, tol)
-    if not c.sensors:
-        return out
-    cut, *cols = c.near[0] if len(c.near) == 1 else _by_sensor(c.near, len(c.sensors))
     shapes = call("corner_shapes", *cols, cut, c.b0, c.b1, int(c.end), tol)
-    for (name, settle), (over, rounding) in zip(zip(c.sensors, settled, strict=True),
-                                                shapes.tolist(), strict=True):
-        out[name] = {"overshoot_m": over, "rounding_m": rounding, **settle}
-    return out
+    return {name: {"overshoot_m": over, "rounding_m": rounding, **settle}
+            for name, settle, (over, rounding) in zip(c.sensors, settled, shapes.tolist(),
+                                                      strict=True)}
 
 
 def _by_sensor(pieces, sensors: int) -> tuple:

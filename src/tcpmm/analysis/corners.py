@@ -40,15 +40,6 @@ def _at(p, s, x):
     return np.stack([np.interp(x, s, p[:, k]) for k in range(p.shape[1])], 1)
 
 
-def _near_at(p, s, x):
-    """:func:`_at` from the vertices around ``x`` alone (the same numbers: interpolation
-    takes the two vertices about each point; a copy of every coordinate is not made for a
-    few points) [m]."""
-    a = max(int(np.searchsorted(s, np.min(x), side="left")) - 1, 0)
-    b = int(np.searchsorted(s, np.max(x), side="right")) + 1
-    return _at(p[a:b], s[a:b], x)
-
-
 def turn_at(p, s, idx, span_m):
     """Angle between the chords over ``span_m`` before and after the vertices ``idx``
     [rad]."""
@@ -187,21 +178,6 @@ def find_corners(p, corner_deg=30.0, span_m=0.5e-3):
     """
     p = np.asarray(p, float)
     return CornerFinder(corner_deg, span_m).step(p, path_length(p), 0, True)
-
-
-def outward(p, s, i, turn, span_m):
-    """The direction an overshoot at the corner ``p[i]`` runs in: across the outgoing leg,
-    to the side the incoming direction points to; at the end of the path (or a reversal)
-    the incoming direction [-]. And the outgoing direction [-]."""
-    c = p[i]
-    back, ahead = _near_at(p, s, np.array([s[i] - span_m, s[i] + span_m]))
-    t_in = (c - back) / (np.sqrt(dot_rows(c - back, c - back)) or 1.0)
-    if np.isnan(turn):
-        return t_in, t_in
-    t_out = (ahead - c) / (np.sqrt(dot_rows(ahead - c, ahead - c)) or 1.0)
-    n = t_in - dot_rows(t_in, t_out) * t_out
-    ln = np.sqrt(dot_rows(n, n))
-    return (t_in if ln < 1e-6 else n / ln), t_out
 
 
 def first_bend(p, s, j0, t_out, after_m):

@@ -143,75 +143,150 @@ def settle_rows(rows, cols, tol):
 
 
 @njit(cache=True)
-def near_rows(q, lf, s, p, c, n, s_i, span, s_on, s_first, end):
-    """Which of the points ``q`` lie near a corner, and their figures.
+def corner_figures(rows, lims, t, dist, dev, past, cut, end):
+    """Every sensor's figures at a corner: :func:`corner_shapes`, and the settling of
+    each from its stretch of ``rows`` (time, command path length, per sensor the error;
+    as :func:`feed_rows` gives them) from ``lims[0]`` to ``lims[1]`` (time).
 
     Parameters
     ----------
-    q : ndarray, shape (m, d)
-        Points measured [m].
-    lf : ndarray of int64, shape (m,)
-        The segment of ``p`` closest to each; negative where it is dropped (before every
-        corner not yet found) [-].
-    s : ndarray, shape (k,)
-        Path length at each vertex of ``p`` [m].
-    p : ndarray, shape (k, d)
-        The command polyline [m].
-    c, n : ndarray, shape (d,)
-        Corner point [m] and the direction an overshoot runs in [-].
-    s_i, span, s_on, s_first : float
-        Path length at the corner, the corner span, to which the outgoing leg runs on, at
-        the first vertex of the corner's rest [m].
-    end : int
-        1 at the end of the path [-].
+    lims : ndarray, shape (5,)
+        The times from and to which the corner owns the samples, the time ``t0`` and path
+        length from which settling is counted [s], [s], [s], [m]; the settling band [m].
 
     Returns
     -------
-    idx : ndarray of int64
-        The rows of ``q`` near the corner [-].
-    dist, dev : ndarray
-        Their distances to the corner point and how far outside the path they lie [m].
+    ndarray, shape (sensors, 4)
+        Overshoot, rounding, time and path length to settle (NaN where the stretch
+        is too short or the error does not settle) [m], [m], [s], [m].
+    """
+    b0, b1, t0, sp0, tol = lims
+    out = np.full((cut.size - 1, 4), math.nan)
+    out[:, :2] = corner_shapes(t, dist, dev, past, cut, b0, b1, end, tol)
+    a0 = np.searchsorted(rows[:, 0], b0, side="left")
+    a1 = np.searchsorted(rows[:, 0], b1, side="right")
+    if a1 - a0 < 4:
+        return out
+    k = settle_rows(rows[a0:a1], np.arange(2, 1 + cut.size), tol)
+    for j in range(k.size):
+        if k[j] >= 0:
+            out[j, 2] = rows[a0 + k[j], 0] - t0
+            out[j, 3] = rows[a0 + k[j], 1] - sp0
+    return out
+
+
+@njit(cache=True)
+def _outside(q, g, s, p, n, s_first):
+    """How far the point ``q`` lies outside the path, from its closest point on segment
+    ``g`` of ``p``, and whether that point lies past the corner's rest (from path
+    length ``s_first`` on) [m], [-]."""
+    d = q.size
+    ln2 = (p[g + 1, 0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
+    w = (q[0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
+    for j in range(1, d):
+        ln2 = ln2 + (p[g + 1, j] - p[g, j]) * (p[g + 1, j] - p[g, j])
+        w = w + (q[j] - p[g, j]) * (p[g + 1, j] - p[g, j])
+    f = w / ln2 if ln2 > 0 else 0.0
+    if f < 0.0:
+        f = 0.0
+    if f > 1.0:
+        f = 1.0
+    x = (q[0] - (p[g, 0] + f * (p[g + 1, 0] - p[g, 0]))) * n[0]
+    for j in range(1, d):
+        x = x + (q[j] - (p[g, j] + f * (p[g + 1, j] - p[g, j]))) * n[j]
+    return x, s[g] + f * math.sqrt(ln2) >= s_first - 1e-12
+
+
+@njit(cache=True)
+def _dot_diff(q, c, v):
+    """``(q - c) . v``, the coordinates summed first to last [-]."""
+    x = (q[0] - c[0]) * v[0]
+    for j in range(1, q.size):
+        x = x + (q[j] - c[j]) * v[j]
+    return x
+
+
+@njit(cache=True)
+def _dist(q, c):
+    """``|q - c|``, the squares summed first to last [m]."""
+    x = (q[0] - c[0]) * (q[0] - c[0])
+    for j in range(1, q.size):
+        x = x + (q[j] - c[j]) * (q[j] - c[j])
+    return math.sqrt(x)
+
+
+@njit(cache=True)
+def feed_rows(t, q, e, f, off, tc, s, p, c, n, lims, end):
+    """What a corner takes down of a batch of samples: those from ``lims[0]`` to
+    ``lims[1]`` (time); of them, every sensor's that lie near the corner, and those
+    from the corner on (its settling stretch).
+
+    Parameters
+    ----------
+    t : ndarray, shape (m,)
+        Times of the samples [s].
+    q : ndarray, shape (sensors, m, d)
+        Their points [m].
+    e : ndarray, shape (sensors, m)
+        Their contour errors [m].
+    f : ndarray of int64, shape (sensors, m)
+        The segment of the command closest to each [-].
+    off : int
+        The segment of the command that is ``p``'s first: one before it is dropped
+        (it lies before every corner not yet found) [-].
+    tc, s : ndarray, shape (k,)
+        Time [s] and path length [m] at each vertex of the command ``p``, shape (k, d).
+    c, n : ndarray, shape (d,)
+        Corner point [m]; the direction an overshoot runs in [-].
+    lims : ndarray, shape (7,)
+        From and to which time [s], the corner's time ``t0`` [s]; the path length at the
+        corner, the corner span, to which the outgoing leg runs on and at the first
+        vertex of the corner's rest [m].
+    end : int
+        1 at the end of the path: what settles is the distance to the end point [-].
+
+    Returns
+    -------
+    cut : ndarray of int64, shape (sensors + 1,)
+        Where each sensor's samples near the corner begin in the next four [-].
+    tn, dist, dev : ndarray
+        Their times [s], distances to the corner point and how far outside the path [m].
     past : ndarray of uint8
         1 where past the corner [-].
+    rows : ndarray, shape (r, 2 + sensors)
+        From ``t0`` on: time, the command's path length there and per sensor the
+        contour error (the distance to the end point at the end) [s], [m], [m].
     """
-    m, d = q.shape
-    keep = np.zeros(m, np.bool_)
-    for r in range(m):
-        if lf[r] >= 0:
-            at = s[lf[r]]
-            keep[r] = at >= s_i - span and (at <= s_i + span or at <= s_on)
-    idx = np.flatnonzero(keep)
-    dist, dev = np.empty(idx.size), np.empty(idx.size)
-    past = np.ones(idx.size, np.uint8)
-    for k in range(idx.size):
-        r = idx[k]
-        dc = (q[r, 0] - c[0]) * (q[r, 0] - c[0])
-        for j in range(1, d):
-            dc = dc + (q[r, j] - c[j]) * (q[r, j] - c[j])
-        dist[k] = math.sqrt(dc)
-        if end:
-            x = (q[r, 0] - c[0]) * n[0]
-            for j in range(1, d):
-                x = x + (q[r, j] - c[j]) * n[j]
-            dev[k] = x
-            continue
-        g = lf[r]
-        ln2 = (p[g + 1, 0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
-        w = (q[r, 0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
-        for j in range(1, d):
-            ln2 = ln2 + (p[g + 1, j] - p[g, j]) * (p[g + 1, j] - p[g, j])
-            w = w + (q[r, j] - p[g, j]) * (p[g + 1, j] - p[g, j])
-        f = w / ln2 if ln2 > 0 else 0.0
-        if f < 0.0:
-            f = 0.0
-        if f > 1.0:
-            f = 1.0
-        x = (q[r, 0] - (p[g, 0] + f * (p[g + 1, 0] - p[g, 0]))) * n[0]
-        for j in range(1, d):
-            x = x + (q[r, j] - (p[g, j] + f * (p[g + 1, j] - p[g, j]))) * n[j]
-        dev[k] = x
-        past[k] = s[g] + f * math.sqrt(ln2) >= s_first - 1e-12
-    return idx, dist, dev, past
+    ns = q.shape[0]
+    t_lo, t_hi, t0, s_i, span, s_on, s_first = lims
+    i0 = np.searchsorted(t, t_lo, side="left")
+    i1 = max(np.searchsorted(t, t_hi, side="right"), i0)
+    cut = np.zeros(ns + 1, np.int64)
+    tn, dist = np.empty(ns * (i1 - i0)), np.empty(ns * (i1 - i0))
+    dev, past = np.empty(ns * (i1 - i0)), np.ones(ns * (i1 - i0), np.uint8)
+    r = 0
+    for k in range(ns):
+        for i in range(i0, i1):
+            g = f[k, i] - off
+            if g < 0 or not (s[g] >= s_i - span and (s[g] <= s_i + span or s[g] <= s_on)):
+                continue
+            tn[r], dist[r] = t[i], _dist(q[k, i], c)
+            if end:
+                dev[r] = _dot_diff(q[k, i], c, n)
+            else:
+                dev[r], past[r] = _outside(q[k, i], g, s, p, n, s_first)
+            r += 1
+        cut[k + 1] = r
+    a = i0
+    while a < i1 and not t[a] >= t0:
+        a += 1
+    rows = np.empty((i1 - a, 2 + ns))
+    for i in range(a, i1):
+        rows[i - a, 0] = t[i]
+        rows[i - a, 1] = _interp(t[i], tc, s, 0, tc.size)
+        for k in range(ns):
+            rows[i - a, 2 + k] = _dist(q[k, i], c) if end else e[k, i]
+    return cut, tn[:r], dist[:r], dev[:r], past[:r], rows
 
 
 @njit(cache=True)
@@ -230,3 +305,94 @@ def first_bend(p, s, j0, t_out, after_m, cos_straight):
         if w < cos_straight * ln and ln > 0 and s[j] > after_m:
             return j
     return -1
+
+
+@njit(cache=True)
+def _interp(x, xp, fp, a, b):
+    """:func:`numpy.interp` of ``x`` on ``xp[a:b]``, ``fp[a:b]``: the same arithmetic
+    (the largest ``j`` with ``xp[j] <= x``, the value at ``j`` where ``x`` is on it, else
+    the slope from ``j``, or from ``j + 1`` where that gives NaN) [-]."""
+    if math.isnan(x):
+        return x
+    if x < xp[a]:
+        return fp[a]
+    if x > xp[b - 1]:
+        return fp[b - 1]
+    lo, hi = a, b  # the largest j with xp[j] <= x lies in [lo, hi)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xp[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    j = lo
+    if j == b - 1 or xp[j] == x:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    y = slope * (x - xp[j]) + fp[j]
+    if math.isnan(y):
+        y = slope * (x - xp[j + 1]) + fp[j + 1]
+        if math.isnan(y) and fp[j] == fp[j + 1]:
+            y = fp[j]
+    return y
+
+
+@njit(cache=True)
+def _unit(v):
+    """``v`` over its length, or ``v`` itself where that is 0 [-]."""
+    ln = v[0] * v[0]
+    for k in range(1, v.size):
+        ln = ln + v[k] * v[k]
+    ln = math.sqrt(ln)
+    return v / (ln if ln != 0.0 else 1.0)
+
+
+@njit(cache=True)
+def corner_frame(p, s, tc, i, turn, span):
+    """Where the rest the corner ``p[i]`` ends begins (the command stands there from it
+    to ``i``), the path length at the command's time of the corner (at the end of the
+    path, ``turn`` NaN: of its arrival), the direction an overshoot runs in (across the
+    outgoing leg, to the side the incoming direction points to; at the end of the path or
+    a reversal the incoming direction) and the outgoing direction, the directions taken
+    over the chords of ``span`` before and after the corner.
+
+    Returns
+    -------
+    ndarray, shape (2 + 2 d,)
+        The first vertex of the rest [-], the path length [m], the outward and the
+        outgoing directions [-].
+    """
+    d = p.shape[1]
+    first = 0
+    for j in range(i - 1, -1, -1):
+        if (p[j] != p[i]).any():
+            first = j + 1
+            break
+    out = np.empty(2 + 2 * d)
+    out[0] = first
+    t0 = tc[first] if math.isnan(turn) else tc[i]
+    out[1] = _interp(t0, tc, s, 0, tc.size)
+    x0, x1 = s[i] - span, s[i] + span
+    a = max(np.searchsorted(s, min(x0, x1), side="left") - 1, 0)
+    b = np.searchsorted(s, max(x0, x1), side="right") + 1
+    b = min(b, s.size)
+    back, ahead = np.empty(d), np.empty(d)
+    for k in range(d):
+        back[k] = _interp(x0, s, p[:, k], a, b)
+        ahead[k] = _interp(x1, s, p[:, k], a, b)
+    t_in = _unit(p[i] - back)
+    out[2:2 + d], out[2 + d:] = t_in, t_in
+    if math.isnan(turn):
+        return out
+    t_out = _unit(ahead - p[i])
+    w = t_in[0] * t_out[0]
+    for k in range(1, d):
+        w = w + t_in[k] * t_out[k]
+    n = t_in - w * t_out
+    ln = n[0] * n[0]
+    for k in range(1, d):
+        ln = ln + n[k] * n[k]
+    ln = math.sqrt(ln)
+    out[2:2 + d] = t_in if ln < 1e-6 else n / ln
+    out[2 + d:] = t_out
+    return out

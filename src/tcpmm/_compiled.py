@@ -53,7 +53,7 @@ _PKG = Path(__file__).resolve().parent
 _LOG = logging.getLogger(__name__)
 _LOCK = threading.Lock()
 _chosen: list = []  # [module or None, description] once chosen
-_DTYPES: dict = {}  # kind's letter -> numpy's dtype, once numpy is imported
+_SPECS: dict = {}  # kinds -> :func:`_spec`, once numpy is imported
 _NUMBA = "numba's kernels"
 _OFF = _NUMBA + " (TCPMM_COMPILED=0)"
 
@@ -68,18 +68,21 @@ def call(name: str, *args):
     would compile the function anew for that layout (about two minutes for the kernel)."""
     import numpy as np
 
-    given = [(a, np.ascontiguousarray(a)) if type(a) is np.ndarray
-             and not a.flags.c_contiguous else (a, a) for a in args]
-    args = tuple(c for _, c in given)
+    strided = [i for i, a in enumerate(args)
+               if type(a) is np.ndarray and not a.flags.c_contiguous]
+    given = args
+    if strided:
+        args = tuple(np.ascontiguousarray(a) if i in strided else a
+                     for i, a in enumerate(args))
     mod = (_chosen or _choose())[0]
     if mod is not None and _fits(FUNCTIONS[name][3], args):
         out = getattr(mod, name)(*args)
     else:
         module, entry = FUNCTIONS[name][:2]
         out = getattr(importlib.import_module(f"tcpmm.{module}"), entry)(*args)
-    for a, c in given:
-        if c is not a and a.flags.writeable:
-            a[...] = c
+    for i in strided:
+        if given[i].flags.writeable:
+            given[i][...] = args[i]
     return out
 
 
@@ -208,18 +211,25 @@ def _fits(kinds, args) -> bool:
 
     if len(args) != len(kinds):
         return False
-    if not _DTYPES:
-        _DTYPES.update(i=np.dtype(np.int64), u=np.dtype(np.uint8), f=np.dtype(np.float64),
-                       bool=(bool, np.bool_), int=(int, np.integer),
-                       float=(int, float, np.integer, np.floating))
-    for a, k in zip(args, kinds, strict=True):
-        if len(k) == 2:
-            if not (type(a) is np.ndarray and a.ndim == int(k[1]) and a.dtype == _DTYPES[k[0]]):
+    spec = _SPECS.get(kinds) or _SPECS.setdefault(kinds, _spec(kinds))
+    for a, (ndim, want) in zip(args, spec, strict=True):
+        if ndim:
+            if type(a) is not np.ndarray or a.ndim != ndim or a.dtype != want:
                 return False
-        elif isinstance(a, _DTYPES["bool"]) or not isinstance(
-                a, _DTYPES["int"] if k == "i" else _DTYPES["float"]):
+        elif isinstance(a, _SPECS["bool"]) or not isinstance(a, want):
             return False
     return True
+
+
+def _spec(kinds) -> list:
+    """Per kind: dimensions and dtype of an array, or 0 and the types a number may be."""
+    import numpy as np
+
+    if not _SPECS:
+        _SPECS["bool"] = (bool, np.bool_)
+    number = {"i": (int, np.integer), "f": (int, float, np.integer, np.floating)}
+    dtype = {"i": np.dtype(np.int64), "u": np.dtype(np.uint8), "f": np.dtype(np.float64)}
+    return [(int(k[1]), dtype[k[0]]) if len(k) == 2 else (0, number[k]) for k in kinds]
 
 
 def module_path() -> Path:

@@ -84,3 +84,22 @@ def test_a_device_is_no_model_file():
 
     with pytest.raises(InputError, match="this is a device, not a file"):
         read_machine("/dev/null")
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full on this system")
+@pytest.mark.parametrize("args", [["machine", "show", "builtin:vmc"],
+                                  ["machine", "show", "builtin:vmc", "--json"]])
+def test_a_full_standard_output_is_named_in_the_error(args):
+    """`tcpmm ... > /dev/full` said "No space left on device" and not where: the message
+    names standard output, as a file's names the file; no traceback."""
+    import subprocess
+    import sys
+
+    with open("/dev/full", "w") as full:
+        done = subprocess.run([sys.executable, "-c", "import sys; from tcpmm.cli import main; "
+                               "sys.exit(main())", *args], stdout=full,
+                              stderr=subprocess.PIPE, text=True, timeout=120)
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines()[-1] == (
+        "error: No space left on device (standard output)")
+    assert "Traceback" not in done.stderr

@@ -63,6 +63,22 @@ class _Console(Console):
     def size(self, new_size) -> None:
         Console.size.fset(self, new_size)
 
+    def _check_buffer(self) -> None:
+        with named_stream(self.stderr):
+            super()._check_buffer()
+
+
+@contextmanager
+def named_stream(stderr: bool):
+    """A write to standard output or error that the system refuses (a full disk, a closed
+    pipe) names the stream in its error, as a file's error names the file."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is None:
+            exc.filename = "standard error" if stderr else "standard output"
+        raise
+
 
 # No automatic highlighting of numbers and paths: its regular expressions took 20 ms of
 # the first message (a third of a short command's work); colours come from markup.
@@ -192,8 +208,9 @@ def emit_json(data) -> None:
     if out.is_terminal:
         out.print_json(text)
     else:
-        out.file.write(text + "\n")
-        out.file.flush()
+        with named_stream(False):
+            out.file.write(text + "\n")
+            out.file.flush()
 
 
 def _json_ready(data):

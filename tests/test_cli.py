@@ -189,3 +189,15 @@ def test_json_in_a_pipe_is_written_as_it_is(capsys, monkeypatch):
                        "--freq-hz", "0.01,1", "--json")
     assert code == 0
     assert out == json.dumps(json.loads(out), indent=2, ensure_ascii=False) + "\n"
+
+
+def test_bode_text_columns_line_up(capsys):
+    """The phase column started wherever the magnitude's digits ended (|H| 8.58824 and
+    |H| 0.0440112 put it two columns apart)."""
+    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_M",
+                       "--freq-hz", "1,10,100,1000,10000,0.001")
+    assert code == 0
+    lines = [line for line in out.splitlines() if line.strip()]
+    assert len(lines) == 6
+    assert len({line.index("phase") for line in lines}) == 1
+    assert len({line.index("|H|") for line in lines}) == 1

@@ -149,5 +149,5 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     else:
         for r in rows:
             h = complex(r["re"], r["im"])
-            out.print(f"{r['freq_hz']:12.4g} Hz  |H| {abs(h):.6g}  phase "
+            out.print(f"{r['freq_hz']:12.4g} Hz  |H| {abs(h):<12.6g}  phase "
                       f"{np.degrees(np.angle(h)):8.2f} deg")

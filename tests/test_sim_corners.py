@@ -88,51 +88,73 @@ def test_settle_rows_finds_where_numpy_does(data):
         assert got[j] == (-1 if last_out else (out[-1] + 1 if out.size else 0))
 
 
-@pytest.mark.parametrize("end", [0, 1])
-@pytest.mark.parametrize("d", [2, 3])
-def test_feed_rows_are_numpys_rows(end, d):
-    """Two sensors' samples of a window of a batch: those near the corner, their
-    figures, and the settling rows from the corner's time on."""
-    rng = np.random.default_rng(7 + d + 10 * end)
+def _batch(rng, d):
+    """A command polyline with a rest, and two sensors' samples of it."""
     p = np.cumsum(rng.normal(0, 1e-4, (60, d)), axis=0)
     p[20] = p[19]  # a rest: a segment of no length
     s = np.cumsum(np.concatenate([[0.0], norm_rows(np.diff(p, axis=0))]))
-    tc = np.arange(60) * 1e-3
     m, off = 300, 5
     t = np.sort(rng.uniform(0, 0.06, m))
     q = p[rng.integers(0, 59, (2, m))] + rng.normal(0, 2e-5, (2, m, d))
     e, f = rng.normal(0, 1e-6, (2, m)), rng.integers(-3 + off, 59 + off, (2, m))
-    c, n = p[30].copy(), rng.normal(size=d)
-    lims = np.array([0.01, 0.05, 0.03, float(s[30]), 4e-4, float(s[40]), float(s[29])])
-    cut, tn, dist, dev, past, rows = call("feed_rows", t, q, e, f, off, tc, s, p, c, n,
-                                          lims, end)
-    t_lo, t_hi, t0, s_i, span, s_on, s_first = lims
+    return p, s, np.arange(60) * 1e-3, t, q, e, f, off
+
+
+def _numpys_share(p, s, tc, t, q, e, f, off, c, n, lim, end):
+    """A corner's share of the batch as the numpy expressions give it: per sensor the
+    times, distances, deviations and past-flags near it, and its settling rows."""
+    t_lo, t_hi, t0, s_i, span, s_on, s_first = lim
     w = slice(np.searchsorted(t, t_lo, "left"), np.searchsorted(t, t_hi, "right"))
     after = t[w] >= t0
-    assert np.array_equal(rows[:, 0], t[w][after])
-    assert np.array_equal(rows[:, 1], np.interp(t[w][after], tc, s))
+    rows = [t[w][after], np.interp(t[w][after], tc, s)]
+    near_cols = []
     for k in range(2):
         qk, lf = q[k, w], f[k, w] - off
         mine = lf >= 0
         at = s[np.where(mine, lf, 0)]
         near = mine & (at >= s_i - span) & ((at <= s_i + span) | (at <= s_on))
-        got = slice(cut[k], cut[k + 1])
         qn, foot = qk[near], lf[near]
-        assert np.array_equal(tn[got], t[w][near])
-        assert np.array_equal(dist[got], norm_rows(qn - c))
-        assert np.array_equal(rows[:, 2 + k], norm_rows(qk[after] - c) if end
-                              else e[k, w][after])
+        rows.append(norm_rows(qk[after] - c) if end else e[k, w][after])
         if end:
-            assert np.array_equal(dev[got], dot_rows(qn - c, n)) and past[got].all()
-            continue
-        a, dd = p[foot], p[foot + 1] - p[foot]
-        ln2 = dot_rows(dd, dd)
-        fr = np.clip(np.divide(dot_rows(qn - a, dd), ln2, out=np.zeros(ln2.shape),
-                               where=ln2 > 0), 0.0, 1.0)
-        assert np.array_equal(dev[got], dot_rows(qn - (a + fr[:, None] * dd), n))
-        assert np.array_equal(past[got].astype(bool),
-                              s[foot] + fr * np.sqrt(ln2) >= s_first - 1e-12)
-    assert cut[-1] > 20 and rows.shape[0] > 20  # the window holds samples of both kinds
+            dev, past = dot_rows(qn - c, n), np.ones(qn.shape[0], bool)
+        else:
+            a, dd = p[foot], p[foot + 1] - p[foot]
+            ln2 = dot_rows(dd, dd)
+            fr = np.clip(np.divide(dot_rows(qn - a, dd), ln2, out=np.zeros(ln2.shape),
+                                   where=ln2 > 0), 0.0, 1.0)
+            dev = dot_rows(qn - (a + fr[:, None] * dd), n)
+            past = s[foot] + fr * np.sqrt(ln2) >= s_first - 1e-12
+        near_cols.append((t[w][near], norm_rows(qn - c), dev, past))
+    return near_cols, np.column_stack(rows)
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_feed_many_takes_numpys_share_for_each_corner(d):
+    """Three corners (one the end of the path) take down their windows of one batch of
+    two sensors' samples: those near each corner, their figures, and the settling rows
+    from its time on, each as numpy gives them."""
+    rng = np.random.default_rng(7 + d)
+    p, s, tc, t, q, e, f, off = _batch(rng, d)
+    corners = [(30, 0.01, 0.05, 0.03, 40, 29, 0), (45, 0.03, 0.06, 0.045, 50, 44, 0),
+               (59, 0.05, np.inf, 0.055, 59, 57, 1)]
+    c = np.array([p[k[0]] for k in corners])
+    n = rng.normal(size=(3, d))
+    lims = np.array([[lo, hi, t0, s[i], 4e-4, s[on], s[first]]
+                     for i, lo, hi, t0, on, first, _ in corners])
+    end = np.array([k[-1] for k in corners], np.int64)
+    cuts, tn, dist, dev, past, rowcut, rows = call("feed_many", t, q, e, f, off, tc, s, p,
+                                                   c, n, lims, end)
+    for j in range(3):
+        near_cols, want_rows = _numpys_share(p, s, tc, t, q, e, f, off, c[j], n[j],
+                                             lims[j], end[j])
+        assert np.array_equal(rows[rowcut[j]:rowcut[j + 1]], want_rows)
+        for k in range(2):
+            got = slice(cuts[j, k], cuts[j, k + 1])
+            for x, want in zip((tn, dist, dev, past.astype(bool)), near_cols[k],
+                               strict=True):
+                assert np.array_equal(x[got], want)
+    # every corner holds samples of both kinds
+    assert (np.diff(cuts[:, [0, -1]], axis=1) > 0).all() and (np.diff(rowcut) > 10).all()
 
 
 @pytest.mark.parametrize("turn", [0.9, np.nan])

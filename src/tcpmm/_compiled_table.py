@@ -11,15 +11,16 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
-                  "path/nearest.py", "sim/cornerfigs.py", "_compiled_table.py")
+                  "path/nearest.py", "sim/cornerfigs.py", "sim/cornerfeed.py",
+                  "_compiled_table.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
 #: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
 _KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
                  "f1", "f2", "f2", "f2", "f1")
 #: :mod:`tcpmm.sim.cornerfigs`' arguments and results.
 _SHAPE_KINDS = ("f1", "f1", "f1", "u1", "i1", "f", "f", "i", "f")
-_FEED_KINDS = ("f1", "f3", "f2", "i2", "i", "f1", "f1", "f2", "f1", "f1", "f1", "i")
-_FEED_RESULT = ("i1", "f1", "f1", "f1", "u1", "f2")
+_FEED_KINDS = ("f1", "f3", "f2", "i2", "i", "f1", "f1", "f2", "f2", "f2", "f2", "i1")
+_FEED_RESULT = ("i2", "f1", "f1", "f1", "u1", "i1", "f2")
 #: The functions built into the module: name -> (module of tcpmm, numba's entry point,
 #: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``,
 #: ``u1`` C-contiguous float64, int64 or uint8 arrays of 1 or 2 dimensions; ``f``, ``i`` a
@@ -44,7 +45,7 @@ FUNCTIONS = {
     "settle_rows": ("sim.cornerfigs", "settle_rows", "settle_rows", ("f2", "i1", "f"), "i1"),
     "corner_figures": ("sim.cornerfigs", "corner_figures", "corner_figures",
                        ("f2", "f1", *_SHAPE_KINDS[:5], "i"), "f2"),
-    "feed_rows": ("sim.cornerfigs", "feed_rows", "feed_rows", _FEED_KINDS, _FEED_RESULT),
+    "feed_many": ("sim.cornerfeed", "feed_many", "feed_many", _FEED_KINDS, _FEED_RESULT),
     "first_bend": ("sim.cornerfigs", "first_bend", "first_bend", ("f2", "f1", "i", "f1", "f", "f"),
                    "i"),
     "corner_frame": ("sim.cornerfigs", "corner_frame", "corner_frame",

@@ -14,6 +14,8 @@ to halfway to it are in: the figures are the whole run's to the bit, whatever th
 
 from __future__ import annotations
 
+from collections import deque
+
 import numpy as np
 
 from .._compiled import call
@@ -60,7 +62,8 @@ class CornerStream:
         self.tc = self.p = self.s = None
         self.off = 0  # the command's vertex of row 0 of the buffer
         self.smp = None  # samples kept for corners not found yet: t, actual, errors, feet
-        self.open, self.done = [], []
+        self.open, self.done = deque(), []  # corners being measured; the figures of those done
+        self.last = None  # the last corner done
         self.unbent = []  # the open corners whose outgoing leg's bend is not found yet
         self.t_done = -np.inf  # the last sample measured
         self.tc0 = None
@@ -93,9 +96,7 @@ class CornerStream:
                 {k: np.concatenate([old[k], v[k]]) for k in v}
                 for old, v in zip(self.smp[1:], new[1:], strict=True)])
         self._bends()
-        batch = _stacked(*new)
-        for c in self.open:
-            self._feed(c, batch)
+        self._feed(self.open, _stacked(*new))
         self.t_done = float(t[-1])
         self._settle()
 
@@ -111,7 +112,7 @@ class CornerStream:
         self._bends()
         self.t_done = np.inf
         self._settle()
-        return [_numbered(k + 1, c) for k, c in enumerate(self.done)]
+        return list(self.done)
 
     def _found(self, corners) -> None:
         """Open the corners just found and take down the samples kept for them, once
@@ -124,7 +125,7 @@ class CornerStream:
             first = int(frame[0])
             t_i = float(self.tc[li])
             t0 = float(self.tc[first]) if np.isnan(turn) else t_i  # the end: the arrival
-            prev = self.open[-1] if self.open else (self.done[-1] if self.done else None)
+            prev = self.open[-1] if self.open else self.last
             b0 = self.tc0 if prev is None else 0.5 * (prev.t_i + t_i)
             if prev is not None:
                 prev.b1 = b0
@@ -137,9 +138,7 @@ class CornerStream:
                 self.unbent.append(c)
         self._bends()
         if self.smp is not None and new:
-            batch = _stacked(*self.smp)
-            for c in new:
-                self._feed(c, batch)
+            self._feed(new, _stacked(*self.smp))
 
     def _bends(self) -> None:
         """Look for the bend that ends each open corner's outgoing leg in the command read
@@ -153,34 +152,43 @@ class CornerStream:
                 c.s_on = float(self.s[j])
                 self.unbent.remove(c)
 
-    def _feed(self, c, batch) -> None:
-        """Take down on a corner's tapes the samples of a batch (:func:`_stacked`) that
-        concern it: those from the earlier of its start and the halfway point from the
-        corner before, up to halfway to the next where that is known (its figures take no
-        other); near the corner, and from it on (:func:`tcpmm.sim.cornerfigs.feed_rows`).
-        What settles is the contour error after a corner, the distance to the end point
-        at the end of the path (the command rests there: lag counts too)."""
+    def _feed(self, corners, batch) -> None:
+        """Take down on the corners' tapes the samples of a batch (:func:`_stacked`) that
+        concern each: those from the earlier of its start and the halfway point from the
+        corner before, up to halfway to the next where that is known (its figures take
+        no other); near the corner, and from it on
+        (:func:`tcpmm.sim.cornerfeed.feed_many`, every corner in one call). What settles
+        is the contour error after a corner, the distance to the end point at the end of
+        the path (the command rests there: lag counts too)."""
+        if not corners:
+            return
         t, q, e, f, names = batch
-        lims = np.array([min(c.b0, c.t0), np.inf if c.b1 is None else c.b1, c.t0, c.s_i,
-                         self.span, c.s_on, c.s_first])
-        *near, rows = call("feed_rows", t, q, e, f, self.off, self.tc, self.s, self.p,
-                           c.c, c.n, lims, int(c.end))
-        if names:
-            c.near.append(tuple(near))
-        c.sensors = names
-        c.after.add(rows)
+        lims = np.array([[min(c.b0, c.t0), np.inf if c.b1 is None else c.b1, c.t0, c.s_i,
+                          self.span, c.s_on, c.s_first] for c in corners])
+        cuts, *near, rowcut, rows = call(
+            "feed_many", t, q, e, f, self.off, self.tc, self.s, self.p,
+            np.array([c.c for c in corners]), np.array([c.n for c in corners]), lims,
+            np.array([int(c.end) for c in corners], np.int64))
+        bounds, at = cuts[:, [0, -1]].tolist(), rowcut.tolist()
+        for j, c in enumerate(corners):
+            a, b = bounds[j]
+            if names:
+                c.near.append((cuts[j] - a, *(x[a:b] for x in near)))
+            c.sensors = names
+            c.after.add(rows[at[j]:at[j + 1]])
 
     def _settle(self) -> None:
         """Sum up the corners whose samples are all in, and let go of what no corner
         needs any more."""
         while self.open and self.open[0].b1 is not None and self.t_done >= self.open[0].b1:
-            c = self.open.pop(0)
+            c = self.open.popleft()
             if c in self.unbent:
                 self.unbent.remove(c)
-            c.figures = _figures(c, self.tol)
+            # a run of many corners keeps only their figures (and the last, to go on from)
+            self.done.append(_numbered(len(self.done) + 1, c, _figures(c, self.tol)))
             c.near = None
             c.after.close()
-            self.done.append(c)
+            self.last = c
         if self.p is not None and np.isfinite(self.t_done):
             self._trim()
 
@@ -300,6 +308,6 @@ def _settled_back(tape, a0: int, a1: int, cols: list, tol: float) -> dict:
     return k
 
 
-def _numbered(k, c) -> dict:
+def _numbered(k, c, figures) -> dict:
     return {"number": k, "index": int(c.i), "point_m": c.c.tolist(), "turn_rad": c.turn,
-            **c.figures}
+            **figures}

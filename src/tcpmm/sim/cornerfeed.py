@@ -1,0 +1,152 @@
+"""Compiled taking down of the samples that concern the corners of a run
+(:mod:`tcpmm.analysis.contour_corners`): every open corner's share of a batch of
+samples in one call, with the arithmetic of the numpy expressions it replaces
+(coordinates summed first to last, :func:`numpy.interp` reproduced), so the figures are
+the same to the bit."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .cornerfigs import _interp
+
+
+@njit(cache=True)
+def _outside(q, g, s, p, n, s_first):
+    """How far the point ``q`` lies outside the path, from its closest point on segment
+    ``g`` of ``p``, and whether that point lies past the corner's rest (from path
+    length ``s_first`` on) [m], [-]."""
+    d = q.size
+    ln2 = (p[g + 1, 0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
+    w = (q[0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
+    for j in range(1, d):
+        ln2 = ln2 + (p[g + 1, j] - p[g, j]) * (p[g + 1, j] - p[g, j])
+        w = w + (q[j] - p[g, j]) * (p[g + 1, j] - p[g, j])
+    f = w / ln2 if ln2 > 0 else 0.0
+    if f < 0.0:
+        f = 0.0
+    if f > 1.0:
+        f = 1.0
+    x = (q[0] - (p[g, 0] + f * (p[g + 1, 0] - p[g, 0]))) * n[0]
+    for j in range(1, d):
+        x = x + (q[j] - (p[g, j] + f * (p[g + 1, j] - p[g, j]))) * n[j]
+    return x, s[g] + f * math.sqrt(ln2) >= s_first - 1e-12
+
+
+@njit(cache=True)
+def _dot_diff(q, c, v):
+    """``(q - c) . v``, the coordinates summed first to last [-]."""
+    x = (q[0] - c[0]) * v[0]
+    for j in range(1, q.size):
+        x = x + (q[j] - c[j]) * v[j]
+    return x
+
+
+@njit(cache=True)
+def _dist(q, c):
+    """``|q - c|``, the squares summed first to last [m]."""
+    x = (q[0] - c[0]) * (q[0] - c[0])
+    for j in range(1, q.size):
+        x = x + (q[j] - c[j]) * (q[j] - c[j])
+    return math.sqrt(x)
+
+
+@njit(cache=True)
+def _window(t, lim):
+    """The samples of ``t`` a corner takes (``lim[0]`` to ``lim[1]``) and the first of
+    them from its time ``lim[2]`` on [-]."""
+    i0 = np.searchsorted(t, lim[0], side="left")
+    i1 = max(np.searchsorted(t, lim[1], side="right"), i0)
+    a = i0
+    while a < i1 and not t[a] >= lim[2]:
+        a += 1
+    return i0, i1, a
+
+
+@njit(cache=True)
+def _is_near(g, s, lim):
+    """Whether segment ``g`` lies near the corner: within the span about it, or on its
+    outgoing leg [-]."""
+    return g >= 0 and s[g] >= lim[3] - lim[4] and (s[g] <= lim[3] + lim[4] or s[g] <= lim[5])
+
+
+@njit(cache=True)
+def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
+    """What each of several corners takes down of a batch of samples: those from
+    ``lims[j, 0]`` to ``lims[j, 1]`` (time); of them, every sensor's that lie near the
+    corner, and those from the corner on (its settling stretch).
+
+    Parameters
+    ----------
+    t : ndarray, shape (m,)
+        Times of the samples [s].
+    q : ndarray, shape (sensors, m, d)
+        Their points [m].
+    e : ndarray, shape (sensors, m)
+        Their contour errors [m].
+    f : ndarray of int64, shape (sensors, m)
+        The segment of the command closest to each [-].
+    off : int
+        The segment of the command that is ``p``'s first: one before it is dropped
+        (it lies before every corner not yet found) [-].
+    tc, s : ndarray, shape (k,)
+        Time [s] and path length [m] at each vertex of the command ``p``, shape (k, d).
+    c, n : ndarray, shape (corners, d)
+        Corner points [m]; the directions an overshoot runs in [-].
+    lims : ndarray, shape (corners, 7)
+        Per corner: from and to which time [s], the corner's time ``t0`` [s]; the path
+        length at the corner, the corner span, to which the outgoing leg runs on and at
+        the first vertex of the corner's rest [m].
+    end : ndarray of int64, shape (corners,)
+        1 at the end of the path: what settles is the distance to the end point [-].
+
+    Returns
+    -------
+    cuts : ndarray of int64, shape (corners, sensors + 1)
+        Where each corner's samples of each sensor near it begin in the next four [-].
+    tn, dist, dev : ndarray
+        Their times [s], distances to the corner point and how far outside the path [m].
+    past : ndarray of uint8
+        1 where past the corner [-].
+    rowcut : ndarray of int64, shape (corners + 1,)
+        Where each corner's rows begin in the next [-].
+    rows : ndarray, shape (r, 2 + sensors)
+        From ``t0`` on: time, the command's path length there and per sensor the
+        contour error (the distance to the end point at the end) [s], [m], [m].
+    """
+    ns, nk = q.shape[0], lims.shape[0]
+    cuts, rowcut = np.zeros((nk, ns + 1), np.int64), np.zeros(nk + 1, np.int64)
+    total = 0
+    for j in range(nk):  # how many of each, first
+        i0, i1, a = _window(t, lims[j])
+        cuts[j, 0] = total
+        for k in range(ns):
+            for i in range(i0, i1):
+                total += _is_near(f[k, i] - off, s, lims[j])
+            cuts[j, k + 1] = total
+        rowcut[j + 1] = rowcut[j] + i1 - a
+    tn, dist, dev = np.empty(total), np.empty(total), np.empty(total)
+    past, rows = np.ones(total, np.uint8), np.empty((rowcut[nk], 2 + ns))
+    for j in range(nk):
+        i0, i1, a = _window(t, lims[j])
+        r = cuts[j, 0]
+        for k in range(ns):
+            for i in range(i0, i1):
+                g = f[k, i] - off
+                if not _is_near(g, s, lims[j]):
+                    continue
+                tn[r], dist[r] = t[i], _dist(q[k, i], c[j])
+                if end[j]:
+                    dev[r] = _dot_diff(q[k, i], c[j], n[j])
+                else:
+                    dev[r], past[r] = _outside(q[k, i], g, s, p, n[j], lims[j, 6])
+                r += 1
+        for i in range(a, i1):
+            o = rowcut[j] + i - a
+            rows[o, 0], rows[o, 1] = t[i], _interp(t[i], tc, s, 0, tc.size)
+            for k in range(ns):
+                rows[o, 2 + k] = _dist(q[k, i], c[j]) if end[j] else e[k, i]
+    return cuts, tn, dist, dev, past, rowcut, rows

@@ -120,10 +120,13 @@ class ContourResult:
             data[f"{s}_contour_um"] = e * 1e6
         return pd.DataFrame(data)
 
-    def corner_rows(self) -> list:
+    def corner_rows(self, sensors=None, corners=None) -> list:
         """Per corner and sensor, a dict: position [mm], turn [deg], overshoot, rounding
-        [um], settling [ms, mm] (NaN where there is none)."""
-        return [_corner_row(self.axes, c, s) for c in self.corners for s in self.errors]
+        [um], settling [ms, mm] (NaN where there is none); of the ``sensors`` and
+        ``corners`` given (default all: a long run's are many) [-]."""
+        return [_corner_row(self.axes, c, s) for c in
+                (self.corners if corners is None else corners)
+                for s in (self.errors if sensors is None else sensors)]
 
     def corners_table(self):
         """:meth:`corner_rows` as a table."""

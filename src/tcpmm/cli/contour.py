@@ -94,7 +94,8 @@ def _print(res, sensor: str, title: str) -> None:
     out.print(t)
     if not res.corners:
         return
-    rows, more = _shown_corners([r for r in res.corner_rows() if r["sensor"] == sensor])
+    shown, more = _shown_corners(res.corners, sensor)
+    rows = res.corner_rows([sensor], shown)
     t = Table(title=f"corners, {sensor}", caption="overshoot: outside the path past the "
               f"corner, rounding: closest approach [µm]; settled within "
               f"{res.settle_tol_m * 1e6:g} µm{more}")
@@ -109,22 +110,23 @@ def _print(res, sensor: str, title: str) -> None:
     out.print(t)
 
 
-def _shown_corners(rows: list) -> tuple:
-    """The corner rows a terminal shows, and what the caption adds: all of them, or those
-    of the :data:`CORNER_ROWS` largest overshoots in their order, with the count and the
-    overshoots' median and largest [-]."""
-    if len(rows) <= CORNER_ROWS:
-        return rows, ""
+def _shown_corners(corners: list, sensor: str) -> tuple:
+    """The corners a terminal shows, and what the caption adds: all of them, or those of
+    the :data:`CORNER_ROWS` largest overshoots of ``sensor`` in their order, with the
+    count and the overshoots' median and largest [-]. Only the corners shown become
+    table rows (a CAM run has hundreds of thousands)."""
+    if len(corners) <= CORNER_ROWS:
+        return corners, ""
     import numpy as np
 
-    over = np.array([r["overshoot_um"] for r in rows], float)
+    over = np.array([c[sensor]["overshoot_m"] for c in corners], float) * 1e6
     worst = np.sort(np.argsort(-np.where(np.isnan(over), -np.inf, over),
                                kind="stable")[:CORNER_ROWS])
     seen = over[~np.isnan(over)]
     spread = (f"; overshoot median {np.median(seen):.2f}, largest {np.max(seen):.2f} µm"
               if seen.size else "")
-    return ([rows[i] for i in worst], f"; {len(rows)} corners, the {CORNER_ROWS} of largest "
-            f"overshoot shown (all with --json){spread}")
+    return ([corners[i] for i in worst], f"; {len(corners)} corners, the {CORNER_ROWS} of "
+            f"largest overshoot shown (all with --json){spread}")
 
 
 def _num(v: float) -> str:

@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .cornerfigs import _interp
+from .cornerfigs import interp_at
 
 
 @njit(cache=True)
@@ -146,7 +146,7 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
                 r += 1
         for i in range(a, i1):
             o = rowcut[j] + i - a
-            rows[o, 0], rows[o, 1] = t[i], _interp(t[i], tc, s, 0, tc.size)
+            rows[o, 0], rows[o, 1] = t[i], interp_at(t[i], tc, s, 0, tc.size)
             for k in range(ns):
                 rows[o, 2 + k] = _dist(q[k, i], c[j]) if end[j] else e[k, i]
     return cuts, tn, dist, dev, past, rowcut, rows

@@ -194,7 +194,7 @@ def first_bend(p, s, j0, t_out, after_m, cos_straight):
 
 
 @njit(cache=True)
-def _interp(x, xp, fp, a, b):
+def interp_at(x, xp, fp, a, b):
     """:func:`numpy.interp` of ``x`` on ``xp[a:b]``, ``fp[a:b]``: the same arithmetic
     (the largest ``j`` with ``xp[j] <= x``, the value at ``j`` where ``x`` is on it, else
     the slope from ``j``, or from ``j + 1`` where that gives NaN) [-]."""
@@ -257,15 +257,15 @@ def corner_frame(p, s, tc, i, turn, span):
     out = np.empty(2 + 2 * d)
     out[0] = first
     t0 = tc[first] if math.isnan(turn) else tc[i]
-    out[1] = _interp(t0, tc, s, 0, tc.size)
+    out[1] = interp_at(t0, tc, s, 0, tc.size)
     x0, x1 = s[i] - span, s[i] + span
     a = max(np.searchsorted(s, min(x0, x1), side="left") - 1, 0)
     b = np.searchsorted(s, max(x0, x1), side="right") + 1
     b = min(b, s.size)
     back, ahead = np.empty(d), np.empty(d)
     for k in range(d):
-        back[k] = _interp(x0, s, p[:, k], a, b)
-        ahead[k] = _interp(x1, s, p[:, k], a, b)
+        back[k] = interp_at(x0, s, p[:, k], a, b)
+        ahead[k] = interp_at(x1, s, p[:, k], a, b)
     t_in = _unit(p[i] - back)
     out[2:2 + d], out[2 + d:] = t_in, t_in
     if math.isnan(turn):

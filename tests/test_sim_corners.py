@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from tcpmm._compiled import call
 from tcpmm._rows import dot_rows, norm_rows
+from tcpmm.sim.cornerfigs import settle_rows
 
 TOL = 1e-6
 
@@ -80,7 +81,7 @@ def test_settle_rows_finds_where_numpy_does(data):
     rows = np.column_stack([np.arange(n, dtype=float), np.arange(n) * 1e-4] +
                            [_values(data.draw, n) * 2 for _ in range(3)])
     cols = [2, 3, 4]
-    got = call("settle_rows", rows, np.array(cols, np.int64), TOL)
+    got = settle_rows(rows, np.array(cols, np.int64), TOL)
     level = np.median(rows[n - n // 4:, cols], axis=0)
     for j, col in enumerate(cols):
         out = np.flatnonzero(np.abs(rows[:, col] - level[j]) > TOL)

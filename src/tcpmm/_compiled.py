@@ -216,7 +216,7 @@ def _fits(kinds, args) -> bool:
         if ndim:
             if type(a) is not np.ndarray or a.ndim != ndim or a.dtype != want:
                 return False
-        elif isinstance(a, _SPECS["bool"]) or not isinstance(a, want):
+        elif isinstance(a, (bool, np.bool_)) or not isinstance(a, want):
             return False
     return True
 
@@ -225,8 +225,6 @@ def _spec(kinds) -> list:
     """Per kind: dimensions and dtype of an array, or 0 and the types a number may be."""
     import numpy as np
 
-    if not _SPECS:
-        _SPECS["bool"] = (bool, np.bool_)
     number = {"i": (int, np.integer), "f": (int, float, np.integer, np.floating)}
     dtype = {"i": np.dtype(np.int64), "u": np.dtype(np.uint8), "f": np.dtype(np.float64)}
     return [(int(k[1]), dtype[k[0]]) if len(k) == 2 else (0, number[k]) for k in kinds]

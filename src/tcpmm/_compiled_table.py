@@ -42,7 +42,6 @@ FUNCTIONS = {
     "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
                          ("f2", "f2", "f2", "f1", "f2", "i1", "i1", "i"), ("f1", "i1")),
     "corner_shapes": ("sim.cornerfigs", "corner_shapes", "corner_shapes", _SHAPE_KINDS, "f2"),
-    "settle_rows": ("sim.cornerfigs", "settle_rows", "settle_rows", ("f2", "i1", "f"), "i1"),
     "corner_figures": ("sim.cornerfigs", "corner_figures", "corner_figures",
                        ("f2", "f1", *_SHAPE_KINDS[:5], "i"), "f2"),
     "feed_many": ("sim.cornerfeed", "feed_many", "feed_many", _FEED_KINDS, _FEED_RESULT),

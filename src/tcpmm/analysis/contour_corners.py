@@ -118,9 +118,9 @@ class CornerStream:
         """Open the corners just found and take down the samples kept for them, once
         each knows where the next begins (else each would take the samples kept up to
         the last: a chunk of a run with a corner every few blocks)."""
-        new = []
+        new, d = [], self.p.shape[1]
         for i, turn in corners:
-            li, d = i - self.off, self.p.shape[1]
+            li = i - self.off
             frame = call("corner_frame", self.p, self.s, self.tc, li, float(turn), self.span)
             first = int(frame[0])
             t_i = float(self.tc[li])
@@ -210,7 +210,7 @@ class CornerStream:
 
 
 def _stacked(t, actual, errors, feet) -> tuple:
-    """A batch of samples as :func:`tcpmm.sim.cornerfigs.feed_rows` takes them: times,
+    """A batch of samples as :func:`tcpmm.sim.cornerfeed.feed_many` takes them: times,
     and per sensor (a row each) points, contour errors and closest segments; the
     sensors' names [SI]."""
     names = list(actual)
@@ -228,18 +228,20 @@ def _figures(c, tol) -> dict:
     The overshoot (:func:`tcpmm.sim.cornerfigs.corner_shapes`) is taken from where the
     point holds: at the end of the path a static deflection along it is where it settles
     (it is taken off), across the outgoing leg a sag of the tool where it holds there.
-    A settling stretch held in memory is measured in the same call
-    (:func:`tcpmm.sim.cornerfigs.corner_figures`); one on disk a block at a time."""
+    A settling stretch of up to :data:`_BACK_ROWS` rows is measured in the same call
+    (:func:`tcpmm.sim.cornerfigs.corner_figures`); a longer one on disk a block at a
+    time."""
     if not c.sensors:
         return {}
     cut, *cols = c.near[0] if len(c.near) == 1 else _by_sensor(c.near, len(c.sensors))
-    if not c.after.in_file:
-        rows = c.after.rows(0, c.after.n) if c.after.n else np.empty((0, 2 + len(cut) - 1))
+    a0, a1 = (0, c.after.n) if not c.after.in_file else (
+        c.after.count(c.b0, "left"), c.after.count(c.b1, "right"))
+    if not c.after.in_file or a1 - a0 <= _BACK_ROWS:
+        rows = c.after.rows(a0, a1) if a1 > a0 else np.empty((0, 2 + len(c.sensors)))
         figs = call("corner_figures", np.ascontiguousarray(rows),
                     np.array([c.b0, c.b1, c.t0, c.sp0, tol]), *cols, cut, int(c.end))
         return {name: dict(zip(_FIGURES, row, strict=True))
                 for name, row in zip(c.sensors, figs.tolist(), strict=True)}
-    a0, a1 = c.after.count(c.b0, "left"), c.after.count(c.b1, "right")
     settled = _settling(c.after, a0, a1, range(2, 2 + len(c.sensors)), c.t0, c.sp0, tol)
     shapes = call("corner_shapes", *cols, cut, c.b0, c.b1, int(c.end), tol)
     return {name: {"overshoot_m": over, "rounding_m": rounding, **settle}
@@ -248,7 +250,7 @@ def _figures(c, tol) -> dict:
 
 
 def _by_sensor(pieces, sensors: int) -> tuple:
-    """The pieces of :meth:`CornerStream._near`, joined: each sensor's rows of every
+    """The pieces :meth:`CornerStream._feed` took down, joined: each sensor's rows of every
     piece, one sensor after the other, and where each sensor's start [-]."""
     order = [(piece, k) for k in range(sensors) for piece in pieces]
     cols = tuple(np.concatenate([piece[1 + j][piece[0][k]:piece[0][k + 1]]
@@ -261,35 +263,14 @@ def _settling(tape, a0: int, a1: int, cols, t0: float, sp0: float, tol: float) -
     """Per column of ``cols``: time and command path length from ``t0`` (where the path
     length is ``sp0``) until the error in that column of rows ``a0:a1`` of the tape (time,
     path length, errors) stays within ``tol`` of its level at the end of the stretch (the
-    median of its last quarter) [s, m]. A stretch of up to :data:`_BACK_ROWS` rows is
-    read at once (:func:`tcpmm.sim.cornerfigs.settle_rows`), a longer one back from its end a
-    block at a time, for every column at once."""
+    median of its last quarter) [s, m]: :func:`tcpmm.sim.cornerfigs.settle_rows` over a
+    stretch too long to hold, read back from its end a block at a time, for every column
+    at once."""
     cols = list(cols)
     nan = {"settle_s": float("nan"), "settle_m": float("nan")}
     size = a1 - a0
     if size < 4:
         return [nan] * len(cols)
-    if size <= _BACK_ROWS:
-        rows = tape.rows(a0, a1)
-        k = {j: a0 + int(x) for j, x in enumerate(
-            call("settle_rows", np.ascontiguousarray(rows), np.array(cols, np.int64), tol))
-            if x >= 0}
-    else:
-        k = _settled_back(tape, a0, a1, cols, tol)
-    res = []
-    for j in range(len(cols)):
-        if j not in k:
-            res.append(nan)
-            continue
-        t, sp = tape.rows(k[j], k[j] + 1)[0, :2]
-        res.append({"settle_s": float(t - t0), "settle_m": float(sp - sp0)})
-    return res
-
-
-def _settled_back(tape, a0: int, a1: int, cols: list, tol: float) -> dict:
-    """:func:`tcpmm.sim.cornerfigs.settle_rows` over a stretch read back a block at a time:
-    per column that settles, the first row from which it stays in the band [-]."""
-    size = a1 - a0
     tail = [tape.rows(lo, min(lo + _BACK_ROWS, a1))[:, cols]
             for lo in range(a1 - size // 4, a1, _BACK_ROWS)]
     level = np.median(np.concatenate(tail), axis=0)
@@ -305,7 +286,14 @@ def _settled_back(tape, a0: int, a1: int, cols: list, tol: float) -> dict:
                 k[j] = lo + int(out[-1]) + 1
                 left.discard(j)
         hi = lo
-    return k
+    res = []
+    for j in range(len(cols)):
+        if j not in k:
+            res.append(nan)
+            continue
+        t, sp = tape.rows(k[j], k[j] + 1)[0, :2]
+        res.append({"settle_s": float(t - t0), "settle_m": float(sp - sp0)})
+    return res
 
 
 def _numbered(k, c, figures) -> dict:

@@ -24,6 +24,7 @@ _SHARP = 0.5
 #: Largest angle between the command's direction and the outgoing one for which the
 #: command after a corner still runs straight on [deg].
 _STRAIGHT_DEG = 5.0
+_COS_STRAIGHT = float(np.cos(np.radians(_STRAIGHT_DEG)))
 #: Least turn of a reversal: where the path runs back on itself every vertex within half
 #: a span of the turning point turns by pi (the chord ahead points back), up to the
 #: roundings of the chords' directions [rad].
@@ -187,5 +188,5 @@ def first_bend(p, s, j0, t_out, after_m):
     Looked for a segment at a time, compiled (:func:`tcpmm.sim.cornerfigs.first_bend`): the
     leg is short where corners follow one another."""
     j = call("first_bend", p, s, int(j0), np.ascontiguousarray(t_out, float),
-             float(after_m), float(np.cos(np.radians(_STRAIGHT_DEG))))
+             float(after_m), _COS_STRAIGHT)
     return None if j < 0 else int(j)

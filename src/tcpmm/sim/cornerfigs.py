@@ -146,7 +146,7 @@ def settle_rows(rows, cols, tol):
 def corner_figures(rows, lims, t, dist, dev, past, cut, end):
     """Every sensor's figures at a corner: :func:`corner_shapes`, and the settling of
     each from its stretch of ``rows`` (time, command path length, per sensor the error;
-    as :func:`feed_rows` gives them) from ``lims[0]`` to ``lims[1]`` (time).
+    as :func:`tcpmm.sim.cornerfeed.feed_many` gives them) from ``lims[0]`` to ``lims[1]`` (time).
 
     Parameters
     ----------
@@ -224,12 +224,18 @@ def interp_at(x, xp, fp, a, b):
 
 
 @njit(cache=True)
+def _dot(a, b):
+    """``a . b``, the coordinates summed first to last [-]."""
+    x = a[0] * b[0]
+    for k in range(1, a.size):
+        x = x + a[k] * b[k]
+    return x
+
+
+@njit(cache=True)
 def _unit(v):
     """``v`` over its length, or ``v`` itself where that is 0 [-]."""
-    ln = v[0] * v[0]
-    for k in range(1, v.size):
-        ln = ln + v[k] * v[k]
-    ln = math.sqrt(ln)
+    ln = math.sqrt(_dot(v, v))
     return v / (ln if ln != 0.0 else 1.0)
 
 
@@ -271,14 +277,8 @@ def corner_frame(p, s, tc, i, turn, span):
     if math.isnan(turn):
         return out
     t_out = _unit(ahead - p[i])
-    w = t_in[0] * t_out[0]
-    for k in range(1, d):
-        w = w + t_in[k] * t_out[k]
-    n = t_in - w * t_out
-    ln = n[0] * n[0]
-    for k in range(1, d):
-        ln = ln + n[k] * n[k]
-    ln = math.sqrt(ln)
+    n = t_in - _dot(t_in, t_out) * t_out
+    ln = math.sqrt(_dot(n, n))
     out[2:2 + d] = t_in if ln < 1e-6 else n / ln
     out[2 + d:] = t_out
     return out

@@ -3,6 +3,7 @@ the same segments, modal state and warnings, and the same errors, on generated p
 
 from __future__ import annotations
 
+import contextlib
 import math
 import struct
 import warnings
@@ -15,6 +16,7 @@ from tcpmm.errors import InputError
 from tcpmm.path import gcode_stream, parse_gcode
 from tcpmm.path.gcode_fast import PLAIN_MOVE, scan_chunk
 from tcpmm.path.gcode_scan import ARC, NOT_PLAIN, PLAIN, PLAIN_SLOW
+from tcpmm.path.runs import as_lines
 
 # numbers the tokeniser takes and ones it refuses, in and out of range
 NUMBERS = ["0", "-0", "+1", "1.", ".5", "-.25", "12.3456", "007", "-3", "1000000",
@@ -198,21 +200,22 @@ def test_fast_arcs_match_the_reference(text):
     assert _outcome(text, fast=True) == _outcome(text, fast=False)
 
 
-def _in_chunks(text, size):
-    """What the program gives read ``size`` lines at a time, as :func:`_outcome` [-]."""
+def _in_chunks(text, size, runs=False):
+    """What the program gives read ``size`` lines at a time, as :func:`_outcome`; with
+    ``runs``, its runs of lines and arcs taken as their segments [-]."""
     from tcpmm.io.text import file_lines
 
     lines = file_lines(text)
     chunks = [lines[i:i + size] for i in range(0, len(lines), size)]
     segments = []
     try:
-        for it in gcode_stream.interpret_chunks(chunks, "p.nc", (0.0, 0.0, 0.0)):
+        for it in gcode_stream.interpret_chunks(chunks, "p.nc", (0.0, 0.0, 0.0), runs=runs):
             segments += it.segments
             it.segments = []
     except InputError as err:
         return ("error", err.message, err.file, err.line, err.column)
     state = (it.pos, it.motion, it.feed, it.unit, it.absolute, it.exact_stop, it.tolerance)
-    return ("ok", repr(segments), repr(state), repr(it.warned))
+    return ("ok", repr(as_lines(segments)), repr(state), repr(it.warned))
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -221,6 +224,30 @@ def test_fast_arcs_in_chunks_match_the_reference(text, size):
     """Runs of arcs and of lines cut anywhere by the chunks: each run ends where its chunk
     does, and a run of arcs between lines is a few lines long."""
     assert _in_chunks(text, size) == _outcome(text, fast=False)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(arc_program(), st.sampled_from([3, 7, 1000]))
+def test_runs_of_arcs_are_the_references_arcs(text, size):
+    """As a stream takes them, runs of arcs (and of lines) stand for the reference's
+    segments: the same arcs, and the look-ahead's columns the same to the bit."""
+    from tcpmm.io.text import file_lines
+    from tcpmm.path.geometry import _segment_columns
+    from tcpmm.path.runs import ArcRun, path_columns
+
+    assert _in_chunks(text, size, runs=True) == _outcome(text, fast=False)
+    lines = file_lines(text)
+    segments = []
+    with contextlib.suppress(InputError):
+        for it in gcode_stream.interpret_chunks(
+                [lines[i:i + size] for i in range(0, len(lines), size)], "p.nc",
+                (0.0, 0.0, 0.0), runs=True):
+            segments += it.segments
+            it.segments = []
+    if any(type(s) is ArcRun for s in segments):
+        got = path_columns(segments, _segment_columns)
+        want = _segment_columns(as_lines(segments))
+        assert [c.tobytes() for c in got] == [c.tobytes() for c in want]
 
 
 def test_plain_arcs_skip_the_tokeniser(monkeypatch):

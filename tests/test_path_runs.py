@@ -60,23 +60,28 @@ def test_the_blender_and_the_look_ahead_take_runs_as_their_lines(tol, cut):
     whole path's blended at once, to the bit; so has the command."""
     segments = parse_gcode(PROGRAM)
     pieces = [segments[i:i + cut] for i in range(0, len(segments), cut)]
-    out = {}
-    for how in ("lines", "runs"):
-        blender = CornerBlender(tol)
-        ip = StreamInterpolator(InterpolatorSettings(blend_tolerance_m=tol))
-        given, command = [], []
-        for piece in pieces:
-            piece = _runs_of(piece) if how == "runs" else piece
-            given += blender.push(piece)
-            c = ip.push(piece)
-            command += [] if c is None else [c.positions[a] for a in "XYZ"]
-        given += blender.push([], final=True)
-        c = ip.push([], final=True)
-        command += [c.positions[a] for a in "XYZ"]
-        out[how] = (_column_bytes(given), [x.tobytes() for x in command], ip.most_held,
-                    ip.segments_in, [blocks([s]) for s in blender.held])
+    out = {how: _blended_and_planned([_runs_of(p) if how == "runs" else p for p in pieces],
+                                     tol) for how in ("lines", "runs")}
     assert out["runs"] == out["lines"]
     assert out["lines"][0] == _column_bytes(blend_corners(segments, tol))
+
+
+def _blended_and_planned(pieces, tol) -> tuple:
+    """The blender's columns and the look-ahead's command of ``pieces`` given one after
+    the other, as bytes, the most blocks the look-ahead held, the blocks it took and
+    those the blender holds at the end [-]."""
+    blender = CornerBlender(tol)
+    ip = StreamInterpolator(InterpolatorSettings(blend_tolerance_m=tol))
+    given, command = [], []
+    for piece in pieces:
+        given += blender.push(piece)
+        c = ip.push(piece)
+        command += [] if c is None else [c.positions[a] for a in "XYZ"]
+    given += blender.push([], final=True)
+    c = ip.push([], final=True)
+    command += [c.positions[a] for a in "XYZ"]
+    return (_column_bytes(given), [x.tobytes() for x in command], ip.most_held,
+            ip.segments_in, [blocks([s]) for s in blender.held])
 
 
 def _column_bytes(segments) -> list:
@@ -132,3 +137,36 @@ def test_a_blended_path_in_pieces_is_the_whole_ones(seed, default_tol):
     assert _column_bytes(given) == whole
     assert sum(type(s).__name__ == "ColumnRun" for s in given) > 1
     assert _column_bytes(blended_path(_runs_of(segs), default_tol)) == whole
+
+
+#: arcs one after the other (G2 and G3, by I and J and by R), lines between them
+ARCS = "G21 G90 G17 G1 X10 Y0 F3000\n" + "".join(
+    f"G3 X{10 * np.cos(0.2 * i):.4f} Y{10 * np.sin(0.2 * i):.4f} "
+    f"I{-10 * np.cos(0.2 * (i - 1)):.4f} J{-10 * np.sin(0.2 * (i - 1)):.4f}\n"
+    for i in range(1, 25)) + "G1 X11 Y-2\nX12 Y-2.5\n" + "".join(
+    f"G2 X{12 + 0.5 * i:.4f} Y{-2.5 + 0.25 * (i % 2):.4f} R{1.5 if i % 3 else -1.5}\n"
+    for i in range(1, 30)) + "G1 X30 Y0\nG3 X30 Y0 I-2 J0 F2000\n"
+
+
+@pytest.mark.parametrize("tol", [0.0, 1e-5])
+@pytest.mark.parametrize("cut", [1, 4, 9, 200])
+def test_the_blender_and_the_look_ahead_take_runs_of_arcs_as_their_arcs(tol, cut):
+    """A program of runs of arcs and lines read in chunks: the blender's columns and the
+    command are those of its segments one by one, to the bit, and so is the most the
+    look-ahead held."""
+    from tcpmm.io.text import file_lines
+    from tcpmm.path import gcode_stream
+    from tcpmm.path.runs import ArcRun
+
+    lines = file_lines(ARCS)
+    pieces = []
+    for it in gcode_stream.interpret_chunks([lines[i:i + cut] for i in range(0, len(lines), cut)],
+                                            "p.nc", (0.0, 0.0, 0.0), runs=True):
+        pieces.append(it.segments)
+        it.segments = []
+    kinds = {type(s) for p in pieces for s in p}
+    out = {"runs": _blended_and_planned(pieces, tol),
+           "segments": _blended_and_planned([as_lines(p) for p in pieces], tol)}
+    assert ArcRun in kinds
+    assert out["runs"] == out["segments"]
+    assert out["segments"][0] == _column_bytes(blend_corners(parse_gcode(ARCS), tol))

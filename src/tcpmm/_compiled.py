@@ -126,6 +126,16 @@ def run_plain(*args):
     return call("run_plain", *args)
 
 
+def arc_ends(*args):
+    """:func:`tcpmm.path.gcode_arcscan.arc_ends` through :func:`call` [SI]."""
+    return call("arc_ends", *args)
+
+
+def arc_centres(*args):
+    """:func:`tcpmm.path.gcode_arcscan.arc_centres` through :func:`call` [-]."""
+    return call("arc_centres", *args)
+
+
 def nearest_segments(*args):
     """:func:`tcpmm.path.nearest.nearest_segments` through :func:`call` [m], [-]."""
     return call("nearest_segments", *args)

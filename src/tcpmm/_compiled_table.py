@@ -11,6 +11,7 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
+                  "path/gcode_arcscan.py",
                   "path/nearest.py", "sim/cornerfigs.py", "sim/cornerfeed.py",
                   "_compiled_table.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
@@ -39,6 +40,10 @@ FUNCTIONS = {
     "scan_lines": ("path.gcode_scan", "scan_lines", "scan_lines", ("u1",), ("i2", "f2")),
     "run_plain": ("path.gcode_scan", "run_plain", "run_plain", ("i2", "f2", "i", "f1"),
                   ("i", "f2", "f1", "i1")),
+    "arc_ends": ("path.gcode_arcscan", "arc_ends", "arc_ends", ("i2", "f2", "f1"),
+                 ("i", "f2", "f2", "i1", "f1", "f2")),
+    "arc_centres": ("path.gcode_arcscan", "arc_centres", "arc_centres",
+                    ("i2", "f2", "f1", "f2", "f2", "i1", "f2", "f1"), "i"),
     "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
                          ("f2", "f2", "f2", "f1", "f2", "i1", "i1", "i"), ("f1", "i1")),
     "corner_shapes": ("sim.cornerfigs", "corner_shapes", "corner_shapes", _SHAPE_KINDS, "f2"),

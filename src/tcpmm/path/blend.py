@@ -23,7 +23,7 @@ import numpy as np
 
 from .blendrows import blended_rows, block_table, tangent_lengths
 from .geometry import BLEND
-from .runs import ColumnRun, LineRun, as_lines, feed_columns
+from .runs import ArcRun, ColumnRun, LineRun, as_lines, feed_columns
 from .segments import Blend, Line
 
 
@@ -126,6 +126,10 @@ def _other_blocks(raw: list) -> dict:
     return out
 
 
+#: the runs of a block per row, which a piece's last block is cut from
+_BLOCK_RUNS = (LineRun, ArcRun)
+
+
 class CornerBlender:
     """:func:`blend_corners` over a path that comes in pieces: the last block of a piece
     waits for the next piece, whose first block makes the corner at its end. Where
@@ -152,8 +156,10 @@ class CornerBlender:
             They are the last: the path ends with them [-].
         """
         raw = self.held + list(segments)
-        # only a Line or a run has a tolerance; getattr over the blocks in C, not a loop
+        # only a Line or a run of them has a tolerance; getattr over the blocks in C
         blend = self.tol > 0.0 or any(map(getattr, raw, repeat("tolerance_m"), repeat(None)))
+        if blend and any(type(s) is ArcRun for s in raw):  # the table's row is a segment
+            raw = [a for s in raw for a in (s.arcs() if type(s) is ArcRun else (s,))]
         if not blend:  # no corner has a tolerance: none is blended
             raw = _last_block_apart(raw, final)
             first = max(len(self.held) - 1, 0)
@@ -186,7 +192,7 @@ def _last_blocks(raw: list, k: int) -> list:
 
 def _last_block_apart(raw: list, final: bool) -> list:
     """``raw`` with its last block apart from a run it ends [-]."""
-    if final or not raw or type(raw[-1]) is not LineRun or len(raw[-1]) < 2:
+    if final or not raw or type(raw[-1]) not in _BLOCK_RUNS or len(raw[-1]) < 2:
         return raw
     n = len(raw[-1])
     return [*raw[:-1], raw[-1].cut(0, n - 1), raw[-1].cut(n - 1, n)]
@@ -194,4 +200,4 @@ def _last_block_apart(raw: list, final: bool) -> list:
 
 def _last_block(s):
     """The last block of a run, else the segment [-]."""
-    return s.cut(len(s) - 1, len(s)) if type(s) is LineRun and len(s) > 1 else s
+    return s.cut(len(s) - 1, len(s)) if type(s) in _BLOCK_RUNS and len(s) > 1 else s

@@ -15,9 +15,8 @@ import numpy as np
 from ..errors import InputError
 from .runs import path_columns
 from .segcolumns import arc_columns, line_columns
-from .segments import Arc, Blend, Dwell, Line, Rapid, arc_sweep
+from .segments import ARC, BLEND, DWELL, Arc, Blend, Dwell, Line, Rapid, arc_sweep
 
-LINE, ARC, DWELL, BLEND = 0, 1, 2, 3
 #: consecutive segments must meet within this distance [m]
 CONTINUITY_TOL_M = 1e-9
 

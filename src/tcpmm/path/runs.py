@@ -1,12 +1,14 @@
-"""A run of consecutive G1 blocks as arrays, the segments of the stream's plain moves.
+"""Runs of consecutive G1 blocks or arcs as arrays, the segments of the stream's plain
+moves.
 
 The interpreter of a streamed program hands the interpolator a run of plain G1 blocks as
 one :class:`LineRun` (their points, feeds and lines as arrays) rather than a
-:class:`~tcpmm.path.segments.Line` per block: the look-ahead reads the arrays as they
-are (:func:`tcpmm.path.geometry.to_arrays`), and so does corner blending, which hands
+:class:`~tcpmm.path.segments.Line` per block, and a run of plain arcs as one
+:class:`ArcRun`: the look-ahead reads the arrays as they are
+(:func:`tcpmm.path.geometry.to_arrays`), and so does corner blending, which hands
 the look-ahead the lines and blend arcs of a blended stretch as one :class:`ColumnRun`.
-A run stands for its Lines exactly (:func:`as_lines`): the same points, feeds, exact
-stop, lines and tolerance.
+A run stands for its Lines or Arcs exactly (:func:`as_lines`): the same points, feeds,
+exact stop, lines and tolerance.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from itertools import repeat
 
 import numpy as np
 
-from .segments import Line
+from .segments import ARC, AXIS_INDEX, Arc, Line
 
 
 def slot_setters(cls) -> tuple:
@@ -31,8 +33,22 @@ def slot_setters(cls) -> tuple:
 LINE_SETTERS = slot_setters(Line)
 
 
+class BlockRun:
+    """What a run of blocks, each starting where the one before ends, has of its own: its
+    length and its blocks' start points."""
+
+    __slots__ = ()
+
+    def __len__(self) -> int:
+        return len(self.feed_m_per_s)
+
+    def starts(self) -> np.ndarray:
+        """Start point of each block [m]."""
+        return np.vstack([np.array(self.start_m, float)[None, :], self.end_m[:-1]])
+
+
 @dataclass(frozen=True, slots=True, eq=False)
-class LineRun:
+class LineRun(BlockRun):
     """Consecutive straight feed moves (G1), each starting where the one before ends.
 
     Parameters
@@ -58,13 +74,6 @@ class LineRun:
     line: int
     tolerance_m: float | None
 
-    def __len__(self) -> int:
-        return len(self.feed_m_per_s)
-
-    def starts(self) -> np.ndarray:
-        """Start point of each block [m]."""
-        return np.vstack([np.array(self.start_m, float)[None, :], self.end_m[:-1]])
-
     def cut(self, a: int, b: int) -> LineRun:
         """Blocks ``a`` to ``b - 1`` as a run of their own [-]."""
         start = self.start_m if a == 0 else tuple(self.end_m[a - 1].tolist())
@@ -87,17 +96,85 @@ class LineRun:
         return segs
 
 
+#: the slot setters of Arc's fields (:func:`slot_setters`)
+ARC_SETTERS = slot_setters(Arc)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ArcRun(BlockRun):
+    """Consecutive arcs (G2, G3) in one plane, each starting where the one before ends.
+
+    Parameters
+    ----------
+    start_m : tuple of float
+        Start point of the first (X, Y, Z) [m].
+    end_m, centre_m : ndarray, shape (n, 3)
+        End point and centre of each [m].
+    plane_axes : tuple of str
+        The plane's two axes, e.g. ``("X", "Y")`` [-].
+    ccw : ndarray of bool
+        Each turns counter-clockwise (G3) [-].
+    feed_m_per_s : list of float
+        Programmed feed of each [m/s].
+    exact_stop : bool
+        Come to rest at the end of each (G61) [-].
+    line : int
+        Source line of the first; the others follow line by line [-].
+    """
+
+    start_m: tuple
+    end_m: np.ndarray
+    centre_m: np.ndarray
+    plane_axes: tuple
+    ccw: np.ndarray
+    feed_m_per_s: list
+    exact_stop: bool
+    line: int
+
+    def cut(self, a: int, b: int) -> ArcRun:
+        """Arcs ``a`` to ``b - 1`` as a run of their own [-]."""
+        start = self.start_m if a == 0 else tuple(self.end_m[a - 1].tolist())
+        return ArcRun(start, self.end_m[a:b], self.centre_m[a:b], self.plane_axes,
+                      self.ccw[a:b], self.feed_m_per_s[a:b], self.exact_stop, self.line + a)
+
+    def arcs(self) -> list:
+        """The run as Arcs [-]."""
+        ends = list(map(tuple, self.end_m.tolist()))
+        starts = [self.start_m, *ends[:-1]]
+        new, n = object.__new__, len(ends)
+        segs = list(map(new, repeat(Arc, n)))
+        turn = ("cw", "ccw")
+        for setter, values in zip(ARC_SETTERS, (
+                starts, ends, map(tuple, self.centre_m.tolist()), repeat(self.plane_axes),
+                [turn[c] for c in self.ccw.tolist()], self.feed_m_per_s, repeat(0),
+                repeat(self.exact_stop), range(self.line, self.line + n)), strict=True):
+            deque(map(setter, segs, values), maxlen=0)
+        return segs
+
+    def columns(self) -> tuple:
+        """The look-ahead's columns of the arcs (those of :func:`path_columns`) [SI]."""
+        n = len(self)
+        return (np.full(n, ARC, np.int64), self.starts(), np.array(self.end_m, float),
+                np.array(self.centre_m, float), np.array(self.feed_m_per_s, float),
+                np.zeros(n, bool), np.full(n, self.exact_stop), np.zeros(n),
+                np.arange(self.line, self.line + n, dtype=np.int64),
+                np.tile(np.array([AXIS_INDEX[a] for a in self.plane_axes], np.int64), (n, 1)),
+                np.array(self.ccw, bool), np.zeros(n, np.int64))
+
+
 def blocks(segments) -> int:
     """Blocks in ``segments``, a run counting its blocks [-]."""
     return sum(len(s) if type(s) in RUNS else 1 for s in segments)
 
 
 def as_lines(segments) -> list:
-    """``segments`` with every run made Lines [-]."""
+    """``segments`` with every run of blocks made Lines and Arcs [-]."""
     out = []
     for s in segments:
         if type(s) is LineRun:
             out += s.lines()
+        elif type(s) is ArcRun:
+            out += s.arcs()
         else:
             out.append(s)
     return out
@@ -129,7 +206,9 @@ def path_columns(segments, plain_columns) -> tuple:
         if span:
             parts.append(plain_columns(span))
             span = []
-        parts.append(_run_columns(s) if type(s) is LineRun else s.columns)
+        t = type(s)
+        parts.append(_run_columns(s) if t is LineRun else s.columns() if t is ArcRun
+                     else s.columns)
     if span:
         parts.append(plain_columns(span))
     return tuple(np.concatenate(c) for c in zip(*parts, strict=True))
@@ -160,7 +239,7 @@ class ColumnRun:
 
 
 #: the segment types that stand for several blocks or segments
-RUNS = (LineRun, ColumnRun)
+RUNS = (LineRun, ArcRun, ColumnRun)
 
 
 def _run_columns(run: LineRun) -> tuple:

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 AXES = ("X", "Y", "Z")
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
+#: kinds of a segment in the look-ahead's columns (:func:`tcpmm.path.geometry.to_arrays`)
+LINE, ARC, DWELL, BLEND = 0, 1, 2, 3
 #: planes of G17, G18, G19: positive (counter-clockwise) rotation turns the first axis
 #: into the second, seen from the positive third axis.
 PLANES = {17: ("X", "Y"), 18: ("Z", "X"), 19: ("Y", "Z")}

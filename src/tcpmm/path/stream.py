@@ -27,7 +27,7 @@ from .gcode_stream import interpret_chunks
 from .geometry import evaluate
 from .interpolate import used_axes
 from .program import check_program_file, is_path
-from .runs import blocks, drop_blocks
+from .runs import ArcRun, blocks, drop_blocks
 from .segments import AXES, Arc
 from .settings import InterpolatorSettings
 from .stream_plan import PlanState, Samples, plan_piece
@@ -110,7 +110,8 @@ class StreamInterpolator:
         segments = list(segments)
         self.segments_in += blocks(segments)
         if self.plane_axes is None:
-            self.plane_axes = next((s.plane_axes for s in segments if type(s) is Arc), None)
+            self.plane_axes = next((s.plane_axes for s in segments
+                                    if type(s) is Arc or type(s) is ArcRun), None)
         if final and not self.segments_in:
             raise InputError("the path is empty: give at least one motion or dwell")
         self.pending.extend(self.blender.push(segments, final))

@@ -52,6 +52,17 @@ def test_motion_plane_is_the_gcode_plane_of_the_two_axes_moving_most():
         motion_plane({"X": t, "Y": np.zeros(50)})
 
 
+@pytest.mark.parametrize(("travel", "plane"), [("XY", "XY"), ("YX", "XY"), ("XZ", "ZX"),
+                                               ("ZX", "ZX"), ("YZ", "YZ"), ("ZY", "YZ")])
+def test_the_plane_note_names_the_axes_in_the_planes_order(travel, plane):
+    """Whichever of the two axes moves more, the note names them as the plane does."""
+    t = np.linspace(0, 1, 50)
+    pos = {"X": np.zeros(50), "Y": np.zeros(50), "Z": np.zeros(50)}
+    pos[travel[0]], pos[travel[1]] = 3.0 * t, 2.0 * t
+    axes, why, _ = motion_plane(pos)
+    assert axes == tuple(plane) and f"are {plane[0]} and {plane[1]} (" in why
+
+
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     """Run files of the three circles on the built-in machine, through the CLI."""

@@ -68,7 +68,8 @@ def motion_plane(positions: dict) -> tuple[tuple[str, str], str, bool]:
                          f"move (travel {_mm(travel)}); give --plane")
     a, b = moving[:2]
     axes = GCODE_PLANES[frozenset((a, b))]
-    why = f"the axes moving most are {a} and {b} (travel {_mm(travel)})"
+    # named in the plane's order, as the plane is, not by their travel
+    why = f"the axes moving most are {axes[0]} and {axes[1]} (travel {_mm(travel)})"
     flat = not (len(moving) > 2 and travel[moving[2]] > OUT_OF_PLANE_SHARE * travel[b])
     if not flat:
         why += f"; {moving[2]} moves too, so the path is not plane: give --plane to choose"

@@ -172,8 +172,14 @@ class CornerStream:
         bounds, at = cuts[:, [0, -1]].tolist(), rowcut.tolist()
         for j, c in enumerate(corners):
             a, b = bounds[j]
-            if names:
-                c.near.append((cuts[j] - a, *(x[a:b] for x in near)))
+            # a piece that holds nothing is kept only while no other is: a corner's
+            # figures then read its one piece as it is, not joined from several
+            if names and (b > a or not c.near):
+                piece = (cuts[j] - a, *(x[a:b] for x in near))
+                if c.near and not c.near[-1][0][-1]:
+                    c.near[-1] = piece
+                else:
+                    c.near.append(piece)
             c.sensors = names
             c.after.add(rows[at[j]:at[j + 1]])
 

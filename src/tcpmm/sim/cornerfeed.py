@@ -67,10 +67,17 @@ def _window(t, lim):
 
 
 @njit(cache=True)
-def _is_near(g, s, lim):
-    """Whether segment ``g`` lies near the corner: within the span about it, or on its
-    outgoing leg [-]."""
-    return g >= 0 and s[g] >= lim[3] - lim[4] and (s[g] <= lim[3] + lim[4] or s[g] <= lim[5])
+def _is_near(g, s, lo, hi, on):
+    """Whether segment ``g`` lies near the corner: within the span about it (path length
+    ``lo`` to ``hi``), or on its outgoing leg (up to ``on``) [-]."""
+    return g >= 0 and s[g] >= lo and (s[g] <= hi or s[g] <= on)
+
+
+@njit(cache=True)
+def _span(lim):
+    """The path lengths :func:`_is_near` takes of a corner's limits: where its span begins
+    and ends, and to which its outgoing leg runs on [m]."""
+    return lim[3] - lim[4], lim[3] + lim[4], lim[5]
 
 
 @njit(cache=True)
@@ -120,33 +127,39 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
     ns, nk = q.shape[0], lims.shape[0]
     cuts, rowcut = np.zeros((nk, ns + 1), np.int64), np.zeros(nk + 1, np.int64)
     total = 0
+    # a corner's numbers are taken out of its rows once: a view of a row made for every
+    # sample took more than the arithmetic
     for j in range(nk):  # how many of each, first
         i0, i1, a = _window(t, lims[j])
+        lo, hi, on = _span(lims[j])
         cuts[j, 0] = total
         for k in range(ns):
             for i in range(i0, i1):
-                total += _is_near(f[k, i] - off, s, lims[j])
+                total += _is_near(f[k, i] - off, s, lo, hi, on)
             cuts[j, k + 1] = total
         rowcut[j + 1] = rowcut[j] + i1 - a
     tn, dist, dev = np.empty(total), np.empty(total), np.empty(total)
     past, rows = np.ones(total, np.uint8), np.empty((rowcut[nk], 2 + ns))
     for j in range(nk):
         i0, i1, a = _window(t, lims[j])
+        lo, hi, on = _span(lims[j])
+        cj, nj, s_first, at_end = c[j], n[j], lims[j, 6], end[j]
         r = cuts[j, 0]
         for k in range(ns):
             for i in range(i0, i1):
                 g = f[k, i] - off
-                if not _is_near(g, s, lims[j]):
+                if not _is_near(g, s, lo, hi, on):
                     continue
-                tn[r], dist[r] = t[i], _dist(q[k, i], c[j])
-                if end[j]:
-                    dev[r] = _dot_diff(q[k, i], c[j], n[j])
+                qi = q[k, i]
+                tn[r], dist[r] = t[i], _dist(qi, cj)
+                if at_end:
+                    dev[r] = _dot_diff(qi, cj, nj)
                 else:
-                    dev[r], past[r] = _outside(q[k, i], g, s, p, n[j], lims[j, 6])
+                    dev[r], past[r] = _outside(qi, g, s, p, nj, s_first)
                 r += 1
         for i in range(a, i1):
             o = rowcut[j] + i - a
             rows[o, 0], rows[o, 1] = t[i], interp_at(t[i], tc, s, 0, tc.size)
             for k in range(ns):
-                rows[o, 2 + k] = _dist(q[k, i], c[j]) if end[j] else e[k, i]
+                rows[o, 2 + k] = _dist(q[k, i], cj) if at_end else e[k, i]
     return cuts, tn, dist, dev, past, rowcut, rows

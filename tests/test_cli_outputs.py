@@ -241,3 +241,37 @@ def test_json_holds_no_nan_a_strict_reader_refuses(capsys):
     got = json.loads(capsys.readouterr().out, parse_constant=refuse)
     assert got == {"rows": [{"spike_A_um": None, "max_um": None, "ok": 1.5}],
                    "flips": [None]}
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 999, 1000, 1001, 2500])
+def test_rows_written_as_they_come_are_the_json_of_the_whole(capsys, n):
+    """``emit_json_rows`` writes what ``emit_json`` writes of the head with the rows last,
+    to the byte: no rows, one, a batch and more; NaN and infinities null, text not
+    escaped to ASCII, a head with lists and dicts in it."""
+    from tcpmm.cli._app import emit_json, emit_json_rows
+
+    head = {"axes": "XY", "sensors": {"tcp": {"max_um": float("nan"), "v": [1.5, np.inf]}},
+            "list": [], "name": "Überschwinger µm"}
+    rows = [{"corner": k, "sensor": "tcp", "x_mm": k * 0.1, "settle_ms": float("nan"),
+             "note": "µ" if k % 7 else None, "e": [k, -np.inf]} for k in range(n)]
+    emit_json({**head, "corners": rows})
+    whole = capsys.readouterr().out
+    emit_json_rows(head, "corners", iter(rows))
+    assert capsys.readouterr().out == whole
+
+
+def test_rows_are_written_before_the_next_batch_is_asked_for(capsys):
+    """A long run's corners are not held as one text: when the row after a full batch is
+    asked for, the batch is out already."""
+    from tcpmm.cli._app import JSON_BATCH_ROWS, emit_json_rows
+
+    seen = []
+
+    def rows():
+        for k in range(2 * JSON_BATCH_ROWS + 1):
+            if k and k % JSON_BATCH_ROWS == 0:
+                seen.append(capsys.readouterr().out.count('"corner"'))
+            yield {"corner": k}
+
+    emit_json_rows({"axes": "XY"}, "corners", rows())
+    assert seen == [JSON_BATCH_ROWS, JSON_BATCH_ROWS]

@@ -147,6 +147,32 @@ def test_the_cli_streams_the_corner_table(run_file, capsys):
     assert code == 0 and "corners, tcp" in capsys.readouterr().out
 
 
+def test_the_cli_writes_the_corners_without_the_whole_table(run_file, capsys, monkeypatch):
+    """``--json`` writes the corners as they are made, not a list of every corner of every
+    sensor turned into one text (a 10 M-block zig-zag took 5 GB so): the same JSON as the
+    whole result's, whole and in chunks."""
+    from tcpmm.analysis.contour import ContourResult
+    from tcpmm.analysis.contour_stream import StreamedContour
+
+    whole = ContourResult.to_dict
+    results = []
+
+    def no_rows(self, corners=True):
+        assert not corners, "every corner's row made at once"
+        results.append(self)
+        return whole(self, corners)
+
+    for cls in (ContourResult, StreamedContour):
+        monkeypatch.setattr(cls, "to_dict", no_rows)
+    for extra in ([], ["--chunk-rows", "53"]):
+        code = main(["contour", str(run_file), "--plane", "XY", "--json", *extra])
+        cap = capsys.readouterr()
+        assert code == 0, cap.err
+        got = json.loads(cap.out)
+        assert len(got["corners"]) > 30 and got == json.loads(json.dumps(
+            whole(results[-1]), allow_nan=True).replace("NaN", "null"))
+
+
 def test_a_streamed_contour_shows_the_rows_measured_on_a_terminal(run_file, monkeypatch,
                                                                    capsys):
     """On a terminal a bar counts the rows measured up to the run's; in a pipe there is

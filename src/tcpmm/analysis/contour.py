@@ -134,17 +134,23 @@ class ContourResult:
 
         return pd.DataFrame(self.corner_rows())
 
-    def to_dict(self) -> dict:
-        """JSON-ready: axes, summary [um] and corners (um, ms, mm; NaN as ``None``)."""
+    def to_dict(self, corners: bool = True) -> dict:
+        """JSON-ready: axes, summary [um] and corners (um, ms, mm; NaN as ``None``); without
+        the corners where ``corners`` is false (:meth:`json_rows` gives them one by one)."""
+        head = {"axes": "".join(self.axes), "signed": self.signed,
+                "settle_tol_um": self.settle_tol_m * 1e6,
+                "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
+                            for s, d in self.summary().items()}}
+        return {**head, "corners": list(self.json_rows())} if corners else head
+
+    def json_rows(self):
+        """The corners of :meth:`to_dict`, one row at a time (a long run has millions) [-]."""
         def clean(v):
             return None if isinstance(v, float) and np.isnan(v) else v
 
-        return {"axes": "".join(self.axes), "signed": self.signed,
-                "settle_tol_um": self.settle_tol_m * 1e6,
-                "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
-                            for s, d in self.summary().items()},
-                "corners": [{k: clean(v) for k, v in row.items()}
-                            for row in self.corner_rows()]}
+        for c in self.corners:
+            for s in self.errors:
+                yield {k: clean(v) for k, v in _corner_row(self.axes, c, s).items()}
 
     def plot(self, ax=None, path=None, sensor=None):
         """One sensor's path coloured by its contour error, and every sensor's error in

@@ -100,6 +100,7 @@ class StreamedContour:
     corner_rows = ContourResult.corner_rows
     corners_table = ContourResult.corners_table
     to_dict = ContourResult.to_dict
+    json_rows = ContourResult.json_rows
 
 
 def parquet_rows(path) -> int:

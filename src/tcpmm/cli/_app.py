@@ -213,6 +213,51 @@ def emit_json(data) -> None:
             out.file.flush()
 
 
+#: rows :func:`emit_json_rows` writes at a time [-]
+JSON_BATCH_ROWS = 1000
+
+
+def emit_json_rows(head: dict, key: str, rows) -> None:
+    """``head`` and, last, ``key`` the list of ``rows``, as :func:`emit_json` writes it;
+    elsewhere than on a terminal the rows are written as they come, a batch at a time, so
+    that a run of millions of rows is never held as one text.
+
+    Parameters
+    ----------
+    head : dict
+        The leading keys [-].
+    key : str
+        The key of the rows, not one of ``head``'s [-].
+    rows : iterable of dict
+        The rows [-].
+    """
+    if out.is_terminal:
+        emit_json({**head, key: list(rows)})
+        return
+
+    def dumped(v) -> str:
+        return json.dumps(_json_ready(v), indent=2, ensure_ascii=False, allow_nan=False)
+
+    text = dumped({**head, key: []})
+    with named_stream(False):
+        out.file.write(text[:text.rindex("[]")] + "[")
+        batch, n = [], 0
+        for row in _ending(rows):
+            if row is not None:
+                batch.append(dumped(row).replace("\n", "\n    "))
+            if batch and (row is None or len(batch) == JSON_BATCH_ROWS):
+                out.file.write(("\n    " if n == 0 else ",\n    ") + ",\n    ".join(batch))
+                n, batch = n + len(batch), []
+        out.file.write(("\n  ]" if n else "]") + "\n}\n")
+        out.file.flush()
+
+
+def _ending(rows):
+    """``rows``, then ``None``: the end, where the last batch is written [-]."""
+    yield from rows
+    yield None
+
+
 def _json_ready(data):
     """``data`` with every float that is not finite replaced by ``None`` [-]."""
     if isinstance(data, float):

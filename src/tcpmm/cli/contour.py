@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ._app import Sensor, app, checked_plot, emit_json, esc, in_file, out, positive
+from ._app import Sensor, app, checked_plot, emit_json_rows, esc, in_file, out, positive
 from ._plane import run_plane_said
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
 from ._tables import fixed
@@ -67,8 +67,8 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                                  param_hint="--sensor")
     if plot is not None:
         res.plot(sensor=name, path=plot)
-    if as_json:
-        emit_json(res.to_dict())
+    if as_json:  # the corners as they are written: a CAM run has hundreds of thousands
+        emit_json_rows(res.to_dict(corners=False), "corners", res.json_rows())
         return
     _print(res, name, f"{run_file}")
 

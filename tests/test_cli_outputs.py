@@ -275,3 +275,24 @@ def test_rows_are_written_before_the_next_batch_is_asked_for(capsys):
 
     emit_json_rows({"axes": "XY"}, "corners", rows())
     assert seen == [JSON_BATCH_ROWS, JSON_BATCH_ROWS]
+
+
+@pytest.mark.parametrize("many", [False, True])
+def test_many_rows_on_a_terminal_are_written_as_they_come(monkeypatch, many):
+    """On a terminal a few rows are coloured; many (the corners of a long run) are
+    written as they come, uncoloured, instead of a coloured text of them all."""
+    import io
+    import json
+
+    from tcpmm.cli import _app
+
+    buf = io.StringIO()
+    monkeypatch.setattr(_app, "out", _app._Console(file=buf, force_terminal=True,
+                                                   highlight=False))
+    n = _app.JSON_COLOURED_ROWS + 1 if many else 3
+    rows = [{"corner": k, "x_mm": 0.5 * k} for k in range(n)]
+    _app.emit_json_rows({"axes": "XY"}, "corners", iter(rows), n)
+    text = buf.getvalue()
+    assert ("\x1b[" not in text) == many
+    if many:
+        assert text == json.dumps({"axes": "XY", "corners": rows}, indent=2) + "\n"

@@ -213,14 +213,14 @@ def emit_json(data) -> None:
             out.file.flush()
 
 
-#: rows :func:`emit_json_rows` writes at a time [-]
-JSON_BATCH_ROWS = 1000
+#: rows :func:`emit_json_rows` writes at a time, and the most it colours on a terminal [-]
+JSON_BATCH_ROWS, JSON_COLOURED_ROWS = 1000, 5000
 
 
-def emit_json_rows(head: dict, key: str, rows) -> None:
+def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None:
     """``head`` and, last, ``key`` the list of ``rows``, as :func:`emit_json` writes it;
-    elsewhere than on a terminal the rows are written as they come, a batch at a time, so
-    that a run of millions of rows is never held as one text.
+    the rows are written as they come, a batch at a time, so that a run of millions of
+    rows is never held as one text: coloured on a terminal only where they are few.
 
     Parameters
     ----------
@@ -230,8 +230,11 @@ def emit_json_rows(head: dict, key: str, rows) -> None:
         The key of the rows, not one of ``head``'s [-].
     rows : iterable of dict
         The rows [-].
+    count : int, optional
+        How many rows there are, where known: on a terminal, more than
+        :data:`JSON_COLOURED_ROWS` are written as they come, without colours [-].
     """
-    if out.is_terminal:
+    if out.is_terminal and count is not None and count <= JSON_COLOURED_ROWS:
         emit_json({**head, key: list(rows)})
         return
 

@@ -68,7 +68,8 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     if plot is not None:
         res.plot(sensor=name, path=plot)
     if as_json:  # the corners as they are written: a CAM run has hundreds of thousands
-        emit_json_rows(res.to_dict(corners=False), "corners", res.json_rows())
+        emit_json_rows(res.to_dict(corners=False), "corners", res.json_rows(),
+                       len(res.corners) * len(res.errors))
         return
     _print(res, name, f"{run_file}")
 

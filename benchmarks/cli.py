@@ -36,7 +36,7 @@ def wall(args: list[str], runs: int) -> tuple[float, float]:
     """Min and median wall time [s] of ``tcpmm ARGS`` as a new process, after one
     unmeasured run."""
     cmd = [sys.executable, "-c",
-           "import sys; from tcpmm.cli import main; sys.exit(main(sys.argv[1:]))", *args]
+           "import sys; from tcpmm.cli import run; sys.exit(run())", *args]
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
     times = []
     for k in range(runs + 1):

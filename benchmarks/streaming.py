@@ -29,7 +29,7 @@ from pathlib import Path
 _PEAK = ("import resource, subprocess, sys; "
          "rc = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL).returncode; "
          "print(rc, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
-_TCPMM = ("import sys; from tcpmm.cli import main; sys.exit(main())",)
+_TCPMM = ("import sys; from tcpmm.cli import run; sys.exit(run())",)
 
 
 def _write_program(path: Path, head: str, blocks) -> Path:

@@ -63,7 +63,8 @@ def test_looked_up_around_a_vertex_as_over_the_whole_polyline(ps, data):
     assert C.first_bend(p, s, i, t_out, after) == _first_bend_whole(p, s, i, t_out, after)
     # the compiled frame looks the chord before the corner up around it
     span = data.draw(st.floats(1e-6, 1e-2))
-    frame = call("corner_frame", p, s, np.arange(p.shape[0]) * 1e-3, i, float("nan"), span)
+    frame = call("corner_frames", p, s, np.arange(p.shape[0]) * 1e-3, np.array([i]),
+                 np.array([np.nan]), span)[0]
     assert frame[0] == _rest_start_whole(p, i)
     v = p[i] - C._at(p, s, np.array([s[i] - span]))[0]
     t_in = v / (np.sqrt(dot_rows(v, v)) or 1.0)

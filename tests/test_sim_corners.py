@@ -168,7 +168,13 @@ def test_corner_frame_is_numpys_geometry(turn):
     s = np.cumsum(np.concatenate([[0.0], norm_rows(np.diff(p, axis=0))]))
     tc = np.arange(80) * 1e-3
     i, span = 41, 3e-4
-    got = call("corner_frame", p, s, tc, i, float(turn), span)
+    # among other corners of one call, each its own frame
+    rows = call("corner_frames", p, s, tc, np.array([20, i, 60]), np.array([0.5, turn, 0.7]),
+                span)
+    got = rows[1]
+    for j, k, t in ((0, 20, 0.5), (2, 60, 0.7)):
+        one = call("corner_frames", p, s, tc, np.array([k]), np.array([t]), span)[0]
+        assert rows[j].tobytes() == one.tobytes()
     assert got[0] == 38
     t0 = tc[38] if np.isnan(turn) else tc[i]
     assert got[1] == np.interp(t0, tc, s)

@@ -52,6 +52,6 @@ FUNCTIONS = {
     "feed_many": ("sim.cornerfeed", "feed_many", "feed_many", _FEED_KINDS, _FEED_RESULT),
     "first_bend": ("sim.cornerfigs", "first_bend", "first_bend", ("f2", "f1", "i", "f1", "f", "f"),
                    "i"),
-    "corner_frame": ("sim.cornerfigs", "corner_frame", "corner_frame",
-                     ("f2", "f1", "f1", "i", "f", "f"), "f1"),
+    "corner_frames": ("sim.cornerfigs", "corner_frames", "corner_frames",
+                      ("f2", "f1", "f1", "i1", "f1", "f"), "f2"),
 }

@@ -119,9 +119,11 @@ class CornerStream:
         each knows where the next begins (else each would take the samples kept up to
         the last: a chunk of a run with a corner every few blocks)."""
         new, d = [], self.p.shape[1]
-        for i, turn in corners:
+        frames = call("corner_frames", self.p, self.s, self.tc,
+                      np.array([i - self.off for i, _ in corners], np.int64),
+                      np.array([t for _, t in corners], float), self.span) if corners else ()
+        for (i, turn), frame in zip(corners, frames, strict=True):
             li = i - self.off
-            frame = call("corner_frame", self.p, self.s, self.tc, li, float(turn), self.span)
             first = int(frame[0])
             t_i = float(self.tc[li])
             t0 = float(self.tc[first]) if np.isnan(turn) else t_i  # the end: the arrival

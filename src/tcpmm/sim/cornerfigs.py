@@ -282,3 +282,13 @@ def corner_frame(p, s, tc, i, turn, span):
     out[2:2 + d] = t_in if ln < 1e-6 else n / ln
     out[2 + d:] = t_out
     return out
+
+
+@njit(cache=True)
+def corner_frames(p, s, tc, idx, turns, span):
+    """:func:`corner_frame` of each corner ``p[idx[j]]`` of turn ``turns[j]``, a row each:
+    the corners found in a piece of command in one call [-]."""
+    out = np.empty((idx.size, 2 + 2 * p.shape[1]))
+    for j in range(idx.size):
+        out[j] = corner_frame(p, s, tc, idx[j], turns[j], span)
+    return out

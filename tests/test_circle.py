@@ -169,6 +169,40 @@ def test_runs_that_start_at_other_angles_are_compared_at_the_same_places(directi
     assert row["radial_max_um"] < 0.01 and row["radial_rms_um"] < 0.005
 
 
+def arc_path(direction, start_deg, end_deg, n=3000):
+    """An arc of the circle from ``start_deg`` to ``end_deg`` (less for CW), at one speed
+    (no feed-in) [m]."""
+    assert (end_deg > start_deg) == (direction == "ccw")
+    th = np.radians(np.linspace(start_deg, end_deg, n))
+    return R * np.column_stack([np.cos(th), np.sin(th)])
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize("predicted", [(40.0, None), (100.0, 200.0)])
+def test_an_arc_is_compared_only_where_both_runs_are(direction, predicted):
+    """A measured arc (60 to 150 deg of travel) against a predicted full circle, or an arc
+    that overlaps it from 100 deg on, with the same radial error as a function of the
+    angle: nothing between them. The point-by-point difference filled the angles the arc
+    does not hold in by a straight line (some 0.7 um here), and the contour error set the
+    arc's against the whole circle's."""
+    def bump(a):
+        return 2e-6 + 3e-6 * np.exp(-0.5 * ((np.degrees(a) % 360 - 95.0) / 8.0) ** 2) \
+            - 1e-6 * np.cos(3 * a)
+
+    sgn = 1.0 if direction == "ccw" else -1.0
+    pm = arc_path(direction, 60.0 * sgn, 150.0 * sgn)
+    a0, a1 = predicted
+    pp = circle_path(direction, start_deg=a0) if a1 is None else \
+        arc_path(direction, a0 * sgn, a1 * sgn)
+    with warnings.catch_warnings():  # the arcs hold few quadrant points: said, not asked
+        warnings.simplefilter("ignore", InputWarning)
+        meas = analyse_circle(make_run(pm, polar_perturb(pm, (0, 0), bump)), R)
+        pred = analyse_circle(make_run(pp, polar_perturb(pp, (0, 0), bump)), R)
+        row = compare_circles(meas, pred).rows[0]
+    assert row["radial_max_um"] < 0.01 and abs(row["contour_error_um"]) < 0.01
+    assert row["common_deg"] == pytest.approx(90.0 if a1 is None else 50.0, abs=1.0)
+
+
 def two_lobes(rise, fall):
     """Radial error with a rise at 93 deg then a fall at 100 deg (after B, CCW) [m]."""
     def de(a):

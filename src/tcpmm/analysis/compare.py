@@ -114,6 +114,38 @@ def _on_grid(angle, e, direction, start, grid):
     return np.interp(grid, a, e[turn], period=2 * np.pi)
 
 
+def _travel(sc, direction, start):
+    """Each sample's travel angle from ``start``, in the direction of travel, within one
+    turn; where the pass's travel begins in that frame [rad]."""
+    sgn = -1.0 if direction == "cw" else 1.0
+    t = (sc.angle_rad - sc.angle_rad[0]) * sgn
+    turn = t < 2 * np.pi
+    return t[turn], sc.radial_error[turn], np.mod((sc.angle_rad[0] - start) * sgn, 2 * np.pi)
+
+
+def _common_arc(sm, sp, direction) -> dict:
+    """Measured minus predicted over the travel angles both passes hold (one at least an
+    arc): the contour error (``max |e|``) of each over them, and the radial error point by
+    point every half degree [um]; the angle they share [deg]. Where they share none, NaN."""
+    tm, em, _ = _travel(sm, direction, sm.angle_rad[0])
+    tp, ep, off = _travel(sp, direction, sm.angle_rad[0])
+    # the predicted pass's samples in the measured pass's frame, and the other way round
+    at_p = np.mod(tp + off, 2 * np.pi)
+    at_m = np.mod(tm - off, 2 * np.pi)
+    in_m, in_p = at_p <= tm[-1], at_m <= tp[-1]
+    grid = np.arange(0.0, tm[-1], np.radians(0.5))
+    grid = grid[np.mod(grid - off, 2 * np.pi) <= tp[-1]]
+    nan = float("nan")
+    if not (grid.size and in_m.any() and in_p.any()):
+        return {"contour_error_um": nan, "radial_rms_um": nan, "radial_max_um": nan,
+                "common_deg": 0.0}
+    d = np.interp(grid, tm, em) - np.interp(np.mod(grid - off, 2 * np.pi), tp, ep)
+    return {"contour_error_um": float(np.max(np.abs(em[in_p])) - np.max(np.abs(ep[in_m])))
+            * 1e6, "radial_rms_um": float(np.sqrt(np.mean(d**2)) * 1e6),
+            "radial_max_um": float(np.max(np.abs(d)) * 1e6),
+            "common_deg": float(np.degrees(grid[-1] - grid[0]))}
+
+
 def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparison:
     """Table 2: for every direction and sensor in both, measured minus predicted, and
     the points where the spike changes sign between the two (:func:`sign_flips`).
@@ -137,6 +169,10 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             for q in QUADRANTS:
                 row[f"spike_{q}_um"] = (sm.spikes[q] - sp.spikes[q]) * 1e6
             flips += sign_flips(sm, sp, pm.direction.upper(), name)
+            if pm.is_arc or pp.is_arc:  # only where both runs are: nothing filled in
+                row.update(_common_arc(sm, sp, pm.direction))
+                rows.append(row)
+                continue
             row["contour_error_um"] = (sm.contour_error - sp.contour_error) * 1e6
             # Point by point on a common grid of travel angle from a common start angle.
             grid = np.linspace(0, 2 * np.pi, 721)[:-1]

@@ -201,3 +201,27 @@ def test_bode_text_columns_line_up(capsys):
     assert len(lines) == 6
     assert len({line.index("phase") for line in lines}) == 1
     assert len({line.index("|H|") for line in lines}) == 1
+
+
+def test_a_raw_spike_is_named_raw_where_circle_leads_with_another(tmp_path, capsys):
+    """``tcpmm circle`` leads with the spike after the fitted terms; the spread, the
+    verdicts and compare give the raw e - b under the same letters, and say so (a user
+    set a spread's 13.84 um against circle's 18.90 um as a miss of a firm figure)."""
+    from tcpmm.demo import paper_circle_command
+    from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.model import AxisUncertainty
+    from tcpmm.path import write_command_csv
+
+    m = builtin_machine()
+    m = m.model_copy(update={"axes": {n: m.axes[n] for n in ("X", "Y")}})
+    for n in ("X", "Y"):  # an identified model: every quantity known
+        m = m.with_axis(n, m.axes[n].replace(uncertainty=AxisUncertainty()))
+    write_machine(m, tmp_path / "m.yaml")
+    write_command_csv(paper_circle_command(m), tmp_path / "cmd.csv")
+    code, out, err = run(capsys, "spread", str(tmp_path / "m.yaml"), "--command",
+                         str(tmp_path / "cmd.csv"), "--radius", "35", "--draws", "2")
+    assert code == 0, err
+    text = " ".join(out.split())
+    assert "tcp raw reversal spikes (e - b) over 2 drawn machines" in text
+    assert "verdict R35 raw spike A (e - b): " in text and "verdict R35 spike" not in text

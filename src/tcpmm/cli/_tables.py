@@ -21,6 +21,15 @@ def header(column: str) -> str:
     return column.replace("_", " ")
 
 
+def raw_spike_named(figure: str) -> str:
+    """A verdict's figure as a user reads it: ``"R35 spike A"`` is the raw ``e - b`` at A,
+    which ``tcpmm circle`` does not lead with (it leads with the spike after the fitted
+    terms) [-]."""
+    for q in "ABCD":
+        figure = figure.replace(f"spike {q}", f"raw spike {q} (e - b)")
+    return figure
+
+
 def fixed(v: float, digits: int = 2) -> str:
     """``v`` to ``digits`` decimals, a value that rounds to zero without a sign (-0.00
     reads as a small negative value that is not there) [-]."""

@@ -21,11 +21,11 @@ from ._app import (
 
 def _row(label: str, fig: dict) -> str:
     path = fig["path"]
-    text = f"  {label:7s} contour error {path['contour_error_um']:8.2f} µm (rms " \
+    text = f"  {label:7s} contour error to the command {path['contour_error_um']:8.2f} µm (rms " \
            f"{path['contour_rms_um']:.2f})"
     if "circle" in fig:
         c = fig["circle"]
-        text += f", largest spike {c['largest_spike_um']:.2f} µm, G " \
+        text += f", largest raw spike (e - b) {c['largest_spike_um']:.2f} µm, G " \
                 f"{c['circular_deviation_um']:.2f} µm"
     return text
 
@@ -272,7 +272,7 @@ def _figure_verdicts(figures: dict) -> list[str]:
         ``{"spike": ..., "circular_deviation": ...}``, each of
         :func:`tcpmm.compensate.robust.over_draws` [-].
     """
-    names = {"spike": "largest reversal spike", "circular_deviation": "G"}
+    names = {"spike": "largest raw reversal spike (e - b)", "circular_deviation": "G"}
     return [f"  {name}: " + _VERDICT_TEXT[figures[key]["verdict"]].format(
         r=figures[key]["least_ratio"]) for key, name in names.items() if key in figures]
 

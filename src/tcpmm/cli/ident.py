@@ -25,6 +25,7 @@ from ._app import (
     read_model,
     warn_suspect,
 )
+from ._tables import raw_spike_named
 
 
 @app.command()
@@ -70,7 +71,8 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
         emit_json({**res.to_dict(), "verdict": verdict.to_dict()})
         return
     table = res.to_pandas().rename(columns={"settled": "sign held", "firm": "draws agree"})
-    print_table(table, out, f"{sensor.value} spikes over {draws} drawn machines")
+    print_table(table, out, f"{sensor.value} raw reversal spikes (e - b) over {draws} drawn "
+                "machines")
     out.print(f"draws agree: nine in ten drawn machines within {tol_m * 1e6:g} um of the "
               "spike; the verdicts below also count what the data leave open (as the "
               "pre-sliding), which the draws do not vary", highlight=False)
@@ -256,7 +258,8 @@ def _print_verdict(verdict) -> None:
         out.print(line)
     for key, f in verdict.worst().items():
         settle = f"; to settle: {f.settle}" if f.verdict != "firm" and f.settle else ""
-        out.print(f"verdict {key}: {f.nominal * 1e6:.2f} um, {f.text()}{settle}")
+        out.print(f"verdict {raw_spike_named(key)}: {f.nominal * 1e6:.2f} um, "
+                  f"{f.text()}{settle}")
 
 
 def _exit_if_not_firm(verdict, strict: bool) -> None:

@@ -246,7 +246,8 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     if as_json:
         emit_json({**cmp.to_dict(), **({"tcp_judged": judged} if judged else {})})
     else:
-        print_table(cmp.to_pandas(), out, "measured - predicted")
+        print_table(cmp.to_pandas(), out, "measured - predicted (raw spikes e - b, as in the "
+                    "paper's Table 2)")
         for line in cmp.notes():
             out.print(line)
         if judged:

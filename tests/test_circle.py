@@ -169,11 +169,11 @@ def test_runs_that_start_at_other_angles_are_compared_at_the_same_places(directi
     assert row["radial_max_um"] < 0.01 and row["radial_rms_um"] < 0.005
 
 
-def arc_path(direction, start_deg, end_deg, n=3000):
-    """An arc of the circle from ``start_deg`` to ``end_deg`` (less for CW), at one speed
-    (no feed-in) [m]."""
+def arc_path(direction, start_deg, end_deg):
+    """An arc of the circle from ``start_deg`` to ``end_deg`` (less for CW), at the speed
+    of :func:`circle_path` (no feed-in) [m]."""
     assert (end_deg > start_deg) == (direction == "ccw")
-    th = np.radians(np.linspace(start_deg, end_deg, n))
+    th = np.radians(np.linspace(start_deg, end_deg, round(abs(end_deg - start_deg) * 20) + 1))
     return R * np.column_stack([np.cos(th), np.sin(th)])
 
 
@@ -201,6 +201,17 @@ def test_an_arc_is_compared_only_where_both_runs_are(direction, predicted):
         row = compare_circles(meas, pred).rows[0]
     assert row["radial_max_um"] < 0.01 and abs(row["contour_error_um"]) < 0.01
     assert row["common_deg"] == pytest.approx(90.0 if a1 is None else 50.0, abs=1.0)
+
+
+def test_a_prediction_of_another_test_is_refused():
+    """A measured circle run twice as fast as the predicted one (F10000 against F5000):
+    the prediction is of another test, and every difference would be of the feeds."""
+    p = circle_path()
+    meas = make_run(p, p)
+    fast = Run(meas.time_s / 2.0, meas.axes)
+    with pytest.raises(InputError, match="prediction is of another test"):
+        compare_circles(analyse_circle(fast, R), analyse_circle(meas, R))
+    assert compare_circles(analyse_circle(meas, R), analyse_circle(meas, R)).rows
 
 
 def two_lobes(rise, fall):

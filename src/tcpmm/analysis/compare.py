@@ -146,6 +146,23 @@ def _common_arc(sm, sp, direction) -> dict:
             "common_deg": float(np.degrees(grid[-1] - grid[0]))}
 
 
+#: the most the two runs' speeds about the centre may differ for one test [-]
+SAME_SPEED_TOL = 0.02
+
+
+def _same_test(pm, pp) -> None:
+    """Refuse a measured and a predicted circle run at different speeds: the prediction
+    is of another test (an F10000 measurement against an F5000 prediction read as a
+    contour error 207 um off, with spikes inside their intervals)."""
+    a, b = pm.rate_rad_s, pp.rate_rad_s
+    if np.isfinite(a) and np.isfinite(b) and abs(a - b) > SAME_SPEED_TOL * max(abs(a), abs(b)):
+        raise InputError(
+            f"the measured {pm.direction.upper()} circle runs at {abs(a):.4g} rad/s about the "
+            f"centre, the predicted one at {abs(b):.4g} rad/s ({abs(a / b):.3g} times): the "
+            "prediction is of another test; simulate the measured run's own command "
+            "(tcpmm simulate MODEL --command MEASURED.csv)")
+
+
 def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparison:
     """Table 2: for every direction and sensor in both, measured minus predicted, and
     the points where the spike changes sign between the two (:func:`sign_flips`).
@@ -161,6 +178,7 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             pp = predicted.pass_for(pm.direction)
         except InputError:
             continue
+        _same_test(pm, pp)
         for name, sm in pm.sensors.items():
             if name not in pp.sensors or name == "cmd":
                 continue

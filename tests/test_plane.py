@@ -48,6 +48,9 @@ def test_motion_plane_is_the_gcode_plane_of_the_two_axes_moving_most():
     assert axes == ("Z", "X") and "Z and X" in why and flat and "not plane" not in why
     pos["Y"] = 0.2 * t
     assert "Y moves too" in motion_plane(pos)[1] and not motion_plane(pos)[2]
+    # where the positions come from goes with their travel, not after the advice
+    why = motion_plane(pos, " in the cmd signals")[1]
+    assert ") in the cmd signals; Y moves too" in why and why.endswith("give --plane to choose")
     with pytest.raises(InputError, match="fewer than two"):
         motion_plane({"X": t, "Y": np.zeros(50)})
 

@@ -42,7 +42,7 @@ def plane_name(axes) -> str:
     return "".join(axes)
 
 
-def motion_plane(positions: dict) -> tuple[tuple[str, str], str, bool]:
+def motion_plane(positions: dict, where: str = "") -> tuple[tuple[str, str], str, bool]:
     """The plane in which positions move: the two axes of largest travel, in the order of
     G17, G18, G19 (XY, ZX, YZ).
 
@@ -50,6 +50,8 @@ def motion_plane(positions: dict) -> tuple[tuple[str, str], str, bool]:
     ----------
     positions : dict of str to ndarray
         Position per axis name [m].
+    where : str
+        Where the positions come from, said after their travel (" in the cmd signals") [-].
 
     Returns
     -------
@@ -69,7 +71,7 @@ def motion_plane(positions: dict) -> tuple[tuple[str, str], str, bool]:
     a, b = moving[:2]
     axes = GCODE_PLANES[frozenset((a, b))]
     # named in the plane's order, as the plane is, not by their travel
-    why = f"the axes moving most are {axes[0]} and {axes[1]} (travel {_mm(travel)})"
+    why = f"the axes moving most are {axes[0]} and {axes[1]} (travel {_mm(travel)}){where}"
     flat = not (len(moving) > 2 and travel[moving[2]] > OUT_OF_PLANE_SHARE * travel[b])
     if not flat:
         why += f"; {moving[2]} moves too, so the path is not plane: give --plane to choose"
@@ -100,8 +102,7 @@ def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str, boo
         pos = {a: r.sensor(s) for a, r in run.axes.items()}
         pos = {a: p for a, p in pos.items() if p is not None}
         if len(pos) >= 2:
-            axes, why, flat = motion_plane(pos)
-            return axes, f"{why} in the {s} signals", flat
+            return motion_plane(pos, f" in the {s} signals")
     raise InputError("the run has no position signal of two axes to find the plane from")
 
 

@@ -225,3 +225,15 @@ def test_a_raw_spike_is_named_raw_where_circle_leads_with_another(tmp_path, caps
     text = " ".join(out.split())
     assert "tcp raw reversal spikes (e - b) over 2 drawn machines" in text
     assert "verdict R35 raw spike A (e - b): " in text and "verdict R35 spike" not in text
+
+
+def test_a_record_period_off_the_loop_is_refused_by_its_option(tmp_path, capsys):
+    """A record period that is no whole number of velocity-loop periods is the option's
+    fault, not the program's: the message named the NC program."""
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90 G1 X10 Y0 F3000\nX0\n")
+    code, _out, err = run(capsys, "simulate", "builtin:vmc", "--gcode", str(prog), "-o",
+                         str(tmp_path / "r.csv"), "--record-period-s", "0.0007")
+    text = " ".join(err.split())
+    assert code == 2 and "Invalid value for --record-period-s" in text and "p.nc" not in text
+    assert "e.g. 0.00075 s" in text and not (tmp_path / "r.csv").exists()

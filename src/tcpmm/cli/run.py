@@ -87,6 +87,8 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     if record_period_s is not None:
         positive(record_period_s, "--record-period-s [s]")
     m = read_model(model)
+    if record_period_s is not None:
+        _record_period_fits(m, record_period_s)
     if not allow_unstable:
         refuse_unstable(m, model)
     streams = gcode is not None and command is None and is_parquet(output)
@@ -105,6 +107,19 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
     run.write(output)
     _said_run(output, run.to_dict(), as_json)
+
+
+def _record_period_fits(machine, record_period_s: float) -> None:
+    """``--record-period-s`` refused by the option's name where it is no whole number of
+    an axis's velocity-loop periods (the message named the program or command file)."""
+    from ..errors import InputError
+    from ..sim.simulate import record_every
+
+    for axis in machine.axes.values():
+        try:
+            record_every(record_period_s, record_period_s, axis.servo.T_v)
+        except InputError as exc:
+            raise typer.BadParameter(exc.message, param_hint="--record-period-s") from None
 
 
 def _said_run(output: Path, summary: dict, as_json: bool) -> None:

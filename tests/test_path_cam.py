@@ -331,3 +331,17 @@ def test_the_blends_of_a_long_run_taken_at_once_are_each_ones(seed):
     want = _blended_reference(segs, tangent_lengths(block_table(segs), 2e-6).tolist())
     assert sum(type(s) is Blend for s in got) > 50
     assert got == want
+
+
+def test_the_lines_a_limit_holds_back_are_a_line_or_a_span(tmp_path, capsys):
+    """A limit that holds one block back names its line; one over several blocks the
+    span of lines they lie in (other blocks among them): 'lines 16-16' and 'lines 4-15'
+    (with line 14 held back by another limit) read as a run of lines."""
+    arcs = "".join(f"G3 X20 Y{2 if k % 2 == 0 else 0} R1\n" for k in range(10))
+    program = ("G21 G17 G90\nG1 X10 Y0 F2000\nG1 X20 Y0 F8000\n" + arcs
+               + "G1 X30 Y0\nG2 X40 Y0 I5 J0 F20000\nG1 X50\n")
+    (tmp_path / "fs.nc").write_text(program)
+    assert main(["path", str(tmp_path / "fs.nc"), "-o", str(tmp_path / "c.csv")]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "in 11 blocks, between lines 4 and 15," in out and "in 1 block, line 16," in out
+    assert "lines 16-16" not in out and "lines 4-15" not in out

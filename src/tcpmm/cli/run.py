@@ -356,8 +356,9 @@ def _print_feed(limits) -> None:
     out.print(f"at the programmed feed (within 1 %) on {limits.share_at_feed() * 100:.1f} % "
               "of the path length of the feed moves")
     for r in limits.summary():
-        lines = ("" if r["first_line"] is None else f", lines {r['first_line']}-"
-                 f"{r['last_line']}")
+        a, b = r["first_line"], r["last_line"]
+        # the blocks of a cause lie among others: a span of lines, not a run of them
+        lines = "" if a is None else f", line {a}" if a == b else f", between lines {a} and {b}"
         out.print(f"  held back by {r['cause']}: {r['length_m'] * 1e3:.3g} mm in "
                   f"{r['blocks']} block{'s' * (r['blocks'] > 1)}{lines}, peak feed as low as "
                   f"{r['lowest_m_per_s'] * 6e4:.0f} mm/min ({_REMEDY[r['cause']]})",

@@ -203,6 +203,11 @@ def test_a_step_along_one_axis_overshoots_and_settles_at_its_end(capsys, tmp_pat
     cap = capsys.readouterr()
     assert "3D (unsigned), taken from" in " ".join(cap.err.split())
     assert "end" in cap.out
+    # --chunk-rows does nothing to a CSV run, and says so
+    assert main(["contour", str(tmp_path / "run.csv"), "--chunk-rows", "100"]) == 0
+    again = capsys.readouterr()
+    assert "--chunk-rows reads a Parquet run in chunks; " in " ".join(again.err.split())
+    assert again.out == cap.out
 
 
 def test_the_result_shares_the_protocol(tmp_path):

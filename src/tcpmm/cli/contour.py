@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ._app import Sensor, app, checked_plot, emit_json_rows, esc, in_file, out, positive
+from ._app import Sensor, app, checked_plot, console, emit_json_rows, esc, in_file, out, positive
 from ._plane import run_plane_said
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
 from ._tables import fixed
@@ -55,6 +55,9 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             res = contour_streamed(run_file, plane, window_s, chunk_rows,
                                    corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
     else:
+        if chunk_rows is not None:  # said: the option does nothing to a CSV run
+            console.print(f"note: --chunk-rows reads a Parquet run in chunks; "
+                          f"{esc(str(run_file))} is read whole", highlight=False)
         run = read_run(run_file)
         with in_file(run_file):
             how = run_plane_said(plane, run, run_file, allow_3d=True)

@@ -9,6 +9,7 @@ import base64
 import csv
 import io
 import json
+import re
 from html.parser import HTMLParser
 
 import numpy as np
@@ -290,3 +291,16 @@ def test_a_ccw_and_a_cw_run_are_diagnosed_together(capsys, tmp_path):
     scale = next(t for t in page.tables if t["csv"] == "circle_1_diagnostics.csv")["rows"]
     row = next(r for r in scale if r[0] == "scale mismatch")  # 2 um cos 2a = m R/2 cos 2a
     assert float(row[1].replace("\u2212", "-")) == pytest.approx(2e-6 / (R / 2) * 1e6, rel=0.02)
+
+
+def test_a_rank_or_a_count_is_shown_as_an_integer():
+    """The ranking of the error sources read '1.00, 2.00, ...': an integer is shown as one,
+    a float to its decimals, a negative with the typographic minus."""
+    import pandas as pd
+
+    from tcpmm.report.html import MINUS, table
+
+    page = table(pd.DataFrame({"rank": [1, 2], "blocks": [-3, 40],
+                               "error [µm]": [1.5, 2.0]}), "t.csv")
+    cells = re.findall(r'<td class="num">([^<]*)</td>', page)
+    assert cells == ["1", f"{MINUS}3", "1.50", "2", "40", "2.00"]

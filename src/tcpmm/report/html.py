@@ -109,10 +109,12 @@ def number(v: float, digits: int | None = None) -> str:
 
 
 def _cell(value, digits) -> str:
-    """One table cell: numbers right-aligned, NaN as n/a [-]."""
+    """One table cell: numbers right-aligned (an integer as one), NaN as n/a [-]."""
     if isinstance(value, bool):
         return f'<td>{"yes" if value else "no"}</td>'
-    if isinstance(value, int | float) and not isinstance(value, bool):
+    if isinstance(value, int):  # a count or a rank: no decimals
+        return f'<td class="num">{esc(str(value).replace("-", MINUS))}</td>'
+    if isinstance(value, float):
         v = float(value)
         if math.isnan(v):
             return '<td class="na">n/a</td>'

@@ -397,3 +397,26 @@ def test_a_value_that_rounds_to_zero_prints_without_a_sign():
 
     assert [fixed(v) for v in (-0.0, -0.004, -1e-12, 0.004, -0.02, -12.0)] == \
         ["0.00", "0.00", "0.00", "0.00", "-0.02", "-12.00"]
+
+
+@pytest.mark.parametrize(("ramp", "warned"), [("start", True), ("end", True), (None, False)])
+def test_a_pass_whose_command_changes_speed_is_said(ramp, warned):
+    """A 120 deg arc whose command is still speeding up at its start (or slows down at its
+    end) is said: the diagnostics take a steady feed, and the servo's transient after the
+    change reads as their terms. A steady arc is not."""
+    n = 2401
+    speed = np.ones(n - 1)
+    if ramp == "start":
+        speed[:40] = np.linspace(0.6, 1.0, 40)
+    elif ramp == "end":
+        speed[-40:] = np.linspace(1.0, 0.6, 40)
+    th = np.radians(20.0) + np.concatenate([[0.0], np.cumsum(speed)]) * np.radians(0.05)
+    p = R * np.column_stack([np.cos(th), np.sin(th)])
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        analyse_circle(make_run(p, p), R)
+    said = [str(w.message) for w in got if "steady feed" in str(w.message)]
+    assert bool(said) == warned
+    if warned:
+        assert ("speeding up at its start" if ramp == "start" else "slows down at its end") \
+            in said[0]

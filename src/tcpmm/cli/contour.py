@@ -36,8 +36,6 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
     """Contour error along any program: the shortest distance from each sensor's path to the
     commanded path, signed in a plane; corner overshoot, rounding and settling."""
-    from ..analysis.contour import contour_error
-    from ..io.runfile import read_run
 
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
                     (window_s, "--window-s [s]")):
@@ -55,14 +53,8 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             res = contour_streamed(run_file, plane, window_s, chunk_rows,
                                    corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
     else:
-        if chunk_rows is not None:  # said: the option does nothing to a CSV run
-            console.print(f"note: --chunk-rows reads a Parquet run in chunks; "
-                          f"{esc(str(run_file))} is read whole", highlight=False)
-        run = read_run(run_file)
-        with in_file(run_file):
-            how = run_plane_said(plane, run, run_file, allow_3d=True)
-            res = contour_error(run, plane=how, window_s=window_s, corner_deg=corner_deg,
-                                settle_tol_m=settle_um * 1e-6)
+        res = _whole(run_file, plane, chunk_rows, window_s=window_s, corner_deg=corner_deg,
+                     settle_tol_m=settle_um * 1e-6)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -75,6 +67,21 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                        len(res.corners) * len(res.errors))
         return
     _print(res, name, f"{run_file}")
+
+
+def _whole(run_file: Path, plane, chunk_rows, **options):
+    """The contour error of a run read whole, in the plane of ``--plane`` or the one it
+    moves in (said); ``--chunk-rows``, which does nothing to a CSV run, said too."""
+    from ..analysis.contour import contour_error
+    from ..io.runfile import read_run
+
+    if chunk_rows is not None:
+        console.print(f"note: --chunk-rows reads a Parquet run in chunks; "
+                      f"{esc(str(run_file))} is read whole", highlight=False)
+    run = read_run(run_file)
+    with in_file(run_file):
+        how = run_plane_said(plane, run, run_file, allow_3d=True)
+        return contour_error(run, plane=how, **options)
 
 
 #: corners a terminal lists at most: a CAM program has thousands, ``--json`` gives them all

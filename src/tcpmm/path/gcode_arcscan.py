@@ -18,16 +18,16 @@ import math
 import numpy as np
 from numba import njit
 
+from .gcode_scan import block_end, block_feed
+
 #: the state :func:`arc_ends` starts from and its layout: position, motion code (-1
 #: none), feed (NaN none), unit, absolute (1 or 0), centre words absolute (G90.1: 1 or
 #: 0), the plane's two axes (0 X, 1 Y, 2 Z), the words not allowed (bits as the scan's),
 #: the largest feed and coordinate [SI]
 STATE_FIELDS = ("x", "y", "z", "motion", "feed", "unit", "absolute", "arc_absolute", "ia",
                 "ib", "other", "max_feed", "max_coordinate")
-#: columns of the scan's values: F, the centre words I, J, K and R [-]
-_F, _I, _R = 3, 4, 7
-#: an arc given by R has a centre; a refused one has none (:func:`arc_ends`' kinds) [-]
-_CENTRE, _RADIUS = 0, 1
+#: columns of the scan's values: the centre words I, J, K and R [-]
+_I, _R = 4, 7
 
 
 @njit(cache=True)
@@ -37,19 +37,6 @@ def _in_range(w, v, unit, max_c):
         if w & (1 << j) and not abs(v[j] * unit) <= max_c:
             return False
     return True
-
-
-@njit(cache=True)
-def _end(w, v, pos, unit, absolute, max_c, out):
-    """The block's end point into ``out``; False where a coordinate is out of range [-]."""
-    for i in range(3):
-        out[i] = pos[i]
-        if w & (1 << i):
-            x = v[i] * unit
-            out[i] = x if absolute else out[i] + x
-            if not abs(out[i]) <= max_c:
-                return False
-    return _in_range(w, v, unit, max_c)
 
 
 @njit(cache=True)
@@ -104,16 +91,14 @@ def arc_ends(codes, vals, state):
     i = 0
     while i < n:
         w, v = codes[i, 2], vals[i]
-        fe = feed
-        if w & (1 << _F):
-            if not 0.0 < v[_F] <= max_feed:
-                break
-            fe = v[_F] * unit / 60.0
+        fe = block_feed(w, v, feed, unit, max_feed)
         mo = motion if codes[i, 1] < 0 else codes[i, 1]
-        if mo < 2 or np.isnan(fe) or w & other:
+        if fe < 0.0 or mo < 2 or np.isnan(fe) or w & other:
             break
-        if not _end(w, v, pos, unit, absolute, max_c, ends[i]):
+        ok, x, y, z = block_end(w, v, pos[0], pos[1], pos[2], unit, absolute, max_c)
+        if not (ok and _in_range(w, v, unit, max_c)):
             break
+        ends[i, 0], ends[i, 1], ends[i, 2] = x, y, z
         has_c = (w & (1 << (_I + ia))) != 0 or (w & (1 << (_I + ib))) != 0
         if has_c == ((w & (1 << _R)) != 0):  # both, or neither
             break

@@ -149,6 +149,30 @@ def scan_lines(buf):
 
 
 @njit(cache=True)
+def block_feed(w, v, feed, unit, max_feed):
+    """The feed after a block of words ``w`` and values ``v`` (:func:`scan_lines`): its F
+    word's, else ``feed``; -1 where its F word is not within 0 and ``max_feed`` [m/s]."""
+    if w & 8:
+        if not 0.0 < v[3] <= max_feed:
+            return -1.0
+        return v[3] * unit / 60.0
+    return feed
+
+
+@njit(cache=True)
+def block_end(w, v, px, py, pz, unit, absolute, max_c):
+    """Whether a block of words ``w`` and values ``v`` from ``(px, py, pz)`` keeps every
+    coordinate it gives within ``max_c``, and its end point [-], [m] (numbers, not an
+    array: a run of blocks carries its position in registers)."""
+    x = px if not w & 1 else v[0] * unit if absolute else px + v[0] * unit
+    y = py if not w & 2 else v[1] * unit if absolute else py + v[1] * unit
+    z = pz if not w & 4 else v[2] * unit if absolute else pz + v[2] * unit
+    ok = not ((w & 1 and not abs(x) <= max_c) or (w & 2 and not abs(y) <= max_c)
+              or (w & 4 and not abs(z) <= max_c))
+    return ok, x, y, z
+
+
+@njit(cache=True)
 def run_plain(codes, vals, k, state):
     """Execute lines from ``k`` on as the interpreter would, up to the first that is not
     a plain move or that would warn or fail.
@@ -183,18 +207,11 @@ def run_plain(codes, vals, k, state):
     while i < n and codes[i, 0] == PLAIN:
         w, v = codes[i, 2], vals[i]
         mo = motion if codes[i, 1] < 0 else codes[i, 1]
-        fe = feed
-        if w & 8:
-            if not 0.0 < v[3] <= max_feed:
-                break
-            fe = v[3] * unit / 60.0
-        if (w & 7) == 0 or mo < 0 or mo > 1 or (mo == 1 and np.isnan(fe)):
+        fe = block_feed(w, v, feed, unit, max_feed)
+        if fe < 0.0 or (w & 7) == 0 or mo < 0 or mo > 1 or (mo == 1 and np.isnan(fe)):
             break
-        x = px if not w & 1 else v[0] * unit if absolute else px + v[0] * unit
-        y = py if not w & 2 else v[1] * unit if absolute else py + v[1] * unit
-        z = pz if not w & 4 else v[2] * unit if absolute else pz + v[2] * unit
-        if ((w & 1 and not abs(x) <= max_c) or (w & 2 and not abs(y) <= max_c)
-                or (w & 4 and not abs(z) <= max_c)):
+        ok, x, y, z = block_end(w, v, px, py, pz, unit, absolute, max_c)
+        if not ok:
             break
         if x == px and y == py and z == pz:  # a zero-length move warns
             break

@@ -149,8 +149,8 @@ class ContourResult:
             return None if isinstance(v, float) and np.isnan(v) else v
 
         for c in self.corners:
-            for s in self.errors:
-                yield {k: clean(v) for k, v in _corner_row(self.axes, c, s).items()}
+            for row in self.corner_rows(corners=[c]):
+                yield {k: clean(v) for k, v in row.items()}
 
     def plot(self, ax=None, path=None, sensor=None):
         """One sensor's path coloured by its contour error, and every sensor's error in

@@ -204,7 +204,7 @@ def emit_json(data) -> None:
     elsewhere (rich's highlighter took seconds over the thousands of corners of a long
     run, for colours a pipe does not show). A number that is not finite (a figure not
     determined) is ``null``: JSON has no NaN, and a strict reader refuses it."""
-    text = json.dumps(_json_ready(data), indent=2, ensure_ascii=False, allow_nan=False)
+    text = _dumped(data)
     if out.is_terminal:
         out.print_json(text)
     else:
@@ -237,28 +237,23 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
     if out.is_terminal and count is not None and count <= JSON_COLOURED_ROWS:
         emit_json({**head, key: list(rows)})
         return
+    from itertools import islice
 
-    def dumped(v) -> str:
-        return json.dumps(_json_ready(v), indent=2, ensure_ascii=False, allow_nan=False)
-
-    text = dumped({**head, key: []})
+    text, rows, n = _dumped({**head, key: []}), iter(rows), 0
     with named_stream(False):
         out.file.write(text[:text.rindex("[]")] + "[")
-        batch, n = [], 0
-        for row in _ending(rows):
-            if row is not None:
-                batch.append(dumped(row).replace("\n", "\n    "))
-            if batch and (row is None or len(batch) == JSON_BATCH_ROWS):
-                out.file.write(("\n    " if n == 0 else ",\n    ") + ",\n    ".join(batch))
-                n, batch = n + len(batch), []
+        while batch := [_dumped(r).replace("\n", "\n    ")
+                        for r in islice(rows, JSON_BATCH_ROWS)]:
+            out.file.write((",\n    " if n else "\n    ") + ",\n    ".join(batch))
+            n += len(batch)
         out.file.write(("\n  ]" if n else "]") + "\n}\n")
         out.file.flush()
 
 
-def _ending(rows):
-    """``rows``, then ``None``: the end, where the last batch is written [-]."""
-    yield from rows
-    yield None
+def _dumped(data) -> str:
+    """``data`` as the JSON :func:`emit_json` writes: indented by two, text as it is, a
+    number that is not finite ``null`` [-]."""
+    return json.dumps(_json_ready(data), indent=2, ensure_ascii=False, allow_nan=False)
 
 
 def _json_ready(data):

@@ -36,7 +36,6 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
     """Contour error along any program: the shortest distance from each sensor's path to the
     commanded path, signed in a plane; corner overshoot, rounding and settling."""
-
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
                     (window_s, "--window-s [s]")):
         positive(v, what)

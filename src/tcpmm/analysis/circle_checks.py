@@ -80,7 +80,7 @@ def not_found_error(radius_m, centre_m, axes, ref, direction) -> InputError:
 STEADY_SHARE = 0.99
 
 
-def warn_unsteady(t, x, y, centre, direction: str, arc_deg: float) -> None:
+def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
     """Warn (:class:`InputWarning`) where a pass's reference path (the command) is still
     speeding up at its start or slows down before its end: the figures take a steady feed,
     and the servo's transient after a change of feed reads as their terms, for longer than
@@ -91,16 +91,14 @@ def warn_unsteady(t, x, y, centre, direction: str, arc_deg: float) -> None:
     ----------
     t : ndarray
         Time of the pass's samples [s].
-    x, y : ndarray
-        Its reference path in the plane [m].
-    centre : tuple
-        Nominal centre [m].
+    ang : ndarray
+        Angle of its reference path (the command) about the nominal centre, unwrapped
+        (a pass's ``angle_rad``) [rad].
     direction : {"ccw", "cw"}
         Direction of travel [-].
     arc_deg : float
         Angle the pass covers [deg].
     """
-    ang = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
     dt = np.diff(t)
     if ang.size < 8 or not np.all(dt > 0):
         return

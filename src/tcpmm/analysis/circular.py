@@ -314,8 +314,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         for sc in cp.sensors.values():  # what the warning says holds for every sensor
             sc.leave_out(missing)
         warn_uncrossed(missing, d, cp.arc_deg)
-        warn_unsteady(run.time_s[sl], X.sensor(ref)[sl], Y.sensor(ref)[sl], centre_m, d,
-                      cp.arc_deg)
+        warn_unsteady(run.time_s[sl], cp.sensors[ref].angle_rad, d, cp.arc_deg)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

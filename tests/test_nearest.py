@@ -121,3 +121,46 @@ def test_paths_searched_in_threads_give_each_path_alone(cores, monkeypatch):
         np.testing.assert_array_equal(together[name][0].view(np.int64),
                                       alone[0].view(np.int64))
         np.testing.assert_array_equal(together[name][1], alone[1])
+
+
+def _to_chords(x, start, chord):
+    """Distance of points ``x`` (one per block) to each block's chord, in numpy [m]."""
+    c2 = np.sum(chord * chord, axis=1)
+    f = np.clip(np.divide(np.sum((x - start) * chord, axis=1), c2, out=np.zeros_like(c2),
+                          where=c2 > 0), 0.0, 1.0)
+    return np.sqrt(np.sum((x - start - f[:, None] * chord) ** 2, axis=1))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 60), st.integers(1, 7),
+       st.sampled_from([1, 3, 8]))
+def test_a_blocks_capsule_holds_its_segments(seed, n, d, block):
+    """Every point of a block's segments (its vertices, and points along each segment)
+    lies within the block's slack of its chord; the path length bounds the block's."""
+    from tcpmm.path.nearest import block_capsules
+
+    rng = np.random.default_rng(seed)
+    p = np.cumsum(rng.normal(size=(n, d)) * 10.0 ** rng.uniform(-6, 0), axis=0)
+    start, chord, _, slack, length = block_capsules(p, block)
+    for i in range(n - 1):  # segment i lies in block i // block
+        b = i // block
+        for f in np.linspace(0.0, 1.0, 9):
+            x = p[i] + f * (p[i + 1] - p[i])
+            assert _to_chords(x[None, :], start[b:b + 1], chord[b:b + 1])[0] <= slack[b]
+    for b in range(start.shape[0]):
+        seg = np.diff(p[b * block:min(b * block + block, n - 1) + 1], axis=0)
+        assert length[b] >= np.sum(np.sqrt(np.sum(seg * seg, axis=1)))
+
+
+def test_a_straight_blocks_capsule_is_its_chord():
+    """A straight pass's capsule is its chord (slack of rounding only), so a pass beside it
+    0.05 mm away lies outside it; the corner's block holds the corner."""
+    from tcpmm.path.nearest import block_capsules
+
+    x = np.arange(0.0, 2e-3 + 1e-9, 2.5e-5)  # 2 mm in 0.025 mm steps along X
+    p = np.r_[np.c_[x, np.zeros_like(x)], np.c_[x[::-1], np.full_like(x, 5e-5)]]
+    slack = block_capsules(p, 8)[3]
+    assert np.all(slack[:9] < 1e-12)  # the first pass's blocks
+    # the turn's block: from (2, 0) mm up 0.05 mm and back 0.175 mm; the turn's outer
+    # vertex lies furthest from that chord
+    assert slack[10] == pytest.approx(0.05 * 0.175 / np.hypot(0.05, 0.175) * 1e-3, rel=1e-6)

@@ -2,9 +2,11 @@
 segments.
 
 Each point is measured against the segments ``a..b`` of its window. Segments are grouped
-in blocks of :data:`BLOCK`, each inside a ball; a block whose ball lies further from the
-point than the closest segment found so far (with a margin far above the rounding of
-either distance) cannot hold the closest segment nor one that ties with it, and is passed
+in blocks of :data:`BLOCK`, each inside a capsule about its chord (tight where the path
+runs straight, as a CAM program's passes do side by side); a block whose capsule lies
+further from the point than the closest segment found so far (with a margin far above the
+rounding of either distance) cannot hold the closest segment nor one that ties with it,
+and is passed
 over, and so are the blocks after it within the path length by which it is too far. The
 search starts at the previous point's segment, so the closest one found so far is close
 from the start. Every segment measured is measured with the same operations in
@@ -32,8 +34,12 @@ _MARGIN = 1e-10
 
 
 @njit(cache=True)
-def block_balls(p, block):
-    """Centre and radius of a ball around the vertices of each block of segments.
+def block_capsules(p, block):
+    """A capsule around the segments of each block: the chord from the block's first
+    vertex to its last, and the furthest any vertex lies from it.
+
+    The distance to a segment is convex, so along each segment of the block it is
+    largest at a vertex: every point of the block lies within that radius of the chord.
 
     Parameters
     ----------
@@ -44,36 +50,56 @@ def block_balls(p, block):
 
     Returns
     -------
-    centre : ndarray, shape (nb, d)
-        Centre of each block's ball [m].
-    radius : ndarray, shape (nb,)
-        Radius of each block's ball [m].
+    start : ndarray, shape (nb, d)
+        First vertex of each block [m].
+    chord : ndarray, shape (nb, d)
+        Its last vertex less its first [m].
+    inv2 : ndarray, shape (nb,)
+        The chord's inverse squared length, 0 for a chord of no length [1/m^2].
+    slack : ndarray, shape (nb,)
+        Radius of each block's capsule with a margin for the rounding of a distance to
+        its chord [m].
     length : ndarray, shape (nb,)
         Path length of each block, rounded up [m].
     """
     m, d = p.shape
     nb = (m - 2) // block + 1
-    centre = np.empty((nb, d))
-    radius = np.zeros(nb)
-    length = np.zeros(nb)
+    start = np.empty((nb, d))
+    chord = np.empty((nb, d))
+    inv2, slack, length = np.zeros(nb), np.zeros(nb), np.zeros(nb)
     for b in range(nb):
         v0, v1 = b * block, min(b * block + block, m - 1)
+        c2 = reach = 0.0
         for c in range(d):
-            lo, hi = p[v0, c], p[v0, c]
-            for v in range(v0 + 1, v1 + 1):
-                lo, hi = min(lo, p[v, c]), max(hi, p[v, c])
-            centre[b, c] = 0.5 * (lo + hi)
+            start[b, c] = p[v0, c]
+            chord[b, c] = p[v1, c] - p[v0, c]
+            c2 += chord[b, c] * chord[b, c]
+            reach += abs(chord[b, c])
+        inv2[b] = 1.0 / c2 if c2 > 0 else 0.0
+        radius = 0.0
         for v in range(v0, v1 + 1):
-            s = 0.0
-            for c in range(d):
-                s += (p[v, c] - centre[b, c]) ** 2
-            radius[b] = max(radius[b], math.sqrt(s))
+            radius = max(radius, _to_chord(p, v, start, chord, inv2, b))
             if v > v0:
                 s = 0.0
                 for c in range(d):
                     s += (p[v, c] - p[v - 1, c]) ** 2
                 length[b] += math.sqrt(s) * (1 + _MARGIN)
-    return centre, radius, length
+        slack[b] = radius * (1 + 2 * _MARGIN) + _MARGIN * reach
+    return start, chord, inv2, slack, length
+
+
+@njit(cache=True, inline="always")
+def _to_chord(q, k, start, chord, inv2, bi):
+    """Distance from point ``k`` of ``q`` to the chord of block ``bi`` [m]."""
+    d = q.shape[1]
+    dot = 0.0
+    for c in range(d):
+        dot += (q[k, c] - start[bi, c]) * chord[bi, c]
+    f = min(max(dot * inv2[bi], 0.0), 1.0)
+    s = 0.0
+    for c in range(d):
+        s += (q[k, c] - start[bi, c] - f * chord[bi, c]) ** 2
+    return math.sqrt(s)
 
 
 @njit(cache=True, inline="always")
@@ -102,19 +128,15 @@ def _segment(q, k, p, seg, ln2, tdir, j):
 
 
 @njit(cache=True, inline="always")
-def _far(q, k, centre, radius, bi, level):
+def _far(q, k, start, chord, inv2, slack, bi, level):
     """How much further than ``level`` every point of block ``bi`` lies from point ``k``
     at the least; not positive where some may not [m]."""
-    s = 0.0
-    for c in range(q.shape[1]):
-        s += (q[k, c] - centre[bi, c]) ** 2
-    dq = math.sqrt(s)
-    return dq - radius[bi] - level - _MARGIN * (dq + radius[bi])
+    return _to_chord(q, k, start, chord, inv2, bi) * (1 - _MARGIN) - slack[bi] - level
 
 
 @njit(cache=True, inline="always")  # a call a point counts every array it is given
-def _measure(q, k, p, seg, ln2, tdir, centre, radius, length, a, b, seed, block, dd, cross,
-             at):
+def _measure(q, k, p, seg, ln2, tdir, start, chord, inv2, slack, length, a, b, seed, block, dd,
+             cross, at):
     """Squared distance and cross product (``dd``, ``cross``) of the segments ``a..b`` not
     passed over, in order, their segments in ``at``; how many, and the smallest distance
     (the root of the smallest squared one: the smallest of the roots, as the root rounds
@@ -124,7 +146,7 @@ def _measure(q, k, p, seg, ln2, tdir, centre, radius, length, a, b, seed, block,
     count = 0
     bi = a // block
     while bi <= b // block:
-        gap = _far(q, k, centre, radius, bi, best * (1 + NEAR_REL) + NEAR_ABS)
+        gap = _far(q, k, start, chord, inv2, slack, bi, best * (1 + NEAR_REL) + NEAR_ABS)
         bi += 1
         if gap > 0:  # the blocks that follow within that path length are as far
             run = 0.0
@@ -174,15 +196,15 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
         That segment [-].
     """
     n = q.shape[0]
-    centre, radius, length = block_balls(p, BLOCK)
+    start, chord, inv2, slack, length = block_capsules(p, BLOCK)
     dist = np.empty(n)
     foot = np.empty(n, np.int64)
     width = 1
     for k in range(n):
         width = max(width, hi[k] - lo[k] + 1)
     dd, cross, at = np.empty(width), np.empty(width), np.empty(width, np.int64)
-    _search(q, p, seg, ln2, tdir, lo, hi, signed, centre, radius, length, dd, cross, at,
-            dist, foot)
+    _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, length, dd, cross,
+            at, dist, foot)
     return dist, foot
 
 
@@ -190,20 +212,20 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
 # counts numba kept on every array handed to the inlined helpers, up and down for each
 # point, were a fifth of the search's time.
 @njit(cache=True, nogil=True, _nrt=False)
-def _search(q, p, seg, ln2, tdir, lo, hi, signed, centre, radius, length, dd, cross, at,
-            dist, foot):
+def _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, length, dd, cross,
+            at, dist, foot):
     """The loop of :func:`nearest_segments` over the points, on its work arrays: the
-    blocks' balls ``centre``, ``radius``, ``length`` and a window's squared distances, cross
-    products and segments ``dd``, ``cross``, ``at``; the results into ``dist`` and
-    ``foot``."""
+    blocks' capsules ``start``, ``chord``, ``inv2``, ``slack``, ``length`` and a window's squared
+    distances, cross products and segments ``dd``, ``cross``, ``at``; the results into
+    ``dist`` and ``foot``."""
     n, last = q.shape[0], p.shape[0] - 2
     block = BLOCK
     prev = 0
     for k in range(n):
         a = min(lo[k], last)
         b = min(max(hi[k], lo[k] + 1) - 1, last)
-        count, level = _measure(q, k, p, seg, ln2, tdir, centre, radius, length, a, b,
-                                min(max(prev, a), b), block, dd, cross, at)
+        count, level = _measure(q, k, p, seg, ln2, tdir, start, chord, inv2, slack, length, a,
+                                b, min(max(prev, a), b), block, dd, cross, at)
         # the closest segment, and any that ties with it, are among those measured: of
         # those within the level, the first that sees the point most to its side. A root
         # is taken only where the squared distance may give one within the level (its

@@ -88,16 +88,18 @@ def test_open_axial_damping_covers_a_machine_with_half_of_it(known):
 
 
 def test_interval_grows_with_the_deviation(known):
-    """Twice the table mass's deviation widens the contour error's interval and the
-    intervals in total (a single spike near its extremum over the mass may not move)."""
+    """Twice the table mass's deviation widens the intervals in total and the contour
+    error's at F10000, where the mass's inertia shapes it (at F5000 the settled circle's
+    contour error is the lag and a reversal's spike, which the mass may hardly move, as a
+    single spike near its extremum over the mass)."""
     m = known.axes["X"].mechanics
     half = []
     for rel in (0.02, 0.04):
         v = prediction_verdict(_with(known, "X", mechanics={"M_t": rel * m.M_t}))
         half.append({(f.test, f.direction, f.figure): f.half_width for f in v.figures})
     assert sum(half[1].values()) > sum(half[0].values())
-    ce = [k for k in half[0] if k[2] == "contour error"]
-    assert all(half[1][k] > half[0][k] for k in ce)
+    ce = [k for k in half[0] if k[2] == "contour error" and k[0].endswith("F10000")]
+    assert len(ce) == 2 and all(half[1][k] > half[0][k] for k in ce)
 
 
 def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resolution=1e-6,
@@ -239,3 +241,26 @@ def test_cli_compare_with_the_model_sets_table_2_against_the_interval(tmp_path, 
     assert code == 0
     rows = json.loads(capsys.readouterr().out)["tcp_judged"]
     assert len(rows) == 2 and all(r["spike_C_inside"] for r in rows)
+
+
+def test_reference_circles_are_judged_settled_on_the_circle(known):
+    """The reference circles' contour error and G are those of the machine settled on the
+    circle: within 0.5 % of a turn taken after half a turn on it, where a single turn
+    from the feed-in's join read the join's transient (24.2 um against 13.7 um at F5000
+    CCW on this machine)."""
+    import dataclasses
+
+    from tcpmm.path.circle import circle_command
+    from tcpmm.path.command import concatenate
+    from tcpmm.uncertainty import figures, reference_tests
+
+    ref = reference_tests(known)
+    late = [dataclasses.replace(t, command=concatenate([
+        circle_command(t.radius_m, feed / 60000.0, direction=d, start_angle_rad=math.pi / 4,
+                       plane_axes=t.plane, turns=1.75) for d in ("ccw", "cw")]))
+        for t, feed in zip(ref, (5000.0, 10000.0), strict=True)]
+    settled, now = figures(known, late), figures(known, ref)
+    keys = [k for k in settled if k[2] in ("contour error", "G")]
+    assert len(keys) == 8
+    for k in keys:
+        assert now[k] == pytest.approx(settled[k], rel=5e-3), k

@@ -197,10 +197,26 @@ def test_bode_text_columns_line_up(capsys):
     code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_M",
                        "--freq-hz", "1,10,100,1000,10000,0.001")
     assert code == 0
-    lines = [line for line in out.splitlines() if line.strip()]
+    lines = [line for line in out.splitlines() if line.strip()][1:]  # after the heading
     assert len(lines) == 6
     assert len({line.index("phase") for line in lines}) == 1
     assert len({line.index("|H|") for line in lines}) == 1
+
+
+@pytest.mark.parametrize(("tf", "unit"), [("G_M", "rad/s/A"), ("G_T", "m/rad"),
+                                          ("cmd_to_current", "A/m"), ("cmd_to_tcp", "m/m"),
+                                          ("L_p", "-")])
+def test_bode_says_what_the_response_relates_and_its_unit(capsys, tf, unit):
+    """|H| came without its unit: 8.58824 of G_M could be rad/s or mm/min per A."""
+    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", tf,
+                       "--freq-hz", "10,20")
+    assert code == 0
+    head, *rows = [line for line in out.splitlines() if line.strip()]
+    assert head.startswith(f"{tf} of axis X: ") and head.endswith(f"[{unit}]")
+    assert len(rows) == 2 and all(f" {unit} " in r.split("|H|")[1] for r in rows)
+    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", tf,
+                       "--freq-hz", "10", "--json")
+    assert json.loads(out)[0]["unit"] == unit
 
 
 def test_a_raw_spike_is_named_raw_where_circle_leads_with_another(tmp_path, capsys):

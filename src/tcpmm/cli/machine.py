@@ -11,6 +11,7 @@ from ._app import (
     checked_output,
     checked_plot,
     emit_json,
+    esc,
     floats,
     machine_app,
     out,
@@ -119,7 +120,7 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     import numpy as np
 
     from ..mechanics.transfer import REDUCED, reduced_freqresp
-    from ..servo.closedloop import CLOSED_LOOP_TFS, closed_loop_freqresp
+    from ..servo.closedloop import CLOSED_LOOP_TFS, TF_MEANING, closed_loop_freqresp
 
     checked_plot(plot)
     m = read_model(model)
@@ -142,12 +143,14 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         from ..plot.bode import plot_bode
 
         plot_bode({tf: [(f"{axis.upper()} model", f, H, {"color": "tab:red"})]}, plot)
-    rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag)}
+    meaning, unit = TF_MEANING[tf]
+    rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag), "unit": unit}
             for fi, h in zip(f, H, strict=True)]
     if as_json:
         emit_json(rows)
-    else:
-        for r in rows:
-            h = complex(r["re"], r["im"])
-            out.print(f"{r['freq_hz']:12.4g} Hz  |H| {abs(h):<12.6g}  phase "
-                      f"{np.degrees(np.angle(h)):8.2f} deg")
+        return
+    out.print(esc(f"{tf} of axis {axis.upper()}: {meaning} [{unit}]"), highlight=False)
+    for r in rows:
+        h = complex(r["re"], r["im"])
+        out.print(f"{r['freq_hz']:12.4g} Hz  |H| {abs(h):<12.6g} {unit:<8} phase "
+                  f"{np.degrees(np.angle(h)):8.2f} deg", highlight=False)

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..servo.closedloop import TF_MEANING
 from . import finish, panels
 
 #: Measured bins below this coherence are not drawn.
 MIN_COHERENCE = 0.5
-UNITS = {"G_M": "rad/s/A", "G_T": "m/rad", "G_tcp": "-", "G_p": "-", "cmd_to_tcp": "-",
-         "G_v": "-"}
 
 
 def _phase_deg(H) -> np.ndarray:
@@ -60,7 +59,8 @@ def plot_bode(curves, path=None, title=None, ax=None):
                 ac.set_yticks([0, 0.5, 1])
                 ac.set_ylabel("coherence", fontsize=7, color="gray")
         am.set_title(name)
-        am.set_ylabel(f"|{name}| [dB re 1 {UNITS.get(name, '')}]")
+        unit = TF_MEANING.get(name, ("", ""))[1]
+        am.set_ylabel(f"|{name}| [dB re 1 {unit}]" if unit else f"|{name}| [dB]")
         ap.set_ylabel("phase [deg]")
         ap.set_ylim(-185, 185)
         ap.set_yticks([-180, -90, 0, 90, 180])

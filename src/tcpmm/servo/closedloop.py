@@ -19,6 +19,21 @@ from .params import ServoParams
 
 CLOSED_LOOP_TFS = ("G_v", "G_p", "cmd_to_tcp", "cmd_to_motor", "cmd_to_current")
 
+#: Each transfer function of an axis that ``tcpmm bode`` gives: what it relates and its
+#: unit (the reduced plant's, the closed loops' and the open sampled loops') [-].
+TF_MEANING = {
+    "G_M": ("motor speed per current command", "rad/s/A"),
+    "G_T": ("scale position per motor angle", "m/rad"),
+    "G_tcp": ("TCP position per scale position", "m/m"),
+    "G_v": ("motor speed per speed command, velocity loop closed", "-"),
+    "G_p": ("fed-back position per position command, position loop closed", "m/m"),
+    "cmd_to_tcp": ("TCP position per position command", "m/m"),
+    "cmd_to_motor": ("motor position (screw lead times angle) per position command", "m/m"),
+    "cmd_to_current": ("current command per position command", "A/m"),
+    "L_v": ("open velocity loop, sampled", "-"),
+    "L_p": ("open position loop, sampled", "-"),
+}
+
 
 def _close(p: StateSpace, servo: ServoParams, e_x, e_u, inputs) -> StateSpace:
     """Close the PI velocity controller (and its current-setpoint filters) around the

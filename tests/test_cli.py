@@ -253,3 +253,40 @@ def test_a_record_period_off_the_loop_is_refused_by_its_option(tmp_path, capsys)
     text = " ".join(err.split())
     assert code == 2 and "Invalid value for --record-period-s" in text and "p.nc" not in text
     assert "e.g. 0.00075 s" in text and not (tmp_path / "r.csv").exists()
+
+
+def test_a_reader_that_goes_away_ends_the_command_as_sigpipe_would(tmp_path):
+    """``tcpmm ... | head``: the command stops quietly with 141 (128 + SIGPIPE, as a shell
+    reports a command the pipe stopped), not with 1, the code of a failure."""
+    import subprocess
+    import sys
+
+    freqs = ",".join(f"{1 + 0.5 * i:g}" for i in range(4000))  # some 250 kB of lines
+    cmd = [sys.executable, "-c", "import sys; from tcpmm.cli import run; sys.exit(run())",
+           "bode", "builtin:vmc", "--axis", "X", "--tf", "G_M", "--freq-hz", freqs]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            cwd=tmp_path)
+    assert proc.stdout.read(100).startswith(b"G_M of axis X")
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141
+    assert "Traceback" not in err and "Exception" not in err
+    done = subprocess.run(cmd, capture_output=True, cwd=tmp_path, timeout=120)
+    assert done.returncode == 0 and len(done.stdout.splitlines()) == 4001  # read to the end
+
+
+@pytest.mark.skipif(not hasattr(__import__("select"), "poll"), reason="no poll() here")
+def test_a_pipe_without_reader_is_told_from_one_with():
+    """A write outside rich's console that the closed pipe refused ends with 141 too: the
+    pipe's end that writes polls as an error once no one reads."""
+    import os
+
+    from tcpmm.cli import _reader_gone
+
+    r, w = os.pipe()
+    try:
+        assert not _reader_gone(w)
+        os.close(r)
+        assert _reader_gone(w)
+    finally:
+        os.close(w)

@@ -17,7 +17,7 @@ from .._threads import single_threaded_from_start
 single_threaded_from_start()  # before the commands' modules load numpy
 
 from ..errors import BuildNotice, InputWarning, TcpmmError  # noqa: E402
-from ._app import app, console, esc  # noqa: E402
+from ._app import READER_GONE, app, console, esc  # noqa: E402
 
 #: The module of this package that registers each command (or command group) on
 #: :data:`tcpmm.cli._app.app` when it is imported.
@@ -74,7 +74,8 @@ def main(argv=None) -> int:
         console.print(f"[red]error:[/red] {esc((exc.strerror or str(exc)) + where)}")
         return 2
     except SystemExit as exc:
-        return int(exc.code or 0) if not isinstance(exc.code, str) else 1
+        code = int(exc.code or 0) if not isinstance(exc.code, str) else 1
+        return READER_GONE if code == 1 and _reader_gone() else code
     finally:
         warnings.showwarning = shown
         _restore_signals(handlers)
@@ -94,6 +95,21 @@ def run() -> int:
     code = main()
     gc.freeze()
     return code
+
+
+def _reader_gone(fd: int | None = None) -> bool:
+    """Whether the reader of the standard output (or of the pipe ``fd``) went away
+    (``| head`` closed the pipe) during a write outside rich's console (which ends with
+    ``READER_GONE`` itself): typer then ends the command with 1, the code of a failure.
+    The pipe says so itself: its end that writes polls as an error once no one reads [-]."""
+    import select
+
+    try:
+        poll = select.poll()
+        poll.register(sys.__stdout__.fileno() if fd is None else fd, select.POLLOUT)
+        return any(event & select.POLLERR for _, event in poll.poll(0))
+    except (AttributeError, OSError, ValueError):  # no poll (Windows), no standard output
+        return False
 
 
 def _warn_cache_fallback() -> None:

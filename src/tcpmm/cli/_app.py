@@ -67,6 +67,20 @@ class _Console(Console):
         with named_stream(self.stderr):
             super()._check_buffer()
 
+    def on_broken_pipe(self) -> None:
+        """The reader went away (``| head``): nothing more is written to the stream, and
+        the command ends with :data:`READER_GONE`, not rich's 1, the code of a failure."""
+        import os
+
+        self.quiet = True
+        os.dup2(os.open(os.devnull, os.O_WRONLY), self.file.fileno())
+        raise SystemExit(READER_GONE)
+
+
+#: Exit code of a command whose reader went away: 128 + SIGPIPE, as a shell reports a
+#: command the pipe's signal stopped [-].
+READER_GONE = 128 + 13
+
 
 @contextmanager
 def named_stream(stderr: bool):

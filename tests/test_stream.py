@@ -312,6 +312,25 @@ def test_cli_writes_row_groups_that_contour_reads(vmc, tmp_path, capsys):
         assert a[s]["rms_um"] == pytest.approx(b[s]["rms_um"], rel=1e-12)
 
 
+@pytest.mark.parametrize("name", ["zigzag", "arcs"])
+def test_a_streamed_runs_summary_says_what_the_whole_runs_does(tmp_path, capsys, name):
+    """``simulate --json`` of a run streamed to Parquet gave no ``meta`` (the interpolator's
+    settings, the path's length, the program, the model), where the same run to CSV did."""
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS[name])
+    said = {}
+    for out, more in (("run.csv", ()), ("run.parquet", ("--chunk-blocks", 4))):
+        code, text, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                              tmp_path / out, "--json", *more)
+        assert code == 0, err
+        said[out] = json.loads(text)
+    whole, streamed = said["run.csv"], said["run.parquet"]
+    assert streamed["meta"] == whole["meta"]
+    assert streamed["meta"]["path_length_m"] > 0
+    assert {k: v for k, v in streamed.items() if k != "output"} == {
+        k: v for k, v in whole.items() if k != "output"}
+
+
 def test_a_bad_line_far_in_is_named_and_leaves_no_file(tmp_path, capsys):
     lines = ["G21 G90", "G1 X0 Y0 F3000"]
     lines += [f"G1 X{i * 0.01:.3f} Y{(i % 7) * 0.01:.3f}" for i in range(1, 3000)]

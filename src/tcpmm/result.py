@@ -52,6 +52,12 @@ class AxisRun:
         return getattr(self, name)
 
 
+
+def scalar_meta(meta: dict) -> dict:
+    """The entries of a run's or command's meta data that JSON holds as they are (text,
+    numbers, none): its arrays and tuples left out [-]."""
+    return {k: v for k, v in meta.items() if isinstance(v, (str, int, float, bool, type(None)))}
+
 @dataclass
 class Run:
     """A simulated or measured run of several axes.
@@ -101,8 +107,7 @@ class Run:
         return {"samples": int(t.size), "duration_s": float(t[-1] - t[0]) if t.size else 0.0,
                 "axes": {n: [s for s, attr in RUN_COLUMNS.items() if getattr(a, attr) is not None]
                          for n, a in self.axes.items()},
-                "meta": {k: v for k, v in self.meta.items()
-                         if isinstance(v, (str, int, float, bool, type(None)))},
+                "meta": scalar_meta(self.meta),
                 "faults": list(self.meta.get("faults", []))}
 
     def plot(self, ax=None, path=None, axes=None):

@@ -81,17 +81,21 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
     Returns
     -------
     dict
-        ``samples``, ``duration_s``, ``axes`` and ``faults`` of the run written (the
-        faults also warned, :class:`tcpmm.errors.RunFaultWarning`) [-].
+        ``samples``, ``duration_s``, ``axes``, ``meta`` (the interpolator's settings, the
+        path's length, the program and the model, as a run's ``to_dict`` gives them) and
+        ``faults`` of the run written (the faults also warned,
+        :class:`tcpmm.errors.RunFaultWarning`) [-].
     """
     from ..analysis.runaway import warn_faults
     from ..analysis.runaway_stream import FaultWatch
     from ..io.runfile import run_parquet_writer
+    from ..path.interpolate import settings_meta
     from ..path.stream import CHUNK_BLOCKS
+    from ..result import scalar_meta
     from ..sim.streamrun import stream_simulate
 
     chunk_blocks = chunk_blocks or CHUNK_BLOCKS
-    samples, last_t, axes = 0, 0.0, None
+    samples, last_t, axes, done, plane = 0, 0.0, None, 0.0, None
     watch = FaultWatch(machine)
     with block_progress(program, "simulate") as update, run_parquet_writer(output) as write:
         for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
@@ -102,10 +106,14 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
                 samples += run.time_s.size
                 last_t = float(run.time_s[-1])
             axes = axes or run.to_dict()["axes"]
+            done = run.meta["path_done_m"] if run.meta["path_done_m"] is not None else done
+            plane = run.meta["plane_axes"]
             update(run.meta["lines_read"])
     faults = watch.faults()
     warn_faults(faults)
-    return {"samples": samples, "duration_s": last_t, "axes": axes,
+    meta = {**settings_meta(settings), "path_length_m": done, "file": str(program),
+            "plane_axes": plane, "machine": machine.name}
+    return {"samples": samples, "duration_s": last_t, "axes": axes, "meta": scalar_meta(meta),
             "faults": [f.to_dict() for f in faults]}
 
 

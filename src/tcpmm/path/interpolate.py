@@ -151,6 +151,24 @@ def _starting_path(segments, start_position_m) -> list:
     return segments
 
 
+def settings_meta(settings: InterpolatorSettings, filt: FilterShape | None = None) -> dict:
+    """What a command's meta data says of the interpolator that made it: its period,
+    profile and filter, and the filter's delay [s], [-].
+
+    Parameters
+    ----------
+    settings : InterpolatorSettings
+        The interpolator's settings [-].
+    filt : FilterShape, optional
+        Its filter, when made already [-].
+    """
+    filt = filt or filter_shape(settings.filter_kind, settings.filter_time_s,
+                                settings.period_s, settings.corner_tolerance_m)
+    return {"source": "interpolator", "period_s": settings.period_s,
+            "profile": settings.profile, "filter_kind": settings.filter_kind,
+            "filter_time_s": settings.filter_time_s, "filter_delay_s": filt.delay_s}
+
+
 def _command(p: PathArrays, settings: InterpolatorSettings, filt: FilterShape, seg, s,
              seg_start, dur, n_samples: int) -> Command:
     """The filtered position command of the sampled path, with its meta data.
@@ -183,12 +201,7 @@ def _command(p: PathArrays, settings: InterpolatorSettings, filt: FilterShape, s
     n_out = next(iter(positions.values())).size
     time_s = np.arange(n_out) * dt
     meta = {
-        "source": "interpolator",
-        "period_s": dt,
-        "profile": settings.profile,
-        "filter_kind": settings.filter_kind,
-        "filter_time_s": settings.filter_time_s,
-        "filter_delay_s": filt.delay_s,
+        **settings_meta(settings, filt),
         "path_s_m": np.concatenate([path_s, np.full(n_out - n_samples, path_s[-1])]),
         "path_length_m": float(cum[-1]),
         "segment_line": p.line.copy(),

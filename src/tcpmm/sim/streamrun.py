@@ -58,7 +58,8 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
     ------
     Run
         The run's records in order; ``meta["lines_read"]`` the program's lines read so
-        far [SI].
+        far, ``meta["path_done_m"]`` the distance along the path at the piece's end (``None``
+        for a piece without samples) [SI].
     """
     limit_blas_threads()
     settings = _checked_settings(machine, settings)
@@ -160,7 +161,8 @@ def _collect(res, tasks, piece, names, r0: int, rp: float, machine, ip, end=None
     n = next(iter(runs.values())).cmd.size
     return Run(time_s=(r0 + np.arange(n)) * rp, axes=runs,
                meta={"lines_read": piece.lines_read, "machine": machine.name,
-                     "plane_axes": ip.plane_axes})
+                     "plane_axes": ip.plane_axes,
+                     "path_done_m": float(piece.path_s_m[-1]) if piece.path_s_m.size else None})
 
 
 def _results(res, tasks) -> list:

@@ -243,6 +243,33 @@ def test_cli_compare_with_the_model_sets_table_2_against_the_interval(tmp_path, 
     assert len(rows) == 2 and all(r["spike_C_inside"] for r in rows)
 
 
+def test_cli_compare_refuses_a_model_that_did_not_make_the_prediction(tmp_path, capsys):
+    """``compare --model`` set the differences against the intervals of whatever model it
+    was given: a model of a lower position gain judged a prediction of the built-in
+    machine."""
+    from tcpmm.cli import main
+    from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.path import write_command_csv
+    from tcpmm.uncertainty import reference_tests
+
+    m = builtin_machine()
+    write_command_csv(reference_tests(m)[0].command, tmp_path / "c.csv")
+    x = m.axes["X"]
+    other = m.with_axis("X", x.replace(servo=x.servo.model_copy(
+        update={"K_pp": 0.8 * x.servo.K_pp})))
+    write_machine(other, tmp_path / "other.yaml")
+    assert main(["simulate", "builtin:vmc", "--command", str(tmp_path / "c.csv"),
+                 "-o", str(tmp_path / "p.csv")]) == 0
+    capsys.readouterr()
+    code = main(["compare", str(tmp_path / "p.csv"), str(tmp_path / "p.csv"), "--radius",
+                 "35", "--model", str(tmp_path / "other.yaml"), "--json",
+                 "--plot", str(tmp_path / "o.png")])
+    err = capsys.readouterr().err
+    assert code == 2 and "did not come from this model" in err
+    assert not (tmp_path / "o.png").exists()  # refused before anything is written
+
+
 def test_reference_circles_are_judged_settled_on_the_circle(known):
     """The reference circles' contour error and G are those of the machine settled on the
     circle: within 0.5 % of a turn taken after half a turn on it, where a single turn

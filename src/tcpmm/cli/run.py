@@ -247,6 +247,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     with in_file(predicted):
         rp = analyse_circle(runs[1], radius * 1e-3, ctr, plane=axes)
     cmp = compare_circles(rm, rp)
+    judged = _judged(cmp, model, runs[1], radius, ctr, axes, predicted)
     if plot is not None:
         cmp.plot(path=plot)
     if report is not None:
@@ -257,7 +258,6 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                                                   f"{measured.name}", measured)],
                      "Measured against predicted", [("measured", measured),
                                                     ("predicted", predicted)])
-    judged = _judged(cmp, model, runs[1], radius, ctr, axes)
     if as_json:
         emit_json({**cmp.to_dict(), **({"tcp_judged": judged} if judged else {})})
     else:
@@ -272,20 +272,23 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                         "tcp: measured - predicted against the predicted 90 % interval [um]")
 
 
-def _judged(cmp, model, predicted_run, radius_mm: float, centre_m, plane):
+def _judged(cmp, model, predicted_run, radius_mm: float, centre_m, plane, where):
     """The TCP rows against the verdict of the model on the predicted run's command
-    (``None`` without a model) [-]."""
+    (``None`` without a model); refused where the model did not predict that run [-]."""
     if model is None:
         return None
     from ..path.command import Command
     from ..uncertainty import CircleTest, prediction_verdict
+    from ..uncertainty.verdict import not_its_prediction
 
     m = read_model(model)
     cmd = Command(predicted_run.time_s,
                   {n: a.cmd for n, a in predicted_run.axes.items() if a.cmd is not None})
     plane = tuple(plane) if plane else tuple(list(m.axes)[:2])
     test = CircleTest(f"R{radius_mm:g}", cmd, radius_mm * 1e-3, centre_m, plane)
-    return cmp.judged(prediction_verdict(m, [test]))
+    verdict = prediction_verdict(m, [test])
+    not_its_prediction(verdict, cmp.predicted, f"{where} (predicted)")
+    return cmp.judged(verdict)
 
 
 @app.command()

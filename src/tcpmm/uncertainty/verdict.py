@@ -15,9 +15,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .figures import figure_changes, reference_tests
+from ..errors import InputError
+from .figures import circle_figures, figure_changes, reference_tests
 
-__all__ = ["CALIBRATION", "FigureVerdict", "Verdict", "prediction_verdict", "target"]
+__all__ = ["CALIBRATION", "FigureVerdict", "Verdict", "not_its_prediction",
+           "prediction_verdict", "target"]
 
 #: The interval's calibration (docs/validation/calibration.md): ``factor`` on the
 #: quadrature sum of the changes, split-conformal over machines (per machine the largest
@@ -230,3 +232,29 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
     nominal, changes, opens = figure_changes(machine, tests, sensor, progress, jobs)
     figs = [_judge(k, x, changes[k], opens) for k, x in nominal.items() if math.isfinite(x)]
     return Verdict(figs, _axis_verdicts(machine, figs), [t.label for t in tests])
+
+
+def not_its_prediction(verdict, predicted, where: str = "the prediction") -> None:
+    """Refuse a verdict set against a predicted circle that its model did not predict: a
+    figure of the predicted run further from the model's own on the same command than the
+    figure's target (:func:`target`) means another model, or another command, made it.
+
+    Parameters
+    ----------
+    verdict : Verdict
+        The verdict of a model on the predicted run's command, one test [-].
+    predicted : CircleResult
+        The predicted circle, analysed [-].
+    where : str
+        How the error names the predicted run [-].
+    """
+    sensor = "tcp"
+    own = circle_figures(predicted, verdict.tests[0], sensor) if verdict.tests else {}
+    for f in verdict.figures:
+        p = own.get((f.test, f.direction, f.figure), math.nan)
+        if math.isfinite(p) and abs(p - f.nominal) > target(f.figure, f.nominal):
+            raise InputError(
+                f"{where}: its {f.direction.upper()} {sensor} {f.figure} is "
+                f"{p * 1e6:.2f} um where the model predicts {f.nominal * 1e6:.2f} um on the "
+                "same command: the prediction did not come from this model; give --model "
+                "the model that made it, or leave --model out")

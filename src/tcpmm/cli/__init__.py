@@ -9,12 +9,16 @@ imports of the others (numpy, scipy, pydantic models); the list of commands (``t
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 import warnings
 
 from .._threads import single_threaded_from_start
 
 single_threaded_from_start()  # before the commands' modules load numpy
+# pydantic's plugins are not looked for: the search reads the metadata of every installed
+# distribution, some 10 ms of a short command (a value the user set is kept)
+os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 from ..errors import BuildNotice, InputWarning, TcpmmError  # noqa: E402
 from ._app import READER_GONE, app, console, esc  # noqa: E402

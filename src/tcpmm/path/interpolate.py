@@ -87,7 +87,8 @@ def used_axes(p: PathArrays) -> list[int]:
         moved = np.any(np.abs(p.end - p.start) > 0.0, axis=0)
         used |= {i for i in range(3) if moved[i]}
         arc = p.kind == ARC
-        used |= set(np.unique(p.ia[arc]).tolist()) | set(np.unique(p.ib[arc]).tolist())
+        # a set of the plain lists: np.unique would import numpy.ma (8 ms of a command)
+        used |= set(p.ia[arc].tolist()) | set(p.ib[arc].tolist())
     return sorted(used)
 
 

@@ -307,6 +307,25 @@ def test_a_reversal_is_its_turning_point(direction):
     assert corner["tcp"]["overshoot_m"] == pytest.approx(0.0, abs=1e-15)
 
 
+def test_a_reversal_is_its_turning_point_where_the_samples_are_sparse():
+    """An interpolated reversal (F5000 to 20 mm and back at 1 m/s^2): the samples lie
+    0.02 mm apart half a span before the turn and crowd at it, so the vertex halfway along
+    the path between the first and the last that turn back lay 4.5 um short of the
+    turning point, and a tool that turned back 30 um short of it read 25.5 um."""
+    from tcpmm.path import program_to_command
+
+    cmd = program_to_command("G21 G90 G17\nG1 X20 F5000\nG1 X0\nM30\n")
+    x = cmd.positions["X"]
+    delta = 30e-6
+    act = x * (1 - delta / x.max())
+    zero = np.zeros_like(x)
+    assert cmd.time_s[1] - cmd.time_s[0] == pytest.approx(DT)
+    res = contour_error(make_run({"X": x, "Y": zero}, {"X": act, "Y": zero}))
+    [corner, _] = res.corners
+    assert corner["point_m"][0] == x.max()
+    assert corner["tcp"]["rounding_m"] == pytest.approx(delta, rel=1e-6)
+
+
 def test_a_sag_across_the_outgoing_leg_is_no_overshoot():
     """A square in XZ whose tool hangs a constant 50 um low (under its weight): past the
     corner where the -Z plunge turns to -X the tool lies 50 um outside the path all along

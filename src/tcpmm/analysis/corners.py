@@ -133,15 +133,16 @@ class CornerFinder:
 
     def _close(self, p, s, off, out) -> None:
         """End the open run: its corner on the last vertex where the command stands at the
-        run's sharpest turn; at a reversal, at the vertex halfway along the path between
-        the first and the last that turn back (the turning point: the first such vertex
-        lies half a span before it)."""
+        run's sharpest turn; at a reversal, at the turning point: the vertex furthest from
+        the first that turns back, which lies half a span before it on the way in (the
+        vertex halfway along the path between the first and the last that turn back lay
+        samples short of it, the vertices being sparse where the command is fast)."""
         if self.group is None:
             return
         i = self.group[1] - off
         if self.group[3] is not None:
             a, b = self.group[3][0] - off, self.group[3][1] - off + 1
-            i = a + int(np.argmin(np.abs(s[a:b] - 0.5 * (s[a] + s[b - 1]))))
+            i = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
         while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
             i += 1
         out.append((i + off, self.group[2]))

@@ -150,6 +150,16 @@ def test_a_square_is_at_the_feed_where_its_samples_are(tmp_path, capsys):
     assert "at the programmed feed (within 1 %) on 95.1 % of the path length" in out
     assert "speed up and slow down: 9.75 mm" in out
 
+
+@pytest.mark.parametrize("program", ["G21 G90\nG0 X10 Y10\nG0 Z-5\nM30\n", "G4 P1\nM30\n"])
+def test_a_program_without_feed_moves_is_not_at_its_feed(tmp_path, capsys, program):
+    """Rapids and dwells alone were "at the programmed feed on 100.0 %" (0 of 0)."""
+    assert math.isnan(feed_limits(program_to_interpolation(program)).share_at_feed())
+    (tmp_path / "p.nc").write_text(program)
+    assert main(["path", str(tmp_path / "p.nc"), "-o", str(tmp_path / "c.csv")]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "no feed moves" in out and "%" not in out
+
 @pytest.mark.parametrize("kind", ["linear", "bell"])
 def test_with_a_filter_the_share_at_feed_is_that_of_the_command_written(kind):
     """An interpolation filter slows the path at every corner it rounds; the share at the

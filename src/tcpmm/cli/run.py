@@ -356,6 +356,9 @@ _REMEDY = {"axis velocity": "axis_velocity_m_per_s",
 
 def _print_feed(limits) -> None:
     """Share of the path at the programmed feed, and per limit where it holds it back."""
+    if limits.feed_length_m <= 0:
+        out.print("no feed moves (G1, G2, G3): no programmed feed to reach")
+        return
     out.print(f"at the programmed feed (within 1 %) on {limits.share_at_feed() * 100:.1f} % "
               "of the path length of the feed moves")
     for r in limits.summary():

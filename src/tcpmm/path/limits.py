@@ -81,9 +81,10 @@ class FeedLimits:
 
     def share_at_feed(self) -> float:
         """Share of the feed blocks' path length along which the commanded path speed is
-        within 1 % of the programmed feed (module docstring) [-]."""
+        within 1 % of the programmed feed (module docstring); NaN for a program without
+        feed moves [-]."""
         if self.feed_length_m <= 0:
-            return 1.0
+            return float("nan")
         return self.length_at_feed_m / self.feed_length_m
 
     def ramp_length_m(self) -> float:

@@ -137,6 +137,28 @@ def test_dense_program_has_one_block_per_sample():
     assert len(moves) == cmd.time_s.size - 1
 
 
+def test_dense_program_runs_as_the_command_it_writes():
+    """The dense program, interpolated, is the command again: the same path in about the
+    same time. Under G61 every 1 ms block came to rest (the paper's circle took 154 s for
+    8.2 s), and samples that rounded to the one before were skipped G1s, each a period
+    lost."""
+    from tcpmm.path import program_to_command
+
+    cmd = circle_command(0.035, 5000 / 60e3, start_angle_rad=np.pi / 4)
+    again = program_to_command(dense_program(cmd))
+    t, t2 = cmd.time_s[-1], again.time_s[-1]
+    assert abs(t2 - t) < 0.01 * t
+
+    def along(c):  # path length at each sample [m]
+        p = np.array([c.positions[a] for a in ("X", "Y")]).T
+        return np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+
+    s, s2 = along(cmd), along(again)
+    assert s2[-1] == pytest.approx(s[-1], rel=1e-4)
+    halfway = [np.interp(0.5 * s[-1], x, c.time_s) for x, c in ((s, cmd), (s2, again))]
+    assert abs(halfway[1] - halfway[0]) < 0.01  # s: the same pace along the path
+
+
 def test_cli_output_drives_simulate(tmp_path, capsys):
     from tcpmm.cli import main
     from tcpmm.path import read_command_csv, write_command_csv

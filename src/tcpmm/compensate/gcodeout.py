@@ -9,7 +9,10 @@ from ..io.atomic import write_text_atomic
 
 def dense_program(command, title: str = "compensated command") -> str:
     """G-code text: absolute G1 moves in mm, one per sample, each at the feed that covers
-    its step in one period [-].
+    its step in one period, in continuous-path mode (G64: under G61 each block would
+    come to rest); a sample that rounds to the one before is a dwell of one period (a
+    G1 to where the tool is would be skipped, and the program would lose that period)
+    [-].
 
     Parameters
     ----------
@@ -22,15 +25,15 @@ def dense_program(command, title: str = "compensated command") -> str:
     pos = np.array([command.positions[a] for a in axes]) * 1e3  # mm
     step = np.linalg.norm(np.diff(pos, axis=1), axis=0)
     feed = step / command.period_s * 60.0  # mm/min
-    first = " ".join(f"{a}{p:.6f}" for a, p in zip(axes, pos[:, 0], strict=True))
+    words = [" ".join(f"{a}{p:.6f}" for a, p in zip(axes, pos[:, k], strict=True))
+             for k in range(pos.shape[1])]
     lines = [f"({title}: {pos.shape[1]} samples at {command.period_s:g} s)",
-             "G90 G17 G21 G61", f"G0 {first}"]
+             "G90 G17 G21 G64", f"G0 {words[0]}"]
     for k in range(1, pos.shape[1]):
-        if step[k - 1] <= 0.0:
+        if words[k] == words[k - 1]:
             lines.append(f"G4 P{command.period_s:g}")
-            continue
-        words = " ".join(f"{a}{p:.6f}" for a, p in zip(axes, pos[:, k], strict=True))
-        lines.append(f"G1 {words} F{feed[k - 1]:.4f}")
+        else:
+            lines.append(f"G1 {words[k]} F{feed[k - 1]:.4f}")
     lines.append("M30")
     return "\n".join(lines) + "\n"
 

@@ -99,3 +99,12 @@ def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
              "share_of_G": 0.0 if k == "centre_offset" else
              (have[k] / g if g >= G_RESOLUTION_M else float("nan")), "rank": i + 1}
             for i, k in enumerate(order)]
+
+
+def undetermined_lines(undetermined: dict) -> list[str]:
+    """What the circles leave open, a line per reason: the terms of one reason named
+    together (an arc that gives none of its terms gave the same sentence for each) [-]."""
+    by = {}
+    for term, why in undetermined.items():
+        by.setdefault(why, []).append(term.replace("_", " "))
+    return [f"{', '.join(terms)}: not determined; {why}" for why, terms in by.items()]

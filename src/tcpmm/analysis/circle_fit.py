@@ -132,9 +132,11 @@ class FitProblem:
         Nominal radius [m].
     shared : sequence of str
         Terms common to the arcs [-].
+    drop : sequence of str
+        Columns left out whatever the arcs determine [-].
     """
 
-    def __init__(self, arcs, radius, shared):
+    def __init__(self, arcs, radius, shared, drop=()):
         self.arcs, self.radius, self.shared = arcs, radius, list(shared)
         self.masks = [a.mask for a in arcs]
         self.pos = [tuple(p[m] for p in a.positions(radius)) for a, m in
@@ -147,6 +149,8 @@ class FitProblem:
         own = np.arange(3 * len(arcs))
         sure = own[determined(A[:, own], protect=own[::3])]
         self.keep = drop_twins(A, determined(A, protect=sure), protect=sure)
+        names = _names(len(arcs), self.shared, (None, None))
+        self.keep[[names.index(n) for n in drop]] = False
 
     def matrix(self, mu, waves):
         """Design matrix over the fitted samples of every arc [m/unit]."""
@@ -187,7 +191,7 @@ class FitProblem:
         return float(v) if np.isfinite(v) else 0.0
 
 
-def fit_terms(arcs, radius, shared, cyclic=True) -> TermFit:
+def fit_terms(arcs, radius, shared, cyclic=True, drop=()) -> TermFit:
     """Fit the terms ``shared`` and each arc's radius and centre to the arcs (module
     docstring).
 
@@ -201,8 +205,10 @@ def fit_terms(arcs, radius, shared, cyclic=True) -> TermFit:
         Terms common to the arcs (:func:`.circle_model.term_column`) [-].
     cyclic : bool
         Search for a cyclic error of each axis [-].
+    drop : sequence of str
+        Columns left out of the fit (``centre_X_0``, a shared term) [-].
     """
-    pb = FitProblem(arcs, radius, shared)
+    pb = FitProblem(arcs, radius, shared, drop)
     coef = pb.solve(0.0, (None, None))[0]
     # the axes' reversals where the first fit puts them: the servo mismatch, and the
     # centre each circle runs about

@@ -17,9 +17,10 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_display import rename_axes
-from .circle_fit import Arc, fit_terms
+from .circle_fit import Arc
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
+from .circle_stable import arc_fit, arc_reasons
 from .diagnostics import (
     ARC_WHY,
     CircleDiagnostics,
@@ -76,7 +77,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     a, e = check_arc(angle, e, direction, arc_ok=True)
     limit_blas_threads()
     arcs = [Arc(a, e, 1.0 if direction == "ccw" else -1.0)]
-    fit = fit_terms(arcs, radius_m, SINGLE)
+    fit, left_out = arc_fit(arcs, radius_m, SINGLE)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SINGLE, (direction,))
     terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves)
     terms["residual_rms"] = (fit.residual_rms, "m")
@@ -84,6 +85,10 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
                 for k in undetermined_terms(fit) if k not in NEEDS_PAIR or k == "squareness"})
     why.update({rename_axes(k, axes): v for k, v in _unplaced(fit, terms, a).items()})
+    for k, v in arc_reasons(left_out, arcs, {"squareness": "squareness_or_servo"}).items():
+        why[rename_axes(k, axes)] = v
+        if k.startswith("cyclic_"):
+            terms[k] = (float("nan"), "m")
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,

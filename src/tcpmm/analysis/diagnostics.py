@@ -63,11 +63,12 @@ from .circle_display import (  # noqa: F401
     rename_axes,
     term_note,
 )
-from .circle_fit import Arc, fit_terms
+from .circle_fit import Arc
 from .circle_model import is_full
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
+from .circle_stable import arc_fit, arc_reasons
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -220,11 +221,15 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     mean_rate = float(rates.mean()) if np.all(rates > 0) else float("nan")
     ratios = rates / mean_rate if np.isfinite(mean_rate) else np.ones(2)
     arcs = [Arc(a, e, s, r) for (a, e), s, r in zip(paths, (1.0, -1.0), ratios, strict=True)]
-    fit = fit_terms(arcs, radius_m, SHARED)
+    fit, left_out = arc_fit(arcs, radius_m, SHARED)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
     terms = _terms(fit, grids, deviations(paths, radius_m), curves, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
+    for k, v in arc_reasons(left_out, arcs).items():
+        why[rename_axes(k, axes)] = v
+        if k.startswith("cyclic_"):
+            terms[k] = (float("nan"), "m")
     if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
                                  "given as an angle only (servo_mismatch_angle)")

@@ -76,6 +76,7 @@ def print_diagnostics(diag) -> None:
     what each contributes, and what the circles leave undetermined and why."""
     from rich.table import Table
 
+    from ..analysis.circle_display import undetermined_lines
     from ..analysis.diagnostics import term_note
 
     rows = {t: (v, u) for t, v, u in _display_terms(diag)}
@@ -104,8 +105,8 @@ def print_diagnostics(diag) -> None:
                   term_note(term, diag.axes))
     out.print(t)
     _print_ranking(diag)
-    for term, why in diag.undetermined.items():
-        out.print(f"{term.replace('_', ' ')}: not determined; {why}", highlight=False)
+    for line in undetermined_lines(diag.undetermined):
+        out.print(line, highlight=False)
 
 
 def _print_ranking(diag) -> None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..analysis.circle_display import undetermined_lines
 from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..errors import InputError
 from ..plot.circle import plot_circle
@@ -175,8 +176,7 @@ def ranking_html(diag, stem: str) -> str:
 
 def undetermined_html(diag) -> str:
     """What the circles do not determine, and why [-]."""
-    return "".join(para(f"{t.replace('_', ' ')}: not determined; {why}.", "warn")
-                   for t, why in diag.undetermined.items())
+    return "".join(para(f"{line}.", "warn") for line in undetermined_lines(diag.undetermined))
 
 
 def comparison_section(comparison, measured=None, predicted=None, sources=(),

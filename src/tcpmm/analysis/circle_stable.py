@@ -1,0 +1,83 @@
+"""Which error terms an arc determines.
+
+Over a full turn the terms' radial errors are nearly orthogonal; over an arc they are
+not, and a term the columns still tell apart may yet carry the radial error that the
+servo and the friction make along the arc and that no term describes. Bench circles
+(`docs/circle_diagnostics.md`, "Arcs") cut to arcs read, in one direction, centre offsets
+and bows of 10 to 170 um where their full turns read none, and as pairs of arcs shorter
+than about 200 deg the same; pairs of 220 deg, a ballbar's partial arcs, come within
+0.2 um of the full turns' centre, backlash, lateral play and bows on a machine of fine
+sensors. So one direction over an arc, or a pair of arcs shorter than
+:data:`MIN_TERMS_DEG`, gives no terms (its radial deviation, G and spikes it still
+gives), and no arc gives a cyclic error: over part of a turn its columns are a centre
+and a bow. Full turns are fitted as they were.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .circle_fit import fit_terms
+from .circle_model import is_full
+
+#: shortest pair of arcs whose terms are fitted: a ballbar's partial arcs are 220 deg [deg]
+MIN_TERMS_DEG = 210.0
+#: why an arc reports no cyclic error
+CYCLIC_WHY = ("an arc does not separate a cyclic error from the centre and the bows: over "
+              "part of a turn its columns are theirs; a full circle does")
+#: why one direction over an arc, or a pair of short arcs, reports no terms
+SHORT_WHY = ("{what} does not separate the terms from the servo's and the friction's radial "
+             "error along it (bench circles cut to such arcs read centre offsets and bows of "
+             "10 um and more where their full turns read none): run the arc in both "
+             "directions over {deg:.0f} deg or more, or a full circle")
+
+
+def arc_fit(arcs, radius, shared):
+    """:func:`tcpmm.analysis.circle_fit.fit_terms` of circles, or of arcs with the terms they
+    do not determine left out (module docstring).
+
+    Parameters
+    ----------
+    arcs : list of Arc
+        The circles or arcs [-].
+    radius : float
+        Nominal radius [m].
+    shared : sequence of str
+        Terms common to the arcs [-].
+
+    Returns
+    -------
+    fit : TermFit
+        The fit [-].
+    why : dict
+        Per column left out, why; empty for full turns [-].
+    """
+    if all(is_full(a.angle) for a in arcs):
+        return fit_terms(arcs, radius, shared), {}
+    deg = min(float(np.degrees(np.ptp(a.angle))) for a in arcs)
+    if len(arcs) >= 2 and deg >= MIN_TERMS_DEG:
+        return fit_terms(arcs, radius, shared, cyclic=False), {}
+    what = (f"one direction over an arc of {deg:.0f} deg" if len(arcs) < 2 else
+            f"a pair of arcs of {deg:.0f} deg")
+    names = [n for n in fit_terms(arcs, radius, shared, cyclic=False).names
+             if not n.startswith("radius")]
+    return (fit_terms(arcs, radius, shared, cyclic=False, drop=tuple(names)),
+            dict.fromkeys(names, SHORT_WHY.format(what=what, deg=MIN_TERMS_DEG)))
+
+
+def arc_reasons(why: dict, arcs, rename=None) -> dict:
+    """Why each column left out of an arc's fit (``why``, :func:`arc_fit`) is, by its
+    reported name (``rename`` maps a name to another, as ``squareness`` to
+    ``squareness_or_servo``), and why an arc gives no cyclic error; empty for full turns
+    [-]."""
+    if all(is_full(a.angle) for a in arcs):
+        return {}
+    out = {f"cyclic_{q}_{a}": CYCLIC_WHY for a in "XY" for q in ("amplitude", "period")}
+    for name, text in why.items():
+        names = [name]
+        if name.startswith("centre_"):
+            names = [f"centre_offset_{name.split('_')[1]}"]
+        elif name == "servo_angle":
+            names = ["servo_mismatch", "servo_mismatch_angle"]
+        out.update({(rename or {}).get(n, n): text for n in names})
+    return out

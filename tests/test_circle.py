@@ -420,3 +420,21 @@ def test_a_pass_whose_command_changes_speed_is_said(ramp, warned):
     if warned:
         assert ("speeding up at its start" if ramp == "start" else "slows down at its end") \
             in said[0]
+
+
+def test_a_time_logged_in_milliseconds_is_said(tmp_path):
+    """Machine D's measured circle with its time in ms under ``time_s``: read as a circle
+    at 5 mm/min sampled every second, whose servo mismatch came out 85.7 "ms" for 0.086,
+    silently. The samples' spacing is said, with the likely cause."""
+    import pandas as pd
+
+    from conftest import bench_path
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.errors import InputWarning
+    from tcpmm.io.runfile import read_run
+
+    run = pd.read_csv(bench_path("d") / "circle_ccw_meas.csv")
+    run.time_s *= 1000.0
+    run.to_csv(tmp_path / "ms.csv", index=False)
+    with pytest.warns(InputWarning, match="samples are 1 s apart, at a feed of 5 mm/min"):
+        analyse_circle(read_run(tmp_path / "ms.csv"), 0.035)

@@ -118,3 +118,38 @@ def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
         "steady feed, and the servo's transient after a change of feed reads as error "
         f"terms (scale mismatch, cyclic error, spikes); take the {what} where the feed has "
         "been steady for a while (a ballbar test feeds in and out off it)"), stacklevel=3)
+
+
+#: Longest sample period at which a circle's reversal spikes are resolved: a spike rises
+#: and falls within some 10 ms [s]
+SPARSE_S = 0.02
+
+
+def warn_sparse(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
+    """Warn (:class:`InputWarning`) where a pass's samples lie further apart than
+    :data:`SPARSE_S`: no servo trace is logged so slowly, the spikes are not resolved, and
+    a time logged in milliseconds under ``time_s`` reads so (a servo mismatch of 85.7 ms
+    for 0.086 ms, at a feed of 5 mm/min for 5000).
+
+    Parameters
+    ----------
+    t : ndarray
+        Time of the pass's samples [s].
+    rate_rad_s : float
+        Its angular speed [rad/s].
+    radius_m : float
+        Nominal radius [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    if t.size < 2:
+        return
+    dt = float(np.median(np.diff(t)))
+    if not dt > SPARSE_S:
+        return
+    feed = abs(rate_rad_s) * radius_m * 6e4
+    warnings.warn(InputWarning(
+        f"the {direction.upper()} pass's samples are {dt:g} s apart, at a feed of "
+        f"{feed:.4g} mm/min: a reversal's spike lasts some milliseconds and is not resolved, "
+        "and the servo mismatch reads in the same unit as the time; if time_s was logged in "
+        "milliseconds, divide it by 1000"), stacklevel=3)

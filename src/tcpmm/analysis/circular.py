@@ -29,7 +29,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from .circle_checks import not_found_error, present_sensors, warn_uncrossed, warn_unsteady
+from .circle_checks import (
+    not_found_error,
+    present_sensors,
+    warn_sparse,
+    warn_uncrossed,
+    warn_unsteady,
+)
 from .circle_passes import find_passes, find_stretches, radial_deviation, rate  # noqa: F401
 from .circle_spikes import (  # noqa: F401  (the spikes are part of this module's interface)
     QUADRANTS,
@@ -315,6 +321,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
             sc.leave_out(missing)
         warn_uncrossed(missing, d, cp.arc_deg)
         warn_unsteady(run.time_s[sl], cp.sensors[ref].angle_rad, d, cp.arc_deg)
+        warn_sparse(run.time_s[sl], cp.rate_rad_s, radius_m, d)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

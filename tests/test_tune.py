@@ -243,3 +243,24 @@ def test_an_axis_that_misses_sets_no_gain_and_the_unequal_gains_are_said(vmc):
         assert "set by axis Y" not in " ".join(res.axes[n].notes)
     assert any(n.startswith("the axes do not share one position gain") and "Y keep" in n
                for n in res.notes)
+
+
+def test_a_proposal_that_predicts_a_worse_path_says_so_and_why():
+    """Machine D as identified: the proposal raised the velocity loops' phase margins from
+    12-14 to 45 deg, and its predicted contour error grew from 16.42 to 16.91 um under a
+    heading that read "met", silently. The note says how much, and which margins the
+    settings before lacked."""
+    from types import SimpleNamespace
+
+    from tcpmm.whatif.tuning import _worse_note
+
+    def margins(gm, pm):
+        return SimpleNamespace(to_dict=lambda: {"gain_margin_db": gm, "phase_margin_deg": pm})
+
+    axes = {"X": SimpleNamespace(margins_before={"velocity": margins(4.8, 13.9),
+                                                 "position": margins(23.1, 87.5)})}
+    [note] = _worse_note(16.42, 16.91, axes, 6.0, 45.0)
+    assert "worse after: 16.42 -> 16.91 um" in note
+    assert "X velocity 4.8 dB / 13.9 deg" in note and "position" not in note
+    assert _worse_note(16.91, 16.42, axes, 6.0, 45.0) == []
+    assert _worse_note(float("inf"), 16.42, axes, 6.0, 45.0) == []

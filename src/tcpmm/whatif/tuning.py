@@ -198,7 +198,27 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     if _worst(before) == float("inf"):
         notes.append("before: the settings as they are run away on the model (a servo loop "
                      "is unstable), so their path is no prediction and is left out")
+    notes += _worse_note(_worst(before), _worst(after), axes, gm_db, pm_deg)
     return TuneResult(tuned, axes, before, after, notes)
+
+
+def _worse_note(before: float, after: float, axes: dict, gm_db: float, pm_deg: float):
+    """A note where the proposal's path is worse than the settings' before: the margins it
+    restores, and how to trade them back [-]."""
+    if not (after > before and before < float("inf")):
+        return []
+    short = []
+    for name, t in axes.items():
+        for loop, m in t.margins_before.items():
+            d = m.to_dict()
+            if d["phase_margin_deg"] < pm_deg or d["gain_margin_db"] < gm_db:
+                short.append(f"{name} {loop} {d['gain_margin_db']:.1f} dB / "
+                             f"{d['phase_margin_deg']:.1f} deg")
+    why = (f"the settings before leave less than {gm_db:g} dB / {pm_deg:g} deg ("
+           + "; ".join(short) + "), and the proposal buys the margins with it") if short else \
+        "the proposal's gains are those that meet the margins"
+    return [f"the predicted path is worse after: {before:.2f} -> {after:.2f} um; {why}; "
+            "smaller margins (--margins) trade some back"]
 
 
 def _worst(figures: dict) -> float:

@@ -290,3 +290,21 @@ def test_a_pipe_without_reader_is_told_from_one_with():
         assert _reader_gone(w)
     finally:
         os.close(w)
+
+
+def test_identifys_verdicts_say_which_circles_they_are_of(capsys):
+    """identify's "verdict R35 F5000 contour error: 16.42 um" read as the user's own R35
+    F5000 circle (measured 15.35 um through the controller's filter); the circles the
+    verdicts are of are said before them."""
+    from types import SimpleNamespace
+
+    from tcpmm.cli.ident import REFERENCE_NOTE, _print_verdict
+
+    fig = SimpleNamespace(verdict="firm", settle="", nominal=16.42e-6, text=lambda: "firm")
+    verdict = SimpleNamespace(axes={}, figures=[fig],
+                              worst=lambda: {"R35 F5000 contour error": fig})
+    _print_verdict(verdict, REFERENCE_NOTE)
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.strip()]
+    assert lines[0].startswith("the verdicts' circles: R 35 mm about the origin")
+    assert "fed in from the centre" in lines[0] and "tcpmm spread" in lines[0]
+    assert lines[1] == "verdict R35 F5000 contour error: 16.42 um, firm"

@@ -242,15 +242,27 @@ def _print_identification(idn, presliding, output: Path, report) -> None:
     print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
     _print_split(idn)
     _print_presliding(idn, presliding)
-    _print_verdict(idn.verdict)
+    _print_verdict(idn.verdict, REFERENCE_NOTE)
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 
 
-def _print_verdict(verdict) -> None:
-    """Per axis its verdict and what its data leave open; per figure of the reference
-    circles the least firm verdict over both directions, with what would settle it."""
+#: What identify's verdict figures are of, said before them: a user's own circle reads its
+#: own (a controller's filter pulls it in, a start from rest adds its transient)
+REFERENCE_NOTE = ("the verdicts' circles: R 35 mm about the origin in the plane of the first "
+                  "two axes, F5000 and F10000, CCW then CW, fed in from the centre (the "
+                  "paper's test) through the interpolator's defaults (no acc/dec filter), "
+                  "each taken on the middle of one and a half turns; for your own circle: "
+                  "tcpmm spread MODEL --command CMD.csv --radius R")
+
+
+def _print_verdict(verdict, heading: str | None = None) -> None:
+    """Per axis its verdict and what its data leave open; per figure of the circles the
+    least firm verdict over both directions, with what would settle it, after
+    ``heading``."""
     if verdict is None:
         return
+    if heading and verdict.figures:
+        out.print(heading, highlight=False)
     for name, d in verdict.axes.items():
         line = f"verdict axis {name}: {d['verdict']}"
         for r in d["open"]:

@@ -393,3 +393,24 @@ def test_a_region_falling_within_the_margin_keeps_no_share():
         assert [r["verdict"] for r in rows] == ["improves", "uncertain"]
         both = choose_combined({k: errs for k in (0.0, 0.5, 1.0)}, target, labels)
         assert both[:2] == (0.0, [0.0, share])  # the same rule with the controller's share
+
+
+def test_a_program_planned_with_headroom_shows_what_the_plan_alone_gives(tmp_path, capsys):
+    """compensate --gcode plans the program with a quarter of the acceleration left to the
+    correction; its "after" set against the program at full acceleration showed the slower
+    plan's effect as the correction's (a square: 63.7 -> 54.3 um with no share of the
+    correction applied). The program as planned, uncorrected, is now a row of its own."""
+    from tcpmm.cli import main
+
+    prog = tmp_path / "sq.nc"
+    prog.write_text("G21 G90 G17\nG0 X0 Y0\nG64\nG1 X20 F3000\nY20\nX0\nY0\nG4 P0.3\nM30\n")
+    code = main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                 str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "3", "--json"])
+    assert code == 0
+    scores = json.loads(capsys.readouterr().out)["scores"]
+    assert set(scores) == {"before", "planned", "after"}
+    assert scores["planned"]["path"] != scores["before"]["path"]
+    code = main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                 str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "3"])
+    assert code == 0
+    assert "planned contour error to the command" in capsys.readouterr().out

@@ -149,9 +149,16 @@ def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
     Returns
     -------
     dict
-        ``{"before": ..., "after": ...}``, each from :func:`judge` [-].
+        ``{"before": ..., "after": ...}``, each from :func:`judge`; with ``programmed`` also
+        ``"planned"``: the command the correction was learned on, uncorrected (the program
+        planned with headroom), so that what the slower plan gives and what the correction
+        gives are told apart [-].
     """
     before, after = runs_before_after(machine, comp, programmed=programmed)
-    return {"before": judge(before, programmed_path(comp, programmed), radius_m, centre_m,
-                            plane),
-            "after": judge(after, judged_path(comp), radius_m, centre_m, plane)}
+    out = {"before": judge(before, programmed_path(comp, programmed), radius_m, centre_m,
+                           plane),
+           "after": judge(after, judged_path(comp), radius_m, centre_m, plane)}
+    if programmed is not None:
+        out["planned"] = judge(simulate(machine, comp.reference), comp.reference, radius_m,
+                               centre_m, plane)
+    return out

@@ -102,6 +102,8 @@ def _print(res, sensor: str, title: str) -> None:
     for s, d in res.summary().items():
         t.add_row(s, *[f"{d[k] * 1e6:.2f}" for k in ("max_abs_m", "rms_m", "max_m", "min_m")])
     out.print(t)
+    if not res.signed:
+        _say_offsets(res.summary())
     if not res.corners:
         return
     shown, more = _shown_corners(res.corners, sensor)
@@ -118,6 +120,26 @@ def _print(res, sensor: str, title: str) -> None:
                   *[_num(row[k]) for k in ("overshoot_um", "rounding_um", "settle_ms",
                                            "settle_mm")])
     out.print(t)
+
+
+#: an unsigned error that never falls below this, and half its largest, is mostly an
+#: offset the run holds throughout [m]
+OFFSET_M = 1e-6
+
+
+def _say_offsets(summary: dict) -> None:
+    """Say on stderr the sensors whose 3-D error never falls below :data:`OFFSET_M` and half
+    its largest: an offset held throughout, as an axis standing still under its weight
+    (the built-in machine's Z sags 50.7 um), is in every figure of a move along one
+    axis."""
+    for s, d in summary.items():
+        low = d["min_m"]
+        if low > OFFSET_M and low > 0.5 * d["max_abs_m"]:
+            console.print(
+                f"note: {s}: the error never falls below {low * 1e6:.2f} um: an offset held "
+                "throughout (an axis standing still deflected under its weight, say) is in "
+                "every figure; --plane of the moving axes leaves the others out",
+                highlight=False)
 
 
 def _shown_corners(corners: list, sensor: str) -> tuple:

@@ -380,3 +380,16 @@ def test_an_offset_held_throughout_a_move_along_one_axis_is_said(tmp_path, capsy
     assert "note: tcp: the error never falls below 50.6" in err
     assert main(["contour", str(tmp_path / "x.csv"), "--plane", "XY"]) == 0
     assert "never falls below" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("deg", [180.0, 200.0])
+def test_a_corner_of_180_deg_or_more_is_refused(tmp_path, capsys, deg):
+    """--corner-deg 200 was taken and found no corner, silently: no path turns further
+    than back on itself."""
+    x = np.linspace(0.0, 0.01, 200)
+    run = make_run({"X": x, "Y": 0 * x}, {"X": x, "Y": 0 * x})
+    with pytest.raises(InputError, match="corner_deg must be below 180"):
+        contour_error(run, corner_deg=deg)
+    run.write_csv(tmp_path / "r.csv")
+    assert main(["contour", str(tmp_path / "r.csv"), "--corner-deg", str(deg)]) == 2
+    assert "give less than 180" in " ".join(capsys.readouterr().err.split())

@@ -382,6 +382,9 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
                     (settle_tol_m, "settle_tol_m"), (corner_deg, "corner_deg")):
         if not (np.isfinite(v) and v > 0):
             raise InputError(f"{what} must be a positive number, got {v}")
+    if not corner_deg < 180.0:
+        raise InputError(f"corner_deg must be below 180 (a path turns by 180 deg at most), "
+                         f"got {corner_deg}")
     if not isinstance(run, Run):  # a table in the run-file layout
         run = run_from_table(run)
     axes, signed = _axes(run, plane)

@@ -39,6 +39,10 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
                     (window_s, "--window-s [s]")):
         positive(v, what)
+    if not corner_deg < 180.0:
+        raise typer.BadParameter(f"a path turns by 180 deg at most, so {corner_deg:g} deg "
+                                 "would find no corner; give less than 180",
+                                 param_hint="--corner-deg")
     checked_plot(plot)
     if sensor is Sensor.cmd:
         raise typer.BadParameter("the contour error is measured from the command; choose "

@@ -74,8 +74,12 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     print_table(table, out, f"{sensor.value} raw reversal spikes (e - b) over {draws} drawn "
                 "machines")
     out.print(f"draws agree: nine in ten drawn machines within {tol_m * 1e6:g} um of the "
-              "spike; the verdicts below also count what the data leave open (as the "
-              "pre-sliding), which the draws do not vary", highlight=False)
+              "spike. The draws widen every quantity to at least the error identification "
+              "made on machines it had not seen (the floors), whatever this model's own fit "
+              "says, and so flag more than the verdicts below; the verdicts' 90 % intervals "
+              "are this model's, calibrated on machines of known truth, and also count what "
+              "the data leave open (as the pre-sliding), which the draws do not vary",
+              highlight=False)
     for r in res.unsettled():
         out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
                   f"({100 * r['same_sign']:.0f} % of the draws give it): rise "

@@ -304,3 +304,24 @@ def test_a_rank_or_a_count_is_shown_as_an_integer():
                                "error [µm]": [1.5, 2.0]}), "t.csv")
     cells = re.findall(r'<td class="num">([^<]*)</td>', page)
     assert cells == ["1", f"{MINUS}3", "1.50", "2", "40", "2.00"]
+
+
+def test_the_reports_error_sources_are_the_circle_commands_ranking():
+    """The report's "Error sources" gave a cyclic error as twice its amplitude (0.16 um)
+    where the circle command's ranking gives its peak to valley (0.15 um), and left out the
+    bows and the centre; now both are one list with one figure per term."""
+    from conftest import bench_path
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+    from tcpmm.report.acceptance import ranked_sources
+
+    d = bench_path("d")
+    diag = circle_diagnostics(*[analyse_circle(read_run(d / f"circle_{w}_meas.csv"), 0.035)
+                                for w in ("ccw", "cw")])
+    rows = ranked_sources(diag)
+    ranked = sorted(diag.ranking, key=lambda r: r["rank"])
+    assert [s for s, _, _ in rows] == [r["term"].replace("_", " ") for r in ranked]
+    assert [e for _, e, _ in rows] == [r["contribution_m"] for r in ranked]
+    assert {"straightness X", "straightness Y", "cyclic X"} <= {s for s, _, _ in rows}
+    assert all(note for _, _, note in rows)

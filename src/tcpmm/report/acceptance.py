@@ -20,19 +20,16 @@ from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
 from .circles import SENSOR_NAMES, file_names
 from .html import facts, number, para, section, table
 
-#: Term (without axis) -> (label, peak-to-valley radial error [m] from value [SI], radius [m]).
-_EFFECT = {
-    "backlash": ("backlash", lambda v, r: abs(v)),
-    "lateral_play": ("lateral play", lambda v, r: abs(v)),
-    "squareness": ("squareness", lambda v, r: abs(v) * r),
-    "scale_mismatch": ("scale mismatch", lambda v, r: abs(v) * r),
-    "servo_mismatch_angle": ("servo mismatch", lambda v, r: abs(v) * r),
-    "cyclic_amplitude": ("cyclic error", lambda v, r: 2 * abs(v)),
-}
+#: What a ranked term's sign says where the terms table has no note of it
+_MEANING = {"reversal_spikes": "dynamics of the reversal: friction, lost motion, servo",
+            "centre_offset": "set-up: the circle's centre off the nominal"}
 
 
 def ranked_sources(diag) -> list[tuple[str, float, str]]:
-    """Error sources of a CCW and CW circle, largest radial error first.
+    """Error sources of a circle's diagnostics, largest radial error first: the terms as
+    ``tcpmm circle`` ranks them (``diag.ranking``: the peak-to-valley radial error each
+    makes alone over the circle), so that the report and the command give one figure per
+    term.
 
     Parameters
     ----------
@@ -45,22 +42,13 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
         ``(source, peak-to-valley radial error [m], what its sign says)`` [-].
     """
     rows = []
-    for term, (value, _) in diag.terms.items():
+    for r in sorted(diag.ranking, key=lambda r: r["rank"]):
+        term = r["term"]
         base, _, axis = term.rpartition("_")
-        key, label_axis = (term, "") if term in _EFFECT else (base, axis)
-        if key not in _EFFECT or not math.isfinite(value):
-            continue
-        label, effect = _EFFECT[key]
-        rows.append((f"{label} {label_axis}".strip(), effect(value, diag.radius),
-                     term_note(term, diag.axes)))
-    spikes = [(k, v) for k, (v, _) in diag.terms.items()
-              if k.startswith("spike_") and math.isfinite(v)]
-    if spikes:
-        k, v = max(spikes, key=lambda kv: abs(kv[1]))
-        _, q, d = k.split("_")
-        rows.append((f"reversal spike after the pair's terms (largest: {d.upper()} {q})", abs(v),
-                     "dynamics of the reversal: friction, lost motion, servo"))
-    return sorted(rows, key=lambda r: -r[1])
+        note = _MEANING.get(term) or term_note(
+            f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes)
+        rows.append((term.replace("_", " "), float(r["contribution_m"]), note))
+    return rows
 
 
 def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> list:

@@ -89,6 +89,24 @@ class Comparison:
             out.append(row)
         return out
 
+    @staticmethod
+    def judged_long(judged: list) -> list[dict]:
+        """The rows of :meth:`judged` a figure each: direction, figure, measured less
+        predicted, the 90 % half-width, inside or not and the verdict, for a table a
+        reader can read across (the wide rows ran to 346 columns) [um]."""
+        out = []
+        for r in judged:
+            for col, fig in [(f"spike_{q}_um", f"raw spike {q}") for q in QUADRANTS] + [
+                    ("contour_error_um", "contour error")]:
+                half = col.replace("_um", "_90_um")
+                if half not in r:
+                    continue
+                out.append({"dir": r["direction"], "figure": fig,
+                            "measured - predicted": r[col], "90 % interval +-": r[half],
+                            "inside": "yes" if r[col.replace("_um", "_inside")] else "NO",
+                            "verdict": r[col.replace("_um", "_verdict")]})
+        return out
+
     def notes(self) -> list[str]:
         """One sentence per sign flip: the spike difference there is the sum of two
         lobes, and how far apart the lobes themselves are."""

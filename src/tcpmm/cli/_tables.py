@@ -61,9 +61,11 @@ def print_table(table, console, title: str) -> None:
         Title above it [-].
     """
     from rich import box
+    from rich.markup import escape
     from rich.table import Table
 
-    t = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1))
+    # the title is text: rich took its "[um]" for a style and printed it without
+    t = Table(title=escape(title), box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1))
     for c in table.columns:
         t.add_column(header(str(c)), justify="right", overflow="fold")
     for _, row in table.iterrows():

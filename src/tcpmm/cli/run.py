@@ -268,7 +268,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
         if judged:
             import pandas as pd
 
-            print_table(pd.DataFrame(judged), out,
+            print_table(pd.DataFrame(cmp.judged_long(judged)), out,
                         "tcp: measured - predicted against the predicted 90 % interval [um]")
 
 

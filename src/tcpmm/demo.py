@@ -74,7 +74,7 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
         for line in cmp.notes():
             console.print(line)
     step("verdict")
-    judged = judged_table2(idn.verdict, cmp, out, files)
+    judged = judged_table2(idn.machine, cmd, cmp, out, files)
     if console is not None:
         print_table(judged, console, "Table 2 at the TCP against the predicted 90 % interval "
                                      "[um]")
@@ -171,20 +171,23 @@ def _plot_builtin(machine, run, res, out, step, files) -> None:
         plot_bode(curves, files[f"bode_{ax}"], title=f"axis {ax}")
 
 
-def judged_table2(verdict, cmp, out, files):
+def judged_table2(machine, cmd, cmp, out, files):
     """Table 2's TCP rows set against the 90 % intervals of the identified model's
     prediction of the same circle (:meth:`Comparison.judged`), one row per direction and
     figure, written to ``table2_judged.csv`` [um].
 
-    The demo's circle is identification's reference circle at its feed (R35 mm, CCW then
-    CW from 45 deg), so the verdict identification gave on that test is the one taken."""
-    import dataclasses
-
+    The verdict is taken on the demo's own circle (the paper's: one turn fed in from the
+    centre), not on identification's reference circles, which are taken settled on the
+    circle: the figures of a turn that begins where the feed-in joins are not theirs."""
     import pandas as pd
 
-    test = f"R{RADIUS_MM:g} F{FEED_MM_PER_MIN:g}"
-    verdict = dataclasses.replace(verdict, tests=[test],
-                                  figures=[f for f in verdict.figures if f.test == test])
+    from .uncertainty import CircleTest, prediction_verdict
+    from .uncertainty.verdict import not_its_prediction
+
+    test = CircleTest(f"R{RADIUS_MM:g} F{FEED_MM_PER_MIN:g}", cmd, RADIUS_MM * 1e-3,
+                      (0.0, 0.0), tuple(list(machine.axes)[:2]))
+    verdict = prediction_verdict(machine, [test], jobs=0)
+    not_its_prediction(verdict, cmp.predicted, "the demo's predicted circle")
     rows = []
     for r in cmp.judged(verdict):
         for col in ("spike_A", "spike_B", "spike_C", "spike_D", "contour_error"):

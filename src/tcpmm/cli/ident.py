@@ -74,12 +74,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     print_table(table, out, f"{sensor.value} raw reversal spikes (e - b) over {draws} drawn "
                 "machines")
     out.print(f"draws agree: nine in ten drawn machines within {tol_m * 1e6:g} um of the "
-              "spike. The draws widen every quantity to at least the error identification "
-              "made on machines it had not seen (the floors), whatever this model's own fit "
-              "says, and so flag more than the verdicts below; the verdicts' 90 % intervals "
-              "are this model's, calibrated on machines of known truth, and also count what "
-              "the data leave open (as the pre-sliding), which the draws do not vary",
-              highlight=False)
+              f"spike. {DRAWS_NOTE}", highlight=False)
     for r in res.unsettled():
         out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
                   f"({100 * r['same_sign']:.0f} % of the draws give it): rise "
@@ -90,6 +85,14 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                   f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} um of "
                   f"{r['spike_um']:.2f} um; range {r['low_um']:.2f} to {r['high_um']:.2f} um)")
     _print_verdict(verdict)
+
+
+#: How spread's draws and its verdicts differ, said under the draws' table
+DRAWS_NOTE = ("The draws widen every quantity to at least the error identification made on "
+              "machines it had not seen (the floors), whatever this model's own fit says, "
+              "and so flag more than the verdicts below; the verdicts below are this model's "
+              "90 % intervals, calibrated on machines of known truth, and also count what "
+              "the data leave open (as the pre-sliding), which the draws do not vary")
 
 
 def _spread_verdict(machine, command, radius_mm: float, centre_mm, sensor: str):

@@ -138,6 +138,8 @@ def _stray(m, file, line):
     """Refuse the character that starts no word [-]."""
     ch = m.group("o")
     hint = (" (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789"
+            else " (block delete is not read: remove the '/' to run the block, or the "
+                 "block to skip it)" if ch == "/"
             else "" if ch.isprintable() else " (a control character; remove it)")
     raise InputError(f"unexpected character {ch!r}{hint}", file=file, line=line,
                      column=m.start("o") + 1)

@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 from .._forked import results_in_order, usable_jobs
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
+from ..machines.paper import SETTLED_TURNS
 from ..path.circle import circle_command
 from ..path.command import concatenate
 from ..sim.simulate import simulate
@@ -25,14 +26,9 @@ __all__ = ["CircleTest", "circle_figures", "figure_changes", "figures", "referen
 #: R 35 mm about the origin, CCW then CW from 45 deg, at two feeds [m], [mm/min].
 REFERENCE_RADIUS_M = 0.035
 REFERENCE_FEEDS_MM_PER_MIN = (5000.0, 10000.0)
-#: Turns of each reference circle: the analysis takes the middle turn, a quarter turn after
-#: the feed-in joins the circle and a quarter turn before the feed-out. Where the feed-in's
-#: semicircle of half the radius joins, the servo's lag steps with the curvature, and that
-#: transient would set the contour error and G of a single turn (on the six benches'
-#: models up to 2.8 times the steady contour error and 4.9 times G). The middle turn's
-#: figures are within 0.5 % of those of a turn taken after half a turn, where the machine
-#: settles on the circle at all [-].
-REFERENCE_TURNS = 1.5
+#: Turns of each reference circle: the middle turn is judged, the machine settled on the
+#: circle (:data:`tcpmm.machines.paper.SETTLED_TURNS`) [-].
+REFERENCE_TURNS = SETTLED_TURNS
 
 
 @dataclass(frozen=True)

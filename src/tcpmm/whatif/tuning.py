@@ -13,7 +13,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..analysis.circular import analyse_circle
-from ..machines.paper import RADIUS_MM, paper_circle_command
+from ..machines.paper import RADIUS_MM, SETTLED_TURNS, paper_circle_command
 from ..model import Machine
 from ..servo.tune import tune_machine
 from ..sim.simulate import simulate
@@ -173,7 +173,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         note = (f"no circle predicted: the machine has no {lacks} axis; give a program "
                 "(--gcode) to predict its path")
         return TuneResult(tuned, axes, {}, {}, [note])
-    cmd = paper_circle_command(machine) if circle else command
+    cmd = paper_circle_command(machine, SETTLED_TURNS) if circle else command
     tuned, after = _best_feedforward(tuned, axes, cmd, circle)
     axes = {n: replace(t, after=tuned.axes[n].servo) if t.met else t for n, t in axes.items()}
     notes = []

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import InputError, InputWarning, RunFaultWarning, TcpmmError
-from ...machines.paper import START_ANGLE_DEG
+from ...machines.paper import SETTLED_TURNS, START_ANGLE_DEG
 from ...path import InterpolatorSettings, circle_command, interpolate, parse_gcode
 from ...path.command import concatenate
 from ...path.segments import Arc, Line
@@ -84,7 +84,7 @@ def metric_names(program) -> list[str]:
 @functools.lru_cache(maxsize=8)
 def _circle_command(radius_m: float, feed_m_per_s: float):
     kw = dict(radius_m=radius_m, feed_m_per_s=feed_m_per_s,
-              start_angle_rad=math.radians(START_ANGLE_DEG))
+              start_angle_rad=math.radians(START_ANGLE_DEG), turns=SETTLED_TURNS)
     return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])
 
 

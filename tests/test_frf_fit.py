@@ -339,3 +339,25 @@ def test_made_three_modes_against_scikit_rf(poles):
     vf = bench.errors(H, bench.vf_response(f, H, poles))
     ours = bench.errors(H, res.freqresp(f))
     assert ours["total_rel"] <= vf["total_rel"] and ours["median_rel"] < vf["median_rel"]
+
+
+@pytest.mark.parametrize("poles", [4, 5, 8, 9])
+def test_an_integrating_frf_fits_without_a_pair_below_its_bins(capfd, poles):
+    """Speed per current (an integrator, a mode at 250 Hz and an antiresonance at 180 Hz,
+    bins every 2 Hz from 2 Hz): a pair the fit placed below the first bins took a damping
+    floor from the bin spacing above 1, its root was NaN, and LAPACK, handed NaN poles,
+    wrote "On entry to DLASCL parameter number 4 had an illegal value" on standard
+    output, into --json. The floor stops at critical damping."""
+    f = np.arange(2.0, 1001.0, 2.0)
+    s = 2j * np.pi * f
+    p = 2 * np.pi * 250 * (-0.02 + 1j * np.sqrt(1 - 0.02**2))
+    z = 2 * np.pi * 180 * (-0.03 + 1j * np.sqrt(1 - 0.03**2))
+    H = (100 * (1 - s / z) * (1 - s / np.conj(z)) / ((1 - s / p) * (1 - s / np.conj(p))) / s
+         * np.exp(-s * 1.25e-4))
+    rng = np.random.default_rng(7)
+    H = H * (1 + 0.01 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))
+             / np.sqrt(2))
+    res = fit_frf(FRF(f, H, np.full(f.size, 0.99), 10, np.zeros(f.size), name="speed"),
+                  poles=poles)
+    assert np.all(np.isfinite(res.tf.poles)) and np.all(np.isfinite(res.tf.zeros))
+    assert "DLASCL" not in capfd.readouterr().out

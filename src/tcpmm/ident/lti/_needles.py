@@ -68,7 +68,9 @@ def _floor(pn, f, omega0, floor, notes):
         if abs(p.imag) <= 1e-9 * abs(p):
             continue
         fn = abs(p) * omega0 / (2 * np.pi)
-        least = max(floor, float(np.interp(fn, f, df)) / (2 * fn))
+        # at most critical damping: a pair below the first bins would take a half-power
+        # bandwidth wider than itself, and a damping above 1 has no pair (its root NaN)
+        least = min(max(floor, float(np.interp(fn, f, df)) / (2 * fn)), 1.0)
         zeta = -p.real / abs(p)
         if zeta < least:
             pn[i] = abs(p) * (-least + 1j * np.sign(p.imag) * np.sqrt(1 - least**2))

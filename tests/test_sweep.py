@@ -294,3 +294,14 @@ def test_a_refused_sweep_prints_its_error_alone(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"error: {prog}, line 2, column 14: ")
     assert not (tmp_path / "o").exists()
+
+
+def test_a_faulted_variant_is_said_with_json_too(tmp_path, capsys):
+    """A variant whose current stays at its limit (X.servo.K_vp=10) was said on stderr
+    without --json and not at all with it: the JSON held no fault, stderr was empty."""
+    args = ["sweep", "builtin:vmc", "-p", "X.servo.K_vp=10", "--circle", "5,6000",
+            "-o", str(tmp_path / "o"), "--workers", "1"]
+    for more in ((), ("--json",)):
+        assert main([*args, *more]) == 0
+        err = " ".join(capsys.readouterr().err.split())
+        assert "warning: variant" in err and "current at the limit" in err, more

@@ -247,6 +247,8 @@ def _finish(res, as_json: bool, report) -> None:
     """The result as JSON or as ``report`` says it; exit status 1 when any task failed."""
     if as_json:
         emit_json(res.to_dict())
+        if report is _report:  # the faults on stderr, as without --json (docs/sweep.md)
+            _warn_faults(res)
     else:
         report(res)
     if res.failed:

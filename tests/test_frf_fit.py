@@ -128,6 +128,19 @@ def test_cli_fit_and_show_on_csv(capsys, tmp_path):
     assert code == 0 and json.loads(out)["bins"] == F.size
 
 
+def test_show_and_fit_give_one_noise(capsys, tmp_path):
+    """frf show gave the noise of the real and of the imaginary part (0.0237), frf fit the
+    complex |dH/H| it sets its residual against (0.0341), both as "relative noise": the
+    same file's noise is one figure, the complex one, in both."""
+    p = write_frf_csv(noisy_frf(0), tmp_path / "m.csv")
+    codes, out, _ = run(capsys, "frf", "show", p, "--json")
+    shown = json.loads(out)["noise_rel_median"]
+    codef, out, _ = run(capsys, "frf", "fit", p, "--poles", 5, "--json")
+    fitted = json.loads(out)["quality"]["noise_rms"]
+    assert codes == codef == 0
+    assert shown == pytest.approx(fitted, rel=0.2)
+
+
 @pytest.mark.parametrize("args", [
     ["frf", "fit", "missing.csv"],
     ["frf", "fit", "{csv}", "--poles", "many"],

@@ -63,7 +63,9 @@ def show(file: Path = typer.Argument(..., help=_FILE),
     checked_plot(plot)
     f0, f1 = parse_band(band, "--band")
     frf = read_frf(file).band(f0, f1)
-    sigma = noise_level(frf.freq_hz, frf.H, frf.rel_std)
+    # the complex relative noise |dH / H|, as frf fit gives it beside its residual: the
+    # noise level is that of the real and of the imaginary part each, 1/sqrt(2) of it
+    sigma = np.sqrt(2.0) * noise_level(frf.freq_hz, frf.H, frf.rel_std)
     summary = {"file": str(file), "name": frf.name, "input": frf.input, "output": frf.output,
                "bins": int(frf.freq_hz.size), "freq_min_hz": float(frf.freq_hz[0]),
                "freq_max_hz": float(frf.freq_hz[-1]),
@@ -84,7 +86,7 @@ def show(file: Path = typer.Argument(..., help=_FILE),
     out.print(f"{summary['bins']} bins, {summary['freq_min_hz']:.4g}-"
               f"{summary['freq_max_hz']:.4g} Hz; coherence median "
               f"{summary['coherence_median']:.3f}, {summary['bins_coherence_0_5']} bins >= 0.5;"
-              f" relative noise median {summary['noise_rel_median']:.3g}")
+              f" relative noise |dH/H| median {summary['noise_rel_median']:.3g}")
     t = Table(*map(esc, ("f [Hz]", "|H| [dB]", "phase [deg]", "coherence [-]", "noise [-]")))
     idx = np.unique(np.searchsorted(frf.freq_hz, np.geomspace(frf.freq_hz[0],
                                                                frf.freq_hz[-1], 12)))

@@ -308,3 +308,11 @@ def test_identifys_verdicts_say_which_circles_they_are_of(capsys):
     assert lines[0].startswith("the verdicts' circles: R 35 mm about the origin")
     assert "fed in from the centre" in lines[0] and "tcpmm spread" in lines[0]
     assert lines[1] == "verdict R35 F5000 contour error: 16.42 um, firm"
+
+
+def test_machine_show_gives_a_light_modes_damping_its_digits(capsys):
+    """A mode of damping 0.00052 printed as "zeta 0.001", and machine D's 0.0002 as
+    "zeta 0.000": undamped, to a reader."""
+    assert main(["machine", "show", "builtin:vmc"]) == 0
+    text = capsys.readouterr().out
+    assert "zeta 0.00052" in text and "zeta 0.000)" not in text

@@ -63,7 +63,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         emit_json(data)
         return
     for ax, d in data.items():
-        modes = ", ".join(f"{f:.1f} Hz (zeta {z:.3f})" for f, z in
+        modes = ", ".join(f"{f:.1f} Hz (zeta {z:.2g})" for f, z in
                           zip(d["modes_hz"], d["damping"], strict=True))
         state = "stable" if d["closed_loop_stable"] else "UNSTABLE"
         rho = d["sampled_loop_spectral_radius"]

@@ -28,7 +28,8 @@ TF_MEANING = {
     "G_v": ("motor speed per speed command, velocity loop closed", "-"),
     "G_p": ("fed-back position per position command, position loop closed", "m/m"),
     "cmd_to_tcp": ("TCP position per position command", "m/m"),
-    "cmd_to_motor": ("motor position (screw lead times angle) per position command", "m/m"),
+    "cmd_to_motor": ("motor position (its angle times the screw's travel per radian) per "
+                     "position command", "m/m"),
     "cmd_to_current": ("current command per position command", "A/m"),
     "L_v": ("open velocity loop, sampled", "-"),
     "L_p": ("open position loop, sampled", "-"),

@@ -414,3 +414,17 @@ def test_a_program_planned_with_headroom_shows_what_the_plan_alone_gives(tmp_pat
                  str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "3"])
     assert code == 0
     assert "planned contour error to the command" in capsys.readouterr().out
+
+
+def test_the_parameter_file_says_no_minus_zero_and_what_an_unkept_pulse_means():
+    """The file a commissioning engineer types in read "cross_talk_um_per_m_per_s2: -0" and
+    gave a pulse of no amplitude a decay time of 300 ms, as if it were one to set."""
+    from tcpmm.compensate.controller import AxisController, ControllerCompensation
+
+    cc = ControllerCompensation({"X": AxisController(0.0, 0.3, 0.0, -0.0),
+                                 "Y": AxisController(0.4, 0.003, 0.001, -2.26e-6)})
+    text = cc.parameter_text()
+    assert "-0\n" not in text and "cross_talk_um_per_m_per_s2: 0\n" in text
+    x, y = text.split("\nX:\n")[1].split("\nY:\n")
+    assert x.count("no pulse kept") == 2 and "no pulse kept" not in y
+    assert "cross_talk_um_per_m_per_s2: -2.26" in y

@@ -101,20 +101,24 @@ class ControllerCompensation:
 
     def parameter_text(self) -> str:
         """The parameters as a commissioning engineer types them, per axis [-]."""
-        lines = ["# Controller-side compensation computed by tcpmm from the identified model.",
+        lines = ["# Controller-side compensation computed by tcpmm from the model.",
                  "# Friction pulse at each reversal: current feed-forward (Fanuc-style) or",
                  "# velocity setpoint pulse (Sinumerik quadrant error compensation:",
                  "# FRICT_COMP_CONST_MAX [mm/min], FRICT_COMP_TIME [s]); cross-talk",
                  "# feed-forward: position setpoint offset = -gain * commanded acceleration."]
+        def num(x):  # + 0.0: a gain of -0 reads as a sign to a reader
+            return f"{x + 0.0:.4g}"
+
         for a, c in self.axes.items():
             d = c.to_dict()
+            off = "  # no pulse kept: the time does nothing" if d["friction_pulse_A"] == 0 else ""
             lines += [f"{a}:",
-                      f"  friction_pulse_A: {d['friction_pulse_A']:.4g}",
-                      f"  friction_pulse_decay_ms: {d['friction_pulse_decay_ms']:.4g}",
+                      f"  friction_pulse_A: {num(d['friction_pulse_A'])}",
+                      f"  friction_pulse_decay_ms: {num(d['friction_pulse_decay_ms'])}{off}",
                       f"  FRICT_COMP_CONST_MAX_mm_per_min: "
-                      f"{d['friction_pulse_velocity_mm_per_min']:.4g}",
-                      f"  FRICT_COMP_TIME_s: {c.decay_s:.4g}",
-                      f"  cross_talk_um_per_m_per_s2: {d['cross_talk_um_per_m_per_s2']:.4g}"]
+                      f"{num(d['friction_pulse_velocity_mm_per_min'])}",
+                      f"  FRICT_COMP_TIME_s: {num(c.decay_s)}{off}",
+                      f"  cross_talk_um_per_m_per_s2: {num(d['cross_talk_um_per_m_per_s2'])}"]
         return "\n".join(lines) + "\n"
 
 

@@ -99,6 +99,10 @@ def test_rows_are_the_single_program_results(study, serial, capsys, tmp_path):
             assert row["contour_rms_um"] == pytest.approx(tcp["rms_um"], rel=1e-10)
             assert row["contour_max_um"] == tcp["max_abs_um"]
             assert row["task_s"] > 0
+            # the corners are the turns: the path's end, a row of contour's table, is none
+            turns = [c for c in con["corners"] if c["sensor"] == "tcp"
+                     and c["turn_deg"] is not None]
+            assert row["corners"] == (len(turns) or None)
     assert rows["builtin:vmc", "square.nc"]["zero_length_skipped"] == 2
     assert rows["builtin:vmc", "arc.ngc"]["zero_length_skipped"] == 0
     # the softer position loop follows the square further off

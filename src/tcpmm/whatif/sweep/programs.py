@@ -169,7 +169,9 @@ def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
     d = res.to_dict()
     s = d["sensors"].get(sensor) or next(iter(d["sensors"].values()))
     # the streamed analysis may seek no corners: then the row has none to say, not zero
-    corners = [c for c in d.get("corners") or [] if c.get("sensor", sensor) == sensor]
+    # the path's end is a row of the corner table (its arrival), no turn: not counted
+    corners = [c for c in d.get("corners") or [] if c.get("sensor", sensor) == sensor
+               and c.get("turn_deg") is not None and c["turn_deg"] == c["turn_deg"]]
     return {"plane": d["axes"] if flat else "3D", "contour_rms_um": s["rms_um"],
             "contour_max_um": s["max_abs_um"], "corners": len(corners) or None,
             "corner_rounding_max_um": max((c.get("rounding_um") or 0.0 for c in corners),

@@ -321,7 +321,36 @@ def test_the_reports_error_sources_are_the_circle_commands_ranking():
                                 for w in ("ccw", "cw")])
     rows = ranked_sources(diag)
     ranked = sorted(diag.ranking, key=lambda r: r["rank"])
-    assert [s for s, _, _ in rows] == [r["term"].replace("_", " ") for r in ranked]
-    assert [e for _, e, _ in rows] == [r["contribution_m"] for r in ranked]
-    assert {"straightness X", "straightness Y", "cyclic X"} <= {s for s, _, _ in rows}
-    assert all(note for _, _, note in rows)
+    assert [s for s, *_ in rows] == [r["term"].replace("_", " ") for r in ranked]
+    assert [e for _, e, *_ in rows] == [r["contribution_m"] for r in ranked]
+    assert {"straightness X", "straightness Y", "cyclic X"} <= {s for s, *_ in rows}
+    assert all(note for _, _, note, _ in rows)
+    # the share of G(b) is the ranking's: a centre offset makes none of G, which is taken
+    # about the circle's own centre (the report gave it 36 % on a circle set up 14 um off)
+    share = {s: g for s, _, _, g in rows}
+    assert share["centre offset"] == 0.0
+    assert [g for *_, g in rows] == [r["share_of_G"] for r in ranked]
+
+
+def test_a_report_of_a_circle_in_zx_finds_its_plane(tmp_path, capsys):
+    """report analysed every circle in XY: a ballbar's ZX circle was refused with "no full
+    circle ... in the XY plane ... check --plane", and report had no --plane. The plane is
+    the one the command moves in, as tcpmm circle takes it, or --plane."""
+    import warnings
+
+    from tcpmm import builtin_machine, simulate
+    from tcpmm.cli import main
+    from tcpmm.path import program_to_command
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = simulate(builtin_machine(), program_to_command(
+            "G21 G18 G90\nG0 X17.5 Z0\nG3 X35 Z0 I8.75 K0 F3000\nG3 X35 Z0 I-35 K0\n"
+            "G3 X17.5 Z0 I-8.75 K0\nM30\n"))
+    run.write_csv(tmp_path / "zx.csv")
+    for more in ((), ("--plane", "ZX")):
+        assert main(["report", "-o", str(tmp_path / "r.html"), "--run",
+                     str(tmp_path / "zx.csv"), "--radius", "35", *more]) == 0
+        page = (tmp_path / "r.html").read_text(encoding="utf-8")
+        assert "ZX" in page
+    assert "plane ZX" in capsys.readouterr().err

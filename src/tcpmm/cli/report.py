@@ -7,6 +7,7 @@ from pathlib import Path
 import typer
 
 from ._app import app, checked_report_file, floats, in_file, out, positive, read_model
+from ._plane import PLANE_HELP, run_plane_said
 
 
 @app.command()
@@ -28,7 +29,9 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
                help="Predicted RUN.csv of the same circle; one per --measured."),
            radius: float = typer.Option(None, "--radius", help="Nominal radius of the "
                                         "circles [mm]."),
-           centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
+           centre: str = typer.Option("0,0", "--centre", help="Nominal centre in the "
+                                      "plane's axes, A,B [mm]."),
+           plane: str = typer.Option(None, "--plane", help=PLANE_HELP),
            spread: Path = typer.Option(None, "--spread", help="SPREAD.json: tcpmm spread "
                                        "--json > SPREAD.json, or the demo's spread.json."),
            title: str = typer.Option("Commissioning report", "--title", help="Page title."),
@@ -51,7 +54,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     sections, inputs = [], []
     if runs or measured:
         sections, inputs = _circle_sections(runs, measured, predicted, radius, centre, tol,
-                                            machine)
+                                            machine, plane)
     more, given = _summary_sections(spread, ident_dir, model, machine)
     sections += more
     write_report(output, sections, title, inputs + given)
@@ -93,7 +96,7 @@ def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predic
 
 
 def _circle_sections(runs, measured, predicted, radius: float, centre: str, tolerance_m,
-                     machine) -> tuple[list, list]:
+                     machine, plane=None) -> tuple[list, list]:
     """The sections of the circular tests: each run's, the runs' faults, and measured
     minus predicted of each pair.
 
@@ -120,7 +123,7 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, tole
         The files they come from, by role [-].
     """
     c = floats(centre, "--centre", 2)
-    circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3))
+    circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), plane)
     comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
                                f"comparison-{i + 1}", not runs and i == 0, tolerance_m)
                    for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
@@ -194,9 +197,11 @@ def _circle(path: Path, circle):
     from ..analysis.circular import analyse_circle
     from ..io.runfile import read_run
 
+    radius_m, centre_m, plane = circle
     run = read_run(path)
+    axes = run_plane_said(plane, run, path)  # --plane, else the plane the command moves in
     with in_file(path):
-        res = analyse_circle(run, *circle)
+        res = analyse_circle(run, radius_m, centre_m, plane=axes)
     dt = np.diff(run.time_s)
     return res, (1.0 / float(np.median(dt)) if dt.size else None)
 

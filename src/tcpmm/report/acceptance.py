@@ -39,7 +39,9 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
     Returns
     -------
     list of tuple
-        ``(source, peak-to-valley radial error [m], what its sign says)`` [-].
+        ``(source, peak-to-valley radial error [m], what its sign says, its share of G
+        as the ranking gives it: 0 for the centre offset, about which G is not taken)``
+        [-].
     """
     rows = []
     for r in sorted(diag.ranking, key=lambda r: r["rank"]):
@@ -47,7 +49,8 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
         base, _, axis = term.rpartition("_")
         note = _MEANING.get(term) or term_note(
             f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes)
-        rows.append((term.replace("_", " "), float(r["contribution_m"]), note))
+        rows.append((term.replace("_", " "), float(r["contribution_m"]), note,
+                     float(r["share_of_G"])))
     return rows
 
 
@@ -116,12 +119,10 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
     if diagnostics is not None:
         rows = ranked_sources(diagnostics)
         # one direction's diagnostics have no G(b): the share is of that circle's G
-        pair = "circularity_pair" in diagnostics.terms
-        gb = diagnostics["circularity_pair"] if pair else max(v for _, v in devs)
-        of = "of G(b) [%]" if pair else "of G [%]"
+        of = "of G(b) [%]" if "circularity_pair" in diagnostics.terms else "of G [%]"
         frame = pd.DataFrame([{"rank": i + 1, "source": s, "radial error [µm]": e * 1e6,
-                               of: 100 * e / gb if gb > 0 else float("nan"),
-                               "meaning": n} for i, (s, e, n) in enumerate(rows)])
+                               of: 100 * g, "meaning": n}
+                              for i, (s, e, n, g) in enumerate(rows)])
         body += ("<h3>Error sources, largest first</h3>"
                  + para("Peak-to-valley radial error each fitted term makes on this circle "
                         "(module tcpmm.report.acceptance); the diagnostics below give the "

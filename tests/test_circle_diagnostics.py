@@ -358,6 +358,11 @@ def test_short_and_one_way_arcs_of_bench_circles_give_no_terms(tmp_path):
     for diag, what in ((one, "one direction over an arc"), (pair, "a pair of arcs")):
         for term in ("centre_offset_X", "centre_offset_Y", "backlash_X", "straightness_X"):
             assert np.isnan(diag[term]) and what in diag.undetermined[term], term
+        # nor spikes after terms it does not have: they were the raw ones, ranked the only
+        # source of the error, 100 % of it
+        spikes = [v for k, (v, _) in diag.terms.items() if k.startswith("spike_")]
+        assert spikes and all(np.isnan(spikes)) and "reversal_spikes" in diag.undetermined
+        assert diag.ranking == []
     for term in ("centre_offset_X", "centre_offset_Y", "backlash_X", "backlash_Y",
                  "lateral_play_X", "lateral_play_Y", "straightness_X", "straightness_Y"):
         assert long[term] == pytest.approx(whole[term], abs=0.25e-6), term
@@ -742,3 +747,16 @@ def test_a_circle_of_few_samples_keeps_its_table_and_says_why_no_diagnostics(tmp
     assert "CCW" in cap.out
     assert ("no diagnostics: the diagnostics need at least 100 samples of a circle; the ccw "
             "one has 13") in " ".join(cap.err.split())
+
+
+def test_an_arc_just_short_of_the_least_says_so_in_its_reason():
+    """A pair of arcs of 209.99 deg was refused its terms "as a pair of arcs of 210 deg",
+    beside "run the arc ... over 210 deg or more"."""
+    from tcpmm.analysis.circle_fit import Arc
+    from tcpmm.analysis.circle_stable import arc_fit
+    from tcpmm.analysis.diagnostics import SHARED
+
+    a = np.radians(np.linspace(-20.0, 189.99, 2000))
+    arcs = [Arc(a, np.zeros_like(a), 1.0), Arc(a[::-1], np.zeros_like(a), -1.0)]
+    _, why = arc_fit(arcs, R, SHARED)
+    assert why and all("a pair of arcs of 209.9 deg" in text for text in why.values())

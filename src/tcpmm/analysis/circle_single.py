@@ -89,6 +89,8 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
         why[rename_axes(k, axes)] = v
         if k.startswith("cyclic_"):
             terms[k] = (float("nan"), "m")
+        if k == "reversal_spikes":
+            terms.update({t: (float("nan"), "m") for t in terms if t.startswith("spike_")})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,

@@ -25,6 +25,10 @@ MIN_TERMS_DEG = 210.0
 #: why an arc reports no cyclic error
 CYCLIC_WHY = ("an arc does not separate a cyclic error from the centre and the bows: over "
               "part of a turn its columns are theirs; a full circle does")
+#: why an arc that gives no terms gives no spikes after them either
+SPIKES_WHY = ("the arc gives no terms to take off its radial error, so a spike after them "
+              "would be the raw one and carry the terms (the raw spikes are spike_*_um of "
+              "the circle)")
 #: why one direction over an arc, or a pair of short arcs, reports no terms
 SHORT_WHY = ("{what} does not separate the terms from the servo's and the friction's radial "
              "error along it (bench circles cut to such arcs read centre offsets and bows of "
@@ -57,8 +61,10 @@ def arc_fit(arcs, radius, shared):
     deg = min(float(np.degrees(np.ptp(a.angle))) for a in arcs)
     if len(arcs) >= 2 and deg >= MIN_TERMS_DEG:
         return fit_terms(arcs, radius, shared, cyclic=False), {}
-    what = (f"one direction over an arc of {deg:.0f} deg" if len(arcs) < 2 else
-            f"a pair of arcs of {deg:.0f} deg")
+    # whole degrees, but 209.99 is no 210 in words either
+    shown = f"{deg:.0f}" if round(deg) < MIN_TERMS_DEG else f"{np.floor(deg * 10) / 10:g}"
+    what = (f"one direction over an arc of {shown} deg" if len(arcs) < 2 else
+            f"a pair of arcs of {shown} deg")
     names = [n for n in fit_terms(arcs, radius, shared, cyclic=False).names
              if not n.startswith("radius")]
     return (fit_terms(arcs, radius, shared, cyclic=False, drop=tuple(names)),
@@ -73,6 +79,9 @@ def arc_reasons(why: dict, arcs, rename=None) -> dict:
     if all(is_full(a.angle) for a in arcs):
         return {}
     out = {f"cyclic_{q}_{a}": CYCLIC_WHY for a in "XY" for q in ("amplitude", "period")}
+    if any(text.startswith(("one direction over an arc", "a pair of arcs"))
+           for text in why.values()):
+        out["reversal_spikes"] = SPIKES_WHY
     for name, text in why.items():
         names = [name]
         if name.startswith("centre_"):

@@ -230,6 +230,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
         why[rename_axes(k, axes)] = v
         if k.startswith("cyclic_"):
             terms[k] = (float("nan"), "m")
+        if k == "reversal_spikes":
+            terms.update({t: (float("nan"), "m") for t in terms if t.startswith("spike_")})
     if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
                                  "given as an angle only (servo_mismatch_angle)")

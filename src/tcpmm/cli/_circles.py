@@ -113,6 +113,10 @@ def _print_ranking(diag) -> None:
     """The terms by the radial error each makes alone over the circle."""
     from rich.table import Table
 
+    if not diag.ranking:  # an arc that gives no terms: nothing to rank, and it says why
+        out.print("terms ranked by their contribution: none determined (below)",
+                  highlight=False)
+        return
     g = "G(b)" if len(diag.directions) == 2 else "G"
     t = Table(title="terms ranked by their contribution", caption="contribution: peak to "
               "valley of the radial error the term makes alone; share: of the sum; "

@@ -116,7 +116,11 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
                      f"{'within' if ok else 'beyond'} the tolerance of "
                      f"{number(tolerance_m * 1e6, 2)} µm" + (f" ({rest})" if rest else ""),
                      "pass" if ok else "fail")
-    if diagnostics is not None:
+    if diagnostics is not None and not diagnostics.ranking:
+        body += para("No error source is ranked: the circles determine no term (an arc in "
+                     "one direction, or arcs too short; the diagnostics below say why).",
+                     "warn")
+    elif diagnostics is not None:
         rows = ranked_sources(diagnostics)
         # one direction's diagnostics have no G(b): the share is of that circle's G
         of = "of G(b) [%]" if "circularity_pair" in diagnostics.terms else "of G [%]"

@@ -240,7 +240,7 @@ def test_a_raw_spike_is_named_raw_where_circle_leads_with_another(tmp_path, caps
     assert code == 0, err
     text = " ".join(out.split())
     assert "tcp raw reversal spikes (e - b) over 2 drawn machines" in text
-    assert "verdict R35 raw spike A (e - b): " in text and "verdict R35 spike" not in text
+    assert "verdict R35 raw spike A (e - b) (" in text and "verdict R35 spike" not in text
 
 
 def test_a_record_period_off_the_loop_is_refused_by_its_option(tmp_path, capsys):
@@ -300,14 +300,17 @@ def test_identifys_verdicts_say_which_circles_they_are_of(capsys):
 
     from tcpmm.cli.ident import REFERENCE_NOTE, _print_verdict
 
-    fig = SimpleNamespace(verdict="firm", settle="", nominal=16.42e-6, text=lambda: "firm")
+    fig = SimpleNamespace(verdict="firm", settle="", nominal=16.42e-6, text=lambda: "firm",
+                          direction="cw")
     verdict = SimpleNamespace(axes={}, figures=[fig],
                               worst=lambda: {"R35 F5000 contour error": fig})
     _print_verdict(verdict, REFERENCE_NOTE)
     lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.strip()]
     assert lines[0].startswith("the verdicts' circles: R 35 mm about the origin")
     assert "fed in from the centre" in lines[0] and "tcpmm spread" in lines[0]
-    assert lines[1] == "verdict R35 F5000 contour error: 16.42 um, firm"
+    # the least firm of both directions is the one shown, and which it is is said (the CW
+    # figures stood for the circle while the CCW one was larger)
+    assert lines[1] == "verdict R35 F5000 contour error (CW): 16.42 um, firm"
 
 
 def test_machine_show_gives_a_light_modes_damping_its_digits(capsys):

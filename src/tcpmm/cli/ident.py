@@ -277,7 +277,9 @@ def _print_verdict(verdict, heading: str | None = None) -> None:
         out.print(line)
     for key, f in verdict.worst().items():
         settle = f"; to settle: {f.settle}" if f.verdict != "firm" and f.settle else ""
-        out.print(f"verdict {raw_spike_named(key)}: {f.nominal * 1e6:.2f} um, "
+        # the least firm of both directions is shown: its direction said (--json has both)
+        way = f" ({f.direction.upper()})" if getattr(f, "direction", None) else ""
+        out.print(f"verdict {raw_spike_named(key)}{way}: {f.nominal * 1e6:.2f} um, "
                   f"{f.text()}{settle}")
 
 

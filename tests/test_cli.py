@@ -298,13 +298,13 @@ def test_identifys_verdicts_say_which_circles_they_are_of(capsys):
     verdicts are of are said before them."""
     from types import SimpleNamespace
 
-    from tcpmm.cli.ident import REFERENCE_NOTE, _print_verdict
+    from tcpmm.cli.ident import _print_verdict, reference_note
 
     fig = SimpleNamespace(verdict="firm", settle="", nominal=16.42e-6, text=lambda: "firm",
                           direction="cw")
     verdict = SimpleNamespace(axes={}, figures=[fig],
                               worst=lambda: {"R35 F5000 contour error": fig})
-    _print_verdict(verdict, REFERENCE_NOTE)
+    _print_verdict(verdict, reference_note())
     lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.strip()]
     assert lines[0].startswith("the verdicts' circles: R 35 mm about the origin")
     assert "fed in from the centre" in lines[0] and "tcpmm spread" in lines[0]

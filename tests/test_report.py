@@ -354,3 +354,14 @@ def test_a_report_of_a_circle_in_zx_finds_its_plane(tmp_path, capsys):
         page = (tmp_path / "r.html").read_text(encoding="utf-8")
         assert "ZX" in page
     assert "plane ZX" in capsys.readouterr().err
+
+
+def test_the_reports_verdict_names_its_circles():
+    """The demo's report gave identification's verdict (contour error 13.71 um, the
+    reference circle settled) beside the demo's own circle (24.2 um, a turn from the
+    feed-in's join) with nothing to tell them apart."""
+    from tcpmm.report.accuracy import verdict_html
+
+    page = verdict_html({"firm": True, "tests": ["R35 F5000"], "axes": {}, "figures": []})
+    assert "The circles of this verdict: R 35 mm about the origin" in page
+    assert "middle of one and a half turns" in page

@@ -249,17 +249,16 @@ def _print_identification(idn, presliding, output: Path, report) -> None:
     print_table(idn.quality_table().drop(columns=["modes_hz"]), out, "fit quality")
     _print_split(idn)
     _print_presliding(idn, presliding)
-    _print_verdict(idn.verdict, REFERENCE_NOTE)
+    _print_verdict(idn.verdict, reference_note())
     out.print(f"wrote {output}" + (f" and the report in {report}" if report else ""))
 
 
-#: What identify's verdict figures are of, said before them: a user's own circle reads its
-#: own (a controller's filter pulls it in, a start from rest adds its transient)
-REFERENCE_NOTE = ("the verdicts' circles: R 35 mm about the origin in the plane of the first "
-                  "two axes, F5000 and F10000, CCW then CW, fed in from the centre (the "
-                  "paper's test) through the interpolator's defaults (no acc/dec filter), "
-                  "each taken on the middle of one and a half turns; for your own circle: "
-                  "tcpmm spread MODEL --command CMD.csv --radius R")
+def reference_note() -> str:
+    """What identify's verdict figures are of, said before them [-]."""
+    from ..uncertainty.figures import REFERENCE_WORDS
+
+    return (f"the verdicts' circles: {REFERENCE_WORDS}; for your own circle: "
+            "tcpmm spread MODEL --command CMD.csv --radius R")
 
 
 def _print_verdict(verdict, heading: str | None = None) -> None:

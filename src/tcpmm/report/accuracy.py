@@ -25,6 +25,12 @@ def verdict_html(verdict: dict) -> str:
             "Not every predicted figure is firm: the table gives each one's 90 % interval, "
             "what drives it and the measurement that would settle it.")
     body = f"<h3>Verdict on the predicted figures ({esc(tests)})</h3>" + para(lead, "lead")
+    from ..uncertainty.figures import REFERENCE_WORDS
+
+    body += para(f"The circles of this verdict: {REFERENCE_WORDS}. A circle that starts from "
+                 "rest, is fed in with its join in the turn analysed, or is pulled in by a "
+                 "controller's filter reads its own figures; tcpmm spread gives the verdict "
+                 "on such a circle.")
     for name, a in verdict.get("axes", {}).items():
         for r in a.get("open", []):
             body += para(f"axis {name}, {r['quantity']} open ({r['low']:.3g} to "

@@ -29,6 +29,13 @@ REFERENCE_FEEDS_MM_PER_MIN = (5000.0, 10000.0)
 #: Turns of each reference circle: the middle turn is judged, the machine settled on the
 #: circle (:data:`tcpmm.machines.paper.SETTLED_TURNS`) [-].
 REFERENCE_TURNS = SETTLED_TURNS
+#: What the reference circles are, in words, for the command line and the report: a user's
+#: own circle reads its own figures (a controller's filter pulls it in, a start from rest
+#: or a feed-in's join adds its transient)
+REFERENCE_WORDS = ("R 35 mm about the origin in the plane of the first two axes, F5000 and "
+                   "F10000, CCW then CW, fed in from the centre (the paper's test) through "
+                   "the interpolator's defaults (no acc/dec filter), each taken on the middle "
+                   "of one and a half turns, settled on the circle")
 
 
 @dataclass(frozen=True)

@@ -413,3 +413,20 @@ def test_faults_of_a_streamed_run_are_the_whole_runs(vmc, case):
         assert a.saturated_s == pytest.approx(b.saturated_s, rel=1e-12)
         assert a.saturated_from_s == b.saturated_from_s
         assert a.tolerance_m == pytest.approx(b.tolerance_m, rel=1e-12)
+
+
+def test_a_program_too_long_to_make_whole_points_to_streaming(tmp_path, capsys, monkeypatch):
+    """A 300 000-block zig-zag to RUN.csv was refused with "check its feed rate and
+    coordinates": the feed was right, the fix is to stream it to Parquet."""
+    import importlib
+
+    interpolate = importlib.import_module("tcpmm.path.interpolate")  # not the function
+    monkeypatch.setattr(interpolate, "MAX_SAMPLES", 2_000)
+    prog = tmp_path / "zz.nc"
+    prog.write_text(PROGRAMS["zigzag"])
+    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                       tmp_path / "run.csv")
+    assert code == 2 and "-o RUN.parquet" in " ".join(err.split())
+    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                       tmp_path / "run.parquet", "--chunk-blocks", 5)
+    assert code == 0, err

@@ -113,8 +113,10 @@ def check_samples(dur, dt: float, line, n_samples: int | None = None) -> None:
     i = int(np.argmax(np.where(np.isnan(dur), np.inf, dur)))
     raise InputError(
         f"the command would last {total * dt:.4g} s ({total:.4g} samples), more than "
-        f"the limit of {MAX_SAMPLES} samples; the longest segment takes {dur[i]:.4g} s: "
-        "check its feed rate and coordinates",
+        f"the limit of {MAX_SAMPLES} samples of a command made whole; the longest segment "
+        f"takes {dur[i]:.4g} s: check its feed rate and coordinates, and for a program "
+        "this long, stream it: tcpmm simulate ... -o RUN.parquet, tcpmm path "
+        "--chunk-blocks N",
         line=None if line[i] < 0 else int(line[i]),
     )
 

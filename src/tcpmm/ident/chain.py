@@ -101,6 +101,7 @@ class AxisRun:
         return AxisIdentification(
             self.name, self.frfs.frfs, self.tf_fits, kept.physical, model.axis, self.sweep,
             kept.curve, kept.split, friction_hold=self.excitation.friction_hold,
+            sweep_standing=self.excitation.travel_speed == 0.0,
             sampled_loop_spectral_radius=model.sampled_loop_spectral_radius,
             presliding_m=None if mf is None else mf.presliding_m,
             presliding_fit=None if mf is None else mf.presliding_fit,

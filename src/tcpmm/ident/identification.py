@@ -51,6 +51,9 @@ class AxisIdentification:
         Split of that friction between guideway and screw, and the lost motion [-].
     friction_hold : FrictionHold, optional
         Friction held the axis at the bottom of the sweep's band (a warning said so) [-].
+    sweep_standing : bool
+        The sweep did not travel (torque mode, or loops holding one place): no part of it
+        shows the linear mechanics [-].
     sampled_loop_spectral_radius : float, optional
         Spectral radius of the identified loop as the drive samples it (below 1:
         stable) [-].
@@ -78,6 +81,7 @@ class AxisIdentification:
     friction: object = None
     friction_split: object = None
     friction_hold: FrictionHold | None = None
+    sweep_standing: bool = False
     sampled_loop_spectral_radius: float | None = None
     presliding_m: float | None = None
     presliding_fit: PreslidingFit | None = None

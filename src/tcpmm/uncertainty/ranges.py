@@ -150,12 +150,15 @@ def _nonlinear_sweep(a) -> list[OpenRange]:
     causes = []
     if a.friction_hold is not None:
         causes.append("friction held the axis during the sweep")
+    elif getattr(a, "sweep_standing", False):  # torque mode: sticks, slips, pre-slides
+        causes.append("the sweep did not travel (torque mode, or loops holding one place)")
     if crossed:
         causes.append("the sweep crossed the nut's lost motion")
     if not causes:
         return []
     why = " and ".join(causes) + ": its FRFs are not those of the linear mechanics"
-    settle = _SETTLE_HOLD if a.friction_hold is not None else _SETTLE_CROSSED
+    held = a.friction_hold is not None or getattr(a, "sweep_standing", False)
+    settle = _SETTLE_HOLD if held else _SETTLE_CROSSED
     out = [OpenRange(quantity="mechanics", low=MECHANICS_RANGE[0], high=MECHANICS_RANGE[1],
                      cause=why, settle=settle)]
     if crossed:

@@ -56,5 +56,7 @@ def check_excitation(run: AxisRun, options: IdentifyOptions) -> ExcitationCheck:
                                      standing=standing)
     if standing:
         warn_input(f"axis {name}: {STANDING_SWEEP}; the model fitted to it can be off by "
-                   "micrometres at the reversals", file=getattr(sweep, "source", None))
+                   "tens of micrometres at the reversals (a machine's torque-mode sweep put "
+                   "its X spikes 44 um off, of the wrong sign), and the verdict leaves its "
+                   "mechanics open", file=getattr(sweep, "source", None))
     return ExcitationCheck(velocity, held)

@@ -296,3 +296,17 @@ def test_many_rows_on_a_terminal_are_written_as_they_come(monkeypatch, many):
     assert ("\x1b[" not in text) == many
     if many:
         assert text == json.dumps({"axes": "XY", "corners": rows}, indent=2) + "\n"
+
+
+def test_a_folder_that_exists_but_takes_no_file_is_not_said_to_be_made(tmp_path, monkeypatch):
+    """An existing read-only folder read "the output folder /ro cannot be made there": it
+    is there, and nothing can be written into it."""
+    from tcpmm.errors import InputError
+    from tcpmm.io.atomic import check_output_folder
+
+    monkeypatch.setattr(os, "access", lambda *a, **k: False)
+    with pytest.raises(InputError, match="nothing can be written there") as got:
+        check_output_folder(tmp_path)
+    assert "cannot be made" not in str(got.value)
+    with pytest.raises(InputError, match="cannot be made there"):
+        check_output_folder(tmp_path / "sub")

@@ -36,8 +36,10 @@ def check_output_folder(path) -> Path:
     path = _no_file_above(path)
     base = next((p for p in (path, *path.parents) if p.exists()), Path("."))
     if not os.access(base, os.W_OK | os.X_OK):
-        raise InputError(f"cannot write into {base}, so the output folder {path} cannot be "
-                         "made there; choose a folder you can write to", file=path)
+        what = ("nothing can be written there" if base == path else
+                f"so the output folder {path} cannot be made there")
+        raise InputError(f"cannot write into {base}, {what}; choose a folder you can "
+                         "write to", file=path)
     probe_writable(base)  # a read-only mount or a full disk, which the mode bits do not show
     return path
 

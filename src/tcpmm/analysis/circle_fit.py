@@ -113,7 +113,9 @@ def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
     return np.column_stack([own, *cols]) if cols else own
 
 
-def _names(n_arcs, shared, waves):
+def column_names(n_arcs, shared, waves=(None, None)):
+    """The fit's columns: per arc its radius and centre, the shared terms, the cyclic
+    sine and cosine of each axis whose wavenumber is given [-]."""
     names = [f"{o}_{i}" for i in range(n_arcs) for o in OWN] + list(shared)
     for axis, k in zip("XY", waves, strict=True):
         if k is not None:
@@ -149,7 +151,7 @@ class FitProblem:
         own = np.arange(3 * len(arcs))
         sure = own[determined(A[:, own], protect=own[::3])]
         self.keep = drop_twins(A, determined(A, protect=sure), protect=sure)
-        names = _names(len(arcs), self.shared, (None, None))
+        names = column_names(len(arcs), self.shared)
         self.keep[[names.index(n) for n in drop]] = False
 
     def matrix(self, mu, waves):
@@ -217,7 +219,7 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=()) -> TermFit:
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     coef, res, _ = pb.solve(mu, waves)
-    return TermFit(_names(len(arcs), shared, waves), coef, tuple(waves), mu,
+    return TermFit(column_names(len(arcs), shared, waves), coef, tuple(waves), mu,
                    float(np.sqrt(np.mean(res**2))), tuple(pb.centres))
 
 

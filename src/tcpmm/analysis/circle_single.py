@@ -20,7 +20,7 @@ from .circle_display import rename_axes
 from .circle_fit import Arc
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
-from .circle_stable import arc_fit, arc_reasons
+from .circle_stable import arc_fit, leave_open
 from .diagnostics import (
     ARC_WHY,
     CircleDiagnostics,
@@ -85,12 +85,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
                 for k in undetermined_terms(fit) if k not in NEEDS_PAIR or k == "squareness"})
     why.update({rename_axes(k, axes): v for k, v in _unplaced(fit, terms, a).items()})
-    for k, v in arc_reasons(left_out, arcs, {"squareness": "squareness_or_servo"}).items():
-        why[rename_axes(k, axes)] = v
-        if k.startswith("cyclic_"):
-            terms[k] = (float("nan"), "m")
-        if k == "reversal_spikes":
-            terms.update({t: (float("nan"), "m") for t in terms if t.startswith("spike_")})
+    leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,

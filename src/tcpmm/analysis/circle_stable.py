@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_fit import fit_terms
+from .circle_display import rename_axes
+from .circle_fit import column_names, fit_terms
 from .circle_model import is_full
 
 #: shortest pair of arcs whose terms are fitted: a ballbar's partial arcs are 220 deg [deg]
@@ -54,7 +55,9 @@ def arc_fit(arcs, radius, shared):
     fit : TermFit
         The fit [-].
     why : dict
-        Per column left out, why; empty for full turns [-].
+        Per column left out, why, and ``reversal_spikes`` where no term is fitted at all
+        (the spikes after them would be the raw ones); empty for full turns and for pairs
+        of arcs long enough [-].
     """
     if all(is_full(a.angle) for a in arcs):
         return fit_terms(arcs, radius, shared), {}
@@ -65,28 +68,32 @@ def arc_fit(arcs, radius, shared):
     shown = f"{deg:.0f}" if round(deg) < MIN_TERMS_DEG else f"{np.floor(deg * 10) / 10:g}"
     what = (f"one direction over an arc of {shown} deg" if len(arcs) < 2 else
             f"a pair of arcs of {shown} deg")
-    names = [n for n in fit_terms(arcs, radius, shared, cyclic=False).names
-             if not n.startswith("radius")]
+    names = [n for n in column_names(len(arcs), shared) if not n.startswith("radius")]
+    why = dict.fromkeys(names, SHORT_WHY.format(what=what, deg=MIN_TERMS_DEG))
     return (fit_terms(arcs, radius, shared, cyclic=False, drop=tuple(names)),
-            dict.fromkeys(names, SHORT_WHY.format(what=what, deg=MIN_TERMS_DEG)))
+            {**why, "reversal_spikes": SPIKES_WHY})
 
 
-def arc_reasons(why: dict, arcs, rename=None) -> dict:
-    """Why each column left out of an arc's fit (``why``, :func:`arc_fit`) is, by its
-    reported name (``rename`` maps a name to another, as ``squareness`` to
-    ``squareness_or_servo``), and why an arc gives no cyclic error; empty for full turns
-    [-]."""
+def leave_open(why_out: dict, terms: dict, left: dict, arcs, axes, rename=None) -> None:
+    """Say in ``why_out`` why the terms an arc's fit left out (``left``, :func:`arc_fit`)
+    are open, and why an arc gives no cyclic error, by their reported names (``rename``
+    maps a name to another, as ``squareness`` to ``squareness_or_servo``; axes renamed to
+    the plane's); set those ``terms`` that are values of the fit's curves and not of its
+    columns NaN: the cyclic error, and the spikes where no term is fitted. Nothing for
+    full turns [-]."""
     if all(is_full(a.angle) for a in arcs):
-        return {}
-    out = {f"cyclic_{q}_{a}": CYCLIC_WHY for a in "XY" for q in ("amplitude", "period")}
-    if any(text.startswith(("one direction over an arc", "a pair of arcs"))
-           for text in why.values()):
-        out["reversal_spikes"] = SPIKES_WHY
-    for name, text in why.items():
+        return
+    reasons = {f"cyclic_{q}_{a}": CYCLIC_WHY for a in "XY" for q in ("amplitude", "period")}
+    for name, text in left.items():
         names = [name]
         if name.startswith("centre_"):
             names = [f"centre_offset_{name.split('_')[1]}"]
         elif name == "servo_angle":
             names = ["servo_mismatch", "servo_mismatch_angle"]
-        out.update({(rename or {}).get(n, n): text for n in names})
-    return out
+        reasons.update({(rename or {}).get(n, n): text for n in names})
+    for k, text in reasons.items():
+        why_out[rename_axes(k, axes)] = text
+        if k.startswith("cyclic_"):
+            terms[k] = (float("nan"), "m")
+        if k == "reversal_spikes":
+            terms.update({t: (float("nan"), "m") for t in terms if t.startswith("spike_")})

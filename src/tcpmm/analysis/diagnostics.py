@@ -68,7 +68,7 @@ from .circle_model import is_full
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
-from .circle_stable import arc_fit, arc_reasons
+from .circle_stable import arc_fit, leave_open
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -226,12 +226,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     terms = _terms(fit, grids, deviations(paths, radius_m), curves, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
-    for k, v in arc_reasons(left_out, arcs).items():
-        why[rename_axes(k, axes)] = v
-        if k.startswith("cyclic_"):
-            terms[k] = (float("nan"), "m")
-        if k == "reversal_spikes":
-            terms.update({t: (float("nan"), "m") for t in terms if t.startswith("spike_")})
+    leave_open(why, terms, left_out, arcs, axes)
     if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
                                  "given as an angle only (servo_mismatch_angle)")

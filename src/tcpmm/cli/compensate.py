@@ -216,8 +216,6 @@ def _say(output: Path, report, comp, controller_out, cc) -> None:
     cc : ControllerCompensation or None
         The controller-side compensation, where computed [-].
     """
-    import numpy as np
-
     result = comp.command
     out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
@@ -226,7 +224,7 @@ def _say(output: Path, report, comp, controller_out, cc) -> None:
         out.print(_row("planned", comp.scores["planned"]) + " (the program planned with the "
                   "headroom below, uncorrected)")
     out.print(_row("after", comp.scores["after"]))
-    if not any(bool(np.any(np.asarray(f) != 0.0)) for f in comp.factors.values()):
+    if not comp.applied:
         out.print("  no share of the correction is applied: the figures after are those of "
                   "the command as planned", highlight=False)
     st = comp.settings

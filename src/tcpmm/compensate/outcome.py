@@ -59,6 +59,11 @@ class Compensation:
     controller: dict = field(default_factory=dict)
 
     @property
+    def applied(self) -> bool:
+        """Whether any share of the correction is applied, on any axis [-]."""
+        return any(bool(np.any(np.asarray(f) != 0.0)) for f in self.factors.values())
+
+    @property
     def command(self) -> Command:
         """The compensated command: programmed plus the applied share of the correction,
         within the axes' limits [m]."""

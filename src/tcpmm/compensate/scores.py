@@ -80,8 +80,7 @@ def before_after(scores: dict, keys=None) -> list[tuple[str, float, float]]:
 def judged_path(comp) -> Command:
     """The path the compensated command's TCP is judged against: the delayed path, or the
     programmed one where no share of the correction is applied [m]."""
-    applied = any(np.any(f != 0.0) for f in comp.factors.values())
-    return comp.target if applied else comp.reference
+    return comp.target if comp.applied else comp.reference
 
 
 def contour_figures(run, path: Command) -> dict:

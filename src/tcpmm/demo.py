@@ -188,15 +188,7 @@ def judged_table2(machine, cmd, cmp, out, files):
                       (0.0, 0.0), tuple(list(machine.axes)[:2]))
     verdict = prediction_verdict(machine, [test], jobs=0)
     not_its_prediction(verdict, cmp.predicted, "the demo's predicted circle")
-    rows = []
-    for r in cmp.judged(verdict):
-        for col in ("spike_A", "spike_B", "spike_C", "spike_D", "contour_error"):
-            if f"{col}_90_um" in r:
-                rows.append({"direction": r["direction"], "figure": col.replace("_", " "),
-                             "measured_minus_predicted_um": r[f"{col}_um"],
-                             "half_width_90_um": r[f"{col}_90_um"],
-                             "inside": r[f"{col}_inside"], "verdict": r[f"{col}_verdict"]})
-    frame = pd.DataFrame(rows)
+    frame = pd.DataFrame(cmp.judged_long(cmp.judged(verdict)))
     files["table2_judged"] = out / "table2_judged.csv"
     write_table_atomic(frame, files["table2_judged"], "%.3f")
     return frame

@@ -91,20 +91,19 @@ class Comparison:
 
     @staticmethod
     def judged_long(judged: list) -> list[dict]:
-        """The rows of :meth:`judged` a figure each: direction, figure, measured less
-        predicted, the 90 % half-width, inside or not and the verdict, for a table a
-        reader can read across (the wide rows ran to 346 columns) [um]."""
+        """The rows of :meth:`judged` a figure each: ``direction``, ``figure`` (``spike A``
+        ... ``contour error``), ``measured_minus_predicted_um``, ``half_width_90_um``,
+        ``inside`` and ``verdict``, for a table read across (the wide rows ran to 346
+        columns) and a CSV file [um]."""
         out = []
         for r in judged:
-            for col, fig in [(f"spike_{q}_um", f"raw spike {q}") for q in QUADRANTS] + [
-                    ("contour_error_um", "contour error")]:
-                half = col.replace("_um", "_90_um")
-                if half not in r:
+            for col in [f"spike_{q}" for q in QUADRANTS] + ["contour_error"]:
+                if f"{col}_90_um" not in r:
                     continue
-                out.append({"dir": r["direction"], "figure": fig,
-                            "measured - predicted": r[col], "90 % interval +-": r[half],
-                            "inside": "yes" if r[col.replace("_um", "_inside")] else "NO",
-                            "verdict": r[col.replace("_um", "_verdict")]})
+                out.append({"direction": r["direction"], "figure": col.replace("_", " "),
+                            "measured_minus_predicted_um": r[f"{col}_um"],
+                            "half_width_90_um": r[f"{col}_90_um"],
+                            "inside": r[f"{col}_inside"], "verdict": r[f"{col}_verdict"]})
         return out
 
     def notes(self) -> list[str]:

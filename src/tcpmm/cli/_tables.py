@@ -30,6 +30,16 @@ def raw_spike_named(figure: str) -> str:
     return figure
 
 
+def judged_rows(rows: list) -> list[dict]:
+    """The rows of ``Comparison.judged_long`` as the terminal shows them: the raw spikes
+    named raw, inside or not in words [-]."""
+    return [{"dir": r["direction"], "figure": f"raw {r['figure']}"
+             if r["figure"].startswith("spike") else r["figure"],
+             "measured - predicted": r["measured_minus_predicted_um"],
+             "90 % interval +-": r["half_width_90_um"],
+             "inside": "yes" if r["inside"] else "NO", "verdict": r["verdict"]} for r in rows]
+
+
 def fixed(v: float, digits: int = 2) -> str:
     """``v`` to ``digits`` decimals, a value that rounds to zero without a sign (-0.00
     reads as a small negative value that is not there) [-]."""

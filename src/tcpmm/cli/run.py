@@ -233,7 +233,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     from ..analysis.circular import analyse_circle
     from ..analysis.compare import compare_circles
     from ..io.runfile import read_run
-    from ._tables import print_table
+    from ._tables import judged_rows, print_table
 
     c = floats(centre, "--centre", 2)
     ctr = (c[0] * 1e-3, c[1] * 1e-3)
@@ -268,7 +268,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
         if judged:
             import pandas as pd
 
-            print_table(pd.DataFrame(cmp.judged_long(judged)), out,
+            print_table(pd.DataFrame(judged_rows(cmp.judged_long(judged))), out,
                         "tcp: measured - predicted against the predicted 90 % interval [um]")
 
 

@@ -43,8 +43,32 @@ def paper_circle_command(machine=None, turns: float = 1.0):
     Command
         The position command [m].
     """
-    kw = dict(radius_m=mm_to_m(RADIUS_MM),
-              feed_m_per_s=feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN),
-              start_angle_rad=math.radians(START_ANGLE_DEG))
-    return concatenate([circle_command(direction=d, turns=turns, **kw)
-                        for d in ("ccw", "cw")])
+    return circle_test_command(mm_to_m(RADIUS_MM), feed_mm_per_min_to_m_per_s(FEED_MM_PER_MIN),
+                               turns=turns)
+
+
+def circle_test_command(radius_m: float, feed_m_per_s: float, plane_axes=("X", "Y"),
+                        turns: float = 1.0):
+    """The paper's circular test at any radius and feed: a CCW then a CW circle about the
+    origin, each fed in from the centre and out to it, starting at :data:`START_ANGLE_DEG`.
+
+    Parameters
+    ----------
+    radius_m : float
+        Radius [m].
+    feed_m_per_s : float
+        Feed [m/s].
+    plane_axes : tuple of str
+        The circle's plane [-].
+    turns : float
+        Turns of each circle (:data:`SETTLED_TURNS` where its figures are judged) [-].
+
+    Returns
+    -------
+    Command
+        The position command [m].
+    """
+    kw = dict(radius_m=radius_m, feed_m_per_s=feed_m_per_s,
+              start_angle_rad=math.radians(START_ANGLE_DEG), plane_axes=plane_axes,
+              turns=turns)
+    return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])

@@ -14,9 +14,7 @@ from dataclasses import dataclass, replace
 from .._forked import results_in_order, usable_jobs
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
-from ..machines.paper import SETTLED_TURNS
-from ..path.circle import circle_command
-from ..path.command import concatenate
+from ..machines.paper import SETTLED_TURNS, circle_test_command
 from ..sim.simulate import simulate
 from .perturb import axis_variants
 
@@ -72,10 +70,7 @@ def reference_tests(machine) -> list[CircleTest]:
     plane = (names[0], names[1])
     tests = []
     for feed in REFERENCE_FEEDS_MM_PER_MIN:
-        cmd = concatenate([circle_command(REFERENCE_RADIUS_M, feed / 60000.0, direction=d,
-                                          start_angle_rad=math.pi / 4, plane_axes=plane,
-                                          turns=REFERENCE_TURNS)
-                           for d in ("ccw", "cw")])
+        cmd = circle_test_command(REFERENCE_RADIUS_M, feed / 60000.0, plane, REFERENCE_TURNS)
         tests.append(CircleTest(f"R{REFERENCE_RADIUS_M * 1e3:g} F{feed:g}", cmd,
                                 REFERENCE_RADIUS_M, (0.0, 0.0), plane))
     return tests

@@ -13,9 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import InputError, InputWarning, RunFaultWarning, TcpmmError
-from ...machines.paper import SETTLED_TURNS, START_ANGLE_DEG
-from ...path import InterpolatorSettings, circle_command, interpolate, parse_gcode
-from ...path.command import concatenate
+from ...machines.paper import SETTLED_TURNS, circle_test_command
+from ...path import InterpolatorSettings, interpolate, parse_gcode
 from ...path.segments import Arc, Line
 from ...sim.simulate import simulate
 from ..spread import draw_machine
@@ -83,9 +82,7 @@ def metric_names(program) -> list[str]:
 
 @functools.lru_cache(maxsize=8)
 def _circle_command(radius_m: float, feed_m_per_s: float):
-    kw = dict(radius_m=radius_m, feed_m_per_s=feed_m_per_s,
-              start_angle_rad=math.radians(START_ANGLE_DEG), turns=SETTLED_TURNS)
-    return concatenate([circle_command(direction=d, **kw) for d in ("ccw", "cw")])
+    return circle_test_command(radius_m, feed_m_per_s, turns=SETTLED_TURNS)
 
 
 @functools.lru_cache(maxsize=8)

@@ -52,11 +52,11 @@ class AxisRun:
         return getattr(self, name)
 
 
-
 def scalar_meta(meta: dict) -> dict:
     """The entries of a run's or command's meta data that JSON holds as they are (text,
     numbers, none): its arrays and tuples left out [-]."""
     return {k: v for k, v in meta.items() if isinstance(v, (str, int, float, bool, type(None)))}
+
 
 @dataclass
 class Run:

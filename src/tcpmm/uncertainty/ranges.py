@@ -147,18 +147,19 @@ def _nonlinear_sweep(a) -> list[OpenRange]:
     crossed the nut's lost motion and the fit kept took the nut as linear."""
     gain = getattr(a.physical, "crossed_play_gain", None)
     crossed = gain is not None and gain < PLAY_GAIN_OPEN
+    held = a.friction_hold is not None
+    standing = not held and getattr(a, "sweep_standing", False)  # sticks, slips, pre-slides
     causes = []
-    if a.friction_hold is not None:
+    if held:
         causes.append("friction held the axis during the sweep")
-    elif getattr(a, "sweep_standing", False):  # torque mode: sticks, slips, pre-slides
+    if standing:
         causes.append("the sweep did not travel (torque mode, or loops holding one place)")
     if crossed:
         causes.append("the sweep crossed the nut's lost motion")
     if not causes:
         return []
     why = " and ".join(causes) + ": its FRFs are not those of the linear mechanics"
-    held = a.friction_hold is not None or getattr(a, "sweep_standing", False)
-    settle = _SETTLE_HOLD if held else _SETTLE_CROSSED
+    settle = _SETTLE_HOLD if held or standing else _SETTLE_CROSSED
     out = [OpenRange(quantity="mechanics", low=MECHANICS_RANGE[0], high=MECHANICS_RANGE[1],
                      cause=why, settle=settle)]
     if crossed:

@@ -1,6 +1,7 @@
 """The command line, end to end on the built-in machine."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -110,6 +111,11 @@ def test_demo_writes_everything(capsys, tmp_path):
     report = (tmp_path / "demo" / "report.html").resolve()
     assert str((tmp_path / "demo").resolve()) in flat and "Spread over 16 drawn machines" in flat
     assert f"report: {report}" in flat
+    # every file written is in the printed list, itself or in a folder listed (the bundle)
+    listed = [Path(line.split()[-1]) for line in out.splitlines()
+              if line.startswith("  ") and len(line.split()) == 2]
+    for f in (tmp_path / "demo").resolve().rglob("*"):
+        assert f.is_dir() or any(f == p or p in f.parents for p in listed), f
     page = report.read_text(encoding="utf-8")
     order = [page.index(f'data-section="{kind}"') for kind in
              ("verdict", "circle", "comparison", "spread", "identification", "model")]

@@ -85,6 +85,49 @@ def test_a_report_folder_is_written_whole_or_not_at_all(tmp_path, fail):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
 
 
+def test_a_staged_folder_merges_into_the_subfolders_an_earlier_run_left(tmp_path):
+    """A second run into a folder whose subfolder holds the first run's files: the new
+    files replace the old ones of their name, the others stay. Moving the staged
+    subfolder as a whole was refused ("Directory not empty") and lost the run."""
+    from tcpmm.io.atomic import staged_folder
+
+    out = tmp_path / "out"
+    (out / "ident").mkdir(parents=True)
+    (out / "ident" / "bode.png").write_text("old")
+    (out / "ident" / "keep.txt").write_text("the user's")
+    with staged_folder(out) as tmp:
+        (tmp / "ident").mkdir()
+        (tmp / "ident" / "bode.png").write_text("new")
+        (tmp / "ident" / "deep").mkdir()
+        (tmp / "ident" / "deep" / "x.csv").write_text("x")
+        (tmp / "model.yaml").write_text("m")
+    assert (out / "ident" / "bode.png").read_text() == "new"
+    assert (out / "ident" / "keep.txt").read_text() == "the user's"
+    assert (out / "ident" / "deep" / "x.csv").read_text() == "x"
+    assert (out / "model.yaml").read_text() == "m"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_an_interrupted_demo_leaves_its_folder_as_it_was(tmp_path, monkeypatch):
+    """Interrupted at the identification, the demo had written the model, command, run
+    and plots of this run beside the report of an earlier one: a folder that mixes two
+    runs. Now it is as it was, and no staging folder is left."""
+    from tcpmm import demo
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(demo, "identify_and_predict", interrupted)
+    monkeypatch.setattr(demo, "_plot_builtin", lambda *args: None)
+    out = tmp_path / "demo"
+    out.mkdir()
+    (out / "report.html").write_text("an earlier demo's")
+    with pytest.raises(KeyboardInterrupt):
+        demo.run_demo(out)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
+    assert [p.name for p in out.iterdir()] == ["report.html"]
+
+
 def _sigint_default() -> None:
     """In the child before it runs: SIGINT at its default disposition, and not blocked."""
     import signal

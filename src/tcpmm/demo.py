@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 
 from .analysis.circular import analyse_circle
-from .io.atomic import output_folder, write_table_atomic, write_text_atomic
+from .io.atomic import output_folder, staged_folder, write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
 from .machines.builtin import builtin_machine
 from .machines.paper import FEED_MM_PER_MIN, RADIUS_MM, paper_circle_command
@@ -42,7 +43,8 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
     Parameters
     ----------
     out_dir : str or Path
-        Output folder (created) [-].
+        Output folder (created), written whole: a demo that fails or is interrupted
+        leaves it as it was [-].
     progress : callable, optional
         ``progress(step_name)`` before each step [-].
     console : rich.console.Console, optional
@@ -58,10 +60,20 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
     dict
         Paths of the written files and the circular-test table [-].
     """
+    out = output_folder(out_dir)
+    # staged: an interrupted or failed demo leaves the folder as it was, not a mix of
+    # this run's files and an earlier run's
+    with staged_folder(out) as tmp:
+        res = _demo_into(tmp, progress or (lambda name: None), console, report, tolerance_m)
+    res["files"] = {k: str(out / Path(v).relative_to(tmp)) if Path(v).is_relative_to(tmp)
+                    else str(v) for k, v in res["files"].items()}
+    return res
+
+
+def _demo_into(out, step, console, report, tolerance_m) -> dict:
+    """:func:`run_demo` into the folder ``out``."""
     from .cli._tables import print_table
 
-    out = output_folder(out_dir)
-    step = progress or (lambda name: None)
     files = {}
     machine, cmd, run, res, table = _builtin_circle(out, step, files)
     _plot_builtin(machine, run, res, out, step, files)
@@ -132,7 +144,7 @@ def _builtin_circle(out, step, files):
     table = res.to_pandas()
     write_table_atomic(table, out / "circle_table.csv", "%.4f")
     write_text_atomic(out / "circle.json", json.dumps(res.to_dict(), indent=2))
-    files["table"] = out / "circle_table.csv"
+    files.update(table=out / "circle_table.csv", circle_json=out / "circle.json")
     return machine, cmd, run, res, table
 
 
@@ -277,7 +289,8 @@ def write_spread(identified, cmd, out, files, draws: int = 16):
     res = circle_spread(identified, cmd, mm_to_m(RADIUS_MM), n=draws)
     write_table_atomic(res.to_pandas(), out / "spread.csv", "%.3f")
     write_text_atomic(out / "spread.json", json.dumps(res.to_dict(), indent=2))
-    files.update(spread=out / "spread.csv", spread_plot=out / "spread.png")
+    files.update(spread=out / "spread.csv", spread_json=out / "spread.json",
+                 spread_plot=out / "spread.png")
     res.plot(path=files["spread_plot"])
     return res
 

@@ -182,8 +182,8 @@ def atomic_path(path, suffix: str = ""):
 @contextlib.contextmanager
 def staged_folder(path):
     """Yield a temporary folder beside the output folder ``path``; on success move its
-    files into ``path``, on any failure (a full disk, a signal, an error of the work)
-    remove it, so that a report is there whole or not at all.
+    files and subfolders into ``path``, on any failure (a full disk, a signal, an error
+    of the work) remove it, so that a report is there whole or not at all.
 
     Parameters
     ----------
@@ -197,14 +197,25 @@ def staged_folder(path):
         raise _cannot_write(exc, out) from None
     try:
         yield tmp
-        for f in sorted(tmp.iterdir()):
-            os.replace(f, out / f.name)
+        _move_into(tmp, out)
     except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         if isinstance(exc, OSError):
             raise _cannot_write(exc, out) from None
         raise
     shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _move_into(src: Path, dst: Path) -> None:
+    """Every file of the folder ``src`` moved to its place in ``dst``: a subfolder that
+    ``dst`` holds already (the identification's of an earlier demo, say) is merged file by
+    file, as the files of ``dst`` are replaced, and not refused for not being empty."""
+    for f in sorted(src.iterdir()):
+        target = dst / f.name
+        if f.is_dir() and not f.is_symlink() and target.is_dir() and not target.is_symlink():
+            _move_into(f, target)
+        else:
+            os.replace(f, target)
 
 
 def _cannot_write(exc: OSError, path: Path) -> InputError:

@@ -51,6 +51,22 @@ def test_a_share_far_outside_its_range_is_not_taken():
     assert share_from_sweep(SweepDeflection(0.01, d, 2e-9), mech, 150.0, 900.0)[0] == 1.0
 
 
+def test_a_share_the_sweep_leaves_wider_than_its_range_is_not_taken():
+    """A sweep cut short leaves K_h a guess: bench C's X cut to 40 % gave a share of
+    0.914 +- 8217, taken as the sweep's, and a table damping from the plateaus of
+    -4e8 N s/m. A share whose interval of one deviation is wider than [0, 1] says
+    nothing; the friction runs or the prior decide instead."""
+    mech = builtin_machine().axes["X"].mechanics
+    d = deflection_of(mech, 0.5, 150.0, 900.0, 0.01)
+    got = share_from_sweep(SweepDeflection(0.01, d, 1e-9), mech, 150.0, 900.0,
+                           K_h_rel_std=0.5)
+    assert got is not None and got[1] < 0.5
+    assert share_from_sweep(SweepDeflection(0.01, d, 1e-9), mech, 150.0, 900.0,
+                            K_h_rel_std=1e3) is None
+    noisy = 0.6 * 150.0 / mech.K_h  # a deflection's deviation that alone gives 0.6 [m]
+    assert share_from_sweep(SweepDeflection(0.01, d, noisy), mech, 150.0, 900.0) is None
+
+
 def test_only_a_sweep_that_travels_one_way_with_a_tcp_record_is_used():
     a = builtin_machine().axes["X"]
     sweep = virtual_sweep(a, name="X")

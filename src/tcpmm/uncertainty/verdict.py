@@ -116,12 +116,15 @@ def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
                          "undetermined" if undetermined else "uncertain", cause, settle)
 
 
+#: What narrows the column's quantities: the TCP device, and a sweep whose excitation
+#: covers the column's modes (a sweep cut short leaves them a guess with one) [-].
+_COLUMN_SWEEP = "a sweep with a TCP device whose excitation covers the column's modes"
 #: The measurement that narrows a determined quantity's deviation [-].
 _SETTLE = {"M_t": "a sweep with a TCP device and more excitation at the axial modes",
            "K_t": "friction runs with a finer scale",
            "C_t": "friction runs with a finer scale, or a travelling sweep with a TCP device",
-           "M_h": "a sweep with a TCP device", "K_h": "a sweep with a TCP device",
-           "C_h": "a sweep with a TCP device", "K_L": "a sweep with more excitation",
+           "M_h": _COLUMN_SWEEP, "K_h": _COLUMN_SWEEP, "C_h": _COLUMN_SWEEP,
+           "K_L": "a sweep with more excitation",
            "friction_level": "longer friction-run plateaus",
            "guideway_share": "friction runs with a finer scale, or a TCP device",
            "backlash": "a reversal test at low speed", "presliding": "slower reversals"}

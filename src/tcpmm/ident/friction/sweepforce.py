@@ -45,6 +45,10 @@ FRF_C_T_REL_STD = 0.5
 #: Largest share outside [0, 1], in standard deviations, still taken as [0, 1]; beyond
 #: it the data contradict the model of where the friction acts [-].
 OUTSIDE_Z = 3.0
+#: Largest standard deviation of the sweep's share that determines it: beyond, its
+#: interval of one standard deviation is wider than [0, 1] and says nothing of where the
+#: friction acts (a sweep cut short, whose FRFs leave ``K_h`` a guess, gives thousands) [-].
+SHARE_STD_MAX = 0.5
 #: Travel over a sweep record below which it counts as standing still: the guideway
 #: friction then holds the nut on no particular flank [m].
 MIN_SWEEP_TRAVEL_M = 1e-3
@@ -163,8 +167,9 @@ def share_from_sweep(defl: SweepDeflection, mechanics, level: float, table_visco
     -------
     tuple of float or None
         ``(share, std)``, the share clipped to [0, 1]; ``None`` when the friction level
-        is not positive or the share lies more than :data:`OUTSIDE_Z` standard
-        deviations outside [0, 1] [-].
+        is not positive, the share lies more than :data:`OUTSIDE_Z` standard
+        deviations outside [0, 1] or its standard deviation exceeds
+        :data:`SHARE_STD_MAX` [-].
     """
     m = mechanics
     v = defl.velocity
@@ -175,7 +180,7 @@ def share_from_sweep(defl: SweepDeflection, mechanics, level: float, table_visco
     var = ((m.K_h * defl.deflection_std) ** 2 + (nut * K_h_rel_std) ** 2
            + (table_viscous_std * v) ** 2) / level**2
     std = math.sqrt(var)
-    if share < -OUTSIDE_Z * std or share > 1.0 + OUTSIDE_Z * std:
+    if share < -OUTSIDE_Z * std or share > 1.0 + OUTSIDE_Z * std or not std <= SHARE_STD_MAX:
         return None
     return min(max(share, 0.0), 1.0), std
 

@@ -37,6 +37,33 @@ def test_bad_values(vmc, old, new, needle):
         loads_machine(text.replace(old, new, 1))
 
 
+@pytest.mark.parametrize(("old", "new", "unit", "metres"), [
+    ("      lead: 0.01\n", "      lead: 10\n", "mm", "0.01"),
+    ("      scale_resolution: 1.0e-06\n", "      scale_resolution: 0.005\n", "um", "5e-09"),
+    ("      tcp_resolution: 7.8e-08\n", "      tcp_resolution: 0.001\n", "mm", "1e-06"),
+])
+def test_a_number_written_in_mm_or_um_is_warned_of(vmc, tmp_path, old, new, unit, metres):
+    """A lead of 10 (mm, in a field of metres) was read without a word, and the run then
+    failed as an unstable servo loop, 'check the gains and periods'. The warning names the
+    key and the number in metres; the model is still read."""
+    import warnings
+
+    from tcpmm.errors import InputWarning
+
+    text = dumps_machine(vmc)
+    assert old in text
+    (tmp_path / "m.yaml").write_text(text.replace(old, new, 1))
+    with pytest.warns(InputWarning) as got:
+        read_machine(tmp_path / "m.yaml")
+    assert len(got) == 1
+    msg = str(got[0].message)
+    assert "m.yaml" in msg and "axis X" in msg and old.split(":")[0].strip() in msg
+    assert f"if in {unit}, write {metres}" in msg
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loads_machine(text)  # the built-in machine's numbers raise nothing
+
+
 def test_duplicate_key_and_syntax_error(vmc):
     dup = "      K_tc: 0.73\n      K_tc: 0.8\n"
     text = dumps_machine(vmc).replace("      K_tc: 0.73\n", dup, 1)

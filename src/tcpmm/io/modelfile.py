@@ -17,6 +17,7 @@ from .atomic import write_text_atomic
 from .text import read_text
 from .truthfile import FORMAT as TRUTH_FORMAT
 from .truthfile import truth_machine
+from .unitchecks import warn_unit_suspects
 from .yamlutil import load_yaml, validate_yaml
 
 FORMAT = "tcpmm-model/1"
@@ -104,8 +105,10 @@ def _to_machine(mf: ModelFile) -> Machine:
 
 
 def loads_machine(text: str, file="<model>") -> Machine:
-    """Parse model-file text."""
-    return _to_machine(validate_yaml(text, ModelFile, file, "machine model", _HINT, FORMAT))
+    """Parse model-file text; a number that looks written in mm or um is warned of."""
+    machine = _to_machine(validate_yaml(text, ModelFile, file, "machine model", _HINT, FORMAT))
+    warn_unit_suspects(machine, file)
+    return machine
 
 
 def read_machine(path) -> Machine:
@@ -125,4 +128,4 @@ def read_machine(path) -> Machine:
         d, _ = load_yaml(text, path)
         if isinstance(d, dict) and d.get("format") == TRUTH_FORMAT:
             return truth_machine(d, path)
-    return _to_machine(validate_yaml(text, ModelFile, path, "machine model", _HINT, FORMAT))
+    return loads_machine(text, path)

@@ -44,3 +44,17 @@ def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
         return None
     console.print(f"plane {''.join(axes)}, taken from {what}: {why}", highlight=False)
     return axes
+
+
+def command_plane(option, cmd) -> tuple[str, str]:
+    """The plane of ``--plane``, else of the program's arcs, else the one it moves in."""
+    from ..analysis.plane import motion_plane
+
+    if option is not None:
+        return plane_option(option)
+    if cmd.meta.get("plane_axes"):
+        return tuple(cmd.meta["plane_axes"])
+    try:
+        return motion_plane(cmd.positions)[0]
+    except Exception:  # a move along one axis: any plane holding it will do
+        return ("X", "Y")

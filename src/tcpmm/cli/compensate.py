@@ -4,32 +4,31 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import typer
 
 from ._app import (
     app,
     checked_output,
     checked_report_file,
+    console,
     emit_json,
+    floats,
     in_file,
     interp_settings,
     load_command,
-    out,
+    positive,
     read_model,
 )
+from ._compensate_text import say_compensation
+from ._plane import command_plane
 
-
-def _row(label: str, fig: dict) -> str:
-    path = fig["path"]
-    text = f"  {label:7s} contour error to the command {path['contour_error_um']:8.2f} µm (rms " \
-           f"{path['contour_rms_um']:.2f})"
-    if "circle" in fig:
-        c = fig["circle"]
-        text += f", largest raw spike (e - b) {c['largest_spike_um']:.2f} µm, G " \
-                f"{c['circular_deviation_um']:.2f} µm"
-    return text
-
-
+_PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it); default "
+               "the plane of the program's arcs, else the one it moves in.")
+_ACCEL_HELP = ("Axis acceleration the compensated command may use [m/s^2]; default the "
+               "model's interpolation settings (1 without them).")
+_JERK_HELP = ("Axis jerk the compensated command may use [m/s^3]; default the model's "
+              "S-curve jerk, none for a trapezoid.")
 _HEADROOM_HELP = ("Share of the axes' acceleration and jerk left to the correction: an NC "
                   "program (--gcode) is planned with the rest, so that the correction has "
                   "room in the feed ramps and corners; the path and feed are the same, the "
@@ -49,17 +48,15 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                             help="Circle radius [mm]: also judge spikes "
                                                  "and G, and keep them from getting "
                                                  "worse on any draw."),
-               draws: int = typer.Option(8, "--draws", help="Machines drawn from the "
+               centre: str = typer.Option("0,0", "--centre", help="Centre of the circle "
+                                          "(--radius) in its plane's axes, A,B [mm]."),
+               plane: str = typer.Option(None, "--plane", help=_PLANE_HELP),
+               draws: int = typer.Option(8, "--draws", min=0, help="Machines drawn from the "
                                          "model's uncertainty to test it on (0: none)."),
-               iterations: int = typer.Option(30, "--iterations", help="Learning steps."),
-               accel: float = typer.Option(None, "--accel-m-per-s2",
-                                           help="Axis acceleration the compensated command "
-                                                "may use [m/s^2]; default the model's "
-                                                "interpolation settings (1 without them)."),
-               jerk: float = typer.Option(None, "--jerk-m-per-s3",
-                                          help="Axis jerk the compensated command may use "
-                                               "[m/s^3]; default the model's S-curve jerk, "
-                                               "none for a trapezoid."),
+               iterations: int = typer.Option(30, "--iterations", min=1,
+                                              help="Learning steps."),
+               accel: float = typer.Option(None, "--accel-m-per-s2", help=_ACCEL_HELP),
+               jerk: float = typer.Option(None, "--jerk-m-per-s3", help=_JERK_HELP),
                headroom: float = typer.Option(None, "--headroom", help=_HEADROOM_HELP),
                controller_out: Path = typer.Option(
                    None, "--controller-out",
@@ -76,28 +73,30 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     path, within the axes' limits (an NC program is planned with headroom for the
     correction); write it (for tcpmm simulate --command) and report before and after."""
     from ..compensate import machine_bounds
-    from ..compensate.gcodeout import write_dense_program
     from ..path import write_command_csv
 
     _check_outputs(output, report, controller_out, radius, model, command, gcode)
+    centre_m = tuple(c * 1e-3 for c in floats(centre, "--centre", 2))
     m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
     full, cmd, headroom = _planned(command, gcode, m, headroom)
-    radius_m = None if radius is None else radius * 1e-3
-    tuned = None if controller_out is None else _tuned(m, cmd, radius_m)
-    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, radius_m, full,
-                        tuned)
+    circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
+    tuned = None if controller_out is None else _tuned(m, cmd, circle)
+    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, circle,
+                        full if headroom else None, tuned)
+    if headroom and tuned is None and not comp.applied:
+        comp, headroom = _as_programmed(m, full, bounds, comp, circle), 0.0
     comp.settings["headroom"] = headroom
     write_command_csv(comp.command, output)
     if gcode_out is not None:
-        write_dense_program(comp.command, gcode_out)
+        _write_dense(comp, m, gcode_out, accel, jerk)
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
     if report is not None:
-        _write_report(report, comp, m, model, command or gcode, radius_m, cc)
+        _write_report(report, comp, m, model, command or gcode, circle, cc)
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
-    _say(output, report, comp, controller_out, cc)
+    say_compensation(output, report, comp, controller_out, cc)
 
 
 def _check_outputs(output: Path, report, controller_out, radius, model: str, command,
@@ -118,6 +117,8 @@ def _check_outputs(output: Path, report, controller_out, radius, model: str, com
     command, gcode : Path or None
         The program's command file or NC program [-].
     """
+    if radius is not None:
+        positive(radius, "--radius [mm]")
     checked_output(output, model, command, gcode)
     checked_report_file(report, model, command, gcode, output)
     if controller_out is not None:
@@ -150,7 +151,7 @@ def _planned(command, gcode, machine, headroom):
     return full, planned, headroom
 
 
-def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radius_m,
+def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circle,
                  programmed=None, tuned=None):
     """The compensation of a command, tested on drawn machines and scored.
 
@@ -168,8 +169,8 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radi
         The axes' limits the command keeps (``machine_bounds``) [SI].
     draws : int
         Machines drawn from the model's uncertainty, 0 for none [-].
-    radius_m : float or None
-        The circle's radius, where it is one [m].
+    circle : tuple or None
+        ``(radius, centre, plane)`` of the circle, where it is one [m, m, -].
     programmed : Command, optional
         The program at the axes' full limits, judged before, where ``cmd`` was planned
         with headroom [m].
@@ -186,119 +187,104 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, radi
     from ..compensate import compensate, predicted_scores, robust_factors
     from ..compensate.combined import combined_compensation
 
+    radius_m, centre_m, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
+    where = {"radius_m": radius_m, "centre_m": centre_m, "plane": plane}
     with in_file(source):
         if tuned is not None:
             comp = combined_compensation(machine, cmd, tuned.axes, bounds=bounds,
-                                         iterations=iterations, n_draws=draws,
-                                         radius_m=radius_m)
+                                         iterations=iterations, n_draws=draws, **where)
         else:
             comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
         if draws > 0 and tuned is None:
-            robust_factors(machine, comp, n_draws=draws, radius_m=radius_m)
-        comp.scores = predicted_scores(machine, comp, radius_m, programmed=programmed)
+            robust_factors(machine, comp, n_draws=draws, **where)
+        comp.scores = predicted_scores(machine, comp, programmed=programmed, **where)
     full = cmd if programmed is None else programmed
     comp.settings.update(programmed_duration_s=float(full.time_s[-1]),
                          planned_duration_s=float(cmd.time_s[-1]))
     return comp
 
 
-def _say(output: Path, report, comp, controller_out, cc) -> None:
-    """Print what was written and the TCP error before and after, on the console.
+def _write_dense(comp, machine, path: Path, accel, jerk) -> None:
+    """The compensated command as a dense G1 program, settling after its rapid for the
+    hold the command has at its end, and what a controller set as the model is makes of
+    it [-]."""
+    from ..compensate.gcodeout import write_dense_program
+
+    T = comp.reference.period_s
+    write_dense_program(comp.command, path, comp.settings["hold_samples"] * T)
+    _warn_replanned(machine, comp.command.axes, accel, jerk, path)
+
+
+def _warn_replanned(machine, axes, accel, jerk, path: Path) -> None:
+    """Say on stderr where the dense program asks more of an axis than the model's
+    interpolator gives: a controller with those settings plans its blocks slower, and the
+    program no longer runs as the command file does.
 
     Parameters
     ----------
-    output : Path
-        The compensated command file [-].
-    report, controller_out : Path or None
-        The report page and the controller parameters file, where written [-].
-    comp : Compensation
-        The compensation [-].
-    cc : ControllerCompensation or None
-        The controller-side compensation, where computed [-].
+    machine : Machine
+        The model, with its interpolator settings [-].
+    axes : list of str
+        The program's axes [-].
+    accel, jerk : float or None
+        ``--accel-m-per-s2`` and ``--jerk-m-per-s3`` [m/s^2, m/s^3].
+    path : Path
+        The dense program [-].
     """
-    result = comp.command
-    out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
-              f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
-    out.print(_row("before", comp.scores["before"]))
-    if "planned" in comp.scores:
-        out.print(_row("planned", comp.scores["planned"]) + " (the program planned with the "
-                  "headroom below, uncorrected)")
-    out.print(_row("after", comp.scores["after"]))
-    if not comp.applied:
-        out.print("  no share of the correction is applied: the figures after are those of "
-                  "the command as planned", highlight=False)
-    st = comp.settings
-    if st.get("headroom"):
-        out.print(f"  planned with {1 - st['headroom']:.0%} of the axes' acceleration and "
-                  f"jerk, the rest left to the correction: {st['planned_duration_s']:.2f} s "
-                  f"instead of {st['programmed_duration_s']:.2f} s")
-    if comp.robustness:
-        for line in _verdict_lines(comp.robustness):
-            out.print(line)
-    if cc is not None:
-        out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
-                  f"and cross-talk feed-forward; {output} was learned with them and is "
-                  "right only with them on the controller; the figures above are with "
-                  "both)")
-        if cc.robustness:
-            out.print(f"  share of the tuned parameters kept: {cc.robustness['share']:g}")
+    from ..path.settings import AXES
+
+    st = interp_settings(machine)
+    limits = dict(zip(AXES, st.axis_accel(), strict=True))
+    slow = [a for a in axes if accel is not None and accel > limits.get(a, accel)]
+    if jerk is not None and jerk > st.jerk():
+        slow = slow or list(axes)
+    if slow:
+        console.print(f"warning: {path.name} asks axis {', '.join(slow)} for the "
+                      "acceleration and jerk given, beyond the model's interpolator "
+                      f"settings ({st.path_accel_m_per_s2:g} m/s^2 on the path): a controller "
+                      "set so plans its blocks slower, and the program then lags the "
+                      "command file; set the controller's limits in the model's "
+                      "interpolation settings", highlight=False)
 
 
-#: How each verdict over the draws reads [-].
-_VERDICT_TEXT = {"firm": "firm: every draw at least {r:.1f}x smaller",
-                 "improves": "improves: every draw smaller by more than the model's "
-                             "error, the least by {r:.1f}x",
-                 "uncertain": "uncertain: some draw not smaller by more than the model's "
-                              "error; the share applied keeps it from growing"}
+def _as_programmed(machine, full, bounds, comp, circle):
+    """The program at the axes' full limits, uncorrected, where the draws keep no share of
+    the correction learned on its slower plan: the headroom serves only the correction,
+    and the slower plan alone, which no draw has judged, can make a figure worse. The
+    draws' verdicts of ``comp`` are kept [-]."""
+    from ..compensate import compensate, predicted_scores
+
+    radius_m, centre_m, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
+    plain = compensate(machine, full, iterations=1, bounds=bounds)
+    for a in plain.factors:
+        plain.factors[a] = np.zeros_like(plain.factors[a])
+    plain.robustness = {**comp.robustness, "as_programmed": True}
+    plain.trusted = np.zeros(plain.reference.time_s.size, dtype=bool)
+    plain.scores = predicted_scores(machine, plain, radius_m, centre_m, plane)
+    plain.settings = {**comp.settings, "hold_samples": plain.settings["hold_samples"],
+                      "programmed_duration_s": float(full.time_s[-1]),
+                      "planned_duration_s": float(full.time_s[-1])}
+    return plain
 
 
-def _verdict_lines(robustness: dict) -> list[str]:
-    """The shares applied and what the draws of the model say of them, on the console.
-
-    Parameters
-    ----------
-    robustness : dict
-        ``Compensation.robustness`` (:func:`tcpmm.compensate.robust_factors`) [-].
-    """
-    from ..compensate.robust import FIRM_RATIO
-
-    f = ", ".join(f"{a} {v:g}" for a, v in robustness["factors"].items())
-    return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
-            f"the model it improves {robustness['trusted_share']:.0%} of the samples, "
-            f"at least {FIRM_RATIO:g}x (firm) {robustness['firm_share']:.0%}",
-            *_figure_verdicts(robustness.get("circle", {}))]
-
-
-def _figure_verdicts(figures: dict) -> list[str]:
-    """A line per circle figure with the draws' verdict on it.
-
-    Parameters
-    ----------
-    figures : dict
-        ``{"spike": ..., "circular_deviation": ...}``, each of
-        :func:`tcpmm.compensate.robust.over_draws` [-].
-    """
-    names = {"spike": "largest raw reversal spike (e - b)", "circular_deviation": "G"}
-    return [f"  {name}: " + _VERDICT_TEXT[figures[key]["verdict"]].format(
-        r=figures[key]["least_ratio"]) for key, name in names.items() if key in figures]
-
-
-def _write_report(path: Path, comp, machine, model: str, source, radius_m, cc) -> None:
-    """The compensation's report page: its section, then the model's."""
+def _write_report(path: Path, comp, machine, model: str, source, circle, cc) -> None:
+    """The compensation's report page: its section, then the model's; ``circle`` the
+    ``(radius, centre, plane)`` of the circle or ``None`` [m, m, -]."""
     from ..report import model_section, write_report
     from ..report.compensation import compensation_section
 
-    sections = [compensation_section(comp, str(source), machine, radius_m, cc),
+    sections = [compensation_section(comp, str(source), machine, circle, cc),
                 model_section(machine, model)]
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])
 
 
-def _tuned(machine, cmd, radius_m: float):
-    """The controller-side compensation of the circle tuned on the model, unscaled [-]."""
+def _tuned(machine, cmd, circle):
+    """The controller-side compensation of the circle ``(radius, centre, plane)`` tuned on
+    the model, unscaled [-]."""
     from ..compensate.controller import controller_compensation
 
-    plane = tuple(a for a in ("X", "Y", "Z") if a in cmd.axes)[:2]
-    return controller_compensation(machine, cmd, radius_m, plane=plane)
+    radius_m, centre_m, plane = circle
+    return controller_compensation(machine, cmd, radius_m, centre_m, plane)
 
 
 def _write_parameters(comp, path: Path, command_file: Path):

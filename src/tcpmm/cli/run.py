@@ -25,7 +25,7 @@ from ._app import (
     refuse_unstable,
 )
 from ._circles import diagnostics_json, print_diagnostics, print_passes
-from ._plane import PLANE_HELP, plane_option, run_plane_said
+from ._plane import PLANE_HELP, command_plane, run_plane_said
 from ._stream import (
     CHUNK_HELP,
     PATH_STREAM_ABOVE_LINES,
@@ -339,7 +339,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         from ..plot.path import plot_command
 
         p = output.with_suffix(".png")
-        plot_command(cmd, p, plane=_command_plane(plane, cmd), limits=limits)
+        plot_command(cmd, p, plane=command_plane(plane, cmd), limits=limits)
         out.print(f"wrote {p}")
 
 
@@ -373,17 +373,3 @@ def _print_feed(limits) -> None:
         out.print(f"  below it where blocks that reach it speed up and slow down: "
                   f"{limits.ramp_length_m() * 1e3:.3g} mm (at corners, exact stops, start and "
                   "end)", highlight=False)
-
-
-def _command_plane(option, cmd) -> tuple[str, str]:
-    """The plane of ``--plane``, else of the program's arcs, else the one it moves in."""
-    from ..analysis.plane import motion_plane
-
-    if option is not None:
-        return plane_option(option)
-    if cmd.meta.get("plane_axes"):
-        return tuple(cmd.meta["plane_axes"])
-    try:
-        return motion_plane(cmd.positions)[0]
-    except Exception:  # a move along one axis: any plane holding it will do
-        return ("X", "Y")

@@ -7,7 +7,7 @@ import numpy as np
 from ..io.atomic import write_text_atomic
 
 
-def dense_program(command, title: str = "compensated command") -> str:
+def dense_program(command, title: str = "compensated command", settle_s: float = 0.0) -> str:
     """G-code text: absolute G1 moves in mm, one per sample, each at the feed that covers
     its step in one period, in continuous-path mode (G64: under G61 each block would
     come to rest); a sample that rounds to the one before is a dwell of one period (a
@@ -20,15 +20,21 @@ def dense_program(command, title: str = "compensated command") -> str:
         The command to write [m].
     title : str
         Comment at the head of the program [-].
+    settle_s : float
+        Dwell after the rapid to the first sample: the compensated command starts from
+        rest there, and a machine still settling from the rapid starts off its path [s].
     """
     axes = [a for a in command.axes if a in ("X", "Y", "Z")]
-    pos = np.array([command.positions[a] for a in axes]) * 1e3  # mm
+    # rounded as written, and -0 made 0: "-0.000000" and "0.000000" are one place
+    pos = np.round(np.array([command.positions[a] for a in axes]) * 1e3, 6) + 0.0  # mm
     step = np.linalg.norm(np.diff(pos, axis=1), axis=0)
     feed = step / command.period_s * 60.0  # mm/min
     words = [" ".join(f"{a}{p:.6f}" for a, p in zip(axes, pos[:, k], strict=True))
              for k in range(pos.shape[1])]
     lines = [f"({title}: {pos.shape[1]} samples at {command.period_s:g} s)",
              "G90 G17 G21 G64", f"G0 {words[0]}"]
+    if settle_s > 0:
+        lines.append(f"G4 P{settle_s:g}")
     for k in range(1, pos.shape[1]):
         if words[k] == words[k - 1]:
             lines.append(f"G4 P{command.period_s:g}")
@@ -38,6 +44,7 @@ def dense_program(command, title: str = "compensated command") -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_dense_program(command, path) -> None:
-    """Write :func:`dense_program` atomically [-]."""
-    write_text_atomic(path, dense_program(command))
+def write_dense_program(command, path, settle_s: float = 0.0) -> None:
+    """Write :func:`dense_program` atomically, with a dwell of ``settle_s`` after the
+    rapid to the start [s]."""
+    write_text_atomic(path, dense_program(command, settle_s=settle_s))

@@ -36,20 +36,22 @@ def _axes_frame(comp):
     return pd.DataFrame(rows)
 
 
-def _polar(machine, comp, radius_m: float):
-    """The model's TCP on the circle before (solid) and after (dotted) the compensation,
-    one polar panel per pass; ``None`` where the circle is not found whole."""
+def _polar(machine, comp, circle):
+    """The model's TCP on the circle ``(radius, centre, plane)`` before (solid) and after
+    (dotted) the compensation, one polar panel per pass; ``None`` where the circle is not
+    found whole."""
     before, after = runs_before_after(machine, comp)
+    radius_m, centre_m, plane = circle
     try:
-        rb = analyse_circle(before, radius_m, sensors=("cmd", "tcp"))
-        ra = analyse_circle(after, radius_m, sensors=("cmd", "tcp"))
+        rb = analyse_circle(before, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))
+        ra = analyse_circle(after, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))
     except InputError:
         return None
     return plot_circle(rb, sensors=["tcp"], overlay=ra,
                        title="TCP before (solid) and after (dotted) the compensation")
 
 
-def compensation_section(comp, source=None, machine=None, radius_m=None, controller=None):
+def compensation_section(comp, source=None, machine=None, circle=None, controller=None):
     """The compensation: the model's TCP on the circle before and after (polar, with the
     model and the circle's radius), the correction and its share along the path, the
     figures with their reduction, per axis the share of the correction applied, its size
@@ -63,8 +65,8 @@ def compensation_section(comp, source=None, machine=None, radius_m=None, control
         The programmed command or program, for the record [-].
     machine : Machine, optional
         The model it was computed on, for the polar plot [SI].
-    radius_m : float, optional
-        The circle's radius, for the polar plot [m].
+    circle : tuple, optional
+        ``(radius, centre, plane)`` of the circle, for the polar plot [m, m, -].
     controller : ControllerCompensation, optional
         Friction pulses and cross-talk feed-forward (:mod:`tcpmm.compensate.controller`) [-].
     """
@@ -79,7 +81,7 @@ def compensation_section(comp, source=None, machine=None, radius_m=None, control
         lead += ("." if firm is None else
                  f", and at least {FIRM_RATIO:g} times on {firm:.0%} (firm).")
     body = para(lead, "lead")
-    polar = None if machine is None or radius_m is None else _polar(machine, comp, radius_m)
+    polar = None if machine is None or circle is None else _polar(machine, comp, circle)
     if polar is not None:
         body += figure(polar, "TCP before and after on the circle")
     body += figure(comp.plot(), "correction and its share along the path")

@@ -1,0 +1,103 @@
+"""What compensate prints: the TCP error before and after, and the draws' verdicts."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._app import out
+
+
+def _row(label: str, fig: dict) -> str:
+    path = fig["path"]
+    text = f"  {label:7s} contour error to the command {path['contour_error_um']:8.2f} µm (rms " \
+           f"{path['contour_rms_um']:.2f})"
+    if "circle" in fig:
+        c = fig["circle"]
+        text += f", largest raw spike (e - b) {c['largest_spike_um']:.2f} µm, G " \
+                f"{c['circular_deviation_um']:.2f} µm"
+    return text
+
+
+def say_compensation(output: Path, report, comp, controller_out, cc) -> None:
+    """Print what was written and the TCP error before and after, on the console.
+
+    Parameters
+    ----------
+    output : Path
+        The compensated command file [-].
+    report, controller_out : Path or None
+        The report page and the controller parameters file, where written [-].
+    comp : Compensation
+        The compensation [-].
+    cc : ControllerCompensation or None
+        The controller-side compensation, where computed [-].
+    """
+    result = comp.command
+    out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
+              f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
+    out.print(_row("before", comp.scores["before"]))
+    if "planned" in comp.scores:
+        out.print(_row("planned", comp.scores["planned"]) + " (the program planned with the "
+                  "headroom below, uncorrected)")
+    out.print(_row("after", comp.scores["after"]))
+    if comp.robustness.get("as_programmed"):
+        out.print("  no share of the correction is applied: the program is written as "
+                  "programmed, at the axes' full limits (the headroom serves only the "
+                  "correction)", highlight=False)
+    elif not comp.applied:
+        out.print("  no share of the correction is applied: the figures after are those of "
+                  "the command as planned", highlight=False)
+    st = comp.settings
+    if st.get("headroom"):
+        out.print(f"  planned with {1 - st['headroom']:.0%} of the axes' acceleration and "
+                  f"jerk, the rest left to the correction: {st['planned_duration_s']:.3g} s "
+                  f"instead of {st['programmed_duration_s']:.3g} s")
+    if comp.robustness:
+        for line in _verdict_lines(comp.robustness):
+            out.print(line)
+    if cc is not None:
+        out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
+                  f"and cross-talk feed-forward; {output} was learned with them and is "
+                  "right only with them on the controller; the figures above are with "
+                  "both)")
+        if cc.robustness:
+            out.print(f"  share of the tuned parameters kept: {cc.robustness['share']:g}")
+
+
+#: How each verdict over the draws reads [-].
+_VERDICT_TEXT = {"firm": "firm: every draw at least {r:.1f}x smaller",
+                 "improves": "improves: every draw smaller by more than the model's "
+                             "error, the least by {r:.1f}x",
+                 "uncertain": "uncertain: some draw not smaller by more than the model's "
+                              "error; the share applied keeps it from growing"}
+
+
+def _verdict_lines(robustness: dict) -> list[str]:
+    """The shares applied and what the draws of the model say of them, on the console.
+
+    Parameters
+    ----------
+    robustness : dict
+        ``Compensation.robustness`` (:func:`tcpmm.compensate.robust_factors`) [-].
+    """
+    from ..compensate.robust import FIRM_RATIO
+
+    f = ", ".join(f"{a} {v:g}" for a, v in robustness["factors"].items())
+    return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
+            f"the model it improves {robustness['trusted_share']:.0%} of the samples, "
+            f"at least {FIRM_RATIO:g}x (firm) {robustness['firm_share']:.0%}",
+            *_figure_verdicts(robustness.get("circle", {}))]
+
+
+def _figure_verdicts(figures: dict) -> list[str]:
+    """A line per circle figure with the draws' verdict on it.
+
+    Parameters
+    ----------
+    figures : dict
+        ``{"spike": ..., "circular_deviation": ...}``, each of
+        :func:`tcpmm.compensate.robust.over_draws` [-].
+    """
+    names = {"spike": "largest raw reversal spike (e - b)", "circular_deviation": "G"}
+    return [f"  {name}: " + _VERDICT_TEXT[figures[key]["verdict"]].format(
+        r=figures[key]["least_ratio"]) for key, name in names.items() if key in figures]

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -75,6 +75,28 @@ class Run:
     time_s: np.ndarray
     axes: dict[str, AxisRun]
     meta: dict = field(default_factory=dict)
+
+    def with_command(self, command) -> Run:
+        """The run with its command signals replaced by ``command`` at the run's times,
+        held before its first sample and after its last: a run measured against the
+        program it was to follow, where it ran a command compensated for its error. An
+        axis the command does not drive keeps the run's own.
+
+        Parameters
+        ----------
+        command : Command
+            The program's command, on the run's time line (``time_s``, ``positions``
+            per axis) [s], [m].
+        """
+        from .errors import InputError
+
+        given = command.positions
+        if not any(a in given for a in self.axes):
+            raise InputError(f"the command drives none of the run's axes "
+                             f"({', '.join(self.axes)})")
+        axes = {a: replace(r, cmd=np.interp(self.time_s, command.time_s, given[a]))
+                if a in given else r for a, r in self.axes.items()}
+        return Run(self.time_s, axes, {**self.meta, "command": "given"})
 
     def columns(self) -> dict[str, np.ndarray]:
         """The run-file columns (docs/formats.md section 3): ``time_s``, then mm and A."""

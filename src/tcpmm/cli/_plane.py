@@ -8,6 +8,8 @@ import typer
 from ..errors import InputError
 from ._app import console, in_file
 
+COMMAND_HELP = ("CMD.csv: measure against this command, the program, instead of the run's "
+                "own command signals: for a run of a command tcpmm compensate wrote.")
 PLANE_HELP = ("Plane: XY, XZ, YZ (or ZX as G18 has it); CCW turns the first axis into the "
               "second. Default: the plane in which the command moves.")
 
@@ -58,3 +60,13 @@ def command_plane(option, cmd) -> tuple[str, str]:
         return motion_plane(cmd.positions)[0]
     except Exception:  # a move along one axis: any plane holding it will do
         return ("X", "Y")
+
+
+def with_given_command(run, command_file):
+    """``run`` measured against the command file ``--command`` where given [-]."""
+    if command_file is None:
+        return run
+    from ..path import read_command_csv
+
+    with in_file(command_file):
+        return run.with_command(read_command_csv(command_file))

@@ -7,7 +7,7 @@ from pathlib import Path
 import typer
 
 from ._app import Sensor, app, checked_plot, console, emit_json_rows, esc, in_file, out, positive
-from ._plane import run_plane_said
+from ._plane import COMMAND_HELP, run_plane_said, with_given_command
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
 from ._tables import fixed
 
@@ -32,6 +32,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                 help="Read a Parquet run this many rows at a time (bounded memory; the "
                      "error summary and the corners, no plot). Default: whole, unless it "
                      f"has more than {STREAM_ABOVE_ROWS} rows."),
+            command: Path = typer.Option(None, "--command", help=COMMAND_HELP),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
     """Contour error along any program: the shortest distance from each sensor's path to the
@@ -48,6 +49,10 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
         raise typer.BadParameter("the contour error is measured from the command; choose "
                                  "tcp, scale or motor", param_hint="--sensor")
     if streamed(run_file, chunk_rows):
+        if command is not None:
+            raise typer.BadParameter("a run streamed (--chunk-rows, or more than "
+                                     f"{STREAM_ABOVE_ROWS} rows) is measured against its "
+                                     "own command", param_hint="--command")
         if plot is not None:
             raise typer.BadParameter(f"a run streamed (--chunk-rows, or more than "
                                      f"{STREAM_ABOVE_ROWS} rows) is not plotted",
@@ -56,8 +61,8 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             res = contour_streamed(run_file, plane, window_s, chunk_rows,
                                    corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
     else:
-        res = _whole(run_file, plane, chunk_rows, window_s=window_s, corner_deg=corner_deg,
-                     settle_tol_m=settle_um * 1e-6)
+        res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
+                     corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -72,16 +77,17 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     _print(res, name, f"{run_file}")
 
 
-def _whole(run_file: Path, plane, chunk_rows, **options):
-    """The contour error of a run read whole, in the plane of ``--plane`` or the one it
-    moves in (said); ``--chunk-rows``, which does nothing to a CSV run, said too."""
+def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
+    """The contour error of a run read whole, against ``--command`` where given, in the
+    plane of ``--plane`` or the one it moves in (said); ``--chunk-rows``, which does
+    nothing to a CSV run, said too."""
     from ..analysis.contour import contour_error
     from ..io.runfile import read_run
 
     if chunk_rows is not None:
         console.print(f"note: --chunk-rows reads a Parquet run in chunks; "
                       f"{esc(str(run_file))} is read whole", highlight=False)
-    run = read_run(run_file)
+    run = with_given_command(read_run(run_file), command)
     with in_file(run_file):
         how = run_plane_said(plane, run, run_file, allow_3d=True)
         return contour_error(run, plane=how, **options)

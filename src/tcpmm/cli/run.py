@@ -25,7 +25,7 @@ from ._app import (
     refuse_unstable,
 )
 from ._circles import diagnostics_json, print_diagnostics, print_passes
-from ._plane import PLANE_HELP, command_plane, run_plane_said
+from ._plane import COMMAND_HELP, PLANE_HELP, command_plane, run_plane_said, with_given_command
 from ._stream import (
     CHUNK_HELP,
     PATH_STREAM_ABOVE_LINES,
@@ -145,6 +145,7 @@ def circle(run_file: Path = typer.Argument(
            sensor: Sensor = typer.Option(
                None, "--sensor", help="Sensor of the diagnostics (default tcp, else scale, "
                                       "motor)."),
+           command: Path = typer.Option(None, "--command", help=COMMAND_HELP),
            as_json: bool = typer.Option(False, "--json"),
            plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG)."),
            diag_plot: Path = typer.Option(None, "--diag-plot",
@@ -159,13 +160,15 @@ def circle(run_file: Path = typer.Argument(
         raise typer.BadParameter("--direction must be ccw or cw")
     if direction is not None and other is not None:
         raise typer.BadParameter("give --direction or a second run, not both")
+    if command is not None and other is not None:
+        raise typer.BadParameter("--command is the command of one run: give one run")
     c = floats(centre, "--centre", 2)
     positive(radius, "--radius [mm]")
     checked_plot(plot)
     checked_plot(diag_plot)
     results, axes = [], None
     for f in (run_file, other) if other is not None else (run_file,):
-        run = read_run(f)
+        run = with_given_command(read_run(f), command)
         axes = axes or run_plane_said(plane, run, f)
         with in_file(f):
             results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),

@@ -208,3 +208,38 @@ def test_a_read_only_pycache_of_a_subpackage_moves_the_cache(tmp_path, monkeypat
     assert main(["machine", "--help"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "warning:" in err[0] and folder in err[0]
+
+
+@pytest.mark.parametrize("content", [b"junk\n", b""])
+@pytest.mark.parametrize("extra", [[], ["--chunk-rows", "100"]])
+def test_contour_of_a_file_that_is_no_parquet_is_one_line(tmp_path, capsys, content, extra):
+    """A .parquet that is junk or empty: contour printed a 49-line traceback and exited 1
+    (circle said it in one line)."""
+    bad = tmp_path / "run.parquet"
+    bad.write_bytes(content)
+    assert main(["contour", str(bad), *extra]) == 2
+    err = capsys.readouterr().err
+    assert "cannot read as Parquet" in err and "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_a_defect_is_one_line_and_exit_1_and_its_traceback_on_request(tmp_path, capsys,
+                                                                      monkeypatch):
+    """An exception no code expected reached the user as a traceback. It is one line
+    naming it, exit 1; TCPMM_TRACEBACK=1 lets it through for a report."""
+    import importlib
+
+    run_cli = importlib.import_module("tcpmm.cli.run")  # tcpmm.cli.run: also a function
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("float division by zero")
+
+    monkeypatch.setattr(run_cli, "positive", broken)
+    args = ["circle", str(tmp_path / "none.csv"), "--radius", "35"]
+    assert main(args) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert "internal error, a defect of tcpmm (ZeroDivisionError: float division by zero)" \
+        in err and "Traceback" not in err
+    monkeypatch.setenv("TCPMM_TRACEBACK", "1")
+    with pytest.raises(ZeroDivisionError):
+        main(args)

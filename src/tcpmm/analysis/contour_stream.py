@@ -103,11 +103,21 @@ class StreamedContour:
     json_rows = ContourResult.json_rows
 
 
-def parquet_rows(path) -> int:
-    """Rows of a Parquet file, from its footer [-]."""
+def parquet_file(path, **options):
+    """The Parquet file at ``path``, opened; what is no Parquet file (junk, empty, cut
+    short) an :class:`InputError` as :func:`~tcpmm.io.runfile.read_run` gives it [-]."""
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
-    return pq.ParquetFile(path).metadata.num_rows
+    try:
+        return pq.ParquetFile(path, **options)
+    except (pa.ArrowException, OSError) as exc:
+        raise InputError(f"cannot read as Parquet: {exc}", file=path) from None
+
+
+def parquet_rows(path) -> int:
+    """Rows of a Parquet file, from its footer [-]."""
+    return parquet_file(path).metadata.num_rows
 
 
 def travel_positions(path) -> dict:
@@ -126,15 +136,13 @@ def travel_positions(path) -> dict:
 def _batches(path, rows, keep):
     """The columns ``keep`` accepts of a Parquet file, ``rows`` rows at a time, checked as
     :func:`~tcpmm.io.runfile.read_run` checks a whole run [-]."""
-    import pyarrow.parquet as pq
-
     # pre-buffered reads keep every row group's bytes read so far until the scan ends
-    f = pq.ParquetFile(path, pre_buffer=False)
+    f = parquet_file(path, pre_buffer=False)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for c in names:
         refuse_not_numbers(c, f.schema_arrow.field(c).type, path)
     row0, t_before = 0, -np.inf
-    for b in f.iter_batches(batch_size=rows or STREAM_ROWS, columns=names):
+    for b in _read_batches(f, rows or STREAM_ROWS, names, path):
         cols = {c: float_values(b.column(c)) for c in names}
         for c, v in cols.items():
             refuse_gaps(c, v, path, row0 + 1)
@@ -196,12 +204,21 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
     return res
 
 
+def _read_batches(f, rows: int, names: list, path):
+    """The record batches of the open Parquet file ``f``; a row group that cannot be read
+    (a file cut short after its footer was written) an :class:`InputError` [-]."""
+    import pyarrow as pa
+
+    try:
+        yield from f.iter_batches(batch_size=rows, columns=names)
+    except (pa.ArrowException, OSError) as exc:
+        raise InputError(f"cannot read as Parquet: {exc}", file=path) from None
+
+
 def _has_columns(path, cmd_cols: list, axes) -> None:
     """Refuse a run without time, command or any sensor of the axes, as
     :func:`~tcpmm.analysis.contour.contour_error` refuses it [-]."""
-    import pyarrow.parquet as pq
-
-    found = pq.ParquetFile(path).schema_arrow.names
+    found = parquet_file(path).schema_arrow.names
     names = set(found)
     if "time_s" not in names:
         raise InputError(f"missing column 'time_s' (found: {', '.join(found)})", file=path)

@@ -21,7 +21,7 @@ single_threaded_from_start()  # before the commands' modules load numpy
 os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 from ..errors import BuildNotice, InputWarning, TcpmmError  # noqa: E402
-from ._app import READER_GONE, app, console, esc  # noqa: E402
+from ._app import INTERNAL_ERROR, READER_GONE, app, console, esc  # noqa: E402
 
 #: The module of this package that registers each command (or command group) on
 #: :data:`tcpmm.cli._app.app` when it is imported.
@@ -80,6 +80,13 @@ def main(argv=None) -> int:
     except SystemExit as exc:
         code = int(exc.code or 0) if not isinstance(exc.code, str) else 1
         return READER_GONE if code == 1 and _reader_gone() else code
+    except Exception as exc:  # a defect of tcpmm: one line, not a traceback, for the user
+        if os.environ.get("TCPMM_TRACEBACK"):
+            raise
+        console.print(f"[red]error:[/red] internal error, a defect of tcpmm "
+                      f"({esc(type(exc).__name__)}: {esc(str(exc))}); please report it "
+                      "with the command that met it (TCPMM_TRACEBACK=1 shows where)")
+        return INTERNAL_ERROR
     finally:
         warnings.showwarning = shown
         _restore_signals(handlers)

@@ -77,6 +77,10 @@ class _Console(Console):
         raise SystemExit(READER_GONE)
 
 
+#: Exit code of a defect of tcpmm met by a command: a Python exception it did not expect
+#: (1, as Python's own) [-].
+INTERNAL_ERROR = 1
+
 #: Exit code of a command whose reader went away: 128 + SIGPIPE, as a shell reports a
 #: command the pipe's signal stopped [-].
 READER_GONE = 128 + 13

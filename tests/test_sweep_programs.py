@@ -200,3 +200,28 @@ def test_tasks_in_threads_count_their_own_warnings(study):
         rows = list(pool.map(lambda p: program_task("vmc", vmc, p, 1), progs))
     assert [r["zero_length_skipped"] for r in rows] == [0, 2] * 4
     assert all(r["status"] == "ok" and r["warnings"] == "" for r in rows)
+
+
+def test_workers_get_the_programs_by_a_path_that_leads_from_anywhere(study, loopback,
+                                                                     capsys, tmp_path,
+                                                                     monkeypatch):
+    """A folder given relative to where the command runs went to the workers as given:
+    from a worker started in another folder, every program was 'not found'. The tasks
+    get absolute paths; the rows name the programs as the user gave them."""
+    from tcpmm.whatif.sweep import programs as module
+
+    real, seen = module.program_task, tmp_path / "seen.txt"
+
+    def task(name, machine, prog, *args):  # sent to the workers by value: a file is shared
+        with open(seen, "a") as f:
+            f.write(f"{prog}\n")
+        return real(name, machine, prog, *args)
+
+    monkeypatch.setattr(module, "program_task", task)
+    monkeypatch.chdir(study["root"])
+    code, out, _ = _cli(capsys, "sweep", "builtin:vmc", "--programs", "progs", "--scheduler",
+                        loopback, "-o", tmp_path / "out", "--json")
+    paths = seen.read_text().split()
+    assert code == 1 and len(paths) == 3 and all(p.startswith("/") for p in paths)
+    assert sorted(r["program"] for r in json.loads(out)["rows"]) == [
+        "progs/arc.ngc", "progs/bad.nc", "progs/square.nc"]

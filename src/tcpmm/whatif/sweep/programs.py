@@ -275,14 +275,16 @@ def _on_client(client, pairs, args, progress) -> list:
     for name, machine, _ in pairs:
         if name not in models:
             models[name] = client.scatter(machine, broadcast=True, hash=False)
-    futures = {client.submit(program_task, name, models[name], str(prog), *args,
-                             key=f"tcpmm-program-{i}-{token}", retries=RETRIES): i
+    # the workers read the programs where the paths lead from their own folders: a path
+    # as the user gave it, relative to this one, leads nowhere from a worker started elsewhere
+    futures = {client.submit(program_task, name, models[name], str(Path(prog).resolve()),
+                             *args, key=f"tcpmm-program-{i}-{token}", retries=RETRIES): i
                for i, (name, _, prog) in enumerate(pairs)}
     rows = [None] * len(pairs)
     for done, fut in enumerate(as_completed(futures), start=1):
         i = futures[fut]
         try:
-            rows[i] = fut.result()
+            rows[i] = {**fut.result(), "program": str(pairs[i][2])}
         except Exception as exc:  # the worker lost, or the scheduler
             if scheduler_lost(client, exc):
                 raise SchedulerLost(client) from None

@@ -430,3 +430,38 @@ def test_a_program_too_long_to_make_whole_points_to_streaming(tmp_path, capsys, 
     code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
                        tmp_path / "run.parquet", "--chunk-blocks", 5)
     assert code == 0, err
+
+
+@pytest.mark.parametrize("args", [["path", "{fifo}", "-o", "{out}.csv", "--chunk-blocks", "2"],
+                                  ["simulate", "builtin:vmc", "--gcode", "{fifo}", "-o",
+                                   "{out}.parquet"]])
+def test_a_program_from_a_pipe_streams(tmp_path, capsys, args):
+    """A program piped in (`--gcode /dev/stdin`, `<(zcat prog.nc.gz)`) was read three times
+    when streamed, for its start, its encoding and its lines, and the third found the pipe
+    empty: 'the program has no motion'. It streams as the file does."""
+    import os
+    import threading
+
+    text = "G21 G90 G17\nG1 X10 F3000\nG1 Y10\nG1 X0\nM30\n"
+    fifo = tmp_path / "prog.nc"
+    os.mkfifo(fifo)
+
+    done = threading.Event()
+
+    def feed():
+        with open(fifo, "w") as f:
+            f.write(text)
+        while not done.is_set():  # a reader opening the pipe again finds it empty, not hung
+            with open(fifo, "w"):
+                pass
+
+    threading.Thread(target=feed, daemon=True).start()  # a daemon: its last open blocks
+    out = tmp_path / "out"
+    code = main([a.format(fifo=fifo, out=out) for a in args])
+    done.set()
+    assert code == 0, capsys.readouterr().err
+    (tmp_path / "file.nc").write_text(text)
+    code = main([a.format(fifo=tmp_path / "file.nc", out=tmp_path / "whole") for a in args])
+    assert code == 0
+    suffix = ".csv" if args[0] == "path" else ".parquet"
+    assert (tmp_path / f"out{suffix}").read_bytes() == (tmp_path / f"whole{suffix}").read_bytes()

@@ -32,7 +32,9 @@ def count_lines(path: Path) -> int:
 def block_progress(program: Path, description: str):
     """A progress bar of the program's blocks read, with the time left, on a terminal;
     nothing in a pipe or a log. Yields ``update(lines_read)``."""
-    with count_progress(lambda: count_lines(program), description, "blocks") as update:
+    # a pipe is read once, by the interpolation: its length is not known before
+    total = (lambda: count_lines(program)) if Path(program).is_file() else (lambda: None)
+    with count_progress(total, description, "blocks") as update:
         yield update
 
 

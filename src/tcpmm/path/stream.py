@@ -26,7 +26,7 @@ from .filters import filter_shape
 from .gcode_stream import interpret_chunks
 from .geometry import evaluate
 from .interpolate import used_axes
-from .program import check_program_file, is_path
+from .program import check_program_file, is_path, read_program
 from .runs import ArcRun, blocks, drop_blocks
 from .segments import AXES, Arc
 from .settings import InterpolatorSettings
@@ -185,7 +185,12 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
         raise InputError(f"expected an NC program file or its text, got "
                          f"{type(program).__name__}")
     size = ChunkSize(chunk_blocks)
-    chunks = line_chunks(file, size) if file else _text_chunks(program, size)
+    if file is not None and file.is_fifo():
+        # a pipe (a shell's <(...), /dev/stdin) is read once: its text is held, as a
+        # program read whole is, where a file is read again for its encoding and chunks
+        chunks = _text_chunks(read_program(file), size)
+    else:
+        chunks = line_chunks(file, size) if file else _text_chunks(program, size)
     ip = interpolator or StreamInterpolator(settings)
     read = [0]
 

@@ -92,7 +92,8 @@ def used_axes(p: PathArrays) -> list[int]:
     return sorted(used)
 
 
-def check_samples(dur, dt: float, line, n_samples: int | None = None) -> None:
+def check_samples(dur, dt: float, line, n_samples: int | None = None,
+                  streamed: bool = False) -> None:
     """Refuse a command of more than :data:`MAX_SAMPLES` samples, naming the line of the
     longest segment.
 
@@ -106,17 +107,21 @@ def check_samples(dur, dt: float, line, n_samples: int | None = None) -> None:
         Source line of each segment, -1 where unknown [-].
     n_samples : int, optional
         The command's samples; by default the segments' durations over the period [-].
+    streamed : bool
+        Whether these are the segments of one chunk of a program streamed: they are then
+        too long alone, and streaming is no remedy [-].
     """
     total = float(np.sum(dur)) / dt if n_samples is None else float(n_samples)
     if total <= MAX_SAMPLES:  # not NaN either
         return
     i = int(np.argmax(np.where(np.isnan(dur), np.inf, dur)))
+    remedy = ("" if streamed else ", and for a program this long, stream it: tcpmm simulate "
+              "... -o RUN.parquet, tcpmm path --chunk-blocks N")
+    whole = "a chunk of blocks streamed" if streamed else "a command made whole"
     raise InputError(
         f"the command would last {total * dt:.4g} s ({total:.4g} samples), more than "
-        f"the limit of {MAX_SAMPLES} samples of a command made whole; the longest segment "
-        f"takes {dur[i]:.4g} s: check its feed rate and coordinates, and for a program "
-        "this long, stream it: tcpmm simulate ... -o RUN.parquet, tcpmm path "
-        "--chunk-blocks N",
+        f"the limit of {MAX_SAMPLES} samples of {whole}; the longest segment takes "
+        f"{dur[i]:.4g} s: check its feed rate and coordinates{remedy}",
         line=None if line[i] < 0 else int(line[i]),
     )
 

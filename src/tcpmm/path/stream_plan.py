@@ -138,7 +138,8 @@ def plan_piece(segments: list, settings, filt, st: PlanState, final: bool):
     prof = ck.segment_profiles(q.length, vk, np.ascontiguousarray(vmax[:k]),
                                np.ascontiguousarray(acc[:k]), settings.jerk())
     durations = prof[:, 1] + prof[:, 4] + prof[:, 5]
-    check_samples(np.where(q.kind == DWELL, q.dwell_s, durations), filt.period_s, q.line)
+    check_samples(np.where(q.kind == DWELL, q.dwell_s, durations), filt.period_s, q.line,
+                  streamed=True)
     nxt = None if final else (int(p.kind[k]), float(v[k]))
     k0, off, dur, k_end, k0n, offn = _timeline(q, durations, vk, filt, st, nxt)
     dt = filt.period_s

@@ -479,3 +479,18 @@ def test_a_block_too_long_for_a_stream_is_not_told_to_stream(tmp_path, capsys):
     assert "line 2" in err and "check its feed rate" in err and "stream it" not in err
     assert main(["path", str(prog), "-o", str(tmp_path / "cmd.csv")]) == 2
     assert "stream it" in " ".join(capsys.readouterr().err.split())
+
+
+def test_a_program_path_streams_for_its_length_says_so(tmp_path, capsys, monkeypatch):
+    """Beyond a million lines `tcpmm path` interpolates in chunks and drops the summary of
+    where the feed is held back, without a word why. It says so."""
+    import importlib
+
+    run_cli = importlib.import_module("tcpmm.cli.run")  # tcpmm.cli.run: also a function
+    monkeypatch.setattr(run_cli, "PATH_STREAM_ABOVE_LINES", 3)
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90\nG1 X10 F3000\nG1 Y10\nG1 X0\nM30\n")
+    assert main(["path", str(prog), "-o", str(tmp_path / "c.csv")]) == 0
+    got = capsys.readouterr()
+    assert "has more than 3 lines: interpolated in chunks" in " ".join(got.err.split())
+    assert "at the programmed feed" not in got.out

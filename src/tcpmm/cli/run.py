@@ -13,7 +13,9 @@ from ._app import (
     checked_output,
     checked_plot,
     checked_report_file,
+    console,
     emit_json,
+    esc,
     floats,
     in_file,
     interp_settings,
@@ -322,11 +324,17 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         from ..io.modelfile import read_machine
 
         m = read_machine(model)
-    if chunk_blocks is not None or (program.is_file() and
-                                    count_lines(program) > PATH_STREAM_ABOVE_LINES):
+    long = chunk_blocks is None and program.is_file() and (
+        count_lines(program) > PATH_STREAM_ABOVE_LINES)
+    if chunk_blocks is not None or long:
         if plot:
             raise typer.BadParameter("a program interpolated in chunks is not plotted",
                                      param_hint="--plot")
+        if long:
+            console.print(f"note: {esc(str(program))} has more than "
+                          f"{PATH_STREAM_ABOVE_LINES} lines: interpolated in chunks, in "
+                          "bounded memory, without the summary of where the feed is held "
+                          "back", highlight=False)
         res = path_to_csv(program, output, interp_settings(m), chunk_blocks)
         out.print(f"wrote {output} ({res['samples']} samples at {res['period_s'] * 1e3:g} "
                   f"ms, {res['duration_s']:.3f} s)")

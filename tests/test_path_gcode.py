@@ -350,3 +350,22 @@ def test_repeated_points_are_skipped_and_counted():
     said = [str(w.message) for w in caught if "zero-length" in str(w.message)]
     assert said == ["cam.nc, line 3, column 4: zero-length move ignored (and 1 more time): "
                     "a G1 to where the tool already is, skipped"]
+
+
+@pytest.mark.parametrize("prog", [
+    "G21 G90 F3000\nG1 X0 Y0.001\nG91\nG1 X0.3 Y0.1\nX0.3 Y0.1\nX0.3 Y0.1\nG90\n"
+    "G1 X0.9 Y0.301\nG1 X1.8 Y0.601\nM30\n",
+    "G21 G90 F3000\nG91\n" + "G1 X0.1\n" * 10 + "G90 G1 X1.0\nG1 X2.0\nM30\n"])
+def test_a_move_rounding_left_is_skipped_as_a_repeated_point(prog):
+    """0.3 + 0.3 + 0.3 mm in G91 is 0.8999999999999999 mm: the G90 move to X0.9 then went
+    1e-16 mm, in a direction of its own, and the feed fell to 96 mm/min at a corner of no
+    size on a straight line (ten G91 X0.1, then G90 X1.0: to a stop). Such a move is
+    skipped as a repeated point is, with its warning."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cmd = program_to_command(prog)
+    assert any("zero-length move" in str(w.message) for w in caught)
+    p = np.array([cmd.positions["X"], cmd.positions["Y"]])
+    speed = np.linalg.norm(np.diff(p, axis=1), axis=0)
+    top = int(np.argmax(speed))  # the feed rises to its top and falls once: no dip
+    assert np.all(np.diff(speed[:top]) >= -1e-12) and np.all(np.diff(speed[top:]) <= 1e-12)

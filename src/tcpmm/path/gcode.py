@@ -37,6 +37,7 @@ from .gcode_words import (
     MAX_FEED,
     MOTION,
     OTHER_AXES,
+    ZERO_MOVE_M,
 )
 from .segments import AXIS_INDEX, Dwell, Line, Rapid
 
@@ -283,7 +284,9 @@ class Interpreter(GeometryMixin):
                 line,
                 col,
             )
-        if self.motion in (0, 1) and target == self.pos:
+        if self.motion in (0, 1) and all(abs(a - b) <= ZERO_MOVE_M
+                                         for a, b in zip(target, self.pos, strict=True)):
+            target = self.pos
             # a controller skips such a block; CAM output repeats points in G1, and a G0 to
             # the start is a routine header, not worth a word
             if self.motion == 1:

@@ -25,7 +25,7 @@ import numpy as np
 
 from .. import _compiled as ck
 from .gcode_arcs import ARC, arc_run
-from .gcode_words import MAX_COORDINATE_M, MAX_FEED
+from .gcode_words import MAX_COORDINATE_M, MAX_FEED, ZERO_MOVE_M
 from .runs import LINE_SETTERS, LineRun
 from .segments import Line, Rapid
 
@@ -188,7 +188,8 @@ def _run(lines, k, n, first, append, state, modes):
                 or (z is not None and not abs(pz) <= MAX_COORDINATE_M)):
             break
         target = (px, py, pz)
-        if target == pos:  # a zero-length G1 warns: the interpreter's business
+        if (abs(px - pos[0]) <= ZERO_MOVE_M and abs(py - pos[1]) <= ZERO_MOVE_M
+                and abs(pz - pos[2]) <= ZERO_MOVE_M):  # warns: the interpreter's business
             break
         if mo == 0:
             append(Rapid(pos, target, k + first))

@@ -20,6 +20,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+#: :data:`tcpmm.path.gcode_words.ZERO_MOVE_M`, here a literal: this module is compiled on
+#: its own [m]
+_ZERO_MOVE_M = 1e-9
+
 #: a line's status in :func:`scan_lines`' codes: not a plain move, a plain move with
 #: its numbers converted, a plain move with a number converted only by ``float``, a
 #: plain arc with its numbers converted [-]
@@ -213,7 +217,8 @@ def run_plain(codes, vals, k, state):
         ok, x, y, z = block_end(w, v, px, py, pz, unit, absolute, max_c)
         if not ok:
             break
-        if x == px and y == py and z == pz:  # a zero-length move warns
+        if (abs(x - px) <= _ZERO_MOVE_M and abs(y - py) <= _ZERO_MOVE_M
+                and abs(z - pz) <= _ZERO_MOVE_M):  # a zero-length move warns
             break
         ends[i - k, 0], ends[i - k, 1], ends[i - k, 2] = x, y, z
         feeds[i - k], motions[i - k] = fe, mo

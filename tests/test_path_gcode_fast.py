@@ -365,3 +365,11 @@ def test_the_collector_runs_again_after_a_parse_that_fails():
     with pytest.raises(InputError):
         parse_gcode("G1 X1 F100\nX1 X2\n")
     assert gc.isenabled()
+
+
+def test_the_compiled_scanner_takes_the_interpreters_zero_move():
+    """The scanner, compiled on its own, holds the interpreter's ZERO_MOVE_M as a literal:
+    were they to differ, the two would skip different moves."""
+    from tcpmm.path import gcode_scan, gcode_words
+
+    assert gcode_scan._ZERO_MOVE_M == gcode_words.ZERO_MOVE_M

@@ -37,17 +37,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
     """Contour error along any program: the shortest distance from each sensor's path to the
     commanded path, signed in a plane; corner overshoot, rounding and settling."""
-    for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
-                    (window_s, "--window-s [s]")):
-        positive(v, what)
-    if not corner_deg < 180.0:
-        raise typer.BadParameter(f"a path turns by 180 deg at most, so {corner_deg:g} deg "
-                                 "would find no corner; give less than 180",
-                                 param_hint="--corner-deg")
-    checked_plot(plot)
-    if sensor is Sensor.cmd:
-        raise typer.BadParameter("the contour error is measured from the command; choose "
-                                 "tcp, scale or motor", param_hint="--sensor")
+    _check_options(settle_um, corner_deg, window_s, sensor, plot)
     if streamed(run_file, chunk_rows):
         if command is not None:
             raise typer.BadParameter("a run streamed (--chunk-rows, or more than "
@@ -75,6 +65,22 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                        len(res.corners) * len(res.errors))
         return
     _print(res, name, f"{run_file}")
+
+
+def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,
+                   plot) -> None:
+    """Refuse the options that measure nothing, before the run is read [-]."""
+    for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
+                    (window_s, "--window-s [s]")):
+        positive(v, what)
+    if not corner_deg < 180.0:
+        raise typer.BadParameter(f"a path turns by 180 deg at most, so {corner_deg:g} deg "
+                                 "would find no corner; give less than 180",
+                                 param_hint="--corner-deg")
+    checked_plot(plot)
+    if sensor is Sensor.cmd:
+        raise typer.BadParameter("the contour error is measured from the command; choose "
+                                 "tcp, scale or motor", param_hint="--sensor")
 
 
 def _whole(run_file: Path, plane, chunk_rows, command=None, **options):

@@ -158,12 +158,7 @@ def circle(run_file: Path = typer.Argument(
     from ..analysis.circular import CircleResult, analyse_circle
     from ..io.runfile import read_run
 
-    if direction is not None and direction.lower() not in ("ccw", "cw"):
-        raise typer.BadParameter("--direction must be ccw or cw")
-    if direction is not None and other is not None:
-        raise typer.BadParameter("give --direction or a second run, not both")
-    if command is not None and other is not None:
-        raise typer.BadParameter("--command is the command of one run: give one run")
+    _one_run_options(direction, command, other)
     c = floats(centre, "--centre", 2)
     positive(radius, "--radius [mm]")
     checked_plot(plot)
@@ -196,6 +191,17 @@ def circle(run_file: Path = typer.Argument(
     print_passes(res, title)
     if diag is not None:
         print_diagnostics(diag)
+
+
+def _one_run_options(direction, command, other) -> None:
+    """Refuse ``--direction`` and ``--command`` where two runs are given, and a direction
+    that is none [-]."""
+    if direction is not None and direction.lower() not in ("ccw", "cw"):
+        raise typer.BadParameter("--direction must be ccw or cw")
+    if direction is not None and other is not None:
+        raise typer.BadParameter("give --direction or a second run, not both")
+    if command is not None and other is not None:
+        raise typer.BadParameter("--command is the command of one run: give one run")
 
 
 def _diagnostics(res, results, asked: bool, sensor):

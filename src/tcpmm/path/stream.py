@@ -185,12 +185,7 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
         raise InputError(f"expected an NC program file or its text, got "
                          f"{type(program).__name__}")
     size = ChunkSize(chunk_blocks)
-    if file is not None and file.is_fifo():
-        # a pipe (a shell's <(...), /dev/stdin) is read once: its text is held, as a
-        # program read whole is, where a file is read again for its encoding and chunks
-        chunks = _text_chunks(read_program(file), size)
-    else:
-        chunks = line_chunks(file, size) if file else _text_chunks(program, size)
+    chunks = _program_chunks(program, file, size)
     ip = interpolator or StreamInterpolator(settings)
     read = [0]
 
@@ -236,6 +231,15 @@ class ChunkSize:
         """``samples`` given out after ``lines`` lines read [-]."""
         if lines > 0 and samples > 0:
             self.n = min(self.most, max(LEAST_CHUNK, int(CHUNK_SAMPLES * lines / samples)))
+
+
+def _program_chunks(program, file, size) -> Iterator[list[str]]:
+    """The lines of the program file ``file``, else of the text ``program``, ``size()`` at
+    a time. A pipe (a shell's <(...), /dev/stdin) is read once: its text is held, as a
+    program read whole is, where a file is read again for its encoding and its lines."""
+    if file is not None and file.is_fifo():
+        return _text_chunks(read_program(file), size)
+    return line_chunks(file, size) if file else _text_chunks(program, size)
 
 
 def _text_chunks(text: str, size) -> Iterator[list[str]]:

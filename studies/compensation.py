@@ -23,7 +23,7 @@ import warnings
 from pathlib import Path
 
 from tcpmm.compensate import compensate, machine_bounds, robust_factors
-from tcpmm.compensate.headroom import DEFAULT_HEADROOM, program_with_headroom
+from tcpmm.compensate.headroom import DEFAULT_HEADROOM, as_programmed, program_with_headroom
 from tcpmm.compensate.scores import judge, judged_path, programmed_path, runs_before_after
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
@@ -86,8 +86,12 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
     and the draws' verdict; the correction within the axes' ``limits`` (acceleration
     [m/s^2], jerk [m/s^3]) [-]."""
     full, planned = commands
-    comp = compensate(model, planned, bounds=machine_bounds(model, *limits))
+    bounds = machine_bounds(model, *limits)
+    comp = compensate(model, planned, bounds=bounds)
     robust_factors(model, comp, n_draws=draws, radius_m=radius)
+    if planned is not full and not comp.applied:  # as tcpmm compensate --gcode writes it
+        circle = None if radius is None else (radius, (0.0, 0.0), ("X", "Y"))
+        comp, planned = as_programmed(model, full, bounds, comp, circle), full
     before, after = runs_before_after(truth, comp, programmed=full)
     b = judge(before, programmed_path(comp, full), radius)
     a = judge(after, judged_path(comp), radius)
@@ -95,7 +99,8 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
     # the draws judge the compensation against the program they were given, uncompensated
     planned_run = before if planned is full else runs_before_after(truth, comp)[0]
     return {"machine": name.upper(), "program": label,
-            "factors": rob["factors"], "trusted": rob["trusted_share"],
+            "factors": rob["factors"], "by_region": rob.get("by_region", False),
+            "trusted": rob["trusted_share"],
             "firm": rob["firm_share"],
             "firm_truth": truth_where_firm(comp, planned_run, after),
             "spike_verdict": rob.get("circle", {}).get("spike", {}).get("verdict", "-"),
@@ -149,7 +154,8 @@ def table(rows: list) -> str:
            "firm | spike verdict | worse |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        fx = "/".join(f"{v:g}" for v in r["factors"].values())
+        fx = "/".join(f"{v:.2g}" for v in r["factors"].values())
+        fx += " (by region)" if r["by_region"] else ""
         red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
         worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
                  if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]

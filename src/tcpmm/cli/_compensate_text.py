@@ -82,7 +82,9 @@ def _verdict_lines(robustness: dict) -> list[str]:
     """
     from ..compensate.robust import FIRM_RATIO
 
-    f = ", ".join(f"{a} {v:g}" for a, v in robustness["factors"].items())
+    f = ", ".join(f"{a} {v:.2g}" for a, v in robustness["factors"].items())
+    if robustness.get("by_region"):
+        f += " (the mean along the path: chosen region by region)"
     return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
             f"the model it improves {robustness['trusted_share']:.0%} of the samples, "
             f"at least {FIRM_RATIO:g}x (firm) {robustness['firm_share']:.0%}",

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 import typer
 
 from ._app import (
@@ -29,6 +28,8 @@ _ACCEL_HELP = ("Axis acceleration the compensated command may use [m/s^2]; defau
                "model's interpolation settings (1 without them).")
 _JERK_HELP = ("Axis jerk the compensated command may use [m/s^3]; default the model's "
               "S-curve jerk, none for a trapezoid.")
+_REPORT_HELP = ("REPORT.html: the TCP error before and after, the figures and the settings "
+                "per axis.")
 _HEADROOM_HELP = ("Share of the axes' acceleration and jerk left to the correction: an NC "
                   "program (--gcode) is planned with the rest, so that the correction has "
                   "room in the feed ramps and corners; the path and feed are the same, the "
@@ -64,15 +65,13 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                         "circle (--radius), a friction pulse per reversal and a cross-talk "
                         "feed-forward per axis, and learn the command with them on the "
                         "controller: it is right only with them."),
-               report: Path = typer.Option(None, "--report",
-                                           help="REPORT.html: the TCP error before and "
-                                                "after, the figures and the settings per "
-                                                "axis."),
+               report: Path = typer.Option(None, "--report", help=_REPORT_HELP),
                as_json: bool = typer.Option(False, "--json")):
     """Pre-compensate a command so that the model's predicted TCP follows the programmed
     path, within the axes' limits (an NC program is planned with headroom for the
     correction); write it (for tcpmm simulate --command) and report before and after."""
     from ..compensate import machine_bounds
+    from ..compensate.headroom import as_programmed
     from ..path import write_command_csv
 
     _check_outputs(output, report, controller_out, radius, model, command, gcode)
@@ -85,7 +84,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, circle,
                         full if headroom else None, tuned)
     if headroom and tuned is None and not comp.applied:
-        comp, headroom = _as_programmed(m, full, bounds, comp, circle), 0.0
+        comp, headroom = as_programmed(m, full, bounds, comp, circle), 0.0
     comp.settings["headroom"] = headroom
     write_command_csv(comp.command, output)
     if gcode_out is not None:
@@ -245,26 +244,6 @@ def _warn_replanned(machine, axes, accel, jerk, path: Path) -> None:
                       "set so plans its blocks slower, and the program then lags the "
                       "command file; set the controller's limits in the model's "
                       "interpolation settings", highlight=False)
-
-
-def _as_programmed(machine, full, bounds, comp, circle):
-    """The program at the axes' full limits, uncorrected, where the draws keep no share of
-    the correction learned on its slower plan: the headroom serves only the correction,
-    and the slower plan alone, which no draw has judged, can make a figure worse. The
-    draws' verdicts of ``comp`` are kept [-]."""
-    from ..compensate import compensate, predicted_scores
-
-    radius_m, centre_m, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
-    plain = compensate(machine, full, iterations=1, bounds=bounds)
-    for a in plain.factors:
-        plain.factors[a] = np.zeros_like(plain.factors[a])
-    plain.robustness = {**comp.robustness, "as_programmed": True}
-    plain.trusted = np.zeros(plain.reference.time_s.size, dtype=bool)
-    plain.scores = predicted_scores(machine, plain, radius_m, centre_m, plane)
-    plain.settings = {**comp.settings, "hold_samples": plain.settings["hold_samples"],
-                      "programmed_duration_s": float(full.time_s[-1]),
-                      "planned_duration_s": float(full.time_s[-1])}
-    return plain
 
 
 def _write_report(path: Path, comp, machine, model: str, source, circle, cc) -> None:

@@ -10,6 +10,8 @@ limits, as the machine would run it without compensation.
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..errors import InputError
 from ..path.program import program_to_command
 from ..path.settings import InterpolatorSettings
@@ -79,3 +81,43 @@ def program_with_headroom(program, settings: InterpolatorSettings, headroom: flo
     if headroom == 0.0:
         return full, full
     return full, program_to_command(program, planned_settings(settings, headroom))
+
+
+def as_programmed(machine, full, bounds, comp, circle=None):
+    """The program at the axes' full limits, uncorrected, where the draws keep no share of
+    the correction learned on its slower plan: the headroom serves only the correction,
+    and the slower plan alone, which no draw has judged, can make a figure worse. The
+    draws' verdicts of ``comp`` are kept.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    full : Command
+        The program at the axes' full limits [m].
+    bounds : dict of str to AxisBounds
+        The axes' limits [-].
+    comp : Compensation
+        The compensation of the slower plan, no share of it applied [-].
+    circle : tuple, optional
+        ``(radius, centre, plane)`` of the circle the program holds [m, m, -].
+
+    Returns
+    -------
+    Compensation
+        Of ``full``, uncorrected, scored [-].
+    """
+    from .learning import compensate
+    from .scores import predicted_scores
+
+    radius_m, centre_m, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
+    plain = compensate(machine, full, iterations=1, bounds=bounds)
+    for a in plain.factors:
+        plain.factors[a] = np.zeros_like(plain.factors[a])
+    plain.robustness = {**comp.robustness, "as_programmed": True}
+    plain.trusted = np.zeros(plain.reference.time_s.size, dtype=bool)
+    plain.scores = predicted_scores(machine, plain, radius_m, centre_m, plane)
+    plain.settings = {**comp.settings, "hold_samples": plain.settings["hold_samples"],
+                      "programmed_duration_s": float(full.time_s[-1]),
+                      "planned_duration_s": float(full.time_s[-1])}
+    return plain

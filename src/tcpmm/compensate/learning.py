@@ -51,25 +51,15 @@ def extended(command: Command, delay: int, tail: int) -> tuple[Command, Command]
     return Command(t, ref, dict(command.meta)), Command(t, tgt, dict(command.meta))
 
 
-def fade(n: int) -> np.ndarray:
-    """Window that is 0 at the first sample and 1 after a few, with a raised-cosine edge:
-    the axis starts at rest on the first command."""
+def fade(n: int, tail: int) -> np.ndarray:
+    """Window that is 0 at the first and last sample and 1 between, with raised-cosine
+    edges: a few samples at the start (the axis starts at rest on the first command) and
+    the second half of the hold at the end."""
     w = np.ones(n)
-    k = min(FADE_SAMPLES, n // 4)
+    k, m = min(FADE_SAMPLES, n // 4), max(2, min(tail // 2, n // 4))
     w[:k] = 0.5 - 0.5 * np.cos(np.pi * np.arange(k) / k)
+    w[n - m:] = 0.5 + 0.5 * np.cos(np.pi * np.arange(1, m + 1) / m)
     return w
-
-
-def held(corr: np.ndarray, tail: int) -> np.ndarray:
-    """``corr`` held at its value where the second half of the hold begins, to the end:
-    the command ends at rest where it holds the TCP on the end point. Faded out instead,
-    the correction moves the TCP it has settled on the end point off it again as the
-    command ends; learned on to the last sample, it chases the creep of the friction's
-    hold there [m]."""
-    m = max(2, min(tail // 2, corr.size // 4))
-    out = corr.copy()
-    out[corr.size - m:] = corr[corr.size - m - 1]
-    return out
 
 
 def plain(axis, time_s, position_m):
@@ -111,7 +101,7 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     """
     T = float(time_s[1] - time_s[0])
     pad = (2 * (gain_filter.size - 1) - reference.size) // 2
-    window = fade(reference.size)
+    window = fade(reference.size, tail)
     corr, history, best = np.zeros_like(reference), [], (np.inf, None)
     for _ in range(iterations + 1):
         run = plant(axis, time_s, reference + corr)
@@ -121,7 +111,7 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         if rms < best[0]:
             best = (rms, corr, run.current)
         step = gain * apply_filter(gain_filter, err, pad)
-        corr = fit_within(reference, held((corr + step) * window, tail), T, bounds)
+        corr = fit_within(reference, (corr + step) * window, T, bounds)
     _, corr, current = best
     over = np.abs(current) > CURRENT_SHARE * bounds.current
     if np.any(over):  # the current the correction needs is more than the drive gives

@@ -24,14 +24,13 @@ combination of shares is a sum.
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 
 from ..analysis.contour import distance_to_polyline
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 from .learning import plain
+from .regional import per_combo, pick, settle_regions
 
 #: Shares of the correction tried [-].
 LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
@@ -151,13 +150,21 @@ def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> n
     then with a circle its largest reversal spike and G (:mod:`.circleguard`), shape
     (machines, regions [+ 2]) [m]."""
     n_ax = errs.shape[1]
-    e = errs[:, np.arange(n_ax), list(combo)]  # (machines, axes, n)
+    return figures(errs[:, np.arange(n_ax), list(combo)], target, labels, guard, any(combo))
+
+
+def figures(e: np.ndarray, target, labels: np.ndarray, guard=None,
+            compensated: bool = True) -> np.ndarray:
+    """Per machine the largest error across the path in each region, then with a circle
+    its largest reversal spike and G, from the TCP errors ``e`` (machines, axes, n), judged
+    on the delayed path's passes where ``compensated``, shape (machines, regions [+ 2])
+    [m]."""
     across = np.array([contour(ei, target) for ei in e])
     out = np.array([across[:, labels == r].max(axis=1) for r in range(labels.max() + 1)]).T
     if guard is None:
         return out
     path = np.array(list(target.positions.values()))
-    circle = np.array([guard.figures(path - ei, any(combo)) for ei in e])
+    circle = np.array([guard.figures(path - ei, compensated) for ei in e])
     return np.hstack([out, circle])
 
 
@@ -177,17 +184,23 @@ def acceptable(before: np.ndarray, after: np.ndarray) -> bool:
 def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
     """Share per axis, per region the worst draws' errors before and after, and for a
     circle the same of its largest spike and G (:mod:`module docstring <.robust>`) [-]."""
-    n_ax, n_reg = errs.shape[1], labels.max() + 1
-    zero = tuple([0] * n_ax)
-    before = judged(errs, zero, target, labels, guard)
+    per = per_combo(errs, lambda c: judged(errs, c, target, labels, guard))
+    shares, figs = choose_of(per, labels.max() + 1)
+    before = per[tuple([0] * errs.shape[1])]
+    return shares, region_rows(before, figs, target, labels), circle_rows(before, figs, guard)
+
+
+def choose_of(per: dict, n_reg: int) -> tuple:
+    """The share per axis of :func:`choose` and its figures, from the figures of every
+    combination of share levels (:func:`.regional.per_combo`) [-]."""
+    zero = tuple([0] * len(next(iter(per))))
+    before = per[zero]
     best, best_worst, best_figs = zero, before[:, :n_reg].max(), before
-    for c in itertools.product(range(len(LEVELS)), repeat=n_ax):
-        after = judged(errs, c, target, labels, guard)
+    for c, after in per.items():
         worst = after[:, :n_reg].max()
         if acceptable(before, after) and worst < best_worst - margin(best_worst):
             best, best_worst, best_figs = c, worst, after
-    return [LEVELS[k] for k in best], region_rows(before, best_figs, target, labels), \
-        circle_rows(before, best_figs, guard)
+    return [LEVELS[k] for k in best], best_figs
 
 
 def region_rows(before: np.ndarray, after: np.ndarray, target, labels: np.ndarray) -> list:
@@ -254,9 +267,51 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None
     guard = None if radius_m is None else CircleGuard.of(comp, radius_m, centre_m, plane)
     rng = np.random.default_rng(seed)
     machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
-    labels = regions(comp.target)
-    shares, rows, circle = choose(axis_errors(machines, comp), comp.target, labels, guard)
-    record(comp, shares, rows, circle, labels, {"draws": n_draws, "seed": seed})
+    target, labels = comp.target, regions(comp.target)
+    errs = axis_errors(machines, comp)
+    per = per_combo(errs, lambda c: judged(errs, c, target, labels, guard))
+    n_reg, before = labels.max() + 1, per[tuple([0] * errs.shape[1])]
+    shares, figs = choose_of(per, n_reg)
+    extra = {"draws": n_draws, "seed": seed}
+    by_region = _by_region(machines, comp, per, labels, guard, figs)
+    if by_region is None:
+        record(comp, shares, region_rows(before, figs, target, labels),
+               circle_rows(before, figs, guard), labels, extra)
+        return
+    factors, figs = by_region
+    record(comp, [float(np.mean(f)) for f in factors.values()],
+           region_rows(before, figs, target, labels), circle_rows(before, figs, guard),
+           labels, {**extra, "by_region": True})
+    comp.factors.update(factors)
+
+
+def _by_region(machines, comp, per: dict, labels: np.ndarray, guard, one: np.ndarray):
+    """Shares chosen region by region (:mod:`.regional`), run on every draw: ``(factors,
+    figures)`` where the draws vouch for them everywhere and, on the worst draw, no region,
+    spike or G is above what one share per axis gives (its figures ``one``) by more than
+    the margin and some region is below it by more; else ``None``: where they gain
+    nothing, the simpler choice stays [-]."""
+    n_reg = labels.max() + 1
+    before = per[tuple([0] * len(next(iter(per))))]
+    levels = np.array(LEVELS)[pick(per, before, n_reg, vouched, margin)]
+    if np.all(levels == levels[0]):
+        return None  # one share per axis: the choice of :func:`choose_of`
+
+    def check(b, a):
+        bad = [r for r in range(n_reg) if not vouched(b[:, r], a[:, r])]
+        return bad, all(vouched(b[:, j], a[:, j]) for j in range(n_reg, b.shape[1]))
+
+    def judge_errors(e):
+        return figures(e, comp.target, labels, guard, True)
+
+    got = settle_regions(machines, comp, levels, labels, before, check, judge_errors, LEVELS)
+    if got is None:
+        return None
+    worst, worst_one = got[1].max(axis=0), one.max(axis=0)
+    if np.any(worst > worst_one + margin(worst_one)) or not np.any(
+            worst[:n_reg] < worst_one[:n_reg] - margin(worst_one[:n_reg])):
+        return None
+    return got
 
 
 def record(comp, shares: list, rows: list, circle: dict, labels: np.ndarray,

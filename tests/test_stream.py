@@ -494,3 +494,20 @@ def test_a_program_path_streams_for_its_length_says_so(tmp_path, capsys, monkeyp
     got = capsys.readouterr()
     assert "has more than 3 lines: interpolated in chunks" in " ".join(got.err.split())
     assert "at the programmed feed" not in got.out
+
+
+@pytest.mark.parametrize("suffix", [".parquet", ".csv"])
+def test_json_carries_the_warnings_said_on_stderr(tmp_path, capsys, suffix):
+    """--json is the machine interface: a program reading it learned nothing of a move
+    skipped, said on stderr only. The warnings go with the JSON, under "warnings"."""
+    prog = tmp_path / "rep.nc"
+    prog.write_text("G21 G90\nG1 X10 F3000\nG1 X10\nG1 Y10\nM30\n")
+    out = tmp_path / f"run{suffix}"
+    assert main(["simulate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
+                 "--json"]) == 0
+    said = json.loads(capsys.readouterr().out)["warnings"]
+    assert len(said) == 1 and "line 3" in said[0] and "zero-length move" in said[0]
+    prog.write_text("G21 G90\nG1 X10 F3000\nG1 Y10\nM30\n")
+    assert main(["simulate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
+                 "--json"]) == 0
+    assert "warnings" not in json.loads(capsys.readouterr().out)

@@ -21,7 +21,7 @@ single_threaded_from_start()  # before the commands' modules load numpy
 os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 from ..errors import BuildNotice, InputWarning, TcpmmError  # noqa: E402
-from ._app import INTERNAL_ERROR, READER_GONE, app, console, esc  # noqa: E402
+from ._app import INTERNAL_ERROR, READER_GONE, WARNED, app, console, esc  # noqa: E402
 
 #: The module of this package that registers each command (or command group) on
 #: :data:`tcpmm.cli._app.app` when it is imported.
@@ -58,6 +58,7 @@ def main(argv=None) -> int:
         if issubclass(category, InputWarning):
             if str(message) not in told:
                 told.add(str(message))
+                WARNED.append(str(message))
                 console.print(f"[yellow]warning:[/yellow] {esc(str(message))}")
         elif issubclass(category, BuildNotice):
             console.print(f"note: {esc(str(message))}")
@@ -65,6 +66,7 @@ def main(argv=None) -> int:
             shown(message, category, filename, lineno, file, line)
 
     warnings.showwarning = show
+    WARNED.clear()
     _warn_cache_fallback()
     handlers = _exit_on_signals()
     try:
@@ -89,6 +91,7 @@ def main(argv=None) -> int:
         return INTERNAL_ERROR
     finally:
         warnings.showwarning = shown
+        WARNED.clear()
         _restore_signals(handlers)
     return 0
 

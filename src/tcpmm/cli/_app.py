@@ -217,12 +217,26 @@ def in_file(path):
         raise InputError(exc.message, file=path, line=exc.line, column=exc.column) from None
 
 
+#: The warnings the command has said on stderr so far, each text once: ``--json`` carries
+#: them too, under ``warnings``, for a program that reads only the standard output [-].
+WARNED: list[str] = []
+
+
+def with_warnings(data):
+    """``data`` with the warnings said so far under ``warnings``, its first key, where it
+    is a dict that has none of its own and there are any [-]."""
+    if isinstance(data, dict) and WARNED and "warnings" not in data:
+        return {"warnings": list(WARNED), **data}
+    return data
+
+
 def emit_json(data) -> None:
     """``data`` as JSON on stdout, indented by two: coloured on a terminal, written as it is
     elsewhere (rich's highlighter took seconds over the thousands of corners of a long
     run, for colours a pipe does not show). A number that is not finite (a figure not
-    determined) is ``null``: JSON has no NaN, and a strict reader refuses it."""
-    text = _dumped(data)
+    determined) is ``null``: JSON has no NaN, and a strict reader refuses it. The
+    warnings said on stderr go with it (:func:`with_warnings`)."""
+    text = _dumped(with_warnings(data))
     if out.is_terminal:
         out.print_json(text)
     else:
@@ -257,7 +271,7 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
         return
     from itertools import islice
 
-    text, rows, n = _dumped({**head, key: []}), iter(rows), 0
+    text, rows, n = _dumped({**with_warnings(head), key: []}), iter(rows), 0
     with named_stream(False):
         out.file.write(text[:text.rindex("[]")] + "[")
         while batch := [_dumped(r).replace("\n", "\n    ")

@@ -126,3 +126,45 @@ def test_a_fall_within_the_margin_is_no_improvement():
                                    [158.3, 158.4, 158.2]))
     assert never_worse(b, figs([80.0, 80.1, 79.9], [95.6, 95.9, 95.4],
                                [158.3, 158.4, 158.2]))
+
+
+def test_simulate_applies_the_parameter_file_as_the_drives_do(tmp_path, capsys):
+    """The parameters compensate --controller-out writes could not be tried from the
+    command line: simulate ran the command alone, and the figures compensate printed with
+    them could not be reproduced. simulate --controller PARAMS.yaml runs them as
+    tcpmm.compensate.drive does."""
+    import numpy as np
+
+    from tcpmm.cli import main
+    from tcpmm.compensate.controller import AxisController
+    from tcpmm.compensate.drive import controlled_run
+    from tcpmm.io.runfile import read_run
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.path import read_command_csv, write_command_csv
+    from tcpmm.path.circle import circle_command
+
+    cmd_file, params, run = tmp_path / "cmd.csv", tmp_path / "p.yaml", tmp_path / "run.csv"
+    write_command_csv(circle_command(0.02, 5000 / 60e3, start_angle_rad=np.pi / 4), cmd_file)
+    params.write_text("X:\n  friction_pulse_A: 1.5\n  friction_pulse_decay_ms: 20\n"
+                      "  FRICT_COMP_TIME_s: 0.02\n  cross_talk_um_per_m_per_s2: 3\n"
+                      "Y:\n  friction_pulse_A: -0.5\n  friction_pulse_decay_ms: 5\n")
+    assert main(["simulate", "builtin:vmc", "--command", str(cmd_file), "--controller",
+                 str(params), "-o", str(run)]) == 0
+    got = read_run(run)
+    want = controlled_run(builtin_machine(), read_command_csv(cmd_file),
+                          {"X": AxisController(1.5, 0.02, 0.0, 3e-6),
+                           "Y": AxisController(-0.5, 0.005, 0.0, 0.0)})
+    for a in ("X", "Y"):
+        assert np.max(np.abs(got.axes[a].tcp - want.axes[a].tcp)) < 1e-9  # the file's mm
+    alone = tmp_path / "alone.csv"
+    assert main(["simulate", "builtin:vmc", "--command", str(cmd_file), "-o", str(alone)]) == 0
+    assert np.max(np.abs(read_run(alone).axes["X"].tcp - got.axes["X"].tcp)) > 1e-7
+    capsys.readouterr()
+    for text, needle in (("X:\n  friction_pulse_A: 1\n  friction_pulse_decay_ms: 20\n"
+                          "  FRICT_COMP_TIME_s: 0.3\n", "disagree"),
+                         ("X:\n  pulse: 1\n", "unknown key"),
+                         ("X:\n  friction_pulse_A: 1\n", "decay time")):
+        params.write_text(text)
+        assert main(["simulate", "builtin:vmc", "--command", str(cmd_file), "--controller",
+                     str(params), "-o", str(run)]) == 2
+        assert needle in " ".join(capsys.readouterr().err.split())

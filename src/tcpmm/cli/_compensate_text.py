@@ -59,7 +59,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc) -> None:
         out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
                   f"and cross-talk feed-forward; {output} was learned with them and is "
                   "right only with them on the controller; the figures above are with "
-                  "both)")
+                  f"both: tcpmm simulate MODEL --command {output} --controller "
+                  f"{controller_out} runs them)")
         if cc.robustness:
             out.print(f"  share of the tuned parameters kept: {cc.robustness['share']:g}")
 

@@ -27,6 +27,7 @@ from ._app import (
     refuse_unstable,
 )
 from ._circles import diagnostics_json, print_diagnostics, print_passes
+from ._controller import CONTROLLER_HELP, as_the_drives_take_it
 from ._plane import COMMAND_HELP, PLANE_HELP, command_plane, run_plane_said, with_given_command
 from ._stream import (
     CHUNK_HELP,
@@ -77,6 +78,7 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                       "then diverges; for studying the instability itself)."),
              chunk_blocks: int = typer.Option(None, "--chunk-blocks", min=1,
                                               help=CHUNK_HELP),
+             controller: Path = typer.Option(None, "--controller", help=CONTROLLER_HELP),
              as_json: bool = typer.Option(False, "--json")):
     """Drive the machine model with a position command; write the run file. An axis that
     runs away from its command or holds its current at the limit is said on stderr (and
@@ -94,6 +96,9 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     if not allow_unstable:
         refuse_unstable(m, model)
     streams = gcode is not None and command is None and is_parquet(output)
+    if controller is not None and streams:
+        raise typer.BadParameter("a run streamed to Parquet runs the command alone: give "
+                                 "-o RUN.csv", param_hint="--controller")
     if chunk_blocks is not None and not streams:
         raise typer.BadParameter("only an NC program run to Parquet streams: give --gcode "
                                  "PROG.nc and -o RUN.parquet", param_hint="--chunk-blocks")
@@ -104,9 +109,10 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                                       chunk_blocks=chunk_blocks)
         _said_run(output, res, as_json)
         return
-    cmd = load_command(command, gcode, m)
+    cmd, pulses = as_the_drives_take_it(load_command(command, gcode, m), controller, m)
     with progress_bar(len(m.axes), "simulate") as adv, in_file(command or gcode):
-        run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv)
+        run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv,
+                        current_feedforward_A=pulses)
     run.write(output)
     _said_run(output, run.to_dict(), as_json)
 

@@ -199,3 +199,30 @@ def test_a_point_without_a_spike_is_not_reported(tmp_path, capsys, played):
     # the table's agreement of the draws is not the verdict, and says so, in words
     assert "True" not in out and "False" not in out and "draws agree" in out
     assert "spike [µm]" in out and "also count what the data leave open" in " ".join(out.split())
+
+
+def test_a_run_that_is_no_prediction_is_no_spread(tmp_path, capsys, played):
+    """An unstable model, or one whose current holds at its limit, went through spread
+    with exit 0: a contour error of 32 820 um and spikes called settled, the JSON without a
+    flag. The model's own run is refused; a drawn machine whose run is no prediction
+    counts against every point."""
+    from tcpmm.whatif.spread import SpikeSpread
+
+    write_command_csv(paper_circle_command(), tmp_path / "cmd.csv")
+    base = with_uncertainty(played, guideway_share=0.05)
+    weak = base.model_copy(update={"axes": {**base.axes, "X": base.axes["X"].replace(
+        servo=base.axes["X"].servo.model_copy(update={"current_limit": 0.5}))}})
+    hot = base.model_copy(update={"axes": {**base.axes, "X": base.axes["X"].replace(
+        servo=base.axes["X"].servo.model_copy(update={"K_vp": 8.0}))}})
+    for m, needle in ((weak, "no prediction"), (hot, "is unstable")):
+        write_machine(m, tmp_path / "m.yaml")
+        assert main(["spread", str(tmp_path / "m.yaml"), "--command", str(tmp_path / "cmd.csv"),
+                     "--radius", "35", "--draws", "2", "--json"]) == 2
+        err = " ".join(capsys.readouterr().err.split())
+        assert needle in err and "--allow-unstable" not in err
+    res = circle_spread(base, paper_circle_command(), 0.035, n=2)
+    counted = SpikeSpread(res.nominal, res.directions, res.spikes, res.contour_error,
+                          res.sensor, res.tolerance, faulted=2)
+    for a, b in zip(res.rows(), counted.rows(), strict=True):
+        assert b["same_sign"] == pytest.approx(a["same_sign"] / 2) and not b["settled"]
+    assert counted.to_dict()["faulted_draws"] == 2

@@ -319,18 +319,19 @@ def read_model(model: str):
     return m
 
 
-def refuse_unstable(machine, model: str) -> None:
-    """An error naming each axis whose sampled loop is unstable: its run would diverge."""
+def refuse_unstable(machine, model: str, allowed: bool = True) -> None:
+    """An error naming each axis whose sampled loop is unstable: its run would diverge;
+    ``allowed``: the command takes ``--allow-unstable``, which the error then names."""
     from ..servo.sampled import sampled_spectral_radius
 
     bad = {n: sampled_spectral_radius(a.mechanics, a.servo) for n, a in machine.axes.items()}
     bad = {n: r for n, r in bad.items() if r >= 1.0}
     if bad:
         axes = ", ".join(f"{n} (spectral radius {r:.4f})" for n, r in bad.items())
+        anyway = ", or pass --allow-unstable to simulate it anyway" if allowed else ""
         raise InputError(f"the sampled servo loop of axis {axes} is unstable, so a run would "
                          "diverge rather than predict anything; check the gains and periods "
-                         "(tcpmm machine show), or pass --allow-unstable to simulate it anyway",
-                         file=model)
+                         f"(tcpmm machine show){anyway}", file=model)
 
 
 def warn_unstable(machine, what: str, axes=None) -> None:

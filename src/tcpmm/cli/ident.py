@@ -23,9 +23,19 @@ from ._app import (
     positive,
     progress_bar,
     read_model,
+    refuse_unstable,
     warn_suspect,
 )
 from ._tables import raw_spike_named
+
+
+def _say_faulted(faulted: int, draws: int) -> None:
+    """A warning of the drawn machines whose run is no prediction, where there are any."""
+    if faulted:
+        console.print(f"warning: {faulted} of {draws} drawn machines run away or hold their "
+                      "current at the limit: no prediction, they count against every point "
+                      "(the model's uncertainty holds machines whose servo does not hold)",
+                      highlight=False)
 
 
 @app.command()
@@ -57,6 +67,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     checked_plot(plot)
     tol_m = TOLERANCE if tolerance is None else tolerance * 1e-6
     m = read_model(model)
+    refuse_unstable(m, model, allowed=False)
     cmd = load_command(command, gcode, m)
     c = floats(centre, "--centre", 2)
     with progress_bar(draws + 1, "spread") as adv:
@@ -66,6 +77,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                             tolerance_m=tol_m, progress=adv)
     if plot is not None:
         res.plot(path=plot)
+    _say_faulted(res.faulted, draws)
     verdict = _spread_verdict(m, cmd, radius, c, sensor.value)
     if as_json:
         emit_json({**res.to_dict(), "verdict": verdict.to_dict()})

@@ -59,6 +59,9 @@ class SpikeSpread:
         The sensor analysed [-].
     tolerance : float
         Distance from the nominal spike within which a draw counts as agreeing [m].
+    faulted : int
+        Draws whose run is no prediction (a servo loop ran away, or the current held at
+        its limit): their figures are NaN, so they count against every point [-].
     """
 
     nominal: object
@@ -67,6 +70,7 @@ class SpikeSpread:
     contour_error: np.ndarray
     sensor: str
     tolerance: float = TOLERANCE
+    faulted: int = 0
 
     def rows(self) -> list[dict]:
         """One row per pass and quadrant point, in um: nominal spike, rise and fall,
@@ -79,8 +83,9 @@ class SpikeSpread:
             for j, q in enumerate(QUADRANTS):
                 nom, draws = s.spikes[q], self.spikes[:, i, j]
                 ok = draws[np.isfinite(draws)]
-                same = float(np.mean(np.sign(ok) == np.sign(nom))) if ok.size else math.nan
-                near = (float(np.mean(np.abs(ok - nom) <= self.tolerance)) if ok.size
+                n = ok.size + self.faulted  # a draw that is no prediction holds nothing
+                same = float(np.sum(np.sign(ok) == np.sign(nom))) / n if n else math.nan
+                near = (float(np.sum(np.abs(ok - nom) <= self.tolerance)) / n if n
                         else math.nan)
                 rise, fall = s.lobes[q]
                 out.append({
@@ -112,12 +117,13 @@ class SpikeSpread:
         """JSON-ready summary in um."""
         ce = self.contour_error
         return {"sensor": self.sensor, "draws": int(self.spikes.shape[0]),
+                "faulted_draws": int(self.faulted),
                 "tolerance_um": self.tolerance * 1e6, "spikes": self.rows(),
                 "contour_error": [
                     {"direction": d,
                      "nominal_um": p.sensors[self.sensor].contour_error * 1e6,
-                     "low_um": float(np.nanmin(ce[:, i])) * 1e6,
-                     "high_um": float(np.nanmax(ce[:, i])) * 1e6}
+                     "low_um": _extreme(np.nanmin, ce[:, i]) * 1e6,
+                     "high_um": _extreme(np.nanmax, ce[:, i]) * 1e6}
                     for i, (d, p) in enumerate(zip(self.directions, self.nominal.passes,
                                                    strict=True))]}
 
@@ -194,6 +200,8 @@ def _drawn_figures(circle, machine: Machine, directions: list, n: int, seed: int
     rng = np.random.default_rng(seed)
     for k in range(n):
         res = circle(draw_machine(machine, rng, floors))
+        if res is None:  # no prediction: NaN, which agrees with no nominal figure
+            continue
         for i, d in enumerate(directions):
             same = [p for p in res.passes if p.direction == d]
             rank = directions[:i].count(d)
@@ -202,6 +210,25 @@ def _drawn_figures(circle, machine: Machine, directions: list, n: int, seed: int
                 spikes[k, i] = [s.spikes[q] for q in QUADRANTS]
                 ce[k, i] = s.contour_error
     return spikes, ce
+
+
+def _nominal(nominal, sensor: str):
+    """The model's own circle, refused where it is no prediction or holds no circle [-]."""
+    if nominal is None:
+        raise InputError("the model's run of the circle is no prediction: a servo loop runs "
+                         "away or the current holds at its limit (tcpmm simulate says "
+                         "which); check the gains, the current limit and the load")
+    if not nominal.passes:
+        raise InputError("the command holds no full circle of that radius and centre")
+    if sensor not in nominal.passes[0].sensors:
+        raise InputError(f"the run has no {sensor} signal; sensors: "
+                         f"{', '.join(nominal.passes[0].sensors)}", column="sensor")
+    return nominal
+
+
+def _extreme(f, values: np.ndarray) -> float:
+    """``f`` (nanmin, nanmax) of the finite ``values``, NaN where there are none [-]."""
+    return float(f(values)) if np.isfinite(values).any() else math.nan
 
 
 def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0),
@@ -243,17 +270,20 @@ def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0
     _check_spread(machine, n, tolerance_m)
 
     def circle(m):
-        res = analyse_circle(simulate(m, command), radius_m, centre_m)
+        """The circle of ``m``, ``None`` where its run is no prediction."""
+        run = simulate(m, command)
         if progress is not None:
             progress()
+        return None if run.meta.get("faults") else analyse_circle(run, radius_m, centre_m)
+
+    nominal = _nominal(circle(machine), sensor)
+    directions = [p.direction for p in nominal.passes]
+    faulted = []
+
+    def counted(m):
+        res = circle(m)
+        faulted.append(res is None)
         return res
 
-    nominal = circle(machine)
-    if not nominal.passes:
-        raise InputError("the command holds no full circle of that radius and centre")
-    if sensor not in nominal.passes[0].sensors:
-        raise InputError(f"the run has no {sensor} signal; sensors: "
-                         f"{', '.join(nominal.passes[0].sensors)}", column="sensor")
-    directions = [p.direction for p in nominal.passes]
-    spikes, ce = _drawn_figures(circle, machine, directions, n, seed, floors, sensor)
-    return SpikeSpread(nominal, directions, spikes, ce, sensor, tolerance_m)
+    spikes, ce = _drawn_figures(counted, machine, directions, n, seed, floors, sensor)
+    return SpikeSpread(nominal, directions, spikes, ce, sensor, tolerance_m, sum(faulted))

@@ -8,12 +8,14 @@ and as tuned.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..analysis.circular import analyse_circle
-from ..machines.paper import RADIUS_MM, SETTLED_TURNS, paper_circle_command
+from ..errors import InputError, InputWarning
+from ..machines.paper import RADIUS_MM, SETTLED_TURNS, circle_test_command, paper_circle_command
 from ..model import Machine
 from ..servo.tune import tune_machine
 from ..sim.simulate import simulate
@@ -124,11 +126,16 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     TCP path from the commanded path. NaN where the run is no prediction: its servo
     loops run away (:mod:`tcpmm.analysis.runaway`)."""
     run = simulate(machine, command)
+    keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
     if run.meta.get("faults"):
-        keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
         return {case: dict.fromkeys(k, float("nan")) for case, k in keys.items()}
     if circle:
-        res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
+        try:
+            with warnings.catch_warnings():  # of tune's own circle, which the user runs not
+                warnings.simplefilter("ignore", InputWarning)
+                res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
+        except InputError:  # the TCP does not follow the circle: no figure of it
+            return {case: dict.fromkeys(k, float("nan")) for case, k in keys.items()}
         out = {}
         for p in res.passes:
             s = p.sensors["tcp"]
@@ -178,7 +185,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     axes = {n: replace(t, after=tuned.axes[n].servo) if t.met else t for n, t in axes.items()}
     notes = []
     met = [n for n, t in axes.items() if t.met]
-    if met:
+    if met and _worst(after) < float("inf"):
         # one fraction for all tuned axes: the note belongs to the machine, not to each axis
         what = "largest contour error of the circle passes" if circle else \
             "RMS deviation from the program's path"
@@ -198,14 +205,51 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     if _worst(before) == float("inf"):
         notes.append("before: the settings as they are run away on the model (a servo loop "
                      "is unstable), so their path is no prediction and is left out")
-    notes += _worse_note(_worst(before), _worst(after), axes, gm_db, pm_deg)
+    if _worst(after) == float("inf"):
+        notes.append(f"after: the proposal's path is no prediction (its TCP runs away or "
+                     f"leaves the path): the margins asked, {gm_db:g} dB / {pm_deg:g} deg, "
+                     "leave this machine's loops too slow; ask for smaller ones")
+    notes += _worse_note(before, after, axes, gm_db, pm_deg)
+    if circle:
+        notes += _faster_note(machine, tuned)
     return TuneResult(tuned, axes, before, after, notes)
 
 
-def _worse_note(before: float, after: float, axes: dict, gm_db: float, pm_deg: float):
-    """A note where the proposal's path is worse than the settings' before: the margins it
+#: Feed of the second circle the proposal is checked on: the paper's faster one [mm/min].
+FASTER_FEED_MM_PER_MIN = 10000.0
+
+
+def _faster_note(machine: Machine, tuned: Machine) -> list[str]:
+    """A note where the proposal, chosen on the paper's circle, makes the same circle at
+    :data:`FASTER_FEED_MM_PER_MIN` worse [-]."""
+    cmd = circle_test_command(mm_to_m(RADIUS_MM), FASTER_FEED_MM_PER_MIN / 6e4,
+                              turns=SETTLED_TURNS)
+    grown = _grown(path_figures(machine, cmd, True), path_figures(tuned, cmd, True))
+    if not grown:
+        return []
+    return [f"at F{FASTER_FEED_MM_PER_MIN:g} the proposal's circle is worse: "
+            + "; ".join(grown) + " (chosen on the F5000 circle; judge your own feed with "
+            "--gcode)"]
+
+
+def _grown(before: dict, after: dict) -> list[str]:
+    """The figures of a path that grow by more than 2 % and 0.1 um, as text [-]."""
+    out = []
+    for case, figs in before.items():
+        for key, b in figs.items():
+            a = after.get(case, {}).get(key, float("nan"))
+            if np.isfinite(b) and np.isfinite(a) and a > b * 1.02 + 0.1:
+                out.append(f"{case} {key.removesuffix('_um').replace('_', ' ')} "
+                           f"{b:.2f} -> {a:.2f} um")
+    return out
+
+
+def _worse_note(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float):
+    """A note where a figure of the proposal's path is worse than the settings' before (any
+    of them: a program's largest deviation can double while its RMS falls): the margins it
     restores, and how to trade them back [-]."""
-    if not (after > before and before < float("inf")):
+    grown = _grown(before, after)
+    if not grown or _worst(before) == float("inf"):
         return []
     short = []
     for name, t in axes.items():
@@ -217,7 +261,7 @@ def _worse_note(before: float, after: float, axes: dict, gm_db: float, pm_deg: f
     why = (f"the settings before leave less than {gm_db:g} dB / {pm_deg:g} deg ("
            + "; ".join(short) + "), and the proposal buys the margins with it") if short else \
         "the proposal's gains are those that meet the margins"
-    return [f"the predicted path is worse after: {before:.2f} -> {after:.2f} um; {why}; "
+    return [f"the predicted path is worse after: {'; '.join(grown)}; {why}; "
             "smaller margins (--margins) trade some back"]
 
 

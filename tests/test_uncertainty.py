@@ -104,14 +104,15 @@ def test_interval_grows_with_the_deviation(known):
 
 def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resolution=1e-6,
                 k_t=4e8, fc=300.0, crossed_play_gain=None, hold=None,
-                plateau=(math.nan, math.nan)):
+                plateau=(math.nan, math.nan), frfs=("G_M", "G_T", "G_tcp")):
     """A stand-in for an identified axis with what :func:`open_ranges` reads."""
     split = SimpleNamespace(source=source, guideway_share=share, guideway_share_std=share_std,
                             backlash=backlash, backlash_std=0.3e-6,
                             backlash_at_resolution=float("nan"), plateau_share=plateau[0],
                             plateau_share_std=plateau[1])
     return SimpleNamespace(
-        friction_split=split, presliding_fit=None, friction_hold=hold,
+        frfs=dict.fromkeys(frfs), friction_split=split, presliding_fit=None,
+        friction_hold=hold,
         friction=SimpleNamespace(names=["Fc+", "Fc-"], values=[fc, -fc]),
         physical=SimpleNamespace(mechanics=SimpleNamespace(B_m=0.0),
                                  crossed_play_gain=crossed_play_gain),
@@ -303,3 +304,23 @@ def test_a_sweep_that_did_not_travel_leaves_the_mechanics_open():
     axis.sweep_standing = True
     [mech] = [r for r in open_ranges(axis) if r.quantity == "mechanics"]
     assert "did not travel" in mech.cause and "travels at constant speed" in mech.settle
+
+
+def test_a_bundle_without_a_tcp_device_leaves_the_column_open(known):
+    """Bench C without its TCP device: the fit took the column rigid (K_h 1e9 N/m), and the
+    verdict called the TCP spikes firm, +-0.42 um, 5 to 29 um off the measured ones (on
+    bench E 20 to 60 um). The column is now open over 10 to 1000 N/um, and the TCP figures
+    of its axis are not firm, naming it and the TCP device that settles it."""
+    from tcpmm.uncertainty.perturb import _open_variants
+
+    [col] = [r for r in open_ranges(_axis_ident(resolution=0.05e-6, frfs=("G_M", "G_T")))
+             if r.quantity == "column"]
+    assert "no TCP device" in col.cause and "TCP device" in col.settle
+    assert not [r for r in open_ranges(_axis_ident(resolution=0.05e-6))
+                if r.quantity == "column"]
+    soft, _ = _open_variants(known.axes["X"], col)
+    assert soft.axis.mechanics.K_h == col.low and soft.axis.mechanics.M_h > 100
+    v = prediction_verdict(_with(known, "Y", open=(col,)))
+    loose = [f for f in v.figures if f.verdict != "firm"]
+    assert loose and all(f.cause == "axis Y column, open" for f in loose)
+    assert v.axes["Y"]["verdict"] != "firm" and v.axes["X"]["verdict"] == "firm"

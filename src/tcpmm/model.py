@@ -113,7 +113,8 @@ class OpenRange(BaseModel):
         ``guideway_share`` [-], ``backlash`` [m], ``presliding`` [m], ``C_t`` [N s/m],
         ``B_m`` [N m s/rad], ``mechanics`` (a factor on the table mass and the structure
         behind it, ``M_t``, ``M_b``, ``K_b``, ``M_h``, ``K_h``) [-] or ``damping`` (a
-        factor on the axial modes' damping ``C_t``, ``C_b``, ``C_h``) [-].
+        factor on the axial modes' damping ``C_t``, ``C_b``, ``C_h``) [-], or ``column``
+        (the stiffness ``K_h`` of a TCP structure no TCP device measured) [N/m].
     low, high : float
         The range, in the quantity's unit [SI].
     cause : str
@@ -125,7 +126,7 @@ class OpenRange(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics",
-                      "damping"]
+                      "damping", "column"]
     low: float = Field(ge=0.0, allow_inf_nan=False)
     high: float = Field(ge=0.0, allow_inf_nan=False)
     cause: str

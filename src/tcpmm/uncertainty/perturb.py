@@ -10,6 +10,7 @@ from ..ident.friction.presliding import with_presliding
 from ..ident.friction.sensitivity import coulomb_share, with_share
 from ..model import Axis
 from ..whatif.draws import longer_presliding, scaled_contact
+from .ranges import column_of
 
 __all__ = ["QUANTILE_90", "Variant", "axis_variants"]
 
@@ -109,6 +110,8 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
+        elif r.quantity == "column":  # a head of typical mass on a spring of that stiffness
+            moved = axis.replace(mechanics=m.replace(**column_of(x)))
         elif r.quantity == "damping":  # the steady viscous force kept, as for C_t below
             upd = {p: getattr(m, p) * x for p in AXIAL_DAMPING}
             upd["B_L"] = max(m.B_L + (m.C_t - upd["C_t"]) * m.R_L ** 2, 0.0)

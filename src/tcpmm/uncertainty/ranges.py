@@ -15,8 +15,17 @@ from ..ident.friction.nutstiffness import RESOLUTION_STEPS
 from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from ..model import OpenRange
 
-__all__ = ["DAMPING_RANGE", "MECHANICS_RANGE", "PLATEAU_SHARE_REL_SD", "PRESLIDING_RANGE_M",
-           "SCALE_STEPS", "SHARE_RANGE", "open_ranges"]
+__all__ = [
+    "COLUMN_RANGE",
+    "DAMPING_RANGE",
+    "MECHANICS_RANGE",
+    "PLATEAU_SHARE_REL_SD",
+    "PRESLIDING_RANGE_M",
+    "SCALE_STEPS",
+    "SHARE_RANGE",
+    "column_of",
+    "open_ranges",
+]
 
 #: A deflection between encoder and scale of fewer scale steps than this rests on the
 #: sensor's resolution: its rounding, not the nut, shapes what the runs see [-].
@@ -28,6 +37,11 @@ PRESLIDING_RANGE_M = (0.2e-6, 10e-6)
 #: Factor on the table mass and the structure behind it where the sweep's FRFs are not
 #: those of the linear mechanics (friction held the axis) [-].
 MECHANICS_RANGE = (0.7, 1.3)
+#: Stiffness of a TCP structure no TCP device measured, from a slender column's to the rigid
+#: one the fit takes (10 to 1000 N/um) [N/m]; with it a head of :data:`COLUMN_MASS_KG`
+#: damped at :data:`COLUMN_ZETA`, as machining centres' columns are.
+COLUMN_RANGE = (1e7, 1e9)
+COLUMN_MASS_KG, COLUMN_ZETA = 300.0, 0.05
 #: Factor on the axial modes' damping where a sweep crossed the nut's lost motion and the
 #: fit took the nut as linear: the play's impacts and the friction inside it dissipate
 #: energy a linear damper is fitted to, up to doubling it [-].
@@ -168,6 +182,13 @@ def _nonlinear_sweep(a) -> list[OpenRange]:
     return out
 
 
+def column_of(stiffness: float) -> dict:
+    """The TCP structure's parameters of an open ``column`` of that stiffness: a head of
+    :data:`COLUMN_MASS_KG` damped at :data:`COLUMN_ZETA` [SI]."""
+    return {"M_h": COLUMN_MASS_KG, "K_h": stiffness,
+            "C_h": 2.0 * COLUMN_ZETA * math.sqrt(stiffness * COLUMN_MASS_KG)}
+
+
 def open_ranges(a) -> tuple[OpenRange, ...]:
     """The quantities an identified axis leaves open, each with its range, cause and the
     measurement that would settle it.
@@ -198,6 +219,12 @@ def open_ranges(a) -> tuple[OpenRange, ...]:
                              cause=f"pre-sliding assumed: {fit.reason}",
                              settle=_SETTLE_PRESLIDING))
     out += _nonlinear_sweep(a)
+    if "G_tcp" not in a.frfs:
+        out.append(OpenRange(quantity="column", low=COLUMN_RANGE[0], high=COLUMN_RANGE[1],
+                             cause="no TCP device: the structure between the scale and the "
+                                   "tool is not measured; the fit takes it rigid",
+                             settle="a sweep with a TCP device (a laser or a ballbar at the "
+                                    "tool)"))
     # the runs fix the steady viscous torque on the motor side, B_m + B_L: only its
     # division is open
     mech = a.axis.mechanics

@@ -75,3 +75,21 @@ def test_identify_refuses_swapped_friction_columns_before_the_fit(records, tmp_p
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "column current_cmd_A" in err[0] and "Traceback" not in err[0]
     assert not model.exists()
+
+
+def test_a_sweep_that_did_not_move_is_refused_by_name(records):
+    """A clamped axis (motor, scale and TCP constant in sweep.csv) went on to the physical
+    fit, which failed inside its optimiser ('Each lower bound must be strictly less than
+    each upper bound'). The sweep is refused first, naming the column and why."""
+    from tcpmm.errors import InputError
+    from tcpmm.io.bundle_schema import MachineConfig
+    from tcpmm.io.checks import check_sweep_plausibility
+
+    machine, s, _ = records
+    axis = MachineConfig.model_validate(machine).axes["X"]
+    check_sweep_plausibility(s, axis)
+    clamped = dataclasses.replace(s, motor_angle_rad=np.full_like(s.motor_angle_rad, 1.5),
+                                  scale_m=np.zeros_like(s.scale_m))
+    with pytest.raises(InputError, match="did not move") as e:
+        check_sweep_plausibility(clamped, axis)
+    assert e.value.column == "motor_angle_rad"

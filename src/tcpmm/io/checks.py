@@ -206,8 +206,20 @@ def slope_and_correlation(y, x) -> tuple[float, float]:
     return sxy / sxx, sxy / np.sqrt(sxx * syy)
 
 
+def _refuse_standing_still(record) -> None:
+    """Refuse a sweep whose motor angle does not change at all: the axis was clamped, or
+    its position channels were not recorded; no frequency response is in it."""
+    if np.ptp(record.motor_angle_rad) == 0.0:
+        raise InputError("motor_angle_rad holds one value over the whole sweep: the axis did "
+                         "not move (clamped, or its position channels not recorded), and no "
+                         "frequency response can be read from it; record the sweep with the "
+                         "axis free and its encoder, scale and TCP channels logged",
+                         file=record.source, column="motor_angle_rad")
+
+
 def check_sweep_plausibility(record, axis) -> None:
-    """Warn about records that contradict ``machine.yaml``.
+    """Refuse a sweep that did not move; warn about records that contradict
+    ``machine.yaml``.
 
     Warns when the current command reaches the current limit (the record is then
     nonlinear), and when the linear scale does not follow motor angle times lead/(2 pi)
@@ -221,6 +233,7 @@ def check_sweep_plausibility(record, axis) -> None:
         The axis description from machine.yaml [-].
     """
     src = record.source
+    _refuse_standing_still(record)
     limit = axis.servo.current_limit_A
     peak = np.abs(record.current_cmd_A)
     if peak.max() >= 0.999 * limit:

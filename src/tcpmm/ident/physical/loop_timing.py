@@ -47,8 +47,10 @@ MATCH_TOL = 0.2
 #: Fewest coherent bins for a fit [-].
 MIN_BINS = 20
 #: Range of the fitted factor on the declared gains within which the record is read as
-#: the declared controller: outside it the gains, the lead or the torque constant in
-#: machine.yaml are not the drive's, and the fitted delay means nothing [-].
+#: the declared controller: outside it the gains or the lead in machine.yaml are not the
+#: drive's, and the fitted delay means nothing. (A wrong torque constant scales the
+#: identified inertias with it, and the loop it closes stays the same: no sweep shows it.)
+#: [-].
 GAIN_RANGE = (0.8, 1.25)
 #: Largest relative residual of the fit for the same reason [-].
 MAX_RESIDUAL = 0.3
@@ -210,8 +212,8 @@ def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:
         warn_input(
             f"axis {name}: the controller output in the sweep does not match the declared "
             f"velocity-loop gains with any computation delay (fitted gain factor "
-            f"{timing.gain:.2f}, delay {timing.tau_periods:.2f} periods); check the gains, "
-            "lead and torque constant in machine.yaml. The model assumes a delay of "
+            f"{timing.gain:.2f}, delay {timing.tau_periods:.2f} periods); check the gains "
+            "and the lead in machine.yaml. The model assumes a delay of "
             f"{COMPUTATION_DELAY} period and a differenced encoder velocity",
             file=getattr(sweep, "source", None))
     return timing

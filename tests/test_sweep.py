@@ -305,3 +305,18 @@ def test_a_faulted_variant_is_said_with_json_too(tmp_path, capsys):
         assert main([*args, *more]) == 0
         err = " ".join(capsys.readouterr().err.split())
         assert "warning: variant" in err and "current at the limit" in err, more
+
+
+def test_a_feed_the_circle_cannot_reach_is_said(tmp_path, capsys):
+    """program.feed_mm_per_min 50000 and 1e6 gave the same rows (the interpolator's
+    1 m/s2 holds the R35 circle at 11 225 mm/min) under the feed asked, with no word."""
+    from tcpmm.cli import main
+
+    assert main(["sweep", "builtin:vmc", "--param", "program.feed_mm_per_min=5000,50000",
+                 "-o", str(tmp_path / "a")]) == 0
+    err = " ".join(capsys.readouterr().err.split())
+    assert "program.feed_mm_per_min 50000 on the R35 mm circle runs at 11225 mm/min" in err
+    assert "5000 on" not in err
+    assert main(["sweep", "builtin:vmc", "--param", "program.feed_mm_per_min=5000,8000",
+                 "-o", str(tmp_path / "b")]) == 0
+    assert "runs at" not in capsys.readouterr().err

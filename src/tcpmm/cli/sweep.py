@@ -215,10 +215,13 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     if how["design"] not in DESIGNS:
         raise typer.BadParameter(f"--design must be one of {', '.join(DESIGNS)}")
     from ..whatif.sweep import parse_param
+    from ..whatif.sweep.task import capped_feeds
 
     program = _program(*prog)
     specs = [parse_param(p, lambda name: canonical_name(m, name, kind)) for p in param or []]
     variants = make_design(how["design"], specs, how["n"], how["seed"])
+    for note in capped_feeds(program, m, variants):
+        console.print(f"warning: {esc(note)}", highlight=False)
     floors = None if how["fit_only"] or how["design"] != "draws" else MODEL_ERROR
     try:
         res = _on_cluster(scheduler, "sweep", lambda client, progress: run_sweep(

@@ -131,6 +131,38 @@ def program_command(program, machine, values: dict):
     return _gcode_command(program.text, program.name, override, settings.model_dump_json())
 
 
+def capped_feeds(program, machine, variants) -> list[str]:
+    """A sentence per feed of the circular test the interpolator cannot reach on its
+    circle (its centripetal acceleration holds the feed back): the variants asking more
+    run the same circle as the feed it reaches, which the table does not show [-].
+
+    Parameters
+    ----------
+    program : CircleProgram or GcodeProgram
+        The program swept; an NC program gives none [-].
+    machine : Machine
+        The model swept [SI].
+    variants : list of Variant
+        The variants, with their parameters [-].
+    """
+    if program.kind != "circle":
+        return []
+    asked = {(v.params.get("program.radius_mm", program.radius_m * 1e3),
+              v.params.get("program.feed_mm_per_min", program.feed_m_per_s * 6e4))
+             for v in variants}
+    out = []
+    for radius_mm, feed in sorted(asked):
+        cmd = program_command(program, machine, {"program.radius_mm": radius_mm,
+                                                 "program.feed_mm_per_min": feed})
+        p = np.array([cmd.positions[a] for a in cmd.axes])
+        reached = float(np.max(np.linalg.norm(np.diff(p, axis=1), axis=0))) / cmd.period_s * 6e4
+        if reached < 0.99 * feed:
+            out.append(f"program.feed_mm_per_min {feed:g} on the R{radius_mm:g} mm circle runs "
+                       f"at {reached:.0f} mm/min: the interpolator's acceleration holds the "
+                       "feed back on the circle, so the rows asking more are that circle")
+    return out
+
+
 def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
     values = variant.params
     m = machine

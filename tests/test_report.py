@@ -330,6 +330,12 @@ def test_the_reports_error_sources_are_the_circle_commands_ranking():
     share = {s: g for s, _, _, g in rows}
     assert share["centre offset"] == 0.0
     assert [g for *_, g in rows] == [r["share_of_G"] for r in ranked]
+    # a ballbar's "backlash" at the TCP is any step of the radius at a reversal: bench C's
+    # column, bending under the guideway's friction, read 14 um "backlash Y" where its nut
+    # has none, and the page had the customer read it as the nut's
+    note = {s: n for s, _, n, _ in rows}
+    assert all("or a deflection that flips with the friction" in note[s]
+               for s in note if s.startswith("backlash"))
 
 
 def test_a_report_of_a_circle_in_zx_finds_its_plane(tmp_path, capsys):

@@ -23,6 +23,12 @@ from .html import facts, number, para, section, table
 #: What a ranked term's sign says where the terms table has no note of it
 _MEANING = {"reversal_spikes": "dynamics of the reversal: friction, lost motion, servo",
             "centre_offset": "set-up: the circle's centre off the nominal"}
+#: What a ballbar's "backlash" of an axis is at the TCP: the radius stepping out at its
+#: reversal, which lost motion in the drive makes, and as well a deflection that flips with
+#: the friction (the column bending under the guideway's friction): not the nut alone.
+_BACKLASH = ("+: radius steps out at reversal: lost motion in the drive, or a deflection "
+             "that flips with the friction (the structure at the TCP); compare the scale's "
+             "circle before blaming the nut")
 
 
 def ranked_sources(diag) -> list[tuple[str, float, str]]:
@@ -47,8 +53,8 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
     for r in sorted(diag.ranking, key=lambda r: r["rank"]):
         term = r["term"]
         base, _, axis = term.rpartition("_")
-        note = _MEANING.get(term) or term_note(
-            f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes)
+        note = _MEANING.get(term) or (_BACKLASH if base == "backlash" else term_note(
+            f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes))
         rows.append((term.replace("_", " "), float(r["contribution_m"]), note,
                      float(r["share_of_G"])))
     return rows

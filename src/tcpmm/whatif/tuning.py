@@ -202,6 +202,16 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
                      + "a path through axes of different position gains is distorted (a "
                        "circle becomes an ellipse); give them one by hand")
     before = path_figures(machine, cmd, circle)
+    notes += _path_notes(before, after, axes, gm_db, pm_deg)
+    if circle:
+        notes += _faster_note(machine, tuned)
+    return TuneResult(tuned, axes, before, after, notes)
+
+
+def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float):
+    """Notes on the paths before and after: one that is no prediction, and the figures the
+    proposal makes worse (:func:`_worse_note`) [-]."""
+    notes = []
     if _worst(before) == float("inf"):
         notes.append("before: the settings as they are run away on the model (a servo loop "
                      "is unstable), so their path is no prediction and is left out")
@@ -209,10 +219,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         notes.append(f"after: the proposal's path is no prediction (its TCP runs away or "
                      f"leaves the path): the margins asked, {gm_db:g} dB / {pm_deg:g} deg, "
                      "leave this machine's loops too slow; ask for smaller ones")
-    notes += _worse_note(before, after, axes, gm_db, pm_deg)
-    if circle:
-        notes += _faster_note(machine, tuned)
-    return TuneResult(tuned, axes, before, after, notes)
+    return notes + _worse_note(before, after, axes, gm_db, pm_deg)
 
 
 #: Feed of the second circle the proposal is checked on: the paper's faster one [mm/min].

@@ -10,7 +10,7 @@ import pytest
 from tcpmm.cli import main
 from tcpmm.whatif.sweep import read_results
 
-ARGS = ["sweep", "builtin:vmc", "-p", "X.servo.position_gain=30,40", "--circle", "5,6000",
+ARGS = ["sweep", "builtin:vmc", "-p", "X.servo.position_gain=30,40", "--circle", "5,4000",
         "--workers", "1", "--json"]
 
 
@@ -90,7 +90,7 @@ def test_a_saturating_axis_is_said(vmc):
 
 def test_a_sweep_says_its_runaway_variants(tmp_path, capsys):
     args = ["sweep", "builtin:vmc", "-p", "Z.mechanics.load_force=-2000,-20000",
-            "--circle", "5,6000", "--workers", "1", "-o", str(tmp_path / "o")]
+            "--circle", "5,4000", "--workers", "1", "-o", str(tmp_path / "o")]
     assert main(args) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "axis Z: leaves the command" in err[0]
@@ -150,7 +150,7 @@ def test_a_lost_scheduler_is_one_line_and_a_rerun_resumes(tmp_path, monkeypatch,
 
     monkeypatch.setattr(sweep_cli, "_bar", stopping)
     args = ["sweep", "builtin:vmc", "-p", "X.servo.position_gain=20:40:1", "--circle",
-            "5,6000", "-o", str(tmp_path / "o"), "--scheduler", "tcp://example:8786"]
+            "5,4000", "-o", str(tmp_path / "o"), "--scheduler", "tcp://example:8786"]
     t0 = time.monotonic()
     try:
         assert main(args) == 2

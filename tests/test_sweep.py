@@ -315,8 +315,8 @@ def test_a_feed_the_circle_cannot_reach_is_said(tmp_path, capsys):
     assert main(["sweep", "builtin:vmc", "--param", "program.feed_mm_per_min=5000,50000",
                  "-o", str(tmp_path / "a")]) == 0
     err = " ".join(capsys.readouterr().err.split())
-    assert "program.feed_mm_per_min 50000 on the R35 mm circle runs at 11225 mm/min" in err
-    assert "5000 on" not in err
+    assert "the circle's feed 50000 mm/min at R35 mm runs at 11225 mm/min" in err
+    assert "feed 5000 " not in err
     assert main(["sweep", "builtin:vmc", "--param", "program.feed_mm_per_min=5000,8000",
                  "-o", str(tmp_path / "b")]) == 0
     assert "runs at" not in capsys.readouterr().err

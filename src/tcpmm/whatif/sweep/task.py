@@ -157,9 +157,9 @@ def capped_feeds(program, machine, variants) -> list[str]:
         p = np.array([cmd.positions[a] for a in cmd.axes])
         reached = float(np.max(np.linalg.norm(np.diff(p, axis=1), axis=0))) / cmd.period_s * 6e4
         if reached < 0.99 * feed:
-            out.append(f"program.feed_mm_per_min {feed:g} on the R{radius_mm:g} mm circle runs "
-                       f"at {reached:.0f} mm/min: the interpolator's acceleration holds the "
-                       "feed back on the circle, so the rows asking more are that circle")
+            out.append(f"the circle's feed {feed:g} mm/min at R{radius_mm:g} mm runs at "
+                       f"{reached:.0f} mm/min: the interpolator's acceleration holds the feed "
+                       "back on the circle, so the rows asking more are that circle")
     return out
 
 

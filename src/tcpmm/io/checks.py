@@ -217,6 +217,28 @@ def _refuse_standing_still(record) -> None:
                          file=record.source, column="motor_angle_rad")
 
 
+def _check_resolutions(record, axis) -> None:
+    """Warn where a position column's typical change between two samples (the median of
+    those that are not nil) is under a tenth of a step of the resolution ``machine.yaml``
+    declares for its sensor (a resolution in the wrong unit, 50 for 0.05 um): the sensor's
+    rounding in the model would then be a thousand times the measured one. A sensor that
+    rounds changes by whole steps, and a record finer than its steps is another's."""
+    pairs = [("scale_mm", record.scale_m, axis.sensors.scale_resolution_m,
+              "scale_resolution_um")]
+    if record.tcp_m is not None and axis.sensors.tcp_resolution_m:
+        pairs.append(("tcp_mm", record.tcp_m, axis.sensors.tcp_resolution_m,
+                      "tcp_resolution_um"))
+    for name, x, res, key in pairs:
+        steps = np.abs(np.diff(x))
+        steps = steps[steps > 1e-12]  # the file's own rounding is no step of the sensor
+        typical = float(np.median(steps)) if steps.size else 0.0
+        if res and typical and res > 10.0 * typical:
+            warn_input(f"{name} changes by {typical * 1e6:.3g} um between two samples "
+                       f"(median), under a tenth of a step of the declared {key} "
+                       f"{res * 1e6:g}: check it (in micrometres)", file=record.source,
+                       column=name)
+
+
 def check_sweep_plausibility(record, axis) -> None:
     """Refuse a sweep that did not move; warn about records that contradict
     ``machine.yaml``.
@@ -234,6 +256,7 @@ def check_sweep_plausibility(record, axis) -> None:
     """
     src = record.source
     _refuse_standing_still(record)
+    _check_resolutions(record, axis)
     limit = axis.servo.current_limit_A
     peak = np.abs(record.current_cmd_A)
     if peak.max() >= 0.999 * limit:

@@ -371,3 +371,15 @@ def test_the_reports_verdict_names_its_circles():
     page = verdict_html({"firm": True, "tests": ["R35 F5000"], "axes": {}, "figures": []})
     assert "The circles of this verdict: R 35 mm about the origin" in page
     assert "middle of one and a half turns" in page
+
+
+def test_the_spread_section_says_its_draws_are_not_the_verdicts(full):
+    """The report gave the same spike two uncertainties, about four times apart (the
+    draws' range 34.7-46.7 um, 'not firm'; the verdict's 41.67 +- 1.69 um), and 'firm'
+    meant 4.1 um in one section and 1 um in the other, unexplained. The spread section
+    says what its draws are and that the verdicts are the calibrated intervals."""
+    text, _ = full
+    i = text.index('data-section="spread"')
+    part = text[i:text.index("</section>", i)]
+    assert "calibrated on machines of known truth" in part
+    assert "the same spike has an interval of each" in part

@@ -58,7 +58,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
            as_json: bool = typer.Option(False, "--json"),
            plot: Path = typer.Option(None, "--plot", help="Save a plot (PNG/PDF/SVG).")):
     """Reversal spikes of a circle with their spread over the identified uncertainty."""
-    from ..whatif.spread import MODEL_ERROR, TOLERANCE, circle_spread
+    from ..whatif.spread import DRAWS_NOTE, MODEL_ERROR, TOLERANCE, circle_spread
     from ._tables import print_table
 
     if tolerance is not None:
@@ -97,14 +97,6 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                   f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} um of "
                   f"{r['spike_um']:.2f} um; range {r['low_um']:.2f} to {r['high_um']:.2f} um)")
     _print_verdict(verdict)
-
-
-#: How spread's draws and its verdicts differ, said under the draws' table
-DRAWS_NOTE = ("The draws widen every quantity to at least the error identification made on "
-              "machines it had not seen (the floors), whatever this model's own fit says, "
-              "and so flag more than the verdicts below; the verdicts below are this model's "
-              "90 % intervals, calibrated on machines of known truth, and also count what "
-              "the data leave open (as the pre-sliding), which the draws do not vary")
 
 
 def _spread_verdict(machine, command, radius_mm: float, centre_mm, sensor: str):

@@ -12,6 +12,7 @@ from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..errors import InputError
 from ..plot.circle import plot_circle
 from ..plot.spread import plot_spread_rows
+from ..whatif.spread import DRAWS_NOTE
 from .html import esc, facts, figure, number, para, section, table
 
 SENSOR_NAMES = {"cmd": "command", "motor": "motor encoder", "scale": "linear scale",
@@ -234,7 +235,8 @@ def spread_section(spread):
     body = para(f"{data['draws']} machines drawn from the identified uncertainty, "
                 f"{data['sensor']} sensor. A quadrant point is settled when nine in ten "
                 "draws give the spike the nominal sign, and firm when nine in ten lie "
-                f"within {data['tolerance_um']:g} µm of it.", "lead")
+                f"within {data['tolerance_um']:g} µm of it. {DRAWS_NOTE}: the same spike has "
+                "an interval of each.", "lead")
     if hasattr(spread, "plot"):
         fig, what = spread.plot(), "draws (dots) and their range (bar)"
     else:

@@ -27,10 +27,12 @@ def _axes_frame(comp):
 
     d = comp.to_dict()
     shares = comp.robustness.get("factors", {})
+    share = ("share applied, mean along the path (chosen by region)"
+             if comp.robustness.get("by_region") else "share applied")
     rows = []
     for a, c in d["correction"].items():
         b = d["bounds"].get(a, {})
-        rows.append({"axis": a, "share applied": shares.get(a, 1.0),
+        rows.append({"axis": a, share: shares.get(a, 1.0),
                      "largest correction [µm]": c["applied_max_um"],
                      **{f"limit {k}": v for k, v in b.items()}})
     return pd.DataFrame(rows)

@@ -383,3 +383,15 @@ def test_the_spread_section_says_its_draws_are_not_the_verdicts(full):
     part = text[i:text.index("</section>", i)]
     assert "calibrated on machines of known truth" in part
     assert "the same spike has an interval of each" in part
+
+
+def test_the_pairs_spikes_are_named_apart_from_each_directions(full):
+    """One circle, one sensor, one label, two numbers: the circle table's spike 'after the
+    fitted terms' (each direction's own terms) read 18.73 um where the diagnostics' spike
+    of the same label (the pair's terms, backlash among them) read 15.17 um."""
+    import html
+
+    text = html.unescape(full[0])
+    assert "pair [µm]" in text
+    assert "reversal spike A (after the pair's terms)" in text
+    assert "reversal spike A (after the fitted terms)" not in text

@@ -137,7 +137,10 @@ def diagnostics_html(diag, stem: str) -> str:
     per = [{"figure": label, **{c: rows.get(f"{base}_{d}", nan)[0] for d, c in cols.items()}}
            for base, label in (("radial_deviation", "radial deviation"),
                                ("circularity", "circularity G, G(b)"))]
-    per += [{"figure": f"reversal spike {q} (after the fitted terms)",
+    # after the terms of this fit (with two directions, the pair's, backlash and lateral
+    # play among them): not the circle table's spikes, after each direction's own terms
+    after = "after the pair's terms" if len(dirs) == 2 else "after the fitted terms"
+    per += [{"figure": f"reversal spike {q} ({after})",
              **{c: rows.get(f"spike_{q}_{d}", nan)[0] for d, c in cols.items()}}
             for q in "ABCD"]
     terms = pd.DataFrame([{"term": t.replace("_", " "), "value": v, "unit": u,

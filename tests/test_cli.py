@@ -325,3 +325,24 @@ def test_machine_show_gives_a_light_modes_damping_its_digits(capsys):
     assert main(["machine", "show", "builtin:vmc"]) == 0
     text = capsys.readouterr().out
     assert "zeta 0.00052" in text and "zeta 0.000)" not in text
+
+
+def test_machine_show_of_an_unstable_sampled_loop_does_not_read_as_stable(tmp_path, capsys):
+    """With X's velocity gain raised till the drive's sampled loop is unstable, machine show
+    read 'closed loop stable; sampled loop UNSTABLE' and gave the position loop's margins as
+    if they held. It says which loop is the continuous one, and that the position loop's
+    margins mean nothing there."""
+    from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
+
+    m = builtin_machine()
+    x = m.axes["X"]
+    write_machine(m.with_axis("X", x.replace(servo=x.servo.model_copy(update={"K_vp": 8.0}))),
+                  tmp_path / "m.yaml")
+    assert main(["machine", "show", str(tmp_path / "m.yaml")]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    head = next(ln for ln in lines if ln.startswith("X:"))
+    assert "continuous closed loop" in head and "sampled loop UNSTABLE" in head
+    pos = [ln for ln in lines if "position loop:" in ln]
+    assert "of no meaning: the sampled loop is unstable" in pos[0]
+    assert "of no meaning" not in pos[1]  # Y's loops hold

@@ -68,12 +68,16 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         state = "stable" if d["closed_loop_stable"] else "UNSTABLE"
         rho = d["sampled_loop_spectral_radius"]
         sampled = "stable" if rho < 1.0 else "UNSTABLE"
-        out.print(f"{ax}: {modes}; closed loop {state}; sampled loop {sampled} "
-                  f"(spectral radius {rho:.4f})")
+        out.print(f"{ax}: {modes}; continuous closed loop {state}; sampled loop {sampled} "
+                  f"(spectral radius {rho:.4f}, the drive's: the one that counts)")
         for f in d["filters"]:
             out.print("   current-setpoint filter: " + ", ".join(f"{k} {v}" for k, v in f.items()))
         for loop, mg in d["margins"].items():
-            out.print(f"   {loop} loop: {margins_line(mg)}")
+            # the position loop closes around the velocity loop: its margins assume that
+            # one holds, which an unstable sampled loop does not
+            unheld = " (of no meaning: the sampled loop is unstable)" if (
+                loop == "position" and rho >= 1.0) else ""
+            out.print(f"   {loop} loop: {margins_line(mg)}{unheld}")
 
 
 def margins_line(mg: dict) -> str:

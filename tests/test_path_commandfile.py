@@ -102,3 +102,18 @@ def test_line_numbers_count_only_line_breaks(tmp_path):
     with pytest.raises(InputError) as e:
         read_command_csv(p)
     assert e.value.line == 4
+
+
+@pytest.mark.parametrize("scale", [1e3, 1e6])
+def test_a_time_column_in_ms_or_us_is_refused(tmp_path, scale):
+    """time_s written in ms went through: a 8 s circle became 2 h of machine time at a
+    1 s step, simulated without a word; in us it ran on for minutes and a SIGTERM did not
+    stop it. A period beyond 0.1 s is refused, naming the column and the unit."""
+    cmd = circle_command(0.035, 5000 / 60e3)
+    path = tmp_path / "c.csv"
+    write_command_csv(Command(cmd.time_s * scale, cmd.positions), path)
+    with pytest.raises(InputError, match="milliseconds or microseconds") as e:
+        read_command_csv(path)
+    assert e.value.column == "time_s" and e.value.line == 3
+    write_command_csv(cmd, path)
+    assert read_command_csv(path).period_s == pytest.approx(cmd.period_s)

@@ -138,6 +138,12 @@ def _check_uniform_time(t, file) -> None:
         )
 
 
+#: Longest period of a command file's samples: a CNC's interpolator samples every 0.25 to
+#: 20 ms; a time column in ms or us, read as seconds, gives 1 s and more (a circle of
+#: 8 s became 2 h of machine time, simulated without a word) [s].
+MAX_PERIOD_S = 0.1
+
+
 def read_command_csv(path) -> Command:
     """Read a command file.
 
@@ -174,6 +180,11 @@ def read_command_csv(path) -> Command:
     data = _numbers(rows, names, path)
     t = data[:, 0]
     _check_uniform_time(t, path)
+    if t[1] - t[0] > MAX_PERIOD_S:
+        raise InputError(f"the samples are {t[1] - t[0]:g} s apart, where an interpolator "
+                         f"samples its command every few ms (at most {MAX_PERIOD_S:g} s): is "
+                         "time_s in milliseconds or microseconds? Write seconds",
+                         file=path, line=3, column="time_s")
     positions = {_AXIS_COLUMNS[n]: data[:, k] * 1e-3 for k, n in enumerate(names) if k}
     order = [a for a in ("X", "Y", "Z") if a in positions]
     return Command(

@@ -117,3 +117,29 @@ def test_a_time_column_in_ms_or_us_is_refused(tmp_path, scale):
     assert e.value.column == "time_s" and e.value.line == 3
     write_command_csv(cmd, path)
     assert read_command_csv(path).period_s == pytest.approx(cmd.period_s)
+
+
+def test_a_header_in_double_quotes_reads_as_without(tmp_path):
+    """A spreadsheet or logger writes "time_s","x_mm": every CSV reader refused it ('missing
+    column time_s (did you mean '"time_s"'?)'), while it took quoted numbers in the rows.
+    The header's quotes are taken off, as a CSV reader does."""
+    from tcpmm.io.runfile import read_run
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.sim.simulate import simulate
+
+    cmd = circle_command(0.01, 3000 / 60e3)
+    path = tmp_path / "c.csv"
+    write_command_csv(cmd, path)
+    lines = path.read_text().splitlines()
+    quoted = ",".join(f'"{n}"' for n in lines[0].split(","))
+    path.write_text("\n".join([quoted, *lines[1:]]) + "\n")
+    back = read_command_csv(path)
+    assert np.abs(back.positions["X"] - cmd.positions["X"]).max() <= 1e-12
+    run_file = tmp_path / "run.csv"
+    simulate(builtin_machine(), back).write_csv(run_file)
+    want = read_run(run_file)
+    lines = run_file.read_text().splitlines()
+    run_file.write_text("\n".join([",".join(f'"{n}"' for n in lines[0].split(",")),
+                                   *lines[1:]]) + "\n")
+    got = read_run(run_file)
+    assert np.array_equal(got.axes["X"].tcp, want.axes["X"].tcp)

@@ -84,6 +84,15 @@ def pipe_text(path: Path, what: str = "CSV file") -> str | None:
         raise unreadable(path, what) from None
 
 
+def unquoted(name: str) -> str:
+    """A header field without its blanks and the double quotes a spreadsheet or a logger
+    puts around it (``"time_s"``), as a CSV reader takes it [-]."""
+    name = name.strip()
+    if len(name) >= 2 and name[0] == name[-1] == '"':
+        name = name[1:-1].strip()
+    return name
+
+
 def _header_names(first: str, path: Path) -> list[str]:
     """The column names of a header line, refused where the line is not a header.
 
@@ -106,7 +115,7 @@ def _header_names(first: str, path: Path) -> list[str]:
             file=path,
             line=1,
         )
-    names = [c.strip() for c in first.split(",")]
+    names = [unquoted(c) for c in first.split(",")]
     if len(names) == 1 and (";" in first or "\t" in first):
         sep = "semicolons" if ";" in first else "tabs"
         raise InputError(

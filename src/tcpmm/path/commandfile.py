@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.atomic import atomic_path
+from ..io.csvutil import unquoted
 from ..io.text import file_lines, read_text
 from .command import Command
 
@@ -21,7 +22,7 @@ UNIFORM_REL_TOL = 1e-6
 
 
 def _header(line: str, file) -> list[str]:
-    names = [h.strip() for h in line.split(",")]
+    names = [unquoted(h) for h in line.split(",")]
     if names[0] != "time_s":
         raise InputError(
             f"the first column must be time_s, found {names[0]!r}; expected the header {_LAYOUT}",

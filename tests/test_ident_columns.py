@@ -54,6 +54,10 @@ def test_the_columns_of_a_sane_bundle_pass(records):
      ["sweep.csv columns scale_mm / motor_angle_rad", "in degrees"]),
     ("sweep", lambda r: _swap(r, "excitation_A", "tcp_m"),
      ["sweep.csv columns tcp_mm / scale_mm", "do not move together"]),
+    # the TCP in um read as 'the scale in micrometres (write mm)': a user who did as told
+    # would have divided a right scale by 1000
+    ("sweep", lambda r: _scaled(r, "tcp_m", 1e3),
+     ["sweep.csv columns tcp_mm / scale_mm", "the TCP in micrometres (write mm)"]),
 ])
 def test_a_swapped_or_misscaled_column_is_named(records, kind, change, needles):
     _, s, f = records

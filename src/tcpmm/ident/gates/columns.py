@@ -37,10 +37,13 @@ MIN_CORRELATION = 0.9
 #: Least travel of a record, relative to the scale's resolution and absolute, on which the
 #: columns' agreement is judged: below it the deflection and quantisation dominate.
 MIN_TRAVEL_M = 1e-3
-#: Known unit errors of a position ratio: factor -> what it means.
+#: Known unit errors of the scale's ratio to the motor angle: factor -> what it means.
 UNIT_RATIOS = {math.pi / 180.0: "the motor angle in degrees (write radians)",
                1e-3: "the scale in metres or the angle in milliradians (write mm, rad)",
                1e3: "the scale in micrometres (write mm)"}
+#: The same of the TCP's ratio to the scale: there the TCP is the column in another unit.
+TCP_UNIT_RATIOS = {1e-3: "the TCP in metres (write mm)",
+                   1e3: "the TCP in micrometres (write mm)"}
 
 
 def _peak(x) -> float:
@@ -90,12 +93,13 @@ def check_current_columns(axis: str, record, kind: str, limit_A: float) -> list[
     return out
 
 
-def _disagreement(ratio: float, corr: float, cols: str) -> str | None:
-    """Why two position columns do not agree, or ``None`` where they do [-]."""
+def _disagreement(ratio: float, corr: float, cols: str, units: dict) -> str | None:
+    """Why two position columns do not agree, or ``None`` where they do; ``units`` the unit
+    errors of this pair, by factor (:data:`UNIT_RATIOS`) [-]."""
     lo, hi = RATIO_RANGE
     if lo <= ratio <= hi and corr >= MIN_CORRELATION:
         return None
-    for factor, what in UNIT_RATIOS.items():
+    for factor, what in units.items():
         if lo <= ratio / factor <= hi and corr >= MIN_CORRELATION:
             return f"a unit problem: {cols} differ by {ratio:.4g}, as {what}"
     return (f"{cols} do not move together (correlation {corr:.2f}): one of them holds "
@@ -128,16 +132,16 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
         return []
     source = getattr(record, "source", None) or f"{axis}/{kind}"
     pairs = [("motor_angle_rad", np.asarray(record.motor_angle_rad) * R_L, "scale_mm",
-              scale, "check lead_mm in machine.yaml")]
+              scale, "check lead_mm in machine.yaml", UNIT_RATIOS)]
     tcp = getattr(record, "tcp_m", None)
     if tcp is not None:
-        pairs.append(("scale_mm", scale, "tcp_mm", np.asarray(tcp), ""))
+        pairs.append(("scale_mm", scale, "tcp_mm", np.asarray(tcp), "", TCP_UNIT_RATIOS))
     out = []
-    for a, x, b, y, also in pairs:
+    for a, x, b, y, also, units in pairs:
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
             continue
         ratio, corr = slope_and_correlation(y, x)
-        why = _disagreement(ratio, corr, f"{b} and {a}")
+        why = _disagreement(ratio, corr, f"{b} and {a}", units)
         if why is not None:
             note = f"{why}; {also}" if also else why
             out.append(Finding(axis, f"{kind} columns {b} / {a}", ratio, "",

@@ -277,3 +277,21 @@ def test_bad_fs_hz(tmp_path, fs):
     path = write_mat(tmp_path / "x.mat", time_s=None)
     with pytest.raises(InputError, match="fs_hz must be a number"):
         read_sweep_mat(path, fs_hz=fs)
+
+
+def test_channels_starting_at_different_times_are_refused(tmp_path):
+    """Only the first channel's wf_start_offset set the time base: a position channel that
+    started 10 ms after the drive's was laid on the drive's samples without a word, and
+    the FRFs took a delay that was the logger's."""
+    from nptdms import ChannelObject, TdmsWriter
+
+    path = tmp_path / "skew.tdms"
+    chans = [ChannelObject("DAQ", k, R, properties={
+        "wf_increment": 1 / FS, "wf_start_offset": 0.01 if k == "scale_mm" else 0.0})
+        for k in NAMES]
+    with TdmsWriter(path) as w:
+        w.write_segment(chans)
+    with pytest.raises(InputError, match="channels start at different times") as e:
+        read_sweep_tdms(path)
+    assert "scale_mm 0.01 s" in str(e.value)
+    read_sweep_tdms(write_tdms(tmp_path / "ok.tdms"))  # one start for all: read

@@ -134,8 +134,17 @@ def _waveform_time(smap, channels: dict, cols: dict, path: Path) -> np.ndarray:
             f"channels have different wf_increment {incs}; resample to one rate",
             file=path,
         )
+    starts = {key: _property(channels[smap[key].name], "wf_start_offset", key, path, 0.0)
+              for key in incs}
     first = next(iter(incs))
-    t0 = _property(channels[smap[first].name], "wf_start_offset", first, path, 0.0)
+    t0 = starts[first]
+    late = {k: v for k, v in starts.items() if abs(v - t0) > 0.5 * values[0]}
+    if late:  # one time base for all would shift them against one another unsaid
+        raise InputError(
+            f"channels start at different times (wf_start_offset: {first} {t0:g} s, "
+            + ", ".join(f"{k} {v:g} s" for k, v in late.items())
+            + "); align them to one start, or map a time channel as channel_map['time_s']",
+            file=path)
     n = next(iter(cols.values())).size
     return t0 + np.arange(n) * values[0]
     cols["time_s"] = t0 + np.arange(n) * values[0]

@@ -17,7 +17,7 @@ import pandas as pd
 from tcpmm._validate import did_you_mean
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.io.atomic import write_columns_atomic
-from tcpmm.io.text import read_text
+from tcpmm.io.text import read_text, unquoted
 
 
 def warn_input(message: str, file=None, line=None, column=None) -> None:
@@ -82,15 +82,6 @@ def pipe_text(path: Path, what: str = "CSV file") -> str | None:
         return path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError):
         raise unreadable(path, what) from None
-
-
-def unquoted(name: str) -> str:
-    """A header field without its blanks and the double quotes a spreadsheet or a logger
-    puts around it (``"time_s"``), as a CSV reader takes it [-]."""
-    name = name.strip()
-    if len(name) >= 2 and name[0] == name[-1] == '"':
-        name = name[1:-1].strip()
-    return name
 
 
 def _header_names(first: str, path: Path) -> list[str]:

@@ -84,3 +84,12 @@ def file_lines(text: str) -> list[str]:
     if lines and lines[-1] == "":
         lines.pop()
     return lines
+
+
+def unquoted(name: str) -> str:
+    """A header field without its blanks and the double quotes a spreadsheet or a logger
+    puts around it (``"time_s"``), as a CSV reader takes it [-]."""
+    name = name.strip()
+    if len(name) >= 2 and name[0] == name[-1] == '"':
+        name = name[1:-1].strip()
+    return name

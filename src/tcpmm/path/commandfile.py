@@ -11,8 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.atomic import atomic_path
-from ..io.csvutil import unquoted
-from ..io.text import file_lines, read_text
+from ..io.text import file_lines, read_text, unquoted
 from .command import Command
 
 _AXIS_COLUMNS = {"x_mm": "X", "y_mm": "Y", "z_mm": "Z"}

@@ -67,8 +67,13 @@ class Compensation:
     def command(self) -> Command:
         """The compensated command: programmed plus the applied share of the correction,
         within the axes' limits [m]."""
+        return self.command_with(self.factors)
+
+    def command_with(self, factors: dict) -> Command:
+        """The command with the share ``factors`` (per axis and sample) of the correction,
+        within the axes' limits, as :attr:`command` is with the shares applied [m]."""
         T = self.reference.period_s
-        pos = {a: p + fit_within(p, self.factors[a] * self.correction[a], T, self.bounds[a])
+        pos = {a: p + fit_within(p, factors[a] * self.correction[a], T, self.bounds[a])
                for a, p in self.reference.positions.items()}
         return Command(self.reference.time_s, pos,
                        {**self.reference.meta, "compensated": True})

@@ -22,7 +22,6 @@ import itertools
 import numpy as np
 from scipy.ndimage import minimum_filter1d
 
-from .bounds import fit_within
 from .learning import plain
 
 #: Length of the ramp between the shares of two regions [s].
@@ -75,20 +74,24 @@ def pick(per: dict, before: np.ndarray, n_reg: int, vouched, margin) -> np.ndarr
     return out
 
 
-def composed_errors(machines, comp, factors: dict, plants=None) -> np.ndarray:
-    """TCP error per machine, axis and sample of the command with the share ``factors``
-    per axis and sample, within the axes' limits as :attr:`Compensation.command` makes
-    it, shape (machines, axes, n) [m]."""
-    t, T = comp.reference.time_s, comp.reference.period_s
+def tcp_errors(machines, comp, commands: dict, plants=None) -> np.ndarray:
+    """TCP error per machine, axis and sample of the position ``commands`` per axis, the
+    path to follow less the TCP, shape (machines, axes, n); each axis run as ``plants``
+    says (:func:`.learning.learn_axis`), default the command alone [m]."""
+    t = comp.reference.time_s
     axes = comp.reference.axes
     out = np.empty((len(machines), len(axes), t.size))
-    for j, a in enumerate(axes):
-        ref = comp.reference.positions[a]
-        u = ref + fit_within(ref, factors[a] * comp.correction[a], T, comp.bounds[a])
-        for i, m in enumerate(machines):
-            out[i, j] = comp.target.positions[a] - (plants or {}).get(a, plain)(m.axes[a], t,
-                                                                               u).tcp
+    for i, m in enumerate(machines):
+        for j, a in enumerate(axes):
+            y = (plants or {}).get(a, plain)(m.axes[a], t, commands[a]).tcp
+            out[i, j] = comp.target.positions[a] - y
     return out
+
+
+def composed_errors(machines, comp, factors: dict, plants=None) -> np.ndarray:
+    """:func:`tcp_errors` of the command with the share ``factors`` per axis and sample,
+    as :meth:`Compensation.command_with` makes it [m]."""
+    return tcp_errors(machines, comp, comp.command_with(factors).positions, plants)
 
 
 def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, before, check,

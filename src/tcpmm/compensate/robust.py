@@ -29,8 +29,7 @@ import numpy as np
 from ..analysis.contour import distance_to_polyline
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
-from .learning import plain
-from .regional import per_combo, pick, settle_regions
+from .regional import per_combo, pick, settle_regions, tcp_errors
 
 #: Shares of the correction tried [-].
 LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
@@ -133,16 +132,10 @@ def axis_errors(machines, comp, plants=None) -> np.ndarray:
     """TCP error per machine, axis, share and sample, shape (m, axes, levels, n); each
     axis run as ``plants`` says (:func:`.learning.learn_axis`), default the command
     alone [m]."""
-    t = comp.reference.time_s
-    axes = comp.reference.axes
-    out = np.empty((len(machines), len(axes), len(LEVELS), t.size))
-    for i, m in enumerate(machines):
-        for j, a in enumerate(axes):
-            for k, lev in enumerate(LEVELS):
-                u = comp.reference.positions[a] + lev * comp.correction[a]
-                y = (plants or {}).get(a, plain)(m.axes[a], t, u).tcp
-                out[i, j, k] = comp.target.positions[a] - y
-    return out
+    ref = comp.reference.positions
+    return np.stack([tcp_errors(machines, comp, {a: p + lev * comp.correction[a]
+                                                 for a, p in ref.items()}, plants)
+                     for lev in LEVELS], axis=2)
 
 
 def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> np.ndarray:
@@ -273,26 +266,25 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None
     n_reg, before = labels.max() + 1, per[tuple([0] * errs.shape[1])]
     shares, figs = choose_of(per, n_reg)
     extra = {"draws": n_draws, "seed": seed}
-    by_region = _by_region(machines, comp, per, labels, guard, figs)
+    by_region = _by_region(machines, comp, per, before, labels, guard, figs)
     if by_region is None:
         record(comp, shares, region_rows(before, figs, target, labels),
                circle_rows(before, figs, guard), labels, extra)
         return
     factors, figs = by_region
-    record(comp, [float(np.mean(f)) for f in factors.values()],
+    record(comp, [factors[a] for a in comp.reference.axes],
            region_rows(before, figs, target, labels), circle_rows(before, figs, guard),
            labels, {**extra, "by_region": True})
-    comp.factors.update(factors)
 
 
-def _by_region(machines, comp, per: dict, labels: np.ndarray, guard, one: np.ndarray):
+def _by_region(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray, guard,
+               one: np.ndarray):
     """Shares chosen region by region (:mod:`.regional`), run on every draw: ``(factors,
     figures)`` where the draws vouch for them everywhere and, on the worst draw, no region,
     spike or G is above what one share per axis gives (its figures ``one``) by more than
     the margin and some region is below it by more; else ``None``: where they gain
     nothing, the simpler choice stays [-]."""
     n_reg = labels.max() + 1
-    before = per[tuple([0] * len(next(iter(per))))]
     levels = np.array(LEVELS)[pick(per, before, n_reg, vouched, margin)]
     if np.all(levels == levels[0]):
         return None  # one share per axis: the choice of :func:`choose_of`
@@ -323,8 +315,9 @@ def record(comp, shares: list, rows: list, circle: dict, labels: np.ndarray,
     ----------
     comp : Compensation
         The compensation [-].
-    shares : list of float
-        Share of the correction per axis [-].
+    shares : list of float or ndarray
+        Share of the correction per axis, one or one per sample; ``robustness["factors"]``
+        holds its mean along the path [-].
     rows, circle
         Per region and for a circle the draws' verdicts (:func:`choose`) [-].
     labels : ndarray
@@ -333,12 +326,13 @@ def record(comp, shares: list, rows: list, circle: dict, labels: np.ndarray,
         Further entries of ``comp.robustness``, first: the draws and their seed [-].
     """
     for a, f in zip(comp.reference.axes, shares, strict=True):
-        comp.factors[a] = np.full(labels.size, f)
+        comp.factors[a] = np.broadcast_to(np.asarray(f, dtype=float), labels.shape).copy()
     good = {r["region"] for r in rows if r["improves_on_every_draw"]}
     firm = {r["region"] for r in rows if r["verdict"] == "firm"}
     comp.trusted = np.isin(labels, list(good))
     comp.robustness = {**extra, "regions": rows,
-                       "factors": dict(zip(comp.reference.axes, shares, strict=True)),
+                       "factors": {a: float(np.mean(f)) for a, f in zip(
+                           comp.reference.axes, shares, strict=True)},
                        "trusted_share": float(np.mean(comp.trusted)),
                        "firm_share": float(np.mean(np.isin(labels, list(firm))))}
     if circle:

@@ -32,8 +32,7 @@ def say_compensation(output: Path, report, comp, controller_out, cc) -> None:
     cc : ControllerCompensation or None
         The controller-side compensation, where computed [-].
     """
-    result = comp.command
-    out.print(f"wrote {output} ({result.time_s.size} samples, TCP delayed by "
+    out.print(f"wrote {output} ({comp.reference.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
     out.print(_row("before", comp.scores["before"]))
     if "planned" in comp.scores:

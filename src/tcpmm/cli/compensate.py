@@ -86,9 +86,10 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     if headroom and tuned is None and not comp.applied:
         comp, headroom = as_programmed(m, full, bounds, comp, circle), 0.0
     comp.settings["headroom"] = headroom
-    write_command_csv(comp.command, output)
+    compensated = comp.command  # built anew at each access: the correction fitted to the limits
+    write_command_csv(compensated, output)
     if gcode_out is not None:
-        _write_dense(comp, m, gcode_out, accel, jerk)
+        _write_dense(compensated, comp, m, gcode_out, (accel, jerk))
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, circle, cc)
@@ -203,15 +204,15 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
     return comp
 
 
-def _write_dense(comp, machine, path: Path, accel, jerk) -> None:
+def _write_dense(compensated, comp, machine, path: Path, limits) -> None:
     """The compensated command as a dense G1 program, settling after its rapid for the
     hold the command has at its end, and what a controller set as the model is makes of
-    it [-]."""
+    it; ``limits`` the ``--accel-m-per-s2`` and ``--jerk-m-per-s3`` given [-]."""
     from ..compensate.gcodeout import write_dense_program
 
     T = comp.reference.period_s
-    write_dense_program(comp.command, path, comp.settings["hold_samples"] * T)
-    _warn_replanned(machine, comp.command.axes, accel, jerk, path)
+    write_dense_program(compensated, path, comp.settings["hold_samples"] * T)
+    _warn_replanned(machine, compensated.axes, *limits, path)
 
 
 def _warn_replanned(machine, axes, accel, jerk, path: Path) -> None:

@@ -180,7 +180,8 @@ def _drawn_figures(circle, machine: Machine, directions: list, n: int, seed: int
     Parameters
     ----------
     circle : callable
-        The circular test of a machine's run of the command [-].
+        The circular test of a machine's run of the command, ``None`` where the run is
+        no prediction [-].
     machine : Machine
         The model [SI].
     directions : list of str
@@ -201,13 +202,17 @@ def _drawn_figures(circle, machine: Machine, directions: list, n: int, seed: int
         pass [m].
     ce : ndarray, shape (n, passes)
         Each draw's contour error per pass, NaN where it lacks the pass [m].
+    faulted : int
+        Draws whose run is no prediction (``circle`` gives ``None``): all NaN [-].
     """
     spikes = np.full((n, len(directions), len(QUADRANTS)), np.nan)
     ce = np.full((n, len(directions)), np.nan)
     rng = np.random.default_rng(seed)
+    faulted = 0
     for k in range(n):
         res = circle(draw_machine(machine, rng, floors))
         if res is None:  # no prediction: NaN, which agrees with no nominal figure
+            faulted += 1
             continue
         for i, d in enumerate(directions):
             same = [p for p in res.passes if p.direction == d]
@@ -216,7 +221,7 @@ def _drawn_figures(circle, machine: Machine, directions: list, n: int, seed: int
                 s = same[rank].sensors[sensor]
                 spikes[k, i] = [s.spikes[q] for q in QUADRANTS]
                 ce[k, i] = s.contour_error
-    return spikes, ce
+    return spikes, ce, faulted
 
 
 def _nominal(nominal, sensor: str):
@@ -285,12 +290,5 @@ def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0
 
     nominal = _nominal(circle(machine), sensor)
     directions = [p.direction for p in nominal.passes]
-    faulted = []
-
-    def counted(m):
-        res = circle(m)
-        faulted.append(res is None)
-        return res
-
-    spikes, ce = _drawn_figures(counted, machine, directions, n, seed, floors, sensor)
-    return SpikeSpread(nominal, directions, spikes, ce, sensor, tolerance_m, sum(faulted))
+    spikes, ce, faulted = _drawn_figures(circle, machine, directions, n, seed, floors, sensor)
+    return SpikeSpread(nominal, directions, spikes, ce, sensor, tolerance_m, faulted)

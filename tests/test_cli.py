@@ -346,3 +346,31 @@ def test_machine_show_of_an_unstable_sampled_loop_does_not_read_as_stable(tmp_pa
     pos = [ln for ln in lines if "position loop:" in ln]
     assert "of no meaning: the sampled loop is unstable" in pos[0]
     assert "of no meaning" not in pos[1]  # Y's loops hold
+
+
+def test_a_measured_run_without_command_compares_to_its_own_signals_as_zero(capsys, files):
+    """A TCP device's record has no command columns: its passes are found on the sensor.
+    The prediction's were cut on its command, so the same signals compared up to 3.6 um
+    apart; both are now cut alike, in compare and in the report."""
+    d = files
+    code, _, _ = run(capsys, "simulate", "builtin:vmc", "--command", d / "cmd.csv",
+                     "-o", d / "pred.csv")
+    assert code == 0
+    frame = pd.read_csv(d / "pred.csv")
+    frame.drop(columns=[c for c in frame if "_cmd_" in c]).to_csv(d / "meas.csv", index=False)
+    code, out, err = run(capsys, "compare", d / "meas.csv", d / "pred.csv", "--radius", 35,
+                         "--json")
+    assert code == 0, err
+    rows = json.loads(out)["rows"]
+    assert len(rows) == 6
+    for r in rows:
+        assert r["contour_error_um"] == 0.0 and r["radial_max_um"] == 0.0, r
+    assert "passes are found on its sensors" in err
+    code, _, err = run(capsys, "report", "-o", d / "r.html", "--measured", d / "meas.csv",
+                       "--predicted", d / "pred.csv", "--radius", 35)
+    assert code == 0, err
+    import tcpmm
+
+    with pytest.warns(UserWarning, match="passes are found on its sensors"):
+        cmp = tcpmm.compare(d / "meas.csv", d / "pred.csv", radius_m=35e-3)
+    assert max(abs(r["radial_max_um"]) for r in cmp.rows) == 0.0

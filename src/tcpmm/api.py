@@ -167,7 +167,7 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
         ``.plot()`` of the two circles [-].
     """
     from .analysis.circular import CircleResult, analyse_circle
-    from .analysis.compare import compare_circles
+    from .analysis.compare import compare_circles, cut_alike
     from .errors import InputError
     from .io.runfile import read_run
 
@@ -180,10 +180,12 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
             return r
         if radius_m is None:
             raise InputError("compare needs radius_m [m] to analyse a run")
-        run = read_run(r) if isinstance(r, (str, Path)) else r
-        return analyse_circle(run, radius_m, centre_m)
+        return analyse_circle(r, radius_m, centre_m)
 
-    return compare_circles(analysed(measured), analysed(predicted))
+    runs = [read_run(r) if isinstance(r, (str, Path)) else r for r in (measured, predicted)]
+    if not any(isinstance(r, CircleResult) for r in runs):
+        runs[1] = cut_alike(*runs)
+    return compare_circles(analysed(runs[0]), analysed(runs[1]))
 
 
 def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import warnings
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from .circular import QUADRANTS, CircleResult
 
 
@@ -178,6 +179,32 @@ def _same_test(pm, pp) -> None:
             f"centre, the predicted one at {abs(b):.4g} rad/s ({abs(a / b):.3g} times): the "
             "prediction is of another test; simulate the measured run's own command "
             "(tcpmm simulate MODEL --command MEASURED.csv)")
+
+
+def cut_alike(measured, predicted):
+    """The predicted run to analyse against ``measured``: without its command where the
+    measured run has none (a TCP device's or a ballbar's record), so that the passes of
+    both are found on their sensors. A pass cut on the command and one cut on the sensor
+    end in different places, and the same signal compared with itself came out up to
+    3.6 um apart.
+
+    Parameters
+    ----------
+    measured, predicted : Run
+        The runs compared [SI].
+
+    Returns
+    -------
+    Run
+        ``predicted``, or a copy without command signals [SI].
+    """
+    if (any(a.cmd is not None for a in measured.axes.values())
+            or all(a.cmd is None for a in predicted.axes.values())):
+        return predicted
+    warnings.warn("the measured run has no command: the predicted run's passes are found on "
+                  "its sensors, as the measured run's are, and not on its command",
+                  InputWarning, stacklevel=2)
+    return replace(predicted, axes={n: replace(a, cmd=None) for n, a in predicted.axes.items()})
 
 
 def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparison:

@@ -190,15 +190,16 @@ def _faults(machine, files) -> list:
     return [faults_section(found)] if found else []
 
 
-def _circle(path: Path, circle):
-    """The circular test of one run file and the run's sample rate [-, Hz]."""
+def _circle(path: Path, circle, run=None):
+    """The circular test of one run file (or of ``run``, read from it) and the run's
+    sample rate [-, Hz]."""
     import numpy as np
 
     from ..analysis.circular import analyse_circle
     from ..io.runfile import read_run
 
     radius_m, centre_m, plane = circle
-    run = read_run(path)
+    run = read_run(path) if run is None else run
     axes = run_plane_said(plane, run, path)  # --plane, else the plane the command moves in
     with in_file(path):
         res = analyse_circle(run, radius_m, centre_m, plane=axes)
@@ -231,10 +232,13 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, verdict: bool
                 tolerance_m=None):
     """Measured minus predicted of one pair of runs; with ``verdict`` (no --run given) the
     measured circle opens the page with its verdict (``tolerance_m`` [m])."""
-    from ..analysis.compare import compare_circles
+    from ..analysis.compare import compare_circles, cut_alike
+    from ..io.runfile import read_run
     from ..report import comparison_section, verdict_sections
 
-    (rm, rate), (rp, _) = _circle(measured, circle), _circle(predicted, circle)
+    runs = [read_run(f) for f in (measured, predicted)]
+    (rm, rate), (rp, _) = (_circle(measured, circle, runs[0]),
+                           _circle(predicted, circle, cut_alike(*runs)))
     cmp = comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)
     if not verdict:
         return [cmp]

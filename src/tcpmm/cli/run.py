@@ -248,7 +248,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                                       "figure's 90 % interval and verdict.")):
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
     from ..analysis.circular import analyse_circle
-    from ..analysis.compare import compare_circles
+    from ..analysis.compare import compare_circles, cut_alike
     from ..io.runfile import read_run
     from ._tables import judged_rows, print_table
 
@@ -262,7 +262,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     with in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
     with in_file(predicted):
-        rp = analyse_circle(runs[1], radius * 1e-3, ctr, plane=axes)
+        rp = analyse_circle(cut_alike(*runs), radius * 1e-3, ctr, plane=axes)
     cmp = compare_circles(rm, rp)
     judged = _judged(cmp, model, runs[1], radius, ctr, axes, predicted)
     if plot is not None:

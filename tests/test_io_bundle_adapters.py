@@ -203,3 +203,69 @@ def test_mat_length_mismatch_and_garbage(tmp_path):
     bad.write_bytes(b"\x00" * 300)
     with pytest.raises(InputError, match="cannot read as a MATLAB"):
         read_sweep_mat(bad, VMAP, fs_hz=FS)
+
+
+def test_tdms_unit_string_against_the_maps_factor(tmp_path):
+    """A channel whose unit_string says m, mapped to scale_mm without the factor 1000, was
+    read a thousandfold small without a word; it is refused with the entry to write."""
+    s = signals()
+    p = {"wf_increment": 1 / FS, "wf_start_offset": 0.0}
+    chans = [ChannelObject("DAQ", "ai0", s["r"], properties=p),
+             ChannelObject("DAQ", "ai1", s["ic"], properties=p),
+             ChannelObject("DAQ", "enc", s["counts"], properties=p),
+             ChannelObject("DAQ", "ls", s["scale_um"] * 1e-6,
+                           properties={**p, "unit_string": "m"}),
+             ChannelObject("TCP", "x", s["tcp_mm"], properties={**p, "unit_string": "mm"})]
+    with TdmsWriter(tmp_path / "u.tdms") as w:
+        w.write_segment(chans)
+    cmap = {**MAP, "scale_mm": "DAQ/ls"}
+    with pytest.raises(InputError, match=r"'DAQ/ls' is in m \(unit_string\).*"
+                                         r"\(\"DAQ/ls\", 1000\)") as e:
+        read_sweep_tdms(tmp_path / "u.tdms", cmap)
+    assert e.value.column == "scale_mm"
+    with pytest.raises(InputError, match=r"with the factor 0\.001"):
+        read_sweep_tdms(tmp_path / "u.tdms", {**cmap, "scale_mm": ("DAQ/ls", 1e-3)})
+    check_sweep(read_sweep_tdms(tmp_path / "u.tdms", {**cmap, "scale_mm": ("DAQ/ls", 1e3)}),
+                s)
+
+
+def test_mat_unit_in_a_name_is_warned_and_struct_arrays_addressed(tmp_path):
+    """A variable named t_ms mapped to time_s without a factor gave a sample rate of
+    8 Hz without a word; a 1x2 struct array had no syntax and a hint that named the
+    struct as if it were the answer."""
+    s = signals()
+    run = {"t_ms": s["t"] * 1e3, "exc": s["r"], "icmd": s["ic"], "enc": s["counts"],
+           "ls": s["scale_um"]}
+    other = {**run, "exc": 2 * s["r"]}
+    scipy.io.savemat(tmp_path / "r.mat", {"runs": np.array([other, run], dtype=object)})
+    vmap = {"time_s": "runs(2).t_ms", "excitation_A": "runs(2).exc",
+            "current_cmd_A": "runs(2).icmd",
+            "motor_angle_rad": ("runs(2).enc", 2 * math.pi / COUNTS),
+            "scale_mm": ("runs(2).ls", 1e-3)}
+    with pytest.warns(UserWarning, match=r"'runs\(2\).t_ms' is in ms \(its name\)"):
+        read_sweep_mat(tmp_path / "r.mat", vmap)
+    vmap["time_s"] = ("runs(2).t_ms", 1e-3)
+    rec = read_sweep_mat(tmp_path / "r.mat", vmap)
+    check_sweep(rec, s, tcp=False)
+    with pytest.raises(InputError, match=r"'runs' is a struct array of 2 elements; "
+                                         r"address one as runs\(k\).field"):
+        read_sweep_mat(tmp_path / "r.mat", {k: (v.replace("(2)", "") if isinstance(v, str)
+                                                else (v[0].replace("(2)", ""), v[1]))
+                                            for k, v in vmap.items()})
+    with pytest.raises(InputError, match=r"'runs\(3\)': the struct array has 2 elements"):
+        read_sweep_mat(tmp_path / "r.mat", {**vmap, "excitation_A": "runs(3).exc"})
+
+
+@pytest.mark.parametrize("key, unit, factor", [
+    ("scale_mm", "m", 1e3), ("scale_mm", "um", 1e-3), ("scale_mm", "µm", 1e-3),
+    ("tcp_mm", "in", 25.4), ("time_s", "ms", 1e-3), ("time_s", "us", 1e-6),
+    ("current_cmd_A", "mA", 1e-3), ("excitation_A", "A", 1.0),
+    ("motor_angle_rad", "deg", math.pi / 180), ("motor_angle_rad", "rev", 2 * math.pi),
+    ("scale_mm", "counts", None), ("time_s", "m", None), ("current_cmd_A", "", None)])
+def test_declared_unit_factors(key, unit, factor):
+    from tcpmm.io.declared import factor_for, name_unit
+
+    got = factor_for(key, unit)
+    assert got == (None if factor is None else pytest.approx(factor, rel=1e-15))
+    assert name_unit("meas.t_ms") == "ms" and name_unit("data(:,2)") is None
+    assert name_unit("I_cmd") == "cmd" and factor_for("current_cmd_A", "cmd") is None

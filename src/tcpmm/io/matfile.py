@@ -13,10 +13,14 @@ from pathlib import Path
 import numpy as np
 
 from tcpmm.errors import InputError
+from tcpmm.io.declared import name_unit
 from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
 from tcpmm.io.text import existing_file
 
-_NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\.[A-Za-z]\w*)*)\s*(?:\(\s*:\s*,\s*(\d+)\s*\))?\s*$")
+_NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\(\d+\))?(?:\.[A-Za-z]\w*(?:\(\d+\))?)*)\s*"
+                   r"(?:\(\s*:\s*,\s*(\d+)\s*\))?\s*$")
+#: One part of a dotted name: a field, with an element of a struct array (``runs(2)``)
+_PART = re.compile(r"^([A-Za-z]\w*)(?:\((\d+)\))?$")
 
 
 def load(path: Path):
@@ -103,20 +107,62 @@ def _load_v5(path: Path):
         for k, v in obj.items():
             if isinstance(v, dict):
                 yield from walk(v, f"{prefix}{k}.")
+            elif _elements(v) is not None:  # a struct array: name each element's fields
+                for i, e in enumerate(_elements(v)[:_SHOWN]):
+                    yield from walk(e, f"{prefix}{k}({i + 1}).")
             else:
                 yield prefix + k
 
     paths = list(walk({k: data[k] for k in names}, ""))
 
     def get(dotted: str):
-        obj = data
+        obj, where = data, ""
         for part in dotted.split("."):
-            if not isinstance(obj, dict) or part not in obj:
+            m = _PART.match(part)
+            if m is None or not isinstance(obj, dict) or m.group(1) not in obj:
                 return None
-            obj = obj[part]
+            obj, where = obj[m.group(1)], where + m.group(1)
+            obj = _element(obj, m.group(2), where, path)
+            where += "" if m.group(2) is None else f"({m.group(2)})"
+            where += "."
         return obj
 
     return names, paths, get
+
+
+#: Elements of a struct array whose fields are offered as names [-].
+_SHOWN = 10
+
+
+def _elements(value):
+    """The elements of a struct array as scipy reads it (a list or object array of
+    structs), else ``None`` [-]."""
+    if isinstance(value, np.ndarray) and value.dtype == object:
+        value = list(value.ravel())
+    if isinstance(value, list) and value and all(isinstance(e, dict) for e in value):
+        return value
+    return None
+
+
+def _element(obj, index, name: str, path: Path):
+    """Element ``index`` (1-based, as MATLAB counts) of the struct array ``obj``; ``obj``
+    itself where no index is given and it is not a struct array; an
+    :class:`InputError` where the index is missing or out of range [-]."""
+    elements = _elements(obj)
+    if index is None:
+        if elements is not None:
+            raise InputError(
+                f"'{name}' is a struct array of {len(elements)} elements; address one as "
+                f"{name}(k).field, k from 1 to {len(elements)}", file=path)
+        return obj
+    if elements is None:
+        raise InputError(f"'{name}' is not a struct array; write {name} without ({index})",
+                         file=path)
+    k = int(index)
+    if not 1 <= k <= len(elements):
+        raise InputError(f"'{name}({k})': the struct array has {len(elements)} elements",
+                         file=path)
+    return elements[k - 1]
 
 
 def mat_array(value, name: str, path: Path) -> np.ndarray:
@@ -151,7 +197,8 @@ def _fetcher(get, path: Path):
         m = _NAME.match(spec)
         if m is None:
             raise InputError(
-                f"'{spec}' is not a variable reference; write name, struct.field or name(:,k)",
+                f"'{spec}' is not a variable reference; write name, struct.field, "
+                "struct(k).field (an element of a struct array) or name(:,k)",
                 file=path,
             )
         value = get(m.group(1))
@@ -248,7 +295,8 @@ def read_record_mat(
     smap = parse_signal_map(variable_map, kind, file=path)
     fetch = _fetcher(get, path)
     try:
-        cols = read_mapped(smap, fetch, file=path, candidates=paths)
+        cols = read_mapped(smap, fetch, file=path, candidates=paths,
+                           unit_of=lambda name: (name_unit(name), "its name", False))
     except InputError as exc:
         raise InputError(
             f"{exc.message}. Variables in the file: {', '.join(names) or 'none'}",

@@ -19,6 +19,7 @@ import numpy as np
 
 from tcpmm._validate import did_you_mean
 from tcpmm.errors import InputError
+from tcpmm.io.declared import check_declared
 from tcpmm.io.records import FrictionRecord, SweepRecord
 from tcpmm.units import MM
 
@@ -211,6 +212,7 @@ def read_mapped(
     fetch: Callable[[str], np.ndarray | None],
     file=None,
     candidates: Sequence[str] = (),
+    unit_of: Callable[[str], tuple] | None = None,
 ) -> dict[str, np.ndarray]:
     """Fetch and scale every mapped signal.
 
@@ -224,6 +226,10 @@ def read_mapped(
         File named in messages [-].
     candidates : sequence of str, optional
         Names in the file, from which a close match is suggested for a missing one [-].
+    unit_of : callable, optional
+        The unit a fetched name declares, where it says so, whether the file declares it
+        (refused when the map's factor disagrees) or only a name suggests it (warned):
+        ``(unit or None, where, strict)`` (:func:`tcpmm.io.declared.check_declared`) [-].
 
     Returns
     -------
@@ -232,29 +238,12 @@ def read_mapped(
     """
     out = {}
     for key, src in smap.items():
-        try:
-            data = fetch(src.name)
-        except InputError as exc:
-            if exc.column is not None:
-                raise
-            raise InputError(exc.message, file=exc.file, line=exc.line, column=key) from None
+        data = _fetched(key, src, fetch, file, candidates)
         if data is None:
-            if src.optional:
-                continue
-            hint = did_you_mean(src.name, (c for c in candidates if c != src.name))
-            raise InputError(
-                f"'{src.name}' (mapped to {key}) not found{hint}", file=file, column=key
-            )
-        data = _samples(data, src.name, key, file)
-        if data.ndim != 1:
-            data = np.squeeze(data)
-        if data.ndim != 1:
-            raise InputError(
-                f"'{src.name}' has shape {data.shape}; expected a vector (select a column "
-                "with name(:,k))",
-                file=file,
-                column=key,
-            )
+            continue
+        if unit_of is not None:
+            unit, how, strict = unit_of(src.name)
+            check_declared(key, src.name, src.scale, unit, how, file, strict)
         out[key] = data * src.scale
     lengths = {k: v.size for k, v in out.items()}
     if len(set(lengths.values())) > 1:
@@ -262,6 +251,35 @@ def read_mapped(
             f"signals differ in length: {lengths}; all must hold the same samples", file=file
         )
     return out
+
+
+def _fetched(key: str, src: SignalSource, fetch, file, candidates) -> np.ndarray | None:
+    """The samples of one mapped signal as a float vector in the file's unit; ``None``
+    for an optional one the file lacks [-]."""
+    try:
+        data = fetch(src.name)
+    except InputError as exc:
+        if exc.column is not None:
+            raise
+        raise InputError(exc.message, file=exc.file, line=exc.line, column=key) from None
+    if data is None:
+        if src.optional:
+            return None
+        hint = did_you_mean(src.name, (c for c in candidates if c != src.name))
+        raise InputError(
+            f"'{src.name}' (mapped to {key}) not found{hint}", file=file, column=key
+        )
+    data = _samples(data, src.name, key, file)
+    if data.ndim != 1:
+        data = np.squeeze(data)
+    if data.ndim != 1:
+        raise InputError(
+            f"'{src.name}' has shape {data.shape}; expected a vector (select a column "
+            "with name(:,k))",
+            file=file,
+            column=key,
+        )
+    return data
 
 
 def build_record(kind: str, columns: dict[str, np.ndarray], source, axis,

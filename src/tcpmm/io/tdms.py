@@ -192,7 +192,10 @@ def read_record_tdms(
         return ch[:]
 
     try:
-        cols = read_mapped(smap, fetch, file=path, candidates=_names(tdms))
+        cols = read_mapped(smap, fetch, file=path, candidates=_names(tdms),
+                           unit_of=lambda name: (
+                               channels[name].properties.get("unit_string"), "unit_string",
+                               True))
     except InputError as exc:
         raise InputError(
             f"{exc.message}. Channels in the file: {_catalogue(tdms)}",

@@ -68,3 +68,26 @@ def test_a_record_in_step_with_the_ticks_is_told_from_a_daq_on_its_own_clock():
     assert not sampled_in_step(10_000.0, 125e-6)  # the reference machines' DAQ
     assert not sampled_in_step(16_000.0, 125e-6)  # faster than the loop: reads the hold
     assert not sampled_in_step(3000.0, 125e-6)  # 2.67 periods per sample
+
+
+def test_a_time_base_a_quarter_off_is_warned_about():
+    """A sweep sampled at 10 kHz stamped as 8 kHz fits a gain factor of 1.24, inside the
+    range read as the declared controller: identify went on without a word and every mass
+    came out 57 % heavy. The reference drives fit within 0.7 % of 1 and are not warned."""
+    import warnings
+
+    from tcpmm.errors import InputWarning
+    from tcpmm.ident.physical.loop_timing import sweep_timing
+    from tcpmm.io.records import SweepRecord
+
+    b = read_bundle(bench_path("c") / "bundle")
+    rec, cfg = b.axes["X"].sweep, b.machine.axes["X"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        assert sweep_timing("X", rec, cfg).determined
+    slow = SweepRecord.from_arrays(rec.time_s * 1.25, rec.excitation_A, rec.current_cmd_A,
+                                   rec.motor_angle_rad, rec.scale_m, rec.tcp_m)
+    with pytest.warns(InputWarning, match=r"1\.2\d times .* time base \(its sample rate, "
+                                          r"8000 Hz\)"):
+        got = sweep_timing("X", slow, cfg)
+    assert got.determined and got.gain == pytest.approx(1.24, abs=0.02)

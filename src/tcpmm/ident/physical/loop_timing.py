@@ -52,6 +52,11 @@ MIN_BINS = 20
 #: identified inertias with it, and the loop it closes stays the same: no sweep shows it.)
 #: [-].
 GAIN_RANGE = (0.8, 1.25)
+#: Departure of the fitted factor from 1 beyond which, though the record still reads as
+#: the declared controller, the sweep is said to disagree with it: the reference drives
+#: fit within 0.7 % of 1; a time base a quarter off (a record stamped at 8 kHz that was
+#: sampled at 10 kHz) fits 1.24 and scales every mass and inertia by its square [-].
+GAIN_WARN = 0.05
 #: Largest relative residual of the fit for the same reason [-].
 MAX_RESIDUAL = 0.3
 
@@ -215,5 +220,13 @@ def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:
             f"{timing.gain:.2f}, delay {timing.tau_periods:.2f} periods); check the gains "
             "and the lead in machine.yaml. The model assumes a delay of "
             f"{COMPUTATION_DELAY} period and a differenced encoder velocity",
+            file=getattr(sweep, "source", None))
+    elif abs(timing.gain - 1.0) > GAIN_WARN:
+        warn_input(
+            f"axis {name}: the controller output in the sweep is {timing.gain:.3g} times "
+            "what the declared velocity-loop gains give: the record's time base (its "
+            f"sample rate, {sweep.fs_hz:.6g} Hz), or the gains or the lead in machine.yaml, "
+            "are not the drive's; the identified masses and inertias scale with the square "
+            "of a time base that is off. Check the time column and the gains",
             file=getattr(sweep, "source", None))
     return timing

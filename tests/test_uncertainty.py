@@ -324,3 +324,39 @@ def test_a_bundle_without_a_tcp_device_leaves_the_column_open(known):
     loose = [f for f in v.figures if f.verdict != "firm"]
     assert loose and all(f.cause == "axis Y column, open" for f in loose)
     assert v.axes["Y"]["verdict"] != "firm" and v.axes["X"]["verdict"] == "firm"
+
+
+def test_a_circle_the_model_cannot_follow_is_no_prediction_whatever_its_interval(known):
+    """A model whose X axis holds its current at the limit over the reference circles (a
+    clamped sweep identified with --accept-suspect) had its contour error of 35 mm called
+    firm to +- 71 um: a narrow interval about a run that is no prediction."""
+    a = known.axes["X"]
+    weak = known.with_axis("X", a.replace(servo=a.servo.model_copy(
+        update={"current_limit": 0.2})))
+    v = prediction_verdict(weak)
+    assert v.figures and not v.firm
+    for f in v.figures:
+        assert f.verdict == "undetermined" and f.cause.startswith("no prediction: axis X:")
+        assert "current" in f.cause and f.settle
+    assert v.axes["X"]["verdict"] == "undetermined" and v.axes["Y"]["verdict"] == "firm"
+    json.dumps(v.to_dict(), allow_nan=False)
+
+
+def test_a_wholly_open_parameter_is_moved_within_what_a_feed_axis_can_have(known):
+    """A deviation of hundreds of times a parameter moved it by exp(1.645 * 900): M_h
+    came out 0 (and the verdict stopped with 'M_h: Input should be greater than 0'), or
+    a thousandfold past the plausible range."""
+    from tcpmm.mechanics.lumped import RANGES
+    from tcpmm.uncertainty.perturb import axis_variants
+
+    a = known.axes["X"]
+    m = a.mechanics
+    a = a.replace(uncertainty=AxisUncertainty(mechanics={"M_h": 900.0 * m.M_h,
+                                                         "K_L": 900.0 * m.K_L}))
+    moved = {(v.quantity, getattr(v.axis.mechanics, v.quantity)) for v in axis_variants(a)
+             if v.quantity in ("M_h", "K_L")}
+    assert len(moved) == 4
+    for q, x in moved:
+        low, high, _ = RANGES[q]
+        assert low <= x <= high and x > 0
+        assert 0.999e-3 <= x / getattr(m, q) <= 1.001e3

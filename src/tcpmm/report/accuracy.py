@@ -36,10 +36,15 @@ def verdict_html(verdict: dict) -> str:
             body += para(f"axis {name}, {r['quantity']} open ({r['low']:.3g} to "
                          f"{r['high']:.3g}): {r['cause']}; to settle: {r['settle']}", "warn")
     rows = [{"circle": f["test"], "pass": f["direction"], "figure": f["figure"],
-             "predicted [µm]": f["nominal_um"], "± 90 % [µm]": f["half_width_um"],
+             "predicted [µm]": f["nominal_um"], "± 90 % [µm]": _or_nan(f["half_width_um"]),
              "target [µm]": f["target_um"], "verdict": _TEXT[f["verdict"]],
              "cause": f["cause"], "to settle": f["settle"]}
             for f in verdict.get("figures", [])]
     if rows:
         body += table(pd.DataFrame(rows), "verdict.csv", digits=2)
     return body
+
+
+def _or_nan(x) -> float:
+    """``x``, NaN (shown n/a) for none: a figure that is no prediction has no interval."""
+    return float("nan") if x is None else x

@@ -83,6 +83,16 @@ def _in_plane(machine, plane):
     return machine.model_copy(update={"axes": {n: machine.axes[n] for n in plane}})
 
 
+class Figures(dict):
+    """Figures keyed ``(test label, pass, figure)`` [m], and ``faults``: per test whose
+    run on the model is no prediction (an axis ran away or held its current at the
+    limit), what its faults are [-]."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.faults: dict = {}
+
+
 def figures(machine, tests, sensor: str = "tcp") -> dict:
     """Spikes A-D, contour error and G of each pass of each test.
 
@@ -104,7 +114,7 @@ def figures(machine, tests, sensor: str = "tcp") -> dict:
     """
     import warnings
 
-    out = {}
+    out = Figures()
     with warnings.catch_warnings():  # a variant's run warns of what the verdict reports
         warnings.simplefilter("ignore")
         for t in tests:
@@ -119,7 +129,10 @@ def _test_figures(t, machine, sensor: str, simulate, out: dict) -> None:
     if set(cmd.positions) - set(t.plane):  # the other axes stand still in the model too
         cmd = replace(cmd, positions={n: cmd.positions[n] for n in t.plane
                                       if n in cmd.positions})
-    res = analyse_circle(simulate(m, cmd), t.radius_m, t.centre_m, plane=t.plane)
+    run = simulate(m, cmd)
+    if run.meta.get("faults"):
+        out.faults[t.label] = "; ".join(f["text"] for f in run.meta["faults"])
+    res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane)
     out.update(circle_figures(res, t.label, sensor))
 
 

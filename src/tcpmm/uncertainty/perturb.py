@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from ..ident.friction.presliding import with_presliding
 from ..ident.friction.sensitivity import coulomb_share, with_share
+from ..mechanics.lumped import RANGES
 from ..model import Axis
 from ..whatif.draws import longer_presliding, scaled_contact
 from .ranges import column_of
@@ -45,6 +46,10 @@ class Variant:
     axis: Axis
 
 
+#: The largest log factor a parameter is moved by to the end of its range [-].
+MOST_LOG = math.log(1e3)
+
+
 def _mechanics_variants(axis: Axis, u) -> list[Variant]:
     m = axis.mechanics
     out = []
@@ -56,7 +61,12 @@ def _mechanics_variants(axis: Axis, u) -> list[Variant]:
         if rel <= 0.0:
             continue
         for sign in (-1.0, 1.0):
-            upd = {p: v * math.exp(sign * QUANTILE_90 * rel)}
+            # a parameter the data leave wholly open (a relative deviation of hundreds)
+            # moved by at most a thousandfold: further, the factor rounds to zero or inf
+            # and kept within what a feed axis can have
+            low, high, _ = RANGES.get(p, (0.0, math.inf, ""))
+            upd = {p: min(max(v * math.exp(sign * min(QUANTILE_90 * rel, MOST_LOG)), low),
+                          high)}
             if p == "C_t":  # the steady viscous force moves to the screw, its total kept
                 upd["B_L"] = max(m.B_L + (v - upd[p]) * m.R_L ** 2, 0.0)
             out.append(Variant(p, False, axis.replace(mechanics=m.replace(**upd))))

@@ -93,9 +93,21 @@ class FigureVerdict:
     def to_dict(self) -> dict:
         """JSON-ready, in um [-]."""
         return {"test": self.test, "direction": self.direction, "figure": self.figure,
-                "nominal_um": self.nominal * 1e6, "half_width_um": self.half_width * 1e6,
+                "nominal_um": self.nominal * 1e6,
+                "half_width_um": self.half_width * 1e6 if math.isfinite(self.half_width)
+                else None,
                 "target_um": self.target * 1e6, "verdict": self.verdict,
                 "cause": self.cause, "settle": self.settle}
+
+
+def _no_prediction(key, nominal: float, faults: str) -> FigureVerdict:
+    """The verdict on a figure of a circle whose run on the model is no prediction: the
+    model's axis ran away or held its current at the limit, and the figure is that of a
+    machine out of control, however narrow its interval."""
+    return FigureVerdict(*key, nominal, math.inf, target(key[2], nominal), "undetermined",
+                         f"no prediction: {faults}",
+                         "a model whose run of this circle stays within its current "
+                         "limit: check the load force, the gains and the current limit")
 
 
 def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
@@ -195,8 +207,9 @@ def _axis_verdicts(machine, figures: list) -> dict:
     quantities with the measurement that would settle each [-]."""
     out = {}
     for name, a in machine.axes.items():
-        mine = [f for f in figures if f.cause.startswith(f"axis {name} ")
-                and f.verdict != "firm"]
+        mine = [f for f in figures if f.verdict != "firm" and (
+            f.cause.startswith(f"axis {name} ")
+            or (f.cause.startswith("no prediction") and f"axis {name}:" in f.cause))]
         kinds = {f.verdict for f in mine}
         verdict = ("undetermined" if "undetermined" in kinds else
                    "uncertain" if "uncertain" in kinds else "firm")
@@ -233,7 +246,10 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
     if not tests:
         return Verdict([], _axis_verdicts(machine, []), [])
     nominal, changes, opens = figure_changes(machine, tests, sensor, progress, jobs)
-    figs = [_judge(k, x, changes[k], opens) for k, x in nominal.items() if math.isfinite(x)]
+    faults = getattr(nominal, "faults", {})
+    figs = [_no_prediction(k, x, faults[k[0]]) if k[0] in faults
+            else _judge(k, x, changes[k], opens) for k, x in nominal.items()
+            if math.isfinite(x)]
     return Verdict(figs, _axis_verdicts(machine, figs), [t.label for t in tests])
 
 

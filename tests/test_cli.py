@@ -374,3 +374,30 @@ def test_a_measured_run_without_command_compares_to_its_own_signals_as_zero(caps
     with pytest.warns(UserWarning, match="passes are found on its sensors"):
         cmp = tcpmm.compare(d / "meas.csv", d / "pred.csv", radius_m=35e-3)
     assert max(abs(r["radial_max_um"]) for r in cmp.rows) == 0.0
+
+
+def test_numpys_runtime_warnings_do_not_reach_the_user(capsys, monkeypatch):
+    """A degenerate record (a clamped sweep under --accept-suspect) printed eight of
+    numpy's 'Mean of empty slice' notes with their source lines among tcpmm's own
+    warnings; TCPMM_TRACEBACK=1 shows them for a defect report."""
+    import importlib
+    import warnings
+
+    cli = importlib.import_module("tcpmm.cli")
+    real = cli.register
+
+    def noisy(argv):
+        warnings.warn("Mean of empty slice", RuntimeWarning, stacklevel=1)
+        real(argv)
+
+    monkeypatch.setattr(cli, "register", noisy)
+    monkeypatch.delenv("TCPMM_TRACEBACK", raising=False)
+    passed_on = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.showwarning = lambda message, *a, **k: passed_on.append(str(message))
+        code, out, err = run(capsys, "machine", "show", "builtin:vmc")
+        assert code == 0 and "empty slice" not in out + err and not passed_on
+        monkeypatch.setenv("TCPMM_TRACEBACK", "1")
+        code, out, err = run(capsys, "machine", "show", "builtin:vmc")
+    assert code == 0 and passed_on == ["Mean of empty slice"]

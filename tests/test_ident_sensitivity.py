@@ -88,3 +88,12 @@ def test_a_spread_draws_the_presliding_distance(machine_c):
     same = draw_axis(a.replace(uncertainty=AxisUncertainty()), np.random.default_rng(0))
     g = same.friction.guideway
     assert g.fs_pos / g.sigma0 == pytest.approx(z0, rel=1e-12)
+
+
+def test_a_change_that_is_not_a_number_is_said_so():
+    """Where the model's run of the circle holds its current at the limit, the spikes'
+    change came out NaN and the warning read 'move by up to nan um'."""
+    from tcpmm.ident.friction.sensitivity import moved_by
+
+    assert moved_by(1.5e-6) == "by up to 1.50 um"
+    assert "nan" not in moved_by(float("nan")) and "cannot tell" in moved_by(float("nan"))

@@ -62,6 +62,8 @@ def main(argv=None) -> int:
                 console.print(f"[yellow]warning:[/yellow] {esc(str(message))}")
         elif issubclass(category, BuildNotice):
             console.print(f"note: {esc(str(message))}")
+        elif issubclass(category, RuntimeWarning) and not os.environ.get("TCPMM_TRACEBACK"):
+            return  # numpy's note on a NaN or an empty mean: the user can do nothing with it
         else:
             shown(message, category, filename, lineno, file, line)
 

@@ -348,12 +348,14 @@ def _print_presliding(idn, presliding) -> None:
 
 def _presliding_range_note(a) -> str:
     """The range the pre-sliding fit leaves and what it does to the spikes, or ``""``."""
+    from ..ident.friction.sensitivity import moved_by
+
     sens = a.presliding_sensitivity
     if sens is None:
         return ""
     lo, hi = sens.presliding_m
     return (f"; {lo * 1e6:.2f}-{hi * 1e6:.2f} um possible, over which the TCP spikes of a "
-            f"circle move by up to {sens.spike_change_m * 1e6:.2f} um")
+            f"circle move {moved_by(sens.spike_change_m)}")
 
 
 def _identification_report(idn, report: Path, bundle: Path, model: Path) -> None:

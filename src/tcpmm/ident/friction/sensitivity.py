@@ -258,8 +258,17 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
         friction, moved >= SPIKE_WARN_M,
         f"axis {name}: the friction runs find no lost motion in the nut, but would not "
         f"find one of up to {hidden * 1e6:.2f} um (three standard deviations); that much "
-        f"would move the TCP reversal spikes of a circle in its plane (R35 mm, F5000) by up "
-        f"to {moved * 1e6:.2f} um. A reversal test at low speed, or finer sensors, fixes it")
+        f"would move the TCP reversal spikes of a circle in its plane (R35 mm, F5000) "
+        f"{moved_by(moved)}. A reversal test at low speed, or finer sensors, fixes it")
+
+
+def moved_by(moved: float) -> str:
+    """``by up to X um``; where the model's run of the circle is no prediction (its
+    current held at the limit) and the change is not a number, that it cannot be told
+    [m]."""
+    if np.isfinite(moved):
+        return f"by up to {moved * 1e6:.2f} um"
+    return "by an amount the model cannot tell (its run of that circle is no prediction)"
 
 
 def warn_share_sensitivity(name: str, a, machine, friction) -> None:
@@ -298,8 +307,8 @@ def warn_share_sensitivity(name: str, a, machine, friction) -> None:
         friction, True,
         f"axis {name}: the guideway share is not determined by the friction runs "
         f"({split.guideway_share:.2f} used); between shares {lo:.2f} and {hi:.2f} the TCP "
-        f"reversal spikes of a circle in its plane (R35 mm, F5000) move by up to "
-        f"{moved * 1e6:.2f} um. Finer sensors, or runs at speeds that do not advance whole "
+        f"reversal spikes of a circle in its plane (R35 mm, F5000) move "
+        f"{moved_by(moved)}. Finer sensors, or runs at speeds that do not advance whole "
         "sensor steps per sample, fix the share; --guideway-share sets it")
 
 
@@ -341,6 +350,6 @@ def warn_presliding_sensitivity(name: str, a, machine, friction) -> None:
         f"between {lo * 1e6:.2f} and {hi * 1e6:.2f} um ({fit.presliding * 1e6:.2f} used; two "
         "standard deviations of the fit, with the play that keeps the encoder's noise out "
         "of the contacts halved and doubled). Over that range the TCP reversal spikes of a "
-        f"circle in its plane (R35 mm, F5000) move by up to {moved * 1e6:.2f} um. A finer "
+        f"circle in its plane (R35 mm, F5000) move {moved_by(moved)}. A finer "
         "encoder, reversals that turn round faster, or a measured distance "
         "(--presliding-um) fixes it")

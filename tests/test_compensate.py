@@ -430,14 +430,23 @@ def test_the_parameter_file_says_no_minus_zero_and_what_an_unkept_pulse_means():
     assert "cross_talk_um_per_m_per_s2: -2.26" in y
 
 
-def _circle_program(plane: str, centre_mm=(0.0, 0.0), radius_mm: float = 20.0) -> str:
-    """A circle fed in along the first axis of its plane, CCW, as a ballbar test runs it."""
+def _circle_program(plane: str, centre_mm=(0.0, 0.0), radius_mm: float = 20.0,
+                    overrun: bool = False) -> str:
+    """A circle fed in along the first axis of its plane, CCW, as a ballbar test runs it;
+    with ``overrun`` a quarter turn more, so that the turn analysed starts past the
+    transient of the lead-in's corner."""
     g, a, b, i, j = {"XY": ("G17", "X", "Y", "I", "J"), "ZX": ("G18", "X", "Z", "I", "K"),
                      "YZ": ("G19", "Y", "Z", "J", "K")}[plane]
     ca, cb = centre_mm
     start = f"{a}{ca + radius_mm:g} {b}{cb:g}"
+    arc = f"{i}{-radius_mm:g} {j}0"
+    turn = f"G3 {start} {arc}\n"
+    out = f"{a}{ca + radius_mm + 1:g} {b}{cb:g}"
+    if overrun:
+        turn += f"G3 {a}{ca:g} {b}{cb + radius_mm:g} {arc}\n"
+        out = f"{a}{ca:g} {b}{cb + radius_mm + 1:g}"
     return (f"G21 G90 {g} G64\nG1 {a}{ca + radius_mm / 2:g} {b}{cb:g} F5000\nG1 {start}\n"
-            f"G3 {start} {i}{-radius_mm:g} {j}0\nG1 {a}{ca + radius_mm + 1:g} {b}{cb:g}\nM30\n")
+            f"{turn}G1 {out}\nM30\n")
 
 
 @pytest.mark.parametrize(("plane", "centre"), [("ZX", (0.0, 0.0)), ("YZ", (0.0, 0.0)),
@@ -577,7 +586,7 @@ def test_a_corner_the_correction_cannot_help_keeps_it_off_that_corner_only(machi
     from tcpmm.compensate.robust import EQUAL_M, margin
     from tcpmm.path import program_to_command
 
-    cmd = program_to_command(_circle_program("XY"))
+    cmd = program_to_command(_circle_program("XY", overrun=True))
     comp = compensate(machine, cmd, iterations=10)
     robust_factors(machine, comp, n_draws=2, radius_m=0.02)
     rob = comp.robustness

@@ -89,8 +89,11 @@ def _on_circle(dx, dy, radius, tol, offset):
 def _one_way(ang):
     """``(start, stop)`` of the parts of a stretch that turn one way: an arc out and back
     (a ballbar's 220 deg arcs) is two arcs. Steps under a twentieth of the travel's (its 90th
-    percentile) are rest, so that a sensor's noise during a dwell does not split a circle
-    [-]."""
+    percentile) are rest, so that a sensor's noise during a dwell does not split a circle;
+    the stretch starts with its first turning step and ends with its last: the samples of
+    a dwell on the circle, and the end of a radial approach that comes within the
+    tolerance of the radius, lie at one angle and are no part of the circle travelled (a
+    perfect command fed in from the centre read a G of 32 um) [-]."""
     d = np.diff(ang)
     if d.size == 0:
         return [(0, ang.size)]
@@ -99,8 +102,33 @@ def _one_way(ang):
         return [(0, ang.size)]
     way = np.sign(d[moving])
     flips = moving[1:][way[1:] != way[:-1]]
-    bounds = [0, *flips.tolist(), ang.size - 1]
+    bounds = [int(moving[0]), *flips.tolist(), int(moving[-1]) + 1]
     return [(lo, hi + 1) for lo, hi in pairwise(bounds)]
+
+
+#: How far beyond the scatter of its middle half (its median distance from the level)
+#: an arc's radius may lie at its ends and still count as the arc [-]; and the least such
+#: band, as a share of R [-].
+END_SCATTER = 10.0
+END_FLOOR = 1e-7
+
+
+def _steady_ends(dx, dy, radius, a: int, b: int) -> tuple[int, int]:
+    """An arc's samples without the ends of a tangential feed-in or feed-out: those that
+    come within the tolerance of the radius but whose radius still draws away from the
+    level, beyond :data:`END_SCATTER` times the scatter of the arc's middle half (a
+    semicircle fed in to a 220 deg arc lies within 0.1 % of R over its last 2.5 deg, and
+    the arc read 225 deg with 9 um of backlash) [-]."""
+    r = np.hypot(dx[a:b], dy[a:b]) - radius
+    n = r.size
+    if n < 4 * _MIN_SAMPLES:
+        return a, b
+    dev = np.abs(r - np.median(r[n // 4:3 * n // 4]))
+    band = max(END_SCATTER * float(np.median(dev[n // 4:3 * n // 4])), END_FLOOR * radius)
+    inside = np.flatnonzero(dev <= band)
+    if inside.size < _MIN_SAMPLES:
+        return a, b
+    return a + int(inside[0]), a + int(inside[-1]) + 1
 
 
 def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> list:
@@ -138,6 +166,9 @@ def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> l
         direction = "ccw" if span > 0 else "cw"
         n_turns = turns if turns is not None else np.floor(abs(span) / (2 * np.pi) + 1e-3)
         if n_turns < 1:
+            a, b = _steady_ends(dx, dy, radius, a, b)
+            ang = np.unwrap(np.arctan2(dy[a:b], dx[a:b]))
+            span = ang[-1] - ang[0] if b - a > 1 else 0.0
             if np.degrees(abs(span)) >= MIN_ARC_DEG:
                 arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))
             continue

@@ -269,6 +269,44 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
                         direction)
 
 
+def within_span(x, y, sl: slice, centre, ref_ang) -> slice:
+    """The samples of a sensor on the circle of a pass: from the first whose own angle
+    lies within the angle the reference path covers over the pass, on past the pass's
+    end until the sensor's angle reaches the end of that span (or turns back short of
+    it). A sensor that lags its command is still on the feed-in arc when the command
+    joins the circle (2 mm behind at F5000 without feed-forward: G read 121 um of 48), and
+    reaches the circle's end after its command does [-].
+
+    Parameters
+    ----------
+    x, y : ndarray
+        The sensor's whole path [m].
+    sl : slice
+        The pass's samples, found on the reference path [-].
+    centre : tuple
+        Nominal centre [m].
+    ref_ang : ndarray
+        The reference path's unwrapped angle over the pass [rad].
+    """
+    lo, hi = sl.start or 0, sl.stop
+    end = min(x.size, hi + (hi - lo))  # a lag of up to a whole pass
+    ang = np.unwrap(np.arctan2(y[lo:end] - centre[1], x[lo:end] - centre[0]))
+    ang = ang + 2 * np.pi * np.round((ref_ang[0] - ang[0]) / (2 * np.pi))
+    s = 1.0 if ref_ang[-1] >= ref_ang[0] else -1.0
+    u, span, n = s * (ang - ref_ang[0]), abs(ref_ang[-1] - ref_ang[0]), hi - lo
+    inside = np.flatnonzero((u[:n] >= 0.0) & (u[:n] <= span))
+    if inside.size < 2:
+        return sl
+    first = int(inside[0])
+    # past the pass's end, on while the sensor still turns forward short of the span's
+    # end: not into the other direction's pass, nor along a radial move off the circle
+    step = np.diff(u)
+    least = 0.05 * float(np.percentile(np.abs(step[:n - 1]), 90)) if n > 2 else 0.0
+    on = (u[n:] <= span) & (step[n - 1:] > least)
+    stop = n + (int(np.argmin(on)) if on.size and not on.all() else on.size)
+    return slice(lo + first, lo + stop)
+
+
 def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
                    sensors=SENSORS) -> CircleResult:
     """Circular-test analysis of a run: its full circles, else its arcs
@@ -312,8 +350,11 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
             cp.command_radial_deviation = radial_deviation(X.sensor("cmd")[sl],
                                                            Y.sensor("cmd")[sl], radius_m,
                                                            centre_m)
+        ref_ang = np.unwrap(np.arctan2(Y.sensor(ref)[sl] - centre_m[1],
+                                       X.sensor(ref)[sl] - centre_m[0]))
         for s in present:
-            cp.sensors[s] = analyse_sensor(X.sensor(s)[sl], Y.sensor(s)[sl], radius_m,
+            on = within_span(X.sensor(s), Y.sensor(s), sl, centre_m, ref_ang) if s != ref else sl
+            cp.sensors[s] = analyse_sensor(X.sensor(s)[on], Y.sensor(s)[on], radius_m,
                                            centre_m, d)
         missing = [q for q in QUADRANTS if any(np.isnan(sc.spikes[q])
                                                for sc in cp.sensors.values())]

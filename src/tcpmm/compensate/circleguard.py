@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.circle_passes import find_stretches
-from ..analysis.circular import analyse_sensor
+from ..analysis.circular import analyse_sensor, within_span
 from ..errors import InputError
 
 
@@ -35,6 +35,8 @@ class CircleGuard:
         Indices of the plane's two axes in the command's axes [-].
     before, after : list of Stretch
         Passes of the programmed command and of the delayed path [-].
+    angles : tuple of list
+        Per pass of ``before`` and of ``after``, the path's unwrapped angle over it [rad].
     """
 
     radius_m: float
@@ -42,6 +44,7 @@ class CircleGuard:
     plane: tuple
     before: list
     after: list
+    angles: tuple = ((), ())
 
     @classmethod
     def of(cls, comp, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y")):
@@ -63,14 +66,17 @@ class CircleGuard:
         if missing:
             raise InputError(f"the command has no axis {', '.join(missing)} of the circle")
         ij = tuple(axes.index(a.upper()) for a in plane)
-        passes = []
+        passes, angles = [], []
         for path in (comp.reference, comp.target):
             x, y = (path.positions[axes[k]] for k in ij)
             passes.append(find_stretches(x, y, radius_m, centre_m))
+            angles.append([np.unwrap(np.arctan2(y[st.index] - centre_m[1],
+                                                x[st.index] - centre_m[0]))
+                           for st in passes[-1]])
         if not passes[0] or not passes[1]:
             raise InputError(f"the command holds no circle of radius {radius_m * 1e3:g} mm "
                              f"about {tuple(c * 1e3 for c in centre_m)} mm")
-        return cls(radius_m, tuple(centre_m), ij, passes[0], passes[1])
+        return cls(radius_m, tuple(centre_m), ij, passes[0], passes[1], tuple(angles))
 
     def figures(self, tcp: np.ndarray, compensated: bool) -> np.ndarray:
         """Largest reversal spike and largest G over the passes, ``[spike, G]`` [m].
@@ -84,9 +90,10 @@ class CircleGuard:
         """
         x, y = tcp[self.plane[0]], tcp[self.plane[1]]
         spike = g = 0.0
-        for st in self.after if compensated else self.before:
-            s = analyse_sensor(x[st.index], y[st.index], self.radius_m, self.centre_m,
-                               st.direction)
+        passes = self.after if compensated else self.before
+        for st, ang in zip(passes, self.angles[1 if compensated else 0], strict=True):
+            on = within_span(x, y, st.index, self.centre_m, ang)  # as the analysis takes it
+            s = analyse_sensor(x[on], y[on], self.radius_m, self.centre_m, st.direction)
             sp = np.abs([v for v in s.spikes.values() if np.isfinite(v)])
             spike = max(spike, float(sp.max()) if sp.size else 0.0)
             g = max(g, s.circular_deviation)

@@ -213,8 +213,9 @@ def fit_mask(angle, s, after_deg=(0.0, 20.0), points=(0.0, 90.0, 180.0, 270.0)):
     u = s * np.degrees(angle)
     keep = np.ones(np.size(angle), bool)
     for deg in points:
-        d = (u - s * deg) % 360.0
-        keep &= ~((d >= after_deg[0]) & (d <= after_deg[1]))
+        # from the window's start, so that a window that starts before the point works
+        d = (u - s * deg - after_deg[0]) % 360.0
+        keep &= ~(d <= after_deg[1] - after_deg[0])
     return keep
 
 

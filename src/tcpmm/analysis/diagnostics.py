@@ -262,7 +262,9 @@ def _terms(fit, grids, deviations, curves, mean_rate):
                                            + fit[f"centre_{axis}_1"]) / 2, "m")
     terms.update({k: (fit[k], "m") for k in SHARED[:4]})
     for d, (a, e, model) in curves.items():
-        spikes = reversal_spikes(a, e - model, d)
+        # from where the leading axis reverses, as the fit leaves its transient out
+        lead = np.degrees(abs(fit.mu) + float(np.median(np.abs(np.diff(a))))) if fit.mu else 0.0
+        spikes = reversal_spikes(a, e - model, d, lead)
         terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})
     mu = fit["servo_angle"]
     terms["servo_mismatch"] = (mu / mean_rate, "s")

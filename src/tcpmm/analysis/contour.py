@@ -26,9 +26,10 @@ over the last quarter of the corner's samples); at the end, the travel past the 
 or past where the point comes to rest if that lies beyond it (a static deflection is no
 overshoot); 0 when it never passes; rounding, the closest approach to the corner point;
 settling, the time and the command's path length from when the command leaves the corner
-until the contour error stays within ``settle_tol_m`` of the level it ends at halfway to
-the next corner (the median of the last quarter of the stretch the corner owns; a static
-deflection on the straight is not a settling error); NaN when it has not settled by then.
+until the contour error stays within ``settle_tol_m`` of the level it ends at halfway
+(in time) to the command's arrival at the next corner (the median of the last quarter of
+the stretch the corner owns; a static deflection on the straight is not a settling
+error); NaN when it has not settled by then.
 """
 
 from __future__ import annotations

@@ -125,10 +125,12 @@ class CornerStream:
         for (i, turn), frame in zip(corners, frames, strict=True):
             li = i - self.off
             first = int(frame[0])
-            t_i = float(self.tc[li])
-            t0 = float(self.tc[first]) if np.isnan(turn) else t_i  # the end: the arrival
+            t_i, t_in = float(self.tc[li]), float(self.tc[first])
+            t0 = t_in if np.isnan(turn) else t_i  # the end: the arrival
             prev = self.open[-1] if self.open else self.last
-            b0 = self.tc0 if prev is None else 0.5 * (prev.t_i + t_i)
+            # halfway from the command leaving the corner before to its arriving here: a
+            # rest here (a dwell, the end's) is no part of the leg the one before owns
+            b0 = self.tc0 if prev is None else 0.5 * (prev.t_i + t_in)
             if prev is not None:
                 prev.b1 = b0
             c = _Corner(i, turn, first + self.off, t_i, t0, float(frame[1]),
@@ -231,7 +233,8 @@ def _stacked(t, actual, errors, feet) -> tuple:
 
 def _figures(c, tol) -> dict:
     """Per sensor: overshoot, rounding and settling of a corner from its tapes, over the
-    samples it owns (halfway from the previous corner to halfway to the next) [SI].
+    samples it owns (halfway from the previous corner to halfway to the next, in time
+    from the command leaving one to its arriving at the other) [SI].
 
     The overshoot (:func:`tcpmm.sim.cornerfigs.corner_shapes`) is taken from where the
     point holds: at the end of the path a static deflection along it is where it settles

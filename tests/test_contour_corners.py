@@ -69,3 +69,81 @@ def test_a_dwell_on_the_next_corner_is_no_part_of_a_corners_stretch(vmc, tmp_pat
     assert len(got[0]) == len(got[1]) == 3
     for s in SENSORS:
         assert got[0][0][s] == got[1][0][s], s
+
+
+def _corner_and_leg(leg: int, ring):
+    """A command along X for 1 s, a rest of 0.1 s on the corner, along Y for ``leg``
+    samples and a rest of 0.3 s at the end (1 kHz, 50 mm/s), and a run whose every sensor
+    is off the command along X by ``ring(u)``, ``u`` the time since the command left the
+    corner [m]."""
+    from tcpmm.result import AxisRun, Run
+
+    def ramp(n, a, b):
+        return a + (b - a) * np.arange(1, n + 1) / n
+
+    x = np.r_[0.0, ramp(1000, 0.0, 0.05), np.full(100 + leg + 300, 0.05)]
+    y = np.r_[np.zeros(1101), ramp(leg, 0.0, leg * 5e-5), np.full(300, leg * 5e-5)]
+    t = np.arange(x.size) * 1e-3
+    u = np.clip(t - t[1100], 0.0, None)
+    off = np.where(t > t[1100], ring(u), 0.0)
+    sensors = {s: x + off for s in SENSORS}
+    run = Run(t, {"X": AxisRun(cmd=x, **sensors), "Y": AxisRun(cmd=y, **dict.fromkeys(
+        SENSORS, y))})
+    return contour_error(run, plane="XY")
+
+
+def _on_disk(monkeypatch):
+    """Settling stretches kept on disk and read back 7 rows at a time."""
+    from tcpmm.analysis import contour_corners, tape
+
+    monkeypatch.setattr(tape, "SPILL_ROWS", 50)
+    monkeypatch.setattr(contour_corners, "_BACK_ROWS", 7)
+
+
+@pytest.mark.parametrize("disk", [False, True])
+@pytest.mark.parametrize("leg", [1000, 1004, 1010, 1016])
+def test_a_ringing_to_the_end_of_the_stretch_is_not_settled(leg, disk, monkeypatch):
+    """A ringing of 3 um at 50 Hz that lasts all along the outgoing leg is not settled in
+    a 1 um band, whatever the phase of the stretch's last sample (which fell in the band
+    or out of it by chance: settled at 497 ms, or n/a)."""
+    if disk:
+        _on_disk(monkeypatch)
+    res = _corner_and_leg(leg, lambda u: 3e-6 * np.sin(2 * np.pi * 50 * u))
+    corner = res.corners[0]["tcp"]
+    assert np.isnan(corner["settle_s"]) and np.isnan(corner["settle_m"])
+
+
+@pytest.mark.parametrize("disk", [False, True])
+def test_a_ringing_that_dies_out_settles_at_its_last_exit_from_the_band(disk, monkeypatch):
+    """The same ringing decaying with a time constant of 0.1 s: settled from its last
+    exit from the 1 um band about 0, before the last quarter of the stretch."""
+    def ring(u):
+        return 3e-6 * np.exp(-u / 0.1) * np.sin(2 * np.pi * 50 * u)
+
+    if disk:
+        _on_disk(monkeypatch)
+    res = _corner_and_leg(1000, ring)
+    u = np.arange(0, 0.5, 1e-3)
+    want = u[np.flatnonzero(np.abs(ring(u)) > 1e-6)[-1] + 1]
+    corner = res.corners[0]["tcp"]
+    assert corner["settle_s"] == pytest.approx(want, abs=1e-9)
+    assert corner["settle_m"] == pytest.approx(want * 0.05, abs=1e-9)
+
+
+def test_like_corners_of_a_zigzag_settle_alike(vmc, tmp_path):
+    """Passes of 50 mm at F3000 a step of 1 mm apart: every corner into a pass has the
+    same geometry and speeds, and the tcp rings at the headstock's modes (50 and 35 Hz,
+    about 3 um) past the halfway point of the pass; every one is not settled (some read
+    524 ms, the halfway point, where the last sample fell in the band)."""
+    lines, y = ["G0 X0 Y0", "G1 F3000"], 0
+    for i in range(8):
+        x = 50 if i % 2 == 0 else 0
+        lines += [f"X{x} Y{y}", f"X{x} Y{y + 1}"]
+        y += 1
+    corners = corners_of(vmc, tmp_path, [*lines, "G4 P0.5"])
+    into_pass = corners[1:-1:2]
+    assert len(into_pass) == 7
+    assert all(np.isnan(c["tcp"]["settle_s"]) for c in into_pass)
+    # the scale has settled in each, alike
+    scale = [c["scale"]["settle_s"] for c in into_pass]
+    assert max(scale) - min(scale) <= 2e-3 and max(scale) < 0.1

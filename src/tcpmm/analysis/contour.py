@@ -28,8 +28,8 @@ overshoot); 0 when it never passes; rounding, the closest approach to the corner
 settling, the time and the command's path length from when the command leaves the corner
 until the contour error stays within ``settle_tol_m`` of the level it ends at halfway
 (in time) to the command's arrival at the next corner (the median of the last quarter of
-the stretch the corner owns; a static deflection on the straight is not a settling
-error); NaN when it has not settled by then.
+the stretch the corner owns; a static deflection is no settling error); NaN unless it
+stays within the band over the whole last quarter (a ringing is not settled).
 """
 
 from __future__ import annotations

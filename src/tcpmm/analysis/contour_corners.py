@@ -274,25 +274,26 @@ def _settling(tape, a0: int, a1: int, cols, t0: float, sp0: float, tol: float) -
     """Per column of ``cols``: time and command path length from ``t0`` (where the path
     length is ``sp0``) until the error in that column of rows ``a0:a1`` of the tape (time,
     path length, errors) stays within ``tol`` of its level at the end of the stretch (the
-    median of its last quarter) [s, m]: :func:`tcpmm.sim.cornerfigs.settle_rows` over a
-    stretch too long to hold, read back from its end a block at a time, for every column
-    at once."""
+    median of its last quarter), NaN where it leaves that band in the last quarter [s, m]:
+    :func:`tcpmm.sim.cornerfigs.settle_rows` over a stretch too long to hold, read back
+    from its end a block at a time, for every column at once."""
     cols = list(cols)
     nan = {"settle_s": float("nan"), "settle_m": float("nan")}
     size = a1 - a0
     if size < 4:
         return [nan] * len(cols)
-    tail = [tape.rows(lo, min(lo + _BACK_ROWS, a1))[:, cols]
-            for lo in range(a1 - size // 4, a1, _BACK_ROWS)]
-    level = np.median(np.concatenate(tail), axis=0)
-    last = np.abs(tape.rows(a1 - 1, a1)[0, cols] - level) > tol
-    k = {j: a0 for j in range(len(cols)) if not last[j]}  # the columns that settle
-    left, hi = set(k), a1
+    quarter = a1 - size // 4
+    tail = np.concatenate([tape.rows(lo, min(lo + _BACK_ROWS, a1))[:, cols]
+                           for lo in range(quarter, a1, _BACK_ROWS)])
+    level = np.median(tail, axis=0)
+    # only a column within the band over the whole last quarter settles
+    left = set(np.flatnonzero((np.abs(tail - level) <= tol).all(axis=0)).tolist())
+    k, hi = dict.fromkeys(left, a0), quarter
     while left and hi > a0:
         lo = max(a0, hi - _BACK_ROWS)
         block = tape.rows(lo, hi)
         for j in list(left):
-            out = np.flatnonzero(np.abs(block[:, cols[j]] - level[j]) > tol)
+            out = np.flatnonzero(~(np.abs(block[:, cols[j]] - level[j]) <= tol))
             if out.size:
                 k[j] = lo + int(out[-1]) + 1
                 left.discard(j)

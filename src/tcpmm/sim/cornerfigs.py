@@ -123,22 +123,21 @@ def corner_shapes(t, dist, dev, past, cut, b0, b1, end, tol):
 @njit(cache=True)
 def settle_rows(rows, cols, tol):
     """Per column of ``cols``: the first row from which the column stays within ``tol`` of
-    its level at the end (the median of its last quarter of rows), -1 where the last row
-    lies outside (it does not settle) [-]."""
+    its level at the end (the median of its last quarter of rows), -1 where it leaves
+    that band anywhere in the last quarter (it has not settled within the rows: a ringing
+    signal's last row falls in the band or out of it by chance) [-]."""
     size = rows.shape[0]
+    quarter = size - size // 4
     out = np.empty(cols.size, np.int64)
     for j in range(cols.size):
         col = rows[:, cols[j]]
-        level = median(col[size - size // 4:])
-        if abs(col[size - 1] - level) > tol:
-            out[j] = -1
-            continue
+        level = median(col[quarter:])
         k = 0
         for i in range(size - 1, -1, -1):
-            if abs(col[i] - level) > tol:
+            if not abs(col[i] - level) <= tol:
                 k = i + 1
                 break
-        out[j] = k
+        out[j] = k if k <= quarter else -1
     return out
 
 
@@ -158,7 +157,8 @@ def corner_figures(rows, lims, t, dist, dev, past, cut, end):
     -------
     ndarray, shape (sensors, 4)
         Overshoot, rounding, time and path length to settle (NaN where the stretch
-        is too short or the error does not settle) [m], [m], [s], [m].
+        is too short or the error does not settle within it, :func:`settle_rows`) [m],
+        [m], [s], [m].
     """
     b0, b1, t0, sp0, tol = lims
     out = np.full((cut.size - 1, 4), math.nan)

@@ -17,13 +17,18 @@ from tcpmm.sim.simulate import simulate
 SENSORS = ("motor", "scale", "tcp")
 
 
+def same(a: dict, b: dict) -> bool:
+    """One sensor's figures at two corners equal to the bit, NaN to NaN."""
+    return a.keys() == b.keys() and np.array_equal(list(a.values()), list(b.values()),
+                                                   equal_nan=True)
+
+
 def assert_same_corners(got, want):
     """Every figure of every corner equal to the bit, NaN to NaN."""
     assert len(got) == len(want)
     for g, w in zip(got, want, strict=True):
         for s in SENSORS:
-            assert np.array_equal(list(g[s].values()), list(w[s].values()),
-                                  equal_nan=True), (w["number"], s)
+            assert same(g[s], w[s]), (w["number"], s, g[s], w[s])
 
 
 def corners_of(vmc, tmp_path, lines):
@@ -53,7 +58,7 @@ def test_a_corner_and_the_end_do_not_depend_on_the_closing_dwell(vmc, tmp_path):
     short, long = got[0.5], got[2.0]
     assert len(short) == len(long) == 2 and np.isnan(long[1]["turn_rad"])
     for s in SENSORS:
-        assert short[0][s] == long[0][s], s
+        assert same(short[0][s], long[0][s]), (s, short[0][s], long[0][s])
         assert not long[0][s]["settle_m"] > 0.015  # settled within its half of the leg
     for s in ("motor", "scale"):
         assert long[1][s]["settle_s"] == pytest.approx(short[1][s]["settle_s"], abs=2e-3)
@@ -68,7 +73,7 @@ def test_a_dwell_on_the_next_corner_is_no_part_of_a_corners_stretch(vmc, tmp_pat
                                       "G4 P0.5"]) for dwell in ([], ["G4 P1"])]
     assert len(got[0]) == len(got[1]) == 3
     for s in SENSORS:
-        assert got[0][0][s] == got[1][0][s], s
+        assert same(got[0][0][s], got[1][0][s]), (s, got[0][0][s], got[1][0][s])
 
 
 def _corner_and_leg(leg: int, ring):
@@ -147,3 +152,21 @@ def test_like_corners_of_a_zigzag_settle_alike(vmc, tmp_path):
     # the scale has settled in each, alike
     scale = [c["scale"]["settle_s"] for c in into_pass]
     assert max(scale) - min(scale) <= 2e-3 and max(scale) < 0.1
+
+
+@pytest.mark.parametrize("feed", [3000, 6000])
+def test_the_sag_across_a_leg_is_no_overshoot_whatever_follows_the_leg(vmc, tmp_path,
+                                                                        feed):
+    """A plunge along -Z turned to X: on the X leg the tcp hangs about 49 um low under
+    its weight, still ringing by 1.3 um (F3000) or 2.9 um (F6000) about that at the end
+    of the corner's stretch. The overshoot is what it swings beyond the sag, about 5.4 um,
+    with or without a dwell after the leg (the sag was taken off only where the ringing
+    had died within 1 um by the stretch's end: 54.35 um in three of the four runs)."""
+    got = []
+    for dwell in ([], ["G4 P0.3"]):
+        corners = corners_of(vmc, tmp_path, ["G0 X0 Y0 Z5", "G1 Z0 F500",
+                                             f"G1 X30 F{feed}", *dwell, "G0 Z5", "G4 P0.5"])
+        assert len(corners) == 4
+        got.append(corners[1])
+    assert same(got[0]["tcp"], got[1]["tcp"]), (got[0]["tcp"], got[1]["tcp"])
+    assert 4.5e-6 < got[0]["tcp"]["overshoot_m"] < 6.5e-6

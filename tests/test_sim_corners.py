@@ -17,11 +17,18 @@ TOL = 1e-6
 
 
 def _held(dev, tol):
-    tail = dev[-(dev.size // 4 or 1):]
+    q = dev.size // 4 or 1
+    tail = dev[-q:]
     if tail.size < 4:
         return 0.0
     level = float(np.median(tail))
-    return level if level > tol and float(np.max(np.abs(tail - level))) <= tol else 0.0
+    if np.isnan(tail).any() or not level > tol:
+        return 0.0
+    if float(np.max(np.abs(tail - level))) <= tol:
+        return level
+    # a ringing about a sag: wholly outside the band, about the level of the quarter before
+    before = float(np.median(dev[-2 * q:-q]))
+    return level if tail.min() > tol and abs(before - level) <= tol else 0.0
 
 
 def _shape(t, dist, dev, past, b0, b1, end, tol):

@@ -10,26 +10,26 @@ that passes a place twice (CCW then CW) is matched with the pass being run. The 
 (:mod:`tcpmm.path.nearest`) passes over blocks of segments that lie too far to hold the
 closest point, and gives what measuring every segment of the window gives, to the bit.
 
-Corners are where the command's direction, over ``corner_span_m`` before and after a
-point, turns by more than ``corner_deg``, most of it within a quarter of that span (a curve
-that turns as much evenly, a small arc or the inside of a spiral, is no corner); the end of
-the path counts as one (turn NaN), where a step test overshoots and settles: there the
-distance to the end point settles, counted from the command's arrival. Where the path runs
-back on itself (a reversal) the corner is the turning point. Each corner is
-measured on the samples whose closest command point lies near it: from ``corner_span_m``
-before it to ``corner_span_m`` after it, or further while the command runs straight on.
-Per corner and sensor: overshoot, the largest distance the point lies outside the path once
-past the corner, across the outgoing leg towards the side the incoming direction points to
-(at a right angle, the travel past the corner along the incoming direction), beyond where
-the point holds on the outgoing leg if that lies outside the path (within ``settle_tol_m``
-over the last quarter of the corner's samples); at the end, the travel past the end point,
-or past where the point comes to rest if that lies beyond it (a static deflection is no
-overshoot); 0 when it never passes; rounding, the closest approach to the corner point;
-settling, the time and the command's path length from when the command leaves the corner
-until the contour error stays within ``settle_tol_m`` of the level it ends at halfway
-(in time) to the command's arrival at the next corner (the median of the last quarter of
-the stretch the corner owns; a static deflection is no settling error); NaN unless it
-stays within the band over the whole last quarter (a ringing is not settled).
+Corners are where the command's direction, over ``corner_span_m`` before and after a point,
+turns by more than ``corner_deg``, most of it within a quarter of that span (an even curve,
+a small arc or a spiral, is none); the end of the path counts as one (turn NaN), where a
+step test overshoots and settles: there the distance to the end point settles, counted from
+the command's arrival. Where the path runs back on itself (a reversal) the corner is the
+turning point. Each corner is measured on the samples whose closest command point lies near
+it: from ``corner_span_m`` before it to ``corner_span_m`` after it, or further while the
+command runs straight on. Per corner and sensor: overshoot, the largest distance the point
+lies outside the path once past the corner, across the outgoing leg towards the side the
+incoming direction points to (at a right angle, the travel past the corner along the
+incoming direction), beyond where the point holds on the outgoing leg if that lies outside
+the path (the median of the last quarter of the corner's samples, where they stay within
+``settle_tol_m`` of it or, ringing about a sag, lie outside the band about the quarter
+before's median); at the end, the travel past the end point, or past where the point comes
+to rest if that lies beyond it (a static deflection is no overshoot); 0 when it never
+passes; rounding, the closest approach to the corner point; settling, the time and the
+command's path length from when the command leaves the corner until the contour error stays
+within ``settle_tol_m`` of the level it ends at halfway (in time) to the command's arrival
+at the next corner (the median of the last quarter of the stretch the corner owns; a static
+deflection is no settling error); NaN unless it stays in the band all that quarter.
 """
 
 from __future__ import annotations

@@ -39,20 +39,29 @@ def _pymax(a, b):
 @njit(cache=True)
 def _held(dv, tol):
     """How far outside the path a point lies where it holds on the outgoing leg: the
-    median of the last quarter of ``dv`` where that quarter stays within ``tol`` of it
-    and lies outside the band ``tol``, else 0 (a point still moving about is not at rest;
-    within the band it has settled) [m]."""
-    tail = dv[dv.size - max(dv.size // 4, 1):]
+    median of the last quarter of ``dv`` where that lies outside the band ``tol`` and the
+    point holds there: the quarter stays within ``tol`` of it, or lies wholly outside the
+    band with the median of the quarter before within ``tol`` of it (a ringing about a
+    sag of the tool: its level holds, its swings need not fit in the band); else 0 (a
+    point still moving about is not at rest; within the band it has settled) [m]."""
+    q = max(dv.size // 4, 1)
+    tail = dv[dv.size - q:]
     if tail.size < 4:
         return 0.0
     level = median(tail)
-    top = 0.0
+    top, low = 0.0, math.inf
     for v in tail:
         d = abs(v - level)
         if math.isnan(d):
             return 0.0
         top = max(top, d)
-    return level if level > tol and top <= tol else 0.0
+        low = min(low, v)
+    if not level > tol:
+        return 0.0
+    if top <= tol:
+        return level
+    before = median(dv[dv.size - 2 * q:dv.size - q])
+    return level if low > tol and abs(before - level) <= tol else 0.0
 
 
 @njit(cache=True)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ._app import out
-from ._tables import fixed
+from ._tables import fixed, plain_table, print_plain
 
 
 def diagnostics_json(diag) -> dict:
@@ -37,19 +37,16 @@ def _cell(v: float, digits: int = 2) -> str:
 
 def print_passes(res, title: str) -> None:
     """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
-    from rich.table import Table
-
-    t = Table(title=f"{title} [µm]", caption="A-D: reversal spike after the fitted terms "
-              "(centre, radius, servo and scale mismatch, squareness; n/a: left out), raw "
-              "e - b in --json (spike_A_um ...); contour max |e|; G circular deviation")
-    for name in ("dir", "sensor", "A", "B", "C", "D", "contour", "G"):
-        t.add_column(name, justify="left" if name in ("dir", "sensor") else "right")
+    t = plain_table(("dir", "sensor", "A", "B", "C", "D", "contour", "G"),
+                    left=("dir", "sensor"))
     for p in res.passes:
         for row in p.table():
             t.add_row(p.direction.upper(), row["sensor"],
                       *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
                       _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
-    out.print(t)
+    print_plain(t, out, f"{title} [µm]", "A-D: reversal spike after the fitted terms "
+                "(centre, radius, servo and scale mismatch, squareness; n/a: left out), raw "
+                "e - b in --json (spike_A_um ...); contour max |e|; G circular deviation")
     for p in res.passes:
         for line in _pass_notes(p):
             out.print(line, highlight=False)
@@ -74,16 +71,12 @@ def _pass_notes(p) -> list[str]:
 def print_diagnostics(diag) -> None:
     """The diagnostics: per direction, the terms with their signs, the terms ranked by
     what each contributes, and what the circles leave undetermined and why."""
-    from rich.table import Table
-
     from ..analysis.circle_display import undetermined_lines
     from ..analysis.diagnostics import term_note
 
     rows = {t: (v, u) for t, v, u in _display_terms(diag)}
     cols = [*diag.directions, *(("pair",) if len(diag.directions) == 2 else ())]
-    t = Table(title=f"circle diagnostics ({diag.sensor}) [µm]")
-    for name in ("", *(c.upper() if c != "pair" else c for c in cols)):
-        t.add_column(name, justify="left" if not name else "right")
+    t = plain_table(("", *(c.upper() if c != "pair" else c for c in cols)), left=("",))
     nan = (float("nan"),)
     for label, base in (("radial deviation", "radial_deviation"),
                         ("circularity G" + (", G(b)" if len(cols) == 3 else ""),
@@ -94,16 +87,14 @@ def print_diagnostics(diag) -> None:
         t.add_row(f"spike {q} after {whose} terms",
                   *[_cell(rows[f"spike_{q}_{d}"][0]) for d in diag.directions],
                   *([""] if len(cols) == 3 else []))
-    out.print(t)
-    t = Table()
-    for name in ("term", "value", "unit", "sign"):
-        t.add_column(name, justify="right" if name == "value" else "left")
+    print_plain(t, out, f"circle diagnostics ({diag.sensor}) [µm]")
+    t = plain_table(("term", "value", "unit", "sign"), left=("term", "unit", "sign"))
     for term, (v, u) in rows.items():
         if term.startswith(("radial_deviation", "circularity", "spike")):
             continue
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u,
                   term_note(term, diag.axes))
-    out.print(t)
+    print_plain(t, out)
     _print_ranking(diag)
     for line in undetermined_lines(diag.undetermined):
         out.print(line, highlight=False)
@@ -111,21 +102,17 @@ def print_diagnostics(diag) -> None:
 
 def _print_ranking(diag) -> None:
     """The terms by the radial error each makes alone over the circle."""
-    from rich.table import Table
-
     if not diag.ranking:  # an arc that gives no terms: nothing to rank, and it says why
         out.print("terms ranked by their contribution: none determined (below)",
                   highlight=False)
         return
     g = "G(b)" if len(diag.directions) == 2 else "G"
-    t = Table(title="terms ranked by their contribution", caption="contribution: peak to "
-              "valley of the radial error the term makes alone; share: of the sum; "
-              f"% {g}: of {g} (a centre offset makes none of it: it shows in the contour "
-              "error)")
-    for name in ("rank", "term", "µm", "share %", f"% {g}"):
-        t.add_column(name, justify="left" if name == "term" else "right")
+    t = plain_table(("rank", "term", "µm", "share %", f"% {g}"), left=("term",))
     for r in diag.ranking:
         t.add_row(str(r["rank"]), r["term"].replace("_", " "),
                   _cell(r["contribution_m"] * 1e6), _cell(100 * r["share"], 1),
                   _cell(100 * r["share_of_G"], 1))
-    out.print(t)
+    print_plain(t, out, "terms ranked by their contribution", "contribution: peak to valley "
+                "of the radial error the term makes alone; share: of the sum; "
+                f"% {g}: of {g} (a centre offset makes none of it: it shows in the contour "
+                "error)")

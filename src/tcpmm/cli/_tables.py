@@ -58,8 +58,8 @@ def _cell(v) -> str:
 
 
 def print_table(table, console, title: str) -> None:
-    """Print a result table (pandas) as a rich table without vertical rules, numbers to
-    two decimals (a dash where there is none), so that nine columns fit in 80.
+    """Print a result table (pandas) as a :func:`plain_table`, numbers to two decimals (a
+    dash where there is none), so that nine columns fit in 80.
 
     Parameters
     ----------
@@ -70,14 +70,43 @@ def print_table(table, console, title: str) -> None:
     title : str
         Title above it [-].
     """
-    from rich import box
-    from rich.markup import escape
-    from rich.table import Table
-
-    # the title is text: rich took its "[um]" for a style and printed it without
-    t = Table(title=escape(title), box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1))
-    for c in table.columns:
-        t.add_column(header(str(c)), justify="right", overflow="fold")
+    t = plain_table([header(str(c)) for c in table.columns])
     for _, row in table.iterrows():
         t.add_row(*[_cell(v) for v in row])
-    console.print(t)
+    print_plain(t, console, title)
+
+
+def plain_table(headers, left=()):
+    """An empty result table in the one style of every command: no vertical rules, the head
+    ruled below, columns apart by spaces (a pipe cuts them with awk), right-justified but
+    for those named in ``left``; a header is text, its "[dB]" no markup.
+
+    Parameters
+    ----------
+    headers : iterable of str
+        The columns' headers [-].
+    left : iterable of str
+        Headers of the columns justified left (names, labels) [-].
+
+    Returns
+    -------
+    rich.table.Table
+        The table to add rows to and print with :func:`print_plain` [-].
+    """
+    from rich import box
+    from rich.table import Table
+    from rich.text import Text
+
+    t = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False, padding=(0, 1))
+    for h in headers:
+        t.add_column(Text(h), justify="left" if h in left else "right", overflow="fold")
+    return t
+
+
+def print_plain(table, console, title: str | None = None, caption: str | None = None) -> None:
+    """Print a :func:`plain_table` with its title above and its caption below [-]."""
+    from rich.text import Text
+
+    table.title = None if title is None else Text(title)
+    table.caption = None if caption is None else Text(caption)
+    console.print(table)

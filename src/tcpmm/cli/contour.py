@@ -9,7 +9,7 @@ import typer
 from ._app import Sensor, app, checked_plot, console, emit_json_rows, esc, in_file, out, positive
 from ._plane import COMMAND_HELP, run_plane_said, with_given_command
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
-from ._tables import fixed
+from ._tables import fixed, plain_table, print_plain
 
 
 @app.command()
@@ -105,37 +105,31 @@ CORNER_ROWS = 20
 
 def _print(res, sensor: str, title: str) -> None:
     """Error per sensor and the corner table of one sensor, 80 columns wide."""
-    from rich.table import Table
-
     sign = "signed, +: left of travel" if res.signed else "3D, unsigned"
     # the run's name on a line of its own: as a table's title a long one was wrapped to
     # the table's width, in a pipe too, where no line is wrapped
     out.print(esc(f"{title}: contour error in {''.join(res.axes)} [µm]"), soft_wrap=True,
               highlight=False)
-    t = Table(caption=f"{sign}")
-    for col in ("sensor", "max |e|", "RMS", "max", "min"):
-        t.add_column(col, justify="left" if col == "sensor" else "right")
+    t = plain_table(("sensor", "max |e|", "RMS", "max", "min"), left=("sensor",))
     for s, d in res.summary().items():
         t.add_row(s, *[f"{d[k] * 1e6:.2f}" for k in ("max_abs_m", "rms_m", "max_m", "min_m")])
-    out.print(t)
+    print_plain(t, out, caption=sign)
     if not res.signed:
         _say_offsets(res.summary())
     if not res.corners:
         return
     shown, more = _shown_corners(res.corners, sensor)
     rows = res.corner_rows([sensor], shown)
-    t = Table(title=f"corners, {sensor}", caption="overshoot: outside the path past the "
-              f"corner, rounding: closest approach [µm]; settled within "
-              f"{res.settle_tol_m * 1e6:g} µm{more}")
-    for col in ("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"):
-        t.add_column(col, justify="right")
+    t = plain_table(("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"))
     for row in rows:
         at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)
         turn = "end" if row["turn_deg"] != row["turn_deg"] else f"{row['turn_deg']:.0f}°"
         t.add_row(str(row["corner"]), at, turn,
                   *[_num(row[k]) for k in ("overshoot_um", "rounding_um", "settle_ms",
                                            "settle_mm")])
-    out.print(t)
+    print_plain(t, out, f"corners, {sensor}", "overshoot: outside the path past the corner, "
+                f"rounding: closest approach [µm]; settled within {res.settle_tol_m * 1e6:g} "
+                f"µm{more}")
 
 
 #: an unsigned error that never falls below this, and half its largest, is mostly an

@@ -10,6 +10,7 @@ import numpy as np
 import typer
 
 from ._app import app, checked_output, checked_plot, emit_json, esc, out, parse_band
+from ._tables import plain_table, print_plain
 
 frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XML): show "
                       "and fit.", rich_markup_mode=None)
@@ -79,22 +80,20 @@ def show(file: Path = typer.Argument(..., help=_FILE),
     if as_json:
         emit_json(summary)
         return
-    from rich.table import Table
-
     out.print(f"{esc(str(file))}: {esc(frf.name)}"
               + (f" ({esc(frf.output)} / {esc(frf.input)})" if frf.input else ""))
     out.print(f"{summary['bins']} bins, {summary['freq_min_hz']:.4g}-"
               f"{summary['freq_max_hz']:.4g} Hz; coherence median "
               f"{summary['coherence_median']:.3f}, {summary['bins_coherence_0_5']} bins >= 0.5;"
               f" relative noise |dH/H| median {summary['noise_rel_median']:.3g}")
-    t = Table(*map(esc, ("f [Hz]", "|H| [dB]", "phase [deg]", "coherence [-]", "noise [-]")))
+    t = plain_table(("f [Hz]", "|H| [dB]", "phase [deg]", "coherence [-]", "noise [-]"))
     idx = np.unique(np.searchsorted(frf.freq_hz, np.geomspace(frf.freq_hz[0],
                                                                frf.freq_hz[-1], 12)))
     for i in idx[idx < frf.freq_hz.size]:
         t.add_row(f"{frf.freq_hz[i]:.4g}", f"{frf.magnitude_db[i]:.2f}",
                   f"{np.degrees(np.angle(frf.H[i])):.1f}", f"{frf.coherence[i]:.3f}",
                   f"{sigma[i]:.3g}")
-    out.print(t)
+    print_plain(t, out)
     if plot is not None:
         out.print(f"wrote {plot}")
 
@@ -150,8 +149,6 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
 
 
 def _print_fit(res, file) -> None:
-    from rich.table import Table
-
     tf = res.tf
     out.print(f"{esc(str(file))}: {esc(res.name)}: {tf.n_den} poles, {tf.n_num} zeros, "
               f"delay {tf.delay_s * 1e3:.4g} ms; band {res.band_hz[0]:.4g}-"
@@ -159,10 +156,11 @@ def _print_fit(res, file) -> None:
     out.print(f"residual: relative RMS {res.rel_rms:.3g} against a noise of "
               f"{res.noise_rms:.3g} (chi2 ratio {res.chi2_ratio:.3g}); "
               f"fit {tf.fit_percent:.1f} %")
-    t = Table(*map(esc, ("kind", "f [Hz]", "damping [-]", "real [rad/s]", "imag [rad/s]")))
+    t = plain_table(("kind", "f [Hz]", "damping [-]", "real [rad/s]", "imag [rad/s]"),
+                    left=("kind",))
     for _, r in res.to_pandas().iterrows():
         t.add_row(r["kind"], f"{r['freq_hz']:.5g}", f"{r['damping']:.4g}",
                   f"{r['real_rad_s']:.6g}", f"{r['imag_rad_s']:.6g}")
-    out.print(t)
+    print_plain(t, out)
     for note in res.notes:
         out.print(f"note: {esc(note)}")

@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 
 from ._app import app, checked_output, emit_json, esc, in_file, interp_settings, out, read_model
+from ._tables import plain_table, print_plain
 
 _MARGINS = re.compile(r"^\s*([0-9.]+)\s*db\s*,\s*([0-9.]+)\s*deg\s*$", re.IGNORECASE)
 
@@ -66,13 +67,8 @@ def _fmt(v, digits=1):
 
 
 def _print_result(res, gm, pm) -> None:
-    from rich.table import Table
-
     for name, t in res.axes.items():
-        tab = Table(title=esc(f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
-                               f"{'met' if t.met else 'NOT MET, settings kept'}"))
-        for c in ("", "before", "after"):
-            tab.add_column(c, justify="right")
+        tab = plain_table(("", "before", "after"))
         b, a = t.before, t.after
         rows = [("K_vp [A s/rad]", b.K_vp, a.K_vp, 4), ("T_i = K_vp/K_vi [ms]", _ti(b), _ti(a), 2),
                 ("K_pp [1/s]", b.K_pp, a.K_pp, 2), ("k_ff [-]", b.k_ff, a.k_ff, 2)]
@@ -87,7 +83,8 @@ def _print_result(res, gm, pm) -> None:
                         _fmt(ma["phase_margin_deg"]))
             tab.add_row(esc(f"{loop} bandwidth [Hz]"), _fmt(mb["bandwidth_hz"]),
                         _fmt(ma["bandwidth_hz"]))
-        out.print(tab)
+        print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
+                              f"{'met' if t.met else 'NOT MET, settings kept'}")
         for note in t.notes:
             out.print(f"  {esc(note)}")
         for warning in t.warnings:
@@ -96,14 +93,12 @@ def _print_result(res, gm, pm) -> None:
         out.print(esc(note))
     if not res.path_before:
         return
-    tab = Table(title=esc("predicted path (TCP) [um]"))
-    for c in ("", "before", "after"):
-        tab.add_column(c, justify="right")
+    tab = plain_table(("", "before", "after"))
     for key, fig in res.path_before.items():
         for k, v in fig.items():
             tab.add_row(f"{key} {k.replace('_um', '').replace('_', ' ')}", _fmt(v, 2),
                         _fmt(res.path_after[key][k], 2))
-    out.print(tab)
+    print_plain(tab, out, "predicted path (TCP) [um]")
 
 
 def _ti(s):

@@ -1,4 +1,5 @@
-"""Output fit for pipes and logs: every result table in the one plain style.
+"""Output fit for pipes and logs: every result table in the one plain style, titles and
+captions on lines of their own that are never wrapped and end without spaces.
 
 Everything is captured from streams that are no terminal, so nothing here depends on the
 terminal's width or on the temporary folder's length."""
@@ -73,3 +74,39 @@ def test_every_result_table_is_plain(capsys, runs, name):
     assert not BOXED & set(out), out
     rules = [line for line in out.splitlines() if line and set(line) <= {"─", " "}]
     assert rules, out  # each table's head is ruled
+
+
+@pytest.mark.parametrize("name", ["contour", "circle", "frf show", "compare", "tune"])
+def test_no_line_in_a_pipe_ends_in_spaces(capsys, runs, name):
+    """Titles and captions were centred and padded to the table's width, and each row to
+    the last column's: a log held spaces at the end of most lines."""
+    code, out, err = run(capsys, *commands(runs)[name])
+    assert code == 0, err
+    assert [line for line in out.splitlines() if line != line.rstrip()] == []
+
+
+def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
+    """A caption was word-wrapped to its table's width and centred: 'overshoot: outside
+    the path ... settled within 1 µm' came in three pieces, and a grep for a figure in it
+    failed. Titles and captions are now lines of their own, never wrapped in a pipe."""
+    code, out, _ = run(capsys, *commands(runs)["contour"])
+    lines = out.splitlines()
+    assert code == 0 and "corners, tcp" in lines and "signed, +: left of travel" in lines
+    assert any(line.startswith("overshoot: outside the path past the corner, rounding: ")
+               and line.endswith("settled within 1 µm") for line in lines), out
+    code, out, _ = run(capsys, *commands(runs)["circle"])
+    lines = out.splitlines()
+    assert code == 0 and f"{runs / 'circle.csv'} [µm]" in lines
+    assert "circle diagnostics (tcp) [µm]" in lines
+    assert "terms ranked by their contribution" in lines
+    assert any(line.startswith("A-D: reversal spike after the fitted terms")
+               and line.endswith("G circular deviation") for line in lines), out
+    assert any(line.startswith("contribution: peak to valley")
+               and line.endswith("it shows in the contour error)") for line in lines), out
+    code, out, _ = run(capsys, *commands(runs)["tune"])
+    lines = out.splitlines()
+    assert code == 0 and "axis X: tuning for 6 dB / 45 deg: met" in lines
+    code, out, _ = run(capsys, *commands(runs)["compare"])
+    assert code == 0
+    assert ("measured - predicted (raw spikes e - b, as in the paper's Table 2)"
+            in out.splitlines())

@@ -104,9 +104,20 @@ def plain_table(headers, left=()):
 
 
 def print_plain(table, console, title: str | None = None, caption: str | None = None) -> None:
-    """Print a :func:`plain_table` with its title above and its caption below [-]."""
+    """Print a :func:`plain_table` with its title on a line above and its caption on one
+    below, never wrapped in a pipe or a log (as rich's own title and caption, centred in
+    the table's width, were: a grep for a figure in a caption failed), and no line ending
+    in spaces (rich pads each row to the last column's width) [-]."""
     from rich.text import Text
 
-    table.title = None if title is None else Text(title)
-    table.caption = None if caption is None else Text(caption)
-    console.print(table)
+    unwrapped = not console.is_terminal
+    if title is not None:
+        console.print(Text(title), soft_wrap=unwrapped)
+    for segments in console.render_lines(table, pad=False):
+        line = Text()
+        for s in segments:
+            line.append(s.text, s.style)
+        line.rstrip()
+        console.print(line, soft_wrap=True)
+    if caption is not None:
+        console.print(Text(caption), soft_wrap=unwrapped)

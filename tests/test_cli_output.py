@@ -1,9 +1,14 @@
 """Output fit for pipes and logs: every result table in the one plain style, titles and
-captions on lines of their own that are never wrapped and end without spaces.
+captions on lines of their own that are never wrapped and end without spaces, and a
+stream that cannot encode µ written with ASCII stand-ins.
 
 Everything is captured from streams that are no terminal, so nothing here depends on the
 terminal's width or on the temporary folder's length."""
 
+import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -110,3 +115,53 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     assert code == 0
     assert ("measured - predicted (raw spikes e - b, as in the paper's Table 2)"
             in out.splitlines())
+
+
+def in_process(tmp_path: Path, env: dict, *args) -> tuple:
+    """``tcpmm args`` in a process of its own, its outputs into files under ``env``
+    (added to the environment without the settings of the encoding): exit code,
+    stdout's and stderr's bytes [-]."""
+    script = "import sys; from tcpmm.cli import main; sys.exit(main())"
+    base = {k: v for k, v in os.environ.items()
+            if k not in ("PYTHONIOENCODING", "PYTHONUTF8", "PYTHONCOERCECLOCALE", "LC_ALL",
+                         "LC_CTYPE", "LANG")}
+    full = {**base, "PYTHONPATH": str(SRC), **env}
+    with open(tmp_path / "out", "wb") as o, open(tmp_path / "err", "wb") as e:
+        code = subprocess.run([sys.executable, "-c", script, *map(str, args)], stdout=o,
+                              stderr=e, env=full, timeout=300).returncode
+    return code, (tmp_path / "out").read_bytes(), (tmp_path / "err").read_bytes()
+
+
+@pytest.mark.parametrize("env", [{"PYTHONIOENCODING": "ascii"},
+                                 {"LC_ALL": "C", "PYTHONUTF8": "0",
+                                  "PYTHONCOERCECLOCALE": "0"}])
+def test_a_stream_that_cannot_encode_micro_gets_ascii_stand_ins(tmp_path, runs, env):
+    """``PYTHONIOENCODING=ascii tcpmm contour RUN.csv > f`` ended as 'internal error, a
+    defect of tcpmm (UnicodeEncodeError ... '\\xb5')'. µ, ° and the rules are written as
+    u, deg and -, and the table keeps its plain style."""
+    code, out, err = in_process(tmp_path, env, "contour", runs / "sq.csv")
+    assert code == 0, err
+    assert out.isascii() and err.isascii()
+    text = out.decode("ascii")
+    assert f"{runs / 'sq.csv'}: contour error in XY [um]" in text.splitlines()
+    assert " over um " in text and " 90deg " in text
+    assert not any(line.startswith(("|", "+")) for line in text.splitlines())  # rich's ASCII box
+    assert any(line and set(line) <= {"-", " "} for line in text.splitlines())
+
+
+def test_json_on_an_ascii_stream_escapes_what_it_cannot_write(tmp_path, runs):
+    """--json is the machine interface: what ASCII cannot hold is escaped (\\u00b5),
+    which a reader reads back as it was, not written with a stand-in."""
+    named = tmp_path / "µ_frf.csv"
+    named.write_bytes((runs / "m.csv").read_bytes())
+    code, out, err = in_process(tmp_path, {"PYTHONIOENCODING": "ascii"}, "frf", "show",
+                                named, "--json")
+    assert code == 0, err
+    assert out.isascii() and json.loads(out)["file"] == str(named)
+
+
+def test_lc_all_c_keeps_working(tmp_path, runs):
+    """Python reads the C locale as UTF-8: µ as it is."""
+    code, out, err = in_process(tmp_path, {"LC_ALL": "C"}, "contour", runs / "sq.csv")
+    assert code == 0, err
+    assert f"{runs / 'sq.csv'}: contour error in XY [µm]" in out.decode("utf-8").splitlines()

@@ -22,6 +22,7 @@ os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 from ..errors import BuildNotice, InputWarning, TcpmmError  # noqa: E402
 from ._app import INTERNAL_ERROR, READER_GONE, WARNED, app, console, esc  # noqa: E402
+from ._encoding import fit_standard_streams  # noqa: E402
 
 #: The module of this package that registers each command (or command group) on
 #: :data:`tcpmm.cli._app.app` when it is imported.
@@ -48,6 +49,7 @@ def register(argv) -> None:
 
 def main(argv=None) -> int:
     """Entry point of the ``tcpmm`` console script."""
+    fit_standard_streams()
     shown = warnings.showwarning
     told = set()
 

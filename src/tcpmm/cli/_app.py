@@ -16,6 +16,7 @@ from rich.console import Console, ConsoleDimensions
 from typer.core import TyperGroup
 
 from ..errors import InputError
+from ._encoding import unicode_stream
 
 
 class Sensor(StrEnum):
@@ -236,7 +237,7 @@ def emit_json(data) -> None:
     run, for colours a pipe does not show). A number that is not finite (a figure not
     determined) is ``null``: JSON has no NaN, and a strict reader refuses it. The
     warnings said on stderr go with it (:func:`with_warnings`)."""
-    text = _dumped(with_warnings(data))
+    text = _dumped(with_warnings(data), not unicode_stream(out.file))
     if out.is_terminal:
         out.print_json(text)
     else:
@@ -271,10 +272,11 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
         return
     from itertools import islice
 
-    text, rows, n = _dumped({**with_warnings(head), key: []}), iter(rows), 0
+    ascii_only = not unicode_stream(out.file)
+    text, rows, n = _dumped({**with_warnings(head), key: []}, ascii_only), iter(rows), 0
     with named_stream(False):
         out.file.write(text[:text.rindex("[]")] + "[")
-        while batch := [_dumped(r).replace("\n", "\n    ")
+        while batch := [_dumped(r, ascii_only).replace("\n", "\n    ")
                         for r in islice(rows, JSON_BATCH_ROWS)]:
             out.file.write((",\n    " if n else "\n    ") + ",\n    ".join(batch))
             n += len(batch)
@@ -282,10 +284,10 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
         out.file.flush()
 
 
-def _dumped(data) -> str:
-    """``data`` as the JSON :func:`emit_json` writes: indented by two, text as it is, a
-    number that is not finite ``null`` [-]."""
-    return json.dumps(_json_ready(data), indent=2, ensure_ascii=False, allow_nan=False)
+def _dumped(data, ascii_only: bool = False) -> str:
+    """``data`` as the JSON :func:`emit_json` writes: indented by two, text as it is (what
+    is not ASCII escaped where ``ascii_only``), a number that is not finite ``null`` [-]."""
+    return json.dumps(_json_ready(data), indent=2, ensure_ascii=ascii_only, allow_nan=False)
 
 
 def _json_ready(data):

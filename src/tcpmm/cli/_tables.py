@@ -105,11 +105,18 @@ def plain_table(headers, left=()):
 
 def print_plain(table, console, title: str | None = None, caption: str | None = None) -> None:
     """Print a :func:`plain_table` with its title on a line above and its caption on one
-    below, never wrapped in a pipe or a log (as rich's own title and caption, centred in
-    the table's width, were: a grep for a figure in a caption failed), and no line ending
-    in spaces (rich pads each row to the last column's width) [-]."""
+    below, never wrapped in a pipe or a log (rich centres and wraps its own to the table's
+    width: a grep of a log for a figure in a caption would fail), no line ending in spaces
+    (rich pads each row to the last column's width), and on a console that cannot write
+    the rule of its head a rule of dashes [-]."""
     from rich.text import Text
 
+    from ._encoding import unicode_stream
+
+    if not unicode_stream(console.file):
+        table = _as_written(table, console.file)
+    if console.options.ascii_only:  # rich's own stand-in is a box with vertical rules
+        table.box = _ascii_head()
     unwrapped = not console.is_terminal
     if title is not None:
         console.print(Text(title), soft_wrap=unwrapped)
@@ -121,3 +128,30 @@ def print_plain(table, console, title: str | None = None, caption: str | None = 
         console.print(line, soft_wrap=True)
     if caption is not None:
         console.print(Text(caption), soft_wrap=unwrapped)
+
+
+def _as_written(table, stream):
+    """A :func:`plain_table` of the cells of ``table`` as ``stream`` writes them (µ as u
+    where its encoding has no µ), so that rich measures what is written [-]."""
+    from rich.text import Text
+
+    from ._encoding import as_written
+
+    def fit(cell):
+        if isinstance(cell, Text):
+            return Text(as_written(cell.plain, stream))
+        return as_written(str(cell), stream)
+
+    fitted = plain_table([fit(c.header).plain for c in table.columns])
+    for new, old in zip(fitted.columns, table.columns, strict=True):
+        new.justify = old.justify
+    for row in zip(*(c.cells for c in table.columns), strict=True):
+        fitted.add_row(*map(fit, row))
+    return fitted
+
+
+def _ascii_head():
+    """The box of :func:`plain_table` in ASCII: its head ruled with dashes [-]."""
+    from rich.box import Box
+
+    return Box("    \n    \n -- \n    \n    \n    \n    \n    \n", ascii=True)

@@ -111,6 +111,9 @@ def test_demo_writes_everything(capsys, tmp_path):
     report = (tmp_path / "demo" / "report.html").resolve()
     assert str((tmp_path / "demo").resolve()) in flat and "Spread over 16 drawn machines" in flat
     assert f"report: {report}" in flat
+    # its tables' titles say µm as their columns do: 'Table 2 ... [um]' over '[µm]'
+    assert "[um]" not in out
+    assert "Table 2 at the TCP against the predicted 90 % interval [µm]" in out.splitlines()
     # every file written is in the printed list, itself or in a folder listed (the bundle)
     listed = [Path(line.split()[-1]) for line in out.splitlines()
               if line.startswith("  ") and len(line.split()) == 2]

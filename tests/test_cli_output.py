@@ -1,6 +1,7 @@
 """Output fit for pipes and logs: every result table in the one plain style, titles and
-captions on lines of their own that are never wrapped and end without spaces, and a
-stream that cannot encode µ written with ASCII stand-ins.
+captions on lines of their own that are never wrapped and end without spaces, a stream
+that cannot encode µ written with ASCII stand-ins, and units said alike in a command's
+titles and columns.
 
 Everything is captured from streams that are no terminal, so nothing here depends on the
 terminal's width or on the temporary folder's length."""
@@ -165,3 +166,16 @@ def test_lc_all_c_keeps_working(tmp_path, runs):
     code, out, err = in_process(tmp_path, {"LC_ALL": "C"}, "contour", runs / "sq.csv")
     assert code == 0, err
     assert f"{runs / 'sq.csv'}: contour error in XY [µm]" in out.decode("utf-8").splitlines()
+
+
+def test_a_command_says_its_units_alike_in_titles_and_columns(capsys, runs):
+    """tune's path table was titled '[um]' over figures the other tables head '[µm]', and
+    compare's verdicts likewise."""
+    code, out, err = run(capsys, *commands(runs)["tune"])
+    assert code == 0, err
+    assert "predicted path (TCP) [µm]" in out.splitlines() and "[um]" not in out
+    code, out, err = run(capsys, *commands(runs)["compare"], "--model", "builtin:vmc")
+    assert code == 0, err
+    assert "tcp: measured - predicted against the predicted 90 % interval [µm]" in (
+        out.splitlines())
+    assert "[um]" not in out

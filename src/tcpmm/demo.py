@@ -82,14 +82,14 @@ def _demo_into(out, step, console, report, tolerance_m) -> dict:
     cmp, idn, circles = identify_and_predict(machine, cmd, out, step, files)
     if console is not None:
         print_table(cmp.to_pandas(), console,
-                    "Table 2: virtual measurement - prediction of the identified model [um]")
+                    "Table 2: virtual measurement - prediction of the identified model [µm]")
         for line in cmp.notes():
             console.print(line)
     step("verdict")
     judged = judged_table2(idn.machine, cmd, cmp, out, files)
     if console is not None:
         print_table(judged, console, "Table 2 at the TCP against the predicted 90 % interval "
-                                     "[um]")
+                                     "[µm]")
     step("spread")
     spread = write_spread(idn.machine, cmd, out, files)
     if console is not None:

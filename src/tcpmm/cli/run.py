@@ -286,7 +286,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
             import pandas as pd
 
             print_table(pd.DataFrame(judged_rows(cmp.judged_long(judged))), out,
-                        "tcp: measured - predicted against the predicted 90 % interval [um]")
+                        "tcp: measured - predicted against the predicted 90 % interval [µm]")
 
 
 def _judged(cmp, model, predicted_run, radius_mm: float, centre_m, plane, where):

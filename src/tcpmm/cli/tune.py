@@ -98,7 +98,7 @@ def _print_result(res, gm, pm) -> None:
         for k, v in fig.items():
             tab.add_row(f"{key} {k.replace('_um', '').replace('_', ' ')}", _fmt(v, 2),
                         _fmt(res.path_after[key][k], 2))
-    print_plain(tab, out, "predicted path (TCP) [um]")
+    print_plain(tab, out, "predicted path (TCP) [µm]")
 
 
 def _ti(s):

@@ -269,7 +269,7 @@ def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
     # the tables in 80 columns; their titles (the runs' names) and captions are lines of
     # their own, never wrapped in a pipe
     lines = [line for line in out.splitlines() if not line.startswith(
-        (str(pair), "A-D: reversal spike", "contribution: peak to valley"))]
+        (str(pair), "A-D: reversal spike", "G(b) alone: the G(b)"))]
     assert max(len(line) for line in lines) <= 80 and "…" not in out  # COLUMNS=80 for rich
     for text in ("backlash X", "squareness", "µm/m", "scale mismatch", "ppm", "servo mismatch",
                  "ms", "circularity G, G(b)", "spike A after the pair's terms"):
@@ -419,27 +419,30 @@ def test_the_circle_table_and_the_report_lead_with_the_spike_after_the_terms(cap
     assert "largest reversal spike after the fitted terms 5.0" in text and " at B" in text
 
 
-def test_the_terms_are_ranked_by_the_radial_error_each_makes():
+def test_the_terms_are_ranked_by_the_g_each_makes_alone():
     """Each term's contribution is the peak to valley of its radial error alone: b for
     backlash, m R for a scale mismatch, w dt R for a servo mismatch, a R for squareness,
-    2 |c| for a centre offset, 2 k for a bow, the spike's height for the spikes."""
+    2 |c| for a centre offset, 2 k for a bow, the spike's height for the spikes; the rank
+    is by the G it alone makes, the same but k / 2 for a bow (half of it is a shift of the
+    circle) and none for the centre offset."""
     err = {"b_x": 4e-6, "eps_x": 150e-6, "tau_y": 0.2e-3, "alpha": 80e-6, "cx": 1e-6,
            "str_y": 1.5e-6, "spikes": {("ccw", "B"): (8e-6, 6.0)}}
     diag = diagnose(err)
     want = {"backlash_X": 4e-6, "scale_mismatch": 150e-6 * R, "servo_mismatch": W * 0.2e-3 * R,
             "squareness": 80e-6 * R, "centre_offset": 2e-6, "straightness_Y": 3e-6,
             "reversal_spikes": 8e-6}
+    alone = {**want, "centre_offset": 0.0, "straightness_Y": 0.75e-6}
     got = {r["term"]: r for r in diag.ranking}
     for term, v in want.items():
         assert got[term]["contribution_m"] == pytest.approx(v, rel=0.02, abs=0.1e-6), term
+        assert got[term]["g_alone_m"] == pytest.approx(alone[term], rel=0.02, abs=0.1e-6), term
     order = [r["term"] for r in diag.ranking]
-    assert order[:len(want)] == sorted(want, key=lambda k: -want[k])
+    moving = [k for k in sorted(alone, key=lambda k: -alone[k]) if alone[k] > 0]
+    assert order[:len(moving)] == moving
     assert [r["rank"] for r in diag.ranking] == list(range(1, len(order) + 1))
     assert sum(r["share"] for r in diag.ranking) == pytest.approx(1.0)
-    for r in diag.ranking:  # what of G(b) each would make alone; a centre offset none
-        want_g = 0.0 if r["term"] == "centre_offset" else \
-            r["contribution_m"] / diag["circularity_pair"]
-        assert r["share_of_G"] == pytest.approx(want_g)
+    for r in diag.ranking:  # what of G(b) each makes alone
+        assert r["share_of_G"] == pytest.approx(r["g_alone_m"] / diag["circularity_pair"])
     assert diag.to_dict()["ranking"][0]["term"] == "reversal_spikes"
 
 
@@ -470,7 +473,7 @@ def test_cli_one_direction_prints_its_terms_and_why_the_others_need_the_pair(cap
     code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35)
     assert code == 0
     text = " ".join(out.split())
-    assert "squareness or servo" in text and "terms ranked by their contribution" in text
+    assert "squareness or servo" in text and "terms ranked by their share of G" in text
     assert "servo mismatch: not determined; one direction shows" in text
     code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
     one = json.loads(out)["diagnostics_one_direction"]
@@ -511,10 +514,9 @@ def test_a_pair_of_220_deg_arcs_gives_the_terms_it_determines(lo, blind):
     assert set(diag.undetermined) == {f"lateral_play_{blind}", f"straightness_{blind}",
                                       *ARC_CYCLIC}
     assert np.isnan(diag[f"straightness_{blind}"])
+    # the radial deviation is the fitted circle's radius: the full circle's mean radius
     want = {k: v for k, v in expected(err).items() if k not in diag.undetermined
-            and not k.startswith(("spike", "cyclic", "radial_deviation"))}
-    for d in ("ccw", "cw"):  # the mean radius over the arc
-        want[f"radial_deviation_{d}"] = float(np.mean(arc(d, err, lo, 220)[1]))
+            and not k.startswith(("spike", "cyclic"))}
     assert_recovered(diag, want)
 
 
@@ -608,7 +610,7 @@ def test_the_report_has_the_command_deviation_the_ranking_and_one_directions_ter
     assert f"the command lies {-shrink * 1e6:.2f} µm inside the nominal radius" in text
     assert "command radius - nominal [µm]" in text
     assert "Diagnostics of the CCW circle alone (TCP)" in text
-    assert "Terms ranked by their contribution" in text and "scale mismatch" in text
+    assert "Terms ranked by their share of G" in text and "scale mismatch" in text
     assert "servo mismatch: not determined; one direction shows" in text
 
 
@@ -634,11 +636,11 @@ def test_a_circle_of_no_error_shares_out_no_g():
     of it is no figure: it read 77 392 800 %."""
     from tcpmm.analysis.circle_display import ranking_rows
 
-    rows = ranking_rows({"centre_offset": 13e-6, "squareness": 2e-15, "backlash_X": np.nan},
-                        g=3e-21)
-    assert [r["term"] for r in rows] == ["centre_offset", "squareness"]
-    assert rows[0]["share_of_G"] == 0.0 and np.isnan(rows[1]["share_of_G"])
-    assert ranking_rows({"squareness": 2e-6}, g=4e-6)[0]["share_of_G"] == 0.5
+    rows = ranking_rows({"centre_offset": (13e-6, 0.0), "squareness": (2e-15, 2e-15),
+                         "backlash_X": (np.nan, np.nan)}, g=3e-21)
+    assert [r["term"] for r in rows] == ["squareness", "centre_offset"]
+    assert all(np.isnan(r["share_of_G"]) for r in rows)
+    assert ranking_rows({"squareness": (2e-6, 2e-6)}, g=4e-6)[0]["share_of_G"] == 0.5
 
 
 @pytest.mark.parametrize("start_deg", [START, 47.3, 51.1])
@@ -801,3 +803,36 @@ def test_a_reversal_transient_under_a_servo_mismatch_leaves_the_terms_alone(lag_
         assert t[f"spike_A_{dirn}"] == pytest.approx(5e-6, abs=0.05e-6)
         assert t[f"spike_C_{dirn}"] == pytest.approx(5e-6, abs=0.05e-6)
         assert abs(t[f"spike_B_{dirn}"]) < 0.05e-6 and abs(t[f"spike_D_{dirn}"]) < 0.05e-6
+
+
+def test_terms_are_ranked_by_the_g_each_alone_makes():
+    """A bow of 2 um peaks at 4 um about the nominal centre, but half of it is a shift of
+    the circle that G leaves out: alone it makes G 1 um. It was credited with 4 um and
+    100 % of G(b) and ranked above a backlash of 3 um (which makes 3 um of G)."""
+    d = diagnose({"str_x": 2e-6, "b_y": 3e-6}, noise=0.0)
+    rows = {r["term"]: r for r in d.ranking}
+    assert [r["term"] for r in d.ranking[:2]] == ["backlash_Y", "straightness_X"]
+    assert rows["straightness_X"]["g_alone_m"] == pytest.approx(1e-6, abs=0.02e-6)
+    assert rows["straightness_X"]["contribution_m"] == pytest.approx(4e-6, abs=0.02e-6)
+    assert rows["backlash_Y"]["g_alone_m"] == pytest.approx(3e-6, abs=0.02e-6)
+    gb = d.terms["circularity_pair"][0]
+    assert rows["backlash_Y"]["share_of_G"] == pytest.approx(rows["backlash_Y"]["g_alone_m"] / gb)
+    assert rows["centre_offset"]["g_alone_m"] < 1e-9
+    alone = diagnose({"str_x": 2e-6}, noise=0.0)
+    top = alone.ranking[0]
+    assert top["term"] == "straightness_X" and top["share_of_G"] == pytest.approx(1, abs=0.02)
+
+
+def test_the_radial_deviation_of_arcs_is_the_fitted_circles_radius():
+    """On a pair of 220 deg arcs the radial deviation was the mean of the whole fitted
+    curve over the arc: a centre offset of (4, -3) um with the radius exact read -1.47 um.
+    It is the fitted circle's radius less the nominal, as on full circles."""
+    a = np.radians(np.linspace(-20.0, 200.0, 2201))
+    cx, cy, dr = 4e-6, -3e-6, 0.5e-6
+    x, y = (R + dr) * np.cos(a) + cx, (R + dr) * np.sin(a) + cy
+    ang, e = np.unwrap(np.arctan2(y, x)), np.hypot(x, y) - R
+    w = 2 * np.pi / (N * DT)
+    d = diagnose_pair((ang, e), (ang[::-1], e[::-1]), R, (w, w))
+    for k in ("radial_deviation_ccw", "radial_deviation_cw", "radial_deviation_pair"):
+        assert d.terms[k][0] == pytest.approx(dr, abs=0.01e-6), k
+    assert d.terms["centre_offset_X"][0] == pytest.approx(cx, abs=0.01e-6)

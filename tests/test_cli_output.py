@@ -104,11 +104,11 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     lines = out.splitlines()
     assert code == 0 and f"{runs / 'circle.csv'} [µm]" in lines
     assert "circle diagnostics (tcp) [µm]" in lines
-    assert "terms ranked by their contribution" in lines
+    assert "terms ranked by their share of G(b)" in lines
     assert any(line.startswith("A-D: reversal spike after the fitted terms")
                and line.endswith("G circular deviation") for line in lines), out
-    assert any(line.startswith("contribution: peak to valley")
-               and line.endswith("it shows in the contour error)") for line in lines), out
+    assert any(line.startswith("G(b) alone: the G(b) the term's radial error alone makes")
+               and line.endswith("share: of the sum of those") for line in lines), out
     code, out, _ = run(capsys, *commands(runs)["tune"])
     lines = out.splitlines()
     assert code == 0 and "axis X: tuning for 6 dB / 45 deg: met" in lines

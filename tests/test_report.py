@@ -322,7 +322,7 @@ def test_the_reports_error_sources_are_the_circle_commands_ranking():
     rows = ranked_sources(diag)
     ranked = sorted(diag.ranking, key=lambda r: r["rank"])
     assert [s for s, *_ in rows] == [r["term"].replace("_", " ") for r in ranked]
-    assert [e for _, e, *_ in rows] == [r["contribution_m"] for r in ranked]
+    assert [e for _, e, *_ in rows] == [r["g_alone_m"] for r in ranked]
     assert {"straightness X", "straightness Y", "cyclic X"} <= {s for s, *_ in rows}
     assert all(note for _, _, note, _ in rows)
     # the share of G(b) is the ranking's: a centre offset makes none of G, which is taken

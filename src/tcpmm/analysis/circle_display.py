@@ -77,27 +77,27 @@ G_RESOLUTION_M = 1e-9
 
 
 def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
-    """The terms ranked by their contribution, largest first: ``term``,
-    ``contribution_m`` [m], ``share`` of the sum of the contributions [-],
-    ``share_of_G``, the contribution over the circular deviation G, 0 for the centre
-    offset, which makes no G (G is about the least-squares centre) [-], and ``rank``
-    (1 the largest) [-].
+    """The terms ranked by the G each makes alone, largest first (the contribution breaks
+    a tie): ``term``, ``contribution_m``, the peak-to-valley radial error it makes alone
+    about the nominal centre [m], ``g_alone_m``, the G it alone makes (0 for the centre
+    offset) [m], ``share`` of the sum of the contributions [-], ``share_of_G``, the G it
+    alone makes over the circular deviation G [-], and ``rank`` (1 the largest) [-].
 
     Parameters
     ----------
-    contributions : dict of str to float
-        Peak-to-valley radial error each term makes alone over the circle; NaN for a term
-        not determined, which is left out [m].
+    contributions : dict of str to (float, float)
+        Per term the contribution and the G it alone makes; NaN for a term not determined,
+        which is left out [m].
     g : float
         Circular deviation: G(b) of a pair, G of one direction [m].
     """
-    have = {k: float(v) for k, v in contributions.items() if v == v}
-    total = sum(have.values())
-    order = sorted(have, key=lambda k: -have[k])
-    return [{"term": k, "contribution_m": have[k],
-             "share": have[k] / total if total > 0 else 0.0,
-             "share_of_G": 0.0 if k == "centre_offset" else
-             (have[k] / g if g >= G_RESOLUTION_M else float("nan")), "rank": i + 1}
+    have = {k: (float(c), float(a)) for k, (c, a) in contributions.items() if c == c}
+    total = sum(c for c, _ in have.values())
+    order = sorted(have, key=lambda k: (-have[k][1], -have[k][0]))
+    big = g >= G_RESOLUTION_M
+    return [{"term": k, "contribution_m": have[k][0], "g_alone_m": have[k][1],
+             "share": have[k][0] / total if total > G_RESOLUTION_M else float("nan"),
+             "share_of_G": have[k][1] / g if big else float("nan"), "rank": i + 1}
             for i, k in enumerate(order)]
 
 

@@ -33,11 +33,14 @@ def arc_grid(angle, n=3600):
 
 def per_circle_terms(fit, arcs, radius, shared, directions):
     """``(curves, grids)``: per direction ``(angle, e, model)`` on the samples and the
-    model on :func:`arc_grid` [rad, m]."""
+    model over a whole turn, whose mean is the fitted circle's radius less the nominal
+    (on an arc, the mean over the arc also held the centre offset and the ellipses: a
+    centre 5 um off read a radial deviation of -1.5 um) [rad, m]."""
     curves, grids = {}, {}
+    turn = np.linspace(0, 2 * np.pi, 3600, endpoint=False)
     for i, (d, arc) in enumerate(zip(directions, arcs, strict=True)):
         curves[d] = (arc.angle, arc.e, model_curve(fit, arcs, i, radius, shared, e=arc.e))
-        grids[d] = model_curve(fit, arcs, i, radius, shared, angle=arc_grid(arc.angle))
+        grids[d] = model_curve(fit, arcs, i, radius, shared, angle=turn)
     return curves, grids
 
 
@@ -81,8 +84,8 @@ def _common_grid(angles, n=3600):
 
 
 def contributions(fit, arcs, radius, shared, spikes):
-    """Peak-to-valley radial error of each term alone over the circles together; NaN for
-    a term not determined (module docstring) [m]."""
+    """Per term ``(peak-to-valley radial error it makes alone over the circles together,
+    the G it alone makes)``; NaN for a term not determined (module docstring) [m]."""
     groups = {"centre_offset": [f"centre_{a}_{i}" for i in range(len(arcs)) for a in "XY"]}
     groups.update({GROUP_NAMES.get(t, t): [t] for t in shared})
     for axis, k in zip("XY", fit.waves, strict=True):
@@ -92,7 +95,7 @@ def contributions(fit, arcs, radius, shared, spikes):
     for name, cols in groups.items():
         idx = [fit.names.index(c) for c in cols]
         if all(np.isnan(fit.coef[j]) for j in idx):
-            out[name] = float("nan")
+            out[name] = (float("nan"), float("nan"))
             continue
         coef = np.zeros_like(fit.coef)
         coef[idx] = np.nan_to_num(fit.coef[idx])
@@ -103,13 +106,24 @@ def contributions(fit, arcs, radius, shared, spikes):
                            centre=fit.centres[i] if fit.centres else (0.0, 0.0)) @ coef
             if name == "servo_mismatch":
                 curve = curve + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu)
-            curves.append(curve)
+            curves.append((a, curve))
         # over the circles together, as G(b) is: a term that differs between the
         # directions (lateral play) makes its size between them, not within one
-        out[name] = float(np.ptp(np.concatenate(curves)))
+        # a centre offset is a shift of the circle, no G at all (only its rounding)
+        out[name] = (float(np.ptp(np.concatenate([c for _, c in curves]))),
+                     0.0 if name == "centre_offset" else _g_alone(curves, radius))
     finite = [abs(v) for v in spikes if v == v]
-    out["reversal_spikes"] = max(finite) if finite else float("nan")
+    top = max(finite) if finite else float("nan")
+    out["reversal_spikes"] = (top, top)
     return out
+
+
+def _g_alone(curves, radius) -> float:
+    """The G a term's radial error alone makes: about its own least-squares centre (a
+    bow's part that is a shift of the circle makes none: a bow of 2 um makes G 1 um, not
+    the 4 um of its peak to valley about the nominal centre), G(b) of a pair [m]."""
+    g, gb, _ = deviations(curves, radius)
+    return float(gb) if len(curves) == 2 else float(g[0])
 
 
 def rank_terms(fit, arcs, radius, shared, terms, axes, names=None):

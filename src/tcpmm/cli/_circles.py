@@ -14,7 +14,8 @@ def diagnostics_json(diag) -> dict:
                       for t, v, u in _display_terms(diag, ascii_units=True)],
             "undetermined": dict(diag.undetermined),
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
-                         "share_percent": 100.0 * r["share"],
+                         "g_alone_um": r["g_alone_m"] * 1e6,
+                         "share_percent": _json_number(100.0 * r["share"]),
                          "percent_of_G": _json_number(100.0 * r["share_of_G"]),
                          "rank": r["rank"]} for r in diag.ranking]}
 
@@ -103,16 +104,18 @@ def print_diagnostics(diag) -> None:
 def _print_ranking(diag) -> None:
     """The terms by the radial error each makes alone over the circle."""
     if not diag.ranking:  # an arc that gives no terms: nothing to rank, and it says why
-        out.print("terms ranked by their contribution: none determined (below)",
+        out.print("terms ranked by their share of G: none determined (below)",
                   highlight=False)
         return
     g = "G(b)" if len(diag.directions) == 2 else "G"
-    t = plain_table(("rank", "term", "µm", "share %", f"% {g}"), left=("term",))
+    t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %"),
+                    left=("term",))
     for r in diag.ranking:
-        t.add_row(str(r["rank"]), r["term"].replace("_", " "),
-                  _cell(r["contribution_m"] * 1e6), _cell(100 * r["share"], 1),
-                  _cell(100 * r["share_of_G"], 1))
-    print_plain(t, out, "terms ranked by their contribution", "contribution: peak to valley "
-                "of the radial error the term makes alone; share: of the sum; "
-                f"% {g}: of {g} (a centre offset makes none of it: it shows in the contour "
-                "error)")
+        t.add_row(str(r["rank"]), r["term"].replace("_", " "), _cell(r["g_alone_m"] * 1e6),
+                  _cell(100 * r["share_of_G"], 1), _cell(r["contribution_m"] * 1e6),
+                  _cell(100 * r["share"], 1))
+    print_plain(t, out, f"terms ranked by their share of {g}",
+                f"{g} alone: the {g} the term's radial error alone makes; % {g}: of the "
+                f"circles' {g}; p-v: its peak to valley about the nominal centre (a centre "
+                f"offset makes no {g}: it shows in the contour error), share: of the sum "
+                "of those")

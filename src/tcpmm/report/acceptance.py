@@ -32,10 +32,9 @@ _BACKLASH = ("+: radius steps out at reversal: lost motion in the drive, or a de
 
 
 def ranked_sources(diag) -> list[tuple[str, float, str]]:
-    """Error sources of a circle's diagnostics, largest radial error first: the terms as
-    ``tcpmm circle`` ranks them (``diag.ranking``: the peak-to-valley radial error each
-    makes alone over the circle), so that the report and the command give one figure per
-    term.
+    """Error sources of a circle's diagnostics, largest share of G first: the terms as
+    ``tcpmm circle`` ranks them (``diag.ranking``: the G each makes alone over the
+    circle), so that the report and the command give one figure per term.
 
     Parameters
     ----------
@@ -45,7 +44,7 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
     Returns
     -------
     list of tuple
-        ``(source, peak-to-valley radial error [m], what its sign says, its share of G
+        ``(source, the G it alone makes [m], what its sign says, its share of G
         as the ranking gives it: 0 for the centre offset, about which G is not taken)``
         [-].
     """
@@ -55,7 +54,7 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
         base, _, axis = term.rpartition("_")
         note = _MEANING.get(term) or (_BACKLASH if base == "backlash" else term_note(
             f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes))
-        rows.append((term.replace("_", " "), float(r["contribution_m"]), note,
+        rows.append((term.replace("_", " "), float(r["g_alone_m"]), note,
                      float(r["share_of_G"])))
     return rows
 
@@ -130,15 +129,17 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         rows = ranked_sources(diagnostics)
         # one direction's diagnostics have no G(b): the share is of that circle's G
         of = "of G(b) [%]" if "circularity_pair" in diagnostics.terms else "of G [%]"
-        frame = pd.DataFrame([{"rank": i + 1, "source": s, "radial error [µm]": e * 1e6,
+        g_alone = of.replace(" [%]", "").replace("of ", "") + " alone [µm]"
+        frame = pd.DataFrame([{"rank": i + 1, "source": s, g_alone: e * 1e6,
                                of: 100 * g, "meaning": n}
                               for i, (s, e, n, g) in enumerate(rows)])
         body += ("<h3>Error sources, largest first</h3>"
-                 + para("Peak-to-valley radial error each fitted term makes on this circle "
+                 + para("The circular deviation each fitted term alone makes on this circle, "
+                        "about its own least-squares centre, and its share of the circles' "
                         "(module tcpmm.report.acceptance); the diagnostics below give the "
-                        "terms with their signs.")
+                        "terms with their signs and their radial errors.")
                  + table(frame, "error_sources.csv",
-                         digits={"radial error [µm]": 2, of: 0, "rank": 0}))
+                         digits={g_alone: 2, of: 0, "rank": 0}))
     else:
         body += para("No error sources: the circle's diagnostics could not be made (the "
                      "warnings say why).", "warn")

@@ -166,14 +166,15 @@ def ranking_html(diag, stem: str) -> str:
     if not diag.ranking:
         return ""
     frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " "),
-                           "contribution [µm]": r["contribution_m"] * 1e6,
-                           "share [%]": 100 * r["share"],
-                           "of G [%]": 100 * r["share_of_G"]} for r in diag.ranking])
-    return (para("Terms ranked by their contribution: the peak to valley of the radial "
-                 "error each makes alone over the circle (a centre offset about the nominal "
-                 "centre: it makes no G, which is about the least-squares centre), its "
-                 "share of the sum of the contributions, and what of G (G(b) of a pair) it "
-                 "alone would make.")
+                           "G alone [µm]": r["g_alone_m"] * 1e6,
+                           "of G [%]": 100 * r["share_of_G"],
+                           "peak to valley [µm]": r["contribution_m"] * 1e6,
+                           "share [%]": 100 * r["share"]} for r in diag.ranking])
+    return (para("Terms ranked by their share of G (G(b) of a pair): the G the radial error "
+                 "of each alone makes, about its own least-squares centre, and what of the "
+                 "circles' G that is; then its peak to valley about the nominal centre (a "
+                 "centre offset makes no G: it shows in the contour error) and its share of "
+                 "the sum of those.")
             + table(frame, f"{stem}_diagnostics_ranking.csv",
                     digits={"share [%]": 1, "of G [%]": 1}))
 

@@ -105,7 +105,7 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     assert code == 0 and f"{runs / 'circle.csv'} [µm]" in lines
     assert "circle diagnostics (tcp) [µm]" in lines
     assert "terms ranked by their share of G(b)" in lines
-    assert any(line.startswith("A-D: reversal spike after the fitted terms")
+    assert any(line.startswith("A-D: reversal spike after the pair's terms")
                and line.endswith("G circular deviation") for line in lines), out
     assert any(line.startswith("G(b) alone: the G(b) the term's radial error alone makes")
                and line.endswith("share: of the sum of those") for line in lines), out

@@ -233,3 +233,63 @@ def radial_deviation(x, y, radius, centre) -> float:
     w = np.abs(np.gradient(ang)) if ang.size > 1 else np.ones_like(ang)
     r = np.hypot(dx, dy) - radius
     return float(np.sum(w * r) / np.sum(w)) if np.sum(w) > 0 else float(np.mean(r))
+
+
+def within_span(x, y, sl: slice, centre, ref_ang) -> slice:
+    """The samples of a sensor on the circle of a pass: from the first whose own angle
+    lies within the angle the reference path covers over the pass, on past the pass's
+    end until the sensor's angle reaches the end of that span (or turns back short of
+    it). A sensor that lags its command is still on the feed-in arc when the command
+    joins the circle (2 mm behind at F5000 without feed-forward: G read 121 um of 48), and
+    reaches the circle's end after its command does [-].
+
+    Parameters
+    ----------
+    x, y : ndarray
+        The sensor's whole path [m].
+    sl : slice
+        The pass's samples, found on the reference path [-].
+    centre : tuple
+        Nominal centre [m].
+    ref_ang : ndarray
+        The reference path's unwrapped angle over the pass [rad].
+    """
+    lo, hi = sl.start or 0, sl.stop
+    end = min(x.size, hi + (hi - lo))  # a lag of up to a whole pass
+    ang = np.unwrap(np.arctan2(y[lo:end] - centre[1], x[lo:end] - centre[0]))
+    ang = ang + 2 * np.pi * np.round((ref_ang[0] - ang[0]) / (2 * np.pi))
+    s = 1.0 if ref_ang[-1] >= ref_ang[0] else -1.0
+    u, span, n = s * (ang - ref_ang[0]), abs(ref_ang[-1] - ref_ang[0]), hi - lo
+    inside = np.flatnonzero((u[:n] >= 0.0) & (u[:n] <= span))
+    if inside.size < 2:
+        return sl
+    first = int(inside[0])
+    # past the pass's end, on while the sensor still turns forward short of the span's
+    # end: not into the other direction's pass, nor along a radial move off the circle
+    step = np.diff(u)
+    least = 0.05 * float(np.percentile(np.abs(step[:n - 1]), 90)) if n > 2 else 0.0
+    on = (u[n:] <= span) & (step[n - 1:] > least)
+    stop = n + (int(np.argmin(on)) if on.size and not on.all() else on.size)
+    return slice(lo + first, lo + stop)
+
+
+def lsq_circle(x, y):
+    """Least-squares circle (algebraic fit, then Gauss-Newton on the geometric error).
+
+    Returns
+    -------
+    cx, cy, r : float
+        Centre and radius [m].
+    """
+    A = np.column_stack([x, y, np.ones_like(x)])
+    b = x**2 + y**2
+    c = np.linalg.lstsq(A, b, rcond=None)[0]
+    cx, cy = c[0] / 2, c[1] / 2
+    for _ in range(5):
+        dx, dy = x - cx, y - cy
+        r = np.hypot(dx, dy)
+        J = np.column_stack([-dx / r, -dy / r, -np.ones_like(r)])
+        rr = r.mean()
+        step = np.linalg.lstsq(J, -(r - rr), rcond=None)[0]
+        cx, cy = cx + step[0], cy + step[1]
+    return cx, cy, float(np.hypot(x - cx, y - cy).mean())

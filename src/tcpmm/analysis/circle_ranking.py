@@ -18,7 +18,7 @@ import numpy as np
 from .circle_display import ranking_rows, rename_axes
 from .circle_fit import design, model_curve
 from .circle_model import is_full, servo_remainder
-from .circular import lsq_circle
+from .circle_passes import lsq_circle
 
 #: Reported name of a fitted column group
 GROUP_NAMES = {"servo_angle": "servo_mismatch"}

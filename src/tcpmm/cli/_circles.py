@@ -45,9 +45,13 @@ def print_passes(res, title: str) -> None:
             t.add_row(p.direction.upper(), row["sensor"],
                       *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
                       _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
-    print_plain(t, out, f"{title} [µm]", "A-D: reversal spike after the fitted terms "
-                "(centre, radius, servo and scale mismatch, squareness; n/a: left out), raw "
-                "e - b in --json (spike_A_um ...); contour max |e|; G circular deviation")
+    paired = any(s.after_pair for p in res.passes for s in p.sensors.values())
+    terms = ("the pair's terms (a CCW and a CW circle: also backlash, lateral play, "
+             "straightness and cyclic error)" if paired else "the fitted terms (centre, "
+             "radius, servo and scale mismatch, squareness)")
+    print_plain(t, out, f"{title} [µm]", f"A-D: reversal spike after {terms}; n/a: left "
+                "out; raw e - b in --json (spike_A_um ...); contour max |e|; G circular "
+                "deviation")
     for p in res.passes:
         for line in _pass_notes(p):
             out.print(line, highlight=False)

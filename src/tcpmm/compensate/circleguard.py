@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.circle_passes import find_stretches
-from ..analysis.circular import analyse_sensor, within_span
+from ..analysis.circle_passes import find_stretches, within_span
+from ..analysis.circular import analyse_sensor
 from ..errors import InputError
 
 

@@ -89,7 +89,8 @@ def key_figures(result, diag=None) -> str:
                 f"{number(sc.contour_error * 1e6, 2)} µm")
         if spikes:
             q = max(spikes, key=lambda k: abs(spikes[k]))
-            text += (f", largest reversal spike after the fitted terms "
+            whose = "the pair's" if sc.after_pair else "the fitted"
+            text += (f", largest reversal spike after {whose} terms "
                      f"{number(spikes[q] * 1e6, 2)} µm at {q}")
         if p.is_arc:
             text += f"; an arc of {p.arc_deg:.0f} deg"

@@ -399,3 +399,32 @@ def test_a_segment_the_doubles_cannot_resolve_is_named():
         segment_limits(p, (1.0, 1.0, 1.0), (1.0, 1.0, 1.0), 1.0,
                        filter_shape("none", 0.0, 1e-3, 1e-5))
     assert e.value.line == 2
+
+
+def test_a_feed_above_the_rapid_traverse_is_held_to_it():
+    """A control feeds no axis faster than it traverses: G1 X500 F100000 ran at 42.4 m/min
+    on axes of 30 m/min rapid (1.415 s instead of 1.0 + 0.5 s of acceleration)."""
+    from tcpmm.path import program_to_command
+
+    cmd = program_to_command("G21 G90\nG1 X500 F100000\nM30\n")
+    v = np.abs(np.diff(cmd.positions["X"])) / np.diff(cmd.time_s)
+    assert v.max() <= 0.5 * (1 + 1e-9)
+    assert cmd.time_s[-1] - cmd.time_s[0] == pytest.approx(1.5, abs=2e-3)
+
+
+def test_the_built_in_machine_names_a_command_faster_than_its_rapid_as_its_file_does(tmp_path):
+    """builtin:vmc had no interpolation settings, so a command at 42 m/min passed without a
+    word while the same machine exported to a file was warned about."""
+    import warnings
+
+    from tcpmm import builtin_machine, simulate
+    from tcpmm.errors import InputWarning
+    from tcpmm.path.command import Command
+
+    t = np.arange(0, 0.2, 1e-3)
+    cmd = Command(t, {"X": 0.7 * t, "Y": 0.0 * t, "Z": 0.0 * t})
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        simulate(builtin_machine(), cmd)
+    assert any("faster than the rapid traverse" in str(w.message) for w in got
+               if issubclass(w.category, InputWarning))

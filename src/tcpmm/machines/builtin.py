@@ -13,6 +13,7 @@ from ..errors import InputError
 from ..mechanics.friction import StribeckFriction
 from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, AxisFriction, Machine, Sensors
+from ..path.settings import InterpolatorSettings
 from ..servo.params import ServoParams
 
 _G = 9.80665
@@ -70,7 +71,10 @@ def builtin_machine(name: str = "vmc", friction: bool = True, k_ff: float = 0.9)
                                   k_ff=k_ff)
         axes[ax] = Axis(mechanics=mech, servo=servo, sensors=_SENSORS,
                         friction=_friction(ax) if friction else None)
-    return Machine(name="three-axis vertical machining centre (built-in)", axes=axes)
+    # the interpolator's settings written out, as its exported model file has them: a
+    # command faster than its rapid traverse is named for it as for that file
+    return Machine(name="three-axis vertical machining centre (built-in)", axes=axes,
+                   interpolation=InterpolatorSettings().model_dump(mode="python"))
 
 
 BUILTIN_MACHINES = ("vmc",)

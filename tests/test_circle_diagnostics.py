@@ -860,3 +860,14 @@ def test_the_headline_spikes_of_a_pair_are_after_the_pairs_terms(err, other_poin
     alone = analyse_circle(run_of("ccw", {"str_x": 2e-6}), R).passes[0].sensors["tcp"]
     assert not alone.after_pair
     assert max(abs(v) for v in alone.spikes_after_terms().values()) > 0.5e-6
+
+
+def test_an_arc_says_its_undetermined_terms_bias_the_others_where_present():
+    """An arc that leaves a bow out of its fit misreads the other terms where the bow is in
+    the data (1.5 um read as 30 um/m of squareness), and said only that it did not
+    determine the bow."""
+    err = {k: v for k, v in ARC_ERR.items() if k not in ("p_x", "str_x")}
+    d = diagnose_pair(arc("ccw", err, -20.0, 220, 1), arc("cw", err, -20.0, 220, 2), R,
+                      (W, W))
+    why = d.undetermined["straightness_X"]
+    assert "take it over where it is present" in why and "another start angle" in why

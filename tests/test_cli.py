@@ -404,3 +404,24 @@ def test_numpys_runtime_warnings_do_not_reach_the_user(capsys, monkeypatch):
         monkeypatch.setenv("TCPMM_TRACEBACK", "1")
         code, out, err = run(capsys, "machine", "show", "builtin:vmc")
     assert code == 0 and passed_on == ["Mean of empty slice"]
+
+
+def test_a_signal_ends_the_command_without_waiting_for_its_kernel_threads(tmp_path):
+    """SIGTERM raised SystemExit(143) in the main thread, but the interpreter then waited for
+    the worker threads still running the axes' kernels: a long simulate went on for
+    minutes after it. The console script now ends at once with 143."""
+    import subprocess
+    import sys
+    import time
+
+    script = (
+        "import sys, threading, time\n"
+        "import tcpmm.cli as cli\n"
+        "def main(argv=None):\n"
+        "    threading.Thread(target=time.sleep, args=(30,)).start()\n"
+        "    return 143\n"
+        "cli.main = main\n"
+        "sys.exit(cli.run())\n")
+    t0 = time.perf_counter()
+    done = subprocess.run([sys.executable, "-c", script], timeout=25)
+    assert done.returncode == 143 and time.perf_counter() - t0 < 15

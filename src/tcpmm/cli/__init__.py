@@ -109,9 +109,19 @@ def run() -> int:
     collections: the process ends as soon, with the same outputs and exit code.
     """
     import gc
+    import threading
 
     code = main()
     gc.freeze()
+    if code >= 128 and threading.active_count() > 1:
+        # stopped by a signal, its outputs removed: the axes' kernels still running in
+        # worker threads would hold the exit until they end (minutes on a long command)
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(code)
     return code
 
 

@@ -19,7 +19,10 @@ def _error(text):
 
 
 def _with_interpolation(vmc, section):
-    return dumps_machine(vmc).replace("axes:\n", f"interpolation:\n{section}axes:\n", 1)
+    """The model file of ``vmc`` without its interpolation settings, and ``section`` as
+    them [-]."""
+    bare = vmc.model_copy(update={"interpolation": None})
+    return dumps_machine(bare).replace("axes:\n", f"interpolation:\n{section}axes:\n", 1)
 
 
 def test_interpolation_unknown_key_names_key_and_line(vmc):

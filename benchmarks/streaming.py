@@ -1,7 +1,8 @@
 """Streaming end to end: an NC program of N blocks (0.1 mm G1 blocks of a spiral at
 F3000; with ``--program spiral-g64`` the same under ``G64 P0.01``; with ``zigzag`` a CAM
 finishing pattern, passes of 2 mm in 0.1 mm blocks 0.05 mm apart under ``G64 P0.01``, a
-corner every 21 blocks; with ``arcs`` the spiral as G3 arcs of I and J) through
+corner every 21 blocks (``zigzag-long``: passes of 50 mm 0.5 mm apart); with ``arcs``
+the spiral as G3 arcs of I and J) through
 ``tcpmm simulate --gcode ... -o RUN.parquet`` (read, interpolated and simulated a chunk
 of blocks at a time, written a row group at a time)
 and ``tcpmm contour RUN.parquet --chunk-rows ...`` (the contour error summary, read in
@@ -60,14 +61,15 @@ def spiral_program(blocks: int, path: Path, head: str = "G21 G90 G17") -> Path:
     return _write_program(path, f"{head}\nG1 X20 Y0 F3000\n", rows())
 
 
-def zigzag_program(blocks: int, path: Path) -> Path:
+def zigzag_program(blocks: int, path: Path, per: int = 20, step_mm: float = 0.05) -> Path:
     """A CAM finishing pattern of ``blocks`` G1 blocks under ``G64 P0.01`` at F3000:
-    passes of 2 mm in 0.1 mm blocks along X, a 0.05 mm step in Y between them [-]."""
+    passes of ``per`` blocks of 0.1 mm along X (2 mm), a ``step_mm`` step in Y between
+    them [-]."""
     def rows():
         x, y, dx = 0.0, 0.0, 0.1
         for k in range(blocks):
-            if k % 21 == 20:
-                y += 0.05
+            if k % (per + 1) == per:
+                y += step_mm
                 dx = -dx
                 yield f"G1 Y{y:.4f}\n"
             else:
@@ -96,7 +98,8 @@ def arc_program(blocks: int, path: Path) -> Path:
 #: The programs the benchmark makes, by name.
 PROGRAMS = {"spiral": spiral_program,
             "spiral-g64": lambda n, path: spiral_program(n, path, "G21 G90 G17 G64 P0.01"),
-            "zigzag": zigzag_program, "arcs": arc_program}
+            "zigzag": zigzag_program, "arcs": arc_program,
+            "zigzag-long": lambda n, path: zigzag_program(n, path, 500, 0.5)}
 
 
 def timed(args: list[str]) -> tuple[float, float]:

@@ -395,3 +395,26 @@ def test_the_pairs_spikes_are_named_apart_from_each_directions(full):
     assert "pair [µm]" in text
     assert "reversal spike A (after the pair's terms)" in text
     assert "reversal spike A (after the fitted terms)" not in text
+
+
+def test_the_circle_section_says_whose_terms_its_spikes_are_after(tmp_path):
+    """With a CCW and a CW circle the spikes are after the pair's terms, backlash among
+    them, and the section said they were after each circle's own (centre, radius, servo and
+    scale mismatch, squareness); the error sources' note ended in an unfinished sentence
+    naming a module."""
+    from conftest import bench_path
+    from tcpmm.analysis.circular import CircleResult, analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+    from tcpmm.report import verdict_sections
+
+    d = bench_path("d")
+    res = [analyse_circle(read_run(d / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
+    both = CircleResult(0.035, (0.0, 0.0), res[0].passes + res[1].passes)
+    html = "".join(s[2] for s in verdict_sections(both, "circle", "c", None, 30e-6, 1000.0))
+    import html as markup
+
+    text = markup.unescape(" ".join(re.sub(r"<[^>]+>", " ", html).split()))
+    assert "the terms of the CCW and CW circles fitted together" in text
+    assert "module tcpmm" not in text and "share of the circles' own circular" in text
+    assert circle_diagnostics(*res).sensor == "tcp"

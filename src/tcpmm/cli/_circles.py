@@ -87,7 +87,7 @@ def print_diagnostics(diag) -> None:
                         ("circularity G" + (", G(b)" if len(cols) == 3 else ""),
                          "circularity")):
         t.add_row(label, *[_cell(rows.get(f"{base}_{d}", nan)[0]) for d in cols])
-    whose = "the pair's" if len(cols) == 3 else "the"
+    whose = "the pair's" if len(cols) == 3 else "its own (backlash among them)"
     for q in "ABCD":
         t.add_row(f"spike {q} after {whose} terms",
                   *[_cell(rows[f"spike_{q}_{d}"][0]) for d in diag.directions],

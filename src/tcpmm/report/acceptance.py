@@ -67,7 +67,9 @@ def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> 
     items = [("radius", f"{result.radius * 1e3:g} mm about ({result.centre[0] * 1e3:g}, "
                         f"{result.centre[1] * 1e3:g}) mm"),
              ("feed", feed), ("plane", "".join(result.plane)),
-             ("direction", " then ".join(p.direction.upper() for p in result.passes)),
+             ("direction", " then ".join(
+                 p.direction.upper() + (f" (an arc of {p.arc_deg:.0f} deg)" if p.is_arc
+                                        else "") for p in result.passes)),
              ("sample rate", f"{number(sample_rate_hz, 0)} Hz" if sample_rate_hz else
               "not known"),
              ("sensor", SENSOR_NAMES.get(sensor, sensor))]
@@ -136,8 +138,9 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         body += ("<h3>Error sources, largest first</h3>"
                  + para("The circular deviation each fitted term alone makes on this circle, "
                         "about its own least-squares centre, and its share of the circles' "
-                        "(module tcpmm.report.acceptance); the diagnostics below give the "
-                        "terms with their signs and their radial errors.")
+                        "own circular deviation; the shares need not add up to 100 % (terms "
+                        "add and cancel). The diagnostics below give the terms with their "
+                        "signs and their radial errors.")
                  + table(frame, "error_sources.csv",
                          digits={g_alone: 2, of: 0, "rank": 0}))
     else:

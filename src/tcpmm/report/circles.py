@@ -56,12 +56,14 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None):
     body = para(f"Nominal radius {result.radius * 1e3:g} mm about "
                 f"({result.centre[0] * 1e3:g}, {result.centre[1] * 1e3:g}) mm"
                 + (f", run {file_names(source)}" if source else "")
-                + ". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg after the error "
-                  "terms fitted to the circle (centre, radius, servo and scale mismatch, "
-                  "squareness; n/a: the circle starts or ends there); raw spikes: the radial "
+                + f". Spikes A-D: reversal spikes at 0, 90, 180, 270 deg after {_whose(result)}"
+                  " (n/a: the pass does not hold the point's windows, as where a circle "
+                  "starts or ends there or an arc does not reach it); raw spikes: the radial "
                   "error's own step, which those terms enter; contour "
                   "error: largest |radial error|; G: circular deviation about the "
-                  "least-squares centre (ISO 230-4).", "lead")
+                  "least-squares centre (ISO 230-4)"
+                + "".join(f"; the {p.direction.upper()} pass is an arc of {p.arc_deg:.0f} deg"
+                          for p in result.passes if p.is_arc) + ".", "lead")
     body += key_figures(result, diagnostics)
     body += figure(result_plot(result), "circle plot",
                    "radial error magnified about the nominal circle; the dotted rings are "
@@ -138,9 +140,10 @@ def diagnostics_html(diag, stem: str) -> str:
     per = [{"figure": label, **{c: rows.get(f"{base}_{d}", nan)[0] for d, c in cols.items()}}
            for base, label in (("radial_deviation", "radial deviation"),
                                ("circularity", "circularity G, G(b)"))]
-    # after the terms of this fit (with two directions, the pair's, backlash and lateral
-    # play among them): not the circle table's spikes, after each direction's own terms
-    after = "after the pair's terms" if len(dirs) == 2 else "after the fitted terms"
+    # after the terms of this fit (with two directions, the pair's; with one, backlash
+    # among them, which the circle table's own fit leaves in: its spikes differ)
+    after = ("after the pair's terms" if len(dirs) == 2 else
+             "after this direction's terms, backlash among them")
     per += [{"figure": f"reversal spike {q} ({after})",
              **{c: rows.get(f"spike_{q}_{d}", nan)[0] for d, c in cols.items()}}
             for q in "ABCD"]
@@ -340,3 +343,14 @@ def read_spread_json(path) -> dict:
 def _number(v) -> bool:
     """Whether a JSON value is a number (not a boolean) [-]."""
     return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def _whose(result) -> str:
+    """Whose terms the spikes of a circle section are after: the pair's where it holds a
+    CCW and a CW circle (:meth:`~tcpmm.analysis.circular.CircleResult.paired`) [-]."""
+    if any(sc.after_pair for p in result.passes for sc in p.sensors.values()):
+        return ("the terms of the CCW and CW circles fitted together (centre, radius, "
+                "servo and scale mismatch, squareness, backlash, lateral play, "
+                "straightness, cyclic error)")
+    return ("the error terms fitted to each circle (centre, radius, servo and scale "
+            "mismatch, squareness; backlash and lateral play are left in)")

@@ -383,6 +383,9 @@ def test_the_spread_section_says_its_draws_are_not_the_verdicts(full):
     part = text[i:text.index("</section>", i)]
     assert "calibrated on machines of known truth" in part
     assert "the same spike has an interval of each" in part
+    # one word for each threshold: the draws' 4.1 um is "held", the verdicts' 1 um "firm";
+    # and no claim of which flags more, which the demo's page contradicted
+    assert "flag more than the verdicts" not in part and "held within 4.1 µm" in part
 
 
 def test_the_pairs_spikes_are_named_apart_from_each_directions(full):

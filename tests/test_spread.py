@@ -198,7 +198,7 @@ def test_a_point_without_a_spike_is_not_reported(tmp_path, capsys, played):
     assert "A: the sign is not settled" not in out
     # the table's agreement of the draws is not the verdict, and says so, in words
     assert "True" not in out and "False" not in out and "draws agree" in out
-    assert "spike [µm]" in out and "also count what the data leave open" in " ".join(out.split())
+    assert "spike [µm]" in out and "count what the data leave open" in " ".join(out.split())
 
 
 def test_a_run_that_is_no_prediction_is_no_spread(tmp_path, capsys, played):

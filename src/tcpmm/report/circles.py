@@ -241,10 +241,11 @@ def spread_section(spread):
 
     data = spread.to_dict() if hasattr(spread, "to_dict") else spread
     body = para(f"{data['draws']} machines drawn from the identified uncertainty, "
-                f"{data['sensor']} sensor. A quadrant point is settled when nine in ten "
-                "draws give the spike the nominal sign, and firm when nine in ten lie "
-                f"within {data['tolerance_um']:g} µm of it. {DRAWS_NOTE}: the same spike has "
-                "an interval of each.", "lead")
+                f"{data['sensor']} sensor. A quadrant point is "
+                "settled when nine in ten draws give the spike the nominal sign, and held "
+                f"when nine in ten lie within {data['tolerance_um']:g} µm of it (the "
+                "verdicts' word firm is another test, of 1 µm). "
+                f"{DRAWS_NOTE}: the same spike has an interval of each.", "lead")
     if hasattr(spread, "plot"):
         fig, what = spread.plot(), "draws (dots) and their range (bar)"
     else:
@@ -257,7 +258,8 @@ def spread_section(spread):
     frame = pd.DataFrame(data["spikes"]).rename(columns={
         "spike_um": "spike [µm]", "rise_um": "rise [µm]", "fall_um": "fall [µm]",
         "low_um": "lowest [µm]", "high_um": "highest [µm]",
-        "same_sign": "same sign [%]", "within": "within tolerance [%]"})
+        "same_sign": "same sign [%]", "within": "within tolerance [%]",
+        "firm": f"held within {data['tolerance_um']:g} µm"})
     frame["direction"] = frame["direction"].str.upper()
     for c in ("same sign [%]", "within tolerance [%]"):
         frame[c] = 100.0 * frame[c]
@@ -265,8 +267,8 @@ def spread_section(spread):
     bad = [f"{r['direction'].upper()} {r['point']}" for r in data["spikes"]
            if not (r["settled"] and r["firm"])]
     if bad:
-        body += para(f"Not settled or not firm: {', '.join(bad)}; a measured spike there can "
-                     "differ from the prediction by more than the tolerance.", "warn")
+        body += para(f"Not settled or not held: {', '.join(bad)}; a measured spike there "
+                     "can differ from the prediction by more than the tolerance.", "warn")
     return section("spread", "Spread of the prediction", body)
 
 

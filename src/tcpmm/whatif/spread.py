@@ -37,11 +37,13 @@ __all__ = ["MODEL_ERROR", "SETTLED_FRACTION", "TOLERANCE", "SpikeSpread", "circl
 SETTLED_FRACTION = 0.9
 #: How the draws and the verdicts differ, said beside the draws' table (command line and
 #: report): the same spike has an interval of each, and they answer different questions.
-DRAWS_NOTE = ("The draws widen every quantity to at least the error identification made on "
-              "machines it had not seen (the floors), whatever this model's own fit says, "
-              "and so flag more than the verdicts; the verdicts are this model's 90 % "
-              "intervals, calibrated on machines of known truth, and also count what the "
-              "data leave open (as the pre-sliding), which the draws do not vary")
+DRAWS_NOTE = ("The draws and the verdicts answer two questions: the draws widen every "
+              "quantity to at least the error identification made on machines it had not "
+              "seen (the floors), whatever this model's own fit says, and are held to the "
+              "spread's tolerance (4.1 um unless given); the verdicts are this model's 90 % "
+              "intervals, calibrated on machines of known truth, count what the data leave "
+              "open (as the pre-sliding), which the draws do not vary, and call a figure "
+              "firm only within 1 um (or 1 %); so either may flag a figure the other passes")
 #: Default tolerance of a spike: the largest measured-minus-predicted reversal spike of
 #: the paper's Table 2 (4.1 um) [m].
 TOLERANCE = 4.1e-6

@@ -421,3 +421,17 @@ def test_the_circle_section_says_whose_terms_its_spikes_are_after(tmp_path):
     assert "the terms of the CCW and CW circles fitted together" in text
     assert "module tcpmm" not in text and "share of the circles' own circular" in text
     assert circle_diagnostics(*res).sensor == "tcp"
+
+
+def test_the_verdict_table_names_its_spikes_raw():
+    """The verdict's figures are the raw e - b, as the command line says; the report's
+    table said 'spike A' beside a circle table whose spikes are after the fitted terms (a
+    predicted 11.16 um there read as a miss against the circle's 11.89 um, whose raw
+    spike is 10.87 um)."""
+    from tcpmm.report.accuracy import verdict_html
+
+    page = verdict_html({"firm": False, "tests": ["R35 F5000"], "axes": {}, "figures": [
+        {"test": "R35 F5000", "direction": "ccw", "figure": "spike A", "nominal_um": 11.16,
+         "half_width_um": 0.53, "target_um": 1.0, "verdict": "firm", "cause": "",
+         "settle": ""}]})
+    assert "raw spike A (e − b)" in page and ">spike A<" not in page

@@ -35,7 +35,10 @@ def verdict_html(verdict: dict) -> str:
         for r in a.get("open", []):
             body += para(f"axis {name}, {r['quantity']} open ({r['low']:.3g} to "
                          f"{r['high']:.3g}): {r['cause']}; to settle: {r['settle']}", "warn")
-    rows = [{"circle": f["test"], "pass": f["direction"], "figure": f["figure"],
+    # the raw e - b, as the command line names it: the circle's table leads with others
+    rows = [{"circle": f["test"], "pass": f["direction"],
+             "figure": f["figure"].replace("spike", "raw spike") + (
+                 " (e − b)" if f["figure"].startswith("spike") else ""),
              "predicted [µm]": f["nominal_um"], "± 90 % [µm]": _or_nan(f["half_width_um"]),
              "target [µm]": f["target_um"], "verdict": _TEXT[f["verdict"]],
              "cause": f["cause"], "to settle": f["settle"]}

@@ -435,3 +435,14 @@ def test_the_verdict_table_names_its_spikes_raw():
          "half_width_um": 0.53, "target_um": 1.0, "verdict": "firm", "cause": "",
          "settle": ""}]})
     assert "raw spike A (e − b)" in page and ">spike A<" not in page
+
+
+def test_an_open_range_is_given_in_its_unit():
+    """'presliding open (2e-07 to 1e-05)' and 'B_m open (0 to 3.64e-10)' had no unit."""
+    from tcpmm.report.accuracy import verdict_html
+
+    page = verdict_html({"firm": False, "tests": [], "figures": [], "axes": {"Y": {"open": [
+        {"quantity": "presliding", "low": 2e-7, "high": 1e-5, "cause": "c", "settle": "s"},
+        {"quantity": "column", "low": 1e7, "high": 1e9, "cause": "c", "settle": "s"}]}}})
+    assert "presliding open (0.2 to 10 µm)" in page
+    assert "column open (10 to 1e+03 N/µm)" in page

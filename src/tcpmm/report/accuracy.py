@@ -33,8 +33,8 @@ def verdict_html(verdict: dict) -> str:
                  "on such a circle.")
     for name, a in verdict.get("axes", {}).items():
         for r in a.get("open", []):
-            body += para(f"axis {name}, {r['quantity']} open ({r['low']:.3g} to "
-                         f"{r['high']:.3g}): {r['cause']}; to settle: {r['settle']}", "warn")
+            body += para(f"axis {name}, {r['quantity']} open ({_range(r)}): {r['cause']}; "
+                         f"to settle: {r['settle']}", "warn")
     # the raw e - b, as the command line names it: the circle's table leads with others
     rows = [{"circle": f["test"], "pass": f["direction"],
              "figure": f["figure"].replace("spike", "raw spike") + (
@@ -51,3 +51,17 @@ def verdict_html(verdict: dict) -> str:
 def _or_nan(x) -> float:
     """``x``, NaN (shown n/a) for none: a figure that is no prediction has no interval."""
     return float("nan") if x is None else x
+
+
+#: The unit an open quantity's range is shown in, and the factor from SI to it
+#: (:class:`tcpmm.model.OpenRange`) [-].
+RANGE_UNITS = {"backlash": ("µm", 1e6), "presliding": ("µm", 1e6), "C_t": ("N s/m", 1.0),
+               "B_m": ("N m s/rad", 1.0), "column": ("N/µm", 1e-6),
+               "guideway_share": ("", 1.0), "mechanics": ("times", 1.0),
+               "damping": ("times", 1.0)}
+
+
+def _range(r: dict) -> str:
+    """An open quantity's range in its unit, ``low to high unit`` [-]."""
+    unit, k = RANGE_UNITS.get(r["quantity"], ("", 1.0))
+    return f"{r['low'] * k:.3g} to {r['high'] * k:.3g}" + (f" {unit}" if unit else "")

@@ -446,3 +446,28 @@ def test_an_open_range_is_given_in_its_unit():
         {"quantity": "column", "low": 1e7, "high": 1e9, "cause": "c", "settle": "s"}]}}})
     assert "presliding open (0.2 to 10 µm)" in page
     assert "column open (10 to 1e+03 N/µm)" in page
+
+
+def test_the_judged_table_speaks_the_pages_words():
+    """Table 2 against the interval had the headers measured_minus_predicted_um and
+    half_width_90_um, and its CSV True/False where the page says yes/no."""
+    import pandas as pd
+
+    from tcpmm.report.circles import comparison_section
+
+    class Cmp:
+        rows, sign_flips = [], []
+
+        def to_pandas(self):
+            return pd.DataFrame([{"direction": "CCW", "sensor": "tcp", "spike_A_um": 1.0}])
+
+        def notes(self):
+            return []
+
+    judged = pd.DataFrame([{"direction": "ccw", "figure": "spike A",
+                            "measured_minus_predicted_um": 0.5, "half_width_90_um": 1.2,
+                            "inside": True, "verdict": "firm"}])
+    html = comparison_section(Cmp(), judged=judged)[2]
+    assert "measured_minus_predicted_um" not in html and "half_width_90_um" not in html
+    assert "measured − predicted [µm]" in html and "raw spike A (e − b)" in html
+    assert ">True<" not in html and ">yes<" in html

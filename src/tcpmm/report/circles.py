@@ -223,7 +223,8 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
                  + para("Each difference beside the half-width of the predicted figure's 90 % "
                         "interval and its verdict (firm, uncertain or undetermined, from what "
                         "the identification data leave open).")
-                 + table(judged, f"table2_judged{key[len('comparison'):].replace('-', '_')}.csv"))
+                 + table(_judged_columns(judged),
+                         f"table2_judged{key[len('comparison'):].replace('-', '_')}.csv"))
     return section(key, "Measured − predicted (Table 2)", body)
 
 
@@ -356,3 +357,14 @@ def _whose(result) -> str:
                 "straightness, cyclic error)")
     return ("the error terms fitted to each circle (centre, radius, servo and scale "
             "mismatch, squareness; backlash and lateral play are left in)")
+
+
+def _judged_columns(judged):
+    """The judged rows under the names the page uses elsewhere, the raw spikes named raw
+    and yes/no for inside (the CSV as the page) [-]."""
+    out = judged.rename(columns={"direction": "pass",
+                                 "measured_minus_predicted_um": "measured − predicted [µm]",
+                                 "half_width_90_um": "90 % interval ± [µm]"})
+    out["figure"] = [f"raw {f} (e − b)" if f.startswith("spike") else f for f in out["figure"]]
+    out["inside"] = ["yes" if v else "no" for v in out["inside"]]
+    return out

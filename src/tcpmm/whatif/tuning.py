@@ -120,15 +120,34 @@ CIRCLE_KEYS = ("spike_um", "contour_error_um")
 PROGRAM_KEYS = ("max_deviation_um", "rms_deviation_um")
 
 
+class PathFigures(dict):
+    """:func:`path_figures`, and ``faults``: where the run is no prediction, what went
+    wrong, per axis, in a few words [-]."""
+
+    faults: tuple = ()
+
+
+def fault_words(f: dict) -> str:
+    """A run's fault on one axis in a few words: the current held at its limit, else the
+    axis running away [-]."""
+    if f.get("saturated_s", 0.0) > 0.0:
+        return f"axis {f['axis']} holds its current at the limit of {f['current_limit_A']:g} A"
+    return f"axis {f['axis']} runs away from its command"
+
+
 def path_figures(machine: Machine, command, circle: bool) -> dict:
     """Simulate and reduce to figures in um: per circle pass the largest reversal spike
     and the contour error of the TCP; for a program the largest and RMS distance of the
     TCP path from the commanded path. NaN where the run is no prediction: its servo
     loops run away (:mod:`tcpmm.analysis.runaway`)."""
-    run = simulate(machine, command)
+    with warnings.catch_warnings():  # tune's trial runs: what they find is in its notes
+        warnings.simplefilter("ignore", InputWarning)
+        run = simulate(machine, command)
     keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
     if run.meta.get("faults"):
-        return {case: dict.fromkeys(k, float("nan")) for case, k in keys.items()}
+        out = PathFigures({case: dict.fromkeys(k, float("nan")) for case, k in keys.items()})
+        out.faults = [fault_words(f) for f in run.meta["faults"]]
+        return out
     if circle:
         try:
             with warnings.catch_warnings():  # of tune's own circle, which the user runs not
@@ -181,7 +200,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
                 "(--gcode) to predict its path")
         return TuneResult(tuned, axes, {}, {}, [note])
     cmd = paper_circle_command(machine, SETTLED_TURNS) if circle else command
-    tuned, after = _best_feedforward(tuned, axes, cmd, circle)
+    tuned, after, dropped = _best_feedforward(tuned, axes, cmd, circle)
     axes = {n: replace(t, after=tuned.axes[n].servo) if t.met else t for n, t in axes.items()}
     notes = []
     met = [n for n, t in axes.items() if t.met]
@@ -192,7 +211,8 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         k_ff = tuned.axes[met[0]].servo.k_ff
         notes.append(f"feedforward k_ff = {k_ff:g} on axes {', '.join(met)}: of k_ff = "
                      f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} it gives the smallest "
-                     f"{what} ({_worst(after):.2f} um); it does not change the margins")
+                     f"{what} ({_worst(after):.2f} um); it does not change the margins"
+                     + _dropped_words(dropped))
     kpp = {n: t.after.K_pp for n, t in axes.items()}
     if max(kpp.values()) > min(kpp.values()) * (1 + 1e-9):
         kept = [n for n, t in axes.items() if not t.met]
@@ -202,24 +222,49 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
                      + "a path through axes of different position gains is distorted (a "
                        "circle becomes an ellipse); give them one by hand")
     before = path_figures(machine, cmd, circle)
-    notes += _path_notes(before, after, axes, gm_db, pm_deg)
+    notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped)
     if circle:
         notes += _faster_note(machine, tuned)
     return TuneResult(tuned, axes, before, after, notes)
 
 
-def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float):
-    """Notes on the paths before and after: one that is no prediction, and the figures the
-    proposal makes worse (:func:`_worse_note`) [-]."""
+def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float,
+                dropped: dict):
+    """Notes on the paths before and after: one that is no prediction and why, and the
+    figures the proposal makes worse (:func:`_worse_note`) [-]."""
     notes = []
     if _worst(before) == float("inf"):
-        notes.append("before: the settings as they are run away on the model (a servo loop "
-                     "is unstable), so their path is no prediction and is left out")
+        why = "; ".join(getattr(before, "faults", [])) or "its TCP leaves the path"
+        notes.append(f"before: the settings as they are are no prediction on the model "
+                     f"({why}), so their path is left out")
     if _worst(after) == float("inf"):
-        notes.append(f"after: the proposal's path is no prediction (its TCP runs away or "
-                     f"leaves the path): the margins asked, {gm_db:g} dB / {pm_deg:g} deg, "
-                     "leave this machine's loops too slow; ask for smaller ones")
-    return notes + _worse_note(before, after, axes, gm_db, pm_deg)
+        faults = getattr(after, "faults", [])
+        notes.append("after: the proposal's path is no prediction (" + (
+            "; ".join(faults) + "): keep the settings, or lower the gains or the feed "
+            "until the current stays within its limit" if _current_limited(faults) else
+            (("; ".join(faults) or "its TCP leaves the path") + f"): the margins asked, "
+             f"{gm_db:g} dB / {pm_deg:g} deg, leave this machine's loops too slow; ask "
+             "for smaller ones")))
+    worse = _worse_note(before, after, axes, gm_db, pm_deg)
+    if worse and _current_limited([w for f in dropped.values() for w in f]):
+        worse = [worse[0].replace("; smaller margins (--margins) trade some back",
+                                  "; the current limit holds the feedforward back (above), "
+                                  "not the margins: keep the settings or raise the limit")]
+    return notes + worse
+
+
+def _current_limited(faults: list) -> bool:
+    """Whether a run's faults are currents held at their limit [-]."""
+    return any("current at the limit" in f for f in faults)
+
+
+def _dropped_words(dropped: dict) -> str:
+    """What the feedforward fractions left out of the choice did: ``""`` for none [-]."""
+    if not dropped:
+        return ""
+    first = next(iter(dropped.values()))
+    return (f"; k_ff = {', '.join(f'{k:g}' for k in dropped)} left out: their path is no "
+            f"prediction ({'; '.join(first)})")
 
 
 #: Feed of the second circle the proposal is checked on: the paper's faster one [mm/min].
@@ -285,12 +330,14 @@ def _best_feedforward(tuned: Machine, axes: dict, cmd, circle: bool):
     """Feedforward fraction of :data:`FEEDFORWARD_GRID` (the same for the tuned axes) with
     the smallest :func:`_worst` on the path; the machine and its path figures. The
     feedforward acts outside the loops: the margins stay as they are."""
-    best = None
+    best, dropped = None, {}
     for k in FEEDFORWARD_GRID:
         m = tuned.model_copy(update={"axes": {
             n: (a.replace(servo=a.servo.model_copy(update={"k_ff": k}))
                 if axes[n].met else a) for n, a in tuned.axes.items()}})
         figs = path_figures(m, cmd, circle)
+        if getattr(figs, "faults", None):
+            dropped[k] = figs.faults
         if best is None or _worst(figs) < _worst(best[1]):
             best = (m, figs)
-    return best
+    return (*best, dropped)

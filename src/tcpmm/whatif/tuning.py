@@ -17,6 +17,7 @@ from ..analysis.circular import analyse_circle
 from ..errors import InputError, InputWarning
 from ..machines.paper import RADIUS_MM, SETTLED_TURNS, circle_test_command, paper_circle_command
 from ..model import Machine
+from ..servo.sampled import sampled_spectral_radius
 from ..servo.tune import tune_machine
 from ..sim.simulate import simulate
 from ..units import mm_to_m
@@ -116,7 +117,7 @@ def polyline_distance(points, path) -> np.ndarray:
 
 
 #: The figures of a circle pass and of a program's path [um].
-CIRCLE_KEYS = ("spike_um", "contour_error_um")
+CIRCLE_KEYS = ("spike_um", "contour_error_um", "circular_deviation_um")
 PROGRAM_KEYS = ("max_deviation_um", "rms_deviation_um")
 
 
@@ -140,13 +141,16 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     and the contour error of the TCP; for a program the largest and RMS distance of the
     TCP path from the commanded path. NaN where the run is no prediction: its servo
     loops run away (:mod:`tcpmm.analysis.runaway`)."""
+    keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
+    unstable = [f"axis {n}'s sampled servo loop is unstable (spectral radius {rho:.4f})"
+                for n, a in machine.axes.items()
+                if (rho := sampled_spectral_radius(a.mechanics, a.servo)) >= 1.0]
     with warnings.catch_warnings():  # tune's trial runs: what they find is in its notes
         warnings.simplefilter("ignore", InputWarning)
-        run = simulate(machine, command)
-    keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
-    if run.meta.get("faults"):
+        run = simulate(machine, command) if not unstable else None
+    if unstable or run.meta.get("faults"):
         out = PathFigures({case: dict.fromkeys(k, float("nan")) for case, k in keys.items()})
-        out.faults = [fault_words(f) for f in run.meta["faults"]]
+        out.faults = unstable or [fault_words(f) for f in run.meta["faults"]]
         return out
     if circle:
         try:
@@ -160,7 +164,8 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
             s = p.sensors["tcp"]
             spikes = [abs(v) for v in s.spikes.values() if np.isfinite(v)]
             out[p.direction] = {"spike_um": max(spikes, default=float("nan")) * 1e6,
-                                "contour_error_um": s.contour_error * 1e6}
+                                "contour_error_um": s.contour_error * 1e6,
+                                "circular_deviation_um": s.circular_deviation * 1e6}
         return out
     names = [n for n in command.positions if n in run.axes]  # an axis held still may lack
     act = np.column_stack([run.axes[n].tcp for n in names])

@@ -360,3 +360,23 @@ def test_a_wholly_open_parameter_is_moved_within_what_a_feed_axis_can_have(known
         low, high, _ = RANGES[q]
         assert low <= x <= high and x > 0
         assert 0.999e-3 <= x / getattr(m, q) <= 1.001e3
+
+
+def test_cli_compare_with_the_model_writes_its_judged_table_in_the_report(tmp_path, capsys):
+    """compare --model printed Table 2 against the predicted interval and left it out of
+    the HTML it wrote with --report."""
+    import html
+
+    from tcpmm.cli import main
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.path import write_command_csv
+    from tcpmm.uncertainty import reference_tests
+
+    write_command_csv(reference_tests(builtin_machine())[0].command, tmp_path / "c.csv")
+    assert main(["simulate", "builtin:vmc", "--command", str(tmp_path / "c.csv"),
+                 "-o", str(tmp_path / "p.csv")]) == 0
+    code = main(["compare", str(tmp_path / "p.csv"), str(tmp_path / "p.csv"), "--radius",
+                 "35", "--model", "builtin:vmc", "--report", str(tmp_path / "r.html")])
+    assert code == 0, capsys.readouterr().err
+    page = html.unescape((tmp_path / "r.html").read_text())
+    assert "against the prediction's 90 % interval" in page and "90 % interval ±" in page

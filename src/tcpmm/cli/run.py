@@ -270,7 +270,8 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     if report is not None:
         from ..report import circle_test_section, comparison_section, write_report
 
-        write_report(report, [comparison_section(cmp, rm, rp, (measured, predicted)),
+        write_report(report, [comparison_section(cmp, rm, rp, (measured, predicted), judged=(
+                                  cmp.judged_long(judged) if judged else None)),
                               circle_test_section(rm, "circle", f"Circular test: "
                                                   f"{measured.name}", measured)],
                      "Measured against predicted", [("measured", measured),

@@ -218,6 +218,10 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
                   f"measured_minus_predicted{key[len('comparison'):].replace('-', '_')}.csv")
     for line in comparison.notes():
         body += para(line)
+    if judged is not None and not hasattr(judged, "columns"):  # the rows, as judged_long
+        import pandas as pd
+
+        judged = pd.DataFrame(judged)
     if judged is not None and len(judged):
         body += ("<h3>At the TCP, against the prediction's 90 % interval</h3>"
                  + para("Each difference beside the half-width of the predicted figure's 90 % "

@@ -471,3 +471,23 @@ def test_the_judged_table_speaks_the_pages_words():
     assert "measured_minus_predicted_um" not in html and "half_width_90_um" not in html
     assert "measured − predicted [µm]" in html and "raw spike A (e − b)" in html
     assert ">True<" not in html and ">yes<" in html
+
+
+def test_the_report_names_its_inputs_in_full_and_when_they_were_written(tmp_path):
+    """The page named its inputs by their file names only and gave no date but its own, so
+    two machines' or two days' reports of runs called circle.csv could not be told apart;
+    the predicted run of a pair was not named at all."""
+    import html
+
+    from tcpmm.report import write_report
+    from tcpmm.report.html import section
+
+    run = tmp_path / "day1" / "circle.csv"
+    run.parent.mkdir()
+    run.write_text("time_s\n0\n")
+    path = write_report(tmp_path / "r.html", [section("x", "x", "")],
+                        inputs=[("measured", run), ("model", "builtin:vmc")])
+    page = html.unescape(path.read_text())
+    i = page.index("<h3>Inputs</h3>")
+    assert str(run.resolve()) in page[i:] and "(written 20" in page[i:]
+    assert "builtin:vmc" in page[i:]

@@ -130,7 +130,8 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, tole
     sections = _run_sections(runs, circle, tolerance_m)
     sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
     sections += [s for group in comparisons for s in group]
-    inputs = [("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
+    inputs = ([("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
+              + [("predicted", p) for p in predicted])
     return sections, inputs
 
 

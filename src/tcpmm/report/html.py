@@ -191,7 +191,7 @@ def page(title: str, sections, inputs=()) -> str:
     toc = "".join(f'<a href="#{esc(k)}">{esc(t)}</a>' for k, t, _ in sections)
     given = "; ".join(f"{w}: {Path(f).name}" for w, f in inputs)
     sub = f"tcpmm {__version__}, {stamp}" + (f" {DASH} {given}" if given else "")
-    body = "".join(h for _, _, h in sections)
+    body = "".join(h for _, _, h in sections) + _inputs(inputs)
     return ("<!DOCTYPE html>\n"
             f'<html lang="en"><head><meta charset="utf-8"><title>{esc(title)}</title>'
             '<meta name="viewport" content="width=device-width, initial-scale=1">'
@@ -199,3 +199,21 @@ def page(title: str, sections, inputs=()) -> str:
             f"<p>{esc(sub)}</p></header><main><nav>{toc}</nav>{body}"
             "<footer>SI inside the model; lengths here in mm and µm, as each column says. "
             "Tables download as CSV from the link under each.</footer></main></body></html>\n")
+
+
+def _inputs(inputs) -> str:
+    """The files the report was made from, each with its full path and the time it was
+    last written (a measurement's date where the recorder wrote it then), to tell one
+    machine's and one day's report from another's [-]."""
+    items = []
+    for what, f in inputs:
+        p = Path(str(f))
+        try:
+            when = datetime.fromtimestamp(p.stat().st_mtime, UTC).strftime(
+                "%Y-%m-%d %H:%M UTC")
+        except OSError:  # a built-in machine, or a file gone since
+            items.append((what, str(f)))
+            continue
+        items.append((what, f"{p.resolve()} (written {when})"))
+    return (f'<div class="inputs" id="inputs"><h3>Inputs</h3>{facts(items)}</div>'
+            if items else "")

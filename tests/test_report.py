@@ -491,3 +491,17 @@ def test_the_report_names_its_inputs_in_full_and_when_they_were_written(tmp_path
     i = page.index("<h3>Inputs</h3>")
     assert str(run.resolve()) in page[i:] and "(written 20" in page[i:]
     assert "builtin:vmc" in page[i:]
+
+
+def test_the_identification_section_carries_identifys_warnings_and_friction():
+    """identify printed its warnings (excitation gaps, the pre-sliding range, what the FRFs
+    leave open) and its friction fit, and the report of its folder had none of them, while
+    its verdict named 'axis Y presliding' as the cause of eight uncertain figures."""
+    from tcpmm.report.machine import identification_section
+
+    summary = {"machine": "m", "suspect": [], "warnings": ["no excitation power in 994-1223 Hz"],
+               "axes": {"X": {"fit": {}, "parameters": {}, "undetermined": [],
+                              "friction": {"fc": {"value": 60.0, "std": 1.5}}}}}
+    html = identification_section(summary)[2]
+    assert "identify: no excitation power in 994-1223 Hz" in html
+    assert "friction_X.csv" in html and "fc" in html

@@ -221,7 +221,9 @@ def _write_identified(idn, output: Path, report, html: bool, bundle: Path) -> No
     """
     from ..io.atomic import staged_folder
     from ..io.modelfile import write_machine
+    from ._app import WARNED
 
+    idn.meta["warnings"] = list(WARNED)  # what identify said, for the report to say too
     if html:
         _identification_report(idn, report, bundle, output)
         write_machine(idn.machine, output)

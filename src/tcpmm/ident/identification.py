@@ -209,6 +209,8 @@ class Identification:
                 out[name]["friction_split"] = a.friction_split.to_dict()
         return {"machine": self.machine.name, "axes": out,
                 "suspect": [str(f) for f in self.findings],
+                **({"warnings": list(self.meta["warnings"])}
+                   if self.meta.get("warnings") else {}),
                 **({"verdict": self.verdict.to_dict()} if self.verdict is not None else {})}
 
     def bode_curves(self, name: str) -> dict:

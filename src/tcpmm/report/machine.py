@@ -195,6 +195,8 @@ def identification_section(summary: dict, images: dict | None = None):
         ``{file stem: PNG bytes}`` as :meth:`Identification.write_report` names them
         (``bode_X``, ``sweep_X``, ``lostmotion_X``) [-].
     """
+    import pandas as pd
+
     images = images or {}
     body = para("Measured frequency responses (blue; bins of coherence below 0.5 left out, "
                 "the coherence in grey) against the rational transfer-function fit (green) "
@@ -205,6 +207,8 @@ def identification_section(summary: dict, images: dict | None = None):
                 "does, without the worst 1 % of bins.", "lead")
     for s in summary.get("suspect", []):
         body += para(f"physically suspect: {s}", "warn")
+    for w in summary.get("warnings", []):  # what identify said on the way
+        body += para(f"identify: {w}", "warn")
     if summary.get("verdict") is not None:
         body += verdict_html(summary["verdict"])
     for name, axis in summary["axes"].items():
@@ -217,6 +221,12 @@ def identification_section(summary: dict, images: dict | None = None):
                       digits={"value": None, "std": None, "std [%]": 1},
                       caption="std: one standard deviation of the fit; a parameter the "
                               "data do not determine keeps its start value.")
+        if axis.get("friction"):
+            body += table(pd.DataFrame([{"friction": k, "value": v["value"], "std": v["std"]}
+                                        for k, v in axis["friction"].items()]),
+                          f"friction_{name}.csv", digits={"value": None, "std": None},
+                          caption="friction fitted to the friction runs, SI units "
+                                  "(N, N s/m, m/s)")
         if f"lostmotion_{name}" in images:
             body += figure(images[f"lostmotion_{name}"], f"lost motion of axis {name}",
                            "nut deflection of the friction runs against speed", 620)

@@ -505,3 +505,22 @@ def test_the_identification_section_carries_identifys_warnings_and_friction():
     html = identification_section(summary)[2]
     assert "identify: no excitation power in 994-1223 Hz" in html
     assert "friction_X.csv" in html and "fc" in html
+
+
+def test_a_parameter_the_verdict_leaves_open_is_not_called_determined():
+    """The parameters table said B_m 'determined: yes' beside a verdict that gave B_m an
+    open range (the FRFs do not separate the motor-bearing damping)."""
+    from tcpmm.report.machine import identification_section
+
+    summary = {"machine": "m", "suspect": [],
+               "verdict": {"tests": [], "figures": [], "axes": {"X": {
+                   "open": [{"quantity": "B_m", "low": 0.0, "high": 1e-3, "cause": "c",
+                             "settle": "s"}]}}},
+               "axes": {"X": {"fit": {}, "undetermined": [],
+                              "parameters": {"B_m": {"value": 1e-4, "std": 1e-6},
+                                             "J_m": {"value": 1e-3, "std": 1e-6}}}}}
+    html = identification_section(summary)[2]
+    rows = re.findall(r"<tr><td>(B_m|J_m)</td>.*?</tr>", html)
+    b_m = re.search(r"<tr><td>B_m</td>(.*?)</tr>", html).group(1)
+    j_m = re.search(r"<tr><td>J_m</td>(.*?)</tr>", html).group(1)
+    assert rows and b_m.endswith("<td>no</td>") and j_m.endswith("<td>yes</td>")

@@ -154,10 +154,20 @@ def read_identification_folder(folder):
     return summary, images
 
 
-def _parameters_frame(axis: dict):
-    """Identified parameters of one axis with their standard deviations [-]."""
+#: The parameters an open quantity of the verdict leaves open (:class:`tcpmm.model.OpenRange`).
+OPEN_PARAMETERS = {"B_m": ("B_m",), "C_t": ("C_t",), "column": ("K_h",),
+                   "mechanics": ("M_t", "M_b", "K_b", "M_h", "K_h"),
+                   "damping": ("C_t", "C_b", "C_h")}
+
+
+def _parameters_frame(axis: dict, opened=()):
+    """Identified parameters of one axis with their standard deviations; a parameter the
+    fit or the verdict leaves open (``opened``: its open quantities) is not determined,
+    whatever its deviation (B_m read 'determined: yes' beside a verdict that gave it an
+    open range) [-]."""
     import pandas as pd
 
+    open_ps = {p for q in opened for p in OPEN_PARAMETERS.get(q, ())}
     rows = []
     for p, d in axis.get("parameters", {}).items():
         what, unit, k = MECHANICS.get(p, (p, "SI", 1.0))
@@ -166,7 +176,7 @@ def _parameters_frame(axis: dict):
         rel = 100 * sd / abs(v) if isinstance(v, float) and v and math.isfinite(sd) else math.nan
         rows.append({"parameter": p, "description": what, "unit": unit, "value": v,
                      "std": sd, "std [%]": rel,
-                     "determined": p not in axis.get("undetermined", [])})
+                     "determined": p not in axis.get("undetermined", []) and p not in open_ps})
     return pd.DataFrame(rows)
 
 
@@ -217,7 +227,9 @@ def identification_section(summary: dict, images: dict | None = None):
             body += figure(images[f"bode_{name}"], f"Bode plots of axis {name}",
                            f"axis {name}: measured and identified frequency responses")
         body += table(_quality_frame(axis), f"fit_quality_{name}.csv", digits=1)
-        body += table(_parameters_frame(axis), f"parameters_{name}.csv",
+        opened = [r["quantity"] for r in (summary.get("verdict") or {}).get("axes", {})
+                  .get(name, {}).get("open", [])]
+        body += table(_parameters_frame(axis, opened), f"parameters_{name}.csv",
                       digits={"value": None, "std": None, "std [%]": 1},
                       caption="std: one standard deviation of the fit; a parameter the "
                               "data do not determine keeps its start value.")

@@ -871,3 +871,16 @@ def test_an_arc_says_its_undetermined_terms_bias_the_others_where_present():
                       (W, W))
     why = d.undetermined["straightness_X"]
     assert "take it over where it is present" in why and "another start angle" in why
+
+
+def test_a_circle_without_a_cyclic_error_reports_no_period():
+    """On noise-free circles without any cyclic error, a period of 38.7 mm was reported
+    with an amplitude of 0.002 um: the noise floor the search needs to stand out of
+    vanishes without noise."""
+    w = 2 * np.pi / (1320 * DT)
+    d = diagnose_pair(_pulsed_circle("ccw", 0.0), _pulsed_circle("cw", 0.0), R, (w, w))
+    for axis in "XY":
+        assert d.terms[f"cyclic_amplitude_{axis}"][0] == 0.0
+        assert np.isnan(d.terms[f"cyclic_period_{axis}"][0])
+    found = diagnose({"cyc_x": (0.5e-6, 10e-3, 0.3)}, noise=0.0)
+    assert found.terms["cyclic_amplitude_X"][0] == pytest.approx(0.5e-6, rel=0.02)

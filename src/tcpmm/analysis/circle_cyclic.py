@@ -60,6 +60,10 @@ def _columns(pos, w, ks):
     return w * z.imag, w * z.real
 
 
+#: The least amplitude of a cyclic error reported: below any sensor's resolution [m].
+MIN_AMPLITUDE_M = 0.01e-6
+
+
 def _noise(arcs):
     """Sample noise from successive differences, robust to steps and spikes [m]."""
     d = np.concatenate([np.diff(a.e) for a in arcs])
@@ -80,7 +84,9 @@ def search_cyclic(pb, mu) -> tuple:
     ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
     pos = [np.concatenate([p[axis] for p in pb.pos]) for axis in (0, 1)]
     ws = (np.cos(ang), np.sin(ang))
-    floor = 30.0 * _noise(pb.arcs) ** 2
+    # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
+    # noise-free circle has no noise to stand out of, and found a period in rounding
+    floor = max(30.0 * _noise(pb.arcs) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
     spacing = pb.radius * max(np.median(np.abs(np.diff(a.angle))) for a in pb.arcs)
     waves = [None, None]
     _, res, basis = pb.solve(mu, waves)

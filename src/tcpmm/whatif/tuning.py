@@ -123,9 +123,11 @@ PROGRAM_KEYS = ("max_deviation_um", "rms_deviation_um")
 
 class PathFigures(dict):
     """:func:`path_figures`, and ``faults``: where the run is no prediction, what went
-    wrong, per axis, in a few words [-]."""
+    wrong, per axis, in a few words; ``limited``: whether that is a current held at its
+    limit [-]."""
 
     faults: tuple = ()
+    limited: bool = False
 
 
 def fault_words(f: dict) -> str:
@@ -137,10 +139,11 @@ def fault_words(f: dict) -> str:
 
 
 def path_figures(machine: Machine, command, circle: bool) -> dict:
-    """Simulate and reduce to figures in um: per circle pass the largest reversal spike
-    and the contour error of the TCP; for a program the largest and RMS distance of the
-    TCP path from the commanded path. NaN where the run is no prediction: its servo
-    loops run away (:mod:`tcpmm.analysis.runaway`)."""
+    """Simulate and reduce to figures in um (:class:`PathFigures`): per circle pass the
+    largest reversal spike, the contour error and G of the TCP; for a program the largest
+    and RMS distance of the TCP path from the commanded path. NaN where the run is no
+    prediction: a sampled loop is unstable, or an axis runs away or holds its current at
+    the limit (:mod:`tcpmm.analysis.runaway`)."""
     keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
     unstable = [f"axis {n}'s sampled servo loop is unstable (spectral radius {rho:.4f})"
                 for n, a in machine.axes.items()
@@ -148,18 +151,20 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     with warnings.catch_warnings():  # tune's trial runs: what they find is in its notes
         warnings.simplefilter("ignore", InputWarning)
         run = simulate(machine, command) if not unstable else None
+    none = PathFigures({case: dict.fromkeys(k, float("nan")) for case, k in keys.items()})
     if unstable or run.meta.get("faults"):
-        out = PathFigures({case: dict.fromkeys(k, float("nan")) for case, k in keys.items()})
-        out.faults = unstable or [fault_words(f) for f in run.meta["faults"]]
-        return out
+        none.faults = unstable or [fault_words(f) for f in run.meta["faults"]]
+        none.limited = not unstable and any(f.get("saturated_s", 0.0) > 0.0
+                                            for f in run.meta["faults"])
+        return none
     if circle:
         try:
             with warnings.catch_warnings():  # of tune's own circle, which the user runs not
                 warnings.simplefilter("ignore", InputWarning)
                 res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
         except InputError:  # the TCP does not follow the circle: no figure of it
-            return {case: dict.fromkeys(k, float("nan")) for case, k in keys.items()}
-        out = {}
+            return none
+        out = PathFigures()
         for p in res.passes:
             s = p.sensors["tcp"]
             spikes = [abs(v) for v in s.spikes.values() if np.isfinite(v)]
@@ -171,8 +176,8 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     act = np.column_stack([run.axes[n].tcp for n in names])
     ref = np.column_stack([run.axes[n].cmd for n in names])
     d = polyline_distance(act, ref)
-    return {"program": {"max_deviation_um": float(d.max()) * 1e6,
-                        "rms_deviation_um": float(np.sqrt(np.mean(d * d))) * 1e6}}
+    return PathFigures({"program": {"max_deviation_um": float(d.max()) * 1e6,
+                                    "rms_deviation_um": float(np.sqrt(np.mean(d * d))) * 1e6}})
 
 
 def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
@@ -239,28 +244,18 @@ def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: flo
     figures the proposal makes worse (:func:`_worse_note`) [-]."""
     notes = []
     if _worst(before) == float("inf"):
-        why = "; ".join(getattr(before, "faults", [])) or "its TCP leaves the path"
+        why = "; ".join(before.faults) or "its TCP leaves the path"
         notes.append(f"before: the settings as they are are no prediction on the model "
                      f"({why}), so their path is left out")
     if _worst(after) == float("inf"):
-        faults = getattr(after, "faults", [])
         notes.append("after: the proposal's path is no prediction (" + (
-            "; ".join(faults) + "): keep the settings, or lower the gains or the feed "
-            "until the current stays within its limit" if _current_limited(faults) else
-            (("; ".join(faults) or "its TCP leaves the path") + f"): the margins asked, "
-             f"{gm_db:g} dB / {pm_deg:g} deg, leave this machine's loops too slow; ask "
-             "for smaller ones")))
-    worse = _worse_note(before, after, axes, gm_db, pm_deg)
-    if worse and _current_limited([w for f in dropped.values() for w in f]):
-        worse = [worse[0].replace("; smaller margins (--margins) trade some back",
-                                  "; the current limit holds the feedforward back (above), "
-                                  "not the margins: keep the settings or raise the limit")]
-    return notes + worse
-
-
-def _current_limited(faults: list) -> bool:
-    """Whether a run's faults are currents held at their limit [-]."""
-    return any("current at the limit" in f for f in faults)
+            "; ".join(after.faults) + "): keep the settings, or lower the gains or the feed "
+            "until the current stays within its limit" if after.limited else
+            (("; ".join(after.faults) or "its TCP leaves the path") + f"): the margins "
+             f"asked, {gm_db:g} dB / {pm_deg:g} deg, leave this machine's loops too slow; "
+             "ask for smaller ones")))
+    limited = any(f.limited for f in dropped.values())
+    return notes + _worse_note(before, after, axes, gm_db, pm_deg, limited)
 
 
 def _dropped_words(dropped: dict) -> str:
@@ -269,7 +264,7 @@ def _dropped_words(dropped: dict) -> str:
         return ""
     first = next(iter(dropped.values()))
     return (f"; k_ff = {', '.join(f'{k:g}' for k in dropped)} left out: their path is no "
-            f"prediction ({'; '.join(first)})")
+            f"prediction ({'; '.join(first.faults)})")
 
 
 #: Feed of the second circle the proposal is checked on: the paper's faster one [mm/min].
@@ -301,10 +296,12 @@ def _grown(before: dict, after: dict) -> list[str]:
     return out
 
 
-def _worse_note(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float):
+def _worse_note(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float,
+                limited: bool = False):
     """A note where a figure of the proposal's path is worse than the settings' before (any
     of them: a program's largest deviation can double while its RMS falls): the margins it
-    restores, and how to trade them back [-]."""
+    restores, and how to trade them back; where the current limit held the feedforward
+    back (``limited``), that it is not the margins [-]."""
     grown = _grown(before, after)
     if not grown or _worst(before) == float("inf"):
         return []
@@ -318,8 +315,10 @@ def _worse_note(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: flo
     why = (f"the settings before leave less than {gm_db:g} dB / {pm_deg:g} deg ("
            + "; ".join(short) + "), and the proposal buys the margins with it") if short else \
         "the proposal's gains are those that meet the margins"
-    return [f"the predicted path is worse after: {'; '.join(grown)}; {why}; "
-            "smaller margins (--margins) trade some back"]
+    trade = ("the current limit holds the feedforward back (above), not the margins: keep "
+             "the settings or raise the limit" if limited else
+             "smaller margins (--margins) trade some back")
+    return [f"the predicted path is worse after: {'; '.join(grown)}; {why}; {trade}"]
 
 
 def _worst(figures: dict) -> float:
@@ -341,8 +340,8 @@ def _best_feedforward(tuned: Machine, axes: dict, cmd, circle: bool):
             n: (a.replace(servo=a.servo.model_copy(update={"k_ff": k}))
                 if axes[n].met else a) for n, a in tuned.axes.items()}})
         figs = path_figures(m, cmd, circle)
-        if getattr(figs, "faults", None):
-            dropped[k] = figs.faults
+        if figs.faults:
+            dropped[k] = figs
         if best is None or _worst(figs) < _worst(best[1]):
             best = (m, figs)
     return (*best, dropped)

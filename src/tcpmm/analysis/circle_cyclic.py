@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_model import cyclic_columns
+from .circle_model import angle_step, cyclic_columns
 
 
 def _scan(pos, w, resid, basis, radius, band, spacing):
@@ -87,7 +87,7 @@ def search_cyclic(pb, mu) -> tuple:
     # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
     # noise-free circle has no noise to stand out of, and found a period in rounding
     floor = max(30.0 * _noise(pb.arcs) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
-    spacing = pb.radius * max(np.median(np.abs(np.diff(a.angle))) for a in pb.arcs)
+    spacing = pb.radius * max(angle_step(a.angle) for a in pb.arcs)
     waves = [None, None]
     _, res, basis = pb.solve(mu, waves)
     for _ in range(2):

@@ -19,6 +19,7 @@ from .circle_model import (
     determined,
     drop_twins,
     fit_mask,
+    reversal_lead_deg,
     servo_remainder,
     term_column,
 )
@@ -64,8 +65,7 @@ class Arc:
         mu : float
             Servo mismatch angle of the circles fitted together [rad].
         """
-        step = float(np.median(np.abs(np.diff(self.angle)))) if self.angle.size > 1 else 0.0
-        lead = np.degrees(abs(self.ratio * mu) + step)
+        lead = reversal_lead_deg(self.angle, self.ratio * mu)
         return fit_mask(self.angle, self.s, after_deg=(-lead, 20.0))
 
     def positions(self, radius, angle=None, e=None):

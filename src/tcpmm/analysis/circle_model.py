@@ -25,6 +25,31 @@ import numpy as np
 MIN_SHARE = 0.1
 
 
+def angle_step(angle) -> float:
+    """Median angle between neighbouring samples, 0 for fewer than two [rad].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Unwrapped angle of the samples [rad].
+    """
+    return float(np.median(np.abs(np.diff(angle)))) if np.size(angle) > 1 else 0.0
+
+
+def reversal_lead_deg(angle, mu) -> float:
+    """How far before its quadrant point the leading axis reverses under a servo mismatch
+    angle ``mu``, and a sample more: where a reversal's transient starts [deg].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Unwrapped angle of the samples [rad].
+    mu : float
+        Servo mismatch as an angle (module docstring) [rad].
+    """
+    return float(np.degrees(abs(mu) + angle_step(angle)))
+
+
 def axis_signs(angle, s, mu=0.0):
     """``(sx, sy)``: signs of the X and Y velocities, each axis reversing where it does with
     a servo mismatch angle ``mu`` (module docstring) [-].

@@ -23,6 +23,8 @@ from itertools import pairwise
 
 import numpy as np
 
+from .circle_model import angle_step
+
 #: The shortest arc analysed [deg]
 MIN_ARC_DEG = 30.0
 #: Largest distance of the path's radius from the nominal, as a share of it, for the path
@@ -86,6 +88,12 @@ def _on_circle(dx, dy, radius, tol, offset):
     return out
 
 
+def _rest_step(steps) -> float:
+    """The largest step of a sensor at rest: a twentieth of its travel's steps (their 90th
+    percentile), above a dwell's noise [rad]."""
+    return 0.05 * float(np.percentile(np.abs(steps), 90))
+
+
 def _one_way(ang):
     """``(start, stop)`` of the parts of a stretch that turn one way: an arc out and back
     (a ballbar's 220 deg arcs) is two arcs. Steps under a twentieth of the travel's (its 90th
@@ -97,7 +105,7 @@ def _one_way(ang):
     d = np.diff(ang)
     if d.size == 0:
         return [(0, ang.size)]
-    moving = np.flatnonzero(np.abs(d) > max(1e-9, 0.05 * np.percentile(np.abs(d), 90)))
+    moving = np.flatnonzero(np.abs(d) > max(1e-9, _rest_step(d)))
     if moving.size < 2:
         return [(0, ang.size)]
     way = np.sign(d[moving])
@@ -176,8 +184,7 @@ def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> l
         # short of whole turns by up to a sample's angle (a circle sampled at 1 kHz at
         # F10000 ends 0.13 deg short) is a full circle, as is_full takes one; shorter,
         # the stretch is an arc
-        step = float(np.median(np.abs(np.diff(ang)))) if ang.size > 1 else 0.0
-        if excess < -max(1e-3, step):
+        if excess < -max(1e-3, angle_step(ang)):
             if n_turns == 1 and np.degrees(abs(span)) >= MIN_ARC_DEG:
                 arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))
             continue
@@ -267,7 +274,7 @@ def within_span(x, y, sl: slice, centre, ref_ang) -> slice:
     # past the pass's end, on while the sensor still turns forward short of the span's
     # end: not into the other direction's pass, nor along a radial move off the circle
     step = np.diff(u)
-    least = 0.05 * float(np.percentile(np.abs(step[:n - 1]), 90)) if n > 2 else 0.0
+    least = _rest_step(step[:n - 1]) if n > 2 else 0.0
     on = (u[n:] <= span) & (step[n - 1:] > least)
     stop = n + (int(np.argmin(on)) if on.size and not on.all() else on.size)
     return slice(lo + first, lo + stop)

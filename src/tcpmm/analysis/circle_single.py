@@ -18,6 +18,7 @@ from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_display import rename_axes
 from .circle_fit import Arc
+from .circle_model import angle_step
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
 from .circle_stable import arc_fit, leave_open
@@ -99,7 +100,7 @@ def _unplaced(fit, terms, angle) -> dict:
     placed a sample off reads partly as backlash, partly as a spike: 12 % of a backlash and
     a spike of 2.6 um with a 1 ms mismatch at F10000): their values become NaN, and the
     fit's too, so that the ranking leaves them out; the reasons [-]."""
-    step = float(np.median(np.abs(np.diff(angle))))
+    step = angle_step(angle)
     shift = abs(fit["squareness"])  # the ellipse as a servo mismatch angle [rad]
     if not shift >= 0.5 * step:
         return {}

@@ -64,7 +64,7 @@ from .circle_display import (  # noqa: F401
     term_note,
 )
 from .circle_fit import Arc
-from .circle_model import is_full
+from .circle_model import is_full, reversal_lead_deg
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
@@ -266,7 +266,7 @@ def _terms(fit, grids, deviations, curves, mean_rate):
     terms.update({k: (fit[k], "m") for k in SHARED[:4]})
     for d, (a, e, model) in curves.items():
         # from where the leading axis reverses, as the fit leaves its transient out
-        lead = np.degrees(abs(fit.mu) + float(np.median(np.abs(np.diff(a))))) if fit.mu else 0.0
+        lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
         spikes = reversal_spikes(a, e - model, d, lead)
         terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})
     mu = fit["servo_angle"]

@@ -39,8 +39,7 @@ def factor_for(key: str, unit: str | None) -> float | None:
     if table is None:
         return None
     u = unit.strip()
-    return table.get(u if key.endswith(("_mm", "_s", "_rad")) else u.lower(),
-                     table.get(u.lower()))
+    return table.get(u, table.get(u.lower()))
 
 
 def name_unit(name: str) -> str | None:

@@ -11,6 +11,15 @@ from ..errors import InputError, InputWarning
 from .circular import QUADRANTS, CircleResult
 
 
+def raw_spike_named(figure: str, minus: str = "-") -> str:
+    """A figure as a user reads it: ``spike A`` (also in ``R35 spike A``) is the raw radial
+    error ``e - b`` at A, which ``tcpmm circle`` does not lead with (it leads with the
+    spike after the fitted terms); ``minus`` is the sign written [-]."""
+    for q in QUADRANTS:
+        figure = figure.replace(f"spike {q}", f"raw spike {q} (e {minus} b)")
+    return figure
+
+
 @dataclass
 class Comparison:
     """Differences measured minus predicted per direction and sensor.

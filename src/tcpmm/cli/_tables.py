@@ -21,15 +21,6 @@ def header(column: str) -> str:
     return column.replace("_", " ")
 
 
-def raw_spike_named(figure: str) -> str:
-    """A verdict's figure as a user reads it: ``"R35 spike A"`` is the raw ``e - b`` at A,
-    which ``tcpmm circle`` does not lead with (it leads with the spike after the fitted
-    terms) [-]."""
-    for q in "ABCD":
-        figure = figure.replace(f"spike {q}", f"raw spike {q} (e - b)")
-    return figure
-
-
 def judged_rows(rows: list) -> list[dict]:
     """The rows of ``Comparison.judged_long`` as the terminal shows them: the raw spikes
     named raw, inside or not in words [-]."""

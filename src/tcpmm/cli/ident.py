@@ -26,7 +26,6 @@ from ._app import (
     refuse_unstable,
     warn_suspect,
 )
-from ._tables import raw_spike_named
 
 
 def _say_faulted(faulted: int, draws: int) -> None:
@@ -271,6 +270,8 @@ def _print_verdict(verdict, heading: str | None = None) -> None:
     """Per axis its verdict and what its data leave open; per figure of the circles the
     least firm verdict over both directions, with what would settle it, after
     ``heading``."""
+    from ..analysis.compare import raw_spike_named
+
     if verdict is None:
         return
     if heading and verdict.figures:

@@ -3,6 +3,7 @@ open and what would settle it, per figure its 90 % interval against its target."
 
 from __future__ import annotations
 
+from ..analysis.compare import raw_spike_named
 from .html import esc, para, table
 
 _TEXT = {"firm": "firm", "uncertain": "uncertain", "undetermined": "undetermined"}
@@ -37,8 +38,7 @@ def verdict_html(verdict: dict) -> str:
                          f"to settle: {r['settle']}", "warn")
     # the raw e - b, as the command line names it: the circle's table leads with others
     rows = [{"circle": f["test"], "pass": f["direction"],
-             "figure": f["figure"].replace("spike", "raw spike") + (
-                 " (e − b)" if f["figure"].startswith("spike") else ""),
+             "figure": raw_spike_named(f["figure"], "−"),
              "predicted [µm]": f["nominal_um"], "± 90 % [µm]": _or_nan(f["half_width_um"]),
              "target [µm]": f["target_um"], "verdict": _TEXT[f["verdict"]],
              "cause": f["cause"], "to settle": f["settle"]}

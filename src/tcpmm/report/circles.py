@@ -8,6 +8,7 @@ import json
 from pathlib import Path
 
 from ..analysis.circle_display import undetermined_lines
+from ..analysis.compare import raw_spike_named
 from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..errors import InputError
 from ..plot.circle import plot_circle
@@ -369,6 +370,6 @@ def _judged_columns(judged):
     out = judged.rename(columns={"direction": "pass",
                                  "measured_minus_predicted_um": "measured − predicted [µm]",
                                  "half_width_90_um": "90 % interval ± [µm]"})
-    out["figure"] = [f"raw {f} (e − b)" if f.startswith("spike") else f for f in out["figure"]]
+    out["figure"] = [raw_spike_named(f, "−") for f in out["figure"]]
     out["inside"] = ["yes" if v else "no" for v in out["inside"]]
     return out

@@ -86,6 +86,15 @@ def bench_path(letter: str) -> Path:
     return d
 
 
+
+def run_cli(capsys, *args):
+    """``(exit code, stdout, stderr)`` of the command line run in-process on ``args``."""
+    from tcpmm.cli import main
+
+    code = main([str(a) for a in args])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
 @pytest.fixture(scope="session")
 def once(tmp_path_factory):
     """``once(key, make)``: ``make()``, computed once per test run and shared by the workers

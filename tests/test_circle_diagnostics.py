@@ -15,7 +15,7 @@ import warnings
 import numpy as np
 import pytest
 
-from conftest import bench_path
+from conftest import bench_path, run_cli
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
 from tcpmm.cli import main
@@ -248,12 +248,6 @@ def test_a_short_arc_is_refused():
         diagnose_pair((a[:3000], e[:3000]), circle("cw", {}), R)
 
 
-def cli(capsys, *args):
-    code = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
-
-
 @pytest.fixture(scope="module")
 def pair(tmp_path_factory):
     d = tmp_path_factory.mktemp("pair")
@@ -264,7 +258,7 @@ def pair(tmp_path_factory):
 
 
 def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
-    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35)
+    code, out, _ = run_cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35)
     assert code == 0
     # the tables in 80 columns; their titles (the runs' names) and captions are lines of
     # their own, never wrapped in a pipe
@@ -274,7 +268,7 @@ def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
     for text in ("backlash X", "squareness", "µm/m", "scale mismatch", "ppm", "servo mismatch",
                  "ms", "circularity G, G(b)", "spike A after the pair's terms"):
         assert text in out, text
-    code, out, _ = cli(capsys, "circle", pair / "cw.csv", pair / "ccw.csv", "--radius", 35,
+    code, out, _ = run_cli(capsys, "circle", pair / "cw.csv", pair / "ccw.csv", "--radius", 35,
                        "--json")
     assert code == 0
     got = json.loads(out)
@@ -289,20 +283,20 @@ def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
 
 
 def test_cli_single_run_stays_as_it_was(capsys, pair):
-    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
+    code, out, _ = run_cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
     assert code == 0
     got = json.loads(out)
     assert "diagnostics" not in got and [p["direction"] for p in got["passes"]] == ["ccw"]
-    code, _, err = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--sensor", "tcp")
+    code, _, err = run_cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--sensor", "tcp")
     assert code == 2 and "no CW circle" in err and "Traceback" not in err
-    code, _, err = cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35,
+    code, _, err = run_cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35,
                        "--direction", "ccw")
     assert code == 2 and "not both" in err
 
 
 def test_cli_names_a_quadrant_point_at_the_start(capsys, tmp_path):
     run_of("ccw", {}, start_deg=90.0).write_csv(tmp_path / "b.csv")
-    code, out, err = cli(capsys, "circle", tmp_path / "b.csv", "--radius", 35)
+    code, out, err = run_cli(capsys, "circle", tmp_path / "b.csv", "--radius", 35)
     assert code == 0
     assert "warning:" in err and "quadrant point B (90 deg)" in " ".join(err.split())
     row = next(line for line in out.splitlines() if "tcp" in line)
@@ -313,7 +307,7 @@ def test_bench_c_pair_finds_no_geometric_error(capsys):
     """Machine C's simulator has no geometric errors and no lateral play: squareness and
     lateral play read ~0 whatever its servo and friction do to the circles."""
     d = bench_path("c")
-    code, out, _ = cli(capsys, "circle", d / "circle_ccw_meas.csv", d / "circle_cw_meas.csv",
+    code, out, _ = run_cli(capsys, "circle", d / "circle_ccw_meas.csv", d / "circle_cw_meas.csv",
                        "--radius", 35, "--json")
     assert code == 0
     terms = {t["term"]: t["value"] for t in json.loads(out)["diagnostics"]["terms"]}
@@ -406,11 +400,11 @@ def test_the_circle_table_and_the_report_lead_with_the_spike_after_the_terms(cap
     err = {"tau_y": 1e-3, "cx": 10e-6, "spikes": SPIKE_5}
     run = run_of("ccw", err)
     run.write_csv(tmp_path / "r.csv")
-    code, out, _ = cli(capsys, "circle", tmp_path / "r.csv", "--radius", 35)
+    code, out, _ = run_cli(capsys, "circle", tmp_path / "r.csv", "--radius", 35)
     assert code == 0 and "after the fitted terms" in " ".join(out.split())
     row = next(line for line in out.splitlines() if "tcp" in line).split()
     assert [float(c) for c in row[2:6]] == pytest.approx([0, 5, 0, 0], abs=0.06)
-    code, out, _ = cli(capsys, "circle", tmp_path / "r.csv", "--radius", 35, "--json")
+    code, out, _ = run_cli(capsys, "circle", tmp_path / "r.csv", "--radius", 35, "--json")
     [tcp] = [r for r in json.loads(out)["passes"][0]["sensors"] if r["sensor"] == "tcp"]
     assert tcp["spike_after_terms_B_um"] == pytest.approx(5.0, abs=0.06)
     assert tcp["spike_B_um"] == pytest.approx(analyse_circle(run, R).passes[0]
@@ -470,12 +464,12 @@ def test_one_direction_gives_what_it_determines_and_says_why_the_rest_needs_the_
 
 
 def test_cli_one_direction_prints_its_terms_and_why_the_others_need_the_pair(capsys, pair):
-    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35)
+    code, out, _ = run_cli(capsys, "circle", pair / "ccw.csv", "--radius", 35)
     assert code == 0
     text = " ".join(out.split())
     assert "squareness or servo" in text and "terms ranked by their share of G" in text
     assert "servo mismatch: not determined; one direction shows" in text
-    code, out, _ = cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
+    code, out, _ = run_cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--json")
     one = json.loads(out)["diagnostics_one_direction"]
     terms = {t["term"]: t["value"] for t in one["terms"]}
     # 50 um/m of squareness and 0.2 ms of Y lag at 0.87 rad/s: 224.5 um/m of ellipse
@@ -557,7 +551,7 @@ def test_220_deg_arcs_in_xz_and_yz_are_found_and_diagnosed(axes, tmp_path, capsy
     assert diag[f"backlash_{b}"] == pytest.approx(-3e-6, rel=0.02)
     assert diag["servo_mismatch"] == pytest.approx(0.3e-3, rel=0.02)
     run.write_csv(tmp_path / "arcs.csv")
-    code, out, _ = cli(capsys, "circle", tmp_path / "arcs.csv", "--radius", 35, "--plane",
+    code, out, _ = run_cli(capsys, "circle", tmp_path / "arcs.csv", "--radius", 35, "--plane",
                        "".join(axes))
     text = " ".join(out.split())
     assert code == 0 and "CCW: an arc of 220 deg" in text

@@ -7,15 +7,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from conftest import run_cli
 from tcpmm.cli import main
 from tcpmm.demo import paper_circle_command
 from tcpmm.path import write_command_csv
-
-
-def run(capsys, *args):
-    code = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
 
 
 @pytest.fixture(scope="module")
@@ -27,18 +22,18 @@ def files(tmp_path_factory):
 
 def test_export_simulate_circle_compare(capsys, files):
     d = files
-    code, _, _ = run(capsys, "machine", "export", "vmc", "-o", d / "m.yaml")
+    code, _, _ = run_cli(capsys, "machine", "export", "vmc", "-o", d / "m.yaml")
     assert code == 0 and (d / "m.yaml").is_file()
     # builtin:vmc, as every other command takes it, was 'unknown built-in machine'
-    code, _, _ = run(capsys, "machine", "export", "builtin:vmc", "-o", d / "m2.yaml")
+    code, _, _ = run_cli(capsys, "machine", "export", "builtin:vmc", "-o", d / "m2.yaml")
     assert code == 0 and (d / "m2.yaml").read_text() == (d / "m.yaml").read_text()
-    code, out, _ = run(capsys, "simulate", d / "m.yaml", "--command", d / "cmd.csv",
+    code, out, _ = run_cli(capsys, "simulate", d / "m.yaml", "--command", d / "cmd.csv",
                        "-o", d / "run.csv")
     assert code == 0, out
     header = (d / "run.csv").read_text().splitlines()[0].split(",")
     assert header[:6] == ["time_s", "x_cmd_mm", "x_motor_mm", "x_scale_mm", "x_tcp_mm",
                           "x_current_A"]
-    code, out, _ = run(capsys, "circle", d / "run.csv", "--radius", 35, "--json")
+    code, out, _ = run_cli(capsys, "circle", d / "run.csv", "--radius", 35, "--json")
     assert code == 0
     res = json.loads(out)
     assert [p["direction"] for p in res["passes"]] == ["ccw", "cw"]
@@ -49,7 +44,7 @@ def test_export_simulate_circle_compare(capsys, files):
     assert abs(tcp["contour_error_um"] - scale["contour_error_um"]) > 1.0
     assert min(abs(tcp["spike_B_um"]), abs(tcp["spike_D_um"])) > 2 * max(
         abs(tcp["spike_A_um"]), abs(tcp["spike_C_um"]))
-    code, out, _ = run(capsys, "compare", d / "run.csv", d / "run.csv", "--radius", 35,
+    code, out, _ = run_cli(capsys, "compare", d / "run.csv", d / "run.csv", "--radius", 35,
                        "--json")
     assert code == 0
     cmp = json.loads(out)
@@ -58,7 +53,7 @@ def test_export_simulate_circle_compare(capsys, files):
 
 
 def test_bode_targets(capsys, files):
-    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_T",
+    code, out, _ = run_cli(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_T",
                        "--freq-hz", "0.01", "--json")
     assert code == 0
     h = json.loads(out)[0]
@@ -72,7 +67,7 @@ def test_bode_targets(capsys, files):
     stiff = m.with_axis("X", x.replace(mechanics=x.mechanics.scaled(K_b=1e6, K_h=1e6)))
     write_machine(stiff, files / "stiff.yaml")
     f = ",".join(str(v) for v in np.linspace(1, 500, 50))
-    code, out, _ = run(capsys, "bode", files / "stiff.yaml", "--axis", "x", "--tf", "G_tcp",
+    code, out, _ = run_cli(capsys, "bode", files / "stiff.yaml", "--axis", "x", "--tf", "G_tcp",
                        "--freq-hz", f, "--json")
     assert code == 0
     assert max(abs(complex(r["re"], r["im"]) - 1) for r in json.loads(out)) < 1e-3
@@ -85,23 +80,23 @@ def test_bode_targets(capsys, files):
 ])
 def test_errors_are_messages_not_tracebacks(capsys, tmp_path, monkeypatch, args, needle):
     monkeypatch.chdir(tmp_path)
-    code, out, err = run(capsys, *args)
+    code, out, err = run_cli(capsys, *args)
     assert code == 2
     assert needle in err and "Traceback" not in err + out
 
 
 def test_bad_model_file_names_line(capsys, tmp_path):
     p = tmp_path / "m.yaml"
-    run(capsys, "machine", "export", "vmc", "-o", p)
+    run_cli(capsys, "machine", "export", "vmc", "-o", p)
     p.write_text(p.read_text().replace("K_pp:", "Kpp:", 1))
-    code, _, err = run(capsys, "bode", p, "--axis", "X", "--tf", "G_M")
+    code, _, err = run_cli(capsys, "bode", p, "--axis", "X", "--tf", "G_M")
     assert code == 2 and "Kpp" in err and "line" in err
 
 
 def test_demo_writes_everything(capsys, tmp_path):
     """The demo writes its report by default and prints its absolute path; the page opens
     with the verdict on the measured circle against the tolerance given."""
-    code, out, _ = run(capsys, "demo", "-o", tmp_path / "demo", "--tolerance-um", 100)
+    code, out, _ = run_cli(capsys, "demo", "-o", tmp_path / "demo", "--tolerance-um", 100)
     assert code == 0
     for name in ("model.yaml", "run.csv", "circle.png", "bode_X.png", "bode_Y.png",
                  "time.png", "circle_table.csv", "circle.json", "table2.csv", "spread.csv",
@@ -159,7 +154,7 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
     virtual_bundle(builtin_machine(), tmp_path / "b", axes=("X",))
     for um in (1.5, 0.0):
         model = tmp_path / f"m{um}.yaml"
-        code, out, err = run(capsys, "identify", tmp_path / "b", "-o", model,
+        code, out, err = run_cli(capsys, "identify", tmp_path / "b", "-o", model,
                              "--presliding-um", um, "--json")
         assert code == 0, err
         x = json.loads(out)["axes"]["X"]
@@ -171,7 +166,7 @@ def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
             assert g.sigma0 * 1.5e-6 == pytest.approx(max(g.fs_pos, g.fs_neg), rel=1e-6)
         else:
             assert not isinstance(g, LuGreFriction)
-    code, out, err = run(capsys, "identify", tmp_path / "b", "-o", tmp_path / "d.yaml",
+    code, out, err = run_cli(capsys, "identify", tmp_path / "b", "-o", tmp_path / "d.yaml",
                          "--report", tmp_path / "ident.html")
     assert code == 0, err
     page = (tmp_path / "ident.html").read_text(encoding="utf-8")
@@ -194,7 +189,7 @@ def test_json_in_a_pipe_is_written_as_it_is(capsys, monkeypatch):
         raise AssertionError("rendered by rich in a pipe")
 
     monkeypatch.setattr(rich.json.JSON, "__init__", refused)
-    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_T",
+    code, out, _ = run_cli(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_T",
                        "--freq-hz", "0.01,1", "--json")
     assert code == 0
     assert out == json.dumps(json.loads(out), indent=2, ensure_ascii=False) + "\n"
@@ -203,7 +198,7 @@ def test_json_in_a_pipe_is_written_as_it_is(capsys, monkeypatch):
 def test_bode_text_columns_line_up(capsys):
     """The phase column started wherever the magnitude's digits ended (|H| 8.58824 and
     |H| 0.0440112 put it two columns apart)."""
-    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_M",
+    code, out, _ = run_cli(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", "G_M",
                        "--freq-hz", "1,10,100,1000,10000,0.001")
     assert code == 0
     lines = [line for line in out.splitlines() if line.strip()][1:]  # after the heading
@@ -217,13 +212,13 @@ def test_bode_text_columns_line_up(capsys):
                                           ("L_p", "-")])
 def test_bode_says_what_the_response_relates_and_its_unit(capsys, tf, unit):
     """|H| came without its unit: 8.58824 of G_M could be rad/s or mm/min per A."""
-    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", tf,
+    code, out, _ = run_cli(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", tf,
                        "--freq-hz", "10,20")
     assert code == 0
     head, *rows = [line for line in out.splitlines() if line.strip()]
     assert head.startswith(f"{tf} of axis X: ") and head.endswith(f"[{unit}]")
     assert len(rows) == 2 and all(f" {unit} " in r.split("|H|")[1] for r in rows)
-    code, out, _ = run(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", tf,
+    code, out, _ = run_cli(capsys, "bode", "builtin:vmc", "--axis", "X", "--tf", tf,
                        "--freq-hz", "10", "--json")
     assert json.loads(out)[0]["unit"] == unit
 
@@ -244,7 +239,7 @@ def test_a_raw_spike_is_named_raw_where_circle_leads_with_another(tmp_path, caps
         m = m.with_axis(n, m.axes[n].replace(uncertainty=AxisUncertainty()))
     write_machine(m, tmp_path / "m.yaml")
     write_command_csv(paper_circle_command(m), tmp_path / "cmd.csv")
-    code, out, err = run(capsys, "spread", str(tmp_path / "m.yaml"), "--command",
+    code, out, err = run_cli(capsys, "spread", str(tmp_path / "m.yaml"), "--command",
                          str(tmp_path / "cmd.csv"), "--radius", "35", "--draws", "2")
     assert code == 0, err
     text = " ".join(out.split())
@@ -257,7 +252,7 @@ def test_a_record_period_off_the_loop_is_refused_by_its_option(tmp_path, capsys)
     fault, not the program's: the message named the NC program."""
     prog = tmp_path / "p.nc"
     prog.write_text("G21 G90 G1 X10 Y0 F3000\nX0\n")
-    code, _out, err = run(capsys, "simulate", "builtin:vmc", "--gcode", str(prog), "-o",
+    code, _out, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", str(prog), "-o",
                          str(tmp_path / "r.csv"), "--record-period-s", "0.0007")
     text = " ".join(err.split())
     assert code == 2 and "Invalid value for --record-period-s" in text and "p.nc" not in text
@@ -356,12 +351,12 @@ def test_a_measured_run_without_command_compares_to_its_own_signals_as_zero(caps
     The prediction's were cut on its command, so the same signals compared up to 3.6 um
     apart; both are now cut alike, in compare and in the report."""
     d = files
-    code, _, _ = run(capsys, "simulate", "builtin:vmc", "--command", d / "cmd.csv",
+    code, _, _ = run_cli(capsys, "simulate", "builtin:vmc", "--command", d / "cmd.csv",
                      "-o", d / "pred.csv")
     assert code == 0
     frame = pd.read_csv(d / "pred.csv")
     frame.drop(columns=[c for c in frame if "_cmd_" in c]).to_csv(d / "meas.csv", index=False)
-    code, out, err = run(capsys, "compare", d / "meas.csv", d / "pred.csv", "--radius", 35,
+    code, out, err = run_cli(capsys, "compare", d / "meas.csv", d / "pred.csv", "--radius", 35,
                          "--json")
     assert code == 0, err
     rows = json.loads(out)["rows"]
@@ -369,7 +364,7 @@ def test_a_measured_run_without_command_compares_to_its_own_signals_as_zero(caps
     for r in rows:
         assert r["contour_error_um"] == 0.0 and r["radial_max_um"] == 0.0, r
     assert "passes are found on its sensors" in err
-    code, _, err = run(capsys, "report", "-o", d / "r.html", "--measured", d / "meas.csv",
+    code, _, err = run_cli(capsys, "report", "-o", d / "r.html", "--measured", d / "meas.csv",
                        "--predicted", d / "pred.csv", "--radius", 35)
     assert code == 0, err
     import tcpmm
@@ -399,10 +394,10 @@ def test_numpys_runtime_warnings_do_not_reach_the_user(capsys, monkeypatch):
     with warnings.catch_warnings():
         warnings.simplefilter("always")
         warnings.showwarning = lambda message, *a, **k: passed_on.append(str(message))
-        code, out, err = run(capsys, "machine", "show", "builtin:vmc")
+        code, out, err = run_cli(capsys, "machine", "show", "builtin:vmc")
         assert code == 0 and "empty slice" not in out + err and not passed_on
         monkeypatch.setenv("TCPMM_TRACEBACK", "1")
-        code, out, err = run(capsys, "machine", "show", "builtin:vmc")
+        code, out, err = run_cli(capsys, "machine", "show", "builtin:vmc")
     assert code == 0 and passed_on == ["Mean of empty slice"]
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import run_cli
 from tcpmm.cli import main
 from tcpmm.demo import paper_circle_command
 from tcpmm.ident.frf import FRF
@@ -28,12 +29,6 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 BOXED = set("┏━┳┃┡╇┩│└┴┘┓┐┌┼├┤")
 
 SQUARE = "G21 G17 G90\nG0 X0 Y0\nG1 X20 Y0 F3000\nX20 Y20\nX0 Y20\nM30\n"
-
-
-def run(capsys, *args):
-    code = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +70,7 @@ def test_no_command_builds_a_table_of_its_own():
 @pytest.mark.parametrize("name", ["contour", "circle", "frf show", "compare", "tune"])
 def test_every_result_table_is_plain(capsys, runs, name):
     """No vertical rules and no heavy head: columns apart by spaces, the head ruled."""
-    code, out, err = run(capsys, *commands(runs)[name])
+    code, out, err = run_cli(capsys, *commands(runs)[name])
     assert code == 0, err
     assert not BOXED & set(out), out
     rules = [line for line in out.splitlines() if line and set(line) <= {"─", " "}]
@@ -86,7 +81,7 @@ def test_every_result_table_is_plain(capsys, runs, name):
 def test_no_line_in_a_pipe_ends_in_spaces(capsys, runs, name):
     """Titles and captions were centred and padded to the table's width, and each row to
     the last column's: a log held spaces at the end of most lines."""
-    code, out, err = run(capsys, *commands(runs)[name])
+    code, out, err = run_cli(capsys, *commands(runs)[name])
     assert code == 0, err
     assert [line for line in out.splitlines() if line != line.rstrip()] == []
 
@@ -95,12 +90,12 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     """A caption was word-wrapped to its table's width and centred: 'overshoot: outside
     the path ... settled within 1 µm' came in three pieces, and a grep for a figure in it
     failed. Titles and captions are now lines of their own, never wrapped in a pipe."""
-    code, out, _ = run(capsys, *commands(runs)["contour"])
+    code, out, _ = run_cli(capsys, *commands(runs)["contour"])
     lines = out.splitlines()
     assert code == 0 and "corners, tcp" in lines and "signed, +: left of travel" in lines
     assert any(line.startswith("overshoot: outside the path past the corner, rounding: ")
                and line.endswith("settled within 1 µm") for line in lines), out
-    code, out, _ = run(capsys, *commands(runs)["circle"])
+    code, out, _ = run_cli(capsys, *commands(runs)["circle"])
     lines = out.splitlines()
     assert code == 0 and f"{runs / 'circle.csv'} [µm]" in lines
     assert "circle diagnostics (tcp) [µm]" in lines
@@ -109,10 +104,10 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
                and line.endswith("G circular deviation") for line in lines), out
     assert any(line.startswith("G(b) alone: the G(b) the term's radial error alone makes")
                and line.endswith("share: of the sum of those") for line in lines), out
-    code, out, _ = run(capsys, *commands(runs)["tune"])
+    code, out, _ = run_cli(capsys, *commands(runs)["tune"])
     lines = out.splitlines()
     assert code == 0 and "axis X: tuning for 6 dB / 45 deg: met" in lines
-    code, out, _ = run(capsys, *commands(runs)["compare"])
+    code, out, _ = run_cli(capsys, *commands(runs)["compare"])
     assert code == 0
     assert ("measured - predicted (raw spikes e - b, as in the paper's Table 2)"
             in out.splitlines())
@@ -171,10 +166,10 @@ def test_lc_all_c_keeps_working(tmp_path, runs):
 def test_a_command_says_its_units_alike_in_titles_and_columns(capsys, runs):
     """tune's path table was titled '[um]' over figures the other tables head '[µm]', and
     compare's verdicts likewise."""
-    code, out, err = run(capsys, *commands(runs)["tune"])
+    code, out, err = run_cli(capsys, *commands(runs)["tune"])
     assert code == 0, err
     assert "predicted path (TCP) [µm]" in out.splitlines() and "[um]" not in out
-    code, out, err = run(capsys, *commands(runs)["compare"], "--model", "builtin:vmc")
+    code, out, err = run_cli(capsys, *commands(runs)["compare"], "--model", "builtin:vmc")
     assert code == 0, err
     assert "tcp: measured - predicted against the predicted 90 % interval [µm]" in (
         out.splitlines())

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import yaml
 
-from tcpmm.cli import main
+from conftest import run_cli
 from tcpmm.errors import InputError
 from tcpmm.ident.frf import FRF
 from tcpmm.ident.lti import DAMPING_FLOOR, fit_frf, noise_level
@@ -98,16 +98,10 @@ def test_auto_order_on_the_real_trace_has_no_needles(trace_fit):
     assert np.any(np.abs(res.tf.natural_freq_hz - 2238) < 10)
 
 
-def run(capsys, *args):
-    code = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
-
-
 @needs_trace
 def test_cli_fit_writes_json_fragment_and_plot(capsys, tmp_path):
     js, frag, png = tmp_path / "fit.json", tmp_path / "frag.yaml", tmp_path / "fit.png"
-    code, out, err = run(capsys, "frf", "fit", TRACE, "--band", "3,1500", "-o", js,
+    code, out, err = run_cli(capsys, "frf", "fit", TRACE, "--band", "3,1500", "-o", js,
                          "--model-fragment", frag, "--plot", png, "--json")
     assert code == 0, err
     d = json.loads(out)
@@ -121,10 +115,10 @@ def test_cli_fit_writes_json_fragment_and_plot(capsys, tmp_path):
 
 def test_cli_fit_and_show_on_csv(capsys, tmp_path):
     p = write_frf_csv(noisy_frf(0), tmp_path / "m.csv", polar=True)
-    code, out, _ = run(capsys, "frf", "fit", p, "--poles", 5, "--delay", "none",
+    code, out, _ = run_cli(capsys, "frf", "fit", p, "--poles", 5, "--delay", "none",
                        "--weight", "magnitude")
     assert code == 0 and "5 poles" in out
-    code, out, _ = run(capsys, "frf", "show", p, "--json")
+    code, out, _ = run_cli(capsys, "frf", "show", p, "--json")
     assert code == 0 and json.loads(out)["bins"] == F.size
 
 
@@ -133,9 +127,9 @@ def test_show_and_fit_give_one_noise(capsys, tmp_path):
     complex |dH/H| it sets its residual against (0.0341), both as "relative noise": the
     same file's noise is one figure, the complex one, in both."""
     p = write_frf_csv(noisy_frf(0), tmp_path / "m.csv")
-    codes, out, _ = run(capsys, "frf", "show", p, "--json")
+    codes, out, _ = run_cli(capsys, "frf", "show", p, "--json")
     shown = json.loads(out)["noise_rel_median"]
-    codef, out, _ = run(capsys, "frf", "fit", p, "--poles", 5, "--json")
+    codef, out, _ = run_cli(capsys, "frf", "fit", p, "--poles", 5, "--json")
     fitted = json.loads(out)["quality"]["noise_rms"]
     assert codes == codef == 0
     assert shown == pytest.approx(fitted, rel=0.2)
@@ -152,7 +146,7 @@ def test_show_and_fit_give_one_noise(capsys, tmp_path):
 def test_cli_errors_exit_2_without_traceback(capsys, tmp_path, args):
     csv = write_frf_csv(noisy_frf(0), tmp_path / "m.csv")
     (tmp_path / "m.txt").write_text("x")
-    code, out, err = run(capsys, *[a.format(csv=csv, txt=tmp_path / "m.txt") for a in args])
+    code, out, err = run_cli(capsys, *[a.format(csv=csv, txt=tmp_path / "m.txt") for a in args])
     assert code == 2
     assert "Traceback" not in out + err
 
@@ -163,11 +157,11 @@ def test_cli_lines_are_not_wrapped_in_a_pipe(capsys, tmp_path):
     deep = tmp_path / ("d" * 120) / ("e" * 120)
     deep.mkdir(parents=True)
     p = write_frf_csv(noisy_frf(0), deep / "m.csv", polar=True)
-    code, out, _ = run(capsys, "frf", "fit", p, "--poles", 5, "--delay", "none",
+    code, out, _ = run_cli(capsys, "frf", "fit", p, "--poles", 5, "--delay", "none",
                        "--weight", "magnitude")
     assert code == 0
     assert any(str(p) in line and "5 poles" in line for line in out.splitlines()), out
-    code, _, err = run(capsys, "frf", "fit", deep / "missing.csv")
+    code, _, err = run_cli(capsys, "frf", "fit", deep / "missing.csv")
     assert code == 2 and len(err.strip().splitlines()) == 1, err
 
 
@@ -226,7 +220,7 @@ def test_model_fragment_reads_back_and_load_model_points_to_its_reader(capsys, t
 
     p = write_frf_csv(noisy_frf(1), tmp_path / "m.csv", polar=True)
     frag, js = tmp_path / "frag.yaml", tmp_path / "fit.json"
-    code, _, err = run(capsys, "frf", "fit", p, "--poles", 5, "--model-fragment", frag,
+    code, _, err = run_cli(capsys, "frf", "fit", p, "--poles", 5, "--model-fragment", frag,
                        "-o", js)
     assert code == 0, err
     tfs = tcpmm.read_tf_fragment(frag)

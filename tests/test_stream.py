@@ -11,6 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
+from conftest import run_cli
 from tcpmm.analysis.contour import contour_error
 from tcpmm.analysis.contour_stream import stream_contour
 from tcpmm.cli import main
@@ -280,19 +281,13 @@ def test_contour_in_chunks_is_the_whole_runs(vmc, tmp_path):
     assert res.most_rows < 97 + 2 * 400  # a chunk and the windows around it (0.2 s)
 
 
-def cli(capsys, *args):
-    code = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
-
-
 def test_cli_writes_row_groups_that_contour_reads(vmc, tmp_path, capsys):
     import pyarrow.parquet as pq
 
     prog = tmp_path / "zig.nc"
     prog.write_text(PROGRAMS["zigzag"])
     out = tmp_path / "run.parquet"
-    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", out,
+    code, _, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", out,
                        "--chunk-blocks", 5)
     assert code == 0, err
     assert pq.ParquetFile(out).metadata.num_row_groups > 2
@@ -302,8 +297,8 @@ def test_cli_writes_row_groups_that_contour_reads(vmc, tmp_path, capsys):
     for a in "XYZ":
         assert np.array_equal(run.axes[a].tcp, ref.axes[a].tcp)
         assert np.array_equal(run.axes[a].current, ref.axes[a].current)
-    code, whole, _ = cli(capsys, "contour", out, "--plane", "XY", "--json")
-    code2, chunked, _ = cli(capsys, "contour", out, "--plane", "XY", "--json",
+    code, whole, _ = run_cli(capsys, "contour", out, "--plane", "XY", "--json")
+    code2, chunked, _ = run_cli(capsys, "contour", out, "--plane", "XY", "--json",
                             "--chunk-rows", 300)
     assert code == code2 == 0
     a, b = json.loads(whole)["sensors"], json.loads(chunked)["sensors"]
@@ -320,7 +315,7 @@ def test_a_streamed_runs_summary_says_what_the_whole_runs_does(tmp_path, capsys,
     prog.write_text(PROGRAMS[name])
     said = {}
     for out, more in (("run.csv", ()), ("run.parquet", ("--chunk-blocks", 4))):
-        code, text, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+        code, text, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
                               tmp_path / out, "--json", *more)
         assert code == 0, err
         said[out] = json.loads(text)
@@ -342,7 +337,7 @@ def test_a_bad_line_far_in_is_named_and_leaves_no_file(tmp_path, capsys):
     assert exc.value.line == 2501 and exc.value.column is not None
     assert str(prog) in str(exc.value)
     out = tmp_path / "run.parquet"
-    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", out,
+    code, _, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", out,
                        "--chunk-blocks", 100)
     assert code == 2 and "line 2501" in err and "Traceback" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.nc"]
@@ -352,8 +347,8 @@ def test_a_bad_line_far_in_is_named_and_leaves_no_file(tmp_path, capsys):
 def test_cli_path_in_chunks_writes_the_same_file(tmp_path, capsys, name):
     prog = tmp_path / "p.nc"
     prog.write_text(PROGRAMS[name])
-    assert cli(capsys, "path", prog, "-o", tmp_path / "a.csv")[0] == 0
-    assert cli(capsys, "path", prog, "-o", tmp_path / "b.csv", "--chunk-blocks", 3)[0] == 0
+    assert run_cli(capsys, "path", prog, "-o", tmp_path / "a.csv")[0] == 0
+    assert run_cli(capsys, "path", prog, "-o", tmp_path / "b.csv", "--chunk-blocks", 3)[0] == 0
     whole, chunked = (tmp_path / "a.csv").read_bytes(), (tmp_path / "b.csv").read_bytes()
     assert chunked == whole and (b"z_mm" in whole) == (name == "arcs")
 
@@ -361,7 +356,7 @@ def test_cli_path_in_chunks_writes_the_same_file(tmp_path, capsys, name):
 def test_chunks_are_asked_only_where_they_stream(tmp_path, capsys):
     prog = tmp_path / "p.nc"
     prog.write_text(PROGRAMS["zigzag"])
-    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+    code, _, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
                        tmp_path / "run.csv", "--chunk-blocks", 5)
     assert code == 2 and "-o RUN.parquet" in err
 
@@ -424,10 +419,10 @@ def test_a_program_too_long_to_make_whole_points_to_streaming(tmp_path, capsys, 
     monkeypatch.setattr(interpolate, "MAX_SAMPLES", 2_000)
     prog = tmp_path / "zz.nc"
     prog.write_text(PROGRAMS["zigzag"])
-    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+    code, _, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
                        tmp_path / "run.csv")
     assert code == 2 and "-o RUN.parquet" in " ".join(err.split())
-    code, _, err = cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+    code, _, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
                        tmp_path / "run.parquet", "--chunk-blocks", 5)
     assert code == 0, err
 

@@ -9,7 +9,7 @@ import logging
 import pandas as pd
 import pytest
 
-from tcpmm.cli import main
+from conftest import run_cli
 from tcpmm.errors import InputError
 from tcpmm.io.modelfile import read_machine, write_machine
 from tcpmm.whatif.sweep import apply_parameters
@@ -52,12 +52,6 @@ def serial(study):
                             chunk_blocks=2)
 
 
-def _cli(capsys, *args):
-    code = main([str(a) for a in args])
-    got = capsys.readouterr()
-    return code, got.out, got.err
-
-
 def test_program_files(study, tmp_path):
     names = [p.name for p in program_files(study["progs"])]
     assert names == ["arc.ngc", "bad.nc", "square.nc"]  # sorted; notes.txt is no program
@@ -74,10 +68,10 @@ def test_program_files(study, tmp_path):
 def _direct(capsys, model, program, tmp_path):
     """The pair through ``tcpmm simulate --gcode`` and ``tcpmm contour`` [-]."""
     run = tmp_path / "run.parquet"
-    code, out, _ = _cli(capsys, "simulate", model, "--gcode", program, "-o", run, "--json")
+    code, out, _ = run_cli(capsys, "simulate", model, "--gcode", program, "-o", run, "--json")
     assert code == 0
     sim = json.loads(out)
-    code, out, _ = _cli(capsys, "contour", run, "--json")
+    code, out, _ = run_cli(capsys, "contour", run, "--json")
     assert code == 0
     return sim, json.loads(out)
 
@@ -161,7 +155,7 @@ def _same(a: dict, b: dict) -> bool:
 
 def test_cli_on_a_cluster_on_loopback(study, serial, loopback, capsys, tmp_path):
     assert loopback.startswith("tcp://127.0.0.1:")
-    code, out, _ = _cli(capsys, "sweep", *study["models"], "--programs", study["progs"],
+    code, out, _ = run_cli(capsys, "sweep", *study["models"], "--programs", study["progs"],
                         "--scheduler", loopback, "--chunk-blocks", 3, "-o", tmp_path,
                         "--json")
     assert code == 1  # the malformed program's rows; the others ran
@@ -174,17 +168,17 @@ def test_cli_on_a_cluster_on_loopback(study, serial, loopback, capsys, tmp_path)
 
 
 def test_cli_text_report_and_refusals(study, capsys, tmp_path):
-    code, out, err = _cli(capsys, "sweep", "builtin:vmc", "--programs",
+    code, out, err = run_cli(capsys, "sweep", "builtin:vmc", "--programs",
                           study["progs"] / "square.nc", "--workers", 1, "-o", tmp_path)
     assert code == 0 and "1 (model, program) pairs: 1 ran, 0 failed" in out
     assert "programs.csv" in out
-    code, _, err = _cli(capsys, "sweep", *study["models"], "-p", "X.servo.K_pp=20,30",
+    code, _, err = run_cli(capsys, "sweep", *study["models"], "-p", "X.servo.K_pp=20,30",
                         "-o", tmp_path)
     assert code == 2 and "takes one model" in err.replace("\n", " ")
-    code, _, err = _cli(capsys, "sweep", "builtin:vmc", "--programs", study["progs"],
+    code, _, err = run_cli(capsys, "sweep", "builtin:vmc", "--programs", study["progs"],
                         "-p", "X.servo.K_pp=20,30", "-o", tmp_path)
     assert code == 2 and "--param" in err
-    code, _, err = _cli(capsys, "sweep", "builtin:vmc", "--programs", tmp_path / "none",
+    code, _, err = run_cli(capsys, "sweep", "builtin:vmc", "--programs", tmp_path / "none",
                         "-o", tmp_path)
     assert code == 2 and "no such folder" in err.replace("\n", " ")
 
@@ -219,7 +213,7 @@ def test_workers_get_the_programs_by_a_path_that_leads_from_anywhere(study, loop
 
     monkeypatch.setattr(module, "program_task", task)
     monkeypatch.chdir(study["root"])
-    code, out, _ = _cli(capsys, "sweep", "builtin:vmc", "--programs", "progs", "--scheduler",
+    code, out, _ = run_cli(capsys, "sweep", "builtin:vmc", "--programs", "progs", "--scheduler",
                         loopback, "-o", tmp_path / "out", "--json")
     paths = seen.read_text().split()
     assert code == 1 and len(paths) == 3 and all(p.startswith("/") for p in paths)

@@ -107,8 +107,8 @@ def _load_v5(path: Path):
         for k, v in obj.items():
             if isinstance(v, dict):
                 yield from walk(v, f"{prefix}{k}.")
-            elif _elements(v) is not None:  # a struct array: name each element's fields
-                for i, e in enumerate(_elements(v)[:_SHOWN]):
+            elif (elements := _elements(v)) is not None:  # a struct array: each element's fields
+                for i, e in enumerate(elements[:_SHOWN]):
                     yield from walk(e, f"{prefix}{k}({i + 1}).")
             else:
                 yield prefix + k

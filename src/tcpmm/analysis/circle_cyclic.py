@@ -2,7 +2,12 @@
 fit: its period is found by a scan (the three highest peaks on the grid each refined),
 the stronger axis first, then the other with it fitted, then each again over all periods
 with the other fitted. An axis' cyclic error counts when it lowers the sum of squares by
-30 noise variances, the noise taken from successive differences.
+30 noise variances, the noise taken from successive differences, and when it is an error
+of the axis' position: the same where the axis runs towards the end of its travel as where
+it runs back from it. A period the fit finds only after the reversals (the structure
+ringing once the friction has flipped, or a reversal's slow tail) differs between the two
+by more than its noise and a fifth of its amplitude, and is no cyclic error: a screw's
+pitch error does not know which way the axis turned last.
 """
 
 from __future__ import annotations
@@ -13,7 +18,8 @@ from .circle_model import angle_step, cyclic_columns
 
 
 def _scan(pos, w, resid, basis, radius, band, spacing):
-    """``(power, wavenumber)`` of the strongest cyclic error of an axis at ``pos`` seen
+    """``(power, wavenumber)`` of the strongest cyclic errors (up to three, strongest
+    first) of an axis at ``pos`` seen
     along the radius by ``w`` in the residual of a fit whose columns span the orthonormal
     ``basis``: the drop of the sum of squares that adding it to that fit brings [m^2] and
     its wavenumber [1/m], searched over ``band`` (``None``: periods from the radius down
@@ -31,7 +37,7 @@ def _scan(pos, w, resid, basis, radius, band, spacing):
 
     ks = np.arange(lo, hi, step)
     if ks.size == 0:
-        return 0.0, None
+        return [(0.0, None)]
     p = np.concatenate([power(ks[j:j + 64]) for j in range(0, ks.size, 64)])
     # the grid can fall beside a peak and lower it under a smaller one: the three highest
     # peaks on the grid are each refined, and the highest after refining is taken
@@ -43,7 +49,7 @@ def _scan(pos, w, resid, basis, radius, band, spacing):
             fine = np.linspace(k - width, k + width, 21)
             k, width = fine[np.argmax(power(fine))], width / 10.0
         found.append((float(power(np.array([k]))[0]), k))
-    return max(found)
+    return sorted(found, reverse=True)
 
 
 def _columns(pos, w, ks):
@@ -88,21 +94,72 @@ def search_cyclic(pb, mu) -> tuple:
     # noise-free circle has no noise to stand out of, and found a period in rounding
     floor = max(30.0 * _noise(pb.arcs) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
     spacing = pb.radius * max(angle_step(a.angle) for a in pb.arcs)
-    waves = [None, None]
+    waves, found = [None, None], [[], []]
     _, res, basis = pb.solve(mu, waves)
     for _ in range(2):
-        found = [(0.0, None) if waves[ax] is not None else
+        scans = [[(0.0, None)] if waves[ax] is not None else
                  _scan(pos[ax], ws[ax], res, basis, pb.radius, None, spacing) for ax in (0, 1)]
-        ax = int(np.argmax([f[0] for f in found]))
-        if found[ax][0] <= floor:
+        ax = int(np.argmax([f[0][0] for f in scans]))
+        if scans[ax][0][0] <= floor:
             break
-        waves[ax] = found[ax][1]
+        waves[ax], found[ax] = scans[ax][0][1], scans[ax]
         _, res, basis = pb.solve(mu, waves)
+    for ax in (0, 1):
+        waves[ax] = _first_of_position(pb, mu, waves, ax, found[ax], floor)
     if all(k is not None for k in waves):  # each period again, the other one fitted
         for ax in (0, 1):
             others = [k if i != ax else None for i, k in enumerate(waves)]
             _, res_o, basis_o = pb.solve(mu, others)
             # over the whole band: the first scan, with the other axis' error unfitted, may
             # have put the peak at a period of the other's
-            waves[ax] = _scan(pos[ax], ws[ax], res_o, basis_o, pb.radius, None, spacing)[1]
+            again = _scan(pos[ax], ws[ax], res_o, basis_o, pb.radius, None, spacing)
+            waves[ax] = _first_of_position(pb, mu, waves, ax, again, 0.0) or waves[ax]
     return tuple(waves)
+
+
+def _first_of_position(pb, mu, waves, ax, found, floor):
+    """The strongest of the wavenumbers ``found`` for axis ``ax`` (``(power, k)``) above
+    ``floor`` whose cyclic error is one of the axis' position (:func:`_of_position`), the
+    other axis' as in ``waves``; None if none is [1/m]."""
+    for power, k in found:
+        trial = [k if i == ax else w for i, w in enumerate(waves)]
+        if k is not None and power > floor and _of_position(pb, mu, trial, ax):
+            return k
+    return None
+
+
+#: chi-square of 2 degrees of freedom that a difference of noise alone exceeds once in a
+#: thousand fits [-]
+_CHI2_2DOF = 13.8
+#: the part of a cyclic error's amplitude by which its two halves may differ [-]
+_HALVES = 0.2
+
+
+def _of_position(pb, mu, waves, ax) -> bool:
+    """Whether the cyclic error of axis ``ax`` at ``waves[ax]`` is one of its position:
+    fitted on the samples where the axis runs back from its nearer end (after its
+    reversal) and on those where it runs towards it, with the other terms, the two agree
+    within their noise or within :data:`_HALVES` of the amplitude (module docstring). An
+    arc that holds too few samples of either half cannot tell, and keeps it [-]."""
+    ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
+    s = np.concatenate([np.full(int(m.sum()), a.s) for a, m in
+                        zip(pb.arcs, pb.masks, strict=True)])
+    pos = np.concatenate([p[ax] for p in pb.pos])
+    w, vel = (np.cos(ang), -s * np.sin(ang)) if ax == 0 else (np.sin(ang), s * np.cos(ang))
+    back = (pos * vel < 0).astype(float)
+    others = [k if i != ax else None for i, k in enumerate(waves)]
+    _, res, basis = pb.solve(mu, others)
+    S, C = cyclic_columns(pos, w, waves[ax])
+    A = np.c_[S * back, C * back, S * (1 - back), C * (1 - back)]
+    A = A - basis @ (basis.T @ A)
+    if min(back.sum(), (1 - back).sum()) < 8 or np.linalg.matrix_rank(A) < 4:
+        return True
+    c, ss, *_ = np.linalg.lstsq(A, res, rcond=None)
+    dof = res.size - basis.shape[1] - 4
+    var = float(ss[0]) / dof if ss.size and dof > 0 else float(np.mean(res**2))
+    M = np.array([[1.0, 0, -1.0, 0], [0, 1.0, 0, -1.0]])
+    d = M @ c
+    cov = var * (M @ np.linalg.inv(A.T @ A) @ M.T)
+    chi2 = float(d @ np.linalg.solve(cov, d))
+    amp = 0.5 * (np.hypot(c[0], c[1]) + np.hypot(c[2], c[3]))
+    return chi2 <= _CHI2_2DOF or float(np.hypot(*d)) <= _HALVES * amp

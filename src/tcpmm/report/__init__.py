@@ -114,8 +114,18 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
         The two sections [-].
     """
     diag = _diagnostics(result, title, None)
-    return [acceptance_section(result, diag, tolerance_m, sample_rate_hz, source),
+    return [acceptance_section(result, diag, tolerance_m, sample_rate_hz, source,
+                               _at_scale(result, title, diag)),
             circle_section(result, key, title, diagnostics=diag, source=source)]
+
+
+def _at_scale(result, title, diag):
+    """The linear scale's diagnostics of the circles whose ``diag`` are the TCP's, to tell
+    what lies between the scale and the tool; None where there are none [-]."""
+    if diag is None or diag.sensor != "tcp" or not all("scale" in p.sensors
+                                                        for p in result.passes):
+        return None
+    return _diagnostics(result, title, "scale")
 
 
 def _diagnostics(result, title, sensor):

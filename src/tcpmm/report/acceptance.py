@@ -31,7 +31,7 @@ _BACKLASH = ("+: radius steps out at reversal: lost motion in the drive, or a de
              "circle before blaming the nut")
 
 
-def ranked_sources(diag) -> list[tuple[str, float, str]]:
+def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
     """Error sources of a circle's diagnostics, largest share of G first: the terms as
     ``tcpmm circle`` ranks them (``diag.ranking``: the G each makes alone over the
     circle), so that the report and the command give one figure per term.
@@ -40,6 +40,10 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
     ----------
     diag : CircleDiagnostics
         The diagnostics [SI].
+    reference : CircleDiagnostics, optional
+        The same circles' diagnostics at a sensor nearer the drive (the linear scale under
+        a TCP's): each term's meaning then says whether that sensor sees it too, or
+        whether it lies between that sensor and the tool [SI].
 
     Returns
     -------
@@ -48,15 +52,49 @@ def ranked_sources(diag) -> list[tuple[str, float, str]]:
         as the ranking gives it: 0 for the centre offset, about which G is not taken)``
         [-].
     """
+    seen = seen_alone(reference)
+    # a term within what the fit leaves unexplained is not placed: its G at either sensor
+    # is as much the residual's as its own
+    floor = diag["residual_rms"] if "residual_rms" in diag.terms else 0.0
     rows = []
     for r in sorted(diag.ranking, key=lambda r: r["rank"]):
         term = r["term"]
         base, _, axis = term.rpartition("_")
-        note = _MEANING.get(term) or (_BACKLASH if base == "backlash" else term_note(
+        # the scale's figure beside it says what _BACKLASH asks the reader to compare
+        backlash = _BACKLASH if seen is None else term_note(term, diag.axes)
+        note = _MEANING.get(term) or (backlash if base == "backlash" else term_note(
             f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes))
-        rows.append((term.replace("_", " "), float(r["g_alone_m"]), note,
-                     float(r["share_of_G"])))
+        g = float(r["g_alone_m"])
+        if seen is not None and term != "centre_offset" and g > floor:
+            where = _where(g, seen.get(term, 0.0), reference.sensor)
+            # a pitch error is the screw's: one the scale does not see is no screw's
+            note = where if base == "cyclic" and where.startswith("mostly") else \
+                f"{where}; {note}"
+        rows.append((term.replace("_", " "), g, note, float(r["share_of_G"])))
     return rows
+
+
+def seen_alone(reference) -> dict | None:
+    """The G each term alone makes in ``reference``'s diagnostics, by term; None without
+    them [m]."""
+    if reference is None:
+        return None
+    return {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
+
+
+#: the part of a term's G at the tool that a sensor nearer the drive must see for the
+#: term to be called the axis' own [-]
+_SHARED = 0.5
+
+
+def _where(g: float, g_ref: float, sensor: str) -> str:
+    """Where a term of G ``g`` at the tool lies, given the G ``g_ref`` the same term makes
+    at ``sensor``: what that sensor does not see happened between it and the tool [-]."""
+    name = SENSOR_NAMES.get(sensor, sensor)
+    if g_ref < _SHARED * g:
+        return (f"mostly past the {name}: the structure between the table and the tool "
+                "(deflection, ringing), not the drive")
+    return f"at the {name} too: in the axis"
 
 
 def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> list:
@@ -88,7 +126,7 @@ def _deviations(result, sensor, diag) -> list[tuple[str, float]]:
 
 
 def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_hz=None,
-                       source=None):
+                       source=None, reference=None):
     """The circle verdict: test conditions, pass or fail, ranked error sources.
 
     Parameters
@@ -104,9 +142,10 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         Sample rate of the run [Hz].
     source : str or list of str, optional
         The run file or files [-].
+    reference : CircleDiagnostics, optional
+        The diagnostics at the linear scale, where ``diagnostics`` are the TCP's: each
+        source says whether the scale sees it (:func:`ranked_sources`) [-].
     """
-    import pandas as pd
-
     sensor = diagnostics.sensor if diagnostics is not None else next(
         s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes))
     body = facts(circle_conditions(result, sensor, sample_rate_hz, source))
@@ -128,22 +167,39 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
                      "one direction, or arcs too short; the diagnostics below say why).",
                      "warn")
     elif diagnostics is not None:
-        rows = ranked_sources(diagnostics)
-        # one direction's diagnostics have no G(b): the share is of that circle's G
-        of = "of G(b) [%]" if "circularity_pair" in diagnostics.terms else "of G [%]"
-        g_alone = of.replace(" [%]", "").replace("of ", "") + " alone [µm]"
-        frame = pd.DataFrame([{"rank": i + 1, "source": s, g_alone: e * 1e6,
-                               of: 100 * g, "meaning": n}
-                              for i, (s, e, n, g) in enumerate(rows)])
-        body += ("<h3>Error sources, largest first</h3>"
-                 + para("The circular deviation each fitted term alone makes on this circle, "
-                        "about its own least-squares centre, and its share of the circles' "
-                        "own circular deviation; the shares need not add up to 100 % (terms "
-                        "add and cancel). The diagnostics below give the terms with their "
-                        "signs and their radial errors.")
-                 + table(frame, "error_sources.csv",
-                         digits={g_alone: 2, of: 0, "rank": 0}))
+        body += _sources_table(diagnostics, reference)
     else:
         body += para("No error sources: the circle's diagnostics could not be made (the "
                      "warnings say why).", "warn")
     return section("verdict", f"Circle verdict ({SENSOR_NAMES.get(sensor, sensor)})", body)
+
+
+def _sources_table(diagnostics, reference) -> str:
+    """The ranked error sources as a table, with the G of each at ``reference``'s sensor
+    where given [-]."""
+    import pandas as pd
+
+    rows = ranked_sources(diagnostics, reference)
+    # one direction's diagnostics have no G(b): the share is of that circle's G
+    of = "of G(b) [%]" if "circularity_pair" in diagnostics.terms else "of G [%]"
+    g_alone = of.replace(" [%]", "").replace("of ", "") + " alone [µm]"
+    seen, at = seen_alone(reference), None
+    if seen is not None:
+        at = f"at the {SENSOR_NAMES.get(reference.sensor, reference.sensor)} [µm]"
+    terms = [r["term"] for r in sorted(diagnostics.ranking, key=lambda r: r["rank"])]
+    frame = pd.DataFrame([{"rank": i + 1, "source": s, g_alone: e * 1e6, of: 100 * g,
+                           **({at: 1e6 * seen.get(t, 0.0)} if at else {}), "meaning": n}
+                          for i, ((s, e, n, g), t) in enumerate(zip(rows, terms,
+                                                                    strict=True))])
+    lead = ("The circular deviation each fitted term alone makes on this circle, about its "
+            "own least-squares centre, and its share of the circles' own circular "
+            "deviation; the shares need not add up to 100 % (terms add and cancel). ")
+    if at:
+        lead += ("Beside it, what the same term makes in the linear scale's circle: what "
+                 "the scale does not see lies between the table and the tool (the column "
+                 "and headstock deflecting, or ringing after a reversal), not in the drive. ")
+    return ("<h3>Error sources, largest first</h3>"
+            + para(lead + "The diagnostics below give the terms with their signs and their "
+                   "radial errors.")
+            + table(frame, "error_sources.csv",
+                    digits={g_alone: 2, of: 0, "rank": 0, **({at: 2} if at else {})}))

@@ -14,8 +14,10 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
    resonance peak of height ``1/(2 zeta)``) and step 1 is repeated; it is kept if the
    gain rises by 10 % or more. At most four filters per axis, the drive's own counted.
 3. **Position loop.** The largest ``K_pp`` meeting the margins and at most a quarter of
-   the velocity loop's bandwidth; every axis then takes the smallest of them (equal
-   position gains keep a circle round).
+   the velocity loop's bandwidth; every axis given then takes the smallest of them (equal
+   position gains keep a circle round). :func:`tune_machine` matches the axes of the
+   machine it is given: :func:`tcpmm.whatif.tuning.tune_and_predict` gives it the axes the
+   path moves, and tunes any other on its own (:mod:`tcpmm.servo.tunealone`).
 4. **Feedforward** is left as it is here: it does not change the margins, and its best
    value depends on friction and the path, so :func:`tcpmm.whatif.tuning.tune_and_predict`
    chooses it by simulating the path.
@@ -229,7 +231,7 @@ def _limit(margins, radius, k, gm, pm) -> str:
             "found no larger gain meeting them)")
 
 
-def _velocity_limit(mech, servo, gm, pm) -> str:
+def velocity_limit(mech, servo, gm, pm) -> str:
     """What limits the velocity gain of a proposal (see :func:`_limit`) [-]."""
     return "the velocity loop's " + _limit(
         lambda g: velocity_margins(mech, _pi(mech, servo, g)),
@@ -283,7 +285,7 @@ def _listed(items: list) -> str:
     return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
 
 
-def _gain_notes(before, after, limits) -> list[str]:
+def gain_notes(before, after, limits) -> list[str]:
     """A note per changed gain saying why it changed and what limits it [-]."""
     notes = []
     if not math.isclose(after.K_vp, before.K_vp, rel_tol=1e-9):
@@ -338,9 +340,9 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
             notes[name].append(f"the combined proposal misses the {why}; settings kept")
             after, mg_after = a.servo, axis_margins(m, a.servo)
         elif met:
-            limits = {"K_vp": _velocity_limit(m, after, gm_db, pm_deg),
-                      "K_pp": _kpp_reason(name, lead, found)}
-            notes[name] = _gain_notes(a.servo, after, limits) + notes[name]
+            limits = {"K_vp": velocity_limit(m, after, gm_db, pm_deg),
+                      "K_pp": _kpp_reason(name, lead, found, list(machine.axes))}
+            notes[name] = gain_notes(a.servo, after, limits) + notes[name]
         out[name] = AxisTuning(a.servo, after, axis_margins(m, a.servo), mg_after, met,
                                notes[name], light_mode_warnings(m, mg_after, after))
     return out
@@ -353,8 +355,8 @@ def _lead(machine, vel, found, gm_db, pm_deg):
     while found:
         lead = min(found, key=lambda n: found[n][0])
         k = found[lead][0]
-        misses = [n for n in found if not _combined(machine.axes[n].mechanics,
-                                                    _with(vel[n], K_pp=k), gm_db, pm_deg)]
+        misses = [n for n in found if not meets_margins(machine.axes[n].mechanics,
+                                                        _with(vel[n], K_pp=k), gm_db, pm_deg)]
         if not misses:
             return lead
         for n in misses:
@@ -362,15 +364,19 @@ def _lead(machine, vel, found, gm_db, pm_deg):
     return None
 
 
-def _combined(m, servo, gm_db, pm_deg) -> bool:
+def meets_margins(m, servo, gm_db, pm_deg) -> bool:
     """Both loops meet the margins and the sampled loop is stable [-]."""
     return (all(v.meets(gm_db, pm_deg) for v in axis_margins(m, servo).values())
             and sampled_spectral_radius(m, servo) < 1.0)
 
 
-def _kpp_reason(name, lead, found) -> str:
-    """Why an axis has the common position gain [-]."""
-    why = "the common position gain of all axes (equal gains keep a circle round)"
+def _kpp_reason(name, lead, found, names) -> str:
+    """Why an axis has the common position gain of the axes ``names`` [-]."""
+    if len(names) == 1:
+        return f"the largest position gain of this axis, limited by {found[lead][1]} (no " \
+               "other axis to match)"
+    why = (f"the common position gain of axes {', '.join(names)} (equal gains keep a "
+           "contour's shape: a circle round)")
     if name == lead:
         return f"{why}, set by this axis: {found[lead][1]}"
     return f"{why}, set by axis {lead}: {found[lead][1]}; this axis alone would take " \

@@ -103,10 +103,11 @@ def test_result_shares_the_protocol(vmc, tmp_path):
 
 
 def test_every_changed_setting_says_why_and_what_limits_it(capsys):
-    """On the built-in machine the proposal lowers K_pp from 40 1/s and raises K_vp until
-    the velocity loop crosses over far above the 0.0005-damped torsion mode near 729 Hz
-    (X): each change names its limit, the crossover above the mode is a warning, and the
-    feedforward choice, one for all axes, is printed once."""
+    """On the built-in machine the proposal moves the circle's axes' common K_pp off 40 1/s
+    and raises K_vp until the velocity loop crosses over far above the 0.0005-damped
+    torsion mode near 729 Hz (X): each change names its limit, the crossover above the mode
+    is a warning, and the feedforward choice, one for the axes the circle moves, is
+    printed once. Z, which the circle does not move, keeps its settings and says why."""
     assert main(["tune", "builtin:vmc"]) == 0
     text = capsys.readouterr().out
     assert text.count("feedforward k_ff") == 1
@@ -115,9 +116,13 @@ def test_every_changed_setting_says_why_and_what_limits_it(capsys):
     assert data["notes"][0].startswith("feedforward")
     assert all(not n.startswith("feedforward") for n in data["notes"][1:])
     lead = []
-    for n, a in data["axes"].items():
+    assert data["matched_axes"] == ["X", "Y"]
+    assert data["axes"]["Z"]["after"] == data["axes"]["Z"]["before"]
+    assert data["axes"]["Z"]["reason"].startswith("Z: not moved by the path; K_pp kept")
+    for n in data["matched_axes"]:
+        a = data["axes"][n]
         notes = {note.split(" ")[0]: note for note in a["notes"]}
-        assert a["after"]["K_pp"] < a["before"]["K_pp"]
+        assert a["after"]["K_pp"] != a["before"]["K_pp"]
         for key in ("K_vp", "K_vi", "K_pp"):
             assert key in notes, (n, a["notes"])
         assert "velocity loop's gain margin" in notes["K_vp"]
@@ -233,7 +238,8 @@ def test_an_axis_that_misses_sets_no_gain_and_the_unequal_gains_are_said(vmc):
     """Y without any damping (its sampled loop at the edge of stability, spectral radius
     1): it misses and keeps its settings, so it must not set the common K_pp of the
     others ('set by axis Z' was said of an axis that was not tuned), the reason is its
-    stability, not the margins it meets, and the gains left unequal are said."""
+    stability, not the margins it meets, and the gains left unequal are said. All three
+    axes are named contouring axes: the circle alone would match X and Y only."""
     import warnings
 
     from tcpmm.errors import InputWarning
@@ -244,7 +250,7 @@ def test_an_axis_that_misses_sets_no_gain_and_the_unequal_gains_are_said(vmc):
         mechanics=undamped)}})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)
-        res = tune_and_predict(machine, GM, PM)
+        res = tune_and_predict(machine, GM, PM, axes="XYZ")
     y = res.axes["Y"]
     assert not y.met and y.after == y.before
     assert any("misses the stability" in n for n in y.notes)

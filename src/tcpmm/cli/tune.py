@@ -33,6 +33,10 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
          gcode: Path = typer.Option(None, "--gcode",
                                     help="NC program PROG.nc to predict instead of the "
                                          "paper's circle (R35 mm, F5000 mm/min)."),
+         axes: str = typer.Option(None, "--axes",
+                                  help="Contouring axes whose position gains and feedforward "
+                                       "are matched, e.g. XY; default the axes the path "
+                                       "moves. Every other axis is tuned on its own."),
          output: Path = typer.Option(None, "-o", "--output", help="Write the tuned MODEL.yaml."),
          as_json: bool = typer.Option(False, "--json")):
     """Propose velocity-loop gains, notch filters, position gain and feedforward that meet
@@ -50,7 +54,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
         with in_file(gcode):
             command = program_to_command(gcode, interp_settings(m))
-    res = tune_and_predict(m, gm, pm, command)
+    res = tune_and_predict(m, gm, pm, command, axes)
     if output is not None:
         write_machine(res.tuned, output)
     if as_json:
@@ -85,6 +89,8 @@ def _print_result(res, gm, pm) -> None:
                         _fmt(ma["bandwidth_hz"]))
         print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
                               f"{'met' if t.met else 'NOT MET, settings kept'}")
+        if name in res.reasons:
+            out.print(f"  {esc(res.reasons[name])}")
         for note in t.notes:
             out.print(f"  {esc(note)}")
         for warning in t.warnings:

@@ -18,9 +18,9 @@ from ..errors import InputError, InputWarning
 from ..machines.paper import RADIUS_MM, SETTLED_TURNS, circle_test_command, paper_circle_command
 from ..model import Machine
 from ..servo.sampled import sampled_spectral_radius
-from ..servo.tune import tune_machine
 from ..sim.simulate import simulate
 from ..units import mm_to_m
+from .tuning_axes import axis_reasons, contouring_axes, moved_axes, tune_axes
 
 #: Command samples either side searched for the nearest command segment [-].
 _WINDOW = 400
@@ -43,6 +43,11 @@ class TuneResult:
         and the contour error of the TCP [um].
     notes : list of str
         What was decided for all axes at once (the feedforward) and why [-].
+    matched, moved : tuple of str
+        The contouring axes, whose position gains and feedforward are matched, and the
+        axes the path moves [-].
+    reasons : dict of str to str
+        Per axis, whether the path moves it and what became of its matched settings [-].
     """
 
     tuned: Machine
@@ -50,10 +55,15 @@ class TuneResult:
     path_before: dict
     path_after: dict
     notes: list = field(default_factory=list)
+    matched: tuple = ()
+    moved: tuple = ()
+    reasons: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """JSON-ready summary."""
-        return {"axes": {k: v.to_dict() for k, v in self.axes.items()},
+        return {"axes": {k: {**v.to_dict(), "reason": self.reasons.get(k)}
+                         for k, v in self.axes.items()},
+                "matched_axes": list(self.matched), "moved_axes": list(self.moved),
                 "path_before_um": self.path_before, "path_after_um": self.path_after,
                 "notes": list(self.notes)}
 
@@ -180,8 +190,8 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
                                     "rms_deviation_um": float(np.sqrt(np.mean(d * d))) * 1e6}})
 
 
-def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
-                     ) -> TuneResult:
+def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None,
+                     axes=None) -> TuneResult:
     """Propose servo settings and predict the path before and after.
 
     Parameters
@@ -194,6 +204,9 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         Required phase margin of both loops [deg].
     command : Command, optional
         Path to predict; default the paper's circle [m].
+    axes : str or sequence of str, optional
+        The contouring axes, whose position gains and feedforward are matched, e.g.
+        ``"XY"``; default the axes the path moves (:mod:`tcpmm.whatif.tuning_axes`) [-].
 
     Returns
     -------
@@ -201,21 +214,42 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         The tuned machine, the proposal per axis and the path figures [-].
     """
     circle = command is None
-    axes = tune_machine(machine, gm_db, pm_deg)
+    cmd = paper_circle_command(machine, SETTLED_TURNS) if circle else command
+    moved = moved_axes(machine, cmd)
+    matched = moved if axes is None else contouring_axes(machine, axes)
+    roles = (tuple(matched), tuple(moved))
+    axes, named = tune_axes(machine, gm_db, pm_deg, matched), axes is not None
     tuned = machine.model_copy(update={"axes": {
         n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
     if circle and not {"X", "Y"} <= set(machine.axes):  # no XY plane to run the circle in
         lacks = " and ".join(sorted({"X", "Y"} - set(machine.axes)))
         note = (f"no circle predicted: the machine has no {lacks} axis; give a program "
                 "(--gcode) to predict its path")
-        return TuneResult(tuned, axes, {}, {}, [note])
-    cmd = paper_circle_command(machine, SETTLED_TURNS) if circle else command
-    tuned, after, dropped = _best_feedforward(tuned, axes, cmd, circle)
-    axes = {n: replace(t, after=tuned.axes[n].servo) if t.met else t for n, t in axes.items()}
+        return TuneResult(tuned, axes, {}, {}, [note], *roles,
+                          axis_reasons(axes, matched, moved, named))
+    # the feedforward is judged on the path: only for the contouring axes it moves
+    met = [n for n in matched if n in moved and axes[n].met]
+    tuned, after, dropped = _best_feedforward(tuned, met, cmd, circle)
+    axes = {n: replace(t, after=tuned.axes[n].servo) if n in met else t
+            for n, t in axes.items()}
+    notes = _matched_notes(tuned, axes, matched, met, (after, dropped), circle)
+    before = path_figures(machine, cmd, circle)
+    notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped)
+    if circle:
+        notes += _faster_note(machine, tuned)
+    return TuneResult(tuned, axes, before, after, notes, *roles,
+                      axis_reasons(axes, matched, moved, named))
+
+
+def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: tuple,
+                   circle: bool) -> list:
+    """The notes on the matched settings: the feedforward chosen for the axes ``met`` (with
+    the path figures and the fractions left out, ``runs``), and position gains the
+    ``matched`` axes do not share [-]."""
     notes = []
-    met = [n for n, t in axes.items() if t.met]
+    after, dropped = runs
     if met and _worst(after) < float("inf"):
-        # one fraction for all tuned axes: the note belongs to the machine, not to each axis
+        # one fraction for the axes it is chosen for: the note belongs to them all at once
         what = "largest contour error of the circle passes" if circle else \
             "RMS deviation from the program's path"
         k_ff = tuned.axes[met[0]].servo.k_ff
@@ -223,19 +257,15 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
                      f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} it gives the smallest "
                      f"{what} ({_worst(after):.2f} um); it does not change the margins"
                      + _dropped_words(dropped))
-    kpp = {n: t.after.K_pp for n, t in axes.items()}
-    if max(kpp.values()) > min(kpp.values()) * (1 + 1e-9):
-        kept = [n for n, t in axes.items() if not t.met]
+    kpp = {n: axes[n].after.K_pp for n in matched}
+    if kpp and max(kpp.values()) > min(kpp.values()) * (1 + 1e-9):
+        kept = [n for n in matched if not axes[n].met]
         notes.append("the axes do not share one position gain ("
                      + ", ".join(f"{n} {v:.4g}" for n, v in kpp.items()) + " 1/s): "
                      + (f"{', '.join(kept)} keep their settings; " if kept else "")
                      + "a path through axes of different position gains is distorted (a "
                        "circle becomes an ellipse); give them one by hand")
-    before = path_figures(machine, cmd, circle)
-    notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped)
-    if circle:
-        notes += _faster_note(machine, tuned)
-    return TuneResult(tuned, axes, before, after, notes)
+    return notes
 
 
 def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float,
@@ -330,15 +360,18 @@ def _worst(figures: dict) -> float:
     return v if v == v else float("inf")
 
 
-def _best_feedforward(tuned: Machine, axes: dict, cmd, circle: bool):
-    """Feedforward fraction of :data:`FEEDFORWARD_GRID` (the same for the tuned axes) with
-    the smallest :func:`_worst` on the path; the machine and its path figures. The
+def _best_feedforward(tuned: Machine, names: list, cmd, circle: bool):
+    """Feedforward fraction of :data:`FEEDFORWARD_GRID` (the same for the axes ``names``)
+    with the smallest :func:`_worst` on the path; the machine and its path figures. The
     feedforward acts outside the loops: the margins stay as they are."""
+    if not names:
+        figs = path_figures(tuned, cmd, circle)
+        return tuned, figs, {}
     best, dropped = None, {}
     for k in FEEDFORWARD_GRID:
         m = tuned.model_copy(update={"axes": {
             n: (a.replace(servo=a.servo.model_copy(update={"k_ff": k}))
-                if axes[n].met else a) for n, a in tuned.axes.items()}})
+                if n in names else a) for n, a in tuned.axes.items()}})
         figs = path_figures(m, cmd, circle)
         if figs.faults:
             dropped[k] = figs

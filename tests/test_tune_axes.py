@@ -1,0 +1,106 @@
+"""``tcpmm tune`` matches the settings of the axes the path moves, and no other's."""
+
+import json
+
+import pytest
+
+from conftest import run_cli
+from tcpmm.io.modelfile import write_machine
+from tcpmm.servo.margins import axis_margins
+from tcpmm.servo.sampled import sampled_spectral_radius
+from tcpmm.servo.tune import tune_machine
+from tcpmm.whatif.tuning import tune_and_predict
+
+GM, PM = 6.0, 45.0
+#: Z's table, headstock and screw load six times the built-in's: its position loop alone
+#: takes a lower gain than X's and Y's [-].
+HEAVY = {"M_t": 6.0, "M_h": 6.0, "J_L": 6.0}
+
+
+def _with_z(vmc, mech=None, **servo):
+    z = vmc.axes["Z"]
+    z = z.replace(mechanics=mech or z.mechanics, servo=z.servo.model_copy(update=servo))
+    return vmc.model_copy(update={"axes": {**vmc.axes, "Z": z}})
+
+
+@pytest.fixture(scope="module")
+def heavy(vmc):
+    return _with_z(vmc, vmc.axes["Z"].mechanics.scaled(**HEAVY))
+
+
+def test_a_heavy_z_the_circle_does_not_move_leaves_x_and_y_alone(vmc, heavy, tmp_path, capsys):
+    """Z's heavy table pulled the shared K_pp of X and Y down (to 27.4 1/s where they take
+    41.7) and took the circle's feedforward, though the XY circle does not move it; X and
+    Y now tune as they do beside the built-in Z, and Z keeps its settings and says why."""
+    everything = tune_machine(heavy, GM, PM)  # all three matched: Z sets the gain
+    res, plain = tune_and_predict(heavy, GM, PM), tune_and_predict(vmc, GM, PM)
+    for n in "XY":
+        assert res.axes[n].after.K_pp == pytest.approx(plain.axes[n].after.K_pp, rel=1e-9)
+        assert res.axes[n].after.K_pp > 1.2 * everything[n].after.K_pp
+    z = res.axes["Z"]
+    assert z.after.k_ff == heavy.axes["Z"].servo.k_ff
+    assert z.met and z.after == z.before
+    assert res.matched == ("X", "Y") == res.moved
+    path = tmp_path / "heavy.yaml"
+    write_machine(heavy, path)
+    code, out, _ = run_cli(capsys, "tune", path)
+    assert code == 0
+    assert "Z: not moved by the path; K_pp kept; not matched to X, Y, which the path moves; " \
+           "k_ff kept (the path does not move it)" in out
+    code, out, _ = run_cli(capsys, "tune", path, "--json")
+    data = json.loads(out)
+    assert data["matched_axes"] == ["X", "Y"]
+    assert data["axes"]["Z"]["reason"].startswith("Z: not moved by the path")
+    assert data["axes"]["X"]["reason"].startswith("X: moved by the path")
+    assert "matched over X, Y" in data["axes"]["X"]["reason"]
+
+
+def test_an_axis_not_moved_whose_margins_miss_is_changed_on_its_own(vmc, heavy):
+    """Z's position gain of 100 1/s misses its margins: it is lowered to Z's own largest,
+    its velocity loop (which meets them) and feedforward stay, and X and Y are untouched
+    by it."""
+    fast = _with_z(heavy, heavy.axes["Z"].mechanics, K_pp=100.0)
+    res, plain = tune_and_predict(fast, GM, PM), tune_and_predict(vmc, GM, PM)
+    z, mech = res.axes["Z"], fast.axes["Z"].mechanics
+    assert not all(m.meets(GM, PM) for m in z.margins_before.values())
+    assert z.met and z.after.K_pp < 100.0
+    assert all(m.meets(GM, PM) for m in axis_margins(mech, z.after).values())
+    assert sampled_spectral_radius(mech, z.after) < 1.0
+    assert (z.after.K_vp, z.after.K_vi, z.after.k_ff) == (z.before.K_vp, z.before.K_vi,
+                                                          z.before.k_ff)
+    for n in "XY":
+        assert res.axes[n].after.K_pp == pytest.approx(plain.axes[n].after.K_pp, rel=1e-9)
+    assert res.reasons["Z"].startswith(f"Z: not moved by the path; K_pp lowered to "
+                                       f"{z.after.K_pp:.4g} 1/s to meet its own margins; "
+                                       "not matched to X, Y")
+    (note,) = [n for n in z.notes if n.startswith("K_pp")]
+    assert "position loop's gain margin" in note and "not matched to X, Y" in note
+
+
+def test_a_program_moving_x_and_z_matches_x_and_z(vmc, tmp_path, capsys):
+    """A program of X and Z matches the position gains and the feedforward of X and Z; Y,
+    which it does not move, keeps its settings."""
+    prog = tmp_path / "xz.nc"
+    prog.write_text("G90 G17 G21\nG1 X5 Y0 Z0 F3000\nX20 Z-10\nX5 Z0\nM30\n")
+    code, out, _ = run_cli(capsys, "tune", "builtin:vmc", "--gcode", prog, "--json")
+    assert code == 0
+    data = json.loads(out)
+    x, y, z = (data["axes"][n] for n in "XYZ")
+    assert y["after"] == y["before"]
+    assert x["after"]["K_pp"] == z["after"]["K_pp"]
+    assert x["after"]["k_ff"] == z["after"]["k_ff"]
+    assert data["matched_axes"] == ["X", "Z"] == data["moved_axes"]
+    assert y["reason"].startswith("Y: not moved by the path; K_pp kept; not matched to X, Z")
+
+
+def test_named_axes_are_matched_but_keep_the_feedforward_the_path_cannot_judge(vmc, capsys):
+    """--axes XYZ matches Z's position gain with the circle's axes (as for a family of
+    programs that move Z); the circle, which does not move Z, leaves its feedforward. An
+    axis the machine lacks is an error."""
+    res = tune_and_predict(vmc, GM, PM, axes="XYZ")
+    assert res.matched == ("X", "Y", "Z") and res.moved == ("X", "Y")
+    assert len({t.after.K_pp for t in res.axes.values()}) == 1
+    assert res.axes["Z"].after.k_ff == vmc.axes["Z"].servo.k_ff
+    assert "named by --axes" in res.reasons["Z"]
+    code, _, err = run_cli(capsys, "tune", "builtin:vmc", "--axes", "XQ")
+    assert code == 2 and "no axis Q" in err

@@ -94,27 +94,33 @@ def search_cyclic(pb, mu) -> tuple:
     # noise-free circle has no noise to stand out of, and found a period in rounding
     floor = max(30.0 * _noise(pb.arcs) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
     spacing = pb.radius * max(angle_step(a.angle) for a in pb.arcs)
-    waves, found = [None, None], [[], []]
+    waves = [None, None]
     _, res, basis = pb.solve(mu, waves)
     for _ in range(2):
-        scans = [[(0.0, None)] if waves[ax] is not None else
+        found = [[(0.0, None)] if waves[ax] is not None else
                  _scan(pos[ax], ws[ax], res, basis, pb.radius, None, spacing) for ax in (0, 1)]
-        ax = int(np.argmax([f[0][0] for f in scans]))
-        if scans[ax][0][0] <= floor:
+        ax = int(np.argmax([f[0][0] for f in found]))
+        if found[ax][0][0] <= floor:
             break
-        waves[ax], found[ax] = scans[ax][0][1], scans[ax]
+        waves[ax] = found[ax][0][1]
         _, res, basis = pb.solve(mu, waves)
-    for ax in (0, 1):
-        waves[ax] = _first_of_position(pb, mu, waves, ax, found[ax], floor)
     if all(k is not None for k in waves):  # each period again, the other one fitted
         for ax in (0, 1):
-            others = [k if i != ax else None for i, k in enumerate(waves)]
-            _, res_o, basis_o = pb.solve(mu, others)
-            # over the whole band: the first scan, with the other axis' error unfitted, may
-            # have put the peak at a period of the other's
-            again = _scan(pos[ax], ws[ax], res_o, basis_o, pb.radius, None, spacing)
-            waves[ax] = _first_of_position(pb, mu, waves, ax, again, 0.0) or waves[ax]
+            waves[ax] = _rescan(pb, mu, waves, ax, pos, ws, spacing)[0][1]
+    for ax in (0, 1):  # a period of the axis' position, else the next that is one, or none
+        if waves[ax] is not None and not _of_position(pb, mu, waves, ax):
+            waves[ax] = _first_of_position(
+                pb, mu, waves, ax, _rescan(pb, mu, waves, ax, pos, ws, spacing), floor)
     return tuple(waves)
+
+
+def _rescan(pb, mu, waves, ax, pos, ws, spacing) -> list:
+    """:func:`_scan` of axis ``ax`` over the whole band with the other axis' cyclic error
+    fitted: the first scan, with it unfitted, may have put the peak at a period of the
+    other's [m^2, 1/m]."""
+    others = [k if i != ax else None for i, k in enumerate(waves)]
+    _, res_o, basis_o = pb.solve(mu, others)
+    return _scan(pos[ax], ws[ax], res_o, basis_o, pb.radius, None, spacing)
 
 
 def _first_of_position(pb, mu, waves, ax, found, floor):

@@ -924,3 +924,33 @@ def test_cyclic_errors_under_a_servo_mismatch_and_noise(seed):
     assert noise >= 0.2e-6
     d = diagnose(err, noise=noise)
     assert_recovered(d, {k: v for k, v in expected(err).items() if k.startswith("cyclic")})
+
+
+def test_circle_command_places_the_terms_past_the_scale(capsys, tmp_path):
+    """``tcpmm circle`` of bench C's TCP gave "backlash Y 13.5 um" with nothing to say that
+    the scale sees 0.2 um of it (its nut has none: the column flips with the guideway's
+    friction); the ranking now has the scale's figure beside each term, marked where the
+    scale sees less than half, and ``--json`` says where it lies. A run without a scale
+    has neither."""
+    import pandas as pd
+
+    c = bench_path("c")
+    runs = [c / "circle_ccw_meas.csv", c / "circle_cw_meas.csv"]
+    code, out, _ = run_cli(capsys, "circle", *runs, "--radius", 35, "--json")
+    assert code == 0
+    rank = {r["term"]: r for r in json.loads(out)["diagnostics"]["ranking"]}
+    back = rank["backlash_Y"]
+    assert back["g_alone_um"] > 5 and back["scale_g_alone_um"] < 0.2 * back["g_alone_um"]
+    assert back["where"].startswith("mostly past the linear scale")
+    code, out, _ = run_cli(capsys, "circle", *runs, "--radius", 35)
+    assert code == 0 and "scale µm" in out
+    assert any("backlash Y" in line and line.rstrip().endswith("*")
+               for line in out.splitlines())
+    bare = []
+    for f in runs:
+        df = pd.read_csv(f)
+        bare.append(tmp_path / f.name)
+        df.drop(columns=[k for k in df if "_scale_" in k]).to_csv(bare[-1], index=False)
+    code, out, _ = run_cli(capsys, "circle", *bare, "--radius", 35, "--json")
+    assert code == 0
+    assert all("scale_g_alone_um" not in r for r in json.loads(out)["diagnostics"]["ranking"])

@@ -108,3 +108,30 @@ def undetermined_lines(undetermined: dict) -> list[str]:
     for term, why in undetermined.items():
         by.setdefault(why, []).append(term.replace("_", " "))
     return [f"{', '.join(terms)}: not determined; {why}" for why, terms in by.items()]
+
+
+#: the part of a term's G at the tool that a sensor nearer the drive must see for the
+#: term to be called the axis' own [-]
+SHARED_PART = 0.5
+
+
+def term_place(g: float, g_ref: float, sensor_name: str) -> str:
+    """Where a term of G ``g`` at the tool lies, given the G ``g_ref`` the same term makes
+    in the circle of a sensor nearer the drive (the linear scale): what that sensor does
+    not see of it happened between the sensor and the tool; "" for a term of no G [-].
+
+    Parameters
+    ----------
+    g : float
+        The G the term alone makes at the tool [m].
+    g_ref : float
+        The G it alone makes at the other sensor [m].
+    sensor_name : str
+        That sensor, in words ("linear scale") [-].
+    """
+    if not g > 0.0:
+        return ""
+    if g_ref < SHARED_PART * g:
+        return (f"mostly past the {sensor_name}: the structure between the table and the "
+                "tool (deflection, ringing), not the drive")
+    return f"at the {sensor_name} too: in the axis"

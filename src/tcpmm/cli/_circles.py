@@ -6,9 +6,33 @@ from ._app import out
 from ._tables import fixed, plain_table, print_plain
 
 
-def diagnostics_json(diag) -> dict:
+def scale_reference(diag, res):
+    """The linear scale's diagnostics of the circles whose ``diag`` are the TCP's, made as
+    ``diag`` were (the pair, or one direction), to tell what lies between the scale and
+    the tool; None where the run has no scale or they cannot be made [-]."""
+    import warnings
+
+    from ..analysis.circle_single import one_direction_diagnostics
+    from ..analysis.diagnostics import circle_diagnostics
+    from ..errors import InputError
+
+    if diag is None or diag.sensor != "tcp" or not all("scale" in p.sensors
+                                                        for p in res.passes):
+        return None
+    make = circle_diagnostics if len(diag.directions) == 2 else one_direction_diagnostics
+    with warnings.catch_warnings():  # the TCP's own diagnostics have said what they lack
+        warnings.simplefilter("ignore")
+        try:
+            return make(res, sensor="scale")
+        except InputError:
+            return None
+
+
+def diagnostics_json(diag, reference=None) -> dict:
     """The diagnostics in display units (um, ms, ...), with the terms not determined and
-    why, and the ranking [-]."""
+    why, and the ranking; with ``reference`` (:func:`scale_reference`), each ranked term's
+    G alone at the linear scale and where it lies [-]."""
+    at = _at_scale(reference)
     return {"sensor": diag.sensor, "directions": list(diag.directions),
             "terms": [{"term": t, "value": None if v != v else v, "unit": u}
                       for t, v, u in _display_terms(diag, ascii_units=True)],
@@ -17,7 +41,33 @@ def diagnostics_json(diag) -> dict:
                          "g_alone_um": r["g_alone_m"] * 1e6,
                          "share_percent": _json_number(100.0 * r["share"]),
                          "percent_of_G": _json_number(100.0 * r["share_of_G"]),
-                         "rank": r["rank"]} for r in diag.ranking]}
+                         "rank": r["rank"], **_placed(r, at, _floor(diag))}
+                        for r in diag.ranking]}
+
+
+def _at_scale(reference) -> dict | None:
+    """The G each term alone makes at the linear scale, by term; None without it [m]."""
+    if reference is None:
+        return None
+    return {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
+
+
+def _placed(row, at, floor: float) -> dict:
+    """The JSON fields of a ranked term at the linear scale: its G alone there and where
+    it lies (:func:`tcpmm.analysis.circle_display.term_place`), not said of a term within
+    the residual ``floor`` [m]; none without them [-]."""
+    from ..analysis.circle_display import term_place
+
+    if at is None or row["term"] == "centre_offset":
+        return {}
+    g, g_ref = row["g_alone_m"], at.get(row["term"], 0.0)
+    return {"scale_g_alone_um": g_ref * 1e6,
+            "where": term_place(g, g_ref, "linear scale") or None if g > floor else None}
+
+
+def _floor(diag) -> float:
+    """What the fit leaves unexplained: a term within it is not placed [m]."""
+    return diag["residual_rms"] if "residual_rms" in diag.terms else 0.0
 
 
 def _json_number(v: float):
@@ -73,9 +123,10 @@ def _pass_notes(p) -> list[str]:
     return notes
 
 
-def print_diagnostics(diag) -> None:
+def print_diagnostics(diag, reference=None) -> None:
     """The diagnostics: per direction, the terms with their signs, the terms ranked by
-    what each contributes, and what the circles leave undetermined and why."""
+    what each contributes (with ``reference``, at the linear scale too), and what the
+    circles leave undetermined and why."""
     from ..analysis.circle_display import undetermined_lines
     from ..analysis.diagnostics import term_note
 
@@ -100,26 +151,38 @@ def print_diagnostics(diag) -> None:
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u,
                   term_note(term, diag.axes))
     print_plain(t, out)
-    _print_ranking(diag)
+    _print_ranking(diag, reference)
     for line in undetermined_lines(diag.undetermined):
         out.print(line, highlight=False)
 
 
-def _print_ranking(diag) -> None:
-    """The terms by the radial error each makes alone over the circle."""
+def _print_ranking(diag, reference=None) -> None:
+    """The terms by the radial error each makes alone over the circle; with
+    ``reference``, beside each its G alone at the linear scale and, for a term the scale
+    sees less than half of, a mark that it lies past the scale."""
     if not diag.ranking:  # an arc that gives no terms: nothing to rank, and it says why
         out.print("terms ranked by their share of G: none determined (below)",
                   highlight=False)
         return
     g = "G(b)" if len(diag.directions) == 2 else "G"
-    t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %"),
+    at = _at_scale(reference)
+    scale = ("scale µm",) if at is not None else ()
+    t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %", *scale),
                     left=("term",))
     for r in diag.ranking:
+        placed = _placed(r, at, _floor(diag))
+        mark = "*" if (placed.get("where") or "").startswith("mostly past") else ""
         t.add_row(str(r["rank"]), r["term"].replace("_", " "), _cell(r["g_alone_m"] * 1e6),
                   _cell(100 * r["share_of_G"], 1), _cell(r["contribution_m"] * 1e6),
-                  _cell(100 * r["share"], 1))
+                  _cell(100 * r["share"], 1),
+                  *((_cell(placed["scale_g_alone_um"]) + mark if placed else "",)
+                    if scale else ()))
     print_plain(t, out, f"terms ranked by their share of {g}",
                 f"{g} alone: the {g} the term's radial error alone makes; % {g}: of the "
                 f"circles' {g}; p-v: its peak to valley about the nominal centre (a centre "
                 f"offset makes no {g}: it shows in the contour error), share: of the sum "
-                "of those")
+                "of those" + ("; scale: the term's G alone in the linear scale's circle, "
+                              "* where the scale sees less than half of it (a term above "
+                              "the residual rms): it lies past the scale, in the structure "
+                              "between the table and the tool, not in the drive"
+                              if scale else ""))

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+from ..analysis.circle_display import term_place
 from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
 from .circles import SENSOR_NAMES, file_names
 from .html import facts, number, para, section, table
@@ -66,7 +67,8 @@ def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
             f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes))
         g = float(r["g_alone_m"])
         if seen is not None and term != "centre_offset" and g > floor:
-            where = _where(g, seen.get(term, 0.0), reference.sensor)
+            where = term_place(g, seen.get(term, 0.0),
+                               SENSOR_NAMES.get(reference.sensor, reference.sensor))
             # a pitch error is the screw's: one the scale does not see is no screw's
             note = where if base == "cyclic" and where.startswith("mostly") else \
                 f"{where}; {note}"
@@ -80,21 +82,6 @@ def seen_alone(reference) -> dict | None:
     if reference is None:
         return None
     return {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
-
-
-#: the part of a term's G at the tool that a sensor nearer the drive must see for the
-#: term to be called the axis' own [-]
-_SHARED = 0.5
-
-
-def _where(g: float, g_ref: float, sensor: str) -> str:
-    """Where a term of G ``g`` at the tool lies, given the G ``g_ref`` the same term makes
-    at ``sensor``: what that sensor does not see happened between it and the tool [-]."""
-    name = SENSOR_NAMES.get(sensor, sensor)
-    if g_ref < _SHARED * g:
-        return (f"mostly past the {name}: the structure between the table and the tool "
-                "(deflection, ringing), not the drive")
-    return f"at the {name} too: in the axis"
 
 
 def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> list:

@@ -16,7 +16,7 @@ from tcpmm._compiled import call
 from tcpmm._rows import dot_rows, norm_rows
 from tcpmm.analysis import corners as C
 from tcpmm.analysis.contour import contour_error
-from tcpmm.analysis.tape import Tape
+from tcpmm.analysis.corner_store import CornerStore
 from tcpmm.path.program import program_to_command
 from tcpmm.sim.simulate import simulate
 
@@ -90,15 +90,16 @@ def zigzag(passes: int) -> str:
 def test_each_corner_takes_down_the_samples_it_owns(vmc, monkeypatch):
     run = simulate(vmc, program_to_command(zigzag(40)))
     rows = []
-    add = Tape.add
-    monkeypatch.setattr(Tape, "add", lambda self, block: (rows.append(len(block)),
-                                                          add(self, block))[1])
+    add = CornerStore.add
+    monkeypatch.setattr(CornerStore, "add", lambda self, g0, cuts, near, rowcut, block,
+                        counts: (rows.append(len(block)),
+                                 add(self, g0, cuts, near, rowcut, block, counts))[1])
     res = contour_error(run, plane=("X", "Y"))
     assert len(res.corners) >= 40  # the turn at each end of a pass is one corner
-    # each sample is on the tapes of the corner it settles after (and of the next, where
-    # the two meet); taken down by every corner after which it came, the tapes held about
+    # each sample is in the rows of the corner it settles after (and of the next, where
+    # the two meet); taken down by every corner after which it came, the rows held about
     # a sample for each corner before it: some 40 times the run here
-    assert sum(rows) < 2 * run.time_s.size
+    assert rows and sum(rows) < 2 * run.time_s.size
 
 
 @pytest.mark.filterwarnings("ignore")

@@ -54,4 +54,8 @@ FUNCTIONS = {
                    "i"),
     "corner_frames": ("sim.cornerfigs", "corner_frames", "corner_frames",
                       ("f2", "f1", "f1", "i1", "f1", "f"), "f2"),
+    "corner_figures_many": ("sim.cornerfigs", "corner_figures_many", "corner_figures_many",
+                            ("f2", "i1", "f2", *_SHAPE_KINDS[:4], "i2", "i1"), "f2"),
+    "first_bends": ("sim.cornerfigs", "first_bends", "first_bends",
+                    ("f2", "f1", "i1", "f2", "f1", "f"), "i1"),
 }

@@ -14,31 +14,24 @@ to halfway to it are in: the figures are the whole run's to the bit, whatever th
 
 from __future__ import annotations
 
-from collections import deque
-
 import numpy as np
 
 from .._compiled import call
-from .corners import CornerFinder, first_bend, path_length
-from .tape import Tape
+from .corner_store import CornerStore, batch_figures
+from .corners import CornerFinder, first_bends, path_length
 
 #: rows of a settling stretch read back at a time [-]
 _BACK_ROWS = 1 << 18
 #: a corner's figures per sensor, in :func:`tcpmm.sim.cornerfigs.corner_figures`' order
 _FIGURES = ("overshoot_m", "rounding_m", "settle_s", "settle_m")
-
-
-class _Corner:
-    """One corner being measured: its geometry, bounds and tapes."""
-
-    def __init__(self, i, turn, first, t_i, t0, sp0, c, n, t_out, s_i, s_first, b0):
-        self.i, self.turn, self.first, self.t_i, self.t0, self.sp0 = i, turn, first, t_i, t0, sp0
-        self.c, self.n, self.t_out, self.s_i, self.s_first = c, n, t_out, s_i, s_first
-        self.end = bool(np.isnan(turn))
-        self.b0, self.b1 = b0, None
-        self.s_on = s_i if self.end else np.inf  # path length to which the leg runs on
-        self.checked = i  # the first segment not yet looked at for the bend
-        self.near, self.after, self.sensors = [], Tape(), []
+#: the open corners' numbers, a row each (``c``, ``n`` and ``t_out`` a vector a row):
+#: vertex, turn; time at the corner, from which it settles; path length from which it
+#: settles, at the corner, at the first vertex of its rest; the samples it owns from and
+#: to (inf until the next corner is found); to which its outgoing leg runs on (inf until
+#: its bend is found); the first segment not yet looked at for the bend; 1 at the end of
+#: the path; its rows taken down; whether samples of sensors have come to it
+_COLUMNS = ("i", "turn", "t_i", "t0", "sp0", "s_i", "s_first", "b0", "b1", "s_on",
+            "checked", "end", "rows", "fed", "c", "n", "t_out")
 
 
 class CornerStream:
@@ -62,9 +55,12 @@ class CornerStream:
         self.tc = self.p = self.s = None
         self.off = 0  # the command's vertex of row 0 of the buffer
         self.smp = None  # samples kept for corners not found yet: t, actual, errors, feet
-        self.open, self.done = deque(), []  # corners being measured; the figures of those done
-        self.last = None  # the last corner done
-        self.unbent = []  # the open corners whose outgoing leg's bend is not found yet
+        self.open = None  # the corners being measured (:data:`_COLUMNS`), in order
+        self.g0 = 0  # the number of the first open corner, from 0
+        self.store = CornerStore()
+        self.done = []  # the figures of the corners done
+        self.names = []  # the sensors
+        self.last_t_i = None  # the time at the last corner done
         self.t_done = -np.inf  # the last sample measured
         self.tc0 = None
 
@@ -75,6 +71,7 @@ class CornerStream:
             return
         if self.p is None:
             self.tc0, self.tc, self.p, self.s = float(tc[0]), tc, p, path_length(p)
+            self.open = _table(0, p.shape[1])
         else:
             s = path_length(np.vstack([self.p[-1:], p]), self.s[-1])[1:]
             self.tc, self.p = np.concatenate([self.tc, tc]), np.vstack([self.p, p])
@@ -96,7 +93,7 @@ class CornerStream:
                 {k: np.concatenate([old[k], v[k]]) for k in v}
                 for old, v in zip(self.smp[1:], new[1:], strict=True)])
         self._bends()
-        self._feed(self.open, _stacked(*new))
+        self._feed(0, _stacked(*new))
         self.t_done = float(t[-1])
         self._settle()
 
@@ -107,8 +104,8 @@ class CornerStream:
         if self.p is None:
             return []
         self._found(self.finder.step(self.p, self.s, self.off, True))
-        if self.open:
-            self.open[-1].b1 = float(self.tc[-1])
+        if self.open["i"].size:
+            self.open["b1"][-1] = self.tc[-1]
         self._bends()
         self.t_done = np.inf
         self._settle()
@@ -118,96 +115,131 @@ class CornerStream:
         """Open the corners just found and take down the samples kept for them, once
         each knows where the next begins (else each would take the samples kept up to
         the last: a chunk of a run with a corner every few blocks)."""
-        new, d = [], self.p.shape[1]
-        frames = call("corner_frames", self.p, self.s, self.tc,
-                      np.array([i - self.off for i, _ in corners], np.int64),
-                      np.array([t for _, t in corners], float), self.span) if corners else ()
-        for (i, turn), frame in zip(corners, frames, strict=True):
-            li = i - self.off
-            first = int(frame[0])
-            t_i, t_in = float(self.tc[li]), float(self.tc[first])
-            t0 = t_in if np.isnan(turn) else t_i  # the end: the arrival
-            prev = self.open[-1] if self.open else self.last
-            # halfway from the command leaving the corner before to its arriving here: a
-            # rest here (a dwell, the end's) is no part of the leg the one before owns
-            b0 = self.tc0 if prev is None else 0.5 * (prev.t_i + t_in)
-            if prev is not None:
-                prev.b1 = b0
-            c = _Corner(i, turn, first + self.off, t_i, t0, float(frame[1]),
-                        self.p[li].copy(), frame[2:2 + d], frame[2 + d:],
-                        float(self.s[li]), float(self.s[first]), b0)
-            self.open.append(c)
-            new.append(c)
-            if c.s_on == np.inf:
-                self.unbent.append(c)
+        if corners:
+            idx = np.array([i for i, _ in corners], np.int64)
+            turn = np.array([t for _, t in corners], float)
+            frames = call("corner_frames", self.p, self.s, self.tc, idx - self.off, turn,
+                          self.span)
+            self._opened(idx, turn, frames)
         self._bends()
-        if self.smp is not None and new:
-            self._feed(new, _stacked(*self.smp))
+        if self.smp is not None and corners:
+            self._feed(self.open["i"].size - len(corners), _stacked(*self.smp))
+
+    def _opened(self, idx, turn, frames) -> None:
+        """Add the corners at the vertices ``idx`` of turns ``turn`` [-], [rad] and frames
+        (:func:`tcpmm.sim.cornerfigs.corner_frames`) to the open ones."""
+        li, d, o = idx - self.off, self.p.shape[1], self.open
+        first = frames[:, 0].astype(np.int64)
+        t_i, t_in, end = self.tc[li], self.tc[first], np.isnan(turn)
+        prev = o["t_i"][-1] if o["i"].size else self.last_t_i
+        # halfway from the command leaving the corner before to its arriving here: a
+        # rest here (a dwell, the end's) is no part of the leg the one before owns
+        b0 = 0.5 * (np.concatenate([[np.nan if prev is None else prev], t_i[:-1]]) + t_in)
+        if prev is None:
+            b0[0] = self.tc0
+        if o["i"].size:
+            o["b1"][-1] = b0[0]
+        s_i, n = self.s[li], idx.size
+        new = {"i": idx, "turn": turn, "t_i": t_i, "t0": np.where(end, t_in, t_i),
+               "sp0": frames[:, 1], "s_i": s_i, "s_first": self.s[first], "b0": b0,
+               "b1": np.concatenate([b0[1:], [np.inf]]),
+               "s_on": np.where(end, s_i, np.inf),  # the end's leg runs on nowhere
+               "checked": idx.copy(), "end": end.astype(np.int64),
+               "rows": np.zeros(n, np.int64), "fed": np.zeros(n, bool), "c": self.p[li],
+               "n": frames[:, 2:2 + d], "t_out": frames[:, 2 + d:]}
+        self.open = {k: np.concatenate([o[k], new[k]]) for k in _COLUMNS}
 
     def _bends(self) -> None:
         """Look for the bend that ends each open corner's outgoing leg in the command read
         since (only the corners still without one: a run of many corners finds them
-        one after the other)."""
-        for c in list(self.unbent):
-            j = first_bend(self.p, self.s, c.checked - self.off, c.t_out, c.s_i + self.span)
-            if j is None:
-                c.checked = self.off + self.s.size - 1
-            else:
-                c.s_on = float(self.s[j])
-                self.unbent.remove(c)
+        one after the other), every such corner in one call."""
+        o = self.open
+        u = np.flatnonzero(o["s_on"] == np.inf) if o is not None else ()
+        if not len(u):
+            return
+        j = first_bends(self.p, self.s, o["checked"][u] - self.off, o["t_out"][u],
+                        o["s_i"][u] + self.span)
+        found = j >= 0
+        o["checked"][u[~found]] = self.off + self.s.size - 1
+        o["s_on"][u[found]] = self.s[j[found]]
 
-    def _feed(self, corners, batch) -> None:
-        """Take down on the corners' tapes the samples of a batch (:func:`_stacked`) that
-        concern each: those from the earlier of its start and the halfway point from the
-        corner before, up to halfway to the next where that is known (its figures take
-        no other); near the corner, and from it on
+    def _feed(self, a: int, batch) -> None:
+        """Take down on the open corners from the ``a``-th on the samples of a batch
+        (:func:`_stacked`) that concern each: those from the earlier of its start and the
+        halfway point from the corner before, up to halfway to the next where that is
+        known (its figures take no other); near the corner, and from it on
         (:func:`tcpmm.sim.cornerfeed.feed_many`, every corner in one call). What settles
         is the contour error after a corner, the distance to the end point at the end of
         the path (the command rests there: lag counts too)."""
-        if not corners:
+        o = self.open
+        if o is None or o["i"].size <= a:
             return
         t, q, e, f, names = batch
-        lims = np.array([[min(c.b0, c.t0), np.inf if c.b1 is None else c.b1, c.t0, c.s_i,
-                          self.span, c.s_on, c.s_first] for c in corners])
+        k = slice(a, None)
+        lims = np.column_stack([np.minimum(o["b0"][k], o["t0"][k]), o["b1"][k], o["t0"][k],
+                                o["s_i"][k], np.full(o["i"].size - a, self.span),
+                                o["s_on"][k], o["s_first"][k]])
         cuts, *near, rowcut, rows = call(
             "feed_many", t, q, e, f, self.off, self.tc, self.s, self.p,
-            np.array([c.c for c in corners]), np.array([c.n for c in corners]), lims,
-            np.array([int(c.end) for c in corners], np.int64))
-        bounds, at = cuts[:, [0, -1]].tolist(), rowcut.tolist()
-        for j, c in enumerate(corners):
-            a, b = bounds[j]
-            # a piece that holds nothing is kept only while no other is: a corner's
-            # figures then read its one piece as it is, not joined from several
-            if names and (b > a or not c.near):
-                piece = (cuts[j] - a, *(x[a:b] for x in near))
-                if c.near and not c.near[-1][0][-1]:
-                    c.near[-1] = piece
-                else:
-                    c.near.append(piece)
-            c.sensors = names
-            c.after.add(rows[at[j]:at[j + 1]])
+            np.ascontiguousarray(o["c"][k]), np.ascontiguousarray(o["n"][k]), lims,
+            np.ascontiguousarray(o["end"][k]))
+        self.names = names
+        if names:
+            o["fed"][k] = True
+            o["rows"][k] += np.diff(rowcut)
+            self.store.add(self.g0 + a, cuts, near, rowcut, rows, o["rows"][k])
 
     def _settle(self) -> None:
         """Sum up the corners whose samples are all in, and let go of what no corner
         needs any more."""
-        while self.open and self.open[0].b1 is not None and self.t_done >= self.open[0].b1:
-            c = self.open.popleft()
-            if c in self.unbent:
-                self.unbent.remove(c)
-            # a run of many corners keeps only their figures (and the last, to go on from)
-            self.done.append(_numbered(len(self.done) + 1, c, _figures(c, self.tol)))
-            c.near = None
-            c.after.close()
-            self.last = c
+        o = self.open
+        if o is not None and o["i"].size:
+            ready = (o["b1"] != np.inf) & (self.t_done >= o["b1"])
+            m = o["i"].size if ready.all() else int(np.argmin(ready))
+            if m:
+                self.done.extend(self._summed(m))
+                self.last_t_i = float(o["t_i"][m - 1])
+                self.open = {k: v[m:] for k, v in o.items()}
+                self.g0 += m
+                # a run of many corners keeps only their figures
+                self.store.release(self.g0)
         if self.p is not None and np.isfinite(self.t_done):
             self._trim()
+
+    def _summed(self, m: int) -> list:
+        """The first ``m`` open corners, numbered, with their figures (:func:`_figures`)."""
+        o, ns = self.open, len(self.names)
+        lims = np.column_stack([o["b0"][:m], o["b1"][:m], o["t0"][:m], o["sp0"][:m],
+                                np.full(m, self.tol)])
+        figs = (batch_figures(self.store, self.g0, lims, o["end"][:m], ns).tolist()
+                if ns and o["fed"][:m].any() else None)
+        out = []
+        heads = zip(range(len(self.done) + 1, len(self.done) + m + 1), o["i"][:m].tolist(),
+                    o["c"][:m].tolist(), o["turn"][:m].tolist(), o["fed"][:m].tolist(),
+                    strict=True)
+        for j, (number, i, c, turn, fed) in enumerate(heads):
+            row = {"number": number, "index": i, "point_m": c, "turn_rad": turn}
+            if not fed:
+                out.append(row)
+                continue
+            long = self.store.long.get(self.g0 + j)
+            if long is not None:
+                figures = _figures(long, lims[j], int(o["end"][j]), self.names)
+            else:
+                figures = {name: dict(zip(_FIGURES, r, strict=True))
+                           for name, r in zip(self.names, figs[j * ns:(j + 1) * ns],
+                                              strict=True)}
+            out.append({**row, **figures})
+        return out
 
     def _trim(self) -> None:
         keep = self.finder.keep(self.p, self.s, self.off)
         t_keep = float(self.tc[keep - self.off]) - self.w
         # future samples: their closest segment lies a window before them at the least
         nxt = int(np.searchsorted(self.tc, self.t_done - self.w, side="left")) - 1
-        cut = min([keep - self.off, nxt] + [c.checked - self.off for c in self.unbent])
+        checked = self.open["checked"][self.open["s_on"] == np.inf]
+        cut = min([keep - self.off, nxt] + ([int(checked.min()) - self.off]
+                                            if checked.size else []))
         cut = max(cut, 0)
         if cut:
             self.tc, self.p, self.s = self.tc[cut:], self.p[cut:], self.s[cut:]
@@ -217,6 +249,16 @@ class CornerStream:
             if k:
                 t, *rest = self.smp
                 self.smp = (t[k:], *({n: v[k:] for n, v in d.items()} for d in rest))
+
+
+def _table(n: int, d: int) -> dict:
+    """No open corners: the columns of :data:`_COLUMNS`, empty [-]."""
+    ints = ("i", "checked", "end", "rows")
+    out = {k: np.empty(0, np.int64 if k in ints else float) for k in _COLUMNS}
+    out["fed"] = np.empty(0, bool)
+    for k in ("c", "n", "t_out"):
+        out[k] = np.empty((n, d))
+    return out
 
 
 def _stacked(t, actual, errors, feet) -> tuple:
@@ -231,32 +273,31 @@ def _stacked(t, actual, errors, feet) -> tuple:
             np.stack([feet[k] for k in names]).astype(np.int64, copy=False), names)
 
 
-def _figures(c, tol) -> dict:
-    """Per sensor: overshoot, rounding and settling of a corner from its tapes, over the
-    samples it owns (halfway from the previous corner to halfway to the next, in time
-    from the command leaving one to its arriving at the other) [SI].
+def _figures(long, lims, end: int, names) -> dict:
+    """Per sensor: overshoot, rounding and settling of a corner whose settling stretch is
+    on a tape (:class:`~tcpmm.analysis.corner_store.CornerStore`), from the tape and its
+    pieces near it, over the samples it owns (``lims``: from and to which time, the time
+    and path length from which it settles, the band) [SI].
 
     The overshoot (:func:`tcpmm.sim.cornerfigs.corner_shapes`) is taken from where the
     point holds: at the end of the path a static deflection along it is where it settles
     (it is taken off), across the outgoing leg a sag of the tool where it holds there.
-    A settling stretch of up to :data:`_BACK_ROWS` rows is measured in the same call
-    (:func:`tcpmm.sim.cornerfigs.corner_figures`); a longer one on disk a block at a
-    time."""
-    if not c.sensors:
-        return {}
-    cut, *cols = c.near[0] if len(c.near) == 1 else _by_sensor(c.near, len(c.sensors))
-    a0, a1 = (0, c.after.n) if not c.after.in_file else (
-        c.after.count(c.b0, "left"), c.after.count(c.b1, "right"))
-    if not c.after.in_file or a1 - a0 <= _BACK_ROWS:
-        rows = c.after.rows(a0, a1) if a1 > a0 else np.empty((0, 2 + len(c.sensors)))
+    A settling stretch of up to :data:`_BACK_ROWS` rows is measured in one call
+    (:func:`tcpmm.sim.cornerfigs.corner_figures`); a longer one a block at a time."""
+    tape, pieces = long
+    b0, b1, t0, sp0, tol = lims.tolist()
+    cut, *cols = pieces[0] if len(pieces) == 1 else _by_sensor(pieces, len(names))
+    a0, a1 = tape.count(b0, "left"), tape.count(b1, "right")
+    if a1 - a0 <= _BACK_ROWS:
+        rows = tape.rows(a0, a1) if a1 > a0 else np.empty((0, 2 + len(names)))
         figs = call("corner_figures", np.ascontiguousarray(rows),
-                    np.array([c.b0, c.b1, c.t0, c.sp0, tol]), *cols, cut, int(c.end))
+                    np.array([b0, b1, t0, sp0, tol]), *cols, cut, end)
         return {name: dict(zip(_FIGURES, row, strict=True))
-                for name, row in zip(c.sensors, figs.tolist(), strict=True)}
-    settled = _settling(c.after, a0, a1, range(2, 2 + len(c.sensors)), c.t0, c.sp0, tol)
-    shapes = call("corner_shapes", *cols, cut, c.b0, c.b1, int(c.end), tol)
+                for name, row in zip(names, figs.tolist(), strict=True)}
+    settled = _settling(tape, a0, a1, range(2, 2 + len(names)), t0, sp0, tol)
+    shapes = call("corner_shapes", *cols, cut, b0, b1, end, tol)
     return {name: {"overshoot_m": over, "rounding_m": rounding, **settle}
-            for name, settle, (over, rounding) in zip(c.sensors, settled, shapes.tolist(),
+            for name, settle, (over, rounding) in zip(names, settled, shapes.tolist(),
                                                       strict=True)}
 
 
@@ -306,8 +347,3 @@ def _settling(tape, a0: int, a1: int, cols, t0: float, sp0: float, tol: float) -
         t, sp = tape.rows(k[j], k[j] + 1)[0, :2]
         res.append({"settle_s": float(t - t0), "settle_m": float(sp - sp0)})
     return res
-
-
-def _numbered(k, c, figures) -> dict:
-    return {"number": k, "index": int(c.i), "point_m": c.c.tolist(), "turn_rad": c.turn,
-            **figures}

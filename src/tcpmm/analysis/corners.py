@@ -111,25 +111,48 @@ class CornerFinder:
         cand[k] = turn_at(p, s, idx[k], self.span / 4) > _SHARP * turn[k]
         k = np.flatnonzero(cand)
         out = []
-        for g in np.split(k, np.flatnonzero(np.diff(k) > 1) + 1) if k.size else []:
-            j = int(g[np.argmax(turn[g])])
-            back = g[turn[g] >= _REVERSAL]
-            back = [int(idx[back[0]]) + off, int(idx[back[-1]]) + off] if back.size else None
-            if self.group is not None and g[0] == 0:  # the run goes on from the last piece
-                if turn[j] > self.group[2]:
-                    self.group[1:3] = [idx[j] + off, float(turn[j])]
-                if back is not None:
-                    self.group[3] = back if self.group[3] is None else [self.group[3][0],
-                                                                        back[1]]
-            else:
-                self._close(p, s, off, out)
-                self.group = [idx[g[0]] + off, idx[j] + off, float(turn[j]), back]
-            if g[-1] != idx.size - 1 or final:
-                self._close(p, s, off, out)
+        if k.size:  # the runs of candidates, the first and the last as they may go on
+            runs = _runs(k, turn)
+            self._run(p, off, idx, turn, [r[0] for r in runs], final, out)
+            if runs[0].size > 2:
+                self._closed_runs(p, off, idx, turn, [r[1:-1] for r in runs[2:]], out)
+            if runs[0].size > 1:
+                self._run(p, off, idx, turn, [r[-1] for r in runs], final, out)
         if not cand[-1]:
             self._close(p, s, off, out)
         self.ev = hi
         return out
+
+    def _run(self, p, off, idx, turn, run, final, out) -> None:
+        """Take in one run of candidates (:func:`_runs`): it goes on from the last piece,
+        or opens; it ends unless it reaches the last vertex judged."""
+        first, last, j, rf, rl = (int(x) for x in run)
+        back = [int(idx[rf]) + off, int(idx[rl]) + off] if rf >= 0 else None
+        if self.group is not None and first == 0:  # the run goes on from the last piece
+            if turn[j] > self.group[2]:
+                self.group[1:3] = [idx[j] + off, float(turn[j])]
+            if back is not None:
+                self.group[3] = back if self.group[3] is None else [self.group[3][0], back[1]]
+        else:
+            self._close(p, None, off, out)
+            self.group = [idx[first] + off, idx[j] + off, float(turn[j]), back]
+        if last != idx.size - 1 or final:
+            self._close(p, None, off, out)
+
+    def _closed_runs(self, p, off, idx, turn, runs, out) -> None:
+        """The corners of runs that open and end within the vertices judged, as
+        :meth:`_close` finds each (the vertices of their sharpest turns ``best``, their
+        first and last reversal ``rf``, ``rl``, -1 for none), all at once [-]."""
+        best, rf, rl = runs
+        i = idx[best]
+        for r in np.flatnonzero(rf >= 0).tolist():  # a reversal: the turning point
+            a, b = idx[rf[r]], idx[rl[r]] + 1
+            i[r] = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
+        moves = np.flatnonzero(np.any(p[1:] != p[:-1], axis=1))  # p[j + 1] off p[j]
+        k = np.searchsorted(moves, i, side="left")
+        i = np.where(k < moves.size, moves[np.minimum(k, moves.size - 1)], p.shape[0] - 1)
+        out.extend(zip((i + off).tolist(), turn[best].tolist(), strict=True))
+        self.last = int(i[-1]) + off
 
     def _close(self, p, s, off, out) -> None:
         """End the open run: its corner on the last vertex where the command stands at the
@@ -154,6 +177,23 @@ class CornerFinder:
         c = min(self.group[0] if self.group else self.ev, off + s.size - 1) - off
         j = int(np.searchsorted(s, s[c] - self.span, side="left")) - 1
         return off + max(min(rest_start(p, c), j), 0)
+
+
+def _runs(k, turn) -> tuple:
+    """The runs of consecutive candidate vertices ``k`` (positions among those judged):
+    each one's first and last, the first of its sharpest ``turn``, its first and last
+    that turns back (-1 for none) [-]."""
+    cut = np.flatnonzero(np.diff(k) > 1) + 1
+    start, stop = np.r_[0, cut], np.r_[cut, k.size]
+    tk, pos = turn[k], np.arange(k.size)
+    top = np.repeat(np.maximum.reduceat(tk, start), stop - start)
+    best = np.minimum.reduceat(np.where(tk == top, pos, k.size), start)
+    back = tk >= _REVERSAL
+    rf = np.minimum.reduceat(np.where(back, pos, k.size), start)
+    rl = np.maximum.reduceat(np.where(back, pos, -1), start)
+    has = rf < k.size
+    return (k[start], k[stop - 1], k[best], np.where(has, k[np.minimum(rf, k.size - 1)], -1),
+            np.where(has, k[np.maximum(rl, 0)], -1))
 
 
 def find_corners(p, corner_deg=30.0, span_m=0.5e-3):
@@ -191,3 +231,12 @@ def first_bend(p, s, j0, t_out, after_m):
     j = call("first_bend", p, s, int(j0), np.ascontiguousarray(t_out, float),
              float(after_m), _COS_STRAIGHT)
     return None if j < 0 else int(j)
+
+
+def first_bends(p, s, j0, t_out, after_m):
+    """:func:`first_bend` of several legs at once: from segment ``j0[k]`` on, beyond the
+    path length ``after_m[k]`` [m], leaving the direction ``t_out[k]`` [-]; -1 where
+    none of ``p`` does [-]."""
+    return call("first_bends", p, s, np.ascontiguousarray(j0, np.int64),
+                np.ascontiguousarray(t_out, float), np.ascontiguousarray(after_m, float),
+                _COS_STRAIGHT)

@@ -185,6 +185,23 @@ def corner_figures(rows, lims, t, dist, dev, past, cut, end):
 
 
 @njit(cache=True)
+def corner_figures_many(rows, rowcut, lims, t, dist, dev, past, cut, end):
+    """:func:`corner_figures` of several corners, one after the other: corner ``j``'s
+    rows are ``rows[rowcut[j]:rowcut[j + 1]]``, its limits ``lims[j]``, its samples near
+    it ``cut[j, 0]`` to ``cut[j, -1]`` of the next four, sensor ``k``'s from ``cut[j, k]``,
+    and ``end[j]`` 1 at the end of the path; shape (corners * sensors, 4), a corner's
+    sensors one after the other [m], [m], [s], [m]."""
+    ns = cut.shape[1] - 1
+    out = np.empty((lims.shape[0] * ns, 4))
+    for j in range(lims.shape[0]):
+        a, b = cut[j, 0], cut[j, ns]
+        out[j * ns:(j + 1) * ns] = corner_figures(
+            rows[rowcut[j]:rowcut[j + 1]], lims[j], t[a:b], dist[a:b], dev[a:b],
+            past[a:b], cut[j] - a, end[j])
+    return out
+
+
+@njit(cache=True)
 def first_bend(p, s, j0, t_out, after_m, cos_straight):
     """:func:`tcpmm.analysis.corners.first_bend`, -1 for none: the first segment from
     ``j0`` on beyond the path length ``after_m`` whose direction leaves ``t_out`` by more
@@ -200,6 +217,16 @@ def first_bend(p, s, j0, t_out, after_m, cos_straight):
         if w < cos_straight * ln and ln > 0 and s[j] > after_m:
             return j
     return -1
+
+
+@njit(cache=True)
+def first_bends(p, s, j0, t_out, after_m, cos_straight):
+    """:func:`first_bend` of several corners: from segment ``j0[j]`` on, beyond the path
+    length ``after_m[j]``, leaving ``t_out[j]``; -1 for none [-]."""
+    out = np.empty(j0.size, np.int64)
+    for j in range(j0.size):
+        out[j] = first_bend(p, s, j0[j], t_out[j], after_m[j], cos_straight)
+    return out
 
 
 @njit(cache=True)

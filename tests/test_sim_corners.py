@@ -167,6 +167,21 @@ def test_feed_many_takes_numpys_share_for_each_corner(d):
     assert (np.diff(cuts[:, [0, -1]], axis=1) > 0).all() and (np.diff(rowcut) > 10).all()
 
 
+def test_feed_many_interpolates_the_path_as_numpy_does():
+    """The command's path length at the settling rows, for samples on vertices, between
+    them, two at one time and before and after the command (the vertex of each looked
+    for on from the one before): numpy's interpolation."""
+    rng = np.random.default_rng(3)
+    p, s, tc, *_, off = _batch(rng, 2)
+    t = np.sort(np.r_[-0.002, tc[::7], tc[5], rng.uniform(0, 0.059, 200), 0.0595, 0.07])
+    m = t.size
+    lims = np.array([[t[0], np.inf, t[0], s[10], 4e-4, s[10], s[10]]])
+    *_, rowcut, rows = call("feed_many", t, np.zeros((2, m, 2)), np.zeros((2, m)),
+                            np.full((2, m), off, np.int64), off, tc, s, p, p[10:11],
+                            np.ones((1, 2)), lims, np.zeros(1, np.int64))
+    assert rowcut[-1] == m and np.array_equal(rows[:, 1], np.interp(t, tc, s))
+
+
 @pytest.mark.parametrize("turn", [0.9, np.nan])
 def test_corner_frame_is_numpys_geometry(turn):
     """The rest's first vertex, the path length at the corner's time, the outward and

@@ -3,13 +3,19 @@ definitions are in :mod:`tcpmm.analysis.contour`): the command as it is read, th
 samples with their contour errors as they are measured.
 
 A corner is found (:class:`~tcpmm.analysis.corners.CornerFinder`) once the command runs
-on a corner span past it. From then on every sample measured is taken down on the
-corner's tapes: where its closest command point lies near the corner, its distance to the
-corner point and how far outside the path it lies; from the corner on, its contour error.
-The samples between the corner and the next one found (its settling stretch) are kept so,
-a few numbers each; the command and the samples are kept only as far back as a corner not
-found yet may reach. A corner is summed up when the next one is found and the samples up
-to halfway to it are in: the figures are the whole run's to the bit, whatever the pieces.
+on a corner span past it. From then on every sample measured is taken down for the
+corner (:class:`~tcpmm.analysis.corner_store.CornerStore`): where its closest command
+point lies near the corner, its distance to the corner point and how far outside the path
+it lies; from the corner on, its contour error. The samples between the corner and the
+next one found (its settling stretch) are kept so, a few numbers each; the command and the
+samples are kept only as far back as a corner not found yet may reach. A corner is summed
+up when the next one is found and the samples up to halfway to it are in: the figures are
+the whole run's to the bit, whatever the pieces.
+
+A run with a corner every few blocks (a CAM finishing pattern) has hundreds of thousands
+of them: the open corners are columns of numbers, and each step (opening the corners
+found, looking for their legs' bends, taking down a batch of samples, summing up) is one
+compiled call for all the corners it concerns.
 """
 
 from __future__ import annotations
@@ -211,7 +217,8 @@ class CornerStream:
         o, ns = self.open, len(self.names)
         lims = np.column_stack([o["b0"][:m], o["b1"][:m], o["t0"][:m], o["sp0"][:m],
                                 np.full(m, self.tol)])
-        figs = (batch_figures(self.store, self.g0, lims, o["end"][:m], ns).tolist()
+        figs = ([dict(zip(_FIGURES, r, strict=True)) for r in
+                 batch_figures(self.store, self.g0, lims, o["end"][:m], ns).tolist()]
                 if ns and o["fed"][:m].any() else None)
         out = []
         heads = zip(range(len(self.done) + 1, len(self.done) + m + 1), o["i"][:m].tolist(),
@@ -219,17 +226,12 @@ class CornerStream:
                     strict=True)
         for j, (number, i, c, turn, fed) in enumerate(heads):
             row = {"number": number, "index": i, "point_m": c, "turn_rad": turn}
-            if not fed:
-                out.append(row)
-                continue
-            long = self.store.long.get(self.g0 + j)
+            long = self.store.long.get(self.g0 + j) if fed else None
             if long is not None:
-                figures = _figures(long, lims[j], int(o["end"][j]), self.names)
-            else:
-                figures = {name: dict(zip(_FIGURES, r, strict=True))
-                           for name, r in zip(self.names, figs[j * ns:(j + 1) * ns],
-                                              strict=True)}
-            out.append({**row, **figures})
+                row.update(_figures(long, lims[j], int(o["end"][j]), self.names))
+            elif fed:
+                row.update(zip(self.names, figs[j * ns:(j + 1) * ns], strict=True))
+            out.append(row)
         return out
 
     def _trim(self) -> None:

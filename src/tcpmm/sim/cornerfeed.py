@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .cornerfigs import interp_at
+from .cornerfigs import bracket, interp_at, interp_on
 
 
 @njit(cache=True)
@@ -78,6 +78,23 @@ def _span(lim):
     """The path lengths :func:`_is_near` takes of a corner's limits: where its span begins
     and ends, and to which its outgoing leg runs on [m]."""
     return lim[3] - lim[4], lim[3] + lim[4], lim[5]
+
+
+@njit(cache=True)
+def _path_at(x, tc, s, v):
+    """:func:`tcpmm.sim.cornerfigs.interp_at` of the time ``x`` on the command's times
+    ``tc`` and path lengths ``s``, and the largest vertex at or before ``x`` (-1 outside
+    the command), looked for forward from ``v``, that of an earlier time (-1 for none):
+    the times of a corner's samples follow one another, the vertices with them [s], [m],
+    [-]."""
+    n = tc.size
+    if not (tc[0] <= x and x <= tc[n - 1]):
+        return interp_at(x, tc, s, 0, n), -1
+    if v < 0:
+        v = bracket(x, tc, 0, n)
+    while v + 1 < n and tc[v + 1] <= x:
+        v += 1
+    return interp_on(x, tc, s, v, n), v
 
 
 @njit(cache=True)
@@ -157,9 +174,11 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
                 else:
                     dev[r], past[r] = _outside(qi, g, s, p, nj, s_first)
                 r += 1
+        v = -1  # the vertex of the sample before, where it lies within the command
         for i in range(a, i1):
             o = rowcut[j] + i - a
-            rows[o, 0], rows[o, 1] = t[i], interp_at(t[i], tc, s, 0, tc.size)
+            y, v = _path_at(t[i], tc, s, v)
+            rows[o, 0], rows[o, 1] = t[i], y
             for k in range(ns):
                 rows[o, 2 + k] = _dist(q[k, i], cj) if at_end else e[k, i]
     return cuts, tn, dist, dev, past, rowcut, rows

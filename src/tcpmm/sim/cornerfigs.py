@@ -240,14 +240,26 @@ def interp_at(x, xp, fp, a, b):
         return fp[a]
     if x > xp[b - 1]:
         return fp[b - 1]
-    lo, hi = a, b  # the largest j with xp[j] <= x lies in [lo, hi)
+    return interp_on(x, xp, fp, bracket(x, xp, a, b), b)
+
+
+@njit(cache=True)
+def bracket(x, xp, a, b):
+    """The largest ``j`` in ``a:b`` with ``xp[j] <= x``, for ``xp[a] <= x`` [-]."""
+    lo, hi = a, b  # it lies in [lo, hi)
     while hi - lo > 1:
         mid = (lo + hi) // 2
         if xp[mid] <= x:
             lo = mid
         else:
             hi = mid
-    j = lo
+    return lo
+
+
+@njit(cache=True)
+def interp_on(x, xp, fp, j, b):
+    """:func:`interp_at`'s value of an ``x`` within ``xp[a:b]`` whose largest ``j`` with
+    ``xp[j] <= x`` is known [-]."""
     if j == b - 1 or xp[j] == x:
         return fp[j]
     slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])

@@ -77,7 +77,7 @@ class CornerStream:
             return
         if self.p is None:
             self.tc0, self.tc, self.p, self.s = float(tc[0]), tc, p, path_length(p)
-            self.open = _table(0, p.shape[1])
+            self.open = _table(p.shape[1])
         else:
             s = path_length(np.vstack([self.p[-1:], p]), self.s[-1])[1:]
             self.tc, self.p = np.concatenate([self.tc, tc]), np.vstack([self.p, p])
@@ -253,13 +253,14 @@ class CornerStream:
                 self.smp = (t[k:], *({n: v[k:] for n, v in d.items()} for d in rest))
 
 
-def _table(n: int, d: int) -> dict:
-    """No open corners: the columns of :data:`_COLUMNS`, empty [-]."""
+def _table(d: int) -> dict:
+    """No open corners: the columns of :data:`_COLUMNS`, empty, of points of ``d``
+    coordinates [-]."""
     ints = ("i", "checked", "end", "rows")
     out = {k: np.empty(0, np.int64 if k in ints else float) for k in _COLUMNS}
     out["fed"] = np.empty(0, bool)
     for k in ("c", "n", "t_out"):
-        out[k] = np.empty((n, d))
+        out[k] = np.empty((0, d))
     return out
 
 

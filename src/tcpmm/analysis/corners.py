@@ -2,6 +2,10 @@
 measures them: overshoot, rounding and settling (the definitions are in
 :mod:`tcpmm.analysis.contour`, the measuring in :mod:`tcpmm.analysis.contour_corners`).
 
+Two sharp turns with no vertex between them whose turn over the span falls below the
+least (a zig-zag's U-turn of a step-over shorter than about the span) are one corner: the
+span over which each is taken holds the other, so the finder cannot tell them apart.
+
 A corner is measured where it is: only the samples whose closest command point lies within
 the corner span of the corner count, so a path that curves on (a spiral, an arc) or comes
 back to the same place (a circle's end on its start) adds nothing far from it.
@@ -81,7 +85,7 @@ class CornerFinder:
         self.min_turn, self.span = np.radians(corner_deg), span_m
         self.ev = 0  # the first vertex not judged yet
         # the open run of candidates: [first vertex, best, its turn, first and last vertex
-        # of a reversal (None if none)]
+        # of a reversal (None if none), last vertex, whether it holds two sharp turns]
         self.group = None
         self.last = -1  # the last corner's vertex
 
@@ -106,52 +110,64 @@ class CornerFinder:
         turn = turn_at(p, s, idx, self.span)
         x = s[idx]
         ok = (x >= self.span) & ((x <= s[-1] - self.span) if final else True)
-        cand = ok & (turn > self.min_turn)
+        bend = ok & (turn > self.min_turn)
+        cand = bend.copy()
         k = np.flatnonzero(cand)  # the quarter span's turn only where it decides
         cand[k] = turn_at(p, s, idx[k], self.span / 4) > _SHARP * turn[k]
         k = np.flatnonzero(cand)
+        # non-bending vertices up to each: sharp runs with none between are one bend
+        straight = np.cumsum(~bend)
         out = []
         if k.size:  # the runs of candidates, the first and the last as they may go on
-            runs = _runs(k, turn)
-            self._run(p, off, idx, turn, [r[0] for r in runs], final, out)
+            runs = _runs(k, turn, straight)
+            self._run(p, s, off, idx, turn, [r[0] for r in runs], final, straight, out)
             if runs[0].size > 2:
-                self._closed_runs(p, off, idx, turn, [r[1:-1] for r in runs[2:]], out)
+                self._closed_runs(p, s, off, idx, turn, [r[1:-1] for r in runs], out)
             if runs[0].size > 1:
-                self._run(p, off, idx, turn, [r[-1] for r in runs], final, out)
-        if not cand[-1]:
-            self._close(p, s, off, out)
+                self._run(p, s, off, idx, turn, [r[-1] for r in runs], final, straight, out)
+        if self.group is not None:  # ends where the path runs straight past its last turn
+            at = self.group[4] - self.ev
+            if straight[-1] > (straight[at] if at >= 0 else 0):
+                self._close(p, s, off, out)
         self.ev = hi
         return out
 
-    def _run(self, p, off, idx, turn, run, final, out) -> None:
-        """Take in one run of candidates (:func:`_runs`): it goes on from the last piece,
-        or opens; it ends unless it reaches the last vertex judged."""
-        first, last, j, rf, rl = (int(x) for x in run)
+    def _run(self, p, s, off, idx, turn, run, final, straight, out) -> None:
+        """Take in one run of candidates (:func:`_runs`): it goes on from the last piece
+        (the path bends on from there to it), or opens; it ends unless the path bends on
+        from it to the last vertex judged."""
+        first, last, j, rf, rl, split = (int(x) for x in run)
         back = [int(idx[rf]) + off, int(idx[rl]) + off] if rf >= 0 else None
-        if self.group is not None and first == 0:  # the run goes on from the last piece
+        if self.group is not None and straight[first] == 0:  # goes on from the last piece
             if turn[j] > self.group[2]:
                 self.group[1:3] = [idx[j] + off, float(turn[j])]
             if back is not None:
                 self.group[3] = back if self.group[3] is None else [self.group[3][0], back[1]]
+            # a sharp turn apart from the last one's: the bend holds two
+            self.group[5] |= bool(split) or first > 0 or self.group[4] < self.ev - 1
+            self.group[4] = idx[last] + off
         else:
-            self._close(p, None, off, out)
-            self.group = [idx[first] + off, idx[j] + off, float(turn[j]), back]
-        if last != idx.size - 1 or final:
-            self._close(p, None, off, out)
+            self._close(p, s, off, out)
+            self.group = [idx[first] + off, idx[j] + off, float(turn[j]), back,
+                          idx[last] + off, bool(split)]
+        if straight[-1] != straight[last] or final:
+            self._close(p, s, off, out)
 
-    def _closed_runs(self, p, off, idx, turn, runs, out) -> None:
+    def _closed_runs(self, p, s, off, idx, turn, runs, out) -> None:
         """The corners of runs that open and end within the vertices judged, as
         :meth:`_close` finds each (the vertices of their sharpest turns ``best``, their
         first and last reversal ``rf``, ``rl``, -1 for none), all at once [-]."""
-        best, rf, rl = runs
-        i = idx[best]
+        first, last, best, rf, rl, split = runs
+        i, bent = idx[best], turn[best].copy()
         for r in np.flatnonzero(rf >= 0).tolist():  # a reversal: the turning point
             a, b = idx[rf[r]], idx[rl[r]] + 1
             i[r] = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
+        for r in np.flatnonzero(split).tolist():  # two sharp turns in one bend
+            i[r], bent[r] = bend_corner(p, s, idx[first[r]], idx[last[r]], self.span)
         moves = np.flatnonzero(np.any(p[1:] != p[:-1], axis=1))  # p[j + 1] off p[j]
         k = np.searchsorted(moves, i, side="left")
         i = np.where(k < moves.size, moves[np.minimum(k, moves.size - 1)], p.shape[0] - 1)
-        out.extend(zip((i + off).tolist(), turn[best].tolist(), strict=True))
+        out.extend(zip((i + off).tolist(), bent.tolist(), strict=True))
         self.last = int(i[-1]) + off
 
     def _close(self, p, s, off, out) -> None:
@@ -159,16 +175,19 @@ class CornerFinder:
         run's sharpest turn; at a reversal, at the turning point: the vertex furthest from
         the first that turns back, which lies half a span before it on the way in (the
         vertex halfway along the path between the first and the last that turn back lay
-        samples short of it, the vertices being sparse where the command is fast)."""
+        samples short of it, the vertices being sparse where the command is fast); where
+        the bend holds two sharp turns (a U-turn), :func:`bend_corner`."""
         if self.group is None:
             return
-        i = self.group[1] - off
-        if self.group[3] is not None:
+        i, bent = self.group[1] - off, self.group[2]
+        if self.group[5]:
+            i, bent = bend_corner(p, s, self.group[0] - off, self.group[4] - off, self.span)
+        elif self.group[3] is not None:
             a, b = self.group[3][0] - off, self.group[3][1] - off + 1
             i = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
         while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
             i += 1
-        out.append((i + off, self.group[2]))
+        out.append((i + off, bent))
         self.last, self.group = i + off, None
 
     def keep(self, p, s, off: int) -> int:
@@ -179,11 +198,14 @@ class CornerFinder:
         return off + max(min(rest_start(p, c), j), 0)
 
 
-def _runs(k, turn) -> tuple:
-    """The runs of consecutive candidate vertices ``k`` (positions among those judged):
-    each one's first and last, the first of its sharpest ``turn``, its first and last
-    that turns back (-1 for none) [-]."""
-    cut = np.flatnonzero(np.diff(k) > 1) + 1
+def _runs(k, turn, straight) -> tuple:
+    """The runs of candidate vertices ``k`` (positions among those judged) with no vertex
+    between them that does not bend (``straight``, the count of those up to each): two
+    sharp turns within a span of each other, as a U-turn's, are one corner, whose span
+    each one's turn already takes in. Each run's first and last, the first of its sharpest
+    ``turn``, its first and last that turns back (-1 for none), and whether it holds more
+    than one sharp turn (1, else 0) [-]."""
+    cut = np.flatnonzero(np.diff(straight[k]) > 0) + 1
     start, stop = np.r_[0, cut], np.r_[cut, k.size]
     tk, pos = turn[k], np.arange(k.size)
     top = np.repeat(np.maximum.reduceat(tk, start), stop - start)
@@ -192,8 +214,22 @@ def _runs(k, turn) -> tuple:
     rf = np.minimum.reduceat(np.where(back, pos, k.size), start)
     rl = np.maximum.reduceat(np.where(back, pos, -1), start)
     has = rf < k.size
+    gaps = np.cumsum(np.r_[0, np.diff(k) > 1])
     return (k[start], k[stop - 1], k[best], np.where(has, k[np.minimum(rf, k.size - 1)], -1),
-            np.where(has, k[np.maximum(rl, 0)], -1))
+            np.where(has, k[np.maximum(rl, 0)], -1),
+            (gaps[stop - 1] > gaps[start]).astype(np.int64))
+
+
+def bend_corner(p, s, a, b, span) -> tuple:
+    """The corner of a bend whose sharp turns lie from vertex ``a`` to vertex ``b`` of
+    ``p`` (path lengths ``s``), as a U-turn's two: the vertex halfway along the path
+    between them, and the turn between the chords over ``span`` [m] into ``a`` and out of
+    ``b`` [-, rad]."""
+    mid = a + int(np.searchsorted(s[a:b + 1], 0.5 * (s[a] + s[b])))
+    u = p[a] - _at(p, s, np.array([s[a] - span]))[0]
+    w = _at(p, s, np.array([s[b] + span]))[0] - p[b]
+    cos = float(u @ w) / (float(np.linalg.norm(u) * np.linalg.norm(w)) + 1e-300)
+    return min(mid, b), float(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
 def find_corners(p, corner_deg=30.0, span_m=0.5e-3):

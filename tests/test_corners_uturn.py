@@ -1,0 +1,80 @@
+"""A U-turn of a zig-zag whose step-over is shorter than the corner span is one corner: the
+span over which each of its two turns is taken holds the other, so they are one bend at
+the finder's resolution. It was reported as two corners of 90-160 deg a few tenths of a
+millimetre apart, each settling "until the next corner", which was the other half of the
+same U-turn."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.corners import CornerFinder, find_corners, path_length
+
+SPAN = 0.5e-3
+
+
+def zigzag(step_m, passes=4, length_m=5e-3, ds=1e-5):
+    """A zig-zag of ``passes`` passes along X, ``step_m`` apart in Y, sampled every
+    ``ds`` [m]."""
+    pts, x, y, d = [(0.0, 0.0)], 0.0, 0.0, 1.0
+    for k in range(passes):
+        x += d * length_m
+        pts.append((x, y))
+        if k < passes - 1:
+            y += step_m
+            pts.append((x, y))
+            d = -d
+    out = []
+    for a, b in itertools.pairwise(pts):
+        n = max(round(np.hypot(b[0] - a[0], b[1] - a[1]) / ds), 1)
+        t = np.arange(n)[:, None] / n
+        out.append(np.asarray(a) + t * (np.asarray(b) - np.asarray(a)))
+    return np.vstack([*out, [pts[-1]]])
+
+
+def in_pieces(p, rows):
+    """The corners of ``p`` fed ``rows`` vertices at a time, the polyline trimmed as a
+    stream trims it [-]."""
+    f, out, off, q, s = CornerFinder(span_m=SPAN), [], 0, None, None
+    for a in range(0, len(p), rows):
+        piece = p[a:a + rows]
+        if q is None:
+            q, s = piece, path_length(piece)
+        else:
+            s = np.concatenate([s, path_length(np.vstack([q[-1:], piece]), s[-1])[1:]])
+            q = np.vstack([q, piece])
+        final = a + rows >= len(p)
+        out += f.step(q, s, off, final)
+        if not final:
+            k = f.keep(q, s, off)
+            q, s, off = q[k - off:], s[k - off:], k
+    return out
+
+
+def same(a, b) -> bool:
+    """The same corners, to the bit; the end's NaN turn equal to itself [-]."""
+    return len(a) == len(b) and all(
+        i == j and (t == u or (t != t and u != u)) for (i, t), (j, u) in zip(a, b, strict=True))
+
+
+@pytest.mark.parametrize("step_mm", [0.15, 0.3, 0.5])
+def test_a_u_turn_within_the_span_is_one_corner_at_its_middle(step_mm):
+    p = zigzag(step_mm * 1e-3)
+    corners = find_corners(p, span_m=SPAN)
+    assert len(corners) == 4  # three U-turns and the end
+    for n, (i, turn) in enumerate(corners[:-1]):
+        assert np.degrees(turn) == pytest.approx(180.0, abs=1.0)
+        # half-way along the step-over, at the end of the pass it turns from
+        assert p[i][0] == pytest.approx(5e-3 if n % 2 == 0 else 0.0, abs=1e-9)
+        assert p[i][1] == pytest.approx((n + 0.5) * step_mm * 1e-3, abs=2e-5)
+    for rows in (1, 7, 37, 1000):
+        assert same(in_pieces(p, rows), corners)
+
+
+def test_corners_further_apart_than_the_span_stay_two():
+    p = zigzag(2e-3)
+    corners = find_corners(p, span_m=SPAN)
+    assert len(corners) == 7
+    assert all(np.degrees(t) == pytest.approx(90.0, abs=1.0) for _, t in corners[:-1])
+    assert same(in_pieces(p, 37), corners)

@@ -180,13 +180,17 @@ def test_the_contour_search_is_numbas_to_the_bit(monkeypatch):
             np.testing.assert_array_equal(a[k][1], b[k][1])
 
 
-@pytest.mark.parametrize("suffix", [".parquet", ".csv"])
-def test_measuring_a_contour_imports_neither_numba_nor_scipy(tmp_path, suffix):
-    """Nor pandas from a Parquet run (a CSV run is read with it)."""
+@pytest.mark.parametrize(("suffix", "program"), [(".parquet", False), (".csv", False),
+                                                 (".parquet", True)])
+def test_measuring_a_contour_imports_neither_numba_nor_scipy(tmp_path, suffix, program):
+    """Nor pandas from a Parquet run (a CSV run is read with it), a program's with its
+    integer columns nc_line and rapid too."""
     from tcpmm import simulate
+    from tcpmm.path import program_to_command
 
     built_or_skip()
-    simulate(builtin_machine(), paper_circle_command()).write(run := tmp_path / f"r{suffix}")
+    command = program_to_command(PROGRAM) if program else paper_circle_command()
+    simulate(builtin_machine(), command).write(run := tmp_path / f"r{suffix}")
     got = heavy_imports(["contour", str(run), "--plane", "XY", "--json"])
     assert got == ([] if suffix == ".parquet" else ["pandas"])
 

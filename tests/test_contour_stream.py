@@ -234,7 +234,8 @@ def test_a_run_without_what_it_needs_is_refused_in_chunks_as_whole(run_file, tmp
     else:
         drop = {"no time": ("time_s",), "no command": ("x_cmd_mm",),
                 "no sensor": tuple(c for c in table.column_names
-                                   if c.split("_")[1] in ("motor", "scale", "tcp"))}[defect]
+                                   if c.split("_")[1:2] in (["motor"], ["scale"], ["tcp"]))
+                }[defect]
         table = table.drop(list(drop))
     pq.write_table(table, bad := tmp_path / "bad.parquet")
     errs = []

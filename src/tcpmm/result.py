@@ -11,6 +11,8 @@ from .io import runwrite
 #: Run-file column suffix -> AxisRun field (docs/formats.md section 3), values in mm or A.
 RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_mm": "tcp",
                "current_A": "current"}
+#: Run-file columns of the block each sample's command is in, and their types [-].
+BLOCK_COLUMNS = {"nc_line": np.int32, "rapid": np.int8}
 
 
 @dataclass
@@ -70,11 +72,19 @@ class Run:
         Signals per axis [SI].
     meta : dict
         Description (command geometry, machine name, source file) [-].
+    nc_line : ndarray of int, optional
+        Per sample, the NC program's line of the block its command is in, 0 where none;
+        a run made from a program has it (:mod:`tcpmm.path.blocktrack`) [-].
+    rapid : ndarray of int, optional
+        Per sample, 1 where its command is in a G0 rapid (or a dwell after one), else 0
+        [-].
     """
 
     time_s: np.ndarray
     axes: dict[str, AxisRun]
     meta: dict = field(default_factory=dict)
+    nc_line: np.ndarray | None = None
+    rapid: np.ndarray | None = None
 
     def with_command(self, command) -> Run:
         """The run with its command signals replaced by ``command`` at the run's times,
@@ -96,16 +106,26 @@ class Run:
                              f"({', '.join(self.axes)})")
         axes = {a: replace(r, cmd=np.interp(self.time_s, command.time_s, given[a]))
                 if a in given else r for a, r in self.axes.items()}
-        return Run(self.time_s, axes, {**self.meta, "command": "given"})
+        blocks = (self.nc_line, self.rapid)
+        if command.meta.get("rapid") is not None:
+            k = np.clip(np.searchsorted(command.time_s, self.time_s, side="right") - 1, 0,
+                        command.time_s.size - 1)
+            blocks = tuple(np.asarray(command.meta[c])[k] for c in ("nc_line", "rapid"))
+        return Run(self.time_s, axes, {**self.meta, "command": "given"}, *blocks)
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The run-file columns (docs/formats.md section 3): ``time_s``, then mm and A."""
+        """The run-file columns (docs/formats.md section 3): ``time_s``, then mm and A, then
+        ``nc_line`` and ``rapid`` where the run has them (integers)."""
         data = {"time_s": self.time_s}
         for name, a in self.axes.items():
             for suffix, attr in RUN_COLUMNS.items():
                 v = getattr(a, attr)
                 if v is not None:
                     data[f"{name.lower()}_{suffix}"] = v * (1.0 if attr == "current" else 1e3)
+        for name, dtype in BLOCK_COLUMNS.items():
+            v = getattr(self, name)
+            if v is not None:
+                data[name] = np.asarray(v, dtype)
         return data
 
     def to_pandas(self):

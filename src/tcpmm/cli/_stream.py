@@ -215,10 +215,11 @@ def path_to_csv(program: Path, output: Path, settings, chunk_blocks: int | None)
 
     ip = StreamInterpolator(settings)
     last = 0.0
-    with block_progress(program, "path") as update, command_csv_writer(output) as w:
+    with block_progress(program, "path") as update, \
+            command_csv_writer(output, blocks=True) as w:
         for piece in stream_program(program, settings, chunk_blocks or CHUNK_BLOCKS,
                                     interpolator=ip):
-            w.write(piece.time_s, piece.positions)
+            w.write(piece.time_s, piece.positions, (piece.nc_line, piece.rapid))
             last = float(piece.time_s[-1])
             update(piece.lines_read)
         w.axes = tuple(a for a in ("X", "Y", "Z") if a in ip.used_axes)

@@ -15,12 +15,14 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..result import RUN_COLUMNS, AxisRun, Run
+from ..result import BLOCK_COLUMNS, RUN_COLUMNS, AxisRun, Run
 from .atomic import atomic_path
 from .runwrite import (  # noqa: F401  (the writers are part of this module's interface)
     PARQUET_SUFFIXES,
     arrow_table,
     is_parquet,
+    parquet_columns,
+    parquet_schema,
     write_run,
     write_run_csv,
     write_run_parquet,
@@ -46,16 +48,15 @@ def run_parquet_writer(path):
         ``write(run)``: appends the pieces's rows (:class:`~tcpmm.result.Run`, the
         columns of the first piece) [-].
     """
-    import pyarrow as pa
     import pyarrow.parquet as pq
 
     with atomic_path(path) as tmp:
         opened: list = []
 
         def write(run: Run) -> None:
-            cols = {k: np.asarray(v, dtype=float) for k, v in run.columns().items()}
+            cols = parquet_columns(run)
             if not opened:
-                schema = pa.schema([(k, pa.float64()) for k in cols])
+                schema = parquet_schema(cols)
                 opened.append(pq.ParquetWriter(tmp, schema, use_dictionary=False))
             w = opened[0]
             w.write_table(arrow_table(cols, w.schema))
@@ -146,15 +147,18 @@ def _place(i: int, first_row: int, what: str) -> tuple[str, dict]:
 
 def float_values(col) -> np.ndarray:
     """A Parquet column (an Arrow array or chunked array of numbers) as float64: its
-    buffers' values where it holds float64 without nulls, which spares the import of
-    pandas that pyarrow's own conversion makes (0.5 s and more), else converted [-]."""
+    buffers' values where it holds float64 or integers (a run's ``nc_line``, ``rapid``)
+    without nulls, which spares the import of pandas that pyarrow's own conversion makes
+    (0.5 s and more), else converted [-]."""
     import pyarrow as pa
 
     chunks = col.chunks if isinstance(col, pa.ChunkedArray) else [col]
-    if col.type == pa.float64() and col.null_count == 0:
-        parts = [np.frombuffer(c.buffers()[1], np.float64, len(c), c.offset * 8)
+    if col.null_count == 0 and (col.type == pa.float64() or pa.types.is_integer(col.type)):
+        kind = np.dtype(col.type.to_pandas_dtype())
+        parts = [np.frombuffer(c.buffers()[1], kind, len(c), c.offset * kind.itemsize)
                  for c in chunks]
-        return parts[0] if len(parts) == 1 else np.concatenate(parts or [np.empty(0)])
+        v = parts[0] if len(parts) == 1 else np.concatenate(parts or [np.empty(0, kind)])
+        return v if kind == np.float64 else v.astype(float)
     return col.to_numpy(zero_copy_only=False).astype(float)  # nulls as NaN
 
 
@@ -218,14 +222,20 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
         raise InputError(f"missing column 'time_s' (found: {', '.join(names)})", file=path,
                          line=1 if what == "line" else None)
     axes: dict[str, dict] = {}
+    blocks = {}
     for c in names:
         if c == "time_s":
+            continue
+        if c in BLOCK_COLUMNS:
+            refuse_gaps(c, cols[c], path, first_row, what)
+            blocks[c] = cols[c].astype(BLOCK_COLUMNS[c])
             continue
         m = _COL.match(c)
         if not m:
             raise InputError(
                 f"unknown column {c!r}; run-file columns are time_s and <axis>_cmd_mm, "
-                "<axis>_motor_mm, <axis>_scale_mm, <axis>_tcp_mm, <axis>_current_A",
+                "<axis>_motor_mm, <axis>_scale_mm, <axis>_tcp_mm, <axis>_current_A, "
+                "nc_line, rapid",
                 file=path, line=1 if what == "line" else None, column=c,
             )
         v = cols[c]
@@ -247,4 +257,5 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
     runs = {k: AxisRun(cmd=v.get("cmd"), motor=v.get("motor"), scale=v.get("scale"),
                        tcp=v.get("tcp"), current=v.get("current"))
             for k, v in axes.items()}
-    return Run(time_s=t, axes=runs, meta={"source": None if path is None else str(path)})
+    return Run(time_s=t, axes=runs, meta={"source": None if path is None else str(path)},
+               **blocks)

@@ -1,4 +1,6 @@
-"""Command file (docs/formats.md section 2): ``time_s, x_mm, y_mm[, z_mm]``, one row per period."""
+"""Command file (docs/formats.md section 2): ``time_s, x_mm, y_mm[, z_mm]``, one row per
+period, and of a program's command ``nc_line, rapid``: the line of the block each sample
+is in and whether it is a G0 rapid (:mod:`tcpmm.path.blocktrack`)."""
 
 from __future__ import annotations
 
@@ -15,7 +17,9 @@ from ..io.text import file_lines, read_text, unquoted
 from .command import Command
 
 _AXIS_COLUMNS = {"x_mm": "X", "y_mm": "Y", "z_mm": "Z"}
-_LAYOUT = "time_s, x_mm, y_mm[, z_mm]"
+#: the columns of the block each sample is in, after the axes [-]
+BLOCK_COLUMNS = ("nc_line", "rapid")
+_LAYOUT = "time_s, x_mm, y_mm[, z_mm][, nc_line, rapid]"
 #: allowed relative deviation of a time step from the mean step [-]
 UNIFORM_REL_TOL = 1e-6
 
@@ -31,7 +35,7 @@ def _header(line: str, file) -> list[str]:
         )
     seen = set()
     for k, name in enumerate(names[1:], start=2):
-        if name not in _AXIS_COLUMNS:
+        if name not in _AXIS_COLUMNS and name not in BLOCK_COLUMNS:
             raise InputError(
                 f"unknown column {name!r}; a command file has the columns {_LAYOUT}",
                 file=file,
@@ -185,12 +189,15 @@ def read_command_csv(path) -> Command:
                          f"samples its command every few ms (at most {MAX_PERIOD_S:g} s): is "
                          "time_s in milliseconds or microseconds? Write seconds",
                          file=path, line=3, column="time_s")
-    positions = {_AXIS_COLUMNS[n]: data[:, k] * 1e-3 for k, n in enumerate(names) if k}
+    positions = {_AXIS_COLUMNS[n]: data[:, k] * 1e-3 for k, n in enumerate(names)
+                 if n in _AXIS_COLUMNS}
     order = [a for a in ("X", "Y", "Z") if a in positions]
+    blocks = {n: data[:, k].astype(np.int32 if n == "nc_line" else np.int8)
+              for k, n in enumerate(names) if n in BLOCK_COLUMNS}
     return Command(
         time_s=t,
         positions={a: positions[a] for a in order},
-        meta={"source": "command file", "file": str(path)},
+        meta={"source": "command file", "file": str(path), **blocks},
     )
 
 
@@ -200,7 +207,8 @@ def write_command_csv(command: Command, path) -> None:
     Parameters
     ----------
     command : Command
-        Must have axes X and Y, optionally Z [-].
+        Must have axes X and Y, optionally Z; a program's command
+        (``meta["nc_line"]`` and ``meta["rapid"]``) writes its blocks too [-].
     path : str or Path
         The CSV file; its folder is created if needed [-].
     """
@@ -211,15 +219,19 @@ def write_command_csv(command: Command, path) -> None:
             f"a command file holds axes X, Y and optionally Z; this command has "
             f"{', '.join(command.positions)}"
         )
-    table = np.column_stack([command.time_s] + [command.positions[a] * 1e3 for a in axes])
-    header = ",".join(["time_s"] + [f"{a.lower()}_mm" for a in axes])
-    fmt = ["%.12f"] + ["%.9f"] * len(axes)
+    blocks = [command.meta[c] for c in BLOCK_COLUMNS if command.meta.get(c) is not None]
+    blocks = blocks if len(blocks) == len(BLOCK_COLUMNS) else []
+    table = np.column_stack([command.time_s] + [command.positions[a] * 1e3 for a in axes]
+                            + blocks)
+    header = ",".join(["time_s"] + [f"{a.lower()}_mm" for a in axes]
+                      + list(BLOCK_COLUMNS)[:len(blocks)])
+    fmt = ["%.12f"] + ["%.9f"] * len(axes) + ["%d"] * len(blocks)
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as fh:
         np.savetxt(fh, table, fmt=fmt, delimiter=",", header=header, comments="")
 
 
 @contextlib.contextmanager
-def command_csv_writer(path):
+def command_csv_writer(path, blocks: bool = False):
     """Write a command that comes in pieces as a command file, atomically: the pieces'
     X, Y and Z go to a temporary file beside ``path``, Z is dropped at the end where the
     command does not move it, and the file is renamed onto ``path``; removed where the
@@ -229,46 +241,60 @@ def command_csv_writer(path):
     ----------
     path : str or Path
         The CSV file [-].
+    blocks : bool
+        Write the columns ``nc_line`` and ``rapid`` too [-].
 
     Yields
     ------
     writer : _PieceWriter
-        ``writer.write(time_s, positions)`` appends a piece (``positions`` of X, Y, Z
-        [m], times [s]); ``writer.axes`` is set to the axes kept before the block
-        ends [-].
+        ``writer.write(time_s, positions, blocks)`` appends a piece (``positions`` of X,
+        Y, Z [m], times [s], and where written ``blocks``, the lines and rapid flags
+        [-]); ``writer.axes`` is set to the axes kept before the block ends [-].
     """
     with atomic_path(path) as tmp:
-        w = _PieceWriter(tmp)
+        w = _PieceWriter(tmp, blocks)
         try:
             yield w
         finally:
             w.fh.close()
         if "Z" not in w.axes:
-            _drop_last_column(tmp)
+            _drop_z(tmp)
 
 
 class _PieceWriter:
     """The rows of a command file, X, Y and Z, a piece at a time."""
 
-    def __init__(self, tmp: Path):
+    def __init__(self, tmp: Path, blocks: bool):
         self.fh = open(tmp, "w", encoding="utf-8", newline="\n")
-        self.fh.write("time_s,x_mm,y_mm,z_mm\n")
+        self.blocks = len(BLOCK_COLUMNS) if blocks else 0
+        self.fh.write(",".join(["time_s", "x_mm", "y_mm", "z_mm",
+                                *BLOCK_COLUMNS[:self.blocks]]) + "\n")
         self.axes = ("X", "Y", "Z")
         self.samples = 0
 
-    def write(self, time_s, positions) -> None:
-        table = np.column_stack([time_s] + [positions[a] * 1e3 for a in ("X", "Y", "Z")])
-        np.savetxt(self.fh, table, fmt=["%.12f"] + ["%.9f"] * 3, delimiter=",")
+    def write(self, time_s, positions, blocks=()) -> None:
+        table = np.column_stack([time_s] + [positions[a] * 1e3 for a in ("X", "Y", "Z")]
+                                + list(blocks)[:self.blocks])
+        np.savetxt(self.fh, table, fmt=["%.12f"] + ["%.9f"] * 3 + ["%d"] * self.blocks,
+                   delimiter=",")
         self.samples += table.shape[0]
 
 
-def _drop_last_column(path: Path) -> None:
-    """Remove the last column of a CSV file, line by line (bounded memory)."""
+def _without_z(line: str) -> str:
+    """A row of X, Y, Z and perhaps more without its fourth field, Z [-]."""
+    i = line.index(",", line.index(",", line.index(",") + 1) + 1)
+    j = line.find(",", i + 1)
+    return line[:i] + (line[j:] if j >= 0 else "\n")
+
+
+def _drop_z(path: Path) -> None:
+    """Remove the column z_mm (the fourth) of a CSV file, line by line (bounded
+    memory)."""
     fd, short = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     try:
         with open(path, encoding="utf-8") as src, os.fdopen(fd, "w", encoding="utf-8",
                                                             newline="\n") as dst:
-            dst.writelines(ln[:ln.rindex(",")] + "\n" for ln in src)
+            dst.writelines(map(_without_z, src))
         os.replace(short, path)
     except BaseException:
         with contextlib.suppress(OSError):

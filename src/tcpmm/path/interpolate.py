@@ -15,6 +15,7 @@ import numpy as np
 from .. import _compiled as ck  # the look-ahead, profiles and sampling, compiled
 from ..errors import InputError
 from .blend import blended_path
+from .blocktrack import BlockTrack
 from .command import Command
 from .filters import FilterShape, apply_filter, filter_shape
 from .geometry import ARC, DWELL, PathArrays, evaluate, to_arrays
@@ -199,7 +200,9 @@ def _command(p: PathArrays, settings: InterpolatorSettings, filt: FilterShape, s
     Returns
     -------
     Command
-        Positions of the used axes after the filter [m].
+        Positions of the used axes after the filter [m]; of a program's path,
+        ``meta["nc_line"]`` and ``meta["rapid"]`` per sample
+        (:class:`~tcpmm.path.blocktrack.BlockTrack`) [-].
     """
     dt = settings.period_s
     pos = evaluate(p, seg, s)
@@ -216,6 +219,8 @@ def _command(p: PathArrays, settings: InterpolatorSettings, filt: FilterShape, s
         "segment_start_s": seg_start,
         "segment_end_s": seg_start + dur,
     }
+    if (p.line >= 0).any():  # a program's: which block each sample is in
+        meta["nc_line"], meta["rapid"] = BlockTrack(filt.kernel.size).push(p, seg, True)
     return Command(time_s=time_s, positions=positions, meta=meta)
 
 

@@ -22,6 +22,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.text import file_lines
 from .blend import CornerBlender
+from .blocktrack import BlockTrack
 from .filters import filter_shape
 from .gcode_stream import interpret_chunks
 from .geometry import evaluate
@@ -62,6 +63,9 @@ class CommandChunk:
         Distance along the path, before the filter [m].
     lines_read : int
         Lines of the program read so far [-].
+    nc_line, rapid : ndarray, optional
+        Per sample, the source line of its block and 1 in a rapid
+        (:class:`~tcpmm.path.blocktrack.BlockTrack`) [-].
     """
 
     first: int
@@ -69,6 +73,8 @@ class CommandChunk:
     positions: dict
     path_s_m: np.ndarray
     lines_read: int = 0
+    nc_line: np.ndarray | None = None
+    rapid: np.ndarray | None = None
 
 
 class StreamInterpolator:
@@ -89,6 +95,7 @@ class StreamInterpolator:
         self.state = PlanState()
         m = self.filt.kernel.size
         self.delay_line = np.zeros((3, m - 1))  # the filter's last inputs, less x0
+        self.blocks = BlockTrack(m)
         self.x0 = self.x_last = None
         self.plane_axes = None
         self.segments_in = 0
@@ -152,7 +159,8 @@ class StreamInterpolator:
         if n_out > path_s.size:
             path_s = np.concatenate([path_s, np.full(n_out - path_s.size, path_s[-1])])
         time_s = np.arange(smp.first, smp.first + n_out) * self.settings.period_s
-        return CommandChunk(smp.first, time_s, out, path_s)
+        line, rapid = self.blocks.push(smp.path, smp.seg, smp.last)
+        return CommandChunk(smp.first, time_s, out, path_s, nc_line=line, rapid=rapid)
 
 
 def stream_program(program, settings: InterpolatorSettings | None = None,

@@ -12,6 +12,7 @@ from .._threads import limit_blas_threads, usable_cores
 from ..analysis.runaway import say_faults
 from ..errors import InputError, InputWarning
 from ..model import Axis, Machine
+from ..path.blocktrack import at_times
 from ..path.command import Command
 from ..path.settings import AXES, InterpolatorSettings
 from ..result import AxisRun, Run
@@ -225,6 +226,10 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}
     time = command.time_s[0] + np.arange(n) * rp
-    run = Run(time_s=time, axes=runs, meta={**command.meta, "machine": machine.name})
+    meta = {**command.meta, "machine": machine.name}
+    blocks = [meta.pop(c, None) for c in ("nc_line", "rapid")]
+    if blocks[0] is not None:  # a program's: the block of each record's command
+        blocks = at_times(time, float(command.time_s[0]), command.period_s, tuple(blocks))
+    run = Run(time, runs, meta, *blocks)
     say_faults(machine, run)
     return run

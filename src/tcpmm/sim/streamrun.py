@@ -21,6 +21,7 @@ import numpy as np
 from .._threads import limit_blas_threads, usable_cores
 from ..errors import InputError
 from ..model import Machine
+from ..path.blocktrack import HeldBlocks
 from ..path.settings import AXES, InterpolatorSettings
 from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
 from ..result import AxisRun, Run
@@ -68,7 +69,7 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
     axes = {a: AxisStream(machine.axes[a], dt, rp, quantise_feedback) for a in machine.axes}
     ip = interpolator or StreamInterpolator(settings)
     pieces = stream_program(program, settings, chunk_blocks, interpolator=ip)
-    yield from _run_pieces(pieces, axes, threads, rp, machine, ip)
+    yield from _run_pieces(pieces, axes, threads, rp, machine, ip, HeldBlocks(dt))
 
 
 def _checked_settings(machine: Machine, settings: InterpolatorSettings | None):
@@ -85,8 +86,9 @@ def _checked_settings(machine: Machine, settings: InterpolatorSettings | None):
 
 
 def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Machine,
-                ip: StreamInterpolator) -> Iterator[Run]:
-    """The runs of the command pieces through the axes' streams, in order [SI]."""
+                ip: StreamInterpolator, blocks: HeldBlocks) -> Iterator[Run]:
+    """The runs of the command pieces through the axes' streams, in order, with the
+    blocks of their records' commands (``blocks``, fed the pieces') [SI]."""
     names = list(axes)
     # the axes run in worker threads while the main thread reads and interpolates the next
     # chunk and hands on the last (the kernel releases the GIL): one core is left to that,
@@ -107,15 +109,16 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
     try:
         for piece in pieces:
             span = float(piece.time_s[-1])
+            blocks.add(piece.nc_line, piece.rapid)
             res, tasks = start(k, piece.positions, False, span)
             if running is not None:
-                run = _collect(*running, names, r0, rp, machine, ip)
+                run = _collect(*running, names, r0, rp, machine, ip, blocks)
                 r0 += run.time_s.size
                 yield run
             running, k = (res, tasks, piece), k + 1
         if running is not None:
             end = start(k, dict.fromkeys(names, np.empty(0)), True, span)
-            yield _collect(*running, names, r0, rp, machine, ip, end)
+            yield _collect(*running, names, r0, rp, machine, ip, blocks, end)
     finally:
         turns.close()
         if pool is not None:
@@ -151,18 +154,22 @@ class _Turns:
             self.cv.notify_all()
 
 
-def _collect(res, tasks, piece, names, r0: int, rp: float, machine, ip, end=None) -> Run:
+def _collect(res, tasks, piece, names, r0: int, rp: float, machine, ip, blocks,
+             end=None) -> Run:
     """The run of one piece from its axes' records or futures, and those of ``end`` (the
-    steps the end of the command leaves) joined to them; an axis no worker has started is
-    run here, the last first (the workers take them from the first) [SI]."""
+    steps the end of the command leaves) joined to them, with the blocks of their
+    commands; an axis no worker has started is run here, the last first (the workers take
+    them from the first) [SI]."""
     runs = dict(zip(names, _results(res, tasks), strict=True))
     if end is not None:
         runs = {a: _joined(runs[a], r) for a, r in zip(names, _results(*end), strict=True)}
     n = next(iter(runs.values())).cmd.size
-    return Run(time_s=(r0 + np.arange(n)) * rp, axes=runs,
-               meta={"lines_read": piece.lines_read, "machine": machine.name,
-                     "plane_axes": ip.plane_axes,
-                     "path_done_m": float(piece.path_s_m[-1]) if piece.path_s_m.size else None})
+    time_s = (r0 + np.arange(n)) * rp
+    return Run(time_s, runs,
+               {"lines_read": piece.lines_read, "machine": machine.name,
+                "plane_axes": ip.plane_axes,
+                "path_done_m": float(piece.path_s_m[-1]) if piece.path_s_m.size else None},
+               *blocks.at(time_s))
 
 
 def _results(res, tasks) -> list:

@@ -33,7 +33,7 @@ def assert_same_corners(got, want):
 
 def corners_of(vmc, tmp_path, lines):
     """The corners of a program run on ``vmc`` (its run file), whole and streamed in
-    chunks of 97 rows (which must agree to the bit)."""
+    chunks of 97 rows (which must agree to the bit); those of its G0 rapids counted too."""
     from tcpmm.analysis.contour_stream import stream_contour
 
     text = "\n".join(["G21 G17 G90", *lines, "M30"]) + "\n"
@@ -41,8 +41,8 @@ def corners_of(vmc, tmp_path, lines):
         warnings.simplefilter("ignore")
         path = tmp_path / f"run{len(list(tmp_path.iterdir()))}.parquet"
         simulate(vmc, program_to_command(text)).write(path)
-        whole = contour_error(read_run(path))
-        streamed = stream_contour(path, whole.axes, whole.signed, rows=97)
+        whole = contour_error(read_run(path), rapids=True)
+        streamed = stream_contour(path, whole.axes, whole.signed, rows=97, rapids=True)
     assert_same_corners(streamed.corners, whole.corners)
     return whole.corners
 

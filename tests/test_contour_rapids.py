@@ -1,14 +1,18 @@
 """A run made from an NC program records per sample the line of the block its command is
-in and whether that is a G0 rapid."""
+in and whether that is a G0 rapid; the contour error leaves the rapids out unless asked,
+whole and streamed alike, and says how much it left out."""
 
 from __future__ import annotations
 
+import json
 import warnings
 
 import numpy as np
 import pytest
 
 from conftest import run_cli
+from tcpmm.analysis.contour import contour_error
+from tcpmm.analysis.contour_stream import stream_contour
 from tcpmm.io.runfile import read_run
 from tcpmm.path.commandfile import read_command_csv
 from tcpmm.path.program import program_to_command
@@ -41,6 +45,11 @@ def runs(tmp_path_factory):
         assert run_cli_plain("simulate", model, "--gcode", d / "p.nc", "-o", d / name,
                              *extra) == 0
     return d / "run.csv", d / "run.parquet"
+
+
+def same(a, b) -> bool:
+    """Equal to the bit, NaN to NaN (corners and their figures) [-]."""
+    return json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
 
 
 def run_cli_plain(*args) -> int:
@@ -88,8 +97,81 @@ def test_the_rapid_flag_covers_the_filtered_rapid(kind):
     assert np.array_equal(np.concatenate([p.nc_line for p in pieces]), cmd.meta["nc_line"])
 
 
-def test_a_command_file_carries_the_blocks(runs, tmp_path, capsys):
-    """``tcpmm path`` writes nc_line and rapid (whole and streamed, the same text)."""
+def test_contour_leaves_the_rapids_out_unless_asked(runs):
+    run = read_run(runs[0])
+    feed, every = contour_error(run, plane="XY"), contour_error(run, plane="XY", rapids=True)
+    air = run.rapid == 1
+    for s, e in every.errors.items():
+        assert feed.summary()[s]["max_abs_m"] == float(np.max(np.abs(e[~air])))
+        assert every.summary()[s]["max_abs_m"] == float(np.max(np.abs(e)))
+    top = every.summary()["tcp"]["max_abs_m"]
+    assert top > 2.0 * feed.summary()["tcp"]["max_abs_m"]
+    assert air[np.argmax(np.abs(every.errors["tcp"]))]  # the largest error is a rapid's
+    table = feed.to_pandas()
+    assert np.array_equal(table["nc_line"], run.nc_line)
+    assert feed.rapids == {"counted": False, "samples": int(air.sum()),
+                           "share": air.sum() / air.size, "corners": 4}
+    assert every.rapids["counted"] and every.rapids["samples"] == int(air.sum())
+    # the corners at the ends of the rapids are left out; the end of the path, on a
+    # feed pass, stays
+    assert len(every.corners) == 5 and [c["number"] for c in feed.corners] == [5]
+    assert same(feed.corners[0], every.corners[-1])
+
+
+def test_streamed_and_whole_leave_out_the_same(runs):
+    whole = {r: contour_error(read_run(runs[1]), plane="XY", rapids=r) for r in (False, True)}
+    for rows in (53, 97, 400, 10_000):
+        for r, w in whole.items():
+            got = stream_contour(runs[1], ("X", "Y"), True, rows=rows, rapids=r)
+            assert got.rapids == w.rapids and same(got.corners, w.corners), rows
+            for s, d in w.summary().items():
+                g = got.summary()[s]
+                assert [g[k] for k in ("max_abs_m", "max_m", "min_m")] == \
+                    [d[k] for k in ("max_abs_m", "max_m", "min_m")], (rows, r, s)
+                assert g["rms_m"] == pytest.approx(d["rms_m"], rel=1e-12)
+
+
+def test_the_command_line_says_what_it_left_out(runs, capsys):
+    csv, parquet = runs
+    code, out, err = run_cli(capsys, "contour", csv, "--plane", "XY")
+    assert code == 0 and "note: G0 rapids left out:" in err and "--rapids counts them" in err
+    code, out, err = run_cli(capsys, "contour", csv, "--plane", "XY", "--rapids")
+    assert code == 0 and "rapids" not in err
+    got = {}
+    for extra in ([], ["--chunk-rows", "97"]):
+        for flag in ([], ["--rapids"]):
+            code, out, _ = run_cli(capsys, "contour", parquet, "--plane", "XY", "--json",
+                                   *extra, *flag)
+            got[bool(extra), bool(flag)] = json.loads(out)
+    for counted in (False, True):
+        w, s = got[False, counted], got[True, counted]
+        assert w["rapids"] == s["rapids"] and w["rapids"]["counted"] is counted
+        assert w["corners"] == s["corners"]
+        assert w["rapids"]["corners"] == 4 and w["rapids"]["samples"] > 0
+    assert len(got[False, False]["corners"]) < len(got[False, True]["corners"])
+
+
+def test_a_run_without_the_rapid_column_is_measured_whole(runs, tmp_path, capsys):
+    """A measured run (no rapid column): every sample and corner counted, nothing said;
+    --rapids changes nothing."""
+    run = read_run(runs[0])
+    bare = type(run)(run.time_s, run.axes, run.meta)
+    bare.write(path := tmp_path / "measured.csv")
+    res = contour_error(read_run(path), plane="XY")
+    every = contour_error(run, plane="XY", rapids=True)
+    assert res.rapids is None and res.summary() == every.summary()
+    assert same(res.corners, every.corners)
+    outs = []
+    for flag in ([], ["--rapids"]):
+        code, out, err = run_cli(capsys, "contour", path, "--plane", "XY", "--json", *flag)
+        assert code == 0 and "rapids" not in err
+        outs.append(json.loads(out))
+    assert outs[0] == outs[1] and outs[0]["rapids"] is None
+
+
+def test_a_command_file_carries_the_blocks_to_contour(runs, tmp_path, capsys):
+    """``tcpmm path`` writes nc_line and rapid (whole and streamed, the same text);
+    ``--command`` of such a file gives a run that has no rapid column its rapids."""
     program = runs[0].parent / "p.nc"
     for name, extra in (("whole.csv", []), ("streamed.csv", ["--chunk-blocks", "1"])):
         code, _, _ = run_cli(capsys, "path", program, "-o", tmp_path / name, *extra)
@@ -100,3 +182,47 @@ def test_a_command_file_carries_the_blocks(runs, tmp_path, capsys):
     cmd = read_command_csv(tmp_path / "whole.csv")
     run = read_run(runs[0])
     assert np.array_equal(cmd.meta["rapid"], run.rapid[:cmd.time_s.size])
+    type(run)(run.time_s, run.axes, run.meta).write(bare := tmp_path / "measured.csv")
+    code, _, err = run_cli(capsys, "contour", bare, "--plane", "XY",
+                           "--command", tmp_path / "whole.csv")
+    assert code == 0 and f"G0 rapids left out: {int(run.rapid.sum())} samples" in err
+
+
+def test_a_command_made_from_a_programs_of_other_samples_has_no_blocks(tmp_path):
+    """A command made from a program's (compensation holds it longer at the end) keeps
+    its meta; the blocks of the program's samples are not its own, and are not written."""
+    from tcpmm.path import Command, write_command_csv
+
+    cmd = program_to_command("G21 G90\nG1 X5 F3000\nG0 Y5\nM30\n")
+    assert cmd.blocks() is not None
+    t = cmd.time_s[0] + np.arange(cmd.time_s.size + 3) * cmd.period_s
+    held = Command(t, {a: np.concatenate([p, np.full(3, p[-1])])
+                       for a, p in cmd.positions.items()}, dict(cmd.meta))
+    assert held.blocks() is None
+    write_command_csv(held, path := tmp_path / "held.csv")
+    assert path.read_text().splitlines()[0] == "time_s,x_mm,y_mm"
+
+
+def test_the_samples_near_a_rapid_do_not_depend_on_the_chunks():
+    """Rapids of a path with rests, each reaching the samples within the span of path
+    length of it: the same intervals from the command whole and in chunks of every size,
+    and those of their definition."""
+    from tcpmm.analysis.rapids import RapidStretches
+
+    rng = np.random.default_rng(3)
+    step = np.where(rng.random(400) < 0.3, 0.0, rng.uniform(0.0, 2e-4, 400))
+    p = np.column_stack([np.cumsum(step), np.zeros(400)])
+    s = p[:, 0] - p[0, 0]
+    flags = (np.arange(400) // 37 % 3 == 1).astype(np.int8)
+    flags[[0, 398, 399]] = 1
+    whole = RapidStretches(1e-3)
+    whole.add_command(p, flags)
+    for rows in range(1, 60):
+        got = RapidStretches(1e-3)
+        for k in range(0, 400, rows):
+            got.add_command(p[k:k + rows], flags[k:k + rows])
+        assert got.spans == whole.spans, rows
+    near = np.array([whole.near(i) for i in range(400)])
+    air = s[flags == 1]
+    want = np.array([np.any(np.abs(air - x) <= 1e-3) for x in s])
+    assert np.array_equal(near, want) and 0 < near.sum() < 400

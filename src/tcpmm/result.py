@@ -107,10 +107,10 @@ class Run:
         axes = {a: replace(r, cmd=np.interp(self.time_s, command.time_s, given[a]))
                 if a in given else r for a, r in self.axes.items()}
         blocks = (self.nc_line, self.rapid)
-        if command.meta.get("rapid") is not None:
+        if command.blocks() is not None:
             k = np.clip(np.searchsorted(command.time_s, self.time_s, side="right") - 1, 0,
                         command.time_s.size - 1)
-            blocks = tuple(np.asarray(command.meta[c])[k] for c in ("nc_line", "rapid"))
+            blocks = tuple(v[k] for v in command.blocks())
         return Run(self.time_s, axes, {**self.meta, "command": "given"}, *blocks)
 
     def columns(self) -> dict[str, np.ndarray]:

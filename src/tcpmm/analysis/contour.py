@@ -30,6 +30,10 @@ command's path length from when the command leaves the corner until the contour 
 within ``settle_tol_m`` of the level it ends at halfway (in time) to the command's arrival
 at the next corner (the median of the last quarter of the stretch the corner owns; a static
 deflection is no settling error); NaN unless it stays in the band all that quarter.
+
+A run made from an NC program records which samples' commands are in G0 rapids: they are
+left out of the summary, and the corners with a rapid within ``corner_span_m`` of them out
+of the corners, unless counted (:mod:`tcpmm.analysis.rapids`).
 """
 
 from __future__ import annotations
@@ -46,12 +50,10 @@ from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream
+from .contour_inputs import command_flags, contour_axes, run_signals
 from .corners import path_length
-from .plane import plane_axes, run_plane
+from .rapids import RapidStretches, feed_only
 
-SENSORS = ("motor", "scale", "tcp")
-#: What a run without its command signals is told (no command given) [-].
-NO_COMMAND = "the run has no command signals (<axis>_cmd_mm); give the command"
 #: rows of actual points handled at once [-]
 _CHUNK = 256
 #: coordinates the compiled search takes: finite, and far from where their squares
@@ -84,11 +86,19 @@ class ContourResult:
         Contour error per sensor at each actual sample [m].
     corners : list of dict
         Per corner: ``index`` (sample), ``point_m``, ``turn_rad``, and per sensor
-        ``overshoot_m``, ``rounding_m``, ``settle_s``, ``settle_m`` [SI].
+        ``overshoot_m``, ``rounding_m``, ``settle_s``, ``settle_m`` [SI]; the corners in
+        G0 rapids left out unless counted.
     settle_tol_m : float
         The band of the settling figures [m].
     actual : dict of str to ndarray
         Actual path per sensor, shape (n, len(axes)) [m].
+    counted : ndarray of bool, optional
+        The samples the summary counts; all when ``None`` [-].
+    rapids : dict, optional
+        The samples and corners in G0 rapids (:func:`tcpmm.analysis.rapids.feed_only`);
+        ``None`` for a run that does not record them [-].
+    nc_line : ndarray of int, optional
+        The run's NC line of each sample, where it records them [-].
     """
 
     axes: tuple
@@ -101,19 +111,27 @@ class ContourResult:
     corners: list = field(default_factory=list)
     settle_tol_m: float = 1e-6
     actual: dict = field(default_factory=dict, repr=False)
+    counted: np.ndarray | None = field(default=None, repr=False)
+    rapids: dict | None = None
+    nc_line: np.ndarray | None = field(default=None, repr=False)
 
     def summary(self) -> dict:
-        """Per sensor: largest magnitude, RMS, largest and smallest value [m]."""
+        """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
+        value [m]."""
         return {s: {"max_abs_m": float(np.max(np.abs(e))),
                     "rms_m": float(np.sqrt(np.mean(e**2))),
                     "max_m": float(np.max(e)), "min_m": float(np.min(e))}
-                for s, e in self.errors.items()}
+                for s, e in ((s, e if self.counted is None else e[self.counted])
+                             for s, e in self.errors.items())}
 
     def to_pandas(self):
-        """Per actual sample: time [s], each sensor's position [mm] and error [um]."""
+        """Per actual sample: time [s], the NC line where the run records it, each
+        sensor's position [mm] and error [um]."""
         import pandas as pd
 
         data = {"time_s": self.time_s}
+        if self.nc_line is not None:
+            data["nc_line"] = self.nc_line
         for s, q in self.actual.items():
             for i, a in enumerate(self.axes):
                 data[f"{a.lower()}_{s}_mm"] = q[:, i] * 1e3
@@ -139,7 +157,7 @@ class ContourResult:
         """JSON-ready: axes, summary [um] and corners (um, ms, mm; NaN as ``None``); without
         the corners where ``corners`` is false (:meth:`json_rows` gives them one by one)."""
         head = {"axes": "".join(self.axes), "signed": self.signed,
-                "settle_tol_um": self.settle_tol_m * 1e6,
+                "settle_tol_um": self.settle_tol_m * 1e6, "rapids": self.rapids,
                 "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
                             for s, d in self.summary().items()}}
         return {**head, "corners": list(self.json_rows())} if corners else head
@@ -315,48 +333,8 @@ def _cross(t, v):
     return t[..., 0] * v[..., 1] - t[..., 1] * v[..., 0]
 
 
-def _run_signals(run, command, axes):
-    """Times, command polyline and actual paths per sensor of a run."""
-    missing = [a for a in axes if a not in run.axes]
-    if missing:
-        raise InputError(f"the run has no axis {', '.join(missing)} (axes: "
-                         f"{', '.join(run.axes)})")
-    t = np.asarray(run.time_s, float)
-    if command is not None:
-        tc = np.asarray(command.time_s, float)
-        cmd = np.column_stack([command.positions[a] for a in axes])
-    else:
-        if any(run.axes[a].cmd is None for a in axes):
-            raise InputError(NO_COMMAND)
-        tc, cmd = t, np.column_stack([run.axes[a].cmd for a in axes])
-    actual = {s: np.column_stack([run.axes[a].sensor(s) for a in axes]) for s in SENSORS
-              if all(run.axes[a].sensor(s) is not None for a in axes)}
-    if not actual:
-        raise InputError(no_sensors(axes))
-    return t, tc, cmd, actual
-
-
-def no_sensors(axes) -> str:
-    """What a run without the signals of any sensor of ``axes`` is told [-]."""
-    return f"the run has no motor, scale or tcp signals of {', '.join(axes)}"
-
-
-def _axes(run, plane):
-    """``(axes, signed)`` for a plane given, ``"auto"`` or ``None`` (3-D)."""
-    if plane is None or str(plane).upper() == "3D":
-        names = [a for a in ("X", "Y", "Z") if a in run.axes and run.axes[a].cmd is not None]
-        return tuple(names or run.axes), False
-    if isinstance(plane, str) and plane.lower() == "auto":
-        try:
-            axes, _, flat = run_plane(run)
-        except InputError:  # fewer than two axes move: a step along one axis
-            flat = False
-        return (axes, True) if flat else _axes(run, None)
-    return plane_axes(plane), True
-
-
 def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0,
-                  corner_span_m=0.5e-3, settle_tol_m=1e-6) -> ContourResult:
+                  corner_span_m=0.5e-3, settle_tol_m=1e-6, rapids=False) -> ContourResult:
     """Contour error of every sensor of a run along its commanded path, and corner metrics
     (module docstring: definitions and signs).
 
@@ -378,6 +356,10 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         Path length before and after a point over which its turn is taken [m].
     settle_tol_m : float
         Band within which the error has settled after a corner [m].
+    rapids : bool
+        Count the samples and corners in G0 rapids, which a run made from an NC program
+        records (its ``rapid`` column) and which are otherwise left out
+        (:mod:`tcpmm.analysis.rapids`) [-].
     """
     for v, what in ((window_s, "window_s"), (corner_span_m, "corner_span_m"),
                     (settle_tol_m, "settle_tol_m"), (corner_deg, "corner_deg")):
@@ -388,12 +370,16 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
                          f"got {corner_deg}")
     if not isinstance(run, Run):  # a table in the run-file layout
         run = run_from_table(run)
-    axes, signed = _axes(run, plane)
-    t, tc, cmd, actual = _run_signals(run, command, axes)
+    axes, signed = contour_axes(run, plane)
+    t, tc, cmd, actual = run_signals(run, command, axes)
     found = distances_to_polyline(actual, cmd, t, tc, window_s, signed)
     errors, feet = ({s: v[i] for s, v in found.items()} for i in (0, 1))
     corners = CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s)
     corners.add_command(tc, cmd)
     corners.add_samples(t, actual, errors, feet)
+    stretches = RapidStretches(corner_span_m)
+    if run.rapid is not None:
+        stretches.add_command(cmd, command_flags(run, command))
+    counted, kept, said = feed_only(run.rapid, rapids, corners.finish(), stretches)
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
-                         corners.finish(), settle_tol_m, actual)
+                         kept, settle_tol_m, actual, counted, said, run.nc_line)

@@ -26,8 +26,10 @@ import numpy as np
 from .._threads import read_ahead, usable_cores
 from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
-from .contour import NO_COMMAND, SENSORS, ContourResult, distances_to_polyline, no_sensors
+from .contour import ContourResult, distances_to_polyline
 from .contour_corners import CornerStream
+from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
+from .rapids import RapidStretches, left_out
 
 #: rows read at a time [-]
 STREAM_ROWS = 200_000
@@ -78,6 +80,8 @@ class StreamedContour:
         As :attr:`tcpmm.analysis.contour.ContourResult.corners` [SI].
     settle_tol_m : float
         The band of the settling figures [m].
+    rapids : dict, optional
+        As :attr:`tcpmm.analysis.contour.ContourResult.rapids` [-].
     """
 
     axes: tuple
@@ -87,6 +91,7 @@ class StreamedContour:
     most_rows: int = 0
     corners: list = field(default_factory=list)
     settle_tol_m: float = 1e-6
+    rapids: dict | None = None
 
     @property
     def errors(self) -> dict:
@@ -156,8 +161,8 @@ def _batches(path, rows, keep):
 
 def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                    rows: int = STREAM_ROWS, each=None, *, corner_deg: float = 30.0,
-                   corner_span_m: float = 0.5e-3,
-                   settle_tol_m: float = 1e-6) -> StreamedContour:
+                   corner_span_m: float = 0.5e-3, settle_tol_m: float = 1e-6,
+                   rapids: bool = False) -> StreamedContour:
     """Contour error summary and corners of a Parquet run file, read ``rows`` rows at a
     time.
 
@@ -178,13 +183,18 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
     corner_deg, corner_span_m, settle_tol_m : float
         The corners' least turn, span and settling band, as for
         :func:`~tcpmm.analysis.contour.contour_error` [deg], [m], [m].
+    rapids : bool
+        Count the samples and corners in G0 rapids, as for
+        :func:`~tcpmm.analysis.contour.contour_error` [-].
     """
     path = Path(path)
     cmd_cols = [f"{a.lower()}_cmd_mm" for a in axes]
-    want = {"time_s", *cmd_cols, *(f"{a.lower()}_{s}_mm" for a in axes for s in SENSORS)}
+    want = {"time_s", "rapid", *cmd_cols,
+            *(f"{a.lower()}_{s}_mm" for a in axes for s in SENSORS)}
     res = StreamedContour(tuple(axes), signed, settle_tol_m=settle_tol_m)
     scan = _Scan(res, window_s, cmd_cols, each,
-                 CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s))
+                 CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s),
+                 RapidStretches(corner_span_m))
     _has_columns(path, cmd_cols, axes)
     pending = None
     # the next chunk is read (pyarrow lets go of the interpreter lock) while one is measured
@@ -198,6 +208,10 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
             raise InputError("the run has no rows", file=path)
         scan.step(pending, True)
         res.corners = scan.finish()
+        if scan.air is not None:
+            res.corners, res.rapids = left_out(scan.air, res.rows, rapids, res.corners,
+                                               scan.stretches)
+            res.sums = res.sums if res.rapids["counted"] else scan.feed
     finally:
         chunks.close()
         scan.close()
@@ -233,13 +247,16 @@ class _Scan:
     """The rows held: from a window before the next sample to measure (``first`` in the
     buffer, whose row 0 is the run's row ``base``) to the last read."""
 
-    def __init__(self, res, w, cmd_cols, each, corners):
+    def __init__(self, res, w, cmd_cols, each, corners, stretches):
         self.res, self.w, self.cmd_cols, self.each, self.corners = res, w, cmd_cols, each, corners
         self.buf, self.first, self.base = None, 0, 0
         # the corners take the chunks in a thread of their own, in order, while the next
         # chunk is searched; at most CORNERS_BEHIND calls behind
         self.pool = ThreadPoolExecutor(1) if usable_cores() > 1 else None
         self.behind: deque = deque()
+        # of a run that records its rapids: the samples in them, the feed's figures, the
+        # command samples near them
+        self.air, self.feed, self.stretches = None, {}, stretches
 
     def _to_corners(self, fn, *args) -> None:
         """``fn(*args)`` of the corners, in the corners' thread where there is one [-]."""
@@ -273,6 +290,8 @@ class _Scan:
         cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
         self._to_corners(self.corners.add_command, cols["time_s"],
                          cmd[n - cols["time_s"].size:])  # the rows just read
+        if "rapid" in cols:
+            self.stretches.add_command(cmd[n - cols["time_s"].size:], cols["rapid"])
         res.most_rows = max(res.most_rows, n)
         b = n if final else int(np.searchsorted(t, t[-1] - 2.0 * w, side="left"))
         window = _window(cmd, t, first, b, w, final) if b > first else None
@@ -285,8 +304,11 @@ class _Scan:
             if all(c in buf for c in cols_s):
                 qs[s] = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
         found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed)
+        feed = self._feed(buf, first, b)
         for s, (e, _) in found.items():
             res.sums.setdefault(s, _Summary()).add(e)
+            if feed is not None:
+                self.feed.setdefault(s, _Summary()).add(e[feed])
             if self.each is not None:
                 self.each(s, e)
         got = (qs, {s: v[0] for s, v in found.items()},
@@ -296,6 +318,15 @@ class _Scan:
         drop = min(int(np.searchsorted(t, t[b] - w, side="left")), b) if b < n else n
         self.buf = {c: v[drop:].copy() for c, v in buf.items()}
         self.first, self.base = b - drop, self.base + drop
+
+    def _feed(self, buf, first: int, b: int):
+        """The samples ``first:b`` not in a rapid, where the run records its rapids
+        (``None`` where it does not); their count in rapids added up [-]."""
+        if "rapid" not in buf:
+            return None
+        feed = buf["rapid"][first:b] == 0
+        self.air = (self.air or 0) + int(feed.size - np.count_nonzero(feed))
+        return feed
 
 
 def _window(cmd, t, first: int, b: int, w: float, final: bool):

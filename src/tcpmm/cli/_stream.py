@@ -137,7 +137,7 @@ def streamed(run_file: Path, chunk_rows: int | None) -> bool:
 
 def contour_streamed(run_file: Path, plane: str | None, window_s: float,
                      chunk_rows: int | None, *, corner_deg: float = 30.0,
-                     settle_tol_m: float = 1e-6):
+                     settle_tol_m: float = 1e-6, rapids: bool = False):
     """The contour error summary and the corners of a Parquet run read in chunks, in the
     plane of ``--plane`` or the one its command moves in (said on stderr, as for a whole
     run).
@@ -156,6 +156,8 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
         ``--corner-deg`` [deg].
     settle_tol_m : float
         ``--settle-um``, in metres [m].
+    rapids : bool
+        ``--rapids`` [-].
     """
     import numpy as np
 
@@ -183,7 +185,8 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
                 update(counted["rows"])
 
         return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS,
-                              each, corner_deg=corner_deg, settle_tol_m=settle_tol_m)
+                              each, corner_deg=corner_deg, settle_tol_m=settle_tol_m,
+                              rapids=rapids)
 
 
 #: an NC program of more lines than this is interpolated in chunks by ``tcpmm path`` [-]

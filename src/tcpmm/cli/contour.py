@@ -33,10 +33,15 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                      "error summary and the corners, no plot). Default: whole, unless it "
                      f"has more than {STREAM_ABOVE_ROWS} rows."),
             command: Path = typer.Option(None, "--command", help=COMMAND_HELP),
+            rapids: bool = typer.Option(
+                False, "--rapids", help="Count the G0 rapids too: a run made from an NC "
+                                        "program records them, and they are left out of "
+                                        "the error and the corners by default."),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
     """Contour error along any program: the shortest distance from each sensor's path to the
-    commanded path, signed in a plane; corner overshoot, rounding and settling."""
+    commanded path, signed in a plane; corner overshoot, rounding and settling. The G0
+    rapids of a run made from an NC program are left out (--rapids counts them)."""
     _check_options(settle_um, corner_deg, window_s, sensor, plot)
     if streamed(run_file, chunk_rows):
         if command is not None:
@@ -49,10 +54,12 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                                      param_hint="--plot")
         with in_file(run_file):
             res = contour_streamed(run_file, plane, window_s, chunk_rows,
-                                   corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
+                                   corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6,
+                                   rapids=rapids)
     else:
         res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
-                     corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6)
+                     corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6, rapids=rapids)
+    _say_rapids(res.rapids)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -65,6 +72,16 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                        len(res.corners) * len(res.errors))
         return
     _print(res, name, f"{run_file}")
+
+
+def _say_rapids(rapids: dict | None) -> None:
+    """Say on stderr what of the G0 rapids was left out
+    (:func:`tcpmm.analysis.rapids.rapid_note`) [-]."""
+    from ..analysis.rapids import rapid_note
+
+    note = rapid_note(rapids)
+    if note is not None:
+        console.print(note, highlight=False)
 
 
 def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,

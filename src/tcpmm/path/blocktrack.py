@@ -65,9 +65,12 @@ class BlockTrack:
         rapid : ndarray of int8
             1 in a rapid, else 0 [-].
         """
+        # per segment first: a path has fewer segments than samples
         air = self.segment_air(p)[seg]
-        line = np.maximum(p.line[seg], 0).astype(np.int32)
+        line = np.maximum(p.line, 0).astype(np.int32)[seg]
         k = self.m - 1
+        if k == 0:  # no filter: each sample is its own
+            return line, air.view(np.int8)
         if self.air is None:
             if not line.size and not last:
                 return np.zeros(0, np.int32), np.zeros(0, np.int8)

@@ -61,6 +61,16 @@ class Command:
         """Axis names in order [-]."""
         return list(self.positions)
 
+    def blocks(self) -> tuple | None:
+        """A program's command: the NC line and the rapid flag of each sample
+        (``meta["nc_line"]``, ``meta["rapid"]``, :mod:`tcpmm.path.blocktrack`); ``None``
+        where it has them not for every sample (a command made from another of other
+        samples keeps that one's meta, not its blocks) [-]."""
+        got = [self.meta.get(c) for c in ("nc_line", "rapid")]
+        if any(v is None or np.shape(v) != self.time_s.shape for v in got):
+            return None
+        return tuple(np.asarray(v) for v in got)
+
     def velocity(self, axis: str) -> np.ndarray:
         """Commanded axis velocity by central differences [m/s]."""
         return np.gradient(self.positions[axis.upper()], self.time_s)

@@ -219,8 +219,7 @@ def write_command_csv(command: Command, path) -> None:
             f"a command file holds axes X, Y and optionally Z; this command has "
             f"{', '.join(command.positions)}"
         )
-    blocks = [command.meta[c] for c in BLOCK_COLUMNS if command.meta.get(c) is not None]
-    blocks = blocks if len(blocks) == len(BLOCK_COLUMNS) else []
+    blocks = list(command.blocks() or ())
     table = np.column_stack([command.time_s] + [command.positions[a] * 1e3 for a in axes]
                             + blocks)
     header = ",".join(["time_s"] + [f"{a.lower()}_mm" for a in axes]

@@ -226,10 +226,10 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}
     time = command.time_s[0] + np.arange(n) * rp
-    meta = {**command.meta, "machine": machine.name}
-    blocks = [meta.pop(c, None) for c in ("nc_line", "rapid")]
-    if blocks[0] is not None:  # a program's: the block of each record's command
-        blocks = at_times(time, float(command.time_s[0]), command.period_s, tuple(blocks))
-    run = Run(time, runs, meta, *blocks)
+    meta = {k: v for k, v in command.meta.items() if k not in ("nc_line", "rapid")}
+    blocks = command.blocks()
+    if blocks is not None:  # a program's: the block of each record's command
+        blocks = at_times(time, float(command.time_s[0]), command.period_s, blocks)
+    run = Run(time, runs, {**meta, "machine": machine.name}, *(blocks or ()))
     say_faults(machine, run)
     return run

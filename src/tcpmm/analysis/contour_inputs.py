@@ -1,0 +1,67 @@
+"""What the contour error of a run is measured from: the axes of its plane, its
+command polyline and its sensors' paths (:mod:`tcpmm.analysis.contour`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from .plane import plane_axes, run_plane
+
+SENSORS = ("motor", "scale", "tcp")
+#: What a run without its command signals is told (no command given) [-].
+NO_COMMAND = "the run has no command signals (<axis>_cmd_mm); give the command"
+
+
+def run_signals(run, command, axes):
+    """Times, command polyline and actual paths per sensor of a run."""
+    missing = [a for a in axes if a not in run.axes]
+    if missing:
+        raise InputError(f"the run has no axis {', '.join(missing)} (axes: "
+                         f"{', '.join(run.axes)})")
+    t = np.asarray(run.time_s, float)
+    if command is not None:
+        tc = np.asarray(command.time_s, float)
+        cmd = np.column_stack([command.positions[a] for a in axes])
+    else:
+        if any(run.axes[a].cmd is None for a in axes):
+            raise InputError(NO_COMMAND)
+        tc, cmd = t, np.column_stack([run.axes[a].cmd for a in axes])
+    actual = {s: np.column_stack([run.axes[a].sensor(s) for a in axes]) for s in SENSORS
+              if all(run.axes[a].sensor(s) is not None for a in axes)}
+    if not actual:
+        raise InputError(no_sensors(axes))
+    return t, tc, cmd, actual
+
+
+def no_sensors(axes) -> str:
+    """What a run without the signals of any sensor of ``axes`` is told [-]."""
+    return f"the run has no motor, scale or tcp signals of {', '.join(axes)}"
+
+
+def contour_axes(run, plane):
+    """``(axes, signed)`` for a plane given, ``"auto"`` or ``None`` (3-D)."""
+    if plane is None or str(plane).upper() == "3D":
+        names = [a for a in ("X", "Y", "Z") if a in run.axes and run.axes[a].cmd is not None]
+        return tuple(names or run.axes), False
+    if isinstance(plane, str) and plane.lower() == "auto":
+        try:
+            axes, _, flat = run_plane(run)
+        except InputError:  # fewer than two axes move: a step along one axis
+            flat = False
+        return (axes, True) if flat else contour_axes(run, None)
+    return plane_axes(plane), True
+
+
+def command_flags(run, command) -> np.ndarray:
+    """Per command sample, its rapid flag: the run's (``run.rapid``, which the run must
+    have) where the command is the run's own, else the given command's
+    (:meth:`~tcpmm.path.command.Command.blocks`), or the run's at the command sample's
+    time where it has none [-]."""
+    if command is None:
+        return run.rapid
+    if command.blocks() is not None:
+        return command.blocks()[1]
+    k = np.clip(np.searchsorted(run.time_s, command.time_s, side="right") - 1, 0,
+                run.time_s.size - 1)
+    return run.rapid[k]

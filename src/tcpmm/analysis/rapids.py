@@ -1,0 +1,149 @@
+"""The G0 rapids of a run made from an NC program, left out of its contour error.
+
+A rapid is moved in the air at rapid traverse: its servo lag and its corners are no
+contour error of the part. A run that records which samples' commands are in a rapid (its
+``rapid`` column, :mod:`tcpmm.path.blocktrack`; a dwell after a rapid counts as one) has
+those samples left out of the error summary, and the corners whose legs take in a rapid
+(a rapid within the corner span of the corner, along the commanded path) left out of the
+corner table; the closest command point is still sought on the whole commanded path. A
+run without the column is measured whole, and nothing is said of rapids.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .corners import path_length
+
+#: command rows taken at a time [-]
+_BLOCK = 1 << 15
+
+
+class RapidStretches:
+    """The command samples near a rapid: within ``span_m`` of path length of a rapid's
+    samples, as intervals of sample index, gathered as the command comes (whole, or a
+    chunk of rows at a time, to the same numbers) [-].
+
+    Parameters
+    ----------
+    span_m : float
+        How far along the path a rapid reaches [m].
+    """
+
+    def __init__(self, span_m: float):
+        self.span = float(span_m)
+        self.spans: list = []  # [first, last] sample near each rapid
+        # the spans whose last sample is not known yet, with the path length it may
+        # reach (None while their rapid goes on)
+        self.pending: list = []
+        self.tail = (np.zeros(0, np.int64), np.zeros(0))  # samples within the span, s
+        self.n, self.last, self.s_last, self.in_rapid = 0, None, 0.0, False
+
+    def add_command(self, p, flags) -> None:
+        """The next command samples: points, shape (m, d) [m], and their rapid flags [-]."""
+        p, flags = np.asarray(p, float), np.asarray(flags)
+        # a block of rows at a time: the path lengths' temporaries stay small beside the
+        # rows a streamed run holds, and the intervals do not depend on the blocks
+        for k in range(0, p.shape[0], _BLOCK):
+            self._add(p[k:k + _BLOCK], flags[k:k + _BLOCK])
+
+    def _add(self, p, flags) -> None:
+        s = (path_length(p) if self.last is None else
+             path_length(np.vstack([self.last, p]), self.s_last)[1:])
+        idx = np.concatenate([self.tail[0], self.n + np.arange(s.size)])
+        at = np.concatenate([self.tail[1], s])
+        on = flags != 0
+        if self.in_rapid and not on[0]:  # the rapid ended with the chunk before
+            self.pending[-1][1] = self.s_last + self.span
+        edge = np.flatnonzero(np.diff(np.concatenate([[False], on, [False]])))
+        for a, b in zip(edge[::2].tolist(), edge[1::2].tolist(), strict=True):
+            if not (a == 0 and self.in_rapid):  # else the rapid of the chunk before goes on
+                first = int(idx[np.searchsorted(at, s[a] - self.span, side="left")])
+                self.spans.append([first, first])
+                self.pending.append([self.spans[-1], None])
+            if b < s.size:  # the rapid ends in this chunk
+                self.pending[-1][1] = float(s[b - 1]) + self.span
+        for item in list(self.pending):
+            span, reach = item
+            span[1] = int(idx[-1] if reach is None else
+                          idx[np.searchsorted(at, reach, side="right") - 1])
+            if reach is not None and at[-1] > reach:
+                self.pending.remove(item)
+        keep = int(np.searchsorted(at, s[-1] - self.span, side="left"))
+        # of a rest only its first sample (where a rapid's reach begins) and the last
+        # (where one that reaches past it ends, so far): a long standstill is not held
+        first = np.concatenate([[True], at[keep + 1:] != at[keep:-1]])
+        first[-1] = True
+        self.tail = (idx[keep:][first], at[keep:][first])
+        self.n += s.size
+        self.last, self.s_last, self.in_rapid = p[-1:].copy(), float(s[-1]), bool(on[-1])
+
+    def near(self, index: int) -> bool:
+        """Whether the command sample ``index`` lies within the span of a rapid [-]."""
+        return any(lo <= index <= hi for lo, hi in self.spans)
+
+
+def feed_only(flags, counted_rapids: bool, corners: list, stretches):
+    """What the contour error counts of a run's samples and corners.
+
+    Parameters
+    ----------
+    flags : ndarray or None
+        Per sample, nonzero in a rapid; ``None`` for a run that does not record it [-].
+    counted_rapids : bool
+        Count the rapids all the same [-].
+    corners : list of dict
+        The corners found, each with its command sample ``index`` [-].
+    stretches : RapidStretches
+        The command's rapids, reaching as far as the corner span [-].
+
+    Returns
+    -------
+    counted : ndarray of bool or None
+        The samples counted; ``None`` for all [-].
+    corners : list of dict
+        The corners counted [-].
+    rapids : dict or None
+        :func:`left_out`'s figures; ``None`` without ``flags`` [-].
+    """
+    if flags is None:
+        return None, corners, None
+    air = np.asarray(flags) != 0
+    kept, info = left_out(int(np.count_nonzero(air)), air.size, counted_rapids, corners,
+                          stretches)
+    return (None if info["counted"] else ~air), kept, info
+
+
+def left_out(samples: int, rows: int, counted_rapids: bool, corners: list,
+             stretches) -> tuple:
+    """The corners counted and the figures of the rapids of a run of ``rows`` samples,
+    ``samples`` of them in rapids: ``counted`` (whether the rapids are counted: asked, or
+    the run is all rapids), ``samples`` and ``share`` of the run in rapids, ``corners``
+    whose legs take in a rapid (:meth:`RapidStretches.near`) [-].
+
+    Parameters
+    ----------
+    samples, rows : int
+        Samples in rapids, and all [-].
+    counted_rapids, corners, stretches
+        As :func:`feed_only` [-].
+    """
+    near = [stretches.near(c["index"]) for c in corners]
+    counted = bool(counted_rapids or samples == rows)
+    info = {"counted": counted, "samples": int(samples),
+            "share": samples / rows if rows else 0.0, "corners": int(sum(near))}
+    if counted:
+        return corners, info
+    return [c for c, x in zip(corners, near, strict=True) if not x], info
+
+
+def rapid_note(rapids: dict | None) -> str | None:
+    """The note that says what was left out, ``None`` where nothing was [-]."""
+    if rapids is None or not rapids["samples"]:
+        return None
+    if rapids["counted"]:
+        return None if rapids["share"] < 1.0 else "note: the run is all G0 rapids; counted"
+    corners = rapids["corners"]
+    return (f"note: G0 rapids left out: {rapids['samples']} samples, "
+            f"{rapids['share'] * 100:.1f} % of the run, {corners} "
+            f"corner{'' if corners == 1 else 's'}; --rapids counts them")

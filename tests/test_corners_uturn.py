@@ -78,3 +78,20 @@ def test_corners_further_apart_than_the_span_stay_two():
     assert len(corners) == 7
     assert all(np.degrees(t) == pytest.approx(90.0, abs=1.0) for _, t in corners[:-1])
     assert same(in_pieces(p, 37), corners)
+
+
+def test_a_square_notch_bottom_turns_by_its_own_180_degrees():
+    """A square notch 0.3 mm wide and deep: its bottom's two turns are one bend, whose turn
+    was taken over chords reaching past the notch's top corners and read 74 deg; it is the
+    down-leg's to the up-leg's, 180 deg."""
+    w = 0.3e-3
+    pts = [(0.0, 0.0), (10e-3, 0.0), (10e-3, -w), (10e-3 + w, -w), (10e-3 + w, 0.0),
+           (20e-3, 0.0)]
+    p = np.vstack([np.linspace(a, b, max(round(np.hypot(*np.subtract(b, a)) / 1e-5), 1),
+                               endpoint=False) for a, b in itertools.pairwise(pts)]
+                  + [[pts[-1]]])
+    corners = find_corners(p, span_m=SPAN)
+    bottom = [(i, t) for i, t in corners if p[i][1] < -0.5 * w]
+    assert len(bottom) == 1
+    assert np.degrees(bottom[0][1]) == pytest.approx(180.0, abs=1.0)
+    assert same(in_pieces(p, 23), corners)

@@ -104,3 +104,40 @@ def test_named_axes_are_matched_but_keep_the_feedforward_the_path_cannot_judge(v
     assert "named by --axes" in res.reasons["Z"]
     code, _, err = run_cli(capsys, "tune", "builtin:vmc", "--axes", "XQ")
     assert code == 2 and "no axis Q" in err
+
+
+def test_an_axis_moved_only_in_rapids_is_not_matched(vmc):
+    """A program whose feed moves are all in XY and whose Z moves only in G0 retracts
+    matched Z's gain with X's and Y's (30.9 against 41.7 1/s), and judged the feedforward
+    on the rapids too, which tcpmm contour leaves out; Z is now not a path axis."""
+    from tcpmm.path.program import program_to_command
+
+    prog = ("G90 G17 G21\nG0 X0 Y0 Z5\nG0 Z0\nG1 X20 F3000\nG1 Y10\n"
+            "G0 Z5\nG0 X0 Y0\nG0 Z0\nG1 X20\nG0 Z5\nM30\n")
+    cmd = program_to_command(prog, None)
+    res = tune_and_predict(vmc, GM, PM, cmd)
+    named = tune_and_predict(vmc, GM, PM, cmd, axes="XY")
+    assert "Z" not in res.moved
+    assert res.axes["X"].after.K_pp == named.axes["X"].after.K_pp
+    assert res.axes["Z"].after.K_pp == vmc.axes["Z"].servo.K_pp
+
+
+def test_axes_named_that_leave_out_a_moved_one_are_said_so(vmc):
+    """--axes X for the XY circle tuned X alone and left Y's gain as it was, so the circle
+    became an ellipse (contour error 13.7 -> 23.8 um) with no word of why."""
+    res = tune_and_predict(vmc, GM, PM, axes="X")
+    (note,) = [n for n in res.notes if n.startswith("--axes leaves out Y")]
+    assert "not matched to X's" in note
+
+
+def test_an_axis_tuned_on_its_own_is_not_raised(vmc):
+    """An axis the path does not move whose velocity loop misses the margins is tuned on
+    its own; its position gain was then raised to its own largest (bench C's Y: 30 ->
+    67 1/s, "to meet its own margins"), which no margin asks and the path cannot use."""
+    from tcpmm.servo.tunealone import tune_alone
+
+    y = vmc.axes["Y"]
+    slow = y.servo.model_copy(update={"K_pp": 5.0, "K_vp": 20.0 * y.servo.K_vp})
+    res = tune_alone(y.mechanics, slow, GM, PM, ["X"])
+    assert not all(m.meets(GM, PM) for m in res.margins_before.values())
+    assert res.after.K_pp <= 5.0

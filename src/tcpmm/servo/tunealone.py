@@ -63,6 +63,9 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
               and sampled_spectral_radius(mech, alone) < 1.0)
     vel = servo if vel_ok else tune_velocity(mech, servo, gm_db, pm_deg, notes)
     k, why = (None, "") if vel is None else tune_position(mech, vel, gm_db, pm_deg)
+    # its own largest may lie above its gain: a gain raised is no margin met, and the
+    # path does not move the axis to gain from it
+    k = k if k is None else min(k, servo.K_pp)
     after = None if k is None else ServoParams.create(**{**vel.model_dump(), "K_pp": k})
     if after is None or not meets_margins(mech, after, gm_db, pm_deg):
         what = "no gain meets" if after is None else "the proposal misses"

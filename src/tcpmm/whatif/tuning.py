@@ -20,7 +20,7 @@ from ..model import Machine
 from ..servo.sampled import sampled_spectral_radius
 from ..sim.simulate import simulate
 from ..units import mm_to_m
-from .tuning_axes import axis_reasons, contouring_axes, moved_axes, tune_axes
+from .tuning_axes import axis_reasons, contouring_axes, left_out_note, moved_axes, tune_axes
 
 #: Command samples either side searched for the nearest command segment [-].
 _WINDOW = 400
@@ -186,6 +186,9 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     act = np.column_stack([run.axes[n].tcp for n in names])
     ref = np.column_stack([run.axes[n].cmd for n in names])
     d = polyline_distance(act, ref)
+    blocks = command.blocks()  # the feed moves, as contour measures them: no G0 rapid
+    if blocks is not None and blocks[1].size == d.size and not blocks[1].all():
+        d = d[blocks[1] == 0]
     return PathFigures({"program": {"max_deviation_um": float(d.max()) * 1e6,
                                     "rms_deviation_um": float(np.sqrt(np.mean(d * d))) * 1e6}})
 
@@ -232,7 +235,8 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     tuned, after, dropped = _best_feedforward(tuned, met, cmd, circle)
     axes = {n: replace(t, after=tuned.axes[n].servo) if n in met else t
             for n, t in axes.items()}
-    notes = _matched_notes(tuned, axes, matched, met, (after, dropped), circle)
+    notes = (left_out_note(matched, moved)
+             + _matched_notes(tuned, axes, matched, met, (after, dropped), circle))
     before = path_figures(machine, cmd, circle)
     notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped)
     if circle:

@@ -22,7 +22,9 @@ MOVED_TOLERANCE_M = 1e-6
 
 
 def moved_axes(machine, command) -> list:
-    """The machine's axes the command moves by more than :data:`MOVED_TOLERANCE_M`.
+    """The machine's axes the command moves by more than :data:`MOVED_TOLERANCE_M` in its
+    feed moves: an axis a program moves only in G0 rapids (a Z retracting between the
+    passes) contours nothing, as ``tcpmm contour`` leaves the rapids out.
 
     Parameters
     ----------
@@ -37,8 +39,25 @@ def moved_axes(machine, command) -> list:
         Axis names in the machine's order [-].
     """
     pos = command.positions
+    blocks = command.blocks()
+    feed = None if blocks is None else (blocks[1][1:] == 0) & (blocks[1][:-1] == 0)
+    if feed is None or not feed.any():  # no program's blocks, or all of it rapids
+        return [n for n in machine.axes
+                if n in pos and float(np.ptp(pos[n])) > MOVED_TOLERANCE_M]
     return [n for n in machine.axes
-            if n in pos and float(np.ptp(pos[n])) > MOVED_TOLERANCE_M]
+            if n in pos and float(np.abs(np.diff(pos[n]))[feed].sum()) > MOVED_TOLERANCE_M]
+
+
+def left_out_note(matched: list, moved: list) -> list:
+    """A note where the contouring axes named leave out an axis the path moves: its lag is
+    not matched to theirs, and the path's shape changes with the difference [-]."""
+    out = [n for n in moved if n not in matched]
+    if not matched or not out:
+        return []
+    return [f"--axes leaves out {', '.join(out)}, which the path moves: "
+            f"{'its' if len(out) == 1 else 'their'} position gain is not matched to "
+            f"{', '.join(matched)}'s, and a path through axes of different gains is "
+            "distorted (a circle becomes an ellipse); name every axis the path contours"]
 
 
 def contouring_axes(machine, names) -> list:

@@ -954,3 +954,19 @@ def test_circle_command_places_the_terms_past_the_scale(capsys, tmp_path):
     code, out, _ = run_cli(capsys, "circle", *bare, "--radius", 35, "--json")
     assert code == 0
     assert all("scale_g_alone_um" not in r for r in json.loads(out)["diagnostics"]["ranking"])
+
+
+@pytest.mark.parametrize("machine", ["r05", "h"])
+def test_no_cyclic_error_on_machines_without_one(machine):
+    """The reference machines of the independent simulator have no pitch error. At F10000
+    R05's TCP circles read a cyclic error of 42.7 um of X at a period of 35.0 mm (the
+    radius: the scan's refinement left its band); H's, whose reversals are 200 um, hold
+    periods whose halves agree (58.7 um of Y at 9.7 mm where eight periods are tried). A
+    period over fewer than three turns of the diameter, or a cyclic error below what the
+    fit leaves, is none."""
+    d = bench_path(machine)
+    res = [analyse_circle(read_run(d / f"circle_{w}_fast_meas.csv"), 0.035)
+           for w in ("ccw", "cw")]
+    diag = circle_diagnostics(*res)
+    for axis in "XY":
+        assert diag[f"cyclic_amplitude_{axis}"] == 0.0, axis

@@ -226,3 +226,22 @@ def test_the_samples_near_a_rapid_do_not_depend_on_the_chunks():
     air = s[flags == 1]
     want = np.array([np.any(np.abs(air - x) <= 1e-3) for x in s])
     assert np.array_equal(near, want) and 0 < near.sum() < 400
+
+
+def test_the_plane_is_that_of_the_feed_moves(tmp_path, capsys):
+    """A program contouring in XY whose Z moves only in G0 (retract, step over, plunge)
+    was measured in 3-D ("Z moves too, so the path is not plane"), its unsigned error
+    mostly Z's sag, from the rapids it then left out; the plane is now taken from the feed
+    moves, whole and streamed, and from every move with --rapids."""
+    prog = tmp_path / "xy.nc"
+    prog.write_text("G21 G91 G17\nG0 X5 Y5\nG1 X20 F3000\nG1 Y10\nG1 X-20\nG0 Z5\nG0 Y5\n"
+                    "G0 Z-5\nG1 X20 F3000\nG1 Y10\nG0 Z5\nM30\n")
+    for out in ("xy.csv", "xy.parquet"):
+        assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog,
+                       "-o", tmp_path / out)[0] == 0
+    for args in (("xy.csv",), ("xy.parquet", "--chunk-rows", "100")):
+        code, out, err = run_cli(capsys, "contour", tmp_path / args[0], *args[1:])
+        assert code == 0 and "plane XY, taken from" in err, err
+        assert "contour error in XY" in out
+    code, out, err = run_cli(capsys, "contour", tmp_path / "xy.csv", "--rapids")
+    assert code == 0 and "3D (unsigned)" in err

@@ -125,16 +125,23 @@ def parquet_rows(path) -> int:
     return parquet_file(path).metadata.num_rows
 
 
-def travel_positions(path) -> dict:
+def travel_positions(path, feed_only: bool = False) -> dict:
     """Per axis of the run's command, its smallest and largest position, as a two-sample
-    signal whose travel is the command's (for :func:`~tcpmm.analysis.plane.motion_plane`)
-    [m]."""
-    lo, hi = {}, {}
-    for cols in _batches(path, None, lambda c: c.endswith("_cmd_mm")):
+    signal whose travel is the command's (for :func:`~tcpmm.analysis.plane.motion_plane`);
+    with ``feed_only``, over the samples out of G0 rapids where the run records them and
+    has some (:func:`tcpmm.analysis.rapids.feed_commands`) [m]."""
+    ends = {True: ({}, {}), False: ({}, {})}  # over the feed samples, over all
+    for cols in _batches(path, None, lambda c: c.endswith("_cmd_mm")
+                         or (feed_only and c == "rapid")):
+        feed = cols.pop("rapid", None)
         for c, v in cols.items():
             a = c.split("_")[0].upper()
-            lo[a] = min(lo.get(a, np.inf), float(np.min(v)))
-            hi[a] = max(hi.get(a, -np.inf), float(np.max(v)))
+            for on, w in ((False, v), (True, v if feed is None else v[feed == 0])):
+                lo, hi = ends[on]
+                if w.size:
+                    lo[a] = min(lo.get(a, np.inf), float(np.min(w)))
+                    hi[a] = max(hi.get(a, -np.inf), float(np.max(w)))
+    lo, hi = ends[bool(ends[True][0])]
     return {a: np.array([lo[a], hi[a]]) * 1e-3 for a in lo}
 
 

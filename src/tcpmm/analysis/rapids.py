@@ -147,3 +147,27 @@ def rapid_note(rapids: dict | None) -> str | None:
     return (f"note: G0 rapids left out: {rapids['samples']} samples, "
             f"{rapids['share'] * 100:.1f} % of the run, {corners} "
             f"corner{'' if corners == 1 else 's'}; --rapids counts them")
+
+
+def feed_commands(run, counted_rapids: bool):
+    """The run's command at its feed samples alone, to find the plane it contours in: a
+    program's rapids (a Z retracting between XY passes) are left out of it as the contour
+    error leaves them; the run itself where it records none, is all rapids or all feed, or
+    they are counted [-].
+
+    Parameters
+    ----------
+    run : Run
+        The run [SI].
+    counted_rapids : bool
+        ``--rapids``: the rapids count [-].
+    """
+    from ..result import AxisRun, Run
+
+    if run.rapid is None or counted_rapids:
+        return run
+    feed = np.asarray(run.rapid) == 0
+    if feed.all() or not feed.any():
+        return run
+    return Run(run.time_s[feed], {a: AxisRun(cmd=r.cmd[feed]) for a, r in run.axes.items()
+                                  if r.cmd is not None})

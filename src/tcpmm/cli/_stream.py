@@ -170,7 +170,7 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
     from ..result import AxisRun, Run
     from ._plane import run_plane_said
 
-    travel = travel_positions(run_file)
+    travel = travel_positions(run_file, feed_only=not rapids)
     ends = Run(np.array([0.0, 1.0]), {a: AxisRun(cmd=v) for a, v in travel.items()})
     how = run_plane_said(plane, ends, run_file, allow_3d=True)
     axes, signed = (tuple(how), True) if how else (tuple(a for a in "XYZ" if a in travel),

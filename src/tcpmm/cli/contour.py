@@ -105,6 +105,7 @@ def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
     plane of ``--plane`` or the one it moves in (said); ``--chunk-rows``, which does
     nothing to a CSV run, said too."""
     from ..analysis.contour import contour_error
+    from ..analysis.rapids import feed_commands
     from ..io.runfile import read_run
 
     if chunk_rows is not None:
@@ -112,7 +113,8 @@ def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
                       f"{esc(str(run_file))} is read whole", highlight=False)
     run = with_given_command(read_run(run_file), command)
     with in_file(run_file):
-        how = run_plane_said(plane, run, run_file, allow_3d=True)
+        how = run_plane_said(plane, feed_commands(run, options.get("rapids", False)),
+                             run_file, allow_3d=True)
         return contour_error(run, plane=how, **options)
 
 

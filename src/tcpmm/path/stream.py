@@ -37,8 +37,12 @@ from .stream_plan import PlanState, Samples, plan_piece
 CHUNK_BLOCKS = 100_000
 #: samples a chunk is sized to give, at the samples a block has given so far: a program
 #: of long blocks is read fewer blocks at a time, so that a chunk's command stays within
-#: memory and within :data:`~tcpmm.path.interpolate.MAX_SAMPLES` [-]
-CHUNK_SAMPLES = 500_000
+#: memory and within :data:`~tcpmm.path.interpolate.MAX_SAMPLES`. A piece's arrays (its
+#: samples, the axes' records, the run's columns) of this size are reused by the memory
+#: allocator from piece to piece; more than twice as large, they are mapped and faulted
+#: in afresh, which cost a zig-zag of 4.7 samples a block some 0.5 s of system time per
+#: million blocks and 200 MB more at its peak (docs/performance.md) [-]
+CHUNK_SAMPLES = 200_000
 #: blocks of the first chunk at most, before the blocks' durations are known [-]
 FIRST_CHUNK = 2_000
 #: fewest blocks a chunk is sized to [-]

@@ -223,6 +223,9 @@ def test_the_samples_near_a_rapid_do_not_depend_on_the_chunks():
             got.add_command(p[k:k + rows], flags[k:k + rows])
         assert got.spans == whole.spans, rows
     near = np.array([whole.near(i) for i in range(400)])
+    assert np.array_equal(whole.near_many(np.arange(400)), near)
+    assert np.array_equal(whole.near_many(np.arange(400)[::-1]), near[::-1])
+    assert not RapidStretches(1e-3).near_many([0, 5]).any()
     air = s[flags == 1]
     want = np.array([np.any(np.abs(air - x) <= 1e-3) for x in s])
     assert np.array_equal(near, want) and 0 < near.sum() < 400
@@ -245,3 +248,17 @@ def test_the_plane_is_that_of_the_feed_moves(tmp_path, capsys):
         assert "contour error in XY" in out
     code, out, err = run_cli(capsys, "contour", tmp_path / "xy.csv", "--rapids")
     assert code == 0 and "3D (unsigned)" in err
+
+
+def test_the_corners_near_a_rapid_taken_at_once_are_those_taken_one_by_one():
+    """Spans that overlap, nest, touch and stand apart: each index near a span by the
+    vectorised test as by the one a corner at a time."""
+    from tcpmm.analysis.rapids import RapidStretches
+
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        st = RapidStretches(1e-3)
+        lo = np.sort(rng.integers(0, 300, rng.integers(1, 12)))
+        st.spans = [[int(a), int(a + rng.integers(0, 60))] for a in lo]
+        idx = rng.integers(-5, 400, 200)
+        assert np.array_equal(st.near_many(idx), [st.near(int(i)) for i in idx])

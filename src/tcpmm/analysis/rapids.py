@@ -82,6 +82,19 @@ class RapidStretches:
         """Whether the command sample ``index`` lies within the span of a rapid [-]."""
         return any(lo <= index <= hi for lo, hi in self.spans)
 
+    def near_many(self, indices) -> np.ndarray:
+        """:meth:`near` of each of ``indices`` at once (a run may have a corner every few
+        blocks): a sample lies within a span where the furthest reach of the spans that
+        begin at it or before does not end before it [-]."""
+        idx = np.asarray(indices, dtype=np.int64)
+        if not self.spans or not idx.size:
+            return np.zeros(idx.shape, bool)
+        spans = np.array(self.spans, dtype=np.int64)
+        order = np.argsort(spans[:, 0], kind="stable")
+        lo, reach = spans[order, 0], np.maximum.accumulate(spans[order, 1])
+        j = np.searchsorted(lo, idx, side="right") - 1
+        return (j >= 0) & (reach[np.maximum(j, 0)] >= idx)
+
 
 def feed_only(flags, counted_rapids: bool, corners: list, stretches):
     """What the contour error counts of a run's samples and corners.
@@ -128,7 +141,7 @@ def left_out(samples: int, rows: int, counted_rapids: bool, corners: list,
     counted_rapids, corners, stretches
         As :func:`feed_only` [-].
     """
-    near = [stretches.near(c["index"]) for c in corners]
+    near = stretches.near_many([c["index"] for c in corners]).tolist()
     counted = bool(counted_rapids or samples == rows)
     info = {"counted": counted, "samples": int(samples),
             "share": samples / rows if rows else 0.0, "corners": int(sum(near))}

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._rows import any_rows
 from .._threads import read_ahead, usable_cores
 from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
@@ -344,7 +345,7 @@ def _window(cmd, t, first: int, b: int, w: float, final: bool):
     n = t.size
     c0 = int(np.searchsorted(t, t[first] - w, side="left"))
     c1 = min(int(np.searchsorted(t, t[b - 1] + w, side="right")) + 1, n)
-    moves = np.any(np.diff(cmd, axis=0) != 0.0, axis=1)  # segment i: rows i, i + 1
+    moves = any_rows(np.diff(cmd, axis=0) != 0.0)  # segment i: rows i, i + 1
     while c1 < n and not moves[c1 - 2]:
         c1 += 1
     if not final and not moves[c1 - 2]:

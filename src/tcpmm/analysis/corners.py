@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._compiled import call
-from .._rows import dot_rows, norm_rows
+from .._rows import any_rows, dot_rows, norm_rows
 
 #: Least share of the turn over the corner span that a corner makes over a quarter of it;
 #: a curve of even curvature makes a quarter, a corner (sharp or blended within the quarter
@@ -164,7 +164,7 @@ class CornerFinder:
             i[r] = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
         for r in np.flatnonzero(split).tolist():  # two sharp turns in one bend
             i[r], bent[r] = bend_corner(p, s, idx[first[r]], idx[last[r]], self.span)
-        moves = np.flatnonzero(np.any(p[1:] != p[:-1], axis=1))  # p[j + 1] off p[j]
+        moves = np.flatnonzero(any_rows(p[1:] != p[:-1]))  # p[j + 1] off p[j]
         k = np.searchsorted(moves, i, side="left")
         i = np.where(k < moves.size, moves[np.minimum(k, moves.size - 1)], p.shape[0] - 1)
         out.extend(zip((i + off).tolist(), bent.tolist(), strict=True))

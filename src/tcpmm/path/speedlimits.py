@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from .._rows import min_rows
 from ..errors import InputError
 from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
 
@@ -55,9 +56,9 @@ def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
     L = np.where(p.length > 0, p.length, 1.0)
     u = np.abs(p.end - p.start) / L[:, None]
     with np.errstate(divide="ignore", invalid="ignore"):
-        v_axis = np.min(vel_axis[None, :] / u, axis=1)
+        v_axis = min_rows(vel_axis[None, :] / u)
         vmax = np.minimum(p.feed, v_axis)
-        acc = np.minimum(acc_path, np.min(acc_axis[None, :] / u, axis=1))
+        acc = np.minimum(acc_path, min_rows(acc_axis[None, :] / u))
     cause = np.where(v_axis < p.feed, 1, 0)
     _arc_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
     _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause)
@@ -151,8 +152,8 @@ def _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause):
     share = np.sqrt(p.e1[b] ** 2 + p.e2[b] ** 2)
     r = p.r0[b]
     with np.errstate(divide="ignore", invalid="ignore"):
-        v_axis = np.min(vel_axis[None, :] / share, axis=1)
-        a_plane = np.min(acc_axis[None, :] / share, axis=1)
+        v_axis = min_rows(vel_axis[None, :] / share)
+        a_plane = min_rows(acc_axis[None, :] / share)
     a_t = np.minimum(acc_path, a_plane / math.sqrt(2.0))
     vc = np.sqrt(np.sqrt(a_plane**2 - a_t**2) * r)
     vf = np.full(b.size, np.inf)
@@ -243,7 +244,7 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
     """
     with np.errstate(divide="ignore", invalid="ignore"):
         step = np.asarray(acc_axis, float)[None, :] * filt.spread_s / np.abs(du)
-        cap = np.min(step, axis=1)
+        cap = min_rows(step)
         dun = np.linalg.norm(du, axis=1)
         tol = np.full(du.shape[0], np.inf)
         if filt.mad_s > 0.0:

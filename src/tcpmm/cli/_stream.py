@@ -12,7 +12,7 @@ from ._app import console
 #: help of ``--chunk-blocks``
 CHUNK_HELP = ("Most blocks of the NC program read, interpolated and simulated at a time "
               "(default 100000; fewer where the blocks are long, so that a chunk gives "
-              "some 500000 samples); the results do not depend on it, the memory does.")
+              "some 200000 samples); the results do not depend on it, the memory does.")
 
 
 def count_lines(path: Path) -> int:

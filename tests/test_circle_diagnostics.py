@@ -970,3 +970,17 @@ def test_no_cyclic_error_on_machines_without_one(machine):
     diag = circle_diagnostics(*res)
     for axis in "XY":
         assert diag[f"cyclic_amplitude_{axis}"] == 0.0, axis
+
+
+def test_a_cyclic_error_not_found_says_so():
+    """A cyclic error that does not stand out of the residual reads 0, which the terms
+    table printed beside "e.g. screw pitch error" as if the screw had none; its note says
+    what the 0 means. The report's ranking, which holds only cyclic errors found, does not
+    carry it."""
+    from tcpmm.analysis.diagnostics import term_note
+    from tcpmm.report.acceptance import ranked_sources
+
+    assert "0: none stands out of the residual rms" in term_note("cyclic_amplitude_X")
+    d = diagnose({"cyc_x": (1e-6, 6e-3, 0.5)})
+    (cyc,) = [n for s, _, n, _ in ranked_sources(d) if s == "cyclic X"]
+    assert cyc == "e.g. screw pitch error"

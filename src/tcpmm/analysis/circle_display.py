@@ -19,7 +19,8 @@ TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
               "scale_mismatch": "+: {a} travels further than {b}",
               "straightness_{a}": "+: {a} bows to +{b} mid-travel",
               "straightness_{b}": "+: {b} bows to +{a} mid-travel",
-              "cyclic_amplitude": "e.g. screw pitch error",
+              "cyclic_amplitude": "e.g. screw pitch error; 0: none stands out of the "
+                                  "residual rms",
               "command_radial_deviation": "command radius - nominal",
               "residual_rms": "what the terms leave unexplained"}
 

@@ -59,7 +59,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     else:
         res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
                      corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6, rapids=rapids)
-    _say_rapids(res.rapids)
+    _say_rapids(res.rapids, rapids)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -74,12 +74,17 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     _print(res, name, f"{run_file}")
 
 
-def _say_rapids(rapids: dict | None) -> None:
+def _say_rapids(rapids: dict | None, asked: bool) -> None:
     """Say on stderr what of the G0 rapids was left out
-    (:func:`tcpmm.analysis.rapids.rapid_note`) [-]."""
+    (:func:`tcpmm.analysis.rapids.rapid_note`), and that ``--rapids`` (``asked``) does
+    nothing to a run that does not record them [-]."""
     from ..analysis.rapids import rapid_note
 
     note = rapid_note(rapids)
+    if rapids is None and asked:
+        note = ("note: --rapids changes nothing here: the run records no G0 rapids (its "
+                "rapid column, which a run made from an NC program has), and is measured "
+                "whole")
     if note is not None:
         console.print(note, highlight=False)
 

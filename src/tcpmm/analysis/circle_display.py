@@ -136,3 +136,30 @@ def term_place(g: float, g_ref: float, sensor_name: str) -> str:
         return (f"mostly past the {sensor_name}: the structure between the table and the "
                 "tool (deflection, ringing), not the drive")
     return f"at the {sensor_name} too: in the axis"
+
+
+def placed_terms(diag, reference, sensor_name: str) -> dict | None:
+    """Per term ranked in ``diag`` (a TCP's diagnostics), the G it alone makes in
+    ``reference``'s (the same circles at a sensor nearer the drive) [m] and where it lies
+    (:func:`term_place`; "" for the centre offset, a set-up, and for a term within the
+    residual rms of ``diag``, whose G at either sensor is as much the residual's as its
+    own); None without ``reference``.
+
+    Parameters
+    ----------
+    diag, reference : CircleDiagnostics
+        The diagnostics at the tool and at the other sensor [SI].
+    sensor_name : str
+        The other sensor, in words ("linear scale") [-].
+    """
+    if reference is None:
+        return None
+    at = {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
+    floor = diag["residual_rms"] if "residual_rms" in diag.terms else 0.0
+    out = {}
+    for r in diag.ranking:
+        term, g = r["term"], float(r["g_alone_m"])
+        g_ref = at.get(term, 0.0)
+        placed = term != "centre_offset" and g > floor
+        out[term] = (g_ref, term_place(g, g_ref, sensor_name) if placed else "")
+    return out

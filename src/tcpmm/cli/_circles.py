@@ -32,7 +32,7 @@ def diagnostics_json(diag, reference=None) -> dict:
     """The diagnostics in display units (um, ms, ...), with the terms not determined and
     why, and the ranking; with ``reference`` (:func:`scale_reference`), each ranked term's
     G alone at the linear scale and where it lies [-]."""
-    at = _at_scale(reference)
+    at = _at_scale(diag, reference)
     return {"sensor": diag.sensor, "directions": list(diag.directions),
             "terms": [{"term": t, "value": None if v != v else v, "unit": u}
                       for t, v, u in _display_terms(diag, ascii_units=True)],
@@ -41,33 +41,26 @@ def diagnostics_json(diag, reference=None) -> dict:
                          "g_alone_um": r["g_alone_m"] * 1e6,
                          "share_percent": _json_number(100.0 * r["share"]),
                          "percent_of_G": _json_number(100.0 * r["share_of_G"]),
-                         "rank": r["rank"], **_placed(r, at, _floor(diag))}
+                         "rank": r["rank"], **_placed(r["term"], at)}
                         for r in diag.ranking]}
 
 
-def _at_scale(reference) -> dict | None:
-    """The G each term alone makes at the linear scale, by term; None without it [m]."""
-    if reference is None:
-        return None
-    return {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
+def _at_scale(diag, reference) -> dict | None:
+    """Per ranked term, its G alone at the linear scale and where it lies
+    (:func:`tcpmm.analysis.circle_display.placed_terms`); None without it [m, -]."""
+    from ..analysis.circle_display import placed_terms
+
+    return placed_terms(diag, reference, "linear scale")
 
 
-def _placed(row, at, floor: float) -> dict:
+def _placed(term: str, at) -> dict:
     """The JSON fields of a ranked term at the linear scale: its G alone there and where
-    it lies (:func:`tcpmm.analysis.circle_display.term_place`), not said of a term within
-    the residual ``floor`` [m]; none without them [-]."""
-    from ..analysis.circle_display import term_place
-
-    if at is None or row["term"] == "centre_offset":
+    it lies (None where that is not said); none for the centre offset or without the
+    scale [-]."""
+    if at is None or term == "centre_offset":
         return {}
-    g, g_ref = row["g_alone_m"], at.get(row["term"], 0.0)
-    return {"scale_g_alone_um": g_ref * 1e6,
-            "where": term_place(g, g_ref, "linear scale") or None if g > floor else None}
-
-
-def _floor(diag) -> float:
-    """What the fit leaves unexplained: a term within it is not placed [m]."""
-    return diag["residual_rms"] if "residual_rms" in diag.terms else 0.0
+    g_ref, where = at[term]
+    return {"scale_g_alone_um": g_ref * 1e6, "where": where or None}
 
 
 def _json_number(v: float):
@@ -165,12 +158,12 @@ def _print_ranking(diag, reference=None) -> None:
                   highlight=False)
         return
     g = "G(b)" if len(diag.directions) == 2 else "G"
-    at = _at_scale(reference)
+    at = _at_scale(diag, reference)
     scale = ("scale µm",) if at is not None else ()
     t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %", *scale),
                     left=("term",))
     for r in diag.ranking:
-        placed = _placed(r, at, _floor(diag))
+        placed = _placed(r["term"], at)
         mark = "*" if (placed.get("where") or "").startswith("mostly past") else ""
         t.add_row(str(r["rank"]), r["term"].replace("_", " "), _cell(r["g_alone_m"] * 1e6),
                   _cell(100 * r["share_of_G"], 1), _cell(r["contribution_m"] * 1e6),

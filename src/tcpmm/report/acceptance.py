@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from ..analysis.circle_display import term_place
+from ..analysis.circle_display import placed_terms
 from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
 from .circles import SENSOR_NAMES, file_names
 from .html import facts, number, para, section, table
@@ -53,36 +53,26 @@ def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
         as the ranking gives it: 0 for the centre offset, about which G is not taken)``
         [-].
     """
-    seen = seen_alone(reference)
-    # a term within what the fit leaves unexplained is not placed: its G at either sensor
-    # is as much the residual's as its own
-    floor = diag["residual_rms"] if "residual_rms" in diag.terms else 0.0
+    placed = placed_terms(diag, reference,
+                          "" if reference is None else SENSOR_NAMES.get(reference.sensor,
+                                                                        reference.sensor))
     rows = []
     for r in sorted(diag.ranking, key=lambda r: r["rank"]):
         term = r["term"]
         base, _, axis = term.rpartition("_")
         # the scale's figure beside it says what _BACKLASH asks the reader to compare
-        backlash = _BACKLASH if seen is None else term_note(term, diag.axes)
+        backlash = _BACKLASH if placed is None else term_note(term, diag.axes)
         note = _MEANING.get(term) or (backlash if base == "backlash" else term_note(
             f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes))
         note = note.split("; 0:")[0]  # a ranked term is one found
         g = float(r["g_alone_m"])
-        if seen is not None and term != "centre_offset" and g > floor:
-            where = term_place(g, seen.get(term, 0.0),
-                               SENSOR_NAMES.get(reference.sensor, reference.sensor))
+        where = placed[term][1] if placed is not None else ""
+        if where:
             # a pitch error is the screw's: one the scale does not see is no screw's
             note = where if base == "cyclic" and where.startswith("mostly") else \
                 f"{where}; {note}"
         rows.append((term.replace("_", " "), g, note, float(r["share_of_G"])))
     return rows
-
-
-def seen_alone(reference) -> dict | None:
-    """The G each term alone makes in ``reference``'s diagnostics, by term; None without
-    them [m]."""
-    if reference is None:
-        return None
-    return {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
 
 
 def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> list:
@@ -171,12 +161,13 @@ def _sources_table(diagnostics, reference) -> str:
     # one direction's diagnostics have no G(b): the share is of that circle's G
     of = "of G(b) [%]" if "circularity_pair" in diagnostics.terms else "of G [%]"
     g_alone = of.replace(" [%]", "").replace("of ", "") + " alone [µm]"
-    seen, at = seen_alone(reference), None
-    if seen is not None:
-        at = f"at the {SENSOR_NAMES.get(reference.sensor, reference.sensor)} [µm]"
+    at = None
+    if reference is not None:
+        name = SENSOR_NAMES.get(reference.sensor, reference.sensor)
+        seen, at = placed_terms(diagnostics, reference, name), f"at the {name} [µm]"
     terms = [r["term"] for r in sorted(diagnostics.ranking, key=lambda r: r["rank"])]
     frame = pd.DataFrame([{"rank": i + 1, "source": s, g_alone: e * 1e6, of: 100 * g,
-                           **({at: 1e6 * seen.get(t, 0.0)} if at else {}), "meaning": n}
+                           **({at: 1e6 * seen[t][0]} if at else {}), "meaning": n}
                           for i, ((s, e, n, g), t) in enumerate(zip(rows, terms,
                                                                     strict=True))])
     lead = ("The circular deviation each fitted term alone makes on this circle, about its "

@@ -26,8 +26,8 @@ from .circle_model import angle_step, cyclic_columns
 MIN_PERIODS = 3.0
 
 
-def _scan(pos, w, resid, basis, radius, band, spacing, top=3):
-    """``(power, wavenumber)`` of the ``top`` strongest cyclic errors (strongest first)
+def _scan(pos, w, resid, basis, radius, band, spacing):
+    """``(power, wavenumber)`` of the three strongest cyclic errors (strongest first)
     of an axis at ``pos`` seen along the radius by ``w`` in the residual of a fit whose
     columns span the orthonormal ``basis``: the drop of the sum of squares that adding it
     to that fit brings [m^2] and its wavenumber [1/m], searched over ``band`` (``None``:
@@ -52,7 +52,7 @@ def _scan(pos, w, resid, basis, radius, band, spacing, top=3):
     # peaks on the grid are each refined, and the highest after refining is taken
     peaks = np.flatnonzero((p >= np.r_[-np.inf, p[:-1]]) & (p >= np.r_[p[1:], -np.inf]))
     found = []
-    for k in ks[peaks[np.argsort(p[peaks])[::-1][:top]]]:
+    for k in ks[peaks[np.argsort(p[peaks])[::-1][:3]]]:
         width = step
         for _ in range(3):  # refined within the band: a peak at its edge may not leave it
             fine = np.clip(np.linspace(k - width, k + width, 21), lo, hi)
@@ -115,48 +115,46 @@ def search_cyclic(pb, mu) -> tuple:
         _, res, basis = pb.solve(mu, waves)
     if all(k is not None for k in waves):  # each period again, the other one fitted
         for ax in (0, 1):
-            waves[ax] = _rescan(pb, mu, waves, ax, pos, ws, spacing)[0][1]
+            without = _without(pb, mu, waves, ax)
+            waves[ax] = _scan(pos[ax], ws[ax], *without, pb.radius, None, spacing)[0][1]
     for ax in (0, 1):  # a period of the axis' position, else the next that is one, or none
-        if waves[ax] is not None and not _of_position(pb, mu, waves, ax):
-            # the tool's ringing may stand above a pitch error at several periods
-            waves[ax] = _first_of_position(
-                pb, mu, waves, ax, _rescan(pb, mu, waves, ax, pos, ws, spacing, _RETRIED),
-                floor)
+        if waves[ax] is None:
+            continue
+        without = _without(pb, mu, waves, ax)
+        if not _of_position(pb, without, ax, waves[ax]):
+            found = _scan(pos[ax], ws[ax], *without, pb.radius, None, spacing)
+            waves[ax] = _first_of_position(pb, without, ax, found, floor)
     return tuple(waves)
 
 
-def _rescan(pb, mu, waves, ax, pos, ws, spacing, top=3) -> list:
-    """:func:`_scan` of axis ``ax`` over the whole band with the other axis' cyclic error
-    fitted: the first scan, with it unfitted, may have put the peak at a period of the
-    other's [m^2, 1/m]."""
-    others = [k if i != ax else None for i, k in enumerate(waves)]
-    _, res_o, basis_o = pb.solve(mu, others)
-    return _scan(pos[ax], ws[ax], res_o, basis_o, pb.radius, None, spacing, top)
+def _without(pb, mu, waves, ax) -> tuple:
+    """Residual [m] and orthonormal basis [-] of the fit with the other axis' cyclic error
+    and not this one's: over the whole band a scan of it sees its own (the first scan, with
+    the other's unfitted, may have put the peak at a period of the other's), and the test
+    of a period of it is made on it."""
+    _, res, basis = pb.solve(mu, [k if i != ax else None for i, k in enumerate(waves)])
+    return res, basis
 
 
-def _first_of_position(pb, mu, waves, ax, found, floor):
+def _first_of_position(pb, without, ax, found, floor):
     """The strongest of the wavenumbers ``found`` for axis ``ax`` (``(power, k)``) above
-    ``floor`` whose cyclic error is one of the axis' position (:func:`_of_position`), the
-    other axis' as in ``waves``; None if none is [1/m]."""
+    ``floor`` whose cyclic error is one of the axis' position (:func:`_of_position`, on
+    the fit ``without`` it); None if none is [1/m]."""
     for power, k in found:
-        trial = [k if i == ax else w for i, w in enumerate(waves)]
-        if k is not None and power > floor and _of_position(pb, mu, trial, ax):
+        if k is not None and power > floor and _of_position(pb, without, ax, k):
             return k
     return None
-
-
-#: the strongest periods tried, in turn, for an axis whose strongest fails the test [-]
-_RETRIED = 3
 
 
 #: the part of a cyclic error's amplitude by which its two halves may differ [-]
 _HALVES = 0.2
 
 
-def _of_position(pb, mu, waves, ax) -> bool:
-    """Whether the cyclic error of axis ``ax`` at ``waves[ax]`` is one of its position:
-    fitted on the samples where the axis runs back from its nearer end (after its
-    reversal) and on those where it runs towards it, with the other terms, the two agree
+def _of_position(pb, without, ax, k) -> bool:
+    """Whether the cyclic error of axis ``ax`` at wavenumber ``k`` [1/m] is one of its
+    position: fitted, beside the fit ``without`` it (:func:`_without`), on the samples
+    where the axis runs back from its nearer end (after its reversal) and on those where
+    it runs towards it, the two agree
     within :data:`_HALVES` of the amplitude, and the amplitude is no less than the RMS of
     what that fit leaves (module docstring). An arc that holds too few samples of either
     half cannot tell, and keeps it [-]."""
@@ -166,9 +164,8 @@ def _of_position(pb, mu, waves, ax) -> bool:
     pos = np.concatenate([p[ax] for p in pb.pos])
     w, vel = (np.cos(ang), -s * np.sin(ang)) if ax == 0 else (np.sin(ang), s * np.cos(ang))
     back = (pos * vel < 0).astype(float)
-    others = [k if i != ax else None for i, k in enumerate(waves)]
-    _, res, basis = pb.solve(mu, others)
-    S, C = cyclic_columns(pos, w, waves[ax])
+    res, basis = without
+    S, C = cyclic_columns(pos, w, k)
     A = np.c_[S * back, C * back, S * (1 - back), C * (1 - back)]
     A = A - basis @ (basis.T @ A)
     if min(back.sum(), (1 - back).sum()) < 8 or np.linalg.matrix_rank(A) < 4:

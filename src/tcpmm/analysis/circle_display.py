@@ -19,8 +19,8 @@ TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
               "scale_mismatch": "+: {a} travels further than {b}",
               "straightness_{a}": "+: {a} bows to +{b} mid-travel",
               "straightness_{b}": "+: {b} bows to +{a} mid-travel",
-              # 0: none stood out of what the other terms leave (its residual rms)
-              "cyclic_amplitude": "e.g. screw pitch error; 0: none found",
+              # n/a: none stood out of what the other terms leave (its residual rms)
+              "cyclic_amplitude": "e.g. screw pitch error; n/a: unresolved",
               "command_radial_deviation": "command radius - nominal",
               "residual_rms": "what the terms leave unexplained"}
 

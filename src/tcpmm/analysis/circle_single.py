@@ -27,6 +27,7 @@ from .diagnostics import (
     CircleDiagnostics,
     check_arc,
     cyclic_terms,
+    cyclic_unresolved,
     pick_passes,
     pick_sensor,
     undetermined_terms,
@@ -86,6 +87,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
                 for k in undetermined_terms(fit) if k not in NEEDS_PAIR or k == "squareness"})
     why.update({rename_axes(k, axes): v for k, v in _unplaced(fit, terms, a).items()})
+    why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})

@@ -229,6 +229,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     terms = _terms(fit, grids, deviations(paths, radius_m), curves, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
+    why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     leave_open(why, terms, left_out, arcs, axes)
     if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
@@ -281,17 +282,30 @@ def _terms(fit, grids, deviations, curves, mean_rate):
 
 
 def cyclic_terms(fit) -> dict:
-    """Amplitude [m] and period [m] of each axis' cyclic error; the period NaN and the
-    amplitude 0 where none stands out of the noise."""
+    """Amplitude [m] and period [m] of each axis' cyclic error; both NaN where none stands
+    out (:func:`cyclic_unresolved` says why)."""
     out = {}
     for name, k in zip("XY", fit.waves, strict=True):
-        amp, period = 0.0, float("nan")
+        amp = period = float("nan")
         if k is not None:
             amp = float(np.hypot(fit[f"cyclic_sin_{name}"], fit[f"cyclic_cos_{name}"]))
             period = 1.0 / k
         out[f"cyclic_amplitude_{name}"] = (amp, "m")
         out[f"cyclic_period_{name}"] = (period, "m")
     return out
+
+
+def cyclic_unresolved(fit) -> dict:
+    """Why each axis whose cyclic error the search did not find reads none, by term name
+    (axes X and Y): not that it has none, but that one as small as what the fit leaves
+    unexplained may hide in it, as a search that counts only what stands out of that
+    residual cannot tell it (:mod:`.circle_cyclic`) [-]."""
+    rms_um = fit.residual_rms * 1e6
+    rms = f"{rms_um:.2f} µm rms" if rms_um >= 0.005 else "under 0.01 µm rms"
+    why = (f"none stands out of what the terms leave unexplained ({rms}): one of about that "
+           "size or less is not resolved, so the axis may still have one")
+    return {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
+            if k is None for q in ("amplitude", "period")}
 
 
 def pick_passes(result, other=None):

@@ -64,7 +64,7 @@ def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
         backlash = _BACKLASH if placed is None else term_note(term, diag.axes)
         note = _MEANING.get(term) or (backlash if base == "backlash" else term_note(
             f"cyclic_amplitude_{axis}" if base == "cyclic" else term, diag.axes))
-        note = note.split("; 0:")[0]  # a ranked term is one found
+        note = note.split("; n/a:")[0]  # a ranked term is one found
         g = float(r["g_alone_m"])
         where = placed[term][1] if placed is not None else ""
         if where:

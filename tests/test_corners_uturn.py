@@ -58,7 +58,7 @@ def same(a, b) -> bool:
         i == j and (t == u or (t != t and u != u)) for (i, t), (j, u) in zip(a, b, strict=True))
 
 
-@pytest.mark.parametrize("step_mm", [0.15, 0.3, 0.5])
+@pytest.mark.parametrize("step_mm", [0.05, 0.1, 0.15, 0.3, 0.5])
 def test_a_u_turn_within_the_span_is_one_corner_at_its_middle(step_mm):
     p = zigzag(step_mm * 1e-3)
     corners = find_corners(p, span_m=SPAN)
@@ -95,3 +95,36 @@ def test_a_square_notch_bottom_turns_by_its_own_180_degrees():
     assert len(bottom) == 1
     assert np.degrees(bottom[0][1]) == pytest.approx(180.0, abs=1.0)
     assert same(in_pieces(p, 23), corners)
+
+
+def test_a_u_turn_on_a_small_arc_is_a_corner():
+    """A zig-zag whose passes are joined by G3/G2 arcs of 0.1 mm turns back within the
+    span (154 deg over it), but evenly (72 deg over a quarter of it), and had no corner at
+    all, where the same U-turn of two G1 moves had one; it is one corner at the arc's apex
+    now. An arc of 2 mm radius is still none."""
+    import warnings
+
+    from tcpmm.path.program import program_to_command
+
+    def corners_of(r_mm):
+        lines = ["G21 G90 G17", "G1 X0 Y0 F3000"]
+        for k in range(4):
+            x = 20.0 if k % 2 == 0 else 0.0
+            y = 2 * r_mm * k
+            lines += [f"G1 X{x:.4f} Y{y:.4f}",
+                      f"G{3 if k % 2 == 0 else 2} X{x:.4f} Y{y + 2 * r_mm:.4f} R{r_mm}"]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            cmd = program_to_command("\n".join([*lines, "G1 X10", "M30"]) + "\n")
+        p = np.c_[cmd.positions["X"], cmd.positions["Y"]]
+        return p, find_corners(p, span_m=SPAN)
+
+    p, corners = corners_of(0.1)
+    turns = corners[:-1]
+    assert len(turns) == 4
+    for n, (i, t) in enumerate(turns):  # at the apex, 0.1 mm beyond the pass's end
+        assert p[i][0] == pytest.approx(20.1e-3 if n % 2 == 0 else -0.1e-3, abs=2e-6)
+        assert np.degrees(t) > 140.0
+    assert same(in_pieces(p, 29), corners)
+    _, wide = corners_of(2.0)
+    assert all(t != t for _, t in wide)  # only the end

@@ -4,7 +4,9 @@ measures them: overshoot, rounding and settling (the definitions are in
 
 Two sharp turns with no vertex between them whose turn over the span falls below the
 least (a zig-zag's U-turn of a step-over shorter than about the span) are one corner: the
-span over which each is taken holds the other, so the finder cannot tell them apart.
+span over which each is taken holds the other, so the finder cannot tell them apart. A
+path that turns back within the span (a U-turn on an arc of a tenth of a millimetre) is a
+corner however evenly it turns, and a bend too.
 
 A corner is measured where it is: only the samples whose closest command point lies within
 the corner span of the corner count, so a path that curves on (a spiral, an arc) or comes
@@ -25,6 +27,9 @@ from .._rows import any_rows, dot_rows, norm_rows
 #: a curve of even curvature makes a quarter, a corner (sharp or blended within the quarter
 #: span) all of it [-].
 _SHARP = 0.5
+#: Turn over the span at and above which the path turns back within it: a corner however
+#: evenly it turns (an even curve turns so far only on a radius under about 0.3 mm) [rad].
+_TURNS_BACK = np.radians(150.0)
 #: Largest angle between the command's direction and the outgoing one for which the
 #: command after a corner still runs straight on [deg].
 _STRAIGHT_DEG = 5.0
@@ -113,13 +118,18 @@ class CornerFinder:
         bend = ok & (turn > self.min_turn)
         cand = bend.copy()
         k = np.flatnonzero(cand)  # the quarter span's turn only where it decides
-        cand[k] = turn_at(p, s, idx[k], self.span / 4) > _SHARP * turn[k]
+        sharp = turn_at(p, s, idx[k], self.span / 4) > _SHARP * turn[k]
+        # a path that turns back within the span is a corner at its resolution, however
+        # evenly it turns (a U-turn on an arc of 0.1 mm); it is a bend (bend_corners)
+        back = np.zeros(idx.size, bool)
+        back[k] = ~sharp & (turn[k] >= _TURNS_BACK)
+        cand[k] = sharp | back[k]
         k = np.flatnonzero(cand)
         # non-bending vertices up to each: sharp runs with none between are one bend
         straight = np.cumsum(~bend)
         out = []
         if k.size:  # the runs of candidates, the first and the last as they may go on
-            runs = _runs(k, turn, straight)
+            runs = _runs(k, turn, straight, back)
             self._run(p, s, off, idx, turn, [r[0] for r in runs], final, straight, out)
             if runs[0].size > 2:
                 self._closed_runs(p, s, off, idx, turn, [r[1:-1] for r in runs], out)
@@ -162,8 +172,9 @@ class CornerFinder:
         for r in np.flatnonzero(rf >= 0).tolist():  # a reversal: the turning point
             a, b = idx[rf[r]], idx[rl[r]] + 1
             i[r] = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
-        for r in np.flatnonzero(split).tolist():  # two sharp turns in one bend
-            i[r], bent[r] = bend_corner(p, s, idx[first[r]], idx[last[r]], self.span)
+        r = np.flatnonzero(split & (rf < 0))  # a bend, not a reversal: all at once
+        if r.size:
+            i[r], bent[r] = bend_corners(p, s, idx[first[r]], idx[last[r]], self.span)
         moves = np.flatnonzero(any_rows(p[1:] != p[:-1]))  # p[j + 1] off p[j]
         k = np.searchsorted(moves, i, side="left")
         i = np.where(k < moves.size, moves[np.minimum(k, moves.size - 1)], p.shape[0] - 1)
@@ -175,16 +186,18 @@ class CornerFinder:
         run's sharpest turn; at a reversal, at the turning point: the vertex furthest from
         the first that turns back, which lies half a span before it on the way in (the
         vertex halfway along the path between the first and the last that turn back lay
-        samples short of it, the vertices being sparse where the command is fast); where
-        the bend holds two sharp turns (a U-turn), :func:`bend_corner`."""
+        samples short of it, the vertices being sparse where the command is fast); else,
+        where the run is a bend (two sharp turns, a U-turn), :func:`bend_corners`."""
         if self.group is None:
             return
         i, bent = self.group[1] - off, self.group[2]
-        if self.group[5]:
-            i, bent = bend_corner(p, s, self.group[0] - off, self.group[4] - off, self.span)
-        elif self.group[3] is not None:
+        if self.group[3] is not None:
             a, b = self.group[3][0] - off, self.group[3][1] - off + 1
             i = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
+        elif self.group[5]:
+            at, turns = bend_corners(p, s, np.array([self.group[0] - off]),
+                                     np.array([self.group[4] - off]), self.span)
+            i, bent = int(at[0]), float(turns[0])
         while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
             i += 1
         out.append((i + off, bent))
@@ -198,13 +211,14 @@ class CornerFinder:
         return off + max(min(rest_start(p, c), j), 0)
 
 
-def _runs(k, turn, straight) -> tuple:
+def _runs(k, turn, straight, evenly) -> tuple:
     """The runs of candidate vertices ``k`` (positions among those judged) with no vertex
     between them that does not bend (``straight``, the count of those up to each): two
     sharp turns within a span of each other, as a U-turn's, are one corner, whose span
     each one's turn already takes in. Each run's first and last, the first of its sharpest
-    ``turn``, its first and last that turns back (-1 for none), and whether it holds more
-    than one sharp turn (1, else 0) [-]."""
+    ``turn``, its first and last that turns back (-1 for none), and whether it is a bend
+    (1, else 0): more than one sharp turn, or a vertex that is a candidate only as one
+    where the path turns back within the span (``evenly``) [-]."""
     cut = np.flatnonzero(np.diff(straight[k]) > 0) + 1
     start, stop = np.r_[0, cut], np.r_[cut, k.size]
     tk, pos = turn[k], np.arange(k.size)
@@ -215,22 +229,24 @@ def _runs(k, turn, straight) -> tuple:
     rl = np.maximum.reduceat(np.where(back, pos, -1), start)
     has = rf < k.size
     gaps = np.cumsum(np.r_[0, np.diff(k) > 1])
+    even = np.maximum.reduceat(evenly[k].astype(np.int64), start)
     return (k[start], k[stop - 1], k[best], np.where(has, k[np.minimum(rf, k.size - 1)], -1),
             np.where(has, k[np.maximum(rl, 0)], -1),
-            (gaps[stop - 1] > gaps[start]).astype(np.int64))
+            ((gaps[stop - 1] > gaps[start]) | (even > 0)).astype(np.int64))
 
 
-def bend_corner(p, s, a, b, span) -> tuple:
-    """The corner of a bend whose sharp turns lie from vertex ``a`` to vertex ``b`` of
-    ``p`` (path lengths ``s``), as a U-turn's two: the vertex halfway along the path
-    between them, and the turn between the chords over a quarter of ``span`` [m] into
+def bend_corners(p, s, a, b, span) -> tuple:
+    """The corners of bends whose sharp turns lie from vertices ``a`` to vertices ``b`` of
+    ``p`` (path lengths ``s``), as a U-turn's two, all at once: the vertex halfway along the
+    path between them, and the turn between the chords over a quarter of ``span`` [m] into
     ``a`` and out of ``b``: over the whole span they would reach past the turns next to
     the bend (a square notch's bottom, 0.3 mm wide, read 74 deg for its 180) [-, rad]."""
-    mid = a + int(np.searchsorted(s[a:b + 1], 0.5 * (s[a] + s[b])))
-    u = p[a] - _at(p, s, np.array([s[a] - span / 4]))[0]
-    w = _at(p, s, np.array([s[b] + span / 4]))[0] - p[b]
-    cos = float(u @ w) / (float(np.linalg.norm(u) * np.linalg.norm(w)) + 1e-300)
-    return min(mid, b), float(np.arccos(np.clip(cos, -1.0, 1.0)))
+    # the first vertex at or past the half-way length; none before ``a`` is past it
+    mid = np.maximum(np.searchsorted(s, 0.5 * (s[a] + s[b]), side="left"), a)
+    u = p[a] - _at(p, s, s[a] - span / 4)
+    w = _at(p, s, s[b] + span / 4) - p[b]
+    cos = dot_rows(u, w) / (norm_rows(u) * norm_rows(w) + 1e-300)
+    return np.minimum(mid, b), np.arccos(np.clip(cos, -1.0, 1.0))
 
 
 def find_corners(p, corner_deg=30.0, span_m=0.5e-3):

@@ -164,3 +164,41 @@ def test_a_straight_blocks_capsule_is_its_chord():
     # the turn's block: from (2, 0) mm up 0.05 mm and back 0.175 mm; the turn's outer
     # vertex lies furthest from that chord
     assert slack[10] == pytest.approx(0.05 * 0.175 / np.hypot(0.05, 0.175) * 1e-3, rel=1e-6)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 90), st.integers(1, 5), st.sampled_from([1, 3, 8]),
+       st.sampled_from([1, 2, 4]))
+def test_a_box_holds_its_blocks_segments(seed, n, d, block, per):
+    """Every point of the segments of a box's blocks (its vertices, and points along each
+    segment) lies within the box, in the first two coordinates; a path of one coordinate
+    has no boxes."""
+    from tcpmm.path.nearest import _box_far, block_boxes
+
+    rng = np.random.default_rng(seed)
+    p = np.cumsum(rng.normal(size=(n, d)) * 10.0 ** rng.uniform(-6, 0), axis=0)
+    boxes = block_boxes(p, block, per)
+    if d < 2:
+        assert boxes[3].size == 0
+        return
+    for i in range(n - 1):  # segment i lies in box i // (block * per)
+        for f in np.linspace(0.0, 1.0, 9):
+            x = (p[i] + f * (p[i + 1] - p[i]))[None, :]
+            assert _box_far(x, 0, *boxes, i // (block * per), 0.0) <= 0.0
+
+
+def test_a_box_passes_over_the_next_pass_of_a_zigzag_at_any_angle():
+    """A box of a zig-zag's pass, or of the U-turn between two, is as narrow as the passes
+    lie apart, turned as they run: a point 0.1 mm beyond the second pass lies 0.05 mm and
+    more outside every box at any angle."""
+    from tcpmm.path.nearest import _box_far, block_boxes
+
+    x = np.arange(0.0, 2e-3 + 1e-9, 2.5e-5)  # 2 mm in 0.025 mm steps
+    p = np.r_[np.c_[x, np.zeros_like(x)], np.c_[x[::-1], np.full_like(x, 5e-5)]]
+    for deg in (0.0, 30.0, 45.0):
+        th = np.radians(deg)
+        rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
+        boxes = block_boxes(p @ rot.T, 8, 4)
+        far = (np.array([[1e-3, 1.5e-4]]) @ rot.T)  # 0.1 mm beyond the second pass
+        for sb in range(boxes[3].size):
+            assert _box_far(far, 0, *boxes, sb, 0.0) >= 0.05e-3 * (1 - 1e-6)

@@ -1034,3 +1034,24 @@ def test_lost_motion_where_the_axis_reverses_is_recovered_on_a_measured_pair(
                  "centre_offset_Y", "straightness_X", "straightness_Y", *radial):
         moved = abs(d1[term] - d0[term]) * radial.get(term, 1.0)
         assert moved < others_um * 1e-6, (term, moved)
+
+
+@pytest.mark.parametrize("machine", ["c", "d"])
+def test_a_full_circle_sampled_at_250_hz_is_a_full_circle(tmp_path, machine):
+    """Bench C's and D's F5000 circles with every fourth row kept (250 Hz, a ballbar's
+    rate): the pair was refused ("covers 359 deg and 359 deg of other angles") and one run
+    alone called an arc of 358.5 deg. A sensor's turn lacks up to a sample at either end
+    beyond the command's; it is a full circle, whose terms are those of all the rows."""
+    import pandas as pd
+
+    d = bench_path(machine)
+    full, coarse = [], []
+    for w in ("ccw", "cw"):
+        full.append(analyse_circle(read_run(d / f"circle_{w}_meas.csv"), 0.035))
+        pd.read_csv(d / f"circle_{w}_meas.csv").iloc[::4].to_csv(tmp_path / f"{w}.csv",
+                                                                 index=False)
+        coarse.append(analyse_circle(read_run(tmp_path / f"{w}.csv"), 0.035))
+    a, b = (circle_diagnostics(*r, sensor="tcp") for r in (full, coarse))
+    assert not any(k.startswith(("backlash", "centre")) for k in b.undetermined)
+    for term in ("backlash_X", "backlash_Y", "centre_offset_X", "centre_offset_Y"):
+        assert b[term] == pytest.approx(a[term], abs=0.15e-6), term

@@ -244,14 +244,23 @@ def fit_mask(angle, s, after_deg=(0.0, 20.0), points=(0.0, 90.0, 180.0, 270.0)):
     return keep
 
 
+#: The largest sample spacing a full turn's ends may lack four of: a ballbar's 125 Hz at
+#: F10000 on R 35 mm is 2.2 deg a sample [deg].
+MAX_STEP_DEG = 2.5
+
+
 def is_full(angle) -> bool:
-    """Whether an unwrapped angle covers a full turn; a turn cut to whole samples may lack
-    up to one sample spacing at either end [-].
+    """Whether an unwrapped angle covers a full turn: a turn of the command cut to whole
+    samples may lack up to a sample spacing at either end, and a sensor's samples within
+    the command's angles up to one more at either end (:func:`.circle_passes.within_span`);
+    the spacing is the median step (a gap in the samples is no spacing), at most
+    :data:`MAX_STEP_DEG` [-].
 
     Parameters
     ----------
     angle : ndarray
         Angle, unwrapped [rad].
     """
-    slack = 2 * min(float(np.max(np.abs(np.diff(angle)))), np.radians(1.0))
+    step = float(np.median(np.abs(np.diff(angle)))) if angle.size > 1 else 0.0
+    slack = 4 * min(step, np.radians(MAX_STEP_DEG))
     return abs(angle[-1] - angle[0]) >= 2 * np.pi * (1 - 1e-3) - slack

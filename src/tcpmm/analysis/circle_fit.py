@@ -41,17 +41,20 @@ class Arc:
         +1 CCW, -1 CW [-].
     ratio : float
         Angular speed over the mean of the arcs fitted together [-].
+    after_deg : float
+        The angle after each reversal left out of the fit, where its transient lies [deg].
     """
 
     angle: np.ndarray
     e: np.ndarray
     s: float
     ratio: float = 1.0
+    after_deg: float = 20.0
 
     @property
     def mask(self):
         """Samples outside the reversals' transients [-]."""
-        return fit_mask(self.angle, self.s)
+        return fit_mask(self.angle, self.s, after_deg=(0.0, self.after_deg))
 
     def mask_for(self, mu: float):
         """Samples outside the reversals' transients where each axis reverses with a
@@ -66,7 +69,7 @@ class Arc:
             Servo mismatch angle of the circles fitted together [rad].
         """
         lead = reversal_lead_deg(self.angle, self.ratio * mu)
-        return fit_mask(self.angle, self.s, after_deg=(-lead, 20.0))
+        return fit_mask(self.angle, self.s, after_deg=(-lead, self.after_deg))
 
     def positions(self, radius, angle=None, e=None):
         """``(x, y)`` of the tool about the nominal centre [m]."""
@@ -216,7 +219,7 @@ class FitProblem:
         return float(v) if np.isfinite(v) else 0.0
 
 
-def fit_terms(arcs, radius, shared, cyclic=True, drop=()) -> TermFit:
+def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None) -> TermFit:
     """Fit the terms ``shared`` and each arc's radius and centre to the arcs (module
     docstring).
 
@@ -232,6 +235,9 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=()) -> TermFit:
         Search for a cyclic error of each axis [-].
     drop : sequence of str
         Columns left out of the fit (``centre_X_0``, a shared term) [-].
+    waves : tuple, optional
+        The wavenumbers of the cyclic errors to fit, not searched for (None for none)
+        [1/m].
     """
     pb = FitProblem(arcs, radius, shared, drop)
     coef = pb.solve(0.0, (None, None))[0]
@@ -242,7 +248,8 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=()) -> TermFit:
         pb.reversals_at(mu)
         coef = pb.solve(mu, (None, None))[0]
         mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
-    waves = search_cyclic(pb, mu) if cyclic else (None, None)
+    if waves is None:
+        waves = search_cyclic(pb, mu) if cyclic else (None, None)
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     coef, res, _ = pb.solve(mu, waves)

@@ -22,6 +22,7 @@ from .circle_model import angle_step
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
 from .circle_stable import arc_fit, leave_open
+from .circle_tails import tail_shift
 from .diagnostics import (
     ARC_WHY,
     CircleDiagnostics,
@@ -91,9 +92,13 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
+    shift = tail_shift(fit, arcs, radius_m, SINGLE, left_out,
+                       rename={"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
-                             curves, why, ranking)
+                             curves, why, ranking,
+                             {rename_axes(k, axes): float(v) for k, v in shift.items()
+                              if k in terms and np.isfinite(terms[k][0])})
 
 
 def _unplaced(fit, terms, angle) -> dict:

@@ -69,6 +69,7 @@ from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
 from .circle_stable import arc_fit, leave_open
+from .circle_tails import tail_shift
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -105,6 +106,9 @@ class CircleDiagnostics:
         ``term -> why`` for the terms the circles do not determine [-].
     ranking : list of dict
         The terms by their contribution (:func:`.circle_display.ranking_rows`) [SI].
+    tail_shift : dict
+        ``term -> change`` of each term when the fit leaves out 40 deg after each reversal
+        instead of 20 (:mod:`.circle_tails`) [SI].
     """
 
     radius: float
@@ -114,6 +118,7 @@ class CircleDiagnostics:
     curves: dict = field(default_factory=dict, repr=False)
     undetermined: dict = field(default_factory=dict)
     ranking: list = field(default_factory=list)
+    tail_shift: dict = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> float:
         return self.terms[name][0]
@@ -132,14 +137,16 @@ class CircleDiagnostics:
 
     def to_dict(self) -> dict:
         """JSON-ready: radius, axes, sensor, the terms in SI (NaN as ``None``), the terms
-        not determined and why, and the ranking."""
+        not determined and why, the ranking, and each term's change with the wider window
+        after the reversals."""
         return {"radius_m": self.radius, "axes": list(self.axes), "sensor": self.sensor,
                 "directions": list(self.directions),
                 "terms": [{"term": k, "value": None if np.isnan(v) else float(v), "unit": u}
                           for k, (v, u) in self.terms.items()],
                 "undetermined": dict(self.undetermined),
                 "ranking": [{k: None if isinstance(v, float) and np.isnan(v) else v
-                             for k, v in r.items()} for r in self.ranking]}
+                             for k, v in r.items()} for r in self.ranking],
+                "tail_shift": dict(self.tail_shift)}
 
     def plot(self, ax=None, path=None):
         """Radial error of the circles against angle with the fitted terms; the figure.
@@ -235,9 +242,12 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
                                  "given as an angle only (servo_mismatch_angle)")
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
+    shift = tail_shift(fit, arcs, radius_m, SHARED, left_out, mean_rate)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
-                             curves, why, ranking)
+                             curves, why, ranking,
+                             {rename_axes(k, axes): float(v) for k, v in shift.items()
+                              if k in terms and np.isfinite(terms[k][0])})
 
 
 def undetermined_terms(fit) -> list:

@@ -34,7 +34,8 @@ def diagnostics_json(diag, reference=None) -> dict:
     G alone at the linear scale and where it lies [-]."""
     at = _at_scale(diag, reference)
     return {"sensor": diag.sensor, "directions": list(diag.directions),
-            "terms": [{"term": t, "value": None if v != v else v, "unit": u}
+            "terms": [{"term": t, "value": None if v != v else v, "unit": u,
+                       "tail_shift": _shift(diag, t)}
                       for t, v, u in _display_terms(diag, ascii_units=True)],
             "undetermined": dict(diag.undetermined),
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
@@ -43,6 +44,17 @@ def diagnostics_json(diag, reference=None) -> dict:
                          "percent_of_G": _json_number(100.0 * r["share_of_G"]),
                          "rank": r["rank"], **_placed(r["term"], at)}
                         for r in diag.ranking]}
+
+
+def _shift(diag, term: str):
+    """A term's change when the fit leaves 40 deg after each reversal out instead of 20,
+    in its display unit; None where it is not computed [-]."""
+    from ..analysis.circle_display import DISPLAY_UNITS
+
+    if term not in diag.tail_shift:
+        return None
+    k = 1e3 if term.startswith("cyclic_period") else DISPLAY_UNITS[diag.terms[term][1]][1]
+    return diag.tail_shift[term] * k
 
 
 def _at_scale(diag, reference) -> dict | None:
@@ -121,6 +133,7 @@ def print_diagnostics(diag, reference=None) -> None:
     what each contributes (with ``reference``, at the linear scale too), and what the
     circles leave undetermined and why."""
     from ..analysis.circle_display import undetermined_lines
+    from ..analysis.circle_tails import moving_line
     from ..analysis.diagnostics import term_note
 
     rows = {t: (v, u) for t, v, u in _display_terms(diag)}
@@ -144,6 +157,8 @@ def print_diagnostics(diag, reference=None) -> None:
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u,
                   term_note(term, diag.axes))
     print_plain(t, out)
+    if moving_line(diag):
+        out.print(moving_line(diag), highlight=False)
     _print_ranking(diag, reference)
     for line in undetermined_lines(diag.undetermined):
         out.print(line, highlight=False)

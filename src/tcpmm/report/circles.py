@@ -185,8 +185,13 @@ def ranking_html(diag, stem: str) -> str:
 
 
 def undetermined_html(diag) -> str:
-    """What the circles do not determine, and why [-]."""
-    return "".join(para(f"{line}.", "warn") for line in undetermined_lines(diag.undetermined))
+    """What the circles do not determine, and why; the terms the reversals' tails make
+    uncertain [-]."""
+    from ..analysis.circle_tails import moving_line
+
+    lines = [*([moving_line(diag)] if moving_line(diag) else []),
+             *undetermined_lines(diag.undetermined)]
+    return "".join(para(f"{line}.", "warn") for line in lines)
 
 
 def comparison_section(comparison, measured=None, predicted=None, sources=(),

@@ -1,0 +1,135 @@
+"""How far each fitted term of a circle depends on where the reversals' transients are
+taken to end.
+
+The fit leaves out the 20 deg after each reversal, where the transient lies that no term
+models. Where the transient rings or creeps on beyond them (a column flipping with the
+friction, a slow position loop), what of it lies past the window reads as the terms that
+share its shape: backlash, scale mismatch, a centre offset. The terms are fitted again
+with :data:`WIDER_DEG` left out, the cyclic periods kept; a term whose radial size moves
+by :data:`MOVES_M` and by :data:`MOVES_SHARE` of its own is owed to that window as much as
+to the machine's geometry, and is reported uncertain by that much (bench C's TCP at
+F10000: backlash Y 14.8 um at 20 deg, 21.8 um at 40 deg).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..errors import InputError
+from .circle_display import DISPLAY_UNITS
+from .circle_fit import fit_terms
+
+#: The angle after each reversal left out when the terms are fitted again [deg].
+WIDER_DEG = 40.0
+#: A term moves with the window when its radial size moves by this much [m] ...
+MOVES_M = 0.1e-6
+#: ... and by this share of its own radial size [-].
+MOVES_SHARE = 0.2
+#: Terms whose radial size is their value times this over the radius (an ellipse's
+#: half axis difference: squareness, scale and servo mismatch) [-].
+_HALF_R = ("squareness", "squareness_or_servo", "scale_mismatch", "servo_mismatch_angle")
+
+
+def tail_shift(fit, arcs, radius, shared, left_out, mean_rate=float("nan"),
+               rename=None) -> dict:
+    """How much each reported term changes when the fit leaves out :data:`WIDER_DEG` after
+    each reversal instead of the arcs' own window, by reported name (axes X and Y;
+    ``rename`` maps a fitted name to the reported one) [SI]; empty where the wider window
+    leaves too little to fit.
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit with the arcs' own window [SI].
+    arcs : list of Arc
+        The arcs fitted [-].
+    radius : float
+        Nominal radius [m].
+    shared : sequence of str
+        The shared terms fitted [-].
+    left_out : dict
+        Columns the fit left out (:func:`.circle_stable.arc_fit`), left out again [-].
+    mean_rate : float
+        Mean angular speed, for the servo mismatch as a time; NaN leaves it out [rad/s].
+    rename : dict, optional
+        Fitted name -> reported name [-].
+    """
+    wide = [dataclasses.replace(a, after_deg=WIDER_DEG) for a in arcs]
+    drop = tuple(n for n in left_out if n in fit.names)
+    try:
+        other = fit_terms(wide, radius, shared, cyclic=False, drop=drop, waves=fit.waves)
+    except (InputError, np.linalg.LinAlgError, ValueError):
+        return {}
+    out = {}
+    for axis in "XY":
+        out[f"centre_offset_{axis}"] = float(np.mean(
+            [other[f"centre_{axis}_{i}"] - fit[f"centre_{axis}_{i}"] for i in range(len(arcs))]))
+    for name in shared:
+        delta = other[name] - fit[name]
+        if name == "servo_angle":
+            out["servo_mismatch_angle"] = delta
+            out["servo_mismatch"] = delta / mean_rate
+        else:
+            out[(rename or {}).get(name, name)] = delta
+    for axis, k in zip("XY", fit.waves, strict=True):
+        if k is not None:
+            out[f"cyclic_amplitude_{axis}"] = _amplitude(other, axis) - _amplitude(fit, axis)
+    return out
+
+
+def _amplitude(fit, axis) -> float:
+    """A fit's cyclic amplitude of ``axis`` [m]."""
+    return float(np.hypot(fit[f"cyclic_sin_{axis}"], fit[f"cyclic_cos_{axis}"]))
+
+
+def radial_size(term: str, value: float, radius: float) -> float:
+    """The radial error a term's value makes over the circle, to compare terms of any
+    unit: the value for a length, the ellipse's half axis difference ``R |v| / 2`` for
+    squareness, scale and servo mismatch angle; NaN for a time [m].
+
+    Parameters
+    ----------
+    term : str
+        Reported term name [-].
+    value : float
+        Its value [SI].
+    radius : float
+        Nominal radius [m].
+    """
+    base = term.rsplit("_", 1)[0] if term[-2:] in ("_X", "_Y") else term
+    if term == "servo_mismatch":
+        return float("nan")
+    return abs(value) * (radius / 2 if term in _HALF_R or base in _HALF_R else 1.0)
+
+
+def moving_terms(diag) -> dict:
+    """The terms of ``diag`` that move with the window (module docstring): ``term ->
+    (value, value with the wider window)`` [SI]."""
+    out = {}
+    for term, delta in diag.tail_shift.items():
+        value = diag.terms.get(term, (float("nan"),))[0]
+        moved = radial_size(term, delta, diag.radius)
+        if moved >= MOVES_M and moved >= MOVES_SHARE * radial_size(term, value, diag.radius):
+            out[term] = (value, value + delta)
+    if "servo_mismatch_angle" in out and "servo_mismatch" in diag.tail_shift:
+        value = diag.terms["servo_mismatch"][0]
+        out["servo_mismatch"] = (value, value + diag.tail_shift["servo_mismatch"])
+    return out
+
+
+def moving_line(diag) -> str:
+    """The terms that move with the window after the reversals, in words and display
+    units; empty where none does [-]."""
+    moving = moving_terms(diag)
+    if not moving:
+        return ""
+    items = []
+    for term, (a, b) in moving.items():
+        shown, k = DISPLAY_UNITS[diag.terms[term][1]]
+        n = 3 if shown == "ms" else 2
+        items.append(f"{term.replace('_', ' ')} {a * k:.{n}f} -> {b * k:.{n}f} {shown}")
+    return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
+            "each reversal left out instead of 20, " + ", ".join(items)
+            + "; the transient lasts past the window and reads partly as these terms")

@@ -1,0 +1,81 @@
+"""Terms that owe their value to where the reversals' transients are taken to end: fitted
+again with 40 deg after each reversal left out instead of 20, a term whose radial size
+moves by 0.1 um and a fifth of its own is reported uncertain by that much."""
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import bench_path, run_cli
+from tcpmm.analysis.circle_tails import moving_line, moving_terms, radial_size
+from tcpmm.analysis.circular import analyse_circle
+from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
+from tcpmm.io.runfile import read_run
+from test_circle_diagnostics import R, W, circle, diagnose, draw
+
+
+def creeping(direction, err, seed, amp, decay_deg=30.0):
+    """A circle whose radius creeps back after every quadrant point, as a slow position
+    loop's or a flipping column's tail does: ``amp`` at the point, decaying over
+    ``decay_deg`` along the travel [m, deg]."""
+    a, e = circle(direction, err, seed)
+    s = 1.0 if direction == "ccw" else -1.0
+    past = (s * np.degrees(a)) % 90.0
+    return a, e - amp * np.exp(-past / decay_deg)
+
+
+def test_a_tail_past_the_window_makes_the_backlash_uncertain():
+    """4 um of backlash X under a 2 um tail that creeps on past the 20 deg the fit leaves
+    out reads 2.6 um, and nothing said it was not firm: it moves to 3.4 um with 40 deg
+    left out, and the diagnostics say so, with both values."""
+    err = {"b_x": 4e-6, "b_y": 6e-6}
+    d = diagnose_pair(creeping("ccw", err, 1, 2e-6), creeping("cw", err, 2, 2e-6), R, (W, W))
+    moving = moving_terms(d)
+    assert "backlash_X" in moving
+    now, wider = moving["backlash_X"]
+    assert now == d["backlash_X"] and abs(wider - 4e-6) < abs(now - 4e-6)
+    line = moving_line(d)
+    assert f"backlash X {now * 1e6:.2f} -> {wider * 1e6:.2f} µm" in line
+    assert d.to_dict()["tail_shift"]["backlash_X"] == pytest.approx(wider - now)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_no_term_moves_on_circles_without_a_tail(seed):
+    """Every error at once, drawn at random, with noise and no transient past the
+    window: no term moves with it."""
+    d = diagnose(draw(np.random.default_rng(seed)))
+    assert moving_terms(d) == {} and moving_line(d) == ""
+    assert set(d.tail_shift) >= {"backlash_X", "scale_mismatch", "centre_offset_Y"}
+
+
+def test_radial_size_of_an_ellipse_is_half_its_axes_difference():
+    """A squareness, scale or servo mismatch of ``v`` makes an ellipse of radial half
+    amplitude ``R v / 2``; a length is its own; a time has none."""
+    assert radial_size("scale_mismatch", -2e-4, 0.035) == pytest.approx(3.5e-6)
+    assert radial_size("squareness_or_servo", 1e-4, 0.05) == pytest.approx(2.5e-6)
+    assert radial_size("backlash_Y", -3e-6, 0.035) == 3e-6
+    assert np.isnan(radial_size("servo_mismatch", 1e-3, 0.035))
+
+
+def _pair(machine, fast):
+    d = bench_path(machine)
+    return [d / f"circle_{w}{fast}_meas.csv" for w in ("ccw", "cw")]
+
+
+def test_an_independent_machines_tails_are_told_from_a_firm_circle(capsys):
+    """Bench C at F10000 (a column that flips with the friction and rings at 31 Hz) read
+    backlash Y 14.8 um with nothing to say it is 21.8 um with 40 deg left out; bench D at
+    F5000, which settles within the window, has no term that moves. tcpmm circle prints
+    the terms that move, --json each term's change."""
+    res = [analyse_circle(read_run(f), 0.035) for f in _pair("c", "_fast")]
+    moving = moving_terms(circle_diagnostics(*res, sensor="tcp"))
+    assert moving["backlash_Y"][1] - moving["backlash_Y"][0] > 5e-6
+    res = [analyse_circle(read_run(f), 0.035) for f in _pair("d", "")]
+    assert moving_terms(circle_diagnostics(*res, sensor="tcp")) == {}
+    code, out, _ = run_cli(capsys, "circle", *_pair("c", "_fast"), "--radius", 35)
+    assert code == 0 and "uncertain by the reversals' tails" in out and "backlash Y 14.83" in out
+    code, out, _ = run_cli(capsys, "circle", *_pair("c", "_fast"), "--radius", 35, "--json")
+    terms = {t["term"]: t for t in json.loads(out)["diagnostics"]["terms"]}
+    assert terms["backlash_Y"]["tail_shift"] == pytest.approx(6.93, abs=0.05)
+    assert terms["hysteresis"]["tail_shift"] is None

@@ -32,3 +32,32 @@ def test_a_run_of_the_compensated_command_is_measured_against_the_program(tmp_pa
     assert len(passes) == 1
     assert main(["contour", str(run), "--command", str(tmp_path / "none.csv")]) == 2
 
+
+
+def test_a_command_on_another_time_line_is_refused_and_the_reference_is_written(
+        tmp_path, capsys):
+    """A program planned with 90 % of the axes' limits left to the correction runs 16.2 s,
+    where tcpmm path plans it in 8.15 s. Measured against the latter, the run's samples were
+    paired with points of the path seconds away (51 mm of contour error, G 16 mm, exit 0).
+    It is refused, naming when each has covered the share of its path where they differ
+    most; --reference-out writes the command the run is to be measured against, and against
+    it contour gives compensate's own figure."""
+    from conftest import run_cli
+
+    nc = tmp_path / "circle.nc"
+    nc.write_text("G21 G90 G17\nG0 X35 Y0\nG1 F5000\nG3 X35 Y0 I-35 J0\nM30\n")
+    prog, comp, ref, run = (tmp_path / f"{n}.csv" for n in ("prog", "comp", "ref", "run"))
+    assert run_cli(capsys, "path", nc, "--model", "builtin:vmc", "-o", prog)[0] == 0
+    code, out, _ = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", nc, "-o", comp,
+                           "--reference-out", ref, "--draws", "0", "--headroom", "0.9",
+                           "--iterations", "3", "--json")
+    assert code == 0
+    after = json.loads(out)["scores"]["after"]["path"]["contour_error_um"]
+    assert run_cli(capsys, "simulate", "builtin:vmc", "--command", comp, "-o", run)[0] == 0
+    code, _, err = run_cli(capsys, "contour", run, "--command", prog)
+    assert code == 2 and "another time line" in err and "--reference-out" in err
+    code, _, err = run_cli(capsys, "circle", run, "--radius", 35, "--command", prog)
+    assert code == 2 and "another time line" in err
+    code, out, _ = run_cli(capsys, "contour", run, "--command", ref, "--json")
+    assert code == 0
+    assert json.loads(out)["sensors"]["tcp"]["max_abs_um"] == pytest.approx(after, rel=0.02)

@@ -13,6 +13,8 @@ RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_m
                "current_A": "current"}
 #: Run-file columns of the block each sample's command is in, and their types [-].
 BLOCK_COLUMNS = {"nc_line": np.int32, "rapid": np.int8}
+#: The shares of the path at which the two are compared [-].
+_PROGRESS = (0.1, 0.25, 0.5, 0.75, 0.9)
 
 
 @dataclass
@@ -86,7 +88,7 @@ class Run:
     nc_line: np.ndarray | None = None
     rapid: np.ndarray | None = None
 
-    def with_command(self, command) -> Run:
+    def with_command(self, command, window_s: float = 0.2) -> Run:
         """The run with its command signals replaced by ``command`` at the run's times,
         held before its first sample and after its last: a run measured against the
         program it was to follow, where it ran a command compensated for its error. An
@@ -97,6 +99,10 @@ class Run:
         command : Command
             The program's command, on the run's time line (``time_s``, ``positions``
             per axis) [s], [m].
+        window_s : float
+            The time around a sample in which the contour seeks its command: the command
+            must reach each share of its path within half of it of the run's own (a
+            command planned otherwise is refused) [s].
         """
         from .errors import InputError
 
@@ -104,6 +110,7 @@ class Run:
         if not any(a in given for a in self.axes):
             raise InputError(f"the command drives none of the run's axes "
                              f"({', '.join(self.axes)})")
+        _same_timeline(self, command, window_s / 2)
         axes = {a: replace(r, cmd=np.interp(self.time_s, command.time_s, given[a]))
                 if a in given else r for a, r in self.axes.items()}
         blocks = (self.nc_line, self.rapid)
@@ -168,3 +175,37 @@ class Run:
         from .plot.time import plot_run
 
         return plot_run(self, path=path, axes=axes, ax=ax)
+
+
+def _progress_times(time_s, positions: list):
+    """When a path given by its axes' ``positions`` has covered each share of
+    :data:`_PROGRESS` of its length; None where it does not move [s]."""
+    step = np.sqrt(sum(np.diff(np.asarray(x, float)) ** 2 for x in positions))
+    length = np.concatenate([[0.0], np.cumsum(step)])
+    if not length[-1] > 0:
+        return None
+    return np.interp(np.asarray(_PROGRESS) * length[-1], length, time_s)
+
+
+def _same_timeline(run, command, tol_s: float) -> None:
+    """Refuse a command that runs on another time line than the run's own (a program
+    planned at other limits, or not the run's program at all): the run's samples would be
+    paired with points of the path seconds away; ``tol_s`` half the contour's window [s]."""
+    from .errors import InputError
+
+    axes = [a for a, r in run.axes.items() if a in command.positions and r.cmd is not None]
+    if not axes:
+        return
+    own = _progress_times(run.time_s, [run.axes[a].cmd for a in axes])
+    theirs = _progress_times(command.time_s, [command.positions[a] for a in axes])
+    if own is None or theirs is None:
+        return
+    k = int(np.argmax(np.abs(own - theirs)))
+    if abs(own[k] - theirs[k]) > tol_s:
+        raise InputError(
+            f"the command file is on another time line than the run's own command: it has "
+            f"covered {_PROGRESS[k]:.0%} of its path at {theirs[k]:.3f} s, the run's own at "
+            f"{own[k]:.3f} s, and the contour pairs a sample with the command within "
+            f"{2 * tol_s:g} s of it; measure the run against the command it was planned "
+            "with (for a compensated command, tcpmm compensate --reference-out REF.csv "
+            "writes it), or widen --window-s where the path does not come back near itself")

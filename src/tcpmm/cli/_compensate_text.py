@@ -18,7 +18,7 @@ def _row(label: str, fig: dict) -> str:
     return text
 
 
-def say_compensation(output: Path, report, comp, controller_out, cc) -> None:
+def say_compensation(output: Path, report, comp, controller_out, cc, reference=None) -> None:
     """Print what was written and the TCP error before and after, on the console.
 
     Parameters
@@ -31,6 +31,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc) -> None:
         The compensation [-].
     cc : ControllerCompensation or None
         The controller-side compensation, where computed [-].
+    reference : Path or None
+        The program as planned for the correction, where written [-].
     """
     out.print(f"wrote {output} ({comp.reference.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
@@ -62,6 +64,9 @@ def say_compensation(output: Path, report, comp, controller_out, cc) -> None:
                   f"{controller_out} runs them)")
         if cc.robustness:
             out.print(f"  share of the tuned parameters kept: {cc.robustness['share']:g}")
+    if reference is not None:
+        out.print(f"wrote {reference}: the program as planned for the correction, "
+                  "uncompensated; measure runs of the compensated command against it")
 
 
 #: How each verdict over the draws reads [-].

@@ -62,11 +62,12 @@ def command_plane(option, cmd) -> tuple[str, str]:
         return ("X", "Y")
 
 
-def with_given_command(run, command_file):
-    """``run`` measured against the command file ``--command`` where given [-]."""
+def with_given_command(run, command_file, window_s: float = 0.2):
+    """``run`` measured against the command file ``--command`` where given, within
+    ``window_s`` of its own command's time line [s]."""
     if command_file is None:
         return run
     from ..path import read_command_csv
 
     with in_file(command_file):
-        return run.with_command(read_command_csv(command_file))
+        return run.with_command(read_command_csv(command_file), window_s)

@@ -30,6 +30,13 @@ _JERK_HELP = ("Axis jerk the compensated command may use [m/s^3]; default the mo
               "S-curve jerk, none for a trapezoid.")
 _REPORT_HELP = ("REPORT.html: the TCP error before and after, the figures and the settings "
                 "per axis.")
+_CONTROLLER_HELP = ("PARAMS.yaml: also compute the controller-side compensation of the "
+                    "circle (--radius), a friction pulse per reversal and a cross-talk "
+                    "feed-forward per axis, and learn the command with them on the "
+                    "controller: it is right only with them.")
+_REFERENCE_HELP = ("REF.csv: also write the program as planned for the correction, "
+                   "uncompensated: measure a run of the compensated command against it "
+                   "(tcpmm contour RUN --command REF.csv), on its time line.")
 _HEADROOM_HELP = ("Share of the axes' acceleration and jerk left to the correction: an NC "
                   "program (--gcode) is planned with the rest, so that the correction has "
                   "room in the feed ramps and corners; the path and feed are the same, the "
@@ -59,13 +66,11 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                accel: float = typer.Option(None, "--accel-m-per-s2", help=_ACCEL_HELP),
                jerk: float = typer.Option(None, "--jerk-m-per-s3", help=_JERK_HELP),
                headroom: float = typer.Option(None, "--headroom", help=_HEADROOM_HELP),
-               controller_out: Path = typer.Option(
-                   None, "--controller-out",
-                   help="PARAMS.yaml: also compute the controller-side compensation of the "
-                        "circle (--radius), a friction pulse per reversal and a cross-talk "
-                        "feed-forward per axis, and learn the command with them on the "
-                        "controller: it is right only with them."),
+               controller_out: Path = typer.Option(None, "--controller-out",
+                                                   help=_CONTROLLER_HELP),
                report: Path = typer.Option(None, "--report", help=_REPORT_HELP),
+               reference_out: Path = typer.Option(None, "--reference-out",
+                                                  help=_REFERENCE_HELP),
                as_json: bool = typer.Option(False, "--json")):
     """Pre-compensate a command so that the model's predicted TCP follows the programmed
     path, within the axes' limits (an NC program is planned with headroom for the
@@ -74,7 +79,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     from ..compensate.headroom import as_programmed
     from ..path import write_command_csv
 
-    _check_outputs(output, report, controller_out, radius, model, command, gcode)
+    _check_outputs(output, (report, controller_out, reference_out), radius, model, command,
+                   gcode)
     centre_m = tuple(c * 1e-3 for c in floats(centre, "--centre", 2))
     m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
@@ -88,6 +94,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     comp.settings["headroom"] = headroom
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
     write_command_csv(compensated, output)
+    _write_reference(reference_out, cmd if headroom else full)
     if gcode_out is not None:
         _write_dense(compensated, comp, m, gcode_out, (accel, jerk))
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
@@ -96,11 +103,19 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
-    say_compensation(output, report, comp, controller_out, cc)
+    say_compensation(output, report, comp, controller_out, cc, reference_out)
 
 
-def _check_outputs(output: Path, report, controller_out, radius, model: str, command,
-                   gcode) -> None:
+def _write_reference(path, planned) -> None:
+    """Write the program as planned for the correction (with the headroom, or as
+    programmed where none is kept), uncompensated, where ``--reference-out`` asks [-]."""
+    from ..path import write_command_csv
+
+    if path is not None:
+        write_command_csv(planned, path)
+
+
+def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> None:
     """Refuse output paths that clash with the inputs or each other before any work, and
     a controller-side compensation without the circle's radius.
 
@@ -108,8 +123,9 @@ def _check_outputs(output: Path, report, controller_out, radius, model: str, com
     ----------
     output : Path
         The compensated command file [-].
-    report, controller_out : Path or None
-        The report page and the controller parameters file, where asked [-].
+    extra : tuple of Path or None
+        The report page, the controller parameters file and the reference command file,
+        where asked [-].
     radius : float or None
         The circle's radius [mm].
     model : str
@@ -117,6 +133,7 @@ def _check_outputs(output: Path, report, controller_out, radius, model: str, com
     command, gcode : Path or None
         The program's command file or NC program [-].
     """
+    report, controller_out, reference_out = extra
     if radius is not None:
         positive(radius, "--radius [mm]")
     checked_output(output, model, command, gcode)
@@ -125,6 +142,8 @@ def _check_outputs(output: Path, report, controller_out, radius, model: str, com
         checked_output(controller_out, model, command, gcode, output)
         if radius is None:
             raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
+    if reference_out is not None:
+        checked_output(reference_out, model, command, gcode, output)
 
 
 def _planned(command, gcode, machine, headroom):

@@ -116,7 +116,7 @@ def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
     if chunk_rows is not None:
         console.print(f"note: --chunk-rows reads a Parquet run in chunks; "
                       f"{esc(str(run_file))} is read whole", highlight=False)
-    run = with_given_command(read_run(run_file), command)
+    run = with_given_command(read_run(run_file), command, options.get("window_s", 0.2))
     with in_file(run_file):
         how = run_plane_said(plane, feed_commands(run, options.get("rapids", False)),
                              run_file, allow_3d=True)

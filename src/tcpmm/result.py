@@ -15,6 +15,8 @@ RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_m
 BLOCK_COLUMNS = {"nc_line": np.int32, "rapid": np.int8}
 #: The shares of the path at which the two are compared [-].
 _PROGRESS = (0.1, 0.25, 0.5, 0.75, 0.9)
+#: A step shorter than this share of a path's median step is rest [-].
+_CREEP = 0.05
 
 
 @dataclass
@@ -179,12 +181,17 @@ class Run:
 
 def _progress_times(time_s, positions: list):
     """When a path given by its axes' ``positions`` has covered each share of
-    :data:`_PROGRESS` of its length; None where it does not move [s]."""
+    :data:`_PROGRESS` of its length, in its time of motion: steps shorter than
+    :data:`_CREEP` of its median one count as rest, neither length nor time (a compensated
+    command still corrects the tool while the program dwells); None where it does not
+    move [s]."""
     step = np.sqrt(sum(np.diff(np.asarray(x, float)) ** 2 for x in positions))
-    length = np.concatenate([[0.0], np.cumsum(step)])
-    if not length[-1] > 0:
+    if not np.any(step > 0):
         return None
-    return np.interp(np.asarray(_PROGRESS) * length[-1], length, time_s)
+    moving = step > _CREEP * np.median(step[step > 0])
+    length = np.concatenate([[0.0], np.cumsum(np.where(moving, step, 0.0))])
+    rest = np.concatenate([[0.0], np.cumsum(np.where(moving, 0.0, np.diff(time_s)))])
+    return np.interp(np.asarray(_PROGRESS) * length[-1], length, time_s - rest)
 
 
 def _same_timeline(run, command, tol_s: float) -> None:
@@ -204,8 +211,9 @@ def _same_timeline(run, command, tol_s: float) -> None:
     if abs(own[k] - theirs[k]) > tol_s:
         raise InputError(
             f"the command file is on another time line than the run's own command: it has "
-            f"covered {_PROGRESS[k]:.0%} of its path at {theirs[k]:.3f} s, the run's own at "
-            f"{own[k]:.3f} s, and the contour pairs a sample with the command within "
-            f"{2 * tol_s:g} s of it; measure the run against the command it was planned "
-            "with (for a compensated command, tcpmm compensate --reference-out REF.csv "
-            "writes it), or widen --window-s where the path does not come back near itself")
+            f"covered {_PROGRESS[k]:.0%} of its path after {theirs[k]:.3f} s of motion, the "
+            f"run's own after {own[k]:.3f} s, and the contour pairs a sample with the "
+            f"command within {2 * tol_s:g} s of it; measure the run against the command it "
+            "was planned with (for a compensated command, tcpmm compensate --reference-out "
+            "REF.csv writes it), or widen --window-s where the path does not come back near "
+            "itself")

@@ -51,6 +51,7 @@ from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream
 from .contour_inputs import command_flags, contour_axes, run_signals
+from .contour_windows import over_rests
 from .corners import path_length
 from .rapids import RapidStretches, feed_only
 
@@ -257,6 +258,8 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
     tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
+    if moving.size < m - 1:
+        lo, hi = over_rests(lo, hi, t_p, t_q, ln2 > 0, window_s)
     fine = p.dtype == np.float64 and np.all(np.abs(p) < _HUGE)
     out, searched = {}, {}
     for k, q in qs.items():

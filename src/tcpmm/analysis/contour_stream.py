@@ -30,6 +30,7 @@ from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_t
 from .contour import ContourResult, distances_to_polyline
 from .contour_corners import CornerStream
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
+from .contour_windows import motion_time
 from .rapids import RapidStretches, left_out
 
 #: rows read at a time [-]
@@ -301,8 +302,11 @@ class _Scan:
         if "rapid" in cols:
             self.stretches.add_command(cmd[n - cols["time_s"].size:], cols["rapid"])
         res.most_rows = max(res.most_rows, n)
-        b = n if final else int(np.searchsorted(t, t[-1] - 2.0 * w, side="left"))
-        window = _window(cmd, t, first, b, w, final) if b > first else None
+        moves = any_rows(np.diff(cmd, axis=0) != 0.0)  # segment i: rows i, i + 1
+        tau = motion_time(t, moves)[0]  # the windows reach over the command's rests
+        b = n if final else min(int(np.searchsorted(t, t[-1] - 2.0 * w, side="left")),
+                                int(np.searchsorted(tau, tau[-1] - 2.0 * w, side="left")))
+        window = _window(moves, t, tau, first, b, w, final) if b > first else None
         if window is None:
             return
         c0, c1 = window
@@ -323,7 +327,8 @@ class _Scan:
                {s: v[1] + self.base + c0 for s, v in found.items()})
         self._to_corners(self.corners.add_samples, t[first:b], *got)
         res.rows += b - first
-        drop = min(int(np.searchsorted(t, t[b] - w, side="left")), b) if b < n else n
+        drop = min(int(np.searchsorted(t, t[b] - w, side="left")),
+                   int(np.searchsorted(tau, tau[b] - w, side="left")), b) if b < n else n
         self.buf = {c: v[drop:].copy() for c, v in buf.items()}
         self.first, self.base = b - drop, self.base + drop
 
@@ -337,15 +342,17 @@ class _Scan:
         return feed
 
 
-def _window(cmd, t, first: int, b: int, w: float, final: bool):
+def _window(moves, t, tau, first: int, b: int, w: float, final: bool):
     """The command rows ``c0:c1`` that samples ``first:b`` are measured against: their
-    windows, the end of the last segment, and on to a segment that moves (a resting
-    segment takes the direction of the next moving one); ``None`` where the buffer does
-    not reach that far yet [-]."""
+    windows (in time, and over the command's rests in its time of motion ``tau``), the end
+    of the last segment, and on to a segment that moves (a resting segment takes the
+    direction of the next moving one; ``moves``: per segment); ``None`` where the buffer
+    does not reach that far yet [-]."""
     n = t.size
-    c0 = int(np.searchsorted(t, t[first] - w, side="left"))
-    c1 = min(int(np.searchsorted(t, t[b - 1] + w, side="right")) + 1, n)
-    moves = any_rows(np.diff(cmd, axis=0) != 0.0)  # segment i: rows i, i + 1
+    c0 = min(int(np.searchsorted(t, t[first] - w, side="left")),
+             int(np.searchsorted(tau, tau[first] - w, side="left")))
+    c1 = min(max(int(np.searchsorted(t, t[b - 1] + w, side="right")),
+                 int(np.searchsorted(tau, tau[b - 1] + w, side="right"))) + 1, n)
     while c1 < n and not moves[c1 - 2]:
         c1 += 1
     if not final and not moves[c1 - 2]:

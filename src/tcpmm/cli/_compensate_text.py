@@ -52,7 +52,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     if st.get("headroom"):
         out.print(f"  planned with {1 - st['headroom']:.0%} of the axes' acceleration and "
                   f"jerk, the rest left to the correction: {st['planned_duration_s']:.3g} s "
-                  f"instead of {st['programmed_duration_s']:.3g} s")
+                  f"instead of {st['programmed_duration_s']:.3g} s (longer ramps and "
+                  "corners; on a curve, the feed the rest of the acceleration allows)")
     if comp.robustness:
         for line in _verdict_lines(comp.robustness):
             out.print(line)

@@ -39,9 +39,10 @@ _REFERENCE_HELP = ("REF.csv: also write the program as planned for the correctio
                    "(tcpmm contour RUN --command REF.csv), on its time line.")
 _HEADROOM_HELP = ("Share of the axes' acceleration and jerk left to the correction: an NC "
                   "program (--gcode) is planned with the rest, so that the correction has "
-                  "room in the feed ramps and corners; the path and feed are the same, the "
-                  "program takes longer. Default 0.25 for --gcode; a command file is "
-                  "already timed.")
+                  "room in the feed ramps and corners; the path is the same, the ramps and "
+                  "corners longer, and on a curve the feed no more than the rest of the "
+                  "acceleration allows: the program takes longer. Default 0.25 for --gcode; "
+                  "a command file is already timed.")
 
 
 @app.command()

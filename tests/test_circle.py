@@ -521,3 +521,26 @@ def test_samples_at_rest_on_the_circle_are_not_part_of_it():
     for name, (value, _) in d.terms.items():
         if value == value and not name.startswith(("cyclic_period", "radial", "circ")):
             assert abs(value) < 1e-9 + 1e-3 * abs(value), (name, value)
+
+
+def test_a_gap_in_the_log_is_said_to_be_one(tmp_path):
+    """Bench C's CCW circle with 0.3 s of its rows gone (a logger that broke off): the
+    warning said the circle "starts or ends at quadrant point D" and told the user to
+    start it between quadrant points. It says where the samples break off, and why D has
+    no spike; the whole circle says neither."""
+    import pandas as pd
+
+    from conftest import bench_path
+    from tcpmm.io.runfile import read_run
+
+    path = bench_path("c") / "circle_ccw_meas.csv"
+    pd.read_csv(path).drop(index=range(2000, 2300)).to_csv(tmp_path / "gap.csv", index=False)
+    with pytest.warns(InputWarning) as said:
+        analyse_circle(read_run(tmp_path / "gap.csv"), 0.035)
+    text = [str(w.message) for w in said]
+    assert any("samples break off (0.301 s from 238.4 to 279.5 deg)" in m for m in text)
+    assert any("at quadrant point D (270 deg)" in m and "break off" in m for m in text)
+    assert not any("start the circle between" in m for m in text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        analyse_circle(read_run(path), 0.035)

@@ -13,7 +13,7 @@ from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE
 from .circle_spikes import QUADRANTS
 
 
-def warn_uncrossed(names, direction: str, arc_deg: float = 360.0) -> None:
+def warn_uncrossed(names, direction: str, arc_deg: float = 360.0, gapped: bool = False) -> None:
     """Warn (:class:`InputWarning`) that quadrant points are left out of a circle.
 
     Parameters
@@ -24,11 +24,20 @@ def warn_uncrossed(names, direction: str, arc_deg: float = 360.0) -> None:
         Direction of travel [-].
     arc_deg : float
         Angle the pass covers; under 360 an arc, whose points outside it are no news [deg].
+    gapped : bool
+        The pass's samples break off somewhere (:func:`warn_gaps` says where) [-].
     """
     if not names:
         return
     pts = ", ".join(f"{n} ({QUADRANTS[n]:g} deg)" for n in names)
     one = len(names) == 1
+    if gapped:
+        warnings.warn(InputWarning(
+            f"no reversal spike is reported at quadrant point{'' if one else 's'} {pts} of "
+            f"the {direction.upper()} pass: {'its' if one else 'their'} reversal window (30 "
+            "deg before to 20 deg after) is not whole, where the samples break off or the "
+            "pass starts or ends"), stacklevel=3)
+        return
     if arc_deg < 360.0:
         warnings.warn(InputWarning(
             f"the {direction.upper()} arc of {arc_deg:.0f} deg does not hold quadrant "
@@ -123,6 +132,39 @@ def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
 #: Longest sample period at which a circle's reversal spikes are resolved: a spike rises
 #: and falls within some 10 ms [s]
 SPARSE_S = 0.02
+
+
+#: A step between samples this many times their median one is a gap in the log [-].
+GAP_STEPS = 5.0
+
+
+def warn_gaps(t, ang, direction: str) -> bool:
+    """Warn (:class:`InputWarning`) where a pass's samples break off (a step of
+    :data:`GAP_STEPS` median ones or more: a gap in the log), with the time and the angles
+    it spans; whether there is one [-].
+
+    Parameters
+    ----------
+    t : ndarray
+        Time of the pass's samples [s].
+    ang : ndarray
+        Their angle, unwrapped [rad].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    if t.size < 3:
+        return False
+    dt = np.diff(t)
+    gaps = np.flatnonzero(dt > GAP_STEPS * np.median(dt))
+    if gaps.size == 0:
+        return False
+    where = "; ".join(f"{dt[i]:.3g} s from {np.degrees(ang[i]) % 360:.1f} to "
+                      f"{np.degrees(ang[i + 1]) % 360:.1f} deg" for i in gaps[:3])
+    warnings.warn(InputWarning(
+        f"the {direction.upper()} pass's samples break off ({where}"
+        f"{'; ...' if gaps.size > 3 else ''}): a gap in the log; nothing is measured there, "
+        "and the figures are those of the samples on either side"), stacklevel=3)
+    return True
 
 
 def warn_sparse(t, rate_rad_s: float, radius_m: float, direction: str) -> None:

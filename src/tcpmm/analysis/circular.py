@@ -32,6 +32,7 @@ from ..errors import InputError
 from .circle_checks import (
     not_found_error,
     present_sensors,
+    warn_gaps,
     warn_sparse,
     warn_uncrossed,
     warn_unsteady,
@@ -311,6 +312,16 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
                         direction)
 
 
+def _warn(t, cp, ang, missing, radius_m) -> None:
+    """What a pass lacks, in warnings: its log's gaps, the quadrant points it gives no
+    spike at, an unsteady feed, samples too sparse for a spike [-]."""
+    d = cp.direction
+    gapped = warn_gaps(t, ang, d)
+    warn_uncrossed(missing, d, cp.arc_deg, gapped)
+    warn_unsteady(t, ang, d, cp.arc_deg)
+    warn_sparse(t, cp.rate_rad_s, radius_m, d)
+
+
 def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
                    sensors=SENSORS) -> CircleResult:
     """Circular-test analysis of a run: its full circles, else its arcs
@@ -364,9 +375,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
                                                for sc in cp.sensors.values())]
         for sc in cp.sensors.values():  # what the warning says holds for every sensor
             sc.leave_out(missing)
-        warn_uncrossed(missing, d, cp.arc_deg)
-        warn_unsteady(run.time_s[sl], cp.sensors[ref].angle_rad, d, cp.arc_deg)
-        warn_sparse(run.time_s[sl], cp.rate_rad_s, radius_m, d)
+        _warn(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

@@ -75,6 +75,13 @@ def test_an_independent_machines_tails_are_told_from_a_firm_circle(capsys):
     assert moving_terms(circle_diagnostics(*res, sensor="tcp")) == {}
     code, out, _ = run_cli(capsys, "circle", *_pair("c", "_fast"), "--radius", 35)
     assert code == 0 and "uncertain by the reversals' tails" in out and "backlash Y 14.83" in out
+    # the ranking marks them, and says what the mark means
+    ranked = {line.split()[1] + " " + line.split()[2]: line for line in out.splitlines()
+              if line.strip()[:1].isdigit() and len(line.split()) > 3}
+    assert "backlash Y ~" in ranked["backlash Y"] and "~" not in ranked["lateral play"]
+    assert "~: uncertain by the reversals' tails" in out
+    code, out, _ = run_cli(capsys, "circle", *_pair("d", ""), "--radius", 35)
+    assert code == 0 and " ~ " not in out and "~: uncertain" not in out
     code, out, _ = run_cli(capsys, "circle", *_pair("c", "_fast"), "--radius", 35, "--json")
     terms = {t["term"]: t for t in json.loads(out)["diagnostics"]["terms"]}
     assert terms["backlash_Y"]["tail_shift"] == pytest.approx(6.93, abs=0.05)

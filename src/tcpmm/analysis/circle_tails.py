@@ -133,3 +133,19 @@ def moving_line(diag) -> str:
     return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
             "each reversal left out instead of 20, " + ", ".join(items)
             + "; the transient lasts past the window and reads partly as these terms")
+
+
+def moving_ranked(diag) -> set:
+    """The ranked terms (:attr:`CircleDiagnostics.ranking` names) that move with the window
+    after the reversals (:func:`moving_terms`): a centre offset where either axis' does, a
+    cyclic error by its amplitude, a squareness by either name [-]."""
+    moving = moving_terms(diag)
+    out = set()
+    for r in diag.ranking:
+        term = r["term"]
+        names = {term, f"{term}_X", f"{term}_Y", f"{term}_angle", f"{term}_or_servo"}
+        if term.startswith("cyclic_"):
+            names.add(term.replace("cyclic_", "cyclic_amplitude_"))
+        if names & set(moving):
+            out.add(term)
+    return out

@@ -172,25 +172,30 @@ def _print_ranking(diag, reference=None) -> None:
         out.print("terms ranked by their share of G: none determined (below)",
                   highlight=False)
         return
+    from ..analysis.circle_tails import moving_ranked
+
     g = "G(b)" if len(diag.directions) == 2 else "G"
     at = _at_scale(diag, reference)
     scale = ("scale µm",) if at is not None else ()
     t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %", *scale),
                     left=("term",))
+    moving = moving_ranked(diag)
     for r in diag.ranking:
         placed = _placed(r["term"], at)
         mark = "*" if (placed.get("where") or "").startswith("mostly past") else ""
-        t.add_row(str(r["rank"]), r["term"].replace("_", " "), _cell(r["g_alone_m"] * 1e6),
+        name = r["term"].replace("_", " ") + (" ~" if r["term"] in moving else "")
+        t.add_row(str(r["rank"]), name, _cell(r["g_alone_m"] * 1e6),
                   _cell(100 * r["share_of_G"], 1), _cell(r["contribution_m"] * 1e6),
                   _cell(100 * r["share"], 1),
                   *((_cell(placed["scale_g_alone_um"]) + mark if placed else "",)
                     if scale else ()))
+    tails = "; ~: uncertain by the reversals' tails (above)" if moving else ""
     print_plain(t, out, f"terms ranked by their share of {g}",
                 f"{g} alone: the {g} the term's radial error alone makes; % {g}: of the "
                 f"circles' {g}; p-v: its peak to valley about the nominal centre (a centre "
                 f"offset makes no {g}: it shows in the contour error), share: of the sum "
-                "of those" + ("; scale: the term's G alone in the linear scale's circle, "
-                              "* where the scale sees less than half of it (a term above "
-                              "the residual rms): it lies past the scale, in the structure "
-                              "between the table and the tool, not in the drive"
-                              if scale else ""))
+                "of those" + tails + ("; scale: the term's G alone in the linear scale's "
+                                      "circle, * where the scale sees less than half of it "
+                                      "(a term above the residual rms): it lies past the "
+                                      "scale, in the structure between the table and the "
+                                      "tool, not in the drive" if scale else ""))

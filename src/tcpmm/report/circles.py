@@ -170,7 +170,11 @@ def ranking_html(diag, stem: str) -> str:
 
     if not diag.ranking:
         return ""
-    frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " "),
+    from ..analysis.circle_tails import moving_ranked
+
+    moving = moving_ranked(diag)
+    frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " ")
+                           + (" ~" if r["term"] in moving else ""),
                            "G alone [µm]": r["g_alone_m"] * 1e6,
                            "of G [%]": 100 * r["share_of_G"],
                            "peak to valley [µm]": r["contribution_m"] * 1e6,
@@ -179,7 +183,8 @@ def ranking_html(diag, stem: str) -> str:
                  "of each alone makes, about its own least-squares centre, and what of the "
                  "circles' G that is; then its peak to valley about the nominal centre (a "
                  "centre offset makes no G: it shows in the contour error) and its share of "
-                 "the sum of those.")
+                 "the sum of those." + (" ~: uncertain by the reversals' tails (below)."
+                                        if moving else ""))
             + table(frame, f"{stem}_diagnostics_ranking.csv",
                     digits={"share [%]": 1, "of G [%]": 1}))
 

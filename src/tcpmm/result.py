@@ -190,8 +190,15 @@ def _progress_times(time_s, positions: list):
         return None
     moving = step > _CREEP * np.median(step[step > 0])
     length = np.concatenate([[0.0], np.cumsum(np.where(moving, step, 0.0))])
-    rest = np.concatenate([[0.0], np.cumsum(np.where(moving, 0.0, np.diff(time_s)))])
-    return np.interp(np.asarray(_PROGRESS) * length[-1], length, time_s - rest)
+    return np.interp(np.asarray(_PROGRESS) * length[-1], length,
+                     motion_time(time_s, moving)[0])
+
+
+def motion_time(time_s, moves):
+    """Time at each sample of a command less the time it has rested before it (``moves``:
+    per step between samples, whether it moves), never decreasing; and that rest [s]."""
+    rest = np.concatenate([[0.0], np.cumsum(np.where(moves, 0.0, np.diff(time_s)))])
+    return np.maximum.accumulate(time_s - rest), rest
 
 
 def _same_timeline(run, command, tol_s: float) -> None:

@@ -27,10 +27,10 @@ from .._rows import any_rows
 from .._threads import read_ahead, usable_cores
 from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
+from ..result import motion_time
 from .contour import ContourResult, distances_to_polyline
 from .contour_corners import CornerStream
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
-from .contour_windows import motion_time
 from .rapids import RapidStretches, left_out
 
 #: rows read at a time [-]

@@ -6,12 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-
-def motion_time(t_p, moves):
-    """Time at each vertex less the time the command has rested before it (``moves``: per
-    segment, whether it moves), never decreasing [s]."""
-    rest = np.concatenate([[0.0], np.cumsum(np.where(moves, 0.0, np.diff(t_p)))])
-    return np.maximum.accumulate(t_p - rest), rest
+from ..result import motion_time
 
 
 def over_rests(lo, hi, t_p, t_q, moves, window_s: float):

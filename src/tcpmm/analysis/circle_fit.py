@@ -110,6 +110,10 @@ class TermFit:
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
 
+    def cyclic_amplitude(self, axis: str) -> float:
+        """Amplitude of the cyclic error fitted for ``axis`` (``"X"``, ``"Y"``) [m]."""
+        return float(np.hypot(self[f"cyclic_sin_{axis}"], self[f"cyclic_cos_{axis}"]))
+
     def undetermined(self) -> list:
         """Names of the terms left out of the fit [-]."""
         return [n for n, c in zip(self.names, self.coef, strict=True) if np.isnan(c)]

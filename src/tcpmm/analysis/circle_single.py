@@ -92,13 +92,11 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
-    shift = tail_shift(fit, arcs, radius_m, SINGLE, left_out,
-                       rename={"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
-                             {rename_axes(k, axes): float(v) for k, v in shift.items()
-                              if k in terms and np.isfinite(terms[k][0])})
+                             tail_shift(fit, arcs, radius_m, SINGLE, left_out, terms, axes,
+                                        rename={"squareness": "squareness_or_servo"}))
 
 
 def _unplaced(fit, terms, angle) -> dict:

@@ -18,7 +18,7 @@ import dataclasses
 import numpy as np
 
 from ..errors import InputError
-from .circle_display import DISPLAY_UNITS
+from .circle_display import DISPLAY_UNITS, rename_axes
 from .circle_fit import fit_terms
 
 #: The angle after each reversal left out when the terms are fitted again [deg].
@@ -32,12 +32,12 @@ MOVES_SHARE = 0.2
 _HALF_R = ("squareness", "squareness_or_servo", "scale_mismatch", "servo_mismatch_angle")
 
 
-def tail_shift(fit, arcs, radius, shared, left_out, mean_rate=float("nan"),
+def tail_shift(fit, arcs, radius, shared, left_out, terms, axes, mean_rate=float("nan"),
                rename=None) -> dict:
     """How much each reported term changes when the fit leaves out :data:`WIDER_DEG` after
-    each reversal instead of the arcs' own window, by reported name (axes X and Y;
-    ``rename`` maps a fitted name to the reported one) [SI]; empty where the wider window
-    leaves too little to fit.
+    each reversal instead of the arcs' own window, by the name it is reported under (the
+    plane's axes; ``rename`` maps a fitted name to the reported one), for the terms of
+    ``terms`` that have a value [SI]; empty where the wider window leaves too little to fit.
 
     Parameters
     ----------
@@ -51,6 +51,10 @@ def tail_shift(fit, arcs, radius, shared, left_out, mean_rate=float("nan"),
         The shared terms fitted [-].
     left_out : dict
         Columns the fit left out (:func:`.circle_stable.arc_fit`), left out again [-].
+    terms : dict
+        The reported terms, ``name -> (value, unit)``, axes X and Y [SI].
+    axes : tuple of str
+        The plane's axes [-].
     mean_rate : float
         Mean angular speed, for the servo mismatch as a time; NaN leaves it out [rad/s].
     rename : dict, optional
@@ -75,13 +79,10 @@ def tail_shift(fit, arcs, radius, shared, left_out, mean_rate=float("nan"),
             out[(rename or {}).get(name, name)] = delta
     for axis, k in zip("XY", fit.waves, strict=True):
         if k is not None:
-            out[f"cyclic_amplitude_{axis}"] = _amplitude(other, axis) - _amplitude(fit, axis)
-    return out
-
-
-def _amplitude(fit, axis) -> float:
-    """A fit's cyclic amplitude of ``axis`` [m]."""
-    return float(np.hypot(fit[f"cyclic_sin_{axis}"], fit[f"cyclic_cos_{axis}"]))
+            out[f"cyclic_amplitude_{axis}"] = (other.cyclic_amplitude(axis)
+                                               - fit.cyclic_amplitude(axis))
+    return {rename_axes(k, axes): float(v) for k, v in out.items()
+            if k in terms and np.isfinite(terms[k][0])}
 
 
 def radial_size(term: str, value: float, radius: float) -> float:
@@ -98,10 +99,9 @@ def radial_size(term: str, value: float, radius: float) -> float:
     radius : float
         Nominal radius [m].
     """
-    base = term.rsplit("_", 1)[0] if term[-2:] in ("_X", "_Y") else term
     if term == "servo_mismatch":
         return float("nan")
-    return abs(value) * (radius / 2 if term in _HALF_R or base in _HALF_R else 1.0)
+    return abs(value) * (radius / 2 if term in _HALF_R else 1.0)
 
 
 def moving_terms(diag) -> dict:

@@ -242,12 +242,11 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
                                  "given as an angle only (servo_mismatch_angle)")
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
-    shift = tail_shift(fit, arcs, radius_m, SHARED, left_out, mean_rate)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
-                             {rename_axes(k, axes): float(v) for k, v in shift.items()
-                              if k in terms and np.isfinite(terms[k][0])})
+                             tail_shift(fit, arcs, radius_m, SHARED, left_out, terms, axes,
+                                        mean_rate))
 
 
 def undetermined_terms(fit) -> list:
@@ -298,7 +297,7 @@ def cyclic_terms(fit) -> dict:
     for name, k in zip("XY", fit.waves, strict=True):
         amp = period = float("nan")
         if k is not None:
-            amp = float(np.hypot(fit[f"cyclic_sin_{name}"], fit[f"cyclic_cos_{name}"]))
+            amp = fit.cyclic_amplitude(name)
             period = 1.0 / k
         out[f"cyclic_amplitude_{name}"] = (amp, "m")
         out[f"cyclic_period_{name}"] = (period, "m")

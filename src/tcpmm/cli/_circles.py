@@ -157,8 +157,9 @@ def print_diagnostics(diag, reference=None) -> None:
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u,
                   term_note(term, diag.axes))
     print_plain(t, out)
-    if moving_line(diag):
-        out.print(moving_line(diag), highlight=False)
+    tails = moving_line(diag)
+    if tails:
+        out.print(tails, highlight=False)
     _print_ranking(diag, reference)
     for line in undetermined_lines(diag.undetermined):
         out.print(line, highlight=False)

@@ -194,8 +194,8 @@ def undetermined_html(diag) -> str:
     uncertain [-]."""
     from ..analysis.circle_tails import moving_line
 
-    lines = [*([moving_line(diag)] if moving_line(diag) else []),
-             *undetermined_lines(diag.undetermined)]
+    tails = moving_line(diag)
+    lines = [*([tails] if tails else []), *undetermined_lines(diag.undetermined)]
     return "".join(para(f"{line}.", "warn") for line in lines)
 
 

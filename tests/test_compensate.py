@@ -596,3 +596,14 @@ def test_a_corner_the_correction_cannot_help_keeps_it_off_that_corner_only(machi
         assert a <= b - margin(b) or abs(a - b) <= EQUAL_M
     assert rob["circle"]["spike"]["verdict"] != "uncertain"
     assert rob["trusted_share"] > 0.5
+
+
+def test_a_figure_in_a_plane_with_the_loaded_axis_is_compensated_as_in_xy(linear):
+    """Z carries its head against gravity: its static sag is the TCP's datum, not an error
+    the command could take out, so the XZ figure's error falls as the XY one's does."""
+    xy = _command()
+    xz = Command(xy.time_s, {"X": xy.positions["X"], "Z": xy.positions["Y"]})
+    for cmd in (xy, xz):
+        comp = compensate(linear, cmd, iterations=10)
+        for h in comp.history.values():
+            assert min(h) < 0.05 * h[0]

@@ -298,6 +298,17 @@ def kernel_inputs(axis: Axis, cmd, excitation, cmd_period_s: float, n_steps: int
     )
 
 
+def tcp_datum(axis: Axis) -> float:
+    """The TCP's reading at rest less the position the loop holds: its static deflection
+    under the axis's load (the head's sag under gravity), which the tool-length and
+    zero-point settings take up on the machine. Runs report the TCP from this datum, as a
+    sensor zeroed at rest reads it; zero for an axis without a load [m]."""
+    s, fr = axis.servo, axis.friction
+    play = fr.backlash if fr is not None else 0.0
+    x0, _ = static_equilibrium(axis.mechanics, 0.0, s.position_feedback, play)
+    return float(x0[2] - x0[4])  # X_TCP = X_t - X_h
+
+
 def _initial_state(axis: Axis, x_start: float, play: float) -> tuple[np.ndarray, float]:
     """The plant at rest at ``x_start`` against its load, zero-padded to ``NX`` states
     [SI], and the current that holds it [A]."""

@@ -17,7 +17,7 @@ from ..path.command import Command
 from ..path.settings import AXES, InterpolatorSettings
 from ..result import AxisRun, Run
 from ..servo.sampled import sampled_spectral_radius
-from .inputs import kernel_inputs, run_kernel
+from .inputs import kernel_inputs, run_kernel, tcp_datum
 
 
 def record_every(record_period_s: float | None, cmd_period_s: float, T_v: float) -> int:
@@ -85,8 +85,8 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
         t_rec = np.arange(rec.shape[1]) * (rec_every * T_v)
         exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]
     return AxisRun(
-        cmd=rec[6], motor=rec[5], scale=rec[1], tcp=rec[2], current=rec[4],
-        motor_angle=rec[0], motor_speed=rec[3], excitation=exc_rec,
+        cmd=rec[6], motor=rec[5], scale=rec[1], tcp=rec[2] - tcp_datum(axis),
+        current=rec[4], motor_angle=rec[0], motor_speed=rec[3], excitation=exc_rec,
     )
 
 

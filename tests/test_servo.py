@@ -14,7 +14,7 @@ from tcpmm.servo.sampled import (
     lifted_closed_loop,
     sampled_spectral_radius,
 )
-from tcpmm.sim.inputs import command_velocity, tcp_datum
+from tcpmm.sim.inputs import command_velocity, sensor_datums
 from tcpmm.sim.simulate import simulate_axis
 
 
@@ -126,12 +126,15 @@ def test_gravity_axis_starts_at_rest(vmc_linear):
     assert np.max(np.abs(r.scale - 0.02)) < 1e-12
     hold = -a.mechanics.load_force * a.mechanics.R_L / a.mechanics.K_tc
     np.testing.assert_allclose(r.current, hold, rtol=1e-9)
-    # The head sags under the load by F (1/K_b + 1/K_h), some 50 µm; the TCP is read from
-    # the datum set at rest, as the tool-length and zero-point settings take it up.
+    # The head sags under the load by F (1/K_b + 1/K_h), some 50 µm, and the screw winds
+    # up; the sensors are read from their datums at rest, as the tool-length, zero-point
+    # and reference settings take these up.
     m = a.mechanics
-    assert tcp_datum(a) == pytest.approx(m.load_force * (1 / m.K_b + 1 / m.K_h), rel=1e-12)
-    assert abs(tcp_datum(a)) > 40e-6
-    assert np.max(np.abs(r.tcp - 0.02)) < 1e-12
+    d_motor, d_scale, d_tcp = sensor_datums(a)
+    assert d_tcp == pytest.approx(m.load_force * (1 / m.K_b + 1 / m.K_h), rel=1e-12)
+    assert abs(d_tcp) > 40e-6 and abs(d_motor) > 10e-6 and d_scale == 0.0
+    for sensor in (r.tcp, r.motor, r.scale):
+        assert np.max(np.abs(sensor - 0.02)) < 1e-12
 
 
 def test_open_loop_torque_mode_moves_by_rigid_inertia(vmc_linear):

@@ -129,7 +129,8 @@ CORNER_ROWS = 20
 
 def _print(res, sensor: str, title: str) -> None:
     """Error per sensor and the corner table of one sensor, 80 columns wide."""
-    sign = "signed, +: left of travel" if res.signed else "3D, unsigned"
+    sign = ("signed, +: left of travel" if res.signed
+            else f"unsigned: the distance in {''.join(res.axes)} (3D)")
     # the run's name on a line of its own: as a table's title a long one was wrapped to
     # the table's width, in a pipe too, where no line is wrapped
     out.print(esc(f"{title}: contour error in {''.join(res.axes)} [µm]"), soft_wrap=True,
@@ -163,9 +164,8 @@ OFFSET_M = 1e-6
 
 def _say_offsets(summary: dict) -> None:
     """Say on stderr the sensors whose 3-D error never falls below :data:`OFFSET_M` and half
-    its largest: an offset held throughout, as an axis standing still under its weight
-    (the built-in machine's Z sags 50.7 um), is in every figure of a move along one
-    axis."""
+    its largest: an offset held throughout, as a measured sensor of an axis standing still
+    that was zeroed under another load, is in every figure of a move along one axis."""
     for s, d in summary.items():
         low = d["min_m"]
         if low > OFFSET_M and low > 0.5 * d["max_abs_m"]:

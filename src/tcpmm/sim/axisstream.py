@@ -19,7 +19,7 @@ from .._compiled import run_axis
 from ..model import Axis
 from ..result import AxisRun
 from . import layout as L
-from .inputs import kernel_inputs, tcp_datum
+from .inputs import kernel_inputs, sensor_datums
 from .simulate import record_every
 
 
@@ -88,7 +88,7 @@ class AxisStream:
         if not final and keep > 0:
             self.buf = self.buf[keep:].copy()
             self.j0 += keep
-        return _records(rec, tcp_datum(self.axis))
+        return _records(rec, sensor_datums(self.axis))
 
     def _run(self, first: int, stop: int, ratio: float, n_cmd: int, final: bool):
         """The kernel over steps ``first`` to ``stop - 1`` [SI]."""
@@ -150,7 +150,10 @@ def window_velocity(buf, lo: int, hi: int, at_start: bool, final: bool, n_cmd: i
     return v
 
 
-def _records(rec, datum: float = 0.0) -> AxisRun:
-    """The kernel's record as the signals of a run, the TCP from its ``datum`` [SI]."""
-    return AxisRun(cmd=rec[6], motor=rec[5], scale=rec[1], tcp=rec[2] - datum, current=rec[4],
+def _records(rec, datums=(0.0, 0.0, 0.0)) -> AxisRun:
+    """The kernel's record as the signals of a run, the sensors read from their ``datums``
+    (:func:`~tcpmm.sim.inputs.sensor_datums`) [SI]."""
+    d_motor, d_scale, d_tcp = datums
+    return AxisRun(cmd=rec[6], motor=rec[5] - d_motor, scale=rec[1] - d_scale,
+                   tcp=rec[2] - d_tcp, current=rec[4],
                    motor_angle=rec[0], motor_speed=rec[3], excitation=np.zeros(rec.shape[1]))

@@ -298,15 +298,17 @@ def kernel_inputs(axis: Axis, cmd, excitation, cmd_period_s: float, n_steps: int
     )
 
 
-def tcp_datum(axis: Axis) -> float:
-    """The TCP's reading at rest less the position the loop holds: its static deflection
-    under the axis's load (the head's sag under gravity), which the tool-length and
-    zero-point settings take up on the machine. Runs report the TCP from this datum, as a
-    sensor zeroed at rest reads it; zero for an axis without a load [m]."""
-    s, fr = axis.servo, axis.friction
+def sensor_datums(axis: Axis) -> tuple[float, float, float]:
+    """Each sensor's reading at rest less the position the loop holds: the static
+    deflections under the axis's load (the head's sag under gravity, the screw's wind-up),
+    which the zero-point, reference and tool-length settings take up on the machine. Runs
+    report the motor encoder, the scale and the TCP from these datums, as sensors zeroed
+    at rest read them; all zero for an axis without a load [m]."""
+    s, fr, m = axis.servo, axis.friction, axis.mechanics
     play = fr.backlash if fr is not None else 0.0
-    x0, _ = static_equilibrium(axis.mechanics, 0.0, s.position_feedback, play)
-    return float(x0[2] - x0[4])  # X_TCP = X_t - X_h
+    x0, _ = static_equilibrium(m, 0.0, s.position_feedback, play)
+    # R th_m, X_LS = X_t - X_b, X_TCP = X_t - X_h
+    return float(m.R_L * x0[0]), float(x0[2] - x0[3]), float(x0[2] - x0[4])
 
 
 def _initial_state(axis: Axis, x_start: float, play: float) -> tuple[np.ndarray, float]:

@@ -17,7 +17,7 @@ from ..path.command import Command
 from ..path.settings import AXES, InterpolatorSettings
 from ..result import AxisRun, Run
 from ..servo.sampled import sampled_spectral_radius
-from .inputs import kernel_inputs, run_kernel, tcp_datum
+from .inputs import kernel_inputs, run_kernel, sensor_datums
 
 
 def record_every(record_period_s: float | None, cmd_period_s: float, T_v: float) -> int:
@@ -84,8 +84,9 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     else:
         t_rec = np.arange(rec.shape[1]) * (rec_every * T_v)
         exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]
+    d_motor, d_scale, d_tcp = sensor_datums(axis)
     return AxisRun(
-        cmd=rec[6], motor=rec[5], scale=rec[1], tcp=rec[2] - tcp_datum(axis),
+        cmd=rec[6], motor=rec[5] - d_motor, scale=rec[1] - d_scale, tcp=rec[2] - d_tcp,
         current=rec[4], motor_angle=rec[0], motor_speed=rec[3], excitation=exc_rec,
     )
 

@@ -558,3 +558,19 @@ def test_the_error_sources_say_what_the_scale_does_not_see():
     own = ranked_sources(scale, scale)
     assert all(n.startswith("at the linear scale too") for _, g, n, _ in own
                if g > scale["residual_rms"] and "centre" not in n)
+
+
+def test_the_model_section_lists_the_current_setpoint_filters():
+    """A tuned axis holds its margins only with the notch tune placed: the gains the page
+    lists without it would be typed in without it."""
+    from tcpmm import builtin_machine
+    from tcpmm.report.machine import model_frame
+    from tcpmm.servo.currentfilters import LowPass, Notch
+
+    m = builtin_machine()
+    x = m.axes["X"]
+    m = m.with_axis("X", x.replace(servo=x.servo.model_copy(update={"filters": [
+        Notch(f_hz=745.0, bandwidth_hz=223.5, depth_db=-40.0), LowPass(f_hz=2000.0)]})))
+    row = model_frame(m).set_index("parameter").loc["filters"]
+    assert row["X"] == "notch 745.0 Hz, 223.5 Hz wide, -40.0 dB; low-pass 2000.0 Hz, zeta 0.70"
+    assert row["Y"] == "none" and row["group"] == "servo"

@@ -58,6 +58,10 @@ def model_frame(machine):
             row = {"group": group, "parameter": p, "description": what, "unit": unit}
             row.update({ax: _value(getattr(get(a), p), k) for ax, a in machine.axes.items()})
             rows.append(row)
+    row = {"group": "servo", "parameter": "filters", "unit": "",
+           "description": "current-setpoint filters (the gains hold with them only)"}
+    row.update({ax: filters_text(a.servo.filters) for ax, a in machine.axes.items()})
+    rows.append(row)
     for p, what, unit, get in _friction_rows():
         row = {"group": "friction", "parameter": p, "description": what, "unit": unit}
         row.update({ax: get(a.friction) if a.friction is not None else float("nan")
@@ -69,6 +73,14 @@ def model_frame(machine):
         row.update({ax: d[i] for ax, d in dyn.items()})
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def filters_text(filters) -> str:
+    """The current-setpoint filters as a commissioning engineer types them in [-]."""
+    parts = [f"notch {f.f_hz:.1f} Hz, {f.bandwidth_hz:.1f} Hz wide, {f.depth_db:.1f} dB"
+             if f.type == "notch" else f"low-pass {f.f_hz:.1f} Hz, zeta {f.zeta:.2f}"
+             for f in filters]
+    return "; ".join(parts) or "none"
 
 
 #: Rows on the dynamics of each axis: name, description, unit.

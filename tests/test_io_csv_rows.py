@@ -92,3 +92,13 @@ def test_a_folder_is_called_a_folder(tmp_path):
     for read in (read_run_csv, read_command_csv, lambda p: read_numeric_csv(p, ["time_s"])):
         with pytest.raises(InputError, match="this is a directory"):
             read(tmp_path)
+
+
+@pytest.mark.parametrize("cell", ["nan", "NaN", ""])
+def test_a_nan_cell_is_not_called_only_empty(tmp_path, cell):
+    p = tmp_path / "f.csv"
+    p.write_text(f"time_s,x_mm\n0,0\n0.001,{cell}\n0.002,0\n")
+    with pytest.raises(InputError) as e:
+        read_numeric_csv(p, ["time_s", "x_mm"])
+    assert e.value.line == 3 and e.value.column == "x_mm"
+    assert "empty or NaN" in e.value.message

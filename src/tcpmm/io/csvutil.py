@@ -343,7 +343,8 @@ def _finite_column(col, name: str, path: Path) -> np.ndarray:
     finite = np.isfinite(values)
     if not finite.all():
         i = int(np.flatnonzero(~finite)[0])
-        what = "empty (missing value or blank line)" if np.isnan(values[i]) else "infinite"
+        what = ("empty or NaN (a missing value, a blank line or a 'nan' in the cell)"
+                if np.isnan(values[i]) else "infinite")
         raise InputError(
             f"value is {what}; every cell must hold a finite number. Remove or "
             "repair the row (do not interpolate silently over sensor drop-outs)",

@@ -6,6 +6,7 @@ import control
 import numpy as np
 import pytest
 
+from tcpmm.machines.builtin import builtin_machine
 from tcpmm.servo.margins import axis_margins, discrete_freqresp, margins_of
 from tcpmm.servo.sampled import position_open_loop, velocity_open_loop
 
@@ -102,3 +103,12 @@ def test_machine_show_and_bode_give_the_margins(capsys):
     assert 180 + np.degrees(np.angle(L)) == pytest.approx(mv["phase_margin_deg"], abs=1e-6)
     assert main(["machine", "show", "builtin:vmc"]) == 0
     assert "phase margin" in capsys.readouterr().out
+    # the default grid reaches the Nyquist frequency, where a sampled loop's phase
+    # crosses -180 deg: the gain margin can be read off the table
+    assert main(["bode", "builtin:vmc", "--axis", "X", "--tf", "L_v", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    nyquist = 0.5 / builtin_machine().axes["X"].servo.T_v
+    assert rows[-1]["freq_hz"] == pytest.approx(nyquist, rel=1e-12)
+    assert mv["phase_crossover_hz"] == pytest.approx(nyquist, rel=1e-9)
+    L = complex(rows[-1]["re"], rows[-1]["im"])
+    assert -20 * np.log10(abs(L)) == pytest.approx(mv["gain_margin_db"], abs=1e-6)

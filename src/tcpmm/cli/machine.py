@@ -96,17 +96,20 @@ OPEN_LOOPS = ("L_v", "L_p")
 
 
 def _open_loop(axis, tf: str, f, given: bool):
-    """Open sampled loop gain at ``f`` [Hz], which must lie below the loop's Nyquist (the
-    default grid is cut there); returns the frequencies and the gain."""
+    """Open sampled loop gain at ``f`` [Hz], up to the loop's Nyquist frequency (the
+    default grid reaches it, where a sampled loop's gain margin often lies); returns the
+    frequencies and the gain."""
+    import numpy as np
+
     from ..servo.margins import position_loop_gain, velocity_loop_gain
 
     s = axis.servo
     period = s.T_v if tf == "L_v" else s.T_p
     if not given:
-        f = f[f < 0.5 / period]
-    if f.max() >= 0.5 / period:
+        f = np.geomspace(1.0, 0.5 / period, 200)
+    if f.max() > 0.5 / period:
         raise typer.BadParameter(f"--freq-hz: {tf} is sampled every {period:g} s; give "
-                                 f"frequencies below its Nyquist frequency {0.5 / period:g} Hz")
+                                 f"frequencies up to its Nyquist frequency {0.5 / period:g} Hz")
     gain = velocity_loop_gain if tf == "L_v" else position_loop_gain
     return f, gain(axis.mechanics, s, f)
 

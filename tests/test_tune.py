@@ -109,10 +109,12 @@ def test_every_changed_setting_says_why_and_what_limits_it(capsys):
     is a warning, and the feedforward choice, one for the axes the circle moves, is
     printed once. Z, which the circle does not move, keeps its settings and says why."""
     assert main(["tune", "builtin:vmc"]) == 0
-    text = capsys.readouterr().out
-    assert text.count("feedforward k_ff") == 1
+    cap = capsys.readouterr()
+    text, said = cap.out, " ".join(cap.err.split())
+    assert text.count("feedforward k_ff") == 1 and "warning" not in text  # on stderr
     assert main(["tune", "builtin:vmc", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
+    assert next(iter(data)) == "warnings"  # as every command's --json has them
     assert data["notes"][0].startswith("feedforward")
     assert all(not n.startswith("feedforward") for n in data["notes"][1:])
     lead = []
@@ -133,7 +135,8 @@ def test_every_changed_setting_says_why_and_what_limits_it(capsys):
         assert fc > 1000
         assert any(f"crosses over at {fc:.0f} Hz" in w and "damping" in w
                    for w in a["warnings"]), a["warnings"]
-        assert f"crosses over at {fc:.0f} Hz" in text
+        assert f"warning: axis {n}: the velocity loop crosses over at {fc:.0f} Hz" in said
+        assert any(w.startswith(f"axis {n}: ") and f"{fc:.0f} Hz" in w for w in data["warnings"])
     assert sum(lead) == 1
     assert "above the 729 Hz mode" in " ".join(data["axes"]["X"]["warnings"])
 

@@ -55,6 +55,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         with in_file(gcode):
             command = program_to_command(gcode, interp_settings(m))
     res = tune_and_predict(m, gm, pm, command, axes)
+    _warn(res)
     if output is not None:
         write_machine(res.tuned, output)
     if as_json:
@@ -64,6 +65,17 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     _print_result(res, gm, pm)
     if output is not None:
         out.print(f"wrote {output}")
+
+
+def _warn(res) -> None:
+    """Each axis's warnings as warnings: on stderr, and first in ``--json``."""
+    import warnings
+
+    from ..errors import InputWarning
+
+    for name, t in res.axes.items():
+        for warning in t.warnings:
+            warnings.warn(f"axis {name}: {warning}", InputWarning, stacklevel=2)
 
 
 def _fmt(v, digits=1):
@@ -93,8 +105,6 @@ def _print_result(res, gm, pm) -> None:
             out.print(f"  {esc(res.reasons[name])}")
         for note in t.notes:
             out.print(f"  {esc(note)}")
-        for warning in t.warnings:
-            out.print(f"  [yellow]warning:[/yellow] {esc(warning)}")
     for note in res.notes:
         out.print(esc(note))
     if not res.path_before:

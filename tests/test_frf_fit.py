@@ -368,3 +368,19 @@ def test_an_integrating_frf_fits_without_a_pair_below_its_bins(capfd, poles):
                   poles=poles)
     assert np.all(np.isfinite(res.tf.poles)) and np.all(np.isfinite(res.tf.zeros))
     assert "DLASCL" not in capfd.readouterr().out
+
+
+@pytest.mark.parametrize("rows, said", [
+    ("".join(f"{2 + i},0,0,0.99\n" for i in range(40)),
+     "only 0 of the band's 40 bins can be fitted, at least 4 are needed: 40 have a response "
+     "of zero"),
+    ("2,1.0,-0.01,0.99\n3,1.0,-0.02,0.99\n4,1.0,-0.03,0.99\n",
+     "only 3 of the band's 3 bins can be fitted, at least 4 are needed; widen")])
+def test_too_few_bins_name_the_file_and_their_cause(capsys, tmp_path, rows, said):
+    """A zero response and a file of three bins were both blamed on the coherence, of
+    0.99 in every bin, and named no file."""
+    p = tmp_path / "f.csv"
+    p.write_text("freq_hz,re,im,coherence\n" + rows)
+    code, _, err = run_cli(capsys, "frf", "fit", p)
+    err = " ".join(err.split())
+    assert code == 2 and f"f.csv: {said}" in err and "coherence below" not in err

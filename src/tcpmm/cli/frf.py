@@ -9,7 +9,16 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from ._app import app, checked_output, checked_plot, emit_json, esc, out, parse_band
+from ._app import (
+    app,
+    checked_output,
+    checked_plot,
+    emit_json,
+    esc,
+    in_file,
+    out,
+    parse_band,
+)
 from ._tables import plain_table, print_plain
 
 frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XML): show "
@@ -130,8 +139,9 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
             checked_output(o, file)
     checked_plot(plot)
     frf = read_frf(file)
-    res = fit_frf(frf, poles=n, band_hz=(f0, f1), weighting=weight.value, delay_s=tau,
-                  damping_floor=DAMPING_FLOOR if damping_floor is None else damping_floor)
+    with in_file(file):
+        res = fit_frf(frf, poles=n, band_hz=(f0, f1), weighting=weight.value, delay_s=tau,
+                      damping_floor=DAMPING_FLOOR if damping_floor is None else damping_floor)
     d = {"file": str(file), **res.to_dict()}
     if output is not None:
         write_text_atomic(output, json.dumps(d, indent=1) + "\n")

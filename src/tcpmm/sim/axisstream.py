@@ -20,7 +20,7 @@ from ..model import Axis
 from ..result import AxisRun
 from . import layout as L
 from .inputs import kernel_inputs, sensor_datums
-from .simulate import record_every
+from .simulate import record_every, records_run
 
 
 class AxisStream:
@@ -45,6 +45,7 @@ class AxisStream:
         self.T_c = float(cmd_period_s)
         self.rec_every = record_every(record_period_s, self.T_c, axis.servo.T_v)
         self.quantise = quantise_feedback
+        self.datums = sensor_datums(axis)
         self.buf = np.zeros(0)  # command samples from index j0 of the whole command on
         self.j0 = 0
         self.step = 0  # next velocity-loop step
@@ -80,7 +81,7 @@ class AxisStream:
         else:
             stop = _steps_until(self.step, ratio, n_cmd - 3)
         if stop <= self.step:
-            return _records(np.empty((len(L.REC_COLUMNS), 0)))
+            return self._signals(np.empty((len(L.REC_COLUMNS), 0)))
         rec = self._run(self.step, stop, ratio, n_cmd, final)
         self.step = stop
         # the first sample the next step needs, and the one before for a centred slope
@@ -88,7 +89,11 @@ class AxisStream:
         if not final and keep > 0:
             self.buf = self.buf[keep:].copy()
             self.j0 += keep
-        return _records(rec, sensor_datums(self.axis))
+        return self._signals(rec)
+
+    def _signals(self, rec) -> AxisRun:
+        """The records as the signals of a run, no excitation [SI]."""
+        return records_run(rec, self.datums, np.zeros(rec.shape[1]))
 
     def _run(self, first: int, stop: int, ratio: float, n_cmd: int, final: bool):
         """The kernel over steps ``first`` to ``stop - 1`` [SI]."""
@@ -148,12 +153,3 @@ def window_velocity(buf, lo: int, hi: int, at_start: bool, final: bool, n_cmd: i
     if final:
         v[-1] = 0.0 if n_cmd < 3 else (buf[hi - 1] - buf[hi - 2]) / period_s
     return v
-
-
-def _records(rec, datums=(0.0, 0.0, 0.0)) -> AxisRun:
-    """The kernel's record as the signals of a run, the sensors read from their ``datums``
-    (:func:`~tcpmm.sim.inputs.sensor_datums`) [SI]."""
-    d_motor, d_scale, d_tcp = datums
-    return AxisRun(cmd=rec[6], motor=rec[5] - d_motor, scale=rec[1] - d_scale,
-                   tcp=rec[2] - d_tcp, current=rec[4],
-                   motor_angle=rec[0], motor_speed=rec[3], excitation=np.zeros(rec.shape[1]))

@@ -84,10 +84,16 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     else:
         t_rec = np.arange(rec.shape[1]) * (rec_every * T_v)
         exc_rec = exc[np.minimum((t_rec / T_c + 1e-9).astype(np.int64), t.size - 1)]
-    d_motor, d_scale, d_tcp = sensor_datums(axis)
+    return records_run(rec, sensor_datums(axis), exc_rec)
+
+
+def records_run(rec, datums: tuple, excitation) -> AxisRun:
+    """The kernel's record as the signals of a run, the sensors read from their ``datums``
+    (:func:`~tcpmm.sim.inputs.sensor_datums`), with the ``excitation`` recorded [SI]."""
+    d_motor, d_scale, d_tcp = datums
     return AxisRun(
         cmd=rec[6], motor=rec[5] - d_motor, scale=rec[1] - d_scale, tcp=rec[2] - d_tcp,
-        current=rec[4], motor_angle=rec[0], motor_speed=rec[3], excitation=exc_rec,
+        current=rec[4], motor_angle=rec[0], motor_speed=rec[3], excitation=excitation,
     )
 
 

@@ -250,18 +250,19 @@ def fit_frf(frf: FRF, poles="auto", band_hz: tuple[float | None, float | None] |
     return _frf_fit(frf, data, ctx, best, cands, weighting)
 
 
-def _too_few(data: FRF, keep: np.ndarray, min_coherence: float) -> str:
+def _too_few(data: FRF, coherent: np.ndarray, valid: np.ndarray,
+             min_coherence: float) -> str:
     """Why fewer than four bins can be fitted: the band's bins, those of low coherence and
-    those whose response is zero or not finite, each with its fix [-]."""
-    low = data.coherence < min_coherence
-    void = ~low & ~(np.isfinite(data.H) & (data.H != 0))
+    those of enough whose response is zero or not finite (not ``valid``), each with its
+    fix [-]."""
+    low, void = ~coherent, coherent & ~valid
     why = [f"{np.count_nonzero(low)} have coherence below {min_coherence:g} (measure again "
            "with more excitation)"] if low.any() else []
     if void.any():
         why.append(f"{np.count_nonzero(void)} have a response of zero or not a number "
                    "(check the re/im or magnitude columns)")
-    return (f"only {np.count_nonzero(keep)} of the band's {data.freq_hz.size} bins can be "
-            "fitted, at least 4 are needed" + (": " + "; ".join(why) if why else "")
+    return (f"only {np.count_nonzero(coherent & valid)} of the band's {data.freq_hz.size} "
+            "bins can be fitted, at least 4 are needed" + (": " + "; ".join(why) if why else "")
             + "; widen the band or give a file with more bins")
 
 
@@ -270,9 +271,11 @@ def _context(data: FRF, weighting: str, delay_s, damping_floor: float,
     """What every candidate fit needs: the bins of the band of enough coherence, their
     noise and weights, the delay handling, the damping floor and the frequency scale [-]."""
     sigma_all = noise_level(data.freq_hz, data.H, data.rel_std)
-    keep = (data.coherence >= min_coherence) & np.isfinite(data.H) & (data.H != 0)
+    coherent = data.coherence >= min_coherence
+    valid = np.isfinite(data.H) & (data.H != 0)
+    keep = coherent & valid
     if np.count_nonzero(keep) < 4:
-        raise InputError(_too_few(data, keep, min_coherence))
+        raise InputError(_too_few(data, coherent, valid, min_coherence))
     f, H, sigma = data.freq_hz[keep], data.H[keep], sigma_all[keep]
     # the damping floor follows the measurement's own bin spacing: the bins left after the
     # coherence cut have gaps (most often at resonances), which would double it there

@@ -256,7 +256,8 @@ def test_an_axis_that_misses_sets_no_gain_and_the_unequal_gains_are_said(vmc):
         res = tune_and_predict(machine, GM, PM, axes="XYZ")
     y = res.axes["Y"]
     assert not y.met and y.after == y.before
-    assert any("misses the stability" in n for n in y.notes)
+    (why,) = [n for n in y.notes if "settings kept" in n]
+    assert "with the loop stable" in why and "unstable" in why and "spectral radius" in why
     tuned = [n for n in ("X", "Z") if res.axes[n].met]
     assert tuned and len({res.axes[n].after.K_pp for n in tuned}) == 1
     for n in tuned:
@@ -365,3 +366,34 @@ def test_a_sampled_loop_unstable_before_is_no_path_and_g_is_judged(vmc):
     assert all(np.isnan(v) for d in ("ccw", "cw") for v in res.path_before[d].values())
     assert any("sampled servo loop is unstable (spectral radius 1.0" in n for n in res.notes)
     assert np.isfinite(res.path_after["ccw"]["circular_deviation_um"])
+
+
+@pytest.mark.parametrize("letter", ["d", "r05"])
+def test_a_proposal_stays_stable_when_the_machine_s_modes_lie_off_the_model_s(letter):
+    """Reference machines D and R05 as their own model: the proposal notched the torsion
+    mode (damping 0.0002-0.0009) 40 dB deep and held the peak left above |L| = 1 by its
+    phase, which turns by 180 deg within 0.2 % of a deep notch. With the machine's screw
+    1 % softer (the mode 0.5 % lower, as far as identification places it off) the loop
+    was unstable. A proposal that "meets" the margins also stays stable with the modes
+    off, each stiffness alone by +-2 % and +-10 % (modes +-1 %, +-5 %); one that meets
+    them only by cutting the velocity loop's bandwidth below half says so."""
+    from conftest import bench_path
+    from tcpmm import load_model
+    from tcpmm.servo.tune import tune_machine
+
+    machine = load_model(str(bench_path(letter) / "truth.yaml"))
+    res = tune_machine(machine, GM, PM)
+    for name, t in res.items():
+        cut = [w for w in t.warnings if "bandwidth cut from" in w]
+        slow = (t.margins_after["velocity"].bandwidth_hz
+                < 0.5 * t.margins_before["velocity"].bandwidth_hz)
+        assert len(cut) == slow, (name, cut)
+        if not t.met:
+            continue
+        mech = machine.axes[name].mechanics
+        for k in ("K_L", "K_t"):
+            for f in (0.9, 0.98, 1.02, 1.1):
+                rho = sampled_spectral_radius(mech.scaled(**{k: f}), t.after)
+                assert rho < 1.0, (name, k, f, rho)
+    if letter == "r05":  # X holds the margins only at 5 Hz of its settings' 30: said
+        assert any("bandwidth cut from 30.3 to 5.24 Hz" in w for w in res["X"].warnings)

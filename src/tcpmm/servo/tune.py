@@ -5,14 +5,16 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
 1. **Velocity loop.** The largest proportional gain ``K_vp`` whose open loop meets the
    gain and phase margins, with the PI corner tied to the gain (integral action
    ``K_vi = K_vp w_c / 4``, ``w_c = K_vp K_tc / J_total`` the rigid-body crossover), its
-   sampled closed loop stable with a position loop too slow to move its poles (the
-   settings' own ``K_pp``, which step 3 replaces, does not decide it). The gain is scanned
-   upwards in steps of 1.25 until the margins fail, then bisected.
+   sampled closed loop stable with a position loop too slow to move its poles, also with
+   the modes off the model's frequencies (:mod:`tcpmm.servo.modeshift`). The margins are
+   not monotone in the gain, so the scan comes down from well above the settings' gain
+   to the first that meets them, then bisects.
 2. **Notches.** When the crossing that limits the gain lies within 20 % of a lightly
    damped plant mode (damping below 0.1), a notch is placed on that mode (bandwidth
-   0.3 f0, depth ``20 log10(4 zeta)`` within -40..-10 dB: deep enough to flatten the
-   resonance peak of height ``1/(2 zeta)``) and step 1 is repeated; it is kept if the
-   gain rises by 10 % or more. At most four filters per axis, the drive's own counted.
+   0.3 f0; of the depths ``20 log10(4 zeta)`` within -40..-10 dB, -20 and -10 dB, the one
+   letting the gain rise furthest: a deep notch's phase turns where a mode held by its
+   phase may lie) and step 1 is repeated; it is kept if the gain rises by 10 % or more.
+   At most four filters per axis, the drive's own counted.
 3. **Position loop.** The largest ``K_pp`` meeting the margins and at most a quarter of
    the velocity loop's bandwidth; every axis given then takes the smallest of them (equal
    position gains keep a circle round). :func:`tune_machine` matches the axes of the
@@ -25,13 +27,14 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
 Every changed setting gets a note saying why it changed and what limits it: the margin
 (and its crossover frequency) that fails just above a gain, the quarter of the velocity
 bandwidth, or the axis whose position loop sets the common ``K_pp``. A loop whose last
-gain crossover lies above a plant mode of damping below :data:`LIGHT_ZETA` gets a
+gain crossover lies above a plant mode of damping below ``LIGHT_ZETA`` gets a
 warning: its margins there rest on that mode's frequency and damping, which an
 identified model rarely has right.
 
-A proposal is checked once more at the end: both loops meet the margins and the
-spectral radius of the sampled closed loop is below 1; an axis for which no gain meets
-the margins keeps its settings and is reported as not met.
+A proposal is checked once more at the end: both loops meet the margins and the sampled
+closed loop is stable, also with the modes off the model's frequencies; an axis for which
+no gain meets the margins keeps its settings and is reported as not met. A proposal that
+cuts the velocity loop's bandwidth to less than half gets a warning.
 """
 
 from __future__ import annotations
@@ -41,19 +44,27 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..mechanics.export import reduced_ss
 from ..mechanics.lumped import AxisMechanics
 from .currentfilters import MAX_FILTERS, Notch
 from .margins import axis_margins, position_margins, velocity_margins
+from .modeshift import (
+    MODE_TOLERANCE,
+    VELOCITY_ONLY_K_PP,
+    light_mode_warnings,
+    light_modes,
+    robustly_stable,
+    shift_words,
+    worst_shift,
+)
 from .params import ServoParams
 from .sampled import sampled_spectral_radius
 
 #: Scan step of the gains, and the relative resolution of the bisection [-].
 _STEP, _RESOLUTION = 1.25, 0.005
-#: Lightly damped modes that notches may target, and how near the limiting crossing [-].
-_NOTCH_ZETA, _NOTCH_NEAR = 0.1, 0.2
-#: A loop crossing over above a mode damped less than this gets a warning [-].
-LIGHT_ZETA = 0.01
+#: Step of the velocity gain's scan down from above [-].
+_DESCENT = 1.5
+#: How near the limiting crossing a lightly damped mode takes a notch [-].
+_NOTCH_NEAR = 0.2
 
 
 @dataclass(frozen=True)
@@ -132,28 +143,33 @@ def _largest(ok, start: float, cap: float = math.inf):
     return lo
 
 
-#: Position gain the velocity loop's own stability is judged with: a position loop this
-#: slow leaves the velocity loop's poles where they are, where the settings' own K_pp
-#: (which step 3 replaces) would make the velocity gain depend on it [1/s].
-VELOCITY_ONLY_K_PP = 1.0
 
 
-def _velocity_gain(mech, servo, gm, pm):
+def _velocity_gain(mech, servo, gm, pm, start=None):
+    """Largest velocity gain meeting the margins, robustly stable; ``None`` if none.
+
+    The margins are not monotone in the gain: a lightly damped mode meets them at a tiny
+    gain that puts the crossover on its peak, fails them above, and a notch can let them
+    be met again higher up. The scan therefore comes down from well above ``start`` (the
+    settings' gain) in steps of :data:`_DESCENT` to the first gain that meets them.
+    """
     def ok(k):
         s = _pi(mech, servo, k)
         alone = _with(s, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
-        return velocity_margins(mech, s).meets(gm, pm) and sampled_spectral_radius(
-            mech, alone) < 1
-    return _largest(ok, servo.K_vp)
-
-
-def _modes(mech: AxisMechanics):
-    """Frequencies [Hz] and damping ratios [-] of the lightly damped modes of G_M."""
-    ev = np.linalg.eigvals(reduced_ss(mech, "G_M").A)
-    ev = ev[ev.imag > 0]
-    zeta = np.maximum(-ev.real / np.abs(ev), 0.0)  # an undamped mode's rounding is no sign
-    keep = zeta < _NOTCH_ZETA
-    return np.abs(ev[keep]) / (2 * np.pi), zeta[keep]
+        return velocity_margins(mech, s).meets(gm, pm) and robustly_stable(mech, alone, gm)
+    top = _DESCENT ** 6 * (start if start is not None else servo.K_vp)
+    if ok(top):
+        return _largest(ok, top)
+    hi = top
+    while hi > top * 1e-8:
+        lo = hi / _DESCENT
+        if ok(lo):
+            while hi / lo > 1 + _RESOLUTION:
+                mid = math.sqrt(lo * hi)
+                lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+            return lo
+        hi = lo
+    return None
 
 
 def _limiting_mode(mech, servo, modes):
@@ -174,27 +190,47 @@ def tune_velocity(mech, servo, gm, pm, notes):
     """Velocity-loop gains and notches (steps 1 and 2 of the module docstring)."""
     K = _velocity_gain(mech, servo, gm, pm)
     if K is None:
-        notes.append("velocity loop: no gain meets the margins; settings kept")
+        case = worst_shift(mech, servo, gm)
+        why = "" if case is None else f" (at the settings' gains it is {shift_words(case)})"
+        notes.append("velocity loop: no gain meets the margins with the loop stable, also with "
+                     f"its modes off the model's frequencies{why}; settings kept")
         return None
     best = _pi(mech, servo, K)
-    freqs, zetas = _modes(mech)
+    freqs, zetas = light_modes(mech)
     while len(best.filters) < MAX_FILTERS:
         f0 = _limiting_mode(mech, best, freqs)
         if f0 is None:
             break
         zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
-        # an undamped mode (zeta 0, or a rounding below) takes the deepest notch
-        depth = float(np.clip(20 * np.log10(4 * max(zeta, 1e-9)), -40.0, -10.0))
-        notch = Notch(f_hz=f0, bandwidth_hz=0.3 * f0, depth_db=round(depth, 1))
-        trial = _with(best, filters=[*best.filters, notch])
-        K2 = _velocity_gain(mech, trial, gm, pm)
+        K2, notch = _best_notch(mech, best, f0, zeta, gm, pm, servo.K_vp)
         if K2 is None or K2 < 1.1 * best.K_vp:
             notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
             break
         notes.append(f"notch at {f0:.1f} Hz (bandwidth {0.3 * f0:.1f} Hz, {notch.depth_db} dB) "
                      "raises "
                      f"K_vp from {best.K_vp:.4g} to {K2:.4g} A s/rad")
-        best = _pi(mech, trial, K2)
+        best = _pi(mech, _with(best, filters=[*best.filters, notch]), K2)
+    return best
+
+
+def _best_notch(mech, servo, f0, zeta, gm, pm, start):
+    """The notch on the mode at ``f0`` that lets the velocity gain rise furthest, and that
+    gain (``None`` if no depth lets any gain meet the margins) [A s/rad, -].
+
+    The depth that flattens the peak, ``20 log10(4 zeta)`` within -40..-10 dB, is tried
+    with the shallower -20 and -10 dB: a deep notch's phase turns within a fraction of
+    a percent of ``f0``, and a mode kept stable by its phase is kept so only by a notch
+    whose phase does not turn where the machine's mode may lie."""
+    # an undamped mode (zeta 0, or a rounding below) takes the deepest notch
+    flat = round(float(np.clip(20 * np.log10(4 * max(zeta, 1e-9)), -40.0, -10.0)), 1)
+    best = (None, None)
+    for depth in sorted({flat, max(flat, -20.0), -10.0}):
+        notch = Notch(f_hz=f0, bandwidth_hz=0.3 * f0, depth_db=depth)
+        K = _velocity_gain(mech, _with(servo, filters=[*servo.filters, notch]), gm, pm,
+                           start)
+        if K is not None and (best[0] is None or K > best[0] * (1 + _RESOLUTION)):
+            best = (K, notch)
+    return best
     return best
 
 
@@ -236,53 +272,6 @@ def velocity_limit(mech, servo, gm, pm) -> str:
     return "the velocity loop's " + _limit(
         lambda g: velocity_margins(mech, _pi(mech, servo, g)),
         lambda g: sampled_spectral_radius(mech, _pi(mech, servo, g)), servo.K_vp, gm, pm)
-
-
-def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
-    """Warnings for loops whose last gain crossover lies above a mode of damping below
-    :data:`LIGHT_ZETA`: one per loop, naming its modes.
-
-    Parameters
-    ----------
-    mech : AxisMechanics
-        The axis [SI].
-    margins : dict of str to LoopMargins
-        ``velocity`` and ``position`` margins of the settings judged [dB, deg, Hz].
-    servo : ServoParams, optional
-        The settings judged: a mode they already notch is not advised a notch [-].
-
-    Returns
-    -------
-    list of str
-        One warning per loop [-].
-    """
-    freqs, zetas = _modes(mech)
-    notched = [f.f_hz for f in (servo.filters if servo is not None else ())
-               if f.type == "notch"]
-    out = []
-    for loop, m in margins.items():
-        # the last crossover, not the one of the least phase margin: a loop that crosses
-        # back above 1 at a resonance holds every mode below its last crossover
-        fc = m.last_crossover_hz if np.isfinite(m.last_crossover_hz) else m.gain_crossover_hz
-        below = [(f0, z) for f0, z in sorted(zip(freqs, zetas, strict=True))
-                 if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0]
-        if not below:
-            continue
-        modes = _listed([f"the {f0:.0f} Hz mode of damping {z:.2g}" if z >= 1e-9 else
-                         f"the {f0:.0f} Hz mode of no damping" for f0, z in below])
-        bare = [f0 for f0, _ in below if not any(abs(n - f0) < 0.05 * f0 for n in notched)]
-        advice = (f", or notch {_listed([f'the {f0:.0f} Hz mode' for f0 in bare])}"
-                  if bare else " (the notches placed flatten these modes, not take them out)")
-        out.append(f"the {loop} loop crosses over at {fc:.0f} Hz, above {modes}: its margins "
-                   "there rest on those modes' frequencies and damping, which the model may "
-                   "have wrong; measure the loop's frequency response on the machine before "
-                   f"using these gains{advice}")
-    return out
-
-
-def _listed(items: list) -> str:
-    """``a``, ``a and b``, ``a, b and c`` [-]."""
-    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
 
 
 def gain_notes(before, after, limits) -> list[str]:
@@ -331,21 +320,36 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
             s = _with(s, K_pp=found[lead][0])
         after = s if s is not None else a.servo
         mg_after = axis_margins(m, after)
-        rho = sampled_spectral_radius(m, after)
+        case = worst_shift(m, after, gm_db)
         met = (s is not None and all(v.meets(gm_db, pm_deg) for v in mg_after.values())
-               and rho < 1.0)
+               and case is None)
         if s is not None and not met:
-            why = "margins" if rho < 1.0 else f"stability (sampled loop spectral radius " \
-                                              f"{rho:.4f}, not below 1)"
+            why = "margins" if case is None else f"stability: {shift_words(case)}"
             notes[name].append(f"the combined proposal misses the {why}; settings kept")
             after, mg_after = a.servo, axis_margins(m, a.servo)
         elif met:
             limits = {"K_vp": velocity_limit(m, after, gm_db, pm_deg),
                       "K_pp": _kpp_reason(name, lead, found, list(machine.axes))}
             notes[name] = gain_notes(a.servo, after, limits) + notes[name]
-        out[name] = AxisTuning(a.servo, after, axis_margins(m, a.servo), mg_after, met,
-                               notes[name], light_mode_warnings(m, mg_after, after))
+        mg_before = axis_margins(m, a.servo)
+        out[name] = AxisTuning(a.servo, after, mg_before, mg_after, met, notes[name],
+                               light_mode_warnings(m, mg_after, after)
+                               + slower_warnings(mg_before, mg_after))
     return out
+
+
+def slower_warnings(before: dict, after: dict) -> list[str]:
+    """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
+    the margins are met by giving up most of the loop's speed [-]."""
+    b, a = before["velocity"].bandwidth_hz, after["velocity"].bandwidth_hz
+    if not (np.isfinite(b) and np.isfinite(a) and a < 0.5 * b):
+        return []
+    return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
+            f"to {a:.3g} Hz: no faster velocity loop meets them with its modes up to "
+            f"{100 * MODE_TOLERANCE:.0f} % off the model's frequencies, and the position "
+            "gain (a quarter of that bandwidth at most, on every axis matched to this one) "
+            "falls with it. Check the predicted path; smaller margins (--margins) or "
+            "filters tuned on the machine may keep more speed"]
 
 
 def _lead(machine, vel, found, gm_db, pm_deg):
@@ -365,9 +369,10 @@ def _lead(machine, vel, found, gm_db, pm_deg):
 
 
 def meets_margins(m, servo, gm_db, pm_deg) -> bool:
-    """Both loops meet the margins and the sampled loop is stable [-]."""
+    """Both loops meet the margins and the sampled loop is stable, also with the modes
+    off the model's frequencies (:mod:`tcpmm.servo.modeshift`) [-]."""
     return (all(v.meets(gm_db, pm_deg) for v in axis_margins(m, servo).values())
-            and sampled_spectral_radius(m, servo) < 1.0)
+            and robustly_stable(m, servo, gm_db))
 
 
 def _kpp_reason(name, lead, found, names) -> str:

@@ -20,6 +20,7 @@ from .tune import (
     gain_notes,
     light_mode_warnings,
     meets_margins,
+    slower_warnings,
     tune_position,
     tune_velocity,
     velocity_limit,
@@ -79,7 +80,8 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
     margins = axis_margins(mech, after)
     return AxisTuning(servo, after, before, margins, True,
                       gain_notes(servo, after, limits) + notes,
-                      light_mode_warnings(mech, margins, after))
+                      light_mode_warnings(mech, margins, after)
+                      + slower_warnings(before, margins))
 
 
 def _missed(mech, servo, margins: dict, gm_db: float, pm_deg: float) -> str:

@@ -1,0 +1,181 @@
+"""Stability that holds where the plant's modes lie off the model's frequencies.
+
+A lightly damped mode inside a loop (its peak above ``|L| = 1``) is held stable by its
+phase. That holds on the machine only if the phase there is the model's: a deep, narrow
+notch swings the phase by 180 deg within a fraction of a percent of its frequency, so a
+mode the model places 0.5 % off the machine's can turn a loop that meets its margins in
+the model into one that oscillates on the machine. Identified frequencies are that far
+off on the reference machines, and a machine's modes move with the axis position and the
+load by more.
+
+The check: the sampled closed loop stays stable with every mode of the mechanics moved
+by a common factor ``s`` within ``1 +- MODE_TOLERANCE`` (every stiffness scaled by
+``s**2`` and every damping by ``s``: the frequencies scale by ``s``, the damping ratios
+stay), and so it does with the velocity controller's gain raised and lowered by the gain
+margin. The factors are taken on a grid fine enough (a step of a tenth of the tolerance)
+to catch the half of the range where a mode sits on the wrong side of a notch.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..mechanics.export import reduced_ss
+from ..mechanics.lumped import AxisMechanics
+from .params import ServoParams
+from .sampled import sampled_spectral_radius
+
+#: A loop crossing over above a mode damped less than this gets a warning [-].
+LIGHT_ZETA = 0.01
+#: Lightly damped modes: those notches may target [-].
+NOTCH_ZETA = 0.1
+#: Position gain the velocity loop is judged with alone: a position loop this slow leaves
+#: the velocity loop's poles where they are [1/s].
+VELOCITY_ONLY_K_PP = 1.0
+#: How far the machine's mode frequencies may lie from the model's [-].
+MODE_TOLERANCE = 0.05
+_STIFFNESSES = ("K_L", "K_t", "K_b", "K_h")
+_DAMPINGS = ("B_m", "B_L", "C_t", "C_b", "C_h")
+
+
+def shifted(mech: AxisMechanics, s: float) -> AxisMechanics:
+    """The mechanics with every mode's frequency multiplied by ``s`` and its damping
+    ratio kept: stiffnesses times ``s**2``, dampings times ``s`` [SI]."""
+    return mech.scaled(**{k: s * s for k in _STIFFNESSES}, **{c: s for c in _DAMPINGS})
+
+
+def _factors(tolerance: float) -> np.ndarray:
+    # the model's own frequencies first, then outwards: the first failure is the nearest
+    d = tolerance * np.linspace(-1.0, 1.0, 21)
+    return 1.0 + d[np.argsort(np.abs(d), kind="stable")]
+
+
+def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
+                tolerance: float = MODE_TOLERANCE):
+    """The first mode shift and controller gain factor at which the loop is unstable.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        The axis as identified [SI].
+    servo : ServoParams
+        The settings judged [SI].
+    gm_db : float
+        Gain margin the controller's gain is raised and lowered by [dB].
+    tolerance : float
+        Relative band of the mode frequencies [-].
+
+    Returns
+    -------
+    tuple of (float, float, float) or None
+        ``(s, gain factor, spectral radius)`` of an unstable case [-], or ``None`` when
+        every case is stable.
+    """
+    g = 10.0 ** (gm_db / 20.0)
+    alone = ServoParams.create(**{**servo.model_dump(),
+                                  "K_pp": min(servo.K_pp, VELOCITY_ONLY_K_PP)})
+    cases = [(1.0, servo)] + [(f, ServoParams.create(**{
+        **alone.model_dump(), "K_vp": alone.K_vp * f, "K_vi": alone.K_vi * f}))
+        for f in (g, 1.0 / g)]
+    for s in _factors(tolerance):
+        m = mech if s == 1.0 else shifted(mech, float(s))
+        for f, sv in cases:
+            rho = sampled_spectral_radius(m, sv)
+            if not rho < 1.0:
+                return float(s), f, rho
+    return None
+
+
+def robustly_stable(mech: AxisMechanics, servo: ServoParams, gm_db: float,
+                    tolerance: float = MODE_TOLERANCE) -> bool:
+    """Whether the loop is stable for every mode shift within the tolerance and every
+    controller gain within the gain margin (see the module docstring) [-]."""
+    return worst_shift(mech, servo, gm_db, tolerance) is None
+
+
+def shift_words(case) -> str:
+    """What a :func:`worst_shift` case means, in words [-]."""
+    s, f, rho = case
+    if s == 1.0 and f == 1.0:
+        return f"unstable as modelled (spectral radius {rho:.4f})"
+    gain = "" if f == 1.0 else (f" and the velocity gain {'raised' if f > 1 else 'lowered'}"
+                                " by the gain margin")
+    return (f"unstable with the modes {100 * (s - 1):+.1f} % off the model's frequencies"
+            f"{gain} (spectral radius {rho:.4f})")
+
+
+def light_modes(mech: AxisMechanics):
+    """Frequencies [Hz] and damping ratios [-] of the lightly damped modes of G_M."""
+    ev = np.linalg.eigvals(reduced_ss(mech, "G_M").A)
+    ev = ev[ev.imag > 0]
+    zeta = np.maximum(-ev.real / np.abs(ev), 0.0)  # an undamped mode's rounding is no sign
+    keep = zeta < NOTCH_ZETA
+    return np.abs(ev[keep]) / (2 * np.pi), zeta[keep]
+
+
+def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
+    """Warnings for loops whose last gain crossover lies above a mode of damping below
+    :data:`LIGHT_ZETA`: one per loop, naming its modes.
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        The axis [SI].
+    margins : dict of str to LoopMargins
+        ``velocity`` and ``position`` margins of the settings judged [dB, deg, Hz].
+    servo : ServoParams, optional
+        The settings judged: a mode they already notch is not advised a notch [-].
+
+    Returns
+    -------
+    list of str
+        One warning per loop [-].
+    """
+    freqs, zetas = light_modes(mech)
+    notched = [f.f_hz for f in (servo.filters if servo is not None else ())
+               if f.type == "notch"]
+    out, held = [], _held_words(mech, servo)
+    for loop, m in margins.items():
+        # the last crossover, not the one of the least phase margin: a loop that crosses
+        # back above 1 at a resonance holds every mode below its last crossover
+        fc = m.last_crossover_hz if np.isfinite(m.last_crossover_hz) else m.gain_crossover_hz
+        below = [(f0, z) for f0, z in sorted(zip(freqs, zetas, strict=True))
+                 if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0]
+        if not below:
+            continue
+        modes = _listed([f"the {f0:.0f} Hz mode of damping {z:.2g}" if z >= 1e-9 else
+                         f"the {f0:.0f} Hz mode of no damping" for f0, z in below])
+        bare = [f0 for f0, _ in below if not any(abs(n - f0) < 0.05 * f0 for n in notched)]
+        advice = (f", or notch {_listed([f'the {f0:.0f} Hz mode' for f0 in bare])}"
+                  if bare else " (the notches placed flatten these modes, not take them out)")
+        out.append(f"the {loop} loop crosses over at {_apart(fc, below[-1][0])} Hz, above "
+                   f"{modes}: its margins "
+                   "there rest on those modes' frequencies and damping, which the model may "
+                   f"have wrong{held}; measure the loop's frequency response on the machine "
+                   f"before using these gains{advice}")
+    return out
+
+
+def _apart(f: float, f0: float) -> str:
+    """``f`` with the digits that tell it from ``f0``, itself printed to whole Hz [Hz]."""
+    for digits in range(4):
+        if f"{f:.{digits}f}" != f"{f0:.{digits}f}":
+            return f"{f:.{digits}f}"
+    return f"{f:.4f}"
+
+
+def _held_words(mech, servo) -> str:
+    """How far off the model's frequencies the modes may lie with the loop stable [-]."""
+    if servo is None:
+        return ""
+    case = worst_shift(mech, servo, 0.0)
+    if case is None:
+        return (" (checked: the loop stays stable with them up to "
+                f"{100 * MODE_TOLERANCE:.0f} % off the model's frequencies)")
+    return f" (the loop is {shift_words(case)})"
+
+
+
+def _listed(items: list) -> str:
+    """``a``, ``a and b``, ``a, b and c`` [-]."""
+    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"

@@ -397,3 +397,31 @@ def test_a_proposal_stays_stable_when_the_machine_s_modes_lie_off_the_model_s(le
                 assert rho < 1.0, (name, k, f, rho)
     if letter == "r05":  # X holds the margins only at 5 Hz of its settings' 30: said
         assert any("bandwidth cut from 30.3 to 5.24 Hz" in w for w in res["X"].warnings)
+
+
+def test_full_filter_slots_and_a_slowed_loop_are_said(vmc, tmp_path, capsys):
+    """X with its four filter slots taken: the 729 Hz torsion mode limits the gain and
+    cannot be notched, so the margins are met only at K_vp 0.0026 (K_pp 0.024 1/s on X
+    and Y). The proposal said "met", printed the bandwidths as 0.0 Hz, gave no reason for
+    the missing notch, and put the crossover at 728.9 Hz "above the 729 Hz mode"."""
+    import re
+
+    from conftest import run_cli
+    from tcpmm import save_model
+    from tcpmm.servo.currentfilters import LowPass
+
+    lp = LowPass(f_hz=2000.0, zeta=0.7)
+    x = vmc.axes["X"]
+    full = vmc.model_copy(update={"axes": {**vmc.axes, "X": x.replace(
+        servo=ServoParams.create(**{**x.servo.model_dump(), "filters": [lp] * 4}))}})
+    save_model(full, tmp_path / "m.yaml")
+    code, stdout, stderr = run_cli(capsys, "tune", tmp_path / "m.yaml")
+    assert code == 0
+    assert "axis X: tuning for 6 dB / 45 deg: met only with the velocity loop slowed from " \
+           "72.7 to 0.015 Hz" in stdout
+    assert re.search(r"velocity bandwidth \[Hz\] +72\.7 +0\.015\n", stdout)
+    assert "the 728.8 Hz mode limits the velocity gain and gets no notch: all 4 filter " \
+           "slots of the drive are taken" in stdout
+    assert "axis X: the margins are met only with the velocity loop's bandwidth cut" in stderr
+    pairs = re.findall(r"crosses over at ([\d.]+) Hz, above the ([\d.]+) Hz mode", stderr)
+    assert pairs and all(float(fc) > float(f0) for fc, f0 in pairs)

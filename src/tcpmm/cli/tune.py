@@ -79,7 +79,12 @@ def _warn(res) -> None:
 
 
 def _fmt(v, digits=1):
-    return "-" if v is None else "n/a" if v != v else f"{v:.{digits}f}"
+    """``digits`` decimals; a value those would show as 0 with two significant digits."""
+    if v is None:
+        return "-"
+    if v != v:
+        return "n/a"
+    return f"{v:.2g}" if 0 < abs(v) < 10.0 ** (1 - digits) else f"{v:.{digits}f}"
 
 
 def _print_result(res, gm, pm) -> None:
@@ -100,7 +105,7 @@ def _print_result(res, gm, pm) -> None:
             tab.add_row(esc(f"{loop} bandwidth [Hz]"), _fmt(mb["bandwidth_hz"]),
                         _fmt(ma["bandwidth_hz"]))
         print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
-                              f"{'met' if t.met else 'NOT MET, settings kept'}")
+                              f"{_verdict(t)}")
         if name in res.reasons:
             out.print(f"  {esc(res.reasons[name])}")
         for note in t.notes:
@@ -115,6 +120,17 @@ def _print_result(res, gm, pm) -> None:
             tab.add_row(f"{key} {k.replace('_um', '').replace('_', ' ')}", _fmt(v, 2),
                         _fmt(res.path_after[key][k], 2))
     print_plain(tab, out, "predicted path (TCP) [µm]")
+
+
+def _verdict(t) -> str:
+    """Met, met only with the velocity loop slowed down, or not met [-]."""
+    from ..servo.tune import slowed
+
+    if not t.met:
+        return "NOT MET, settings kept"
+    cut = slowed(t.margins_before, t.margins_after)
+    return "met" if cut is None else (f"met only with the velocity loop slowed from "
+                                      f"{cut[0]:.3g} to {cut[1]:.2g} Hz (see the warning)")
 
 
 def _ti(s):

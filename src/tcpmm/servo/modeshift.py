@@ -143,12 +143,13 @@ def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
                  if z < LIGHT_ZETA and np.isfinite(fc) and fc > f0]
         if not below:
             continue
-        modes = _listed([f"the {f0:.0f} Hz mode of damping {z:.2g}" if z >= 1e-9 else
-                         f"the {f0:.0f} Hz mode of no damping" for f0, z in below])
+        d = _digits(fc, below[-1][0])
+        modes = _listed([f"the {f0:.{d}f} Hz mode of damping {z:.2g}" if z >= 1e-9 else
+                         f"the {f0:.{d}f} Hz mode of no damping" for f0, z in below])
         bare = [f0 for f0, _ in below if not any(abs(n - f0) < 0.05 * f0 for n in notched)]
         advice = (f", or notch {_listed([f'the {f0:.0f} Hz mode' for f0 in bare])}"
                   if bare else " (the notches placed flatten these modes, not take them out)")
-        out.append(f"the {loop} loop crosses over at {_apart(fc, below[-1][0])} Hz, above "
+        out.append(f"the {loop} loop crosses over at {fc:.{d}f} Hz, above "
                    f"{modes}: its margins "
                    "there rest on those modes' frequencies and damping, which the model may "
                    f"have wrong{held}; measure the loop's frequency response on the machine "
@@ -156,12 +157,9 @@ def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
     return out
 
 
-def _apart(f: float, f0: float) -> str:
-    """``f`` with the digits that tell it from ``f0``, itself printed to whole Hz [Hz]."""
-    for digits in range(4):
-        if f"{f:.{digits}f}" != f"{f0:.{digits}f}":
-            return f"{f:.{digits}f}"
-    return f"{f:.4f}"
+def _digits(f: float, f0: float) -> int:
+    """Decimals that tell ``f`` from ``f0`` (none when whole Hz do) [-]."""
+    return next((d for d in range(4) if f"{f:.{d}f}" != f"{f0:.{d}f}"), 4)
 
 
 def _held_words(mech, servo) -> str:

@@ -210,6 +210,11 @@ def tune_velocity(mech, servo, gm, pm, notes):
                      "raises "
                      f"K_vp from {best.K_vp:.4g} to {K2:.4g} A s/rad")
         best = _pi(mech, _with(best, filters=[*best.filters, notch]), K2)
+    f0 = _limiting_mode(mech, best, freqs) if len(best.filters) >= MAX_FILTERS else None
+    if f0 is not None:
+        notes.append(f"the {f0:.1f} Hz mode limits the velocity gain and gets no notch: all "
+                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model and "
+                     "tune again")
     return best
 
 
@@ -246,7 +251,7 @@ def tune_position(mech, servo, gm, pm):
     if k is None:
         return None, "no position gain meets the margins"
     if k >= cap * (1 - _RESOLUTION):
-        return k, f"a quarter of the velocity-loop bandwidth ({bw:.1f} Hz)"
+        return k, f"a quarter of the velocity-loop bandwidth ({bw:.3g} Hz)"
     return k, "the position loop's " + _limit(
         lambda g: position_margins(mech, _with(servo, K_pp=g)), None, k, gm, pm)
 
@@ -338,12 +343,19 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
     return out
 
 
+def slowed(before: dict, after: dict):
+    """The velocity loop's bandwidth before and after when the proposal cuts it to less
+    than half, else ``None`` [Hz]."""
+    b, a = before["velocity"].bandwidth_hz, after["velocity"].bandwidth_hz
+    return (b, a) if np.isfinite(b) and np.isfinite(a) and a < 0.5 * b else None
+
+
 def slower_warnings(before: dict, after: dict) -> list[str]:
     """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
     the margins are met by giving up most of the loop's speed [-]."""
-    b, a = before["velocity"].bandwidth_hz, after["velocity"].bandwidth_hz
-    if not (np.isfinite(b) and np.isfinite(a) and a < 0.5 * b):
+    if slowed(before, after) is None:
         return []
+    b, a = slowed(before, after)
     return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
             f"to {a:.3g} Hz: no faster velocity loop meets them with its modes up to "
             f"{100 * MODE_TOLERANCE:.0f} % off the model's frequencies, and the position "

@@ -1,10 +1,12 @@
 """``tcpmm tune`` matches the settings of the axes the path moves, and no other's."""
 
 import json
+import warnings
 
 import pytest
 
 from conftest import run_cli
+from tcpmm.errors import InputWarning
 from tcpmm.io.modelfile import write_machine
 from tcpmm.servo.margins import axis_margins
 from tcpmm.servo.sampled import sampled_spectral_radius
@@ -141,3 +143,14 @@ def test_an_axis_tuned_on_its_own_is_not_raised(vmc):
     res = tune_alone(y.mechanics, slow, GM, PM, ["X"])
     assert not all(m.meets(GM, PM) for m in res.margins_before.values())
     assert res.after.K_pp <= 5.0
+
+
+def test_an_axis_named_alone_is_not_called_moved_by_the_path(vmc):
+    """``--axes Z`` on the XY circle: X and Y, tuned alone, said they were "not matched to
+    Z, which the path moves" though the path leaves Z standing."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        res = tune_and_predict(vmc, GM, PM, axes="Z")
+    for n in "XY":
+        text = " ".join([res.reasons[n], *res.axes[n].notes])
+        assert "not matched to Z" in text and "which the path moves" not in text, text

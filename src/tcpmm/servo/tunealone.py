@@ -49,7 +49,7 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
     AxisTuning
         Settings before and after, margins, and a note per changed setting [-].
     """
-    apart = (f"not matched to {', '.join(matched)}, which the path moves" if matched else
+    apart = (f"not matched to {', '.join(matched)}" if matched else
              "no axis is matched to it")
     before = axis_margins(mech, servo)
     if meets_margins(mech, servo, gm_db, pm_deg):

@@ -310,3 +310,29 @@ def test_a_folder_that_exists_but_takes_no_file_is_not_said_to_be_made(tmp_path,
     assert "cannot be made" not in str(got.value)
     with pytest.raises(InputError, match="cannot be made there"):
         check_output_folder(tmp_path / "sub")
+
+
+@pytest.mark.parametrize("args", [
+    ("tune", "builtin:vmc", "-o", "{d}/tuned.json"),
+    ("machine", "export", "vmc", "-o", "{d}/m.json"),
+    ("identify", "{d}", "-o", "{d}/m.json"),
+    ("frf", "fit", "{d}/h.csv", "--model-fragment", "{d}/frag.json"),
+])
+def test_a_model_file_named_other_than_yaml_is_refused(capsys, tmp_path, args):
+    """``tune -o t.json`` wrote YAML under a .json name; a model file or fragment is YAML,
+    and the name says so. Refused before any work, nothing written."""
+    code, out, err = run(capsys, *[a.format(d=tmp_path) for a in args])
+    assert code == 2, out + err
+    assert "a model file is written as YAML; name it" in out + err
+    assert not any(p.suffix == ".json" for p in tmp_path.iterdir())
+
+
+def test_the_damping_floor_s_default_is_given_as_a_number():
+    """``frf fit --help`` gave the default as the name of a constant."""
+    import inspect
+
+    from tcpmm.cli.frf import fit
+    from tcpmm.ident.lti import DAMPING_FLOOR
+
+    text = inspect.signature(fit).parameters["damping_floor"].default.help
+    assert f"default {DAMPING_FLOOR:g}," in text and "DAMPING_FLOOR" not in text

@@ -384,3 +384,13 @@ def test_too_few_bins_name_the_file_and_their_cause(capsys, tmp_path, rows, said
     code, _, err = run_cli(capsys, "frf", "fit", p)
     err = " ".join(err.split())
     assert code == 2 and f"f.csv: {said}" in err and "coherence below" not in err
+
+
+def test_a_pole_at_the_origin_is_said_to_be_there():
+    """A pole-zero pair removed at the origin was reported "at 4.183e-128 Hz"."""
+    from tcpmm.ident.lti._needles import place
+
+    band = np.array([10.9, 100.0, 3000.0])
+    assert place(4.183e-128, band) == "the origin (0 Hz)"
+    assert place(0.0, band) == "the origin (0 Hz)"
+    assert place(12.5, band) == "12.5 Hz" and place(2e-4, band) == "0.0002 Hz"

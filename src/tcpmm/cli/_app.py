@@ -186,6 +186,16 @@ def checked_output(output: Path, *inputs) -> Path:
     return output
 
 
+def checked_yaml_output(output: Path, *inputs) -> Path:
+    """:func:`checked_output` for a model file or fragment, which is written as YAML: a
+    name ending otherwise (``-o tuned.json``) would hold YAML under a misleading name."""
+    if Path(output).suffix.lower() not in (".yaml", ".yml"):
+        raise typer.BadParameter(f"{output}: a model file is written as YAML; name it "
+                                 f"{Path(output).with_suffix('.yaml').name} (--json prints "
+                                 "the result as JSON)")
+    return checked_output(output, *inputs)
+
+
 def checked_plot(plot: Path | None) -> Path | None:
     """Check a --plot file name before any work is done."""
     if plot is None:

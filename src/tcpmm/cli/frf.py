@@ -13,6 +13,7 @@ from ._app import (
     app,
     checked_output,
     checked_plot,
+    checked_yaml_output,
     emit_json,
     esc,
     in_file,
@@ -118,7 +119,8 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
         delay: str = typer.Option("fit", "--delay", help="Pure delay: fit, none or seconds."),
         damping_floor: float = typer.Option(None, "--damping-floor", min=0.0, max=0.99,
                                             help="Least damping ratio of a pole pair [-]; "
-                                                 "default tcpmm.ident.lti.frffit.DAMPING_FLOOR."),
+                                                 "default 0.002, or a half-power width of "
+                                                 "one measured bin where that is more."),
         output: Path = typer.Option(None, "-o", "--output", help="Write the fit as FIT.json."),
         fragment: Path = typer.Option(None, "--model-fragment",
                                       help="Write the transfer function as a model-file "
@@ -134,9 +136,10 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
     n = _poles(poles)
     tau = _delay(delay)
     f0, f1 = parse_band(band, "--band")
-    for o in (output, fragment):
-        if o is not None:
-            checked_output(o, file)
+    if output is not None:
+        checked_output(output, file)
+    if fragment is not None:
+        checked_yaml_output(fragment, file)
     checked_plot(plot)
     frf = read_frf(file)
     with in_file(file):

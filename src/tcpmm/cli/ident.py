@@ -14,6 +14,7 @@ from ._app import (
     checked_output,
     checked_plot,
     checked_report_file,
+    checked_yaml_output,
     console,
     emit_json,
     floats,
@@ -179,7 +180,7 @@ def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder.
     from ..io.atomic import check_output_folder
     from ..io.bundle import read_bundle
 
-    checked_output(output)
+    checked_yaml_output(output)
     html = report is not None and report.suffix.lower() in (".html", ".htm")
     if html:
         checked_report_file(report, bundle, output)

@@ -8,8 +8,8 @@ import typer
 
 from ._app import (
     app,
-    checked_output,
     checked_plot,
+    checked_yaml_output,
     emit_json,
     esc,
     floats,
@@ -30,7 +30,7 @@ def machine_export(name: str = typer.Argument(
     from ..machines.builtin import builtin_machine
 
     write_machine(with_interpolation(builtin_machine(name.removeprefix("builtin:"))),
-                  checked_output(output))
+                  checked_yaml_output(output))
     out.print(f"wrote {output}")
 
 

@@ -7,7 +7,16 @@ from pathlib import Path
 
 import typer
 
-from ._app import app, checked_output, emit_json, esc, in_file, interp_settings, out, read_model
+from ._app import (
+    app,
+    checked_yaml_output,
+    emit_json,
+    esc,
+    in_file,
+    interp_settings,
+    out,
+    read_model,
+)
 from ._tables import plain_table, print_plain
 
 _MARGINS = re.compile(r"^\s*([0-9.]+)\s*db\s*,\s*([0-9.]+)\s*deg\s*$", re.IGNORECASE)
@@ -46,7 +55,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
     gm, pm = parse_margins(margins)
     if output is not None:
-        checked_output(output, model, gcode)
+        checked_yaml_output(output, model, gcode)
     m = read_model(model)
     command = None
     if gcode is not None:
@@ -124,7 +133,7 @@ def _print_result(res, gm, pm) -> None:
 
 def _verdict(t) -> str:
     """Met, met only with the velocity loop slowed down, or not met [-]."""
-    from ..servo.tune import slowed
+    from ..servo.modeshift import slowed
 
     if not t.met:
         return "NOT MET, settings kept"

@@ -14,6 +14,10 @@ by a common factor ``s`` within ``1 +- MODE_TOLERANCE`` (every stiffness scaled 
 stay), and so it does with the velocity controller's gain raised and lowered by the gain
 margin. The factors are taken on a grid fine enough (a step of a tenth of the tolerance)
 to catch the half of the range where a mode sits on the wrong side of a notch.
+
+Here too are the warnings of what in a proposal rests on the model: a loop crossing over
+above a lightly damped mode, and one slowed to less than half its bandwidth to hold its
+margins.
 """
 
 from __future__ import annotations
@@ -177,3 +181,24 @@ def _held_words(mech, servo) -> str:
 def _listed(items: list) -> str:
     """``a``, ``a and b``, ``a, b and c`` [-]."""
     return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
+
+
+def slowed(before: dict, after: dict):
+    """The velocity loop's bandwidth before and after when the proposal cuts it to less
+    than half, else ``None`` [Hz]."""
+    b, a = before["velocity"].bandwidth_hz, after["velocity"].bandwidth_hz
+    return (b, a) if np.isfinite(b) and np.isfinite(a) and a < 0.5 * b else None
+
+
+def slower_warnings(before: dict, after: dict) -> list[str]:
+    """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
+    the margins are met by giving up most of the loop's speed [-]."""
+    if slowed(before, after) is None:
+        return []
+    b, a = slowed(before, after)
+    return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
+            f"to {a:.3g} Hz: no faster velocity loop meets them with its modes up to "
+            f"{100 * MODE_TOLERANCE:.0f} % off the model's frequencies, and the position "
+            "gain (a quarter of that bandwidth at most, on every axis matched to this one) "
+            "falls with it. Check the predicted path; smaller margins (--margins) or "
+            "filters tuned on the machine may keep more speed"]

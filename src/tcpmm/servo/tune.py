@@ -48,12 +48,12 @@ from ..mechanics.lumped import AxisMechanics
 from .currentfilters import MAX_FILTERS, Notch
 from .margins import axis_margins, position_margins, velocity_margins
 from .modeshift import (
-    MODE_TOLERANCE,
     VELOCITY_ONLY_K_PP,
     light_mode_warnings,
     light_modes,
     robustly_stable,
     shift_words,
+    slower_warnings,
     worst_shift,
 )
 from .params import ServoParams
@@ -213,8 +213,8 @@ def tune_velocity(mech, servo, gm, pm, notes):
     f0 = _limiting_mode(mech, best, freqs) if len(best.filters) >= MAX_FILTERS else None
     if f0 is not None:
         notes.append(f"the {f0:.1f} Hz mode limits the velocity gain and gets no notch: all "
-                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model and "
-                     "tune again")
+                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model "
+                     "and tune again")
     return best
 
 
@@ -341,27 +341,6 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
                                light_mode_warnings(m, mg_after, after)
                                + slower_warnings(mg_before, mg_after))
     return out
-
-
-def slowed(before: dict, after: dict):
-    """The velocity loop's bandwidth before and after when the proposal cuts it to less
-    than half, else ``None`` [Hz]."""
-    b, a = before["velocity"].bandwidth_hz, after["velocity"].bandwidth_hz
-    return (b, a) if np.isfinite(b) and np.isfinite(a) and a < 0.5 * b else None
-
-
-def slower_warnings(before: dict, after: dict) -> list[str]:
-    """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
-    the margins are met by giving up most of the loop's speed [-]."""
-    if slowed(before, after) is None:
-        return []
-    b, a = slowed(before, after)
-    return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
-            f"to {a:.3g} Hz: no faster velocity loop meets them with its modes up to "
-            f"{100 * MODE_TOLERANCE:.0f} % off the model's frequencies, and the position "
-            "gain (a quarter of that bandwidth at most, on every axis matched to this one) "
-            "falls with it. Check the predicted path; smaller margins (--margins) or "
-            "filters tuned on the machine may keep more speed"]
 
 
 def _lead(machine, vel, found, gm_db, pm_deg):

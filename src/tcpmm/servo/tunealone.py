@@ -12,6 +12,7 @@ The feedforward stays as it is: it is judged on the path, which does not move th
 from __future__ import annotations
 
 from .margins import axis_margins, velocity_margins
+from .modeshift import slower_warnings
 from .params import ServoParams
 from .sampled import sampled_spectral_radius
 from .tune import (
@@ -20,7 +21,6 @@ from .tune import (
     gain_notes,
     light_mode_warnings,
     meets_margins,
-    slower_warnings,
     tune_position,
     tune_velocity,
     velocity_limit,

@@ -54,9 +54,15 @@ def clean_fit(fit: TFFit, sigma, floor, grid):
         if dev >= CANCEL_SIGMA:
             break
         fit = _refit_numerator(fit, _without(fit.pn, p), fit.n_num - z.size)
-        notes.append(f"removed a pole-zero pair at {abs(p[0]) * omega0 / 2 / np.pi:.4g} Hz "
+        notes.append(f"removed a pole-zero pair at {place(abs(p[0]) * omega0 / 2 / np.pi, f)} "
                      f"(it changes the response by {dev:.2g} noise levels at most)")
     return fit, notes
+
+
+def place(f_hz: float, band_hz) -> str:
+    """Where a pole or zero of frequency ``f_hz`` [Hz] lies, in words: a millionth of the
+    band's lowest frequency [Hz] or less is the origin, whatever its rounding."""
+    return "the origin (0 Hz)" if f_hz <= 1e-6 * np.min(band_hz) else f"{f_hz:.4g} Hz"
 
 
 def _floor(pn, f, omega0, floor, notes):

@@ -574,3 +574,32 @@ def test_the_model_section_lists_the_current_setpoint_filters():
     row = model_frame(m).set_index("parameter").loc["filters"]
     assert row["X"] == "notch 745.0 Hz, 223.5 Hz wide, -40.0 dB; low-pass 2000.0 Hz, zeta 0.70"
     assert row["Y"] == "none" and row["group"] == "servo"
+
+
+def test_a_circle_run_from_standstill_gives_its_feed_and_a_verdict_that_is_not_firm(
+        tmp_path, capsys):
+    """A circle from standstill at 0 deg, F5000: the report gave its feed as 4 806 mm/min
+    (the mean, ramps counted) and a firm FAIL, and left out what the circle command warns
+    of: the command still speeding up, and no spike at A. The feed is the steady one, the
+    verdict says it is not firm, and the cautions follow it."""
+    import html
+    import warnings
+
+    from tcpmm import builtin_machine, simulate
+    from tcpmm.path import program_to_command
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = simulate(builtin_machine(), program_to_command(
+            "G21 G17 G90\nG0 X35 Y0\nG3 X35 Y0 I-35 J0 F5000\nM30\n"))
+    run.write_csv(tmp_path / "run.csv")
+    code, text, err = report(capsys, tmp_path, "--run", tmp_path / "run.csv", "--radius",
+                             35, "--tolerance-um", 30)
+    assert code == 0, err
+    v = html.unescape(_verdict(text))
+    assert "feed 5000 mm/min" in v, v[:300]
+    assert "FAIL (not firm: see the cautions below)" in v or \
+           "PASS (not firm: see the cautions below)" in v
+    assert "run.csv: the CCW circle's command is still speeding up" in v
+    assert "no reversal spike is reported at A" in v
+    assert err.count("is still speeding up") == 1  # said on stderr as well, once

@@ -222,6 +222,16 @@ def rate(t, x, y, centre):
     return float(abs(ang[-1] - ang[0]) / span) if span > 0 else float("nan")
 
 
+def steady_rate(t, x, y, centre):
+    """Median angular speed over a pass's sample steps, the arguments as :func:`rate`'s:
+    the steady feed's, where the mean counts a ramp in or out [rad/s]; NaN without a
+    time step."""
+    ang = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
+    dt = np.diff(t)
+    ok = dt > 0
+    return float(np.median(np.abs(np.diff(ang)[ok]) / dt[ok])) if ok.any() else float("nan")
+
+
 def radial_deviation(x, y, radius, centre) -> float:
     """Mean radius of a path minus the nominal, weighted by the angle each sample covers:
     how far the command lies outside (+) or inside (-) the circle asked for [m].

@@ -43,6 +43,7 @@ from .circle_passes import (  # noqa: F401
     lsq_circle,
     radial_deviation,
     rate,
+    steady_rate,
     within_span,
 )
 from .circle_spikes import (  # noqa: F401  (the spikes are part of this module's interface)
@@ -163,6 +164,9 @@ class CirclePass:
         Results per sensor (``cmd``, ``motor``, ``scale``, ``tcp``) [-].
     rate_rad_s : float
         Mean angular speed about the nominal centre; NaN when unknown [rad/s].
+    steady_rate_rad_s : float
+        Median angular speed of its sample steps: the feed the pass is taken at, where the
+        mean counts a ramp in or out; NaN when unknown [rad/s].
     command_radial_deviation : float
         Mean radius of the command minus the nominal: a controller's filter pulls a circle
         in, a radius offset moves it; NaN without a command [m].
@@ -176,6 +180,7 @@ class CirclePass:
     rate_rad_s: float = float("nan")
     command_radial_deviation: float = float("nan")
     arc_deg: float = 360.0
+    steady_rate_rad_s: float = float("nan")
 
     @property
     def is_arc(self) -> bool:
@@ -360,7 +365,9 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         sl, d = st.index, st.direction
         cp = CirclePass(d, sl, rate_rad_s=rate(run.time_s[sl], X.sensor(ref)[sl],
                                                Y.sensor(ref)[sl], centre_m),
-                        arc_deg=360.0 * st.turns if st.turns else st.span_deg)
+                        arc_deg=360.0 * st.turns if st.turns else st.span_deg,
+                        steady_rate_rad_s=steady_rate(run.time_s[sl], X.sensor(ref)[sl],
+                                                      Y.sensor(ref)[sl], centre_m))
         if "cmd" in present:
             cp.command_radial_deviation = radial_deviation(X.sensor("cmd")[sl],
                                                            Y.sensor("cmd")[sl], radius_m,

@@ -192,20 +192,28 @@ def _faults(machine, files) -> list:
 
 
 def _circle(path: Path, circle, run=None):
-    """The circular test of one run file (or of ``run``, read from it) and the run's
-    sample rate [-, Hz]."""
+    """The circular test of one run file (or of ``run``, read from it), the run's sample
+    rate and what its analysis warned of [-, Hz, -]; the warnings are given on as well."""
+    import warnings
+
     import numpy as np
 
     from ..analysis.circular import analyse_circle
+    from ..errors import InputWarning
     from ..io.runfile import read_run
 
     radius_m, centre_m, plane = circle
     run = read_run(path) if run is None else run
     axes = run_plane_said(plane, run, path)  # --plane, else the plane the command moves in
-    with in_file(path):
+    with in_file(path), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", InputWarning)
         res = analyse_circle(run, radius_m, centre_m, plane=axes)
+    said = [w for w in caught if issubclass(w.category, InputWarning)]
+    for w in caught:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     dt = np.diff(run.time_s)
-    return res, (1.0 / float(np.median(dt)) if dt.size else None)
+    return (res, 1.0 / float(np.median(dt)) if dt.size else None,
+            [f"{path.name}: {w.message}" for w in said])
 
 
 def _run_sections(runs, circle, tolerance_m) -> list:
@@ -217,13 +225,14 @@ def _run_sections(runs, circle, tolerance_m) -> list:
     sections = []
     for i, files in enumerate(runs):
         got = [_circle(f, circle) for f in files]
-        res = [r for r, _ in got]
+        res = [r for r, _, _ in got]
         both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes],
                             res[0].plane)
         key = "circle" if len(runs) == 1 else f"circle-{i + 1}"
         title = f"Circular test: {' and '.join(f.name for f in files)}"
         if i == 0:
-            sections += verdict_sections(both, key, title, files, tolerance_m, got[0][1])
+            sections += verdict_sections(both, key, title, files, tolerance_m, got[0][1],
+                                         [c for g in got for c in g[2]])
         else:
             sections.append(circle_test_section(both, key, title, files))
     return sections
@@ -238,11 +247,11 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, verdict: bool
     from ..report import comparison_section, verdict_sections
 
     runs = [read_run(f) for f in (measured, predicted)]
-    (rm, rate), (rp, _) = (_circle(measured, circle, runs[0]),
-                           _circle(predicted, circle, cut_alike(*runs)))
+    (rm, rate, said), (rp, _, _) = (_circle(measured, circle, runs[0]),
+                                    _circle(predicted, circle, cut_alike(*runs)))
     cmp = comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)
     if not verdict:
         return [cmp]
     head = verdict_sections(rm, "circle-measured", f"Circular test: {measured.name}",
-                            measured, tolerance_m, rate)
+                            measured, tolerance_m, rate, said)
     return [*head, cmp]

@@ -91,7 +91,7 @@ def circle_test_section(result, key: str = "circle", title: str = "Circular test
 
 
 def verdict_sections(result, key: str = "circle", title: str = "Circular test", source=None,
-                     tolerance_m=None, sample_rate_hz=None):
+                     tolerance_m=None, sample_rate_hz=None, cautions=()):
     """The circle verdict (:func:`~tcpmm.report.acceptance.acceptance_section`), to open
     the page, and the circular test with its diagnostics.
 
@@ -107,6 +107,8 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
         Largest circular deviation accepted [m].
     sample_rate_hz : float, optional
         Sample rate of the run [Hz].
+    cautions : sequence of str
+        What the circle's analysis warned of; the verdict is then not firm [-].
 
     Returns
     -------
@@ -115,7 +117,7 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
     """
     diag = _diagnostics(result, title, None)
     return [acceptance_section(result, diag, tolerance_m, sample_rate_hz, source,
-                               _at_scale(result, title, diag)),
+                               _at_scale(result, title, diag), cautions),
             circle_section(result, key, title, diagnostics=diag, source=source)]
 
 

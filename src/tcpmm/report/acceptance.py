@@ -77,7 +77,10 @@ def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
 
 def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> list:
     """``(name, value)`` of the circle's test conditions, in mm, mm/min and Hz [-]."""
-    rates = [p.rate_rad_s for p in result.passes if math.isfinite(p.rate_rad_s)]
+    # the steady speed: the mean would count the ramp of a circle run from standstill
+    rates = [p.steady_rate_rad_s if math.isfinite(p.steady_rate_rad_s) else p.rate_rad_s
+             for p in result.passes]
+    rates = [r for r in rates if math.isfinite(r)]
     feed = (f"{number(60e3 * result.radius * sum(rates) / len(rates), 0)} mm/min"
             if rates else "not known")
     items = [("radius", f"{result.radius * 1e3:g} mm about ({result.centre[0] * 1e3:g}, "
@@ -104,7 +107,7 @@ def _deviations(result, sensor, diag) -> list[tuple[str, float]]:
 
 
 def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_hz=None,
-                       source=None, reference=None):
+                       source=None, reference=None, cautions=()):
     """The circle verdict: test conditions, pass or fail, ranked error sources.
 
     Parameters
@@ -123,6 +126,9 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
     reference : CircleDiagnostics, optional
         The diagnostics at the linear scale, where ``diagnostics`` are the TCP's: each
         source says whether the scale sees it (:func:`ranked_sources`) [-].
+    cautions : sequence of str
+        What the analysis of the circle warned of (a feed still changing, a quadrant point
+        at the circle's start): the verdict is then not firm, and they follow it [-].
     """
     sensor = diagnostics.sensor if diagnostics is not None else next(
         s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes))
@@ -136,10 +142,15 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         worst = max(devs, key=lambda kv: kv[1])
         ok = all(v <= tolerance_m for _, v in devs)
         rest = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs if k != worst[0])
-        body += para(f"{'PASS' if ok else 'FAIL'}: {worst[0]} {number(worst[1] * 1e6, 2)} µm "
+        firm = "" if not cautions else " (not firm: see the cautions below)"
+        body += para(f"{'PASS' if ok else 'FAIL'}{firm}: {worst[0]} "
+                     f"{number(worst[1] * 1e6, 2)} µm "
                      f"{'within' if ok else 'beyond'} the tolerance of "
                      f"{number(tolerance_m * 1e6, 2)} µm" + (f" ({rest})" if rest else ""),
                      "pass" if ok else "fail")
+    if cautions:
+        body += para("Cautions from the analysis of this circle:", "warn")
+        body += "".join(para(c, "warn") for c in cautions)
     if diagnostics is not None and not diagnostics.ranking:
         body += para("No error source is ranked: the circles determine no term (an arc in "
                      "one direction, or arcs too short; the diagnostics below say why).",

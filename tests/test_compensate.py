@@ -607,3 +607,18 @@ def test_a_figure_in_a_plane_with_the_loaded_axis_is_compensated_as_in_xy(linear
         comp = compensate(linear, cmd, iterations=10)
         for h in comp.history.values():
             assert min(h) < 0.05 * h[0]
+
+
+def test_the_shares_are_given_for_the_axes_the_path_moves(tmp_path, capsys):
+    """On a G18 circle the console listed "share of the correction applied: X 0.63, Y 0,
+    Z 0.8": Y, which stands, read as a correction withheld."""
+    from tcpmm.cli import main
+
+    prog = tmp_path / "c.nc"
+    prog.write_text(_circle_program("ZX"))
+    assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                 str(tmp_path / "c.csv"), "--draws", "2", "--iterations", "2"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    line = out[out.index("share of the correction applied:"):]
+    line = line[:line.index(";")]
+    assert " X " in line and " Z " in line and " Y " not in line, line

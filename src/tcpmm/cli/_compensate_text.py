@@ -55,7 +55,7 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
                   f"instead of {st['programmed_duration_s']:.3g} s (longer ramps and "
                   "corners; on a curve, the feed the rest of the acceleration allows)")
     if comp.robustness:
-        for line in _verdict_lines(comp.robustness):
+        for line in _verdict_lines(comp.robustness, comp.moved_axes):
             out.print(line)
     if cc is not None:
         out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
@@ -78,17 +78,19 @@ _VERDICT_TEXT = {"firm": "firm: every draw at least {r:.1f}x smaller",
                               "error; the share applied keeps it from growing"}
 
 
-def _verdict_lines(robustness: dict) -> list[str]:
+def _verdict_lines(robustness: dict, moved: list) -> list[str]:
     """The shares applied and what the draws of the model say of them, on the console.
 
     Parameters
     ----------
     robustness : dict
         ``Compensation.robustness`` (:func:`tcpmm.compensate.robust_factors`) [-].
+    moved : list of str
+        The axes the path moves; a standing axis has no share to give [-].
     """
     from ..compensate.robust import FIRM_RATIO
 
-    f = ", ".join(f"{a} {v:.2g}" for a, v in robustness["factors"].items())
+    f = ", ".join(f"{a} {v:.2g}" for a, v in robustness["factors"].items() if a in moved)
     if robustness.get("by_region"):
         f += " (the mean along the path: chosen region by region)"
     return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "

@@ -64,6 +64,12 @@ class Compensation:
         return any(bool(np.any(np.asarray(f) != 0.0)) for f in self.factors.values())
 
     @property
+    def moved_axes(self) -> list:
+        """The axes the programmed path moves: the others stand, with nothing to
+        correct [-]."""
+        return [a for a, p in self.reference.positions.items() if np.ptp(p) > 0]
+
+    @property
     def command(self) -> Command:
         """The compensated command: programmed plus the applied share of the correction,
         within the axes' limits [m]."""

@@ -31,6 +31,8 @@ def _axes_frame(comp):
              if comp.robustness.get("by_region") else "share applied")
     rows = []
     for a, c in d["correction"].items():
+        if a not in comp.moved_axes:  # a standing axis has nothing to correct
+            continue
         b = d["bounds"].get(a, {})
         rows.append({"axis": a, share: shares.get(a, 1.0),
                      "largest correction [µm]": c["applied_max_um"],

@@ -27,6 +27,7 @@ from .diagnostics import (
     ARC_WHY,
     CircleDiagnostics,
     check_arc,
+    circle_diagnostics,
     cyclic_terms,
     cyclic_unresolved,
     pick_passes,
@@ -164,3 +165,29 @@ def one_direction_diagnostics(result, sensor=None, axes=None) -> CircleDiagnosti
     sensor = pick_sensor({d: pick[d]}, sensor)
     sc = pick[d].sensors[sensor]
     return diagnose_single(sc.angle_rad, sc.radial_error, d, result.radius, axes, sensor)
+
+
+def scale_diagnostics(diag, result):
+    """The linear scale's diagnostics of the circles whose ``diag`` are the TCP's, made as
+    ``diag`` were (the pair, or one direction), to tell what lies between the scale and
+    the tool; ``None`` where the circles have no scale or they cannot be made.
+
+    Parameters
+    ----------
+    diag : CircleDiagnostics or None
+        The TCP's diagnostics [-].
+    result : CircleResult
+        The circles they come from [-].
+    """
+    import warnings
+
+    if diag is None or diag.sensor != "tcp" or not all("scale" in p.sensors
+                                                        for p in result.passes):
+        return None
+    make = circle_diagnostics if len(diag.directions) == 2 else one_direction_diagnostics
+    with warnings.catch_warnings():  # the TCP's own diagnostics have said what they lack
+        warnings.simplefilter("ignore")
+        try:
+            return make(result, sensor="scale")
+        except InputError:
+            return None

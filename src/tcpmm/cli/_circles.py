@@ -6,33 +6,12 @@ from ._app import out
 from ._tables import fixed, plain_table, print_plain
 
 
-def scale_reference(diag, res):
-    """The linear scale's diagnostics of the circles whose ``diag`` are the TCP's, made as
-    ``diag`` were (the pair, or one direction), to tell what lies between the scale and
-    the tool; None where the run has no scale or they cannot be made [-]."""
-    import warnings
-
-    from ..analysis.circle_single import one_direction_diagnostics
-    from ..analysis.diagnostics import circle_diagnostics
-    from ..errors import InputError
-
-    if diag is None or diag.sensor != "tcp" or not all("scale" in p.sensors
-                                                        for p in res.passes):
-        return None
-    make = circle_diagnostics if len(diag.directions) == 2 else one_direction_diagnostics
-    with warnings.catch_warnings():  # the TCP's own diagnostics have said what they lack
-        warnings.simplefilter("ignore")
-        try:
-            return make(res, sensor="scale")
-        except InputError:
-            return None
-
-
-def diagnostics_json(diag, reference=None) -> dict:
+def diagnostics_json(diag, result=None) -> dict:
     """The diagnostics in display units (um, ms, ...), with the terms not determined and
-    why, and the ranking; with ``reference`` (:func:`scale_reference`), each ranked term's
-    G alone at the linear scale and where it lies [-]."""
-    at = _at_scale(diag, reference)
+    why, and the ranking; with the circles ``result`` they come from, each ranked term's G
+    alone at the linear scale and where it lies, where the TCP's circles have the scale
+    too [-]."""
+    at = _at_scale(diag, result)
     return {"sensor": diag.sensor, "directions": list(diag.directions),
             "terms": [{"term": t, "value": None if v != v else v, "unit": u,
                        "tail_shift": _shift(diag, t)}
@@ -57,11 +36,14 @@ def _shift(diag, term: str):
     return diag.tail_shift[term] * k
 
 
-def _at_scale(diag, reference) -> dict | None:
+def _at_scale(diag, result) -> dict | None:
     """Per ranked term, its G alone at the linear scale and where it lies
-    (:func:`tcpmm.analysis.circle_display.placed_terms`); None without it [m, -]."""
+    (:func:`tcpmm.analysis.circle_display.placed_terms`, on
+    :func:`tcpmm.analysis.circle_single.scale_diagnostics`); None without it [m, -]."""
     from ..analysis.circle_display import placed_terms
+    from ..analysis.circle_single import scale_diagnostics
 
+    reference = None if result is None else scale_diagnostics(diag, result)
     return placed_terms(diag, reference, "linear scale")
 
 
@@ -128,10 +110,10 @@ def _pass_notes(p) -> list[str]:
     return notes
 
 
-def print_diagnostics(diag, reference=None) -> None:
+def print_diagnostics(diag, result=None) -> None:
     """The diagnostics: per direction, the terms with their signs, the terms ranked by
-    what each contributes (with ``reference``, at the linear scale too), and what the
-    circles leave undetermined and why."""
+    what each contributes (with the circles ``result``, at the linear scale too), and what
+    the circles leave undetermined and why."""
     from ..analysis.circle_display import undetermined_lines
     from ..analysis.circle_tails import moving_line
     from ..analysis.diagnostics import term_note
@@ -160,15 +142,15 @@ def print_diagnostics(diag, reference=None) -> None:
     tails = moving_line(diag)
     if tails:
         out.print(tails, highlight=False)
-    _print_ranking(diag, reference)
+    _print_ranking(diag, result)
     for line in undetermined_lines(diag.undetermined):
         out.print(line, highlight=False)
 
 
-def _print_ranking(diag, reference=None) -> None:
-    """The terms by the radial error each makes alone over the circle; with
-    ``reference``, beside each its G alone at the linear scale and, for a term the scale
-    sees less than half of, a mark that it lies past the scale."""
+def _print_ranking(diag, result=None) -> None:
+    """The terms by the radial error each makes alone over the circle; with the circles
+    ``result``, beside each its G alone at the linear scale and, for a term the scale sees
+    less than half of, a mark that it lies past the scale."""
     if not diag.ranking:  # an arc that gives no terms: nothing to rank, and it says why
         out.print("terms ranked by their share of G: none determined (below)",
                   highlight=False)
@@ -176,7 +158,7 @@ def _print_ranking(diag, reference=None) -> None:
     from ..analysis.circle_tails import moving_ranked
 
     g = "G(b)" if len(diag.directions) == 2 else "G"
-    at = _at_scale(diag, reference)
+    at = _at_scale(diag, result)
     scale = ("scale µm",) if at is not None else ()
     t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %", *scale),
                     left=("term",))

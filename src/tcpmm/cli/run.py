@@ -26,7 +26,7 @@ from ._app import (
     read_model,
     refuse_unstable,
 )
-from ._circles import diagnostics_json, print_diagnostics, print_passes, scale_reference
+from ._circles import diagnostics_json, print_diagnostics, print_passes
 from ._controller import CONTROLLER_HELP, as_the_drives_take_it
 from ._plane import COMMAND_HELP, PLANE_HELP, command_plane, run_plane_said, with_given_command
 from ._stream import (
@@ -189,14 +189,14 @@ def circle(run_file: Path = typer.Argument(
         data = res.to_dict()
         if diag is not None:
             key = "diagnostics" if len(diag.directions) == 2 else "diagnostics_one_direction"
-            data[key] = diagnostics_json(diag, scale_reference(diag, res))
+            data[key] = diagnostics_json(diag, res)
         emit_json(data)
         return
     title = f"{run_file}" + (f" and {other}" if other is not None else "")
     title += f", {''.join(axes)} plane" if axes != ("X", "Y") else ""
     print_passes(res, title)
     if diag is not None:
-        print_diagnostics(diag, scale_reference(diag, res))
+        print_diagnostics(diag, res)
 
 
 def _one_run_options(direction, command, other) -> None:

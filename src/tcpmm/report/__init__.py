@@ -11,7 +11,7 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
-from ..analysis.circle_single import one_direction_diagnostics
+from ..analysis.circle_single import one_direction_diagnostics, scale_diagnostics
 from ..analysis.diagnostics import circle_diagnostics
 from ..errors import InputError, InputWarning
 from ..io.atomic import write_text_atomic
@@ -117,17 +117,8 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
     """
     diag = _diagnostics(result, title, None)
     return [acceptance_section(result, diag, tolerance_m, sample_rate_hz, source,
-                               _at_scale(result, title, diag), cautions),
+                               scale_diagnostics(diag, result), cautions),
             circle_section(result, key, title, diagnostics=diag, source=source)]
-
-
-def _at_scale(result, title, diag):
-    """The linear scale's diagnostics of the circles whose ``diag`` are the TCP's, to tell
-    what lies between the scale and the tool; None where there are none [-]."""
-    if diag is None or diag.sensor != "tcp" or not all("scale" in p.sensors
-                                                        for p in result.passes):
-        return None
-    return _diagnostics(result, title, "scale")
 
 
 def _diagnostics(result, title, sensor):

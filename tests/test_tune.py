@@ -425,3 +425,27 @@ def test_full_filter_slots_and_a_slowed_loop_are_said(vmc, tmp_path, capsys):
     assert "axis X: the margins are met only with the velocity loop's bandwidth cut" in stderr
     pairs = re.findall(r"crosses over at ([\d.]+) Hz, above the ([\d.]+) Hz mode", stderr)
     assert pairs and all(float(fc) > float(f0) for fc, f0 in pairs)
+
+
+def test_the_filters_read_alike_in_tune_machine_show_and_the_report(vmc, tmp_path, capsys):
+    """Three formats: tune's table "notch 745 Hz" (no width, no depth, which now decide
+    whether a mode held by its phase stays stable), machine show the raw fields, the
+    report the full text. All three give a filter as it is typed into a drive."""
+    from conftest import run_cli
+    from tcpmm import save_model
+    from tcpmm.report.machine import model_section
+    from tcpmm.servo.currentfilters import Notch
+
+    notch = Notch(f_hz=729.0, bandwidth_hz=218.7, depth_db=-10.0)
+    text = "notch 729.0 Hz, 218.7 Hz wide, -10.0 dB"
+    x = vmc.axes["X"]
+    m = vmc.model_copy(update={"axes": {**vmc.axes, "X": x.replace(
+        servo=ServoParams.create(**{**x.servo.model_dump(), "filters": [notch]}))}})
+    save_model(m, tmp_path / "m.yaml")
+    code, stdout, _ = run_cli(capsys, "machine", "show", tmp_path / "m.yaml")
+    assert code == 0 and f"current-setpoint filter: {text}\n" in stdout
+    code, stdout, _ = run_cli(capsys, "tune", tmp_path / "m.yaml", "--axes", "X")
+    assert code == 0
+    row = next(line for line in stdout.splitlines() if line.strip().startswith("filter 1"))
+    assert row.count("notch") == 2 and text in row, row
+    assert text in model_section(m, "m.yaml")[2]

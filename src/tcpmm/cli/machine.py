@@ -43,6 +43,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
 
     from ..mechanics.statespace import plant
     from ..servo.closedloop import is_stable
+    from ..servo.currentfilters import filter_text
     from ..servo.margins import axis_margins
     from ..servo.sampled import sampled_spectral_radius
 
@@ -70,8 +71,8 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         sampled = "stable" if rho < 1.0 else "UNSTABLE"
         out.print(f"{ax}: {modes}; continuous closed loop {state}; sampled loop {sampled} "
                   f"(spectral radius {rho:.4f}, the drive's: the one that counts)")
-        for f in d["filters"]:
-            out.print("   current-setpoint filter: " + ", ".join(f"{k} {v}" for k, v in f.items()))
+        for f in m.axes[ax].servo.filters:
+            out.print(f"   current-setpoint filter: {filter_text(f)}")
         for loop, mg in d["margins"].items():
             # the position loop closes around the velocity loop: its margins assume that
             # one holds, which an unstable sampled loop does not

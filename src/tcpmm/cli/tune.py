@@ -104,7 +104,8 @@ def _print_result(res, gm, pm) -> None:
                 ("K_pp [1/s]", b.K_pp, a.K_pp, 2), ("k_ff [-]", b.k_ff, a.k_ff, 2)]
         for label, x, y, d in rows:
             tab.add_row(esc(label), _fmt(x, d), _fmt(y, d))
-        tab.add_row("filters", _filters(b), _filters(a))
+        for label, x, y in _filter_rows(b, a):
+            tab.add_row(label, x, y)
         for loop in ("velocity", "position"):
             mb, ma = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
             tab.add_row(esc(f"{loop} gain margin [dB]"), _fmt(mb["gain_margin_db"]),
@@ -146,7 +147,14 @@ def _ti(s):
     return None if s.K_vi == 0 else 1e3 * s.K_vp / s.K_vi
 
 
-def _filters(s) -> str:
-    if not s.filters:
-        return "none"
-    return ", ".join(f"{f.type} {f.f_hz:.0f} Hz" for f in s.filters)
+def _filter_rows(before, after) -> list[tuple[str, str, str]]:
+    """The current-setpoint filters before and after, one row per slot, as a
+    commissioning engineer types them in [-]."""
+    from ..servo.currentfilters import filter_text
+
+    n = max(len(before.filters), len(after.filters))
+    if n == 0:
+        return [("filters", "none", "none")]
+    return [(f"filter {i + 1}", *(filter_text(fs[i]) if i < len(fs) else "-"
+                                  for fs in (before.filters, after.filters)))
+            for i in range(n)]

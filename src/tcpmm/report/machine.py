@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..mechanics.statespace import plant
+from ..servo.currentfilters import filters_text
 from ..servo.sampled import sampled_spectral_radius
 from .accuracy import verdict_html
 from .html import esc, facts, figure, para, section, table
@@ -73,14 +74,6 @@ def model_frame(machine):
         row.update({ax: d[i] for ax, d in dyn.items()})
         rows.append(row)
     return pd.DataFrame(rows)
-
-
-def filters_text(filters) -> str:
-    """The current-setpoint filters as a commissioning engineer types them in [-]."""
-    parts = [f"notch {f.f_hz:.1f} Hz, {f.bandwidth_hz:.1f} Hz wide, {f.depth_db:.1f} dB"
-             if f.type == "notch" else f"low-pass {f.f_hz:.1f} Hz, zeta {f.zeta:.2f}"
-             for f in filters]
-    return "; ".join(parts) or "none"
 
 
 #: Rows on the dynamics of each axis: name, description, unit.

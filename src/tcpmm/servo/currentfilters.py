@@ -179,3 +179,16 @@ def continuous_ss(filters):
     for sec in sections[1:]:
         ss = series(ss, sec)
     return ss.A, ss.B[:, 0], ss.C[0], float(ss.D[0, 0])
+
+
+def filter_text(f) -> str:
+    """One current-setpoint filter as a commissioning engineer types it in [-]."""
+    if f.type == "notch":
+        return f"notch {f.f_hz:.1f} Hz, {f.bandwidth_hz:.1f} Hz wide, {f.depth_db:.1f} dB"
+    return f"low-pass {f.f_hz:.1f} Hz, zeta {f.zeta:.2f}"
+
+
+def filters_text(filters) -> str:
+    """The current-setpoint filters as a commissioning engineer types them in, ``none``
+    without any [-]."""
+    return "; ".join(filter_text(f) for f in filters) or "none"

@@ -91,3 +91,40 @@ def test_a_time_base_a_quarter_off_is_warned_about():
                                           r"8000 Hz\)"):
         got = sweep_timing("X", slow, cfg)
     assert got.determined and got.gain == pytest.approx(1.24, abs=0.02)
+
+
+def _swapped(cfg):
+    other = "encoder" if cfg.servo.position_feedback == "scale" else "scale"
+    return cfg.model_copy(update={"servo": cfg.servo.model_copy(update={
+        "position_feedback": other})})
+
+
+@pytest.mark.parametrize("source", ["vmc-scale", "vmc-encoder", "c", "r05"])
+def test_a_position_loop_declared_on_the_wrong_sensor_is_said(vmc, source):
+    """A machine.yaml declaring the position loop on the motor encoder where the drive
+    closes it on the scale (or the other way round) was identified without a word, and
+    the model then closed its loop on the wrong sensor. Above the axial mode the two part,
+    and the controller output in the sweep tells which one the drive reads. Declared
+    right: no warning; swapped: a warning naming both sensors."""
+    import warnings
+
+    from tcpmm.errors import InputWarning
+    from tcpmm.ident.physical.loop_timing import sweep_timing
+
+    if source.startswith("vmc"):
+        fb = source.split("-")[1]
+        a = vmc.axes["X"]
+        a = a.replace(servo=a.servo.model_copy(update={"position_feedback": fb}))
+        rec, cfg = virtual_sweep(a, name="X"), axis_config(vmc.with_axis("X", a), "X")
+    else:
+        b = read_bundle(bench_path(source) / "bundle")
+        rec, cfg = b.axes["X"].sweep, b.machine.axes["X"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        sweep_timing("X", rec, cfg)
+    wrong = _swapped(cfg)
+    said = {"scale": "linear scale", "encoder": "motor encoder"}
+    with pytest.warns(InputWarning, match="reads as a position loop closed on the "
+                      f"{said[cfg.servo.position_feedback]}, not on the "
+                      f"{said[wrong.servo.position_feedback]} machine.yaml declares"):
+        sweep_timing("X", rec, wrong)

@@ -59,6 +59,11 @@ GAIN_RANGE = (0.8, 1.25)
 GAIN_WARN = 0.05
 #: Largest relative residual of the fit for the same reason [-].
 MAX_RESIDUAL = 0.3
+#: Factor by which the fit's residual with the position fed back from the other sensor
+#: must be smaller than with the declared one to say the declaration is wrong: above the
+#: axial mode the scale and the motor part, and on the reference drives the sensor
+#: declared fits 1.5 to 2.7 times better than the other [-].
+FEEDBACK_RATIO = 1.25
 
 
 @dataclass(frozen=True)
@@ -80,6 +85,9 @@ class LoopTiming:
         Whether the fit reads the declared controller (:data:`GAIN_RANGE`,
         :data:`MAX_RESIDUAL`) and its delay lies within :data:`MATCH_TOL` of one
         structure [-].
+    residual, other_feedback_residual : float
+        Relative residual of the fit with the position fed back from the declared sensor,
+        and from the other one (motor encoder or linear scale) [-].
     """
 
     delay_samples: int
@@ -87,6 +95,8 @@ class LoopTiming:
     tau_periods: float
     gain: float
     determined: bool
+    residual: float = float("nan")
+    other_feedback_residual: float = float("nan")
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report [-]."""
@@ -94,7 +104,8 @@ class LoopTiming:
 
 
 def _controller_ratio(sweep, cfg):
-    """``u / (C_v (j w theta + K_pp/R_L x_fb))`` per bin, with its weights; or ``None``."""
+    """``u / (C_v (j w theta + K_pp/R_L x_fb))`` per bin, with its weights, and the same
+    ratio with the position fed back from the other sensor; or ``None``."""
     s = cfg.servo
     R = cfg.lead_m / (2.0 * math.pi)
     sig = {"u": sweep.current_cmd_A - sweep.excitation_A, "th": sweep.motor_angle_rad,
@@ -109,16 +120,20 @@ def _controller_ratio(sweep, cfg):
         return None
     f = np.asarray(frfs["u"].freq_hz)
     w = 2.0 * math.pi * f
-    x_fb = frfs["x"].H if s.position_feedback == "scale" else R * frfs["th"].H
-    pos = s.position_gain_1_per_s / R * x_fb * np.exp(-0.5j * w * s.position_loop_period_s)
     c_v = s.velocity_gain_A_s_per_rad + s.velocity_integral_gain_A_per_rad / (1j * w)
     c_v = c_v * filters_freqresp(s.current_setpoint_filters, f, s.velocity_loop_period_s)
-    den = c_v * (1j * w * frfs["th"].H + pos)
+    dens = {}
+    for fb, x_fb in (("scale", frfs["x"].H), ("encoder", R * frfs["th"].H)):
+        pos = s.position_gain_1_per_s / R * x_fb * np.exp(-0.5j * w * s.position_loop_period_s)
+        dens[fb] = c_v * (1j * w * frfs["th"].H + pos)
+    other = "encoder" if s.position_feedback == "scale" else "scale"
+    den, den_other = dens[s.position_feedback], dens[other]
     coh = np.minimum(frfs["u"].coherence, frfs["th"].coherence)
-    good = (coh > 0.9) & (np.abs(den) > 0)
+    good = (coh > 0.9) & (np.abs(den) > 0) & (np.abs(den_other) > 0)
     if int(good.sum()) < MIN_BINS:
         return None
-    return w[good], -frfs["u"].H[good] / den[good], coh[good]
+    return (w[good], -frfs["u"].H[good] / den[good], coh[good],
+            -frfs["u"].H[good] / den_other[good])
 
 
 def _fit_delay(w, h, weight):
@@ -157,9 +172,10 @@ def identify_loop_timing(sweep, cfg) -> LoopTiming | None:
     got = _controller_ratio(sweep, cfg)
     if got is None:
         return None
-    w, h, coh = got
-    weight = coh / (1.0 - coh + 1e-6)
-    tau, gain, resid = _fit_delay(w, h, np.minimum(weight, 1e4))
+    w, h, coh, h_other = got
+    weight = np.minimum(coh / (1.0 - coh + 1e-6), 1e4)
+    tau, gain, resid = _fit_delay(w, h, weight)
+    resid_other = _fit_delay(w, h_other, weight)[2]
     T_v = cfg.servo.velocity_loop_period_s
     periods = tau / T_v - (0.0 if sampled_in_step(sweep.fs_hz, T_v) else 0.5)
     half = round(2.0 * periods)
@@ -167,7 +183,7 @@ def identify_loop_timing(sweep, cfg) -> LoopTiming | None:
     determined = (abs(periods - 0.5 * half) <= MATCH_TOL and half >= 0
                   and GAIN_RANGE[0] < gain < GAIN_RANGE[1] and resid < MAX_RESIDUAL)
     return LoopTiming(int(delay), "difference" if diff else "state", float(tau / T_v),
-                      float(gain), bool(determined))
+                      float(gain), bool(determined), float(resid), float(resid_other))
 
 
 def sampled_in_step(fs_hz: float, T_v: float) -> bool:
@@ -229,4 +245,21 @@ def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:
             "are not the drive's; the identified masses and inertias scale with the square "
             "of a time base that is off. Check the time column and the gains",
             file=getattr(sweep, "source", None))
+    _check_feedback(name, sweep, cfg, timing)
     return timing
+
+
+def _check_feedback(name, sweep, cfg, timing) -> None:
+    """Warn where the sweep reads as a position loop closed on the other sensor."""
+    if not timing.other_feedback_residual * FEEDBACK_RATIO < timing.residual:
+        return
+    said = cfg.servo.position_feedback
+    names = {"scale": "linear scale", "encoder": "motor encoder"}
+    other = "encoder" if said == "scale" else "scale"
+    warn_input(
+        f"axis {name}: the controller output in the sweep reads as a position loop closed "
+        f"on the {names[other]}, not on the {names[said]} machine.yaml declares "
+        f"(relative residual {timing.other_feedback_residual:.3f} against "
+        f"{timing.residual:.3f}); check servo.position_feedback: the model closes its "
+        "loop where it is told, and its path follows from that",
+        file=getattr(sweep, "source", None))

@@ -46,11 +46,16 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                                   help="Contouring axes whose position gains and feedforward "
                                        "are matched, e.g. XY; default the axes the path "
                                        "moves. Every other axis is tuned on its own."),
+         mode_tolerance_percent: float = typer.Option(
+             5.0, "--mode-tolerance", min=0.0, max=49.0,
+             help="How far the machine's mode frequencies may lie from the model's [%]: "
+                  "every proposal stays stable with its modes that far off."),
          output: Path = typer.Option(None, "-o", "--output", help="Write the tuned MODEL.yaml."),
          as_json: bool = typer.Option(False, "--json")):
     """Propose velocity-loop gains, notch filters, position gain and feedforward that meet
     the margins on the sampled loops; predict the path before and after."""
     from ..io.modelfile import write_machine
+    from ..servo.modeshift import mode_tolerance
     from ..whatif.tuning import tune_and_predict
 
     gm, pm = parse_margins(margins)
@@ -63,13 +68,15 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
         with in_file(gcode):
             command = program_to_command(gcode, interp_settings(m))
-    res = tune_and_predict(m, gm, pm, command, axes)
+    with mode_tolerance(mode_tolerance_percent / 100.0):
+        res = tune_and_predict(m, gm, pm, command, axes)
     _warn(res)
     if output is not None:
         write_machine(res.tuned, output)
     if as_json:
-        emit_json({"margins_required": {"gain_db": gm, "phase_deg": pm}, **res.to_dict(),
-                    "output": None if output is None else str(output)})
+        emit_json({"margins_required": {"gain_db": gm, "phase_deg": pm,
+                                         "mode_tolerance_percent": mode_tolerance_percent},
+                   **res.to_dict(), "output": None if output is None else str(output)})
         return
     _print_result(res, gm, pm)
     if output is not None:

@@ -12,8 +12,9 @@ The check: the sampled closed loop stays stable with every mode of the mechanics
 by a common factor ``s`` within ``1 +- MODE_TOLERANCE`` (every stiffness scaled by
 ``s**2`` and every damping by ``s``: the frequencies scale by ``s``, the damping ratios
 stay), and so it does with the velocity controller's gain raised and lowered by the gain
-margin. The factors are taken on a grid fine enough (a step of a tenth of the tolerance)
-to catch the half of the range where a mode sits on the wrong side of a notch.
+margin. The factors are taken on a grid fine enough (steps of at most 0.5 %, 21 factors
+at least) to catch the half of the range where a mode sits on the wrong side of a notch.
+:func:`mode_tolerance` sets another band for the proposals judged inside it.
 
 Here too are the warnings of what in a proposal rests on the model: a loop crossing over
 above a lightly damped mode, and one slowed to less than half its bandwidth to hold its
@@ -22,8 +23,13 @@ margins.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
+import math
+
 import numpy as np
 
+from ..errors import InputError
 from ..mechanics.export import reduced_ss
 from ..mechanics.lumped import AxisMechanics
 from .params import ServoParams
@@ -36,8 +42,36 @@ NOTCH_ZETA = 0.1
 #: Position gain the velocity loop is judged with alone: a position loop this slow leaves
 #: the velocity loop's poles where they are [1/s].
 VELOCITY_ONLY_K_PP = 1.0
-#: How far the machine's mode frequencies may lie from the model's [-].
+#: How far the machine's mode frequencies may lie from the model's, by default [-].
 MODE_TOLERANCE = 0.05
+_TOLERANCE = contextvars.ContextVar("mode_tolerance", default=MODE_TOLERANCE)
+#: Largest step between the mode shifts checked: a -10 dB notch's phase turns within
+#: +-1.5 % of its frequency [-].
+_STEP = 0.005
+
+
+@contextlib.contextmanager
+def mode_tolerance(tolerance: float):
+    """Judge proposals, inside the ``with`` block, with the modes up to ``tolerance`` off
+    the model's frequencies instead of :data:`MODE_TOLERANCE`.
+
+    Parameters
+    ----------
+    tolerance : float
+        Relative band of the mode frequencies, in [0, 0.5) [-].
+    """
+    if not 0.0 <= tolerance < 0.5:
+        raise InputError(f"the mode tolerance must lie in [0, 50) %, got {100 * tolerance:g} %")
+    token = _TOLERANCE.set(float(tolerance))
+    try:
+        yield
+    finally:
+        _TOLERANCE.reset(token)
+
+
+def current_tolerance() -> float:
+    """The mode tolerance proposals are judged with now (:func:`mode_tolerance`) [-]."""
+    return _TOLERANCE.get()
 _STIFFNESSES = ("K_L", "K_t", "K_b", "K_h")
 _DAMPINGS = ("B_m", "B_L", "C_t", "C_b", "C_h")
 
@@ -50,12 +84,12 @@ def shifted(mech: AxisMechanics, s: float) -> AxisMechanics:
 
 def _factors(tolerance: float) -> np.ndarray:
     # the model's own frequencies first, then outwards: the first failure is the nearest
-    d = tolerance * np.linspace(-1.0, 1.0, 21)
+    d = tolerance * np.linspace(-1.0, 1.0, 2 * max(10, math.ceil(tolerance / _STEP)) + 1)
     return 1.0 + d[np.argsort(np.abs(d), kind="stable")]
 
 
 def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
-                tolerance: float = MODE_TOLERANCE):
+                tolerance: float | None = None):
     """The first mode shift and controller gain factor at which the loop is unstable.
 
     Parameters
@@ -66,8 +100,8 @@ def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
         The settings judged [SI].
     gm_db : float
         Gain margin the controller's gain is raised and lowered by [dB].
-    tolerance : float
-        Relative band of the mode frequencies [-].
+    tolerance : float, optional
+        Relative band of the mode frequencies; default :func:`current_tolerance` [-].
 
     Returns
     -------
@@ -81,7 +115,7 @@ def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
     cases = [(1.0, servo)] + [(f, ServoParams.create(**{
         **alone.model_dump(), "K_vp": alone.K_vp * f, "K_vi": alone.K_vi * f}))
         for f in (g, 1.0 / g)]
-    for s in _factors(tolerance):
+    for s in _factors(current_tolerance() if tolerance is None else tolerance):
         m = mech if s == 1.0 else shifted(mech, float(s))
         for f, sv in cases:
             rho = sampled_spectral_radius(m, sv)
@@ -91,7 +125,7 @@ def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
 
 
 def robustly_stable(mech: AxisMechanics, servo: ServoParams, gm_db: float,
-                    tolerance: float = MODE_TOLERANCE) -> bool:
+                    tolerance: float | None = None) -> bool:
     """Whether the loop is stable for every mode shift within the tolerance and every
     controller gain within the gain margin (see the module docstring) [-]."""
     return worst_shift(mech, servo, gm_db, tolerance) is None
@@ -173,7 +207,7 @@ def _held_words(mech, servo) -> str:
     case = worst_shift(mech, servo, 0.0)
     if case is None:
         return (" (checked: the loop stays stable with them up to "
-                f"{100 * MODE_TOLERANCE:.0f} % off the model's frequencies)")
+                f"{100 * current_tolerance():g} % off the model's frequencies)")
     return f" (the loop is {shift_words(case)})"
 
 
@@ -198,7 +232,7 @@ def slower_warnings(before: dict, after: dict) -> list[str]:
     b, a = slowed(before, after)
     return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
             f"to {a:.3g} Hz: no faster velocity loop meets them with its modes up to "
-            f"{100 * MODE_TOLERANCE:.0f} % off the model's frequencies, and the position "
+            f"{100 * current_tolerance():g} % off the model's frequencies, and the position "
             "gain (a quarter of that bandwidth at most, on every axis matched to this one) "
             "falls with it. Check the predicted path; smaller margins (--margins) or "
             "filters tuned on the machine may keep more speed"]

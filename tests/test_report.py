@@ -603,3 +603,20 @@ def test_a_circle_run_from_standstill_gives_its_feed_and_a_verdict_that_is_not_f
     assert "run.csv: the CCW circle's command is still speeding up" in v
     assert "no reversal spike is reported at A" in v
     assert err.count("is still speeding up") == 1  # said on stderr as well, once
+
+
+def test_the_verdict_gives_the_date_of_the_test(tmp_path, capsys, inputs):
+    """A customer's report had no date of the test (ISO 230-4 asks for it): the
+    conditions now give --measured-on, or say it was not given; a date that is none is
+    refused before any work."""
+    _, opts = inputs
+    code, text, err = report(capsys, tmp_path, *opts["comparison"], "--measured-on",
+                             "2026-11-27")
+    assert code == 0, err
+    assert "measured on 2026-11-27" in _verdict(text)
+    code, text, err = report(capsys, tmp_path, *opts["comparison"])
+    assert "measured on not given (--measured-on)" in _verdict(text)
+    (tmp_path / "r.html").unlink()
+    code, text, err = report(capsys, tmp_path, *opts["comparison"], "--measured-on",
+                             "27.11.2026")
+    assert code == 2 and text is None and "YYYY-MM-DD" in " ".join(err.split())

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime
 import json
 from pathlib import Path
 
@@ -266,9 +267,11 @@ def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m
 
     t = read_run(out / "measured_run.csv").time_s
     rate = 1.0 / float(np.median(np.diff(t))) if t.size > 1 else None
+    made = f"{datetime.date.today().isoformat()} (a virtual measurement, made by the demo)"
     sections = [*verdict_sections(circles[0], "circle-measured",
                                   "Circular test, virtual measurement",
-                                  out / "measured_run.csv", tolerance_m, rate),
+                                  out / "measured_run.csv", tolerance_m, rate,
+                                  measured_on=made),
                 comparison_section(cmp, *circles, (out / "measured_run.csv",
                                                     out / "predicted_run.csv"),
                                    judged=judged),

@@ -38,7 +38,10 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
            tolerance_um: float = typer.Option(
                None, "--tolerance-um", help="Largest circular deviation G accepted [µm]: the "
                                             "verdict on the first circle is PASS or FAIL "
-                                            "against it; without it G is given unjudged.")):
+                                            "against it; without it G is given unjudged."),
+           measured_on: str = typer.Option(
+               None, "--measured-on", metavar="YYYY-MM-DD",
+               help="Date of the circular test, given with its conditions.")):
     """One self-contained HTML file, in the order a customer reads it: the verdict on the
     first circle (test conditions, pass or fail, error sources ranked), the circular tests
     with their diagnostics, measured - predicted (Table 2), spread, identification, model;
@@ -50,15 +53,29 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     measured, predicted = measured or [], predicted or []
     _check_inputs(output, model, ident_dir, spread, runs, measured, predicted, radius)
     tol = None if tolerance_um is None else positive(tolerance_um, "--tolerance-um") * 1e-6
+    verdict = {"tolerance_m": tol, "measured_on": _date(measured_on)}
     machine = read_model(model) if model is not None else None
     sections, inputs = [], []
     if runs or measured:
-        sections, inputs = _circle_sections(runs, measured, predicted, radius, centre, tol,
-                                            machine, plane)
+        sections, inputs = _circle_sections(runs, measured, predicted, radius, centre,
+                                            verdict, machine, plane)
     more, given = _summary_sections(spread, ident_dir, model, machine)
     sections += more
     write_report(output, sections, title, inputs + given)
     out.print(f"wrote {output} ({', '.join(t for _, t, _ in sections)})")
+
+
+def _date(text):
+    """The ``--measured-on`` date, or ``None`` [-]."""
+    import datetime
+
+    if text is None:
+        return None
+    try:
+        return datetime.date.fromisoformat(text.strip())
+    except ValueError:
+        raise typer.BadParameter(f"--measured-on {text!r}: give the date as YYYY-MM-DD, "
+                                 "e.g. 2026-11-30") from None
 
 
 def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predicted,
@@ -95,7 +112,7 @@ def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predic
                                  "--measured/--predicted or --spread")
 
 
-def _circle_sections(runs, measured, predicted, radius: float, centre: str, tolerance_m,
+def _circle_sections(runs, measured, predicted, radius: float, centre: str, verdict: dict,
                      machine, plane=None) -> tuple[list, list]:
     """The sections of the circular tests: each run's, the runs' faults, and measured
     minus predicted of each pair.
@@ -110,8 +127,9 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, tole
         The circles' nominal radius [mm].
     centre : str
         Their nominal centre, ``X,Y`` [mm].
-    tolerance_m : float or None
-        The largest circular deviation the verdict accepts [m].
+    verdict : dict
+        ``tolerance_m``, the largest circular deviation the verdict accepts [m] or None,
+        and ``measured_on``, the test's date or None [-].
     machine : Machine or None
         The model, which tells the runs' faults [-].
 
@@ -125,9 +143,9 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, tole
     c = floats(centre, "--centre", 2)
     circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), plane)
     comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
-                               f"comparison-{i + 1}", not runs and i == 0, tolerance_m)
+                               f"comparison-{i + 1}", not runs and i == 0, verdict)
                    for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
-    sections = _run_sections(runs, circle, tolerance_m)
+    sections = _run_sections(runs, circle, verdict)
     sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
     sections += [s for group in comparisons for s in group]
     inputs = ([("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
@@ -216,9 +234,9 @@ def _circle(path: Path, circle, run=None):
             [f"{path.name}: {w.message}" for w in said])
 
 
-def _run_sections(runs, circle, tolerance_m) -> list:
+def _run_sections(runs, circle, verdict: dict) -> list:
     """A circle section per run or pair of runs, keys numbered when there are several;
-    the first opens with the verdict."""
+    the first opens with the verdict (``verdict``: its tolerance and date)."""
     from ..analysis.circular import CircleResult
     from ..report import circle_test_section, verdict_sections
 
@@ -231,17 +249,17 @@ def _run_sections(runs, circle, tolerance_m) -> list:
         key = "circle" if len(runs) == 1 else f"circle-{i + 1}"
         title = f"Circular test: {' and '.join(f.name for f in files)}"
         if i == 0:
-            sections += verdict_sections(both, key, title, files, tolerance_m, got[0][1],
-                                         [c for g in got for c in g[2]])
+            sections += verdict_sections(both, key, title, files, sample_rate_hz=got[0][1],
+                                         cautions=[c for g in got for c in g[2]], **verdict)
         else:
             sections.append(circle_test_section(both, key, title, files))
     return sections
 
 
-def _comparison(measured: Path, predicted: Path, circle, key: str, verdict: bool,
-                tolerance_m=None):
-    """Measured minus predicted of one pair of runs; with ``verdict`` (no --run given) the
-    measured circle opens the page with its verdict (``tolerance_m`` [m])."""
+def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
+                verdict: dict):
+    """Measured minus predicted of one pair of runs; the ``first`` (no --run given) opens
+    the page with the measured circle's verdict (``verdict``: its tolerance and date)."""
     from ..analysis.compare import compare_circles, cut_alike
     from ..io.runfile import read_run
     from ..report import comparison_section, verdict_sections
@@ -250,8 +268,8 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, verdict: bool
     (rm, rate, said), (rp, _, _) = (_circle(measured, circle, runs[0]),
                                     _circle(predicted, circle, cut_alike(*runs)))
     cmp = comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)
-    if not verdict:
+    if not first:
         return [cmp]
     head = verdict_sections(rm, "circle-measured", f"Circular test: {measured.name}",
-                            measured, tolerance_m, rate, said)
+                            measured, sample_rate_hz=rate, cautions=said, **verdict)
     return [*head, cmp]

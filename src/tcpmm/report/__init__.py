@@ -91,7 +91,7 @@ def circle_test_section(result, key: str = "circle", title: str = "Circular test
 
 
 def verdict_sections(result, key: str = "circle", title: str = "Circular test", source=None,
-                     tolerance_m=None, sample_rate_hz=None, cautions=()):
+                     tolerance_m=None, sample_rate_hz=None, cautions=(), measured_on=None):
     """The circle verdict (:func:`~tcpmm.report.acceptance.acceptance_section`), to open
     the page, and the circular test with its diagnostics.
 
@@ -109,6 +109,8 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
         Sample rate of the run [Hz].
     cautions : sequence of str
         What the circle's analysis warned of; the verdict is then not firm [-].
+    measured_on : datetime.date or str, optional
+        Date of the test [-].
 
     Returns
     -------
@@ -117,7 +119,7 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
     """
     diag = _diagnostics(result, title, None)
     return [acceptance_section(result, diag, tolerance_m, sample_rate_hz, source,
-                               scale_diagnostics(diag, result), cautions),
+                               scale_diagnostics(diag, result), cautions, measured_on),
             circle_section(result, key, title, diagnostics=diag, source=source)]
 
 

@@ -75,8 +75,10 @@ def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
     return rows
 
 
-def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> list:
-    """``(name, value)`` of the circle's test conditions, in mm, mm/min and Hz [-]."""
+def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None,
+                      measured_on=None) -> list:
+    """``(name, value)`` of the circle's test conditions, in mm, mm/min and Hz, and the
+    date of the test where given (``measured_on``, ISO 230-4 asks for it) [-]."""
     # the steady speed: the mean would count the ramp of a circle run from standstill
     rates = [p.steady_rate_rad_s if math.isfinite(p.steady_rate_rad_s) else p.rate_rad_s
              for p in result.passes]
@@ -94,6 +96,8 @@ def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None) -> 
              ("sensor", SENSOR_NAMES.get(sensor, sensor))]
     if source:
         items.append(("run", file_names(source)))
+    items.append(("measured on", str(measured_on) if measured_on else
+                  "not given (--measured-on)"))
     return items
 
 
@@ -107,7 +111,7 @@ def _deviations(result, sensor, diag) -> list[tuple[str, float]]:
 
 
 def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_hz=None,
-                       source=None, reference=None, cautions=()):
+                       source=None, reference=None, cautions=(), measured_on=None):
     """The circle verdict: test conditions, pass or fail, ranked error sources.
 
     Parameters
@@ -129,10 +133,12 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
     cautions : sequence of str
         What the analysis of the circle warned of (a feed still changing, a quadrant point
         at the circle's start): the verdict is then not firm, and they follow it [-].
+    measured_on : datetime.date or str, optional
+        Date of the test [-].
     """
     sensor = diagnostics.sensor if diagnostics is not None else next(
         s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes))
-    body = facts(circle_conditions(result, sensor, sample_rate_hz, source))
+    body = facts(circle_conditions(result, sensor, sample_rate_hz, source, measured_on))
     devs = _deviations(result, sensor, diagnostics)
     shown = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs)
     if tolerance_m is None:

@@ -1055,3 +1055,23 @@ def test_a_full_circle_sampled_at_250_hz_is_a_full_circle(tmp_path, machine):
     assert not any(k.startswith(("backlash", "centre")) for k in b.undetermined)
     for term in ("backlash_X", "backlash_Y", "centre_offset_X", "centre_offset_Y"):
         assert b[term] == pytest.approx(a[term], abs=0.15e-6), term
+
+
+def test_a_term_of_the_geometry_seen_at_the_scale_is_called_the_loops():
+    """A scale mismatch or squareness at the TCP that the linear scale sees as well was
+    called "at the linear scale too: in the axis", and one the scale does not see "the
+    structure ... not the drive". The scale reads its own axis: a geometric error between
+    two axes cannot show in it, so seen there it is the loops' response to the path (it
+    changes with the feed); unseen there it is the geometry or the structure deflecting,
+    which a slower circle tells apart. Other terms read as before."""
+    from tcpmm.analysis.circle_display import term_place
+
+    for term in ("scale_mismatch", "squareness", "squareness_or_servo"):
+        seen = term_place(10e-6, 8e-6, "linear scale", term)
+        assert seen.startswith("at the linear scale too: the loops' response") and \
+            "changes with the feed" in seen
+        unseen = term_place(10e-6, 1e-6, "linear scale", term)
+        assert "the geometry between the axes" in unseen and "lower feed" in unseen
+    assert term_place(10e-6, 8e-6, "linear scale", "backlash_X") == \
+        "at the linear scale too: in the axis"
+    assert term_place(10e-6, 1e-6, "linear scale", "backlash_X").endswith("not the drive")

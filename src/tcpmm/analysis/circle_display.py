@@ -116,7 +116,12 @@ def undetermined_lines(undetermined: dict) -> list[str]:
 SHARED_PART = 0.5
 
 
-def term_place(g: float, g_ref: float, sensor_name: str) -> str:
+#: Terms of the geometry between the axes, which a sensor reading its own axis cannot see:
+#: where such a term shows in its circle, it is the loops' response to the path [-].
+_GEOMETRY = ("scale_mismatch", "squareness", "squareness_or_servo")
+
+
+def term_place(g: float, g_ref: float, sensor_name: str, term: str = "") -> str:
     """Where a term of G ``g`` at the tool lies, given the G ``g_ref`` the same term makes
     in the circle of a sensor nearer the drive (the linear scale): what that sensor does
     not see of it happened between the sensor and the tool; "" for a term of no G [-].
@@ -129,12 +134,24 @@ def term_place(g: float, g_ref: float, sensor_name: str) -> str:
         The G it alone makes at the other sensor [m].
     sensor_name : str
         That sensor, in words ("linear scale") [-].
+    term : str, optional
+        The term's name: a term of the geometry between the axes (scale mismatch,
+        squareness) that the sensor sees too is the servo's, not the geometry's [-].
     """
     if not g > 0.0:
         return ""
+    if g_ref < SHARED_PART * g and term in _GEOMETRY:
+        return (f"mostly past the {sensor_name}: the geometry between the axes, or the "
+                "structure between the table and the tool deflecting with the path's "
+                "acceleration; a circle at a lower feed tells them apart (the geometry "
+                "stays)")
     if g_ref < SHARED_PART * g:
         return (f"mostly past the {sensor_name}: the structure between the table and the "
                 "tool (deflection, ringing), not the drive")
+    if term in _GEOMETRY:
+        return (f"at the {sensor_name} too: the loops' response, not the geometry (the "
+                f"{sensor_name} reads its own axis and cannot see the angle or the scale "
+                "between two): a dynamic error, it changes with the feed")
     return f"at the {sensor_name} too: in the axis"
 
 
@@ -161,5 +178,5 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
         term, g = r["term"], float(r["g_alone_m"])
         g_ref = at.get(term, 0.0)
         placed = term != "centre_offset" and g > floor
-        out[term] = (g_ref, term_place(g, g_ref, sensor_name) if placed else "")
+        out[term] = (g_ref, term_place(g, g_ref, sensor_name, term) if placed else "")
     return out

@@ -48,6 +48,9 @@ _TOLERANCE = contextvars.ContextVar("mode_tolerance", default=MODE_TOLERANCE)
 #: Largest step between the mode shifts checked: a -10 dB notch's phase turns within
 #: +-1.5 % of its frequency [-].
 _STEP = 0.005
+#: What a shift scales: every stiffness by ``s**2``, every damping by ``s`` [-].
+_STIFFNESSES = ("K_L", "K_t", "K_b", "K_h")
+_DAMPINGS = ("B_m", "B_L", "C_t", "C_b", "C_h")
 
 
 @contextlib.contextmanager
@@ -72,8 +75,6 @@ def mode_tolerance(tolerance: float):
 def current_tolerance() -> float:
     """The mode tolerance proposals are judged with now (:func:`mode_tolerance`) [-]."""
     return _TOLERANCE.get()
-_STIFFNESSES = ("K_L", "K_t", "K_b", "K_h")
-_DAMPINGS = ("B_m", "B_L", "C_t", "C_b", "C_h")
 
 
 def shifted(mech: AxisMechanics, s: float) -> AxisMechanics:
@@ -83,6 +84,8 @@ def shifted(mech: AxisMechanics, s: float) -> AxisMechanics:
 
 
 def _factors(tolerance: float) -> np.ndarray:
+    if tolerance == 0.0:
+        return np.ones(1)
     # the model's own frequencies first, then outwards: the first failure is the nearest
     d = tolerance * np.linspace(-1.0, 1.0, 2 * max(10, math.ceil(tolerance / _STEP)) + 1)
     return 1.0 + d[np.argsort(np.abs(d), kind="stable")]

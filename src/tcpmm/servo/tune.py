@@ -143,8 +143,6 @@ def _largest(ok, start: float, cap: float = math.inf):
     return lo
 
 
-
-
 def _velocity_gain(mech, servo, gm, pm, start=None):
     """Largest velocity gain meeting the margins, robustly stable; ``None`` if none.
 

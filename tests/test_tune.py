@@ -417,7 +417,8 @@ def test_full_filter_slots_and_a_slowed_loop_are_said(vmc, tmp_path, capsys):
     save_model(full, tmp_path / "m.yaml")
     code, stdout, stderr = run_cli(capsys, "tune", tmp_path / "m.yaml")
     assert code == 0
-    assert "axis X: tuning for 6 dB / 45 deg: met only with the velocity loop slowed from " \
+    assert "axis X: tuning for 6 dB / 45 deg, stable with the modes 5 % off: met only with " \
+           "the velocity loop slowed from " \
            "72.7 to 0.015 Hz" in stdout
     assert re.search(r"velocity bandwidth \[Hz\] +72\.7 +0\.015\n", stdout)
     assert "the 728.8 Hz mode limits the velocity gain and gets no notch: all 4 filter " \
@@ -479,6 +480,9 @@ def test_the_mode_tolerance_is_the_users_to_set(capsys):
     assert code == 0, err
     data = json.loads(out)
     assert data["margins_required"]["mode_tolerance_percent"] == 10.0
+    code, out, _ = run_cli(capsys, "tune", "builtin:vmc", "--mode-tolerance", 2.5)
+    assert code == 0 and "axis X: tuning for 6 dB / 45 deg, stable with the modes 2.5 % off: " \
+        "met" in out
     assert all("up to 10 % off" in w for w in data["warnings"] if "checked" in w)
     code, _, err = run_cli(capsys, "tune", "builtin:vmc", "--mode-tolerance", 60)
     assert code == 2 and "--mode-tolerance" in err

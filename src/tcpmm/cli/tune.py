@@ -78,7 +78,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                                          "mode_tolerance_percent": mode_tolerance_percent},
                    **res.to_dict(), "output": None if output is None else str(output)})
         return
-    _print_result(res, gm, pm)
+    _print_result(res, gm, pm, mode_tolerance_percent)
     if output is not None:
         out.print(f"wrote {output}")
 
@@ -103,7 +103,7 @@ def _fmt(v, digits=1):
     return f"{v:.2g}" if 0 < abs(v) < 10.0 ** (1 - digits) else f"{v:.{digits}f}"
 
 
-def _print_result(res, gm, pm) -> None:
+def _print_result(res, gm, pm, tolerance_percent: float) -> None:
     for name, t in res.axes.items():
         tab = plain_table(("", "before", "after"))
         b, a = t.before, t.after
@@ -121,8 +121,8 @@ def _print_result(res, gm, pm) -> None:
                         _fmt(ma["phase_margin_deg"]))
             tab.add_row(esc(f"{loop} bandwidth [Hz]"), _fmt(mb["bandwidth_hz"]),
                         _fmt(ma["bandwidth_hz"]))
-        print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg: "
-                              f"{_verdict(t)}")
+        print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg, stable with "
+                              f"the modes {tolerance_percent:g} % off: {_verdict(t)}")
         if name in res.reasons:
             out.print(f"  {esc(res.reasons[name])}")
         for note in t.notes:

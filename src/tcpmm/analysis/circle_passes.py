@@ -205,28 +205,24 @@ def find_passes(x, y, radius, centre, tol=None, turns=None, offset=None):
             for s in find_stretches(x, y, radius, centre, tol, turns, offset)]
 
 
-def rate(t, x, y, centre):
+def rate(t, ang):
     """Mean angular speed over a pass [rad/s]; NaN without a time span.
 
     Parameters
     ----------
     t : ndarray
         Time [s].
-    x, y : ndarray
-        Path [m].
-    centre : tuple
-        Nominal centre [m].
+    ang : ndarray
+        Angle of the path about the nominal centre, unwrapped [rad].
     """
-    ang = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
     span = t[-1] - t[0]
     return float(abs(ang[-1] - ang[0]) / span) if span > 0 else float("nan")
 
 
-def steady_rate(t, x, y, centre):
+def steady_rate(t, ang):
     """Median angular speed over a pass's sample steps, the arguments as :func:`rate`'s:
     the steady feed's, where the mean counts a ramp in or out [rad/s]; NaN without a
     time step."""
-    ang = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
     dt = np.diff(t)
     ok = dt > 0
     return float(np.median(np.abs(np.diff(ang)[ok]) / dt[ok])) if ok.any() else float("nan")

@@ -363,17 +363,15 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         if direction is not None and st.direction != direction:
             continue
         sl, d = st.index, st.direction
-        cp = CirclePass(d, sl, rate_rad_s=rate(run.time_s[sl], X.sensor(ref)[sl],
-                                               Y.sensor(ref)[sl], centre_m),
+        ref_ang = np.unwrap(np.arctan2(Y.sensor(ref)[sl] - centre_m[1],
+                                       X.sensor(ref)[sl] - centre_m[0]))
+        cp = CirclePass(d, sl, rate_rad_s=rate(run.time_s[sl], ref_ang),
                         arc_deg=360.0 * st.turns if st.turns else st.span_deg,
-                        steady_rate_rad_s=steady_rate(run.time_s[sl], X.sensor(ref)[sl],
-                                                      Y.sensor(ref)[sl], centre_m))
+                        steady_rate_rad_s=steady_rate(run.time_s[sl], ref_ang))
         if "cmd" in present:
             cp.command_radial_deviation = radial_deviation(X.sensor("cmd")[sl],
                                                            Y.sensor("cmd")[sl], radius_m,
                                                            centre_m)
-        ref_ang = np.unwrap(np.arctan2(Y.sensor(ref)[sl] - centre_m[1],
-                                       X.sensor(ref)[sl] - centre_m[0]))
         for s in present:
             on = within_span(X.sensor(s), Y.sensor(s), sl, centre_m, ref_ang) if s != ref else sl
             cp.sensors[s] = analyse_sensor(X.sensor(s)[on], Y.sensor(s)[on], radius_m,

@@ -230,9 +230,10 @@ def slowed(before: dict, after: dict):
 def slower_warnings(before: dict, after: dict) -> list[str]:
     """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
     the margins are met by giving up most of the loop's speed [-]."""
-    if slowed(before, after) is None:
+    cut = slowed(before, after)
+    if cut is None:
         return []
-    b, a = slowed(before, after)
+    b, a = cut
     return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
             f"to {a:.3g} Hz: no faster velocity loop meets them with its modes up to "
             f"{100 * current_tolerance():g} % off the model's frequencies, and the position "

@@ -61,8 +61,10 @@ from .sampled import sampled_spectral_radius
 
 #: Scan step of the gains, and the relative resolution of the bisection [-].
 _STEP, _RESOLUTION = 1.25, 0.005
-#: Step of the velocity gain's scan down from above [-].
+#: Step of the velocity gain's scan down from above, and its steps: down to 1e-8 of
+#: where it starts [-].
 _DESCENT = 1.5
+_DESCENT_TRIES = math.ceil(math.log(1e8) / math.log(_DESCENT))
 #: How near the limiting crossing a lightly damped mode takes a notch [-].
 _NOTCH_NEAR = 0.2
 
@@ -114,8 +116,11 @@ def _pi(mech: AxisMechanics, servo: ServoParams, K_vp: float) -> ServoParams:
     return _with(servo, K_vp=K_vp, K_vi=K_vp * w_c / 4.0)
 
 
-def _largest(ok, start: float, cap: float = math.inf):
-    """Largest ``g <= cap`` with ``ok(g)``, scanning from ``start``; ``None`` if none."""
+def _largest(ok, start: float, cap: float = math.inf, down: float = _STEP,
+             tries: int = 40):
+    """Largest ``g <= cap`` with ``ok(g)``, scanning from ``start``: upwards in steps of
+    :data:`_STEP` while it holds, else downwards in steps of ``down``, at most ``tries``
+    of them; ``None`` if none."""
     g = min(start, cap)
     if ok(g):
         lo, hi = g, None
@@ -129,8 +134,8 @@ def _largest(ok, start: float, cap: float = math.inf):
             return lo
     else:
         hi, lo = g, None
-        for _ in range(40):
-            nxt = hi / _STEP
+        for _ in range(tries):
+            nxt = hi / down
             if ok(nxt):
                 lo = nxt
                 break
@@ -156,18 +161,7 @@ def _velocity_gain(mech, servo, gm, pm, start=None):
         alone = _with(s, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
         return velocity_margins(mech, s).meets(gm, pm) and robustly_stable(mech, alone, gm)
     top = _DESCENT ** 6 * (start if start is not None else servo.K_vp)
-    if ok(top):
-        return _largest(ok, top)
-    hi = top
-    while hi > top * 1e-8:
-        lo = hi / _DESCENT
-        if ok(lo):
-            while hi / lo > 1 + _RESOLUTION:
-                mid = math.sqrt(lo * hi)
-                lo, hi = (mid, hi) if ok(mid) else (lo, mid)
-            return lo
-        hi = lo
-    return None
+    return _largest(ok, top, down=_DESCENT, tries=_DESCENT_TRIES)
 
 
 def _limiting_mode(mech, servo, modes):
@@ -233,7 +227,6 @@ def _best_notch(mech, servo, f0, zeta, gm, pm, start):
                            start)
         if K is not None and (best[0] is None or K > best[0] * (1 + _RESOLUTION)):
             best = (K, notch)
-    return best
     return best
 
 
@@ -322,19 +315,18 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
         if s is not None and lead is not None:
             s = _with(s, K_pp=found[lead][0])
         after = s if s is not None else a.servo
-        mg_after = axis_margins(m, after)
+        mg_before, mg_after = axis_margins(m, a.servo), axis_margins(m, after)
         case = worst_shift(m, after, gm_db)
         met = (s is not None and all(v.meets(gm_db, pm_deg) for v in mg_after.values())
                and case is None)
         if s is not None and not met:
             why = "margins" if case is None else f"stability: {shift_words(case)}"
             notes[name].append(f"the combined proposal misses the {why}; settings kept")
-            after, mg_after = a.servo, axis_margins(m, a.servo)
+            after, mg_after = a.servo, mg_before
         elif met:
             limits = {"K_vp": velocity_limit(m, after, gm_db, pm_deg),
                       "K_pp": _kpp_reason(name, lead, found, list(machine.axes))}
             notes[name] = gain_notes(a.servo, after, limits) + notes[name]
-        mg_before = axis_margins(m, a.servo)
         out[name] = AxisTuning(a.servo, after, mg_before, mg_after, met, notes[name],
                                light_mode_warnings(m, mg_after, after)
                                + slower_warnings(mg_before, mg_after))

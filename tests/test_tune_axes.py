@@ -5,7 +5,8 @@ import warnings
 
 import pytest
 
-from conftest import run_cli
+from conftest import bench_path, run_cli
+from tcpmm import load_model
 from tcpmm.errors import InputWarning
 from tcpmm.io.modelfile import write_machine
 from tcpmm.servo.margins import axis_margins
@@ -154,3 +155,21 @@ def test_an_axis_named_alone_is_not_called_moved_by_the_path(vmc):
     for n in "XY":
         text = " ".join([res.reasons[n], *res.axes[n].notes])
         assert "not matched to Z" in text and "which the path moves" not in text, text
+
+
+def test_an_axis_alone_with_a_fragile_velocity_loop_is_retuned():
+    """An axis the path does not move whose velocity loop meets the margins and is stable
+    as modelled, but not with its modes a few percent off, kept that loop, missed the
+    final check and was reported NOT MET with its settings kept; it is retuned instead."""
+    from tcpmm.servo.modeshift import mode_tolerance, robustly_stable
+    from tcpmm.servo.tune import VELOCITY_ONLY_K_PP, meets_margins, tune_velocity
+    from tcpmm.servo.tunealone import tune_alone
+
+    x = load_model(str(bench_path("d") / "truth.yaml")).axes["X"]
+    with mode_tolerance(0.0):  # a proposal judged on the model's frequencies alone
+        fragile = tune_velocity(x.mechanics, x.servo, GM, PM, [])
+    alone = fragile.model_copy(update={"K_pp": VELOCITY_ONLY_K_PP})
+    assert not robustly_stable(x.mechanics, alone, GM)
+    res = tune_alone(x.mechanics, fragile, GM, PM, ["Y"])
+    assert res.met and res.after != fragile
+    assert meets_margins(x.mechanics, res.after, GM, PM)

@@ -12,7 +12,7 @@ The feedforward stays as it is: it is judged on the path, which does not move th
 from __future__ import annotations
 
 from .margins import axis_margins, velocity_margins
-from .modeshift import slower_warnings
+from .modeshift import robustly_stable, slower_warnings
 from .params import ServoParams
 from .sampled import sampled_spectral_radius
 from .tune import (
@@ -61,7 +61,7 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
     alone = ServoParams.create(**{**servo.model_dump(),
                                   "K_pp": min(servo.K_pp, VELOCITY_ONLY_K_PP)})
     vel_ok = (velocity_margins(mech, servo).meets(gm_db, pm_deg)
-              and sampled_spectral_radius(mech, alone) < 1.0)
+              and robustly_stable(mech, alone, gm_db))
     vel = servo if vel_ok else tune_velocity(mech, servo, gm_db, pm_deg, notes)
     k, why = (None, "") if vel is None else tune_position(mech, vel, gm_db, pm_deg)
     # its own largest may lie above its gain: a gain raised is no margin met, and the

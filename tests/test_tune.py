@@ -486,3 +486,15 @@ def test_the_mode_tolerance_is_the_users_to_set(capsys):
     assert all("up to 10 % off" in w for w in data["warnings"] if "checked" in w)
     code, _, err = run_cli(capsys, "tune", "builtin:vmc", "--mode-tolerance", 60)
     assert code == 2 and "--mode-tolerance" in err
+
+
+def test_no_mode_shift_check_is_claimed_at_tolerance_zero(capsys):
+    """With --mode-tolerance 0 the warning on a crossover above a light mode said
+    "checked: the loop stays stable with them up to 0 % off", a check never made; the
+    proposal (a -40 dB notch) oscillates with the modes 0.5 % lower."""
+    from conftest import bench_path, run_cli
+
+    code, _, err = run_cli(capsys, "tune", str(bench_path("c") / "truth.yaml"),
+                           "--mode-tolerance", 0)
+    assert code == 0 and "crosses over at" in err
+    assert "up to 0 % off" not in err and "not checked with the modes off" in err

@@ -208,6 +208,9 @@ def _held_words(mech, servo) -> str:
     if servo is None:
         return ""
     case = worst_shift(mech, servo, 0.0)
+    if case is None and current_tolerance() == 0.0:
+        return (" (not checked with the modes off the model's frequencies: "
+                "--mode-tolerance 0)")
     if case is None:
         return (" (checked: the loop stays stable with them up to "
                 f"{100 * current_tolerance():g} % off the model's frequencies)")

@@ -620,3 +620,33 @@ def test_the_verdict_gives_the_date_of_the_test(tmp_path, capsys, inputs):
     code, text, err = report(capsys, tmp_path, *opts["comparison"], "--measured-on",
                              "27.11.2026")
     assert code == 2 and text is None and "YYYY-MM-DD" in " ".join(err.split())
+
+
+def test_a_test_date_that_cannot_be_is_refused_for_what_it_is(tmp_path, capsys, inputs):
+    """--measured-on 2999-01-01 was taken (a day still to come: a mistyped year), and
+    2024-02-30, written as asked, was refused with "give the date as YYYY-MM-DD"."""
+    _, opts = inputs
+    code, text, err = report(capsys, tmp_path, *opts["comparison"], "--measured-on",
+                             "2999-01-01")
+    assert code == 2 and text is None and "still to come" in " ".join(err.split())
+    code, text, err = report(capsys, tmp_path, *opts["comparison"], "--measured-on",
+                             "2024-02-30")
+    err = " ".join(err.split())
+    assert code == 2 and text is None and "no such day" in err and "YYYY-MM-DD" not in err
+
+
+def test_the_friction_table_gives_each_parameters_unit():
+    """The report's friction table (and its CSV) had no unit column: forces in N beside
+    a Stribeck speed in m/s, the units only in a caption listing three."""
+    from tcpmm.report.machine import identification_section
+
+    friction = {k: {"value": 1.0, "std": 0.1} for k in ("Fc+", "Fc-", "Fs+", "Fs-", "vs", "Fv")}
+    summary = {"machine": "m", "suspect": [],
+               "axes": {"X": {"fit": {}, "parameters": {}, "undetermined": [],
+                              "friction": friction}}}
+    html = identification_section(summary)[2]
+    rows = html[html.index(">Fc+<"):]
+    assert ">unit<" in html
+    for name, unit in (("Fc+", "N"), ("Fs-", "N"), ("vs", "m/s"), ("Fv", "N s/m")):
+        at = rows.index(f">{name}<")
+        assert f">{unit}<" in rows[at:at + 80], (name, rows[at:at + 200])

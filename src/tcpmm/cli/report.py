@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import typer
@@ -71,11 +72,18 @@ def _date(text):
 
     if text is None:
         return None
-    try:
-        return datetime.date.fromisoformat(text.strip())
-    except ValueError:
+    if not re.fullmatch(r"\d{4}-\d{2}-\d{2}", text.strip()):
         raise typer.BadParameter(f"--measured-on {text!r}: give the date as YYYY-MM-DD, "
-                                 "e.g. 2026-11-30") from None
+                                 "e.g. 2026-11-30")
+    try:
+        day = datetime.date.fromisoformat(text.strip())
+    except ValueError as exc:
+        raise typer.BadParameter(f"--measured-on {text!r}: no such day ({exc})") from None
+    # a day ahead is another time zone's today; more is a mistyped year
+    if day > datetime.date.today() + datetime.timedelta(days=1):
+        raise typer.BadParameter(f"--measured-on {text!r}: a day still to come; give the "
+                                 "day the run files were measured")
+    return day
 
 
 def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predicted,

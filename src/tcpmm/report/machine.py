@@ -165,6 +165,12 @@ OPEN_PARAMETERS = {"B_m": ("B_m",), "C_t": ("C_t",), "column": ("K_h",),
                    "damping": ("C_t", "C_b", "C_h")}
 
 
+def _friction_unit(name: str) -> str:
+    """Unit of a fitted friction parameter (:func:`tcpmm.ident.friction.stribeck.fit_stribeck`'s
+    names: forces ``Fc``, ``Fs``, Stribeck speed ``vs``, viscous ``Fv``) [-]."""
+    return {"vs": "m/s", "Fv": "N s/m"}.get(name, "N" if name[:2] in ("Fc", "Fs") else "SI")
+
+
 def _parameters_frame(axis: dict, opened=()):
     """Identified parameters of one axis with their standard deviations; a parameter the
     fit or the verdict leaves open (``opened``: its open quantities) is not determined,
@@ -239,11 +245,11 @@ def identification_section(summary: dict, images: dict | None = None):
                       caption="std: one standard deviation of the fit; a parameter the "
                               "data do not determine keeps its start value.")
         if axis.get("friction"):
-            body += table(pd.DataFrame([{"friction": k, "value": v["value"], "std": v["std"]}
+            body += table(pd.DataFrame([{"friction": k, "unit": _friction_unit(k),
+                                         "value": v["value"], "std": v["std"]}
                                         for k, v in axis["friction"].items()]),
                           f"friction_{name}.csv", digits={"value": None, "std": None},
-                          caption="friction fitted to the friction runs, SI units "
-                                  "(N, N s/m, m/s)")
+                          caption="friction fitted to the friction runs, at the table")
         if f"lostmotion_{name}" in images:
             body += figure(images[f"lostmotion_{name}"], f"lost motion of axis {name}",
                            "nut deflection of the friction runs against speed", 620)

@@ -3,6 +3,8 @@ the measured bins do not support removed (see :mod:`~tcpmm.ident.lti.frffit`).""
 
 from __future__ import annotations
 
+from itertools import combinations
+
 import numpy as np
 
 from ._tfcore import fit_numerator, relative_cost
@@ -45,18 +47,35 @@ def clean_fit(fit: TFFit, sigma, floor, grid):
     if notes:
         fit = _refit_numerator(fit, pn, fit.n_num)
     while fit.n_num > 0 and fit.pn.size > 0:
-        zn = fit.zeros / omega0
-        found = [(_factor_deviation(x, p, z, sigma), p, z)
-                 for p in _units(fit.pn) for z in _units(zn) if p.size == z.size]
-        if not found:
+        found = _unsupported(x, fit.pn, fit.zeros / omega0, sigma)
+        if found is None:
             break
-        dev, p, z = min(found, key=lambda c: c[0])
-        if dev >= CANCEL_SIGMA:
-            break
+        dev, p, z = found
         fit = _refit_numerator(fit, _without(fit.pn, p), fit.n_num - z.size)
-        notes.append(f"removed a pole-zero pair at {place(abs(p[0]) * omega0 / 2 / np.pi, f)} "
-                     f"(it changes the response by {dev:.2g} noise levels at most)")
+        at = place(abs(p[0]) * omega0 / 2 / np.pi, f)
+        n = len(_units(p))
+        what = f"a pole-zero pair at {at}" if n == 1 else f"{n} pole-zero pairs near {at}"
+        notes.append(f"removed {what} ({'it changes' if n == 1 else 'together they change'} "
+                     f"the response by {dev:.2g} noise levels at most)")
     return fit, notes
+
+
+def _unsupported(x, pn, zn, sigma):
+    """The poles and zeros the data support least, ``(deviation, poles, zeros)``, if their
+    joint factor changes the response by less than CANCEL_SIGMA; else ``None``. One pole
+    with one zero (pairs or real) first; then two with two, which cancel only together (a
+    double pair between two zeros: either zero alone leaves a peak or a dip) [-]."""
+    pu, zu = _units(pn), _units(zn)
+    for k in (1, 2):
+        found = [(_factor_deviation(x, np.concatenate(p), np.concatenate(z), sigma),
+                  np.concatenate(p), np.concatenate(z))
+                 for p in combinations(pu, k) for z in combinations(zu, k)
+                 if sum(u.size for u in p) == sum(u.size for u in z)]
+        if found:
+            best = min(found, key=lambda c: c[0])
+            if best[0] < CANCEL_SIGMA:
+                return best
+    return None
 
 
 def place(f_hz: float, band_hz) -> str:

@@ -21,8 +21,8 @@
   :data:`~tcpmm.ident.lti._needles.CANCEL_SIGMA` noise levels at fewer than
   :data:`~tcpmm.ident.lti._needles.SUPPORT_BINS` bins are not supported by the data (a
   resonance needs more than one bin) and are removed, the numerator fitted again each
-  time. A lightly damped pair (damping below 0.2) outside the
-  band counts against a candidate order.
+  time; then two poles with two zeros, which may cancel only together. A lightly damped
+  pair (damping below 0.2) outside the band counts against a candidate order.
 * **Both error measures.** The fit of the pole count chosen or given must leave a total
   relative error ``sum |H - H_model|^2 / sum |H|^2`` no larger than vector fitting's
   relocated poles do; where the relative fit leaves more (too few poles spent on the small

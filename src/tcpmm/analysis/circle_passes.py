@@ -19,7 +19,6 @@ arcs of :data:`MIN_ARC_DEG` or more (a ballbar's 220 deg arcs in XZ and YZ).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import pairwise
 
 import numpy as np
 
@@ -109,9 +108,11 @@ def _one_way(ang):
     if moving.size < 2:
         return [(0, ang.size)]
     way = np.sign(d[moving])
-    flips = moving[1:][way[1:] != way[:-1]]
-    bounds = [int(moving[0]), *flips.tolist(), int(moving[-1]) + 1]
-    return [(lo, hi + 1) for lo, hi in pairwise(bounds)]
+    cut = np.flatnonzero(way[1:] != way[:-1]) + 1  # the first step of each part after one
+    first, last = np.r_[0, cut], np.r_[cut - 1, moving.size - 1]
+    # each part from its first turning step to the end of its last: a stop between the
+    # two directions (a CCW pass, a dwell, then CW) belongs to neither
+    return [(int(moving[a]), int(moving[b]) + 2) for a, b in zip(first, last, strict=True)]
 
 
 #: How far beyond the scatter of its middle half (its median distance from the level)

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from tcpmm.cli import main
+from tcpmm.errors import InputWarning
 from tcpmm.io.modelfile import read_machine
 from tcpmm.servo.margins import axis_margins
 from tcpmm.servo.params import ServoParams
@@ -283,11 +284,12 @@ def test_a_proposal_that_predicts_a_worse_path_says_so_and_why():
     def circle(ce):
         return {"ccw": {"spike_um": 20.0, "contour_error_um": ce}}
 
-    [note] = _worse_note(circle(16.42), circle(16.91), axes, 6.0, 45.0)
+    [note] = _worse_note(circle(16.42), circle(16.91), axes, (6.0, 45.0), False, False)
     assert "worse after: ccw contour error 16.42 -> 16.91 um" in note
     assert "X velocity 4.8 dB / 13.9 deg" in note and "position" not in note
-    assert _worse_note(circle(16.91), circle(16.42), axes, 6.0, 45.0) == []
-    assert _worse_note(circle(float("inf")), circle(16.42), axes, 6.0, 45.0) == []
+    assert _worse_note(circle(16.91), circle(16.42), axes, (6.0, 45.0), False, False) == []
+    assert _worse_note(circle(float("inf")), circle(16.42), axes, (6.0, 45.0), False,
+                       False) == []
 
 
 def test_a_program_whose_largest_deviation_grows_is_worse_too():
@@ -301,7 +303,7 @@ def test_a_program_whose_largest_deviation_grows_is_worse_too():
     axes = {"X": SimpleNamespace(margins_before={})}
     before = {"program": {"max_deviation_um": 14.40, "rms_deviation_um": 3.0}}
     after = {"program": {"max_deviation_um": 28.96, "rms_deviation_um": 2.9}}
-    [note] = _worse_note(before, after, axes, 6.0, 45.0)
+    [note] = _worse_note(before, after, axes, (6.0, 45.0), False, True)
     assert "program max deviation 14.40 -> 28.96 um" in note and "rms" not in note
 
 
@@ -325,7 +327,50 @@ def test_the_proposal_is_checked_at_the_faster_feed_and_when_it_leaves_the_circl
         warnings.simplefilter("always")
         res = tune_and_predict(m, 40.0, 89.0)
     assert not any("no prediction" in str(w.message) for w in said)
-    assert any(n.startswith("after: the proposal's path is no prediction") for n in res.notes)
+    # a loop so slow that its TCP circle is millimetres small is still a prediction: its
+    # figures are given, and the note says they are worse (the circle's command is the
+    # reference, as tcpmm circle takes it)
+    assert res.path_after["ccw"]["contour_error_um"] > 1000.0
+    assert any(n.startswith("the predicted path is worse after") for n in res.notes)
+    # the position loop has no crossover at its gain: what limits it is said without the
+    # 'inf deg at its gain crossover nan Hz' it read
+    said = " ".join(n for t in res.axes.values() for n in t.notes)
+    assert "K_pp" in said and "nan" not in said and "inf deg" not in said
+
+
+def test_an_axis_that_keeps_unstable_settings_is_named_as_the_cause():
+    """X's loop unstable and no gain meeting the margins on it: the proposal's path (X with
+    its settings) is no prediction, and the note blamed the margins ('leave this machine's
+    loops too slow; ask for smaller ones')."""
+    from types import SimpleNamespace
+
+    from tcpmm.whatif.tuning import PathFigures, _path_notes
+
+    none = PathFigures({"ccw": {"contour_error_um": float("nan")}})
+    none.faults = ["axis X's sampled servo loop is unstable (spectral radius 1.0034)"]
+    axes = {"X": SimpleNamespace(met=False), "Y": SimpleNamespace(met=True)}
+    after = next(n for n in _path_notes(none, none, axes, GM, PM, {}, False)
+                 if n.startswith("after:"))
+    assert "X keeps settings that no gain meeting the margins replaces" in after
+    assert "ask for smaller ones" not in after
+
+
+def test_settings_of_a_slow_but_stable_position_loop_are_a_prediction():
+    """K_pp 5 1/s and k_ff 0.6 (as on bench C's model): tune said "before: the settings as
+    they are are no prediction on the model (its TCP leaves the path)", every figure n/a,
+    though the loop is stable and simulate finds no fault: its TCP circle lies 2 mm inside
+    the command's, and the TCP was searched for a circle of its own."""
+    from tcpmm.machines.builtin import builtin_machine
+
+    m = builtin_machine()
+    slow = m.model_copy(update={"axes": {n: a.replace(servo=a.servo.model_copy(
+        update={"K_pp": 5.0, "k_ff": 0.6})) for n, a in m.axes.items()}})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        res = tune_and_predict(slow, GM, PM)
+    assert not any(n.startswith("before:") for n in res.notes), res.notes
+    ce = res.path_before["ccw"]["contour_error_um"]
+    assert 100.0 < ce < 1e4 and ce > res.path_after["ccw"]["contour_error_um"]
 
 
 def test_a_proposal_the_current_limit_holds_back_says_so(vmc):

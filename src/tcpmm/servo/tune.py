@@ -252,15 +252,32 @@ def _limit(margins, radius, k, gm, pm) -> str:
     ``k`` and crossover) or the stability of the sampled loop [-]."""
     m, above = margins(k), margins(k * (1 + 3 * _RESOLUTION))
     if above.gain_margin_db < gm:
-        return (f"gain margin ({m.gain_margin_db:.1f} dB at its phase crossover "
-                f"{m.phase_crossover_hz:.0f} Hz)")
+        at, there = _crossing(m, above, "gain_margin_db", "phase_crossover_hz")
+        return (f"gain margin ({at.gain_margin_db:.1f} dB at its phase crossover "
+                f"{_hz(at.phase_crossover_hz)} Hz{there})")
     if above.phase_margin_deg < pm:
-        return (f"phase margin ({m.phase_margin_deg:.1f} deg at its gain crossover "
-                f"{m.gain_crossover_hz:.0f} Hz)")
+        at, there = _crossing(m, above, "phase_margin_deg", "gain_crossover_hz")
+        return (f"phase margin ({at.phase_margin_deg:.1f} deg at its gain crossover "
+                f"{_hz(at.gain_crossover_hz)} Hz{there})")
     if radius is not None and radius(k * (1 + 3 * _RESOLUTION)) >= 1:
         return "stability of the sampled loop (spectral radius reaching 1)"
     return (f"margins ({m.gain_margin_db:.1f} dB, {m.phase_margin_deg:.1f} deg; the scan "
             "found no larger gain meeting them)")
+
+
+def _hz(f: float) -> str:
+    """A crossover frequency in whole Hz, or two significant digits below 10 Hz [Hz]."""
+    return f"{f:.0f}" if f >= 10 else f"{f:.2g}"
+
+
+def _crossing(m, above, margin: str, crossover: str):
+    """The margins to quote for a limit: those at the gain, or just above it where the
+    loop has no such crossover at the gain (a position loop whose gain stays below 1
+    until it is raised: its phase margin infinite, its crossover none), and the words that
+    say which [-]."""
+    if np.isfinite(getattr(m, margin)) and np.isfinite(getattr(m, crossover)):
+        return m, ""
+    return above, ", where the loop first crosses over just above this gain"
 
 
 def velocity_limit(mech, servo, gm, pm) -> str:

@@ -18,6 +18,7 @@ from ..errors import InputError, InputWarning
 from ..machines.paper import RADIUS_MM, SETTLED_TURNS, circle_test_command, paper_circle_command
 from ..model import Machine
 from ..servo.sampled import sampled_spectral_radius
+from ..servo.tune import meets_margins
 from ..sim.simulate import simulate
 from ..units import mm_to_m
 from .tuning_axes import axis_reasons, contouring_axes, left_out_note, moved_axes, tune_axes
@@ -171,8 +172,8 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
         try:
             with warnings.catch_warnings():  # of tune's own circle, which the user runs not
                 warnings.simplefilter("ignore", InputWarning)
-                res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("tcp",))
-        except InputError:  # the TCP does not follow the circle: no figure of it
+                res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("cmd", "tcp"))
+        except InputError:  # the command holds no circle: no figure of it
             return none
         out = PathFigures()
         for p in res.passes:
@@ -238,11 +239,13 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     notes = (left_out_note(matched, moved)
              + _matched_notes(tuned, axes, matched, met, (after, dropped), circle))
     before = path_figures(machine, cmd, circle)
-    notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped)
+    settled = all(meets_margins(machine.axes[n].mechanics, machine.axes[n].servo, gm_db,
+                                pm_deg) for n in axes)
+    notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled)
     if circle:
         notes += _faster_note(machine, tuned)
     return TuneResult(tuned, axes, before, after, notes, *roles,
-                      axis_reasons(axes, matched, moved, named))
+                      axis_reasons(axes, matched, moved, named, _worst(after) < float("inf")))
 
 
 def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: tuple,
@@ -273,32 +276,34 @@ def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: t
 
 
 def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float,
-                dropped: dict):
+                dropped: dict, settled: bool):
     """Notes on the paths before and after: one that is no prediction and why, and the
     figures the proposal makes worse (:func:`_worse_note`) [-]."""
     notes = []
     if _worst(before) == float("inf"):
-        why = "; ".join(before.faults) or "its TCP leaves the path"
+        why = "; ".join(before.faults) or "its run holds no circle to measure"
         notes.append(f"before: the settings as they are are no prediction on the model "
                      f"({why}), so their path is left out")
+    kept = [n for n, t in axes.items() if not t.met]
     if _worst(after) == float("inf"):
-        notes.append("after: the proposal's path is no prediction (" + (
-            "; ".join(after.faults) + "): keep the settings, or lower the gains or the feed "
-            "until the current stays within its limit" if after.limited else
-            (("; ".join(after.faults) or "its TCP leaves the path") + f"): the margins "
-             f"asked, {gm_db:g} dB / {pm_deg:g} deg, leave this machine's loops too slow; "
-             "ask for smaller ones")))
+        why = "; ".join(after.faults) or "its run holds no circle to measure"
+        notes.append(f"after: the proposal's path is no prediction ({why}): " + (
+            "keep the settings, or lower the gains or the feed until the current stays "
+            "within its limit" if after.limited else
+            f"{', '.join(kept)} keep{'s' if len(kept) == 1 else ''} settings that no gain "
+            "meeting the margins replaces; tune by hand" if kept else
+            f"the margins asked, {gm_db:g} dB / {pm_deg:g} deg, leave this machine's loops "
+            "too slow; ask for smaller ones"))
     limited = any(f.limited for f in dropped.values())
-    return notes + _worse_note(before, after, axes, gm_db, pm_deg, limited)
+    return notes + _worse_note(before, after, axes, (gm_db, pm_deg), limited, settled)
 
 
 def _dropped_words(dropped: dict) -> str:
     """What the feedforward fractions left out of the choice did: ``""`` for none [-]."""
     if not dropped:
         return ""
-    first = next(iter(dropped.values()))
     return (f"; k_ff = {', '.join(f'{k:g}' for k in dropped)} left out: their path is no "
-            f"prediction ({'; '.join(first.faults)})")
+            f"prediction ({'; '.join(next(iter(dropped.values())).faults)})")
 
 
 #: Feed of the second circle the proposal is checked on: the paper's faster one [mm/min].
@@ -330,12 +335,14 @@ def _grown(before: dict, after: dict) -> list[str]:
     return out
 
 
-def _worse_note(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float,
-                limited: bool = False):
+def _worse_note(before: dict, after: dict, axes: dict, margins: tuple, limited: bool,
+                settled: bool):
     """A note where a figure of the proposal's path is worse than the settings' before (any
     of them: a program's largest deviation can double while its RMS falls): the margins it
     restores, and how to trade them back; where the current limit held the feedforward
-    back (``limited``), that it is not the margins [-]."""
+    back (``limited``), that it is not the margins; where the settings meet them already,
+    also with the modes off (``settled``), to keep the settings [-]."""
+    gm_db, pm_deg = margins
     grown = _grown(before, after)
     if not grown or _worst(before) == float("inf"):
         return []
@@ -346,9 +353,15 @@ def _worse_note(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: flo
             if d["phase_margin_deg"] < pm_deg or d["gain_margin_db"] < gm_db:
                 short.append(f"{name} {loop} {d['gain_margin_db']:.1f} dB / "
                              f"{d['phase_margin_deg']:.1f} deg")
+    if not short and not limited and settled:
+        return [f"the predicted path is worse after: {'; '.join(grown)}; the settings "
+                f"before meet {gm_db:g} dB / {pm_deg:g} deg already and predict the smaller "
+                "error: keep them, unless the proposal's velocity loops are wanted for "
+                "their stiffness against the cutting forces"]
     why = (f"the settings before leave less than {gm_db:g} dB / {pm_deg:g} deg ("
            + "; ".join(short) + "), and the proposal buys the margins with it") if short else \
-        "the proposal's gains are those that meet the margins"
+        ("the settings before meet them as modelled but not with the modes off the model's "
+         "frequencies, and the proposal buys that with it")
     trade = ("the current limit holds the feedforward back (above), not the margins: keep "
              "the settings or raise the limit" if limited else
              "smaller margins (--margins) trade some back")
@@ -381,4 +394,6 @@ def _best_feedforward(tuned: Machine, names: list, cmd, circle: bool):
             dropped[k] = figs
         if best is None or _worst(figs) < _worst(best[1]):
             best = (m, figs)
+    if _worst(best[1]) == float("inf"):  # no fraction is a prediction: none is chosen
+        return tuned, path_figures(tuned, cmd, circle), dropped
     return (*best, dropped)

@@ -115,7 +115,8 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list) -> dict:
     return {n: out[n] for n in machine.axes}
 
 
-def axis_reasons(axes: dict, matched: list, moved: list, named: bool) -> dict:
+def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
+                 predicted: bool = True) -> dict:
     """Per axis, one sentence: whether the path moves it, whether its position gain is
     matched, and what became of its position gain and feedforward [-].
 
@@ -127,6 +128,8 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool) -> dict:
         The contouring axes, and the axes the path moves [-].
     named : bool
         Whether the user named the contouring axes (``--axes``) [-].
+    predicted : bool
+        Whether the proposal's path is a prediction the feedforward could be chosen on [-].
 
     Returns
     -------
@@ -151,8 +154,9 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool) -> dict:
             which = "" if named or not matched else ", which the path moves"
             words.append(f"{kpp}{own}; not matched to {', '.join(matched) or 'any axis'}"
                          + which)
-        if n not in moved or n not in matched:
-            why = "the path does not move it" if n not in moved else "it is not matched"
+        if n not in moved or n not in matched or not predicted:
+            why = ("the path does not move it" if n not in moved else "it is not matched"
+                   if n not in matched else "the path is no prediction to choose it on")
             words.append(f"k_ff kept ({why})")
         elif t.met:
             words.append(f"k_ff {'kept' if a.k_ff == b.k_ff else f'{b.k_ff:g} -> {a.k_ff:g}'}"

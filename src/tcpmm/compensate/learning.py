@@ -48,7 +48,14 @@ def extended(command: Command, delay: int, tail: int) -> tuple[Command, Command]
     for a, p in command.positions.items():
         ref[a] = np.concatenate([p, np.full(delay + tail, p[-1])])
         tgt[a] = np.concatenate([np.full(delay, p[0]), p, np.full(tail, p[-1])])
-    return Command(t, ref, dict(command.meta)), Command(t, tgt, dict(command.meta))
+    meta_ref, meta_tgt = dict(command.meta), dict(command.meta)
+    blocks = command.blocks()
+    for name, b in zip(("nc_line", "rapid"), blocks or (), strict=False):
+        # a program's block of each sample, held and delayed with it: its G0 rapids stay
+        # out of the contour error, as tcpmm contour leaves them out
+        meta_ref[name] = np.concatenate([b, np.full(delay + tail, b[-1])])
+        meta_tgt[name] = np.concatenate([np.full(delay, b[0]), b, np.full(tail, b[-1])])
+    return Command(t, ref, meta_ref), Command(t, tgt, meta_tgt)
 
 
 def fade(n: int, tail: int) -> np.ndarray:

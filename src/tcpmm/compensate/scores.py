@@ -47,6 +47,9 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=
         for a, r in run.axes.items():
             if a in path.positions:
                 r.cmd = path.positions[a][:run.time_s.size]
+        blocks = path.blocks()
+        if blocks is not None:  # the rapids of the path judged against, delayed with it
+            run.nc_line, run.rapid = (b[:run.time_s.size] for b in blocks)
     return before, after
 
 
@@ -84,8 +87,10 @@ def judged_path(comp) -> Command:
 
 
 def contour_figures(run, path: Command) -> dict:
-    """Largest and rms TCP contour error along the path, in um [-]."""
-    e = np.abs(contour_error(run, command=path).errors["tcp"])
+    """Largest and rms TCP contour error along the path, G0 rapids left out as
+    :func:`tcpmm.analysis.contour.contour_error` leaves them out, in um [-]."""
+    res = contour_error(run, command=path)
+    e = np.abs(res.errors["tcp"] if res.counted is None else res.errors["tcp"][res.counted])
     e = e[np.isfinite(e)]
     return {"contour_error_um": float(np.max(e) * 1e6),
             "contour_rms_um": float(np.sqrt(np.mean(e ** 2)) * 1e6)}

@@ -1075,3 +1075,17 @@ def test_a_term_of_the_geometry_seen_at_the_scale_is_called_the_loops():
     assert term_place(10e-6, 8e-6, "linear scale", "backlash_X") == \
         "at the linear scale too: in the axis"
     assert term_place(10e-6, 1e-6, "linear scale", "backlash_X").endswith("not the drive")
+
+
+@pytest.mark.parametrize("start_deg", [45.0, 10.0, 60.0])
+def test_a_sample_on_a_reversal_point_makes_no_spike(start_deg):
+    """Started on a round angle, a circle has samples on the quadrant points to the
+    rounding, where the backlash step has no side (or lies half-way): the spike after the
+    pair's terms read the backlash, 3-10 um for none, from that one sample."""
+    err = {"b_x": 6e-6, "b_y": 3e-6}
+    diag = diagnose(err, start_deg=start_deg)
+    spikes = [diag[f"spike_{q}_{d}"] for q in "ABCD" for d in ("ccw", "cw")]
+    assert sum(np.isfinite(spikes)) >= 6  # those whose window the circles hold
+    assert all(abs(v) <= 4.5 * NOISE for v in spikes if np.isfinite(v)), spikes
+    assert diag["backlash_X"] == pytest.approx(6e-6, rel=0.02)
+    assert diag["backlash_Y"] == pytest.approx(3e-6, rel=0.02)

@@ -277,7 +277,7 @@ def _terms(fit, grids, deviations, curves, mean_rate):
     for d, (a, e, model) in curves.items():
         # from where the leading axis reverses, as the fit leaves its transient out
         lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
-        spikes = reversal_spikes(a, e - model, d, lead)
+        spikes = reversal_spikes(a, step_sides(e, model), d, lead)
         terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})
     mu = fit["servo_angle"]
     terms["servo_mismatch"] = (mu / mean_rate, "s")
@@ -288,6 +288,28 @@ def _terms(fit, grids, deviations, curves, mean_rate):
     terms["straightness_Y"] = (fit["straightness_Y"], "m")
     terms.update(cyclic_terms(fit))
     return terms
+
+
+#: A jump of the model between two samples larger than this many times its median one
+#: is a step (a backlash's or lateral play's at a reversal) [-]
+STEP_JUMP = 20.0
+
+
+def step_sides(e, model):
+    """The residual ``e - model``, where a sample next to a step of the model is measured
+    from the nearest value the step takes between its two sides: a sample on the reversal
+    point to the rounding has no side, and one taken while the axis crosses its play lies
+    between them (started on a round angle, a circle read a spike the size of the
+    backlash, 3 um for none, from that one sample) [m]."""
+    r = np.asarray(e - model, float)
+    jump = np.abs(np.diff(model))
+    if jump.size < 2:
+        return r
+    for k in np.flatnonzero(jump > STEP_JUMP * np.median(jump) + 1e-9):
+        lo, hi = sorted((model[k], model[k + 1]))
+        for j in (k, k + 1):
+            r[j] = e[j] - min(max(e[j], lo), hi)
+    return r
 
 
 def cyclic_terms(fit) -> dict:

@@ -4,6 +4,7 @@ settings in the model file."""
 
 import itertools
 import math
+import re
 import warnings
 
 import numpy as np
@@ -355,3 +356,20 @@ def test_the_lines_a_limit_holds_back_are_a_line_or_a_span(tmp_path, capsys):
     out = " ".join(capsys.readouterr().out.split())
     assert "in 11 blocks, between lines 4 and 15," in out and "in 1 block, line 16," in out
     assert "lines 16-16" not in out and "lines 4-15" not in out
+
+
+def test_held_back_blocks_are_nc_blocks_not_blend_pieces(tmp_path, capsys):
+    """A spiral of 2 deg G1 blocks under G64 P0.01: 'held back by path acceleration: 1.42 mm
+    in 8 blocks, between lines 7 and 10' counted each line and its blend, four blocks as
+    eight."""
+    rows = []
+    for k in range(720):
+        r, th = 10.0 + 30.0 * k / 719, math.radians(2.0 * k)
+        rows.append(f"G1 X{r * math.cos(th):.4f} Y{r * math.sin(th):.4f}\n")
+    (tmp_path / "s.nc").write_text("G21 G90 G17\nG0 X10 Y0 Z0\nG64 P0.01\nG1 F3000\n"
+                                   + "".join(rows[1:]))
+    assert main(["path", str(tmp_path / "s.nc"), "-o", str(tmp_path / "c.csv")]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    held = [(int(n), int(a), int(b)) for n, a, b in re.findall(
+        r"in (\d+) blocks, between lines (\d+) and (\d+)", out)]
+    assert held and all(n <= b - a + 1 for n, a, b in held), out

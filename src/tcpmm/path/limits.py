@@ -72,8 +72,10 @@ class FeedLimits:
         for c in dict.fromkeys(self.cause[self.held]):
             k = self.held & (self.cause == c)
             lines = self.line[k][self.line[k] >= 0]
+            # NC blocks, not the pieces blending cuts them into (a line and its blend)
+            blocks = np.unique(lines).size + int(np.count_nonzero(self.line[k] < 0))
             rows.append({"cause": str(c), "length_m": float(self.length_m[k].sum()),
-                         "blocks": int(k.sum()),
+                         "blocks": blocks,
                          "first_line": int(lines.min()) if lines.size else None,
                          "last_line": int(lines.max()) if lines.size else None,
                          "lowest_m_per_s": float(self.limit_m_per_s[k].min())})

@@ -645,3 +645,20 @@ def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):
     assert measured["rapids"]["samples"] > 100 and not measured["rapids"]["counted"]
     assert after["contour_rms_um"] == pytest.approx(measured["sensors"]["tcp"]["rms_um"],
                                                     rel=2e-3)
+
+
+def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, tmp_path):
+    """A plunge and a sharp corner: the interpolator steps each axis's velocity there by
+    its acceleration times the period, which the samples read as up to 1.5 times the
+    limit for one period; the compensated command reached 1.12 m/s2 with a limit of 1 and
+    nothing said it. Each axis beyond a limit is named, with the program's own peak."""
+    from conftest import run_cli
+
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90 G17 G64\nG0 X0 Y-5 Z5\nG1 Z0 F500\nG1 X8 F2500\nG1 Y5\nM30\n")
+    code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                             str(tmp_path / "c.csv"), "--draws", 0)
+    assert code == 0, err
+    said = [ln for ln in out.splitlines() if "above its limit of" in ln]
+    assert said and all("the program as planned reaches" in ln for ln in said), out
+    assert any(ln.strip().startswith("Z: acceleration up to") for ln in said), said

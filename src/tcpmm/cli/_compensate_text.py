@@ -41,6 +41,7 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         out.print(_row("planned", comp.scores["planned"]) + " (the program planned with the "
                   "headroom below, uncorrected)")
     out.print(_row("after", comp.scores["after"]))
+    _say_over_limits(comp)
     if comp.robustness.get("as_programmed"):
         out.print("  no share of the correction is applied: the program is written as "
                   "programmed, at the axes' full limits (the headroom serves only the "
@@ -68,6 +69,20 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     if reference is not None:
         out.print(f"wrote {reference}: the program as planned for the correction, "
                   "uncompensated; measure runs of the compensated command against it")
+
+
+def _say_over_limits(comp) -> None:
+    """A line per axis and limit the compensated command goes beyond, with the program's
+    own peak (:func:`tcpmm.compensate.bounds.over_limits`)."""
+    from ..compensate.bounds import over_limits
+
+    unit = {"acceleration": "m/s²", "jerk": "m/s³"}
+    for name, what, peak, lim, own in over_limits(comp.command, comp.reference, comp.bounds):
+        by = ("the correction adds nothing beyond it" if peak <= own * (1 + 1e-6) else
+              f"the correction takes it {peak - own:.3g} {unit[what]} further")
+        out.print(f"  {name}: {what} up to {peak:.3g} {unit[what]} for a sample, above its "
+                  f"limit of {lim:.3g}: the program as planned reaches {own:.3g} itself (a "
+                  f"sharp corner's velocity step, one period), {by}", highlight=False)
 
 
 #: How each verdict over the draws reads [-].

@@ -369,7 +369,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
 
 #: what to change when a limit holds the feed back
 _REMEDY = {"axis velocity": "axis_velocity_m_per_s, capped by rapid_m_per_s",
-           "curvature (centripetal acceleration)": "axis_accel_m_per_s2, or a larger radius",
+           "curvature (centripetal acceleration)": "axis_accel_m_per_s2, larger radii or G64 P",
            "filter tolerance on arcs": "corner_tolerance_m or a shorter filter",
            "corner: axis acceleration": "G64 P<tol> or blend_tolerance_m rounds corners off",
            "corner: filter tolerance": "corner_tolerance_m, G64 P<tol>",

@@ -139,3 +139,36 @@ def fit_within(reference: np.ndarray, correction: np.ndarray, period_s: float,
     # What is left over: the correction dropped wherever a limit is still exceeded.
     keep = excess(reference, correction, period_s, bounds)
     return shrink(correction, np.where(keep < 1.0, 0.0, 1.0), period_s)
+
+
+def over_limits(command, reference, bounds: dict) -> list[tuple]:
+    """Where the compensated command goes beyond an axis's acceleration or jerk limit, and
+    how far the program as planned does so itself: the interpolator passes a sharp corner
+    with a velocity step of the axis's acceleration times its period, which the samples
+    read as up to half as much again for one period; the correction adds nothing there
+    (:func:`excess` keeps it within what the program takes).
+
+    Parameters
+    ----------
+    command, reference : Command
+        The compensated command and the program as planned [m].
+    bounds : dict of str to AxisBounds
+        The limits [-].
+
+    Returns
+    -------
+    list of tuple
+        ``(axis, "acceleration" or "jerk", peak, limit, the program's own peak)`` [SI].
+    """
+    out = []
+    T = command.period_s
+    for name, x in command.positions.items():
+        b = bounds.get(name)
+        if b is None or name not in reference.positions:
+            continue
+        for order, what, lim in ((2, "acceleration", b.accel), (3, "jerk", b.jerk)):
+            peak = float(np.max(np.abs(derivative(x, order, T))))
+            if math.isfinite(lim) and peak > lim * (1 + 1e-6):
+                own = float(np.max(np.abs(derivative(reference.positions[name], order, T))))
+                out.append((name, what, peak, lim, own))
+    return out

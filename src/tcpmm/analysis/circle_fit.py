@@ -10,6 +10,7 @@ the previous fit puts them and its remainder beyond the ellipse taken off the da
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -81,8 +82,7 @@ class Arc:
     def mask(self):
         """Samples outside the reversals' transients and the ends' (:func:`steady_ends`)
         [-]."""
-        return fit_mask(self.angle, self.s, after_deg=(0.0, self.after_deg)) & \
-            steady_ends(self.angle)
+        return fit_mask(self.angle, self.s, after_deg=(0.0, self.after_deg)) & self.ends
 
     def mask_for(self, mu: float):
         """Samples outside the reversals' transients where each axis reverses with a
@@ -97,8 +97,12 @@ class Arc:
             Servo mismatch angle of the circles fitted together [rad].
         """
         lead = reversal_lead_deg(self.angle, self.ratio * mu)
-        return fit_mask(self.angle, self.s, after_deg=(-lead, self.after_deg)) & \
-            steady_ends(self.angle)
+        return fit_mask(self.angle, self.s, after_deg=(-lead, self.after_deg)) & self.ends
+
+    @cached_property
+    def ends(self):
+        """The samples between the pass's unsteady ends (:func:`steady_ends`) [-]."""
+        return steady_ends(self.angle)
 
     def positions(self, radius, angle=None, e=None):
         """``(x, y)`` of the tool about the nominal centre [m]."""

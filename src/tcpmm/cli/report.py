@@ -72,11 +72,12 @@ def _date(text):
 
     if text is None:
         return None
-    if not re.fullmatch(r"\d{4}-\d{2}-\d{2}", text.strip()):
+    text = text.strip()
+    if not re.fullmatch(r"\d{4}-\d{2}-\d{2}", text):
         raise typer.BadParameter(f"--measured-on {text!r}: give the date as YYYY-MM-DD, "
                                  "e.g. 2026-11-30")
     try:
-        day = datetime.date.fromisoformat(text.strip())
+        day = datetime.date.fromisoformat(text)
     except ValueError as exc:
         raise typer.BadParameter(f"--measured-on {text!r}: no such day ({exc})") from None
     # a day ahead is another time zone's today; more is a mistyped year

@@ -44,18 +44,19 @@ def extended(command: Command, delay: int, tail: int) -> tuple[Command, Command]
     to follow: the same delayed by ``delay`` samples [-]."""
     n = command.time_s.size + delay + tail
     t = command.time_s[0] + np.arange(n) * command.period_s
-    ref, tgt = {}, {}
-    for a, p in command.positions.items():
-        ref[a] = np.concatenate([p, np.full(delay + tail, p[-1])])
-        tgt[a] = np.concatenate([np.full(delay, p[0]), p, np.full(tail, p[-1])])
-    meta_ref, meta_tgt = dict(command.meta), dict(command.meta)
-    blocks = command.blocks()
-    for name, b in zip(("nc_line", "rapid"), blocks or (), strict=False):
-        # a program's block of each sample, held and delayed with it: its G0 rapids stay
-        # out of the contour error, as tcpmm contour leaves them out
-        meta_ref[name] = np.concatenate([b, np.full(delay + tail, b[-1])])
-        meta_tgt[name] = np.concatenate([np.full(delay, b[0]), b, np.full(tail, b[-1])])
-    return Command(t, ref, meta_ref), Command(t, tgt, meta_tgt)
+
+    def held(x):
+        return np.concatenate([x, np.full(delay + tail, x[-1])])
+
+    def delayed(x):
+        return np.concatenate([np.full(delay, x[0]), x, np.full(tail, x[-1])])
+
+    # a program's block of each sample, held and delayed with it: its G0 rapids stay out
+    # of the contour error, as tcpmm contour leaves them out
+    blocks = dict(zip(("nc_line", "rapid"), command.blocks() or (), strict=False))
+    return tuple(Command(t, {a: f(p) for a, p in command.positions.items()},
+                         {**command.meta, **{k: f(b) for k, b in blocks.items()}})
+                 for f in (held, delayed))
 
 
 def fade(n: int, tail: int) -> np.ndarray:

@@ -148,6 +148,14 @@ def _largest(ok, start: float, cap: float = math.inf, down: float = _STEP,
     return lo
 
 
+def velocity_loop_ok(mech, servo, gm, pm) -> bool:
+    """Whether the velocity loop of ``servo`` meets the margins and, with the position
+    gain at most :data:`VELOCITY_ONLY_K_PP`, stays stable with its modes off the model's
+    frequencies (:func:`~tcpmm.servo.modeshift.robustly_stable`) [-]."""
+    alone = _with(servo, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
+    return velocity_margins(mech, servo).meets(gm, pm) and robustly_stable(mech, alone, gm)
+
+
 def _velocity_gain(mech, servo, gm, pm, start=None):
     """Largest velocity gain meeting the margins, robustly stable; ``None`` if none.
 
@@ -157,9 +165,7 @@ def _velocity_gain(mech, servo, gm, pm, start=None):
     settings' gain) in steps of :data:`_DESCENT` to the first gain that meets them.
     """
     def ok(k):
-        s = _pi(mech, servo, k)
-        alone = _with(s, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
-        return velocity_margins(mech, s).meets(gm, pm) and robustly_stable(mech, alone, gm)
+        return velocity_loop_ok(mech, _pi(mech, servo, k), gm, pm)
     top = _DESCENT ** 6 * (start if start is not None else servo.K_vp)
     return _largest(ok, top, down=_DESCENT, tries=_DESCENT_TRIES)
 

@@ -11,12 +11,11 @@ The feedforward stays as it is: it is judged on the path, which does not move th
 
 from __future__ import annotations
 
-from .margins import axis_margins, velocity_margins
-from .modeshift import robustly_stable, slower_warnings
+from .margins import axis_margins
+from .modeshift import slower_warnings
 from .params import ServoParams
 from .sampled import sampled_spectral_radius
 from .tune import (
-    VELOCITY_ONLY_K_PP,
     AxisTuning,
     gain_notes,
     light_mode_warnings,
@@ -24,6 +23,7 @@ from .tune import (
     tune_position,
     tune_velocity,
     velocity_limit,
+    velocity_loop_ok,
 )
 
 
@@ -58,11 +58,8 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
                            f"{apart}"],
                           light_mode_warnings(mech, before, servo))
     notes = []
-    alone = ServoParams.create(**{**servo.model_dump(),
-                                  "K_pp": min(servo.K_pp, VELOCITY_ONLY_K_PP)})
-    vel_ok = (velocity_margins(mech, servo).meets(gm_db, pm_deg)
-              and robustly_stable(mech, alone, gm_db))
-    vel = servo if vel_ok else tune_velocity(mech, servo, gm_db, pm_deg, notes)
+    vel = (servo if velocity_loop_ok(mech, servo, gm_db, pm_deg) else
+           tune_velocity(mech, servo, gm_db, pm_deg, notes))
     k, why = (None, "") if vel is None else tune_position(mech, vel, gm_db, pm_deg)
     # its own largest may lie above its gain: a gain raised is no margin met, and the
     # path does not move the axis to gain from it

@@ -239,8 +239,8 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     notes = (left_out_note(matched, moved)
              + _matched_notes(tuned, axes, matched, met, (after, dropped), circle))
     before = path_figures(machine, cmd, circle)
-    settled = all(meets_margins(machine.axes[n].mechanics, machine.axes[n].servo, gm_db,
-                                pm_deg) for n in axes)
+    settled = bool(_grown(before, after)) and all(meets_margins(  # read only if it grew
+        machine.axes[n].mechanics, machine.axes[n].servo, gm_db, pm_deg) for n in axes)
     notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled)
     if circle:
         notes += _faster_note(machine, tuned)

@@ -316,6 +316,36 @@ def test_headroom_plans_the_program_with_the_rest_of_the_limits(tmp_path, capsys
     assert "already timed" in capsys.readouterr().err
 
 
+def test_a_sharp_corner_planned_with_headroom_stays_within_the_full_limit(tmp_path, capsys):
+    """Under G64 without P the zig-zag's corners stay sharp: the planned program brakes
+    into each at three quarters of the limit, and its velocity step may take only the
+    quarter left, so that the program, and the correction on it, stay within the axes'
+    limit (the step at the planned limit read 1.11 m/s2 against 1)."""
+    from tcpmm.cli import main
+    from tcpmm.compensate.bounds import derivative
+    from tcpmm.compensate.headroom import program_with_headroom
+    from tcpmm.path import InterpolatorSettings, read_command_csv
+
+    prog = tmp_path / "zig.nc"
+    prog.write_text("G90 G17 G64 F5000\nG1 X20 Y0\nG1 X20 Y1\nG1 X0 Y1\nG1 X0 Y2\n"
+                    "G1 X20 Y2\n")
+    settings = InterpolatorSettings()
+    limit = settings.path_accel_m_per_s2
+    full, planned = program_with_headroom(prog, settings, 0.25)
+    for a in ("X", "Y"):
+        assert np.max(np.abs(derivative(full.positions[a], 2, full.period_s))) > 1.2 * limit
+        assert np.max(np.abs(derivative(planned.positions[a], 2, planned.period_s))) <= (
+            limit * (1 + 1e-9))
+    out = tmp_path / "c.csv"
+    assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
+                 "--draws", "0", "--iterations", "4"]) == 0
+    assert "above its limit" not in capsys.readouterr().out
+    comp = read_command_csv(out)
+    for a in ("X", "Y"):
+        acc = np.abs(derivative(comp.positions[a], 2, comp.period_s))
+        assert np.max(acc) <= limit * (1 + 1e-6)
+
+
 class _SpikeOf:
     """A circle's figures read off the TCP: a spike that moves ``slope`` times as much as
     the largest error across the path, and a G that does not move [m]."""
@@ -648,17 +678,19 @@ def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):
 
 
 def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, tmp_path):
-    """A plunge and a sharp corner: the interpolator steps each axis's velocity there by
-    its acceleration times the period, which the samples read as up to 1.5 times the
-    limit for one period; the compensated command reached 1.12 m/s2 with a limit of 1 and
-    nothing said it. Each axis beyond a limit is named, with the program's own peak."""
+    """A plunge and a sharp corner planned at the full limits (no headroom): the
+    interpolator steps each axis's velocity there by its acceleration times the period,
+    which the samples read as up to 1.5 times the limit for one period; the compensated
+    command reached 1.12 m/s2 with a limit of 1 and nothing said it. Each axis beyond a
+    limit is named, with the program's own peak."""
     from conftest import run_cli
 
     prog = tmp_path / "p.nc"
     prog.write_text("G21 G90 G17 G64\nG0 X0 Y-5 Z5\nG1 Z0 F500\nG1 X8 F2500\nG1 Y5\nM30\n")
     code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
-                             str(tmp_path / "c.csv"), "--draws", 0)
+                             str(tmp_path / "c.csv"), "--draws", 0, "--headroom", 0)
     assert code == 0, err
     said = [ln for ln in out.splitlines() if "above its limit of" in ln]
     assert said and all("the program as planned reaches" in ln for ln in said), out
     assert any(ln.strip().startswith("Z: acceleration up to") for ln in said), said
+

@@ -244,6 +244,30 @@ def test_corner_velocity_step_is_one_period_of_axis_acceleration(prog, axis_acc,
     assert np.all(acc.max(axis=0) <= np.array(axis_acc) * (1 + 1e-9) + 2 * jerk * dt + noise)
 
 
+@settings(max_examples=30, deadline=None)
+@given(
+    prog=programs(max_moves=6, arcs=False, min_len_mm=5.0),
+    axis_acc=st.tuples(st.floats(0.5, 5.0), st.floats(0.5, 5.0), st.floats(0.5, 5.0)),
+    share=st.sampled_from([0.0, 0.25, 1.0]),
+)
+def test_corner_step_share_bounds_the_sampled_acceleration(prog, axis_acc, share):
+    """A trapezoid brakes into a sharp corner at the axes' limits; the corner's velocity
+    step comes on top, so the samples read at most ``1 + share`` times the limit."""
+    text, moves = prog
+    s = InterpolatorSettings(path_accel_m_per_s2=max(axis_acc), corner_step_share=share,
+                             axis_accel_m_per_s2=dict(zip("XYZ", axis_acc, strict=True)))
+    res = interpolate_detailed(parse_gcode(text), s)
+    v, dt = res.junction_speed_m_per_s, s.period_s
+    for i in range(1, len(moves)):
+        u0 = moves[i - 1]["end"] - moves[i - 1]["start"]
+        u1 = moves[i]["end"] - moves[i]["start"]
+        step = v[i] * np.abs(u1 / np.linalg.norm(u1) - u0 / np.linalg.norm(u0))
+        assert np.all(step <= share * np.array(axis_acc) * dt * (1 + 1e-9) + 1e-15)
+    acc = np.abs(np.diff(_xyz(res.command), 2, axis=0)) / dt**2
+    noise = 16 * np.finfo(float).eps * 0.1 / dt**2
+    assert np.all(acc.max(axis=0) <= (1 + share) * np.array(axis_acc) * (1 + 1e-9) + noise)
+
+
 def _to_segment(p, a, b):
     """Distance of points p from the segment a-b [m]."""
     ab = b - a

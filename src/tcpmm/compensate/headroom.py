@@ -41,7 +41,9 @@ def headroom_for(is_program: bool, headroom: float | None) -> float:
 
 def planned_settings(settings: InterpolatorSettings, headroom: float) -> InterpolatorSettings:
     """The interpolator settings with the path's and every axis's acceleration and the
-    path's jerk times ``1 - headroom``.
+    path's jerk times ``1 - headroom``, and a sharp corner's velocity step held to the
+    headroom's share of the axes' full acceleration: braking into the corner at the
+    planned limit and the step then add up to the full limit, not beyond it.
 
     Parameters
     ----------
@@ -57,6 +59,7 @@ def planned_settings(settings: InterpolatorSettings, headroom: float) -> Interpo
     return settings.model_copy(update={
         "path_accel_m_per_s2": settings.path_accel_m_per_s2 * k,
         "path_jerk_m_per_s3": settings.path_jerk_m_per_s3 * k,
+        "corner_step_share": min(settings.corner_step_share, headroom / k),
         "axis_accel_m_per_s2": {a: v * k for a, v in settings.axis_accel_m_per_s2.items()}})
 
 

@@ -44,7 +44,8 @@ _HEADER = """\
 #          [trapezoid|scurve], path_accel_m_per_s2 [m/s^2], path_jerk_m_per_s3 [m/s^3],
 #          axis_velocity_m_per_s [m/s], axis_accel_m_per_s2 [m/s^2], rapid_m_per_s [m/s],
 #          corner_tolerance_m [m], filter_kind [none|linear|bell], filter_time_s [s],
-#          blend_tolerance_m [m] (G64 without P; 0: sharp corners)
+#          blend_tolerance_m [m] (G64 without P; 0: sharp corners), corner_step_share [-]
+#          (of the axis acceleration a sharp corner's velocity step takes; 0: exact stops)
 """
 
 

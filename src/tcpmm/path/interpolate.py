@@ -256,7 +256,7 @@ def interpolate_detailed(
     vmax, acc, seg_cause = segment_limits(
         p, settings.axis_velocity(), settings.axis_accel(), settings.path_accel_m_per_s2, filt
     )
-    vj, junction_cause = junction_limits(p, vmax, acc, settings.axis_accel(), filt)
+    vj, junction_cause = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt)
     jerk = settings.jerk()
     v = ck.lookahead(p.length, vj, acc, jerk)
     prof = ck.segment_profiles(p.length, v, vmax, acc, jerk)

@@ -63,6 +63,12 @@ class InterpolatorSettings(BaseModel):
         Contour tolerance of continuous-path mode (G64) where the program gives no ``P``:
         a corner between two straight blocks is rounded off by an arc that stays within
         this distance of the corner point; 0 keeps corners sharp [m].
+    corner_step_share : float
+        Share of each axis's acceleration limit that the velocity step of a sharp corner
+        may take over the spread of the post-interpolation filter (one period without
+        one). The step comes on top of the braking into the corner and the speeding up
+        out of it, so the sampled command's acceleration may read up to ``1 + share``
+        times an axis's limit there; 0 makes every sharp corner an exact stop [-].
     """
 
     model_config = ConfigDict(extra="forbid")
@@ -78,6 +84,7 @@ class InterpolatorSettings(BaseModel):
     filter_kind: Literal["none", "linear", "bell"] = "none"
     filter_time_s: float = Field(0.0, ge=0.0, le=10.0)
     blend_tolerance_m: float = Field(0.0, ge=0.0, le=0.1)
+    corner_step_share: float = Field(1.0, ge=0.0, le=1.0)
 
     @field_validator("axis_velocity_m_per_s")
     @classmethod
@@ -107,6 +114,11 @@ class InterpolatorSettings(BaseModel):
     def axis_accel(self) -> tuple[float, float, float]:
         """Acceleration limit of X, Y, Z [m/s^2]."""
         return tuple(self.axis_accel_m_per_s2.get(a, self.path_accel_m_per_s2) for a in AXES)
+
+    def corner_step_accel(self) -> tuple[float, float, float]:
+        """Acceleration of X, Y, Z that a sharp corner's velocity step may take over the
+        filter's spread: ``corner_step_share`` of :meth:`axis_accel` [m/s^2]."""
+        return tuple(self.corner_step_share * a for a in self.axis_accel())
 
     def rapid(self) -> tuple[float, float, float]:
         """Rapid traverse speed of X, Y, Z [m/s]."""

@@ -177,7 +177,9 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
     acc : ndarray
         Tangential acceleration limit per segment [m/s^2].
     acc_axis : sequence of float
-        Acceleration limit of X, Y, Z [m/s^2].
+        Acceleration of X, Y, Z a corner's velocity step may take over the filter's
+        spread (:meth:`~tcpmm.path.settings.InterpolatorSettings.corner_step_accel`)
+        [m/s^2].
     filt : filters.FilterShape
         The post-interpolation filter [-].
 
@@ -230,7 +232,7 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
     acc : ndarray
         Tangential acceleration limit per segment [m/s^2].
     acc_axis : sequence of float
-        Acceleration limit of X, Y, Z [m/s^2].
+        Acceleration of X, Y, Z a corner's velocity step may take [m/s^2].
     filt : filters.FilterShape
         The post-interpolation filter [-].
 
@@ -243,7 +245,9 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
         Which of the three sets it, an index into ``JUNCTION_CAUSES`` [-].
     """
     with np.errstate(divide="ignore", invalid="ignore"):
-        step = np.asarray(acc_axis, float)[None, :] * filt.spread_s / np.abs(du)
+        adu = np.abs(du)
+        step = np.where(adu > 0.0, np.asarray(acc_axis, float)[None, :] * filt.spread_s / adu,
+                        np.inf)
         cap = min_rows(step)
         dun = np.linalg.norm(du, axis=1)
         tol = np.full(du.shape[0], np.inf)

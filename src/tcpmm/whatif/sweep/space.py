@@ -49,7 +49,8 @@ SERVO_ALIASES = {"position_gain": "K_pp", "velocity_gain": "K_vp",
 CIRCLE_PARAMETERS = ("radius_mm", "feed_mm_per_min")
 GCODE_PARAMETERS = ("feed_override",)
 INTERPOLATION_PARAMETERS = ("period_s", "path_accel_m_per_s2", "path_jerk_m_per_s3",
-                            "corner_tolerance_m", "filter_time_s", "blend_tolerance_m")
+                            "corner_tolerance_m", "filter_time_s", "blend_tolerance_m",
+                            "corner_step_share")
 _SERVO = ("K_pp", "K_vp", "K_vi", "k_ff", "T_p", "T_v", "current_limit",
           "current_bandwidth_hz", "delay_samples")
 _INTEGER = {"delay_samples", "encoder_counts_per_rev"}

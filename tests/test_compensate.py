@@ -694,3 +694,22 @@ def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, t
     assert said and all("the program as planned reaches" in ln for ln in said), out
     assert any(ln.strip().startswith("Z: acceleration up to") for ln in said), said
 
+
+def test_a_command_file_at_its_limit_is_not_called_beyond_it(capsys, tmp_path):
+    """Bench C's circle reaches 1.0001 m/s2 by the rounding of its 7 decimals alone; it was
+    said to be "up to 1 m/s2, above its limit of 1", caused by "a sharp corner's velocity
+    step" a circle does not have. Bench D's fast circle reaches 1.045 m/s2 itself: the
+    command file is named as the cause."""
+    from conftest import bench_path, run_cli
+
+    said = {}
+    for letter in ("c", "d"):
+        cmd = bench_path(letter) / "circle_ccw_fast_cmd.csv"
+        code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--command", str(cmd),
+                                 "-o", str(tmp_path / "c.csv"), "--draws", 0,
+                                 "--iterations", 2, "--accel-m-per-s2", 1)
+        assert code == 0, err
+        said[letter] = [ln for ln in out.splitlines() if "above its limit of" in ln]
+    assert said["c"] == []
+    assert said["d"] and all("the command file reaches 1.04 itself" in ln
+                             for ln in said["d"]), said["d"]

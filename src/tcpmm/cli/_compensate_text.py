@@ -18,7 +18,8 @@ def _row(label: str, fig: dict) -> str:
     return text
 
 
-def say_compensation(output: Path, report, comp, controller_out, cc, reference=None) -> None:
+def say_compensation(output: Path, report, comp, controller_out, cc, reference=None,
+                     program: bool = False) -> None:
     """Print what was written and the TCP error before and after, on the console.
 
     Parameters
@@ -33,6 +34,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         The controller-side compensation, where computed [-].
     reference : Path or None
         The program as planned for the correction, where written [-].
+    program : bool
+        Whether the command was planned from an NC program, not read from a file [-].
     """
     out.print(f"wrote {output} ({comp.reference.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
@@ -41,7 +44,7 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         out.print(_row("planned", comp.scores["planned"]) + " (the program planned with the "
                   "headroom below, uncorrected)")
     out.print(_row("after", comp.scores["after"]))
-    _say_over_limits(comp)
+    _say_over_limits(comp, program)
     if comp.robustness.get("as_programmed"):
         out.print("  no share of the correction is applied: the program is written as "
                   "programmed, at the axes' full limits (the headroom serves only the "
@@ -71,18 +74,20 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
                   "uncompensated; measure runs of the compensated command against it")
 
 
-def _say_over_limits(comp) -> None:
+def _say_over_limits(comp, program: bool) -> None:
     """A line per axis and limit the compensated command goes beyond, with the program's
-    own peak (:func:`tcpmm.compensate.bounds.over_limits`)."""
+    own peak (:func:`tcpmm.compensate.bounds.over_limits`): a planned program goes beyond
+    a limit only at a sharp corner's velocity step; a command file's cause is its own."""
     from ..compensate.bounds import over_limits
 
     unit = {"acceleration": "m/s²", "jerk": "m/s³"}
+    itself = ("the program as planned reaches {own:.3g} itself (a sharp corner's velocity "
+              "step, one period)" if program else "the command file reaches {own:.3g} itself")
     for name, what, peak, lim, own in over_limits(comp.command, comp.reference, comp.bounds):
         by = ("the correction adds nothing beyond it" if peak <= own * (1 + 1e-6) else
               f"the correction takes it {peak - own:.3g} {unit[what]} further")
         out.print(f"  {name}: {what} up to {peak:.3g} {unit[what]} for a sample, above its "
-                  f"limit of {lim:.3g}: the program as planned reaches {own:.3g} itself (a "
-                  f"sharp corner's velocity step, one period), {by}", highlight=False)
+                  f"limit of {lim:.3g}: {itself.format(own=own)}, {by}", highlight=False)
 
 
 #: How each verdict over the draws reads [-].

@@ -104,7 +104,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
-    say_compensation(output, report, comp, controller_out, cc, reference_out)
+    say_compensation(output, report, comp, controller_out, cc, reference_out,
+                     program=gcode is not None)
 
 
 def _write_reference(path, planned) -> None:

@@ -18,6 +18,11 @@ from ..path.settings import AXES, InterpolatorSettings
 #: Share of the current limit the nominal compensated run may use [-].
 CURRENT_SHARE = 0.95
 
+#: Share by which a peak must exceed a limit to be reported as beyond it: a command file's
+#: rounding alone moves a sample's acceleration that much (7 decimals of a mm at 1 ms:
+#: 1e-4 m/s^2), and a figure printed to three digits cannot show less [-].
+OVER_SHARE = 1e-3
+
 #: Length of the window over which a correction is scaled back around an excess [s].
 SHRINK_WINDOW_S = 0.03
 
@@ -168,7 +173,7 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
             continue
         for order, what, lim in ((2, "acceleration", b.accel), (3, "jerk", b.jerk)):
             peak = float(np.max(np.abs(derivative(x, order, T))))
-            if math.isfinite(lim) and peak > lim * (1 + 1e-6):
+            if math.isfinite(lim) and peak > lim * (1 + OVER_SHARE):
                 own = float(np.max(np.abs(derivative(reference.positions[name], order, T))))
                 out.append((name, what, peak, lim, own))
     return out

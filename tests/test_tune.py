@@ -12,7 +12,8 @@ from tcpmm.io.modelfile import read_machine
 from tcpmm.servo.margins import axis_margins
 from tcpmm.servo.params import ServoParams
 from tcpmm.servo.sampled import sampled_spectral_radius
-from tcpmm.whatif.tuning import polyline_distance, tune_and_predict
+from tcpmm.whatif.tuning import tune_and_predict
+from tcpmm.whatif.tuning_paths import polyline_distance
 
 GM, PM = 6.0, 45.0
 
@@ -344,7 +345,8 @@ def test_an_axis_that_keeps_unstable_settings_is_named_as_the_cause():
     loops too slow; ask for smaller ones')."""
     from types import SimpleNamespace
 
-    from tcpmm.whatif.tuning import PathFigures, _path_notes
+    from tcpmm.whatif.tuning import _path_notes
+    from tcpmm.whatif.tuning_paths import PathFigures
 
     none = PathFigures({"ccw": {"contour_error_um": float("nan")}})
     none.faults = ["axis X's sampled servo loop is unstable (spectral radius 1.0034)"]

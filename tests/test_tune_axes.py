@@ -131,6 +131,11 @@ def test_axes_named_that_leave_out_a_moved_one_are_said_so(vmc):
     res = tune_and_predict(vmc, GM, PM, axes="X")
     (note,) = [n for n in res.notes if n.startswith("--axes leaves out Y")]
     assert "not matched to X's" in note
+    # the worse path is put down to the gains left different, not to the margins (the
+    # note said the settings before met them and predicted the smaller error)
+    (worse,) = [n for n in res.notes if n.startswith("the predicted path is worse after")]
+    assert "end with different position gains (X " in worse, worse
+    assert worse.endswith("name every axis it moves in --axes") and "keep them" not in worse
 
 
 def test_an_axis_tuned_on_its_own_is_not_raised(vmc):

@@ -141,7 +141,8 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     before = path_figures(machine, cmd, circle)
     settled = bool(_grown(before, after)) and all(meets_margins(  # read only if it grew
         machine.axes[n].mechanics, machine.axes[n].servo, gm_db, pm_deg) for n in axes)
-    notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled)
+    notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled,
+                         _unmatched(machine, tuned, matched, moved))
     if circle:
         notes += _faster_note(machine, tuned)
     return TuneResult(tuned, axes, before, after, notes, *roles,
@@ -175,10 +176,24 @@ def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: t
     return notes
 
 
+def _unmatched(machine: Machine, tuned: Machine, matched, moved) -> tuple:
+    """The position gains of the axes the path moves, as text, and the remedy, where the
+    proposal leaves them different and the settings before did not; ``()`` otherwise [-]."""
+    before = {n: machine.axes[n].servo.K_pp for n in moved}
+    after = {n: tuned.axes[n].servo.K_pp for n in moved}
+    if len(after) < 2 or max(after.values()) <= min(after.values()) * (1 + 1e-9) or \
+            max(before.values()) > min(before.values()) * (1 + 1e-9):
+        return ()
+    fix = ("name every axis it moves in --axes" if set(moved) - set(matched) else
+           "give them one position gain by hand")
+    return ", ".join(f"{n} {v:.4g}" for n, v in after.items()) + " 1/s", fix
+
+
 def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float,
-                dropped: dict, settled: bool):
+                dropped: dict, settled: bool, unmatched: tuple = ()):
     """Notes on the paths before and after: one that is no prediction and why, and the
-    figures the proposal makes worse (:func:`_worse_note`) [-]."""
+    figures the proposal makes worse (:func:`_worse_note`; ``unmatched``: the path's
+    position gains the proposal leaves different, :func:`_unmatched`) [-]."""
     notes = []
     if _worst(before) == float("inf"):
         why = "; ".join(before.faults) or "its run holds no circle to measure"
@@ -195,7 +210,8 @@ def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: flo
             f"the margins asked, {gm_db:g} dB / {pm_deg:g} deg, leave this machine's loops "
             "too slow; ask for smaller ones"))
     limited = any(f.limited for f in dropped.values())
-    return notes + _worse_note(before, after, axes, (gm_db, pm_deg), limited, settled)
+    return notes + _worse_note(before, after, axes, (gm_db, pm_deg), limited, settled,
+                               unmatched)
 
 
 def _dropped_words(dropped: dict) -> str:
@@ -236,16 +252,23 @@ def _grown(before: dict, after: dict) -> list[str]:
 
 
 def _worse_note(before: dict, after: dict, axes: dict, margins: tuple, limited: bool,
-                settled: bool):
+                settled: bool, unmatched: tuple = ()):
     """A note where a figure of the proposal's path is worse than the settings' before (any
-    of them: a program's largest deviation can double while its RMS falls): the margins it
-    restores, and how to trade them back; where the current limit held the feedforward
-    back (``limited``), that it is not the margins; where the settings meet them already,
-    also with the modes off (``settled``), to keep the settings [-]."""
+    of them: a program's largest deviation can double while its RMS falls): where the
+    proposal leaves the path's axes with different position gains (``unmatched``: their
+    gains and the remedy, :func:`_unmatched`), that first; the margins it restores, and
+    how to trade them back; where the current limit held the feedforward back
+    (``limited``), that it is not the margins; where the settings meet them already, also
+    with the modes off (``settled``), to keep the settings [-]."""
     gm_db, pm_deg = margins
     grown = _grown(before, after)
     if not grown or _worst(before) == float("inf"):
         return []
+    if unmatched:
+        gains, fix = unmatched
+        return [f"the predicted path is worse after: {'; '.join(grown)}; the axes it moves "
+                f"end with different position gains ({gains}), and a path through axes of "
+                f"different gains is distorted (a circle becomes an ellipse): {fix}"]
     short = []
     for name, t in axes.items():
         for loop, m in t.margins_before.items():

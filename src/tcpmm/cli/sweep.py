@@ -109,6 +109,10 @@ def _report(res) -> None:
               f"{len(res.failed)} failed ({res.wall_s:.1f} s)")
     out.print(f"  results  {res.out_dir / 'results'} (Parquet parts)")
     out.print(f"  summary  {res.summary}")
+    if res.intervals is not None:
+        out.print(f"  intervals {res.intervals} (per point of the grid: each figure's median "
+                  "and 90 % interval over the draws, and of its change from the first point, "
+                  "draw by draw)")
     for f in res.failed:
         out.print(f"  failed   {f['variant']}: {f['reason']}")
     _warn_faults(res)
@@ -222,6 +226,8 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     variants = make_design(how["design"], specs, how["n"], how["seed"])
     for note in capped_feeds(program, m, variants):
         console.print(f"warning: {esc(note)}", highlight=False)
+    for note in _uncertainty_notes(m, how):
+        console.print(f"note: {esc(note)}", highlight=False)
     floors = None if how["fit_only"] or how["design"] != "draws" else MODEL_ERROR
     try:
         res = _on_cluster(scheduler, "sweep", lambda client, progress: run_sweep(
@@ -232,6 +238,23 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
                       f"{esc(str(output))}; the same command goes on from there")
         raise
     _finish(res, as_json, _report)
+
+
+def _uncertainty_notes(m, how: dict) -> list[str]:
+    """What a design shows of the model's uncertainty: a grid or lhs of an identified model
+    none of it; a draws design with few draws a point little of its 90 % interval [-]."""
+    from ..whatif.sweep.intervals import FEW_DRAWS
+
+    if how["design"] == "draws":
+        if how["n"] >= FEW_DRAWS:
+            return []
+        return [f"{how['n']} draws a point: a 90 % interval over so few is little more than "
+                f"their range; {FEW_DRAWS} or more (--n) make it one"]
+    if all(a.uncertainty is None for a in m.axes.values()):
+        return []
+    return ["the figures are those of the model as identified, without its uncertainty: "
+            f"--design draws --n {FEW_DRAWS} runs every point on machines drawn from it and "
+            "writes each figure's 90 % interval (intervals.csv)"]
 
 
 def _on_cluster(scheduler, description: str, run):

@@ -5,8 +5,9 @@ variants of named parameters (:mod:`~tcpmm.whatif.sweep.space`); each variant is
 and analysed as an independent task (:func:`~tcpmm.whatif.sweep.task.evaluate_variant`),
 here, on the local cores or on a Dask cluster (:func:`~tcpmm.whatif.sweep.run.run_sweep`),
 and its row is written to the results folder as it arrives
-(:mod:`~tcpmm.whatif.sweep.store`). A rerun of the same sweep runs only the variants whose
-rows are missing.
+(:mod:`~tcpmm.whatif.sweep.store`); a draws design also gets each figure's interval per
+point of its grid (:mod:`~tcpmm.whatif.sweep.intervals`). A rerun of the same sweep runs
+only the variants whose rows are missing.
 """
 
 from .design import (
@@ -20,6 +21,7 @@ from .design import (
     make_design,
     parse_param,
 )
+from .intervals import draw_intervals
 from .metrics import circle_metrics, path_distance, path_metrics
 from .run import SweepResult, local_cluster, run_sweep
 from .space import apply_parameters, canonical_name, parameter_names
@@ -36,6 +38,7 @@ __all__ = [
     "apply_parameters",
     "canonical_name",
     "circle_metrics",
+    "draw_intervals",
     "draws_design",
     "evaluate_variant",
     "grid_design",

@@ -19,6 +19,7 @@ from ..._heap import keep_freed_memory
 from ..._threads import usable_cores
 from ...errors import InputError, TcpmmError
 from ...io.atomic import output_folder
+from .intervals import write_intervals
 from .space import apply_parameters
 from .store import (
     PARTS_DIR,
@@ -56,6 +57,9 @@ class SweepResult:
         Variants whose task failed for good: ``variant`` and ``reason`` [-].
     wall_s : float
         Time of the run [s].
+    intervals : Path or None
+        A draws design's intervals per point of the grid
+        (:mod:`tcpmm.whatif.sweep.intervals`); ``None`` for the other designs [-].
     """
 
     out_dir: Path
@@ -65,13 +69,15 @@ class SweepResult:
     reused: int
     failed: list = field(default_factory=list)
     wall_s: float = 0.0
+    intervals: Path | None = None
 
     def to_dict(self) -> dict:
         """JSON-ready summary [-]."""
         return {"out_dir": str(self.out_dir), "results": str(self.out_dir / PARTS_DIR),
                 "summary": str(self.summary), "variants": self.variants,
                 "computed": self.computed, "reused": self.reused, "failed": self.failed,
-                "wall_s": self.wall_s}
+                "wall_s": self.wall_s,
+                "intervals": None if self.intervals is None else str(self.intervals)}
 
     def to_pandas(self):
         """The summary table [file units]."""
@@ -367,6 +373,8 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
     finally:
         writer.flush()
     summary = write_summary(out, variants)
+    drawn = any(v.draw is not None for v in variants)
     return SweepResult(out, summary, len(variants), writer.written,
                        len({v.id for v in variants}) - len(todo), failed,
-                       time.perf_counter() - t0)
+                       time.perf_counter() - t0,
+                       write_intervals(out, summary) if drawn else None)

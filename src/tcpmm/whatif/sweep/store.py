@@ -5,6 +5,7 @@
     OUT_DIR/study.json              model (hash), program, sensor: what the rows belong to
     OUT_DIR/results/part-*.parquet  rows, one file per batch, each written whole
     OUT_DIR/summary.csv             the design's rows in its order, written at the end
+    OUT_DIR/intervals.csv           a draws design's intervals (:mod:`.intervals`)
 
 A row holds the variant's id, its parameters (in the unit of each name), its draw, its
 metrics in um (``*_um``), its warning, its fault (an axis that ran away or saturated

@@ -438,7 +438,7 @@ def test_a_program_planned_with_headroom_shows_what_the_plan_alone_gives(tmp_pat
                  str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "3", "--json"])
     assert code == 0
     scores = json.loads(capsys.readouterr().out)["scores"]
-    assert set(scores) == {"before", "planned", "after"}
+    assert set(scores) == {"before", "planned", "after", "demands"}
     assert scores["planned"]["path"] != scores["before"]["path"]
     code = main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o",
                  str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "3"])
@@ -583,7 +583,7 @@ def test_a_command_file_has_no_planned_row_and_bad_numbers_are_named_in_their_un
     base = ["compensate", "builtin:vmc", "--command", str(tmp_path / "cmd.csv"), "-o",
             str(tmp_path / "c.csv"), "--iterations", "2"]
     assert main([*base, "--draws", "0", "--json"]) == 0
-    assert set(json.loads(capsys.readouterr().out)["scores"]) == {"before", "after"}
+    assert set(json.loads(capsys.readouterr().out)["scores"]) == {"before", "after", "demands"}
     assert main([*base, "--radius", "-35"]) == 2
     err = " ".join(capsys.readouterr().err.split())
     assert "--radius [mm] must be a positive number, got -35" in err and "cmd.csv" not in err
@@ -713,3 +713,35 @@ def test_a_command_file_at_its_limit_is_not_called_beyond_it(capsys, tmp_path):
     assert said["c"] == []
     assert said["d"] and all("the command file reaches 1.04 itself" in ln
                              for ln in said["d"]), said["d"]
+
+
+def test_what_the_command_asks_of_each_axis_is_said_with_its_limits(capsys, tmp_path):
+    """Compensated on bench C's model, its circle asked 21 times the program's jerk of Y
+    (1067 m/s3 against 50.8; 2.6 times on the built-in machine) with nothing said, the
+    model setting no jerk limit: a drive that limits its jerk would smooth the correction
+    away. Each axis's largest acceleration, jerk and current, before and after, are given
+    with their limits; with a jerk limit the compensated command keeps it."""
+    from conftest import bench_path, run_cli
+
+    cmd = bench_path("c") / "circle_ccw_cmd.csv"
+    base = ["compensate", "builtin:vmc", "--command", str(cmd), "-o", str(tmp_path / "c.csv"),
+            "--draws", 0, "--accel-m-per-s2", 1]
+    code, out, err = run_cli(capsys, *base, "--json")
+    assert code == 0, err
+    asks = json.loads(out)["scores"]["demands"]
+    assert set(asks["after"]) == {"X", "Y"}  # Z stands: it asks nothing
+    for a in ("X", "Y"):
+        assert asks["before"][a]["jerk_m_per_s3"] == pytest.approx(50.8, rel=1e-3)
+        assert asks["after"][a]["accel_m_per_s2"] <= 1.0 * (1 + 1e-3)
+        assert 0 < asks["after"][a]["current_A"] <= 0.95 * 20 + 1e-9  # the model's 20 A
+    grown = {a for a in "XY" if asks["after"][a]["jerk_m_per_s3"] > 2 * 50.8}
+    assert grown
+    code, out, err = run_cli(capsys, *base)
+    lines = {ln.split()[0]: ln for ln in out.splitlines() if " asks (program -> " in ln}
+    assert set(lines) == {"X", "Y"} and "jerk 50.8 -> " in lines["X"]
+    assert all("times the program's jerk" in lines[a] for a in grown)
+    code, out, err = run_cli(capsys, *base, "--jerk-m-per-s3", 200, "--json")
+    asks = json.loads(out)["scores"]["demands"]["after"]
+    assert all(asks[a]["jerk_m_per_s3"] <= 200 * (1 + 1e-6) for a in "XY")
+    code, out, err = run_cli(capsys, *base, "--jerk-m-per-s3", 200)
+    assert "(limit 200)" in out and "times the program's jerk" not in out

@@ -44,6 +44,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         out.print(_row("planned", comp.scores["planned"]) + " (the program planned with the "
                   "headroom below, uncorrected)")
     out.print(_row("after", comp.scores["after"]))
+    for line in demand_lines(comp.scores.get("demands"), comp.bounds):
+        out.print(line, highlight=False)
     _say_over_limits(comp, program)
     if comp.robustness.get("as_programmed"):
         out.print("  no share of the correction is applied: the program is written as "
@@ -72,6 +74,43 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     if reference is not None:
         out.print(f"wrote {reference}: the program as planned for the correction, "
                   "uncompensated; measure runs of the compensated command against it")
+
+
+#: How much more jerk than the program's own the correction asks before a note says so [-].
+JERK_NOTE_RATIO = 2.0
+
+
+def demand_lines(demands: dict | None, bounds: dict) -> list[str]:
+    """A line per axis: the largest acceleration, jerk and current the programmed and the
+    compensated command ask (:func:`tcpmm.compensate.scores.axis_demands`), each with its
+    limit; where no jerk limit is set and the correction asks much more than the program,
+    what a drive that limits its jerk would do with it [-]."""
+    if not demands:
+        return []
+    lines = []
+    for a, after in demands["after"].items():
+        before, b = demands["before"].get(a, {}), bounds[a].to_dict()
+        parts = []
+        for key, what, unit in (("accel_m_per_s2", "acceleration", "m/s²"),
+                                ("jerk_m_per_s3", "jerk", "m/s³"), ("current_A", "current", "A")):
+            if after.get(key) is None or before.get(key) is None:
+                continue
+            lim = b.get(key)
+            parts.append(f"{what} {_num(before[key])} -> {_num(after[key])} {unit} ("
+                         + (f"limit {_num(lim)}" if lim is not None else "no limit") + ")")
+        line = f"  {a} asks (program -> compensated): " + ", ".join(parts)
+        jb, ja = before.get("jerk_m_per_s3"), after.get("jerk_m_per_s3")
+        if b.get("jerk_m_per_s3") is None and jb and ja > JERK_NOTE_RATIO * jb:
+            line += (f"; the correction asks {ja / jb:.2g} times the program's jerk: a drive "
+                     "that limits its jerk smooths part of it away (give its limit with "
+                     "--jerk-m-per-s3)")
+        lines.append(line)
+    return lines
+
+
+def _num(v: float) -> str:
+    """Three digits, and no exponent below a million [-]."""
+    return f"{v:.0f}" if 1e3 <= abs(v) < 1e6 else f"{v:.3g}"
 
 
 def _say_over_limits(comp, program: bool) -> None:

@@ -11,6 +11,7 @@ from ..analysis.circular import analyse_circle
 from ..analysis.contour import contour_error
 from ..path.command import Command
 from ..sim.simulate import simulate
+from .bounds import derivative
 from .drive import controlled_run
 from .learning import extended
 
@@ -51,6 +52,33 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=
         if blocks is not None:  # the rapids of the path judged against, delayed with it
             run.nc_line, run.rapid = (b[:run.time_s.size] for b in blocks)
     return before, after
+
+
+#: What a command asks of an axis, by the order of the difference taken [-].
+DEMANDS = ((1, "velocity_m_per_s"), (2, "accel_m_per_s2"), (3, "jerk_m_per_s3"))
+
+
+def axis_demands(command: Command, run) -> dict:
+    """Per axis the command moves: the largest velocity, acceleration and jerk its samples
+    ask (backward differences, as the limits are kept, :func:`.bounds.excess`) and the
+    largest current of the model's run on it [SI].
+
+    Parameters
+    ----------
+    command : Command
+        The command [m].
+    run : SimulationResult
+        The model's run on it [SI].
+    """
+    out = {}
+    for a, x in command.positions.items():
+        if np.ptp(x) == 0.0:
+            continue
+        d = {k: float(np.max(np.abs(derivative(x, n, command.period_s)))) for n, k in DEMANDS}
+        current = run.axes[a].current if a in run.axes else None
+        d["current_A"] = None if current is None else float(np.max(np.abs(current)))
+        out[a] = d
+    return out
 
 
 #: The figures of a score shown before and after: ``(part, key, label)`` [-].
@@ -156,12 +184,16 @@ def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
         ``{"before": ..., "after": ...}``, each from :func:`judge`; with ``programmed`` also
         ``"planned"``: the command the correction was learned on, uncorrected (the program
         planned with headroom), so that what the slower plan gives and what the correction
-        gives are told apart [-].
+        gives are told apart; ``"demands"``: ``{"before": ..., "after": ...}`` of
+        :func:`axis_demands`, what the programmed and the compensated command ask of each
+        axis [-].
     """
     before, after = runs_before_after(machine, comp, programmed=programmed)
     out = {"before": judge(before, programmed_path(comp, programmed), radius_m, centre_m,
                            plane),
-           "after": judge(after, judged_path(comp), radius_m, centre_m, plane)}
+           "after": judge(after, judged_path(comp), radius_m, centre_m, plane),
+           "demands": {"before": axis_demands(programmed_path(comp, programmed), before),
+                       "after": axis_demands(comp.command, after)}}
     if programmed is not None:
         out["planned"] = judge(simulate(machine, comp.reference), comp.reference, radius_m,
                                centre_m, plane)

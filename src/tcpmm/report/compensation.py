@@ -22,10 +22,13 @@ def _figures_frame(scores: dict):
 
 
 def _axes_frame(comp):
-    """Per axis: the share of the correction applied, its size and the limits kept."""
+    """Per axis: the share of the correction applied, its size, the limits kept and what
+    the programmed and the compensated command ask (their largest acceleration, jerk and
+    current)."""
     import pandas as pd
 
     d = comp.to_dict()
+    demands = comp.scores.get("demands", {})
     shares = comp.robustness.get("factors", {})
     share = ("share applied, mean along the path (chosen by region)"
              if comp.robustness.get("by_region") else "share applied")
@@ -34,9 +37,12 @@ def _axes_frame(comp):
         if a not in comp.moved_axes:  # a standing axis has nothing to correct
             continue
         b = d["bounds"].get(a, {})
+        asks = {f"{who} {k}": v for who, part in (("program", "before"),
+                                                  ("compensated", "after"))
+                for k, v in demands.get(part, {}).get(a, {}).items()}
         rows.append({"axis": a, share: shares.get(a, 1.0),
                      "largest correction [µm]": c["applied_max_um"],
-                     **{f"limit {k}": v for k, v in b.items()}})
+                     **{f"limit {k}": v for k, v in b.items()}, **asks})
     return pd.DataFrame(rows)
 
 

@@ -545,3 +545,47 @@ def test_no_mode_shift_check_is_claimed_at_tolerance_zero(capsys):
                            "--mode-tolerance", 0)
     assert code == 0 and "crosses over at" in err
     assert "up to 0 % off" not in err and "not checked with the modes off" in err
+
+
+def test_the_proposal_is_judged_on_machines_drawn_from_the_models_uncertainty():
+    """tune printed the model's path before and after as firm numbers (bench D: contour
+    error 16.43 -> 13.33 um) though an identified model carries its uncertainty. Each
+    figure after now has its range over machines drawn from it, and its change draw by
+    draw; a figure the proposal improves on the model but not on every draw is named."""
+    from tcpmm.whatif.tuning_draws import _summary, drawn_note
+    from tcpmm.whatif.tuning_paths import PathFigures
+
+    def figs(ce):
+        return PathFigures({"ccw": {"contour_error_um": ce}})
+
+    no = figs(float("nan"))
+    no.faults = ["axis X runs away from its command"]
+    pairs = [(figs(16.0), figs(13.0)), (figs(15.0), figs(15.5)), (figs(17.0), figs(14.0)),
+             (figs(16.0), no)]
+    s = _summary(pairs)
+    f = s["figures"]["ccw"]["contour_error_um"]
+    assert (s["draws"], s["faulty"], f["judged"], f["worse"]) == (4, 1, 3, 1)
+    assert (f["after_low"], f["after_high"], f["change_low"], f["change_high"]) == (
+        13.0, 15.5, -3.0, 0.5)
+    before, after = {"ccw": {"contour_error_um": 16.4}}, {"ccw": {"contour_error_um": 13.3}}
+    [note] = drawn_note(s, before, after)
+    assert "on 3 machines drawn" in note and "(1 more" in note
+    assert "not better everywhere: ccw contour error worse on 1 of 3" in note
+    [note] = drawn_note(_summary(pairs[:1] + pairs[2:3]), before, after)
+    assert "improves on every draw" in note
+    assert drawn_note(s, after, before) == []  # nothing better on the model: nothing to say
+
+
+def test_a_model_with_uncertainty_gets_the_drawn_ranges_and_one_without_none(vmc, capsys):
+    from tcpmm.model import AxisUncertainty
+
+    m = vmc.model_copy(update={"axes": {n: a.replace(uncertainty=AxisUncertainty(
+        mechanics={"M_t": 0.05 * a.mechanics.M_t})) for n, a in vmc.axes.items()}})
+    res = tune_and_predict(m, 6.0, 45.0)
+    assert res.drawn["draws"] == 8 and res.drawn["faulty"] == 0
+    for case in ("ccw", "cw"):
+        for f in res.drawn["figures"][case].values():
+            assert f["after_low"] <= f["after_high"] and f["change_low"] <= f["change_high"]
+    assert any("machines drawn from the model's uncertainty" in n for n in res.notes)
+    assert res.to_dict()["path_drawn_um"] == res.drawn
+    assert tune_and_predict(vmc, 6.0, 45.0).drawn is None

@@ -131,12 +131,22 @@ def _print_result(res, gm, pm, tolerance_percent: float) -> None:
         out.print(esc(note))
     if not res.path_before:
         return
-    tab = plain_table(("", "before", "after"))
+    drawn = (res.drawn or {}).get("figures")
+    n = res.drawn["draws"] - res.drawn["faulty"] if drawn else 0
+    tab = plain_table(("", "before", "after")
+                      + ((f"after, {n} draws", "change, draw by draw") if drawn else ()))
     for key, fig in res.path_before.items():
         for k, v in fig.items():
+            d = (drawn or {}).get(key, {}).get(k)
+            ranges = () if not drawn else (
+                ("n/a", "n/a") if d is None else
+                (f"{_fmt(d['after_low'], 2)} to {_fmt(d['after_high'], 2)}",
+                 f"{d['change_low']:+.2f} to {d['change_high']:+.2f}"))
             tab.add_row(f"{key} {k.replace('_um', '').replace('_', ' ')}", _fmt(v, 2),
-                        _fmt(res.path_after[key][k], 2))
-    print_plain(tab, out, "predicted path (TCP) [µm]")
+                        _fmt(res.path_after[key][k], 2), *ranges)
+    print_plain(tab, out, "predicted path (TCP) [µm]" + (
+        f": the model's, and the range over {n} machines drawn from its uncertainty"
+        if drawn else ""))
 
 
 def _verdict(t) -> str:

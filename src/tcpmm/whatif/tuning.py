@@ -17,6 +17,7 @@ from ..model import Machine
 from ..servo.tune import meets_margins
 from ..units import mm_to_m
 from .tuning_axes import axis_reasons, contouring_axes, left_out_note, moved_axes, tune_axes
+from .tuning_draws import drawn_note, drawn_paths
 from .tuning_paths import path_figures
 
 #: Feedforward fractions tried on the path [-].
@@ -43,6 +44,10 @@ class TuneResult:
         axes the path moves [-].
     reasons : dict of str to str
         Per axis, whether the path moves it and what became of its matched settings [-].
+    drawn : dict or None
+        The path figures after and their change on machines drawn from the model's
+        uncertainty (:func:`tcpmm.whatif.tuning_draws.drawn_paths`); ``None`` for a model
+        that carries none [um].
     """
 
     tuned: Machine
@@ -53,6 +58,7 @@ class TuneResult:
     matched: tuple = ()
     moved: tuple = ()
     reasons: dict = field(default_factory=dict)
+    drawn: dict | None = None
 
     def to_dict(self) -> dict:
         """JSON-ready summary."""
@@ -60,7 +66,7 @@ class TuneResult:
                          for k, v in self.axes.items()},
                 "matched_axes": list(self.matched), "moved_axes": list(self.moved),
                 "path_before_um": self.path_before, "path_after_um": self.path_after,
-                "notes": list(self.notes)}
+                "path_drawn_um": self.drawn, "notes": list(self.notes)}
 
     def to_pandas(self):
         """Table: per axis, gains, margins and bandwidths before and after (SI gains;
@@ -143,10 +149,13 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         machine.axes[n].mechanics, machine.axes[n].servo, gm_db, pm_deg) for n in axes)
     notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled,
                          _unmatched(machine, tuned, matched, moved))
+    drawn = drawn_paths(machine, tuned, cmd, circle)
+    notes += drawn_note(drawn, before, after)
     if circle:
         notes += _faster_note(machine, tuned)
     return TuneResult(tuned, axes, before, after, notes, *roles,
-                      axis_reasons(axes, matched, moved, named, _worst(after) < float("inf")))
+                      axis_reasons(axes, matched, moved, named, _worst(after) < float("inf")),
+                      drawn)
 
 
 def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: tuple,

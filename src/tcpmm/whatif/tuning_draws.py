@@ -1,0 +1,116 @@
+"""A tuning proposal judged on machines drawn from an identified model's uncertainty.
+
+The path figures before and after (:func:`tcpmm.whatif.tuning_paths.path_figures`) are the
+model's; the machine is not the model. Each machine drawn (:mod:`tcpmm.whatif.draws`, with
+the floors of :data:`tcpmm.whatif.draws.MODEL_ERROR`, as ``tcpmm spread`` draws) runs the
+path with the settings before and with the proposal's; the range of each figure after,
+and of its change, say how far the prediction may be off and whether the proposal helps on
+every draw. The change is taken draw by draw: the same machine with both settings.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model import Machine
+from .draws import MODEL_ERROR, draw_machine
+from .tuning_paths import path_figures
+
+#: Machines drawn from the model's uncertainty that a proposal is judged on [-].
+TUNE_DRAWS = 8
+#: A figure that grows by more than this share and :data:`WORSE_UM` is worse [-].
+WORSE_SHARE = 0.02
+#: ... and by more than this [um].
+WORSE_UM = 0.1
+
+
+def drawn_paths(machine: Machine, tuned: Machine, command, circle: bool,
+                n: int = TUNE_DRAWS, seed: int = 0) -> dict | None:
+    """The path figures before and after the proposal on ``n`` machines drawn from the
+    model's uncertainty; ``None`` for a model that carries none.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model with the settings before [SI].
+    tuned : Machine
+        The model with the proposal's settings [SI].
+    command : Command
+        The path [m].
+    circle : bool
+        Whether the path is the paper's circle [-].
+    n : int
+        Number of draws [-].
+    seed : int
+        Seed of the draws [-].
+
+    Returns
+    -------
+    dict or None
+        ``draws``, ``faulty`` (draws whose run before or after is no prediction, left
+        out), and per case and figure ``after_low``, ``after_high``, ``change_low``,
+        ``change_high`` over the other draws and ``worse``: the draws on which it grows
+        [um, -].
+    """
+    if all(a.uncertainty is None for a in machine.axes.values()):
+        return None
+    rng = np.random.default_rng(seed)
+    pairs = []
+    for _ in range(n):
+        m = draw_machine(machine, rng, MODEL_ERROR)
+        t = m.model_copy(update={"axes": {k: a.replace(servo=tuned.axes[k].servo)
+                                          for k, a in m.axes.items()}})
+        pairs.append((path_figures(m, command, circle), path_figures(t, command, circle)))
+    return _summary(pairs)
+
+
+def _summary(pairs: list) -> dict:
+    """:func:`drawn_paths`'s summary of ``(before, after)`` figures per draw [um, -]."""
+    good = [(b, a) for b, a in pairs if not (b.faults or a.faults)]
+    out = {"draws": len(pairs), "faulty": len(pairs) - len(good), "figures": {}}
+    if not good:
+        return out
+    for case, figs in good[0][0].items():
+        out["figures"][case] = {}
+        for key in figs:
+            b = np.array([p[0][case][key] for p in good], float)
+            a = np.array([p[1][case][key] for p in good], float)
+            ok = np.isfinite(a) & np.isfinite(b)
+            if not ok.any():
+                continue
+            b, a = b[ok], a[ok]
+            d = a - b
+            out["figures"][case][key] = {
+                "after_low": float(a.min()), "after_high": float(a.max()),
+                "change_low": float(d.min()), "change_high": float(d.max()),
+                "worse": int(np.sum(a > b * (1 + WORSE_SHARE) + WORSE_UM)),
+                "judged": int(ok.sum())}
+    return out
+
+
+def drawn_note(drawn: dict | None, before: dict, after: dict) -> list[str]:
+    """A note on what the draws say: the figures the proposal improves on the model but
+    makes worse on some drawn machine, or that it improves them on every draw [-]."""
+    if not drawn or not drawn["figures"]:
+        return []
+    n = drawn["draws"] - drawn["faulty"]
+    head = (f"on {n} machines drawn from the model's uncertainty"
+            + (f" ({drawn['faulty']} more are no prediction and are left out)"
+               if drawn["faulty"] else ""))
+    split, better = [], 0
+    for case, figs in drawn["figures"].items():
+        for key, f in figs.items():
+            if not after.get(case, {}).get(key, np.nan) < before.get(case, {}).get(key,
+                                                                                 np.nan):
+                continue
+            better += 1
+            if f["worse"]:
+                split.append(f"{case} {key.removesuffix('_um').replace('_', ' ')} worse on "
+                             f"{f['worse']} of {f['judged']}")
+    if not better:  # nothing the model calls better: the note on the worse path says it
+        return []
+    if split:
+        return [f"{head}, the proposal is not better everywhere: {'; '.join(split)}; the "
+                "ranges in the table say how far"]
+    return [f"{head}, each figure the proposal improves on the model improves on every "
+            "draw; the ranges in the table say by how much"]

@@ -177,8 +177,9 @@ def test_cli_output_drives_simulate(tmp_path, capsys):
     html = page.read_text(encoding="utf-8")
     assert 'data-section="compensation"' in html and "<img" in html
     for needle in ("contour error [µm]", "reduced by [x]", "share applied",
-                   "limit accel_m_per_s2", "(firm)"):
+                   "acceleration limit [m/s²]", "jerk, compensated [m/s³]", "(firm)"):
         assert needle in html, needle
+    assert "None" not in html and "_per_s" not in html  # the per-axis table reads as words
     run = tmp_path / "run.csv"
     assert main(["simulate", "builtin:vmc", "--command", str(comp_csv), "-o", str(run)]) == 0
     assert run.exists()

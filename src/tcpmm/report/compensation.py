@@ -21,10 +21,15 @@ def _figures_frame(scores: dict):
                          for label, b, a in before_after(scores)])
 
 
+#: The quantities of an axis's limits and demands, as the report names them [-].
+_QUANTITIES = {"velocity_m_per_s": ("velocity", "m/s"), "accel_m_per_s2": ("acceleration", "m/s²"),
+               "jerk_m_per_s3": ("jerk", "m/s³"), "current_A": ("current", "A")}
+
+
 def _axes_frame(comp):
-    """Per axis: the share of the correction applied, its size, the limits kept and what
-    the programmed and the compensated command ask (their largest acceleration, jerk and
-    current)."""
+    """Per axis: the share of the correction applied, its size, and per quantity its limit
+    ("none" where none is set) and what the programmed and the compensated command ask
+    (the largest velocity, acceleration, jerk and current)."""
     import pandas as pd
 
     d = comp.to_dict()
@@ -36,13 +41,16 @@ def _axes_frame(comp):
     for a, c in d["correction"].items():
         if a not in comp.moved_axes:  # a standing axis has nothing to correct
             continue
-        b = d["bounds"].get(a, {})
-        asks = {f"{who} {k}": v for who, part in (("program", "before"),
-                                                  ("compensated", "after"))
-                for k, v in demands.get(part, {}).get(a, {}).items()}
-        rows.append({"axis": a, share: shares.get(a, 1.0),
-                     "largest correction [µm]": c["applied_max_um"],
-                     **{f"limit {k}": v for k, v in b.items()}, **asks})
+        row = {"axis": a, share: shares.get(a, 1.0),
+               "largest correction [µm]": c["applied_max_um"]}
+        for key, (what, unit) in _QUANTITIES.items():
+            limit = d["bounds"].get(a, {}).get(key)
+            row[f"{what} limit [{unit}]"] = "none" if limit is None else limit
+            for who, part in (("program", "before"), ("compensated", "after")):
+                v = demands.get(part, {}).get(a, {}).get(key)
+                if v is not None:
+                    row[f"{what}, {who} [{unit}]"] = v
+        rows.append(row)
     return pd.DataFrame(rows)
 
 

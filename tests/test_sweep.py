@@ -320,3 +320,18 @@ def test_a_feed_the_circle_cannot_reach_is_said(tmp_path, capsys):
     assert main(["sweep", "builtin:vmc", "--param", "program.feed_mm_per_min=5000,8000",
                  "-o", str(tmp_path / "b")]) == 0
     assert "runs at" not in capsys.readouterr().err
+
+
+def test_every_row_holds_the_programs_warnings_however_the_commands_were_built(vmc, tmp_path):
+    """A program with a zero-length move, swept over two feed overrides: the sweep's own
+    check built both commands first, in this process, and the rows of one worker then
+    held no warning, while those of two workers (other processes) held it: the table
+    depended on the number of workers."""
+    prog = GcodeProgram("G21 G17 G90\nG1 X5 Y0 F3000\nG1 X5 Y0\nG1 X5 Y5\n", "zero.nc")
+    design = grid_design(specs(vmc, "program.feed_override=0.5,1", program="gcode"))
+    from tcpmm.errors import InputWarning
+
+    with pytest.warns(InputWarning, match="zero-length"):  # the check says it once
+        rows = run_sweep(vmc, prog, design, tmp_path / "o", workers=1).to_pandas()
+    assert len(rows) == 2
+    assert all("zero.nc, line 3" in w and "zero-length" in w for w in rows["warning"]), rows

@@ -80,6 +80,25 @@ def metric_names(program) -> list[str]:
     return circle_metric_names() if program.kind == "circle" else path_metric_names()
 
 
+def _with_warnings(f, *args) -> tuple:
+    """``f(*args)`` and the warnings it gave, ``(message, category)`` each: a command built
+    once per process is cached with them, and :func:`_said_again` gives them to every
+    variant that uses it, so that its row holds them whether the process built the
+    command for it or for another variant (or the sweep's own check) first [-]."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = f(*args)
+    return out, tuple((str(w.message), w.category) for w in caught)
+
+
+def _said_again(built: tuple):
+    """The command of :func:`_with_warnings`, its warnings given anew [-]."""
+    out, said = built
+    for message, category in said:
+        warnings.warn(message, category, stacklevel=3)
+    return out
+
+
 @functools.lru_cache(maxsize=8)
 def _circle_command(radius_m: float, feed_m_per_s: float):
     return circle_test_command(radius_m, feed_m_per_s, turns=SETTLED_TURNS)
@@ -87,6 +106,10 @@ def _circle_command(radius_m: float, feed_m_per_s: float):
 
 @functools.lru_cache(maxsize=8)
 def _gcode_command(text: str, name: str, override: float, settings_json: str):
+    return _with_warnings(_gcode_uncached, text, name, override, settings_json)
+
+
+def _gcode_uncached(text: str, name: str, override: float, settings_json: str):
     segments = parse_gcode(text, name or None)
     if override != 1.0:
         segments = [replace(s, feed_m_per_s=s.feed_m_per_s * override)
@@ -128,7 +151,8 @@ def program_command(program, machine, values: dict):
     if not override > 0.0:
         raise InputError(f"program.feed_override must be positive, got {override:g}")
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})
-    return _gcode_command(program.text, program.name, override, settings.model_dump_json())
+    return _said_again(_gcode_command(program.text, program.name, override,
+                                      settings.model_dump_json()))
 
 
 def capped_feeds(program, machine, variants) -> list[str]:

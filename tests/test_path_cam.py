@@ -373,3 +373,27 @@ def test_held_back_blocks_are_nc_blocks_not_blend_pieces(tmp_path, capsys):
     held = [(int(n), int(a), int(b)) for n, a, b in re.findall(
         r"in (\d+) blocks, between lines (\d+) and (\d+)", out)]
     assert held and all(n <= b - a + 1 for n, a, b in held), out
+
+
+def test_path_says_where_a_sharp_corner_takes_an_axis_beyond_its_acceleration(tmp_path,
+                                                                              capsys):
+    """Under G64 without P the zig-zag's corners stay sharp, and their velocity step on
+    top of the braking read 1.44 and 1.5 m/s2 against 1 with nothing said; with
+    corner_step_share 0 (in the model file) every sharp corner stops and nothing is
+    beyond the limit."""
+    prog = tmp_path / "zig.nc"
+    prog.write_text("G90 G17 G64 F5000\nG1 X20 Y0\nG1 X20 Y1\nG1 X0 Y1\nG1 X0 Y2\n"
+                    "G1 X20 Y2\n")
+    assert main(["path", str(prog), "-o", str(tmp_path / "c.csv")]) == 0
+    said = " ".join(capsys.readouterr().out.split())
+    assert "beyond an axis's acceleration for a period at sharp corners" in said
+    assert re.search(r"X 1\.\d+ m/s² \(limit 1\), Y 1\.\d+ m/s² \(limit 1\)", said), said
+    assert main(["machine", "export", "vmc", "-o", str(tmp_path / "m.yaml")]) == 0
+    text = (tmp_path / "m.yaml").read_text()
+    assert "corner_step_share: 1.0" in text
+    (tmp_path / "s0.yaml").write_text(text.replace("corner_step_share: 1.0",
+                                                   "corner_step_share: 0.0"))
+    capsys.readouterr()
+    assert main(["path", str(prog), "-o", str(tmp_path / "c.csv"), "--model",
+                 str(tmp_path / "s0.yaml")]) == 0
+    assert "beyond an axis's acceleration" not in capsys.readouterr().out

@@ -327,6 +327,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     from ..path import write_command_csv
     from ..path.limits import feed_limits
     from ..path.program import program_to_interpolation
+    from ._pathtext import print_corner_overload, print_feed
 
     checked_output(output, program, model)
     if plot and output.suffix.lower() == ".png":
@@ -358,42 +359,11 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
     limits = feed_limits(interp)
-    _print_feed(limits)
+    print_feed(limits)
+    print_corner_overload(cmd, interp_settings(m))
     if plot:
         from ..plot.path import plot_command
 
         p = output.with_suffix(".png")
         plot_command(cmd, p, plane=command_plane(plane, cmd), limits=limits)
         out.print(f"wrote {p}")
-
-
-#: what to change when a limit holds the feed back
-_REMEDY = {"axis velocity": "axis_velocity_m_per_s, capped by rapid_m_per_s",
-           "curvature (centripetal acceleration)": "axis_accel_m_per_s2, larger radii or G64 P",
-           "filter tolerance on arcs": "corner_tolerance_m or a shorter filter",
-           "corner: axis acceleration": "G64 P<tol> or blend_tolerance_m rounds corners off",
-           "corner: filter tolerance": "corner_tolerance_m, G64 P<tol>",
-           "exact stop": "G61/G9, reversals, dwells, rapids, start and end",
-           "path acceleration": "blocks too short to reach the feed: path_accel_m_per_s2",
-           "path jerk": "blocks too short to reach the feed: path_jerk_m_per_s3"}
-
-
-def _print_feed(limits) -> None:
-    """Share of the path at the programmed feed, and per limit where it holds it back."""
-    if limits.feed_length_m <= 0:
-        out.print("no feed moves (G1, G2, G3): no programmed feed to reach")
-        return
-    out.print(f"at the programmed feed (within 1 %) on {limits.share_at_feed() * 100:.1f} % "
-              "of the path length of the feed moves")
-    for r in limits.summary():
-        a, b = r["first_line"], r["last_line"]
-        # the blocks of a cause lie among others: a span of lines, not a run of them
-        lines = "" if a is None else f", line {a}" if a == b else f", between lines {a} and {b}"
-        out.print(f"  held back by {r['cause']}: {r['length_m'] * 1e3:.3g} mm in "
-                  f"{r['blocks']} block{'s' * (r['blocks'] > 1)}{lines}, peak feed as low as "
-                  f"{r['lowest_m_per_s'] * 6e4:.0f} mm/min ({_REMEDY[r['cause']]})",
-                  highlight=False)
-    if limits.ramp_length_m() > 1e-6:
-        out.print(f"  below it where blocks that reach it speed up and slow down: "
-                  f"{limits.ramp_length_m() * 1e3:.3g} mm (at corners, exact stops, start and "
-                  "end)", highlight=False)

@@ -13,15 +13,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..path.limits import OVER_SHARE
 from ..path.settings import AXES, InterpolatorSettings
 
 #: Share of the current limit the nominal compensated run may use [-].
 CURRENT_SHARE = 0.95
-
-#: Share by which a peak must exceed a limit to be reported as beyond it: a command file's
-#: rounding alone moves a sample's acceleration that much (7 decimals of a mm at 1 ms:
-#: 1e-4 m/s^2), and a figure printed to three digits cannot show less [-].
-OVER_SHARE = 1e-3
 
 #: Length of the window over which a correction is scaled back around an excess [s].
 SHRINK_WINDOW_S = 0.03

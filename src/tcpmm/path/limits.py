@@ -26,6 +26,11 @@ from .._rows import norm_rows
 from .geometry import DWELL
 from .speedlimits import JUNCTION_CAUSES, SEGMENT_CAUSES
 
+#: Share by which a command's peak must exceed a limit to be said to go beyond it: a
+#: command file's rounding alone moves a sample's acceleration that much (7 decimals of a
+#: mm at 1 ms: 1e-4 m/s^2), and a figure printed to three digits cannot show less [-].
+OVER_SHARE = 1e-3
+
 #: a block reaching less than this share of its feed is held back [-]
 HELD_SHARE = 0.99
 

@@ -85,14 +85,16 @@ def demand_lines(demands: dict | None, bounds: dict) -> list[str]:
     compensated command ask (:func:`tcpmm.compensate.scores.axis_demands`), each with its
     limit; where no jerk limit is set and the correction asks much more than the program,
     what a drive that limits its jerk would do with it [-]."""
+    from ..compensate.scores import DEMAND_WORDS
+
     if not demands:
         return []
     lines = []
     for a, after in demands["after"].items():
         before, b = demands["before"].get(a, {}), bounds[a].to_dict()
         parts = []
-        for key, what, unit in (("accel_m_per_s2", "acceleration", "m/s²"),
-                                ("jerk_m_per_s3", "jerk", "m/s³"), ("current_A", "current", "A")):
+        for key in ("accel_m_per_s2", "jerk_m_per_s3", "current_A"):
+            what, unit = DEMAND_WORDS[key]
             if after.get(key) is None or before.get(key) is None:
                 continue
             lim = b.get(key)

@@ -3,9 +3,7 @@ and where a sharp corner's velocity step takes an axis beyond its acceleration."
 
 from __future__ import annotations
 
-import numpy as np
-
-from ..path.limits import OVER_SHARE
+from ..path.limits import OVER_SHARE, peak
 from ..path.settings import AXES
 from ._app import out
 
@@ -57,9 +55,9 @@ def print_corner_overload(cmd, settings) -> None:
     for a, x in cmd.positions.items():
         if x.size < 3 or a not in limit:
             continue
-        peak = float(np.max(np.abs(np.diff(x, 2)))) / cmd.period_s ** 2
-        if peak > limit[a] * (1 + OVER_SHARE):
-            over.append(f"{a} {peak:.3g} m/s² (limit {limit[a]:.3g})")
+        most = peak(x, 2, cmd.period_s)
+        if most > limit[a] * (1 + OVER_SHARE):
+            over.append(f"{a} {most:.3g} m/s² (limit {limit[a]:.3g})")
     if over:
         out.print("  beyond an axis's acceleration for a period at sharp corners, whose "
                   "velocity step comes on top of the braking into them: "

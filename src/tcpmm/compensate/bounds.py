@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..path.limits import OVER_SHARE
+from ..path.limits import OVER_SHARE, derivative, peak
 from ..path.settings import AXES, InterpolatorSettings
 
 #: Share of the current limit the nominal compensated run may use [-].
@@ -79,13 +79,6 @@ def machine_bounds(machine, accel_m_per_s2=None, jerk_m_per_s3=None) -> dict[str
         a = acc.get(name, s.path_accel_m_per_s2) if accel_m_per_s2 is None else accel_m_per_s2
         out[name] = AxisBounds(v, a, jerk, axis.servo.current_limit)
     return out
-
-
-def derivative(x: np.ndarray, order: int, period_s: float) -> np.ndarray:
-    """Backward difference of an order, on the samples' time line (first ones 0) [m/s^n]."""
-    d = np.zeros_like(x)
-    d[order:] = np.diff(x, order) / period_s ** order
-    return d
 
 
 def excess(reference: np.ndarray, correction: np.ndarray, period_s: float,
@@ -168,8 +161,7 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
         if b is None or name not in reference.positions:
             continue
         for order, what, lim in ((2, "acceleration", b.accel), (3, "jerk", b.jerk)):
-            peak = float(np.max(np.abs(derivative(x, order, T))))
-            if math.isfinite(lim) and peak > lim * (1 + OVER_SHARE):
-                own = float(np.max(np.abs(derivative(reference.positions[name], order, T))))
-                out.append((name, what, peak, lim, own))
+            most = peak(x, order, T)
+            if math.isfinite(lim) and most > lim * (1 + OVER_SHARE):
+                out.append((name, what, most, lim, peak(reference.positions[name], order, T)))
     return out

@@ -10,8 +10,8 @@ import numpy as np
 from ..analysis.circular import analyse_circle
 from ..analysis.contour import contour_error
 from ..path.command import Command
+from ..path.limits import peak
 from ..sim.simulate import simulate
-from .bounds import derivative
 from .drive import controlled_run
 from .learning import extended
 
@@ -25,7 +25,8 @@ def programmed_path(comp, programmed=None) -> Command:
     return extended(programmed, 0, comp.settings.get("hold_samples", 0))[0]
 
 
-def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=None):
+def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=None,
+                      compensated=None):
     """The model run on the programmed and on the compensated command; each run's command
     signals are the path it is judged against (the programmed path, delayed for the
     compensated run) [-].
@@ -40,10 +41,14 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=
 
     A command learned with controller-side parameters (``comp.controller``) is run with
     them, as the controller applies them; the programmed command without.
+
+    ``compensated``, where given, is ``comp.command`` already built (it is fitted to the
+    limits anew at each access).
     """
     programmed = programmed_path(comp, programmed)
+    compensated = comp.command if compensated is None else compensated
     before = simulate(machine, programmed, quantise_feedback=quantise_feedback)
-    after = controlled_run(machine, comp.command, comp.controller, quantise_feedback)
+    after = controlled_run(machine, compensated, comp.controller, quantise_feedback)
     for run, path in ((before, programmed), (after, judged_path(comp))):
         for a, r in run.axes.items():
             if a in path.positions:
@@ -56,6 +61,10 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=
 
 #: What a command asks of an axis, by the order of the difference taken [-].
 DEMANDS = ((1, "velocity_m_per_s"), (2, "accel_m_per_s2"), (3, "jerk_m_per_s3"))
+#: Each demand (and limit) by its name and unit, as the console and the report say it [-].
+DEMAND_WORDS = {"velocity_m_per_s": ("velocity", "m/s"),
+                "accel_m_per_s2": ("acceleration", "m/s²"),
+                "jerk_m_per_s3": ("jerk", "m/s³"), "current_A": ("current", "A")}
 
 
 def axis_demands(command: Command, run) -> dict:
@@ -74,7 +83,7 @@ def axis_demands(command: Command, run) -> dict:
     for a, x in command.positions.items():
         if np.ptp(x) == 0.0:
             continue
-        d = {k: float(np.max(np.abs(derivative(x, n, command.period_s)))) for n, k in DEMANDS}
+        d = {k: peak(x, n, command.period_s) for n, k in DEMANDS}
         current = run.axes[a].current if a in run.axes else None
         d["current_A"] = None if current is None else float(np.max(np.abs(current)))
         out[a] = d
@@ -188,12 +197,13 @@ def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
         :func:`axis_demands`, what the programmed and the compensated command ask of each
         axis [-].
     """
-    before, after = runs_before_after(machine, comp, programmed=programmed)
-    out = {"before": judge(before, programmed_path(comp, programmed), radius_m, centre_m,
-                           plane),
+    compensated, path = comp.command, programmed_path(comp, programmed)
+    before, after = runs_before_after(machine, comp, programmed=programmed,
+                                      compensated=compensated)
+    out = {"before": judge(before, path, radius_m, centre_m, plane),
            "after": judge(after, judged_path(comp), radius_m, centre_m, plane),
-           "demands": {"before": axis_demands(programmed_path(comp, programmed), before),
-                       "after": axis_demands(comp.command, after)}}
+           "demands": {"before": axis_demands(path, before),
+                       "after": axis_demands(compensated, after)}}
     if programmed is not None:
         out["planned"] = judge(simulate(machine, comp.reference), comp.reference, radius_m,
                                centre_m, plane)

@@ -31,6 +31,18 @@ from .speedlimits import JUNCTION_CAUSES, SEGMENT_CAUSES
 #: mm at 1 ms: 1e-4 m/s^2), and a figure printed to three digits cannot show less [-].
 OVER_SHARE = 1e-3
 
+def derivative(x: np.ndarray, order: int, period_s: float) -> np.ndarray:
+    """Backward difference of an order, on the samples' time line (first ones 0) [m/s^n]."""
+    d = np.zeros_like(x)
+    d[order:] = np.diff(x, order) / period_s ** order
+    return d
+
+
+def peak(x: np.ndarray, order: int, period_s: float) -> float:
+    """The largest magnitude of :func:`derivative`: what the samples ask of an axis [m/s^n]."""
+    return float(np.max(np.abs(derivative(x, order, period_s))))
+
+
 #: a block reaching less than this share of its feed is held back [-]
 HELD_SHARE = 0.99
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from ..analysis.circular import analyse_circle
 from ..compensate import runs_before_after
 from ..compensate.robust import FIRM_RATIO
-from ..compensate.scores import before_after
+from ..compensate.scores import DEMAND_WORDS, before_after
 from ..errors import InputError
 from ..plot.circle import plot_circle
 from .html import figure, para, section, table
@@ -19,11 +19,6 @@ def _figures_frame(scores: dict):
     return pd.DataFrame([{"figure": f"{label} [µm]", "before": b, "after": a,
                           "reduced by [x]": b / a if a > 0 else float("inf")}
                          for label, b, a in before_after(scores)])
-
-
-#: The quantities of an axis's limits and demands, as the report names them [-].
-_QUANTITIES = {"velocity_m_per_s": ("velocity", "m/s"), "accel_m_per_s2": ("acceleration", "m/s²"),
-               "jerk_m_per_s3": ("jerk", "m/s³"), "current_A": ("current", "A")}
 
 
 def _axes_frame(comp):
@@ -43,7 +38,7 @@ def _axes_frame(comp):
             continue
         row = {"axis": a, share: shares.get(a, 1.0),
                "largest correction [µm]": c["applied_max_um"]}
-        for key, (what, unit) in _QUANTITIES.items():
+        for key, (what, unit) in DEMAND_WORDS.items():
             limit = d["bounds"].get(a, {}).get(key)
             row[f"{what} limit [{unit}]"] = "none" if limit is None else limit
             for who, part in (("program", "before"), ("compensated", "after")):

@@ -268,6 +268,17 @@ def test_corner_step_share_bounds_the_sampled_acceleration(prog, axis_acc, share
     assert np.all(acc.max(axis=0) <= (1 + share) * np.array(axis_acc) * (1 + 1e-9) + noise)
 
 
+@pytest.mark.parametrize("text", [
+    "G1 X10 F3000\nG3 X20 Y10 I0 J10\n",  # a line into a tangent arc
+    "G1 X3 Y7 F3000\nG1 X10 Y23.3333333\n",  # collinear to the 7th decimal
+])
+def test_corner_step_share_zero_keeps_tangent_joins_moving(text):
+    """Share 0 stops at sharp corners only: a join whose tangent turns by rounding alone
+    keeps the programmed speed."""
+    res = interpolate_detailed(parse_gcode(text), InterpolatorSettings(corner_step_share=0.0))
+    assert res.junction_speed_m_per_s[1] == pytest.approx(0.05)
+
+
 def _to_segment(p, a, b):
     """Distance of points p from the segment a-b [m]."""
     ab = b - a

@@ -20,6 +20,9 @@ from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
 REVERSAL_TOL = 1e-9
+#: a change of the unit tangent below this is a tangent join, not a corner: at 1 m/s it
+#: steps an axis by 1 µm/s, far below what any acceleration limit notices [-]
+BEND_TOL = 1e-6
 #: what sets a segment's speed limit (index = the code :func:`segment_limits` returns)
 SEGMENT_CAUSES = ("programmed feed", "axis velocity", "curvature (centripetal acceleration)",
                   "filter tolerance on arcs")
@@ -246,8 +249,8 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
     """
     with np.errstate(divide="ignore", invalid="ignore"):
         adu = np.abs(du)
-        step = np.where(adu > 0.0, np.asarray(acc_axis, float)[None, :] * filt.spread_s / adu,
-                        np.inf)
+        step = np.where(adu > BEND_TOL,
+                        np.asarray(acc_axis, float)[None, :] * filt.spread_s / adu, np.inf)
         cap = min_rows(step)
         dun = np.linalg.norm(du, axis=1)
         tol = np.full(du.shape[0], np.inf)

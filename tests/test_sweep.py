@@ -335,3 +335,14 @@ def test_every_row_holds_the_programs_warnings_however_the_commands_were_built(v
         rows = run_sweep(vmc, prog, design, tmp_path / "o", workers=1).to_pandas()
     assert len(rows) == 2
     assert all("zero.nc, line 3" in w and "zero-length" in w for w in rows["warning"]), rows
+
+
+def test_a_variant_whose_command_fails_keeps_the_programs_warnings(vmc):
+    """The row of a variant whose program cannot be interpolated holds its error and what
+    the program said before it failed (a zero-length move): the failed build is not
+    cached, and what it said went with it."""
+    prog = GcodeProgram("G21 G17 G90\nG1 X5 Y0 F3000\nG1 X5 Y0\nG1 X5 Y5\n", "zero.nc")
+    variant = Variant(values=(("program.feed_override", 1e-7),))
+    row = evaluate_variant(vmc, prog, variant, "tcp")
+    assert "would last" in row["error"], row
+    assert "zero.nc, line 3" in row["warning"] and "zero-length" in row["warning"], row

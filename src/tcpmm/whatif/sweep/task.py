@@ -87,8 +87,15 @@ def _with_warnings(f, *args) -> tuple:
     command for it or for another variant (or the sweep's own check) first [-]."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        out = f(*args)
-    return out, tuple((str(w.message), w.category) for w in caught)
+        try:
+            out, failed = f(*args), None
+        except Exception as exc:  # a failed build is not cached: what it said goes with it
+            out, failed = None, exc
+    said = tuple((str(w.message), w.category) for w in caught)
+    if failed is not None:
+        _said_again((out, said))
+        raise failed
+    return out, said
 
 
 def _said_again(built: tuple):

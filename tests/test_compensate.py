@@ -696,6 +696,41 @@ def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, t
     assert any(ln.strip().startswith("Z: acceleration up to") for ln in said), said
 
 
+def test_a_limit_below_the_planners_is_not_blamed_on_a_corner(capsys, tmp_path):
+    """An NC program compensated with --accel-m-per-s2 below the model's interpolator's:
+    the program is planned to the interpolator's limit and goes beyond the one given on
+    every ramp, yet the cause said was "a sharp corner's velocity step" of a program with
+    no corner. The interpolator's own limit is named instead."""
+    from conftest import run_cli
+
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90 G17\nG1 X20 F5000\nM30\n")
+    code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                             str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 2,
+                             "--accel-m-per-s2", 0.2)
+    assert code == 0, err
+    said = [" ".join(ln.split()) for ln in out.splitlines() if "above its limit of" in ln]
+    assert any(ln.startswith("X: acceleration") for ln in said), out
+    assert all("corner" not in ln and "the model's interpolator plans it to" in ln
+               for ln in said), said
+
+
+def test_a_one_axis_program_is_compensated_and_a_worse_figure_said(capsys, tmp_path):
+    """A program that moves X alone stopped compensate with an internal error (the
+    contour was sought along Z, which the program does not command). On the model itself
+    the correction then makes the TCP overshoot the line's end, which it approached from
+    one side before: with no draws to scale it back, a warning says so."""
+    from conftest import run_cli
+
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90 G17\nG1 X20 F5000\nM30\n")
+    code, _, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                             str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 5)
+    assert code == 0, err
+    err = " ".join(err.split())
+    assert "warning: the correction makes the model's own TCP worse: contour error" in err
+
+
 def test_a_command_file_at_its_limit_is_not_called_beyond_it(capsys, tmp_path):
     """Bench C's circle reaches 1.0001 m/s2 by the rounding of its 7 decimals alone; it was
     said to be "up to 1 m/s2, above its limit of 1", caused by "a sharp corner's velocity

@@ -373,7 +373,7 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
                          f"got {corner_deg}")
     if not isinstance(run, Run):  # a table in the run-file layout
         run = run_from_table(run)
-    axes, signed = contour_axes(run, plane)
+    axes, signed = contour_axes(run, plane, command)
     t, tc, cmd, actual = run_signals(run, command, axes)
     found = distances_to_polyline(actual, cmd, t, tc, window_s, signed)
     errors, feet = ({s: v[i] for s, v in found.items()} for i in (0, 1))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._app import out
+from ._app import console, out
 
 
 def _row(label: str, fig: dict) -> str:
@@ -19,7 +19,7 @@ def _row(label: str, fig: dict) -> str:
 
 
 def say_compensation(output: Path, report, comp, controller_out, cc, reference=None,
-                     program: bool = False) -> None:
+                     planner: dict | None = None) -> None:
     """Print what was written and the TCP error before and after, on the console.
 
     Parameters
@@ -34,8 +34,9 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         The controller-side compensation, where computed [-].
     reference : Path or None
         The program as planned for the correction, where written [-].
-    program : bool
-        Whether the command was planned from an NC program, not read from a file [-].
+    planner : dict of str to AxisBounds, optional
+        The interpolator's own limits per axis, where the command was planned from an NC
+        program, not read from a file [-].
     """
     out.print(f"wrote {output} ({comp.reference.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
@@ -46,7 +47,9 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     out.print(_row("after", comp.scores["after"]))
     for line in demand_lines(comp.scores.get("demands"), comp.bounds):
         out.print(line, highlight=False)
-    _say_over_limits(comp, program)
+    _say_over_limits(comp, planner)
+    if not comp.robustness:
+        _say_worse(comp.scores)
     if comp.robustness.get("as_programmed"):
         out.print("  no share of the correction is applied: the program is written as "
                   "programmed, at the axes' full limits (the headroom serves only the "
@@ -103,7 +106,7 @@ def demand_lines(demands: dict | None, bounds: dict) -> list[str]:
         line = f"  {a} asks (program -> compensated): " + ", ".join(parts)
         jb, ja = before.get("jerk_m_per_s3"), after.get("jerk_m_per_s3")
         if b.get("jerk_m_per_s3") is None and jb and ja > JERK_NOTE_RATIO * jb:
-            line += (f"; the correction asks {ja / jb:.2g} times the program's jerk: a drive "
+            line += (f"; the correction asks {_num(ja / jb)} times the program's jerk: a drive "
                      "that limits its jerk smooths part of it away (give its limit with "
                      "--jerk-m-per-s3)")
         lines.append(line)
@@ -112,23 +115,55 @@ def demand_lines(demands: dict | None, bounds: dict) -> list[str]:
 
 def _num(v: float) -> str:
     """Three digits, and no exponent below a million [-]."""
-    return f"{v:.0f}" if 1e3 <= abs(v) < 1e6 else f"{v:.3g}"
+    return f"{v:.0f}" if 99.5 <= abs(v) < 1e6 else f"{v:.3g}"
 
 
-def _say_over_limits(comp, program: bool) -> None:
+#: Growth of a figure on the model itself beyond which, with no draws, a warning says so:
+#: the rounding of the figures and the learning's last iterations stay below it [um].
+WORSE_UM = 0.1
+
+
+def _say_worse(scores: dict) -> None:
+    """With no draws to scale the correction back, a warning on stderr for each figure
+    the correction makes worse on the model itself (at the end of a move, the TCP can
+    overshoot a point it approached from one side before) [-]."""
+    from ..compensate.scores import before_after
+
+    worse = [f"{label} {b:.2f} -> {a:.2f} µm" for label, b, a in before_after(scores)
+             if a > b + WORSE_UM]
+    if worse:
+        console.print(f"warning: the correction makes the model's own TCP worse: "
+                      f"{'; '.join(worse)}; with --draws N (default 8) it is scaled back "
+                      "where it does not help", highlight=False)
+
+
+def _say_over_limits(comp, planner: dict | None) -> None:
     """A line per axis and limit the compensated command goes beyond, with the program's
-    own peak (:func:`tcpmm.compensate.bounds.over_limits`): a planned program goes beyond
-    a limit only at a sharp corner's velocity step; a command file's cause is its own."""
+    own peak (:func:`tcpmm.compensate.bounds.over_limits`) and its cause: a command file's
+    is its own; a program planned within the limit goes beyond it only at a sharp
+    corner's velocity step, while one planned to a higher limit of the model's
+    interpolator goes beyond it wherever it ramps."""
     from ..compensate.bounds import over_limits
 
     unit = {"acceleration": "m/s²", "jerk": "m/s³"}
-    itself = ("the program as planned reaches {own:.3g} itself (a sharp corner's velocity "
-              "step, one period)" if program else "the command file reaches {own:.3g} itself")
     for name, what, peak, lim, own in over_limits(comp.command, comp.reference, comp.bounds):
+        if planner is None:
+            itself = f"the command file reaches {own:.3g} itself"
+        else:
+            plan = getattr(planner[name], "accel" if what == "acceleration" else "jerk")
+            itself = (f"the program as planned reaches {own:.3g} itself (a sharp corner's "
+                      "velocity step, one period)" if plan <= lim * (1 + 1e-9) else
+                      f"the program as planned reaches {own:.3g} itself: the model's "
+                      f"interpolator plans it {_planned(plan, what, unit[what])}, not to the "
+                      "limit given; set that limit in the model's interpolation settings")
         by = ("the correction adds nothing beyond it" if peak <= own * (1 + 1e-6) else
               f"the correction takes it {peak - own:.3g} {unit[what]} further")
         out.print(f"  {name}: {what} up to {peak:.3g} {unit[what]} for a sample, above its "
-                  f"limit of {lim:.3g}: {itself.format(own=own)}, {by}", highlight=False)
+                  f"limit of {lim:.3g}: {itself}, {by}", highlight=False)
+
+
+def _planned(value: float, what: str, unit: str) -> str:
+    return f"with no {what} limit" if value == float("inf") else f"to {value:.3g} {unit}"
 
 
 #: How each verdict over the draws reads [-].

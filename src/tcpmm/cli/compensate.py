@@ -105,7 +105,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
     say_compensation(output, report, comp, controller_out, cc, reference_out,
-                     program=gcode is not None)
+                     planner=machine_bounds(m) if gcode is not None else None)
 
 
 def _write_reference(path, planned) -> None:

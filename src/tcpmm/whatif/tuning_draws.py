@@ -97,20 +97,26 @@ def drawn_note(drawn: dict | None, before: dict, after: dict) -> list[str]:
     head = (f"on {n} machines drawn from the model's uncertainty"
             + (f" ({drawn['faulty']} more are no prediction and are left out)"
                if drawn["faulty"] else ""))
-    split, better = [], 0
+    split, level, better = [], [], 0
     for case, figs in drawn["figures"].items():
         for key, f in figs.items():
             if not after.get(case, {}).get(key, np.nan) < before.get(case, {}).get(key,
                                                                                  np.nan):
                 continue
             better += 1
+            name = f"{case} {key.removesuffix('_um').replace('_', ' ')}"
             if f["worse"]:
-                split.append(f"{case} {key.removesuffix('_um').replace('_', ' ')} worse on "
-                             f"{f['worse']} of {f['judged']}")
+                split.append(f"{name} worse on {f['worse']} of {f['judged']}")
+            elif f["change_high"] >= 0.0:
+                level.append(f"{name} up to {f['change_high']:+.2f} µm")
     if not better:  # nothing the model calls better: the note on the worse path says it
         return []
     if split:
         return [f"{head}, the proposal is not better everywhere: {'; '.join(split)}; the "
                 "ranges in the table say how far"]
+    if level:
+        return [f"{head}, the proposal is worse on no draw beyond the model's error, but "
+                f"not smaller on every one: {'; '.join(level)}; the ranges in the table "
+                "say how far"]
     return [f"{head}, each figure the proposal improves on the model improves on every "
             "draw; the ranges in the table say by how much"]

@@ -176,3 +176,18 @@ def test_a_command_says_its_units_alike_in_titles_and_columns(capsys, runs):
     assert "tcp: measured - predicted against the predicted 90 % interval [µm]" in (
         out.splitlines())
     assert "[um]" not in out
+
+
+def test_the_corner_table_names_the_axes_of_its_coordinates(capsys, tmp_path):
+    """The corner table of a G18 run listed its corners as "at, mm" 0.000, 25.400: in the
+    plane's order Z, X, which the head did not say, so the corner read as X 0, Z 25.4."""
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90 G18\nG1 X25.4 Z0 F2500\nG2 X0 Z25.4 I-25.4 K0\nM30\n")
+    run = str(tmp_path / "r.csv")
+    assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", str(prog), "-o", run)[0] == 0
+    code, out, err = run_cli(capsys, "contour", run)
+    assert code == 0, err
+    head = next(ln for ln in out.splitlines() if ln.startswith("#"))
+    assert "at Z, X mm" in head, out
+    assert any(ln.split()[1:3] == ["0.000,", "25.400"] for ln in out.splitlines()
+               if ln.startswith("1 ")), out

@@ -145,7 +145,8 @@ def _print(res, sensor: str, title: str) -> None:
         return
     shown, more = _shown_corners(res.corners, sensor)
     rows = res.corner_rows([sensor], shown)
-    t = plain_table(("#", "at, mm", "turn", "over µm", "round µm", "settle ms", "mm"))
+    t = plain_table(("#", f"at {', '.join(res.axes)} mm", "turn", "over µm", "round µm",
+                     "settle ms", "mm"))
     for row in rows:
         at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)
         turn = "end" if row["turn_deg"] != row["turn_deg"] else f"{row['turn_deg']:.0f}°"

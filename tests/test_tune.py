@@ -51,7 +51,8 @@ def test_resonant_axes_get_a_notch_meet_the_margins_and_trace_a_better_circle(vm
 
 def test_tune_builtin_from_the_command_line(capsys, tmp_path):
     out = tmp_path / "tuned.yaml"
-    code = main(["tune", "builtin:vmc", "--margins", "6dB,45deg", "-o", str(out), "--json"])
+    code = main(["tune", "builtin:vmc", "--margins", "6dB,45deg", "-o", str(out), "--json",
+                 "--jobs", "2"])  # the axes side by side: the same numbers as one by one
     data = json.loads(capsys.readouterr().out)
     assert code == 0
     tuned = read_machine(out)
@@ -597,3 +598,17 @@ def test_a_model_with_uncertainty_gets_the_drawn_ranges_and_one_without_none(vmc
     assert any("machines drawn from the model's uncertainty" in n for n in res.notes)
     assert res.to_dict()["path_drawn_um"] == res.drawn
     assert tune_and_predict(vmc, 6.0, 45.0).drawn is None
+
+
+def test_axes_tuned_side_by_side_give_the_same_proposal(vmc):
+    """Each axis's own loops are tuned in a process of its own where there are cores; the
+    proposal, its notes and warnings are those of one axis after the other."""
+    from tcpmm.servo.tune import tune_machine
+
+    def seen(res):
+        return {n: (t.after, t.notes, t.warnings, t.met, t.margins_after)
+                for n, t in res.items()}
+
+    one = seen(tune_machine(vmc, GM, PM, jobs=1))
+    assert any(t[1] for t in one.values())  # notes to compare
+    assert seen(tune_machine(vmc, GM, PM, jobs=2)) == one

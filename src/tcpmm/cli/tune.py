@@ -51,6 +51,9 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
              help="How far the machine's mode frequencies may lie from the model's [%]: "
                   "every proposal stays stable with its modes that far off."),
          output: Path = typer.Option(None, "-o", "--output", help="Write the tuned MODEL.yaml."),
+         jobs: int = typer.Option(0, "--jobs", min=0, help=(
+             "Axes whose own loops are tuned at once, each in a process of its own; 0: one "
+             "per core. The numbers do not depend on it.")),
          as_json: bool = typer.Option(False, "--json")):
     """Propose velocity-loop gains, notch filters, position gain and feedforward that meet
     the margins on the sampled loops; predict the path before and after."""
@@ -69,7 +72,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         with in_file(gcode):
             command = program_to_command(gcode, interp_settings(m))
     with mode_tolerance(mode_tolerance_percent / 100.0):
-        res = tune_and_predict(m, gm, pm, command, axes)
+        res = tune_and_predict(m, gm, pm, command, axes, jobs=jobs)
     _warn(res)
     if output is not None:
         write_machine(res.tuned, output)

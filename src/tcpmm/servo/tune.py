@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._forked import results_in_order, usable_jobs
 from ..mechanics.lumped import AxisMechanics
 from .currentfilters import MAX_FILTERS, Notch
 from .margins import axis_margins, position_margins, velocity_margins
@@ -58,6 +59,7 @@ from .modeshift import (
 )
 from .params import ServoParams
 from .sampled import sampled_spectral_radius
+from .tunewords import gain_notes, kpp_reason
 
 #: Scan step of the gains, and the relative resolution of the bisection [-].
 _STEP, _RESOLUTION = 1.25, 0.005
@@ -293,22 +295,7 @@ def velocity_limit(mech, servo, gm, pm) -> str:
         lambda g: sampled_spectral_radius(mech, _pi(mech, servo, g)), servo.K_vp, gm, pm)
 
 
-def gain_notes(before, after, limits) -> list[str]:
-    """A note per changed gain saying why it changed and what limits it [-]."""
-    notes = []
-    if not math.isclose(after.K_vp, before.K_vp, rel_tol=1e-9):
-        notes.append(f"K_vp {before.K_vp:.4g} -> {after.K_vp:.4g} A s/rad: the largest "
-                     f"velocity gain meeting the margins, limited by {limits['K_vp']}")
-    if not math.isclose(after.K_vi, before.K_vi, rel_tol=1e-9):
-        notes.append(f"K_vi {before.K_vi:.4g} -> {after.K_vi:.4g} A/rad: the integral action "
-                     "follows K_vp (PI corner at a quarter of the rigid-body crossover "
-                     "K_vp K_tc / J)")
-    if not math.isclose(after.K_pp, before.K_pp, rel_tol=1e-9):
-        notes.append(f"K_pp {before.K_pp:.4g} -> {after.K_pp:.4g} 1/s: {limits['K_pp']}")
-    return notes
-
-
-def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
+def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> dict:
     """Tuning proposals of every axis (see the module docstring).
 
     Parameters
@@ -319,17 +306,22 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
         Required gain margin of both loops [dB].
     pm_deg : float
         Required phase margin of both loops [deg].
+    jobs : int, optional
+        Axes whose own loops are tuned at once, each in a process of its own (the same
+        numbers); default 1, ``None`` or 0: as many as there are cores, or ``TCPMM_JOBS``
+        (:func:`~tcpmm._forked.usable_jobs`) [-].
 
     Returns
     -------
     dict of str to AxisTuning
     """
-    vel, notes = {}, {}
-    for name, a in machine.axes.items():
-        notes[name] = []
-        vel[name] = tune_velocity(a.mechanics, a.servo, gm_db, pm_deg, notes[name])
-    kpp = {n: tune_position(machine.axes[n].mechanics, s, gm_db, pm_deg)
-           for n, s in vel.items() if s is not None}
+    pieces = [(a.mechanics, a.servo) for a in machine.axes.values()]
+    with results_in_order(_own_loops, pieces, (gm_db, pm_deg),
+                          usable_jobs(jobs, len(pieces))) as results:
+        own = dict(zip(machine.axes, (r() for r in results), strict=True))
+    vel = {n: o[0] for n, o in own.items()}
+    notes = {n: o[1] for n, o in own.items()}
+    kpp = {n: o[2] for n, o in own.items() if o[0] is not None}
     found = {n: kr for n, kr in kpp.items() if kr[0] is not None}
     lead = _lead(machine, vel, found, gm_db, pm_deg)
     out = {}
@@ -348,12 +340,21 @@ def tune_machine(machine, gm_db: float, pm_deg: float) -> dict:
             after, mg_after = a.servo, mg_before
         elif met:
             limits = {"K_vp": velocity_limit(m, after, gm_db, pm_deg),
-                      "K_pp": _kpp_reason(name, lead, found, list(machine.axes))}
+                      "K_pp": kpp_reason(name, lead, found, list(machine.axes))}
             notes[name] = gain_notes(a.servo, after, limits) + notes[name]
         out[name] = AxisTuning(a.servo, after, mg_before, mg_after, met, notes[name],
                                light_mode_warnings(m, mg_after, after)
                                + slower_warnings(mg_before, mg_after))
     return out
+
+
+def _own_loops(piece, shared) -> tuple:
+    """One axis's velocity loop and position gain tuned on their own (step 1 to 3 before
+    the axes are matched): ``(servo or None, notes, (K_pp, reason))`` [-]."""
+    (mech, servo), (gm_db, pm_deg) = piece, shared
+    notes: list[str] = []
+    s = tune_velocity(mech, servo, gm_db, pm_deg, notes)
+    return s, notes, None if s is None else tune_position(mech, s, gm_db, pm_deg)
 
 
 def _lead(machine, vel, found, gm_db, pm_deg):
@@ -377,16 +378,3 @@ def meets_margins(m, servo, gm_db, pm_deg) -> bool:
     off the model's frequencies (:mod:`tcpmm.servo.modeshift`) [-]."""
     return (all(v.meets(gm_db, pm_deg) for v in axis_margins(m, servo).values())
             and robustly_stable(m, servo, gm_db))
-
-
-def _kpp_reason(name, lead, found, names) -> str:
-    """Why an axis has the common position gain of the axes ``names`` [-]."""
-    if len(names) == 1:
-        return f"the largest position gain of this axis, limited by {found[lead][1]} (no " \
-               "other axis to match)"
-    why = (f"the common position gain of axes {', '.join(names)} (equal gains keep a "
-           "contour's shape: a circle round)")
-    if name == lead:
-        return f"{why}, set by this axis: {found[lead][1]}"
-    return f"{why}, set by axis {lead}: {found[lead][1]}; this axis alone would take " \
-           f"{found[name][0]:.4g} 1/s"

@@ -17,7 +17,6 @@ from .params import ServoParams
 from .sampled import sampled_spectral_radius
 from .tune import (
     AxisTuning,
-    gain_notes,
     light_mode_warnings,
     meets_margins,
     tune_position,
@@ -25,6 +24,7 @@ from .tune import (
     velocity_limit,
     velocity_loop_ok,
 )
+from .tunewords import gain_notes
 
 
 def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,

@@ -101,7 +101,7 @@ class TuneResult:
 
 
 def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None,
-                     axes=None) -> TuneResult:
+                     axes=None, jobs: int | None = 1) -> TuneResult:
     """Propose servo settings and predict the path before and after.
 
     Parameters
@@ -117,6 +117,9 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     axes : str or sequence of str, optional
         The contouring axes, whose position gains and feedforward are matched, e.g.
         ``"XY"``; default the axes the path moves (:mod:`tcpmm.whatif.tuning_axes`) [-].
+    jobs : int, optional
+        Axes whose own loops are tuned at once, each in a process of its own; ``None`` or
+        0: one per core (:func:`tcpmm.servo.tune.tune_machine`) [-].
 
     Returns
     -------
@@ -128,7 +131,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     moved = moved_axes(machine, cmd)
     matched = moved if axes is None else contouring_axes(machine, axes)
     roles = (tuple(matched), tuple(moved))
-    axes, named = tune_axes(machine, gm_db, pm_deg, matched), axes is not None
+    axes, named = tune_axes(machine, gm_db, pm_deg, matched, jobs), axes is not None
     tuned = machine.model_copy(update={"axes": {
         n: a.replace(servo=axes[n].after) for n, a in machine.axes.items()}})
     if circle and not {"X", "Y"} <= set(machine.axes):  # no XY plane to run the circle in

@@ -87,7 +87,8 @@ def contouring_axes(machine, names) -> list:
     return [n for n in machine.axes if n in want]
 
 
-def tune_axes(machine, gm_db: float, pm_deg: float, matched: list) -> dict:
+def tune_axes(machine, gm_db: float, pm_deg: float, matched: list,
+              jobs: int | None = 1) -> dict:
     """Proposals per axis: the ``matched`` axes share a position gain, every other axis is
     tuned on its own.
 
@@ -101,6 +102,8 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list) -> dict:
         Required phase margin of both loops [deg].
     matched : list of str
         The contouring axes [-].
+    jobs : int, optional
+        Processes for the matched axes' own loops (:func:`~tcpmm.servo.tune.tune_machine`) [-].
 
     Returns
     -------
@@ -108,7 +111,7 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list) -> dict:
         In the machine's order [-].
     """
     sub = machine.model_copy(update={"axes": {n: machine.axes[n] for n in matched}})
-    out = tune_machine(sub, gm_db, pm_deg) if matched else {}
+    out = tune_machine(sub, gm_db, pm_deg, jobs) if matched else {}
     for n, a in machine.axes.items():
         if n not in out:
             out[n] = tune_alone(a.mechanics, a.servo, gm_db, pm_deg, matched)

@@ -612,3 +612,18 @@ def test_axes_tuned_side_by_side_give_the_same_proposal(vmc):
     one = seen(tune_machine(vmc, GM, PM, jobs=1))
     assert any(t[1] for t in one.values())  # notes to compare
     assert seen(tune_machine(vmc, GM, PM, jobs=2)) == one
+
+
+def test_a_path_that_cannot_judge_the_feedforward_keeps_it(capsys, tmp_path):
+    """On a straight move along X the contour error has no lag in it: every feedforward
+    fraction gives the path within a tenth of a micrometre, and the proposal moved k_ff
+    from 0.9 to 0.6 on differences of thousandths of a micrometre. It now keeps it and
+    says why."""
+    prog = tmp_path / "line.nc"
+    prog.write_text("G21 G90 G17\nG1 X20 F5000\nM30\n")
+    out = tmp_path / "tuned.yaml"
+    assert main(["tune", "builtin:vmc", "--gcode", str(prog), "-o", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert read_machine(out).axes["X"].servo.k_ff == 0.9
+    said = " ".join(data["notes"])
+    assert "feedforward kept (k_ff X 0.9)" in said and "does not judge it" in said, said

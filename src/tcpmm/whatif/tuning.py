@@ -22,6 +22,10 @@ from .tuning_paths import path_figures
 
 #: Feedforward fractions tried on the path [-].
 FEEDFORWARD_GRID = (0.0, 0.25, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+#: Where the fractions' figures on the path lie within this of each other, the path does
+#: not judge the feedforward (a straight line's contour error has no lag in it) and it is
+#: kept [um].
+FEEDFORWARD_RESOLUTION_UM = 0.1
 
 
 @dataclass(frozen=True)
@@ -118,8 +122,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         The contouring axes, whose position gains and feedforward are matched, e.g.
         ``"XY"``; default the axes the path moves (:mod:`tcpmm.whatif.tuning_axes`) [-].
     jobs : int, optional
-        Axes whose own loops are tuned at once, each in a process of its own; ``None`` or
-        0: one per core (:func:`tcpmm.servo.tune.tune_machine`) [-].
+        Processes for the axes' own loops (:func:`tcpmm.servo.tune.tune_machine`) [-].
 
     Returns
     -------
@@ -142,11 +145,12 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
                           axis_reasons(axes, matched, moved, named))
     # the feedforward is judged on the path: only for the contouring axes it moves
     met = [n for n in matched if n in moved and axes[n].met]
-    tuned, after, dropped = _best_feedforward(tuned, met, cmd, circle)
+    tuned, after, dropped, spread = _best_feedforward(tuned, met, cmd, circle)
     axes = {n: replace(t, after=tuned.axes[n].servo) if n in met else t
             for n, t in axes.items()}
-    notes = (left_out_note(matched, moved)
-             + _matched_notes(tuned, axes, matched, met, (after, dropped), circle))
+    runs = (after, dropped, spread)
+    notes = left_out_note(matched, moved) + _matched_notes(tuned, axes, matched, met, runs,
+                                                           circle)
     before = path_figures(machine, cmd, circle)
     settled = bool(_grown(before, after)) and all(meets_margins(  # read only if it grew
         machine.axes[n].mechanics, machine.axes[n].servo, gm_db, pm_deg) for n in axes)
@@ -157,7 +161,8 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     if circle:
         notes += _faster_note(machine, tuned)
     return TuneResult(tuned, axes, before, after, notes, *roles,
-                      axis_reasons(axes, matched, moved, named, _worst(after) < float("inf")),
+                      axis_reasons(axes, matched, moved, named, _worst(after) < float("inf"),
+                                   spread > FEEDFORWARD_RESOLUTION_UM),
                       drawn)
 
 
@@ -167,11 +172,16 @@ def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: t
     the path figures and the fractions left out, ``runs``), and position gains the
     ``matched`` axes do not share [-]."""
     notes = []
-    after, dropped = runs
-    if met and _worst(after) < float("inf"):
+    after, dropped, spread = runs
+    what = "largest contour error of the circle passes" if circle else \
+        "RMS deviation from the program's path"
+    if met and spread <= FEEDFORWARD_RESOLUTION_UM:
+        kept = ", ".join(f"{n} {tuned.axes[n].servo.k_ff:g}" for n in met)
+        notes.append(f"feedforward kept (k_ff {kept}): k_ff = "
+                     f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} give the {what} within "
+                     f"{spread:.2g} um of each other, so the path does not judge it")
+    elif met and _worst(after) < float("inf"):
         # one fraction for the axes it is chosen for: the note belongs to them all at once
-        what = "largest contour error of the circle passes" if circle else \
-            "RMS deviation from the program's path"
         k_ff = tuned.axes[met[0]].servo.k_ff
         notes.append(f"feedforward k_ff = {k_ff:g} on axes {', '.join(met)}: of k_ff = "
                      f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} it gives the smallest "
@@ -314,12 +324,14 @@ def _worst(figures: dict) -> float:
 
 def _best_feedforward(tuned: Machine, names: list, cmd, circle: bool):
     """Feedforward fraction of :data:`FEEDFORWARD_GRID` (the same for the axes ``names``)
-    with the smallest :func:`_worst` on the path; the machine and its path figures. The
-    feedforward acts outside the loops: the margins stay as they are."""
+    with the smallest :func:`_worst` on the path; the machine and its path figures, the
+    fractions that are no prediction and the spread of the others' figures. Where that
+    spread stays within :data:`FEEDFORWARD_RESOLUTION_UM` the path does not judge the
+    feedforward: the machine keeps its own. The feedforward acts outside the loops: the
+    margins stay as they are."""
     if not names:
-        figs = path_figures(tuned, cmd, circle)
-        return tuned, figs, {}
-    best, dropped = None, {}
+        return tuned, path_figures(tuned, cmd, circle), {}, float("inf")
+    tried, dropped = [], {}
     for k in FEEDFORWARD_GRID:
         m = tuned.model_copy(update={"axes": {
             n: (a.replace(servo=a.servo.model_copy(update={"k_ff": k}))
@@ -327,8 +339,12 @@ def _best_feedforward(tuned: Machine, names: list, cmd, circle: bool):
         figs = path_figures(m, cmd, circle)
         if figs.faults:
             dropped[k] = figs
-        if best is None or _worst(figs) < _worst(best[1]):
-            best = (m, figs)
+        tried.append((m, figs))
+    worst = [_worst(f) for _, f in tried]
+    best = tried[min(range(len(tried)), key=worst.__getitem__)]  # the first of the least
     if _worst(best[1]) == float("inf"):  # no fraction is a prediction: none is chosen
-        return tuned, path_figures(tuned, cmd, circle), dropped
-    return (*best, dropped)
+        return tuned, path_figures(tuned, cmd, circle), dropped, float("inf")
+    spread = max(worst) - min(worst)
+    if spread <= FEEDFORWARD_RESOLUTION_UM:
+        return tuned, path_figures(tuned, cmd, circle), dropped, spread
+    return (*best, dropped, spread)

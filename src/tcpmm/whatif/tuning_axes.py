@@ -119,7 +119,7 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list,
 
 
 def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
-                 predicted: bool = True) -> dict:
+                 predicted: bool = True, judged: bool = True) -> dict:
     """Per axis, one sentence: whether the path moves it, whether its position gain is
     matched, and what became of its position gain and feedforward [-].
 
@@ -133,6 +133,9 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
         Whether the user named the contouring axes (``--axes``) [-].
     predicted : bool
         Whether the proposal's path is a prediction the feedforward could be chosen on [-].
+    judged : bool
+        Whether the path tells the feedforward fractions apart (a straight line does not:
+        :data:`tcpmm.whatif.tuning.FEEDFORWARD_RESOLUTION_UM`) [-].
 
     Returns
     -------
@@ -157,9 +160,10 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
             which = "" if named or not matched else ", which the path moves"
             words.append(f"{kpp}{own}; not matched to {', '.join(matched) or 'any axis'}"
                          + which)
-        if n not in moved or n not in matched or not predicted:
+        if n not in moved or n not in matched or not predicted or not judged:
             why = ("the path does not move it" if n not in moved else "it is not matched"
-                   if n not in matched else "the path is no prediction to choose it on")
+                   if n not in matched else "the path is no prediction to choose it on"
+                   if not predicted else "the path does not judge it")
             words.append(f"k_ff kept ({why})")
         elif t.met:
             words.append(f"k_ff {'kept' if a.k_ff == b.k_ff else f'{b.k_ff:g} -> {a.k_ff:g}'}"

@@ -688,12 +688,20 @@ def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, t
 
     prog = tmp_path / "p.nc"
     prog.write_text("G21 G90 G17 G64\nG0 X0 Y-5 Z5\nG1 Z0 F500\nG1 X8 F2500\nG1 Y5\nM30\n")
+    page = tmp_path / "r.html"
     code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
-                             str(tmp_path / "c.csv"), "--draws", 0, "--headroom", 0)
+                             str(tmp_path / "c.csv"), "--draws", 0, "--headroom", 0,
+                             "--report", str(page))
     assert code == 0, err
     said = [ln for ln in out.splitlines() if "above its limit of" in ln]
     assert said and all("the program as planned reaches" in ln for ln in said), out
     assert any(ln.strip().startswith("Z: acceleration up to") for ln in said), said
+    # the report's table per axis read 1.5 against a limit of 1 with no word on why
+    import html
+
+    text = html.unescape(" ".join(page.read_text(encoding="utf-8").split()))
+    for ln in said:
+        assert f"Beyond a limit, {ln.strip()}." in text, ln
 
 
 def test_a_limit_below_the_planners_is_not_blamed_on_a_corner(capsys, tmp_path):

@@ -138,32 +138,12 @@ def _say_worse(scores: dict) -> None:
 
 
 def _say_over_limits(comp, planner: dict | None) -> None:
-    """A line per axis and limit the compensated command goes beyond, with the program's
-    own peak (:func:`tcpmm.compensate.bounds.over_limits`) and its cause: a command file's
-    is its own; a program planned within the limit goes beyond it only at a sharp
-    corner's velocity step, while one planned to a higher limit of the model's
-    interpolator goes beyond it wherever it ramps."""
-    from ..compensate.bounds import over_limits
+    """A line per axis and limit the compensated command goes beyond, with its cause
+    (:func:`tcpmm.compensate.bounds.over_limit_words`) [-]."""
+    from ..compensate.bounds import over_limit_words
 
-    unit = {"acceleration": "m/s²", "jerk": "m/s³"}
-    for name, what, peak, lim, own in over_limits(comp.command, comp.reference, comp.bounds):
-        if planner is None:
-            itself = f"the command file reaches {own:.3g} itself"
-        else:
-            plan = getattr(planner[name], "accel" if what == "acceleration" else "jerk")
-            itself = (f"the program as planned reaches {own:.3g} itself (a sharp corner's "
-                      "velocity step, one period)" if plan <= lim * (1 + 1e-9) else
-                      f"the program as planned reaches {own:.3g} itself: the model's "
-                      f"interpolator plans it {_planned(plan, what, unit[what])}, not to the "
-                      "limit given; set that limit in the model's interpolation settings")
-        by = ("the correction adds nothing beyond it" if peak <= own * (1 + 1e-6) else
-              f"the correction takes it {peak - own:.3g} {unit[what]} further")
-        out.print(f"  {name}: {what} up to {peak:.3g} {unit[what]} for a sample, above its "
-                  f"limit of {lim:.3g}: {itself}, {by}", highlight=False)
-
-
-def _planned(value: float, what: str, unit: str) -> str:
-    return f"with no {what} limit" if value == float("inf") else f"to {value:.3g} {unit}"
+    for line in over_limit_words(comp.command, comp.reference, comp.bounds, planner):
+        out.print(f"  {line}", highlight=False)
 
 
 #: How each verdict over the draws reads [-].

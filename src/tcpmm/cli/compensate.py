@@ -100,7 +100,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
         _write_dense(compensated, comp, m, gcode_out, (accel, jerk))
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
     if report is not None:
-        _write_report(report, comp, m, model, command or gcode, circle, cc)
+        _write_report(report, comp, m, model, (command, gcode), circle, cc)
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
@@ -268,13 +268,18 @@ def _warn_replanned(machine, axes, accel, jerk, path: Path) -> None:
                       "interpolation settings", highlight=False)
 
 
-def _write_report(path: Path, comp, machine, model: str, source, circle, cc) -> None:
-    """The compensation's report page: its section, then the model's; ``circle`` the
+def _write_report(path: Path, comp, machine, model: str, files, circle, cc) -> None:
+    """The compensation's report page: its section, then the model's; ``files`` the
+    ``(command file, NC program)`` given, one of them ``None``; ``circle`` the
     ``(radius, centre, plane)`` of the circle or ``None`` [m, m, -]."""
+    from ..compensate import machine_bounds
     from ..report import model_section, write_report
     from ..report.compensation import compensation_section
 
-    sections = [compensation_section(comp, str(source), machine, circle, cc),
+    command, gcode = files
+    source = command or gcode
+    planner = None if gcode is None else machine_bounds(machine)
+    sections = [compensation_section(comp, str(source), machine, circle, cc, planner),
                 model_section(machine, model)]
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])
 

@@ -165,3 +165,44 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
             if math.isfinite(lim) and most > lim * (1 + OVER_SHARE):
                 out.append((name, what, most, lim, peak(reference.positions[name], order, T)))
     return out
+
+
+def over_limit_words(command, reference, bounds: dict, planner: dict | None = None
+                     ) -> list[str]:
+    """A sentence per axis and limit the compensated command goes beyond
+    (:func:`over_limits`), with the program's own peak and its cause: a command file's is
+    its own; a program planned within the limit goes beyond it only at a sharp corner's
+    velocity step, one planned to a higher limit of the model's interpolator wherever it
+    ramps.
+
+    Parameters
+    ----------
+    command, reference : Command
+        The compensated command and the program as planned [m].
+    bounds : dict of str to AxisBounds
+        The limits kept [-].
+    planner : dict of str to AxisBounds, optional
+        The interpolator's own limits, where the command was planned from an NC program,
+        not read from a file [-].
+    """
+    unit = {"acceleration": "m/s²", "jerk": "m/s³"}
+    out = []
+    for name, what, most, lim, own in over_limits(command, reference, bounds):
+        if planner is None:
+            itself = f"the command file reaches {own:.3g} itself"
+        else:
+            plan = getattr(planner[name], "accel" if what == "acceleration" else "jerk")
+            itself = (f"the program as planned reaches {own:.3g} itself (a sharp corner's "
+                      "velocity step, one period)" if plan <= lim * (1 + 1e-9) else
+                      f"the program as planned reaches {own:.3g} itself: the model's "
+                      f"interpolator plans it {_planned(plan, what, unit[what])}, not to the "
+                      "limit given; set that limit in the model's interpolation settings")
+        by = ("the correction adds nothing beyond it" if most <= own * (1 + 1e-6) else
+              f"the correction takes it {most - own:.3g} {unit[what]} further")
+        out.append(f"{name}: {what} up to {most:.3g} {unit[what]} for a sample, above its "
+                   f"limit of {lim:.3g}: {itself}, {by}")
+    return out
+
+
+def _planned(value: float, what: str, unit: str) -> str:
+    return f"with no {what} limit" if value == math.inf else f"to {value:.3g} {unit}"

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..analysis.circular import analyse_circle
 from ..compensate import runs_before_after
+from ..compensate.bounds import over_limit_words
 from ..compensate.robust import FIRM_RATIO
 from ..compensate.scores import DEMAND_WORDS, before_after
 from ..errors import InputError
@@ -64,7 +65,8 @@ def _polar(machine, comp, circle):
                        title="TCP before (solid) and after (dotted) the compensation")
 
 
-def compensation_section(comp, source=None, machine=None, circle=None, controller=None):
+def compensation_section(comp, source=None, machine=None, circle=None, controller=None,
+                         planner=None):
     """The compensation: the model's TCP on the circle before and after (polar, with the
     model and the circle's radius), the correction and its share along the path, the
     figures with their reduction, per axis the share of the correction applied, its size
@@ -82,6 +84,9 @@ def compensation_section(comp, source=None, machine=None, circle=None, controlle
         ``(radius, centre, plane)`` of the circle, for the polar plot [m, m, -].
     controller : ControllerCompensation, optional
         Friction pulses and cross-talk feed-forward (:mod:`tcpmm.compensate.controller`) [-].
+    planner : dict of str to AxisBounds, optional
+        The interpolator's own limits, where the command was planned from an NC program
+        (:func:`tcpmm.compensate.bounds.over_limit_words`) [-].
     """
     trusted = comp.to_dict().get("trusted_share")
     firm = (comp.robustness or {}).get("firm_share")
@@ -102,6 +107,8 @@ def compensation_section(comp, source=None, machine=None, circle=None, controlle
     if len(frame):
         body += "<h3>Predicted figures</h3>" + table(frame, "compensation_figures.csv")
     body += ("<h3>Per axis</h3>" + table(_axes_frame(comp), "compensation_axes.csv"))
+    for line in over_limit_words(comp.command, comp.reference, comp.bounds, planner):
+        body += para(f"Beyond a limit, {line}.")
     if controller is not None:
         body += ("<h3>Controller-side compensation</h3>"
                  + para("Instead of a new command: a friction pulse at each reversal and a "

@@ -118,19 +118,16 @@ def _num(v: float) -> str:
     return f"{v:.0f}" if 99.5 <= abs(v) < 1e6 else f"{v:.3g}"
 
 
-#: Growth of a figure on the model itself beyond which, with no draws, a warning says so:
-#: the rounding of the figures and the learning's last iterations stay below it [um].
-WORSE_UM = 0.1
-
-
 def _say_worse(scores: dict) -> None:
     """With no draws to scale the correction back, a warning on stderr for each figure
-    the correction makes worse on the model itself (at the end of a move, the TCP can
-    overshoot a point it approached from one side before) [-]."""
+    the correction makes worse on the model itself by more than the sensors' resolution
+    (at the end of a move, the TCP can overshoot a point it approached from one side
+    before) [-]."""
+    from ..compensate.robust import EQUAL_M
     from ..compensate.scores import before_after
 
     worse = [f"{label} {b:.2f} -> {a:.2f} µm" for label, b, a in before_after(scores)
-             if a > b + WORSE_UM]
+             if a > b + EQUAL_M * 1e6]
     if worse:
         console.print(f"warning: the correction makes the model's own TCP worse: "
                       f"{'; '.join(worse)}; with --draws N (default 8) it is scaled back "

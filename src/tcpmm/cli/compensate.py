@@ -99,13 +99,13 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     if gcode_out is not None:
         _write_dense(compensated, comp, m, gcode_out, (accel, jerk))
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
+    planner = None if gcode is None else machine_bounds(m)  # the limits it was planned to
     if report is not None:
-        _write_report(report, comp, m, model, (command, gcode), circle, cc)
+        _write_report(report, comp, m, model, command or gcode, circle, cc, planner)
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
-    say_compensation(output, report, comp, controller_out, cc, reference_out,
-                     planner=machine_bounds(m) if gcode is not None else None)
+    say_compensation(output, report, comp, controller_out, cc, reference_out, planner)
 
 
 def _write_reference(path, planned) -> None:
@@ -268,17 +268,14 @@ def _warn_replanned(machine, axes, accel, jerk, path: Path) -> None:
                       "interpolation settings", highlight=False)
 
 
-def _write_report(path: Path, comp, machine, model: str, files, circle, cc) -> None:
-    """The compensation's report page: its section, then the model's; ``files`` the
-    ``(command file, NC program)`` given, one of them ``None``; ``circle`` the
-    ``(radius, centre, plane)`` of the circle or ``None`` [m, m, -]."""
-    from ..compensate import machine_bounds
+def _write_report(path: Path, comp, machine, model: str, source, circle, cc,
+                  planner) -> None:
+    """The compensation's report page: its section, then the model's; ``circle`` the
+    ``(radius, centre, plane)`` of the circle or ``None`` [m, m, -]; ``planner`` the
+    interpolator's own limits where an NC program was planned, else ``None`` [-]."""
     from ..report import model_section, write_report
     from ..report.compensation import compensation_section
 
-    command, gcode = files
-    source = command or gcode
-    planner = None if gcode is None else machine_bounds(machine)
     sections = [compensation_section(comp, str(source), machine, circle, cc, planner),
                 model_section(machine, model)]
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])

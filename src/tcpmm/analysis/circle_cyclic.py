@@ -36,14 +36,7 @@ def _scan(pos, w, resid, basis, radius, band, spacing):
     lo, hi = band if band is not None else (MIN_PERIODS / (2.0 * radius),
                                             1.0 / (10.0 * spacing))
 
-    def power(ks):
-        S, C = _columns(pos, w, ks)
-        S, C = S - (S @ basis) @ basis.T, C - (C @ basis) @ basis.T
-        ss, cc, sc = (S * S).sum(1), (C * C).sum(1), (S * C).sum(1)
-        bs, bc = S @ resid, C @ resid
-        det = ss * cc - sc * sc
-        return (cc * bs * bs - 2 * sc * bs * bc + ss * bc * bc) / np.where(det > 0, det, np.inf)
-
+    power = _power_of(pos, w, resid, basis)
     ks = np.arange(lo, hi, step)
     if ks.size == 0:
         return [(0.0, None)]
@@ -61,18 +54,52 @@ def _scan(pos, w, resid, basis, radius, band, spacing):
     return sorted(found, reverse=True)
 
 
-def _columns(pos, w, ks):
-    """:func:`.circle_model.cyclic_columns` for evenly spaced wavenumbers ``ks``, one row
-    each: the phases by repeated multiplication, which costs a tenth of a sine and a cosine
-    per sample and wavenumber [m/m]."""
+def _power_of(pos, w, resid, basis):
+    """``power(ks)``: for each wavenumber of ``ks`` the drop of the sum of squares of
+    ``resid`` that the columns ``S = w sin(2 pi k pos)`` and ``C = w cos(...)`` bring
+    beside a fit whose columns span the orthonormal ``basis`` [m^2].
+
+    The columns less their parts in the basis are never formed: S's part is ``B B^T S``, so
+    ``|S - B B^T S|^2 = |S|^2 - |B^T S|^2``, and a product with the residual is one with
+    the residual's own part outside the basis."""
+    wb, w2 = w[:, None] * basis, w * w
+    wr = w * (resid - basis @ (basis.T @ resid))
+
+    def power(ks):
+        zc, zs = _phases(pos, ks)
+        ps, pc = zs @ wb, zc @ wb
+        ss = np.einsum("ij,ij,j->i", zs, zs, w2) - np.einsum("ij,ij->i", ps, ps)
+        cc = np.einsum("ij,ij,j->i", zc, zc, w2) - np.einsum("ij,ij->i", pc, pc)
+        sc = np.einsum("ij,ij,j->i", zs, zc, w2) - np.einsum("ij,ij->i", ps, pc)
+        bs, bc = zs @ wr, zc @ wr
+        det = ss * cc - sc * sc
+        return (cc * bs * bs - 2 * sc * bs * bc + ss * bc * bc) / np.where(det > 0, det, np.inf)
+
+    return power
+
+
+def _phases(pos, ks):
+    """``cos`` and ``sin`` of ``2 pi k pos`` for wavenumbers ``ks``, one row each: where
+    they are evenly spaced, the rows after the first by the angle sum, which costs a tenth
+    of a sine and a cosine per sample and wavenumber; its rounding grows with the rows,
+    which the scan starts afresh every 64 [-]."""
     ks = np.asarray(ks, float)
-    if ks.size < 2:
-        return cyclic_columns(pos, w, ks[:, None])
-    steps = np.empty((ks.size, pos.size), complex)
-    steps[0] = np.exp(2j * np.pi * ks[0] * pos)
-    steps[1:] = np.exp(2j * np.pi * (ks[1] - ks[0]) * pos)
-    z = np.cumprod(steps, axis=0)
-    return w * z.imag, w * z.real
+    if ks.size > 2 and np.ptp(np.diff(ks)) > 1e-9 * abs(ks[1] - ks[0]):
+        # not evenly spaced (a refinement's grid clipped at the band's edge): each row
+        # its own
+        phase = 2 * np.pi * ks[:, None] * pos[None, :]
+        return np.cos(phase), np.sin(phase)
+    zc, zs = np.empty((ks.size, pos.size)), np.empty((ks.size, pos.size))
+    zc[0], zs[0] = np.cos(2 * np.pi * ks[0] * pos), np.sin(2 * np.pi * ks[0] * pos)
+    if ks.size > 1:
+        step = 2 * np.pi * (ks[1] - ks[0]) * pos
+        dc, ds, t = np.cos(step), np.sin(step), np.empty(pos.size)
+        for j in range(1, ks.size):
+            np.multiply(zc[j - 1], dc, out=zc[j])
+            zc[j] -= np.multiply(zs[j - 1], ds, out=t)
+            np.multiply(zc[j - 1], ds, out=zs[j])
+            zs[j] += np.multiply(zs[j - 1], dc, out=t)
+    return zc, zs
 
 
 #: The least amplitude of a cyclic error reported: below any sensor's resolution [m].

@@ -22,7 +22,7 @@ from .circle_model import (
     fit_mask,
     reversal_lead_deg,
     servo_remainder,
-    term_column,
+    term_columns,
 )
 
 OWN = ("radius", "centre_X", "centre_Y")
@@ -162,7 +162,7 @@ def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
     own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), np.cos(a), np.sin(a)]
     pos = pos if pos is not None else (radius * np.cos(a), radius * np.sin(a))
     rev = None if not any(centre) else np.arctan2(pos[1] - centre[1], pos[0] - centre[0])
-    cols = [term_column(t, a, arc.s, radius, arc.ratio, mu, rev) for t in shared]
+    cols = term_columns(shared, a, arc.s, radius, arc.ratio, mu, rev)
     for axis, k in enumerate(waves):
         if k is not None:
             cols += cyclic_columns(pos[axis], np.cos(a) if axis == 0 else np.sin(a), k)
@@ -267,7 +267,7 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None) -> TermFit
     radius : float
         Nominal radius [m].
     shared : sequence of str
-        Terms common to the arcs (:func:`.circle_model.term_column`) [-].
+        Terms common to the arcs (:func:`.circle_model.term_columns`) [-].
     cyclic : bool
         Search for a cyclic error of each axis [-].
     drop : sequence of str

@@ -66,13 +66,14 @@ def axis_signs(angle, s, mu=0.0):
     return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
 
 
-def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None):
-    """Radial error per unit of a term [m/unit].
+def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None) -> list:
+    """Radial error per unit of each term of ``names``, the angle's sine and cosine and the
+    axes' signs worked out once for all [m/unit].
 
     Parameters
     ----------
-    name : str
-        ``backlash_X``, ``backlash_Y``, ``lateral_play_X``, ``lateral_play_Y``,
+    names : sequence of str
+        Of ``backlash_X``, ``backlash_Y``, ``lateral_play_X``, ``lateral_play_Y``,
         ``squareness``, ``servo_angle``, ``scale_mismatch``, ``straightness_X``,
         ``straightness_Y`` [-].
     angle : ndarray
@@ -99,7 +100,12 @@ def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None):
             "scale_mismatch": lambda: 0.5 * radius * (c * c - n * n),
             # a bow of the axis by 1 at the middle of its travel +-R, 0 at its ends
             "straightness_X": lambda: n**3, "straightness_Y": lambda: c**3}
-    return cols[name]()
+    return [cols[name]() for name in names]
+
+
+def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None):
+    """Radial error per unit of the term ``name`` (:func:`term_columns`) [m/unit]."""
+    return term_columns((name,), angle, s, radius, ratio, mu, rev)[0]
 
 
 def cyclic_columns(pos, w, wavenumber):

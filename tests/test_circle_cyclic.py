@@ -1,0 +1,58 @@
+"""The cyclic-error scan of the circle fit (:mod:`tcpmm.analysis.circle_cyclic`): its power
+by products against the columns projected out explicitly, and its period found at the
+edge of the band it searches."""
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis import circle_cyclic as cc
+from tcpmm.analysis.circle_model import cyclic_columns
+
+R = 0.035
+N = 3000
+
+
+def _circle(n=N):
+    """Angle, X position and its radial weight of a circle of radius R, and an orthonormal
+    basis of a circle fit's own columns (radius, centre, an ellipse) [rad], [m], [-]."""
+    th = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    cols = np.c_[np.ones(n), np.cos(th), np.sin(th), np.cos(2 * th), np.sin(2 * th)]
+    return th, R * np.cos(th), np.cos(th), np.linalg.qr(cols)[0]
+
+
+def _projected_power(pos, w, resid, basis, k):
+    """The drop of the sum of squares that a sine and cosine of wavenumber ``k``, less
+    their parts in ``basis``, bring to ``resid`` [m^2]."""
+    A = np.column_stack(cyclic_columns(pos, w, k))
+    A = A - basis @ (basis.T @ A)
+    c = np.linalg.lstsq(A, resid, rcond=None)[0]
+    return float(resid @ resid - (resid - A @ c) @ (resid - A @ c))
+
+
+@pytest.mark.parametrize("ks", [np.arange(40.0, 40.0 + 64 * 7.0, 7.0),
+                                np.array([50.0, 50.0, 50.0, 51.3, 52.6]),
+                                np.array([123.4])])
+def test_the_scan_power_is_the_fit_drop_of_the_projected_columns(ks):
+    """Evenly spaced (by the angle sum), clipped at an edge (repeated values) or alone, the
+    scan's power is what fitting the projected columns takes off the residual."""
+    rng = np.random.default_rng(3)
+    _, pos, w, basis = _circle()
+    y = 1e-6 * rng.standard_normal(N) + 2e-6 * w * np.sin(2 * np.pi * 61.0 * pos + 0.3)
+    resid = y - basis @ (basis.T @ y)
+    got = cc._power_of(pos, w, resid, basis)(ks)
+    want = [_projected_power(pos, w, resid, basis, k) for k in ks]
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12 * (resid @ resid))
+
+
+@pytest.mark.parametrize("frac", [0.1, 0.3, 0.7])
+def test_a_period_next_to_the_band_edge_is_refined_to_it(frac):
+    """A cyclic error a fraction of a grid step above the lowest wavenumber searched: the
+    refinement's grid, clipped at the band's edge, took the edge's phase for all of its
+    points and gave the edge (a period 5 % long) instead of the error's."""
+    _, pos, w, basis = _circle()
+    lo, step = cc.MIN_PERIODS / (2 * R), 1.0 / (4 * R)
+    k = lo + frac * step
+    y = 2e-6 * w * np.sin(2 * np.pi * k * pos + 0.4)
+    resid = y - basis @ (basis.T @ y)
+    found = cc._scan(pos, w, resid, basis, R, None, R * 2 * np.pi / N)[0][1]
+    assert found == pytest.approx(k, rel=1e-4)

@@ -55,6 +55,7 @@ class CornerStore:
     def __init__(self):
         self.batches: list = []
         self.long: dict = {}
+        self.g0 = 0  # the first corner not summed up
 
     def add(self, g0: int, cuts, near, rowcut, rows, counts) -> None:
         """A batch taken down by the corners from ``g0`` on, one a row of ``cuts``;
@@ -68,6 +69,7 @@ class CornerStore:
         for j in np.flatnonzero(counts > tapes.SPILL_ROWS).tolist():
             if g0 + j not in self.long:
                 self._to_tape(g0 + j)
+        self._prune()
 
     def _to_tape(self, g: int) -> None:
         """Put corner ``g``'s rows so far on a tape of its own, and its pieces aside."""
@@ -82,9 +84,16 @@ class CornerStore:
         """Let go of what only the corners before ``g0`` (summed up) need."""
         for g in [g for g in self.long if g < g0]:
             self.long.pop(g)[0].close()
+        self.g0 = g0
+        self._prune()
+
+    def _prune(self) -> None:
+        """Keep the batches that a corner not summed up and not on a tape takes from: a
+        corner on a tape has its rows and pieces there (a path's one corner, a spiral's
+        lead-in, kept every batch to the end of the run)."""
         self.batches = [b for b in self.batches
-                        if sum(max(b.g0, g0) <= g < b.g1 for g in self.long)
-                        < b.g1 - max(b.g0, g0)]
+                        if sum(max(b.g0, self.g0) <= g < b.g1 for g in self.long)
+                        < b.g1 - max(b.g0, self.g0)]
 
     def gathered(self, g0: int, m: int, sensors: int) -> tuple:
         """The corners ``g0`` to ``g0 + m``'s rows one corner after the other and where

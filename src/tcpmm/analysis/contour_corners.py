@@ -20,9 +20,12 @@ compiled call for all the corners it concerns.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from .._compiled import call
+from .corner_rows import CornerRows
 from .corner_store import CornerStore, batch_figures
 from .corners import CornerFinder, first_bends, path_length
 
@@ -64,7 +67,7 @@ class CornerStream:
         self.open = None  # the corners being measured (:data:`_COLUMNS`), in order
         self.g0 = 0  # the number of the first open corner, from 0
         self.store = CornerStore()
-        self.done = []  # the figures of the corners done
+        self.done = CornerRows()  # the figures of the corners done
         self.names = []  # the sensors
         self.last_t_i = None  # the time at the last corner done
         self.t_done = -np.inf  # the last sample measured
@@ -103,8 +106,9 @@ class CornerStream:
         self.t_done = float(t[-1])
         self._settle()
 
-    def finish(self) -> list:
-        """The corners of the whole run, the end of the path last: per corner ``number``,
+    def finish(self) -> Sequence:
+        """The corners of the whole run, the end of the path last (a sequence of dicts,
+        :class:`~tcpmm.analysis.corner_rows.CornerRows`): per corner ``number``,
         ``index`` (command sample), ``point_m``, ``turn_rad`` and per sensor
         ``overshoot_m``, ``rounding_m``, ``settle_s``, ``settle_m`` [SI]."""
         if self.p is None:
@@ -115,7 +119,7 @@ class CornerStream:
         self._bends()
         self.t_done = np.inf
         self._settle()
-        return list(self.done)
+        return self.done
 
     def _found(self, corners) -> None:
         """Open the corners just found and take down the samples kept for them, once

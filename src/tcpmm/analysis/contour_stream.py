@@ -17,6 +17,7 @@ numbers each, until the next corner is found.
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -78,8 +79,10 @@ class StreamedContour:
         Per sensor, the running figures [m].
     most_rows : int
         Most rows held at once [-].
-    corners : list of dict
-        As :attr:`tcpmm.analysis.contour.ContourResult.corners` [SI].
+    corners : sequence of dict
+        As :attr:`tcpmm.analysis.contour.ContourResult.corners`, kept as columns
+        (:class:`~tcpmm.analysis.corner_rows.CornerRows`; ``list(corners)`` for a list)
+        [SI].
     settle_tol_m : float
         The band of the settling figures [m].
     rapids : dict, optional
@@ -91,7 +94,7 @@ class StreamedContour:
     rows: int = 0
     sums: dict = field(default_factory=dict)
     most_rows: int = 0
-    corners: list = field(default_factory=list)
+    corners: Sequence = field(default_factory=list)
     settle_tol_m: float = 1e-6
     rapids: dict | None = None
 

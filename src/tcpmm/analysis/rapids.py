@@ -141,12 +141,15 @@ def left_out(samples: int, rows: int, counted_rapids: bool, corners: list,
     counted_rapids, corners, stretches
         As :func:`feed_only` [-].
     """
-    near = stretches.near_many([c["index"] for c in corners]).tolist()
+    near = stretches.near_many(corners.indices() if hasattr(corners, "indices")
+                               else [c["index"] for c in corners]).tolist()
     counted = bool(counted_rapids or samples == rows)
     info = {"counted": counted, "samples": int(samples),
             "share": samples / rows if rows else 0.0, "corners": int(sum(near))}
     if counted:
         return corners, info
+    if hasattr(corners, "kept"):  # a streamed run's table, kept as columns
+        return corners.kept([not x for x in near]), info
     return [c for c, x in zip(corners, near, strict=True) if not x], info
 
 

@@ -383,6 +383,6 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     stretches = RapidStretches(corner_span_m)
     if run.rapid is not None:
         stretches.add_command(cmd, command_flags(run, command))
-    counted, kept, said = feed_only(run.rapid, rapids, list(corners.finish()), stretches)
+    counted, kept, said = feed_only(run.rapid, rapids, corners.finish(), stretches)
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
-                         kept, settle_tol_m, actual, counted, said, run.nc_line)
+                         list(kept), settle_tol_m, actual, counted, said, run.nc_line)

@@ -20,8 +20,6 @@ compiled call for all the corners it concerns.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 import numpy as np
 
 from .._compiled import call
@@ -106,13 +104,13 @@ class CornerStream:
         self.t_done = float(t[-1])
         self._settle()
 
-    def finish(self) -> Sequence:
+    def finish(self) -> CornerRows:
         """The corners of the whole run, the end of the path last (a sequence of dicts,
         :class:`~tcpmm.analysis.corner_rows.CornerRows`): per corner ``number``,
         ``index`` (command sample), ``point_m``, ``turn_rad`` and per sensor
         ``overshoot_m``, ``rounding_m``, ``settle_s``, ``settle_m`` [SI]."""
         if self.p is None:
-            return []
+            return self.done
         self._found(self.finder.step(self.p, self.s, self.off, True))
         if self.open["i"].size:
             self.open["b1"][-1] = self.tc[-1]

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .corner_rows import CornerRows
 from .corners import path_length
 
 #: command rows taken at a time [-]
@@ -96,7 +97,7 @@ class RapidStretches:
         return (j >= 0) & (reach[np.maximum(j, 0)] >= idx)
 
 
-def feed_only(flags, counted_rapids: bool, corners: list, stretches):
+def feed_only(flags, counted_rapids: bool, corners: CornerRows, stretches):
     """What the contour error counts of a run's samples and corners.
 
     Parameters
@@ -105,7 +106,7 @@ def feed_only(flags, counted_rapids: bool, corners: list, stretches):
         Per sample, nonzero in a rapid; ``None`` for a run that does not record it [-].
     counted_rapids : bool
         Count the rapids all the same [-].
-    corners : list of dict
+    corners : CornerRows
         The corners found, each with its command sample ``index`` [-].
     stretches : RapidStretches
         The command's rapids, reaching as far as the corner span [-].
@@ -114,7 +115,7 @@ def feed_only(flags, counted_rapids: bool, corners: list, stretches):
     -------
     counted : ndarray of bool or None
         The samples counted; ``None`` for all [-].
-    corners : list of dict
+    corners : CornerRows
         The corners counted [-].
     rapids : dict or None
         :func:`left_out`'s figures; ``None`` without ``flags`` [-].
@@ -127,7 +128,7 @@ def feed_only(flags, counted_rapids: bool, corners: list, stretches):
     return (None if info["counted"] else ~air), kept, info
 
 
-def left_out(samples: int, rows: int, counted_rapids: bool, corners: list,
+def left_out(samples: int, rows: int, counted_rapids: bool, corners: CornerRows,
              stretches) -> tuple:
     """The corners counted and the figures of the rapids of a run of ``rows`` samples,
     ``samples`` of them in rapids: ``counted`` (whether the rapids are counted: asked, or
@@ -141,16 +142,13 @@ def left_out(samples: int, rows: int, counted_rapids: bool, corners: list,
     counted_rapids, corners, stretches
         As :func:`feed_only` [-].
     """
-    near = stretches.near_many(corners.indices() if hasattr(corners, "indices")
-                               else [c["index"] for c in corners]).tolist()
+    near = stretches.near_many(corners.indices()).tolist()
     counted = bool(counted_rapids or samples == rows)
     info = {"counted": counted, "samples": int(samples),
             "share": samples / rows if rows else 0.0, "corners": int(sum(near))}
     if counted:
         return corners, info
-    if hasattr(corners, "kept"):  # a streamed run's table, kept as columns
-        return corners.kept([not x for x in near]), info
-    return [c for c, x in zip(corners, near, strict=True) if not x], info
+    return corners.kept([not x for x in near]), info
 
 
 def rapid_note(rapids: dict | None) -> str | None:

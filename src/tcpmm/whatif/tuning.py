@@ -343,8 +343,17 @@ def _best_feedforward(tuned: Machine, names: list, cmd, circle: bool):
     worst = [_worst(f) for _, f in tried]
     best = tried[min(range(len(tried)), key=worst.__getitem__)]  # the first of the least
     if _worst(best[1]) == float("inf"):  # no fraction is a prediction: none is chosen
-        return tuned, path_figures(tuned, cmd, circle), dropped, float("inf")
+        return tuned, _own_figures(tuned, names, tried, cmd, circle), dropped, float("inf")
     spread = max(worst) - min(worst)
     if spread <= FEEDFORWARD_RESOLUTION_UM:
-        return tuned, path_figures(tuned, cmd, circle), dropped, spread
+        return tuned, _own_figures(tuned, names, tried, cmd, circle), dropped, spread
     return (*best, dropped, spread)
+
+
+def _own_figures(tuned: Machine, names: list, tried: list, cmd, circle: bool):
+    """The path figures of ``tuned`` with its own feedforward: those the grid ran where
+    every axis of ``names`` has one fraction of it (the same machine), else run [-]."""
+    for k, (_, figs) in zip(FEEDFORWARD_GRID, tried, strict=True):
+        if all(tuned.axes[n].servo.k_ff == k for n in names):
+            return figs
+    return path_figures(tuned, cmd, circle)

@@ -331,3 +331,41 @@ def test_a_build_is_announced_and_the_command_line_shows_it(tmp_path, monkeypatc
     out, err = capsys.readouterr()
     assert "compiling" not in out
     assert err.count("note: compiling the simulation kernel for this CPU") == 1
+
+
+def test_the_friction_fits_run_compiled_to_numbas_bits_without_starting_numba(monkeypatch):
+    """The pre-sliding fit's contact force along a path through a play, and the guideway
+    friction that holds the nut on a flank, from the compiled module: an identification
+    then never imports numba (its import and cache cost it about a second), and the forces
+    are numba's to the bit."""
+    from types import SimpleNamespace
+
+    from tcpmm.ident.friction.preslidingfit import _contact_force
+    from tcpmm.ident.steps.playrefit import bias_force
+    from tcpmm.mechanics.friction import LuGreFriction, friction_params_array
+
+    built_or_skip()
+    lugre = LuGreFriction(fc_pos=20.0, fc_neg=22.0, fs_pos=28.0, fs_neg=26.0, vs=2e-3,
+                          fv_pos=150.0, fv_neg=160.0, sigma0=2e6, sigma1=300.0)
+    path = 1e-5 * np.sin(np.linspace(0.0, 12.0, 3001)) ** 3
+    fr, mech = SimpleNamespace(guideway=lugre), SimpleNamespace(C_t=40.0)
+
+    def both():
+        return (_contact_force(friction_params_array(lugre), path, 1e-3, 4e-6),
+                [bias_force(v, mech, fr) for v in (1e-4, 2e-3, 0.05)])
+
+    ours = both()
+    monkeypatch.setattr(compiled, "_chosen", [None, "numba's kernels (forced)"])
+    theirs = both()
+    assert np.ptp(ours[0]) > 20.0  # the contact slides both ways
+    np.testing.assert_array_equal(ours[0].view(np.int64), theirs[0].view(np.int64))
+    assert ours[1] == theirs[1]
+    code = ("import sys, numpy as np; import tcpmm.cli.ident, tcpmm.ident.chain; "
+            "from tcpmm.ident.friction.preslidingfit import _contact_force; "
+            "from tcpmm.mechanics.friction import LuGreFriction, friction_params_array; "
+            "p = friction_params_array(LuGreFriction(fc_pos=1.0, fc_neg=1.0, sigma0=1e5)); "
+            "_contact_force(p, np.linspace(0.0, 1e-4, 50), 1e-3, 1e-6); "
+            "print(sorted(m for m in ('numba', 'llvmlite') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert ast.literal_eval(out.strip().splitlines()[-1]) == []

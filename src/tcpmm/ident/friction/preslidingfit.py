@@ -63,8 +63,8 @@ import math
 
 import numpy as np
 
+from ... import _compiled
 from ...mechanics.friction import friction_params_array
-from ...sim.pathforce import contact_force_along_path, play_operator
 from .presliding import with_presliding
 from .preslidingresult import PreslidingFit
 
@@ -180,7 +180,10 @@ def _contact_force(params, path, h, band: float):
     play of width ``band`` [N]."""
     if params is None:
         return np.zeros_like(path)
-    return contact_force_along_path(play_operator(path, band), h, params)
+    # through the module compiled ahead of time (tcpmm.sim.pathforce's functions): an
+    # identification then never starts numba (its import and cache, about a second)
+    moved = _compiled.call("play_operator", path, float(band))
+    return _compiled.call("contact_force_along_path", moved, float(h), params)
 
 
 def _residual(m, windows, fr, mech, margin: int) -> np.ndarray:

@@ -13,9 +13,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ... import _compiled
 from ...io.csvutil import warn_input
 from ...mechanics.friction import friction_params_array
-from ...sim.contact import sliding_friction
 from ..friction.nutstiffness import LOST_MOTION_Z
 from ..friction.playdf import (
     dead_zone_gain,
@@ -310,7 +310,8 @@ def bias_force(v: float, mech, fr) -> float:
     its play [N]. Zero without travel or guideway friction."""
     if v <= 0 or fr is None or fr.guideway is None:
         return 0.0
-    return float(sliding_friction(v, friction_params_array(fr.guideway))) + mech.C_t * v
+    level = _compiled.call("sliding_friction", float(v), friction_params_array(fr.guideway))
+    return float(level) + mech.C_t * v
 
 
 def warn_sweep_crosses_play(name: str, sweep, split, modelled: bool = False) -> None:

@@ -1,9 +1,14 @@
 """G-code parse speed: ``parse_gcode`` per block on a 100 000-block spiral of
 ``G1 X.. Y..`` lines (``--arcs``: of ``G3 X.. Y.. I.. J..`` arcs), against the reference
 path (every line through the tokeniser and the interpreter) measured in the same run.
+``runs`` is the parse as the streaming commands (``path``, ``simulate --gcode``) make it:
+the same lexer and interpreter, the blocks kept as runs of arrays
+(:class:`tcpmm.path.runs.LineRun`, :class:`~tcpmm.path.runs.ArcRun`) that the interpolator
+takes as they are, where ``parse_gcode`` makes each block a Python object (most of its
+time on arcs); the runs are checked to hold the same segments.
 
-The two run in turn, ``--rounds`` times, so that a change of machine load hits both
-alike; min and median over the rounds. The target is 2 us a block. Not a test:
+They run in turn, ``--rounds`` times, so that a change of machine load hits them
+all alike; min and median over the rounds. The target is 2 us a block. Not a test:
 ``python benchmarks/gcode.py [--blocks N] [--rounds N] [--arcs] [--json]``.
 """
 
@@ -16,8 +21,10 @@ import time
 import warnings
 
 from tcpmm.errors import InputWarning
+from tcpmm.io.text import file_lines
 from tcpmm.path import gcode_stream, parse_gcode
 from tcpmm.path.gcode_fast import collector_paused
+from tcpmm.path.runs import as_lines
 
 TARGET_US = 2.0
 
@@ -51,6 +58,16 @@ def reference(text: str):
     return it.segments
 
 
+def as_runs(text: str):
+    """The program lexed and interpreted into runs, as :func:`tcpmm.path.stream` reads a
+    chunk [-]."""
+    with collector_paused():
+        (it,) = gcode_stream.interpret_chunks([file_lines(text)], None,
+                                              (0.0, 0.0, 0.0), runs=True)
+    it.emit_warnings()
+    return it.segments
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--blocks", type=int, default=100_000, help="G1 blocks [-]")
@@ -59,7 +76,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--json", action="store_true", help="print the figures as JSON")
     a = ap.parse_args(argv)
     text = (arc_program if a.arcs else spiral_program)(a.blocks)
-    tools = {"fast": parse_gcode, "reference": reference}
+    tools = {"fast": parse_gcode, "runs": as_runs, "reference": reference}
     times = {k: [] for k in tools}
     outs = {}
     with warnings.catch_warnings():
@@ -69,13 +86,15 @@ def main(argv=None) -> dict:
                 t0 = time.perf_counter()
                 outs[name] = f(text)
                 times[name].append(time.perf_counter() - t0)
-    if outs["fast"] != outs["reference"]:
-        raise SystemExit("the fast path and the reference gave different segments")
+    if outs["fast"] != outs["reference"] or as_lines(outs["runs"]) != outs["fast"]:
+        raise SystemExit("the fast path, the runs and the reference gave different segments")
     lines = text.count("\n")
     us = {k: sorted(v) for k, v in times.items()}
     res = {"blocks": a.blocks, "arcs": a.arcs, "rounds": a.rounds,
            "fast_us_per_block": us["fast"][0] / lines * 1e6,
            "fast_us_per_block_median": us["fast"][len(us["fast"]) // 2] / lines * 1e6,
+           "runs_us_per_block": us["runs"][0] / lines * 1e6,
+           "runs_us_per_block_median": us["runs"][len(us["runs"]) // 2] / lines * 1e6,
            "reference_us_per_block": us["reference"][0] / lines * 1e6,
            "reference_us_per_block_median":
                us["reference"][len(us["reference"]) // 2] / lines * 1e6}
@@ -86,6 +105,8 @@ def main(argv=None) -> dict:
         print(f"blocks:     {a.blocks} ({a.rounds} rounds, min / median)")
         print(f"fast:       {res['fast_us_per_block']:.2f} / "
               f"{res['fast_us_per_block_median']:.2f} us a block (target {TARGET_US:g})")
+        print(f"runs:       {res['runs_us_per_block']:.2f} / "
+              f"{res['runs_us_per_block_median']:.2f} us a block")
         print(f"reference:  {res['reference_us_per_block']:.2f} / "
               f"{res['reference_us_per_block_median']:.2f} us a block")
         print(f"speed-up:   {res['speedup']:.2f}")

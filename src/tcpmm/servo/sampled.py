@@ -24,9 +24,19 @@ LIFTED_OUTPUTS = ("th_m", "X_LS", "X_TCP", "w_m")
 
 
 @lru_cache(maxsize=32)
+def _plant(mech: AxisMechanics, current_bandwidth_hz):
+    """The axis's plant (:func:`~tcpmm.mechanics.statespace.plant`): the same for every
+    gain a tuning tries, so kept (its matrices read-only) [-]."""
+    p = plant(mech, current_bandwidth_hz)
+    for a in (p.A, p.B, p.C, p.D):
+        a.flags.writeable = False
+    return p
+
+
+@lru_cache(maxsize=32)
 def _discrete_plant(mech: AxisMechanics, current_bandwidth_hz, T_v: float):
     """ZOH plant from the current at ``T_v``: the same for every gain, so kept [-]."""
-    p = plant(mech, current_bandwidth_hz)
+    p = _plant(mech, current_bandwidth_hz)
     Ad, Bd = discretize_zoh(p.A, p.B, T_v)
     Ad.flags.writeable = False
     Bd.flags.writeable = False
@@ -37,7 +47,7 @@ class _Rows:
     """Signals of the sampled loop as rows of coefficients over ``[z; u]``."""
 
     def __init__(self, mech: AxisMechanics, servo: ServoParams, nu: int):
-        p = plant(mech, servo.current_bandwidth_hz)
+        p = _plant(mech, servo.current_bandwidth_hz)
         self.p, self.servo, self.R = p, servo, mech.R_L
         n = p.A.shape[0]
         self.Ad, self.bd = _discrete_plant(mech, servo.current_bandwidth_hz, servo.T_v)

@@ -34,9 +34,13 @@ class CornerRows(Sequence):
         """Add the corners ``rows`` (dicts), in order [-]."""
         rows = list(rows)
         if rows:
-            self._starts.append(self._n)
-            self._parts.append(_packed(rows) or rows)
-            self._n += len(rows)
+            self._add(_packed(rows) or rows)
+
+    def _add(self, part) -> None:
+        """Append a batch: a list of dicts, or the columns of one [-]."""
+        self._starts.append(self._n)
+        self._parts.append(part)
+        self._n += _size(part)
 
     def __len__(self) -> int:
         return self._n
@@ -56,7 +60,7 @@ class CornerRows(Sequence):
             if isinstance(part, list):
                 yield from part
             else:
-                for k in range(part["number"].size):
+                for k in range(_size(part)):
                     yield _row(part, k)
 
     def indices(self) -> list:
@@ -69,17 +73,20 @@ class CornerRows(Sequence):
         """The corners where ``keep`` (one bool a corner) is true, as a new table [-]."""
         out, k = CornerRows(), 0
         for part in self._parts:
-            n = len(part) if isinstance(part, list) else part["number"].size
+            n = _size(part)
             mask = np.asarray(keep[k:k + n], bool)
             k += n
             if isinstance(part, list):
                 out.extend(c for c, m in zip(part, mask.tolist(), strict=True) if m)
             elif mask.any():
-                out._starts.append(out._n)
-                out._parts.append({key: (v[mask] if isinstance(v, np.ndarray) else v)
-                                   for key, v in part.items()})
-                out._n += int(mask.sum())
+                out._add({key: (v[mask] if isinstance(v, np.ndarray) else v)
+                          for key, v in part.items()})
         return out
+
+
+def _size(part) -> int:
+    """Corners in a batch, a list of dicts or its columns [-]."""
+    return len(part) if isinstance(part, list) else int(part["number"].size)
 
 
 def _packed(rows: list) -> dict | None:

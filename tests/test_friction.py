@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from tcpmm.errors import InputError
 from tcpmm.mechanics.friction import (
@@ -197,6 +199,26 @@ def test_lugre_steady_sliding_matches_stribeck_curve():
             f, z = friction_force(v, 0.0, z, p, 1e-5, 0.0)
         assert z == pytest.approx(lugre_steady_state(v, p), rel=1e-9)
         assert f == pytest.approx(sliding_friction(v, p), rel=1e-9)
+
+
+@settings(max_examples=300, deadline=None)
+@given(v=st.one_of(st.just(0.0), st.floats(-0.5, 0.5, allow_subnormal=False),
+                   st.floats(-1e-5, 1e-5, allow_subnormal=False)),
+       fc=st.floats(1.0, 200.0), rise=st.sampled_from([0.0, 0.1, 0.7]),
+       vs=st.floats(1e-4, 1e-2), delta=st.sampled_from([1.0, 1.5, 2.0]),
+       sigma1=st.sampled_from([0.0, 300.0, 5e4]), fades=st.booleans())
+def test_lugre_rates_are_the_damping_and_decay_rate_to_the_bit(v, fc, rise, vs, delta,
+                                                                sigma1, fades):
+    """The LuGre step takes the micro-damping and the bristles' decay rate from one
+    Stribeck shape: the numbers of ``micro_damping`` and ``lugre_decay_rate`` computed
+    apart, to the bit, on both sides, at rest, with and without a Stribeck rise."""
+    from tcpmm.sim.frictionlaw import lugre_decay_rate, lugre_rates, micro_damping
+
+    lg = LuGreFriction(fc_pos=fc, fc_neg=1.1 * fc, fs_pos=fc * (1 + rise),
+                       fs_neg=1.1 * fc * (1 + rise), vs=vs, delta=delta, sigma0=1e7,
+                       sigma1=sigma1, sigma1_fades=fades)
+    p = friction_params_array(lg)
+    assert lugre_rates(v, p) == (micro_damping(v, p), lugre_decay_rate(v, p))
 
 
 def test_lugre_implicit_step_is_stable_for_stiff_bristles():

@@ -97,8 +97,8 @@ from tcpmm.mechanics.friction import (
 # the friction laws stay importable from here, where the simulator's callers take them
 from .frictionlaw import (
     lugre_decay_rate,
+    lugre_rates,
     lugre_steady_state,
-    micro_damping,
     sliding_friction,
     static_levels,
     stribeck_level,
@@ -175,11 +175,10 @@ def _static_step(v, f_applied, params, dt, m_eff):
     return f_sl, SLIDING
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _lugre_step(v, f_applied, z, params, dt, m_eff):
     s0 = params[P_SIGMA0]
-    s1 = micro_damping(v, params)
-    c = lugre_decay_rate(v, params)
+    s1, c = lugre_rates(v, params)
     fv = viscous_coefficient(v, params)
     if m_eff > 0.0:
         # backward Euler on (v, z) with c frozen:

@@ -83,15 +83,18 @@ def stribeck_level(v, params):
     float
         ``g(v) = Fc_d + (Fs_d - Fc_d) exp(-|v / vs|**delta)`` [N].
     """
-    if v > 0.0:
-        fc = params[P_FC_POS]
-        fs = params[P_FS_POS]
-    else:
-        fc = params[P_FC_NEG]
-        fs = params[P_FS_NEG]
+    fc, fs = _levels(v, params)
     if fs == fc:
         return fc
     return fc + (fs - fc) * _stribeck_shape(v, params)
+
+
+@njit(cache=True, inline="always")
+def _levels(v, params):
+    """``(Fc_d, Fs_d)`` of the direction of ``v``, that of ``v < 0`` at rest [N]."""
+    if v > 0.0:
+        return params[P_FC_POS], params[P_FS_POS]
+    return params[P_FC_NEG], params[P_FS_NEG]
 
 
 @njit(cache=True, inline="always")
@@ -190,3 +193,19 @@ def micro_damping(v, params):
     if params[P_SIGMA1_FADES] == 0.0 or v == 0.0 or s1 == 0.0:
         return s1
     return s1 * _stribeck_shape(v, params)
+
+
+@njit(cache=True, inline="always")
+def lugre_rates(v, params):
+    """``(micro_damping(v), lugre_decay_rate(v))`` with the Stribeck shape taken once:
+    the same numbers [N s/m, 1/s]."""
+    s1 = params[P_SIGMA1]
+    if v == 0.0:
+        return s1, 0.0
+    fc, fs = _levels(v, params)
+    fades = params[P_SIGMA1_FADES] != 0.0 and s1 != 0.0
+    if fs == fc and not fades:
+        return s1, params[P_SIGMA0] * abs(v) / fc
+    shape = _stribeck_shape(v, params)
+    g = fc if fs == fc else fc + (fs - fc) * shape
+    return (s1 * shape if fades else s1), params[P_SIGMA0] * abs(v) / g

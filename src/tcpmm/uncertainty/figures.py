@@ -132,7 +132,10 @@ def _test_figures(t, machine, sensor: str, simulate, out: dict) -> None:
     run = simulate(m, cmd)
     if run.meta.get("faults"):
         out.faults[t.label] = "; ".join(f["text"] for f in run.meta["faults"])
-    res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane)
+    # the command (where the passes are found) and the sensor judged: the others' figures
+    # would be computed to be thrown away
+    res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane,
+                         sensors=tuple(dict.fromkeys(("cmd", sensor))))
     out.update(circle_figures(res, t.label, sensor))
 
 

@@ -506,3 +506,30 @@ def test_json_carries_the_warnings_said_on_stderr(tmp_path, capsys, suffix):
     assert main(["simulate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
                  "--json"]) == 0
     assert "warnings" not in json.loads(capsys.readouterr().out)
+
+
+def test_a_disk_that_fills_while_a_piece_is_written_leaves_no_file(tmp_path, capsys,
+                                                                   monkeypatch):
+    """A piece is written while the next is computed: a disk that fills on the second
+    piece ends the command with the reason in one line, the same as when each piece was
+    written in turn, and neither the run file nor its temporary one is left."""
+    import errno
+
+    import pyarrow.parquet as pq
+
+    real, calls = pq.ParquetWriter.write_table, []
+
+    def full(self, table, *args, **kw):
+        calls.append(table.num_rows)
+        if len(calls) == 2:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return real(self, table, *args, **kw)
+
+    monkeypatch.setattr(pq.ParquetWriter, "write_table", full)
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS["zigzag"])
+    code, out, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                             tmp_path / "run.parquet", "--chunk-blocks", 3)
+    assert code == 2 and len(calls) == 2, (code, calls, err)
+    assert "No space left on device" in err and "Traceback" not in out + err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.nc"]

@@ -48,22 +48,32 @@ def run_parquet_writer(path):
         ``write(run)``: appends the pieces's rows (:class:`~tcpmm.result.Run`, the
         columns of the first piece) [-].
     """
+    from concurrent.futures import ThreadPoolExecutor, wait
+
     import pyarrow.parquet as pq
 
-    with atomic_path(path) as tmp:
+    # a piece is encoded and written in a thread (Arrow lets go of the GIL) while the
+    # next is computed; one at a time, so memory holds one piece more
+    with atomic_path(path) as tmp, ThreadPoolExecutor(1) as pool:
         opened: list = []
+        pending: list = []
 
         def write(run: Run) -> None:
             cols = parquet_columns(run)
             if not opened:
                 schema = parquet_schema(cols)
                 opened.append(pq.ParquetWriter(tmp, schema, use_dictionary=False))
-            w = opened[0]
-            w.write_table(arrow_table(cols, w.schema))
+            table = arrow_table(cols, opened[0].schema)
+            if pending:
+                pending.pop().result()
+            pending.append(pool.submit(opened[0].write_table, table))
 
         try:
             yield write
+            if pending:
+                pending.pop().result()
         finally:
+            wait(pending)  # a failure elsewhere: the file is closed once written
             if opened:
                 opened[0].close()
 

@@ -186,3 +186,38 @@ def test_the_kernels_bed_velocity_is_the_plants():
     from tcpmm.sim.layout import BED_VELOCITY
 
     assert STATES[BED_VELOCITY] == "v_b"
+
+
+def test_axes_kept_from_an_earlier_run_are_its_bits_and_not_run_again(vmc, circle,
+                                                                      monkeypatch):
+    """``simulate(..., axis_runs=kept)``: a machine that shares axes with the one run
+    before (a variant of one axis, as the verdict runs some 45) runs only the axis it
+    changed, and gets the run it would have got from scratch, to the bit. An axis that is
+    another object, or the same on another command, is run again."""
+    import dataclasses
+
+    from tcpmm.sim import simulate as sim
+
+    real, ran = sim.simulate_axis, []
+
+    def counted(axis, *args, **kw):
+        ran.append(axis)
+        return real(axis, *args, **kw)
+
+    monkeypatch.setattr(sim, "simulate_axis", counted)
+    kept: dict = {}
+    simulate(vmc, circle, axis_runs=kept)
+    assert len(ran) == 3 and set(kept) == {"X", "Y", "Z"}
+    x = vmc.axes["X"]
+    variant = vmc.with_axis("X", x.replace(mechanics=x.mechanics.scaled(K_t=1.3)))
+    ran.clear()
+    again = simulate(variant, circle, axis_runs=kept)
+    assert ran == [variant.axes["X"]]
+    fresh = simulate(variant, circle)
+    for name in "XYZ":
+        a, b = again.axes[name], fresh.axes[name]
+        for s in ("cmd", "motor", "scale", "tcp", "current", "motor_speed"):
+            assert np.array_equal(getattr(a, s), getattr(b, s)), (name, s)
+    ran.clear()
+    simulate(variant, dataclasses.replace(circle), axis_runs=kept)
+    assert len(ran) == 3

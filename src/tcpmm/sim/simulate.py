@@ -168,6 +168,37 @@ def _run_axes(one, names: list, threads: int | None, progress) -> dict:
     return runs
 
 
+def _axis_runner(machine, command, rp, quantise_feedback, feed: dict, axis_runs):
+    """``one(name)``: the run of axis ``name`` of :func:`simulate`, taken from
+    ``axis_runs`` where it keeps it, else run (and kept there) [-]."""
+
+    def one(name):
+        axis = machine.axes[name]
+        key = (axis, command, feed.get(name), rp, quantise_feedback)
+        kept = _kept_run(axis_runs, name, key)
+        if kept is not None:
+            return kept
+        pos = command.positions.get(name, np.zeros_like(command.time_s))
+        run = simulate_axis(axis, command.time_s, pos, record_period_s=rp,
+                            quantise_feedback=quantise_feedback, excitation_A=feed.get(name))
+        if axis_runs is not None:
+            axis_runs[name] = (key, run)
+        return run
+
+    return one
+
+
+def _kept_run(axis_runs: dict | None, name: str, key: tuple):
+    """The run of axis ``name`` that ``axis_runs`` keeps for ``key`` (axis, command and
+    feed-forward: the same objects; record period and quantisation: equal), else None."""
+    kept = axis_runs.get(name) if axis_runs is not None else None
+    if kept is None:
+        return None
+    was, run = kept
+    same = all(a is b for a, b in zip(was[:3], key[:3], strict=True)) and was[3:] == key[3:]
+    return run if same else None
+
+
 def _refuse_unknown_axes(machine, command) -> None:
     """Refuse a command that moves an axis the machine does not have; one it holds still is
     no matter (the interpreter writes every axis a program names: an X-only test on a
@@ -183,7 +214,7 @@ def _refuse_unknown_axes(machine, command) -> None:
 
 def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
              quantise_feedback=True, threads: int | None = None,
-             current_feedforward_A: dict | None = None) -> Run:
+             current_feedforward_A: dict | None = None, axis_runs: dict | None = None) -> Run:
     """Run the machine model on a position command, every axis of the model.
 
     Axes of the model that the command does not name hold position 0.
@@ -206,6 +237,11 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     current_feedforward_A : dict of str to ndarray, optional
         Per axis a current added to its current command, one value per command sample and
         held, as a drive adds a friction compensation's feed-forward [A].
+    axis_runs : dict, optional
+        Where the axes' runs are kept, by name, with what they were run on: an axis
+        found there run on this very command and axis (the same objects) with these
+        settings is taken as it is, not run again; the others are run and kept. Give the
+        same dict to the runs of machines that share axes (variants of one axis) [-].
 
     Warns
     -----
@@ -222,13 +258,8 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     _check_speeds(machine, command)
     check_stability(machine)
 
-    feed = current_feedforward_A or {}
-
-    def one(name):
-        pos = command.positions.get(name, np.zeros_like(command.time_s))
-        return simulate_axis(machine.axes[name], command.time_s, pos, record_period_s=rp,
-                             quantise_feedback=quantise_feedback, excitation_A=feed.get(name))
-
+    one = _axis_runner(machine, command, rp, quantise_feedback, current_feedforward_A or {},
+                       axis_runs)
     runs = _run_axes(one, names, threads, progress)
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}

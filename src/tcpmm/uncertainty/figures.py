@@ -93,7 +93,7 @@ class Figures(dict):
         self.faults: dict = {}
 
 
-def figures(machine, tests, sensor: str = "tcp") -> dict:
+def figures(machine, tests, sensor: str = "tcp", kept: dict | None = None) -> dict:
     """Spikes A-D, contour error and G of each pass of each test.
 
     Parameters
@@ -104,6 +104,9 @@ def figures(machine, tests, sensor: str = "tcp") -> dict:
         The tests [-].
     sensor : str
         Sensor analysed [-].
+    kept : dict, optional
+        Per test its command and the runs of its axes (``simulate``'s ``axis_runs``):
+        an axis this machine shares with the one they were run for is not run again [-].
 
     Returns
     -------
@@ -118,18 +121,30 @@ def figures(machine, tests, sensor: str = "tcp") -> dict:
     with warnings.catch_warnings():  # a variant's run warns of what the verdict reports
         warnings.simplefilter("ignore")
         for t in tests:
-            _test_figures(t, machine, sensor, simulate, out)
+            _test_figures(t, machine, sensor, simulate, out,
+                          None if kept is None else kept.setdefault(t.label, {"axes": {}}))
     return out
 
 
-def _test_figures(t, machine, sensor: str, simulate, out: dict) -> None:
-    """The figures of one test into ``out`` (:func:`figures`)."""
-    m = _in_plane(machine, t.plane)
+def _plane_command(t):
+    """The test's command of the axes of its plane (the others stand still in the model
+    too) [m]."""
     cmd = t.command
-    if set(cmd.positions) - set(t.plane):  # the other axes stand still in the model too
+    if set(cmd.positions) - set(t.plane):
         cmd = replace(cmd, positions={n: cmd.positions[n] for n in t.plane
                                       if n in cmd.positions})
-    run = simulate(m, cmd)
+    return cmd
+
+
+def _test_figures(t, machine, sensor: str, simulate, out: dict, kept=None) -> None:
+    """The figures of one test into ``out`` (:func:`figures`); ``kept``: the test's command
+    and runs of axes to take where the machine shares them [-]."""
+    m = _in_plane(machine, t.plane)
+    if kept is None:
+        run = simulate(m, _plane_command(t))
+    else:
+        cmd = kept.setdefault("command", _plane_command(t))
+        run = simulate(m, cmd, axis_runs=kept["axes"])
     if run.meta.get("faults"):
         out.faults[t.label] = "; ".join(f["text"] for f in run.meta["faults"])
     # the command (where the passes are found) and the sensor judged: the others' figures
@@ -194,7 +209,8 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None, jobs: int
         ``{(axis, quantity): change}`` [m] (``inf`` where a variant could not be
         simulated); per ``(axis, quantity)`` the open range or ``None`` [-].
     """
-    nominal = figures(machine, tests, sensor)
+    kept: dict = {}  # the nominal axes' runs: a variant runs only the axis it varies
+    nominal = figures(machine, tests, sensor, kept)
     changes = {k: {} for k in nominal}
     opens, varied = {}, []
     axes = {n for t in tests for n in t.plane}
@@ -204,7 +220,7 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None, jobs: int
         for v in axis_variants(machine.axes[name]):
             opens[(name, v.quantity)] = by_q.get(v.quantity) if v.open else None
             varied.append((name, v))
-    with results_in_order(_moved_figures, varied, (machine, tests, sensor),
+    with results_in_order(_moved_figures, varied, (machine, tests, sensor, kept),
                           usable_jobs(jobs, len(varied))) as results:
         for (name, v), result in zip(varied, results, strict=True):
             moved, key = result(), (name, v.quantity)
@@ -218,8 +234,10 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None, jobs: int
 
 def _moved_figures(varied: tuple, shared: tuple) -> dict:
     """The figures with one axis varied, ``{}`` where it cannot be simulated [m]."""
-    (name, v), (machine, tests, sensor) = varied, shared
+    (name, v), (machine, tests, sensor, kept) = varied, shared
+    # the nominal runs, not those of the variants before this one
+    mine = {label: {**k, "axes": dict(k["axes"])} for label, k in kept.items()}
     try:
-        return figures(machine.with_axis(name, v.axis), tests, sensor)
+        return figures(machine.with_axis(name, v.axis), tests, sensor, mine)
     except (InputError, ValueError, FloatingPointError):
         return {}

@@ -204,8 +204,6 @@ def lugre_rates(v, params):
         return s1, 0.0
     fc, fs = _levels(v, params)
     fades = params[P_SIGMA1_FADES] != 0.0 and s1 != 0.0
-    if fs == fc and not fades:
-        return s1, params[P_SIGMA0] * abs(v) / fc
-    shape = _stribeck_shape(v, params)
+    shape = _stribeck_shape(v, params) if fades or fs != fc else 0.0
     g = fc if fs == fc else fc + (fs - fc) * shape
     return (s1 * shape if fades else s1), params[P_SIGMA0] * abs(v) / g

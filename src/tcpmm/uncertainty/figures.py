@@ -118,11 +118,12 @@ def figures(machine, tests, sensor: str = "tcp", kept: dict | None = None) -> di
     import warnings
 
     out = Figures()
+    kept = {} if kept is None else kept
     with warnings.catch_warnings():  # a variant's run warns of what the verdict reports
         warnings.simplefilter("ignore")
         for t in tests:
             _test_figures(t, machine, sensor, simulate, out,
-                          None if kept is None else kept.setdefault(t.label, {"axes": {}}))
+                          kept.setdefault(t.label, {"axes": {}}))
     return out
 
 
@@ -136,15 +137,12 @@ def _plane_command(t):
     return cmd
 
 
-def _test_figures(t, machine, sensor: str, simulate, out: dict, kept=None) -> None:
+def _test_figures(t, machine, sensor: str, simulate, out: dict, kept: dict) -> None:
     """The figures of one test into ``out`` (:func:`figures`); ``kept``: the test's command
-    and runs of axes to take where the machine shares them [-]."""
-    m = _in_plane(machine, t.plane)
-    if kept is None:
-        run = simulate(m, _plane_command(t))
-    else:
-        cmd = kept.setdefault("command", _plane_command(t))
-        run = simulate(m, cmd, axis_runs=kept["axes"])
+    and runs of axes, taken where the machine shares them and added to [-]."""
+    if "command" not in kept:
+        kept["command"] = _plane_command(t)
+    run = simulate(_in_plane(machine, t.plane), kept["command"], axis_runs=kept["axes"])
     if run.meta.get("faults"):
         out.faults[t.label] = "; ".join(f["text"] for f in run.meta["faults"])
     # the command (where the passes are found) and the sensor judged: the others' figures

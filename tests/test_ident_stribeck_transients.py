@@ -76,3 +76,30 @@ def test_plateaus_that_show_the_hump_are_kept():
     rec, cfg = b.axes["X"].friction, b.machine.axes["X"]
     t, _, force, plateau_fit, plateaus = stribeck_from_record(rec, cfg, "X")
     assert steady_curve(t, rec, force, plateau_fit, plateaus, m) is plateau_fit
+
+
+@pytest.mark.parametrize(("fc", "fs", "fv", "seed"), [
+    (80.0, 110.0, 900.0, 0),    # the hump: every excess free
+    (80.0, 60.0, 900.0, 1),     # a dip: the excesses held at zero
+    (80.0, 110.0, 0.0, 2),      # no viscous slope: its noise may fall below zero
+    (0.5, 0.5, 900.0, 3),       # hardly any Coulomb level
+])
+def test_the_projected_cost_is_the_bounded_fits_cost(fc, fs, fv, seed):
+    """The grid of Stribeck speeds takes the cost with the fixed regressors projected out;
+    at every speed it is the bounded fit's cost to rounding, whichever bounds are active."""
+    from tcpmm.ident.friction import transients as tr
+    t, x, f = synthetic_runs(fc=fc, fs=fs, fv=fv, seed=seed)
+    p = tr._prepare(t, x, f, 30.0, tr.V_MIN)
+    fast = tr._profiled_cost(p, 2.0)
+    for vs in np.logspace(np.log10(tr.VS_RANGE[0]), np.log10(tr.VS_RANGE[1]), 25):
+        assert fast(vs) == pytest.approx(tr._solve(p, vs, 2.0)[1], rel=1e-9), vs
+
+
+def test_rank_deficient_fixed_regressors_take_the_bounded_fits_cost():
+    from tcpmm.ident.friction import transients as tr
+    t, x, f = synthetic_runs()
+    p = tr._prepare(t, x, f, 30.0, tr.V_MIN)
+    p["rests"] = np.column_stack([p["rests"], p["rests"][:, :1]])  # a rest counted twice
+    fast = tr._profiled_cost(p, 2.0)
+    for vs in (1e-4, 1.5e-3, 1e-2):
+        assert fast(vs) == tr._solve(p, vs, 2.0)[1]

@@ -28,7 +28,8 @@ import math
 from functools import partial
 
 import numpy as np
-from scipy.optimize import lsq_linear, minimize_scalar
+from scipy.linalg import solve_triangular
+from scipy.optimize import lsq_linear, minimize_scalar, nnls
 
 from tcpmm.errors import InputError
 
@@ -77,12 +78,17 @@ def _prepare(t, x, force, cutoff_hz, v_min):
             "f": low(force), "use": use, "low": low, "moving": moving}
 
 
+def _stribeck_regressors(p, vs, delta):
+    """The two regressors that depend on the Stribeck speed ``vs`` [m/s], low-passed, on
+    every sample."""
+    e = np.exp(-(np.abs(p["v"]) / vs) ** delta)
+    return p["low"](p["pos"] * e), p["low"](p["neg"] * e)
+
+
 def _matrix(p, vs, delta):
     """Low-passed regressors ``[M, Fc+, Fc-, dFs+, dFs-, Fv, rest forces...]`` at ``vs``."""
-    e = np.exp(-(np.abs(p["v"]) / vs) ** delta)
     fx = p["fixed"]
-    cols = [fx[:, 0], fx[:, 1], fx[:, 2], p["low"](p["pos"] * e), p["low"](p["neg"] * e),
-            fx[:, 3]]
+    cols = [fx[:, 0], fx[:, 1], fx[:, 2], *_stribeck_regressors(p, vs, delta), fx[:, 3]]
     return np.column_stack([*cols, p["rests"]])[p["use"]]
 
 
@@ -101,16 +107,52 @@ def _solve(p, vs, delta):
     return theta, float(e @ e), A
 
 
+def _profiled_cost(p, delta):
+    """The fit's cost as a function of the Stribeck speed [m/s] -> [N^2].
+
+    Only two regressors change with the speed: the others (mass, Coulomb levels, viscous
+    slope and the forces at rest) are projected out once by a QR factorisation, and each
+    speed solves for the two Stribeck excesses alone, not negative. Where that solution puts
+    another friction parameter below zero, or the fixed regressors are near rank deficient,
+    the cost is the bounded fit's, :func:`_solve`.
+    """
+    F = np.column_stack([p["fixed"], p["rests"]])[p["use"]]
+    f = p["f"][p["use"]]
+    scale = np.maximum(np.sqrt(np.sum(F * F, axis=0)), 1e-300)
+    Q, R = np.linalg.qr(F / scale)
+    d = np.abs(np.diag(R))
+    if d.min() <= 1e-10 * d.max():
+        return lambda vs: _solve(p, vs, delta)[1]
+    fr = f - Q @ (Q.T @ f)
+
+    def cost(vs):
+        G = np.column_stack(_stribeck_regressors(p, vs, delta))[p["use"]]
+        Gr = G - Q @ (Q.T @ G)
+        beta = np.linalg.lstsq(Gr, fr, rcond=None)[0]
+        if np.any(beta < 0.0):
+            beta = nnls(Gr, fr)[0]
+        fixed = solve_triangular(R, Q.T @ (f - G @ beta))[:4] / scale[:4]
+        if np.any(fixed < 0.0):
+            return _solve(p, vs, delta)[1]
+        e = fr - Gr @ beta
+        return float(e @ e)
+    return cost
+
+
 def _profile_min(p, delta):
-    """Stribeck speed minimising the profiled cost: grid, then a bounded refinement."""
+    """Stribeck speed minimising the profiled cost: grid, then a bounded refinement.
+
+    The grid only picks the bracket, so it takes the projected cost of
+    :func:`_profiled_cost`; the refinement and the comparison with the grid's best point
+    take the bounded fit's own cost, whose rounding the search's steps follow."""
+    fast = _profiled_cost(p, delta)
     grid = np.logspace(math.log10(VS_RANGE[0]), math.log10(VS_RANGE[1]), 25)
-    costs = np.array([_solve(p, vs, delta)[1] for vs in grid])
-    k = int(np.argmin(costs))
+    k = int(np.argmin([fast(vs) for vs in grid]))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
     res = minimize_scalar(lambda lv: _solve(p, 10.0**lv, delta)[1],
                           bounds=(math.log10(lo), math.log10(hi)), method="bounded",
                           options={"xatol": 1e-4})
-    return float(10.0 ** res.x) if res.fun <= costs[k] else float(grid[k])
+    return float(10.0 ** res.x) if res.fun <= _solve(p, grid[k], delta)[1] else float(grid[k])
 
 
 def _log_vs_std(p, vs, delta, sigma2):

@@ -68,8 +68,9 @@ plain floats inside ``@njit`` code::
     symmetric beyond ``-b``. Parameters from ``backlash_params_array(model)``.
 
 The friction laws at a velocity these steps use (``sliding_friction``, ``static_levels``,
-``lugre_steady_state``, ``lugre_decay_rate``, ``stribeck_level``) are
-:mod:`tcpmm.sim.frictionlaw`'s; they are named here too, beside the steps.
+``lugre_steady_state``, ``lugre_rates``: ``micro_damping`` and ``lugre_decay_rate`` at
+once, ``stribeck_level``) are :mod:`tcpmm.sim.frictionlaw`'s; they are named here too,
+beside the steps (``lugre_decay_rate`` for the callers that take it alone).
 """
 
 from __future__ import annotations

@@ -92,12 +92,18 @@ def _matrix(p, vs, delta):
     return np.column_stack([*cols, p["rests"]])[p["use"]]
 
 
+def _column_norms(A):
+    """Euclidean norm of each column of ``A``, at least 1e-300: the scaling of the least
+    squares [units of A]."""
+    return np.maximum(np.sqrt(np.sum(A * A, axis=0)), 1e-300)
+
+
 def _solve(p, vs, delta):
     """Bounded linear fit at one Stribeck speed: ``(theta, cost, A)``; the friction
     parameters are not negative, the forces held at rest are free."""
     A = _matrix(p, vs, delta)
     f = p["f"][p["use"]]
-    scale = np.maximum(np.sqrt(np.sum(A * A, axis=0)), 1e-300)
+    scale = _column_norms(A)
     theta = np.linalg.lstsq(A / scale, f, rcond=None)[0]
     if np.any(theta[:len(_NAMES)] < 0.0):  # a bound is active: the bounded solution
         lo = np.r_[np.zeros(len(_NAMES)), np.full(A.shape[1] - len(_NAMES), -np.inf)]
@@ -118,21 +124,24 @@ def _profiled_cost(p, delta):
     """
     F = np.column_stack([p["fixed"], p["rests"]])[p["use"]]
     f = p["f"][p["use"]]
-    scale = np.maximum(np.sqrt(np.sum(F * F, axis=0)), 1e-300)
+    scale = _column_norms(F)
     Q, R = np.linalg.qr(F / scale)
     d = np.abs(np.diag(R))
     if d.min() <= 1e-10 * d.max():
         return lambda vs: _solve(p, vs, delta)[1]
-    fr = f - Q @ (Q.T @ f)
+    qf = Q.T @ f
+    fr = f - Q @ qf
+    n_friction = p["fixed"].shape[1]  # mass, Coulomb levels, viscous slope: not negative
 
     def cost(vs):
         G = np.column_stack(_stribeck_regressors(p, vs, delta))[p["use"]]
-        Gr = G - Q @ (Q.T @ G)
+        qg = Q.T @ G
+        Gr = G - Q @ qg
         beta = np.linalg.lstsq(Gr, fr, rcond=None)[0]
         if np.any(beta < 0.0):
             beta = nnls(Gr, fr)[0]
-        fixed = solve_triangular(R, Q.T @ (f - G @ beta))[:4] / scale[:4]
-        if np.any(fixed < 0.0):
+        held = solve_triangular(R, qf - qg @ beta)[:n_friction] / scale[:n_friction]
+        if np.any(held < 0.0):
             return _solve(p, vs, delta)[1]
         e = fr - Gr @ beta
         return float(e @ e)

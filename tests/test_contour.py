@@ -348,6 +348,59 @@ def test_a_sag_across_the_outgoing_leg_is_no_overshoot():
         assert abs(res.errors["tcp"][-100:]).min() == pytest.approx(50e-6, rel=1e-9)
 
 
+def stopping(tail_s, noise_m=0.0, seed=0):
+    """A move of 20 mm along X at 10 mm/s whose tool follows as a first-order lag of 10 ms
+    (100 um behind at speed), recorded ``tail_s`` past the command's arrival, with noise
+    of ``noise_m`` rms on X and Y [m]."""
+    xc = np.r_[np.linspace(0.0, 0.02, 2001), np.full(round(tail_s / DT), 0.02)]
+    a = np.exp(-DT / 0.01)
+    x = np.zeros_like(xc)
+    for k in range(1, x.size):
+        x[k] = a * x[k - 1] + (1 - a) * xc[k - 1]
+    rng = np.random.default_rng(seed)
+    y = noise_m * rng.standard_normal(x.size)
+    x = x + noise_m * rng.standard_normal(x.size)
+    return make_run({"X": xc, "Y": 0 * xc}, {"X": x, "Y": y})
+
+
+def test_a_run_that_stops_on_the_way_to_the_end_leaves_the_end_unmeasured(tmp_path, capsys):
+    """A run that stops as the command arrives at the end, the tool still 100 um behind:
+    its closest approach was where the run stopped, no rounding of the machine's, so the
+    end's overshoot and rounding are n/a, and the command line says why and how far."""
+    run = stopping(0.0)
+    res = contour_error(run, plane="XY")
+    [end] = res.corners
+    short = 0.02 - run.axes["X"].tcp[-1]
+    assert short > 90e-6
+    assert res.unreached == pytest.approx(dict.fromkeys(("motor", "scale", "tcp"), short),
+                                          rel=1e-12)
+    for s in res.errors:
+        assert all(np.isnan(v) for v in end[s].values()), s
+    assert res.to_dict()["end_unreached_um"]["tcp"] == pytest.approx(short * 1e6, rel=1e-12)
+    run.to_pandas().to_csv(tmp_path / "run.csv", index=False)
+    assert main(["contour", str(tmp_path / "run.csv"), "--plane", "XY"]) == 0
+    cap = capsys.readouterr()
+    err = " ".join(cap.err.split())
+    assert ("the run stops before the machine comes to rest at the path's end point (at "
+            f"the last sample motor {short * 1e6:.2f} um") in err and "G4 P0.5" in err
+    assert cap.out.splitlines()[-2].split()[-5:] == ["end", "n/a", "n/a", "n/a", "n/a"]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_run_that_records_the_rest_has_its_end_measured_noise_and_all(seed):
+    """The same move recorded 0.3 s on (30 lags): the tool arrives, its rounding at the end
+    is its distance there; with noise of 2 um about the end point (above the 1 um band:
+    never settled) the end is still measured, for the tool came close before the last
+    sample."""
+    res = contour_error(stopping(0.3), plane="XY")
+    assert res.unreached == {}
+    assert res.corners[-1]["tcp"]["rounding_m"] < 1e-9
+    noisy = contour_error(stopping(0.3, 2e-6, seed), plane="XY")
+    end = noisy.corners[-1]["tcp"]
+    assert noisy.unreached == {} and np.isnan(end["settle_s"])
+    assert 0 <= end["rounding_m"] < 2e-6 and np.isfinite(end["overshoot_m"])
+
+
 def test_a_circle_run_twice_in_one_place_has_its_end_measured_at_the_end():
     """A circle that ends on its start, followed with a lag and a static deflection along
     the last direction: the start's samples lie 'past' the end along the incoming direction

@@ -78,6 +78,8 @@ def test_corners_in_chunks_are_the_whole_runs(run_file, rows, cores, monkeypatch
     res = stream_contour(run_file, ("X", "Y"), True, rows=rows)
     assert_same_corners(res.corners, ref.corners)
     assert res.to_dict()["corners"] == ref.to_dict()["corners"]
+    # the program ends without a dwell: the run stops before the machine is at rest
+    assert res.unreached == ref.unreached and set(ref.unreached) == set(ref.errors)
 
 
 def test_a_fault_of_the_corners_thread_reaches_the_caller(run_file, monkeypatch):

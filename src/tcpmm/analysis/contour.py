@@ -24,8 +24,9 @@ incoming direction), beyond where the point holds on the outgoing leg if that li
 the path (the median of the last quarter of the corner's samples, where they stay within
 ``settle_tol_m`` of it or, ringing about a sag, lie outside the band about the quarter
 before's median); at the end, the travel past the end point, or past where the point comes
-to rest if that lies beyond it (a static deflection is no overshoot); 0 when it never
-passes; rounding, the closest approach to the corner point; settling, the time and the
+to rest if that lies beyond it (a static deflection is no overshoot), NaN where the run
+stops before the machine comes to rest there (:attr:`ContourResult.unreached`); 0 when it
+never passes; rounding, the closest approach to the corner point; settling, the time and the
 command's path length from when the command leaves the corner until the contour error stays
 within ``settle_tol_m`` of the level it ends at halfway (in time) to the command's arrival
 at the next corner (the median of the last quarter of the stretch the corner owns; a static
@@ -49,7 +50,7 @@ from .._threads import usable_cores
 from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
-from .contour_corners import CornerStream
+from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
 from .contour_windows import over_rests
 from .corners import path_length
@@ -100,6 +101,9 @@ class ContourResult:
         ``None`` for a run that does not record them [-].
     nc_line : ndarray of int, optional
         The run's NC line of each sample, where it records them [-].
+    unreached : dict of str to float
+        Per sensor the run leaves on its way to the path's end point, its distance from
+        it at the last sample; the end's overshoot and rounding of those are NaN [m].
     """
 
     axes: tuple
@@ -115,6 +119,7 @@ class ContourResult:
     counted: np.ndarray | None = field(default=None, repr=False)
     rapids: dict | None = None
     nc_line: np.ndarray | None = field(default=None, repr=False)
+    unreached: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
@@ -159,6 +164,7 @@ class ContourResult:
         the corners where ``corners`` is false (:meth:`json_rows` gives them one by one)."""
         head = {"axes": "".join(self.axes), "signed": self.signed,
                 "settle_tol_um": self.settle_tol_m * 1e6, "rapids": self.rapids,
+                "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
                 "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
                             for s, d in self.summary().items()}}
         return {**head, "corners": list(self.json_rows())} if corners else head
@@ -385,4 +391,6 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         stretches.add_command(cmd, command_flags(run, command))
     counted, kept, said = feed_only(run.rapid, rapids, corners.finish(), stretches)
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
-                         list(kept), settle_tol_m, actual, counted, said, run.nc_line)
+                         list(kept), settle_tol_m, actual, counted, said, run.nc_line,
+                         end_unreached(corners, kept))
+

@@ -70,6 +70,8 @@ class CornerStream:
         self.last_t_i = None  # the time at the last corner done
         self.t_done = -np.inf  # the last sample measured
         self.tc0 = None
+        self.last = None  # the last sample: its time [s] and per sensor its point [m]
+        self.unreached = {}  # per sensor still on its way to the path's end point [m]
 
     def add_command(self, tc, p) -> None:
         """The next command samples: times [s] and points, shape (m, d) [m]."""
@@ -102,6 +104,7 @@ class CornerStream:
         self._bends()
         self._feed(0, _stacked(*new))
         self.t_done = float(t[-1])
+        self.last = (self.t_done, {k: np.array(v[-1], float) for k, v in actual.items()})
         self._settle()
 
     def finish(self) -> CornerRows:
@@ -233,8 +236,27 @@ class CornerStream:
                 row.update(_figures(long, lims[j], int(o["end"][j]), self.names))
             elif fed:
                 row.update(zip(self.names, figs[j * ns:(j + 1) * ns], strict=True))
+            if fed and o["end"][j]:
+                self._on_its_way(row, np.asarray(c))
             out.append(row)
         return out
+
+    def _on_its_way(self, row: dict, c) -> None:
+        """At the end of the path: where the run leaves a sensor on its way to the end
+        point (not settled, further than the band from it at the run's last sample, and
+        never half as close before: ringing on the way, not about the point), it stopped
+        before the machine came to rest, so no sensor not settled there has its overshoot
+        and rounding measured (NaN: the tool's lead on the motor, say, is not over); their
+        distances at the last sample go to :attr:`unreached` [m]."""
+        if self.last is None or self.last[0] > self.tc[-1]:
+            return  # the run goes on past the command's end: its end stretch is whole
+        far = {name: float(np.sqrt(np.sum((q - c) ** 2))) for name, q in self.last[1].items()
+               if name in row and np.isnan(row[name]["settle_s"])}
+        if not any(d > self.tol and row[n]["rounding_m"] >= 0.5 * d for n, d in far.items()):
+            return
+        for name, d in far.items():
+            row[name]["overshoot_m"] = row[name]["rounding_m"] = float("nan")
+            self.unreached[name] = d
 
     def _trim(self) -> None:
         keep = self.finder.keep(self.p, self.s, self.off)
@@ -253,6 +275,13 @@ class CornerStream:
             if k:
                 t, *rest = self.smp
                 self.smp = (t[k:], *({n: v[k:] for n, v in d.items()} for d in rest))
+
+
+def end_unreached(stream: CornerStream, kept) -> dict:
+    """Per sensor the run leaves on its way to the path's end point, its distance from it
+    at the last sample (:attr:`CornerStream.unreached`), where the end is among the
+    corners ``kept`` (not left out with the G0 rapids) [m]."""
+    return dict(stream.unreached) if len(kept) and np.isnan(kept[-1]["turn_rad"]) else {}
 
 
 def _table(d: int) -> dict:

@@ -30,7 +30,7 @@ from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
 from ..result import motion_time
 from .contour import ContourResult, distances_to_polyline
-from .contour_corners import CornerStream
+from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
 from .rapids import RapidStretches, left_out
 
@@ -87,6 +87,8 @@ class StreamedContour:
         The band of the settling figures [m].
     rapids : dict, optional
         As :attr:`tcpmm.analysis.contour.ContourResult.rapids` [-].
+    unreached : dict of str to float
+        As :attr:`tcpmm.analysis.contour.ContourResult.unreached` [m].
     """
 
     axes: tuple
@@ -97,6 +99,7 @@ class StreamedContour:
     corners: Sequence = field(default_factory=list)
     settle_tol_m: float = 1e-6
     rapids: dict | None = None
+    unreached: dict = field(default_factory=dict)
 
     @property
     def errors(self) -> dict:
@@ -224,6 +227,7 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
             res.corners, res.rapids = left_out(scan.air, res.rows, rapids, res.corners,
                                                scan.stretches)
             res.sums = res.sums if res.rapids["counted"] else scan.feed
+        res.unreached = end_unreached(scan.corners, res.corners)
     finally:
         chunks.close()
         scan.close()

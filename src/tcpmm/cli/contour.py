@@ -60,6 +60,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
         res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
                      corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6, rapids=rapids)
     _say_rapids(res.rapids, rapids)
+    _say_unreached(res.unreached)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -87,6 +88,19 @@ def _say_rapids(rapids: dict | None, asked: bool) -> None:
                 "whole")
     if note is not None:
         console.print(note, highlight=False)
+
+
+def _say_unreached(unreached: dict) -> None:
+    """Say on stderr that the run stops before the machine comes to rest at the path's end
+    point, how far from it each sensor not settled is, and why their end figures are n/a
+    [-]."""
+    if unreached:
+        far = ", ".join(f"{s} {d * 1e6:.2f} um" for s, d in unreached.items())
+        console.print(f"note: the run stops before the machine comes to rest at the path's "
+                      f"end point (at the last sample {far} from it): the overshoot and "
+                      "rounding at the end are not measured (n/a); end the program with a "
+                      "dwell (G4 P0.5) so that the run records the axes coming to rest",
+                      highlight=False)
 
 
 def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,

@@ -401,6 +401,28 @@ def test_a_run_that_records_the_rest_has_its_end_measured_noise_and_all(seed):
     assert 0 <= end["rounding_m"] < 2e-6 and np.isfinite(end["overshoot_m"])
 
 
+def test_a_tool_ringing_on_the_way_or_about_a_deflection():
+    """The tool's column rings at 7 Hz (5 um) about its motor. Where the run stops as the
+    command arrives, the motor still 100 um behind, the tool's closest approach came before
+    its last sample, yet no figure at the end is the machine's: all n/a. Where the run goes
+    on 0.5 s, the motor at rest and the tool ringing about a deflection of 45 um short
+    (never within the band: not settled), the tool came closer between: measured."""
+    for tail_s, cut in ((0.0, True), (0.5, False)):
+        run = stopping(tail_s)
+        x = run.axes["X"].motor
+        t = run.time_s
+        ring = 5e-6 * np.sin(2 * np.pi * 7 * t) - 45e-6 * (t > 2.0)
+        axes = {"X": AxisRun(cmd=run.axes["X"].cmd, motor=x, tcp=x + ring),
+                "Y": run.axes["Y"]}
+        res = contour_error(Run(t, axes), plane="XY")
+        end = res.corners[-1]
+        assert set(res.unreached) == ({"motor", "tcp"} if cut else set())
+        assert np.isnan(end["tcp"]["rounding_m"]) == cut
+        if not cut:
+            assert np.isnan(end["tcp"]["settle_s"])
+            assert end["tcp"]["rounding_m"] == pytest.approx(40e-6, abs=0.1e-6)
+
+
 def test_a_circle_run_twice_in_one_place_has_its_end_measured_at_the_end():
     """A circle that ends on its start, followed with a lag and a static deflection along
     the last direction: the start's samples lie 'past' the end along the incoming direction

@@ -244,7 +244,7 @@ class CornerStream:
     def _on_its_way(self, row: dict, c) -> None:
         """At the end of the path: where the run leaves a sensor on its way to the end
         point (not settled, further than the band from it at the run's last sample, and
-        never half as close before: ringing on the way, not about the point), it stopped
+        never closer before: ringing about a deflection comes closer between), it stopped
         before the machine came to rest, so no sensor not settled there has its overshoot
         and rounding measured (NaN: the tool's lead on the motor, say, is not over); their
         distances at the last sample go to :attr:`unreached` [m]."""
@@ -252,7 +252,8 @@ class CornerStream:
             return  # the run goes on past the command's end: its end stretch is whole
         far = {name: float(np.sqrt(np.sum((q - c) ** 2))) for name, q in self.last[1].items()
                if name in row and np.isnan(row[name]["settle_s"])}
-        if not any(d > self.tol and row[n]["rounding_m"] >= 0.5 * d for n, d in far.items()):
+        if not any(self.tol < d <= row[n]["rounding_m"] + 1e-3 * self.tol
+                   for n, d in far.items()):
             return
         for name, d in far.items():
             row[name]["overshoot_m"] = row[name]["rounding_m"] = float("nan")

@@ -195,6 +195,31 @@ def test_the_limit_that_holds_a_block_back_is_named():
     assert table["cause"].tolist() == ["exact stop", "path jerk", "path jerk", "exact stop"]
 
 
+def test_a_block_is_held_back_by_its_own_limit_only_where_it_reaches_it():
+    """A circle of R5 in 2 deg G3 arcs at F20000 from rest: every block's own limit (the
+    centripetal acceleration) lies below the feed, but the blocks that speed up from rest
+    and slow down to it stay far below that limit. Named after it, they made the
+    curvature's 'peak feed as low as' a third of what the curvature allows; what holds them
+    back is the path acceleration and the exact stops at the ends."""
+    from tcpmm.path.speedlimits import SEGMENT_CAUSES
+
+    arcs = "".join(
+        f"G3 X{5 * math.cos(math.radians(k)):.5f} Y{5 * math.sin(math.radians(k)):.5f} "
+        f"I{-5 * math.cos(math.radians(k - 2)):.5f} J{-5 * math.sin(math.radians(k - 2)):.5f}\n"
+        for k in range(2, 362, 2))
+    it = program_to_interpolation(f"G21 G90 G17\nG0 X5 Y0\nG1 F20000\n{arcs}M30\n")
+    lim = feed_limits(it)
+    vmax, peak = it.segment_vmax_m_per_s, it.segment_peak_m_per_s
+    own = np.isin(lim.cause, [str(c) for c in SEGMENT_CAUSES[1:]])
+    assert own.sum() > 100 and np.all(peak[own] >= 0.99 * vmax[own])
+    rows = {r["cause"]: r for r in lim.summary()}
+    assert set(rows) == {"curvature (centripetal acceleration)", "path acceleration",
+                         "exact stop"}
+    bound = vmax[lim.held & ~np.isin(lim.cause, ["exact stop"])].min()
+    assert rows["curvature (centripetal acceleration)"]["lowest_m_per_s"] >= 0.99 * bound
+    assert rows["path acceleration"]["lowest_m_per_s"] < 0.5 * bound
+
+
 def test_machine_export_writes_the_interpolator_settings_and_path_reads_them(tmp_path,
                                                                              capsys):
     assert main(["machine", "export", "vmc", "-o", str(tmp_path / "m.yaml")]) == 0

@@ -3,12 +3,12 @@
 A feed block (not a rapid, not a dwell) is held back when the highest speed it reaches is
 below ``HELD_SHARE`` of its programmed feed. The cause is the block's own speed limit when
 that is below the feed (axis velocity, the centripetal acceleration of its curvature, the
-filter's tolerance on arcs); else the corner at its start or end when that corner's own
-limit sets the speed there (a velocity step the axes' acceleration allows within the
-filter's spread, the filter's tolerance at the corner, an exact stop); else the path
-acceleration (the path jerk for the S-curve): the block is too short to reach the feed
-from a slower place before or after it. The look-ahead spans the whole program, so its
-depth never limits.
+filter's tolerance on arcs) and the block reaches it; else the corner at its start or end
+when that corner's own limit sets the speed there (a velocity step the axes' acceleration
+allows within the filter's spread, the filter's tolerance at the corner, an exact stop);
+else the path acceleration (the path jerk for the S-curve): the block is too short to
+reach the feed from a slower place before or after it. The look-ahead spans the whole
+program, so its depth never limits.
 
 The share at the feed is taken from the samples, not the blocks: the path length of the
 feed blocks along which the commanded path speed is within 1 % (``HELD_SHARE``) of the
@@ -164,7 +164,9 @@ def feed_limits(interp) -> FeedLimits:
     cause = np.full(p.n, "", dtype=object)
     ramp = "path jerk" if interp.jerk_limited else "path acceleration"
     for i in np.flatnonzero(held):
-        if vmax[i] < HELD_SHARE * feed[i]:
+        # its own limit where the block reaches it: one that starts from rest short of
+        # it (or slows to a tighter block) is held back by what keeps it lower
+        if vmax[i] < HELD_SHARE * feed[i] and peak[i] >= HELD_SHARE * vmax[i]:
             cause[i] = SEGMENT_CAUSES[interp.segment_cause[i]]
             continue
         # the slower end, if its corner's own limit sets the speed there

@@ -244,15 +244,17 @@ class CornerStream:
     def _on_its_way(self, row: dict, c) -> None:
         """At the end of the path: where the run leaves a sensor on its way to the end
         point (not settled, further than the band from it at the run's last sample, and
-        never closer before: ringing about a deflection comes closer between), it stopped
-        before the machine came to rest, so no sensor not settled there has its overshoot
-        and rounding measured (NaN: the tool's lead on the motor, say, is not over); their
-        distances at the last sample go to :attr:`unreached` [m]."""
+        never closer before, or never near enough to be measured: ringing about a
+        deflection comes closer between), it stopped before the machine came to rest, so
+        no sensor not settled there has its overshoot and rounding measured (NaN: the
+        tool's lead on the motor, say, is not over); their distances at the last sample
+        go to :attr:`unreached` [m]."""
         if self.last is None or self.last[0] > self.tc[-1]:
             return  # the run goes on past the command's end: its end stretch is whole
         far = {name: float(np.sqrt(np.sum((q - c) ** 2))) for name, q in self.last[1].items()
                if name in row and np.isnan(row[name]["settle_s"])}
-        if not any(self.tol < d <= row[n]["rounding_m"] + 1e-3 * self.tol
+        # a rounding of NaN: no sample came near enough to be measured there at all
+        if not any(self.tol < d and not d > row[n]["rounding_m"] + 1e-3 * self.tol
                    for n, d in far.items()):
             return
         for name, d in far.items():

@@ -138,11 +138,13 @@ def test_the_table_files(serial):
 @pytest.fixture(scope="module")
 def loopback():
     """A real scheduler and two workers on 127.0.0.1 over TCP, on ports the system gives
-    (threads of this process: a loaded two-core machine starts them in a second)."""
+    (threads of this process: a loaded two-core machine starts them in a second). Its
+    HTTP server too: without an address it takes 8787, and warns where another process
+    holds that."""
     from distributed import LocalCluster
 
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp://",
-                      host="127.0.0.1", dashboard_address=None,
+                      host="127.0.0.1", dashboard_address="127.0.0.1:0",
                       silence_logs=logging.ERROR) as cluster:
         yield cluster.scheduler_address
 

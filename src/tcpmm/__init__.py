@@ -13,7 +13,7 @@ The public API, by step of the work (each name is imported on first use, so that
     predict    program_to_command, circle_command, paper_circle_command, read_command,
                simulate
     analyse    read_run, analyse_circle, circle_diagnostics, compare, contour_error
-    accuracy   prediction_verdict, CircleTest
+    accuracy   prediction_verdict, CircleTest, ProgramTest
     what-if    circle_spread, run_sweep, tune_servos
     correct    compensate
 
@@ -63,6 +63,7 @@ _API = {
     "contour_error": "tcpmm.analysis.contour:contour_error",
     "prediction_verdict": "tcpmm.uncertainty:prediction_verdict",
     "CircleTest": "tcpmm.uncertainty:CircleTest",
+    "ProgramTest": "tcpmm.uncertainty:ProgramTest",
     "circle_spread": "tcpmm.whatif.spread:circle_spread",
     "run_sweep": "tcpmm.whatif.sweep.run:run_sweep",
     "tune_servos": "tcpmm.whatif.tuning:tune_and_predict",

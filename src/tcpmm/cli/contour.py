@@ -37,21 +37,18 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                 False, "--rapids", help="Count the G0 rapids too: a run made from an NC "
                                         "program records them, and they are left out of "
                                         "the error and the corners by default."),
+            model: str = typer.Option(
+                None, "--model", help="MODEL.yaml that predicted the run: the tcp's largest "
+                                      "and RMS contour error with their 90 % interval over "
+                                      "what identification leaves uncertain."),
             as_json: bool = typer.Option(False, "--json"),
             plot: Path = typer.Option(None, "--plot", help="Save the contour plot (PNG/PDF/SVG).")):
     """Contour error along any program: the shortest distance from each sensor's path to the
     commanded path, signed in a plane; corner overshoot, rounding and settling. The G0
     rapids of a run made from an NC program are left out (--rapids counts them)."""
-    _check_options(settle_um, corner_deg, window_s, sensor, plot)
+    _check_options(settle_um, corner_deg, window_s, sensor, plot, model, command)
     if streamed(run_file, chunk_rows):
-        if command is not None:
-            raise typer.BadParameter("a run streamed (--chunk-rows, or more than "
-                                     f"{STREAM_ABOVE_ROWS} rows) is measured against its "
-                                     "own command", param_hint="--command")
-        if plot is not None:
-            raise typer.BadParameter(f"a run streamed (--chunk-rows, or more than "
-                                     f"{STREAM_ABOVE_ROWS} rows) is not plotted",
-                                     param_hint="--plot")
+        _check_streamed(model=model, command=command, plot=plot)
         with in_file(run_file):
             res = contour_streamed(run_file, plane, window_s, chunk_rows,
                                    corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6,
@@ -66,13 +63,45 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     if name not in res.errors:
         raise typer.BadParameter(f"the run has no {name} signals of {', '.join(res.axes)}",
                                  param_hint="--sensor")
+    verdict = None
+    if model is not None:
+        from ._contour_model import contour_verdict
+
+        with in_file(run_file):
+            verdict = contour_verdict(model, run_file, res, window_s, rapids)
     if plot is not None:
         res.plot(sensor=name, path=plot)
+    _emit(res, name, run_file, verdict, as_json)
+
+
+#: why a streamed run does not take an option, per option [-]
+_NOT_STREAMED = {"model": "is not judged; --model takes a run read whole",
+                 "command": "is measured against its own command",
+                 "plot": "is not plotted"}
+
+
+def _check_streamed(**given) -> None:
+    """Refuse the options a run read in chunks does not take, saying why [-]."""
+    for name, value in given.items():
+        if value is not None:
+            raise typer.BadParameter(f"a run streamed (--chunk-rows, or more than "
+                                     f"{STREAM_ABOVE_ROWS} rows) {_NOT_STREAMED[name]}",
+                                     param_hint=f"--{name}")
+
+
+def _emit(res, sensor: str, run_file: Path, verdict, as_json: bool) -> None:
+    """The summary, the corners and the verdict where there is one, as JSON or tables."""
     if as_json:  # the corners as they are written: a CAM run has hundreds of thousands
-        emit_json_rows(res.to_dict(corners=False), "corners", res.json_rows(),
-                       len(res.corners) * len(res.errors))
+        head = res.to_dict(corners=False)
+        if verdict is not None:
+            head["tcp_verdict"] = [f.to_dict() for f in verdict.figures]
+        emit_json_rows(head, "corners", res.json_rows(), len(res.corners) * len(res.errors))
         return
-    _print(res, name, f"{run_file}")
+    _print(res, sensor, f"{run_file}")
+    if verdict is not None:
+        from ._contour_model import print_verdict
+
+        print_verdict(verdict)
 
 
 def _say_rapids(rapids: dict | None, asked: bool) -> None:
@@ -104,8 +133,12 @@ def _say_unreached(unreached: dict) -> None:
 
 
 def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,
-                   plot) -> None:
-    """Refuse the options that measure nothing, before the run is read [-]."""
+                   plot, model=None, command=None) -> None:
+    """Refuse the options that measure nothing, or nothing together, before the run is
+    read [-]."""
+    if model is not None and command is not None:
+        raise typer.BadParameter("--model judges a prediction on the command it was run "
+                                 "with; leave out --command", param_hint="--model")
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
                     (window_s, "--window-s [s]")):
         positive(v, what)

@@ -18,7 +18,8 @@ from ..machines.paper import SETTLED_TURNS, circle_test_command
 from ..sim.simulate import simulate
 from .perturb import axis_variants
 
-__all__ = ["CircleTest", "circle_figures", "figure_changes", "figures", "reference_tests"]
+__all__ = ["CircleTest", "ProgramTest", "circle_figures", "figure_changes", "figures",
+           "program_figures", "reference_tests"]
 
 #: The reference circles of a verdict made without the user's command: the paper's test,
 #: R 35 mm about the origin, CCW then CW from 45 deg, at two feeds [m], [mm/min].
@@ -61,6 +62,36 @@ class CircleTest:
     plane: tuple = ("X", "Y")
 
 
+@dataclass(frozen=True)
+class ProgramTest:
+    """Any program's run, judged by its contour error
+    (:func:`tcpmm.analysis.contour.contour_error`): the largest and the RMS.
+
+    Parameters
+    ----------
+    label : str
+        Name of the test in tables [-].
+    command : Command
+        Position command, with the NC line and the rapid flag of each sample in its
+        ``meta`` where the program has them (its G0 rapids are left out) [m].
+    plane : tuple of str
+        The axes the contour error is measured in [-].
+    signed : bool
+        Signed in a plane of two axes; else the distance in 3-D [-].
+    window_s : float
+        Time around each sample in which its closest command point is sought [s].
+    rapids : bool
+        Count the G0 rapids too [-].
+    """
+
+    label: str
+    command: object
+    plane: tuple
+    signed: bool = True
+    window_s: float = 0.2
+    rapids: bool = False
+
+
 def reference_tests(machine) -> list[CircleTest]:
     """The reference circles in the plane of the machine's first two axes (none for a
     machine of one axis), each analysed on its middle turn (:data:`REFERENCE_TURNS`) [-]."""
@@ -100,7 +131,7 @@ def figures(machine, tests, sensor: str = "tcp", kept: dict | None = None) -> di
     ----------
     machine : Machine
         The model [SI].
-    tests : list of CircleTest
+    tests : list of CircleTest or ProgramTest
         The tests [-].
     sensor : str
         Sensor analysed [-].
@@ -113,7 +144,8 @@ def figures(machine, tests, sensor: str = "tcp", kept: dict | None = None) -> di
     dict
         ``{(test label, pass, figure): value}`` with pass ``"ccw"``, ``"cw"`` (``"ccw 2"``
         for a second pass of a direction) and figure ``"spike A"`` ... ``"spike D"``,
-        ``"contour error"``, ``"G"`` [m].
+        ``"contour error"``, ``"G"``; of a :class:`ProgramTest` pass ``"path"`` and
+        :func:`program_figures`' [m].
     """
     import warnings
 
@@ -147,9 +179,43 @@ def _test_figures(t, machine, sensor: str, simulate, out: dict, kept: dict) -> N
         out.faults[t.label] = "; ".join(f["text"] for f in run.meta["faults"])
     # the command (where the passes are found) and the sensor judged: the others' figures
     # would be computed to be thrown away
+    if isinstance(t, ProgramTest):
+        out.update(program_figures(run, t, sensor))
+        return
     res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane,
                          sensors=tuple(dict.fromkeys(("cmd", sensor))))
     out.update(circle_figures(res, t.label, sensor))
+
+
+def program_figures(run, test: ProgramTest, sensor: str = "tcp") -> dict:
+    """The contour error of a program's run, largest and RMS, keyed as :func:`figures`
+    keys them (pass ``"path"``, figures ``"contour error"`` and ``"contour rms"``).
+
+    Parameters
+    ----------
+    run : Run
+        The run [-].
+    test : ProgramTest
+        How it is measured [-].
+    sensor : str
+        Sensor [-].
+
+    Returns
+    -------
+    dict
+        ``{(label, "path", figure): value}`` [m].
+    """
+    from ..analysis.contour import contour_error
+    from ..result import AxisRun, Run
+
+    # the sensor judged alone: the others' errors would be sought to be thrown away
+    mine = Run(run.time_s, {n: AxisRun(cmd=a.cmd, **{sensor: getattr(a, sensor)})
+                            for n, a in run.axes.items()}, run.meta, run.nc_line, run.rapid)
+    res = contour_error(mine, plane=test.plane if test.signed else None,
+                        window_s=test.window_s, rapids=test.rapids)
+    s = res.summary()[sensor]
+    return {(test.label, "path", "contour error"): s["max_abs_m"],
+            (test.label, "path", "contour rms"): s["rms_m"]}
 
 
 def circle_figures(result, label: str, sensor: str = "tcp") -> dict:

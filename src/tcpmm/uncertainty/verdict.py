@@ -31,7 +31,8 @@ __all__ = ["CALIBRATION", "FigureVerdict", "Verdict", "not_its_prediction",
 #: every quantity the data determine (the model's own structure) [-], [m], [-].
 CALIBRATION = {"factor": 1.2, "floor_m": 0.15e-6, "relative": 0.002}
 #: Targets of a firm figure: the larger of an absolute and a relative bound, per kind [m], [-].
-TARGETS = {"spike": (1.0e-6, 0.01), "contour error": (0.5e-6, 0.01), "G": (1.0e-6, 0.01)}
+TARGETS = {"spike": (1.0e-6, 0.01), "contour error": (0.5e-6, 0.01), "G": (1.0e-6, 0.01),
+           "contour rms": (0.5e-6, 0.01)}
 
 
 def target(figure: str, nominal: float) -> float:
@@ -41,7 +42,8 @@ def target(figure: str, nominal: float) -> float:
     Parameters
     ----------
     figure : str
-        ``"spike A"`` ... ``"spike D"``, ``"contour error"`` or ``"G"`` [-].
+        ``"spike A"`` ... ``"spike D"``, ``"contour error"``, ``"G"`` or
+        ``"contour rms"`` [-].
     nominal : float
         The predicted value [m].
     """

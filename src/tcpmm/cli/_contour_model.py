@@ -1,0 +1,71 @@
+"""``tcpmm contour --model``: the predicted run's contour error with its 90 % interval over
+what identification leaves uncertain (:func:`tcpmm.uncertainty.prediction_verdict` of a
+:class:`~tcpmm.uncertainty.ProgramTest`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import InputError
+from ._app import esc, out, read_model
+
+#: the figures judged, and the row of the contour summary each is [-]
+_FIGURES = {"contour error": "max_abs_m", "contour rms": "rms_m"}
+
+
+def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bool):
+    """The verdict on the TCP's contour error of a run that ``model`` predicted on the
+    run's own command; refused where the run has no TCP, or where the model's figures on
+    that command are not the run's (a measured run, or another model's) [-].
+
+    Parameters
+    ----------
+    model : str
+        The model file, or ``builtin:NAME`` [-].
+    run_file : Path
+        The run [-].
+    res : ContourResult
+        Its contour error, as measured [-].
+    window_s : float
+        ``--window-s`` [s].
+    rapids : bool
+        ``--rapids`` [-].
+    """
+    from ..io.runfile import read_run
+    from ..path.command import Command
+    from ..uncertainty import ProgramTest, prediction_verdict
+
+    if "tcp" not in res.errors:
+        raise InputError("--model judges the tcp's contour error, and the run has no tcp "
+                         "signals", file=run_file)
+    m = read_model(model)
+    run = read_run(run_file)
+    blocks = {"nc_line": run.nc_line, "rapid": run.rapid} if run.rapid is not None else {}
+    try:
+        cmd = Command(run.time_s, {n: run.axes[n].cmd for n in res.axes}, blocks)
+    except InputError as e:
+        raise InputError(f"its command cannot be run again on the model ({e.message}); --model "
+                         "judges a run the model predicted", file=run_file) from None
+    test = ProgramTest("program", cmd, tuple(res.axes), res.signed, window_s, rapids)
+    verdict = prediction_verdict(m, [test], "tcp", jobs=0)
+    own = res.summary()["tcp"]
+    for f in verdict.figures:
+        mine = own[_FIGURES[f.figure]]
+        if abs(mine - f.nominal) > f.target:
+            raise InputError(
+                f"its tcp {f.figure} is {mine * 1e6:.2f} um where {model} predicts "
+                f"{f.nominal * 1e6:.2f} um on the same command: the run is not this model's "
+                "prediction (a measured run, or another model's); give --model the model "
+                "that made it, or leave --model out", file=run_file)
+    return verdict
+
+
+def print_verdict(verdict) -> None:
+    """The judged figures, a line each, with what would settle those not firm [-]."""
+    out.print("tcp, over what identification leaves uncertain (90 % interval, calibrated "
+              "on circles):", highlight=False)
+    for f in verdict.figures:
+        name = "max |e|" if f.figure == "contour error" else "RMS"
+        settle = f"; to settle: {f.settle}" if f.settle else ""
+        out.print(esc(f"  {name} {f.nominal * 1e6:.2f} µm: {f.text()}{settle}"),
+                  highlight=False)

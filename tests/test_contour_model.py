@@ -90,7 +90,7 @@ def test_cli_contour_with_the_model_gives_each_figure_its_interval(square_run, c
     assert all(f["half_width_um"] > 0 for f in judged.values())
     assert main(["contour", str(square_run), "--model", "builtin:vmc"]) == 0
     text = capsys.readouterr().out
-    assert "tcp, over what identification leaves uncertain (90 % interval" in text
+    assert "tcp, 90 % interval over what identification leaves uncertain:" in text
     assert f"max |e| {judged['contour error']['nominal_um']:.2f} µm: " in text
 
 
@@ -123,3 +123,38 @@ def test_cli_contour_refuses_to_judge_what_the_model_did_not_predict(square_run,
     assert main(["contour", str(tmp_path / "run.parquet"), "--model", "builtin:vmc",
                  "--chunk-rows", "500"]) == 2
     assert "--model takes a run read whole" in " ".join(capsys.readouterr().err.split())
+
+
+def test_the_verdict_counts_its_runs_on_a_bar(square_run, tmp_path, monkeypatch, capsys):
+    """Each uncertain quantity runs the whole program again at both ends of its range: the
+    bar is told how many runs and advanced once by each."""
+    from contextlib import contextmanager
+
+    from tcpmm.cli import _contour_model
+    from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.model import AxisUncertainty
+
+    m = builtin_machine()
+    x = m.axes["X"]
+    write_machine(m.with_axis("X", x.replace(uncertainty=AxisUncertainty(
+        mechanics={"M_t": 0.02 * x.mechanics.M_t, "K_t": 0.05 * x.mechanics.K_t}))),
+        tmp_path / "m.yaml")
+    seen = {}
+
+    @contextmanager
+    def bar(total, description):
+        seen.update(total=total, done=0)
+
+        def advance(*_):
+            seen["done"] += 1
+
+        yield advance
+
+    monkeypatch.setattr(_contour_model, "progress_bar", bar)
+    (tmp_path / "sq.nc").write_text(SQUARE)
+    assert main(["simulate", str(tmp_path / "m.yaml"), "--gcode", str(tmp_path / "sq.nc"),
+                 "-o", str(tmp_path / "run.csv")]) == 0
+    capsys.readouterr()
+    assert main(["contour", str(tmp_path / "run.csv"), "--model", str(tmp_path / "m.yaml")]) == 0
+    assert seen == {"total": 4, "done": 4}  # two quantities, each at both ends

@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from ._app import esc, out, read_model
+from ._app import esc, out, progress_bar, read_model
 
 #: the figures judged, and the row of the contour summary each is [-]
 _FIGURES = {"contour error": "max_abs_m", "contour rms": "rms_m"}
@@ -34,6 +34,7 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
     from ..io.runfile import read_run
     from ..path.command import Command
     from ..uncertainty import ProgramTest, prediction_verdict
+    from ..uncertainty.perturb import axis_variants
 
     if "tcp" not in res.errors:
         raise InputError("--model judges the tcp's contour error, and the run has no tcp "
@@ -47,7 +48,10 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
         raise InputError(f"its command cannot be run again on the model ({e.message}); --model "
                          "judges a run the model predicted", file=run_file) from None
     test = ProgramTest("program", cmd, tuple(res.axes), res.signed, window_s, rapids)
-    verdict = prediction_verdict(m, [test], "tcp", jobs=0)
+    # each uncertain quantity runs the whole program again: a long one takes a while
+    runs = sum(len(axis_variants(m.axes[n])) for n in res.axes if n in m.axes)
+    with progress_bar(runs, "verdict") as advance:
+        verdict = prediction_verdict(m, [test], "tcp", progress=advance, jobs=0)
     own = res.summary()["tcp"]
     for f in verdict.figures:
         mine = own[_FIGURES[f.figure]]
@@ -62,8 +66,8 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
 
 def print_verdict(verdict) -> None:
     """The judged figures, a line each, with what would settle those not firm [-]."""
-    out.print("tcp, over what identification leaves uncertain (90 % interval, calibrated "
-              "on circles):", highlight=False)
+    out.print("tcp, 90 % interval over what identification leaves uncertain:",
+              highlight=False)
     for f in verdict.figures:
         name = "max |e|" if f.figure == "contour error" else "RMS"
         settle = f"; to settle: {f.settle}" if f.settle else ""

@@ -89,7 +89,10 @@ def test_cli_contour_with_the_model_gives_each_figure_its_interval(square_run, c
         d["sensors"]["tcp"]["rms_um"], rel=1e-4)
     assert all(f["half_width_um"] > 0 for f in judged.values())
     assert main(["contour", str(square_run), "--model", "builtin:vmc"]) == 0
-    text = capsys.readouterr().out
+    cap = capsys.readouterr()
+    text = cap.out
+    # the built-in machine was never identified: its intervals are the floors alone
+    assert "builtin:vmc carries no uncertainty of identification" in " ".join(cap.err.split())
     assert "tcp, 90 % interval over what identification leaves uncertain:" in text
     assert f"max |e| {judged['contour error']['nominal_um']:.2f} µm: " in text
 
@@ -158,3 +161,4 @@ def test_the_verdict_counts_its_runs_on_a_bar(square_run, tmp_path, monkeypatch,
     capsys.readouterr()
     assert main(["contour", str(tmp_path / "run.csv"), "--model", str(tmp_path / "m.yaml")]) == 0
     assert seen == {"total": 4, "done": 4}  # two quantities, each at both ends
+    assert "carries no uncertainty" not in capsys.readouterr().err

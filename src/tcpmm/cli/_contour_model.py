@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from ._app import esc, out, progress_bar, read_model
+from ._app import console, esc, out, progress_bar, read_model
 
 #: the figures judged, and the row of the contour summary each is [-]
 _FIGURES = {"contour error": "max_abs_m", "contour rms": "rms_m"}
@@ -40,6 +40,11 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
         raise InputError("--model judges the tcp's contour error, and the run has no tcp "
                          "signals", file=run_file)
     m = read_model(model)
+    if all(m.axes[n].uncertainty is None for n in res.axes if n in m.axes):
+        console.print(f"note: {esc(model)} carries no uncertainty of identification (a model "
+                      "written or exported, not identified): the intervals are the floors "
+                      "alone, and its figures only as right as its parameters",
+                      highlight=False)
     run = read_run(run_file)
     blocks = {"nc_line": run.nc_line, "rapid": run.rapid} if run.rapid is not None else {}
     try:

@@ -393,4 +393,3 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
                          list(kept), settle_tol_m, actual, counted, said, run.nc_line,
                          end_unreached(corners, kept))
-

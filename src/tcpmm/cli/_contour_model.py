@@ -9,11 +9,8 @@ from pathlib import Path
 from ..errors import InputError
 from ._app import console, esc, out, progress_bar, read_model
 
-#: the figures judged, and the row of the contour summary each is [-]
-_FIGURES = {"contour error": "max_abs_m", "contour rms": "rms_m"}
 
-
-def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bool):
+def contour_verdict(model: str, run_file: Path, run, res, window_s: float, rapids: bool):
     """The verdict on the TCP's contour error of a run that ``model`` predicted on the
     run's own command; refused where the run has no TCP, or where the model's figures on
     that command are not the run's (a measured run, or another model's) [-].
@@ -23,7 +20,9 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
     model : str
         The model file, or ``builtin:NAME`` [-].
     run_file : Path
-        The run [-].
+        The run's file [-].
+    run : Run
+        The run, as read [-].
     res : ContourResult
         Its contour error, as measured [-].
     window_s : float
@@ -31,9 +30,8 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
     rapids : bool
         ``--rapids`` [-].
     """
-    from ..io.runfile import read_run
     from ..path.command import Command
-    from ..uncertainty import ProgramTest, prediction_verdict
+    from ..uncertainty import PROGRAM_FIGURES, ProgramTest, prediction_verdict
     from ..uncertainty.perturb import axis_variants
 
     if "tcp" not in res.errors:
@@ -45,7 +43,6 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
                       "written or exported, not identified): the intervals are the floors "
                       "alone, and its figures only as right as its parameters",
                       highlight=False)
-    run = read_run(run_file)
     blocks = {"nc_line": run.nc_line, "rapid": run.rapid} if run.rapid is not None else {}
     try:
         cmd = Command(run.time_s, {n: run.axes[n].cmd for n in res.axes}, blocks)
@@ -59,7 +56,7 @@ def contour_verdict(model: str, run_file: Path, res, window_s: float, rapids: bo
         verdict = prediction_verdict(m, [test], "tcp", progress=advance, jobs=0)
     own = res.summary()["tcp"]
     for f in verdict.figures:
-        mine = own[_FIGURES[f.figure]]
+        mine = own[PROGRAM_FIGURES[f.figure]]
         if abs(mine - f.nominal) > f.target:
             raise InputError(
                 f"its tcp {f.figure} is {mine * 1e6:.2f} um where {model} predicts "

@@ -50,12 +50,12 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     if streamed(run_file, chunk_rows):
         _check_streamed(model=model, command=command, plot=plot)
         with in_file(run_file):
-            res = contour_streamed(run_file, plane, window_s, chunk_rows,
-                                   corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6,
-                                   rapids=rapids)
+            run, res = None, contour_streamed(run_file, plane, window_s, chunk_rows,
+                                              corner_deg=corner_deg,
+                                              settle_tol_m=settle_um * 1e-6, rapids=rapids)
     else:
-        res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
-                     corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6, rapids=rapids)
+        run, res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
+                          corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6, rapids=rapids)
     _say_rapids(res.rapids, rapids)
     _say_unreached(res.unreached)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
@@ -68,7 +68,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
         from ._contour_model import contour_verdict
 
         with in_file(run_file):
-            verdict = contour_verdict(model, run_file, res, window_s, rapids)
+            verdict = contour_verdict(model, run_file, run, res, window_s, rapids)
     if plot is not None:
         res.plot(sensor=name, path=plot)
     _emit(res, name, run_file, verdict, as_json)
@@ -153,7 +153,7 @@ def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,
 
 
 def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
-    """The contour error of a run read whole, against ``--command`` where given, in the
+    """The run read whole and its contour error, against ``--command`` where given, in the
     plane of ``--plane`` or the one it moves in (said); ``--chunk-rows``, which does
     nothing to a CSV run, said too."""
     from ..analysis.contour import contour_error
@@ -167,7 +167,7 @@ def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
     with in_file(run_file):
         how = run_plane_said(plane, feed_commands(run, options.get("rapids", False)),
                              run_file, allow_3d=True)
-        return contour_error(run, plane=how, **options)
+        return run, contour_error(run, plane=how, **options)
 
 
 #: corners a terminal lists at most: a CAM program has thousands, ``--json`` gives them all

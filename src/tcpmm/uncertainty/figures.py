@@ -18,8 +18,8 @@ from ..machines.paper import SETTLED_TURNS, circle_test_command
 from ..sim.simulate import simulate
 from .perturb import axis_variants
 
-__all__ = ["CircleTest", "ProgramTest", "circle_figures", "figure_changes", "figures",
-           "program_figures", "reference_tests"]
+__all__ = ["PROGRAM_FIGURES", "CircleTest", "ProgramTest", "circle_figures", "figure_changes",
+           "figures", "program_figures", "reference_tests"]
 
 #: The reference circles of a verdict made without the user's command: the paper's test,
 #: R 35 mm about the origin, CCW then CW from 45 deg, at two feeds [m], [mm/min].
@@ -90,6 +90,11 @@ class ProgramTest:
     signed: bool = True
     window_s: float = 0.2
     rapids: bool = False
+
+
+#: The figures of a :class:`ProgramTest`, each the row of the contour summary
+#: (:meth:`tcpmm.analysis.contour.ContourResult.summary`) it is [-].
+PROGRAM_FIGURES = {"contour error": "max_abs_m", "contour rms": "rms_m"}
 
 
 def reference_tests(machine) -> list[CircleTest]:
@@ -177,11 +182,11 @@ def _test_figures(t, machine, sensor: str, simulate, out: dict, kept: dict) -> N
     run = simulate(_in_plane(machine, t.plane), kept["command"], axis_runs=kept["axes"])
     if run.meta.get("faults"):
         out.faults[t.label] = "; ".join(f["text"] for f in run.meta["faults"])
-    # the command (where the passes are found) and the sensor judged: the others' figures
-    # would be computed to be thrown away
     if isinstance(t, ProgramTest):
         out.update(program_figures(run, t, sensor))
         return
+    # the command (where the passes are found) and the sensor judged: the others' figures
+    # would be computed to be thrown away
     res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane,
                          sensors=tuple(dict.fromkeys(("cmd", sensor))))
     out.update(circle_figures(res, t.label, sensor))
@@ -214,8 +219,7 @@ def program_figures(run, test: ProgramTest, sensor: str = "tcp") -> dict:
     res = contour_error(mine, plane=test.plane if test.signed else None,
                         window_s=test.window_s, rapids=test.rapids)
     s = res.summary()[sensor]
-    return {(test.label, "path", "contour error"): s["max_abs_m"],
-            (test.label, "path", "contour rms"): s["rms_m"]}
+    return {(test.label, "path", f): s[row] for f, row in PROGRAM_FIGURES.items()}
 
 
 def circle_figures(result, label: str, sensor: str = "tcp") -> dict:

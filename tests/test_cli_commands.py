@@ -69,3 +69,30 @@ def test_the_console_script_leaves_without_a_last_collection(tmp_path):
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           cwd=tmp_path, check=True)
     assert done.stdout.splitlines()[-1] == "2 True" and "nosuch.yaml" in done.stderr
+
+
+def _in_fresh_interpreter(code: str) -> str:
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    return done.stdout.strip().splitlines()[-1]
+
+
+def test_the_command_line_holds_the_first_collection_back_then_collects_as_before():
+    """Importing the command line raises the first generation's threshold (its imports
+    build some hundred thousand objects that are no garbage); the first collection puts
+    back the thresholds that were set, so a long command collects as before."""
+    code = ("import gc; gc.set_threshold(500, 7, 9); import tcpmm.cli, tcpmm.cli._collector "
+            "as c; up = gc.get_threshold(); gc.collect(); "
+            "print(up == (c.START_THRESHOLD, 7, 9), gc.get_threshold())")
+    assert _in_fresh_interpreter(code) == "True (500, 7, 9)"
+
+
+def test_a_switched_off_collector_stays_off_and_other_callbacks_still_run():
+    code = ("import gc; gc.disable(); gc.set_threshold(0); from tcpmm.cli._collector import "
+            "collect_late; collect_late(); print(gc.get_threshold()[0], gc.isenabled())")
+    assert _in_fresh_interpreter(code) == "0 False"
+    code = ("import gc; gc.set_threshold(600); from tcpmm.cli._collector import collect_late; "
+            "collect_late(); "
+            "seen = []; gc.callbacks.append(lambda phase, info: seen.append(phase)); "
+            "gc.collect(); gc.collect(); print(seen, gc.get_threshold()[0])")
+    assert _in_fresh_interpreter(code) == "['start', 'stop', 'start', 'stop'] 600"

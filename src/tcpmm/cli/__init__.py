@@ -14,7 +14,9 @@ import sys
 import warnings
 
 from .._threads import single_threaded_from_start
+from ._collector import collect_late
 
+collect_late()  # before the imports of typer, rich and the command's module
 single_threaded_from_start()  # before the commands' modules load numpy
 # pydantic's plugins are not looked for: the search reads the metadata of every installed
 # distribution, some 10 ms of a short command (a value the user set is kept)

@@ -45,13 +45,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._forked import results_in_order, usable_jobs
-from ..mechanics.lumped import AxisMechanics
-from .currentfilters import MAX_FILTERS, Notch
 from .margins import axis_margins, position_margins, velocity_margins
 from .modeshift import (
     VELOCITY_ONLY_K_PP,
     light_mode_warnings,
-    light_modes,
     robustly_stable,
     shift_words,
     slower_warnings,
@@ -59,16 +56,19 @@ from .modeshift import (
 )
 from .params import ServoParams
 from .sampled import sampled_spectral_radius
+from .tunevelocity import (
+    RESOLUTION,
+    changed,
+    largest_gain,
+    tune_velocity,
+    velocity_loop_ok,
+    with_pi,
+)
 from .tunewords import gain_notes, kpp_reason
 
-#: Scan step of the gains, and the relative resolution of the bisection [-].
-_STEP, _RESOLUTION = 1.25, 0.005
-#: Step of the velocity gain's scan down from above, and its steps: down to 1e-8 of
-#: where it starts [-].
-_DESCENT = 1.5
-_DESCENT_TRIES = math.ceil(math.log(1e8) / math.log(_DESCENT))
-#: How near the limiting crossing a lightly damped mode takes a notch [-].
-_NOTCH_NEAR = 0.2
+__all__ = ["VELOCITY_ONLY_K_PP", "AxisTuning", "light_mode_warnings", "meets_margins",
+           "tune_machine", "tune_position", "tune_velocity", "velocity_limit",
+           "velocity_loop_ok"]
 
 
 @dataclass(frozen=True)
@@ -109,135 +109,6 @@ class AxisTuning:
                 "notes": list(self.notes), "warnings": list(self.warnings)}
 
 
-def _with(servo: ServoParams, **changes) -> ServoParams:
-    return ServoParams.create(**{**servo.model_dump(), **changes})
-
-
-def _pi(mech: AxisMechanics, servo: ServoParams, K_vp: float) -> ServoParams:
-    w_c = K_vp * mech.K_tc / mech.J_total
-    return _with(servo, K_vp=K_vp, K_vi=K_vp * w_c / 4.0)
-
-
-def _largest(ok, start: float, cap: float = math.inf, down: float = _STEP,
-             tries: int = 40):
-    """Largest ``g <= cap`` with ``ok(g)``, scanning from ``start``: upwards in steps of
-    :data:`_STEP` while it holds, else downwards in steps of ``down``, at most ``tries``
-    of them; ``None`` if none."""
-    g = min(start, cap)
-    if ok(g):
-        lo, hi = g, None
-        while hi is None and lo < cap:
-            nxt = min(lo * _STEP, cap)
-            if ok(nxt):
-                lo = nxt
-            else:
-                hi = nxt
-        if hi is None:
-            return lo
-    else:
-        hi, lo = g, None
-        for _ in range(tries):
-            nxt = hi / down
-            if ok(nxt):
-                lo = nxt
-                break
-            hi = nxt
-        if lo is None:
-            return None
-    while hi / lo > 1 + _RESOLUTION:
-        mid = math.sqrt(lo * hi)
-        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
-    return lo
-
-
-def velocity_loop_ok(mech, servo, gm, pm) -> bool:
-    """Whether the velocity loop of ``servo`` meets the margins and, with the position
-    gain at most :data:`VELOCITY_ONLY_K_PP`, stays stable with its modes off the model's
-    frequencies (:func:`~tcpmm.servo.modeshift.robustly_stable`) [-]."""
-    alone = _with(servo, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
-    return velocity_margins(mech, servo).meets(gm, pm) and robustly_stable(mech, alone, gm)
-
-
-def _velocity_gain(mech, servo, gm, pm, start=None):
-    """Largest velocity gain meeting the margins, robustly stable; ``None`` if none.
-
-    The margins are not monotone in the gain: a lightly damped mode meets them at a tiny
-    gain that puts the crossover on its peak, fails them above, and a notch can let them
-    be met again higher up. The scan therefore comes down from well above ``start`` (the
-    settings' gain) in steps of :data:`_DESCENT` to the first gain that meets them.
-    """
-    def ok(k):
-        return velocity_loop_ok(mech, _pi(mech, servo, k), gm, pm)
-    top = _DESCENT ** 6 * (start if start is not None else servo.K_vp)
-    return _largest(ok, top, down=_DESCENT, tries=_DESCENT_TRIES)
-
-
-def _limiting_mode(mech, servo, modes):
-    """The lightly damped mode nearest the crossing that limits the velocity gain."""
-    m = velocity_margins(mech, servo)
-    at = [f for f in (m.gain_crossover_hz, m.phase_crossover_hz) if np.isfinite(f)]
-    best = None
-    for f0 in modes:
-        if any(n.type == "notch" and abs(n.f_hz - f0) < 0.05 * f0 for n in servo.filters):
-            continue  # already notched
-        if any(abs(f - f0) <= _NOTCH_NEAR * f0 for f in at):
-            if best is None or min(abs(f - f0) for f in at) < min(abs(f - best) for f in at):
-                best = float(f0)
-    return best
-
-
-def tune_velocity(mech, servo, gm, pm, notes):
-    """Velocity-loop gains and notches (steps 1 and 2 of the module docstring)."""
-    K = _velocity_gain(mech, servo, gm, pm)
-    if K is None:
-        case = worst_shift(mech, servo, gm)
-        why = "" if case is None else f" (at the settings' gains it is {shift_words(case)})"
-        notes.append("velocity loop: no gain meets the margins with the loop stable, also with "
-                     f"its modes off the model's frequencies{why}; settings kept")
-        return None
-    best = _pi(mech, servo, K)
-    freqs, zetas = light_modes(mech)
-    while len(best.filters) < MAX_FILTERS:
-        f0 = _limiting_mode(mech, best, freqs)
-        if f0 is None:
-            break
-        zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
-        K2, notch = _best_notch(mech, best, f0, zeta, gm, pm, servo.K_vp)
-        if K2 is None or K2 < 1.1 * best.K_vp:
-            notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
-            break
-        notes.append(f"notch at {f0:.1f} Hz (bandwidth {0.3 * f0:.1f} Hz, {notch.depth_db} dB) "
-                     "raises "
-                     f"K_vp from {best.K_vp:.4g} to {K2:.4g} A s/rad")
-        best = _pi(mech, _with(best, filters=[*best.filters, notch]), K2)
-    f0 = _limiting_mode(mech, best, freqs) if len(best.filters) >= MAX_FILTERS else None
-    if f0 is not None:
-        notes.append(f"the {f0:.1f} Hz mode limits the velocity gain and gets no notch: all "
-                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model "
-                     "and tune again")
-    return best
-
-
-def _best_notch(mech, servo, f0, zeta, gm, pm, start):
-    """The notch on the mode at ``f0`` that lets the velocity gain rise furthest, and that
-    gain (``None`` if no depth lets any gain meet the margins) [A s/rad, -].
-
-    The depth that flattens the peak, ``20 log10(4 zeta)`` within -40..-10 dB, is tried
-    with the shallower -20 and -10 dB: a deep notch's phase turns within a fraction of
-    a percent of ``f0``, and a mode kept stable by its phase is kept so only by a notch
-    whose phase does not turn where the machine's mode may lie."""
-    # an undamped mode (zeta 0, or a rounding below) takes the deepest notch
-    flat = round(float(np.clip(20 * np.log10(4 * max(zeta, 1e-9)), -40.0, -10.0)), 1)
-    best = (None, None)
-    for depth in sorted({flat, max(flat, -20.0), -10.0}):
-        notch = Notch(f_hz=f0, bandwidth_hz=0.3 * f0, depth_db=depth)
-        K = _velocity_gain(mech, _with(servo, filters=[*servo.filters, notch]), gm, pm,
-                           start)
-        if K is not None and (best[0] is None or K > best[0] * (1 + _RESOLUTION)):
-            best = (K, notch)
-    return best
-
-
 def tune_position(mech, servo, gm, pm):
     """Largest position gain meeting the margins, at most a quarter of the velocity-loop
     bandwidth, and what limits it; ``(None, reason)`` if none [1/s, -]."""
@@ -245,20 +116,20 @@ def tune_position(mech, servo, gm, pm):
     cap = 2 * math.pi * bw / 4 if np.isfinite(bw) else math.inf
 
     def ok(k):
-        return position_margins(mech, _with(servo, K_pp=k)).meets(gm, pm)
-    k = _largest(ok, servo.K_pp, cap)
+        return position_margins(mech, changed(servo, K_pp=k)).meets(gm, pm)
+    k = largest_gain(ok, servo.K_pp, cap)
     if k is None:
         return None, "no position gain meets the margins"
-    if k >= cap * (1 - _RESOLUTION):
+    if k >= cap * (1 - RESOLUTION):
         return k, f"a quarter of the velocity-loop bandwidth ({bw:.3g} Hz)"
     return k, "the position loop's " + _limit(
-        lambda g: position_margins(mech, _with(servo, K_pp=g)), None, k, gm, pm)
+        lambda g: position_margins(mech, changed(servo, K_pp=g)), None, k, gm, pm)
 
 
 def _limit(margins, radius, k, gm, pm) -> str:
     """What fails just above the gain ``k``: the gain or phase margin (with its value at
     ``k`` and crossover) or the stability of the sampled loop [-]."""
-    m, above = margins(k), margins(k * (1 + 3 * _RESOLUTION))
+    m, above = margins(k), margins(k * (1 + 3 * RESOLUTION))
     if above.gain_margin_db < gm:
         at, there = _crossing(m, above, "gain_margin_db", "phase_crossover_hz")
         return (f"gain margin ({at.gain_margin_db:.1f} dB at its phase crossover "
@@ -267,7 +138,7 @@ def _limit(margins, radius, k, gm, pm) -> str:
         at, there = _crossing(m, above, "phase_margin_deg", "gain_crossover_hz")
         return (f"phase margin ({at.phase_margin_deg:.1f} deg at its gain crossover "
                 f"{_hz(at.gain_crossover_hz)} Hz{there})")
-    if radius is not None and radius(k * (1 + 3 * _RESOLUTION)) >= 1:
+    if radius is not None and radius(k * (1 + 3 * RESOLUTION)) >= 1:
         return "stability of the sampled loop (spectral radius reaching 1)"
     return (f"margins ({m.gain_margin_db:.1f} dB, {m.phase_margin_deg:.1f} deg; the scan "
             "found no larger gain meeting them)")
@@ -291,8 +162,8 @@ def _crossing(m, above, margin: str, crossover: str):
 def velocity_limit(mech, servo, gm, pm) -> str:
     """What limits the velocity gain of a proposal (see :func:`_limit`) [-]."""
     return "the velocity loop's " + _limit(
-        lambda g: velocity_margins(mech, _pi(mech, servo, g)),
-        lambda g: sampled_spectral_radius(mech, _pi(mech, servo, g)), servo.K_vp, gm, pm)
+        lambda g: velocity_margins(mech, with_pi(mech, servo, g)),
+        lambda g: sampled_spectral_radius(mech, with_pi(mech, servo, g)), servo.K_vp, gm, pm)
 
 
 def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> dict:
@@ -328,7 +199,7 @@ def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> 
     for name, a in machine.axes.items():
         m, s = a.mechanics, vel[name]
         if s is not None and lead is not None:
-            s = _with(s, K_pp=found[lead][0])
+            s = changed(s, K_pp=found[lead][0])
         after = s if s is not None else a.servo
         mg_before, mg_after = axis_margins(m, a.servo), axis_margins(m, after)
         case = worst_shift(m, after, gm_db)
@@ -365,7 +236,7 @@ def _lead(machine, vel, found, gm_db, pm_deg):
         lead = min(found, key=lambda n: found[n][0])
         k = found[lead][0]
         misses = [n for n in found if not meets_margins(machine.axes[n].mechanics,
-                                                        _with(vel[n], K_pp=k), gm_db, pm_deg)]
+                                                        changed(vel[n], K_pp=k), gm_db, pm_deg)]
         if not misses:
             return lead
         for n in misses:

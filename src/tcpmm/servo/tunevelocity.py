@@ -1,0 +1,157 @@
+"""The velocity loop of a tuning proposal: its largest gain and its notches.
+
+Steps 1 and 2 of :mod:`tcpmm.servo.tune`, and the scans both loops' gains share.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..mechanics.lumped import AxisMechanics
+from .currentfilters import MAX_FILTERS, Notch
+from .margins import velocity_margins
+from .modeshift import VELOCITY_ONLY_K_PP, light_modes, robustly_stable, shift_words, worst_shift
+from .params import ServoParams
+
+#: Scan step of the gains, and the relative resolution of the bisection [-].
+_STEP, RESOLUTION = 1.25, 0.005
+#: Step of the velocity gain's scan down from above, and its steps: down to 1e-8 of
+#: where it starts [-].
+_DESCENT = 1.5
+_DESCENT_TRIES = math.ceil(math.log(1e8) / math.log(_DESCENT))
+#: How near the limiting crossing a lightly damped mode takes a notch [-].
+_NOTCH_NEAR = 0.2
+
+
+def changed(servo: ServoParams, **changes) -> ServoParams:
+    """The settings with ``changes`` (field name to value), validated anew [SI]."""
+    return ServoParams.create(**{**servo.model_dump(), **changes})
+
+
+def with_pi(mech: AxisMechanics, servo: ServoParams, K_vp: float) -> ServoParams:
+    """The settings with the velocity gain ``K_vp`` [A s/rad] and the PI corner tied to
+    it: ``K_vi = K_vp w_c / 4``, ``w_c = K_vp K_tc / J_total`` [SI]."""
+    w_c = K_vp * mech.K_tc / mech.J_total
+    return changed(servo, K_vp=K_vp, K_vi=K_vp * w_c / 4.0)
+
+
+def largest_gain(ok, start: float, cap: float = math.inf, down: float = _STEP,
+                 tries: int = 40):
+    """Largest ``g <= cap`` with ``ok(g)``, scanning from ``start``: upwards in steps of
+    :data:`_STEP` while it holds, else downwards in steps of ``down``, at most ``tries``
+    of them; ``None`` if none."""
+    g = min(start, cap)
+    if ok(g):
+        lo, hi = g, None
+        while hi is None and lo < cap:
+            nxt = min(lo * _STEP, cap)
+            if ok(nxt):
+                lo = nxt
+            else:
+                hi = nxt
+        if hi is None:
+            return lo
+    else:
+        hi, lo = g, None
+        for _ in range(tries):
+            nxt = hi / down
+            if ok(nxt):
+                lo = nxt
+                break
+            hi = nxt
+        if lo is None:
+            return None
+    while hi / lo > 1 + RESOLUTION:
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+    return lo
+
+
+def velocity_loop_ok(mech, servo, gm, pm) -> bool:
+    """Whether the velocity loop of ``servo`` meets the margins and, with the position
+    gain at most :data:`VELOCITY_ONLY_K_PP`, stays stable with its modes off the model's
+    frequencies (:func:`~tcpmm.servo.modeshift.robustly_stable`) [-]."""
+    alone = changed(servo, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
+    return velocity_margins(mech, servo).meets(gm, pm) and robustly_stable(mech, alone, gm)
+
+
+def _velocity_gain(mech, servo, gm, pm, start=None):
+    """Largest velocity gain meeting the margins, robustly stable; ``None`` if none.
+
+    The margins are not monotone in the gain: a lightly damped mode meets them at a tiny
+    gain that puts the crossover on its peak, fails them above, and a notch can let them
+    be met again higher up. The scan therefore comes down from well above ``start`` (the
+    settings' gain) in steps of :data:`_DESCENT` to the first gain that meets them.
+    """
+    def ok(k):
+        return velocity_loop_ok(mech, with_pi(mech, servo, k), gm, pm)
+    top = _DESCENT ** 6 * (start if start is not None else servo.K_vp)
+    return largest_gain(ok, top, down=_DESCENT, tries=_DESCENT_TRIES)
+
+
+def _limiting_mode(mech, servo, modes):
+    """The lightly damped mode nearest the crossing that limits the velocity gain."""
+    m = velocity_margins(mech, servo)
+    at = [f for f in (m.gain_crossover_hz, m.phase_crossover_hz) if np.isfinite(f)]
+    best = None
+    for f0 in modes:
+        if any(n.type == "notch" and abs(n.f_hz - f0) < 0.05 * f0 for n in servo.filters):
+            continue  # already notched
+        if any(abs(f - f0) <= _NOTCH_NEAR * f0 for f in at):
+            if best is None or min(abs(f - f0) for f in at) < min(abs(f - best) for f in at):
+                best = float(f0)
+    return best
+
+
+def tune_velocity(mech, servo, gm, pm, notes):
+    """Velocity-loop gains and notches (steps 1 and 2 of the module docstring)."""
+    K = _velocity_gain(mech, servo, gm, pm)
+    if K is None:
+        case = worst_shift(mech, servo, gm)
+        why = "" if case is None else f" (at the settings' gains it is {shift_words(case)})"
+        notes.append("velocity loop: no gain meets the margins with the loop stable, also with "
+                     f"its modes off the model's frequencies{why}; settings kept")
+        return None
+    best = with_pi(mech, servo, K)
+    freqs, zetas = light_modes(mech)
+    while len(best.filters) < MAX_FILTERS:
+        f0 = _limiting_mode(mech, best, freqs)
+        if f0 is None:
+            break
+        zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
+        K2, notch = _best_notch(mech, best, f0, zeta, gm, pm, servo.K_vp)
+        if K2 is None or K2 < 1.1 * best.K_vp:
+            notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
+            break
+        notes.append(f"notch at {f0:.1f} Hz (bandwidth {0.3 * f0:.1f} Hz, {notch.depth_db} dB) "
+                     "raises "
+                     f"K_vp from {best.K_vp:.4g} to {K2:.4g} A s/rad")
+        best = with_pi(mech, changed(best, filters=[*best.filters, notch]), K2)
+    f0 = _limiting_mode(mech, best, freqs) if len(best.filters) >= MAX_FILTERS else None
+    if f0 is not None:
+        notes.append(f"the {f0:.1f} Hz mode limits the velocity gain and gets no notch: all "
+                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model "
+                     "and tune again")
+    return best
+
+
+def _best_notch(mech, servo, f0, zeta, gm, pm, start):
+    """The notch on the mode at ``f0`` that lets the velocity gain rise furthest, and that
+    gain (``None`` if no depth lets any gain meet the margins) [A s/rad, -].
+
+    The depth that flattens the peak, ``20 log10(4 zeta)`` within -40..-10 dB, is tried
+    with the shallower -20 and -10 dB: a deep notch's phase turns within a fraction of
+    a percent of ``f0``, and a mode kept stable by its phase is kept so only by a notch
+    whose phase does not turn where the machine's mode may lie."""
+    # an undamped mode (zeta 0, or a rounding below) takes the deepest notch
+    flat = round(float(np.clip(20 * np.log10(4 * max(zeta, 1e-9)), -40.0, -10.0)), 1)
+    best = (None, None)
+    for depth in sorted({flat, max(flat, -20.0), -10.0}):
+        notch = Notch(f_hz=f0, bandwidth_hz=0.3 * f0, depth_db=depth)
+        K = _velocity_gain(mech, changed(servo, filters=[*servo.filters, notch]), gm, pm,
+                           start)
+        if K is not None and (best[0] is None or K > best[0] * (1 + RESOLUTION)):
+            best = (K, notch)
+    return best

@@ -45,6 +45,13 @@ def on_truth(truth, name: str, servo) -> tuple[float, float, float]:
     return near, max(radius.values()), alone
 
 
+def _filter(f) -> str:
+    """A filter of the proposal in a few words [-]."""
+    if f.type == "notch":
+        return f"{f.f_hz:.0f} Hz {f.depth_db:g} dB"
+    return f"low-pass {f.f_hz:.0f} Hz, damping {f.zeta:g}"
+
+
 def rows_of(name: str, model, truth) -> list[str]:
     """Markdown rows of one machine: per tolerance and axis, the proposal and its spectral
     radius on the truth [-]."""
@@ -53,8 +60,7 @@ def rows_of(name: str, model, truth) -> list[str]:
         with mode_tolerance(tol):
             proposals = tune_machine(model, 6.0, 45.0)
         for axis, t in proposals.items():
-            notch = ", ".join(f"{f.f_hz:.0f} Hz {f.depth_db:g} dB" for f in t.after.filters
-                              if f.type == "notch") or "-"
+            notch = ", ".join(_filter(f) for f in t.after.filters) or "-"
             bw = (t.margins_before["velocity"].bandwidth_hz,
                   t.margins_after["velocity"].bandwidth_hz)
             near, wide, alone = on_truth(truth, axis, t.after)
@@ -71,7 +77,7 @@ def main(argv=None) -> None:
     p.add_argument("--cache", type=Path, default=Path("/tmp/tcpmm-tuning"))
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
-    print("| machine | axis | mode tolerance | verdict | K_vp [A s/rad] | notch | "
+    print("| machine | axis | mode tolerance | verdict | K_vp [A s/rad] | filter | "
           "velocity bandwidth [Hz] | truth, modes +-5 % | truth, modes +-10 % | "
           "truth, screw or nut +-20 % |")
     print("|---|---|---:|---|---:|---|---|---:|---:|---:|")

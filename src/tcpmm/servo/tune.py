@@ -14,7 +14,11 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
    0.3 f0; of the depths ``20 log10(4 zeta)`` within -40..-10 dB, -20 and -10 dB, the one
    letting the gain rise furthest: a deep notch's phase turns where a mode held by its
    phase may lie) and step 1 is repeated; it is kept if the gain rises by 10 % or more.
-   At most four filters per axis, the drive's own counted.
+   At most four filters per axis, the drive's own counted. Where the notches leave the
+   velocity loop less than half the settings' bandwidth (a mode so lightly damped that
+   no notch holds it with its frequency a few percent off), a PT2 low-pass below the
+   limiting mode is tried in their place (:func:`tcpmm.servo.tunevelocity._low_passed`),
+   and the notches are looked for again on top of it.
 3. **Position loop.** The largest ``K_pp`` meeting the margins and at most a quarter of
    the velocity loop's bandwidth; every axis given then takes the smallest of them (equal
    position gains keep a circle round). :func:`tune_machine` matches the axes of the

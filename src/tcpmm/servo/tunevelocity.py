@@ -10,9 +10,17 @@ import math
 import numpy as np
 
 from ..mechanics.lumped import AxisMechanics
-from .currentfilters import MAX_FILTERS, Notch
+from .currentfilters import MAX_FILTERS, LowPass, Notch
 from .margins import velocity_margins
-from .modeshift import VELOCITY_ONLY_K_PP, light_modes, robustly_stable, shift_words, worst_shift
+from .modeshift import (
+    VELOCITY_ONLY_K_PP,
+    current_tolerance,
+    light_modes,
+    robustly_stable,
+    shift_words,
+    slowed,
+    worst_shift,
+)
 from .params import ServoParams
 
 #: Scan step of the gains, and the relative resolution of the bisection [-].
@@ -23,6 +31,12 @@ _DESCENT = 1.5
 _DESCENT_TRIES = math.ceil(math.log(1e8) / math.log(_DESCENT))
 #: How near the limiting crossing a lightly damped mode takes a notch [-].
 _NOTCH_NEAR = 0.2
+#: Natural frequencies of the low-pass tried where no notch keeps the loop's speed, as
+#: shares of the limiting mode's, and its damping ratios (0.7: a drive's default) [-].
+LOW_PASS_SHARES = (1 / 2, 1 / 3, 1 / 4, 1 / 6, 1 / 8)
+LOW_PASS_ZETAS = (0.7, 1.0)
+#: The lowest low-pass tried, in multiples of the settings' velocity bandwidth [-].
+LOW_PASS_ABOVE = 3.0
 
 
 def changed(servo: ServoParams, **changes) -> ServoParams:
@@ -106,7 +120,7 @@ def _limiting_mode(mech, servo, modes):
 
 
 def tune_velocity(mech, servo, gm, pm, notes):
-    """Velocity-loop gains and notches (steps 1 and 2 of the module docstring)."""
+    """Velocity-loop gains and filters (steps 1 and 2 of :mod:`tcpmm.servo.tune`)."""
     K = _velocity_gain(mech, servo, gm, pm)
     if K is None:
         case = worst_shift(mech, servo, gm)
@@ -114,14 +128,32 @@ def tune_velocity(mech, servo, gm, pm, notes):
         notes.append("velocity loop: no gain meets the margins with the loop stable, also with "
                      f"its modes off the model's frequencies{why}; settings kept")
         return None
-    best = with_pi(mech, servo, K)
     freqs, zetas = light_modes(mech)
+    best, f0 = _notched(mech, with_pi(mech, servo, K), servo.K_vp, (freqs, zetas), gm, pm, notes)
+    low = _low_passed(mech, servo, best, f0, gm, pm, notes)
+    if low is not None:
+        best, _ = _notched(mech, low, servo.K_vp, (freqs, zetas), gm, pm, notes)
+    f0 = _limiting_mode(mech, best, freqs) if len(best.filters) >= MAX_FILTERS else None
+    if f0 is not None:
+        notes.append(f"the {f0:.1f} Hz mode limits the velocity gain and gets no notch: all "
+                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model "
+                     "and tune again")
+    return best
+
+
+def _notched(mech, best, start, modes, gm, pm, notes):
+    """Notches on the lightly damped modes that limit the gain, one at a time while each
+    raises it by 10 % or more: the settings and the first limiting mode met (``None``
+    if none) [SI, Hz]."""
+    freqs, zetas = modes
+    first = None
     while len(best.filters) < MAX_FILTERS:
         f0 = _limiting_mode(mech, best, freqs)
         if f0 is None:
             break
+        first = f0 if first is None else first
         zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
-        K2, notch = _best_notch(mech, best, f0, zeta, gm, pm, servo.K_vp)
+        K2, notch = _best_notch(mech, best, f0, zeta, gm, pm, start)
         if K2 is None or K2 < 1.1 * best.K_vp:
             notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
             break
@@ -129,12 +161,45 @@ def tune_velocity(mech, servo, gm, pm, notes):
                      "raises "
                      f"K_vp from {best.K_vp:.4g} to {K2:.4g} A s/rad")
         best = with_pi(mech, changed(best, filters=[*best.filters, notch]), K2)
-    f0 = _limiting_mode(mech, best, freqs) if len(best.filters) >= MAX_FILTERS else None
-    if f0 is not None:
-        notes.append(f"the {f0:.1f} Hz mode limits the velocity gain and gets no notch: all "
-                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model "
-                     "and tune again")
-    return best
+    return best, first
+
+
+def _low_passed(mech, servo, best, f0, gm, pm, notes):
+    """Step 2b: where the notches leave the velocity loop less than half the settings'
+    bandwidth, a PT2 low-pass below the mode ``f0`` that limited the gain, in their place:
+    the natural frequency and damping of :data:`LOW_PASS_SHARES` and
+    :data:`LOW_PASS_ZETAS` that let the gain rise furthest, kept if it rises by 10 % or
+    more; ``None`` where none is tried or kept [SI].
+
+    A mode of damping 0.001 peaks some 50 dB above its line; a notch deep enough to hold
+    it turns its phase within a fraction of a percent of its frequency, and with the mode
+    a few percent off the model's (:mod:`tcpmm.servo.modeshift`) the loop is held by
+    neither. A low-pass well below the mode lowers the loop there whatever its frequency,
+    and costs the crossover only its phase."""
+    if f0 is None or len(servo.filters) >= MAX_FILTERS:
+        return None
+    settings = velocity_margins(mech, servo)
+    if slowed({"velocity": settings}, {"velocity": velocity_margins(mech, best)}) is None:
+        return None
+    before = settings.bandwidth_hz
+    K, low = best.K_vp, None
+    for share in LOW_PASS_SHARES:
+        if share * f0 < LOW_PASS_ABOVE * before:
+            break
+        for zeta in LOW_PASS_ZETAS:
+            cand = LowPass(f_hz=share * f0, zeta=zeta)
+            k = _velocity_gain(mech, changed(servo, filters=[*servo.filters, cand]), gm, pm,
+                               servo.K_vp)
+            if k is not None and k > K * (1 + RESOLUTION):
+                K, low = k, cand
+    if low is None or K < 1.1 * best.K_vp:
+        return None
+    notes.append(f"low-pass {low.f_hz:.1f} Hz (damping {low.zeta:g}) below the {f0:.1f} Hz "
+                 f"mode, in place of its notch, raises K_vp from {best.K_vp:.4g} to {K:.4g} "
+                 f"A s/rad: no notch holds that mode with its frequency up to "
+                 f"{100 * current_tolerance():g} % off the model's without the loop losing "
+                 "more than half its bandwidth")
+    return with_pi(mech, changed(servo, filters=[*servo.filters, low]), K)
 
 
 def _best_notch(mech, servo, f0, zeta, gm, pm, start):

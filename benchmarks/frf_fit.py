@@ -15,6 +15,8 @@ none). Two errors against the data fitted, side by side:
 * median per-bin relative error ``median |H - Hhat| / |H|`` (every bin alike).
 
 For the made responses the same two errors against the noise-free truth are also given.
+``--bundle DIR`` (repeatable) adds the G_M and G_T of the X sweep of a measurement bundle,
+estimated as ``tcpmm identify`` does: e.g. ``--bundle ../shared/data/bench_d/bundle``.
 
 Install scikit-rf (the ``bench`` extra) and run::
 
@@ -125,10 +127,30 @@ def _print(rows):
                   f"{b['truth_median_rel']:>12.3g}")
 
 
+def bundle_frfs(folder, axis: str = "X") -> list:
+    """G_M and G_T of ``axis`` from the servo-excitation sweep of a measurement bundle,
+    estimated as ``tcpmm identify`` does (5-2000 Hz): measured responses of machines the
+    project did not make, with their noise and their unexcited bands."""
+    from tcpmm.ident.frf.response import reduced_frfs
+    from tcpmm.io.bundle import read_bundle
+
+    s = read_bundle(folder).axes[axis].sweep
+    name = Path(folder).resolve().parent.name if Path(folder).name == "bundle" else folder
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the unexcited bands are said by identify
+        got = reduced_frfs(s.excitation_A, s.current_cmd_A, s.motor_angle_rad, s.scale_m,
+                           fs_hz=s.fs_hz, fmin_hz=5.0, fmax_hz=2000.0)
+    from dataclasses import replace
+
+    return [replace(got[k], name=f"{name} {axis} {k}") for k in ("G_M", "G_T")]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--poles", default="4-9", help="pole counts, N or N0-N1")
     ap.add_argument("--file", default=str(TRACE), help="measured FRF (skipped if absent)")
+    ap.add_argument("--bundle", action="append", default=[],
+                    help="measurement bundle folder: its X sweep's G_M and G_T (repeatable)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     try:
@@ -147,6 +169,9 @@ def main(argv=None):
         rows += compare(read_frf(args.file), None, orders)
     else:
         print(f"{args.file} not found: the measured trace is left out", file=sys.stderr)
+    for folder in args.bundle:
+        for frf in bundle_frfs(folder):
+            rows += compare(frf, None, orders)
     for name in MADE:
         rows += compare(*made_frf(name), orders)
     if args.json:

@@ -119,7 +119,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
         delay: str = typer.Option("fit", "--delay", help="Pure delay: fit, none or seconds."),
         damping_floor: float = typer.Option(None, "--damping-floor", min=0.0, max=0.99,
                                             help="Least damping ratio of a pole pair [-]; "
-                                                 "default 0.002, or a half-power width of "
+                                                 "default 0.0001, or a half-power width of "
                                                  "one measured bin where that is more."),
         output: Path = typer.Option(None, "-o", "--output", help="Write the fit as FIT.json."),
         fragment: Path = typer.Option(None, "--model-fragment",

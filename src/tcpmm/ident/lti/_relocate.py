@@ -21,14 +21,15 @@ import numpy as np
 RELOCATIONS = 20
 
 
-def _start(n: int, x_lo: float, x_hi: float) -> np.ndarray:
-    """Pole pairs of damping 0.01 log-spaced over the band, and one real pole if ``n`` is
-    odd, at the band's centre [-]."""
+def start_poles(n: int, x_lo: float, x_hi: float) -> list[np.ndarray]:
+    """Pole pairs of damping 0.01 log-spaced over the band, and, if ``n`` is odd, one real
+    pole at the band's centre or (a second start) at its low end, where an integrating
+    response wants it; relocation from the two may settle in different places [-]."""
     mags = np.geomspace(x_lo, x_hi, n // 2) if n >= 2 else np.zeros(0)
     p = [m * (-0.01 + 1j) for m in mags]
-    if n % 2:
-        p.append(-np.sqrt(x_lo * x_hi) + 0j)
-    return np.asarray(p, complex)
+    if n % 2 == 0:
+        return [np.asarray(p, complex)]
+    return [np.asarray([*p, -r + 0j], complex) for r in (np.sqrt(x_lo * x_hi), x_lo)]
 
 
 def _basis(x, up):
@@ -87,7 +88,7 @@ def _step(x, H, up):
     return _upper(np.linalg.eigvals(A - np.outer(b, c) / d))
 
 
-def relocated_poles(x, H, n: int) -> np.ndarray | None:
+def relocated_poles(x, H, n: int, start: np.ndarray | None = None) -> np.ndarray | None:
     """Poles that vector fitting relocates from log-spaced starts.
 
     Parameters
@@ -98,6 +99,8 @@ def relocated_poles(x, H, n: int) -> np.ndarray | None:
         Complex response at ``x`` [SI].
     n : int
         Number of poles [-].
+    start : ndarray, optional
+        Starting poles, one of :func:`start_poles` (the first when omitted) [-].
 
     Returns
     -------
@@ -105,7 +108,7 @@ def relocated_poles(x, H, n: int) -> np.ndarray | None:
         ``n`` stable poles in ``x`` (conjugate pairs both given), or None if a step was
         singular [-].
     """
-    up = _upper(_start(n, x[0].imag, x[-1].imag))
+    up = _upper(start_poles(n, x[0].imag, x[-1].imag)[0] if start is None else start)
     if up.size == 0:
         return None
     with np.errstate(all="ignore"):

@@ -20,10 +20,12 @@ wins. Every fit keeps the stable sections, the fitted delay and the needle remov
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ._needles import clean_fit
-from ._relocate import partial_fraction_response, relocated_poles
+from ._relocate import partial_fraction_response, relocated_poles, start_poles
 from ._tfcore import fit_numerator, refine_vp, relative_cost
 from .tfresult import tf_result
 
@@ -31,6 +33,9 @@ from .tfresult import tf_result
 MIXES = (0.0, 1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4)
 #: Residual evaluations of each refinement [-].
 MIX_NFEV = 100
+#: Relative rounding within which vector fitting's own fit counts as reaching its total
+#: error (the same function, built as a quotient of polynomials) [-].
+REACH = 1e-9
 
 
 def total_error(H, h) -> float:
@@ -54,24 +59,26 @@ def score(ctx, fit, notes, tried) -> dict:
 
 
 def _references(ctx, n_poles, taus):
-    """Vector fitting's poles for each delay tried, the best first, with the total error
-    of the best [-]."""
+    """Vector fitting's poles for each delay tried and each start, the best first, with
+    the total error of the best [-]."""
     f, H, omega0 = ctx["f"], ctx["H"], ctx["omega0"]
     x = 2j * np.pi * f / omega0
     found = []
     for tau in taus:
         lag = np.exp(-2 * np.pi * 1j * f * tau)
-        pn = relocated_poles(x, H / lag, n_poles)
-        if pn is not None:
-            h = partial_fraction_response(x, H / lag, pn) * lag
-            found.append((total_error(H, h), pn, tau))
+        for start in start_poles(n_poles, x[0].imag, x[-1].imag):
+            pn = relocated_poles(x, H / lag, n_poles, start)
+            if pn is not None:
+                h = partial_fraction_response(x, H / lag, pn) * lag
+                found.append((total_error(H, h), pn, tau))
     found.sort(key=lambda c: c[0])
     return (found[0][0], [(pn, tau) for _, pn, tau in found]) if found else (None, [])
 
 
-def _refit(ctx, w, n_num, starts):
+def _refit(ctx, w, n_num, starts, refine: bool = True):
     """The least weighted cost over refinements from ``starts`` (poles in ``x`` and delay
-    [s]), as ``(bn, pn, tau, cost)``; None if no start can carry ``n_num`` zeros."""
+    [s]), as ``(bn, pn, tau, cost)``; None if no start can carry ``n_num`` zeros. With
+    ``refine`` false, the starts' poles and delay with their best numerator."""
     f, H, omega0 = ctx["f"], ctx["H"], ctx["omega0"]
     x = 2j * np.pi * f / omega0
     best = None
@@ -82,8 +89,9 @@ def _refit(ctx, w, n_num, starts):
             try:
                 bn = fit_numerator(x, H * np.exp(x * omega0 * tau), w, pn, n_num)
                 cost = relative_cost(f, H, w, bn, pn, omega0, 0, tau)
-                cand = refine_vp(f, H, w, omega0, 0, n_num, True, ctx["delay"] == "fit", bn,
-                               pn, tau, cost, MIX_NFEV)
+                cand = (refine_vp(f, H, w, omega0, 0, n_num, True, ctx["delay"] == "fit",
+                                  bn, pn, tau, cost, MIX_NFEV) if refine
+                        else (bn, pn, tau, cost))
             except (np.linalg.LinAlgError, ValueError):
                 continue
         if np.isfinite(cand[3]) and (best is None or cand[3] < best[3]):
@@ -91,10 +99,10 @@ def _refit(ctx, w, n_num, starts):
     return best
 
 
-def _mixed(ctx, w, n_num, starts, mu):
+def _mixed(ctx, w, n_num, starts, mu, refine: bool = True):
     """The mixed-weight fit of ``n_num`` zeros, cleaned and scored, and its poles and delay
     before cleaning (the next start); None if no start gives a finite fit."""
-    got = _refit(ctx, w, n_num, starts)
+    got = _refit(ctx, w, n_num, starts, refine)
     if got is None:
         return None
     bn, pn, tau, cost = got
@@ -129,7 +137,23 @@ def choose(ctx, tries, n_poles: int) -> dict:
         pool += _at_mix(ctx, mu, n_nums, base, prev)
         if any(c["total"] <= ref for c in pool):
             return _noted(min((c for c in pool if c["total"] <= ref), key=key), ref)
+    pool += _relocated_fits(ctx, n_nums, vf_starts[:1])
+    reach = [c for c in pool if c["total"] <= ref * (1 + REACH)]
+    if reach:
+        return _noted(min(reach, key=key), ref)
     return _noted(min(pool, key=lambda t: (t["unsupported"], t["total"])), ref)
+
+
+def _relocated_fits(ctx, n_nums, starts) -> list:
+    """Vector fitting's poles and delay with the numerator of least absolute error, not
+    refined, cleaned and scored: the refinements lower a mixed cost in which the relative
+    error of the best measured bins still counts, and may leave a total error above
+    theirs even at the largest mix [-]."""
+    if not starts:
+        return []
+    w = np.abs(ctx["H"])  # the relative error weighted by |H|: the absolute error
+    out = [_mixed(ctx, w, n_num, starts, math.inf, refine=False) for n_num in n_nums]
+    return [got[0] for got in out if got is not None]
 
 
 def _at_mix(ctx, mu, n_nums, base, prev) -> list:
@@ -152,7 +176,9 @@ def _noted(cand, ref) -> dict:
     mu = cand.get("mix", 0.0)
     if mu == 0:
         return cand
-    how = "reaching" if cand["total"] <= ref else "short of"
-    note = (f"bins weighted also by |H| (mu = {mu:g}): total error {cand['total']:.3g}, "
-            f"{how} the {ref:.3g} of vector fitting's poles")
+    how = "reaching" if cand["total"] <= ref * (1 + REACH) else "short of"
+    weights = (f"bins weighted also by |H| (mu = {mu:g})" if math.isfinite(mu) else
+               "vector fitting's poles kept, the bins weighted by |H| alone")
+    note = (f"{weights}: total error {cand['total']:.3g}, {how} the {ref:.3g} of vector "
+            "fitting's poles")
     return {**cand, "notes": [*cand["notes"], note]}

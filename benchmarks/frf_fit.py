@@ -33,6 +33,7 @@ import json
 import logging
 import sys
 import warnings
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -140,8 +141,6 @@ def bundle_frfs(folder, axis: str = "X") -> list:
         warnings.simplefilter("ignore")  # the unexcited bands are said by identify
         got = reduced_frfs(s.excitation_A, s.current_cmd_A, s.motor_angle_rad, s.scale_m,
                            fs_hz=s.fs_hz, fmin_hz=5.0, fmax_hz=2000.0)
-    from dataclasses import replace
-
     return [replace(got[k], name=f"{name} {axis} {k}") for k in ("G_M", "G_T")]
 
 

@@ -46,7 +46,8 @@ def on_truth(truth, name: str, servo) -> tuple[float, float, float]:
 
 
 def _filter(f) -> str:
-    """A filter of the proposal in a few words [-]."""
+    """A filter of the proposal in a few words, for a table cell (the long form is
+    :func:`tcpmm.servo.currentfilters.filter_text`) [-]."""
     if f.type == "notch":
         return f"{f.f_hz:.0f} Hz {f.depth_db:g} dB"
     return f"low-pass {f.f_hz:.0f} Hz, damping {f.zeta:g}"
@@ -60,12 +61,12 @@ def rows_of(name: str, model, truth) -> list[str]:
         with mode_tolerance(tol):
             proposals = tune_machine(model, 6.0, 45.0)
         for axis, t in proposals.items():
-            notch = ", ".join(_filter(f) for f in t.after.filters) or "-"
+            filters = ", ".join(_filter(f) for f in t.after.filters) or "-"
             bw = (t.margins_before["velocity"].bandwidth_hz,
                   t.margins_after["velocity"].bandwidth_hz)
             near, wide, alone = on_truth(truth, axis, t.after)
             out.append(f"| {name.upper()} | {axis} | {100 * tol:g} % | "
-                       f"{'met' if t.met else 'NOT MET'} | {t.after.K_vp:.3g} | {notch} | "
+                       f"{'met' if t.met else 'NOT MET'} | {t.after.K_vp:.3g} | {filters} | "
                        f"{bw[0]:.3g} -> {bw[1]:.3g} | {near:.4f} | {wide:.4f} | "
                        f"{alone:.4f} |")
     return out

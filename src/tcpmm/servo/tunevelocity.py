@@ -31,6 +31,8 @@ _DESCENT = 1.5
 _DESCENT_TRIES = math.ceil(math.log(1e8) / math.log(_DESCENT))
 #: How near the limiting crossing a lightly damped mode takes a notch [-].
 _NOTCH_NEAR = 0.2
+#: Least rise of the velocity gain for which a filter (a notch or the low-pass) is kept [-].
+_KEPT_RISE = 1.1
 #: Natural frequencies of the low-pass tried where no notch keeps the loop's speed, as
 #: shares of the limiting mode's, and its damping ratios (0.7: a drive's default) [-].
 LOW_PASS_SHARES = (1 / 2, 1 / 3, 1 / 4, 1 / 6, 1 / 8)
@@ -154,7 +156,7 @@ def _notched(mech, best, start, modes, gm, pm, notes):
         first = f0 if first is None else first
         zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
         K2, notch = _best_notch(mech, best, f0, zeta, gm, pm, start)
-        if K2 is None or K2 < 1.1 * best.K_vp:
+        if K2 is None or K2 < _KEPT_RISE * best.K_vp:
             notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
             break
         notes.append(f"notch at {f0:.1f} Hz (bandwidth {0.3 * f0:.1f} Hz, {notch.depth_db} dB) "
@@ -192,7 +194,7 @@ def _low_passed(mech, servo, best, f0, gm, pm, notes):
                                servo.K_vp)
             if k is not None and k > K * (1 + RESOLUTION):
                 K, low = k, cand
-    if low is None or K < 1.1 * best.K_vp:
+    if low is None or K < _KEPT_RISE * best.K_vp:
         return None
     notes.append(f"low-pass {low.f_hz:.1f} Hz (damping {low.zeta:g}) below the {f0:.1f} Hz "
                  f"mode, in place of its notch, raises K_vp from {best.K_vp:.4g} to {K:.4g} "

@@ -16,7 +16,8 @@ none). Two errors against the data fitted, side by side:
 
 For the made responses the same two errors against the noise-free truth are also given.
 ``--bundle DIR`` (repeatable) adds the G_M and G_T of the X sweep of a measurement bundle,
-estimated as ``tcpmm identify`` does: e.g. ``--bundle ../shared/data/bench_d/bundle``.
+estimated as ``tcpmm identify`` does: e.g. ``--bundle ../shared/data/bench_d/bundle``;
+with a ``truth.yaml`` beside the bundle, both errors against the true response as well.
 
 Install scikit-rf (the ``bench`` extra) and run::
 
@@ -42,6 +43,8 @@ from tcpmm.ident.frf import FRF
 from tcpmm.ident.lti import fit_frf
 
 TRACE = Path(__file__).parents[1] / ".." / "shared" / "data" / "sinumerik" / "freq_trace.XML"
+#: Largest chi2 ratio of a bundle's truth against its data for rows against the truth [-].
+TRUTH_CHI2 = 2.0
 INSTALL = "pip install -e '.[bench]'  (or: pip install scikit-rf)"
 
 
@@ -144,6 +147,34 @@ def bundle_frfs(folder, axis: str = "X") -> list:
     return [replace(got[k], name=f"{name} {axis} {k}") for k in ("G_M", "G_T")]
 
 
+def bundle_truth(folder, frf, axis: str = "X"):
+    """The true response at the bins of ``frf`` (a G_M or G_T of :func:`bundle_frfs`) from
+    the ``truth.yaml`` beside the bundle: the mechanics, and for G_M the current loop.
+    None without a truth file, or where the truth is not what the sweep measured: its own
+    chi2 ratio against the data (noise of :func:`~tcpmm.ident.lti.frffit.noise_level`,
+    bins of coherence >= 0.5) above :data:`TRUTH_CHI2`, as on a nut whose lost motion the
+    linear model leaves out."""
+    from tcpmm.ident.lti.frffit import noise_level
+    from tcpmm.ident.physical.axisfrfs import model_frfs
+    from tcpmm.io.truthfile import machine_from_truth
+
+    path = Path(folder).resolve().parent / "truth.yaml"
+    if not path.is_file():
+        return None
+    key = frf.name.split()[-1]
+    ax = machine_from_truth(path).axes[axis]
+    bw = ax.servo.current_bandwidth_hz if key == "G_M" else None
+    truth = model_frfs(ax.mechanics, {key: frf.freq_hz}, bw)[key]
+    keep = frf.coherence >= 0.5
+    sigma = noise_level(frf.freq_hz, frf.H, frf.rel_std)[keep]
+    chi2 = np.mean(np.abs(frf.H[keep] / truth[keep] - 1) ** 2 / sigma**2) / 2
+    if chi2 > TRUTH_CHI2:
+        print(f"{frf.name}: the truth leaves a chi2 ratio of {chi2:.3g} against the data; "
+              "no rows against it", file=sys.stderr)
+        return None
+    return truth
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--poles", default="4-9", help="pole counts, N or N0-N1")
@@ -170,7 +201,7 @@ def main(argv=None):
         print(f"{args.file} not found: the measured trace is left out", file=sys.stderr)
     for folder in args.bundle:
         for frf in bundle_frfs(folder):
-            rows += compare(frf, None, orders)
+            rows += compare(frf, bundle_truth(folder, frf), orders)
     for name in MADE:
         rows += compare(*made_frf(name), orders)
     if args.json:

@@ -457,3 +457,19 @@ def test_vector_fitting_s_own_poles_are_kept_where_every_mix_falls_short(monkeyp
     ref = float(note[0].rsplit("the ", 1)[1].split(" of")[0])
     total, _ = _errors(res.tf.H, res.freqresp(res.tf.freq_hz))
     assert total <= ref * 1.01
+
+
+def test_more_poles_never_leave_more_total_error_than_fewer_where_both_fall_short():
+    """Six poles hold every fit of four (and a pair that cancels). On *two modes* (four
+    poles, 1 % noise) the fit of six falls short of vector fitting's total error, which its
+    extra poles reach only by needles on the noise of the peak; it used to end at 8.8e-5,
+    above the 8.3e-5 of the fit of four poles. Now the fit of fewer poles is kept, said."""
+    bench = _bench()
+    frf, _ = bench.made_frf("two modes")
+    four = fit_frf(frf, poles=4)
+    six = fit_frf(frf, poles=6)
+    t4, _ = _errors(four.tf.H, four.freqresp(four.tf.freq_hz))
+    t6, _ = _errors(six.tf.H, six.freqresp(six.tf.freq_hz))
+    assert t6 <= t4 * (1 + 1e-6)
+    assert any("poles leaves a total error of" in n and "of 6 poles: kept" in n
+               for n in six.notes)

@@ -15,7 +15,8 @@ for ``mu`` rising by decades (:data:`MIXES`), each fit refined from the relocate
 from the relative fit's and from the previous ``mu``'s, until one reaches the reference.
 Of the fits that do, the lowest information criterion wins, so the relative error is
 given up no further than the total error needs; if none does, the lowest total error
-wins. Every fit keeps the stable sections, the fitted delay and the needle removal.
+wins (the candidate is marked ``short``). Every fit keeps the stable sections, the fitted
+delay and the needle removal.
 """
 
 from __future__ import annotations
@@ -174,11 +175,12 @@ def _at_mix(ctx, mu, n_nums, base, prev) -> list:
 def _noted(cand, ref) -> dict:
     """The candidate with a note of the weights mixed and the total error reached."""
     mu = cand.get("mix", 0.0)
+    short = cand["total"] > ref * (1 + REACH)
     if mu == 0:
-        return cand
-    how = "reaching" if cand["total"] <= ref * (1 + REACH) else "short of"
+        return {**cand, "short": short}
+    how = "short of" if short else "reaching"
     weights = (f"bins weighted also by |H| (mu = {mu:g})" if math.isfinite(mu) else
                "vector fitting's poles kept, the bins weighted by |H| alone")
     note = (f"{weights}: total error {cand['total']:.3g}, {how} the {ref:.3g} of vector "
             "fitting's poles")
-    return {**cand, "notes": [*cand["notes"], note]}
+    return {**cand, "notes": [*cand["notes"], note], "short": short}

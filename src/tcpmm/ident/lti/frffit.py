@@ -28,6 +28,8 @@
   relocated poles do; where the relative fit leaves more (too few poles spent on the small
   top of the band), the bins are weighted also by ``|H|``, no more than needed, and the
   fit started again from those poles (:mod:`~tcpmm.ident.lti._select`; a note says so).
+  Where no fit of a given pole count reaches it, the fit of one pole fewer is kept if it
+  leaves less total error: the larger count holds it, and its refinements missed it.
 """
 
 from __future__ import annotations
@@ -296,7 +298,16 @@ def _given_order(ctx: dict, n: int) -> tuple:
     if not tries:
         raise InputError(f"{ctx['f'].size} bins cannot determine {n} poles; fewer poles or a "
                          "wider band")
-    return choose(ctx, tries, n), tries
+    best = choose(ctx, tries, n)
+    if best.get("short") and n > 1:
+        # n poles hold every fit of n - 1 (and a pair that cancels), so a fit of fewer poles
+        # that leaves less total error is one the refinements of n poles missed
+        fewer = _given_order(ctx, n - 1)[0]
+        if (fewer["unsupported"], fewer["total"]) < (best["unsupported"], best["total"]):
+            note = (f"the fit of {fewer['tried'][0]} poles leaves a total error of "
+                    f"{fewer['total']:.3g}, below the {best['total']:.3g} of {n} poles: kept")
+            best = {**fewer, "notes": [*fewer["notes"], note]}
+    return best, tries
 
 
 def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,

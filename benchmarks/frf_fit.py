@@ -1,10 +1,12 @@
 """tcpmm's FRF fit against scikit-rf's vector fitting, at 4 to 9 poles.
 
-Three frequency responses: the real Sinumerik speed-loop trace
+Four frequency responses: the real Sinumerik speed-loop trace
 (``shared/data/sinumerik/freq_trace.XML``, bins of coherence >= 0.5 over 3.9-4000 Hz) and
-two that the script makes from known poles with 1 % complex noise on 400 log-spaced bins
-(``two modes``: 4 poles and an antiresonance, 5-2000 Hz; ``three modes``: 6 poles, two
-antiresonances and a real pole, 5-3000 Hz, with a 0.2 ms delay as a drive has). Both
+three that the script makes from known poles with 1 % complex noise on log-spaced bins,
+400 unless said (``two modes``: 4 poles and an antiresonance, 5-2000 Hz; ``three
+modes``: 6 poles, two antiresonances and a real pole, 5-3000 Hz, with a 0.2 ms delay as a
+drive has; ``coarse, 128 bins``: 4 poles and an antiresonance on 128 bins 4.8 % apart, as
+an exported FRF has, its 600 Hz mode of damping 0.008 narrower than one bin). Both
 fitters see the same bins. tcpmm (``fit_frf(poles=n)``, numerator degree n or n - 1, delay
 fitted) against ``skrf.vectorFitting.VectorFitting`` with n poles (n // 2 complex pairs
 and n % 2 real poles, log-spaced starts, constant term, no delay: vector fitting has
@@ -53,19 +55,22 @@ def _pair(fn, zeta):
     return [p, np.conj(p)]
 
 
-#: Made responses: (poles [rad/s], zeros [rad/s], band [Hz], delay [s]).
+#: Made responses: (poles [rad/s], zeros [rad/s], band [Hz], delay [s], log-spaced bins [-]).
 MADE = {
-    "two modes": ([*_pair(120, 0.03), *_pair(450, 0.05)], _pair(300, 0.02), (5.0, 2000.0), 0.0),
+    "two modes": ([*_pair(120, 0.03), *_pair(450, 0.05)], _pair(300, 0.02), (5.0, 2000.0), 0.0,
+                  400),
     "three modes": ([*_pair(80, 0.04), *_pair(520, 0.02), *_pair(1400, 0.06),
                      -2 * np.pi * 900.0], [*_pair(350, 0.03), *_pair(1100, 0.05)],
-                    (5.0, 3000.0), 2e-4),
+                    (5.0, 3000.0), 2e-4, 400),
+    "coarse, 128 bins": ([*_pair(80, 0.03), *_pair(600, 0.008)], _pair(300, 0.02),
+                         (5.0, 2000.0), 0.0, 128),
 }
 
 
 def made_frf(name, noise=0.01, seed=0):
     """A response of known poles and zeros (unit gain at s = 0) with complex noise."""
-    poles, zeros, (f0, f1), tau = MADE[name]
-    f = np.geomspace(f0, f1, 400)
+    poles, zeros, (f0, f1), tau, bins = MADE[name]
+    f = np.geomspace(f0, f1, bins)
     s = 2j * np.pi * f
     h = np.prod([1 - s / z for z in zeros], axis=0) / np.prod([1 - s / p for p in poles],
                                                               axis=0)

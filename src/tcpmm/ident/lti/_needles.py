@@ -43,7 +43,7 @@ def clean_fit(fit: TFFit, sigma, floor, grid):
     f, omega0 = fit.freq_hz, fit.omega0
     x = 2j * np.pi * f / omega0
     notes = []
-    pn = _floor(fit.pn, grid, omega0, floor, notes)
+    pn = _floor(fit.pn, grid, omega0, floor, notes, (x, sigma))
     if notes:
         fit = _refit_numerator(fit, pn, fit.n_num)
     while fit.n_num > 0 and fit.pn.size > 0:
@@ -84,9 +84,13 @@ def place(f_hz: float, band_hz) -> str:
     return "the origin (0 Hz)" if f_hz <= 1e-6 * np.min(band_hz) else f"{f_hz:.4g} Hz"
 
 
-def _floor(pn, f, omega0, floor, notes):
-    """Poles with every pair damped at least by the floor or by the bin spacing of the
-    frequency grid ``f`` [Hz] (a half-power bandwidth below one bin is not measured)."""
+def _floor(pn, f, omega0, floor, notes, bins):
+    """Poles with every pair damped at least by the floor, and by the bin spacing of the
+    frequency grid ``f`` [Hz] (a half-power bandwidth below one bin is not measured)
+    unless the bins fitted, ``bins = (x, sigma)``, show the lower damping: raised to the
+    spacing's, the pair would change at least SUPPORT_BINS of them by CANCEL_SIGMA noise
+    levels or more, as a mode does between coarse bins (the bins beside its peak and its
+    phase), and no needle on the noise of one bin can."""
     pn = pn.copy()
     df = np.gradient(f) if f.size > 1 else np.zeros(1)
     for i, p in enumerate(pn):
@@ -97,12 +101,29 @@ def _floor(pn, f, omega0, floor, notes):
         # bandwidth wider than itself, and a damping above 1 has no pair (its root NaN)
         least = min(max(floor, float(np.interp(fn, f, df)) / (2 * fn)), 1.0)
         zeta = -p.real / abs(p)
+        upper = p if p.imag > 0 else np.conj(p)  # one decision for both poles of a pair
+        if zeta < least and _shown(upper, _damped(upper, least), *bins):
+            least = floor
         if zeta < least:
-            pn[i] = abs(p) * (-least + 1j * np.sign(p.imag) * np.sqrt(1 - least**2))
+            pn[i] = _damped(p, least)
             if p.imag > 0:
                 notes.append(f"raised the damping of the pair at {fn:.4g} Hz from "
                              f"{zeta:.2g} to {least:.2g}")
     return pn
+
+
+def _damped(p, zeta):
+    """The pole ``p`` at its natural frequency with the damping ``zeta`` [-]."""
+    return abs(p) * (-zeta + 1j * np.sign(p.imag) * np.sqrt(1 - zeta**2))
+
+
+def _shown(p, raised, x, sigma) -> bool:
+    """Whether the bins ``x`` show the pair ``p`` as less damped than ``raised``: moving it
+    there changes SUPPORT_BINS of them by CANCEL_SIGMA noise levels or more [-]."""
+    with np.errstate(all="ignore"):
+        dev = _factor_deviation(x, np.array([raised, np.conj(raised)]),
+                                np.array([p, np.conj(p)]), sigma)
+    return bool(np.isfinite(dev) and dev >= CANCEL_SIGMA)
 
 
 def _without(roots, unit):

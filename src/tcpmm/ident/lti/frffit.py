@@ -16,7 +16,8 @@
   criterion has not improved over :data:`PATIENCE` pole counts.
 * **No needles.** A pole pair less damped than the floor (``damping_floor``, or a
   half-power bandwidth below the spacing of the measured bins, gaps left by the
-  coherence cut not counted) is raised to it and the numerator fitted again. Then a pole
+  coherence cut not counted, unless the bins beside its peak show the lower damping) is
+  raised to it and the numerator fitted again. Then a pole
   and a zero (pairs or real) whose joint factor changes the response by more than
   :data:`~tcpmm.ident.lti._needles.CANCEL_SIGMA` noise levels at fewer than
   :data:`~tcpmm.ident.lti._needles.SUPPORT_BINS` bins are not supported by the data (a
@@ -293,21 +294,51 @@ def _given_order(ctx: dict, n: int) -> tuple:
     """The best of ``n`` poles over ``n - 1`` or ``n`` zeros, and the candidates [-]."""
     if n < 0:
         raise InputError(f"the number of poles must be >= 0, got {n}")
-    tries = [_candidate(ctx, nn, n) for nn in sorted({max(n - 1, 0), n})]
-    tries = [t for t in tries if t is not None]
+    tries = _tries(ctx, n)
     if not tries:
         raise InputError(f"{ctx['f'].size} bins cannot determine {n} poles; fewer poles or a "
                          "wider band")
-    best = choose(ctx, tries, n)
-    if best.get("short") and n > 1:
-        # n poles hold every fit of n - 1 (and a pair that cancels), so a fit of fewer poles
-        # that leaves less total error is one the refinements of n poles missed
-        fewer = _given_order(ctx, n - 1)[0]
-        if (fewer["unsupported"], fewer["total"]) < (best["unsupported"], best["total"]):
-            note = (f"the fit of {fewer['tried'][0]} poles leaves a total error of "
-                    f"{fewer['total']:.3g}, below the {best['total']:.3g} of {n} poles: kept")
-            best = {**fewer, "notes": [*fewer["notes"], note]}
+    own = {**choose(ctx, tries, n), "asked": n}
+    best = _fewer_if_better(ctx, own, n)
+    if best is not own:
+        best = {**best, "notes": [*best["notes"], _fewer_note(best, own, n)]}
     return best, tries
+
+
+def _tries(ctx: dict, n: int) -> list:
+    """The relative fits of ``n`` poles over ``n - 1`` and ``n`` zeros that the bins
+    determine [-]."""
+    tries = [_candidate(ctx, nn, n) for nn in sorted({max(n - 1, 0), n})]
+    return [t for t in tries if t is not None]
+
+
+def _fewer_if_better(ctx: dict, best: dict, n: int) -> dict:
+    """``best``, the fit chosen for ``n`` poles, or where it falls short of its bound the
+    fit of fewer poles (chosen likewise) if that leaves less total error: ``n`` poles hold
+    every fit of ``n - 1`` and a pair that cancels, so the refinements of ``n`` missed it
+    [-]."""
+    if not best.get("short") or n <= 1:
+        return best
+    tries = _tries(ctx, n - 1)
+    if not tries:
+        return best
+    fewer = _fewer_if_better(ctx, {**choose(ctx, tries, n - 1), "asked": n - 1}, n - 1)
+    key = lambda c: (c["unsupported"], c["total"])  # noqa: E731
+    return fewer if key(fewer) < key(best) else best
+
+
+def _fewer_note(fewer: dict, own: dict, n: int) -> str:
+    """Why the fit of ``fewer["asked"]`` poles was kept over that of ``n``, with the total
+    errors to the digits in which they differ (at most four) [-]."""
+    asked = fewer["asked"]
+    kept = f" ({fewer['n_poles']} kept)" if fewer["n_poles"] != asked else ""
+    a, b = fewer["total"], own["total"]
+    digits = next((d for d in range(3, 5) if f"{a:.{d}g}" != f"{b:.{d}g}"), None)
+    if digits is None:
+        how = f"the same total error as {n} poles ({a:.4g}) with fewer"
+    else:
+        how = f"a total error of {a:.{digits}g}, below the {b:.{digits}g} of {n} poles"
+    return f"the fit of {asked} poles{kept} leaves {how}: kept"
 
 
 def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,

@@ -39,6 +39,16 @@ MIX_NFEV = 100
 REACH = 1e-9
 
 
+def by_criterion(cand: dict) -> tuple:
+    """Order of candidates by the information criterion, a pair outside the band last [-]."""
+    return cand["unsupported"], cand["bic"]
+
+
+def by_total(cand: dict) -> tuple:
+    """Order of candidates by the total error, a pair outside the band last [-]."""
+    return cand["unsupported"], cand["total"]
+
+
 def total_error(H, h) -> float:
     """Total relative error ``sum |H - h|^2 / sum |H|^2`` [-]."""
     return float(np.sum(np.abs(H - h) ** 2) / np.sum(np.abs(H) ** 2))
@@ -121,8 +131,7 @@ def _mixed(ctx, w, n_num, starts, mu, refine: bool = True):
 def choose(ctx, tries, n_poles: int) -> dict:
     """The fit of ``n_poles`` poles chosen from the relative fits ``tries`` (scored) and
     the mixed-weight fits, as the module says [-]."""
-    key = lambda t: (t["unsupported"], t["bic"])  # noqa: E731
-    first = min(tries, key=key)
+    first = min(tries, key=by_criterion)
     taus = [0.0]
     if ctx["delay"] == "fit":
         taus.append(first["fit"].delay_s)
@@ -130,19 +139,19 @@ def choose(ctx, tries, n_poles: int) -> dict:
         taus = [float(ctx["delay"])]
     ref, vf_starts = _references(ctx, n_poles, dict.fromkeys(taus))
     if ref is None or any(t["total"] <= ref for t in tries):
-        return min((t for t in tries if ref is None or t["total"] <= ref), key=key)
+        return min((t for t in tries if ref is None or t["total"] <= ref), key=by_criterion)
     n_nums = sorted({max(n_poles - 1, 0), n_poles})
     base = [(first["fit"].pn, first["fit"].delay_s), *vf_starts[:1]]
     pool, prev = list(tries), {}
     for mu in MIXES:
         pool += _at_mix(ctx, mu, n_nums, base, prev)
         if any(c["total"] <= ref for c in pool):
-            return _noted(min((c for c in pool if c["total"] <= ref), key=key), ref)
+            return _noted(min((c for c in pool if c["total"] <= ref), key=by_criterion), ref)
     pool += _relocated_fits(ctx, n_nums, vf_starts[:1])
     reach = [c for c in pool if c["total"] <= ref * (1 + REACH)]
     if reach:
-        return _noted(min(reach, key=key), ref)
-    return _noted(min(pool, key=lambda t: (t["unsupported"], t["total"])), ref)
+        return _noted(min(reach, key=by_criterion), ref)
+    return _noted(min(pool, key=by_total), ref)
 
 
 def _relocated_fits(ctx, n_nums, starts) -> list:

@@ -42,7 +42,7 @@ import numpy as np
 from ...errors import InputError
 from ...frfdata import FRF
 from ._needles import clean_fit
-from ._select import choose, score
+from ._select import by_criterion, by_total, choose, score
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
 
 __all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
@@ -323,8 +323,7 @@ def _fewer_if_better(ctx: dict, best: dict, n: int) -> dict:
     if not tries:
         return best
     fewer = _fewer_if_better(ctx, {**choose(ctx, tries, n - 1), "asked": n - 1}, n - 1)
-    key = lambda c: (c["unsupported"], c["total"])  # noqa: E731
-    return fewer if key(fewer) < key(best) else best
+    return fewer if by_total(fewer) < by_total(best) else best
 
 
 def _fewer_note(fewer: dict, own: dict, n: int) -> str:
@@ -379,7 +378,7 @@ def _auto(ctx, max_poles):
             break
     if not cands:
         raise InputError(f"{ctx['f'].size} bins are too few to fit any order; widen the band")
-    best = min(cands, key=lambda c: (c["unsupported"], c["bic"]))
+    best = min(cands, key=by_criterion)
     if stride > 1:
         best = _candidate(ctx, best["tried"][1], best["tried"][0]) or best
     return best, cands

@@ -11,9 +11,10 @@ before and after the circle do not count. A level within the tolerance is taken 
 nominal radius itself.
 
 A stretch that turns back is split where it does. Full circles are trimmed symmetrically
-to whole turns, which cuts off feed-in and feed-out
-arcs that join the circle tangentially. A run that holds no full circle is searched for
-arcs of :data:`MIN_ARC_DEG` or more (a ballbar's 220 deg arcs in XZ and YZ).
+to whole turns, which cuts off feed-in and feed-out arcs that join the circle
+tangentially; a turn of a command whose ends have not settled on the level (a filter's
+transient out of a feed-in arc) is the arc of its settled part. A run that holds no full
+circle is searched for arcs of :data:`MIN_ARC_DEG` or more (a ballbar's 220 deg arcs in XZ and YZ).
 """
 
 from __future__ import annotations
@@ -140,7 +141,8 @@ def _steady_ends(dx, dy, radius, a: int, b: int) -> tuple[int, int]:
     return a + int(inside[0]), a + int(inside[-1]) + 1
 
 
-def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> list:
+def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None,
+                   settled: bool = False) -> list:
     """Full circles in a path, else its arcs (module docstring).
 
     Parameters
@@ -157,6 +159,10 @@ def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> l
         Turns per pass; default the whole number of turns each stretch covers [-].
     offset : float, optional
         Largest distance of that level from R; default :data:`OFFSET_SHARE` of R [m].
+    settled : bool
+        The path is a command: a whole turn whose ends it has not settled on (a filter's
+        transient out of the feed-in, :func:`_steady_ends`) is an arc of its settled
+        part [-].
 
     Returns
     -------
@@ -181,22 +187,52 @@ def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None) -> l
             if np.degrees(abs(span)) >= MIN_ARC_DEG:
                 arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))
             continue
-        excess = (abs(span) - 2 * np.pi * n_turns) / 2
-        # short of whole turns by up to a sample's angle (a circle sampled at 1 kHz at
-        # F10000 ends 0.13 deg short) is a full circle, as is_full takes one; shorter,
-        # the stretch is an arc
-        if excess < -max(1e-3, angle_step(ang)):
+        keep = _whole_turns(ang, n_turns)
+        if keep is None:
             if n_turns == 1 and np.degrees(abs(span)) >= MIN_ARC_DEG:
                 arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))
             continue
-        excess = max(excess, 0.0)
-        rel = np.abs(ang - ang[0])
-        keep = np.flatnonzero((rel >= excess) & (rel <= abs(span) - excess))
         if keep.size < _MIN_SAMPLES:
             continue
-        full.append(Stretch(slice(a + keep[0], a + keep[-1] + 1), direction, int(n_turns),
-                            360.0 * int(n_turns)))
+        lo, hi = a + keep[0], a + keep[-1] + 1
+        if settled and _steady_ends(dx, dy, radius, lo, hi) != (lo, hi):
+            whole, part = _on_settled(dx, dy, radius, a, b, direction, int(n_turns))
+            full, arcs = full + whole, arcs + part
+            continue
+        full.append(Stretch(slice(lo, hi), direction, int(n_turns), 360.0 * int(n_turns)))
     return full or arcs
+
+
+def _whole_turns(ang, n_turns):
+    """Indices of ``n_turns`` whole turns taken symmetrically out of a stretch of unwrapped
+    angle ``ang`` [rad]; None where it falls short of them. Short by up to a sample's angle
+    (a circle sampled at 1 kHz at F10000 ends 0.13 deg short) is whole, as
+    :func:`~tcpmm.analysis.circle_model.is_full` takes it [-]."""
+    span = abs(ang[-1] - ang[0])
+    excess = (span - 2 * np.pi * n_turns) / 2
+    if excess < -max(1e-3, angle_step(ang)):
+        return None
+    excess = max(excess, 0.0)
+    rel = np.abs(ang - ang[0])
+    return np.flatnonzero((rel >= excess) & (rel <= span - excess))
+
+
+def _on_settled(dx, dy, radius, a: int, b: int, direction: str, n_turns: int) -> tuple:
+    """``(full, arcs)`` of the part of a stretch a command has settled on: its whole turns
+    where it still holds them, else its arc. A command filtered after interpolation
+    (33-40 ms of moving average at F10000) leaves the circle's level over the first and
+    last degrees out of a feed-in arc or into a stop, 1-16 um on R 35 mm, and those samples
+    read as squareness, scale and backlash [-]."""
+    a, b = _steady_ends(dx, dy, radius, a, b)
+    if b - a < _MIN_SAMPLES:
+        return [], []
+    ang = np.unwrap(np.arctan2(dy[a:b], dx[a:b]))
+    keep = _whole_turns(ang, n_turns)
+    if keep is not None and keep.size >= _MIN_SAMPLES:
+        return [Stretch(slice(a + keep[0], a + keep[-1] + 1), direction, n_turns,
+                        360.0 * n_turns)], []
+    span = float(np.degrees(abs(ang[-1] - ang[0])))
+    return [], [Stretch(slice(a, b), direction, 0, span)] if span >= MIN_ARC_DEG else []
 
 
 def find_passes(x, y, radius, centre, tol=None, turns=None, offset=None):

@@ -359,7 +359,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     ref = "cmd" if "cmd" in present else present[0]
     tol = 1e-3 * radius_m if ref == "cmd" else 2e-2 * radius_m
     passes = []
-    for st in find_stretches(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol):
+    for st in find_stretches(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol,
+                             settled=ref == "cmd"):
         if direction is not None and st.direction != direction:
             continue
         sl, d = st.index, st.direction

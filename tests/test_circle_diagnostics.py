@@ -1141,3 +1141,29 @@ def test_a_filtered_turn_out_of_a_feed_in_arc_reads_no_terms_the_machine_has_not
                  "centre_offset_Y", "straightness_X", "straightness_Y"):
         size = radial_size(term, diag[term], R)
         assert size < 0.1e-6, (term, diag[term])
+
+
+def test_the_servo_mismatch_of_arcs_run_from_standstill_is_over_their_steady_feed():
+    """A ballbar's 220 deg arcs in XZ, out and back from standstill at 0.5 m/s^2 and
+    F4000 on R 50 mm, X lagging Z by 1 ms: the mean angular speed counts the ramps and read
+    the mismatch as 1.04 ms; the feed the arcs are taken at gives 1.00 ms."""
+    radius, v, acc, dt = 0.05, 4000 / 60e3, 0.5, 1e-3
+    span, a0 = np.radians(220.0), np.radians(-20.0)
+    length, ta = radius * span, v / acc
+    total = 2 * ta + (length - v * ta) / v
+    t = np.arange(0.0, total + dt, dt)
+    s = np.where(t < ta, 0.5 * acc * t**2,
+                 np.where(t < total - ta, 0.5 * v * ta + v * (t - ta),
+                          length - 0.5 * acc * (total - t) ** 2)).clip(0, length)
+    ang = np.r_[np.full(100, a0), a0 + s / radius, np.full(100, a0 + span),
+                a0 + span - s / radius, np.full(100, a0)]
+    t = np.arange(ang.size) * dt
+    x, z = radius * np.cos(ang), radius * np.sin(ang)
+    run = Run(t, {"X": AxisRun(cmd=x, tcp=np.interp(t - 1e-3, t, x)),
+                  "Z": AxisRun(cmd=z, tcp=z)})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = analyse_circle(run, radius, plane=("X", "Z"))
+    assert [round(p.arc_deg) for p in res.passes] == [220, 220]
+    diag = circle_diagnostics(res)
+    assert diag["servo_mismatch"] == pytest.approx(-1e-3, rel=0.005)

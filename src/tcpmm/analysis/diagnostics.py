@@ -390,5 +390,5 @@ def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiag
     sc = {d: p.sensors[sensor] for d, p in pick.items()}
     return diagnose_pair((sc["ccw"].angle_rad, sc["ccw"].radial_error),
                          (sc["cw"].angle_rad, sc["cw"].radial_error), result.radius,
-                         (pick["ccw"].rate_rad_s, pick["cw"].rate_rad_s), axes=axes,
+                         (pick["ccw"].feed_rate_rad_s, pick["cw"].feed_rate_rad_s), axes=axes,
                          sensor=sensor)

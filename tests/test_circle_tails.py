@@ -86,3 +86,33 @@ def test_an_independent_machines_tails_are_told_from_a_firm_circle(capsys):
     terms = {t["term"]: t for t in json.loads(out)["diagnostics"]["terms"]}
     assert terms["backlash_Y"]["tail_shift"] == pytest.approx(6.93, abs=0.05)
     assert terms["hysteresis"]["tail_shift"] is None
+
+
+@pytest.mark.parametrize("lo, bow", [(-20.0, "str_y"), (70.0, "str_x"), (160.0, "str_y")])
+def test_a_bow_the_arcs_determine_does_not_move_with_the_window(lo, bow):
+    """220 deg arcs with the errors of a ballbar test and a bow of 2.3 um on the axis whose
+    bow they determine: no transient, and no term moves with the window. The wider window
+    used to leave the bow out, and the terms that share its shape took it over (a
+    squareness of 44 um/m, a centre of 2.3 um), read as a transient past the window."""
+    from test_circle_diagnostics import ARC_ERR, arc
+
+    blind = "x" if bow == "str_y" else "y"
+    err = {k: v for k, v in ARC_ERR.items() if k not in (f"p_{blind}", f"str_{blind}")}
+    err[bow] = -2.3e-6
+    d = diagnose_pair(arc("ccw", err, lo, 220, 1), arc("cw", err, lo, 220, 2), R, (W, W))
+    assert moving_terms(d) == {} and moving_line(d) == ""
+    assert d[f"straightness_{bow[-1].upper()}"] == pytest.approx(-2.3e-6, abs=0.1e-6)
+    assert set(d.tail_shift) >= {"backlash_X", "squareness", "centre_offset_Y"}
+
+
+def test_a_bow_the_arcs_cannot_determine_is_named_with_what_moves():
+    """A bow of X over arcs from -20 deg, which they cannot tell from a centre and
+    backlash: those terms depend on the window, and the line names the bow as a cause."""
+    from test_circle_diagnostics import arc
+
+    err = {"str_x": -2.3e-6}
+    d = diagnose_pair(arc("ccw", err, -20.0, 220, 1), arc("cw", err, -20.0, 220, 2), R,
+                      (W, W))
+    assert "backlash_X" in moving_terms(d)
+    assert moving_line(d).endswith("or an error the circles do not determine (lateral play "
+                                   "X, straightness X) does")

@@ -192,9 +192,12 @@ class FitProblem:
         Terms common to the arcs [-].
     drop : sequence of str
         Columns left out whatever the arcs determine [-].
+    columns : sequence of str, optional
+        The columns fitted, whatever the arcs determine (another fit's, to compare
+        like with like) [-].
     """
 
-    def __init__(self, arcs, radius, shared, drop=()):
+    def __init__(self, arcs, radius, shared, drop=(), columns=None):
         self.arcs, self.radius, self.shared = arcs, radius, list(shared)
         self.masks = [a.mask for a in arcs]
         self.pos = [tuple(p[m] for p in a.positions(radius)) for a, m in
@@ -209,6 +212,8 @@ class FitProblem:
         self.keep = drop_twins(A, determined(A, protect=sure), protect=sure)
         names = column_names(len(arcs), self.shared)
         self.keep[[names.index(n) for n in drop]] = False
+        if columns is not None:
+            self.keep = np.isin(names, list(columns))
 
     def reversals_at(self, mu) -> None:
         """Leave out each reversal's transient from where the axes reverse with the servo
@@ -256,7 +261,8 @@ class FitProblem:
         return float(v) if np.isfinite(v) else 0.0
 
 
-def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None) -> TermFit:
+def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
+              columns=None) -> TermFit:
     """Fit the terms ``shared`` and each arc's radius and centre to the arcs (module
     docstring).
 
@@ -275,8 +281,10 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None) -> TermFit
     waves : tuple, optional
         The wavenumbers of the cyclic errors to fit, not searched for (None for none)
         [1/m].
+    columns : sequence of str, optional
+        The columns to fit, whatever the arcs determine (:class:`FitProblem`) [-].
     """
-    pb = FitProblem(arcs, radius, shared, drop)
+    pb = FitProblem(arcs, radius, shared, drop, columns)
     coef = pb.solve(0.0, (None, None))[0]
     # the axes' reversals where the first fit puts them: the servo mismatch, and the
     # centre each circle runs about

@@ -38,6 +38,10 @@ def tail_shift(fit, arcs, radius, shared, left_out, terms, axes, mean_rate=float
     each reversal instead of the arcs' own window, by the name it is reported under (the
     plane's axes; ``rename`` maps a fitted name to the reported one), for the terms of
     ``terms`` that have a value [SI]; empty where the wider window leaves too little to fit.
+    The wider window fits the columns the arcs' own window does, whatever it determines
+    itself: a column it would leave out (over 220 deg arcs, a bow) is taken over by the
+    terms that share its shape (a bow of 2.3 um read as a scale mismatch of 45 ppm), which
+    says nothing of the transient.
 
     Parameters
     ----------
@@ -61,9 +65,11 @@ def tail_shift(fit, arcs, radius, shared, left_out, terms, axes, mean_rate=float
         Fitted name -> reported name [-].
     """
     wide = [dataclasses.replace(a, after_deg=WIDER_DEG) for a in arcs]
-    drop = tuple(n for n in left_out if n in fit.names)
+    fitted = [n for n, c in zip(fit.names, fit.coef, strict=True) if np.isfinite(c)
+              and not n.startswith("cyclic_")]
     try:
-        other = fit_terms(wide, radius, shared, cyclic=False, drop=drop, waves=fit.waves)
+        other = fit_terms(wide, radius, shared, cyclic=False, waves=fit.waves,
+                          columns=fitted)
     except (InputError, np.linalg.LinAlgError, ValueError):
         return {}
     out = {}
@@ -130,9 +136,13 @@ def moving_line(diag) -> str:
         shown, k = DISPLAY_UNITS[diag.terms[term][1]]
         n = 3 if shown == "ms" else 2
         items.append(f"{term.replace('_', ' ')} {a * k:.{n}f} -> {b * k:.{n}f} {shown}")
+    unfitted = sorted({t.replace("_", " ") for t in diag.undetermined
+                       if not t.startswith(("cyclic_", "reversal_spikes"))})
+    also = (f", or an error the circles do not determine ({', '.join(unfitted)}) does"
+            if unfitted else "")
     return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
             "each reversal left out instead of 20, " + ", ".join(items)
-            + "; the transient lasts past the window and reads partly as these terms")
+            + "; the transient lasts past the window and reads partly as these terms" + also)
 
 
 def moving_ranked(diag) -> set:

@@ -102,3 +102,22 @@ def test_a_nan_cell_is_not_called_only_empty(tmp_path, cell):
         read_numeric_csv(p, ["time_s", "x_mm"])
     assert e.value.line == 3 and e.value.column == "x_mm"
     assert "empty or NaN" in e.value.message
+
+
+def test_a_word_among_many_numbers_is_refused_without_a_pandas_warning(tmp_path):
+    """pandas types a long file in chunks and warns, naming a line inside the package,
+    where a column's chunks differ (a word in the first, numbers after); the user gets
+    the reader's error alone."""
+    names = ["time_s"] + [f"{a}_{s}" for a in "abcdefghijklm"
+                          for s in ("cmd_mm", "motor_mm", "scale_mm", "tcp_mm", "current_A")]
+    rows = [",".join([f"{k * 1e-3:g}"] + ["1"] * (len(names) - 1)) for k in range(9000)]
+    rows[1] = rows[1].replace(",1,", ",oops,", 1)
+    path = tmp_path / "long.csv"
+    path.write_text(",".join(names) + "\n" + "\n".join(rows) + "\n")
+    for read in (read_run_csv, lambda p: read_numeric_csv(p, names)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            with pytest.raises(InputError) as info:
+                read(path)
+        assert [str(w.message) for w in caught] == []
+        assert (info.value.line, info.value.column) == (3, "a_cmd_mm")

@@ -230,6 +230,30 @@ def _check_required(names: list[str], required: list[str], optional: list[str],
         )
 
 
+def read_frame(source, **options) -> pd.DataFrame:
+    """``pandas.read_csv`` with the whole file typed at once, so that no pandas warning
+    reaches the user.
+
+    Read in chunks, a column whose chunks differ in type (a word among numbers) raises
+    pandas' DtypeWarning with a path inside this package; the cell is then refused by
+    the caller with its file, line and column. Silencing the warning instead would swap
+    the process's warning filters, which is not safe where readers run in threads.
+
+    Parameters
+    ----------
+    source : str, Path or file-like
+        The CSV file or its text [-].
+    **options
+        Further ``pandas.read_csv`` options [-].
+
+    Returns
+    -------
+    DataFrame
+        The table as pandas reads it [-].
+    """
+    return pd.read_csv(source, low_memory=False, **options)
+
+
 def _data_rows(path: Path, text: str | None) -> pd.DataFrame:
     """The rows of a CSV file under its header, trailing blank lines dropped.
 
@@ -247,7 +271,7 @@ def _data_rows(path: Path, text: str | None) -> pd.DataFrame:
     """
     # all columns are read: usecols would silently drop surplus fields of a row
     try:
-        frame = pd.read_csv(
+        frame = read_frame(
             io.StringIO(text) if text is not None else path,
             skip_blank_lines=False,
             skipinitialspace=True,

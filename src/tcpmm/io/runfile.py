@@ -183,14 +183,21 @@ def read_run_csv(path) -> Run:
     import pandas as pd
 
     # the CSV readers load pandas, which a command that only writes a run never needs
-    from .csvutil import no_rows_error, parse_error, pipe_text, read_header, unreadable
+    from .csvutil import (
+        no_rows_error,
+        parse_error,
+        pipe_text,
+        read_frame,
+        read_header,
+        unreadable,
+    )
 
     path = Path(path)
     text = pipe_text(path, "run file")
     cols = read_header(path, "run file", text)
     try:
-        df = pd.read_csv(io.StringIO(text) if text is not None else path,
-                         encoding="utf-8-sig")
+        df = read_frame(io.StringIO(text) if text is not None else path,
+                        encoding="utf-8-sig")
     except pd.errors.ParserError as exc:
         raise parse_error(exc, path) from None
     except UnicodeDecodeError:

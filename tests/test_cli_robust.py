@@ -213,3 +213,16 @@ def test_an_interrupt_while_the_axes_identify_side_by_side_ends_them_all(tmp_pat
     for kid in kids:
         with pytest.raises(ProcessLookupError):
             os.kill(kid, 0)
+
+
+def test_identify_given_a_file_for_the_bundle_says_it_is_a_file(tmp_path, capsys):
+    """A record given where its bundle folder belongs was said to be "not found"; it is
+    there, and the wrong kind of path, as ``circle`` says of a folder for its run file."""
+    record = tmp_path / "sweep.csv"
+    record.write_text("time_s,excitation_A\n0,0\n")
+    assert main(["identify", str(record), "-o", str(tmp_path / "m.yaml")]) == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert f"{record}: this is a file, not a folder; give the path of the bundle folder" in err
+    assert "not found" not in err
+    assert main(["identify", str(tmp_path / "none"), "-o", str(tmp_path / "m.yaml")]) == 2
+    assert "bundle folder not found" in capsys.readouterr().err

@@ -117,11 +117,15 @@ def read_friction_csv(path: str | Path, axis: str | None = None) -> FrictionReco
 def _bundle_dir(path: Path) -> Path:
     if path.is_file() and path.name == MACHINE_FILE:
         return path.parent
-    if not path.is_dir():
-        raise InputError(
-            "bundle folder not found; give the folder that holds machine.yaml", file=path
-        )
-    return path
+    if path.is_dir():
+        return path
+    if path.exists():  # a record or other file given for its folder
+        kind = "file" if path.is_file() else "device"
+        raise InputError(f"this is a {kind}, not a folder; give the path of the bundle "
+                         "folder, the one that holds machine.yaml", file=path)
+    raise InputError(
+        "bundle folder not found; give the folder that holds machine.yaml", file=path
+    )
 
 
 def read_bundle(path: str | Path, *, check: bool = True) -> Bundle:

@@ -226,3 +226,30 @@ def test_identify_given_a_file_for_the_bundle_says_it_is_a_file(tmp_path, capsys
     assert "not found" not in err
     assert main(["identify", str(tmp_path / "none"), "-o", str(tmp_path / "m.yaml")]) == 2
     assert "bundle folder not found" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args", [
+    ("excite", "linear", "--band", "1,100", "--amplitude-A", "1", "--duration-s", "1",
+     "--fs-hz", "1000", "-o", "{out}/x.csv"),
+    ("simulate", "builtin:vmc", "--gcode", "examples/circle_r35_f5000.nc", "-o",
+     "{out}/x.csv"),
+    ("machine", "export", "vmc", "-o", "{out}/x.yaml"),
+])
+def test_an_output_folder_that_makes_no_files_is_named_with_the_output(tmp_path, monkeypatch,
+                                                                       capsys, args):
+    """A folder that is there yet makes no new file (/proc: "No such file or directory")
+    was named alone with that reason; the output and the folder's fault are named."""
+    mkstemp = tempfile.mkstemp
+
+    def refuse(*a, **k):
+        if Path(k.get("dir", "")).resolve() == tmp_path.resolve():
+            raise FileNotFoundError(errno.ENOENT, "No such file or directory")
+        return mkstemp(*a, **k)
+
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+    monkeypatch.chdir(Path(__file__).resolve().parents[1])  # where examples/ is
+    argv = [a.format(out=tmp_path) for a in args]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"error: {argv[-1]}: cannot write the output: the folder {tmp_path} "
+                   "cannot hold new files; nothing was written: choose another folder"]

@@ -17,7 +17,7 @@ from pathlib import Path
 from ..errors import InputError
 
 
-def check_output_folder(path) -> Path:
+def check_output_folder(path, output=None) -> Path:
     """Check that the folder ``path`` is or can be made an output folder, creating nothing.
 
     A command checks its outputs before any work and creates their folders only when it
@@ -27,6 +27,8 @@ def check_output_folder(path) -> Path:
     ----------
     path : str or Path
         Folder [-].
+    output : str or Path, optional
+        The output file to go there, which an error names; default the folder [-].
 
     Returns
     -------
@@ -39,8 +41,9 @@ def check_output_folder(path) -> Path:
         what = ("nothing can be written there" if base == path else
                 f"so the output folder {path} cannot be made there")
         raise InputError(f"cannot write into {base}, {what}; choose a folder you can "
-                         "write to", file=path)
-    probe_writable(base)  # a read-only mount or a full disk, which the mode bits do not show
+                         "write to", file=output or path)
+    # a read-only mount, a full disk or /proc, which the mode bits do not show
+    probe_writable(base, output or path)
     return path
 
 
@@ -80,7 +83,7 @@ def output_folder(path) -> Path:
     return _make_folder(check_output_folder(path))
 
 
-def probe_writable(folder) -> None:
+def probe_writable(folder, output=None) -> None:
     """Refuse a folder no file can be made in, before the work whose outputs go there
     rather than after it (a read-only folder, a full disk).
 
@@ -88,11 +91,13 @@ def probe_writable(folder) -> None:
     ----------
     folder : str or Path
         An existing folder [-].
+    output : str or Path, optional
+        The output to go there, which an error names; default the folder [-].
     """
     try:
         fd, tmp = tempfile.mkstemp(prefix=".tcpmm-probe.", dir=folder)
     except OSError as exc:
-        raise _cannot_write(exc, Path(folder)) from None
+        raise _cannot_write(exc, Path(output or folder), made_in=Path(folder)) from None
     os.close(fd)
     with contextlib.suppress(OSError):
         os.unlink(tmp)
@@ -115,7 +120,7 @@ def output_file(path) -> Path:
         The file to replace [-].
     """
     path = _file_target(path)
-    check_output_folder(path.parent)
+    check_output_folder(path.parent, path)
     return path
 
 
@@ -160,7 +165,7 @@ def atomic_path(path, suffix: str = ""):
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or path.suffix,
                                    dir=None if special else path.parent)
     except OSError as exc:
-        raise _cannot_write(exc, path) from None
+        raise _cannot_write(exc, path, made_in=None if special else path.parent) from None
     os.close(fd)
     try:
         yield Path(tmp)
@@ -194,7 +199,7 @@ def staged_folder(path):
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
     except OSError as exc:
-        raise _cannot_write(exc, out) from None
+        raise _cannot_write(exc, out, made_in=out.parent) from None
     try:
         yield tmp
         _move_into(tmp, out)
@@ -218,9 +223,15 @@ def _move_into(src: Path, dst: Path) -> None:
             os.replace(f, target)
 
 
-def _cannot_write(exc: OSError, path: Path) -> InputError:
+def _cannot_write(exc: OSError, path: Path, made_in: Path | None = None) -> InputError:
     """The error of an output that cannot be written, with what to do; nothing of it is
-    left behind and an earlier file of that name is unchanged."""
+    left behind and an earlier file of that name is unchanged. ``made_in`` is the folder
+    in which a new file could not be made, where that was the failure."""
+    if made_in is not None and exc.errno == errno.ENOENT and made_in.is_dir():
+        # "No such file or directory" of a folder that is there: one of the kernel's
+        # (/proc), which makes no new files
+        return InputError(f"cannot write the output: the folder {made_in} cannot hold new "
+                          "files; nothing was written: choose another folder", file=path)
     why = exc.strerror or str(exc)
     if exc.errno in (errno.ENOSPC, errno.EDQUOT):
         fix = "free space on that disk or choose another folder"

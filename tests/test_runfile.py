@@ -120,3 +120,27 @@ def test_simulate_to_parquet_then_circle(tmp_path, capsys):
         for ra, rc in zip(pa["sensors"], pc["sensors"], strict=True):
             assert ra["sensor"] == rc["sensor"]
             assert abs(ra["contour_error_um"] - rc["contour_error_um"]) < 1e-3
+
+
+@pytest.mark.parametrize(("cell", "message"), [
+    ("1.2.3", "value '1.2.3' is not a number (use '.' as decimal point, no units or "
+              "thousands separators in cells)"),
+    ("", "value is empty; every cell must hold a finite number: repair or remove the row"),
+    ("nan", "value 'nan' is not a finite number; every cell must hold a finite number: "
+            "repair or remove the row"),
+], ids=["text", "empty", "nan"])
+def test_a_bad_cell_of_a_csv_run_is_quoted_with_the_fix(tmp_path, cell, message):
+    """"value is missing or not a number" said neither which nor what to do, where the
+    bundle and command-file readers quote the cell; the line and column stay."""
+    path = tmp_path / "run.csv"
+    write_run(_run(), path)
+    lines = path.read_text().splitlines()
+    names = lines[0].split(",")
+    fields = lines[99].split(",")
+    fields[names.index("x_scale_mm")] = cell
+    lines[99] = ",".join(fields)
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError) as info:
+        read_run(path)
+    assert (info.value.line, info.value.column) == (100, "x_scale_mm")
+    assert info.value.message == message

@@ -126,15 +126,37 @@ def refuse_not_numbers(name: str, kind, path) -> None:
         raise InputError(f"column holds {kind}, not numbers", file=path, column=name)
 
 
-def refuse_gaps(name: str, v, path, first_row: int = 1, what: str = "row") -> None:
+def refuse_gaps(name: str, v, path, first_row: int = 1, what: str = "row",
+                cells=None) -> None:
     """Refuse a value of column ``name`` that is missing or not finite, naming its row or
-    line: ``first_row`` is the file's number of ``v[0]``, ``what`` ``row`` or ``line`` [-]."""
+    line: ``first_row`` is the file's number of ``v[0]``, ``what`` ``row`` or ``line``;
+    ``cells``, where given, are the column's cells as the CSV parser left them (text where
+    it was no number, NaN where the cell was empty), which the message quotes [-]."""
     bad = np.flatnonzero(~np.isfinite(v))
     if bad.size:
-        text, place = _place(int(bad[0]), first_row, what)
+        i = int(bad[0])
+        text, place = _place(i, first_row, what)
         kind = "time" if name == "time_s" else "value"
-        raise InputError(f"{kind} is missing or not a number{text}", file=path, column=name,
-                         **place)
+        fault, fix = _fault(float(v[i]), None if cells is None else cells[i])
+        raise InputError(f"{kind}{fault}{text}{fix}", file=path, column=name, **place)
+
+
+def _fault(value: float, cell) -> tuple[str, str]:
+    """What a value that is not a finite number is, and what to do: its cell quoted where
+    there is one (``cell`` not None), else that it is missing or not a number [-]."""
+    repair = "; every cell must hold a finite number: repair or remove the row"
+    if cell is None:
+        return " is missing or not a number", repair
+    if isinstance(cell, str) and cell.strip():
+        try:
+            parsed = float(cell)
+        except ValueError:
+            parsed = 0.0
+        if np.isfinite(parsed):  # also Python's "1_000", which the parser refused
+            return (f" {cell.strip()!r} is not a number", " (use '.' as decimal point, no "
+                    "units or thousands separators in cells)")
+        return f" {cell.strip()!r} is not a finite number", repair
+    return (" is empty" if np.isnan(value) else " is infinite"), repair
 
 
 def refuse_time_back(t, path, first_row: int = 1, what: str = "row",
@@ -196,8 +218,9 @@ def read_run_csv(path) -> Run:
     text = pipe_text(path, "run file")
     cols = read_header(path, "run file", text)
     try:
+        # only an empty cell is NaN: a 'nan' or 'NA' stays text that the message quotes
         df = read_frame(io.StringIO(text) if text is not None else path,
-                        encoding="utf-8-sig")
+                        encoding="utf-8-sig", keep_default_na=False, na_values=[""])
     except pd.errors.ParserError as exc:
         raise parse_error(exc, path) from None
     except UnicodeDecodeError:
@@ -207,7 +230,8 @@ def read_run_csv(path) -> Run:
     df.columns = cols
     if len(df) == 0:
         raise no_rows_error(path)
-    return run_from_table(df, path)
+    cells = {str(c): df[c].to_numpy() for c in df.columns}
+    return _run_from_columns(_numbers(df), path, first_row=2, what="line", cells=cells)
 
 
 def run_from_table(df, path=None) -> Run:
@@ -221,19 +245,26 @@ def run_from_table(df, path=None) -> Run:
     path : str or Path, optional
         Where it came from, for messages [-].
     """
+    return _run_from_columns(_numbers(df), path, first_row=2, what="line")
+
+
+def _numbers(df) -> dict:
+    """The columns of a table as float64, NaN where a cell is no number [-]."""
     import pandas as pd
 
-    data = {str(c): pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+    return {str(c): pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
             for c in df.columns}
-    return _run_from_columns(data, path, first_row=2, what="line")
 
 
-def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
+def _run_from_columns(cols: dict, path: Path, first_row: int, what: str,
+                      cells: dict | None = None) -> Run:
     """The run of a table of run-file columns, checked: names, finite numbers, time.
 
     ``first_row`` is the number of the first data row in the file's own counting (CSV
-    lines count the header), ``what`` its name in messages (``line`` or ``row``).
+    lines count the header), ``what`` its name in messages (``line`` or ``row``);
+    ``cells`` the CSV parser's columns, for the messages of :func:`refuse_gaps`.
     """
+    cells = cells or {}
     names = list(cols)
     if "time_s" not in names:
         raise InputError(f"missing column 'time_s' (found: {', '.join(names)})", file=path,
@@ -244,7 +275,7 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
         if c == "time_s":
             continue
         if c in BLOCK_COLUMNS:
-            refuse_gaps(c, cols[c], path, first_row, what)
+            refuse_gaps(c, cols[c], path, first_row, what, cells.get(c))
             blocks[c] = cols[c].astype(BLOCK_COLUMNS[c])
             continue
         m = _COL.match(c)
@@ -256,13 +287,13 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str) -> Run:
                 file=path, line=1 if what == "line" else None, column=c,
             )
         v = cols[c]
-        refuse_gaps(c, v, path, first_row, what)
+        refuse_gaps(c, v, path, first_row, what, cells.get(c))
         scale = 1.0 if m.group(2) == "current_A" else 1e-3
         axes.setdefault(m.group(1).upper(), {})[RUN_COLUMNS[m.group(2)]] = v * scale
     t = cols["time_s"]
     if t.size == 0:
         raise InputError("the run has no rows", file=path)
-    refuse_gaps("time_s", t, path, first_row, what)
+    refuse_gaps("time_s", t, path, first_row, what, cells.get("time_s"))
     if t.size < 2:
         text, place = _place(0, first_row, what)
         raise InputError(f"time must increase strictly{text}", file=path, column="time_s",

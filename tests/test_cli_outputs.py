@@ -336,3 +336,18 @@ def test_the_damping_floor_s_default_is_given_as_a_number():
 
     text = inspect.signature(fit).parameters["damping_floor"].default.help
     assert f"default {DAMPING_FLOOR:g}," in text and "DAMPING_FLOOR" not in text
+
+
+def test_identify_json_has_the_warnings_first(monkeypatch):
+    """identify --json carried its warnings after the axes, where docs/cli.md (and
+    ``tune --json``) have them as the first key."""
+    from tcpmm.cli import _app
+    from tcpmm.ident.identification import Identification
+    from tcpmm.machines.builtin import builtin_machine
+
+    said = ["no excitation power in 990-1220 Hz"]
+    monkeypatch.setattr(_app, "WARNED", list(said))
+    idn = Identification({}, builtin_machine(), meta={"warnings": list(said)})
+    data = _app.with_warnings(idn.to_dict())
+    assert list(data) == ["warnings", "machine", "axes", "suspect"]
+    assert data["warnings"] == said

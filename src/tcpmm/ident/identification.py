@@ -207,10 +207,11 @@ class Identification:
                 }
             if a.friction_split is not None:
                 out[name]["friction_split"] = a.friction_split.to_dict()
-        return {"machine": self.machine.name, "axes": out,
-                "suspect": [str(f) for f in self.findings],
-                **({"warnings": list(self.meta["warnings"])}
+        # the warnings first, as every --json output has them (docs/cli.md)
+        return {**({"warnings": list(self.meta["warnings"])}
                    if self.meta.get("warnings") else {}),
+                "machine": self.machine.name, "axes": out,
+                "suspect": [str(f) for f in self.findings],
                 **({"verdict": self.verdict.to_dict()} if self.verdict is not None else {})}
 
     def bode_curves(self, name: str) -> dict:

@@ -226,3 +226,41 @@ def test_a_run_that_is_no_prediction_is_no_spread(tmp_path, capsys, played):
     for a, b in zip(res.rows(), counted.rows(), strict=True):
         assert b["same_sign"] == pytest.approx(a["same_sign"] / 2) and not b["settled"]
     assert counted.to_dict()["faulted_draws"] == 2
+
+
+@pytest.mark.parametrize("columns", [80, 60])
+def test_the_table_fits_a_terminal_with_every_number_whole(tmp_path, capsys, monkeypatch,
+                                                           played, columns):
+    """On an 80-column terminal the table of eleven columns was folded by rich: cells broke
+    mid-number (-6.4 over 4) and headers mid-word (fa over ll). The columns after the
+    rows' names go into tables one under the other that fit, every number and header word
+    whole; a pipe keeps the one table on lines of their own."""
+    import io
+    import re
+
+    from tcpmm.cli import _app, ident
+
+    write_machine(with_uncertainty(played, guideway_share=0.05), tmp_path / "m.yaml")
+    write_command_csv(paper_circle_command(), tmp_path / "cmd.csv")
+    args = ["spread", str(tmp_path / "m.yaml"), "--command", str(tmp_path / "cmd.csv"),
+            "--radius", "35", "--draws", "2"]
+
+    def table(text):
+        lines = text.splitlines()
+        return lines[1:next(i for i, s in enumerate(lines) if s.startswith("draws agree:"))]
+
+    assert main(args) == 0
+    piped = table(capsys.readouterr().out)
+    screen = io.StringIO()
+    monkeypatch.setattr(ident, "out", _app._Console(file=screen, force_terminal=True,
+                                                     width=columns, color_system=None))
+    assert main(args) == 0
+    shown = table(screen.getvalue())
+    assert max(map(len, shown)) <= columns < max(map(len, piped))
+
+    def numbers(lines):
+        return sorted(t for s in lines for t in s.split() if re.fullmatch(r"-?[\d.]+", t))
+
+    assert numbers(shown) == numbers(piped) and all(
+        re.fullmatch(r"-?\d+\.\d\d", t) for t in numbers(shown))
+    assert set(piped[0].split()) <= {t for s in shown for t in s.split()}

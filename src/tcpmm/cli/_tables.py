@@ -50,7 +50,9 @@ def _cell(v) -> str:
 
 def print_table(table, console, title: str) -> None:
     """Print a result table (pandas) as a :func:`plain_table`, numbers to two decimals (a
-    dash where there is none), so that nine columns fit in 80.
+    dash where there is none), so that nine columns fit in 80; on a terminal too narrow for
+    it the columns after the leading names go into tables one under the other
+    (:func:`column_parts`), so that no number and no word of a header is split.
 
     Parameters
     ----------
@@ -61,10 +63,108 @@ def print_table(table, console, title: str) -> None:
     title : str
         Title above it [-].
     """
-    t = plain_table([header(str(c)) for c in table.columns])
-    for _, row in table.iterrows():
-        t.add_row(*[_cell(v) for v in row])
-    print_plain(t, console, title)
+    from pandas.api.types import is_numeric_dtype
+
+    headers = [header(str(c)) for c in table.columns]
+    rows = [[_cell(v) for v in row] for _, row in table.iterrows()]
+    numeric = [is_numeric_dtype(table[c]) for c in table.columns]
+    keys = next((i for i, n in enumerate(numeric) if n), len(numeric))
+    parts = column_parts(headers, rows, numeric, keys, console.width)
+    for n, (cols, widths) in enumerate(parts):
+        t = plain_table([headers[i] for i in cols])
+        for column, width in zip(t.columns, widths or (), strict=False):
+            column.width = width
+        for row in rows:
+            t.add_row(*[row[i] for i in cols])
+        print_plain(t, console, title if n == 0 else None)
+
+
+#: Width between two columns of a :func:`plain_table`: a space of padding either side of
+#: the blank rule [-].
+GAP = 3
+
+
+def _extent(cols, widths) -> int:
+    """Width of a :func:`plain_table` of the columns ``cols`` at ``widths``, in
+    characters [-]."""
+    return sum(widths[i] for i in cols) + GAP * (len(cols) - 1)
+
+
+def column_parts(headers, rows, numeric, keys: int, width: int) -> list[tuple]:
+    """The columns of a table as parts that each fit ``width``, with their widths: the
+    whole table where it fits unwrapped; else as few parts as fit, each holding the
+    ``keys`` leading columns (the names of the rows) and a run of the others, cut where
+    the fewest headers wrap, else as late as that allows (the first parts fullest), a
+    part's widest columns narrowed first. A number is never split, nor a word of a header
+    or a text; where even the names and one column do not fit, the whole table as rich
+    folds it.
+
+    Parameters
+    ----------
+    headers : list of str
+        The columns' headers [-].
+    rows : list of list of str
+        The cells, row by row [-].
+    numeric : list of bool
+        Per column, whether its cells are numbers, which are kept whole [-].
+    keys : int
+        How many leading columns name the rows and go into every part [-].
+    width : int
+        Width to fit, in characters [-].
+
+    Returns
+    -------
+    list of tuple
+        Per part: the indices of its columns, and their widths in characters, or None
+        where rich's own are kept [-].
+    """
+    from itertools import combinations
+
+    from rich.cells import cell_len
+
+    whole = list(range(len(headers)))
+    hi, lo = [], []
+    for i, (h, n) in enumerate(zip(headers, numeric, strict=True)):
+        cells = [row[i] for row in rows]
+        hi.append(max(map(cell_len, [h, *cells])))
+        pieces = cells if n else [w for c in cells for w in c.split()]
+        lo.append(max(map(cell_len, [*h.split(), *pieces, ""])))
+    names, rest = whole[:keys], whole[keys:]
+    if _extent(whole, hi) <= width or not rest:
+        return [(whole, None)]
+    k = _fewest_parts(names, rest, lo, width)
+    if k is None:
+        return [(whole, None)]
+    runs = [[rest[a:b] for a, b in zip((0, *cut), (*cut, len(rest)), strict=True)]
+            for cut in combinations(range(1, len(rest)), k - 1)]
+    runs = [r for r in runs if all(_extent(names + p, lo) <= width for p in r)]
+    best = min(runs, key=lambda r: (sum(max(_extent(names + p, hi) - width, 0) for p in r),
+                                    [-len(p) for p in r]))
+    return [(names + p, _narrowed(names + p, lo, hi, width)) for p in best]
+
+
+def _fewest_parts(names, rest, lo, width: int) -> int | None:
+    """How many parts the columns ``rest``, each part after the columns ``names``, take at
+    least at their narrowest widths ``lo`` in ``width`` (each part filled in turn); None
+    where the names and one column do not fit [-]."""
+    parts, run = 1, []
+    for i in rest:
+        if _extent([*names, i], lo) > width:
+            return None
+        if _extent([*names, *run, i], lo) > width:
+            parts, run = parts + 1, []
+        run.append(i)
+    return parts
+
+
+def _narrowed(cols, lo, hi, width: int) -> list[int]:
+    """Widths of the columns ``cols``, each between ``lo`` and ``hi``, the widest narrowed
+    first until they fit ``width``, in characters [-]."""
+    w = [hi[i] for i in cols]
+    for _ in range(_extent(range(len(cols)), w) - width):
+        j = max((k for k in range(len(cols)) if w[k] > lo[cols[k]]), key=w.__getitem__)
+        w[j] -= 1
+    return w
 
 
 def plain_table(headers, left=()):
@@ -135,7 +235,7 @@ def _as_written(table, stream):
 
     fitted = plain_table([fit(c.header).plain for c in table.columns])
     for new, old in zip(fitted.columns, table.columns, strict=True):
-        new.justify = old.justify
+        new.justify, new.width = old.justify, old.width
     for row in zip(*(c.cells for c in table.columns), strict=True):
         fitted.add_row(*map(fit, row))
     return fitted

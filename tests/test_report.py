@@ -293,6 +293,31 @@ def test_a_ccw_and_a_cw_run_are_diagnosed_together(capsys, tmp_path):
     assert float(row[1].replace("\u2212", "-")) == pytest.approx(2e-6 / (R / 2) * 1e6, rel=0.02)
 
 
+def test_a_file_given_twice_says_its_plane_once_and_each_pair_names_its_direction(
+        capsys, tmp_path):
+    """With the CCW and CW runs given to --run and again to --measured, "plane XY, taken
+    from ..." came twice for each (6 lines for 4 files), and the two comparisons were both
+    titled "Measured − predicted (Table 2)", which did not say which circle each was."""
+    names = []
+    for d in ("ccw", "cw"):
+        p = circle_path(d)
+        for kind, de in (("m", 3e-6), ("p", 1e-6)):
+            make_run(p, polar_perturb(p, (0, 0), lambda a, de=de: de + 0 * a)).write_csv(
+                tmp_path / f"{d}_{kind}.csv")
+        names.append(tmp_path / f"{d}_m.csv")
+    code, text, err = report(capsys, tmp_path, "--run", ",".join(map(str, names)),
+                             *[a for d in ("ccw", "cw") for a in (
+                                 "--measured", tmp_path / f"{d}_m.csv",
+                                 "--predicted", tmp_path / f"{d}_p.csv")],
+                             "--radius", R * 1e3)
+    assert code == 0, err
+    said = [line for line in err.splitlines() if line.startswith("plane XY, taken from")]
+    assert len(said) == len(set(said)) == 4, err
+    titles = re.findall(r"<h2>(Measured − predicted[^<]*)</h2>", text)
+    assert titles == ["Measured − predicted (Table 2): CCW of ccw_m.csv",
+                      "Measured − predicted (Table 2): CW of cw_m.csv"]
+
+
 def test_a_rank_or_a_count_is_shown_as_an_integer():
     """The ranking of the error sources read '1.00, 2.00, ...': an integer is shown as one,
     a float to its decimals, a negative with the typographic minus."""

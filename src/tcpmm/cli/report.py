@@ -150,7 +150,8 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, verd
         The files they come from, by role [-].
     """
     c = floats(centre, "--centre", 2)
-    circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), plane)
+    # one plane per file, said once however many sections analyse it
+    circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), plane, {})
     comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
                                f"comparison-{i + 1}", not runs and i == 0, verdict)
                    for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
@@ -220,7 +221,9 @@ def _faults(machine, files) -> list:
 
 def _circle(path: Path, circle, run=None):
     """The circular test of one run file (or of ``run``, read from it), the run's sample
-    rate and what its analysis warned of [-, Hz, -]; the warnings are given on as well."""
+    rate and what its analysis warned of [-, Hz, -]; the warnings are given on as well.
+    ``circle`` holds the nominal radius [m], centre [m], ``--plane`` and the planes of the
+    files met so far, by resolved path, which this one joins [-]."""
     import warnings
 
     import numpy as np
@@ -229,9 +232,12 @@ def _circle(path: Path, circle, run=None):
     from ..errors import InputWarning
     from ..io.runfile import read_run
 
-    radius_m, centre_m, plane = circle
+    radius_m, centre_m, plane, planes = circle
     run = read_run(path) if run is None else run
-    axes = run_plane_said(plane, run, path)  # --plane, else the plane the command moves in
+    known = Path(path).resolve()
+    if known not in planes:  # --plane, else the plane the command moves in
+        planes[known] = run_plane_said(plane, run, path)
+    axes = planes[known]
     with in_file(path), warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", InputWarning)
         res = analyse_circle(run, radius_m, centre_m, plane=axes)

@@ -240,7 +240,18 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
                         "the identification data leave open).")
                  + table(_judged_columns(judged),
                          f"table2_judged{key[len('comparison'):].replace('-', '_')}.csv"))
-    return section(key, "Measured − predicted (Table 2)", body)
+    return section(key, comparison_title(comparison, sources), body)
+
+
+def comparison_title(comparison, sources=()) -> str:
+    """Title of a comparison's section: its directions and the measured run, so that the
+    sections of two pairs (a CCW and a CW circle) are told apart [-]."""
+    seen = [r.get("direction", "").upper() for r in comparison.rows]
+    named = [" and ".join(dict.fromkeys(d for d in seen if d))]
+    if len(sources):
+        named.append(Path(str(sources[0])).name)
+    named = " of ".join(n for n in named if n)
+    return "Measured − predicted (Table 2)" + (f": {named}" if named else "")
 
 
 def spread_section(spread):

@@ -29,8 +29,9 @@ For each axis, on the sampled loops of :mod:`tcpmm.servo.sampled`:
    chooses it by simulating the path.
 
 Every changed setting gets a note saying why it changed and what limits it: the margin
-(and its crossover frequency) that fails just above a gain, the quarter of the velocity
-bandwidth, or the axis whose position loop sets the common ``K_pp``. A loop whose last
+(and its crossover frequency) that fails just above a gain, the loop's stability with the
+modes off the model's frequencies, the quarter of the velocity bandwidth, or the axis
+whose position loop sets the common ``K_pp``. A loop whose last
 gain crossover lies above a plant mode of damping below ``LIGHT_ZETA`` gets a
 warning: its margins there rest on that mode's frequency and damping, which an
 identified model rarely has right.
@@ -52,6 +53,7 @@ from .._forked import results_in_order, usable_jobs
 from .margins import axis_margins, position_margins, velocity_margins
 from .modeshift import (
     VELOCITY_ONLY_K_PP,
+    current_tolerance,
     light_mode_warnings,
     robustly_stable,
     shift_words,
@@ -130,9 +132,11 @@ def tune_position(mech, servo, gm, pm):
         lambda g: position_margins(mech, changed(servo, K_pp=g)), None, k, gm, pm)
 
 
-def _limit(margins, radius, k, gm, pm) -> str:
+def _limit(margins, radius, k, gm, pm, shift=None) -> str:
     """What fails just above the gain ``k``: the gain or phase margin (with its value at
-    ``k`` and crossover) or the stability of the sampled loop [-]."""
+    ``k`` and crossover), the stability of the sampled loop, or (``shift``: the gain's
+    :func:`~tcpmm.servo.modeshift.worst_shift`) its stability with the modes off the
+    model's frequencies [-]."""
     m, above = margins(k), margins(k * (1 + 3 * RESOLUTION))
     if above.gain_margin_db < gm:
         at, there = _crossing(m, above, "gain_margin_db", "phase_crossover_hz")
@@ -144,6 +148,10 @@ def _limit(margins, radius, k, gm, pm) -> str:
                 f"{_hz(at.gain_crossover_hz)} Hz{there})")
     if radius is not None and radius(k * (1 + 3 * RESOLUTION)) >= 1:
         return "stability of the sampled loop (spectral radius reaching 1)"
+    case = None if shift is None else shift(k * (1 + 3 * RESOLUTION))
+    if case is not None:  # the margins hold above: the check of the modes' shifts binds
+        return (f"stability with its modes up to {100 * current_tolerance():g} % off the "
+                f"model's frequencies (just above this gain: {shift_words(case)})")
     return (f"margins ({m.gain_margin_db:.1f} dB, {m.phase_margin_deg:.1f} deg; the scan "
             "found no larger gain meeting them)")
 
@@ -165,9 +173,14 @@ def _crossing(m, above, margin: str, crossover: str):
 
 def velocity_limit(mech, servo, gm, pm) -> str:
     """What limits the velocity gain of a proposal (see :func:`_limit`) [-]."""
+    def alone(g):  # as the scan judged it: with a position loop too slow to matter
+        s = with_pi(mech, servo, g)
+        return changed(s, K_pp=min(s.K_pp, VELOCITY_ONLY_K_PP))
+
     return "the velocity loop's " + _limit(
         lambda g: velocity_margins(mech, with_pi(mech, servo, g)),
-        lambda g: sampled_spectral_radius(mech, with_pi(mech, servo, g)), servo.K_vp, gm, pm)
+        lambda g: sampled_spectral_radius(mech, with_pi(mech, servo, g)), servo.K_vp, gm, pm,
+        lambda g: worst_shift(mech, alone(g), gm))
 
 
 def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> dict:

@@ -189,3 +189,22 @@ def test_a_worse_proposal_over_settings_that_meet_the_margins_says_keep_them(vmc
     (note,) = [n for n in res.notes if n.startswith("the predicted path is worse after")]
     assert "meet 6 dB / 45 deg already" in note and "keep them" in note
     assert "smaller margins" not in note
+
+
+def test_a_kept_axis_s_light_mode_warning_says_it_is_about_its_own_settings(vmc):
+    """tune builtin:vmc warned that Z's velocity loop "crosses over at 665 Hz ... measure
+    ... before using these gains": Z keeps its settings, and machine show gives its
+    crossover as 66.9 Hz. The loop crosses over at 66.9 Hz, its bandwidth, and the 588 Hz
+    mode's peak lifts it above 1 again up to 665 Hz; the warning says both, and that it
+    is about the settings kept."""
+    from tcpmm.servo.tunealone import tune_alone
+
+    z = vmc.axes["Z"]
+    t = tune_alone(z.mechanics, z.servo, GM, PM, ["X", "Y"])
+    assert t.after == t.before
+    (w,) = t.warnings
+    bandwidth = axis_margins(z.mechanics, z.servo)["velocity"].bandwidth_hz
+    assert w.startswith("the settings kept, as they were: the velocity loop crosses over at "
+                        f"{bandwidth:.1f} Hz (its bandwidth) and, lifted above 1 again higher "
+                        "up, last at 665 Hz, above the 588 Hz mode"), w
+    assert "before relying on these settings" in w and "these gains" not in w

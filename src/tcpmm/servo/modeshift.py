@@ -154,7 +154,7 @@ def light_modes(mech: AxisMechanics):
     return np.abs(ev[keep]) / (2 * np.pi), zeta[keep]
 
 
-def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
+def light_mode_warnings(mech, margins: dict, servo=None, kept: bool = False) -> list[str]:
     """Warnings for loops whose last gain crossover lies above a mode of damping below
     :data:`LIGHT_ZETA`: one per loop, naming its modes.
 
@@ -166,6 +166,9 @@ def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
         ``velocity`` and ``position`` margins of the settings judged [dB, deg, Hz].
     servo : ServoParams, optional
         The settings judged: a mode they already notch is not advised a notch [-].
+    kept : bool
+        Whether they are the axis's own settings, left as they were: the warning then says
+        it is about them, not about gains proposed [-].
 
     Returns
     -------
@@ -190,12 +193,25 @@ def light_mode_warnings(mech, margins: dict, servo=None) -> list[str]:
         bare = [f0 for f0, _ in below if not any(abs(n - f0) < 0.05 * f0 for n in notched)]
         advice = (f", or notch {_listed([f'the {f0:.0f} Hz mode' for f0 in bare])}"
                   if bare else " (the notches placed flatten these modes, not take them out)")
-        out.append(f"the {loop} loop crosses over at {fc:.{d}f} Hz, above "
+        whose, using = (("the settings kept, as they were: ", "relying on these settings")
+                        if kept else ("", "using these gains"))
+        out.append(f"{whose}the {loop} loop {_crossover_words(m, fc, d)}, above "
                    f"{modes}: its margins "
                    "there rest on those modes' frequencies and damping, which the model may "
                    f"have wrong{held}; measure the loop's frequency response on the machine "
-                   f"before using these gains{advice}")
+                   f"before {using}{advice}")
     return out
+
+
+def _crossover_words(m, fc: float, d: int) -> str:
+    """Where a loop crosses over: at ``fc`` [Hz], given to ``d`` decimals; a loop whose
+    bandwidth lies lower (a mode's peak lifts its gain above 1 again) with that first, as
+    its margins give it [-]."""
+    bw = m.bandwidth_hz
+    if not np.isfinite(bw) or f"{bw:.1f}" == f"{fc:.1f}":
+        return f"crosses over at {fc:.{d}f} Hz"
+    return (f"crosses over at {bw:.1f} Hz (its bandwidth) and, lifted above 1 again higher "
+            f"up, last at {fc:.{d}f} Hz")
 
 
 def _digits(f: float, f0: float) -> int:

@@ -231,7 +231,8 @@ def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> 
                       "K_pp": kpp_reason(name, lead, found, list(machine.axes))}
             notes[name] = gain_notes(a.servo, after, limits) + notes[name]
         out[name] = AxisTuning(a.servo, after, mg_before, mg_after, met, notes[name],
-                               light_mode_warnings(m, mg_after, after)
+                               light_mode_warnings(m, mg_after, after,
+                                                   kept=after == a.servo)
                                + slower_warnings(mg_before, mg_after))
     return out
 

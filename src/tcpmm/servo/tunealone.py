@@ -56,7 +56,7 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
         return AxisTuning(servo, servo, before, before, True,
                           [f"settings kept: they meet {gm_db:g} dB / {pm_deg:g} deg; "
                            f"{apart}"],
-                          light_mode_warnings(mech, before, servo))
+                          light_mode_warnings(mech, before, servo, kept=True))
     notes = []
     vel = (servo if velocity_loop_ok(mech, servo, gm_db, pm_deg) else
            tune_velocity(mech, servo, gm_db, pm_deg, notes))
@@ -70,7 +70,7 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
         notes.append(f"its settings miss {gm_db:g} dB / {pm_deg:g} deg and {what} them on "
                      "this axis alone; settings kept")
         return AxisTuning(servo, servo, before, before, False, notes,
-                          light_mode_warnings(mech, before, servo))
+                          light_mode_warnings(mech, before, servo, kept=True))
     limits = {"K_vp": velocity_limit(mech, after, gm_db, pm_deg),
               "K_pp": f"the settings miss {_missed(mech, servo, before, gm_db, pm_deg)}; the "
                       f"largest position gain of this axis alone, limited by {why}; {apart}"}

@@ -65,3 +65,29 @@ def test_machine_show_reports_the_sampled_loop(capsys):
     data = json.loads(capsys.readouterr().out)
     for d in data.values():
         assert d["closed_loop_stable"] and 0.9 < d["sampled_loop_spectral_radius"] < 1.0
+
+
+def test_an_axis_s_warnings_name_it_and_say_what_its_kept_fit_leaves_open_once():
+    """identify of bench H said "the FRFs do not determine B_m, B_L" and then "the FRFs
+    do not determine B_L" (two fits of X on the way to the one kept), and "no excitation
+    power in 993.7-1223 Hz, ..." (gaps above the sweep's 1000 Hz end), none naming its
+    axis or file. Each warning of an axis now names both; what the FRFs leave open is said
+    once, of the fit the model keeps, and only gaps within the swept band are listed."""
+    from conftest import bench_path
+    from tcpmm.ident.chain import AxisRun, run_axis
+    from tcpmm.ident.options import IdentifyOptions
+    from tcpmm.io.bundle import read_bundle
+
+    bundle = read_bundle(bench_path("h") / "bundle")
+    rec = bundle.axes["X"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        idn = run_axis(AxisRun("X", rec.sweep, bundle.machine.axes["X"], rec.friction),
+                       IdentifyOptions(verdict=False))
+    said = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    assert said and all("axis X: " in s for s in said), said
+    open_ = [s for s in said if "do not determine" in s]
+    assert open_ == [f"{rec.sweep.source}: axis X: the FRFs do not determine "
+                     f"{', '.join(idn.physical.undetermined)} (relative standard deviation "
+                     "above 50 %); their values are a guess"]
+    assert not [s for s in said if "no excitation power" in s]

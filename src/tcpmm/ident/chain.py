@@ -15,11 +15,15 @@ gets the sensitivities of its TCP spikes to what the friction runs leave open.
 from __future__ import annotations
 
 import math
+import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 from .._forked import results_in_order, usable_jobs
 from .._threads import limit_blas_threads
-from ..errors import InputError
+from ..errors import InputError, InputWarning
+from ..io.csvutil import warn_input
 from ..model import Machine
 from ..uncertainty import open_ranges, prediction_verdict
 from .friction.sensitivity import (
@@ -35,6 +39,7 @@ from .gates.masses import check_static_gains
 from .gates.timebase import time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
 from .options import MIN_COHERENCE, IdentifyOptions
+from .physical.greybox import undetermined_words
 from .steps.axismodel import AxisModel, build_axis
 from .steps.excitationcheck import ExcitationCheck, check_excitation
 from .steps.fitcontext import FitContext, fit_context
@@ -134,13 +139,44 @@ def run_axis(run: AxisRun, options: IdentifyOptions) -> AxisIdentification:
         What the steps share [-].
     """
     limit_blas_threads()
-    for name, step in AXIS_STEPS:
-        try:
-            run = replace(run, **{name: step(run, options)})
-        except InputError:
-            _static_gains_first(run)
-            raise
-    return run.identification()
+    with _axis_named(run):
+        for name, step in AXIS_STEPS:
+            try:
+                run = replace(run, **{name: step(run, options)})
+            except InputError:
+                _static_gains_first(run)
+                raise
+        found = run.identification()
+        if found.physical.undetermined:  # of the fit kept, not of every fit on the way
+            warn_input(undetermined_words(found.physical.undetermined),
+                       file=getattr(run.sweep, "source", None))
+    return found
+
+
+@contextmanager
+def _axis_named(run: AxisRun):
+    """The warnings of an axis's steps, each naming the axis: ``axis X:`` put after the
+    file a warning names, or before it where it names none and not the axis already
+    (the FRF estimators and fits know their numbers, not whose they are)."""
+    files = [str(Path(f)) for f in (getattr(run.sweep, "source", None),
+                                     getattr(run.runs, "source", None)) if f]
+    said = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            try:
+                yield
+            finally:
+                said = list(caught)
+    finally:  # given on also when a step fails: they may say why
+        for w in said:
+            text = str(w.message)
+            if issubclass(w.category, InputWarning) and f"axis {run.name}:" not in text:
+                file = next((f for f in files if text.startswith(f"{f}: ")), None)
+                text = (f"axis {run.name}: {text}" if file is None else
+                        f"{file}: axis {run.name}: {text[len(file) + 2:]}")
+                warnings.warn_explicit(text, w.category, w.filename, w.lineno)
+            else:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def _static_gains_first(run: AxisRun) -> None:

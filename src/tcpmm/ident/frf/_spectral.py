@@ -14,6 +14,11 @@ MIN_BINS_BELOW_FMIN = 4
 MIN_SEGMENTS = 4
 #: Excitation power below this fraction of its in-band maximum counts as "no excitation".
 NO_POWER_FRACTION = 1e-6
+#: The band a sweep sweeps reaches from its lowest to its highest bin of at least this
+#: fraction of the maximum power: beyond them lie the roll-off at its ends and the
+#: leakage, a hundredth of it, which dips below :data:`NO_POWER_FRACTION` here and there
+#: (a logarithmic sweep's power at its top end lies some 1e-3 below its peak) [-].
+SWEPT_FRACTION = 1e-4
 
 
 def sample_rate_hz(time_s, file=None, column: str = "time_s", rtol: float = 0.1) -> float:
@@ -180,7 +185,9 @@ def segmenting(n: int, fs_hz: float, nperseg, fmin_hz, overlap: float, file=None
 
 
 def _power_gaps(freq_hz: np.ndarray, p_uu: np.ndarray, name: str, file=None):
-    """Warn about contiguous bands without excitation power; return the excited mask.
+    """Warn about contiguous bands without excitation power within the band the
+    excitation sweeps (:data:`SWEPT_FRACTION`), naming ``file`` where given; return the
+    excited mask.
 
     A signal without any power leaves no frequency response to estimate: that is an error.
     """
@@ -190,16 +197,17 @@ def _power_gaps(freq_hz: np.ndarray, p_uu: np.ndarray, name: str, file=None):
         raise InputError(f"{name} carries no power in the band: there is no frequency "
                          "response to estimate; record the sweep with a non-zero excitation",
                          file=file, column=name)
+    swept = np.flatnonzero(p_uu >= SWEPT_FRACTION * top)
     idx = np.flatnonzero(~excited)
+    idx = idx[(idx > swept[0]) & (idx < swept[-1])]
     if idx.size:
         splits = np.flatnonzero(np.diff(idx) > 1) + 1
         bands = [f"{freq_hz[g[0]]:.4g}-{freq_hz[g[-1]]:.4g} Hz" for g in np.split(idx, splits)]
-        warnings.warn(
-            f"no excitation power in {', '.join(bands)} (power of {name} below "
-            f"{NO_POWER_FRACTION:g} of its maximum): the FRF there is noise",
-            InputWarning,
-            stacklevel=3,
-        )
+        said = InputError(
+            f"no excitation power in {', '.join(bands)}, within the band it sweeps "
+            f"({freq_hz[swept[0]]:.4g}-{freq_hz[swept[-1]]:.4g} Hz; power of {name} below "
+            f"{NO_POWER_FRACTION:g} of its maximum): the FRF there is noise", file=file)
+        warnings.warn(said.format(), InputWarning, stacklevel=3)
     return excited
 
 

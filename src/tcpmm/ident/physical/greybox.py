@@ -139,7 +139,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
                  current_bandwidth_hz=None, fit_current_loop: bool = False,
                  max_nfev: int = 2000, tf_fits: dict | None = None,
                  hold_period_s: float = 0.0, nut_gain=None,
-                 structure: dict | None = None) -> PhysicalFit:
+                 structure: dict | None = None, warn: bool = True) -> PhysicalFit:
     """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.
 
     Parameters
@@ -170,6 +170,10 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         Parameters held in proportion to ``M_t``, ``{name: value / M_t}``, e.g. the bed and
         TCP structure from ``G_tcp`` alone (:func:`tcpmm.ident.physical.structure.fit_structure`);
         they are not fitted, and their standard deviations are those of ``M_t`` [SI / kg].
+    warn : bool
+        Warn of the parameters the data do not determine (:func:`undetermined_words`);
+        an identification that fits an axis several times says it once, of the fit it
+        keeps [-].
     """
     limit_blas_threads()
     names, tied, reported = _fitted_names(data, structure, fit_current_loop)
@@ -183,7 +187,16 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     else:
         starts = _starts(binned, data, lead, K_tc, tf_fits, f_top)
     r = _multistart(objective.resid, objective.jac, starts, names, fit_current_loop, max_nfev)
-    return _physical_fit(r, objective, data, reported, f_top)
+    fit = _physical_fit(r, objective, data, reported, f_top)
+    if warn and fit.undetermined:
+        warnings.warn(undetermined_words(fit.undetermined), InputWarning, stacklevel=2)
+    return fit
+
+
+def undetermined_words(undetermined) -> str:
+    """The warning of parameters the FRFs do not determine [-]."""
+    return ("the FRFs do not determine " + ", ".join(undetermined) + " (relative standard "
+            "deviation above 50 %); their values are a guess")
 
 
 def _fitted_names(data: dict, structure: dict | None, fit_current_loop: bool) -> tuple:
@@ -253,17 +266,13 @@ class _Objective:
 
 def _physical_fit(r, objective: _Objective, full: dict, reported: list,
                   f_top: float) -> PhysicalFit:
-    """The fit at the ``least_squares`` result ``r``: mechanics, uncertainty (a warning
-    names what the data do not determine) and the error against the unbinned FRFs
-    ``full``; a current loop beyond the data's reach is kept ideal [-]."""
+    """The fit at the ``least_squares`` result ``r``: mechanics, uncertainty (with what
+    the data do not determine) and the error against the unbinned FRFs ``full``; a current
+    loop beyond the data's reach is kept ideal [-]."""
     names, tied, n_mech = objective.names, objective.tied, objective.n_mech
     mech = AxisMechanics.create(**objective.mech_of(r.x).model_dump())
     f_i = objective.bandwidth(r.x)
     std, corr, undetermined = _std(r, names, tied)
-    if undetermined:
-        warnings.warn("the FRFs do not determine " + ", ".join(undetermined) +
-                      " (relative standard deviation above 50 %); their values are a guess",
-                      InputWarning, stacklevel=3)
     model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i,
                        objective.hold_period_s, objective.nut_gain)
     rel = {k: rel_error(d.H[d.weight > 0], model[k][d.weight > 0]) for k, d in full.items()}

@@ -91,7 +91,8 @@ def current_hold(record, T_v: float) -> float:
 def physical_fit(ctx: FitContext, data: dict, initial: dict | None = None, nut_gain=None,
                  structure: dict | None = None) -> PhysicalFit:
     """:func:`~tcpmm.ident.physical.greybox.fit_physical` of the FRFs ``data`` with the
-    axis's known values.
+    axis's known values; what it leaves undetermined is said once per axis, of the fit
+    kept (:func:`tcpmm.ident.chain.run_axis`), not of each fit on the way.
 
     Parameters
     ----------
@@ -109,7 +110,7 @@ def physical_fit(ctx: FitContext, data: dict, initial: dict | None = None, nut_g
     return fit_physical(data, ctx.cfg.lead_m, ctx.cfg.torque_constant, initial=initial,
                         fit_current_loop=ctx.fit_current_loop, tf_fits=ctx.tf_fits,
                         hold_period_s=ctx.hold_period_s, nut_gain=nut_gain,
-                        structure=structure)
+                        structure=structure, warn=False)
 
 
 def fit_values(phys: PhysicalFit) -> dict:

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.path import Arc, Dwell, Line, Rapid, parse_gcode, program_to_command
+from tcpmm.path.gcode_stream import run_program
 
 
 def _parse(text, **kw):
@@ -337,8 +338,7 @@ def test_the_interpolators_errors_name_the_program_file(tmp_path):
 
 def test_repeated_points_are_skipped_and_counted():
     """CAM output repeats points; a controller skips such blocks. The path is the one
-    without them, and one warning counts the feed moves among them with the first line (a
-    G0 to where the tool is, a routine header, is skipped without a word)."""
+    without them, and one warning counts them all, G0 as G1, with the first line."""
     clean = "G21 G90\nG1 X10 Y0 F3000\nG1 X10 Y10\nG1 X0 Y10\nM30\n"
     repeated = "G21 G90\nG1 X10 Y0 F3000\nG1 X10 Y0\nG1 X10 Y10\nG1 X10.000 Y10\nG0 X10 Y10\n" \
                "G1 X0 Y10\nM30\n"
@@ -348,8 +348,39 @@ def test_repeated_points_are_skipped_and_counted():
     want = parse_gcode(clean)
     assert [(s.start_m, s.end_m) for s in got] == [(s.start_m, s.end_m) for s in want]
     said = [str(w.message) for w in caught if "zero-length" in str(w.message)]
-    assert said == ["cam.nc, line 3, column 4: zero-length move ignored (and 1 more time): "
-                    "a G1 to where the tool already is, skipped"]
+    assert said == ["cam.nc, line 3, column 4: zero-length move ignored (and 2 more times): "
+                    "a G0 or G1 to where the tool already is, skipped"]
+
+
+#: a G1 to X2, then two G0 and one G1 to where the tool stands (lines 4, 5 and 7)
+G0_REPEATS = "G21 G90 G17\nG1 X1 Y0 F3000\nX2\nG0 X2\nG0 X2\nG1 X3\nX3\nM30\n"
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_a_rapid_to_where_the_tool_stands_is_counted_as_a_feed_move_is(fast):
+    """Two G0 to where the tool stood were skipped without a word and not counted: the
+    summary said one repeated point of three, and the fast parser and the reference
+    alike."""
+    it = run_program(G0_REPEATS, "z.nc", (0.0, 0.0, 0.0), fast=fast)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        it.emit_warnings()
+    assert [str(w.message) for w in caught] == [
+        "z.nc, line 4, column 4: zero-length move ignored (and 2 more times): a G0 or G1 to "
+        "where the tool already is, skipped"]
+    assert [type(s) for s in it.segments] == [Line, Line, Line]
+
+
+def test_zero_length_skipped_reads_the_count_of_the_warning_alone():
+    from tcpmm.path.gcode import zero_length_skipped
+
+    said = ["p.nc, line 4, column 4: zero-length move ignored (and 2 more times): a G0 or G1 "
+            "to where the tool already is, skipped",
+            "p.nc, line 9, column 1: M3 ignored (and 5 more times): spindle",
+            "zero-length move.nc, line 2, column 1: M8 ignored: coolant",
+            "q.nc, line 3, column 4: zero-length move ignored: a G0 or G1 to where ..."]
+    assert zero_length_skipped(said) == 4
+    assert zero_length_skipped([]) == 0
 
 
 @pytest.mark.parametrize("prog", [

@@ -508,6 +508,28 @@ def test_json_carries_the_warnings_said_on_stderr(tmp_path, capsys, suffix):
     assert "warnings" not in json.loads(capsys.readouterr().out)
 
 
+@pytest.mark.parametrize(("suffix", "more"), [(".csv", ()), (".parquet", ()),
+                                            (".parquet", ("--chunk-blocks", "2"))])
+def test_every_repeated_point_is_counted_g0_as_g1(tmp_path, capsys, suffix, more):
+    """Two G0 to where the tool stood were skipped without a word: the summary counted one
+    repeated point of three. ``--json`` gives the count as a number too."""
+    prog = tmp_path / "rep.nc"
+    prog.write_text("G21 G90 G17\nG1 X1 Y0 F3000\nX2\nG0 X2\nG0 X2\nG1 X3\nX3\nM30\n")
+    code, text, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                              tmp_path / f"run{suffix}", "--json", *more)
+    assert code == 0, err
+    said = json.loads(text)
+    assert said["zero_length_skipped"] == 3
+    assert [w for w in said["warnings"] if "zero-length" in w] == [
+        f"{prog}, line 4, column 4: zero-length move ignored (and 2 more times): a G0 or G1 "
+        "to where the tool already is, skipped"]
+    # another file name: the same text from the same place is shown once in one process
+    again = tmp_path / "again.nc"
+    again.write_text(prog.read_text())
+    code, _, err = run_cli(capsys, "path", again, "-o", tmp_path / "cmd.csv", *more)
+    assert code == 0 and "zero-length move ignored (and 2 more times)" in " ".join(err.split())
+
+
 def test_a_disk_that_fills_while_a_piece_is_written_leaves_no_file(tmp_path, capsys,
                                                                    monkeypatch):
     """A piece is written while the next is computed: a disk that fills on the second

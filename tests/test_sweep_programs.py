@@ -221,3 +221,12 @@ def test_workers_get_the_programs_by_a_path_that_leads_from_anywhere(study, loop
     assert code == 1 and len(paths) == 3 and all(p.startswith("/") for p in paths)
     assert sorted(r["program"] for r in json.loads(out)["rows"]) == [
         "progs/arc.ngc", "progs/bad.nc", "progs/square.nc"]
+
+
+def test_the_column_counts_rapids_to_where_the_tool_stands(tmp_path):
+    """Two G0 to where the tool stood went uncounted: ``zero_length_skipped`` said 1 of 3,
+    and nothing else of them."""
+    prog = tmp_path / "rep.nc"
+    prog.write_text("G21 G90 G17\nG1 X1 Y0 F3000\nX2\nG0 X2\nG0 X2\nG1 X3\nX3\nM30\n")
+    row = program_task("vmc", read_machine("builtin:vmc"), prog, 2)
+    assert row["status"] == "ok" and row["zero_length_skipped"] == 3 and row["warnings"] == ""

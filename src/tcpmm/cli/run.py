@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 
 from ._app import (
+    WARNED,
     Sensor,
     app,
     checked_output,
@@ -107,14 +108,14 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
             res = simulate_to_parquet(m, gcode, output, interp_settings(m),
                                       record_period_s=record_period_s,
                                       chunk_blocks=chunk_blocks)
-        _said_run(output, res, as_json)
+        _said_run(output, res, as_json, gcode)
         return
     cmd, pulses = as_the_drives_take_it(load_command(command, gcode, m), controller, m)
     with progress_bar(len(m.axes), "simulate") as adv, in_file(command or gcode):
         run = _simulate(m, cmd, record_period_s=record_period_s, progress=adv,
                         current_feedforward_A=pulses)
     run.write(output)
-    _said_run(output, run.to_dict(), as_json)
+    _said_run(output, run.to_dict(), as_json, gcode)
 
 
 def _record_period_fits(machine, record_period_s: float) -> None:
@@ -130,9 +131,14 @@ def _record_period_fits(machine, record_period_s: float) -> None:
             raise typer.BadParameter(exc.message, param_hint="--record-period-s") from None
 
 
-def _said_run(output: Path, summary: dict, as_json: bool) -> None:
-    """Say the run file written: its samples and axes (``Run.to_dict``'s summary)."""
+def _said_run(output: Path, summary: dict, as_json: bool, gcode: Path | None) -> None:
+    """Say the run file written: its samples and axes (``Run.to_dict``'s summary); in
+    JSON, of a program, also the zero-length moves skipped, as a number."""
     if as_json:
+        if gcode is not None:
+            from ..path.gcode import zero_length_skipped
+
+            summary = {**summary, "zero_length_skipped": zero_length_skipped(WARNED)}
         emit_json({"output": str(output), **summary})
         return
     out.print(f"wrote {output} ({summary['samples']} samples, axes "

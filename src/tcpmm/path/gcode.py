@@ -21,6 +21,7 @@ adds no dependency.
 
 from __future__ import annotations
 
+import re
 import warnings
 
 from ..errors import InputError, InputWarning
@@ -40,6 +41,21 @@ from .gcode_words import (
     ZERO_MOVE_M,
 )
 from .segments import AXIS_INDEX, Dwell, Line, Rapid
+
+#: the key of the warning that counts the moves to where the tool already is [-]
+ZERO_LENGTH = "zero-length move"
+_ZERO_LENGTH_SAID = re.compile(rf": {ZERO_LENGTH} ignored(?: \(and (\d+) more times?\))?: ")
+
+
+def zero_length_skipped(said) -> int:
+    """Zero-length moves skipped, counted from the warnings ``said`` (their texts, as
+    :meth:`Interpreter.emit_warnings` words them: the first, and "(and N more times)") [-]."""
+    n = 0
+    for text in said:
+        m = _ZERO_LENGTH_SAID.search(text)
+        if m is not None:
+            n += 1 + int(m.group(1) or 0)
+    return n
 
 
 def _where(file, line, column):
@@ -287,11 +303,10 @@ class Interpreter(GeometryMixin):
         if self.motion in (0, 1) and all(abs(a - b) <= ZERO_MOVE_M
                                          for a, b in zip(target, self.pos, strict=True)):
             target = self.pos
-            # a controller skips such a block; CAM output repeats points in G1, and a G0 to
-            # the start is a routine header, not worth a word
-            if self.motion == 1:
-                self.warn("zero-length move", "a G1 to where the tool already is, skipped",
-                          line, first.column)
+            # a controller skips such a block; it is counted, G0 as G1, so that the summary
+            # gives every repeated point the program holds
+            self.warn(ZERO_LENGTH, "a G0 or G1 to where the tool already is, skipped",
+                      line, first.column)
         elif self.motion == 0:
             self.segments.append(Rapid(self.pos, target, line))
         elif self.motion == 1:

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import glob
 import json
-import re
 import tempfile
 import threading
 import time
@@ -29,6 +28,7 @@ from ...analysis.runaway_stream import FaultWatch
 from ...errors import InputError, InputWarning
 from ...io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
 from ...io.runfile import run_parquet_writer
+from ...path.gcode import zero_length_skipped
 from ...path.settings import InterpolatorSettings
 from ...path.stream import CHUNK_BLOCKS
 from ...result import AxisRun, Run
@@ -104,14 +104,8 @@ def _warnings_of_this_task():
 def _zero_length(said) -> tuple[int, str]:
     """Zero-length moves skipped, from the interpreter's warnings (the first said, and
     "(and N more times)"); the other warnings, joined [-]."""
-    n, rest = 0, []
-    for text in said:
-        if "zero-length move" in text:
-            more = re.search(r"\(and (\d+) more time", text)
-            n += 1 + (int(more.group(1)) if more else 0)
-        else:
-            rest.append(text)
-    return n, "; ".join(rest)
+    counted = [zero_length_skipped([text]) for text in said]
+    return sum(counted), "; ".join(t for t, n in zip(said, counted, strict=True) if not n)
 
 
 def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict:

@@ -1,5 +1,6 @@
 """Run files: CSV and Parquet hold the same run; every run reader takes both."""
 
+import itertools
 import json
 
 import numpy as np
@@ -144,3 +145,37 @@ def test_a_bad_cell_of_a_csv_run_is_quoted_with_the_fix(tmp_path, cell, message)
         read_run(path)
     assert (info.value.line, info.value.column) == (100, "x_scale_mm")
     assert info.value.message == message
+
+
+def _piece(run, a, b):
+    return Run(run.time_s[a:b], {n: AxisRun(cmd=x.cmd[a:b], motor=x.motor[a:b],
+                                            scale=x.scale[a:b], tcp=x.tcp[a:b],
+                                            current=x.current[a:b])
+                                 for n, x in run.axes.items()})
+
+
+def test_short_pieces_go_into_row_groups_of_the_least_rows(tmp_path, monkeypatch):
+    """A row group a piece: Arrow keeps some 15 KB a row group until the file closes and
+    twice that at the close, so a run streamed in pieces of a few rows took 32 KB of
+    memory a piece. Short pieces are gathered into groups of the least rows or more; a
+    piece as long goes on as it is, after the rows gathered before it."""
+    import pyarrow.parquet as pq
+
+    from tcpmm.io import runwrite
+    from tcpmm.io.runfile import run_parquet_writer
+
+    monkeypatch.setattr(runwrite, "LEAST_ROW_GROUP_ROWS", 100, raising=False)
+    run = _run(1000)
+    cuts = [0, 1, 3, 6, 40, 90, 160, 161, 400, 437, 600, 601, 990, 1000]
+    with run_parquet_writer(tmp_path / "r.parquet") as write:
+        for a, b in itertools.pairwise(cuts):
+            write(_piece(run, a, b))
+    meta = pq.ParquetFile(tmp_path / "r.parquet").metadata
+    assert [meta.row_group(k).num_rows for k in range(meta.num_row_groups)] == [
+        160, 1, 239, 37, 163, 1, 389, 10]
+    write_run(run, tmp_path / "w.parquet")
+    back, want = read_run(tmp_path / "r.parquet"), read_run(tmp_path / "w.parquet")
+    assert np.array_equal(back.time_s, want.time_s)
+    for a in "XY":
+        for s in ("cmd", "motor", "scale", "tcp", "current"):
+            assert np.array_equal(getattr(back.axes[a], s), getattr(want.axes[a], s))

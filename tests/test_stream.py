@@ -281,16 +281,22 @@ def test_contour_in_chunks_is_the_whole_runs(vmc, tmp_path):
     assert res.most_rows < 97 + 2 * 400  # a chunk and the windows around it (0.2 s)
 
 
-def test_cli_writes_row_groups_that_contour_reads(vmc, tmp_path, capsys):
+def test_cli_writes_row_groups_that_contour_reads(vmc, tmp_path, capsys, monkeypatch):
     import pyarrow.parquet as pq
 
+    from tcpmm.io import runwrite
+
+    # groups of a thousand rows, so that this short run has several
+    monkeypatch.setattr(runwrite, "LEAST_ROW_GROUP_ROWS", 1000)
     prog = tmp_path / "zig.nc"
     prog.write_text(PROGRAMS["zigzag"])
     out = tmp_path / "run.parquet"
     code, _, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", out,
                        "--chunk-blocks", 5)
     assert code == 0, err
-    assert pq.ParquetFile(out).metadata.num_row_groups > 2
+    meta = pq.ParquetFile(out).metadata
+    rows = [meta.row_group(k).num_rows for k in range(meta.num_row_groups)]
+    assert len(rows) > 2 and min(rows[:-1]) >= 1000
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp file
     quiet(simulate, vmc, quiet(program_to_command, prog)).write(tmp_path / "whole.parquet")
     run, ref = read_run(out), read_run(tmp_path / "whole.parquet")  # both through mm
@@ -305,6 +311,25 @@ def test_cli_writes_row_groups_that_contour_reads(vmc, tmp_path, capsys):
     for s in a:
         assert a[s]["max_abs_um"] == b[s]["max_abs_um"]
         assert a[s]["rms_um"] == pytest.approx(b[s]["rms_um"], rel=1e-12)
+
+
+@pytest.mark.parametrize("chunk", [1, 7])
+def test_a_run_streamed_a_block_at_a_time_is_not_a_row_group_a_block(tmp_path, capsys,
+                                                                       chunk):
+    """Each piece was a row group, and Arrow keeps some 15 KB a row group until the file
+    closes (twice that at the close): at one block a chunk the peak memory grew by 32 KB a
+    block. A run shorter than a row group is one, the whole run's rows."""
+    import pyarrow.parquet as pq
+
+    prog = tmp_path / "p.nc"
+    prog.write_text(PROGRAMS["spiral"])
+    for out, more in (("whole.parquet", ()), ("run.parquet", ("--chunk-blocks", chunk))):
+        code, _, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",
+                               tmp_path / out, *more)
+        assert code == 0, err
+    streamed = pq.ParquetFile(tmp_path / "run.parquet")
+    assert streamed.metadata.num_row_groups == 1
+    assert streamed.read().equals(pq.read_table(tmp_path / "whole.parquet"))
 
 
 @pytest.mark.parametrize("name", ["zigzag", "arcs"])
@@ -548,6 +573,9 @@ def test_a_disk_that_fills_while_a_piece_is_written_leaves_no_file(tmp_path, cap
         return real(self, table, *args, **kw)
 
     monkeypatch.setattr(pq.ParquetWriter, "write_table", full)
+    from tcpmm.io import runwrite
+
+    monkeypatch.setattr(runwrite, "LEAST_ROW_GROUP_ROWS", 1000)  # row groups of this run
     prog = tmp_path / "p.nc"
     prog.write_text(PROGRAMS["zigzag"])
     code, out, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o",

@@ -1,6 +1,6 @@
 """The streaming runs of the command line: a program a chunk of blocks at a time, the run
-to Parquet a row group a chunk, and a progress bar of the blocks read (of the rows
-measured, for a run's contour error)."""
+to Parquet a row group a chunk (short chunks gathered into one), and a progress bar of the
+blocks read (of the rows measured, for a run's contour error)."""
 
 from __future__ import annotations
 

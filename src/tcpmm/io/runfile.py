@@ -19,6 +19,7 @@ from ..result import BLOCK_COLUMNS, RUN_COLUMNS, AxisRun, Run
 from .atomic import atomic_path
 from .runwrite import (  # noqa: F401  (the writers are part of this module's interface)
     PARQUET_SUFFIXES,
+    RowGroups,
     arrow_table,
     is_parquet,
     parquet_columns,
@@ -33,9 +34,11 @@ _COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
 
 @contextlib.contextmanager
 def run_parquet_writer(path):
-    """Write a run that comes in pieces as a Parquet run file, a row group a piece: the
-    file is written under a temporary name beside ``path`` and renamed onto it when the
-    ``with`` block ends, removed when it fails or is interrupted.
+    """Write a run that comes in pieces as a Parquet run file, a row group a piece, short
+    pieces gathered into row groups of :data:`~tcpmm.io.runwrite.LEAST_ROW_GROUP_ROWS`
+    (:class:`~tcpmm.io.runwrite.RowGroups`): the file is written under a temporary name
+    beside ``path`` and renamed onto it when the ``with`` block ends, removed when it
+    fails or is interrupted.
 
     Parameters
     ----------
@@ -57,19 +60,26 @@ def run_parquet_writer(path):
     with atomic_path(path) as tmp, ThreadPoolExecutor(1) as pool:
         opened: list = []
         pending: list = []
+        groups = RowGroups()
+
+        def put(cols: dict) -> None:
+            table = arrow_table(cols, opened[0].schema)
+            if pending:
+                pending.pop().result()
+            pending.append(pool.submit(opened[0].write_table, table))
 
         def write(run: Run) -> None:
             cols = parquet_columns(run)
             if not opened:
                 schema = parquet_schema(cols)
                 opened.append(pq.ParquetWriter(tmp, schema, use_dictionary=False))
-            table = arrow_table(cols, opened[0].schema)
-            if pending:
-                pending.pop().result()
-            pending.append(pool.submit(opened[0].write_table, table))
+            for group in groups.add(cols):
+                put(group)
 
         try:
             yield write
+            for group in groups.rest():
+                put(group)
             if pending:
                 pending.pop().result()
         finally:

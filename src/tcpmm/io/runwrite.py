@@ -14,6 +14,13 @@ from .atomic import CSV_BLOCK_ROWS, atomic_path, write_columns_atomic
 
 #: Extensions read and written as Parquet; every other one is CSV.
 PARQUET_SUFFIXES = (".parquet", ".pq")
+#: Fewest rows of a row group that :class:`RowGroups` gathers pieces into [-]. Arrow keeps
+#: some 15 KB of metadata a row group until the file is closed and twice that while it
+#: writes the footer: a row group of each piece of a few rows (``--chunk-blocks 1``) cost
+#: 32 KB of memory a piece (320 MB of the 430 MB peak of a program of 10 000 blocks). Two
+#: groups of this many rows are held at most (one gathered, one written), 9 MB of a run
+#: of three axes.
+LEAST_ROW_GROUP_ROWS = 1 << 15
 
 
 def is_parquet(path) -> bool:
@@ -83,3 +90,45 @@ def arrow_table(cols: dict, schema):
         v = np.ascontiguousarray(v, dtype=f.type.to_pandas_dtype())
         arrays.append(pa.Array.from_buffers(f.type, v.size, [None, pa.py_buffer(v)]))
     return pa.Table.from_arrays(arrays, schema=schema)
+
+
+class RowGroups:
+    """The pieces of a run's columns as row groups of at least ``least`` rows: a piece as
+    long goes on as it is (not copied), shorter ones are gathered into one group, copied
+    into a fresh buffer each (a group given on is written while the next is gathered).
+    Only a group given on before a long piece, and the last one, may be shorter; so the
+    groups are as many as the rows make, however the run was cut.
+
+    Parameters
+    ----------
+    least : int, optional
+        Fewest rows of a group, default :data:`LEAST_ROW_GROUP_ROWS` [-].
+    """
+
+    def __init__(self, least: int | None = None):
+        self.least = int(least or LEAST_ROW_GROUP_ROWS)
+        self.held: dict | None = None  # columns of room for twice ``least`` rows
+        self.n = 0
+
+    def add(self, cols: dict) -> list:
+        """The row groups complete with the piece ``cols`` (equally long columns by name,
+        the same names each piece), in order [-]."""
+        rows = len(next(iter(cols.values())))
+        if rows >= self.least:
+            return [*self.rest(), cols]
+        if self.held is None:
+            # a piece is shorter than ``least`` and added only while fewer are held
+            self.held = {c: np.empty(2 * self.least, np.asarray(v).dtype)
+                         for c, v in cols.items()}
+        for c, v in cols.items():
+            self.held[c][self.n:self.n + rows] = v
+        self.n += rows
+        return self.rest() if self.n >= self.least else []
+
+    def rest(self) -> list:
+        """The rows held, as one group (none where none are held) [-]."""
+        if not self.n:
+            return []
+        group = {c: v[:self.n] for c, v in self.held.items()}
+        self.held, self.n = None, 0
+        return [group]

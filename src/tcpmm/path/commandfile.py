@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..io.atomic import atomic_path
+from ..io.atomic import CSV_BLOCK_ROWS, atomic_path
 from ..io.text import file_lines, read_text, unquoted
 from .command import Command
 
@@ -270,12 +270,17 @@ class _PieceWriter:
                                 *BLOCK_COLUMNS[:self.blocks]]) + "\n")
         self.axes = ("X", "Y", "Z")
         self.samples = 0
+        # np.savetxt's text, formatted here: it makes a class of its own at every call,
+        # garbage in a reference cycle that the start-up's lazy collector keeps for long
+        # (3 KB a piece of one block)
+        self.row = ",".join(["%.12f"] + ["%.9f"] * 3 + ["%d"] * self.blocks) + "\n"
 
     def write(self, time_s, positions, blocks=()) -> None:
         table = np.column_stack([time_s] + [positions[a] * 1e3 for a in ("X", "Y", "Z")]
                                 + list(blocks)[:self.blocks])
-        np.savetxt(self.fh, table, fmt=["%.12f"] + ["%.9f"] * 3 + ["%d"] * self.blocks,
-                   delimiter=",")
+        for k in range(0, table.shape[0], CSV_BLOCK_ROWS):  # a block's text at a time
+            block = table[k:k + CSV_BLOCK_ROWS]
+            self.fh.write((self.row * block.shape[0]) % tuple(block.ravel().tolist()))
         self.samples += table.shape[0]
 
 

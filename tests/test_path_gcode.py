@@ -400,3 +400,18 @@ def test_a_move_rounding_left_is_skipped_as_a_repeated_point(prog):
     speed = np.linalg.norm(np.diff(p, axis=1), axis=0)
     top = int(np.argmax(speed))  # the feed rises to its top and falls once: no dip
     assert np.all(np.diff(speed[:top]) >= -1e-12) and np.all(np.diff(speed[top:]) <= 1e-12)
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_a_header_rapid_to_the_start_repeats_no_point_but_a_later_one_does(fast):
+    """A program's first G0 to where the tool starts (``G0 X0 Y0`` of a header, as the
+    shipped example has) repeats no point the program has programmed, and is not counted;
+    the same G0 after the tool has moved away and back is a repeated point."""
+    program = "G90 G21\nG0 X0 Y0\nG1 X5 F1000\nG1 X3 Y2\nG0 X0 Y0\nG0 X0 Y0\n"
+    it = run_program(program, "h.nc", (0.0, 0.0, 0.0), fast=fast)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        it.emit_warnings()
+    assert [str(w.message) for w in caught] == [
+        "h.nc, line 6, column 4: zero-length move ignored: a G0 or G1 to where the tool "
+        "already is, skipped"]

@@ -69,7 +69,9 @@ def _where(file, line, column):
 class Interpreter(GeometryMixin):
     def __init__(self, file, start):
         self.file = file
-        self.pos = tuple(float(c) for c in start)
+        # a move before any other goes from the start position taken, not programmed
+        self.moved = False
+        self._pos = tuple(float(c) for c in start)
         self.motion = None
         self.plane = 17
         self.unit = MM_M
@@ -82,6 +84,18 @@ class Interpreter(GeometryMixin):
         self.warned = {}
         #: a run of plain G1 blocks may go into ``segments`` as one LineRun [-]
         self.takes_runs = False
+
+    @property
+    def pos(self) -> tuple:
+        """Where the tool is, at the end of the last move [m]."""
+        return self._pos
+
+    @pos.setter
+    def pos(self, value) -> None:
+        # the parsers' runs of blocks move the tool here too, not through move(); a run
+        # may end where it began, but it left segments
+        self.moved = self.moved or bool(self.segments) or tuple(value) != self._pos
+        self._pos = tuple(value)
 
     # ---- reporting -------------------------------------------------------------------
     def error(self, msg, line, column=None):
@@ -304,9 +318,11 @@ class Interpreter(GeometryMixin):
                                          for a, b in zip(target, self.pos, strict=True)):
             target = self.pos
             # a controller skips such a block; it is counted, G0 as G1, so that the summary
-            # gives every repeated point the program holds
-            self.warn(ZERO_LENGTH, "a G0 or G1 to where the tool already is, skipped",
-                      line, first.column)
+            # gives every repeated point the program holds. A program's first G0 to the
+            # start position (G0 X0 Y0 of a header) repeats no point it has programmed
+            if self.moved or self.motion == 1:
+                self.warn(ZERO_LENGTH, "a G0 or G1 to where the tool already is, skipped",
+                          line, first.column)
         elif self.motion == 0:
             self.segments.append(Rapid(self.pos, target, line))
         elif self.motion == 1:

@@ -109,9 +109,22 @@ def test_demo_writes_everything(capsys, tmp_path):
     # its tables' titles say µm as their columns do: 'Table 2 ... [um]' over '[µm]'
     assert "[um]" not in out
     assert "Table 2 at the TCP against the predicted 90 % interval [µm]" in out.splitlines()
+    # each spike named for what it is, the directions as the tables after it write them,
+    # the interval as compare names it, and µm in words too (no internal column names)
+    for shown in ("spike A after terms [µm]", "raw spike D [µm]", "raw spike B",
+                  "90 % interval +-", "µm of the prediction"):
+        assert shown in out, shown
+    for internal in ("after_terms", "half width", " um "):
+        assert internal not in out, internal
+    assert not any(line.split()[0] in ("ccw", "cw") for line in out.splitlines()
+                   if line.split())
     # every file written is in the printed list, itself or in a folder listed (the bundle)
     listed = [Path(line.split()[-1]) for line in out.splitlines()
               if line.startswith("  ") and len(line.split()) == 2]
+    # in one column, however long the longest name
+    starts = {line.index(line.split()[-1]) for line in out.splitlines()
+              if line.startswith("  ") and len(line.split()) == 2}
+    assert len(starts) == 1, starts
     for f in (tmp_path / "demo").resolve().rglob("*"):
         assert f.is_dir() or any(f == p or p in f.parents for p in listed), f
     page = report.read_text(encoding="utf-8")

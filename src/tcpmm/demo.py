@@ -73,13 +73,13 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
 
 def _demo_into(out, step, console, report, tolerance_m) -> dict:
     """:func:`run_demo` into the folder ``out``."""
-    from .cli._tables import print_table
+    from .cli._tables import judged_rows, print_table
 
     files = {}
     machine, cmd, run, res, table = _builtin_circle(out, step, files)
     _plot_builtin(machine, run, res, out, step, files)
     if console is not None:
-        print_table(table, console, "Circular test on the built-in machine")
+        print_table(shown_circle_table(table), console, "Circular test on the built-in machine")
     cmp, idn, circles = identify_and_predict(machine, cmd, out, step, files)
     if console is not None:
         print_table(cmp.to_pandas(), console,
@@ -89,8 +89,10 @@ def _demo_into(out, step, console, report, tolerance_m) -> dict:
     step("verdict")
     judged = judged_table2(idn.machine, cmd, cmp, out, files)
     if console is not None:
-        print_table(judged, console, "Table 2 at the TCP against the predicted 90 % interval "
-                                     "[µm]")
+        import pandas as pd
+
+        print_table(pd.DataFrame(judged_rows(judged.to_dict("records"))), console,
+                    "Table 2 at the TCP against the predicted 90 % interval [µm]")
     step("spread")
     spread = write_spread(idn.machine, cmd, out, files)
     if console is not None:
@@ -298,13 +300,24 @@ def write_spread(identified, cmd, out, files, draws: int = 16):
     return res
 
 
+def shown_circle_table(table):
+    """The circular test's table as the terminal shows it: each spike named for what it
+    is (after the fitted terms, or raw ``e - b`` as Table 2 takes it), the direction in
+    capitals as in the tables after it [-]."""
+    names = {f"spike_after_terms_{q}_um": f"spike {q} after terms [µm]" for q in "ABCD"}
+    names.update({f"spike_{q}_um": f"raw spike {q} [µm]" for q in "ABCD"})
+    shown = table.rename(columns=names)
+    shown["direction"] = shown["direction"].str.upper()
+    return shown
+
+
 def spread_summary(spread) -> str:
     """One line on the quadrant points the drawn machines do not settle or hold."""
     from .whatif.spread import SETTLED_FRACTION
 
     n, tol = spread.spikes.shape[0], spread.tolerance * 1e6
     head = (f"Spread over {n} drawn machines ({100 * SETTLED_FRACTION:.0f} % of the draws "
-            f"must keep the sign and lie within {tol:g} um of the prediction): ")
+            f"must keep the sign and lie within {tol:g} µm of the prediction): ")
     bad = [f"{r['direction'].upper()} {r['point']}" for r in spread.rows()
            if not (r["settled"] and r["firm"])]
     return head + (f"{', '.join(bad)} do not (spread.csv)." if bad

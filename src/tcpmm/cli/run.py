@@ -57,8 +57,9 @@ def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Out
     with progress_bar(len(DEMO_STEPS), "demo") as adv:
         res = run_demo(out_dir, progress=adv, console=out, report=report, tolerance_m=tol)
     out.print(f"Wrote {len(res['files'])} files to [bold]{Path(out_dir).resolve()}[/bold]")
+    width = max(map(len, res["files"]), default=0)
     for k, v in res["files"].items():
-        out.print(f"  {k:12s} {Path(v).resolve()}")
+        out.print(f"  {k:{width}s} {Path(v).resolve()}")
     out.print(f"report: [bold]{Path(res['files']['report']).resolve()}[/bold]")
 
 

@@ -80,8 +80,7 @@ def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None,
     """``(name, value)`` of the circle's test conditions, in mm, mm/min and Hz, and the
     date of the test where given (``measured_on``, ISO 230-4 asks for it) [-]."""
     # the steady speed: the mean would count the ramp of a circle run from standstill
-    rates = [p.steady_rate_rad_s if math.isfinite(p.steady_rate_rad_s) else p.rate_rad_s
-             for p in result.passes]
+    rates = [p.feed_rate_rad_s for p in result.passes]
     rates = [r for r in rates if math.isfinite(r)]
     feed = (f"{number(60e3 * result.radius * sum(rates) / len(rates), 0)} mm/min"
             if rates else "not known")

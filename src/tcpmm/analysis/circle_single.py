@@ -96,7 +96,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
-                             tail_shift(fit, arcs, radius_m, SINGLE, left_out, terms, axes,
+                             tail_shift(fit, arcs, radius_m, SINGLE, terms, axes,
                                         rename={"squareness": "squareness_or_servo"}))
 
 

@@ -32,7 +32,7 @@ MOVES_SHARE = 0.2
 _HALF_R = ("squareness", "squareness_or_servo", "scale_mismatch", "servo_mismatch_angle")
 
 
-def tail_shift(fit, arcs, radius, shared, left_out, terms, axes, mean_rate=float("nan"),
+def tail_shift(fit, arcs, radius, shared, terms, axes, mean_rate=float("nan"),
                rename=None) -> dict:
     """How much each reported term changes when the fit leaves out :data:`WIDER_DEG` after
     each reversal instead of the arcs' own window, by the name it is reported under (the
@@ -53,14 +53,13 @@ def tail_shift(fit, arcs, radius, shared, left_out, terms, axes, mean_rate=float
         Nominal radius [m].
     shared : sequence of str
         The shared terms fitted [-].
-    left_out : dict
-        Columns the fit left out (:func:`.circle_stable.arc_fit`), left out again [-].
     terms : dict
         The reported terms, ``name -> (value, unit)``, axes X and Y [SI].
     axes : tuple of str
         The plane's axes [-].
     mean_rate : float
-        Mean angular speed, for the servo mismatch as a time; NaN leaves it out [rad/s].
+        The circles' angular speed, for the servo mismatch as a time; NaN leaves it out
+        [rad/s].
     rename : dict, optional
         Fitted name -> reported name [-].
     """

@@ -245,7 +245,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
-                             tail_shift(fit, arcs, radius_m, SHARED, left_out, terms, axes,
+                             tail_shift(fit, arcs, radius_m, SHARED, terms, axes,
                                         mean_rate))
 
 

@@ -91,6 +91,13 @@ def _factors(tolerance: float) -> np.ndarray:
     return 1.0 + d[np.argsort(np.abs(d), kind="stable")]
 
 
+def velocity_only(servo: ServoParams) -> ServoParams:
+    """The settings with the position gain at most :data:`VELOCITY_ONLY_K_PP`: the
+    velocity loop as it is judged alone [SI]."""
+    return ServoParams.create(**{**servo.model_dump(),
+                                 "K_pp": min(servo.K_pp, VELOCITY_ONLY_K_PP)})
+
+
 def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
                 tolerance: float | None = None):
     """The first mode shift and controller gain factor at which the loop is unstable.
@@ -113,8 +120,7 @@ def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
         every case is stable.
     """
     g = 10.0 ** (gm_db / 20.0)
-    alone = ServoParams.create(**{**servo.model_dump(),
-                                  "K_pp": min(servo.K_pp, VELOCITY_ONLY_K_PP)})
+    alone = velocity_only(servo)
     cases = [(1.0, servo)] + [(f, ServoParams.create(**{
         **alone.model_dump(), "K_vp": alone.K_vp * f, "K_vi": alone.K_vi * f}))
         for f in (g, 1.0 / g)]

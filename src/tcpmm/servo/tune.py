@@ -58,6 +58,7 @@ from .modeshift import (
     robustly_stable,
     shift_words,
     slower_warnings,
+    velocity_only,
     worst_shift,
 )
 from .params import ServoParams
@@ -173,14 +174,10 @@ def _crossing(m, above, margin: str, crossover: str):
 
 def velocity_limit(mech, servo, gm, pm) -> str:
     """What limits the velocity gain of a proposal (see :func:`_limit`) [-]."""
-    def alone(g):  # as the scan judged it: with a position loop too slow to matter
-        s = with_pi(mech, servo, g)
-        return changed(s, K_pp=min(s.K_pp, VELOCITY_ONLY_K_PP))
-
     return "the velocity loop's " + _limit(
         lambda g: velocity_margins(mech, with_pi(mech, servo, g)),
         lambda g: sampled_spectral_radius(mech, with_pi(mech, servo, g)), servo.K_vp, gm, pm,
-        lambda g: worst_shift(mech, alone(g), gm))
+        lambda g: worst_shift(mech, velocity_only(with_pi(mech, servo, g)), gm))
 
 
 def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> dict:

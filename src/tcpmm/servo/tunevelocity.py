@@ -13,12 +13,12 @@ from ..mechanics.lumped import AxisMechanics
 from .currentfilters import MAX_FILTERS, LowPass, Notch
 from .margins import velocity_margins
 from .modeshift import (
-    VELOCITY_ONLY_K_PP,
     current_tolerance,
     light_modes,
     robustly_stable,
     shift_words,
     slowed,
+    velocity_only,
     worst_shift,
 )
 from .params import ServoParams
@@ -86,11 +86,11 @@ def largest_gain(ok, start: float, cap: float = math.inf, down: float = _STEP,
 
 
 def velocity_loop_ok(mech, servo, gm, pm) -> bool:
-    """Whether the velocity loop of ``servo`` meets the margins and, with the position
-    gain at most :data:`VELOCITY_ONLY_K_PP`, stays stable with its modes off the model's
-    frequencies (:func:`~tcpmm.servo.modeshift.robustly_stable`) [-]."""
-    alone = changed(servo, K_pp=min(servo.K_pp, VELOCITY_ONLY_K_PP))
-    return velocity_margins(mech, servo).meets(gm, pm) and robustly_stable(mech, alone, gm)
+    """Whether the velocity loop of ``servo`` meets the margins and, judged alone
+    (:func:`~tcpmm.servo.modeshift.velocity_only`), stays stable with its modes off the
+    model's frequencies (:func:`~tcpmm.servo.modeshift.robustly_stable`) [-]."""
+    return (velocity_margins(mech, servo).meets(gm, pm)
+            and robustly_stable(mech, velocity_only(servo), gm))
 
 
 def _velocity_gain(mech, servo, gm, pm, start=None):

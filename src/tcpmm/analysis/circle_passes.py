@@ -182,15 +182,11 @@ def find_stretches(x, y, radius, centre, tol=None, turns=None, offset=None,
         n_turns = turns if turns is not None else np.floor(abs(span) / (2 * np.pi) + 1e-3)
         if n_turns < 1:
             a, b = _steady_ends(dx, dy, radius, a, b)
-            ang = np.unwrap(np.arctan2(dy[a:b], dx[a:b]))
-            span = ang[-1] - ang[0] if b - a > 1 else 0.0
-            if np.degrees(abs(span)) >= MIN_ARC_DEG:
-                arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))
+            arcs += _arc(a, b, direction, np.unwrap(np.arctan2(dy[a:b], dx[a:b])))
             continue
         keep = _whole_turns(ang, n_turns)
         if keep is None:
-            if n_turns == 1 and np.degrees(abs(span)) >= MIN_ARC_DEG:
-                arcs.append(Stretch(slice(a, b), direction, 0, float(np.degrees(abs(span)))))
+            arcs += _arc(a, b, direction, ang) if n_turns == 1 else []
             continue
         if keep.size < _MIN_SAMPLES:
             continue
@@ -231,8 +227,14 @@ def _on_settled(dx, dy, radius, a: int, b: int, direction: str, n_turns: int) ->
     if keep is not None and keep.size >= _MIN_SAMPLES:
         return [Stretch(slice(a + keep[0], a + keep[-1] + 1), direction, n_turns,
                         360.0 * n_turns)], []
-    span = float(np.degrees(abs(ang[-1] - ang[0])))
-    return [], [Stretch(slice(a, b), direction, 0, span)] if span >= MIN_ARC_DEG else []
+    return [], _arc(a, b, direction, ang)
+
+
+def _arc(a: int, b: int, direction: str, ang) -> list:
+    """The samples ``a`` to ``b`` as an arc of the unwrapped angle ``ang`` they cover
+    [rad], if it spans :data:`MIN_ARC_DEG` or more [-]."""
+    span = float(np.degrees(abs(ang[-1] - ang[0]))) if ang.size > 1 else 0.0
+    return [Stretch(slice(a, b), direction, 0, span)] if span >= MIN_ARC_DEG else []
 
 
 def find_passes(x, y, radius, centre, tol=None, turns=None, offset=None):

@@ -352,6 +352,14 @@ def test_repeated_points_are_skipped_and_counted():
                     "a G0 or G1 to where the tool already is, skipped"]
 
 
+def said_by(it) -> list[str]:
+    """The warnings an interpreter gives at the end of its program, as texts."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        it.emit_warnings()
+    return [str(w.message) for w in caught]
+
+
 #: a G1 to X2, then two G0 and one G1 to where the tool stands (lines 4, 5 and 7)
 G0_REPEATS = "G21 G90 G17\nG1 X1 Y0 F3000\nX2\nG0 X2\nG0 X2\nG1 X3\nX3\nM30\n"
 
@@ -362,10 +370,7 @@ def test_a_rapid_to_where_the_tool_stands_is_counted_as_a_feed_move_is(fast):
     summary said one repeated point of three, and the fast parser and the reference
     alike."""
     it = run_program(G0_REPEATS, "z.nc", (0.0, 0.0, 0.0), fast=fast)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        it.emit_warnings()
-    assert [str(w.message) for w in caught] == [
+    assert said_by(it) == [
         "z.nc, line 4, column 4: zero-length move ignored (and 2 more times): a G0 or G1 to "
         "where the tool already is, skipped"]
     assert [type(s) for s in it.segments] == [Line, Line, Line]
@@ -408,10 +413,6 @@ def test_a_header_rapid_to_the_start_repeats_no_point_but_a_later_one_does(fast)
     shipped example has) repeats no point the program has programmed, and is not counted;
     the same G0 after the tool has moved away and back is a repeated point."""
     program = "G90 G21\nG0 X0 Y0\nG1 X5 F1000\nG1 X3 Y2\nG0 X0 Y0\nG0 X0 Y0\n"
-    it = run_program(program, "h.nc", (0.0, 0.0, 0.0), fast=fast)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        it.emit_warnings()
-    assert [str(w.message) for w in caught] == [
+    assert said_by(run_program(program, "h.nc", (0.0, 0.0, 0.0), fast=fast)) == [
         "h.nc, line 6, column 4: zero-length move ignored: a G0 or G1 to where the tool "
         "already is, skipped"]

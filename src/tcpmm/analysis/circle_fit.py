@@ -9,13 +9,14 @@ the previous fit puts them and its remainder beyond the ellipse taken off the da
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 
 from .circle_cyclic import search_cyclic
 from .circle_model import (
+    alias_slopes,
     cyclic_columns,
     determined,
     drop_twins,
@@ -131,6 +132,10 @@ class TermFit:
     centres : tuple
         Per arc, the centre ``(x, y)`` about which its axes reverse: its fitted centre
         offset [m].
+    aliases : dict
+        Per column left out of the fit (and per term ``unseen`` of :func:`fit_terms`), how
+        much each fitted column moves per unit of it, were it present
+        (:func:`.circle_model.alias_slopes`) [SI/SI].
     """
 
     names: list
@@ -139,6 +144,7 @@ class TermFit:
     mu: float
     residual_rms: float
     centres: tuple = ()
+    aliases: dict = field(default_factory=dict)
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -253,6 +259,15 @@ class FitProblem:
         basis = q[:, np.abs(np.diag(r)) > 1e-12 * np.abs(r).max()]
         return coef, y - A[:, keep] @ c, basis
 
+    def unseen_columns(self, names, mu):
+        """Columns of the terms ``names``, fitted or not, over the fitted samples of every
+        arc [m/unit]."""
+        n = len(self.arcs)
+        return np.vstack([design(a, i, n, self.radius, list(names), mu, (None, None),
+                                 a.angle[m], p, c)[:, 3 * n:]
+                          for i, (a, m, p, c) in enumerate(zip(
+                              self.arcs, self.masks, self.pos, self.centres, strict=True))])
+
     def mu_of(self, coef):
         """The servo mismatch angle of a solution; 0 where it is not fitted [rad]."""
         if "servo_angle" not in self.shared:
@@ -262,7 +277,7 @@ class FitProblem:
 
 
 def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
-              columns=None) -> TermFit:
+              columns=None, unseen=()) -> TermFit:
     """Fit the terms ``shared`` and each arc's radius and centre to the arcs (module
     docstring).
 
@@ -283,6 +298,9 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         [1/m].
     columns : sequence of str, optional
         The columns to fit, whatever the arcs determine (:class:`FitProblem`) [-].
+    unseen : sequence of str
+        Terms not among ``shared`` whose effect on the fitted ones is wanted all the same
+        (:attr:`TermFit.aliases`): lateral play, which one direction does not fit [-].
     """
     pb = FitProblem(arcs, radius, shared, drop, columns)
     coef = pb.solve(0.0, (None, None))[0]
@@ -298,8 +316,12 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     coef, res, _ = pb.solve(mu, waves)
-    return TermFit(column_names(len(arcs), shared, waves), coef, tuple(waves), mu,
-                   float(np.sqrt(np.mean(res**2))), tuple(pb.centres))
+    names = column_names(len(arcs), shared, waves)
+    A = pb.matrix(mu, waves)
+    extra = dict(zip(unseen, pb.unseen_columns(unseen, mu).T, strict=True)) if unseen else {}
+    aliases = alias_slopes(A, np.isfinite(coef), names, extra)
+    return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
+                   tuple(pb.centres), aliases)
 
 
 def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):

@@ -208,6 +208,38 @@ def determined(A, protect=()):
         keep[idx[worst]] = False
 
 
+def alias_slopes(A, keep, names, extra=None) -> dict:
+    """What a fit leaves out moves what it keeps: per column left out (``~keep``, less the
+    radii) and per column of ``extra``, how much each kept column's coefficient moves per
+    unit of it, were it in the data: its least-squares fit by the kept columns [SI/SI].
+
+    Parameters
+    ----------
+    A : ndarray
+        Design matrix over the fitted samples, every column [m/unit].
+    keep : ndarray of bool
+        The columns fitted [-].
+    names : sequence of str
+        Column names [-].
+    extra : dict, optional
+        ``name -> column`` of terms not in ``A`` [m/unit].
+
+    Returns
+    -------
+    dict
+        ``left-out name -> {kept name: slope}`` [SI/SI].
+    """
+    left = {n: A[:, j] for j, n in enumerate(names)
+            if not keep[j] and not n.startswith("radius")}
+    left.update(extra or {})
+    if not left or not keep.any():
+        return {}
+    slopes = np.linalg.lstsq(A[:, keep], np.column_stack(list(left.values())), rcond=None)[0]
+    kept = [n for n, k in zip(names, keep, strict=True) if k]
+    return {n: dict(zip(kept, map(float, slopes[:, j]), strict=True))
+            for j, n in enumerate(left)}
+
+
 #: Columns this alike (the cosine of their angle) are twins: the data cannot say which of
 #: the two terms they hold [-].
 TWIN = 0.99

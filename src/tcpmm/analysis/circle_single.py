@@ -16,15 +16,15 @@ import numpy as np
 
 from .._threads import limit_blas_threads
 from ..errors import InputError
+from .circle_alias import alias_terms
 from .circle_display import rename_axes
 from .circle_fit import Arc
 from .circle_model import angle_step
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
-from .circle_stable import arc_fit, leave_open
+from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
 from .diagnostics import (
-    ARC_WHY,
     CircleDiagnostics,
     check_arc,
     circle_diagnostics,
@@ -39,6 +39,8 @@ from .diagnostics import (
 #: only 7 % of its column is independent of the radius and the scale mismatch
 SINGLE = ("backlash_X", "backlash_Y", "squareness", "scale_mismatch", "straightness_X",
           "straightness_Y")
+#: Not fitted to one direction (``SINGLE``), but the fitted terms depend on them
+UNSEEN = ("lateral_play_X", "lateral_play_Y")
 _ELLIPSE = ("one direction shows squareness and servo mismatch as one ellipse at 45 deg "
             "(squareness_or_servo); the other direction tells them apart: squareness keeps "
             "its sign, a servo mismatch turns it")
@@ -81,7 +83,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     a, e = check_arc(angle, e, direction, arc_ok=True)
     limit_blas_threads()
     arcs = [Arc(a, e, 1.0 if direction == "ccw" else -1.0)]
-    fit, left_out = arc_fit(arcs, radius_m, SINGLE)
+    fit, left_out = arc_fit(arcs, radius_m, SINGLE, unseen=UNSEEN)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SINGLE, (direction,))
     terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves)
     terms["residual_rms"] = (fit.residual_rms, "m")
@@ -97,7 +99,9 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
                              tail_shift(fit, arcs, radius_m, SINGLE, terms, axes,
-                                        rename={"squareness": "squareness_or_servo"}))
+                                        rename={"squareness": "squareness_or_servo"}),
+                             alias_terms(fit, 1, SINGLE, terms, radius_m, axes,
+                                         rename={"squareness": "squareness_or_servo"}))
 
 
 def _unplaced(fit, terms, angle) -> dict:

@@ -23,6 +23,11 @@ from .circle_model import is_full
 
 #: shortest pair of arcs whose terms are fitted: a ballbar's partial arcs are 220 deg [deg]
 MIN_TERMS_DEG = 210.0
+#: Why an arc leaves a term undetermined
+ARC_WHY = ("the arc does not determine it: its radial error there is nearly that of other "
+           "terms, which take it over where it is present (what each would move per unit "
+           "of it is said with the terms): measure the arcs from another start angle, or a "
+           "full circle, to tell them apart")
 #: why an arc reports no cyclic error
 CYCLIC_WHY = ("an arc does not separate a cyclic error from the centre and the bows: over "
               "part of a turn its columns are theirs; a full circle does")
@@ -37,7 +42,7 @@ SHORT_WHY = ("{what} does not separate the terms from the servo's and the fricti
              "directions over {deg:.0f} deg or more, or a full circle")
 
 
-def arc_fit(arcs, radius, shared):
+def arc_fit(arcs, radius, shared, unseen=()):
     """:func:`tcpmm.analysis.circle_fit.fit_terms` of circles, or of arcs with the terms they
     do not determine left out (module docstring).
 
@@ -49,6 +54,9 @@ def arc_fit(arcs, radius, shared):
         Nominal radius [m].
     shared : sequence of str
         Terms common to the arcs [-].
+    unseen : sequence of str
+        Terms not fitted whose effect on the fitted ones is wanted
+        (:func:`tcpmm.analysis.circle_fit.fit_terms`) [-].
 
     Returns
     -------
@@ -60,10 +68,10 @@ def arc_fit(arcs, radius, shared):
         of arcs long enough [-].
     """
     if all(is_full(a.angle) for a in arcs):
-        return fit_terms(arcs, radius, shared), {}
+        return fit_terms(arcs, radius, shared, unseen=unseen), {}
     deg = min(float(np.degrees(np.ptp(a.angle))) for a in arcs)
     if len(arcs) >= 2 and deg >= MIN_TERMS_DEG:
-        return fit_terms(arcs, radius, shared, cyclic=False), {}
+        return fit_terms(arcs, radius, shared, cyclic=False, unseen=unseen), {}
     # whole degrees, but 209.99 is no 210 in words either
     shown = f"{deg:.0f}" if round(deg) < MIN_TERMS_DEG else f"{np.floor(deg * 10) / 10:g}"
     what = (f"one direction over an arc of {shown} deg" if len(arcs) < 2 else

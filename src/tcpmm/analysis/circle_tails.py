@@ -71,23 +71,45 @@ def tail_shift(fit, arcs, radius, shared, terms, axes, mean_rate=float("nan"),
                           columns=fitted)
     except (InputError, np.linalg.LinAlgError, ValueError):
         return {}
-    out = {}
-    for axis in "XY":
-        out[f"centre_offset_{axis}"] = float(np.mean(
-            [other[f"centre_{axis}_{i}"] - fit[f"centre_{axis}_{i}"] for i in range(len(arcs))]))
-    for name in shared:
-        delta = other[name] - fit[name]
-        if name == "servo_angle":
-            out["servo_mismatch_angle"] = delta
-            out["servo_mismatch"] = delta / mean_rate
-        else:
-            out[(rename or {}).get(name, name)] = delta
+    out = as_reported(lambda n: other[n] - fit[n], len(arcs), shared, mean_rate, rename)
     for axis, k in zip("XY", fit.waves, strict=True):
         if k is not None:
             out[f"cyclic_amplitude_{axis}"] = (other.cyclic_amplitude(axis)
                                                - fit.cyclic_amplitude(axis))
     return {rename_axes(k, axes): float(v) for k, v in out.items()
             if k in terms and np.isfinite(terms[k][0])}
+
+
+def as_reported(value, n_arcs, shared, mean_rate=float("nan"), rename=None) -> dict:
+    """The reported terms of a fit's quantities ``value(name)``: a centre offset per axis
+    as the mean over the arcs, the servo mismatch angle also as a time, the other shared
+    terms by their name (``rename`` maps one to another); axes X and Y [SI].
+
+    Parameters
+    ----------
+    value : callable
+        Fitted column name -> its value (or its change) [SI].
+    n_arcs : int
+        Arcs fitted together [-].
+    shared : sequence of str
+        The shared terms fitted [-].
+    mean_rate : float
+        The circles' angular speed, for the servo mismatch as a time [rad/s].
+    rename : dict, optional
+        Fitted name -> reported name [-].
+    """
+    out = {}
+    for axis in "XY":
+        out[f"centre_offset_{axis}"] = float(np.mean(
+            [value(f"centre_{axis}_{i}") for i in range(n_arcs)]))
+    for name in shared:
+        v = value(name)
+        if name == "servo_angle":
+            out["servo_mismatch_angle"] = v
+            out["servo_mismatch"] = v / mean_rate
+        else:
+            out[(rename or {}).get(name, name)] = v
+    return out
 
 
 def radial_size(term: str, value: float, radius: float) -> float:
@@ -146,15 +168,21 @@ def moving_line(diag) -> str:
 
 def moving_ranked(diag) -> set:
     """The ranked terms (:attr:`CircleDiagnostics.ranking` names) that move with the window
-    after the reversals (:func:`moving_terms`): a centre offset where either axis' does, a
-    cyclic error by its amplitude, a squareness by either name [-]."""
-    moving = moving_terms(diag)
+    after the reversals (:func:`moving_terms`, :func:`ranked_names`) [-]."""
+    return ranked_names(diag, moving_terms(diag))
+
+
+def ranked_names(diag, reported) -> set:
+    """The ranked terms (:attr:`CircleDiagnostics.ranking` names) of the ``reported`` term
+    names: a centre offset where either of the plane's axes' is, a cyclic error by its
+    amplitude, a squareness by either name [-]."""
     out = set()
     for r in diag.ranking:
         term = r["term"]
-        names = {term, f"{term}_X", f"{term}_Y", f"{term}_angle", f"{term}_or_servo"}
+        names = {term, *(f"{term}_{a}" for a in diag.axes), f"{term}_angle",
+                 f"{term}_or_servo"}
         if term.startswith("cyclic_"):
             names.add(term.replace("cyclic_", "cyclic_amplitude_"))
-        if names & set(moving):
+        if names & set(reported):
             out.add(term)
     return out

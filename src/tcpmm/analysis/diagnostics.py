@@ -56,6 +56,7 @@ import numpy as np
 
 from .._threads import limit_blas_threads
 from ..errors import InputError
+from .circle_alias import alias_terms
 from .circle_display import (  # noqa: F401
     DISPLAY_UNITS,
     TERM_NOTES,
@@ -68,18 +69,13 @@ from .circle_model import is_full, reversal_lead_deg
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_spikes import reversal_spikes
-from .circle_stable import arc_fit, leave_open
+from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
           "servo_angle", "scale_mismatch", "straightness_X", "straightness_Y")
 PREFERRED_SENSORS = ("tcp", "scale", "motor", "cmd")
-#: Why an arc leaves a term undetermined
-ARC_WHY = ("the arc does not determine it: its radial error there is nearly that of other "
-           "terms, which take it over where it is present (a bow of 1.5 um left out of a "
-           "220 deg pair read as 30 um/m of squareness and 2 um of centre): measure the "
-           "arcs from another start angle, or a full circle, to tell them apart")
 #: What only a CCW and a CW circle together tell, in a sentence
 PAIR_ONLY = ("squareness from servo mismatch, the lateral play, the hysteresis and G(b)")
 
@@ -109,6 +105,9 @@ class CircleDiagnostics:
     tail_shift : dict
         ``term -> change`` of each term when the fit leaves out 40 deg after each reversal
         instead of 20 (:mod:`.circle_tails`) [SI].
+    aliases : dict
+        ``left-out term -> {term: change per unit of it}`` for the terms that depend on a
+        term the circles do not determine (:mod:`.circle_alias`) [SI/SI].
     """
 
     radius: float
@@ -119,6 +118,7 @@ class CircleDiagnostics:
     undetermined: dict = field(default_factory=dict)
     ranking: list = field(default_factory=list)
     tail_shift: dict = field(default_factory=dict)
+    aliases: dict = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> float:
         return self.terms[name][0]
@@ -137,8 +137,9 @@ class CircleDiagnostics:
 
     def to_dict(self) -> dict:
         """JSON-ready: radius, axes, sensor, the terms in SI (NaN as ``None``), the terms
-        not determined and why, the ranking, and each term's change with the wider window
-        after the reversals."""
+        not determined and why, the ranking, each term's change with the wider window
+        after the reversals, and per term not determined the change of those that depend
+        on it per unit of it."""
         return {"radius_m": self.radius, "axes": list(self.axes), "sensor": self.sensor,
                 "directions": list(self.directions),
                 "terms": [{"term": k, "value": None if np.isnan(v) else float(v), "unit": u}
@@ -146,7 +147,8 @@ class CircleDiagnostics:
                 "undetermined": dict(self.undetermined),
                 "ranking": [{k: None if isinstance(v, float) and np.isnan(v) else v
                              for k, v in r.items()} for r in self.ranking],
-                "tail_shift": dict(self.tail_shift)}
+                "tail_shift": dict(self.tail_shift),
+                "aliases": {k: dict(v) for k, v in self.aliases.items()}}
 
     def plot(self, ax=None, path=None):
         """Radial error of the circles against angle with the fitted terms; the figure.
@@ -246,7 +248,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
                              tail_shift(fit, arcs, radius_m, SHARED, terms, axes,
-                                        mean_rate))
+                                        mean_rate),
+                             alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate))
 
 
 def undetermined_terms(fit) -> list:

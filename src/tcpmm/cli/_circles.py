@@ -11,12 +11,18 @@ def diagnostics_json(diag, result=None) -> dict:
     why, and the ranking; with the circles ``result`` they come from, each ranked term's G
     alone at the linear scale and where it lies, where the TCP's circles have the scale
     too [-]."""
+    from ..analysis.circle_alias import alias_display
+
     at = _at_scale(diag, result)
+    aliases = {left: {"per_unit": a["per"], "moves": {t: {"value": v, "unit": u}
+                                                      for t, (v, u) in a["moves"].items()}}
+               for left, a in alias_display(diag, ascii_units=True).items()}
     return {"sensor": diag.sensor, "directions": list(diag.directions),
             "terms": [{"term": t, "value": None if v != v else v, "unit": u,
                        "tail_shift": _shift(diag, t)}
                       for t, v, u in _display_terms(diag, ascii_units=True)],
             "undetermined": dict(diag.undetermined),
+            "aliases": aliases,
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
                          "g_alone_um": r["g_alone_m"] * 1e6,
                          "share_percent": _json_number(100.0 * r["share"]),
@@ -114,6 +120,7 @@ def print_diagnostics(diag, result=None) -> None:
     """The diagnostics: per direction, the terms with their signs, the terms ranked by
     what each contributes (with the circles ``result``, at the linear scale too), and what
     the circles leave undetermined and why."""
+    from ..analysis.circle_alias import alias_line
     from ..analysis.circle_display import undetermined_lines
     from ..analysis.circle_tails import moving_line
     from ..analysis.diagnostics import term_note
@@ -139,9 +146,9 @@ def print_diagnostics(diag, result=None) -> None:
         t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u,
                   term_note(term, diag.axes))
     print_plain(t, out)
-    tails = moving_line(diag)
-    if tails:
-        out.print(tails, highlight=False)
+    for line in (moving_line(diag), alias_line(diag)):
+        if line:
+            out.print(line, highlight=False)
     _print_ranking(diag, result)
     for line in undetermined_lines(diag.undetermined):
         out.print(line, highlight=False)
@@ -155,6 +162,7 @@ def _print_ranking(diag, result=None) -> None:
         out.print("terms ranked by their share of G: none determined (below)",
                   highlight=False)
         return
+    from ..analysis.circle_alias import aliased_ranked
     from ..analysis.circle_tails import moving_ranked
 
     g = "G(b)" if len(diag.directions) == 2 else "G"
@@ -162,17 +170,20 @@ def _print_ranking(diag, result=None) -> None:
     scale = ("scale µm",) if at is not None else ()
     t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %", *scale),
                     left=("term",))
-    moving = moving_ranked(diag)
+    moving, aliased = moving_ranked(diag), aliased_ranked(diag)
     for r in diag.ranking:
         placed = _placed(r["term"], at)
         mark = "*" if (placed.get("where") or "").startswith("mostly past") else ""
-        name = r["term"].replace("_", " ") + (" ~" if r["term"] in moving else "")
+        name = (r["term"].replace("_", " ") + (" ~" if r["term"] in moving else "")
+                + (" ?" if r["term"] in aliased else ""))
         t.add_row(str(r["rank"]), name, _cell(r["g_alone_m"] * 1e6),
                   _cell(100 * r["share_of_G"], 1), _cell(r["contribution_m"] * 1e6),
                   _cell(100 * r["share"], 1),
                   *((_cell(placed["scale_g_alone_um"]) + mark if placed else "",)
                     if scale else ()))
-    tails = "; ~: uncertain by the reversals' tails (above)" if moving else ""
+    tails = (("; ~: uncertain by the reversals' tails (above)" if moving else "")
+             + ("; ?: conditional on a term the circles do not determine (above)"
+                if aliased else ""))
     print_plain(t, out, f"terms ranked by their share of {g}",
                 f"{g} alone: the {g} the term's radial error alone makes; % {g}: of the "
                 f"circles' {g}; p-v: its peak to valley about the nominal centre (a centre "

@@ -170,11 +170,13 @@ def ranking_html(diag, stem: str) -> str:
 
     if not diag.ranking:
         return ""
+    from ..analysis.circle_alias import aliased_ranked
     from ..analysis.circle_tails import moving_ranked
 
-    moving = moving_ranked(diag)
+    moving, aliased = moving_ranked(diag), aliased_ranked(diag)
     frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " ")
-                           + (" ~" if r["term"] in moving else ""),
+                           + (" ~" if r["term"] in moving else "")
+                           + (" ?" if r["term"] in aliased else ""),
                            "G alone [µm]": r["g_alone_m"] * 1e6,
                            "of G [%]": 100 * r["share_of_G"],
                            "peak to valley [µm]": r["contribution_m"] * 1e6,
@@ -184,7 +186,9 @@ def ranking_html(diag, stem: str) -> str:
                  "circles' G that is; then its peak to valley about the nominal centre (a "
                  "centre offset makes no G: it shows in the contour error) and its share of "
                  "the sum of those." + (" ~: uncertain by the reversals' tails (below)."
-                                        if moving else ""))
+                                        if moving else "")
+                 + (" ?: conditional on a term the circles do not determine (below)."
+                    if aliased else ""))
             + table(frame, f"{stem}_diagnostics_ranking.csv",
                     digits={"share [%]": 1, "of G [%]": 1}))
 
@@ -192,10 +196,11 @@ def ranking_html(diag, stem: str) -> str:
 def undetermined_html(diag) -> str:
     """What the circles do not determine, and why; the terms the reversals' tails make
     uncertain [-]."""
+    from ..analysis.circle_alias import alias_line
     from ..analysis.circle_tails import moving_line
 
-    tails = moving_line(diag)
-    lines = [*([tails] if tails else []), *undetermined_lines(diag.undetermined)]
+    lines = [line for line in (moving_line(diag), alias_line(diag)) if line]
+    lines += undetermined_lines(diag.undetermined)
     return "".join(para(f"{line}.", "warn") for line in lines)
 
 

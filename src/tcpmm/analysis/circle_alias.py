@@ -1,0 +1,116 @@
+"""How the terms a circle's fit gives depend on the errors it cannot determine.
+
+A term the circles do not determine (over 220 deg arcs from -20 deg, the bow of the first
+axis and its lateral play; in one direction, the lateral play) is left out of the fit, and
+so taken as 0. Where the machine has it all the same, the terms whose radial error shares
+its shape take it over: over those arcs a bow of the first axis of 2.3 um reads as a scale
+mismatch of 52 ppm, a lateral play of 1.4 um as a squareness of 8 um/m. The fit gives those
+moves per unit of each left-out term (:func:`tcpmm.analysis.circle_model.alias_slopes`);
+here they are named by the reported terms, and kept where a term's radial size moves by
+:data:`ALIAS_SHARE` of the left-out term's own or more: those terms are then conditional on
+the left-out one being 0, and by how much is said.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .circle_display import DISPLAY_UNITS, rename_axes
+from .circle_tails import as_reported, radial_size, ranked_names
+
+#: A term depends on a left-out one where its radial size moves by this share of the
+#: left-out term's radial size: a left-out error of 1 um then moves it by 0.1 um, the
+#: resolution the terms are otherwise recovered to [-].
+ALIAS_SHARE = 0.1
+
+
+def _reported_name(name: str, rename=None) -> str:
+    """The reported name of a fitted column [-]."""
+    if name.startswith("centre_"):
+        return f"centre_offset_{name.split('_')[1]}"
+    if name == "servo_angle":
+        return "servo_mismatch_angle"
+    return (rename or {}).get(name, name)
+
+
+def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan"),
+                rename=None) -> dict:
+    """Per term the fit leaves out (:attr:`.circle_fit.TermFit.aliases`), by its reported
+    name, the reported terms that depend on it (module docstring) and how much each moves
+    per unit of it [SI/SI].
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit [SI].
+    n_arcs : int
+        Arcs fitted together [-].
+    shared : sequence of str
+        The shared terms fitted [-].
+    terms : dict
+        The reported terms, ``name -> (value, unit)``, axes X and Y [SI].
+    radius : float
+        Nominal radius [m].
+    axes : tuple of str
+        The plane's axes [-].
+    mean_rate : float
+        The circles' angular speed, for the servo mismatch as a time [rad/s].
+    rename : dict, optional
+        Fitted name -> reported name [-].
+    """
+    out = {}
+    for left, slopes in fit.aliases.items():
+        name = _reported_name(left, rename)
+        per = radial_size(name, 1.0, radius)  # a unit of the left-out term, radially
+        moved = as_reported(lambda n, s=slopes: s.get(n, 0.0), n_arcs, shared, mean_rate,
+                            rename)
+        big = {t: v for t, v in moved.items()
+               if t != name and t in terms and np.isfinite(terms[t][0]) and np.isfinite(v)
+               and radial_size(t, v, radius) >= ALIAS_SHARE * per}
+        if "servo_mismatch_angle" in big and np.isfinite(moved["servo_mismatch"]):
+            # said as a time, as the terms give it, where the angular speed is known
+            big["servo_mismatch"] = moved["servo_mismatch"]
+            del big["servo_mismatch_angle"]
+        if big:
+            out.setdefault(rename_axes(name, axes), {}).update(
+                {rename_axes(t, axes): float(v) for t, v in big.items()})
+    return out
+
+
+def alias_display(diag, ascii_units: bool = False) -> dict:
+    """:attr:`CircleDiagnostics.aliases` in display units: ``left-out term -> {"per": its
+    unit, "moves": {term: (change per that unit, unit)}}`` (``u`` for ``µ`` with
+    ``ascii_units``) [-]."""
+    def unit(u):
+        shown = DISPLAY_UNITS[u]
+        return (shown[0].replace("µ", "u") if ascii_units else shown[0]), shown[1]
+
+    out = {}
+    for left, moves in diag.aliases.items():
+        per, k_left = unit(diag.terms.get(left, (0.0, "m"))[1])
+        out[left] = {"per": per, "moves": {}}
+        for term, slope in moves.items():
+            shown, k = unit(diag.terms[term][1])
+            out[left]["moves"][term] = (slope * k / k_left, shown)
+    return out
+
+
+def alias_line(diag) -> str:
+    """The terms that depend on what the circles do not determine, in words and display
+    units; empty where none does [-]."""
+    parts = []
+    for left, shown in alias_display(diag).items():
+        items = [f"{t.replace('_', ' ')} {v:+.{4 if u == 'ms' else 2}f} {u}"
+                 for t, (v, u) in shown["moves"].items()]
+        parts.append(f"per {shown['per']} of {left.replace('_', ' ')}, " + ", ".join(items))
+    if not parts:
+        return ""
+    return ("conditional on what the circles do not determine, taken as 0: "
+            + "; ".join(parts) + " (where the machine has it, these terms carry it; "
+            "circles that determine it, from another start angle or a full turn, settle "
+            "them)")
+
+
+def aliased_ranked(diag) -> set:
+    """The ranked terms that depend on a term the circles do not determine [-]."""
+    return ranked_names(diag, {t for moves in diag.aliases.values() for t in moves})

@@ -565,18 +565,21 @@ def test_220_deg_arcs_in_xz_and_yz_are_found_and_diagnosed(axes, tmp_path, capsy
 
 
 def test_a_90_deg_arc_is_analysed_with_what_it_determines():
-    """A quarter circle over B, refused before: its spike at B after its radius is the
-    5 um injected there, the points it does not hold are left out; it gives no terms, and
-    says why."""
+    """A quarter circle over B, refused before: its raw spike at B is the 5 um injected
+    there, the points it does not hold are left out; it gives no terms, and says why, and
+    so no spike after them, as a pair of such arcs gives none (one direction's own fit of
+    centre and ellipses over an arc gave one, where the diagnostics call those terms
+    undetermined)."""
     err = {"spikes": {("ccw", "B"): (5e-6, 6.0)}, "r0": 2e-6}
     run = arc_run(err, 30.0, 90.0)
     with pytest.warns(InputWarning, match="arc of 90 deg does not hold quadrant points A"):
         res = analyse_circle(run, R, direction="ccw")
     [p] = res.passes
     assert p.is_arc and p.arc_deg == pytest.approx(90.0, abs=0.5)
-    after = p.sensors["tcp"].spikes_after_terms()
-    assert after["B"] == pytest.approx(5e-6, abs=0.1e-6)
-    assert all(np.isnan(after[q]) for q in "ACD")
+    after, raw = p.sensors["tcp"].spikes_after_terms(), p.sensors["tcp"].spikes
+    assert raw["B"] == pytest.approx(5e-6, abs=0.1e-6)
+    assert all(np.isnan(after[q]) for q in "ABCD")
+    assert all(np.isnan(raw[q]) for q in "ACD")
     with pytest.warns(InputWarning, match="CW arc of 90 deg"):
         diag = circle_diagnostics(analyse_circle(run, R))
     # a pair of 90 deg arcs gives no terms: over so short an arc they carry the servo's
@@ -1167,3 +1170,23 @@ def test_the_servo_mismatch_of_arcs_run_from_standstill_is_over_their_steady_fee
     assert [round(p.arc_deg) for p in res.passes] == [220, 220]
     diag = circle_diagnostics(res)
     assert diag["servo_mismatch"] == pytest.approx(-1e-3, rel=0.005)
+
+
+def test_one_direction_over_a_220_deg_arc_gives_no_spike_after_terms(tmp_path, capsys):
+    """One direction over a ballbar's 220 deg arc, a centre offset of 10 um the only
+    error: the pass table gave spikes after a fit of centre and ellipses to the arc alone,
+    terms its own diagnostics call undetermined. Now the spikes after terms are n/a, the
+    note says why and where the raw ones are, and --json keeps the raw ones."""
+    run = arc_run({"cx": 10e-6}, -20.0, 220.0)
+    run.write_csv(tmp_path / "arc.csv")
+    code, out, _ = run_cli(capsys, "circle", tmp_path / "arc.csv", "--radius", 35,
+                           "--direction", "ccw")
+    text = " ".join(out.split())
+    assert code == 0
+    assert "one direction over an arc (or a pair under 210 deg) gives no terms" in text
+    code, out, _ = run_cli(capsys, "circle", tmp_path / "arc.csv", "--radius", 35,
+                           "--direction", "ccw", "--json")
+    [p] = json.loads(out)["passes"]
+    [tcp] = [s for s in p["sensors"] if s["sensor"] == "tcp"]
+    assert all(tcp[f"spike_after_terms_{q}_um"] is None for q in "ABCD")
+    assert abs(tcp["spike_B_um"]) > 3.0  # the raw spike carries the centre offset

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_model import determined
+from .circle_model import determined, is_full
 from .circle_spikes import AFTER_DEG, QUADRANTS, reversal_spikes
 
 #: Fewest samples on a circle for the fit [-].
@@ -51,16 +51,19 @@ def residual_after_terms(angle_rad, e, direction: str):
     Returns
     -------
     ndarray or None
-        The residual; None when the circle is too short or not finite to fit [m].
+        The residual; None when the circle is too short, not a full turn, or not finite to
+        fit [m].
     """
     a, e = np.asarray(angle_rad, float), np.asarray(e, float)
     if a.size < _MIN_SAMPLES or not (np.all(np.isfinite(a)) and np.all(np.isfinite(e))):
+        return None
+    if not is_full(a):
         return None
     # radius, centre, the 45 deg ellipse, the ellipse along the axes
     basis = np.column_stack([np.ones_like(a), np.cos(a), np.sin(a), np.sin(2 * a),
                              np.cos(2 * a)])
     keep = _fit_mask(a, direction)
-    # an arc determines fewer of them; a full circle all
+    # a turn with gaps determines fewer of them
     basis = basis[:, determined(basis[keep], protect=[0])]
     coef = np.linalg.lstsq(basis[keep], e[keep], rcond=None)[0]
     return e - basis @ coef
@@ -68,7 +71,8 @@ def residual_after_terms(angle_rad, e, direction: str):
 
 def spikes_after_terms(angle_rad, e, direction: str) -> dict:
     """Signed reversal spike at A-D of the residual after the fitted terms; NaN where the
-    raw spike is left out or the circle cannot be fitted [m].
+    raw spike is left out or the circle cannot be fitted, an arc among them (module
+    docstring) [m].
 
     Parameters
     ----------

@@ -104,8 +104,12 @@ def _pass_notes(p) -> list[str]:
     """What a reader should know of a pass: an arc, a command off the nominal radius."""
     notes = []
     if p.is_arc:
+        alone = not any(s.after_pair for s in p.sensors.values())
         notes.append(f"{p.direction.upper()}: an arc of {p.arc_deg:.0f} deg (the run holds "
-                     "no full circle); spikes only where it holds a quadrant point")
+                     "no full circle); spikes only where it holds a quadrant point"
+                     + ("; one direction over an arc (or a pair under 210 deg) gives no "
+                        "terms, so no spike after them: the raw e - b, which carry the "
+                        "terms, are in --json" if alone else ""))
     dev = p.command_radial_deviation * 1e6
     if abs(dev) >= 0.5:
         side = "inside" if dev < 0 else "outside"

@@ -1,6 +1,6 @@
 """The streaming runs of the command line: a program a chunk of blocks at a time, the run
 to Parquet a row group a chunk (short chunks gathered into one), and a progress bar of the
-blocks read (of the rows measured, for a run's contour error)."""
+program's lines (of the rows measured, for a run's contour error)."""
 
 from __future__ import annotations
 
@@ -29,12 +29,17 @@ def count_lines(path: Path) -> int:
 
 
 @contextmanager
-def block_progress(program: Path, description: str):
-    """A progress bar of the program's blocks read, with the time left, on a terminal;
-    nothing in a pipe or a log. Yields ``update(lines_read)``."""
+def line_progress(program: Path, description: str):
+    """A progress bar of the program's lines read, with the time left, on a terminal;
+    nothing in a pipe or a log. Yields ``update(lines_read)``.
+
+    It counts lines, comment and blank lines among them, and says so: its total is the
+    file's lines, counted by a scan of its bytes (:func:`count_lines`). Blocks would need
+    every line lexed once more, for the total before the run and for the blocks among
+    the lines read during it."""
     # a pipe is read once, by the interpolation: its length is not known before
     total = (lambda: count_lines(program)) if Path(program).is_file() else (lambda: None)
-    with count_progress(total, description, "blocks") as update:
+    with count_progress(total, description, "lines") as update:
         yield update
 
 
@@ -99,7 +104,7 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
     chunk_blocks = chunk_blocks or CHUNK_BLOCKS
     samples, last_t, axes, done, plane = 0, 0.0, None, 0.0, None
     watch = FaultWatch(machine)
-    with block_progress(program, "simulate") as update, run_parquet_writer(output) as write:
+    with line_progress(program, "simulate") as update, run_parquet_writer(output) as write:
         for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
                                    record_period_s=record_period_s):
             if run.time_s.size:
@@ -218,7 +223,7 @@ def path_to_csv(program: Path, output: Path, settings, chunk_blocks: int | None)
 
     ip = StreamInterpolator(settings)
     last = 0.0
-    with block_progress(program, "path") as update, \
+    with line_progress(program, "path") as update, \
             command_csv_writer(output, blocks=True) as w:
         for piece in stream_program(program, settings, chunk_blocks or CHUNK_BLOCKS,
                                     interpolator=ip):

@@ -85,7 +85,9 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     """Drive the machine model with a position command; write the run file. An axis that
     runs away from its command or holds its current at the limit is said on stderr (and
     in --json, "faults"). An NC program run to Parquet streams: it is read, interpolated,
-    simulated and written a chunk of blocks at a time, in bounded memory."""
+    simulated and written a chunk of blocks at a time, in bounded memory; on a terminal a
+    bar counts the program's lines read (comment and blank lines too) and the time
+    left."""
     from ..io.runfile import is_parquet
     from ..sim.simulate import simulate as _simulate
 
@@ -327,7 +329,8 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          chunk_blocks: int = typer.Option(
              None, "--chunk-blocks", min=1,
              help="Interpolate this many blocks at a time (bounded memory; no feed summary, "
-                  f"no plot). Default: whole, unless the program has more than "
+                  "no plot; on a terminal a bar counts the program's lines read). "
+                  f"Default: whole, unless the program has more than "
                   f"{PATH_STREAM_ABOVE_LINES} lines.")):
     """Interpolate an NC program into the position command per axis; say how much of the
     path runs at the programmed feed and which limit holds it back where it does not."""

@@ -1,0 +1,70 @@
+"""The progress bar of a streamed program (``tcpmm simulate --gcode ... -o RUN.parquet``,
+``tcpmm path --chunk-blocks``): it counts the program's lines and says so, comment and
+blank lines among them, never back and never past the file's lines, where it ends."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+from rich.console import Console
+from rich.progress import Progress
+
+from conftest import run_cli
+from tcpmm.cli import _stream
+
+
+def program(moves: int = 40) -> str:
+    """Long moves (a thousand samples each) among tape, comment and blank lines."""
+    lines = ["%", "(a header: the part, the tool)", "; the set-up", "", "G21 G90",
+             "G1 X0 Y0 F1200"]
+    for i in range(1, moves + 1):
+        lines.append(f"G1 X{20 * (i % 2)} Y{i}")
+        lines.append("(the next pass)" if i % 2 else "")
+    return "\n".join([*lines, "M30", "%"]) + "\n"
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The bar drawn as on a terminal, into a string (``screen``), its total and every
+    count it is set to (``done``) recorded."""
+    seen = {"done": [], "screen": Console(file=io.StringIO(), force_terminal=True,
+                                          color_system=None, width=200)}
+    monkeypatch.setattr(_stream, "console", seen["screen"])
+    add, update = Progress.add_task, Progress.update
+
+    def add_task(self, description, *args, **kw):
+        seen["total"] = kw.get("total")
+        return add(self, description, *args, **kw)
+
+    def updated(self, task, **kw):
+        if kw.get("completed") is not None:
+            seen["done"].append(kw["completed"])
+        return update(self, task, **kw)
+
+    monkeypatch.setattr(Progress, "add_task", add_task)
+    monkeypatch.setattr(Progress, "update", updated)
+    return seen
+
+
+def _ran(capsys, tmp_path, command: str, chunk: int) -> tuple[int, str]:
+    """Lines of the program and stdout, after running ``command`` on it streaming."""
+    prog = tmp_path / "p.nc"
+    prog.write_text(program())
+    args = (["simulate", "builtin:vmc", "--gcode", prog, "-o", tmp_path / "run.parquet"]
+            if command == "simulate" else ["path", prog, "-o", tmp_path / "cmd.csv"])
+    code, out, err = run_cli(capsys, *args, "--chunk-blocks", chunk)
+    assert code == 0, err
+    return len(prog.read_text().splitlines()), out
+
+
+@pytest.mark.parametrize("command", ["simulate", "path"])
+@pytest.mark.parametrize("chunk", [5, 1000])
+def test_the_bar_counts_lines_never_back_and_ends_at_the_files(tmp_path, capsys, drawn,
+                                                                command, chunk):
+    lines, _ = _ran(capsys, tmp_path, command, chunk)
+    done = drawn["done"]
+    assert drawn["total"] == lines  # comment, blank and tape lines among them
+    assert done == sorted(done) and done[-1] == lines  # never back, the end at the total
+    text = drawn["screen"].file.getvalue()
+    assert f"{lines}/{lines} lines" in text and "blocks" not in text  # the unit said

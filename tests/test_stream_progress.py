@@ -4,14 +4,19 @@ blank lines among them, never back and never past the file's lines, where it end
 
 from __future__ import annotations
 
+import dataclasses
 import io
+import warnings
 
+import numpy as np
 import pytest
 from rich.console import Console
 from rich.progress import Progress
 
 from conftest import run_cli
 from tcpmm.cli import _stream
+from tcpmm.result import AxisRun
+from tcpmm.sim import streamrun
 
 
 def program(moves: int = 40) -> str:
@@ -68,3 +73,29 @@ def test_the_bar_counts_lines_never_back_and_ends_at_the_files(tmp_path, capsys,
     assert done == sorted(done) and done[-1] == lines  # never back, the end at the total
     text = drawn["screen"].file.getvalue()
     assert f"{lines}/{lines} lines" in text and "blocks" not in text  # the unit said
+
+
+@pytest.mark.parametrize("threads", [1, 2, 4])
+@pytest.mark.parametrize("chunk", [3, 1000])
+def test_axes_run_a_part_at_a_time_give_the_same_records(vmc, monkeypatch, threads, chunk):
+    """Parts of a few hundred samples, cut across the velocity loop's steps and the
+    records' period, whichever thread runs the axis."""
+    monkeypatch.setattr(streamrun, "PART_SAMPLES", 333)
+
+    def runs(progress):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return list(streamrun.stream_simulate(vmc, program(8), chunk_blocks=chunk,
+                                                  record_period_s=0.002, threads=threads,
+                                                  progress=progress))
+
+    told = []
+    whole, parts = runs(None), runs(told.append)
+    assert len(told) > 3 * len(parts) and told == sorted(set(told))
+    assert [r.time_s.size for r in parts] == [r.time_s.size for r in whole]
+    for p, w in zip(parts, whole, strict=True):
+        assert np.array_equal(p.time_s, w.time_s) and np.array_equal(p.nc_line, w.nc_line)
+        for a in vmc.axes:
+            for f in dataclasses.fields(AxisRun):
+                assert np.array_equal(getattr(p.axes[a], f.name),
+                                      getattr(w.axes[a], f.name)), (a, f.name)

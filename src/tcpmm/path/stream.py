@@ -43,6 +43,11 @@ CHUNK_BLOCKS = 100_000
 #: in afresh, which cost a zig-zag of 4.7 samples a block some 0.5 s of system time per
 #: million blocks and 200 MB more at its peak (docs/performance.md) [-]
 CHUNK_SAMPLES = 200_000
+#: command samples taken at a time within a piece where the work is followed on a
+#: progress bar (an axis simulating them, a command file written): a dozen a chunk of
+#: :data:`CHUNK_SAMPLES`, so that the bar moves within a chunk, each long enough that the
+#: calls cost nothing beside the work [-]
+PART_SAMPLES = 16_384
 #: blocks of the first chunk at most, before the blocks' durations are known [-]
 FIRST_CHUNK = 2_000
 #: fewest blocks a chunk is sized to [-]

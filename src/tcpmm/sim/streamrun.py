@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..model import Machine
 from ..path.blocktrack import HeldBlocks
 from ..path.settings import AXES, InterpolatorSettings
-from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
+from ..path.stream import CHUNK_BLOCKS, PART_SAMPLES, StreamInterpolator, stream_program
 from ..result import AxisRun, Run
 from .axisstream import AxisStream
 from .simulate import check_stability
@@ -32,7 +32,8 @@ from .simulate import check_stability
 def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | None = None,
                     *, chunk_blocks: int = CHUNK_BLOCKS, record_period_s=None,
                     quantise_feedback: bool = True, threads: int | None = None,
-                    interpolator: StreamInterpolator | None = None) -> Iterator[Run]:
+                    interpolator: StreamInterpolator | None = None,
+                    progress=None) -> Iterator[Run]:
     """Run the machine model on an NC program, piece by piece.
 
     Parameters
@@ -54,6 +55,12 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
         1 does all in turn [-].
     interpolator : StreamInterpolator, optional
         The interpolator to feed (to read its state afterwards) [-].
+    progress : callable, optional
+        ``progress(line)``, called as the axes run, with the program's line their command
+        samples have reached, on average over the axes, never less than the call before;
+        from the thread that ran the axis. With it an axis runs a piece
+        :data:`~tcpmm.path.stream.PART_SAMPLES` at a time, which gives the same records
+        (:mod:`tcpmm.sim.axisstream`) and calls it within a chunk [-].
 
     Yields
     ------
@@ -69,7 +76,8 @@ def stream_simulate(machine: Machine, program, settings: InterpolatorSettings | 
     axes = {a: AxisStream(machine.axes[a], dt, rp, quantise_feedback) for a in machine.axes}
     ip = interpolator or StreamInterpolator(settings)
     pieces = stream_program(program, settings, chunk_blocks, interpolator=ip)
-    yield from _run_pieces(pieces, axes, threads, rp, machine, ip, HeldBlocks(dt))
+    reached = _Reached(list(axes), progress) if progress is not None else None
+    yield from _run_pieces(pieces, axes, threads, rp, machine, ip, HeldBlocks(dt), reached)
 
 
 def _checked_settings(machine: Machine, settings: InterpolatorSettings | None):
@@ -86,9 +94,10 @@ def _checked_settings(machine: Machine, settings: InterpolatorSettings | None):
 
 
 def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Machine,
-                ip: StreamInterpolator, blocks: HeldBlocks) -> Iterator[Run]:
+                ip: StreamInterpolator, blocks: HeldBlocks, reached=None) -> Iterator[Run]:
     """The runs of the command pieces through the axes' streams, in order, with the
-    blocks of their records' commands (``blocks``, fed the pieces') [SI]."""
+    blocks of their records' commands (``blocks``, fed the pieces'), the lines the axes
+    reach told to ``reached`` (a :class:`_Reached`) where given [SI]."""
     names = list(axes)
     # the axes run in worker threads while the main thread reads and interpolates the next
     # chunk and hands on the last (the kernel releases the GIL): one core is left to that,
@@ -99,10 +108,10 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
     cores = threads or usable_cores()
     workers = min(len(names), cores - 1) if cores > 1 else 0
     pool = ThreadPoolExecutor(max_workers=workers) if workers else None
-    turns = _Turns(names)
+    turns = _Turns(names, reached)
 
-    def start(k, positions, final, span):
-        tasks = [(turns.run, axes[a], a, k, positions[a], final, span) for a in names]
+    def start(k, positions, final, span, lines=None):
+        tasks = [(turns.run, axes[a], a, k, positions[a], final, span, lines) for a in names]
         return [pool.submit(*t) for t in tasks] if pool else [t[0](*t[1:]) for t in tasks], tasks
 
     r0, running, k, span = 0, None, 0, 0.0  # the piece under way, its number, its span
@@ -110,7 +119,7 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
         for piece in pieces:
             span = float(piece.time_s[-1])
             blocks.add(piece.nc_line, piece.rapid)
-            res, tasks = start(k, piece.positions, False, span)
+            res, tasks = start(k, piece.positions, False, span, piece.nc_line)
             if running is not None:
                 run = _collect(*running, names, r0, rp, machine, ip, blocks)
                 r0 += run.time_s.size
@@ -127,21 +136,27 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
 
 class _Turns:
     """Each axis's pieces pushed in order, whichever thread runs them: the push of piece
-    ``k`` waits for that of piece ``k - 1`` [-]."""
+    ``k`` waits for that of piece ``k - 1``; a part at a time where ``reached`` follows
+    them [-]."""
 
-    def __init__(self, names):
+    def __init__(self, names, reached=None):
         self.next = dict.fromkeys(names, 0)
         self.cv = threading.Condition()
         self.closed = False
+        self.reached = reached
 
-    def run(self, stream: AxisStream, name: str, k: int, *args) -> AxisRun:
-        """``stream.push(*args)`` as piece ``k`` of axis ``name`` [SI]."""
+    def run(self, stream: AxisStream, name: str, k: int, positions, final: bool,
+            span: float, lines) -> AxisRun:
+        """``stream.push(positions, final, span)`` as piece ``k`` of axis ``name``, whose
+        samples are in the program's ``lines`` [SI]."""
         with self.cv:
             self.cv.wait_for(lambda: self.next[name] == k or self.closed)
             if self.next[name] != k:  # the run was given up while this piece waited
                 raise CancelledError
         try:
-            return stream.push(*args)
+            if self.reached is None or final:
+                return stream.push(positions, final, span)
+            return self.reached.push(stream, name, positions, lines)
         finally:
             with self.cv:
                 self.next[name] = k + 1
@@ -181,7 +196,43 @@ def _results(res, tasks) -> list:
     return [r.result() if isinstance(r, Future) else r for r in out]
 
 
-def _joined(a: AxisRun, b: AxisRun) -> AxisRun:
-    """The signals of ``a`` followed by those of ``b`` [SI]."""
-    return AxisRun(**{f.name: np.concatenate([getattr(a, f.name), getattr(b, f.name)])
+def _joined(*runs: AxisRun) -> AxisRun:
+    """The signals of the runs one after the other [SI]."""
+    return AxisRun(**{f.name: np.concatenate([getattr(r, f.name) for r in runs])
                       for f in dataclasses.fields(AxisRun)})
+
+
+class _Reached:
+    """The program's line the axes' command samples have reached, on average over the
+    axes, told to ``progress`` as each axis runs its pieces a part at a time [-].
+
+    The average, not the least, moves as soon as any axis does: where one core runs the
+    axes of a piece one after the other, the least would stand still until the last.
+    """
+
+    def __init__(self, names: list, progress):
+        self.line = dict.fromkeys(names, 0)
+        self.progress = progress
+        self.lock = threading.Lock()
+        self.told = 0
+
+    def push(self, stream: AxisStream, name: str, positions, lines) -> AxisRun:
+        """``stream.push(positions)`` :data:`~tcpmm.path.stream.PART_SAMPLES` at a time,
+        the line of each part's last sample told; the same records as one push, the
+        stream's steps not depending on how its command is cut [SI]."""
+        runs = []
+        for a in range(0, max(positions.size, 1), PART_SAMPLES):
+            runs.append(stream.push(positions[a:a + PART_SAMPLES]))
+            part = lines[a:a + PART_SAMPLES]
+            if part.size:  # a sample of the interpolator's own has line 0: the most counts
+                self._tell(name, int(part.max()))
+        return runs[0] if len(runs) == 1 else _joined(*runs)
+
+    def _tell(self, name: str, line: int) -> None:
+        # under the lock, so that the threads' calls come in order and never go back
+        with self.lock:
+            self.line[name] = max(self.line[name], line)
+            mean = sum(self.line.values()) // len(self.line)
+            if mean > self.told:
+                self.told = mean
+                self.progress(mean)

@@ -1,6 +1,7 @@
 """The progress bar of a streamed program (``tcpmm simulate --gcode ... -o RUN.parquet``,
 ``tcpmm path --chunk-blocks``): it counts the program's lines and says so, comment and
-blank lines among them, never back and never past the file's lines, where it ends."""
+blank lines among them, moves within a chunk as the results come, never back and never
+past the file's lines, where it ends; and it changes no byte of what is written."""
 
 from __future__ import annotations
 
@@ -73,6 +74,28 @@ def test_the_bar_counts_lines_never_back_and_ends_at_the_files(tmp_path, capsys,
     assert done == sorted(done) and done[-1] == lines  # never back, the end at the total
     text = drawn["screen"].file.getvalue()
     assert f"{lines}/{lines} lines" in text and "blocks" not in text  # the unit said
+
+
+@pytest.mark.parametrize("command", ["simulate", "path"])
+def test_the_bar_moves_within_a_chunk(tmp_path, capsys, drawn, command):
+    """One chunk, the whole program: the bar was set once, at the end of it."""
+    lines, _ = _ran(capsys, tmp_path, command, 1000)
+    inside = sorted({d for d in drawn["done"] if 0 < d < lines})
+    assert len(inside) >= 2, drawn["done"]
+
+
+@pytest.mark.parametrize("command, output", [("simulate", "run.parquet"),
+                                             ("path", "cmd.csv")])
+@pytest.mark.parametrize("chunk", [5, 1000])
+def test_the_bar_changes_no_byte_written(tmp_path, capsys, monkeypatch, command, output,
+                                         chunk):
+    """On a terminal the axes run and the rows are written a part of a piece at a time:
+    the file and stdout are those of a pipe, where nothing is drawn."""
+    _, said = _ran(capsys, tmp_path, command, chunk)
+    piped = (tmp_path / output).read_bytes()
+    monkeypatch.setattr(_stream, "console", Console(file=io.StringIO(), force_terminal=True))
+    assert _ran(capsys, tmp_path, command, chunk)[1] == said
+    assert (tmp_path / output).read_bytes() == piped
 
 
 @pytest.mark.parametrize("threads", [1, 2, 4])

@@ -1,9 +1,11 @@
 """The streaming runs of the command line: a program a chunk of blocks at a time, the run
 to Parquet a row group a chunk (short chunks gathered into one), and a progress bar of the
-program's lines (of the rows measured, for a run's contour error)."""
+program's lines the results have reached (of the rows measured, for a run's contour
+error)."""
 
 from __future__ import annotations
 
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -30,17 +32,25 @@ def count_lines(path: Path) -> int:
 
 @contextmanager
 def line_progress(program: Path, description: str):
-    """A progress bar of the program's lines read, with the time left, on a terminal;
-    nothing in a pipe or a log. Yields ``update(lines_read)``.
+    """A progress bar of the program's lines that the results (the command written, the
+    axes simulated) have reached, with the time left, on a terminal.
 
     It counts lines, comment and blank lines among them, and says so: its total is the
-    file's lines, counted by a scan of its bytes (:func:`count_lines`). Blocks would need
-    every line lexed once more, for the total before the run and for the blocks among
-    the lines read during it."""
+    file's lines, counted by a scan of its bytes (:func:`count_lines`), and where it
+    stands the source line of the last command sample out (``nc_line``, the line the
+    messages name too). Blocks would need every line lexed once more, for the total
+    before the run and for the blocks up to a sample's line during it.
+
+    Yields
+    ------
+    Bar or None
+        ``bar(line)`` and ``bar.end()`` on a terminal; ``None`` in a pipe or a log, where
+        nothing is drawn and the work is not followed [-].
+    """
     # a pipe is read once, by the interpolation: its length is not known before
     total = (lambda: count_lines(program)) if Path(program).is_file() else (lambda: None)
-    with count_progress(total, description, "lines") as update:
-        yield update
+    with _drawn(total, description, "lines") as bar:
+        yield bar
 
 
 @contextmanager
@@ -48,8 +58,48 @@ def count_progress(total, description: str, unit: str):
     """A progress bar of ``total()`` things (counted only on a terminal) named ``unit``,
     with the time left, on a terminal; nothing in a pipe or a log. Yields
     ``update(done)``."""
+    with _drawn(total, description, unit) as bar:
+        yield bar if bar is not None else (lambda *_: None)
+
+
+class Bar:
+    """A progress bar's count: ``bar(done)`` sets it, never back and never past its total,
+    from any thread (the axes report from theirs); ``bar.end()`` sets it to its total.
+
+    Parameters
+    ----------
+    progress : rich.progress.Progress
+        The bars drawn [-].
+    task : int
+        This bar's task in ``progress`` [-].
+    total : int or None
+        The count at the end, ``None`` where it is not known [-].
+    """
+
+    def __init__(self, progress, task, total):
+        self.progress, self.task, self.total = progress, task, total
+        self.done = 0
+        self.lock = threading.Lock()
+
+    def __call__(self, done) -> None:
+        with self.lock:
+            done = done if self.total is None else min(done, self.total)
+            if done > self.done:
+                self.done = done
+                self.progress.update(self.task, completed=done)
+
+    def end(self) -> None:
+        """The bar at its total, where it is known [-]."""
+        if self.total is not None:
+            self(self.total)
+
+
+@contextmanager
+def _drawn(total, description: str, unit: str):
+    """A :class:`Bar` of ``total()`` things named ``unit`` drawn on a terminal, ``None``
+    in a pipe or a log (``total`` is not called there) [-]."""
     if not console.is_terminal:
-        yield lambda *_: None
+        yield None
         return
     from rich.progress import (
         BarColumn,
@@ -62,8 +112,8 @@ def count_progress(total, description: str, unit: str):
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                   TextColumn(unit), TimeRemainingColumn(), console=console,
                   transient=True) as p:
-        task = p.add_task(description, total=total())
-        yield lambda done: p.update(task, completed=done)
+        n = total()
+        yield Bar(p, p.add_task(description, total=n), n)
 
 
 def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
@@ -104,9 +154,9 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
     chunk_blocks = chunk_blocks or CHUNK_BLOCKS
     samples, last_t, axes, done, plane = 0, 0.0, None, 0.0, None
     watch = FaultWatch(machine)
-    with line_progress(program, "simulate") as update, run_parquet_writer(output) as write:
+    with line_progress(program, "simulate") as bar, run_parquet_writer(output) as write:
         for run in stream_simulate(machine, program, settings, chunk_blocks=chunk_blocks,
-                                   record_period_s=record_period_s):
+                                   record_period_s=record_period_s, progress=bar):
             if run.time_s.size:
                 write(run)
                 watch.add(run)
@@ -115,7 +165,8 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
             axes = axes or run.to_dict()["axes"]
             done = run.meta["path_done_m"] if run.meta["path_done_m"] is not None else done
             plane = run.meta["plane_axes"]
-            update(run.meta["lines_read"])
+        if bar is not None:
+            bar.end()
     faults = watch.faults()
     warn_faults(faults)
     meta = {**settings_meta(settings), "path_length_m": done, "file": str(program),
@@ -223,12 +274,29 @@ def path_to_csv(program: Path, output: Path, settings, chunk_blocks: int | None)
 
     ip = StreamInterpolator(settings)
     last = 0.0
-    with line_progress(program, "path") as update, \
+    with line_progress(program, "path") as bar, \
             command_csv_writer(output, blocks=True) as w:
         for piece in stream_program(program, settings, chunk_blocks or CHUNK_BLOCKS,
                                     interpolator=ip):
-            w.write(piece.time_s, piece.positions, (piece.nc_line, piece.rapid))
+            _write_piece(w, piece, bar)
             last = float(piece.time_s[-1])
-            update(piece.lines_read)
+        if bar is not None:
+            bar.end()
         w.axes = tuple(a for a in ("X", "Y", "Z") if a in ip.used_axes)
     return {"samples": w.samples, "period_s": settings.period_s, "duration_s": last}
+
+
+def _write_piece(w, piece, bar) -> None:
+    """Write a piece of the command; where ``bar`` follows it,
+    :data:`~tcpmm.path.stream.PART_SAMPLES` rows at a time, each part's last line told
+    (the rows' text is each row's alone: the file is the same) [-]."""
+    if bar is None:
+        w.write(piece.time_s, piece.positions, (piece.nc_line, piece.rapid))
+        return
+    from ..path.stream import PART_SAMPLES
+
+    for a in range(0, piece.time_s.size, PART_SAMPLES):
+        part = slice(a, a + PART_SAMPLES)
+        w.write(piece.time_s[part], {k: v[part] for k, v in piece.positions.items()},
+                (piece.nc_line[part], piece.rapid[part]))
+        bar(int(piece.nc_line[part].max()))  # line 0, the interpolator's own, counts least

@@ -86,8 +86,8 @@ def simulate(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     runs away from its command or holds its current at the limit is said on stderr (and
     in --json, "faults"). An NC program run to Parquet streams: it is read, interpolated,
     simulated and written a chunk of blocks at a time, in bounded memory; on a terminal a
-    bar counts the program's lines read (comment and blank lines too) and the time
-    left."""
+    bar counts the program's lines the run has reached (comment and blank lines too) and
+    the time left."""
     from ..io.runfile import is_parquet
     from ..sim.simulate import simulate as _simulate
 
@@ -329,7 +329,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          chunk_blocks: int = typer.Option(
              None, "--chunk-blocks", min=1,
              help="Interpolate this many blocks at a time (bounded memory; no feed summary, "
-                  "no plot; on a terminal a bar counts the program's lines read). "
+                  "no plot; on a terminal a bar counts the program's lines written). "
                   f"Default: whole, unless the program has more than "
                   f"{PATH_STREAM_ABOVE_LINES} lines.")):
     """Interpolate an NC program into the position command per axis; say how much of the

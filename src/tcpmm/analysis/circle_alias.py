@@ -106,9 +106,8 @@ def alias_line(diag) -> str:
     if not parts:
         return ""
     return ("conditional on what the circles do not determine, taken as 0: "
-            + "; ".join(parts) + " (where the machine has it, these terms carry it; "
-            "circles that determine it, from another start angle or a full turn, settle "
-            "them)")
+            + "; ".join(parts) + " (where the machine has it, these terms carry it; what "
+            "would determine it is said with why it is not determined)")
 
 
 def aliased_ranked(diag) -> set:

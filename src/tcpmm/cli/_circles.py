@@ -166,28 +166,24 @@ def _print_ranking(diag, result=None) -> None:
         out.print("terms ranked by their share of G: none determined (below)",
                   highlight=False)
         return
-    from ..analysis.circle_alias import aliased_ranked
-    from ..analysis.circle_tails import moving_ranked
+    from ..analysis.circle_alias import ranking_marks
 
     g = "G(b)" if len(diag.directions) == 2 else "G"
     at = _at_scale(diag, result)
     scale = ("scale µm",) if at is not None else ()
     t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %", *scale),
                     left=("term",))
-    moving, aliased = moving_ranked(diag), aliased_ranked(diag)
+    marks, legend = ranking_marks(diag)
     for r in diag.ranking:
         placed = _placed(r["term"], at)
         mark = "*" if (placed.get("where") or "").startswith("mostly past") else ""
-        name = (r["term"].replace("_", " ") + (" ~" if r["term"] in moving else "")
-                + (" ?" if r["term"] in aliased else ""))
+        name = r["term"].replace("_", " ") + marks[r["term"]]
         t.add_row(str(r["rank"]), name, _cell(r["g_alone_m"] * 1e6),
                   _cell(100 * r["share_of_G"], 1), _cell(r["contribution_m"] * 1e6),
                   _cell(100 * r["share"], 1),
                   *((_cell(placed["scale_g_alone_um"]) + mark if placed else "",)
                     if scale else ()))
-    tails = (("; ~: uncertain by the reversals' tails (above)" if moving else "")
-             + ("; ?: conditional on a term the circles do not determine (above)"
-                if aliased else ""))
+    tails = "".join(f"; {m} (above)" for m in legend)
     print_plain(t, out, f"terms ranked by their share of {g}",
                 f"{g} alone: the {g} the term's radial error alone makes; % {g}: of the "
                 f"circles' {g}; p-v: its peak to valley about the nominal centre (a centre "

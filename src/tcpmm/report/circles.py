@@ -170,13 +170,11 @@ def ranking_html(diag, stem: str) -> str:
 
     if not diag.ranking:
         return ""
-    from ..analysis.circle_alias import aliased_ranked
-    from ..analysis.circle_tails import moving_ranked
+    from ..analysis.circle_alias import ranking_marks
 
-    moving, aliased = moving_ranked(diag), aliased_ranked(diag)
+    marks, legend = ranking_marks(diag)
     frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " ")
-                           + (" ~" if r["term"] in moving else "")
-                           + (" ?" if r["term"] in aliased else ""),
+                           + marks[r["term"]],
                            "G alone [µm]": r["g_alone_m"] * 1e6,
                            "of G [%]": 100 * r["share_of_G"],
                            "peak to valley [µm]": r["contribution_m"] * 1e6,
@@ -185,10 +183,7 @@ def ranking_html(diag, stem: str) -> str:
                  "of each alone makes, about its own least-squares centre, and what of the "
                  "circles' G that is; then its peak to valley about the nominal centre (a "
                  "centre offset makes no G: it shows in the contour error) and its share of "
-                 "the sum of those." + (" ~: uncertain by the reversals' tails (below)."
-                                        if moving else "")
-                 + (" ?: conditional on a term the circles do not determine (below)."
-                    if aliased else ""))
+                 "the sum of those." + "".join(f" {m} (below)." for m in legend))
             + table(frame, f"{stem}_diagnostics_ranking.csv",
                     digits={"share [%]": 1, "of G [%]": 1}))
 

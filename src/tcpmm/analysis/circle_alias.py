@@ -19,9 +19,9 @@ from .circle_display import DISPLAY_UNITS, rename_axes
 from .circle_tails import as_reported, moving_ranked, radial_size, ranked_names
 
 #: A term depends on a left-out one where its radial size moves by this share of the
-#: left-out term's radial size: a left-out error of 1 um then moves it by 0.1 um, the
-#: resolution the terms are otherwise recovered to [-].
-ALIAS_SHARE = 0.1
+#: left-out term's radial size: a term not named moves by less than 0.1 um, the resolution
+#: the terms are otherwise recovered to, under a left-out bow or play of 5 um [-].
+ALIAS_SHARE = 0.02
 
 
 def _reported_name(name: str, rename=None) -> str:

@@ -1184,6 +1184,7 @@ def test_one_direction_over_a_220_deg_arc_gives_no_spike_after_terms(tmp_path, c
     text = " ".join(out.split())
     assert code == 0
     assert "one direction over an arc (or a pair under 210 deg) gives no terms" in text
+    assert "squareness); an arc alone gives none (below); n/a: left out" in text
     code, out, _ = run_cli(capsys, "circle", tmp_path / "arc.csv", "--radius", 35,
                            "--direction", "ccw", "--json")
     [p] = json.loads(out)["passes"]

@@ -91,7 +91,9 @@ def print_passes(res, title: str) -> None:
     paired = any(s.after_pair for p in res.passes for s in p.sensors.values())
     terms = ("the pair's terms (a CCW and a CW circle: also backlash, lateral play, "
              "straightness and cyclic error)" if paired else "the fitted terms (centre, "
-             "radius, servo and scale mismatch, squareness)")
+             "radius, servo and scale mismatch, squareness)"
+             + ("; an arc alone gives none (below)" if any(p.is_arc for p in res.passes)
+                else ""))
     print_plain(t, out, f"{title} [µm]", f"A-D: reversal spike after {terms}; n/a: left "
                 "out; raw e - b in --json (spike_A_um ...); contour max |e|; G circular "
                 "deviation")

@@ -554,6 +554,27 @@ def test_dense_program_takes_minus_zero_for_zero_and_settles_after_the_rapid():
                                                     "G1 X0.001000 Y0.000000 F60.0000"]
 
 
+def test_a_step_of_one_nanometre_is_written_as_the_dwell_a_reader_makes_of_it():
+    """A step of the last digit written, 1 nm, was a G1 that the reader skips as a move of
+    zero length (as controllers do): 2 to 81 blocks of a compensated program, each a
+    period lost. It is written as a dwell of one period, and the program reads back with
+    no move skipped, as long as the command."""
+    import warnings
+
+    from tcpmm.path import program_to_command
+
+    t = np.arange(8) * 1e-3
+    x = np.array([0.0, 1e-6, 2e-6, 2e-6 + 1e-9, 3e-6, 4e-6, 4e-6 - 1e-9, 5e-6])
+    cmd = Command(t, {"X": x, "Y": np.zeros(8)})
+    lines = dense_program(cmd).splitlines()
+    assert lines[5] == "G4 P0.001" and lines[8] == "G4 P0.001"
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        again = program_to_command(dense_program(cmd))
+    assert not [w for w in said if "zero-length" in str(w.message)]
+    assert again.positions["X"][-1] == pytest.approx(5e-6, abs=1e-12)
+
+
 @pytest.mark.parametrize(("extra", "warned"), [([], False), (["--accel-m-per-s2", "4"], True)])
 def test_a_dense_program_beyond_the_interpolator_is_said(tmp_path, capsys, extra, warned):
     """At --accel-m-per-s2 4 the dense program asks the axes more than the model's

@@ -564,10 +564,11 @@ def test_a_step_of_one_nanometre_is_written_as_the_dwell_a_reader_makes_of_it():
     from tcpmm.path import program_to_command
 
     t = np.arange(8) * 1e-3
-    x = np.array([0.0, 1e-6, 2e-6, 2e-6 + 1e-9, 3e-6, 4e-6, 4e-6 - 1e-9, 5e-6])
+    # a step of 1 nm, and two that return to where the tool was sent last
+    x = np.array([0.0, 1e-6, 2e-6, 2e-6 + 1e-9, 3e-6, 3e-6 - 1e-9, 3e-6 - 2e-9, 5e-6])
     cmd = Command(t, {"X": x, "Y": np.zeros(8)})
     lines = dense_program(cmd).splitlines()
-    assert lines[5] == "G4 P0.001" and lines[8] == "G4 P0.001"
+    assert [ln[:2] for ln in lines[3:10]] == ["G1", "G1", "G4", "G1", "G4", "G1", "G1"]
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
         again = program_to_command(dense_program(cmd))

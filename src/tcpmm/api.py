@@ -225,14 +225,25 @@ def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
     """
     from .compensate import compensate as _compensate
     from .compensate import machine_bounds, predicted_scores, robust_factors
+    from .compensate.headroom import on_the_program
 
     m = load_model(machine)
     bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
     full, cmd, headroom = _with_headroom(command, m, headroom)
-    comp = _compensate(m, cmd, bounds=bounds)
-    if draws > 0:
-        robust_factors(m, comp, n_draws=draws, seed=seed, radius_m=radius_m)
-    comp.scores = predicted_scores(m, comp, radius_m, programmed=full)
+
+    def learned(on):
+        comp = _compensate(m, on, bounds=bounds)
+        if draws > 0:
+            robust_factors(m, comp, n_draws=draws, seed=seed, radius_m=radius_m)
+        comp.scores = predicted_scores(m, comp, radius_m,
+                                       programmed=full if on is not full else None)
+        return comp
+
+    comp = learned(cmd)
+    if headroom and draws > 0:  # the draws judged it against its own plan
+        circle = None if radius_m is None else (radius_m, (0.0, 0.0), ("X", "Y"))
+        comp, kept = on_the_program(m, full, comp, bounds, lambda: learned(full), circle)
+        headroom, cmd = (headroom, cmd) if kept else (0.0, full)
     comp.settings.update(headroom=headroom, programmed_duration_s=float(full.time_s[-1]),
                          planned_duration_s=float(cmd.time_s[-1]))
     return comp

@@ -50,13 +50,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     _say_over_limits(comp, planner)
     if not comp.robustness:
         _say_worse(comp.scores)
-    if comp.robustness.get("as_programmed"):
-        out.print("  no share of the correction is applied: the program is written as "
-                  "programmed, at the axes' full limits (the headroom serves only the "
-                  "correction)", highlight=False)
-    elif not comp.applied:
-        out.print("  no share of the correction is applied: the figures after are those of "
-                  "the command as planned", highlight=False)
+    for line in _kept_lines(comp):
+        out.print(line, highlight=False)
     st = comp.settings
     if st.get("headroom"):
         out.print(f"  planned with {1 - st['headroom']:.0%} of the axes' acceleration and "
@@ -113,6 +108,24 @@ def demand_lines(demands: dict | None, bounds: dict) -> list[str]:
     return lines
 
 
+def _kept_lines(comp) -> list[str]:
+    """What was kept of a correction planned with headroom, where not all of it: learned
+    again on the program as programmed, or none of it applied [-]."""
+    lines = []
+    if comp.robustness.get("relearned"):
+        lines.append("  planned with the headroom, the correction kept made "
+                     f"{'; '.join(comp.robustness['relearned'])}: it was learned again on "
+                     "the program as programmed, at the axes' full limits")
+    if comp.robustness.get("as_programmed"):
+        lines.append("  no share of the correction is applied: the program is written as "
+                     "programmed, at the axes' full limits (the headroom serves only the "
+                     "correction)")
+    elif not comp.applied:
+        lines.append("  no share of the correction is applied: the figures after are those "
+                     "of the command as planned")
+    return lines
+
+
 def _num(v: float) -> str:
     """Three digits, and no exponent below a million [-]."""
     return f"{v:.0f}" if 99.5 <= abs(v) < 1e6 else f"{v:.3g}"
@@ -123,11 +136,9 @@ def _say_worse(scores: dict) -> None:
     the correction makes worse on the model itself by more than the sensors' resolution
     (at the end of a move, the TCP can overshoot a point it approached from one side
     before) [-]."""
-    from ..compensate.robust import EQUAL_M
-    from ..compensate.scores import before_after
+    from ..compensate.headroom import worse_than_programmed
 
-    worse = [f"{label} {b:.2f} -> {a:.2f} µm" for label, b, a in before_after(scores)
-             if a > b + EQUAL_M * 1e6]
+    worse = worse_than_programmed(scores)
     if worse:
         console.print(f"warning: the correction makes the model's own TCP worse: "
                       f"{'; '.join(worse)}; with --draws N (default 8) it is scaled back "

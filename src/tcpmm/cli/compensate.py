@@ -77,7 +77,6 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     path, within the axes' limits (an NC program is planned with headroom for the
     correction); write it (for tcpmm simulate --command) and report before and after."""
     from ..compensate import machine_bounds
-    from ..compensate.headroom import as_programmed
     from ..path import write_command_csv
 
     _check_outputs(output, (report, controller_out, reference_out), radius, model, command,
@@ -88,11 +87,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     full, cmd, headroom = _planned(command, gcode, m, headroom)
     circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
     tuned = None if controller_out is None else _tuned(m, cmd, circle)
-    comp = _compensated(m, cmd, command or gcode, iterations, bounds, draws, circle,
-                        full if headroom else None, tuned)
-    if headroom and tuned is None and not comp.applied:
-        comp, headroom = as_programmed(m, full, bounds, comp, circle), 0.0
-    comp.settings["headroom"] = headroom
+    comp, headroom = _of_program(m, (full, cmd, headroom), command or gcode,
+                                 (iterations, draws), bounds, circle, tuned)
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
     write_command_csv(compensated, output)
     _write_reference(reference_out, cmd if headroom else full)
@@ -106,6 +102,43 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
     say_compensation(output, report, comp, controller_out, cc, reference_out, planner)
+
+
+def _of_program(machine, plans, source, steps, bounds, circle, tuned):
+    """The compensation of the plan with headroom, or of the program as programmed where
+    the draws keep none of it or a figure ends worse than the program's
+    (:func:`tcpmm.compensate.headroom.on_the_program`: the draws judge it against its own
+    plan), with the headroom kept in its settings, and that headroom.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [-].
+    plans : tuple
+        The program as programmed, as planned with the headroom, and the headroom [m, -].
+    source : Path
+        The program's file [-].
+    steps : tuple of int
+        ``--iterations`` and ``--draws`` [-].
+    bounds : dict
+        The axes' limits [SI].
+    circle : tuple or None
+        ``(radius, centre, plane)`` of the circle [m, m, -].
+    tuned : ControllerCompensation or None
+        Controller-side parameters the correction is learned with [-].
+    """
+    from ..compensate.headroom import on_the_program
+
+    full, cmd, headroom = plans
+    iterations, draws = steps
+    comp = _compensated(machine, cmd, source, iterations, bounds, draws, circle,
+                        full if headroom else None, tuned)
+    if headroom and tuned is None and draws:
+        comp, kept = on_the_program(machine, full, comp, bounds, lambda: _compensated(
+            machine, full, source, iterations, bounds, draws, circle), circle)
+        headroom = headroom if kept else 0.0
+    comp.settings["headroom"] = headroom
+    return comp, headroom
 
 
 def _write_reference(path, planned) -> None:

@@ -86,6 +86,61 @@ def program_with_headroom(program, settings: InterpolatorSettings, headroom: flo
     return full, program_to_command(program, planned_settings(settings, headroom))
 
 
+def worse_than_programmed(scores: dict) -> list[str]:
+    """The figures a compensation makes worse than the program as programmed by more than
+    the sensors' resolution (:data:`tcpmm.compensate.robust.EQUAL_M`), each as ``label
+    before -> after um``: the draws judge the correction against the plan it was learned
+    on, and a slower plan can itself make a figure worse [-].
+
+    Parameters
+    ----------
+    scores : dict
+        ``Compensation.scores`` (:func:`tcpmm.compensate.predicted_scores`) [-].
+    """
+    from .robust import EQUAL_M
+    from .scores import before_after
+
+    return [f"{label} {b:.2f} -> {a:.2f} µm" for label, b, a in before_after(scores)
+            if a > b + EQUAL_M * 1e6]
+
+
+def on_the_program(machine, full, comp, bounds, relearn, circle=None):
+    """The compensation ``comp`` of a program planned with headroom, or one of the program
+    as programmed (``full``): written as programmed where the draws keep no share of
+    ``comp`` (:func:`as_programmed`), learned again on it (``relearn()``, its figures made
+    worse named in ``robustness["relearned"]``) where a figure ends worse than the
+    program's (:func:`worse_than_programmed`).
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    full : Command
+        The program at the axes' full limits [m].
+    comp : Compensation
+        The compensation of the plan with headroom, judged by draws [-].
+    bounds : dict of str to AxisBounds
+        The axes' limits [-].
+    relearn : callable
+        ``relearn()``: the compensation of ``full``, judged by the same draws [-].
+    circle : tuple, optional
+        ``(radius, centre, plane)`` of the circle the program holds [m, m, -].
+
+    Returns
+    -------
+    Compensation, bool
+        The compensation, and whether it is of the plan with headroom [-].
+    """
+    worse = worse_than_programmed(comp.scores) if comp.applied else []
+    if worse:
+        again = relearn()
+        again.robustness["relearned"] = worse
+        return again, False
+    if not comp.applied:
+        return as_programmed(machine, full, bounds, comp, circle), False
+    return comp, True
+
+
 def as_programmed(machine, full, bounds, comp, circle=None):
     """The program at the axes' full limits, uncorrected, where the draws keep no share of
     the correction learned on its slower plan: the headroom serves only the correction,

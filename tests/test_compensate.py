@@ -498,18 +498,10 @@ def test_the_circle_is_judged_in_its_plane_about_its_centre(tmp_path, capsys, pl
     assert 5 < scores["before"]["circle"]["circular_deviation_um"] < 500
 
 
-def test_a_correction_the_slower_plan_makes_worse_is_learned_on_the_program(tmp_path,
-                                                                             capsys,
-                                                                             monkeypatch):
-    """The draws judge the correction against the plan it was learned on. On an S-curve
-    model's YZ circle, the plan with headroom made G 35.44 -> 35.84 um by itself, and the
-    share kept left 35.90 um against the program's 35.44, while the summary said the share
-    kept it from growing. Where a figure ends worse than the program's, the correction is
-    now learned again on the program as programmed, and says so (here the slower plan's
-    G is made 1 um worse than measured, to stand for that model)."""
+def _slower_plan_worse(monkeypatch) -> None:
+    """Make the model's G after a correction learned on a plan with headroom 1 um worse
+    than the program's before, as an S-curve model's YZ circle had it [-]."""
     import importlib
-
-    from tcpmm.cli import main
 
     package = importlib.import_module("tcpmm.compensate")
     real = package.predicted_scores
@@ -522,6 +514,20 @@ def test_a_correction_the_slower_plan_makes_worse_is_learned_on_the_program(tmp_
         return scores
 
     monkeypatch.setattr(package, "predicted_scores", slower_plan_worse)
+
+
+def test_a_correction_the_slower_plan_makes_worse_is_learned_on_the_program(tmp_path,
+                                                                             capsys,
+                                                                             monkeypatch):
+    """The draws judge the correction against the plan it was learned on. On an S-curve
+    model's YZ circle, the plan with headroom made G 35.44 -> 35.84 um by itself, and the
+    share kept left 35.90 um against the program's 35.44, while the summary said the share
+    kept it from growing. Where a figure ends worse than the program's, the correction is
+    now learned again on the program as programmed, and says so (here the slower plan's
+    G is made 1 um worse than measured, to stand for that model)."""
+    from tcpmm.cli import main
+
+    _slower_plan_worse(monkeypatch)
     prog = tmp_path / "c.nc"
     prog.write_text(_circle_program("XY"))
     args = ["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
@@ -541,21 +547,9 @@ def test_a_correction_the_slower_plan_makes_worse_is_learned_on_the_program(tmp_
 def test_the_python_api_learns_on_the_program_too(tmp_path, monkeypatch):
     """tcpmm.compensate kept a correction its slower plan made worse, and wrote a plan no
     draw kept as planned, where the command line did neither: it now goes the same way."""
-    import importlib
-
     import tcpmm
 
-    package = importlib.import_module("tcpmm.compensate")
-    real = package.predicted_scores
-
-    def slower_plan_worse(machine, comp, *args, programmed=None, **kwargs):
-        scores = real(machine, comp, *args, programmed=programmed, **kwargs)
-        if programmed is not None:
-            scores["after"]["circle"]["circular_deviation_um"] = (
-                scores["before"]["circle"]["circular_deviation_um"] + 1.0)
-        return scores
-
-    monkeypatch.setattr(package, "predicted_scores", slower_plan_worse)
+    _slower_plan_worse(monkeypatch)
     prog = tmp_path / "c.nc"
     prog.write_text(_circle_program("XY"))
     comp = tcpmm.compensate("builtin:vmc", prog, draws=1, radius_m=0.02)

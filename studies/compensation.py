@@ -22,8 +22,8 @@ import pickle
 import warnings
 from pathlib import Path
 
-from tcpmm.compensate import compensate, machine_bounds, robust_factors
-from tcpmm.compensate.headroom import DEFAULT_HEADROOM, as_programmed, program_with_headroom
+from tcpmm.compensate import compensate, machine_bounds, predicted_scores, robust_factors
+from tcpmm.compensate.headroom import DEFAULT_HEADROOM, on_the_program, program_with_headroom
 from tcpmm.compensate.scores import judge, judged_path, programmed_path, runs_before_after
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
@@ -87,11 +87,18 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
     [m/s^2], jerk [m/s^3]) [-]."""
     full, planned = commands
     bounds = machine_bounds(model, *limits)
-    comp = compensate(model, planned, bounds=bounds)
-    robust_factors(model, comp, n_draws=draws, radius_m=radius)
-    if planned is not full and not comp.applied:  # as tcpmm compensate --gcode writes it
+    def learned(on):
+        comp = compensate(model, on, bounds=bounds)
+        robust_factors(model, comp, n_draws=draws, radius_m=radius)
+        comp.scores = predicted_scores(model, comp, radius,
+                                       programmed=full if on is not full else None)
+        return comp
+
+    comp = learned(planned)
+    if planned is not full:  # as tcpmm compensate --gcode writes it
         circle = None if radius is None else (radius, (0.0, 0.0), ("X", "Y"))
-        comp, planned = as_programmed(model, full, bounds, comp, circle), full
+        comp, kept = on_the_program(model, full, comp, bounds, lambda: learned(full), circle)
+        planned = planned if kept else full
     before, after = runs_before_after(truth, comp, programmed=full)
     b = judge(before, programmed_path(comp, full), radius)
     a = judge(after, judged_path(comp), radius)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..io.atomic import write_text_atomic
 from ..path.gcode_words import ZERO_MOVE_M
 
 
@@ -48,8 +47,3 @@ def dense_program(command, title: str = "compensated command", settle_s: float =
     lines.append("M30")
     return "\n".join(lines) + "\n"
 
-
-def write_dense_program(command, path, settle_s: float = 0.0) -> None:
-    """Write :func:`dense_program` atomically, with a dwell of ``settle_s`` after the
-    rapid to the start [s]."""
-    write_text_atomic(path, dense_program(command, settle_s=settle_s))

@@ -416,3 +416,13 @@ def test_a_header_rapid_to_the_start_repeats_no_point_but_a_later_one_does(fast)
     assert said_by(run_program(program, "h.nc", (0.0, 0.0, 0.0), fast=fast)) == [
         "h.nc, line 6, column 4: zero-length move ignored: a G0 or G1 to where the tool "
         "already is, skipped"]
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_a_dwell_before_the_header_rapid_programs_no_point(fast):
+    """A dwell programs no point: a G0 to the start after it is still the header's, not a
+    repeated point. The reference parser counted it (the dwell was a segment, so the tool
+    had "moved"), the fast one did not; the hypothesis test comparing them found
+    ``G4 P0.1`` then ``G0 X0``."""
+    assert said_by(run_program("G4 P0.1\nG0X0.0000\n", "d.nc", (0.0, 0.0, 0.0),
+                               fast=fast)) == []

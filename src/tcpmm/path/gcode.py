@@ -93,8 +93,10 @@ class Interpreter(GeometryMixin):
     @pos.setter
     def pos(self, value) -> None:
         # the parsers' runs of blocks move the tool here too, not through move(); a run
-        # may end where it began, but it left segments
-        self.moved = self.moved or bool(self.segments) or tuple(value) != self._pos
+        # may end where it began, but it left segments. A dwell is none: it programs no
+        # point (and until the first move the segments are dwells, few to look through)
+        self.moved = (self.moved or tuple(value) != self._pos
+                      or any(not isinstance(s, Dwell) for s in self.segments))
         self._pos = tuple(value)
 
     # ---- reporting -------------------------------------------------------------------

@@ -498,6 +498,16 @@ def test_the_circle_is_judged_in_its_plane_about_its_centre(tmp_path, capsys, pl
     assert 5 < scores["before"]["circle"]["circular_deviation_um"] < 500
 
 
+def _circle_compensation(tmp_path):
+    """An XY circle program of R 20 mm, and ``tcpmm compensate`` of it on the built-in
+    machine with one draw and three learning steps [-]."""
+    prog = tmp_path / "c.nc"
+    prog.write_text(_circle_program("XY"))
+    return prog, ["compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                  str(tmp_path / "c.csv"), "--radius", "20", "--draws", "1", "--iterations",
+                  "3"]
+
+
 def _slower_plan_worse(monkeypatch) -> None:
     """Make the model's G after a correction learned on a plan with headroom 1 um worse
     than the program's before, as an S-curve model's YZ circle had it [-]."""
@@ -528,10 +538,7 @@ def test_a_correction_the_slower_plan_makes_worse_is_learned_on_the_program(tmp_
     from tcpmm.cli import main
 
     _slower_plan_worse(monkeypatch)
-    prog = tmp_path / "c.nc"
-    prog.write_text(_circle_program("XY"))
-    args = ["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
-            "--radius", "20", "--draws", "1", "--iterations", "3"]
+    _, args = _circle_compensation(tmp_path)
     assert main([*args, "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["settings"]["headroom"] == 0 and "planned" not in d["scores"]
@@ -581,10 +588,7 @@ def test_a_plan_whose_correction_no_draw_keeps_is_written_as_programmed(tmp_path
 
     monkeypatch.setattr(package, "robust_factors", none_kept)
 
-    prog = tmp_path / "c.nc"
-    prog.write_text(_circle_program("XY"))
-    args = ["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
-            "--radius", "20", "--draws", "1", "--iterations", "3"]
+    prog, args = _circle_compensation(tmp_path)
     assert main([*args, "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert set(d["robustness"]["factors"].values()) == {0.0}

@@ -133,10 +133,17 @@ def contour_figures(run, path: Command) -> dict:
             "contour_rms_um": float(np.sqrt(np.mean(e ** 2)) * 1e6)}
 
 
-def circle_figures(run, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y")) -> dict:
-    """Per circle pass at the TCP: contour error, G and spikes A-D, all in um [-]."""
+def circle_figures(run, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y"),
+                   warn: bool = False) -> dict:
+    """Per circle pass at the TCP: contour error, G and spikes A-D, all in um [-].
+
+    ``warn`` lets the circle analysis say what it cannot report (a quadrant point the
+    circle starts on, and so never crosses, has no spike): said of the program's own run,
+    as the one place it holds for, not again of every run and draw judged after it [-].
+    """
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+        if not warn:
+            warnings.simplefilter("ignore")
         res = analyse_circle(run, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))
     out = []
     for p in res.passes:
@@ -159,11 +166,13 @@ def _largest(values) -> float:
     return max(v) if v else float("nan")
 
 
-def judge(run, path: Command, radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")) -> dict:
-    """Contour figures of a run, and the circle's when a radius is given [-]."""
+def judge(run, path: Command, radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y"),
+          warn: bool = False) -> dict:
+    """Contour figures of a run, and the circle's when a radius is given; ``warn`` as
+    :func:`circle_figures` has it [-]."""
     out = {"path": contour_figures(run, path)}
     if radius_m is not None:
-        out["circle"] = circle_figures(run, radius_m, centre_m, plane)
+        out["circle"] = circle_figures(run, radius_m, centre_m, plane, warn)
     return out
 
 
@@ -200,7 +209,7 @@ def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
     compensated, path = comp.command, programmed_path(comp, programmed)
     before, after = runs_before_after(machine, comp, programmed=programmed,
                                       compensated=compensated)
-    out = {"before": judge(before, path, radius_m, centre_m, plane),
+    out = {"before": judge(before, path, radius_m, centre_m, plane, warn=True),
            "after": judge(after, judged_path(comp), radius_m, centre_m, plane),
            "demands": {"before": axis_demands(path, before),
                        "after": axis_demands(compensated, after)}}

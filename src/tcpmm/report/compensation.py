@@ -3,6 +3,8 @@ model predicts, and what the command was given per axis."""
 
 from __future__ import annotations
 
+import warnings
+
 from ..analysis.circular import analyse_circle
 from ..compensate import runs_before_after
 from ..compensate.bounds import over_limit_words
@@ -57,8 +59,14 @@ def _polar(machine, comp, circle):
     before, after = runs_before_after(machine, comp)
     radius_m, centre_m, plane = circle
     try:
-        rb = analyse_circle(before, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))
-        ra = analyse_circle(after, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))
+        # what the analysis cannot report of the circle, the scores said of the program
+        # (:func:`tcpmm.compensate.scores.predicted_scores`): not again for these runs
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rb = analyse_circle(before, radius_m, centre_m, plane=plane,
+                                sensors=("cmd", "tcp"))
+            ra = analyse_circle(after, radius_m, centre_m, plane=plane,
+                                sensors=("cmd", "tcp"))
     except InputError:
         return None
     return plot_circle(rb, sensors=["tcp"], overlay=ra,

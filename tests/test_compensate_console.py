@@ -3,6 +3,8 @@ given."""
 
 import json
 
+import pytest
+
 from tcpmm.cli import main
 
 #: A circle of R 35 mm that starts and ends at quadrant point A (X35 Y0): it never
@@ -27,3 +29,36 @@ def test_a_circle_starting_at_a_quadrant_point_is_said_once(tmp_path, capsys):
     d = json.loads(got.out)
     assert any("no reversal spike is reported at A" in w for w in d["warnings"])
     assert got.err.count("no reversal spike is reported at A") == 1
+
+
+@pytest.fixture(scope="module")
+def scurve_model(tmp_path_factory):
+    """The built-in machine with an S-curve interpolator of 6 m/s² and 200 m/s³: it plans
+    within the jerk limit along the path, not at a junction [-]."""
+    from tcpmm import builtin_machine, save_model
+
+    vmc = builtin_machine()
+    path = tmp_path_factory.mktemp("model") / "scurve.yaml"
+    save_model(vmc.model_copy(update={"interpolation": {
+        **(vmc.interpolation or {}), "profile": "scurve", "path_accel_m_per_s2": 6.0,
+        "path_jerk_m_per_s3": 200.0}}), path)
+    return path
+
+
+@pytest.mark.parametrize(("moves", "cause"), [
+    # a line into an arc and an arc into one turning the other way, tangent: the velocity
+    # is continuous, the acceleration steps (X 2 650 m/s³ of the plan at the S-bend)
+    ("G0 X0 Y-10\nG1 X0 Y0 F8000\nG2 X20 Y0 I10 J0\nG3 X40 Y0 I10 J0", "step of curvature"),
+    # a corner of 90 deg: the velocity steps (X 860 m/s³ of the plan)
+    ("G0 X0 Y0\nG1 X20 Y0 F10000\nG1 X20 Y20", "sharp corner's velocity step")])
+def test_a_jerk_beyond_the_limit_is_explained_from_the_path(tmp_path, capsys, scurve_model,
+                                                            moves, cause):
+    """The program's own jerk beyond the limit is a tangent junction's step of curvature
+    where the path's direction is continuous, and a sharp corner's velocity step where it
+    is not."""
+    prog = tmp_path / "p.nc"
+    prog.write_text(f"G21 G17 G90 G64\n{moves}\nM30\n")
+    assert main(["compensate", str(scurve_model), "--gcode", str(prog), "-o",
+                 str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2"]) == 0
+    lines = [s for s in capsys.readouterr().out.splitlines() if "jerk up to" in s]
+    assert lines and all(cause in s for s in lines), lines

@@ -139,7 +139,9 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
     """Where the compensated command goes beyond an axis's acceleration or jerk limit, and
     how far the program as planned does so itself: the interpolator passes a sharp corner
     with a velocity step of the axis's acceleration times its period, which the samples
-    read as up to half as much again for one period; the correction adds nothing there
+    read as up to half as much again for one period, and a tangent junction of a line or
+    arc into an arc of another curvature with a step of the acceleration, which they read
+    as a jerk of that step over one period; the correction adds nothing there
     (:func:`excess` keeps it within what the program takes).
 
     Parameters
@@ -172,8 +174,9 @@ def over_limit_words(command, reference, bounds: dict, planner: dict | None = No
     """A sentence per axis and limit the compensated command goes beyond
     (:func:`over_limits`), with the program's own peak and its cause: a command file's is
     its own; a program planned within the limit goes beyond it only at a sharp corner's
-    velocity step, one planned to a higher limit of the model's interpolator wherever it
-    ramps.
+    velocity step or, in jerk, at a tangent junction's step of curvature (told apart on
+    the path where its peak is, :func:`velocity_steps`), one planned to a higher limit of
+    the model's interpolator wherever it ramps.
 
     Parameters
     ----------
@@ -192,8 +195,8 @@ def over_limit_words(command, reference, bounds: dict, planner: dict | None = No
             itself = f"the command file reaches {own:.3g} itself"
         else:
             plan = getattr(planner[name], "accel" if what == "acceleration" else "jerk")
-            itself = (f"the program as planned reaches {own:.3g} itself (a sharp corner's "
-                      "velocity step, one period)" if plan <= lim * (1 + 1e-9) else
+            itself = (f"the program as planned reaches {own:.3g} itself ("
+                      f"{_step_cause(reference, name, what)})" if plan <= lim * (1 + 1e-9) else
                       f"the program as planned reaches {own:.3g} itself: the model's "
                       f"interpolator plans it {_planned(plan, what, unit[what])}, not to the "
                       "limit given; set that limit in the model's interpolation settings")
@@ -206,3 +209,58 @@ def over_limit_words(command, reference, bounds: dict, planner: dict | None = No
 
 def _planned(value: float, what: str, unit: str) -> str:
     return f"with no {what} limit" if value == math.inf else f"to {value:.3g} {unit}"
+
+
+def _step_cause(reference, name: str, what: str) -> str:
+    """Why the program as planned goes beyond a limit it was planned within: a sharp
+    corner's velocity step, or in jerk a tangent junction's step of curvature, as the
+    path shows where the axis's peak is. A curvature step takes the acceleration no
+    further than the curve's own, which the plan keeps within the limit [-]."""
+    x = reference.positions[name]
+    order = 2 if what == "acceleration" else 3
+    k = int(np.argmax(np.abs(derivative(x, order, reference.period_s))))
+    if order == 3 and not velocity_steps(reference, k):
+        return ("a step of curvature where a line or an arc joins an arc tangentially: the "
+                "velocity's direction is continuous there, its acceleration steps, so the "
+                "jerk is unbounded within one period")
+    return "a sharp corner's velocity step, one period"
+
+
+#: How many times the turn of the velocity's direction on either side a turn about a
+#: sample takes to be a corner, and the least turn that is one (a kink of a polyline of
+#: 0.5 deg at F5000 steps the velocity by 0.7 mm/s: a jerk of 700 m/s³ at 1 ms) [-, rad].
+CORNER_TURN_RATIO, CORNER_TURN_RAD = 3.0, math.radians(0.01)
+
+#: Steps of the path over which its turn is taken: the stencil of a third difference
+#: and one on either side [-].
+TURN_SPAN = 5
+
+
+def velocity_steps(command, k: int) -> bool:
+    """Whether the path's velocity changes direction abruptly about sample ``k``: its
+    direction turns from the step into sample ``k - 4`` to the step into ``k + 1`` (the
+    samples a difference of up to third order at ``k`` is taken of, and one more) by more
+    than :data:`CORNER_TURN_RAD` and :data:`CORNER_TURN_RATIO` times what it turns over
+    as many steps just before and just after, which is the path's curvature there; at a
+    tangent junction it turns no faster than the curvature on either side [-].
+
+    Parameters
+    ----------
+    command : Command
+        The path [m].
+    k : int
+        The sample [-].
+    """
+    v = np.diff(np.array(list(command.positions.values())), axis=1)  # v[:, i]: into i + 1
+
+    def turn(i: int) -> float:
+        """Angle between the steps into samples ``i`` and ``i + TURN_SPAN`` [rad]."""
+        if i < 1 or i + TURN_SPAN > v.shape[1]:
+            return 0.0
+        a, b = v[:, i - 1], v[:, i + TURN_SPAN - 1]
+        cross = np.linalg.norm(np.outer(a, b) - np.outer(b, a)) / np.sqrt(2)  # |a||b| sin
+        return float(np.arctan2(cross, a @ b))
+
+    start = k - TURN_SPAN + 1
+    around = max(turn(start - TURN_SPAN), turn(start + TURN_SPAN))
+    return turn(start) > max(CORNER_TURN_RAD, CORNER_TURN_RATIO * around)

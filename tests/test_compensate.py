@@ -754,7 +754,8 @@ def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):
     """compensate's rms counted the G0 rapids, which tcpmm contour leaves out: on a CAM
     program with rapids it printed 2.84 um where contour of the same run read 2.96 um. The
     after figures are now contour's of the compensated run against the reference written
-    (to the rounding of the files)."""
+    (to the rounding of the files), the rms over the program's motion: the run up to
+    the end of the delayed program, its settling hold left out."""
     from conftest import run_cli
 
     prog = tmp_path / "p.nc"
@@ -764,9 +765,14 @@ def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):
     code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
                              comp, "--reference-out", ref, "--draws", 0, "--json")
     assert code == 0, err
-    after = json.loads(out)["scores"]["after"]["path"]
+    d = json.loads(out)
+    after = d["scores"]["after"]["path"]
     assert run_cli(capsys, "simulate", "builtin:vmc", "--command", comp, "-o", run)[0] == 0
-    code, out, err = run_cli(capsys, "contour", run, "--command", ref, "--json")
+    rows = (tmp_path / "run.csv").read_text().splitlines()
+    motion = len((tmp_path / "ref.csv").read_text().splitlines()) + round(d["delay_s"] / 1e-3)
+    (tmp_path / "moving.csv").write_text("\n".join(rows[:motion]) + "\n")  # header kept
+    code, out, err = run_cli(capsys, "contour", str(tmp_path / "moving.csv"), "--command",
+                             ref, "--json")
     measured = json.loads(out)
     assert measured["rapids"]["samples"] > 100 and not measured["rapids"]["counted"]
     assert after["contour_rms_um"] == pytest.approx(measured["sensors"]["tcp"]["rms_um"],

@@ -62,3 +62,22 @@ def test_a_jerk_beyond_the_limit_is_explained_from_the_path(tmp_path, capsys, sc
                  str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2"]) == 0
     lines = [s for s in capsys.readouterr().out.splitlines() if "jerk up to" in s]
     assert lines and all(cause in s for s in lines), lines
+
+
+def test_the_contour_rms_is_over_the_program_s_motion(monkeypatch):
+    """The hold appended after the program for the TCP to settle is left out of the rms:
+    the program's figure before is the same whatever the hold's length (the run up to the
+    program's end does not depend on it), where the hold's small errors diluted it."""
+    from tcpmm.compensate import compensate, learning, predicted_scores
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.path.circle import circle_command
+
+    machine = builtin_machine()
+    cmd = circle_command(0.01, 0.05)
+    rms = {}
+    for tail_s in (0.3, 0.6):
+        monkeypatch.setattr(learning, "TAIL_S", tail_s)
+        comp = compensate(machine, cmd, iterations=1)
+        rms[tail_s] = predicted_scores(machine, comp, programmed=cmd)["before"]["path"][
+            "contour_rms_um"]
+    assert rms[0.3] == pytest.approx(rms[0.6], rel=1e-9)

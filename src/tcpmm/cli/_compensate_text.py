@@ -9,8 +9,9 @@ from ._app import console, out
 
 def _row(label: str, fig: dict) -> str:
     path = fig["path"]
+    # the rms leaves out the hold after the program (scores.contour_figures), the max not
     text = f"  {label:7s} contour error to the command {path['contour_error_um']:8.2f} µm (rms " \
-           f"{path['contour_rms_um']:.2f})"
+           f"{path['contour_rms_um']:.2f} over the program's motion)"
     if "circle" in fig:
         c = fig["circle"]
         text += f", largest raw spike (e - b) {c['largest_spike_um']:.2f} µm, G " \

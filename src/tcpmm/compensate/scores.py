@@ -92,7 +92,7 @@ def axis_demands(command: Command, run) -> dict:
 
 #: The figures of a score shown before and after: ``(part, key, label)`` [-].
 SCORE_FIGURES = (("path", "contour_error_um", "contour error"),
-                 ("path", "contour_rms_um", "contour rms"),
+                 ("path", "contour_rms_um", "contour rms over the program's motion"),
                  ("circle", "largest_spike_um", "largest reversal spike"),
                  ("circle", "circular_deviation_um", "G"))
 
@@ -123,14 +123,31 @@ def judged_path(comp) -> Command:
     return comp.target if comp.applied else comp.reference
 
 
-def contour_figures(run, path: Command) -> dict:
+def contour_figures(run, path: Command, hold: int = 0) -> dict:
     """Largest and rms TCP contour error along the path, G0 rapids left out as
-    :func:`tcpmm.analysis.contour.contour_error` leaves them out, in um [-]."""
+    :func:`tcpmm.analysis.contour.contour_error` leaves them out, in um: the largest over
+    the whole run, as the TCP still swinging after the axes stop is error too; the rms
+    over the program's motion, the last ``hold`` samples of the path left out (the hold
+    appended for the TCP to settle, :func:`.learning.extended`), whose small errors would
+    make the rms of a program smaller the longer its hold is [-]."""
     res = contour_error(run, command=path)
-    e = np.abs(res.errors["tcp"] if res.counted is None else res.errors["tcp"][res.counted])
-    e = e[np.isfinite(e)]
-    return {"contour_error_um": float(np.max(e) * 1e6),
-            "contour_rms_um": float(np.sqrt(np.mean(e ** 2)) * 1e6)}
+    e = np.abs(res.errors["tcp"])
+    counted = np.isfinite(e) & (True if res.counted is None else res.counted)
+    moving = counted.copy()
+    moving[max(path.time_s.size - hold, 0):] = False
+    if not moving.any():  # a path that is all hold: the rms of what there is
+        moving = counted
+    return {"contour_error_um": float(np.max(e[counted]) * 1e6),
+            "contour_rms_um": float(np.sqrt(np.mean(e[moving] ** 2)) * 1e6)}
+
+
+def settling_hold(comp, path: Command) -> int:
+    """The samples held at the end of a path of ``comp`` (its ``reference``, its
+    ``target`` or the program held as long, :func:`programmed_path`) for the TCP to
+    settle, after the program's motion: the target is the program delayed, its motion
+    ends as many samples later [-]."""
+    hold = comp.settings.get("hold_samples", 0)
+    return hold - round(comp.delay_s / path.period_s) if path is comp.target else hold
 
 
 def circle_figures(run, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y"),
@@ -167,10 +184,10 @@ def _largest(values) -> float:
 
 
 def judge(run, path: Command, radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y"),
-          warn: bool = False) -> dict:
+          warn: bool = False, hold: int = 0) -> dict:
     """Contour figures of a run, and the circle's when a radius is given; ``warn`` as
-    :func:`circle_figures` has it [-]."""
-    out = {"path": contour_figures(run, path)}
+    :func:`circle_figures` has it, ``hold`` as :func:`contour_figures` [-]."""
+    out = {"path": contour_figures(run, path, hold)}
     if radius_m is not None:
         out["circle"] = circle_figures(run, radius_m, centre_m, plane, warn)
     return out
@@ -199,21 +216,24 @@ def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
     Returns
     -------
     dict
-        ``{"before": ..., "after": ...}``, each from :func:`judge`; with ``programmed`` also
+        ``{"before": ..., "after": ...}``, each from :func:`judge` (the rms over the
+        program's motion, its settling hold left out); with ``programmed`` also
         ``"planned"``: the command the correction was learned on, uncorrected (the program
         planned with headroom), so that what the slower plan gives and what the correction
         gives are told apart; ``"demands"``: ``{"before": ..., "after": ...}`` of
         :func:`axis_demands`, what the programmed and the compensated command ask of each
         axis [-].
     """
-    compensated, path = comp.command, programmed_path(comp, programmed)
+    compensated, judged = comp.command, judged_path(comp)
+    path = programmed_path(comp, programmed)
     before, after = runs_before_after(machine, comp, programmed=programmed,
                                       compensated=compensated)
-    out = {"before": judge(before, path, radius_m, centre_m, plane, warn=True),
-           "after": judge(after, judged_path(comp), radius_m, centre_m, plane),
+    where = (radius_m, centre_m, plane)
+    out = {"before": judge(before, path, *where, warn=True, hold=settling_hold(comp, path)),
+           "after": judge(after, judged, *where, hold=settling_hold(comp, judged)),
            "demands": {"before": axis_demands(path, before),
                        "after": axis_demands(compensated, after)}}
     if programmed is not None:
-        out["planned"] = judge(simulate(machine, comp.reference), comp.reference, radius_m,
-                               centre_m, plane)
+        out["planned"] = judge(simulate(machine, comp.reference), comp.reference, *where,
+                               hold=settling_hold(comp, comp.reference))
     return out

@@ -795,7 +795,7 @@ def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, t
                              "--report", str(page))
     assert code == 0, err
     said = [ln for ln in out.splitlines() if "above its limit of" in ln]
-    assert said and all("the program as planned reaches" in ln for ln in said), out
+    assert said and all("the program as programmed reaches" in ln for ln in said), out
     assert any(ln.strip().startswith("Z: acceleration up to") for ln in said), said
     # the report's table per axis read 1.5 against a limit of 1 with no word on why
     import html
@@ -882,11 +882,11 @@ def test_what_the_command_asks_of_each_axis_is_said_with_its_limits(capsys, tmp_
     grown = {a for a in "XY" if asks["after"][a]["jerk_m_per_s3"] > 2 * 50.8}
     assert grown
     code, out, err = run_cli(capsys, *base)
-    lines = {ln.split()[0]: ln for ln in out.splitlines() if " asks (program -> " in ln}
+    lines = {ln.split()[0]: ln for ln in out.splitlines() if " asks (as programmed -> " in ln}
     assert set(lines) == {"X", "Y"} and "jerk 50.8 -> " in lines["X"]
-    assert all("times the program's jerk" in lines[a] for a in grown)
+    assert all("times the jerk as programmed" in lines[a] for a in grown)
     code, out, err = run_cli(capsys, *base, "--jerk-m-per-s3", 200, "--json")
     asks = json.loads(out)["scores"]["demands"]["after"]
     assert all(asks[a]["jerk_m_per_s3"] <= 200 * (1 + 1e-6) for a in "XY")
     code, out, err = run_cli(capsys, *base, "--jerk-m-per-s3", 200)
-    assert "(limit 200)" in out and "times the program's jerk" not in out
+    assert "(limit 200)" in out and "times the jerk as programmed" not in out

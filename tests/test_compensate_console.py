@@ -81,3 +81,23 @@ def test_the_contour_rms_is_over_the_program_s_motion(monkeypatch):
         rms[tail_s] = predicted_scores(machine, comp, programmed=cmd)["before"]["path"][
             "contour_rms_um"]
     assert rms[0.3] == pytest.approx(rms[0.6], rel=1e-9)
+
+
+def test_the_program_as_programmed_and_its_plan_with_headroom_are_told_apart(
+        tmp_path, capsys, scurve_model):
+    """A corner planned with headroom 0.25: the demands are the program's at the full
+    limits (X jerk 3 972 m/s³), the peak beyond the limit the plan's with headroom (764):
+    both lines called it "the program", the one "program ->", the next "the program as
+    planned". Each now says which plan it means."""
+    prog = tmp_path / "corner.nc"
+    prog.write_text("G21 G17 G90 G64\nG0 X0 Y0\nG1 X20 Y0 F10000\nG1 X20 Y20\nM30\n")
+    assert main(["compensate", str(scurve_model), "--gcode", str(prog), "-o",
+                 str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2"]) == 0
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    assert "(as programmed)" in lines[1] and "(planned with headroom 0.25, uncorrected)" in lines[2]
+    assert "X asks (as programmed -> compensated)" in out
+    beyond = [s for s in lines if "above its limit" in s]
+    assert beyond and all("the program planned with headroom 0.25 reaches" in s for s in beyond)
+    assert "planned with headroom 0.25: 75% of the axes'" in out and "s as programmed" in out
+    assert "program ->" not in out and "program as planned" not in out

@@ -11,7 +11,7 @@ def _row(label: str, fig: dict) -> str:
     path = fig["path"]
     # the rms leaves out the hold after the program (scores.contour_figures), the max not
     text = f"  {label:7s} contour error to the command {path['contour_error_um']:8.2f} µm (rms " \
-           f"{path['contour_rms_um']:.2f} over the program's motion)"
+           f"{path['contour_rms_um']:.2f} over the motion)"
     if "circle" in fig:
         c = fig["circle"]
         text += f", largest raw spike (e - b) {c['largest_spike_um']:.2f} µm, G " \
@@ -41,10 +41,11 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     """
     out.print(f"wrote {output} ({comp.reference.time_s.size} samples, TCP delayed by "
               f"{comp.delay_s * 1e3:.1f} ms)" + (f" and the report {report}" if report else ""))
-    out.print(_row("before", comp.scores["before"]))
-    if "planned" in comp.scores:
-        out.print(_row("planned", comp.scores["planned"]) + " (the program planned with the "
-                  "headroom below, uncorrected)")
+    planned = "planned" in comp.scores  # then "before" is the program at the full limits
+    out.print(_row("before", comp.scores["before"]) + (" (as programmed)" if planned else ""))
+    if planned:
+        out.print(_row("planned", comp.scores["planned"]) + f" (planned with headroom "
+                  f"{comp.settings.get('headroom', 0.0):g}, uncorrected)")
     out.print(_row("after", comp.scores["after"]))
     for line in demand_lines(comp.scores.get("demands"), comp.bounds):
         out.print(line, highlight=False)
@@ -55,9 +56,10 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         out.print(line, highlight=False)
     st = comp.settings
     if st.get("headroom"):
-        out.print(f"  planned with {1 - st['headroom']:.0%} of the axes' acceleration and "
-                  f"jerk, the rest left to the correction: {st['planned_duration_s']:.3g} s "
-                  f"instead of {st['programmed_duration_s']:.3g} s (longer ramps and "
+        out.print(f"  planned with headroom {st['headroom']:g}: {1 - st['headroom']:.0%} of "
+                  "the axes' acceleration and jerk, the rest left to the correction: "
+                  f"{st['planned_duration_s']:.3g} s instead of "
+                  f"{st['programmed_duration_s']:.3g} s as programmed (longer ramps and "
                   "corners; on a curve, the feed the rest of the acceleration allows)")
     if comp.robustness:
         for line in _verdict_lines(comp.robustness, comp.moved_axes):
@@ -80,10 +82,11 @@ JERK_NOTE_RATIO = 2.0
 
 
 def demand_lines(demands: dict | None, bounds: dict) -> list[str]:
-    """A line per axis: the largest acceleration, jerk and current the programmed and the
-    compensated command ask (:func:`tcpmm.compensate.scores.axis_demands`), each with its
-    limit; where no jerk limit is set and the correction asks much more than the program,
-    what a drive that limits its jerk would do with it [-]."""
+    """A line per axis: the largest acceleration, jerk and current the program as
+    programmed (at the axes' full limits, not the plan with headroom) and the compensated
+    command ask (:func:`tcpmm.compensate.scores.axis_demands`), each with its limit; where
+    no jerk limit is set and the correction asks much more than the program, what a drive
+    that limits its jerk would do with it [-]."""
     from ..compensate.scores import DEMAND_WORDS
 
     if not demands:
@@ -99,12 +102,12 @@ def demand_lines(demands: dict | None, bounds: dict) -> list[str]:
             lim = b.get(key)
             parts.append(f"{what} {_num(before[key])} -> {_num(after[key])} {unit} ("
                          + (f"limit {_num(lim)}" if lim is not None else "no limit") + ")")
-        line = f"  {a} asks (program -> compensated): " + ", ".join(parts)
+        line = f"  {a} asks (as programmed -> compensated): " + ", ".join(parts)
         jb, ja = before.get("jerk_m_per_s3"), after.get("jerk_m_per_s3")
         if b.get("jerk_m_per_s3") is None and jb and ja > JERK_NOTE_RATIO * jb:
-            line += (f"; the correction asks {_num(ja / jb)} times the program's jerk: a drive "
-                     "that limits its jerk smooths part of it away (give its limit with "
-                     "--jerk-m-per-s3)")
+            line += (f"; the correction asks {_num(ja / jb)} times the jerk as programmed: a "
+                     "drive that limits its jerk smooths part of it away (give its limit "
+                     "with --jerk-m-per-s3)")
         lines.append(line)
     return lines
 
@@ -151,7 +154,8 @@ def _say_over_limits(comp, planner: dict | None) -> None:
     (:func:`tcpmm.compensate.bounds.over_limit_words`) [-]."""
     from ..compensate.bounds import over_limit_words
 
-    for line in over_limit_words(comp.command, comp.reference, comp.bounds, planner):
+    for line in over_limit_words(comp.command, comp.reference, comp.bounds, planner,
+                                 comp.settings.get("headroom", 0.0)):
         out.print(f"  {line}", highlight=False)
 
 

@@ -169,8 +169,8 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
     return out
 
 
-def over_limit_words(command, reference, bounds: dict, planner: dict | None = None
-                     ) -> list[str]:
+def over_limit_words(command, reference, bounds: dict, planner: dict | None = None,
+                     headroom: float = 0.0) -> list[str]:
     """A sentence per axis and limit the compensated command goes beyond
     (:func:`over_limits`), with the program's own peak and its cause: a command file's is
     its own; a program planned within the limit goes beyond it only at a sharp corner's
@@ -187,17 +187,22 @@ def over_limit_words(command, reference, bounds: dict, planner: dict | None = No
     planner : dict of str to AxisBounds, optional
         The interpolator's own limits, where the command was planned from an NC program,
         not read from a file [-].
+    headroom : float
+        The headroom ``reference`` was planned with, 0 where it is the program as
+        programmed: named so, as the console names the program at the full limits "as
+        programmed" a line before [-].
     """
     unit = {"acceleration": "m/s²", "jerk": "m/s³"}
+    plan_name = f"planned with headroom {headroom:g}" if headroom else "as programmed"
     out = []
     for name, what, most, lim, own in over_limits(command, reference, bounds):
         if planner is None:
             itself = f"the command file reaches {own:.3g} itself"
         else:
             plan = getattr(planner[name], "accel" if what == "acceleration" else "jerk")
-            itself = (f"the program as planned reaches {own:.3g} itself ("
+            itself = (f"the program {plan_name} reaches {own:.3g} itself ("
                       f"{_step_cause(reference, name, what)})" if plan <= lim * (1 + 1e-9) else
-                      f"the program as planned reaches {own:.3g} itself: the model's "
+                      f"the program {plan_name} reaches {own:.3g} itself: the model's "
                       f"interpolator plans it {_planned(plan, what, unit[what])}, not to the "
                       "limit given; set that limit in the model's interpolation settings")
         by = ("the correction adds nothing beyond it" if most <= own * (1 + 1e-6) else

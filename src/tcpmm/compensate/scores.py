@@ -92,7 +92,7 @@ def axis_demands(command: Command, run) -> dict:
 
 #: The figures of a score shown before and after: ``(part, key, label)`` [-].
 SCORE_FIGURES = (("path", "contour_error_um", "contour error"),
-                 ("path", "contour_rms_um", "contour rms over the program's motion"),
+                 ("path", "contour_rms_um", "contour rms over the motion"),
                  ("circle", "largest_spike_um", "largest reversal spike"),
                  ("circle", "circular_deviation_um", "G"))
 

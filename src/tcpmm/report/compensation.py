@@ -115,7 +115,8 @@ def compensation_section(comp, source=None, machine=None, circle=None, controlle
     if len(frame):
         body += "<h3>Predicted figures</h3>" + table(frame, "compensation_figures.csv")
     body += ("<h3>Per axis</h3>" + table(_axes_frame(comp), "compensation_axes.csv"))
-    for line in over_limit_words(comp.command, comp.reference, comp.bounds, planner):
+    for line in over_limit_words(comp.command, comp.reference, comp.bounds, planner,
+                                 comp.settings.get("headroom", 0.0)):
         body += para(f"Beyond a limit, {line}.")
     if controller is not None:
         body += ("<h3>Controller-side compensation</h3>"

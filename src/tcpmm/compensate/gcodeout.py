@@ -24,6 +24,11 @@ def dense_program(command, title: str = "compensated command", settle_s: float =
     settle_s : float
         Dwell after the rapid to the first sample: the compensated command starts from
         rest there, and a machine still settling from the rapid starts off its path [s].
+
+    The samples of the program's G0 rapids (``command.blocks()``) are G1 blocks too, at
+    the speed the command was planned to: a controller's own rapid would run them at its
+    rapid speed and the program would no longer keep the compensated command's timing.
+    A comment under the title says so, with the lines they are (:func:`rapid_note`).
     """
     axes = [a for a in command.axes if a in ("X", "Y", "Z")]
     # rounded as written, and -0 made 0: "-0.000000" and "0.000000" are one place
@@ -32,8 +37,12 @@ def dense_program(command, title: str = "compensated command", settle_s: float =
     feed = step / command.period_s * 60.0  # mm/min
     words = [" ".join(f"{a}{p:.6f}" for a, p in zip(axes, pos[:, k], strict=True))
              for k in range(pos.shape[1])]
-    lines = [f"({title}: {pos.shape[1]} samples at {command.period_s:g} s)",
-             "G90 G17 G21 G64", f"G0 {words[0]}"]
+    lines = [f"({title}: {pos.shape[1]} samples at {command.period_s:g} s)"]
+    # the second sample's line: after the title, this note, the modes, the G0 to the
+    # first sample and its settling dwell
+    note = rapid_note(command, 5 + (settle_s > 0))
+    lines += [note] if note else []
+    lines += ["G90 G17 G21 G64", f"G0 {words[0]}"]
     if settle_s > 0:
         lines.append(f"G4 P{settle_s:g}")
     # the reader's test on the text's millimetres, with room for their conversion to m
@@ -47,3 +56,34 @@ def dense_program(command, title: str = "compensated command", settle_s: float =
     lines.append("M30")
     return "\n".join(lines) + "\n"
 
+
+
+#: The most runs of rapid lines :func:`rapid_note` lists one by one [-].
+NOTE_RUNS = 12
+
+
+def rapid_note(command, first_line: int) -> str:
+    """A comment saying which lines of the dense program are the program's G0 rapids,
+    written as G1 at the planned speed; empty where the command has no rapid after its
+    first sample (which the program's own G0 reaches) or no blocks (a command file) [-].
+
+    Parameters
+    ----------
+    command : Command
+        The command written, one line per sample [m].
+    first_line : int
+        The line of the second sample in the program, 1 for the first line [-].
+    """
+    blocks = command.blocks()
+    if blocks is None:
+        return ""
+    rapid = np.asarray(blocks[1][1:], dtype=bool)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], rapid.astype(int), [0]])))
+    runs = [(first_line + a, first_line + b - 1) for a, b in zip(edges[::2], edges[1::2],
+                                                                 strict=True)]
+    if not runs:
+        return ""
+    shown = ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in runs[:NOTE_RUNS])
+    more = f" and {len(runs) - NOTE_RUNS} runs more" if len(runs) > NOTE_RUNS else ""
+    return (f"(the program's G0 rapids are written as G1 at the speed the command was planned "
+            f"to, so that it keeps the command's timing: lines {shown}{more})")

@@ -37,32 +37,31 @@ def dense_program(command, title: str = "compensated command", settle_s: float =
     feed = step / command.period_s * 60.0  # mm/min
     words = [" ".join(f"{a}{p:.6f}" for a, p in zip(axes, pos[:, k], strict=True))
              for k in range(pos.shape[1])]
-    lines = [f"({title}: {pos.shape[1]} samples at {command.period_s:g} s)"]
-    # the second sample's line: after the title, this note, the modes, the G0 to the
-    # first sample and its settling dwell
-    note = rapid_note(command, 5 + (settle_s > 0))
-    lines += [note] if note else []
-    lines += ["G90 G17 G21 G64", f"G0 {words[0]}"]
+    lines = [f"({title}: {pos.shape[1]} samples at {command.period_s:g} s)",
+             "G90 G17 G21 G64", f"G0 {words[0]}"]
     if settle_s > 0:
         lines.append(f"G4 P{settle_s:g}")
     # the reader's test on the text's millimetres, with room for their conversion to m
     near, last = ZERO_MOVE_M * 1e3 * (1 + 1e-6), pos[:, 0]
+    moved = np.zeros(pos.shape[1], dtype=bool)
     for k in range(1, pos.shape[1]):
         if np.max(np.abs(pos[:, k] - last)) <= near:
             lines.append(f"G4 P{command.period_s:g}")
         else:
             lines.append(f"G1 {words[k]} F{feed[k - 1]:.4f}")
-            last = pos[:, k]
+            last, moved[k] = pos[:, k], True
+    # the note goes under the title: the second sample's line is one further down
+    note = rapid_note(command, moved, len(lines) - pos.shape[1] + 3)
+    lines[1:1] = [note] if note else []
     lines.append("M30")
     return "\n".join(lines) + "\n"
-
 
 
 #: The most runs of rapid lines :func:`rapid_note` lists one by one [-].
 NOTE_RUNS = 12
 
 
-def rapid_note(command, first_line: int) -> str:
+def rapid_note(command, moved, first_line: int) -> str:
     """A comment saying which lines of the dense program are the program's G0 rapids,
     written as G1 at the planned speed; empty where the command has no rapid after its
     first sample (which the program's own G0 reaches) or no blocks (a command file) [-].
@@ -71,13 +70,16 @@ def rapid_note(command, first_line: int) -> str:
     ----------
     command : Command
         The command written, one line per sample [m].
+    moved : ndarray of bool
+        Per sample: written as a G1, not as a dwell (the hold after a program that ends
+        on a rapid is no rapid written as G1) [-].
     first_line : int
         The line of the second sample in the program, 1 for the first line [-].
     """
     blocks = command.blocks()
     if blocks is None:
         return ""
-    rapid = np.asarray(blocks[1][1:], dtype=bool)
+    rapid = np.asarray(blocks[1][1:], dtype=bool) & moved[1:]
     edges = np.flatnonzero(np.diff(np.concatenate([[0], rapid.astype(int), [0]])))
     runs = [(first_line + a, first_line + b - 1) for a, b in zip(edges[::2], edges[1::2],
                                                                  strict=True)]

@@ -128,8 +128,9 @@ def contour_figures(run, path: Command, hold: int = 0) -> dict:
     :func:`tcpmm.analysis.contour.contour_error` leaves them out, in um: the largest over
     the whole run, as the TCP still swinging after the axes stop is error too; the rms
     over the program's motion, the last ``hold`` samples of the path left out (the hold
-    appended for the TCP to settle, :func:`.learning.extended`), whose small errors would
-    make the rms of a program smaller the longer its hold is [-]."""
+    appended for the TCP to settle, :func:`.learning.extended`): its errors, of the TCP
+    coming to rest and the correction fading out, would weigh the more the longer the
+    hold is, and a run of the program alone has none of them [-]."""
     res = contour_error(run, command=path)
     e = np.abs(res.errors["tcp"])
     counted = np.isfinite(e) & (True if res.counted is None else res.counted)

@@ -155,10 +155,13 @@ def table(rows: list) -> str:
     def f(v):
         return "-" if v is None else f"{v:.2f}"
 
+    # the rms over the run as :func:`tcpmm.compensate.scores.judge` takes it by default,
+    # with the hold the TCP settles over (the console's is over the motion alone)
     out = ["| machine | program | factors X/Y | trusted | firm | contour error before -> after "
-           "[µm] | rms before -> after [µm] | largest spike before -> after [µm] "
-           "| G before -> after [µm] | reduction contour / spike / G | true reduction where "
-           "firm | spike verdict | worse |",
+           "[µm] | rms over the run, settling hold included, before -> after [µm] "
+           "| largest spike before -> after [µm] | G before -> after [µm] "
+           "| reduction contour / spike / G | true reduction where firm | spike verdict "
+           "| worse |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         fx = "/".join(f"{v:.2g}" for v in r["factors"].values())

@@ -115,22 +115,29 @@ def test_machine_show_and_bode_give_the_margins(capsys):
 
 
 @pytest.mark.parametrize("loop", [velocity_open_loop, position_open_loop])
-def test_the_response_is_the_resolvents_to_the_bit(loop):
-    """``C (zI - Phi)^-1 Gam + D`` with ``zI - Phi`` built in place (no temporaries of the
-    whole stack of matrices) gives the numbers of the textbook ``z * I - Phi``, to the bit,
-    on each axis of the built-in machine over a margin's grid and at single frequencies."""
+def test_the_response_is_the_resolvents_to_its_conditioning(loop):
+    """``C (zI - Phi)^-1 Gam + D`` through the balanced Hessenberg form agrees with the
+    resolvent solved densely and refined twice on residuals taken in extended precision,
+    on each axis of the built-in machine, over a margin's grid (all frequencies at once)
+    and at single frequencies (solved densely), within 1e-6: the matrices' condition
+    numbers reach 1e11, the dense solve alone is within some 1e-8, and a reduction of
+    the unbalanced matrix is off by 1e-4 near the Nyquist frequency."""
 
-    def textbook(Phi, Gam, C, D, dt, f):
+    def refined(Phi, Gam, C, D, dt, f):
         z = np.exp(2j * np.pi * f * dt)
         M = z[:, None, None] * np.eye(Phi.shape[0])[None] - Phi[None]
-        b = np.broadcast_to(Gam[:, 0], (f.size, Phi.shape[0]))[..., None]
-        return np.linalg.solve(M, b)[..., 0] @ C[0] + D[0, 0]
+        b = np.broadcast_to(Gam[:, 0], (f.size, Phi.shape[0]))[..., None].astype(complex)
+        x = np.linalg.solve(M, b)
+        for _ in range(2):
+            r = b.astype(np.clongdouble) - M.astype(np.clongdouble) @ x.astype(np.clongdouble)
+            x = x + np.linalg.solve(M, r.astype(complex))
+        return x[..., 0] @ C[0] + D[0, 0]
 
     for axis in builtin_machine().axes.values():
         Phi, Gam, C, D = loop(axis.mechanics, axis.servo)
         dt = axis.servo.T_v if loop is velocity_open_loop else axis.servo.T_p
         f = np.logspace(-3, np.log10(0.5 / dt), 3000)
-        for fs in (f, f[:1], f[1234:1235], f[-1:]):
+        for fs in (f, f[-200:], f[:1], f[1234:1235], f[-1:]):
             got = discrete_freqresp(Phi, Gam, C, D, dt, fs)
-            want = textbook(Phi, Gam, C, D, dt, fs)
-            np.testing.assert_array_equal(got.view(np.int64), want.view(np.int64))
+            want = refined(Phi, Gam, C, D, dt, fs)
+            assert np.max(np.abs(got - want) / np.abs(want)) < 1e-6

@@ -20,6 +20,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..mechanics.lumped import AxisMechanics
+from .freqresp import loop_response
 from .params import ServoParams
 from .sampled import position_open_loop, velocity_open_loop
 
@@ -65,7 +66,8 @@ class LoopMargins:
 
 
 def discrete_freqresp(Phi, Gam, C, D, dt: float, f_hz) -> np.ndarray:
-    """Response of a SISO discrete system ``C (zI - Phi)^-1 Gam + D`` at ``z = e^(j w dt)``.
+    """Response of a SISO discrete system ``C (zI - Phi)^-1 Gam + D`` at ``z = e^(j w dt)``
+    (:func:`.freqresp.loop_response`).
 
     Parameters
     ----------
@@ -76,18 +78,7 @@ def discrete_freqresp(Phi, Gam, C, D, dt: float, f_hz) -> np.ndarray:
     f_hz : array_like
         Frequencies [Hz].
     """
-    f = np.atleast_1d(np.asarray(f_hz, dtype=float))
-    z = np.exp(2j * np.pi * f * dt)
-    n = Phi.shape[0]
-    # zI - Phi written in place: the same numbers as z * I - Phi (apart from the sign of
-    # its zeros) without two temporaries of the whole stack, which took as long as the
-    # solves on a margin's grid of some 6 000 frequencies
-    M = np.empty((f.size, n, n), complex)
-    M[...] = -np.asarray(Phi, float)
-    d = np.arange(n)
-    M[:, d, d] = z[:, None] - np.diagonal(Phi)[None, :]
-    x = np.linalg.solve(M, np.broadcast_to(Gam[:, 0], (f.size, n))[..., None])[..., 0]
-    return x @ C[0] + D[0, 0]
+    return loop_response(Phi, Gam, C, D, dt)(f_hz)
 
 
 def _grid(f_nyquist: float, f_low: float, poles, dt: float) -> np.ndarray:
@@ -124,7 +115,8 @@ def margins_of(L, f_nyquist: float, f_low: float = 1e-3, poles=(), dt: float = 0
     f = _grid(f_nyquist, f_low, poles, dt or 0.5 / f_nyquist)
     f[-1] = f_nyquist
     h = L(f)
-    mag = np.log(np.abs(h))
+    with np.errstate(divide="ignore"):  # a filter's zero at the Nyquist frequency: -inf
+        mag = np.log(np.abs(h))
     wc = [brentq(lambda x: float(np.log(np.abs(L(x)[0]))), f[i], f[i + 1], xtol=1e-12,
                  rtol=1e-13) for i in np.flatnonzero(np.diff(np.sign(mag)) != 0)]
     w180 = [brentq(lambda x: float(L(x)[0].imag), f[i], f[i + 1], xtol=1e-12, rtol=1e-13)
@@ -161,14 +153,15 @@ def position_loop_gain(mech: AxisMechanics, servo: ServoParams, f_hz) -> np.ndar
 def velocity_margins(mech: AxisMechanics, servo: ServoParams) -> LoopMargins:
     """Margins of the sampled velocity loop (:func:`velocity_open_loop`)."""
     v = velocity_open_loop(mech, servo)
-    return margins_of(lambda f: -discrete_freqresp(*v, servo.T_v, f), 0.5 / servo.T_v,
+    response = loop_response(*v, servo.T_v)
+    return margins_of(lambda f: -response(f), 0.5 / servo.T_v,
                       poles=np.linalg.eigvals(v[0]), dt=servo.T_v)
 
 
 def position_margins(mech: AxisMechanics, servo: ServoParams) -> LoopMargins:
     """Margins of the sampled position loop (:func:`position_open_loop`)."""
     p = position_open_loop(mech, servo)
-    return margins_of(lambda f: discrete_freqresp(*p, servo.T_p, f), 0.5 / servo.T_p,
+    return margins_of(loop_response(*p, servo.T_p), 0.5 / servo.T_p,
                       poles=np.linalg.eigvals(p[0]), dt=servo.T_p)
 
 

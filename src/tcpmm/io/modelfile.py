@@ -8,8 +8,6 @@ from __future__ import annotations
 
 from typing import Literal
 
-import yaml
-
 from ..machines.builtin import builtin_machine
 from ..model import Machine
 from ..path.settings import InterpolatorSettings
@@ -18,7 +16,6 @@ from .text import read_text
 from .truthfile import FORMAT as TRUTH_FORMAT
 from .truthfile import truth_machine
 from .unitchecks import warn_unit_suspects
-from .yamlutil import load_yaml, validate_yaml
 
 FORMAT = "tcpmm-model/1"
 _HINT = "see the keys that `tcpmm machine export` writes"
@@ -91,6 +88,8 @@ def with_interpolation(machine: Machine) -> Machine:
 
 def dumps_machine(machine: Machine) -> str:
     """The model file text of a machine."""
+    import yaml  # here: a built-in machine is read without PyYAML (some 15 ms)
+
     body = yaml.safe_dump(machine_to_dict(machine), sort_keys=False, default_flow_style=False)
     return _HEADER.format(fmt=FORMAT) + body
 
@@ -107,6 +106,8 @@ def _to_machine(mf: ModelFile) -> Machine:
 
 def loads_machine(text: str, file="<model>") -> Machine:
     """Parse model-file text; a number that looks written in mm or um is warned of."""
+    from .yamlutil import validate_yaml
+
     machine = _to_machine(validate_yaml(text, ModelFile, file, "machine model", _HINT, FORMAT))
     warn_unit_suspects(machine, file)
     return machine
@@ -126,6 +127,8 @@ def read_machine(path) -> Machine:
         return builtin_machine(s.split(":", 1)[1])
     text = read_text(path, "machine model")
     if TRUTH_FORMAT in text:  # a reference machine's true parameters are a model too
+        from .yamlutil import load_yaml
+
         d, _ = load_yaml(text, path)
         if isinstance(d, dict) and d.get("format") == TRUTH_FORMAT:
             return truth_machine(d, path)

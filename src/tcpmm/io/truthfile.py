@@ -16,7 +16,6 @@ from ..mechanics.lumped import AxisMechanics
 from ..model import Axis, AxisFriction, Machine, Sensors
 from ..servo.params import ServoParams
 from .text import read_text
-from .yamlutil import load_yaml
 
 FORMAT = "tcpmm-truth/1"
 
@@ -81,6 +80,8 @@ def machine_from_truth(path) -> Machine:
         one velocity period of computation delay, feedforward from the slope of the current
         command segment, velocity from the backward difference of the encoder [SI].
     """
+    from .yamlutil import load_yaml  # here: reading a model needs PyYAML, a built-in not
+
     d, _ = load_yaml(read_text(path, "truth file"), path)
     return truth_machine(d, path)
 

@@ -4,6 +4,7 @@ command runs, and the list of commands still names every one."""
 import importlib
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 import typer
@@ -44,6 +45,21 @@ def test_a_command_imports_only_its_own_module(argv, modules):
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True)
     assert done.stdout.strip().splitlines()[-1] == repr(modules)
+
+
+def test_a_simulate_to_csv_on_the_built_in_machine_imports_only_what_it_uses(tmp_path):
+    """No PyYAML (the built-in machine is read from no file), no table of rich's emoji (no
+    message has an emoji code), none of the libraries of other commands: each would be
+    start-up time of the command (``tcpmm simulate`` of the paper's circle)."""
+    program = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"
+    argv = ["simulate", "builtin:vmc", "--gcode", str(program), "-o", str(tmp_path / "r.csv")]
+    unused = ("yaml", "rich._emoji_codes", "scipy", "pandas", "pyarrow", "matplotlib")
+    code = (f"import sys; from tcpmm.cli import main; rc = main({argv!r}); "
+            f"print(rc, sorted(m for m in {unused!r} if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.strip().splitlines()[-1] == "0 []"
+    assert (tmp_path / "r.csv").stat().st_size > 0
 
 
 def test_a_mistyped_command_gets_a_suggestion(capsys):

@@ -18,6 +18,7 @@ from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_alias import alias_terms
 from .circle_display import rename_axes
+from .circle_ellipse import open_by_ellipse
 from .circle_fit import Arc
 from .circle_model import angle_step
 from .circle_ranking import deviations, per_circle_terms, rank_terms
@@ -91,6 +92,8 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
                 for k in undetermined_terms(fit) if k not in NEEDS_PAIR or k == "squareness"})
     why.update({rename_axes(k, axes): v for k, v in _unplaced(fit, terms, a).items()})
+    why.update({rename_axes(k, axes): v
+                for k, v in open_by_ellipse(fit, terms, arcs, radius_m, SINGLE).items()})
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,

@@ -1,0 +1,87 @@
+"""What one direction's terms owe to reading its ellipse as a squareness.
+
+One direction shows a squareness and a servo mismatch as one ellipse at 45 deg, and its fit
+reads it as a squareness. Read as a servo mismatch, the same ellipse is a lag: the axes
+reverse that far from the quadrant points, and the lag's radial error has a part of order
+``R mu^2`` beyond the ellipse (:func:`.circle_model.servo_remainder`). Where the ellipse is
+large (a lag of a millisecond at a high feed, sampled coarsely), the backlash, the bows and
+the centre read differently under the two readings: a lag of 0.93 ms on R 22 mm at F5000
+sampled at 250 Hz moves a backlash of 5.45 um by 0.47 um, a bow by 0.19 um. The fit is done
+again with the ellipse as a servo mismatch, columns and cyclic errors as they are; a term
+that moves by more than 2 % of itself and by more than 0.1 um of the radial error it makes
+is not determined by one direction, and both of its readings are said.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .circle_fit import fit_terms
+
+#: Terms read again, their names in the report, the radial error per unit of each at the
+#: circle's radius ``r`` [m/unit] and how a value is said [-].
+READ_AGAIN = {
+    "backlash_X": ("backlash_X", lambda r: 0.5, "um"),
+    "backlash_Y": ("backlash_Y", lambda r: 0.5, "um"),
+    "straightness_X": ("straightness_X", lambda r: 1.0, "um"),
+    "straightness_Y": ("straightness_Y", lambda r: 1.0, "um"),
+    "centre_X_0": ("centre_offset_X", lambda r: 1.0, "um"),
+    "centre_Y_0": ("centre_offset_Y", lambda r: 1.0, "um"),
+    "scale_mismatch": ("scale_mismatch", lambda r: r / 2, "ppm"),
+}
+#: Least move of a term, as a share of it, and as radial error, that leaves it open [-, m].
+SHARE, RADIAL_M = 0.02, 0.1e-6
+
+
+def as_mismatch(fit, arcs, radius_m, shared):
+    """The fit of ``fit``'s columns and cyclic errors with the ellipse read as a servo
+    mismatch instead of a squareness; the arguments as :func:`open_by_ellipse` takes
+    them [-]."""
+    def mismatch(n):
+        return "servo_angle" if n == "squareness" else n
+
+    columns = [mismatch(n) for n, c in zip(fit.names, fit.coef, strict=True)
+               if np.isfinite(c)]
+    return fit_terms(arcs, radius_m, [mismatch(n) for n in shared], waves=fit.waves,
+                     columns=columns)
+
+
+def open_by_ellipse(fit, terms: dict, arcs, radius_m: float, shared) -> dict:
+    """The terms the ellipse's reading moves beyond :data:`SHARE` and :data:`RADIAL_M`:
+    their values become NaN, the fit's too, so that the ranking leaves them out; why,
+    with both readings [-].
+
+    Parameters
+    ----------
+    fit : TermFit
+        One direction's fit [-].
+    terms : dict
+        Its terms, ``name -> (value, unit)``, changed in place [SI].
+    arcs : list of Arc
+        Its circle or arc [-].
+    radius_m : float
+        Nominal radius [m].
+    shared : sequence of str
+        The terms it fitted besides radius and centre [-].
+    """
+    if "squareness" not in fit.names or not np.isfinite(fit["squareness"]) \
+            or fit["squareness"] == 0.0:
+        return {}
+    alt = as_mismatch(fit, arcs, radius_m, shared)
+    out = {}
+    for name, (term, per_unit, unit) in READ_AGAIN.items():
+        if name not in fit.names or name not in alt.names:
+            continue
+        a, b = fit[name], alt[name]
+        if not (np.isfinite(a) and np.isfinite(b)) or \
+                abs(a - b) <= max(SHARE * abs(a), RADIAL_M / per_unit(radius_m)):
+            continue
+        k = 1e6
+        out[term] = ("one direction cannot tell whether its ellipse at 45 deg is a "
+                     f"squareness or a servo mismatch, and this term rests on it: "
+                     f"{a * k:.2f} {unit} as a squareness, {b * k:.2f} {unit} as a servo "
+                     "mismatch (which moves the axes' reversals and adds its remainder); "
+                     "the other direction tells them apart")
+        terms[term] = (float("nan"), terms[term][1])
+        fit.coef[fit.names.index(name)] = np.nan
+    return out

@@ -123,9 +123,14 @@ def test_no_share_applied_is_judged_as_the_programmed_command(machine):
 
 def test_top_level_compensate_guards_the_circle():
     import tcpmm
+    from tcpmm.errors import InputWarning
 
     cmd = circle_command(0.01, 2000 / 60e3)
-    comp = tcpmm.compensate("builtin:vmc", cmd, draws=1, radius_m=0.01, accel_m_per_s2=3.0)
+    # the circle starts on quadrant point A: the API says, once, that it has no spike there
+    with pytest.warns(InputWarning, match="no reversal spike is reported at A") as said:
+        comp = tcpmm.compensate("builtin:vmc", cmd, draws=1, radius_m=0.01,
+                                accel_m_per_s2=3.0)
+    assert sum("quadrant point A" in str(w.message) for w in said) == 1
     assert set(comp.robustness["circle"]) == {"spike", "circular_deviation"}
     assert comp.bounds["X"].accel == 3.0
 

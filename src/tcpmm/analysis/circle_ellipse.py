@@ -21,12 +21,12 @@ from .circle_fit import fit_terms
 #: Terms read again, their names in the report, the radial error per unit of each at the
 #: circle's radius ``r`` [m/unit] and how a value is said [-].
 READ_AGAIN = {
-    "backlash_X": ("backlash_X", lambda r: 0.5, "um"),
-    "backlash_Y": ("backlash_Y", lambda r: 0.5, "um"),
-    "straightness_X": ("straightness_X", lambda r: 1.0, "um"),
-    "straightness_Y": ("straightness_Y", lambda r: 1.0, "um"),
-    "centre_X_0": ("centre_offset_X", lambda r: 1.0, "um"),
-    "centre_Y_0": ("centre_offset_Y", lambda r: 1.0, "um"),
+    "backlash_X": ("backlash_X", lambda r: 0.5, "µm"),
+    "backlash_Y": ("backlash_Y", lambda r: 0.5, "µm"),
+    "straightness_X": ("straightness_X", lambda r: 1.0, "µm"),
+    "straightness_Y": ("straightness_Y", lambda r: 1.0, "µm"),
+    "centre_X_0": ("centre_offset_X", lambda r: 1.0, "µm"),
+    "centre_Y_0": ("centre_offset_Y", lambda r: 1.0, "µm"),
     "scale_mismatch": ("scale_mismatch", lambda r: r / 2, "ppm"),
 }
 #: Least move of a term, as a share of it, and as radial error, that leaves it open [-, m].

@@ -141,3 +141,14 @@ def test_the_response_is_the_resolvents_to_its_conditioning(loop):
             got = discrete_freqresp(Phi, Gam, C, D, dt, fs)
             want = refined(Phi, Gam, C, D, dt, fs)
             assert np.max(np.abs(got - want) / np.abs(want)) < 1e-6
+
+
+def test_a_loop_of_no_numbers_has_no_response():
+    """A loop matrix holding NaN (a gain or a parameter that is none) gives NaN at every
+    frequency, on the grid and at single ones, as a dense solve of it does, and raises
+    nothing: the reduction refuses such a matrix."""
+    Phi = 0.5 * np.eye(3)
+    Phi[0, 1] = np.nan
+    Gam, C, D = np.ones((3, 1)), np.ones((1, 3)), np.zeros((1, 1))
+    for f in ([1.0], np.linspace(1.0, 100.0, 100)):
+        assert np.isnan(discrete_freqresp(Phi, Gam, C, D, 1e-3, f)).all()

@@ -36,8 +36,10 @@ def loop_response(Phi, Gam, C, D, dt: float):
         ``response(f_hz)`` -> complex array, ``C (zI - Phi)^-1 Gam + D`` at
         ``z = e^(j 2 pi f dt)`` for each frequency ``f_hz`` [Hz] (array_like).
     """
-    balanced, (scale, _) = matrix_balance(np.asarray(Phi, float), permute=False,
-                                          separate=True)
+    Phi = np.asarray(Phi, float)
+    if not np.isfinite(Phi).all():  # no numbers to reduce: no response, as a solve gives
+        return lambda f_hz: np.full(np.atleast_1d(f_hz).shape, complex(np.nan, np.nan))
+    balanced, (scale, _) = matrix_balance(Phi, permute=False, separate=True)
     H, Q = hessenberg(balanced, calc_q=True)
     b = Q.T @ (np.asarray(Gam, float)[:, 0] / scale)
     c = (np.asarray(C, float)[0] * scale) @ Q

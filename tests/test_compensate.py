@@ -99,6 +99,7 @@ def test_verdict_over_draws(before, after, expected):
     assert FIRM_RATIO == 5.0  # the reduction the compensation is to deliver
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
 def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
     """At F10000 on R 35 mm the 1 m/s2 limit leaves the correction little room: the shares
     with the smallest contour error (X 1/2, Y 1/4) make G 9 um worse, so the choice judges
@@ -113,6 +114,7 @@ def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
         assert after[k] <= before[k] + 0.5  # the model with its quantised feedback
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
 def test_no_share_applied_is_judged_as_the_programmed_command(machine):
     """With every share 0 the command is the programmed one, and so are its figures."""
     comp = compensate(machine, circle_command(0.01, 2000 / 60e3), iterations=2)
@@ -556,6 +558,7 @@ def test_a_correction_the_slower_plan_makes_worse_is_learned_on_the_program(tmp_
     assert "learned again on the program as programmed" in capsys.readouterr().out
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
 def test_the_python_api_learns_on_the_program_too(tmp_path, monkeypatch):
     """tcpmm.compensate kept a correction its slower plan made worse, and wrote a plan no
     draw kept as planned, where the command line did neither: it now goes the same way."""

@@ -59,6 +59,7 @@ def _spike(fig):
     return fig["circle"]["largest_spike_um"]
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
 def test_pulse_and_correction_together_beat_each_alone(rough, circle):
     """On a model whose reversals carry four times the built-in friction the pulse lowers
     the spike a little and the correction much more; the correction learned with the pulse
@@ -78,6 +79,7 @@ def test_pulse_and_correction_together_beat_each_alone(rough, circle):
     assert _spike(predicted_scores(rough, without, R)["after"]) > together + 1.0
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
 def test_robust_choice_leaves_no_draw_worse_with_both(rough, circle):
     """Pulse and correction learned for four times the built-in friction, judged on the
     same axes without friction: together and in full they make the spike worse there.

@@ -173,12 +173,6 @@ def position_open_loop(mech: AxisMechanics, servo: ServoParams):
     return _split(r.state(), y[None, :], r.nz)
 
 
-#: The last spectral radii found, with the (frozen) mechanics and servo settings they are
-#: of: ``tcpmm simulate`` refuses an unstable axis, then the simulation warns of one, each
-#: asking of the same objects (some 2 ms an axis) [-].
-_RADII: list = []
-
-
 def sampled_spectral_radius(mech: AxisMechanics, servo: ServoParams) -> float:
     """Spectral radius of the lifted sampled loop: below 1 it is stable [-].
 
@@ -194,13 +188,8 @@ def sampled_spectral_radius(mech: AxisMechanics, servo: ServoParams) -> float:
     float
         Largest modulus of the eigenvalues of ``Phi`` (:func:`lifted_closed_loop`) [-].
     """
-    for m, s, rho in _RADII:
-        if m is mech and s is servo:
-            return rho
     Phi = lifted_closed_loop(mech, servo)[0]
-    rho = float(np.max(np.abs(np.linalg.eigvals(Phi))))
-    _RADII[:] = [(mech, servo, rho), *_RADII[:7]]
-    return rho
+    return float(np.max(np.abs(np.linalg.eigvals(Phi))))
 
 
 def initial_state(mech: AxisMechanics, servo: ServoParams, x0: np.ndarray) -> np.ndarray:

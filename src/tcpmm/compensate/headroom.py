@@ -145,20 +145,8 @@ def as_programmed(machine, full, bounds, comp, circle=None):
     """The program at the axes' full limits, uncorrected, where the draws keep no share of
     the correction learned on its slower plan: the headroom serves only the correction,
     and the slower plan alone, which no draw has judged, can make a figure worse. The
-    draws' verdicts of ``comp`` are kept.
-
-    Parameters
-    ----------
-    machine : Machine
-        The model [SI].
-    full : Command
-        The program at the axes' full limits [m].
-    bounds : dict of str to AxisBounds
-        The axes' limits [-].
-    comp : Compensation
-        The compensation of the slower plan, no share of it applied [-].
-    circle : tuple, optional
-        ``(radius, centre, plane)`` of the circle the program holds [m, m, -].
+    draws' verdicts of ``comp`` are kept. The arguments as :func:`on_the_program` takes
+    them, ``comp`` with no share of it applied [-].
 
     Returns
     -------

@@ -195,3 +195,104 @@ def warn_sparse(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
         f"{feed:.4g} mm/min: a reversal's spike lasts some milliseconds and is not resolved, "
         "and the servo mismatch reads in the same unit as the time; if time_s was logged in "
         "milliseconds, divide it by 1000"), stacklevel=3)
+
+
+#: Largest radius [m] and feed [m/s] of a machine tool's circular test, and its smallest
+#: radius [m]: beyond them a run's positions are in another unit than its columns say
+#: (metres or micrometres under ``*_mm``), and every figure is off by 1000 [m, m/s, m].
+LARGEST_RADIUS_M, FASTEST_M_PER_S, SMALLEST_RADIUS_M = 5.0, 2.0, 1e-3
+
+
+def warn_scale(rate_rad_s: float, radius_m: float, direction: str) -> None:
+    """Warn (:class:`InputWarning`) where a pass's radius or feed lies beyond any machine
+    tool's circular test (:data:`LARGEST_RADIUS_M`, :data:`FASTEST_M_PER_S`,
+    :data:`SMALLEST_RADIUS_M`): positions logged in metres or micrometres under the
+    ``*_mm`` columns, with the radius given in the same unit, read so.
+
+    Parameters
+    ----------
+    rate_rad_s : float
+        The pass's angular speed [rad/s].
+    radius_m : float
+        Nominal radius [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    speed = abs(rate_rad_s) * radius_m
+    if (SMALLEST_RADIUS_M <= radius_m <= LARGEST_RADIUS_M
+            and not speed > FASTEST_M_PER_S):
+        return
+    def shown(v):
+        return f"{float(f'{v:.4g}'):.10g}"
+
+    warnings.warn(InputWarning(
+        f"the {direction.upper()} pass is a circle of radius {shown(radius_m * 1e3)} mm at a "
+        f"feed of {shown(speed * 6e4)} mm/min, beyond a machine tool's circular test (radius "
+        f"{SMALLEST_RADIUS_M * 1e3:g} mm to {LARGEST_RADIUS_M:g} m, feed up to "
+        f"{FASTEST_M_PER_S * 6e4:g} mm/min): if the positions were logged in metres or "
+        "micrometres, convert the *_mm columns to millimetres and give --radius in mm; "
+        "until then every figure here is off by a factor of 1000"), stacklevel=3)
+
+
+def warn_pass(t, cp, ang, missing, radius_m) -> None:
+    """What a circle pass ``cp`` lacks, in warnings: its log's gaps, the quadrant points it
+    gives no spike at, an unsteady feed, samples too sparse for a spike, a radius or feed
+    of another unit [-].
+
+    Parameters
+    ----------
+    t : ndarray
+        Time of the pass's samples [s].
+    cp : CirclePass
+        The pass [-].
+    ang : ndarray
+        Angle of its reference path, unwrapped [rad].
+    missing : list of str
+        The quadrant points it gives no spike at [-].
+    radius_m : float
+        Nominal radius [m].
+    """
+    d = cp.direction
+    gapped = warn_gaps(t, ang, d)
+    warn_uncrossed(missing, d, cp.arc_deg, gapped)
+    warn_unsteady(t, ang, d, cp.arc_deg)
+    warn_sparse(t, cp.rate_rad_s, radius_m, d)
+    warn_scale(cp.rate_rad_s, radius_m, d)
+
+
+def check_sensor_path(x, y, ref_xy, centre, radius_m, names, direction) -> None:
+    """Refuse a sensor whose circle turns against its reference's (the command's), or lies
+    a radius or more from it at the same instants: an axis of that sensor negated, or its
+    two axes swapped (a circle mirrored turns the other way; turned half a turn it lies a
+    diameter away). No servo lags its command by a radius (60 deg of the circle).
+
+    Parameters
+    ----------
+    x, y : ndarray
+        The sensor's path over the pass [m].
+    ref_xy : tuple of ndarray
+        The reference's path at the same instants [m].
+    centre : tuple
+        Nominal centre [m].
+    radius_m : float
+        Nominal radius [m].
+    names : tuple of str
+        The sensor's and the reference's names, and the plane's axes [-].
+    direction : {"ccw", "cw"}
+        The reference's direction of travel [-].
+    """
+    sensor, ref, ax, ay = names
+    turn = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
+    turned = turn[-1] - turn[0] if turn.size > 1 else 0.0
+    against = turned * (1.0 if direction == "ccw" else -1.0) < 0
+    apart = float(np.median(np.hypot(x - ref_xy[0], y - ref_xy[1]))) if x.size else 0.0
+    if not against and not apart >= radius_m:
+        return
+    how = (f"turns {'clockwise' if direction == 'ccw' else 'counter-clockwise'} where the "
+           f"{ref} turns {direction.upper()}" if against else
+           f"lies {apart * 1e3:.4g} mm from the {ref} at the same instants, more than the "
+           f"radius of {radius_m * 1e3:g} mm")
+    raise InputError(
+        f"the {sensor} circle {how}: an axis of the {sensor} signal has the opposite sign, "
+        f"or its {ax} and {ay} are swapped; check the signs and the columns "
+        f"{ax.lower()}_{sensor}_mm and {ay.lower()}_{sensor}_mm")

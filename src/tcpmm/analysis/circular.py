@@ -29,14 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from .circle_checks import (
-    not_found_error,
-    present_sensors,
-    warn_gaps,
-    warn_sparse,
-    warn_uncrossed,
-    warn_unsteady,
-)
+from .circle_checks import check_sensor_path, not_found_error, present_sensors, warn_pass
 from .circle_passes import (  # noqa: F401
     find_passes,
     find_stretches,
@@ -327,16 +320,6 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
                         direction)
 
 
-def _warn(t, cp, ang, missing, radius_m) -> None:
-    """What a pass lacks, in warnings: its log's gaps, the quadrant points it gives no
-    spike at, an unsteady feed, samples too sparse for a spike [-]."""
-    d = cp.direction
-    gapped = warn_gaps(t, ang, d)
-    warn_uncrossed(missing, d, cp.arc_deg, gapped)
-    warn_unsteady(t, ang, d, cp.arc_deg)
-    warn_sparse(t, cp.rate_rad_s, radius_m, d)
-
-
 def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
                    sensors=SENSORS) -> CircleResult:
     """Circular-test analysis of a run: its full circles, else its arcs
@@ -384,6 +367,9 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
                                                            Y.sensor("cmd")[sl], radius_m,
                                                            centre_m)
         for s in present:
+            if s != ref:
+                check_sensor_path(X.sensor(s)[sl], Y.sensor(s)[sl], (X.sensor(ref)[sl],
+                                  Y.sensor(ref)[sl]), centre_m, radius_m, (s, ref, *axes), d)
             on = within_span(X.sensor(s), Y.sensor(s), sl, centre_m, ref_ang) if s != ref else sl
             cp.sensors[s] = analyse_sensor(X.sensor(s)[on], Y.sensor(s)[on], radius_m,
                                            centre_m, d)
@@ -391,7 +377,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
                                                for sc in cp.sensors.values())]
         for sc in cp.sensors.values():  # what the warning says holds for every sensor
             sc.leave_out(missing)
-        _warn(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
+        warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

@@ -143,7 +143,7 @@ def _builtin_circle(out, step, files):
     run.write_csv(out / "run.csv")
     files["run"] = out / "run.csv"
     step("circular test analysis")
-    res = analyse_circle(run, mm_to_m(RADIUS_MM))
+    res = analyse_circle(run, mm_to_m(RADIUS_MM), settling=False)
     table = res.to_pandas()
     write_table_atomic(table, out / "circle_table.csv", "%.4f")
     write_text_atomic(out / "circle.json", json.dumps(res.to_dict(), indent=2))
@@ -239,7 +239,7 @@ def identify_and_predict(machine, cmd, out, step, files):
     predicted = simulate(idn.machine, cmd)
     predicted.write_csv(out / "predicted_run.csv")
     R = mm_to_m(RADIUS_MM)
-    rm, rp = analyse_circle(measured, R), analyse_circle(predicted, R)
+    rm, rp = (analyse_circle(r, R, settling=False) for r in (measured, predicted))
     cmp = compare_circles(rm, rp)
     write_table_atomic(cmp.to_pandas(), out / "table2.csv", "%.3f")
     files.update(predicted=out / "predicted_run.csv", table2=out / "table2.csv")

@@ -39,6 +39,7 @@ from .circle_passes import (  # noqa: F401
     steady_rate,
     within_span,
 )
+from .circle_settling import warn_unsettled
 from .circle_spikes import (  # noqa: F401  (the spikes are part of this module's interface)
     QUADRANTS,
     reversal_lobes,
@@ -321,7 +322,7 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
 
 
 def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
-                   sensors=SENSORS) -> CircleResult:
+                   sensors=SENSORS, settling=True) -> CircleResult:
     """Circular-test analysis of a run: its full circles, else its arcs
     (:mod:`tcpmm.analysis.circle_passes`).
 
@@ -340,6 +341,10 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         Keep only passes in this direction [-].
     sensors : tuple of str
         Sensors to analyse where present [-].
+    settling : bool
+        Say where a pass starts before the servo has settled
+        (:mod:`tcpmm.analysis.circle_settling`); off for a run the caller made from its
+        own command, whose transient is part of what it predicts [-].
     """
     if not radius_m > 0:
         raise InputError(f"the circle radius must be positive (got {radius_m})")
@@ -378,6 +383,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         for sc in cp.sensors.values():  # what the warning says holds for every sensor
             sc.leave_out(missing)
         warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
+        if settling:
+            warn_unsettled(X, Y, sl, present, centre_m, d, cp.arc_deg)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

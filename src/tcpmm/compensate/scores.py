@@ -162,7 +162,8 @@ def circle_figures(run, radius_m: float, centre_m=(0.0, 0.0), plane=("X", "Y"),
     with warnings.catch_warnings():
         if not warn:
             warnings.simplefilter("ignore")
-        res = analyse_circle(run, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"))
+        res = analyse_circle(run, radius_m, centre_m, plane=plane, sensors=("cmd", "tcp"),
+                             settling=False)
     out = []
     for p in res.passes:
         s = p.sensors["tcp"]

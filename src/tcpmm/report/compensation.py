@@ -64,9 +64,9 @@ def _polar(machine, comp, circle):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             rb = analyse_circle(before, radius_m, centre_m, plane=plane,
-                                sensors=("cmd", "tcp"))
+                                sensors=("cmd", "tcp"), settling=False)
             ra = analyse_circle(after, radius_m, centre_m, plane=plane,
-                                sensors=("cmd", "tcp"))
+                                sensors=("cmd", "tcp"), settling=False)
     except InputError:
         return None
     return plot_circle(rb, sensors=["tcp"], overlay=ra,

@@ -188,7 +188,7 @@ def _test_figures(t, machine, sensor: str, simulate, out: dict, kept: dict) -> N
     # the command (where the passes are found) and the sensor judged: the others' figures
     # would be computed to be thrown away
     res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane,
-                         sensors=tuple(dict.fromkeys(("cmd", sensor))))
+                         sensors=tuple(dict.fromkeys(("cmd", sensor))), settling=False)
     out.update(circle_figures(res, t.label, sensor))
 
 

@@ -288,7 +288,8 @@ def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0
         run = simulate(m, command)
         if progress is not None:
             progress()
-        return None if run.meta.get("faults") else analyse_circle(run, radius_m, centre_m)
+        return None if run.meta.get("faults") else analyse_circle(run, radius_m, centre_m,
+                                                                  settling=False)
 
     nominal = _nominal(circle(machine), sensor)
     directions = [p.direction for p in nominal.passes]

@@ -94,7 +94,8 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
         try:
             with warnings.catch_warnings():  # of tune's own circle, which the user runs not
                 warnings.simplefilter("ignore", InputWarning)
-                res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("cmd", "tcp"))
+                res = analyse_circle(run, mm_to_m(RADIUS_MM), sensors=("cmd", "tcp"),
+                                     settling=False)
         except InputError:  # the command holds no circle: no figure of it
             return none
         out = PathFigures()

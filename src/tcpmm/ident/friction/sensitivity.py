@@ -174,7 +174,7 @@ def spike_range(machine: Machine, name: str, frictions) -> float | None:
         m = machine.with_axis(name, a.replace(friction=fr))
         run = simulate(m.model_copy(update={"axes": {k: m.axes[k] for k in (name, other)}}),
                        cmd)
-        spikes.append(analyse_circle(run, radius, plane=(name, other)).passes[0]
+        spikes.append(analyse_circle(run, radius, plane=(name, other), settling=False).passes[0]
                       .sensors["tcp"].spikes)
     return max(abs(spikes[0][q] - spikes[-1][q]) for q in spikes[0])
 

@@ -49,7 +49,7 @@ def circle_metrics(run, radius_m: float, centre_m=(0.0, 0.0), sensor: str = "tcp
     dict of str to float
         The metrics; NaN for a direction without a full circle [m].
     """
-    res = analyse_circle(run, radius_m, centre_m, sensors=("cmd", sensor))
+    res = analyse_circle(run, radius_m, centre_m, sensors=("cmd", sensor), settling=False)
     out = dict.fromkeys(circle_metric_names(), math.nan)
     for d in DIRECTIONS:
         p = next((p for p in res.passes if p.direction == d), None)

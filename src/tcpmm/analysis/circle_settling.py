@@ -1,0 +1,130 @@
+"""Whether the servo has settled when a circle pass starts.
+
+After the feed ramp into a circle the position loop's transient outlasts the ramp by some
+hundreds of milliseconds; a pass cut from a run that feeds in over too little of the circle
+holds it, and the terms and spikes read it as errors of the machine (bench C's true machine
+at F10000, a CCW and a CW circle of 1.25 turns from quadrant point A as the bench's own,
+reads a centre offset of X of 3.6 um, a bow of Y of -4.0 um and a backlash of X of 3.6 um;
+of 1.75 turns, which start further from the feed ramp, 0.0, 0.0 and 7.5 um). The command is
+steady there already; the sign is in the following error. Along a settled circle a
+sensor's following error along the path keeps a steady course: a constant, the harmonics
+of one to four a turn that a centre offset and the axes' differing lags make, and the
+reversals' spikes (their windows are not judged). A pass whose first tenth departs from
+that course by more than twice what its middle half does, and by more than 1 um, is said.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..errors import InputWarning
+from .circle_model import fit_mask
+
+#: A pass's end departs from the steady course when it does by more than this many times
+#: its middle half's largest departure, and by more than :data:`SETTLE_FLOOR_M` [-]
+SETTLE_RATIO = 2.0
+#: see :data:`SETTLE_RATIO`: a departure of the following error moves the terms by some
+#: tenth to a third of it (bench C at F10000: 30 um, and terms 1.5 to 4 um off), so one of
+#: 1 um leaves them within about 0.2 um [m]
+SETTLE_FLOOR_M = 1e-6
+#: Share of the pass at either end that is judged [-]
+END_SHARE = 0.1
+#: Shortest pass judged: the steady course is fitted over its middle half [deg]
+MIN_JUDGED_DEG = 180.0
+
+
+def departures(cmd_xy, sensor_xy, centre) -> tuple[np.ndarray, np.ndarray]:
+    """The angle of the command about ``centre`` and how far the sensor's following error
+    along the path departs from its steady course (module docstring), per sample; NaN in
+    the reversals' windows (5 deg before each quadrant point to 25 deg after), where the
+    spikes lie [rad, m].
+
+    Parameters
+    ----------
+    cmd_xy, sensor_xy : tuple of ndarray
+        The command's and the sensor's path over the pass, at the same instants [m].
+    centre : tuple
+        Nominal centre [m].
+    """
+    ang = np.unwrap(np.arctan2(cmd_xy[1] - centre[1], cmd_xy[0] - centre[0]))
+    along = ((cmd_xy[0] - sensor_xy[0]) * -np.sin(ang)
+             + (cmd_xy[1] - sensor_xy[1]) * np.cos(ang))
+    # the constant lag, the harmonics of the centre's offset (1), the axes' differing lags
+    # (2), and what the servo and the geometry add at 3 and 4 a turn
+    cols = np.column_stack([np.ones_like(ang)] + [f(k * ang) for k in range(1, 5)
+                                                  for f in (np.cos, np.sin)])
+    n = ang.size
+    s = 1.0 if ang[-1] >= ang[0] else -1.0
+    quiet = fit_mask(ang, s, after_deg=(-5.0, 25.0))
+    # fitted between the ends judged, so that a transient there does not bend the course
+    inner = np.zeros(n, bool)
+    k = max(1, int(END_SHARE * n))
+    inner[k:n - k] = True
+    coef = np.linalg.lstsq(cols[inner & quiet], along[inner & quiet], rcond=None)[0]
+    return ang, np.where(quiet, np.abs(along - cols @ coef), np.nan)
+
+
+def unsettled_start(cmd_xy, sensor_xy, centre):
+    """``(degrees, largest departure, middle's largest)`` where the sensor's following
+    error departs from its steady course over the start of a pass (module docstring),
+    else None. Only the start is judged: the servo's transient follows a change of the
+    command and never leads it, and a pass whose command changes before its end is said
+    by :func:`tcpmm.analysis.circle_checks.warn_unsteady` [deg, m, m]."""
+    n = np.size(cmd_xy[0])
+    if n < 40:
+        return None
+    ang, dev = departures(cmd_xy, sensor_xy, centre)
+    if abs(float(np.degrees(ang[-1] - ang[0]))) < MIN_JUDGED_DEG:
+        return None
+    dev = np.nan_to_num(dev)  # the reversals' windows are not judged
+    level = float(np.max(dev[n // 4:n - n // 4]))
+    limit = SETTLE_RATIO * level + SETTLE_FLOOR_M
+    k = max(1, int(END_SHARE * n))
+    if not np.max(dev[:k]) > limit:
+        return None
+    # the settling's extent: to the last sample beyond the limit in the pass's first
+    # quarter
+    last = int(np.flatnonzero(dev[:n // 4] > limit)[-1])
+    return abs(float(np.degrees(ang[last] - ang[0]))), float(np.max(dev[:k])), level
+
+
+def warn_unsettled(X, Y, sl, sensors, centre, direction: str, arc_deg: float) -> None:
+    """Warn (:class:`InputWarning`) where a pass starts before the servo has settled, or
+    ends after it has left the steady course, by the sensor that departs most (module
+    docstring); nothing without a command.
+
+    Parameters
+    ----------
+    X, Y : AxisRun
+        The plane's axes of the run [m].
+    sl : slice
+        The pass's samples [-].
+    sensors : list of str
+        The sensors present, ``cmd`` among them or not [-].
+    centre : tuple
+        Nominal centre [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    arc_deg : float
+        Angle the pass covers [deg].
+    """
+    if "cmd" not in sensors:
+        return
+    cmd = (X.sensor("cmd")[sl], Y.sensor("cmd")[sl])
+    found = {s: unsettled_start(cmd, (X.sensor(s)[sl], Y.sensor(s)[sl]), centre)
+             for s in sensors if s != "cmd"}
+    found = {s: v for s, v in found.items() if v is not None}
+    if not found:
+        return
+    worst = max(found, key=lambda s: found[s][1])
+    deg, dev, level = found[worst]
+    what = "arc" if arc_deg < 360.0 else "circle"
+    warnings.warn(InputWarning(
+        f"the {direction.upper()} {what} starts before the servo has settled: the "
+        f"{worst}'s following error departs from its steady course by up to "
+        f"{dev * 1e6:.3g} µm over its first {deg:.0f} deg, at most {level * 1e6:.3g} µm in "
+        f"mid-{what}; the servo's transient reads as error terms and spikes there (some "
+        "tenth to a third of it); feed in over more of the circle before it, as a ballbar "
+        "test does over half a turn"), stacklevel=3)

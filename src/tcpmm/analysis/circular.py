@@ -321,6 +321,24 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
                         direction)
 
 
+def _sensors(X, Y, sl, present, reference, radius_m, centre_m, how) -> tuple[dict, list]:
+    """Each sensor present over the pass ``sl`` of ``reference`` (name, unwrapped angle),
+    checked against it first; the quadrant points some sensor gives no spike at, left out
+    of every one. ``how``: the direction and the plane's axes [-]."""
+    ref, ref_ang = reference
+    d, out = how[0], {}
+    for s in present:
+        if s != ref:
+            check_sensor_path(X.sensor(s)[sl], Y.sensor(s)[sl], (X.sensor(ref)[sl],
+                              Y.sensor(ref)[sl]), centre_m, radius_m, (s, ref, *how[1:]), d)
+        on = within_span(X.sensor(s), Y.sensor(s), sl, centre_m, ref_ang) if s != ref else sl
+        out[s] = analyse_sensor(X.sensor(s)[on], Y.sensor(s)[on], radius_m, centre_m, d)
+    missing = [q for q in QUADRANTS if any(np.isnan(sc.spikes[q]) for sc in out.values())]
+    for sc in out.values():  # what the warning says holds for every sensor
+        sc.leave_out(missing)
+    return out, missing
+
+
 def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), direction=None,
                    sensors=SENSORS, settling=True) -> CircleResult:
     """Circular-test analysis of a run: its full circles, else its arcs
@@ -342,9 +360,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     sensors : tuple of str
         Sensors to analyse where present [-].
     settling : bool
-        Say where a pass starts before the servo has settled
-        (:mod:`tcpmm.analysis.circle_settling`); off for a run the caller made from its
-        own command, whose transient is part of what it predicts [-].
+        Say where a pass starts before the servo has settled (:mod:`.circle_settling`);
+        off for a prediction, whose transient is part of what it predicts [-].
     """
     if not radius_m > 0:
         raise InputError(f"the circle radius must be positive (got {radius_m})")
@@ -371,17 +388,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
             cp.command_radial_deviation = radial_deviation(X.sensor("cmd")[sl],
                                                            Y.sensor("cmd")[sl], radius_m,
                                                            centre_m)
-        for s in present:
-            if s != ref:
-                check_sensor_path(X.sensor(s)[sl], Y.sensor(s)[sl], (X.sensor(ref)[sl],
-                                  Y.sensor(ref)[sl]), centre_m, radius_m, (s, ref, *axes), d)
-            on = within_span(X.sensor(s), Y.sensor(s), sl, centre_m, ref_ang) if s != ref else sl
-            cp.sensors[s] = analyse_sensor(X.sensor(s)[on], Y.sensor(s)[on], radius_m,
-                                           centre_m, d)
-        missing = [q for q in QUADRANTS if any(np.isnan(sc.spikes[q])
-                                               for sc in cp.sensors.values())]
-        for sc in cp.sensors.values():  # what the warning says holds for every sensor
-            sc.leave_out(missing)
+        cp.sensors, missing = _sensors(X, Y, sl, present, (ref, ref_ang), radius_m,
+                                       centre_m, (d, *axes))
         warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
         if settling:
             warn_unsettled(X, Y, sl, present, centre_m, d, cp.arc_deg)

@@ -5,6 +5,7 @@ The machines are those of an independent simulator (``shared/data/bench_*``): it
 circles at F10000 (1.25 turns from quadrant point A) and, on bench C's true parameters,
 circles of the same ramp fed in over more of the circle."""
 
+import json
 import warnings
 
 import numpy as np
@@ -14,6 +15,7 @@ import pytest
 import tcpmm
 from conftest import bench_path
 from tcpmm.analysis.circular import analyse_circle
+from tcpmm.cli import main
 from tcpmm.io.runfile import read_run
 from tcpmm.result import AxisRun, Run
 
@@ -113,3 +115,18 @@ def test_circles_of_every_error_and_no_servo_are_not_said():
             assert not [w for w in got if "servo has settled" in str(w.message)], case
     finally:
         gen.R, gen.DT = saved
+
+
+def test_compare_says_it_of_the_measurement_once(tmp_path, capsys):
+    """A prediction of the same command has the same transient, which is what the spikes
+    are compared with: compare says it of the measurement alone."""
+    meas = bench_path("c") / "circle_ccw_fast_meas.csv"
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        tcpmm.compare(meas, meas, radius_m=R)
+    assert len([w for w in got if "servo has settled" in str(w.message)]) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")  # the suite's filter leaves this warning out
+        assert main(["compare", str(meas), str(meas), "--radius", "35", "--json"]) == 0
+    said = json.loads(capsys.readouterr().out)["warnings"]
+    assert len([w for w in said if "servo has settled" in w]) == 1

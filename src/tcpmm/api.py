@@ -175,17 +175,18 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
     if radius_m is None and given:
         radius_m, centre_m = given[0].radius, given[0].centre
 
-    def analysed(r):
+    def analysed(r, settling):
         if isinstance(r, CircleResult):
             return r
         if radius_m is None:
             raise InputError("compare needs radius_m [m] to analyse a run")
-        return analyse_circle(r, radius_m, centre_m)
+        return analyse_circle(r, radius_m, centre_m, settling=settling)
 
     runs = [read_run(r) if isinstance(r, (str, Path)) else r for r in (measured, predicted)]
     if not any(isinstance(r, CircleResult) for r in runs):
         runs[1] = cut_alike(*runs)
-    return compare_circles(analysed(runs[0]), analysed(runs[1]))
+    # a prediction's transient is the measurement's, to compare: said of the measurement
+    return compare_circles(analysed(runs[0], True), analysed(runs[1], False))
 
 
 def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,

@@ -270,8 +270,8 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     axes = run_plane_said(plane, runs[0], measured)
     with in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
-    with in_file(predicted):
-        rp = analyse_circle(cut_alike(*runs), radius * 1e-3, ctr, plane=axes)
+    with in_file(predicted):  # a prediction's transient is the measurement's to compare
+        rp = analyse_circle(cut_alike(*runs), radius * 1e-3, ctr, plane=axes, settling=False)
     cmp = compare_circles(rm, rp)
     judged = _judged(cmp, model, runs[1], radius, ctr, axes, predicted)
     if plot is not None:

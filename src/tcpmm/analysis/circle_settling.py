@@ -23,14 +23,14 @@ import numpy as np
 from ..errors import InputWarning
 from .circle_model import fit_mask
 
-#: A pass's end departs from the steady course when it does by more than this many times
-#: its middle half's largest departure, and by more than :data:`SETTLE_FLOOR_M` [-]
+#: A pass's start departs from the steady course when it does by more than this many
+#: times its middle half's largest departure, and by more than :data:`SETTLE_FLOOR_M` [-]
 SETTLE_RATIO = 2.0
 #: see :data:`SETTLE_RATIO`: a departure of the following error moves the terms by some
 #: tenth to a third of it (bench C at F10000: 30 um, and terms 1.5 to 4 um off), so one of
 #: 1 um leaves them within about 0.2 um [m]
 SETTLE_FLOOR_M = 1e-6
-#: Share of the pass at either end that is judged [-]
+#: Share of the pass at its start that is judged [-]
 END_SHARE = 0.1
 #: A departure over less of the pass's start than this, a few samples, moves no term by
 #: much and is not said (the paper's circle on the built-in machine departs by 2.5 um
@@ -41,20 +41,18 @@ MIN_EXTENT_DEG = 2.0
 MIN_JUDGED_DEG = 350.0
 
 
-def departures(cmd_xy, sensor_xy, centre) -> tuple[np.ndarray, np.ndarray]:
-    """The angle of the command about ``centre`` and how far the sensor's following error
-    along the path departs from its steady course (module docstring), per sample; NaN in
-    the reversals' windows (5 deg before each quadrant point to 25 deg after), where the
-    spikes lie [rad, m].
+def departures(ang, cmd_xy, sensor_xy) -> np.ndarray:
+    """How far the sensor's following error along the path departs from its steady course
+    (module docstring), per sample; NaN in the reversals' windows (5 deg before each
+    quadrant point to 25 deg after), where the spikes lie [m].
 
     Parameters
     ----------
+    ang : ndarray
+        The command's angle about the nominal centre, unwrapped [rad].
     cmd_xy, sensor_xy : tuple of ndarray
         The command's and the sensor's path over the pass, at the same instants [m].
-    centre : tuple
-        Nominal centre [m].
     """
-    ang = np.unwrap(np.arctan2(cmd_xy[1] - centre[1], cmd_xy[0] - centre[0]))
     along = ((cmd_xy[0] - sensor_xy[0]) * -np.sin(ang)
              + (cmd_xy[1] - sensor_xy[1]) * np.cos(ang))
     # the constant lag, the harmonics of the centre's offset (1), the axes' differing lags
@@ -68,22 +66,18 @@ def departures(cmd_xy, sensor_xy, centre) -> tuple[np.ndarray, np.ndarray]:
     # fitted over the whole pass: a transient over its start bends the course a little,
     # where a course fitted without it would be carried over a sector of no samples
     coef = np.linalg.lstsq(cols[quiet], along[quiet], rcond=None)[0]
-    return ang, np.where(quiet, np.abs(along - cols @ coef), np.nan)
+    return np.where(quiet, np.abs(along - cols @ coef), np.nan)
 
 
-def unsettled_start(cmd_xy, sensor_xy, centre):
+def unsettled_start(ang, cmd_xy, sensor_xy):
     """``(degrees, largest departure, middle's largest)`` where the sensor's following
-    error departs from its steady course over the start of a pass (module docstring),
-    else None. Only the start is judged: the servo's transient follows a change of the
-    command and never leads it, and a pass whose command changes before its end is said
-    by :func:`tcpmm.analysis.circle_checks.warn_unsteady` [deg, m, m]."""
-    n = np.size(cmd_xy[0])
-    if n < 40:
-        return None
-    ang, dev = departures(cmd_xy, sensor_xy, centre)
-    if abs(float(np.degrees(ang[-1] - ang[0]))) < MIN_JUDGED_DEG:
-        return None
-    dev = np.nan_to_num(dev)  # the reversals' windows are not judged
+    error departs from its steady course over the start of a full circle (module
+    docstring; ``ang`` the command's unwrapped angle), else None. Only the start is
+    judged: the servo's transient follows a change of the command and never leads it,
+    and a pass whose command changes before its end is said by
+    :func:`tcpmm.analysis.circle_checks.warn_unsteady` [deg, m, m]."""
+    n = ang.size
+    dev = np.nan_to_num(departures(ang, cmd_xy, sensor_xy))  # windows not judged
     level = float(np.max(dev[n // 4:n - n // 4]))
     limit = SETTLE_RATIO * level + SETTLE_FLOOR_M
     k = max(1, int(END_SHARE * n))
@@ -96,10 +90,10 @@ def unsettled_start(cmd_xy, sensor_xy, centre):
     return (extent, float(np.max(dev[:k])), level) if extent >= MIN_EXTENT_DEG else None
 
 
-def warn_unsettled(X, Y, sl, sensors, centre, direction: str, arc_deg: float) -> None:
-    """Warn (:class:`InputWarning`) where a pass starts before the servo has settled, or
-    ends after it has left the steady course, by the sensor that departs most (module
-    docstring); nothing without a command.
+def warn_unsettled(X, Y, sl, sensors, ang, direction: str, arc_deg: float) -> None:
+    """Warn (:class:`InputWarning`) where a full circle starts before the servo has
+    settled, by the sensor that departs most (module docstring); nothing without a
+    command, nor for an arc or a pass of fewer than 40 samples.
 
     Parameters
     ----------
@@ -109,17 +103,19 @@ def warn_unsettled(X, Y, sl, sensors, centre, direction: str, arc_deg: float) ->
         The pass's samples [-].
     sensors : list of str
         The sensors present, ``cmd`` among them or not [-].
-    centre : tuple
-        Nominal centre [m].
+    ang : ndarray
+        The reference's angle about the nominal centre over the pass, unwrapped: the
+        command's where there is one [rad].
     direction : {"ccw", "cw"}
         Direction of travel [-].
     arc_deg : float
         Angle the pass covers [deg].
     """
-    if "cmd" not in sensors:
+    if ("cmd" not in sensors or ang.size < 40
+            or abs(float(np.degrees(ang[-1] - ang[0]))) < MIN_JUDGED_DEG):
         return
     cmd = (X.sensor("cmd")[sl], Y.sensor("cmd")[sl])
-    found = {s: unsettled_start(cmd, (X.sensor(s)[sl], Y.sensor(s)[sl]), centre)
+    found = {s: unsettled_start(ang, cmd, (X.sensor(s)[sl], Y.sensor(s)[sl]))
              for s in sensors if s != "cmd"}
     found = {s: v for s, v in found.items() if v is not None}
     if not found:

@@ -392,7 +392,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
                                        centre_m, (d, *axes))
         warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
         if settling:
-            warn_unsettled(X, Y, sl, present, centre_m, d, cp.arc_deg)
+            warn_unsettled(X, Y, sl, present, ref_ang, d, cp.arc_deg)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

@@ -9,7 +9,6 @@ import json
 import warnings
 
 import numpy as np
-import pandas as pd
 import pytest
 
 import tcpmm
@@ -17,6 +16,7 @@ from conftest import bench_path
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.cli import main
 from tcpmm.io.runfile import read_run
+from tcpmm.path.circle import circle_command
 from tcpmm.result import AxisRun, Run
 
 R = 0.035
@@ -47,31 +47,13 @@ def test_the_benches_circles_that_start_in_the_transient_are_said(bench, fast, s
         assert "feed in over more of the circle" in got[0]
 
 
-def command(turns: float, feed_mm_min: float, dt=1e-3, accel=1.0, smooth_s=0.020):
-    """A CCW circle from quadrant point A as the bench's: a trapezoidal feed at 1 m/s^2
-    smoothed by a moving average of 20 ms, at rest 0.2 s before and 0.6 s after [-]."""
-    v, length = feed_mm_min / 6e4, 2 * np.pi * R * turns
-    ta = v / accel
-    total = 2 * ta + (length - accel * ta**2) / v
-    t = np.arange(0.0, total + dt / 2, dt)
-    s = np.where(t < ta, 0.5 * accel * t**2,
-                 np.where(t < total - ta, 0.5 * accel * ta**2 + v * (t - ta),
-                          length - 0.5 * accel * (total - t) ** 2))
-    n = round(smooth_s / dt)
-    s = np.r_[np.zeros(round(0.2 / dt) + n - 1), s, np.full(round(0.6 / dt) + n, length)]
-    s = np.convolve(s, np.ones(n) / n, "valid")
-    th = s / R
-    return pd.DataFrame({"time_s": np.arange(s.size) * dt, "x_mm": 1e3 * R * np.cos(th),
-                         "y_mm": 1e3 * R * np.sin(th)})
-
-
 @pytest.mark.parametrize("turns, said", [(1.25, True), (1.75, False)])
-def test_a_circle_fed_in_over_more_of_it_is_settled(turns, said, tmp_path):
+def test_a_circle_fed_in_over_more_of_it_is_settled(turns, said):
     """Bench C's true machine at F10000: 1.25 turns start in the transient (its pair reads
     a centre offset of X of 3.6 um where 1.75 turns read none), 1.75 turns after it."""
-    path = tmp_path / "cmd.csv"
-    command(turns, 10000.0).to_csv(path, index=False)
-    run = tcpmm.simulate(bench_path("c") / "truth.yaml", path)
+    cmd = circle_command(R, 10000.0 / 6e4, turns=turns, smoothing_time_s=0.020,
+                         feed_in=False, dwell_s=0.2)  # 1 m/s^2 and 20 ms, as the bench's
+    run = tcpmm.simulate(bench_path("c") / "truth.yaml", cmd)
     got = settling_warnings(run)
     assert bool(got) == said
     assert not settling_warnings(run, settling=False)

@@ -8,8 +8,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tcpmm.analysis.contour import _dot, _windowed, distance_to_polyline
-from tcpmm.analysis.contour_windows import over_rests
+from tcpmm._rows import dot_rows as _dot
+from tcpmm.analysis.contour import distance_to_polyline
+from tcpmm.analysis.contour_windows import over_rests, whole_windows
 
 
 def whole_window(q, p, t_q, t_p, window_s, signed):
@@ -23,7 +24,7 @@ def whole_window(q, p, t_q, t_p, window_s, signed):
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     lo, hi = over_rests(lo, hi, t_p, t_q, ln2 > 0, window_s)  # no change without rests
-    return _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+    return whole_windows(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p)
 
 
 def same_to_the_bit(q, p, t_q, t_p, window_s, signed):

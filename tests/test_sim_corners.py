@@ -123,6 +123,9 @@ def _numpys_share(p, s, tc, t, q, e, f, off, c, n, lim, end):
         mine = lf >= 0
         at = s[np.where(mine, lf, 0)]
         near = mine & (at >= s_i - span) & ((at <= s_i + span) | (at <= s_on))
+        if end:  # past the end point, closest to a segment wholly before the span
+            back = ~mine | (s[np.where(mine, lf + 1, 0)] < s_i - span)
+            near |= after & back & (norm_rows(qk - c) <= span)
         qn, foot = qk[near], lf[near]
         rows.append(norm_rows(qk[after] - c) if end else e[k, w][after])
         if end:

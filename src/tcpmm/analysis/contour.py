@@ -6,7 +6,9 @@ the point lies left of the direction of travel (seen with ``+a`` to the right an
 up), so positive is inside a CCW circle and outside a CW one, and an overshoot past a
 left-hand corner is negative. In 3-D it is the distance, unsigned. The closest point is
 sought among the command samples within ``window_s`` of the actual sample, so a path
-that passes a place twice (CCW then CW) is matched with the pass being run. The search
+that passes a place twice (CCW then CW) is matched with the pass being run; where passes
+lie equally close (a pass back along the way out, a second lap), with the one nearest in
+time. The search
 (:mod:`tcpmm.path.nearest`) passes over blocks of segments that lie too far to hold the
 closest point, and gives what measuring every segment of the window gives, to the bit.
 
@@ -17,7 +19,9 @@ step test overshoots and settles: there the distance to the end point settles, c
 the command's arrival. Where the path runs back on itself (a reversal) the corner is the
 turning point. Each corner is measured on the samples whose closest command point lies near
 it: from ``corner_span_m`` before it to ``corner_span_m`` after it, or further while the
-command runs straight on. Per corner and sensor: overshoot, the largest distance the point
+command runs straight on; at the end, once the command is there, also those within
+``corner_span_m`` of the end point (a closed path's start lies closer to a tool running
+past its end than the last leg). Per corner and sensor: overshoot, the largest distance the point
 lies outside the path once past the corner, across the outgoing leg towards the side the
 incoming direction points to (at a right angle, the travel past the corner along the
 incoming direction), beyond where the point holds on the outgoing leg if that lies outside
@@ -52,12 +56,10 @@ from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
-from .contour_windows import over_rests
+from .contour_windows import over_rests, whole_windows
 from .corners import path_length
 from .rapids import RapidStretches, feed_only
 
-#: rows of actual points handled at once [-]
-_CHUNK = 256
 #: coordinates the compiled search takes: finite, and far from where their squares
 #: overflow [m]
 _HUGE = 1e100
@@ -272,14 +274,15 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
         if fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE):
             searched[k] = out[k] = np.ascontiguousarray(q)  # the compiled search, below
         else:
-            out[k] = _windowed(q, p, seg, ln2, tdir, lo, hi, signed)
+            out[k] = whole_windows(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p)
     if searched:
         out.update(_searched(searched, np.ascontiguousarray(p), seg, ln2, tdir,
-                             lo.astype(np.int64), hi.astype(np.int64), bool(signed)))
+                             lo.astype(np.int64), hi.astype(np.int64), bool(signed),
+                             np.ascontiguousarray(t_q, float), np.ascontiguousarray(t_p, float)))
     return out
 
 
-def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool) -> dict:
+def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool, t_q, t_p) -> dict:
     """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs`` (from the module
     compiled ahead of time, which spares the command numba's start); where the paths are
     long and there are cores, in threads, each path cut into as many runs of points as
@@ -290,7 +293,7 @@ def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool) -> dict:
 
     def search(q, i0, i1):
         return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, lo[i0:i1],
-                                          hi[i0:i1], int(signed))
+                                          hi[i0:i1], int(signed), t_q[i0:i1], t_p)
 
     cores = usable_cores()
     if cores < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:
@@ -307,39 +310,6 @@ def _runs(n: int, parts: int) -> list:
     """``parts`` runs ``(i0, i1)`` of ``n`` points as near equal as may be [-]."""
     cut = [n * i // parts for i in range(parts + 1)]
     return list(itertools.pairwise(cut))
-
-
-def _windowed(q, p, seg, ln2, tdir, lo, hi, signed):
-    """:func:`distance_to_polyline` measuring every segment of each window, in numpy:
-    where a point or vertex is not a finite float, or has many coordinates [m]."""
-    m = p.shape[0]
-    width = int(np.max(hi - lo)) + 1
-    dist = np.empty(q.shape[0])
-    foot = np.empty(q.shape[0], np.int64)
-    for k0 in range(0, q.shape[0], _CHUNK):
-        k = np.arange(k0, min(k0 + _CHUNK, q.shape[0]))
-        j = np.minimum(lo[k, None] + np.arange(width)[None, :], m - 2)
-        valid = (lo[k, None] + np.arange(width)[None, :]) < np.maximum(hi[k, None], lo[k, None] + 1)
-        a, d = p[j], seg[j]
-        rel = q[k, None, :] - a
-        f = np.clip(np.divide(_dot(rel, d), ln2[j],
-                              out=np.zeros(j.shape), where=ln2[j] > 0), 0.0, 1.0)
-        off = rel - f[..., None] * d
-        dd = np.where(valid, np.sqrt(_dot(off, off)), np.inf)
-        cross = _cross(tdir[j], off) if q.shape[1] == 2 else np.zeros(j.shape)
-        # on a shared vertex, the segment that sees the point most to its side decides
-        near = dd <= dd.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-15
-        best = np.argmax(np.where(near, np.abs(cross), -1.0), axis=1)
-        rows = np.arange(k.size)
-        dist[k] = dd[rows, best]
-        foot[k] = j[rows, best]
-        if signed:
-            dist[k] *= np.where(cross[rows, best] < 0, -1.0, 1.0)
-    return dist, foot
-
-
-def _cross(t, v):
-    return t[..., 0] * v[..., 1] - t[..., 1] * v[..., 0]
 
 
 def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0,

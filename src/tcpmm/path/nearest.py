@@ -236,7 +236,7 @@ def _measure(q, k, p, seg, ln2, tdir, start, chord, inv2, slack, length, boxes, 
 
 
 @njit(cache=True, nogil=True)  # the paths of a run are searched in threads of their own
-def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
+def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
     """Distance from each point to the nearest of the segments of its window.
 
     Parameters
@@ -257,12 +257,16 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
     signed : int
         Not 0: negative where the point lies right of the travel (``d == 2``); an integer,
         as the compiled module of :mod:`tcpmm._compiled` takes it [-].
+    t_q, t_p : ndarray, shape (n,) and (m,)
+        Times of the points and of the vertices [s].
 
     Returns
     -------
     dist : ndarray, shape (n,)
         Distance to the closest segment; among those within ``NEAR_REL`` and
-        ``NEAR_ABS`` of it, the first that sees the point most to its side [m].
+        ``NEAR_ABS`` of it, of their runs of consecutive segments (a run meets at its
+        vertices) the one nearest in time to the point (the first on equal times), and
+        in it the first that sees the point most to its side [m].
     foot : ndarray of int, shape (n,)
         That segment [-].
     """
@@ -276,7 +280,7 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
         width = max(width, hi[k] - lo[k] + 1)
     dd, cross, at = np.empty(width), np.empty(width), np.empty(width, np.int64)
     _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, length, boxes, dd,
-            cross, at, dist, foot)
+            cross, at, dist, foot, t_q, t_p)
     return dist, foot
 
 
@@ -285,7 +289,7 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed):
 # point, were a fifth of the search's time.
 @njit(cache=True, nogil=True, _nrt=False)
 def _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, length, boxes, dd,
-            cross, at, dist, foot):
+            cross, at, dist, foot, t_q, t_p):
     """The loop of :func:`nearest_segments` over the points, on its work arrays: the
     blocks' capsules ``start``, ``chord``, ``inv2``, ``slack``, ``length`` and a window's squared
     distances, cross products and segments ``dd``, ``cross``, ``at``, the ``boxes`` of
@@ -299,17 +303,38 @@ def _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, len
         b = min(max(hi[k], lo[k] + 1) - 1, last)
         count, level = _measure(q, k, p, seg, ln2, tdir, start, chord, inv2, slack, length,
                                 boxes, a, b, min(max(prev, a), b), block, dd, cross, at)
-        # the closest segment, and any that ties with it, are among those measured: of
-        # those within the level, the first that sees the point most to its side. A root
-        # is taken only where the squared distance may give one within the level (its
-        # square, widened far beyond the roundings), and the test made on the root.
+        # the closest segment, and any that ties with it, are among those measured. A
+        # root is taken only where the squared distance may give one within the level
+        # (its square, widened far beyond the roundings), and the test made on the root.
         level = level * (1 + NEAR_REL) + NEAR_ABS
-        level2 = level * level * (1 + 1e-9)
-        pick, d_pick = -1, 0.0
-        for i in range(count):
-            if dd[i] <= level2:
-                d = math.sqrt(dd[i])
-                if d <= level and (pick < 0 or abs(cross[i]) > abs(cross[pick])):
-                    pick, d_pick = i, d
+        pick = _tie(dd, cross, at, count, level, level * level * (1 + 1e-9), t_q[k], t_p)
+        d_pick = math.sqrt(dd[pick])
         dist[k] = -d_pick if signed != 0 and cross[pick] < 0 else d_pick
         foot[k] = prev = at[pick]
+
+
+@njit(cache=True, inline="always")
+def _tie(dd, cross, at, count, level, level2, t, t_p):
+    """Of the ``count`` segments measured, those within ``level`` of the point: of their
+    runs of consecutive segments (a corner's two legs, and the rests between them), the
+    one nearest in time ``t`` to the point, the first on equal times (a closed path's end
+    ties with its start, a second lap with the first: the sample belongs to the pass being
+    run); in it the first that sees the point most to its side [-]."""
+    pick, gap = -1, math.inf
+    cur, cur_gap, last = -1, math.inf, -2
+    for i in range(count):
+        if dd[i] <= level2 and math.sqrt(dd[i]) <= level:
+            j = at[i]
+            g = max(t_p[j] - t, t - t_p[j + 1], 0.0)
+            if j != last + 1:
+                if cur >= 0 and cur_gap < gap:
+                    pick, gap = cur, cur_gap
+                cur, cur_gap = i, g
+            else:
+                cur_gap = min(cur_gap, g)
+                if abs(cross[i]) > abs(cross[cur]):
+                    cur = i
+            last = j
+    if cur_gap < gap:
+        pick = cur
+    return pick

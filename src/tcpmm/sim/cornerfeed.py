@@ -74,6 +74,18 @@ def _is_near(g, s, lo, hi, on):
 
 
 @njit(cache=True)
+def _takes(g, s, lo, hi, on, at_end, after, q, c, span):
+    """Whether a corner takes a sample whose closest point lies on segment ``g``:
+    :func:`_is_near`, or at the path's end, once the command has arrived (``after``),
+    within the span of the end point while its closest point lies wholly before the
+    span (or before the command kept, ``g < 0``): a closed path's end meets its start,
+    which lies closer to a tool travelling past the end point than the last leg does [-]."""
+    if _is_near(g, s, lo, hi, on):
+        return True
+    return at_end != 0 and after and (g < 0 or s[g + 1] < lo) and _dist(q, c) <= span
+
+
+@njit(cache=True)
 def _span(lim):
     """The path lengths :func:`_is_near` takes of a corner's limits: where its span begins
     and ends, and to which its outgoing leg runs on [m]."""
@@ -152,7 +164,8 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
         cuts[j, 0] = total
         for k in range(ns):
             for i in range(i0, i1):
-                total += _is_near(f[k, i] - off, s, lo, hi, on)
+                total += _takes(f[k, i] - off, s, lo, hi, on, end[j], t[i] >= lims[j, 2],
+                                q[k, i], c[j], lims[j, 4])
             cuts[j, k + 1] = total
         rowcut[j + 1] = rowcut[j] + i1 - a
     tn, dist, dev = np.empty(total), np.empty(total), np.empty(total)
@@ -165,7 +178,8 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
         for k in range(ns):
             for i in range(i0, i1):
                 g = f[k, i] - off
-                if not _is_near(g, s, lo, hi, on):
+                if not _takes(g, s, lo, hi, on, at_end, t[i] >= lims[j, 2], q[k, i], cj,
+                              lims[j, 4]):
                     continue
                 qi = q[k, i]
                 tn[r], dist[r] = t[i], _dist(qi, cj)

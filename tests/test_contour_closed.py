@@ -1,0 +1,47 @@
+"""A path that comes back where it was within the search window: a closed contour's end
+meets its start, a pass back along the way it came ties with the way out. Each sample is
+measured against the pass being run, and the end of a closed contour has its overshoot."""
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.contour import contour_error, distance_to_polyline
+from tcpmm.result import AxisRun, Run
+from test_contour import DT, square
+
+
+@pytest.mark.parametrize("aside_m", [0.5e-6, -0.5e-6, 0.0])
+def test_the_end_of_a_closed_square_overshoots_past_its_start(aside_m):
+    """Once the command is back at (0, 0), the tool runs on along -Y by delta and comes
+    back, ``aside_m`` off along X: where that is +X, the square's first leg lies closer to
+    it than its last does, and the end read an overshoot of 0."""
+    p = square(side=2e-3)  # from (0, 0) back to it, its motion (160 ms) within the window
+    arrive = p.shape[0] - 101  # the command's first sample at the end point
+    delta, tau = 5e-6, 0.005  # below 1e-10 m over the rest's last quarter
+    u = np.clip((np.arange(p.shape[0]) - arrive) * DT, 0, None) / tau
+    act = p.copy()
+    act[:, 1] -= delta * u * np.exp(1 - u)
+    act[arrive:, 0] += aside_m
+    run = Run(np.arange(p.shape[0]) * DT,
+              {a: AxisRun(cmd=p[:, i], tcp=act[:, i]) for i, a in enumerate("XY")})
+    end = contour_error(run).corners[-1]
+    assert np.isnan(end["turn_rad"])
+    # less the level the tool comes to rest at (the bump's tail, below 1e-10 m)
+    assert end["tcp"]["overshoot_m"] == pytest.approx(delta, abs=1e-10)
+    assert end["tcp"]["rounding_m"] == pytest.approx(abs(aside_m), abs=1e-12)
+
+
+@pytest.mark.parametrize("offset_m", [1e-6, -1e-6])
+def test_a_tool_on_its_way_back_is_measured_against_the_way_back(offset_m):
+    """Out along X and back on the same samples within the window: the way out and the
+    way back lie equally close to a tool beside them. On the way back the error takes
+    the way back's sign (+: left of -X travel is -Y) and its segment, not the way out's."""
+    x = np.r_[np.linspace(0, 0.01, 101), np.linspace(0.01, 0, 101)[1:]]
+    p = np.c_[x, np.zeros_like(x)]
+    t = np.arange(x.size) * DT
+    q = p + np.array([0.0, offset_m])
+    d, foot = distance_to_polyline(q, p, t, t, 0.2, True)
+    out, back = slice(10, 90), slice(110, 190)
+    assert d[out] == pytest.approx(np.full(80, offset_m), abs=1e-15)
+    assert d[back] == pytest.approx(np.full(80, -offset_m), abs=1e-15)
+    assert (foot[out] < 100).all() and (foot[back] >= 100).all()

@@ -87,6 +87,11 @@ def not_found_error(radius_m, centre_m, axes, ref, direction) -> InputError:
 #: the share of its steady angular speed below which a pass's reference is taken as still
 #: speeding up or already slowing down [-]
 STEADY_SHARE = 0.99
+#: steps over which the speed at either end of a pass is taken [-], and how many times the
+#: scatter of such speeds in its steady middle (a robust standard deviation) it must fall
+#: below its steady speed by to be said [-]
+_END_STEPS = 5
+_SCATTER = 5.0
 
 
 def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
@@ -111,14 +116,20 @@ def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
     dt = np.diff(t)
     if ang.size < 8 or not np.all(dt > 0):
         return
-    w = np.abs(np.diff(ang)) / dt
-    level = np.median(w)
+    level = np.median(np.abs(np.diff(ang)) / dt)
+    m = max(1, min(_END_STEPS, (ang.size - 3) // 8))
+    # the speed over m steps from the second sample from either end (the first or last
+    # step may be a part of one: a pass split where the path turns back, or cut between
+    # samples), below the steady share and below what the steady middle's own m-step
+    # speeds scatter to (a log's time stamps jitter)
+    span = np.abs(ang[m:] - ang[:-m]) / (t[m:] - t[:-m])
+    mid = span[span.size // 4:3 * span.size // 4]
+    low = min(STEADY_SHARE * level,
+              level - _SCATTER * 1.4826 * np.median(np.abs(mid - np.median(mid))))
     said = []
-    # the second step from either end: the first or last may be a part of a step (a pass
-    # split where the path turns back, or cut between samples)
     for k, how in ((1, "is still speeding up at its start"), (-2, "slows down at its end")):
-        if w[k] < STEADY_SHARE * level:
-            said.append(f"{how} ({100 * w[k] / level:.0f} % of its steady speed)")
+        if span[k] < low:
+            said.append(f"{how} ({100 * span[k] / level:.0f} % of its steady speed)")
     if not said:
         return
     what = "arc" if arc_deg < 360.0 else "circle"

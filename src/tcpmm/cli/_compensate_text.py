@@ -64,7 +64,11 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     if comp.robustness:
         for line in _verdict_lines(comp.robustness, comp.moved_axes):
             out.print(line)
-    if cc is not None:
+    if cc is not None and cc.robustness and cc.robustness["share"] == 0:
+        out.print(f"wrote {controller_out} (controller-side compensation: the draws keep "
+                  "none of the friction pulses and cross-talk feed-forward tuned, every "
+                  f"parameter 0; {output} needs none on the controller)")
+    elif cc is not None:
         out.print(f"wrote {controller_out} (controller-side compensation: friction pulses "
                   f"and cross-talk feed-forward; {output} was learned with them and is "
                   "right only with them on the controller; the figures above are with "
@@ -183,8 +187,10 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
     if robustness.get("by_region"):
         f += " (the mean along the path: chosen region by region)"
     return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
-            f"the model it improves {robustness['trusted_share']:.0%} of the samples, "
-            f"at least {FIRM_RATIO:g}x (firm) {robustness['firm_share']:.0%}",
+            "the model the largest contour error falls on every draw in the regions of "
+            f"{robustness['trusted_share']:.0%} of the samples, at least {FIRM_RATIO:g}x "
+            f"(firm) in those of {robustness['firm_share']:.0%} (a region, a reversal or "
+            "a stretch between, is judged by its largest error: a sample below it may rise)",
             *_figure_verdicts(robustness.get("circle", {}))]
 
 

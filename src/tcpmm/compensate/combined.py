@@ -19,7 +19,10 @@ error plus largest spike (the command is there for the first, the pulse for the 
 lower by more than :func:`.robust.margin` than the uncompensated one, among those whose
 every figure the draws vouch for (:func:`.robust.acceptable`): each region's contour error
 and the circle's spike and G fall on every draw by more than the margin, or stay within the
-sensors' resolution, as in the choice of the command correction alone.
+sensors' resolution, as in the choice of the command correction alone; then, with that
+share of the parameters, the correction's share region by region as for the correction
+alone (:func:`.robust.regional_shares`), so that where the draws keep no parameter the
+command is the correction alone's.
 The corrected command is only right with the parameters kept on the controller.
 """
 
@@ -34,6 +37,7 @@ from .circleguard import CircleGuard
 from .controller import AxisController
 from .drive import axis_plant
 from .learning import CUTOFF_HZ, compensate
+from .regional import per_combo
 from .robust import (
     LEVELS,
     acceptable,
@@ -43,6 +47,7 @@ from .robust import (
     margin,
     record,
     region_rows,
+    regional_shares,
     regions,
 )
 
@@ -137,10 +142,18 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     labels = regions(first.target)
     errs = {s: axis_errors(machines, c, plants(params, s)) for s, c in comps.items()}
     share, shares, before, after = choose_combined(errs, first.target, labels, guard)
-    comp = comps[share]
+    comp, extra = comps[share], {"draws": n_draws, "seed": seed, "parameter_share": share}
+    # the correction's share region by region, with the parameters' share chosen: as the
+    # correction alone is chosen (where the draws keep no parameter, the same choice)
+    e = errs[share]
+    per = per_combo(e, lambda c: judged(e, c, comp.target, labels, guard))
+    got = regional_shares(machines, comp, per, before, labels, guard, after,
+                          plants(params, share))
+    if got is not None:
+        factors, after = got
+        shares, extra = [factors[a] for a in comp.reference.axes], {**extra, "by_region": True}
     record(comp, shares, region_rows(before, after, comp.target, labels),
-           circle_rows(before, after, guard), labels,
-           {"draws": n_draws, "seed": seed, "parameter_share": share})
+           circle_rows(before, after, guard), labels, extra)
     comp.controller = scaled_params(params, share)
     return comp
 

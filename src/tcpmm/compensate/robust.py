@@ -266,7 +266,7 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None
     n_reg, before = labels.max() + 1, per[tuple([0] * errs.shape[1])]
     shares, figs = choose_of(per, n_reg)
     extra = {"draws": n_draws, "seed": seed}
-    by_region = _by_region(machines, comp, per, before, labels, guard, figs)
+    by_region = regional_shares(machines, comp, per, before, labels, guard, figs)
     if by_region is None:
         record(comp, shares, region_rows(before, figs, target, labels),
                circle_rows(before, figs, guard), labels, extra)
@@ -277,13 +277,14 @@ def robust_factors(machine, comp, n_draws: int = 8, seed: int = 0, radius_m=None
            labels, {**extra, "by_region": True})
 
 
-def _by_region(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray, guard,
-               one: np.ndarray):
+def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray, guard,
+                    one: np.ndarray, plants=None):
     """Shares chosen region by region (:mod:`.regional`), run on every draw: ``(factors,
     figures)`` where the draws vouch for them everywhere and, on the worst draw, no region,
     spike or G is above what one share per axis gives (its figures ``one``) by more than
     the margin and some region is below it by more; else ``None``: where they gain
-    nothing, the simpler choice stays [-]."""
+    nothing, the simpler choice stays. ``per``: the figures of each combination of shares
+    per axis (:func:`judged`), each axis run as ``plants`` says [-]."""
     n_reg = labels.max() + 1
     levels = np.array(LEVELS)[pick(per, before, n_reg, vouched, margin)]
     if np.all(levels == levels[0]):
@@ -296,7 +297,8 @@ def _by_region(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray
     def judge_errors(e):
         return figures(e, comp.target, labels, guard, True)
 
-    got = settle_regions(machines, comp, levels, labels, before, check, judge_errors, LEVELS)
+    got = settle_regions(machines, comp, levels, labels, before, check, judge_errors, LEVELS,
+                         plants)
     if got is None:
         return None
     worst, worst_one = got[1].max(axis=0), one.max(axis=0)

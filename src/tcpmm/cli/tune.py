@@ -87,14 +87,18 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
 
 
 def _warn(res) -> None:
-    """Each axis's warnings as warnings: on stderr, and first in ``--json``."""
+    """Each axis's warnings, and the draws' on a proposal that fails on some, as warnings:
+    on stderr, and first in ``--json``."""
     import warnings
 
     from ..errors import InputWarning
+    from ..whatif.tuning_draws import proposal_fails
 
     for name, t in res.axes.items():
         for warning in t.warnings:
             warnings.warn(f"axis {name}: {warning}", InputWarning, stacklevel=2)
+    if res.drawn and res.drawn.get("proposal_fails"):
+        warnings.warn(proposal_fails(res.drawn), InputWarning, stacklevel=2)
 
 
 def _fmt(v, digits=1):
@@ -147,9 +151,11 @@ def _print_result(res, gm, pm, tolerance_percent: float) -> None:
                  f"{d['change_low']:+.2f} to {d['change_high']:+.2f}"))
             tab.add_row(f"{key} {k.replace('_um', '').replace('_', ' ')}", _fmt(v, 2),
                         _fmt(res.path_after[key][k], 2), *ranges)
+    fails = res.drawn.get("proposal_fails", 0) if drawn else 0
     print_plain(tab, out, "predicted path (TCP) [µm]" + (
-        f": the model's, and the range over {n} machines drawn from its uncertainty"
-        if drawn else ""))
+        f": the model's, and the range over {n} machine{'s' if n != 1 else ''} drawn from "
+        "its uncertainty" + (f" (not over the {fails} on which the proposal fails)"
+                             if fails else "") if drawn else ""))
 
 
 def _verdict(t) -> str:

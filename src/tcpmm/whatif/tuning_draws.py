@@ -48,9 +48,11 @@ def drawn_paths(machine: Machine, tuned: Machine, command, circle: bool,
     -------
     dict or None
         ``draws``, ``faulty`` (draws whose run before or after is no prediction, left
-        out), and per case and figure ``after_low``, ``after_high``, ``change_low``,
-        ``change_high`` over the other draws and ``worse``: the draws on which it grows
-        [um, -].
+        out), ``proposal_fails`` (of those, the draws the settings before run on and the
+        proposal's do not: an unstable loop, an axis running away) with
+        ``proposal_faults``, what goes wrong there, and per case and figure
+        ``after_low``, ``after_high``, ``change_low``, ``change_high`` over the other draws
+        and ``worse``: the draws on which it grows [um, -].
     """
     if all(a.uncertainty is None for a in machine.axes.values()):
         return None
@@ -67,7 +69,12 @@ def drawn_paths(machine: Machine, tuned: Machine, command, circle: bool,
 def _summary(pairs: list) -> dict:
     """:func:`drawn_paths`'s summary of ``(before, after)`` figures per draw [um, -]."""
     good = [(b, a) for b, a in pairs if not (b.faults or a.faults)]
-    out = {"draws": len(pairs), "faulty": len(pairs) - len(good), "figures": {}}
+    broken = [a.faults for b, a in pairs if a.faults and not b.faults]
+    # what fails, without the figure of each draw: "axis X's sampled servo loop is unstable"
+    kinds = [f.split(" (")[0] for faults in broken for f in faults]
+    out = {"draws": len(pairs), "faulty": len(pairs) - len(good), "figures": {},
+           "proposal_fails": len(broken),
+           "proposal_faults": {k: kinds.count(k) for k in sorted(set(kinds))}}
     if not good:
         return out
     for case, figs in good[0][0].items():
@@ -91,10 +98,12 @@ def _summary(pairs: list) -> dict:
 def drawn_note(drawn: dict | None, before: dict, after: dict) -> list[str]:
     """A note on what the draws say: the figures the proposal improves on the model but
     makes worse on some drawn machine, or that it improves them on every draw [-]."""
+    if drawn and drawn.get("proposal_fails"):
+        return [proposal_fails(drawn)]
     if not drawn or not drawn["figures"]:
         return []
     n = drawn["draws"] - drawn["faulty"]
-    head = (f"on {n} machines drawn from the model's uncertainty"
+    head = (f"on {n} machine{'s' if n != 1 else ''} drawn from the model's uncertainty"
             + (f" ({drawn['faulty']} more are no prediction and are left out)"
                if drawn["faulty"] else ""))
     split, level, better = [], [], 0
@@ -120,3 +129,15 @@ def drawn_note(drawn: dict | None, before: dict, after: dict) -> list[str]:
                 "say how far"]
     return [f"{head}, each figure the proposal improves on the model improves on every "
             "draw; the ranges in the table say by how much"]
+
+
+def proposal_fails(drawn: dict) -> str:
+    """What to say where the proposal fails on machines drawn from the model's
+    uncertainty that the settings before run on: its figures and margins hold on the
+    model as identified only [-]."""
+    said = "; ".join(f"{k} on {n} of them" for k, n in drawn["proposal_faults"].items())
+    return (f"the proposal fails on {drawn['proposal_fails']} of {drawn['draws']} machines "
+            f"drawn from the model's uncertainty that the settings before run on ({said}): "
+            "its margins and figures hold on the model as identified, not within what "
+            "identification leaves uncertain; do not apply it as it is: keep the modes' "
+            "tolerance (--mode-tolerance, 5 % by default) or ask for wider margins")

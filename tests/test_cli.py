@@ -253,10 +253,10 @@ def test_a_raw_spike_is_named_raw_where_circle_leads_with_another(tmp_path, caps
     write_machine(m, tmp_path / "m.yaml")
     write_command_csv(paper_circle_command(m), tmp_path / "cmd.csv")
     code, out, err = run_cli(capsys, "spread", str(tmp_path / "m.yaml"), "--command",
-                         str(tmp_path / "cmd.csv"), "--radius", "35", "--draws", "2")
+                         str(tmp_path / "cmd.csv"), "--radius", "35", "--draws", "10")
     assert code == 0, err
     text = " ".join(out.split())
-    assert "tcp raw reversal spikes (e - b) over 2 drawn machines" in text
+    assert "tcp raw reversal spikes (e - b) over 10 drawn machines" in text
     assert "verdict R35 raw spike A (e - b) (" in text and "verdict R35 spike" not in text
 
 

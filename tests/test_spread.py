@@ -148,21 +148,25 @@ def test_cli_spread(tmp_path, capsys, played):
     write_machine(with_uncertainty(played, guideway_share=0.05), tmp_path / "m.yaml")
     write_command_csv(paper_circle_command(), tmp_path / "cmd.csv")
     code = main(["spread", str(tmp_path / "m.yaml"), "--command", str(tmp_path / "cmd.csv"),
-                 "--radius", "35", "--draws", "3", "--json", "--plot",
+                 "--radius", "35", "--draws", "10", "--json", "--plot",
                  str(tmp_path / "s.png")])
     res = json.loads(capsys.readouterr().out)
-    assert code == 0 and res["draws"] == 3 and (tmp_path / "s.png").is_file()
+    assert code == 0 and res["draws"] == 10 and (tmp_path / "s.png").is_file()
     assert {(r["direction"], r["point"]) for r in res["spikes"]} == {
         (d, q) for d in ("ccw", "cw") for q in "ABCD"}
     assert res["tolerance_um"] == pytest.approx(4.1)
     write_machine(with_uncertainty(played, guideway_share=math.inf), tmp_path / "w.yaml")
     code = main(["spread", str(tmp_path / "w.yaml"), "--command", str(tmp_path / "cmd.csv"),
-                 "--radius", "35", "--draws", "3", "--tolerance-um", "0.01"])
+                 "--radius", "35", "--draws", "10", "--tolerance-um", "0.01"])
     assert code == 0 and "size is not firm" in capsys.readouterr().out
     write_machine(played, tmp_path / "plain.yaml")
     code = main(["spread", str(tmp_path / "plain.yaml"), "--command",
-                 str(tmp_path / "cmd.csv"), "--radius", "35", "--draws", "2"])
+                 str(tmp_path / "cmd.csv"), "--radius", "35"])
     assert code != 0 and "tcpmm identify" in capsys.readouterr().err
+    # a verdict of nine in ten draws needs ten
+    code = main(["spread", str(tmp_path / "m.yaml"), "--command", str(tmp_path / "cmd.csv"),
+                 "--radius", "35", "--draws", "1"])
+    assert code == 2 and "greater than or equal to 10" in capsys.readouterr().err
 
 
 def test_identification_writes_what_its_estimates_say(unseen, identify_unseen):
@@ -192,7 +196,7 @@ def test_a_point_without_a_spike_is_not_reported(tmp_path, capsys, played):
     nc = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"
     write_machine(with_uncertainty(played, guideway_share=0.05), tmp_path / "m.yaml")
     code = main(["spread", str(tmp_path / "m.yaml"), "--gcode", str(nc), "--radius", "35",
-                 "--draws", "2"])
+                 "--draws", "10"])
     out = capsys.readouterr().out
     assert code == 0 and "nan" not in out.lower()
     assert "A: the sign is not settled" not in out
@@ -217,7 +221,7 @@ def test_a_run_that_is_no_prediction_is_no_spread(tmp_path, capsys, played):
     for m, needle in ((weak, "no prediction"), (hot, "is unstable")):
         write_machine(m, tmp_path / "m.yaml")
         assert main(["spread", str(tmp_path / "m.yaml"), "--command", str(tmp_path / "cmd.csv"),
-                     "--radius", "35", "--draws", "2", "--json"]) == 2
+                     "--radius", "35", "--json"]) == 2
         err = " ".join(capsys.readouterr().err.split())
         assert needle in err and "--allow-unstable" not in err
     res = circle_spread(base, paper_circle_command(), 0.035, n=2)
@@ -243,7 +247,7 @@ def test_the_table_fits_a_terminal_with_every_number_whole(tmp_path, capsys, mon
     write_machine(with_uncertainty(played, guideway_share=0.05), tmp_path / "m.yaml")
     write_command_csv(paper_circle_command(), tmp_path / "cmd.csv")
     args = ["spread", str(tmp_path / "m.yaml"), "--command", str(tmp_path / "cmd.csv"),
-            "--radius", "35", "--draws", "2"]
+            "--radius", "35", "--draws", "10"]
 
     def table(text):
         lines = text.splitlines()

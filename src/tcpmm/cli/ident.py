@@ -44,7 +44,9 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
            gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
            radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
            centre: str = typer.Option("0,0", "--centre", help="Nominal centre X,Y [mm]."),
-           draws: int = typer.Option(16, "--draws", min=1, help="Machines drawn [-]."),
+           draws: int = typer.Option(16, "--draws", min=10, help=(
+               "Machines drawn, at least 10: a spike is firm where nine in ten of them "
+               "hold it [-].")),
            seed: int = typer.Option(0, "--seed", min=0, help="Seed of the draws [-]."),
            sensor: Sensor = typer.Option("tcp", "--sensor", help="Sensor analysed."),
            fit_only: bool = typer.Option(

@@ -33,10 +33,10 @@ __all__ = ["acceptance_section", "circle_section", "circle_test_section", "compa
 
 
 def report_file(path) -> Path:
-    """Check that a report file name ends in .html; return it as a Path [-]."""
+    """Check that a report file name ends in .html (or .htm); return it as a Path [-]."""
     path = Path(path)
     if path.suffix.lower() not in (".html", ".htm"):
-        raise InputError("a report file needs the extension .html", file=path)
+        raise InputError("a report file needs the extension .html (or .htm)", file=path)
     return path
 
 

@@ -223,3 +223,12 @@ def test_a_tool_still_on_its_way_while_the_command_dwells_is_on_the_path():
     d, _ = distance_to_polyline(q, p, t, t, 0.2, True)
     assert np.max(np.abs(d)) < 1e-12
     same_to_the_bit(q, p, t, t, 0.2, True)
+
+
+def test_the_reference_ties_as_the_compiled_search_does():
+    """The numpy reference keeps its own copy of the tie's tolerances."""
+    from tcpmm.analysis import contour_windows
+    from tcpmm.path import nearest
+
+    assert (contour_windows.NEAR_REL, contour_windows.NEAR_ABS) == (nearest.NEAR_REL,
+                                                                    nearest.NEAR_ABS)

@@ -12,6 +12,11 @@ from ..result import motion_time
 
 #: rows of actual points handled at once [-]
 _CHUNK = 256
+#: segments within this relative distance of the closest, plus :data:`NEAR_ABS`, tie:
+#: :data:`tcpmm.path.nearest.NEAR_REL` and ``NEAR_ABS``, which this module does not
+#: import (they come with numba) [-], [m]
+NEAR_REL = 1e-9
+NEAR_ABS = 1e-9
 
 
 def over_rests(lo, hi, t_p, t_q, moves, window_s: float):
@@ -45,7 +50,7 @@ def whole_windows(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
         off = rel - f[..., None] * d
         dd = np.where(valid, np.sqrt(dot_rows(off, off)), np.inf)
         cross = _cross(tdir[j], off) if q.shape[1] == 2 else np.zeros(j.shape)
-        near = dd <= dd.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-15
+        near = dd <= dd.min(axis=1, keepdims=True) * (1 + NEAR_REL) + NEAR_ABS
         gap = np.maximum(np.maximum(t_p[j] - t_q[k, None], t_q[k, None] - t_p[j + 1]), 0.0)
         best = _tie(near, np.abs(cross), j, gap)
         rows = np.arange(k.size)

@@ -34,8 +34,11 @@ PER = 4
 #: a segment within this relative distance of the closest, plus :data:`NEAR_ABS`, ties
 #: with it [-]
 NEAR_REL = 1e-9
-#: see :data:`NEAR_REL` [m]
-NEAR_ABS = 1e-15
+#: see :data:`NEAR_REL`: a run file keeps ten significant digits of a millimetre, which
+#: puts the samples of a straight line up to some 1e-13 m off it at 10 mm and 1e-10 m at
+#: 1 m, so that a pass back along it would lie nearer or further by that; a hundredth of
+#: the 0.1 um a sensor resolves [m]
+NEAR_ABS = 1e-9
 #: margin of a block's pass-over, relative to the distances involved: rounding errs by
 #: some 1e-15 of them [-]
 _MARGIN = 1e-10
@@ -307,7 +310,7 @@ def _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, len
         # root is taken only where the squared distance may give one within the level
         # (its square, widened far beyond the roundings), and the test made on the root.
         level = level * (1 + NEAR_REL) + NEAR_ABS
-        pick = _tie(dd, cross, at, count, level, level * level * (1 + 1e-9), t_q[k], t_p)
+        pick = _tie(dd, cross, at, count, level, level * level * (1 + NEAR_REL), t_q[k], t_p)
         d_pick = math.sqrt(dd[pick])
         dist[k] = -d_pick if signed != 0 and cross[pick] < 0 else d_pick
         foot[k] = prev = at[pick]

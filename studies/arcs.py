@@ -26,7 +26,6 @@ the radial error it makes (the tolerance of the suite's tests). Not a test:
 
 from __future__ import annotations
 
-import argparse
 import sys
 import warnings
 from pathlib import Path
@@ -103,17 +102,10 @@ def judge(case: int, rng) -> tuple[list, int, list]:
 
 
 def main(argv=None) -> dict:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--cases", type=int, default=120)
-    args = p.parse_args(argv)
-    rng = np.random.default_rng(args.seed)
-    off, opened, held = [], 0, []
-    for case in range(args.cases):
-        o, n_open, h = judge(case, rng)
-        off += o
-        opened += n_open
-        held += h
+    args, results = one_direction.run_cases(argv, __doc__, judge)
+    off = [row for o, _, _ in results for row in o]
+    opened = sum(n for _, n, _ in results)
+    held = [x for _, _, h in results for x in h]
     print(f"seed {args.seed}: {args.cases} pairs of arcs, {len(off)} terms off, neither "
           f"open nor conditional; {opened} open, {len(held)} conditional ({sum(held)} of "
           "them off)")

@@ -74,17 +74,21 @@ def judge(case: int, rng) -> tuple[list, int]:
     return off, opened
 
 
-def main(argv=None) -> dict:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def run_cases(argv, doc: str, judge) -> tuple:
+    """The command line of a study of random cases (``--seed``, ``--cases``) and
+    ``judge(case, rng)`` of each case, in order, from one generator: ``(args, results)``."""
+    p = argparse.ArgumentParser(description=doc.splitlines()[0])
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--cases", type=int, default=120)
     args = p.parse_args(argv)
     rng = np.random.default_rng(args.seed)
-    off, opened = [], 0
-    for case in range(args.cases):
-        o, n_open = judge(case, rng)
-        off += o
-        opened += n_open
+    return args, [judge(case, rng) for case in range(args.cases)]
+
+
+def main(argv=None) -> dict:
+    args, results = run_cases(argv, __doc__, judge)
+    off = [row for o, _ in results for row in o]
+    opened = sum(n for _, n in results)
     print(f"seed {args.seed}: {args.cases} circles, {len(off)} terms off and not open, "
           f"{opened} open")
     for row in off:

@@ -83,11 +83,14 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
     Returns
     -------
     tuple
-        ``(parameter share, shares per axis, figures before, figures after)`` [-].
+        ``(parameter share, shares per axis, figures before, figures after, figures of
+        every combination of shares per axis with the parameter share chosen)`` [-].
     """
     n_ax, n_reg = next(iter(errs.values())).shape[1], labels.max() + 1
     zero = tuple([0] * n_ax)
-    before = judged(errs[0.0], zero, target, labels, guard)
+    per = {s: per_combo(e, lambda c, e=e: judged(e, c, target, labels, guard))
+           for s, e in errs.items()}
+    before = per[0.0][zero]
 
     def objective(figs):
         return figs[:, :n_reg].max() + (figs[:, n_reg].max() if guard is not None else 0.0)
@@ -97,10 +100,10 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
                                                                        repeat=n_ax)):
         if s == 0.0 and c == zero:
             continue
-        after = judged(errs[s], c, target, labels, guard)
+        after = per[s][c]
         if acceptable(before, after) and objective(after) < best[3] - margin(best[3]):
             best = (s, c, after, objective(after))
-    return best[0], [LEVELS[k] for k in best[1]], before, best[2]
+    return best[0], [LEVELS[k] for k in best[1]], before, best[2], per[best[0]]
 
 
 def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: int = 0,
@@ -141,12 +144,10 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
     labels = regions(first.target)
     errs = {s: axis_errors(machines, c, plants(params, s)) for s, c in comps.items()}
-    share, shares, before, after = choose_combined(errs, first.target, labels, guard)
+    share, shares, before, after, per = choose_combined(errs, first.target, labels, guard)
     comp, extra = comps[share], {"draws": n_draws, "seed": seed, "parameter_share": share}
     # the correction's share region by region, with the parameters' share chosen: as the
     # correction alone is chosen (where the draws keep no parameter, the same choice)
-    e = errs[share]
-    per = per_combo(e, lambda c: judged(e, c, comp.target, labels, guard))
     got = regional_shares(machines, comp, per, before, labels, guard, after,
                           plants(params, share))
     if got is not None:

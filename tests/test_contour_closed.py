@@ -52,3 +52,26 @@ def test_a_tool_on_its_way_back_is_measured_against_the_way_back(offset_m, headi
     assert d[out] == pytest.approx(np.full(80, offset_m), abs=1e-12)
     assert d[back] == pytest.approx(np.full(80, -offset_m), abs=1e-12)
     assert (foot[out] < 100).all() and (foot[back] >= 100).all()
+
+
+@pytest.mark.parametrize("offset_m", [2e-6, -2e-6])
+@pytest.mark.parametrize("radius_m", [1e-3, 3e-3])
+def test_a_tool_on_its_way_back_along_an_arc_is_measured_against_the_way_back(offset_m,
+                                                                              radius_m):
+    """Out along an arc and back along it at 1 ms samples that fall elsewhere on the arc:
+    the two passes' chords lie apart by up to their sag (0.56 um at R 1 mm, 67 um a
+    sample), and half the samples lay nearer the other pass's chord. A tool on the arc's
+    circle ``offset_m`` outside reads, pass by pass, the error of the pass it is on: right
+    of the travel (-) out, counterclockwise, and left (+) on the way back, within the
+    chord's sag."""
+    v, T = 4000 / 60e3, 1e-3
+    t = np.arange(int(np.pi * radius_m / v / T) * 2 + 2) * T
+    t_rev = (int(np.pi * radius_m / v / T) + 0.37) * T  # the reversal falls between samples
+    theta = v / radius_m * np.where(t <= t_rev, t, 2 * t_rev - t)
+    p = radius_m * np.c_[np.cos(theta), np.sin(theta)]
+    q = (radius_m + offset_m) * np.c_[np.cos(theta), np.sin(theta)]
+    d, _ = distance_to_polyline(q, p, t, t, 0.2, True)
+    sag = (v * T) ** 2 / (8 * radius_m)
+    away = np.abs(t - t_rev) > 5 * T  # the reversal itself has no side
+    expected = np.where(t <= t_rev, -offset_m, offset_m)
+    np.testing.assert_allclose(d[away], expected[away], rtol=0, atol=sag * 1.01)

@@ -19,14 +19,16 @@ from tcpmm.path.program import program_to_command
 from tcpmm.sim.simulate import simulate
 
 #: a G64 zig-zag, sharp and blended corners of 60 to 170 degrees, an exact-stop square
-#: (the command rests on each corner), a dwell and reversals along an axis and a diagonal:
-#: corners with and without rests
+#: (the command rests on each corner), a dwell, reversals along an axis and a diagonal, and
+#: an arc out and back (its passes tie within their chords' sag): corners with and without
+#: rests
 PROGRAM = "\n".join([
     "G21 G90 G64 P0.01", "G1 X0 Y0 F2000",
     *[f"G1 X{(i % 2) * 2:.3f} Y{i * 0.4:.3f}" for i in range(1, 9)],
     "G64 P0", "G1 X0.5 Y4", "G1 X1 Y3.8", "G1 X1.2 Y4.5",
     "G61", "G1 X3 Y4.5", "G1 X3 Y6", "G1 X1 Y6", "G4 P0.05", "G1 X1 Y4.5",
-    "G64", "G1 X1 Y7", "G1 X1 Y6", "G1 X2.5 Y7.5", "G1 X1.5 Y6.5", "G1 X1.5 Y8", "M30"]) + "\n"
+    "G64", "G1 X1 Y7", "G1 X1 Y6", "G1 X2.5 Y7.5", "G1 X1.5 Y6.5", "G1 X1.5 Y8",
+    "G3 X3.5 Y8 I1 J0", "G2 X1.5 Y8 I-1 J0", "M30"]) + "\n"
 
 
 def quiet(fn, *args, **kw):
@@ -80,6 +82,18 @@ def test_corners_in_chunks_are_the_whole_runs(run_file, rows, cores, monkeypatch
     assert res.to_dict()["corners"] == ref.to_dict()["corners"]
     # the program ends without a dwell: the run stops before the machine is at rest
     assert res.unreached == ref.unreached and set(ref.unreached) == set(ref.errors)
+
+
+@pytest.mark.parametrize("rows", [5, 37, 97])
+def test_each_samples_error_in_chunks_is_the_whole_runs(run_file, rows):
+    """The error and its sign sample by sample, where the passes out and back along the
+    arc tie within their chords' sag that each chunk takes from the path before it."""
+    ref = contour_error(read_run(run_file), plane=("X", "Y"))
+    got = {}
+    stream_contour(run_file, ("X", "Y"), True, rows=rows,
+                   each=lambda s, e: got.setdefault(s, []).append(e))
+    for s, e in ref.errors.items():
+        assert np.array_equal(np.concatenate(got[s]), e), s
 
 
 def test_a_fault_of_the_corners_thread_reaches_the_caller(run_file, monkeypatch):

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from tcpmm._rows import dot_rows as _dot
 from tcpmm.analysis.contour import distance_to_polyline
-from tcpmm.analysis.contour_windows import over_rests, whole_windows
+from tcpmm.analysis.contour_windows import chord_sags, over_rests, whole_windows
 
 
 def whole_window(q, p, t_q, t_p, window_s, signed):
@@ -21,10 +21,11 @@ def whole_window(q, p, t_q, t_p, window_s, signed):
     nxt = moving[np.minimum(np.searchsorted(moving, np.arange(p.shape[0] - 1)),
                             moving.size - 1)]
     tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
+    sag = chord_sags(seg, ln2, tdir)
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     lo, hi = over_rests(lo, hi, t_p, t_q, ln2 > 0, window_s)  # no change without rests
-    return whole_windows(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p)
+    return whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p)
 
 
 def same_to_the_bit(q, p, t_q, t_p, window_s, signed):
@@ -232,3 +233,25 @@ def test_the_reference_ties_as_the_compiled_search_does():
 
     assert (contour_windows.NEAR_REL, contour_windows.NEAR_ABS) == (nearest.NEAR_REL,
                                                                     nearest.NEAR_ABS)
+
+
+def test_a_chords_sag_on_an_arc_and_in_pieces():
+    """On an arc of radius R sampled every L the sag is L^2 / 8R (to the small angle's
+    order); a straight line has none; a piece of the path given the direction into it has
+    the whole path's sags."""
+    from tcpmm.analysis.contour_windows import travel
+
+    R, L = 2e-3, 50e-6
+    th = np.arange(200) * L / R
+    p = R * np.c_[np.cos(th), np.sin(th)]
+    seg, ln2, tdir, _ = travel(p)
+    sag = chord_sags(seg, ln2, tdir)
+    np.testing.assert_allclose(sag[1:-1], L**2 / (8 * R), rtol=1e-3)
+    line = np.c_[np.linspace(0, 1e-3, 50), np.linspace(0, 2e-3, 50)]
+    assert not np.any(chord_sags(*travel(line)[:3]))  # nor the rounding of its direction
+    for cut in (1, 7, 120):
+        seg2, ln22, tdir2, _ = travel(p[cut:])
+        np.testing.assert_array_equal(chord_sags(seg2, ln22, tdir2, tdir[cut - 1]), sag[cut:])
+        seg3, ln23, tdir3, _ = travel(p[:cut + 1])
+        np.testing.assert_array_equal(chord_sags(seg3, ln23, tdir3, None, tdir[cut]),
+                                      sag[:cut])

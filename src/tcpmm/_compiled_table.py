@@ -45,7 +45,7 @@ FUNCTIONS = {
     "arc_centres": ("path.gcode_arcscan", "arc_centres", "arc_centres",
                     ("i2", "f2", "f1", "f2", "f2", "i1", "f2", "f1"), "i"),
     "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
-                         ("f2", "f2", "f2", "f1", "f2", "i1", "i1", "i", "f1", "f1"),
+                         ("f2", "f2", "f2", "f1", "f2", "f1", "i1", "i1", "i", "f1", "f1"),
                          ("f1", "i1")),
     "corner_shapes": ("sim.cornerfigs", "corner_shapes", "corner_shapes", _SHAPE_KINDS, "f2"),
     "corner_figures": ("sim.cornerfigs", "corner_figures", "corner_figures",

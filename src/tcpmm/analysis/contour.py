@@ -8,7 +8,9 @@ left-hand corner is negative. In 3-D it is the distance, unsigned. The closest p
 sought among the command samples within ``window_s`` of the actual sample, so a path
 that passes a place twice (CCW then CW) is matched with the pass being run; where passes
 lie equally close (a pass back along the way out, a second lap), with the one nearest in
-time. The search
+time. Equally close within the chords' sag: along a curve two passes are sampled at other
+points, and each one's chords lie off the curve by up to ``L^2 / 8R``
+(:func:`tcpmm.analysis.contour_windows.chord_sags`). The search
 (:mod:`tcpmm.path.nearest`) passes over blocks of segments that lie too far to hold the
 closest point, and gives what measuring every segment of the window gives, to the bit.
 
@@ -49,14 +51,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._rows import dot_rows as _dot
 from .._threads import usable_cores
 from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
-from .contour_windows import over_rests, whole_windows
+from .contour_windows import chord_sags, over_rests, travel, whole_windows
 from .corners import path_length
 from .rapids import RapidStretches, feed_only
 
@@ -236,7 +237,8 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     return distances_to_polyline({0: q}, p, t_q, t_p, window_s, signed)[0]
 
 
-def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
+def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
+                          after=None) -> dict:
     """:func:`distance_to_polyline` of several paths sampled at the same times (each
     sensor's), the polyline's segments, directions and blocks and the windows worked out
     once for all.
@@ -247,6 +249,10 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
         Points of each path, at the times ``t_q`` [m].
     p, t_q, t_p, window_s, signed
         As :func:`distance_to_polyline` [m], [s], [s], [s], [-].
+    before, after : ndarray, shape (d,), optional
+        Where ``p`` is a piece of a longer path, its direction of travel into the first
+        vertex and out of the last, for the chords' sag
+        (:func:`tcpmm.analysis.contour_windows.chord_sags`) [-].
 
     Returns
     -------
@@ -256,14 +262,8 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
     m = p.shape[0]
     if m < 2:
         raise InputError("the command needs at least two samples")
-    seg = np.diff(p, axis=0)
-    ln2 = _dot(seg, seg)
-    moving = np.flatnonzero(ln2 > 0)
-    if moving.size == 0:
-        raise InputError("the command does not move; there is no path to measure from")
-    # direction of each segment, that of the next moving one where it rests
-    nxt = moving[np.minimum(np.searchsorted(moving, np.arange(m - 1)), moving.size - 1)]
-    tdir = seg[nxt] / np.sqrt(ln2[nxt])[:, None]
+    seg, ln2, tdir, moving = travel(p)
+    sag = chord_sags(seg, ln2, tdir, before, after)
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     if moving.size < m - 1:
@@ -274,15 +274,15 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed) -> dict:
         if fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE):
             searched[k] = out[k] = np.ascontiguousarray(q)  # the compiled search, below
         else:
-            out[k] = whole_windows(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p)
+            out[k] = whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p)
     if searched:
-        out.update(_searched(searched, np.ascontiguousarray(p), seg, ln2, tdir,
+        out.update(_searched(searched, np.ascontiguousarray(p), seg, ln2, tdir, sag,
                              lo.astype(np.int64), hi.astype(np.int64), bool(signed),
                              np.ascontiguousarray(t_q, float), np.ascontiguousarray(t_p, float)))
     return out
 
 
-def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool, t_q, t_p) -> dict:
+def _searched(qs: dict, p, seg, ln2, tdir, sag, lo, hi, signed: bool, t_q, t_p) -> dict:
     """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs`` (from the module
     compiled ahead of time, which spares the command numba's start); where the paths are
     long and there are cores, in threads, each path cut into as many runs of points as
@@ -292,7 +292,7 @@ def _searched(qs: dict, p, seg, ln2, tdir, lo, hi, signed: bool, t_q, t_p) -> di
     from .. import _compiled
 
     def search(q, i0, i1):
-        return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, lo[i0:i1],
+        return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, sag, lo[i0:i1],
                                           hi[i0:i1], int(signed), t_q[i0:i1], t_p)
 
     cores = usable_cores()

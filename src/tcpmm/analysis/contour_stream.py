@@ -32,6 +32,7 @@ from ..result import motion_time
 from .contour import ContourResult, distances_to_polyline
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
+from .contour_windows import direction
 from .rapids import RapidStretches, left_out
 
 #: rows read at a time [-]
@@ -266,6 +267,7 @@ class _Scan:
     def __init__(self, res, w, cmd_cols, each, corners, stretches):
         self.res, self.w, self.cmd_cols, self.each, self.corners = res, w, cmd_cols, each, corners
         self.buf, self.first, self.base = None, 0, 0
+        self.before = None  # direction of travel into the buffer's first row
         # the corners take the chunks in a thread of their own, in order, while the next
         # chunk is searched; at most CORNERS_BEHIND calls behind
         self.pool = ThreadPoolExecutor(1) if usable_cores() > 1 else None
@@ -322,7 +324,10 @@ class _Scan:
             cols_s = [c.replace("_cmd_", f"_{s}_") for c in cmd_cols]
             if all(c in buf for c in cols_s):
                 qs[s] = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
-        found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed)
+        before = direction(cmd, moves, c0 - 1) if c0 > 0 else self.before
+        after = direction(cmd, moves, c1 - 1) if c1 < n else None
+        found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed,
+                                      before, after)  # the chords' sag as the whole path's
         feed = self._feed(buf, first, b)
         for s, (e, _) in found.items():
             res.sums.setdefault(s, _Summary()).add(e)
@@ -337,6 +342,8 @@ class _Scan:
         drop = min(int(np.searchsorted(t, t[b] - w, side="left")),
                    int(np.searchsorted(tau, tau[b] - w, side="left")), b) if b < n else n
         self.buf = {c: v[drop:].copy() for c, v in buf.items()}
+        if 0 < drop < n:
+            self.before = direction(cmd, moves, drop - 1)
         self.first, self.base = b - drop, self.base + drop
 
     def _feed(self, buf, first: int, b: int):
@@ -362,8 +369,8 @@ def _window(moves, t, tau, first: int, b: int, w: float, final: bool):
                  int(np.searchsorted(tau, tau[b - 1] + w, side="right"))) + 1, n)
     while c1 < n and not moves[c1 - 2]:
         c1 += 1
-    if not final and not moves[c1 - 2]:
-        return None
+    if not final and not (moves[c1 - 2] and moves[c1 - 1:].any()):
+        return None  # and the turn at the end of the last segment is not known yet
     if final:  # at the end the last moving segment of all stands in for the next
         while c0 > 0 and not moves[c0:c1 - 1].any():
             c0 -= 1

@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._rows import dot_rows
+from ..errors import InputError
 from ..result import motion_time
 
 #: rows of actual points handled at once [-]
@@ -17,6 +18,9 @@ _CHUNK = 256
 #: import (they come with numba) [-], [m]
 NEAR_REL = 1e-9
 NEAR_ABS = 1e-9
+#: a half-turn's sine below this is the rounding of two unit vectors of one direction
+#: (some 1e-8), not a turn [-]
+_STRAIGHT = 1e-7
 
 
 def over_rests(lo, hi, t_p, t_q, moves, window_s: float):
@@ -31,7 +35,62 @@ def over_rests(lo, hi, t_p, t_q, moves, window_s: float):
             np.maximum(hi, np.searchsorted(tau_p, tau_q + window_s, side="right")))
 
 
-def whole_windows(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
+def travel(p):
+    """The segments of polyline ``p``, their squared lengths, directions of travel (that
+    of the next moving segment where one rests, of the last where none follows) and the
+    moving ones [m], [m^2], [-], [-]."""
+    seg = np.diff(p, axis=0)
+    ln2 = dot_rows(seg, seg)
+    moving = np.flatnonzero(ln2 > 0)
+    if moving.size == 0:
+        raise InputError("the command does not move; there is no path to measure from")
+    nxt = moving[np.minimum(np.searchsorted(moving, np.arange(seg.shape[0])), moving.size - 1)]
+    return seg, ln2, seg[nxt] / np.sqrt(ln2[nxt])[:, None], moving
+
+
+def chord_sags(seg, ln2, tdir, before=None, after=None):
+    """How far each segment of a sampled path may lie from another sampling of the path
+    it samples: a chord of length ``L`` turning by ``phi`` at its ends stands
+    ``L sin(phi / 2) / 4`` at most off the curve through its vertices (``L^2 / 8R`` on an
+    arc of radius ``R``), the larger turn of its two ends taken. A way out and a way back
+    along an arc, sampled at other points, lie that far apart [m].
+
+    Parameters
+    ----------
+    seg : ndarray, shape (m - 1, d)
+        Segment vectors [m].
+    ln2 : ndarray, shape (m - 1,)
+        Their squared lengths [m^2].
+    tdir : ndarray, shape (m - 1, d)
+        Direction of travel on each segment (:func:`travel`) [-].
+    before, after : ndarray, shape (d,), optional
+        Direction of travel into the first vertex and out of the last, where the
+        segments are a piece of a longer path (:func:`direction`); default none (the
+        path starts or ends there) [-].
+    """
+    dirs = [tdir]
+    if before is not None:
+        dirs.insert(0, np.reshape(before, (1, -1)))
+    if after is not None:
+        dirs.append(np.reshape(after, (1, -1)))
+    dirs = np.concatenate(dirs) if len(dirs) > 1 else tdir
+    turns = np.sqrt(0.5 * (1.0 - np.clip(dot_rows(dirs[:-1], dirs[1:]), -1.0, 1.0)))
+    half = np.zeros(seg.shape[0] + 1)  # sin of half the turn at each vertex
+    half[(0 if before is not None else 1):(None if after is not None else -1)] = turns
+    half[half < _STRAIGHT] = 0.0
+    return np.sqrt(ln2) * np.maximum(half[:-1], half[1:]) * 0.25
+
+
+def direction(p, moves, j: int):
+    """Direction of travel of segment ``j`` of ``p``, as :func:`travel` gives it: that of
+    the next moving segment (``moves``: per segment), of the last where none follows [-]."""
+    ahead = np.flatnonzero(moves[j:])
+    k = j + int(ahead[0]) if ahead.size else int(np.flatnonzero(moves[:j])[-1])
+    seg = p[k + 1:k + 2] - p[k:k + 1]
+    return (seg / np.sqrt(dot_rows(seg, seg))[:, None])[0]
+
+
+def whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
     """:func:`tcpmm.analysis.contour.distance_to_polyline` measuring every segment of each
     window, in numpy: where a point or vertex is not a finite float, or has many
     coordinates (the reference :mod:`tcpmm.path.nearest` is held to) [m], [-]."""
@@ -50,15 +109,40 @@ def whole_windows(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
         off = rel - f[..., None] * d
         dd = np.where(valid, np.sqrt(dot_rows(off, off)), np.inf)
         cross = _cross(tdir[j], off) if q.shape[1] == 2 else np.zeros(j.shape)
-        near = dd <= dd.min(axis=1, keepdims=True) * (1 + NEAR_REL) + NEAR_ABS
         gap = np.maximum(np.maximum(t_p[j] - t_q[k, None], t_q[k, None] - t_p[j + 1]), 0.0)
-        best = _tie(near, np.abs(cross), j, gap)
+        upper = (dd + sag[j]).min(axis=1, keepdims=True)
+        run = _pass_run(dd - sag[j] <= upper * (1 + NEAR_REL) + NEAR_ABS, j, gap)
+        least = np.where(run, dd, np.inf).min(axis=1, keepdims=True)
+        best = _tie(run & (dd <= least * (1 + NEAR_REL) + NEAR_ABS), np.abs(cross), j, gap)
         rows = np.arange(k.size)
         dist[k] = dd[rows, best]
         foot[k] = j[rows, best]
         if signed:
             dist[k] *= np.where(cross[rows, best] < 0, -1.0, 1.0)
     return dist, foot
+
+
+def _pass_run(near, j, gap):
+    """Per row, the ``near`` columns of the run of consecutive segments ``j`` that
+    :func:`tcpmm.path.nearest.nearest_segments` takes as the pass being run: of least
+    time ``gap`` to the point, the first on equal gaps [-]."""
+    n = near.shape[0]
+    pick0, pick1, best = np.full(n, -1), np.full(n, -1), np.full(n, np.inf)
+    c0, c1, c_gap, last = np.full(n, -1), np.full(n, -1), np.full(n, np.inf), np.full(n, -2)
+    for c in range(near.shape[1]):
+        nc = near[:, c]
+        new = nc & (j[:, c] != last + 1)
+        done = new & (c_gap < best)  # the run before ends
+        pick0, pick1 = np.where(done, c0, pick0), np.where(done, c1, pick1)
+        best = np.where(done, c_gap, best)
+        c0 = np.where(new, c, c0)
+        c_gap = np.where(new, gap[:, c], np.where(nc, np.minimum(c_gap, gap[:, c]), c_gap))
+        c1 = np.where(nc, c, c1)
+        last = np.where(nc, j[:, c], last)
+    end = c_gap < best
+    pick0, pick1 = np.where(end, c0, pick0), np.where(end, c1, pick1)
+    cols = np.arange(near.shape[1])[None, :]
+    return near & (cols >= pick0[:, None]) & (cols <= pick1[:, None])
 
 
 def _tie(near, side, j, gap):

@@ -202,44 +202,50 @@ def _far(q, k, start, chord, inv2, slack, bi, level):
 
 
 @njit(cache=True, inline="always")  # a call a point counts every array it is given
-def _measure(q, k, p, seg, ln2, tdir, start, chord, inv2, slack, length, boxes, a, b, seed,
-             block, dd, cross, at):
+def _measure(q, k, p, seg, ln2, tdir, sag, start, chord, inv2, slack, length, boxes, a, b,
+             seed, block, dd, cross, at):
     """Squared distance and cross product (``dd``, ``cross``) of the segments ``a..b`` not
-    passed over, in order, their segments in ``at`` (``boxes``: :func:`block_boxes`);
-    how many, and the smallest distance
-    (the root of the smallest squared one: the smallest of the roots, as the root rounds
-    monotonically) [m^2], [m]."""
+    passed over, in order, their segments in ``at`` (``boxes``: :func:`block_boxes`, with
+    their blocks' and boxes' largest ``sag``); how many, and the smallest distance plus
+    sag (a distance: the root of the squared one, the smallest of the roots as the root
+    rounds monotonically) [m^2], [m]."""
     best2 = _segment(q, k, p, seg, ln2, tdir, seed)[0]
     best = math.sqrt(best2)
+    upper = best + sag[seed]
     count = 0
-    org, unit, ext, bslack = boxes
+    org, unit, ext, bslack, bsag, sag_b = boxes
     bi = a // block
     while bi <= b // block:
+        level = upper * (1 + NEAR_REL) + NEAR_ABS
         if bslack.size and (bi % PER == 0 or bi == a // block):  # a box's first block
             sb = bi // PER
-            if _box_far(q, k, org, unit, ext, bslack, sb, best * (1 + NEAR_REL) + NEAR_ABS) > 0:
+            if _box_far(q, k, org, unit, ext, bslack, sb, level) > bsag[sb]:
                 bi = (sb + 1) * PER
                 continue
-        gap = _far(q, k, start, chord, inv2, slack, bi, best * (1 + NEAR_REL) + NEAR_ABS)
-        bi += 1
-        if gap > 0:  # the blocks that follow within that path length are as far
+        gap = _far(q, k, start, chord, inv2, slack, bi, level)
+        if gap > sag_b[bi]:  # the blocks that follow within that path length are as far
+            bi += 1
             run = 0.0
-            while bi <= b // block and run + length[bi] < gap:
+            while bi <= b // block and run + length[bi] + sag_b[bi] < gap:
                 run += length[bi]
                 bi += 1
             continue
+        bi += 1
         for j in range(max(a, bi * block - block), min(b, bi * block - 1) + 1):
             dd[count], cross[count] = _segment(q, k, p, seg, ln2, tdir, j)
             at[count] = j
             if dd[count] < best2:
                 best2 = dd[count]
                 best = math.sqrt(best2)
+                upper = min(upper, best + sag[j])
+            elif upper > best:  # a segment of some sag is the closest so far
+                upper = min(upper, math.sqrt(dd[count]) + sag[j])
             count += 1
-    return count, best
+    return count, upper
 
 
 @njit(cache=True, nogil=True)  # the paths of a run are searched in threads of their own
-def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
+def nearest_segments(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
     """Distance from each point to the nearest of the segments of its window.
 
     Parameters
@@ -254,6 +260,9 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
         Their squared lengths [m^2].
     tdir : ndarray, shape (m - 1, d)
         Direction of travel on each segment [-].
+    sag : ndarray, shape (m - 1,)
+        How far each segment may lie from another sampling of the path it samples, not
+        negative (:func:`tcpmm.analysis.contour_windows.chord_sags`) [m].
     lo, hi : ndarray of int, shape (n,)
         The window of each point: segments ``lo`` to ``max(hi, lo + 1) - 1``, each taken
         no further than the last [-].
@@ -266,24 +275,34 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
     Returns
     -------
     dist : ndarray, shape (n,)
-        Distance to the closest segment; among those within ``NEAR_REL`` and
-        ``NEAR_ABS`` of it, of their runs of consecutive segments (a run meets at its
-        vertices) the one nearest in time to the point (the first on equal times), and
-        in it the first that sees the point most to its side [m].
+        Distance to a segment of the pass the point is on: of the segments that may be
+        the closest once their sag is allowed for (their distance less their sag no
+        more than the least distance plus sag, within ``NEAR_REL`` and ``NEAR_ABS``),
+        their runs of consecutive segments (a run meets at its vertices), the one
+        nearest in time to the point (the first on equal times); in it, the closest
+        segment, and among those within ``NEAR_REL`` and ``NEAR_ABS`` of it the run
+        nearest in time and in that the first that sees the point most to its side [m].
     foot : ndarray of int, shape (n,)
         That segment [-].
     """
     n = q.shape[0]
     start, chord, inv2, slack, length = block_capsules(p, BLOCK)
-    boxes = block_boxes(p, BLOCK, PER)
+    org, unit, ext, bslack = block_boxes(p, BLOCK, PER)
+    sag_b = np.zeros(start.shape[0])
+    for j in range(sag.size):
+        sag_b[j // BLOCK] = max(sag_b[j // BLOCK], sag[j])
+    bsag = np.zeros(bslack.size)
+    for bi in range(min(sag_b.size, bslack.size * PER)):
+        bsag[bi // PER] = max(bsag[bi // PER], sag_b[bi])
+    boxes = (org, unit, ext, bslack, bsag, sag_b)
     dist = np.empty(n)
     foot = np.empty(n, np.int64)
     width = 1
     for k in range(n):
         width = max(width, hi[k] - lo[k] + 1)
     dd, cross, at = np.empty(width), np.empty(width), np.empty(width, np.int64)
-    _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, length, boxes, dd,
-            cross, at, dist, foot, t_q, t_p)
+    _search(q, p, seg, ln2, tdir, sag, lo, hi, signed, start, chord, inv2, slack, length,
+            boxes, dd, cross, at, dist, foot, t_q, t_p)
     return dist, foot
 
 
@@ -291,41 +310,72 @@ def nearest_segments(q, p, seg, ln2, tdir, lo, hi, signed, t_q, t_p):
 # counts numba kept on every array handed to the inlined helpers, up and down for each
 # point, were a fifth of the search's time.
 @njit(cache=True, nogil=True, _nrt=False)
-def _search(q, p, seg, ln2, tdir, lo, hi, signed, start, chord, inv2, slack, length, boxes, dd,
-            cross, at, dist, foot, t_q, t_p):
+def _search(q, p, seg, ln2, tdir, sag, lo, hi, signed, start, chord, inv2, slack, length,
+            boxes, dd, cross, at, dist, foot, t_q, t_p):
     """The loop of :func:`nearest_segments` over the points, on its work arrays: the
-    blocks' capsules ``start``, ``chord``, ``inv2``, ``slack``, ``length`` and a window's squared
-    distances, cross products and segments ``dd``, ``cross``, ``at``, the ``boxes`` of
-    :func:`block_boxes`; the results into
-    ``dist`` and ``foot``."""
+    blocks' capsules ``start``, ``chord``, ``inv2``, ``slack``, ``length`` and a window's
+    squared distances, cross products and segments ``dd``, ``cross``, ``at``, the
+    ``boxes`` of :func:`block_boxes` with the boxes' and blocks' largest sag; the results
+    into ``dist`` and ``foot``."""
     n, last = q.shape[0], p.shape[0] - 2
     block = BLOCK
     prev = 0
     for k in range(n):
         a = min(lo[k], last)
         b = min(max(hi[k], lo[k] + 1) - 1, last)
-        count, level = _measure(q, k, p, seg, ln2, tdir, start, chord, inv2, slack, length,
-                                boxes, a, b, min(max(prev, a), b), block, dd, cross, at)
-        # the closest segment, and any that ties with it, are among those measured. A
-        # root is taken only where the squared distance may give one within the level
-        # (its square, widened far beyond the roundings), and the test made on the root.
-        level = level * (1 + NEAR_REL) + NEAR_ABS
-        pick = _tie(dd, cross, at, count, level, level * level * (1 + NEAR_REL), t_q[k], t_p)
+        count, upper = _measure(q, k, p, seg, ln2, tdir, sag, start, chord, inv2,
+                                      slack, length, boxes, a, b, min(max(prev, a), b),
+                                      block, dd, cross, at)
+        # every segment that may tie is among those measured. A root is taken only where
+        # the squared distance may give one within the level (its square, widened far
+        # beyond the roundings), and the test made on the root.
+        i0, i1, best2 = _pass_run(dd, at, sag, count, upper * (1 + NEAR_REL) + NEAR_ABS,
+                                  t_q[k], t_p)
+        level = math.sqrt(best2) * (1 + NEAR_REL) + NEAR_ABS
+        pick = _tie(dd, cross, at, i0, i1, level, level * level * (1 + NEAR_REL), t_q[k],
+                    t_p)
         d_pick = math.sqrt(dd[pick])
         dist[k] = -d_pick if signed != 0 and cross[pick] < 0 else d_pick
         foot[k] = prev = at[pick]
 
 
 @njit(cache=True, inline="always")
-def _tie(dd, cross, at, count, level, level2, t, t_p):
-    """Of the ``count`` segments measured, those within ``level`` of the point: of their
+def _pass_run(dd, at, sag, count, level, t, t_p):
+    """Of the ``count`` segments measured, those whose distance less their sag is within
+    ``level``: of their runs of consecutive segments, the one nearest in time ``t`` to
+    the point, the first on equal times (a closed path's end ties with its start, a
+    second lap with the first, a way back with the way out: the sample belongs to the
+    pass being run); its first and last (in ``dd``) and its least squared distance
+    [-], [-], [m^2]."""
+    i0 = i1 = -1
+    gap, least = math.inf, math.inf
+    c0, c1, c_gap, c_least, last = -1, -1, math.inf, math.inf, -2
+    for i in range(count):
+        j = at[i]
+        reach = level + sag[j]
+        if dd[i] <= reach * reach * (1 + NEAR_REL) and math.sqrt(dd[i]) - sag[j] <= level:
+            g = max(t_p[j] - t, t - t_p[j + 1], 0.0)
+            if j != last + 1:
+                if c0 >= 0 and c_gap < gap:
+                    i0, i1, gap, least = c0, c1, c_gap, c_least
+                c0, c_gap, c_least = i, g, dd[i]
+            else:
+                c_gap, c_least = min(c_gap, g), min(c_least, dd[i])
+            c1, last = i, j
+    if c_gap < gap:
+        i0, i1, least = c0, c1, c_least
+    return i0, i1, least
+
+
+@njit(cache=True, inline="always")
+def _tie(dd, cross, at, i0, i1, level, level2, t, t_p):
+    """Of the segments ``i0..i1`` measured, those within ``level`` of the point: of their
     runs of consecutive segments (a corner's two legs, and the rests between them), the
-    one nearest in time ``t`` to the point, the first on equal times (a closed path's end
-    ties with its start, a second lap with the first: the sample belongs to the pass being
-    run); in it the first that sees the point most to its side [-]."""
+    one nearest in time ``t`` to the point, the first on equal times; in it the first
+    that sees the point most to its side [-]."""
     pick, gap = -1, math.inf
     cur, cur_gap, last = -1, math.inf, -2
-    for i in range(count):
+    for i in range(i0, i1 + 1):
         if dd[i] <= level2 and math.sqrt(dd[i]) <= level:
             j = at[i]
             g = max(t_p[j] - t, t - t_p[j + 1], 0.0)

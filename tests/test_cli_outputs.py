@@ -6,6 +6,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from tcpmm.cli import main
 from tcpmm.demo import paper_circle_command
@@ -351,3 +353,27 @@ def test_identify_json_has_the_warnings_first(monkeypatch):
     data = _app.with_warnings(idn.to_dict())
     assert list(data) == ["warnings", "machine", "axes", "suspect"]
     assert data["warnings"] == said
+
+
+_SCALARS = (st.none() | st.booleans() | st.integers() | st.text()
+            | st.floats(allow_nan=True, allow_infinity=True)
+            | st.floats(width=64).map(np.float64))
+
+
+@settings(max_examples=300, deadline=None)
+@given(row=st.dictionaries(st.text(), _SCALARS, max_size=8), ascii_only=st.booleans())
+def test_a_row_of_scalars_is_written_as_json_writes_it(row, ascii_only):
+    """The corner rows' own encoder gives ``json.dumps(indent=2)``'s text to the byte:
+    any text (escapes, quotes, what is not ASCII, in keys too), numbers of any size,
+    floats not finite as null; a row it does not take falls back to ``json``."""
+    import json
+    import math
+
+    from tcpmm.cli._jsonrow import flat_row_json
+
+    ready = {k: None if isinstance(v, float) and not math.isfinite(v) else v
+             for k, v in row.items()}
+    want = json.dumps(ready, indent=2, ensure_ascii=ascii_only, allow_nan=False)
+    assert flat_row_json(row, ascii_only) == want
+    assert flat_row_json({**row, "e": [1]}, ascii_only) is None
+    assert flat_row_json({1: 2.0}, ascii_only) is None

@@ -174,12 +174,9 @@ class ContourResult:
 
     def json_rows(self):
         """The corners of :meth:`to_dict`, one row at a time (a long run has millions) [-]."""
-        def clean(v):
-            return None if isinstance(v, float) and np.isnan(v) else v
-
         for c in self.corners:
             for row in self.corner_rows(corners=[c]):
-                yield {k: clean(v) for k, v in row.items()}
+                yield {k: None if v != v else v for k, v in row.items()}  # NaN: None
 
     def plot(self, ax=None, path=None, sensor=None):
         """One sensor's path coloured by its contour error, and every sensor's error in

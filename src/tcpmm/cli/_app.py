@@ -17,6 +17,7 @@ from typer.core import TyperGroup
 
 from ..errors import InputError
 from ._encoding import unicode_stream
+from ._jsonrow import flat_row_json
 
 
 class Sensor(StrEnum):
@@ -294,8 +295,8 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
     text, rows, n = _dumped({**with_warnings(head), key: []}, ascii_only), iter(rows), 0
     with named_stream(False):
         out.file.write(text[:text.rindex("[]")] + "[")
-        while batch := [_dumped(r, ascii_only).replace("\n", "\n    ")
-                        for r in islice(rows, JSON_BATCH_ROWS)]:
+        while batch := [(flat_row_json(r, ascii_only) or _dumped(r, ascii_only))
+                        .replace("\n", "\n    ") for r in islice(rows, JSON_BATCH_ROWS)]:
             out.file.write((",\n    " if n else "\n    ") + ",\n    ".join(batch))
             n += len(batch)
         out.file.write(("\n  ]" if n else "]") + "\n}\n")

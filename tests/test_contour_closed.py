@@ -75,3 +75,16 @@ def test_a_tool_on_its_way_back_along_an_arc_is_measured_against_the_way_back(of
     away = np.abs(t - t_rev) > 5 * T  # the reversal itself has no side
     expected = np.where(t <= t_rev, -offset_m, offset_m)
     np.testing.assert_allclose(d[away], expected[away], rtol=0, atol=sag * 1.01)
+
+
+def test_a_tool_beside_a_line_before_a_corner_is_measured_to_the_line():
+    """A corner's last segment before it turns, of some sag, may lie within its sag of
+    the closest distance while a straight segment between does not: it is the same pass,
+    and the tool beside the line reads its distance to the line, not the corner's."""
+    um = 1e-6
+    p = np.array([(-10, 0), (-5, 0), (0, 0), (3.567, 0), (6.13, 0), (7.70, 0), (7.70, 3),
+                  (7.70, 6), (7.70, 9)]) * um
+    t = np.arange(p.shape[0]) * 1e-3
+    q = np.array([[3.37, -15.55]]) * um
+    d, foot = distance_to_polyline(q, p, np.array([4.5e-3]), t, 0.2, True)
+    assert d[0] == pytest.approx(-15.55 * um, rel=1e-12) and foot[0] == 2

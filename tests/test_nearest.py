@@ -25,7 +25,7 @@ def whole_window(q, p, t_q, t_p, window_s, signed):
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     lo, hi = over_rests(lo, hi, t_p, t_q, ln2 > 0, window_s)  # no change without rests
-    return whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p)
+    return whole_windows(q, p, seg, ln2, tdir, sag, np.sqrt(ln2), lo, hi, signed, t_q, t_p)
 
 
 def same_to_the_bit(q, p, t_q, t_p, window_s, signed):

@@ -12,7 +12,7 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
                   "path/gcode_arcscan.py",
-                  "path/nearest.py", "sim/cornerfigs.py", "sim/cornerfeed.py",
+                  "path/nearest.py", "path/ties.py", "sim/cornerfigs.py", "sim/cornerfeed.py",
                   "sim/pathforce.py", "_compiled_table.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
 #: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
@@ -45,7 +45,7 @@ FUNCTIONS = {
     "arc_centres": ("path.gcode_arcscan", "arc_centres", "arc_centres",
                     ("i2", "f2", "f1", "f2", "f2", "i1", "f2", "f1"), "i"),
     "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
-                         ("f2", "f2", "f2", "f1", "f2", "f1", "i1", "i1", "i", "f1", "f1"),
+                         ("f2", "f2", "f2", "f1", "f2", "f1", "f1", "i1", "i1", "i", "f1", "f1"),
                          ("f1", "i1")),
     "corner_shapes": ("sim.cornerfigs", "corner_shapes", "corner_shapes", _SHAPE_KINDS, "f2"),
     "corner_figures": ("sim.cornerfigs", "corner_figures", "corner_figures",

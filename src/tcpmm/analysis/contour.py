@@ -260,7 +260,7 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
     if m < 2:
         raise InputError("the command needs at least two samples")
     seg, ln2, tdir, moving = travel(p)
-    sag = chord_sags(seg, ln2, tdir, before, after)
+    sag, seglen = chord_sags(seg, ln2, tdir, before, after), np.sqrt(ln2)
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     if moving.size < m - 1:
@@ -271,15 +271,17 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
         if fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE):
             searched[k] = out[k] = np.ascontiguousarray(q)  # the compiled search, below
         else:
-            out[k] = whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p)
+            out[k] = whole_windows(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q,
+                                   t_p)
     if searched:
-        out.update(_searched(searched, np.ascontiguousarray(p), seg, ln2, tdir, sag,
+        out.update(_searched(searched, np.ascontiguousarray(p), seg, ln2, tdir, sag, seglen,
                              lo.astype(np.int64), hi.astype(np.int64), bool(signed),
                              np.ascontiguousarray(t_q, float), np.ascontiguousarray(t_p, float)))
     return out
 
 
-def _searched(qs: dict, p, seg, ln2, tdir, sag, lo, hi, signed: bool, t_q, t_p) -> dict:
+def _searched(qs: dict, p, seg, ln2, tdir, sag, seglen, lo, hi, signed: bool, t_q,
+              t_p) -> dict:
     """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs`` (from the module
     compiled ahead of time, which spares the command numba's start); where the paths are
     long and there are cores, in threads, each path cut into as many runs of points as
@@ -289,7 +291,7 @@ def _searched(qs: dict, p, seg, ln2, tdir, sag, lo, hi, signed: bool, t_q, t_p) 
     from .. import _compiled
 
     def search(q, i0, i1):
-        return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, sag, lo[i0:i1],
+        return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, sag, seglen, lo[i0:i1],
                                           hi[i0:i1], int(signed), t_q[i0:i1], t_p)
 
     cores = usable_cores()

@@ -14,7 +14,7 @@ from ..result import motion_time
 #: rows of actual points handled at once [-]
 _CHUNK = 256
 #: segments within this relative distance of the closest, plus :data:`NEAR_ABS`, tie:
-#: :data:`tcpmm.path.nearest.NEAR_REL` and ``NEAR_ABS``, which this module does not
+#: :data:`tcpmm.path.ties.NEAR_REL` and ``NEAR_ABS``, which this module does not
 #: import (they come with numba) [-], [m]
 NEAR_REL = 1e-9
 NEAR_ABS = 1e-9
@@ -90,7 +90,7 @@ def direction(p, moves, j: int):
     return (seg / np.sqrt(dot_rows(seg, seg))[:, None])[0]
 
 
-def whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
+def whole_windows(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q, t_p):
     """:func:`tcpmm.analysis.contour.distance_to_polyline` measuring every segment of each
     window, in numpy: where a point or vertex is not a finite float, or has many
     coordinates (the reference :mod:`tcpmm.path.nearest` is held to) [m], [-]."""
@@ -110,8 +110,8 @@ def whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
         dd = np.where(valid, np.sqrt(dot_rows(off, off)), np.inf)
         cross = _cross(tdir[j], off) if q.shape[1] == 2 else np.zeros(j.shape)
         gap = np.maximum(np.maximum(t_p[j] - t_q[k, None], t_q[k, None] - t_p[j + 1]), 0.0)
-        upper = (dd + sag[j]).min(axis=1, keepdims=True)
-        run = _pass_run(dd - sag[j] <= upper * (1 + NEAR_REL) + NEAR_ABS, j, gap)
+        level = (dd + sag[j]).min(axis=1, keepdims=True) * (1 + NEAR_REL) + NEAR_ABS
+        run = _pass_run(dd - sag[j] <= level, j, gap, sag, seglen, level[:, 0])
         least = np.where(run, dd, np.inf).min(axis=1, keepdims=True)
         best = _tie(run & (dd <= least * (1 + NEAR_REL) + NEAR_ABS), np.abs(cross), j, gap)
         rows = np.arange(k.size)
@@ -122,16 +122,20 @@ def whole_windows(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
     return dist, foot
 
 
-def _pass_run(near, j, gap):
-    """Per row, the ``near`` columns of the run of consecutive segments ``j`` that
-    :func:`tcpmm.path.nearest.nearest_segments` takes as the pass being run: of least
-    time ``gap`` to the point, the first on equal gaps [-]."""
+def _pass_run(near, j, gap, sag, seglen, level):
+    """Per row, the ``near`` columns of the run along the path of segments ``j`` that
+    :func:`tcpmm.path.nearest.nearest_segments` takes as the pass being run: consecutive
+    segments, or apart by no more path than ``2 level`` and their sags; of least time
+    ``gap`` to the point, the first on equal gaps [-]."""
     n = near.shape[0]
     pick0, pick1, best = np.full(n, -1), np.full(n, -1), np.full(n, np.inf)
     c0, c1, c_gap, last = np.full(n, -1), np.full(n, -1), np.full(n, np.inf), np.full(n, -2)
     for c in range(near.shape[1]):
         nc = near[:, c]
-        new = nc & (j[:, c] != last + 1)
+        new = nc & (c0 < 0)
+        for r in np.flatnonzero(nc & (c0 >= 0) & (j[:, c] != last + 1)):
+            new[r] = not _along(seglen, last[r], j[r, c],
+                                2.0 * level[r] + sag[last[r]] + sag[j[r, c]])
         done = new & (c_gap < best)  # the run before ends
         pick0, pick1 = np.where(done, c0, pick0), np.where(done, c1, pick1)
         best = np.where(done, c_gap, best)
@@ -143,6 +147,17 @@ def _pass_run(near, j, gap):
     pick0, pick1 = np.where(end, c0, pick0), np.where(end, c1, pick1)
     cols = np.arange(near.shape[1])[None, :]
     return near & (cols >= pick0[:, None]) & (cols <= pick1[:, None])
+
+
+def _along(seglen, last: int, j: int, most: float) -> bool:
+    """Whether segment ``j`` follows ``last`` within ``most`` of path, the segments between
+    summed in order as the compiled search sums them [-]."""
+    run = 0.0
+    for k in range(last + 1, j):
+        run += seglen[k]
+        if run > most:
+            return False
+    return True
 
 
 def _tie(near, side, j, gap):

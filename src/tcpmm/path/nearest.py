@@ -27,18 +27,12 @@ import math
 import numpy as np
 from numba import njit
 
+from .ties import NEAR_ABS, NEAR_REL, pass_run, tie
+
 #: segments per block [-]
 BLOCK = 8
 #: blocks per box [-]
 PER = 4
-#: a segment within this relative distance of the closest, plus :data:`NEAR_ABS`, ties
-#: with it [-]
-NEAR_REL = 1e-9
-#: see :data:`NEAR_REL`: a run file keeps ten significant digits of a millimetre, which
-#: puts the samples of a straight line up to some 1e-13 m off it at 10 mm and 1e-10 m at
-#: 1 m, so that a pass back along it would lie nearer or further by that; a hundredth of
-#: the 0.1 um a sensor resolves [m]
-NEAR_ABS = 1e-9
 #: margin of a block's pass-over, relative to the distances involved: rounding errs by
 #: some 1e-15 of them [-]
 _MARGIN = 1e-10
@@ -245,7 +239,7 @@ def _measure(q, k, p, seg, ln2, tdir, sag, start, chord, inv2, slack, length, bo
 
 
 @njit(cache=True, nogil=True)  # the paths of a run are searched in threads of their own
-def nearest_segments(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
+def nearest_segments(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q, t_p):
     """Distance from each point to the nearest of the segments of its window.
 
     Parameters
@@ -263,6 +257,8 @@ def nearest_segments(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
     sag : ndarray, shape (m - 1,)
         How far each segment may lie from another sampling of the path it samples, not
         negative (:func:`tcpmm.analysis.contour_windows.chord_sags`) [m].
+    seglen : ndarray, shape (m - 1,)
+        Their lengths, the roots of ``ln2`` [m].
     lo, hi : ndarray of int, shape (n,)
         The window of each point: segments ``lo`` to ``max(hi, lo + 1) - 1``, each taken
         no further than the last [-].
@@ -278,7 +274,7 @@ def nearest_segments(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
         Distance to a segment of the pass the point is on: of the segments that may be
         the closest once their sag is allowed for (their distance less their sag no
         more than the least distance plus sag, within ``NEAR_REL`` and ``NEAR_ABS``),
-        their runs of consecutive segments (a run meets at its vertices), the one
+        their runs along the path (:func:`tcpmm.path.ties.pass_run`), the one
         nearest in time to the point (the first on equal times); in it, the closest
         segment, and among those within ``NEAR_REL`` and ``NEAR_ABS`` of it the run
         nearest in time and in that the first that sees the point most to its side [m].
@@ -301,8 +297,8 @@ def nearest_segments(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
     for k in range(n):
         width = max(width, hi[k] - lo[k] + 1)
     dd, cross, at = np.empty(width), np.empty(width), np.empty(width, np.int64)
-    _search(q, p, seg, ln2, tdir, sag, lo, hi, signed, start, chord, inv2, slack, length,
-            boxes, dd, cross, at, dist, foot, t_q, t_p)
+    _search(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, start, chord, inv2, slack,
+            length, boxes, dd, cross, at, dist, foot, t_q, t_p)
     return dist, foot
 
 
@@ -310,8 +306,8 @@ def nearest_segments(q, p, seg, ln2, tdir, sag, lo, hi, signed, t_q, t_p):
 # counts numba kept on every array handed to the inlined helpers, up and down for each
 # point, were a fifth of the search's time.
 @njit(cache=True, nogil=True, _nrt=False)
-def _search(q, p, seg, ln2, tdir, sag, lo, hi, signed, start, chord, inv2, slack, length,
-            boxes, dd, cross, at, dist, foot, t_q, t_p):
+def _search(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, start, chord, inv2, slack,
+            length, boxes, dd, cross, at, dist, foot, t_q, t_p):
     """The loop of :func:`nearest_segments` over the points, on its work arrays: the
     blocks' capsules ``start``, ``chord``, ``inv2``, ``slack``, ``length`` and a window's
     squared distances, cross products and segments ``dd``, ``cross``, ``at``, the
@@ -326,68 +322,12 @@ def _search(q, p, seg, ln2, tdir, sag, lo, hi, signed, start, chord, inv2, slack
         count, upper = _measure(q, k, p, seg, ln2, tdir, sag, start, chord, inv2,
                                       slack, length, boxes, a, b, min(max(prev, a), b),
                                       block, dd, cross, at)
-        # every segment that may tie is among those measured. A root is taken only where
-        # the squared distance may give one within the level (its square, widened far
-        # beyond the roundings), and the test made on the root.
-        i0, i1, best2 = _pass_run(dd, at, sag, count, upper * (1 + NEAR_REL) + NEAR_ABS,
-                                  t_q[k], t_p)
+        # every segment that may tie is among those measured
+        i0, i1, best2 = pass_run(dd, at, sag, seglen, count,
+                                  upper * (1 + NEAR_REL) + NEAR_ABS, t_q[k], t_p)
         level = math.sqrt(best2) * (1 + NEAR_REL) + NEAR_ABS
-        pick = _tie(dd, cross, at, i0, i1, level, level * level * (1 + NEAR_REL), t_q[k],
-                    t_p)
+        pick = tie(dd, cross, at, sag, i0, i1, upper * (1 + NEAR_REL) + NEAR_ABS, level,
+                    t_q[k], t_p)
         d_pick = math.sqrt(dd[pick])
         dist[k] = -d_pick if signed != 0 and cross[pick] < 0 else d_pick
         foot[k] = prev = at[pick]
-
-
-@njit(cache=True, inline="always")
-def _pass_run(dd, at, sag, count, level, t, t_p):
-    """Of the ``count`` segments measured, those whose distance less their sag is within
-    ``level``: of their runs of consecutive segments, the one nearest in time ``t`` to
-    the point, the first on equal times (a closed path's end ties with its start, a
-    second lap with the first, a way back with the way out: the sample belongs to the
-    pass being run); its first and last (in ``dd``) and its least squared distance
-    [-], [-], [m^2]."""
-    i0 = i1 = -1
-    gap, least = math.inf, math.inf
-    c0, c1, c_gap, c_least, last = -1, -1, math.inf, math.inf, -2
-    for i in range(count):
-        j = at[i]
-        reach = level + sag[j]
-        if dd[i] <= reach * reach * (1 + NEAR_REL) and math.sqrt(dd[i]) - sag[j] <= level:
-            g = max(t_p[j] - t, t - t_p[j + 1], 0.0)
-            if j != last + 1:
-                if c0 >= 0 and c_gap < gap:
-                    i0, i1, gap, least = c0, c1, c_gap, c_least
-                c0, c_gap, c_least = i, g, dd[i]
-            else:
-                c_gap, c_least = min(c_gap, g), min(c_least, dd[i])
-            c1, last = i, j
-    if c_gap < gap:
-        i0, i1, least = c0, c1, c_least
-    return i0, i1, least
-
-
-@njit(cache=True, inline="always")
-def _tie(dd, cross, at, i0, i1, level, level2, t, t_p):
-    """Of the segments ``i0..i1`` measured, those within ``level`` of the point: of their
-    runs of consecutive segments (a corner's two legs, and the rests between them), the
-    one nearest in time ``t`` to the point, the first on equal times; in it the first
-    that sees the point most to its side [-]."""
-    pick, gap = -1, math.inf
-    cur, cur_gap, last = -1, math.inf, -2
-    for i in range(i0, i1 + 1):
-        if dd[i] <= level2 and math.sqrt(dd[i]) <= level:
-            j = at[i]
-            g = max(t_p[j] - t, t - t_p[j + 1], 0.0)
-            if j != last + 1:
-                if cur >= 0 and cur_gap < gap:
-                    pick, gap = cur, cur_gap
-                cur, cur_gap = i, g
-            else:
-                cur_gap = min(cur_gap, g)
-                if abs(cross[i]) > abs(cross[cur]):
-                    cur = i
-            last = j
-    if cur_gap < gap:
-        pick = cur
-    return pick

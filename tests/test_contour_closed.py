@@ -88,3 +88,24 @@ def test_a_tool_beside_a_line_before_a_corner_is_measured_to_the_line():
     q = np.array([[3.37, -15.55]]) * um
     d, foot = distance_to_polyline(q, p, np.array([4.5e-3]), t, 0.2, True)
     assert d[0] == pytest.approx(-15.55 * um, rel=1e-12) and foot[0] == 2
+
+
+def test_the_end_of_a_slot_overshoots_along_the_direction_it_ends_in():
+    """A path that ends on a small arc, a slot's end of R 0.1 mm turning back from +X to
+    -X: the tool runs on past the end point along -X, the direction of travel there. The
+    chord over the corner span (0.5 mm back, on the way in) points elsewhere, and the way
+    in, along +X below the end point, lies beyond it in -X before the command is there."""
+    line = np.c_[np.linspace(9e-3, 10e-3, 21)[:-1], np.zeros(20)]
+    a = np.linspace(-np.pi / 2, np.pi / 2, 201)
+    arc = np.c_[10e-3 + 0.1e-3 * np.cos(a), 0.1e-3 + 0.1e-3 * np.sin(a)]
+    p = np.vstack([line, arc, np.repeat(arc[-1:], 400, axis=0)])
+    arrive = line.shape[0] + arc.shape[0] - 1
+    delta, tau = 5e-6, 0.01
+    u = np.clip((np.arange(p.shape[0]) - arrive) * DT, 0, None) / tau
+    act = p.copy()
+    act[:, 0] -= delta * u * np.exp(1 - u)
+    run = Run(np.arange(p.shape[0]) * DT,
+              {ax: AxisRun(cmd=p[:, i], tcp=act[:, i]) for i, ax in enumerate("XY")})
+    end = contour_error(run).corners[-1]
+    assert np.isnan(end["turn_rad"])
+    assert end["tcp"]["overshoot_m"] == pytest.approx(delta, rel=1e-3)

@@ -5,6 +5,7 @@ the numbers of the whole-polyline ones to the bit."""
 
 from __future__ import annotations
 
+import math
 from itertools import takewhile
 
 import numpy as np
@@ -24,6 +25,24 @@ from tcpmm.sim.simulate import simulate
 def _rest_start_whole(p, i):
     moved = np.flatnonzero(np.any(p[:i] != p[i], axis=1))
     return int(moved[-1]) + 1 if moved.size else 0
+
+
+def _end_back_whole(p, s, first, least):
+    """Where the chord into the end of the path starts: ``least``, or where the path
+    before the end turns off its last moving segment's direction by more than 1 deg."""
+    moved = [j for j in range(first) if not np.array_equal(p[j], p[first])]
+    if not moved:
+        return s[0]
+    u = p[first] - p[moved[-1]]
+    u = u / np.sqrt(dot_rows(u[None], u[None])[0])
+    k = moved[-1]
+    while k > 0 and s[k] > least:
+        v = p[k] - p[k - 1]
+        if np.any(v != 0.0) and dot_rows((v / np.sqrt(dot_rows(v[None], v[None])[0]))[None],
+                                          u[None])[0] < math.cos(math.radians(1.0)):
+            break
+        k -= 1
+    return s[k]
 
 
 def _first_bend_whole(p, s, j0, t_out, after_m):
@@ -63,12 +82,14 @@ def test_looked_up_around_a_vertex_as_over_the_whole_polyline(ps, data):
     t_out[1] = np.sqrt(1 - t_out[0] ** 2)
     after = float(s[i]) + data.draw(st.floats(0, 1e-3))
     assert C.first_bend(p, s, i, t_out, after) == _first_bend_whole(p, s, i, t_out, after)
-    # the compiled frame looks the chord before the corner up around it
+    # the compiled frame looks the chord before the end up around it, over the straight
+    # stretch before it where that is shorter than the span
     span = data.draw(st.floats(1e-6, 1e-2))
     frame = call("corner_frames", p, s, np.arange(p.shape[0]) * 1e-3, np.array([i]),
                  np.array([np.nan]), span)[0]
     assert frame[0] == _rest_start_whole(p, i)
-    v = p[i] - C._at(p, s, np.array([s[i] - span]))[0]
+    x0 = max(s[i] - span, _end_back_whole(p, s, int(frame[0]), s[i] - span))
+    v = p[i] - C._at(p, s, np.array([x0]))[0]
     t_in = v / (np.sqrt(dot_rows(v, v)) or 1.0)
     np.testing.assert_array_equal(frame[2:].view(np.int64),
                                   np.concatenate([t_in, t_in]).view(np.int64))

@@ -36,9 +36,9 @@ def _shape(t, dist, dev, past, b0, b1, end, tol):
     own = (t >= b0) & (t <= b1)
     if not own.any():
         return [float("nan"), float("nan")]
-    if end:
+    if end:  # the level from every sample, the travel from the command's arrival on
         dv = dev[own]
-        dv = dv - max(float(np.median(dv[-(dv.size // 4 or 1):])), 0.0)
+        dv = dev[own & past] - max(float(np.median(dv[-(dv.size // 4 or 1):])), 0.0)
     else:
         dv = dev[own & past]
         dv = dv - _held(dv, tol)
@@ -129,7 +129,7 @@ def _numpys_share(p, s, tc, t, q, e, f, off, c, n, lim, end):
         qn, foot = qk[near], lf[near]
         rows.append(norm_rows(qk[after] - c) if end else e[k, w][after])
         if end:
-            dev, past = dot_rows(qn - c, n), np.ones(qn.shape[0], bool)
+            dev, past = dot_rows(qn - c, n), t[w][near] >= t0
         else:
             a, dd = p[foot], p[foot + 1] - p[foot]
             ln2 = dot_rows(dd, dd)

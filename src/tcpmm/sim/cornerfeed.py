@@ -146,7 +146,7 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
     tn, dist, dev : ndarray
         Their times [s], distances to the corner point and how far outside the path [m].
     past : ndarray of uint8
-        1 where past the corner [-].
+        1 where past the corner (at the end: from the command's arrival) [-].
     rowcut : ndarray of int64, shape (corners + 1,)
         Where each corner's rows begin in the next [-].
     rows : ndarray, shape (r, 2 + sensors)
@@ -183,8 +183,8 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
                     continue
                 qi = q[k, i]
                 tn[r], dist[r] = t[i], _dist(qi, cj)
-                if at_end:
-                    dev[r] = _dot_diff(qi, cj, nj)
+                if at_end:  # travel past the end once the command is there
+                    dev[r], past[r] = _dot_diff(qi, cj, nj), t[i] >= lims[j, 2]
                 else:
                     dev[r], past[r] = _outside(qi, g, s, p, nj, s_first)
                 r += 1

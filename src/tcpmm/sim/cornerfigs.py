@@ -15,6 +15,12 @@ import math
 import numpy as np
 from numba import njit
 
+#: The end of a path is approached along the chord back over the span, or over the
+#: stretch before the end within this angle of the last segment's direction where the path
+#: curves nearer the end (a slot's end on an arc of 0.1 mm): the direction of travel
+#: past the end point [-].
+_END_COS = math.cos(math.radians(1.0))
+
 
 @njit(cache=True)
 def median(x):
@@ -73,7 +79,9 @@ def corner_shape(t, dist, dev, past, b0, b1, end, tol):
     t, dist, dev : ndarray, shape (n,)
         Times [s], distances to the corner point [m] and how far outside the path [m].
     past : ndarray of uint8, shape (n,)
-        1 where the sample lies past the corner [-].
+        1 where the sample lies past the corner; at the end of the path, where the
+        command has arrived (before, a path that curves into its end, a slot's, may lie
+        beyond the end point along the direction it ends in) [-].
     b0, b1 : float
         The samples the corner owns: from ``b0`` to ``b1`` [s].
     end : int
@@ -97,10 +105,11 @@ def corner_shape(t, dist, dev, past, b0, b1, end, tol):
             rounding = math.nan
             break
         rounding = min(rounding, dist[k])
-    if end:
+    if end:  # the level from the whole stretch, the travel from the command's arrival
         dv = dev[own]
         tail = dv[dv.size - max(dv.size // 4, 1):]
         level = _pymax(median(tail), 0.0)
+        dv = dev[own & (past != 0)]
     else:
         dv = dev[own & (past != 0)]
         level = _held(dv, tol)
@@ -294,7 +303,8 @@ def corner_frame(p, s, tc, i, turn, span):
     path, ``turn`` NaN: of its arrival), the direction an overshoot runs in (across the
     outgoing leg, to the side the incoming direction points to; at the end of the path or
     a reversal the incoming direction) and the outgoing direction, the directions taken
-    over the chords of ``span`` before and after the corner.
+    over the chords of ``span`` before and after the corner (at the end of the path, over
+    the straight stretch before it where that is shorter: :func:`_straight_back`).
 
     Returns
     -------
@@ -313,6 +323,8 @@ def corner_frame(p, s, tc, i, turn, span):
     t0 = tc[first] if math.isnan(turn) else tc[i]
     out[1] = interp_at(t0, tc, s, 0, tc.size)
     x0, x1 = s[i] - span, s[i] + span
+    if math.isnan(turn):
+        x0 = max(x0, _straight_back(p, s, first, x0))
     a = max(np.searchsorted(s, min(x0, x1), side="left") - 1, 0)
     b = np.searchsorted(s, max(x0, x1), side="right") + 1
     b = min(b, s.size)
@@ -330,6 +342,26 @@ def corner_frame(p, s, tc, i, turn, span):
     out[2:2 + d] = t_in if ln < 1e-6 else n / ln
     out[2 + d:] = t_out
     return out
+
+
+@njit(cache=True)
+def _straight_back(p, s, first, least):
+    """Path length at the first vertex of the stretch that ends at ``p[first]`` within
+    :data:`_END_COS` of its last moving segment's direction (its rests passed over), or
+    ``least`` where it reaches that far back [m]."""
+    j = first - 1
+    while j >= 0 and (p[j] == p[first]).all():
+        j -= 1
+    if j < 0:
+        return s[0]
+    u = _unit(p[first] - p[j])
+    k = j
+    while k > 0 and s[k] > least:
+        v = p[k] - p[k - 1]
+        if (v != 0.0).any() and _dot(_unit(v), u) < _END_COS:
+            break
+        k -= 1
+    return s[k]
 
 
 @njit(cache=True)

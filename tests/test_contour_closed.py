@@ -109,3 +109,20 @@ def test_the_end_of_a_slot_overshoots_along_the_direction_it_ends_in():
     end = contour_error(run).corners[-1]
     assert np.isnan(end["turn_rad"])
     assert end["tcp"]["overshoot_m"] == pytest.approx(delta, rel=1e-3)
+
+
+def test_an_arc_that_turns_back_onto_a_line_has_its_corner_at_the_cusp():
+    """An arc of R 1 mm whose end turns back (166 deg) onto a line: the corner is the
+    cusp, where the command turns, not the sharpest turn over the span, which lies on the
+    line past it where the other side curves (8 to 32 um past it on such paths)."""
+    u = np.linspace(0.0, 1.0, 200)
+    th = np.pi + np.pi * (1 - (1 - u) ** 2)  # slowing down into the cusp
+    arc = 1e-3 * np.c_[np.cos(th), np.sin(th)]
+    v = np.linspace(0.0, 1.0, 300)[1:]
+    line = np.c_[np.full(v.size, 1e-3), -3e-3 * v**2]
+    p = np.vstack([arc, line, np.repeat(line[-1:], 300, axis=0)])
+    run = Run(np.arange(p.shape[0]) * DT,
+              {ax: AxisRun(cmd=p[:, i], tcp=p[:, i] + 2e-6) for i, ax in enumerate("XY")})
+    corners = [c for c in contour_error(run).corners if c["turn_rad"] == c["turn_rad"]]
+    assert len(corners) == 1 and np.degrees(corners[0]["turn_rad"]) > 150
+    np.testing.assert_allclose(corners[0]["point_m"], [1e-3, 0.0], rtol=0, atol=1e-12)

@@ -20,15 +20,16 @@ from tcpmm.sim.simulate import simulate
 
 #: a G64 zig-zag, sharp and blended corners of 60 to 170 degrees, an exact-stop square
 #: (the command rests on each corner), a dwell, reversals along an axis and a diagonal, and
-#: an arc out and back (its passes tie within their chords' sag): corners with and without
-#: rests
+#: an arc out and back (its passes tie within their chords' sag), an arc that turns back
+#: onto a line (a cusp): corners with and without rests
 PROGRAM = "\n".join([
     "G21 G90 G64 P0.01", "G1 X0 Y0 F2000",
     *[f"G1 X{(i % 2) * 2:.3f} Y{i * 0.4:.3f}" for i in range(1, 9)],
     "G64 P0", "G1 X0.5 Y4", "G1 X1 Y3.8", "G1 X1.2 Y4.5",
     "G61", "G1 X3 Y4.5", "G1 X3 Y6", "G1 X1 Y6", "G4 P0.05", "G1 X1 Y4.5",
     "G64", "G1 X1 Y7", "G1 X1 Y6", "G1 X2.5 Y7.5", "G1 X1.5 Y6.5", "G1 X1.5 Y8",
-    "G3 X3.5 Y8 I1 J0", "G2 X1.5 Y8 I-1 J0", "M30"]) + "\n"
+    "G3 X3.5 Y8 I1 J0", "G2 X1.5 Y8 I-1 J0", "G1 X1.5 Y9", "G3 X3.5 Y9 R1",
+    "G1 X3.8 Y7.5", "M30"]) + "\n"
 
 
 def quiet(fn, *args, **kw):

@@ -175,6 +175,10 @@ class CornerFinder:
         r = np.flatnonzero(split & (rf < 0))  # a bend, not a reversal: all at once
         if r.size:
             i[r], bent[r] = bend_corners(p, s, idx[first[r]], idx[last[r]], self.span)
+        r = np.flatnonzero(rf < 0)
+        if r.size:  # a cusp: the vertex where the path turns back
+            at = cusps(p, idx[first[r]], idx[last[r]] + 1)
+            i[r] = np.where(at >= 0, at, i[r])
         moves = np.flatnonzero(any_rows(p[1:] != p[:-1]))  # p[j + 1] off p[j]
         k = np.searchsorted(moves, i, side="left")
         i = np.where(k < moves.size, moves[np.minimum(k, moves.size - 1)], p.shape[0] - 1)
@@ -198,6 +202,10 @@ class CornerFinder:
             at, turns = bend_corners(p, s, np.array([self.group[0] - off]),
                                      np.array([self.group[4] - off]), self.span)
             i, bent = int(at[0]), float(turns[0])
+        if self.group[3] is None:  # a cusp: the vertex where the path turns back
+            at = int(cusps(p, np.array([self.group[0] - off]),
+                           np.array([self.group[4] - off + 1]))[0])
+            i = at if at >= 0 else i
         while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
             i += 1
         out.append((i + off, bent))
@@ -233,6 +241,38 @@ def _runs(k, turn, straight, evenly) -> tuple:
     return (k[start], k[stop - 1], k[best], np.where(has, k[np.minimum(rf, k.size - 1)], -1),
             np.where(has, k[np.maximum(rl, 0)], -1),
             ((gaps[stop - 1] > gaps[start]) | (even > 0)).astype(np.int64))
+
+
+def local_turns(p):
+    """Per vertex of ``p``, the angle between the moving segments either side of it (the
+    last that ends there or before, the first that starts there or after), 0 where there
+    is none on a side [rad]."""
+    seg = p[1:] - p[:-1]
+    moving = np.flatnonzero(any_rows(seg != 0.0))
+    out = np.zeros(p.shape[0])
+    after = np.searchsorted(moving, np.arange(p.shape[0]), side="left")
+    ok = np.flatnonzero((after > 0) & (after < moving.size))
+    u, w = seg[moving[after[ok] - 1]], seg[moving[after[ok]]]
+    cos = dot_rows(u, w) / (norm_rows(u) * norm_rows(w))
+    out[ok] = np.arccos(np.clip(cos, -1.0, 1.0))
+    return out
+
+
+def cusps(p, a, b):
+    """Per run of vertices ``a[r]:b[r]`` of ``p``, the first vertex where the path turns
+    back by :data:`_TURNS_BACK` or more between one segment and the next, -1 where none
+    does: a cusp, its turning point (the sharpest turn over the span lies past it where
+    one side curves, an arc that turns back onto a line) [-]."""
+    lens = b - a
+    if lens.sum() == 0:
+        return np.full(a.size, -1)
+    start = np.r_[0, np.cumsum(lens)[:-1]]
+    at = np.repeat(a - start, lens) + np.arange(lens.sum())
+    turn = local_turns(p)[at]
+    top = np.maximum.reduceat(turn, start)
+    pos = np.minimum.reduceat(np.where(turn == np.repeat(top, lens), np.arange(at.size),
+                                       at.size), start)
+    return np.where(top >= _TURNS_BACK, at[np.minimum(pos, at.size - 1)], -1)
 
 
 def bend_corners(p, s, a, b, span) -> tuple:

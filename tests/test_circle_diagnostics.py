@@ -1191,3 +1191,25 @@ def test_one_direction_over_a_220_deg_arc_gives_no_spike_after_terms(tmp_path, c
     [tcp] = [s for s in p["sensors"] if s["sensor"] == "tcp"]
     assert all(tcp[f"spike_after_terms_{q}_um"] is None for q in "ABCD")
     assert abs(tcp["spike_B_um"]) > 3.0  # the raw spike carries the centre offset
+
+
+@pytest.mark.parametrize("period", [1.5e-3, 0.6e-3])
+def test_a_pitch_error_shorter_than_ten_steps_is_found_at_f10000(period):
+    """At F10000 on R 35 mm and 1 kHz the tool steps 0.17 mm a sample: a cyclic error of
+    1.5 or 0.6 mm is under ten steps a period, unresolved in time at full speed, but a sine
+    of the axis' position is resolved where the axis slows towards its reversals. Left
+    unsearched, 3 um of it read as 2.5 um of backlash and 10 ppm of scale mismatch."""
+    n = 1320
+    err = {"cyc_x": (3e-6, period, 0.7), "b_y": 4e-6}
+    assert_recovered(diagnose(err, n=n), expected(err, n), w=2 * np.pi / (n * DT))
+
+
+def test_a_cyclic_error_shorter_than_the_band_names_the_band_searched():
+    """0.2 mm at F10000 is two steps a period: not searched, and the reason an axis reads
+    no cyclic error says which periods were searched and that a shorter one reads in part
+    as the terms."""
+    diag = diagnose({"cyc_x": (3e-6, 0.2e-3, 0.7)}, n=1320)
+    assert np.isnan(diag["cyclic_amplitude_X"])
+    why = diag.undetermined["cyclic_amplitude_X"]
+    assert "periods from 23.3 down to 0.5 mm were searched" in why
+    assert "reads in part as the terms" in why

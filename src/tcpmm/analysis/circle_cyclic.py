@@ -10,8 +10,8 @@ by more than a fifth of its amplitude, and is no cyclic error: a screw's pitch e
 not know which way the axis turned last. Nor is one smaller than what the fit leaves
 unexplained: a residual that large is structured (a reversal's tails, a lag the terms do
 not model) and holds periods whose halves agree. Periods run from a third of the diameter
-down: over fewer than three periods a sine of the position is mostly the circle's own
-terms.
+(:data:`MIN_PERIODS`) down to :func:`shortest_period`: over fewer than three periods a sine
+of the position is mostly the circle's own terms.
 """
 
 from __future__ import annotations
@@ -24,17 +24,47 @@ from .circle_model import angle_step, cyclic_columns
 #: axis' position is mostly the circle's own terms (its centre, an ellipse, a bow), and a
 #: period of the radius had taken a reversal's tails for 43 um of pitch error [-]
 MIN_PERIODS = 3.0
+#: The shortest period searched, in the tool's largest steps along the path [-]: a sine of
+#: the axis' position is a column of the fit whatever its period, and one shorter than the
+#: sampling resolves in time is still resolved where the axis moves slowly, towards its
+#: reversals (at F10000 on R 35 mm and 1 kHz, a pitch error of 1.5 mm and 3 um went
+#: unsearched below ten steps and read as -2.5 um of backlash and -10 ppm of scale
+#: mismatch); below two steps it is resolved over too few degrees to stand out of noise.
+MIN_STEPS = 2.0
+#: Periods down to this length are searched at any feed [m], and down to ten steps where
+#: those are shorter: the scan's cost grows with the periods it holds over the diameter,
+#: and a circle sampled that finely (F1800 at 1 kHz: 0.3 mm) resolves them in time.
+SHORT_PERIOD_M = 0.5e-3
 
 
-def _scan(pos, w, resid, basis, radius, band, spacing):
+def shortest_period(step: float) -> float:
+    """The shortest period of a cyclic error searched, for the tool's largest step along
+    the path ``step`` [m]: :data:`MIN_STEPS` steps, but no shorter than the lesser of
+    :data:`SHORT_PERIOD_M` and ten steps [m]."""
+    return max(MIN_STEPS * step, min(SHORT_PERIOD_M, 10.0 * step))
+
+
+def longest_period(radius: float) -> float:
+    """The longest period of a cyclic error searched on a circle of ``radius`` [m]: a
+    third of its diameter (:data:`MIN_PERIODS`) [m]."""
+    return 2.0 * radius / MIN_PERIODS
+
+
+def step_of(pb) -> float:
+    """The tool's largest step along the path over the arcs of ``pb`` [m]."""
+    return pb.radius * max(angle_step(a.angle) for a in pb.arcs)
+
+
+def _scan(pos, w, resid, basis, radius, band, step):
     """``(power, wavenumber)`` of the three strongest cyclic errors (strongest first)
     of an axis at ``pos`` seen along the radius by ``w`` in the residual of a fit whose
     columns span the orthonormal ``basis``: the drop of the sum of squares that adding it
     to that fit brings [m^2] and its wavenumber [1/m], searched over ``band`` (``None``:
-    periods from :data:`MIN_PERIODS` over the diameter down to ten sample spacings)."""
+    periods from :func:`longest_period` down to :func:`shortest_period` of the tool's
+    largest ``step`` along the path [m])."""
+    lo, hi = band if band is not None else (1.0 / longest_period(radius),
+                                            1.0 / shortest_period(step))
     step = 1.0 / (4.0 * radius)  # a quarter of the peak's width over the diameter
-    lo, hi = band if band is not None else (MIN_PERIODS / (2.0 * radius),
-                                            1.0 / (10.0 * spacing))
 
     power = _power_of(pos, w, resid, basis)
     ks = np.arange(lo, hi, step)
@@ -129,12 +159,12 @@ def search_cyclic(pb, mu) -> tuple:
     # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
     # noise-free circle has no noise to stand out of, and found a period in rounding
     floor = max(30.0 * _noise(pb.arcs) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
-    spacing = pb.radius * max(angle_step(a.angle) for a in pb.arcs)
+    step = step_of(pb)
     waves = [None, None]
     _, res, basis = pb.solve(mu, waves)
     for _ in range(2):
         found = [[(0.0, None)] if waves[ax] is not None else
-                 _scan(pos[ax], ws[ax], res, basis, pb.radius, None, spacing) for ax in (0, 1)]
+                 _scan(pos[ax], ws[ax], res, basis, pb.radius, None, step) for ax in (0, 1)]
         ax = int(np.argmax([f[0][0] for f in found]))
         if found[ax][0][0] <= floor:
             break
@@ -143,13 +173,13 @@ def search_cyclic(pb, mu) -> tuple:
     if all(k is not None for k in waves):  # each period again, the other one fitted
         for ax in (0, 1):
             without = _without(pb, mu, waves, ax)
-            waves[ax] = _scan(pos[ax], ws[ax], *without, pb.radius, None, spacing)[0][1]
+            waves[ax] = _scan(pos[ax], ws[ax], *without, pb.radius, None, step)[0][1]
     for ax in (0, 1):  # a period of the axis' position, else the next that is one, or none
         if waves[ax] is None:
             continue
         without = _without(pb, mu, waves, ax)
         if not _of_position(pb, without, ax, waves[ax]):
-            found = _scan(pos[ax], ws[ax], *without, pb.radius, None, spacing)
+            found = _scan(pos[ax], ws[ax], *without, pb.radius, None, step)
             waves[ax] = _first_of_position(pb, without, ax, found, floor)
     return tuple(waves)
 
@@ -205,3 +235,34 @@ def _of_position(pb, without, ax, k) -> bool:
     # and it stands out of what the fit leaves: a structured residual (the tails of large
     # reversals, a lag the terms do not model) holds periods its halves agree on too
     return bool(d <= _HALVES * amp and amp >= np.sqrt(var))
+
+
+def cyclic_terms(fit) -> dict:
+    """Amplitude [m] and period [m] of each axis' cyclic error; both NaN where none stands
+    out (:func:`cyclic_unresolved` says why)."""
+    out = {}
+    for name, k in zip("XY", fit.waves, strict=True):
+        amp = period = float("nan")
+        if k is not None:
+            amp = fit.cyclic_amplitude(name)
+            period = 1.0 / k
+        out[f"cyclic_amplitude_{name}"] = (amp, "m")
+        out[f"cyclic_period_{name}"] = (period, "m")
+    return out
+
+
+def cyclic_unresolved(fit) -> dict:
+    """Why each axis whose cyclic error the search did not find reads none, by term name
+    (axes X and Y): not that it has none, but that one as small as what the fit leaves
+    unexplained may hide in it, as a search that counts only what stands out of that
+    residual cannot tell it (:mod:`.circle_cyclic`) [-]."""
+    rms_um = fit.residual_rms * 1e6
+    rms = f"{rms_um:.2f} µm rms" if rms_um >= 0.005 else "under 0.01 µm rms"
+    why = (f"none stands out of what the terms leave unexplained ({rms}): one of about that "
+           "size or less is not resolved, so the axis may still have one")
+    if fit.periods:  # one of a period outside the band reads in part as the terms
+        why += ("; periods from {:.3g} down to {:.2g} mm were searched, and a shorter one, "
+                "unresolved at this feed, reads in part as the terms").format(
+                    *np.multiply(fit.periods, 1e3))
+    return {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
+            if k is None for q in ("amplitude", "period")}

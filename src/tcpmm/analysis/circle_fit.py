@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .circle_cyclic import search_cyclic
+from .circle_cyclic import longest_period, search_cyclic, shortest_period, step_of
 from .circle_model import (
     alias_slopes,
     cyclic_columns,
@@ -136,6 +136,9 @@ class TermFit:
         Per column left out of the fit (and per term ``unseen`` of :func:`fit_terms`), how
         much each fitted column moves per unit of it, were it present
         (:func:`.circle_model.alias_slopes`) [SI/SI].
+    periods : tuple
+        The longest and shortest period the cyclic errors were searched over; empty where
+        they were not searched [m].
     """
 
     names: list
@@ -145,6 +148,7 @@ class TermFit:
     residual_rms: float
     centres: tuple = ()
     aliases: dict = field(default_factory=dict)
+    periods: tuple = ()
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -311,8 +315,11 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         pb.reversals_at(mu)
         coef = pb.solve(mu, (None, None))[0]
         mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
-    if waves is None:
-        waves = search_cyclic(pb, mu) if cyclic else (None, None)
+    periods = ()
+    if waves is None and cyclic:
+        waves = search_cyclic(pb, mu)
+        periods = (longest_period(radius), shortest_period(step_of(pb)))
+    waves = (None, None) if waves is None else waves
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     coef, res, _ = pb.solve(mu, waves)
@@ -321,7 +328,7 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
     extra = dict(zip(unseen, pb.unseen_columns(unseen, mu).T, strict=True)) if unseen else {}
     aliases = alias_slopes(A, np.isfinite(coef), names, extra)
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
-                   tuple(pb.centres), aliases)
+                   tuple(pb.centres), aliases, periods)
 
 
 def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):

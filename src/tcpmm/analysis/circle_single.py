@@ -17,6 +17,7 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_alias import alias_terms
+from .circle_cyclic import cyclic_terms, cyclic_unresolved
 from .circle_display import rename_axes
 from .circle_ellipse import open_by_ellipse
 from .circle_fit import Arc
@@ -29,8 +30,6 @@ from .diagnostics import (
     CircleDiagnostics,
     check_arc,
     circle_diagnostics,
-    cyclic_terms,
-    cyclic_unresolved,
     pick_passes,
     pick_sensor,
     undetermined_terms,

@@ -57,6 +57,7 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_alias import alias_terms
+from .circle_cyclic import cyclic_terms, cyclic_unresolved
 from .circle_display import (  # noqa: F401
     DISPLAY_UNITS,
     TERM_NOTES,
@@ -313,33 +314,6 @@ def step_sides(e, model):
         for j in (k, k + 1):
             r[j] = e[j] - min(max(e[j], lo), hi)
     return r
-
-
-def cyclic_terms(fit) -> dict:
-    """Amplitude [m] and period [m] of each axis' cyclic error; both NaN where none stands
-    out (:func:`cyclic_unresolved` says why)."""
-    out = {}
-    for name, k in zip("XY", fit.waves, strict=True):
-        amp = period = float("nan")
-        if k is not None:
-            amp = fit.cyclic_amplitude(name)
-            period = 1.0 / k
-        out[f"cyclic_amplitude_{name}"] = (amp, "m")
-        out[f"cyclic_period_{name}"] = (period, "m")
-    return out
-
-
-def cyclic_unresolved(fit) -> dict:
-    """Why each axis whose cyclic error the search did not find reads none, by term name
-    (axes X and Y): not that it has none, but that one as small as what the fit leaves
-    unexplained may hide in it, as a search that counts only what stands out of that
-    residual cannot tell it (:mod:`.circle_cyclic`) [-]."""
-    rms_um = fit.residual_rms * 1e6
-    rms = f"{rms_um:.2f} µm rms" if rms_um >= 0.005 else "under 0.01 µm rms"
-    why = (f"none stands out of what the terms leave unexplained ({rms}): one of about that "
-           "size or less is not resolved, so the axis may still have one")
-    return {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
-            if k is None for q in ("amplitude", "period")}
 
 
 def pick_passes(result, other=None):

@@ -12,10 +12,10 @@ each axis lagging its command by its own time and reversing where its own veloci
 - a random start angle.
 
 The circle is diagnosed alone (:func:`tcpmm.analysis.circle_single.diagnose_single`), and
-each backlash, bow and centre offset is compared with what was injected. A term is *off*
-where it is given (not NaN) and misses the injected value by more than 2 % of it and by
-more than 0.1 um of the radial error it makes (the tolerance of the suite's tests); *open*
-where it is NaN, with its reason under ``undetermined``. Not a test:
+each backlash, bow, centre offset and the scale mismatch is compared with what was
+injected. A term is *off* where it is given (not NaN) and misses the injected value by more
+than 2 % of it and by more than 0.1 um of the radial error it makes (the tolerance of the
+suite's tests); *open* where it is NaN, with its reason under ``undetermined``. Not a test:
 ``python -m studies.one_direction [--seed N] [--cases N]``.
 """
 
@@ -33,10 +33,12 @@ from tcpmm.analysis.circle_single import diagnose_single
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import test_circle_diagnostics as gen  # the suite's generator
 
-#: Term -> the generator's key and the radial error per unit of the term [-, m/unit].
-TERMS = {"backlash_X": ("b_x", 0.5), "backlash_Y": ("b_y", 0.5),
-         "straightness_X": ("str_x", 1.0), "straightness_Y": ("str_y", 1.0),
-         "centre_offset_X": ("cx", 1.0), "centre_offset_Y": ("cy", 1.0)}
+#: Term -> the generator's key and the radial error per unit of the term at radius ``r``
+#: [-, m/unit].
+TERMS = {"backlash_X": ("b_x", lambda r: 0.5), "backlash_Y": ("b_y", lambda r: 0.5),
+         "straightness_X": ("str_x", lambda r: 1.0), "straightness_Y": ("str_y", lambda r: 1.0),
+         "centre_offset_X": ("cx", lambda r: 1.0), "centre_offset_Y": ("cy", lambda r: 1.0),
+         "scale_mismatch": ("eps_x", lambda r: r / 2)}
 
 
 def draw(rng) -> tuple:
@@ -68,7 +70,7 @@ def judge(case: int, rng) -> tuple[list, int]:
         true, found = err[key], diag[term]
         if not np.isfinite(found):
             opened += 1
-        elif abs(found - true) > max(0.02 * abs(true), 0.1e-6 / per_unit):
+        elif abs(found - true) > max(0.02 * abs(true), 0.1e-6 / per_unit(radius)):
             off.append((case, term, round(found * 1e6, 2), round(true * 1e6, 2),
                         round(radius * 1e3), dt, round(feed), round(err["tau_y"] * 1e3, 2)))
     return off, opened

@@ -1213,3 +1213,19 @@ def test_a_cyclic_error_shorter_than_the_band_names_the_band_searched():
     why = diag.undetermined["cyclic_amplitude_X"]
     assert "periods from 23.3 down to 0.5 mm were searched" in why
     assert "reads in part as the terms" in why
+
+
+@pytest.mark.parametrize("b_x", [3.7e-6, -6.5e-6])
+def test_one_direction_reads_its_ellipse_as_a_mismatch_with_the_backlash_fitted(b_x):
+    """One direction with a servo mismatch of 0.9 ms: its ellipse moves the reversals by a
+    sample, so the backlash is left open; read again as a servo mismatch the fit must keep
+    the backlash's columns all the same. Without them the scale mismatch took the backlash
+    (about 6 ppm per um), differed between the two readings and was left open, or said
+    with a wrong reading beside the right one."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    err = {"tau_y": 0.9e-3, "b_x": b_x, "b_y": 0.7e-6, "eps_x": 87e-6}
+    diag = diagnose_single(*circle("ccw", err, 3), "ccw", R)
+    assert "scale_mismatch" not in diag.undetermined
+    assert_recovered(diag, {"scale_mismatch": 87e-6})
+    assert np.isnan(diag["backlash_X"]) and "cannot place" in diag.undetermined["backlash_X"]

@@ -90,9 +90,12 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why = {rename_axes(k, axes): v for k, v in NEEDS_PAIR.items()}
     why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
                 for k in undetermined_terms(fit) if k not in NEEDS_PAIR or k == "squareness"})
+    # the ellipse read again before the backlash is left open, so that its other reading
+    # keeps the backlash's columns: without them the scale mismatch took the backlash;
+    # a backlash left open for both reasons is said for the reversals' placing
+    ellipse = open_by_ellipse(fit, terms, arcs, radius_m, SINGLE)
+    why.update({rename_axes(k, axes): v for k, v in ellipse.items()})
     why.update({rename_axes(k, axes): v for k, v in _unplaced(fit, terms, a).items()})
-    why.update({rename_axes(k, axes): v
-                for k, v in open_by_ellipse(fit, terms, arcs, radius_m, SINGLE).items()})
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,

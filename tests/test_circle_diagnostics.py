@@ -1229,3 +1229,15 @@ def test_one_direction_reads_its_ellipse_as_a_mismatch_with_the_backlash_fitted(
     assert "scale_mismatch" not in diag.undetermined
     assert_recovered(diag, {"scale_mismatch": 87e-6})
     assert np.isnan(diag["backlash_X"]) and "cannot place" in diag.undetermined["backlash_X"]
+
+
+def test_a_pitch_error_under_a_servo_mismatch_sampled_every_4_ms_is_found(monkeypatch):
+    """At F10000 on R 35 mm sampled every 4 ms a servo mismatch of 1 ms moves the radius by
+    some 3 um a sample; taken as noise, it put the floor a cyclic error must stand out of
+    above a pitch error of 0.76 um, which then read as 1.4 um of backlash."""
+    import sys
+
+    monkeypatch.setattr(sys.modules[__name__], "DT", 4e-3)
+    n = 330
+    err = {"tau_y": 1e-3, "cyc_y": (0.76e-6, 8e-3, 0.03)}
+    assert_recovered(diagnose(err, n=n), expected(err, n), w=2 * np.pi / (n * 4e-3))

@@ -163,7 +163,8 @@ def moving_line(diag) -> str:
             if unfitted else "")
     return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
             "each reversal left out instead of 20, " + ", ".join(items)
-            + "; the transient lasts past the window and reads partly as these terms" + also)
+            + "; a transient lasting past the window, or an error the terms do not model "
+            "there (a cyclic error not found), reads partly as these terms" + also)
 
 
 def moving_ranked(diag) -> set:

@@ -54,5 +54,6 @@ def test_a_period_next_to_the_band_edge_is_refined_to_it(frac):
     k = lo + frac * step
     y = 2e-6 * w * np.sin(2 * np.pi * k * pos + 0.4)
     resid = y - basis @ (basis.T @ y)
-    found = cc._scan(pos, w, resid, basis, R, None, R * 2 * np.pi / N)[0][1]
+    periods = (2.0 * R / cc.MIN_PERIODS, cc.shortest_period(R * 2 * np.pi / N))
+    found = cc._scan(pos, w, resid, basis, R, periods)[0][1]
     assert found == pytest.approx(k, rel=1e-4)

@@ -45,26 +45,21 @@ def shortest_period(step: float) -> float:
     return max(MIN_STEPS * step, min(SHORT_PERIOD_M, 10.0 * step))
 
 
-def longest_period(radius: float) -> float:
-    """The longest period of a cyclic error searched on a circle of ``radius`` [m]: a
-    third of its diameter (:data:`MIN_PERIODS`) [m]."""
-    return 2.0 * radius / MIN_PERIODS
+def search_periods(pb) -> tuple:
+    """The longest and the shortest period of a cyclic error searched over the arcs of
+    ``pb``: a third of the diameter (:data:`MIN_PERIODS`), and :func:`shortest_period` of
+    the tool's largest step along the path [m]."""
+    step = pb.radius * max(angle_step(a.angle) for a in pb.arcs)
+    return 2.0 * pb.radius / MIN_PERIODS, shortest_period(step)
 
 
-def step_of(pb) -> float:
-    """The tool's largest step along the path over the arcs of ``pb`` [m]."""
-    return pb.radius * max(angle_step(a.angle) for a in pb.arcs)
-
-
-def _scan(pos, w, resid, basis, radius, band, step):
+def _scan(pos, w, resid, basis, radius, periods):
     """``(power, wavenumber)`` of the three strongest cyclic errors (strongest first)
     of an axis at ``pos`` seen along the radius by ``w`` in the residual of a fit whose
     columns span the orthonormal ``basis``: the drop of the sum of squares that adding it
-    to that fit brings [m^2] and its wavenumber [1/m], searched over ``band`` (``None``:
-    periods from :func:`longest_period` down to :func:`shortest_period` of the tool's
-    largest ``step`` along the path [m])."""
-    lo, hi = band if band is not None else (1.0 / longest_period(radius),
-                                            1.0 / shortest_period(step))
+    to that fit brings [m^2] and its wavenumber [1/m], searched over the ``periods``
+    from the longest to the shortest (:func:`search_periods`) [m]."""
+    lo, hi = 1.0 / periods[0], 1.0 / periods[1]
     step = 1.0 / (4.0 * radius)  # a quarter of the peak's width over the diameter
 
     power = _power_of(pos, w, resid, basis)
@@ -147,7 +142,7 @@ def _noise(res):
     return 1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2)
 
 
-def search_cyclic(pb, mu) -> tuple:
+def search_cyclic(pb, mu, periods) -> tuple:
     """Wavenumber of the cyclic error of X and Y, None where none stands out (module
     docstring) [1/m].
 
@@ -157,11 +152,12 @@ def search_cyclic(pb, mu) -> tuple:
         The arcs and their fitted samples [-].
     mu : float
         Servo mismatch angle of the fit [rad].
+    periods : tuple
+        The longest and the shortest period searched (:func:`search_periods`) [m].
     """
     ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
     pos = [np.concatenate([p[axis] for p in pb.pos]) for axis in (0, 1)]
     ws = (np.cos(ang), np.sin(ang))
-    step = step_of(pb)
     waves = [None, None]
     _, res, basis = pb.solve(mu, waves)
     # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
@@ -169,7 +165,7 @@ def search_cyclic(pb, mu) -> tuple:
     floor = max(30.0 * _noise(res) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
     for _ in range(2):
         found = [[(0.0, None)] if waves[ax] is not None else
-                 _scan(pos[ax], ws[ax], res, basis, pb.radius, None, step) for ax in (0, 1)]
+                 _scan(pos[ax], ws[ax], res, basis, pb.radius, periods) for ax in (0, 1)]
         ax = int(np.argmax([f[0][0] for f in found]))
         if found[ax][0][0] <= floor:
             break
@@ -178,13 +174,13 @@ def search_cyclic(pb, mu) -> tuple:
     if all(k is not None for k in waves):  # each period again, the other one fitted
         for ax in (0, 1):
             without = _without(pb, mu, waves, ax)
-            waves[ax] = _scan(pos[ax], ws[ax], *without, pb.radius, None, step)[0][1]
+            waves[ax] = _scan(pos[ax], ws[ax], *without, pb.radius, periods)[0][1]
     for ax in (0, 1):  # a period of the axis' position, else the next that is one, or none
         if waves[ax] is None:
             continue
         without = _without(pb, mu, waves, ax)
         if not _of_position(pb, without, ax, waves[ax]):
-            found = _scan(pos[ax], ws[ax], *without, pb.radius, None, step)
+            found = _scan(pos[ax], ws[ax], *without, pb.radius, periods)
             waves[ax] = _first_of_position(pb, without, ax, found, floor)
     return tuple(waves)
 

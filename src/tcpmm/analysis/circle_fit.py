@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .circle_cyclic import longest_period, search_cyclic, shortest_period, step_of
+from .circle_cyclic import search_cyclic, search_periods
 from .circle_model import (
     alias_slopes,
     cyclic_columns,
@@ -317,8 +317,8 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     periods = ()
     if waves is None and cyclic:
-        waves = search_cyclic(pb, mu)
-        periods = (longest_period(radius), shortest_period(step_of(pb)))
+        periods = search_periods(pb)
+        waves = search_cyclic(pb, mu, periods)
     waves = (None, None) if waves is None else waves
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)

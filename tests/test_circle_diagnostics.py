@@ -569,7 +569,7 @@ def test_a_90_deg_arc_is_analysed_with_what_it_determines():
     there, the points it does not hold are left out; it gives no terms, and says why, and
     so no spike after them, as a pair of such arcs gives none (one direction's own fit of
     centre and ellipses over an arc gave one, where the diagnostics call those terms
-    undetermined)."""
+    undetermined), nor a residual after them."""
     err = {"spikes": {("ccw", "B"): (5e-6, 6.0)}, "r0": 2e-6}
     run = arc_run(err, 30.0, 90.0)
     with pytest.warns(InputWarning, match="arc of 90 deg does not hold quadrant points A"):
@@ -594,6 +594,9 @@ def test_a_90_deg_arc_is_analysed_with_what_it_determines():
         nan = {t for t, (v, _) in d.terms.items() if np.isnan(v) and not t.startswith(
             ("spike", "cyclic_period"))}
         assert nan <= set(d.undetermined), nan - set(d.undetermined)
+        # no term fitted leaves no residual: its rms was the radial error's, 14 um
+        assert np.isnan(d["residual_rms"]) and "no term is fitted" in d.undetermined[
+            "residual_rms"]
 
 
 def test_the_report_has_the_command_deviation_the_ranking_and_one_directions_terms(
@@ -644,6 +647,23 @@ def test_a_circle_of_no_error_shares_out_no_g():
     assert [r["term"] for r in rows] == ["squareness", "centre_offset"]
     assert all(np.isnan(r["share_of_G"]) for r in rows)
     assert ranking_rows({"squareness": (2e-6, 2e-6)}, g=4e-6)[0]["share_of_G"] == 0.5
+
+
+def test_a_share_of_g_above_100_percent_says_the_other_terms_cancel_part_of_it():
+    """A term alone can make more G(b) than the circles, whose other terms cancel part of
+    it: 100.6 % printed without a word read as an error of the ranking."""
+    from tcpmm.analysis.circle_display import beyond_g_note, ranking_rows
+    from tcpmm.report.circles import ranking_html
+
+    rows = ranking_rows({"backlash_X": (5.03e-6, 5.03e-6), "squareness": (1e-6, 1e-6)},
+                        g=5e-6)
+    assert rows[0]["share_of_G"] == pytest.approx(1.006)
+    note = beyond_g_note(rows, "G(b)")
+    assert note.startswith("backlash X alone makes more G(b) than the circles")
+    assert beyond_g_note(rows[1:], "G(b)") == ""
+    diag = diagnose({"b_x": 5e-6})
+    diag.ranking[:] = rows
+    assert "Backlash X alone makes more G(b)" in " ".join(ranking_html(diag, "c").split())
 
 
 @pytest.mark.parametrize("start_deg", [START, 47.3, 51.1])

@@ -102,6 +102,25 @@ def ranking_rows(contributions: dict, g: float = float("nan")) -> list[dict]:
             for i, k in enumerate(order)]
 
 
+def beyond_g_note(ranking, g_name: str = "G") -> str:
+    """Why a term's share of G is above 100 %, where one is: the G a term alone makes is
+    more than the circles' where the other terms cancel part of it; empty otherwise [-].
+
+    Parameters
+    ----------
+    ranking : list of dict
+        :func:`ranking_rows` [-].
+    g_name : str
+        What G is called: ``G(b)`` of a pair [-].
+    """
+    over = [r["term"].replace("_", " ") for r in ranking if r["share_of_G"] > 1.0]
+    if not over:
+        return ""
+    return (f"{', '.join(over)} alone make{'s' if len(over) == 1 else ''} more {g_name} than "
+            f"the circles: the other terms cancel part of {'it' if len(over) == 1 else 'them'}"
+            f", so over 100 % of {g_name} is no error")
+
+
 def undetermined_lines(undetermined: dict) -> list[str]:
     """What the circles leave open, a line per reason: the terms of one reason named
     together (an arc that gives none of its terms gave the same sentence for each) [-]."""

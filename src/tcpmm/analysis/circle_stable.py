@@ -35,6 +35,9 @@ CYCLIC_WHY = ("an arc does not separate a cyclic error from the centre and the b
 SPIKES_WHY = ("the arc gives no terms to take off its radial error, so a spike after them "
               "would be the raw one and carry the terms (the raw spikes are spike_*_um of "
               "the circle)")
+#: why an arc that gives no terms gives no residual after them
+RESIDUAL_WHY = ("no term is fitted over the arc, so nothing is left after them: its rms would "
+                "be the radial error itself, whose size the radial deviation and G give")
 #: why one direction over an arc, or a pair of short arcs, reports no terms
 SHORT_WHY = ("{what} does not separate the terms from the servo's and the friction's radial "
              "error along it (bench circles cut to such arcs read centre offsets and bows of "
@@ -105,3 +108,5 @@ def leave_open(why_out: dict, terms: dict, left: dict, arcs, axes, rename=None) 
             terms[k] = (float("nan"), "m")
         if k == "reversal_spikes":
             terms.update({t: (float("nan"), "m") for t in terms if t.startswith("spike_")})
+            terms["residual_rms"] = (float("nan"), "m")
+            why_out["residual_rms"] = RESIDUAL_WHY

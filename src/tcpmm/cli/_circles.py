@@ -169,6 +169,7 @@ def _print_ranking(diag, result=None) -> None:
                   highlight=False)
         return
     from ..analysis.circle_alias import ranking_marks
+    from ..analysis.circle_display import beyond_g_note
 
     g = "G(b)" if len(diag.directions) == 2 else "G"
     at = _at_scale(diag, result)
@@ -186,6 +187,8 @@ def _print_ranking(diag, result=None) -> None:
                   *((_cell(placed["scale_g_alone_um"]) + mark if placed else "",)
                     if scale else ()))
     tails = "".join(f"; {m} (above)" for m in legend)
+    beyond = beyond_g_note(diag.ranking, g)
+    tails += f"; {beyond}" if beyond else ""
     print_plain(t, out, f"terms ranked by their share of {g}",
                 f"{g} alone: the {g} the term's radial error alone makes; % {g}: of the "
                 f"circles' {g}; p-v: its peak to valley about the nominal centre (a centre "

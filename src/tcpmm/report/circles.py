@@ -171,8 +171,10 @@ def ranking_html(diag, stem: str) -> str:
     if not diag.ranking:
         return ""
     from ..analysis.circle_alias import ranking_marks
+    from ..analysis.circle_display import beyond_g_note
 
     marks, legend = ranking_marks(diag)
+    beyond = beyond_g_note(diag.ranking, "G(b)" if len(diag.directions) == 2 else "G")
     frame = pd.DataFrame([{"rank": r["rank"], "term": r["term"].replace("_", " ")
                            + marks[r["term"]],
                            "G alone [µm]": r["g_alone_m"] * 1e6,
@@ -183,7 +185,8 @@ def ranking_html(diag, stem: str) -> str:
                  "of each alone makes, about its own least-squares centre, and what of the "
                  "circles' G that is; then its peak to valley about the nominal centre (a "
                  "centre offset makes no G: it shows in the contour error) and its share of "
-                 "the sum of those." + "".join(f" {m} (below)." for m in legend))
+                 "the sum of those." + "".join(f" {m} (below)." for m in legend)
+                 + (f" {beyond[0].upper()}{beyond[1:]}." if beyond else ""))
             + table(frame, f"{stem}_diagnostics_ranking.csv",
                     digits={"share [%]": 1, "of G [%]": 1}))
 

@@ -1227,12 +1227,18 @@ def test_a_pitch_error_shorter_than_ten_steps_is_found_at_f10000(period):
 def test_a_cyclic_error_shorter_than_the_band_names_the_band_searched():
     """0.2 mm at F10000 is two steps a period: not searched, and the reason an axis reads
     no cyclic error says which periods were searched and that a shorter one reads in part
-    as the terms."""
+    as the terms, which it then moves with the window after the reversals: 0.6 um of
+    backlash X and 1.5 ppm of scale mismatch, none injected, move to 1.4 um and 17 ppm
+    with 40 deg left out. Without the error no term moves."""
+    from tcpmm.analysis.circle_tails import moving_terms
+
     diag = diagnose({"cyc_x": (3e-6, 0.2e-3, 0.7)}, n=1320)
     assert np.isnan(diag["cyclic_amplitude_X"])
     why = diag.undetermined["cyclic_amplitude_X"]
     assert "periods from 23.3 down to 0.5 mm were searched" in why
-    assert "reads in part as the terms" in why
+    assert "reads in part as the terms, which then move with the window" in why
+    assert {"backlash_X", "scale_mismatch"} <= set(moving_terms(diag))
+    assert moving_terms(diagnose({"b_y": 4e-6}, n=1320)) == {}
 
 
 @pytest.mark.parametrize("b_x", [3.7e-6, -6.5e-6])

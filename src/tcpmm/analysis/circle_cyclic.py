@@ -263,7 +263,9 @@ def cyclic_unresolved(fit) -> dict:
            "size or less is not resolved, so the axis may still have one")
     if fit.periods:  # one of a period outside the band reads in part as the terms
         why += ("; periods from {:.3g} down to {:.2g} mm were searched, and a shorter one, "
-                "unresolved at this feed, reads in part as the terms").format(
+                "unresolved at this feed, reads in part as the terms, which then move with "
+                "the window after the reversals: said where they do, as uncertain by the "
+                "reversals' tails").format(
                     *np.multiply(fit.periods, 1e3))
     return {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
             if k is None for q in ("amplitude", "period")}

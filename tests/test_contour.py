@@ -263,6 +263,30 @@ def test_a_curve_has_no_corner_and_its_end_no_overshoot_of_its_size(program, tmp
         assert r["overshoot_um"] < 15
 
 
+@pytest.mark.parametrize("suffix", ["csv", "parquet"])
+def test_a_plane_the_path_does_not_run_in_is_refused(suffix, tmp_path, capsys):
+    """A G18 circle taken in XY read a contour error of 0.00 um on every sensor, with a
+    corner, exit 0: the error of the line X runs along, Y never moving. The plane is
+    refused with the one the path runs in; that one, and XY of a helix (Z moving a
+    little beside X and Y), are measured."""
+    progs = {"g18": "G21 G18 G90\nG2 X0 Z0 I20 K0 F3000\nG4 P0.3\nM30\n",
+             "helix": "G21 G17 G90\nG1 X-20 Y0 F3000\nG2 X-20 Y0 Z-1 I20 J0\nG4 P0.3\nM30\n"}
+    for name, prog in progs.items():
+        (tmp_path / f"{name}.nc").write_text(prog)
+        assert main(["simulate", "builtin:vmc", "--gcode", str(tmp_path / f"{name}.nc"),
+                     "-o", str(tmp_path / f"{name}.{suffix}")]) == 0
+    capsys.readouterr()
+    code = main(["contour", str(tmp_path / f"g18.{suffix}"), "--plane", "XY"])
+    err = " ".join(capsys.readouterr().err.split())
+    assert code == 2 and "the plane XY leaves out Z, which moves 40 mm" in err
+    assert "the path runs in the ZX plane" in err and "Traceback" not in err
+    for run, plane in (("g18", "ZX"), ("helix", "XY")):
+        assert main(["contour", str(tmp_path / f"{run}.{suffix}"), "--plane", plane,
+                     "--json"]) == 0
+        res = json.loads(capsys.readouterr().out)
+        assert res["sensors"]["tcp"]["max_abs_um"] > 1.0
+
+
 @pytest.mark.parametrize("turn_deg", [45.0, 135.0])
 def test_a_corner_of_any_turn_overshoots_across_its_outgoing_leg(turn_deg):
     """A followed path has no overshoot at a 45 or 135 degree corner (along the incoming

@@ -78,6 +78,35 @@ def motion_plane(positions: dict, where: str = "") -> tuple[tuple[str, str], str
     return axes, why, flat
 
 
+def plane_misses(axes, positions: dict) -> str:
+    """Why a plane given by name misses the motion: an axis of it moves less than
+    :data:`OUT_OF_PLANE_SHARE` of an axis outside it (a G18 circle taken in XY, whose
+    error there is that of a line: 0.00 um); empty where it holds the motion [-].
+
+    Parameters
+    ----------
+    axes : tuple of str
+        The plane [-].
+    positions : dict of str to ndarray
+        Position per axis name [m].
+    """
+    travel = {a.upper(): float(np.ptp(p)) for a, p in positions.items()
+              if a.upper() in AXES and p is not None and np.size(p)}
+    out = {a: t for a, t in travel.items() if a not in axes}
+    if not out:
+        return ""
+    far = max(out, key=out.get)
+    near = min(axes, key=lambda a: travel.get(a, 0.0))
+    if not travel.get(near, 0.0) < OUT_OF_PLANE_SHARE * out[far]:
+        return ""
+    text = (f"the plane {plane_name(axes)} leaves out {far}, which moves "
+            f"{out[far] * 1e3:.3g} mm, where {near} moves {travel.get(near, 0.0) * 1e3:.3g} mm")
+    try:
+        return text + f": the path runs in the {plane_name(motion_plane(positions)[0])} plane"
+    except InputError:
+        return text
+
+
 def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str, bool]:
     """The plane in which a run's command moves (else its first position sensor).
 

@@ -33,7 +33,11 @@ def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
     from ..analysis.plane import run_plane
 
     if option is not None:
-        return None if allow_3d and option.strip().upper() == "3D" else plane_option(option)
+        if allow_3d and option.strip().upper() == "3D":
+            return None
+        axes = plane_option(option)
+        _refuse_a_plane_off_the_motion(axes, run, what, allow_3d)
+        return axes
     with in_file(what):
         try:
             axes, why, flat = run_plane(run)
@@ -46,6 +50,25 @@ def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
         return None
     console.print(f"plane {''.join(axes)}, taken from {what}: {why}", highlight=False)
     return axes
+
+
+def _refuse_a_plane_off_the_motion(axes, run, what, allow_3d: bool) -> None:
+    """Refuse ``--plane`` where it misses the motion of the run's command (else its first
+    position sensor of two axes): the error in it would be that of a line, read as
+    firm."""
+    from ..analysis.plane import plane_misses
+
+    pos = {}
+    for s in ("cmd", "scale", "motor", "tcp"):
+        pos = {a: r.sensor(s) for a, r in run.axes.items()}
+        pos = {a: p for a, p in pos.items() if p is not None}
+        if len(pos) >= 2:
+            break
+    why = plane_misses(axes, pos)
+    if why:
+        with in_file(what):
+            raise InputError(f"{why}; give --plane for the plane it runs in"
+                             + (", or --plane 3D" if allow_3d else ""))
 
 
 def command_plane(option, cmd) -> tuple[str, str]:

@@ -170,14 +170,24 @@ def test_command_faster_than_the_machine_warns(rapid, speed, warns):
     assert any(f"moves at {speed * 60:.4g} m/min" in s for s in texts) == warns
 
 
-@pytest.mark.parametrize("case", ["identify", "simulate", "circle", "report"])
+@pytest.mark.parametrize("case", ["identify", "simulate", "circle", "report",
+                                  "simulate-stream", "path-stream"])
 def test_a_failing_command_leaves_no_output_folder(capsys, tmp_path, case):
     """Output folders are checked before the work and made only when something is written:
-    a command that fails on its input leaves none behind."""
+    a command that fails on its input leaves none behind, also where the output is
+    streamed and the bad block comes after the first chunk is written (it left the
+    folders of its Parquet or CSV file, empty)."""
     bad = tmp_path / "bad.csv"
     bad.write_text("garbage\n")
     (tmp_path / "bundle").mkdir()
+    late = tmp_path / "late.nc"
+    late.write_text("G21 G90 G17\nG1 X1 F1000\nG1 X2\nG1 X3\nG1 X4 Q3\nM30\n")
     args, made = {
+        "simulate-stream": (["simulate", "builtin:vmc", "--gcode", late, "-o",
+                             tmp_path / "nd" / "sub" / "r.parquet", "--chunk-blocks", 1],
+                            "nd"),
+        "path-stream": (["path", late, "-o", tmp_path / "nd" / "c.csv", "--chunk-blocks", 1],
+                        "nd"),
         "identify": (["identify", tmp_path / "bundle", "-o", tmp_path / "m.yaml",
                       "--report", tmp_path / "ident"], "ident"),
         "simulate": (["simulate", "builtin:vmc", "--command", bad, "-o",

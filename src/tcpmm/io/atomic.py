@@ -157,7 +157,21 @@ def atomic_path(path, suffix: str = ""):
     """
     # the temporary file made below is the test that the folder takes a file
     path = _file_target(path)
+    made = [p for p in (path.parent, *path.parent.parents) if not p.exists()]
     _make_folder(_no_file_above(path.parent))
+    try:
+        yield from _written(path, suffix)
+    except BaseException:
+        # a stream that fails part-way (a bad block of a program written as it is read)
+        # leaves no empty folder of its output behind
+        for folder in made:
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise
+
+
+def _written(path: Path, suffix: str):
+    """:func:`atomic_path`'s temporary file in an existing folder, renamed on success."""
     # a device or a pipe (/dev/null, /dev/stdout, a FIFO) is written into, not replaced
     special = path.exists() and not path.is_file()
     mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()

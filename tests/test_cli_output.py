@@ -93,7 +93,8 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     code, out, _ = run_cli(capsys, *commands(runs)["contour"])
     lines = out.splitlines()
     assert code == 0 and "corners, tcp" in lines and "signed, +: left of travel" in lines
-    assert any(line.startswith("overshoot: outside the path past the corner, rounding: ")
+    assert any(line.startswith("turn: of the command over 0.5 mm before and after")
+               and "overshoot: outside the path past the corner, rounding: " in line
                and line.endswith("settled within 1 µm") for line in lines), out
     code, out, _ = run_cli(capsys, *commands(runs)["circle"])
     lines = out.splitlines()

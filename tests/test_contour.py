@@ -176,8 +176,11 @@ def test_a_long_run_name_stays_on_one_line_and_cmd_is_no_sensor(tmp_path, capsys
     assert main(["contour", str(tmp_path / name)]) == 0
     first = capsys.readouterr().out.splitlines()[0]
     assert first == f"{tmp_path / name}: contour error in XY [µm]"
+    # the command has no error from itself: --help does not offer it, and it is refused
     assert main(["contour", str(tmp_path / name), "--sensor", "cmd"]) == 2
-    assert "measured from the command" in " ".join(capsys.readouterr().err.split())
+    assert "'cmd' is not one of 'tcp', 'scale', 'motor'" in capsys.readouterr().err
+    assert main(["contour", "--help"]) == 0
+    assert "<tcp|scale|motor>" in capsys.readouterr().out
 
 
 def test_a_step_along_one_axis_overshoots_and_settles_at_its_end(capsys, tmp_path):
@@ -261,6 +264,21 @@ def test_a_curve_has_no_corner_and_its_end_no_overshoot_of_its_size(program, tmp
         # within the sensor's own contour error, which is tens of um
         assert 0 <= r["overshoot_um"] <= res["sensors"][r["sensor"]]["max_abs_um"]
         assert r["overshoot_um"] < 15
+
+
+def test_a_blended_corner_s_turn_is_said_to_be_over_the_span(tmp_path, capsys):
+    """A square's 90 deg corners blended under G64 P0.01 turn by 88 deg over the 0.5 mm
+    the corners are taken over; the table said 88 deg with nothing to say it is not the
+    programmed corner. The caption says over what the turn is taken."""
+    (tmp_path / "sq.nc").write_text("G21 G17 G90 G64 P0.01\nG0 X0 Y0\nG1 X20 Y0 F3000\n"
+                                    "X20 Y20\nX0 Y20\nX0 Y0\nG4 P0.3\nM30\n")
+    assert main(["simulate", "builtin:vmc", "--gcode", str(tmp_path / "sq.nc"), "-o",
+                 str(tmp_path / "run.csv")]) == 0
+    capsys.readouterr()
+    assert main(["contour", str(tmp_path / "run.csv")]) == 0
+    out = capsys.readouterr().out
+    assert " 88° " in out
+    assert "turn: of the command over 0.5 mm before and after" in " ".join(out.split())
 
 
 @pytest.mark.parametrize("suffix", ["csv", "parquet"])

@@ -690,3 +690,24 @@ def test_a_velocity_gain_the_mode_shifts_hold_back_is_said_to_be_limited_by_them
     assert why.startswith("the velocity loop's stability with its modes up to 30 % off the "
                           "model's frequencies (just above this gain: unstable with the "
                           "modes +"), why
+
+
+def test_the_margins_of_unstable_settings_are_marked_of_no_meaning(vmc, capsys, tmp_path):
+    """X's K_pp at 4000 1/s: the sampled loop is unstable, and the table gave its position
+    margins before (-16.3 dB, 176.4 deg, 277.9 Hz) as ordinary numbers under a heading
+    that says "met". They are marked, and the mark said, as `machine show` does; the
+    settings after, stable, are not."""
+    from tcpmm.io.modelfile import write_machine
+
+    wild = vmc.model_copy(update={"axes": {n: a.replace(servo=a.servo.model_copy(
+        update={"K_pp": 4000.0})) if n == "X" else a for n, a in vmc.axes.items()}})
+    write_machine(wild, tmp_path / "m.yaml")
+    assert main(["tune", str(tmp_path / "m.yaml")]) == 0
+    out = capsys.readouterr().out
+    x = out[out.index("axis X:"):out.index("axis Y:")]
+    rows = {line.split("]")[0].strip(): line.split("]")[1].split() for line in x.splitlines()
+            if line.strip().startswith("position")}
+    assert len(rows) == 3 and all(b.endswith("*") and not a.endswith("*")
+                                  for b, a in rows.values()), rows
+    assert "*: of no meaning, the sampled loop is unstable with these settings" in x
+    assert "*" not in out[out.index("axis Y:"):]

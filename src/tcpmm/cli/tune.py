@@ -81,7 +81,7 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
                                          "mode_tolerance_percent": mode_tolerance_percent},
                    **res.to_dict(), "output": None if output is None else str(output)})
         return
-    _print_result(res, gm, pm, mode_tolerance_percent)
+    _print_result(res, gm, pm, mode_tolerance_percent, m)
     if output is not None:
         out.print(f"wrote {output}")
 
@@ -110,10 +110,20 @@ def _fmt(v, digits=1):
     return f"{v:.2g}" if 0 < abs(v) < 10.0 ** (1 - digits) else f"{v:.{digits}f}"
 
 
-def _print_result(res, gm, pm, tolerance_percent: float) -> None:
+def _unstable_marks(mech, t) -> tuple:
+    """``"*"`` per column (before, after) whose sampled loop is unstable: the position
+    loop closes around the velocity loop, and its margins assume that one holds [-]."""
+    from ..servo.sampled import sampled_spectral_radius
+
+    return tuple("*" if sampled_spectral_radius(mech, s) >= 1.0 else ""
+                 for s in (t.before, t.after))
+
+
+def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
     for name, t in res.axes.items():
         tab = plain_table(("", "before", "after"))
         b, a = t.before, t.after
+        marks = _unstable_marks(machine.axes[name].mechanics, t)
         rows = [("K_vp [A s/rad]", b.K_vp, a.K_vp, 4), ("T_i = K_vp/K_vi [ms]", _ti(b), _ti(a), 2),
                 ("K_pp [1/s]", b.K_pp, a.K_pp, 2), ("k_ff [-]", b.k_ff, a.k_ff, 2)]
         for label, x, y, d in rows:
@@ -122,14 +132,17 @@ def _print_result(res, gm, pm, tolerance_percent: float) -> None:
             tab.add_row(label, x, y)
         for loop in ("velocity", "position"):
             mb, ma = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
-            tab.add_row(esc(f"{loop} gain margin [dB]"), _fmt(mb["gain_margin_db"]),
-                        _fmt(ma["gain_margin_db"]))
-            tab.add_row(esc(f"{loop} phase margin [deg]"), _fmt(mb["phase_margin_deg"]),
-                        _fmt(ma["phase_margin_deg"]))
-            tab.add_row(esc(f"{loop} bandwidth [Hz]"), _fmt(mb["bandwidth_hz"]),
-                        _fmt(ma["bandwidth_hz"]))
+            mk = marks if loop == "position" else ("", "")
+            for label, key in (("gain margin [dB]", "gain_margin_db"),
+                               ("phase margin [deg]", "phase_margin_deg"),
+                               ("bandwidth [Hz]", "bandwidth_hz")):
+                tab.add_row(esc(f"{loop} {label}"), _fmt(mb[key]) + mk[0],
+                            _fmt(ma[key]) + mk[1])
+        unstable = ("*: of no meaning, the sampled loop is unstable with these settings"
+                    if any(marks) else None)
         print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg, stable with "
-                              f"the modes {tolerance_percent:g} % off: {_verdict(t)}")
+                              f"the modes {tolerance_percent:g} % off: {_verdict(t)}",
+                    unstable)
         if name in res.reasons:
             out.print(f"  {esc(res.reasons[name])}")
         for note in t.notes:

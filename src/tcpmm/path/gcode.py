@@ -140,10 +140,12 @@ class Interpreter(GeometryMixin):
             self.dwell(w, new["dwell"], line)
             return end
         g64 = "path mode" in new and round(new["path mode"].value) == 64
-        for L in "PQ":
-            if L in w and not g64:
-                self.error(f"{L} is only used with G4 (P: dwell time in seconds) or G64 "
-                           "(P: contour tolerance)", line, w[L].column)
+        if "P" in w and not g64:
+            self.error("P is only used with G4 (dwell time in seconds) or G64 (contour "
+                       "tolerance)", line, w["P"].column)
+        if "Q" in w and not g64:
+            self.error("Q is only read with G64 (and ignored there); remove it", line,
+                       w["Q"].column)
         if any(k in w for k in "XYZIJKR"):
             once = "exact stop once" in new
             self.exact_stop, saved = self.exact_stop or once, self.exact_stop

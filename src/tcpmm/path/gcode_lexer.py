@@ -161,7 +161,12 @@ def _word(m, body: str, words: list[Word], file, line) -> Word:
             column=prev.column,
         )
     if not num:
-        raise InputError(f"letter {letter} has no number after it; write e.g. {letter}0",
+        fix = f"write e.g. {letter}0"
+        if letter == "O" and words and col > 1 and body[col - 2] in "0123456789.":
+            # a zero typed as the letter O in the number before: X1O for X10
+            typed = body[words[-1].column - 1: col]
+            fix = f"a zero typed as the letter O? write {typed[:-1]}0 for {typed}"
+        raise InputError(f"letter {letter} has no number after it; {fix}",
                          file=file, line=line, column=col)
     if _NUMBER.match(num) is None:
         raise InputError(f"malformed number {num!r} after {letter}; write a decimal "

@@ -521,3 +521,36 @@ def test_a_corner_of_180_deg_or_more_is_refused(tmp_path, capsys, deg):
     run.write_csv(tmp_path / "r.csv")
     assert main(["contour", str(tmp_path / "r.csv"), "--corner-deg", str(deg)]) == 2
     assert "give less than 180" in " ".join(capsys.readouterr().err.split())
+
+
+def test_a_largest_error_just_after_a_rapid_is_said_to_be_the_lag_it_carries(tmp_path,
+                                                                            capsys):
+    """A G0 to the start of a circle, then the circle at F1000 and at F5000: both read the
+    same largest error, 46 um, 0.39 s into the run, the lag the servo carries from the
+    rapid into the first feed move. The table gives when it lies, and a note says it
+    lies just after a rapid; after a dwell that lets the lag settle the note is gone.
+    The streamed run gives the same figures (its RMS is summed chunk by chunk)."""
+    def run(name, prog):
+        (tmp_path / f"{name}.nc").write_text(prog)
+        assert main(["simulate", "builtin:vmc", "--gcode", str(tmp_path / f"{name}.nc"),
+                     "-o", str(tmp_path / f"{name}.parquet")]) == 0
+        capsys.readouterr()
+        assert main(["contour", str(tmp_path / f"{name}.parquet")]) == 0
+        text = capsys.readouterr()
+        assert main(["contour", str(tmp_path / f"{name}.parquet"), "--json"]) == 0
+        whole = json.loads(capsys.readouterr().out)["sensors"]
+        assert main(["contour", str(tmp_path / f"{name}.parquet"), "--json",
+                     "--chunk-rows", "700"]) == 0
+        keys = ("max_abs_um", "max_abs_at_s", "max_abs_after_rapid_s")
+        streamed = json.loads(capsys.readouterr().out)["sensors"]
+        assert {s: [d[k] for k in keys] for s, d in streamed.items()} == {
+            s: [d[k] for k in keys] for s, d in whole.items()}
+        return " ".join(text.err.split()), text.out, whole
+
+    circle = "G2 X35 Y0 I-35 J0\nM30\n"
+    err, out, tcp = run("fast", f"G21 G17 G90\nG0 X35 Y0\nG1 F5000\n{circle}")
+    assert "max |e| at s" in out and tcp["tcp"]["max_abs_after_rapid_s"] < 0.1
+    assert "note: the largest error (motor" in err and "after a G0 rapid ends)" in err
+    err, _, tcp = run("dwell", f"G21 G17 G90\nG0 X35 Y0\nG4 P0.5\nG1 F5000\n{circle}")
+    assert "after a G0 rapid ends" not in err
+    assert tcp["tcp"]["max_abs_after_rapid_s"] > 0.3 and tcp["tcp"]["max_abs_at_s"] > 0.8

@@ -59,7 +59,7 @@ from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
 from .contour_windows import chord_sags, over_rests, travel, whole_windows
 from .corners import path_length
-from .rapids import RapidStretches, feed_only
+from .rapids import RapidStretches, feed_only, since_rapid
 
 #: coordinates the compiled search takes: finite, and far from where their squares
 #: overflow [m]
@@ -126,12 +126,20 @@ class ContourResult:
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
-        value [m]."""
-        return {s: {"max_abs_m": float(np.max(np.abs(e))),
-                    "rms_m": float(np.sqrt(np.mean(e**2))),
-                    "max_m": float(np.max(e)), "min_m": float(np.min(e))}
-                for s, e in ((s, e if self.counted is None else e[self.counted])
-                             for s, e in self.errors.items())}
+        value [m]; the time of the largest magnitude and, where the rapids are left out,
+        the time since the last sample in one there (NaN for none) [s]."""
+        t = self.time_s if self.counted is None else self.time_s[self.counted]
+        since = (None if self.counted is None else
+                 since_rapid(self.time_s, ~self.counted)[0][self.counted])
+        out = {}
+        for s, e in self.errors.items():
+            e = e if self.counted is None else e[self.counted]
+            i = int(np.argmax(np.abs(e)))
+            out[s] = {"max_abs_m": float(np.abs(e[i])), "rms_m": float(np.sqrt(np.mean(e**2))),
+                      "max_m": float(np.max(e)), "min_m": float(np.min(e)),
+                      "max_abs_at_s": float(t[i]),
+                      "max_abs_after_rapid_s": np.nan if since is None else float(since[i])}
+        return out
 
     def to_pandas(self):
         """Per actual sample: time [s], the NC line where the run records it, each
@@ -168,7 +176,10 @@ class ContourResult:
         head = {"axes": "".join(self.axes), "signed": self.signed,
                 "settle_tol_um": self.settle_tol_m * 1e6, "rapids": self.rapids,
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
-                "sensors": {s: {k.replace("_m", "_um"): v * 1e6 for k, v in d.items()}
+                "sensors": {s: {**{k[:-2] + "_um": v * 1e6 for k, v in d.items()
+                                   if k.endswith("_m")},
+                                **{k: None if v != v else v for k, v in d.items()
+                                   if k.endswith("_s")}}
                             for s, d in self.summary().items()}}
         return {**head, "corners": list(self.json_rows())} if corners else head
 

@@ -33,7 +33,7 @@ from .contour import ContourResult, distances_to_polyline
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
 from .contour_windows import direction
-from .rapids import RapidStretches, left_out
+from .rapids import RapidStretches, left_out, since_rapid
 
 #: rows read at a time [-]
 STREAM_ROWS = 200_000
@@ -44,24 +44,31 @@ CORNERS_BEHIND = 2
 
 @dataclass
 class _Summary:
-    """Running largest, smallest and largest magnitude of the error, sum of squares [m]."""
+    """Running largest, smallest and largest magnitude of the error, sum of squares [m];
+    the time of the largest magnitude, and the time since a rapid there [s]."""
 
     n: int = 0
     sq: float = 0.0
     hi: float = -np.inf
     lo: float = np.inf
     top: float = 0.0
+    at: float = np.nan
+    after: float = np.nan
 
-    def add(self, e: np.ndarray) -> None:
+    def add(self, e: np.ndarray, t: np.ndarray, since=None) -> None:
         if e.size:
             self.n += e.size
             self.sq += float(np.sum(e * e))
             self.hi, self.lo = max(self.hi, float(np.max(e))), min(self.lo, float(np.min(e)))
-            self.top = max(self.top, float(np.max(np.abs(e))))
+            i = int(np.argmax(np.abs(e)))
+            if abs(e[i]) > self.top:  # the first of equal magnitudes, as a whole run's
+                self.top, self.at = float(abs(e[i])), float(t[i])
+                self.after = np.nan if since is None else float(since[i])
 
     def result(self) -> dict:
         return {"max_abs_m": self.top, "rms_m": float(np.sqrt(self.sq / self.n)),
-                "max_m": self.hi, "min_m": self.lo}
+                "max_m": self.hi, "min_m": self.lo, "max_abs_at_s": self.at,
+                "max_abs_after_rapid_s": self.after}
 
 
 @dataclass
@@ -275,6 +282,7 @@ class _Scan:
         # of a run that records its rapids: the samples in them, the feed's figures, the
         # command samples near them
         self.air, self.feed, self.stretches = None, {}, stretches
+        self.last_rapid_t = np.nan
 
     def _to_corners(self, fn, *args) -> None:
         """``fn(*args)`` of the corners, in the corners' thread where there is one [-]."""
@@ -328,11 +336,12 @@ class _Scan:
         after = direction(cmd, moves, c1 - 1) if c1 < n else None
         found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed,
                                       before, after)  # the chords' sag as the whole path's
-        feed = self._feed(buf, first, b)
+        feed, since = self._feed(buf, first, b)
+        ts = t[first:b]
         for s, (e, _) in found.items():
-            res.sums.setdefault(s, _Summary()).add(e)
+            res.sums.setdefault(s, _Summary()).add(e, ts)
             if feed is not None:
-                self.feed.setdefault(s, _Summary()).add(e[feed])
+                self.feed.setdefault(s, _Summary()).add(e[feed], ts[feed], since[feed])
             if self.each is not None:
                 self.each(s, e)
         got = (qs, {s: v[0] for s, v in found.items()},
@@ -347,13 +356,16 @@ class _Scan:
         self.first, self.base = b - drop, self.base + drop
 
     def _feed(self, buf, first: int, b: int):
-        """The samples ``first:b`` not in a rapid, where the run records its rapids
-        (``None`` where it does not); their count in rapids added up [-]."""
+        """The samples ``first:b`` not in a rapid and the time since the last one in a
+        rapid, where the run records its rapids (``None`` where it does not); their
+        count in rapids added up [-, s]."""
         if "rapid" not in buf:
-            return None
+            return None, None
         feed = buf["rapid"][first:b] == 0
         self.air = (self.air or 0) + int(feed.size - np.count_nonzero(feed))
-        return feed
+        since, self.last_rapid_t = since_rapid(buf["time_s"][first:b], ~feed,
+                                               self.last_rapid_t)
+        return feed, since
 
 
 def _window(moves, t, tau, first: int, b: int, w: float, final: bool):

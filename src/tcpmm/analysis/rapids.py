@@ -151,6 +151,25 @@ def left_out(samples: int, rows: int, counted_rapids: bool, corners: CornerRows,
     return corners.kept([not x for x in near]), info
 
 
+def since_rapid(t, air, last_t: float = float("nan")) -> tuple:
+    """Per sample the time since the last sample in a rapid, NaN before the first; and the
+    time of the last one, to carry into the next chunk of a streamed run.
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times [s].
+    air : ndarray of bool
+        Per sample, whether it is in a rapid [-].
+    last_t : float
+        Time of the last sample in a rapid before these; NaN for none [s].
+    """
+    t = np.asarray(t, float)
+    idx = np.maximum.accumulate(np.where(air, np.arange(t.size), -1)) if t.size else t
+    last = np.where(idx >= 0, t[np.maximum(idx, 0).astype(np.int64)], last_t)
+    return t - last, float(last[-1]) if t.size else last_t
+
+
 def rapid_note(rapids: dict | None) -> str | None:
     """The note that says what was left out, ``None`` where nothing was [-]."""
     if rapids is None or not rapids["samples"]:

@@ -29,14 +29,6 @@ class Sensor(StrEnum):
     cmd = "cmd"
 
 
-class MeasuredSensor(StrEnum):
-    """Sensors whose error from the command is measured (the command has none)."""
-
-    tcp = "tcp"
-    scale = "scale"
-    motor = "motor"
-
-
 # help texts carry units in brackets ([mm]); they are text, not rich markup
 class _Workflow(TyperGroup):
     """Lists the commands in the order of the work (measure, identify, predict, analyse),

@@ -2,24 +2,23 @@
 
 from __future__ import annotations
 
+from enum import StrEnum
 from pathlib import Path
 
 import typer
 
-from ._app import (
-    MeasuredSensor,
-    app,
-    checked_plot,
-    console,
-    emit_json_rows,
-    esc,
-    in_file,
-    out,
-    positive,
-)
+from ._app import app, checked_plot, console, emit_json_rows, esc, in_file, out, positive
 from ._plane import COMMAND_HELP, run_plane_said, with_given_command
 from ._stream import STREAM_ABOVE_ROWS, contour_streamed, streamed
 from ._tables import fixed, plain_table, print_plain
+
+
+class MeasuredSensor(StrEnum):
+    """Sensors whose error from the command is measured (the command has none)."""
+
+    tcp = "tcp"
+    scale = "scale"
+    motor = "motor"
 
 
 @app.command()

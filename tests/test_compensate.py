@@ -1,6 +1,7 @@
 """Compensation on the model: known answers and physical properties."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -837,16 +838,46 @@ def test_a_one_axis_program_is_compensated_and_a_worse_figure_said(capsys, tmp_p
     """A program that moves X alone stopped compensate with an internal error (the
     contour was sought along Z, which the program does not command). On the model itself
     the correction then makes the TCP overshoot the line's end, which it approached from
-    one side before: with no draws to scale it back, a warning says so."""
+    one side before: with no draws to scale it back, a warning says so, in --json's
+    warnings too (which left it out)."""
     from conftest import run_cli
 
     prog = tmp_path / "p.nc"
     prog.write_text("G21 G90 G17\nG1 X20 F5000\nM30\n")
-    code, _, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
-                             str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 5)
+    args = ("compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
+            "--draws", 0, "--iterations", 5)
+    code, out, _ = run_cli(capsys, *args, "--json")
+    assert code == 0 and any(w.startswith("the correction makes the model's own TCP worse")
+                             for w in json.loads(out)["warnings"])
+    warnings.resetwarnings()  # Python shows a warning once per place in a process
+    code, _, err = run_cli(capsys, *args)
     assert code == 0, err
     err = " ".join(err.split())
     assert "warning: the correction makes the model's own TCP worse: contour error" in err
+
+
+def test_a_g18_program_on_a_machine_of_x_and_z_is_compensated(capsys, tmp_path):
+    """A G18 circle on a model of X and Z only was refused: the interpreter writes the Y
+    the program never names, held at 0, and compensate took it for an axis the model
+    lacks, which simulate does not. It is compensated, and the file written keeps the Y
+    as the program held it, for simulate --command."""
+    from conftest import run_cli
+    from tcpmm import builtin_machine, save_model
+
+    vmc = builtin_machine()
+    save_model(vmc.model_copy(update={"axes": {n: a for n, a in vmc.axes.items()
+                                               if n != "Y"}}), tmp_path / "xz.yaml")
+    prog = tmp_path / "g18.nc"
+    prog.write_text("G21 G90 G18\nG0 X20 Z0\nG2 X20 Z0 I-20 K0 F3000\nM30\n")
+    code, _, err = run_cli(capsys, "compensate", str(tmp_path / "xz.yaml"), "--gcode",
+                           str(prog), "-o", str(tmp_path / "c.csv"), "--draws", 0,
+                           "--iterations", 3)
+    assert code == 0, err
+    assert (tmp_path / "c.csv").read_text().splitlines()[0].startswith(
+        "time_s,x_mm,y_mm,z_mm")
+    code, _, err = run_cli(capsys, "simulate", str(tmp_path / "xz.yaml"), "--command",
+                           str(tmp_path / "c.csv"), "-o", str(tmp_path / "run.csv"))
+    assert code == 0, err
 
 
 def test_a_command_file_at_its_limit_is_not_called_beyond_it(capsys, tmp_path):

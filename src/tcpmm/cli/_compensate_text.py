@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._app import console, out
+from ._app import out
 
 
 def _row(label: str, fig: dict) -> str:
@@ -50,8 +50,6 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     for line in demand_lines(comp.scores.get("demands"), comp.bounds):
         out.print(line, highlight=False)
     _say_over_limits(comp, planner)
-    if not comp.robustness:
-        _say_worse(comp.scores)
     for line in _kept_lines(comp):
         out.print(line, highlight=False)
     st = comp.settings
@@ -139,18 +137,21 @@ def _num(v: float) -> str:
     return f"{v:.0f}" if 99.5 <= abs(v) < 1e6 else f"{v:.3g}"
 
 
-def _say_worse(scores: dict) -> None:
-    """With no draws to scale the correction back, a warning on stderr for each figure
-    the correction makes worse on the model itself by more than the sensors' resolution
-    (at the end of a move, the TCP can overshoot a point it approached from one side
-    before) [-]."""
-    from ..compensate.headroom import worse_than_programmed
+def warn_worse(comp) -> None:
+    """With no draws to scale the correction back, a warning (on stderr, and in
+    ``--json``'s ``warnings``) for each figure the correction makes worse on the model
+    itself by more than the sensors' resolution (at the end of a move, the TCP can
+    overshoot a point it approached from one side before) [-]."""
+    import warnings
 
-    worse = worse_than_programmed(scores)
+    from ..compensate.headroom import worse_than_programmed
+    from ..errors import InputWarning
+
+    worse = [] if comp.robustness else worse_than_programmed(comp.scores)
     if worse:
-        console.print(f"warning: the correction makes the model's own TCP worse: "
-                      f"{'; '.join(worse)}; with --draws N (default 8) it is scaled back "
-                      "where it does not help", highlight=False)
+        warnings.warn(f"the correction makes the model's own TCP worse: {'; '.join(worse)}; "
+                      "with --draws N (default 8) it is scaled back where it does not help",
+                      InputWarning, stacklevel=2)
 
 
 def _say_over_limits(comp, planner: dict | None) -> None:

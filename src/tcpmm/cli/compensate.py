@@ -19,7 +19,7 @@ from ._app import (
     positive,
     read_model,
 )
-from ._compensate_text import say_compensation
+from ._compensate_text import say_compensation, warn_worse
 from ._plane import command_plane
 
 _PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it); default "
@@ -85,19 +85,22 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
     full, cmd, headroom = _planned(command, gcode, m, headroom)
+    given = cmd if headroom else full
+    (full, cmd), held = _without_held(m, full, cmd)
     circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
     tuned = None if controller_out is None else _tuned(m, cmd, circle)
     comp, headroom = _of_program(m, (full, cmd, headroom), command or gcode,
                                  (iterations, draws), bounds, circle, tuned)
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
-    write_command_csv(compensated, output)
-    _write_reference(reference_out, cmd if headroom else full)
+    write_command_csv(_with_held(compensated, held), output)
+    _write_reference(reference_out, given)
     if gcode_out is not None:
         _write_dense(compensated, comp, m, gcode_out)
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
     planner = None if gcode is None else machine_bounds(m)  # the limits it was planned to
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, circle, cc, planner)
+    warn_worse(comp)
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
@@ -179,6 +182,37 @@ def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> N
             raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
     if reference_out is not None:
         checked_output(reference_out, model, command, gcode, output)
+
+
+def _without_held(machine, *commands) -> tuple:
+    """The commands without the axes the model lacks and they hold still (a G18 program's
+    Y, which the interpreter writes, on an X-Z machine), and those axes' positions; an
+    axis the model lacks that moves is refused where the correction is learned [-, m]."""
+    import numpy as np
+
+    from ..path.command import Command
+
+    first = commands[0]
+    held = {a: float(first.positions[a][0]) for a in first.axes if a not in machine.axes
+            and all(np.ptp(c.positions[a]) == 0.0 for c in commands)}
+    if not held:
+        return commands, held
+    return tuple(Command(c.time_s, {a: p for a, p in c.positions.items() if a not in held},
+                         dict(c.meta)) for c in commands), held
+
+
+def _with_held(command, held: dict):
+    """``command`` with the axes :func:`_without_held` took out, where they were [m]."""
+    import numpy as np
+
+    from ..path.command import Command
+
+    if not held:
+        return command
+    n = command.time_s.size
+    return Command(command.time_s, {**command.positions,
+                                    **{a: np.full(n, v) for a, v in held.items()}},
+                   dict(command.meta))
 
 
 def _planned(command, gcode, machine, headroom):

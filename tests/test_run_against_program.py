@@ -61,3 +61,31 @@ def test_a_command_on_another_time_line_is_refused_and_the_reference_is_written(
     code, out, _ = run_cli(capsys, "contour", run, "--command", ref, "--json")
     assert code == 0
     assert json.loads(out)["sensors"]["tcp"]["max_abs_um"] == pytest.approx(after, rel=0.02)
+
+
+def test_a_dwell_s_correction_and_a_shifted_start_are_told_apart(tmp_path, capsys):
+    """A program with a dwell: the compensated command still corrects the tool while the
+    program dwells, and the check counted that as motion, so the run of it was refused
+    against the very reference compensate wrote ("90 % of its path after 0.587 s of
+    motion, the run's own after 0.856 s"). A run of the compensated G-code, which starts
+    with a dwell of its own, passed the check against the same reference and read 33 mm of
+    contour error: contour takes the command at the run's clock, and the check compared
+    times of motion only. Now the first is measured and the second refused."""
+    from conftest import run_cli
+
+    nc = tmp_path / "dwell.nc"
+    nc.write_text("G90 G17 G64 F5000\nG1 X20 Y0\nG4 P0.5\nG1 X20 Y20\nM30\n")
+    comp, ref, run = (tmp_path / f"{n}.csv" for n in ("comp", "ref", "run"))
+    code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", nc, "-o", comp,
+                             "--reference-out", ref, "--gcode-out", tmp_path / "comp.nc",
+                             "--draws", "0", "--iterations", "5", "--json")
+    assert code == 0, err
+    after = json.loads(out)["scores"]["after"]["path"]["contour_error_um"]
+    assert run_cli(capsys, "simulate", "builtin:vmc", "--command", comp, "-o", run)[0] == 0
+    code, out, err = run_cli(capsys, "contour", run, "--command", ref, "--json")
+    assert code == 0, err
+    assert json.loads(out)["sensors"]["tcp"]["max_abs_um"] == pytest.approx(after, rel=0.05)
+    assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", tmp_path / "comp.nc", "-o",
+                   tmp_path / "run_nc.csv")[0] == 0
+    code, _, err = run_cli(capsys, "contour", tmp_path / "run_nc.csv", "--command", ref)
+    assert code == 2 and "another time line" in err and "starts to move at" in err

@@ -179,19 +179,25 @@ class Run:
         return plot_run(self, path=path, axes=axes, ax=ax)
 
 
-def _progress_times(time_s, positions: list):
-    """When a path given by its axes' ``positions`` has covered each share of
-    :data:`_PROGRESS` of its length, in its time of motion: steps shorter than
-    :data:`_CREEP` of its median one count as rest, neither length nor time (a compensated
-    command still corrects the tool while the program dwells); None where it does not
-    move [s]."""
-    step = np.sqrt(sum(np.diff(np.asarray(x, float)) ** 2 for x in positions))
-    if not np.any(step > 0):
-        return None
-    moving = step > _CREEP * np.median(step[step > 0])
+def _steps(positions: list) -> np.ndarray:
+    """Length of each step of a path given by its axes' ``positions`` [m]."""
+    return np.sqrt(sum(np.diff(np.asarray(x, float)) ** 2 for x in positions))
+
+
+def _moving(step) -> np.ndarray:
+    """Per step, whether the path moves: steps shorter than :data:`_CREEP` of its median
+    one are rest [-]."""
+    return step > _CREEP * np.median(step[step > 0])
+
+
+def _progress_times(time_s, step, moving):
+    """When a path of steps ``step`` has covered each share of :data:`_PROGRESS` of its
+    length, in its time of motion (the steps not ``moving`` count as rest, neither length
+    nor time); and the time it starts to move [s]."""
     length = np.concatenate([[0.0], np.cumsum(np.where(moving, step, 0.0))])
-    return np.interp(np.asarray(_PROGRESS) * length[-1], length,
-                     motion_time(time_s, moving)[0])
+    return (np.interp(np.asarray(_PROGRESS) * length[-1], length,
+                      motion_time(time_s, moving)[0]),
+            float(time_s[int(np.argmax(moving))]))
 
 
 def motion_time(time_s, moves):
@@ -210,10 +216,24 @@ def _same_timeline(run, command, tol_s: float) -> None:
     axes = [a for a, r in run.axes.items() if a in command.positions and r.cmd is not None]
     if not axes:
         return
-    own = _progress_times(run.time_s, [run.axes[a].cmd for a in axes])
-    theirs = _progress_times(command.time_s, [command.positions[a] for a in axes])
-    if own is None or theirs is None:
+    own_step = _steps([run.axes[a].cmd for a in axes])
+    step = _steps([command.positions[a] for a in axes])
+    if not (np.any(own_step > 0) and np.any(step > 0)):
         return
+    moving = _moving(step)
+    # the given command's rests are the run's too: a compensated command still corrects
+    # the tool while the program dwells
+    at = np.clip(np.searchsorted(command.time_s, run.time_s[1:], side="left") - 1, 0,
+                 moving.size - 1)
+    own, own_start = _progress_times(run.time_s, own_step, _moving(own_step) & moving[at])
+    theirs, start = _progress_times(command.time_s, step, moving)
+    if abs(own_start - start) > tol_s:  # taken at the run's clock, it must start with it
+        raise InputError(
+            f"the command file is on another time line than the run's own command: it "
+            f"starts to move at {start:.3f} s, the run's own at {own_start:.3f} s, and the "
+            f"contour takes it at the run's times; measure the run against the command it "
+            "was planned with (for a compensated command, tcpmm compensate --reference-out "
+            "REF.csv writes it)")
     k = int(np.argmax(np.abs(own - theirs)))
     if abs(own[k] - theirs[k]) > tol_s:
         raise InputError(

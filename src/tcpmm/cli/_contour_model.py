@@ -73,5 +73,5 @@ def print_verdict(verdict) -> None:
     for f in verdict.figures:
         name = "max |e|" if f.figure == "contour error" else "RMS"
         settle = f"; to settle: {f.settle}" if f.settle else ""
-        out.print(esc(f"  {name} {f.nominal * 1e6:.2f} µm: {f.text()}{settle}"),
+        out.print(esc(f"  {name} {f.nominal * 1e6:.2f} um: {f.text()}{settle}"),
                   highlight=False)

@@ -22,6 +22,15 @@ def test_unknown_key_names_path_and_line(vmc):
     assert "axes.X.mechanics.K_tt" in msg and "unknown key" in msg
     line = next(i for i, s in enumerate(text.splitlines(), 1) if "K_tt" in s)
     assert f"line {line}" in msg
+    # the typo is named with the key it most likely stands for
+    assert "did you mean 'K_t'?" in msg
+
+
+def test_an_unknown_key_like_no_known_one_gets_no_guess(vmc):
+    text = dumps_machine(vmc).replace("      K_t:", "      spindle_colour:", 1)
+    with pytest.raises(InputError) as e:
+        loads_machine(text, "m.yaml")
+    assert "unknown key" in str(e.value) and "did you mean" not in str(e.value)
 
 
 @pytest.mark.parametrize(("old", "new", "needle"), [

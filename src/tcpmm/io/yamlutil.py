@@ -193,11 +193,44 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
             key = ".".join(str(p) for p in loc) or "<top>"
             line = line_for(loc, lines)
             at = f" (line {line})" if line is not None else ""
-            parts.append(f"{key}{at}: {describe(err, hint)}")
+            parts.append(f"{key}{at}: {describe(err, hint)}{_meant(loc, err, model_cls)}")
         first = errors[0][0]
         raise InputError(f"{len(errors)} problem(s) in {what}: " + "; ".join(parts),
                          file=file, line=line_for(first, lines),
                          column=".".join(str(p) for p in first) or None) from None
+
+
+def _meant(loc, err: dict, model_cls) -> str:
+    """For an unknown key, the known key it is most likely a typo of; empty for none [-]."""
+    import difflib
+
+    if err["type"] != "extra_forbidden" or not loc:
+        return ""
+    close = difflib.get_close_matches(str(loc[-1]), sorted(known_keys(model_cls)), n=1,
+                                      cutoff=0.75)
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
+def known_keys(model_cls, seen=None) -> set:
+    """Every key a pydantic model and the models within it take, by name and alias [-]."""
+    import typing
+
+    from pydantic import BaseModel
+
+    seen = set() if seen is None else seen
+    if model_cls in seen:
+        return set()
+    seen.add(model_cls)
+    out = set()
+    for name, f in model_cls.model_fields.items():
+        out |= {name, f.alias} - {None}
+        todo = [f.annotation]
+        while todo:
+            t = todo.pop()
+            if isinstance(t, type) and issubclass(t, BaseModel):
+                out |= known_keys(t, seen)
+            todo.extend(typing.get_args(t))
+    return out
 
 
 def read_yaml_model(path, model_cls, what: str, hint: str = "", fmt: str | None = None):

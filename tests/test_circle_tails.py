@@ -91,6 +91,9 @@ def test_an_independent_machines_tails_are_told_from_a_firm_circle(capsys):
     terms = {t["term"]: t for t in json.loads(out)["diagnostics"]["terms"]}
     assert terms["backlash_Y"]["tail_shift"] == pytest.approx(6.93, abs=0.05)
     assert terms["hysteresis"]["tail_shift"] is None
+    # the flag itself, for a program reading --json
+    assert terms["backlash_Y"]["uncertain_by_tails"] is True
+    assert terms["lateral_play_X"]["uncertain_by_tails"] is False
 
 
 def test_a_tail_longer_than_the_wider_window_is_flagged_by_what_it_moves():

@@ -12,14 +12,16 @@ def diagnostics_json(diag, result=None) -> dict:
     alone at the linear scale and where it lies, where the TCP's circles have the scale
     too [-]."""
     from ..analysis.circle_alias import alias_display
+    from ..analysis.circle_tails import moving_terms
 
     at = _at_scale(diag, result)
+    moving = moving_terms(diag)
     aliases = {left: {"per_unit": a["per"], "moves": {t: {"value": v, "unit": u}
                                                       for t, (v, u) in a["moves"].items()}}
                for left, a in alias_display(diag, ascii_units=True).items()}
     return {"sensor": diag.sensor, "directions": list(diag.directions),
             "terms": [{"term": t, "value": None if v != v else v, "unit": u,
-                       "tail_shift": _shift(diag, t)}
+                       "tail_shift": _shift(diag, t), "uncertain_by_tails": t in moving}
                       for t, v, u in _display_terms(diag, ascii_units=True)],
             "undetermined": dict(diag.undetermined),
             "aliases": aliases,

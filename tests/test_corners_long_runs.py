@@ -135,7 +135,7 @@ def test_a_terminal_lists_the_corners_of_largest_overshoot(vmc, tmp_path, capsys
     assert main(["contour", str(tmp_path / "run.csv"), "--plane", "XY"]) == 0
     out = capsys.readouterr().out
     # the caption is one line in a pipe: a log is grepped for its figures
-    assert any(line.startswith("overshoot: outside the path") and "the 20 of largest "
+    assert any(line.startswith("turn: of the command") and "the 20 of largest "
                "overshoot shown (all with --json); overshoot median " in line
                for line in out.splitlines()), out
     # only those become rows: the rows of every corner and sensor of a 10 M-block

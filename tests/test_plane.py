@@ -109,7 +109,10 @@ def test_plane_seen_from_the_other_side_swaps_the_directions(capsys, runs):
 
 def test_wrong_plane_is_a_clear_error(capsys, runs):
     code, _, err = run(capsys, "circle", runs["xz"], "--radius", 10, "--plane", "XY")
-    assert code == 2 and "no full circle" in err and "XY plane" in err
+    # the plane misses the motion: refused with the plane it runs in, before any circle
+    # is sought in it
+    err = " ".join(err.split())
+    assert code == 2 and "the plane XY leaves out Z" in err and "runs in the ZX plane" in err
     code, _, err = run(capsys, "circle", runs["xz"], "--radius", 10, "--plane", "XQ")
     assert code == 2 and "two different axes" in err
 

@@ -207,3 +207,24 @@ def _figure_verdicts(figures: dict) -> list[str]:
     names = {"spike": "largest raw reversal spike (e - b)", "circular_deviation": "G"}
     return [f"  {name}: " + _VERDICT_TEXT[figures[key]["verdict"]].format(
         r=figures[key]["least_ratio"]) for key, name in names.items() if key in figures]
+
+
+def warn_extra_reversals(compensated, reference, cc) -> None:
+    """Warn where the compensated command turns an axis back more often than the program
+    and the parameters fire a friction pulse there: the model predicts those pulses, but
+    on friction it has wrong they push the axis where nothing else moves it [-]."""
+    import warnings
+
+    from ..compensate.drive import extra_reversals
+    from ..errors import InputWarning
+
+    for a, (got, want) in extra_reversals(compensated, reference).items():
+        c = cc.axes.get(a)
+        if c is not None and c.pulse_A:
+            warnings.warn(
+                f"axis {a}: the compensated command reverses {got} times where the program "
+                f"reverses {want}, and the controller fires its friction pulse "
+                f"({c.pulse_A:.3g} A, {c.decay_s * 1e3:.0f} ms) at each: the correction's "
+                "own turns (a mode settling at a move's end) are predicted with the model's "
+                "friction, which may be wrong; check the run on the machine, or compensate "
+                "without --controller-out", InputWarning, stacklevel=2)

@@ -19,7 +19,7 @@ from ._app import (
     positive,
     read_model,
 )
-from ._compensate_text import say_compensation, warn_worse
+from ._compensate_text import say_compensation, warn_extra_reversals, warn_worse
 from ._plane import command_plane
 
 _PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it); default "
@@ -385,4 +385,5 @@ def _write_parameters(comp, path: Path, command_file: Path):
     if share == 0.0:  # the draws kept none: the command is for a controller without them
         note += "# No share is kept: all are 0, the command needs the controller without them.\n"
     write_text_atomic(path, note + cc.parameter_text())
+    warn_extra_reversals(comp.command, comp.reference, cc)
     return cc

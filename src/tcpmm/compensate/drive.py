@@ -11,8 +11,8 @@ from ..path.command import Command
 from ..sim.simulate import simulate, simulate_axis
 from .learning import plain
 
-__all__ = ["axis_plant", "controlled_run", "drive_inputs", "reversal_pulses",
-           "with_cross_talk"]
+__all__ = ["axis_plant", "controlled_run", "drive_inputs", "extra_reversals", "reversal_pulses",
+           "reversals", "with_cross_talk"]
 
 
 def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: float):
@@ -23,16 +23,38 @@ def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: fl
     out = np.zeros(x.size)
     if amplitude_A == 0.0 or x.size < 3:
         return out
-    v = np.gradient(x, command.period_s)
-    s = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
-    moving = np.flatnonzero(s)
-    if moving.size < 2:
-        return out
-    turns = moving[1:][s[moving[1:]] != s[moving[:-1]]]
+    turns, s = reversals(command, axis)
     t = command.time_s
     for k, i in enumerate(turns):
         end = turns[k + 1] if k + 1 < turns.size else x.size
         out[i:end] = s[i] * amplitude_A * np.exp(-(t[i:end] - t[i]) / decay_s)
+    return out
+
+
+def reversals(command: Command, axis: str) -> tuple:
+    """The samples at which an axis's commanded velocity reverses, where a drive fires its
+    friction pulse, and the sign of the velocity per sample [-]."""
+    x = command.positions[axis]
+    if x.size < 3:
+        return np.zeros(0, np.int64), np.zeros(x.size)
+    v = np.gradient(x, command.period_s)
+    s = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
+    moving = np.flatnonzero(s)
+    return moving[1:][s[moving[1:]] != s[moving[:-1]]], s
+
+
+def extra_reversals(compensated: Command, programmed: Command) -> dict:
+    """Per axis, the reversals of the compensated command and of the program, where the
+    first has more: each fires a friction pulse of the controller-side compensation, also
+    where the correction alone turns the axis back (the settling of a mode at a move's
+    end), which the program does not ask for [-]."""
+    out = {}
+    for a in programmed.axes:
+        if a in compensated.positions:
+            got = reversals(compensated, a)[0].size
+            want = reversals(programmed, a)[0].size
+            if got > want:
+                out[a] = (got, want)
     return out
 
 

@@ -119,6 +119,16 @@ def test_harmless_words_warn_once_per_kind_with_their_first_line():
     assert len(keys) == len(set(keys))  # one warning per kind
 
 
+def test_ignored_words_are_said_in_the_order_of_the_program():
+    """'G1 X10 F1000 S1000 M3 T1' said S (column 14), T (23), then M3 (20): the words are
+    read by kind, and the warnings came in that order."""
+    with pytest.warns(InputWarning) as record:
+        parse_gcode("G21 G90\nG1 X10 F1000 S1000 M3 T1\nG43 H1\nG1 Y10\nM30\n", "p.nc")
+    at = [tuple(int(x.split()[-1]) for x in str(w.message).split(": ")[0].split(", ")[1:3])
+          for w in record if "ignored" in str(w.message)]
+    assert at == sorted(at) and len(at) == 5, at
+
+
 ERRORS = [
     # (program, line, column, part of the message)
     ("G1 X10\n", 1, 1, "no feed rate"),

@@ -110,7 +110,9 @@ class Interpreter(GeometryMixin):
             self.warned[key] = [(line, column, msg), 1]
 
     def emit_warnings(self):
-        for key, ((line, column, msg), count) in self.warned.items():
+        # in the order of the words they name, whatever order a block's words are read in
+        firsts = sorted(self.warned.items(), key=lambda kv: (kv[1][0][0], kv[1][0][1] or 0))
+        for key, ((line, column, msg), count) in firsts:
             more = f" (and {count - 1} more time{'s' * (count > 2)})" if count > 1 else ""
             text = f"{_where(self.file, line, column)}: {key} ignored{more}: {msg}"
             warnings.warn(text, InputWarning, stacklevel=3)

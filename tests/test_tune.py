@@ -206,7 +206,9 @@ def test_the_velocity_gain_does_not_depend_on_the_position_gain_it_replaces(vmc,
         got, want = tune_machine(start, GM, PM), tune_machine(vmc, GM, PM)
     for n in vmc.axes:
         assert got[n].after.K_vp == pytest.approx(want[n].after.K_vp, rel=1e-9), n
-        assert got[n].after.K_pp == pytest.approx(want[n].after.K_pp, rel=1e-3), n
+        # the position gain too, to the bit: its scan starts at the cap, not at the gain
+        # it replaces ("this axis alone would take" 92.36 from 40 1/s, 92.49 from 4000)
+        assert got[n].after.K_pp == want[n].after.K_pp, n
 
 
 def test_a_mode_already_notched_is_not_advised_a_notch(vmc):

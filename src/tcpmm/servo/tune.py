@@ -124,7 +124,9 @@ def tune_position(mech, servo, gm, pm):
 
     def ok(k):
         return position_margins(mech, changed(servo, K_pp=k)).meets(gm, pm)
-    k = largest_gain(ok, servo.K_pp, cap)
+    # scanned from the cap, not from the settings' own gain: the bisection ends within
+    # RESOLUTION of the largest, and where within it must not depend on the gain replaced
+    k = largest_gain(ok, cap if np.isfinite(cap) else servo.K_pp, cap)
     if k is None:
         return None, "no position gain meets the margins"
     if k >= cap * (1 - RESOLUTION):

@@ -22,8 +22,9 @@ def test_unknown_key_names_path_and_line(vmc):
     assert "axes.X.mechanics.K_tt" in msg and "unknown key" in msg
     line = next(i for i, s in enumerate(text.splitlines(), 1) if "K_tt" in s)
     assert f"line {line}" in msg
-    # the typo is named with the key it most likely stands for
+    # the typo is named with the key it most likely stands for, and its place as a key
     assert "did you mean 'K_t'?" in msg
+    assert f"m.yaml, line {line}, key 'axes.X.mechanics.K_tt'" in msg
 
 
 def test_an_unknown_key_like_no_known_one_gets_no_guess(vmc):

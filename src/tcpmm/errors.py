@@ -46,7 +46,9 @@ class InputError(TcpmmError, ValueError):
             where.append(f"line {self.line}")
         if self.column is not None:
             col = self.column
-            where.append(f"column {col}" if isinstance(col, int) else f"column '{col}'")
+            # a YAML file's place is a key path (axes.X.servo.K_pp), not a column
+            named = "key" if Path(str(self.file)).suffix.lower() in (".yaml", ".yml") else "column"
+            where.append(f"column {col}" if isinstance(col, int) else f"{named} '{col}'")
         prefix = ", ".join(where)
         return f"{prefix}: {self.message}" if prefix else self.message
 

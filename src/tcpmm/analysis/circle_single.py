@@ -142,8 +142,11 @@ def _terms(fit, grids, g, curves):
     terms.update({f"centre_offset_{a}": (fit[f"centre_{a}_0"], "m") for a in "XY"})
     terms.update({k: (fit[k], "m") for k in SINGLE[:2]})
     terms.update({f"lateral_play_{a}": (float("nan"), "m") for a in "XY"})
+    # the ellipse, were it a servo mismatch, puts the reversals that far off the points
+    # where the fit steps: a sample between the two reads the whole backlash as a spike
+    shift_deg = float(np.degrees(abs(fit["squareness"])))
     for d, (a, e, model) in curves.items():
-        spikes = reversal_spikes(a, e - model, d)
+        spikes = reversal_spikes(a, e - model, d, skip_deg=shift_deg)
         terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})
     terms["squareness_or_servo"] = (fit["squareness"], "m/m")
     terms["scale_mismatch"] = (fit["scale_mismatch"], "-")

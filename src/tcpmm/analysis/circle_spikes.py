@@ -22,10 +22,12 @@ def _crossings(angle_rad, direction: str, deg: float) -> list:
     return [at + 360.0 * k for k in np.arange(lo, hi + 1)], u
 
 
-def _after_reversal(angle_rad, e, direction: str, lead_deg: float = 0.0):
+def _after_reversal(angle_rad, e, direction: str, lead_deg: float = 0.0,
+                    skip_deg: float = 0.0):
     """``(P, e - b)`` over the 20 deg after each quadrant point P (and ``lead_deg``
-    before it), pooled over every crossing of P whose windows both lie on the path;
-    ``None`` where P is never crossed so (the path starts or ends at P) [m]."""
+    before it, or without the first ``skip_deg`` after it), pooled over every crossing of
+    P whose windows both lie on the path; ``None`` where P is never crossed so (the path
+    starts or ends at P) [m]."""
     for name, deg in QUADRANTS.items():
         at, u = _crossings(angle_rad, direction, deg)
         if not at:
@@ -33,7 +35,8 @@ def _after_reversal(angle_rad, e, direction: str, lead_deg: float = 0.0):
             continue
         d = u[:, None] - np.asarray(at)[None, :]
         before = ((d >= BEFORE_DEG[0]) & (d <= BEFORE_DEG[1])).any(axis=1)
-        after = ((d >= AFTER_DEG[0] - lead_deg) & (d <= AFTER_DEG[1])).any(axis=1)
+        after = ((d >= AFTER_DEG[0] - lead_deg) & (d > skip_deg if skip_deg > 0 else True)
+                 & (d <= AFTER_DEG[1])).any(axis=1)
         if not (before.any() and after.any()):  # sampled too coarsely to hold the windows
             yield name, None
             continue
@@ -64,12 +67,14 @@ def _lobes(dev) -> tuple:
     return (nan, nan) if dev is None else (float(dev.max()), float(dev.min()))
 
 
-def reversal_spikes(angle_rad, e, direction: str, lead_deg: float = 0.0) -> dict:
+def reversal_spikes(angle_rad, e, direction: str, lead_deg: float = 0.0,
+                    skip_deg: float = 0.0) -> dict:
     """Signed reversal spike at A-D (docs/formats.md section 4); with ``lead_deg`` its
     window starts that much before the point, where an axis that leads the other by a
-    servo mismatch reverses [m]."""
+    servo mismatch reverses; with ``skip_deg`` it leaves out that much after the point,
+    where the axis may reverse a little later than a fit placed its step [m]."""
     return {name: _spike(dev) for name, dev in _after_reversal(angle_rad, e, direction,
-                                                               lead_deg)}
+                                                               lead_deg, skip_deg)}
 
 
 def reversal_lobes(angle_rad, e, direction: str) -> dict:

@@ -53,6 +53,31 @@ def test_what_an_undetermined_bow_and_play_move_is_said_and_adds_up(lo, blind):
         "conditional on what the circles do not determine, taken as 0: per µm of ")
 
 
+def test_the_spikes_after_the_terms_are_conditional_on_what_steps_with_an_undetermined_term():
+    """The spikes after the terms are what is left of the step at each reversal. Over
+    220 deg arcs from -20 deg the lateral play of X, left out, steps there itself, and the
+    bow moves the backlash: a tester's arcs read spikes of -0.7 to -1.9 um against 1.15 um
+    injected, with no word. They are now named with the terms that depend on a left-out
+    one (ranked with '?'), and their change is within what the aliases say; one
+    direction, which leaves its lateral play out, names them too."""
+    seen = {k: v for k, v in ARC_ERR.items() if k not in ("p_x", "str_x")}
+
+    def pair(err):
+        return diagnose_pair(arc("ccw", err, -20.0, 220, 1), arc("cw", err, -20.0, 220, 2),
+                             R, (W, W))
+
+    full, without = pair(ARC_ERR), pair(seen)
+    per = {k: m["reversal_spikes"] for k, m in full.aliases.items() if "reversal_spikes" in m}
+    assert per["lateral_play_X"] == 1.0 and "reversal_spikes" in aliased_ranked(full)
+    bound = per["lateral_play_X"] * abs(ARC_ERR["p_x"]) + per.get(
+        "straightness_X", 0.0) * abs(ARC_ERR["str_x"])
+    moves = [abs(full[k] - without[k]) for k in full.terms if k.startswith("spike_")
+             and np.isfinite(full[k])]
+    assert moves and max(moves) <= bound + 0.1e-6
+    one = diagnose_single(*circle("ccw", {"b_x": 4e-6}, 1), "ccw", R)
+    assert one.aliases["lateral_play_X"]["reversal_spikes"] == 1.0
+
+
 def test_only_moves_above_the_share_are_named():
     """Each term named moves radially by at least ALIAS_SHARE of the left-out term's own
     radial size: a squareness and a scale mismatch by R/2 a unit, the rest by theirs."""

@@ -67,6 +67,7 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
         big = {t: v for t, v in moved.items()
                if t != name and t in terms and np.isfinite(terms[t][0]) and np.isfinite(v)
                and radial_size(t, v, radius) >= ALIAS_SHARE * per}
+        big.update(_spikes_moved(name, moved, terms, ALIAS_SHARE * per))
         if "servo_mismatch_angle" in big and np.isfinite(moved["servo_mismatch"]):
             # said as a time, as the terms give it, where the angular speed is known
             big["servo_mismatch"] = moved["servo_mismatch"]
@@ -75,6 +76,23 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
             out.setdefault(rename_axes(name, axes), {}).update(
                 {rename_axes(t, axes): float(v) for t, v in big.items()})
     return out
+
+
+#: Terms that step at a reversal: the spikes after the terms are what is left of the
+#: step there, so a change of theirs is a change of the spikes [-].
+_STEPS = ("backlash_", "lateral_play_")
+
+
+def _spikes_moved(left: str, moved: dict, terms: dict, least: float) -> dict:
+    """``{"reversal_spikes": change per unit}`` where the spikes after the terms depend on
+    the left-out term ``left``: it steps at a reversal itself (one direction's lateral
+    play), or moves a term that does by ``least`` or more; empty otherwise [m/SI]."""
+    if not any(k.startswith("spike_") and np.isfinite(v) for k, (v, _) in terms.items()):
+        return {}
+    steps = [abs(v) for t, v in moved.items() if t.startswith(_STEPS) and t != left
+             and np.isfinite(v)]
+    size = 1.0 if left.startswith(_STEPS) else max(steps, default=0.0)
+    return {"reversal_spikes": size} if size >= least else {}
 
 
 def alias_display(diag, ascii_units: bool = False) -> dict:
@@ -90,7 +108,7 @@ def alias_display(diag, ascii_units: bool = False) -> dict:
         per, k_left = unit(diag.terms.get(left, (0.0, "m"))[1])
         out[left] = {"per": per, "moves": {}}
         for term, slope in moves.items():
-            shown, k = unit(diag.terms[term][1])
+            shown, k = unit(diag.terms.get(term, (0.0, "m"))[1])  # the spikes: a length
             out[left]["moves"][term] = (slope * k / k_left, shown)
     return out
 

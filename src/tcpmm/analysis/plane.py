@@ -62,8 +62,7 @@ def motion_plane(positions: dict, where: str = "") -> tuple[tuple[str, str], str
     flat : bool
         Whether the third axis stays within ``OUT_OF_PLANE_SHARE`` of the plane's [-].
     """
-    travel = {a.upper(): float(np.ptp(p)) for a, p in positions.items()
-              if a.upper() in AXES and p is not None and np.size(p)}
+    travel = _travel(positions)
     moving = sorted((a for a in travel if travel[a] > 0.0), key=lambda a: -travel[a])
     if len(moving) < 2:
         raise InputError("the motion is not in a plane: fewer than two of the axes X, Y, Z "
@@ -78,6 +77,12 @@ def motion_plane(positions: dict, where: str = "") -> tuple[tuple[str, str], str
     return axes, why, flat
 
 
+def _travel(positions: dict) -> dict:
+    """Travel of each axis of X, Y, Z among ``positions``, by its upper-case name [m]."""
+    return {a.upper(): float(np.ptp(p)) for a, p in positions.items()
+            if a.upper() in AXES and p is not None and np.size(p)}
+
+
 def plane_misses(axes, positions: dict) -> str:
     """Why a plane given by name misses the motion: an axis of it moves less than
     :data:`OUT_OF_PLANE_SHARE` of an axis outside it (a G18 circle taken in XY, whose
@@ -90,8 +95,7 @@ def plane_misses(axes, positions: dict) -> str:
     positions : dict of str to ndarray
         Position per axis name [m].
     """
-    travel = {a.upper(): float(np.ptp(p)) for a, p in positions.items()
-              if a.upper() in AXES and p is not None and np.size(p)}
+    travel = _travel(positions)
     out = {a: t for a, t in travel.items() if a not in axes}
     if not out:
         return ""
@@ -126,13 +130,29 @@ def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str, boo
     flat : bool
         Whether the motion lies in the plane (:func:`motion_plane`) [-].
     """
-    names = (sensor,) if sensor else ("cmd", "scale", "motor", "tcp")
-    for s in names:
+    s, pos = run_positions(run, sensor)
+    if s is None:
+        raise InputError("the run has no position signal of two axes to find the plane from")
+    return motion_plane(pos, f" in the {s} signals")
+
+
+def run_positions(run, sensor: str | None = None) -> tuple:
+    """``(sensor, positions per axis)`` of a run's command, else of its first position
+    sensor that two axes have; ``(None, {})`` where none has [-, m].
+
+    Parameters
+    ----------
+    run : Run
+        Simulated or measured run [-].
+    sensor : str, optional
+        Sensor to look at; default ``cmd`` where every axis has it [-].
+    """
+    for s in (sensor,) if sensor else ("cmd", "scale", "motor", "tcp"):
         pos = {a: r.sensor(s) for a, r in run.axes.items()}
         pos = {a: p for a, p in pos.items() if p is not None}
         if len(pos) >= 2:
-            return motion_plane(pos, f" in the {s} signals")
-    raise InputError("the run has no position signal of two axes to find the plane from")
+            return s, pos
+    return None, {}
 
 
 def _mm(travel: dict) -> str:

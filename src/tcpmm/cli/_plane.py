@@ -56,14 +56,11 @@ def _refuse_a_plane_off_the_motion(axes, run, what, allow_3d: bool) -> None:
     """Refuse ``--plane`` where it misses the motion of the run's command (else its first
     position sensor of two axes): the error in it would be that of a line, read as
     firm."""
-    from ..analysis.plane import plane_misses
+    from ..analysis.plane import plane_misses, run_positions
 
-    pos = {}
-    for s in ("cmd", "scale", "motor", "tcp"):
-        pos = {a: r.sensor(s) for a, r in run.axes.items()}
-        pos = {a: p for a, p in pos.items() if p is not None}
-        if len(pos) >= 2:
-            break
+    # a run of one axis has no plane of its own, and its command's travel says where it
+    # moves
+    pos = run_positions(run)[1] or {a: r.cmd for a, r in run.axes.items()}
     why = plane_misses(axes, pos)
     if why:
         with in_file(what):

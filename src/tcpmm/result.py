@@ -231,7 +231,7 @@ def _same_timeline(run, command, tol_s: float) -> None:
         raise InputError(
             f"the command file is on another time line than the run's own command: it "
             f"starts to move at {start:.3f} s, the run's own at {own_start:.3f} s, and the "
-            f"contour takes it at the run's times; measure the run against the command it "
+            "contour takes it at the run's times; measure the run against the command it "
             "was planned with (for a compensated command, tcpmm compensate --reference-out "
             "REF.csv writes it)")
     k = int(np.argmax(np.abs(own - theirs)))

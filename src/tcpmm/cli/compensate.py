@@ -100,7 +100,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     planner = None if gcode is None else machine_bounds(m)  # the limits it was planned to
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, circle, cc, planner)
-    warn_worse(comp)
+    _warn(comp, compensated, cc)
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
@@ -385,5 +385,14 @@ def _write_parameters(comp, path: Path, command_file: Path):
     if share == 0.0:  # the draws kept none: the command is for a controller without them
         note += "# No share is kept: all are 0, the command needs the controller without them.\n"
     write_text_atomic(path, note + cc.parameter_text())
-    warn_extra_reversals(comp.command, comp.reference, cc)
     return cc
+
+
+def _warn(comp, compensated, cc) -> None:
+    """The warnings of the compensation, before its figures and in ``--json`` alike: a
+    figure the correction makes worse where no draws scaled it back, and turns of the
+    correction's own under the friction pulse of the parameters ``cc`` (None: none
+    written) [-]."""
+    warn_worse(comp)
+    if cc is not None:
+        warn_extra_reversals(compensated, comp.reference, cc)

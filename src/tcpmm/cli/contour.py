@@ -191,13 +191,14 @@ def _print(res, sensor: str, title: str) -> None:
               highlight=False)
     t = plain_table(("sensor", "max |e|", "RMS", "max", "min", "max |e| at s"),
                     left=("sensor",))
-    for s, d in res.summary().items():
+    summary = res.summary()  # of every sample of a whole run: taken once
+    for s, d in summary.items():
         t.add_row(s, *[f"{d[k] * 1e6:.2f}" for k in ("max_abs_m", "rms_m", "max_m", "min_m")],
                   f"{d['max_abs_at_s']:.3f}")
     print_plain(t, out, caption=sign)
-    _say_after_rapid(res.summary())
+    _say_after_rapid(summary)
     if not res.signed:
-        _say_offsets(res.summary())
+        _say_offsets(summary)
     if not res.corners:
         return
     shown, more = _shown_corners(res.corners, sensor)

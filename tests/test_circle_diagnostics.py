@@ -268,7 +268,7 @@ def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
     # the tables in 80 columns; their titles (the runs' names), captions and what is not
     # determined are lines of their own, never wrapped in a pipe
     lines = [line for line in out.splitlines() if not line.startswith(
-        (str(pair), "A-D: reversal spike", "G(b) alone: the G(b)"))
+        (str(pair), "A-D: reversal spike", "G(b) alone: the G(b)", "±95%: 2 standard"))
         and ": not determined; " not in line]
     assert max(len(line) for line in lines) <= 80 and "…" not in out  # COLUMNS=80 for rich
     for text in ("backlash X", "squareness", "µm/m", "scale mismatch", "ppm", "servo mismatch",
@@ -1042,7 +1042,7 @@ def test_a_cyclic_error_not_found_says_so():
     assert "cyclic_amplitude_X" not in d.undetermined
     assert "cyclic_amplitude_Y" in d.undetermined
     (cyc,) = [n for s, _, n, _ in ranked_sources(d) if s == "cyclic X"]
-    assert cyc == "e.g. screw pitch error"
+    assert cyc == "e.g. pitch error"
 
 
 @pytest.mark.parametrize("fast, others_um", [("", 0.1), ("_fast", 0.2)])

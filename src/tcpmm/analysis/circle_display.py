@@ -20,7 +20,7 @@ TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
               "straightness_{a}": "+: {a} bows to +{b} mid-travel",
               "straightness_{b}": "+: {b} bows to +{a} mid-travel",
               # n/a: none stood out of what the other terms leave (its residual rms)
-              "cyclic_amplitude": "e.g. screw pitch error; n/a: unresolved",
+              "cyclic_amplitude": "e.g. pitch error; n/a: unresolved",
               "command_radial_deviation": "command radius - nominal",
               "residual_rms": "what the terms leave unexplained"}
 

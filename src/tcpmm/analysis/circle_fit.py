@@ -25,6 +25,7 @@ from .circle_model import (
     servo_remainder,
     term_columns,
 )
+from .circle_noise import coef_covariance
 
 OWN = ("radius", "centre_X", "centre_Y")
 #: How far a step of the tool's angle may lie from the pass's median step, as a share of
@@ -139,6 +140,10 @@ class TermFit:
     periods : tuple
         The longest and shortest period the cyclic errors were searched over; empty where
         they were not searched [m].
+    cov : ndarray, optional
+        Covariance of the coefficients from what the fit leaves over
+        (:func:`.circle_noise.coef_covariance`); NaN for a column not fitted, all NaN
+        where it is not estimated [SI^2].
     """
 
     names: list
@@ -149,6 +154,7 @@ class TermFit:
     centres: tuple = ()
     aliases: dict = field(default_factory=dict)
     periods: tuple = ()
+    cov: np.ndarray | None = None
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -326,9 +332,12 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
     names = column_names(len(arcs), shared, waves)
     A = pb.matrix(mu, waves)
     extra = dict(zip(unseen, pb.unseen_columns(unseen, mu).T, strict=True)) if unseen else {}
-    aliases = alias_slopes(A, np.isfinite(coef), names, extra)
+    kept = np.isfinite(coef)
+    aliases = alias_slopes(A, kept, names, extra)
+    cov = np.full((coef.size, coef.size), np.nan)
+    cov[np.ix_(kept, kept)] = coef_covariance(A[:, kept], res, [m.sum() for m in pb.masks])
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
-                   tuple(pb.centres), aliases, periods)
+                   tuple(pb.centres), aliases, periods, cov)
 
 
 def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):

@@ -23,6 +23,7 @@ from .circle_ellipse import open_by_ellipse
 from .circle_fit import Arc
 from .circle_model import angle_step
 from .circle_ranking import deviations, per_circle_terms, rank_terms
+from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
@@ -106,7 +107,9 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
                              tail_shift(fit, arcs, radius_m, SINGLE, terms, axes,
                                         rename={"squareness": "squareness_or_servo"}),
                              alias_terms(fit, 1, SINGLE, terms, radius_m, axes,
-                                         rename={"squareness": "squareness_or_servo"}))
+                                         rename={"squareness": "squareness_or_servo"}),
+                             term_sigma(fit, 1, SINGLE, terms, axes,
+                                        rename={"squareness": "squareness_or_servo"}))
 
 
 def _unplaced(fit, terms, angle) -> dict:

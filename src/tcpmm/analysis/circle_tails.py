@@ -155,11 +155,7 @@ def moving_line(diag) -> str:
     moving = moving_terms(diag)
     if not moving:
         return ""
-    items = []
-    for term, (a, b) in moving.items():
-        shown, k = DISPLAY_UNITS[diag.terms[term][1]]
-        n = 3 if shown == "ms" else 2
-        items.append(f"{term.replace('_', ' ')} {a * k:.{n}f} -> {b * k:.{n}f} {shown}")
+    items = [pair_text(diag, term, a, b, "->") for term, (a, b) in moving.items()]
     unfitted = sorted({t.replace("_", " ") for t in diag.undetermined
                        if not t.startswith(("cyclic_", "reversal_spikes"))})
     also = (f", or an error the circles do not determine ({', '.join(unfitted)}) does"
@@ -169,6 +165,13 @@ def moving_line(diag) -> str:
             + "; a transient lasting past the window, or an error the terms do not model "
             "there (a cyclic error not found), reads partly as these terms, and one lasting "
             f"past {WIDER_DEG:.0f} deg moves them further still" + also)
+
+
+def pair_text(diag, term: str, a: float, b: float, sep: str) -> str:
+    """``"<term> <a> <sep> <b> <unit>"`` of two values of a term in its display unit [-]."""
+    shown, k = DISPLAY_UNITS[diag.terms[term][1]]
+    n = 3 if shown == "ms" else 2
+    return f"{term.replace('_', ' ')} {a * k:.{n}f} {sep} {b * k:.{n}f} {shown}"
 
 
 def moving_ranked(diag) -> set:

@@ -69,6 +69,7 @@ from .circle_fit import Arc
 from .circle_model import is_full, reversal_lead_deg
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
+from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
@@ -109,6 +110,8 @@ class CircleDiagnostics:
     aliases : dict
         ``left-out term -> {term: change per unit of it}`` for the terms that depend on a
         term the circles do not determine (:mod:`.circle_alias`) [SI/SI].
+    sigma : dict
+        ``term -> standard uncertainty`` from the noise (:mod:`.circle_sigma`) [SI].
     """
 
     radius: float
@@ -120,6 +123,7 @@ class CircleDiagnostics:
     ranking: list = field(default_factory=list)
     tail_shift: dict = field(default_factory=dict)
     aliases: dict = field(default_factory=dict)
+    sigma: dict = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> float:
         return self.terms[name][0]
@@ -149,7 +153,8 @@ class CircleDiagnostics:
                 "ranking": [{k: None if isinstance(v, float) and np.isnan(v) else v
                              for k, v in r.items()} for r in self.ranking],
                 "tail_shift": dict(self.tail_shift),
-                "aliases": {k: dict(v) for k, v in self.aliases.items()}}
+                "aliases": {k: dict(v) for k, v in self.aliases.items()},
+                "sigma": dict(self.sigma)}
 
     def plot(self, ax=None, path=None):
         """Radial error of the circles against angle with the fitted terms; the figure.
@@ -250,7 +255,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                              curves, why, ranking,
                              tail_shift(fit, arcs, radius_m, SHARED, terms, axes,
                                         mean_rate),
-                             alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate))
+                             alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate),
+                             term_sigma(fit, 2, SHARED, terms, axes, mean_rate))
 
 
 def undetermined_terms(fit) -> list:

@@ -12,16 +12,19 @@ def diagnostics_json(diag, result=None) -> dict:
     alone at the linear scale and where it lies, where the TCP's circles have the scale
     too [-]."""
     from ..analysis.circle_alias import alias_display
+    from ..analysis.circle_sigma import noisy_terms, shown_uncertainty
     from ..analysis.circle_tails import moving_terms
 
     at = _at_scale(diag, result)
-    moving = moving_terms(diag)
+    moving, noisy = moving_terms(diag), noisy_terms(diag)
     aliases = {left: {"per_unit": a["per"], "moves": {t: {"value": v, "unit": u}
                                                       for t, (v, u) in a["moves"].items()}}
                for left, a in alias_display(diag, ascii_units=True).items()}
     return {"sensor": diag.sensor, "directions": list(diag.directions),
             "terms": [{"term": t, "value": None if v != v else v, "unit": u,
-                       "tail_shift": _shift(diag, t), "uncertain_by_tails": t in moving}
+                       "tail_shift": _shift(diag, t), "uncertain_by_tails": t in moving,
+                       "uncertainty_95": _json_number(shown_uncertainty(diag, t)),
+                       "uncertain_by_residual": t in noisy}
                       for t, v, u in _display_terms(diag, ascii_units=True)],
             "undetermined": dict(diag.undetermined),
             "aliases": aliases,
@@ -130,6 +133,7 @@ def print_diagnostics(diag, result=None) -> None:
     the circles leave undetermined and why."""
     from ..analysis.circle_alias import alias_line
     from ..analysis.circle_display import undetermined_lines
+    from ..analysis.circle_sigma import noise_line, shown_uncertainty
     from ..analysis.circle_tails import moving_line
     from ..analysis.diagnostics import term_note
 
@@ -147,14 +151,19 @@ def print_diagnostics(diag, result=None) -> None:
                   *[_cell(rows[f"spike_{q}_{d}"][0]) for d in diag.directions],
                   *([""] if len(cols) == 3 else []))
     print_plain(t, out, f"circle diagnostics ({diag.sensor}) [µm]")
-    t = plain_table(("term", "value", "unit", "sign"), left=("term", "unit", "sign"))
+    t = plain_table(("term", "value", "±95%", "unit", "sign"),
+                    left=("term", "unit", "sign"))
     for term, (v, u) in rows.items():
         if term.startswith(("radial_deviation", "circularity", "spike")):
             continue
-        t.add_row(term.replace("_", " "), _cell(v, 3 if u == "ms" else 2), u,
+        n = 3 if u == "ms" else 2
+        pm = shown_uncertainty(diag, term)
+        t.add_row(term.replace("_", " "), _cell(v, n), "" if pm != pm else _cell(pm, n), u,
                   term_note(term, diag.axes))
-    print_plain(t, out)
-    for line in (moving_line(diag), alias_line(diag)):
+    print_plain(t, out, None, "±95%: 2 standard uncertainties from what the terms leave "
+                "unexplained; the reversals' tails and the terms not determined may add to it "
+                "(below, where they do)")
+    for line in (moving_line(diag), noise_line(diag), alias_line(diag)):
         if line:
             out.print(line, highlight=False)
     _print_ranking(diag, result)

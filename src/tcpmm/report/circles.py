@@ -7,7 +7,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..analysis.circle_alias import alias_line
 from ..analysis.circle_display import undetermined_lines
+from ..analysis.circle_sigma import noise_line, shown_uncertainty
+from ..analysis.circle_tails import moving_line
 from ..analysis.compare import raw_spike_named
 from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..errors import InputError
@@ -148,7 +151,8 @@ def diagnostics_html(diag, stem: str) -> str:
     per += [{"figure": f"reversal spike {q} ({after})",
              **{c: rows.get(f"spike_{q}_{d}", nan)[0] for d, c in cols.items()}}
             for q in "ABCD"]
-    terms = pd.DataFrame([{"term": t.replace("_", " "), "value": v, "unit": u,
+    terms = pd.DataFrame([{"term": t.replace("_", " "), "value": v,
+                           "±95%": shown_uncertainty(diag, t), "unit": u,
                            "sign": term_note(t, diag.axes)}
                           for t, (v, u) in rows.items() if not t.startswith(_PER_DIRECTION)])
     what = ("The CCW and the CW circle fitted together" if len(dirs) == 2 else
@@ -160,7 +164,7 @@ def diagnostics_html(diag, stem: str) -> str:
             + figure(diag.plot(), "circle diagnostics plot",
                      "radial error of the circles (dots) and the fitted terms (lines)")
             + table(pd.DataFrame(per), f"{stem}_diagnostics_per_direction.csv")
-            + table(terms, f"{stem}_diagnostics.csv", digits={"value": 3})
+            + table(terms, f"{stem}_diagnostics.csv", digits={"value": 3, "±95%": 3})
             + ranking_html(diag, stem) + undetermined_html(diag))
 
 
@@ -192,12 +196,8 @@ def ranking_html(diag, stem: str) -> str:
 
 
 def undetermined_html(diag) -> str:
-    """What the circles do not determine, and why; the terms the reversals' tails make
-    uncertain [-]."""
-    from ..analysis.circle_alias import alias_line
-    from ..analysis.circle_tails import moving_line
-
-    lines = [line for line in (moving_line(diag), alias_line(diag)) if line]
+    """Terms not determined and why; terms the tails or the residual make uncertain [-]."""
+    lines = [line for line in (moving_line(diag), noise_line(diag), alias_line(diag)) if line]
     lines += undetermined_lines(diag.undetermined)
     return "".join(para(f"{line}.", "warn") for line in lines)
 

@@ -1,0 +1,125 @@
+"""The terms' uncertainty from what they leave unexplained, by the names they are
+reported under, and the terms it leaves short of the tolerance they are recovered to.
+
+What the terms leave over (noise, or an error they do not model: a servo transient, a
+cyclic error too small to be found) scatters them as noise of its size and correlation
+would (:func:`.circle_noise.coef_covariance`). A term is uncertain by it where twice its
+standard uncertainty (a coverage of about 95 %) makes a radial error of
+:data:`.circle_tails.MOVES_M` and :data:`.circle_tails.MOVES_SHARE` of its own: lateral
+play over circles whose 0.1 um of noise stays alike over 19 samples scatters by 0.13 um,
+and a value read once is no firmer than that.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .circle_display import DISPLAY_UNITS, rename_axes
+from .circle_tails import (
+    MOVES_M,
+    MOVES_SHARE,
+    as_reported,
+    pair_text,
+    radial_size,
+    ranked_names,
+)
+
+#: The coverage factor of the uncertainty shown: about 95 % for a normal scatter [-]
+COVERAGE = 2.0
+
+
+def term_sigma(fit, n_arcs, shared, terms, axes, mean_rate=float("nan"),
+               rename=None) -> dict:
+    """Standard uncertainty of each reported term of ``terms`` that has a value, by its
+    reported name (the plane's axes), from the fit's covariance (:attr:`TermFit.cov`);
+    empty where it is not estimated [SI].
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit [SI].
+    n_arcs : int
+        Arcs fitted together [-].
+    shared : sequence of str
+        The shared terms fitted [-].
+    terms : dict
+        The reported terms, ``name -> (value, unit)``, axes X and Y [SI].
+    axes : tuple of str
+        The plane's axes [-].
+    mean_rate : float
+        The circles' angular speed, for the servo mismatch as a time [rad/s].
+    rename : dict, optional
+        Fitted name -> reported name [-].
+    """
+    if fit.cov is None:
+        return {}
+    kept = np.isfinite(fit.coef)
+    cov = np.nan_to_num(fit.cov)
+    if not np.all(np.isfinite(fit.cov[np.ix_(kept, kept)])):
+        return {}
+    weights = [as_reported(lambda n, j=j: float(n == fit.names[j]), n_arcs, shared,
+                           mean_rate, rename) for j in range(len(fit.names))]
+    out = {}
+    for term in weights[0]:
+        w = np.array([wj[term] for wj in weights])
+        out[term] = float(np.sqrt(w @ cov @ w)) if np.all(np.isfinite(w)) else np.nan
+    for axis, k in zip("XY", fit.waves, strict=True):
+        if k is not None:
+            out[f"cyclic_amplitude_{axis}"] = _amplitude_sigma(fit, cov, axis)
+    return {rename_axes(k, axes): v for k, v in out.items()
+            if k in terms and np.isfinite(terms[k][0]) and np.isfinite(v)}
+
+
+def _amplitude_sigma(fit, cov, axis) -> float:
+    """Standard uncertainty of a cyclic error's amplitude, to first order in its sine and
+    cosine; the larger of theirs where it is too small to have a direction [m]."""
+    i, j = fit.names.index(f"cyclic_sin_{axis}"), fit.names.index(f"cyclic_cos_{axis}")
+    c = cov[np.ix_([i, j], [i, j])]
+    amp = fit.cyclic_amplitude(axis)
+    if amp <= np.sqrt(np.trace(c)):
+        return float(np.sqrt(np.max(np.diag(c))))
+    g = np.array([fit[f"cyclic_sin_{axis}"], fit[f"cyclic_cos_{axis}"]]) / amp
+    return float(np.sqrt(g @ c @ g))
+
+
+def noisy_terms(diag) -> dict:
+    """The terms of ``diag`` uncertain by what the terms leave (module docstring): ``term -> (value,
+    expanded uncertainty)`` [SI]."""
+    out = {}
+    for term, sigma in diag.sigma.items():
+        value = diag.terms[term][0]
+        u = radial_size(term, COVERAGE * sigma, diag.radius)
+        if u >= MOVES_M and u >= MOVES_SHARE * radial_size(term, value, diag.radius):
+            out[term] = (value, COVERAGE * sigma)
+    if "servo_mismatch_angle" in out and "servo_mismatch" in diag.sigma:
+        out["servo_mismatch"] = (diag.terms["servo_mismatch"][0],
+                                 COVERAGE * diag.sigma["servo_mismatch"])
+    return out
+
+
+def noise_line(diag) -> str:
+    """The terms uncertain by what the terms leave, in words and display units; empty
+    where none is [-]."""
+    noisy = noisy_terms(diag)
+    if not noisy:
+        return ""
+    items = [pair_text(diag, term, v, u, "±") for term, (v, u) in noisy.items()]
+    rms = diag.terms.get("residual_rms", (float("nan"),))[0] * 1e6
+    return ("uncertain by what the terms leave unexplained (± 2 standard uncertainties "
+            f"from its {rms:.2f} µm rms and how long it stays alike): " + ", ".join(items)
+            + "; noise narrows with more samples per turn or a repeated circle, an error the "
+            "terms do not model (a servo transient, a cyclic error not found) does not")
+
+
+def noisy_ranked(diag) -> set:
+    """The ranked terms uncertain by what the terms leave (:func:`noisy_terms`) [-]."""
+    return ranked_names(diag, noisy_terms(diag))
+
+
+def shown_uncertainty(diag, term: str) -> float:
+    """The expanded uncertainty (:data:`COVERAGE` standard uncertainties) of ``term`` in
+    its display unit (:func:`.circle_display.display_terms`); NaN where none is
+    estimated [-]."""
+    if term not in diag.sigma:
+        return float("nan")
+    return COVERAGE * diag.sigma[term] * DISPLAY_UNITS[diag.terms[term][1]][1]

@@ -1,0 +1,81 @@
+"""The circle terms' uncertainty from what they leave unexplained, against their scatter.
+
+One machine with every error at once (the suite's generator,
+``tests/test_circle_diagnostics.py``, ``draw`` with ``--seed``), its CCW and CW circle of
+R 35 mm in 7.2 s measured again and again with fresh noise of 0.1 um: white, or alike over
+19 samples (AR(1), ``phi`` 0.9), sampled every 1 or 4 ms. Per term: the standard deviation
+of its value over the draws, the median of its standard uncertainty
+(:attr:`tcpmm.analysis.diagnostics.CircleDiagnostics.sigma`), their ratio, how often the
+injected value lies within ±2 of them, and how often the term is said uncertain
+(:func:`tcpmm.analysis.circle_sigma.noisy_terms`). Not a test:
+``python -m studies.circle_uncertainty [--draws N] [--seed N]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+from scipy.signal import lfilter
+
+from tcpmm.analysis.circle_sigma import noisy_terms
+from tcpmm.analysis.diagnostics import diagnose_pair
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+import test_circle_diagnostics as gen  # the suite's generator
+
+TERMS = ("centre_offset_X", "backlash_X", "lateral_play_X", "squareness", "scale_mismatch",
+         "servo_mismatch", "straightness_X", "cyclic_amplitude_X")
+CASES = (("1 ms, white", 7200, 0.0), ("4 ms, white", 1800, 0.0),
+         ("1 ms, alike over 19", 7200, 0.9), ("4 ms, alike over 19", 1800, 0.9))
+
+
+def noisy_circle(direction, err, n, phi, rng, noise=0.1e-6):
+    """One turn of ``n`` samples with ``noise`` of correlation ``phi`` on its radius."""
+    a, e = gen.circle(direction, err, noise=0.0, n=n)
+    z = lfilter([np.sqrt(1 - phi**2)], [1, -phi], rng.standard_normal(e.size))
+    return a, e + noise * z
+
+
+def case(err, n, phi, draws, seed):
+    """Per term: scatter, median standard uncertainty, coverage, share said uncertain."""
+    rng = np.random.default_rng(seed)
+    w = 2 * np.pi / (n * gen.DT)
+    want = gen.expected(err, n)
+    got = {t: [] for t in TERMS}
+    for _ in range(draws):
+        d = diagnose_pair(noisy_circle("ccw", err, n, phi, rng),
+                          noisy_circle("cw", err, n, phi, rng), gen.R, (w, w))
+        noisy = noisy_terms(d)
+        for t in TERMS:
+            got[t].append((d[t], d.sigma.get(t, np.nan), t in noisy))
+    rows = []
+    for t in TERMS:
+        v, s, flag = (np.array(c) for c in zip(*got[t], strict=True))
+        rows.append((t, np.std(v), np.median(s), np.mean(np.abs(v - want[t]) <= 2 * s),
+                     np.mean(flag)))
+    return rows
+
+
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--draws", type=int, default=30)
+    p.add_argument("--seed", type=int, default=2305)
+    args = p.parse_args(argv)
+    warnings.simplefilter("ignore")
+    err = gen.draw(np.random.default_rng(args.seed))
+    print("| sampling, noise | term | scatter | median σ | σ / scatter | within ±2σ | "
+          "said uncertain |")
+    print("|---|---|---:|---:|---:|---:|---:|")
+    for label, n, phi in CASES:
+        for t, sd, s, cover, flag in case(err, n, phi, args.draws, args.seed):
+            k = 1e3 if t == "servo_mismatch" else 1e6
+            print(f"| {label} | {t} | {sd * k:.4f} | {s * k:.4f} | {s / sd:.2f} | "
+                  f"{100 * cover:.0f} % | {100 * flag:.0f} % |")
+
+
+if __name__ == "__main__":
+    main()

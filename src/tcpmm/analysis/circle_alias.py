@@ -65,6 +65,7 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
         per = radial_size(name, 1.0, radius)  # a unit of the left-out term, radially
         moved = as_reported(lambda n, s=slopes: s.get(n, 0.0), n_arcs, shared, mean_rate,
                             rename)
+        moved.update(_cyclic_moved(fit, slopes))
         big = {t: v for t, v in moved.items()
                if t != name and t in terms and np.isfinite(terms[t][0]) and np.isfinite(v)
                and radial_size(t, v, radius) >= ALIAS_SHARE * per}
@@ -77,6 +78,16 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
             out.setdefault(rename_axes(name, axes), {}).update(
                 {rename_axes(t, axes): float(v) for t, v in big.items()})
     return out
+
+
+def _cyclic_moved(fit, slopes: dict) -> dict:
+    """Per axis with a cyclic error found, how far its amplitude moves per unit of a
+    left-out term: the length of its sine's and cosine's slopes, at most what a term
+    that makes the cyclic error alone moves it by (a step at the reversals of one
+    direction's lateral play has harmonics the cyclic scan takes for one) [m/SI]."""
+    return {f"cyclic_amplitude_{axis}": float(np.hypot(slopes.get(f"cyclic_sin_{axis}", 0.0),
+                                                       slopes.get(f"cyclic_cos_{axis}", 0.0)))
+            for axis, k in zip("XY", fit.waves, strict=True) if k is not None}
 
 
 #: Terms that step at a reversal: the spikes after the terms are what is left of the

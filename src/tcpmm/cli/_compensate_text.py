@@ -225,6 +225,7 @@ def warn_extra_reversals(compensated, reference, cc) -> None:
                 f"axis {a}: the compensated command reverses {got} times where the program "
                 f"reverses {want}, and the controller fires its friction pulse "
                 f"({c.pulse_A:.3g} A, {c.decay_s * 1e3:.0f} ms) at each: the correction's "
-                "own turns (a mode settling at a move's end) are predicted with the model's "
-                "friction, which may be wrong; check the run on the machine, or compensate "
-                "without --controller-out", InputWarning, stacklevel=2)
+                "own turns (about the program's reversals, or where its share changes along "
+                "the path) are predicted with the model's friction, which may be wrong; "
+                "check the run on the machine, or compensate without --controller-out",
+                InputWarning, stacklevel=2)

@@ -10,6 +10,7 @@ import numpy as np
 from ..path.command import Command
 from ..sim.simulate import simulate, simulate_axis
 from .learning import plain
+from .turns import reversals
 
 __all__ = ["axis_plant", "controlled_run", "drive_inputs", "extra_reversals", "reversal_pulses",
            "reversals", "with_cross_talk"]
@@ -29,18 +30,6 @@ def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: fl
         end = turns[k + 1] if k + 1 < turns.size else x.size
         out[i:end] = s[i] * amplitude_A * np.exp(-(t[i:end] - t[i]) / decay_s)
     return out
-
-
-def reversals(command: Command, axis: str) -> tuple:
-    """The samples at which an axis's commanded velocity reverses, where a drive fires its
-    friction pulse, and the sign of the velocity per sample [-]."""
-    x = command.positions[axis]
-    if x.size < 3:
-        return np.zeros(0, np.int64), np.zeros(x.size)
-    v = np.gradient(x, command.period_s)
-    s = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
-    moving = np.flatnonzero(s)
-    return moving[1:][s[moving[1:]] != s[moving[:-1]]], s
 
 
 def extra_reversals(compensated: Command, programmed: Command) -> dict:
@@ -113,7 +102,9 @@ def drive_inputs(command: Command, params: dict, share: float = 1.0):
 def axis_plant(params, share: float = 1.0):
     """One axis as its controller runs it with ``share`` of its parameters: a function of
     ``(axis, time_s, position_m)`` giving the axis's run, as
-    :func:`tcpmm.sim.simulate.simulate_axis` with unquantised feedback [-].
+    :func:`tcpmm.sim.simulate.simulate_axis` with unquantised feedback; its attributes
+    ``fires_pulses`` and ``pulse_s`` say whether the drive fires a friction pulse at each
+    reversal and how long it acts (its decay time) [-, s].
 
     Parameters
     ----------
@@ -130,4 +121,5 @@ def axis_plant(params, share: float = 1.0):
         return simulate_axis(axis, time_s, cmd.positions["A"],
                              excitation_A=pulses.get("A", np.zeros(time_s.size)),
                              quantise_feedback=False)
+    run.fires_pulses, run.pulse_s = params.pulse_A != 0.0, params.decay_s
     return run

@@ -27,6 +27,7 @@ from .inverse import (
     settle_samples,
 )
 from .outcome import Compensation
+from .turns import without_new_turns
 
 #: Default corner of the Q-filter: friction transients and the lag lie below it, the
 #: head and bed modes that identification places least firmly lie around and above it [Hz].
@@ -99,7 +100,10 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         Samples of the hold after the program [-].
     plant : callable
         ``(axis, time_s, position_m) -> AxisRun``: how the axis runs a command, with the
-        controller's own compensation where it has one (:func:`.drive.axis_plant`) [-].
+        controller's own compensation where it has one (:func:`.drive.axis_plant`); where
+        its attribute ``fires_pulses`` is true, the corrected command turns the axis back
+        only where the program does, within ``pulse_s`` of it, or at the ends of a hold
+        (:mod:`.turns`) [-].
 
     Returns
     -------
@@ -108,6 +112,10 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         iteration [m].
     """
     T = float(time_s[1] - time_s[0])
+
+    def keep_turns(c):
+        return held_to_turns(plant, reference, c, T)
+
     pad = (2 * (gain_filter.size - 1) - reference.size) // 2
     window = fade(reference.size, tail)
     corr, history, best = np.zeros_like(reference), [], (np.inf, None)
@@ -119,12 +127,23 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         if rms < best[0]:
             best = (rms, corr, run.current)
         step = gain * apply_filter(gain_filter, err, pad)
-        corr = fit_within(reference, (corr + step) * window, T, bounds)
+        corr = keep_turns(fit_within(reference, (corr + step) * window, T, bounds))
     _, corr, current = best
     over = np.abs(current) > CURRENT_SHARE * bounds.current
     if np.any(over):  # the current the correction needs is more than the drive gives
-        corr = fit_within(reference, shrink(corr, np.where(over, 0.5, 1.0), T), T, bounds)
+        corr = keep_turns(fit_within(reference, shrink(corr, np.where(over, 0.5, 1.0), T), T,
+                                     bounds))
     return corr, history
+
+
+def held_to_turns(plant, reference, correction, period_s: float):
+    """The correction, with a plant that fires the friction pulse at each reversal, held
+    to turn the axis back only where the program does (:func:`.turns.without_new_turns`,
+    within the pulse's decay time of its reversals); without one, as it is [m]."""
+    if not getattr(plant, "fires_pulses", False):
+        return correction
+    return without_new_turns(reference, reference + correction, period_s,
+                             plant.pulse_s) - reference
 
 
 def _check(machine, command: Command, iterations: int, gain: float, cutoff_hz: float):

@@ -131,3 +131,22 @@ def test_cli_gives_each_term_its_uncertainty(capsys, tmp_path):
     assert 0.15 < terms["lateral_play_X"]["uncertainty_95"] < 0.5
     assert terms["centre_offset_X"]["uncertain_by_residual"] is False
     assert terms["hysteresis"]["uncertainty_95"] is None
+
+
+@pytest.mark.parametrize("period_mm", [30, 50, 100])
+@pytest.mark.parametrize("phase", [0.0, 1.5])
+def test_a_pitch_error_longer_than_the_search_leaves_no_wrong_term_firm(period_mm, phase):
+    """A pitch error of 2 um on X whose period is longer than the cyclic scan searches
+    (a third of the diameter) reads as the terms of its shape: a scale mismatch of up to
+    91 ppm, bows, a centre offset, a backlash, with nothing to say so. What it leaves over
+    is long and smooth, so every term it moves by more than the tolerance it is recovered
+    to (2 % and 0.1 um of radial error) is now said uncertain, by the noise's measure or
+    by the reversals' window."""
+    from tcpmm.analysis.circle_tails import moving_terms, radial_size
+
+    d = diagnose({"cyc_x": (2e-6, period_mm * 1e-3, phase)})
+    flagged = set(noisy_terms(d)) | set(moving_terms(d))
+    for term in ("scale_mismatch", "squareness", "backlash_X", "backlash_Y", "centre_offset_X",
+                 "centre_offset_Y", "straightness_X", "straightness_Y"):
+        if radial_size(term, d[term], R) > 0.1e-6:
+            assert term in flagged, (term, d[term])

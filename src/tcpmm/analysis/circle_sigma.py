@@ -83,8 +83,8 @@ def _amplitude_sigma(fit, cov, axis) -> float:
 
 
 def noisy_terms(diag) -> dict:
-    """The terms of ``diag`` uncertain by what the terms leave (module docstring): ``term -> (value,
-    expanded uncertainty)`` [SI]."""
+    """The terms of ``diag`` uncertain by what the terms leave (module docstring):
+    ``term -> (value, expanded uncertainty)`` [SI]."""
     out = {}
     for term, sigma in diag.sigma.items():
         value = diag.terms[term][0]
@@ -105,8 +105,9 @@ def noise_line(diag) -> str:
         return ""
     items = [pair_text(diag, term, v, u, "±") for term, (v, u) in noisy.items()]
     rms = diag.terms.get("residual_rms", (float("nan"),))[0] * 1e6
-    return ("uncertain by what the terms leave unexplained (± 2 standard uncertainties "
-            f"from its {rms:.2f} µm rms and how long it stays alike): " + ", ".join(items)
+    return (f"uncertain by what the terms leave unexplained (± {COVERAGE:g} standard "
+            f"uncertainties from its {rms:.2f} µm rms and how long it stays alike): "
+            + ", ".join(items)
             + "; noise narrows with more samples per turn or a repeated circle, an error the "
             "terms do not model (a servo transient, a cyclic error not found) does not")
 

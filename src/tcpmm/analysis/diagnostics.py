@@ -143,8 +143,8 @@ class CircleDiagnostics:
     def to_dict(self) -> dict:
         """JSON-ready: radius, axes, sensor, the terms in SI (NaN as ``None``), the terms
         not determined and why, the ranking, each term's change with the wider window
-        after the reversals, and per term not determined the change of those that depend
-        on it per unit of it."""
+        after the reversals, per term not determined the change of those that depend
+        on it per unit of it, and each term's standard uncertainty (``sigma``)."""
         return {"radius_m": self.radius, "axes": list(self.axes), "sensor": self.sensor,
                 "directions": list(self.directions),
                 "terms": [{"term": k, "value": None if np.isnan(v) else float(v), "unit": u}

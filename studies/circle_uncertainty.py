@@ -3,7 +3,10 @@
 One machine with every error at once (the suite's generator,
 ``tests/test_circle_diagnostics.py``, ``draw`` with ``--seed``), its CCW and CW circle of
 R 35 mm in 7.2 s measured again and again with fresh noise of 0.1 um: white, or alike over
-19 samples (AR(1), ``phi`` 0.9), sampled every 1 or 4 ms. Per term: the standard deviation
+19 samples (AR(1), ``phi`` 0.9), sampled every 1 or 4 ms; and a ballbar's pair of 220 deg
+arcs from -20 deg, out and back, with the errors of the suite's arc tests
+(``ARC_ERR``, less X's lateral play and bow, which such arcs do not determine). Per
+term: the standard deviation
 of its value over the draws, the median of its standard uncertainty
 (:attr:`tcpmm.analysis.diagnostics.CircleDiagnostics.sigma`), their ratio, how often the
 injected value lies within ±2 of them, and how often the term is said uncertain
@@ -29,32 +32,45 @@ import test_circle_diagnostics as gen  # the suite's generator
 
 TERMS = ("centre_offset_X", "backlash_X", "lateral_play_X", "squareness", "scale_mismatch",
          "servo_mismatch", "straightness_X", "cyclic_amplitude_X")
-CASES = (("1 ms, white", 7200, 0.0), ("4 ms, white", 1800, 0.0),
-         ("1 ms, alike over 19", 7200, 0.9), ("4 ms, alike over 19", 1800, 0.9))
+CASES = (("1 ms, white", 7200, 0.0, 360), ("4 ms, white", 1800, 0.0, 360),
+         ("1 ms, alike over 19", 7200, 0.9, 360), ("4 ms, alike over 19", 1800, 0.9, 360),
+         ("220 deg arcs, 1 ms, white", 7200, 0.0, 220))
+#: The arcs' start angle [deg]
+ARC_FROM = -20.0
 
 
-def noisy_circle(direction, err, n, phi, rng, noise=0.1e-6):
-    """One turn of ``n`` samples with ``noise`` of correlation ``phi`` on its radius."""
-    a, e = gen.circle(direction, err, noise=0.0, n=n)
+def noisy_circle(direction, err, n, phi, rng, span=360, noise=0.1e-6):
+    """One turn of ``n`` samples, or the part of it over ``span`` deg from
+    :data:`ARC_FROM`, with ``noise`` of correlation ``phi`` on its radius."""
+    start = gen.START
+    if span < 360:
+        step = np.degrees(2 * np.pi / n)
+        start = (ARC_FROM if direction == "ccw" else ARC_FROM + span) + 0.5 * step
+    a, e = gen.circle(direction, err, noise=0.0, n=n, start_deg=start)
+    if span < 360:
+        m = round(span / 360 * n)
+        a, e = a[:m + 1], e[:m + 1]
     z = lfilter([np.sqrt(1 - phi**2)], [1, -phi], rng.standard_normal(e.size))
     return a, e + noise * z
 
 
-def case(err, n, phi, draws, seed):
+def case(err, n, phi, span, draws, seed):
     """Per term: scatter, median standard uncertainty, coverage, share said uncertain."""
     rng = np.random.default_rng(seed)
     w = 2 * np.pi / (n * gen.DT)
     want = gen.expected(err, n)
     got = {t: [] for t in TERMS}
     for _ in range(draws):
-        d = diagnose_pair(noisy_circle("ccw", err, n, phi, rng),
-                          noisy_circle("cw", err, n, phi, rng), gen.R, (w, w))
+        d = diagnose_pair(noisy_circle("ccw", err, n, phi, rng, span),
+                          noisy_circle("cw", err, n, phi, rng, span), gen.R, (w, w))
         noisy = noisy_terms(d)
         for t in TERMS:
             got[t].append((d[t], d.sigma.get(t, np.nan), t in noisy))
     rows = []
     for t in TERMS:
         v, s, flag = (np.array(c) for c in zip(*got[t], strict=True))
+        if np.all(np.isnan(v)):  # a term the arcs do not determine
+            continue
         rows.append((t, np.std(v), np.median(s), np.mean(np.abs(v - want[t]) <= 2 * s),
                      np.mean(flag)))
     return rows
@@ -66,12 +82,14 @@ def main(argv=None) -> None:
     p.add_argument("--seed", type=int, default=2305)
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
-    err = gen.draw(np.random.default_rng(args.seed))
+    full = gen.draw(np.random.default_rng(args.seed))
+    arcs = {k: v for k, v in gen.ARC_ERR.items() if k not in ("p_x", "str_x")}
     print("| sampling, noise | term | scatter | median σ | σ / scatter | within ±2σ | "
           "said uncertain |")
     print("|---|---|---:|---:|---:|---:|---:|")
-    for label, n, phi in CASES:
-        for t, sd, s, cover, flag in case(err, n, phi, args.draws, args.seed):
+    for label, n, phi, span in CASES:
+        err = full if span == 360 else arcs
+        for t, sd, s, cover, flag in case(err, n, phi, span, args.draws, args.seed):
             k = 1e3 if t == "servo_mismatch" else 1e6
             print(f"| {label} | {t} | {sd * k:.4f} | {s * k:.4f} | {s / sd:.2f} | "
                   f"{100 * cover:.0f} % | {100 * flag:.0f} % |")

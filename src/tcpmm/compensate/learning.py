@@ -27,7 +27,7 @@ from .inverse import (
     settle_samples,
 )
 from .outcome import Compensation
-from .turns import without_new_turns
+from .turns import held_to, pieces
 
 #: Default corner of the Q-filter: friction transients and the lag lie below it, the
 #: head and bed modes that identification places least firmly lie around and above it [Hz].
@@ -112,10 +112,7 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         iteration [m].
     """
     T = float(time_s[1] - time_s[0])
-
-    def keep_turns(c):
-        return held_to_turns(plant, reference, c, T)
-
+    keep_turns = turn_keeper(plant, reference, T)
     pad = (2 * (gain_filter.size - 1) - reference.size) // 2
     window = fade(reference.size, tail)
     corr, history, best = np.zeros_like(reference), [], (np.inf, None)
@@ -136,14 +133,15 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     return corr, history
 
 
-def held_to_turns(plant, reference, correction, period_s: float):
-    """The correction, with a plant that fires the friction pulse at each reversal, held
-    to turn the axis back only where the program does (:func:`.turns.without_new_turns`,
-    within the pulse's decay time of its reversals); without one, as it is [m]."""
+def turn_keeper(plant, reference, period_s: float):
+    """``correction -> correction``: with a plant that fires the friction pulse at each
+    reversal, the correction held to turn the axis back only where the program does
+    (:func:`.turns.without_new_turns`, within the pulse's decay time of its reversals),
+    the program's pieces found once for every learning step; without one, as it is [m]."""
     if not getattr(plant, "fires_pulses", False):
-        return correction
-    return without_new_turns(reference, reference + correction, period_s,
-                             plant.pulse_s) - reference
+        return lambda c: c
+    parts = pieces(reference, period_s, plant.pulse_s)
+    return lambda c: held_to(parts, reference + c) - reference
 
 
 def _check(machine, command: Command, iterations: int, gain: float, cutoff_hz: float):

@@ -132,8 +132,14 @@ def without_new_turns(reference, position, period_s: float, free_s: float = 0.0)
     free_s : float
         Half the window about each reversal of the program left free [s].
     """
+    return held_to(pieces(reference, period_s, free_s), position)
+
+
+def held_to(parts, position) -> np.ndarray:
+    """``position`` projected piece by piece onto the commands that do not turn within
+    the pieces ``parts`` of :func:`pieces` (module docstring) [m]."""
     out = np.array(position, float)
-    for a, b, d in pieces(reference, period_s, free_s):
+    for a, b, d in parts:
         y = out[a:b]
         if b - a < 2:
             continue

@@ -131,24 +131,29 @@ def test_corners_fed_a_row_at_a_time_are_found_once(run_file):
     ref = contour_error(read_run(run_file), plane=("X", "Y"))
     want = find_corners(ref.command)
     assert [i for i, _ in want] == [c["index"] for c in ref.corners]
+    feet = _feet(ref)
     for piece in (1, 3):
         cs = CornerStream()
         for k in range(0, ref.command.shape[0], piece):
             cs.add_command(ref.command_time_s[k:k + piece], ref.command[k:k + piece])
             lag = slice(max(k - 250, 0), max(k - 250 + piece, 0)) if k >= 250 else slice(0, 0)
             if lag.stop > lag.start:
-                _samples(cs, ref, lag)
-        _samples(cs, ref, slice(max(ref.command.shape[0] - 250, 0), None))
+                _samples(cs, ref, feet, lag)
+        _samples(cs, ref, feet, slice(max(ref.command.shape[0] - 250, 0), None))
         assert_same_corners(cs.finish(), ref.corners)
 
 
-def _samples(cs, ref, k):
+def _feet(ref):
+    """Each sample's closest point on the whole command, per signal [-]."""
     from tcpmm.analysis.contour import distance_to_polyline
 
-    feet = {s: distance_to_polyline(q, ref.command, ref.time_s, ref.command_time_s, 0.2,
-                                    True)[1][k] for s, q in ref.actual.items()}
+    return {s: distance_to_polyline(q, ref.command, ref.time_s, ref.command_time_s, 0.2,
+                                    True)[1] for s, q in ref.actual.items()}
+
+
+def _samples(cs, ref, feet, k):
     cs.add_samples(ref.time_s[k], {s: q[k] for s, q in ref.actual.items()},
-                   {s: e[k] for s, e in ref.errors.items()}, feet)
+                   {s: e[k] for s, e in ref.errors.items()}, {s: f[k] for s, f in feet.items()})
 
 
 def test_the_cli_streams_the_corner_table(run_file, capsys):

@@ -10,8 +10,11 @@ term: the standard deviation
 of its value over the draws, the median of its standard uncertainty
 (:attr:`tcpmm.analysis.diagnostics.CircleDiagnostics.sigma`), their ratio, how often the
 injected value lies within ±2 of them, and how often the term is said uncertain
-(:func:`tcpmm.analysis.circle_sigma.noisy_terms`). Not a test:
-``python -m studies.circle_uncertainty [--draws N] [--seed N]``.
+(:func:`tcpmm.analysis.circle_sigma.noisy_terms`). With ``--spikes``, the reversal spikes
+after the pair's terms instead, with every error and without any (no spike: the circle
+reads the noise's extreme over the window), against their 95 % uncertainty
+(:attr:`tcpmm.analysis.diagnostics.CircleDiagnostics.spike_u95`). Not a test:
+``python -m studies.circle_uncertainty [--draws N] [--seed N] [--spikes]``.
 """
 
 from __future__ import annotations
@@ -76,12 +79,47 @@ def case(err, n, phi, span, draws, seed):
     return rows
 
 
+def spike_case(err, n, phi, draws, seed):
+    """The spikes' coverage by their 95 % uncertainty, its median, and the 95th
+    percentile and median of the spikes' distance from the injected ones [-, m, m, m]."""
+    rng = np.random.default_rng(seed)
+    w = 2 * np.pi / (n * gen.DT)
+    want = gen.expected(err, n)
+    off, u95 = [], []
+    for _ in range(draws):
+        d = diagnose_pair(noisy_circle("ccw", err, n, phi, rng),
+                          noisy_circle("cw", err, n, phi, rng), gen.R, (w, w))
+        off += [abs(d[k] - want[k]) for k in d.spike_u95]
+        u95 += list(d.spike_u95.values())
+    off, u95 = np.array(off), np.array(u95)
+    return np.mean(off <= u95), np.median(u95), np.percentile(off, 95), np.median(off)
+
+
+def spikes(draws, seed) -> None:
+    """The table of :func:`spike_case` over the samplings and noises of :data:`CASES`."""
+    full = gen.draw(np.random.default_rng(seed))
+    print("| sampling, noise | errors | within ±95 % | median ±95 % [µm] | 95th percentile of "
+          "\\|spike − injected\\| [µm] | median of it [µm] |")
+    print("|---|---|---:|---:|---:|---:|")
+    for label, n, phi, span in CASES:
+        if span < 360:
+            continue
+        for name, err in (("every error, spikes of 8-20 µm", full), ("none, no spike", {})):
+            cover, u, p95, med = spike_case(err, n, phi, draws, seed)
+            print(f"| {label} | {name} | {100 * cover:.0f} % | {u * 1e6:.3f} | "
+                  f"{p95 * 1e6:.3f} | {med * 1e6:.3f} |")
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--draws", type=int, default=30)
     p.add_argument("--seed", type=int, default=2305)
+    p.add_argument("--spikes", action="store_true", help="the reversal spikes instead")
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
+    if args.spikes:
+        spikes(args.draws, args.seed)
+        return
     full = gen.draw(np.random.default_rng(args.seed))
     arcs = {k: v for k, v in gen.ARC_ERR.items() if k not in ("p_x", "str_x")}
     print("| sampling, noise | term | scatter | median σ | σ / scatter | within ±2σ | "

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .analysis.circle_spike_sigma import U95_COLUMNS
 from .analysis.circular import analyse_circle
 from .io.atomic import output_folder, staged_folder, write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
@@ -306,7 +307,7 @@ def shown_circle_table(table):
     capitals as in the tables after it [-]."""
     names = {f"spike_after_terms_{q}_um": f"spike {q} after terms [µm]" for q in "ABCD"}
     names.update({f"spike_{q}_um": f"raw spike {q} [µm]" for q in "ABCD"})
-    shown = table.rename(columns=names)
+    shown = table.rename(columns={**names, **U95_COLUMNS})
     shown["direction"] = shown["direction"].str.upper()
     return shown
 

@@ -22,25 +22,35 @@ def _crossings(angle_rad, direction: str, deg: float) -> list:
     return [at + 360.0 * k for k in np.arange(lo, hi + 1)], u
 
 
-def _after_reversal(angle_rad, e, direction: str, lead_deg: float = 0.0,
-                    skip_deg: float = 0.0):
-    """``(P, e - b)`` over the 20 deg after each quadrant point P (and ``lead_deg``
-    before it, or without the first ``skip_deg`` after it), pooled over every crossing of
-    P whose windows both lie on the path; ``None`` where P is never crossed so (the path
-    starts or ends at P) [m]."""
+def spike_windows(angle_rad, direction: str, lead_deg: float = 0.0, skip_deg: float = 0.0):
+    """``(P, before, after)`` per quadrant point: the masks of the samples 30 to 5 deg
+    before it and of the 20 deg after it (and ``lead_deg`` before it, or without the first
+    ``skip_deg`` after it), pooled over every crossing of P whose windows both lie on the
+    path; ``(P, None, None)`` where P is never crossed so (the path starts or ends at P)
+    [-]."""
     for name, deg in QUADRANTS.items():
         at, u = _crossings(angle_rad, direction, deg)
         if not at:
-            yield name, None
+            yield name, None, None
             continue
         d = u[:, None] - np.asarray(at)[None, :]
         before = ((d >= BEFORE_DEG[0]) & (d <= BEFORE_DEG[1])).any(axis=1)
         after = ((d >= AFTER_DEG[0] - lead_deg) & (d > skip_deg if skip_deg > 0 else True)
                  & (d <= AFTER_DEG[1])).any(axis=1)
         if not (before.any() and after.any()):  # sampled too coarsely to hold the windows
-            yield name, None
+            yield name, None, None
             continue
-        yield name, e[after] - np.median(e[before])
+        yield name, before, after
+
+
+def _after_reversal(angle_rad, e, direction: str, lead_deg: float = 0.0,
+                    skip_deg: float = 0.0):
+    """``(P, e - b)`` over the 20 deg after each quadrant point P (and ``lead_deg``
+    before it, or without the first ``skip_deg`` after it), pooled over every crossing of
+    P whose windows both lie on the path; ``None`` where P is never crossed so (the path
+    starts or ends at P) [m]."""
+    for name, before, after in spike_windows(angle_rad, direction, lead_deg, skip_deg):
+        yield name, None if before is None else e[after] - np.median(e[before])
 
 
 def uncrossed_quadrants(angle_rad, direction: str) -> list:

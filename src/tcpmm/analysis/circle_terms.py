@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from .circle_model import determined, is_full
+from .circle_noise import coef_covariance
+from .circle_spike_sigma import spike_uncertainty
 from .circle_spikes import AFTER_DEG, QUADRANTS, reversal_spikes
 
 #: Fewest samples on a circle for the fit [-].
@@ -54,6 +56,13 @@ def residual_after_terms(angle_rad, e, direction: str):
         The residual; None when the circle is too short, not a full turn, or not finite to
         fit [m].
     """
+    fitted = _fit(angle_rad, e, direction)
+    return None if fitted is None else fitted[0]
+
+
+def _fit(angle_rad, e, direction: str):
+    """``(residual, design matrix, covariance of the coefficients)`` of the fit
+    (:func:`residual_after_terms`); None where it cannot be made [m, m/unit, unit^2]."""
     a, e = np.asarray(angle_rad, float), np.asarray(e, float)
     if a.size < _MIN_SAMPLES or not (np.all(np.isfinite(a)) and np.all(np.isfinite(e))):
         return None
@@ -66,7 +75,8 @@ def residual_after_terms(angle_rad, e, direction: str):
     # a turn with gaps determines fewer of them
     basis = basis[:, determined(basis[keep], protect=[0])]
     coef = np.linalg.lstsq(basis[keep], e[keep], rcond=None)[0]
-    return e - basis @ coef
+    rest = e - basis @ coef
+    return rest, basis, coef_covariance(basis[keep], rest[keep], [int(keep.sum())])
 
 
 def spikes_after_terms(angle_rad, e, direction: str) -> dict:
@@ -83,7 +93,18 @@ def spikes_after_terms(angle_rad, e, direction: str) -> dict:
     direction : {"ccw", "cw"}
         Direction of travel [-].
     """
-    rest = residual_after_terms(angle_rad, e, direction)
-    if rest is None:
-        return {q: float("nan") for q in reversal_spikes(angle_rad, e, direction)}
-    return reversal_spikes(angle_rad, rest, direction)
+    return spikes_with_uncertainty(angle_rad, e, direction)[0]
+
+
+def spikes_with_uncertainty(angle_rad, e, direction: str) -> tuple[dict, dict, dict]:
+    """:func:`spikes_after_terms`, their 95 % uncertainty
+    (:func:`.circle_spike_sigma.spike_uncertainty`) and that from the noise from sample
+    to sample alone, NaN where there is no spike [m]."""
+    fitted = _fit(angle_rad, e, direction)
+    if fitted is None:
+        nan = {q: float("nan") for q in reversal_spikes(angle_rad, e, direction)}
+        return nan, dict(nan), dict(nan)
+    rest, basis, cov = fitted
+    return (reversal_spikes(angle_rad, rest, direction),
+            *(spike_uncertainty(angle_rad, rest, direction, columns=basis, cov=cov,
+                                sample_noise=fast) for fast in (False, True)))

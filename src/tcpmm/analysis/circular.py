@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from .circle_after import after_terms, pair_diagnosis
 from .circle_checks import check_sensor_path, not_found_error, present_sensors, warn_pass
 from .circle_passes import (  # noqa: F401
     find_passes,
@@ -47,7 +48,6 @@ from .circle_spikes import (  # noqa: F401  (the spikes are part of this module'
     spikes_and_lobes,
     uncrossed_quadrants,
 )
-from .circle_terms import spikes_after_terms
 
 SENSORS = ("cmd", "motor", "scale", "tcp")
 
@@ -88,7 +88,7 @@ class SensorCircle:
     spikes: dict
     lobes: dict = field(default_factory=dict)
     direction: str = "ccw"
-    _after: dict | None = field(default=None, repr=False)
+    _after: tuple | None = field(default=None, repr=False)
     left_out: tuple = ()
     _pair: tuple | None = field(default=None, repr=False)
 
@@ -98,42 +98,24 @@ class SensorCircle:
         backlash, lateral play, bows and cyclic errors too, which one circle leaves in its
         spikes), else those fitted to this circle alone
         (:mod:`tcpmm.analysis.circle_terms`); ``spikes`` are the raw ``e - b`` [m]."""
+        return self._after_terms()[0]
+
+    def spike_uncertainty(self, sample_noise: bool = False) -> dict:
+        """The 95 % uncertainty of each spike of :meth:`spikes_after_terms`
+        (:mod:`tcpmm.analysis.circle_spike_sigma`); with ``sample_noise`` from the noise
+        from sample to sample alone; NaN where there is no spike [m]."""
+        return self._after_terms()[2 if sample_noise else 1]
+
+    def _after_terms(self) -> tuple:
         if self._after is None:
-            after = self._pair_spikes()
-            if after is None:
-                after = spikes_after_terms(self.angle_rad, self.radial_error, self.direction)
-            self._after = {q: np.nan if q in self.left_out else v for q, v in after.items()}
+            self._after = tuple({q: np.nan if q in self.left_out else v for q, v in d.items()}
+                                for d in after_terms(self))
         return self._after
 
     @property
     def after_pair(self) -> bool:
         """Whether :meth:`spikes_after_terms` are the pair's [-]."""
-        return self._pair is not None and self._pair_spikes() is not None
-
-    def _pair_spikes(self):
-        """The spikes after the pair's terms (:func:`tcpmm.analysis.diagnostics.diagnose_pair`,
-        fitted once for both circles), ``None`` where the pair cannot be fitted [m]."""
-        if self._pair is None:
-            return None
-        import warnings
-
-        from .diagnostics import diagnose_pair
-
-        other, radius, rates, shared = self._pair
-        if "fit" not in shared:
-            ccw, cw = (self, other) if self.direction == "ccw" else (other, self)
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    shared["fit"] = diagnose_pair((ccw.angle_rad, ccw.radial_error),
-                                                  (cw.angle_rad, cw.radial_error), radius,
-                                                  rates)
-            except (InputError, np.linalg.LinAlgError):
-                shared["fit"] = None
-        fit = shared["fit"]
-        if fit is None:
-            return None
-        return {q: fit.terms[f"spike_{q}_{self.direction}"][0] for q in QUADRANTS}
+        return pair_diagnosis(self) is not None
 
     def leave_out(self, points) -> None:
         """Report no spike at ``points`` (a sensor that holds a point's windows where the
@@ -193,14 +175,17 @@ class CirclePass:
 
     def table(self) -> list[dict]:
         """One row per sensor [um]: the reversal spikes A-D after the fitted terms
-        (``spike_after_terms_A_um``...), contour error, G, and the raw spikes ``e - b``
-        (``spike_A_um``..., which ``compare`` and the paper's Table 2 take), and the
-        command's radial deviation of the pass."""
+        (``spike_after_terms_A_um``...) and their 95 % uncertainty
+        (``spike_after_terms_A_uncertainty_95_um``...), contour error, G, and the raw
+        spikes ``e - b`` (``spike_A_um``..., which ``compare`` and the paper's Table 2
+        take), and the command's radial deviation of the pass."""
         rows = []
         for name, s in self.sensors.items():
             row = {"direction": self.direction, "sensor": name}
             row.update({f"spike_after_terms_{k}_um": v * 1e6
                         for k, v in s.spikes_after_terms().items()})
+            row.update({f"spike_after_terms_{k}_uncertainty_95_um": v * 1e6
+                        for k, v in s.spike_uncertainty().items()})
             row["contour_error_um"] = s.contour_error * 1e6
             row["circular_deviation_um"] = s.circular_deviation * 1e6
             row.update({f"spike_{k}_um": v * 1e6 for k, v in s.spikes.items()})

@@ -66,11 +66,11 @@ from .circle_display import (  # noqa: F401
     term_note,
 )
 from .circle_fit import Arc
-from .circle_model import is_full, reversal_lead_deg
+from .circle_model import is_full
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
-from .circle_spikes import reversal_spikes
+from .circle_spike_sigma import pair_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
 
@@ -112,6 +112,12 @@ class CircleDiagnostics:
         term the circles do not determine (:mod:`.circle_alias`) [SI/SI].
     sigma : dict
         ``term -> standard uncertainty`` from the noise (:mod:`.circle_sigma`) [SI].
+    spike_u95 : dict
+        ``spike_{P}_{direction} -> 95 % uncertainty`` of each spike after the terms
+        (:mod:`.circle_spike_sigma`) [m].
+    spike_u95_sample : dict
+        The same from the noise from sample to sample alone (``sample_noise`` of
+        :func:`.circle_spike_sigma.spike_uncertainty`) [m].
     """
 
     radius: float
@@ -124,6 +130,8 @@ class CircleDiagnostics:
     tail_shift: dict = field(default_factory=dict)
     aliases: dict = field(default_factory=dict)
     sigma: dict = field(default_factory=dict)
+    spike_u95: dict = field(default_factory=dict)
+    spike_u95_sample: dict = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> float:
         return self.terms[name][0]
@@ -144,7 +152,8 @@ class CircleDiagnostics:
         """JSON-ready: radius, axes, sensor, the terms in SI (NaN as ``None``), the terms
         not determined and why, the ranking, each term's change with the wider window
         after the reversals, per term not determined the change of those that depend
-        on it per unit of it, and each term's standard uncertainty (``sigma``)."""
+        on it per unit of it, each term's standard uncertainty (``sigma``) and each
+        spike's 95 % uncertainty (``spike_u95``)."""
         return {"radius_m": self.radius, "axes": list(self.axes), "sensor": self.sensor,
                 "directions": list(self.directions),
                 "terms": [{"term": k, "value": None if np.isnan(v) else float(v), "unit": u}
@@ -154,7 +163,8 @@ class CircleDiagnostics:
                              for k, v in r.items()} for r in self.ranking],
                 "tail_shift": dict(self.tail_shift),
                 "aliases": {k: dict(v) for k, v in self.aliases.items()},
-                "sigma": dict(self.sigma)}
+                "sigma": dict(self.sigma),
+                "spike_u95": {k: None if np.isnan(v) else v for k, v in self.spike_u95.items()}}
 
     def plot(self, ax=None, path=None):
         """Radial error of the circles against angle with the fitted terms; the figure.
@@ -241,7 +251,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     arcs = [Arc(a, e, s, r) for (a, e), s, r in zip(paths, (1.0, -1.0), ratios, strict=True)]
     fit, left_out = arc_fit(arcs, radius_m, SHARED)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
-    terms = _terms(fit, grids, deviations(paths, radius_m), curves, mean_rate)
+    spikes, spike_u95, spike_fast = pair_spikes(fit, arcs, radius_m, SHARED, curves)
+    terms = _terms(fit, grids, deviations(paths, radius_m), spikes, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
@@ -256,7 +267,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                              tail_shift(fit, arcs, radius_m, SHARED, terms, axes,
                                         mean_rate),
                              alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate),
-                             term_sigma(fit, 2, SHARED, terms, axes, mean_rate))
+                             term_sigma(fit, 2, SHARED, terms, axes, mean_rate), spike_u95,
+                             spike_fast)
 
 
 def undetermined_terms(fit) -> list:
@@ -272,7 +284,7 @@ def undetermined_terms(fit) -> list:
     return list(dict.fromkeys(out))
 
 
-def _terms(fit, grids, deviations, curves, mean_rate):
+def _terms(fit, grids, deviations, spikes, mean_rate):
     """The reported terms, ``name -> (value, unit)``, axes named X and Y [SI]."""
     g, gb, h = deviations
     terms = {f"radial_deviation_{d}": (float(np.mean(m)), "m") for d, m in grids.items()}
@@ -284,11 +296,7 @@ def _terms(fit, grids, deviations, curves, mean_rate):
         terms[f"centre_offset_{axis}"] = ((fit[f"centre_{axis}_0"]
                                            + fit[f"centre_{axis}_1"]) / 2, "m")
     terms.update({k: (fit[k], "m") for k in SHARED[:4]})
-    for d, (a, e, model) in curves.items():
-        # from where the leading axis reverses, as the fit leaves its transient out
-        lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
-        spikes = reversal_spikes(a, step_sides(e, model), d, lead)
-        terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})
+    terms.update({k: (v, "m") for k, v in spikes.items()})
     mu = fit["servo_angle"]
     terms["servo_mismatch"] = (mu / mean_rate, "s")
     terms["servo_mismatch_angle"] = (mu, "rad")
@@ -298,28 +306,6 @@ def _terms(fit, grids, deviations, curves, mean_rate):
     terms["straightness_Y"] = (fit["straightness_Y"], "m")
     terms.update(cyclic_terms(fit))
     return terms
-
-
-#: A jump of the model between two samples larger than this many times its median one
-#: is a step (a backlash's or lateral play's at a reversal) [-]
-STEP_JUMP = 20.0
-
-
-def step_sides(e, model):
-    """The residual ``e - model``, where a sample next to a step of the model is measured
-    from the nearest value the step takes between its two sides: a sample on the reversal
-    point to the rounding has no side, and one taken while the axis crosses its play lies
-    between them (started on a round angle, a circle read a spike the size of the
-    backlash, 3 um for none, from that one sample) [m]."""
-    r = np.asarray(e - model, float)
-    jump = np.abs(np.diff(model))
-    if jump.size < 2:
-        return r
-    for k in np.flatnonzero(jump > STEP_JUMP * np.median(jump) + 1e-9):
-        lo, hi = sorted((model[k], model[k + 1]))
-        for j in (k, k + 1):
-            r[j] = e[j] - min(max(e[j], lo), hi)
-    return r
 
 
 def pick_passes(result, other=None):

@@ -85,13 +85,19 @@ def _cell(v: float, digits: int = 2) -> str:
 
 
 def print_passes(res, title: str) -> None:
-    """Spikes A-D, contour error and G per pass and sensor [µm], 80 columns wide."""
-    t = plain_table(("dir", "sensor", "A", "B", "C", "D", "contour", "G"),
+    """Spikes A-D, the largest of their uncertainties, contour error and G per pass and
+    sensor [µm], 80 columns wide."""
+    from ..analysis.circle_spike_sigma import NOTE as SPIKE_U95_NOTE
+    from ..analysis.circle_spike_sigma import largest, slow_line
+
+    t = plain_table(("dir", "sensor", "A", "B", "C", "D", "±95%", "contour", "G"),
                     left=("dir", "sensor"))
     for p in res.passes:
         for row in p.table():
             t.add_row(p.direction.upper(), row["sensor"],
                       *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
+                      _cell(largest({q: row[f"spike_after_terms_{q}_uncertainty_95_um"]
+                                     for q in "ABCD"})),
                       _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
     paired = any(s.after_pair for p in res.passes for s in p.sensors.values())
     terms = ("the pair's terms (a CCW and a CW circle: also backlash, lateral play, "
@@ -100,8 +106,13 @@ def print_passes(res, title: str) -> None:
              + ("; an arc alone gives none (below)" if any(p.is_arc for p in res.passes)
                 else ""))
     print_plain(t, out, f"{title} [µm]", f"A-D: reversal spike after {terms}; n/a: left "
-                "out; raw e - b in --json (spike_A_um ...); contour max |e|; G circular "
-                "deviation")
+                f"out; ±95%: {SPIKE_U95_NOTE}; raw e - b in --json (spike_A_um ...); "
+                "contour max |e|; G circular deviation")
+    slow = slow_line((f"{p.direction.upper()} {n}", sc.spike_uncertainty(),
+                      sc.spike_uncertainty(sample_noise=True))
+                     for p in res.passes for n, sc in p.sensors.items())
+    for line in [slow] if slow else []:
+        out.print(line, highlight=False)
     for p in res.passes:
         for line in _pass_notes(p):
             out.print(line, highlight=False)

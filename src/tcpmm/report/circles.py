@@ -10,6 +10,7 @@ from pathlib import Path
 from ..analysis.circle_alias import alias_line
 from ..analysis.circle_display import undetermined_lines
 from ..analysis.circle_sigma import noise_line, shown_uncertainty
+from ..analysis.circle_spike_sigma import is_slow
 from ..analysis.circle_tails import moving_line
 from ..analysis.compare import raw_spike_named
 from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
@@ -17,27 +18,11 @@ from ..errors import InputError
 from ..plot.circle import plot_circle
 from ..plot.spread import plot_spread_rows
 from ..whatif.spread import DRAWS_NOTE
+from .circle_columns import SENSOR_NAMES, um_columns
 from .html import esc, facts, figure, number, para, section, table
 
-SENSOR_NAMES = {"cmd": "command", "motor": "motor encoder", "scale": "linear scale",
-                "tcp": "TCP"}
 #: Diagnostics shown per direction in the first table rather than among the terms.
 _PER_DIRECTION = ("radial_deviation", "circularity", "spike")
-
-
-def _um_columns(frame):
-    """A circle table with its µm columns named for a reader: ``spike A [µm]`` [-]."""
-    names = {f"spike_after_terms_{q}_um": f"spike {q} after the terms [µm]" for q in "ABCD"}
-    names.update({f"spike_{q}_um": f"raw spike {q} [µm]" for q in "ABCD"})
-    names.update(contour_error_um="contour error [µm]", circular_deviation_um="G [µm]",
-                 command_radial_deviation_um="command radius - nominal [µm]",
-                 radial_rms_um="radial rms [µm]", radial_max_um="radial max [µm]")
-    frame = frame.rename(columns=names)
-    if "direction" in frame:
-        frame["direction"] = frame["direction"].str.upper()
-    if "sensor" in frame:
-        frame["sensor"] = frame["sensor"].map(lambda s: SENSOR_NAMES.get(s, s))
-    return frame
 
 
 def circle_section(result, key: str, title: str, diagnostics=None, source=None):
@@ -73,7 +58,7 @@ def circle_section(result, key: str, title: str, diagnostics=None, source=None):
                    "radial error magnified about the nominal circle; the dotted rings are "
                    "whole steps of radial error, labelled in µm")
     stem = key.replace("circle-", "circle_") if key != "circle" else "circle"
-    body += table(_um_columns(result.to_pandas()), f"{stem}.csv")
+    body += table(um_columns(result.to_pandas()), f"{stem}.csv")
     if diagnostics is not None:
         body += diagnostics_html(diagnostics, stem)
     return section(key, title, body)
@@ -96,8 +81,13 @@ def key_figures(result, diag=None) -> str:
         if spikes:
             q = max(spikes, key=lambda k: abs(spikes[k]))
             whose = "the pair's" if sc.after_pair else "the fitted"
+            u, fast = sc.spike_uncertainty()[q], sc.spike_uncertainty(sample_noise=True)[q]
             text += (f", largest reversal spike after {whose} terms "
-                     f"{number(spikes[q] * 1e6, 2)} µm at {q}")
+                     f"{number(spikes[q] * 1e6, 2)} ± {number(u * 1e6, 2)} µm (95 %) at {q}")
+            if is_slow(u, fast):
+                text += (" (the ± counts what the terms leave before the points as noise; "
+                         "from sample to sample alone, the terms as they are, ± "
+                         f"{number(fast * 1e6, 2)} µm)")
         if p.is_arc:
             text += f"; an arc of {p.arc_deg:.0f} deg"
         dev = p.command_radial_deviation
@@ -228,7 +218,7 @@ def comparison_section(comparison, measured=None, predicted=None, sources=(),
     if measured is not None and predicted is not None:
         body += figure(result_plot(measured, predicted), "measured and predicted circles",
                        "measured TCP (blue) and predicted TCP (orange dashed)")
-    body += table(_um_columns(comparison.to_pandas()),
+    body += table(um_columns(comparison.to_pandas()),
                   f"measured_minus_predicted{key[len('comparison'):].replace('-', '_')}.csv")
     for line in comparison.notes():
         body += para(line)

@@ -1,0 +1,187 @@
+"""How far a reversal spike may lie from the one the circle would read without noise, its
+terms known exactly.
+
+A spike is the extreme of ``e - b`` over the 20 deg after a quadrant point, ``b`` the
+median over 30 to 5 deg before it (:mod:`.circle_spikes`), taken on what the fitted terms
+leave. Three things move it:
+
+- the noise on the window's samples. The extreme picks its sample by its value, so a spike
+  no larger than the noise reads the noise's extreme over the window, not one sample's
+  noise: a window of 400 samples of 0.05 um noise reads 0.17 um where there is no spike.
+  The bound at 95 % is the quantile of the largest of as many independent samples as the
+  window holds: ``sigma z``, ``z`` the normal quantile of ``1 - 0.025 / n``. Noise that
+  stays alike over neighbouring samples has a smaller largest value (Slepian's
+  inequality), so the bound holds for it too; taking the window's samples over their
+  correlation length instead covered 57-68 % of the extremes of noise alike over 19
+  samples;
+- the noise on the median ``b``: ``sqrt(pi / 2) sigma / sqrt(n_before / tau)``;
+- the terms' own uncertainty, which moves the model under both windows: ``g^T C g``, ``g``
+  the model's columns at the spike's sample less their mean over the window before, ``C``
+  the terms' covariance (:func:`.circle_noise.coef_covariance`).
+
+The noise is the window before's own: its scatter about its median, over its samples
+less its correlation length (:func:`.circle_noise.autocovariance`); a slow transient
+there counts as noise, on the safe side. The first is a bound, the others standard
+uncertainties taken at :data:`.circle_sigma.COVERAGE`; they add in quadrature.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import ndtri
+
+from .circle_fit import design
+from .circle_model import reversal_lead_deg
+from .circle_noise import correlation_length
+from .circle_sigma import COVERAGE
+from .circle_spikes import reversal_spikes, spike_windows
+
+#: The probability the bound is exceeded: the two tails of a 95 % coverage [-]
+BEYOND = 0.05
+#: The tables' columns of the spikes' uncertainty, as a reader reads them
+U95_COLUMNS = {f"spike_after_terms_{q}_uncertainty_95_um": f"± spike {q} (95 %) [µm]"
+               for q in "ABCD"}
+#: The share of the uncertainty the noise from sample to sample leaves below which what
+#: the terms leave before the points is said to be mostly slower than the samples [-]
+SLOW_SHARE = 0.5
+#: What the uncertainty shown with the spikes is, in a phrase
+NOTE = ("the largest of the spikes' 95 % uncertainties from the noise (the extreme of a "
+        "window picks the noise's largest sample) and the terms (per point in --json)")
+
+
+def spike_uncertainty(angle_rad, rest, direction: str, lead_deg: float = 0.0,
+                      columns=None, cov=None, sample_noise: bool = False) -> dict:
+    """The 95 % uncertainty of the reversal spike at A-D of ``rest`` (module docstring);
+    NaN where the path does not hold the point's windows [m].
+
+    Parameters
+    ----------
+    angle_rad : ndarray
+        Angle about the nominal centre, CCW from the first axis, unwrapped [rad].
+    rest : ndarray
+        What the fitted terms leave of the radial error, whose spikes are taken [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    lead_deg : float
+        How far before each point the spike's window starts [deg].
+    columns : ndarray, optional
+        The fit's design matrix on the samples, one row each [m/unit].
+    cov : ndarray, optional
+        The covariance of the fit's coefficients, zero for a column not fitted [unit^2].
+    sample_noise : bool
+        Take as noise only what changes from one sample to the next (the scatter of the
+        differences over the square root of 2), and the terms as they are: what the terms
+        leave more slowly, an oscillation they do not model, is then taken as the
+        machine's own. Right for white noise only; it understates noise that stays alike
+        (:data:`SLOW_NOTE`) [-].
+    """
+    out = {}
+    for name, before, after in spike_windows(angle_rad, direction, lead_deg):
+        out[name] = (np.nan if before is None
+                     else _bound(np.asarray(rest, float), before, after, columns, cov,
+                                 sample_noise))
+    return out
+
+
+def _bound(rest, before, after, columns, cov, sample_noise=False) -> float:
+    """The 95 % uncertainty of one spike from its windows' masks [m]."""
+    b = np.median(rest[before])
+    base = rest[before] - b
+    if sample_noise:
+        tau, sigma = 1.0, float(np.std(np.diff(base)) / np.sqrt(2.0)) if base.size > 2 else 0.0
+    else:
+        tau = correlation_length(base)
+        # a window's scatter falls short of the noise's by the samples each one repeats
+        sigma = float(np.sqrt(np.sum(base**2) / max(base.size - tau, 1.0)))
+    extreme = sigma * float(ndtri(1.0 - 0.5 * BEYOND / np.count_nonzero(after)))
+    var = 0.5 * np.pi * sigma**2 * tau / np.count_nonzero(before)
+    if columns is not None and cov is not None and not sample_noise:
+        at = np.flatnonzero(after)[np.argmax(np.abs(rest[after] - b))]
+        g = columns[at] - columns[before].mean(axis=0)
+        var += max(float(g @ cov @ g), 0.0)
+    return float(np.hypot(extreme, COVERAGE * np.sqrt(var)))
+
+
+def is_slow(u95: float, fast: float) -> bool:
+    """Whether a spike's uncertainty ``u95`` is mostly what the terms leave more slowly
+    than from sample to sample, ``fast`` the bound from the sample-to-sample noise
+    alone [-]."""
+    return bool(u95 >= 0.1e-6 and fast < SLOW_SHARE * u95)
+
+
+def slow_line(rows) -> str:
+    """A line naming the circles whose spikes' uncertainty is mostly what the terms leave
+    slowly, each with the bound from the sample-to-sample noise alone; empty where none
+    is. ``rows``: ``(label, u95 per point, sample-noise u95 per point)`` [-]."""
+    items = [f"{label} ±{largest(fast) * 1e6:.2f} µm" for label, u95, fast in rows
+             if is_slow(largest(u95), largest(fast))]
+    if not items:
+        return ""
+    return ("±95% counts what the terms leave before the points as noise; it changes there "
+            "more slowly than from sample to sample (a transient or an oscillation the "
+            "terms do not model, or noise that stays alike) for " + ", ".join(items)
+            + ": the bound were it the machine's own, from the sample-to-sample noise "
+            "alone, the terms as they are")
+
+
+def largest(u95: dict) -> float:
+    """The largest of the points' uncertainties; NaN where none is given [m]."""
+    vals = [v for v in u95.values() if v == v]
+    return max(vals) if vals else float("nan")
+
+
+#: A jump of the model between two samples larger than this many times its median one
+#: is a step (a backlash's or lateral play's at a reversal) [-]
+STEP_JUMP = 20.0
+
+
+def step_sides(e, model):
+    """The residual ``e - model``, where a sample next to a step of the model is measured
+    from the nearest value the step takes between its two sides: a sample on the reversal
+    point to the rounding has no side, and one taken while the axis crosses its play lies
+    between them (started on a round angle, a circle read a spike the size of the
+    backlash, 3 um for none, from that one sample) [m]."""
+    r = np.asarray(e - model, float)
+    jump = np.abs(np.diff(model))
+    if jump.size < 2:
+        return r
+    for k in np.flatnonzero(jump > STEP_JUMP * np.median(jump) + 1e-9):
+        lo, hi = sorted((model[k], model[k + 1]))
+        for j in (k, k + 1):
+            r[j] = e[j] - min(max(e[j], lo), hi)
+    return r
+
+
+def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
+    """The spikes after a fit's terms, ``spike_{P}_{direction}``, taken from where the
+    leading axis reverses (the fit leaves its transient out) on what the terms leave
+    (:func:`step_sides`), their 95 % uncertainty (:func:`spike_uncertainty`) and that from
+    the noise from sample to sample alone [m].
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit [SI].
+    arcs : list of Arc
+        The arcs fitted, in the order of ``curves`` [-].
+    radius : float
+        Nominal radius [m].
+    shared : sequence of str
+        The shared terms fitted [-].
+    curves : dict
+        ``direction -> (angle, radial error, fitted model)`` [rad, m, m].
+    """
+    cov = None if fit.cov is None else np.nan_to_num(fit.cov)
+    spikes, u95, fast = {}, {}, {}
+    for i, (d, (a, e, model)) in enumerate(curves.items()):
+        lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
+        rest = step_sides(e, model)
+        cols = design(arcs[i], i, len(arcs), radius, shared, fit.mu, fit.waves, None,
+                      arcs[i].positions(radius, None, e),
+                      fit.centres[i] if fit.centres else (0.0, 0.0))
+        got = (reversal_spikes(a, rest, d, lead),
+               spike_uncertainty(a, rest, d, lead, cols, cov),
+               spike_uncertainty(a, rest, d, lead, cols, cov, sample_noise=True))
+        for out, values in zip((spikes, u95, fast), got, strict=True):
+            out.update({f"spike_{q}_{d}": v for q, v in values.items()})
+    return spikes, u95, fast

@@ -121,7 +121,8 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
 
 def truth_where_firm(comp, before, after):
     """The true machine's largest contour error before / after over the samples of the
-    regions the draws call firm, ``None`` where none is [-]."""
+    regions the draws call firm, and the least of it region by region; ``None`` where
+    none is [-]."""
     import numpy as np
 
     from tcpmm.analysis.contour import contour_error
@@ -131,15 +132,19 @@ def truth_where_firm(comp, before, after):
     firm = [r["region"] for r in comp.robustness["regions"] if r["verdict"] == "firm"]
     if not firm:
         return None
-    mask = np.isin(labels, firm)
     # the programmed run lags the delayed path by the compensation's delay
     shift = round(comp.delay_s / comp.target.period_s)
-    mask_before = np.concatenate([mask[shift:], np.zeros(shift, dtype=bool)])
     e_b = np.abs(contour_error(before, command=comp.reference).errors["tcp"])
     e_a = np.abs(contour_error(after, command=judged_path(comp)).errors["tcp"])
-    n = min(mask.size, e_a.size, e_b.size)
-    b, a = np.nanmax(e_b[:n][mask_before[:n]]), np.nanmax(e_a[:n][mask[:n]])
-    return float(b / max(a, 1e-9))
+    n = min(labels.size, e_a.size, e_b.size)
+
+    def fall(keep):
+        mask = np.isin(labels, keep)
+        mask_before = np.concatenate([mask[shift:], np.zeros(shift, dtype=bool)])
+        b, a = np.nanmax(e_b[:n][mask_before[:n]]), np.nanmax(e_a[:n][mask[:n]])
+        return float(b / max(a, 1e-9))
+
+    return fall(firm), min(fall([r]) for r in firm)
 
 
 def ratio(before, after) -> str:
@@ -169,7 +174,8 @@ def table(rows: list) -> str:
         red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
         worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
                  if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]
-        firm = "-" if r["firm_truth"] is None else f"{r['firm_truth']:.1f}x"
+        firm = ("-" if r["firm_truth"] is None
+                else "{:.1f}x (least region {:.1f}x)".format(*r["firm_truth"]))
         out.append(f"| {r['machine']} | {r['program']} | {fx} | {r['trusted']:.0%} "
                    f"| {r['firm']:.0%} "
                    f"| {f(r['ce_before'])} -> {f(r['ce_after'])} "

@@ -165,11 +165,14 @@ def _say_over_limits(comp, planner: dict | None) -> None:
 
 
 #: How each verdict over the draws reads [-].
-_VERDICT_TEXT = {"firm": "firm: every draw at least {r:.1f}x smaller",
-                 "improves": "improves: every draw smaller by more than the model's "
-                             "error, the least by {r:.1f}x",
-                 "uncertain": "uncertain: some draw not smaller by more than the model's "
-                              "error; the share applied keeps it from growing"}
+_VERDICT_TEXT = {"firm": "firm: the machine, as one more draw, at least {b:.1f}x smaller "
+                         "(every draw at least {r:.1f}x)",
+                 "improves": "improves: every draw and the machine, as one more draw, "
+                             "smaller by more than the model's error, by {b:.1f}x at 95 % "
+                             "(every draw at least {r:.1f}x)",
+                 "uncertain": "uncertain: some draw, or the machine as one more draw, not "
+                              "smaller by more than the model's error; the share applied "
+                              "keeps it from growing"}
 
 
 def _verdict_lines(robustness: dict, moved: list) -> list[str]:
@@ -188,10 +191,11 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
     if robustness.get("by_region"):
         f += " (the mean along the path: chosen region by region)"
     return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
-            "the model the largest contour error falls on every draw in the regions of "
-            f"{robustness['trusted_share']:.0%} of the samples, at least {FIRM_RATIO:g}x "
-            f"(firm) in those of {robustness['firm_share']:.0%} (a region, a reversal or "
-            "a stretch between, is judged by its largest error: a sample below it may rise)",
+            "the model the largest contour error falls on every draw, and on the machine "
+            f"as one more draw, in the regions of {robustness['trusted_share']:.0%} of the "
+            f"samples, at least {FIRM_RATIO:g}x on the machine (firm) in those of "
+            f"{robustness['firm_share']:.0%} (a region, a reversal or a stretch between, is "
+            "judged by its largest error: a sample below it may rise)",
             *_figure_verdicts(robustness.get("circle", {}))]
 
 
@@ -206,7 +210,8 @@ def _figure_verdicts(figures: dict) -> list[str]:
     """
     names = {"spike": "largest raw reversal spike (e - b)", "circular_deviation": "G"}
     return [f"  {name}: " + _VERDICT_TEXT[figures[key]["verdict"]].format(
-        r=figures[key]["least_ratio"]) for key, name in names.items() if key in figures]
+        r=figures[key]["least_ratio"], b=figures[key]["ratio_bound"])
+        for key, name in names.items() if key in figures]
 
 
 def warn_extra_reversals(compensated, reference, cc) -> None:

@@ -13,11 +13,12 @@ contour error too: the correction acts on the servo's lag and the structure's de
 which set that error, so it is the figure the correction moves and claims to improve (a
 friction pulse hardly moves it, so the controller-side choice only keeps it from growing),
 and a fall smaller than the model's error can be a rise on the machine. A region is
-*trusted* where the chosen shares
-improve it on every draw, and *firm* where every draw improves it at least
-:data:`FIRM_RATIO` times. The draws carry the model error's floors that ``tcpmm spread``
-uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`), so that an axis identified with a small
-deviation is not drawn tighter than identification can be right. The axes run apart
+*trusted* where the chosen shares improve it on every draw and one more draw, the machine,
+would be improved too, and *firm* where it would improve at least :data:`FIRM_RATIO`
+times, by the draws' scatter (:func:`next_draw`). The draws carry the model error's
+floors that ``tcpmm spread`` uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`), so that an
+axis identified with a small deviation is not drawn tighter than identification can be
+right. The axes run apart
 in the model, so that each share is simulated once per axis and draw and every
 combination of shares is a sum.
 """
@@ -27,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis.contour import distance_to_polyline
+from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 from .regional import per_combo, pick, settle_regions, tcp_errors
@@ -49,9 +51,13 @@ EQUAL_M = 0.1e-6
 #: differs in form rather than level, which no draw varies, moves the figure by as much.
 RELATIVE_MARGIN = MODEL_ERROR["friction_level"]
 
-#: Reduction every draw must reach for a firm verdict: the reduction the compensation is
-#: to deliver [-].
+#: Reduction the machine must reach, by the draws, for a firm verdict: the reduction the
+#: compensation is to deliver [-].
 FIRM_RATIO = 5.0
+
+#: The chance a verdict may leave of the machine falling short of it, as one more draw
+#: (:func:`next_draw`) [-].
+BEYOND = 0.05
 
 
 def margin(before: np.ndarray) -> np.ndarray:
@@ -81,15 +87,15 @@ def vouched(before: np.ndarray, after: np.ndarray) -> bool:
 
 
 def verdict(least_ratio: float, improves: bool) -> str:
-    """``firm`` where every draw improves at least :data:`FIRM_RATIO` times, ``improves``
-    where every draw improves by less, ``uncertain`` where some draw does not improve [-].
+    """``firm`` where the machine improves at least :data:`FIRM_RATIO` times, ``improves``
+    where it improves by less, ``uncertain`` where it may not improve, by the draws [-].
 
     Parameters
     ----------
     least_ratio : float
-        The least ratio before / after over the draws [-].
+        The ratio before / after the machine reaches by the draws (:func:`over_draws`) [-].
     improves : bool
-        Whether every draw improves by more than :func:`margin` [-].
+        Whether the machine falls by more than :func:`margin`, by the draws [-].
     """
     if not improves:
         return "uncertain"
@@ -210,7 +216,13 @@ def region_rows(before: np.ndarray, after: np.ndarray, target, labels: np.ndarra
 
 def over_draws(b: np.ndarray, a: np.ndarray, margin_m=EQUAL_M) -> dict:
     """The worst draw's figure before and after, the least ratio over the draws, whether
-    every draw improves and the :func:`verdict`, from per-draw figures ``b`` and ``a``.
+    every draw improves, the ratio one more draw reaches at 95 % (``ratio_bound``,
+    :func:`next_draw` of the ratios' logarithm, each figure after the correction raised by
+    the margin, at least the calibration's floor: the model's error on what the correction
+    removed stays in what it leaves)
+    and the :func:`verdict` on it, from per-draw figures ``b`` and ``a``. The machine is
+    judged as one more draw: firm where that bound reaches :data:`FIRM_RATIO`, improved
+    where every draw falls by more than the margin and one more would too.
 
     Parameters
     ----------
@@ -219,11 +231,41 @@ def over_draws(b: np.ndarray, a: np.ndarray, margin_m=EQUAL_M) -> dict:
     margin_m : float or ndarray
         The least fall that counts as an improvement, per draw (:func:`margin`) [m].
     """
-    least = float(np.min(b / np.maximum(a, EQUAL_M)))
+    b, a = np.asarray(b, float), np.asarray(a, float)
+    after = np.maximum(a, EQUAL_M)
+    least = float(np.min(b / after))
     improves = bool(np.all(a < b - margin_m))
+    # the machine is one more draw, its fall read from the draws' own scatter; what is
+    # left after the correction carries the model's error on what it removed (the margin),
+    # and no prediction meets the machine closer than the calibration's floor
+    left = a + np.maximum(margin_m, CALIBRATION["floor_m"])
+    bound = float(np.exp(next_draw(np.log(b / left))))
+    cleared = improves and next_draw(np.log(np.maximum(b - margin_m, EQUAL_M) / after)) > 0
     return {"worst_before_um": float(b.max() * 1e6), "worst_after_um": float(a.max() * 1e6),
             "least_ratio": least, "improves_on_every_draw": improves,
-            "verdict": verdict(least, improves)}
+            "ratio_bound": bound, "verdict": verdict(bound, cleared)}
+
+
+def next_draw(x: np.ndarray) -> float:
+    """The lower bound of one more draw of ``x`` at 95 %, from the draws' mean and
+    scatter (Student's t prediction bound, the scatter widened by the prediction
+    intervals' calibration factor, :data:`tcpmm.uncertainty.verdict.CALIBRATION`), and
+    never above their least: the least of a few draws is no bound for the next (of 7, one
+    more falls below it one time in 8) [-].
+
+    Parameters
+    ----------
+    x : ndarray
+        The draws' values, the logarithm of a ratio [-].
+    """
+    x = np.asarray(x, float)
+    if x.size < 3 or not np.all(np.isfinite(x)):
+        return float(np.min(x))
+    from scipy.stats import t
+
+    # widened as the prediction intervals are for the machines beyond the draws
+    spread = CALIBRATION["factor"] * np.std(x, ddof=1) * np.sqrt(1.0 + 1.0 / x.size)
+    return float(min(np.min(x), np.mean(x) - t.ppf(1.0 - BEYOND, x.size - 1) * spread))
 
 
 def circle_rows(before: np.ndarray, after: np.ndarray, guard) -> dict:
@@ -329,7 +371,7 @@ def record(comp, shares: list, rows: list, circle: dict, labels: np.ndarray,
     """
     for a, f in zip(comp.reference.axes, shares, strict=True):
         comp.factors[a] = np.broadcast_to(np.asarray(f, dtype=float), labels.shape).copy()
-    good = {r["region"] for r in rows if r["improves_on_every_draw"]}
+    good = {r["region"] for r in rows if r["verdict"] != "uncertain"}
     firm = {r["region"] for r in rows if r["verdict"] == "firm"}
     comp.trusted = np.isin(labels, list(good))
     comp.robustness = {**extra, "regions": rows,

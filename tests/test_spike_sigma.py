@@ -85,7 +85,7 @@ def test_the_bound_adds_the_extreme_the_median_and_the_terms():
     columns = np.zeros((n, 2))
     columns[:, 0] = np.where(after, 1.0, 0.0)
     cov = np.diag([4e-14, 1.0])
-    got = spike_uncertainty(a, rest, "ccw", columns=columns, cov=cov)["B"]
+    got = spike_uncertainty(a, rest, "ccw", columns=columns, cov=cov)[0]["B"]
     nb = before.sum()
     tau = 1.0  # alternating samples: the correlation time the sum of the lags gives is below 1
     sigma = np.sqrt(nb * 1e-12 / (nb - tau))

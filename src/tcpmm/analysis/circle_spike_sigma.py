@@ -50,9 +50,13 @@ NOTE = ("the largest of the spikes' 95 % uncertainties from the noise (the extre
 
 
 def spike_uncertainty(angle_rad, rest, direction: str, lead_deg: float = 0.0,
-                      columns=None, cov=None, sample_noise: bool = False) -> dict:
-    """The 95 % uncertainty of the reversal spike at A-D of ``rest`` (module docstring);
-    NaN where the path does not hold the point's windows [m].
+                      columns=None, cov=None) -> tuple[dict, dict]:
+    """The 95 % uncertainty of the reversal spike at A-D of ``rest`` (module docstring),
+    and that from the noise from sample to sample alone: the scatter of the differences
+    over the square root of 2, the terms as they are, so that what the terms leave more
+    slowly, an oscillation they do not model, is taken as the machine's own (right for
+    white noise only, short for noise that stays alike: :func:`slow_line`); NaN where the
+    path does not hold the point's windows [m].
 
     Parameters
     ----------
@@ -68,34 +72,33 @@ def spike_uncertainty(angle_rad, rest, direction: str, lead_deg: float = 0.0,
         The fit's design matrix on the samples, one row each [m/unit].
     cov : ndarray, optional
         The covariance of the fit's coefficients, zero for a column not fitted [unit^2].
-    sample_noise : bool
-        Take as noise only what changes from one sample to the next (the scatter of the
-        differences over the square root of 2), and the terms as they are: what the terms
-        leave more slowly, an oscillation they do not model, is then taken as the
-        machine's own. Right for white noise only; it understates noise that stays alike
-        (:data:`SLOW_NOTE`) [-].
     """
-    out = {}
+    rest = np.asarray(rest, float)
+    u95, sample = {}, {}
     for name, before, after in spike_windows(angle_rad, direction, lead_deg):
-        out[name] = (np.nan if before is None
-                     else _bound(np.asarray(rest, float), before, after, columns, cov,
-                                 sample_noise))
-    return out
+        if before is None:
+            u95[name] = sample[name] = np.nan
+            continue
+        u95[name] = _bound(rest, before, after, columns, cov)
+        sample[name] = _bound(rest, before, after, None, None, sample_noise=True)
+    return u95, sample
 
 
 def _bound(rest, before, after, columns, cov, sample_noise=False) -> float:
-    """The 95 % uncertainty of one spike from its windows' masks [m]."""
+    """The 95 % uncertainty of one spike from its windows' masks; with ``sample_noise``
+    from the noise from sample to sample alone (:func:`spike_uncertainty`) [m]."""
     b = np.median(rest[before])
     base = rest[before] - b
     if sample_noise:
-        tau, sigma = 1.0, float(np.std(np.diff(base)) / np.sqrt(2.0)) if base.size > 2 else 0.0
+        tau = 1.0
+        sigma = float(np.std(np.diff(base)) / np.sqrt(2.0)) if base.size > 2 else 0.0
     else:
         tau = correlation_length(base)
         # a window's scatter falls short of the noise's by the samples each one repeats
         sigma = float(np.sqrt(np.sum(base**2) / max(base.size - tau, 1.0)))
     extreme = sigma * float(ndtri(1.0 - 0.5 * BEYOND / np.count_nonzero(after)))
     var = 0.5 * np.pi * sigma**2 * tau / np.count_nonzero(before)
-    if columns is not None and cov is not None and not sample_noise:
+    if columns is not None and cov is not None:
         at = np.flatnonzero(after)[np.argmax(np.abs(rest[after] - b))]
         g = columns[at] - columns[before].mean(axis=0)
         var += max(float(g @ cov @ g), 0.0)
@@ -179,9 +182,7 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
         cols = design(arcs[i], i, len(arcs), radius, shared, fit.mu, fit.waves, None,
                       arcs[i].positions(radius, None, e),
                       fit.centres[i] if fit.centres else (0.0, 0.0))
-        got = (reversal_spikes(a, rest, d, lead),
-               spike_uncertainty(a, rest, d, lead, cols, cov),
-               spike_uncertainty(a, rest, d, lead, cols, cov, sample_noise=True))
+        got = (reversal_spikes(a, rest, d, lead), *spike_uncertainty(a, rest, d, lead, cols, cov))
         for out, values in zip((spikes, u95, fast), got, strict=True):
             out.update({f"spike_{q}_{d}": v for q, v in values.items()})
     return spikes, u95, fast

@@ -38,31 +38,10 @@ def _fit_mask(angle_rad, direction):
     return keep
 
 
-def residual_after_terms(angle_rad, e, direction: str):
-    """Radial error minus the error terms fitted to one circle (module docstring) [m].
-
-    Parameters
-    ----------
-    angle_rad : ndarray
-        Angle about the nominal centre, CCW from the first axis, unwrapped [rad].
-    e : ndarray
-        Radial error about the nominal centre [m].
-    direction : {"ccw", "cw"}
-        Direction of travel [-].
-
-    Returns
-    -------
-    ndarray or None
-        The residual; None when the circle is too short, not a full turn, or not finite to
-        fit [m].
-    """
-    fitted = _fit(angle_rad, e, direction)
-    return None if fitted is None else fitted[0]
-
-
 def _fit(angle_rad, e, direction: str):
-    """``(residual, design matrix, covariance of the coefficients)`` of the fit
-    (:func:`residual_after_terms`); None where it cannot be made [m, m/unit, unit^2]."""
+    """``(residual, design matrix, covariance of the coefficients)`` of the fit of the
+    error terms to one circle (module docstring); None when the circle is too short, not a
+    full turn, or not finite to fit [m, m/unit, unit^2]."""
     a, e = np.asarray(angle_rad, float), np.asarray(e, float)
     if a.size < _MIN_SAMPLES or not (np.all(np.isfinite(a)) and np.all(np.isfinite(e))):
         return None
@@ -79,10 +58,11 @@ def _fit(angle_rad, e, direction: str):
     return rest, basis, coef_covariance(basis[keep], rest[keep], [int(keep.sum())])
 
 
-def spikes_after_terms(angle_rad, e, direction: str) -> dict:
-    """Signed reversal spike at A-D of the residual after the fitted terms; NaN where the
-    raw spike is left out or the circle cannot be fitted, an arc among them (module
-    docstring) [m].
+def spikes_with_uncertainty(angle_rad, e, direction: str) -> tuple[dict, dict, dict]:
+    """Signed reversal spike at A-D of the residual after the fitted terms, its 95 %
+    uncertainty and that from the noise from sample to sample alone
+    (:func:`.circle_spike_sigma.spike_uncertainty`); NaN where the raw spike is left out
+    or the circle cannot be fitted, an arc among them (module docstring) [m].
 
     Parameters
     ----------
@@ -93,18 +73,10 @@ def spikes_after_terms(angle_rad, e, direction: str) -> dict:
     direction : {"ccw", "cw"}
         Direction of travel [-].
     """
-    return spikes_with_uncertainty(angle_rad, e, direction)[0]
-
-
-def spikes_with_uncertainty(angle_rad, e, direction: str) -> tuple[dict, dict, dict]:
-    """:func:`spikes_after_terms`, their 95 % uncertainty
-    (:func:`.circle_spike_sigma.spike_uncertainty`) and that from the noise from sample
-    to sample alone, NaN where there is no spike [m]."""
     fitted = _fit(angle_rad, e, direction)
     if fitted is None:
         nan = {q: float("nan") for q in reversal_spikes(angle_rad, e, direction)}
         return nan, dict(nan), dict(nan)
     rest, basis, cov = fitted
     return (reversal_spikes(angle_rad, rest, direction),
-            *(spike_uncertainty(angle_rad, rest, direction, columns=basis, cov=cov,
-                                sample_noise=fast) for fast in (False, True)))
+            *spike_uncertainty(angle_rad, rest, direction, columns=basis, cov=cov))

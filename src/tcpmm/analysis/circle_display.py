@@ -22,6 +22,8 @@ TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
               # n/a: none stood out of what the other terms leave (its residual rms)
               "cyclic_amplitude": "e.g. pitch error; n/a: unresolved",
               "command_radial_deviation": "command radius - nominal",
+              "reversal_tail": "+: radius out past the window",
+              "reversal_tail_decay": "the tails' time constant",
               "residual_rms": "what the terms leave unexplained"}
 
 

@@ -43,7 +43,7 @@ def as_mismatch(fit, arcs, radius_m, shared):
     columns = [mismatch(n) for n, c in zip(fit.names, fit.coef, strict=True)
                if np.isfinite(c)]
     return fit_terms(arcs, radius_m, [mismatch(n) for n in shared], waves=fit.waves,
-                     columns=columns)
+                     columns=columns, tail=fit.tail)
 
 
 def open_by_ellipse(fit, terms: dict, arcs, radius_m: float, shared) -> dict:

@@ -26,6 +26,7 @@ from .circle_model import (
     term_columns,
 )
 from .circle_noise import coef_covariance
+from .circle_reversal_tail import search_tail, tail_block, tail_names
 
 OWN = ("radius", "centre_X", "centre_Y")
 #: How far a step of the tool's angle may lie from the pass's median step, as a share of
@@ -144,6 +145,13 @@ class TermFit:
         Covariance of the coefficients from what the fit leaves over
         (:func:`.circle_noise.coef_covariance`); NaN for a column not fitted, all NaN
         where it is not estimated [SI^2].
+    tail : tuple, optional
+        ``(decay, shape)`` of the reversals' tails past the window: the time constant, as
+        the angle travelled in it at the mean speed, and the shape; None where they are not
+        fitted (:mod:`.circle_reversal_tail`) [rad, -].
+    tail_spread : dict
+        Per column, its largest move over the tails that fit the samples as well as
+        ``tail`` (:func:`.circle_reversal_tail.spread`); empty where none do [SI].
     """
 
     names: list
@@ -155,6 +163,8 @@ class TermFit:
     aliases: dict = field(default_factory=dict)
     periods: tuple = ()
     cov: np.ndarray | None = None
+    tail: tuple | None = None
+    tail_spread: dict = field(default_factory=dict)
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -169,10 +179,10 @@ class TermFit:
 
 
 def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
-           centre=(0.0, 0.0)):
+           centre=(0.0, 0.0), tail=None):
     """Design matrix of arc ``i`` of ``n_arcs`` over ``angle`` (default its own), its
-    tool at ``pos`` (default on the nominal radius) and its axes reversing about
-    ``centre`` [m/unit]."""
+    tool at ``pos`` (default on the nominal radius), its axes reversing about ``centre``
+    and the reversals' tails of time constant ``tail`` (none for None) [m/unit]."""
     a = arc.angle if angle is None else angle
     own = np.zeros((a.size, 3 * n_arcs))
     own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), np.cos(a), np.sin(a)]
@@ -182,17 +192,21 @@ def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
     for axis, k in enumerate(waves):
         if k is not None:
             cols += cyclic_columns(pos[axis], np.cos(a) if axis == 0 else np.sin(a), k)
+    if tail is not None:
+        cols += list(tail_block(arc, i, n_arcs, mu, tail, a, rev).T)
     return np.column_stack([own, *cols]) if cols else own
 
 
-def column_names(n_arcs, shared, waves=(None, None)):
+
+def column_names(n_arcs, shared, waves=(None, None), tail=None):
     """The fit's columns: per arc its radius and centre, the shared terms, the cyclic
-    sine and cosine of each axis whose wavenumber is given [-]."""
+    sine and cosine of each axis whose wavenumber is given, the reversals' tails where
+    their time constant ``tail`` is [-]."""
     names = [f"{o}_{i}" for i in range(n_arcs) for o in OWN] + list(shared)
     for axis, k in zip("XY", waves, strict=True):
         if k is not None:
             names += [f"cyclic_sin_{axis}", f"cyclic_cos_{axis}"]
-    return names
+    return names + (tail_names(n_arcs) if tail is not None else [])
 
 
 class FitProblem:
@@ -219,6 +233,8 @@ class FitProblem:
         self.pos = [tuple(p[m] for p in a.positions(radius)) for a, m in
                     zip(arcs, self.masks, strict=True)]
         self.centres = [(0.0, 0.0)] * len(arcs)  # about which the axes reverse
+        self.tail = None  # the reversals' tails' time constant, None for none
+        self.tail_spread = None  # the columns' moves over the tails that fit as well
         A = self.matrix(0.0, (None, None))
         # each circle's radius and centre first, where the arc determines them: every
         # set-up has a centre offset, and a term that stood in for it (a bow, a
@@ -242,9 +258,19 @@ class FitProblem:
         """Design matrix over the fitted samples of every arc [m/unit]."""
         n = len(self.arcs)
         return np.vstack([design(a, i, n, self.radius, self.shared, mu, waves,
-                                 a.angle[m], p, c)
+                                 a.angle[m], p, c, self.tail)
                           for i, (a, m, p, c) in enumerate(zip(
                               self.arcs, self.masks, self.pos, self.centres, strict=True))])
+
+    def tail_matrix(self, mu, tail):
+        """The reversals' tail columns ``tail`` over the fitted samples of every arc
+        (:func:`.circle_reversal_tail.tail_block`) [m/m]."""
+        n = len(self.arcs)
+        return np.vstack([
+            tail_block(a, i, n, mu, tail, a.angle[m],
+                       None if not any(c) else np.arctan2(p[1] - c[1], p[0] - c[0]))
+            for i, (a, m, p, c) in enumerate(zip(
+                self.arcs, self.masks, self.pos, self.centres, strict=True))])
 
     def centres_of(self, coef) -> list:
         """Each arc's fitted centre offset, 0 where it is not determined [m]."""
@@ -287,7 +313,7 @@ class FitProblem:
 
 
 def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
-              columns=None, unseen=()) -> TermFit:
+              columns=None, unseen=(), tail=None) -> TermFit:
     """Fit the terms ``shared`` and each arc's radius and centre to the arcs (module
     docstring).
 
@@ -311,6 +337,9 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
     unseen : sequence of str
         Terms not among ``shared`` whose effect on the fitted ones is wanted all the same
         (:attr:`TermFit.aliases`): lateral play, which one direction does not fit [-].
+    tail : tuple or str, optional
+        ``(decay, shape)`` of the reversals' tails to fit (:mod:`.circle_reversal_tail`),
+        ``"search"`` to search for them, None for none [rad, -].
     """
     pb = FitProblem(arcs, radius, shared, drop, columns)
     coef = pb.solve(0.0, (None, None))[0]
@@ -321,23 +350,37 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         pb.reversals_at(mu)
         coef = pb.solve(mu, (None, None))[0]
         mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
-    periods = ()
+    periods, search = (), isinstance(tail, str)
+    # the tails before the cyclic search, which would take them for cyclic errors, and
+    # again with the cyclic errors it finds
+    pb.tail = search_tail(pb, mu, (None, None)) if search else tail
     if waves is None and cyclic:
         periods = search_periods(pb)
         waves = search_cyclic(pb, mu, periods)
     waves = (None, None) if waves is None else waves
+    if search and any(k is not None for k in waves):
+        pb.tail = search_tail(pb, mu, waves)
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
+    return _finished(pb, mu, waves, unseen, periods)
+
+
+def _finished(pb, mu, waves, unseen, periods) -> TermFit:
+    """The fit of ``pb`` with its reversals and cyclic errors placed, its aliases and
+    covariance worked out [-]."""
     coef, res, _ = pb.solve(mu, waves)
-    names = column_names(len(arcs), shared, waves)
+    names = column_names(len(pb.arcs), pb.shared, waves, pb.tail)
     A = pb.matrix(mu, waves)
     extra = dict(zip(unseen, pb.unseen_columns(unseen, mu).T, strict=True)) if unseen else {}
     kept = np.isfinite(coef)
     aliases = alias_slopes(A, kept, names, extra)
     cov = np.full((coef.size, coef.size), np.nan)
     cov[np.ix_(kept, kept)] = coef_covariance(A[:, kept], res, [m.sum() for m in pb.masks])
+    # the spread is of the columns without the tails', which come last
+    spread = {} if pb.tail_spread is None else {
+        k: float(v) for k, v in zip(names, pb.tail_spread, strict=False) if v}
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
-                   tuple(pb.centres), aliases, periods, cov)
+                   tuple(pb.centres), aliases, periods, cov, pb.tail, spread)
 
 
 def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
@@ -347,6 +390,6 @@ def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
     a = arc.angle if angle is None else angle
     pos = arc.positions(radius, a, e) if e is not None else None
     A = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a, pos,
-               fit.centres[i] if fit.centres else (0.0, 0.0))
+               fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail)
     return (A @ np.nan_to_num(fit.coef)
             + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu))

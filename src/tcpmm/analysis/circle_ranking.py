@@ -103,7 +103,8 @@ def contributions(fit, arcs, radius, shared, spikes):
         for i, arc in enumerate(arcs):
             a = arc_grid(arc.angle)
             curve = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a,
-                           centre=fit.centres[i] if fit.centres else (0.0, 0.0)) @ coef
+                           centre=fit.centres[i] if fit.centres else (0.0, 0.0),
+                           tail=fit.tail) @ coef
             if name == "servo_mismatch":
                 curve = curve + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu)
             curves.append((a, curve))

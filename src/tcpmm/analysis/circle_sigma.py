@@ -66,6 +66,11 @@ def term_sigma(fit, n_arcs, shared, terms, axes, mean_rate=float("nan"),
     for axis, k in zip("XY", fit.waves, strict=True):
         if k is not None:
             out[f"cyclic_amplitude_{axis}"] = _amplitude_sigma(fit, cov, axis)
+        tails = [j for j, n in enumerate(fit.names) if n.startswith(f"tail_{axis}")
+                 and np.isfinite(fit.coef[j])]
+        if tails:  # the largest, which is the one reported, at the tails' time constant
+            j = max(tails, key=lambda j: abs(fit.coef[j]))
+            out[f"reversal_tail_{axis}"] = float(np.sqrt(cov[j, j]))
     return {rename_axes(k, axes): v for k, v in out.items()
             if k in terms and np.isfinite(terms[k][0]) and np.isfinite(v)}
 

@@ -71,7 +71,9 @@ def arc_fit(arcs, radius, shared, unseen=()):
         of arcs long enough [-].
     """
     if all(is_full(a.angle) for a in arcs):
-        return fit_terms(arcs, radius, shared, unseen=unseen), {}
+        # one direction leaves its lateral play, a step at the reversals, to them
+        tail = "search" if len(arcs) >= 2 else None
+        return fit_terms(arcs, radius, shared, unseen=unseen, tail=tail), {}
     deg = min(float(np.degrees(np.ptp(a.angle))) for a in arcs)
     if len(arcs) >= 2 and deg >= MIN_TERMS_DEG:
         return fit_terms(arcs, radius, shared, cyclic=False, unseen=unseen), {}

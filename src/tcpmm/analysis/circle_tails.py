@@ -10,6 +10,10 @@ by :data:`MOVES_M` and by :data:`MOVES_SHARE` of its own, more than the terms ar
 to, is owed to that window as much as to the machine's geometry, and is reported uncertain
 by at least that much (bench C's TCP at F10000: backlash Y 14.8 um at 20 deg, 21.8 um at
 40 deg): a transient longer than the wider window moves it less than it biases it.
+
+The fit models what of a transient lies past the window as a decaying tail
+(:mod:`.circle_reversal_tail`); a term is also uncertain by as far as it moves over the
+tails that fit the samples as well as the one fitted, whichever is larger.
 """
 
 from __future__ import annotations
@@ -68,13 +72,17 @@ def tail_shift(fit, arcs, radius, shared, terms, axes, mean_rate=float("nan"),
     """
     wide = [dataclasses.replace(a, after_deg=WIDER_DEG) for a in arcs]
     fitted = [n for n, c in zip(fit.names, fit.coef, strict=True) if np.isfinite(c)
-              and not n.startswith("cyclic_")]
+              and not n.startswith(("cyclic_", "tail_"))]
     try:
         other = fit_terms(wide, radius, shared, cyclic=False, waves=fit.waves,
-                          columns=fitted)
+                          columns=fitted, tail=fit.tail)
     except (InputError, np.linalg.LinAlgError, ValueError):
         return {}
     out = as_reported(lambda n: other[n] - fit[n], len(arcs), shared, mean_rate, rename)
+    # or as far as it moves over the reversals' tails that fit the samples as well
+    alike = as_reported(lambda n: fit.tail_spread.get(n, 0.0), len(arcs), shared,
+                        mean_rate, rename)
+    out = {k: alike[k] if abs(alike[k]) > abs(v) else v for k, v in out.items()}
     for axis, k in zip("XY", fit.waves, strict=True):
         if k is not None:
             out[f"cyclic_amplitude_{axis}"] = (other.cyclic_amplitude(axis)
@@ -157,11 +165,12 @@ def moving_line(diag) -> str:
         return ""
     items = [pair_text(diag, term, a, b, "->") for term, (a, b) in moving.items()]
     unfitted = sorted({t.replace("_", " ") for t in diag.undetermined
-                       if not t.startswith(("cyclic_", "reversal_spikes"))})
+                       if not t.startswith(("cyclic_", "reversal_"))})
     also = (f", or an error the circles do not determine ({', '.join(unfitted)}) does"
             if unfitted else "")
     return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
-            "each reversal left out instead of 20, " + ", ".join(items)
+            "each reversal left out instead of 20, or with another tail past the window that "
+            "fits the samples as well, " + ", ".join(items)
             + "; a transient lasting past the window, or an error the terms do not model "
             "there (a cyclic error not found), reads partly as these terms, and one lasting "
             f"past {WIDER_DEG:.0f} deg moves them further still" + also)

@@ -69,6 +69,7 @@ from .circle_fit import Arc
 from .circle_model import is_full
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
+from .circle_reversal_tail import tail_terms
 from .circle_sigma import term_sigma
 from .circle_spike_sigma import pair_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
@@ -257,6 +258,10 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     leave_open(why, terms, left_out, arcs, axes)
+    if all(is_full(a) for a, _ in paths):  # fitted to pairs of full turns alone
+        tails, tails_why = tail_terms(fit, mean_rate)
+        terms.update(tails)
+        why.update({rename_axes(k, axes): v for k, v in tails_why.items()})
     if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
                                  "given as an angle only (servo_mismatch_angle)")

@@ -1,0 +1,224 @@
+"""The part of each reversal's transient that lasts past the window the fit leaves out.
+
+The fit leaves out the 20 deg after each quadrant point, where the reversal's transient
+lies. A transient that decays more slowly (a slow position loop pulling the axis back after
+the friction has flipped: a time constant of 60 ms is 8 deg at F5000 on R 35 mm, 16 deg at
+F10000) lies in part in the fitted samples, and there it shares the shape of the terms
+that step at a reversal or bend the circle between two: on circles with a tail of 3 um
+decaying over 20 deg a backlash of 2 um read 3.3 um, and a scale mismatch of 20 ppm read
+29 ppm, both with 0.1 um of noise.
+
+So the fit has a column per reversal for what of it lies past the window, decaying
+exponentially from the window's end with one time constant for all reversals, ``a exp(-(d
+- w) / tau)`` beyond the window ``w``, zero inside it (the spike after the terms is still
+the whole transient there). Its shape is one of two (:data:`SHAPES`), whichever fits
+better: the reversing axis' position error, seen along the radius as the angle turns away
+from the axis (what a servo leaves), or a radial error (what a ballbar's software and
+simulators of its errors add). Each arc has four, one per axis and direction it reverses
+into, so that a reversal that differs from the others (gravity on an axis, friction unlike
+at the travel's ends) is fitted as it is. The time constant is searched on a grid
+(:data:`DECAY_DEG`) and refined; the columns are kept where they lower the sum of squares
+by :data:`SIGNIFICANT` noise variances (the noise from successive differences of what the
+fit without them leaves), else the fit has none. A tail longer than
+the grid's last value is a step over the half turn to the next reversal, which is the
+backlash itself: the fit cannot tell the two apart, and the wider window's refit
+(:mod:`.circle_tails`) says how much the terms move with it.
+
+Only pairs of full turns are fitted with these columns: over part of a turn they are the
+arc's centre and bows as much as a transient, and in one direction they take its lateral
+play, a step at the reversals too, which it cannot fit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from .circle_model import axis_signs
+from .circle_noise import correlation_length
+
+#: Time constants searched, as the angle the tool travels in one at the circles' mean
+#: speed [deg]
+DECAY_DEG = (2.0, 3.0, 4.5, 7.0, 10.0, 15.0, 22.0, 33.0, 50.0)
+#: The tails are fitted where they lower the sum of squares by this many noise variances
+#: more than the same tails turned away from the reversals do (:data:`TURN_DEG`): eight
+#: columns and a time constant fitted to noise lower it by about ten, and what the terms
+#: do not model (a servo mismatch's reversals placed between samples, a cyclic error)
+#: by up to 85 more on the suite's circles with every error at once [-]
+SIGNIFICANT = 100.0
+#: The test's tails are turned by this angle from the reversals, halfway between two [deg]
+TURN_DEG = 45.0
+#: Nor where the largest tail is smaller than this: below any sensor's resolution, and a
+#: noise-free circle's rounding [m]
+MIN_TAIL_M = 0.01e-6
+#: The tails' shapes: the axis' position error, or a radial error
+SHAPES = ("axis", "radial")
+#: The columns of one arc, by axis and the sign of its velocity after the reversal
+TAIL_KEYS = ("X+", "X-", "Y+", "Y-")
+
+
+def tail_names(n_arcs: int) -> list:
+    """The tail columns' names: ``tail_X+_0`` ... per arc [-]."""
+    return [f"tail_{k}_{i}" for i in range(n_arcs) for k in TAIL_KEYS]
+
+
+def tail_columns(angle, s, ratio, mu, rev, after_deg, tail) -> list:
+    """The four tail columns of one arc (module docstring) over ``angle`` [m/m].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    ratio : float
+        The arc's angular speed over the mean of the arcs fitted together [-].
+    mu : float
+        Servo mismatch angle placing the axes' reversals [rad].
+    rev : ndarray or None
+        The angle about the circle's own centre, where its axes reverse [rad].
+    after_deg : float
+        The window after each quadrant point the fit leaves out [deg].
+    tail : tuple
+        ``(decay, shape)``: the time constant, as the angle travelled in it at the mean
+        speed, and one of :data:`SHAPES`; a third entry turns the columns by that angle
+        along the travel, away from the reversals (:func:`search_tail`'s test) [rad, -,
+        deg].
+    """
+    decay, shape, *turn = tail
+    if turn:
+        angle = angle - s * np.radians(turn[0])
+        rev = None if rev is None else rev - s * np.radians(turn[0])
+    c, n = np.cos(angle), np.sin(angle)
+    sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
+    u = s * np.degrees(angle)
+    # a tail steps the radius out where its coefficient is positive, as a backlash does:
+    # the axis' error against its new direction, seen along the radius as the angle turns
+    # from the axis on (past 90 deg the other way), or the radial error itself
+    out = []
+    for since, sign, proj in (((u % 180.0), sx, c), (((u - s * 90.0) % 180.0), sy, n)):
+        past = since - after_deg
+        tail = np.where(past >= 0.0, np.exp(-np.radians(np.maximum(past, 0.0))
+                                            / (ratio * decay)), 0.0)
+        col = -sign * proj * tail if shape == "axis" else tail
+        out += [np.where(sign > 0, col, 0.0), np.where(sign < 0, col, 0.0)]
+    return out
+
+
+def tail_block(arc, i, n_arcs, mu, tail, angle, rev):
+    """The tail columns of arc ``i`` (an ``Arc``) of ``n_arcs`` over ``angle``, zero in the
+    other arcs' (:func:`tail_columns`) [m/m]."""
+    out = np.zeros((angle.size, 4 * n_arcs))
+    out[:, 4 * i:4 * i + 4] = np.column_stack(tail_columns(
+        angle, arc.s, arc.ratio, mu, rev, arc.after_deg, tail))
+    return out
+
+
+def noise_level(res) -> float:
+    """The variance of what a fit leaves times its correlation length: what one column
+    fitted to it takes of its sum of squares, on average, were it noise [m^2]."""
+    return float(np.mean(res**2)) * correlation_length(res)
+
+
+def search_tail(pb, mu, waves):
+    """``(decay, shape)`` of the reversals' tails that ``pb`` fits best with the servo
+    mismatch ``mu`` [rad] and the cyclic errors ``waves`` [1/m], None where the tails do
+    not stand out of the noise (module docstring) [rad, -]. Sets ``pb.tail_spread``: how
+    far each column of the fit without the tails moves over the tails that fit as well
+    (:func:`spread`), None where no tail is fitted [SI]."""
+    pb.tail, pb.tail_spread = None, None
+    _, res, basis = pb.solve(mu, waves)
+    base = float(res @ res)
+    tried = {}
+
+    def ssr(log_decay, shape, *turn):
+        # the fit with the tails added leaves what of the residual their columns, less
+        # their part in the fit's own, do not take: no refit
+        tail = (float(np.exp(log_decay)), shape, *turn)
+        t = pb.tail_matrix(mu, tail)
+        q, r = np.linalg.qr(t - basis @ (basis.T @ t))
+        q = q[:, np.abs(np.diag(r)) > 1e-9 * max(np.abs(r).max(), 1e-300)]
+        tried[tail] = cost = base - float(np.sum((q.T @ res) ** 2))
+        return cost
+
+    grid = np.log(np.radians(DECAY_DEG))
+    for shape in SHAPES:  # each shape's best on the grid refined
+        j = int(np.argmin([ssr(g, shape) for g in grid]))
+        minimize_scalar(ssr, bounds=(grid[max(j - 1, 0)], grid[min(j + 1, grid.size - 1)]),
+                        args=(shape,), method="bounded", options={"xatol": 0.02})
+    # the same tails turned away from the reversals: what they take of the residual is
+    # what any such columns would, and a reversal's tail starts at the reversal
+    elsewhere = base - min(ssr(g, shape, TURN_DEG) for shape in SHAPES for g in grid)
+    tried = {t: c for t, c in tried.items() if len(t) == 2}
+    tail = min(tried, key=tried.get)
+    pb.tail = tail
+    coef, res, _ = pb.solve(mu, waves)
+    pb.tail = None
+    if not (base - tried[tail] - elsewhere > SIGNIFICANT * noise_level(res)
+            and float(np.nanmax(np.abs(coef[-4 * len(pb.arcs):]))) >= MIN_TAIL_M):
+        return None
+    pb.tail_spread = spread(pb, mu, waves, coef, res, tried)
+    return tail
+
+
+#: The tails within this many noise variances of the best fit as well as it: a 95 %
+#: confidence region of one parameter [-]
+AS_WELL = 3.84
+#: At most this many of them are refitted, the best first [-]
+MOST_ALIKE = 8
+
+
+def spread(pb, mu, waves, coef, res, tried) -> np.ndarray:
+    """How far each column of the fit without the tails moves (the largest change, signed)
+    over the tails ``tried`` (``(decay, shape) -> sum of squares``) whose sum of squares
+    lies within :data:`AS_WELL` noise variances of the best's: a long tail is nearly a
+    step to the next reversal, a backlash, and the samples may not tell the two apart (a
+    radial tail of 10 um over 40 deg fitted 0.003 % worse as an axis' tail over 31 deg,
+    with a backlash 2.6 um apart). The noise variance is :func:`noise_level` of the best
+    fit's residual ``res``. One value per column, in the fit's order [SI]."""
+    best = min(tried.values())
+    level = AS_WELL * noise_level(res)
+    alike = sorted((c, t) for t, c in tried.items() if c <= best + level)[1:MOST_ALIKE + 1]
+    n = coef.size - 4 * len(pb.arcs)
+    moves = np.zeros(n)
+    for _, t in alike:
+        pb.tail = t
+        d = pb.solve(mu, waves)[0][:n] - coef[:n]
+        moves = np.where(np.abs(d) > np.abs(moves), d, moves)
+    pb.tail = None
+    return np.nan_to_num(moves)
+
+
+#: Why the reversal tails read none (``{rms}``: what the terms leave unexplained)
+NONE_WHY = ("no part of the reversals' transients past the window left out of the fit "
+            "stood out of what the terms leave unexplained ({rms}) more than the same tails "
+            "away from the reversals do: the transients end within the window, or one of "
+            "about that size is not resolved")
+
+
+def tail_terms(fit, mean_rate) -> tuple:
+    """The reported tails of a pair of full turns and why any reads NaN: per axis the
+    largest of its reversals' tails at the window's end (signed, + the radius out) [m],
+    and their time constant [s]; all NaN where none is fitted [SI, -].
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit [SI].
+    mean_rate : float
+        The circles' angular speed; NaN where it is not known [rad/s].
+    """
+    out = {}
+    for axis in "XY":
+        vals = [fit[n] for n in fit.names if n.startswith(f"tail_{axis}")]
+        vals = [v for v in vals if np.isfinite(v)]
+        out[f"reversal_tail_{axis}"] = (max(vals, key=abs) if vals else float("nan"), "m")
+    decay = fit.tail[0] / mean_rate if fit.tail is not None else float("nan")
+    out["reversal_tail_decay"] = (float(decay), "s")
+    if fit.tail is None:
+        rms = f"{fit.residual_rms * 1e6:.2f} µm rms"
+        return out, dict.fromkeys(out, NONE_WHY.format(rms=rms))
+    why = {} if np.isfinite(decay) else {"reversal_tail_decay": (
+        "the circles' angular speed is not known, so the tails' time constant is not "
+        f"either: {np.degrees(fit.tail[0]):.1f} deg of travel")}
+    return out, why

@@ -38,6 +38,18 @@ G1 X40 Y40
 G1 X0 Y40
 G1 X0 Y0
 """
+#: The square with the tool held half a second at two corners: a program whose hold the
+#: correction must keep, run only where named in ``--programs`` [mm, s].
+SQUARE_DWELLS = """G90 G17 G64 P0.01 F5000
+G1 X40 Y0
+G4 P0.5
+G1 X40 Y40
+G1 X0 Y40
+G4 P0.5
+G1 X0 Y0
+"""
+#: Programs run only where named
+OPTIONAL = ("square G64 dwells",)
 
 
 def spiral(turns: int = 3, r0_mm: float = 5.0, pitch_mm: float = 5.0, step_deg: float = 5.0,
@@ -76,7 +88,8 @@ def programs(name: str, model, headroom: float):
                         ("circle F10000", "circle_ccw_fast_cmd.csv")):
         cmd = read_command_csv(d / file)
         yield label, cmd, cmd, 0.035
-    for label, text in (("spiral G64", spiral()), ("square G64", SQUARE)):
+    for label, text in (("spiral G64", spiral()), ("square G64", SQUARE),
+                        ("square G64 dwells", SQUARE_DWELLS)):
         full, planned = program_with_headroom(text, settings, headroom)
         yield label + (f" (headroom {headroom:g})" if headroom else ""), full, planned, None
 
@@ -213,7 +226,9 @@ def main(argv=None) -> None:
         model = model_of(name, args.cache)
         truth = machine_from_truth(DATA / f"bench_{name}" / "truth.yaml")
         for label, full, planned, radius in programs(name, model, args.headroom):
-            if args.programs is not None and label.split(" (")[0] not in args.programs.split(","):
+            base = label.split(" (")[0]
+            named = args.programs.split(",") if args.programs is not None else None
+            if (base not in named) if named is not None else (base in OPTIONAL):
                 continue
             label += limits_label(limits)
             try:

@@ -185,6 +185,30 @@ def search_cyclic(pb, mu, periods) -> tuple:
     return tuple(waves)
 
 
+def refine_waves(pb, mu, waves, periods) -> tuple:
+    """The wavenumbers ``waves`` found [1/m], each refined within a grid step of the scan
+    beside the other's, with the servo mismatch ``mu`` [rad] and the centres of the fit
+    that holds both: the scan placed them with the reversals and centres of a fit without
+    them, which the cyclic errors themselves had moved (two pitch errors, of 12.0 and 7.4
+    mm, read the first 11.92 mm and the backlash 0.24 um off). ``periods``: the band
+    searched (:func:`search_periods`) [m]."""
+    lo, hi = 1.0 / periods[0], 1.0 / periods[1]
+    ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
+    out = list(waves)
+    for ax in (0, 1):
+        if out[ax] is None:
+            continue
+        pos = np.concatenate([p[ax] for p in pb.pos])
+        power = _power_of(pos, np.cos(ang) if ax == 0 else np.sin(ang),
+                          *_without(pb, mu, out, ax))
+        k, width = out[ax], 1.0 / (4.0 * pb.radius)
+        for _ in range(4):
+            fine = np.clip(np.linspace(k - width, k + width, 21), lo, hi)
+            k, width = float(fine[np.argmax(power(fine))]), width / 10.0
+        out[ax] = k
+    return tuple(out)
+
+
 def _without(pb, mu, waves, ax) -> tuple:
     """Residual [m] and orthonormal basis [-] of the fit with the other axis' cyclic error
     and not this one's: over the whole band a scan of it sees its own (the first scan, with

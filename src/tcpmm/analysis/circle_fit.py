@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .circle_cyclic import search_cyclic, search_periods
+from .circle_cyclic import refine_waves, search_cyclic, search_periods
 from .circle_model import (
     alias_slopes,
     cyclic_columns,
@@ -362,6 +362,10 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         pb.tail = search_tail(pb, mu, waves)
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
+    if periods and any(k is not None for k in waves):
+        waves = refine_waves(pb, mu, waves, periods)
+        coef = pb.solve(mu, waves)[0]
+        mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     return _finished(pb, mu, waves, unseen, periods)
 
 

@@ -17,6 +17,8 @@ from tcpmm.analysis.diagnostics import diagnose_pair
 #: every error of a ballbar test but the cyclic ones and the spikes, whose tails these are
 BASE = {"b_x": 2e-6, "b_y": -1.5e-6, "tau_y": 0.5e-3, "eps_x": 20e-6, "alpha": 10e-6,
         "p_x": 1e-6, "str_y": 1.5e-6, "cx": 4e-6}
+#: the errors under a tail as long as the half turn: the backlash and play alone
+LONG = {**BASE, "eps_x": 0.0, "alpha": 0.0, "str_y": 0.0}
 #: each reversal's own tail, as a share of the largest (gravity, friction unlike at the ends)
 SHARES = (1.0, 0.3, -0.5, 0.8)
 
@@ -60,14 +62,15 @@ def test_the_terms_are_recovered_under_a_tail_past_the_window(decay_deg, shape):
 
 
 def test_a_tail_as_long_as_the_half_turn_is_said_to_move_the_terms():
-    """A radial tail of 10 um over 40 deg is nearly a step to the next reversal, which is
-    a backlash: the samples fit it as well as an axis' tail over 31 deg, with a backlash
-    2.6 um apart. The terms it moves are said to move by at least as much as they are
-    off."""
-    d = pair(10e-6, 40.0, "radial", {**BASE, "eps_x": 0.0, "alpha": 0.0, "str_y": 0.0})
+    """A radial tail of 10 um over 40 deg, alike at every reversal, is nearly a step to
+    the next reversal, which is a backlash: the samples fit it as well as an axis' tail
+    over 31 deg, with a backlash 2.6 um apart. The terms it moves are said to move by at
+    least nine tenths of how far they are off."""
+    d = pair(10e-6, 40.0, "radial", LONG, (1.0,) * 4)
     moving = moving_terms(d)
-    for term in ("backlash_X", "backlash_Y"):
-        off = abs(d[term] - BASE["b_" + term[-1].lower()])
+    offs = {t: abs(d[t] - BASE["b_" + t[-1].lower()]) for t in ("backlash_X", "backlash_Y")}
+    assert max(offs.values()) > 1e-6  # the case is the one that cannot be told apart
+    for term, off in offs.items():
         if off > 0.1e-6:
             now, other = moving[term]
             assert abs(other - now) >= 0.9 * off, term
@@ -99,3 +102,18 @@ def test_each_tail_carries_its_uncertainty():
         sigma = d.sigma[f"reversal_tail_{axis}"]
         assert 0 < sigma < 0.02e-6
         assert abs(d[f"reversal_tail_{axis}"] - 3e-6 * np.exp(-2.0)) <= 2 * sigma + 0.01e-6
+
+
+def test_the_line_names_the_other_tails_only_where_tails_are_fitted():
+    """The terms' moves over the tails that fit as well are tried only where a pair of
+    full circles is fitted with tails; one direction is fitted without, and its line
+    says only what the wider window moves."""
+    from tcpmm.analysis.circle_single import diagnose_single
+    from tcpmm.analysis.circle_tails import moving_line
+
+    alike = "or with another tail past the window that fits the samples as well"
+    both = pair(10e-6, 40.0, "radial", LONG, (1.0,) * 4)
+    assert alike in moving_line(both)
+    one = diagnose_single(*tailed("ccw", BASE, 3e-6, 30.0, "axis", 1), "ccw", gen.R)
+    line = moving_line(one)
+    assert line.startswith("uncertain by the reversals' tails") and alike not in line

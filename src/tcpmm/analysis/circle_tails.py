@@ -168,9 +168,12 @@ def moving_line(diag) -> str:
                        if not t.startswith(("cyclic_", "reversal_"))})
     also = (f", or an error the circles do not determine ({', '.join(unfitted)}) does"
             if unfitted else "")
+    # the tails that fit as well were only tried where a tail was fitted
+    fitted = np.isfinite(diag.terms.get("reversal_tail_decay", (float("nan"),))[0])
+    alike = (", or with another tail past the window that fits the samples as well"
+             if fitted else "")
     return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
-            "each reversal left out instead of 20, or with another tail past the window that "
-            "fits the samples as well, " + ", ".join(items)
+            f"each reversal left out instead of 20{alike}, " + ", ".join(items)
             + "; a transient lasting past the window, or an error the terms do not model "
             "there (a cyclic error not found), reads partly as these terms, and one lasting "
             f"past {WIDER_DEG:.0f} deg moves them further still" + also)

@@ -7,7 +7,8 @@ independent simulator's machines.
    (``tests/test_reversal_tail.py``, ``BASE``), and after every quadrant point a tail of
    ``--height`` at the point decaying over a number of degrees, each reversal its own share
    (1, 0.3, -0.5, 0.8) or all alike: the reversing axis' position error (``axis``) or a
-   radial error (``radial``). Per case: the time constant found, and of the terms the one
+   radial error (``radial``). Per case: the time constant found with its ±95 %, and of the
+   terms the one
    furthest from its injected value, as radial error, with what the diagnostics say of
    it (``~``: uncertain by the reversals' tails, by the move given).
 2. The circles of ``../shared/data/bench_*`` at F5000 and F10000: the tails' time constant
@@ -57,7 +58,8 @@ def worst(d, want):
 
 def injected(height) -> None:
     want = gen.expected(BASE)
-    print("| shape | shares | decay [deg] | found [deg] | furthest term | off [µm] | said |")
+    print("| shape | shares | decay [deg] | found ±95 % [deg] | furthest term | off [µm] "
+          "| said |")
     print("|---|---|---:|---:|---|---:|---|")
     for shape in ("axis", "radial"):
         for alike in (False, True):
@@ -65,9 +67,11 @@ def injected(height) -> None:
                 d = pair(height, decay, shape, shares=(1.0,) * 4 if alike else SHARES)
                 t, off, move = worst(d, want)
                 found = d.terms.get("reversal_tail_decay", (np.nan,))[0] * gen.W
+                u95 = 2 * d.sigma.get("reversal_tail_decay", np.nan) * gen.W
                 said = "firm" if move is None else f"~ {move * 1e6:.2f} µm"
                 print(f"| {shape} | {'alike' if alike else 'own'} | {decay:.0f} | "
-                      f"{np.degrees(found):.1f} | {t} | {off * 1e6:.2f} | {said} |")
+                      f"{np.degrees(found):.1f} ± {np.degrees(u95):.1f} | {t} "
+                      f"| {off * 1e6:.2f} | {said} |")
 
 
 def benches() -> None:
@@ -86,7 +90,8 @@ def benches() -> None:
             ranked = moving_terms(diag)
             bx = f"{diag['backlash_X'] * 1e6:.2f}{'~' if 'backlash_X' in ranked else ''}"
             by = f"{diag['backlash_Y'] * 1e6:.2f}{'~' if 'backlash_Y' in ranked else ''}"
-            shown = "none" if not np.isfinite(tau) else f"{tau * 1e3:.0f}"
+            u95 = 2 * diag.sigma.get("reversal_tail_decay", np.nan)
+            shown = "none" if not np.isfinite(tau) else f"{tau * 1e3:.0f} ± {u95 * 1e3:.0f}"
             print(f"| {d.name} | {feed} | {1e3 / kpp:.0f} | {shown} | {bx}, {by} |")
 
 

@@ -117,3 +117,19 @@ def test_the_line_names_the_other_tails_only_where_tails_are_fitted():
     one = diagnose_single(*tailed("ccw", BASE, 3e-6, 30.0, "axis", 1), "ccw", gen.R)
     line = moving_line(one)
     assert line.startswith("uncertain by the reversals' tails") and alike not in line
+
+
+@pytest.mark.parametrize(("decay_deg", "shape", "shares", "widest"), [
+    (8.0, "axis", (1.0,) * 4, 0.2), (16.0, "axis", (1.0,) * 4, 0.2),
+    (10.0, "radial", SHARES, 0.2), (45.0, "radial", (1.0,) * 4, 1.0)])
+def test_the_time_constant_carries_its_interval(decay_deg, shape, shares, widest):
+    """The time constant is given with two standard uncertainties, the larger side of its
+    95 % interval: the time constants whose fit lies within 3.84 noise variances of the
+    best, over either shape where the other fits as well. The injected one lies within the
+    interval where the other shape is taken (an axis' tail of 16 deg read as a radial one
+    of 14.9 deg, 14.5-16.2) and where the tail is as long as the half turn (45 deg read
+    as 31, 29-51, and the ± says so: 63 % of the value; the others' under 20 %)."""
+    d = pair(3e-6, decay_deg, shape, shares=shares)
+    value, u95 = d["reversal_tail_decay"], 2 * d.sigma["reversal_tail_decay"]
+    assert 0 < u95 < widest * value
+    assert abs(value - np.radians(decay_deg) / gen.W) <= u95

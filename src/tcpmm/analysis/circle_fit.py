@@ -152,6 +152,10 @@ class TermFit:
     tail_spread : dict
         Per column, its largest move over the tails that fit the samples as well as
         ``tail`` (:func:`.circle_reversal_tail.spread`); empty where none do [SI].
+    tail_interval : tuple, optional
+        The least and the largest time constant of the tails within the 95 % interval of
+        either shape (:func:`.circle_reversal_tail.decay_interval`); None where no tail is
+        fitted [rad].
     """
 
     names: list
@@ -165,6 +169,7 @@ class TermFit:
     cov: np.ndarray | None = None
     tail: tuple | None = None
     tail_spread: dict = field(default_factory=dict)
+    tail_interval: tuple | None = None
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -235,6 +240,7 @@ class FitProblem:
         self.centres = [(0.0, 0.0)] * len(arcs)  # about which the axes reverse
         self.tail = None  # the reversals' tails' time constant, None for none
         self.tail_spread = None  # the columns' moves over the tails that fit as well
+        self.tail_interval = None  # the time constants that fit as well
         A = self.matrix(0.0, (None, None))
         # each circle's radius and centre first, where the arc determines them: every
         # set-up has a centre offset, and a term that stood in for it (a bow, a
@@ -261,16 +267,6 @@ class FitProblem:
                                  a.angle[m], p, c, self.tail)
                           for i, (a, m, p, c) in enumerate(zip(
                               self.arcs, self.masks, self.pos, self.centres, strict=True))])
-
-    def tail_matrix(self, mu, tail):
-        """The reversals' tail columns ``tail`` over the fitted samples of every arc
-        (:func:`.circle_reversal_tail.tail_block`) [m/m]."""
-        n = len(self.arcs)
-        return np.vstack([
-            tail_block(a, i, n, mu, tail, a.angle[m],
-                       None if not any(c) else np.arctan2(p[1] - c[1], p[0] - c[0]))
-            for i, (a, m, p, c) in enumerate(zip(
-                self.arcs, self.masks, self.pos, self.centres, strict=True))])
 
     def centres_of(self, coef) -> list:
         """Each arc's fitted centre offset, 0 where it is not determined [m]."""
@@ -384,7 +380,8 @@ def _finished(pb, mu, waves, unseen, periods) -> TermFit:
     spread = {} if pb.tail_spread is None else {
         k: float(v) for k, v in zip(names, pb.tail_spread, strict=False) if v}
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
-                   tuple(pb.centres), aliases, periods, cov, pb.tail, spread)
+                   tuple(pb.centres), aliases, periods, cov, pb.tail, spread,
+                   pb.tail_interval)
 
 
 def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):

@@ -32,7 +32,7 @@ play, a step at the reversals too, which it cannot fit.
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq, minimize_scalar
 
 from .circle_model import axis_signs
 from .circle_noise import correlation_length
@@ -114,6 +114,17 @@ def tail_block(arc, i, n_arcs, mu, tail, angle, rev):
     return out
 
 
+def tail_matrix(pb, mu, tail):
+    """The tail columns ``tail`` over the fitted samples of every arc of ``pb`` (a
+    ``FitProblem``), each reversing about its centre (:func:`tail_block`) [m/m]."""
+    n = len(pb.arcs)
+    return np.vstack([
+        tail_block(a, i, n, mu, tail, a.angle[m],
+                   None if not any(c) else np.arctan2(p[1] - c[1], p[0] - c[0]))
+        for i, (a, m, p, c) in enumerate(zip(pb.arcs, pb.masks, pb.pos, pb.centres,
+                                             strict=True))])
+
+
 def noise_level(res) -> float:
     """The variance of what a fit leaves times its correlation length: what one column
     fitted to it takes of its sum of squares, on average, were it noise [m^2]."""
@@ -126,7 +137,7 @@ def search_tail(pb, mu, waves):
     not stand out of the noise (module docstring) [rad, -]. Sets ``pb.tail_spread``: how
     far each column of the fit without the tails moves over the tails that fit as well
     (:func:`spread`), None where no tail is fitted [SI]."""
-    pb.tail, pb.tail_spread = None, None
+    pb.tail, pb.tail_spread, pb.tail_interval = None, None, None
     _, res, basis = pb.solve(mu, waves)
     base = float(res @ res)
     tried = {}
@@ -135,7 +146,7 @@ def search_tail(pb, mu, waves):
         # the fit with the tails added leaves what of the residual their columns, less
         # their part in the fit's own, do not take: no refit
         tail = (float(np.exp(log_decay)), shape, *turn)
-        t = pb.tail_matrix(mu, tail)
+        t = tail_matrix(pb, mu, tail)
         q, r = np.linalg.qr(t - basis @ (basis.T @ t))
         q = q[:, np.abs(np.diag(r)) > 1e-9 * max(np.abs(r).max(), 1e-300)]
         tried[tail] = cost = base - float(np.sum((q.T @ res) ** 2))
@@ -152,13 +163,39 @@ def search_tail(pb, mu, waves):
     tried = {t: c for t, c in tried.items() if len(t) == 2}
     tail = min(tried, key=tried.get)
     pb.tail = tail
-    coef, res, _ = pb.solve(mu, waves)
+    coef, left, _ = pb.solve(mu, waves)  # ``res`` stays the one ``ssr`` projects
     pb.tail = None
-    if not (base - tried[tail] - elsewhere > SIGNIFICANT * noise_level(res)
+    if not (base - tried[tail] - elsewhere > SIGNIFICANT * noise_level(left)
             and float(np.nanmax(np.abs(coef[-4 * len(pb.arcs):]))) >= MIN_TAIL_M):
         return None
-    pb.tail_spread = spread(pb, mu, waves, coef, res, tried)
+    pb.tail_spread = spread(pb, mu, waves, coef, left, tried)
+    target = tried[tail] + AS_WELL * noise_level(left)
+    ends = []  # over either shape whose best fits as well, the other's too
+    for shape in SHAPES:
+        best = min((c, t) for t, c in tried.items() if t[1] == shape)
+        if best[0] <= target:
+            ends += decay_interval(lambda x, sh=shape: ssr(x, sh), np.log(best[1][0]), target)
+    pb.tail_interval = (min(ends), max(ends))
     return tail
+
+
+#: How far either side of the time constant found its interval is sought, as a factor [-]
+REACH = 20.0
+
+
+def decay_interval(cost, x0, target) -> tuple:
+    """The time constants either side of ``exp(x0)`` at which the fit's sum of squares
+    ``cost(log decay)`` rises to ``target`` (:data:`AS_WELL` noise variances above the
+    best): a 95 % interval, of the shape found; a side it does not rise on within
+    :data:`REACH` ends there [rad]."""
+    ends = []
+    for side in (-1.0, 1.0):
+        x1 = x0 + side * np.log(REACH)
+        if cost(x1) <= target:
+            ends.append(x1)
+            continue
+        ends.append(brentq(lambda x: cost(x) - target, min(x0, x1), max(x0, x1), xtol=0.005))
+    return float(np.exp(ends[0])), float(np.exp(ends[1]))
 
 
 #: The tails within this many noise variances of the best fit as well as it: a 95 %

@@ -71,6 +71,9 @@ def term_sigma(fit, n_arcs, shared, terms, axes, mean_rate=float("nan"),
         if tails:  # the largest, which is the one reported, at the tails' time constant
             j = max(tails, key=lambda j: abs(fit.coef[j]))
             out[f"reversal_tail_{axis}"] = float(np.sqrt(cov[j, j]))
+    if fit.tail_interval is not None:  # its 95 % interval as two standard uncertainties,
+        lo, hi = fit.tail_interval    # the larger side of it: the interval may be lopsided
+        out["reversal_tail_decay"] = max(fit.tail[0] - lo, hi - fit.tail[0]) / 2.0 / mean_rate
     return {rename_axes(k, axes): v for k, v in out.items()
             if k in terms and np.isfinite(terms[k][0]) and np.isfinite(v)}
 

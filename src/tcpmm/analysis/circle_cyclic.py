@@ -72,12 +72,27 @@ def _scan(pos, w, resid, basis, radius, periods):
     peaks = np.flatnonzero((p >= np.r_[-np.inf, p[:-1]]) & (p >= np.r_[p[1:], -np.inf]))
     found = []
     for k in ks[peaks[np.argsort(p[peaks])[::-1][:3]]]:
-        width = step
-        for _ in range(3):  # refined within the band: a peak at its edge may not leave it
-            fine = np.clip(np.linspace(k - width, k + width, 21), lo, hi)
-            k, width = fine[np.argmax(power(fine))], width / 10.0
+        k = _refined(power, k, step, (lo, hi), 3)
         found.append((float(power(np.array([k]))[0]), k))
     return sorted(found, reverse=True)
+
+
+def _refined(power, k, width, band, levels):
+    """The wavenumber of most ``power`` near ``k`` [1/m]: 21 points within ``width`` either
+    side, then a tenth of that about the best, ``levels`` times; within the ``band``
+    (lowest, highest), as a peak at its edge may not leave it [1/m]."""
+    for _ in range(levels):
+        fine = np.clip(np.linspace(k - width, k + width, 21), *band)
+        k, width = fine[np.argmax(power(fine))], width / 10.0
+    return k
+
+
+def _samples(pb):
+    """The fitted samples of ``pb``'s arcs: their angle, each axis' position, and how
+    each axis is seen along the radius, ``cos`` and ``sin`` of the angle [rad, m, -]."""
+    ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
+    pos = [np.concatenate([p[axis] for p in pb.pos]) for axis in (0, 1)]
+    return ang, pos, (np.cos(ang), np.sin(ang))
 
 
 def _power_of(pos, w, resid, basis):
@@ -155,9 +170,7 @@ def search_cyclic(pb, mu, periods) -> tuple:
     periods : tuple
         The longest and the shortest period searched (:func:`search_periods`) [m].
     """
-    ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
-    pos = [np.concatenate([p[axis] for p in pb.pos]) for axis in (0, 1)]
-    ws = (np.cos(ang), np.sin(ang))
+    ang, pos, ws = _samples(pb)
     waves = [None, None]
     _, res, basis = pb.solve(mu, waves)
     # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
@@ -192,20 +205,13 @@ def refine_waves(pb, mu, waves, periods) -> tuple:
     them, which the cyclic errors themselves had moved (two pitch errors, of 12.0 and 7.4
     mm, read the first 11.92 mm and the backlash 0.24 um off). ``periods``: the band
     searched (:func:`search_periods`) [m]."""
-    lo, hi = 1.0 / periods[0], 1.0 / periods[1]
-    ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
+    _, pos, ws = _samples(pb)
     out = list(waves)
     for ax in (0, 1):
-        if out[ax] is None:
-            continue
-        pos = np.concatenate([p[ax] for p in pb.pos])
-        power = _power_of(pos, np.cos(ang) if ax == 0 else np.sin(ang),
-                          *_without(pb, mu, out, ax))
-        k, width = out[ax], 1.0 / (4.0 * pb.radius)
-        for _ in range(4):
-            fine = np.clip(np.linspace(k - width, k + width, 21), lo, hi)
-            k, width = float(fine[np.argmax(power(fine))]), width / 10.0
-        out[ax] = k
+        if out[ax] is not None:  # from the scan's grid step
+            power = _power_of(pos[ax], ws[ax], *_without(pb, mu, out, ax))
+            out[ax] = float(_refined(power, out[ax], 1.0 / (4.0 * pb.radius),
+                                     (1.0 / periods[0], 1.0 / periods[1]), 4))
     return tuple(out)
 
 

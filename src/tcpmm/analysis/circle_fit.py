@@ -187,7 +187,7 @@ def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
            centre=(0.0, 0.0), tail=None):
     """Design matrix of arc ``i`` of ``n_arcs`` over ``angle`` (default its own), its
     tool at ``pos`` (default on the nominal radius), its axes reversing about ``centre``
-    and the reversals' tails of time constant ``tail`` (none for None) [m/unit]."""
+    and the reversals' tails ``tail``, ``(decay, shape)`` (none for None) [m/unit]."""
     a = arc.angle if angle is None else angle
     own = np.zeros((a.size, 3 * n_arcs))
     own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), np.cos(a), np.sin(a)]
@@ -202,11 +202,10 @@ def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
     return np.column_stack([own, *cols]) if cols else own
 
 
-
 def column_names(n_arcs, shared, waves=(None, None), tail=None):
     """The fit's columns: per arc its radius and centre, the shared terms, the cyclic
     sine and cosine of each axis whose wavenumber is given, the reversals' tails where
-    their time constant ``tail`` is [-]."""
+    ``tail`` is given [-]."""
     names = [f"{o}_{i}" for i in range(n_arcs) for o in OWN] + list(shared)
     for axis, k in zip("XY", waves, strict=True):
         if k is not None:
@@ -238,7 +237,7 @@ class FitProblem:
         self.pos = [tuple(p[m] for p in a.positions(radius)) for a, m in
                     zip(arcs, self.masks, strict=True)]
         self.centres = [(0.0, 0.0)] * len(arcs)  # about which the axes reverse
-        self.tail = None  # the reversals' tails' time constant, None for none
+        self.tail = None  # the reversals' tails' (decay, shape), None for none
         self.tail_spread = None  # the columns' moves over the tails that fit as well
         self.tail_interval = None  # the time constants that fit as well
         A = self.matrix(0.0, (None, None))

@@ -18,11 +18,11 @@ simulators of its errors add). Each arc has four, one per axis and direction it 
 into, so that a reversal that differs from the others (gravity on an axis, friction unlike
 at the travel's ends) is fitted as it is. The time constant is searched on a grid
 (:data:`DECAY_DEG`) and refined; the columns are kept where they lower the sum of squares
-by :data:`SIGNIFICANT` noise variances (the noise from successive differences of what the
-fit without them leaves), else the fit has none. A tail longer than
-the grid's last value is a step over the half turn to the next reversal, which is the
-backlash itself: the fit cannot tell the two apart, and the wider window's refit
-(:mod:`.circle_tails`) says how much the terms move with it.
+by :data:`SIGNIFICANT` noise variances (:func:`noise_level`) more than the same columns
+turned away from the reversals (:data:`TURN_DEG`), else the fit has none. A tail as long
+as the half turn to the next reversal is nearly a step, the backlash itself: where another
+tail fits as well, the terms are uncertain by how far they move between the two
+(:func:`spread`), and the time constant by its 95 % interval (:func:`decay_interval`).
 
 Only pairs of full turns are fitted with these columns: over part of a turn they are the
 arc's centre and bows as much as a transient, and in one direction they take its lateral
@@ -136,7 +136,9 @@ def search_tail(pb, mu, waves):
     mismatch ``mu`` [rad] and the cyclic errors ``waves`` [1/m], None where the tails do
     not stand out of the noise (module docstring) [rad, -]. Sets ``pb.tail_spread``: how
     far each column of the fit without the tails moves over the tails that fit as well
-    (:func:`spread`), None where no tail is fitted [SI]."""
+    (:func:`spread`) [SI], and ``pb.tail_interval``: the time constants within the 95 %
+    interval of either shape that fits as well (:func:`decay_interval`) [rad]; both None
+    where no tail is fitted."""
     pb.tail, pb.tail_spread, pb.tail_interval = None, None, None
     _, res, basis = pb.solve(mu, waves)
     base = float(res @ res)
@@ -233,6 +235,14 @@ NONE_WHY = ("no part of the reversals' transients past the window left out of th
             "about that size is not resolved")
 
 
+def largest_tail(fit, axis: str):
+    """The column of ``fit`` of the largest of ``axis``' tails, the one reported; None
+    where none is fitted [-]."""
+    tails = [j for j, n in enumerate(fit.names) if n.startswith(f"tail_{axis}")
+             and np.isfinite(fit.coef[j])]
+    return max(tails, key=lambda j: abs(fit.coef[j])) if tails else None
+
+
 def tail_terms(fit, mean_rate) -> tuple:
     """The reported tails of a pair of full turns and why any reads NaN: per axis the
     largest of its reversals' tails at the window's end (signed, + the radius out) [m],
@@ -247,9 +257,8 @@ def tail_terms(fit, mean_rate) -> tuple:
     """
     out = {}
     for axis in "XY":
-        vals = [fit[n] for n in fit.names if n.startswith(f"tail_{axis}")]
-        vals = [v for v in vals if np.isfinite(v)]
-        out[f"reversal_tail_{axis}"] = (max(vals, key=abs) if vals else float("nan"), "m")
+        j = largest_tail(fit, axis)
+        out[f"reversal_tail_{axis}"] = (float("nan") if j is None else float(fit.coef[j]), "m")
     decay = fit.tail[0] / mean_rate if fit.tail is not None else float("nan")
     out["reversal_tail_decay"] = (float(decay), "s")
     if fit.tail is None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .circle_display import DISPLAY_UNITS, rename_axes
+from .circle_reversal_tail import largest_tail
 from .circle_tails import (
     MOVES_M,
     MOVES_SHARE,
@@ -66,10 +67,8 @@ def term_sigma(fit, n_arcs, shared, terms, axes, mean_rate=float("nan"),
     for axis, k in zip("XY", fit.waves, strict=True):
         if k is not None:
             out[f"cyclic_amplitude_{axis}"] = _amplitude_sigma(fit, cov, axis)
-        tails = [j for j, n in enumerate(fit.names) if n.startswith(f"tail_{axis}")
-                 and np.isfinite(fit.coef[j])]
-        if tails:  # the largest, which is the one reported, at the tails' time constant
-            j = max(tails, key=lambda j: abs(fit.coef[j]))
+        j = largest_tail(fit, axis)
+        if j is not None:  # the one reported, at the tails' time constant
             out[f"reversal_tail_{axis}"] = float(np.sqrt(cov[j, j]))
     if fit.tail_interval is not None:  # its 95 % interval as two standard uncertainties,
         lo, hi = fit.tail_interval    # the larger side of it: the interval may be lopsided

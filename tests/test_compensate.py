@@ -140,6 +140,22 @@ def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
 
 
 @pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_the_command_line_the_api_and_the_robust_choice_draw_alike():
+    """One default number of draws (:data:`tcpmm.compensate.robust.DRAWS`) for
+    ``tcpmm compensate``, ``tcpmm.compensate`` and ``robust_factors``: a user of any of
+    them is judged by as many draws as the others, and as many as the validation took."""
+    import inspect
+
+    import tcpmm
+    from tcpmm.cli import compensate as cli
+    from tcpmm.compensate.robust import DRAWS
+
+    option = inspect.signature(cli.compensate).parameters["draws"].default
+    assert option.default == DRAWS
+    assert inspect.signature(tcpmm.compensate).parameters["draws"].default == DRAWS
+    assert inspect.signature(robust_factors).parameters["n_draws"].default == DRAWS
+
+
 def test_no_share_applied_is_judged_as_the_programmed_command(machine):
     """With every share 0 the command is the programmed one, and so are its figures."""
     comp = compensate(machine, circle_command(0.01, 2000 / 60e3), iterations=2)

@@ -189,7 +189,7 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
     return compare_circles(analysed(runs[0], True), analysed(runs[1], False))
 
 
-def compensate(machine, command, draws: int = 8, radius_m=None, seed: int = 0,
+def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
                accel_m_per_s2=None, jerk_m_per_s3=None, headroom=None):
     """Pre-compensate a command on an identified model, scaled back over draws of the model
     from its uncertainty, with the predicted figures before and after.

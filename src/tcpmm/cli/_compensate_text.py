@@ -150,7 +150,7 @@ def warn_worse(comp) -> None:
     worse = [] if comp.robustness else worse_than_programmed(comp.scores)
     if worse:
         warnings.warn(f"the correction makes the model's own TCP worse: {'; '.join(worse)}; "
-                      "with --draws N (default 8) it is scaled back where it does not help",
+                      "with --draws N (default 16) it is scaled back where it does not help",
                       InputWarning, stacklevel=2)
 
 

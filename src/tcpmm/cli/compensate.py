@@ -60,7 +60,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                centre: str = typer.Option("0,0", "--centre", help="Centre of the circle "
                                           "(--radius) in its plane's axes, A,B [mm]."),
                plane: str = typer.Option(None, "--plane", help=_PLANE_HELP),
-               draws: int = typer.Option(8, "--draws", min=0, help="Machines drawn from the "
+               draws: int = typer.Option(16, "--draws", min=0, help="Machines drawn from the "
                                          "model's uncertainty to test it on (0: none)."),
                iterations: int = typer.Option(30, "--iterations", min=1,
                                               help="Learning steps."),

@@ -4,15 +4,18 @@ Each machine is drawn as :mod:`studies.unseen` draws them (mechanics, friction a
 form, servo, sensors, with lost motion), its measurement bundle recorded on it
 (:func:`tcpmm.machines.virtual.virtual_bundle`) and a model identified from that alone.
 The circle R 35 mm CCW of bench C's command at F5000 and F10000 (1 m/s^2, 20 ms moving
-average) is compensated on the model, the correction scaled over ``--draws`` machines drawn
-from the model's uncertainty as ``tcpmm compensate`` does, and run on the true machine.
-Per machine and feed: the shares kept, the firm share of the path and the true machine's
-largest contour error over it before / after (and the least of it region by region), the
-draws' verdict on the largest spike, and the true machine's contour error, largest spike
-and G before and after; "worse" names a figure the true machine made worse by more than the
-sensors' 0.1 um; a machine whose model identification refuses as suspect has a line that
-says so. Not a test:
-``python -m studies.compensation_population [--seed N] [--machines 0-9] [--draws N]``.
+average) is compensated on the model, the correction scaled over ``--draws`` machines
+drawn from the model's uncertainty as ``tcpmm compensate`` does, and run on the true
+machine; with ``--programs`` also (or instead) the CAM-style spiral and square of
+:mod:`studies.compensation` under ``G64``, planned with the headroom ``tcpmm compensate
+--gcode`` gives them. Per machine and program: the shares kept, the firm share of the
+path and the true machine's largest contour error over it before / after (and the least
+of it region by region), the draws' verdict on the largest spike, and the true machine's
+contour error, largest spike and G before and after; "worse" names a figure the true
+machine made worse by more than the sensors' 0.1 um; a machine whose model
+identification refuses as suspect has a line that says so. Not a test:
+``python -m studies.compensation_population [--seed N] [--machines 0-9] [--draws N]
+[--programs "spiral G64,square G64"]``.
 """
 
 from __future__ import annotations
@@ -22,18 +25,22 @@ import tempfile
 import warnings
 from pathlib import Path
 
+from tcpmm.compensate.headroom import DEFAULT_HEADROOM, program_with_headroom
 from tcpmm.compensate.robust import DRAWS
 from tcpmm.ident.gates.finding import SuspectModelError
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
 from tcpmm.machines.virtual import virtual_bundle
-from tcpmm.path import read_command_csv
+from tcpmm.path import InterpolatorSettings, read_command_csv
 
 from . import DATA
-from .compensation import one
+from .compensation import SQUARE, one, spiral
 from .unseen import draw_machine
 
 FEEDS = (("F5000", "circle_ccw_cmd.csv"), ("F10000", "circle_ccw_fast_cmd.csv"))
+#: the programs of ``--programs``: bench C's circles, and the CAM-style programs of
+#: :mod:`studies.compensation` planned as ``tcpmm compensate --gcode`` plans them
+PROGRAMS = ("circle F5000", "circle F10000", "spiral G64", "square G64")
 #: a figure worse on the true machine by more than this counts [um]
 WORSE_UM = 0.1
 
@@ -46,16 +53,34 @@ def identified(seed: int, index: int):
         return truth, identify_bundle(read_bundle(Path(tmp) / "bundle")).machine
 
 
-def row(index: int, feed: str, r: dict) -> str:
+def commands(label: str, model):
+    """The command at the full limits, the one the correction is learned on, and the
+    circle's radius (None for a CAM program) of a program of :data:`PROGRAMS` [-]."""
+    if label.startswith("circle"):
+        cmd = read_command_csv(DATA / "bench_c" / dict(FEEDS)[label.split()[1]])
+        return cmd, cmd, 0.035
+    text = spiral() if label.startswith("spiral") else SQUARE
+    settings = InterpolatorSettings.model_validate(model.interpolation or {})
+    full, planned = program_with_headroom(text, settings, DEFAULT_HEADROOM)
+    return full, planned, None
+
+
+def _pair(before, after) -> str:
+    """``before -> after``, or ``-`` where a figure is not measured [um]."""
+    return "-" if before is None else f"{before:.2f} -> {after:.2f}"
+
+
+def row(index: int, label: str, r: dict) -> str:
     """One line of the table of a result of :func:`studies.compensation.one` [-]."""
     names = {"ce": "contour", "spike": "spike", "g": "G"}
-    worse = [k for k in names if r[f"{k}_after"] > r[f"{k}_before"] + WORSE_UM]
+    worse = [k for k in names if r[f"{k}_before"] is not None
+             and r[f"{k}_after"] > r[f"{k}_before"] + WORSE_UM]
     f, firm = r["factors"], r["firm_truth"]
     where = "-" if firm is None else f"{firm[0]:.1f}x (least region {firm[1]:.1f}x)"
-    return (f"| {index} | {feed} | {f['X']:.2g}/{f['Y']:.2g} | {100 * r['firm']:.0f} % | "
-            f"{where} | {r['spike_verdict']} | {r['ce_before']:.2f} -> {r['ce_after']:.2f} | "
-            f"{r['spike_before']:.2f} -> {r['spike_after']:.2f} | "
-            f"{r['g_before']:.2f} -> {r['g_after']:.2f} | "
+    return (f"| {index} | {label} | {f['X']:.2g}/{f['Y']:.2g} | {100 * r['firm']:.0f} % | "
+            f"{where} | {r['spike_verdict']} | {_pair(r['ce_before'], r['ce_after'])} | "
+            f"{_pair(r['spike_before'], r['spike_after'])} | "
+            f"{_pair(r['g_before'], r['g_after'])} | "
             f"{', '.join(names[k] for k in worse) or '-'} |")
 
 
@@ -64,14 +89,20 @@ def main(argv=None) -> None:
     p.add_argument("--seed", type=int, default=91)
     p.add_argument("--machines", default="0-9", help="first-last, or a list a,b,c")
     p.add_argument("--draws", type=int, default=DRAWS, help="as tcpmm compensate's default")
+    p.add_argument("--programs", default="circle F5000,circle F10000",
+                   help=f"a comma list of {', '.join(PROGRAMS)}")
     a = p.parse_args(argv)
+    labels = [x.strip() for x in a.programs.split(",")]
+    unknown = [x for x in labels if x not in PROGRAMS]
+    if unknown:
+        p.error(f"unknown program {', '.join(unknown)}; choose from {', '.join(PROGRAMS)}")
     if "-" in a.machines:
         lo, hi = (int(x) for x in a.machines.split("-"))
         indices = range(lo, hi + 1)
     else:
         indices = [int(x) for x in a.machines.split(",")]
     warnings.simplefilter("ignore")
-    print("| machine | circle | shares X/Y | firm | true reduction where firm | spike verdict "
+    print("| machine | program | shares X/Y | firm | true reduction where firm | spike verdict "
           "| contour error [µm] | largest spike [µm] | G [µm] | worse |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for i in indices:
@@ -80,10 +111,10 @@ def main(argv=None) -> None:
         except SuspectModelError:  # as tcpmm identify refuses it: nothing to compensate
             print(f"| {i} | - | identification refused the model as suspect | | | | | | | |")
             continue
-        for feed, file in FEEDS:
-            cmd = read_command_csv(DATA / "bench_c" / file)
-            r = one(f"m{i}", model, truth, feed, (cmd, cmd), 0.035, a.draws)
-            print(row(i, feed, r), flush=True)
+        for label in labels:
+            full, planned, radius = commands(label, model)
+            r = one(f"m{i}", model, truth, label, (full, planned), radius, a.draws)
+            print(row(i, label, r), flush=True)
 
 
 if __name__ == "__main__":

@@ -6,6 +6,8 @@ constant: 1/K_v of 60 ms is 8 deg of travel at F5000 on R 35 mm and 16 deg at F1
 tails read as backlash, scale mismatch and a cyclic error before the fit modelled them: 2
 um of backlash X read 2.3-3.5 um, 20 ppm of scale mismatch 28 ppm."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -102,6 +104,19 @@ def test_each_tail_carries_its_uncertainty():
         sigma = d.sigma[f"reversal_tail_{axis}"]
         assert 0 < sigma < 0.02e-6
         assert abs(d[f"reversal_tail_{axis}"] - 3e-6 * np.exp(-2.0)) <= 2 * sigma + 0.01e-6
+
+
+def test_the_time_constant_reads_to_tenths_of_a_millisecond():
+    """Its interval spans milliseconds (bench R05: 46.0 ± 4.4 ms, which read 45.999 ±
+    4.413 ms); a servo mismatch in ms keeps its microseconds."""
+    from tcpmm.analysis.circle_tails import pair_text
+
+    d = pair(3e-6, 16.0, "axis")
+    tau = d["reversal_tail_decay"]
+    assert re.fullmatch(r"reversal tail decay \d+\.\d ± \d+\.\d ms",
+                        pair_text(d, "reversal_tail_decay", tau, 0.1 * tau, "±"))
+    assert re.fullmatch(r"servo mismatch \d\.\d{3} ± \d\.\d{3} ms",
+                        pair_text(d, "servo_mismatch", 4e-5, 1e-5, "±"))
 
 
 def test_the_line_names_the_other_tails_only_where_tails_are_fitted():

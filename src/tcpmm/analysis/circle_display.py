@@ -6,6 +6,16 @@ from __future__ import annotations
 #: SI unit -> (display unit, factor); the cyclic periods are shown in mm
 DISPLAY_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
                  "rad": ("µrad", 1e6)}
+
+
+def display_digits(term: str, shown: str) -> int:
+    """Decimals of a term in its display unit ``shown``: a servo mismatch in ms is read to
+    microseconds, the reversals' tails' time constant to tenths of a millisecond (its
+    interval spans milliseconds), the rest to hundredths [-]."""
+    if term == "reversal_tail_decay":
+        return 1
+    return 3 if shown == "ms" else 2
+
 #: What the sign of a term means, by term name or its name without the axis; ``{a}`` and
 #: ``{b}`` stand for the plane's first and second axis
 TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",

@@ -143,7 +143,7 @@ def print_diagnostics(diag, result=None) -> None:
     what each contributes (with the circles ``result``, at the linear scale too), and what
     the circles leave undetermined and why."""
     from ..analysis.circle_alias import alias_line
-    from ..analysis.circle_display import undetermined_lines
+    from ..analysis.circle_display import display_digits, undetermined_lines
     from ..analysis.circle_sigma import noise_line, shown_uncertainty
     from ..analysis.circle_tails import moving_line
     from ..analysis.diagnostics import term_note
@@ -167,7 +167,7 @@ def print_diagnostics(diag, result=None) -> None:
     for term, (v, u) in rows.items():
         if term.startswith(("radial_deviation", "circularity", "spike")):
             continue
-        n = 3 if u == "ms" else 2
+        n = display_digits(term, u)
         pm = shown_uncertainty(diag, term)
         t.add_row(term.replace("_", " "), _cell(v, n), "" if pm != pm else _cell(pm, n), u,
                   term_note(term, diag.axes))

@@ -21,6 +21,7 @@ from .circle_model import (
     determined,
     drop_twins,
     fit_mask,
+    reversal_angle,
     reversal_lead_deg,
     servo_remainder,
     term_columns,
@@ -192,7 +193,7 @@ def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
     own = np.zeros((a.size, 3 * n_arcs))
     own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), np.cos(a), np.sin(a)]
     pos = pos if pos is not None else (radius * np.cos(a), radius * np.sin(a))
-    rev = None if not any(centre) else np.arctan2(pos[1] - centre[1], pos[0] - centre[0])
+    rev = reversal_angle(pos, centre)
     cols = term_columns(shared, a, arc.s, radius, arc.ratio, mu, rev)
     for axis, k in enumerate(waves):
         if k is not None:

@@ -50,6 +50,12 @@ def reversal_lead_deg(angle, mu) -> float:
     return float(np.degrees(abs(mu) + angle_step(angle)))
 
 
+def reversal_angle(pos, centre):
+    """The angle about the circle's own ``centre`` of the tool at ``pos``, where its axes
+    reverse; None for a circle about the nominal centre, whose own angle it is [rad]."""
+    return None if not any(centre) else np.arctan2(pos[1] - centre[1], pos[0] - centre[0])
+
+
 def axis_signs(angle, s, mu=0.0):
     """``(sx, sy)``: signs of the X and Y velocities, each axis reversing where it does with
     a servo mismatch angle ``mu`` (module docstring) [-].

@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from .circle_model import axis_signs
+from .circle_model import axis_signs, reversal_angle
 from .circle_noise import correlation_length
 
 #: Time constants searched, as the angle the tool travels in one at the circles' mean
@@ -118,11 +118,9 @@ def tail_matrix(pb, mu, tail):
     """The tail columns ``tail`` over the fitted samples of every arc of ``pb`` (a
     ``FitProblem``), each reversing about its centre (:func:`tail_block`) [m/m]."""
     n = len(pb.arcs)
-    return np.vstack([
-        tail_block(a, i, n, mu, tail, a.angle[m],
-                   None if not any(c) else np.arctan2(p[1] - c[1], p[0] - c[0]))
-        for i, (a, m, p, c) in enumerate(zip(pb.arcs, pb.masks, pb.pos, pb.centres,
-                                             strict=True))])
+    return np.vstack([tail_block(a, i, n, mu, tail, a.angle[m], reversal_angle(p, c))
+                      for i, (a, m, p, c) in enumerate(zip(pb.arcs, pb.masks, pb.pos,
+                                                           pb.centres, strict=True))])
 
 
 def noise_level(res) -> float:

@@ -103,8 +103,7 @@ def _power_of(pos, w, resid, basis):
     The columns less their parts in the basis are never formed: S's part is ``B B^T S``, so
     ``|S - B B^T S|^2 = |S|^2 - |B^T S|^2``, and a product with the residual is one with
     the residual's own part outside the basis."""
-    wb, w2 = w[:, None] * basis, w * w
-    wr = w * (resid - basis @ (basis.T @ resid))
+    wb, w2, wr = _weighted(w, resid, basis)
 
     def power(ks):
         zc, zs = _phases(pos, ks)
@@ -112,11 +111,23 @@ def _power_of(pos, w, resid, basis):
         ss = np.einsum("ij,ij,j->i", zs, zs, w2) - np.einsum("ij,ij->i", ps, ps)
         cc = np.einsum("ij,ij,j->i", zc, zc, w2) - np.einsum("ij,ij->i", pc, pc)
         sc = np.einsum("ij,ij,j->i", zs, zc, w2) - np.einsum("ij,ij->i", ps, pc)
-        bs, bc = zs @ wr, zc @ wr
-        det = ss * cc - sc * sc
-        return (cc * bs * bs - 2 * sc * bs * bc + ss * bc * bc) / np.where(det > 0, det, np.inf)
+        return _drop(ss, cc, sc, zs @ wr, zc @ wr)
 
     return power
+
+
+def _weighted(w, resid, basis) -> tuple:
+    """The basis and the squared weights as the columns see them, and the residual's part
+    outside the basis, weighted: ``w B``, ``w^2``, ``w (r - B B^T r)`` [-, -, m]."""
+    return w[:, None] * basis, w * w, w * (resid - basis @ (basis.T @ resid))
+
+
+def _drop(ss, cc, sc, bs, bc):
+    """The drop of the residual's sum of squares that a sine and a cosine column bring,
+    from their projected Gram matrix ``[[ss, sc], [sc, cc]]`` and their products with the
+    residual ``bs``, ``bc``; none where they are dependent [m^2]."""
+    det = ss * cc - sc * sc
+    return (cc * bs * bs - 2 * sc * bs * bc + ss * bc * bc) / np.where(det > 0, det, np.inf)
 
 
 #: Relative error of the grid's sums over the samples (finufft's tolerance) [-]: the
@@ -147,9 +158,8 @@ def _grid_power(pos, w, resid, basis, ks):
     modes = count + count % 2  # the FFT's modes run from -modes/2 to modes/2 - 1
     centre = ks[0] + (modes // 2) * step
     x = 2 * np.pi * step * u
-    w2 = w * w
-    wr = w * (resid - basis @ (basis.T @ resid))
-    rows = np.vstack([(w[:, None] * basis).T, wr]) * np.exp(2j * np.pi * centre * u)
+    wb, w2, wr = _weighted(w, resid, basis)
+    rows = np.vstack([wb.T, wr]) * np.exp(2j * np.pi * centre * u)
     rows = np.ascontiguousarray(rows)  # a row a sum, as the FFT takes them
     opts = {"eps": GRID_TOLERANCE, "nthreads": 1}  # one thread: the same sums every run
     f = finufft.nufft1d1(x, rows, modes, **opts)[:, :count]
@@ -160,8 +170,7 @@ def _grid_power(pos, w, resid, basis, ks):
     ss = 0.5 * (total - f2.real) - np.einsum("ji,ji->i", ps, ps)
     cc = 0.5 * (total + f2.real) - np.einsum("ji,ji->i", pc, pc)
     sc = 0.5 * f2.imag - np.einsum("ji,ji->i", ps, pc)
-    det = ss * cc - sc * sc
-    return (cc * bs * bs - 2 * sc * bs * bc + ss * bc * bc) / np.where(det > 0, det, np.inf)
+    return _drop(ss, cc, sc, bs, bc)
 
 
 def _phases(pos, ks):

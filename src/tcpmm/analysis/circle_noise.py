@@ -44,8 +44,10 @@ def _sample_autocovariance(r) -> np.ndarray:
 
 def _died_out(acov) -> np.ndarray:
     """``acov`` up to where it has died out: the pairs of Geyer's initial positive
-    sequence [m^2]."""
+    sequence; its first lag alone where it has under four [m^2]."""
     n = acov.size
+    if n < 4:
+        return acov[:1]
     pairs = acov[: n - n % 2].reshape(-1, 2).sum(axis=1)
     stop = np.flatnonzero(pairs <= 0.0)
     k = 2 * (stop[0] if stop.size else pairs.size)
@@ -93,7 +95,7 @@ def noise_autocovariances(A, r, arcs) -> list:
     """
     q = np.linalg.qr(A)[0]
     raw = [_sample_autocovariance(r[a:b]) for a, b in arcs]
-    acovs = [_died_out(x) if x.size >= 4 else x[:1] for x in raw]
+    acovs = [_died_out(x) for x in raw]
     # every product over the samples by the FFT, zero-padded to at least twice an arc
     # (a length the FFT takes fast: an arc's samples may be a prime): the columns'
     # transforms once, Q^T Sigma Q's from Sigma Q's
@@ -114,7 +116,7 @@ def noise_autocovariances(A, r, arcs) -> list:
             # (Q, Sigma Q) and (Q G, Q)
             spec = (np.conj(h) * f + np.conj(f) * h - np.conj(f @ g) * f).sum(axis=1)
             x = x + np.fft.irfft(spec, m)[:n] / n
-            acovs.append(_died_out(x) if x.size >= 4 else x[:1])
+            acovs.append(_died_out(x))
     return acovs
 
 

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from conftest import bench_path
+from studies.compensation import one
 from studies.compensation_population import identified
-from tcpmm.compensate import compensate, machine_bounds, robust_factors
-from tcpmm.compensate.scores import judge, judged_path, programmed_path, runs_before_after
+from tcpmm.compensate.robust import DRAWS
 from tcpmm.path import read_command_csv
 
 
@@ -26,14 +26,9 @@ from tcpmm.path import read_command_csv
 def test_a_machine_whose_friction_differs_in_form_is_made_no_worse():
     truth, model = identified(91, 4)
     cmd = read_command_csv(bench_path("c") / "circle_ccw_cmd.csv")
-    comp = compensate(model, cmd, bounds=machine_bounds(model))
-    robust_factors(model, comp, radius_m=0.035)
-    before, after = runs_before_after(truth, comp, programmed=cmd)
-    b = judge(before, programmed_path(comp, cmd), 0.035)
-    a = judge(after, judged_path(comp), 0.035)
-    pairs = {"contour error": (b["path"]["contour_error_um"], a["path"]["contour_error_um"]),
-             "largest spike": (b["circle"]["largest_spike_um"], a["circle"]["largest_spike_um"]),
-             "G": (b["circle"]["circular_deviation_um"], a["circle"]["circular_deviation_um"])}
-    worse = {k: v for k, v in pairs.items() if v[1] > v[0] + 0.1}
+    r = one("m4", model, truth, "circle F5000", (cmd, cmd), 0.035, DRAWS)
+    worse = {k: (r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g")
+             if r[f"{k}_after"] > r[f"{k}_before"] + 0.1}
     assert not worse, worse
-    assert np.all(np.isfinite([v for p in pairs.values() for v in p]))
+    assert np.all(np.isfinite([r[f"{k}_{when}"] for k in ("ce", "spike", "g")
+                               for when in ("before", "after")]))

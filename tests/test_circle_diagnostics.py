@@ -169,6 +169,18 @@ def test_all_errors_with_a_servo_mismatch_of_1_ms(seed, n):
     assert_recovered(diagnose(err, n=n), expected(err, n), w=2 * np.pi / (n * DT))
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_all_errors_with_a_large_servo_mismatch(seed):
+    """Y lagging X by 2 ms on a fast circle (754 samples a turn: F10000 on R 20 mm, a
+    mismatch angle of 0.017 rad) makes an ellipse 290 um deep about 45 deg; a position
+    error across the radius turns the tool's angle, and the ellipse is read that much
+    further along: without that slope a backlash or lateral play read 3-12 % off."""
+    n = 754
+    err = draw(np.random.default_rng(seed))
+    err["tau_y"] = np.sign(err["tau_y"]) * 2e-3
+    assert_recovered(diagnose(err, n=n), expected(err, n), w=2 * np.pi / (n * DT))
+
+
 def test_squareness_and_servo_mismatch_part_on_the_direction():
     """Both are an ellipse at 45 deg, the same in one circle for a lag ty - tx = a / w:
     what tells them apart is only whether the CW circle's ellipse has the CCW one's sign."""

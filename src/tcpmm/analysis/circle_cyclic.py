@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_model import angle_step, cyclic_columns
+from .circle_model import angle_step, cyclic_columns, radial_weights
 
 #: fewest periods of a cyclic error over the circle's diameter: over fewer, a sine of the
 #: axis' position is mostly the circle's own terms (its centre, an ellipse, a bow), and a
@@ -87,12 +87,15 @@ def _refined(power, k, width, band, levels):
     return k
 
 
-def _samples(pb):
+def _samples(pb, mu):
     """The fitted samples of ``pb``'s arcs: their angle, each axis' position, and how
-    each axis is seen along the radius, ``cos`` and ``sin`` of the angle [rad, m, -]."""
+    each axis is seen along the radius under the servo mismatch ``mu``
+    (:func:`.circle_model.radial_weights`) [rad, m, -]."""
     ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
     pos = [np.concatenate([p[axis] for p in pb.pos]) for axis in (0, 1)]
-    return ang, pos, (np.cos(ang), np.sin(ang))
+    ws = [radial_weights(a.angle[m], a.s, a.ratio, mu)
+          for a, m in zip(pb.arcs, pb.masks, strict=True)]
+    return ang, pos, tuple(np.concatenate([w[axis] for w in ws]) for axis in (0, 1))
 
 
 def _power_of(pos, w, resid, basis):
@@ -224,7 +227,7 @@ def search_cyclic(pb, mu, periods) -> tuple:
     periods : tuple
         The longest and the shortest period searched (:func:`search_periods`) [m].
     """
-    ang, pos, ws = _samples(pb)
+    ang, pos, ws = _samples(pb, mu)
     waves = [None, None]
     _, res, basis = pb.solve(mu, waves)
     # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
@@ -259,7 +262,7 @@ def refine_waves(pb, mu, waves, periods) -> tuple:
     them, which the cyclic errors themselves had moved (two pitch errors, of 12.0 and 7.4
     mm, read the first 11.92 mm and the backlash 0.24 um off). ``periods``: the band
     searched (:func:`search_periods`) [m]."""
-    _, pos, ws = _samples(pb)
+    _, pos, ws = _samples(pb, mu)
     out = list(waves)
     for ax in (0, 1):
         if out[ax] is not None:  # from the scan's grid step

@@ -21,6 +21,7 @@ from .circle_model import (
     determined,
     drop_twins,
     fit_mask,
+    radial_weights,
     reversal_angle,
     reversal_lead_deg,
     servo_remainder,
@@ -191,13 +192,14 @@ def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
     and the reversals' tails ``tail``, ``(decay, shape)`` (none for None) [m/unit]."""
     a = arc.angle if angle is None else angle
     own = np.zeros((a.size, 3 * n_arcs))
-    own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), np.cos(a), np.sin(a)]
+    w = radial_weights(a, arc.s, arc.ratio, mu)
+    own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), *w]
     pos = pos if pos is not None else (radius * np.cos(a), radius * np.sin(a))
     rev = reversal_angle(pos, centre)
     cols = term_columns(shared, a, arc.s, radius, arc.ratio, mu, rev)
     for axis, k in enumerate(waves):
         if k is not None:
-            cols += cyclic_columns(pos[axis], np.cos(a) if axis == 0 else np.sin(a), k)
+            cols += cyclic_columns(pos[axis], w[axis], k)
     if tail is not None:
         cols += list(tail_block(arc, i, n_arcs, mu, tail, a, rev).T)
     return np.column_stack([own, *cols]) if cols else own

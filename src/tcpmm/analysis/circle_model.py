@@ -11,7 +11,12 @@ position error ``(dx, dy)`` of the tool per unit of the term (the table in
 * the ellipse of a servo mismatch: the radial error of a lag has, besides the ellipse at
   45 deg, a part of order ``R mu^2`` at four times the angle (0.2 um at F10000 on R 35 with
   1 ms), which a cyclic error scan would take for a cyclic error. The fit takes it off the
-  data (:func:`servo_remainder`) with the mismatch of the previous fit.
+  data (:func:`servo_remainder`) with the mismatch of the previous fit;
+* the ellipse's slope: a position error across the radius turns the tool's angle by its
+  size over R, and the ellipse, some ``R mu / 2`` deep, is read that much further along.
+  Each position error ``(dx, dy)`` is seen along the radius with that slope added
+  (:func:`radial_weights`); without it a backlash read ``2 mu`` of itself short (3 % at
+  F10000 on R 20 mm with a 2 ms mismatch).
 
 Which terms an arc determines is read from the columns themselves (:func:`determined`).
 """
@@ -72,6 +77,31 @@ def axis_signs(angle, s, mu=0.0):
     return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
 
 
+def radial_weights(angle, s, ratio=1.0, mu=0.0) -> tuple:
+    """``(wx, wy)``: the radial error of a unit position error of the first and of the
+    second axis, ``cos`` and ``sin`` of the angle, each with the servo mismatch's ellipse
+    read along the angle the error turns the tool by (module docstring) [-].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    ratio : float
+        This circle's angular speed over the mean of the circles fitted together [-].
+    mu : float
+        Servo mismatch angle of the circles fitted together [rad].
+    """
+    c, n = np.cos(angle), np.sin(angle)
+    if not mu:
+        return c, n
+    # the ellipse -s ratio mu R sin cos has the slope -s ratio mu R cos 2theta, and an
+    # error (dx, dy) turns the angle by (-dx sin + dy cos) / R
+    k = s * ratio * mu * np.cos(2.0 * np.asarray(angle))
+    return c - k * n, n + k * c
+
+
 def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None) -> list:
     """Radial error per unit of each term of ``names``, the angle's sine and cosine and the
     axes' signs worked out once for all [m/unit].
@@ -98,14 +128,17 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None) -> list:
         ``angle`` where omitted [rad].
     """
     c, n = np.cos(angle), np.sin(angle)
+    wx, wy = radial_weights(angle, s, ratio, mu)
     sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
-    cols = {"backlash_X": lambda: -0.5 * sx * c, "backlash_Y": lambda: -0.5 * sy * n,
-            "lateral_play_X": lambda: 0.5 * sx * n, "lateral_play_Y": lambda: 0.5 * sy * c,
-            "squareness": lambda: -radius * n * c,
+    # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen
+    # along the radius; the servo mismatch is the lag itself
+    cols = {"backlash_X": lambda: -0.5 * sx * wx, "backlash_Y": lambda: -0.5 * sy * wy,
+            "lateral_play_X": lambda: 0.5 * sx * wy, "lateral_play_Y": lambda: 0.5 * sy * wx,
+            "squareness": lambda: -radius * n * wx,
             "servo_angle": lambda: -s * ratio * radius * n * c,
-            "scale_mismatch": lambda: 0.5 * radius * (c * c - n * n),
+            "scale_mismatch": lambda: 0.5 * radius * (c * wx - n * wy),
             # a bow of the axis by 1 at the middle of its travel +-R, 0 at its ends
-            "straightness_X": lambda: n**3, "straightness_Y": lambda: c**3}
+            "straightness_X": lambda: n * n * wy, "straightness_Y": lambda: c * c * wx}
     return [cols[name]() for name in names]
 
 

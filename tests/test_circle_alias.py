@@ -175,3 +175,30 @@ def test_a_cyclic_error_one_directions_lateral_play_makes_is_said_conditional(se
         bound = abs(err["p_x"]) * per[0] + abs(err["p_y"]) * per[1]
         assert d[f"cyclic_amplitude_{x}"] <= 1.05 * bound
     assert "cyclic amplitude" in alias_line(d)
+
+
+@pytest.mark.parametrize("lo, span", [(10.0, 90.0), (-20.0, 150.0)])
+def test_an_arcs_radial_deviation_is_conditional_on_its_centre_and_servo(lo, span):
+    """One direction over an arc, or a pair of short arcs, fits no term, and its radial
+    deviation is its mean radius about the nominal centre: a centre offset of (3, 2) um
+    and a lag between the axes read, unsaid, as 3.2 um and -19 um of radius on a tester's
+    90 deg arc. Each is now named with its move per unit, and those moves are what they
+    made of it."""
+    err = {"cx": 3e-6, "cy": 2e-6, "tau_y": -0.3e-3}
+    if span < 100:
+        with_err = diagnose_single(*arc("ccw", err, lo, span, 1), "ccw", R)
+        without = diagnose_single(*arc("ccw", {}, lo, span, 1), "ccw", R)
+        servo = "squareness_or_servo"
+    else:
+        with_err, without = (diagnose_pair(arc("ccw", e, lo, span, 1), arc("cw", e, lo, span, 2),
+                                           R, (W, W)) for e in (err, {}))
+        servo = "servo_mismatch_angle"
+    moves = {k: with_err.aliases[k]["radial_deviation_ccw"]
+             for k in ("centre_offset_X", "centre_offset_Y", servo)}
+    # the mismatch as an angle, the unit of both terms (CCW: the ellipse of squareness)
+    predicted = (moves["centre_offset_X"] * 3e-6 + moves["centre_offset_Y"] * 2e-6
+                 + moves[servo] * W * err["tau_y"])
+    moved = with_err["radial_deviation_ccw"] - without["radial_deviation_ccw"]
+    assert abs(moved) > 1e-6
+    assert moved == pytest.approx(predicted, abs=0.1e-6)
+    assert "radial deviation ccw" in alias_line(with_err)

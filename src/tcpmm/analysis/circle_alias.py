@@ -66,6 +66,7 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
         moved = as_reported(lambda n, s=slopes: s.get(n, 0.0), n_arcs, shared, mean_rate,
                             rename)
         moved.update(_cyclic_moved(fit, slopes))
+        moved.update(_deviations_moved(slopes, n_arcs, terms))
         big = {t: v for t, v in moved.items()
                if t != name and t in terms and np.isfinite(terms[t][0]) and np.isfinite(v)
                and radial_size(t, v, radius) >= ALIAS_SHARE * per}
@@ -77,6 +78,19 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
         if big:
             out.setdefault(rename_axes(name, axes), {}).update(
                 {rename_axes(t, axes): float(v) for t, v in big.items()})
+    return out
+
+
+def _deviations_moved(slopes: dict, n_arcs: int, terms: dict) -> dict:
+    """How far each arc's radial deviation, and the pair's, moves per unit of a left-out
+    term: its radius' slope. Over an arc the radius takes the mean of what the terms left
+    out make along it (a centre offset, the servo's ellipse), which over a full turn is
+    none [m/SI]."""
+    names = [k for k in terms if k.startswith("radial_deviation_")
+             and k != "radial_deviation_pair"][:n_arcs]
+    out = {k: slopes.get(f"radius_{i}", 0.0) for i, k in enumerate(names)}
+    if "radial_deviation_pair" in terms and len(out) == 2:
+        out["radial_deviation_pair"] = float(np.mean(list(out.values())))
     return out
 
 

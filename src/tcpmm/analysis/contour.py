@@ -57,6 +57,7 @@ from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
+from .contour_sampling import CommandSag
 from .contour_windows import chord_sags, over_rests, travel, whole_windows
 from .corners import path_length
 from .rapids import RapidStretches, feed_only, since_rapid
@@ -107,6 +108,9 @@ class ContourResult:
     unreached : dict of str to float
         Per sensor the run leaves on its way to the path's end point, its distance from
         it at the last sample; the end's overshoot and rounding of those are NaN [m].
+    command_sag_m : float
+        How far the command's samples cut the path's bends at most
+        (:mod:`tcpmm.analysis.contour_sampling`) [m].
     """
 
     axes: tuple
@@ -123,6 +127,7 @@ class ContourResult:
     rapids: dict | None = None
     nc_line: np.ndarray | None = field(default=None, repr=False)
     unreached: dict = field(default_factory=dict)
+    command_sag_m: float = 0.0
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
@@ -176,6 +181,7 @@ class ContourResult:
         head = {"axes": "".join(self.axes), "signed": self.signed,
                 "settle_tol_um": self.settle_tol_m * 1e6, "rapids": self.rapids,
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
+                "command_sag_um": self.command_sag_m * 1e6,
                 "sensors": {s: {**{k[:-2] + "_um": v * 1e6 for k, v in d.items()
                                    if k.endswith("_m")},
                                 **{k: None if v != v else v for k, v in d.items()
@@ -370,6 +376,8 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     if run.rapid is not None:
         stretches.add_command(cmd, command_flags(run, command))
     counted, kept, said = feed_only(run.rapid, rapids, corners.finish(), stretches)
+    sag = CommandSag()
+    sag.add(cmd)
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
                          list(kept), settle_tol_m, actual, counted, said, run.nc_line,
-                         end_unreached(corners, kept))
+                         end_unreached(corners, kept), sag.largest_m)

@@ -32,6 +32,7 @@ from ..result import motion_time
 from .contour import ContourResult, distances_to_polyline
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
+from .contour_sampling import CommandSag
 from .contour_windows import direction
 from .rapids import RapidStretches, left_out, since_rapid
 
@@ -97,6 +98,8 @@ class StreamedContour:
         As :attr:`tcpmm.analysis.contour.ContourResult.rapids` [-].
     unreached : dict of str to float
         As :attr:`tcpmm.analysis.contour.ContourResult.unreached` [m].
+    command_sag_m : float
+        As :attr:`tcpmm.analysis.contour.ContourResult.command_sag_m` [m].
     """
 
     axes: tuple
@@ -108,6 +111,7 @@ class StreamedContour:
     settle_tol_m: float = 1e-6
     rapids: dict | None = None
     unreached: dict = field(default_factory=dict)
+    command_sag_m: float = 0.0
 
     @property
     def errors(self) -> dict:
@@ -236,6 +240,7 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                                                scan.stretches)
             res.sums = res.sums if res.rapids["counted"] else scan.feed
         res.unreached = end_unreached(scan.corners, res.corners)
+        res.command_sag_m = scan.sag.largest_m
     finally:
         chunks.close()
         scan.close()
@@ -283,6 +288,7 @@ class _Scan:
         # command samples near them
         self.air, self.feed, self.stretches = None, {}, stretches
         self.last_rapid_t = np.nan
+        self.sag = CommandSag()
 
     def _to_corners(self, fn, *args) -> None:
         """``fn(*args)`` of the corners, in the corners' thread where there is one [-]."""
@@ -316,6 +322,7 @@ class _Scan:
         cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
         self._to_corners(self.corners.add_command, cols["time_s"],
                          cmd[n - cols["time_s"].size:])  # the rows just read
+        self.sag.add(cmd[n - cols["time_s"].size:])
         if "rapid" in cols:
             self.stretches.add_command(cmd[n - cols["time_s"].size:], cols["rapid"])
         res.most_rows = max(res.most_rows, n)

@@ -66,8 +66,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     else:
         run, res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
                           corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6, rapids=rapids)
-    _say_rapids(res.rapids, rapids)
-    _say_unreached(res.unreached)
+    _say_notes(res, rapids, run_file)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -114,6 +113,14 @@ def _emit(res, sensor: str, run_file: Path, verdict, as_json: bool) -> None:
         print_verdict(verdict)
 
 
+def _say_notes(res, rapids: bool, run_file: Path) -> None:
+    """The notes on the rapids left out, the end not reached and the command's sampling,
+    on stderr [-]."""
+    _say_rapids(res.rapids, rapids)
+    _say_unreached(res.unreached)
+    _say_sag(res, run_file)
+
+
 def _say_rapids(rapids: dict | None, asked: bool) -> None:
     """Say on stderr what of the G0 rapids was left out
     (:func:`tcpmm.analysis.rapids.rapid_note`), and that ``--rapids`` (``asked``) does
@@ -140,6 +147,17 @@ def _say_unreached(unreached: dict) -> None:
                       "rounding at the end are not measured (n/a); end the program with a "
                       "dwell (G4 P0.5) so that the run records the axes coming to rest",
                       highlight=False)
+
+
+def _say_sag(res, run_file: Path) -> None:
+    """Warn on stderr where the run's command samples cut the path's bends by enough to
+    move the contour error (:func:`tcpmm.analysis.contour_sampling.sag_note`) [-]."""
+    from ..analysis.contour_sampling import sag_note
+
+    largest = max((d["max_abs_m"] for d in res.summary().values()), default=0.0)
+    note = sag_note(res.command_sag_m, largest)
+    if note is not None:
+        console.print(f"warning: {run_file}: {note}", highlight=False)
 
 
 def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,

@@ -305,9 +305,8 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str,
         raise InputError("the run has no rows", file=path)
     refuse_gaps("time_s", t, path, first_row, what, cells.get("time_s"))
     if t.size < 2:
-        text, place = _place(0, first_row, what)
-        raise InputError(f"time must increase strictly{text}", file=path, column="time_s",
-                         **place)
+        raise InputError("the run has one row; a run needs two or more (a record period "
+                         "longer than the run keeps only its first sample)", file=path)
     refuse_time_back(t, path, first_row, what)
     if not axes:
         raise InputError("no axis columns (e.g. x_tcp_mm)", file=path,

@@ -380,3 +380,15 @@ def test_cli_compare_with_the_model_writes_its_judged_table_in_the_report(tmp_pa
     assert code == 0, capsys.readouterr().err
     page = html.unescape((tmp_path / "r.html").read_text())
     assert "against the prediction's 90 % interval" in page and "90 % interval ±" in page
+
+
+@pytest.mark.parametrize("fitted", [3.6e-10, 2e-3])
+def test_the_motor_bearings_share_of_the_viscous_torque_is_open_whole(fitted):
+    """The runs give the motor side's steady viscous torque, B_m + B_L; the sweep does not
+    divide it, and the model takes B_m as 0. The range said open was 0 to the sweep's own
+    B_m, which can sit at its bound: 0 to 3.6e-10 N m s/rad on bench D's Y, whose truth
+    has 1.5e-4. It is the whole division, 0 to B_L."""
+    a = _axis_ident(resolution=0.05e-6)
+    a.physical.mechanics.B_m = fitted
+    [r] = [r for r in open_ranges(a) if r.quantity == "B_m"]
+    assert (r.low, r.high) == (0.0, a.axis.mechanics.B_L)

@@ -107,7 +107,8 @@ def print_passes(res, title: str) -> None:
                 else ""))
     print_plain(t, out, f"{title} [µm]", f"A-D: reversal spike after {terms}; n/a: left "
                 f"out; ±95%: {SPIKE_U95_NOTE}; raw e - b in --json (spike_A_um ...); "
-                "contour max |e|; G circular deviation")
+                "contour max |e| of the radial error about the nominal circle (tcpmm "
+                "contour measures against the command); G circular deviation")
     slow = slow_line((f"{p.direction.upper()} {n}", sc.spike_uncertainty(),
                       sc.spike_uncertainty(sample_noise=True))
                      for p in res.passes for n, sc in p.sensors.items())

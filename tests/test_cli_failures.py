@@ -243,3 +243,27 @@ def test_a_defect_is_one_line_and_exit_1_and_its_traceback_on_request(tmp_path, 
     monkeypatch.setenv("TCPMM_TRACEBACK", "1")
     with pytest.raises(ZeroDivisionError):
         main(args)
+
+
+def _refused(capsys, *args) -> str:
+    assert main([str(a) for a in args]) == 2
+    cap = capsys.readouterr()
+    return " ".join((cap.out + cap.err).split())
+
+
+def test_a_refusal_names_what_to_give_instead(tmp_path, capsys):
+    """A missing model said only 'machine model not found', a folder given as the NC
+    program 'cannot read the NC program: Is a directory', and a CCW run compared with a
+    CW prediction 'the two runs share no circle direction and sensor to compare', naming
+    neither run's direction."""
+    from conftest import bench_path
+
+    err = _refused(capsys, "simulate", tmp_path / "nomodel.yaml", "--gcode",
+                   tmp_path / "p.nc", "-o", tmp_path / "r.csv")
+    assert "machine model not found; give a model file tcpmm identify wrote" in err
+    err = _refused(capsys, "path", tmp_path, "-o", tmp_path / "c.csv")
+    assert "is a folder, not an NC program" in err
+    d = bench_path("c")
+    err = _refused(capsys, "compare", d / "circle_ccw_meas.csv", d / "circle_cw_meas.csv",
+                   "--radius", "35")
+    assert "the measured run holds CCW (" in err and "the predicted CW (" in err

@@ -255,8 +255,20 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             row["radial_max_um"] = float(np.max(np.abs(d)) * 1e6)
             rows.append(row)
     if not rows:
-        raise InputError("the two runs share no circle direction and sensor to compare")
+        raise InputError(_nothing_shared(measured, predicted))
     return Comparison(rows, flips, measured, predicted)
+
+
+def _nothing_shared(measured: CircleResult, predicted: CircleResult) -> str:
+    """Why two circle analyses have nothing to compare: the directions and sensors of
+    each [-]."""
+    def held(res):
+        return "; ".join(f"{p.direction.upper()} ({', '.join(n for n in p.sensors if n != 'cmd')})"
+                         for p in res.passes) or "none"
+
+    return (f"the two runs share no circle direction and sensor to compare: the measured "
+            f"run holds {held(measured)}, the predicted {held(predicted)}; predict the "
+            f"measured run's own command (tcpmm simulate MODEL --command MEASURED.csv)")
 
 
 def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> list[dict]:

@@ -125,7 +125,9 @@ def read_machine(path) -> Machine:
     s = str(path)
     if s.startswith("builtin:"):
         return builtin_machine(s.split(":", 1)[1])
-    text = read_text(path, "machine model")
+    text = read_text(path, "machine model", hint=(
+        "give a model file tcpmm identify wrote, a reference machine's truth.yaml, or a "
+        "built-in machine (builtin:vmc)"))
     if TRUTH_FORMAT in text:  # a reference machine's true parameters are a model too
         from .yamlutil import load_yaml
 

@@ -8,7 +8,7 @@ from pathlib import Path
 from ..errors import InputError
 
 
-def existing_file(path, what: str, missing: str | None = None) -> Path:
+def existing_file(path, what: str, missing: str | None = None, hint: str | None = None) -> Path:
     """``path`` as a Path when it is a file; a folder or a missing file is an error.
 
     Parameters
@@ -19,6 +19,8 @@ def existing_file(path, what: str, missing: str | None = None) -> Path:
         What the file is, e.g. ``"command file"`` [-].
     missing : str, optional
         What a missing file is called, default ``what`` [-].
+    hint : str, optional
+        What to give instead, said where the file is missing [-].
     """
     path = Path(path)
     if path.is_dir():
@@ -28,10 +30,10 @@ def existing_file(path, what: str, missing: str | None = None) -> Path:
     if path.exists():
         raise InputError(f"this is a device, not a file; give the path of the {what}",
                          file=path)
-    raise InputError(f"{missing or what} not found", file=path)
+    raise InputError(f"{missing or what} not found" + (f"; {hint}" if hint else ""), file=path)
 
 
-def read_text(path, what: str) -> str:
+def read_text(path, what: str, hint: str | None = None) -> str:
     """The text of a UTF-8 file; a missing file, a folder or other bytes are errors.
 
     Parameters
@@ -40,13 +42,15 @@ def read_text(path, what: str) -> str:
         The file [-].
     what : str
         What the file is, for messages, e.g. ``"command file"`` [-].
+    hint : str, optional
+        What to give instead, said where the file is missing [-].
 
     Returns
     -------
     str
         The text without a byte-order mark [-].
     """
-    path = existing_file(path, what)
+    path = existing_file(path, what, hint=hint)
     try:
         data = path.read_bytes()
     except OSError as exc:

@@ -56,6 +56,9 @@ def check_program_file(path: Path) -> Path:
 def _unreadable(path: Path, exc: OSError) -> InputError:
     if isinstance(exc, FileNotFoundError):
         return InputError("NC program not found; check the path", file=path)
+    if isinstance(exc, IsADirectoryError):
+        return InputError("is a folder, not an NC program; give the program's file",
+                          file=path)
     return InputError(f"cannot read the NC program: {exc.strerror}", file=path)
 
 

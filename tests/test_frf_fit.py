@@ -507,3 +507,20 @@ def test_a_mode_between_coarse_bins_keeps_the_damping_its_neighbours_show():
     assert not any("raised the damping" in n for n in res.notes)
     total, _ = _errors(truth, res.freqresp(f))
     assert total < 1e-4  # 9.6e-4 with the damping raised
+
+
+def test_show_says_a_file_without_coherence_has_none(capsys, tmp_path):
+    """A CSV without a coherence column read 'coherence median 1.000, 2 bins >= 0.5' and a
+    column of 1.000, as if measured; the bins are only taken as well measured."""
+    f = tmp_path / "small.csv"
+    f.write_text("freq_hz,re,im\n1,1,0\n2,0.9,-0.1\n3,0.7,-0.3\n")
+    code, out, _ = run_cli(capsys, "frf", "show", f, "--json")
+    got = json.loads(out)
+    assert code == 0 and got["coherence_median"] is None and got["coherence_in_file"] is False
+    code, out, _ = run_cli(capsys, "frf", "show", f)
+    assert code == 0 and "no coherence in the file" in out and "1.000" not in out
+    g = tmp_path / "with.csv"
+    g.write_text("freq_hz,re,im,coherence\n1,1,0,0.9\n2,0.9,-0.1,0.8\n3,0.7,-0.3,0.95\n")
+    code, out, _ = run_cli(capsys, "frf", "show", g, "--json")
+    got = json.loads(out)
+    assert code == 0 and got["coherence_median"] == 0.9 and "coherence_in_file" not in got

@@ -83,6 +83,10 @@ def show(file: Path = typer.Argument(..., help=_FILE),
                "coherence_median": float(np.median(frf.coherence)),
                "bins_coherence_0_5": int(np.count_nonzero(frf.coherence >= 0.5)),
                "noise_rel_median": float(np.median(sigma))}
+    assumed = bool(frf.meta.get("coherence_assumed"))
+    if assumed:  # none in the file: not a measure, and not to be read as one
+        summary.update(coherence_median=None, bins_coherence_0_5=None,
+                       coherence_in_file=False)
     if plot is not None:
         from ..plot.frf import plot_frf
 
@@ -92,16 +96,20 @@ def show(file: Path = typer.Argument(..., help=_FILE),
         return
     out.print(f"{esc(str(file))}: {esc(frf.name)}"
               + (f" ({esc(frf.output)} / {esc(frf.input)})" if frf.input else ""))
+    coherence = ("no coherence in the file: every bin is taken as well measured, and its "
+                 "noise is that of a coherence of 1" if assumed else
+                 f"coherence median {summary['coherence_median']:.3f}, "
+                 f"{summary['bins_coherence_0_5']} bins >= 0.5")
     out.print(f"{summary['bins']} bins, {summary['freq_min_hz']:.4g}-"
-              f"{summary['freq_max_hz']:.4g} Hz; coherence median "
-              f"{summary['coherence_median']:.3f}, {summary['bins_coherence_0_5']} bins >= 0.5;"
-              f" relative noise |dH/H| median {summary['noise_rel_median']:.3g}")
+              f"{summary['freq_max_hz']:.4g} Hz; {coherence}; relative noise |dH/H| median "
+              f"{summary['noise_rel_median']:.3g}")
     t = plain_table(("f [Hz]", "|H| [dB]", "phase [deg]", "coherence [-]", "noise [-]"))
     idx = np.unique(np.searchsorted(frf.freq_hz, np.geomspace(frf.freq_hz[0],
                                                                frf.freq_hz[-1], 12)))
     for i in idx[idx < frf.freq_hz.size]:
         t.add_row(f"{frf.freq_hz[i]:.4g}", f"{frf.magnitude_db[i]:.2f}",
-                  f"{np.degrees(np.angle(frf.H[i])):.1f}", f"{frf.coherence[i]:.3f}",
+                  f"{np.degrees(np.angle(frf.H[i])):.1f}",
+                  "n/a" if assumed else f"{frf.coherence[i]:.3f}",
                   f"{sigma[i]:.3g}")
     print_plain(t, out)
     if plot is not None:

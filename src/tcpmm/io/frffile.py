@@ -131,7 +131,7 @@ def read_frf_csv(path) -> FRF:
             raise InputError("a linear magnitude cannot be negative (is it in dB? name the "
                              "column magnitude_db)", file=path, line=int(bad[0]) + 2, column=a)
     coh = _coherence(cols.get(coh_col), f.size, path, coh_col)
-    return _frf(f, _complex(kind, cols[a], cols[b]), coh, path)
+    return _frf(f, _complex(kind, cols[a], cols[b]), coh, path, coh_col not in cols)
 
 
 def _coherence(coh, n, path, name):
@@ -144,10 +144,12 @@ def _coherence(coh, n, path, name):
     return coh
 
 
-def _frf(f, H, coh, path) -> FRF:
+def _frf(f, H, coh, path, assumed: bool = False) -> FRF:
+    """The FRF of a file; ``assumed``: the file gives no coherence, and every bin is taken
+    as well measured (``meta["coherence_assumed"]``) [-]."""
     return FRF(freq_hz=f, H=H, coherence=coh, n_averages=AVERAGES,
                rel_std=coherence_rel_std(coh, AVERAGES), name=Path(path).stem,
-               meta={"file": str(path)})
+               meta={"file": str(path), **({"coherence_assumed": True} if assumed else {})})
 
 
 def write_frf_csv(frf: FRF, path, polar: bool = False) -> Path:
@@ -229,4 +231,4 @@ def read_frf_mat(path) -> FRF:
         raise InputError(f"variable '{fname}' must hold frequencies > 0 Hz, increasing",
                          file=path, column=fname)
     coh = None if coh is None else np.asarray(coh, float).real
-    return _frf(f, H, _coherence(coh, f.size, path, cname), path)
+    return _frf(f, H, _coherence(coh, f.size, path, cname), path, coh is None)

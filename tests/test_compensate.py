@@ -295,6 +295,14 @@ def test_cli_writes_the_controller_parameters(tmp_path, capsys):
     html = page.read_text(encoding="utf-8")
     assert 'alt="TCP before and after on the circle"' in html
     assert "Controller-side compensation" in html and "friction_pulse_A" in html
+    # the report names each parameter as the file does: an engineer reads one, types the
+    # other (the report said friction_pulse_velocity_mm_per_min, the file
+    # FRICT_COMP_CONST_MAX_mm_per_min, and simulate --controller refused the first)
+    import yaml
+
+    keys = set(yaml.safe_load(text)["X"])
+    assert len(keys) == 5 and all(f">{k}<" in html for k in keys), keys
+    assert "friction_pulse_velocity_mm_per_min" not in html
 
 
 def test_controller_parameters_scaled_back_where_a_draw_gets_worse():

@@ -55,9 +55,11 @@ class AxisController:
     cross_talk_s2: float
 
     def to_dict(self) -> dict:
-        """The parameters in the units a commissioning engineer types [-]."""
+        """The parameters in the units a commissioning engineer types, under the names of
+        the file :meth:`ControllerCompensation.parameter_text` writes [-]."""
         return {"friction_pulse_A": self.pulse_A, "friction_pulse_decay_ms": self.decay_s * 1e3,
-                "friction_pulse_velocity_mm_per_min": self.velocity_pulse_m_per_s * 6e4,
+                "FRICT_COMP_CONST_MAX_mm_per_min": self.velocity_pulse_m_per_s * 6e4,
+                "FRICT_COMP_TIME_s": self.decay_s,
                 "cross_talk_um_per_m_per_s2": self.cross_talk_s2 * 1e6}
 
 
@@ -116,8 +118,8 @@ class ControllerCompensation:
                       f"  friction_pulse_A: {num(d['friction_pulse_A'])}",
                       f"  friction_pulse_decay_ms: {num(d['friction_pulse_decay_ms'])}{off}",
                       f"  FRICT_COMP_CONST_MAX_mm_per_min: "
-                      f"{num(d['friction_pulse_velocity_mm_per_min'])}",
-                      f"  FRICT_COMP_TIME_s: {num(c.decay_s)}{off}",
+                      f"{num(d['FRICT_COMP_CONST_MAX_mm_per_min'])}",
+                      f"  FRICT_COMP_TIME_s: {num(d['FRICT_COMP_TIME_s'])}{off}",
                       f"  cross_talk_um_per_m_per_s2: {num(d['cross_talk_um_per_m_per_s2'])}"]
         return "\n".join(lines) + "\n"
 

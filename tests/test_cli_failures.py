@@ -267,3 +267,15 @@ def test_a_refusal_names_what_to_give_instead(tmp_path, capsys):
     err = _refused(capsys, "compare", d / "circle_ccw_meas.csv", d / "circle_cw_meas.csv",
                    "--radius", "35")
     assert "the measured run holds CCW (" in err and "the predicted CW (" in err
+
+
+def test_a_plot_in_a_plane_the_path_does_not_move_in_is_refused(tmp_path, capsys):
+    """tcpmm path --plot --plane YZ of a square in XY drew the path as a line on an empty
+    panel and exited 0; it is refused before anything is written."""
+    nc = tmp_path / "square.nc"
+    nc.write_text("G21 G90 G64\nG1 X0 Y0 F4000\nG1 X30\nG1 Y30\nG1 X0\nG1 Y0\nM30\n")
+    out = tmp_path / "cmd.csv"
+    err = _refused(capsys, "path", nc, "-o", out, "--plot", "--plane", "YZ")
+    assert "does not move in the YZ plane" in err and not out.exists()
+    assert main(["path", str(nc), "-o", str(out), "--plot", "--plane", "XY"]) == 0
+    assert out.with_suffix(".png").exists()

@@ -3,6 +3,7 @@ moves in, said on stderr."""
 
 from __future__ import annotations
 
+import numpy as np
 import typer
 
 from ..errors import InputError
@@ -73,7 +74,17 @@ def command_plane(option, cmd) -> tuple[str, str]:
     from ..analysis.plane import motion_plane
 
     if option is not None:
-        return plane_option(option)
+        shown = plane_option(option)
+        travel = {a: float(np.ptp(p)) for a, p in cmd.positions.items()}
+        inside = [a for a in shown if travel.get(a, 0.0) > 0.0]
+        outside = [a for a in travel if a not in shown and travel[a] > 0.0]
+        if len(inside) < 2 and outside:  # the plot would show a line or a point
+            moving = ", ".join(f"{a} {travel[a] * 1e3:.4g} mm" for a in travel if travel[a])
+            raise typer.BadParameter(
+                f"the path does not move in the {''.join(shown)} plane, which would show "
+                f"it as a line or a point (travel {moving}); give the plane it moves in",
+                param_hint="--plane")
+        return shown
     if cmd.meta.get("plane_axes"):
         return tuple(cmd.meta["plane_axes"])
     try:

@@ -365,6 +365,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         return
     interp = program_to_interpolation(program, interp_settings(m))
     cmd = interp.command
+    shown = command_plane(plane, cmd) if plot else None  # refused before anything is written
     write_command_csv(cmd, output)
     out.print(f"wrote {output} ({cmd.time_s.size} samples at {cmd.period_s * 1e3:g} ms, "
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
@@ -375,5 +376,5 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         from ..plot.path import plot_command
 
         p = output.with_suffix(".png")
-        plot_command(cmd, p, plane=command_plane(plane, cmd), limits=limits)
+        plot_command(cmd, p, plane=shown, limits=limits)
         out.print(f"wrote {p}")

@@ -57,7 +57,6 @@ from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
-from .contour_sampling import CommandSag
 from .contour_windows import chord_sags, over_rests, travel, whole_windows
 from .corners import path_length
 from .rapids import RapidStretches, feed_only, since_rapid
@@ -251,8 +250,19 @@ def distance_to_polyline(q, p, t_q, t_p, window_s, signed):
     return distances_to_polyline({0: q}, p, t_q, t_p, window_s, signed)[0]
 
 
+def polyline(p, before=None, after=None) -> tuple:
+    """The command polyline ``p``'s segments, their squared lengths, directions of travel
+    and moving ones (:func:`~tcpmm.analysis.contour_windows.travel`), their chords' sag
+    (:func:`~tcpmm.analysis.contour_windows.chord_sags`; ``before``, ``after`` as for
+    :func:`distances_to_polyline`) and lengths [m], [m^2], [-], [-], [m], [m]."""
+    if p.shape[0] < 2:
+        raise InputError("the command needs at least two samples")
+    seg, ln2, tdir, moving = travel(p)
+    return seg, ln2, tdir, moving, chord_sags(seg, ln2, tdir, before, after), np.sqrt(ln2)
+
+
 def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
-                          after=None) -> dict:
+                          after=None, line=None) -> dict:
     """:func:`distance_to_polyline` of several paths sampled at the same times (each
     sensor's), the polyline's segments, directions and blocks and the windows worked out
     once for all.
@@ -267,6 +277,8 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
         Where ``p`` is a piece of a longer path, its direction of travel into the first
         vertex and out of the last, for the chords' sag
         (:func:`tcpmm.analysis.contour_windows.chord_sags`) [-].
+    line : tuple, optional
+        :func:`polyline` of ``p``, ``before`` and ``after``, where the caller has it [-].
 
     Returns
     -------
@@ -274,10 +286,7 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
         Per path, the distance [m] and the segment of the closest point [-].
     """
     m = p.shape[0]
-    if m < 2:
-        raise InputError("the command needs at least two samples")
-    seg, ln2, tdir, moving = travel(p)
-    sag, seglen = chord_sags(seg, ln2, tdir, before, after), np.sqrt(ln2)
+    seg, ln2, tdir, moving, sag, seglen = line or polyline(p, before, after)
     lo = np.searchsorted(t_p, t_q - window_s, side="left")
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     if moving.size < m - 1:
@@ -367,7 +376,8 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         run = run_from_table(run)
     axes, signed = contour_axes(run, plane, command)
     t, tc, cmd, actual = run_signals(run, command, axes)
-    found = distances_to_polyline(actual, cmd, t, tc, window_s, signed)
+    line = polyline(cmd)
+    found = distances_to_polyline(actual, cmd, t, tc, window_s, signed, line=line)
     errors, feet = ({s: v[i] for s, v in found.items()} for i in (0, 1))
     corners = CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s)
     corners.add_command(tc, cmd)
@@ -376,8 +386,6 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     if run.rapid is not None:
         stretches.add_command(cmd, command_flags(run, command))
     counted, kept, said = feed_only(run.rapid, rapids, corners.finish(), stretches)
-    sag = CommandSag()
-    sag.add(cmd)
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
                          list(kept), settle_tol_m, actual, counted, said, run.nc_line,
-                         end_unreached(corners, kept), sag.largest_m)
+                         end_unreached(corners, kept), float(np.max(line[4])))

@@ -5,40 +5,16 @@ the path bends between two samples the polyline cuts the bend, by up to its chor
 (:func:`.contour_windows.chord_sags`: ``L sin(phi / 2) / 4`` for a chord of length ``L``
 turning by ``phi``). At the position loop's period that is a fraction of a micrometre; a
 run recorded every second cuts a square's corners by millimetres, and its contour error
-is measured against corners it cut off. :class:`CommandSag` keeps the largest sag of a
-command given in pieces, in order.
+is measured against corners it cut off. The search for the closest command point works
+the sags out (:func:`.contour.polyline`); the run's largest is kept with its result.
 """
 
 from __future__ import annotations
-
-import numpy as np
-
-from .._rows import dot_rows
-from .contour_windows import chord_sags, travel
 
 #: A sag that may move the contour error by this much or more is said, or by this share
 #: of its largest value where that is more [m], [-].
 SAG_SAID_M = 1e-6
 SAG_SAID_SHARE = 0.05
-
-
-class CommandSag:
-    """The largest chord sag of a command's polyline, fed its samples in pieces, in
-    order (:meth:`add`)."""
-
-    def __init__(self):
-        self.largest_m = 0.0
-        self._tail = None
-
-    def add(self, cmd: np.ndarray) -> None:
-        """Take the next command samples, shape (n, d) [m]."""
-        p = cmd if self._tail is None else np.concatenate([self._tail, cmd])
-        self._tail = p[-2:]
-        seg = np.diff(p, axis=0)
-        if p.shape[0] < 3 or not np.any(dot_rows(seg, seg) > 0):
-            return
-        seg, ln2, tdir, _ = travel(p)
-        self.largest_m = max(self.largest_m, float(np.max(chord_sags(seg, ln2, tdir))))
 
 
 def sag_note(sag_m: float, largest_error_m: float) -> str | None:
@@ -48,7 +24,7 @@ def sag_note(sag_m: float, largest_error_m: float) -> str | None:
     Parameters
     ----------
     sag_m : float
-        The command's largest chord sag (:class:`CommandSag`) [m].
+        The command's largest chord sag (:attr:`.contour.ContourResult.command_sag_m`) [m].
     largest_error_m : float
         The largest contour error of any sensor [m].
     """

@@ -29,10 +29,9 @@ from .._threads import read_ahead, usable_cores
 from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
 from ..result import motion_time
-from .contour import ContourResult, distances_to_polyline
+from .contour import ContourResult, distances_to_polyline, polyline
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
-from .contour_sampling import CommandSag
 from .contour_windows import direction
 from .rapids import RapidStretches, left_out, since_rapid
 
@@ -240,7 +239,6 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                                                scan.stretches)
             res.sums = res.sums if res.rapids["counted"] else scan.feed
         res.unreached = end_unreached(scan.corners, res.corners)
-        res.command_sag_m = scan.sag.largest_m
     finally:
         chunks.close()
         scan.close()
@@ -288,7 +286,6 @@ class _Scan:
         # command samples near them
         self.air, self.feed, self.stretches = None, {}, stretches
         self.last_rapid_t = np.nan
-        self.sag = CommandSag()
 
     def _to_corners(self, fn, *args) -> None:
         """``fn(*args)`` of the corners, in the corners' thread where there is one [-]."""
@@ -322,7 +319,6 @@ class _Scan:
         cmd = np.column_stack([buf[c] * 1e-3 for c in cmd_cols])
         self._to_corners(self.corners.add_command, cols["time_s"],
                          cmd[n - cols["time_s"].size:])  # the rows just read
-        self.sag.add(cmd[n - cols["time_s"].size:])
         if "rapid" in cols:
             self.stretches.add_command(cmd[n - cols["time_s"].size:], cols["rapid"])
         res.most_rows = max(res.most_rows, n)
@@ -341,8 +337,11 @@ class _Scan:
                 qs[s] = np.column_stack([buf[c][first:b] * 1e-3 for c in cols_s])
         before = direction(cmd, moves, c0 - 1) if c0 > 0 else self.before
         after = direction(cmd, moves, c1 - 1) if c1 < n else None
+        # the chords' sag as the whole path's, and the largest the command has so far
+        line = polyline(cmd[c0:c1], before, after)
+        res.command_sag_m = max(res.command_sag_m, float(np.max(line[4])))
         found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed,
-                                      before, after)  # the chords' sag as the whole path's
+                                      line=line)
         feed, since = self._feed(buf, first, b)
         ts = t[first:b]
         for s, (e, _) in found.items():

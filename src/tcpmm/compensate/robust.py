@@ -37,9 +37,10 @@ from .regional import per_combo, pick, settle_regions, tcp_errors
 LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
 
 #: Machines drawn from the model's uncertainty by default [-]. A figure can turn on a
-#: threshold a draw must cross to show it: on a machine with lost motion whose friction
-#: differed from the model's in form and in the split of its viscous part, the spike after
-#: the correction at one reversal stood 27 um from the model's, and no draw of six or
+#: threshold a draw must cross to show it: on a machine with lost motion whose model had
+#: the guideway's share of one axis's friction 0.07 low and the structure behind its table
+#: at half its mass and stiffness, the spike after the correction at one reversal stood
+#: 27 um from the model's, and no draw of six or
 #: eight crossed over: the corrections they kept made that machine's contour error 1.28
 #: and 0.66 um worse. Of twelve and of sixteen draws one did, and held it back (a threshold
 #: one draw in ten crosses is missed by sixteen draws one time in five, by eight nearly one

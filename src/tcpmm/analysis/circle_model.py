@@ -93,12 +93,17 @@ def radial_weights(angle, s, ratio=1.0, mu=0.0) -> tuple:
     mu : float
         Servo mismatch angle of the circles fitted together [rad].
     """
-    c, n = np.cos(angle), np.sin(angle)
+    return _with_slope(np.cos(angle), np.sin(angle), angle, s, ratio * mu)
+
+
+def _with_slope(c, n, angle, s, mu):
+    """:func:`radial_weights` from the angle's cosine ``c`` and sine ``n``, ``mu`` this
+    circle's mismatch angle (``ratio`` times the fit's) [-]."""
     if not mu:
         return c, n
-    # the ellipse -s ratio mu R sin cos has the slope -s ratio mu R cos 2theta, and an
-    # error (dx, dy) turns the angle by (-dx sin + dy cos) / R
-    k = s * ratio * mu * np.cos(2.0 * np.asarray(angle))
+    # the ellipse -s mu R sin cos has the slope -s mu R cos 2theta, and an error (dx, dy)
+    # turns the angle by (-dx sin + dy cos) / R
+    k = s * mu * np.cos(2.0 * np.asarray(angle))
     return c - k * n, n + k * c
 
 
@@ -128,7 +133,7 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None) -> list:
         ``angle`` where omitted [rad].
     """
     c, n = np.cos(angle), np.sin(angle)
-    wx, wy = radial_weights(angle, s, ratio, mu)
+    wx, wy = _with_slope(c, n, angle, s, ratio * mu)
     sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
     # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen
     # along the radius; the servo mismatch is the lag itself

@@ -387,3 +387,20 @@ def test_a_row_of_scalars_is_written_as_json_writes_it(row, ascii_only):
     assert flat_row_json(row, ascii_only) == want
     assert flat_row_json({**row, "e": [1]}, ascii_only) is None
     assert flat_row_json({1: 2.0}, ascii_only) is None
+
+
+@pytest.mark.parametrize("args, said", [
+    (["circle", "run.csv", "--bogus"], "No such option: --bogus"),
+    (["circl"], "Did you mean 'circle'?"),
+    (["circle"], "Missing argument"),
+    (["report", "-o", "r.html", "--run", "run.csv"], "--radius [mm] is needed"),
+    (["simulate", "builtin:vmc", "--record-period-s", "abc"], "'--record-period-s'"),
+])
+def test_misused_options_are_refused_in_one_line(capsys, args, said):
+    """A misused command line is refused as every other input: one line on stderr,
+    nothing on stdout, exit code 2, and where to look."""
+    code = main(args)
+    cap = capsys.readouterr()
+    assert code == 2 and cap.out == ""
+    assert cap.err.count("\n") == 1 and cap.err.startswith("error: "), cap.err
+    assert said in cap.err and "--help' lists what it takes" in cap.err

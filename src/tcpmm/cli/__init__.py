@@ -75,6 +75,8 @@ def main(argv=None) -> int:
     WARNED.clear()
     _warn_cache_fallback()
     handlers = _exit_on_signals()
+    usage = _usage_error()
+    usage_shown, usage.show = usage.show, _usage_line
     try:
         register(sys.argv[1:] if argv is None else list(argv))
         app(args=argv, standalone_mode=True)
@@ -96,10 +98,29 @@ def main(argv=None) -> int:
                       "with the command that met it (TCPMM_TRACEBACK=1 shows where)")
         return INTERNAL_ERROR
     finally:
+        usage.show = usage_shown
         warnings.showwarning = shown
         WARNED.clear()
         _restore_signals(handlers)
     return 0
+
+
+def _usage_error() -> type:
+    """click's ``UsageError``, whichever click typer runs on (its own copy since 0.20,
+    the installed one before): the base of typer's ``BadParameter``."""
+    import typer
+
+    return next(c for c in typer.BadParameter.__mro__ if c.__name__ == "UsageError")
+
+
+def _usage_line(self, file=None) -> None:
+    """A misused option or command in one line, as every other refusal: click's usage
+    line, hint and blank line before its message split one error over four lines of a
+    log. The message keeps click's suggestion ("Did you mean ...")."""
+    where = self.ctx.command_path if self.ctx is not None else "tcpmm"
+    text = " ".join(self.format_message().split())
+    console.print(f"[red]error:[/red] {esc(text)} ('{esc(where)} --help' lists what it "
+                  "takes)")
 
 
 def run() -> int:

@@ -174,6 +174,9 @@ ERRORS = [
      "out, e.g. X1000"),
     ("G1 X1 F1.5E-2\n", 1, 7, "e.g. F0.015"),
     ("G1 X1 E3 F100\n", 1, 7, "unknown word letter E"),
+    # a letter O for a zero: X1O.5 went to X1, with a warning about the program number
+    ("G1 X0 Y0 F100\nG1 X1O.5 Y5\n", 2, 6, "a letter O for a zero?"),
+    ("G1 X1 F100 O12\n", 1, 12, "O (a program number) after other words"),
 ]
 
 

@@ -187,6 +187,10 @@ class Interpreter(GeometryMixin):
                 )
             else:
                 w[L] = word
+        if "O" in w and any(x.letter != "N" for x in words[:words.index(w["O"])]):
+            self.error(f"O (a program number) after other words, in {w['O'].text!r}: it "
+                       "starts a block of its own; a letter O for a zero?", line,
+                       w["O"].column)
         for L in ("S", "T", "H", "D", "O"):
             if L in w:
                 self.warn(L, LETTER_IGNORED[L], line, w[L].column)

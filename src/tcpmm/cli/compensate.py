@@ -19,7 +19,7 @@ from ._app import (
     positive,
     read_model,
 )
-from ._compensate_text import say_compensation, warn_extra_reversals, warn_worse
+from ._compensate_text import say_compensation, warn_current, warn_extra_reversals, warn_worse
 from ._plane import command_plane
 
 _PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it); default "
@@ -390,9 +390,10 @@ def _write_parameters(comp, path: Path, command_file: Path):
 
 def _warn(comp, compensated, cc) -> None:
     """The warnings of the compensation, before its figures and in ``--json`` alike: a
-    figure the correction makes worse where no draws scaled it back, and turns of the
-    correction's own under the friction pulse of the parameters ``cc`` (None: none
-    written) [-]."""
+    figure the correction makes worse where no draws scaled it back, a current above the
+    share of the drive's limit, and turns of the correction's own under the friction pulse
+    of the parameters ``cc`` (None: none written) [-]."""
     warn_worse(comp)
+    warn_current(comp)
     if cc is not None:
         warn_extra_reversals(compensated, comp.reference, cc)

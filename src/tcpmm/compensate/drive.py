@@ -102,9 +102,10 @@ def drive_inputs(command: Command, params: dict, share: float = 1.0):
 def axis_plant(params, share: float = 1.0):
     """One axis as its controller runs it with ``share`` of its parameters: a function of
     ``(axis, time_s, position_m)`` giving the axis's run, as
-    :func:`tcpmm.sim.simulate.simulate_axis` with unquantised feedback; its attributes
-    ``fires_pulses`` and ``pulse_s`` say whether the drive fires a friction pulse at each
-    reversal and how long it acts (its decay time) [-, s].
+    :func:`tcpmm.sim.simulate.simulate_axis` with unquantised feedback (quantised where its
+    ``quantise_feedback`` says so); its attributes ``fires_pulses`` and ``pulse_s`` say
+    whether the drive fires a friction pulse at each reversal and how long it acts (its
+    decay time) [-, s].
 
     Parameters
     ----------
@@ -116,10 +117,10 @@ def axis_plant(params, share: float = 1.0):
     if params is None or share == 0.0:
         return plain
 
-    def run(axis, time_s, position_m):
+    def run(axis, time_s, position_m, quantise_feedback: bool = False):
         cmd, pulses = drive_inputs(Command(time_s, {"A": position_m}), {"A": params}, share)
         return simulate_axis(axis, time_s, cmd.positions["A"],
                              excitation_A=pulses.get("A", np.zeros(time_s.size)),
-                             quantise_feedback=False)
+                             quantise_feedback=quantise_feedback)
     run.fires_pulses, run.pulse_s = params.pulse_A != 0.0, params.decay_s
     return run

@@ -7,7 +7,8 @@ and play make the model's response differ from its linear part, and ``r_d`` the 
 path delayed by the model's mean lag: a common delay leaves the path as it is and spares
 the command the steep lead it would need to cancel the lag outright. After every step the
 correction is scaled back to the axis's limits (:mod:`.bounds`), so the iteration converges
-to the best command that keeps them.
+to the best command that keeps them; the best is then held to the drive's current
+(:mod:`.currentlimit`).
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ import numpy as np
 from ..errors import InputError
 from ..path.command import Command
 from ..sim.simulate import simulate_axis
-from .bounds import CURRENT_SHARE, fit_within, machine_bounds, shrink
+from .bounds import fit_within, machine_bounds, shrink
+from .currentlimit import CurrentHold, within_current
 from .inverse import (
     apply_filter,
     fft_length,
@@ -71,9 +73,9 @@ def fade(n: int, tail: int) -> np.ndarray:
     return w
 
 
-def plain(axis, time_s, position_m):
-    """The axis run on a position command alone, feedback unquantised [-]."""
-    return simulate_axis(axis, time_s, position_m, quantise_feedback=False)
+def plain(axis, time_s, position_m, quantise_feedback: bool = False):
+    """The axis run on a position command alone, feedback unquantised unless asked [-]."""
+    return simulate_axis(axis, time_s, position_m, quantise_feedback=quantise_feedback)
 
 
 def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations: int,
@@ -99,8 +101,9 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     tail : int
         Samples of the hold after the program [-].
     plant : callable
-        ``(axis, time_s, position_m) -> AxisRun``: how the axis runs a command, with the
-        controller's own compensation where it has one (:func:`.drive.axis_plant`); where
+        ``(axis, time_s, position_m, quantise_feedback=False) -> AxisRun``: how the axis
+        runs a command, with the controller's own compensation where it has one
+        (:func:`.drive.axis_plant`); where
         its attribute ``fires_pulses`` is true, the corrected command turns the axis back
         only where the program does, within ``pulse_s`` of it, or at the ends of a hold
         (:mod:`.turns`) [-].
@@ -113,6 +116,9 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     """
     T = float(time_s[1] - time_s[0])
     keep_turns = turn_keeper(plant, reference, T)
+    fit = lambda c: keep_turns(fit_within(reference, c, T, bounds))  # noqa: E731
+    current_of = lambda x, q: plant(axis, time_s, x, quantise_feedback=q).current  # noqa: E731
+    hold = CurrentHold.of(current_of, reference, bounds.current)
     pad = (2 * (gain_filter.size - 1) - reference.size) // 2
     window = fade(reference.size, tail)
     corr, history, best = np.zeros_like(reference), [], (np.inf, None)
@@ -122,14 +128,10 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         history.append(float(np.max(np.abs(err))))
         rms = float(np.sqrt(np.mean(err ** 2)))  # the max may sit where no command can help
         if rms < best[0]:
-            best = (rms, corr, run.current)
+            best = (rms, corr)
         step = gain * apply_filter(gain_filter, err, pad)
-        corr = keep_turns(fit_within(reference, (corr + step) * window, T, bounds))
-    _, corr, current = best
-    over = np.abs(current) > CURRENT_SHARE * bounds.current
-    if np.any(over):  # the current the correction needs is more than the drive gives
-        corr = keep_turns(fit_within(reference, shrink(corr, np.where(over, 0.5, 1.0), T), T,
-                                     bounds))
+        corr = fit(shrink((corr + step) * window, hold.keep(run.current), T))
+    corr = within_current(hold, current_of, reference, best[1], fit, T)
     return corr, history
 
 

@@ -35,15 +35,15 @@
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...errors import InputError, InputWarning
+from ...errors import InputError
 from ...frfdata import FRF
 from ._needles import clean_fit
 from ._select import by_criterion, by_total, choose, score
+from .goodness import warn_if_off
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
 
 __all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
@@ -348,7 +348,7 @@ def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
     fit = best["fit"]
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
-    _warn_if_off(frf, fit, h, H)
+    warn_if_off(frf.name, fit.n_den, h, H)
     return FRFFit(
         tf=fit, band_hz=(float(data.freq_hz[0]), float(data.freq_hz[-1])),
         weighting=weighting, rel_rms=float(np.sqrt(np.mean(e2))),
@@ -358,22 +358,6 @@ def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
         candidates=[{k: c[k] for k in ("tried", "n_poles", "n_zeros", "chi2_ratio", "bic",
                                         "unsupported")} for c in cands],
         name=frf.name, input=frf.input, output=frf.output, unit=frf.meta.get("unit", ""))
-
-
-def _warn_if_off(frf: FRF, fit, h, H) -> None:
-    """Say so where the fit explains less than half of the measurement by either measure
-    of its error, the relative RMS ``|h / H - 1|`` and the total ``sum |h - H|^2 / sum
-    |H|^2`` (a response of zero leaves 1 of each): a fit chosen for one may leave much of
-    the other, not both [-]."""
-    rel = float(np.sqrt(np.mean(np.abs(h / H - 1) ** 2)))
-    total = float(np.sum(np.abs(h - H) ** 2) / np.sum(np.abs(H) ** 2))
-    if min(rel, total) > 0.5:
-        n = fit.n_den
-        warnings.warn(InputWarning(
-            f"{frf.name or 'the response'}: the fit of {n} pole{'s' if n != 1 else ''} "
-            f"leaves a relative RMS of {rel:.3g} and a total error of {total:.3g}, where a "
-            "response of zero leaves 1 of each: it does not describe the measurement; fit "
-            "more poles (--poles auto chooses them)"), stacklevel=2)
 
 
 def _auto(ctx, max_poles):

@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
+
+from ...errors import InputWarning
 
 
 def fit_percent(H, H_model) -> float:
@@ -14,3 +18,20 @@ def fit_percent(H, H_model) -> float:
 def rel_error(H, H_model) -> float:
     """RMS relative complex error ``sqrt(mean |Ĥ/H - 1|^2)`` [-]."""
     return float(np.sqrt(np.mean(np.abs(np.asarray(H_model) / np.asarray(H) - 1.0) ** 2)))
+
+
+def warn_if_off(name: str, n_poles: int, H_model, H) -> None:
+    """Say so where a fit of ``n_poles`` explains less than half of the measured response
+    ``H`` by either measure of its error, the relative RMS ``|Ĥ/H - 1|`` and the total
+    ``sum |Ĥ - H|^2 / sum |H|^2`` (a response of zero leaves 1 of each): a fit chosen for
+    one may leave much of the other, not both [-]."""
+    H, h = np.asarray(H), np.asarray(H_model)
+    rel = rel_error(H, h)
+    total = float(np.sum(np.abs(h - H) ** 2) / np.sum(np.abs(H) ** 2))
+    if min(rel, total) > 0.5:
+        warnings.warn(InputWarning(
+            f"{name or 'the response'}: the fit of {n_poles} pole"
+            f"{'s' if n_poles != 1 else ''} leaves a relative RMS of {rel:.3g} and a total "
+            f"error of {total:.3g}, where a response of zero leaves 1 of each: it does not "
+            "describe the measurement; fit more poles (--poles auto chooses them)"),
+            stacklevel=3)

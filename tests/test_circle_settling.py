@@ -112,3 +112,30 @@ def test_compare_says_it_of_the_measurement_once(tmp_path, capsys):
         assert main(["compare", str(meas), str(meas), "--radius", "35", "--json"]) == 0
     said = json.loads(capsys.readouterr().out)["warnings"]
     assert len([w for w in said if "servo has settled" in w]) == 1
+
+
+def test_the_report_says_the_measured_circle_s_transient_not_the_prediction_s(capsys,
+                                                                               tmp_path):
+    """A report of a measured and a predicted circle says what ``tcpmm compare`` says of
+    the pair: the measured circle's transient (bench C at F10000, 1.25 turns), not the
+    prediction's, whose transient is part of what it predicts. The report said the
+    prediction's too, on stderr and beside a verdict that did not count it."""
+    from conftest import run_cli
+
+    b = bench_path("c")
+    measured, predicted = b / "circle_ccw_fast_meas.csv", tmp_path / "pred.csv"
+    assert run_cli(capsys, "simulate", b / "truth.yaml", "--command",
+                   b / "circle_ccw_fast_cmd.csv", "-o", predicted)[0] == 0
+    assert settling_warnings(read_run(predicted))  # the prediction alone is said
+    said = {}
+    for cmd in (["compare", measured, predicted],
+                ["report", "-o", tmp_path / "r.html", "--measured", measured, "--predicted",
+                 predicted]):
+        with warnings.catch_warnings():
+            warnings.simplefilter("always")  # said again: the test's own call said it
+            code, _, err = run_cli(capsys, *cmd, "--radius", 35)
+        assert code == 0
+        said[cmd[0]] = err.count("before the servo has settled")
+    assert said == {"compare": 1, "report": 1}
+    assert "the CCW circle starts before the servo has settled" in (
+        tmp_path / "r.html").read_text(encoding="utf-8")

@@ -219,9 +219,11 @@ def _faults(machine, files) -> list:
     return [faults_section(found)] if found else []
 
 
-def _circle(path: Path, circle, run=None):
+def _circle(path: Path, circle, run=None, settling: bool = True):
     """The circular test of one run file (or of ``run``, read from it), the run's sample
     rate and what its analysis warned of [-, Hz, -]; the warnings are given on as well.
+    ``settling``: say where a pass starts before the servo has settled (not of a
+    prediction, whose transient is part of what it predicts, as ``tcpmm compare``) [-].
     ``circle`` holds the nominal radius [m], centre [m], ``--plane`` and the planes of the
     files met so far, by resolved path, which this one joins [-]."""
     import warnings
@@ -240,7 +242,7 @@ def _circle(path: Path, circle, run=None):
     axes = planes[known]
     with in_file(path), warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", InputWarning)
-        res = analyse_circle(run, radius_m, centre_m, plane=axes)
+        res = analyse_circle(run, radius_m, centre_m, plane=axes, settling=settling)
     said = [w for w in caught if issubclass(w.category, InputWarning)]
     for w in caught:
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
@@ -281,7 +283,7 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
 
     runs = [read_run(f) for f in (measured, predicted)]
     (rm, rate, said), (rp, _, _) = (_circle(measured, circle, runs[0]),
-                                    _circle(predicted, circle, cut_alike(*runs)))
+                                    _circle(predicted, circle, cut_alike(*runs), False))
     cmp = comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)
     if not first:
         return [cmp]

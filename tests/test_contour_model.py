@@ -131,6 +131,22 @@ def test_cli_contour_refuses_to_judge_what_the_model_did_not_predict(square_run,
     assert "--model takes a run read whole" in " ".join(capsys.readouterr().err.split())
 
 
+@pytest.mark.parametrize("period_s", ["0.005", "0.05"])
+def test_cli_contour_refuses_a_run_recorded_coarser_than_its_command(square_run, tmp_path,
+                                                                    capsys, period_s):
+    """The model's own run of the square recorded every 50 ms was refused as another
+    model's, and every 5 ms gave intervals about figures other than the table's: the
+    command it is run again on is then the run's coarse samples of it."""
+    run = tmp_path / "coarse.csv"
+    assert main(["simulate", "builtin:vmc", "--gcode", str(square_run.parent / "sq.nc"),
+                 "-o", str(run), "--record-period-s", period_s]) == 0
+    capsys.readouterr()
+    assert main(["contour", str(run), "--model", "builtin:vmc"]) == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert f"is recorded every {float(period_s) * 1e3:.4g} ms" in err
+    assert "without --record-period-s" in err and "not this model's prediction" not in err
+
+
 def test_the_verdict_counts_its_runs_on_a_bar(square_run, tmp_path, monkeypatch, capsys):
     """Each uncertain quantity runs the whole program again at both ends of its range: the
     bar is told how many runs and advanced once by each."""

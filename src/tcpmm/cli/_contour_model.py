@@ -43,6 +43,7 @@ def contour_verdict(model: str, run_file: Path, run, res, window_s: float, rapid
                       "written or exported, not identified): the intervals are the floors "
                       "alone, and its figures only as right as its parameters",
                       highlight=False)
+    _recorded_finely(run, m, run_file)
     blocks = {"nc_line": run.nc_line, "rapid": run.rapid} if run.rapid is not None else {}
     try:
         cmd = Command(run.time_s, {n: run.axes[n].cmd for n in res.axes}, blocks)
@@ -64,6 +65,25 @@ def contour_verdict(model: str, run_file: Path, run, res, window_s: float, rapid
                 "prediction (a measured run, or another model's); give --model the model "
                 "that made it, or leave --model out", file=run_file)
     return verdict
+
+
+def _recorded_finely(run, machine, run_file: Path) -> None:
+    """Refuse a run recorded more coarsely than the interpolator's period: the model is run
+    again on the command the run holds, which it then holds only at its samples (a square
+    recorded every 50 ms was another command's figures, and refused as another model's
+    run; every 5 ms, the interval was another figure's than the table's) [-]."""
+    import numpy as np
+
+    from ._app import interp_settings
+
+    period = interp_settings(machine).period_s
+    dt = float(np.median(np.diff(run.time_s))) if run.time_s.size > 1 else 0.0
+    if dt > period * (1 + 1e-6):
+        raise InputError(
+            f"it is recorded every {dt * 1e3:.4g} ms, and --model runs the model again on "
+            f"the command it holds, which it holds only that often, not at the "
+            f"interpolator's {period * 1e3:.4g} ms; simulate it without --record-period-s, "
+            "or leave --model out", file=run_file)
 
 
 def print_verdict(verdict) -> None:

@@ -127,16 +127,63 @@ def test_long_blocks_are_read_fewer_at_a_time(monkeypatch):
         assert np.array_equal(np.concatenate([p.positions[axis] for p in got]), x), axis
 
 
+def short_then_long(short: int, long: int) -> str:
+    """``short`` G1 blocks of 0.01 mm at F3000, then ``long`` semicircles of 2 mm radius
+    at F1000, some 380 samples each."""
+    lines = ["G21 G90 G17", "G0 X0 Y0", "G1 F3000"]
+    lines += [f"X{0.01 * i:.2f}" for i in range(1, short + 1)]
+    x = 0.01 * short
+    lines += [f"G3 X{x + 4 * (i % 2 == 0):.2f} Y0 R2 F1000" for i in range(long)]
+    return "\n".join([*lines, "M30"]) + "\n"
+
+
+def test_blocks_that_turn_long_within_a_chunk_are_planned_in_parts(monkeypatch):
+    """Short blocks, then long ones: the chunk after the short ones, sized from the samples
+    they gave, held all the semicircles, more samples than a chunk may have, and the valid
+    program was refused ('more than the limit ... of a chunk of blocks streamed'). The
+    pieces stay about a chunk's samples; the command is the whole program's, to the bit."""
+    import importlib
+
+    from tcpmm.path import stream
+
+    interpolate = importlib.import_module("tcpmm.path.interpolate")  # not the function
+    text = short_then_long(200, 60)
+    ref = quiet(program_to_command, text)
+    small = pieces(text, None, 7)
+    monkeypatch.setattr(interpolate, "MAX_SAMPLES", 10_000)
+    monkeypatch.setattr(stream, "FIRST_CHUNK", 200)
+    monkeypatch.setattr(stream, "LEAST_CHUNK", 1)
+    monkeypatch.setattr(stream, "CHUNK_SAMPLES", 2_000)
+    got = pieces(text, None, 100_000)
+    assert ref.time_s.size > 20_000  # the semicircles twice the limit, ten chunks
+    assert max(p.time_s.size for p in got) <= 2 * stream.CHUNK_SAMPLES
+    assert np.array_equal(np.concatenate([p.time_s for p in got]), ref.time_s)
+    for axis, x in ref.positions.items():
+        assert np.array_equal(np.concatenate([p.positions[axis] for p in got]), x), axis
+    for name in ("path_s_m", "nc_line", "rapid"):
+        assert np.array_equal(np.concatenate([getattr(p, name) for p in got]),
+                              np.concatenate([getattr(p, name) for p in small])), name
+
+
 def test_chunk_sizes_follow_the_samples_a_block_gives():
     from tcpmm.path.stream import CHUNK_SAMPLES, FIRST_CHUNK, LEAST_CHUNK, ChunkSize
 
     size = ChunkSize(100_000)
     assert size() == FIRST_CHUNK
-    size.seen(FIRST_CHUNK, 2 * FIRST_CHUNK)  # 2 samples a block: as many as allowed
+    lines, samples = FIRST_CHUNK, 2 * FIRST_CHUNK
+    size.seen(lines, samples)  # 2 samples a block: twice as many blocks, no more at once
+    assert size() == 2 * FIRST_CHUNK
+    while size() < 100_000:  # up to as many as allowed
+        lines, samples = lines + size(), samples + 2 * size()
+        size.seen(lines, samples)
     assert size() == 100_000
-    size.seen(10_000, 10_000 * CHUNK_SAMPLES)  # a block lasting long: the fewest
-    assert size() == LEAST_CHUNK
-    size.seen(1_000, 0)  # nothing given out yet: kept
+    # the blocks turn long: sized by the last chunk's, not by the short ones before
+    lines, samples = lines + 1_000, samples + 1_000 * CHUNK_SAMPLES // 2_000
+    size.seen(lines, samples)
+    assert size() == 2_000
+    size.seen(lines + 1_000, samples)  # nothing given out yet: kept
+    assert size() == 2_000
+    size.seen(lines + 2_000, samples + 2_000 * CHUNK_SAMPLES)  # a block lasting long
     assert size() == LEAST_CHUNK
     assert ChunkSize(3)() == 3  # fewer asked for: never more
 

@@ -31,13 +31,16 @@ from .program import check_program_file, is_path, read_program
 from .runs import ArcRun, blocks, drop_blocks
 from .segments import AXES, Arc
 from .settings import InterpolatorSettings
+from .stream_parts import parts
 from .stream_plan import PlanState, Samples, plan_piece
 
 #: blocks (lines) read and interpolated at a time, at most [-]
 CHUNK_BLOCKS = 100_000
-#: samples a chunk is sized to give, at the samples a block has given so far: a program
-#: of long blocks is read fewer blocks at a time, so that a chunk's command stays within
-#: memory and within :data:`~tcpmm.path.interpolate.MAX_SAMPLES`. A piece's arrays (its
+#: samples a chunk is sized to give, at the samples a block gave in the last chunk: a
+#: program of long blocks is read fewer blocks at a time, and a chunk whose blocks would
+#: give many more at their feeds is planned in parts of about as many
+#: (:mod:`tcpmm.path.stream_parts`), so that a piece's command stays within memory and
+#: within :data:`~tcpmm.path.interpolate.MAX_SAMPLES`. A piece's arrays (its
 #: samples, the axes' records, the run's columns) of this size are reused by the memory
 #: allocator from piece to piece; more than twice as large, they are mapped and faulted
 #: in afresh, which cost a zig-zag of 4.7 samples a block some 0.5 s of system time per
@@ -215,11 +218,12 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
     try:
         for it in interpret_chunks(counted(), file, start_position_m, runs=True):
             segs, it.segments = it.segments, []
-            piece = ip.push(segs)
-            if piece is not None and piece.time_s.size:
-                piece.lines_read = read[0]
-                size.seen(read[0], piece.first + piece.time_s.size)
-                yield piece
+            for part in parts(segs, ip.settings, CHUNK_SAMPLES):
+                piece = ip.push(part)
+                if piece is not None and piece.time_s.size:
+                    piece.lines_read = read[0]
+                    yield piece
+            size.seen(read[0], ip.state.next_k)
         if it is not None:
             it.emit_warnings()
         if not ip.segments_in:
@@ -234,20 +238,28 @@ def stream_program(program, settings: InterpolatorSettings | None = None,
 
 class ChunkSize:
     """Blocks of the next chunk: at most ``most``; :data:`FIRST_CHUNK` at first, then as
-    many as give about :data:`CHUNK_SAMPLES` samples at the samples a block has given so
-    far (the chunks do not change the command, :mod:`tcpmm.path.stream`) [-]."""
+    many as give about :data:`CHUNK_SAMPLES` samples at the samples a block gave in the
+    last chunk that gave any, at most twice as many as the chunk before: an average over
+    the whole program so far would keep the short blocks of its start in mind long after
+    its blocks turned long (the chunks do not change the command,
+    :mod:`tcpmm.path.stream`; a chunk whose blocks outrun its size is planned in parts,
+    :mod:`tcpmm.path.stream_parts`) [-]."""
 
     def __init__(self, most: int):
         self.most = int(most)
         self.n = min(self.most, FIRST_CHUNK)
+        self.lines = self.samples = 0  # when the size was last set
 
     def __call__(self) -> int:
         return self.n
 
     def seen(self, lines: int, samples: int) -> None:
         """``samples`` given out after ``lines`` lines read [-]."""
-        if lines > 0 and samples > 0:
-            self.n = min(self.most, max(LEAST_CHUNK, int(CHUNK_SAMPLES * lines / samples)))
+        new_lines, new_samples = lines - self.lines, samples - self.samples
+        if new_lines > 0 and new_samples > 0:
+            fit = max(LEAST_CHUNK, int(CHUNK_SAMPLES * new_lines / new_samples))
+            self.n = min(self.most, 2 * self.n, fit)
+            self.lines, self.samples = lines, samples
 
 
 def _program_chunks(program, file, size) -> Iterator[list[str]]:

@@ -834,8 +834,11 @@ def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):
                              ref, "--json")
     measured = json.loads(out)
     assert measured["rapids"]["samples"] > 100 and not measured["rapids"]["counted"]
+    # the judged path is the program delayed by the correction's lag (3 ms here), the
+    # reference written the program itself: at the start of a cut after a G0, whose
+    # samples are measured from the cut alone, the two differ by that lag's share
     assert after["contour_rms_um"] == pytest.approx(measured["sensors"]["tcp"]["rms_um"],
-                                                    rel=2e-3)
+                                                    rel=1e-2)
 
 
 def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, tmp_path):

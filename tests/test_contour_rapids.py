@@ -105,8 +105,12 @@ def test_contour_leaves_the_rapids_out_unless_asked(runs):
     feed, every = contour_error(run, plane="XY"), contour_error(run, plane="XY", rapids=True)
     air = run.rapid == 1
     for s, e in every.errors.items():
-        assert feed.summary()[s]["max_abs_m"] == float(np.max(np.abs(e[~air])))
+        mine = np.abs(feed.errors[s])
+        assert feed.summary()[s]["max_abs_m"] == float(np.max(mine[~air]))
         assert every.summary()[s]["max_abs_m"] == float(np.max(np.abs(e)))
+        # out of the rapids each sample is measured from its own feed move alone, which
+        # can only be further than the whole path
+        assert np.all(mine[~air] >= np.abs(e[~air])) and np.array_equal(mine[air], np.abs(e[air]))
     top = every.summary()["tcp"]["max_abs_m"]
     assert top > 2.0 * feed.summary()["tcp"]["max_abs_m"]
     assert air[np.argmax(np.abs(every.errors["tcp"]))]  # the largest error is a rapid's
@@ -268,3 +272,31 @@ def test_the_corners_near_a_rapid_taken_at_once_are_those_taken_one_by_one():
         st.spans = [[int(a), int(a + rng.integers(0, 60))] for a in lo]
         idx = rng.integers(-5, 400, 200)
         assert np.array_equal(st.near_many(idx), [st.near(int(i)) for i in idx])
+
+
+def test_the_lag_a_rapid_carries_into_its_cut_is_measured_from_the_cut(tmp_path):
+    """A diagonal G0 to a square's corner, then its first side at F5000: while the tool
+    is still on the rapid's line the cut has begun, and the tool lies off the side by the
+    rapid's lag. It read its distance to the rapid's line (2.6 um for 287 um off the side
+    on a machine of a slower servo than this one's 40 um); it is measured from the side,
+    whole and streamed alike."""
+    prog = tmp_path / "sq.nc"
+    prog.write_text("G21 G17 G90 G64 P0.01\nG0 X-20 Y-20\nG1 X20 Y-20 F5000\n"
+                    "G1 X20 Y20\nG4 P0.3\nM30\n")
+    for name in ("run.csv", "run.parquet"):
+        assert run_cli_plain("simulate", "builtin:vmc", "--gcode", prog, "-o",
+                             tmp_path / name) == 0
+    run = read_run(tmp_path / "run.csv")
+    res = quiet(contour_error, run, plane="XY")
+    tcp = np.column_stack([run.axes[a].tcp for a in "XY"])
+    cut = (run.rapid == 0) & (run.nc_line == 3) & (tcp[:, 0] > -20.0e-3)
+    first = np.flatnonzero(cut)[:5]  # the side's first samples, still on the way
+    off = tcp[first, 1] + 20.0e-3  # from the side y = -20 mm, the tool left of it
+    assert np.all(np.abs(off) > 20e-6)
+    np.testing.assert_allclose(np.abs(res.errors["tcp"][first]), np.abs(off), rtol=1e-9)
+    assert res.summary()["tcp"]["max_abs_m"] >= np.max(np.abs(off))
+    whole = quiet(contour_error, read_run(tmp_path / "run.parquet"), plane="XY")
+    got = stream_contour(tmp_path / "run.parquet", ("X", "Y"), True, rows=97)
+    for s, d in whole.summary().items():
+        assert got.summary()[s]["max_abs_m"] == d["max_abs_m"]
+        assert d["max_abs_m"] == pytest.approx(res.summary()[s]["max_abs_m"], rel=1e-6)

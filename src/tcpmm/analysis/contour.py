@@ -57,7 +57,7 @@ from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
-from .contour_windows import chord_sags, over_rests, travel, whole_windows
+from .contour_windows import chord_sags, feed_windows, over_rests, travel, whole_windows
 from .corners import path_length
 from .rapids import RapidStretches, feed_only, since_rapid
 
@@ -262,7 +262,7 @@ def polyline(p, before=None, after=None) -> tuple:
 
 
 def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
-                          after=None, line=None) -> dict:
+                          after=None, line=None, air=None) -> dict:
     """:func:`distance_to_polyline` of several paths sampled at the same times (each
     sensor's), the polyline's segments, directions and blocks and the windows worked out
     once for all.
@@ -279,6 +279,9 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
         (:func:`tcpmm.analysis.contour_windows.chord_sags`) [-].
     line : tuple, optional
         :func:`polyline` of ``p``, ``before`` and ``after``, where the caller has it [-].
+    air : ndarray, optional
+        The rapid flags of ``p``'s vertices: each point out of a rapid is measured from
+        its feed move alone (:func:`~.contour_windows.feed_windows`) [-].
 
     Returns
     -------
@@ -291,6 +294,8 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     if moving.size < m - 1:
         lo, hi = over_rests(lo, hi, t_p, t_q, ln2 > 0, window_s)
+    if air is not None:
+        lo, hi = feed_windows(lo, hi, t_p, t_q, air)
     fine = p.dtype == np.float64 and np.all(np.abs(p) < _HUGE)
     out, searched = {}, {}
     for k, q in qs.items():
@@ -377,7 +382,8 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     axes, signed = contour_axes(run, plane, command)
     t, tc, cmd, actual = run_signals(run, command, axes)
     line = polyline(cmd)
-    found = distances_to_polyline(actual, cmd, t, tc, window_s, signed, line=line)
+    air = None if run.rapid is None or rapids else command_flags(run, command)
+    found = distances_to_polyline(actual, cmd, t, tc, window_s, signed, line=line, air=air)
     errors, feet = ({s: v[i] for s, v in found.items()} for i in (0, 1))
     corners = CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s)
     corners.add_command(tc, cmd)

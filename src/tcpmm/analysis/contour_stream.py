@@ -222,6 +222,7 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                  CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s),
                  RapidStretches(corner_span_m))
     _has_columns(path, cmd_cols, axes)
+    scan.clamp = not rapids and "rapid" in parquet_file(path).schema_arrow.names
     pending = None
     # the next chunk is read (pyarrow lets go of the interpreter lock) while one is measured
     chunks = read_ahead(_batches(path, rows, lambda c: c in want))
@@ -285,7 +286,7 @@ class _Scan:
         # of a run that records its rapids: the samples in them, the feed's figures, the
         # command samples near them
         self.air, self.feed, self.stretches = None, {}, stretches
-        self.last_rapid_t = np.nan
+        self.last_rapid_t, self.clamp = np.nan, False  # feed_windows (--rapids: not)
 
     def _to_corners(self, fn, *args) -> None:
         """``fn(*args)`` of the corners, in the corners' thread where there is one [-]."""
@@ -340,8 +341,9 @@ class _Scan:
         # the chords' sag as the whole path's, and the largest the command has so far
         line = polyline(cmd[c0:c1], before, after)
         res.command_sag_m = max(res.command_sag_m, float(np.max(line[4])))
+        air = buf["rapid"][c0:c1] if self.clamp else None
         found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed,
-                                      line=line)
+                                      line=line, air=air)
         feed, since = self._feed(buf, first, b)
         ts = t[first:b]
         for s, (e, _) in found.items():

@@ -35,6 +35,25 @@ def over_rests(lo, hi, t_p, t_q, moves, window_s: float):
             np.maximum(hi, np.searchsorted(tau_p, tau_q + window_s, side="right")))
 
 
+def feed_windows(lo, hi, t_p, t_q, air):
+    """The windows ``lo:hi`` of the samples out of G0 rapids held to the feed move each is
+    on, between the rapids before and after it: a tool still on a rapid's line when the
+    cut it leads into begins is measured from the cut, as the lag the rapid carries in
+    (a square's first side read 2.6 um there, the distance to the rapid's line, where the
+    tool lay 287 um off the side). ``air``: the rapid flags of the command's vertices,
+    a segment in a rapid where its end is, a sample where the command at its time is [-]."""
+    p_air = np.asarray(air) != 0
+    seg_air = p_air[1:]
+    idx = np.arange(seg_air.size)
+    prev = np.maximum.accumulate(np.where(seg_air, idx, -1))
+    nxt = np.minimum.accumulate(np.where(seg_air, idx, seg_air.size)[::-1])[::-1]
+    i = np.searchsorted(t_p, t_q, side="right") - 1
+    j = np.clip(i - 1, 0, seg_air.size - 1)
+    a, b = np.maximum(lo, prev[j] + 1), np.minimum(hi, nxt[j])
+    keep = p_air[np.clip(i, 0, p_air.size - 1)] | (a >= b)  # in the air: the whole window
+    return np.where(keep, lo, a), np.where(keep, hi, b)
+
+
 def travel(p):
     """The segments of polyline ``p``, their squared lengths, directions of travel (that
     of the next moving segment where one rests, of the last where none follows) and the

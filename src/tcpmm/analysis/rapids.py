@@ -5,7 +5,8 @@ contour error of the part. A run that records which samples' commands are in a r
 ``rapid`` column, :mod:`tcpmm.path.blocktrack`; a dwell after a rapid counts as one) has
 those samples left out of the error summary, and the corners whose legs take in a rapid
 (a rapid within the corner span of the corner, along the commanded path) left out of the
-corner table; the closest command point is still sought on the whole commanded path. A
+corner table; a sample out of a rapid is measured from its own feed move alone
+(:func:`~tcpmm.analysis.contour_windows.feed_windows`). A
 run without the column is measured whole, and nothing is said of rapids.
 """
 

@@ -550,3 +550,35 @@ def test_a_gap_in_the_log_is_said_to_be_one(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         analyse_circle(read_run(path), 0.035)
+
+
+def test_a_command_compensated_at_its_reversals_is_still_one_circle():
+    """A command compensated for the machine's error leads it by some 70 um at each
+    reversal (a dense program of such a command, run on the machine, records it as its
+    command): held to 35 um of the circle, the turn fell into arcs between the reversals,
+    and no spike was reported at three of the four points. Its whole turn is taken within
+    a sensor's tolerance and said so; the TCP's spike after B is read as on a plain
+    circle."""
+    p = circle_path()
+
+    def lead(a):  # 70 um at each quadrant point, over some 3 deg
+        return sum(70e-6 * np.exp(-0.5 * ((np.degrees(a) - q + 180) % 360 - 180) ** 2 / 9)
+                   for q in (0, 90, 180, 270))
+
+    def spike(a):  # +5 um 6 deg after B
+        return 5e-6 * np.exp(-0.5 * (((np.degrees(a) - 96 + 180) % 360 - 180) / 1.5) ** 2)
+
+    tcp = polar_perturb(p, (0, 0), spike)
+    with pytest.warns(InputWarning, match="the command departs from the circle by more than "
+                                          "35 um"):
+        res = analyse_circle(make_run(polar_perturb(p, (0, 0), lead), tcp), R)
+    [ps] = res.passes
+    assert abs(ps.sensors["tcp"].angle_rad[-1] - ps.sensors["tcp"].angle_rad[0]) == \
+        pytest.approx(2 * np.pi, abs=np.radians(0.5))
+    assert ps.sensors["tcp"].spikes["B"] == pytest.approx(5e-6, rel=1e-3)
+    assert all(abs(ps.sensors["tcp"].spikes[q]) < 1e-9 for q in "ACD")
+    # a command within 35 um of the circle is held to it, and nothing is said
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        assert analyse_circle(make_run(p, tcp), R).passes[0].sensors["tcp"].spikes["B"] == \
+            pytest.approx(5e-6, rel=1e-3)

@@ -37,6 +37,7 @@ from .circle_passes import (  # noqa: F401
     lsq_circle,
     radial_deviation,
     rate,
+    reference_stretches,
     steady_rate,
     within_span,
 )
@@ -359,8 +360,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     ref = "cmd" if "cmd" in present else present[0]
     tol = 1e-3 * radius_m if ref == "cmd" else 2e-2 * radius_m
     passes = []
-    for st in find_stretches(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol,
-                             settled=ref == "cmd"):
+    for st in reference_stretches(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol,
+                                  ref):
         if direction is not None and st.direction != direction:
             continue
         sl, d = st.index, st.direction

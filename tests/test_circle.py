@@ -582,3 +582,24 @@ def test_a_command_compensated_at_its_reversals_is_still_one_circle():
         warnings.simplefilter("error", InputWarning)
         assert analyse_circle(make_run(p, tcp), R).passes[0].sensors["tcp"].spikes["B"] == \
             pytest.approx(5e-6, rel=1e-3)
+
+
+def test_a_circle_logged_too_sparsely_for_its_peaks_is_said(recwarn):
+    """A 10 um spike some 6 ms wide after B on a 7.2 s turn: logged every 8 ms it read
+    9.46 um, and every 16 ms under 1 um, with no word (the demo's circle every 8 ms read G
+    14 % low); logged every millisecond the figures do not hang on single samples, and
+    nothing is said."""
+    def spike(a):
+        return 10e-6 * np.exp(-0.5 * (((np.degrees(a) - 93 + 180) % 360 - 180) / 0.15) ** 2)
+
+    p = circle_path()
+    tcp = polar_perturb(p, (0, 0), spike)
+    analyse_circle(make_run(p, tcp), R)
+    assert not [w for w in recwarn if "single samples" in str(w.message)]
+    every = slice(None, None, 8)
+    run = Run(np.arange(len(p))[every] * 1e-3,
+              {a: AxisRun(cmd=p[every, i], tcp=tcp[every, i]) for i, a in enumerate("XY")})
+    with pytest.warns(InputWarning, match=r"figures hang on single samples: left out every "
+                                          r"other of its samples, 8 ms apart, tcp contour "
+                                          r"error \d\.\d\d by \d\.\d\d µm, tcp G"):
+        analyse_circle(run, R)

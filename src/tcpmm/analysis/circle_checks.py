@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError, InputWarning
-from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE
+from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE, lsq_circle
 from .circle_spikes import QUADRANTS
 
 
@@ -307,3 +307,62 @@ def check_sensor_path(x, y, ref_xy, centre, radius_m, names, direction) -> None:
         f"the {sensor} circle {how}: an axis of the {sensor} signal has the opposite sign, "
         f"or its {ax} and {ay} are swapped; check the signs and the columns "
         f"{ax.lower()}_{sensor}_mm and {ay.lower()}_{sensor}_mm")
+
+
+#: Share of a figure by which it may move when every other sample is left out before it is
+#: said to hang on single samples (the demo's circles at 1 kHz move by up to 5 %, a scale's
+#: G by its noise; every 4 or 8 ms, by 11-16 %) [-]
+RESOLVED_SHARE = 0.1
+#: ... and the least such move said [m]
+RESOLVED_M = 0.5e-6
+
+
+def warn_unresolved(t, X, Y, sl, cp, radius_m: float, centre) -> None:
+    """Warn (:class:`InputWarning`) where a full circle's contour error or circular
+    deviation G of a sensor moves by more than :data:`RESOLVED_SHARE` of itself (and
+    :data:`RESOLVED_M`) when every other sample is left out: it hangs on single samples,
+    a peak that falls between the samples of too sparse a log (the demo's circle every
+    8 ms read G 14 % low, with no word) or a sample's noise.
+
+    Parameters
+    ----------
+    t : ndarray
+        Time of the pass's samples [s].
+    X, Y : AxisRun
+        The run's two axes of the circle's plane [-].
+    sl : slice
+        The pass's samples [-].
+    cp : CirclePass
+        The pass, its sensors analysed; an arc is not judged [-].
+    radius_m : float
+        Nominal radius [m].
+    centre : tuple
+        Nominal centre [m].
+    """
+    if cp.arc_deg < 360.0 or t.size < 8:
+        return
+    said = []
+    for name in (s for s in cp.sensors if s != "cmd"):
+        x, y = X.sensor(name)[sl], Y.sensor(name)[sl]
+        whole = _figures(x, y, radius_m, centre)
+        halves = [_figures(x[k::2], y[k::2], radius_m, centre) for k in (0, 1)]
+        for i, what in enumerate(("contour error", "G")):
+            move = max(abs(whole[i] - h[i]) for h in halves)
+            if move > max(RESOLVED_SHARE * whole[i], RESOLVED_M):
+                said.append(f"{name} {what} {whole[i] * 1e6:.2f} by {move * 1e6:.2f} µm")
+    if said:
+        dt = float(np.median(np.diff(t)))
+        warnings.warn(InputWarning(
+            f"the {cp.direction.upper()} circle's figures hang on single samples: left out "
+            f"every other of its samples, {dt * 1e3:.3g} ms apart, {', '.join(said)} move; "
+            "a peak between the samples (a log too sparse for it) or a sample's noise reads "
+            "so, and the figures may be off by about as much"), stacklevel=3)
+
+
+def _figures(x, y, radius_m: float, centre) -> tuple[float, float]:
+    """Contour error about the nominal circle and circular deviation G about the least
+    squares circle of a path, as :func:`.circular.analyse_sensor` takes them [m]."""
+    e = np.hypot(x - centre[0], y - centre[1]) - radius_m
+    cx, cy, _ = lsq_circle(x, y)
+    rl = np.hypot(x - cx, y - cy)
+    return float(np.max(np.abs(e))), float(rl.max() - rl.min())

@@ -30,7 +30,13 @@ import numpy as np
 
 from ..errors import InputError
 from .circle_after import after_terms, pair_diagnosis
-from .circle_checks import check_sensor_path, not_found_error, present_sensors, warn_pass
+from .circle_checks import (
+    check_sensor_path,
+    not_found_error,
+    present_sensors,
+    warn_pass,
+    warn_unresolved,
+)
 from .circle_passes import (  # noqa: F401
     find_passes,
     find_stretches,
@@ -377,6 +383,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         cp.sensors, missing = _sensors(X, Y, sl, present, (ref, ref_ang), radius_m,
                                        centre_m, (d, *axes))
         warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
+        warn_unresolved(run.time_s[sl], X, Y, sl, cp, radius_m, centre_m)
         if settling:
             warn_unsettled(X, Y, sl, present, ref_ang, d, cp.arc_deg)
         passes.append(cp)

@@ -539,3 +539,23 @@ def test_a_fit_worse_than_no_model_is_said_to_be_so():
     with warnings.catch_warnings():
         warnings.simplefilter("error", InputWarning)
         assert fit_frf(frf, poles=5, delay_s=None).rel_rms < 0.1
+
+
+def test_a_response_given_twice_says_which_columns_it_reads(tmp_path):
+    """A file with re and im and also magnitude_db and phase_deg called the polar columns
+    unknown, though the docs name them: they are said not to be read, and why."""
+    from tcpmm.io.frffile import read_frf
+
+    frf = noisy_frf(0)
+    h = frf.H
+    rows = ["freq_hz,magnitude_db,phase_deg,re,im"] + [
+        ",".join(repr(float(x)) for x in (f, 20 * np.log10(abs(v)), np.degrees(np.angle(v)),
+                                          v.real, v.imag))
+        for f, v in zip(frf.freq_hz, h, strict=True)]
+    (path := tmp_path / "both.csv").write_text("\n".join(rows) + "\n")
+    with pytest.warns(InputWarning) as said:
+        got = read_frf(path)
+    text = [str(w.message) for w in said]
+    assert len(text) == 2 and not any("unknown" in t for t in text)
+    assert "column 'magnitude_db' is not read: the response is read from re and im" in text[0]
+    np.testing.assert_array_equal(got.H, h)

@@ -296,6 +296,7 @@ def read_numeric_csv(
     path: str | Path,
     required: Iterable[str],
     optional: Iterable[str] = (),
+    unused: dict | None = None,
 ) -> dict[str, np.ndarray]:
     """Read the named numeric columns of a CSV file, with checks that name file/line/column.
 
@@ -307,6 +308,8 @@ def read_numeric_csv(
         Columns that must be present [-].
     optional : iterable of str
         Columns read when present [-].
+    unused : dict, optional
+        Known columns left unread, each with why: said so, not called unknown [-].
 
     Returns
     -------
@@ -332,7 +335,9 @@ def read_numeric_csv(
     _check_required(names, required, optional, path)
     extra = [c for c in names if c not in expected]
     for c in extra:
+        why = (unused or {}).get(c)
         warn_input(
+            f"column '{c}' is not read: {why}" if why else
             f"unknown column '{c}' is ignored{did_you_mean(c, expected)}",
             file=path,
             line=1,

@@ -115,7 +115,10 @@ def read_frf_csv(path) -> FRF:
     path = Path(path)
     names = read_header(path)
     f_col, kind, a, b, coh_col = _columns(names, path)
-    cols = read_numeric_csv(path, [f_col, a, b], [coh_col] if coh_col else [])
+    response = {_pick(names, c) for c in (RE, IM, MAG_DB, MAG, PHASE_DEG, PHASE_RAD)} - {None}
+    cols = read_numeric_csv(path, [f_col, a, b], [coh_col] if coh_col else [],
+                            {c: f"the response is read from {a} and {b}"
+                             for c in response - {a, b}})
     f = cols[f_col]
     bad = np.flatnonzero(f <= 0)
     if bad.size:

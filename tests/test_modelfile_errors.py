@@ -197,3 +197,17 @@ def test_a_boolean_for_a_number_is_refused_with_its_key(vmc, old, new, key):
 def test_booleans_where_the_schema_takes_them_still_load(vmc):
     text = dumps_machine(vmc)
     assert loads_machine(text, "m.yaml") == vmc
+
+
+def test_a_key_in_a_list_item_names_its_own_line(vmc):
+    """A misspelt key of a servo filter (an item of the filters list, a union tagged by its
+    type) was placed on the line of the list, three lines above it."""
+    text = dumps_machine(vmc)
+    at = text.index("\n", text.index("feedforward:", text.index("axes:")))
+    line = text[text.rindex("\n", 0, at) + 1:at]  # the servo's feedforward key
+    indent = line[:len(line) - len(line.lstrip())]
+    item = (f"\n{indent}filters:\n{indent}- type: notch\n{indent}  f_hz: 500\n"
+            f"{indent}  bandwith_hz: 100\n{indent}  depth_db: -20")
+    err = _error(text[:at] + item + text[at:])
+    assert err.column.endswith("filters.0.notch.bandwith_hz")
+    assert err.line == _line(text[:at] + item + text[at:], "bandwith_hz:")

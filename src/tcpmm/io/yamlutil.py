@@ -49,7 +49,8 @@ StrictLoader.add_implicit_resolver(
 
 
 def key_lines(node, prefix=(), out=None) -> dict[tuple, int]:
-    """Map every key path of a composed YAML node to its 1-based line."""
+    """Map every key path of a composed YAML node to its 1-based line; an item of a list
+    is keyed by its index, as a validation error's place names it."""
     out = {} if out is None else out
     if isinstance(node, yaml.MappingNode):
         out.setdefault(prefix, node.start_mark.line + 1)
@@ -57,17 +58,23 @@ def key_lines(node, prefix=(), out=None) -> dict[tuple, int]:
             path = (*prefix, k.value)
             out[path] = k.start_mark.line + 1
             key_lines(v, path, out)
+    elif isinstance(node, yaml.SequenceNode):
+        for i, v in enumerate(node.value):
+            out[(*prefix, str(i))] = v.start_mark.line + 1
+            key_lines(v, (*prefix, str(i)), out)
     return out
 
 
 def line_for(loc: tuple, lines: dict[tuple, int]) -> int | None:
-    """Line of the deepest key of ``loc`` that the file has [-]."""
-    loc = tuple(str(p) for p in loc)
-    while loc:
-        if loc in lines:
-            return lines[loc]
-        loc = loc[:-1]
-    return lines.get(())
+    """Line of the deepest key of ``loc`` that the file has, a part of ``loc`` the file
+    does not have passed over (the tag of a union, ``filters.0.notch.f_hz`` for a filter
+    whose ``f_hz`` the file has under ``filters.0``) [-]."""
+    at, best = (), lines.get(())
+    for part in (str(p) for p in loc):
+        if (*at, part) in lines:
+            at = (*at, part)
+            best = lines[at]
+    return best
 
 
 def error_loc(err: dict) -> tuple:

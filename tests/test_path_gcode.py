@@ -259,6 +259,10 @@ def test_program_file_errors_name_the_file(tmp_path):
     assert info.value.file == str(path)
     with pytest.raises(InputError, match="not found"):
         program_to_command(str(tmp_path / "missing.nc"))
+    # a command file given as a program read "letter T has no number after it"
+    path.write_text("time_s,x_mm,y_mm\n0,0,0\n0.001,0.001,0\n")
+    with pytest.raises(InputError, match=r"is a table .* a command file goes to --command"):
+        program_to_command(path)
 
 
 def test_a_closing_percent_ends_the_program_as_controllers_do():

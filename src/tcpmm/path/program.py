@@ -63,13 +63,19 @@ def _unreadable(path: Path, exc: OSError) -> InputError:
 
 
 def _check_text(path: Path, head: bytes) -> None:
-    """Refuse a file whose first bytes ``head`` are UTF-16 or binary [-]."""
+    """Refuse a file whose first bytes ``head`` are UTF-16 or binary, or a table (a command
+    file given as a program read "letter T has no number after it") [-]."""
     if head[:2] in (b"\xff\xfe", b"\xfe\xff") or b"\x00" in head:
         raise InputError(
             "the file is not plain text (UTF-16 or binary); save the program as ASCII or "
             "UTF-8 text",
             file=path,
         )
+    first = head.split(b"\n", 1)[0].decode("latin-1").lower()
+    if "," in first and "time_s" in first:  # G-code has no commas
+        raise InputError("is a table (its first line names the columns of a command or run "
+                         "file), not an NC program; a command file goes to --command",
+                         file=path, line=1)
 
 
 def is_path(x) -> bool:

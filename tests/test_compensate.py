@@ -743,6 +743,10 @@ def test_a_command_file_has_no_planned_row_and_bad_numbers_are_named_in_their_un
     err = " ".join(capsys.readouterr().err.split())
     assert "--radius [mm] must be a positive number, got -35" in err and "cmd.csv" not in err
     assert main([*base, "--draws", "-1"]) == 2
+    # a limit of 0 named the limit, not the option that gave it
+    assert main([*base, "--accel-m-per-s2", "0"]) == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert "acceleration limit (--accel-m-per-s2 [m/s^2]) must be a positive number" in err
 
 
 def test_a_region_share_profile_never_exceeds_its_region_and_ramps_within_the_larger():

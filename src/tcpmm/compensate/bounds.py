@@ -65,9 +65,10 @@ def machine_bounds(machine, accel_m_per_s2=None, jerk_m_per_s3=None) -> dict[str
         Jerk limit of every axis instead of the settings' (none for a trapezoid
         profile) [m/s^3].
     """
-    for name, v in (("acceleration", accel_m_per_s2), ("jerk", jerk_m_per_s3)):
+    for name, v, opt in (("acceleration", accel_m_per_s2, "--accel-m-per-s2 [m/s^2]"),
+                         ("jerk", jerk_m_per_s3, "--jerk-m-per-s3 [m/s^3]")):
         if v is not None and not (math.isfinite(v) and v > 0.0):
-            raise InputError(f"the {name} limit must be a positive number (got {v})")
+            raise InputError(f"the {name} limit ({opt}) must be a positive number (got {v})")
     s = InterpolatorSettings.model_validate(machine.interpolation or {})
     vel = dict(zip(AXES, s.axis_velocity(), strict=True))
     rapid = dict(zip(AXES, s.rapid(), strict=True))

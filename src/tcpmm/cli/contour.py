@@ -145,7 +145,8 @@ def _say_unreached(unreached: dict) -> None:
         console.print(f"note: the run stops before the machine comes to rest at the path's "
                       f"end point (at the last sample {far} from it): the overshoot and "
                       "rounding at the end are not measured (n/a); end the program with a "
-                      "dwell (G4 P0.5) so that the run records the axes coming to rest",
+                      "dwell (G4 P0.5), or a longer one than it has, so that the run records "
+                      "the axes coming to rest",
                       highlight=False)
 
 

@@ -201,6 +201,9 @@ def rising_frf():
     return FRF(F, H, np.ones(F.size), 10, np.zeros(F.size), name="rising")
 
 
+# two poles keep one, which describes little of a response rising out of the band, and
+# says so (test_a_fit_worse_than_no_model_is_said_to_be_so): not what this test holds
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
 @pytest.mark.parametrize("poles", [1, 2, 3])
 def test_a_far_pole_folded_into_the_gain_leaves_the_model_proper(poles):
     import control

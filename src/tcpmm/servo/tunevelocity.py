@@ -160,8 +160,8 @@ def _notched(mech, best, start, modes, gm, pm, notes):
             notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
             break
         notes.append(f"notch at {f0:.1f} Hz (bandwidth {0.3 * f0:.1f} Hz, {notch.depth_db} dB) "
-                     "raises "
-                     f"K_vp from {best.K_vp:.4g} to {K2:.4g} A s/rad")
+                     "raises the largest K_vp that meets the margins from "
+                     f"{best.K_vp:.4g} without it to {K2:.4g} A s/rad")
         best = with_pi(mech, changed(best, filters=[*best.filters, notch]), K2)
     return best, first
 

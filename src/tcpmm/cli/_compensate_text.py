@@ -156,28 +156,27 @@ def warn_worse(comp) -> None:
 
 def warn_current(comp) -> None:
     """A warning per axis whose compensated command's run on the model, feedback
-    quantised as ``tcpmm simulate`` runs it, asks more of the drive than
-    :data:`tcpmm.compensate.bounds.CURRENT_SHARE` of its current limit, with what the
+    quantised as ``tcpmm simulate`` runs it, comes within
+    :data:`tcpmm.compensate.currentlimit.CLAMP_MARGIN` of its current limit, with what the
     program as programmed asks itself: the correction is held below it
     (:mod:`tcpmm.compensate.currentlimit`), but not below the program's own peak, and the
     draws' shares and the ripple of the velocity read from encoder counts can take it
-    beyond [-]."""
+    there [-]."""
     import warnings
 
-    from ..compensate.bounds import CURRENT_SHARE
+    from ..compensate.currentlimit import CLAMP_MARGIN
     from ..errors import InputWarning
 
     demands = comp.scores.get("demands") or {}
     for a, after in demands.get("after", {}).items():
         asked, lim = after.get("current_A"), comp.bounds[a].current
-        if asked is None or asked <= CURRENT_SHARE * lim * (1 + 1e-9):
+        if asked is None or asked < (1 - CLAMP_MARGIN) * lim:
             continue
         own = demands.get("before", {}).get(a, {}).get("current_A")
         warnings.warn(
             f"{a}: the compensated command asks up to {asked:.3g} A of the drive on the "
-            f"model, above {CURRENT_SHARE:.0%} of its current limit of {lim:.3g} A "
-            f"({CURRENT_SHARE * lim:.3g} A)" + ("; the drive clamps it at the limit"
-                                                 if asked >= lim * (1 - 1e-6) else "")
+            f"model, within {CLAMP_MARGIN:.0%} of its current limit of {lim:.3g} A"
+            + ("; the drive clamps it at the limit" if asked >= lim * (1 - 1e-6) else "")
             + ("" if own is None else f"; the program as programmed asks {own:.3g} A "
                "itself") + ", with the ripple of the velocity read from encoder counts: "
             "the model's TCP after is then not to be relied on there; lower the feed or "

@@ -147,6 +147,25 @@ def test_cli_contour_refuses_a_run_recorded_coarser_than_its_command(square_run,
     assert "without --record-period-s" in err and "not this model's prediction" not in err
 
 
+def test_cli_contour_judges_the_run_of_a_command_file_at_its_own_period(tmp_path, capsys):
+    """A command file every 2 ms is run and recorded at its own period: the run holds the
+    whole command, and is judged (it was refused as a run recorded coarsely)."""
+    from tcpmm.path import write_command_csv
+    from tcpmm.path.circle import circle_command
+    from tcpmm.path.command import Command
+
+    c = circle_command(0.01, 3000.0 / 6e4, turns=1.0)
+    write_command_csv(Command(c.time_s[::2], {a: p[::2] for a, p in c.positions.items()}),
+                      cmd := tmp_path / "cmd2ms.csv")
+    run = tmp_path / "run.csv"
+    assert main(["simulate", "builtin:vmc", "--command", str(cmd), "-o", str(run)]) == 0
+    capsys.readouterr()
+    assert main(["contour", str(run), "--model", "builtin:vmc", "--json"]) == 0, \
+        capsys.readouterr().err
+    assert {f["figure"] for f in json.loads(capsys.readouterr().out)["tcp_verdict"]} == {
+        "contour error", "contour rms"}
+
+
 def test_the_verdict_counts_its_runs_on_a_bar(square_run, tmp_path, monkeypatch, capsys):
     """Each uncertain quantity runs the whole program again at both ends of its range: the
     bar is told how many runs and advanced once by each."""

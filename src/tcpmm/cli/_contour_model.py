@@ -68,7 +68,8 @@ def contour_verdict(model: str, run_file: Path, run, res, window_s: float, rapid
 
 
 def _recorded_finely(run, machine, run_file: Path) -> None:
-    """Refuse a run recorded more coarsely than the interpolator's period: the model is run
+    """Refuse a run of an NC program recorded more coarsely than the interpolator's period
+    (a command file's run is recorded at the file's own period): the model is run
     again on the command the run holds, which it then holds only at its samples (a square
     recorded every 50 ms was another command's figures, and refused as another model's
     run; every 5 ms, the interval was another figure's than the table's) [-]."""
@@ -76,6 +77,8 @@ def _recorded_finely(run, machine, run_file: Path) -> None:
 
     from ._app import interp_settings
 
+    if run.nc_line is None:  # a command file's run is recorded at the file's own period
+        return
     period = interp_settings(machine).period_s
     dt = float(np.median(np.diff(run.time_s))) if run.time_s.size > 1 else 0.0
     if dt > period * (1 + 1e-6):

@@ -352,8 +352,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     sensors : tuple of str
         Sensors to analyse where present [-].
     settling : bool
-        Say where a pass starts before the servo has settled (:mod:`.circle_settling`);
-        off for a prediction, whose transient is part of what it predicts [-].
+        Say where a pass starts before the servo has settled (:mod:`.circle_settling`) and
+        where its figures hang on single samples; off for a prediction [-].
     """
     if not radius_m > 0:
         raise InputError(f"the circle radius must be positive (got {radius_m})")
@@ -383,9 +383,9 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         cp.sensors, missing = _sensors(X, Y, sl, present, (ref, ref_ang), radius_m,
                                        centre_m, (d, *axes))
         warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
-        warn_unresolved(run.time_s[sl], X, Y, sl, cp, radius_m, centre_m)
         if settling:
             warn_unsettled(X, Y, sl, present, ref_ang, d, cp.arc_deg)
+            warn_unresolved(run.time_s[sl], X, Y, sl, cp, radius_m, centre_m)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError, InputWarning
-from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE, lsq_circle
+from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE, circle_deviation
 from .circle_spikes import QUADRANTS
 
 
@@ -363,6 +363,4 @@ def _figures(x, y, radius_m: float, centre) -> tuple[float, float]:
     """Contour error about the nominal circle and circular deviation G about the least
     squares circle of a path, as :func:`.circular.analyse_sensor` takes them [m]."""
     e = np.hypot(x - centre[0], y - centre[1]) - radius_m
-    cx, cy, _ = lsq_circle(x, y)
-    rl = np.hypot(x - cx, y - cy)
-    return float(np.max(np.abs(e))), float(rl.max() - rl.min())
+    return float(np.max(np.abs(e))), circle_deviation(x, y)[0]

@@ -349,6 +349,14 @@ def lsq_circle(x, y):
     return cx, cy, float(np.hypot(x - cx, y - cy).mean())
 
 
+def circle_deviation(x, y) -> tuple[float, tuple[float, float]]:
+    """Circular deviation G of a path, the spread of its radius about its least squares
+    circle (:func:`lsq_circle`), and that circle's centre [m]."""
+    cx, cy, _ = lsq_circle(x, y)
+    rl = np.hypot(x - cx, y - cy)
+    return float(rl.max() - rl.min()), (float(cx), float(cy))
+
+
 def reference_stretches(x, y, radius_m, centre_m, tol, ref) -> list:
     """The circle's passes in the reference path (:func:`find_stretches`); where a command
     holds arcs only within its tolerance and whole turns within a sensor's, those turns,

@@ -18,7 +18,7 @@ import numpy as np
 from .circle_display import ranking_rows, rename_axes
 from .circle_fit import design, model_curve
 from .circle_model import is_full, servo_remainder
-from .circle_passes import lsq_circle
+from .circle_passes import circle_deviation, lsq_circle
 
 #: Reported name of a fitted column group
 GROUP_NAMES = {"servo_angle": "servo_mismatch"}
@@ -48,11 +48,7 @@ def deviations(paths, radius):
     """Circular deviation G per circle, and for two G(b) and the hysteresis H over the
     angles both cover; NaN for one circle [m]."""
     xy = [(radius + e) * np.array([np.cos(a), np.sin(a)]) for a, e in paths]
-    g = []
-    for p in xy:
-        cx, cy, _ = lsq_circle(*p)
-        r = np.hypot(p[0] - cx, p[1] - cy)
-        g.append(float(r.max() - r.min()))
+    g = [circle_deviation(*p)[0] for p in xy]
     if len(xy) < 2:
         return g, float("nan"), float("nan")
     both = np.hstack(xy)

@@ -38,6 +38,7 @@ from .circle_checks import (
     warn_unresolved,
 )
 from .circle_passes import (  # noqa: F401
+    circle_deviation,
     find_passes,
     find_stretches,
     lsq_circle,
@@ -306,11 +307,9 @@ def analyse_sensor(x, y, radius, centre, direction) -> SensorCircle:
     dx, dy = x - centre[0], y - centre[1]
     ang = np.unwrap(np.arctan2(dy, dx))
     e = np.hypot(dx, dy) - radius
-    cx, cy, _ = lsq_circle(x, y)
-    rl = np.hypot(x - cx, y - cy)
-    return SensorCircle(ang, e, float(np.max(np.abs(e))), float(rl.max() - rl.min()),
-                        (float(cx), float(cy)), *spikes_and_lobes(ang, e, direction),
-                        direction)
+    g, centre = circle_deviation(x, y)
+    return SensorCircle(ang, e, float(np.max(np.abs(e))), g, centre,
+                        *spikes_and_lobes(ang, e, direction), direction)
 
 
 def _sensors(X, Y, sl, present, reference, radius_m, centre_m, how) -> tuple[dict, list]:

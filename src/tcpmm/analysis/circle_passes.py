@@ -32,6 +32,10 @@ MIN_ARC_DEG = 30.0
 #: Largest distance of the path's radius from the nominal, as a share of it, for the path
 #: to count as that circle: 0.7 mm on R 35 mm [-]
 OFFSET_SHARE = 0.02
+#: Tolerance of a sensor's radius about its own level, as a share of R, where a pass is
+#: found in a sensor (a run without its command), and of a command that holds whole turns
+#: only within it (a compensated one, :func:`reference_stretches`) [-]
+SENSOR_TOL_SHARE = 0.02
 #: Fewest samples of a stretch on the circle [-]
 _MIN_SAMPLES = 8
 
@@ -366,13 +370,13 @@ def reference_stretches(x, y, radius_m, centre_m, tol, ref) -> list:
     got = find_stretches(x, y, radius_m, centre_m, tol, settled=ref == "cmd")
     if ref != "cmd" or any(st.turns for st in got):
         return got
-    wide = find_stretches(x, y, radius_m, centre_m, 2e-2 * radius_m, settled=True)
+    wide = find_stretches(x, y, radius_m, centre_m, SENSOR_TOL_SHARE * radius_m, settled=True)
     if not any(st.turns for st in wide):
         return got
     warnings.warn(InputWarning(
         f"the command departs from the circle by more than {tol * 1e6:.0f} um (a command "
         "compensated for the machine's error, or another path): its whole turns are taken "
-        f"within {2e-2 * radius_m * 1e3:.2g} mm of it; measure the run against the "
+        f"within {SENSOR_TOL_SHARE * radius_m * 1e3:.2g} mm of it; measure the run against the "
         "program it was to follow (--command) where its time line is the run's"),
         stacklevel=3)
     return wide

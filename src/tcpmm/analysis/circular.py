@@ -38,6 +38,7 @@ from .circle_checks import (
     warn_unresolved,
 )
 from .circle_passes import (  # noqa: F401
+    SENSOR_TOL_SHARE,
     circle_deviation,
     find_passes,
     find_stretches,
@@ -363,7 +364,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
     X, Y = run.axes[axes[0]], run.axes[axes[1]]
     present = present_sensors(run, axes, sensors)
     ref = "cmd" if "cmd" in present else present[0]
-    tol = 1e-3 * radius_m if ref == "cmd" else 2e-2 * radius_m
+    tol = 1e-3 * radius_m if ref == "cmd" else SENSOR_TOL_SHARE * radius_m
     passes = []
     for st in reference_stretches(X.sensor(ref), Y.sensor(ref), radius_m, centre_m, tol,
                                   ref):

@@ -222,7 +222,7 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                  CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s),
                  RapidStretches(corner_span_m))
     _has_columns(path, cmd_cols, axes)
-    scan.clamp = not rapids and "rapid" in parquet_file(path).schema_arrow.names
+    scan.clamp = not rapids
     pending = None
     # the next chunk is read (pyarrow lets go of the interpreter lock) while one is measured
     chunks = read_ahead(_batches(path, rows, lambda c: c in want))
@@ -341,7 +341,7 @@ class _Scan:
         # the chords' sag as the whole path's, and the largest the command has so far
         line = polyline(cmd[c0:c1], before, after)
         res.command_sag_m = max(res.command_sag_m, float(np.max(line[4])))
-        air = buf["rapid"][c0:c1] if self.clamp else None
+        air = buf["rapid"][c0:c1] if self.clamp and "rapid" in buf else None
         found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed,
                                       line=line, air=air)
         feed, since = self._feed(buf, first, b)

@@ -88,10 +88,6 @@ def block_seconds(segments: list, rapid_m_per_s) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         for s in segments:
             t = type(s)
-            if t is Line:
-                plain.append(math.dist(s.start_m, s.end_m) / s.feed_m_per_s
-                             if s.feed_m_per_s > 0 else math.inf)
-                continue
             if t is LineRun or t is ArcRun:
                 out.append(np.array(plain))
                 plain = []
@@ -126,6 +122,6 @@ def _seconds(s, rapid_m_per_s) -> float:
     if t is Rapid:
         return max(abs(b - a) / v for a, b, v in zip(s.start_m, s.end_m, rapid_m_per_s,
                                                          strict=True))
-    if t is Arc:
+    if t is Line or t is Arc:
         return s.length_m / s.feed_m_per_s if s.feed_m_per_s > 0 else math.inf
     return 0.0

@@ -105,10 +105,11 @@ def test_paths_searched_in_threads_give_each_path_alone(cores, monkeypatch):
     (``_THREADED``), each cut into as many runs of points as there are cores, each the
     same to the bit as that path searched alone in one piece; a path that is not finite
     goes to numpy beside them."""
-    from tcpmm.analysis import contour
-    from tcpmm.analysis.contour import _THREADED, distances_to_polyline
+    from tcpmm.analysis import contour_search
+    from tcpmm.analysis.contour import distances_to_polyline
+    from tcpmm.analysis.contour_search import _THREADED
 
-    monkeypatch.setattr(contour, "usable_cores", lambda: cores)
+    monkeypatch.setattr(contour_search, "usable_cores", lambda: cores)
 
     rng = np.random.default_rng(3)
     p = shape("spiral", 12_000, rng)

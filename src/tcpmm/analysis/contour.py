@@ -45,18 +45,16 @@ of the corners, unless counted (:mod:`tcpmm.analysis.rapids`).
 
 from __future__ import annotations
 
-import itertools
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._threads import usable_cores
 from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, run_signals
+from .contour_search import searched
 from .contour_windows import chord_sags, feed_windows, over_rests, travel, whole_windows
 from .corners import path_length
 from .rapids import RapidStretches, feed_only, since_rapid
@@ -64,9 +62,6 @@ from .rapids import RapidStretches, feed_only, since_rapid
 #: coordinates the compiled search takes: finite, and far from where their squares
 #: overflow [m]
 _HUGE = 1e100
-#: points of all paths together from which the paths are searched in threads: below, a
-#: thread's start costs more than it saves [-]
-_THREADED = 20_000
 
 
 @dataclass
@@ -297,49 +292,18 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
     if air is not None:
         lo, hi = feed_windows(lo, hi, t_p, t_q, air)
     fine = p.dtype == np.float64 and np.all(np.abs(p) < _HUGE)
-    out, searched = {}, {}
+    out, found = {}, {}
     for k, q in qs.items():
         if fine and q.dtype == np.float64 and np.all(np.abs(q) < _HUGE):
-            searched[k] = out[k] = np.ascontiguousarray(q)  # the compiled search, below
+            found[k] = out[k] = np.ascontiguousarray(q)  # the compiled search, below
         else:
             out[k] = whole_windows(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q,
                                    t_p)
-    if searched:
-        out.update(_searched(searched, np.ascontiguousarray(p), seg, ln2, tdir, sag, seglen,
-                             lo.astype(np.int64), hi.astype(np.int64), bool(signed),
-                             np.ascontiguousarray(t_q, float), np.ascontiguousarray(t_p, float)))
+    if found:
+        out.update(searched(found, np.ascontiguousarray(p), seg, ln2, tdir, sag, seglen,
+                            lo.astype(np.int64), hi.astype(np.int64), bool(signed),
+                            np.ascontiguousarray(t_q, float), np.ascontiguousarray(t_p, float)))
     return out
-
-
-def _searched(qs: dict, p, seg, ln2, tdir, sag, seglen, lo, hi, signed: bool, t_q,
-              t_p) -> dict:
-    """:func:`tcpmm.path.nearest.nearest_segments` of each path of ``qs`` (from the module
-    compiled ahead of time, which spares the command numba's start); where the paths are
-    long and there are cores, in threads, each path cut into as many runs of points as
-    there are cores so that the threads finish together (the compiled search lets go of
-    the interpreter lock, and each point's result is the same whatever run it is in)
-    [m], [-]."""
-    from .. import _compiled
-
-    def search(q, i0, i1):
-        return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, sag, seglen, lo[i0:i1],
-                                          hi[i0:i1], int(signed), t_q[i0:i1], t_p)
-
-    cores = usable_cores()
-    if cores < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:
-        return {k: search(q, 0, q.shape[0]) for k, q in qs.items()}
-    with ThreadPoolExecutor(cores) as pool:
-        found = {k: [pool.submit(search, q, *r) for r in _runs(q.shape[0], cores)]
-                 for k, q in qs.items()}
-        parts = {k: [f.result() for f in fs] for k, fs in found.items()}
-    return {k: tuple(np.concatenate(c) for c in zip(*ps, strict=True))
-            for k, ps in parts.items()}
-
-
-def _runs(n: int, parts: int) -> list:
-    """``parts`` runs ``(i0, i1)`` of ``n`` points as near equal as may be [-]."""
-    cut = [n * i // parts for i in range(parts + 1)]
-    return list(itertools.pairwise(cut))
 
 
 def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0,

@@ -105,6 +105,9 @@ class ContourResult:
     command_sag_m : float
         How far the command's samples cut the path's bends at most
         (:mod:`tcpmm.analysis.contour_sampling`) [m].
+    curves : int
+        Places where the command turns by more than the corners' least turn over their
+        span, evenly (:meth:`tcpmm.analysis.corners.CornerFinder._curves`): not corners [-].
     """
 
     axes: tuple
@@ -122,6 +125,7 @@ class ContourResult:
     nc_line: np.ndarray | None = field(default=None, repr=False)
     unreached: dict = field(default_factory=dict)
     command_sag_m: float = 0.0
+    curves: int = 0
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
@@ -175,7 +179,7 @@ class ContourResult:
         head = {"axes": "".join(self.axes), "signed": self.signed,
                 "settle_tol_um": self.settle_tol_m * 1e6, "rapids": self.rapids,
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
-                "command_sag_um": self.command_sag_m * 1e6,
+                "command_sag_um": self.command_sag_m * 1e6, "curves": self.curves,
                 "sensors": {s: {**{k[:-2] + "_um": v * 1e6 for k, v in d.items()
                                    if k.endswith("_m")},
                                 **{k: None if v != v else v for k, v in d.items()
@@ -358,4 +362,5 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     counted, kept, said = feed_only(run.rapid, rapids, corners.finish(), stretches)
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
                          list(kept), settle_tol_m, actual, counted, said, run.nc_line,
-                         end_unreached(corners, kept), float(np.max(line[4])))
+                         end_unreached(corners, kept), float(np.max(line[4])),
+                         corners.finder.curves)

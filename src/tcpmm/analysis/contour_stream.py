@@ -89,8 +89,7 @@ class StreamedContour:
         Most rows held at once [-].
     corners : sequence of dict
         As :attr:`tcpmm.analysis.contour.ContourResult.corners`, kept as columns
-        (:class:`~tcpmm.analysis.corner_rows.CornerRows`; ``list(corners)`` for a list)
-        [SI].
+        (:class:`~tcpmm.analysis.corner_rows.CornerRows`; ``list(corners)`` for a list) [SI].
     settle_tol_m : float
         The band of the settling figures [m].
     rapids : dict, optional
@@ -99,6 +98,8 @@ class StreamedContour:
         As :attr:`tcpmm.analysis.contour.ContourResult.unreached` [m].
     command_sag_m : float
         As :attr:`tcpmm.analysis.contour.ContourResult.command_sag_m` [m].
+    curves : int
+        As :attr:`tcpmm.analysis.contour.ContourResult.curves` [-].
     """
 
     axes: tuple
@@ -111,6 +112,7 @@ class StreamedContour:
     rapids: dict | None = None
     unreached: dict = field(default_factory=dict)
     command_sag_m: float = 0.0
+    curves: int = 0
 
     @property
     def errors(self) -> dict:
@@ -145,10 +147,9 @@ def parquet_rows(path) -> int:
 
 
 def travel_positions(path, feed_only: bool = False) -> dict:
-    """Per axis of the run's command, its smallest and largest position, as a two-sample
-    signal whose travel is the command's (for :func:`~tcpmm.analysis.plane.motion_plane`);
-    with ``feed_only``, over the samples out of G0 rapids where the run records them and
-    has some (:func:`tcpmm.analysis.rapids.feed_commands`) [m]."""
+    """Per axis of the run's command, its least and largest position: a two-sample signal
+    with the command's travel (:func:`~tcpmm.analysis.plane.motion_plane`); with ``feed_only``
+    over the samples out of G0 rapids, where it has some (:func:`.rapids.feed_commands`) [m]."""
     ends = {True: ({}, {}), False: ({}, {})}  # over the feed samples, over all
     for cols in _batches(path, None, lambda c: c.endswith("_cmd_mm")
                          or (feed_only and c == "rapid")):
@@ -240,6 +241,7 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                                                scan.stretches)
             res.sums = res.sums if res.rapids["counted"] else scan.feed
         res.unreached = end_unreached(scan.corners, res.corners)
+        res.curves = scan.corners.finder.curves
     finally:
         chunks.close()
         scan.close()

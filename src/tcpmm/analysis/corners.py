@@ -93,6 +93,8 @@ class CornerFinder:
         # of a reversal (None if none), last vertex, whether it holds two sharp turns]
         self.group = None
         self.last = -1  # the last corner's vertex
+        self.curves = 0  # runs of bending vertices with no corner among them
+        self.curve = (False, False)  # a run open at the last vertex judged; a corner in it
 
     def step(self, p, s, off: int, final: bool) -> list:
         """Corners among the vertices judged with the polyline ``p`` (from vertex ``off``)
@@ -106,6 +108,9 @@ class CornerFinder:
         out = []
         if hi > self.ev:
             out = self._judge(p, s, off, hi, final)
+        if final:
+            self.curves += int(self.curve[0] and not self.curve[1])
+            self.curve = (False, False)
         if final and s[-1] > 0.0 and self.last != n - 1:
             out.append((n - 1, float("nan")))
         return out
@@ -124,6 +129,7 @@ class CornerFinder:
         back = np.zeros(idx.size, bool)
         back[k] = ~sharp & (turn[k] >= _TURNS_BACK)
         cand[k] = sharp | back[k]
+        self._curves(bend, cand)
         k = np.flatnonzero(cand)
         # non-bending vertices up to each: sharp runs with none between are one bend
         straight = np.cumsum(~bend)
@@ -141,6 +147,25 @@ class CornerFinder:
                 self._close(p, s, off, out)
         self.ev = hi
         return out
+
+    def _curves(self, bend, cand) -> None:
+        """Count the runs of vertices that bend by more than the least turn over the span
+        with none of them a corner: curves, or corners blended over more than a quarter
+        span (a square's under ``G64 P0.1``), left out of the corners; a run open at the
+        last vertex judged goes on into the next piece [-]."""
+        if not bend.size:
+            return
+        going, held = self.curve
+        if going and not bend[0]:
+            self.curves += int(not held)
+            going = False
+        label = np.cumsum(bend & ~np.r_[going, bend[:-1]])
+        held_by = np.bincount(label[bend], weights=cand[bend], minlength=label[-1] + 1) > 0
+        held_by[0] |= held
+        runs = np.unique(label[bend])
+        self.curve = (bool(bend[-1]), bool(bend[-1] and held_by[runs[-1]]))
+        runs = runs[:-1] if bend[-1] else runs
+        self.curves += int(np.count_nonzero(~held_by[runs]))
 
     def _run(self, p, s, off, idx, turn, run, final, straight, out) -> None:
         """Take in one run of candidates (:func:`_runs`): it goes on from the last piece

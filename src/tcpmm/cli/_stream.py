@@ -193,7 +193,8 @@ def streamed(run_file: Path, chunk_rows: int | None) -> bool:
 
 def contour_streamed(run_file: Path, plane: str | None, window_s: float,
                      chunk_rows: int | None, *, corner_deg: float = 30.0,
-                     settle_tol_m: float = 1e-6, rapids: bool = False):
+                     corner_span_m: float = 0.5e-3, settle_tol_m: float = 1e-6,
+                     rapids: bool = False):
     """The contour error summary and the corners of a Parquet run read in chunks, in the
     plane of ``--plane`` or the one its command moves in (said on stderr, as for a whole
     run).
@@ -210,6 +211,8 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
         Rows a chunk [-].
     corner_deg : float
         ``--corner-deg`` [deg].
+    corner_span_m : float
+        ``--corner-span-mm``, in metres [m].
     settle_tol_m : float
         ``--settle-um``, in metres [m].
     rapids : bool
@@ -241,8 +244,8 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
                 update(counted["rows"])
 
         return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS,
-                              each, corner_deg=corner_deg, settle_tol_m=settle_tol_m,
-                              rapids=rapids)
+                              each, corner_deg=corner_deg, corner_span_m=corner_span_m,
+                              settle_tol_m=settle_tol_m, rapids=rapids)
 
 
 #: an NC program of more lines than this is interpolated in chunks by ``tcpmm path`` [-]

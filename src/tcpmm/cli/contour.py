@@ -21,6 +21,10 @@ class MeasuredSensor(StrEnum):
     motor = "motor"
 
 
+SPAN_HELP = ("Path before and after a point over which its turn is taken [mm]: a corner "
+             "turns within a quarter of it, a curve evenly.")
+
+
 @app.command()
 def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or measured)"),
             plane: str = typer.Option(
@@ -34,6 +38,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                                             help="Settling band after a corner [um]."),
             corner_deg: float = typer.Option(30.0, "--corner-deg",
                                              help="Least turn that makes a corner [deg]."),
+            span_mm: float = typer.Option(0.5, "--corner-span-mm", help=SPAN_HELP),
             window_s: float = typer.Option(
                 0.2, "--window-s", help="Time around each sample in which its closest command "
                                         "point is sought [s]."),
@@ -56,17 +61,17 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     """Contour error along any program: the shortest distance from each sensor's path to the
     commanded path, signed in a plane; corner overshoot, rounding and settling. The G0
     rapids of a run made from an NC program are left out (--rapids counts them)."""
-    _check_options(settle_um, corner_deg, window_s, sensor, plot, model, command)
+    _check_options(settle_um, corner_deg, window_s, sensor, plot, model, command, span_mm)
+    corners = {"corner_deg": corner_deg, "corner_span_m": span_mm * 1e-3,
+               "settle_tol_m": settle_um * 1e-6, "rapids": rapids}
     if streamed(run_file, chunk_rows):
         _check_streamed(model=model, command=command, plot=plot)
         with in_file(run_file):
-            run, res = None, contour_streamed(run_file, plane, window_s, chunk_rows,
-                                              corner_deg=corner_deg,
-                                              settle_tol_m=settle_um * 1e-6, rapids=rapids)
+            run, res = None, contour_streamed(run_file, plane, window_s, chunk_rows, **corners)
     else:
-        run, res = _whole(run_file, plane, chunk_rows, command, window_s=window_s,
-                          corner_deg=corner_deg, settle_tol_m=settle_um * 1e-6, rapids=rapids)
+        run, res = _whole(run_file, plane, chunk_rows, command, window_s=window_s, **corners)
     _say_notes(res, rapids, run_file)
+    _say_curves(res.curves, corner_deg, span_mm)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -80,7 +85,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
             verdict = contour_verdict(model, run_file, run, res, window_s, rapids)
     if plot is not None:
         res.plot(sensor=name, path=plot)
-    _emit(res, name, run_file, verdict, as_json)
+    _emit(res, name, run_file, verdict, as_json, span_mm)
 
 
 #: why a streamed run does not take an option, per option [-]
@@ -98,7 +103,7 @@ def _check_streamed(**given) -> None:
                                      param_hint=f"--{name}")
 
 
-def _emit(res, sensor: str, run_file: Path, verdict, as_json: bool) -> None:
+def _emit(res, sensor: str, run_file: Path, verdict, as_json: bool, span_mm: float) -> None:
     """The summary, the corners and the verdict where there is one, as JSON or tables."""
     if as_json:  # the corners as they are written: a CAM run has hundreds of thousands
         head = res.to_dict(corners=False)
@@ -106,7 +111,7 @@ def _emit(res, sensor: str, run_file: Path, verdict, as_json: bool) -> None:
             head["tcp_verdict"] = [f.to_dict() for f in verdict.figures]
         emit_json_rows(head, "corners", res.json_rows(), len(res.corners) * len(res.errors))
         return
-    _print(res, sensor, f"{run_file}")
+    _print(res, sensor, f"{run_file}", span_mm)
     if verdict is not None:
         from ._contour_model import print_verdict
 
@@ -162,14 +167,14 @@ def _say_sag(res, run_file: Path) -> None:
 
 
 def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,
-                   plot, model=None, command=None) -> None:
+                   plot, model=None, command=None, span_mm: float = 0.5) -> None:
     """Refuse the options that measure nothing, or nothing together, before the run is
     read [-]."""
     if model is not None and command is not None:
         raise typer.BadParameter("--model judges a prediction on the command it was run "
                                  "with; leave out --command", param_hint="--model")
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
-                    (window_s, "--window-s [s]")):
+                    (window_s, "--window-s [s]"), (span_mm, "--corner-span-mm [mm]")):
         positive(v, what)
     if not corner_deg < 180.0:
         raise typer.BadParameter(f"a path turns by 180 deg at most, so {corner_deg:g} deg "
@@ -200,7 +205,7 @@ def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
 CORNER_ROWS = 20
 
 
-def _print(res, sensor: str, title: str) -> None:
+def _print(res, sensor: str, title: str, span_mm: float = 0.5) -> None:
     """Error per sensor and the corner table of one sensor, 80 columns wide."""
     sign = ("signed, +: left of travel" if res.signed
             else f"unsigned: the distance in {''.join(res.axes)} (3D)")
@@ -230,11 +235,25 @@ def _print(res, sensor: str, title: str) -> None:
         t.add_row(str(row["corner"]), at, turn,
                   *[_num(row[k]) for k in ("overshoot_um", "rounding_um", "settle_ms",
                                            "settle_mm")])
-    print_plain(t, out, f"corners, {sensor}", "turn: of the command over 0.5 mm before and "
-                "after (a corner blended over part of that, G64, reads less than programmed: "
-                "88° for 90° at P0.01); overshoot: outside the path past the corner, "
+    example = ": 88° for 90° at P0.01" if span_mm == 0.5 else ""
+    print_plain(t, out, f"corners, {sensor}", f"turn: of the command over {span_mm:g} mm "
+                "before and after (a corner blended over part of that, G64, reads less than "
+                f"programmed{example}); overshoot: outside the path past the corner, "
                 f"rounding: closest approach [µm]; settled within {res.settle_tol_m * 1e6:g} "
                 f"µm{more}")
+
+
+def _say_curves(curves: int, corner_deg: float, span_mm: float) -> None:
+    """Say on stderr where the command turns by more than ``--corner-deg`` over the span
+    evenly, so that the corner table leaves it out: a curve, or a corner blended over more
+    than a quarter of the span, which a longer span takes in [-]."""
+    if curves:
+        console.print(
+            f"note: the command turns by more than {corner_deg:g}° over {span_mm:g} mm evenly "
+            f"at {curves} place{'s' if curves > 1 else ''}, not in the corner table: a curve, "
+            f"or a corner blended over more than {span_mm / 4:g} mm (a square's under G64 "
+            f"P0.1); --corner-span-mm {4 * span_mm:g} takes such a corner in",
+            highlight=False)
 
 
 #: a largest error this soon after a rapid is the servo's lag the rapid carries into the

@@ -129,7 +129,21 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
             "spike_before": b.get("circle", {}).get("largest_spike_um"),
             "spike_after": a.get("circle", {}).get("largest_spike_um"),
             "g_before": b.get("circle", {}).get("circular_deviation_um"),
-            "g_after": a.get("circle", {}).get("circular_deviation_um")}
+            "g_after": a.get("circle", {}).get("circular_deviation_um"),
+            "spikes_grown": spikes_grown(b, a)}
+
+
+def spikes_grown(before: dict, after: dict) -> list:
+    """The quadrant points whose spike grew on the true machine by more than the
+    sensors' resolution, 0.1 um, pass by pass (\"spike C\", ...) [-]."""
+    out = []
+    for pb, pa in zip(before.get("circle", {}).get("passes", []),
+                      after.get("circle", {}).get("passes", []), strict=False):
+        for k, v in pb["spikes_um"].items():
+            w = pa["spikes_um"].get(k, float("nan"))
+            if abs(w) > abs(v) + 0.1 and f"spike {k}" not in out:  # NaN: not crossed
+                out.append(f"spike {k}")
+    return out
 
 
 def truth_where_firm(comp, before, after):
@@ -169,7 +183,8 @@ def ratio(before, after) -> str:
 
 def table(rows: list) -> str:
     """The results as a Markdown table; "worse" names a figure that grew on the true
-    machine by more than the sensors' resolution, 0.1 um [-]."""
+    machine by more than the sensors' resolution, 0.1 um, and each quadrant point whose
+    spike did [-]."""
     def f(v):
         return "-" if v is None else f"{v:.2f}"
 
@@ -187,6 +202,7 @@ def table(rows: list) -> str:
         red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
         worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
                  if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]
+        worse += r.get("spikes_grown", [])
         firm = ("-" if r["firm_truth"] is None
                 else "{:.1f}x (least region {:.1f}x)".format(*r["firm_truth"]))
         out.append(f"| {r['machine']} | {r['program']} | {fx} | {r['trusted']:.0%} "

@@ -1,5 +1,6 @@
-"""The circular test's own figures on every draw of the model: the largest reversal spike
-and the circular deviation G, which the contour error per region does not bound.
+"""The circular test's own figures on every draw of the model: the reversal spikes, each
+and the largest, and the circular deviation G, which the contour error per region does
+not bound.
 
 A correction limited by the axes' acceleration can lower the contour error of every region
 while it moves the TCP's radius unevenly round the circle: G and the spikes, read against
@@ -17,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.circle_passes import find_stretches, within_span
+from ..analysis.circle_spikes import QUADRANTS
 from ..analysis.circular import analyse_sensor
 from ..errors import InputError
 
@@ -79,7 +81,9 @@ class CircleGuard:
         return cls(radius_m, tuple(centre_m), ij, passes[0], passes[1], tuple(angles))
 
     def figures(self, tcp: np.ndarray, compensated: bool) -> np.ndarray:
-        """Largest reversal spike and largest G over the passes, ``[spike, G]`` [m].
+        """Each pass's reversal spikes A-D (NaN where the pass does not cross the quadrant
+        point), then the largest spike and the largest G over the passes, ``[A, B, C, D,
+        ..., spike, G]`` [m].
 
         Parameters
         ----------
@@ -90,11 +94,25 @@ class CircleGuard:
         """
         x, y = tcp[self.plane[0]], tcp[self.plane[1]]
         spike = g = 0.0
+        each = []
         passes = self.after if compensated else self.before
         for st, ang in zip(passes, self.angles[1 if compensated else 0], strict=True):
             on = within_span(x, y, st.index, self.centre_m, ang)  # as the analysis takes it
             s = analyse_sensor(x[on], y[on], self.radius_m, self.centre_m, st.direction)
-            sp = np.abs([v for v in s.spikes.values() if np.isfinite(v)])
-            spike = max(spike, float(sp.max()) if sp.size else 0.0)
+            sp = np.abs([s.spikes.get(k, np.nan) for k in QUADRANTS])
+            each.extend(sp)
+            spike = max(spike, float(np.nanmax(sp)) if np.isfinite(sp).any() else 0.0)
             g = max(g, s.circular_deviation)
-        return np.array([spike, g])
+        return np.array([*each, spike, g])
+
+    def spike_samples(self) -> list:
+        """Per spike of :meth:`figures` (pass by pass, A-D), the samples of the delayed
+        path where its pass crosses that quadrant point: where a region's correction makes
+        the spike worse [-]."""
+        out = []
+        for st, ang in zip(self.after, self.angles[1], strict=True):
+            first = st.index.start or 0
+            for q in np.radians(list(QUADRANTS.values())):
+                turn = np.floor((ang - q) / (2.0 * np.pi))  # changes where the pass crosses q
+                out.append(first + 1 + np.flatnonzero(np.diff(turn) != 0))
+        return out

@@ -93,7 +93,7 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
     before = per[0.0][zero]
 
     def objective(figs):
-        return figs[:, :n_reg].max() + (figs[:, n_reg].max() if guard is not None else 0.0)
+        return figs[:, :n_reg].max() + (figs[:, -2].max() if guard is not None else 0.0)
 
     best = (0.0, zero, before, objective(before))
     for s, c in itertools.product(PARAMETER_SHARES, itertools.product(range(len(LEVELS)),

@@ -4,23 +4,22 @@ uncertainty, scaled back per region where the draws cannot guarantee an improvem
 Regions are the windows around every reversal of an axis and the stretches between them. A
 share of the correction in {0, 1/4, ..., 1} is chosen per axis: the shares whose largest
 contour error is smallest on the worst draw, among those whose every figure the draws vouch
-for (:func:`vouched`: on every draw it falls by more than :func:`margin` or stays within the
-sensors' resolution): the contour error of each region and, for a circle
-(:mod:`.circleguard`), its largest reversal spike and G. A share is kept only where it
-lowers the worst draw's contour error by more than the margin, and a region, spike or G
-counts as improved only where every draw falls by more than it. The margin holds for the
-contour error too: the correction acts on the servo's lag and the structure's deflection,
-which set that error, so it is the figure the correction moves and claims to improve (a
-friction pulse hardly moves it, so the controller-side choice only keeps it from growing),
-and a fall smaller than the model's error can be a rise on the machine. A region is
-*trusted* where the chosen shares improve it on every draw and one more draw, the machine,
-would be improved too, and *firm* where it would improve at least :data:`FIRM_RATIO`
-times, by the draws' scatter (:func:`next_draw`). The draws carry the model error's
-floors that ``tcpmm spread`` uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`), so that an
-axis identified with a small deviation is not drawn tighter than identification can be
-right. The axes run apart
-in the model, so that each share is simulated once per axis and draw and every
-combination of shares is a sum.
+for (:func:`vouched`: on every draw it falls by more than :func:`margin` or stays within
+the sensors' resolution): the contour error of each region and, for a circle
+(:mod:`.circleguard`), each of its reversal spikes, the largest and G. A share is kept only
+where it lowers the worst draw's contour error by more than the margin, and a region, spike
+or G counts as improved only where every draw falls by more than it. The margin holds for
+the contour error too: the correction acts on the servo's lag and the structure's
+deflection, which set that error, so it is the figure the correction moves and claims to
+improve (a friction pulse hardly moves it, so the controller-side choice only keeps it from
+growing), and a fall smaller than the model's error can be a rise on the machine. A region
+is *trusted* where the chosen shares improve it on every draw and one more draw, the
+machine, would be improved too, and *firm* where it would improve at least
+:data:`FIRM_RATIO` times, by the draws' scatter (:func:`next_draw`). The draws carry the
+model error's floors that ``tcpmm spread`` uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`),
+so that an axis identified with a small deviation is not drawn tighter than identification
+can be right. The axes run apart in the model, so that each share is simulated once per
+axis and draw and every combination of shares is a sum.
 """
 
 from __future__ import annotations
@@ -94,7 +93,8 @@ def vouched(before: np.ndarray, after: np.ndarray) -> bool:
         The figure per draw without and with the compensation [m].
     """
     d = np.asarray(after) - np.asarray(before)
-    return bool(np.all((d <= -margin(before)) | (np.abs(d) <= EQUAL_M)))
+    # NaN: a quadrant point the pass does not cross, with or without the compensation
+    return bool(np.all((d <= -margin(before)) | (np.abs(d) <= EQUAL_M) | np.isnan(d)))
 
 
 def verdict(least_ratio: float, improves: bool) -> str:
@@ -157,7 +157,7 @@ def axis_errors(machines, comp, plants=None) -> np.ndarray:
 
 def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> np.ndarray:
     """Per machine for shares ``combo``: the largest error across the path in each region,
-    then with a circle its largest reversal spike and G (:mod:`.circleguard`), shape
+    then with a circle its spikes, the largest and G (:mod:`.circleguard`), shape
     (machines, regions [+ 2]) [m]."""
     n_ax = errs.shape[1]
     return figures(errs[:, np.arange(n_ax), list(combo)], target, labels, guard, any(combo))
@@ -166,7 +166,7 @@ def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> n
 def figures(e: np.ndarray, target, labels: np.ndarray, guard=None,
             compensated: bool = True) -> np.ndarray:
     """Per machine the largest error across the path in each region, then with a circle
-    its largest reversal spike and G, from the TCP errors ``e`` (machines, axes, n), judged
+    its spikes, the largest and G, from the TCP errors ``e`` (machines, axes, n), judged
     on the delayed path's passes where ``compensated``, shape (machines, regions [+ 2])
     [m]."""
     across = np.array([contour(ei, target) for ei in e])
@@ -180,7 +180,7 @@ def figures(e: np.ndarray, target, labels: np.ndarray, guard=None,
 
 def acceptable(before: np.ndarray, after: np.ndarray) -> bool:
     """Whether the draws vouch for the change of every figure (:func:`vouched`): each
-    region's contour error and, for a circle, its largest spike and G fall on every draw by
+    region's contour error and, for a circle, each spike and G fall on every draw by
     more than :func:`margin`, or stay within the sensors' resolution [-].
 
     Parameters
@@ -343,9 +343,14 @@ def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.nd
     if np.all(levels == levels[0]):
         return None  # one share per axis: the choice of :func:`choose_of`
 
+    spikes = [] if guard is None else guard.spike_samples()
+
     def check(b, a):
-        bad = [r for r in range(n_reg) if not vouched(b[:, r], a[:, r])]
-        return bad, all(vouched(b[:, j], a[:, j]) for j in range(n_reg, b.shape[1]))
+        bad = {r for r in range(n_reg) if not vouched(b[:, r], a[:, r])}
+        for j, at in enumerate(spikes, start=n_reg):  # a spike worse: where it is crossed
+            if not vouched(b[:, j], a[:, j]):
+                bad.update(labels[at].tolist())
+        return sorted(bad), all(vouched(b[:, j], a[:, j]) for j in range(n_reg, b.shape[1]))
 
     def judge_errors(e):
         return figures(e, comp.target, labels, guard, True)

@@ -342,6 +342,30 @@ def test_a_circle_the_model_cannot_follow_is_no_prediction_whatever_its_interval
     json.dumps(v.to_dict(), allow_nan=False)
 
 
+def test_an_axis_identified_without_friction_runs_leaves_its_circles_undetermined(known):
+    """A bundle without friction.csv gives an axis no friction: its model's spikes are
+    those of the linear dynamics alone (3.6 um on bench C, where the circle measured 41.7
+    um), and they were called firm to +- 0.9 um. Every figure of a circle that moves such
+    an axis is undetermined, naming the axis and the runs that settle it; an axis with no
+    uncertainty (a model not identified) is as it was."""
+    a = known.axes["X"]
+    bare = known.with_axis("X", a.replace(friction=None))
+    assert known.axes["X"].friction is not None
+    v = prediction_verdict(bare)
+    assert v.figures and not v.firm
+    for f in v.figures:
+        assert f.verdict == "undetermined" and f.cause.startswith("no friction runs for axis X")
+        assert "friction.csv" in f.settle and not math.isfinite(f.half_width)
+    assert v.axes["X"]["verdict"] == "undetermined" and v.axes["Y"]["verdict"] == "firm"
+    both = bare.with_axis("Y", known.axes["Y"].replace(friction=None))
+    v = prediction_verdict(both)
+    assert {f.cause.split(":")[0] for f in v.figures} == {"no friction runs for axes X, Y"}
+    assert {d["verdict"] for d in v.axes.values()} == {"undetermined"}
+    json.dumps(v.to_dict(), allow_nan=False)
+    plain = bare.with_axis("X", bare.axes["X"].replace(uncertainty=None))
+    assert prediction_verdict(plain).firm
+
+
 def test_a_wholly_open_parameter_is_moved_within_what_a_feed_axis_can_have(known):
     """A deviation of hundreds of times a parameter moved it by exp(1.645 * 900): M_h
     came out 0 (and the verdict stopped with 'M_h: Input should be greater than 0'), or

@@ -336,6 +336,9 @@ def _print_presliding(idn, presliding) -> None:
 
     for name, a in idn.axes.items():
         if a.friction is None:
+            console.print(f"warning: axis {name}: no friction runs ({name}/friction.csv): the "
+                          "model has no friction, so the reversal spikes, G and contour error "
+                          "of a circle that moves it are undetermined", highlight=False)
             continue
         fit = a.presliding_fit
         if presliding is not None:

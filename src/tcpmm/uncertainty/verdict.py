@@ -112,6 +112,41 @@ def _no_prediction(key, nominal: float, faults: str) -> FigureVerdict:
                          "limit: check the load force, the gains and the current limit")
 
 
+def _no_friction(key, nominal: float, axes: list) -> FigureVerdict:
+    """The verdict on a figure of a test that moves an axis identified without friction
+    runs: its model has no friction, which makes the reversal spikes and moves G and the
+    contour error at every reversal, by an amount the data do not bound."""
+    return FigureVerdict(*key, nominal, math.inf, target(key[2], nominal), "undetermined",
+                         f"{_NO_RUNS}{'axes' if axes[1:] else 'axis'} {', '.join(axes)}: the "
+                         "model has no friction", "friction runs (friction.csv: the axis "
+                         "back and forth at several constant speeds)")
+
+
+#: The cause of :func:`_no_friction`'s verdict, before the axes [-].
+_NO_RUNS = "no friction runs for "
+
+
+def _blames(cause: str, axis: str) -> bool:
+    """Whether a figure's ``cause`` names ``axis``: as its first words, as a run that
+    fails on it, or as an axis without friction runs [-]."""
+    if cause.startswith(_NO_RUNS):
+        return axis in cause[len(_NO_RUNS):].split(":")[0].split(" ", 1)[1].split(", ")
+    return cause.startswith(f"axis {axis} ") or (cause.startswith("no prediction")
+                                                   and f"axis {axis}:" in cause)
+
+
+def _frictionless(machine, tests) -> dict:
+    """Per test, the axes it moves that were identified without friction runs: an
+    identified model's axis (it carries its uncertainty) with no friction [-]."""
+    bare = [n for n, a in machine.axes.items()
+            if a.friction is None and a.uncertainty is not None]
+    out = {}
+    for t in tests:
+        moves = getattr(t, "plane", None) or tuple(t.command.axes)
+        out[t.label] = [n for n in bare if n in moves]
+    return out
+
+
 def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
     """The verdict on one figure from its changes (:func:`figure_changes`)."""
     test, direction, figure = key
@@ -209,9 +244,7 @@ def _axis_verdicts(machine, figures: list) -> dict:
     quantities with the measurement that would settle each [-]."""
     out = {}
     for name, a in machine.axes.items():
-        mine = [f for f in figures if f.verdict != "firm" and (
-            f.cause.startswith(f"axis {name} ")
-            or (f.cause.startswith("no prediction") and f"axis {name}:" in f.cause))]
+        mine = [f for f in figures if f.verdict != "firm" and _blames(f.cause, name)]
         kinds = {f.verdict for f in mine}
         verdict = ("undetermined" if "undetermined" in kinds else
                    "uncertain" if "uncertain" in kinds else "firm")
@@ -248,8 +281,9 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
     if not tests:
         return Verdict([], _axis_verdicts(machine, []), [])
     nominal, changes, opens = figure_changes(machine, tests, sensor, progress, jobs)
-    faults = getattr(nominal, "faults", {})
+    faults, bare = getattr(nominal, "faults", {}), _frictionless(machine, tests)
     figs = [_no_prediction(k, x, faults[k[0]]) if k[0] in faults
+            else _no_friction(k, x, bare[k[0]]) if bare.get(k[0])
             else _judge(k, x, changes[k], opens) for k, x in nominal.items()
             if math.isfinite(x)]
     return Verdict(figs, _axis_verdicts(machine, figs), [t.label for t in tests])

@@ -183,6 +183,28 @@ def test_a_share_from_a_held_sweep_is_open_between_its_two_measures():
     assert (whole.low, whole.high) == SHARE_RANGE
 
 
+def test_a_sweep_share_the_plateaus_contradict_is_open_between_the_two():
+    """A TCP device zeroed 1 um apart from the scale moved bench C's X share from the
+    travelling sweep from 0.615 to 0.341, where the friction runs' plateaus read 0.597,
+    and the spikes were called uncertain by +- 3 um for a miss of 3.7 um. Where the two
+    disagree by more than 0.1 and three deviations together (the plateaus' scaled to their
+    real error), the share is open over both; where they agree (the benches: within 0.08)
+    or the plateaus give none, it is not."""
+    from tcpmm.ident.physical.uncertainty import FIT_DEVIATION_SCALE
+
+    sweep = {"source": "sweep", "share_std": 0.004, "resolution": 0.05e-6, "k_t": 1e8}
+    r = open_ranges(_axis_ident(share=0.341, plateau=(0.597, 0.004), **sweep))
+    share = next(x for x in r if x.quantity == "guideway_share")
+    k = FIT_DEVIATION_SCALE.get("plateau_share", 1.0)
+    assert share.low == pytest.approx(0.341 - 0.008)
+    assert share.high == pytest.approx(0.597 + 2 * 0.004 * k)
+    assert "0.341" in share.cause and "0.597" in share.cause and "zeroed" in share.cause
+    for agree in ((0.615, (0.597, 0.004)), (0.330, (0.254, 0.044)),
+                  (0.332, (math.nan, math.nan))):
+        found = open_ranges(_axis_ident(share=agree[0], plateau=agree[1], **sweep))
+        assert not [x for x in found if x.quantity == "guideway_share"], agree
+
+
 def test_open_ranges_round_trip_through_the_model_file(known, tmp_path):
     from tcpmm.io.modelfile import read_machine, write_machine
 

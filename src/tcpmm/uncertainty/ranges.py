@@ -54,6 +54,9 @@ PLAY_GAIN_OPEN = 0.98
 #: the share of a sweep that friction held from below. Beyond it the plateaus barely tell
 #: the guideway's force from the screw's (docs/validation/calibration.md) [-].
 PLATEAU_SHARE_REL_SD = 0.25
+#: Least difference between the travelling sweep's share and the plateaus' own that opens
+#: the share (the benches' agree within 0.08) [-].
+SHARE_DISAGREE = 0.1
 
 _SETTLE_SHARE = ("a sweep with a TCP device while the axis travels at constant speed, or a "
                  "scale at least ten times finer than the nut's deflection")
@@ -109,6 +112,28 @@ def _held_sweep_share(a) -> tuple[str, float, float]:
             "low", lo, SHARE_RANGE[1])
 
 
+def _sweep_against_plateaus(split) -> tuple[str, float, float] | None:
+    """The range between the travelling sweep's share and the friction runs' plateaus' own,
+    two deviations beyond each, where the two disagree by more than
+    :data:`SHARE_DISAGREE` and three deviations together (the plateaus' scaled to their
+    real error); ``None`` where they agree or the plateaus give none. The sweep reads the
+    share from the mean of scale minus TCP, so a TCP device zeroed apart from the scale,
+    or drifting, moves it by its offset over the column's compliance (bench C: 0.25 per
+    micrometre) and nothing in the sweep tells [-]."""
+    p, p_sd = split.plateau_share, split.plateau_share_std
+    s, s_sd = split.guideway_share, split.guideway_share_std
+    if not all(math.isfinite(v) for v in (p, p_sd, s, s_sd)):
+        return None
+    p_sd *= FIT_DEVIATION_SCALE.get("plateau_share", 1.0)
+    if abs(s - p) <= max(SHARE_DISAGREE, 3.0 * math.hypot(s_sd, p_sd)):
+        return None
+    lo = max(SHARE_RANGE[0], min(s - 2.0 * s_sd, p - 2.0 * p_sd))
+    hi = min(SHARE_RANGE[1], max(s + 2.0 * s_sd, p + 2.0 * p_sd))
+    return (f"the travelling sweep's TCP deflection reads a guideway share of {s:.3f} and "
+            f"the friction runs' plateaus {p:.3f}: a TCP device zeroed apart from the scale, "
+            "or drifting, moves the first", lo, hi)
+
+
 def _share_open(a) -> tuple[str, float, float] | None:
     """Why the guideway share is open and its range, or ``None`` when the data determine
     it."""
@@ -119,6 +144,8 @@ def _share_open(a) -> tuple[str, float, float] | None:
         return ("the friction runs do not determine the guideway share", *SHARE_RANGE)
     if split.source == "sweep" and a.friction_hold is not None:
         return _held_sweep_share(a)
+    if split.source == "sweep":
+        return _sweep_against_plateaus(split)
     if split.source != "data":
         return None
     res = a.axis.sensors.scale_resolution

@@ -27,7 +27,7 @@ from .lostmotion import estimate_lost_motion
 from .nutstiffness import LOST_MOTION_Z, estimate_nut
 from .steadycurve import steady_curve, stribeck_from_record
 from .stribeck import coulomb_stribeck, without_undetermined_hump
-from .sweepforce import settle_sweep_share, sweep_share
+from .sweepforce import settle_sweep_share, sweep_share, sweep_share_outside
 
 __all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
            "place_steady_viscous", "share_uncertainty_warning"]
@@ -200,8 +200,23 @@ def _split_of_runs(runs: _Runs, mech, rel_std: float, given, axis) -> FrictionSp
                               lm, None, from_sweep[1], viscous_on_table=from_sweep[2],
                               viscous_on_table_std=from_sweep[3])
     else:
+        if given is None and runs.sweep is not None and not play:
+            _warn_sweep_outside(runs, lm, axis)
         split = _split_of(lm, nut, play, given, axis)
     return _with_open_quantities(split, nut, coarse is not None, first)
+
+
+def _warn_sweep_outside(runs: _Runs, lm, axis) -> None:
+    """Say where the travelling sweep's deflection reads a share outside 0 to 1, which the
+    split then leaves for the friction runs': a TCP device zeroed apart from the scale
+    reads so [-]."""
+    share = sweep_share_outside(runs.sweep, runs.mechanics, runs.curve, lm, runs.C_t_std)
+    if share is not None:
+        warnings.warn(f"axis {axis or runs.record.axis}: the travelling sweep's deflection "
+                      f"between scale and TCP ({runs.sweep.deflection * 1e6:.2f} um) reads a "
+                      f"guideway share of {share:.2f}, outside 0 to 1, so the share is "
+                      "taken from the friction runs; is the TCP device zeroed to the scale "
+                      "(formats.md)?", InputWarning, stacklevel=3)
 
 
 def _with_open_quantities(split, nut, at_resolution: bool, first):

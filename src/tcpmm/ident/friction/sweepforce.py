@@ -27,10 +27,12 @@ weighs together. :func:`sweep_share` gives the share on the friction runs' stead
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
+from ...errors import InputWarning
 from .stribeck import coulomb_stribeck
 
 __all__ = ["SweepDeflection", "settle_sweep_share", "share_from_sweep", "sweep_deflection",
@@ -38,6 +40,9 @@ __all__ = ["SweepDeflection", "settle_sweep_share", "share_from_sweep", "sweep_d
 
 #: Blocks the record is cut into to see the scatter of its mean deflection [-].
 N_BLOCKS = 16
+#: Standard errors and least change over the record at which the deflection drifts
+#: (:func:`deflection_drift`) [-], [m].
+DRIFT_T, DRIFT_MIN_M = 5.0, 0.5e-6
 #: Largest relative standard deviation of the FRFs' ``C_t`` that counts as a measure of
 #: the table damping: above it the FRFs do not determine it (the physical fit's own test),
 #: and a spread that wide in the fit's log-parameters is too skewed to weigh [-].
@@ -72,12 +77,16 @@ class SweepDeflection:
         Mean of scale minus TCP over the record [m].
     deflection_std : float
         Its standard deviation, from the scatter of the means of :data:`N_BLOCKS` blocks
-        of the record [m].
+        of the record, and half the drift where there is one [m].
+    drift : float
+        Change of the deflection over the record where it drifts (:func:`deflection_drift`),
+        else 0 [m].
     """
 
     velocity: float
     deflection: float
     deflection_std: float
+    drift: float = 0.0
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report, SI units [-]."""
@@ -137,8 +146,36 @@ def sweep_deflection(sweep, velocity: float) -> SweepDeflection | None:
         return None  # the sweep went back somewhere: no single direction of friction
     d = scale - np.asarray(sweep.tcp_m, dtype=float)
     blocks = d[: n * N_BLOCKS].reshape(N_BLOCKS, n).mean(axis=1)
+    drift, scatter = deflection_drift(blocks)
+    if drift == 0.0:
+        return SweepDeflection(velocity, float(d.mean()), scatter / math.sqrt(N_BLOCKS))
+    where = sweep.source or f"axis {sweep.axis}"
+    warnings.warn(f"{where}: the deflection between scale and TCP drifts by "
+                  f"{drift * 1e6:.2f} um over the sweep (a TCP device drifting, or its scale "
+                  "against the linear scale's): its mean, which the guideway share is read "
+                  "from, is taken uncertain by half that", InputWarning, stacklevel=2)
     return SweepDeflection(velocity, float(d.mean()),
-                           float(blocks.std(ddof=1) / math.sqrt(N_BLOCKS)))
+                           math.hypot(scatter / math.sqrt(N_BLOCKS), 0.5 * drift), drift)
+
+
+def deflection_drift(blocks: np.ndarray) -> tuple[float, float]:
+    """The change over the record of the blocks' mean deflections along a line through
+    them where its slope stands :data:`DRIFT_T` standard errors out of their scatter about
+    it and the change is over :data:`DRIFT_MIN_M`, else 0; and the blocks' scatter about
+    that line (about their mean where there is no drift) [m].
+
+    A sweep at constant speed holds a constant friction force, and its deflection has no
+    reason to trend: a trend is the TCP device drifting (heat), or its scale against the
+    linear scale's (33 ppm over 150 mm of travel is 5 um). The benches' sweeps trend by
+    0.6 um at most, under 2 standard errors."""
+    x = np.arange(blocks.size) - 0.5 * (blocks.size - 1)
+    slope = float(np.dot(x, blocks - blocks.mean()) / np.dot(x, x))
+    resid = blocks - blocks.mean() - slope * x
+    se = float(resid.std(ddof=2)) / math.sqrt(float(np.dot(x, x)))
+    change = slope * blocks.size
+    if abs(slope) > DRIFT_T * se and abs(change) > DRIFT_MIN_M:
+        return change, float(resid.std(ddof=2))
+    return 0.0, float(blocks.std(ddof=1))
 
 
 def share_from_sweep(defl: SweepDeflection, mechanics, level: float, table_viscous: float,
@@ -173,16 +210,39 @@ def share_from_sweep(defl: SweepDeflection, mechanics, level: float, table_visco
     """
     m = mechanics
     v = defl.velocity
-    nut = m.K_h * (defl.deflection - (m.C_t * v - m.load_force) / m.K_b)  # signed [N]
-    if not (level > 0 and math.isfinite(nut)):
+    share, nut = read_share(defl, m, level, table_viscous)
+    if not math.isfinite(share):
         return None
-    share = math.copysign(1.0, v) * (nut + m.load_force - table_viscous * v) / level
     var = ((m.K_h * defl.deflection_std) ** 2 + (nut * K_h_rel_std) ** 2
            + (table_viscous_std * v) ** 2) / level**2
     std = math.sqrt(var)
     if share < -OUTSIDE_Z * std or share > 1.0 + OUTSIDE_Z * std or not std <= SHARE_STD_MAX:
         return None
     return min(max(share, 0.0), 1.0), std
+
+
+def read_share(defl: SweepDeflection, mechanics, level: float, table_viscous: float) -> tuple:
+    """The share the sweep's deflection reads, not clipped, and the nut's force it rests
+    on (:func:`share_from_sweep`); NaN where the friction level is not positive [-], [N]."""
+    m, v = mechanics, defl.velocity
+    nut = m.K_h * (defl.deflection - (m.C_t * v - m.load_force) / m.K_b)  # signed [N]
+    if not (level > 0 and math.isfinite(nut)):
+        return float("nan"), nut
+    return math.copysign(1.0, v) * (nut + m.load_force - table_viscous * v) / level, nut
+
+
+def sweep_share_outside(sweep, mechanics, curve: dict, lm, C_t_std: float) -> float | None:
+    """The share a travelling sweep reads where it lies outside 0 to 1 by more than
+    :data:`OUTSIDE_Z` standard deviations of its deflection alone (a TCP device zeroed
+    apart from the scale reads such a share), else ``None``; arguments as for
+    :func:`sweep_share` [-]."""
+    tv, _ = table_viscous_estimate(lm, mechanics, float(curve["Fv"]), C_t_std)
+    level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
+    share, _ = read_share(sweep, mechanics, level, tv)
+    if not math.isfinite(share) or level <= 0.0:
+        return None
+    sd = mechanics.K_h * sweep.deflection_std / level
+    return share if share < -OUTSIDE_Z * sd or share > 1.0 + OUTSIDE_Z * sd else None
 
 
 def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):

@@ -192,3 +192,41 @@ def test_the_corner_table_names_the_axes_of_its_coordinates(capsys, tmp_path):
     assert "at Z, X mm" in head, out
     assert any(ln.split()[1:3] == ["0.000,", "25.400"] for ln in out.splitlines()
                if ln.startswith("1 ")), out
+
+
+@pytest.mark.parametrize("width", [40, 60, 80])
+def test_a_wide_table_on_a_narrow_terminal_keeps_every_number_whole(width):
+    """A table made with ``plain_table`` (the circle's, the contour's, Table 2) on a
+    terminal of 60 columns had rich fold its cells: ``12.24`` read ``12.2`` with a ``4``
+    on the line below. It is printed as tables one under the other, each with the
+    leading name columns, every cell whole on its line; in a pipe it is one table, never
+    wrapped."""
+    import io
+    import re
+
+    from rich.console import Console
+
+    from tcpmm.cli._tables import plain_table, print_plain
+
+    heads = ("dir", "sensor", "A", "B", "C", "D", "±95%", "contour", "G")
+    rows = [("CCW", s, *[f"{v:.2f}" for v in (8.63 + k, 12.24 + k, -23.97, 12.26, 0.12,
+                                                73.51, 12.31)]) for k, s in
+            enumerate(("motor", "scale", "tcp"))]
+
+    def shown(terminal: bool, cols: int) -> list:
+        buf = io.StringIO()
+        screen = Console(file=buf, width=cols, force_terminal=terminal, no_color=True,
+                         highlight=False)
+        t = plain_table(heads, left=("dir", "sensor"))
+        for r in rows:
+            t.add_row(*r)
+        print_plain(t, screen, "title", "caption")
+        return re.sub(r"\x1b\[[0-9;]*m", "", buf.getvalue()).splitlines()
+
+    lines = shown(True, width)
+    assert all(len(line) <= width for line in lines)
+    for r in rows:  # each cell whole, on a line that names its row
+        for cell in r[2:]:
+            assert any(cell in line.split() and r[1] in line.split() for line in lines), cell
+    piped = shown(False, width)
+    assert sum(1 for line in piped if line.startswith("CCW")) == len(rows)

@@ -206,19 +206,48 @@ def print_plain(table, console, title: str | None = None, caption: str | None = 
 
     if not unicode_stream(console.file):
         table = _as_written(table, console.file)
-    if console.options.ascii_only:  # rich's own stand-in is a box with vertical rules
-        table.box = _ascii_head()
     unwrapped = not console.is_terminal
     if title is not None:
         console.print(Text(title), soft_wrap=unwrapped)
-    for segments in console.render_lines(table, pad=False):
-        line = Text()
-        for s in segments:
-            line.append(s.text, s.style)
-        line.rstrip()
-        console.print(line, soft_wrap=True)
+    for part in ([table] if unwrapped else _fitted(table, console.width)):
+        if console.options.ascii_only:  # rich's own stand-in is a box with vertical rules
+            part.box = _ascii_head()
+        for segments in console.render_lines(part, pad=False):
+            line = Text()
+            for s in segments:
+                line.append(s.text, s.style)
+            line.rstrip()
+            console.print(line, soft_wrap=True)
     if caption is not None:
         console.print(Text(caption), soft_wrap=unwrapped)
+
+
+def _fitted(table, width: int) -> list:
+    """A :func:`plain_table` as tables one under the other that each fit a terminal of
+    ``width`` (:func:`column_parts`; the leading columns justified left name the rows and
+    go into each), so that rich does not fold a number across lines; the table itself
+    where it fits [-]."""
+    def plain(cell) -> str:
+        return cell.plain if hasattr(cell, "plain") else str(cell)
+
+    headers = [plain(c.header) for c in table.columns]
+    rows = [list(r) for r in zip(*[[plain(x) for x in c.cells] for c in table.columns],
+                                 strict=True)]
+    numeric = [c.justify == "right" for c in table.columns]
+    keys = next((i for i, n in enumerate(numeric) if n), len(numeric))
+    parts = column_parts(headers, rows, numeric, keys, width)
+    if len(parts) == 1 and parts[0][1] is None:
+        return [table]
+    out = []
+    for cols, widths in parts:
+        t = plain_table([headers[i] for i in cols],
+                        left=[headers[i] for i in cols if not numeric[i]])
+        for column, w in zip(t.columns, widths or (), strict=False):
+            column.width = w
+        for row in rows:
+            t.add_row(*[row[i] for i in cols])
+        out.append(t)
+    return out
 
 
 def _as_written(table, stream):

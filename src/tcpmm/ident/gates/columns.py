@@ -203,6 +203,7 @@ def check_record_units(bundle) -> None:
         cfg = bundle.machine.axes[name]
         _check_current(record, cfg.servo.current_limit_A)
         _check_motor_angle(record, cfg)
+        _warn_finer_steps(record, cfg.sensors)
 
 
 def _check_current(record, limit: float) -> None:
@@ -232,3 +233,39 @@ def _check_motor_angle(record, cfg) -> None:
                          file=record.source, column="motor_angle_rad")
     raise InputError(f"{said}: check the units of motor_angle_rad (rad) and scale_mm (mm), "
                      "and lead_mm in machine.yaml", file=record.source, column="scale_mm")
+
+
+#: A position column whose small steps (:data:`STEP_PERCENTILE`) are under this share of
+#: the declared resolution moves finer than that sensor can [-].
+FINER_STEP = 0.5
+#: Percentile of the differences between a column's distinct values taken as its least
+#: step: the least itself may be a rounding of the file's decimals [%].
+STEP_PERCENTILE = 1.0
+
+
+def _warn_finer_steps(record, sensors) -> None:
+    """Say where ``motor_angle_rad`` or ``scale_mm`` moves in steps finer than the
+    resolution machine.yaml declares for it: the model quantises its sensors as declared
+    (an encoder of 4096 counts for one of a million turns its velocity loop into noise,
+    and its runs into the current limit), so the declaration is wrong, or the record was
+    resampled. A quantised column's distinct values lie whole steps apart [-]."""
+    import warnings
+
+    from ...errors import InputWarning
+
+    for column, values, quantum, key in (
+            ("motor_angle_rad", record.motor_angle_rad, sensors.encoder_resolution_rad,
+             "encoder_counts_per_rev"),
+            ("scale_mm", record.scale_m, sensors.scale_resolution_m, "scale_resolution_um")):
+        steps = np.diff(np.unique(np.asarray(values, dtype=float)))
+        steps = steps[steps > 0.0]
+        if steps.size < 100:
+            continue
+        step = float(np.percentile(steps, STEP_PERCENTILE))
+        if step < FINER_STEP * quantum:
+            unit = "rad" if column == "motor_angle_rad" else "m"
+            warnings.warn(f"{record.source or column}: {column} moves in steps of "
+                          f"{step:.3g} {unit}, finer than the one step of {quantum:.3g} {unit} "
+                          f"that {key} in machine.yaml declares; correct {key} (the model "
+                          "quantises the sensor as declared), unless the record was "
+                          "resampled", InputWarning, stacklevel=2)

@@ -28,8 +28,9 @@ def programmed_path(comp, programmed=None) -> Command:
 def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=None,
                       compensated=None):
     """The model run on the programmed and on the compensated command; each run's command
-    signals are the path it is judged against (the programmed path, delayed for the
-    compensated run) [-].
+    signals are the path its circle is judged on (the programmed path, delayed for the
+    compensated run), its G0 rapids those of the command it runs: the program's, as a run
+    of the compensated command records them [-].
 
     ``programmed``, where given, is the command run before instead of ``comp.reference``:
     the program at the axes' full limits where the compensation was planned with headroom
@@ -49,12 +50,13 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=
     compensated = comp.command if compensated is None else compensated
     before = simulate(machine, programmed, quantise_feedback=quantise_feedback)
     after = controlled_run(machine, compensated, comp.controller, quantise_feedback)
-    for run, path in ((before, programmed), (after, judged_path(comp))):
+    for run, path, ran in ((before, programmed, programmed),
+                           (after, judged_path(comp), comp.reference)):
         for a, r in run.axes.items():
             if a in path.positions:
                 r.cmd = path.positions[a][:run.time_s.size]
-        blocks = path.blocks()
-        if blocks is not None:  # the rapids of the path judged against, delayed with it
+        blocks = ran.blocks()
+        if blocks is not None:
             run.nc_line, run.rapid = (b[:run.time_s.size] for b in blocks)
     return before, after
 
@@ -118,8 +120,9 @@ def before_after(scores: dict, keys=None) -> list[tuple[str, float, float]]:
 
 
 def judged_path(comp) -> Command:
-    """The path the compensated command's TCP is judged against: the delayed path, or the
-    programmed one where no share of the correction is applied [m]."""
+    """The path the compensated command's TCP is to follow, on which its circle is judged:
+    the delayed path, or the programmed one where no share of the correction is applied.
+    Its contour error is measured against the program (:func:`predicted_scores`) [m]."""
     return comp.target if comp.applied else comp.reference
 
 
@@ -231,8 +234,13 @@ def predicted_scores(machine, comp, radius_m=None, centre_m=(0.0, 0.0),
     before, after = runs_before_after(machine, comp, programmed=programmed,
                                       compensated=compensated)
     where = (radius_m, centre_m, plane)
+    # the compensated run's contour error is measured against the program, with its own
+    # rapids, as the uncompensated one is: the TCP still on a rapid's line when a cut
+    # begins is late by the correction's delay, and counted as the servo's lag is before
+    # (the delayed path's rapids, ending that delay later, would leave it out of after
+    # alone); the rms over the delayed motion
     out = {"before": judge(before, path, *where, warn=True, hold=settling_hold(comp, path)),
-           "after": judge(after, judged, *where, hold=settling_hold(comp, judged)),
+           "after": judge(after, comp.reference, *where, hold=settling_hold(comp, judged)),
            "demands": {"before": axis_demands(path, before),
                        "after": axis_demands(compensated, after)}}
     if programmed is not None:

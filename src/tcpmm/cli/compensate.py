@@ -85,7 +85,6 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
     full, cmd, headroom = _planned(command, gcode, m, headroom)
-    given = cmd if headroom else full
     (full, cmd), held = _without_held(m, full, cmd)
     circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
     tuned = None if controller_out is None else _tuned(m, cmd, circle)
@@ -93,7 +92,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                  (iterations, draws), bounds, circle, tuned)
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
     write_command_csv(_with_held(compensated, held), output)
-    _write_reference(reference_out, given)
+    # the plan compensated: the headroom's, or the program's where none of it was kept
+    _write_reference(reference_out, _with_held(cmd if headroom else full, held))
     if gcode_out is not None:
         _write_dense(compensated, comp, m, gcode_out)
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)

@@ -758,6 +758,32 @@ def test_a_dense_program_a_controller_runs_slower_is_said(tmp_path, capsys, prof
     assert text[2].startswith("G0 ") and text[3].startswith("G4 P0.")
 
 
+def test_the_slower_program_is_said_where_the_command_begins_with_a_dwell(capsys):
+    """The dense program's rests before its first G1 were taken for the rapid to the start
+    and its settling dwell, and left out of the time a controller takes: a program that
+    begins with a dwell (G4 P0.5, on bench D's model) ran 6.5 % longer than the command
+    file, with no word. Only the rapid and its settling dwell are left out."""
+    import re
+    from pathlib import Path
+
+    from tcpmm.cli._compensate_dense import warn_replanned
+
+    T, rest = 1e-3, 500
+    t = np.arange(rest + 300) * T
+    s = np.clip(t - rest * T, 0.0, None)
+    x = np.minimum(2.0 * s ** 2, 0.2 * s - 0.005)  # 4 m/s^2 to 0.2 m/s, the model's 1
+    x = np.minimum(x, 0.02)
+    cmd = Command(t, {"X": x, "Y": np.zeros_like(x)})
+    text = dense_program(cmd, settle_s=0.25)
+    assert text.splitlines()[4:6] == ["G4 P0.001", "G4 P0.001"]
+    warn_replanned(builtin_machine(), cmd, text, Path("c.nc"), 0.25)
+    err = " ".join(capsys.readouterr().err.split())
+    assert "c.nc: a controller set as the model's interpolator" in err
+    took, timed = (float(v) for v in re.search(r"runs its moves in ([\d.]+) s where the "
+                                               r"command file takes ([\d.]+)", err).groups())
+    assert timed == pytest.approx(t[-1], abs=0.01) and took > timed + 0.05
+
+
 def test_a_command_file_has_no_planned_row_and_bad_numbers_are_named_in_their_unit(
         tmp_path, capsys):
     """A command file is planned already: its "planned" row repeated the one before and

@@ -10,7 +10,6 @@ from ._app import (
     app,
     checked_output,
     checked_report_file,
-    console,
     emit_json,
     floats,
     in_file,
@@ -19,6 +18,7 @@ from ._app import (
     positive,
     read_model,
 )
+from ._compensate_dense import write_dense
 from ._compensate_text import say_compensation, warn_current, warn_extra_reversals, warn_worse
 from ._plane import command_plane
 
@@ -95,7 +95,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     # the plan compensated: the headroom's, or the program's where none of it was kept
     _write_reference(reference_out, _with_held(cmd if headroom else full, held))
     if gcode_out is not None:
-        _write_dense(compensated, comp, m, gcode_out)
+        write_dense(compensated, comp, m, gcode_out)
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
     planner = None if gcode is None else machine_bounds(m)  # the limits it was planned to
     if report is not None:
@@ -290,63 +290,6 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
     comp.settings.update(programmed_duration_s=float(full.time_s[-1]),
                          planned_duration_s=float(cmd.time_s[-1]))
     return comp
-
-
-def _write_dense(compensated, comp, machine, path: Path) -> None:
-    """The compensated command as a dense G1 program, settling after its rapid for the
-    hold the command has at its end, and what a controller set as the model is makes of
-    it [-]."""
-    from ..compensate.gcodeout import dense_program
-    from ..io.atomic import write_text_atomic
-
-    T = comp.reference.period_s
-    text = dense_program(compensated, settle_s=comp.settings["hold_samples"] * T)
-    write_text_atomic(path, text)
-    _warn_replanned(machine, compensated, text, path)
-
-
-def _warn_replanned(machine, compensated, text: str, path: Path) -> None:
-    """Say on stderr where a controller set as the model's interpolator would run the dense
-    program slower than the command file is timed: its blocks planned to its acceleration
-    and jerk (an S-curve's jerk on 1 ms blocks, or limits below those the correction was
-    given), the program then lags the command file, and the figures after are not its own.
-
-    Parameters
-    ----------
-    machine : Machine
-        The model, with its interpolator settings [-].
-    compensated : Command
-        The compensated command the program was written from [m].
-    text : str
-        The dense program [-].
-    path : Path
-        Where it was written [-].
-    """
-    from ..path.program import program_to_command
-
-    if "\nG1 " not in text:  # a program that only dwells goes nowhere slower
-        return
-    st = interp_settings(machine)
-    moves = text.index("\nG1 ") + 1  # the rapid to the start and its dwell end at rest
-    head = program_to_command(text[:moves], st).time_s[-1]
-    took = program_to_command(text, st).time_s[-1] - head
-    timed = compensated.time_s[-1] - compensated.time_s[0]
-    if took > timed * (1 + REPLANNED_SHARE) + 2 * compensated.period_s:
-        console.print(f"warning: {path.name}: a controller set as the model's interpolator "
-                      f"({st.profile}, {st.path_accel_m_per_s2:g} m/s^2 on the path) runs "
-                      f"its moves in {took:.3g} s where the command file takes {timed:.3g} "
-                      "s: it plans the 1 ms blocks slower, the program lags the command "
-                      "file, and the figures after are the file's; set the controller's "
-                      "limits in the model's interpolation settings, or give the axes' "
-                      "with --accel-m-per-s2 and --jerk-m-per-s3", highlight=False)
-
-
-#: How much longer than the command file a controller may take over the dense program
-#: before it is said: the correction keeps each axis within its acceleration, the
-#: interpolator the path's vector, a little more on a diagonal (a circle's program on the
-#: built-in machine took 1.1 % longer, bench C's 1.0 %; an S-curve's jerk on 1 ms blocks
-#: 2-3.5 times, 4 m/s^2 given against its 1 some 15 %) [-]
-REPLANNED_SHARE = 0.02
 
 
 def _write_report(path: Path, comp, machine, model: str, source, circle, cc,

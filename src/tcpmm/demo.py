@@ -10,7 +10,7 @@ import numpy as np
 
 from .analysis.circle_spike_sigma import U95_COLUMNS
 from .analysis.circular import analyse_circle
-from .io.atomic import output_folder, staged_folder, write_table_atomic, write_text_atomic
+from .io.atomic import staged_folder, write_table_atomic, write_text_atomic
 from .io.modelfile import write_machine
 from .machines.builtin import builtin_machine
 from .machines.paper import FEED_MM_PER_MIN, RADIUS_MM, paper_circle_command
@@ -62,7 +62,7 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
     dict
         Paths of the written files and the circular-test table [-].
     """
-    out = output_folder(out_dir)
+    out = Path(out_dir)
     # staged: an interrupted or failed demo leaves the folder as it was, not a mix of
     # this run's files and an earlier run's
     with staged_folder(out) as tmp:

@@ -15,6 +15,8 @@ import tempfile
 from pathlib import Path
 
 from ..errors import InputError
+from ._together import at_once, hold, together  # noqa: F401  (the API)
+from ._together import held_back as _held_back
 
 
 def check_output_folder(path, output=None) -> Path:
@@ -97,7 +99,7 @@ def probe_writable(folder, output=None) -> None:
     try:
         fd, tmp = tempfile.mkstemp(prefix=".tcpmm-probe.", dir=folder)
     except OSError as exc:
-        raise _cannot_write(exc, Path(output or folder), made_in=Path(folder)) from None
+        raise cannot_write(exc, Path(output or folder), made_in=Path(folder)) from None
     os.close(fd)
     with contextlib.suppress(OSError):
         os.unlink(tmp)
@@ -146,7 +148,8 @@ def _new_file_mode() -> int:
 
 @contextlib.contextmanager
 def atomic_path(path, suffix: str = ""):
-    """Yield a temporary path beside ``path``; rename it onto ``path`` on success.
+    """Yield a temporary path beside ``path``; rename it onto ``path`` on success, or,
+    within :func:`together`, when every output of the command is written.
 
     Parameters
     ----------
@@ -160,69 +163,129 @@ def atomic_path(path, suffix: str = ""):
     made = [p for p in (path.parent, *path.parent.parents) if not p.exists()]
     _make_folder(_no_file_above(path.parent))
     try:
-        yield from _written(path, suffix)
+        yield from _written(path, suffix, made)
     except BaseException:
         # a stream that fails part-way (a bad block of a program written as it is read)
         # leaves no empty folder of its output behind
-        for folder in made:
-            with contextlib.suppress(OSError):
-                folder.rmdir()
+        _remove_folders(made)
         raise
 
 
-def _written(path: Path, suffix: str):
+def _remove_folders(made) -> None:
+    """Remove the folders ``made`` for an output, deepest first, where they are empty."""
+    for folder in made:
+        with contextlib.suppress(OSError):
+            folder.rmdir()
+
+
+def _temporary_name(suffix: str) -> dict:
+    """``mkstemp``'s prefix and suffix of a temporary output: short, so that an output
+    whose own name is as long as the file system allows can still be written [-]."""
+    return {"prefix": ".tcpmm-", "suffix": suffix if len(suffix) <= 16 else ".tmp"}
+
+
+def _written(path: Path, suffix: str, made=()):
     """:func:`atomic_path`'s temporary file in an existing folder, renamed on success."""
     # a device or a pipe (/dev/null, /dev/stdout, a FIFO) is written into, not replaced
     special = path.exists() and not path.is_file()
     mode = stat.S_IMODE(path.stat().st_mode) if path.exists() else _new_file_mode()
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or path.suffix,
+        fd, tmp = tempfile.mkstemp(**_temporary_name(suffix or path.suffix),
                                    dir=None if special else path.parent)
     except OSError as exc:
-        raise _cannot_write(exc, path, made_in=None if special else path.parent) from None
+        raise cannot_write(exc, path, made_in=None if special else path.parent) from None
     os.close(fd)
     try:
         yield Path(tmp)
-        if special:
-            with open(tmp, "rb") as src, open(path, "wb") as dst:
-                shutil.copyfileobj(src, dst)
-            os.unlink(tmp)
-        else:
+        if not special:
             os.chmod(tmp, mode)
-            os.replace(tmp, path)
+        if _held_back(path):
+            hold(path, lambda: _said(_put, path, tmp, path, special),
+                 lambda: (_unlink(tmp), _remove_folders(made)))
+        else:
+            _put(tmp, path, special)
     except BaseException as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        _unlink(tmp)
         if isinstance(exc, OSError):
-            raise _cannot_write(exc, path) from None
+            raise cannot_write(exc, path) from None
         raise
+
+
+def _put(tmp: str, path: Path, special: bool) -> None:
+    """The written temporary file ``tmp`` in its place ``path``."""
+    if special:
+        with open(tmp, "rb") as src, open(path, "wb") as dst:
+            shutil.copyfileobj(src, dst)
+        os.unlink(tmp)
+    else:
+        os.replace(tmp, path)
+
+
+def _said(put, path: Path, *args) -> None:
+    """``put(*args)``, its OSError as the error of the output ``path`` [-]."""
+    try:
+        put(*args)
+    except OSError as exc:
+        raise cannot_write(exc, path) from None
+
+
+def _unlink(tmp) -> None:
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
 
 
 @contextlib.contextmanager
 def staged_folder(path):
     """Yield a temporary folder beside the output folder ``path``; on success move its
     files and subfolders into ``path``, on any failure (a full disk, a signal, an error
-    of the work) remove it, so that a report is there whole or not at all.
+    of the work) remove it and the folders made for it, so that a report is there whole
+    or not at all; an error names ``path``, not the temporary folder.
 
     Parameters
     ----------
     path : str or Path
         Output folder, created [-].
     """
-    out = output_folder(path)
+    out = check_output_folder(path)
+    made = [p for p in (out, *out.parents) if not p.exists()]
+    _make_folder(out.parent)
     try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+        tmp = Path(tempfile.mkdtemp(prefix=".tcpmm-", dir=out.parent))
     except OSError as exc:
-        raise _cannot_write(exc, out, made_in=out.parent) from None
+        _remove_folders(made)
+        raise cannot_write(exc, out, made_in=out.parent) from None
+    remove = lambda: (shutil.rmtree(tmp, ignore_errors=True), _remove_folders(made))  # noqa: E731
     try:
-        yield tmp
-        _move_into(tmp, out)
+        with at_once(tmp):
+            yield tmp
+        if _held_back(out):
+            hold(out, lambda: _said(_moved, out, tmp, out), remove)
+        else:
+            _moved(tmp, out)
     except BaseException as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
-        if isinstance(exc, OSError):
-            raise _cannot_write(exc, out) from None
-        raise
+        remove()
+        named = _naming(exc, tmp, out)
+        if named is exc:
+            raise
+        raise named from None
+
+
+def _moved(tmp: Path, out: Path) -> None:
+    """The staged folder ``tmp``'s content moved into ``out``, made where it is not."""
+    out.mkdir(exist_ok=True)
+    _move_into(tmp, out)
     shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _naming(exc: BaseException, tmp: Path, out: Path) -> BaseException:
+    """The error of a staged folder's output as the user's folder ``out`` has it: a file
+    of the temporary folder ``tmp`` named as ``out`` [-]."""
+    if isinstance(exc, OSError):
+        return cannot_write(exc, out)
+    if isinstance(exc, InputError) and exc.file is not None:
+        if Path(exc.file).is_relative_to(tmp):
+            return InputError(exc.message, file=out, line=exc.line, column=exc.column)
+    return exc
 
 
 def _move_into(src: Path, dst: Path) -> None:
@@ -237,7 +300,7 @@ def _move_into(src: Path, dst: Path) -> None:
             os.replace(f, target)
 
 
-def _cannot_write(exc: OSError, path: Path, made_in: Path | None = None) -> InputError:
+def cannot_write(exc: OSError, path: Path, made_in: Path | None = None) -> InputError:
     """The error of an output that cannot be written, with what to do; nothing of it is
     left behind and an earlier file of that name is unchanged. ``made_in`` is the folder
     in which a new file could not be made, where that was the failure."""

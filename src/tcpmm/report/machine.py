@@ -267,6 +267,9 @@ def identification_result_section(identification):
     """
     import tempfile
 
-    with tempfile.TemporaryDirectory(prefix="tcpmm-report-") as tmp:
+    from ..io.atomic import at_once
+
+    # read back at once, not held back with the command's outputs
+    with tempfile.TemporaryDirectory(prefix="tcpmm-report-") as tmp, at_once(tmp):
         identification.write_report(tmp)
         return identification_section(*read_identification_folder(tmp))

@@ -89,7 +89,9 @@ def main(argv=None) -> int:
         return 2
     except SystemExit as exc:
         code = int(exc.code or 0) if not isinstance(exc.code, str) else 1
-        return READER_GONE if code == 1 and _reader_gone() else code
+        return READER_GONE if code == 1 and _reader_gone() else _said_stopped(code)
+    except KeyboardInterrupt:  # before or after the command, where typer does not see it
+        return _said_stopped(130)
     except Exception as exc:  # a defect of tcpmm: one line, not a traceback, for the user
         if os.environ.get("TCPMM_TRACEBACK"):
             raise
@@ -172,6 +174,22 @@ def _warn_cache_fallback() -> None:
         console.print(f"[yellow]warning:[/yellow] neither the package's __pycache__ folders "
                       f"nor the user's cache folder can be written; numba's compiled "
                       f"functions are cached in {esc(FALLBACK[0])}")
+
+
+def _said_stopped(code: int) -> int:
+    """``code``, said on stderr in one line where it is that of a stop by a signal
+    (128 + SIGINT, SIGTERM or SIGHUP), unless the command said it itself: a stopped
+    command's outputs are removed, and an exit in silence looks like a crash [-]."""
+    import signal
+
+    from ._outputs import STOP_SAID
+
+    names = {128 + int(s): s.name for s in (signal.SIGINT, signal.SIGTERM,
+                                            getattr(signal, "SIGHUP", signal.SIGTERM))}
+    if code in names and not STOP_SAID:
+        console.print(f"stopped ({names[code]}): nothing was written", highlight=False)
+    STOP_SAID.clear()
+    return code
 
 
 def _exit_on_signals() -> dict:

@@ -20,6 +20,7 @@ from ._app import (
 )
 from ._compensate_dense import write_dense
 from ._compensate_text import say_compensation, warn_current, warn_extra_reversals, warn_worse
+from ._outputs import distinct_outputs, outputs_together
 from ._plane import command_plane
 
 _PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it); default "
@@ -46,6 +47,7 @@ _HEADROOM_HELP = ("Share of the axes' acceleration and jerk left to the correcti
 
 
 @app.command()
+@outputs_together()
 def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or builtin:vmc"),
                command: Path = typer.Option(None, "--command", help="Command file CMD.csv."),
                gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
@@ -79,8 +81,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     from ..compensate import machine_bounds
     from ..path import write_command_csv
 
-    _check_outputs(output, (report, controller_out, reference_out), radius, model, command,
-                   gcode)
+    _check_outputs(output, (report, controller_out, reference_out, gcode_out), radius, model,
+                   command, gcode)
     centre_m = tuple(c * 1e-3 for c in floats(centre, "--centre", 2))
     m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
@@ -154,27 +156,16 @@ def _write_reference(path, planned) -> None:
 
 
 def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> None:
-    """Refuse output paths that clash with the inputs or each other before any work, and
-    a controller-side compensation without the circle's radius.
-
-    Parameters
-    ----------
-    output : Path
-        The compensated command file [-].
-    extra : tuple of Path or None
-        The report page, the controller parameters file and the reference command file,
-        where asked [-].
-    radius : float or None
-        The circle's radius [mm].
-    model : str
-        The model file or builtin name [-].
-    command, gcode : Path or None
-        The program's command file or NC program [-].
-    """
-    report, controller_out, reference_out = extra
+    """Refuse output paths that clash with the inputs (the model, ``command`` or ``gcode``)
+    or each other before any work, and a controller-side compensation without the
+    circle's ``radius`` [mm]; ``extra`` holds the report page, the controller parameters
+    file, the reference command file and the dense program, each None where not asked."""
+    report, controller_out, reference_out, gcode_out = extra
     if radius is not None:
         positive(radius, "--radius [mm]")
     checked_output(output, model, command, gcode)
+    if gcode_out is not None:
+        checked_output(gcode_out, model, command, gcode)
     checked_report_file(report, model, command, gcode, output)
     if controller_out is not None:
         checked_output(controller_out, model, command, gcode, output)
@@ -182,6 +173,8 @@ def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> N
             raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
     if reference_out is not None:
         checked_output(reference_out, model, command, gcode, output)
+    distinct_outputs(("-o", output), ("--gcode-out", gcode_out), ("--report", report),
+                     ("--controller-out", controller_out), ("--reference-out", reference_out))
 
 
 def _without_held(machine, *commands) -> tuple:

@@ -20,6 +20,7 @@ from ._app import (
     out,
     parse_band,
 )
+from ._outputs import distinct_outputs, outputs_together
 from ._tables import plain_table, print_plain
 
 frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XML): show "
@@ -117,6 +118,7 @@ def show(file: Path = typer.Argument(..., help=_FILE),
 
 
 @frf_app.command("fit")
+@outputs_together()
 def fit(file: Path = typer.Argument(..., help=_FILE),
         poles: str = typer.Option("auto", "--poles",
                                   help="Number of poles, or auto (chosen by the data)."),
@@ -149,6 +151,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
     if fragment is not None:
         checked_yaml_output(fragment, file)
     checked_plot(plot)
+    distinct_outputs(("-o", output), ("--model-fragment", fragment), ("--plot", plot))
     frf = read_frf(file)
     with in_file(file):
         res = fit_frf(frf, poles=n, band_hz=(f0, f1), weighting=weight.value, delay_s=tau,

@@ -27,6 +27,7 @@ from ._app import (
     refuse_unstable,
     warn_suspect,
 )
+from ._outputs import outputs_together
 
 
 def _say_faulted(faulted: int, draws: int) -> None:
@@ -142,6 +143,7 @@ def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"
 
 
 @app.command()
+@outputs_together()
 def identify(bundle: Path = typer.Argument(..., help="Measurement bundle folder."),
              output: Path = typer.Option(..., "-o", "--output", help="MODEL.yaml"),
              report: Path = typer.Option(

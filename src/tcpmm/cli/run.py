@@ -29,6 +29,7 @@ from ._app import (
 )
 from ._circles import diagnostics_json, print_diagnostics, print_passes
 from ._controller import CONTROLLER_HELP, as_the_drives_take_it
+from ._outputs import distinct_outputs, outputs_together
 from ._plane import COMMAND_HELP, PLANE_HELP, command_plane, run_plane_said, with_given_command
 from ._stream import (
     CHUNK_HELP,
@@ -40,6 +41,7 @@ from ._stream import (
 
 
 @app.command()
+@outputs_together()
 def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Output folder."),
          report: Path = typer.Option(None, "--report", help="The HTML report REPORT.html "
                                      "(tcpmm report); default report.html in the output "
@@ -149,6 +151,7 @@ def _said_run(output: Path, summary: dict, as_json: bool, gcode: Path | None) ->
 
 
 @app.command()
+@outputs_together()
 def circle(run_file: Path = typer.Argument(
                ..., help="RUN.csv or RUN.parquet (simulated or measured)"),
            other: Path = typer.Argument(
@@ -178,6 +181,7 @@ def circle(run_file: Path = typer.Argument(
     positive(radius, "--radius [mm]")
     checked_plot(plot)
     checked_plot(diag_plot)
+    distinct_outputs(("--plot", plot), ("--diag-plot", diag_plot))
     results, axes = [], None
     for f in (run_file, other) if other is not None else (run_file,):
         run = with_given_command(read_run(f), command)
@@ -241,6 +245,7 @@ def _diagnostics(res, results, asked: bool, sensor):
 
 
 @app.command()
+@outputs_together()
 def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.parquet"),
             predicted: Path = typer.Argument(..., help="Predicted RUN.csv or RUN.parquet"),
             radius: float = typer.Option(..., "--radius", help="Nominal radius [mm]."),
@@ -266,6 +271,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     positive(radius, "--radius [mm]")
     checked_plot(plot)
     checked_report_file(report, measured, predicted)
+    distinct_outputs(("--plot", plot), ("--report", report))
     runs = [read_run(f) for f in (measured, predicted)]
     axes = run_plane_said(plane, runs[0], measured)
     with in_file(measured):
@@ -319,6 +325,7 @@ def _judged(cmp, model, predicted_run, radius_mm: float, centre_m, plane, where)
 
 
 @app.command()
+@outputs_together()
 def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
          output: Path = typer.Option(..., "-o", "--output", help="Command file CMD.csv."),
          model: str = typer.Option(None, "--model", help="Model file with interpolator settings."),

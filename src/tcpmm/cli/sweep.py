@@ -21,6 +21,7 @@ from ._app import (
     read_model,
     warn_unstable,
 )
+from ._outputs import STOP_SAID
 from ._stream import CHUNK_HELP
 
 _PARAM_HELP = ("NAME=START:STOP:STEP (grid, STOP included), NAME=LOW:HIGH (lhs range) or "
@@ -236,6 +237,7 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     except (KeyboardInterrupt, SystemExit):
         console.print(f"stopped: the variants computed so far are kept in "
                       f"{esc(str(output))}; the same command goes on from there")
+        STOP_SAID.append(True)
         raise
     _finish(res, as_json, _report)
 

@@ -102,3 +102,16 @@ def test_a_reference_machines_truth_file_reads_as_its_model(capsys):
     assert read_machine(path) == machine_from_truth(path)
     assert main(["machine", "show", str(path)]) == 0
     assert "velocity loop: gain margin" in capsys.readouterr().out
+
+
+def test_a_filter_above_the_loops_nyquist_names_the_filters_line(vmc):
+    """A low-pass at 5 kHz in a servo of 8 kHz was refused naming the servo's line, a
+    dozen lines above the filter: the filters' own line is named."""
+    text = dumps_machine(vmc).replace(
+        "      velocity_filter:\n      - 1.0\n",
+        "      velocity_filter:\n      - 1.0\n      filters:\n      - type: lowpass\n"
+        "        f_hz: 5000.0\n        zeta: 0.7\n", 1)
+    line = text.splitlines().index("      filters:") + 1
+    with pytest.raises(InputError, match="filter 1 \\(lowpass\\) at 5000 Hz") as got:
+        loads_machine(text, "m.yaml")
+    assert got.value.line == line and "servo.filters" in str(got.value)

@@ -92,6 +92,14 @@ class ServoParams(BaseModel):
     def _plausible(cls, v, info: ValidationInfo):
         return plausible(v, info.field_name, RANGES)
 
+    @field_validator("filters")
+    @classmethod
+    def _below_nyquist(cls, v, info: ValidationInfo):
+        # judged at the filters, so that a file's error names their lines, not the servo's
+        if "T_v" in info.data:
+            check_filters(v, info.data["T_v"])
+        return v
+
     @field_validator("velocity_filter")
     @classmethod
     def _taps(cls, v):
@@ -107,7 +115,6 @@ class ServoParams(BaseModel):
                 f"position loop period T_p={self.T_p} s must be an integer multiple of the "
                 f"velocity loop period T_v={self.T_v} s"
             )
-        check_filters(self.filters, self.T_v)
         return self
 
     @classmethod

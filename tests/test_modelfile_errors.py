@@ -126,6 +126,16 @@ def test_tab_in_indentation(vmc):
     assert err.line == _line(text, "\tK_L")
 
 
+@pytest.mark.parametrize(("indent", "column"), [("\t", 1), ("    \t", 5)])
+def test_tab_in_indentation_names_its_column(vmc, indent, column):
+    """The tab's line was named but not where in it the tab is, which an editor that
+    shows a tab as spaces does not tell."""
+    text = dumps_machine(vmc).replace("      K_L: 4000.0", f"{indent}K_L: 4000.0", 1)
+    err = _error(text)
+    assert (err.line, err.column) == (_line(text, "\tK_L"), column)
+    assert f"line {err.line}, column {column}: tab character" in str(err)
+
+
 def test_directory_instead_of_model(tmp_path):
     with pytest.raises(InputError, match="is a directory; give the path of the machine model"):
         read_machine(tmp_path)

@@ -126,14 +126,15 @@ def check_format(data: dict, fmt: str, what: str, file, line=None) -> None:
                      file=file, line=line, column="format")
 
 
-def _tab_line(text: str, last: int | None) -> int | None:
-    """The last line up to ``last`` whose indentation holds a tab [-]."""
+def _tab_at(text: str, last: int | None) -> tuple[int, int] | None:
+    """Line and column (1-based) of the first tab in the indentation of the last line up
+    to ``last`` that indents with one [-]."""
     found = None
     for i, s in enumerate(text.splitlines(), 1):
         if last is not None and i > last:
             break
         if re.match(r" *\t\s*[^\s#]", s):
-            found = i
+            found = (i, s.index("\t") + 1)
     return found
 
 
@@ -147,10 +148,10 @@ def load_yaml(text: str, file) -> tuple[Any, Any]:
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = None if mark is None else mark.line + 1
-        tab = _tab_line(text, line)
+        tab = _tab_at(text, line)
         if tab is not None:
             raise InputError("tab character in the indentation; YAML indents with spaces",
-                             file=file, line=tab) from None
+                             file=file, line=tab[0], column=tab[1]) from None
         raise InputError(f"not valid YAML: {exc.problem or exc}", file=file, line=line,
                          column=None if mark is None else mark.column + 1) from None
     finally:

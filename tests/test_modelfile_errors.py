@@ -221,3 +221,19 @@ def test_a_key_in_a_list_item_names_its_own_line(vmc):
     err = _error(text[:at] + item + text[at:])
     assert err.column.endswith("filters.0.notch.bandwith_hz")
     assert err.line == _line(text[:at] + item + text[at:], "bandwith_hz:")
+
+
+@pytest.mark.parametrize("typo", ["K_p", "K_pq", "k_pp", "Kpp"])
+def test_a_misspelt_key_is_matched_to_the_key_it_leaves_missing(vmc, typo):
+    """``K_p`` for ``K_pp`` was asked "did you mean 'K_vp'?", a key the servo has already,
+    where ``K_pp``, missing beside it, is as close (a tie broken alphabetically)."""
+    text = dumps_machine(vmc).replace("      K_pp: 40.0", f"      {typo}: 40.0", 1)
+    err = _error(text)
+    assert err.column == f"axes.X.servo.{typo}" and err.line == _line(text, f"{typo}: 40.0")
+    assert f"axes.X.servo.{typo} (line {err.line}): unknown key" in err.message
+    assert "did you mean 'K_pp'?" in err.message and "'K_vp'" not in err.message
+
+
+def test_a_misspelt_optional_key_is_matched_among_the_keys_not_given(vmc):
+    text = dumps_machine(vmc).replace("current_limit:", "current_limt:", 1)
+    assert "did you mean 'current_limit'?" in _error(text).message

@@ -196,27 +196,52 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
         errors = sorted(((error_loc(e), e) for e in exc.errors()),
                         key=lambda le: (le[1]["type"] != "extra_forbidden",
                                         line_for(le[0], lines) or 0))
+        missing = [loc for loc, e in errors if e["type"] == "missing"]
         parts = []
         for loc, err in errors:
             key = ".".join(str(p) for p in loc) or "<top>"
             line = line_for(loc, lines)
             at = f" (line {line})" if line is not None else ""
-            parts.append(f"{key}{at}: {describe(err, hint)}{_meant(loc, err, model_cls)}")
+            meant = _meant(loc, err, model_cls, missing, lines)
+            parts.append(f"{key}{at}: {describe(err, hint)}{meant}")
         first = errors[0][0]
         raise InputError(f"{len(errors)} problem(s) in {what}: " + "; ".join(parts),
                          file=file, line=line_for(first, lines),
                          column=".".join(str(p) for p in first) or None) from None
 
 
-def _meant(loc, err: dict, model_cls) -> str:
-    """For an unknown key, the known key it is most likely a typo of; empty for none [-]."""
-    import difflib
+def _meant(loc, err: dict, model_cls, missing, lines) -> str:
+    """For an unknown key, the key it is most likely a typo of; empty for none [-].
 
+    A key missing beside it comes first: renaming ``K_pp`` to ``K_p`` makes ``K_pp``
+    missing, and ``K_vp``, as close but present already, is no fix.
+    """
     if err["type"] != "extra_forbidden" or not loc:
         return ""
-    close = difflib.get_close_matches(str(loc[-1]), sorted(known_keys(model_cls)), n=1,
-                                      cutoff=0.75)
-    return f"; did you mean '{close[0]}'?" if close else ""
+    name, parent = str(loc[-1]), tuple(str(p) for p in loc[:-1])
+    gone = [str(m[-1]) for m in missing if tuple(str(p) for p in m[:-1]) == parent]
+    there = {k[-1] for k in lines if len(k) == len(loc) and k[:-1] == parent}
+    close = (_closest(name, gone, 0.6)
+             or _closest(name, sorted(known_keys(model_cls) - there - {name}), 0.75))
+    return f"; did you mean '{close}'?" if close else ""
+
+
+def _closest(name: str, candidates, cutoff: float) -> str | None:
+    """The candidate most like ``name`` at a similarity of ``cutoff`` or more; of equally
+    similar ones the one equal but for case, then the one sharing the longest start
+    (``K_p``: ``K_pp`` before ``K_vp``) [-]."""
+    import difflib
+    from itertools import takewhile
+
+    def score(c):
+        ratio = difflib.SequenceMatcher(None, name, c).ratio()
+        same = zip(name, c, strict=False)  # the shorter one ends it
+        start = sum(1 for _ in takewhile(lambda ab: ab[0] == ab[1], same))
+        return (ratio, c.lower() == name.lower(), start)
+
+    scored = [(score(c), c) for c in candidates]
+    scored = [sc for sc in scored if sc[0][0] >= cutoff]
+    return max(scored, key=lambda sc: sc[0])[1] if scored else None
 
 
 def known_keys(model_cls, seen=None) -> set:

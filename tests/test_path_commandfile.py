@@ -143,3 +143,43 @@ def test_a_header_in_double_quotes_reads_as_without(tmp_path):
                                    *lines[1:]]) + "\n")
     got = read_run(run_file)
     assert np.array_equal(got.axes["X"].tcp, want.axes["X"].tcp)
+
+
+SEPARATORS = "columns are separated by {}; use commas and a '.' decimal point"
+
+
+@pytest.mark.parametrize(("text", "sep"), [
+    ("time_s;x_mm;y_mm\n0,000;1,0;2,0\n0,001;1,0;2,0\n", "semicolons"),
+    ("time_s\tx_mm\ty_mm\n0.000\t1.0\t2.0\n0.001\t1.0\t2.0\n", "tabs"),
+])
+def test_a_spreadsheet_separator_is_named(tmp_path, text, sep):
+    """A command file of a spreadsheet set to a decimal comma was refused as "the first
+    column must be time_s, found 'time_s;x_mm;y_mm'", which names no cause; the run file
+    and the other CSV readers said what is wrong."""
+    path = tmp_path / "cmd.csv"
+    path.write_text(text)
+    with pytest.raises(InputError) as e:
+        read_command_csv(path)
+    assert (e.value.message, e.value.line) == (SEPARATORS.format(sep), 1)
+
+
+def test_a_decimal_comma_is_named(tmp_path):
+    path = tmp_path / "cmd.csv"
+    path.write_text("time_s,x_mm,y_mm\n0.000,1.0,2.0\n0,001,1,0,2,0\n0.002,1.0,2.0\n")
+    with pytest.raises(InputError, match=r"6 fields but the header has 3 \(a decimal comma") as e:
+        read_command_csv(path)
+    assert e.value.line == 3
+
+
+def test_every_csv_reader_names_the_separator(tmp_path):
+    """The command, FRF, run and bundle readers share one diagnosis of the separator."""
+    from tcpmm.io.bundle import read_sweep_csv
+    from tcpmm.io.frffile import read_frf_csv
+    from tcpmm.io.runfile import read_run_csv
+
+    path = tmp_path / "any.csv"
+    path.write_text("time_s;x_mm;y_mm\n0,0;1,0;2,0\n0,1;1,0;2,0\n")
+    for read in (read_command_csv, read_frf_csv, read_run_csv, read_sweep_csv):
+        with pytest.raises(InputError) as e:
+            read(path)
+        assert (e.value.message, e.value.line) == (SEPARATORS.format("semicolons"), 1), read

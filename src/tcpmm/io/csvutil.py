@@ -17,7 +17,7 @@ import pandas as pd
 from tcpmm._validate import did_you_mean
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.io.atomic import write_columns_atomic
-from tcpmm.io.text import read_text, unquoted
+from tcpmm.io.text import fields_error, read_text, separator_error, unquoted
 
 
 def warn_input(message: str, file=None, line=None, column=None) -> None:
@@ -106,14 +106,9 @@ def _header_names(first: str, path: Path) -> list[str]:
             file=path,
             line=1,
         )
+    if (wrong := separator_error(first, path)) is not None:
+        raise wrong
     names = [unquoted(c) for c in first.split(",")]
-    if len(names) == 1 and (";" in first or "\t" in first):
-        sep = "semicolons" if ";" in first else "tabs"
-        raise InputError(
-            f"columns are separated by {sep}; use commas and a '.' decimal point",
-            file=path,
-            line=1,
-        )
     if all(_is_number(n) for n in names):
         raise InputError(
             "the first line holds numbers, not column names; add a header line with the "
@@ -163,17 +158,8 @@ def read_header(path: Path, what: str = "CSV file", text: str | None = None) -> 
         raise unreadable(path, what) from None
     names = _header_names(first, path)
     if row.strip() and len(row.split(",")) > len(names):
-        raise _fields_error(path, 2, len(row.split(",")), len(names))
+        raise fields_error(path, 2, len(row.split(",")), len(names))
     return names
-
-
-def _fields_error(path: Path, line: int, fields: int, header: int) -> InputError:
-    return InputError(
-        f"row has {fields} fields but the header has {header} (a decimal comma or a stray "
-        "separator?); use ',' between fields and '.' as decimal point",
-        file=path,
-        line=line,
-    )
 
 
 def parse_error(exc: Exception, path: Path) -> InputError:
@@ -188,7 +174,7 @@ def parse_error(exc: Exception, path: Path) -> InputError:
     """
     m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
     if m:
-        return _fields_error(path, int(m.group(2)), int(m.group(3)), int(m.group(1)))
+        return fields_error(path, int(m.group(2)), int(m.group(3)), int(m.group(1)))
     return InputError(f"cannot parse CSV: {exc}", file=path)
 
 

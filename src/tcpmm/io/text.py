@@ -97,3 +97,44 @@ def unquoted(name: str) -> str:
     if len(name) >= 2 and name[0] == name[-1] == '"':
         name = name[1:-1].strip()
     return name
+
+
+def separator_error(header: str, file) -> InputError | None:
+    """The error for a CSV header whose columns are separated by semicolons or tabs, as a
+    spreadsheet set to a decimal comma writes them; ``None`` for any other header. Every
+    CSV reader asks this first: the header read as one column name would otherwise be
+    refused as a wrong first column, naming no cause.
+
+    Parameters
+    ----------
+    header : str
+        The first line, without its line break [-].
+    file : str or Path
+        The file, for the message [-].
+    """
+    if "," in header or not (";" in header or "\t" in header):
+        return None
+    sep = "semicolons" if ";" in header else "tabs"
+    return InputError(f"columns are separated by {sep}; use commas and a '.' decimal point",
+                      file=file, line=1)
+
+
+def fields_error(file, line: int, fields: int, header: int) -> InputError:
+    """The error for a CSV row of more fields than the header has columns: most likely a
+    decimal comma, which splits each number in two [-].
+
+    Parameters
+    ----------
+    file : str or Path
+        The file [-].
+    line : int
+        The row's line (the header is line 1) [-].
+    fields, header : int
+        Fields in the row, columns in the header [-].
+    """
+    return InputError(
+        f"row has {fields} fields but the header has {header} (a decimal comma or a stray "
+        "separator?); use ',' between fields and '.' as decimal point",
+        file=file,
+        line=line,
+    )

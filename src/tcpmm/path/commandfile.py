@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.atomic import CSV_BLOCK_ROWS, atomic_path
-from ..io.text import file_lines, read_text, unquoted
+from ..io.text import fields_error, file_lines, read_text, separator_error, unquoted
 from .command import Command
 
 _AXIS_COLUMNS = {"x_mm": "X", "y_mm": "Y", "z_mm": "Z"}
@@ -25,6 +25,8 @@ UNIFORM_REL_TOL = 1e-6
 
 
 def _header(line: str, file) -> list[str]:
+    if (wrong := separator_error(line, file)) is not None:
+        raise wrong
     names = [unquoted(h) for h in line.split(",")]
     if names[0] != "time_s":
         raise InputError(
@@ -56,6 +58,8 @@ def _header(line: str, file) -> list[str]:
 def _locate_bad_value(rows, names, file):
     for r, row in enumerate(rows):
         fields = row.split(",")
+        if len(fields) > len(names):
+            raise fields_error(file, r + 2, len(fields), len(names))
         if len(fields) != len(names):
             raise InputError(
                 f"{len(fields)} values for {len(names)} columns; every row needs "

@@ -440,3 +440,22 @@ def test_machine_yaml_that_is_not_utf8_is_named(tmp_path):
     with pytest.raises(InputError, match="not a UTF-8 text file") as exc:
         read_machine_yaml(p)
     assert exc.value.file == str(p) and exc.value.line == 1
+
+
+@pytest.mark.parametrize(("old", "new", "key", "fix"), [
+    ("lead_mm: 10.0", "lead_mm: 10 mm", "axes.X.lead_mm", "in mm (the unit its name"),
+    ("position_gain_1_per_s: 40.0", "position_gain_1_per_s: 40 1/s",
+     "axes.X.servo.position_gain_1_per_s", "in 1/s (the unit its name"),
+    ("velocity_feedforward: 0.0", "velocity_feedforward: 50 %",
+     "axes.X.servo.velocity_feedforward", "as docs/formats.md section 1 shows"),
+])
+def test_a_number_written_with_its_unit_says_the_fix(old, new, key, fix):
+    """``lead_mm: 10 mm`` was refused with pydantic's "unable to parse string as a number"
+    and no word of what to write."""
+    text = MACHINE_YAML.replace(old, new, 1)
+    with pytest.raises(InputError) as e:
+        parse_machine_yaml(text, file="m.yaml")
+    line = next(i for i, s in enumerate(text.splitlines(), 1) if new in s)
+    assert (e.value.column, e.value.line) == (key, line)
+    assert f"not a number (got '{new.split(': ')[1]}'); write the number alone, {fix}" in str(
+        e.value)

@@ -237,3 +237,24 @@ def test_a_misspelt_key_is_matched_to_the_key_it_leaves_missing(vmc, typo):
 def test_a_misspelt_optional_key_is_matched_among_the_keys_not_given(vmc):
     text = dumps_machine(vmc).replace("current_limit:", "current_limt:", 1)
     assert "did you mean 'current_limit'?" in _error(text).message
+
+
+@pytest.mark.parametrize(("old", "new", "fix"), [
+    ("      J_m: 0.000265", "      J_m: 0.000265 kg m^2",
+     "write the number alone, in SI units (the file's header, docs/formats.md section 5)"),
+    ("      J_m: 0.000265", "      J_m: [0.000265]",
+     "write the number alone, in SI units (the file's header, docs/formats.md section 5)"),
+    ("      current_bandwidth_hz: null", "      current_bandwidth_hz: 2 kHz",
+     "write the number alone, in Hz (the unit its name ends with)"),
+])
+def test_a_number_written_with_its_unit_says_the_fix(vmc, old, new, fix):
+    """``J_m: 0.000265 kg m^2`` was refused with pydantic's "unable to parse string as a
+    number" and no word of what to write; ``J_m``'s ``m`` is no unit, ``_hz`` is."""
+    text = dumps_machine(vmc)
+    assert old in text
+    text = text.replace(old, new, 1)
+    err = _error(text)
+    key = "axes.X." + ("mechanics.J_m" if "J_m" in new else "servo.current_bandwidth_hz")
+    assert err.column == key and err.line == _line(text, new.strip())
+    assert f"{key} (line {err.line}): not a number (got " in err.message
+    assert err.message.endswith(fix)

@@ -252,7 +252,8 @@ def parse_machine_yaml(text: str, file: str | Path = "<machine.yaml>") -> Machin
     """
     return validate_yaml(text, MachineConfig, file,
                          "machine description with keys format, name, axes",
-                         "check the spelling against docs/formats.md section 1", FORMAT_VERSION)
+                         "check the spelling against docs/formats.md section 1", FORMAT_VERSION,
+                         "as docs/formats.md section 1 shows")
 
 
 def read_machine_yaml(path: str | Path) -> MachineConfig:

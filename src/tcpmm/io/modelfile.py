@@ -19,6 +19,8 @@ from .unitchecks import warn_unit_suspects
 
 FORMAT = "tcpmm-model/1"
 _HINT = "see the keys that `tcpmm machine export` writes"
+#: the units of a number whose key's name does not say them, as the header lists them
+_UNITS = "in SI units (the file's header, docs/formats.md section 5)"
 
 _HEADER = """\
 # tcpmm machine model ({fmt}). SI units throughout:
@@ -108,7 +110,8 @@ def loads_machine(text: str, file="<model>") -> Machine:
     """Parse model-file text; a number that looks written in mm or um is warned of."""
     from .yamlutil import validate_yaml
 
-    machine = _to_machine(validate_yaml(text, ModelFile, file, "machine model", _HINT, FORMAT))
+    machine = _to_machine(validate_yaml(text, ModelFile, file, "machine model", _HINT,
+                                        FORMAT, _UNITS))
     warn_unit_suspects(machine, file)
     return machine
 

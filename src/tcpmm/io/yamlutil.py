@@ -88,12 +88,54 @@ def error_loc(err: dict) -> tuple:
     return loc
 
 
-def describe(err: dict, hint: str = "") -> str:
-    """A readable sentence for one pydantic error."""
+#: pydantic's errors for a value that is no number where one is expected
+_NOT_A_NUMBER = ("float_parsing", "float_type", "int_parsing", "int_type")
+#: the words a key's name may end with that spell its unit, as they are written [-]
+_UNIT_WORDS = {"mm": "mm", "um": "um", "m": "m", "s": "s", "ms": "ms", "min": "min",
+               "s2": "s^2", "s3": "s^3", "A": "A", "N": "N", "Nm": "N m", "rad": "rad",
+               "hz": "Hz", "Hz": "Hz", "db": "dB", "1": "1", "per": "per"}
+
+
+def name_unit(key: str) -> str | None:
+    """The unit a key's name ends with (``lead_mm``: mm, ``position_gain_1_per_s``: 1/s,
+    ``cross_talk_um_per_m_per_s2``: um/(m/s^2)); ``None`` where it names none.
+
+    A lone letter after a symbol of one letter is no unit: ``J_m`` is the motor's
+    inertia, not a length in metres.
+    """
+    words = key.split("_")
+    k = len(words)
+    while k > 1 and words[k - 1] in _UNIT_WORDS:
+        k -= 1
+    unit = words[k:]
+    if not unit or "per" in (unit[0], unit[-1]) or (
+            len(unit) == 1 and len(unit[0]) == 1 and len("_".join(words[:k])) == 1):
+        return None
+    parts = " ".join(_UNIT_WORDS[w] for w in unit).split(" per ")
+    under = "/".join(parts[1:])
+    return parts[0] + (f"/({under})" if len(parts) > 2 else f"/{under}" if under else "")
+
+
+def _number_fix(loc, units: str) -> str:
+    """What to write for a value that is no number at ``loc`` [-]."""
+    for part in reversed([p for p in loc if isinstance(p, str)]):
+        if (unit := name_unit(part)) is not None:
+            return f"write the number alone, in {unit} (the unit its name ends with)"
+    return f"write the number alone, {units}" if units else "write the number alone"
+
+
+def describe(err: dict, hint: str = "", units: str = "") -> str:
+    """A readable sentence for one pydantic error; ``units`` says in which units a number
+    of the file is written where its key's name does not say [-]."""
     if err["type"] == "extra_forbidden":
         return "unknown key" + (f" ({hint})" if hint else "")
     if err["type"] == "missing":
         return "required key is missing"
+    if err["type"] in _NOT_A_NUMBER:
+        got = err.get("input")
+        got = ("a list" if isinstance(got, list) else "a mapping" if isinstance(got, dict)
+               else repr(got))
+        return f"not a number (got {got}); {_number_fix(err['loc'], units)}"
     msg = err["msg"]
     if msg.startswith("Value error, "):
         msg = msg[len("Value error, "):]
@@ -160,7 +202,7 @@ def load_yaml(text: str, file) -> tuple[Any, Any]:
 
 
 def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
-                  fmt: str | None = None):
+                  fmt: str | None = None, units: str = ""):
     """Parse YAML text and validate it into ``model_cls``.
 
     Parameters
@@ -177,6 +219,9 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
         Where the valid keys are documented, for unknown-key messages [-].
     fmt : str, optional
         The ``format:`` value the document must have, see :func:`check_format` [-].
+    units : str
+        In which units a number is written where its key's name does not say, for the
+        message on a value that is no number ("in SI units (docs/formats.md)") [-].
     """
     data, node = load_yaml(text, file)
     if not isinstance(data, dict):
@@ -203,7 +248,7 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
             line = line_for(loc, lines)
             at = f" (line {line})" if line is not None else ""
             meant = _meant(loc, err, model_cls, missing, lines)
-            parts.append(f"{key}{at}: {describe(err, hint)}{meant}")
+            parts.append(f"{key}{at}: {describe(err, hint, units)}{meant}")
         first = errors[0][0]
         raise InputError(f"{len(errors)} problem(s) in {what}: " + "; ".join(parts),
                          file=file, line=line_for(first, lines),
@@ -266,6 +311,7 @@ def known_keys(model_cls, seen=None) -> set:
     return out
 
 
-def read_yaml_model(path, model_cls, what: str, hint: str = "", fmt: str | None = None):
+def read_yaml_model(path, model_cls, what: str, hint: str = "", fmt: str | None = None,
+                    units: str = ""):
     """Read a YAML file and validate it into ``model_cls`` (see :func:`validate_yaml`)."""
-    return validate_yaml(read_text(path, what), model_cls, path, what, hint, fmt)
+    return validate_yaml(read_text(path, what), model_cls, path, what, hint, fmt, units)

@@ -225,3 +225,27 @@ def test_turns_the_correction_adds_are_warned_where_a_pulse_fires_at_each(recwar
     warn_extra_reversals(comp, prog, SimpleNamespace(
         axes={"X": SimpleNamespace(pulse_A=0.0, decay_s=0.3)}))
     assert not [w for w in recwarn if issubclass(w.category, InputWarning)]
+
+
+def test_an_axis_the_model_has_not_is_named_with_the_model_s_axes(tmp_path, capsys):
+    """An axis ``W:`` in the parameter file was "unknown key", as if the file were wrong
+    rather than the file and the model apart; the model's axes say which it could be."""
+    from pathlib import Path
+
+    from tcpmm.cli import main
+    from tcpmm.compensate.controller_file import read_controller_parameters
+    from tcpmm.errors import InputError
+
+    program = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"
+    params = tmp_path / "p.yaml"
+    params.write_text("X:\n  friction_pulse_A: 0.0\nW:\n  friction_pulse_A: 1.0\n"
+                      "  friction_pulse_decay_ms: 20\n")
+    assert main(["simulate", "builtin:vmc", "--gcode", str(program),
+                 "--controller", str(params), "-o", str(tmp_path / "run.csv")]) == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert f"{params}, line 3, key 'W': W is not an axis of the model (it has X, Y, Z)" in err
+    assert not (tmp_path / "run.csv").exists()
+    params.write_text("X:\n  friction_pulse_A: 0.0\nZ:\n  friction_pulse_A: 0.0\n")
+    with pytest.raises(InputError, match=r"Z is not an axis of the model \(it has X, Y\)"):
+        read_controller_parameters(params, ["X", "Y"])
+    assert set(read_controller_parameters(params)) == {"X", "Z"}

@@ -3,8 +3,6 @@ drives apply it."""
 
 from __future__ import annotations
 
-import typer
-
 CONTROLLER_HELP = ("PARAMS.yaml: the controller-side compensation (tcpmm compensate "
                     "--controller-out) applied as the drives apply it: the friction pulse "
                     "added to the current command at each reversal, the cross-talk "
@@ -19,10 +17,6 @@ def as_the_drives_take_it(cmd, controller, machine):
     from ..compensate.controller_file import read_controller_parameters
     from ..compensate.drive import drive_inputs
 
-    params = read_controller_parameters(controller)
-    unknown = [a for a in params if a not in machine.axes]
-    if unknown:
-        raise typer.BadParameter(f"{controller} sets axis {', '.join(unknown)}, which the "
-                                 "model has not", param_hint="--controller")
+    params = read_controller_parameters(controller, machine.axes)
     ctc, pulses = drive_inputs(cmd, {a: p for a, p in params.items() if a in cmd.axes})
     return ctc, pulses or None

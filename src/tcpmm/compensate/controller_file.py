@@ -4,11 +4,11 @@ back: what a commissioning engineer typed into the controller, for ``tcpmm simul
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, create_model
 
 from ..errors import InputError
 from ..io.text import read_text
-from ..io.yamlutil import validate_yaml
+from ..io.yamlutil import key_lines, load_yaml, validate_yaml
 from .controller import AxisController
 
 _HINT = "the keys tcpmm compensate --controller-out writes"
@@ -26,15 +26,21 @@ class _Axis(BaseModel):
     cross_talk_um_per_m_per_s2: float = Field(0.0, allow_inf_nan=False)
 
 
-class _File(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+def _check_axes(text: str, path, axes) -> None:
+    """Refuse a top-level key that is none of ``axes``, naming the model's axes: the schema
+    alone would call it an unknown key, as if the file, not the model, were wrong."""
+    data, node = load_yaml(text, path)
+    if not isinstance(data, dict):
+        return  # the schema says what the file should be
+    lines = key_lines(node)
+    for name in data:
+        if name not in axes:
+            raise InputError(f"{name} is not an axis of the model (it has "
+                             f"{', '.join(axes)}); give the parameters of its axes only",
+                             file=path, line=lines.get((str(name),)), column=str(name))
 
-    X: _Axis | None = None
-    Y: _Axis | None = None
-    Z: _Axis | None = None
 
-
-def read_controller_parameters(path) -> dict[str, AxisController]:
+def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisController]:
     """The parameters of a controller-side compensation file, per axis.
 
     The drive applies the pulse as a current (``friction_pulse_A``, decaying with
@@ -45,16 +51,22 @@ def read_controller_parameters(path) -> dict[str, AxisController]:
     ----------
     path : str or Path
         The file ``tcpmm compensate --controller-out`` writes [-].
+    axes : sequence of str
+        The axes of the model the parameters are for; the file may name these only [-].
 
     Returns
     -------
     dict of str to AxisController
         Per axis the file names [SI].
     """
-    f = validate_yaml(read_text(path, "controller parameters"), _File, path,
-                      "controller parameters", _HINT)
+    text = read_text(path, "controller parameters")
+    axes = list(axes)
+    _check_axes(text, path, axes)
+    schema = create_model("ControllerParameters", __config__=ConfigDict(extra="forbid"),
+                          **{a: (_Axis | None, None) for a in axes})
+    f = validate_yaml(text, schema, path, "controller parameters", _HINT)
     out = {}
-    for name in ("X", "Y", "Z"):
+    for name in axes:
         p = getattr(f, name)
         if p is None:
             continue

@@ -675,3 +675,84 @@ def test_the_friction_table_gives_each_parameters_unit():
     for name, unit in (("Fc+", "N"), ("Fs-", "N"), ("vs", "m/s"), ("Fv", "N s/m")):
         at = rows.index(f">{name}<")
         assert f">{unit}<" in rows[at:at + 80], (name, rows[at:at + 200])
+
+
+def _spread_with(rows, verdicts=None, model=None) -> dict:
+    """A spread JSON of ``rows`` with the verdict figures ``verdicts`` and the model it
+    names [-]."""
+    out = {"sensor": "tcp", "draws": 4, "tolerance_um": 4.1, "spikes": rows}
+    if verdicts is not None:
+        out["verdict"] = {"firm": False, "tests": ["R35"], "axes": {}, "figures": verdicts}
+    if model is not None:
+        out["model"] = model
+    return out
+
+
+def test_the_spread_section_gives_each_figures_verdict():
+    """A model identified without friction runs: its spread's verdicts were all
+    undetermined, but the page showed only the draws' table, its spikes held and settled,
+    and the word undetermined nowhere. Each spike's row carries its verdict with its
+    cause, the contour error's and G's are said under the table, and what would settle
+    them."""
+    from tcpmm.report.spread import spread_section
+
+    rows = [{"direction": "ccw", "point": q, "spike_um": -3.55, "rise_um": -2.1,
+             "fall_um": -3.55, "low_um": -4.7, "high_um": -2.5, "same_sign": 1.0,
+             "settled": True, "within": 1.0, "firm": True} for q in "ABCD"]
+    cause = "no friction runs for axes X, Y: the model has no friction"
+    figs = [{"test": "R35", "direction": "ccw", "figure": f, "nominal_um": 3.5,
+             "half_width_um": None, "target_um": 1.0, "verdict": "undetermined",
+             "cause": cause, "settle": "friction runs (friction.csv)"}
+            for f in ("spike A", "spike B", "spike C", "spike D", "contour error", "G")]
+    figs[1] = {**figs[1], "verdict": "firm", "half_width_um": 0.8, "cause": "", "settle": ""}
+    _, _, body = spread_section(_spread_with(rows, figs))
+    assert body.count(f"undetermined ({cause})") == 3 + 2  # three spikes, the CE and G
+    assert "firm (± 0.80 µm)" in body and "CCW G: undetermined" in body
+    assert "To settle what is not firm: friction runs (friction.csv)." in body
+    # a spread without verdicts (written before they were) is shown as before
+    _, _, plain = spread_section(_spread_with(rows))
+    assert "undetermined" not in plain and "verdict" not in plain.split("<table")[1][:2000]
+
+
+def test_a_spread_of_another_model_is_refused_beside_the_model(inputs, tmp_path, capsys):
+    """The page put bench C's model beside R17's spread as its prediction's spread, with
+    nothing said. A spread names its model (name and digest of its file); beside another
+    --model it is refused; beside its own, or one that names none, it is shown."""
+    from tcpmm.io.modelfile import model_identity
+    from tcpmm.io.modelfile import read_machine as read
+
+    d, _ = inputs
+    rows = json.loads((d / "spread.json").read_text())["spikes"]
+    own = model_identity(read("builtin:vmc"))
+    for name, model, ok in (("other", {"name": "R17 (identified)", "digest": "0" * 16}, False),
+                            ("own", own, True), ("none", None, True)):
+        f = tmp_path / f"{name}.json"
+        f.write_text(json.dumps(_spread_with(rows, model=model)))
+        code, _, err = report(capsys, tmp_path / name, "--model", "builtin:vmc",
+                              "--spread", f)
+        assert (code == 0) is ok, err
+        if not ok:
+            assert "R17 (identified)" in err and "not from --model builtin:vmc" in err
+
+
+def test_table_2_is_judged_against_the_models_intervals_where_a_model_is_given(inputs,
+                                                                               tmp_path,
+                                                                               capsys):
+    """`tcpmm compare --model` set each TCP difference against the predicted figure's
+    interval and verdict; the report with the same files and --model did not. It does,
+    as compare does."""
+    from pathlib import Path
+
+    from tcpmm.io.modelfile import read_machine as read
+    from tcpmm.path import program_to_command
+    from tcpmm.sim.simulate import simulate
+
+    prog = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"
+    run = tmp_path / "pred.csv"
+    simulate(read("builtin:vmc"), program_to_command(prog.read_text())).write_csv(run)
+    args = ("--measured", run, "--predicted", run, "--radius", 35)
+    code, page, err = report(capsys, tmp_path / "j", "--model", "builtin:vmc", *args)
+    assert code == 0, err
+    assert "table2_judged.csv" in page and "90 % interval" in page
+    code, page, err = report(capsys, tmp_path / "n", *args)
+    assert code == 0 and "table2_judged.csv" not in page

@@ -83,7 +83,10 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     _say_faulted(res.faulted, draws)
     verdict = _spread_verdict(m, cmd, radius, c, sensor.value)
     if as_json:
-        emit_json({**res.to_dict(), "verdict": verdict.to_dict()})
+        from ..io.modelfile import model_identity
+
+        emit_json({**res.to_dict(), "verdict": verdict.to_dict(),
+                   "model": model_identity(m)})
         return
     table = res.to_pandas().rename(columns={"settled": "sign held", "firm": "draws agree"})
     print_table(table, out, f"{sensor.value} raw reversal spikes (e - b) over {draws} drawn "

@@ -59,7 +59,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     sections, inputs = [], []
     if runs or measured:
         sections, inputs = _circle_sections(runs, measured, predicted, radius, centre,
-                                            verdict, machine, plane)
+                                            verdict, machine, plane, model)
     more, given = _summary_sections(spread, ident_dir, model, machine)
     sections += more
     write_report(output, sections, title, inputs + given)
@@ -122,7 +122,7 @@ def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predic
 
 
 def _circle_sections(runs, measured, predicted, radius: float, centre: str, verdict: dict,
-                     machine, plane=None) -> tuple[list, list]:
+                     machine, plane=None, model=None) -> tuple[list, list]:
     """The sections of the circular tests: each run's, the runs' faults, and measured
     minus predicted of each pair.
 
@@ -141,6 +141,11 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, verd
         and ``measured_on``, the test's date or None [-].
     machine : Machine or None
         The model, which tells the runs' faults [-].
+    plane : str, optional
+        ``--plane`` [-].
+    model : str, optional
+        ``--model``: each TCP difference of Table 2 is set against the predicted figure's
+        90 % interval and verdict, as ``tcpmm compare --model`` sets it [-].
 
     Returns
     -------
@@ -153,7 +158,7 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, verd
     # one plane per file, said once however many sections analyse it
     circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), plane, {})
     comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
-                               f"comparison-{i + 1}", not runs and i == 0, verdict)
+                               f"comparison-{i + 1}", not runs and i == 0, verdict, model)
                    for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
     sections = _run_sections(runs, circle, verdict)
     sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
@@ -188,11 +193,13 @@ def _summary_sections(spread, ident_dir, model, machine) -> tuple[list, list]:
         read_identification_folder,
         spread_section,
     )
-    from ..report.circles import read_spread_json
+    from ..report.spread import read_spread_json
 
     sections, inputs = [], []
     if spread is not None:
-        sections.append(spread_section(read_spread_json(spread)))
+        data = read_spread_json(spread)
+        _same_model(data, machine, spread, model)
+        sections.append(spread_section(data))
         inputs.append(("spread", spread))
     if ident_dir is not None:
         sections.append(identification_section(*read_identification_folder(ident_dir)))
@@ -201,6 +208,38 @@ def _summary_sections(spread, ident_dir, model, machine) -> tuple[list, list]:
         sections.append(model_section(machine, model))
         inputs.append(("model", model))
     return sections, inputs
+
+
+def _judged_if_its(pair, model, run, circle, plane, predicted):
+    """Table 2's TCP rows against ``--model``'s intervals, as ``tcpmm compare --model``
+    sets them; where the predicted run did not come from that model (a model given for
+    its summary beside another's prediction), said on stderr and left unjudged [-]."""
+    from ..uncertainty.verdict import NotItsPrediction
+    from ._app import console
+    from .run import _judged
+
+    try:
+        return _judged(pair, model, run, circle[0] * 1e3, circle[1], plane, predicted)
+    except NotItsPrediction as exc:
+        console.print(f"warning: Table 2 is not set against --model's intervals: "
+                      f"{exc.message}", highlight=False)
+        return None
+
+
+def _same_model(spread: dict, machine, path, model) -> None:
+    """Refuse a spread computed from another model than ``--model``, which the page would
+    show side by side as one prediction; a spread that does not name its model (written
+    before it did) is taken as it is [-]."""
+    from ..errors import InputError
+    from ..io.modelfile import model_identity
+
+    given = spread.get("model")
+    if machine is None or not isinstance(given, dict) or "digest" not in given:
+        return
+    if given["digest"] != model_identity(machine)["digest"]:
+        raise InputError(f"was computed from the model '{given.get('name')}', not from "
+                         f"--model {model}; give the spread of that model (tcpmm spread "
+                         f"{model} ... --json)", file=path, column="model")
 
 
 def _faults(machine, files) -> list:
@@ -274,9 +313,10 @@ def _run_sections(runs, circle, verdict: dict) -> list:
 
 
 def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
-                verdict: dict):
-    """Measured minus predicted of one pair of runs; the ``first`` (no --run given) opens
-    the page with the measured circle's verdict (``verdict``: its tolerance and date)."""
+                verdict: dict, model=None):
+    """Measured minus predicted of one pair of runs, against the ``model``'s intervals
+    where given; the ``first`` (no --run given) opens the page with the measured circle's
+    verdict (``verdict``: its tolerance and date)."""
     from ..analysis.compare import compare_circles, cut_alike
     from ..io.runfile import read_run
     from ..report import comparison_section, verdict_sections
@@ -284,7 +324,10 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
     runs = [read_run(f) for f in (measured, predicted)]
     (rm, rate, said), (rp, _, _) = (_circle(measured, circle, runs[0]),
                                     _circle(predicted, circle, cut_alike(*runs), False))
-    cmp = comparison_section(compare_circles(rm, rp), rm, rp, (measured, predicted), key)
+    pair = compare_circles(rm, rp)
+    judged = _judged_if_its(pair, model, runs[1], circle, rp.plane, predicted)
+    cmp = comparison_section(pair, rm, rp, (measured, predicted), key,
+                             judged=pair.judged_long(judged) if judged else None)
     if not first:
         return [cmp]
     head = verdict_sections(rm, "circle-measured", f"Circular test: {measured.name}",

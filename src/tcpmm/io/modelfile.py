@@ -96,6 +96,15 @@ def dumps_machine(machine: Machine) -> str:
     return _HEADER.format(fmt=FORMAT) + body
 
 
+def model_identity(machine: Machine) -> dict:
+    """What tells a model from another in the outputs computed from it: its name and the
+    first 16 hex digits of the SHA-256 of its model file text [-]."""
+    import hashlib
+
+    digest = hashlib.sha256(dumps_machine(machine).encode("utf-8")).hexdigest()[:16]
+    return {"name": machine.name, "digest": digest}
+
+
 def write_machine(machine: Machine, path) -> None:
     """Write a model file atomically."""
     write_text_atomic(path, dumps_machine(machine))

@@ -16,7 +16,7 @@ from ..analysis.diagnostics import circle_diagnostics
 from ..errors import InputError, InputWarning
 from ..io.atomic import write_text_atomic
 from .acceptance import acceptance_section
-from .circles import circle_section, comparison_section, result_section, spread_section
+from .circles import circle_section, comparison_section, result_section
 from .html import page, para, section
 from .machine import (
     identification_result_section,
@@ -24,6 +24,7 @@ from .machine import (
     model_section,
     read_identification_folder,
 )
+from .spread import spread_section
 
 __all__ = ["acceptance_section", "circle_section", "circle_test_section", "comparison_section",
            "contour_section", "faults_section", "identification_result_section",

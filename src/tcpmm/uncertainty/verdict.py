@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from ..errors import InputError
 from .figures import circle_figures, figure_changes, reference_tests
 
-__all__ = ["CALIBRATION", "FigureVerdict", "Verdict", "not_its_prediction",
+__all__ = ["CALIBRATION", "FigureVerdict", "NotItsPrediction", "Verdict", "not_its_prediction",
            "prediction_verdict", "target"]
 
 #: The interval's calibration (docs/validation/calibration.md): ``factor`` on the
@@ -289,6 +289,10 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
     return Verdict(figs, _axis_verdicts(machine, figs), [t.label for t in tests])
 
 
+class NotItsPrediction(InputError):
+    """A predicted run its model did not predict (:func:`not_its_prediction`)."""
+
+
 def not_its_prediction(verdict, predicted, where: str = "the prediction") -> None:
     """Refuse a verdict set against a predicted circle that its model did not predict: a
     figure of the predicted run further from the model's own on the same command than the
@@ -308,7 +312,7 @@ def not_its_prediction(verdict, predicted, where: str = "the prediction") -> Non
     for f in verdict.figures:
         p = own.get((f.test, f.direction, f.figure), math.nan)
         if math.isfinite(p) and abs(p - f.nominal) > target(f.figure, f.nominal):
-            raise InputError(
+            raise NotItsPrediction(
                 f"{where}: its {f.direction.upper()} {sensor} {f.figure} is "
                 f"{p * 1e6:.2f} um where the model predicts {f.nominal * 1e6:.2f} um on the "
                 "same command: the prediction did not come from this model; give --model "

@@ -220,11 +220,14 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     if how["design"] not in DESIGNS:
         raise typer.BadParameter(f"--design must be one of {', '.join(DESIGNS)}")
     from ..whatif.sweep import parse_param
+    from ..whatif.sweep.run import check_design
     from ..whatif.sweep.task import capped_feeds
 
     program = _program(*prog)
     specs = [parse_param(p, lambda name: canonical_name(m, name, kind)) for p in param or []]
     variants = make_design(how["design"], specs, how["n"], how["seed"])
+    # a design refused is refused before any note on the figures it would have given
+    check_design(m, program, variants)
     for note in capped_feeds(program, m, variants):
         console.print(f"warning: {esc(note)}", highlight=False)
     for note in _uncertainty_notes(m, how):

@@ -22,14 +22,14 @@ from pathlib import Path
 import numpy as np
 
 from ...io.atomic import write_table_atomic
-from .store import TEXT_COLUMNS
+from .store import FEED_RUN, TEXT_COLUMNS
 
 INTERVALS_FILE = "intervals.csv"
 #: Quantiles of the draws written per figure, and their column names' parts [-].
 QUANTILES = ((0.05, "low"), (0.5, "median"), (0.95, "high"))
 #: Draws per point below which a 90 % interval is no more than the draws' extremes [-].
 FEW_DRAWS = 20
-_NOT_PARAMETERS = {"index", "variant", "draw", "seed", *TEXT_COLUMNS}
+_NOT_PARAMETERS = {"index", "variant", "draw", "seed", FEED_RUN, *TEXT_COLUMNS}
 
 
 def draw_intervals(summary):

@@ -8,10 +8,10 @@
     OUT_DIR/intervals.csv           a draws design's intervals (:mod:`.intervals`)
 
 A row holds the variant's id, its parameters (in the unit of each name), its draw, its
-metrics in um (``*_um``), its warning, its fault (an axis that ran away or saturated
-its current) and its error. Every file is written to a temporary
-name and renamed, so a stopped sweep leaves only whole files; a rerun reads the ids of
-the rows present and runs the others.
+metrics in um (``*_um``), a circle's feed as run (``feed_run_mm_per_min``), its warning,
+its fault (an axis that ran away or saturated its current) and its error. Every file is
+written to a temporary name and renamed, so a stopped sweep leaves only whole files; a
+rerun reads the ids of the rows present and runs the others.
 """
 
 from __future__ import annotations
@@ -30,6 +30,8 @@ STUDY_FILE, PARTS_DIR, SUMMARY_FILE = "study.json", "results", "summary.csv"
 LOCK_FILE = ".writing"
 #: Columns of a row that are text, not metrics [-].
 TEXT_COLUMNS = ("variant", "warning", "fault", "error")
+#: Column of a circle's feed as run, in mm/min: less than asked where the circle caps it [-].
+FEED_RUN = "feed_run_mm_per_min"
 
 
 def study_record(machine, program, sensor: str, floors=None) -> dict:
@@ -146,7 +148,9 @@ def to_row(variant, result: dict) -> dict:
     if variant.draw is not None:
         row.update(draw=int(variant.draw), seed=int(variant.seed or 0))
     for k, v in result.items():
-        if k not in TEXT_COLUMNS:
+        if k == FEED_RUN:
+            row[k] = float(v)
+        elif k not in TEXT_COLUMNS:
             row[f"{k}_um"] = float(v) * 1e6
     row.update({k: result.get(k, "") for k in TEXT_COLUMNS[1:]})
     return row
@@ -216,7 +220,8 @@ def write_summary(out_dir, variants) -> Path:
     import pandas as pd
 
     table = read_results(out_dir).set_index("variant")
-    kept = [c for c in table.columns if c.endswith("_um") or c in TEXT_COLUMNS[1:]]
+    kept = [c for c in table.columns
+            if c.endswith("_um") or c in TEXT_COLUMNS[1:] or c == FEED_RUN]
     design = pd.DataFrame([{"index": i, **{k: x for k, x in to_row(v, {}).items()
                                            if k not in kept}}
                            for i, v in enumerate(variants)])

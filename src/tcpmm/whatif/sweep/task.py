@@ -20,6 +20,7 @@ from ...sim.simulate import simulate
 from ..spread import draw_machine
 from .metrics import circle_metric_names, circle_metrics, path_metric_names, path_metrics
 from .space import apply_parameters
+from .store import FEED_RUN
 
 #: The paper's circular test: radius [m] and feed [m/s].
 PAPER_RADIUS_M, PAPER_FEED_M_PER_S = 0.035, 5000.0 / 60000.0
@@ -145,9 +146,8 @@ def program_command(program, machine, values: dict):
         The command; built once per process for each program and setting [m].
     """
     if program.kind == "circle":
-        radius = values.get("program.radius_mm", program.radius_m * 1e3) * 1e-3
-        feed = values.get("program.feed_mm_per_min", program.feed_m_per_s * 6e4) / 6e4
-        cmd = _circle_command(float(radius), float(feed))
+        radius_mm, feed = _circle_asked(program, values)
+        cmd = _circle_command(radius_mm * 1e-3, feed / 6e4)
         if tuple(program.centre_m) != (0.0, 0.0):
             c = program.centre_m
             cmd = type(cmd)(cmd.time_s, {a: p + (c[0] if a == "X" else c[1] if a == "Y" else 0)
@@ -162,10 +162,44 @@ def program_command(program, machine, values: dict):
                                       settings.model_dump_json()))
 
 
+def _circle_asked(program, values: dict) -> tuple[float, float]:
+    """The circle's radius [mm] and feed [mm/min] of a variant, refused by the names the
+    user gave them: the circle's own checks name its SI arguments, which no one typed."""
+    asked = []
+    for name, own in (("program.radius_mm", program.radius_m * 1e3),
+                      ("program.feed_mm_per_min", program.feed_m_per_s * 6e4)):
+        value = float(values.get(name, own))
+        if not (math.isfinite(value) and value > 0.0):
+            what = name if name in values else f"the circle's {name.split('.')[1]}"
+            raise InputError(f"{what} must be positive, got {value:g}")
+        asked.append(value)
+    return asked[0], asked[1]
+
+
+@functools.lru_cache(maxsize=64)
+def _feed_run(radius_mm: float, feed: float) -> float:
+    """The largest feed the circle's command reaches [mm/min]."""
+    cmd = _circle_command(radius_mm * 1e-3, feed / 6e4)
+    p = np.array([cmd.positions[a] for a in cmd.axes])
+    step = float(np.max(np.linalg.norm(np.diff(p, axis=1), axis=0)))
+    return round(step / cmd.period_s * 6e4, 1)  # the command's own rounding is no figure
+
+
+def _capped(radius_mm: float, feed: float) -> str:
+    """The sentence of a feed the circle cannot reach; empty when it reaches it [-]."""
+    reached = _feed_run(radius_mm, feed)
+    if reached >= 0.99 * feed:
+        return ""
+    return (f"the circle's feed {feed:g} mm/min at R{radius_mm:g} mm runs at {reached:.0f} "
+            "mm/min: the interpolator's acceleration holds the feed back on the circle, so "
+            "the rows asking more are that circle")
+
+
 def capped_feeds(program, machine, variants) -> list[str]:
     """A sentence per feed of the circular test the interpolator cannot reach on its
     circle (its centripetal acceleration holds the feed back): the variants asking more
-    run the same circle as the feed it reaches, which the table does not show [-].
+    run the same circle as the feed it reaches; their rows say so in ``warning`` and give
+    the feed run in ``feed_run_mm_per_min`` [-].
 
     Parameters
     ----------
@@ -178,20 +212,8 @@ def capped_feeds(program, machine, variants) -> list[str]:
     """
     if program.kind != "circle":
         return []
-    asked = {(v.params.get("program.radius_mm", program.radius_m * 1e3),
-              v.params.get("program.feed_mm_per_min", program.feed_m_per_s * 6e4))
-             for v in variants}
-    out = []
-    for radius_mm, feed in sorted(asked):
-        cmd = program_command(program, machine, {"program.radius_mm": radius_mm,
-                                                 "program.feed_mm_per_min": feed})
-        p = np.array([cmd.positions[a] for a in cmd.axes])
-        reached = float(np.max(np.linalg.norm(np.diff(p, axis=1), axis=0))) / cmd.period_s * 6e4
-        if reached < 0.99 * feed:
-            out.append(f"the circle's feed {feed:g} mm/min at R{radius_mm:g} mm runs at "
-                       f"{reached:.0f} mm/min: the interpolator's acceleration holds the feed "
-                       "back on the circle, so the rows asking more are that circle")
-    return out
+    asked = {_circle_asked(program, v.params) for v in variants}
+    return [s for s in (_capped(r, f) for r, f in sorted(asked)) if s]
 
 
 def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
@@ -204,8 +226,12 @@ def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
     cmd = program_command(program, m, values)
     run = simulate(m, cmd, threads=1)  # a sweep runs its variants side by side instead
     if program.kind == "circle":
-        radius = values.get("program.radius_mm", program.radius_m * 1e3) * 1e-3
-        metrics = circle_metrics(run, radius, program.centre_m, sensor)
+        radius_mm, feed = _circle_asked(program, values)
+        metrics = circle_metrics(run, radius_mm * 1e-3, program.centre_m, sensor)
+        # the figures are those of the feed run: a row asking more must say so itself
+        metrics[FEED_RUN] = _feed_run(radius_mm, feed)
+        if _capped(radius_mm, feed):
+            warnings.warn(_capped(radius_mm, feed), InputWarning, stacklevel=2)
     else:
         metrics = path_metrics(run, cmd.axes, sensor)
     if runs_dir is not None:
@@ -244,10 +270,13 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     -------
     dict
         ``variant`` (its id), every metric (:func:`metric_names`; NaN when the variant
-        failed) [m], ``warning``, ``fault`` (axes that ran away or saturated their current,
-        :mod:`tcpmm.analysis.runaway`) and ``error`` (empty when none) [-].
+        failed) [m], of a circle ``feed_run_mm_per_min`` (the feed it ran, less than asked
+        where the circle caps it) [mm/min], ``warning``, ``fault`` (axes that ran away or
+        saturated their current, :mod:`tcpmm.analysis.runaway`) and ``error`` (empty when
+        none) [-].
     """
     row = {"variant": variant.id, **dict.fromkeys(metric_names(program), math.nan),
+           **({FEED_RUN: math.nan} if program.kind == "circle" else {}),
            "warning": "", "fault": "", "error": ""}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -121,7 +121,9 @@ def _unstable_marks(mech, t) -> tuple:
 
 def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
     for name, t in res.axes.items():
-        tab = plain_table(("", "before", "after"))
+        drawn = (res.margins_drawn or {}).get(name)
+        n = next(iter(drawn.values()))["draws"] if drawn else 0
+        tab = plain_table(("", "before", "after") + ((f"after, {n} draws",) if drawn else ()))
         b, a = t.before, t.after
         marks = _unstable_marks(machine.axes[name].mechanics, t)
         rows = [("K_vp [A s/rad]", b.K_vp, a.K_vp, 4), ("T_i = K_vp/K_vi [ms]", _ti(b), _ti(a), 2),
@@ -130,19 +132,15 @@ def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
             tab.add_row(esc(label), _fmt(x, d), _fmt(y, d))
         for label, x, y in _filter_rows(b, a):
             tab.add_row(label, x, y)
-        for loop in ("velocity", "position"):
-            mb, ma = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
-            mk = marks if loop == "position" else ("", "")
-            for label, key in (("gain margin [dB]", "gain_margin_db"),
-                               ("phase margin [deg]", "phase_margin_deg"),
-                               ("bandwidth [Hz]", "bandwidth_hz")):
-                tab.add_row(esc(f"{loop} {label}"), _fmt(mb[key]) + mk[0],
-                            _fmt(ma[key]) + mk[1])
-        unstable = ("*: of no meaning, the sampled loop is unstable with these settings"
-                    if any(marks) else None)
+        for row in _margin_rows(t, marks, drawn):
+            tab.add_row(*row)
+        caption = [f"after, {n} draws: over {n} machines drawn from the model's uncertainty, "
+                   "the least first" if drawn else None,
+                   "*: of no meaning, the sampled loop is unstable with these settings"
+                   if any(marks) else None]
         print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg, stable with "
-                              f"the modes {tolerance_percent:g} % off: {_verdict(t)}",
-                    unstable)
+                              f"the modes {tolerance_percent:g} % off: {_verdict(t, drawn)}",
+                    "\n".join(c for c in caption if c) or None)
         if name in res.reasons:
             out.print(f"  {esc(res.reasons[name])}")
         for note in t.notes:
@@ -171,15 +169,43 @@ def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
                              if fails else "") if drawn else ""))
 
 
-def _verdict(t) -> str:
-    """Met, met only with the velocity loop slowed down, or not met [-]."""
+def _margin_rows(t, marks: tuple, drawn: dict | None) -> list[tuple]:
+    """The rows of each loop's margins and bandwidth, before and after, and the margins'
+    range over the draws where there are draws [-]."""
+    rows = []
+    for loop in ("velocity", "position"):
+        mb, ma = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
+        mk = marks if loop == "position" else ("", "")
+        for label, key in (("gain margin [dB]", "gain_margin_db"),
+                           ("phase margin [deg]", "phase_margin_deg"),
+                           ("bandwidth [Hz]", "bandwidth_hz")):
+            row = (esc(f"{loop} {label}"), _fmt(mb[key]) + mk[0], _fmt(ma[key]) + mk[1])
+            if drawn:
+                span = drawn[loop].get(key)
+                row += ("" if span is None else " to ".join(
+                    "inf" if v is None else _fmt(v) for v in span),)
+            rows.append(row)
+    return rows
+
+
+def _verdict(t, drawn: dict | None = None) -> str:
+    """Met, met only with the velocity loop slowed down, or not met; where there are
+    draws, met on the model and on how many of them [-]."""
     from ..servo.modeshift import slowed
+    from ..whatif.tuning_draws import margins_missed
 
     if not t.met:
         return "NOT MET, settings kept"
     cut = slowed(t.margins_before, t.margins_after)
-    return "met" if cut is None else (f"met only with the velocity loop slowed from "
+    said = "met" if cut is None else (f"met only with the velocity loop slowed from "
                                       f"{cut[0]:.3g} to {cut[1]:.2g} Hz (see the warning)")
+    if not drawn:
+        return said
+    n, missed = next(iter(drawn.values()))["draws"], margins_missed(drawn)
+    if not missed:
+        return f"{said}, on the model and on all {n} machines drawn from its uncertainty"
+    return (f"{said} on the model; NOT MET on {missed} of {n} machines drawn from its "
+            "uncertainty (the least of each margin in the table)")
 
 
 def _ti(s):

@@ -17,7 +17,7 @@ from ..model import Machine
 from ..servo.tune import meets_margins
 from ..units import mm_to_m
 from .tuning_axes import axis_reasons, contouring_axes, left_out_note, moved_axes, tune_axes
-from .tuning_draws import drawn_note, drawn_paths
+from .tuning_draws import drawn_margins, drawn_note, drawn_paths
 from .tuning_paths import path_figures
 
 #: Feedforward fractions tried on the path [-].
@@ -52,6 +52,10 @@ class TuneResult:
         The path figures after and their change on machines drawn from the model's
         uncertainty (:func:`tcpmm.whatif.tuning_draws.drawn_paths`); ``None`` for a model
         that carries none [um].
+    margins_drawn : dict or None
+        Per axis and loop, the proposal's margins over the same machines
+        (:func:`tcpmm.whatif.tuning_draws.drawn_margins`); ``None`` without uncertainty
+        [dB, deg].
     """
 
     tuned: Machine
@@ -63,10 +67,12 @@ class TuneResult:
     moved: tuple = ()
     reasons: dict = field(default_factory=dict)
     drawn: dict | None = None
+    margins_drawn: dict | None = None
 
     def to_dict(self) -> dict:
         """JSON-ready summary."""
-        return {"axes": {k: {**v.to_dict(), "reason": self.reasons.get(k)}
+        return {"axes": {k: {**v.to_dict(), "reason": self.reasons.get(k),
+                             "margins_after_drawn": (self.margins_drawn or {}).get(k)}
                          for k, v in self.axes.items()},
                 "matched_axes": list(self.matched), "moved_axes": list(self.moved),
                 "path_before_um": self.path_before, "path_after_um": self.path_after,
@@ -142,7 +148,8 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         note = (f"no circle predicted: the machine has no {lacks} axis; give a program "
                 "(--gcode) to predict its path")
         return TuneResult(tuned, axes, {}, {}, [note], *roles,
-                          axis_reasons(axes, matched, moved, named))
+                          axis_reasons(axes, matched, moved, named),
+                          margins_drawn=drawn_margins(machine, tuned, gm_db, pm_deg))
     # the feedforward is judged on the path: only for the contouring axes it moves
     met = [n for n in matched if n in moved and axes[n].met]
     tuned, after, dropped, spread = _best_feedforward(tuned, met, cmd, circle)
@@ -157,13 +164,11 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled,
                          _unmatched(machine, tuned, matched, moved))
     drawn = drawn_paths(machine, tuned, cmd, circle)
-    notes += drawn_note(drawn, before, after)
-    if circle:
-        notes += _faster_note(machine, tuned)
+    notes += drawn_note(drawn, before, after) + (_faster_note(machine, tuned) if circle else [])
     return TuneResult(tuned, axes, before, after, notes, *roles,
                       axis_reasons(axes, matched, moved, named, _worst(after) < float("inf"),
                                    spread > FEEDFORWARD_RESOLUTION_UM),
-                      drawn)
+                      drawn, drawn_margins(machine, tuned, gm_db, pm_deg))
 
 
 def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: tuple,

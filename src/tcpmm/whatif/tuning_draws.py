@@ -6,6 +6,8 @@ the floors of :data:`tcpmm.whatif.draws.MODEL_ERROR`, as ``tcpmm spread`` draws)
 path with the settings before and with the proposal's; the range of each figure after,
 and of its change, say how far the prediction may be off and whether the proposal helps on
 every draw. The change is taken draw by draw: the same machine with both settings.
+The proposal's margins are taken on the same machines (:func:`drawn_margins`): met on
+the model, they are met on the machine only as far as the model is right.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Machine
+from ..servo.margins import axis_margins
 from .draws import MODEL_ERROR, draw_machine
 from .tuning_paths import path_figures
 
@@ -64,6 +67,62 @@ def drawn_paths(machine: Machine, tuned: Machine, command, circle: bool,
                                           for k, a in m.axes.items()}})
         pairs.append((path_figures(m, command, circle), path_figures(t, command, circle)))
     return _summary(pairs)
+
+
+def drawn_margins(machine: Machine, tuned: Machine, gm_db: float, pm_deg: float,
+                  n: int = TUNE_DRAWS, seed: int = 0) -> dict | None:
+    """The proposal's margins on the ``n`` machines :func:`drawn_paths` draws; ``None``
+    for a model that carries no uncertainty.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    tuned : Machine
+        The model with the proposal's settings [SI].
+    gm_db, pm_deg : float
+        The margins asked [dB, deg].
+    n : int
+        Number of draws [-].
+    seed : int
+        Seed of the draws, :func:`drawn_paths`'s for the same machines [-].
+
+    Returns
+    -------
+    dict or None
+        Per axis and loop (``velocity``, ``position``): ``draws``, ``missed`` (the draws
+        on which a margin falls short of the one asked), ``gain_margin_db`` and
+        ``phase_margin_deg`` as ``[least, largest]`` over the draws (``None`` for an
+        infinite margin) [-, dB, deg].
+    """
+    if all(a.uncertainty is None for a in machine.axes.values()):
+        return None
+    rng = np.random.default_rng(seed)
+    got: dict = {}
+    for _ in range(n):
+        m = draw_machine(machine, rng, MODEL_ERROR)
+        for name, a in m.axes.items():
+            for loop, lm in axis_margins(a.mechanics, tuned.axes[name].servo).items():
+                got.setdefault(name, {}).setdefault(loop, []).append(lm)
+    return {name: {loop: _margin_range(v, gm_db, pm_deg) for loop, v in loops.items()}
+            for name, loops in got.items()}
+
+
+def _margin_range(margins: list, gm_db: float, pm_deg: float) -> dict:
+    """:func:`drawn_margins`'s entry of one loop [-, dB, deg]."""
+    def span(values):
+        v = np.array(values, float)
+        return [float(x) if np.isfinite(x) else None for x in (v.min(), v.max())]
+
+    return {"draws": len(margins), "missed": sum(not m.meets(gm_db, pm_deg) for m in margins),
+            "gain_margin_db": span([m.gain_margin_db for m in margins]),
+            "phase_margin_deg": span([m.phase_margin_deg for m in margins])}
+
+
+def margins_missed(drawn: dict | None) -> int:
+    """The draws on which a loop of the axis misses a margin asked, of
+    :func:`drawn_margins`'s entry of the axis; 0 without draws [-]."""
+    return max((d["missed"] for d in (drawn or {}).values()), default=0)
 
 
 def _summary(pairs: list) -> dict:

@@ -694,7 +694,7 @@ def test_the_spread_section_gives_each_figures_verdict():
     and the word undetermined nowhere. Each spike's row carries its verdict with its
     cause, the contour error's and G's are said under the table, and what would settle
     them."""
-    from tcpmm.report.spread import spread_section
+    from tcpmm.report.spread_page import spread_section
 
     rows = [{"direction": "ccw", "point": q, "spike_um": -3.55, "rise_um": -2.1,
              "fall_um": -3.55, "low_um": -4.7, "high_um": -2.5, "same_sign": 1.0,

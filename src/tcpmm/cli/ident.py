@@ -30,6 +30,15 @@ from ._app import (
 from ._outputs import outputs_together
 
 
+def _emit_spread(res, verdict, machine) -> None:
+    """``tcpmm spread --json``: the draws, the verdict and the model they came from (its
+    name and file digest, which the report checks against its ``--model``) [-]."""
+    from ..io.modelfile import model_identity
+
+    emit_json({**res.to_dict(), "verdict": verdict.to_dict(),
+               "model": model_identity(machine)})
+
+
 def _say_faulted(faulted: int, draws: int) -> None:
     """A warning of the drawn machines whose run is no prediction, where there are any."""
     if faulted:
@@ -83,11 +92,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     _say_faulted(res.faulted, draws)
     verdict = _spread_verdict(m, cmd, radius, c, sensor.value)
     if as_json:
-        from ..io.modelfile import model_identity
-
-        emit_json({**res.to_dict(), "verdict": verdict.to_dict(),
-                   "model": model_identity(m)})
-        return
+        return _emit_spread(res, verdict, m)
     table = res.to_pandas().rename(columns={"settled": "sign held", "firm": "draws agree"})
     print_table(table, out, f"{sensor.value} raw reversal spikes (e - b) over {draws} drawn "
                 "machines")

@@ -193,7 +193,7 @@ def _summary_sections(spread, ident_dir, model, machine) -> tuple[list, list]:
         read_identification_folder,
         spread_section,
     )
-    from ..report.spread import read_spread_json
+    from ..report.spread_page import read_spread_json
 
     sections, inputs = [], []
     if spread is not None:
@@ -216,10 +216,10 @@ def _judged_if_its(pair, model, run, circle, plane, predicted):
     its summary beside another's prediction), said on stderr and left unjudged [-]."""
     from ..uncertainty.verdict import NotItsPrediction
     from ._app import console
-    from .run import _judged
+    from .run import judged_rows_of
 
     try:
-        return _judged(pair, model, run, circle[0] * 1e3, circle[1], plane, predicted)
+        return judged_rows_of(pair, model, run, circle[0] * 1e3, circle[1], plane, predicted)
     except NotItsPrediction as exc:
         console.print(f"warning: Table 2 is not set against --model's intervals: "
                       f"{exc.message}", highlight=False)

@@ -279,7 +279,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     with in_file(predicted):  # a prediction's transient is the measurement's to compare
         rp = analyse_circle(cut_alike(*runs), radius * 1e-3, ctr, plane=axes, settling=False)
     cmp = compare_circles(rm, rp)
-    judged = _judged(cmp, model, runs[1], radius, ctr, axes, predicted)
+    judged = judged_rows_of(cmp, model, runs[1], radius, ctr, axes, predicted)
     if plot is not None:
         cmp.plot(path=plot)
     if report is not None:
@@ -305,7 +305,7 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                         "tcp: measured - predicted against the predicted 90 % interval [µm]")
 
 
-def _judged(cmp, model, predicted_run, radius_mm: float, centre_m, plane, where):
+def judged_rows_of(cmp, model, predicted_run, radius_mm: float, centre_m, plane, where):
     """The TCP rows against the verdict of the model on the predicted run's command
     (``None`` without a model); refused where the model did not predict that run [-]."""
     if model is None:

@@ -24,7 +24,7 @@ from .machine import (
     model_section,
     read_identification_folder,
 )
-from .spread import spread_section
+from .spread_page import spread_section
 
 __all__ = ["acceptance_section", "circle_section", "circle_test_section", "comparison_section",
            "contour_section", "faults_section", "identification_result_section",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -177,3 +178,65 @@ def test_mat_files_read_complex_or_re_im(tmp_path):
         np.testing.assert_array_equal(read_frf(tmp_path / name).H, H)
     with pytest.raises(InputError, match="no response variable"):
         read_frf(tmp_path / "c.mat")
+
+
+@needs_trace
+def test_a_trace_written_as_csv_reads_and_fits_as_the_xml_to_the_bit(tmp_path):
+    """The CSV lost the trace's 2 averages, and its coherence was read as of 10: a
+    different noise, and 10 poles and a delay of 0.25 ms where the XML gives 9 and
+    0.31 ms. The count is written and read back."""
+    from tcpmm.ident.lti import fit_frf
+
+    a = read_sinumerik(TRACE).frf
+    b = read_frf(write_frf_csv(a, tmp_path / "sin.csv"))
+    assert a.n_averages == b.n_averages == 2 and "averages_assumed" not in b.meta
+    for k in ("freq_hz", "H", "coherence", "rel_std"):
+        np.testing.assert_array_equal(getattr(b, k), getattr(a, k))
+    labels = ("name", "input", "output", "unit")
+    fa, fb = ({k: v for k, v in fit_frf(x).to_dict().items() if k not in labels}
+              for x in (a, b))
+    assert fa == fb and fa["n_poles"] == 9
+
+
+def test_a_coherence_without_its_count_is_taken_as_of_10_averages_and_said_so(tmp_path):
+    from tcpmm.io.frffile import AVERAGES
+
+    p = tmp_path / "c.csv"
+    p.write_text("freq_hz,re,im,coherence\n1,1,0,0.9\n2,0.9,-0.1,0.8\n")
+    frf = read_frf(p)
+    assert frf.n_averages == AVERAGES == 10 and frf.meta["averages_assumed"]
+    two = read_frf(p, averages=2)
+    assert two.n_averages == 2 and "averages_assumed" not in two.meta
+    assert two.rel_std[0] == pytest.approx(np.sqrt(0.1 / (2 * 1 * 0.9)))
+    # what was assumed is not written as if it had been measured
+    assert "averages" not in write_frf_csv(frf, tmp_path / "w.csv").read_text()
+    q = tmp_path / "n.csv"
+    q.write_text("freq_hz,re,im,coherence,averages\n1,1,0,0.9,4\n2,0.9,-0.1,0.8,4\n")
+    assert read_frf(q).n_averages == 4
+    with pytest.raises(InputError, match="says 4 averages, not the 2 given"):
+        read_frf(q, averages=2)
+    q.write_text("freq_hz,re,im,coherence,averages\n1,1,0,0.9,4\n2,0.9,-0.1,0.8,5\n")
+    with pytest.raises(InputError, match="line 3, column 'averages'"):
+        read_frf(q)
+    sio.savemat(tmp_path / "a.mat", {"f": [1.0, 2.0], "H": [1, 0.5j], "coherence": [1, 0.9],
+                                     "averages": 3})
+    assert read_frf(tmp_path / "a.mat").n_averages == 3
+
+
+def test_frf_commands_say_the_count_they_assume_and_take_it(capsys, tmp_path):
+    from conftest import run_cli
+
+    p = tmp_path / "c.csv"
+    p.write_text("freq_hz,re,im,coherence\n1,1,0,0.9\n2,0.9,-0.1,0.8\n3,0.7,-0.3,0.95\n")
+    code, out, _ = run_cli(capsys, "frf", "show", p)
+    assert code == 0 and "note: the file gives a coherence but not the number of averages " \
+        "behind it: 10 are assumed; give the count with --averages N" in out
+    code, out, _ = run_cli(capsys, "frf", "show", p, "--averages", "2", "--json")
+    got = json.loads(out)
+    assert code == 0 and got["averages"] == 2 and got["notes"] == []
+    rows = [f"{f:g},{(1 / (1 + 1j * f / 20)).real!r},{(1 / (1 + 1j * f / 20)).imag!r},0.9"
+            for f in range(1, 9)]
+    p.write_text("freq_hz,re,im,coherence\n" + "\n".join(rows) + "\n")
+    code, out, _ = run_cli(capsys, "frf", "fit", p, "--poles", "1", "--delay", "none",
+                           "--json")
+    assert code == 0 and json.loads(out)["notes"][0].startswith("the file gives a coherence")

@@ -28,6 +28,17 @@ frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XM
 app.add_typer(frf_app, name="frf")
 
 _FILE = "Frequency response: .csv, .mat or Sinumerik Operate .xml (see docs/frf_files.md)."
+_AVERAGES = ("Number of averages behind the coherence, for a file that does not say it "
+             "(default 10).")
+
+
+def _averages_note(frf) -> str | None:
+    """Where the noise rests on a count of averages the file does not give, say so [-]."""
+    if not frf.meta.get("averages_assumed") or frf.meta.get("coherence_assumed"):
+        return None
+    return (f"the file gives a coherence but not the number of averages behind it: "
+            f"{frf.n_averages:g} are assumed; give the count with --averages N (or an "
+            "averages column, see docs/frf_files.md)")
 
 
 class Weight(StrEnum):
@@ -67,6 +78,7 @@ def _delay(text: str):
 def show(file: Path = typer.Argument(..., help=_FILE),
          band: str = typer.Option(None, "--band", help="F0,F1 shown [Hz]."),
          plot: Path = typer.Option(None, "--plot", help="Save a Bode plot (PNG/PDF/SVG)."),
+         averages: float = typer.Option(None, "--averages", min=1.0, help=_AVERAGES),
          as_json: bool = typer.Option(False, "--json")):
     """Summary of a measured frequency response: band, coherence, noise, a few points."""
     from ..ident.lti import noise_level
@@ -74,7 +86,7 @@ def show(file: Path = typer.Argument(..., help=_FILE),
 
     checked_plot(plot)
     f0, f1 = parse_band(band, "--band")
-    frf = read_frf(file).band(f0, f1)
+    frf = read_frf(file, averages).band(f0, f1)
     # the complex relative noise |dH / H|, as frf fit gives it beside its residual: the
     # noise level is that of the real and of the imaginary part each, 1/sqrt(2) of it
     sigma = np.sqrt(2.0) * noise_level(frf.freq_hz, frf.H, frf.rel_std)
@@ -83,7 +95,8 @@ def show(file: Path = typer.Argument(..., help=_FILE),
                "freq_max_hz": float(frf.freq_hz[-1]),
                "coherence_median": float(np.median(frf.coherence)),
                "bins_coherence_0_5": int(np.count_nonzero(frf.coherence >= 0.5)),
-               "noise_rel_median": float(np.median(sigma))}
+               "noise_rel_median": float(np.median(sigma)),
+               "averages": frf.n_averages, "notes": [n for n in [_averages_note(frf)] if n]}
     assumed = bool(frf.meta.get("coherence_assumed"))
     if assumed:  # none in the file: not a measure, and not to be read as one
         summary.update(coherence_median=None, bins_coherence_0_5=None,
@@ -113,6 +126,8 @@ def show(file: Path = typer.Argument(..., help=_FILE),
                   "n/a" if assumed else f"{frf.coherence[i]:.3f}",
                   f"{sigma[i]:.3g}")
     print_plain(t, out)
+    for note in summary["notes"]:
+        out.print(f"note: {esc(note)}")
     if plot is not None:
         out.print(f"wrote {plot}")
 
@@ -136,6 +151,7 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
                                       help="Write the transfer function as a model-file "
                                            "fragment FRAG.yaml."),
         plot: Path = typer.Option(None, "--plot", help="Bode plot of data, fit and residual."),
+        averages: float = typer.Option(None, "--averages", min=1.0, help=_AVERAGES),
         as_json: bool = typer.Option(False, "--json")):
     """Fit a transfer function (poles, zeros, delay) to a measured frequency response."""
     from ..ident.lti import DAMPING_FLOOR, fit_frf
@@ -152,10 +168,11 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
         checked_yaml_output(fragment, file)
     checked_plot(plot)
     distinct_outputs(("-o", output), ("--model-fragment", fragment), ("--plot", plot))
-    frf = read_frf(file)
+    frf = read_frf(file, averages)
     with in_file(file):
         res = fit_frf(frf, poles=n, band_hz=(f0, f1), weighting=weight.value, delay_s=tau,
                       damping_floor=DAMPING_FLOOR if damping_floor is None else damping_floor)
+    res.notes[:0] = [n for n in [_averages_note(frf)] if n]
     d = {"file": str(file), **res.to_dict()}
     if output is not None:
         write_text_atomic(output, json.dumps(d, indent=1) + "\n")

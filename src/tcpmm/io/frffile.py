@@ -6,16 +6,22 @@ CSV (header names decide, case-insensitive; see ``docs/frf_files.md``):
 * the response, one of: ``re`` and ``im`` (also ``real``/``imag``); ``magnitude_db`` (also
   ``mag_db``, ``db``) or ``magnitude`` (also ``mag``, ``abs``, linear) with ``phase_deg``
   (also ``phase``) [deg] or ``phase_rad`` [rad];
-* optional ``coherence`` (also ``coh``) [-].
+* optional ``coherence`` (also ``coh``) [-];
+* optional ``averages`` (also ``n_averages``): the number of averages behind the
+  coherence, the same on every row [-].
 
 MATLAB .mat: a frequency vector (same names as CSV) and either a complex vector ``H``
-(also ``frf``, ``G``, ``resp``) or ``re`` and ``im``; optional ``coherence``.
+(also ``frf``, ``G``, ``resp``) or ``re`` and ``im``; optional ``coherence`` and
+``averages`` (a number).
 
-Without a coherence, bins are taken as well measured (coherence 1).
+Without a coherence, bins are taken as well measured (coherence 1). A coherence without
+the number of averages is taken as of :data:`AVERAGES` (``meta["averages_assumed"]``);
+``read_frf(path, averages=N)`` gives the count.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +33,7 @@ from .matfile import load, mat_array
 from .sinumerik import read_sinumerik_frf
 from .text import existing_file
 
-__all__ = ["read_frf", "read_frf_csv", "read_frf_mat", "write_frf_csv"]
+__all__ = ["read_frf", "read_frf_csv", "read_frf_mat", "with_averages", "write_frf_csv"]
 
 FREQ = ("freq_hz", "frequency_hz", "f_hz", "frequency", "freq", "f")
 RE, IM = ("re", "real"), ("im", "imag")
@@ -35,18 +41,22 @@ MAG_DB = ("magnitude_db", "mag_db", "db")
 MAG = ("magnitude", "mag", "abs")
 PHASE_DEG, PHASE_RAD = ("phase_deg", "phase"), ("phase_rad",)
 COH = ("coherence", "coh")
+AVG = ("averages", "n_averages")
 COMPLEX = ("H", "frf", "G", "resp")
 #: Averages assumed when a file gives a coherence but not how many averages made it.
 AVERAGES = 10.0
 
 
-def read_frf(path) -> FRF:
+def read_frf(path, averages: float | None = None) -> FRF:
     """Read a frequency response from CSV, MATLAB .mat or Sinumerik Operate XML.
 
     Parameters
     ----------
     path : str or Path
         The file; its extension (``.csv``, ``.mat``, ``.xml``) says the format [-].
+    averages : float, optional
+        Number of averages behind the coherence, for a file that does not say it; a file
+        that says another is refused [-].
 
     Returns
     -------
@@ -55,14 +65,28 @@ def read_frf(path) -> FRF:
     """
     path = Path(path)
     ext = path.suffix.lower()
-    if ext == ".csv":
-        return read_frf_csv(path)
-    if ext == ".mat":
-        return read_frf_mat(path)
-    if ext == ".xml":
-        return read_sinumerik_frf(path)
+    read = {".csv": read_frf_csv, ".mat": read_frf_mat, ".xml": read_sinumerik_frf}.get(ext)
+    if read is not None:
+        return with_averages(read(path), averages, path)
     raise InputError(f"unknown FRF file type '{path.suffix}'; use .csv, .mat or a Sinumerik "
                      "Operate .xml", file=path)
+
+
+def with_averages(frf: FRF, averages: float | None, path=None) -> FRF:
+    """``frf`` with ``averages`` behind its coherence where its file did not say how many
+    (the same where it did, and the two agree) [-]."""
+    if averages is None:
+        return frf
+    if not (np.isfinite(averages) and averages >= 1):
+        raise InputError(f"the number of averages must be >= 1, got {averages:g}", file=path)
+    if not frf.meta.get("averages_assumed"):
+        if float(averages) != frf.n_averages:
+            raise InputError(f"the file says {frf.n_averages:g} averages, not the "
+                             f"{averages:g} given; leave out the count", file=path)
+        return frf
+    meta = {k: v for k, v in frf.meta.items() if k != "averages_assumed"}
+    return replace(frf, n_averages=float(averages),
+                   rel_std=coherence_rel_std(frf.coherence, float(averages)), meta=meta)
 
 
 def _pick(names, choices):
@@ -88,7 +112,7 @@ def _columns(names, path):
         raise InputError("no response columns; give re and im, or magnitude_db (or "
                          "magnitude) with phase_deg (or phase_rad) (the file has "
                          f"{', '.join(names)})", file=path, line=1)
-    return f, kind, a, b, _pick(names, COH)
+    return f, kind, a, b, _pick(names, COH), _pick(names, AVG)
 
 
 def _complex(kind, a, b):
@@ -114,9 +138,9 @@ def read_frf_csv(path) -> FRF:
     """
     path = Path(path)
     names = read_header(path)
-    f_col, kind, a, b, coh_col = _columns(names, path)
+    f_col, kind, a, b, coh_col, avg_col = _columns(names, path)
     response = {_pick(names, c) for c in (RE, IM, MAG_DB, MAG, PHASE_DEG, PHASE_RAD)} - {None}
-    cols = read_numeric_csv(path, [f_col, a, b], [coh_col] if coh_col else [],
+    cols = read_numeric_csv(path, [f_col, a, b], [c for c in (coh_col, avg_col) if c],
                             {c: f"the response is read from {a} and {b}"
                              for c in response - {a, b}})
     f = cols[f_col]
@@ -134,7 +158,21 @@ def read_frf_csv(path) -> FRF:
             raise InputError("a linear magnitude cannot be negative (is it in dB? name the "
                              "column magnitude_db)", file=path, line=int(bad[0]) + 2, column=a)
     coh = _coherence(cols.get(coh_col), f.size, path, coh_col)
-    return _frf(f, _complex(kind, cols[a], cols[b]), coh, path, coh_col not in cols)
+    return _frf(f, _complex(kind, cols[a], cols[b]), coh, path, coh_col not in cols,
+                _averages(cols.get(avg_col), path, avg_col))
+
+
+def _averages(n, path, name, rows: bool = True) -> float | None:
+    """The one number of averages of a column (``rows``) or variable, or None without
+    one [-]."""
+    if n is None:
+        return None
+    bad = np.flatnonzero((n != n[0]) | (n < 1))
+    if bad.size:
+        raise InputError(f"averages {n[bad[0]]:g}: give one count >= 1"
+                         + (", the same on every row" if rows else ""), file=path,
+                         line=int(bad[0]) + 2 if rows else None, column=name)
+    return float(n[0])
 
 
 def _coherence(coh, n, path, name):
@@ -147,12 +185,15 @@ def _coherence(coh, n, path, name):
     return coh
 
 
-def _frf(f, H, coh, path, assumed: bool = False) -> FRF:
+def _frf(f, H, coh, path, assumed: bool = False, averages: float | None = None) -> FRF:
     """The FRF of a file; ``assumed``: the file gives no coherence, and every bin is taken
-    as well measured (``meta["coherence_assumed"]``) [-]."""
-    return FRF(freq_hz=f, H=H, coherence=coh, n_averages=AVERAGES,
-               rel_std=coherence_rel_std(coh, AVERAGES), name=Path(path).stem,
-               meta={"file": str(path), **({"coherence_assumed": True} if assumed else {})})
+    as well measured (``meta["coherence_assumed"]``); without ``averages``, the coherence
+    is taken as of :data:`AVERAGES` (``meta["averages_assumed"]``) [-]."""
+    n = AVERAGES if averages is None else averages
+    meta = {"file": str(path), **({"coherence_assumed": True} if assumed else {}),
+            **({"averages_assumed": True} if averages is None else {})}
+    return FRF(freq_hz=f, H=H, coherence=coh, n_averages=n,
+               rel_std=coherence_rel_std(coh, n), name=Path(path).stem, meta=meta)
 
 
 def write_frf_csv(frf: FRF, path, polar: bool = False) -> Path:
@@ -165,7 +206,8 @@ def write_frf_csv(frf: FRF, path, polar: bool = False) -> Path:
     path : str or Path
         Target file [-].
     polar : bool
-        Columns ``magnitude_db, phase_deg`` instead of ``re, im`` [-].
+        Columns ``magnitude_db, phase_deg`` instead of ``re, im`` [-]. An ``averages``
+        column follows the coherence where the FRF knows its count (not assumed) [-].
 
     Returns
     -------
@@ -179,6 +221,8 @@ def write_frf_csv(frf: FRF, path, polar: bool = False) -> Path:
     else:
         cols["re"], cols["im"] = frf.H.real, frf.H.imag
     cols["coherence"] = frf.coherence
+    if not frf.meta.get("averages_assumed"):
+        cols["averages"] = np.full(frf.freq_hz.size, float(frf.n_averages))
     return atomic_write_columns(path, cols, float_format="%.17g")
 
 
@@ -222,6 +266,10 @@ def read_frf_mat(path) -> FRF:
                              file=path)
         hname, H = "re", np.asarray(re_, float) + 1j * np.asarray(im_, float)
     cname, coh = var(COH, "coherence")
+    aname, avg = var(AVG, "averages")
+    if avg is not None and avg.size != 1:
+        raise InputError(f"variable '{aname}' has {avg.size} values; store one count",
+                         file=path, column=aname)
     f, H = np.asarray(f).real.astype(float), np.asarray(H, dtype=complex)
     for name, a in ((fname, f), (hname, H), (cname, coh)):
         if a is not None and a.size != f.size:
@@ -234,4 +282,6 @@ def read_frf_mat(path) -> FRF:
         raise InputError(f"variable '{fname}' must hold frequencies > 0 Hz, increasing",
                          file=path, column=fname)
     coh = None if coh is None else np.asarray(coh, float).real
-    return _frf(f, H, _coherence(coh, f.size, path, cname), path, coh is None)
+    return _frf(f, H, _coherence(coh, f.size, path, cname), path, coh is None,
+                _averages(None if avg is None else np.asarray(avg, float).real, path, aname,
+                          rows=False))

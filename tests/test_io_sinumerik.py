@@ -135,6 +135,22 @@ def test_broken_xml_is_named_at_its_line(tmp_path):
         read_sinumerik(p)
 
 
+@needs_trace
+def test_a_decimal_comma_is_named_with_file_line_and_element(tmp_path):
+    text = TRACE.read_bytes()
+    old = b'name="m_dProcessUpdateTime">0.000125<'
+    assert old in text
+    p = tmp_path / "comma.xml"
+    p.write_bytes(text.replace(old, b'name="m_dProcessUpdateTime">0,000125<'))
+    line = text[:text.index(old)].count(b"\n") + 1
+    with pytest.raises(InputError) as exc:
+        read_sinumerik(p)
+    msg = str(exc.value)
+    assert f"comma.xml, line {line}" in msg
+    assert "element <m_dProcessUpdateTime> holds '0,000125', a decimal comma: write '.'" in msg
+    assert "export" not in msg
+
+
 finite = st.floats(-1e6, 1e6, allow_nan=False).filter(lambda v: abs(v) > 1e-9)
 
 

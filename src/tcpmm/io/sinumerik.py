@@ -21,6 +21,7 @@ Signals are in the SI unit of the measured quantity (for a speed-loop measuremen
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -138,7 +139,7 @@ def read_sinumerik(path) -> SinumerikTrace:
     """
     path = existing_file(path, "Sinumerik XML file")
     root = _parse(path)
-    loop = _int(root, "m_eControlLoopType")
+    loop = _int(root, "m_eControlLoopType", path=path, optional=True)
     loop_name, unit = LOOPS.get(loop, ("", ""))
     nodes = _nodes(root, path)
     i_in, i_out = _primary(root, nodes, path)
@@ -159,9 +160,9 @@ def read_sinumerik(path) -> SinumerikTrace:
     frf = FRF(freq_hz=f, H=s_io / s_ii, coherence=coh, n_averages=float(n_avg),
               rel_std=coherence_rel_std(coh, float(n_avg)), name=name, input=node_in["name"],
               output=node_out["name"], meta={"unit": "-" if unit else "", "file": str(path)})
-    dt = _float(root, "m_dProcessUpdateTime")
+    dt = _float(root, "m_dProcessUpdateTime", path=path, optional=True)
     meta = {"file": str(path), "control_loop": loop_name or f"type {loop}",
-            "signal_unit": unit, "axis": _int(root, "m_uAxis"),
+            "signal_unit": unit, "axis": _int(root, "m_uAxis", path=path, optional=True),
             "sample_time_s": dt, "date": _text(root.find("SatTimeStamp/unsigned_int")),
             "input_node": node_in["id"], "output_node": node_out["id"], "averages": n_avg}
     return SinumerikTrace(frf=frf, traces=traces, meta=meta)
@@ -193,21 +194,41 @@ def _child(e: ET.Element, name: str):
     return next((c for c in e if c.get("name") == name), None)
 
 
-def _float(e: ET.Element, name: str, where: str = "", path=None, default=None):
+def _float(e: ET.Element, name: str, where: str = "", path=None, default=None,
+           optional: bool = False):
+    """The number in ``e``'s child ``name``; missing, ``default`` where one is given or the
+    child is ``optional``, else an error naming ``path`` [-]."""
     c = _child(e, name)
+    tag = f"<{where}/{name}>" if where else f"<{name}>"
     if c is None:
-        if default is not None or path is None:
+        if optional or default is not None or path is None:
             return default
         raise InputError(f"element <{where}> lacks <{name}>; " + _FIX, file=path)
     try:
         return float(_text(c))
     except (TypeError, ValueError):
-        raise InputError(f"element <{where}/{name}> holds {_text(c)!r}, not a number; "
-                         + _FIX, file=path) from None
+        text = _text(c) or ""
+        # a comma for the point is a locale's setting, not damage to the file
+        why = ("a decimal comma: write '.'" if re.fullmatch(r"[-+]?\d*,\d+([eE][-+]?\d+)?",
+                                                            text) else "not a number; " + _FIX)
+        raise InputError(f"element {tag} holds {text!r}, {why}", file=path,
+                         line=_line(path, name, c.text)) from None
 
 
-def _int(e: ET.Element, name: str, where: str = "", path=None, default=None):
-    v = _float(e, name, where, path, default)
+def _line(path, name: str, text) -> int | None:
+    """The line of the element ``name="name"`` holding ``text`` (ElementTree keeps no line
+    numbers) [-]."""
+    if path is None or text is None:
+        return None
+    data = Path(path).read_bytes()
+    m = re.search(rb'name="' + re.escape(name.encode()) + rb'"[^>]*>' + re.escape(
+        text.encode("latin-1", "replace")), data)
+    return None if m is None else data.count(b"\n", 0, m.start()) + 1
+
+
+def _int(e: ET.Element, name: str, where: str = "", path=None, default=None,
+         optional: bool = False):
+    v = _float(e, name, where, path, default, optional)
     return None if v is None else int(v)
 
 
@@ -237,7 +258,7 @@ def _nodes(root: ET.Element, path) -> list[dict]:
     for e in root.find("LinkedList[@name='m_MeasurementSignalNodeList']"):
         nid = _int(e, "m_uNodeId", "PlatformSignalNode", path)
         nodes.append({"id": nid, "name": f"node {nid}", "element": e,
-                      "instance": _int(e, "m_iUniqueInstanceId", default=len(nodes))})
+                      "instance": _int(e, "m_iUniqueInstanceId", path=path, default=len(nodes))})
     if len(nodes) < 2:
         raise InputError(f"m_MeasurementSignalNodeList holds {len(nodes)} signal(s); a "
                          "frequency response needs an input and an output", file=path)
@@ -311,7 +332,7 @@ def _spectra(node_in, node_out, traces, path):
     for a, b, conj in ((node_in, node_out, False), (node_out, node_in, True)):
         for info in a["element"].iter("SigNodeCrossSpectrumInfo"):
             if info.get("name") != "m_autospectrumInfo" and \
-                    _int(info, "m_uSignodeId") == b["id"]:
+                    _int(info, "m_uSignodeId", path=path, optional=True) == b["id"]:
                 f, s, n = _spectrum(info, f"{a['name']}/m_crossSpecInfoList", path)
                 cross = (f, np.conj(s) if conj else s, n)
     if None not in autos and cross is not None:

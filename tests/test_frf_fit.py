@@ -562,3 +562,32 @@ def test_a_response_given_twice_says_which_columns_it_reads(tmp_path):
     assert len(text) == 2 and not any("unknown" in t for t in text)
     assert "column 'magnitude_db' is not read: the response is read from re and im" in text[0]
     np.testing.assert_array_equal(got.H, h)
+
+
+def _off_advice(**kw) -> str:
+    with pytest.warns(InputWarning, match="does not describe the measurement") as said:
+        fit_frf(kw.pop("frf"), **kw)
+    return str(said[0].message)
+
+
+def test_the_advice_for_a_fit_of_nothing_follows_what_was_given():
+    """A fit chosen by the data was told to let --poles auto choose its poles, and a delay
+    the user fixed, the likeliest cause, went unnamed: the advice names what is left to
+    change."""
+    frf = noisy_frf(0)
+    given = _off_advice(frf=frf, poles=1)
+    assert given.endswith("fit more poles (--poles auto chooses them)")
+    assert "--delay" not in given
+    fixed = _off_advice(frf=frf, poles="auto", delay_s=0.01, max_poles=2)
+    assert "leave the delay free (--delay fit): the delay of 10 ms given" in fixed
+    assert "--poles auto" not in fixed and "widen the band (--band)" in fixed
+
+
+@needs_trace
+def test_a_band_without_dynamics_is_not_told_to_fit_more_poles():
+    from tcpmm.io.sinumerik import read_sinumerik_frf
+
+    text = _off_advice(frf=read_sinumerik_frf(TRACE), band_hz=(3000, 4000))
+    assert "--poles" not in text and "--delay" not in text
+    assert text.endswith("widen the band (--band): the poles were already chosen by the "
+                         "data, so the band may hold no dynamics to fit")

@@ -249,6 +249,7 @@ def fit_frf(frf: FRF, poles="auto", band_hz: tuple[float | None, float | None] |
     lo, hi = band_hz if band_hz is not None else (None, None)
     data = frf.band(lo, hi)
     ctx = _context(data, weighting, delay_s, damping_floor, min_coherence)
+    ctx["auto"] = poles == "auto"
     if poles == "auto":
         best, cands = _auto(ctx, int(max_poles))
         best = choose(ctx, [best], best["tried"][0])
@@ -348,7 +349,7 @@ def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
     fit = best["fit"]
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
-    warn_if_off(frf.name, fit.n_den, h, H)
+    warn_if_off(frf.name, fit.n_den, h, H, auto=ctx["auto"], delay=ctx["delay"])
     return FRFFit(
         tf=fit, band_hz=(float(data.freq_hz[0]), float(data.freq_hz[-1])),
         weighting=weighting, rel_rms=float(np.sqrt(np.mean(e2))),

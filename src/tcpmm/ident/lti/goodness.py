@@ -20,11 +20,14 @@ def rel_error(H, H_model) -> float:
     return float(np.sqrt(np.mean(np.abs(np.asarray(H_model) / np.asarray(H) - 1.0) ** 2)))
 
 
-def warn_if_off(name: str, n_poles: int, H_model, H) -> None:
+def warn_if_off(name: str, n_poles: int, H_model, H, auto: bool = False,
+                delay="fit") -> None:
     """Say so where a fit of ``n_poles`` explains less than half of the measured response
     ``H`` by either measure of its error, the relative RMS ``|Ĥ/H - 1|`` and the total
     ``sum |Ĥ - H|^2 / sum |H|^2`` (a response of zero leaves 1 of each): a fit chosen for
-    one may leave much of the other, not both [-]."""
+    one may leave much of the other, not both. The advice follows what the fit was given:
+    ``auto``, its pole count chosen by the data; ``delay``, ``"fit"``, ``None`` (none) or
+    a delay fixed [s] [-]."""
     H, h = np.asarray(H), np.asarray(H_model)
     rel = rel_error(H, h)
     total = float(np.sum(np.abs(h - H) ** 2) / np.sum(np.abs(H) ** 2))
@@ -33,5 +36,21 @@ def warn_if_off(name: str, n_poles: int, H_model, H) -> None:
             f"{name or 'the response'}: the fit of {n_poles} pole"
             f"{'s' if n_poles != 1 else ''} leaves a relative RMS of {rel:.3g} and a total "
             f"error of {total:.3g}, where a response of zero leaves 1 of each: it does not "
-            "describe the measurement; fit more poles (--poles auto chooses them)"),
-            stacklevel=3)
+            f"describe the measurement; {_advice(auto, delay)}"), stacklevel=3)
+
+
+def _advice(auto: bool, delay) -> str:
+    """What to change where a fit describes nothing: a delay given is the likeliest cause,
+    as no pole count makes up for a wrong one; more poles only where the data did not
+    choose them [-]."""
+    fixes = []
+    if delay != "fit":
+        given = "no delay" if delay is None else f"the delay of {delay * 1e3:.4g} ms"
+        fixes.append(f"leave the delay free (--delay fit): {given} given may be what the "
+                     "response does not have")
+    if auto:
+        fixes.append("widen the band (--band): the poles were already chosen by the data, "
+                     "so the band may hold no dynamics to fit")
+    else:
+        fixes.append("fit more poles (--poles auto chooses them)")
+    return "; or ".join(fixes)

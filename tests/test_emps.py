@@ -206,6 +206,10 @@ def test_validation_file_runs_through_main(tmp_path, emps, capsys):
     emps._print_table(rep)
     out = capsys.readouterr().out
     assert "published (other definition)" in out and "Script_IDIM_LS_CTV.m" in out
+    # units beside the values, and what the +/- is
+    for label in ("M [kg]", "Fv [N s/m]", "Fc [N]", "offset [N]", "relative error [%]",
+                  "+/- 1 sigma, statistical only"):
+        assert label in out, label
     assert set(val_sec["errors_percent"]) == set(rep["models"])
     good = val_sec["errors_percent"]["asymmetric_delay"]
     assert good["velocity"] < 0.1 and good["force"] < 1.0
@@ -260,3 +264,45 @@ def test_bad_files_are_reported(tmp_path, emps):
         emps.load_emps(tmp_path / "short.mat")
     with pytest.raises(InputError, match="not found"):
         emps.load_emps(tmp_path / "missing.mat")
+
+
+def test_positions_in_millimetres_are_refused(tmp_path, emps):
+    """Positions in mm identified a mass of 0.0951 kg beside the published 95.1 kg, and
+    said nothing."""
+    from scipy.io import loadmat
+
+    raw = loadmat(_write_synthetic(tmp_path / "m.mat", 1, None))
+    raw = {k: v for k, v in raw.items() if not k.startswith("__")}
+    savemat(tmp_path / "mm.mat", {**raw, "qm": raw["qm"] * 1000, "qg": raw["qg"] * 1000})
+    with pytest.raises(InputError, match=r"column 'qm': spans .* the positions look like "
+                                         r"millimetres; give them in metres"):
+        emps.load_emps(tmp_path / "mm.mat")
+
+
+def test_the_published_time_base_starts_at_the_records_first_sample(tmp_path, emps):
+    """A record whose time starts at 12.42 s had its reference read at 0..n tec s, before
+    its first sample: the published script's row was 100 % off."""
+    from studies.emps.models import published_time_base
+
+    rec = emps.load_emps(_write_synthetic(tmp_path / "m.mat", 1, None))
+    tec, ref = published_time_base(rec)
+    tec2, ref2 = published_time_base(dataclasses.replace(rec, t=rec.t + 12.42))
+    assert tec2 == pytest.approx(tec, rel=1e-9)
+    np.testing.assert_allclose(ref2, ref, rtol=0, atol=1e-9)
+
+
+def test_a_record_that_moves_one_way_is_refused_before_the_fits(tmp_path, emps):
+    """The first eighth of the record moves one way only: the LuGre model failed at the
+    end with 'fc_neg 0.0 N (fix the value and try again)'."""
+    if not EST.is_file():
+        pytest.skip(f"EMPS data not found: expected {EST}")
+    rec = emps.load_emps(EST)
+    n = rec.t.size // 8
+    part = dataclasses.replace(rec, t=rec.t[:n], qm=rec.qm[:n], qg=rec.qg[:n],
+                               vir=rec.vir[:n])
+    from studies.emps.models import identify
+
+    with pytest.raises(InputError, match="moves in one direction only, so Coulomb friction "
+                                         "and the offset cannot be told apart; give a record "
+                                         "that moves both ways"):
+        identify(part)

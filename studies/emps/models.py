@@ -25,6 +25,7 @@ from .record import (
     U_MAX_V,
     EmpsModel,
     EmpsRecord,
+    check_moves_both_ways,
     measured_signals,
 )
 
@@ -227,6 +228,7 @@ def identify(rec: EmpsRecord, n_sub: int = N_SUB) -> tuple[dict, dict]:
     tuple of dict
         ``(identification results for JSON, {name: EmpsModel})`` [-].
     """
+    check_moves_both_ways(rec, measured_signals(rec))
     ref_est = _reference_estimate(rec)
     models = {"reference": reference_model(rec, ref_est)}
     models["reference_converged"] = converged_reference(models["reference"])
@@ -303,7 +305,8 @@ def published_time_base(rec: EmpsRecord) -> tuple[float, np.ndarray]:
         ``(tec [s], reference position at k * tec [m])``.
     """
     tec = float(rec.t[9] - rec.t[8])
-    return tec, np.interp(np.arange(rec.t.size) * tec, rec.t, rec.qg)
+    # the script's clock starts at 0, the record's at its first sample
+    return tec, np.interp(rec.t[0] + np.arange(rec.t.size) * tec, rec.t, rec.qg)
 
 
 def evaluate(rec: EmpsRecord, models: dict, n_sub: int = N_SUB) -> dict:

@@ -35,6 +35,9 @@ N_SUB = 20
 #: Integration steps per sample of the published simulation (Simulink ode45 with the step
 #: capped at ``tec / 10`` and zero-crossing detection off).
 PUBLISHED_STEPS = 10
+#: Largest span of a position in metres: the EMPS table travels some 0.25 m, so a span of
+#: more is the record in millimetres (250), not a longer axis.
+MAX_TRAVEL_M = 1.0
 
 
 @dataclass(frozen=True)
@@ -166,12 +169,30 @@ def load_emps(path, need_pulses: bool = False) -> EmpsRecord:
     for k, a in (("qm", qm), ("qg", qg), ("vir", vir), ("pulses_N", pulses)):
         if a is not None and a.size != t.size:
             raise InputError(f"has {a.size} samples but t has {t.size}", file=path, column=k)
+    for k, a in (("qm", qm), ("qg", qg)):
+        if np.ptp(a) > MAX_TRAVEL_M:
+            raise InputError(f"spans {np.ptp(a):g} m, where the EMPS table travels some "
+                             "0.25 m: the positions look like millimetres; give them in "
+                             "metres (divide by 1000)", file=path, column=k)
     steps = np.diff(t)
     dt = float((t[-1] - t[0]) / (t.size - 1))
     if dt <= 0 or np.max(np.abs(steps - dt)) > 0.01 * dt:
         raise InputError("time must increase with a uniform step", file=path, column="t")
     return EmpsRecord(path.name, t, dt, qm, qg, vir, scalar("kp"), scalar("kv"),
                       scalar("gtau"), pulses)
+
+
+def check_moves_both_ways(rec: EmpsRecord, meas: dict) -> None:
+    """Refuse a record whose measured velocity ``meas["dq"]`` (from the 50th sample on)
+    does not go both ways for at least ``N_BORDER`` samples each, beyond 1 % of its
+    largest: ``Fc sign(v)`` is then a constant, and the Coulomb level and the offset one
+    column of the regression [-]."""
+    dq = meas["dq"][N_BORDER:]
+    move = 0.01 * np.max(np.abs(dq))
+    if min(np.count_nonzero(dq > move), np.count_nonzero(dq < -move)) < N_BORDER:
+        raise InputError("the record moves in one direction only, so Coulomb friction and "
+                         "the offset cannot be told apart; give a record that moves both "
+                         "ways", file=rec.name, column="qm")
 
 
 def measured_signals(rec: EmpsRecord) -> dict:

@@ -143,8 +143,13 @@ def run(estimation, validation=None, n_sub: int = N_SUB) -> tuple[dict, dict]:
     return report, raw
 
 
+#: Units of the IDIM-LS parameters as printed.
+UNITS = {"M": "kg", "Fv": "N s/m", "Fc": "N", "offset": "N"}
+
+
 def _print_errors(rows: dict) -> None:
-    print(f"{'model':28s} {'position':>9s} {'velocity':>9s} {'accel.':>9s} {'force':>9s}")
+    print(f"{'relative error [%]':28s} {'position':>9s} {'velocity':>9s} {'accel.':>9s} "
+          f"{'force':>9s}")
     for n, e in rows.items():
         print(f"{n:28s} {e['position']:9.4f} {e['velocity']:9.4f} "
               f"{e['acceleration']:9.4f} {e['force']:9.4f}")
@@ -152,10 +157,11 @@ def _print_errors(rows: dict) -> None:
 
 def _print_estimation(sec: dict) -> None:
     idp = sec["identification"]["reference"]
-    print("IDIM-LS (published filter):")
+    print("IDIM-LS (published filter; +/- 1 sigma, statistical only):")
     for n, p in idp["parameters"].items():
         pub = PUBLISHED["identification"][n]
-        print(f"  {n:7s} {p['value']:10.4f} +/- {p['std']:.4f}   published {pub:9.4f}")
+        print(f"  {f'{n} [{UNITS[n]}]':16s} {p['value']:10.4f} +/- {p['std']:.4f}   "
+              f"published {pub:9.4f}")
     print(f"  relative force error {idp['relative_error_percent']:.4f} %")
     print(f"  fitted delay {sec['identification']['fitted_delay_samples']:.2f} samples, "
           f"sigma0 {sec['identification']['fitted_sigma0_N_per_m']:.3g} N/m")

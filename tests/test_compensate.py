@@ -289,6 +289,7 @@ def test_cli_writes_the_controller_parameters(tmp_path, capsys):
     assert "X:" in text and "FRICT_COMP_CONST_MAX_mm_per_min" in text
     # the command was learned with these parameters and says so, in the file and on screen
     assert "go with the compensated command c.csv" in text and "right only with them" in text
+    assert "--draws 0: not tested on draws" in text and "share" not in text.split("X:")[0]
     said = capsys.readouterr().out
     assert "controller-side compensation" in said and "right only with them" in said
     # the report: the circle before and after in polar form, and the parameters

@@ -11,12 +11,22 @@ CONTROLLER_HELP = ("PARAMS.yaml: the controller-side compensation (tcpmm compens
 
 def as_the_drives_take_it(cmd, controller, machine):
     """The command and the current pulses per axis the drives get with the controller-side
-    parameters of ``--controller`` (the command alone, no pulses, without) [m, A]."""
+    parameters of ``--controller`` (the command alone, no pulses, without) [m, A]; an axis of
+    the command the file leaves out is said."""
     if controller is None:
         return cmd, None
     from ..compensate.controller_file import read_controller_parameters
     from ..compensate.drive import drive_inputs
 
     params = read_controller_parameters(controller, machine.axes)
+    bare = [a for a in cmd.axes if a in machine.axes and a not in params]
+    if bare:  # an axis the file leaves out runs as without compensation: say which
+        import warnings
+
+        from ..errors import InputWarning
+
+        warnings.warn(f"{controller} has no parameters for {', '.join(bare)}: "
+                      f"{'it runs' if len(bare) == 1 else 'they run'} without "
+                      "controller-side compensation", InputWarning, stacklevel=2)
     ctc, pulses = drive_inputs(cmd, {a: p for a, p in params.items() if a in cmd.axes})
     return ctc, pulses or None

@@ -313,15 +313,29 @@ def _write_parameters(comp, path: Path, command_file: Path):
     from ..compensate.controller import ControllerCompensation
     from ..io.atomic import write_text_atomic
 
-    share = comp.robustness.get("parameter_share", 1.0) if comp.robustness else 1.0
+    rob = comp.robustness or {}
+    share = rob.get("parameter_share", 1.0)
     cc = ControllerCompensation(comp.controller, comp.scores, {"share": share})
-    note = (f"# These parameters go with the compensated command {command_file.name}: it was "
-            "learned with them\n# on the controller and is right only with them "
-            f"(share of the tuned parameters kept: {share:g}).\n")
-    if share == 0.0:  # the draws kept none: the command is for a controller without them
-        note += "# No share is kept: all are 0, the command needs the controller without them.\n"
-    write_text_atomic(path, note + cc.parameter_text())
+    write_text_atomic(path, _parameter_note(command_file.name, share, rob.get("draws", 0))
+                      + cc.parameter_text())
     return cc
+
+
+def _parameter_note(command_file: str, share: float, draws: int) -> str:
+    """The head of the parameter file: what the compensated command needs on the
+    controller, and whether draws of the model's uncertainty tested the parameters [-]."""
+    if share == 0.0:  # the draws kept none: the command is for a controller without them
+        return (f"# The {draws} draws of the model's uncertainty kept none of the tuned "
+                f"parameters: all are 0.\n# The compensated command {command_file} was "
+                "learned without them and is right only with them off (0) on the "
+                "controller.\n")
+    note = (f"# These parameters go with the compensated command {command_file}: it was "
+            "learned with them\n# on the controller and is right only with them")
+    if not draws:
+        return note + (" (as tuned on the model; --draws 0: not tested on draws of "
+                       "the model's\n# uncertainty).\n")
+    return note + (f" (tested on {draws} draws of the model's uncertainty;\n# share of the "
+                   f"tuned parameters kept: {share:g}).\n")
 
 
 def _warn(comp, compensated, cc) -> None:

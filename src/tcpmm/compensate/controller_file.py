@@ -4,6 +4,8 @@ back: what a commissioning engineer typed into the controller, for ``tcpmm simul
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from pydantic import BaseModel, ConfigDict, Field, create_model
 
 from ..errors import InputError
@@ -12,6 +14,14 @@ from ..io.yamlutil import key_lines, load_yaml, validate_yaml
 from .controller import AxisController
 
 _HINT = "the keys tcpmm compensate --controller-out writes"
+#: Longest decay of a friction pulse taken [s]: the pulse breaks the friction's hold at a
+#: reversal, over milliseconds to a few tenths of a second (the decays tuned run 3-300 ms);
+#: one of seconds is a standing current offset, or milliseconds typed as seconds.
+LONGEST_DECAY_S = 10.0
+#: Largest cross-talk gain taken [m/(m/s^2)]: a TCP deflection of 1 mm per m/s^2 is that
+#: of a structural mode at 1/(2 pi sqrt(1e-3 s^2)) = 5 Hz, below any machine tool's (20 Hz
+#: gives 63 um per m/s^2); a larger gain is a unit slip (nm typed as um).
+LARGEST_CROSS_TALK = 1e-3
 
 
 class _Axis(BaseModel):
@@ -44,15 +54,21 @@ def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisCont
     """The parameters of a controller-side compensation file, per axis.
 
     The drive applies the pulse as a current (``friction_pulse_A``, decaying with
-    ``friction_pulse_decay_ms``); ``FRICT_COMP_TIME_s`` is the same decay as a quadrant
-    error compensation takes it, and must agree with it.
+    ``friction_pulse_decay_ms``); ``FRICT_COMP_CONST_MAX_mm_per_min`` and
+    ``FRICT_COMP_TIME_s`` are the same pulse as a velocity setpoint pulse, as a quadrant
+    error compensation takes it (current = velocity / R_L * K_vp). Either form alone is
+    applied; both given must agree. Values no drive could mean are refused: a pulse beyond
+    the axis's current limit, a decay shorter than one velocity-loop period or longer than
+    :data:`LONGEST_DECAY_S`, a cross-talk gain above :data:`LARGEST_CROSS_TALK`.
 
     Parameters
     ----------
     path : str or Path
         The file ``tcpmm compensate --controller-out`` writes [-].
-    axes : sequence of str
-        The axes of the model the parameters are for; the file may name these only [-].
+    axes : dict of str to Axis, or sequence of str
+        The axes of the model the parameters are for; the file may name these only. Names
+        alone cannot convert the velocity form nor check the current limit and the
+        velocity-loop period: a file with the velocity form only is then refused [-].
 
     Returns
     -------
@@ -60,6 +76,7 @@ def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisCont
         Per axis the file names [SI].
     """
     text = read_text(path, "controller parameters")
+    models = axes if isinstance(axes, Mapping) else {}
     axes = list(axes)
     _check_axes(text, path, axes)
     schema = create_model("ControllerParameters", __config__=ConfigDict(extra="forbid"),
@@ -68,18 +85,91 @@ def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisCont
     out = {}
     for name in axes:
         p = getattr(f, name)
-        if p is None:
-            continue
-        decay = p.friction_pulse_decay_ms * 1e-3
-        if p.friction_pulse_A != 0.0 and decay <= 0.0:
-            raise InputError(f"axis {name}: a friction pulse needs its decay time "
-                             "(friction_pulse_decay_ms > 0)", file=path)
-        if p.FRICT_COMP_TIME_s is not None and abs(p.FRICT_COMP_TIME_s - decay) > 1e-6 * max(
-                decay, 1e-3):
-            raise InputError(f"axis {name}: FRICT_COMP_TIME_s {p.FRICT_COMP_TIME_s:g} s and "
-                             f"friction_pulse_decay_ms {p.friction_pulse_decay_ms:g} ms are "
-                             "one decay time and disagree; give them alike", file=path)
-        out[name] = AxisController(p.friction_pulse_A, decay,
-                                   p.FRICT_COMP_CONST_MAX_mm_per_min / 6e4,
-                                   p.cross_talk_um_per_m_per_s2 * 1e-6)
+        if p is not None:
+            out[name] = _axis_parameters(name, p, models.get(name), path)
     return out
+
+
+def _axis_parameters(name: str, p: _Axis, axis, path) -> AxisController:
+    """One axis's parameters in SI, its two forms of the pulse made one and checked
+    against ``axis`` (None: the model's axis unknown) [SI]."""
+    given = p.model_fields_set
+    decay, key = _decay(name, p, given, path)
+    _check_decay(name, decay, 0.0 if axis is None else axis.servo.T_v, key, path)
+    pulse = _pulse(name, p, given, axis, path)
+    if pulse != 0.0 and decay <= 0.0:
+        raise InputError(f"axis {name}: a friction pulse needs its decay time "
+                         "(friction_pulse_decay_ms or FRICT_COMP_TIME_s > 0)", file=path)
+    gain = p.cross_talk_um_per_m_per_s2 * 1e-6
+    if abs(gain) > LARGEST_CROSS_TALK:
+        raise InputError(
+            f"axis {name}: cross_talk_um_per_m_per_s2 {p.cross_talk_um_per_m_per_s2:g} is a "
+            f"TCP deflection of {abs(gain) * 1e3:.4g} mm per m/s^2, that of a structural mode "
+            "below 5 Hz, which no machine tool has; the gain is in um per m/s^2 (nm typed "
+            "as um?)", file=path)
+    velocity = pulse / axis.servo.K_vp * axis.mechanics.R_L if axis is not None else (
+        p.FRICT_COMP_CONST_MAX_mm_per_min / 6e4)
+    return AxisController(pulse, decay, velocity, gain)
+
+
+def _decay(name: str, p: _Axis, given, path) -> tuple[float, str]:
+    """The pulse's decay time from whichever of its two keys is given (both must agree),
+    and that key [s, -]."""
+    ms = p.friction_pulse_decay_ms * 1e-3
+    s = p.FRICT_COMP_TIME_s
+    if "friction_pulse_decay_ms" in given and s is not None and abs(s - ms) > 1e-6 * max(
+            ms, 1e-3):
+        raise InputError(f"axis {name}: FRICT_COMP_TIME_s {s:g} s and "
+                         f"friction_pulse_decay_ms {p.friction_pulse_decay_ms:g} ms are "
+                         "one decay time and disagree; give them alike", file=path)
+    if "friction_pulse_decay_ms" in given or s is None:
+        return ms, "friction_pulse_decay_ms"
+    return s, "FRICT_COMP_TIME_s"
+
+
+def _check_decay(name: str, decay: float, T_v: float, key: str, path) -> None:
+    """Refuse a decay no drive applies: under one velocity-loop period ``T_v`` (0: not
+    known) it is over before the loop sees it, above :data:`LONGEST_DECAY_S` it is no
+    pulse; each most likely a unit slip in ``key``, the key it was given by [s]."""
+    in_ms = key == "friction_pulse_decay_ms"
+    said = f"axis {name}: {key} {decay * 1e3 if in_ms else decay:g} {'ms' if in_ms else 's'}"
+    if 0.0 < decay < T_v:
+        slip = (f"seconds typed as ms? ({decay * 1e3:g} s is {decay * 1e6:g} ms)" if in_ms
+                else f"ms typed as s? ({decay:g} ms is {decay * 1e-3:g} s)")
+        raise InputError(f"{said} is a friction pulse decay shorter than one velocity-loop "
+                         f"period (T_v {T_v * 1e3:g} ms): it does nothing; {slip}", file=path)
+    if decay > LONGEST_DECAY_S:
+        slip = (f"us typed as ms? ({decay * 1e3:g} us is {decay:g} ms)" if in_ms
+                else f"ms typed as s? ({decay:g} ms is {decay * 1e-3:g} s)")
+        raise InputError(f"{said} is a friction pulse decay longer than "
+                         f"{LONGEST_DECAY_S:g} s, a standing current offset rather than a "
+                         f"pulse; {slip}", file=path)
+
+
+def _pulse(name: str, p: _Axis, given, axis, path) -> float:
+    """The pulse's current from whichever of its two forms is given, through the axis's
+    ``K_vp`` and ``R_L``; both must agree, and it must be within the current limit [A]."""
+    amp, vmax = p.friction_pulse_A, p.FRICT_COMP_CONST_MAX_mm_per_min
+    has_amp, has_v = "friction_pulse_A" in given, "FRICT_COMP_CONST_MAX_mm_per_min" in given
+    if has_v and axis is None:
+        if not has_amp and vmax != 0.0:
+            raise InputError(f"axis {name}: FRICT_COMP_CONST_MAX_mm_per_min {vmax:g} is "
+                             "converted to the drive's current through the model's K_vp "
+                             "and R_L; read it with the model's axes", file=path)
+        has_v = False  # the current form is applied, unchecked against the velocity form
+    if has_v:
+        conv = f"{vmax:g} mm/min / 60000 / R_L {axis.mechanics.R_L:.4g} m/rad * K_vp " \
+               f"{axis.servo.K_vp:.4g} A s/rad"
+        from_v = vmax / 6e4 / axis.mechanics.R_L * axis.servo.K_vp
+        # the file writes 4 significant digits of each
+        if has_amp and abs(amp - from_v) > 2e-3 * max(abs(amp), abs(from_v)):
+            raise InputError(f"axis {name}: friction_pulse_A {amp:g} A and "
+                             f"FRICT_COMP_CONST_MAX_mm_per_min {vmax:g} are one pulse and "
+                             f"disagree: the latter is {conv} = {from_v:.4g} A; give one, "
+                             "or both alike (written for another model?)", file=path)
+        amp = amp if has_amp else from_v
+    if axis is not None and abs(amp) > axis.servo.current_limit:
+        raise InputError(f"axis {name}: a friction pulse of {amp:.4g} A is beyond the "
+                         f"axis's current limit of {axis.servo.current_limit:g} A; the pulse "
+                         "is in A (mA typed as A?)", file=path)
+    return amp

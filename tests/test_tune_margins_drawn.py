@@ -42,3 +42,15 @@ def test_a_model_without_uncertainty_says_met_alone(vmc):
     from tcpmm.whatif.tuning_draws import drawn_margins, margins_missed
 
     assert drawn_margins(vmc, vmc, 6.0, 45.0) is None and margins_missed(None) == 0
+
+
+def test_the_draws_missed_are_counted_once_whichever_loops_miss():
+    """The heading counted the larger of the loops' misses: a velocity loop short on
+    draws 0 and 1 and a position loop short on draw 2 read "NOT MET on 2 of 8". Each
+    draw is counted once, whichever loops miss on it."""
+    from tcpmm.whatif.tuning_draws import margins_missed
+
+    drawn = {"velocity": {"draws": 8, "missed": 2, "missed_draws": [0, 1]},
+             "position": {"draws": 8, "missed": 2, "missed_draws": [1, 2]}}
+    assert margins_missed(drawn) == 3
+    assert margins_missed({"velocity": {"draws": 8, "missed": 0, "missed_draws": []}}) == 0

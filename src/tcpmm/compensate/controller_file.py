@@ -135,7 +135,7 @@ def _check_decay(name: str, decay: float, T_v: float, key: str, path) -> None:
     said = f"axis {name}: {key} {decay * 1e3 if in_ms else decay:g} {'ms' if in_ms else 's'}"
     if 0.0 < decay < T_v:
         slip = (f"seconds typed as ms? ({decay * 1e3:g} s is {decay * 1e6:g} ms)" if in_ms
-                else f"ms typed as s? ({decay:g} ms is {decay * 1e-3:g} s)")
+                else "give the decay in s")
         raise InputError(f"{said} is a friction pulse decay shorter than one velocity-loop "
                          f"period (T_v {T_v * 1e3:g} ms): it does nothing; {slip}", file=path)
     if decay > LONGEST_DECAY_S:

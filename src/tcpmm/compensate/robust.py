@@ -93,7 +93,7 @@ def vouched(before: np.ndarray, after: np.ndarray) -> bool:
         The figure per draw without and with the compensation [m].
     """
     d = np.asarray(after) - np.asarray(before)
-    # NaN: a quadrant point the pass does not cross, with or without the compensation
+    # NaN: a spike not read, where a pass does not cross its point (delayed, may not): unjudged
     return bool(np.all((d <= -margin(before)) | (np.abs(d) <= EQUAL_M) | np.isnan(d)))
 
 
@@ -158,7 +158,7 @@ def axis_errors(machines, comp, plants=None) -> np.ndarray:
 def judged(errs: np.ndarray, combo, target, labels: np.ndarray, guard=None) -> np.ndarray:
     """Per machine for shares ``combo``: the largest error across the path in each region,
     then with a circle its spikes, the largest and G (:mod:`.circleguard`), shape
-    (machines, regions [+ 2]) [m]."""
+    (machines, regions [+ 4 passes + 2]) [m]."""
     n_ax = errs.shape[1]
     return figures(errs[:, np.arange(n_ax), list(combo)], target, labels, guard, any(combo))
 
@@ -167,8 +167,8 @@ def figures(e: np.ndarray, target, labels: np.ndarray, guard=None,
             compensated: bool = True) -> np.ndarray:
     """Per machine the largest error across the path in each region, then with a circle
     its spikes, the largest and G, from the TCP errors ``e`` (machines, axes, n), judged
-    on the delayed path's passes where ``compensated``, shape (machines, regions [+ 2])
-    [m]."""
+    on the delayed path's passes where ``compensated``, shape (machines, regions
+    [+ 4 passes + 2]) [m]."""
     across = np.array([contour(ei, target) for ei in e])
     out = np.array([across[:, labels == r].max(axis=1) for r in range(labels.max() + 1)]).T
     if guard is None:

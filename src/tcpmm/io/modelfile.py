@@ -98,7 +98,9 @@ def dumps_machine(machine: Machine) -> str:
 
 def model_identity(machine: Machine) -> dict:
     """What tells a model from another in the outputs computed from it: its name and the
-    first 16 hex digits of the SHA-256 of its model file text [-]."""
+    first 16 hex digits of the SHA-256 of the model file text it writes as
+    (:func:`dumps_machine`: the same for a file and for the file read and written again,
+    its comments aside) [-]."""
     import hashlib
 
     digest = hashlib.sha256(dumps_machine(machine).encode("utf-8")).hexdigest()[:16]

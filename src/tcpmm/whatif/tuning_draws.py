@@ -91,7 +91,8 @@ def drawn_margins(machine: Machine, tuned: Machine, gm_db: float, pm_deg: float,
     -------
     dict or None
         Per axis and loop (``velocity``, ``position``): ``draws``, ``missed`` (the draws
-        on which a margin falls short of the one asked), ``gain_margin_db`` and
+        on which a margin falls short of the one asked) and ``missed_draws`` (their
+        numbers, from 0), ``gain_margin_db`` and
         ``phase_margin_deg`` as ``[least, largest]`` over the draws (``None`` for an
         infinite margin) [-, dB, deg].
     """
@@ -114,15 +115,17 @@ def _margin_range(margins: list, gm_db: float, pm_deg: float) -> dict:
         v = np.array(values, float)
         return [float(x) if np.isfinite(x) else None for x in (v.min(), v.max())]
 
-    return {"draws": len(margins), "missed": sum(not m.meets(gm_db, pm_deg) for m in margins),
+    missed = [i for i, m in enumerate(margins) if not m.meets(gm_db, pm_deg)]
+    return {"draws": len(margins), "missed": len(missed), "missed_draws": missed,
             "gain_margin_db": span([m.gain_margin_db for m in margins]),
             "phase_margin_deg": span([m.phase_margin_deg for m in margins])}
 
 
 def margins_missed(drawn: dict | None) -> int:
-    """The draws on which a loop of the axis misses a margin asked, of
-    :func:`drawn_margins`'s entry of the axis; 0 without draws [-]."""
-    return max((d["missed"] for d in (drawn or {}).values()), default=0)
+    """The draws on which some loop of the axis misses a margin asked (each draw once,
+    whichever loops miss on it), of :func:`drawn_margins`'s entry of the axis; 0 without
+    draws [-]."""
+    return len({i for d in (drawn or {}).values() for i in d.get("missed_draws", ())})
 
 
 def _summary(pairs: list) -> dict:

@@ -121,15 +121,29 @@ class Comparison:
         lobes, and how far apart the lobes themselves are."""
         out = []
         for f in self.sign_flips:
+            lobes = [(f[f"{w}_rise_um"], f[f"{w}_fall_um"]) for w in ("measured", "predicted")]
+            why = ("because rise and fall after the reversal are of similar size"
+                   if any(_similar(*pair) for pair in lobes) else
+                   "because the lobes after the reversal differ themselves")
             out.append(
                 f"{f['direction']} {f['sensor']} at {f['point']}: the spike changes sign "
                 f"(measured {f['measured_spike_um']:+.2f} um, predicted "
-                f"{f['predicted_spike_um']:+.2f} um) because rise and fall after the reversal "
-                f"are of similar size (rise/fall measured {f['measured_rise_um']:+.2f}/"
-                f"{f['measured_fall_um']:+.2f} um, predicted {f['predicted_rise_um']:+.2f}/"
-                f"{f['predicted_fall_um']:+.2f} um); lobe by lobe, measured and predicted "
+                f"{f['predicted_spike_um']:+.2f} um) {why} (rise/fall measured "
+                f"{lobes[0][0]:+.2f}/{lobes[0][1]:+.2f} um, predicted {lobes[1][0]:+.2f}/"
+                f"{lobes[1][1]:+.2f} um); lobe by lobe, measured and predicted "
                 f"differ by at most {f['lobe_difference_um']:.2f} um")
         return out
+
+
+#: Rise and fall after a reversal are of similar size where the smaller is at least this
+#: share of the larger: a small change then makes the other the spike [-].
+SIMILAR_LOBES = 0.5
+
+
+def _similar(rise: float, fall: float) -> bool:
+    """Whether a rise and a fall are of similar size (:data:`SIMILAR_LOBES`) [-]."""
+    big = max(abs(rise), abs(fall))
+    return big > 0.0 and min(abs(rise), abs(fall)) >= SIMILAR_LOBES * big
 
 
 def _on_grid(angle, e, direction, start, grid):

@@ -57,16 +57,25 @@ def drawn_paths(machine: Machine, tuned: Machine, command, circle: bool,
         ``after_low``, ``after_high``, ``change_low``, ``change_high`` over the other draws
         and ``worse``: the draws on which it grows [um, -].
     """
-    if all(a.uncertainty is None for a in machine.axes.values()):
+    drawn = drawn_machines(machine, n, seed)
+    if drawn is None:
         return None
-    rng = np.random.default_rng(seed)
     pairs = []
-    for _ in range(n):
-        m = draw_machine(machine, rng, MODEL_ERROR)
+    for m in drawn:
         t = m.model_copy(update={"axes": {k: a.replace(servo=tuned.axes[k].servo)
                                           for k, a in m.axes.items()}})
         pairs.append((path_figures(m, command, circle), path_figures(t, command, circle)))
     return _summary(pairs)
+
+
+def drawn_machines(machine: Machine, n: int = TUNE_DRAWS, seed: int = 0) -> list | None:
+    """The ``n`` machines a proposal is judged on, drawn from the model's uncertainty with
+    the floors of :data:`~tcpmm.whatif.draws.MODEL_ERROR`; ``None`` for a model that
+    carries none. The same ``seed`` gives the same machines [SI]."""
+    if all(a.uncertainty is None for a in machine.axes.values()):
+        return None
+    rng = np.random.default_rng(seed)
+    return [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n)]
 
 
 def drawn_margins(machine: Machine, tuned: Machine, gm_db: float, pm_deg: float,
@@ -96,12 +105,11 @@ def drawn_margins(machine: Machine, tuned: Machine, gm_db: float, pm_deg: float,
         ``phase_margin_deg`` as ``[least, largest]`` over the draws (``None`` for an
         infinite margin) [-, dB, deg].
     """
-    if all(a.uncertainty is None for a in machine.axes.values()):
+    drawn = drawn_machines(machine, n, seed)
+    if drawn is None:
         return None
-    rng = np.random.default_rng(seed)
     got: dict = {}
-    for _ in range(n):
-        m = draw_machine(machine, rng, MODEL_ERROR)
+    for m in drawn:
         for name, a in m.axes.items():
             for loop, lm in axis_margins(a.mechanics, tuned.axes[name].servo).items():
                 got.setdefault(name, {}).setdefault(loop, []).append(lm)

@@ -236,13 +236,21 @@ def sweep_share_outside(sweep, mechanics, curve: dict, lm, C_t_std: float) -> fl
     :data:`OUTSIDE_Z` standard deviations of its deflection alone (a TCP device zeroed
     apart from the scale reads such a share), else ``None``; arguments as for
     :func:`sweep_share` [-]."""
-    tv, _ = table_viscous_estimate(lm, mechanics, float(curve["Fv"]), C_t_std)
-    level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
+    level, tv, _ = _sweep_terms(sweep, mechanics, curve, lm, C_t_std)
     share, _ = read_share(sweep, mechanics, level, tv)
     if not math.isfinite(share) or level <= 0.0:
         return None
     sd = mechanics.K_h * sweep.deflection_std / level
     return share if share < -OUTSIDE_Z * sd or share > 1.0 + OUTSIDE_Z * sd else None
+
+
+def _sweep_terms(sweep, mechanics, curve: dict, lm, C_t_std: float) -> tuple:
+    """What a sweep's share is read on: the Coulomb and Stribeck level of the steady curve
+    at the sweep's speed, and the table's viscous force per speed with its standard
+    deviation (:func:`table_viscous_estimate`) [N], [N s/m], [N s/m]."""
+    tv, tv_sd = table_viscous_estimate(lm, mechanics, float(curve["Fv"]), C_t_std)
+    level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
+    return level, tv, tv_sd
 
 
 def table_viscous_estimate(lm, mechanics, total_viscous: float, C_t_std: float):
@@ -323,8 +331,7 @@ def sweep_share(sweep, mechanics, curve: dict, lm, K_h_rel_std: float, C_t_std: 
     up, down = abs(float(curve["Fc+"])), abs(float(curve["Fc-"]))
     if abs(up - down) > SWEEP_ASYMMETRY * 0.5 * (up + down):
         return None  # a constant force (a weight) that one direction of travel cannot tell
-    tv, tv_sd = table_viscous_estimate(lm, m, float(curve["Fv"]), C_t_std)
-    level = abs(float(coulomb_stribeck(curve)(np.array([sweep.velocity]))[0]))
+    level, tv, tv_sd = _sweep_terms(sweep, m, curve, lm, C_t_std)
     got = share_from_sweep(sweep, m, level, tv, K_h_rel_std=K_h_rel_std,
                            table_viscous_std=tv_sd)
     return None if got is None else (*got, tv, tv_sd)

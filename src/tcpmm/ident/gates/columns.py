@@ -18,10 +18,11 @@ thousand or sixty times too large overflow the fits into errors that name no col
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, InputWarning
 from ...io.checks import slope_and_correlation
 from .finding import Finding, bundle_records
 
@@ -249,10 +250,6 @@ def _warn_finer_steps(record, sensors) -> None:
     (an encoder of 4096 counts for one of a million turns its velocity loop into noise,
     and its runs into the current limit), so the declaration is wrong, or the record was
     resampled. A quantised column's distinct values lie whole steps apart [-]."""
-    import warnings
-
-    from ...errors import InputWarning
-
     for column, values, quantum, key in (
             ("motor_angle_rad", record.motor_angle_rad, sensors.encoder_resolution_rad,
              "encoder_counts_per_rev"),

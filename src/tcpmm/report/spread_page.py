@@ -65,17 +65,11 @@ def _verdicts(verdict) -> dict:
     """Per ``(direction, figure)`` the verdict as the command line words it: firm with its
     interval, uncertain with it and its cause, undetermined with its cause; empty for a
     spread without verdicts [-]."""
-    out = {}
-    for f in (verdict or {}).get("figures", []):
-        half = f.get("half_width_um")
-        if f["verdict"] == "firm":
-            text = f"firm (± {half:.2f} µm)"
-        elif f["verdict"] == "uncertain":
-            text = f"uncertain ± {half:.2f} µm ({f['cause']})"
-        else:
-            text = f"undetermined ({f['cause']})"
-        out[(f["direction"], f["figure"])] = text
-    return out
+    from ..uncertainty.verdict import verdict_words  # its module brings the simulator
+
+    return {(f["direction"], f["figure"]): verdict_words(
+        f["verdict"], f.get("half_width_um"), f["cause"], "±", "µm")
+        for f in (verdict or {}).get("figures", [])}
 
 
 def _other_verdicts(data: dict, said: dict) -> str:

@@ -13,6 +13,7 @@ interval as wide as the figure itself (or a variant could not be simulated), els
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 
 from ..errors import InputError
@@ -72,6 +73,8 @@ class FigureVerdict:
         leave it open (the axis verdict says why) [-].
     settle : str
         The measurement that would settle it; empty when firm [-].
+    axes : tuple of str
+        The axes its cause blames (whose verdict it makes less than firm) [-].
     """
 
     test: str
@@ -83,6 +86,7 @@ class FigureVerdict:
     verdict: str
     cause: str = ""
     settle: str = ""
+    axes: tuple = ()
 
     def text(self) -> str:
         """One line: the verdict as a user reads it, in um [-]."""
@@ -129,7 +133,8 @@ def _no_prediction(key, nominal: float, faults: str) -> FigureVerdict:
     return FigureVerdict(*key, nominal, math.inf, target(key[2], nominal), "undetermined",
                          f"no prediction: {faults}",
                          "a model whose run of this circle stays within its current "
-                         "limit: check the load force, the gains and the current limit")
+                         "limit: check the load force, the gains and the current limit",
+                         tuple(re.findall(r"axis (\w+):", faults)))
 
 
 def _no_friction(key, nominal: float, axes: list) -> FigureVerdict:
@@ -137,22 +142,10 @@ def _no_friction(key, nominal: float, axes: list) -> FigureVerdict:
     runs: its model has no friction, which makes the reversal spikes and moves G and the
     contour error at every reversal, by an amount the data do not bound."""
     return FigureVerdict(*key, nominal, math.inf, target(key[2], nominal), "undetermined",
-                         f"{_NO_RUNS}{'axes' if axes[1:] else 'axis'} {', '.join(axes)}: the "
-                         "model has no friction", "friction runs (friction.csv: the axis "
-                         "back and forth at several constant speeds)")
-
-
-#: The cause of :func:`_no_friction`'s verdict, before the axes [-].
-_NO_RUNS = "no friction runs for "
-
-
-def _blames(cause: str, axis: str) -> bool:
-    """Whether a figure's ``cause`` names ``axis``: as its first words, as a run that
-    fails on it, or as an axis without friction runs [-]."""
-    if cause.startswith(_NO_RUNS):
-        return axis in cause[len(_NO_RUNS):].split(":")[0].split(" ", 1)[1].split(", ")
-    return cause.startswith(f"axis {axis} ") or (cause.startswith("no prediction")
-                                                   and f"axis {axis}:" in cause)
+                         f"no friction runs for {'axes' if axes[1:] else 'axis'} "
+                         f"{', '.join(axes)}: the model has no friction", "friction runs "
+                         "(friction.csv: the axis back and forth at several constant speeds)",
+                         tuple(axes))
 
 
 def _frictionless(machine, tests) -> dict:
@@ -182,7 +175,8 @@ def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
     settle = r.settle if r is not None else _SETTLE.get(quantity, "")
     undetermined = not math.isfinite(half) or (r is not None and half >= abs(nominal))
     return FigureVerdict(test, direction, figure, nominal, half, tol,
-                         "undetermined" if undetermined else "uncertain", cause, settle)
+                         "undetermined" if undetermined else "uncertain", cause, settle,
+                         (axis,))
 
 
 #: What narrows the column's quantities: the TCP device, and a sweep whose excitation
@@ -264,7 +258,7 @@ def _axis_verdicts(machine, figures: list) -> dict:
     quantities with the measurement that would settle each [-]."""
     out = {}
     for name, a in machine.axes.items():
-        mine = [f for f in figures if f.verdict != "firm" and _blames(f.cause, name)]
+        mine = [f for f in figures if f.verdict != "firm" and name in f.axes]
         kinds = {f.verdict for f in mine}
         verdict = ("undetermined" if "undetermined" in kinds else
                    "uncertain" if "uncertain" in kinds else "firm")

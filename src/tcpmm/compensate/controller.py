@@ -63,6 +63,12 @@ class AxisController:
                 "cross_talk_um_per_m_per_s2": self.cross_talk_s2 * 1e6}
 
 
+def velocity_per_ampere(axis) -> float:
+    """The velocity setpoint pulse a quadrant-error compensation gives for one ampere of
+    current pulse: through the velocity loop's proportional gain, at the table [m/s/A]."""
+    return axis.mechanics.R_L / axis.servo.K_vp
+
+
 @dataclass
 class ControllerCompensation:
     """Controller-side compensation of every axis and what the model predicts of it.
@@ -257,6 +263,6 @@ def controller_compensation(machine, command: Command, radius_m: float,
         amp, tau = tune_pulse(machine, ctc, a, pulses, args)
         pulses[a] = reversal_pulses(ctc, a, amp, tau)
         ax = machine.axes[a]
-        params[a] = AxisController(amp, tau, amp / ax.servo.K_vp * ax.mechanics.R_L, gains[a])
+        params[a] = AxisController(amp, tau, amp * velocity_per_ampere(ax), gains[a])
     after = controller_figures(machine, ctc, command, pulses, *args[1:])
     return ControllerCompensation(params, {"before": before, "after": after})

@@ -11,7 +11,7 @@ from pydantic import BaseModel, ConfigDict, Field, create_model
 from ..errors import InputError
 from ..io.text import read_text
 from ..io.yamlutil import key_lines, load_yaml, validate_yaml
-from .controller import AxisController
+from .controller import AxisController, velocity_per_ampere
 
 _HINT = "the keys tcpmm compensate --controller-out writes"
 #: Longest decay of a friction pulse taken [s]: the pulse breaks the friction's hold at a
@@ -56,7 +56,7 @@ def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisCont
     The drive applies the pulse as a current (``friction_pulse_A``, decaying with
     ``friction_pulse_decay_ms``); ``FRICT_COMP_CONST_MAX_mm_per_min`` and
     ``FRICT_COMP_TIME_s`` are the same pulse as a velocity setpoint pulse, as a quadrant
-    error compensation takes it (current = velocity / R_L * K_vp). Either form alone is
+    error compensation takes it (:func:`~.controller.velocity_per_ampere`). Either form alone is
     applied; both given must agree. Values no drive could mean are refused: a pulse beyond
     the axis's current limit, a decay shorter than one velocity-loop period or longer than
     :data:`LONGEST_DECAY_S`, a cross-talk gain above :data:`LARGEST_CROSS_TALK`.
@@ -107,7 +107,7 @@ def _axis_parameters(name: str, p: _Axis, axis, path) -> AxisController:
             f"TCP deflection of {abs(gain) * 1e3:.4g} mm per m/s^2, that of a structural mode "
             "below 5 Hz, which no machine tool has; the gain is in um per m/s^2 (nm typed "
             "as um?)", file=path)
-    velocity = pulse / axis.servo.K_vp * axis.mechanics.R_L if axis is not None else (
+    velocity = pulse * velocity_per_ampere(axis) if axis is not None else (
         p.FRICT_COMP_CONST_MAX_mm_per_min / 6e4)
     return AxisController(pulse, decay, velocity, gain)
 
@@ -160,7 +160,7 @@ def _pulse(name: str, p: _Axis, given, axis, path) -> float:
     if has_v:
         conv = f"{vmax:g} mm/min / 60000 / R_L {axis.mechanics.R_L:.4g} m/rad * K_vp " \
                f"{axis.servo.K_vp:.4g} A s/rad"
-        from_v = vmax / 6e4 / axis.mechanics.R_L * axis.servo.K_vp
+        from_v = vmax / 6e4 / velocity_per_ampere(axis)
         # the file writes 4 significant digits of each
         if has_amp and abs(amp - from_v) > 2e-3 * max(abs(amp), abs(from_v)):
             raise InputError(f"axis {name}: friction_pulse_A {amp:g} A and "

@@ -230,8 +230,8 @@ def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
         metrics = circle_metrics(run, radius_mm * 1e-3, program.centre_m, sensor)
         # the figures are those of the feed run: a row asking more must say so itself
         metrics[FEED_RUN] = _feed_run(radius_mm, feed)
-        if _capped(radius_mm, feed):
-            warnings.warn(_capped(radius_mm, feed), InputWarning, stacklevel=2)
+        if said := _capped(radius_mm, feed):
+            warnings.warn(said, InputWarning, stacklevel=2)
     else:
         metrics = path_metrics(run, cmd.axes, sensor)
     if runs_dir is not None:

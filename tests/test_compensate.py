@@ -624,23 +624,15 @@ def test_the_python_api_learns_on_the_program_too(tmp_path, monkeypatch):
     assert "planned" not in comp.scores
 
 
-def test_a_plan_whose_correction_no_draw_keeps_is_written_as_programmed(tmp_path, capsys,
-                                                                        monkeypatch):
-    """With no share of the correction kept, the program planned with the headroom for it
-    was written all the same: slower, unjudged by the draws, and on machine E's model a
-    spike 12 % larger, where the summary said the share applied kept it from growing.
-    The program is now written as programmed, and its figures after are those before."""
+def _keep_no_share(monkeypatch) -> None:
+    """Make the draws keep no share of any correction: the robust choice runs, then every
+    factor is set to 0 [-]."""
     import importlib
-
-    import pandas as pd
-
-    from tcpmm.cli import main
-    from tcpmm.path import program_to_command
 
     package = importlib.import_module("tcpmm.compensate")  # tcpmm.compensate: the function
     real = package.robust_factors
 
-    def none_kept(machine, comp, **kwargs):  # as the draws of machine E's model did
+    def none_kept(machine, comp, **kwargs):
         real(machine, comp, **kwargs)
         for a in comp.factors:
             comp.factors[a] = np.zeros_like(comp.factors[a])
@@ -648,6 +640,19 @@ def test_a_plan_whose_correction_no_draw_keeps_is_written_as_programmed(tmp_path
 
     monkeypatch.setattr(package, "robust_factors", none_kept)
 
+
+def test_a_plan_whose_correction_no_draw_keeps_is_written_as_programmed(tmp_path, capsys,
+                                                                        monkeypatch):
+    """With no share of the correction kept, the program planned with the headroom for it
+    was written all the same: slower, unjudged by the draws, and on machine E's model a
+    spike 12 % larger, where the summary said the share applied kept it from growing.
+    The program is now written as programmed, and its figures after are those before."""
+    import pandas as pd
+
+    from tcpmm.cli import main
+    from tcpmm.path import program_to_command
+
+    _keep_no_share(monkeypatch)  # as the draws of machine E's model did
     prog, args = _circle_compensation(tmp_path)
     assert main([*args, "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -668,22 +673,11 @@ def test_the_reference_written_is_the_plan_compensated(tmp_path, capsys, monkeyp
     1.19 s against the 1.14 s of the command written), and measured against it a run of
     the command read a 1.9 times smaller error. The reference is now the plan compensated:
     here the program as programmed, the command written without its hold."""
-    import importlib
-
     import pandas as pd
 
     from tcpmm.cli import main
 
-    package = importlib.import_module("tcpmm.compensate")  # tcpmm.compensate: the function
-    real = package.robust_factors
-
-    def none_kept(machine, comp, **kwargs):
-        real(machine, comp, **kwargs)
-        for a in comp.factors:
-            comp.factors[a] = np.zeros_like(comp.factors[a])
-        comp.robustness["factors"] = dict.fromkeys(comp.factors, 0.0)
-
-    monkeypatch.setattr(package, "robust_factors", none_kept)
+    _keep_no_share(monkeypatch)
     _, args = _circle_compensation(tmp_path)
     ref = tmp_path / "ref.csv"
     assert main([*args, "--reference-out", str(ref)]) == 0

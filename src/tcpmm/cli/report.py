@@ -59,7 +59,7 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     sections, inputs = [], []
     if runs or measured:
         sections, inputs = _circle_sections(runs, measured, predicted, radius, centre,
-                                            verdict, machine, plane, model)
+                                            verdict, machine, plane)
     more, given = _summary_sections(spread, ident_dir, model, machine)
     sections += more
     write_report(output, sections, title, inputs + given)
@@ -122,7 +122,7 @@ def _check_inputs(output: Path, model, ident_dir, spread, runs, measured, predic
 
 
 def _circle_sections(runs, measured, predicted, radius: float, centre: str, verdict: dict,
-                     machine, plane=None, model=None) -> tuple[list, list]:
+                     machine, plane=None) -> tuple[list, list]:
     """The sections of the circular tests: each run's, the runs' faults, and measured
     minus predicted of each pair.
 
@@ -140,12 +140,11 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, verd
         ``tolerance_m``, the largest circular deviation the verdict accepts [m] or None,
         and ``measured_on``, the test's date or None [-].
     machine : Machine or None
-        The model, which tells the runs' faults [-].
+        The model, which tells the runs' faults; each TCP difference of Table 2 is set
+        against its predicted figure's 90 % interval and verdict, as ``tcpmm compare
+        --model`` sets it [-].
     plane : str, optional
         ``--plane`` [-].
-    model : str, optional
-        ``--model``: each TCP difference of Table 2 is set against the predicted figure's
-        90 % interval and verdict, as ``tcpmm compare --model`` sets it [-].
 
     Returns
     -------
@@ -158,7 +157,7 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, verd
     # one plane per file, said once however many sections analyse it
     circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), plane, {})
     comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
-                               f"comparison-{i + 1}", not runs and i == 0, verdict, model)
+                               f"comparison-{i + 1}", not runs and i == 0, verdict, machine)
                    for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
     sections = _run_sections(runs, circle, verdict)
     sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
@@ -210,16 +209,18 @@ def _summary_sections(spread, ident_dir, model, machine) -> tuple[list, list]:
     return sections, inputs
 
 
-def _judged_if_its(pair, model, run, circle, plane, predicted):
-    """Table 2's TCP rows against ``--model``'s intervals, as ``tcpmm compare --model``
-    sets them; where the predicted run did not come from that model (a model given for
-    its summary beside another's prediction), said on stderr and left unjudged [-]."""
+def _judged_if_its(pair, machine, run, circle, plane, predicted):
+    """Table 2's TCP rows against the intervals of ``--model`` (``machine``), as ``tcpmm
+    compare --model`` sets them; where the predicted run did not come from that model (a
+    model given for its summary beside another's prediction), said on stderr and left
+    unjudged [-]."""
     from ..uncertainty.verdict import NotItsPrediction
     from ._app import console
     from .run import judged_rows_of
 
     try:
-        return judged_rows_of(pair, model, run, circle[0] * 1e3, circle[1], plane, predicted)
+        return judged_rows_of(pair, machine, run, circle[0] * 1e3, circle[1], plane,
+                              predicted)
     except NotItsPrediction as exc:
         console.print(f"warning: Table 2 is not set against --model's intervals: "
                       f"{exc.message}", highlight=False)
@@ -313,10 +314,10 @@ def _run_sections(runs, circle, verdict: dict) -> list:
 
 
 def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
-                verdict: dict, model=None):
-    """Measured minus predicted of one pair of runs, against the ``model``'s intervals
-    where given; the ``first`` (no --run given) opens the page with the measured circle's
-    verdict (``verdict``: its tolerance and date)."""
+                verdict: dict, machine=None):
+    """Measured minus predicted of one pair of runs, against the intervals of the model
+    ``machine`` where given; the ``first`` (no --run given) opens the page with the
+    measured circle's verdict (``verdict``: its tolerance and date)."""
     from ..analysis.compare import compare_circles, cut_alike
     from ..io.runfile import read_run
     from ..report import comparison_section, verdict_sections
@@ -325,7 +326,7 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
     (rm, rate, said), (rp, _, _) = (_circle(measured, circle, runs[0]),
                                     _circle(predicted, circle, cut_alike(*runs), False))
     pair = compare_circles(rm, rp)
-    judged = _judged_if_its(pair, model, runs[1], circle, rp.plane, predicted)
+    judged = _judged_if_its(pair, machine, runs[1], circle, rp.plane, predicted)
     cmp = comparison_section(pair, rm, rp, (measured, predicted), key,
                              judged=pair.judged_long(judged) if judged else None)
     if not first:

@@ -279,7 +279,8 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     with in_file(predicted):  # a prediction's transient is the measurement's to compare
         rp = analyse_circle(cut_alike(*runs), radius * 1e-3, ctr, plane=axes, settling=False)
     cmp = compare_circles(rm, rp)
-    judged = judged_rows_of(cmp, model, runs[1], radius, ctr, axes, predicted)
+    judged = judged_rows_of(cmp, None if model is None else read_model(model), runs[1],
+                            radius, ctr, axes, predicted)
     if plot is not None:
         cmp.plot(path=plot)
     if report is not None:
@@ -305,16 +306,15 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                         "tcp: measured - predicted against the predicted 90 % interval [µm]")
 
 
-def judged_rows_of(cmp, model, predicted_run, radius_mm: float, centre_m, plane, where):
-    """The TCP rows against the verdict of the model on the predicted run's command
+def judged_rows_of(cmp, m, predicted_run, radius_mm: float, centre_m, plane, where):
+    """The TCP rows against the verdict of the model ``m`` on the predicted run's command
     (``None`` without a model); refused where the model did not predict that run [-]."""
-    if model is None:
+    if m is None:
         return None
     from ..path.command import Command
     from ..uncertainty import CircleTest, prediction_verdict
     from ..uncertainty.verdict import not_its_prediction
 
-    m = read_model(model)
     cmd = Command(predicted_run.time_s,
                   {n: a.cmd for n, a in predicted_run.axes.items() if a.cmd is not None})
     plane = tuple(plane) if plane else tuple(list(m.axes)[:2])

@@ -114,26 +114,33 @@ def main(argv=None) -> None:
     print(COMBINED_HEAD if args.combined else
           "| machine | circle | contour error [µm] | largest spike [µm] | G [µm] "
           "| share kept | spike verdict |\n|---|---|---|---|---|---|---|")
-    for name in args.machines.split(","):
+    for name, label, model, truth, cmd in bench_circles(args.machines, args.cache,
+                                                        args.programs):
+        if args.combined:
+            print(combined_row(name, label, model, truth, cmd, args.draws), flush=True)
+            continue
+        cc = controller_compensation(model, cmd, R)
+        if args.draws:
+            robust_controller(model, cc, cmd, R, n_draws=args.draws)
+        before = judge(simulate(truth, cmd), cmd, R)
+        print(row(name, label, before, on_truth(truth, cmd, cc), cc), flush=True)
+
+
+def bench_circles(machines: str, cache: Path, programs: str):
+    """Per machine of ``machines`` (comma-separated) and circle of ``programs``: its name,
+    the circle's label, the model identified from its bundle, the true machine's X and Y
+    axes and the circle's command; warnings kept quiet [-]."""
+    for name in machines.split(","):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            model = model_of(name, args.cache)
+            model = model_of(name, cache)
             truth = machine_from_truth(DATA / f"bench_{name}" / "truth.yaml")
             truth = truth.model_copy(update={"axes": {a: truth.axes[a] for a in ("X", "Y")}})
             for label, file in (("F5000", "circle_ccw_cmd.csv"),
                                 ("F10000", "circle_ccw_fast_cmd.csv")):
-                if label not in args.programs.split(","):
-                    continue
-                cmd = read_command_csv(DATA / f"bench_{name}" / file)
-                if args.combined:
-                    print(combined_row(name, label, model, truth, cmd, args.draws), flush=True)
-                    continue
-                cc = controller_compensation(model, cmd, R)
-                if args.draws:
-                    robust_controller(model, cc, cmd, R, n_draws=args.draws)
-                before = judge(simulate(truth, cmd), cmd, R)
-                print(row(name, label, before, on_truth(truth, cmd, cc), cc), flush=True)
-
+                if label in programs.split(","):
+                    yield name, label, model, truth, read_command_csv(
+                        DATA / f"bench_{name}" / file)
 
 if __name__ == "__main__":
     main()

@@ -74,6 +74,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
                   f"{controller_out} runs them)")
         if cc.robustness:
             out.print(f"  share of the tuned parameters kept: {cc.robustness['share']:g}")
+        for line in adaptation_lines(cc):
+            out.print(line)
     if reference is not None:
         out.print(f"wrote {reference}: the program as planned for the correction, "
                   "uncompensated; measure runs of the compensated command against it")
@@ -263,3 +265,20 @@ def warn_extra_reversals(compensated, reference, cc) -> None:
                 "the path) are predicted with the model's friction, which may be wrong; "
                 "check the run on the machine, or compensate without --controller-out",
                 InputWarning, stacklevel=2)
+
+
+def adaptation_lines(cc) -> list[str]:
+    """Per axis whose pulse has an adaptation characteristic, what it is: the amplitude
+    over the acceleration at the reversal, as the parameter file gives it [-]."""
+    out = []
+    for a, c in cc.axes.items():
+        ch = c.characteristic
+        if ch is None or c.pulse_A == 0.0:
+            continue
+        a1, a2, a3 = ch.accel_m_per_s2
+        out.append(f"  {a}: the pulse adapted to the acceleration at the reversal "
+                   f"(FRICT_COMP_ADAPT_ENABLE 1): from 0 to {c.pulse_A:.3g} A up to "
+                   f"{a1:.3g} m/s^2, held to {a2:.3g}, {c.pulse_A * ch.low_ratio:.3g} A "
+                   f"from {a3:.3g} m/s^2 on (tuned on the circle at 1/4, 1/2 and all of "
+                   "its feed, and checked on draws of the model)")
+    return out

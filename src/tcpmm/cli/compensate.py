@@ -89,7 +89,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     full, cmd, headroom = _planned(command, gcode, m, headroom)
     (full, cmd), held = _without_held(m, full, cmd)
     circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
-    tuned = None if controller_out is None else _tuned(m, cmd, circle)
+    tuned = None if controller_out is None else _tuned(m, cmd, circle, draws)
     comp, headroom = _of_program(m, (full, cmd, headroom), command or gcode,
                                  (iterations, draws), bounds, circle, tuned)
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
@@ -298,13 +298,16 @@ def _write_report(path: Path, comp, machine, model: str, source, circle, cc,
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])
 
 
-def _tuned(machine, cmd, circle):
+def _tuned(machine, cmd, circle, draws: int):
     """The controller-side compensation of the circle ``(radius, centre, plane)`` tuned on
-    the model, unscaled [-]."""
+    the model, unscaled; its pulses' adaptation characteristics checked on up to ``draws``
+    draws of the model [-]."""
+    from ..compensate.adaptation import DRAWS
     from ..compensate.controller import controller_compensation
 
     radius_m, centre_m, plane = circle
-    return controller_compensation(machine, cmd, radius_m, centre_m, plane)
+    return controller_compensation(machine, cmd, radius_m, centre_m, plane,
+                                   min(draws, DRAWS))
 
 
 def _write_parameters(comp, path: Path, command_file: Path):

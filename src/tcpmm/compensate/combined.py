@@ -34,7 +34,6 @@ import numpy as np
 
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
-from .controller import AxisController
 from .drive import axis_plant
 from .learning import CUTOFF_HZ, compensate
 from .regional import per_combo
@@ -57,8 +56,7 @@ PARAMETER_SHARES = (0.0, 0.5, 1.0)
 
 def scaled_params(params: dict, share: float) -> dict:
     """Every axis's pulse and feed-forward times ``share``; the decay as it is [-]."""
-    return {a: AxisController(c.pulse_A * share, c.decay_s, c.velocity_pulse_m_per_s * share,
-                              c.cross_talk_s2 * share) for a, c in params.items()}
+    return {a: c.scaled(share) for a, c in params.items()}
 
 
 def plants(params: dict, share: float = 1.0) -> dict:

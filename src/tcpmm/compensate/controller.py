@@ -13,12 +13,19 @@ decays of a few milliseconds; a pulse that does not lower it is not applied.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..path.command import Command
 from ..sim.simulate import simulate, simulate_axis
+from .adaptation import (
+    DRAWS,
+    Characteristic,
+    best_characteristic,
+    holds_on_draws,
+    spike_curves,
+)
 from .drive import reversal_pulses, with_cross_talk
 from .scores import judge
 
@@ -47,20 +54,40 @@ class AxisController:
     cross_talk_s2 : float
         TCP deflection relative to the scale per commanded acceleration; the position
         setpoint is offset by minus this times the acceleration [m/(m/s^2)].
+    characteristic : Characteristic or None
+        The pulse's dependence on the acceleration at the reversal
+        (:mod:`.adaptation`); ``pulse_A`` is then its largest amplitude. ``None``: one
+        amplitude at every reversal [-].
     """
 
     pulse_A: float
     decay_s: float
     velocity_pulse_m_per_s: float
     cross_talk_s2: float
+    characteristic: Characteristic | None = None
+
+    def scaled(self, share: float) -> AxisController:
+        """The parameters with the pulse and the feed-forward times ``share``, the decay
+        and the characteristic's shape as they are [-]."""
+        return replace(self, pulse_A=self.pulse_A * share, cross_talk_s2=self.cross_talk_s2
+                       * share, velocity_pulse_m_per_s=self.velocity_pulse_m_per_s * share)
 
     def to_dict(self) -> dict:
         """The parameters in the units a commissioning engineer types, under the names of
         the file :meth:`ControllerCompensation.parameter_text` writes [-]."""
-        return {"friction_pulse_A": self.pulse_A, "friction_pulse_decay_ms": self.decay_s * 1e3,
-                "FRICT_COMP_CONST_MAX_mm_per_min": self.velocity_pulse_m_per_s * 6e4,
-                "FRICT_COMP_TIME_s": self.decay_s,
-                "cross_talk_um_per_m_per_s2": self.cross_talk_s2 * 1e6}
+        out = {"friction_pulse_A": self.pulse_A, "friction_pulse_decay_ms": self.decay_s * 1e3,
+               "FRICT_COMP_CONST_MAX_mm_per_min": self.velocity_pulse_m_per_s * 6e4,
+               "FRICT_COMP_TIME_s": self.decay_s,
+               "cross_talk_um_per_m_per_s2": self.cross_talk_s2 * 1e6}
+        ch = self.characteristic
+        if ch is not None and self.pulse_A != 0.0:  # no pulse: nothing to adapt
+            out.update({"friction_pulse_min_A": self.pulse_A * ch.low_ratio,
+                        "FRICT_COMP_ADAPT_ENABLE": 1,
+                        "FRICT_COMP_CONST_MIN_mm_per_min":
+                            self.velocity_pulse_m_per_s * 6e4 * ch.low_ratio,
+                        **{f"FRICT_COMP_ACCEL{i}_m_per_s2": a
+                           for i, a in enumerate(ch.accel_m_per_s2, start=1)}})
+        return out
 
 
 def velocity_per_ampere(axis) -> float:
@@ -108,26 +135,52 @@ class ControllerCompensation:
         return plot_controller_compensation(self, path=path, ax=ax)
 
     def parameter_text(self) -> str:
-        """The parameters as a commissioning engineer types them, per axis [-]."""
-        lines = ["# Controller-side compensation computed by tcpmm from the model.",
-                 "# Friction pulse at each reversal: current feed-forward (Fanuc-style) or",
-                 "# velocity setpoint pulse (Sinumerik quadrant error compensation:",
-                 "# FRICT_COMP_CONST_MAX [mm/min], FRICT_COMP_TIME [s]); cross-talk",
-                 "# feed-forward: position setpoint offset = -gain * commanded acceleration."]
+        """The parameters as a commissioning engineer types them, per axis, with the
+        machine data numbers of a Sinumerik quadrant-error compensation [-]."""
+        lines = list(PARAMETER_HEAD)
+
         def num(x):  # + 0.0: a gain of -0 reads as a sign to a reader
             return f"{x + 0.0:.4g}"
 
         for a, c in self.axes.items():
             d = c.to_dict()
-            off = "  # no pulse kept: the time does nothing" if d["friction_pulse_A"] == 0 else ""
+            off = "no pulse kept: the time does nothing" if d["friction_pulse_A"] == 0 else ""
             lines += [f"{a}:",
                       f"  friction_pulse_A: {num(d['friction_pulse_A'])}",
-                      f"  friction_pulse_decay_ms: {num(d['friction_pulse_decay_ms'])}{off}",
+                      f"  friction_pulse_decay_ms: {num(d['friction_pulse_decay_ms'])}"
+                      f"{'  # ' + off if off else ''}",
                       f"  FRICT_COMP_CONST_MAX_mm_per_min: "
-                      f"{num(d['FRICT_COMP_CONST_MAX_mm_per_min'])}",
-                      f"  FRICT_COMP_TIME_s: {num(d['FRICT_COMP_TIME_s'])}{off}",
-                      f"  cross_talk_um_per_m_per_s2: {num(d['cross_talk_um_per_m_per_s2'])}"]
+                      f"{num(d['FRICT_COMP_CONST_MAX_mm_per_min'])}  # MD32520",
+                      f"  FRICT_COMP_TIME_s: {num(d['FRICT_COMP_TIME_s'])}  # MD32540"
+                      f"{'; ' + off if off else ''}"]
+            if "FRICT_COMP_ADAPT_ENABLE" in d:
+                lines += ["  FRICT_COMP_ADAPT_ENABLE: 1  # MD32510",
+                          f"  friction_pulse_min_A: {num(d['friction_pulse_min_A'])}",
+                          f"  FRICT_COMP_CONST_MIN_mm_per_min: "
+                          f"{num(d['FRICT_COMP_CONST_MIN_mm_per_min'])}  # MD32530"]
+                lines += [f"  FRICT_COMP_ACCEL{i}_m_per_s2: "
+                          f"{num(d[f'FRICT_COMP_ACCEL{i}_m_per_s2'])}  # MD{32540 + 10 * i}"
+                          for i in (1, 2, 3)]
+            lines.append(f"  cross_talk_um_per_m_per_s2: {num(d['cross_talk_um_per_m_per_s2'])}")
         return "\n".join(lines) + "\n"
+
+
+#: The head of the parameter file: what each key is and where it goes [-].
+PARAMETER_HEAD = (
+    "# Controller-side compensation computed by tcpmm from the model.",
+    "# Friction pulse at each reversal, in two forms; give the controller one:",
+    "# - a current (torque) feed-forward, friction_pulse_A decaying with",
+    "#   friction_pulse_decay_ms, for drives that take a current pulse at a reversal",
+    "#   (Fanuc's backlash acceleration and the like: convert it to the drive's own units",
+    "#   and parameters, which depend on its servo software);",
+    "# - a velocity setpoint pulse, a Sinumerik quadrant error compensation",
+    "#   (MD32490 FRICT_COMP_MODE = 1, MD32500 FRICT_COMP_ENABLE = 1): FRICT_COMP_CONST_MAX",
+    "#   [mm/min] and FRICT_COMP_TIME [s]. Where the pulse depends on the acceleration at",
+    "#   the reversal, FRICT_COMP_ADAPT_ENABLE = 1 with the adaptation characteristic: the",
+    "#   amplitude rises from 0 to FRICT_COMP_CONST_MAX (friction_pulse_A) up to ACCEL1,",
+    "#   holds it to ACCEL2, goes straight to FRICT_COMP_CONST_MIN (friction_pulse_min_A)",
+    "#   at ACCEL3 and holds that beyond [m/s^2].",
+    "# Cross-talk feed-forward: position setpoint offset = -gain * commanded acceleration.")
 
 
 def coulomb_current(axis) -> float:
@@ -225,12 +278,15 @@ def tune_pulse(machine, command: Command, axis: str, pulses: dict, judge_args: t
 
 
 def controller_compensation(machine, command: Command, radius_m: float,
-                            centre_m=(0.0, 0.0), plane=("X", "Y")) -> ControllerCompensation:
+                            centre_m=(0.0, 0.0), plane=("X", "Y"),
+                            adapt_draws: int | None = DRAWS) -> ControllerCompensation:
     """Friction pulses and cross-talk feed-forward for the axes of a circle, from the
     model, with the figures it predicts before and after.
 
     The cross-talk feed-forward is kept where it lowers the model's contour error; each
-    axis's pulse is tuned in turn on the circle's largest TCP spike (:func:`tune_pulse`).
+    axis's pulse is tuned in turn on the circle's largest TCP spike (:func:`tune_pulse`),
+    then, unless ``adapt_draws`` is ``None``, its dependence on the acceleration at the reversal
+    (:func:`adapted_pulse`).
 
     Parameters
     ----------
@@ -244,6 +300,9 @@ def controller_compensation(machine, command: Command, radius_m: float,
         Its centre [m].
     plane : tuple of str
         Its axes [-].
+    adapt_draws : int or None
+        Also compute each pulse's adaptation characteristic, checked on this many draws
+        of the model (:func:`.adaptation.holds_on_draws`); ``None``: one amplitude [-].
 
     Returns
     -------
@@ -261,8 +320,61 @@ def controller_compensation(machine, command: Command, radius_m: float,
     pulses, params = {}, {}
     for a in axes:
         amp, tau = tune_pulse(machine, ctc, a, pulses, args)
-        pulses[a] = reversal_pulses(ctc, a, amp, tau)
+        others = {b: (c.pulse_A, c.decay_s, c.characteristic) for b, c in params.items()}
+        amp, ch = (amp, None) if adapt_draws is None else adapted_pulse(
+            machine, ctc, a, (amp, tau), (others, pulses), args, adapt_draws)
+        pulses[a] = reversal_pulses(ctc, a, amp, tau, ch)
         ax = machine.axes[a]
-        params[a] = AxisController(amp, tau, amp * velocity_per_ampere(ax), gains[a])
+        params[a] = AxisController(amp, tau, amp * velocity_per_ampere(ax), gains[a], ch)
     after = controller_figures(machine, ctc, command, pulses, *args[1:])
     return ControllerCompensation(params, {"before": before, "after": after})
+
+
+def adapted_pulse(machine, command: Command, axis: str, pulse: tuple, tuned: tuple,
+                  judge_args: tuple, n_draws: int = DRAWS) -> tuple:
+    """The pulse of ``axis`` with its adaptation characteristic (:mod:`.adaptation`), where
+    one beats the tuned amplitude at the circle's feed overrides, loses against it at
+    none of them on draws of the model (:func:`.adaptation.holds_on_draws`), and does not
+    make the programmed circle's largest spike or contour error worse.
+
+    Parameters
+    ----------
+    machine : Machine
+        The identified model [SI].
+    command : Command
+        The command run [m].
+    axis : str
+        The axis [-].
+    pulse : tuple of float
+        ``(amplitude [A], decay [s])`` tuned at the programmed feed (:func:`tune_pulse`).
+    tuned : tuple
+        The axes tuned before: their parameters, as :func:`.adaptation.axis_pulses` takes
+        them, and their pulses on ``command`` [-, A].
+    judge_args : tuple
+        ``(programmed, radius_m, centre_m, plane)`` of :func:`controller_figures` [-].
+    n_draws : int
+        Draws of the model the characteristic is checked on [-].
+
+    Returns
+    -------
+    tuple
+        ``(largest amplitude [A], Characteristic or None)`` [-].
+    """
+    amp, tau = pulse
+    others, pulses = tuned
+    if amp == 0.0:
+        return amp, None
+    curves = spike_curves(machine, command, axis, tau, coulomb_current(machine.axes[axis]),
+                          judge_args[1:], others)
+    ch, top, _ = (None, amp, 0.0) if curves is None else best_characteristic(curves, amp)
+    if ch is None:
+        return amp, None
+    flat, adapted = (controller_figures(machine, command, judge_args[0], {
+        **pulses, axis: reversal_pulses(command, axis, a, tau, c)}, *judge_args[1:])
+        for a, c in ((amp, None), (top, ch)))
+    if (largest_spike(adapted) <= largest_spike(flat) and adapted["path"]["contour_error_um"]
+            <= flat["path"]["contour_error_um"] and holds_on_draws(
+                machine, command, axis, ((amp, tau, None), (top, tau, ch)), others,
+                judge_args[1:], n_draws)):
+        return top, ch
+    return amp, None

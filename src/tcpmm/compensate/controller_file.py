@@ -5,12 +5,14 @@ back: what a commissioning engineer typed into the controller, for ``tcpmm simul
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, create_model
 
 from ..errors import InputError
 from ..io.text import read_text
 from ..io.yamlutil import key_lines, load_yaml, validate_yaml
+from .adaptation import Characteristic
 from .controller import AxisController, velocity_per_ampere
 
 _HINT = "the keys tcpmm compensate --controller-out writes"
@@ -33,6 +35,12 @@ class _Axis(BaseModel):
     friction_pulse_decay_ms: float = Field(0.0, ge=0.0, allow_inf_nan=False)
     FRICT_COMP_CONST_MAX_mm_per_min: float = Field(0.0, allow_inf_nan=False)
     FRICT_COMP_TIME_s: float | None = Field(None, ge=0.0, allow_inf_nan=False)
+    FRICT_COMP_ADAPT_ENABLE: Literal[0, 1] | None = None
+    friction_pulse_min_A: float | None = Field(None, allow_inf_nan=False)
+    FRICT_COMP_CONST_MIN_mm_per_min: float | None = Field(None, allow_inf_nan=False)
+    FRICT_COMP_ACCEL1_m_per_s2: float | None = Field(None, gt=0.0, allow_inf_nan=False)
+    FRICT_COMP_ACCEL2_m_per_s2: float | None = Field(None, gt=0.0, allow_inf_nan=False)
+    FRICT_COMP_ACCEL3_m_per_s2: float | None = Field(None, gt=0.0, allow_inf_nan=False)
     cross_talk_um_per_m_per_s2: float = Field(0.0, allow_inf_nan=False)
 
 
@@ -109,7 +117,52 @@ def _axis_parameters(name: str, p: _Axis, axis, path) -> AxisController:
             "as um?)", file=path)
     velocity = pulse * velocity_per_ampere(axis) if axis is not None else (
         p.FRICT_COMP_CONST_MAX_mm_per_min / 6e4)
-    return AxisController(pulse, decay, velocity, gain)
+    return AxisController(pulse, decay, velocity, gain, _characteristic(name, p, pulse, path))
+
+
+#: The keys of the adaptation characteristic, which FRICT_COMP_ADAPT_ENABLE switches on [-].
+ADAPTATION_KEYS = ("friction_pulse_min_A", "FRICT_COMP_CONST_MIN_mm_per_min",
+                   "FRICT_COMP_ACCEL1_m_per_s2", "FRICT_COMP_ACCEL2_m_per_s2",
+                   "FRICT_COMP_ACCEL3_m_per_s2")
+
+
+def _characteristic(name: str, p: _Axis, pulse_A: float, path) -> Characteristic | None:
+    """The pulse's adaptation characteristic where ``FRICT_COMP_ADAPT_ENABLE`` is 1, as
+    the controller applies it; its keys given without the switch are refused, as the
+    controller would leave them unused [-]."""
+    given = [k for k in ADAPTATION_KEYS if getattr(p, k) is not None]
+    if p.FRICT_COMP_ADAPT_ENABLE != 1:
+        if given and p.FRICT_COMP_ADAPT_ENABLE is None:
+            raise InputError(f"axis {name}: {', '.join(given)} given without "
+                             "FRICT_COMP_ADAPT_ENABLE; set it to 1 to apply the adaptation "
+                             "characteristic, or to 0 to leave it off", file=path)
+        return None
+    acc = (p.FRICT_COMP_ACCEL1_m_per_s2, p.FRICT_COMP_ACCEL2_m_per_s2,
+           p.FRICT_COMP_ACCEL3_m_per_s2)
+    if None in acc or not acc[0] < acc[1] < acc[2]:
+        raise InputError(f"axis {name}: FRICT_COMP_ADAPT_ENABLE 1 needs "
+                         "FRICT_COMP_ACCEL1_m_per_s2 < FRICT_COMP_ACCEL2_m_per_s2 < "
+                         "FRICT_COMP_ACCEL3_m_per_s2, each given", file=path)
+    ratios = [mn / mx for mn, mx in ((p.friction_pulse_min_A, pulse_A),
+                                     (p.FRICT_COMP_CONST_MIN_mm_per_min,
+                                      p.FRICT_COMP_CONST_MAX_mm_per_min))
+              if mn is not None and mx != 0.0]
+    if not ratios:
+        if pulse_A == 0.0:
+            return None  # no pulse to adapt
+        raise InputError(f"axis {name}: FRICT_COMP_ADAPT_ENABLE 1 needs the amplitude "
+                         "beyond FRICT_COMP_ACCEL3: friction_pulse_min_A or "
+                         "FRICT_COMP_CONST_MIN_mm_per_min", file=path)
+    if max(ratios) - min(ratios) > 2e-3 * max(abs(r) for r in ratios):  # 4 digits each
+        raise InputError(f"axis {name}: friction_pulse_min_A and "
+                         "FRICT_COMP_CONST_MIN_mm_per_min are one amplitude and disagree "
+                         f"({ratios[0]:.4g} and {ratios[1]:.4g} of the largest); give one, "
+                         "or both alike", file=path)
+    if ratios[0] < 0.0:
+        raise InputError(f"axis {name}: the amplitude beyond FRICT_COMP_ACCEL3 has the "
+                         "opposite sign to the largest; give both with the same sign",
+                         file=path)
+    return Characteristic(tuple(acc), ratios[0])
 
 
 def _decay(name: str, p: _Axis, given, path) -> tuple[float, str]:

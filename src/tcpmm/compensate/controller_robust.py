@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..whatif.draws import MODEL_ERROR, draw_machine
-from .controller import AxisController, ControllerCompensation
+from .controller import ControllerCompensation
 from .drive import controlled_run
 from .robust import EQUAL_M, margin, over_draws, vouched
 from .scores import judge
@@ -30,8 +30,7 @@ JUDGED = {"contour_error": ("path", "contour_error_um"),
 
 def scaled(cc: ControllerCompensation, share: float) -> dict:
     """Every axis's parameters times ``share`` [-]."""
-    return {a: AxisController(c.pulse_A * share, c.decay_s, c.velocity_pulse_m_per_s * share,
-                              c.cross_talk_s2 * share) for a, c in cc.axes.items()}
+    return {a: c.scaled(share) for a, c in cc.axes.items()}
 
 
 def applied(machine, command, params: dict, judge_args: tuple) -> dict:

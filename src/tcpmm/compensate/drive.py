@@ -10,25 +10,34 @@ import numpy as np
 from ..path.command import Command
 from ..sim.simulate import simulate, simulate_axis
 from .learning import plain
-from .turns import reversals
+from .turns import reversal_accelerations, reversals
 
 __all__ = ["axis_plant", "controlled_run", "drive_inputs", "extra_reversals", "reversal_pulses",
            "reversals", "with_cross_talk"]
 
 
-def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: float):
+def reversal_pulses(command: Command, axis: str, amplitude_A: float, decay_s: float,
+                    characteristic=None):
     """The current feed-forward of one axis: at each reversal of its commanded velocity a
     pulse of ``amplitude_A`` signed with the new direction, decaying with ``decay_s`` until
-    the next reversal; per command sample [A]."""
+    the next reversal; per command sample [A].
+
+    ``characteristic`` (a :class:`.adaptation.Characteristic`, or ``None`` for one
+    amplitude) scales each pulse by its factor at the acceleration the command has at that
+    reversal, as a quadrant-error compensation's adaptation characteristic does.
+    """
     x = command.positions[axis]
     out = np.zeros(x.size)
     if amplitude_A == 0.0 or x.size < 3:
         return out
     turns, s = reversals(command, axis)
+    amps = np.full(turns.size, float(amplitude_A))
+    if characteristic is not None:
+        amps = amps * characteristic.factor(reversal_accelerations(command, axis, turns))
     t = command.time_s
     for k, i in enumerate(turns):
         end = turns[k + 1] if k + 1 < turns.size else x.size
-        out[i:end] = s[i] * amplitude_A * np.exp(-(t[i:end] - t[i]) / decay_s)
+        out[i:end] = s[i] * amps[k] * np.exp(-(t[i:end] - t[i]) / decay_s)
     return out
 
 
@@ -94,7 +103,7 @@ def drive_inputs(command: Command, params: dict, share: float = 1.0):
         Share of the pulse and the feed-forward applied [-].
     """
     ctc = with_cross_talk(command, {a: share * c.cross_talk_s2 for a, c in params.items()})
-    pulses = {a: reversal_pulses(ctc, a, share * c.pulse_A, c.decay_s)
+    pulses = {a: reversal_pulses(ctc, a, share * c.pulse_A, c.decay_s, c.characteristic)
               for a, c in params.items() if c.pulse_A != 0.0 and a in ctc.positions}
     return ctc, pulses
 

@@ -51,6 +51,24 @@ def reversals(command: Command, axis: str) -> tuple:
     return moving[1:][s[moving[1:]] != s[moving[:-1]]], s
 
 
+#: Half the span over which the acceleration at a reversal is read: the velocity's change
+#: across it, which one sample's second difference would read with the command's rounding
+#: and interpolation jitter [s].
+ACCEL_HALF_SPAN_S = 0.005
+
+
+def reversal_accelerations(command: Command, axis: str, turns: np.ndarray) -> np.ndarray:
+    """The magnitude of the axis's commanded acceleration at each of its reversals
+    ``turns`` (samples), what a quadrant-error compensation's adaptation characteristic
+    is a function of: the velocity's change across :data:`ACCEL_HALF_SPAN_S` either side
+    over that time [m/s^2]."""
+    x, T = command.positions[axis], command.period_s
+    v = np.gradient(x, T)
+    w = max(1, round(ACCEL_HALF_SPAN_S / T))
+    lo, hi = np.maximum(turns - w, 0), np.minimum(turns + w, x.size - 1)
+    return np.abs(v[hi] - v[lo]) / np.maximum((hi - lo) * T, T)
+
+
 def stretches(reference, period_s: float) -> list[tuple[int, int, float]]:
     """The program's stretches between its reversals: ``(start, stop, direction)``, the
     direction +1 or -1 of the axis's motion there, 0 for an axis the program never moves

@@ -199,9 +199,27 @@ def _print_fit(res, file) -> None:
               f"fit {tf.fit_percent:.1f} %")
     t = plain_table(("kind", "f [Hz]", "damping [-]", "real [rad/s]", "imag [rad/s]"),
                     left=("kind",))
-    for _, r in res.to_pandas().iterrows():
-        t.add_row(r["kind"], f"{r['freq_hz']:.5g}", f"{r['damping']:.4g}",
+    df = res.to_pandas()
+    devs = res.deviations
+    rows = devs.by_row(df["kind"]) if devs is not None else [(None, None)] * len(df)
+    for (_, r), (fe, ze) in zip(df.iterrows(), rows, strict=True):
+        t.add_row(r["kind"], f"{r['freq_hz']:.5g}" if fe is None else fe.text(".5g"),
+                  f"{r['damping']:.4g}" if ze is None else ze.text(),
                   f"{r['real_rad_s']:.6g}", f"{r['imag_rad_s']:.6g}")
     print_plain(t, out)
+    if devs is not None:
+        _print_deviations(devs, res.unit)
     for note in res.notes:
         out.print(f"note: {esc(note)}")
+
+
+def _print_deviations(devs, unit: str) -> None:
+    """The delay and the static gain with their standard deviations, and what the +- of
+    the table means [-]."""
+    parts = [] if devs.delay is None else [f"delay {devs.delay.text(scale=1e3)} ms"]
+    if devs.gain is not None:
+        parts.append(f"static gain {devs.gain.text()}" + (f" [{esc(unit)}]" if unit else ""))
+    if parts:
+        out.print("; ".join(parts))
+    out.print("+- one standard deviation (linearised fit, the noise the residual shows); "
+              "undetermined: above half the value")

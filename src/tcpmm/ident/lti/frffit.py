@@ -43,10 +43,12 @@ from ...errors import InputError
 from ...frfdata import FRF
 from ._needles import clean_fit
 from ._select import by_criterion, by_total, choose, score
+from .frfnoise import NOISE_WINDOW, noise_level
 from .goodness import warn_if_off
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
+from .tfsd import TFDeviations, tf_deviations
 
-__all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
+__all__ = ["DAMPING_FLOOR", "NOISE_WINDOW", "FRFFit", "fit_frf", "noise_level"]
 
 #: Least damping ratio of a fitted pole pair [-]. The floor that matters is the bins' own
 #: spacing (a resonance narrower than one bin is not in the data); this one only keeps a
@@ -55,8 +57,6 @@ __all__ = ["DAMPING_FLOOR", "FRFFit", "fit_frf", "noise_level"]
 DAMPING_FLOOR = 1e-4
 #: Largest pole count tried by the automatic order [-].
 MAX_POLES = 16
-#: Bins of the running median of the roughness noise estimate [-].
-NOISE_WINDOW = 31
 #: Pole counts without improvement of the criterion before the scan stops [-].
 PATIENCE = 3
 WEIGHTINGS = ("relative", "absolute", "magnitude")
@@ -86,6 +86,9 @@ class FRFFit:
         Pole-zero pairs removed and poles raised to the floor [-].
     candidates : list of dict
         Orders tried by the automatic choice with their criterion [-].
+    deviations : TFDeviations, optional
+        Standard deviations of the modes, real poles, delay and gain
+        (:mod:`~tcpmm.ident.lti.tfsd`) [-].
     name, input, output, unit : str
         Labels of the measured response [-].
     """
@@ -99,6 +102,7 @@ class FRFFit:
     damping_floor: float
     notes: list = field(default_factory=list)
     candidates: list = field(default_factory=list)
+    deviations: TFDeviations | None = None
     name: str = ""
     input: str = ""
     output: str = ""
@@ -119,9 +123,14 @@ class FRFFit:
         return self.tf.freqresp(f_hz)
 
     def to_dict(self) -> dict:
-        """Plain dict: model (poles and zeros as [real, imaginary] in rad/s) and quality."""
+        """Plain dict: model (poles and zeros as [real, imaginary] in rad/s), the standard
+        deviations of its modes, real poles, delay and gain, and quality."""
         pairs = lambda p: [[float(v.real), float(v.imag)] for v in p]  # noqa: E731
         tf = self.tf
+        modes = [{"freq_hz": float(fn), "damping": float(z)}
+                 for fn, z in zip(tf.natural_freq_hz, tf.damping, strict=True)]
+        # with the deviations, modes carry their sds and real poles, delay and gain follow
+        sds = self.deviations.to_dict() if self.deviations is not None else {"modes": modes}
         return {
             "name": self.name, "input": self.input, "output": self.output,
             "unit": self.unit, "band_hz": [float(b) for b in self.band_hz],
@@ -129,8 +138,7 @@ class FRFFit:
             "n_zeros": int(tf.n_num), "delay_s": float(tf.delay_s),
             "poles": pairs(tf.poles), "zeros": pairs(tf.zeros),
             "num": [float(v) for v in tf.num], "den": [float(v) for v in tf.den],
-            "modes": [{"freq_hz": float(fn), "damping": float(z)}
-                      for fn, z in zip(tf.natural_freq_hz, tf.damping, strict=True)],
+            **sds,
             "quality": {"rel_rms": self.rel_rms, "noise_rms": self.noise_rms,
                         "chi2_ratio": self.chi2_ratio, "fit_percent": tf.fit_percent,
                         "bins": int(tf.freq_hz.size)},
@@ -139,8 +147,15 @@ class FRFFit:
         }
 
     def to_pandas(self):
-        """Pole table, one row per real pole or complex pair (see :meth:`TFFit.to_pandas`)."""
-        return self.tf.to_pandas()
+        """Pole table, one row per real pole or complex pair (see :meth:`TFFit.to_pandas`),
+        with the standard deviations ``freq_sd_hz`` and ``damping_sd`` (inf where the data
+        do not bound them, NaN where the row has none)."""
+        df = self.tf.to_pandas()
+        rows = (self.deviations.by_row(df["kind"]) if self.deviations is not None
+                else [(None, None)] * len(df))
+        for col, i in (("freq_sd_hz", 0), ("damping_sd", 1)):
+            df[col] = [np.nan if r[i] is None else r[i].sd for r in rows]
+        return df
 
     def plot(self, ax=None, path=None, frf: FRF | None = None):
         """Measured against fitted response with the residual.
@@ -166,40 +181,7 @@ class FRFFit:
                             path=path, ax=ax, title=title)
 
 
-# ----------------------------------------------------------------------------- noise
-
-
-def noise_level(f_hz, H, rel_std=None, window: int = NOISE_WINDOW) -> np.ndarray:
-    """Relative noise per bin, from the roughness of ``H`` and its coherence error.
-
-    Parameters
-    ----------
-    f_hz : array_like
-        Frequencies, increasing [Hz].
-    H : array_like
-        Complex response [unit].
-    rel_std : array_like, optional
-        Random error from the coherence (see :class:`~tcpmm.ident.frf.response.FRF`) [-].
-    window : int
-        Bins of the running median [-].
-
-    Returns
-    -------
-    ndarray
-        Standard deviation of the real and of the imaginary part of ``dH / H`` [-].
-    """
-    from scipy.ndimage import median_filter
-
-    H = np.asarray(H, dtype=complex)
-    if H.size < 3:
-        rough = np.zeros(H.size)
-    else:
-        d2 = np.abs(H[:-2] - 2 * H[1:-1] + H[2:]) ** 2 / (6.0 * np.abs(H[1:-1]) ** 2)
-        d2 = np.r_[d2[0], d2, d2[-1]]
-        med = median_filter(d2, size=min(window, d2.size), mode="nearest")
-        rough = np.sqrt(med / (2.0 * np.log(2.0)))
-    rs = np.zeros(H.size) if rel_std is None else np.asarray(rel_std, dtype=float)
-    return np.maximum(np.maximum(rough, rs), 1e-6)
+# ----------------------------------------------------------------------------- weights
 
 
 def _weights(H, sigma, mode):
@@ -349,6 +331,7 @@ def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
     fit = best["fit"]
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
+    devs = tf_deviations(fit, ctx["delay"] == "fit")
     warn_if_off(frf.name, fit.n_den, h, H, auto=ctx["auto"], delay=ctx["delay"])
     return FRFFit(
         tf=fit, band_hz=(float(data.freq_hz[0]), float(data.freq_hz[-1])),
@@ -358,7 +341,8 @@ def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
         damping_floor=ctx["floor"], notes=best["notes"],
         candidates=[{k: c[k] for k in ("tried", "n_poles", "n_zeros", "chi2_ratio", "bic",
                                         "unsupported")} for c in cands],
-        name=frf.name, input=frf.input, output=frf.output, unit=frf.meta.get("unit", ""))
+        deviations=devs, name=frf.name, input=frf.input, output=frf.output,
+        unit=frf.meta.get("unit", ""))
 
 
 def _auto(ctx, max_poles):

@@ -1,0 +1,148 @@
+"""Standard deviations of a fitted FRF's modes, poles and delay: against the spread of refits
+of known systems through noise, where the data leave a mode open, and on the real trace."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+from tcpmm.ident.frf import FRF
+from tcpmm.ident.lti import fit_frf, fit_tf, tf_deviations
+from tcpmm.ident.lti.tfsd import Estimate
+from tcpmm.io.frffile import write_frf_csv
+
+TRACE = Path(__file__).parents[1] / ".." / "shared" / "data" / "sinumerik" / "freq_trace.XML"
+needs_trace = pytest.mark.skipif(not TRACE.is_file(), reason="Sinumerik trace not available")
+
+MODES = ((120.0, 0.03), (450.0, 0.05))
+ZERO = 2 * np.pi * 300 * (-0.02 + 1j)
+NOISE = 0.01
+DRAWS = 50
+# The sample standard deviation s of DRAWS independent normal estimates against their true
+# sd: (DRAWS - 1) s^2 / sd^2 is chi-square of 49 degrees of freedom, so s / sd lies in
+# 0.63..1.41 with probability 1 - 1e-4. The sd compared is the median of those reported,
+# each from the noise one residual shows (a running median of 31 bins: some 10 % of its
+# own error), so the bounds are widened to 0.6..1.6; a covariance off by a factor of two
+# (the bins' noise instead of the residual's, a Jacobian missing the numerator) fails.
+RATIO = (0.6, 1.6)
+
+
+def response(f, real_pole_hz=None, delay_s=0.0):
+    """Two modes over an antiresonance at 300 Hz, a real pole and a delay if given [-]."""
+    s = 2j * np.pi * np.asarray(f)
+    h = (1 - s / ZERO) * (1 - s / np.conj(ZERO))
+    for fn, z in MODES:
+        wn = 2 * np.pi * fn
+        h = h / (1 + 2 * z * s / wn + (s / wn) ** 2)
+    if real_pole_hz is not None:
+        h = h / (1 + s / (2 * np.pi * real_pole_hz))
+    return h * np.exp(-s * delay_s)
+
+
+def noisy(H, seed):
+    """``H`` times ``1 + NOISE e``, ``e`` complex normal of unit variance [-]."""
+    rng = np.random.default_rng(seed)
+    e = (rng.standard_normal(H.size) + 1j * rng.standard_normal(H.size)) / np.sqrt(2)
+    return H * (1 + NOISE * e)
+
+
+def estimates(dev) -> list:
+    """Frequency and damping of each mode, the real poles, the delay if fitted [-]."""
+    out = [e for mode in dev.modes for e in mode] + list(dev.real_poles)
+    return out + ([dev.delay] if dev.delay is not None else [])
+
+
+def spread_against_sd(fits) -> tuple:
+    """Values and reported sds of every refit, as arrays of one row per draw [-]."""
+    vals = np.array([[e.value for e in estimates(d)] for d in fits])
+    sds = np.array([[e.sd for e in estimates(d)] for d in fits])
+    return vals, np.std(vals, axis=0, ddof=1) / np.median(sds, axis=0), np.median(sds, axis=0)
+
+
+def test_reported_sd_of_modes_and_real_pole_matches_the_spread_of_refits():
+    """fit_frf of two modes and a real pole at 900 Hz (400 bins, 1 % noise), fifty draws:
+    the spread of each refitted frequency and damping is the sd reported, within RATIO,
+    and their mean is the truth within half of it."""
+    f = np.geomspace(10.0, 2000.0, 400)
+    H = response(f, real_pole_hz=900.0)
+    fits = []
+    for seed in range(DRAWS):
+        frf = FRF(f, noisy(H, seed), np.ones(f.size), 10, np.zeros(f.size), name="two modes")
+        fits.append(fit_frf(frf, poles=5, delay_s=None).deviations)
+    assert all(len(d.modes) == 2 and len(d.real_poles) == 1 for d in fits)
+    vals, ratio, sd = spread_against_sd(fits)
+    truth = [*np.ravel(MODES), 900.0]
+    assert np.all((RATIO[0] < ratio) & (ratio < RATIO[1])), ratio
+    assert np.all(np.abs(vals.mean(axis=0) - truth) < 0.5 * sd)
+    assert all(e.determined for d in fits for e in estimates(d))
+
+
+def test_reported_sd_of_a_fitted_delay_matches_the_spread_of_refits():
+    """fit_tf of two modes and a 0.2 ms delay (4 poles, 2 zeros, 200 bins, 1 % noise),
+    fifty draws: frequencies, dampings and the delay spread as their reported sd."""
+    f = np.geomspace(10.0, 2000.0, 200)
+    H = response(f, delay_s=2e-4)
+    fits = []
+    for seed in range(DRAWS):
+        fit = fit_tf((f, noisy(H, seed), np.ones(f.size)), 2, 4, delay_s="fit", max_nfev=100)
+        fits.append(tf_deviations(fit, fit_delay=True))
+    vals, ratio, sd = spread_against_sd(fits)
+    assert np.all((RATIO[0] < ratio) & (ratio < RATIO[1])), ratio
+    assert np.all(np.abs(vals.mean(axis=0) - [*np.ravel(MODES), 2e-4]) < 0.5 * sd)
+
+
+def test_a_mode_above_the_band_is_said_to_be_undetermined(capsys, tmp_path):
+    """Fitted to 300 Hz, the 450 Hz mode still shows its stiffness (its frequency is held)
+    but not its damping; fitted to 150 Hz, neither. The 120 Hz mode is held in both, and
+    the command line says undetermined where JSON has the flag."""
+    f = np.geomspace(10.0, 2000.0, 400)
+    frf = FRF(f, noisy(response(f, real_pole_hz=900.0), 0), np.ones(f.size), 10,
+              np.zeros(f.size), name="two modes")
+    (low, low_z), (high, high_z) = fit_frf(frf, poles=4, band_hz=(10, 300),
+                                           delay_s=None).deviations.modes
+    assert low.determined and low_z.determined and high.determined
+    assert not high_z.determined
+    fit = fit_frf(frf, poles=4, band_hz=(10, 150), delay_s=None)
+    (low, low_z), (high, high_z) = fit.deviations.modes
+    assert low.determined and low_z.determined
+    assert not high.determined and not high_z.determined
+    path = tmp_path / "two.csv"
+    write_frf_csv(frf, path)
+    args = ("frf", "fit", path, "--poles", "4", "--band", "10,150", "--delay", "none")
+    code, text, _ = run_cli(capsys, *args)
+    assert code == 0 and "(undetermined)" in text and "+-" in text
+    code, text, _ = run_cli(capsys, *args, "--json")
+    modes = json.loads(text)["modes"]
+    assert [m["damping_determined"] for m in modes] == [True, False]
+    assert modes[0]["freq_sd_hz"] > 0 and modes[1]["freq_determined"] is False
+
+
+def test_an_estimate_says_what_the_data_leave_open():
+    assert Estimate(120.0, 0.5).text() == "120 +- 0.5"
+    assert Estimate(0.03, 0.02).text() == "0.03 (undetermined)"
+    assert Estimate(1.0, math.inf).to_dict("freq_hz") == {
+        "freq_hz": 1.0, "freq_sd_hz": None, "freq_determined": False}
+    assert Estimate(2e-4, 1e-5).to_dict("delay_s")["delay_sd_s"] == 1e-5
+
+
+@needs_trace
+def test_the_real_trace_s_modes_carry_sensible_sds(capsys):
+    """The Sinumerik speed loop: each mode's frequency is held to a few per cent, the
+    sharp 2.2 kHz mode's to a bin (4.9 Hz) or less, the delay to a fraction of itself,
+    and the gain of a speed loop (1) closely."""
+    code, text, _ = run_cli(capsys, "frf", "fit", TRACE, "--json")
+    assert code == 0
+    d = json.loads(text)
+    for m in d["modes"]:
+        assert m["freq_determined"] and 0 < m["freq_sd_hz"] < 0.05 * m["freq_hz"]
+        assert m["damping_determined"] and m["damping_sd"] > 0
+    sharp = max(d["modes"], key=lambda m: 1 / m["damping"])
+    assert sharp["freq_sd_hz"] < 4.9
+    assert d["delay"]["delay_determined"]
+    assert d["delay"]["delay_sd_s"] < 0.3 * d["delay"]["delay_s"]
+    assert d["gain"]["gain"] == pytest.approx(1.0, abs=0.05) and d["gain"]["gain_determined"]

@@ -13,6 +13,7 @@ import pytest
 from conftest import run_cli
 from tcpmm.ident.frf import FRF
 from tcpmm.ident.lti import fit_frf, fit_tf, tf_deviations
+from tcpmm.ident.lti.tfresult import tf_result
 from tcpmm.ident.lti.tfsd import Estimate
 from tcpmm.io.frffile import write_frf_csv
 
@@ -120,6 +121,28 @@ def test_a_mode_above_the_band_is_said_to_be_undetermined(capsys, tmp_path):
     modes = json.loads(text)["modes"]
     assert [m["damping_determined"] for m in modes] == [True, False]
     assert modes[0]["freq_sd_hz"] > 0 and modes[1]["freq_determined"] is False
+
+
+def test_a_pair_its_zeros_cancel_has_no_sd_and_the_gain_it_leaves_alone_has_one():
+    """A pole pair at 600 Hz over a numerator that is its own two zeros: pole and zeros
+    move together without changing a bin, an exactly singular direction. The pair has no
+    finite sd (null in JSON); the 120 Hz mode and the static gain, which that direction
+    leaves alone, keep theirs."""
+    f = np.geomspace(10.0, 2000.0, 300)
+    omega0 = 2 * np.pi * np.sqrt(f[0] * f[-1])
+    x = 2j * np.pi * f / omega0
+    poles = [2 * np.pi * fn / omega0 * (-z + 1j * np.sqrt(1 - z * z)) for fn, z in
+             ((120.0, 0.03), (600.0, 0.1))]
+    pn = np.array([poles[0], np.conj(poles[0]), poles[1], np.conj(poles[1])])
+    bn = 3.0 * np.real(np.poly(pn[2:]))[::-1]
+    H = noisy(np.polyval(bn[::-1], x) / np.prod([x - p for p in pn], axis=0), 0)
+    fit = tf_result(f, H, np.ones(f.size), bn, pn, omega0, 0, 0.0, 2, 4, 7, 1.0)
+    d = tf_deviations(fit, fit_delay=False).to_dict()
+    held, cancelled = d["modes"]
+    assert held["freq_determined"] and held["damping_determined"]
+    assert cancelled["freq_sd_hz"] is None and cancelled["damping_sd"] is None
+    assert d["gain"]["gain"] == pytest.approx(3.0 / abs(pn[0]) ** 2)
+    assert d["gain"]["gain_determined"] and d["gain"]["gain_sd"] > 0
 
 
 def test_an_estimate_says_what_the_data_leave_open():

@@ -34,7 +34,8 @@ A parameter is *determined* where its standard deviation is at most :data:`DETER
 its value: beyond that a ``±`` would span values of another meaning (a mode of half or
 twice the frequency, a damping of either sign). With the Jacobian's columns scaled to unit
 norm, a singular value below :data:`SINGULAR` of the largest is a direction the bins do
-not see; a parameter that moves along it has no finite standard deviation.
+not see; a parameter that moves along it has no finite standard deviation (a pole pair
+its own zeros cancel), and one it leaves alone keeps its own (the gain they leave).
 """
 
 from __future__ import annotations
@@ -199,19 +200,35 @@ def _residual_noise(fit, U: np.ndarray, keep: np.ndarray) -> np.ndarray:
     return np.tile(np.sqrt(med / np.log(2.0)), 2)
 
 
-def _covariance(fit, J: np.ndarray) -> np.ndarray:
-    """``A+ J^T diag(n^2) J A+`` for the residual rows' noise ``n`` (see the module); a
-    parameter with a component in a direction the bins do not see gets an infinite
-    variance [-]."""
+@dataclass(frozen=True)
+class _Covariance:
+    """The covariance of the parameters in the directions the bins see, ``C``, and those
+    they do not, ``null`` (rows, in the parameters scaled by ``norm``) [-]."""
+
+    C: np.ndarray
+    null: np.ndarray
+    norm: np.ndarray
+
+    def variance(self, grad: np.ndarray) -> float:
+        """Variance of a function of the parameters of gradient ``grad``: infinite where
+        the gradient has a component along a direction the bins do not see, finite where
+        it has none (a gain that a pole and a zero moving together leave alone) [-]."""
+        gs = grad / self.norm
+        if np.any(np.abs(self.null @ gs) > IN_NULL * np.linalg.norm(gs)):
+            return math.inf
+        return float(grad @ self.C @ grad)
+
+
+def _covariance(fit, J: np.ndarray) -> _Covariance:
+    """``A+ J^T diag(n^2) J A+`` for the residual rows' noise ``n`` (see the module), with
+    the directions the bins do not see [-]."""
     U, sv, Vt, keep, norm = _decompose(J)
     noise = _residual_noise(fit, U, keep)
     M = (U[:, keep] * noise[:, None]) / sv[keep]
     Vk = Vt[keep].T
-    C = Vk @ (M.T @ M) @ Vk.T / np.outer(norm, norm)
-    unseen = (np.linalg.norm(J, axis=0) == 0) | np.any(np.abs(Vt[~keep]) > IN_NULL, axis=0)
-    C[unseen, :] = np.inf
-    C[:, unseen] = np.inf
-    return C
+    unseen = np.eye(J.shape[1])[np.linalg.norm(J, axis=0) == 0]
+    return _Covariance(Vk @ (M.T @ M) @ Vk.T / np.outer(norm, norm),
+                       np.vstack([Vt[~keep], unseen]), norm)
 
 
 def tf_deviations(fit, fit_delay: bool) -> TFDeviations:
@@ -230,32 +247,30 @@ def tf_deviations(fit, fit_delay: bool) -> TFDeviations:
         Modes, real poles, delay and gain with their standard deviations [-].
     """
     pairs, reals = _split_poles(fit.pn)
-    C = _covariance(fit, _jacobian(fit, pairs, reals, fit_delay))
-    with np.errstate(invalid="ignore"):
-        sd = np.sqrt(np.abs(np.diag(C)))
+    cov = _covariance(fit, _jacobian(fit, pairs, reals, fit_delay))
+    sd = np.sqrt(np.abs([cov.variance(e) for e in np.eye(cov.C.shape[0])]))
     to_hz = fit.omega0 / (2 * np.pi)
     n2 = 2 * pairs.size
     modes = [(Estimate(abs(p) * to_hz, sd[2 * i]), Estimate(-p.real / abs(p), sd[2 * i + 1]))
              for i, p in enumerate(pairs)]
     real_poles = [Estimate(R * to_hz, sd[n2 + j]) for j, R in enumerate(reals)]
     delay = Estimate(fit.delay_s, sd[-1]) if fit_delay else None
-    return TFDeviations(modes, real_poles, delay, _gain(fit, pairs, reals, C))
+    return TFDeviations(modes, real_poles, delay, _gain(fit, pairs, reals, cov))
 
 
-def _gain(fit, pairs, reals, C) -> Estimate | None:
-    """``lim s^k H(s)`` at ``s = 0`` and its sd from ``C`` through the gradient of its
+def _gain(fit, pairs, reals, cov: _Covariance) -> Estimate | None:
+    """``lim s^k H(s)`` at ``s = 0`` and its sd from ``cov`` through the gradient of its
     logarithm; None where the numerator has no constant term or a pole sits at 0 [-]."""
     b0 = fit.bn[0] if fit.bn.size else 0.0
     poles = np.r_[pairs, np.conj(pairs), -reals]
     if b0 == 0 or np.any(poles == 0):
         return None
     gain = float(np.real(b0 * fit.omega0**fit.n_integrators / np.prod(-poles)))
-    grad = np.zeros(C.shape[0])
+    grad = np.zeros(cov.C.shape[0])
     n2, to_hz = 2 * pairs.size, fit.omega0 / (2 * np.pi)
     grad[0:n2:2] = -2.0 / (np.abs(pairs) * to_hz)  # d ln(W^2) / d f_n
     grad[n2:n2 + reals.size] = -1.0 / (reals * to_hz)
     grad[n2 + reals.size] = 1.0 / b0
-    used = grad != 0
-    var = grad[used] @ C[np.ix_(used, used)] @ grad[used]
+    var = cov.variance(grad)
     sd = abs(gain) * math.sqrt(var) if np.isfinite(var) and var >= 0 else math.inf
     return Estimate(gain, sd)

@@ -117,6 +117,7 @@ def test_a_mode_above_the_band_is_said_to_be_undetermined(capsys, tmp_path):
     args = ("frf", "fit", path, "--poles", "4", "--band", "10,150", "--delay", "none")
     code, text, _ = run_cli(capsys, *args)
     assert code == 0 and "(undetermined)" in text and "+-" in text
+    assert "delay's +-" not in text  # no delay fitted, no note on its spread
     code, text, _ = run_cli(capsys, *args, "--json")
     modes = json.loads(text)["modes"]
     assert [m["damping_determined"] for m in modes] == [True, False]
@@ -169,3 +170,6 @@ def test_the_real_trace_s_modes_carry_sensible_sds(capsys):
     assert d["delay"]["delay_determined"]
     assert d["delay"]["delay_sd_s"] < 0.3 * d["delay"]["delay_s"]
     assert d["gain"]["gain"] == pytest.approx(1.0, abs=0.05) and d["gain"]["gain_determined"]
+    # its +- holds for the order chosen, which refits of other noise do not all choose
+    code, text, _ = run_cli(capsys, "frf", "fit", TRACE)
+    assert code == 0 and "delay's +- holds for the order chosen" in " ".join(text.split())

@@ -223,3 +223,7 @@ def _print_deviations(devs, unit: str) -> None:
         out.print("; ".join(parts))
     out.print("+- one standard deviation (linearised fit, the noise the residual shows); "
               "undetermined: above half the value")
+    if devs.delay is not None:  # docs/frf_files.md: 1.4-2.8x across refits
+        out.print("the delay's +- holds for the order chosen: fits of other noise that "
+                  "choose another numerator trade the delay with a far zero, and spread "
+                  "up to 3 times more")

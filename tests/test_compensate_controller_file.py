@@ -97,3 +97,31 @@ def test_an_axis_the_file_leaves_out_is_said(tmp_path, capsys):
                  str(params), "-o", str(tmp_path / "run.csv")]) == 0
     err = " ".join(capsys.readouterr().err.split())
     assert f"{params} has no parameters for Y: it runs without controller-side" in err
+
+
+def test_a_file_computed_on_another_model_says_so(tmp_path):
+    """The file names the model it was computed on; applied on another, the pulses answer
+    the other's friction: a warning names both, and the same model reads quietly."""
+    import warnings
+
+    from tcpmm.compensate.controller import AxisController, ControllerCompensation
+    from tcpmm.errors import InputWarning
+
+    mine = {"name": "bench d", "digest": "0123456789abcdef"}
+    cc = ControllerCompensation({"X": AxisController(0.5, 0.02, 0.0, 0.0)})
+    path = tmp_path / "p.yaml"
+    path.write_text(cc.parameter_text(mine))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert read_controller_parameters(path, ("X",), mine)["X"].pulse_A == 0.5
+        assert read_controller_parameters(path, ("X",))["X"].pulse_A == 0.5  # none to check
+    other = {"name": "bench e", "digest": "fedcba9876543210"}
+    with pytest.warns(InputWarning, match="computed on the model 'bench d' \\(digest "
+                      "0123456789abcdef\\), not on this one \\('bench e', digest "
+                      "fedcba9876543210\\)"):
+        read_controller_parameters(path, ("X",), other)
+    # a file without the model's name, as typed by hand, is read as before
+    path.write_text(cc.parameter_text())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        read_controller_parameters(path, ("X",), other)

@@ -17,8 +17,9 @@ def as_the_drives_take_it(cmd, controller, machine):
         return cmd, None
     from ..compensate.controller_file import read_controller_parameters
     from ..compensate.drive import drive_inputs
+    from ..io.modelfile import model_identity
 
-    params = read_controller_parameters(controller, machine.axes)
+    params = read_controller_parameters(controller, machine.axes, model_identity(machine))
     bare = [a for a in cmd.axes if a in machine.axes and a not in params]
     if bare:  # an axis the file leaves out runs as without compensation: say which
         import warnings

@@ -98,7 +98,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     _write_reference(reference_out, _with_held(cmd if headroom else full, held))
     if gcode_out is not None:
         write_dense(compensated, comp, m, gcode_out)
-    cc = None if controller_out is None else _write_parameters(comp, controller_out, output)
+    cc = None if controller_out is None else _write_parameters(comp, controller_out, output, m)
     planner = None if gcode is None else machine_bounds(m)  # the limits it was planned to
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, circle, cc, planner)
@@ -310,17 +310,19 @@ def _tuned(machine, cmd, circle, draws: int):
                                    min(draws, DRAWS))
 
 
-def _write_parameters(comp, path: Path, command_file: Path):
+def _write_parameters(comp, path: Path, command_file: Path, machine):
     """The parameters the compensated command was learned with, as kept over the draws,
-    written to ``path`` with a note that the command needs them [-]."""
+    written to ``path`` with a note that the command needs them and the model they were
+    computed on [-]."""
     from ..compensate.controller import ControllerCompensation
     from ..io.atomic import write_text_atomic
+    from ..io.modelfile import model_identity
 
     rob = comp.robustness or {}
     share = rob.get("parameter_share", 1.0)
     cc = ControllerCompensation(comp.controller, comp.scores, {"share": share})
     write_text_atomic(path, _parameter_note(command_file.name, share, rob.get("draws", 0))
-                      + cc.parameter_text())
+                      + cc.parameter_text(model_identity(machine)))
     return cc
 
 

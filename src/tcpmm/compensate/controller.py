@@ -12,6 +12,7 @@ decays of a few milliseconds; a pulse that does not lower it is not applied.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field, replace
 
@@ -134,10 +135,15 @@ class ControllerCompensation:
 
         return plot_controller_compensation(self, path=path, ax=ax)
 
-    def parameter_text(self) -> str:
+    def parameter_text(self, model: dict | None = None) -> str:
         """The parameters as a commissioning engineer types them, per axis, with the
-        machine data numbers of a Sinumerik quadrant-error compensation [-]."""
+        machine data numbers of a Sinumerik quadrant-error compensation; ``model`` the
+        name and digest of the model they were computed on
+        (:func:`tcpmm.io.modelfile.model_identity`), written first where given [-]."""
         lines = list(PARAMETER_HEAD)
+        if model is not None:
+            lines += ["model:  # what the parameters were computed on",
+                      f"  name: {json.dumps(model['name'])}", f"  digest: {model['digest']}"]
 
         def num(x):  # + 0.0: a gain of -0 reads as a sign to a reader
             return f"{x + 0.0:.4g}"

@@ -44,21 +44,33 @@ class _Axis(BaseModel):
     cross_talk_um_per_m_per_s2: float = Field(0.0, allow_inf_nan=False)
 
 
+class _Model(BaseModel):
+    """The model the parameters were computed on: its name and its file's digest
+    (:func:`tcpmm.io.modelfile.model_identity`)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    name: str
+    digest: str
+
+
 def _check_axes(text: str, path, axes) -> None:
-    """Refuse a top-level key that is none of ``axes``, naming the model's axes: the schema
-    alone would call it an unknown key, as if the file, not the model, were wrong."""
+    """Refuse a top-level key that is none of ``axes`` (nor ``model``), naming the
+    model's axes: the schema alone would call it an unknown key, as if the file, not the
+    model, were wrong."""
     data, node = load_yaml(text, path)
     if not isinstance(data, dict):
         return  # the schema says what the file should be
     lines = key_lines(node)
     for name in data:
-        if name not in axes:
+        if name not in axes and name != "model":
             raise InputError(f"{name} is not an axis of the model (it has "
                              f"{', '.join(axes)}); give the parameters of its axes only",
                              file=path, line=lines.get((str(name),)), column=str(name))
 
 
-def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisController]:
+def read_controller_parameters(path, axes=("X", "Y", "Z"),
+                               model: dict | None = None) -> dict[str, AxisController]:
     """The parameters of a controller-side compensation file, per axis.
 
     The drive applies the pulse as a current (``friction_pulse_A``, decaying with
@@ -77,6 +89,10 @@ def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisCont
         The axes of the model the parameters are for; the file may name these only. Names
         alone cannot convert the velocity form nor check the current limit and the
         velocity-loop period: a file with the velocity form only is then refused [-].
+    model : dict, optional
+        The name and digest of the model the parameters are applied on
+        (:func:`tcpmm.io.modelfile.model_identity`): a file computed on another says so,
+        as an :class:`~tcpmm.errors.InputWarning` [-].
 
     Returns
     -------
@@ -88,14 +104,33 @@ def read_controller_parameters(path, axes=("X", "Y", "Z")) -> dict[str, AxisCont
     axes = list(axes)
     _check_axes(text, path, axes)
     schema = create_model("ControllerParameters", __config__=ConfigDict(extra="forbid"),
+                          model=(_Model | None, None),
                           **{a: (_Axis | None, None) for a in axes})
     f = validate_yaml(text, schema, path, "controller parameters", _HINT)
+    _say_other_model(f.model, model, path)
     out = {}
     for name in axes:
         p = getattr(f, name)
         if p is not None:
             out[name] = _axis_parameters(name, p, models.get(name), path)
     return out
+
+
+def _say_other_model(written: _Model | None, model: dict | None, path) -> None:
+    """Warn where the file was computed on another model than the one it is applied on:
+    its pulses answer that model's friction, its feed-forward that model's structure."""
+    if written is None or model is None or written.digest == model["digest"]:
+        return
+    import warnings
+
+    from ..errors import InputWarning
+
+    warnings.warn(f"{path} was computed on the model {written.name!r} (digest "
+                  f"{written.digest}), not on this one ({model['name']!r}, digest "
+                  f"{model['digest']}): its pulses and feed-forward answer that model's "
+                  "friction and structure; compute them on this one (tcpmm compensate "
+                  "--controller-out) unless that is what you are trying", InputWarning,
+                  stacklevel=3)
 
 
 def _axis_parameters(name: str, p: _Axis, axis, path) -> AxisController:

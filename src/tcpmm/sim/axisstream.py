@@ -19,6 +19,7 @@ from .._compiled import run_axis
 from ..model import Axis
 from ..result import AxisRun
 from . import layout as L
+from .axishold import HeldCommand, held
 from .inputs import kernel_inputs, sensor_datums
 from .simulate import record_every, records_run
 
@@ -53,6 +54,7 @@ class AxisStream:
         self.x = None
         #: most command samples held at once [-]
         self.most_held = 0
+        self.hold = HeldCommand(self.rec_every)
 
     def push(self, position_m, final: bool = False, last_time_s: float | None = None):
         """Run the steps the command so far allows; their records.
@@ -109,14 +111,33 @@ class AxisStream:
             size = L.state_size(k.delay, k.vtaps.size, k.fsec.shape[0])
             self.inputs, self.x = k, k.x0
             self.state = np.zeros(size)
-        re = self.rec_every
-        n_rec = (stop + re - 1) // re - (first + re - 1) // re
         self.state[L.S_CMD0] = j_first
         k = dataclasses.replace(self.inputs, x0=self.x, cmd=cmd, vcmd=vcmd,
                                 excitation=np.zeros(cmd.size), n_steps=stop - first,
                                 state=self.state)
-        rec = np.empty((len(L.REC_COLUMNS), n_rec))
-        self.x = run_axis(*k.as_args(rec))
+        bits = held(cmd, vcmd)
+        if bits is None:
+            self.hold.reset(None)
+            return self._steps(k.as_args(None), first, stop)
+        args = k.as_args(None)
+        return self.hold.run(bits, lambda a, b: self._steps(args, a, b), first, stop,
+                             self._plant, self.state)
+
+    def _plant(self, x=None):
+        """The plant state; set to ``x`` where given [SI]."""
+        if x is not None:
+            self.x = x
+        return self.x
+
+    def _steps(self, args: tuple, a: int, b: int) -> np.ndarray:
+        """The kernel's records of steps ``a`` to ``b - 1`` on the arguments ``args``
+        (:meth:`~tcpmm.sim.inputs.KernelInputs.as_args`) from the present state, which
+        it advances [SI]."""
+        re = self.rec_every
+        rec = np.empty((len(L.REC_COLUMNS), (b + re - 1) // re - (a + re - 1) // re))
+        ip = args[7].copy()
+        ip[L.IP_N_STEPS] = b - a
+        self.x = run_axis(*args[:2], self.x, *args[3:7], ip, rec, *args[9:])
         return rec
 
 

@@ -5,6 +5,7 @@ nut, swept while it travels, recorded by its own quantised sensors; and an axis 
 ``studies/unseen_machines.py`` on which the joint fit of G_M, G_T and G_tcp lost the bed.
 """
 
+import math
 import warnings
 
 import numpy as np
@@ -59,8 +60,8 @@ def test_the_structure_comes_back_from_a_bad_start(swept):
     bed, whose pole and zero lie 9 % apart, 0.95-0.97; the dampings 0.96-1.06)."""
     true, data = swept
     bad = true.scaled(M_b=0.1, K_b=0.2, C_b=0.3, M_h=2.0, K_h=2.0)
-    ratios, rel = fit_structure(data["G_tcp"], [bad])
-    again, _ = fit_structure(data["G_tcp"], [true])
+    ratios, rel, _ = fit_structure(data["G_tcp"], [bad])
+    again, _, _ = fit_structure(data["G_tcp"], [true])
     for p, r in ratios_of(true).items():
         assert ratios[p] == pytest.approx(again[p], rel=1e-4), p
         assert ratios[p] == pytest.approx(r, rel=0.08), p
@@ -79,7 +80,7 @@ def test_the_structure_is_relative_to_the_table():
     d = FRFData(f, H, np.ones_like(f))
     heavy = true.scaled(**{p: 2.0 for p in ("M_t", "C_t", *STRUCTURE)})
     for start in (true.scaled(M_b=0.5, K_b=0.5), heavy.scaled(M_h=1.5)):
-        ratios, rel = fit_structure(d, [start])
+        ratios, rel, _ = fit_structure(d, [start])
         for p, r in ratios_of(true).items():
             assert ratios[p] == pytest.approx(r, rel=1e-6), p
         assert rel < 1e-6
@@ -127,3 +128,49 @@ def test_the_play_does_not_take_the_bed_away(unseen):
     assert m.M_b / m.M_t == pytest.approx(t.M_b / t.M_t, rel=0.05)
     assert idn.physical.tied
     assert idn.physical.nut_gain is None
+
+
+def test_a_sweep_above_the_column_mode_leaves_its_damping_open():
+    """The built-in Y (head on its column at 36 Hz, damping ratio 0.02) swept from 60 Hz
+    up: G_tcp sees the head's mass line, where its damping hardly shows, and the fit put
+    C_h at 0.38 of the truth with a deviation of 18 % (that of the table mass, to which
+    the structure is held): the truth lay 5 deviations off. On bench C cut to 45-1000 Hz
+    the same gap gave intervals that missed the contour error by 24 um against +-16 um.
+    The column's damping is now open over the damping ratios of structures, and its mass
+    and stiffness, which the mass line and the mode's flank show, stay determined."""
+    from tcpmm.uncertainty import open_ranges
+    from tcpmm.uncertainty.ranges import STRUCTURE_ZETA_RANGE
+
+    m = builtin_machine()
+    a = m.axes["Y"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        idn = identify_axis("Y", virtual_sweep(a, name="Y", band_hz=(60.0, 1500.0),
+                                               duration_s=6.0),
+                            axis_config(m, "Y"), friction=virtual_friction(a, name="Y"))
+    [col] = [r for r in open_ranges(idn) if r.quantity == "column_damping"]
+    me = idn.axis.mechanics
+    true_zeta = a.mechanics.C_h / (2.0 * math.sqrt(me.M_h * me.K_h))
+    assert col.low <= true_zeta <= col.high and (col.low, col.high) == STRUCTURE_ZETA_RANGE
+    assert "36 Hz" in col.cause or "35 Hz" in col.cause
+    for p in ("M_h", "K_h"):
+        assert idn.axis.uncertainty.mechanics[p] < 0.2 * getattr(me, p), p
+
+
+def test_a_held_parameter_counts_its_ratios_deviation(swept):
+    """Held in proportion to M_t, a structure parameter varies with M_t and with its ratio:
+    its relative deviation is the quadrature sum of the two, and a ratio its own fit held
+    at a bound (nan) leaves it undetermined."""
+    true, data = swept
+    given = ratios_of(true)
+    log_std = {p: 0.01 for p in STRUCTURE} | {"C_h": 0.3, "C_b": math.nan}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = fit_physical(data, true.lead, true.K_tc, structure=given,
+                           structure_log_std=log_std, initial=true.model_dump(),
+                           max_nfev=30)
+    m = fit.mechanics
+    rel_t = fit.std["M_t"] / m.M_t
+    assert fit.std["C_h"] / m.C_h == pytest.approx(math.hypot(rel_t, 0.3), rel=1e-9)
+    assert fit.std["K_h"] / m.K_h == pytest.approx(math.hypot(rel_t, 0.01), rel=1e-9)
+    assert "C_b" in fit.undetermined and "C_h" not in fit.undetermined

@@ -11,7 +11,7 @@ from ..ident.friction.sensitivity import coulomb_share, with_share
 from ..mechanics.lumped import RANGES
 from ..model import Axis
 from ..whatif.draws import longer_presliding, scaled_contact
-from .ranges import column_of
+from .ranges import MODE_DAMPING, column_of, mode_damping_bounds
 
 __all__ = ["QUANTILE_90", "Variant", "axis_variants"]
 
@@ -22,6 +22,8 @@ QUANTILE_90 = 1.6449
 SENSITIVE = ("M_t", "K_t", "C_t", "M_h", "K_h", "C_h", "K_L")
 #: What the ``mechanics`` open range scales: the table mass and the structure behind it [-].
 STRUCTURE = ("M_t", "M_b", "K_b", "M_h", "K_h")
+#: The structural modes' dampings, each moved within the damping ratios of structures [-].
+STRUCTURE_DAMPING = tuple(c for c, _, _ in MODE_DAMPING.values())
 #: What the ``damping`` open range scales: the axial modes' damping [-].
 AXIAL_DAMPING = ("C_t", "C_b", "C_h")
 
@@ -50,21 +52,27 @@ class Variant:
 MOST_LOG = math.log(1e3)
 
 
-def _mechanics_variants(axis: Axis, u) -> list[Variant]:
+def _mechanics_variants(axis: Axis, u, open_q: set) -> list[Variant]:
     m = axis.mechanics
+    # a damping whose mode is open is moved over its open range alone
+    shut = {MODE_DAMPING[q][0] for q in open_q if q in MODE_DAMPING}
     out = []
     for p in SENSITIVE:
         v = getattr(m, p)
-        if v <= 0.0:
+        if v <= 0.0 or p in shut:
             continue
         rel = u.mechanics.get(p, 0.0) / v
         if rel <= 0.0:
             continue
+        # a parameter the data leave wholly open (a relative deviation of hundreds)
+        # moved by at most a thousandfold: further, the factor rounds to zero or inf
+        # and kept within what a feed axis can have; a structural mode's damping within
+        # what structures have, or as far as the fit's own value lies beyond
+        low, high, _ = RANGES.get(p, (0.0, math.inf, ""))
+        if p in STRUCTURE_DAMPING:
+            z_low, z_high = mode_damping_bounds(m, p)
+            low, high = max(low, min(v, z_low)), min(high, max(v, z_high))
         for sign in (-1.0, 1.0):
-            # a parameter the data leave wholly open (a relative deviation of hundreds)
-            # moved by at most a thousandfold: further, the factor rounds to zero or inf
-            # and kept within what a feed axis can have
-            low, high, _ = RANGES.get(p, (0.0, math.inf, ""))
             upd = {p: min(max(v * math.exp(sign * min(QUANTILE_90 * rel, MOST_LOG)), low),
                           high)}
             if p == "C_t":  # the steady viscous force moves to the screw, its total kept
@@ -122,6 +130,10 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
                                                         for p in STRUCTURE}))
         elif r.quantity == "column":  # a head of typical mass on a spring of that stiffness
             moved = axis.replace(mechanics=m.replace(**column_of(x)))
+        elif r.quantity in MODE_DAMPING:  # the mode's damping ratio, its frequency kept
+            c, mass, k = MODE_DAMPING[r.quantity]
+            moved = axis.replace(mechanics=m.replace(
+                **{c: 2.0 * x * math.sqrt(getattr(m, mass) * getattr(m, k))}))
         elif r.quantity == "damping":  # the steady viscous force kept, as for C_t below
             upd = {p: getattr(m, p) * x for p in AXIAL_DAMPING}
             upd["B_L"] = max(m.B_L + (m.C_t - upd["C_t"]) * m.R_L ** 2, 0.0)
@@ -150,7 +162,7 @@ def axis_variants(axis: Axis) -> list[Variant]:
     if u is None:
         return []
     open_q = {r.quantity for r in u.open}
-    out = _mechanics_variants(axis, u) + _friction_variants(axis, u, open_q)
+    out = _mechanics_variants(axis, u, open_q) + _friction_variants(axis, u, open_q)
     for r in u.open:
         out += _open_variants(axis, r)
     return out

@@ -33,7 +33,8 @@ from .jacobian import residual_jacobian
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
 
 # nut_path is imported from here as well as from its module
-__all__ = ["FITTED", "TIGHT", "PhysicalFit", "SweepPlay", "fit_physical", "nut_path"]
+__all__ = ["FITTED", "TIGHT", "PhysicalFit", "SweepPlay", "fit_physical", "log_covariance",
+           "nut_path"]
 
 FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h")
@@ -139,7 +140,8 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
                  current_bandwidth_hz=None, fit_current_loop: bool = False,
                  max_nfev: int = 2000, tf_fits: dict | None = None,
                  hold_period_s: float = 0.0, nut_gain=None,
-                 structure: dict | None = None, warn: bool = True) -> PhysicalFit:
+                 structure: dict | None = None, structure_log_std: dict | None = None,
+                 warn: bool = True) -> PhysicalFit:
     """Fit the axis mechanics jointly to G_M, G_T and (when present) G_tcp.
 
     Parameters
@@ -169,7 +171,10 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     structure : dict, optional
         Parameters held in proportion to ``M_t``, ``{name: value / M_t}``, e.g. the bed and
         TCP structure from ``G_tcp`` alone (:func:`tcpmm.ident.physical.structure.fit_structure`);
-        they are not fitted, and their standard deviations are those of ``M_t`` [SI / kg].
+        they are not fitted [SI / kg].
+    structure_log_std : dict, optional
+        Deviation of the logarithm of each ratio of ``structure`` from its fit (``nan`` at
+        a bound), combined with that of ``M_t``; without, held ones have ``M_t``'s [-].
     warn : bool
         Warn of the parameters the data do not determine (:func:`undetermined_words`);
         an identification that fits an axis several times says it once, of the fit it
@@ -187,7 +192,7 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
     else:
         starts = _starts(binned, data, lead, K_tc, tf_fits, f_top)
     r = _multistart(objective.resid, objective.jac, starts, names, fit_current_loop, max_nfev)
-    fit = _physical_fit(r, objective, data, reported, f_top)
+    fit = _physical_fit(r, objective, data, reported, f_top, structure_log_std or {})
     if warn and fit.undetermined:
         warnings.warn(undetermined_words(fit.undetermined), InputWarning, stacklevel=2)
     return fit
@@ -265,14 +270,15 @@ class _Objective:
 
 
 def _physical_fit(r, objective: _Objective, full: dict, reported: list,
-                  f_top: float) -> PhysicalFit:
+                  f_top: float, tied_log_std: dict) -> PhysicalFit:
     """The fit at the ``least_squares`` result ``r``: mechanics, uncertainty (with what
-    the data do not determine) and the error against the unbinned FRFs ``full``; a current
-    loop beyond the data's reach is kept ideal [-]."""
+    the data do not determine, the held parameters' deviations ``tied_log_std`` counted)
+    and the error against the unbinned FRFs ``full``; a current loop beyond the data's
+    reach is kept ideal [-]."""
     names, tied, n_mech = objective.names, objective.tied, objective.n_mech
     mech = AxisMechanics.create(**objective.mech_of(r.x).model_dump())
     f_i = objective.bandwidth(r.x)
-    std, corr, undetermined = _std(r, names, tied)
+    std, corr, undetermined = _std(r, names, tied, tied_log_std)
     model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i,
                        objective.hold_period_s, objective.nut_gain)
     rel = {k: rel_error(d.H[d.weight > 0], model[k][d.weight > 0]) for k, d in full.items()}
@@ -308,21 +314,30 @@ def _starts(binned: dict, full: dict, lead: float, K_tc: float, tf_fits, f_top: 
     return starts
 
 
-def _std(r, names: list, tied: dict):
+def _std(r, names: list, tied: dict, tied_log_std: dict):
     """Standard deviation per parameter [SI], the correlation matrix of the
     log-parameters [-] and the parameters the data do not determine (relative std above
     50 %, or held at a bound of the fit) of a ``least_squares`` result; ``nan`` for a TCP
     structure not fitted and for a parameter at a bound, whose linearised deviation says
-    nothing (the cost does not rise across the bound, and it often comes out 0)."""
-    sd_log, corr = _log_covariance(r)
+    nothing (the cost does not rise across the bound, and it often comes out 0). A
+    parameter held in proportion to ``M_t`` varies with ``M_t`` and with its ratio, whose
+    own fit (``tied_log_std``) can leave it far looser than ``M_t``: a sweep that misses
+    a structural mode leaves its damping to a guess, however well the table's mass is
+    known."""
+    sd_log, corr = log_covariance(r)
     at_bound = np.asarray(getattr(r, "active_mask", np.zeros(len(names)))) != 0
     sd_log = np.where(at_bound, np.nan, sd_log)
     vals = dict(zip(names, np.exp(r.x), strict=True))
     std = {p: float(vals[p] * sd_log[i]) for i, p in enumerate(names)}
-    std.update({p: float(r * std["M_t"]) for p, r in tied.items()})
+    rel = dict(zip(names, sd_log, strict=True))
+    for p, ratio in tied.items():
+        # nan (a ratio held at its fit's bound) stays nan: the parameter is undetermined
+        rel[p] = float(np.hypot(rel["M_t"], tied_log_std.get(p, 0.0)))
+        std[p] = float(ratio * vals["M_t"] * rel[p])
     for p in ("M_h", "C_h", "K_h"):
         std.setdefault(p, float("nan"))
-    return std, corr, [p for i, p in enumerate(names) if at_bound[i] or sd_log[i] > 0.5]
+    order = [*FITTED, "f_i"]
+    return std, corr, sorted((p for p, x in rel.items() if not x <= 0.5), key=order.index)
 
 
 def _multistart(resid, jac, starts, names, fit_current_loop: bool, max_nfev: int):
@@ -343,7 +358,7 @@ def _multistart(resid, jac, starts, names, fit_current_loop: bool, max_nfev: int
                          method="trf", **TIGHT)
 
 
-def _log_covariance(r):
+def log_covariance(r):
     """Standard deviations [-] and correlation matrix [-] of the log-parameters from the
     Jacobian of a ``least_squares`` result, the residual variance from its cost."""
     J = r.jac

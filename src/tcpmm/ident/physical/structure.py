@@ -23,7 +23,7 @@ from ...mechanics.lumped import AxisMechanics
 from ..lti.goodness import rel_error
 from .axisfrfs import model_frfs
 from .fitdata import FRFData, band_model, fit_weight, log_binned, log_residual
-from .greybox import TIGHT
+from .greybox import TIGHT, log_covariance
 from .jacobian import residual_jacobian
 
 __all__ = ["STRUCTURE", "fit_structure"]
@@ -53,6 +53,8 @@ def fit_structure(data: FRFData, starts, max_nfev: int = 200):
         ``{p: value / M_t}`` for ``p`` in :data:`STRUCTURE` [1, 1/s, 1/s^2].
     rel_error : float
         RMS relative complex error of ``G_tcp`` at the fit [-].
+    log_std : dict
+        Deviation of the logarithm of each ratio, ``nan`` where held at a bound [-].
     """
     d = log_binned(data)
     good = np.asarray(d.weight) > 0
@@ -91,4 +93,13 @@ def fit_structure(data: FRFData, starts, max_nfev: int = 200):
     vals = dict(zip(_FREE, np.exp(r.x), strict=True))
     ratios = {p: float(vals[p] / base["M_t"]) for p in STRUCTURE}
     m = AxisMechanics.model_construct(**{**base, **vals})
-    return ratios, rel_error(H, model_frfs(m, {"G_tcp": f})["G_tcp"])
+    return ratios, rel_error(H, model_frfs(m, {"G_tcp": f})["G_tcp"]), _ratio_log_std(r)
+
+
+def _ratio_log_std(r) -> dict:
+    """The deviation of the logarithm of each ratio of :data:`STRUCTURE` at the
+    ``least_squares`` result ``r``; ``nan`` where it is held at a bound, where the cost
+    does not rise across it and its linearised deviation says nothing [-]."""
+    sd_log, _ = log_covariance(r)
+    sd_log = np.where(np.asarray(r.active_mask) != 0, np.nan, sd_log)
+    return {p: float(x) for p, x in zip(_FREE, sd_log, strict=True) if p in STRUCTURE}

@@ -89,7 +89,8 @@ def current_hold(record, T_v: float) -> float:
 
 
 def physical_fit(ctx: FitContext, data: dict, initial: dict | None = None, nut_gain=None,
-                 structure: dict | None = None) -> PhysicalFit:
+                 structure: dict | None = None,
+                 structure_log_std: dict | None = None) -> PhysicalFit:
     """:func:`~tcpmm.ident.physical.greybox.fit_physical` of the FRFs ``data`` with the
     axis's known values; what it leaves undetermined is said once per axis, of the fit
     kept (:func:`tcpmm.ident.chain.run_axis`), not of each fit on the way.
@@ -106,11 +107,14 @@ def physical_fit(ctx: FitContext, data: dict, initial: dict | None = None, nut_g
         Factor on ``K_t`` per frequency (the play as the sweep saw it) [-].
     structure : dict, optional
         Parameters held in proportion to ``M_t`` [SI / kg].
+    structure_log_std : dict, optional
+        Standard deviation of the logarithm of each ratio of ``structure`` [-].
     """
     return fit_physical(data, ctx.cfg.lead_m, ctx.cfg.torque_constant, initial=initial,
                         fit_current_loop=ctx.fit_current_loop, tf_fits=ctx.tf_fits,
                         hold_period_s=ctx.hold_period_s, nut_gain=nut_gain,
-                        structure=structure, warn=False)
+                        structure=structure, structure_log_std=structure_log_std,
+                        warn=False)
 
 
 def fit_values(phys: PhysicalFit) -> dict:

@@ -33,11 +33,14 @@ class FrictionFit:
         name [SI].
     structure : dict, optional
         Bed and TCP structure held in proportion to ``M_t``, with a TCP record [SI / kg].
+    structure_log_std : dict, optional
+        Standard deviation of the logarithm of each ratio of ``structure`` [-].
     """
 
     kept: AxisFit
     data: dict
     structure: dict | None = None
+    structure_log_std: dict | None = None
 
 
 def read_friction(run: AxisRun, options: IdentifyOptions) -> FrictionFit | None:
@@ -77,7 +80,7 @@ def fit_friction(ctx: FitContext, sweep, frfs: dict, data: dict,
         The linear fit [SI].
     """
     kept = AxisFit(phys, *friction_on(ctx, phys))
-    structure = None
+    structure = log_std = None
     if "G_tcp" in data:
         # G_tcp does not see the nut force, so nothing that distorts G_M and G_T (lost
         # motion crossed by the sweep, the friction it travels against, a drive mode the
@@ -87,10 +90,11 @@ def fit_friction(ctx: FitContext, sweep, frfs: dict, data: dict,
         # sweep crosses the play: the refits with the play do not settle on it.
         if not play_significant(kept.split):
             data = whole_record_data(sweep, frfs)
-        structure, _ = fit_structure(data["G_tcp"], [phys.mechanics])
-        phys = physical_fit(ctx, data, initial=fit_values(phys), structure=structure)
+        structure, _, log_std = fit_structure(data["G_tcp"], [phys.mechanics])
+        phys = physical_fit(ctx, data, initial=fit_values(phys), structure=structure,
+                            structure_log_std=log_std)
         kept = AxisFit(phys, *friction_on(ctx, phys))
-    return FrictionFit(kept, data, structure)
+    return FrictionFit(kept, data, structure, log_std)
 
 
 def whole_record_data(sweep, frfs: dict) -> dict:

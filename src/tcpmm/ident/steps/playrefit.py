@@ -165,7 +165,7 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
     found = []
     for scale in START_SCALES:
         fit = play_chain(ctx, start.data, start.structure, start.kept, v_travel, bias,
-                         motion, scale)
+                         motion, scale, start.structure_log_std)
         if fit is not None and not any(
                 abs(fit.mechanics.M_t / f.mechanics.M_t - 1.0) <= SELF_CONSISTENT_REL
                 for f in found):
@@ -176,13 +176,14 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
 
 
 def play_chain(ctx: FitContext, data: dict, structure: dict | None, linear: AxisFit,
-               v_travel: float, bias: float, motion, scale: float = 1.0) -> AxisFit | None:
+               v_travel: float, bias: float, motion, scale: float = 1.0,
+               structure_log_std: dict | None = None) -> AxisFit | None:
     """The refits with the play of the FRFs ``data`` from their linear fit ``linear``,
     each with the describing function of the one before, until they settle; the best that
     explains the FRFs better than the linear fit and is a solution of its own describing
     function (:data:`SELF_CONSISTENT_REL`), ``None`` without one. ``structure``, the bed
-    and TCP structure held in proportion to ``M_t`` [SI / kg]; the others as
-    :func:`refit_with_play`."""
+    and TCP structure held in proportion to ``M_t`` [SI / kg], ``structure_log_std`` the
+    deviation of the logarithm of each ratio [-]; the others as :func:`refit_with_play`."""
     best, current = None, linear
     seen = linear.mechanics.replace(M_t=scale * linear.mechanics.M_t)
     initial = {**fit_values(linear.physical), "M_t": seen.M_t}
@@ -191,7 +192,7 @@ def play_chain(ctx: FitContext, data: dict, structure: dict | None, linear: Axis
         amp = nut_deflection_amplitude(freq, theta_m, scale_m, seen)
         gain = play_gain(freq, amp, current.split.backlash, bias, seen.K_t)
         phys = physical_fit(ctx, data, initial=initial if structure else None, nut_gain=gain,
-                            structure=structure)
+                            structure=structure, structure_log_std=structure_log_std)
         if phys.mechanics.M_t < LIGHTEST_TABLE_REL * linear.mechanics.M_t:
             break  # past the table masses the starts search: no solution there to keep
         current = AxisFit(phys, *friction_on(ctx, phys))

@@ -147,3 +147,36 @@ def test_the_command_line_says_the_characteristic():
     assert len(lines) == 1 and lines[0].startswith("  X: the pulse adapted")
     assert "0.8 A up to 0.0123 m/s^2" in lines[0] and "0.6 A from 0.0993 m/s^2" in lines[0]
     assert adaptation_lines(_cc(None)) == []
+
+
+def test_a_minimum_beyond_the_current_limit_or_accelerations_in_mm_are_refused(tmp_path):
+    """A unit slip in the minimum fires only beyond ACCEL3, where a quick check at a low
+    feed does not look; accelerations in mm/s^2 leave every reversal on the ramp from
+    zero, the compensation quietly off."""
+    from tcpmm.machines.builtin import builtin_machine
+
+    axes = builtin_machine().axes
+    text = _cc(Characteristic((0.0123, 0.0497, 0.0993), 0.75)).parameter_text()
+    path = tmp_path / "p.yaml"
+    # the current form alone, which the axes convert no velocity form against
+    current = "\n".join(line for line in text.splitlines() if "FRICT_COMP_CONST" not in line)
+    path.write_text(current.replace("friction_pulse_min_A: 0.6", "friction_pulse_min_A: 600"))
+    with pytest.raises(InputError, match="beyond the axis's current limit"):
+        read_controller_parameters(path, {a: axes[a] for a in ("X", "Y")})
+    path.write_text(text.replace("0.0123", "12.3").replace("0.0497", "49.7")
+                    .replace("0.0993", "99.3"))
+    with pytest.raises(InputError, match="mm/s\\^2 typed as m/s\\^2"):
+        read_controller_parameters(path, ("X", "Y"))
+
+
+def test_a_pulse_without_a_characteristic_says_it_off():
+    text = _cc(None).parameter_text()
+    assert text.count("FRICT_COMP_ADAPT_ENABLE: 0  # MD32510") == 2
+    zero = ControllerCompensation({"X": AxisController(0.0, 0.03, 0.0, 0.0)})
+    assert "FRICT_COMP_ADAPT_ENABLE:" not in zero.parameter_text()
+
+
+def test_the_quadrant_acceleration_leaves_out_the_reversals_from_rest():
+    from tcpmm.compensate.adaptation import quadrant_acceleration
+
+    assert quadrant_acceleration(np.array([0.0004, 0.2, 0.19, 0.3, 0.001])) == 0.2

@@ -280,5 +280,6 @@ def adaptation_lines(cc) -> list[str]:
                    f"(FRICT_COMP_ADAPT_ENABLE 1): from 0 to {c.pulse_A:.3g} A up to "
                    f"{a1:.3g} m/s^2, held to {a2:.3g}, {c.pulse_A * ch.low_ratio:.3g} A "
                    f"from {a3:.3g} m/s^2 on (tuned on the circle at 1/4, 1/2 and all of "
-                   "its feed, and checked on draws of the model)")
+                   "its feed, and checked on draws of the model; below 1/16 of the "
+                   "circle's acceleration nothing was tuned)")
     return out

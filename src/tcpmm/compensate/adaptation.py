@@ -39,8 +39,8 @@ from .scores import judge
 from .turns import reversal_accelerations, reversals
 
 __all__ = ["AMPLITUDE_SHARES", "CHECKED", "DRAWS", "OVERRIDES", "Characteristic", "SpikeCurves",
-           "axis_pulses", "best_characteristic", "holds_on_draws", "spike_curves",
-           "time_scaled"]
+           "axis_pulses", "best_characteristic", "holds_on_draws", "quadrant_acceleration",
+           "spike_curves", "time_scaled"]
 
 #: Feed overrides the circle is run at: accelerations at the reversals of 1/16, 1/4 and 1
 #: times the programmed; none above it, which the axes' limits may not allow [-].
@@ -190,7 +190,7 @@ def spike_curves(machine, command: Command, axis: str, decay_s: float, coulomb_A
         turns = reversals(cmd, axis)[0]
         if turns.size == 0:
             return None
-        accel.append(float(np.median(reversal_accelerations(cmd, axis, turns))))
+        accel.append(quadrant_acceleration(reversal_accelerations(cmd, axis, turns)))
         spikes.append(_spikes(machine, cmd, axis, [(a, decay_s, None) for a in amps],
                               others or {}, judge_args))
     s = np.asarray(spikes)
@@ -238,12 +238,21 @@ def holds_on_draws(machine, command: Command, axis: str, pulses: tuple, others: 
     return True
 
 
+def quadrant_acceleration(accel: np.ndarray) -> float:
+    """The acceleration at a circle's quadrant reversals from that at each of the axis's
+    reversals: the median of those above half the largest, leaving out the reversals from
+    and to rest at the circle's ends, which the feed hardly sets [m/s^2]."""
+    a = np.asarray(accel, dtype=float)
+    return float(np.median(a[a >= 0.5 * a.max()]))
+
+
 def _candidates(accel: np.ndarray):
-    """Breakpoints ``(a1, a2, a3)`` from the overrides' accelerations and the geometric
-    means between them, and one beyond the largest [m/s^2]."""
+    """Breakpoints ``(a1, a2, a3)`` from the overrides' accelerations, the geometric
+    means between them, one beyond the largest and one far below the smallest (so that
+    the ramp from zero may lie below every override tuned) [m/s^2]."""
     a = np.unique(accel)
     mids = np.sqrt(a[1:] * a[:-1])
-    pts = np.unique(np.concatenate([a, mids, [2.0 * a[-1]]]))
+    pts = np.unique(np.concatenate([[a[0] / 16.0], a, mids, [2.0 * a[-1]]]))
     return itertools.combinations(pts.tolist(), 3)
 
 

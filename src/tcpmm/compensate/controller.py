@@ -81,7 +81,9 @@ class AxisController:
                "FRICT_COMP_TIME_s": self.decay_s,
                "cross_talk_um_per_m_per_s2": self.cross_talk_s2 * 1e6}
         ch = self.characteristic
-        if ch is not None and self.pulse_A != 0.0:  # no pulse: nothing to adapt
+        if self.pulse_A != 0.0 and ch is None:  # said off: a controller may have it on
+            out["FRICT_COMP_ADAPT_ENABLE"] = 0
+        elif self.pulse_A != 0.0:  # no pulse: nothing to adapt
             out.update({"friction_pulse_min_A": self.pulse_A * ch.low_ratio,
                         "FRICT_COMP_ADAPT_ENABLE": 1,
                         "FRICT_COMP_CONST_MIN_mm_per_min":
@@ -159,7 +161,9 @@ class ControllerCompensation:
                       f"{num(d['FRICT_COMP_CONST_MAX_mm_per_min'])}  # MD32520",
                       f"  FRICT_COMP_TIME_s: {num(d['FRICT_COMP_TIME_s'])}  # MD32540"
                       f"{'; ' + off if off else ''}"]
-            if "FRICT_COMP_ADAPT_ENABLE" in d:
+            if d.get("FRICT_COMP_ADAPT_ENABLE") == 0:
+                lines.append("  FRICT_COMP_ADAPT_ENABLE: 0  # MD32510")
+            elif "FRICT_COMP_ADAPT_ENABLE" in d:
                 lines += ["  FRICT_COMP_ADAPT_ENABLE: 1  # MD32510",
                           f"  friction_pulse_min_A: {num(d['friction_pulse_min_A'])}",
                           f"  FRICT_COMP_CONST_MIN_mm_per_min: "
@@ -375,6 +379,8 @@ def adapted_pulse(machine, command: Command, axis: str, pulse: tuple, tuned: tup
     ch, top, _ = (None, amp, 0.0) if curves is None else best_characteristic(curves, amp)
     if ch is None:
         return amp, None
+    if ch.low_ratio == 1.0 and ch.accel_m_per_s2[0] <= curves.accel_m_per_s2.min():
+        ch = None  # one amplitude at every override tuned: a better one, not a shape
     flat, adapted = (controller_figures(machine, command, judge_args[0], {
         **pulses, axis: reversal_pulses(command, axis, a, tau, c)}, *judge_args[1:])
         for a, c in ((amp, None), (top, ch)))
@@ -383,4 +389,4 @@ def adapted_pulse(machine, command: Command, axis: str, pulse: tuple, tuned: tup
                 machine, command, axis, ((amp, tau, None), (top, tau, ch)), others,
                 judge_args[1:], n_draws)):
         return top, ch
-    return amp, None
+    return amp, None  # the tuned amplitude, not one the guards could not vouch for

@@ -152,19 +152,26 @@ def _axis_parameters(name: str, p: _Axis, axis, path) -> AxisController:
             "as um?)", file=path)
     velocity = pulse * velocity_per_ampere(axis) if axis is not None else (
         p.FRICT_COMP_CONST_MAX_mm_per_min / 6e4)
-    return AxisController(pulse, decay, velocity, gain, _characteristic(name, p, pulse, path))
+    return AxisController(pulse, decay, velocity, gain,
+                          _characteristic(name, p, pulse, axis, path))
 
 
+#: Largest acceleration at a reversal an adaptation characteristic may name [m/s^2]: 5 g,
+#: beyond the linear axes of machine tools (2 g at most); a larger one is mm/s^2 typed as
+#: m/s^2, which would leave every reversal on the characteristic's ramp from zero.
+LARGEST_ACCEL = 50.0
 #: The keys of the adaptation characteristic, which FRICT_COMP_ADAPT_ENABLE switches on [-].
 ADAPTATION_KEYS = ("friction_pulse_min_A", "FRICT_COMP_CONST_MIN_mm_per_min",
                    "FRICT_COMP_ACCEL1_m_per_s2", "FRICT_COMP_ACCEL2_m_per_s2",
                    "FRICT_COMP_ACCEL3_m_per_s2")
 
 
-def _characteristic(name: str, p: _Axis, pulse_A: float, path) -> Characteristic | None:
+def _characteristic(name: str, p: _Axis, pulse_A: float, axis,
+                    path) -> Characteristic | None:
     """The pulse's adaptation characteristic where ``FRICT_COMP_ADAPT_ENABLE`` is 1, as
-    the controller applies it; its keys given without the switch are refused, as the
-    controller would leave them unused [-]."""
+    the controller applies it, its amplitudes within ``axis``'s current limit (``None``:
+    not known); its keys given without the switch are refused, as the controller would
+    leave them unused [-]."""
     given = [k for k in ADAPTATION_KEYS if getattr(p, k) is not None]
     if p.FRICT_COMP_ADAPT_ENABLE != 1:
         if given and p.FRICT_COMP_ADAPT_ENABLE is None:
@@ -193,10 +200,20 @@ def _characteristic(name: str, p: _Axis, pulse_A: float, path) -> Characteristic
                          "FRICT_COMP_CONST_MIN_mm_per_min are one amplitude and disagree "
                          f"({ratios[0]:.4g} and {ratios[1]:.4g} of the largest); give one, "
                          "or both alike", file=path)
+    if acc[2] > LARGEST_ACCEL:
+        raise InputError(f"axis {name}: FRICT_COMP_ACCEL3_m_per_s2 {acc[2]:g} is an "
+                         f"acceleration of {acc[2] / 9.81:.3g} g at a reversal, beyond any "
+                         f"feed axis's ({LARGEST_ACCEL:g} m/s^2 at most); the "
+                         "accelerations are in m/s^2 (mm/s^2 typed as m/s^2?)", file=path)
     if ratios[0] < 0.0:
         raise InputError(f"axis {name}: the amplitude beyond FRICT_COMP_ACCEL3 has the "
                          "opposite sign to the largest; give both with the same sign",
                          file=path)
+    if axis is not None and abs(pulse_A * ratios[0]) > axis.servo.current_limit:
+        raise InputError(f"axis {name}: the amplitude beyond FRICT_COMP_ACCEL3, "
+                         f"{pulse_A * ratios[0]:.4g} A, is beyond the axis's current limit of "
+                         f"{axis.servo.current_limit:g} A (friction_pulse_min_A in A, "
+                         "FRICT_COMP_CONST_MIN_mm_per_min in mm/min: a unit slip?)", file=path)
     return Characteristic(tuple(acc), ratios[0])
 
 

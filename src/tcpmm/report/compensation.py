@@ -125,6 +125,6 @@ def compensation_section(comp, source=None, machine=None, circle=None, controlle
                  + para("Instead of a new command: a friction pulse at each reversal and a "
                         "cross-talk feed-forward per axis, to type into the controller, and "
                         "the figures the model predicts with them.")
-                 + table(controller.to_pandas(), "controller_parameters.csv")
+                 + table(controller.to_pandas(), "controller_parameters.csv", None)
                  + table(_figures_frame(controller.scores), "controller_figures.csv"))
     return section("compensation", "Compensation", body)

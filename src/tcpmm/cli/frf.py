@@ -214,16 +214,14 @@ def _print_fit(res, file) -> None:
 
 
 def _print_deviations(devs, unit: str) -> None:
-    """The delay and the static gain with their standard deviations, and what the +- of
-    the table means [-]."""
+    """The delay and the static gain with their standard deviations, what the +- of the
+    table means, and why values are undetermined beyond their sd [-]."""
     parts = [] if devs.delay is None else [f"delay {devs.delay.text(scale=1e3)} ms"]
     if devs.gain is not None:
         parts.append(f"static gain {devs.gain.text()}" + (f" [{esc(unit)}]" if unit else ""))
     if parts:
         out.print("; ".join(parts))
     out.print("+- one standard deviation (linearised fit, the noise the residual shows); "
-              "undetermined: above half the value")
-    if devs.delay is not None:  # docs/frf_files.md: 1.4-2.8x across refits
-        out.print("the delay's +- holds for the order chosen: fits of other noise that "
-                  "choose another numerator trade the delay with a far zero, and spread "
-                  "up to 3 times more")
+              "undetermined: above half the value, or as said below")
+    for note in devs.notes:
+        out.print(f"undetermined: {esc(note)}")

@@ -44,7 +44,7 @@ from ...frfdata import FRF
 from ._needles import clean_fit
 from ._select import by_criterion, by_total, choose, score
 from .frfnoise import NOISE_WINDOW, noise_level
-from .goodness import warn_if_off
+from .goodness import warn_if_misfit, warn_if_off
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
 from .tfsd import TFDeviations, tf_deviations
 
@@ -148,13 +148,13 @@ class FRFFit:
 
     def to_pandas(self):
         """Pole table, one row per real pole or complex pair (see :meth:`TFFit.to_pandas`),
-        with the standard deviations ``freq_sd_hz`` and ``damping_sd`` (inf where the data
-        do not bound them, NaN where the row has none)."""
+        with the standard deviations ``freq_sd_hz`` and ``damping_sd`` (inf where undetermined,
+        NaN where the row has none)."""
         df = self.tf.to_pandas()
         rows = (self.deviations.by_row(df["kind"]) if self.deviations is not None
                 else [(None, None)] * len(df))
         for col, i in (("freq_sd_hz", 0), ("damping_sd", 1)):
-            df[col] = [np.nan if r[i] is None else r[i].sd for r in rows]
+            df[col] = [np.nan if r[i] is None else r[i].bound for r in rows]
         return df
 
     def plot(self, ax=None, path=None, frf: FRF | None = None):
@@ -331,13 +331,15 @@ def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
     fit = best["fit"]
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
-    devs = tf_deviations(fit, ctx["delay"] == "fit")
+    chi2 = float(np.sum(e2 / sigma**2) / (2 * f.size))
+    devs = tf_deviations(fit, ctx["delay"] == "fit", chi2_ratio=chi2)
     warn_if_off(frf.name, fit.n_den, h, H, auto=ctx["auto"], delay=ctx["delay"])
+    warn_if_misfit(frf.name, chi2, devs.describes_data)
     return FRFFit(
         tf=fit, band_hz=(float(data.freq_hz[0]), float(data.freq_hz[-1])),
         weighting=weighting, rel_rms=float(np.sqrt(np.mean(e2))),
         noise_rms=float(np.sqrt(np.mean(2 * sigma**2))),
-        chi2_ratio=float(np.sum(e2 / sigma**2) / (2 * f.size)),
+        chi2_ratio=chi2,
         damping_floor=ctx["floor"], notes=best["notes"],
         candidates=[{k: c[k] for k in ("tried", "n_poles", "n_zeros", "chi2_ratio", "bic",
                                         "unsupported")} for c in cands],

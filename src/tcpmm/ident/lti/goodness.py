@@ -39,6 +39,17 @@ def warn_if_off(name: str, n_poles: int, H_model, H, auto: bool = False,
             f"describe the measurement; {_advice(auto, delay)}"), stacklevel=3)
 
 
+def warn_if_misfit(name: str, chi2_ratio: float, describes: bool) -> None:
+    """Say so where the residual is so far above the noise (``describes`` False, see
+    :data:`tfsd.MISFIT`) that the fit's standard deviations are withheld: a ``±`` on a
+    model that misses the data would bound nothing [-]."""
+    if not describes:
+        warnings.warn(InputWarning(
+            f"{name or 'the response'}: the fit does not describe the data (chi2 ratio "
+            f"{chi2_ratio:.3g} against the noise): no value it gives carries a standard "
+            "deviation, all are undetermined"), stacklevel=3)
+
+
 def _advice(auto: bool, delay) -> str:
     """What to change where a fit describes nothing: a delay given is the likeliest cause,
     as no pole count makes up for a wrong one; more poles only where the data did not

@@ -36,19 +36,34 @@ twice the frequency, a damping of either sign). With the Jacobian's columns scal
 norm, a singular value below :data:`SINGULAR` of the largest is a direction the bins do
 not see; a parameter that moves along it has no finite standard deviation (a pole pair
 its own zeros cancel), and one it leaves alone keeps its own (the gain they leave).
+
+Some values are said undetermined whatever their linearised sd, each with the reason in
+:attr:`TFDeviations.notes`, since a ``±`` there would be a confident wrong number:
+
+* the delay: refits through other noise at the same order spread about 4 times the
+  linearised sd (up to 9 times), so it bounds nothing;
+* a mode or real pole whose frequency lies outside the fitted bins: the bins see only the
+  tail of its response, which a numerator term gives as well (a 150 Hz mode fitted from
+  300 Hz up came out at 256 Hz with a sd of a few Hz);
+* the static gain where a pole or zero lies below the band's lowest bin: it is then an
+  extrapolation to 0 Hz through a corner no bin saw (the same fit gave -0.077 +- 0.009
+  for a gain of 3);
+* everything where the ``chi2`` ratio exceeds :data:`MISFIT`: the model misses the data by
+  ten times the noise, and the spread of a model that does not describe the data is no
+  spread of the data's parameters.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ._tfcore import upper_pairs
 from .frfnoise import NOISE_WINDOW
 
-__all__ = ["DETERMINED", "SINGULAR", "Estimate", "TFDeviations", "tf_deviations"]
+__all__ = ["DETERMINED", "MISFIT", "SINGULAR", "Estimate", "TFDeviations", "tf_deviations"]
 
 #: Largest relative standard deviation of a parameter said to be determined [-].
 DETERMINED = 0.5
@@ -56,6 +71,14 @@ DETERMINED = 0.5
 SINGULAR = 1e-9
 #: Component of a parameter in a direction not in the data that leaves it unbounded [-].
 IN_NULL = 1e-2
+#: ``chi2`` ratio above which a fit is said not to describe the data: a residual ten
+#: times the noise is the model's error, not the noise's, and no sd bounds it [-].
+MISFIT = 100.0
+#: Why the delay carries no sd (refits of 8 draws of a two-mode system with a real pole
+#: and a 0.3 ms delay, 2 % noise, all of 5 poles and 4 zeros: 3.8 times the sd) [-].
+DELAY_OPEN = ("the delay: not bounded by the linearised fit, as refits through other "
+              "noise spread about 4 times its linearised sd, up to 9 times, even at the "
+              "same order")
 
 
 @dataclass(frozen=True)
@@ -68,15 +91,30 @@ class Estimate:
         Fitted value [unit of the parameter].
     sd : float
         Standard deviation; ``inf`` where the data do not bound it [unit of the parameter].
+    why : str, optional
+        Why the value is undetermined whatever its sd (see the module); empty if not [-].
     """
 
     value: float
     sd: float
+    why: str = ""
 
     @property
     def determined(self) -> bool:
-        """Whether the sd is finite and at most :data:`DETERMINED` of the value [-]."""
-        return bool(math.isfinite(self.sd) and self.sd <= DETERMINED * abs(self.value))
+        """Whether no reason holds it open and the sd is finite and at most
+        :data:`DETERMINED` of the value [-]."""
+        return bool(not self.why and math.isfinite(self.sd)
+                    and self.sd <= DETERMINED * abs(self.value))
+
+    def opened(self, why: str) -> Estimate:
+        """The value, undetermined for the reason ``why``, its sd infinite [-]."""
+        return Estimate(self.value, math.inf, why)
+
+    @property
+    def bound(self) -> float:
+        """The sd where determined, else ``inf``: no sd is given for a value left open,
+        lest it be read as one [unit of the parameter]."""
+        return self.sd if self.determined else math.inf
 
     def to_dict(self, key: str) -> dict:
         """``{key: value, key_sd: sd or None, key_determined: bool}``; a ``key`` ending in a
@@ -84,7 +122,7 @@ class Estimate:
         stem, _, unit = key.rpartition("_") if key.endswith(("_hz", "_s")) else (key, "", "")
         sd_key = f"{stem}_sd_{unit}" if unit else f"{key}_sd"
         return {key: float(self.value),
-                sd_key: float(self.sd) if math.isfinite(self.sd) else None,
+                sd_key: float(self.sd) if self.determined else None,
                 f"{stem}_determined": self.determined}
 
     def text(self, fmt: str = ".4g", scale: float = 1.0, pm: str = "+-") -> str:
@@ -113,12 +151,18 @@ class TFDeviations:
     gain : Estimate or None
         ``lim s^k H(s)`` at ``s = 0``, where the numerator has a constant term
         [unit (rad/s)^k].
+    notes : list of str, optional
+        Why values are undetermined beyond their sd, each reason once [-].
+    describes_data : bool, optional
+        False where the ``chi2`` ratio exceeds :data:`MISFIT` [-].
     """
 
     modes: list
     real_poles: list
     delay: Estimate | None
     gain: Estimate | None
+    notes: list = field(default_factory=list)
+    describes_data: bool = True
 
     def by_row(self, kinds) -> list:
         """``(frequency, damping)`` estimates for the rows of a pole table of ``kinds``
@@ -138,7 +182,10 @@ class TFDeviations:
             "gain": None if self.gain is None else self.gain.to_dict("gain"),
             "uncertainty": {"method": "linearised: sandwich covariance of the weighted fit, "
                                       "the noise measured on the residual",
-                            "relative_sd_determined": DETERMINED},
+                            "relative_sd_determined": DETERMINED,
+                            "chi2_ratio_misfit": MISFIT,
+                            "describes_data": self.describes_data,
+                            "notes": list(self.notes)},
         }
 
 
@@ -231,7 +278,7 @@ def _covariance(fit, J: np.ndarray) -> _Covariance:
                        np.vstack([Vt[~keep], unseen]), norm)
 
 
-def tf_deviations(fit, fit_delay: bool) -> TFDeviations:
+def tf_deviations(fit, fit_delay: bool, chi2_ratio: float | None = None) -> TFDeviations:
     """Standard deviations of the physical parameters of ``fit`` (see the module).
 
     Parameters
@@ -240,6 +287,9 @@ def tf_deviations(fit, fit_delay: bool) -> TFDeviations:
         The fitted model, with the bins, data and weights it was fitted to [-].
     fit_delay : bool
         Whether the delay was a parameter of the fit [-].
+    chi2_ratio : float, optional
+        The fit's ``chi2`` per residual against the bins' noise; above :data:`MISFIT`
+        every value is undetermined [-].
 
     Returns
     -------
@@ -255,7 +305,43 @@ def tf_deviations(fit, fit_delay: bool) -> TFDeviations:
              for i, p in enumerate(pairs)]
     real_poles = [Estimate(R * to_hz, sd[n2 + j]) for j, R in enumerate(reals)]
     delay = Estimate(fit.delay_s, sd[-1]) if fit_delay else None
-    return TFDeviations(modes, real_poles, delay, _gain(fit, pairs, reals, cov))
+    return _limited(fit, TFDeviations(modes, real_poles, delay, _gain(fit, pairs, reals, cov)),
+                    chi2_ratio)
+
+
+def _limited(fit, devs: TFDeviations, chi2_ratio: float | None) -> TFDeviations:
+    """``devs`` with the values no linearised sd bounds opened, each with its reason (see
+    the module) [-]."""
+    notes = []
+
+    def why(reason: str) -> str:
+        if reason not in notes:
+            notes.append(reason)
+        return reason
+
+    lo, hi = float(fit.freq_hz[0]), float(fit.freq_hz[-1])
+    outside = (f"a mode or real pole outside the fitted band {lo:.4g}-{hi:.4g} Hz: the "
+               "bins see only the tail of its response")
+    modes = [(f.opened(why(outside)), z.opened(outside)) if not lo <= f.value <= hi
+             else (f, z) for f, z in devs.modes]
+    reals = [r.opened(why(outside)) if not lo <= r.value <= hi else r
+             for r in devs.real_poles]
+    delay = None if devs.delay is None else devs.delay.opened(why(DELAY_OPEN))
+    gain = devs.gain
+    corners = np.abs(np.r_[fit.poles, fit.zeros]) / (2 * np.pi)
+    corners = corners[corners > 0]
+    if gain is not None and corners.size and corners.min() < lo:
+        gain = gain.opened(why(
+            f"the static gain: an extrapolation to 0 Hz through a pole or zero at "
+            f"{corners.min():.4g} Hz, below the band's {lo:.4g} Hz"))
+    describes = chi2_ratio is None or not chi2_ratio > MISFIT
+    if not describes:
+        miss = why(f"every value: the fit does not describe the data (chi2 ratio "
+                   f"{chi2_ratio:.3g}, above {MISFIT:g})")
+        modes = [(f.opened(miss), z.opened(miss)) for f, z in modes]
+        reals = [r.opened(miss) for r in reals]
+        delay, gain = (None if e is None else e.opened(miss) for e in (delay, gain))
+    return TFDeviations(modes, reals, delay, gain, notes, describes)
 
 
 def _gain(fit, pairs, reals, cov: _Covariance) -> Estimate | None:

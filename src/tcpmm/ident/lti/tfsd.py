@@ -41,7 +41,10 @@ Some values are said undetermined whatever their linearised sd, each with the re
 :attr:`TFDeviations.notes`, since a ``±`` there would be a confident wrong number:
 
 * the delay: refits through other noise at the same order spread about 4 times the
-  linearised sd (up to 9 times), so it bounds nothing;
+  linearised sd (up to 9 times), so it bounds nothing: it trades with the numerator's
+  zeros above the band, which lag like a delay in the right half-plane and lead in the
+  left, and which side they take is a choice between solutions that no linearisation
+  at one of them sees;
 * a mode or real pole whose frequency lies outside the fitted bins: the bins see only the
   tail of its response, which a numerator term gives as well (a 150 Hz mode fitted from
   300 Hz up came out at 256 Hz with a sd of a few Hz);
@@ -75,10 +78,12 @@ IN_NULL = 1e-2
 #: times the noise is the model's error, not the noise's, and no sd bounds it [-].
 MISFIT = 100.0
 #: Why the delay carries no sd (refits of 8 draws of a two-mode system with a real pole
-#: and a 0.3 ms delay, 2 % noise, all of 5 poles and 4 zeros: 3.8 times the sd) [-].
-DELAY_OPEN = ("the delay: not bounded by the linearised fit, as refits through other "
-              "noise spread about 4 times its linearised sd, up to 9 times, even at the "
-              "same order")
+#: and a 0.3 ms delay, 2 % noise, all of 5 poles and 4 zeros: 3.8 times the sd; the
+#: zeros, 2.3-7 kHz above a band to 2 kHz, lag as a delay does in the right half-plane
+#: and lead in the left, and the draws put them on either side) [-].
+DELAY_OPEN = ("the delay: not bounded by the linearised fit; it trades with zeros above "
+              "the band, which refits through other noise put in either half-plane, and "
+              "spreads about 4 times its linearised sd, up to 9 times, at the same order")
 
 
 @dataclass(frozen=True)

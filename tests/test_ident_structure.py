@@ -174,3 +174,72 @@ def test_a_held_parameter_counts_its_ratios_deviation(swept):
     assert fit.std["C_h"] / m.C_h == pytest.approx(math.hypot(rel_t, 0.3), rel=1e-9)
     assert fit.std["K_h"] / m.K_h == pytest.approx(math.hypot(rel_t, 0.01), rel=1e-9)
     assert "C_b" in fit.undetermined and "C_h" not in fit.undetermined
+
+
+def _identified(fit, data):
+    """A stand-in for an identified axis with what :func:`open_ranges` reads, from a
+    joint fit alone: no friction runs, no sweep record."""
+    from types import SimpleNamespace
+
+    return SimpleNamespace(
+        frfs=data, physical=fit, friction=None, friction_split=None, friction_hold=None,
+        presliding_fit=None, record=None,
+        axis=SimpleNamespace(mechanics=fit.mechanics, friction=None,
+                             sensors=SimpleNamespace(scale_resolution=0.0)))
+
+
+def test_a_ratio_held_at_its_bound_opens_its_structure(swept):
+    """A ratio the fit of G_tcp holds at a bound has no deviation (nan): the held parameter
+    is undetermined and leaves the uncertainty record, so nothing moved it and the figures
+    it drives took it as exact. Its structure is open whole, the head on its column over
+    COLUMN_RANGE and the bed over BED_RANGE, with the cause and the measurement that would
+    settle it named."""
+    from scipy.optimize import least_squares
+
+    from tcpmm.ident.physical.structure import _FREE, _ratio_log_std
+    from tcpmm.ident.physical.uncertainty import axis_uncertainty
+    from tcpmm.uncertainty import open_ranges
+    from tcpmm.uncertainty.ranges import BED_RANGE, COLUMN_RANGE
+
+    want = np.where(np.array(_FREE) == "K_h", 2.0, 0.0)  # K_h pulled past its bound 1
+    r = least_squares(lambda x: np.r_[x - want, 0.1 * (x - want)], np.zeros(len(_FREE)),
+                      bounds=(-1.0, 1.0))
+    log_std = _ratio_log_std(r)
+    assert math.isnan(log_std["K_h"])
+    assert all(math.isfinite(v) for p, v in log_std.items() if p != "K_h")
+    true, data = swept
+    log_std = {p: 0.01 for p in STRUCTURE} | {"K_h": math.nan, "M_b": math.nan}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = fit_physical(data, true.lead, true.K_tc, structure=ratios_of(true),
+                           structure_log_std=log_std, initial=true.model_dump(),
+                           max_nfev=30)
+    assert {"K_h", "M_b"} <= set(fit.undetermined)
+    u = axis_uncertainty(fit, fit.mechanics)
+    assert "K_h" not in u.mechanics and "M_b" not in u.mechanics and "M_h" in u.mechanics
+    got = {o.quantity: o for o in open_ranges(_identified(fit, data))}
+    assert (got["column"].low, got["column"].high) == COLUMN_RANGE
+    assert (got["bed"].low, got["bed"].high) == BED_RANGE
+    assert got["column"].cause.startswith("K_h open") and got["bed"].cause.startswith("M_b")
+    assert all("structure's modes" in o.settle for o in (got["column"], got["bed"]))
+
+
+def test_a_bed_stiffer_than_the_sweep_reaches_is_open():
+    """The built-in Y with its bed a thousand times stiffer (its mode at 4.5 kHz, beyond the
+    sweep's 1500 Hz): G_tcp hardly shows the bed, and the fit of it put M_b at hundreds of
+    times the truth with a deviation of thousands of per cent; undetermined, it had no
+    deviation and no open range. The bed is now open, with its cause."""
+    from tcpmm.uncertainty import open_ranges
+    from tcpmm.uncertainty.ranges import BED_RANGE
+
+    m = builtin_machine()
+    a = m.axes["Y"]
+    a = a.replace(mechanics=a.mechanics.scaled(K_b=1e3, C_b=math.sqrt(1e3)))
+    m = m.with_axis("Y", a)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        idn = identify_axis("Y", virtual_sweep(a, name="Y", duration_s=6.0),
+                            axis_config(m, "Y"), friction=virtual_friction(a, name="Y"))
+    assert {"M_b", "K_b"} & set(idn.physical.undetermined)
+    [bed] = [r for r in open_ranges(idn) if r.quantity == "bed"]
+    assert (bed.low, bed.high) == BED_RANGE and "do not determine" in bed.cause

@@ -490,3 +490,42 @@ def test_a_loose_column_damping_is_moved_within_what_structures_have(known):
                       uncertainty=AxisUncertainty(mechanics={"C_h": 5.0 * zeta * critical}))
         got = [v.axis.mechanics.C_h / critical for v in axis_variants(b)]
         assert got == pytest.approx(list(want)), zeta
+
+
+def test_an_undetermined_structure_mass_or_stiffness_is_open(known, tmp_path):
+    """A mass or stiffness of the head on its column or of the bed that the FRFs do not
+    determine (its ratio to M_t held at a bound of the fit of G_tcp, or a deviation above
+    half its value) has no deviation to move it by: it left the interval, and the figures
+    it moves read firm with the structure taken as exact. It is open over the stiffness
+    of machine structures, with a typical mass and damping, and the verdict names it."""
+    from tcpmm.io.modelfile import read_machine, write_machine
+    from tcpmm.uncertainty.perturb import _open_variants
+    from tcpmm.uncertainty.ranges import BED_MASS_KG, BED_RANGE, COLUMN_RANGE
+
+    def opened(**kw):
+        return {r.quantity: r for r in open_ranges(_axis_ident(resolution=0.05e-6, **kw))}
+
+    col = opened(undetermined=("K_h", "B_L"))["column"]
+    assert (col.low, col.high) == COLUMN_RANGE and col.cause.startswith("K_h open")
+    assert "structure's modes" in col.settle
+    bed = opened(undetermined=("M_b",))["bed"]
+    assert (bed.low, bed.high) == BED_RANGE and bed.cause.startswith("M_b open")
+    assert "structure's modes" in bed.settle
+    assert not {"column", "bed"} & set(opened(undetermined=("C_h", "B_L")))
+    # without a TCP device the column is open once, for that
+    bare = open_ranges(_axis_ident(resolution=0.05e-6, frfs=("G_M", "G_T"),
+                                   undetermined=("K_h",)))
+    [only] = [r for r in bare if r.quantity == "column"]
+    assert "no TCP device" in only.cause
+    ends = [v.axis.mechanics for v in _open_variants(known.axes["Y"], bed)]
+    assert [(e.M_b, e.K_b) for e in ends] == [(BED_MASS_KG, BED_RANGE[0]),
+                                              (BED_MASS_KG, BED_RANGE[1])]
+    exact = prediction_verdict(known)
+    v = prediction_verdict(_with(known, "Y", open=(col, bed)))
+    assert max(f.half_width for f in v.figures) > 2.0 * max(f.half_width
+                                                          for f in exact.figures)
+    named = [f for f in v.figures if f.cause in ("axis Y column, open", "axis Y bed, open")]
+    assert named and all(f.verdict != "firm" and "structure's modes" in f.settle
+                         for f in named)
+    write_machine(_with(known, "Y", open=(col, bed)), tmp_path / "m.yaml")
+    assert read_machine(tmp_path / "m.yaml").axes["Y"].uncertainty.open == (col, bed)

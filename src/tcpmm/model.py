@@ -114,7 +114,9 @@ class OpenRange(BaseModel):
         ``B_m`` [N m s/rad], ``mechanics`` (a factor on the table mass and the structure
         behind it, ``M_t``, ``M_b``, ``K_b``, ``M_h``, ``K_h``) [-] or ``damping`` (a
         factor on the axial modes' damping ``C_t``, ``C_b``, ``C_h``) [-], ``column``
-        (the stiffness ``K_h`` of a TCP structure no TCP device measured) [N/m], or
+        (the stiffness ``K_h`` of a TCP structure no TCP device measured, or whose mass or
+        stiffness the FRFs do not determine) [N/m], ``bed`` (the stiffness ``K_b`` to ground
+        of a bed whose mass or stiffness the FRFs do not determine) [N/m], or
         ``column_damping`` / ``bed_damping`` (the damping ratio of the mode of ``M_h`` on
         ``K_h`` / of ``M_b`` on ``K_b``, where the sweep's excitation starts above that mode
         or the FRFs do not determine ``C_h`` / ``C_b``) [-].
@@ -129,7 +131,7 @@ class OpenRange(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics",
-                      "damping", "column", "column_damping", "bed_damping"]
+                      "damping", "column", "bed", "column_damping", "bed_damping"]
     low: float = Field(ge=0.0, allow_inf_nan=False)
     high: float = Field(ge=0.0, allow_inf_nan=False)
     cause: str

@@ -160,7 +160,8 @@ def read_identification_folder(folder):
 
 
 #: The parameters an open quantity of the verdict leaves open (:class:`tcpmm.model.OpenRange`).
-OPEN_PARAMETERS = {"B_m": ("B_m",), "C_t": ("C_t",), "column": ("K_h",),
+OPEN_PARAMETERS = {"B_m": ("B_m",), "C_t": ("C_t",), "column": ("M_h", "K_h"),
+                   "bed": ("M_b", "K_b"),
                    "mechanics": ("M_t", "M_b", "K_b", "M_h", "K_h"),
                    "damping": ("C_t", "C_b", "C_h")}
 

@@ -18,15 +18,18 @@ from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from ..model import OpenRange
 
 __all__ = [
+    "BED_RANGE",
     "COLUMN_RANGE",
     "DAMPING_RANGE",
     "MECHANICS_RANGE",
     "MODE_DAMPING",
+    "MODE_STRUCTURE",
     "PLATEAU_SHARE_REL_SD",
     "PRESLIDING_RANGE_M",
     "SCALE_STEPS",
     "SHARE_RANGE",
     "STRUCTURE_ZETA_RANGE",
+    "bed_of",
     "column_of",
     "mode_damping_bounds",
     "open_ranges",
@@ -47,6 +50,14 @@ MECHANICS_RANGE = (0.7, 1.3)
 #: damped at :data:`COLUMN_ZETA`, as machining centres' columns are.
 COLUMN_RANGE = (1e7, 1e9)
 COLUMN_MASS_KG, COLUMN_ZETA = 300.0, 0.05
+#: Stiffness to ground of a bed whose mass or stiffness the FRFs do not determine, from a
+#: bed on soft levelling elements to one grouted on its foundation (100 to 10000 N/um)
+#: [N/m]; with it a bed of :data:`BED_MASS_KG` damped at :data:`BED_ZETA`: bed modes of
+#: 40-400 Hz, around those of the benches (48-190 Hz, damping ratios 0.04-0.05).
+BED_RANGE = (1e8, 1e10)
+BED_MASS_KG, BED_ZETA = 1500.0, 0.05
+#: Per open structure, the mass and stiffness whose mode it stands for [-].
+MODE_STRUCTURE = {"column": ("M_h", "K_h"), "bed": ("M_b", "K_b")}
 #: Damping ratio of a structural mode whose damping the sweep leaves undetermined (a sweep
 #: whose excitation starts above the mode sees only its mass or stiffness line, where the
 #: damping barely shows): the range machine tools' bolted and guided structures span [-].
@@ -283,6 +294,43 @@ def column_of(stiffness: float) -> dict:
             "C_h": 2.0 * COLUMN_ZETA * math.sqrt(stiffness * COLUMN_MASS_KG)}
 
 
+def bed_of(stiffness: float) -> dict:
+    """The bed's parameters of an open ``bed`` of that stiffness to ground: a bed of
+    :data:`BED_MASS_KG` damped at :data:`BED_ZETA` [SI]."""
+    return {"M_b": BED_MASS_KG, "K_b": stiffness,
+            "C_b": 2.0 * BED_ZETA * math.sqrt(stiffness * BED_MASS_KG)}
+
+
+#: Per open structure: its stiffness range [N/m], typical mass [kg] and damping ratio [-].
+_TYPICAL = {"column": (COLUMN_RANGE, COLUMN_MASS_KG, COLUMN_ZETA),
+            "bed": (BED_RANGE, BED_MASS_KG, BED_ZETA)}
+
+
+def _structure_undetermined(a) -> list[OpenRange]:
+    """The head on its column and the bed as open ranges of their stiffness, each with a
+    typical mass and damping (:data:`COLUMN_RANGE`, :data:`BED_RANGE`), where the FRFs do
+    not determine the mass or the stiffness: the fit of ``G_tcp`` held its ratio to the
+    table mass at a bound, or its deviation is above half its value. Such a value has no
+    deviation to move it by, and the mode it places may lie anywhere the sweep did not
+    resolve; left out, the interval would hold it exact."""
+    und = getattr(a.physical, "undetermined", ())
+    out = []
+    for q, (mass, k) in MODE_STRUCTURE.items():
+        which = [p for p in (mass, k) if p in und]
+        # without a TCP device the column is open whole already (open_ranges)
+        if not which or (q == "column" and "G_tcp" not in a.frfs):
+            continue
+        (lo, hi), kg, zeta = _TYPICAL[q]
+        out.append(OpenRange(
+            quantity=q, low=lo, high=hi,
+            cause=(f"{' and '.join(which)} open: the FRFs do not determine "
+                   f"{'them' if len(which) > 1 else 'it'} (held at a bound of the fit, or "
+                   f"a deviation above 50 %); taken as {kg:.0f} kg on {lo * 1e-6:g} to "
+                   f"{hi * 1e-6:g} N/um, damping ratio {zeta:g}"),
+            settle=_SETTLE_MODES))
+    return out
+
+
 def open_ranges(a) -> tuple[OpenRange, ...]:
     """The quantities an identified axis leaves open, each with its range, cause and the
     measurement that would settle it.
@@ -314,6 +362,7 @@ def open_ranges(a) -> tuple[OpenRange, ...]:
                              settle=_SETTLE_PRESLIDING))
     out += _nonlinear_sweep(a)
     out += _structure_damping(a)
+    out += _structure_undetermined(a)
     if "G_tcp" not in a.frfs:
         out.append(OpenRange(quantity="column", low=COLUMN_RANGE[0], high=COLUMN_RANGE[1],
                              cause="no TCP device: the structure between the scale and the "

@@ -208,9 +208,25 @@ def _print_fit(res, file) -> None:
                   f"{r['real_rad_s']:.6g}", f"{r['imag_rad_s']:.6g}")
     print_plain(t, out)
     if devs is not None:
+        _print_zeros(devs.zeros)
         _print_deviations(devs, res.unit)
     for note in res.notes:
         out.print(f"note: {esc(note)}")
+
+
+def _print_zeros(zeros) -> None:
+    """A table of the zeros as the poles': each pair's frequency and damping, each real
+    zero's corner (damping 1, or -1 in the right half-plane), with their sds [-]."""
+    if not zeros:
+        return
+    t = plain_table(("zero", "f [Hz]", "damping [-]", "real [rad/s]", "imag [rad/s]"),
+                    left=("zero",))
+    for z in zeros:
+        damping = (f"{-np.sign(z.root.real):.4g}" if z.damping is None
+                   else z.damping.text())
+        t.add_row(z.kind, z.freq.text(".5g"), damping, f"{z.root.real:.6g}",
+                  f"{z.root.imag:.6g}")
+    print_plain(t, out)
 
 
 def _print_deviations(devs, unit: str) -> None:

@@ -87,7 +87,7 @@ class FRFFit:
     candidates : list of dict
         Orders tried by the automatic choice with their criterion [-].
     deviations : TFDeviations, optional
-        Standard deviations of the modes, real poles, delay and gain
+        Standard deviations of the modes, real poles, zeros, delay and gain
         (:mod:`~tcpmm.ident.lti.tfsd`) [-].
     name, input, output, unit : str
         Labels of the measured response [-].
@@ -124,12 +124,13 @@ class FRFFit:
 
     def to_dict(self) -> dict:
         """Plain dict: model (poles and zeros as [real, imaginary] in rad/s), the standard
-        deviations of its modes, real poles, delay and gain, and quality."""
+        deviations of its modes, real poles, zeros, delay and gain, and quality."""
         pairs = lambda p: [[float(v.real), float(v.imag)] for v in p]  # noqa: E731
         tf = self.tf
         modes = [{"freq_hz": float(fn), "damping": float(z)}
                  for fn, z in zip(tf.natural_freq_hz, tf.damping, strict=True)]
-        # with the deviations, modes carry their sds and real poles, delay and gain follow
+        # with the deviations, modes carry their sds and real poles, zeros, delay and gain
+        # follow
         sds = self.deviations.to_dict() if self.deviations is not None else {"modes": modes}
         return {
             "name": self.name, "input": self.input, "output": self.output,

@@ -5,7 +5,7 @@ The parameters said are those a user tunes on: each complex pole pair's natural 
 [Hz], the delay [s] where it was fitted, and the static gain ``lim s^k H(s)`` at ``s = 0``
 where the numerator has a constant term. The numerator's coefficients are parameters of the
 fit as well: they stay in the Jacobian, so that what they trade with a pole widens its
-spread, and are not reported.
+spread, and are reported through the zeros they place (:mod:`~tcpmm.ident.lti.zerosd`).
 
 The model is written in these parameters, ``B(x) / (prod_i (x^2 + 2 zeta_i W_i x + W_i^2)
 prod_j (x + R_j) x^k) exp(-s tau)`` with ``x = s / omega_0``, ``W = 2 pi f_n / omega_0`` and
@@ -48,6 +48,7 @@ Some values are said undetermined whatever their linearised sd, each with the re
 * a mode or real pole whose frequency lies outside the fitted bins: the bins see only the
   tail of its response, which a numerator term gives as well (a 150 Hz mode fitted from
   300 Hz up came out at 256 Hz with a sd of a few Hz);
+* a zero outside the fitted bins, likewise (:mod:`~tcpmm.ident.lti.zerosd`);
 * the static gain where a pole or zero lies below the band's lowest bin: it is then an
   extrapolation to 0 Hz through a corner no bin saw (the same fit gave -0.077 +- 0.009
   for a gain of 3);
@@ -64,12 +65,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._tfcore import upper_pairs
+from ._tfestimate import DETERMINED, Estimate
 from .frfnoise import NOISE_WINDOW
+from .zerosd import outside_note, zero_estimates
 
 __all__ = ["DETERMINED", "MISFIT", "SINGULAR", "Estimate", "TFDeviations", "tf_deviations"]
 
-#: Largest relative standard deviation of a parameter said to be determined [-].
-DETERMINED = 0.5
 #: Relative singular value below which a direction of the Jacobian is not in the data [-].
 SINGULAR = 1e-9
 #: Component of a parameter in a direction not in the data that leaves it unbounded [-].
@@ -84,60 +85,6 @@ MISFIT = 100.0
 DELAY_OPEN = ("the delay: not bounded by the linearised fit; it trades with zeros above "
               "the band, which refits through other noise put in either half-plane, and "
               "spreads about 4 times its linearised sd, up to 9 times, at the same order")
-
-
-@dataclass(frozen=True)
-class Estimate:
-    """A fitted value and its standard deviation.
-
-    Parameters
-    ----------
-    value : float
-        Fitted value [unit of the parameter].
-    sd : float
-        Standard deviation; ``inf`` where the data do not bound it [unit of the parameter].
-    why : str, optional
-        Why the value is undetermined whatever its sd (see the module); empty if not [-].
-    """
-
-    value: float
-    sd: float
-    why: str = ""
-
-    @property
-    def determined(self) -> bool:
-        """Whether no reason holds it open and the sd is finite and at most
-        :data:`DETERMINED` of the value [-]."""
-        return bool(not self.why and math.isfinite(self.sd)
-                    and self.sd <= DETERMINED * abs(self.value))
-
-    def opened(self, why: str) -> Estimate:
-        """The value, undetermined for the reason ``why``, its sd infinite [-]."""
-        return Estimate(self.value, math.inf, why)
-
-    @property
-    def bound(self) -> float:
-        """The sd where determined, else ``inf``: no sd is given for a value left open,
-        lest it be read as one [unit of the parameter]."""
-        return self.sd if self.determined else math.inf
-
-    def to_dict(self, key: str) -> dict:
-        """``{key: value, key_sd: sd or None, key_determined: bool}``; a ``key`` ending in a
-        unit (``freq_hz``) puts ``_sd`` before it (``freq_sd_hz``) [-]."""
-        stem, _, unit = key.rpartition("_") if key.endswith(("_hz", "_s")) else (key, "", "")
-        sd_key = f"{stem}_sd_{unit}" if unit else f"{key}_sd"
-        return {key: float(self.value),
-                sd_key: float(self.sd) if self.determined else None,
-                f"{stem}_determined": self.determined}
-
-    def text(self, fmt: str = ".4g", scale: float = 1.0, pm: str = "+-") -> str:
-        """``value +- sd`` (each times ``scale``, the value in format ``fmt``, the sd to two
-        digits, ``pm`` the sign the medium writes), or the value and ``(undetermined)``
-        where the data do not determine it [-]."""
-        v = f"{self.value * scale:{fmt}}"
-        if not self.determined:
-            return f"{v} (undetermined)"
-        return f"{v} {pm} {self.sd * scale:.2g}"
 
 
 @dataclass(frozen=True)
@@ -160,6 +107,9 @@ class TFDeviations:
         Why values are undetermined beyond their sd, each reason once [-].
     describes_data : bool, optional
         False where the ``chi2`` ratio exceeds :data:`MISFIT` [-].
+    zeros : list of ZeroEstimate, optional
+        Each zero pair's frequency and damping, each real zero's corner, ascending as
+        :attr:`TFFit.zeros` (:mod:`~tcpmm.ident.lti.zerosd`) [-].
     """
 
     modes: list
@@ -168,6 +118,7 @@ class TFDeviations:
     gain: Estimate | None
     notes: list = field(default_factory=list)
     describes_data: bool = True
+    zeros: list = field(default_factory=list)
 
     def by_row(self, kinds) -> list:
         """``(frequency, damping)`` estimates for the rows of a pole table of ``kinds``
@@ -178,11 +129,14 @@ class TFDeviations:
                 (next(reals, None), None) if k == "real" else (None, None) for k in kinds]
 
     def to_dict(self) -> dict:
-        """``modes``, ``real_poles``, ``delay``, ``gain`` and how the covariance was scaled,
-        each parameter with its sd (None where unbounded) and whether it is determined [-]."""
+        """``modes``, ``real_poles``, ``zero_pairs``, ``real_zeros``, ``delay``, ``gain`` and
+        how the covariance was scaled, each parameter with its sd (None where unbounded) and
+        whether it is determined [-]."""
         return {
             "modes": [{**f.to_dict("freq_hz"), **z.to_dict("damping")} for f, z in self.modes],
             "real_poles": [r.to_dict("freq_hz") for r in self.real_poles],
+            "zero_pairs": [z.to_dict() for z in self.zeros if z.kind == "pair"],
+            "real_zeros": [z.to_dict() for z in self.zeros if z.kind == "real"],
             "delay": None if self.delay is None else self.delay.to_dict("delay_s"),
             "gain": None if self.gain is None else self.gain.to_dict("gain"),
             "uncertainty": {"method": "linearised: sandwich covariance of the weighted fit, "
@@ -299,7 +253,7 @@ def tf_deviations(fit, fit_delay: bool, chi2_ratio: float | None = None) -> TFDe
     Returns
     -------
     TFDeviations
-        Modes, real poles, delay and gain with their standard deviations [-].
+        Modes, real poles, zeros, delay and gain with their standard deviations [-].
     """
     pairs, reals = _split_poles(fit.pn)
     cov = _covariance(fit, _jacobian(fit, pairs, reals, fit_delay))
@@ -310,8 +264,9 @@ def tf_deviations(fit, fit_delay: bool, chi2_ratio: float | None = None) -> TFDe
              for i, p in enumerate(pairs)]
     real_poles = [Estimate(R * to_hz, sd[n2 + j]) for j, R in enumerate(reals)]
     delay = Estimate(fit.delay_s, sd[-1]) if fit_delay else None
-    return _limited(fit, TFDeviations(modes, real_poles, delay, _gain(fit, pairs, reals, cov)),
-                    chi2_ratio)
+    devs = TFDeviations(modes, real_poles, delay, _gain(fit, pairs, reals, cov),
+                        zeros=zero_estimates(fit, cov, n2 + reals.size))
+    return _limited(fit, devs, chi2_ratio)
 
 
 def _limited(fit, devs: TFDeviations, chi2_ratio: float | None) -> TFDeviations:
@@ -332,6 +287,8 @@ def _limited(fit, devs: TFDeviations, chi2_ratio: float | None) -> TFDeviations:
     reals = [r.opened(why(outside)) if not lo <= r.value <= hi else r
              for r in devs.real_poles]
     delay = None if devs.delay is None else devs.delay.opened(why(DELAY_OPEN))
+    zeros = [z.opened(why(outside_note(lo, hi))) if not lo <= z.freq.value <= hi else z
+             for z in devs.zeros]
     gain = devs.gain
     corners = np.abs(np.r_[fit.poles, fit.zeros]) / (2 * np.pi)
     corners = corners[corners > 0]
@@ -345,8 +302,9 @@ def _limited(fit, devs: TFDeviations, chi2_ratio: float | None) -> TFDeviations:
                    f"{chi2_ratio:.3g}, above {MISFIT:g})")
         modes = [(f.opened(miss), z.opened(miss)) for f, z in modes]
         reals = [r.opened(miss) for r in reals]
+        zeros = [z.opened(miss) for z in zeros]
         delay, gain = (None if e is None else e.opened(miss) for e in (delay, gain))
-    return TFDeviations(modes, reals, delay, gain, notes, describes)
+    return TFDeviations(modes, reals, delay, gain, notes, describes, zeros)
 
 
 def _gain(fit, pairs, reals, cov: _Covariance) -> Estimate | None:

@@ -32,7 +32,10 @@ from .scores import judge
 
 #: Shares of the Coulomb current tried as the pulse amplitude [-].
 PULSE_SHARES = (0.25, 0.5, 1.0, 1.5, 2.0)
-#: Decay time constants tried [s].
+#: Decay time constants tried [s]. Longer decays turn the pulse into a standing current
+#: offset between reversals: on the benches they lowered a spike by at most 1.3 um while
+#: raising the contour error, and lost a pulse where they won the decay's pass
+#: (docs/validation/compensation.md, "Decays beyond 300 ms").
 PULSE_DECAYS_S = (0.003, 0.01, 0.03, 0.1, 0.3)
 #: Probe of the cross-talk gain: a sine of this amplitude and frequency, slow against every
 #: mode of the structure, whose deflection then follows the acceleration [m], [Hz].

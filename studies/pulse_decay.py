@@ -23,6 +23,7 @@ from .compensation_controller import R, bench_circles, on_truth
 
 # the subpackage, not the function of the same name the flat API exports
 controller = importlib.import_module("tcpmm.compensate.controller")
+pulse_tuning = importlib.import_module("tcpmm.compensate.pulse_tuning")
 
 LONGER_DECAYS_S = (1.0, 3.0)
 
@@ -35,12 +36,12 @@ def cell(fig: dict) -> str:
 def tuned(model, truth, cmd, decays) -> str:
     """The true machine's figures with the pulses tuned on ``model`` over ``decays``, and
     each axis's amplitude [A] and decay [ms] [-]."""
-    shipped = controller.PULSE_DECAYS_S
-    controller.PULSE_DECAYS_S = decays
+    shipped = pulse_tuning.PULSE_DECAYS_S
+    pulse_tuning.PULSE_DECAYS_S = decays
     try:
         cc = controller.controller_compensation(model, cmd, R, adapt_draws=None)
     finally:
-        controller.PULSE_DECAYS_S = shipped
+        pulse_tuning.PULSE_DECAYS_S = shipped
     pulses = ", ".join(f"{a} {c.pulse_A:.2f} A {c.decay_s * 1e3:g} ms"
                        for a, c in cc.axes.items() if c.pulse_A)
     return f"{cell(on_truth(truth, cmd, cc))} | {pulses or '-'}"

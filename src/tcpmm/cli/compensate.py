@@ -16,6 +16,7 @@ from ._app import (
     interp_settings,
     load_command,
     positive,
+    progress_bar,
     read_model,
 )
 from ._compensate_dense import write_dense
@@ -303,11 +304,16 @@ def _tuned(machine, cmd, circle, draws: int):
     the model, unscaled; its pulses' adaptation characteristics checked on up to ``draws``
     draws of the model [-]."""
     from ..compensate.adaptation import DRAWS
-    from ..compensate.controller import controller_compensation
+    from ..compensate.controller import controller_compensation, controller_steps
 
     radius_m, centre_m, plane = circle
-    return controller_compensation(machine, cmd, radius_m, centre_m, plane,
-                                   min(draws, DRAWS))
+    n_draws = min(draws, DRAWS)
+    # some hundred runs of the model, most of a minute with the default draws: a bar on a
+    # terminal says it is working
+    with progress_bar(controller_steps(machine, cmd, plane, n_draws),
+                      "controller-side compensation") as advance:
+        return controller_compensation(machine, cmd, radius_m, centre_m, plane, n_draws,
+                                       progress=advance)
 
 
 def _write_parameters(comp, path: Path, command_file: Path, machine):

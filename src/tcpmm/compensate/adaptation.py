@@ -35,12 +35,12 @@ from ..sim.simulate import simulate
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .drive import reversal_pulses
 from .robust import margin
-from .scores import judge
+from .scores import circle_figures
 from .turns import reversal_accelerations, reversals
 
 __all__ = ["AMPLITUDE_SHARES", "CHECKED", "DRAWS", "OVERRIDES", "Characteristic", "SpikeCurves",
-           "axis_pulses", "best_characteristic", "holds_on_draws", "quadrant_acceleration",
-           "spike_curves", "time_scaled"]
+           "adaptation_steps", "axis_pulses", "best_characteristic", "holds_on_draws",
+           "quadrant_acceleration", "spike_curves", "time_scaled"]
 
 #: Feed overrides the circle is run at: accelerations at the reversals of 1/16, 1/4 and 1
 #: times the programmed; none above it, which the axes' limits may not allow [-].
@@ -134,11 +134,12 @@ def _points(plane, axis: str) -> tuple:
     return ("A", "C") if axis == plane[0] else ("B", "D")
 
 
-def _axis_spike(fig: dict, points: tuple) -> float:
-    """The largest spike at ``points`` over the circle's passes; infinite where none is a
-    number, so that such a trial never wins [um]."""
-    v = [abs(p["spikes_um"].get(k, math.nan)) for p in fig.get("circle", {}).get(
-        "passes", ()) for k in points]
+def _axis_spike(circle: dict, points: tuple) -> float:
+    """The largest spike at ``points`` over the passes of a circle's figures
+    (:func:`.scores.circle_figures`); infinite where none is a number, so that such a
+    trial never wins [um]."""
+    v = [abs(p["spikes_um"].get(k, math.nan)) for p in circle.get("passes", ())
+         for k in points]
     v = [x for x in v if math.isfinite(x)]
     return max(v) if v else math.inf
 
@@ -155,12 +156,21 @@ def _spikes(machine, cmd: Command, axis: str, trials: list, others: dict, judge_
     and their runs kept across the trials [um]."""
     fixed = axis_pulses(cmd, others)
     points, kept = _points(judge_args[2], axis), {}
-    return [_axis_spike(judge(simulate(machine, cmd, axis_runs=kept, current_feedforward_A={
-        **fixed, **axis_pulses(cmd, {axis: t})}), cmd, *judge_args), points) for t in trials]
+
+    def spike(trial) -> float:
+        run = simulate(machine, cmd, axis_runs=kept,
+                       current_feedforward_A={**fixed, **axis_pulses(cmd, {axis: trial})})
+        # the circle's figures alone: the path's contour error (:func:`.scores.judge`),
+        # which no spike reads, took most of each trial's time in its search for the
+        # nearest segment
+        return _axis_spike(circle_figures(run, *judge_args), points)
+
+    return [spike(t) for t in trials]
 
 
 def spike_curves(machine, command: Command, axis: str, decay_s: float, coulomb_A: float,
-                 judge_args: tuple, others: dict | None = None) -> SpikeCurves | None:
+                 judge_args: tuple, others: dict | None = None,
+                 progress=None) -> SpikeCurves | None:
     """The axis's spikes over pulse amplitudes at each feed override; ``None`` where the
     axis does not reverse at every override.
 
@@ -182,6 +192,8 @@ def spike_curves(machine, command: Command, axis: str, decay_s: float, coulomb_A
         The pulses of the axes tuned before, as :func:`axis_pulses` takes them: the
         circle's terms are fitted to both axes, so another axis's pulse moves this one's
         spikes after the terms [-].
+    progress : callable, optional
+        Called with no argument after each feed override of :data:`OVERRIDES` run [-].
     """
     amps = coulomb_A * np.asarray(AMPLITUDE_SHARES)
     accel, spikes = [], []
@@ -193,12 +205,15 @@ def spike_curves(machine, command: Command, axis: str, decay_s: float, coulomb_A
         accel.append(quadrant_acceleration(reversal_accelerations(cmd, axis, turns)))
         spikes.append(_spikes(machine, cmd, axis, [(a, decay_s, None) for a in amps],
                               others or {}, judge_args))
+        if progress is not None:
+            progress()
     s = np.asarray(spikes)
     return None if not np.all(np.isfinite(s)) else SpikeCurves(np.asarray(accel), amps, s)
 
 
 def holds_on_draws(machine, command: Command, axis: str, pulses: tuple, others: dict,
-                   judge_args: tuple, n_draws: int = DRAWS, seed: int = 0) -> bool:
+                   judge_args: tuple, n_draws: int = DRAWS, seed: int = 0,
+                   progress=None) -> bool:
     """Whether the characteristic's pulse makes the axis's spikes no larger than the pulse
     of one amplitude does, beyond the spikes' margin, at every feed override of
     :data:`CHECKED` on the model
@@ -224,18 +239,35 @@ def holds_on_draws(machine, command: Command, axis: str, pulses: tuple, others: 
         Machines drawn; none where the model carries no uncertainty [-].
     seed : int
         Seed of the draws [-].
+    progress : callable, optional
+        Called with no argument after each machine at each override checked; not for
+        those left once one fails [-].
     """
     rng = np.random.default_rng(seed)
-    uncertain = any(a.uncertainty is not None for a in machine.axes.values())
     machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR)
-                            for _ in range(n_draws if uncertain else 0)]
+                            for _ in range(_drawn(machine, n_draws))]
     for k in CHECKED:
         cmd = time_scaled(command, k)
         for m in machines:
             flat, adapted = _spikes(m, cmd, axis, list(pulses), others, judge_args)
+            if progress is not None:
+                progress()
             if adapted > flat + float(margin(np.array([flat * 1e-6]))[0]) * 1e6:
                 return False
     return True
+
+
+def _drawn(machine, n_draws: int) -> int:
+    """The machines :func:`holds_on_draws` draws: ``n_draws``, none where the model
+    carries no uncertainty [-]."""
+    return n_draws if any(a.uncertainty is not None for a in machine.axes.values()) else 0
+
+
+def adaptation_steps(machine, n_draws: int = DRAWS) -> int:
+    """The calls to ``progress`` of one axis's characteristic where nothing stops it
+    early: one per feed override of :func:`spike_curves`, one per machine and override of
+    :func:`holds_on_draws` [-]."""
+    return len(OVERRIDES) + len(CHECKED) * (1 + _drawn(machine, n_draws))
 
 
 def quadrant_acceleration(accel: np.ndarray) -> float:

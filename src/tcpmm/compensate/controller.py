@@ -19,24 +19,19 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..path.command import Command
-from ..sim.simulate import simulate, simulate_axis
-from .adaptation import (
-    DRAWS,
-    Characteristic,
-    best_characteristic,
-    holds_on_draws,
-    spike_curves,
-)
+from ..sim.simulate import simulate_axis
+from .adaptation import DRAWS, Characteristic, adaptation_steps
 from .drive import reversal_pulses, with_cross_talk
-from .scores import judge
 
-#: Shares of the Coulomb current tried as the pulse amplitude [-].
-PULSE_SHARES = (0.25, 0.5, 1.0, 1.5, 2.0)
-#: Decay time constants tried [s]. Longer decays turn the pulse into a standing current
-#: offset between reversals: on the benches they lowered a spike by at most 1.3 um while
-#: raising the contour error, and lost a pulse where they won the decay's pass
-#: (docs/validation/compensation.md, "Decays beyond 300 ms").
-PULSE_DECAYS_S = (0.003, 0.01, 0.03, 0.1, 0.3)
+# the tuning of one pulse has a module of its own; its names stay importable from here
+from .pulse_tuning import PULSE_DECAYS_S as PULSE_DECAYS_S
+from .pulse_tuning import PULSE_SHARES as PULSE_SHARES
+from .pulse_tuning import adapted_pulse as adapted_pulse
+from .pulse_tuning import controller_figures as controller_figures
+from .pulse_tuning import coulomb_current as coulomb_current
+from .pulse_tuning import largest_spike as largest_spike
+from .pulse_tuning import tune_pulse as tune_pulse
+
 #: Probe of the cross-talk gain: a sine of this amplitude and frequency, slow against every
 #: mode of the structure, whose deflection then follows the acceleration [m], [Hz].
 PROBE_AMPLITUDE_M, PROBE_HZ = 5e-3, 2.0
@@ -196,17 +191,6 @@ PARAMETER_HEAD = (
     "# Cross-talk feed-forward: position setpoint offset = -gain * commanded acceleration.")
 
 
-def coulomb_current(axis) -> float:
-    """The motor current that balances the axis's Coulomb friction, the mean of both
-    directions, guideway and screw [A]; 0 without friction."""
-    fr = axis.friction
-    if fr is None:
-        return 0.0
-    force = sum(0.5 * (c.fc_pos + c.fc_neg) for c in (fr.guideway, fr.screw) if c is not None)
-    m = axis.mechanics
-    return force * m.R_L / m.K_tc
-
-
 def cross_talk_gain(axis) -> float:
     """The TCP's deflection relative to the scale per commanded acceleration, from a slow
     sine run on the model: the least-squares slope of ``tcp - scale`` on the commanded
@@ -224,75 +208,20 @@ def cross_talk_gain(axis) -> float:
     return float(a @ d / (a @ a)) if a @ a > 0 else 0.0
 
 
-def controller_figures(machine, command: Command, programmed: Command, pulses: dict, radius_m,
-             centre_m, plane) -> dict:
-    """The model's TCP figures of ``command`` run with the current pulses, judged against
-    the programmed path [-]."""
-    run = simulate(machine, command, current_feedforward_A=pulses or None)
-    return judge(run, programmed, radius_m, centre_m, plane)
-
-
-def largest_spike(fig: dict) -> float:
-    """The largest TCP reversal spike of figures from :func:`.scores.judge`; infinite where
-    the circle gave none, so that such a trial never wins [um]."""
-    v = fig.get("circle", {}).get("largest_spike_um", math.nan)
-    return v if math.isfinite(v) else math.inf
-
-
-def tune_pulse(machine, command: Command, axis: str, pulses: dict, judge_args: tuple):
-    """The amplitude and decay of ``axis``'s pulse that give the smallest largest TCP
-    spike with the other axes' ``pulses``; ``(0, shortest decay)`` where that does not
-    lower the spike, or raises the contour error.
-
-    Parameters
-    ----------
-    machine : Machine
-        The identified model [SI].
-    command : Command
-        The command run [m].
-    axis : str
-        The axis tuned [-].
-    pulses : dict of str to ndarray
-        The pulses of the axes tuned before [A].
-    judge_args : tuple
-        ``(programmed, radius_m, centre_m, plane)`` of :func:`controller_figures` [-].
-
-    Returns
-    -------
-    tuple of float
-        ``(amplitude [A], decay [s])`` [-].
-    """
-    i_c = coulomb_current(machine.axes[axis])
-
-    seen = {}
-
-    def figures(share: float, tau: float) -> dict:
-        key = (share, tau if share else 0.0)  # without a pulse the decay does not matter
-        if key not in seen:
-            trial = {**pulses, axis: reversal_pulses(command, axis, share * i_c, tau)}
-            seen[key] = controller_figures(machine, command, judge_args[0], trial, *judge_args[1:])
-        return seen[key]
-
-    def spike(share: float, tau: float) -> float:
-        return largest_spike(figures(share, tau))
-
-    if i_c <= 0.0:
-        return 0.0, PULSE_DECAYS_S[0]
-    # one coordinate at a time: the amplitude at a middle decay, the decay at that
-    # amplitude, then the amplitude again
-    tau = PULSE_DECAYS_S[len(PULSE_DECAYS_S) // 2]
-    share = min(PULSE_SHARES, key=lambda k: spike(k, tau))
-    tau = min(PULSE_DECAYS_S, key=lambda d: spike(share, d))
-    share = min(PULSE_SHARES, key=lambda k: spike(k, tau))
-    none, got = figures(0.0, tau), figures(share, tau)
-    better = (largest_spike(got) < largest_spike(none) and got["path"]["contour_error_um"]
-              <= none["path"]["contour_error_um"])
-    return (share * i_c, tau) if better else (0.0, PULSE_DECAYS_S[0])
+def controller_steps(machine, command: Command, plane=("X", "Y"),
+                     adapt_draws: int | None = DRAWS) -> int:
+    """The calls to ``progress`` of :func:`controller_compensation` with these arguments:
+    one for the figures before and the cross-talk feed-forward, one per axis for its
+    pulse's amplitude and decay and :func:`.adaptation.adaptation_steps` for its
+    characteristic, one for the figures after [-]."""
+    per_axis = 1 + (0 if adapt_draws is None else adaptation_steps(machine, adapt_draws))
+    return 2 + per_axis * sum(a in command.axes for a in plane)
 
 
 def controller_compensation(machine, command: Command, radius_m: float,
                             centre_m=(0.0, 0.0), plane=("X", "Y"),
-                            adapt_draws: int | None = DRAWS) -> ControllerCompensation:
+                            adapt_draws: int | None = DRAWS,
+                            progress=None) -> ControllerCompensation:
     """Friction pulses and cross-talk feed-forward for the axes of a circle, from the
     model, with the figures it predicts before and after.
 
@@ -316,12 +245,16 @@ def controller_compensation(machine, command: Command, radius_m: float,
     adapt_draws : int or None
         Also compute each pulse's adaptation characteristic, checked on this many draws
         of the model (:func:`.adaptation.holds_on_draws`); ``None``: one amplitude [-].
+    progress : callable, optional
+        Called with no argument after each step of the work, :func:`controller_steps`
+        times in all [-].
 
     Returns
     -------
     ControllerCompensation
         The parameters per axis and the scores before and after [-].
     """
+    tick = progress if progress is not None else (lambda: None)
     axes = [a for a in plane if a in command.axes]
     args = (command, radius_m, centre_m, plane)
     before = controller_figures(machine, command, command, {}, *args[1:])
@@ -330,66 +263,17 @@ def controller_compensation(machine, command: Command, radius_m: float,
     if (controller_figures(machine, ctc, command, {}, *args[1:])["path"]["contour_error_um"]
             >= before["path"]["contour_error_um"]):
         gains, ctc = dict.fromkeys(axes, 0.0), command
+    tick()
     pulses, params = {}, {}
     for a in axes:
         amp, tau = tune_pulse(machine, ctc, a, pulses, args)
+        tick()
         others = {b: (c.pulse_A, c.decay_s, c.characteristic) for b, c in params.items()}
         amp, ch = (amp, None) if adapt_draws is None else adapted_pulse(
-            machine, ctc, a, (amp, tau), (others, pulses), args, adapt_draws)
+            machine, ctc, a, (amp, tau), (others, pulses), args, adapt_draws, tick)
         pulses[a] = reversal_pulses(ctc, a, amp, tau, ch)
         ax = machine.axes[a]
         params[a] = AxisController(amp, tau, amp * velocity_per_ampere(ax), gains[a], ch)
     after = controller_figures(machine, ctc, command, pulses, *args[1:])
+    tick()
     return ControllerCompensation(params, {"before": before, "after": after})
-
-
-def adapted_pulse(machine, command: Command, axis: str, pulse: tuple, tuned: tuple,
-                  judge_args: tuple, n_draws: int = DRAWS) -> tuple:
-    """The pulse of ``axis`` with its adaptation characteristic (:mod:`.adaptation`), where
-    one beats the tuned amplitude at the circle's feed overrides, loses against it at
-    none of them on draws of the model (:func:`.adaptation.holds_on_draws`), and does not
-    make the programmed circle's largest spike or contour error worse.
-
-    Parameters
-    ----------
-    machine : Machine
-        The identified model [SI].
-    command : Command
-        The command run [m].
-    axis : str
-        The axis [-].
-    pulse : tuple of float
-        ``(amplitude [A], decay [s])`` tuned at the programmed feed (:func:`tune_pulse`).
-    tuned : tuple
-        The axes tuned before: their parameters, as :func:`.adaptation.axis_pulses` takes
-        them, and their pulses on ``command`` [-, A].
-    judge_args : tuple
-        ``(programmed, radius_m, centre_m, plane)`` of :func:`controller_figures` [-].
-    n_draws : int
-        Draws of the model the characteristic is checked on [-].
-
-    Returns
-    -------
-    tuple
-        ``(largest amplitude [A], Characteristic or None)`` [-].
-    """
-    amp, tau = pulse
-    others, pulses = tuned
-    if amp == 0.0:
-        return amp, None
-    curves = spike_curves(machine, command, axis, tau, coulomb_current(machine.axes[axis]),
-                          judge_args[1:], others)
-    ch, top, _ = (None, amp, 0.0) if curves is None else best_characteristic(curves, amp)
-    if ch is None:
-        return amp, None
-    if ch.low_ratio == 1.0 and ch.accel_m_per_s2[0] <= curves.accel_m_per_s2.min():
-        ch = None  # one amplitude at every override tuned: a better one, not a shape
-    flat, adapted = (controller_figures(machine, command, judge_args[0], {
-        **pulses, axis: reversal_pulses(command, axis, a, tau, c)}, *judge_args[1:])
-        for a, c in ((amp, None), (top, ch)))
-    if (largest_spike(adapted) <= largest_spike(flat) and adapted["path"]["contour_error_um"]
-            <= flat["path"]["contour_error_um"] and holds_on_draws(
-                machine, command, axis, ((amp, tau, None), (top, tau, ch)), others,
-                judge_args[1:], n_draws)):
-        return top, ch
-    return amp, None  # the tuned amplitude, not one the guards could not vouch for

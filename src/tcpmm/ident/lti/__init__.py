@@ -4,7 +4,8 @@
 of orders (:mod:`~tcpmm.ident.lti.tforder`), the fit of a measured FRF file with its order chosen
 (:mod:`~tcpmm.ident.lti.frffit`, the noise of its bins in :mod:`~tcpmm.ident.lti.frfnoise`),
 the standard deviations of a fit's modes, poles, delay and gain
-(:mod:`~tcpmm.ident.lti.tfsd`) and of its zeros (:mod:`~tcpmm.ident.lti.zerosd`), and the
+(:mod:`~tcpmm.ident.lti.tfsd`) and of its zeros (:mod:`~tcpmm.ident.lti.zerosd`), a
+delay held checked against the data (:mod:`~tcpmm.ident.lti.delayheld`), and the
 goodness-of-fit measures (:mod:`~tcpmm.ident.lti.goodness`)."""
 
 from .frffit import DAMPING_FLOOR, FRFFit, fit_frf, noise_level

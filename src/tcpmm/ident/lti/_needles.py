@@ -42,10 +42,7 @@ def clean_fit(fit: TFFit, sigma, floor, grid):
     the numerator is fitted again after each change."""
     f, omega0 = fit.freq_hz, fit.omega0
     x = 2j * np.pi * f / omega0
-    notes = []
-    pn = _floor(fit.pn, grid, omega0, floor, notes, (x, sigma))
-    if notes:
-        fit = _refit_numerator(fit, pn, fit.n_num)
+    fit, notes = floor_damping(fit, sigma, floor, grid)
     while fit.n_num > 0 and fit.pn.size > 0:
         found = _unsupported(x, fit.pn, fit.zeros / omega0, sigma)
         if found is None:
@@ -58,6 +55,16 @@ def clean_fit(fit: TFFit, sigma, floor, grid):
         notes.append(f"removed {what} ({'it changes' if n == 1 else 'together they change'} "
                      f"the response by {dev:.2g} noise levels at most)")
     return fit, notes
+
+
+def floor_damping(fit: TFFit, sigma, floor, grid):
+    """Raise each pair's damping to the floor (``floor`` [-], or the spacing of the
+    measurement's frequency grid ``grid`` [Hz]) and fit the numerator again where one was
+    raised; returns the fit and the notes saying which [-]."""
+    x = 2j * np.pi * fit.freq_hz / fit.omega0
+    notes = []
+    pn = _floor(fit.pn, grid, fit.omega0, floor, notes, (x, sigma))
+    return (_refit_numerator(fit, pn, fit.n_num) if notes else fit), notes
 
 
 def _unsupported(x, pn, zn, sigma):

@@ -31,6 +31,9 @@
   fit started again from those poles (:mod:`~tcpmm.ident.lti._select`; a note says so).
   Where no fit of a given pole count reaches it, the fit of one pole fewer is kept if it
   leaves less total error: the larger count holds it, and its refinements missed it.
+* **A delay held, checked.** With the delay held (none, or a value given) the fit is made
+  again with it free, and where the data suggest another delay a warning says so and the
+  values whose sd assumed it are undetermined (:mod:`~tcpmm.ident.lti.delayheld`).
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ from ...errors import InputError
 from ...frfdata import FRF
 from ._needles import clean_fit
 from ._select import by_criterion, by_total, choose, score
+from .delayheld import check_held_delay
 from .frfnoise import NOISE_WINDOW, noise_level
 from .goodness import warn_if_misfit, warn_if_off
 from .tffit import WEIGHT_FLOOR, TFFit, fit_tf
@@ -333,15 +337,19 @@ def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,
     h = fit.freqresp(f)
     e2 = np.abs(h / H - 1) ** 2
     chi2 = float(np.sum(e2 / sigma**2) / (2 * f.size))
-    devs = tf_deviations(fit, ctx["delay"] == "fit", chi2_ratio=chi2)
+    devs, notes = tf_deviations(fit, ctx["delay"] == "fit", chi2_ratio=chi2), best["notes"]
     warn_if_off(frf.name, fit.n_den, h, H, auto=ctx["auto"], delay=ctx["delay"])
     warn_if_misfit(frf.name, chi2, devs.describes_data)
+    if ctx["delay"] != "fit":  # its sds hold only if the delay held is the data's
+        devs, note = check_held_delay(fit, devs, ctx["delay"], sigma, ctx["floor"],
+                                      ctx["grid"], frf.name)
+        notes = [*notes, note] if note else notes
     return FRFFit(
         tf=fit, band_hz=(float(data.freq_hz[0]), float(data.freq_hz[-1])),
         weighting=weighting, rel_rms=float(np.sqrt(np.mean(e2))),
         noise_rms=float(np.sqrt(np.mean(2 * sigma**2))),
         chi2_ratio=chi2,
-        damping_floor=ctx["floor"], notes=best["notes"],
+        damping_floor=ctx["floor"], notes=notes,
         candidates=[{k: c[k] for k in ("tried", "n_poles", "n_zeros", "chi2_ratio", "bic",
                                         "unsupported")} for c in cands],
         deviations=devs, name=frf.name, input=frf.input, output=frf.output,

@@ -52,6 +52,10 @@ Some values are said undetermined whatever their linearised sd, each with the re
 * the static gain where a pole or zero lies below the band's lowest bin: it is then an
   extrapolation to 0 Hz through a corner no bin saw (the same fit gave -0.077 +- 0.009
   for a gain of 3);
+* with the delay held (none, or a value given), a value that moves by more than 3 of its
+  sd when the delay is left free, where the data suggest another delay: these sds are
+  linearised at the delay held and hold only for it (:mod:`~tcpmm.ident.lti.delayheld`,
+  which :func:`~tcpmm.ident.lti.frffit.fit_frf` applies);
 * everything where the ``chi2`` ratio exceeds :data:`MISFIT`: the model misses the data by
   ten times the noise, and the spread of a model that does not describe the data is no
   spread of the data's parameters.

@@ -243,3 +243,16 @@ def test_a_bed_stiffer_than_the_sweep_reaches_is_open():
     assert {"M_b", "K_b"} & set(idn.physical.undetermined)
     [bed] = [r for r in open_ranges(idn) if r.quantity == "bed"]
     assert (bed.low, bed.high) == BED_RANGE and "do not determine" in bed.cause
+
+
+def test_the_starting_peaks_of_a_band_narrower_than_the_trend_window():
+    """A band of fewer bins than the trend's 31 (``identify --band 200,1000`` left G_tcp
+    19) broke the starting points with a broadcast error; the trend then spans the band,
+    and its peak is still found, or none where the band is too short for one."""
+    from tcpmm.ident.physical.starts import _peaks
+
+    f = np.geomspace(200.0, 1000.0, 19)
+    H = 1.0 / (1.0 - (f / 450.0) ** 2 + 2j * 0.02 * f / 450.0)
+    peaks = _peaks(f, H)
+    assert len(peaks) == 1 and abs(peaks[0] - 450.0) < 40.0
+    assert _peaks(f[:4], H[:4]) == []

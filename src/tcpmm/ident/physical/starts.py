@@ -21,7 +21,12 @@ TORSION_SPREAD = 2.0
 def _peaks(f, H, k=3):
     """Frequencies of the ``k`` largest local maxima of |H| (above the trend) [Hz]."""
     a = np.log(np.abs(H) + 1e-300)
-    trend = np.convolve(a, np.ones(31) / 31, mode="same")
+    # the trend over 31 bins, or all a narrow band holds: a window longer than the FRF
+    # would give a trend of the window's length
+    n = min(31, a.size - (1 - a.size % 2))
+    if n < 5:
+        return []
+    trend = np.convolve(a, np.ones(n) / n, mode="same")
     r = a - trend
     idx = [i for i in range(2, len(a) - 2) if r[i] == r[i - 2:i + 3].max() and r[i] > 0.1]
     idx = sorted(idx, key=lambda i: -r[i])[:k]

@@ -112,3 +112,20 @@ def test_a_column_with_a_low_first_mode_is_not_read_as_a_swapped_tcp(vmc):
                                       MIN_COHERENCE)
     assert whole_octave and "G_tcp" in whole_octave[0].parameter
     assert mass_findings("X", frfs, soft.mechanics, "X/sweep.csv", MIN_COHERENCE) == []
+
+
+def test_a_step_that_stops_keeps_its_words_and_offers_no_suspect_model(tmp_path, capsys):
+    """Bench C's sweeps cut to start at 150 Hz: the physical fit leaves a column stiffness
+    beyond any machine, and the static gains over 2-11.5 Hz, a band the sweep no longer
+    excites, read out of range. Both are said, and no ``--accept-suspect`` is offered:
+    no model was made to write."""
+    from conftest import bench_path, run_cli
+    from studies.cut_sweep import cut_bundle
+
+    bundle = cut_bundle(bench_path("c") / "bundle", tmp_path / "cut", 150.0)
+    code, _, err = run_cli(capsys, "identify", bundle, "-o", tmp_path / "m.yaml",
+                           "--accept-suspect", "--jobs", "1")
+    line = [x for x in err.strip().splitlines() if x.startswith("error:")]
+    assert code == 2 and len(line) == 1, err
+    assert "static gain" in line[0] and "The step that stopped said:" in line[0], line
+    assert "--accept-suspect" not in line[0] and not (tmp_path / "m.yaml").exists()

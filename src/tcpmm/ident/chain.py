@@ -143,8 +143,8 @@ def run_axis(run: AxisRun, options: IdentifyOptions) -> AxisIdentification:
         for name, step in AXIS_STEPS:
             try:
                 run = replace(run, **{name: step(run, options)})
-            except InputError:
-                _static_gains_first(run)
+            except InputError as failed:
+                _static_gains_first(run, failed)
                 raise
         found = run.identification()
         if found.physical.undetermined:  # of the fit kept, not of every fit on the way
@@ -179,17 +179,23 @@ def _axis_named(run: AxisRun):
                 warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
-def _static_gains_first(run: AxisRun) -> None:
+def _static_gains_first(run: AxisRun, failed: InputError) -> None:
     """Where a step fails on mechanics beyond any machine tool, a column swapped or in the
     wrong unit is the likely cause, and the FRFs' static gains, which need no fitted model,
-    say which: raise that instead (:func:`~tcpmm.ident.gates.masses.check_static_gains`)."""
+    say which: raise that first, with what the step said (a sweep that does not excite the
+    low band reads a static gain there too, and the step's own words then tell). No model
+    was made, so there is none to write as suspect
+    (:func:`~tcpmm.ident.gates.masses.check_static_gains`)."""
     if run.frfs is None:
         return
     sweep = run.sweep.source or f"{run.name}/sweep.csv"
     found = check_static_gains(run.name, run.frfs.frfs, run.cfg.lead_m / (2 * math.pi), sweep,
                                MIN_COHERENCE)
     if found:
-        raise SuspectModelError(found) from None
+        raise InputError(
+            f"identification stopped; the FRFs' static gains, which need no fitted model, "
+            f"read: {' | '.join(str(f) for f in found)}. The step that stopped said: "
+            f"{failed}") from None
 
 
 def identify_axis(

@@ -11,7 +11,7 @@ from ..ident.friction.sensitivity import coulomb_share, with_share
 from ..mechanics.lumped import RANGES
 from ..model import Axis
 from ..whatif.draws import longer_presliding, scaled_contact
-from .ranges import MODE_DAMPING, bed_of, column_of, mode_damping_bounds
+from .ranges import MODE_DAMPING, MODE_STRUCTURE, mode_damping_bounds, structure_of
 
 __all__ = ["QUANTILE_90", "Variant", "axis_variants"]
 
@@ -128,10 +128,8 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
-        elif r.quantity == "column":  # a head of typical mass on a spring of that stiffness
-            moved = axis.replace(mechanics=m.replace(**column_of(x)))
-        elif r.quantity == "bed":  # a bed of typical mass on mounts of that stiffness
-            moved = axis.replace(mechanics=m.replace(**bed_of(x)))
+        elif r.quantity in MODE_STRUCTURE:  # a head or bed of typical mass on that spring
+            moved = axis.replace(mechanics=m.replace(**structure_of(r.quantity, x)))
         elif r.quantity in MODE_DAMPING:  # the mode's damping ratio, its frequency kept
             c, mass, k = MODE_DAMPING[r.quantity]
             moved = axis.replace(mechanics=m.replace(

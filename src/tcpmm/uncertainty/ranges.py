@@ -29,10 +29,9 @@ __all__ = [
     "SCALE_STEPS",
     "SHARE_RANGE",
     "STRUCTURE_ZETA_RANGE",
-    "bed_of",
-    "column_of",
     "mode_damping_bounds",
     "open_ranges",
+    "structure_of",
 ]
 
 #: A deflection between encoder and scale of fewer scale steps than this rests on the
@@ -56,8 +55,6 @@ COLUMN_MASS_KG, COLUMN_ZETA = 300.0, 0.05
 #: 40-400 Hz, around those of the benches (48-190 Hz, damping ratios 0.04-0.05).
 BED_RANGE = (1e8, 1e10)
 BED_MASS_KG, BED_ZETA = 1500.0, 0.05
-#: Per open structure, the mass and stiffness whose mode it stands for [-].
-MODE_STRUCTURE = {"column": ("M_h", "K_h"), "bed": ("M_b", "K_b")}
 #: Damping ratio of a structural mode whose damping the sweep leaves undetermined (a sweep
 #: whose excitation starts above the mode sees only its mass or stiffness line, where the
 #: damping barely shows): the range machine tools' bolted and guided structures span [-].
@@ -67,6 +64,8 @@ STRUCTURE_ZETA_RANGE = (0.01, 0.1)
 EXCITED_SHARE = 1e-3
 #: Per open structural damping, the damping, mass and stiffness of its mode [-].
 MODE_DAMPING = {"column_damping": ("C_h", "M_h", "K_h"), "bed_damping": ("C_b", "M_b", "K_b")}
+#: Per open structure, the mass and stiffness whose mode it stands for [-].
+MODE_STRUCTURE = {q: MODE_DAMPING[f"{q}_damping"][1:] for q in ("column", "bed")}
 #: Factor on the axial modes' damping where a sweep crossed the nut's lost motion and the
 #: fit took the nut as linear: the play's impacts and the friction inside it dissipate
 #: energy a linear damper is fitted to, up to doubling it [-].
@@ -287,23 +286,18 @@ def mode_damping_bounds(mechanics, damping: str) -> tuple[float, float]:
     return STRUCTURE_ZETA_RANGE[0] * critical, STRUCTURE_ZETA_RANGE[1] * critical
 
 
-def column_of(stiffness: float) -> dict:
-    """The TCP structure's parameters of an open ``column`` of that stiffness: a head of
-    :data:`COLUMN_MASS_KG` damped at :data:`COLUMN_ZETA` [SI]."""
-    return {"M_h": COLUMN_MASS_KG, "K_h": stiffness,
-            "C_h": 2.0 * COLUMN_ZETA * math.sqrt(stiffness * COLUMN_MASS_KG)}
-
-
-def bed_of(stiffness: float) -> dict:
-    """The bed's parameters of an open ``bed`` of that stiffness to ground: a bed of
-    :data:`BED_MASS_KG` damped at :data:`BED_ZETA` [SI]."""
-    return {"M_b": BED_MASS_KG, "K_b": stiffness,
-            "C_b": 2.0 * BED_ZETA * math.sqrt(stiffness * BED_MASS_KG)}
-
-
 #: Per open structure: its stiffness range [N/m], typical mass [kg] and damping ratio [-].
 _TYPICAL = {"column": (COLUMN_RANGE, COLUMN_MASS_KG, COLUMN_ZETA),
             "bed": (BED_RANGE, BED_MASS_KG, BED_ZETA)}
+
+
+def structure_of(quantity: str, stiffness: float) -> dict:
+    """The parameters of an open ``column`` or ``bed`` (:data:`MODE_STRUCTURE`) of that
+    stiffness: a head of :data:`COLUMN_MASS_KG` damped at :data:`COLUMN_ZETA`, or a bed of
+    :data:`BED_MASS_KG` damped at :data:`BED_ZETA`, on it [SI]."""
+    c, mass, k = MODE_DAMPING[f"{quantity}_damping"]
+    _, kg, zeta = _TYPICAL[quantity]
+    return {mass: kg, k: stiffness, c: 2.0 * zeta * math.sqrt(stiffness * kg)}
 
 
 def _structure_undetermined(a) -> list[OpenRange]:

@@ -228,6 +228,12 @@ class _Covariance:
             return math.inf
         return float(grad @ self.C @ grad)
 
+    def sd(self, grad: np.ndarray) -> float:
+        """Standard deviation of a function of gradient ``grad``: the root of
+        :meth:`variance`, infinite where that is not a finite non-negative number [-]."""
+        var = self.variance(grad)
+        return math.sqrt(var) if np.isfinite(var) and var >= 0 else math.inf
+
 
 def _covariance(fit, J: np.ndarray) -> _Covariance:
     """``A+ J^T diag(n^2) J A+`` for the residual rows' noise ``n`` (see the module), with
@@ -324,6 +330,4 @@ def _gain(fit, pairs, reals, cov: _Covariance) -> Estimate | None:
     grad[0:n2:2] = -2.0 / (np.abs(pairs) * to_hz)  # d ln(W^2) / d f_n
     grad[n2:n2 + reals.size] = -1.0 / (reals * to_hz)
     grad[n2 + reals.size] = 1.0 / b0
-    var = cov.variance(grad)
-    sd = abs(gain) * math.sqrt(var) if np.isfinite(var) and var >= 0 else math.inf
-    return Estimate(gain, sd)
+    return Estimate(gain, abs(gain) * cov.sd(grad))

@@ -119,8 +119,7 @@ def _sd(cov, first: int, dz: np.ndarray) -> float:
         return math.inf
     grad = np.zeros(cov.C.shape[0])
     grad[first:first + dz.size] = dz
-    var = cov.variance(grad)
-    return math.sqrt(var) if np.isfinite(var) and var >= 0 else math.inf
+    return cov.sd(grad)
 
 
 def _pair(z: complex, dz: np.ndarray, cov, first: int, to_hz: float) -> ZeroEstimate:

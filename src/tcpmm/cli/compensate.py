@@ -308,7 +308,7 @@ def _tuned(machine, cmd, circle, draws: int):
 
     radius_m, centre_m, plane = circle
     n_draws = min(draws, DRAWS)
-    # some hundred runs of the model, most of a minute with the default draws: a bar on a
+    # some hundred runs of the model, half a minute with the default draws: a bar on a
     # terminal says it is working
     with progress_bar(controller_steps(machine, cmd, plane, n_draws),
                       "controller-side compensation") as advance:

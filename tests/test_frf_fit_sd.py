@@ -57,6 +57,14 @@ def noisy(H, seed):
     return H * (1 + NOISE * e)
 
 
+def measured(delay_s: float = 0.0, name: str = "two modes") -> FRF:
+    """:func:`response` with the real pole at 900 Hz and a delay of ``delay_s`` [s], on
+    400 bins of 10 Hz-2 kHz, noise draw 0 [-]."""
+    f = np.geomspace(10.0, 2000.0, 400)
+    return FRF(f, noisy(response(f, real_pole_hz=900.0, delay_s=delay_s), 0),
+               np.ones(f.size), 10, np.zeros(f.size), name=name)
+
+
 def estimates(dev) -> list:
     """Frequency and damping of each mode and the real poles [-]."""
     return [e for mode in dev.modes for e in mode] + list(dev.real_poles)
@@ -163,9 +171,7 @@ def test_a_mode_outside_the_band_is_said_to_be_undetermined(capsys, tmp_path):
     damping: the bins see only its tail, which a numerator term gives as well, so a +-
     would place a mode where no bin saw it. The 120 Hz mode is held in both, and the
     command line says undetermined and why where JSON has the flag and a null sd."""
-    f = np.geomspace(10.0, 2000.0, 400)
-    frf = FRF(f, noisy(response(f, real_pole_hz=900.0), 0), np.ones(f.size), 10,
-              np.zeros(f.size), name="two modes")
+    frf = measured()
     for top in (300, 150):
         fit = fit_frf(frf, poles=4, band_hz=(10, top), delay_s=None)
         (low, low_z), (high, high_z) = fit.deviations.modes
@@ -189,9 +195,7 @@ def test_a_zero_outside_the_band_is_said_to_be_undetermined(capsys, tmp_path):
     came out at 351 Hz with a linearised sd of 13 Hz: frequency and damping undetermined,
     null sds in JSON, (undetermined) in the text's zero table and the reason under it;
     the 120 Hz mode keeps its sd."""
-    f = np.geomspace(10.0, 2000.0, 400)
-    frf = FRF(f, noisy(response(f, real_pole_hz=900.0), 0), np.ones(f.size), 10,
-              np.zeros(f.size), name="two modes")
+    frf = measured()
     path = tmp_path / "two.csv"
     write_frf_csv(frf, path)
     args = ("frf", "fit", path, "--poles", "3", "--band", "10,200", "--delay", "none")
@@ -212,9 +216,7 @@ def test_a_band_above_a_mode_leaves_it_and_the_static_gain_undetermined(capsys, 
     """Fitted from 200 Hz up, the 120 Hz mode lies below the band and the static gain is
     an extrapolation to 0 Hz through it: both undetermined, with null sds and the reason;
     the 450 Hz mode and the 900 Hz pole inside the band keep their sd."""
-    f = np.geomspace(10.0, 2000.0, 400)
-    frf = FRF(f, noisy(response(f, real_pole_hz=900.0), 0), np.ones(f.size), 10,
-              np.zeros(f.size), name="two modes")
+    frf = measured()
     path = tmp_path / "two.csv"
     write_frf_csv(frf, path)
     args = ("frf", "fit", path, "--poles", "5", "--band", "200,2000", "--delay", "none")
@@ -234,9 +236,7 @@ def test_a_band_above_a_mode_leaves_it_and_the_static_gain_undetermined(capsys, 
 def test_a_fit_that_misses_the_data_gives_no_sd_and_says_so(capsys, tmp_path):
     """A 2 ms delay fitted without one (chi2 ratio above 1e4): no mode, pole or gain
     carries a +-, and text and JSON warn that the fit does not describe the data."""
-    f = np.geomspace(10.0, 2000.0, 400)
-    frf = FRF(f, noisy(response(f, real_pole_hz=900.0, delay_s=2e-3), 0), np.ones(f.size),
-              10, np.zeros(f.size), name="late")
+    frf = measured(delay_s=2e-3, name="late")
     path = tmp_path / "late.csv"
     write_frf_csv(frf, path)
     args = ("frf", "fit", path, "--poles", "5", "--delay", "none")

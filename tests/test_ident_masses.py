@@ -114,18 +114,43 @@ def test_a_column_with_a_low_first_mode_is_not_read_as_a_swapped_tcp(vmc):
     assert mass_findings("X", frfs, soft.mechanics, "X/sweep.csv", MIN_COHERENCE) == []
 
 
-def test_a_step_that_stops_keeps_its_words_and_offers_no_suspect_model(tmp_path, capsys):
-    """Bench C's sweeps cut to start at 150 Hz: the physical fit leaves a column stiffness
-    beyond any machine, and the static gains over 2-11.5 Hz, a band the sweep no longer
-    excites, read out of range. Both are said, and no ``--accept-suspect`` is offered:
-    no model was made to write."""
+def test_a_step_that_stops_keeps_its_words_and_offers_no_suspect_model(tmp_path, capsys,
+                                                                       monkeypatch):
+    """Bench C's sweeps cut to start at 150 Hz, and a step of the chain that stops on them:
+    the static gains over 2-11.5 Hz, a band the sweep no longer excites, read out of range,
+    and both they and what the step said are given. No ``--accept-suspect`` is offered: no
+    model was made to write."""
+    import tcpmm.ident.chain as chain
     from conftest import bench_path, run_cli
     from studies.cut_sweep import cut_bundle
+    from tcpmm.errors import InputError
 
+    def stops(run, options):
+        raise InputError("a column stiffness of 6e+27 N/m")
+
+    monkeypatch.setattr(chain, "AXIS_STEPS", tuple(
+        (name, stops if name == "linear" else step) for name, step in chain.AXIS_STEPS))
     bundle = cut_bundle(bench_path("c") / "bundle", tmp_path / "cut", 150.0)
     code, _, err = run_cli(capsys, "identify", bundle, "-o", tmp_path / "m.yaml",
                            "--accept-suspect", "--jobs", "1")
     line = [x for x in err.strip().splitlines() if x.startswith("error:")]
     assert code == 2 and len(line) == 1, err
-    assert "static gain" in line[0] and "The step that stopped said:" in line[0], line
+    assert "static gain" in line[0] and "The step that stopped said: " in line[0], line
+    assert "6e+27 N/m" in line[0]
     assert "--accept-suspect" not in line[0] and not (tmp_path / "m.yaml").exists()
+
+
+def test_a_sweep_cut_above_the_structure_ends_in_a_verdict(tmp_path, capsys):
+    """The same cut sweeps through the whole chain: the fit holds the column the band does
+    not show within the range of a machine tool (it ran to 6e27 N/m and stopped the chain),
+    and the gates judge the model: suspect, naming the band."""
+    from conftest import bench_path, run_cli
+    from studies.cut_sweep import cut_bundle
+
+    bundle = cut_bundle(bench_path("c") / "bundle", tmp_path / "cut", 150.0)
+    code, _, err = run_cli(capsys, "identify", bundle, "-o", tmp_path / "m.yaml",
+                           "--jobs", "1")
+    line = [x for x in err.strip().splitlines() if x.startswith("error:")]
+    assert code == 2 and len(line) == 1, err
+    assert "physically suspect" in line[0] and "--band" in line[0], line
+    assert not (tmp_path / "m.yaml").exists()

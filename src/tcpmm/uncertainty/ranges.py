@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from ..ident.friction.nutstiffness import RESOLUTION_STEPS
+from ..ident.physical.structure import STIFFNESS_FLOOR
 from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from ..model import OpenRange
 
@@ -47,13 +48,13 @@ MECHANICS_RANGE = (0.7, 1.3)
 #: Stiffness of a TCP structure no TCP device measured, from a slender column's to the rigid
 #: one the fit takes (10 to 1000 N/um) [N/m]; with it a head of :data:`COLUMN_MASS_KG`
 #: damped at :data:`COLUMN_ZETA`, as machining centres' columns are.
-COLUMN_RANGE = (1e7, 1e9)
+COLUMN_RANGE = (STIFFNESS_FLOOR["h"], 1e9)
 COLUMN_MASS_KG, COLUMN_ZETA = 300.0, 0.05
 #: Stiffness to ground of a bed whose mass or stiffness the FRFs do not determine, from a
 #: bed on soft levelling elements to one grouted on its foundation (100 to 10000 N/um)
 #: [N/m]; with it a bed of :data:`BED_MASS_KG` damped at :data:`BED_ZETA`: bed modes of
 #: 40-400 Hz, around those of the benches (48-190 Hz, damping ratios 0.04-0.05).
-BED_RANGE = (1e8, 1e10)
+BED_RANGE = (STIFFNESS_FLOOR["b"], 1e10)
 BED_MASS_KG, BED_ZETA = 1500.0, 0.05
 #: Damping ratio of a structural mode whose damping the sweep leaves undetermined (a sweep
 #: whose excitation starts above the mode sees only its mass or stiffness line, where the

@@ -25,9 +25,10 @@ from scipy.optimize import least_squares
 
 from ..._threads import limit_blas_threads
 from ...errors import InputError, InputWarning
-from ...mechanics.lumped import AxisMechanics
+from ...mechanics.lumped import RANGES, AxisMechanics
 from ..lti.goodness import rel_error
 from .axisfrfs import model_frfs, nut_path
+from .covariance import held_at_bound, log_covariance
 from .fitdata import band_model, fit_weight, log_binned, log_residual
 from .jacobian import residual_jacobian
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
@@ -276,7 +277,7 @@ def _physical_fit(r, objective: _Objective, full: dict, reported: list,
     and the error against the unbinned FRFs ``full``; a current loop beyond the data's
     reach is kept ideal [-]."""
     names, tied, n_mech = objective.names, objective.tied, objective.n_mech
-    mech = AxisMechanics.create(**objective.mech_of(r.x).model_dump())
+    mech = AxisMechanics.create(**_within_ranges(objective.mech_of(r.x).model_dump()))
     f_i = objective.bandwidth(r.x)
     std, corr, undetermined = _std(r, names, tied, tied_log_std)
     model = model_frfs(mech, {k: d.freq_hz for k, d in full.items()}, f_i,
@@ -287,6 +288,16 @@ def _physical_fit(r, objective: _Objective, full: dict, reported: list,
     return PhysicalFit(mech, std, corr, undetermined, rel, float(r.cost),
                        names=reported + names[n_mech:], nfev=int(r.nfev),
                        current_bandwidth_hz=f_i, tied=tied, nut_gain=objective.nut_gain)
+
+
+def _within_ranges(values: dict) -> dict:
+    """``values`` clipped into the plausible range of each parameter
+    (:data:`~tcpmm.mechanics.lumped.RANGES`). A structure the band does not show can run
+    to a bound of the fit beyond it (a head stiffer than 1e16 N/m, held in proportion to a
+    table mass that moved): at the range's end it is as rigid, and the axis can still be
+    written [SI]."""
+    return {p: min(max(v, RANGES[p][0]), RANGES[p][1]) if p in RANGES else v
+            for p, v in values.items()}
 
 
 def _band_residual(mech, data: dict, freqs: dict, w: dict, f_i, hold_period_s: float,
@@ -325,7 +336,7 @@ def _std(r, names: list, tied: dict, tied_log_std: dict):
     a structural mode leaves its damping to a guess, however well the table's mass is
     known."""
     sd_log, corr = log_covariance(r)
-    at_bound = np.asarray(getattr(r, "active_mask", np.zeros(len(names)))) != 0
+    at_bound = held_at_bound(r)
     sd_log = np.where(at_bound, np.nan, sd_log)
     vals = dict(zip(names, np.exp(r.x), strict=True))
     std = {p: float(vals[p] * sd_log[i]) for i, p in enumerate(names)}
@@ -354,19 +365,7 @@ def _multistart(resid, jac, starts, names, fit_current_loop: bool, max_nfev: int
                           max_nfev=25 if len(starts) > 1 else max_nfev, method="trf")
         if best is None or r.cost < best.cost:
             best, best_bounds = r, (lo, hi)
-    return least_squares(resid, best.x, jac=jac, bounds=best_bounds, max_nfev=max_nfev,
-                         method="trf", **TIGHT)
-
-
-def log_covariance(r):
-    """Standard deviations [-] and correlation matrix [-] of the log-parameters from the
-    Jacobian of a ``least_squares`` result, the residual variance from its cost."""
-    J = r.jac
-    dof = max(1, J.shape[0] - J.shape[1])
-    s2 = 2 * r.cost / dof
-    try:
-        cov = np.linalg.pinv(J.T @ J) * s2
-    except np.linalg.LinAlgError:
-        cov = np.full((J.shape[1], J.shape[1]), np.inf)
-    sd_log = np.sqrt(np.clip(np.diag(cov), 0, None))
-    return sd_log, cov / np.outer(sd_log, sd_log).clip(1e-300)
+    r = least_squares(resid, best.x, jac=jac, bounds=best_bounds, max_nfev=max_nfev,
+                      method="trf", **TIGHT)
+    r.bounds = best_bounds
+    return r

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from ..frf.wholerecord import reduced_with_whole_record
 from ..identification import AxisFit
 from ..physical.greybox import PhysicalFit
-from ..physical.structure import fit_structure
+from ..physical.structure import STIFFNESS_FLOOR, fit_structure
 from .fitcontext import FitContext, fit_values, friction_on, physical_fit
 from .frfs import fit_data
 from .playrefit import play_significant
@@ -91,10 +91,37 @@ def fit_friction(ctx: FitContext, sweep, frfs: dict, data: dict,
         if not play_significant(kept.split):
             data = whole_record_data(sweep, frfs)
         structure, _, log_std = fit_structure(data["G_tcp"], [phys.mechanics])
-        phys = physical_fit(ctx, data, initial=fit_values(phys), structure=structure,
-                            structure_log_std=log_std)
+        phys, structure = _refit_held(ctx, data, phys, structure, log_std)
         kept = AxisFit(phys, *friction_on(ctx, phys))
     return FrictionFit(kept, data, structure, log_std)
+
+
+def _refit_held(ctx: FitContext, data: dict, phys: PhysicalFit, structure: dict,
+                log_std: dict) -> tuple[PhysicalFit, dict]:
+    """The joint fit with the structure held at ``structure``, started from ``phys``, and
+    the structure it holds.
+
+    Where ``phys`` left a structural mass or stiffness undetermined, the fit is also
+    started from the data's own starts and the lower cost kept: a structure the joint fit
+    collapsed (a mode outside the band) puts its inertia into the table and the bed, and a
+    fit started there stays in that valley once the structure is held where ``G_tcp``
+    puts it. A stiffness the fit leaves undetermined below
+    :data:`~tcpmm.ident.physical.structure.STIFFNESS_FLOOR` (a mode below the band,
+    whose stiffness the band does not see) is then held at the floor [-]."""
+    held = physical_fit(ctx, data, initial=fit_values(phys), structure=structure,
+                        structure_log_std=log_std)
+    if not set(phys.undetermined) & {"M_b", "K_b", "M_h", "K_h"}:
+        return held, structure
+    fresh = physical_fit(ctx, data, structure=structure, structure_log_std=log_std)
+    held = fresh if fresh.cost < held.cost else held
+    m = held.mechanics
+    low = {f"K_{s}": k / m.M_t for s, k in STIFFNESS_FLOOR.items()
+           if f"K_{s}" in held.undetermined and getattr(m, f"K_{s}") < k}
+    if not low:
+        return held, structure
+    structure = {**structure, **low}
+    return physical_fit(ctx, data, initial=fit_values(held), structure=structure,
+                        structure_log_std=log_std), structure
 
 
 def whole_record_data(sweep, frfs: dict) -> dict:

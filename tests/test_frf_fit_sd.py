@@ -313,13 +313,13 @@ def test_the_real_trace_s_modes_carry_sensible_sds(capsys):
     # the delay carries no +-, and the text says why
     code, text, _ = run_cli(capsys, "frf", "fit", TRACE)
     assert code == 0 and "not bounded by the linearised fit" in " ".join(text.split())
-    assert "\nzero " in text and "pair       630.23 +- 3.7" in text
+    assert "\nzero " in text and "pair       630.23 +- 3.8" in text
 
 
-def test_a_fit_weighted_also_by_h_says_its_sds_are_a_lower_bound():
-    """A collocated two-mass response (modes at 100 and 300 Hz, an antiresonance at
-    180 Hz, 1 % noise): its fits mix |H| into the weights, and refits then spread 1.7-3.7
-    times the linearised sd (docs/frf_files.md); the fit's note says so."""
+def collocated(seed: int) -> FRF:
+    """A collocated two-mass response: modes at 100 and 300 Hz of damping 0.02, an
+    antiresonance at 180 Hz of damping 0.01, on 400 bins of 10-1000 Hz, noise draw
+    ``seed`` [-]."""
     f = np.geomspace(10.0, 1000.0, 400)
     s = 2j * np.pi * f
     wz = 2 * np.pi * 180.0
@@ -327,7 +327,22 @@ def test_a_fit_weighted_also_by_h_says_its_sds_are_a_lower_bound():
     for fn in (100.0, 300.0):
         wn = 2 * np.pi * fn
         h = h / (1 + 2 * 0.02 * s / wn + (s / wn) ** 2)
-    frf = FRF(f, noisy(h, 3), np.ones(f.size), 10, np.zeros(f.size), name="collocated")
-    notes = fit_frf(frf).notes
-    mixed = [n for n in notes if "weighted also by |H|" in n]
-    assert mixed and all(n.endswith("the +- are then a lower bound") for n in mixed)
+    return FRF(f, noisy(h, seed), np.ones(f.size), 10, np.zeros(f.size), name="collocated")
+
+
+def test_a_fit_weighted_also_by_h_keeps_its_sds():
+    """The collocated two-mass response's fits mix |H| into the weights, which peak at the
+    modes. The noise of each residual row was the running median of the weighted
+    residual, which flattened that peak where the modes are decided: 25 refits spread
+    3.2-3.7 times the sd of the modes' frequencies. Measured on the relative residual and
+    weighted after, the refits of 16 draws that mix |H| in spread 0.6-1.5 times it (25
+    draws, all fits: 0.97 and 1.10)."""
+    fits = [fit_frf(collocated(seed)) for seed in range(100, 116)]
+    fits = [fit for fit in fits if any("weighted also by |H|" in n for n in fit.notes)]
+    assert len(fits) >= 8
+    for fn in (100.0, 300.0):
+        got = [min(fit.deviations.modes, key=lambda m: abs(m[0].value - fn))[0]
+               for fit in fits]
+        spread = np.std([m.value for m in got], ddof=1)
+        sd = np.median([m.sd for m in got])
+        assert 0.6 < spread / sd < 1.5, (fn, spread, sd)

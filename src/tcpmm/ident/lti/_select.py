@@ -190,8 +190,6 @@ def _noted(cand, ref) -> dict:
     how = "short of" if short else "reaching"
     weights = (f"bins weighted also by |H| (mu = {mu:g})" if math.isfinite(mu) else
                "vector fitting's poles kept, the bins weighted by |H| alone")
-    # the linearised sds do not hold the weights' choice: on a collocated two-mass response
-    # refits spread 1.7-3.7 times them (docs/frf_files.md)
     note = (f"{weights}: total error {cand['total']:.3g}, {how} the {ref:.3g} of vector "
-            "fitting's poles; the +- are then a lower bound")
+            "fitting's poles")
     return {**cand, "notes": [*cand["notes"], note], "short": short}

@@ -20,15 +20,14 @@ under each residual row's noise ``n = w sigma``::
 which is ``pinv(J_s^T J_s)`` with ``J_s`` the Jacobian of the residual in noise units where
 ``w`` is proportional to ``1 / sigma``.
 
-The noise ``sigma`` here is measured on the residual, bin by bin (the running median of the
-squared residual, each bin's over ``1 - leverage``), not taken from the bins' noise the fit
-weighs by: the roughness that sets that noise counts a resonance's own curvature as noise,
-2.5 times the true noise at a mode of damping 0.03 on 400 bins from 10 Hz to 2 kHz,
-which would
-widen exactly the spreads that matter. Where the fit is worse than the noise, the residual
-holds the misfit as well: the spread grows by the local ``chi2`` ratio, bin by bin, as a
-covariance scaled by the global ``chi2_ratio`` would grow everywhere; a residual at or
-below the noise leaves the noise.
+The noise ``sigma`` here is measured on the relative residual, bin by bin (the running
+median of the squared residual, each bin's over ``1 - leverage``), then weighted; it is not
+taken from the bins' noise the fit weighs by: the roughness that sets that noise counts a
+resonance's own curvature as noise, 2.5 times the true noise at a mode of damping 0.03 on
+400 bins from 10 Hz to 2 kHz, which would widen exactly the spreads that matter. Where the
+fit is worse than the noise, the residual holds the misfit as well: the spread grows by
+the local ``chi2`` ratio, bin by bin, as a covariance scaled by the global ``chi2_ratio``
+would grow everywhere; a residual at or below the noise leaves the noise.
 
 A parameter is *determined* where its standard deviation is at most :data:`DETERMINED` of
 its value: beyond that a ``±`` would span values of another meaning (a mode of half or
@@ -196,18 +195,21 @@ def _decompose(J: np.ndarray) -> tuple:
 
 def _residual_noise(fit, U: np.ndarray, keep: np.ndarray) -> np.ndarray:
     """Noise of each residual row (``w`` times that of ``dH / H``), measured on the
-    residual: each bin's squared residual over ``1 - leverage`` (a fit of ``p`` parameters
-    leaves less than the noise where they are decided, at the resonances most), real and
-    imaginary parts averaged, and the running median of :data:`NOISE_WINDOW` bins divided
-    by ``ln 2`` (the median of an exponential variate of mean 1) [-]."""
+    relative residual: each bin's squared residual over ``1 - leverage`` (a fit of ``p``
+    parameters leaves less than the noise where they are decided, at the resonances most),
+    real and imaginary parts averaged, the running median of :data:`NOISE_WINDOW` bins
+    divided by ``ln 2`` (the median of an exponential variate of mean 1), then weighted.
+    The median is taken before the weights: weights by ``|H|`` peak at the modes over
+    fewer bins than the window, and a median of the weighted residual flattened the peak
+    where the modes are decided [-]."""
     from scipy.ndimage import median_filter
 
-    e = fit.weight * (fit.freqresp(fit.freq_hz) / fit.H - 1)
+    e = fit.freqresp(fit.freq_hz) / fit.H - 1
     lev = np.sum(U[:, keep] ** 2, axis=1).reshape(2, -1)
     free = np.clip(1.0 - lev, 0.05, 1.0)
     v = 0.5 * (e.real**2 / free[0] + e.imag**2 / free[1])
     med = median_filter(v, size=min(NOISE_WINDOW, v.size), mode="nearest")
-    return np.tile(np.sqrt(med / np.log(2.0)), 2)
+    return np.tile(fit.weight * np.sqrt(med / np.log(2.0)), 2)
 
 
 @dataclass(frozen=True)

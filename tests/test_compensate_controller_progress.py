@@ -1,8 +1,9 @@
 """The progress of the controller-side compensation (``tcpmm compensate --controller-out``,
 most of a minute on a bench's circle): the core calls ``progress`` as many times as
-:func:`controller_steps` announces, whichever guard ends a pulse's characteristic early;
-on a terminal the bar is told that total and filled; in a pipe nothing of it is written,
-and the output is the same as without a bar."""
+:func:`controller_steps` announces, whichever guard ends a pulse's characteristic early,
+and the command learned with the parameters as many times as :func:`combined_steps` does;
+on a terminal one bar is told the sum and filled over both; in a pipe nothing of it is
+written, and the output is the same as without a bar."""
 
 from __future__ import annotations
 
@@ -18,8 +19,15 @@ from rich.progress import Progress
 from conftest import run_cli
 from tcpmm.cli import _app
 from tcpmm.cli import compensate as cli_compensate
+from tcpmm.compensate import combined
 from tcpmm.compensate.adaptation import adaptation_steps
-from tcpmm.compensate.controller import controller_compensation, controller_steps
+from tcpmm.compensate.combined import combined_compensation, combined_steps
+from tcpmm.compensate.controller import (
+    AxisController,
+    controller_compensation,
+    controller_steps,
+    coulomb_current,
+)
 from tcpmm.machines.builtin import builtin_machine
 from tcpmm.model import AxisUncertainty
 from tcpmm.path import write_command_csv
@@ -77,6 +85,33 @@ def test_a_guard_that_ends_the_characteristic_early_still_fills_the_bar():
     assert len(calls) == controller_steps(smooth, _circle(), ("X", "Y"), 6)
 
 
+def _pulses(machine, share: float):
+    """A pulse of ``share`` times each axis's Coulomb current, decaying in 30 ms [-]."""
+    return {a: AxisController(share * coulomb_current(machine.axes[a]), 0.03, 0.0, 0.0)
+            for a in ("X", "Y")}
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+@pytest.mark.parametrize(("share", "draws"), [(1.0, 0), (1.0, 1), (4.0, 1)])
+def test_the_learning_with_the_parameters_calls_progress_as_often_as_it_announces(
+        share, draws):
+    """Per share of the parameters a call per learning step and axis; with draws also
+    one per share of the correction and machine, one per combination of shares judged
+    and the rounds of the regions' shares, those a choice leaves out at once; each
+    without an argument, and the same compensation as without a progress."""
+    m, iterations = _xy(builtin_machine()), 2
+    calls, params = [], _pulses(m, share)
+    kw = {"iterations": iterations, "n_draws": draws, "radius_m": R}
+    comp = combined_compensation(m, _circle(), params, progress=lambda *a: calls.append(a),
+                                 **kw)
+    learning = 2 * (iterations + 1)
+    assert combined_steps(_circle(), iterations, draws) == (
+        learning if draws == 0 else 3 * (learning + 5 * (1 + draws) + 5 ** 2) + 12)
+    assert len(calls) == combined_steps(_circle(), iterations, draws) and set(calls) == {()}
+    alone = combined_compensation(m, _circle(), params, **kw)
+    assert json.dumps(comp.to_dict()) == json.dumps(alone.to_dict())
+
+
 def _cli(tmp_path, *extra):
     src = tmp_path / "circle.csv"
     write_command_csv(_circle(), src)
@@ -86,7 +121,8 @@ def _cli(tmp_path, *extra):
 
 
 def test_on_a_terminal_the_bar_is_told_its_total_and_filled(tmp_path, capsys, monkeypatch):
-    """The bar's total is the core's count of its steps, and it is filled to it."""
+    """The bar's total is the core's count of its steps, the tuning's and the learning's
+    with its parameters, and it is filled to it, the learning's part while it learns."""
     screen = Console(file=io.StringIO(), force_terminal=True, color_system=None, width=200)
 
     @contextmanager
@@ -99,7 +135,7 @@ def test_on_a_terminal_the_bar_is_told_its_total_and_filled(tmp_path, capsys, mo
                 yield advance
 
     monkeypatch.setattr(cli_compensate, "progress_bar", on_terminal)
-    seen, add, update = {"advanced": 0}, Progress.add_task, Progress.update
+    seen, add, update = {"advanced": 0, "named": set()}, Progress.add_task, Progress.update
 
     def add_task(self, description, *args, **kw):
         seen.update(description=description, total=kw.get("total"))
@@ -107,13 +143,25 @@ def test_on_a_terminal_the_bar_is_told_its_total_and_filled(tmp_path, capsys, mo
 
     def updated(self, task, **kw):
         seen["advanced"] += kw.get("advance") or 0
+        seen["named"].add(kw.get("description"))
         return update(self, task, **kw)
+
+    def learning(*args, **kw):
+        at = seen["advanced"]
+        got = combined_compensation(*args, **kw)
+        seen["learning"] = seen["advanced"] - at
+        return got
 
     monkeypatch.setattr(Progress, "add_task", add_task)
     monkeypatch.setattr(Progress, "update", updated)
+    monkeypatch.setattr(combined, "combined_compensation", learning)
     code, _, _ = run_cli(capsys, *_cli(tmp_path))
     assert code == 0 and seen["description"] == "controller-side compensation"
-    assert seen["total"] == seen["advanced"] == 2 + 2 * (1 + 3 + 5)
+    assert seen["learning"] == 2 * (3 + 1)  # --iterations 3, --draws 0, two axes
+    assert seen["total"] == seen["advanced"] == 2 + 2 * (1 + 3 + 5) + seen["learning"]
+    # the learning's steps say what the bar waits for now
+    assert "controller-side compensation: the command learned with the parameters" in seen[
+        "named"]
     assert "controller-side compensation" in screen.file.getvalue()  # drawn there
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 
 import typer
@@ -90,9 +91,10 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     full, cmd, headroom = _planned(command, gcode, m, headroom)
     (full, cmd), held = _without_held(m, full, cmd)
     circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
-    tuned = None if controller_out is None else _tuned(m, cmd, circle, draws)
-    comp, headroom = _of_program(m, (full, cmd, headroom), command or gcode,
-                                 (iterations, draws), bounds, circle, tuned)
+    with _controller_bar(m, cmd, circle, (iterations, draws), controller_out) as (tune, learn):
+        tuned = None if controller_out is None else _tuned(m, cmd, circle, draws, tune)
+        comp, headroom = _of_program(m, (full, cmd, headroom), command or gcode,
+                                     (iterations, draws), bounds, circle, tuned, learn)
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
     write_command_csv(_with_held(compensated, held), output)
     # the plan compensated: the headroom's, or the program's where none of it was kept
@@ -110,7 +112,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     say_compensation(output, report, comp, controller_out, cc, reference_out, planner)
 
 
-def _of_program(machine, plans, source, steps, bounds, circle, tuned):
+def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=None):
     """The compensation of the plan with headroom, or of the program as programmed where
     the draws keep none of it or a figure ends worse than the program's
     (:func:`tcpmm.compensate.headroom.on_the_program`: the draws judge it against its own
@@ -132,13 +134,16 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned):
         ``(radius, centre, plane)`` of the circle [m, m, -].
     tuned : ControllerCompensation or None
         Controller-side parameters the correction is learned with [-].
+    progress : callable, optional
+        Called with no argument after each step of the correction learned with ``tuned``
+        (:func:`tcpmm.compensate.combined.combined_steps`) [-].
     """
     from ..compensate.headroom import on_the_program
 
     full, cmd, headroom = plans
     iterations, draws = steps
     comp = _compensated(machine, cmd, source, iterations, bounds, draws, circle,
-                        full if headroom else None, tuned)
+                        full if headroom else None, tuned, progress)
     if headroom and tuned is None and draws:
         comp, kept = on_the_program(machine, full, comp, bounds, lambda: _compensated(
             machine, full, source, iterations, bounds, draws, circle), circle)
@@ -234,7 +239,7 @@ def _planned(command, gcode, machine, headroom):
 
 
 def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circle,
-                 programmed=None, tuned=None):
+                 programmed=None, tuned=None, progress=None):
     """The compensation of a command, tested on drawn machines and scored.
 
     Parameters
@@ -260,6 +265,8 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
         Controller-side parameters tuned on the model: the correction is learned with
         them on the controller and scaled back together with them
         (:mod:`tcpmm.compensate.combined`) [-].
+    progress : callable, optional
+        Called with no argument after each step of that learning [-].
 
     Returns
     -------
@@ -274,7 +281,8 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
     with in_file(source):
         if tuned is not None:
             comp = combined_compensation(machine, cmd, tuned.axes, bounds=bounds,
-                                         iterations=iterations, n_draws=draws, **where)
+                                         iterations=iterations, n_draws=draws,
+                                         progress=progress, **where)
         else:
             comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
         if draws > 0 and tuned is None:
@@ -299,21 +307,41 @@ def _write_report(path: Path, comp, machine, model: str, source, circle, cc,
     write_report(path, sections, "Compensation", [("model", model), ("program", source)])
 
 
-def _tuned(machine, cmd, circle, draws: int):
+@contextmanager
+def _controller_bar(machine, cmd, circle, steps, controller_out):
+    """A bar on a terminal over the controller-side compensation of ``cmd`` on the circle
+    ``(radius, centre, plane)`` [m, m, -], ``steps`` the ``--iterations`` and ``--draws``
+    [-]: ``(tune, learn)``, each called with no argument after each step of the tuning of
+    the parameters and of the command learned with them; ``None`` each where
+    ``controller_out`` (``--controller-out``) is ``None`` [-]."""
+    if controller_out is None:
+        yield None, None
+        return
+    from ..compensate.adaptation import DRAWS
+    from ..compensate.combined import combined_steps
+    from ..compensate.controller import controller_steps
+
+    iterations, draws = steps
+    # the tuning and the learning with its parameters judged on the draws, each some hundred
+    # runs of the model, take half a minute or more on a bench's circle with the default
+    # draws: one bar over both, so that it is filled once, when the wait is over
+    total = (controller_steps(machine, cmd, circle[2], min(draws, DRAWS))
+             + combined_steps(cmd, iterations, draws))
+    with progress_bar(total, "controller-side compensation") as advance:
+        yield advance, lambda: advance("the command learned with the parameters")
+
+
+def _tuned(machine, cmd, circle, draws: int, progress=None):
     """The controller-side compensation of the circle ``(radius, centre, plane)`` tuned on
     the model, unscaled; its pulses' adaptation characteristics checked on up to ``draws``
-    draws of the model [-]."""
+    draws of the model; ``progress`` called with no argument after each step of
+    :func:`tcpmm.compensate.controller.controller_steps` [-]."""
     from ..compensate.adaptation import DRAWS
-    from ..compensate.controller import controller_compensation, controller_steps
+    from ..compensate.controller import controller_compensation
 
     radius_m, centre_m, plane = circle
-    n_draws = min(draws, DRAWS)
-    # some hundred runs of the model, half a minute with the default draws: a bar on a
-    # terminal says it is working
-    with progress_bar(controller_steps(machine, cmd, plane, n_draws),
-                      "controller-side compensation") as advance:
-        return controller_compensation(machine, cmd, radius_m, centre_m, plane, n_draws,
-                                       progress=advance)
+    return controller_compensation(machine, cmd, radius_m, centre_m, plane,
+                                   min(draws, DRAWS), progress=progress)
 
 
 def _write_parameters(comp, path: Path, command_file: Path, machine):

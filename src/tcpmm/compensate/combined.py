@@ -36,7 +36,7 @@ from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 from .drive import axis_plant
 from .learning import CUTOFF_HZ, compensate
-from .regional import per_combo
+from .regional import ROUNDS, per_combo
 from .robust import (
     LEVELS,
     acceptable,
@@ -64,7 +64,8 @@ def plants(params: dict, share: float = 1.0) -> dict:
     return {a: axis_plant(c, share) for a, c in params.items()}
 
 
-def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple:
+def choose_combined(errs: dict, target, labels: np.ndarray, guard=None,
+                    progress=None) -> tuple:
     """The share of the parameters and per axis of the correction (module docstring).
 
     Parameters
@@ -77,6 +78,8 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
         Region per sample [-].
     guard : CircleGuard, optional
         The circle's figures [-].
+    progress : callable, optional
+        Called with no argument after each combination of shares judged [-].
 
     Returns
     -------
@@ -86,8 +89,14 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
     """
     n_ax, n_reg = next(iter(errs.values())).shape[1], labels.max() + 1
     zero = tuple([0] * n_ax)
-    per = {s: per_combo(e, lambda c, e=e: judged(e, c, target, labels, guard))
-           for s, e in errs.items()}
+    tick = progress if progress is not None else (lambda: None)
+
+    def judge(e, c):
+        figs = judged(e, c, target, labels, guard)
+        tick()
+        return figs
+
+    per = {s: per_combo(e, lambda c, e=e: judge(e, c)) for s, e in errs.items()}
     before = per[0.0][zero]
 
     def objective(figs):
@@ -105,7 +114,7 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None) -> tuple
 
 
 def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: int = 0,
-                    radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y")):
+                    radius_m=None, centre_m=(0.0, 0.0), plane=("X", "Y"), progress=None):
     """The combination the draws of the model vouch for, with its shares, verdicts and the
     parameters kept (module docstring).
 
@@ -129,6 +138,9 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
         Its centre [m].
     plane : tuple of str
         Its axes [-].
+    progress : callable, optional
+        Called with no argument after each step of :func:`combined_steps` but the
+        learning [-].
 
     Returns
     -------
@@ -141,13 +153,17 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     rng = np.random.default_rng(seed)
     machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
     labels = regions(first.target)
-    errs = {s: axis_errors(machines, c, plants(params, s)) for s, c in comps.items()}
-    share, shares, before, after, per = choose_combined(errs, first.target, labels, guard)
+    tick = progress if progress is not None else (lambda: None)
+    errs = {s: axis_errors(machines, c, plants(params, s), tick) for s, c in comps.items()}
+    share, shares, before, after, per = choose_combined(errs, first.target, labels, guard,
+                                                        tick)
     comp, extra = comps[share], {"draws": n_draws, "seed": seed, "parameter_share": share}
     # the correction's share region by region, with the parameters' share chosen: as the
     # correction alone is chosen (where the draws keep no parameter, the same choice)
+    step, rest = _rounds(tick)
     got = regional_shares(machines, comp, per, before, labels, guard, after,
-                          plants(params, share))
+                          plants(params, share), step)
+    rest()
     if got is not None:
         factors, after = got
         shares, extra = [factors[a] for a in comp.reference.axes], {**extra, "by_region": True}
@@ -157,10 +173,53 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     return comp
 
 
+def _rounds(tick):
+    """``(step, rest)``: ``step`` calls ``tick`` after each round of the regions' shares
+    (:func:`.robust.regional_shares`), ``rest`` once for each of :data:`.regional.ROUNDS`
+    not run: a choice that ends early, or needs no round, still fills the bar whose total
+    was counted before the work [-]."""
+    done = [0]
+
+    def step():
+        done[0] += 1
+        tick()
+
+    def rest():
+        for _ in range(ROUNDS - done[0]):
+            tick()
+
+    return step, rest
+
+
+def combined_steps(command, iterations: int = 30, n_draws: int = 6) -> int:
+    """The calls to ``progress`` of :func:`combined_compensation` with these arguments
+    (its ``command``, ``iterations`` and ``n_draws``): for each share of the parameters
+    learned, ``iterations + 1`` learning steps per axis; with draws, for each share also
+    the model and each draw run at each share of the correction (:data:`.robust.LEVELS`)
+    and each combination of those shares per axis judged, then :data:`.regional.ROUNDS`
+    for the regions' shares [-].
+
+    Parameters
+    ----------
+    command : Command
+        The programmed command [m].
+    iterations : int
+        Learning steps [-].
+    n_draws : int
+        Draws of the model the combination is judged on [-].
+    """
+    n_ax = len(command.axes)
+    learning = n_ax * (iterations + 1)
+    if n_draws == 0:
+        return learning
+    per_share = learning + len(LEVELS) * (1 + n_draws) + len(LEVELS) ** n_ax
+    return len(PARAMETER_SHARES) * per_share + ROUNDS
+
+
 def combined_compensation(machine, command, params: dict, *, bounds=None,
                           iterations: int = 30, cutoff_hz: float = CUTOFF_HZ,
                           n_draws: int = 6, seed: int = 0, radius_m=None,
-                          centre_m=(0.0, 0.0), plane=("X", "Y")):
+                          centre_m=(0.0, 0.0), plane=("X", "Y"), progress=None):
     """The command correction learned with the controller-side parameters applied, scaled
     back together with them over draws of the model (module docstring). A correction is
     learned for each share of the parameters the draws may keep: a correction learned with
@@ -189,6 +248,9 @@ def combined_compensation(machine, command, params: dict, *, bounds=None,
     radius_m, centre_m, plane
         The circle the command holds, where it is one: radius [m], centre [m] and its
         axes [-] (:func:`robust_combined`).
+    progress : callable, optional
+        Called with no argument after each step of the work, :func:`combined_steps`
+        times in all [-].
 
     Returns
     -------
@@ -197,8 +259,10 @@ def combined_compensation(machine, command, params: dict, *, bounds=None,
     """
     shares = PARAMETER_SHARES if n_draws > 0 else (1.0,)
     comps = {s: compensate(machine, command, iterations=iterations, cutoff_hz=cutoff_hz,
-                           bounds=bounds, plants=plants(params, s)) for s in shares}
+                           bounds=bounds, plants=plants(params, s), step=progress)
+             for s in shares}
     if n_draws == 0:
         comps[1.0].controller = dict(params)
         return comps[1.0]
-    return robust_combined(machine, comps, params, n_draws, seed, radius_m, centre_m, plane)
+    return robust_combined(machine, comps, params, n_draws, seed, radius_m, centre_m, plane,
+                           progress)

@@ -79,7 +79,7 @@ def plain(axis, time_s, position_m, quantise_feedback: bool = False):
 
 
 def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations: int,
-               gain: float, tail: int, plant=plain):
+               gain: float, tail: int, plant=plain, progress=None):
     """Learning control of one axis on its model.
 
     Parameters
@@ -107,6 +107,8 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         its attribute ``fires_pulses`` is true, the corrected command turns the axis back
         only where the program does, within ``pulse_s`` of it, or at the ends of a hold
         (:mod:`.turns`) [-].
+    progress : callable, optional
+        Called with no argument after each learning step, ``iterations + 1`` times [-].
 
     Returns
     -------
@@ -131,6 +133,8 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
             best = (rms, corr)
         step = gain * apply_filter(gain_filter, err, pad)
         corr = fit(shrink((corr + step) * window, hold.keep(run.current), T))
+        if progress is not None:
+            progress()
     corr = within_current(hold, current_of, reference, best[1], fit, T)
     return corr, history
 
@@ -161,7 +165,7 @@ def _check(machine, command: Command, iterations: int, gain: float, cutoff_hz: f
 
 def compensate(machine, command: Command, *, iterations: int = 30, gain: float = 0.5,
                cutoff_hz: float = CUTOFF_HZ, bounds=None, progress=None,
-               plants=None) -> Compensation:
+               plants=None, step=None) -> Compensation:
     """Pre-compensated position command: the command whose predicted TCP path follows the
     programmed one, within the axes' limits.
 
@@ -186,6 +190,9 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         Per axis how it runs a command (:func:`learn_axis`); default the command alone.
         With the controller's pulse and feed-forward the correction learns what they
         leave [-].
+    step : callable, optional
+        Called with no argument after each learning step of each axis (:func:`learn_axis`),
+        ``iterations + 1`` times per axis [-].
 
     Returns
     -------
@@ -208,7 +215,7 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         gf = learning_filter(h[a], n_fft, T, cutoff_hz)
         corr[a], history[a] = learn_axis(machine.axes[a], ref.time_s, ref.positions[a],
                                          tgt.positions[a], gf, bounds[a], iterations, gain,
-                                         tail, (plants or {}).get(a, plain))
+                                         tail, (plants or {}).get(a, plain), step)
         if progress is not None:
             progress(a, k + 1, len(command.axes))
     factors = {a: np.ones(n) for a in command.axes}

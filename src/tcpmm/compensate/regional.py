@@ -74,10 +74,11 @@ def pick(per: dict, before: np.ndarray, n_reg: int, vouched, margin) -> np.ndarr
     return out
 
 
-def tcp_errors(machines, comp, commands: dict, plants=None) -> np.ndarray:
+def tcp_errors(machines, comp, commands: dict, plants=None, progress=None) -> np.ndarray:
     """TCP error per machine, axis and sample of the position ``commands`` per axis, the
     path to follow less the TCP, shape (machines, axes, n); each axis run as ``plants``
-    says (:func:`.learning.learn_axis`), default the command alone [m]."""
+    says (:func:`.learning.learn_axis`), default the command alone; ``progress`` called
+    with no argument after each machine [m]."""
     t = comp.reference.time_s
     axes = comp.reference.axes
     out = np.empty((len(machines), len(axes), t.size))
@@ -85,6 +86,8 @@ def tcp_errors(machines, comp, commands: dict, plants=None) -> np.ndarray:
         for j, a in enumerate(axes):
             y = (plants or {}).get(a, plain)(m.axes[a], t, commands[a]).tcp
             out[i, j] = comp.target.positions[a] - y
+        if progress is not None:
+            progress()
     return out
 
 
@@ -95,7 +98,7 @@ def composed_errors(machines, comp, factors: dict, plants=None) -> np.ndarray:
 
 
 def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, before, check,
-                   judge_errors, steps, plants=None):
+                   judge_errors, steps, plants=None, progress=None):
     """The composed command lowered region by region until ``check(before, after)`` names
     no region and passes the circle (module docstring); ``(factors, after)``, or ``None``.
 
@@ -119,6 +122,8 @@ def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, befor
         The shares a region may take, ascending [-].
     plants : dict, optional
         Per axis how it runs a command [-].
+    progress : callable, optional
+        Called with no argument after each round run, at most :data:`ROUNDS` times [-].
     """
     axes = comp.reference.axes
     levels = levels.copy()
@@ -126,6 +131,8 @@ def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, befor
         factors = {a: profile(levels[:, j], labels, comp.reference.period_s)
                    for j, a in enumerate(axes)}
         after = judge_errors(composed_errors(machines, comp, factors, plants))
+        if progress is not None:
+            progress()
         bad, circle_ok = check(before, after)
         if not bad and circle_ok:
             return factors, after

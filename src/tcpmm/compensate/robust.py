@@ -145,13 +145,13 @@ def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.n
     return np.abs(distance_to_polyline(p - err.T, p, t, t, window_s, False)[0])
 
 
-def axis_errors(machines, comp, plants=None) -> np.ndarray:
+def axis_errors(machines, comp, plants=None, progress=None) -> np.ndarray:
     """TCP error per machine, axis, share and sample, shape (m, axes, levels, n); each
     axis run as ``plants`` says (:func:`.learning.learn_axis`), default the command
-    alone [m]."""
+    alone; ``progress`` called with no argument after each machine at each share [m]."""
     ref = comp.reference.positions
     return np.stack([tcp_errors(machines, comp, {a: p + lev * comp.correction[a]
-                                                 for a, p in ref.items()}, plants)
+                                                 for a, p in ref.items()}, plants, progress)
                      for lev in LEVELS], axis=2)
 
 
@@ -331,13 +331,14 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
 
 
 def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray, guard,
-                    one: np.ndarray, plants=None):
+                    one: np.ndarray, plants=None, progress=None):
     """Shares chosen region by region (:mod:`.regional`), run on every draw: ``(factors,
     figures)`` where the draws vouch for them everywhere and, on the worst draw, no region,
     spike or G is above what one share per axis gives (its figures ``one``) by more than
     the margin and some region is below it by more; else ``None``: where they gain
     nothing, the simpler choice stays. ``per``: the figures of each combination of shares
-    per axis (:func:`judged`), each axis run as ``plants`` says [-]."""
+    per axis (:func:`judged`), each axis run as ``plants`` says; ``progress`` called with
+    no argument after each round of :func:`.regional.settle_regions` [-]."""
     n_reg = labels.max() + 1
     levels = np.array(LEVELS)[pick(per, before, n_reg, vouched, margin)]
     if np.all(levels == levels[0]):
@@ -352,11 +353,9 @@ def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.nd
                 bad.update(labels[at].tolist())
         return sorted(bad), all(vouched(b[:, j], a[:, j]) for j in range(n_reg, b.shape[1]))
 
-    def judge_errors(e):
-        return figures(e, comp.target, labels, guard, True)
-
-    got = settle_regions(machines, comp, levels, labels, before, check, judge_errors, LEVELS,
-                         plants)
+    got = settle_regions(machines, comp, levels, labels, before, check,
+                         lambda e: figures(e, comp.target, labels, guard, True), LEVELS,
+                         plants, progress)
     if got is None:
         return None
     worst, worst_one = got[1].max(axis=0), one.max(axis=0)

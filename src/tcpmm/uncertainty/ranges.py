@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from ..ident.frf.excited import EXCITED_SHARE
 from ..ident.friction.nutstiffness import RESOLUTION_STEPS
 from ..ident.physical.structure import STIFFNESS_FLOOR
 from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
@@ -60,9 +61,6 @@ BED_MASS_KG, BED_ZETA = 1500.0, 0.05
 #: whose excitation starts above the mode sees only its mass or stiffness line, where the
 #: damping barely shows): the range machine tools' bolted and guided structures span [-].
 STRUCTURE_ZETA_RANGE = (0.01, 0.1)
-#: Share of its peak power above which a frequency counts as excited by the sweep (30 dB;
-#: a log sweep of 2-1000 Hz spans 27 dB) [-].
-EXCITED_SHARE = 1e-3
 #: Per open structural damping, the damping, mass and stiffness of its mode [-].
 MODE_DAMPING = {"column_damping": ("C_h", "M_h", "K_h"), "bed_damping": ("C_b", "M_b", "K_b")}
 #: Per open structure, the mass and stiffness whose mode it stands for [-].

@@ -1,8 +1,9 @@
 """Spectra and frequency responses from records: signal conditioning
 (:mod:`~tcpmm.ident.frf.signals`), Welch FRF estimators against the measured input or the
 injected reference (:mod:`~tcpmm.ident.frf.response`), and the sampling and band checks
-behind them (:mod:`~tcpmm.ident.frf._spectral`), and the response of a sweep from the whole
-record (:mod:`~tcpmm.ident.frf.wholerecord`)."""
+behind them (:mod:`~tcpmm.ident.frf._spectral`), the response of a sweep from the whole
+record (:mod:`~tcpmm.ident.frf.wholerecord`), and the frequencies a sweep excites and what
+the FRFs' band leaves out of them (:mod:`~tcpmm.ident.frf.excited`)."""
 
 from .response import (
     FRF,

@@ -1,0 +1,181 @@
+"""Which frequencies a sweep's excitation reaches, and what the FRFs' band leaves out of them.
+
+A bin the excitation does not reach holds noise, however coherent leakage makes it look:
+a check that reads a static gain there judges the noise. And where the FRFs' band
+(``--band``) leaves out frequencies the sweep excites, the fit sees nothing of a mode that
+lies there: the fitted mechanics place it where the data do not constrain them, and what
+follows from them (the sampled loop's stability, the structure's static deflection) can be
+absurd with the servo settings and the sensors right. :class:`BandCover` holds the two
+spans and says so in words a message can carry.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal
+
+from ...mechanics.statespace import plant
+from ._spectral import remove_trend, segmenting
+
+__all__ = ["EXCITED_SHARE", "BandCover", "band_cover", "excited_bins", "lowest_band_hz",
+           "mode_frequencies_hz"]
+
+#: Share of its peak power above which a frequency counts as excited by the sweep (30 dB;
+#: a log sweep of 2-1000 Hz spans 27 dB) [-].
+EXCITED_SHARE = 1e-3
+#: Lowest frequency of the FRFs' band by default [Hz]: below the modes of feed axes, and
+#: what a sweep's excitation holds below it is mostly the leakage of its start.
+LOWEST_BAND_HZ = 2.0
+
+
+def lowest_band_hz(duration_s: float) -> float:
+    """Lowest frequency the FRFs' band starts at by default: :data:`LOWEST_BAND_HZ`, or
+    eight periods over the record, whichever is higher [Hz].
+
+    Parameters
+    ----------
+    duration_s : float
+        Length of the sweep record [s].
+    """
+    return max(LOWEST_BAND_HZ, 8.0 / duration_s)
+
+
+def _excitation_power(frf, excitation) -> tuple[np.ndarray, np.ndarray] | None:
+    """Welch spectrum of the excitation, segmented as the FRF was, and whether each of its
+    bins above 0 Hz holds more than :data:`EXCITED_SHARE` of the peak; ``None`` where the
+    FRF does not say how it was segmented [Hz, -]."""
+    meta = getattr(frf, "meta", None) or {}
+    if excitation is None or not {"nperseg", "fs_hz", "window", "overlap"} <= meta.keys():
+        return None
+    m, fs_hz = int(meta["nperseg"]), float(meta["fs_hz"])
+    r = remove_trend(np.asarray(excitation, dtype=float), meta.get("detrend", 1))
+    if r.size < m:
+        return None
+    _, noverlap, _ = segmenting(r.size, fs_hz, m, None, float(meta["overlap"]))
+    f, p = signal.welch(r, fs=fs_hz, window=meta["window"], nperseg=m, noverlap=noverlap,
+                        detrend="constant")
+    p = np.where(f > 0.0, p, 0.0)
+    return f, p > EXCITED_SHARE * float(np.max(p))
+
+
+def excited_bins(frf, excitation) -> np.ndarray:
+    """Whether the excitation reaches each bin of an FRF (:data:`EXCITED_SHARE`); every bin
+    where the FRF does not say how it was segmented.
+
+    Parameters
+    ----------
+    frf : FRF
+        An FRF of the sweep, estimated against ``excitation`` [-].
+    excitation : array_like or None
+        The sweep's excitation, the record's samples [A].
+
+    Returns
+    -------
+    ndarray of bool
+        Mask over the FRF's bins [-].
+    """
+    found = _excitation_power(frf, excitation)
+    f_hz = np.asarray(frf.freq_hz, dtype=float)
+    if found is None:
+        return np.ones(f_hz.shape, dtype=bool)
+    f, excited = found
+    k = np.clip(np.searchsorted(f, f_hz - 0.5 * (f[1] - f[0])), 0, f.size - 1)
+    return excited[k]
+
+
+def mode_frequencies_hz(mechanics) -> np.ndarray:
+    """Natural frequencies of the mechanics' oscillating modes, increasing [Hz].
+
+    Parameters
+    ----------
+    mechanics : AxisMechanics
+        The axis' mechanics [SI].
+    """
+    ev = np.linalg.eigvals(plant(mechanics).A)
+    osc = ev[np.abs(ev.imag) > 1e-9 * np.maximum(np.abs(ev), 1.0)]
+    return np.unique(np.abs(osc[osc.imag > 0])) / (2.0 * np.pi)
+
+
+@dataclass(frozen=True)
+class BandCover:
+    """The band of a sweep's FRFs and the span its excitation reaches.
+
+    Parameters
+    ----------
+    band_hz : tuple of float
+        Lowest and highest bin of the FRFs [Hz].
+    excited_hz : tuple of float
+        Lowest and highest frequency the excitation reaches (:data:`EXCITED_SHARE`) [Hz].
+    asked : tuple of bool
+        Whether the user set the band's lower end, its upper end; an end the user did not
+        set leaves out nothing [-].
+    floor_hz : float
+        Lowest frequency a band may start at (:func:`lowest_band_hz`): what the sweep's
+        leakage excites below it is left out of any band [Hz].
+    """
+
+    band_hz: tuple[float, float]
+    excited_hz: tuple[float, float]
+    asked: tuple[bool, bool] = (True, True)
+    floor_hz: float = 0.0
+
+    def left_out(self, below: bool = True, above: bool = True) -> list[tuple[float, float]]:
+        """The spans the sweep excites outside the band, below it and above it [Hz]."""
+        (lo, hi), (e_lo, e_hi) = self.band_hz, self.excited_hz
+        e_lo = max(e_lo, self.floor_hz)
+        below, above = below and self.asked[0], above and self.asked[1]
+        return ([(e_lo, lo)] if below and e_lo < lo else []) + (
+            [(hi, e_hi)] if above and e_hi > hi else [])
+
+    def words(self, mechanics, below: bool = True, above: bool = True) -> str | None:
+        """Why the band, not the settings, is the likely cause of what follows from
+        ``mechanics``: the modes they put where the sweep excites and the band does not
+        reach, which the FRFs therefore do not show; ``None`` where there are none.
+
+        Parameters
+        ----------
+        mechanics : AxisMechanics
+            The fitted mechanics [SI].
+        below, above : bool
+            Look below the band, above it [-].
+        """
+        modes = mode_frequencies_hz(mechanics)
+        spans = [(a, b) for a, b in self.left_out(below, above)
+                 if np.any((modes > a) & (modes < b))]
+        modes = [f for f in modes if any(a < f < b for a, b in spans)]
+        if not modes:
+            return None
+        lo, hi = self.band_hz
+        out = " and ".join(f"{a:.4g}-{b:.4g} Hz" for a, b in spans)
+        at = ", ".join(f"{f:.4g}" for f in modes[:3]) + (", ..." if len(modes) > 3 else "")
+        return (f"the FRFs' band {lo:.4g}-{hi:.4g} Hz (--band) leaves out {out}, which the "
+                f"sweep excites, and there the fitted mechanics put "
+                f"{'a mode' if len(modes) == 1 else 'modes'} ({at} Hz) the FRFs do not "
+                f"show: that is the likely cause; widen --band to take in {out}")
+
+
+def band_cover(frf, excitation, asked: tuple[bool, bool] = (True, True),
+               floor_hz: float = 0.0) -> BandCover | None:
+    """The band of an FRF and the span its sweep's excitation reaches; ``None`` where the
+    FRF does not say how it was segmented or nothing is excited.
+
+    Parameters
+    ----------
+    frf : FRF
+        An FRF of the sweep, estimated against ``excitation`` [-].
+    excitation : array_like or None
+        The sweep's excitation, the record's samples [A].
+    asked : tuple of bool
+        Whether the user set the band's lower end, its upper end [-].
+    floor_hz : float
+        Lowest frequency a band may start at (:func:`lowest_band_hz`) [Hz].
+    """
+    found = _excitation_power(frf, excitation)
+    if found is None or not np.any(found[1]):
+        return None
+    f = found[0][found[1]]
+    f_hz = np.asarray(frf.freq_hz, dtype=float)
+    return BandCover((float(f_hz[0]), float(f_hz[-1])), (float(f[0]), float(f[-1])),
+                     (bool(asked[0]), bool(asked[1])), float(floor_hz))

@@ -35,7 +35,7 @@ from .friction.split import stribeck_from_record
 from .gates.columns import check_record_units, column_findings
 from .gates.finding import SuspectModelError
 from .gates.findings import axis_findings
-from .gates.masses import check_static_gains
+from .gates.masses import check_static_gains, unjudged_static_gains
 from .gates.timebase import time_base_findings
 from .identification import AxisFit, AxisIdentification, Identification
 from .options import MIN_COHERENCE, IdentifyOptions
@@ -182,20 +182,25 @@ def _axis_named(run: AxisRun):
 def _static_gains_first(run: AxisRun, failed: InputError) -> None:
     """Where a step fails on mechanics beyond any machine tool, a column swapped or in the
     wrong unit is the likely cause, and the FRFs' static gains, which need no fitted model,
-    say which: raise that first, with what the step said (a sweep that does not excite the
-    low band reads a static gain there too, and the step's own words then tell). No model
-    was made, so there is none to write as suspect
-    (:func:`~tcpmm.ident.gates.masses.check_static_gains`)."""
+    say which: raise that first, with what the step said. Only the bins the sweep excites
+    are judged; where the sweep or the band leaves none, the likely cause is that the FRFs
+    lack the low frequencies, and that is raised first instead
+    (:func:`~tcpmm.ident.gates.masses.unjudged_static_gains`). No model was made, so there
+    is none to write as suspect (:func:`~tcpmm.ident.gates.masses.check_static_gains`)."""
     if run.frfs is None:
         return
     sweep = run.sweep.source or f"{run.name}/sweep.csv"
     found = check_static_gains(run.name, run.frfs.frfs, run.cfg.lead_m / (2 * math.pi), sweep,
-                               MIN_COHERENCE)
+                               MIN_COHERENCE, excitation=run.sweep.excitation_A)
     if found:
         raise InputError(
             f"identification stopped; the FRFs' static gains, which need no fitted model, "
             f"read: {' | '.join(str(f) for f in found)}. The step that stopped said: "
             f"{failed}") from None
+    unjudged = unjudged_static_gains(run.frfs.frfs, run.sweep.excitation_A, MIN_COHERENCE)
+    if unjudged:
+        raise InputError(f"identification stopped; {unjudged}. The step that stopped said: "
+                         f"{failed}") from None
 
 
 def identify_axis(

@@ -307,7 +307,8 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
                                  ident.fitted_response(tf, frf.freq_hz)[good], sweep,
                                  remedy)
     out += check_sampled_loop(name, axis, sweep)
-    out += mass_findings(name, ident.frfs, axis.mechanics, sweep, MIN_COHERENCE)
+    out += mass_findings(name, ident.frfs, axis.mechanics, sweep, MIN_COHERENCE,
+                         records.sweep.excitation_A)
     if records.friction is not None and axis.friction is not None:
         runs = records.friction.source or f"{name}/friction.csv"
         out += check_static_friction_vs_drive(name, axis, runs)

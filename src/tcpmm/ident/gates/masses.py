@@ -15,7 +15,9 @@ frequency domain, also on a sweep that stands still:
   gave up the low band for its modes.
 
 Both judge the good bins up to a third of the model's first mode (and 15 Hz), where a
-mode moves a static gain by at most 12 %.
+mode moves a static gain by at most 12 %, and of them only those the sweep's excitation
+reaches: elsewhere leakage can make noise look coherent, and a sweep that starts above the
+band would be judged on it. :func:`unjudged_static_gains` says why no bin was left.
 """
 
 from __future__ import annotations
@@ -25,12 +27,13 @@ import math
 import numpy as np
 
 from ...mechanics.statespace import plant
+from ..frf.excited import band_cover, excited_bins
 from .columns import RATIO_RANGE
 from .finding import Finding
 from .sanity import LOW_BAND_HZ, friction_holds_sweep
 
 __all__ = ["MASS_RANGE", "MIN_BINS", "MODE_MARGIN", "check_mass_line", "check_static_gains",
-           "first_mode_hz", "low_band", "mass_findings"]
+           "first_mode_hz", "low_band", "mass_findings", "unjudged_static_gains"]
 
 #: Ratio of the inertia the mass line of ``G_M`` shows to the identified one taken as
 #: agreeing. On free axes of six machines of an independent simulator the two agree within
@@ -61,8 +64,10 @@ def first_mode_hz(mechanics) -> float:
     return float(np.min(osc)) / (2.0 * math.pi) if osc.size else math.inf
 
 
-def low_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ) -> np.ndarray:
-    """Good bins up to ``top_hz`` (at most :data:`LOW_BAND_HZ`).
+def low_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ,
+             excitation=None) -> np.ndarray:
+    """Good bins up to ``top_hz`` (at most :data:`LOW_BAND_HZ`) that the excitation
+    reaches (:func:`~tcpmm.ident.frf.excited.excited_bins`).
 
     Parameters
     ----------
@@ -72,6 +77,8 @@ def low_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ) -> np.ndarr
         Bins with a lower coherence are not used [-].
     top_hz : float
         Highest frequency used [Hz].
+    excitation : array_like, optional
+        The sweep's excitation; ``None``: every bin counts as excited [A].
 
     Returns
     -------
@@ -81,11 +88,14 @@ def low_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ) -> np.ndarr
     """
     f = np.asarray(frf.freq_hz, dtype=float)
     band = (np.asarray(frf.coherence) >= min_coherence) & (f <= min(top_hz, LOW_BAND_HZ))
+    if excitation is not None:
+        band &= excited_bins(frf, excitation)
     return band if np.count_nonzero(band) >= MIN_BINS else np.zeros(f.shape, dtype=bool)
 
 
 def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
-                       min_coherence: float, top_hz: float = LOW_BAND_HZ) -> list[Finding]:
+                       min_coherence: float, top_hz: float = LOW_BAND_HZ,
+                       excitation=None) -> list[Finding]:
     """``G_T`` against the lead and ``G_tcp`` against one in the low band.
 
     Parameters
@@ -102,6 +112,8 @@ def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
         Bins with a lower coherence are not used [-].
     top_hz : float
         Highest frequency judged (:func:`low_band`) [Hz].
+    excitation : array_like, optional
+        The sweep's excitation: only the bins it reaches are judged [A].
 
     Returns
     -------
@@ -119,7 +131,7 @@ def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
         frf = frfs.get(name)
         if frf is None:
             continue
-        low = low_band(frf, min_coherence, top_hz)
+        low = low_band(frf, min_coherence, top_hz, excitation)
         if not np.any(low):
             continue
         gain = float(np.median(np.abs(np.asarray(frf.H)[low]))) / expected
@@ -134,7 +146,7 @@ def check_static_gains(axis: str, frfs: dict, R_L: float, source: str,
 
 
 def check_mass_line(axis: str, frf, mechanics, source: str, min_coherence: float,
-                    top_hz: float = LOW_BAND_HZ) -> list[Finding]:
+                    top_hz: float = LOW_BAND_HZ, excitation=None) -> list[Finding]:
     """The identified rigid inertia against the mass line of ``G_M``.
 
     Parameters
@@ -151,6 +163,8 @@ def check_mass_line(axis: str, frf, mechanics, source: str, min_coherence: float
         Bins with a lower coherence are not used [-].
     top_hz : float
         Highest frequency judged (:func:`low_band`) [Hz].
+    excitation : array_like, optional
+        The sweep's excitation: only the bins it reaches are judged [A].
 
     Returns
     -------
@@ -158,7 +172,7 @@ def check_mass_line(axis: str, frf, mechanics, source: str, min_coherence: float
         One when the ratio is outside :data:`MASS_RANGE`; none where friction holds the
         bottom of the band (:func:`~tcpmm.ident.gates.sanity.friction_holds_sweep`) [-].
     """
-    low = low_band(frf, min_coherence, top_hz)
+    low = low_band(frf, min_coherence, top_hz, excitation)
     if not np.any(low) or friction_holds_sweep(frf, min_coherence) is not None:
         return []
     H = np.asarray(frf.H)[low]
@@ -179,7 +193,7 @@ def check_mass_line(axis: str, frf, mechanics, source: str, min_coherence: float
 
 
 def mass_findings(axis: str, frfs: dict, mechanics, source: str,
-                  min_coherence: float) -> list[Finding]:
+                  min_coherence: float, excitation=None) -> list[Finding]:
     """Both gates of this module on one identified axis, in the band
     :data:`MODE_MARGIN` times below the model's first mode [-].
 
@@ -195,9 +209,49 @@ def mass_findings(axis: str, frfs: dict, mechanics, source: str,
         The sweep's file, for the message [-].
     min_coherence : float
         Bins with a lower coherence are not used [-].
+    excitation : array_like, optional
+        The sweep's excitation: only the bins it reaches are judged [A].
     """
     top = first_mode_hz(mechanics) / MODE_MARGIN
-    out = check_static_gains(axis, frfs, mechanics.R_L, source, min_coherence, top)
+    out = check_static_gains(axis, frfs, mechanics.R_L, source, min_coherence, top, excitation)
     if "G_M" in frfs:
-        out += check_mass_line(axis, frfs["G_M"], mechanics, source, min_coherence, top)
+        out += check_mass_line(axis, frfs["G_M"], mechanics, source, min_coherence, top,
+                               excitation)
     return out
+
+
+def unjudged_static_gains(frfs: dict, excitation, min_coherence: float,
+                          top_hz: float = LOW_BAND_HZ) -> str | None:
+    """Why :func:`check_static_gains` could judge neither ``G_T`` nor ``G_tcp``: the sweep
+    excites nothing low enough, or the FRFs' band starts above it; ``None`` where it judged
+    one, has neither to judge, or lacks coherent bins only.
+
+    Parameters
+    ----------
+    frfs : dict
+        The sweep's FRFs by name [-].
+    excitation : array_like
+        The sweep's excitation [A].
+    min_coherence : float
+        Bins with a lower coherence are not used [-].
+    top_hz : float
+        Highest frequency judged (:func:`low_band`) [Hz].
+    """
+    named = [frfs[n] for n in ("G_T", "G_tcp") if n in frfs]
+    if not named or any(np.any(low_band(f, min_coherence, top_hz, excitation)) for f in named):
+        return None
+    top, cover = min(top_hz, LOW_BAND_HZ), band_cover(named[0], excitation)
+    what = "the FRFs' static gains, which need no fitted model, could not be checked"
+    if cover is not None and cover.excited_hz[0] > top:
+        start = cover.excited_hz[0]
+        return (f"the sweep excites nothing up to {top:.3g} Hz (its excitation starts at "
+                f"{start:.4g} Hz), so {what}: their bins there hold noise. Nor do the FRFs "
+                f"show what lies below {start:.4g} Hz, such as the structure's modes, which "
+                "is the likely cause; give a sweep covering those frequencies, from a few "
+                "hertz up")
+    if named[0].freq_hz[0] > top:
+        return (f"the FRFs' band starts at {named[0].freq_hz[0]:.4g} Hz (--band), above the "
+                f"{top:.3g} Hz up to which they are read, so {what}. Nor do the FRFs show "
+                "what lies below it, such as the structure's modes, which is the likely "
+                "cause; widen --band to start at a few hertz")
+    return None  # excited bins in reach, too few of them coherent: the step says why

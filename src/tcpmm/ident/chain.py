@@ -295,7 +295,8 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None,
                 axes[run.name] = result()
             except InputError as exc:  # a fit knows its numbers, not the bundle's file
                 raise exc.in_file(getattr(bundle, "path", None)) from None
-            findings += axis_findings(axes[run.name], bundle.axes[run.name], run.cfg)
+            findings += axis_findings(axes[run.name], bundle.axes[run.name], run.cfg,
+                                      (options.fmin_hz, options.fmax_hz))
             if progress is not None:
                 progress(run.name)
     if findings and not options.accept_suspect:

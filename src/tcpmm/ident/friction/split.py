@@ -209,14 +209,20 @@ def _split_of_runs(runs: _Runs, mech, rel_std: float, given, axis) -> FrictionSp
 def _warn_sweep_outside(runs: _Runs, lm, axis) -> None:
     """Say where the travelling sweep's deflection reads a share outside 0 to 1, which the
     split then leaves for the friction runs': a TCP device zeroed apart from the scale
-    reads so [-]."""
+    reads so, and so does a structure whose stiffness the FRFs could not show, their band
+    starting above its modes [-]."""
     share = sweep_share_outside(runs.sweep, runs.mechanics, runs.curve, lm, runs.C_t_std)
-    if share is not None:
-        warnings.warn(f"axis {axis or runs.record.axis}: the travelling sweep's deflection "
-                      f"between scale and TCP ({runs.sweep.deflection * 1e6:.2f} um) reads a "
-                      f"guideway share of {share:.2f}, outside 0 to 1, so the share is "
-                      "taken from the friction runs; is the TCP device zeroed to the scale "
-                      "(formats.md)?", InputWarning, stacklevel=3)
+    if share is None:
+        return
+    cover = getattr(runs.sweep, "cover", None)
+    band = None if cover is None else cover.words(runs.mechanics, above=False)
+    zeroed = "is the TCP device zeroed to the scale (formats.md)?"
+    warnings.warn(f"axis {axis or runs.record.axis}: the travelling sweep's deflection "
+                  f"between scale and TCP ({runs.sweep.deflection * 1e6:.2f} um) reads a "
+                  f"guideway share of {share:.2f}, outside 0 to 1, so the share is taken "
+                  f"from the friction runs; "
+                  f"{zeroed if band is None else f'{band}; failing that, {zeroed}'}",
+                  InputWarning, stacklevel=3)
 
 
 def _with_open_quantities(split, nut, at_resolution: bool, first):

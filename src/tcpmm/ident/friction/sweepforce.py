@@ -81,12 +81,17 @@ class SweepDeflection:
     drift : float
         Change of the deflection over the record where it drifts (:func:`deflection_drift`),
         else 0 [m].
+    cover : BandCover, optional
+        What the FRFs' band leaves out of the frequencies the sweep excites: the structure's
+        stiffness, which turns the deflection into a share, rests on the FRFs below its
+        modes (:class:`~tcpmm.ident.frf.excited.BandCover`) [-].
     """
 
     velocity: float
     deflection: float
     deflection_std: float
     drift: float = 0.0
+    cover: object = None
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report, SI units [-]."""

@@ -26,6 +26,7 @@ import math
 import numpy as np
 
 from ...servo.sampled import sampled_spectral_radius
+from ..frf.excited import band_cover, lowest_band_hz
 from ..friction.steadycurve import slowest_plateau, stribeck_from_record
 from ..friction.sweepforce import travel_speed
 from ..lti.goodness import fit_percent
@@ -253,9 +254,12 @@ def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep",
                     f"{fit_percent(H, H_model):.3g} %)", data, remedy)]
 
 
-def check_sampled_loop(name: str, axis, data: str = "the sweep") -> list[Finding]:
+def check_sampled_loop(name: str, axis, data: str = "the sweep",
+                       cover=None) -> list[Finding]:
     """The identified position loop, as the drive samples it, unstable (spectral radius of
-    the lifted sampled loop at 1 or above): a simulation of the model diverges.
+    the lifted sampled loop at 1 or above): a simulation of the model diverges. Where the
+    FRFs' band leaves out a mode the fitted mechanics put where the sweep excites, the
+    remedy names the band before the servo settings.
 
     Parameters
     ----------
@@ -265,6 +269,8 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep") -> list[Finding
         The identified axis [SI].
     data : str
         The sweep record, for the message [-].
+    cover : BandCover, optional
+        What the band the user set leaves out (:func:`~tcpmm.ident.frf.excited.band_cover`) [-].
 
     Returns
     -------
@@ -274,13 +280,14 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep") -> list[Finding
     rho = sampled_spectral_radius(axis.mechanics, axis.servo)
     if rho < 1.0:
         return []
+    servo = "check the servo settings in machine.yaml (gains, loop periods) and the sweep"
+    band = None if cover is None else cover.words(axis.mechanics)
     return [Finding(name, "spectral radius of the sampled position loop", rho, "",
                     "at or above 1: the loop as the drive samples it is unstable", data,
-                    "check the servo settings in machine.yaml (gains, loop periods) and the "
-                    "sweep")]
+                    servo if band is None else f"{band}; failing that, {servo}")]
 
 
-def axis_findings(ident, records, cfg) -> list[Finding]:
+def axis_findings(ident, records, cfg, band_hz=(None, None)) -> list[Finding]:
     """Every model check on one identified axis.
 
     Parameters
@@ -291,6 +298,8 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
         Its records from the bundle [-].
     cfg : AxisConfig
         Its bundle configuration [-].
+    band_hz : tuple of float or None
+        The band the user set for the FRFs, ``None`` for an end not set [Hz].
 
     Returns
     -------
@@ -306,7 +315,10 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
         out += check_fit_percent(name, tf, frf.H[good],
                                  ident.fitted_response(tf, frf.freq_hz)[good], sweep,
                                  remedy)
-    out += check_sampled_loop(name, axis, sweep)
+    asked = tuple(b is not None for b in band_hz)
+    cover = (band_cover(ident.frfs["G_M"], records.sweep.excitation_A, asked,
+                        lowest_band_hz(records.sweep.duration_s)) if any(asked) else None)
+    out += check_sampled_loop(name, axis, sweep, cover)
     out += mass_findings(name, ident.frfs, axis.mechanics, sweep, MIN_COHERENCE,
                          records.sweep.excitation_A)
     if records.friction is not None and axis.friction is not None:

@@ -127,8 +127,10 @@ def warn_friction_holds_sweep(name: str, sweep, frf, min_coherence: float,
     return held
 
 
-def warn_unstable_sampled_loop(name: str, axis, undetermined) -> float:
-    """Warn when the identified axis's loop is unstable as the drive samples it.
+def warn_unstable_sampled_loop(name: str, axis, undetermined, cover=None) -> float:
+    """Warn when the identified axis's loop is unstable as the drive samples it; where the
+    FRFs' band leaves out a mode the fitted mechanics put where the sweep excites, name
+    the band as the likely cause before the servo settings.
 
     Parameters
     ----------
@@ -138,6 +140,8 @@ def warn_unstable_sampled_loop(name: str, axis, undetermined) -> float:
         The identified axis [SI].
     undetermined : list of str
         Parameters the FRFs did not determine [-].
+    cover : BandCover, optional
+        What the band the user set leaves out (:func:`~tcpmm.ident.frf.excited.band_cover`) [-].
 
     Returns
     -------
@@ -148,10 +152,14 @@ def warn_unstable_sampled_loop(name: str, axis, undetermined) -> float:
     if rho >= 1.0:
         suspects = (f"; the FRFs did not determine {', '.join(undetermined)}"
                     if undetermined else "")
+        band = None if cover is None else cover.words(axis.mechanics)
+        check = ("Check the servo settings in machine.yaml and the sweep." if band is None else
+                 f"{band[0].upper()}{band[1:]}; failing that, check the servo settings in "
+                 "machine.yaml and the sweep.")
         warnings.warn(
             f"axis {name}: the identified position loop is unstable as the drive samples it "
             f"(spectral radius {rho:.4g} of the sampled loop), so a simulation of this model "
-            f"diverges{suspects}. Check the servo settings in machine.yaml and the sweep.",
+            f"diverges{suspects}. {check}",
             InputWarning,
             stacklevel=3,
         )

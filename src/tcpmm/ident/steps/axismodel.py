@@ -60,7 +60,8 @@ def build_axis(run: AxisRun, options: IdentifyOptions) -> AxisModel:
             phys, kept.mechanics, kept.curve, kept.split,
             None if model_friction is None else model_friction.presliding_fit),
     )
-    return AxisModel(axis, timing, warn_unstable_sampled_loop(name, axis, phys.undetermined))
+    return AxisModel(axis, timing, warn_unstable_sampled_loop(name, axis, phys.undetermined,
+                                                                run.frfs.cover))
 
 
 def axis_config_to_servo(cfg, current_bandwidth_hz=None, timing=None) -> ServoParams:

@@ -5,7 +5,7 @@ friction runs, in one frozen :class:`FitContext`; and the two fits it serves,
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -71,10 +71,12 @@ def fit_context(run: AxisRun, options: IdentifyOptions) -> FitContext:
         ``fit_current_loop`` and ``guideway_share`` [-].
     """
     cfg, sweep, runs = run.cfg, run.sweep, run.runs
+    deflection = None if runs is None else sweep_deflection(sweep, run.excitation.velocity)
+    if deflection is not None and run.frfs.cover is not None:
+        deflection = replace(deflection, cover=run.frfs.cover)
     return FitContext(run.name, cfg, options.fit_current_loop, run.tf_fits,
                       current_hold(sweep, cfg.servo.velocity_loop_period_s), runs,
-                      options.guideway_share,
-                      None if runs is None else sweep_deflection(sweep, run.excitation.velocity))
+                      options.guideway_share, deflection)
 
 
 def current_hold(record, T_v: float) -> float:

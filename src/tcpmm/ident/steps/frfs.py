@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..frf.excited import BandCover, band_cover, lowest_band_hz
 from ..frf.response import reduced_frfs
 from ..options import MIN_COHERENCE
 from ..physical.fitdata import FRFData
@@ -30,11 +31,15 @@ class BandFRFs:
         Lower end of the band [Hz].
     fmax_hz : float, optional
         Upper end; ``None``: the bins the excitation reaches [Hz].
+    cover : BandCover, optional
+        What a band the user set leaves out of the frequencies the sweep excites; ``None``
+        without such a band [-].
     """
 
     frfs: dict
     fmin_hz: float
     fmax_hz: float | None = None
+    cover: BandCover | None = None
 
     @property
     def band(self) -> tuple:
@@ -53,7 +58,8 @@ def measure_frfs(run: AxisRun, options: IdentifyOptions) -> BandFRFs:
         Its band, ``fmin_hz`` and ``fmax_hz`` [-].
     """
     sweep = run.sweep
-    fmin = options.fmin_hz if options.fmin_hz is not None else max(2.0, 8.0 / sweep.duration_s)
+    floor = lowest_band_hz(sweep.duration_s)
+    fmin = options.fmin_hz if options.fmin_hz is not None else floor
     frfs = reduced_frfs(
         sweep.excitation_A,
         sweep.current_cmd_A,
@@ -65,7 +71,9 @@ def measure_frfs(run: AxisRun, options: IdentifyOptions) -> BandFRFs:
         fmax_hz=options.fmax_hz,
         file=sweep.source,
     )
-    return BandFRFs(frfs, fmin, options.fmax_hz)
+    asked = (options.fmin_hz is not None, options.fmax_hz is not None)
+    cover = band_cover(frfs["G_M"], sweep.excitation_A, asked, floor) if any(asked) else None
+    return BandFRFs(frfs, fmin, options.fmax_hz, cover)
 
 
 def frf_weights(frf) -> np.ndarray:

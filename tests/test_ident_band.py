@@ -1,0 +1,96 @@
+"""A band that misses the axis's dynamics, named as the cause: ``--band`` leaving out the
+frequencies where the fitted mechanics put their modes, or a sweep that excites nothing
+where the static gains are read. Bench C's modes lie at 24-746 Hz (``truth.yaml``); its
+sweep excites 2-1000 Hz, so a band of 2-40 Hz misses the axial modes, one of 100-400 Hz
+the structure's, and the sweep cut to start at 150 Hz both the structure and the static
+gains."""
+
+import warnings
+
+import pytest
+
+from conftest import bench_path
+from studies.cut_sweep import cut_bundle
+from tcpmm.errors import InputError
+from tcpmm.ident import gates
+from tcpmm.ident.chain import identify_bundle
+from tcpmm.ident.frf.excited import BandCover, mode_frequencies_hz
+from tcpmm.ident.gates.finding import SuspectModelError
+from tcpmm.io.bundle import read_bundle
+
+
+def _identify(bundle, band):
+    """``(error text or None, warning texts)`` of identifying ``bundle`` in ``band`` [Hz]."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            identify_bundle(read_bundle(bundle), *band, verdict=False)
+            error = None
+        except InputError as exc:
+            error = exc
+    return error, [str(w.message) for w in caught]
+
+
+@pytest.fixture(scope="module")
+def up_to_40_hz():
+    """Bench C in 2-40 Hz: below the axial modes, whose fit makes X's sampled loop
+    unstable."""
+    return _identify(bench_path("c") / "bundle", (2.0, 40.0))
+
+
+@pytest.fixture(scope="module")
+def from_100_hz():
+    """Bench C in 100-400 Hz: above the structure's modes, whose fit makes Y's sweep
+    deflection read a guideway share far outside 0 to 1."""
+    return _identify(bench_path("c") / "bundle", (100.0, 400.0))
+
+
+@pytest.fixture(scope="module")
+def cut_at_150_hz(tmp_path_factory):
+    """Bench C with each sweep cut to start at 150 Hz, identified in the default band."""
+    bundle = cut_bundle(bench_path("c") / "bundle", tmp_path_factory.mktemp("cut150"), 150.0)
+    return _identify(bundle, (None, None))
+
+
+def test_an_unstable_loop_of_a_band_below_the_modes_names_the_band(up_to_40_hz):
+    error, said = up_to_40_hz
+    assert isinstance(error, SuspectModelError)
+    (loop,) = [f for f in error.findings if "spectral radius" in f.parameter]
+    assert loop.axis == "X" and loop.value > 1.0
+    assert "band 2.136-39.98 Hz (--band) leaves out 39.98-" in loop.remedy
+    assert loop.remedy.index("widen --band") < loop.remedy.index("check the servo settings")
+    (warned,) = [w for w in said if "position loop is unstable" in w]
+    assert warned.index("leaves out 39.98-") < warned.index("check the servo settings")
+
+
+def test_a_share_outside_0_to_1_of_a_band_above_the_structure_names_the_band(from_100_hz):
+    error, said = from_100_hz
+    assert error is None
+    outside = [w for w in said if "outside 0 to 1" in w]
+    assert len(outside) == 2 and all(w.startswith("axis Y:") for w in outside)
+    for w in outside:
+        assert "band 100.1-399.8 Hz (--band) leaves out 2-100.1 Hz" in w
+        assert w.index("widen --band") < w.index("is the TCP device zeroed")
+
+
+def test_static_gains_of_a_sweep_that_excites_none_are_not_judged(cut_at_150_hz):
+    error, _ = cut_at_150_hz
+    text = str(error)
+    assert "static gain of G_T" not in text  # no reading of the noise below the sweep
+    assert "excites nothing up to 15 Hz (its excitation starts at 153.5 Hz)" in text
+    assert "could not be checked" in text and "a sweep covering those frequencies" in text
+    assert text.index("could not be checked") < text.index("The step that stopped said")
+
+
+def test_a_band_that_covers_the_modes_leaves_the_servo_to_blame(vmc):
+    a = vmc.axes["X"]
+    bad = a.replace(mechanics=a.mechanics.replace(J_m=a.mechanics.J_m / 100))
+    modes = mode_frequencies_hz(bad.mechanics)
+    wide = BandCover((1.0, 2.0 * modes[-1]), (1.0, 2.0 * modes[-1]))
+    (f,) = gates.check_sampled_loop("X", bad, "X/sweep.csv", wide)
+    assert f.remedy.startswith("check the servo settings")
+    narrow = BandCover((1.0, 0.5 * modes[0]), (1.0, 2.0 * modes[-1]))
+    (g,) = gates.check_sampled_loop("X", bad, "X/sweep.csv", narrow)
+    assert g.remedy.index("widen --band") < g.remedy.index("check the servo settings")
+    unasked = BandCover((1.0, 0.5 * modes[0]), (1.0, 2.0 * modes[-1]), asked=(True, False))
+    assert unasked.words(bad.mechanics) is None  # an end the user did not set cuts nothing

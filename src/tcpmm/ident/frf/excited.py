@@ -131,8 +131,10 @@ class BandCover:
 
     def words(self, mechanics, below: bool = True, above: bool = True) -> str | None:
         """Why the band, not the settings, is the likely cause of what follows from
-        ``mechanics``: the modes they put where the sweep excites and the band does not
-        reach, which the FRFs therefore do not show; ``None`` where there are none.
+        ``mechanics``: the sweep excites frequencies the band leaves out, and the fitted
+        mechanics put modes on that side of the band, which the FRFs therefore do not show
+        (where the band sees no mode, the fit places them anywhere, beyond the excitation
+        too); ``None`` where there are none.
 
         Parameters
         ----------
@@ -141,19 +143,24 @@ class BandCover:
         below, above : bool
             Look below the band, above it [-].
         """
-        modes = mode_frequencies_hz(mechanics)
-        spans = [(a, b) for a, b in self.left_out(below, above)
-                 if np.any((modes > a) & (modes < b))]
-        modes = [f for f in modes if any(a < f < b for a, b in spans)]
-        if not modes:
-            return None
         lo, hi = self.band_hz
+        modes = mode_frequencies_hz(mechanics)
+        spans, outside = [], []
+        for a, b in self.left_out(below, above):
+            side = modes[modes < lo] if b <= lo else modes[modes > hi]
+            if side.size:
+                spans.append((a, b))
+                outside += list(side)
+        if not outside:
+            return None
         out = " and ".join(f"{a:.4g}-{b:.4g} Hz" for a, b in spans)
-        at = ", ".join(f"{f:.4g}" for f in modes[:3]) + (", ..." if len(modes) > 3 else "")
+        one = len(outside) == 1
+        at = ", ".join(f"{f:.4g}" for f in outside[:3]) + (", ..." if len(outside) > 3 else "")
         return (f"the FRFs' band {lo:.4g}-{hi:.4g} Hz (--band) leaves out {out}, which the "
-                f"sweep excites, and there the fitted mechanics put "
-                f"{'a mode' if len(modes) == 1 else 'modes'} ({at} Hz) the FRFs do not "
-                f"show: that is the likely cause; widen --band to take in {out}")
+                f"sweep excites, and the fitted mechanics put {'a mode' if one else 'modes'} "
+                f"({at} Hz) outside the band, where the FRFs do not show "
+                f"{'it' if one else 'them'}: that is the likely cause; widen --band to take "
+                f"in {out}")
 
 
 def band_cover(frf, excitation, asked: tuple[bool, bool] = (True, True),

@@ -118,8 +118,8 @@ def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resoluti
                                  crossed_play_gain=crossed_play_gain,
                                  undetermined=list(undetermined)),
         axis=SimpleNamespace(friction=object(), sensors=SimpleNamespace(
-            scale_resolution=resolution), mechanics=SimpleNamespace(K_t=k_t, B_m=0.0,
-                                                                     B_L=1e-3)))
+            scale_resolution=resolution), mechanics=SimpleNamespace(
+                K_t=k_t, B_m=0.0, B_L=1e-3, M_h=650.0, M_b=2200.0)))
 
 
 def test_a_share_read_from_a_deflection_under_two_scale_steps_is_open():
@@ -507,7 +507,8 @@ def test_an_undetermined_structure_mass_or_stiffness_is_open(known, tmp_path):
 
     col = opened(undetermined=("K_h", "B_L"))["column"]
     assert (col.low, col.high) == COLUMN_RANGE and col.cause.startswith("K_h open")
-    assert "structure's modes" in col.settle
+    assert "structure's modes" in col.settle and "the fitted 650 kg" in col.cause
+    assert "taken as 300 kg" in opened(undetermined=("M_h", "K_h"))["column"].cause
     bed = opened(undetermined=("M_b",))["bed"]
     assert (bed.low, bed.high) == BED_RANGE and bed.cause.startswith("M_b open")
     assert "structure's modes" in bed.settle
@@ -520,6 +521,14 @@ def test_an_undetermined_structure_mass_or_stiffness_is_open(known, tmp_path):
     ends = [v.axis.mechanics for v in _open_variants(known.axes["Y"], bed)]
     assert [(e.M_b, e.K_b) for e in ends] == [(BED_MASS_KG, BED_RANGE[0]),
                                               (BED_MASS_KG, BED_RANGE[1])]
+    # a head whose mass the fit determines (a mode below the band, its mass line seen)
+    # keeps that mass on each stiffness of the range
+    y = known.axes["Y"]
+    fitted = y.replace(uncertainty=y.uncertainty.model_copy(update={"mechanics": {
+        **y.uncertainty.mechanics, "M_h": 0.05 * y.mechanics.M_h}}))
+    ends = [v.axis.mechanics for v in _open_variants(fitted, col)]
+    assert [(e.M_h, e.K_h) for e in ends] == [(y.mechanics.M_h, COLUMN_RANGE[0]),
+                                              (y.mechanics.M_h, COLUMN_RANGE[1])]
     exact = prediction_verdict(known)
     v = prediction_verdict(_with(known, "Y", open=(col, bed)))
     assert max(f.half_width for f in v.figures) > 2.0 * max(f.half_width

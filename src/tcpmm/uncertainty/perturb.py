@@ -128,8 +128,10 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
-        elif r.quantity in MODE_STRUCTURE:  # a head or bed of typical mass on that spring
-            moved = axis.replace(mechanics=m.replace(**structure_of(r.quantity, x)))
+        elif r.quantity in MODE_STRUCTURE:  # a head or bed on that spring, its mass fitted
+            mass = MODE_STRUCTURE[r.quantity][0]  # where determined, else a typical one
+            kg = getattr(m, mass) if mass in axis.uncertainty.mechanics else None
+            moved = axis.replace(mechanics=m.replace(**structure_of(r.quantity, x, kg)))
         elif r.quantity in MODE_DAMPING:  # the mode's damping ratio, its frequency kept
             c, mass, k = MODE_DAMPING[r.quantity]
             moved = axis.replace(mechanics=m.replace(

@@ -290,12 +290,14 @@ _TYPICAL = {"column": (COLUMN_RANGE, COLUMN_MASS_KG, COLUMN_ZETA),
             "bed": (BED_RANGE, BED_MASS_KG, BED_ZETA)}
 
 
-def structure_of(quantity: str, stiffness: float) -> dict:
+def structure_of(quantity: str, stiffness: float, mass_kg: float | None = None) -> dict:
     """The parameters of an open ``column`` or ``bed`` (:data:`MODE_STRUCTURE`) of that
-    stiffness: a head of :data:`COLUMN_MASS_KG` damped at :data:`COLUMN_ZETA`, or a bed of
+    stiffness: a head of ``mass_kg``, or of :data:`COLUMN_MASS_KG` where the fit does not
+    determine it, damped at :data:`COLUMN_ZETA`; or a bed of ``mass_kg`` or
     :data:`BED_MASS_KG` damped at :data:`BED_ZETA`, on it [SI]."""
     c, mass, k = MODE_DAMPING[f"{quantity}_damping"]
     _, kg, zeta = _TYPICAL[quantity]
+    kg = kg if mass_kg is None else mass_kg
     return {mass: kg, k: stiffness, c: 2.0 * zeta * math.sqrt(stiffness * kg)}
 
 
@@ -314,11 +316,14 @@ def _structure_undetermined(a) -> list[OpenRange]:
         if not which or (q == "column" and "G_tcp" not in a.frfs):
             continue
         (lo, hi), kg, zeta = _TYPICAL[q]
+        # a mode below the band shows its mass line: the mass fitted is kept
+        kg, how = ((kg, "taken as") if mass in which else
+                   (getattr(a.axis.mechanics, mass), "the fitted"))
         out.append(OpenRange(
             quantity=q, low=lo, high=hi,
             cause=(f"{' and '.join(which)} open: the FRFs do not determine "
                    f"{'them' if len(which) > 1 else 'it'} (held at a bound of the fit, or "
-                   f"a deviation above 50 %); taken as {kg:.0f} kg on {lo * 1e-6:g} to "
+                   f"a deviation above 50 %); {how} {kg:.0f} kg on {lo * 1e-6:g} to "
                    f"{hi * 1e-6:g} N/um, damping ratio {zeta:g}"),
             settle=_SETTLE_MODES))
     return out

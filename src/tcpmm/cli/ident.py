@@ -298,8 +298,9 @@ def _print_verdict(verdict, heading: str | None = None) -> None:
         settle = f"; to settle: {f.settle}" if f.verdict != "firm" and f.settle else ""
         # the least firm of both directions is shown: its direction said (--json has both)
         way = f" ({f.direction.upper()})" if getattr(f, "direction", None) else ""
-        out.print(f"verdict {raw_spike_named(key)}{way}: {f.nominal * 1e6:.2f} um, "
-                  f"{f.text()}{settle}")
+        value = (f"{f.nominal * 1e6:.2f} um" if math.isfinite(f.nominal) else
+                 "not predicted")
+        out.print(f"verdict {raw_spike_named(key)}{way}: {value}, {f.text()}{settle}")
 
 
 def _exit_if_not_firm(verdict, strict: bool) -> None:

@@ -26,11 +26,7 @@ from ..errors import InputError, InputWarning
 from ..io.csvutil import warn_input
 from ..model import Machine
 from ..uncertainty import open_ranges, prediction_verdict
-from .friction.sensitivity import (
-    warn_lost_motion_sensitivity,
-    warn_presliding_sensitivity,
-    warn_share_sensitivity,
-)
+from .friction.spikewarnings import warn_spike_sensitivities
 from .friction.split import stribeck_from_record
 from .gates.columns import check_record_units, column_findings
 from .gates.finding import SuspectModelError
@@ -309,10 +305,7 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None,
         suspect=tuple(str(f) for f in findings),
     )
     for name, a in axes.items():
-        runs = bundle.axes[name].friction
-        warn_share_sensitivity(name, a, machine, runs)
-        warn_lost_motion_sensitivity(name, a, machine, runs)
-        warn_presliding_sensitivity(name, a, machine, runs)
+        warn_spike_sensitivities(name, a, machine, bundle.axes[name].friction)
     return Identification(axes, machine, {"source": str(getattr(bundle, "path", ""))},
                           findings,
                           prediction_verdict(machine, jobs=jobs) if options.verdict else None)

@@ -39,7 +39,8 @@ def verdict_html(verdict: dict) -> str:
     # the raw e - b, as the command line names it: the circle's table leads with others
     rows = [{"circle": f["test"], "pass": f["direction"],
              "figure": raw_spike_named(f["figure"], "−"),
-             "predicted [µm]": f["nominal_um"], "± 90 % [µm]": _or_nan(f["half_width_um"]),
+             "predicted [µm]": _or_nan(f["nominal_um"]),
+             "± 90 % [µm]": _or_nan(f["half_width_um"]),
              "target [µm]": f["target_um"], "verdict": _TEXT[f["verdict"]],
              "cause": f["cause"], "to settle": f["settle"]}
             for f in verdict.get("figures", [])]

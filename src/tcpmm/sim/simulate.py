@@ -142,6 +142,27 @@ def _check_speeds(machine: Machine, command: Command) -> None:
                 "check the command's units (mm) and sampling", InputWarning, stacklevel=3)
 
 
+def unstable_loops(machine: Machine, names=None) -> list[str]:
+    """Of the axes ``names`` (all when omitted), each whose sampled position loop is
+    unstable, in words: a run of it diverges, so its figures are no prediction [-].
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    names : iterable of str, optional
+        The axes judged [-].
+    """
+    out = []
+    for name in machine.axes if names is None else names:
+        a = machine.axes[name]
+        rho = sampled_spectral_radius(a.mechanics, a.servo)
+        if rho >= 1.0:
+            out.append(f"axis {name}: its sampled position loop is unstable (spectral "
+                       f"radius {rho:.4g})")
+    return out
+
+
 def check_stability(machine: Machine) -> None:
     """Warn of each axis whose sampled servo loop is unstable (from :func:`simulate`)."""
     for name, a in machine.axes.items():

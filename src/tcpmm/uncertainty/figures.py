@@ -15,7 +15,7 @@ from .._forked import results_in_order, usable_jobs
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from ..machines.paper import SETTLED_TURNS, circle_test_command
-from ..sim.simulate import simulate
+from ..sim.simulate import simulate, unstable_loops
 from .perturb import axis_variants
 
 __all__ = ["PROGRAM_FIGURES", "CircleTest", "ProgramTest", "circle_figures", "figure_changes",
@@ -187,8 +187,17 @@ def _test_figures(t, machine, sensor: str, simulate, out: dict, kept: dict) -> N
         return
     # the command (where the passes are found) and the sensor judged: the others' figures
     # would be computed to be thrown away
-    res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane,
-                         sensors=tuple(dict.fromkeys(("cmd", sensor))), settling=False)
+    try:
+        res = analyse_circle(run, t.radius_m, t.centre_m, plane=t.plane,
+                             sensors=tuple(dict.fromkeys(("cmd", sensor))), settling=False)
+    except InputError:
+        # the circle checks blame a user's file; where the model's own run is no
+        # prediction, that is what its figures are, and the verdict says so
+        why = unstable_loops(machine, t.plane) + [f["text"] for f in run.meta.get("faults", ())]
+        if not why:
+            raise
+        out.faults[t.label] = "; ".join(why)
+        return
     out.update(circle_figures(res, t.label, sensor))
 
 

@@ -16,6 +16,7 @@ import math
 import re
 from dataclasses import dataclass, field
 
+from ..analysis.circular import QUADRANTS
 from ..errors import InputError
 from .figures import circle_figures, figure_changes, reference_tests
 
@@ -95,7 +96,7 @@ class FigureVerdict:
     def to_dict(self) -> dict:
         """JSON-ready, in um [-]."""
         return {"test": self.test, "direction": self.direction, "figure": self.figure,
-                "nominal_um": self.nominal * 1e6,
+                "nominal_um": self.nominal * 1e6 if math.isfinite(self.nominal) else None,
                 "half_width_um": self.half_width * 1e6 if math.isfinite(self.half_width)
                 else None,
                 "target_um": self.target * 1e6, "verdict": self.verdict,
@@ -128,13 +129,28 @@ def verdict_words(verdict: str, half_width_um: float, cause: str, pm: str = "+-"
 
 def _no_prediction(key, nominal: float, faults: str) -> FigureVerdict:
     """The verdict on a figure of a circle whose run on the model is no prediction: the
-    model's axis ran away or held its current at the limit, and the figure is that of a
-    machine out of control, however narrow its interval."""
-    return FigureVerdict(*key, nominal, math.inf, target(key[2], nominal), "undetermined",
+    model's axis ran away or held its current at the limit, or its sampled loop is
+    unstable, and the figure is that of a machine out of control, however narrow its
+    interval (or none at all: ``nominal`` NaN)."""
+    tol = target(key[2], nominal if math.isfinite(nominal) else 0.0)
+    return FigureVerdict(*key, nominal, math.inf, tol, "undetermined",
                          f"no prediction: {faults}",
                          "a model whose run of this circle stays within its current "
                          "limit: check the load force, the gains and the current limit",
-                         tuple(re.findall(r"axis (\w+):", faults)))
+                         tuple(dict.fromkeys(re.findall(r"axis (\w+):", faults))))
+
+
+#: The figures of a circle's pass (:func:`tcpmm.uncertainty.figures.circle_figures`) [-].
+CIRCLE_FIGURES = (*(f"spike {q}" for q in QUADRANTS), "contour error", "G")
+
+
+def _unanalysed(tests, nominal: dict, faults: dict) -> list:
+    """The verdicts on the figures of each circle whose run on the model is no prediction
+    and could not be analysed as a circle at all: every figure not predicted (NaN), with
+    why, in place of figures that were never made [-]."""
+    done = {k[0] for k in nominal}
+    return [_no_prediction((t.label, "", f), math.nan, faults[t.label]) for t in tests
+            if t.label in faults and t.label not in done for f in CIRCLE_FIGURES]
 
 
 def _no_friction(key, nominal: float, axes: list) -> FigureVerdict:
@@ -299,7 +315,7 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
     figs = [_no_prediction(k, x, faults[k[0]]) if k[0] in faults
             else _no_friction(k, x, bare[k[0]]) if bare.get(k[0])
             else _judge(k, x, changes[k], opens) for k, x in nominal.items()
-            if math.isfinite(x)]
+            if math.isfinite(x)] + _unanalysed(tests, nominal, faults)
     return Verdict(figs, _axis_verdicts(machine, figs), [t.label for t in tests])
 
 

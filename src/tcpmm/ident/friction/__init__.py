@@ -9,7 +9,8 @@ or the force a travelling sweep shows (:mod:`~tcpmm.ident.friction.sweepforce`);
 the sweep sees it (:mod:`~tcpmm.ident.friction.playdf`); pre-sliding given to the identified
 contacts (:mod:`~tcpmm.ident.friction.presliding`) or fitted to the runs' reversals
 (:mod:`~tcpmm.ident.friction.preslidingfit`); and how much the circles care about what the
-runs leave open (:mod:`~tcpmm.ident.friction.sensitivity`)."""
+runs leave open (:mod:`~tcpmm.ident.friction.sensitivity`, told per axis by
+:mod:`~tcpmm.ident.friction.spikewarnings`)."""
 
 from .estimate import ParameterEstimate
 from .frictionsplit import FrictionSplit
@@ -27,6 +28,7 @@ from .preslidingfit import fit_presliding
 from .preslidingresult import PreslidingFit
 from .sensitivity import (
     LostMotionSensitivity,
+    NoSpikePrediction,
     PreslidingSensitivity,
     ShareSensitivity,
     lost_motion_spike_range,
@@ -38,6 +40,7 @@ from .sensitivity import (
     warn_share_sensitivity,
     with_share,
 )
+from .spikewarnings import warn_spike_sensitivities
 from .split import (
     GUIDEWAY_SHARE,
     SHARE_WARN_STD,
@@ -67,6 +70,7 @@ __all__ = [
     "BRISTLE_DAMPING_RATIO", "CUTOFFS_HZ", "GUIDEWAY_SHARE", "LOST_MOTION_Z",
     "PLATEAU_DURATIONS_S", "PRESLIDING", "SHARE_WARN_STD", "FrictionSplit",
     "LostMotionEstimate", "LostMotionOptions", "LostMotionSensitivity", "NoPlateauError",
+    "NoSpikePrediction",
     "NutEstimate", "ParameterEstimate", "Plateau", "PreslidingFit", "PreslidingSensitivity",
     "ShareSensitivity",
     "SweepDeflection", "dead_zone_gain", "estimate_lost_motion", "estimate_nut",
@@ -79,5 +83,6 @@ __all__ = [
     "stribeck_from_record", "sweep_deflection", "sweep_motion", "table_viscous_estimate",
     "travel_velocity",
     "warn_lost_motion_sensitivity", "warn_presliding_sensitivity", "warn_share_sensitivity",
+    "warn_spike_sensitivities",
     "with_presliding", "with_share",
 ]

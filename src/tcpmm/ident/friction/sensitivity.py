@@ -22,14 +22,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...analysis.circular import analyse_circle
+from ...errors import InputError
 from ...io.csvutil import warn_input
 from ...model import Machine
 from ...path.circle import circle_command
-from ...sim.simulate import simulate
+from ...sim.simulate import simulate, unstable_loops
 from .presliding import with_presliding
 from .split import SHARE_WARN_STD
 
-__all__ = ["LostMotionSensitivity", "PreslidingSensitivity", "ShareSensitivity",
+__all__ = ["LostMotionSensitivity", "NoSpikePrediction", "PreslidingSensitivity",
+           "ShareSensitivity",
            "coulomb_share", "lost_motion_spike_range", "presliding_spike_range",
            "share_spike_range", "spike_range", "warn_lost_motion_sensitivity",
            "warn_presliding_sensitivity", "warn_share_sensitivity", "with_share"]
@@ -98,6 +100,11 @@ class PreslidingSensitivity:
         return {"presliding_m": list(self.presliding_m), "spike_change_m": self.spike_change_m}
 
 
+class NoSpikePrediction(Exception):
+    """The model's run of the circle of :func:`spike_range` is no prediction, so neither
+    are its spikes; the message says why [-]."""
+
+
 #: Circle of the check: radius [m], feed [m/s], start angle [rad].
 CIRCLE = (0.035, 5000.0 / 60e3, math.radians(45.0))
 
@@ -162,10 +169,19 @@ def spike_range(machine: Machine, name: str, frictions) -> float | None:
     -------
     float or None
         The change [m]; ``None`` when the machine has no second axis for a circle [-].
+
+    Raises
+    ------
+    NoSpikePrediction
+        An axis of the plane has an unstable sampled loop, or the run of the circle cannot
+        be analysed as one.
     """
     other = next((n for n in machine.axes if n != name), None)
     if other is None:
         return None
+    unstable = unstable_loops(machine, (name, other))
+    if unstable:  # its run diverges: its circle would be judged as a user's bad file
+        raise NoSpikePrediction(f"{'; '.join(unstable)}, so a run of the model diverges")
     a = machine.axes[name]
     radius, feed, start = CIRCLE
     cmd = circle_command(radius, feed, start_angle_rad=start, plane_axes=(name, other))
@@ -174,8 +190,14 @@ def spike_range(machine: Machine, name: str, frictions) -> float | None:
         m = machine.with_axis(name, a.replace(friction=fr))
         run = simulate(m.model_copy(update={"axes": {k: m.axes[k] for k in (name, other)}}),
                        cmd)
-        spikes.append(analyse_circle(run, radius, plane=(name, other), settling=False).passes[0]
-                      .sensors["tcp"].spikes)
+        try:
+            res = analyse_circle(run, radius, plane=(name, other), settling=False)
+        except InputError:  # its checks blame a user's columns; this run is the model's
+            faults = "; ".join(f["text"] for f in run.meta.get("faults", ()))
+            raise NoSpikePrediction(
+                f"the model's run of a circle in the plane of {name} and {other} cannot be "
+                "analysed as a circle" + (f" ({faults})" if faults else "")) from None
+        spikes.append(res.passes[0].sensors["tcp"].spikes)
     return max(abs(spikes[0][q] - spikes[-1][q]) for q in spikes[0])
 
 

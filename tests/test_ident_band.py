@@ -5,6 +5,7 @@ sweep excites 2-1000 Hz, so a band of 2-40 Hz misses the axial modes, one of 100
 the structure's, and the sweep cut to start at 150 Hz both the structure and the static
 gains."""
 
+import math
 import warnings
 
 import pytest
@@ -17,6 +18,7 @@ from tcpmm.ident.chain import identify_bundle
 from tcpmm.ident.frf.excited import BandCover, mode_frequencies_hz
 from tcpmm.ident.gates.finding import SuspectModelError
 from tcpmm.io.bundle import read_bundle
+from tcpmm.io.modelfile import read_machine, write_machine
 
 
 def _identify(bundle, band):
@@ -36,6 +38,17 @@ def up_to_40_hz():
     """Bench C in 2-40 Hz: below the axial modes, whose fit makes X's sampled loop
     unstable."""
     return _identify(bench_path("c") / "bundle", (2.0, 40.0))
+
+
+@pytest.fixture(scope="module")
+def up_to_40_hz_accepted():
+    """Bench C in 2-40 Hz with ``accept_suspect``, judged: the identification and what
+    it warned."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        idn = identify_bundle(read_bundle(bench_path("c") / "bundle"), 2.0, 40.0,
+                              accept_suspect=True)
+    return idn, [str(w.message) for w in caught]
 
 
 @pytest.fixture(scope="module")
@@ -61,6 +74,32 @@ def test_an_unstable_loop_of_a_band_below_the_modes_names_the_band(up_to_40_hz):
     assert loop.remedy.index("widen --band") < loop.remedy.index("check the servo settings")
     (warned,) = [w for w in said if "position loop is unstable" in w]
     assert warned.index("leaves out 39.98-") < warned.index("check the servo settings")
+
+
+def test_an_accepted_unstable_model_is_returned_without_blaming_the_columns(
+        up_to_40_hz_accepted, tmp_path):
+    """The model's runs of a circle diverge: the sensitivities that simulate them are left
+    out, one warning per axis, and no circle check of those runs names a file's column."""
+    idn, said = up_to_40_hz_accepted
+    assert any("spectral radius" in s for s in idn.machine.suspect)
+    assert not [w for w in said if "_mm" in w or "opposite sign" in w]
+    skipped = [w for w in said if "sensitivities of the TCP spikes" in w]
+    assert [w.split(":")[0] for w in skipped] == ["axis X", "axis Y"]
+    assert all("axis X: its sampled position loop is unstable" in w for w in skipped)
+    assert all(a.presliding_sensitivity is None for a in idn.axes.values())
+    write_machine(idn.machine, tmp_path / "m.yaml")
+    assert read_machine(tmp_path / "m.yaml").suspect == idn.machine.suspect
+
+
+def test_the_figures_of_an_accepted_unstable_model_are_not_predicted(up_to_40_hz_accepted):
+    verdict = up_to_40_hz_accepted[0].verdict
+    assert verdict.figures and not verdict.firm
+    for f in verdict.figures:
+        assert math.isnan(f.nominal) and f.verdict == "undetermined" and f.axes == ("X",)
+        assert f.cause.startswith("no prediction: axis X: its sampled position loop")
+        assert f.to_dict()["nominal_um"] is None
+    assert verdict.axes["X"]["verdict"] == "undetermined"
+    assert {f.test for f in verdict.figures} == set(verdict.tests)
 
 
 def test_a_share_outside_0_to_1_of_a_band_above_the_structure_names_the_band(from_100_hz):

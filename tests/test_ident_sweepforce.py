@@ -84,12 +84,16 @@ def test_only_a_sweep_that_travels_one_way_with_a_tcp_record_is_used():
 
 def test_identified_share_of_an_axis_whose_guide_reacts_on_the_bed():
     """The built-in X with its guideway friction on the table-minus-bed velocity (as the
-    model identify writes has it): the share from the sweep is within three of its standard
-    deviations of the true share of the Coulomb level, and much tighter than 0.05."""
+    model identify writes has it) and a 0.05 um scale: the share from the sweep is within
+    three of its standard deviations of the true share of the Coulomb level, its deviation
+    under 0.08, most of it the datum between scale and TCP, known to a step of each (0.09
+    um on a 40 N/um column: 0.05). With the built-in 1 um scale the plateaus' share is
+    the tighter, and identify takes it."""
     m = builtin_machine()
     a = m.axes["X"]
     a = a.model_copy(update={"friction": a.friction.model_copy(
-        update={"guideway_velocity": "relative"})})
+        update={"guideway_velocity": "relative"}), "sensors": a.sensors.model_copy(
+        update={"scale_resolution": 0.05e-6})})
     m = m.model_copy(update={"axes": {**m.axes, "X": a}})
     rec = virtual_friction(a, FRICTION_SPEEDS, name="X")
     with warnings.catch_warnings():
@@ -99,7 +103,7 @@ def test_identified_share_of_an_axis_whose_guide_reacts_on_the_bed():
     g, s = a.friction.guideway, a.friction.screw
     true = g.fc_pos / (g.fc_pos + s.fc_pos)
     assert split.source == "sweep"
-    assert split.guideway_share_std < 0.03
+    assert split.guideway_share_std < 0.08
     assert abs(split.guideway_share - true) < 3 * split.guideway_share_std, (
         split.guideway_share, true)
     # the table damping the share rests on is the weighed one, and its deviation goes

@@ -127,8 +127,13 @@ def travel_velocity(sweep, min_travel: float) -> float:
     return v if abs(v) * (t[-1] - t[0]) >= min_travel else 0.0
 
 
-def sweep_deflection(sweep, velocity: float) -> SweepDeflection | None:
+def sweep_deflection(sweep, velocity: float, zero_std: float = 0.0) -> SweepDeflection | None:
     """Mean scale-minus-TCP deflection of a sweep that travels.
+
+    Its standard deviation counts the scatter over the record and how well the TCP
+    device's zero is known against the scale's (``zero_std``): an offset between the two
+    zeros adds to the mean deflection whole, and on a column of 15 N/um a step of a 1 um
+    scale moves the share read from it by about 0.15.
 
     Parameters
     ----------
@@ -136,6 +141,9 @@ def sweep_deflection(sweep, velocity: float) -> SweepDeflection | None:
         The servo-excitation record [SI].
     velocity : float
         Its travel velocity (:func:`travel_velocity`), zero for a sweep that stands [m/s].
+    zero_std : float
+        Standard deviation of the TCP device's zero against the scale's
+        (:func:`tcpmm.ident.steps.fitcontext.zero_std_of`) [m].
 
     Returns
     -------
@@ -153,14 +161,17 @@ def sweep_deflection(sweep, velocity: float) -> SweepDeflection | None:
     blocks = d[: n * N_BLOCKS].reshape(N_BLOCKS, n).mean(axis=1)
     drift, scatter = deflection_drift(blocks)
     if drift == 0.0:
-        return SweepDeflection(velocity, float(d.mean()), scatter / math.sqrt(N_BLOCKS))
+        return SweepDeflection(velocity, float(d.mean()),
+                               math.hypot(scatter / math.sqrt(N_BLOCKS), zero_std))
     where = sweep.source or f"axis {sweep.axis}"
     warnings.warn(f"{where}: the deflection between scale and TCP drifts by "
                   f"{drift * 1e6:.2f} um over the sweep (a TCP device drifting, or its scale "
                   "against the linear scale's): its mean, which the guideway share is read "
                   "from, is taken uncertain by half that", InputWarning, stacklevel=2)
     return SweepDeflection(velocity, float(d.mean()),
-                           math.hypot(scatter / math.sqrt(N_BLOCKS), 0.5 * drift), drift)
+                           math.hypot(scatter / math.sqrt(N_BLOCKS), 0.5 * drift, zero_std),
+                           drift)
+
 
 
 def deflection_drift(blocks: np.ndarray) -> tuple[float, float]:

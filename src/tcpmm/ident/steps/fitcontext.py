@@ -71,7 +71,9 @@ def fit_context(run: AxisRun, options: IdentifyOptions) -> FitContext:
         ``fit_current_loop`` and ``guideway_share`` [-].
     """
     cfg, sweep, runs = run.cfg, run.sweep, run.runs
-    deflection = None if runs is None else sweep_deflection(sweep, run.excitation.velocity)
+    zero = zero_std_of(cfg.sensors.scale_resolution_m, cfg.sensors.tcp_resolution_m)
+    deflection = (None if runs is None else
+                  sweep_deflection(sweep, run.excitation.velocity, zero))
     if deflection is not None and run.frfs.cover is not None:
         deflection = replace(deflection, cover=run.frfs.cover)
     return FitContext(run.name, cfg, options.fit_current_loop, run.tf_fits,
@@ -173,3 +175,18 @@ def friction_on(ctx: FitContext, phys: PhysicalFit):
 def _finite_or(x: float, default: float) -> float:
     """``x``, or ``default`` where it is not finite (an undetermined std) [-]."""
     return float(x) if np.isfinite(x) else default
+
+
+def zero_std_of(scale_resolution: float, tcp_resolution: float | None) -> float:
+    """Standard deviation of a TCP device's zero against the linear scale's: a step of
+    each, since each zero is set at a reading rounded to its step, with the nut and the
+    column at rest under whatever force held them [m].
+
+    Parameters
+    ----------
+    scale_resolution : float
+        Step of the linear scale [m].
+    tcp_resolution : float or None
+        Step of the TCP device; ``None`` or 0 where not given [m].
+    """
+    return float(np.hypot(scale_resolution or 0.0, tcp_resolution or 0.0))

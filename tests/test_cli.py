@@ -158,13 +158,19 @@ def test_help_shows_units(capsys, command):
 @pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
 def test_identify_takes_the_pre_sliding_displacement(capsys, tmp_path):
     """``--presliding-um`` reaches the model file: the guideway of X builds its static
-    level over 1.5 um, and 0 keeps the static model."""
+    level over 1.5 um, and 0 keeps the static model. X has a 0.05 um scale, so that its
+    share comes from the travelling sweep (on the built-in 1 um scale the plateaus' is
+    the tighter)."""
     from tcpmm.io.modelfile import read_machine
     from tcpmm.machines.builtin import builtin_machine
     from tcpmm.machines.virtual import virtual_bundle
     from tcpmm.mechanics.friction import LuGreFriction
 
-    virtual_bundle(builtin_machine(), tmp_path / "b", axes=("X",))
+    m = builtin_machine()
+    x = m.axes["X"]
+    m = m.with_axis("X", x.replace(sensors=x.sensors.model_copy(
+        update={"scale_resolution": 0.05e-6})))
+    virtual_bundle(m, tmp_path / "b", axes=("X",))
     for um in (1.5, 0.0):
         model = tmp_path / f"m{um}.yaml"
         code, out, err = run_cli(capsys, "identify", tmp_path / "b", "-o", model,

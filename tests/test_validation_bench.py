@@ -139,12 +139,14 @@ def test_inertias_and_stiffnesses_are_the_machines_own(letter, identified):
 @pytest.mark.parametrize("letter", ["c", "d", "e"])
 def test_the_share_comes_from_the_tcp_deflection_of_the_sweep(letter, identified):
     """Every axis's guideway share is the one its travelling sweep's column deflection
-    implies (``tcpmm.ident.friction.sweepforce``), near the truth of the reference simulator."""
+    implies (``tcpmm.ident.friction.sweepforce``), near the truth of the reference simulator;
+    its deviation holds the datum between scale and TCP, a step of each sensor (0.03-0.11
+    on these machines, 0.002-0.006 from the deflection's scatter alone)."""
     truth = machine_from_truth(bench_path(letter) / "truth.yaml")
     for name, a in identified(letter).axes.items():
         split = a.friction_split
         assert split.source == "sweep", name
-        assert 0.0 < split.guideway_share_std < 0.015
+        assert 0.0 < split.guideway_share_std < 0.15
         t = truth.axes[name].friction
         true = t.guideway.fc_pos / (t.guideway.fc_pos + t.screw.fc_pos)
         assert abs(split.guideway_share - true) < SHARE_TOL, (name, split.guideway_share, true)
@@ -209,7 +211,7 @@ def test_a_share_from_the_sweep_carries_its_spread_into_the_model(letter, identi
         split = a.friction_split
         assert split.source == "sweep", name
         got = idn.machine.axis(name).uncertainty.guideway_share
-        assert got == pytest.approx(split.guideway_share_std) and 0 < got < 0.02, name
+        assert got == pytest.approx(split.guideway_share_std) and 0 < got < 0.15, name
 
 
 def _measured_figures(letter):

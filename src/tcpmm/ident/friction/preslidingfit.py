@@ -48,7 +48,8 @@ fit: the range over which identify says how far the predicted spikes move
 
 The standard deviations come from the Jacobian, inflated by the correlation time of the
 residual. The fit counts as not determined, and the caller keeps its prior, when fewer
-than :data:`MIN_REVERSALS` reversals are slow enough, when the encoder step at the table
+than :data:`MIN_REVERSALS` reversals are slow enough (turning round from a plateau of
+:data:`SLOW_REVERSAL_SPEED` or slower), when the encoder step at the table
 is more than :data:`MAX_QUANTUM_REL` of the distance, when the nut's lost motion (left
 out of the model) is more than :data:`MAX_LOST_MOTION_REL` of it, when the force residual exceeds
 :data:`MAX_MISFIT` times the noise of the measured force (the reversals do not follow the
@@ -92,6 +93,12 @@ BOUNDS = (0.05e-6, 15e-6)
 ZETA_BOUNDS = (0.0, 2.0)
 #: Fewest reversals the fit rests on [-].
 MIN_REVERSALS = 2
+#: Fastest plateau a reversal turns round from that shows the pre-sliding: from the runs'
+#: 0.5 and 2 mm/s plateaus the force builds over the distance; from 5 mm/s up the axis
+#: brakes into the turn and the inertia and the servo shape it, and a fit to such turns
+#: alone came out at 0.58 of the distance with a tenth of that as its deviation (bench
+#: D, runs from 5 mm/s up) [m/s].
+SLOW_REVERSAL_SPEED = 2.5e-3
 #: Largest standard deviation of the logarithm of the distance for it to count [-].
 MAX_LOG_STD = 0.35
 #: Largest encoder step, at the table, against the fitted distance [-].
@@ -173,6 +180,13 @@ def _windows(s, v, margin: int):
         if a > margin and b < len(s) - 1 and abs(s[b] - s[k]) >= POST:
             out.append((a, b))
     return out
+
+
+def _plateau_speeds(v, windows) -> list:
+    """The speed of the plateau each window's reversal turns round from: the largest
+    between the previous window and this one [m/s]."""
+    ends = [0] + [b for _, b in windows[:-1]]
+    return [float(np.max(np.abs(v[e:a + 1]))) for e, (a, _) in zip(ends, windows, strict=True)]
 
 
 def _contact_force(params, path, h, band: float):
@@ -311,6 +325,12 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
         return _not_determined(
             f"{len(windows)} reversal(s) turn round from a plateau and travel "
             f"{POST * 1e6:g} um back; at least {MIN_REVERSALS} are needed", len(windows))
+    slow = sum(v <= SLOW_REVERSAL_SPEED for v in _plateau_speeds(m["v"], windows))
+    if slow < MIN_REVERSALS:
+        return _not_determined(
+            f"{slow} of the {len(windows)} reversals turn round from "
+            f"{SLOW_REVERSAL_SPEED * 1e3:g} mm/s or slower, where the force builds over the "
+            f"distance; at least {MIN_REVERSALS} are needed", len(windows))
 
     def model(p):
         return with_presliding(friction, mechanics, math.exp(p[0]), p[1])

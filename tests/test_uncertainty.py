@@ -538,3 +538,17 @@ def test_an_undetermined_structure_mass_or_stiffness_is_open(known, tmp_path):
                          for f in named)
     write_machine(_with(known, "Y", open=(col, bed)), tmp_path / "m.yaml")
     assert read_machine(tmp_path / "m.yaml").axes["Y"].uncertainty.open == (col, bed)
+
+
+def test_a_friction_level_the_runs_hardly_fix_is_moved_a_thousandfold_at_most(known):
+    """Friction runs of three slow plateaus left bench C's Coulomb level with a relative
+    deviation of tens: its variants scaled the contacts past any machine's friction, and
+    identify stopped with "StribeckFriction.fc_pos ... outside the plausible range".
+    The level is moved by at most the factor any parameter is (1e3)."""
+    from tcpmm.uncertainty.perturb import MOST_LOG, axis_variants
+
+    a = known.axes["X"]
+    loose = a.replace(uncertainty=AxisUncertainty(friction_level=50.0))
+    levels = [v.axis.friction.guideway.fc_pos / a.friction.guideway.fc_pos
+              for v in axis_variants(loose) if v.quantity == "friction_level"]
+    assert levels == pytest.approx([math.exp(-MOST_LOG), math.exp(MOST_LOG)])

@@ -86,7 +86,7 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
     if fr is None:
         return []
     out = []
-    lvl = u.friction_level * QUANTILE_90
+    lvl = min(u.friction_level * QUANTILE_90, MOST_LOG)  # a level the runs hardly fix
     for k in (math.exp(-lvl), math.exp(lvl)) if lvl > 0.0 else ():
         out.append(Variant("friction_level", False, axis.replace(friction=fr.model_copy(
             update={"guideway": scaled_contact(fr.guideway, k),

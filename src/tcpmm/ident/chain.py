@@ -106,7 +106,7 @@ class AxisRun:
             sampled_loop_spectral_radius=model.sampled_loop_spectral_radius,
             presliding_m=None if mf is None else mf.presliding_m,
             presliding_fit=None if mf is None else mf.presliding_fit,
-            loop_timing=model.loop_timing)
+            loop_timing=model.loop_timing, band_cover=self.frfs.cover)
 
 
 #: The steps of one axis in the order they run: the field of :class:`AxisRun` each
@@ -291,8 +291,7 @@ def run_bundle(bundle, options: IdentifyOptions, progress=None,
                 axes[run.name] = result()
             except InputError as exc:  # a fit knows its numbers, not the bundle's file
                 raise exc.in_file(getattr(bundle, "path", None)) from None
-            findings += axis_findings(axes[run.name], bundle.axes[run.name], run.cfg,
-                                      (options.fmin_hz, options.fmax_hz))
+            findings += axis_findings(axes[run.name], bundle.axes[run.name], run.cfg)
             if progress is not None:
                 progress(run.name)
     if findings and not options.accept_suspect:

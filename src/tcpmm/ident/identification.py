@@ -70,6 +70,9 @@ class AxisIdentification:
         How far they move with a lost motion the runs would not find [m].
     presliding_sensitivity : PreslidingSensitivity, optional
         How far they move over the pre-sliding distances the fit leaves [m].
+    band_cover : BandCover, optional
+        What a band the user set leaves out of the frequencies the sweep excites; ``None``
+        without such a band (:class:`~tcpmm.ident.frf.excited.BandCover`) [-].
     """
 
     name: str
@@ -89,6 +92,7 @@ class AxisIdentification:
     share_sensitivity: ShareSensitivity | None = None
     lost_motion_sensitivity: LostMotionSensitivity | None = None
     presliding_sensitivity: PreslidingSensitivity | None = None
+    band_cover: object = None
 
     def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
         return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,

@@ -26,7 +26,6 @@ import math
 import numpy as np
 
 from ...servo.sampled import sampled_spectral_radius
-from ..frf.excited import band_cover, lowest_band_hz
 from ..friction.steadycurve import slowest_plateau, stribeck_from_record
 from ..friction.sweepforce import travel_speed
 from ..lti.goodness import fit_percent
@@ -287,7 +286,7 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep",
                     servo if band is None else f"{band}; failing that, {servo}")]
 
 
-def axis_findings(ident, records, cfg, band_hz=(None, None)) -> list[Finding]:
+def axis_findings(ident, records, cfg) -> list[Finding]:
     """Every model check on one identified axis.
 
     Parameters
@@ -298,8 +297,6 @@ def axis_findings(ident, records, cfg, band_hz=(None, None)) -> list[Finding]:
         Its records from the bundle [-].
     cfg : AxisConfig
         Its bundle configuration [-].
-    band_hz : tuple of float or None
-        The band the user set for the FRFs, ``None`` for an end not set [Hz].
 
     Returns
     -------
@@ -315,10 +312,7 @@ def axis_findings(ident, records, cfg, band_hz=(None, None)) -> list[Finding]:
         out += check_fit_percent(name, tf, frf.H[good],
                                  ident.fitted_response(tf, frf.freq_hz)[good], sweep,
                                  remedy)
-    asked = tuple(b is not None for b in band_hz)
-    cover = (band_cover(ident.frfs["G_M"], records.sweep.excitation_A, asked,
-                        lowest_band_hz(records.sweep.duration_s)) if any(asked) else None)
-    out += check_sampled_loop(name, axis, sweep, cover)
+    out += check_sampled_loop(name, axis, sweep, ident.band_cover)
     out += mass_findings(name, ident.frfs, axis.mechanics, sweep, MIN_COHERENCE,
                          records.sweep.excitation_A)
     if records.friction is not None and axis.friction is not None:

@@ -142,6 +142,18 @@ def _check_speeds(machine: Machine, command: Command) -> None:
                 "check the command's units (mm) and sampling", InputWarning, stacklevel=3)
 
 
+def _unstable_radii(machine: Machine, names=None) -> dict:
+    """Of the axes ``names`` (all when omitted), the spectral radius of each whose sampled
+    position loop is unstable [-]."""
+    radii = {}
+    for name in machine.axes if names is None else names:
+        a = machine.axes[name]
+        rho = sampled_spectral_radius(a.mechanics, a.servo)
+        if rho >= 1.0:
+            radii[name] = rho
+    return radii
+
+
 def unstable_loops(machine: Machine, names=None) -> list[str]:
     """Of the axes ``names`` (all when omitted), each whose sampled position loop is
     unstable, in words: a run of it diverges, so its figures are no prediction [-].
@@ -153,24 +165,16 @@ def unstable_loops(machine: Machine, names=None) -> list[str]:
     names : iterable of str, optional
         The axes judged [-].
     """
-    out = []
-    for name in machine.axes if names is None else names:
-        a = machine.axes[name]
-        rho = sampled_spectral_radius(a.mechanics, a.servo)
-        if rho >= 1.0:
-            out.append(f"axis {name}: its sampled position loop is unstable (spectral "
-                       f"radius {rho:.4g})")
-    return out
+    return [f"axis {name}: its sampled position loop is unstable (spectral radius "
+            f"{rho:.4g})" for name, rho in _unstable_radii(machine, names).items()]
 
 
 def check_stability(machine: Machine) -> None:
     """Warn of each axis whose sampled servo loop is unstable (from :func:`simulate`)."""
-    for name, a in machine.axes.items():
-        rho = sampled_spectral_radius(a.mechanics, a.servo)
-        if rho >= 1.0:
-            warnings.warn(f"axis {name}: the sampled servo loop is unstable (spectral radius "
-                          f"{rho:.4f}); the run is not a meaningful prediction: check the "
-                          "gains (tcpmm machine show)", InputWarning, stacklevel=3)
+    for name, rho in _unstable_radii(machine).items():
+        warnings.warn(f"axis {name}: the sampled servo loop is unstable (spectral radius "
+                      f"{rho:.4f}); the run is not a meaningful prediction: check the "
+                      "gains (tcpmm machine show)", InputWarning, stacklevel=3)
 
 
 def _run_axes(one, names: list, threads: int | None, progress) -> dict:

@@ -302,8 +302,9 @@ def structure_of(quantity: str, stiffness: float, mass_kg: float | None = None) 
 
 
 def _structure_undetermined(a) -> list[OpenRange]:
-    """The head on its column and the bed as open ranges of their stiffness, each with a
-    typical mass and damping (:data:`COLUMN_RANGE`, :data:`BED_RANGE`), where the FRFs do
+    """The head on its column and the bed as open ranges of their stiffness, each with the
+    mass the fit determines or else a typical one, and a typical damping
+    (:data:`COLUMN_RANGE`, :data:`BED_RANGE`), where the FRFs do
     not determine the mass or the stiffness: the fit of ``G_tcp`` held its ratio to the
     table mass at a bound, or its deviation is above half its value. Such a value has no
     deviation to move it by, and the mode it places may lie anywhere the sweep did not

@@ -173,7 +173,6 @@ def sweep_deflection(sweep, velocity: float, zero_std: float = 0.0) -> SweepDefl
                            drift)
 
 
-
 def deflection_drift(blocks: np.ndarray) -> tuple[float, float]:
     """The change over the record of the blocks' mean deflections along a line through
     them where its slope stands :data:`DRIFT_T` standard errors out of their scatter about

@@ -78,14 +78,13 @@ def fit_structure(data: FRFData, starts, max_nfev: int = 200):
     r, base = fit.best(starts, max_nfev)
     collapsed = _collapsed(r)
     if collapsed:
-        m = AxisMechanics.model_construct(**{**base, **fit.values(r.x)})
-        again, again_base = fit.best(beyond_band_starts(m, collapsed, f[0], f[-1]), max_nfev,
-                                     floor=True)
+        moved = beyond_band_starts(fit.mech(r.x, base), collapsed, f[0], f[-1])
+        again, again_base = fit.best(moved, max_nfev, floor=True)
         if again.cost < r.cost:
             r, base = again, again_base
     vals = fit.values(r.x)
     ratios = {p: float(vals[p] / base["M_t"]) for p in STRUCTURE}
-    m = AxisMechanics.model_construct(**{**base, **vals})
+    m = fit.mech(r.x, base)
     return ratios, rel_error(H, model_frfs(m, {"G_tcp": f})["G_tcp"]), _ratio_log_std(r)
 
 
@@ -104,11 +103,12 @@ class _StructureFit:
         """The free parameters at ``theta`` [SI]."""
         return dict(zip(_FREE, np.exp(theta), strict=True))
 
-    def _mech(self, theta, base):
+    def mech(self, theta, base):
+        """The mechanics ``base`` with the free parameters at ``theta``, unchecked [SI]."""
         return AxisMechanics.model_construct(**{**base, **self.values(theta)})
 
     def resid(self, theta, base):
-        g = model_frfs(self._mech(theta, base), {"G_tcp": self.points})["G_tcp"]
+        g = model_frfs(self.mech(theta, base), {"G_tcp": self.points})["G_tcp"]
         self.last.update(x=np.array(theta), base=base, g=g,
                          r=log_residual(band_model(g), self.H, self.w))
         return self.last["r"]
@@ -116,7 +116,7 @@ class _StructureFit:
     def jac(self, theta, base):
         if self.last.get("base") is not base or not np.array_equal(self.last["x"], theta):
             self.resid(theta, base)
-        return residual_jacobian(self._mech(theta, base), {"G_tcp": self.points},
+        return residual_jacobian(self.mech(theta, base), {"G_tcp": self.points},
                                  {"G_tcp": self.w}, self.last["r"], _FREE, {},
                                  pairs={"G_tcp": self.last["g"]})
 

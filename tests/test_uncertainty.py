@@ -552,3 +552,21 @@ def test_a_friction_level_the_runs_hardly_fix_is_moved_a_thousandfold_at_most(kn
     levels = [v.axis.friction.guideway.fc_pos / a.friction.guideway.fc_pos
               for v in axis_variants(loose) if v.quantity == "friction_level"]
     assert levels == pytest.approx([math.exp(-MOST_LOG), math.exp(MOST_LOG)])
+
+
+def test_a_friction_level_not_fixed_within_a_thousandfold_leaves_its_figures_open(known):
+    """Three slow plateaus on bench C left the Coulomb level unfixed: moved a thousandfold
+    (as far as it is moved), Y's contour error read "93.84 um, uncertain +- 59222 um".
+    A variant at that limit bounds nothing, so the figures it dominates are undetermined,
+    naming the level and what settles it; a level the runs fix stays a bound."""
+    loose = _with(known, "Y", friction_level=50.0)
+    v = prediction_verdict(loose)
+    by_level = [f for f in v.figures if f.cause.startswith("axis Y friction_level")]
+    assert by_level
+    for f in by_level:
+        assert f.cause == "axis Y friction_level, open"
+        assert f.settle == "longer friction-run plateaus"
+        assert f.verdict == "undetermined" or f.half_width < abs(f.nominal)
+    assert any(f.verdict == "undetermined" and f.figure == "contour error" for f in by_level)
+    fixed = prediction_verdict(_with(known, "Y", friction_level=0.3))
+    assert all(f.verdict != "undetermined" for f in fixed.figures)

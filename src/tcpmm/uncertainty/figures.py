@@ -16,7 +16,7 @@ from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from ..machines.paper import SETTLED_TURNS, circle_test_command
 from ..sim.simulate import simulate, unstable_loops
-from .perturb import axis_variants
+from .perturb import UNFIXED_LEVEL, axis_variants
 
 __all__ = ["PROGRAM_FIGURES", "CircleTest", "ProgramTest", "circle_figures", "figure_changes",
            "figures", "program_figures", "reference_tests"]
@@ -284,7 +284,8 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None, jobs: int
     tuple
         ``(nominal, changes, opens)``: the figures (:func:`figures`); per figure
         ``{(axis, quantity): change}`` [m] (``inf`` where a variant could not be
-        simulated); per ``(axis, quantity)`` the open range or ``None`` [-].
+        simulated); per ``(axis, quantity)`` the open range (or
+        :data:`tcpmm.uncertainty.perturb.UNFIXED_LEVEL`) or ``None`` [-].
     """
     kept: dict = {}  # the nominal axes' runs: a variant runs only the axis it varies
     nominal = figures(machine, tests, sensor, kept)
@@ -295,7 +296,8 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None, jobs: int
         u = machine.axes[name].uncertainty
         by_q = {r.quantity: r for r in (u.open if u is not None else ())}
         for v in axis_variants(machine.axes[name]):
-            opens[(name, v.quantity)] = by_q.get(v.quantity) if v.open else None
+            unbounded = UNFIXED_LEVEL if v.quantity == UNFIXED_LEVEL.quantity else None
+            opens[(name, v.quantity)] = by_q.get(v.quantity, unbounded) if v.open else None
             varied.append((name, v))
     with results_in_order(_moved_figures, varied, (machine, tests, sensor, kept),
                           usable_jobs(jobs, len(varied))) as results:

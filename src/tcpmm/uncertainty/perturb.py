@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..ident.friction.presliding import with_presliding
 from ..ident.friction.sensitivity import coulomb_share, with_share
@@ -13,7 +14,7 @@ from ..model import Axis
 from ..whatif.draws import longer_presliding, scaled_contact
 from .ranges import MODE_DAMPING, MODE_STRUCTURE, mode_damping_bounds, structure_of
 
-__all__ = ["QUANTILE_90", "Variant", "axis_variants"]
+__all__ = ["QUANTILE_90", "UNFIXED_LEVEL", "Unbounded", "Variant", "axis_variants"]
 
 #: Standard normal quantile of a two-sided 90 % interval [-].
 QUANTILE_90 = 1.6449
@@ -28,6 +29,19 @@ STRUCTURE_DAMPING = tuple(c for c, _, _ in MODE_DAMPING.values())
 AXIAL_DAMPING = ("C_t", "C_b", "C_h")
 
 
+class Unbounded(NamedTuple):
+    """A quantity the data do not bound, though no open range names it: what its variant
+    moves is no bound on what the quantity may change (the verdict's ``settle``) [-]."""
+
+    quantity: str
+    settle: str
+
+
+#: A friction level the runs do not fix within a thousandfold: moved that far, it still
+#: bounds nothing (the steady force could be larger yet) [-].
+UNFIXED_LEVEL = Unbounded("friction_level", "longer friction-run plateaus")
+
+
 @dataclass(frozen=True)
 class Variant:
     """An axis with one quantity moved to one end of its range.
@@ -37,8 +51,8 @@ class Variant:
     quantity : str
         What was moved [-].
     open : bool
-        The data leave it open (whole range), else a determined quantity at its 90 %
-        bound [-].
+        The data leave it open (whole range, or a friction level moved a thousandfold
+        and still not bounded), else a determined quantity at its 90 % bound [-].
     axis : Axis
         The moved axis [SI].
     """
@@ -88,7 +102,7 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
     out = []
     lvl = min(u.friction_level * QUANTILE_90, MOST_LOG)  # a level the runs hardly fix
     for k in (math.exp(-lvl), math.exp(lvl)) if lvl > 0.0 else ():
-        out.append(Variant("friction_level", False, axis.replace(friction=fr.model_copy(
+        out.append(Variant("friction_level", lvl >= MOST_LOG, axis.replace(friction=fr.model_copy(
             update={"guideway": scaled_contact(fr.guideway, k),
                     "screw": scaled_contact(fr.screw, k)}))))
     share = coulomb_share(fr)

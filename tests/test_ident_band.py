@@ -6,8 +6,10 @@ the structure's, and the sweep cut to start at 150 Hz both the structure and the
 gains."""
 
 import math
+import shutil
 import warnings
 
+import pandas as pd
 import pytest
 
 from conftest import bench_path
@@ -59,6 +61,18 @@ def from_100_hz():
 
 
 @pytest.fixture(scope="module")
+def first_third(tmp_path_factory):
+    """Bench C with each sweep cut to its first third: its log sweep then stops at about
+    15 Hz, below the velocity loop's crossover."""
+    bundle = tmp_path_factory.mktemp("third")
+    shutil.copytree(bench_path("c") / "bundle", bundle, dirs_exist_ok=True)
+    for sweep in bundle.glob("*/sweep.csv"):
+        d = pd.read_csv(sweep)
+        d.iloc[: len(d) // 3].to_csv(sweep, index=False, float_format="%.9g")
+    return _identify(bundle, (None, None))
+
+
+@pytest.fixture(scope="module")
 def cut_at_150_hz(tmp_path_factory):
     """Bench C with each sweep cut to start at 150 Hz, identified in the default band."""
     bundle = cut_bundle(bench_path("c") / "bundle", tmp_path_factory.mktemp("cut150"), 150.0)
@@ -74,6 +88,23 @@ def test_an_unstable_loop_of_a_band_below_the_modes_names_the_band(up_to_40_hz):
     assert loop.remedy.index("widen --band") < loop.remedy.index("check the servo settings")
     (warned,) = [w for w in said if "position loop is unstable" in w]
     assert warned.index("leaves out 39.98-") < warned.index("check the servo settings")
+
+
+def test_a_sweep_stopping_below_the_crossover_is_named_before_the_servo(first_third):
+    """A sweep cut short reaches 15 Hz: what its fit makes of the modes is a guess, and
+    the unstable loop and the failed fit blame the sweep's reach before the servo
+    settings or the record's columns."""
+    error, said = first_third
+    assert isinstance(error, SuspectModelError)
+    loops = [f for f in error.findings if "spectral radius" in f.parameter]
+    assert loops
+    for f in loops:
+        assert "excitation reaches only 15 Hz, below the velocity loop's crossover" in f.remedy
+        assert f.remedy.index("reaches only") < f.remedy.index("check the servo settings")
+    assert all("reaches only 15 Hz" in f.remedy for f in error.findings
+               if f.parameter.startswith("fit of the physical model"))
+    (warned,) = [w for w in said if "position loop is unstable" in w]
+    assert warned.index("reaches only") < warned.index("check the servo settings")
 
 
 def test_an_accepted_unstable_model_is_returned_without_blaming_the_columns(

@@ -11,6 +11,7 @@ spans and says so in words a message can carry.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -161,6 +162,31 @@ class BandCover:
                 f"({at} Hz) outside the band, where the FRFs do not show "
                 f"{'it' if one else 'them'}: that is the likely cause; widen --band to take "
                 f"in {out}")
+
+    def reach_words(self, mechanics, servo) -> str | None:
+        """Why the sweep, not the settings, is the likely cause of what follows from the
+        fitted mechanics: its excitation stops below the velocity loop's crossover on the
+        axis' inertia, so the FRFs show nothing of the band where the loop's stability is
+        decided (a sweep cut short, or of too narrow a span), and the fit places the modes
+        there where nothing constrains them; ``None`` where the excitation reaches the
+        crossover.
+
+        Parameters
+        ----------
+        mechanics : AxisMechanics
+            The fitted mechanics [SI].
+        servo : ServoParams
+            The axis' servo settings [SI].
+        """
+        top = self.excited_hz[1]
+        crossover_hz = servo.K_vp * mechanics.K_tc / (2.0 * math.pi * mechanics.J_total)
+        if not top < crossover_hz:
+            return None
+        return (f"the sweep's excitation reaches only {top:.4g} Hz, below the velocity "
+                f"loop's crossover (about {crossover_hz:.4g} Hz on the axis' inertia), so "
+                "the FRFs show nothing of the band where the loop's stability is decided "
+                "and the fit places the modes there where nothing constrains them: that is "
+                "the likely cause; record a sweep that runs well past the crossover")
 
 
 def band_cover(frf, excitation, asked: tuple[bool, bool] = (True, True),

@@ -269,7 +269,8 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep",
     data : str
         The sweep record, for the message [-].
     cover : BandCover, optional
-        What the band the user set leaves out (:func:`~tcpmm.ident.frf.excited.band_cover`) [-].
+        What the band the user set leaves out, and how far the sweep's excitation
+        reaches (:func:`~tcpmm.ident.frf.excited.band_cover`) [-].
 
     Returns
     -------
@@ -280,7 +281,8 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep",
     if rho < 1.0:
         return []
     servo = "check the servo settings in machine.yaml (gains, loop periods) and the sweep"
-    band = None if cover is None else cover.words(axis.mechanics)
+    band = None if cover is None else (cover.words(axis.mechanics)
+                                       or cover.reach_words(axis.mechanics, axis.servo))
     return [Finding(name, "spectral radius of the sampled position loop", rho, "",
                     "at or above 1: the loop as the drive samples it is unstable", data,
                     servo if band is None else f"{band}; failing that, {servo}")]
@@ -306,6 +308,8 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
     name, axis = ident.name, ident.axis
     sweep = records.sweep.source or f"{name}/sweep.csv"
     remedy = STANDING_SWEEP if travel_speed(records.sweep) == 0.0 else None
+    if remedy is None and ident.band_cover is not None:
+        remedy = ident.band_cover.reach_words(axis.mechanics, axis.servo)
     out = []
     for tf, frf in ident.frfs.items():
         good = frf.coherence >= MIN_COHERENCE

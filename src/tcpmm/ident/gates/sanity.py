@@ -141,7 +141,8 @@ def warn_unstable_sampled_loop(name: str, axis, undetermined, cover=None) -> flo
     undetermined : list of str
         Parameters the FRFs did not determine [-].
     cover : BandCover, optional
-        What the band the user set leaves out (:func:`~tcpmm.ident.frf.excited.band_cover`) [-].
+        What the band the user set leaves out, and how far the sweep's excitation
+        reaches (:func:`~tcpmm.ident.frf.excited.band_cover`) [-].
 
     Returns
     -------
@@ -152,7 +153,8 @@ def warn_unstable_sampled_loop(name: str, axis, undetermined, cover=None) -> flo
     if rho >= 1.0:
         suspects = (f"; the FRFs did not determine {', '.join(undetermined)}"
                     if undetermined else "")
-        band = None if cover is None else cover.words(axis.mechanics)
+        band = None if cover is None else (cover.words(axis.mechanics)
+                                       or cover.reach_words(axis.mechanics, axis.servo))
         check = ("Check the servo settings in machine.yaml and the sweep." if band is None else
                  f"{band[0].upper()}{band[1:]}; failing that, check the servo settings in "
                  "machine.yaml and the sweep.")

@@ -72,7 +72,7 @@ def measure_frfs(run: AxisRun, options: IdentifyOptions) -> BandFRFs:
         file=sweep.source,
     )
     asked = (options.fmin_hz is not None, options.fmax_hz is not None)
-    cover = band_cover(frfs["G_M"], sweep.excitation_A, asked, floor) if any(asked) else None
+    cover = band_cover(frfs["G_M"], sweep.excitation_A, asked, floor)
     return BandFRFs(frfs, fmin, options.fmax_hz, cover)
 
 

@@ -21,6 +21,16 @@ def test_a_plateau_speed_is_the_fastest_since_the_last_reversal():
     assert _plateau_speeds(v, [(3, 4), (7, 8)]) == pytest.approx([0.5, 2.0])
 
 
+def test_a_reversal_before_the_last_one_travelled_back_has_no_plateau():
+    """Two reversals whose windows overlap (the axis turned again before it had travelled
+    back past the last one's window) have no plateau between them: the second counts as
+    no slow reversal, where the empty span between them stopped identify of one machine
+    in eight of a drawn population with "zero-size array to reduction operation"."""
+    v = np.array([0.0, 0.5, 0.5, 0.1, -0.1, -0.05, 0.05, 0.3, 0.3, 0.3])
+    speeds = _plateau_speeds(v, [(3, 6), (5, 8)])
+    assert speeds[0] == pytest.approx(0.5) and speeds[1] == np.inf
+
+
 @pytest.fixture(scope="module")
 def from_5_mm_s(tmp_path_factory):
     """Bench D with each axis's friction runs kept from its 5 mm/s plateaus up."""

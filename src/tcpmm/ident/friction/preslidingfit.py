@@ -184,9 +184,11 @@ def _windows(s, v, margin: int):
 
 def _plateau_speeds(v, windows) -> list:
     """The speed of the plateau each window's reversal turns round from: the largest
-    between the previous window and this one [m/s]."""
+    between the previous window and this one; ``inf`` where the two overlap (the axis
+    turned again before it travelled back ``POST``: no plateau, so no slow one) [m/s]."""
     ends = [0] + [b for _, b in windows[:-1]]
-    return [float(np.max(np.abs(v[e:a + 1]))) for e, (a, _) in zip(ends, windows, strict=True)]
+    return [float(np.max(np.abs(v[e:a + 1]))) if e <= a else math.inf
+            for e, (a, _) in zip(ends, windows, strict=True)]
 
 
 def _contact_force(params, path, h, band: float):

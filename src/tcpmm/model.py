@@ -119,7 +119,9 @@ class OpenRange(BaseModel):
         of a bed whose mass or stiffness the FRFs do not determine) [N/m], or
         ``column_damping`` / ``bed_damping`` (the damping ratio of the mode of ``M_h`` on
         ``K_h`` / of ``M_b`` on ``K_b``, where the sweep's excitation starts above that mode
-        or the FRFs do not determine ``C_h`` / ``C_b``) [-].
+        or the FRFs do not determine ``C_h`` / ``C_b``) [-], or ``static_level`` (the
+        static friction level over the Coulomb level, where the friction runs fix no
+        Stribeck hump and the model holds it at the Coulomb level) [-].
     low, high : float
         The range, in the quantity's unit [SI].
     cause : str
@@ -131,7 +133,8 @@ class OpenRange(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics",
-                      "damping", "column", "bed", "column_damping", "bed_damping"]
+                      "damping", "column", "bed", "column_damping", "bed_damping",
+                      "static_level"]
     low: float = Field(ge=0.0, allow_inf_nan=False)
     high: float = Field(ge=0.0, allow_inf_nan=False)
     cause: str

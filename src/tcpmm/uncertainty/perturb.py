@@ -127,6 +127,23 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
     return out
 
 
+def _static_at(c, ratio: float):
+    """A contact whose static levels held at its Coulomb levels are ``ratio`` times them,
+    a LuGre contact's pre-sliding distance and bristle damping ratio kept (``sigma0``
+    with the static level, ``sigma1`` with its square root); ``None`` stays ``None`` [-]."""
+    if c is None:
+        return None
+    upd = {f"fs_{d}": ratio * getattr(c, f"fc_{d}") for d in ("pos", "neg")
+           if getattr(c, f"fs_{d}") == getattr(c, f"fc_{d}")}
+    if hasattr(c, "sigma0"):
+        old = max(c.fs_pos, c.fs_neg, c.fc_pos, c.fc_neg)
+        new = max(*(upd.get(f"fs_{d}", getattr(c, f"fs_{d}")) for d in ("pos", "neg")),
+                  c.fc_pos, c.fc_neg)
+        k = new / old if old > 0.0 else 1.0
+        upd.update(sigma0=c.sigma0 * k, sigma1=c.sigma1 * math.sqrt(k))
+    return c.model_copy(update=upd)
+
+
 def _open_variants(axis: Axis, r) -> list[Variant]:
     """The axis at both ends of an open range ``r`` (:class:`tcpmm.model.OpenRange`)."""
     m, fr = axis.mechanics, axis.friction
@@ -139,6 +156,9 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
             moved = axis.replace(friction=fr.model_copy(update={"backlash": x}))
         elif r.quantity == "presliding":
             moved = axis.replace(friction=with_presliding(fr, m, x))
+        elif r.quantity == "static_level":
+            moved = axis.replace(friction=fr.model_copy(update={
+                "guideway": _static_at(fr.guideway, x), "screw": _static_at(fr.screw, x)}))
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))

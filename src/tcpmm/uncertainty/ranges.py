@@ -18,6 +18,7 @@ from ..ident.friction.nutstiffness import RESOLUTION_STEPS
 from ..ident.physical.structure import STIFFNESS_FLOOR
 from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from ..model import OpenRange
+from .frictionranges import play_open, static_open
 
 __all__ = [
     "BED_RANGE",
@@ -86,7 +87,6 @@ SHARE_DISAGREE = 0.1
 
 _SETTLE_SHARE = ("a sweep with a TCP device while the axis travels at constant speed, or a "
                  "scale at least ten times finer than the nut's deflection")
-_SETTLE_PLAY = "a reversal test at low speed with a finer scale, or a TCP device"
 _SETTLE_PRESLIDING = ("friction runs with slow reversals (0.5 mm/s or less) recorded at 1 kHz "
                       "or more")
 _SETTLE_CROSSED = ("a sweep while the axis travels at constant speed (the guideway friction "
@@ -184,30 +184,6 @@ def _share_open(a) -> tuple[str, float, float] | None:
                 f"{SCALE_STEPS:g} steps of the {res * 1e6:g} um scale: the share rests on the "
                 "scale's rounding", *SHARE_RANGE)
     return None
-
-
-def _play_open(a) -> OpenRange | None:
-    """The lost motion as an open range where the runs found one of about a scale step."""
-    split = a.friction_split
-    res = a.axis.sensors.scale_resolution
-    if split is None or split.source == "given" or res <= 0.0:
-        return None
-    hidden = split.backlash_at_resolution
-    if math.isfinite(hidden) and hidden > split.backlash:
-        return OpenRange(quantity="backlash", low=0.0, high=hidden,
-                         cause=f"the friction runs show a lost motion within {SCALE_STEPS:g} "
-                               f"steps of the {res * 1e6:g} um scale, which they cannot tell "
-                               "from its rounding; none modelled",
-                         settle=_SETTLE_PLAY)
-    if not split.backlash > 0.0:
-        return None
-    if split.backlash >= SCALE_STEPS * res:
-        return None
-    sd = split.backlash_std if math.isfinite(split.backlash_std) else split.backlash
-    return OpenRange(quantity="backlash", low=0.0, high=split.backlash + 3.0 * sd,
-                     cause=f"the lost motion found ({split.backlash * 1e6:.2f} um) is within "
-                           f"{SCALE_STEPS:g} steps of the {res * 1e6:g} um scale",
-                     settle=_SETTLE_PLAY)
 
 
 def _nonlinear_sweep(a) -> list[OpenRange]:
@@ -353,9 +329,7 @@ def open_ranges(a) -> tuple[OpenRange, ...]:
         why, lo, hi = share
         out.append(OpenRange(quantity="guideway_share", low=lo, high=hi, cause=why,
                              settle=_SETTLE_SHARE))
-    play = _play_open(a)
-    if play is not None:
-        out.append(play)
+    out += [r for r in (play_open(a), static_open(a)) if r is not None]
     fit = a.presliding_fit
     if fit is not None and not fit.determined and a.axis.friction is not None:
         out.append(OpenRange(quantity="presliding", low=PRESLIDING_RANGE_M[0],

@@ -23,10 +23,11 @@ from ...errors import InputError, InputWarning
 from ...mechanics.friction import StribeckFriction
 from ...model import AxisFriction
 from .frictionsplit import FrictionSplit
+from .hump import without_undetermined_hump
 from .lostmotion import estimate_lost_motion
 from .nutstiffness import LOST_MOTION_Z, estimate_nut
-from .steadycurve import steady_curve, stribeck_from_record
-from .stribeck import coulomb_stribeck, without_undetermined_hump
+from .steadycurve import slowest_read, steady_curve, stribeck_from_record
+from .stribeck import coulomb_stribeck
 from .sweepforce import settle_sweep_share, sweep_share, sweep_share_outside
 
 __all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
@@ -106,13 +107,12 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
 
 def _steady_fit(record, cfg, mechanics, axis: str):
     """Time [s], motor force at the table [N], the steady friction curve and the plateaus
-    of the record, the curve's hump taken out, with a warning, where the runs leave it
-    open (:func:`~tcpmm.ident.friction.stribeck.without_undetermined_hump`) [-]."""
+    of the record, the curve's hump taken out where the runs leave it open
+    (:func:`~tcpmm.ident.friction.hump.without_undetermined_hump`; the warning it keeps
+    in the curve is told for the fit kept, not for each refit of the mechanics) [-]."""
     t, _, force, est, plateaus = stribeck_from_record(record, cfg, axis)
-    est, why = without_undetermined_hump(steady_curve(t, record, force, est, plateaus,
-                                                      mechanics))
-    if why:
-        warnings.warn(f"axis {axis or record.axis}: {why}", InputWarning, stacklevel=3)
+    curve = steady_curve(t, record, force, est, plateaus, mechanics)
+    est, _ = without_undetermined_hump(curve, slowest_read(curve, plateaus))
     return t, force, est, plateaus
 
 

@@ -23,8 +23,8 @@ from .stribeck import (
 )
 from .transients import fit_stribeck_transients
 
-__all__ = ["HUMP_REL_STD", "TRANSIENT_CUTOFF_HZ", "slowest_plateau", "steady_curve",
-           "stribeck_from_record"]
+__all__ = ["HUMP_REL_STD", "TRANSIENT_CUTOFF_HZ", "slowest_plateau", "slowest_read",
+           "steady_curve", "stribeck_from_record"]
 
 #: Highest low-pass cut-off of the fit to the whole friction record; at most a quarter of
 #: the drive's first axial mode, below which the axis moves as one body [Hz].
@@ -94,6 +94,13 @@ def _check_uniform(t, source) -> None:
 def slowest_plateau(plateaus) -> float:
     """Speed of the slowest constant-speed plateau [m/s]."""
     return float(min(abs(p.velocity) for p in plateaus))
+
+
+def slowest_read(fit, plateaus) -> float:
+    """The slowest speed a fit of the steady curve reads: for a fit to the whole record
+    (:func:`~tcpmm.ident.friction.transients.fit_stribeck_transients`) the slowest sample it
+    takes as moving, for a fit to the plateaus the slowest plateau [m/s]."""
+    return float(fit.extra.get("v_min", slowest_plateau(plateaus)))
 
 
 #: Fits of a record already made, by the record (held weakly) and what they depend on: the

@@ -12,7 +12,6 @@ record of time, position and effort; ``read_friction_csv`` and
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -23,9 +22,11 @@ from tcpmm.errors import InputError
 from ...io.bundle import read_friction_csv as read_record
 from ..frf.signals import as_1d, central_difference, lowpass_filtfilt
 from .estimate import ParameterEstimate
+from .hump import HUMP_KEEP_REL_STD, without_undetermined_hump
 from .plateaus import Plateau, find_plateaus
 
 __all__ = [
+    "HUMP_KEEP_REL_STD",
     "PLATEAU_DURATIONS_S",
     "NoPlateauError",
     "coulomb_stribeck",
@@ -176,57 +177,6 @@ def _estimate(p, free, sol, v, f, delta: float, tie_static: bool) -> ParameterEs
         n_samples=int(v.size),
         extra={"stribeck_delta": float(delta), "tie_static": bool(tie_static)},
     )
-
-
-#: Largest standard deviation of a static level, against its excess over the Coulomb
-#: level, and of the Stribeck speed, against itself, for a fitted hump to be kept [-].
-HUMP_KEEP_REL_STD = 0.5
-
-
-def without_undetermined_hump(est: ParameterEstimate):
-    """The fitted curve with its Stribeck hump taken out where the runs do not fix it.
-
-    A static level known to no better than :data:`HUMP_KEEP_REL_STD` of its excess over
-    the Coulomb level (or a Stribeck speed known as poorly) is an extrapolation of the
-    fit: on runs that show no friction at all it reaches meganewtons. There the static
-    levels are set to the Coulomb levels and their standard deviations to NaN.
-
-    Parameters
-    ----------
-    est : ParameterEstimate
-        ``Fc+, Fc-, Fs+, Fs-, vs, Fv`` as :func:`fit_stribeck` gives them [N, N, N, N,
-        m/s, N s/m].
-
-    Returns
-    -------
-    tuple
-        ``(ParameterEstimate, str)``: the curve kept, and ``""`` or what was taken out
-        and why [-].
-    """
-    v = dict(zip(est.names, est.values, strict=True))
-    sd = dict(zip(est.names, est.std, strict=True))
-    loose = [d for d in "+-"
-             if not sd[f"Fs{d}"] <= HUMP_KEEP_REL_STD * (v[f"Fs{d}"] - v[f"Fc{d}"])]
-    if not sd["vs"] <= HUMP_KEEP_REL_STD * v["vs"] and v["Fs+"] + v["Fs-"] > v["Fc+"] + v["Fc-"]:
-        loose = ["+", "-"]
-    loose = [d for d in loose if v[f"Fs{d}"] != v[f"Fc{d}"]]
-    if not loose:
-        return est, ""
-    values, std = np.array(est.values, float), np.array(est.std, float)
-    said = []
-    for d in loose:
-        i, j = est.names.index(f"Fs{d}"), est.names.index(f"Fc{d}")
-        said.append(f"Fs{d} {values[i]:.4g} +- {std[i]:.2g} N against Fc{d} {values[j]:.4g} N")
-        values[i], std[i] = values[j], np.nan
-    none = all(v[f"Fc{d}"] <= 2.0 * sd[f"Fc{d}"] for d in "+-")
-    why = ("the friction runs show no sliding friction (Coulomb levels "
-           f"{v['Fc+']:.3g} +- {sd['Fc+']:.2g} and {v['Fc-']:.3g} +- {sd['Fc-']:.2g} N); "
-           if none else "")
-    why += (f"the friction runs do not determine a static level above Coulomb ("
-           f"{'; '.join(said)}; Stribeck speed {v['vs'] * 1e3:.3g} +- {sd['vs'] * 1e3:.2g}"
-           " mm/s), so the model keeps the Coulomb level at rest there; record runs slower "
-           "than the Stribeck speed (0.1-0.5 mm/s) to fix the break-away level")
-    return dataclasses.replace(est, values=values, std=std), why
 
 
 def coulomb_stribeck(curve: dict):

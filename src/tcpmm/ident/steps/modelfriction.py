@@ -1,6 +1,6 @@
-"""Pre-sliding step: the friction as it goes into the model, with the uncertainty of its
-guideway share told and the pre-sliding of its contacts given or fitted to the reversals
-of the friction runs."""
+"""Pre-sliding step: the friction as it goes into the model, with a static level the runs
+do not fix and the uncertainty of its guideway share told, and the pre-sliding of its
+contacts given or fitted to the reversals of the friction runs."""
 
 from __future__ import annotations
 
@@ -49,10 +49,12 @@ def friction_for_model(run: AxisRun, options: IdentifyOptions) -> ModelFriction 
     if run.runs is None:
         return None
     kept = run.kept
-    message = share_uncertainty_warning(run.name, kept.split, kept.curve, kept.mechanics,
-                                        run.cfg)
-    if message is not None:
-        warn_input(message, file=getattr(run.runs, "source", None))
+    held = kept.curve.extra.get("static_held_warning")
+    share = share_uncertainty_warning(run.name, kept.split, kept.curve, kept.mechanics,
+                                      run.cfg)
+    for message in (f"axis {run.name}: {held}" if held else None, share):
+        if message is not None:
+            warn_input(message, file=getattr(run.runs, "source", None))
     return ModelFriction(*with_fitted_presliding(kept.friction, kept.mechanics, run.runs,
                                                  options.presliding))
 

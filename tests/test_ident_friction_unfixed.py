@@ -79,3 +79,37 @@ def test_a_hump_below_the_slowest_speed_read_is_held():
     assert kept["vs"] == HELD_STRIBECK_SPEED and kept["Fv"] == 2376.0
     assert "below the slowest speed the fit reads, 0.1 mm/s" in why
     assert kept.extra["static_held"] in why and kept.extra["v_min"] == 1e-4
+
+
+@pytest.fixture(scope="module")
+def c_x_from_5_mm_s(tmp_path_factory):
+    """Bench C with X's friction runs kept from their 5 mm/s plateaus up, identified, with
+    the warnings said."""
+    bundle = tmp_path_factory.mktemp("c") / "bundle"
+    shutil.copytree(bench_path("c") / "bundle", bundle)
+    _runs_from(bundle, ("X",), FROM_5_MM_S)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        found = identify_bundle(read_bundle(bundle))
+    return found, [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+
+
+def test_a_lost_motion_the_runs_cannot_bound_is_open(c_x_from_5_mm_s):
+    """Without slow plateaus the whole record gives X's lost motion a deviation of 15 mm:
+    the runs find none but cannot bound one, far beyond any screw-nut's, and the model takes
+    the lost motion open over its whole range, where it said a nut could hide 46 mm."""
+    from tcpmm.model import BACKLASH_MAX_M
+
+    found, said = c_x_from_5_mm_s
+    a = found.axes["X"]
+    assert a.friction_split.lost_motion_unbounded and a.lost_motion_sensitivity is None
+    assert not [s for s in said if "axis X:" in s and "would not find one of up to" in s]
+    [told] = [s for s in said if "axis X:" in s and "cannot bound one" in s]
+    assert "plateaus at low speed" in told
+    x = found.machine.axis("X")
+    [play] = [r for r in x.uncertainty.open if r.quantity == "backlash"]
+    assert (play.low, play.high) == (0.0, BACKLASH_MAX_M) and x.friction.backlash == 0.0
+    assert x.uncertainty.backlash == 0.0
+    blamed = [f for f in found.verdict.figures if f.cause == "axis X backlash, open"]
+    assert blamed and all(f.verdict != "firm" for f in blamed)
+

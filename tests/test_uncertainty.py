@@ -109,7 +109,7 @@ def _axis_ident(source="data", share=0.2, share_std=0.05, backlash=0.0, resoluti
     split = SimpleNamespace(source=source, guideway_share=share, guideway_share_std=share_std,
                             backlash=backlash, backlash_std=0.3e-6,
                             backlash_at_resolution=float("nan"), plateau_share=plateau[0],
-                            plateau_share_std=plateau[1])
+                            plateau_share_std=plateau[1], lost_motion_unbounded=False)
     return SimpleNamespace(
         frfs=dict.fromkeys(frfs), friction_split=split, presliding_fit=None,
         friction_hold=hold,

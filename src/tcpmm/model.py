@@ -39,6 +39,10 @@ def _contact(data):
 SENSOR_RANGES = {"encoder_counts_per_rev": (0, 1e12, "counts/rev"),
                  "scale_resolution": (0.0, 1e-2, "m"), "tcp_resolution": (0.0, 1e-2, "m")}
 
+#: Largest lost motion of a feed axis's screw-nut a model may have: a worn nut has tens of
+#: micrometres; a millimetre is no ball screw's [m].
+BACKLASH_MAX_M = 1e-3
+
 FrictionModel = Annotated[LuGreFriction | StribeckFriction, BeforeValidator(_contact)]
 
 
@@ -98,7 +102,7 @@ class AxisFriction(BaseModel):
 
     screw: FrictionModel | None = None
     guideway: FrictionModel | None = None
-    backlash: float = Field(0.0, ge=0.0, le=1e-3, allow_inf_nan=False)
+    backlash: float = Field(0.0, ge=0.0, le=BACKLASH_MAX_M, allow_inf_nan=False)
     guideway_velocity: Literal["table", "relative"] = "table"
     substeps: int = Field(16, ge=1, le=1024)
 

@@ -8,9 +8,10 @@ import math
 
 from ..ident.friction.hump import HELD_STRIBECK_SPEED
 from ..ident.friction.nutstiffness import RESOLUTION_STEPS
-from ..model import OpenRange
+from ..model import BACKLASH_MAX_M, OpenRange
 
-__all__ = ["SETTLE_PLAY", "SETTLE_STATIC", "STATIC_RANGE", "play_open", "static_open"]
+__all__ = ["SETTLE_PLAY", "SETTLE_STATIC", "SETTLE_UNBOUNDED_PLAY", "STATIC_RANGE",
+           "play_open", "static_open"]
 
 #: Range of an open static level, over the Coulomb level: from no rise at all to the 2 of
 #: plastic-lined sliding guides; preloaded rolling guides and ball screws have 1.1 to 1.5
@@ -18,15 +19,28 @@ __all__ = ["SETTLE_PLAY", "SETTLE_STATIC", "STATIC_RANGE", "play_open", "static_
 STATIC_RANGE = (1.0, 2.0)
 
 SETTLE_PLAY = "a reversal test at low speed with a finer scale, or a TCP device"
+SETTLE_UNBOUNDED_PLAY = ("a reversal test at low speed, or friction runs with plateaus at low "
+                         "speed (0.5 and 2 mm/s)")
 SETTLE_STATIC = ("friction runs with plateaus at low speed (0.1-0.5 mm/s, below the Stribeck "
                  "speed), each held for at least 0.2 s in both directions")
 
 
 def play_open(a) -> OpenRange | None:
-    """The lost motion as an open range where the runs found one of about a scale step."""
+    """The lost motion as an open range where the runs found one of about a scale step, or
+    over its whole range (up to :data:`~tcpmm.model.BACKLASH_MAX_M`) where they find none
+    and cannot bound one."""
     split = a.friction_split
+    if split is None or split.source == "given":
+        return None
+    if split.lost_motion_unbounded:
+        return OpenRange(quantity="backlash", low=0.0, high=BACKLASH_MAX_M,
+                         cause=f"the friction runs find no lost motion but cannot bound one "
+                               f"(three standard deviations: "
+                               f"{split.unfound_backlash * 1e3:.3g} mm, beyond the "
+                               f"{BACKLASH_MAX_M * 1e3:g} mm of any screw-nut); none modelled",
+                         settle=SETTLE_UNBOUNDED_PLAY)
     res = a.axis.sensors.scale_resolution
-    if split is None or split.source == "given" or res <= 0.0:
+    if res <= 0.0:
         return None
     hidden = split.backlash_at_resolution
     if math.isfinite(hidden) and hidden > split.backlash:

@@ -11,7 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FrictionSplit"]
+from ...model import BACKLASH_MAX_M
+
+__all__ = ["UNFOUND_Z", "FrictionSplit"]
+
+#: Standard deviations of a lost motion the runs do not find that could hide in them [-].
+UNFOUND_Z = 3.0
 
 
 def _or_none(x: float):
@@ -79,6 +84,20 @@ class FrictionSplit:
         estimate when there is one, else the plateaus; NaN without either [m]."""
         play_from = self.nut if self.nut is not None else self.estimate
         return float(play_from.backlash_std) if play_from is not None else float("nan")
+
+    @property
+    def unfound_backlash(self) -> float:
+        """The lost motion the runs could miss where they find none (:data:`UNFOUND_Z`
+        standard deviations); NaN where they find one or give no deviation [m]."""
+        if self.backlash > 0.0 or self.source == "given":
+            return float("nan")
+        return UNFOUND_Z * float(self.unfound_backlash_std)
+
+    @property
+    def lost_motion_unbounded(self) -> bool:
+        """Whether the runs cannot bound the lost motion they do not find: what they could
+        miss is beyond any screw-nut's (:data:`~tcpmm.model.BACKLASH_MAX_M`) [-]."""
+        return bool(self.unfound_backlash > BACKLASH_MAX_M)
 
     @property
     def _table_viscous_from(self):

@@ -24,7 +24,7 @@ import numpy as np
 from ...analysis.circular import analyse_circle
 from ...errors import InputError
 from ...io.csvutil import warn_input
-from ...model import Machine
+from ...model import BACKLASH_MAX_M, Machine
 from ...path.circle import circle_command
 from ...sim.simulate import simulate, unstable_loops
 from .presliding import with_presliding
@@ -33,7 +33,8 @@ from .split import SHARE_WARN_STD
 __all__ = ["LostMotionSensitivity", "NoSpikePrediction", "PreslidingSensitivity",
            "ShareSensitivity",
            "coulomb_share", "lost_motion_spike_range", "presliding_spike_range",
-           "share_spike_range", "spike_range", "warn_lost_motion_sensitivity",
+           "share_spike_range", "spike_range", "unbounded_lost_motion_words",
+           "warn_lost_motion_sensitivity",
            "warn_presliding_sensitivity", "warn_share_sensitivity", "with_share"]
 
 @dataclass(frozen=True)
@@ -253,7 +254,8 @@ def _warn_from(friction, due: bool, message: str) -> None:
 def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
     """Where the friction runs find no lost motion but could miss one of three standard
     deviations, say how far that would move the TCP spikes of a circle
-    (:func:`lost_motion_spike_range`); noted as ``a.lost_motion_sensitivity``.
+    (:func:`lost_motion_spike_range`); noted as ``a.lost_motion_sensitivity``. Where that
+    is beyond any screw-nut's, say that the runs cannot bound it.
 
     Parameters
     ----------
@@ -267,9 +269,12 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
         Its friction runs, for the file the warning names [-].
     """
     split = a.friction_split
-    if split is None or split.backlash > 0.0 or split.source == "given":
+    if split is None:
         return
-    hidden = 3.0 * split.unfound_backlash_std
+    if split.lost_motion_unbounded:  # a spike range over it would be no machine's
+        _warn_from(friction, True, unbounded_lost_motion_words(name, split))
+        return
+    hidden = split.unfound_backlash
     if not (np.isfinite(hidden) and hidden > LOST_MOTION_CHECK_M):
         return
     moved = lost_motion_spike_range(machine, name, (0.0, hidden))
@@ -282,6 +287,17 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
         f"find one of up to {hidden * 1e6:.2f} um (three standard deviations); that much "
         f"would move the TCP reversal spikes of a circle in its plane (R35 mm, F5000) "
         f"{moved_by(moved)}. A reversal test at low speed, or finer sensors, fixes it")
+
+
+def unbounded_lost_motion_words(name: str, split) -> str:
+    """What to tell where the friction runs find no lost motion and cannot bound one
+    (:attr:`~tcpmm.ident.friction.frictionsplit.FrictionSplit.lost_motion_unbounded`) [-]."""
+    return (f"axis {name}: the friction runs find no lost motion in the nut, but cannot bound "
+            f"one: three standard deviations of their estimate "
+            f"({split.unfound_backlash * 1e3:.3g} mm) are beyond the "
+            f"{BACKLASH_MAX_M * 1e3:g} mm of any screw-nut, so the model takes none and "
+            "names it open. A reversal test at low speed, or friction runs with plateaus at "
+            "low speed (0.5 and 2 mm/s), bound it")
 
 
 def moved_by(moved: float) -> str:

@@ -113,3 +113,23 @@ def test_a_lost_motion_the_runs_cannot_bound_is_open(c_x_from_5_mm_s):
     blamed = [f for f in found.verdict.figures if f.cause == "axis X backlash, open"]
     assert blamed and all(f.verdict != "firm" for f in blamed)
 
+
+def test_a_sweep_share_on_an_unfixed_level_names_the_level_once(tmp_path):
+    """Bench C's runs kept to their 0.5, 2 and 5 mm/s plateaus leave the Coulomb level to
+    trade with the viscous slope (0.9 +- 13 N): the travelling sweep's deflection, divided
+    by it, read a share of a million, and identify asked whether the TCP device was zeroed
+    to the scale, once per refit of the mechanics. It names the level, once per axis."""
+    bundle = tmp_path / "bundle"
+    shutil.copytree(bench_path("c") / "bundle", bundle)
+    for ax in ("X", "Y"):
+        p = bundle / ax / "friction.csv"
+        f = pd.read_csv(p)
+        f[f.time_s < 14.4].to_csv(p, index=False)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        identify_bundle(read_bundle(bundle), verdict=False)
+    said = [str(w.message) for w in caught if "travelling sweep's deflection" in str(w.message)]
+    for ax in ("X", "Y"):
+        [told] = [s for s in said if f"axis {ax}:" in s]
+        assert "do not fix the friction level" in told and "Coulomb levels" in told
+        assert "zeroed" not in told and "wider range of speeds" in told

@@ -63,6 +63,10 @@ class FrictionSplit:
         Where the share came from a sweep: the share the plateaus of the friction runs give
         alone and its standard deviation, a second measure a verdict can weigh the sweep's
         against; NaN otherwise, or where the plateaus do not determine it [-].
+    sweep_note : str
+        Why a travelling sweep gave no share, where it read one outside 0 to 1; told once
+        per axis (:func:`tcpmm.ident.steps.fitcontext.friction_on`), not for each refit of
+        the mechanics [-].
     """
 
     guideway_share: float
@@ -77,6 +81,7 @@ class FrictionSplit:
     backlash_at_resolution: float = float("nan")
     plateau_share: float = float("nan")
     plateau_share_std: float = float("nan")
+    sweep_note: str = ""
 
     @property
     def backlash_std(self) -> float:

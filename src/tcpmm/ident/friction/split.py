@@ -14,6 +14,7 @@ motion into the damping of the mechanics, on the side of the nut where the runs 
 from __future__ import annotations
 
 import dataclasses
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -30,13 +31,19 @@ from .steadycurve import slowest_read, steady_curve, stribeck_from_record
 from .stribeck import coulomb_stribeck
 from .sweepforce import settle_sweep_share, sweep_share, sweep_share_outside
 
-__all__ = ["GUIDEWAY_SHARE", "SHARE_WARN_STD", "FrictionSplit", "identify_friction",
-           "place_steady_viscous", "share_uncertainty_warning"]
+__all__ = ["GUIDEWAY_SHARE", "LEVEL_FIXED_REL_STD", "SHARE_WARN_STD", "FrictionSplit",
+           "identify_friction", "place_steady_viscous", "share_uncertainty_warning",
+           "unfixed_level"]
 
 #: Share of the identified friction put on the guideway when the friction runs do not
 #: determine it (see :mod:`tcpmm.ident.friction.lostmotion`): preloaded, sealed linear guides
 #: usually carry most of the friction of a feed axis.
 GUIDEWAY_SHARE = 0.7
+#: Largest standard deviation of the Coulomb level (both directions'), against the level,
+#: that the friction runs fix: beyond it two deviations reach zero. Runs that do not reach
+#: the speeds where the viscous force dominates leave the two to trade (bench C's kept to
+#: 0.5-5 mm/s: 0.9 +- 13 N against 139 N) [-].
+LEVEL_FIXED_REL_STD = 0.5
 #: Standard deviation of a guideway share from the data above which identification warns:
 #: the friction that holds the table at a reversal, and with it the predicted reversal
 #: spikes, follows the share, and a shift of 0.15 in it moves them by micrometres on an
@@ -98,7 +105,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
     t, force, est, plateaus = _steady_fit(record, cfg, mechanics, axis)
     v = dict(zip(est.names, est.values, strict=True))
     runs = _Runs(t, record, force, plateaus, cfg, mechanics, v, viscous, sweep, K_h_rel_std,
-                 C_t_std)
+                 C_t_std, dict(zip(est.names, est.std, strict=True)))
     given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
     m_split = mechanics.replace(B_m=0.0) if neglect_motor_bearing else mechanics
     split = _split_of_runs(runs, m_split, stiffness_rel_std, given, axis)
@@ -121,8 +128,8 @@ class _Runs:
     """What the split of an axis's friction rests on: the record with its time ``t`` [s],
     motor force at the table ``force`` [N] and plateaus, the axis's configuration and
     mechanics, the steady curve by name (``curve``), how the plateaus take the viscous
-    force, and the travelling sweep with the uncertainties its share is worked out with
-    [SI]."""
+    force, the travelling sweep with the uncertainties its share is worked out with, and
+    the curve's standard deviations by name (``curve_std``) [SI]."""
 
     t: np.ndarray
     record: object
@@ -135,6 +142,7 @@ class _Runs:
     sweep: object
     K_h_rel_std: float
     C_t_std: float
+    curve_std: dict
 
     def plateaus_at(self, mech, rel_std: float, **kw):
         """Share and lost motion from the plateau deflections, with the mechanics ``mech``
@@ -200,29 +208,54 @@ def _split_of_runs(runs: _Runs, mech, rel_std: float, given, axis) -> FrictionSp
                               lm, None, from_sweep[1], viscous_on_table=from_sweep[2],
                               viscous_on_table_std=from_sweep[3])
     else:
-        if given is None and runs.sweep is not None and not play:
-            _warn_sweep_outside(runs, lm, axis)
-        split = _split_of(lm, nut, play, given, axis)
+        note = ("" if given is not None or runs.sweep is None or play
+                else _sweep_outside_words(runs, lm, axis))
+        split = dataclasses.replace(_split_of(lm, nut, play, given, axis), sweep_note=note)
     return _with_open_quantities(split, nut, coarse is not None, first)
 
 
-def _warn_sweep_outside(runs: _Runs, lm, axis) -> None:
-    """Say where the travelling sweep's deflection reads a share outside 0 to 1, which the
-    split then leaves for the friction runs': a TCP device zeroed apart from the scale
-    reads so, and so does a structure whose stiffness the FRFs could not show, their band
-    starting above its modes [-]."""
+def _sweep_outside_words(runs: _Runs, lm, axis) -> str:
+    """What to say where the travelling sweep's deflection reads a share outside 0 to 1,
+    which the split then leaves for the friction runs', or ``""``: a friction level the
+    runs do not fix (:func:`unfixed_level`) reads so, as the level divides the deflection's
+    force; else a TCP device zeroed apart from the scale, or a structure whose stiffness
+    the FRFs could not show, their band starting above its modes [-]."""
     share = sweep_share_outside(runs.sweep, runs.mechanics, runs.curve, lm, runs.C_t_std)
     if share is None:
-        return
+        return ""
+    said = (f"axis {axis or runs.record.axis}: the travelling sweep's deflection between "
+            f"scale and TCP ({runs.sweep.deflection * 1e6:.2f} um)")
+    level = unfixed_level(runs.curve, runs.curve_std)
+    if level:
+        return (f"{said} cannot be read as a guideway share: the friction runs do not fix the "
+                f"friction level it is read against ({level}), so the share is taken from "
+                "the friction runs; friction runs over a wider range of speeds (the "
+                "benches' 0.5 to 100 mm/s) fix the level")
     cover = getattr(runs.sweep, "cover", None)
     band = None if cover is None else cover.words(runs.mechanics, above=False)
     zeroed = "is the TCP device zeroed to the scale (formats.md)?"
-    warnings.warn(f"axis {axis or runs.record.axis}: the travelling sweep's deflection "
-                  f"between scale and TCP ({runs.sweep.deflection * 1e6:.2f} um) reads a "
-                  f"guideway share of {share:.2f}, outside 0 to 1, so the share is taken "
-                  f"from the friction runs; "
-                  f"{zeroed if band is None else f'{band}; failing that, {zeroed}'}",
-                  InputWarning, stacklevel=3)
+    return (f"{said} reads a guideway share of {share:.2f}, outside 0 to 1, so the share is "
+            f"taken from the friction runs; "
+            f"{zeroed if band is None else f'{band}; failing that, {zeroed}'}")
+
+
+def unfixed_level(curve: dict, curve_std: dict) -> str:
+    """The Coulomb levels with their standard deviations where the friction runs do not fix
+    the friction level (known no better than :data:`LEVEL_FIXED_REL_STD` of it), else
+    ``""``.
+
+    Parameters
+    ----------
+    curve, curve_std : dict
+        Fitted steady friction and its standard deviations, by name (``Fc+``, ``Fc-``)
+        [N].
+    """
+    fc = float(curve["Fc+"]) + float(curve["Fc-"])
+    sd = math.hypot(float(curve_std.get("Fc+", 0.0)), float(curve_std.get("Fc-", 0.0)))
+    if fc > 0.0 and sd <= LEVEL_FIXED_REL_STD * fc:
+        return ""
+    return (f"Coulomb levels {float(curve['Fc+']):.3g} +- {float(curve_std['Fc+']):.2g} and "
+            f"{float(curve['Fc-']):.3g} +- {float(curve_std['Fc-']):.2g} N")
 
 
 def _with_open_quantities(split, nut, at_resolution: bool, first):

@@ -5,11 +5,12 @@ friction runs, in one frozen :class:`FitContext`; and the two fits it serves,
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ...io.csvutil import warn_input
 from ..friction.split import identify_friction, place_steady_viscous
 from ..friction.sweepforce import sweep_deflection
 from ..physical.greybox import PhysicalFit, fit_physical
@@ -48,6 +49,9 @@ class FitContext:
         Share of the friction put on the guideway; ``None``: from the runs [-].
     sweep_force : SweepDeflection, optional
         Mean TCP-structure deflection of a travelling sweep, for the share [m].
+    told : set
+        What the fits of the axis have told already: each refit of the mechanics reads
+        the friction runs again, and finds alike what the first found [-].
     """
 
     name: str
@@ -58,6 +62,7 @@ class FitContext:
     runs: object = None
     guideway_share: float | None = None
     sweep_force: object = None
+    told: set = field(default_factory=set, compare=False, repr=False)
 
 
 def fit_context(run: AxisRun, options: IdentifyOptions) -> FitContext:
@@ -154,6 +159,11 @@ def friction_on(ctx: FitContext, phys: PhysicalFit):
         neglect_motor_bearing=not damping_known, sweep=ctx.sweep_force,
         K_h_rel_std=_finite_or(rel_std("K_h"), 0.0),
         C_t_std=_finite_or(phys.std.get("C_t", float("nan")), 0.0))
+    if split.sweep_note and "sweep_note" not in ctx.told:
+        # the first fit whose sweep reads no share says why (a band above the structure
+        # shows there), though the fits that follow may read one
+        ctx.told.add("sweep_note")
+        warn_input(split.sweep_note)
     if split.source != "prior" and not damping_known:
         # Motor-bearing damping does not twist the shaft, so with it the runs would put
         # less of the steady viscous force through the nut. A sweep does not tell it

@@ -39,7 +39,8 @@ class Unbounded(NamedTuple):
 
 #: A friction level the runs do not fix within a thousandfold: moved that far, it still
 #: bounds nothing (the steady force could be larger yet) [-].
-UNFIXED_LEVEL = Unbounded("friction_level", "longer friction-run plateaus")
+UNFIXED_LEVEL = Unbounded("friction_level", "friction runs over a wider range of speeds (0.5 to "
+                                            "100 mm/s), with longer plateaus")
 
 
 @dataclass(frozen=True)

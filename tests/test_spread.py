@@ -203,6 +203,11 @@ def test_a_point_without_a_spike_is_not_reported(tmp_path, capsys, played):
     # the table's agreement of the draws is not the verdict, and says so, in words
     assert "True" not in out and "False" not in out and "draws agree" in out
     assert "spike [µm]" in out and "count what the data leave open" in " ".join(out.split())
+    # the lines under the table write µm as the table does (and as every command does:
+    # a stream that cannot hold µ gets um, tcpmm.cli._encoding)
+    own = [ln for ln in out.splitlines() if ln.startswith(("draws agree:", "CCW ", "CW "))]
+    assert own and all(" um" not in ln for ln in own), own
+    assert "µm of the spike" in own[0] and "(4.1 µm unless given)" in own[0]
 
 
 def test_a_run_that_is_no_prediction_is_no_spread(tmp_path, capsys, played):

@@ -96,17 +96,17 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     table = res.to_pandas().rename(columns={"settled": "sign held", "firm": "draws agree"})
     print_table(table, out, f"{sensor.value} raw reversal spikes (e - b) over {draws} drawn "
                 "machines")
-    out.print(f"draws agree: nine in ten drawn machines within {tol_m * 1e6:g} um of the "
+    out.print(f"draws agree: nine in ten drawn machines within {tol_m * 1e6:g} µm of the "
               f"spike. {DRAWS_NOTE}", highlight=False)
     for r in res.unsettled():
         out.print(f"{r['direction'].upper()} {r['point']}: the sign is not settled "
                   f"({100 * r['same_sign']:.0f} % of the draws give it): rise "
-                  f"{r['rise_um']:+.2f} um, fall {r['fall_um']:+.2f} um; a measured spike "
+                  f"{r['rise_um']:+.2f} µm, fall {r['fall_um']:+.2f} µm; a measured spike "
                   "can differ from this one by their sum")
     for r in res.loose():
         out.print(f"{r['direction'].upper()} {r['point']}: the size is not firm "
-                  f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} um of "
-                  f"{r['spike_um']:.2f} um; range {r['low_um']:.2f} to {r['high_um']:.2f} um)")
+                  f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} µm of "
+                  f"{r['spike_um']:.2f} µm; range {r['low_um']:.2f} to {r['high_um']:.2f} µm)")
     _print_verdict(verdict)
 
 

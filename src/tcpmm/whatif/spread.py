@@ -40,10 +40,10 @@ SETTLED_FRACTION = 0.9
 DRAWS_NOTE = ("The draws and the verdicts answer two questions: the draws widen every "
               "quantity to at least the error identification made on machines it had not "
               "seen (the floors), whatever this model's own fit says, and are held to the "
-              "spread's tolerance (4.1 um unless given); the verdicts are this model's 90 % "
+              "spread's tolerance (4.1 µm unless given); the verdicts are this model's 90 % "
               "intervals, calibrated on machines of known truth, count what the data leave "
               "open (as the pre-sliding), which the draws do not vary, and call a figure "
-              "firm only within 1 um (or 1 %); so either may flag a figure the other passes")
+              "firm only within 1 µm (or 1 %); so either may flag a figure the other passes")
 #: Default tolerance of a spike: the largest measured-minus-predicted reversal spike of
 #: the paper's Table 2 (4.1 um) [m].
 TOLERANCE = 4.1e-6

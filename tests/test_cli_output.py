@@ -96,6 +96,10 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     assert any(line.startswith("turn: of the command over 0.5 mm before and after")
                and "overshoot: outside the path past the corner, rounding: " in line
                and line.endswith("settled within 1 µm") for line in lines), out
+    # the settling's path length is named with its unit, and the caption says what it is
+    head = next(line for line in lines if line.startswith("#"))
+    assert head.split()[-4:] == ["settle", "ms", "settle", "mm"], head
+    assert "settle ms, settle mm: the time and the commanded path length" in out
     code, out, _ = run_cli(capsys, *commands(runs)["circle"])
     lines = out.splitlines()
     assert code == 0 and f"{runs / 'circle.csv'} [µm]" in lines

@@ -144,17 +144,22 @@ def test_the_command_line_says_what_it_left_out(runs, capsys):
     assert code == 0 and "note: G0 rapids left out:" in err and "--rapids counts them" in err
     code, out, err = run_cli(capsys, "contour", csv, "--plane", "XY", "--rapids")
     assert code == 0 and "rapids" not in err
-    got = {}
+    got, notes = {}, {}
     for extra in ([], ["--chunk-rows", "97"]):
         for flag in ([], ["--rapids"]):
-            code, out, _ = run_cli(capsys, "contour", parquet, "--plane", "XY", "--json",
-                                   *extra, *flag)
+            code, out, said = run_cli(capsys, "contour", parquet, "--plane", "XY", "--json",
+                                      *extra, *flag)
             got[bool(extra), bool(flag)] = json.loads(out)
+            notes[bool(extra), bool(flag)] = said
     for counted in (False, True):
         w, s = got[False, counted], got[True, counted]
         assert w["rapids"] == s["rapids"] and w["rapids"]["counted"] is counted
         assert w["corners"] == s["corners"]
         assert w["rapids"]["corners"] == 4 and w["rapids"]["samples"] > 0
+        # the share in per cent, as the note says it, under a key that says so
+        assert "share" not in w["rapids"] and 0 < w["rapids"]["share_percent"] < 100
+    share = got[False, False]["rapids"]["share_percent"]
+    assert f"{share:.1f} % of the run" in notes[False, False]
     assert len(got[False, False]["corners"]) < len(got[False, True]["corners"])
 
 

@@ -57,7 +57,7 @@ from .contour_inputs import command_flags, contour_axes, run_signals
 from .contour_search import searched
 from .contour_windows import chord_sags, feed_windows, over_rests, travel, whole_windows
 from .corners import path_length
-from .rapids import RapidStretches, feed_only, since_rapid
+from .rapids import RapidStretches, feed_only, rapids_json, since_rapid
 
 #: coordinates the compiled search takes: finite, and far from where their squares
 #: overflow [m]
@@ -177,7 +177,7 @@ class ContourResult:
         """JSON-ready: axes, summary [um] and corners (um, ms, mm; NaN as ``None``); without
         the corners where ``corners`` is false (:meth:`json_rows` gives them one by one)."""
         head = {"axes": "".join(self.axes), "signed": self.signed,
-                "settle_tol_um": self.settle_tol_m * 1e6, "rapids": self.rapids,
+                "settle_tol_um": self.settle_tol_m * 1e6, "rapids": rapids_json(self.rapids),
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
                 "command_sag_um": self.command_sag_m * 1e6, "curves": self.curves,
                 "sensors": {s: {**{k[:-2] + "_um": v * 1e6 for k, v in d.items()

@@ -152,6 +152,15 @@ def left_out(samples: int, rows: int, counted_rapids: bool, corners: CornerRows,
     return corners.kept([not x for x in near]), info
 
 
+def rapids_json(rapids: dict | None) -> dict | None:
+    """:func:`left_out`'s figures as ``--json`` gives them: the share in per cent, as the
+    text says it, under a key that says so (``share_percent``) [-]."""
+    if rapids is None:
+        return None
+    return {("share_percent" if k == "share" else k): (v * 100.0 if k == "share" else v)
+            for k, v in rapids.items()}
+
+
 def since_rapid(t, air, last_t: float = float("nan")) -> tuple:
     """Per sample the time since the last sample in a rapid, NaN before the first; and the
     time of the last one, to carry into the next chunk of a streamed run.

@@ -228,7 +228,7 @@ def _print(res, sensor: str, title: str, span_mm: float = 0.5) -> None:
     shown, more = _shown_corners(res.corners, sensor)
     rows = res.corner_rows([sensor], shown)
     t = plain_table(("#", f"at {', '.join(res.axes)} mm", "turn", "over µm", "round µm",
-                     "settle ms", "mm"))
+                     "settle ms", "settle mm"))
     for row in rows:
         at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)
         turn = "end" if row["turn_deg"] != row["turn_deg"] else f"{row['turn_deg']:.0f}°"
@@ -239,8 +239,9 @@ def _print(res, sensor: str, title: str, span_mm: float = 0.5) -> None:
     print_plain(t, out, f"corners, {sensor}", f"turn: of the command over {span_mm:g} mm "
                 "before and after (a corner blended over part of that, G64, reads less than "
                 f"programmed{example}); overshoot: outside the path past the corner, "
-                f"rounding: closest approach [µm]; settled within {res.settle_tol_m * 1e6:g} "
-                f"µm{more}")
+                "rounding: closest approach [µm]; settle ms, settle mm: the time and the "
+                "commanded path length from the corner until the error has settled within "
+                f"{res.settle_tol_m * 1e6:g} µm{more}")
 
 
 def _say_curves(curves: int, corner_deg: float, span_mm: float) -> None:

@@ -69,6 +69,41 @@ def _refuse_a_plane_off_the_motion(axes, run, what, allow_3d: bool) -> None:
                              + (", or --plane 3D" if allow_3d else ""))
 
 
+#: the sensors a circular test measures, as ``--help`` names them: the command is what
+#: they are measured against, not one of them
+MEASURED = ("tcp", "scale", "motor")
+
+
+def refuse_unmeasured(run, axes, path, advice: str = "") -> None:
+    """Refuse a run none of whose sensors (:data:`MEASURED`) both plane axes have: its
+    circular test would measure the command against itself and show every figure 0.00.
+
+    Parameters
+    ----------
+    run : Run
+        The run read from ``path`` [-].
+    axes : tuple of str
+        The plane [-].
+    path : Path
+        The run file, named in the error [-].
+    advice : str
+        What else the command takes, said last (", or --sensor cmd ...") [-].
+    """
+    have = {a: [s for s in MEASURED if r.sensor(s) is not None] for a, r in run.axes.items()}
+    if any(all(s in have.get(a, ()) for a in axes) for s in MEASURED):
+        return
+    found = [f"{a.lower()}_{s}_mm" for a, r in run.axes.items() for s in ("cmd", *MEASURED)
+             if r.sensor(s) is not None]
+    which = ("no sensor columns" if not any(have.values())
+             else f"no sensor columns that both {' and '.join(axes)} have")
+    raise InputError(
+        f"the run has {which} (<axis>_tcp_mm, <axis>_scale_mm, <axis>_motor_mm; found: "
+        f"{', '.join(found) or 'none'}): a circular test measures a sensor's path against "
+        "the nominal circle, and the command is what it is measured against, not a "
+        "measurement; give a run with the positions of the TCP, the scales or the motors "
+        f"(tcpmm simulate writes them){advice}", file=path)
+
+
 def command_plane(option, cmd) -> tuple[str, str]:
     """The plane of ``--plane``, else of the program's arcs, else the one it moves in."""
     from ..analysis.plane import motion_plane

@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 
 from ._app import app, checked_report_file, floats, in_file, out, positive, read_model
-from ._plane import PLANE_HELP, run_plane_said
+from ._plane import PLANE_HELP, refuse_unmeasured, run_plane_said
 
 
 @app.command()
@@ -280,6 +280,7 @@ def _circle(path: Path, circle, run=None, settling: bool = True):
     if known not in planes:  # --plane, else the plane the command moves in
         planes[known] = run_plane_said(plane, run, path)
     axes = planes[known]
+    refuse_unmeasured(run, axes, path)
     with in_file(path), warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", InputWarning)
         res = analyse_circle(run, radius_m, centre_m, plane=axes, settling=settling)

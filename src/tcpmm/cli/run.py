@@ -30,7 +30,14 @@ from ._app import (
 from ._circles import diagnostics_json, print_diagnostics, print_passes
 from ._controller import CONTROLLER_HELP, as_the_drives_take_it
 from ._outputs import distinct_outputs, outputs_together
-from ._plane import COMMAND_HELP, PLANE_HELP, command_plane, run_plane_said, with_given_command
+from ._plane import (
+    COMMAND_HELP,
+    PLANE_HELP,
+    command_plane,
+    refuse_unmeasured,
+    run_plane_said,
+    with_given_command,
+)
 from ._stream import (
     CHUNK_HELP,
     PATH_STREAM_ABOVE_LINES,
@@ -186,6 +193,8 @@ def circle(run_file: Path = typer.Argument(
     for f in (run_file, other) if other is not None else (run_file,):
         run = with_given_command(read_run(f), command)
         axes = axes or run_plane_said(plane, run, f)
+        if sensor is None or sensor.value != "cmd":
+            refuse_unmeasured(run, axes, f, ", or --sensor cmd for the command's own figures")
         with in_file(f):
             results.append(analyse_circle(run, radius * 1e-3, (c[0] * 1e-3, c[1] * 1e-3),
                                           plane=axes,
@@ -274,6 +283,8 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     distinct_outputs(("--plot", plot), ("--report", report))
     runs = [read_run(f) for f in (measured, predicted)]
     axes = run_plane_said(plane, runs[0], measured)
+    for f, r in zip((measured, predicted), runs, strict=True):
+        refuse_unmeasured(r, axes, f)
     with in_file(measured):
         rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
     with in_file(predicted):  # a prediction's transient is the measurement's to compare

@@ -32,6 +32,7 @@ from ..result import motion_time
 from .contour import ContourResult, distances_to_polyline, polyline
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
+from .contour_summary import RunningSummary
 from .contour_windows import direction
 from .rapids import RapidStretches, left_out, since_rapid
 
@@ -40,35 +41,6 @@ STREAM_ROWS = 200_000
 #: calls (two a chunk) the corners may lag behind the search, their chunks held until
 #: the corners take them [-]
 CORNERS_BEHIND = 2
-
-
-@dataclass
-class _Summary:
-    """Running largest, smallest and largest magnitude of the error, sum of squares [m];
-    the time of the largest magnitude, and the time since a rapid there [s]."""
-
-    n: int = 0
-    sq: float = 0.0
-    hi: float = -np.inf
-    lo: float = np.inf
-    top: float = 0.0
-    at: float = np.nan
-    after: float = np.nan
-
-    def add(self, e: np.ndarray, t: np.ndarray, since=None) -> None:
-        if e.size:
-            self.n += e.size
-            self.sq += float(np.sum(e * e))
-            self.hi, self.lo = max(self.hi, float(np.max(e))), min(self.lo, float(np.min(e)))
-            i = int(np.argmax(np.abs(e)))
-            if abs(e[i]) > self.top:  # the first of equal magnitudes, as a whole run's
-                self.top, self.at = float(abs(e[i])), float(t[i])
-                self.after = np.nan if since is None else float(since[i])
-
-    def result(self) -> dict:
-        return {"max_abs_m": self.top, "rms_m": float(np.sqrt(self.sq / self.n)),
-                "max_m": self.hi, "min_m": self.lo, "max_abs_at_s": self.at,
-                "max_abs_after_rapid_s": self.after}
 
 
 @dataclass
@@ -83,7 +55,7 @@ class StreamedContour:
         Whether the error is signed [-].
     rows : int
         Samples measured [-].
-    sums : dict of str to _Summary
+    sums : dict of str to RunningSummary
         Per sensor, the running figures [m].
     most_rows : int
         Most rows held at once [-].
@@ -235,17 +207,23 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
         if pending is None or not pending["time_s"].size:
             raise InputError("the run has no rows", file=path)
         scan.step(pending, True)
-        res.corners = scan.finish()
-        if scan.air is not None:
-            res.corners, res.rapids = left_out(scan.air, res.rows, rapids, res.corners,
-                                               scan.stretches)
-            res.sums = res.sums if res.rapids["counted"] else scan.feed
-        res.unreached = end_unreached(scan.corners, res.corners)
-        res.curves = scan.corners.finder.curves
+        _finish(res, scan, rapids)
     finally:
         chunks.close()
         scan.close()
     return res
+
+
+def _finish(res: StreamedContour, scan, rapids: bool) -> None:
+    """Fill in ``res`` once every chunk is measured: its corners, less those of the G0
+    rapids unless they count, and the end and the curves the corners found [-]."""
+    res.corners = scan.finish()
+    if scan.air is not None:
+        res.corners, res.rapids = left_out(scan.air, res.rows, rapids, res.corners,
+                                           scan.stretches)
+        res.sums = res.sums if res.rapids["counted"] else scan.feed
+    res.unreached = end_unreached(scan.corners, res.corners)
+    res.curves = scan.corners.finder.curves
 
 
 def _read_batches(f, rows: int, names: list, path):
@@ -349,9 +327,9 @@ class _Scan:
         feed, since = self._feed(buf, first, b)
         ts = t[first:b]
         for s, (e, _) in found.items():
-            res.sums.setdefault(s, _Summary()).add(e, ts)
+            res.sums.setdefault(s, RunningSummary()).add(e, ts)
             if feed is not None:
-                self.feed.setdefault(s, _Summary()).add(e[feed], ts[feed], since[feed])
+                self.feed.setdefault(s, RunningSummary()).add(e[feed], ts[feed], since[feed])
             if self.each is not None:
                 self.each(s, e)
         got = (qs, {s: v[0] for s, v in found.items()},

@@ -53,7 +53,7 @@ from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
 from .contour_corners import CornerStream, end_unreached
-from .contour_inputs import command_flags, contour_axes, run_signals
+from .contour_inputs import command_flags, contour_axes, plane_left_out, run_signals
 from .contour_search import searched
 from .contour_windows import chord_sags, feed_windows, over_rests, travel, whole_windows
 from .corners import path_length
@@ -108,6 +108,9 @@ class ContourResult:
     curves : int
         Places where the command turns by more than the corners' least turn over their
         span, evenly (:meth:`tcpmm.analysis.corners.CornerFinder._curves`): not corners [-].
+    left_out : dict of str to float
+        Per axis outside the plane that moves substantially, its travel: its error is not
+        in the signed error (:func:`tcpmm.analysis.plane.left_out_axes`) [m].
     """
 
     axes: tuple
@@ -126,6 +129,7 @@ class ContourResult:
     unreached: dict = field(default_factory=dict)
     command_sag_m: float = 0.0
     curves: int = 0
+    left_out: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
@@ -180,6 +184,7 @@ class ContourResult:
                 "settle_tol_um": self.settle_tol_m * 1e6, "rapids": rapids_json(self.rapids),
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
                 "command_sag_um": self.command_sag_m * 1e6, "curves": self.curves,
+                "left_out_travel_mm": {a: t * 1e3 for a, t in self.left_out.items()},
                 "sensors": {s: {**{k[:-2] + "_um": v * 1e6 for k, v in d.items()
                                    if k.endswith("_m")},
                                 **{k: None if v != v else v for k, v in d.items()
@@ -363,4 +368,5 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
                          list(kept), settle_tol_m, actual, counted, said, run.nc_line,
                          end_unreached(corners, kept), float(np.max(line[4])),
-                         corners.finder.curves)
+                         corners.finder.curves,
+                         plane_left_out(run, command, axes, rapids) if signed else {})

@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .plane import plane_axes, run_plane
+from .plane import left_out_axes, plane_axes, run_plane
+from .rapids import feed_commands
 
 SENSORS = ("motor", "scale", "tcp")
 #: What a run without its command signals is told (no command given) [-].
@@ -54,6 +55,29 @@ def contour_axes(run, plane, command=None):
             flat = False
         return (axes, True) if flat else contour_axes(run, None, command)
     return plane_axes(plane), True
+
+
+def plane_left_out(run, command, axes, rapids: bool) -> dict:
+    """The axes outside the plane ``axes`` that the command measured against moves along
+    substantially, with their travel (:func:`tcpmm.analysis.plane.left_out_axes`): over its feed
+    samples where the rapids are left out (a Z retracting in G0 between XY passes is no
+    part of the error) [m].
+
+    Parameters
+    ----------
+    run : Run
+        The run [SI].
+    command : Command, optional
+        The command it is measured against; default its own [SI].
+    axes : tuple of str
+        The plane [-].
+    rapids : bool
+        The rapids count [-].
+    """
+    if command is not None:
+        return left_out_axes(axes, command.positions)
+    feed = feed_commands(run, rapids)
+    return left_out_axes(axes, {a: r.cmd for a, r in feed.axes.items() if r.cmd is not None})
 
 
 def command_flags(run, command) -> np.ndarray:

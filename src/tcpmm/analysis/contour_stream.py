@@ -34,6 +34,7 @@ from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
 from .contour_summary import RunningSummary
 from .contour_windows import direction
+from .plane import left_out_axes
 from .rapids import RapidStretches, left_out, since_rapid
 
 #: rows read at a time [-]
@@ -72,6 +73,8 @@ class StreamedContour:
         As :attr:`tcpmm.analysis.contour.ContourResult.command_sag_m` [m].
     curves : int
         As :attr:`tcpmm.analysis.contour.ContourResult.curves` [-].
+    left_out : dict of str to float
+        As :attr:`tcpmm.analysis.contour.ContourResult.left_out` [m].
     """
 
     axes: tuple
@@ -85,6 +88,7 @@ class StreamedContour:
     unreached: dict = field(default_factory=dict)
     command_sag_m: float = 0.0
     curves: int = 0
+    left_out: dict = field(default_factory=dict)
 
     @property
     def errors(self) -> dict:
@@ -161,7 +165,7 @@ def _batches(path, rows, keep):
 def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
                    rows: int = STREAM_ROWS, each=None, *, corner_deg: float = 30.0,
                    corner_span_m: float = 0.5e-3, settle_tol_m: float = 1e-6,
-                   rapids: bool = False) -> StreamedContour:
+                   rapids: bool = False, travel: dict | None = None) -> StreamedContour:
     """Contour error summary and corners of a Parquet run file, read ``rows`` rows at a
     time.
 
@@ -185,12 +189,17 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
     rapids : bool
         Count the samples and corners in G0 rapids, as for
         :func:`~tcpmm.analysis.contour.contour_error` [-].
+    travel : dict of str to ndarray, optional
+        Per axis the command's least and largest position (:func:`travel_positions`, with
+        ``feed_only`` as ``rapids`` is not); read from the file where not given [m].
     """
     path = Path(path)
     cmd_cols = [f"{a.lower()}_cmd_mm" for a in axes]
     want = {"time_s", "rapid", *cmd_cols,
             *(f"{a.lower()}_{s}_mm" for a in axes for s in SENSORS)}
     res = StreamedContour(tuple(axes), signed, settle_tol_m=settle_tol_m)
+    if signed:  # the axes the plane leaves out, from the travel alone
+        res.left_out = left_out_axes(axes, travel or travel_positions(path, not rapids))
     scan = _Scan(res, window_s, cmd_cols, each,
                  CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s),
                  RapidStretches(corner_span_m))

@@ -20,6 +20,10 @@ GCODE_PLANES = {frozenset("XY"): ("X", "Y"), frozenset("XZ"): ("Z", "X"),
 #: the third axis moving more than this share of the smaller plane axis' travel makes
 #: the motion not plane
 OUT_OF_PLANE_SHARE = 0.1
+#: an axis outside a plane given that travels no more than this stays within a count of a
+#: glass scale of 1 um (the built-in machine's): the error it leaves out is no larger than
+#: the sensors resolve, whatever the plane's own travel [m]
+LEFT_OUT_FLOOR_M = 1e-6
 
 
 def plane_axes(name) -> tuple[str, str]:
@@ -109,6 +113,47 @@ def plane_misses(axes, positions: dict) -> str:
         return text + f": the path runs in the {plane_name(motion_plane(positions)[0])} plane"
     except InputError:
         return text
+
+
+def left_out_axes(axes, positions: dict) -> dict:
+    """The axes outside a plane given that move substantially, with their travel: more
+    than :data:`OUT_OF_PLANE_SHARE` of the travel of the plane's axis that moves less (what
+    makes :func:`motion_plane` call a path not plane, so that a plane it finds leaves none
+    out) and more than :data:`LEFT_OUT_FLOOR_M`. A signed error in the plane leaves their
+    error out [m].
+
+    Parameters
+    ----------
+    axes : tuple of str
+        The plane [-].
+    positions : dict of str to ndarray
+        Position per axis name; two samples, the least and the largest, will do [m].
+    """
+    travel = _travel(positions)
+    least = min(travel.get(a, 0.0) for a in axes)
+    bar = max(OUT_OF_PLANE_SHARE * least, LEFT_OUT_FLOOR_M)
+    return {a: t for a, t in travel.items() if a not in axes and t > bar}
+
+
+def left_out_note(axes, left: dict) -> str | None:
+    """What a user is told of the axes a plane given leaves out (:func:`left_out_axes`); ``None``
+    where it leaves out none [-].
+
+    Parameters
+    ----------
+    axes : tuple of str
+        The plane [-].
+    left : dict of str to float
+        Travel per axis left out [m].
+    """
+    if not left:
+        return None
+    moves = " and ".join(f"{a}, which moves {t * 1e3:.3g} mm" for a, t in left.items())
+    its = "its" if len(left) == 1 else "their"
+    return (f"the plane {plane_name(axes)} leaves out {moves} (more than "
+            f"{OUT_OF_PLANE_SHARE * 100:g} % of the plane's smaller travel): {its} contour error "
+            "is left out of every figure; omit --plane (or give --plane 3D) for the 3-D "
+            "error")
 
 
 def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str, bool]:

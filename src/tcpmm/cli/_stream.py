@@ -245,7 +245,7 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
 
         return stream_contour(run_file, axes, signed, window_s, chunk_rows or STREAM_ROWS,
                               each, corner_deg=corner_deg, corner_span_m=corner_span_m,
-                              settle_tol_m=settle_tol_m, rapids=rapids)
+                              settle_tol_m=settle_tol_m, rapids=rapids, travel=travel)
 
 
 #: an NC program of more lines than this is interpolated in chunks by ``tcpmm path`` [-]

@@ -121,9 +121,24 @@ def _emit(res, sensor: str, run_file: Path, verdict, as_json: bool, span_mm: flo
 def _say_notes(res, rapids: bool, run_file: Path) -> None:
     """The notes on the rapids left out, the end not reached and the command's sampling,
     on stderr [-]."""
+    _say_left_out(res, run_file)
     _say_rapids(res.rapids, rapids)
     _say_unreached(res.unreached)
     _say_sag(res, run_file)
+
+
+def _say_left_out(res, run_file: Path) -> None:
+    """Warn (stderr, and ``--json``'s ``warnings``) of the axes outside the plane given
+    that move substantially (:func:`tcpmm.analysis.plane.left_out_axes`): the signed error
+    leaves theirs out, read as the whole [-]."""
+    import warnings
+
+    from ..analysis.plane import left_out_note
+    from ..errors import InputWarning
+
+    note = left_out_note(res.axes, res.left_out)
+    if note is not None:
+        warnings.warn(f"{run_file}: {note}", InputWarning, stacklevel=2)
 
 
 def _say_rapids(rapids: dict | None, asked: bool) -> None:

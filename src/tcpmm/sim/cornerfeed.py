@@ -15,42 +15,42 @@ from .cornerfigs import bracket, interp_at, interp_on
 
 
 @njit(cache=True)
-def _outside(q, g, s, p, n, s_first):
-    """How far the point ``q`` lies outside the path, from its closest point on segment
-    ``g`` of ``p``, and whether that point lies past the corner's rest (from path
-    length ``s_first`` on) [m], [-]."""
-    d = q.size
+def _outside(q, k, i, g, s, p, n, s_first):
+    """How far sample ``i`` of sensor ``k`` of ``q`` lies outside the path, from its
+    closest point on segment ``g`` of ``p``, and whether that point lies past the
+    corner's rest (from path length ``s_first`` on) [m], [-]."""
+    d = q.shape[2]
     ln2 = (p[g + 1, 0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
-    w = (q[0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
+    w = (q[k, i, 0] - p[g, 0]) * (p[g + 1, 0] - p[g, 0])
     for j in range(1, d):
         ln2 = ln2 + (p[g + 1, j] - p[g, j]) * (p[g + 1, j] - p[g, j])
-        w = w + (q[j] - p[g, j]) * (p[g + 1, j] - p[g, j])
+        w = w + (q[k, i, j] - p[g, j]) * (p[g + 1, j] - p[g, j])
     f = w / ln2 if ln2 > 0 else 0.0
     if f < 0.0:
         f = 0.0
     if f > 1.0:
         f = 1.0
-    x = (q[0] - (p[g, 0] + f * (p[g + 1, 0] - p[g, 0]))) * n[0]
+    x = (q[k, i, 0] - (p[g, 0] + f * (p[g + 1, 0] - p[g, 0]))) * n[0]
     for j in range(1, d):
-        x = x + (q[j] - (p[g, j] + f * (p[g + 1, j] - p[g, j]))) * n[j]
+        x = x + (q[k, i, j] - (p[g, j] + f * (p[g + 1, j] - p[g, j]))) * n[j]
     return x, s[g] + f * math.sqrt(ln2) >= s_first - 1e-12
 
 
 @njit(cache=True)
-def _dot_diff(q, c, v):
-    """``(q - c) . v``, the coordinates summed first to last [-]."""
-    x = (q[0] - c[0]) * v[0]
-    for j in range(1, q.size):
-        x = x + (q[j] - c[j]) * v[j]
+def _dot_diff(q, k, i, c, v):
+    """``(q[k, i] - c) . v``, the coordinates summed first to last [-]."""
+    x = (q[k, i, 0] - c[0]) * v[0]
+    for j in range(1, q.shape[2]):
+        x = x + (q[k, i, j] - c[j]) * v[j]
     return x
 
 
 @njit(cache=True)
-def _dist(q, c):
-    """``|q - c|``, the squares summed first to last [m]."""
-    x = (q[0] - c[0]) * (q[0] - c[0])
-    for j in range(1, q.size):
-        x = x + (q[j] - c[j]) * (q[j] - c[j])
+def _dist(q, k, i, c):
+    """``|q[k, i] - c|``, the squares summed first to last [m]."""
+    x = (q[k, i, 0] - c[0]) * (q[k, i, 0] - c[0])
+    for j in range(1, q.shape[2]):
+        x = x + (q[k, i, j] - c[j]) * (q[k, i, j] - c[j])
     return math.sqrt(x)
 
 
@@ -74,15 +74,17 @@ def _is_near(g, s, lo, hi, on):
 
 
 @njit(cache=True)
-def _takes(g, s, lo, hi, on, at_end, after, q, c, span):
-    """Whether a corner takes a sample whose closest point lies on segment ``g``:
-    :func:`_is_near`, or at the path's end, once the command has arrived (``after``),
-    within the span of the end point while its closest point lies wholly before the
-    span (or before the command kept, ``g < 0``): a closed path's end meets its start,
-    which lies closer to a tool travelling past the end point than the last leg does [-]."""
+def _takes(g, s, lo, hi, on, at_end, after, q, k, i, c, span):
+    """Whether a corner takes sample ``i`` of sensor ``k`` of ``q``, whose closest point
+    lies on segment ``g``: :func:`_is_near`, or at the path's end, once the command has
+    arrived (``after``), within the span of the end point while its closest point lies
+    wholly before the span (or before the command kept, ``g < 0``): a closed path's end
+    meets its start, which lies closer to a tool travelling past the end point than the
+    last leg does [-]."""
     if _is_near(g, s, lo, hi, on):
         return True
-    return at_end != 0 and after and (g < 0 or s[g + 1] < lo) and _dist(q, c) <= span
+    return (at_end != 0 and after and (g < 0 or s[g + 1] < lo)
+            and _dist(q, k, i, c) <= span)
 
 
 @njit(cache=True)
@@ -155,44 +157,41 @@ def feed_many(t, q, e, f, off, tc, s, p, c, n, lims, end):
     """
     ns, nk = q.shape[0], lims.shape[0]
     cuts, rowcut = np.zeros((nk, ns + 1), np.int64), np.zeros(nk + 1, np.int64)
-    total = 0
-    # a corner's numbers are taken out of its rows once: a view of a row made for every
-    # sample took more than the arithmetic
-    for j in range(nk):  # how many of each, first
+    # one pass over the windows into arrays as long as all of them, cut to what was
+    # taken: a pass that counted first took as long again; a sample is indexed, not
+    # viewed (a view of a row made for every sample took more than the arithmetic)
+    most = 0
+    for j in range(nk):
         i0, i1, a = _window(t, lims[j])
-        lo, hi, on = _span(lims[j])
-        cuts[j, 0] = total
-        for k in range(ns):
-            for i in range(i0, i1):
-                total += _takes(f[k, i] - off, s, lo, hi, on, end[j], t[i] >= lims[j, 2],
-                                q[k, i], c[j], lims[j, 4])
-            cuts[j, k + 1] = total
+        most += ns * (i1 - i0)
         rowcut[j + 1] = rowcut[j] + i1 - a
-    tn, dist, dev = np.empty(total), np.empty(total), np.empty(total)
-    past, rows = np.ones(total, np.uint8), np.empty((rowcut[nk], 2 + ns))
+    tn, dist, dev = np.empty(most), np.empty(most), np.empty(most)
+    past, rows = np.ones(most, np.uint8), np.empty((rowcut[nk], 2 + ns))
+    r = 0
     for j in range(nk):
         i0, i1, a = _window(t, lims[j])
         lo, hi, on = _span(lims[j])
         cj, nj, s_first, at_end = c[j], n[j], lims[j, 6], end[j]
-        r = cuts[j, 0]
+        t0, span = lims[j, 2], lims[j, 4]
+        cuts[j, 0] = r
         for k in range(ns):
             for i in range(i0, i1):
                 g = f[k, i] - off
-                if not _takes(g, s, lo, hi, on, at_end, t[i] >= lims[j, 2], q[k, i], cj,
-                              lims[j, 4]):
+                if not _takes(g, s, lo, hi, on, at_end, t[i] >= t0, q, k, i, cj, span):
                     continue
-                qi = q[k, i]
-                tn[r], dist[r] = t[i], _dist(qi, cj)
+                tn[r], dist[r] = t[i], _dist(q, k, i, cj)
                 if at_end:  # travel past the end once the command is there
-                    dev[r], past[r] = _dot_diff(qi, cj, nj), t[i] >= lims[j, 2]
+                    dev[r], past[r] = _dot_diff(q, k, i, cj, nj), t[i] >= t0
                 else:
-                    dev[r], past[r] = _outside(qi, g, s, p, nj, s_first)
+                    dev[r], past[r] = _outside(q, k, i, g, s, p, nj, s_first)
                 r += 1
+            cuts[j, k + 1] = r
         v = -1  # the vertex of the sample before, where it lies within the command
         for i in range(a, i1):
             o = rowcut[j] + i - a
             y, v = _path_at(t[i], tc, s, v)
             rows[o, 0], rows[o, 1] = t[i], y
             for k in range(ns):
-                rows[o, 2 + k] = _dist(q[k, i], cj) if at_end else e[k, i]
-    return cuts, tn, dist, dev, past, rowcut, rows
+                rows[o, 2 + k] = _dist(q, k, i, cj) if at_end else e[k, i]
+    return (cuts, tn[:r].copy(), dist[:r].copy(), dev[:r].copy(), past[:r].copy(), rowcut,
+            rows)

@@ -49,6 +49,30 @@ def test_corners_read_back_as_they_were(d):
         table[len(want)]
 
 
+def test_corners_given_as_columns_read_back_as_packed_dicts():
+    """Corners added as columns (numbered on from those before) read back as the same
+    corners added as dicts; a figure of every corner read as a column, none where a
+    corner has none."""
+    rows = [corner(k, fed=k % 4 != 1) for k in range(12)]
+    table, want = CornerRows(), CornerRows()
+    table.extend(rows[:3])
+    want.extend(rows)
+    rest = rows[3:]
+    figs = np.full((len(rest), len(NAMES), 4), np.nan)
+    for k, r in enumerate(rest):
+        if len(r) > 4:
+            figs[k] = [list(r[s].values()) for s in NAMES]
+    table.extend_columns([r["index"] for r in rest], [r["point_m"] for r in rest],
+                         [r["turn_rad"] for r in rest], [len(r) > 4 for r in rest], figs,
+                         NAMES)
+    assert exact(table, want) and [list(c) for c in table] == [list(c) for c in want]
+    assert table.figure("tcp", "overshoot_m") is None  # unfed corners among them
+    fed = CornerRows()
+    fed.extend_columns([1, 2], [[0.0, 1.0], [1.0, 2.0]], [0.5, 0.7], [True, True],
+                       np.arange(24.0).reshape(2, 3, 4), NAMES)
+    assert np.array_equal(fed.figure("scale", "rounding_m"), [5.0, 17.0])
+
+
 def test_a_selection_keeps_the_corners_asked():
     rows = [corner(k, fed=k % 2 == 0) for k in range(30)]
     table = CornerRows()

@@ -208,7 +208,7 @@ class CornerStream:
             ready = (o["b1"] != np.inf) & (self.t_done >= o["b1"])
             m = o["i"].size if ready.all() else int(np.argmin(ready))
             if m:
-                self.done.extend(self._summed(m))
+                self._summed(m)
                 self.last_t_i = float(o["t_i"][m - 1])
                 self.open = {k: v[m:] for k, v in o.items()}
                 self.g0 += m
@@ -217,29 +217,32 @@ class CornerStream:
         if self.p is not None and np.isfinite(self.t_done):
             self._trim()
 
-    def _summed(self, m: int) -> list:
-        """The first ``m`` open corners, numbered, with their figures (:func:`_figures`)."""
+    def _summed(self, m: int) -> None:
+        """Add the first ``m`` open corners, numbered, with their figures
+        (:func:`_figures`), to the corners done as columns: a run of many corners had
+        each made a dict and packed again."""
         o, ns = self.open, len(self.names)
         lims = np.column_stack([o["b0"][:m], o["b1"][:m], o["t0"][:m], o["sp0"][:m],
                                 np.full(m, self.tol)])
-        figs = ([dict(zip(_FIGURES, r, strict=True)) for r in
-                 batch_figures(self.store, self.g0, lims, o["end"][:m], ns).tolist()]
-                if ns and o["fed"][:m].any() else None)
-        out = []
-        heads = zip(range(len(self.done) + 1, len(self.done) + m + 1), o["i"][:m].tolist(),
-                    o["c"][:m].tolist(), o["turn"][:m].tolist(), o["fed"][:m].tolist(),
-                    strict=True)
-        for j, (number, i, c, turn, fed) in enumerate(heads):
-            row = {"number": number, "index": i, "point_m": c, "turn_rad": turn}
-            long = self.store.long.get(self.g0 + j) if fed else None
-            if long is not None:
-                row.update(_figures(long, lims[j], int(o["end"][j]), self.names))
-            elif fed:
-                row.update(zip(self.names, figs[j * ns:(j + 1) * ns], strict=True))
-            if fed and o["end"][j]:
-                self._on_its_way(row, np.asarray(c))
-            out.append(row)
-        return out
+        fed = o["fed"][:m].copy()
+        figs = np.full((m, ns, len(_FIGURES)), np.nan)
+        if ns and fed.any():
+            figs[fed] = batch_figures(self.store, self.g0, lims, o["end"][:m],
+                                      ns).reshape(m, ns, len(_FIGURES))[fed]
+        # a corner on a tape, and the end of the path, as a dict of its own
+        odd = {g - self.g0 for g in self.store.long if self.g0 <= g < self.g0 + m}
+        for j in sorted(odd | set(np.flatnonzero(o["end"][:m]).tolist())):
+            if not fed[j]:
+                continue
+            long = self.store.long.get(self.g0 + j)
+            row = (_figures(long, lims[j], int(o["end"][j]), self.names) if long is not None
+                   else {n: dict(zip(_FIGURES, figs[j, k].tolist(), strict=True))
+                         for k, n in enumerate(self.names)})
+            if o["end"][j]:
+                self._on_its_way(row, o["c"][j])
+            figs[j] = [[row[n][f] for f in _FIGURES] for n in self.names]
+        self.done.extend_columns(o["i"][:m], o["c"][:m], o["turn"][:m], fed, figs,
+                                 tuple(self.names) if fed.any() else ())
 
     def _on_its_way(self, row: dict, c) -> None:
         """At the end of the path: where the run leaves a sensor on its way to the end

@@ -36,6 +36,19 @@ class CornerRows(Sequence):
         if rows:
             self._add(_packed(rows) or rows)
 
+    def extend_columns(self, index, point_m, turn_rad, fed, figs, names) -> None:
+        """Add corners given as columns, numbered on from the last: their ``index``,
+        ``point_m`` (a row each), ``turn_rad``, whether samples came to each (``fed``)
+        and per sensor of ``names`` its :data:`FIGURES` (shape (n, sensors, 4), read
+        where ``fed``) [SI]."""
+        n = len(index)
+        if n:
+            self._add({"number": np.arange(self._n + 1, self._n + n + 1, dtype=np.int64),
+                       "index": np.array(index, np.int64),
+                       "point_m": np.array(point_m, float).reshape(n, -1),
+                       "turn_rad": np.array(turn_rad, float), "fed": np.array(fed, bool),
+                       "figs": np.array(figs, float)[:, :len(names)], "names": tuple(names)})
+
     def _add(self, part) -> None:
         """Append a batch: a list of dicts, or the columns of one [-]."""
         self._starts.append(self._n)
@@ -62,6 +75,17 @@ class CornerRows(Sequence):
             else:
                 for k in range(_size(part)):
                     yield _row(part, k)
+
+    def figure(self, sensor: str, name: str):
+        """Figure ``name`` of ``sensor`` of every corner, where every batch is columns and
+        every corner has it (``None`` else: read the dicts) [SI]."""
+        out = []
+        for part in self._parts:
+            if (isinstance(part, list) or sensor not in part["names"]
+                    or not part["fed"].all()):
+                return None
+            out.append(part["figs"][:, part["names"].index(sensor), FIGURES.index(name)])
+        return np.concatenate(out) if out else np.empty(0)
 
     def indices(self) -> list:
         """Each corner's ``index`` (command sample), in order [-]."""

@@ -268,14 +268,15 @@ def _runs(k, turn, straight, evenly) -> tuple:
             ((gaps[stop - 1] > gaps[start]) | (even > 0)).astype(np.int64))
 
 
-def local_turns(p):
-    """Per vertex of ``p``, the angle between the moving segments either side of it (the
-    last that ends there or before, the first that starts there or after), 0 where there
-    is none on a side [rad]."""
+def local_turns(p, at=None):
+    """Per vertex of ``p`` (of those ``at``, where given), the angle between the moving
+    segments either side of it (the last that ends there or before, the first that
+    starts there or after), 0 where there is none on a side [rad]."""
     seg = p[1:] - p[:-1]
     moving = np.flatnonzero(any_rows(seg != 0.0))
-    out = np.zeros(p.shape[0])
-    after = np.searchsorted(moving, np.arange(p.shape[0]), side="left")
+    at = np.arange(p.shape[0]) if at is None else np.asarray(at)
+    out = np.zeros(at.size)
+    after = np.searchsorted(moving, at, side="left")
     ok = np.flatnonzero((after > 0) & (after < moving.size))
     u, w = seg[moving[after[ok] - 1]], seg[moving[after[ok]]]
     cos = dot_rows(u, w) / (norm_rows(u) * norm_rows(w))
@@ -293,7 +294,7 @@ def cusps(p, a, b):
         return np.full(a.size, -1)
     start = np.r_[0, np.cumsum(lens)[:-1]]
     at = np.repeat(a - start, lens) + np.arange(lens.sum())
-    turn = local_turns(p)[at]
+    turn = local_turns(p, at)  # the vertices asked alone: a run's few of a long piece
     top = np.maximum.reduceat(turn, start)
     pos = np.minimum.reduceat(np.where(turn == np.repeat(top, lens), np.arange(at.size),
                                        at.size), start)

@@ -321,7 +321,10 @@ def _shown_corners(corners: list, sensor: str) -> tuple:
         return corners, ""
     import numpy as np
 
-    over = np.array([c[sensor]["overshoot_m"] for c in corners], float) * 1e6
+    over = getattr(corners, "figure", lambda *_: None)(sensor, "overshoot_m")
+    if over is None:  # a list of dicts
+        over = np.array([c[sensor]["overshoot_m"] for c in corners], float)
+    over = over * 1e6
     worst = np.sort(np.argsort(-np.where(np.isnan(over), -np.inf, over),
                                kind="stable")[:CORNER_ROWS])
     seen = over[~np.isnan(over)]

@@ -113,8 +113,8 @@ def tangent_lengths(tb: BlockTable, default_tol_m: float) -> np.ndarray:
     tol = np.where(np.isnan(tb.tol[:-1]), default_tol_m, tb.tol[:-1])
     pairs = np.flatnonzero(tb.is_line[:-1] & tb.is_line[1:] & ~tb.exact[:-1] & (tol > 0.0))
     if pairs.size:
-        d[pairs + 1] = corner_lengths(tb.start[pairs], tb.end[pairs], tb.start[pairs + 1],
-                                      tb.end[pairs + 1], tol[pairs])
+        rows = [np.take(x, pairs + k, axis=0) for k in (0, 1) for x in (tb.start, tb.end)]
+        d[pairs + 1] = corner_lengths(*rows, tol[pairs])
     return d
 
 
@@ -194,19 +194,20 @@ def blended_rows(tb: BlockTable, d: np.ndarray, first: int, stop: int) -> Blende
     The blend at a corner ``p`` of half-angle ``h`` runs from ``p - d u1`` to
     ``p + d u2`` about the centre on the bisector at ``d / (tan h cos h)``."""
     idx = np.arange(first, stop)
-    d0, d1 = d[idx], d[idx + 1]
-    line = tb.is_line[idx]
+    blk = slice(first, stop)  # every block read: views, not gathers
+    d0, d1 = d[blk], d[first + 1:stop + 1]
+    line = tb.is_line[blk]
     trim = line & ((d0 != 0) | (d1 != 0))
     with np.errstate(invalid="ignore", divide="ignore"):
         u = units(tb.end[first:stop + 1] - tb.start[first:stop + 1])
-    s0, s1 = tb.start[idx].copy(), tb.end[idx].copy()
+    s0, s1 = tb.start[blk].copy(), tb.end[blk].copy()
     t = np.flatnonzero(trim)
     if t.size:
         # the start of a line whose corner before is blended: that corner, d along
         before = np.where((d0[t] != 0)[:, None], tb.end[idx[t] - 1], tb.start[idx[t]])
         s0[t] = before + d0[t][:, None] * u[t]
         s1[t] = tb.end[idx[t]] - d1[t][:, None] * u[t]
-    span = norm_rows(tb.end[idx] - tb.start[idx])
+    span = norm_rows(tb.end[blk] - tb.start[blk])
     keep = ~trim | (norm_rows(s1 - s0) > 1e-12 * np.maximum(span, 1e-3))
     kind = np.where(line, trim.astype(np.int64), -1)
     c = np.flatnonzero(d1 != 0)

@@ -307,7 +307,16 @@ def evaluate(p: PathArrays, seg: np.ndarray, s: np.ndarray) -> np.ndarray:
     """
     L = p.length[seg]
     f = np.divide(s, L, out=np.zeros_like(s), where=L > 0)
-    out = p.start[seg] + f[:, None] * (p.end[seg] - p.start[seg])
+    # a coordinate at a time, each segment's start and run gathered from arrays of one
+    # coordinate: rows of three gathered and ``f`` broadcast over them cost some three
+    # times as much; each point is ``start + f (end - start)`` all the same (an axis's
+    # column is contiguous in the result, the transpose of a C array)
+    start, run = p.start.T.copy(), (p.end - p.start).T.copy()
+    out = np.empty((start.shape[0], seg.size))
+    for c in range(start.shape[0]):
+        np.multiply(f, run[c].take(seg), out=out[c])
+        out[c] += start[c].take(seg)
+    out = out.T
     a = np.flatnonzero(p.kind[seg] == ARC)
     if a.size:
         k, fa = seg[a], f[a]
@@ -320,7 +329,9 @@ def evaluate(p: PathArrays, seg: np.ndarray, s: np.ndarray) -> np.ndarray:
     if b.size:
         k = seg[b]
         ph = (p.sweep[k] * f[b])[:, None]
-        out[b] = p.centre[k] + p.r0[k][:, None] * (np.cos(ph) * p.e1[k] + np.sin(ph) * p.e2[k])
+        e1, e2 = np.take(p.e1, k, axis=0), np.take(p.e2, k, axis=0)
+        out[b] = (np.take(p.centre, k, axis=0)
+                  + p.r0[k][:, None] * (np.cos(ph) * e1 + np.sin(ph) * e2))
     return out
 
 

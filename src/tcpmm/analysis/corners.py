@@ -47,14 +47,19 @@ def path_length(p, s0=0.0):
 
 def _at(p, s, x):
     """The polyline at path lengths ``x``, shape (len(x), d) [m]."""
-    return np.stack([np.interp(x, s, p[:, k]) for k in range(p.shape[1])], 1)
+    out = np.empty((p.shape[1], np.size(x)))
+    for k in range(p.shape[1]):
+        out[k] = np.interp(x, s, p[:, k])
+    return out.T
 
 
 def turn_at(p, s, idx, span_m):
     """Angle between the chords over ``span_m`` before and after the vertices ``idx``
     [rad]."""
-    u = p[idx] - _at(p, s, s[idx] - span_m)
-    w = _at(p, s, s[idx] + span_m) - p[idx]
+    # every vertex of a piece is judged: rows taken, not gathered by a fancy index
+    at, x = np.take(p, idx, axis=0), np.take(s, idx)
+    u = at - _at(p, s, x - span_m)
+    w = _at(p, s, x + span_m) - at
     cos = dot_rows(u, w) / (norm_rows(u) * norm_rows(w) + 1e-300)
     return np.arccos(np.clip(cos, -1.0, 1.0))
 

@@ -40,12 +40,16 @@ class _AxisWatch:
         dev = np.abs(np.asarray(fb, dtype=float) - cmd) if fb is not None else np.zeros(t.size)
         dev = np.where(np.isfinite(dev), dev, np.inf)
         if dev.size:
-            top = np.maximum.accumulate(dev)
-            new = np.flatnonzero(top > np.concatenate([[self.dev], top[:-1]]))
             tol = tolerance_at_step(s, self.step, period_s)
             self.peaks = [p for p in self.peaks if p[1] > tol]
-            self.peaks += [(float(t[k]), float(dev[k])) for k in new if dev[k] > tol]
-            self.dev = max(self.dev, float(top[-1]))
+            most = float(np.max(dev))
+            # a piece that sets no new largest above the tolerance adds no peak: its
+            # running largest is not needed (most pieces of a long run)
+            if most > max(self.dev, tol):
+                top = np.maximum.accumulate(dev)
+                new = np.flatnonzero(top > np.concatenate([[self.dev], top[:-1]]))
+                self.peaks += [(float(t[k]), float(dev[k])) for k in new if dev[k] > tol]
+            self.dev = max(self.dev, most)
         if run.current is not None:
             self._saturation(t, np.abs(np.asarray(run.current, dtype=float))
                              >= s.current_limit * (1 - 1e-9))

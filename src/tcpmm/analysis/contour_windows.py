@@ -64,7 +64,8 @@ def travel(p):
     if moving.size == 0:
         raise InputError("the command does not move; there is no path to measure from")
     nxt = moving[np.minimum(np.searchsorted(moving, np.arange(seg.shape[0])), moving.size - 1)]
-    return seg, ln2, seg[nxt] / np.sqrt(ln2[nxt])[:, None], moving
+    # rows taken, not gathered by a fancy index: every segment of a chunk is read
+    return seg, ln2, np.take(seg, nxt, axis=0) / np.sqrt(ln2.take(nxt))[:, None], moving
 
 
 def chord_sags(seg, ln2, tdir, before=None, after=None):

@@ -144,7 +144,8 @@ def _segments(segs, groups: int) -> tuple:
 
 def _joined(parts: list, index) -> np.ndarray:
     """The rows ``index`` of the arrays ``parts`` one after the other [-]."""
-    return (parts[0] if len(parts) == 1 else np.concatenate(parts))[index]
+    # rows taken, not gathered by a fancy index (several times faster on rows of a few)
+    return np.take(parts[0] if len(parts) == 1 else np.concatenate(parts), index, axis=0)
 
 
 def batch_figures(store: CornerStore, g0: int, lims, end, sensors: int) -> np.ndarray:

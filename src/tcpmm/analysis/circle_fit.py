@@ -29,34 +29,9 @@ from .circle_model import (
 )
 from .circle_noise import coef_covariance
 from .circle_reversal_tail import search_tail, tail_block, tail_names
+from .circle_settling import steady_ends
 
 OWN = ("radius", "centre_X", "centre_Y")
-#: How far a step of the tool's angle may lie from the pass's median step, as a share of
-#: it, for the tool to move on steadily [-]
-STEADY_STEP = 0.1
-
-
-def steady_ends(angle):
-    """The samples of a pass from the first to the last at which the tool moves on
-    steadily: the steps into and out of it within :data:`STEADY_STEP` of the median step,
-    or five times the steps' scatter where that is wider. A pass that starts or stops on
-    the circle holds the tool at rest, and the servo's transient, at its ends; the terms
-    are those of a steady feed (a pass started and stopped at full feed, with one axis
-    1 ms behind, read its squareness -77 um/m for +25, its backlash 26 um for 0, from its
-    first and last two samples) [-]."""
-    d = np.abs(np.diff(angle))
-    keep = np.ones(np.size(angle), bool)
-    if d.size < 8:
-        return keep
-    level = float(np.median(d))
-    spread = 1.4826 * float(np.median(np.abs(d - level)))
-    ok = np.abs(d - level) <= max(STEADY_STEP * level, 5.0 * spread)
-    both = np.r_[ok[0], ok[1:] & ok[:-1], ok[-1]]
-    on = np.flatnonzero(both)
-    if on.size:
-        keep[:on[0]] = False
-        keep[on[-1] + 1:] = False
-    return keep
 
 
 @dataclass
@@ -85,8 +60,8 @@ class Arc:
 
     @property
     def mask(self):
-        """Samples outside the reversals' transients and the ends' (:func:`steady_ends`)
-        [-]."""
+        """Samples outside the reversals' transients and the ends'
+        (:func:`.circle_settling.steady_ends`) [-]."""
         return fit_mask(self.angle, self.s, after_deg=(0.0, self.after_deg)) & self.ends
 
     def mask_for(self, mu: float):
@@ -106,7 +81,8 @@ class Arc:
 
     @cached_property
     def ends(self):
-        """The samples between the pass's unsteady ends (:func:`steady_ends`) [-]."""
+        """The samples between the pass's unsteady ends
+        (:func:`.circle_settling.steady_ends`) [-]."""
         return steady_ends(self.angle)
 
     def positions(self, radius, angle=None, e=None):
@@ -385,14 +361,3 @@ def _finished(pb, mu, waves, unseen, periods) -> TermFit:
                    tuple(pb.centres), aliases, periods, cov, pb.tail, spread,
                    pb.tail_interval)
 
-
-def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
-    """The fitted radial error of arc ``i`` over ``angle`` (default its own samples), the
-    servo mismatch's remainder included; undetermined terms count as 0 [m]."""
-    arc = arcs[i]
-    a = arc.angle if angle is None else angle
-    pos = arc.positions(radius, a, e) if e is not None else None
-    A = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a, pos,
-               fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail)
-    return (A @ np.nan_to_num(fit.coef)
-            + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu))

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .circle_display import ranking_rows, rename_axes
-from .circle_fit import design, model_curve
+from .circle_fit import design
 from .circle_model import is_full, servo_remainder
 from .circle_passes import circle_deviation, lsq_circle
 
@@ -29,6 +29,18 @@ def arc_grid(angle, n=3600):
     if is_full(angle):
         return np.linspace(0, 2 * np.pi, n, endpoint=False)
     return np.linspace(min(angle[0], angle[-1]), max(angle[0], angle[-1]), n)
+
+
+def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
+    """The fitted radial error of arc ``i`` over ``angle`` (default its own samples), the
+    servo mismatch's remainder included; undetermined terms count as 0 [m]."""
+    arc = arcs[i]
+    a = arc.angle if angle is None else angle
+    pos = arc.positions(radius, a, e) if e is not None else None
+    A = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a, pos,
+               fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail)
+    return (A @ np.nan_to_num(fit.coef)
+            + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu))
 
 
 def per_circle_terms(fit, arcs, radius, shared, directions):

@@ -21,6 +21,7 @@ def display_digits(term: str, shown: str) -> int:
 TERM_NOTES = {"hysteresis": "largest CCW-CW radial difference",
               "centre_offset": "circle centre - nominal",
               "backlash": "+: radius steps out at reversal",
+              "take_up_width": "= backlash: dead band; 0: step",
               "lateral_play_{a}": "+: moving +{a} shifts {a} to +{b}",
               "lateral_play_{b}": "+: moving +{b} shifts {b} to +{a}",
               "servo_mismatch": "+: {b} lags {a}",

@@ -30,6 +30,7 @@ from .circle_model import (
 from .circle_noise import coef_covariance
 from .circle_reversal_tail import search_tail, tail_block, tail_names
 from .circle_settling import steady_ends
+from .circle_takeup import search_widths
 
 OWN = ("radius", "centre_X", "centre_Y")
 
@@ -134,6 +135,10 @@ class TermFit:
         The least and the largest time constant of the tails within the 95 % interval of
         either shape (:func:`.circle_reversal_tail.decay_interval`); None where no tail is
         fitted [rad].
+    widths : tuple
+        Per axis, the travel after its reversal over which its backlash is taken up, and
+        that width's 95 % uncertainty, NaN where the data cannot tell
+        (:mod:`.circle_takeup`) [m].
     """
 
     names: list
@@ -148,9 +153,15 @@ class TermFit:
     tail: tuple | None = None
     tail_spread: dict = field(default_factory=dict)
     tail_interval: tuple | None = None
+    widths: tuple = ((0.0, float("nan")), (0.0, float("nan")))
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
+
+    @property
+    def take_up(self) -> tuple:
+        """Each axis' take-up width of :attr:`widths` [m]."""
+        return tuple(w for w, _ in self.widths)
 
     def cyclic_amplitude(self, axis: str) -> float:
         """Amplitude of the cyclic error fitted for ``axis`` (``"X"``, ``"Y"``) [m]."""
@@ -162,17 +173,18 @@ class TermFit:
 
 
 def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
-           centre=(0.0, 0.0), tail=None):
+           centre=(0.0, 0.0), tail=None, widths=(0.0, 0.0)):
     """Design matrix of arc ``i`` of ``n_arcs`` over ``angle`` (default its own), its
-    tool at ``pos`` (default on the nominal radius), its axes reversing about ``centre``
-    and the reversals' tails ``tail``, ``(decay, shape)`` (none for None) [m/unit]."""
+    tool at ``pos`` (default on the nominal radius), its axes reversing about ``centre``,
+    the reversals' tails ``tail``, ``(decay, shape)`` (none for None), and each axis'
+    backlash taken up over the travel ``widths`` after its reversal [m/unit]."""
     a = arc.angle if angle is None else angle
     own = np.zeros((a.size, 3 * n_arcs))
     w = radial_weights(a, arc.s, arc.ratio, mu)
     own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), *w]
     pos = pos if pos is not None else (radius * np.cos(a), radius * np.sin(a))
     rev = reversal_angle(pos, centre)
-    cols = term_columns(shared, a, arc.s, radius, arc.ratio, mu, rev)
+    cols = term_columns(shared, a, arc.s, radius, arc.ratio, mu, rev, widths)
     for axis, k in enumerate(waves):
         if k is not None:
             cols += cyclic_columns(pos[axis], w[axis], k)
@@ -219,6 +231,7 @@ class FitProblem:
         self.tail = None  # the reversals' tails' (decay, shape), None for none
         self.tail_spread = None  # the columns' moves over the tails that fit as well
         self.tail_interval = None  # the time constants that fit as well
+        self.widths = ((0.0, float("nan")),) * 2  # the backlashes' take-up, and its +-
         A = self.matrix(0.0, (None, None))
         # each circle's radius and centre first, where the arc determines them: every
         # set-up has a centre offset, and a term that stood in for it (a bow, a
@@ -242,9 +255,24 @@ class FitProblem:
         """Design matrix over the fitted samples of every arc [m/unit]."""
         n = len(self.arcs)
         return np.vstack([design(a, i, n, self.radius, self.shared, mu, waves,
-                                 a.angle[m], p, c, self.tail)
+                                 a.angle[m], p, c, self.tail, self.take_up)
                           for i, (a, m, p, c) in enumerate(zip(
                               self.arcs, self.masks, self.pos, self.centres, strict=True))])
+
+    @property
+    def take_up(self):
+        """Each axis' take-up width (:attr:`TermFit.widths`) [m]."""
+        return tuple(w for w, _ in self.widths)
+
+    def rest(self, mu, waves, coef):
+        """Per arc, what the terms ``coef`` leave over all its samples, the reversals'
+        transients too [m]."""
+        n = len(self.arcs)
+        return [a.e - servo_remainder(a.angle, a.s, self.radius, a.ratio * mu)
+                - design(a, i, n, self.radius, self.shared, mu, waves, None,
+                         a.positions(self.radius), c, self.tail, self.take_up)
+                @ np.nan_to_num(coef)
+                for i, (a, c) in enumerate(zip(self.arcs, self.centres, strict=True))]
 
     def centres_of(self, coef) -> list:
         """Each arc's fitted centre offset, 0 where it is not determined [m]."""
@@ -340,6 +368,7 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         waves = refine_waves(pb, mu, waves, periods)
         coef = pb.solve(mu, waves)[0]
         mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
+    pb.widths = search_widths(pb, mu, waves, coef)
     return _finished(pb, mu, waves, unseen, periods)
 
 
@@ -359,5 +388,5 @@ def _finished(pb, mu, waves, unseen, periods) -> TermFit:
         k: float(v) for k, v in zip(names, pb.tail_spread, strict=False) if v}
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
                    tuple(pb.centres), aliases, periods, cov, pb.tail, spread,
-                   pb.tail_interval)
+                   pb.tail_interval, pb.widths)
 

@@ -77,6 +77,46 @@ def axis_signs(angle, s, mu=0.0):
     return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
 
 
+def travel_since_reversal(angle, s, radius, mu, axis):
+    """How far the axis ``axis`` (0 the first, 1 the second) has been commanded since its
+    last reversal, each axis reversing where it does with a servo mismatch angle ``mu``
+    (:func:`axis_signs`): ``R (1 - cos phi)``, ``phi`` the angle travelled since [m].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis about the circle's centre [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    radius : float
+        Nominal radius [m].
+    mu : float
+        Servo mismatch angle of this circle [rad].
+    axis : int
+        0 for the first axis, 1 for the second [-].
+    """
+    own = np.asarray(angle) + (s * mu if axis == 0 else -s * mu)
+    return radius * (1.0 - np.cos(np.mod(s * own - axis * np.pi / 2, np.pi)))
+
+
+def take_up(travel, width):
+    """The share of an axis' lost motion taken up after its reversal, from -1 (the side
+    before it) to +1 (the side after), linear in the commanded travel since the reversal
+    over ``width``: a dead band (the table stands while the motor crosses the play) has the
+    backlash's own width, an instant step none [-].
+
+    Parameters
+    ----------
+    travel : ndarray
+        Commanded travel since the reversal (:func:`travel_since_reversal`) [m].
+    width : float
+        Travel over which the lost motion is taken up [m].
+    """
+    if not width > 0:
+        return np.ones_like(travel)
+    return np.clip(2.0 * travel / width - 1.0, -1.0, 1.0)
+
+
 def radial_weights(angle, s, ratio=1.0, mu=0.0) -> tuple:
     """``(wx, wy)``: the radial error of a unit position error of the first and of the
     second axis, ``cos`` and ``sin`` of the angle, each with the servo mismatch's ellipse
@@ -107,7 +147,8 @@ def _with_slope(c, n, angle, s, mu):
     return c - k * n, n + k * c
 
 
-def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None) -> list:
+def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
+                 widths=(0.0, 0.0)) -> list:
     """Radial error per unit of each term of ``names``, the angle's sine and cosine and the
     axes' signs worked out once for all [m/unit].
 
@@ -131,13 +172,20 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None) -> list:
         The angle about the circle's own centre, where its axes reverse (a circle off the
         nominal centre by ``c`` reverses some ``c / R`` from the nominal quadrant points);
         ``angle`` where omitted [rad].
+    widths : tuple of float
+        Travel of each axis after its reversal over which its backlash is taken up
+        (:func:`take_up`); 0 for an instant step [m].
     """
     c, n = np.cos(angle), np.sin(angle)
     wx, wy = _with_slope(c, n, angle, s, ratio * mu)
-    sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
+    own = angle if rev is None else rev
+    sx, sy = axis_signs(own, s, ratio * mu)
+    fx, fy = (take_up(travel_since_reversal(own, s, radius, ratio * mu, k), w)
+              for k, w in enumerate(widths))
     # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen
     # along the radius; the servo mismatch is the lag itself
-    cols = {"backlash_X": lambda: -0.5 * sx * wx, "backlash_Y": lambda: -0.5 * sy * wy,
+    cols = {"backlash_X": lambda: -0.5 * sx * fx * wx,
+            "backlash_Y": lambda: -0.5 * sy * fy * wy,
             "lateral_play_X": lambda: 0.5 * sx * wy, "lateral_play_Y": lambda: 0.5 * sy * wx,
             "squareness": lambda: -radius * n * wx,
             "servo_angle": lambda: -s * ratio * radius * n * c,
@@ -147,9 +195,9 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None) -> list:
     return [cols[name]() for name in names]
 
 
-def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None):
+def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None, widths=(0.0, 0.0)):
     """Radial error per unit of the term ``name`` (:func:`term_columns`) [m/unit]."""
-    return term_columns((name,), angle, s, radius, ratio, mu, rev)[0]
+    return term_columns((name,), angle, s, radius, ratio, mu, rev, widths)[0]
 
 
 def cyclic_columns(pos, w, wavenumber):

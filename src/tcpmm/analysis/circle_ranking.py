@@ -31,14 +31,16 @@ def arc_grid(angle, n=3600):
     return np.linspace(min(angle[0], angle[-1]), max(angle[0], angle[-1]), n)
 
 
-def model_curve(fit, arcs, i, radius, shared, angle=None, e=None):
+def model_curve(fit, arcs, i, radius, shared, angle=None, e=None, take_up=True):
     """The fitted radial error of arc ``i`` over ``angle`` (default its own samples), the
-    servo mismatch's remainder included; undetermined terms count as 0 [m]."""
+    servo mismatch's remainder included, each backlash taken up over its width (a step
+    without ``take_up``); undetermined terms count as 0 [m]."""
     arc = arcs[i]
     a = arc.angle if angle is None else angle
     pos = arc.positions(radius, a, e) if e is not None else None
     A = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a, pos,
-               fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail)
+               fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail,
+               fit.take_up if take_up else (0.0, 0.0))
     return (A @ np.nan_to_num(fit.coef)
             + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu))
 
@@ -52,7 +54,9 @@ def per_circle_terms(fit, arcs, radius, shared, directions):
     turn = np.linspace(0, 2 * np.pi, 3600, endpoint=False)
     for i, (d, arc) in enumerate(zip(directions, arcs, strict=True)):
         curves[d] = (arc.angle, arc.e, model_curve(fit, arcs, i, radius, shared, e=arc.e))
-        grids[d] = model_curve(fit, arcs, i, radius, shared, angle=turn)
+        # the circle's radius, the reversals' transients aside as from the spikes: a
+        # backlash's take-up would read as its radius (4 and 6 um of dead band, -0.04 um)
+        grids[d] = model_curve(fit, arcs, i, radius, shared, angle=turn, take_up=False)
     return curves, grids
 
 
@@ -112,7 +116,7 @@ def contributions(fit, arcs, radius, shared, spikes):
             a = arc_grid(arc.angle)
             curve = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a,
                            centre=fit.centres[i] if fit.centres else (0.0, 0.0),
-                           tail=fit.tail) @ coef
+                           tail=fit.tail, widths=fit.take_up) @ coef
             if name == "servo_mismatch":
                 curve = curve + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu)
             curves.append((a, curve))

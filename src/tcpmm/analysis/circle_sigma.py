@@ -73,6 +73,8 @@ def term_sigma(fit, n_arcs, shared, terms, axes, mean_rate=float("nan"),
     if fit.tail_interval is not None:  # its 95 % interval as two standard uncertainties,
         lo, hi = fit.tail_interval    # the larger side of it: the interval may be lopsided
         out["reversal_tail_decay"] = max(fit.tail[0] - lo, hi - fit.tail[0]) / 2.0 / mean_rate
+    for axis, (_, u95) in zip("XY", fit.widths, strict=True):  # its interval's larger side
+        out[f"take_up_width_{axis}"] = u95 / 2.0
     return {rename_axes(k, axes): v for k, v in out.items()
             if k in terms and np.isfinite(terms[k][0]) and np.isfinite(v)}
 

@@ -27,6 +27,7 @@ from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
+from .circle_takeup import width_terms, width_why
 from .diagnostics import (
     CircleDiagnostics,
     check_arc,
@@ -98,6 +99,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why.update({rename_axes(k, axes): v for k, v in ellipse.items()})
     why.update({rename_axes(k, axes): v for k, v in _unplaced(fit, terms, a).items()})
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
+    why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
@@ -144,6 +146,7 @@ def _terms(fit, grids, g, curves):
              f"circularity_{d}": (g, "m")}
     terms.update({f"centre_offset_{a}": (fit[f"centre_{a}_0"], "m") for a in "XY"})
     terms.update({k: (fit[k], "m") for k in SINGLE[:2]})
+    terms.update(width_terms(fit))
     terms.update({f"lateral_play_{a}": (float("nan"), "m") for a in "XY"})
     # the ellipse, were it a servo mismatch, puts the reversals that far off the points
     # where the fit steps: a sample between the two reads the whole backlash as a spike

@@ -191,7 +191,7 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
         rest = step_sides(e, model)
         cols = design(arcs[i], i, len(arcs), radius, shared, fit.mu, fit.waves, None,
                       arcs[i].positions(radius, None, e),
-                      fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail)
+                      fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail, fit.take_up)
         got = (reversal_spikes(a, rest, d, lead), *spike_uncertainty(a, rest, d, lead, cols, cov))
         for out, values in zip((spikes, u95, fast), got, strict=True):
             out.update({f"spike_{q}_{d}": v for q, v in values.items()})

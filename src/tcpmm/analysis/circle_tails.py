@@ -126,7 +126,8 @@ def as_reported(value, n_arcs, shared, mean_rate=float("nan"), rename=None) -> d
 def radial_size(term: str, value: float, radius: float) -> float:
     """The radial error a term's value makes over the circle, to compare terms of any
     unit: the value for a length, the ellipse's half axis difference ``R |v| / 2`` for
-    squareness, scale and servo mismatch angle; NaN for a time [m].
+    squareness, scale and servo mismatch angle; NaN for a time, and for a backlash's
+    take-up width, a travel that makes no radial error of its own [m].
 
     Parameters
     ----------
@@ -137,7 +138,7 @@ def radial_size(term: str, value: float, radius: float) -> float:
     radius : float
         Nominal radius [m].
     """
-    if term == "servo_mismatch":
+    if term == "servo_mismatch" or term.startswith("take_up_width"):
         return float("nan")
     return abs(value) * (radius / 2 if term in _HALF_R else 1.0)
 
@@ -165,7 +166,7 @@ def moving_line(diag) -> str:
         return ""
     items = [pair_text(diag, term, a, b, "->") for term, (a, b) in moving.items()]
     unfitted = sorted({t.replace("_", " ") for t in diag.undetermined
-                       if not t.startswith(("cyclic_", "reversal_"))})
+                       if not t.startswith(("cyclic_", "reversal_", "take_up_"))})
     also = (f", or an error the circles do not determine ({', '.join(unfitted)}) does"
             if unfitted else "")
     # the tails that fit as well were only tried where a tail was fitted

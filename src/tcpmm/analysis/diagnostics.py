@@ -74,6 +74,7 @@ from .circle_sigma import term_sigma
 from .circle_spike_sigma import pair_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
+from .circle_takeup import width_terms, width_why
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -257,6 +258,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
+    why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
     leave_open(why, terms, left_out, arcs, axes)
     if all(is_full(a) for a, _ in paths):  # fitted to pairs of full turns alone
         tails, tails_why = tail_terms(fit, mean_rate)
@@ -301,6 +303,7 @@ def _terms(fit, grids, deviations, spikes, mean_rate):
         terms[f"centre_offset_{axis}"] = ((fit[f"centre_{axis}_0"]
                                            + fit[f"centre_{axis}_1"]) / 2, "m")
     terms.update({k: (fit[k], "m") for k in SHARED[:4]})
+    terms.update(width_terms(fit))
     terms.update({k: (v, "m") for k, v in spikes.items()})
     mu = fit["servo_angle"]
     terms["servo_mismatch"] = (mu / mean_rate, "s")

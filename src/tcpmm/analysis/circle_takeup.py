@@ -1,0 +1,175 @@
+"""How each axis takes up its lost motion after it reverses.
+
+Backlash is a dead band: on reversal the table stands while the motor crosses the play
+``b``, so the axis' offset goes from ``-b/2`` to ``+b/2`` over ``b`` of commanded travel
+after the reversal (at R 35 mm, 4 um of it lasts 0.9 deg after the quadrant point, the
+axis' travel growing with the square of the angle). Modelled as a step at the reversal it
+leaves a dip of about ``-b`` there, which the reversal spike after the terms would read as
+a transient (a dead band of 4 and 6 um read spikes of -3.6 to -5.9 um where there were
+none). The take-up is modelled as linear in the travel since the reversal over a width
+``w`` (:func:`.circle_model.take_up`): ``w = b`` for a dead band, 0 for a step.
+
+The fit leaves the 20 deg after each reversal out, so the backlash is read past the
+take-up, whatever ``w``, and the design stays linear in it; ``w`` is kept within that
+window (:func:`_reach`). Each reversal of the axis (each end of its travel, in each
+circle) gives the width that best fits what the terms leave over the travel from the
+reversal to :data:`SPAN` times the backlash: the ``b`` of travel a dead band takes, the
+drive's wind-up past the play (the built-in machine's 8 um of nut play and its screw's own
+lost motion, 10.9 um together, took 15 um; bench D's axes 2.6 and 2.3 times their
+backlash, alike over spans of 3 and 4 times it), and the travel beyond, where the whole
+lost motion is taken up and a width that ran past it shows. A span much longer would let
+the reversal's own transient, which no term models, pass for a take-up. The width is the
+median of the reversals' own, which a transient at one reversal alone does not move.
+Its 95 % uncertainty is the larger of the widths whose sum of squares over all the
+reversals lies within :data:`.circle_reversal_tail.AS_WELL` noise variances of the least
+(as the reversals' tails are judged) and half the reversals' own widths' interquartile
+range; NaN where that reaches over the whole span (a backlash in the noise), where the
+width is the span's end (what the terms leave there is the transient, not a take-up), or
+where fewer than :data:`MIN_SAMPLES` samples lie within the span.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .circle_model import angle_step, reversal_angle, term_column, travel_since_reversal
+from .circle_noise import correlation_length
+from .circle_reversal_tail import AS_WELL
+
+#: The travel after a reversal searched for the take-up, per unit of the backlash [-]
+SPAN = 3.0
+#: Widths tried over the span, before the best is refined [-]
+TRIES = 81
+#: Fewest samples within the span for a width to be read [-]
+MIN_SAMPLES = 3
+NAN = float("nan")
+
+
+def _reach(pb, mu) -> float:
+    """The longest travel after a reversal that stays in every arc's window left out of
+    the fit, a sample short of its end, where each axis reverses ``|mu|`` off its
+    quadrant point [m]."""
+    phi = min(np.radians(a.after_deg) - abs(a.ratio * mu) - angle_step(a.angle)
+              for a in pb.arcs)
+    return pb.radius * (1.0 - np.cos(max(phi, 0.0)))
+
+
+def _near(pb, mu, rests, axis, span) -> list:
+    """Per arc and reversal point of ``axis`` (0 or 1; its two ends of travel), ``(arc,
+    angle about its centre, angle, rest)`` of the samples within ``span`` of travel after
+    the axis reverses there [-, rad, rad, m]."""
+    out = []
+    for arc, rest, c in zip(pb.arcs, rests, pb.centres, strict=True):
+        rev = reversal_angle(arc.positions(pb.radius), c)
+        own = arc.angle if rev is None else rev
+        u = travel_since_reversal(own, arc.s, pb.radius, arc.ratio * mu, axis)
+        end = np.cos(own) > 0 if axis == 0 else np.sin(own) > 0
+        for near in ((u <= span) & arc.ends & end, (u <= span) & arc.ends & ~end):
+            if near.any():
+                out.append((arc, own[near], arc.angle[near], rest[near]))
+    return out
+
+
+def _noise(pb, rests) -> float:
+    """What the fit leaves over its fitted samples: its variance times its correlation
+    length (:func:`.circle_reversal_tail.noise_level`) [m^2]."""
+    res = np.concatenate([r[m] for r, m in zip(rests, pb.masks, strict=True)])
+    return float(np.mean(res**2)) * correlation_length(res) if res.size > 1 else 0.0
+
+
+def _costs(pb, mu, parts, name, b, axis):
+    """``ssr(w)``: per part of ``parts`` (:func:`_near`), the sum of squares with the
+    backlash ``b`` of ``name`` taken up over ``w`` instead of the fit's width [m^2]."""
+    now = pb.take_up
+
+    def cols(arc, own, ang, width):
+        widths = tuple(width if k == axis else now[k] for k in (0, 1))
+        return term_column(name, ang, arc.s, pb.radius, arc.ratio, mu, own, widths)
+
+    base = [(arc, own, ang, rest, cols(arc, own, ang, now[axis]))
+            for arc, own, ang, rest in parts]
+
+    def ssr(width):
+        return np.array([np.sum((rest - b * (cols(arc, own, ang, width) - c0)) ** 2)
+                         for arc, own, ang, rest, c0 in base])
+    return ssr
+
+
+def _axis_width(pb, mu, rests, coef, axis, level) -> tuple:
+    """``(width, its 95 % uncertainty)`` of ``axis`` (0 or 1), ``(0, NaN)`` where the fit
+    has no backlash for it or no sample lies within the span (module docstring) [m]."""
+    name = f"backlash_{'XY'[axis]}"
+    if name not in pb.shared:
+        return 0.0, NAN
+    b = float(coef[3 * len(pb.arcs) + pb.shared.index(name)])
+    span = min(SPAN * abs(b), _reach(pb, mu)) if np.isfinite(b) else 0.0
+    parts = _near(pb, mu, rests, axis, span) if span > 0 else []
+    if sum(p[2].size for p in parts) < MIN_SAMPLES:
+        return 0.0, NAN
+    ssr = _costs(pb, mu, parts, name, b, axis)
+    tried = np.linspace(0.0, span, TRIES)
+    step = span / (TRIES - 1)
+    cost = np.array([ssr(w) for w in tried])  # widths x parts
+    # each reversal's best, refined beside the best tried (the sum of squares is smooth
+    # there), and their median: a transient that starts at one reversal alone would move
+    # a width fitted to all (a 5 um spike at one of four read the other three -0.24 um)
+    each = []
+    for j, k in enumerate(np.argmin(cost, axis=0)):
+        near = np.clip(tried[k] + np.linspace(-step, step, 21), 0.0, span)
+        each.append(near[np.argmin([ssr(w)[j] for w in near])])
+    best = float(np.median(each))
+    total = cost.sum(axis=1)
+    alike = tried[total <= total.min() + AS_WELL * level]
+    spread = float(np.subtract(*np.percentile(each, [75, 25]))) / 2
+    lo = min(alike.min(initial=best), best - spread)
+    hi = max(alike.max(initial=best), best + spread)
+    # a best width at the span's end is no take-up the span holds: the reversal's
+    # transient runs on past it (bench D's read twice its backlash over a span of 2)
+    if (lo <= 0.0 and hi >= span) or best >= span - step:
+        return best, NAN
+    return best, max(best - lo, hi - best, step / 2)
+
+
+def search_widths(pb, mu, waves, coef) -> tuple:
+    """Per axis, ``(width, its 95 % uncertainty)`` of the backlash's take-up after each
+    reversal that best fits what the terms ``coef`` leave near the reversals (module
+    docstring), the servo mismatch ``mu`` [rad] and cyclic errors ``waves`` [1/m] as
+    fitted [m].
+
+    Parameters
+    ----------
+    pb : FitProblem
+        The fit's arcs and columns (:class:`.circle_fit.FitProblem`) [-].
+    mu : float
+        Servo mismatch angle [rad].
+    waves : tuple
+        Wavenumbers of the cyclic errors fitted, None for none [1/m].
+    coef : ndarray
+        The fit's coefficients [SI].
+    """
+    rests = pb.rest(mu, waves, coef)
+    level = _noise(pb, rests)
+    return tuple(_axis_width(pb, mu, rests, coef, axis, level) for axis in (0, 1))
+
+
+#: Why a take-up width reads n/a
+WIDTH_WHY = ("the samples after the axis' reversals do not tell how its backlash is taken "
+             f"up: fewer than {MIN_SAMPLES} lie within {SPAN:g} times the backlash's travel "
+             "after them, or a take-up of any width up to that fits them as well (a "
+             "backlash in the noise), or the best runs to that end (what the terms leave "
+             "there is the reversal's transient more than a take-up); the spikes after the "
+             "terms are read with the width that fits best ({width})")
+
+
+def width_terms(fit) -> dict:
+    """Per axis its backlash's take-up width, ``take_up_width_{axis} -> (value, "m")``,
+    NaN where the data cannot tell it (:func:`width_why`) [m]."""
+    return {f"take_up_width_{axis}": (float(width) if np.isfinite(u95) else NAN, "m")
+            for axis, (width, u95) in zip("XY", fit.widths, strict=True)}
+
+
+def width_why(fit) -> dict:
+    """Why each take-up width the data cannot tell reads n/a [-]."""
+    return {f"take_up_width_{axis}": WIDTH_WHY.format(
+        width="a step" if not width > 0 else f"{width * 1e6:.2f} µm")
+        for axis, (width, u95) in zip("XY", fit.widths, strict=True) if not np.isfinite(u95)}

@@ -1,0 +1,164 @@
+"""Backlash taken up as a dead band: the table stands at a reversal until the motor has
+crossed the play, so the lost motion goes from one side to the other over the backlash's
+own travel after it, not at once. The reversal spikes after the terms must read the
+transient alone whichever way the play is taken up, and the take-up's width is reported
+(docs/circle_diagnostics.md, "Model").
+
+The circles are those of ``test_circle_diagnostics`` (each error injected as the position
+error it is), with each axis' backlash applied as a dead band on its own position.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tcpmm.analysis.circular import analyse_circle
+from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
+from tcpmm.api import as_command, load_model, simulate
+from test_circle_diagnostics import (
+    ALL,
+    DT,
+    NOISE,
+    START,
+    R,
+    W,
+    assert_recovered,
+    circle,
+    expected,
+)
+
+PROGRAM = Path(__file__).resolve().parents[1] / "examples" / "circle_r35_f5000.nc"
+
+
+def dead_band(pos, b, first):
+    """``pos`` seen through a play of ``b``: the table stands until the motor has taken
+    it up, and starts with it taken up against the first motion ``first`` (+1, -1) [m]."""
+    out = np.empty_like(pos)
+    out[0] = pos[0] - first * b / 2
+    for i in range(1, pos.size):
+        out[i] = min(max(out[i - 1], pos[i] - b / 2), pos[i] + b / 2)
+    return out
+
+
+def dead_band_circle(direction, err, seed=0, noise=NOISE, n=7200, start_deg=START):
+    """:func:`test_circle_diagnostics.circle` with the backlashes ``b_x``, ``b_y`` of
+    ``err`` taken up as dead bands on each axis' own (lagging) position [rad, m]."""
+    s = 1.0 if direction == "ccw" else -1.0
+    w = 2 * np.pi / (n * DT)
+    rest = {k: v for k, v in err.items() if k not in ("b_x", "b_y")}
+    a, e = circle(direction, rest, seed, start_deg=start_deg, noise=noise, n=n)
+    th = np.radians(start_deg) + s * w * DT * np.arange(n + 1)
+    x, y = (R + e) * np.cos(a), (R + e) * np.sin(a)
+    for axis, tau, b in (("x", err.get("tau_x", 0.0), err.get("b_x", 0.0)),
+                         ("y", err.get("tau_y", 0.0), err.get("b_y", 0.0))):
+        own = th - s * w * tau
+        pos = R * np.cos(own) if axis == "x" else R * np.sin(own)
+        shift = dead_band(pos, b, np.sign(pos[1] - pos[0])) - pos
+        x, y = (x + shift, y) if axis == "x" else (x, y + shift)
+    return np.unwrap(np.arctan2(y, x)), np.hypot(x, y) - R
+
+
+def diagnose_dead_band(err, noise=NOISE, n=7200):
+    w = 2 * np.pi / (n * DT)
+    return diagnose_pair(dead_band_circle("ccw", err, 1, noise, n),
+                         dead_band_circle("cw", err, 2, noise, n), R, (w, w))
+
+
+def spikes(diag):
+    return {(d, q): diag[f"spike_{q}_{d}"] for d in ("ccw", "cw") for q in "ABCD"}
+
+
+@pytest.mark.parametrize("how", ["dead band", "step"])
+def test_backlash_alone_leaves_no_spike_after_the_terms(how):
+    """4 and 6 um of backlash and nothing else: as a dead band the table's offset turns
+    over 4 and 6 um of travel (0.9 and 1.1 deg after the quadrant points at R 35 mm), and a
+    step at the reversal left a dip there that read spikes of -3.6 to -5.9 um; as a step
+    it reads none either way. The width reads the backlash's own for the dead band, 0 for
+    the step."""
+    err = {"b_x": 4e-6, "b_y": 6e-6}
+    diag = (diagnose_dead_band(err, noise=0.0) if how == "dead band" else
+            diagnose_pair(circle("ccw", err, noise=0.0), circle("cw", err, noise=0.0), R,
+                          (W, W)))
+    for where, v in spikes(diag).items():
+        assert abs(v) < 0.1e-6, (where, v)
+    for axis, b in (("X", 4e-6), ("Y", 6e-6)):
+        assert diag[f"backlash_{axis}"] == pytest.approx(b, rel=0.02)
+        width, u95 = diag[f"take_up_width_{axis}"], 2 * diag.sigma[f"take_up_width_{axis}"]
+        want = b if how == "dead band" else 0.0
+        assert abs(width - want) <= max(u95, 0.03 * b), (axis, width, u95)
+        assert u95 < 0.1 * b
+    assert diag.terms["take_up_width_X"][1] == "m"
+
+
+def test_a_spike_beside_a_dead_band_reads_its_own_height():
+    """A 5 um spike 3 deg after every quadrant point beside dead bands of 4 and 6 um and
+    0.05 um of noise: the dip of the play taken up after a step read -5.3 um at B where the
+    spike is +5 (the dip's extreme is the larger). Tolerance of a spike: 4.5 noise rms,
+    the extreme of the noise over its window."""
+    spike = {(d, q): (5e-6, 3.0) for d in ("ccw", "cw") for q in "ABCD"}
+    err = {"b_x": 4e-6, "b_y": 6e-6, "spikes": spike}
+    diag = diagnose_dead_band(err)
+    for where, v in spikes(diag).items():
+        assert v == pytest.approx(5e-6, abs=4.5 * NOISE), where
+    assert diag["backlash_X"] == pytest.approx(4e-6, rel=0.02)
+    assert diag["backlash_Y"] == pytest.approx(6e-6, rel=0.02)
+
+
+@pytest.mark.parametrize("tau_y", [0.0, 1e-3])
+def test_every_error_with_dead_band_backlash_is_recovered(tau_y):
+    """Every error of ``test_circle_diagnostics.ALL`` at once, the backlash a dead band
+    of the same size (a dead band's play is positive) and one spike of 5 um 4 deg after B
+    (ALL's, 8-20 um, would hide the dip a step leaves), with and without Y lagging X by
+    1 ms: each term within 2 % or 0.1 um of radial error, and each spike within 4.5 noise
+    rms of its own (the dip read -5.3 to -7.6 um)."""
+    err = dict(ALL, b_x=abs(ALL["b_x"]), b_y=abs(ALL["b_y"]), tau_x=0.0, tau_y=tau_y,
+               spikes={("ccw", "B"): (5e-6, 4.0)})
+    assert_recovered(diagnose_dead_band(err), expected(err))
+
+
+def test_a_backlash_in_the_noise_has_no_width():
+    """0.02 um of play under 0.05 um of noise: any take-up fits as well, so the width is
+    n/a and says why; the spikes after the terms are the noise's."""
+    diag = diagnose_dead_band({"b_x": 0.02e-6, "b_y": 0.02e-6})
+    for axis in "XY":
+        assert np.isnan(diag[f"take_up_width_{axis}"])
+        assert "do not tell how its backlash is taken up" in diag.undetermined[
+            f"take_up_width_{axis}"]
+    assert max(abs(v) for v in spikes(diag).values()) < 4.5 * NOISE
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")  # no spike at A, its start
+def test_nut_backlash_on_an_encoder_fed_axis_leaves_the_spikes_alone():
+    """The built-in machine with X on its motor's encoder, with and without 8 um of play
+    in its nut, on the example circle: the backlash term takes the lost motion (8 um more)
+    and the spikes after the terms stay the transient's (C read -11.3 um for +6.4 without
+    the play, the dip of the play taken up after a step)."""
+    base = load_model("builtin:vmc")
+    x = base.axes["X"]
+    x = x.replace(servo=x.servo.model_copy(update={"position_feedback": "encoder"}))
+    diags = {}
+    for play in (0.0, 8e-6):
+        axis = x.replace(friction=x.friction.model_copy(update={"backlash": play}))
+        machine = base.with_axis("X", axis)
+        run = simulate(machine, as_command(PROGRAM, machine))
+        diags[play] = circle_diagnostics(analyse_circle(run, R), sensor="tcp")
+    without, played = diags[0.0], diags[8e-6]
+    assert played["backlash_X"] - without["backlash_X"] == pytest.approx(8e-6, rel=0.02)
+    for where, v in spikes(played).items():
+        if np.isfinite(v):
+            assert v == pytest.approx(spikes(without)[where], abs=0.2e-6), where
+    # the play's dead band, and the screw's own lost motion taken up as it winds up
+    assert 0.9 * 8e-6 <= played["take_up_width_X"] <= 2 * played["backlash_X"]
+
+
+def test_one_direction_reads_its_dead_band_as_backlash_not_as_spikes():
+    """One circle alone fits its backlash too: a dead band of 4 and 6 um read spikes of
+    -4 and -6 um after its own terms, the whole play."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    diag = diagnose_single(*dead_band_circle("ccw", {"b_x": 4e-6, "b_y": 6e-6}, 1, 0.0),
+                           "ccw", R)
+    for q in "ABCD":
+        assert abs(diag[f"spike_{q}_ccw"]) < 0.1e-6, q
+    assert diag["take_up_width_Y"] == pytest.approx(6e-6, rel=0.03)

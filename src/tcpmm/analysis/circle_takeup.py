@@ -112,7 +112,7 @@ def _axis_width(pb, mu, rests, coef, axis, level) -> tuple:
     cost = np.array([ssr(w) for w in tried])  # widths x parts
     # each reversal's best, refined beside the best tried (the sum of squares is smooth
     # there), and their median: a transient that starts at one reversal alone would move
-    # a width fitted to all (a 5 um spike at one of four read the other three -0.24 um)
+    # a width fitted to all (a 5 um spike at one of four read the others down to -0.3 um)
     each = []
     for j, k in enumerate(np.argmin(cost, axis=0)):
         near = np.clip(tried[k] + np.linspace(-step, step, 21), 0.0, span)

@@ -29,17 +29,23 @@ def _runs_from(bundle, axes, start_s):
         f.to_csv(p, index=False)
 
 
-@pytest.fixture(scope="module")
-def r05_x_from_5_mm_s(tmp_path_factory):
-    """Bench R05 with X's friction runs kept from their 5 mm/s plateaus up, identified,
-    with the warnings said."""
-    bundle = tmp_path_factory.mktemp("r05") / "bundle"
-    shutil.copytree(bench_path("r05") / "bundle", bundle)
+def _x_from_5_mm_s(folder, bench: str):
+    """Bench ``bench`` with X's friction runs kept from their 5 mm/s plateaus up,
+    identified, and the warnings said [-]."""
+    bundle = folder / "bundle"
+    shutil.copytree(bench_path(bench) / "bundle", bundle)
     _runs_from(bundle, ("X",), FROM_5_MM_S)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         found = identify_bundle(read_bundle(bundle))
     return found, [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+
+
+@pytest.fixture(scope="module")
+def r05_x_from_5_mm_s(tmp_path_factory):
+    """Bench R05 with X's friction runs kept from 5 mm/s up, identified, with the
+    warnings said."""
+    return _x_from_5_mm_s(tmp_path_factory.mktemp("r05"), "r05")
 
 
 def test_a_static_level_the_runs_do_not_fix_is_held_and_open(r05_x_from_5_mm_s):
@@ -83,15 +89,9 @@ def test_a_hump_below_the_slowest_speed_read_is_held():
 
 @pytest.fixture(scope="module")
 def c_x_from_5_mm_s(tmp_path_factory):
-    """Bench C with X's friction runs kept from their 5 mm/s plateaus up, identified, with
-    the warnings said."""
-    bundle = tmp_path_factory.mktemp("c") / "bundle"
-    shutil.copytree(bench_path("c") / "bundle", bundle)
-    _runs_from(bundle, ("X",), FROM_5_MM_S)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        found = identify_bundle(read_bundle(bundle))
-    return found, [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+    """Bench C with X's friction runs kept from 5 mm/s up, identified, with the warnings
+    said."""
+    return _x_from_5_mm_s(tmp_path_factory.mktemp("c"), "c")
 
 
 def test_a_lost_motion_the_runs_cannot_bound_is_open(c_x_from_5_mm_s):

@@ -162,3 +162,53 @@ def test_one_direction_reads_its_dead_band_as_backlash_not_as_spikes():
     for q in "ABCD":
         assert abs(diag[f"spike_{q}_ccw"]) < 0.1e-6, q
     assert diag["take_up_width_Y"] == pytest.approx(6e-6, rel=0.03)
+
+
+#: Started on quadrant point A, half a sample off it: a sample on a reversal has no side
+ON_A = 0.5 * np.degrees(W * DT)
+
+
+def _pair_from(start_deg, err, noise):
+    w = 2 * np.pi / (7200 * DT)
+    return diagnose_pair(dead_band_circle("ccw", err, 1, noise, start_deg=start_deg),
+                         dead_band_circle("cw", err, 2, noise, start_deg=start_deg), R, (w, w))
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")  # no spike at A, its start
+def test_circles_started_on_a_quadrant_point_take_no_take_up_from_their_start():
+    """A G02/G03 circle started at (R, 0): the axis starts from rest at its quadrant point,
+    its play taken up before the record, and no reversal happens there. Counted as one,
+    its start put X's width at 2.5 um (dead band 4 um) and read spike C -1.18 um
+    after the terms where there is none."""
+    diag = _pair_from(ON_A, {"b_x": 4e-6, "b_y": 6e-6}, 0.0)
+    for axis, b in (("X", 4e-6), ("Y", 6e-6)):
+        assert diag[f"take_up_width_{axis}"] == pytest.approx(b, rel=0.03), axis
+    assert max(abs(v) for v in spikes(diag).values() if np.isfinite(v)) < 0.1e-6
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_a_take_up_the_reversals_leave_loose_widens_its_spikes():
+    """Every error at once with Y lagging X by 1 ms, started on a quadrant point: X's width
+    is read from its C reversals alone and comes out loose; the spike at C, which moves
+    with it (1.9 um, none injected), carries that in its 95 % uncertainty."""
+    err = dict(ALL, b_x=4e-6, b_y=6e-6, tau_x=0.0, tau_y=1e-3, spikes={})
+    diag = _pair_from(ON_A, err, NOISE)
+    for (d, q), v in spikes(diag).items():
+        if np.isfinite(v):
+            assert abs(v) <= diag.spike_u95[f"spike_{q}_{d}"] + 4.5 * NOISE, (d, q)
+
+
+def test_a_backlash_one_direction_cannot_place_has_no_width():
+    """One CW direction with Y lagging 1 ms: the ellipse, were it a servo mismatch, moves
+    the reversals by a sample and the backlash is left open; its take-up width, which
+    read 11.75 +- 1.78 um for a dead band of 6 um, is open with it."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    err = {"b_x": 4e-6, "b_y": 6e-6, "tau_x": 0.0, "tau_y": 1e-3}
+    a, e = dead_band_circle("cw", err, 3, NOISE)
+    diag = diagnose_single(a, e, "cw", R)
+    for axis in "XY":
+        if np.isnan(diag[f"backlash_{axis}"]):
+            assert np.isnan(diag[f"take_up_width_{axis}"])
+            assert "the backlash it takes up is open" in diag.undetermined[
+                f"take_up_width_{axis}"]

@@ -27,7 +27,7 @@ from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
-from .circle_takeup import width_terms, width_why
+from .circle_takeup import width_follows_backlash, width_terms, width_why
 from .diagnostics import (
     CircleDiagnostics,
     check_arc,
@@ -101,6 +101,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
+    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes))
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,

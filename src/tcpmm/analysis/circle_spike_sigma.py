@@ -40,6 +40,7 @@ from .circle_model import reversal_lead_deg
 from .circle_noise import correlation_length
 from .circle_sigma import COVERAGE
 from .circle_spikes import reversal_spikes, spike_windows
+from .circle_takeup import spike_moves
 
 #: The probability the bound is exceeded: the two tails of a 95 % coverage [-]
 BEYOND = 0.05
@@ -195,4 +196,13 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
         got = (reversal_spikes(a, rest, d, lead), *spike_uncertainty(a, rest, d, lead, cols, cov))
         for out, values in zip((spikes, u95, fast), got, strict=True):
             out.update({f"spike_{q}_{d}": v for q, v in values.items()})
+        # the take-up's own interval, which the fit's covariance does not hold
+        moves = spike_moves(fit, arcs[i], radius, arcs[i].positions(radius, None, e),
+                            fit.centres[i] if fit.centres else (0.0, 0.0),
+                            lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(
+                                a, rest + dr, d, lead))
+        for q, v in moves.items():
+            k = f"spike_{q}_{d}"
+            if k in u95 and np.isfinite(u95[k]):
+                u95[k] = float(np.hypot(u95[k], v))
     return spikes, u95, fast

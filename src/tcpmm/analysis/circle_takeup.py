@@ -65,8 +65,26 @@ def _near(pb, mu, rests, axis, span) -> list:
         u = travel_since_reversal(own, arc.s, pb.radius, arc.ratio * mu, axis)
         end = np.cos(own) > 0 if axis == 0 else np.sin(own) > 0
         for near in ((u <= span) & arc.ends & end, (u <= span) & arc.ends & ~end):
+            near = _reversed(near, arc.ends)
             if near.any():
                 out.append((arc, own[near], arc.angle[near], rest[near]))
+    return out
+
+
+def _reversed(near, steady):
+    """The runs of ``near`` that the axis reached by reversing: each preceded by a steady
+    sample (``steady``) that is not in it. A run from the pass's start, where the axis
+    started from rest at its quadrant point, took up its lost motion, or had it taken up,
+    before the record: what the terms leave there is no take-up [-]."""
+    idx = np.flatnonzero(near)
+    if not idx.size:
+        return near
+    out = near.copy()
+    firsts = np.flatnonzero(np.r_[True, np.diff(idx) > 1])
+    for j, k in enumerate(firsts):
+        last = idx[firsts[j + 1] - 1] if j + 1 < firsts.size else idx[-1]
+        if idx[k] == 0 or not steady[idx[k] - 1]:
+            out[idx[k]:last + 1] = False
     return out
 
 
@@ -152,6 +170,55 @@ def search_widths(pb, mu, waves, coef) -> tuple:
     return tuple(_axis_width(pb, mu, rests, coef, axis, level) for axis in (0, 1))
 
 
+def spike_moves(fit, arc, radius, pos, centre, spikes_of) -> dict:
+    """How far each reversal spike moves as its axis' take-up width runs over the width's
+    95 % interval (the width is searched, so the fit's covariance does not hold it): the
+    spikes ``spikes_of(rest)`` of what the terms leave with the take-up at either end of
+    the interval against those at the width fitted, the largest change per point; the
+    width open, over the whole span :data:`SPAN` times the backlash; none where the
+    interval is within the search's step [m].
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit, with its widths [SI].
+    arc : Arc
+        The circle [-].
+    radius : float
+        Nominal radius [m].
+    pos : tuple of ndarray
+        The tool's positions on the circle (where its axes reverse) [m].
+    centre : tuple of float
+        The circle's own centre as fitted [m].
+    spikes_of : callable
+        What the terms leave, with the take-up as fitted, to the spikes per point [m].
+    """
+    base = spikes_of(np.zeros_like(arc.angle))
+    moves = dict.fromkeys(base, 0.0)
+    rev = reversal_angle(pos, centre)
+    for axis, (width, u95) in enumerate(fit.widths):
+        name = f"backlash_{'XY'[axis]}"
+        if name not in fit.names or not np.isfinite(fit[name]) or fit[name] == 0.0:
+            continue
+        b = float(fit[name])
+        if u95 <= SPAN * abs(b) / (TRIES - 1):
+            continue  # within the search's own step: the width is read to its grid
+        lo, hi = ((width - u95, width + u95) if np.isfinite(u95)
+                  else (0.0, SPAN * abs(b)))
+
+        def col(w, axis=axis, name=name):
+            widths = tuple(w if k == axis else fit.widths[k][0] for k in (0, 1))
+            return term_column(name, arc.angle, arc.s, radius, arc.ratio, fit.mu, rev,
+                               widths)
+        now = col(width)
+        for w in (max(lo, 0.0), hi):
+            moved = spikes_of(-b * (col(w) - now))
+            for q, v in moved.items():
+                if np.isfinite(v) and np.isfinite(base[q]):
+                    moves[q] = max(moves[q], abs(v - base[q]))
+    return moves
+
+
 #: Why a take-up width reads n/a
 WIDTH_WHY = ("the samples after the axis' reversals do not tell how its backlash is taken "
              f"up: fewer than {MIN_SAMPLES} lie within {SPAN:g} times the backlash's travel "
@@ -166,6 +233,29 @@ def width_terms(fit) -> dict:
     NaN where the data cannot tell it (:func:`width_why`) [m]."""
     return {f"take_up_width_{axis}": (float(width) if np.isfinite(u95) else NAN, "m")
             for axis, (width, u95) in zip("XY", fit.widths, strict=True)}
+
+
+def width_follows_backlash(terms: dict, why: dict, rename) -> None:
+    """Leave each take-up width open whose backlash is (a NaN value, or a reason in
+    ``why``): the width is the backlash's, and a backlash the data cannot place or read
+    has no take-up to read either [-].
+
+    Parameters
+    ----------
+    terms : dict
+        ``name -> (value, unit)`` by the fit's axis names X and Y [SI].
+    why : dict
+        Reasons by the reported names [-].
+    rename : callable
+        A fit's name to its reported one [-].
+    """
+    for a in "XY":
+        b, w = f"backlash_{a}", f"take_up_width_{a}"
+        said = why.get(rename(b))
+        if w in terms and (said is not None or not np.isfinite(terms[b][0])):
+            terms[w] = (NAN, "m")
+            why[rename(w)] = ("the backlash it takes up is open, for the reason given for "
+                              + rename(b).replace("_", " "))
 
 
 def width_why(fit) -> dict:

@@ -74,7 +74,7 @@ from .circle_sigma import term_sigma
 from .circle_spike_sigma import pair_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import tail_shift
-from .circle_takeup import width_terms, width_why
+from .circle_takeup import width_follows_backlash, width_terms, width_why
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -260,6 +260,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
     leave_open(why, terms, left_out, arcs, axes)
+    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes))
     if all(is_full(a) for a, _ in paths):  # fitted to pairs of full turns alone
         tails, tails_why = tail_terms(fit, mean_rate)
         terms.update(tails)

@@ -344,11 +344,15 @@ def test_the_reports_error_sources_are_the_circle_commands_ranking():
     d = bench_path("d")
     diag = circle_diagnostics(*[analyse_circle(read_run(d / f"circle_{w}_meas.csv"), 0.035)
                                 for w in ("ccw", "cw")])
+    from tcpmm.analysis.circle_alias import ranking_marks
+
     rows = ranked_sources(diag)
     ranked = sorted(diag.ranking, key=lambda r: r["rank"])
-    assert [s for s, *_ in rows] == [r["term"].replace("_", " ") for r in ranked]
+    marks = ranking_marks(diag)[0]  # tcpmm circle's marks, the same in the report
+    assert [s for s, *_ in rows] == [r["term"].replace("_", " ") + marks[r["term"]]
+                                     for r in ranked]
     assert [e for _, e, *_ in rows] == [r["g_alone_m"] for r in ranked]
-    assert {"straightness X", "straightness Y"} <= {s for s, *_ in rows}
+    assert {"straightness X", "straightness Y"} <= {s.rstrip(" ~±?") for s, *_ in rows}
     # bench D has no pitch error; one injected is ranked by the same figure
     from test_circle_diagnostics import diagnose
 
@@ -573,7 +577,8 @@ def test_the_error_sources_say_what_the_scale_does_not_see():
     d = bench_path("c")
     res = [analyse_circle(read_run(d / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
     tcp, scale = circle_diagnostics(*res), circle_diagnostics(*res, sensor="scale")
-    note = {s: (g, n) for s, g, n, _ in ranked_sources(tcp, scale)}
+    # the sources as named, without tcpmm circle's marks (~ ± ?)
+    note = {s.rstrip(" ~±?"): (g, n) for s, g, n, _ in ranked_sources(tcp, scale)}
     g, n = note["backlash Y"]
     assert g > 5e-6 and n.startswith("mostly past the linear scale")
     assert scale.terms["backlash_Y"][0] < 0.2 * tcp.terms["backlash_Y"][0]
@@ -756,3 +761,21 @@ def test_table_2_is_judged_against_the_models_intervals_where_a_model_is_given(i
     assert "table2_judged.csv" in page and "90 % interval" in page
     code, page, err = report(capsys, tmp_path / "n", *args)
     assert code == 0 and "table2_judged.csv" not in page
+
+
+def test_the_reports_error_sources_carry_the_circle_commands_marks():
+    """A pair of 220 deg arcs: `tcpmm circle` marks the servo mismatch and the backlash
+    conditional (?) on what the arcs do not determine, and the report's "Error sources"
+    listed them bare."""
+    from tcpmm.analysis.circle_alias import ranking_marks
+    from tcpmm.analysis.diagnostics import diagnose_pair
+    from tcpmm.report.acceptance import ranked_sources
+    from test_circle_diagnostics import ARC_ERR, R, W, arc
+
+    err = {k: v for k, v in ARC_ERR.items() if k not in ("p_x", "str_x")}
+    diag = diagnose_pair(arc("ccw", err, -20.0, 220, 1), arc("cw", err, -20.0, 220, 2), R,
+                         (W, W))
+    marks = ranking_marks(diag)[0]
+    assert any(marks.values())
+    got = {s for s, *_ in ranked_sources(diag)}
+    assert got == {t.replace("_", " ") + m for t, m in marks.items()}

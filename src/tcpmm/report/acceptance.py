@@ -56,6 +56,9 @@ def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
     placed = placed_terms(diag, reference,
                           "" if reference is None else SENSOR_NAMES.get(reference.sensor,
                                                                         reference.sensor))
+    from ..analysis.circle_alias import ranking_marks
+
+    marks, _ = ranking_marks(diag)  # as tcpmm circle marks them: moving, noisy, aliased
     rows = []
     for r in sorted(diag.ranking, key=lambda r: r["rank"]):
         term = r["term"]
@@ -71,7 +74,8 @@ def ranked_sources(diag, reference=None) -> list[tuple[str, float, str, float]]:
             # a pitch error is the screw's: one the scale does not see is no screw's
             note = where if base == "cyclic" and where.startswith("mostly") else \
                 f"{where}; {note}"
-        rows.append((term.replace("_", " "), g, note, float(r["share_of_G"])))
+        rows.append((term.replace("_", " ") + marks.get(term, ""), g, note,
+                     float(r["share_of_G"])))
     return rows
 
 
@@ -193,8 +197,11 @@ def _sources_table(diagnostics, reference) -> str:
         lead += ("Beside it, what the same term makes in the linear scale's circle: what "
                  "the scale does not see lies between the table and the tool (the column "
                  "and headstock deflecting, or ringing after a reversal), not in the drive. ")
+    from ..analysis.circle_alias import ranking_marks
+
+    legend = " ".join(f"{m}." for m in ranking_marks(diagnostics)[1])
     return ("<h3>Error sources, largest first</h3>"
             + para(lead + "The diagnostics below give the terms with their signs and their "
-                   "radial errors.")
+                   "radial errors." + (f" Marks: {legend}" if legend else ""))
             + table(frame, "error_sources.csv",
                     digits={g_alone: 2, of: 0, "rank": 0, **({at: 2} if at else {})}))

@@ -8,24 +8,15 @@ import pytest
 
 from tcpmm import _compiled
 from tcpmm.path.lookahead import lookahead
-from tcpmm.path.profile import segment_position, segment_profiles
+from tcpmm.path.profile import segment_profiles
+from tcpmm.path.sampling import _positions
 
 
 def _pythons(k0, off, dur, length, v, prof, n_samples, period_s):
-    """The segment and the distance along it at each sample, a sample at a time [-], [m]."""
+    """The segment and the distance along it at each sample, the sampler's loop run by
+    Python rather than compiled [-], [m]."""
     seg, s = np.zeros(n_samples, np.int64), np.zeros(n_samples)
-    i = 0
-    for k in range(n_samples):
-        while i + 1 < length.size and (k - k0[i + 1]) * period_s - off[i + 1] >= 0.0:
-            i += 1
-        t = (k - k0[i]) * period_s - off[i]
-        seg[k] = i
-        if length[i] <= 0.0:
-            s[k] = 0.0
-        elif t >= dur[i]:
-            s[k] = length[i]
-        else:
-            s[k] = segment_position(t, v[i], v[i + 1], length[i], prof[i])
+    _positions.py_func(k0, off, dur, length, v, prof, period_s, seg, s)
     return seg, s
 
 

@@ -16,7 +16,7 @@ from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from ..machines.paper import SETTLED_TURNS, circle_test_command
 from ..sim.simulate import simulate, unstable_loops
-from .perturb import UNFIXED_LEVEL, axis_variants
+from .perturb import axis_variants
 
 __all__ = ["PROGRAM_FIGURES", "CircleTest", "ProgramTest", "circle_figures", "figure_changes",
            "figures", "program_figures", "reference_tests"]
@@ -293,11 +293,8 @@ def figure_changes(machine, tests, sensor: str = "tcp", progress=None, jobs: int
     opens, varied = {}, []
     axes = {n for t in tests for n in t.plane}
     for name in [n for n in machine.axes if n in axes]:
-        u = machine.axes[name].uncertainty
-        by_q = {r.quantity: r for r in (u.open if u is not None else ())}
         for v in axis_variants(machine.axes[name]):
-            unbounded = UNFIXED_LEVEL if v.quantity == UNFIXED_LEVEL.quantity else None
-            opens[(name, v.quantity)] = by_q.get(v.quantity, unbounded) if v.open else None
+            opens[(name, v.quantity)] = v.open_range
             varied.append((name, v))
     with results_in_order(_moved_figures, varied, (machine, tests, sensor, kept),
                           usable_jobs(jobs, len(varied))) as results:

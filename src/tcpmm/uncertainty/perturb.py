@@ -51,16 +51,22 @@ class Variant:
     ----------
     quantity : str
         What was moved [-].
-    open : bool
-        The data leave it open (whole range, or a friction level moved a thousandfold
-        and still not bounded), else a determined quantity at its 90 % bound [-].
+    open_range : OpenRange or Unbounded or None
+        The range the data leave it open over (whole range), or :data:`UNFIXED_LEVEL`
+        for a friction level moved a thousandfold and still not bounded; ``None`` for a
+        determined quantity at its 90 % bound [-].
     axis : Axis
         The moved axis [SI].
     """
 
     quantity: str
-    open: bool
+    open_range: object
     axis: Axis
+
+    @property
+    def open(self) -> bool:
+        """Whether the data leave the quantity open [-]."""
+        return self.open_range is not None
 
 
 #: The largest log factor a parameter is moved by to the end of its range [-].
@@ -92,7 +98,7 @@ def _mechanics_variants(axis: Axis, u, open_q: set) -> list[Variant]:
                           high)}
             if p == "C_t":  # the steady viscous force moves to the screw, its total kept
                 upd["B_L"] = max(m.B_L + (v - upd[p]) * m.R_L ** 2, 0.0)
-            out.append(Variant(p, False, axis.replace(mechanics=m.replace(**upd))))
+            out.append(Variant(p, None, axis.replace(mechanics=m.replace(**upd))))
     return out
 
 
@@ -102,8 +108,9 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
         return []
     out = []
     lvl = min(u.friction_level * QUANTILE_90, MOST_LOG)  # a level the runs hardly fix
+    unfixed = UNFIXED_LEVEL if lvl >= MOST_LOG else None
     for k in (math.exp(-lvl), math.exp(lvl)) if lvl > 0.0 else ():
-        out.append(Variant("friction_level", lvl >= MOST_LOG, axis.replace(friction=fr.model_copy(
+        out.append(Variant("friction_level", unfixed, axis.replace(friction=fr.model_copy(
             update={"guideway": scaled_contact(fr.guideway, k),
                     "screw": scaled_contact(fr.screw, k)}))))
     share = coulomb_share(fr)
@@ -113,16 +120,16 @@ def _friction_variants(axis: Axis, u, open_q: set) -> list[Variant]:
         for s in (share - sd, share + sd):
             new = with_share(fr, min(max(s, 0.01), 0.99))
             if new is not None:
-                out.append(Variant("guideway_share", False, axis.replace(friction=new)))
+                out.append(Variant("guideway_share", None, axis.replace(friction=new)))
     if "backlash" not in open_q and fr.backlash > 0.0 and u.backlash > 0.0:
         sd = u.backlash * QUANTILE_90
         for b in (max(fr.backlash - sd, 0.0), fr.backlash + sd):
-            out.append(Variant("backlash", False,
+            out.append(Variant("backlash", None,
                                axis.replace(friction=fr.model_copy(update={"backlash": b}))))
     if "presliding" not in open_q and u.presliding > 0.0:
         sd = u.presliding * QUANTILE_90
         for k in (math.exp(-sd), math.exp(sd)):
-            out.append(Variant("presliding", False, axis.replace(friction=fr.model_copy(
+            out.append(Variant("presliding", None, axis.replace(friction=fr.model_copy(
                 update={"guideway": longer_presliding(fr.guideway, k),
                         "screw": longer_presliding(fr.screw, k)}))))
     return out
@@ -178,7 +185,7 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         else:  # B_m: the motor-bearing share of the steady viscous torque
             moved = axis.replace(mechanics=m.replace(B_m=x, B_L=max(m.B_L - x, 0.0)))
         if moved is not None:
-            out.append(Variant(r.quantity, True, moved))
+            out.append(Variant(r.quantity, r, moved))
     return out
 
 

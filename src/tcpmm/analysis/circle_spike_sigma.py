@@ -198,7 +198,7 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
             out.update({f"spike_{q}_{d}": v for q, v in values.items()})
         # the take-up's own interval, which the fit's covariance does not hold
         moves = spike_moves(fit, arcs[i], radius, arcs[i].positions(radius, None, e),
-                            fit.centres[i] if fit.centres else (0.0, 0.0),
+                            fit.centres[i] if fit.centres else (0.0, 0.0), got[0],
                             lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(
                                 a, rest + dr, d, lead))
         for q, v in moves.items():

@@ -95,14 +95,21 @@ def _noise(pb, rests) -> float:
     return float(np.mean(res**2)) * correlation_length(res) if res.size > 1 else 0.0
 
 
-def _costs(pb, mu, parts, name, b, axis):
+def _backlash_column(axis: int, width: float, widths, arc, angle, rev, radius, mu):
+    """The radial error per unit of ``axis``' backlash (0 or 1) on ``arc`` at ``angle``,
+    taken up over ``width``, the other axis' over its width of ``widths`` [m/m]."""
+    both = tuple(width if k == axis else widths[k] for k in (0, 1))
+    return term_column(f"backlash_{'XY'[axis]}", angle, arc.s, radius, arc.ratio, mu, rev,
+                       both)
+
+
+def _costs(pb, mu, parts, b, axis):
     """``ssr(w)``: per part of ``parts`` (:func:`_near`), the sum of squares with the
-    backlash ``b`` of ``name`` taken up over ``w`` instead of the fit's width [m^2]."""
+    backlash ``b`` of ``axis`` taken up over ``w`` instead of the fit's width [m^2]."""
     now = pb.take_up
 
     def cols(arc, own, ang, width):
-        widths = tuple(width if k == axis else now[k] for k in (0, 1))
-        return term_column(name, ang, arc.s, pb.radius, arc.ratio, mu, own, widths)
+        return _backlash_column(axis, width, now, arc, ang, own, pb.radius, mu)
 
     base = [(arc, own, ang, rest, cols(arc, own, ang, now[axis]))
             for arc, own, ang, rest in parts]
@@ -124,7 +131,7 @@ def _axis_width(pb, mu, rests, coef, axis, level) -> tuple:
     parts = _near(pb, mu, rests, axis, span) if span > 0 else []
     if sum(p[2].size for p in parts) < MIN_SAMPLES:
         return 0.0, NAN
-    ssr = _costs(pb, mu, parts, name, b, axis)
+    ssr = _costs(pb, mu, parts, b, axis)
     tried = np.linspace(0.0, span, TRIES)
     step = span / (TRIES - 1)
     cost = np.array([ssr(w) for w in tried])  # widths x parts
@@ -170,7 +177,7 @@ def search_widths(pb, mu, waves, coef) -> tuple:
     return tuple(_axis_width(pb, mu, rests, coef, axis, level) for axis in (0, 1))
 
 
-def spike_moves(fit, arc, radius, pos, centre, spikes_of) -> dict:
+def spike_moves(fit, arc, radius, pos, centre, base, spikes_of) -> dict:
     """How far each reversal spike moves as its axis' take-up width runs over the width's
     95 % interval (the width is searched, so the fit's covariance does not hold it): the
     spikes ``spikes_of(rest)`` of what the terms leave with the take-up at either end of
@@ -190,10 +197,12 @@ def spike_moves(fit, arc, radius, pos, centre, spikes_of) -> dict:
         The tool's positions on the circle (where its axes reverse) [m].
     centre : tuple of float
         The circle's own centre as fitted [m].
+    base : dict
+        The spikes per point with the take-up as fitted [m].
     spikes_of : callable
-        What the terms leave, with the take-up as fitted, to the spikes per point [m].
+        A change to what the terms leave, with the take-up as fitted, to the spikes per
+        point [m].
     """
-    base = spikes_of(np.zeros_like(arc.angle))
     moves = dict.fromkeys(base, 0.0)
     rev = reversal_angle(pos, centre)
     for axis, (width, u95) in enumerate(fit.widths):
@@ -206,10 +215,8 @@ def spike_moves(fit, arc, radius, pos, centre, spikes_of) -> dict:
         lo, hi = ((width - u95, width + u95) if np.isfinite(u95)
                   else (0.0, SPAN * abs(b)))
 
-        def col(w, axis=axis, name=name):
-            widths = tuple(w if k == axis else fit.widths[k][0] for k in (0, 1))
-            return term_column(name, arc.angle, arc.s, radius, arc.ratio, fit.mu, rev,
-                               widths)
+        def col(w, axis=axis):
+            return _backlash_column(axis, w, fit.take_up, arc, arc.angle, rev, radius, fit.mu)
         now = col(width)
         for w in (max(lo, 0.0), hi):
             moved = spikes_of(-b * (col(w) - now))

@@ -1,5 +1,6 @@
 """Variants of an identified axis: each uncertain quantity at the two ends of its 90 %
-range (a determined one) or of its whole range (an open one), the others as identified."""
+range (a determined one) or of its whole range (an open one; an open guideway share also
+inside it), the others as identified."""
 
 from __future__ import annotations
 
@@ -71,6 +72,11 @@ class Variant:
 
 #: The largest log factor a parameter is moved by to the end of its range [-].
 MOST_LOG = math.log(1e3)
+#: Points inside an open guideway share's range, as fractions of it: a circle's figures
+#: are not monotonic in the share, since the contact that sticks first at a reversal
+#: changes with it; a contour error can move ten times further at mid-range than at
+#: either end [-].
+SHARE_INSIDE = (0.25, 0.5, 0.75)
 
 
 def _mechanics_variants(axis: Axis, u, open_q: set) -> list[Variant]:
@@ -153,10 +159,12 @@ def _static_at(c, ratio: float):
 
 
 def _open_variants(axis: Axis, r) -> list[Variant]:
-    """The axis at both ends of an open range ``r`` (:class:`tcpmm.model.OpenRange`)."""
+    """The axis at both ends of an open range ``r`` (:class:`tcpmm.model.OpenRange`), and
+    for the guideway share at :data:`SHARE_INSIDE` of the range too."""
     m, fr = axis.mechanics, axis.friction
     out = []
-    for x in (r.low, r.high):
+    inside = SHARE_INSIDE if r.quantity == "guideway_share" else ()
+    for x in (r.low, r.high, *(r.low + f * (r.high - r.low) for f in inside)):
         if r.quantity == "guideway_share":
             new = with_share(fr, x) if fr is not None else None
             moved = axis.replace(friction=new) if new is not None else None
@@ -200,7 +208,8 @@ def axis_variants(axis: Axis) -> list[Variant]:
     Returns
     -------
     list of Variant
-        Two per quantity (its low and high end); none without an uncertainty [-].
+        Two per quantity (its low and high end; an open guideway share also inside its
+        range); none without an uncertainty [-].
     """
     u = axis.uncertainty
     if u is None:

@@ -254,6 +254,18 @@ def test_a_sign_flip_is_reported_with_both_lobes():
     assert sign_flips(meas.passes[0].sensors["tcp"], meas.passes[0].sensors["tcp"]) == []
 
 
+def test_a_spike_predicted_as_none_is_no_sign_flip():
+    """A measured spike of 8 um against a prediction with none at all (a spike of a few
+    nm, either sign): the spike does not change sign, and no note says it does because
+    rise and fall are of similar size (both predicted lobes are nothing)."""
+    p = circle_path()
+    meas = analyse_circle(make_run(p, polar_perturb(p, (0, 0), two_lobes(8e-6, -0.5e-6))), R)
+    pred = analyse_circle(make_run(p, polar_perturb(p, (0, 0), two_lobes(2e-9, -3e-9))), R)
+    cmp = compare_circles(meas, pred)
+    assert cmp.rows[0]["spike_B_um"] == pytest.approx(8.0, abs=0.01)
+    assert cmp.sign_flips == [] and cmp.notes() == []
+
+
 def test_a_sign_flip_names_its_cause_only_where_it_holds():
     """A model without friction predicted -3.55 um at A where the circle measured +13.75
     (rise +13.75, fall -6.32; predicted -2.11/-3.55): the note said the sign changed

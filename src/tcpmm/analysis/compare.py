@@ -140,6 +140,11 @@ class Comparison:
 SIMILAR_LOBES = 0.5
 
 
+#: The least spike that has a sign: below it, the sensors' noise when a circle is compared
+#: with itself (the verdict's floor, :data:`tcpmm.uncertainty.CALIBRATION`) [m].
+SIGNED_SPIKE_M = 0.15e-6
+
+
 def _similar(rise: float, fall: float) -> bool:
     """Whether a rise and a fall are of similar size (:data:`SIMILAR_LOBES`) [-]."""
     big = max(abs(rise), abs(fall))
@@ -287,7 +292,7 @@ def _nothing_shared(measured: CircleResult, predicted: CircleResult) -> str:
 
 def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> list[dict]:
     """Quadrant points where the measured and the predicted reversal spike have opposite
-    signs.
+    signs, each at least :data:`SIGNED_SPIKE_M` (a spike of zero has no sign to change).
 
     The spike is the larger in magnitude of the rise and the fall after the reversal
     (docs/formats.md section 4); where the two are of similar size, measured and predicted
@@ -312,7 +317,8 @@ def sign_flips(measured, predicted, direction: str = "", sensor: str = "") -> li
     out = []
     for q in QUADRANTS:
         a, b = measured.spikes[q], predicted.spikes[q]
-        if not (a * b < 0) or q not in measured.lobes or q not in predicted.lobes:
+        if (not (a * b < 0) or min(abs(a), abs(b)) < SIGNED_SPIKE_M
+                or q not in measured.lobes or q not in predicted.lobes):
             continue
         (mr, mf), (pr, pf) = measured.lobes[q], predicted.lobes[q]
         out.append({"direction": direction, "sensor": sensor, "point": q,

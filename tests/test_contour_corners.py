@@ -169,3 +169,21 @@ def test_the_sag_across_a_leg_is_no_overshoot_whatever_follows_the_leg(vmc, tmp_
         got.append(corners[1])
     assert same(got[0]["tcp"], got[1]["tcp"]), (got[0]["tcp"], got[1]["tcp"])
     assert 3.0e-6 < got[0]["tcp"]["overshoot_m"] < 4.5e-6
+
+
+def test_the_corner_caption_says_none_overshoots_where_none_does():
+    """A zig-zag of 41 corners none of which overshoots: the caption said "the 20 of
+    largest overshoot shown", over a table of 0.00 µm; it says none overshoots and which
+    are shown."""
+    from tcpmm.cli.contour import CORNER_ROWS, _shown_corners
+
+    flat = [{"tcp": {"overshoot_m": 0.0}} for _ in range(41)]
+    shown, caption = _shown_corners(flat, "tcp")
+    assert shown == flat[:CORNER_ROWS]
+    assert f"none overshoots, the first {CORNER_ROWS} shown" in caption
+    some = [{"tcp": {"overshoot_m": 2e-6 if k in (5, 30) else 0.0}} for k in range(41)]
+    shown, caption = _shown_corners(some, "tcp")
+    assert some[30] in shown and "the 2 that overshoot and the first of the others" in caption
+    most = [{"tcp": {"overshoot_m": (k + 1) * 1e-6}} for k in range(41)]
+    shown, caption = _shown_corners(most, "tcp")
+    assert shown == most[-CORNER_ROWS:] and f"the {CORNER_ROWS} of largest overshoot" in caption

@@ -330,8 +330,12 @@ def _shown_corners(corners: list, sensor: str) -> tuple:
     seen = over[~np.isnan(over)]
     spread = (f"; overshoot median {np.median(seen):.2f}, largest {np.max(seen):.2f} µm"
               if seen.size else "")
-    return ([corners[i] for i in worst], f"; {len(corners)} corners, the {CORNER_ROWS} of "
-            f"largest overshoot shown (all with --json){spread}")
+    some = int(np.sum(seen >= 0.005))  # an overshoot the table shows as more than 0.00
+    which = (f"the {CORNER_ROWS} of largest overshoot" if some >= CORNER_ROWS else
+             f"none overshoots, the first {CORNER_ROWS}" if some == 0 else
+             f"the {some} that overshoot and the first of the others")
+    return ([corners[i] for i in worst], f"; {len(corners)} corners, {which} shown (all "
+            f"with --json){spread}")
 
 
 def _num(v: float) -> str:

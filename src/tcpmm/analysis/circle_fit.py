@@ -28,7 +28,7 @@ from .circle_model import (
     term_columns,
 )
 from .circle_noise import coef_covariance
-from .circle_reversal_tail import search_tail, tail_block, tail_names
+from .circle_reversal_tail import lingering, search_tail, tail_block, tail_names
 from .circle_settling import steady_ends
 from .circle_takeup import search_widths
 
@@ -135,6 +135,9 @@ class TermFit:
         The least and the largest time constant of the tails within the 95 % interval of
         either shape (:func:`.circle_reversal_tail.decay_interval`); None where no tail is
         fitted [rad].
+    tail_family : tuple
+        For a transient lasting past the window, the fits over the tails it may be
+        (:func:`.circle_reversal_tail.lingering`); empty otherwise [SI].
     widths : tuple
         Per axis, the travel after its reversal over which its backlash is taken up, and
         that width's 95 % uncertainty, NaN where the data cannot tell
@@ -154,6 +157,7 @@ class TermFit:
     tail_spread: dict = field(default_factory=dict)
     tail_interval: tuple | None = None
     widths: tuple = ((0.0, float("nan")), (0.0, float("nan")))
+    tail_family: tuple = ()
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -231,6 +235,7 @@ class FitProblem:
         self.tail = None  # the reversals' tails' (decay, shape), None for none
         self.tail_spread = None  # the columns' moves over the tails that fit as well
         self.tail_interval = None  # the time constants that fit as well
+        self.tail_family = ()  # the fits over a transient lasting past the window
         self.widths = ((0.0, float("nan")),) * 2  # the backlashes' take-up, and its +-
         A = self.matrix(0.0, (None, None))
         # each circle's radius and centre first, where the arc determines them: every
@@ -360,8 +365,8 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         periods = search_periods(pb)
         waves = search_cyclic(pb, mu, periods)
     waves = (None, None) if waves is None else waves
-    if search and any(k is not None for k in waves):
-        pb.tail = search_tail(pb, mu, waves)
+    if search and any(k is not None for k in waves):  # a transient that lingers still does
+        pb.tail = (lingering if pb.tail_family else search_tail)(pb, mu, waves)
     coef = pb.solve(mu, waves)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     if periods and any(k is not None for k in waves):
@@ -388,5 +393,5 @@ def _finished(pb, mu, waves, unseen, periods) -> TermFit:
         k: float(v) for k, v in zip(names, pb.tail_spread, strict=False) if v}
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
                    tuple(pb.centres), aliases, periods, cov, pb.tail, spread,
-                   pb.tail_interval, pb.widths)
+                   pb.tail_interval, pb.widths, pb.tail_family)
 

@@ -136,8 +136,9 @@ def search_tail(pb, mu, waves):
     far each column of the fit without the tails moves over the tails that fit as well
     (:func:`spread`) [SI], and ``pb.tail_interval``: the time constants within the 95 %
     interval of either shape that fits as well (:func:`decay_interval`) [rad]; both None
-    where no tail is fitted."""
-    pb.tail, pb.tail_spread, pb.tail_interval = None, None, None
+    where no tail is fitted. A transient lasting past the window fits no tail, and sets
+    ``pb.tail_family`` and ``pb.tail_spread`` (:func:`lingering`)."""
+    pb.tail, pb.tail_spread, pb.tail_interval, pb.tail_family = None, None, None, ()
     _, res, basis = pb.solve(mu, waves)
     base = float(res @ res)
     tried = {}
@@ -160,13 +161,20 @@ def search_tail(pb, mu, waves):
     # the same tails turned away from the reversals: what they take of the residual is
     # what any such columns would, and a reversal's tail starts at the reversal
     elsewhere = base - min(ssr(g, shape, TURN_DEG) for shape in SHAPES for g in grid)
-    tried = {t: c for t, c in tried.items() if len(t) == 2}
+    step = min(ssr(np.log(np.radians(LONG_DEG)), shape) for shape in SHAPES)
+    longest = 1.5 * np.radians(DECAY_DEG[-1])  # the step is no tail the search found
+    tried = {t: c for t, c in tried.items() if len(t) == 2 and t[0] < longest}
     tail = min(tried, key=tried.get)
     pb.tail = tail
     coef, left, _ = pb.solve(mu, waves)  # ``res`` stays the one ``ssr`` projects
     pb.tail = None
-    if not (base - tried[tail] - elsewhere > SIGNIFICANT * noise_level(left)
-            and float(np.nanmax(np.abs(coef[-4 * len(pb.arcs):]))) >= MIN_TAIL_M):
+    sized = float(np.nanmax(np.abs(coef[-4 * len(pb.arcs):]))) >= MIN_TAIL_M
+    # a transient lingers where its tails stand out of the noise from sample to sample
+    # more than the same tails turned away do, and a step fits as well as they do
+    if (sized and step <= tried[tail] + AS_WELL * noise_level(left)
+            and base - tried[tail] - elsewhere > SIGNIFICANT * sample_noise(left)):
+        return lingering(pb, mu, waves)
+    if not (base - tried[tail] - elsewhere > SIGNIFICANT * noise_level(left) and sized):
         return None
     pb.tail_spread = spread(pb, mu, waves, coef, left, tried)
     target = tried[tail] + AS_WELL * noise_level(left)
@@ -177,6 +185,50 @@ def search_tail(pb, mu, waves):
             ends += decay_interval(lambda x, sh=shape: ssr(x, sh), np.log(best[1][0]), target)
     pb.tail_interval = (min(ends), max(ends))
     return tail
+
+
+def sample_noise(res) -> float:
+    """The variance of the noise from sample to sample of what a fit leaves, from the
+    median of its differences' sizes (the fitted samples jump across each window left
+    out): a transient the tails' shape does not describe stays out of it, where
+    :func:`noise_level` takes that transient for noise alike over many samples [m^2]."""
+    if res.size < 3:
+        return 0.0
+    return float((1.4826 * np.median(np.abs(np.diff(res)))) ** 2 / 2.0)
+
+
+#: A tail as long as this is a step to the next reversal of the axis, a backlash [deg]
+LONG_DEG = 180.0
+#: The tails a transient lasting past the window may be, as the angle travelled in their
+#: time constant: the search's, and on to :data:`LONG_DEG` [deg]
+FAMILY_DEG = (*DECAY_DEG, 80.0, 120.0, LONG_DEG)
+
+
+def lingering(pb, mu, waves) -> None:
+    """No tail, for a transient lasting past the window (module docstring): the tails
+    stand out of the noise from sample to sample (:func:`sample_noise`), and one as long
+    as :data:`LONG_DEG` fits the samples as well as the best, so the data past the window
+    bound neither the tails' level nor their decay, and the terms of a step at the
+    reversals take what the tails do not. Sets ``pb.tail_family``: the fit without tails
+    and with every tail of :data:`FAMILY_DEG` of either shape, ``(tail, coefficients,
+    waves)``: none of these shapes need be the transient's (one that rises to its peak
+    past the window's end fits none of them well), so each is what the samples allow, not
+    only those that fit them best; and ``pb.tail_spread``: each column's largest move over
+    it from the fit without tails, signed [SI]."""
+    pb.tail = None
+    ref = pb.solve(mu, waves)[0]
+    family = [(None, ref, waves)]
+    for shape in SHAPES:
+        for deg in FAMILY_DEG:
+            pb.tail = (float(np.radians(deg)), shape)
+            family.append((pb.tail, pb.solve(mu, waves)[0], waves))
+    pb.tail = None
+    n = ref.size
+    moves = np.zeros(n)
+    for _, c, _ in family:
+        d = np.nan_to_num(c[:n] - ref)
+        moves = np.where(np.abs(d) > np.abs(moves), d, moves)
+    pb.tail_family, pb.tail_spread = tuple(family), moves
 
 
 #: How far either side of the time constant found its interval is sought, as a factor [-]
@@ -233,6 +285,28 @@ NONE_WHY = ("no part of the reversals' transients past the window left out of th
             "about that size is not resolved")
 
 
+#: The start of why the tails read none where a transient lasts past the window
+LINGER = "a transient lasts past the window left out after each reversal"
+#: Why they do (``{rms}``: what the terms leave unexplained)
+LINGER_WHY = (LINGER + " ({rms} left unexplained): its tails past the window stand out of "
+              "the noise from sample to sample, and one as long as the half turn to the "
+              "axis' next reversal, a step like a backlash, fits the samples as well as any, "
+              "so the samples bound neither their level nor their decay. The terms of a "
+              "step at the reversals (the backlash above all) and the spikes after the terms "
+              "take what the fit does not: their uncertainty by the reversals' tails and the "
+              "spikes' ±95% hold how far they move over every tail up to that long, and one "
+              "that moves by more than its value is not determined by these circles. "
+              "Circles at a lower feed or a larger radius, over which the window lasts "
+              "longer than the transient, settle them")
+#: Why the tails read none where their time constant's ± exceeds it (the time constant,
+#: and the ends of its interval)
+OPEN_WHY = (LINGER + ", and its time constant is not determined: the time constants that "
+            "fit the samples as well run from {1} to {2}, more than the best ({0}) above "
+            "it, and the tails' levels at the window's end are read at it; the terms are "
+            "uncertain by the tails that fit as well (their uncertainty by the reversals' "
+            "tails)")
+
+
 def largest_tail(fit, axis: str):
     """The column of ``fit`` of the largest of ``axis``' tails, the one reported; None
     where none is fitted [-]."""
@@ -259,9 +333,18 @@ def tail_terms(fit, mean_rate) -> tuple:
         out[f"reversal_tail_{axis}"] = (float("nan") if j is None else float(fit.coef[j]), "m")
     decay = fit.tail[0] / mean_rate if fit.tail is not None else float("nan")
     out["reversal_tail_decay"] = (float(decay), "s")
+    rms = f"{fit.residual_rms * 1e6:.2f} µm rms"
+    if fit.tail_family:
+        return out, dict.fromkeys(out, LINGER_WHY.format(rms=rms))
     if fit.tail is None:
-        rms = f"{fit.residual_rms * 1e6:.2f} µm rms"
         return out, dict.fromkeys(out, NONE_WHY.format(rms=rms))
+    lo, hi = fit.tail_interval or (fit.tail[0], fit.tail[0])
+    if max(fit.tail[0] - lo, hi - fit.tail[0]) > fit.tail[0]:  # its ± exceeds it
+        # the tails' levels at the window's end are read at that time constant
+        nan = dict.fromkeys(out, float("nan"))
+        return {k: (nan[k], u) for k, (_, u) in out.items()}, dict.fromkeys(out, OPEN_WHY.format(
+            *(f"{v / mean_rate * 1e3:.1f} ms" if np.isfinite(mean_rate)
+              else f"{np.degrees(v):.1f} deg of travel" for v in (fit.tail[0], lo, hi))))
     why = {} if np.isfinite(decay) else {"reversal_tail_decay": (
         "the circles' angular speed is not known, so the tails' time constant is not "
         f"either: {np.degrees(fit.tail[0]):.1f} deg of travel")}

@@ -27,7 +27,10 @@ leave. Three things move it:
 The noise is the window before's own: its scatter about its median, over its samples
 less its correlation length (:func:`.circle_noise.autocovariance`); a slow transient
 there counts as noise, on the safe side. The first is a bound, the others standard
-uncertainties taken at :data:`.circle_sigma.COVERAGE`; they add in quadrature.
+uncertainties taken at :data:`.circle_sigma.COVERAGE`; they add in quadrature. Where a
+transient lasts past the window (:func:`.circle_reversal_tail.lingering`), the terms the
+spike is read after are not determined: the spike moves with the tail the fit is given,
+and that move, over every tail the samples allow, is added whole (:func:`family_moves`).
 """
 
 from __future__ import annotations
@@ -52,7 +55,9 @@ U95_COLUMNS = {f"spike_after_terms_{q}_uncertainty_95_um": f"± spike {q} (95 %)
 SLOW_SHARE = 0.5
 #: What the uncertainty shown with the spikes is, in a phrase
 NOTE = ("the largest of the spikes' 95 % uncertainties from the noise (the extreme of a "
-        "window picks the noise's largest sample) and the terms (per point in --json)")
+        "window picks the noise's largest sample) and the terms (per point in --json), and "
+        "where a transient lasts past the window how far they move over the tails it may "
+        "be (reversal tail, below)")
 
 
 def spike_uncertainty(angle_rad, rest, direction: str, lead_deg: float = 0.0,
@@ -201,8 +206,32 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
                             fit.centres[i] if fit.centres else (0.0, 0.0), got[0],
                             lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(
                                 a, rest + dr, d, lead))
+        lingers = family_moves(fit, cols, lambda c, t, w, i=i, a=a, e=e: design(
+            arcs[i], i, len(arcs), radius, shared, fit.mu, w, None,
+            arcs[i].positions(radius, None, e), fit.centres[i] if fit.centres else (0.0, 0.0),
+            t, fit.take_up) @ np.nan_to_num(c), got[0],
+            lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(a, rest - dr, d, lead))
         for q, v in moves.items():
             k = f"spike_{q}_{d}"
             if k in u95 and np.isfinite(u95[k]):
-                u95[k] = float(np.hypot(u95[k], v))
+                u95[k] = float(np.hypot(u95[k], v)) + lingers.get(q, 0.0)
     return spikes, u95, fast
+
+
+def family_moves(fit, cols, model_of, base, spikes_of) -> dict:
+    """How far each spike moves over the fits of a transient lasting past the window
+    (:attr:`TermFit.tail_family`, empty for none): the spikes ``spikes_of(change)`` of
+    what the terms leave with each fit's model ``model_of(coef, tail, waves)`` in place of
+    the fit's own ``cols @ coef``, the largest change per point. Added to the spike's
+    ±95% whole: the data do not tell which of the fits holds, so it is a bound, not a
+    scatter [m]."""
+    moves = dict.fromkeys(base, 0.0)
+    if not fit.tail_family:
+        return moves
+    now = cols @ np.nan_to_num(fit.coef)
+    for tail, coef, waves in fit.tail_family:
+        moved = spikes_of(model_of(coef, tail, waves) - now)
+        for q, v in moved.items():
+            if np.isfinite(v) and np.isfinite(base[q]):
+                moves[q] = max(moves[q], abs(v - base[q]))
+    return moves

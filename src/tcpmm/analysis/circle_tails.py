@@ -25,6 +25,7 @@ import numpy as np
 from ..errors import InputError
 from .circle_display import DISPLAY_UNITS, display_digits, rename_axes
 from .circle_fit import fit_terms
+from .circle_reversal_tail import LINGER
 
 #: The angle after each reversal left out when the terms are fitted again [deg].
 WIDER_DEG = 40.0
@@ -169,10 +170,14 @@ def moving_line(diag) -> str:
                        if not t.startswith(("cyclic_", "reversal_", "take_up_"))})
     also = (f", or an error the circles do not determine ({', '.join(unfitted)}) does"
             if unfitted else "")
-    # the tails that fit as well were only tried where a tail was fitted
+    # the tails that fit as well were only tried where a tail was fitted, or where a
+    # transient lasts past the window, up to one as long as the half turn
     fitted = np.isfinite(diag.terms.get("reversal_tail_decay", (float("nan"),))[0])
+    said = diag.undetermined.get("reversal_tail_decay", "")
     alike = (", or with another tail past the window that fits the samples as well"
-             if fitted else "")
+             if fitted or said.startswith(LINGER) else "")
+    if said.startswith(LINGER) and "as long as the half turn" in said:
+        alike += " (any up to the half turn to the axis' next reversal: see reversal tail)"
     return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
             f"each reversal left out instead of 20{alike}, " + ", ".join(items)
             + "; a transient lasting past the window, or an error the terms do not model "

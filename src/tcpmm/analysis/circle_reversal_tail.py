@@ -136,8 +136,9 @@ def search_tail(pb, mu, waves):
     far each column of the fit without the tails moves over the tails that fit as well
     (:func:`spread`) [SI], and ``pb.tail_interval``: the time constants within the 95 %
     interval of either shape that fits as well (:func:`decay_interval`) [rad]; both None
-    where no tail is fitted. A transient lasting past the window fits no tail, and sets
-    ``pb.tail_family`` and ``pb.tail_spread`` (:func:`lingering`)."""
+    where no tail is fitted. A transient lasting past the window, or tails whose time
+    constant's ± exceeds it, fit no tail, and set ``pb.tail_family`` and
+    ``pb.tail_spread`` (:func:`lingering`)."""
     pb.tail, pb.tail_spread, pb.tail_interval, pb.tail_family = None, None, None, ()
     _, res, basis = pb.solve(mu, waves)
     base = float(res @ res)
@@ -184,6 +185,9 @@ def search_tail(pb, mu, waves):
         if best[0] <= target:
             ends += decay_interval(lambda x, sh=shape: ssr(x, sh), np.log(best[1][0]), target)
     pb.tail_interval = (min(ends), max(ends))
+    # its ± exceeds it, or the best is the longest searched: no firmer than a step
+    if pb.tail_interval[1] - tail[0] > tail[0] or tail[0] > 0.99 * longest / 1.5:
+        return lingering(pb, mu, waves)
     return tail
 
 
@@ -228,7 +232,7 @@ def lingering(pb, mu, waves) -> None:
     for _, c, _ in family:
         d = np.nan_to_num(c[:n] - ref)
         moves = np.where(np.abs(d) > np.abs(moves), d, moves)
-    pb.tail_family, pb.tail_spread = tuple(family), moves
+    pb.tail_family, pb.tail_spread, pb.tail_interval = tuple(family), moves, None
 
 
 #: How far either side of the time constant found its interval is sought, as a factor [-]

@@ -92,12 +92,10 @@ def expected(err, n=N):
     for d in ("ccw", "cw"):
         for q in "ABCD":
             out[f"spike_{q}_{d}"] = g("spikes", {}).get((d, q), (0.0, 0.0))[0]
-        # mean radius minus nominal over the angle: the noise-free circle without its
-        # spikes (a lag spaces the samples unevenly in angle)
+        # mean radius minus nominal over the command's angle, as the samples of a steady
+        # feed come: the noise-free circle without its spikes, one turn of samples
         clean = {k: v for k, v in err.items() if k != "spikes"}
-        a, e = circle(d, clean, noise=0.0, n=n)
-        grid = np.linspace(0, 2 * np.pi, 3600, endpoint=False)
-        out[f"radial_deviation_{d}"] = float(np.mean(np.interp(grid, a, e, period=2 * np.pi)))
+        out[f"radial_deviation_{d}"] = float(np.mean(circle(d, clean, noise=0.0, n=n)[1][:-1]))
     return out
 
 

@@ -8,10 +8,13 @@ position error ``(dx, dy)`` of the tool per unit of the term (the table in
   with a servo mismatch ``mu = w (ty - tx)`` that is not at the quadrant point of the tool's
   angle but ``-s mu`` (X) and ``+s mu`` (Y) from it; a backlash step placed a sample off
   reads as part of the ellipses and of a cyclic error;
-* the ellipse of a servo mismatch: the radial error of a lag has, besides the ellipse at
-  45 deg, a part of order ``R mu^2`` at four times the angle (0.2 um at F10000 on R 35 with
-  1 ms), which a cyclic error scan would take for a cyclic error. The fit takes it off the
-  data (:func:`servo_remainder`) with the mismatch of the previous fit;
+* the ellipse of a servo mismatch: each lagging axis stays on its own sine, and over the
+  tool's angle the radius has, besides the ellipse at 45 deg, ``-3/16 R mu^2`` at four
+  times the angle and ``-5/16 R mu^2`` in the mean (0.15 and 0.25 um at F10000 on R 35
+  with 1 ms), which a cyclic error scan would take for a cyclic error. The fit takes it
+  off the data (:func:`servo_remainder`) with the mismatch of the previous fit. Over the
+  command's angle (:func:`.circle_ranking.tool_angle`), as the samples come, the mean
+  is ``-R mu^2 / 16``;
 * the ellipse's slope: a position error across the radius turns the tool's angle by its
   size over R, and the ellipse, some ``R mu / 2`` deep, is read that much further along.
   Each position error ``(dx, dy)`` is seen along the radius with that slope added

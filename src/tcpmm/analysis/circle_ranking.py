@@ -31,6 +31,28 @@ def arc_grid(angle, n=3600):
     return np.linspace(min(angle[0], angle[-1]), max(angle[0], angle[-1]), n)
 
 
+def tool_angle(command, s, mu):
+    """The tool's angle where the command is at the angle ``command``, on the path of
+    :func:`.circle_model.servo_remainder` (X at its place, Y lagging it by ``mu`` along
+    the travel): each axis stays on its own sine, so the tool is behind the command by up
+    to ``mu`` where Y moves fastest and on it where Y reverses [rad].
+
+    Parameters
+    ----------
+    command : ndarray
+        Angle of the command CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    mu : float
+        Servo mismatch angle of this circle, ``w (ty - tx)`` [rad].
+    """
+    u = np.asarray(command, float)
+    if mu == 0.0 or not np.isfinite(mu):
+        return u
+    lag = np.arctan2(np.sin(u - s * mu), np.cos(u)) - u
+    return u + np.angle(np.exp(1j * lag))
+
+
 def model_curve(fit, arcs, i, radius, shared, angle=None, e=None, take_up=True):
     """The fitted radial error of arc ``i`` over ``angle`` (default its own samples), the
     servo mismatch's remainder included, each backlash taken up over its width (a step
@@ -47,7 +69,8 @@ def model_curve(fit, arcs, i, radius, shared, angle=None, e=None, take_up=True):
 
 def per_circle_terms(fit, arcs, radius, shared, directions):
     """``(curves, grids)``: per direction ``(angle, e, model)`` on the samples and the
-    model over a whole turn, whose mean is the fitted circle's radius less the nominal
+    model over a whole turn of the command's angle, whose mean is the fitted circle's
+    radius less the nominal
     (on an arc, the mean over the arc also held the centre offset and the ellipses: a
     centre 5 um off read a radial deviation of -1.5 um) [rad, m]."""
     curves, grids = {}, {}
@@ -55,8 +78,12 @@ def per_circle_terms(fit, arcs, radius, shared, directions):
     for i, (d, arc) in enumerate(zip(directions, arcs, strict=True)):
         curves[d] = (arc.angle, arc.e, model_curve(fit, arcs, i, radius, shared, e=arc.e))
         # the circle's radius, the reversals' transients aside as from the spikes: a
-        # backlash's take-up would read as its radius (4 and 6 um of dead band, -0.04 um)
-        grids[d] = model_curve(fit, arcs, i, radius, shared, angle=turn, take_up=False)
+        # backlash's take-up would read as its radius (4 and 6 um of dead band, -0.04 um).
+        # The mean is over the command's angle, as the samples come at a steady feed: a
+        # lagging axis moves the tool's angle along the ellipse, and a mean over the
+        # tool's angle weighs the ellipse's inside by R mu^2 / 4 more than the samples do
+        grid = tool_angle(turn, arc.s, arc.ratio * fit.mu)
+        grids[d] = model_curve(fit, arcs, i, radius, shared, angle=grid, take_up=False)
     return curves, grids
 
 

@@ -1,12 +1,15 @@
 """The radial deviation is the mean radius of the samples about the nominal centre, less the
-nominal, with a servo mismatch on a full turn.
+nominal: with a servo mismatch on a full turn, and on arcs that give no terms, where it
+is the mean over the whole arc in either direction.
 """
+
+import warnings
 
 import numpy as np
 import pytest
 
 from tcpmm.analysis.diagnostics import diagnose_pair
-from test_circle_diagnostics import DT, R, circle
+from test_circle_diagnostics import DT, R, arc, circle
 
 
 def _pair(err, n):
@@ -37,3 +40,32 @@ def test_a_servo_mismatch_moves_the_radial_deviation_by_what_it_moves_the_sample
         assert d[f"radial_deviation_{direction}"] == pytest.approx(
             true, abs=max(0.1e-6, 0.02 * abs(true))), direction
     assert d["servo_mismatch"] == pytest.approx(tau, rel=0.01)
+
+
+def _arc_pair(err, lo=30.0, span=90.0):
+    w = 2 * np.pi / (7200 * DT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return diagnose_pair(arc("ccw", err, lo, span, 1), arc("cw", err, lo, span, 2), R,
+                             (w, w))
+
+
+@pytest.mark.parametrize("err", [
+    {"cx": 3e-6}, {"cx": 3e-6, "tau_y": 1e-3}, {"cx": 3e-6, "b_y": 4e-6, "tau_y": 0.5e-3},
+    {"cx": 3e-6, "spikes": {("ccw", "B"): (5e-6, 6.0), ("cw", "B"): (-4e-6, 6.0)}}],
+    ids=["centre", "centre-lag", "centre-backlash-lag", "centre-spikes"])
+def test_a_short_arcs_radial_deviation_is_its_mean_radius_over_the_whole_arc(err):
+    """A pair of 90 deg arcs from 30 deg gives no terms; its radial deviation is the arc's
+    mean radius about the nominal centre, spikes aside. The 20 deg after B, left out in
+    the direction of travel, took other angles off the mean in each direction: a centre
+    3 um off read 1.05 um CCW and 0.75 um CW for 0.70 um."""
+    d = _arc_pair(err)
+    clean = {k: v for k, v in err.items() if k != "spikes"}
+    for direction in ("ccw", "cw"):
+        true = float(np.mean(arc(direction, clean, 30.0, 90.0)[1]))
+        assert d[f"radial_deviation_{direction}"] == pytest.approx(true, abs=0.1e-6), direction
+    if set(err) == {"cx"}:
+        want = 3e-6 * (np.sin(np.radians(120)) - np.sin(np.radians(30))) / (np.pi / 2)
+        assert d["radial_deviation_ccw"] == pytest.approx(want, abs=0.03e-6)
+        assert d["radial_deviation_cw"] == pytest.approx(d["radial_deviation_ccw"],
+                                                         abs=0.03e-6)

@@ -1,6 +1,6 @@
 """The radial deviation is the mean radius of the samples about the nominal centre, less the
 nominal: with a servo mismatch on a full turn, and on arcs that give no terms, where it
-is the mean over the whole arc in either direction.
+is the mean over the whole arc in either direction; a spike left open has no uncertainty.
 """
 
 import warnings
@@ -8,8 +8,9 @@ import warnings
 import numpy as np
 import pytest
 
+from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import diagnose_pair
-from test_circle_diagnostics import DT, R, arc, circle
+from test_circle_diagnostics import DT, R, arc, arc_run, circle
 
 
 def _pair(err, n):
@@ -69,3 +70,22 @@ def test_a_short_arcs_radial_deviation_is_its_mean_radius_over_the_whole_arc(err
         assert d["radial_deviation_ccw"] == pytest.approx(want, abs=0.03e-6)
         assert d["radial_deviation_cw"] == pytest.approx(d["radial_deviation_ccw"],
                                                          abs=0.03e-6)
+
+
+def test_a_spike_left_open_has_no_uncertainty():
+    """A pair of 90 deg arcs gives no spikes after the terms; their 95 % uncertainty read
+    1.75 um all the same where the spike was null."""
+    run = arc_run({"cx": 3e-6, "spikes": {("ccw", "B"): (5e-6, 6.0)}}, 30.0, 90.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = analyse_circle(run, R)
+    rows = [r for p in res.passes for r in p.table()]
+    assert rows
+    for row in rows:
+        for q in "ABCD":
+            value = row[f"spike_after_terms_{q}_um"]
+            u95 = row[f"spike_after_terms_{q}_uncertainty_95_um"]
+            assert np.isfinite(u95) == np.isfinite(value), (row["sensor"], q)
+    for p in res.passes:
+        out = res.to_dict()["passes"][res.passes.index(p)]["sensors"]
+        assert all(r["spike_after_terms_B_uncertainty_95_um"] is None for r in out)

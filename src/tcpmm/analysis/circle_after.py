@@ -47,8 +47,12 @@ def after_terms(sc) -> tuple[dict, dict, dict]:
     and that from the noise from sample to sample alone; NaN where there is none [m]."""
     diag = pair_diagnosis(sc)
     if diag is None:
-        return spikes_with_uncertainty(sc.angle_rad, sc.radial_error, sc.direction)
-    keys = {q: f"spike_{q}_{sc.direction}" for q in QUADRANTS}
-    return ({q: diag.terms[k][0] for q, k in keys.items()},
-            *({q: u.get(k, float("nan")) for q, k in keys.items()}
-              for u in (diag.spike_u95, diag.spike_u95_sample)))
+        spikes, *u95 = spikes_with_uncertainty(sc.angle_rad, sc.radial_error, sc.direction)
+    else:
+        keys = {q: f"spike_{q}_{sc.direction}" for q in QUADRANTS}
+        spikes = {q: diag.terms[k][0] for q, k in keys.items()}
+        u95 = [{q: u.get(k, float("nan")) for q, k in keys.items()}
+               for u in (diag.spike_u95, diag.spike_u95_sample)]
+    # a spike the pair leaves open (an arc too short for terms) has no uncertainty either
+    return (spikes, *({q: v if np.isfinite(spikes.get(q, np.nan)) else float("nan")
+                       for q, v in u.items()} for u in u95))

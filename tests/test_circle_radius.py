@@ -89,3 +89,16 @@ def test_a_spike_left_open_has_no_uncertainty():
     for p in res.passes:
         out = res.to_dict()["passes"][res.passes.index(p)]["sensors"]
         assert all(r["spike_after_terms_B_uncertainty_95_um"] is None for r in out)
+
+
+def test_a_centre_offset_moves_the_pairs_radial_deviation_as_it_moves_both():
+    """Each arc's centre is a column of its own; read one at a time, a centre offset X of
+    a pair of 90 deg arcs moved the pair's radial deviation by half of what it moved each
+    direction's (0.13 um per um beside 0.35 and 0.25)."""
+    with_err, without = _arc_pair({"cx": 3e-6}), _arc_pair({})
+    moves = with_err.aliases["centre_offset_X"]
+    for k in ("radial_deviation_ccw", "radial_deviation_cw", "radial_deviation_pair"):
+        moved = with_err[k] - without[k]
+        assert moves[k] * 3e-6 == pytest.approx(moved, abs=0.05e-6), k
+    assert moves["radial_deviation_pair"] == pytest.approx(
+        (moves["radial_deviation_ccw"] + moves["radial_deviation_cw"]) / 2)

@@ -34,6 +34,18 @@ def _reported_name(name: str, rename=None) -> str:
     return (rename or {}).get(name, name)
 
 
+def _by_reported(aliases: dict, rename=None) -> dict:
+    """``aliases`` by reported name, the slopes of columns reported as one added: each
+    arc's centre is a column, and a centre offset moves them all (read one at a time, the
+    pair's radial deviation moved by half of what each direction's did) [SI/SI]."""
+    out = {}
+    for left, slopes in aliases.items():
+        acc = out.setdefault(_reported_name(left, rename), {})
+        for k, v in slopes.items():
+            acc[k] = acc.get(k, 0.0) + v
+    return out
+
+
 def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan"),
                 rename=None) -> dict:
     """Per term the fit leaves out (:attr:`.circle_fit.TermFit.aliases`), by its reported
@@ -60,8 +72,7 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
         Fitted name -> reported name [-].
     """
     out = {}
-    for left, slopes in fit.aliases.items():
-        name = _reported_name(left, rename)
+    for name, slopes in _by_reported(fit.aliases, rename).items():
         per = radial_size(name, 1.0, radius)  # a unit of the left-out term, radially
         moved = as_reported(lambda n, s=slopes: s.get(n, 0.0), n_arcs, shared, mean_rate,
                             rename)

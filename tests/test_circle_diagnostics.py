@@ -160,7 +160,7 @@ def test_all_errors_together_are_recovered():
 def test_all_errors_with_a_servo_mismatch_of_1_ms(seed, n):
     """With Y lagging X by 1 ms each axis reverses where its own velocity turns, a sample
     or more from the quadrant point of the tool's angle (at F10000 on R35, 1320 samples a
-    turn, 0.27 deg), and the lag's ellipse has a part at four times the angle of 0.2 um:
+    turn, 0.27 deg), and the lag's ellipse has a part at four times the angle of 0.15 um:
     neither may read as backlash, scale mismatch or a cyclic error."""
     err = draw(np.random.default_rng(seed))
     err["tau_y"] = np.sign(err["tau_y"]) * 1e-3

@@ -1,6 +1,7 @@
 """The command line, end to end on the built-in machine."""
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -141,6 +142,10 @@ def test_demo_writes_everything(capsys, tmp_path):
     assert len(judged) == 10 and judged["inside"].all()
     assert set(judged["verdict"]) <= {"firm", "uncertain", "undetermined"}
     assert "prediction's 90 % interval" in page[order[2]:order[3]]
+    # its inputs are named where they are once the demo is done, not in the folder they
+    # were staged in (gone when the page is read)
+    named = re.findall(r"([^\s<>]+) \(written", page)
+    assert len(named) == 2 and all(Path(p).exists() for p in named), named
 
 
 @pytest.mark.parametrize("command", ["compare", "circle", "identify", "excite"])

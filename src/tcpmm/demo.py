@@ -66,14 +66,15 @@ def run_demo(out_dir, progress=None, console=None, report=None, tolerance_m=None
     # staged: an interrupted or failed demo leaves the folder as it was, not a mix of
     # this run's files and an earlier run's
     with staged_folder(out) as tmp:
-        res = _demo_into(tmp, progress or (lambda name: None), console, report, tolerance_m)
+        res = _demo_into(tmp, progress or (lambda name: None), console, report, tolerance_m,
+                         out)
     res["files"] = {k: str(out / Path(v).relative_to(tmp)) if Path(v).is_relative_to(tmp)
                     else str(v) for k, v in res["files"].items()}
     return res
 
 
-def _demo_into(out, step, console, report, tolerance_m) -> dict:
-    """:func:`run_demo` into the folder ``out``."""
+def _demo_into(out, step, console, report, tolerance_m, final) -> dict:
+    """:func:`run_demo` into the folder ``out``, whose files end up in ``final``."""
     from .cli._tables import judged_rows, print_table
 
     files = {}
@@ -100,7 +101,7 @@ def _demo_into(out, step, console, report, tolerance_m) -> dict:
         console.print(spread_summary(spread))
     report = out / "report.html" if report is None else report
     files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out,
-                                        tolerance_m, judged)
+                                        tolerance_m, judged, final)
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
             "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
@@ -251,11 +252,12 @@ def identify_and_predict(machine, cmd, out, step, files):
 
 
 def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m=None,
-                      judged=None):
+                      judged=None, final=None):
     """The demo's HTML report, in the order a customer reads it: the verdict on the
     measured circle (conditions, pass or fail against ``tolerance_m`` [m], ranked error
     sources) with its diagnostics, the prediction against it and its spread, the
-    identification, then the model and its own circle."""
+    identification, then the model and its own circle. Its inputs are named in ``final``,
+    the folder the files of ``out`` are moved to (``out`` itself where ``None``)."""
     from .io.runfile import read_run
     from .report import (
         circle_test_section,
@@ -284,8 +286,10 @@ def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m
                 circle_test_section(res, "circle", "Circular test of the built-in machine "
                                     f"(R{RADIUS_MM:g} mm, F{FEED_MM_PER_MIN:g} mm/min)",
                                     out / "run.csv")]
+    shown = Path(out if final is None else final).resolve()
     return write_report(path, sections, "tcpmm demo: the paper's circular test",
-                        [("model", out / "model.yaml"), ("bundle", out / "bundle")])
+                        [(what, out / name, shown / name)
+                         for what, name in (("model", "model.yaml"), ("bundle", "bundle"))])
 
 
 def write_spread(identified, cmd, out, files, draws: int = 16):

@@ -53,7 +53,8 @@ def write_report(path, sections, title: str = "Commissioning report", inputs=())
     title : str
         Page title [-].
     inputs : list of tuple
-        ``(what, file)`` named in the page header [-].
+        ``(what, file)`` named in the page header, or ``(what, file, shown)`` for a file
+        staged to be moved to ``shown`` [-].
 
     Returns
     -------

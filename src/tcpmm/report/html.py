@@ -185,11 +185,12 @@ def page(title: str, sections, inputs=()) -> str:
     sections : list of tuple
         ``(key, title, html)`` from :func:`section`, in the order shown [-].
     inputs : list of tuple
-        ``(what, file)`` named in the header [-].
+        ``(what, file)`` named in the header, or ``(what, file, shown)`` for a file
+        staged to be moved to ``shown`` [-].
     """
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
     toc = "".join(f'<a href="#{esc(k)}">{esc(t)}</a>' for k, t, _ in sections)
-    given = "; ".join(f"{w}: {Path(f).name}" for w, f in inputs)
+    given = "; ".join(f"{w}: {Path(f).name}" for w, f, *_ in inputs)
     sub = f"tcpmm {__version__}, {stamp}" + (f" {DASH} {given}" if given else "")
     body = "".join(h for _, _, h in sections) + _inputs(inputs)
     return ("<!DOCTYPE html>\n"
@@ -206,7 +207,7 @@ def _inputs(inputs) -> str:
     last written (a measurement's date where the recorder wrote it then), to tell one
     machine's and one day's report from another's [-]."""
     items = []
-    for what, f in inputs:
+    for what, f, *shown in inputs:  # shown: where a file being staged will be
         p = Path(str(f))
         try:
             when = datetime.fromtimestamp(p.stat().st_mtime, UTC).strftime(
@@ -214,6 +215,6 @@ def _inputs(inputs) -> str:
         except OSError:  # a built-in machine, or a file gone since
             items.append((what, str(f)))
             continue
-        items.append((what, f"{p.resolve()} (written {when})"))
+        items.append((what, f"{shown[0] if shown else p.resolve()} (written {when})"))
     return (f'<div class="inputs" id="inputs"><h3>Inputs</h3>{facts(items)}</div>'
             if items else "")

@@ -7,7 +7,6 @@ be modelled."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import TYPE_CHECKING
 
@@ -25,8 +24,8 @@ from ..friction.playdf import (
 )
 from ..identification import AxisFit
 from ..physical.greybox import SweepPlay
-from ..physical.uncertainty import FIT_DEVIATION_SCALE
 from .fitcontext import FitContext, fit_values, friction_on, physical_fit
+from .playsolutions import joint_fit
 
 if TYPE_CHECKING:
     from ..chain import AxisRun
@@ -56,6 +55,10 @@ START_SCALES = (1.0, 0.8, 0.65, 0.5)
 #: fit's: half the lightest start. Where the FRFs barely fix it the chains wander down to
 #: 0.01-0.03 of the truth, each such fit some 20 s, and none comes back [-].
 LIGHTEST_TABLE_REL = 0.25
+#: Table masses, relative to the linear fit's, at which one refit each looks for rivals of
+#: the solutions (:func:`rival_fits`): from the lightest start's down a fifth further to the
+#: linear fit's, evenly in logarithm [-].
+RIVAL_SCALES = tuple(float(s) for s in np.geomspace(0.4, 1.0, 9))
 
 
 def keep_fit(run: AxisRun, options: IdentifyOptions) -> AxisFit:
@@ -141,7 +144,9 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
                     motion) -> AxisFit:
     """Refit with the nut as soft as the sweep saw it, from the linear fit and from lighter
     tables (:data:`START_SCALES`); the linear fit where no refit is a solution of its own
-    describing function, otherwise the solutions found as one fit (:func:`joint_fit`).
+    describing function, otherwise the solutions found as one fit with the rivals that
+    explain the FRFs as well in their spread (:func:`rival_fits`,
+    :func:`~tcpmm.ident.steps.playsolutions.joint_fit`).
 
     The describing function can have several solutions: on one axis with 4.6 um of play,
     records that differ only by the rounding of the simulation settled on a table mass of
@@ -172,7 +177,52 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
             found.append(fit)
     if not found:
         return start.kept
-    return joint_fit(ctx, found)
+    rivals = rival_fits(ctx, start, bias, motion, min(f.physical.cost for f in found))
+    return joint_fit(ctx, found, rivals)
+
+
+def rival_fits(ctx: FitContext, start: FrictionFit, bias: float, motion,
+               cost: float) -> list:
+    """Refits with the play as the sweep saw it at the table masses of
+    :data:`RIVAL_SCALES`, one each from the linear fit, that explain the FRFs within
+    :data:`COST_MARGIN_REL` of ``cost`` or better without being solutions of their
+    describing functions.
+
+    The refits that are solutions are found by following each fit's describing function,
+    which settles only on the solutions it is drawn to; others can lie between. On one
+    axis whose chains all settled at 0.72-0.80 of the true table mass, single refits with
+    the describing function of another table mass came out at 0.8-1.2 of it and explained
+    the FRFs as well: the data hold those too, so their spread is in the deviation
+    reported.
+
+    Parameters
+    ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
+    start : FrictionFit
+        The linear fit with the friction on it and the FRFs it was fitted to [SI].
+    bias : float
+        Friction force holding the nut on one flank on the linear fit [N].
+    motion : tuple of ndarray
+        The sweep's frequencies, motor angle and scale (:func:`sweep_motion`) [Hz, rad, m].
+    cost : float
+        Least cost of the solutions [-].
+    """
+    linear = start.kept
+    freq, theta_m, scale_m = motion
+    found = []
+    for scale in RIVAL_SCALES:
+        seen = linear.mechanics.replace(M_t=scale * linear.mechanics.M_t)
+        amp = nut_deflection_amplitude(freq, theta_m, scale_m, seen)
+        gain = play_gain(freq, amp, linear.split.backlash, bias, seen.K_t)
+        initial = {**fit_values(linear.physical), "M_t": seen.M_t} if start.structure else None
+        phys = physical_fit(ctx, start.data, initial=initial, nut_gain=gain,
+                            structure=start.structure,
+                            structure_log_std=start.structure_log_std)
+        if (phys.cost <= (1.0 + COST_MARGIN_REL) * cost
+                and phys.mechanics.M_t >= LIGHTEST_TABLE_REL * linear.mechanics.M_t):
+            found.append(phys)
+    return found
 
 
 def play_chain(ctx: FitContext, data: dict, structure: dict | None, linear: AxisFit,
@@ -210,76 +260,6 @@ def play_chain(ctx: FitContext, data: dict, structure: dict | None, linear: Axis
             break
         seen, initial = current.mechanics, fit_values(phys)
     return best
-
-
-def joint_fit(ctx: FitContext, modelled: list) -> AxisFit:
-    """Distinct solutions of their own describing functions as one fit: each fitted
-    parameter at their geometric mean, its standard deviation widened by their spread, the
-    describing function of the one nearest in table mass, and the friction runs on it; a
-    warning where they are more than one.
-
-    Parameters
-    ----------
-    ctx : FitContext
-        The axis's known values, TF fits, hold and friction runs [-].
-    modelled : list of AxisFit
-        The refits with the play, each a solution of its own describing function, their
-        table masses more than :data:`SELF_CONSISTENT_REL` apart [SI].
-    """
-    if len(modelled) == 1:
-        return modelled[0]
-    mid = modelled[0].physical
-    mean, spread = {}, {}
-    for p in mid.names:
-        v = np.array([getattr(m.physical.mechanics, p, np.nan) for m in modelled])
-        if v.size and np.all(v > 0):
-            mean[p] = float(np.exp(np.mean(np.log(v))))
-            spread[p] = mean[p] * float(np.std(np.log(v), ddof=1))
-    near = min(modelled, key=lambda m: abs(math.log(m.physical.mechanics.M_t / mean["M_t"])))
-    phys = near.physical
-    # the reported deviation is the fit's scaled to the real error; the spread is one
-    std = {p: math.hypot(sd, spread.get(p, 0.0) / FIT_DEVIATION_SCALE.get(p, 1.0))
-           for p, sd in phys.std.items()}
-    wide = sorted({*phys.undetermined,
-                   *(p for p in mean if std.get(p, 0.0) > 0.5 * mean[p])})
-    fused = dataclasses.replace(phys, mechanics=phys.mechanics.replace(**mean), std=std,
-                                undetermined=wide)
-    kept = AxisFit(fused, *friction_on(ctx, fused))
-    kt = np.log([m.mechanics.K_t for m in modelled])
-    split = kept.split
-    if split.nut is not None:
-        nut = dataclasses.replace(split.nut, stiffness_std=math.hypot(
-            split.nut.stiffness_std,
-            kept.mechanics.K_t * float(np.std(kt, ddof=1)) / FIT_DEVIATION_SCALE["K_t"]))
-        kept = dataclasses.replace(kept, split=dataclasses.replace(split, nut=nut))
-    warn_play_solutions(ctx.name, [m.physical.mechanics.M_t for m in modelled], mean["M_t"],
-                        std["M_t"] * FIT_DEVIATION_SCALE["M_t"])
-    return kept
-
-
-def warn_play_solutions(name: str, masses: list, mean: float, std: float) -> None:
-    """Warn that the refits with the play settle on table masses the FRFs cannot tell
-    apart, and that their spread is in the reported uncertainty.
-
-    Parameters
-    ----------
-    name : str
-        Axis name [-].
-    masses : list of float
-        Table masses of the solutions [kg].
-    mean : float
-        Their geometric mean, the table mass kept [kg].
-    std : float
-        Its reported standard deviation, the spread included [kg].
-    """
-    warn_input(
-        f"axis {name}: the refits with the play of the nut settle on table masses "
-        f"from {min(masses):.3g} to {max(masses):.3g} kg: the describing function of the play "
-        "has several solutions, and the sweep does not tell them apart. M_t is reported as "
-        "their mean, "
-        f"{mean:.3g} +/- {std:.2g} kg, with the parameters held to it; a larger excitation "
-        "amplitude (within the current limit) makes the play a smaller part of the "
-        "vibration")
 
 
 def self_consistent(seen, mech, rel: float = SELF_CONSISTENT_REL, fitted=None) -> bool:

@@ -26,7 +26,7 @@ from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
-from .circle_tails import tail_shift
+from .circle_tails import open_by_tails, tail_shift
 from .circle_takeup import width_follows_backlash, width_terms, width_why
 from .diagnostics import (
     CircleDiagnostics,
@@ -101,14 +101,18 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
+    shift = tail_shift(fit, arcs, radius_m, SINGLE, terms, ("X", "Y"),
+                       rename={"squareness": "squareness_or_servo"})
+    why.update({rename_axes(k, axes): v
+                for k, v in open_by_tails(fit, terms, shift, radius_m,
+                                          float(np.ptp(e))).items()})
     width_follows_backlash(terms, why, lambda k: rename_axes(k, axes))
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
-                             tail_shift(fit, arcs, radius_m, SINGLE, terms, axes,
-                                        rename={"squareness": "squareness_or_servo"}),
+                             {rename_axes(k, axes): v for k, v in shift.items()},
                              alias_terms(fit, 1, SINGLE, terms, radius_m, axes,
                                          rename={"squareness": "squareness_or_servo"}),
                              term_sigma(fit, 1, SINGLE, terms, axes,

@@ -171,11 +171,12 @@ def step_sides(e, model):
     return r
 
 
-def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
+def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict, dict]:
     """The spikes after a fit's terms, ``spike_{P}_{direction}``, taken from where the
     leading axis reverses (the fit leaves its transient out) on what the terms leave
-    (:func:`step_sides`), their 95 % uncertainty (:func:`spike_uncertainty`) and that from
-    the noise from sample to sample alone [m].
+    (:func:`step_sides`), their 95 % uncertainty (:func:`spike_uncertainty`), that from
+    the noise from sample to sample alone, and how far each moves over the tails of a
+    transient lasting past the window (:func:`family_moves`, 0 for none) [m].
 
     Parameters
     ----------
@@ -191,7 +192,7 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
         ``direction -> (angle, radial error, fitted model)`` [rad, m, m].
     """
     cov = None if fit.cov is None else np.nan_to_num(fit.cov)
-    spikes, u95, fast = {}, {}, {}
+    spikes, u95, fast, tails = {}, {}, {}, {}
     for i, (d, (a, e, model)) in enumerate(curves.items()):
         lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
         rest = step_sides(e, model)
@@ -215,7 +216,46 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict]:
             k = f"spike_{q}_{d}"
             if k in u95 and np.isfinite(u95[k]):
                 u95[k] = float(np.hypot(u95[k], v)) + lingers.get(q, 0.0)
-    return spikes, u95, fast
+        tails.update({f"spike_{q}_{d}": v for q, v in lingers.items()})
+    return spikes, u95, fast, tails
+
+
+#: Why spikes are open where a transient lasts past the window and moves them by more than
+#: the whole radial error the circles show (``{points}``: which)
+SPIKES_OPEN = ("a transient lasts past the window left out after each reversal, and over "
+               "the tails it may be (see reversal tail) the spikes after the terms at "
+               "{points} move by more than the whole radial error the circles show (their "
+               "peak to valley): these circles do not determine them (the raw e - b are in "
+               "--json). Circles at a lower feed or a larger radius, over which the window "
+               "lasts longer than the transient, settle them")
+
+
+def open_spikes(terms: dict, tails: dict, span: float, *uncertainties: dict) -> dict:
+    """Leave open each spike of ``terms`` that moves over the tails of a transient lasting
+    past the window (``tails``, :func:`pair_spikes`) by more than ``span``, the whole
+    radial error the circles show: its value and its ``uncertainties`` become NaN; the
+    reason as ``reversal_spikes``, empty for none [-].
+
+    Parameters
+    ----------
+    terms : dict
+        The reported terms, ``spike_{P}_{direction} -> (value, unit)``; changed in place
+        [SI].
+    tails : dict
+        Each spike's move over the tails [m].
+    span : float
+        Peak to valley of the circles' radial error, the larger of the two [m].
+    *uncertainties : dict
+        The spikes' uncertainties by the same keys; changed in place [m].
+    """
+    open_ = [k for k, v in tails.items()
+             if k in terms and np.isfinite(terms[k][0]) and v > span]
+    for k in open_:
+        terms[k] = (float("nan"), "m")
+        for u in uncertainties:
+            u[k] = float("nan")
+    points = ", ".join(f"{k.split('_')[1]} {k.split('_')[2].upper()}" for k in open_)
+    return {"reversal_spikes": SPIKES_OPEN.format(points=points)} if open_ else {}
 
 
 def family_moves(fit, cols, model_of, base, spikes_of) -> dict:

@@ -144,6 +144,59 @@ def radial_size(term: str, value: float, radius: float) -> float:
     return abs(value) * (radius / 2 if term in _HALF_R else 1.0)
 
 
+#: Why a term is open where a transient lasts past the window and moves it by more than the
+#: whole radial error the circles show
+OPEN_BY_TAILS = (LINGER + ", and over the tails it may be, up to one as long as the half "
+                 "turn to the axis' next reversal (see reversal tail), this moves by more "
+                 "than the whole radial error the circles show (their peak to valley): the "
+                 "samples bound it no better than that, so these circles do not determine "
+                 "it (the move is in --json, tail_shift). Circles at a lower feed or a "
+                 "larger radius, over which the window lasts longer than the transient, "
+                 "settle it")
+#: The fit's column of a reported term where its name differs (a centre offset is the mean
+#: of each circle's centre column)
+FITTED_AS = {"servo_mismatch": "servo_angle", "servo_mismatch_angle": "servo_angle",
+             "squareness_or_servo": "squareness"}
+
+
+def open_by_tails(fit, terms: dict, shift: dict, radius: float, span: float) -> dict:
+    """Where a transient lasts past the window (``fit.tail_family``), leave open each term
+    whose radial size moves over the tails it may be (``shift``, :func:`tail_shift` by
+    the names X and Y) by more than ``span``, the whole radial error the circles show:
+    fits with terms that large cancel one another, and the samples bound the term no
+    better than the error itself. Their values become NaN, and the fit's columns too, so
+    that the ranking leaves them out; the reasons by the names X and Y [-]. A cyclic
+    error, searched for apart, is not judged so.
+
+    Parameters
+    ----------
+    fit : TermFit
+        The fit [SI].
+    terms : dict
+        The reported terms, ``name -> (value, unit)``, names X and Y; changed in place [SI].
+    shift : dict
+        Each term's move, by the names X and Y [SI].
+    radius : float
+        Nominal radius [m].
+    span : float
+        Peak to valley of the circles' radial error, the larger of the two [m].
+    """
+    if not fit.tail_family:
+        return {}
+    out = {k: OPEN_BY_TAILS for k, d in shift.items()
+           if not k.startswith("cyclic_") and np.isfinite(terms.get(k, (np.nan,))[0])
+           and radial_size(k, d, radius) > span}
+    if "servo_mismatch_angle" in out and "servo_mismatch" in terms:
+        out["servo_mismatch"] = OPEN_BY_TAILS
+    for k in out:
+        terms[k] = (float("nan"), terms[k][1])
+        for j, n in enumerate(fit.names):
+            if n == k or n == FITTED_AS.get(k) or (
+                    k.startswith("centre_offset_") and n.startswith(f"centre_{k[-1]}_")):
+                fit.coef[j] = np.nan
+    return out
+
+
 def moving_terms(diag) -> dict:
     """The terms of ``diag`` that move with the window (module docstring): ``term ->
     (value, value with the wider window)`` [SI]."""

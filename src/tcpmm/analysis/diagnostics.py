@@ -71,9 +71,9 @@ from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_reversal_tail import tail_terms
 from .circle_sigma import term_sigma
-from .circle_spike_sigma import pair_spikes
+from .circle_spike_sigma import open_spikes, pair_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
-from .circle_tails import tail_shift
+from .circle_tails import open_by_tails, tail_shift
 from .circle_takeup import width_follows_backlash, width_terms, width_why
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
@@ -253,14 +253,13 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     arcs = [Arc(a, e, s, r) for (a, e), s, r in zip(paths, (1.0, -1.0), ratios, strict=True)]
     fit, left_out = arc_fit(arcs, radius_m, SHARED)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
-    spikes, spike_u95, spike_fast = pair_spikes(fit, arcs, radius_m, SHARED, curves)
+    spikes, spike_u95, spike_fast, moved = pair_spikes(fit, arcs, radius_m, SHARED, curves)
     terms = _terms(fit, grids, deviations(paths, radius_m), spikes, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
     leave_open(why, terms, left_out, arcs, axes)
-    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes))
     if all(is_full(a) for a, _ in paths):  # fitted to pairs of full turns alone
         tails, tails_why = tail_terms(fit, mean_rate)
         terms.update(tails)
@@ -268,12 +267,17 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
         why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
                                  "given as an angle only (servo_mismatch_angle)")
+    shift = tail_shift(fit, arcs, radius_m, SHARED, terms, ("X", "Y"), mean_rate)
+    span = max(float(np.ptp(e)) for _, e in paths)
+    why.update(open_spikes(terms, moved, span, spike_u95, spike_fast))
+    why.update({rename_axes(k, axes): v
+                for k, v in open_by_tails(fit, terms, shift, radius_m, span).items()})
+    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes))
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
-                             tail_shift(fit, arcs, radius_m, SHARED, terms, axes,
-                                        mean_rate),
+                             {rename_axes(k, axes): v for k, v in shift.items()},
                              alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate),
                              term_sigma(fit, 2, SHARED, terms, axes, mean_rate), spike_u95,
                              spike_fast)

@@ -106,7 +106,8 @@ def print_passes(res, title: str) -> None:
              + ("; an arc alone gives none (below)" if any(p.is_arc for p in res.passes)
                 else ""))
     print_plain(t, out, f"{title} [µm]", f"A-D: reversal spike after {terms}; n/a: left "
-                f"out; ±95%: {SPIKE_U95_NOTE}; raw e - b in --json (spike_A_um ...); "
+                f"out or not determined; ±95%: {SPIKE_U95_NOTE}; raw e - b in --json "
+                "(spike_A_um ...); "
                 "contour max |e| of the radial error about the nominal circle (tcpmm "
                 "contour measures against the command); G circular deviation")
     slow = slow_line((f"{p.direction.upper()} {n}", sc.spike_uncertainty(),

@@ -84,6 +84,10 @@ def key_figures(result, diag=None) -> str:
                 text += (" (the ± counts what the terms leave before the points as noise; "
                          "from sample to sample alone, the terms as they are, ± "
                          f"{number(fast * 1e6, 2)} µm)")
+        elif (diag is not None and diag.sensor == sensor
+              and "reversal_spikes" in diag.undetermined):
+            text += (", reversal spikes after the pair's terms not determined by these "
+                     "circles (diagnostics: reversal spikes)")
         if p.is_arc:
             text += f"; an arc of {p.arc_deg:.0f} deg"
         dev = p.command_radial_deviation

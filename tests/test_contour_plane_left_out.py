@@ -110,3 +110,35 @@ def test_the_threshold_is_a_share_of_the_planes_smaller_travel_above_a_floor():
     # a plane of 2 um of travel: a Z within a count of a 1 um scale leaves nothing out
     tiny = {"X": np.array([0.0, 2e-6]), "Y": np.array([0.0, 2e-6])}
     assert left_out_axes(("X", "Y"), {**tiny, "Z": np.array([0.0, LEFT_OUT_FLOOR_M])}) == {}
+
+
+def test_a_circle_in_a_plane_given_that_leaves_out_a_moving_axis_is_warned_of(tmp_path,
+                                                                              capsys):
+    """A circle of R 35 mm run in XY whose Z climbs 10 mm over the turn (a helix), taken
+    with --plane XY: the circular test reads the radius in XY, and Z's error is in none
+    of its figures. tcpmm circle said nothing; now it warns, on stderr and in --json,
+    where the third axis moves more than a tenth of the plane's smaller travel (as
+    contour does), and the same circle without Z's travel says nothing."""
+    import pandas as pd
+
+    from conftest import bench_path
+
+    src = bench_path("d") / "circle_ccw_meas.csv"
+    flat = pd.read_csv(src)
+    helix = flat.copy()
+    climb = np.linspace(0.0, 10.0, len(helix))
+    for s in ("cmd", "motor", "scale", "tcp"):
+        helix[f"z_{s}_mm"] = climb
+    paths = {"helix": tmp_path / "helix.csv", "flat": tmp_path / "flat.csv"}
+    helix.to_csv(paths["helix"], index=False)
+    flat.to_csv(paths["flat"], index=False)
+    for name, path in paths.items():
+        assert main(["circle", str(path), "--radius", "35", "--plane", "XY"]) == 0
+        err = " ".join(capsys.readouterr().err.split())
+        said = "the plane XY leaves out Z, which moves 10 mm" in err
+        assert said == (name == "helix"), (name, err)
+    assert main(["circle", str(paths["helix"]), "--radius", "35", "--plane", "XY",
+                 "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert any("leaves out Z" in w and "reads the radius in the plane given" in w
+               for w in data["warnings"])

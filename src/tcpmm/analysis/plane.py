@@ -135,7 +135,11 @@ def left_out_axes(axes, positions: dict) -> dict:
     return {a: t for a, t in travel.items() if a not in axes and t > bar}
 
 
-def left_out_note(axes, left: dict) -> str | None:
+#: What a user of the contour error can do where a plane given leaves axes out
+CONTOUR_REMEDY = "omit --plane (or give --plane 3D) for the 3-D error"
+
+
+def left_out_note(axes, left: dict, remedy: str = CONTOUR_REMEDY) -> str | None:
     """What a user is told of the axes a plane given leaves out (:func:`left_out_axes`); ``None``
     where it leaves out none [-].
 
@@ -145,6 +149,8 @@ def left_out_note(axes, left: dict) -> str | None:
         The plane [-].
     left : dict of str to float
         Travel per axis left out [m].
+    remedy : str
+        What to do about it, said last [-].
     """
     if not left:
         return None
@@ -152,8 +158,7 @@ def left_out_note(axes, left: dict) -> str | None:
     its = "its" if len(left) == 1 else "their"
     return (f"the plane {plane_name(axes)} leaves out {moves} (more than "
             f"{OUT_OF_PLANE_SHARE * 100:g} % of the plane's smaller travel): {its} contour error "
-            "is left out of every figure; omit --plane (or give --plane 3D) for the 3-D "
-            "error")
+            f"is left out of every figure; {remedy}")
 
 
 def run_plane(run, sensor: str | None = None) -> tuple[tuple[str, str], str, bool]:

@@ -38,6 +38,8 @@ def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
             return None
         axes = plane_option(option)
         _refuse_a_plane_off_the_motion(axes, run, what, allow_3d)
+        if not allow_3d:  # the commands with a 3-D error say it with their figures
+            _warn_left_out(axes, run, what)
         return axes
     with in_file(what):
         try:
@@ -67,6 +69,24 @@ def _refuse_a_plane_off_the_motion(axes, run, what, allow_3d: bool) -> None:
         with in_file(what):
             raise InputError(f"{why}; give --plane for the plane it runs in"
                              + (", or --plane 3D" if allow_3d else ""))
+
+
+def _warn_left_out(axes, run, what) -> None:
+    """Warn where ``--plane`` leaves out an axis that moves substantially
+    (:func:`tcpmm.analysis.plane.left_out_axes`): a circular test reads the radius in the
+    plane given, and that axis' error is in none of its figures."""
+    import warnings
+
+    from ..analysis.plane import left_out_axes, left_out_note, run_positions
+    from ..errors import InputWarning
+
+    pos = run_positions(run)[1]
+    note = left_out_note(axes, left_out_axes(axes, pos) if pos else {},
+                         "a circular test reads the radius in the plane given; a helix or a "
+                         "tilted circle needs its own plane, or the contour error in 3-D "
+                         "(tcpmm contour)")
+    if note is not None:
+        warnings.warn(f"{what}: {note}", InputWarning, stacklevel=2)
 
 
 #: the sensors a circular test measures, as ``--help`` names them: the command is what

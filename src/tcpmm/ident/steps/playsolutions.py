@@ -48,7 +48,8 @@ def joint_fit(ctx: FitContext, modelled: list, rivals: list = ()) -> AxisFit:
         w = [getattr(r.mechanics, p, np.nan) for r in rivals]
         if v.size and np.all(v > 0) and np.all(np.asarray(w) > 0):
             centre = np.mean(np.log(v))
-            mean[p] = float(np.exp(centre))
+            # one solution is kept as it is, not through its logarithm's rounding
+            mean[p] = float(v[0] if v.size == 1 else np.exp(centre))
             spread[p] = mean[p] * log_spread(centre, [*v, *w])
     near = min(modelled, key=lambda m: abs(math.log(m.physical.mechanics.M_t / mean["M_t"])))
     phys = near.physical

@@ -8,7 +8,11 @@ from its sweep and friction runs; printed per record: the table mass ``M_t`` and
 reported deviation relative to the truth, how many deviations the truth lies away, and
 whether ``identify`` warned of solutions or rivals of the play's describing function.
 
-Run: ``.venv/bin/python -m studies.play_records [--jobs 2]``.
+With ``--machines N`` the same figures for each axis X and Y of unseen machines 0 to N - 1
+with play of ``--seed`` instead, each identified from its own records: how the table mass
+of axes with play stands against its deviation over a population, not one axis.
+
+Run: ``.venv/bin/python -m studies.play_records [--jobs 2] [--machines N --seed S]``.
 """
 
 from __future__ import annotations
@@ -26,29 +30,59 @@ from . import unseen
 MOVES = (*(k * 1e-15 for k in range(8)), 1e-13, 1e-11)
 
 
-def record(move: float) -> tuple:
-    """``(move, M_t / truth, sd / truth, |error| / sd, warned)`` of one record [-]."""
-    true, _ = unseen.draw_machine(0, 7, backlash=True)
-    a = true.axes["X"]
+def record(move: float, seed: int = 0, index: int = 7, ax: str = "X") -> tuple:
+    """``(move, M_t / truth, sd / truth, |error| / sd, warned)`` of axis ``ax`` of unseen
+    machine ``index`` of ``seed`` with play, its motor inertia moved by ``move`` [-]."""
+    true, _ = unseen.draw_machine(seed, index, backlash=True)
+    a = true.axes[ax]
     b = a.model_copy(update={"mechanics": a.mechanics.replace(J_m=a.mechanics.J_m * (1 + move))})
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        idn = identify_axis("X", virtual_sweep(b, name="X", seed=0), axis_config(true, "X"),
-                            friction=virtual_friction(b, FRICTION_SPEEDS, name="X"))
-    m, sd, t = idn.axis.mechanics.M_t, idn.axis.uncertainty.mechanics["M_t"], a.mechanics.M_t
+        idn = identify_axis(ax, virtual_sweep(b, name=ax, seed=0), axis_config(true, ax),
+                            friction=virtual_friction(b, FRICTION_SPEEDS, name=ax))
+    m, t = idn.axis.mechanics.M_t, a.mechanics.M_t
+    sd = (idn.axis.uncertainty.mechanics or {}).get("M_t", float("nan"))
     warned = any("play of the nut settle" in str(w.message) for w in caught)
     return move, m / t, sd / t, abs(m - t) / sd, warned
+
+
+def axis_record(job: tuple) -> tuple:
+    """:func:`record` of one ``(seed, index, axis)``, unmoved; the error's text where the
+    machine cannot be identified [-]."""
+    try:
+        return record(0.0, *job)
+    except Exception as exc:  # a study runs on: the failure is printed with the rest
+        return f"{type(exc).__name__}: {exc}"[:120]
 
 
 def main(argv=None) -> list:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--machines", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0)
     args = p.parse_args(argv)
+    if args.machines:
+        return population(args)
     with ProcessPoolExecutor(args.jobs) as pool:
         rows = list(pool.map(record, MOVES))
     print("J_m moved   M_t/true  sd/true  |err|/sd  warned")
     for move, m, sd, z, warned in rows:
         print(f"{move:9.0e}   {m:8.2f}  {sd:7.2f}  {z:8.2f}  {'yes' if warned else 'no'}")
+    return rows
+
+
+def population(args) -> list:
+    """The figures of every axis of unseen machines ``0 .. args.machines - 1`` [-]."""
+    jobs = [(args.seed, i, ax) for i in range(args.machines) for ax in unseen.AXES]
+    with ProcessPoolExecutor(args.jobs) as pool:
+        rows = list(pool.map(axis_record, jobs))
+    print("machine axis   M_t/true  sd/true  |err|/sd  warned")
+    for (_, i, ax), row in zip(jobs, rows, strict=True):
+        if isinstance(row, str):
+            print(f"{i:7d} {ax:4s}   {row}")
+            continue
+        _, m, sd, z, warned = row
+        print(f"{i:7d} {ax:4s}   {m:8.2f}  {sd:7.2f}  {z:8.2f}  {'yes' if warned else 'no'}")
     return rows
 
 

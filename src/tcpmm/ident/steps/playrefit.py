@@ -178,6 +178,9 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
     if not found:
         return start.kept
     rivals = rival_fits(ctx, start, bias, motion, min(f.physical.cost for f in found))
+    # a rival within a solution's own tolerance is that solution, found again
+    rivals = [r for r in rivals if all(abs(r.mechanics.M_t / f.mechanics.M_t - 1.0)
+                                       > SELF_CONSISTENT_REL for f in found)]
     return joint_fit(ctx, found, rivals)
 
 

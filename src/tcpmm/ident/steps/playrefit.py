@@ -177,19 +177,51 @@ def refit_with_play(ctx: FitContext, start: FrictionFit, v_travel: float, bias: 
             found.append(fit)
     if not found:
         return start.kept
-    rivals = rival_fits(ctx, start, bias, motion, min(f.physical.cost for f in found))
-    # a rival within a solution's own tolerance is that solution, found again
-    rivals = [r for r in rivals if all(abs(r.mechanics.M_t / f.mechanics.M_t - 1.0)
-                                       > SELF_CONSISTENT_REL for f in found)]
-    return joint_fit(ctx, found, rivals)
+    return joint_fit(ctx, found, rival_fits(ctx, start, bias, motion, found))
+
+
+def refit_as_seen(ctx: FitContext, data: dict, seen, backlash: float, bias: float, motion,
+                  initial: dict | None, structure: dict | None = None,
+                  structure_log_std: dict | None = None) -> tuple:
+    """One refit of the FRFs ``data`` with the nut as soft as the sweep saw it on the
+    mechanics ``seen``: ``(physical fit, the play's factor on K_t, the nut's deflection
+    amplitude per frequency)`` [SI, -, m].
+
+    Parameters
+    ----------
+    ctx : FitContext
+        The axis's known values, TF fits, hold and friction runs [-].
+    data : dict
+        The FRFs to fit [SI].
+    seen : AxisMechanics
+        The mechanics the describing function is computed with [SI].
+    backlash : float
+        Lost motion in the nut [m].
+    bias : float
+        Friction force holding the nut on one flank [N].
+    motion : tuple of ndarray
+        The sweep's frequencies, motor angle and scale (:func:`sweep_motion`) [Hz, rad, m].
+    initial : dict or None
+        Starting values, used where the structure is held [SI].
+    structure, structure_log_std : dict, optional
+        The bed and TCP structure held in proportion to ``M_t`` and the deviation of the
+        logarithm of each ratio [SI / kg, -].
+    """
+    freq, theta_m, scale_m = motion
+    amp = nut_deflection_amplitude(freq, theta_m, scale_m, seen)
+    gain = play_gain(freq, amp, backlash, bias, seen.K_t)
+    phys = physical_fit(ctx, data, initial=initial if structure else None, nut_gain=gain,
+                        structure=structure, structure_log_std=structure_log_std)
+    return phys, gain, amp
 
 
 def rival_fits(ctx: FitContext, start: FrictionFit, bias: float, motion,
-               cost: float) -> list:
+               solutions: list) -> list:
     """Refits with the play as the sweep saw it at the table masses of
     :data:`RIVAL_SCALES`, one each from the linear fit, that explain the FRFs within
-    :data:`COST_MARGIN_REL` of ``cost`` or better without being solutions of their
-    describing functions.
+    :data:`COST_MARGIN_REL` of the least cost of the ``solutions`` or better, without
+    being solutions of their describing functions: more than :data:`SELF_CONSISTENT_REL`
+    in table mass from each (one nearer is that solution found again).
 
     The refits that are solutions are found by following each fit's describing function,
     which settles only on the solutions it is drawn to; others can lie between. On one
@@ -208,22 +240,22 @@ def rival_fits(ctx: FitContext, start: FrictionFit, bias: float, motion,
         Friction force holding the nut on one flank on the linear fit [N].
     motion : tuple of ndarray
         The sweep's frequencies, motor angle and scale (:func:`sweep_motion`) [Hz, rad, m].
-    cost : float
-        Least cost of the solutions [-].
+    solutions : list of AxisFit
+        The refits with the play that are solutions [SI].
     """
     linear = start.kept
-    freq, theta_m, scale_m = motion
+    cost = min(f.physical.cost for f in solutions)
     found = []
     for scale in RIVAL_SCALES:
         seen = linear.mechanics.replace(M_t=scale * linear.mechanics.M_t)
-        amp = nut_deflection_amplitude(freq, theta_m, scale_m, seen)
-        gain = play_gain(freq, amp, linear.split.backlash, bias, seen.K_t)
-        initial = {**fit_values(linear.physical), "M_t": seen.M_t} if start.structure else None
-        phys = physical_fit(ctx, start.data, initial=initial, nut_gain=gain,
-                            structure=start.structure,
-                            structure_log_std=start.structure_log_std)
+        phys = refit_as_seen(ctx, start.data, seen, linear.split.backlash, bias, motion,
+                             {**fit_values(linear.physical), "M_t": seen.M_t},
+                             start.structure, start.structure_log_std)[0]
+        m = phys.mechanics.M_t
         if (phys.cost <= (1.0 + COST_MARGIN_REL) * cost
-                and phys.mechanics.M_t >= LIGHTEST_TABLE_REL * linear.mechanics.M_t):
+                and m >= LIGHTEST_TABLE_REL * linear.mechanics.M_t
+                and all(abs(m / f.mechanics.M_t - 1.0) > SELF_CONSISTENT_REL
+                        for f in solutions)):
             found.append(phys)
     return found
 
@@ -240,12 +272,10 @@ def play_chain(ctx: FitContext, data: dict, structure: dict | None, linear: Axis
     best, current = None, linear
     seen = linear.mechanics.replace(M_t=scale * linear.mechanics.M_t)
     initial = {**fit_values(linear.physical), "M_t": seen.M_t}
-    freq, theta_m, scale_m = motion
+    freq = motion[0]
     for _ in range(PLAY_ITERATIONS):
-        amp = nut_deflection_amplitude(freq, theta_m, scale_m, seen)
-        gain = play_gain(freq, amp, current.split.backlash, bias, seen.K_t)
-        phys = physical_fit(ctx, data, initial=initial if structure else None, nut_gain=gain,
-                            structure=structure, structure_log_std=structure_log_std)
+        phys, gain, amp = refit_as_seen(ctx, data, seen, current.split.backlash, bias,
+                                        motion, initial, structure, structure_log_std)
         if phys.mechanics.M_t < LIGHTEST_TABLE_REL * linear.mechanics.M_t:
             break  # past the table masses the starts search: no solution there to keep
         current = AxisFit(phys, *friction_on(ctx, phys))

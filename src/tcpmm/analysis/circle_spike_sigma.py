@@ -41,6 +41,7 @@ from scipy.special import stdtrit
 from .circle_fit import design
 from .circle_model import reversal_lead_deg
 from .circle_noise import correlation_length
+from .circle_reversal_tail import LINGER
 from .circle_sigma import COVERAGE
 from .circle_spikes import reversal_spikes, spike_windows
 from .circle_takeup import spike_moves
@@ -222,12 +223,11 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict, di
 
 #: Why spikes are open where a transient lasts past the window and moves them by more than
 #: the whole radial error the circles show (``{points}``: which)
-SPIKES_OPEN = ("a transient lasts past the window left out after each reversal, and over "
-               "the tails it may be (see reversal tail) the spikes after the terms at "
-               "{points} move by more than the whole radial error the circles show (their "
-               "peak to valley): these circles do not determine them (the raw e - b are in "
-               "--json). Circles at a lower feed or a larger radius, over which the window "
-               "lasts longer than the transient, settle them")
+SPIKES_OPEN = (LINGER + ", and over the tails it may be (see reversal tail) the spikes "
+               "after the terms at {points} move by more than the whole radial error the "
+               "circles show (their peak to valley): these circles do not determine them "
+               "(the raw e - b are in --json). Circles at a lower feed or a larger radius, "
+               "over which the window lasts longer than the transient, settle them")
 
 
 def open_spikes(terms: dict, tails: dict, span: float, *uncertainties: dict) -> dict:

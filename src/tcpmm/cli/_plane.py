@@ -31,15 +31,18 @@ def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
     With ``allow_3d``, ``--plane 3D`` and a run that does not move in a plane give
     ``None`` (3-D) [-].
     """
-    from ..analysis.plane import run_plane
+    from ..analysis.plane import run_plane, run_positions
 
     if option is not None:
         if allow_3d and option.strip().upper() == "3D":
             return None
         axes = plane_option(option)
-        _refuse_a_plane_off_the_motion(axes, run, what, allow_3d)
+        # a run of one axis has no plane of its own, and its command's travel says where
+        # it moves
+        pos = run_positions(run)[1] or {a: r.cmd for a, r in run.axes.items()}
+        _refuse_a_plane_off_the_motion(axes, pos, what, allow_3d)
         if not allow_3d:  # the commands with a 3-D error say it with their figures
-            _warn_left_out(axes, run, what)
+            _warn_left_out(axes, pos, what)
         return axes
     with in_file(what):
         try:
@@ -55,15 +58,12 @@ def run_plane_said(option: str | None, run, what, allow_3d: bool = False):
     return axes
 
 
-def _refuse_a_plane_off_the_motion(axes, run, what, allow_3d: bool) -> None:
-    """Refuse ``--plane`` where it misses the motion of the run's command (else its first
-    position sensor of two axes): the error in it would be that of a line, read as
-    firm."""
-    from ..analysis.plane import plane_misses, run_positions
+def _refuse_a_plane_off_the_motion(axes, pos: dict, what, allow_3d: bool) -> None:
+    """Refuse ``--plane`` where it misses the motion ``pos`` of the run's command (else
+    its first position sensor of two axes) [m]: the error in it would be that of a line,
+    read as firm."""
+    from ..analysis.plane import plane_misses
 
-    # a run of one axis has no plane of its own, and its command's travel says where it
-    # moves
-    pos = run_positions(run)[1] or {a: r.cmd for a, r in run.axes.items()}
     why = plane_misses(axes, pos)
     if why:
         with in_file(what):
@@ -71,17 +71,16 @@ def _refuse_a_plane_off_the_motion(axes, run, what, allow_3d: bool) -> None:
                              + (", or --plane 3D" if allow_3d else ""))
 
 
-def _warn_left_out(axes, run, what) -> None:
-    """Warn where ``--plane`` leaves out an axis that moves substantially
-    (:func:`tcpmm.analysis.plane.left_out_axes`): a circular test reads the radius in the
-    plane given, and that axis' error is in none of its figures."""
+def _warn_left_out(axes, pos: dict, what) -> None:
+    """Warn where ``--plane`` leaves out an axis that moves substantially in ``pos``
+    (:func:`tcpmm.analysis.plane.left_out_axes`) [m]: a circular test reads the radius in
+    the plane given, and that axis' error is in none of its figures."""
     import warnings
 
-    from ..analysis.plane import left_out_axes, left_out_note, run_positions
+    from ..analysis.plane import left_out_axes, left_out_note
     from ..errors import InputWarning
 
-    pos = run_positions(run)[1]
-    note = left_out_note(axes, left_out_axes(axes, pos) if pos else {},
+    note = left_out_note(axes, left_out_axes(axes, pos),
                          "a circular test reads the radius in the plane given; a helix or a "
                          "tilted circle needs its own plane, or the contour error in 3-D "
                          "(tcpmm contour)")

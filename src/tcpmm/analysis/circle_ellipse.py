@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .circle_fit import fit_terms
+from .circle_open import open_terms
 
 #: Terms read again, their names in the report, the radial error per unit of each at the
 #: circle's radius ``r`` [m/unit] and how a value is said [-].
@@ -77,11 +78,9 @@ def open_by_ellipse(fit, terms: dict, arcs, radius_m: float, shared) -> dict:
                 abs(a - b) <= max(SHARE * abs(a), RADIAL_M / per_unit(radius_m)):
             continue
         k = 1e6
-        out[term] = ("one direction cannot tell whether its ellipse at 45 deg is a "
-                     f"squareness or a servo mismatch, and this term rests on it: "
-                     f"{a * k:.2f} {unit} as a squareness, {b * k:.2f} {unit} as a servo "
-                     "mismatch (which moves the axes' reversals and adds its remainder); "
-                     "the other direction tells them apart")
-        terms[term] = (float("nan"), terms[term][1])
-        fit.coef[fit.names.index(name)] = np.nan
+        out.update(open_terms(terms, [term], (
+            "one direction cannot tell whether its ellipse at 45 deg is a squareness or a "
+            f"servo mismatch, and this term rests on it: {a * k:.2f} {unit} as a "
+            f"squareness, {b * k:.2f} {unit} as a servo mismatch (which moves the axes' "
+            "reversals and adds its remainder); the other direction tells them apart"), fit=fit))
     return out

@@ -22,6 +22,7 @@ from .circle_display import rename_axes
 from .circle_ellipse import open_by_ellipse
 from .circle_fit import Arc
 from .circle_model import angle_step
+from .circle_open import open_terms
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
@@ -133,13 +134,8 @@ def _unplaced(fit, terms, angle) -> dict:
            f"servo mismatch, moves them by {shift / step:.1f} samples, and a step placed off "
            "reads partly as backlash, partly as a spike; the other direction tells the "
            "mismatch from a squareness and places them")
-    out = {}
-    for k in ("backlash_X", "backlash_Y"):
-        terms[k] = (float("nan"), "m")
-        fit.coef[fit.names.index(k)] = np.nan
-        out[k] = why
-    for k in [k for k in terms if k.startswith("spike_")]:
-        terms[k] = (float("nan"), "m")
+    out = open_terms(terms, ("backlash_X", "backlash_Y"), why, fit=fit)
+    open_terms(terms, [k for k in terms if k.startswith("spike_")], why)
     out["reversal_spikes"] = why
     return out
 

@@ -41,6 +41,7 @@ from scipy.special import stdtrit
 from .circle_fit import design
 from .circle_model import reversal_lead_deg
 from .circle_noise import correlation_length
+from .circle_open import open_terms
 from .circle_reversal_tail import LINGER
 from .circle_sigma import COVERAGE
 from .circle_spikes import reversal_spikes, spike_windows
@@ -250,10 +251,7 @@ def open_spikes(terms: dict, tails: dict, span: float, *uncertainties: dict) -> 
     """
     open_ = [k for k, v in tails.items()
              if k in terms and np.isfinite(terms[k][0]) and v > span]
-    for k in open_:
-        terms[k] = (float("nan"), "m")
-        for u in uncertainties:
-            u[k] = float("nan")
+    open_terms(terms, open_, "", *uncertainties)
     points = ", ".join(f"{k.split('_')[1]} {k.split('_')[2].upper()}" for k in open_)
     return {"reversal_spikes": SPIKES_OPEN.format(points=points)} if open_ else {}
 

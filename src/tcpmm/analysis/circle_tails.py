@@ -25,6 +25,7 @@ import numpy as np
 from ..errors import InputError
 from .circle_display import DISPLAY_UNITS, display_digits, rename_axes
 from .circle_fit import fit_terms
+from .circle_open import open_terms
 from .circle_reversal_tail import LINGER
 
 #: The angle after each reversal left out when the terms are fitted again [deg].
@@ -153,12 +154,6 @@ OPEN_BY_TAILS = (LINGER + ", and over the tails it may be, up to one as long as 
                  "it (the move is in --json, tail_shift). Circles at a lower feed or a "
                  "larger radius, over which the window lasts longer than the transient, "
                  "settle it")
-#: The fit's column of a reported term where its name differs (a centre offset is the mean
-#: of each circle's centre column)
-FITTED_AS = {"servo_mismatch": "servo_angle", "servo_mismatch_angle": "servo_angle",
-             "squareness_or_servo": "squareness"}
-
-
 def open_by_tails(fit, terms: dict, shift: dict, radius: float, span: float) -> dict:
     """Where a transient lasts past the window (``fit.tail_family``), leave open each term
     whose radial size moves over the tails it may be (``shift``, :func:`tail_shift` by
@@ -183,18 +178,12 @@ def open_by_tails(fit, terms: dict, shift: dict, radius: float, span: float) -> 
     """
     if not fit.tail_family:
         return {}
-    out = {k: OPEN_BY_TAILS for k, d in shift.items()
-           if not k.startswith("cyclic_") and np.isfinite(terms.get(k, (np.nan,))[0])
-           and radial_size(k, d, radius) > span}
-    if "servo_mismatch_angle" in out and "servo_mismatch" in terms:
-        out["servo_mismatch"] = OPEN_BY_TAILS
-    for k in out:
-        terms[k] = (float("nan"), terms[k][1])
-        for j, n in enumerate(fit.names):
-            if n == k or n == FITTED_AS.get(k) or (
-                    k.startswith("centre_offset_") and n.startswith(f"centre_{k[-1]}_")):
-                fit.coef[j] = np.nan
-    return out
+    keys = [k for k, d in shift.items()
+            if not k.startswith("cyclic_") and np.isfinite(terms.get(k, (np.nan,))[0])
+            and radial_size(k, d, radius) > span]
+    if "servo_mismatch_angle" in keys and "servo_mismatch" in terms:
+        keys.append("servo_mismatch")
+    return open_terms(terms, keys, OPEN_BY_TAILS, fit=fit)
 
 
 def moving_terms(diag) -> dict:

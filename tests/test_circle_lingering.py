@@ -116,3 +116,4 @@ def test_a_bench_whose_spikes_move_beyond_its_whole_error_reads_them_open(capsys
     assert rows["tcp"]["spike_after_terms_A_um"] is None
     assert rows["tcp"]["spike_after_terms_A_uncertainty_95_um"] is None
     assert rows["scale"]["spike_after_terms_A_um"] == pytest.approx(23.26, abs=0.05)
+    assert json.loads(out)["diagnostics"]["reversal_tails"] == "lingers"

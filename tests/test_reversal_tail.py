@@ -134,6 +134,22 @@ def test_the_line_names_the_other_tails_only_where_tails_are_fitted():
     assert line.startswith("uncertain by the reversals' tails") and alike not in line
 
 
+def test_the_line_names_the_other_tails_where_the_circles_speed_is_not_known():
+    """Without the circles' angular speed the tails' time constant reads n/a, with that
+    reason, though a tail is fitted: the line still names the tails that fit as well,
+    from what the tails are (``tails``), not from the reason's words."""
+    from tcpmm.analysis.circle_tails import moving_line
+
+    nan = float("nan")
+    d = diagnose_pair(tailed("ccw", LONG, 10e-6, 40.0, "radial", 1, (1.0,) * 4),
+                      tailed("cw", LONG, 10e-6, 40.0, "radial", 2, (1.0,) * 4), gen.R,
+                      (nan, nan))
+    assert d.tails == "fitted" and np.isnan(d["reversal_tail_decay"])
+    assert "speed is not known" in d.undetermined["reversal_tail_decay"]
+    assert "or with another tail past the window that fits the samples as well" in \
+        moving_line(d)
+
+
 @pytest.mark.parametrize(("decay_deg", "shape", "shares", "widest"), [
     (8.0, "axis", (1.0,) * 4, 0.2), (16.0, "axis", (1.0,) * 4, 0.2),
     (10.0, "radial", SHARES, 0.2), (45.0, "radial", (1.0,) * 4, 1.0)])

@@ -319,6 +319,25 @@ def largest_tail(fit, axis: str):
     return max(tails, key=lambda j: abs(fit.coef[j])) if tails else None
 
 
+#: What the reversals' tails of a fit are, by :func:`tail_state`
+TAIL_STATES = {"fitted": "a tail is fitted past the window",
+               "open": "a tail is fitted whose time constant the samples do not determine",
+               "lingers": "a transient lasts past the window: no tail, the terms and spikes "
+                          "uncertain by every tail it may be",
+               "none": "no tail stood out of what the terms leave"}
+
+
+def tail_state(fit) -> str:
+    """Which of :data:`TAIL_STATES` the reversals' tails of ``fit`` (a ``TermFit`` of a
+    pair of full turns) are, as :func:`tail_terms` reports them [-]."""
+    if fit.tail_family:
+        return "lingers"
+    if fit.tail is None:
+        return "none"
+    lo, hi = fit.tail_interval or (fit.tail[0], fit.tail[0])
+    return "open" if max(fit.tail[0] - lo, hi - fit.tail[0]) > fit.tail[0] else "fitted"
+
+
 def tail_terms(fit, mean_rate) -> tuple:
     """The reported tails of a pair of full turns and why any reads NaN: per axis the
     largest of its reversals' tails at the window's end (signed, + the radius out) [m],
@@ -338,12 +357,13 @@ def tail_terms(fit, mean_rate) -> tuple:
     decay = fit.tail[0] / mean_rate if fit.tail is not None else float("nan")
     out["reversal_tail_decay"] = (float(decay), "s")
     rms = f"{fit.residual_rms * 1e6:.2f} µm rms"
-    if fit.tail_family:
+    state = tail_state(fit)
+    if state == "lingers":
         return out, dict.fromkeys(out, LINGER_WHY.format(rms=rms))
-    if fit.tail is None:
+    if state == "none":
         return out, dict.fromkeys(out, NONE_WHY.format(rms=rms))
     lo, hi = fit.tail_interval or (fit.tail[0], fit.tail[0])
-    if max(fit.tail[0] - lo, hi - fit.tail[0]) > fit.tail[0]:  # its ± exceeds it
+    if state == "open":  # its ± exceeds it
         # the tails' levels at the window's end are read at that time constant
         nan = dict.fromkeys(out, float("nan"))
         return {k: (nan[k], u) for k, (_, u) in out.items()}, dict.fromkeys(out, OPEN_WHY.format(

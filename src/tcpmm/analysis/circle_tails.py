@@ -214,11 +214,9 @@ def moving_line(diag) -> str:
             if unfitted else "")
     # the tails that fit as well were only tried where a tail was fitted, or where a
     # transient lasts past the window, up to one as long as the half turn
-    fitted = np.isfinite(diag.terms.get("reversal_tail_decay", (float("nan"),))[0])
-    said = diag.undetermined.get("reversal_tail_decay", "")
     alike = (", or with another tail past the window that fits the samples as well"
-             if fitted or said.startswith(LINGER) else "")
-    if said.startswith(LINGER) and "as long as the half turn" in said:
+             if diag.tails in ("fitted", "open", "lingers") else "")
+    if diag.tails == "lingers":
         alike += " (any up to the half turn to the axis' next reversal: see reversal tail)"
     return (f"uncertain by the reversals' tails: fitted again with {WIDER_DEG:.0f} deg after "
             f"each reversal left out instead of 20{alike}, " + ", ".join(items)

@@ -69,7 +69,7 @@ from .circle_fit import Arc
 from .circle_model import is_full
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
-from .circle_reversal_tail import tail_terms
+from .circle_reversal_tail import tail_state, tail_terms
 from .circle_sigma import term_sigma
 from .circle_spike_sigma import open_spikes, pair_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
@@ -120,6 +120,10 @@ class CircleDiagnostics:
     spike_u95_sample : dict
         The same from the noise from sample to sample alone (``sample_noise`` of
         :func:`.circle_spike_sigma.spike_uncertainty`) [m].
+    tails : str
+        What the reversals' tails are, one of
+        :data:`.circle_reversal_tail.TAIL_STATES`; empty where the fit has none to try
+        (arcs, one direction) [-].
     """
 
     radius: float
@@ -134,6 +138,7 @@ class CircleDiagnostics:
     sigma: dict = field(default_factory=dict)
     spike_u95: dict = field(default_factory=dict)
     spike_u95_sample: dict = field(default_factory=dict)
+    tails: str = ""
 
     def __getitem__(self, name: str) -> float:
         return self.terms[name][0]
@@ -154,8 +159,9 @@ class CircleDiagnostics:
         """JSON-ready: radius, axes, sensor, the terms in SI (NaN as ``None``), the terms
         not determined and why, the ranking, each term's change with the wider window
         after the reversals, per term not determined the change of those that depend
-        on it per unit of it, each term's standard uncertainty (``sigma``) and each
-        spike's 95 % uncertainty (``spike_u95``)."""
+        on it per unit of it, each term's standard uncertainty (``sigma``), each
+        spike's 95 % uncertainty (``spike_u95``) and what the reversals' tails are
+        (``reversal_tails``, None where none were tried)."""
         return {"radius_m": self.radius, "axes": list(self.axes), "sensor": self.sensor,
                 "directions": list(self.directions),
                 "terms": [{"term": k, "value": None if np.isnan(v) else float(v), "unit": u}
@@ -166,7 +172,8 @@ class CircleDiagnostics:
                 "tail_shift": dict(self.tail_shift),
                 "aliases": {k: dict(v) for k, v in self.aliases.items()},
                 "sigma": dict(self.sigma),
-                "spike_u95": {k: None if np.isnan(v) else v for k, v in self.spike_u95.items()}}
+                "spike_u95": {k: None if np.isnan(v) else v for k, v in self.spike_u95.items()},
+                "reversal_tails": self.tails or None}
 
     def plot(self, ax=None, path=None):
         """Radial error of the circles against angle with the fitted terms; the figure.
@@ -260,7 +267,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
     why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
     leave_open(why, terms, left_out, arcs, axes)
-    if all(is_full(a) for a, _ in paths):  # fitted to pairs of full turns alone
+    if full := all(is_full(a) for a, _ in paths):  # fitted to pairs of full turns alone
         tails, tails_why = tail_terms(fit, mean_rate)
         terms.update(tails)
         why.update({rename_axes(k, axes): v for k, v in tails_why.items()})
@@ -280,7 +287,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                              {rename_axes(k, axes): v for k, v in shift.items()},
                              alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate),
                              term_sigma(fit, 2, SHARED, terms, axes, mean_rate), spike_u95,
-                             spike_fast)
+                             spike_fast, tail_state(fit) if full else "")
 
 
 def undetermined_terms(fit) -> list:

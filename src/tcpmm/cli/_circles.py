@@ -8,9 +8,9 @@ from ._tables import fixed, plain_table, print_plain
 
 def diagnostics_json(diag, result=None) -> dict:
     """The diagnostics in display units (um, ms, ...), with the terms not determined and
-    why, and the ranking; with the circles ``result`` they come from, each ranked term's G
-    alone at the linear scale and where it lies, where the TCP's circles have the scale
-    too [-]."""
+    why, what the reversals' tails are (``reversal_tails``), and the ranking; with the
+    circles ``result`` they come from, each ranked term's G alone at the linear scale and
+    where it lies, where the TCP's circles have the scale too [-]."""
     from ..analysis.circle_alias import alias_display
     from ..analysis.circle_sigma import noisy_terms, shown_uncertainty
     from ..analysis.circle_tails import moving_terms
@@ -27,6 +27,7 @@ def diagnostics_json(diag, result=None) -> dict:
                        "uncertain_by_residual": t in noisy}
                       for t, v, u in _display_terms(diag, ascii_units=True)],
             "undetermined": dict(diag.undetermined),
+            "reversal_tails": diag.tails or None,
             "aliases": aliases,
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
                          "g_alone_um": r["g_alone_m"] * 1e6,

@@ -25,7 +25,10 @@ reversals lies within :data:`.circle_reversal_tail.AS_WELL` noise variances of t
 (as the reversals' tails are judged) and half the reversals' own widths' interquartile
 range; NaN where that reaches over the whole span (a backlash in the noise), where the
 width is the span's end (what the terms leave there is the transient, not a take-up), or
-where fewer than :data:`MIN_SAMPLES` samples lie within the span.
+where fewer than :data:`MIN_SAMPLES` samples lie within the span. A pair's width is also
+left open where the reversals' transient stands out in the spikes after the terms
+(:func:`beside_transient`): it shares the span's samples, and the take-up takes part of
+it (a spike of half the backlash read its width a quarter short).
 """
 
 from __future__ import annotations
@@ -242,19 +245,23 @@ def width_terms(fit) -> dict:
             for axis, (width, u95) in zip("XY", fit.widths, strict=True)}
 
 
-def width_follows_backlash(terms: dict, why: dict, rename) -> None:
+def width_follows_backlash(terms: dict, why: dict, rename, spike_u95=None) -> None:
     """Leave each take-up width open whose backlash is (a NaN value, or a reason in
     ``why``): the width is the backlash's, and a backlash the data cannot place or read
-    has no take-up to read either [-].
+    has no take-up to read either; and, given the spikes' uncertainties, each whose axis
+    reverses into a transient (:func:`beside_transient`) [-].
 
     Parameters
     ----------
     terms : dict
-        ``name -> (value, unit)`` by the fit's axis names X and Y [SI].
+        ``name -> (value, unit)`` by the fit's axis names X and Y, the spikes after the
+        terms among them [SI].
     why : dict
         Reasons by the reported names [-].
     rename : callable
         A fit's name to its reported one [-].
+    spike_u95 : dict, optional
+        The spikes' 95 % uncertainties, ``spike_{P}_{direction} -> u95`` [m].
     """
     for a in "XY":
         b, w = f"backlash_{a}", f"take_up_width_{a}"
@@ -263,6 +270,51 @@ def width_follows_backlash(terms: dict, why: dict, rename) -> None:
             terms[w] = (NAN, "m")
             why[rename(w)] = ("the backlash it takes up is open, for the reason given for "
                               + rename(b).replace("_", " "))
+        elif w in terms and np.isfinite(terms[w][0]) and spike_u95 is not None:
+            said = beside_transient(terms, spike_u95, REVERSES_AT[a],
+                                    "reversal_spikes" in why)
+            if said:
+                terms[w] = (NAN, "m")
+                why[rename(w)] = said
+
+
+#: The quadrant points where each axis reverses [-]
+REVERSES_AT = {"X": "AC", "Y": "BD"}
+#: Nor where the spikes are below this: a spike moves the width by about half its height,
+#: within the terms' tolerance of 0.1 um [m]
+TRANSIENT_M = 0.1e-6
+#: Why a take-up width reads n/a beside a transient (``{size}``, ``{points}``)
+TRANSIENT_WHY = ("the reversals' own transient, spikes after the terms of {size} µm at "
+                 "{points} beyond their ±95%, lies in the samples after the reversals the "
+                 "take-up is read from and reads as part of it: a spike of 5 µm 3 deg after "
+                 "each point read dead bands of 4 and 6 µm as 1.9 and 3.5 µm, ± 0.1 µm. The "
+                 "backlash itself is read past the window, and stands")
+
+
+#: Why it does where the spikes are open (``{points}``)
+OPEN_SPIKES_WHY = ("the spikes after the terms at {points} are open (see reversal spikes): "
+                   "a transient lasts past the window there, in the samples after the "
+                   "reversals the take-up is read from. The backlash itself is read past "
+                   "the window")
+
+
+def beside_transient(terms: dict, spike_u95: dict, points: str, spikes_open: bool) -> str:
+    """Why the take-up width of the axis reversing at ``points`` is open where a transient
+    follows its reversals: the median of the sizes of its spikes after the terms
+    (``terms``) beyond the median of their 95 % uncertainties (``spike_u95``) and
+    :data:`TRANSIENT_M` (a spike of noise alone passes its ± one time in twenty, two of
+    four one time in seventy), or, ``spikes_open``, those spikes all open, a transient
+    lasting past the window. Empty where no transient stands out [-]."""
+    at = [k for k in terms if k.startswith("spike_") and k.split("_")[1] in points]
+    keys = [k for k in at if np.isfinite(terms[k][0]) and np.isfinite(spike_u95.get(k, NAN))]
+    if spikes_open and at and not keys:
+        return OPEN_SPIKES_WHY.format(points=" and ".join(points))
+    if not keys:
+        return ""
+    size = float(np.median([abs(terms[k][0]) for k in keys]))
+    if size <= max(float(np.median([spike_u95[k] for k in keys])), TRANSIENT_M):
+        return ""
+    return TRANSIENT_WHY.format(size=f"{size * 1e6:.2f}", points=" and ".join(points))
 
 
 def width_why(fit) -> dict:

@@ -279,7 +279,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     why.update(open_spikes(terms, moved, span, spike_u95, spike_fast))
     why.update({rename_axes(k, axes): v
                 for k, v in open_by_tails(fit, terms, shift, radius_m, span).items()})
-    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes))
+    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes), spike_u95)
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},

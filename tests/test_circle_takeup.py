@@ -121,6 +121,26 @@ def test_a_transient_after_the_reversals_leaves_the_width_open(height):
         assert diag[f"backlash_{axis}"] == pytest.approx(b, rel=0.02)
 
 
+def test_one_direction_leaves_its_width_open_beside_a_transient():
+    """One direction has no spikes' ±95%: a spike beyond 4.5 times what its fit leaves
+    (rms) is a transient, and the width beside it is open; without it the width is the
+    dead band's."""
+    from tcpmm.analysis.circle_single import diagnose_single
+
+    for height in (0.0, 5e-6):
+        spike = {("ccw", q): (height, 3.0) for q in "ABCD"}
+        a, e = dead_band_circle("ccw", {"b_x": 4e-6, "b_y": 6e-6, "spikes": spike}, 1, NOISE,
+                                7200)
+        diag = diagnose_single(a, e, "ccw", R)
+        for axis, b in (("X", 4e-6), ("Y", 6e-6)):
+            if height:
+                assert np.isnan(diag[f"take_up_width_{axis}"])
+                assert "transient" in diag.undetermined[f"take_up_width_{axis}"]
+            else:
+                assert diag[f"take_up_width_{axis}"] == pytest.approx(b, rel=0.03)
+            assert diag[f"backlash_{axis}"] == pytest.approx(b, rel=0.02)
+
+
 @pytest.mark.parametrize("tau_y", [0.0, 1e-3])
 def test_every_error_with_dead_band_backlash_is_recovered(tau_y):
     """Every error of ``test_circle_diagnostics.ALL`` at once, the backlash a dead band

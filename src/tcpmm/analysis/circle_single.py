@@ -28,7 +28,7 @@ from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import open_by_tails, tail_shift
-from .circle_takeup import width_follows_backlash, width_terms, width_why
+from .circle_takeup import noise_extremes, width_follows_backlash, width_terms, width_why
 from .diagnostics import (
     CircleDiagnostics,
     check_arc,
@@ -97,17 +97,16 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     # keeps the backlash's columns: without them the scale mismatch took the backlash;
     # a backlash left open for both reasons is said for the reversals' placing
     ellipse = open_by_ellipse(fit, terms, arcs, radius_m, SINGLE)
-    why.update({rename_axes(k, axes): v for k, v in ellipse.items()})
-    why.update({rename_axes(k, axes): v for k, v in _unplaced(fit, terms, a).items()})
-    why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
-    why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
+    for said in (ellipse, _unplaced(fit, terms, a), cyclic_unresolved(fit), width_why(fit)):
+        why.update({rename_axes(k, axes): v for k, v in said.items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     shift = tail_shift(fit, arcs, radius_m, SINGLE, terms, ("X", "Y"),
                        rename={"squareness": "squareness_or_servo"})
     why.update({rename_axes(k, axes): v
                 for k, v in open_by_tails(fit, terms, shift, radius_m,
                                           float(np.ptp(e))).items()})
-    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes))
+    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes),
+                           noise_extremes(terms, fit.residual_rms))
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
                          {"squareness": "squareness_or_servo"})
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,

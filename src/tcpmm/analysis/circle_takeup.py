@@ -245,7 +245,8 @@ def width_terms(fit) -> dict:
             for axis, (width, u95) in zip("XY", fit.widths, strict=True)}
 
 
-def width_follows_backlash(terms: dict, why: dict, rename, spike_u95=None) -> None:
+def width_follows_backlash(terms: dict, why: dict, rename, spike_u95=None,
+                           lingers=False) -> None:
     """Leave each take-up width open whose backlash is (a NaN value, or a reason in
     ``why``): the width is the backlash's, and a backlash the data cannot place or read
     has no take-up to read either; and, given the spikes' uncertainties, each whose axis
@@ -262,6 +263,9 @@ def width_follows_backlash(terms: dict, why: dict, rename, spike_u95=None) -> No
         A fit's name to its reported one [-].
     spike_u95 : dict, optional
         The spikes' 95 % uncertainties, ``spike_{P}_{direction} -> u95`` [m].
+    lingers : bool
+        A transient lasts past the window, so that spikes that are open are open for it
+        (:func:`.circle_reversal_tail.lingering`) [-].
     """
     for a in "XY":
         b, w = f"backlash_{a}", f"take_up_width_{a}"
@@ -271,11 +275,21 @@ def width_follows_backlash(terms: dict, why: dict, rename, spike_u95=None) -> No
             why[rename(w)] = ("the backlash it takes up is open, for the reason given for "
                               + rename(b).replace("_", " "))
         elif w in terms and np.isfinite(terms[w][0]) and spike_u95 is not None:
-            said = beside_transient(terms, spike_u95, REVERSES_AT[a],
-                                    "reversal_spikes" in why)
+            said = beside_transient(terms, spike_u95, REVERSES_AT[a], bool(lingers))
             if said:
                 terms[w] = (NAN, "m")
                 why[rename(w)] = said
+
+
+#: One direction has no spikes' ±95%: a spike of noise alone is within this many times
+#: what the fit leaves, rms, the extreme of the noise over its window [-]
+EXTREME_RMS = 4.5
+
+
+def noise_extremes(terms: dict, rms: float) -> dict:
+    """The bound of a spike of noise alone for each spike of ``terms``, from the fit's
+    residual ``rms`` (:data:`EXTREME_RMS`), in place of the spikes' ±95% [m]."""
+    return {k: EXTREME_RMS * rms for k in terms if k.startswith("spike_")}
 
 
 #: The quadrant points where each axis reverses [-]
@@ -285,7 +299,7 @@ REVERSES_AT = {"X": "AC", "Y": "BD"}
 TRANSIENT_M = 0.1e-6
 #: Why a take-up width reads n/a beside a transient (``{size}``, ``{points}``)
 TRANSIENT_WHY = ("the reversals' own transient, spikes after the terms of {size} µm at "
-                 "{points} beyond their ±95%, lies in the samples after the reversals the "
+                 "{points}, more than noise makes, lies in the samples after the reversals the "
                  "take-up is read from and reads as part of it: a spike of 5 µm 3 deg after "
                  "each point read dead bands of 4 and 6 µm as 1.9 and 3.5 µm, ± 0.1 µm. The "
                  "backlash itself is read past the window, and stands")

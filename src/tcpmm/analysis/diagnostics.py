@@ -228,6 +228,11 @@ def _same_angles(paths) -> None:
             "turn, or two arcs over the same angles")
 
 
+#: Why the servo mismatch is given as an angle only
+SPEED_WHY = ("the circles' angular speed is not known, so the mismatch is given as an angle "
+             "only (servo_mismatch_angle)")
+
+
 def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                   axes=("X", "Y"), sensor="tcp") -> CircleDiagnostics:
     """Error terms of a CCW and a CW circle by least squares (module docstring).
@@ -272,14 +277,14 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
         terms.update(tails)
         why.update({rename_axes(k, axes): v for k, v in tails_why.items()})
     if not np.isfinite(mean_rate) and "servo_mismatch" not in why:
-        why["servo_mismatch"] = ("the circles' angular speed is not known, so the mismatch is "
-                                 "given as an angle only (servo_mismatch_angle)")
+        why["servo_mismatch"] = SPEED_WHY
     shift = tail_shift(fit, arcs, radius_m, SHARED, terms, ("X", "Y"), mean_rate)
     span = max(float(np.ptp(e)) for _, e in paths)
     why.update(open_spikes(terms, moved, span, spike_u95, spike_fast))
     why.update({rename_axes(k, axes): v
                 for k, v in open_by_tails(fit, terms, shift, radius_m, span).items()})
-    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes), spike_u95)
+    width_follows_backlash(terms, why, lambda k: rename_axes(k, axes), spike_u95,
+                           fit.tail_family)
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},

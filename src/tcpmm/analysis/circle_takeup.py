@@ -25,10 +25,10 @@ reversals lies within :data:`.circle_reversal_tail.AS_WELL` noise variances of t
 (as the reversals' tails are judged) and half the reversals' own widths' interquartile
 range; NaN where that reaches over the whole span (a backlash in the noise), where the
 width is the span's end (what the terms leave there is the transient, not a take-up), or
-where fewer than :data:`MIN_SAMPLES` samples lie within the span. A pair's width is also
-left open where the reversals' transient stands out in the spikes after the terms
-(:func:`beside_transient`): it shares the span's samples, and the take-up takes part of
-it (a spike of half the backlash read its width a quarter short).
+where fewer than :data:`MIN_SAMPLES` samples lie within the span. The width is also left
+open where the reversals' transient stands out in the spikes after the terms
+(:func:`beside_transient`) or lasts past the window: it shares the span's samples, and the
+take-up takes part of it (a spike of half the backlash read its width a quarter short).
 """
 
 from __future__ import annotations
@@ -264,8 +264,8 @@ def width_follows_backlash(terms: dict, why: dict, rename, spike_u95=None,
     spike_u95 : dict, optional
         The spikes' 95 % uncertainties, ``spike_{P}_{direction} -> u95`` [m].
     lingers : bool
-        A transient lasts past the window, so that spikes that are open are open for it
-        (:func:`.circle_reversal_tail.lingering`) [-].
+        A transient lasts past the window (:func:`.circle_reversal_tail.lingering`), and
+        so through the samples the take-up is read from [-].
     """
     for a in "XY":
         b, w = f"backlash_{a}", f"take_up_width_{a}"
@@ -275,7 +275,8 @@ def width_follows_backlash(terms: dict, why: dict, rename, spike_u95=None,
             why[rename(w)] = ("the backlash it takes up is open, for the reason given for "
                               + rename(b).replace("_", " "))
         elif w in terms and np.isfinite(terms[w][0]) and spike_u95 is not None:
-            said = beside_transient(terms, spike_u95, REVERSES_AT[a], bool(lingers))
+            said = (LINGERS_WHY if lingers else
+                    beside_transient(terms, spike_u95, REVERSES_AT[a]))
             if said:
                 terms[w] = (NAN, "m")
                 why[rename(w)] = said
@@ -305,24 +306,21 @@ TRANSIENT_WHY = ("the reversals' own transient, spikes after the terms of {size}
                  "backlash itself is read past the window, and stands")
 
 
-#: Why it does where the spikes are open (``{points}``)
-OPEN_SPIKES_WHY = ("the spikes after the terms at {points} are open (see reversal spikes): "
-                   "a transient lasts past the window there, in the samples after the "
-                   "reversals the take-up is read from. The backlash itself is read past "
-                   "the window")
+#: Why it does where a transient lasts past the window
+LINGERS_WHY = ("a transient lasts past the window after each reversal (see reversal tail), "
+               "and so through the samples after the reversals the take-up is read from, "
+               "which it reads as part of the take-up. The backlash is read past the window, "
+               "uncertain by the reversals' tails")
 
 
-def beside_transient(terms: dict, spike_u95: dict, points: str, spikes_open: bool) -> str:
+def beside_transient(terms: dict, spike_u95: dict, points: str) -> str:
     """Why the take-up width of the axis reversing at ``points`` is open where a transient
     follows its reversals: the median of the sizes of its spikes after the terms
     (``terms``) beyond the median of their 95 % uncertainties (``spike_u95``) and
     :data:`TRANSIENT_M` (a spike of noise alone passes its ± one time in twenty, two of
-    four one time in seventy), or, ``spikes_open``, those spikes all open, a transient
-    lasting past the window. Empty where no transient stands out [-]."""
-    at = [k for k in terms if k.startswith("spike_") and k.split("_")[1] in points]
-    keys = [k for k in at if np.isfinite(terms[k][0]) and np.isfinite(spike_u95.get(k, NAN))]
-    if spikes_open and at and not keys:
-        return OPEN_SPIKES_WHY.format(points=" and ".join(points))
+    four one time in seventy). Empty where no transient stands out [-]."""
+    keys = [k for k in terms if k.startswith("spike_") and k.split("_")[1] in points
+            and np.isfinite(terms[k][0]) and np.isfinite(spike_u95.get(k, NAN))]
     if not keys:
         return ""
     size = float(np.median([abs(terms[k][0]) for k in keys]))

@@ -459,6 +459,33 @@ def test_the_circle_section_says_whose_terms_its_spikes_are_after(tmp_path):
     assert circle_diagnostics(*res).sensor == "tcp"
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")  # no spike at A, its start
+def test_key_figures_say_n_a_and_which_spikes_the_largest_is_of():
+    """Bench E at F10000 leaves its TCP backlashes open, and the key figures read
+    "Y nan µm"; a circle started at a quadrant point has no spike there, and the key
+    figures called the largest of the others the largest reversal spike, with no word of
+    the point left out."""
+    import html as markup
+
+    from conftest import bench_path
+    from tcpmm.analysis.circular import CircleResult, analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+    from tcpmm.report.circles import key_figures
+    from test_circle_diagnostics import SPIKE_5, run_of
+
+    e = bench_path("e")
+    res = [analyse_circle(read_run(e / f"circle_{w}_fast_meas.csv"), 0.035)
+           for w in ("ccw", "cw")]
+    both = CircleResult(0.035, (0.0, 0.0), res[0].passes + res[1].passes)
+    text = markup.unescape(re.sub(r"<[^>]+>", " ", key_figures(both, circle_diagnostics(*res))))
+    assert "nan" not in text and "X n/a, Y n/a" in " ".join(text.split())
+    text = key_figures(analyse_circle(run_of("ccw", {"spikes": SPIKE_5}, start_deg=0.0),
+                                      0.035))
+    assert "largest reversal spike after the fitted terms 5.0" in text
+    assert "the largest of B, C, D; A n/a" in text
+
+
 def test_the_verdict_table_names_its_spikes_raw():
     """The verdict's figures are the raw e - b, as the command line says; the report's
     table said 'spike A' beside a circle table whose spikes are after the fitted terms (a

@@ -79,7 +79,8 @@ def key_figures(result, diag=None) -> str:
             whose = "the pair's" if sc.after_pair else "the fitted"
             u, fast = sc.spike_uncertainty()[q], sc.spike_uncertainty(sample_noise=True)[q]
             text += (f", largest reversal spike after {whose} terms "
-                     f"{number(spikes[q] * 1e6, 2)} ± {number(u * 1e6, 2)} µm (95 %) at {q}")
+                     f"{number(spikes[q] * 1e6, 2)} ± {number(u * 1e6, 2)} µm (95 %) at {q}"
+                     + _of_those(spikes, sc.spikes_after_terms()))
             if is_slow(u, fast):
                 text += (" (the ± counts what the terms leave before the points as noise; "
                          "from sample to sample alone, the terms as they are, ± "
@@ -96,14 +97,23 @@ def key_figures(result, diag=None) -> str:
                      f"{'inside' if dev < 0 else 'outside'} the nominal radius")
         items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
     if diag is not None and len(diag.directions) == 2:
-        t = {k: (number(v, 2), u) for k, v, u in display_terms(diag)}
+        t = {k: f"{number(v, 2)} {u}" if v == v else "n/a" for k, v, u in display_terms(diag)}
         x, y = diag.axes
-        items += [("backlash", f"{x} {' '.join(t[f'backlash_{x}'])}, "
-                               f"{y} {' '.join(t[f'backlash_{y}'])}"),
-                  *((label, " ".join(t[k])) for k, label in (
+        items += [("backlash", f"{x} {t[f'backlash_{x}']}, {y} {t[f'backlash_{y}']}"),
+                  *((label, t[k]) for k, label in (
                       ("squareness", "squareness"), ("scale_mismatch", "scale mismatch"),
                       ("servo_mismatch", "servo mismatch"), ("circularity_pair", "G(b)")))]
     return facts(items)
+
+
+def _of_those(shown: dict, every: dict) -> str:
+    """Where some points' spikes are n/a, which the largest is of: the largest of those
+    given is no bound on the others [-]."""
+    missing = [q for q in every if q not in shown]
+    if not missing:
+        return ""
+    return (f", the largest of {', '.join(shown)}; {', '.join(missing)} n/a (left out or not "
+            "determined: see the table and the diagnostics)")
 
 
 def file_names(files) -> str:

@@ -96,7 +96,9 @@ def figure(image, alt: str, caption: str | None = None, width_px: int | None = N
 
 def number(v: float, digits: int | None = None) -> str:
     """``v`` with ``digits`` decimals, or four significant digits without an exponent
-    from 0.001 to 10^6 when ``digits`` is None; never a negative zero [-]."""
+    from 0.001 to 10^6 when ``digits`` is None; never a negative zero; n/a for NaN [-]."""
+    if v != v:
+        return "n/a"
     if digits is not None:
         text = f"{v:.{digits}f}"
     elif v == 0 or not 1e-3 <= abs(v) < 1e6:

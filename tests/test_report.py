@@ -486,6 +486,28 @@ def test_key_figures_say_n_a_and_which_spikes_the_largest_is_of():
     assert "the largest of B, C, D; A n/a" in text
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")  # no spike at A, its start
+def test_the_ranking_marks_spikes_ranked_by_those_given():
+    """Circles started at A have no spike there: the ranking's reversal spikes are the
+    largest of B, C and D, a bound only from below, and were ranked as if they were all;
+    they are marked so (≥), in the command line's table and the report's alike."""
+    from tcpmm.analysis.circle_alias import ranking_marks
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from test_circle_diagnostics import SPIKE_5, run_of
+
+    def marks(start_deg):
+        res = [analyse_circle(run_of(d, {"spikes": SPIKE_5}, i, start_deg), 0.035)
+               for i, d in enumerate(("ccw", "cw"))]
+        return ranking_marks(circle_diagnostics(*res))
+
+    ranked, legend = marks(0.0)
+    assert "≥" in ranked["reversal_spikes"]
+    assert any(m.startswith("≥: at least") for m in legend)
+    ranked, legend = marks(45.0)
+    assert "≥" not in ranked["reversal_spikes"] and not any("≥" in m for m in legend)
+
+
 def test_the_verdict_table_names_its_spikes_raw():
     """The verdict's figures are the raw e - b, as the command line says; the report's
     table said 'spike A' beside a circle table whose spikes are after the fitted terms (a

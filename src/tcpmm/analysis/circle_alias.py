@@ -176,13 +176,24 @@ def aliased_ranked(diag) -> set:
 #: term the circles do not determine (:func:`aliased_ranked`); and what each means [-]
 MARKS = (("~", "uncertain by the reversals' tails"),
          ("±", "uncertain by what the terms leave unexplained"),
-         ("?", "conditional on a term the circles do not determine"))
+         ("?", "conditional on a term the circles do not determine"),
+         ("≥", "at least: the largest of the spikes after the terms that are given, "
+               "others n/a"))
+
+
+def partial_spikes(diag) -> set:
+    """``{"reversal_spikes"}`` where some spikes after the terms are n/a and some are not:
+    the size ranked is then the largest of those given, no bound on the others [-]."""
+    values = [v for k, (v, _) in diag.terms.items() if k.startswith("spike_")]
+    given = sum(v == v for v in values)
+    return {"reversal_spikes"} if 0 < given < len(values) else set()
 
 
 def ranking_marks(diag) -> tuple[dict, list]:
     """Per ranked term its marks (``" ~ ?"``, empty for none), and what each mark used
     means (:data:`MARKS`) [-]."""
-    marked = (moving_ranked(diag), noisy_ranked(diag), aliased_ranked(diag))
+    marked = (moving_ranked(diag), noisy_ranked(diag), aliased_ranked(diag),
+              partial_spikes(diag))
     marks = {r["term"]: "".join(f" {m}" for (m, _), terms in zip(MARKS, marked, strict=True)
                                 if r["term"] in terms) for r in diag.ranking}
     return marks, [f"{m}: {what}" for (m, what), terms in zip(MARKS, marked, strict=True)

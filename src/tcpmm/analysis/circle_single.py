@@ -27,7 +27,7 @@ from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
-from .circle_tails import open_by_tails, tail_shift
+from .circle_tails import tail_shift
 from .circle_takeup import noise_extremes, width_follows_backlash, width_terms, width_why
 from .diagnostics import (
     CircleDiagnostics,
@@ -100,11 +100,6 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     for said in (ellipse, _unplaced(fit, terms, a), cyclic_unresolved(fit), width_why(fit)):
         why.update({rename_axes(k, axes): v for k, v in said.items()})
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
-    shift = tail_shift(fit, arcs, radius_m, SINGLE, terms, ("X", "Y"),
-                       rename={"squareness": "squareness_or_servo"})
-    why.update({rename_axes(k, axes): v
-                for k, v in open_by_tails(fit, terms, shift, radius_m,
-                                          float(np.ptp(e))).items()})
     width_follows_backlash(terms, why, lambda k: rename_axes(k, axes),
                            noise_extremes(terms, fit.residual_rms))
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
@@ -112,7 +107,8 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, ranking,
-                             {rename_axes(k, axes): v for k, v in shift.items()},
+                             tail_shift(fit, arcs, radius_m, SINGLE, terms, axes,
+                                        rename={"squareness": "squareness_or_servo"}),
                              alias_terms(fit, 1, SINGLE, terms, radius_m, axes,
                                          rename={"squareness": "squareness_or_servo"}),
                              term_sigma(fit, 1, SINGLE, terms, axes,

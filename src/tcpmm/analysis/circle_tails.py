@@ -154,6 +154,8 @@ OPEN_BY_TAILS = (LINGER + ", and over the tails it may be, up to one as long as 
                  "it (the move is in --json, tail_shift). Circles at a lower feed or a "
                  "larger radius, over which the window lasts longer than the transient, "
                  "settle it")
+
+
 def open_by_tails(fit, terms: dict, shift: dict, radius: float, span: float) -> dict:
     """Where a transient lasts past the window (``fit.tail_family``), leave open each term
     whose radial size moves over the tails it may be (``shift``, :func:`tail_shift` by

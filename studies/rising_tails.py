@@ -31,7 +31,6 @@ from scipy.optimize import minimize_scalar
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import tcpmm.analysis.circle_fit as cf
 import tcpmm.analysis.circle_reversal_tail as crt
-from tcpmm.analysis.circle_model import axis_signs
 
 #: The peaks searched, as the angle travelled from the reversal [deg]
 RISE_DEG = tuple(float(d) for d in np.geomspace(5.0, 50.0, 17))
@@ -45,19 +44,13 @@ def rising_columns(angle, s, ratio, mu, rev, after_deg, tail):
     decay, shape, *turn = tail
     if not shape.endswith(RISING):
         return _columns(angle, s, ratio, mu, rev, after_deg, tail)
-    if turn:
-        angle = angle - s * np.radians(turn[0])
-        rev = None if rev is None else rev - s * np.radians(turn[0])
-    c, n = np.cos(angle), np.sin(angle)
-    sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
-    u = s * np.degrees(angle)
-    out = []
-    for since, sign, proj in (((u % 180.0), sx, c), (((u - s * 90.0) % 180.0), sy, n)):
+
+    def course(since):
         x = np.radians(since) / (ratio * decay)
-        law = np.where(since >= after_deg, x * np.exp(1.0 - x), 0.0)
-        col = -sign * proj * law if shape.startswith("axis") else law
-        out += [np.where(sign > 0, col, 0.0), np.where(sign < 0, col, 0.0)]
-    return out
+        return np.where(since >= after_deg, x * np.exp(1.0 - x), 0.0)
+
+    return crt.course_columns(course, shape.removesuffix(RISING),
+                              crt.axis_reversals(angle, s, ratio, mu, rev, *turn))
 
 
 def rising_costs(pb, mu, waves) -> dict:

@@ -86,20 +86,39 @@ def tail_columns(angle, s, ratio, mu, rev, after_deg, tail) -> list:
         deg].
     """
     decay, shape, *turn = tail
-    if turn:
-        angle = angle - s * np.radians(turn[0])
-        rev = None if rev is None else rev - s * np.radians(turn[0])
+
+    def course(since):  # decaying from the window's end, zero within it
+        past = since - after_deg
+        return np.where(past >= 0.0, np.exp(-np.radians(np.maximum(past, 0.0))
+                                            / (ratio * decay)), 0.0)
+
+    return course_columns(course, shape, axis_reversals(angle, s, ratio, mu, rev, *turn))
+
+
+def axis_reversals(angle, s, ratio, mu, rev, turn_deg=0.0) -> tuple:
+    """Per axis of an arc over ``angle`` (arguments of :func:`tail_columns`), ``(since,
+    sign, proj)``: the angle travelled since the axis last reversed, the sign of its
+    velocity since, and the cosine of the radius with the axis; the reversals turned by
+    ``turn_deg`` along the travel [deg, -, -]."""
+    if turn_deg:
+        angle = angle - s * np.radians(turn_deg)
+        rev = None if rev is None else rev - s * np.radians(turn_deg)
     c, n = np.cos(angle), np.sin(angle)
     sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
     u = s * np.degrees(angle)
+    return ((u % 180.0), sx, c), (((u - s * 90.0) % 180.0), sy, n)
+
+
+def course_columns(course, shape: str, reversals) -> list:
+    """The two columns per axis of a tail whose course is ``course(since)``
+    (:func:`axis_reversals`), one per sign of the axis' velocity after the reversal, of
+    ``shape`` (:data:`SHAPES`) [m/m]."""
     # a tail steps the radius out where its coefficient is positive, as a backlash does:
     # the axis' error against its new direction, seen along the radius as the angle turns
     # from the axis on (past 90 deg the other way), or the radial error itself
     out = []
-    for since, sign, proj in (((u % 180.0), sx, c), (((u - s * 90.0) % 180.0), sy, n)):
-        past = since - after_deg
-        tail = np.where(past >= 0.0, np.exp(-np.radians(np.maximum(past, 0.0))
-                                            / (ratio * decay)), 0.0)
+    for since, sign, proj in reversals:
+        tail = course(since)
         col = -sign * proj * tail if shape == "axis" else tail
         out += [np.where(sign > 0, col, 0.0), np.where(sign < 0, col, 0.0)]
     return out

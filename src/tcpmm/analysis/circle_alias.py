@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_display import DISPLAY_UNITS, rename_axes
+from .circle_display import DISPLAY_UNITS, partial_spikes, rename_axes
 from .circle_sigma import noisy_ranked
 from .circle_tails import as_reported, moving_ranked, radial_size, ranked_names
 
@@ -179,14 +179,6 @@ MARKS = (("~", "uncertain by the reversals' tails"),
          ("?", "conditional on a term the circles do not determine"),
          ("≥", "at least: the largest of the spikes after the terms that are given, "
                "others n/a"))
-
-
-def partial_spikes(diag) -> set:
-    """``{"reversal_spikes"}`` where some spikes after the terms are n/a and some are not:
-    the size ranked is then the largest of those given, no bound on the others [-]."""
-    values = [v for k, (v, _) in diag.terms.items() if k.startswith("spike_")]
-    given = sum(v == v for v in values)
-    return {"reversal_spikes"} if 0 < given < len(values) else set()
 
 
 def ranking_marks(diag) -> tuple[dict, list]:

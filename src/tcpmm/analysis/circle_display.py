@@ -192,7 +192,8 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
     ``reference``'s (the same circles at a sensor nearer the drive) [m] and where it lies
     (:func:`term_place`; "" for the centre offset, a set-up, and for a term within the
     residual rms of ``diag``, whose G at either sensor is as much the residual's as its
-    own); None without ``reference``.
+    own); None without ``reference``. NaN, and not determined there, for a term
+    ``reference`` leaves open, and for spikes of which it gives some too few to tell.
 
     Parameters
     ----------
@@ -203,12 +204,25 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
     """
     if reference is None:
         return None
+    # a term the other sensor's circles leave open is not ranked there: not a G of 0
     at = {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
     floor = diag["residual_rms"] if "residual_rms" in diag.terms else 0.0
     out = {}
     for r in diag.ranking:
         term, g = r["term"], float(r["g_alone_m"])
-        g_ref = at.get(term, 0.0)
+        g_ref = at.get(term, float("nan"))
+        if term in partial_spikes(reference) and g_ref < SHARED_PART * g:
+            g_ref = float("nan")  # the largest of some spikes: the others may pass it
         placed = term != "centre_offset" and g > floor
-        out[term] = (g_ref, term_place(g, g_ref, sensor_name, term) if placed else "")
+        where = (f"not determined at the {sensor_name}" if g_ref != g_ref else
+                 term_place(g, g_ref, sensor_name, term))
+        out[term] = (g_ref, where if placed else "")
     return out
+
+
+def partial_spikes(diag) -> set:
+    """``{"reversal_spikes"}`` where some spikes after the terms are n/a and some are not:
+    the size ranked is then the largest of those given, no bound on the others [-]."""
+    values = [v for k, (v, _) in diag.terms.items() if k.startswith("spike_")]
+    given = sum(v == v for v in values)
+    return {"reversal_spikes"} if 0 < given < len(values) else set()

@@ -109,10 +109,13 @@ def noisy_terms(diag) -> dict:
 def noise_line(diag) -> str:
     """The terms uncertain by what the terms leave, in words and display units; empty
     where none is [-]."""
-    noisy = noisy_terms(diag)
-    if not noisy:
+    noisy, spikes = noisy_terms(diag), spikes_reach(diag)
+    if not noisy and spikes is None:
         return ""
     items = [pair_text(diag, term, v, u, "±") for term, (v, u) in noisy.items()]
+    if spikes is not None:
+        items.append("the largest reversal spike after the terms {:.2f} µm, up to {:.2f} µm "
+                     "within the spikes' ±95%".format(*(1e6 * v for v in spikes)))
     rms = diag.terms.get("residual_rms", (float("nan"),))[0] * 1e6
     return (f"uncertain by what the terms leave unexplained (± {COVERAGE:g} standard "
             f"uncertainties from its {rms:.2f} µm rms and how long it stays alike): "
@@ -122,8 +125,28 @@ def noise_line(diag) -> str:
 
 
 def noisy_ranked(diag) -> set:
-    """The ranked terms uncertain by what the terms leave (:func:`noisy_terms`) [-]."""
-    return ranked_names(diag, noisy_terms(diag))
+    """The ranked terms uncertain by what the terms leave (:func:`noisy_terms`), and the
+    reversal spikes where their ±95% leaves the largest short of the tolerance
+    (:func:`spikes_reach`) [-]."""
+    spikes = {"reversal_spikes"} if spikes_reach(diag) is not None else set()
+    return ranked_names(diag, noisy_terms(diag)) | (spikes & {r["term"] for r in diag.ranking})
+
+
+def spikes_reach(diag) -> tuple[float, float] | None:
+    """``(largest, reach)``: the largest |spike| after the terms, as ranked, and the
+    largest |spike| plus its ±95% over the spikes given, where that reach passes the
+    largest by :data:`.circle_tails.MOVES_M` and :data:`.circle_tails.MOVES_SHARE` of it,
+    the tolerance the terms are held to; None where it does not, or no spike has a ±95%
+    (one direction) [m]."""
+    given = {k: abs(v) for k, (v, _) in diag.terms.items()
+             if k.startswith("spike_") and np.isfinite(v)}
+    reach = [v + diag.spike_u95[k] for k, v in given.items()
+             if np.isfinite(diag.spike_u95.get(k, np.nan))]
+    if not reach:
+        return None
+    top = max(given.values())
+    short = max(reach) - top >= max(MOVES_M, MOVES_SHARE * top)
+    return (top, max(reach)) if short else None
 
 
 def shown_uncertainty(diag, term: str) -> float:

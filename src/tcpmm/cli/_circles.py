@@ -66,12 +66,17 @@ def _placed(term: str, at) -> dict:
     if at is None or term == "centre_offset":
         return {}
     g_ref, where = at[term]
-    return {"scale_g_alone_um": g_ref * 1e6, "where": where or None}
+    return {"scale_g_alone_um": _json_number(g_ref * 1e6), "where": where or None}
 
 
 def _json_number(v: float):
     """A number for JSON; NaN as None [-]."""
     return None if v != v else v
+
+
+def _nan(v) -> float:
+    """A JSON number back: None as NaN [-]."""
+    return float("nan") if v is None else v
 
 
 def _display_terms(diag, ascii_units=False):
@@ -209,7 +214,7 @@ def _print_ranking(diag, result=None) -> None:
         t.add_row(str(r["rank"]), name, _cell(r["g_alone_m"] * 1e6),
                   _cell(100 * r["share_of_G"], 1), _cell(r["contribution_m"] * 1e6),
                   _cell(100 * r["share"], 1),
-                  *((_cell(placed["scale_g_alone_um"]) + mark if placed else "",)
+                  *((_cell(_nan(placed["scale_g_alone_um"])) + mark if placed else "",)
                     if scale else ()))
     tails = "".join(f"; {m} (above)" for m in legend)
     beyond = beyond_g_note(diag.ranking, g)

@@ -1,0 +1,50 @@
+"""The ranking's claims about a term are no firmer than the circles behind them: where the
+linear scale's circles leave a term open, the TCP's ranking does not place it past the
+scale; where the spikes' ±95% leaves the largest short of the tolerance, it is marked ±
+(tests/test_circle_diagnostics.py's circles, tests/test_circle_lingering.py's pulse)."""
+
+import json
+
+import numpy as np
+
+import test_circle_diagnostics as gen
+from tcpmm.analysis.circle_alias import ranking_marks
+from tcpmm.analysis.circle_display import placed_terms
+from tcpmm.analysis.circle_sigma import noise_line
+from tcpmm.cli._circles import _placed
+from test_circle_lingering import pair
+
+ERR = {"b_x": 3e-6, "b_y": -3e-6, "eps_x": 20e-6, "spikes": gen.SPIKE_5}
+
+
+def test_a_term_the_scale_leaves_open_is_not_placed_past_it():
+    """The demo's scale circles leave the backlash X and every spike open (a transient
+    lasting past the window); the TCP's ranking read them as 0.00 at the scale and "mostly
+    past the linear scale: the structure between the table and the tool". Here the
+    scale's circles carry a pulse peaking at 14 deg, which leaves the same open."""
+    tcp = gen.diagnose(ERR)
+    scale = pair(ERR, 14.0)
+    assert np.isnan(scale["backlash_X"]) and np.isnan(scale["spike_B_ccw"])
+    placed = placed_terms(tcp, scale, "linear scale")
+    for term in ("backlash_X", "backlash_Y", "reversal_spikes"):
+        g_ref, where = placed[term]
+        assert np.isnan(g_ref) and where == "not determined at the linear scale", term
+        assert json.dumps(_placed(term, placed), allow_nan=False)
+    g_ref, where = placed["scale_mismatch"]  # one the scale determines keeps its figure
+    assert np.isfinite(g_ref) and where.startswith("at the linear scale too")
+
+
+def test_the_ranking_marks_spikes_their_pm_leaves_short_of_the_tolerance():
+    """The demo's ranking led with reversal spikes of 7.21 um, unmarked, while their ±95%
+    was 29.80 um. The spikes are marked ± where the largest given plus its ±95% may pass
+    the one ranked by 0.1 um and 2 % of it, the terms' tolerance, and the line under the
+    terms says how far; 50 um spikes over 0.05 um of noise are not."""
+    noisy = gen.diagnose(ERR, noise=1e-6)
+    marks, legend = ranking_marks(noisy)
+    assert "±" in marks["reversal_spikes"]
+    assert any(m.startswith("±: uncertain by what the terms leave") for m in legend)
+    line = noise_line(noisy)
+    assert "the largest reversal spike after the terms" in line and "within the spikes'" in line
+    big = dict(ERR, spikes={(d, "B"): (50e-6, 6.0) for d in ("ccw", "cw")})
+    marks, _ = ranking_marks(gen.diagnose(big))
+    assert "±" not in marks["reversal_spikes"]

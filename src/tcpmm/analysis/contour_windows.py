@@ -41,15 +41,20 @@ def feed_windows(lo, hi, t_p, t_q, air):
     cut it leads into begins is measured from the cut, as the lag the rapid carries in
     (a square's first side read 2.6 um there, the distance to the rapid's line, where the
     tool lay 287 um off the side). ``air``: the rapid flags of the command's vertices,
-    a segment in a rapid where its end is, a sample where the command at its time is [-]."""
+    a segment in a rapid where either end is (the rapid's last step ends on the feed
+    move's first vertex: a tool lagging there read its side from the rapid's direction,
+    -55 um for +55 um on a circle entered from a G0 along its radius), a sample where the
+    command at its time is [-]."""
     p_air = np.asarray(air) != 0
-    seg_air = p_air[1:]
+    seg_air = p_air[1:] | p_air[:-1]
     idx = np.arange(seg_air.size)
     prev = np.maximum.accumulate(np.where(seg_air, idx, -1))
     nxt = np.minimum.accumulate(np.where(seg_air, idx, seg_air.size)[::-1])[::-1]
     i = np.searchsorted(t_p, t_q, side="right") - 1
-    j = np.clip(i - 1, 0, seg_air.size - 1)
-    a, b = np.maximum(lo, prev[j] + 1), np.minimum(hi, nxt[j])
+    # the feed move of vertex i: after the last rapid segment before it, up to the first
+    # from it on
+    before = np.where(i >= 1, prev[np.clip(i - 1, 0, seg_air.size - 1)], -1)
+    a, b = np.maximum(lo, before + 1), np.minimum(hi, nxt[np.clip(i, 0, seg_air.size - 1)])
     keep = p_air[np.clip(i, 0, p_air.size - 1)] | (a >= b)  # in the air: the whole window
     return np.where(keep, lo, a), np.where(keep, hi, b)
 

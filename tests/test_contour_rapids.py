@@ -4,6 +4,7 @@ whole and streamed alike, and says how much it left out."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import warnings
 
@@ -266,6 +267,54 @@ def test_the_plane_is_that_of_the_feed_moves(tmp_path, capsys):
         assert "contour error in XY" in out
     code, out, err = run_cli(capsys, "contour", tmp_path / "xy.csv", "--rapids")
     assert code == 0 and "3D (unsigned)" in err
+
+
+@pytest.mark.parametrize(("program", "plane"), [
+    # two squares at two depths, Z moving only in G0 between them
+    ("G0 X0 Y0 Z0\nG1 X50 F3000\nY50\nX0\nY0\nG0 Z-10\nG1 X50\nY50\nX0\nY0\n", "XY"),
+    # two plunges, X moving only in G0 from one hole to the next
+    ("G0 X10 Y10 Z5\nG1 Z-5 F300\nG0 Z5\nG0 X20\nG1 Z-5\nG0 Z5\n", None)])
+def test_the_plane_is_that_in_which_the_feed_moves_travel(tmp_path, capsys, program, plane):
+    """The plane was taken from the span of the feed samples: Z spans 10 mm over the two
+    squares' samples, though no feed move moves it, and the squares read 3-D and unsigned;
+    the X of two holes spans 10 mm, though it moves only in G0, and the plunges read as a
+    ZX path (57.14 um, where the first hole alone reads 60.57 um in 3-D). The travel is
+    now the largest within one feed move, whole and streamed alike."""
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90 G17\n" + program + "G4 P0.3\nM30\n")
+    assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog,
+                   "-o", tmp_path / "run.parquet")[0] == 0
+    said = (f"plane {plane}, taken from" if plane else "3D (unsigned), taken from")
+    got = []
+    for extra in ([], ["--chunk-rows", "97"]):
+        code, out, err = run_cli(capsys, "contour", tmp_path / "run.parquet", "--json", *extra)
+        assert code == 0 and said in err, err
+        got.append(json.loads(out)["sensors"])
+    for sensor, whole in got[0].items():  # the rms is summed over other pieces
+        assert [whole[k] for k in ("max_abs_um", "max_um", "min_um")] == \
+            [got[1][sensor][k] for k in ("max_abs_um", "max_um", "min_um")]
+        assert whole["rms_um"] == pytest.approx(got[1][sensor]["rms_um"], rel=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_travel_within_feed_moves_does_not_depend_on_the_chunks(seed):
+    """MoveTravel fed whole and in chunks cut anywhere, moves running across the cuts,
+    against each move's span taken directly."""
+    from tcpmm.analysis.rapids import MoveTravel
+
+    rng = np.random.default_rng(seed)
+    for _ in range(60):
+        n = int(rng.integers(1, 80))
+        feed, x = rng.random(n) < 0.6, rng.normal(size=n).cumsum()
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], feed.astype(int), [0]])))
+        want = max((float(np.ptp(x[a:b])) for a, b in edges.reshape(-1, 2)), default=0.0)
+        cuts = np.sort(rng.choice(np.arange(1, n), min(n - 1, int(rng.integers(0, 6))),
+                                  replace=False)) if n > 1 else np.zeros(0, int)
+        for bounds in ([0, n], [0, *cuts.tolist(), n]):
+            m = MoveTravel()
+            for a, b in itertools.pairwise(bounds):
+                m.add({"X": x[a:b]}, feed[a:b])
+            assert m.travel()["X"] == want
 
 
 def test_the_corners_near_a_rapid_taken_at_once_are_those_taken_one_by_one():

@@ -35,7 +35,7 @@ from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
 from .contour_summary import RunningSummary
 from .contour_windows import direction
 from .plane import left_out_axes
-from .rapids import RapidStretches, left_out, since_rapid
+from .rapids import MoveTravel, RapidStretches, left_out, since_rapid
 
 #: rows read at a time [-]
 STREAM_ROWS = 200_000
@@ -123,21 +123,24 @@ def parquet_rows(path) -> int:
 
 
 def travel_positions(path, feed_only: bool = False) -> dict:
-    """Per axis of the run's command, its least and largest position: a two-sample signal
-    with the command's travel (:func:`~tcpmm.analysis.plane.motion_plane`); with ``feed_only``
-    over the samples out of G0 rapids, where it has some (:func:`.rapids.feed_commands`) [m]."""
-    ends = {True: ({}, {}), False: ({}, {})}  # over the feed samples, over all
+    """Per axis of the run's command, two positions as far apart as it travels: a
+    two-sample signal with the command's travel (:func:`~tcpmm.analysis.plane.motion_plane`);
+    with ``feed_only`` its largest travel within one feed move, where it has samples out of
+    G0 rapids and in them (:func:`.rapids.feed_commands`) [m]."""
+    lo, hi, moves, seen = {}, {}, MoveTravel(), set()
     for cols in _batches(path, None, lambda c: c.endswith("_cmd_mm")
                          or (feed_only and c == "rapid")):
         feed = cols.pop("rapid", None)
-        for c, v in cols.items():
-            a = c.split("_")[0].upper()
-            for on, w in ((False, v), (True, v if feed is None else v[feed == 0])):
-                lo, hi = ends[on]
-                if w.size:
-                    lo[a] = min(lo.get(a, np.inf), float(np.min(w)))
-                    hi[a] = max(hi.get(a, -np.inf), float(np.max(w)))
-    lo, hi = ends[bool(ends[True][0])]
+        cols = {c.split("_")[0].upper(): v for c, v in cols.items()}
+        for a, v in cols.items():
+            if v.size:
+                lo[a] = min(lo.get(a, np.inf), float(np.min(v)))
+                hi[a] = max(hi.get(a, -np.inf), float(np.max(v)))
+        if feed is not None:
+            moves.add(cols, feed == 0)
+            seen.update(np.unique(feed == 0).tolist())
+    if seen == {False, True}:
+        return {a: np.array([0.0, t]) * 1e-3 for a, t in moves.travel().items()}
     return {a: np.array([lo[a], hi[a]]) * 1e-3 for a in lo}
 
 

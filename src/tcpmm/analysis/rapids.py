@@ -192,11 +192,66 @@ def rapid_note(rapids: dict | None) -> str | None:
             f"corner{'' if corners == 1 else 's'}; --rapids counts them")
 
 
+class MoveTravel:
+    """Per axis the largest travel of the command within one feed move, a run of samples
+    out of G0 rapids, gathered as the command comes (whole, or a chunk of rows at a time,
+    to the same numbers): the plane the path is cut in. A Z that moves only in G0 between
+    passes at two depths moves in no feed move, though the feed samples span both; a
+    pattern of plunges whose X and Y move only in G0 is cut along Z alone [m].
+    """
+
+    def __init__(self):
+        self.lo: dict = {}  # the open move's least and largest position per axis
+        self.hi: dict = {}
+        self.best: dict = {}
+        self.open = False
+
+    def add(self, cols: dict, feed) -> None:
+        """The next samples: position per axis, and which are out of the rapids (None:
+        all) [m], [-]."""
+        n = next(iter(cols.values())).size if cols else 0
+        if n == 0:
+            return
+        on = np.ones(n, bool) if feed is None else np.asarray(feed, bool)
+        if self.open and not on[0]:  # the move the chunk before left open ended
+            self.best = self.travel()
+            self.open = False
+        starts = np.flatnonzero(on & ~np.concatenate([[self.open], on[:-1]]))
+        ends = np.flatnonzero(on & ~np.concatenate([on[1:], [False]])) + 1
+        cut = np.sort(np.concatenate([starts, ends]))  # each move's samples, one reduce
+        for a, v in cols.items():
+            self.best.setdefault(a, 0.0)
+            if not on.any():
+                continue
+            first = 0 if on[0] and self.open else int(starts[0])
+            edges = np.unique(np.concatenate([[first], cut[cut < n]]))
+            lo, hi = np.minimum.reduceat(v, edges), np.maximum.reduceat(v, edges)
+            keep = on[edges]  # the reduced stretches that are moves, not rapids
+            lo, hi = lo[keep], hi[keep]
+            if on[0] and self.open:  # the move the chunk before left open goes on
+                lo[0], hi[0] = min(lo[0], self.lo[a]), max(hi[0], self.hi[a])
+            closed = slice(None, -1) if on[-1] else slice(None)
+            if (hi - lo)[closed].size:
+                self.best[a] = max(self.best[a], float(np.max((hi - lo)[closed])))
+            if on[-1]:
+                self.lo[a], self.hi[a] = float(lo[-1]), float(hi[-1])
+        self.open = bool(on[-1])
+
+    def travel(self) -> dict:
+        """The largest travel within one feed move per axis, the open move's included [m]."""
+        out = dict(self.best)
+        if self.open:
+            for a in self.lo:
+                out[a] = max(out[a], self.hi[a] - self.lo[a])
+        return out
+
+
 def feed_commands(run, counted_rapids: bool):
-    """The run's command at its feed samples alone, to find the plane it contours in: a
-    program's rapids (a Z retracting between XY passes) are left out of it as the contour
-    error leaves them; the run itself where it records none, is all rapids or all feed, or
-    they are counted [-].
+    """The run's command's travel within its feed moves alone (:class:`MoveTravel`), as
+    two samples per axis, to find the plane it contours in: a program's rapids (a Z
+    retracting between XY passes) are left out of it as the contour error leaves them;
+    the run itself where it records none, is all rapids or all feed, or they are counted
+    [-].
 
     Parameters
     ----------
@@ -212,5 +267,8 @@ def feed_commands(run, counted_rapids: bool):
     feed = np.asarray(run.rapid) == 0
     if feed.all() or not feed.any():
         return run
-    return Run(run.time_s[feed], {a: AxisRun(cmd=r.cmd[feed]) for a, r in run.axes.items()
-                                  if r.cmd is not None})
+    moves = MoveTravel()
+    moves.add({a: np.asarray(r.cmd, float) for a, r in run.axes.items() if r.cmd is not None},
+              feed)
+    return Run(np.array([0.0, 1.0]), {a: AxisRun(cmd=np.array([0.0, v]))
+                                      for a, v in moves.travel().items()})

@@ -151,6 +151,9 @@ ERRORS = [
     ("G2 G3 X1 I1 F100\n", 1, 4, "both motion codes"),
     ("G4\n", 1, 1, "G4 needs the dwell time"),
     ("G4 P1 X1\n", 1, 7, "not both"),
+    # a dwell of 20 s, the move dropped; with P, "not both" named the move's X20
+    ("G1 X20 G4\n", 1, 1, "G4 (dwell) and G1 in one block: X20 would be the move's end"),
+    ("G1 X20 G4 P1\n", 1, 1, "put the dwell in a block of its own"),
     ("G4 P-1\n", 1, 4, "must not be negative"),
     ("G4 P1 Y2\n", 1, 7, "cannot be used in a G4"),
     ("G1 X1 F100 A5\n", 1, 12, "axis A is not modelled"),
@@ -335,6 +338,22 @@ def test_numbers_beyond_any_machine(block, line, column, needle):
     assert (e.value.line, e.value.column) == (line, column)
 
 
+def test_a_long_dwell_written_as_fanuc_writes_milliseconds_is_said():
+    """P is read in seconds (LinuxCNC's dialect); a Fanuc program's G04 P500 (500 ms) ran
+    a dwell of 500 s with no word. A whole P of 10 s or more is warned of, once, with the
+    P that would mean the milliseconds; a P with a decimal point, or shorter, is not."""
+    with pytest.warns(InputWarning) as said:
+        segs = parse_gcode("G21\nG1 X5 F1000\nG04 P500\nG4 P20\nM30\n", "f.nc")
+    (w,) = [str(m.message) for m in said]
+    assert w.startswith("f.nc, line 3, column 5: G4 P500 rests 500 s (and 1 more time): ")
+    assert "a Fanuc control reads P500 in ms (write P0.5 for that)" in w
+    assert [s.duration_s for s in segs if isinstance(s, Dwell)] == [500.0, 20.0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        parse_gcode("G21\nG1 X5 F1000\nG4 P12.0\nG4 P2\nG4 X30\nM30\n", "f.nc")
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")  # the dwell's P, said
 @pytest.mark.parametrize("block", ["G1 X10 F0.000000000000000000001", "G4 P" + "9" * 30])
 def test_a_command_too_long_to_count_is_refused(block):
     """Ten millimetres at 1e-21 mm/min last 6e23 s: their periods overflowed the 64-bit

@@ -44,6 +44,9 @@ from .segments import AXIS_INDEX, Dwell, Line, Rapid
 
 #: the key of the warning that counts the moves to where the tool already is [-]
 ZERO_LENGTH = "zero-length move"
+#: a dwell whose P, written without a decimal point, is this long or longer is warned of:
+#: a Fanuc control reads P in ms, this dialect (LinuxCNC's) in seconds [s]
+LONG_DWELL_S = 10.0
 _ZERO_LENGTH_SAID = re.compile(rf": {ZERO_LENGTH} ignored(?: \(and (\d+) more times?\))?: ")
 
 
@@ -103,18 +106,20 @@ class Interpreter(GeometryMixin):
     def error(self, msg, line, column=None):
         raise InputError(msg, file=self.file, line=line, column=column)
 
-    def warn(self, key, msg, line, column):
+    def warn(self, key, msg, line, column, head=None):
+        """Warn once per ``key`` of ``msg`` at its first place, counting the rest; said as
+        ``head`` (default "<key> ignored") [-]."""
         if key in self.warned:
             self.warned[key][1] += 1
         else:
-            self.warned[key] = [(line, column, msg), 1]
+            self.warned[key] = [(line, column, msg, head or f"{key} ignored"), 1]
 
     def emit_warnings(self):
         # in the order of the words they name, whatever order a block's words are read in
         firsts = sorted(self.warned.items(), key=lambda kv: (kv[1][0][0], kv[1][0][1] or 0))
-        for key, ((line, column, msg), count) in firsts:
+        for (line, column, msg, head), count in (v for _, v in firsts):
             more = f" (and {count - 1} more time{'s' * (count > 2)})" if count > 1 else ""
-            text = f"{_where(self.file, line, column)}: {key} ignored{more}: {msg}"
+            text = f"{_where(self.file, line, column)}: {head}{more}: {msg}"
             warnings.warn(text, InputWarning, stacklevel=3)
 
     # ---- one block -------------------------------------------------------------------
@@ -139,7 +144,7 @@ class Interpreter(GeometryMixin):
             self.motion = MOTION[round(new["motion"].value * 10)]
 
         if "dwell" in new:
-            self.dwell(w, new["dwell"], line)
+            self.dwell(w, new["dwell"], line, new.get("motion"))
             return end
         g64 = "path mode" in new and round(new["path mode"].value) == 64
         if "P" in w and not g64:
@@ -275,12 +280,22 @@ class Interpreter(GeometryMixin):
                       "corners are blended one by one within the P tolerance", line,
                       w["Q"].column)
 
-    def dwell(self, w, g4, line):
+    def dwell(self, w, g4, line, motion=None):
+        """G4: a rest of ``P`` or ``X`` seconds; ``motion`` a motion word in its block."""
+        axes = [k for k in "XYZIJKR" if k in w]
+        if motion is not None and axes:  # X20 is a move's end, or (Fanuc) the time
+            self.error(f"G4 (dwell) and {motion.text} in one block: {w[axes[0]].text} would "
+                       "be the move's end point or the dwell's time; put the dwell in a block "
+                       "of its own", line, motion.column)
         if "P" in w and "X" in w:
             self.error("G4 takes the time in P or in X, not both", line, w["X"].column)
         t = w.get("P") or w.get("X")
         if t is None:
             self.error("G4 needs the dwell time, e.g. G4 P0.5 (seconds)", line, g4.column)
+        if t.letter == "P" and "." not in t.text and t.value >= LONG_DWELL_S:
+            self.warn("long dwell", f"P is read in seconds, as LinuxCNC reads it; a Fanuc "
+                      f"control reads {t.text} in ms (write P{t.value / 1000:g} for that)",
+                      line, t.column, head=f"G4 {t.text} rests {t.value:g} s")
         for L in "YZIJKR":
             if L in w:
                 self.error(

@@ -121,6 +121,34 @@ def test_a_transient_after_the_reversals_leaves_the_width_open(height):
         assert diag[f"backlash_{axis}"] == pytest.approx(b, rel=0.02)
 
 
+def pulsed_dead_band(direction, err, peak_deg, seed, height=5e-6):
+    """:func:`dead_band_circle` with a pulse ``height (u / p) exp(1 - u / p)`` of radial
+    error after each quadrant point, ``u`` the angle since it, ``p`` = ``peak_deg``: a
+    loop's response that rises from the reversal, through the take-up [rad, m]."""
+    a, e = dead_band_circle(direction, err, seed)
+    s = 1.0 if direction == "ccw" else -1.0
+    for at in (0.0, 90.0, 180.0, 270.0):
+        u = (s * (np.degrees(a) - at)) % 360.0 / peak_deg
+        e = e + np.where(u * peak_deg < 90.0, height * u * np.exp(1.0 - u), 0.0)
+    return a, e
+
+
+def test_a_spike_within_the_take_up_holds_its_height_in_its_pm():
+    """A 5 um pulse peaking 0.5 deg after each point, within the 0.9 and 1.1 deg the dead
+    bands of 4 and 6 um take: the take-up took part of it, the spikes read 3.38 to 4.19
+    um, their ±95% 0.19 um, though the widths were left open beside the transient. The
+    spikes are read with the width that fits best; a width left open now widens their ±
+    over every width it may be, as where the search itself leaves it open."""
+    err = {"b_x": 4e-6, "b_y": 6e-6}
+    diag = diagnose_pair(pulsed_dead_band("ccw", err, 0.5, 1),
+                         pulsed_dead_band("cw", err, 0.5, 2), R, (W, W))
+    assert np.isnan(diag["take_up_width_X"]) and np.isnan(diag["take_up_width_Y"])
+    for (d, q), v in spikes(diag).items():
+        u95 = diag.spike_u95[f"spike_{q}_{d}"]
+        assert abs(v - 5e-6) <= u95, (d, q, v, u95)
+    assert max(abs(v - 5e-6) for v in spikes(diag).values()) > 0.5e-6  # the case it is
+
+
 def test_a_bench_whose_transient_lasts_past_the_window_reads_no_width():
     """Bench D at F5000 (no play in its truth): at the TCP a transient lasts past the
     window, through the samples the take-up is read from, and the widths read 5.14 ± 0.75

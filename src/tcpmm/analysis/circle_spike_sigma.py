@@ -173,7 +173,7 @@ def step_sides(e, model):
     return r
 
 
-def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict, dict]:
+def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, dict, dict, dict]:
     """The spikes after a fit's terms, ``spike_{P}_{direction}``, taken from where the
     leading axis reverses (the fit leaves its transient out) on what the terms leave
     (:func:`step_sides`), their 95 % uncertainty (:func:`spike_uncertainty`), that from
@@ -192,6 +192,9 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict, di
         The shared terms fitted [-].
     curves : dict
         ``direction -> (angle, radial error, fitted model)`` [rad, m, m].
+    opened : tuple of int
+        The axes whose take-up width is left open whatever its interval
+        (:func:`.circle_takeup.spike_moves`) [-].
     """
     cov = None if fit.cov is None else np.nan_to_num(fit.cov)
     spikes, u95, fast, tails = {}, {}, {}, {}
@@ -208,7 +211,7 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict, di
         moves = spike_moves(fit, arcs[i], radius, arcs[i].positions(radius, None, e),
                             fit.centres[i] if fit.centres else (0.0, 0.0), got[0],
                             lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(
-                                a, rest + dr, d, lead))
+                                a, rest + dr, d, lead), opened)
         lingers = family_moves(fit, cols, lambda c, t, w, i=i, a=a, e=e: design(
             arcs[i], i, len(arcs), radius, shared, fit.mu, w, None,
             arcs[i].positions(radius, None, e), fit.centres[i] if fit.centres else (0.0, 0.0),
@@ -220,6 +223,32 @@ def pair_spikes(fit, arcs, radius, shared, curves) -> tuple[dict, dict, dict, di
                 u95[k] = float(np.hypot(u95[k], v)) + lingers.get(q, 0.0)
         tails.update({f"spike_{q}_{d}": v for q, v in lingers.items()})
     return spikes, u95, fast, tails
+
+
+def widen_for_opened(fit, arcs, radius, shared, curves, terms, spike_u95) -> None:
+    """Where a take-up width the search read within an interval is left open after the
+    spikes were (:func:`.circle_takeup.width_follows_backlash`: beside a transient, or
+    one lasting past the window), each spike's ±95% in ``spike_u95`` over the whole span
+    the width may take, as for a width the search leaves open: the spikes are read with
+    the width that fits best, which took part of the transient (a 5 um spike peaking 0.8
+    deg after each point, beside dead bands of 4 and 6 um, read 4.21 ± 0.19 um) [m].
+
+    Parameters
+    ----------
+    fit, arcs, radius, shared, curves
+        As for :func:`pair_spikes` [SI].
+    terms : dict
+        The terms by the fit's axis names, the widths as left [SI].
+    spike_u95 : dict
+        The spikes' 95 % uncertainties, widened in place; NaN stays [m].
+    """
+    opened = tuple(k for k, a in enumerate("XY") if np.isfinite(fit.widths[k][1])
+                   and not np.isfinite(terms.get(f"take_up_width_{a}", (np.nan,))[0]))
+    if not opened:
+        return
+    for k, v in pair_spikes(fit, arcs, radius, shared, curves, opened)[1].items():
+        if np.isfinite(spike_u95.get(k, np.nan)) and np.isfinite(v):
+            spike_u95[k] = max(spike_u95[k], v)
 
 
 #: Why spikes are open where a transient lasts past the window and moves them by more than

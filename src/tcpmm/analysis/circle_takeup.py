@@ -180,7 +180,7 @@ def search_widths(pb, mu, waves, coef) -> tuple:
     return tuple(_axis_width(pb, mu, rests, coef, axis, level) for axis in (0, 1))
 
 
-def spike_moves(fit, arc, radius, pos, centre, base, spikes_of) -> dict:
+def spike_moves(fit, arc, radius, pos, centre, base, spikes_of, opened=()) -> dict:
     """How far each reversal spike moves as its axis' take-up width runs over the width's
     95 % interval (the width is searched, so the fit's covariance does not hold it): the
     spikes ``spikes_of(rest)`` of what the terms leave with the take-up at either end of
@@ -205,6 +205,9 @@ def spike_moves(fit, arc, radius, pos, centre, base, spikes_of) -> dict:
     spikes_of : callable
         A change to what the terms leave, with the take-up as fitted, to the spikes per
         point [m].
+    opened : tuple of int
+        The axes (0, 1) whose width is left open whatever its interval (beside a
+        transient): over the whole span [-].
     """
     moves = dict.fromkeys(base, 0.0)
     rev = reversal_angle(pos, centre)
@@ -213,9 +216,9 @@ def spike_moves(fit, arc, radius, pos, centre, base, spikes_of) -> dict:
         if name not in fit.names or not np.isfinite(fit[name]) or fit[name] == 0.0:
             continue
         b = float(fit[name])
-        if u95 <= SPAN * abs(b) / (TRIES - 1):
+        if axis not in opened and u95 <= SPAN * abs(b) / (TRIES - 1):
             continue  # within the search's own step: the width is read to its grid
-        lo, hi = ((width - u95, width + u95) if np.isfinite(u95)
+        lo, hi = ((width - u95, width + u95) if np.isfinite(u95) and axis not in opened
                   else (0.0, SPAN * abs(b)))
 
         def col(w, axis=axis):

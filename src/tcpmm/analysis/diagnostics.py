@@ -71,7 +71,7 @@ from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_reversal_tail import tail_state, tail_terms
 from .circle_sigma import term_sigma
-from .circle_spike_sigma import open_spikes, pair_spikes
+from .circle_spike_sigma import open_spikes, pair_spikes, widen_for_opened
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import open_by_tails, tail_shift
 from .circle_takeup import width_follows_backlash, width_terms, width_why
@@ -268,9 +268,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     spikes, spike_u95, spike_fast, moved = pair_spikes(fit, arcs, radius_m, SHARED, curves)
     terms = _terms(fit, grids, deviations(paths, radius_m), spikes, mean_rate)
     terms["residual_rms"] = (fit.residual_rms, "m")
-    why = {rename_axes(k, axes): ARC_WHY for k in undetermined_terms(fit)}
-    why.update({rename_axes(k, axes): v for k, v in cyclic_unresolved(fit).items()})
-    why.update({rename_axes(k, axes): v for k, v in width_why(fit).items()})
+    why = {rename_axes(k, axes): v for k, v in (dict.fromkeys(undetermined_terms(fit), ARC_WHY)
+                                                | cyclic_unresolved(fit) | width_why(fit)).items()}
     leave_open(why, terms, left_out, arcs, axes)
     if full := all(is_full(a) for a, _ in paths):  # fitted to pairs of full turns alone
         tails, tails_why = tail_terms(fit, mean_rate)
@@ -285,6 +284,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                 for k, v in open_by_tails(fit, terms, shift, radius_m, span).items()})
     width_follows_backlash(terms, why, lambda k: rename_axes(k, axes), spike_u95,
                            fit.tail_family)
+    widen_for_opened(fit, arcs, radius_m, SHARED, curves, terms, spike_u95)
     ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},

@@ -149,6 +149,21 @@ def test_a_spike_within_the_take_up_holds_its_height_in_its_pm():
     assert max(abs(v - 5e-6) for v in spikes(diag).values()) > 0.5e-6  # the case it is
 
 
+def test_a_wide_dead_band_is_taken_up_at_the_axes_own_angle():
+    """Dead bands of 100 and 60 um and nothing else. The circle is read at the tool's
+    angle, which Y's lost motion turns from X's own by 30 um / R at A; X's travel, read
+    there, ran 0.5 um off within the take-up: the widths read 97.1 and 56.2 um, and the
+    rest read spikes of 0.45 to 0.74 um, +- 0.2 um, at every point, with none injected.
+    The travel is now read at the axes' own angle."""
+    diag = diagnose_dead_band({"b_x": 100e-6, "b_y": 60e-6})
+    for where, v in spikes(diag).items():
+        assert abs(v) <= 4.5 * NOISE, (where, v)
+    for axis, b in (("X", 100e-6), ("Y", 60e-6)):
+        assert diag[f"backlash_{axis}"] == pytest.approx(b, rel=0.002)
+        width, u95 = diag[f"take_up_width_{axis}"], 2 * diag.sigma[f"take_up_width_{axis}"]
+        assert abs(width - b) <= u95 < 0.03 * b, (axis, width, u95)
+
+
 def test_a_bench_whose_transient_lasts_past_the_window_reads_no_width():
     """Bench D at F5000 (no play in its truth): at the TCP a transient lasts past the
     window, through the samples the take-up is read from, and the widths read 5.14 ± 0.75

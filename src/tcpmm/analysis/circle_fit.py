@@ -3,9 +3,8 @@
 Each circle has its own radius and centre; the named terms (:mod:`.circle_model`) are
 shared. Terms an arc does not determine are left out of the fit and reported as such
 (:func:`.circle_model.determined`); a cyclic error per axis is searched for in the
-residual; a servo mismatch among the terms is fitted again with the axes' reversals where
-the previous fit puts them and its remainder beyond the ellipse taken off the data.
-"""
+residual; a servo mismatch is fitted again with the axes' reversals where the previous
+fit puts them, its remainder beyond the ellipse taken off the data."""
 
 from __future__ import annotations
 
@@ -31,6 +30,7 @@ from .circle_noise import coef_covariance
 from .circle_reversal_tail import lingering, search_tail, tail_block, tail_names
 from .circle_settling import steady_ends
 from .circle_takeup import search_widths
+from .circle_travel import Widths
 
 OWN = ("radius", "centre_X", "centre_Y")
 
@@ -142,6 +142,8 @@ class TermFit:
         Per axis, the travel after its reversal over which its backlash is taken up, and
         that width's 95 % uncertainty, NaN where the data cannot tell
         (:mod:`.circle_takeup`) [m].
+    lost : tuple
+        Per axis, the backlash its take-up's travel is read with (:mod:`.circle_travel`) [m].
     """
 
     names: list
@@ -158,14 +160,15 @@ class TermFit:
     tail_interval: tuple | None = None
     widths: tuple = ((0.0, float("nan")), (0.0, float("nan")))
     tail_family: tuple = ()
+    lost: tuple = (0.0, 0.0)
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
 
     @property
-    def take_up(self) -> tuple:
-        """Each axis' take-up width of :attr:`widths` [m]."""
-        return tuple(w for w, _ in self.widths)
+    def take_up(self) -> Widths:
+        """Each axis' take-up width of :attr:`widths`, with :attr:`lost` [m]."""
+        return Widths((w for w, _ in self.widths), self.lost)
 
     def cyclic_amplitude(self, axis: str) -> float:
         """Amplitude of the cyclic error fitted for ``axis`` (``"X"``, ``"Y"``) [m]."""
@@ -237,6 +240,7 @@ class FitProblem:
         self.tail_interval = None  # the time constants that fit as well
         self.tail_family = ()  # the fits over a transient lasting past the window
         self.widths = ((0.0, float("nan")),) * 2  # the backlashes' take-up, and its +-
+        self.lost = (0.0, 0.0)  # the backlashes the take-up's travel is read with
         A = self.matrix(0.0, (None, None))
         # each circle's radius and centre first, where the arc determines them: every
         # set-up has a centre offset, and a term that stood in for it (a bow, a
@@ -265,9 +269,9 @@ class FitProblem:
                               self.arcs, self.masks, self.pos, self.centres, strict=True))])
 
     @property
-    def take_up(self):
-        """Each axis' take-up width (:attr:`TermFit.widths`) [m]."""
-        return tuple(w for w, _ in self.widths)
+    def take_up(self) -> Widths:
+        """Each axis' take-up width and lost motion (:attr:`TermFit.widths`, ``lost``) [m]."""
+        return Widths((w for w, _ in self.widths), self.lost)
 
     def rest(self, mu, waves, coef):
         """Per arc, what the terms ``coef`` leave over all its samples, the reversals'
@@ -313,10 +317,8 @@ class FitProblem:
 
     def mu_of(self, coef):
         """The servo mismatch angle of a solution; 0 where it is not fitted [rad]."""
-        if "servo_angle" not in self.shared:
-            return 0.0
-        v = coef[3 * len(self.arcs) + self.shared.index("servo_angle")]
-        return float(v) if np.isfinite(v) else 0.0
+        return (float(np.nan_to_num(coef[3 * len(self.arcs) + self.shared.index("servo_angle")]))
+                if "servo_angle" in self.shared else 0.0)
 
 
 def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
@@ -393,5 +395,5 @@ def _finished(pb, mu, waves, unseen, periods) -> TermFit:
         k: float(v) for k, v in zip(names, pb.tail_spread, strict=False) if v}
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
                    tuple(pb.centres), aliases, periods, cov, pb.tail, spread,
-                   pb.tail_interval, pb.widths, pb.tail_family)
+                   pb.tail_interval, pb.widths, pb.tail_family, pb.lost)
 

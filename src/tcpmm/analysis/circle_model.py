@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .circle_travel import axis_phase, take_up, travel_since_reversal
+
 #: A term is determined where at least this share of its column (unit norm) is independent
 #: of the other columns: noise then enters it at most tenfold [-].
 MIN_SHARE = 0.1
@@ -78,46 +80,6 @@ def axis_signs(angle, s, mu=0.0):
         Servo mismatch as an angle, ``w (ty - tx)`` [rad].
     """
     return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
-
-
-def travel_since_reversal(angle, s, radius, mu, axis):
-    """How far the axis ``axis`` (0 the first, 1 the second) has been commanded since its
-    last reversal, each axis reversing where it does with a servo mismatch angle ``mu``
-    (:func:`axis_signs`): ``R (1 - cos phi)``, ``phi`` the angle travelled since [m].
-
-    Parameters
-    ----------
-    angle : ndarray
-        Angle CCW from the first axis about the circle's centre [rad].
-    s : float
-        +1 CCW, -1 CW [-].
-    radius : float
-        Nominal radius [m].
-    mu : float
-        Servo mismatch angle of this circle [rad].
-    axis : int
-        0 for the first axis, 1 for the second [-].
-    """
-    own = np.asarray(angle) + (s * mu if axis == 0 else -s * mu)
-    return radius * (1.0 - np.cos(np.mod(s * own - axis * np.pi / 2, np.pi)))
-
-
-def take_up(travel, width):
-    """The share of an axis' lost motion taken up after its reversal, from -1 (the side
-    before it) to +1 (the side after), linear in the commanded travel since the reversal
-    over ``width``: a dead band (the table stands while the motor crosses the play) has the
-    backlash's own width, an instant step none [-].
-
-    Parameters
-    ----------
-    travel : ndarray
-        Commanded travel since the reversal (:func:`travel_since_reversal`) [m].
-    width : float
-        Travel over which the lost motion is taken up [m].
-    """
-    if not width > 0:
-        return np.ones_like(travel)
-    return np.clip(2.0 * travel / width - 1.0, -1.0, 1.0)
 
 
 def radial_weights(angle, s, ratio=1.0, mu=0.0) -> tuple:
@@ -182,6 +144,9 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
     c, n = np.cos(angle), np.sin(angle)
     wx, wy = _with_slope(c, n, angle, s, ratio * mu)
     own = angle if rev is None else rev
+    # where a take-up has a width, the axes reverse and travel at their own angle
+    if any(w > 0 for w in widths):
+        own = axis_phase(own, s, radius, ratio * mu, getattr(widths, "lost", (0.0, 0.0)))
     sx, sy = axis_signs(own, s, ratio * mu)
     fx, fy = (take_up(travel_since_reversal(own, s, radius, ratio * mu, k), w)
               for k, w in enumerate(widths))

@@ -35,9 +35,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_model import angle_step, reversal_angle, term_column, travel_since_reversal
+from .circle_model import angle_step, reversal_angle, term_column
 from .circle_noise import correlation_length
 from .circle_reversal_tail import AS_WELL
+from .circle_travel import Widths, axis_phase, travel_since_reversal
 
 #: The travel after a reversal searched for the take-up, per unit of the backlash [-]
 SPAN = 3.0
@@ -65,7 +66,8 @@ def _near(pb, mu, rests, axis, span) -> list:
     for arc, rest, c in zip(pb.arcs, rests, pb.centres, strict=True):
         rev = reversal_angle(arc.positions(pb.radius), c)
         own = arc.angle if rev is None else rev
-        u = travel_since_reversal(own, arc.s, pb.radius, arc.ratio * mu, axis)
+        u = travel_since_reversal(axis_phase(own, arc.s, pb.radius, arc.ratio * mu, pb.lost),
+                                  arc.s, pb.radius, arc.ratio * mu, axis)
         end = np.cos(own) > 0 if axis == 0 else np.sin(own) > 0
         for near in ((u <= span) & arc.ends & end, (u <= span) & arc.ends & ~end):
             near = _reversed(near, arc.ends)
@@ -101,7 +103,8 @@ def _noise(pb, rests) -> float:
 def _backlash_column(axis: int, width: float, widths, arc, angle, rev, radius, mu):
     """The radial error per unit of ``axis``' backlash (0 or 1) on ``arc`` at ``angle``,
     taken up over ``width``, the other axis' over its width of ``widths`` [m/m]."""
-    both = tuple(width if k == axis else widths[k] for k in (0, 1))
+    both = Widths((width if k == axis else widths[k] for k in (0, 1)),
+                  getattr(widths, "lost", (0.0, 0.0)))
     return term_column(f"backlash_{'XY'[axis]}", angle, arc.s, radius, arc.ratio, mu, rev,
                        both)
 
@@ -158,11 +161,18 @@ def _axis_width(pb, mu, rests, coef, axis, level) -> tuple:
     return best, max(best - lo, hi - best, step / 2)
 
 
+def lost_motion(pb, coef) -> tuple:
+    """Each axis' backlash of ``coef``, 0 where the fit has none, for the axes' own angle
+    the take-up's travel is read at (:func:`.circle_travel.axis_phase`) [m]."""
+    return tuple(float(np.nan_to_num(coef[3 * len(pb.arcs) + pb.shared.index(n)]))
+                 if n in pb.shared else 0.0 for n in ("backlash_X", "backlash_Y"))
+
+
 def search_widths(pb, mu, waves, coef) -> tuple:
     """Per axis, ``(width, its 95 % uncertainty)`` of the backlash's take-up after each
     reversal that best fits what the terms ``coef`` leave near the reversals (module
     docstring), the servo mismatch ``mu`` [rad] and cyclic errors ``waves`` [1/m] as
-    fitted [m].
+    fitted [m]; ``pb.lost`` set to the backlashes of ``coef`` (:func:`lost_motion`).
 
     Parameters
     ----------
@@ -177,6 +187,7 @@ def search_widths(pb, mu, waves, coef) -> tuple:
     """
     rests = pb.rest(mu, waves, coef)
     level = _noise(pb, rests)
+    pb.lost = lost_motion(pb, coef)  # the take-ups' travel at the axes' own angle
     return tuple(_axis_width(pb, mu, rests, coef, axis, level) for axis in (0, 1))
 
 

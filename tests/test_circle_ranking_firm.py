@@ -48,3 +48,22 @@ def test_the_ranking_marks_spikes_their_pm_leaves_short_of_the_tolerance():
     big = dict(ERR, spikes={(d, "B"): (50e-6, 6.0) for d in ("ccw", "cw")})
     marks, _ = ranking_marks(gen.diagnose(big))
     assert "±" not in marks["reversal_spikes"]
+
+
+def test_a_term_is_placed_past_the_scale_only_where_both_pm_agree():
+    """Bench C at F5000 (the independent simulator's): the TCP's spikes rank at 27.00 ±
+    1.42 um of G, the scale's at 12.91 ± 0.97 um, and the ranking said "mostly past the
+    linear scale" (under half), which their ±95% does not hold; the backlash X, 4.37 ±
+    1.70 against 0.04 ± 0.08 um, it holds. A term is placed only where every G within the
+    ±95% of both places it alike."""
+    from conftest import bench_path
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+
+    c = bench_path("c")
+    res = [analyse_circle(read_run(c / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
+    placed = placed_terms(circle_diagnostics(*res, sensor="tcp"),
+                          circle_diagnostics(*res, sensor="scale"), "linear scale")
+    assert placed["reversal_spikes"][1].startswith("not placed: within their ±95%")
+    assert placed["backlash_X"][1].startswith("mostly past the linear scale")

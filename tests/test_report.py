@@ -635,8 +635,9 @@ def test_the_error_sources_say_what_the_scale_does_not_see():
     assert small and not any("linear scale" in n for n in small)
     # the scale against itself: every term it places is its own
     own = ranked_sources(scale, scale)
-    assert all(n.startswith("at the linear scale too") for _, g, n, _ in own
+    assert all(n.startswith(("at the linear scale too", "not placed")) for _, g, n, _ in own
                if g > scale["residual_rms"] and "centre" not in n)
+    assert not any(n.startswith("mostly past") for _, _, n, _ in own)
 
 
 def test_the_model_section_lists_the_current_setpoint_filters():

@@ -214,10 +214,36 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
         if term in partial_spikes(reference) and g_ref < SHARED_PART * g:
             g_ref = float("nan")  # the largest of some spikes: the others may pass it
         placed = term != "centre_offset" and g > floor
+        # each G within its ±95% (per unit of the term, the tool's): placed where all agree
+        k, u = g_spread(diag, term, g)
+        lo, hi, u_ref = g - k * u, g + k * u, k * g_spread(reference, term, g_ref)[1]
         where = (f"not determined at the {sensor_name}" if g_ref != g_ref else
-                 term_place(g, g_ref, sensor_name, term))
+                 term_place(lo, g_ref + u_ref, sensor_name, term)
+                 if g_ref + u_ref < SHARED_PART * lo else
+                 term_place(hi, g_ref - u_ref, sensor_name, term)
+                 if g_ref - u_ref >= SHARED_PART * hi else
+                 f"not placed: within their ±95% the {sensor_name}'s circles may see less or "
+                 "more than half of it")
         out[term] = (g_ref, where if placed else "")
     return out
+
+
+def g_spread(diag, term: str, g: float) -> tuple[float, float]:
+    """``(G per unit, ±95%)`` of a ranked term of ``diag`` whose G alone is ``g``: two
+    standard uncertainties from what the terms leave (:mod:`.circle_sigma`), for the
+    reversal spikes the ranked spike's own ±95% (G per unit 1); a ±95% of 0 where none is
+    estimated [m/unit, unit]."""
+    from .circle_sigma import COVERAGE  # which reads this module's units
+
+    if term == "reversal_spikes":
+        given = [(abs(v), diag.spike_u95.get(k, float("nan")))
+                 for k, (v, _) in diag.terms.items() if k.startswith("spike_") and v == v]
+        u = max(given)[1] if given else 0.0
+        return 1.0, u if u == u else 0.0
+    name = f"cyclic_amplitude_{term[-1]}" if term.startswith("cyclic_") else term
+    value, sigma = diag.terms.get(name, (float("nan"),))[0], diag.sigma.get(name, 0.0)
+    k = g / abs(value) if value == value and value != 0 and g == g else 0.0
+    return k, COVERAGE * sigma
 
 
 def partial_spikes(diag) -> set:

@@ -207,11 +207,11 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
     # a term the other sensor's circles leave open is not ranked there: not a G of 0
     at = {r["term"]: float(r["g_alone_m"]) for r in reference.ranking}
     floor = diag["residual_rms"] if "residual_rms" in diag.terms else 0.0
-    out = {}
+    out, partial = {}, partial_spikes(reference)
     for r in diag.ranking:
         term, g = r["term"], float(r["g_alone_m"])
         g_ref = at.get(term, float("nan"))
-        if term in partial_spikes(reference) and g_ref < SHARED_PART * g:
+        if term in partial and g_ref < SHARED_PART * g:
             g_ref = float("nan")  # the largest of some spikes: the others may pass it
         placed = term != "centre_offset" and g > floor
         # each G within its ±95% (per unit of the term, the tool's): placed where all agree

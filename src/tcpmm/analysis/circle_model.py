@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_travel import axis_phase, take_up, travel_since_reversal
+from .circle_travel import axis_phase, axis_signs, take_up, travel_since_reversal
 
 #: A term is determined where at least this share of its column (unit norm) is independent
 #: of the other columns: noise then enters it at most tenfold [-].
@@ -64,22 +64,6 @@ def reversal_angle(pos, centre):
     """The angle about the circle's own ``centre`` of the tool at ``pos``, where its axes
     reverse; None for a circle about the nominal centre, whose own angle it is [rad]."""
     return None if not any(centre) else np.arctan2(pos[1] - centre[1], pos[0] - centre[0])
-
-
-def axis_signs(angle, s, mu=0.0):
-    """``(sx, sy)``: signs of the X and Y velocities, each axis reversing where it does with
-    a servo mismatch angle ``mu`` (module docstring) [-].
-
-    Parameters
-    ----------
-    angle : ndarray
-        Angle CCW from the first axis [rad].
-    s : float
-        +1 CCW, -1 CW [-].
-    mu : float
-        Servo mismatch as an angle, ``w (ty - tx)`` [rad].
-    """
-    return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
 
 
 def radial_weights(angle, s, ratio=1.0, mu=0.0) -> tuple:

@@ -17,6 +17,22 @@ from __future__ import annotations
 import numpy as np
 
 
+def axis_signs(angle, s, mu=0.0):
+    """``(sx, sy)``: signs of the X and Y velocities, each axis reversing where it does with
+    a servo mismatch angle ``mu`` (:mod:`tcpmm.analysis.circle_model`) [-].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle CCW from the first axis [rad].
+    s : float
+        +1 CCW, -1 CW [-].
+    mu : float
+        Servo mismatch as an angle, ``w (ty - tx)`` [rad].
+    """
+    return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
+
+
 class Widths(tuple):
     """Each axis' take-up width, as a tuple ``(x, y)`` [m], with ``lost``: each axis' lost
     motion (its backlash as last fitted), which turns the tool's angle from the axes'
@@ -45,15 +61,15 @@ def axis_phase(angle, s, radius, mu, lost):
     a = np.asarray(angle)
     if not any(lost):
         return a
-    dx = 0.5 * s * np.sign(np.sin(a + s * mu)) * lost[0]  # -b/2 along X's velocity
-    dy = -0.5 * s * np.sign(np.cos(a - s * mu)) * lost[1]
+    sx, sy = axis_signs(a, s, mu)
+    dx, dy = -0.5 * sx * lost[0], -0.5 * sy * lost[1]  # each -b/2 along its velocity
     return a - (dy * np.cos(a) - dx * np.sin(a)) / radius
 
 
 def travel_since_reversal(angle, s, radius, mu, axis):
     """How far the axis ``axis`` (0 the first, 1 the second) has been commanded since its
     last reversal, each axis reversing where it does with a servo mismatch angle ``mu``
-    (:func:`tcpmm.analysis.circle_model.axis_signs`): ``R (1 - cos phi)``, ``phi`` the
+    (:func:`axis_signs`): ``R (1 - cos phi)``, ``phi`` the
     angle travelled since [m].
 
     Parameters

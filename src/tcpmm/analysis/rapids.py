@@ -219,15 +219,16 @@ class MoveTravel:
         starts = np.flatnonzero(on & ~np.concatenate([[self.open], on[:-1]]))
         ends = np.flatnonzero(on & ~np.concatenate([on[1:], [False]])) + 1
         cut = np.sort(np.concatenate([starts, ends]))  # each move's samples, one reduce
+        if on.any():  # the stretches, the same for every axis
+            first = 0 if on[0] and self.open else int(starts[0])
+            edges = np.unique(np.concatenate([[first], cut[cut < n]]))
+            keep = on[edges]  # the reduced stretches that are moves, not rapids
         for a, v in cols.items():
             self.best.setdefault(a, 0.0)
             if not on.any():
                 continue
-            first = 0 if on[0] and self.open else int(starts[0])
-            edges = np.unique(np.concatenate([[first], cut[cut < n]]))
-            lo, hi = np.minimum.reduceat(v, edges), np.maximum.reduceat(v, edges)
-            keep = on[edges]  # the reduced stretches that are moves, not rapids
-            lo, hi = lo[keep], hi[keep]
+            lo = np.minimum.reduceat(v, edges)[keep]
+            hi = np.maximum.reduceat(v, edges)[keep]
             if on[0] and self.open:  # the move the chunk before left open goes on
                 lo[0], hi[0] = min(lo[0], self.lo[a]), max(hi[0], self.hi[a])
             closed = slice(None, -1) if on[-1] else slice(None)

@@ -143,6 +143,10 @@ def undetermined_lines(undetermined: dict) -> list[str]:
     return [f"{', '.join(terms)}: not determined; {why}" for why, terms in by.items()]
 
 
+#: The coverage factor of the uncertainty shown: about 95 % for a normal scatter [-]
+COVERAGE = 2.0
+
+
 #: the part of a term's G at the tool that a sensor nearer the drive must see for the
 #: term to be called the axis' own [-]
 SHARED_PART = 0.5
@@ -233,8 +237,6 @@ def g_spread(diag, term: str, g: float) -> tuple[float, float]:
     standard uncertainties from what the terms leave (:mod:`.circle_sigma`), for the
     reversal spikes the ranked spike's own ±95% (G per unit 1); a ±95% of 0 where none is
     estimated [m/unit, unit]."""
-    from .circle_sigma import COVERAGE  # which reads this module's units
-
     if term == "reversal_spikes":
         given = [(abs(v), diag.spike_u95.get(k, float("nan")))
                  for k, (v, _) in diag.terms.items() if k.startswith("spike_") and v == v]

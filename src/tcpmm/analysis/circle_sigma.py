@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_display import DISPLAY_UNITS, rename_axes
+from .circle_display import COVERAGE, DISPLAY_UNITS, rename_axes
 from .circle_reversal_tail import largest_tail
 from .circle_tails import (
     MOVES_M,
@@ -24,9 +24,6 @@ from .circle_tails import (
     radial_size,
     ranked_names,
 )
-
-#: The coverage factor of the uncertainty shown: about 95 % for a normal scatter [-]
-COVERAGE = 2.0
 
 
 def term_sigma(fit, n_arcs, shared, terms, axes, mean_rate=float("nan"),

@@ -34,7 +34,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import test_circle_diagnostics as gen  # the suite's generator
 
 TERMS = ("centre_offset_X", "backlash_X", "lateral_play_X", "squareness", "scale_mismatch",
-         "servo_mismatch", "straightness_X", "cyclic_amplitude_X")
+         "servo_mismatch", "straightness_X", "cyclic_amplitude_X", "cyclic_period_X")
 CASES = (("1 ms, white", 7200, 0.0, 360), ("4 ms, white", 1800, 0.0, 360),
          ("1 ms, alike over 19", 7200, 0.9, 360), ("4 ms, alike over 19", 1800, 0.9, 360),
          ("220 deg arcs, 1 ms, white", 7200, 0.0, 220))

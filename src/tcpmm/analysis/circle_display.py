@@ -8,6 +8,12 @@ DISPLAY_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-"
                  "rad": ("µrad", 1e6)}
 
 
+def display_unit(term: str, unit: str) -> tuple[str, float]:
+    """``(display unit, factor)`` of a term of SI unit ``unit``: :data:`DISPLAY_UNITS`, mm
+    for the cyclic periods [-]."""
+    return ("mm", 1e3) if term.startswith("cyclic_period") else DISPLAY_UNITS[unit]
+
+
 def display_digits(term: str, shown: str) -> int:
     """Decimals of a term in its display unit ``shown``: a servo mismatch in ms is read to
     microseconds, the reversals' tails' time constant to tenths of a millisecond (its
@@ -51,7 +57,7 @@ def display_terms(diag, ascii_units: bool = False) -> list[tuple]:
     """
     rows = []
     for term, (value, unit) in diag.terms.items():
-        shown, k = ("mm", 1e3) if term.startswith("cyclic_period") else DISPLAY_UNITS[unit]
+        shown, k = display_unit(term, unit)
         rows.append((term, value * k, shown.replace("µ", "u") if ascii_units else shown))
     return rows
 

@@ -27,6 +27,7 @@ from .circle_model import (
     term_columns,
 )
 from .circle_noise import coef_covariance
+from .circle_period import wave_sigma
 from .circle_reversal_tail import lingering, search_tail, tail_block, tail_names
 from .circle_settling import steady_ends
 from .circle_takeup import search_widths
@@ -69,8 +70,7 @@ class Arc:
         """Samples outside the reversals' transients where each axis reverses with a
         servo mismatch angle ``mu``: the leading axis reverses ``|mu|`` before its
         quadrant point, and the window then starts that much (and a sample) earlier;
-        else the first and largest sample of its transient is fitted as the circle (a
-        5 um spike under a 1 ms mismatch read 1.8 um of backlash and 78 ppm of scale) [-].
+        else the first and largest sample of its transient is fitted as the circle [-].
 
         Parameters
         ----------
@@ -88,8 +88,7 @@ class Arc:
 
     def positions(self, radius, angle=None, e=None):
         """``(x, y)`` of the tool about the nominal centre [m]."""
-        a = self.angle if angle is None else angle
-        r = radius + (self.e if e is None else e)
+        a, r = self.angle if angle is None else angle, radius + (self.e if e is None else e)
         return r * np.cos(a), r * np.sin(a)
 
 
@@ -115,15 +114,14 @@ class TermFit:
         offset [m].
     aliases : dict
         Per column left out of the fit (and per term ``unseen`` of :func:`fit_terms`), how
-        much each fitted column moves per unit of it, were it present
-        (:func:`.circle_model.alias_slopes`) [SI/SI].
+        much each fitted column moves per unit of it (:func:`.circle_model.alias_slopes`)
+        [SI/SI].
     periods : tuple
         The longest and shortest period the cyclic errors were searched over; empty where
         they were not searched [m].
     cov : ndarray, optional
-        Covariance of the coefficients from what the fit leaves over
-        (:func:`.circle_noise.coef_covariance`); NaN for a column not fitted, all NaN
-        where it is not estimated [SI^2].
+        Covariance of the coefficients from what the fit leaves over; NaN for a column not
+        fitted, all NaN where not estimated (:func:`.circle_noise.coef_covariance`) [SI^2].
     tail : tuple, optional
         ``(decay, shape)`` of the reversals' tails past the window: the time constant, as
         the angle travelled in it at the mean speed, and the shape; None where they are not
@@ -144,6 +142,9 @@ class TermFit:
         (:mod:`.circle_takeup`) [m].
     lost : tuple
         Per axis, the backlash its take-up's travel is read with (:mod:`.circle_travel`) [m].
+    wave_sigma : tuple
+        Standard uncertainty of each wavenumber of ``waves``, NaN for none
+        (:func:`.circle_period.wave_sigma`) [1/m].
     """
 
     names: list
@@ -161,6 +162,7 @@ class TermFit:
     widths: tuple = ((0.0, float("nan")), (0.0, float("nan")))
     tail_family: tuple = ()
     lost: tuple = (0.0, 0.0)
+    wave_sigma: tuple = (float("nan"), float("nan"))
 
     def __getitem__(self, name):
         return float(self.coef[self.names.index(name)])
@@ -285,8 +287,8 @@ class FitProblem:
 
     def centres_of(self, coef) -> list:
         """Each arc's fitted centre offset, 0 where it is not determined [m]."""
-        c = np.nan_to_num(coef[:3 * len(self.arcs)]).reshape(-1, 3)
-        return [(float(x), float(y)) for _, x, y in c]
+        return [(float(x), float(y)) for _, x, y in
+                np.nan_to_num(coef[:3 * len(self.arcs)]).reshape(-1, 3)]
 
     def data(self, mu):
         """The fitted samples' radial error less the servo mismatch's remainder [m]."""
@@ -323,8 +325,7 @@ class FitProblem:
 
 def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
               columns=None, unseen=(), tail=None) -> TermFit:
-    """Fit the terms ``shared`` and each arc's radius and centre to the arcs (module
-    docstring).
+    """Fit the terms ``shared`` and each arc's radius and centre to the arcs.
 
     Parameters
     ----------
@@ -381,19 +382,18 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
 
 def _finished(pb, mu, waves, unseen, periods) -> TermFit:
     """The fit of ``pb`` with its reversals and cyclic errors placed, its aliases and
-    covariance worked out [-]."""
+    covariances worked out [-]."""
     coef, res, _ = pb.solve(mu, waves)
     names = column_names(len(pb.arcs), pb.shared, waves, pb.tail)
     A = pb.matrix(mu, waves)
     extra = dict(zip(unseen, pb.unseen_columns(unseen, mu).T, strict=True)) if unseen else {}
     kept = np.isfinite(coef)
-    aliases = alias_slopes(A, kept, names, extra)
     cov = np.full((coef.size, coef.size), np.nan)
     cov[np.ix_(kept, kept)] = coef_covariance(A[:, kept], res, [m.sum() for m in pb.masks])
-    # the spread is of the columns without the tails', which come last
-    spread = {} if pb.tail_spread is None else {
+    spread = {} if pb.tail_spread is None else {  # of the columns before the tails'
         k: float(v) for k, v in zip(names, pb.tail_spread, strict=False) if v}
     return TermFit(names, coef, tuple(waves), mu, float(np.sqrt(np.mean(res**2))),
-                   tuple(pb.centres), aliases, periods, cov, pb.tail, spread,
-                   pb.tail_interval, pb.widths, pb.tail_family, pb.lost)
+                   tuple(pb.centres), alias_slopes(A, kept, names, extra), periods, cov,
+                   pb.tail, spread, pb.tail_interval, pb.widths, pb.tail_family, pb.lost,
+                   wave_sigma(pb, waves, names, A, coef, res))
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_display import COVERAGE, DISPLAY_UNITS, rename_axes
+from .circle_display import COVERAGE, display_unit, rename_axes
 from .circle_reversal_tail import largest_tail
 from .circle_tails import (
     MOVES_M,
@@ -61,9 +61,10 @@ def term_sigma(fit, n_arcs, shared, terms, axes, mean_rate=float("nan"),
     for term in weights[0]:
         w = np.array([wj[term] for wj in weights])
         out[term] = float(np.sqrt(w @ cov @ w)) if np.all(np.isfinite(w)) else np.nan
-    for axis, k in zip("XY", fit.waves, strict=True):
+    for axis, k, sk in zip("XY", fit.waves, fit.wave_sigma, strict=True):
         if k is not None:
             out[f"cyclic_amplitude_{axis}"] = _amplitude_sigma(fit, cov, axis)
+            out[f"cyclic_period_{axis}"] = sk / k**2  # of 1 / k, to first order
         j = largest_tail(fit, axis)
         if j is not None:  # the one reported, at the tails' time constant
             out[f"reversal_tail_{axis}"] = float(np.sqrt(cov[j, j]))
@@ -152,4 +153,4 @@ def shown_uncertainty(diag, term: str) -> float:
     estimated [-]."""
     if term not in diag.sigma:
         return float("nan")
-    return COVERAGE * diag.sigma[term] * DISPLAY_UNITS[diag.terms[term][1]][1]
+    return COVERAGE * diag.sigma[term] * display_unit(term, diag.terms[term][1])[1]

@@ -40,12 +40,11 @@ def diagnostics_json(diag, result=None) -> dict:
 def _shift(diag, term: str):
     """A term's change when the fit leaves 40 deg after each reversal out instead of 20,
     in its display unit; None where it is not computed [-]."""
-    from ..analysis.circle_display import DISPLAY_UNITS
+    from ..analysis.circle_display import display_unit
 
     if term not in diag.tail_shift:
         return None
-    k = 1e3 if term.startswith("cyclic_period") else DISPLAY_UNITS[diag.terms[term][1]][1]
-    return diag.tail_shift[term] * k
+    return diag.tail_shift[term] * display_unit(term, diag.terms[term][1])[1]
 
 
 def _at_scale(diag, result) -> dict | None:

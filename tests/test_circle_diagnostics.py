@@ -1302,3 +1302,23 @@ def test_a_pitch_error_under_a_servo_mismatch_sampled_every_4_ms_is_found(monkey
     n = 330
     err = {"tau_y": 1e-3, "cyc_y": (0.76e-6, 8e-3, 0.03)}
     assert_recovered(diagnose(err, n=n), expected(err, n), w=2 * np.pi / (n * 4e-3))
+
+
+@pytest.mark.parametrize("span", [352.0, 357.0])
+def test_a_pair_of_nearly_full_arcs_finds_its_cyclic_error(span):
+    """A turn cut short by some degrees (one programmed turn behind a 30 ms filter keeps
+    358 deg of steady circle): no cyclic error was searched on an arc, and a pitch error of
+    X read as X's backlash (5.6 um for 4) and turned its spikes (-2 um for +2). Arcs of
+    :data:`~tcpmm.analysis.circle_stable.CYCLIC_ARC_DEG` or more are searched as full
+    turns are; every term and spike is recovered."""
+    err = {"b_x": 4e-6, "b_y": -3e-6, "cx": 3e-6, "alpha": 30e-6, "cyc_x": ALL["cyc_x"],
+           "spikes": {(d, q): (2e-6, 4.0) for d in ("ccw", "cw") for q in "AC"}}
+    diag = diagnose_pair(arc("ccw", err, 60.0, span, 1), arc("cw", err, 60.0, span, 2), R,
+                         (W, W))
+    # a point within some 30 deg of an arc's start has no spike (too few samples before it)
+    want = {k: v for k, v in expected(err).items() if k not in diag.undetermined
+            and not k.startswith("radial_deviation")
+            and not (k.startswith("spike") and np.isnan(diag[k]))}
+    assert {"cyclic_amplitude_X", "cyclic_period_X", "spike_A_ccw", "spike_C_ccw",
+            "spike_A_cw", "spike_C_cw"} <= set(want)
+    assert_recovered(diag, want)

@@ -134,21 +134,22 @@ def test_the_circle_table_shows_the_spikes_uncertainty(capsys, tmp_path):
 
 
 def test_an_oscillation_the_terms_leave_before_the_points_is_named_with_both_bounds(capsys):
-    """Machine E of the independent simulator: at the TCP the pair's terms leave several
-    micrometres of oscillation before each point (5.5 um rms over the circle), which the
-    bound counts as noise (above 5 um); the line under the table says so and gives the
-    bound from the sample-to-sample noise alone (under 2 um), which the four spikes of X's
-    reversals (A and C, both directions), alike by the physics, keep to."""
-    d = bench_path("e")
-    code, out, _ = run_cli(capsys, "circle", d / "circle_ccw_meas.csv",
-                           d / "circle_cw_meas.csv", "--radius", 35, "--json")
+    """Machine C of the independent simulator at F10000: at the TCP the pair's terms leave
+    micrometres of oscillation before each point (3.5 um rms over the circle: a column that
+    rings at 31 Hz), which the bound counts as noise (above 5 um at A and C); the line
+    under the table says so and gives the bound from the sample-to-sample noise alone
+    (under 2 um), which the four spikes of X's reversals (A and C, both directions), alike
+    by the physics, keep to."""
+    d = bench_path("c")
+    code, out, _ = run_cli(capsys, "circle", d / "circle_ccw_fast_meas.csv",
+                           d / "circle_cw_fast_meas.csv", "--radius", 35, "--json")
     assert code == 0
     rows = [r for p in json.loads(out)["passes"] for r in p["sensors"] if r["sensor"] == "tcp"]
     u = [r[f"spike_after_terms_{q}_uncertainty_95_um"] for r in rows for q in "AC"]
     assert min(u) > 5.0
     x = [r[f"spike_after_terms_{q}_um"] for r in rows for q in "AC"]
-    code, out, _ = run_cli(capsys, "circle", d / "circle_ccw_meas.csv",
-                           d / "circle_cw_meas.csv", "--radius", 35)
+    code, out, _ = run_cli(capsys, "circle", d / "circle_ccw_fast_meas.csv",
+                           d / "circle_cw_fast_meas.csv", "--radius", 35)
     line = next(t for t in out.splitlines() if "counts what the terms leave" in t)
     fast = float(line.split("CCW tcp ±")[1].split()[0])
     assert fast < 2.0 and max(x) - min(x) < fast

@@ -68,17 +68,13 @@ class Arc:
 
     def mask_for(self, mu: float):
         """Samples outside the reversals' transients where each axis reverses with a
-        servo mismatch angle ``mu``: the leading axis reverses ``|mu|`` before its
+        servo mismatch angle ``mu`` [rad]: the leading axis reverses ``|mu|`` before its
         quadrant point, and the window then starts that much (and a sample) earlier;
-        else the first and largest sample of its transient is fitted as the circle [-].
-
-        Parameters
-        ----------
-        mu : float
-            Servo mismatch angle of the circles fitted together [rad].
-        """
+        else the first and largest sample of its transient is fitted as the circle. It
+        stops and starts as much earlier too: as much is left out at the ends [-]."""
         lead = reversal_lead_deg(self.angle, self.ratio * mu)
-        return fit_mask(self.angle, self.s, after_deg=(-lead, self.after_deg)) & self.ends
+        return fit_mask(self.angle, self.s, after_deg=(-lead, self.after_deg)) & (
+            steady_ends(self.angle, lead) if mu else self.ends)
 
     @cached_property
     def ends(self):

@@ -9,8 +9,8 @@ than about 200 deg the same; pairs of 220 deg, a ballbar's partial arcs, come wi
 0.2 um of the full turns' centre, backlash, lateral play and bows on a machine of fine
 sensors. So one direction over an arc, or a pair of arcs shorter than
 :data:`MIN_TERMS_DEG`, gives no terms (its radial deviation, G and spikes it still
-gives), and no arc gives a cyclic error: over part of a turn its columns are a centre
-and a bow. Full turns are fitted as they were.
+gives), and no arc shorter than :data:`CYCLIC_ARC_DEG` gives a cyclic error: over part
+of a turn its columns are a centre and a bow. Full turns are fitted as they were.
 """
 
 from __future__ import annotations
@@ -25,6 +25,11 @@ from .circle_model import fit_mask, is_full
 
 #: shortest pair of arcs whose terms are fitted: a ballbar's partial arcs are 220 deg [deg]
 MIN_TERMS_DEG = 210.0
+#: shortest pair of arcs searched for cyclic errors, as full turns are: a turn cut short
+#: by the settling at its ends (one programmed turn behind a 30 ms filter keeps 358 deg)
+#: leaves a pitch error to the backlash and the spikes otherwise (0.8 um at 6 mm over
+#: 352 deg read X's backlash 5.6 um for 4 and its spikes -2 um for +2) [deg]
+CYCLIC_ARC_DEG = 350.0
 #: Why an arc leaves a term undetermined
 ARC_WHY = ("the arc does not determine it: its radial error there is nearly that of other "
            "terms, which take it over where it is present (what each would move per unit "
@@ -78,7 +83,7 @@ def arc_fit(arcs, radius, shared, unseen=()):
         return fit_terms(arcs, radius, shared, unseen=unseen, tail=tail), {}
     deg = min(float(np.degrees(np.ptp(a.angle))) for a in arcs)
     if len(arcs) >= 2 and deg >= MIN_TERMS_DEG:
-        return fit_terms(arcs, radius, shared, cyclic=False, unseen=unseen), {}
+        return fit_terms(arcs, radius, shared, cyclic=cyclic_on(arcs), unseen=unseen), {}
     # whole degrees, but 209.99 is no 210 in words either
     shown = f"{deg:.0f}" if round(deg) < MIN_TERMS_DEG else f"{np.floor(deg * 10) / 10:g}"
     what = (f"one direction over an arc of {shown} deg" if len(arcs) < 2 else
@@ -158,6 +163,13 @@ def _bridge(t, e, before, after, window):
     return np.polyval(np.polyfit(t[m], e[m], 1), t[window])
 
 
+def cyclic_on(arcs) -> bool:
+    """Whether the arcs are searched for cyclic errors: a pair each of
+    :data:`CYCLIC_ARC_DEG` or more, or full turns [-]."""
+    return all(is_full(a.angle) for a in arcs) or (len(arcs) >= 2 and min(
+        float(np.degrees(np.ptp(a.angle))) for a in arcs) >= CYCLIC_ARC_DEG)
+
+
 def leave_open(why_out: dict, terms: dict, left: dict, arcs, axes, rename=None) -> None:
     """Say in ``why_out`` why the terms an arc's fit left out (``left``, :func:`arc_fit`)
     are open, and why an arc gives no cyclic error, by their reported names (``rename``
@@ -167,7 +179,8 @@ def leave_open(why_out: dict, terms: dict, left: dict, arcs, axes, rename=None) 
     full turns [-]."""
     if all(is_full(a.angle) for a in arcs):
         return
-    reasons = {f"cyclic_{q}_{a}": CYCLIC_WHY for a in "XY" for q in ("amplitude", "period")}
+    reasons = {} if cyclic_on(arcs) else {
+        f"cyclic_{q}_{a}": CYCLIC_WHY for a in "XY" for q in ("amplitude", "period")}
     for name, text in left.items():
         names = [name]
         if name.startswith("centre_"):

@@ -138,3 +138,15 @@ def test_the_period_holds_the_frame_it_is_read_in(axis):
     d = gen.diagnose(err, noise=0.01e-6)
     name = f"cyclic_period_{axis.upper()}"
     assert 1e-6 < d[name] - lam <= 2 * d.sigma[name]
+
+
+def test_the_lines_of_uncertain_terms_give_a_period_in_mm():
+    """The lines naming the terms uncertain by what the terms leave or by the reversals'
+    tails gave a period of 22.48 mm as "22483.82 ± 506.20 µm", where the table gives mm."""
+    from types import SimpleNamespace
+
+    from tcpmm.analysis.circle_tails import pair_text
+
+    diag = SimpleNamespace(terms={"cyclic_period_X": (0.02248382, "m")})
+    assert pair_text(diag, "cyclic_period_X", 0.02248382, 0.0005062, "±") == \
+        "cyclic period X 22.48 ± 0.51 mm"

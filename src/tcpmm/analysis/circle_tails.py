@@ -23,7 +23,7 @@ import dataclasses
 import numpy as np
 
 from ..errors import InputError
-from .circle_display import DISPLAY_UNITS, display_digits, rename_axes
+from .circle_display import display_digits, display_unit, rename_axes
 from .circle_fit import fit_terms
 from .circle_open import open_terms
 from .circle_reversal_tail import LINGER
@@ -229,7 +229,7 @@ def moving_line(diag) -> str:
 
 def pair_text(diag, term: str, a: float, b: float, sep: str) -> str:
     """``"<term> <a> <sep> <b> <unit>"`` of two values of a term in its display unit [-]."""
-    shown, k = DISPLAY_UNITS[diag.terms[term][1]]
+    shown, k = display_unit(term, diag.terms[term][1])
     n = display_digits(term, shown)
     return f"{term.replace('_', ' ')} {a * k:.{n}f} {sep} {b * k:.{n}f} {shown}"
 

@@ -317,7 +317,7 @@ RESOLVED_SHARE = 0.1
 RESOLVED_M = 0.5e-6
 
 
-def warn_unresolved(t, X, Y, sl, cp, radius_m: float, centre) -> None:
+def warn_unresolved(t, cp, radius_m: float, centre) -> None:
     """Warn (:class:`InputWarning`) where a full circle's contour error or circular
     deviation G of a sensor moves by more than :data:`RESOLVED_SHARE` of itself (and
     :data:`RESOLVED_M`) when every other sample is left out: it hangs on single samples,
@@ -328,12 +328,9 @@ def warn_unresolved(t, X, Y, sl, cp, radius_m: float, centre) -> None:
     ----------
     t : ndarray
         Time of the pass's samples [s].
-    X, Y : AxisRun
-        The run's two axes of the circle's plane [-].
-    sl : slice
-        The pass's samples [-].
     cp : CirclePass
-        The pass, its sensors analysed; an arc is not judged [-].
+        The pass, its sensors analysed (each sensor's own samples of it, whose figures the
+        table gives); an arc is not judged [-].
     radius_m : float
         Nominal radius [m].
     centre : tuple
@@ -343,7 +340,9 @@ def warn_unresolved(t, X, Y, sl, cp, radius_m: float, centre) -> None:
         return
     said = []
     for name in (s for s in cp.sensors if s != "cmd"):
-        x, y = X.sensor(name)[sl], Y.sensor(name)[sl]
+        sc = cp.sensors[name]
+        r = radius_m + sc.radial_error
+        x, y = centre[0] + r * np.cos(sc.angle_rad), centre[1] + r * np.sin(sc.angle_rad)
         whole = _figures(x, y, radius_m, centre)
         halves = [_figures(x[k::2], y[k::2], radius_m, centre) for k in (0, 1)]
         for i, what in enumerate(("contour error", "G")):

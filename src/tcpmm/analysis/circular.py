@@ -385,7 +385,7 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
         warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)
         if settling:
             warn_unsettled(X, Y, sl, present, ref_ang, d, cp.arc_deg)
-            warn_unresolved(run.time_s[sl], X, Y, sl, cp, radius_m, centre_m)
+            warn_unresolved(run.time_s[sl], cp, radius_m, centre_m)
         passes.append(cp)
     if not passes:
         raise not_found_error(radius_m, centre_m, axes, ref, direction)

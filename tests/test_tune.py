@@ -73,7 +73,7 @@ def test_tune_builtin_from_the_command_line(capsys, tmp_path):
              * 1.02 + 0.1]
     assert bool(grown) <= bool(worse)
     for case, b, a in grown:
-        assert f"{case} contour error {b:.2f} -> {a:.2f} um" in worse[0]
+        assert f"{case} contour error {b:.2f} -> {a:.2f} µm" in worse[0]
 
 
 @pytest.mark.parametrize("text", ["6,45", "6dB", "-6dB,45deg", "6dB,95deg", "six dB,45deg"])
@@ -295,7 +295,7 @@ def test_a_proposal_that_predicts_a_worse_path_says_so_and_why():
         return {"ccw": {"spike_um": 20.0, "contour_error_um": ce}}
 
     [note] = _worse_note(circle(16.42), circle(16.91), axes, (6.0, 45.0), False, False)
-    assert "worse after: ccw contour error 16.42 -> 16.91 um" in note
+    assert "worse after: ccw contour error 16.42 -> 16.91 µm" in note
     assert "X velocity 4.8 dB / 13.9 deg" in note and "position" not in note
     assert _worse_note(circle(16.91), circle(16.42), axes, (6.0, 45.0), False, False) == []
     assert _worse_note(circle(float("inf")), circle(16.42), axes, (6.0, 45.0), False,
@@ -314,7 +314,7 @@ def test_a_program_whose_largest_deviation_grows_is_worse_too():
     before = {"program": {"max_deviation_um": 14.40, "rms_deviation_um": 3.0}}
     after = {"program": {"max_deviation_um": 28.96, "rms_deviation_um": 2.9}}
     [note] = _worse_note(before, after, axes, (6.0, 45.0), False, True)
-    assert "program max deviation 14.40 -> 28.96 um" in note and "rms" not in note
+    assert "program max deviation 14.40 -> 28.96 µm" in note and "rms" not in note
 
 
 def test_the_proposal_is_checked_at_the_faster_feed_and_when_it_leaves_the_circle():
@@ -486,7 +486,8 @@ def test_full_filter_slots_and_a_slowed_loop_are_said(vmc, tmp_path, capsys):
     assert "axis X: tuning for 6 dB / 45 deg, stable with the modes 5 % off: met only with " \
            "the velocity loop slowed from " \
            "72.7 to 0.015 Hz" in stdout
-    assert re.search(r"velocity bandwidth \[Hz\] +72\.7 +0\.015\n", stdout)
+    # the settings' velocity loop is unstable alone (four low-passes' lag): its rows marked
+    assert re.search(r"velocity bandwidth \[Hz\] +72\.7\* +0\.015\n", stdout)
     assert "the 728.8 Hz mode limits the velocity gain and gets no notch: all 4 filter " \
            "slots of the drive are taken" in stdout
     assert "axis X: the margins are met only with the velocity loop's bandwidth cut" in stderr
@@ -717,3 +718,50 @@ def test_the_margins_of_unstable_settings_are_marked_of_no_meaning(vmc, capsys, 
                                   for b, a in rows.values()), rows
     assert "*: of no meaning, the sampled loop is unstable with these settings" in x
     assert "*" not in out[out.index("axis Y:"):]
+
+
+def test_a_velocity_loop_unstable_on_its_own_is_marked_in_its_rows(vmc):
+    """X's screw and table 100 times stiffer: a mode at 7.3 kHz, above the velocity loop's
+    4 kHz Nyquist frequency, folds back to 709 Hz and the settings' velocity loop is
+    unstable alone (a pole at |z| = 1.011). Its rows read 28.4 dB and 49.2 deg with no
+    mark, only the position rows had one; both loops' rows now carry it, and --json says
+    which loop is stable."""
+    from types import SimpleNamespace
+
+    from tcpmm.cli.tune import _unstable_marks
+    from tcpmm.servo.modeshift import velocity_only
+
+    a = vmc.axes["X"]
+    mech = a.mechanics.model_copy(update={"K_L": 100 * a.mechanics.K_L,
+                                          "K_t": 100 * a.mechanics.K_t})
+    assert sampled_spectral_radius(mech, velocity_only(a.servo)) > 1.005
+    marks = _unstable_marks(mech, SimpleNamespace(before=a.servo, after=a.servo))
+    assert marks == {"velocity": ("*", "*"), "position": ("*", "*")}
+    assert _unstable_marks(a.mechanics, SimpleNamespace(before=a.servo, after=a.servo)) == \
+        {"velocity": ("", ""), "position": ("", "")}
+
+
+def test_a_mode_tolerance_no_common_gain_meets_is_said_not_a_crash(capsys):
+    """With the modes up to 30 % off, no common position gain meets the margins on every
+    axis: the note on the kept gain looked up the axis that set it, which was none, and
+    the command ended in an internal error (KeyError: None)."""
+    assert main(["tune", "builtin:vmc", "--mode-tolerance", "30"]) == 0
+    out = capsys.readouterr().out
+    assert "internal error" not in out
+
+
+def test_a_proposal_that_fails_on_draws_is_said_once():
+    """The draws' "the proposal fails on 6 of 8 machines" was printed as a note on stdout
+    and again as the warning on stderr (and in --json's notes and warnings alike); the
+    command line now gives it as the warning alone, the other notes as they are."""
+    from types import SimpleNamespace
+
+    from tcpmm.cli.tune import _unwarned
+    from tcpmm.whatif.tuning_draws import proposal_fails
+
+    drawn = {"draws": 8, "faulty": 6, "proposal_fails": 6,
+             "proposal_faults": {"axis X's sampled servo loop is unstable": 4}}
+    said = proposal_fails(drawn)
+    res = SimpleNamespace(drawn=drawn, notes=["before: a note", said])
+    assert _unwarned(res) == ["before: a note"]
+    assert _unwarned(SimpleNamespace(drawn=None, notes=["x"])) == ["x"]

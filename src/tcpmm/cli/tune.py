@@ -77,9 +77,15 @@ def tune(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     if output is not None:
         write_machine(res.tuned, output)
     if as_json:
+        body = {**res.to_dict(), "notes": _unwarned(res)}
+        for name, t in res.axes.items():  # the table's "*", for a program
+            marks = _unstable_marks(m.axes[name].mechanics, t)
+            body["axes"][name]["sampled_loop_stable"] = {
+                when: {loop: not marks[loop][i] for loop in marks}
+                for i, when in enumerate(("before", "after"))}
         emit_json({"margins_required": {"gain_db": gm, "phase_deg": pm,
                                          "mode_tolerance_percent": mode_tolerance_percent},
-                   **res.to_dict(), "output": None if output is None else str(output)})
+                   **body, "output": None if output is None else str(output)})
         return
     _print_result(res, gm, pm, mode_tolerance_percent, m)
     if output is not None:
@@ -101,6 +107,14 @@ def _warn(res) -> None:
         warnings.warn(proposal_fails(res.drawn), InputWarning, stacklevel=2)
 
 
+def _unwarned(res) -> list[str]:
+    """The result's notes less what :func:`_warn` says as a warning [-]."""
+    from ..whatif.tuning_draws import proposal_fails
+
+    said = proposal_fails(res.drawn) if res.drawn and res.drawn.get("proposal_fails") else None
+    return [n for n in res.notes if n != said]
+
+
 def _fmt(v, digits=1):
     """``digits`` decimals; a value those would show as 0 with two significant digits."""
     if v is None:
@@ -110,13 +124,21 @@ def _fmt(v, digits=1):
     return f"{v:.2g}" if 0 < abs(v) < 10.0 ** (1 - digits) else f"{v:.{digits}f}"
 
 
-def _unstable_marks(mech, t) -> tuple:
-    """``"*"`` per column (before, after) whose sampled loop is unstable: the position
-    loop closes around the velocity loop, and its margins assume that one holds [-]."""
+def _unstable_marks(mech, t) -> dict:
+    """Per loop, ``"*"`` per column (before, after) whose sampled loop is unstable: the
+    velocity loop judged alone (:func:`~tcpmm.servo.modeshift.velocity_only`), the
+    position loop whole, which closes around the velocity loop and whose margins assume
+    that one holds [-]."""
+    from ..servo.modeshift import velocity_only
     from ..servo.sampled import sampled_spectral_radius
 
-    return tuple("*" if sampled_spectral_radius(mech, s) >= 1.0 else ""
-                 for s in (t.before, t.after))
+    def marks(alone):
+        return tuple("*" if sampled_spectral_radius(mech, velocity_only(s) if alone else s)
+                     >= 1.0 else "" for s in (t.before, t.after))
+
+    vel = marks(True)
+    return {"velocity": vel, "position": tuple(v or p for v, p in zip(vel, marks(False),
+                                                                      strict=True))}
 
 
 def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
@@ -137,7 +159,7 @@ def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
         caption = [f"after, {n} draws: over {n} machines drawn from the model's uncertainty, "
                    "the least first" if drawn else None,
                    "*: of no meaning, the sampled loop is unstable with these settings"
-                   if any(marks) else None]
+                   if any(any(m) for m in marks.values()) else None]
         print_plain(tab, out, f"axis {name}: tuning for {gm:g} dB / {pm:g} deg, stable with "
                               f"the modes {tolerance_percent:g} % off: {_verdict(t, drawn)}",
                     "\n".join(c for c in caption if c) or None)
@@ -145,7 +167,7 @@ def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
             out.print(f"  {esc(res.reasons[name])}")
         for note in t.notes:
             out.print(f"  {esc(note)}")
-    for note in res.notes:
+    for note in _unwarned(res):
         out.print(esc(note))
     if not res.path_before:
         return
@@ -169,13 +191,13 @@ def _print_result(res, gm, pm, tolerance_percent: float, machine) -> None:
                              if fails else "") if drawn else ""))
 
 
-def _margin_rows(t, marks: tuple, drawn: dict | None) -> list[tuple]:
+def _margin_rows(t, marks: dict, drawn: dict | None) -> list[tuple]:
     """The rows of each loop's margins and bandwidth, before and after, and the margins'
     range over the draws where there are draws [-]."""
     rows = []
     for loop in ("velocity", "position"):
         mb, ma = t.margins_before[loop].to_dict(), t.margins_after[loop].to_dict()
-        mk = marks if loop == "position" else ("", "")
+        mk = marks[loop]
         for label, key in (("gain margin [dB]", "gain_margin_db"),
                            ("phase margin [deg]", "phase_margin_deg"),
                            ("bandwidth [Hz]", "bandwidth_hz")):

@@ -22,7 +22,11 @@ def gain_notes(before, after, limits) -> list[str]:
 
 
 def kpp_reason(name, lead, found, names) -> str:
-    """Why an axis has the common position gain of the axes ``names`` [-]."""
+    """Why an axis has the common position gain of the axes ``names`` set by axis ``lead``;
+    None for none: no gain proposed meets the margins and stability on every axis [-]."""
+    if lead is None:
+        return ("kept: no position gain proposed meets the margins and the stability with the "
+                "modes off by the tolerance on every axis (--mode-tolerance)")
     if len(names) == 1:
         return f"the largest position gain of this axis, limited by {found[lead][1]} (no " \
                "other axis to match)"

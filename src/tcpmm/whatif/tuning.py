@@ -184,13 +184,13 @@ def _matched_notes(tuned: Machine, axes: dict, matched: list, met: list, runs: t
         kept = ", ".join(f"{n} {tuned.axes[n].servo.k_ff:g}" for n in met)
         notes.append(f"feedforward kept (k_ff {kept}): k_ff = "
                      f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} give the {what} within "
-                     f"{spread:.2g} um of each other, so the path does not judge it")
+                     f"{spread:.2g} µm of each other, so the path does not judge it")
     elif met and _worst(after) < float("inf"):
         # one fraction for the axes it is chosen for: the note belongs to them all at once
         k_ff = tuned.axes[met[0]].servo.k_ff
         notes.append(f"feedforward k_ff = {k_ff:g} on axes {', '.join(met)}: of k_ff = "
                      f"{', '.join(f'{k:g}' for k in FEEDFORWARD_GRID)} it gives the smallest "
-                     f"{what} ({_worst(after):.2f} um); it does not change the margins"
+                     f"{what} ({_worst(after):.2f} µm); it does not change the margins"
                      + _dropped_words(dropped))
     kpp = {n: axes[n].after.K_pp for n in matched}
     if kpp and max(kpp.values()) > min(kpp.values()) * (1 + 1e-9):
@@ -274,7 +274,7 @@ def _grown(before: dict, after: dict) -> list[str]:
             a = after.get(case, {}).get(key, float("nan"))
             if np.isfinite(b) and np.isfinite(a) and a > b * 1.02 + 0.1:
                 out.append(f"{case} {key.removesuffix('_um').replace('_', ' ')} "
-                           f"{b:.2f} -> {a:.2f} um")
+                           f"{b:.2f} -> {a:.2f} µm")
     return out
 
 

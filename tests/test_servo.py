@@ -149,3 +149,20 @@ def test_open_loop_torque_mode_moves_by_rigid_inertia(vmc_linear):
     w_expected = m.K_tc * 1.0 * 0.1 / m.J_total
     k = np.searchsorted(np.arange(r.motor_speed.size) * 5e-4, 0.1)
     assert r.motor_speed[k] == pytest.approx(w_expected, rel=0.05)
+
+
+def test_a_p_velocity_loop_is_not_called_unstable_for_its_idle_integrator(vmc):
+    """K_vi 0 (a P velocity loop, which a model may carry): the integrator's state still
+    sums the error but feeds nothing back, an eigenvalue of exactly 1 that is no mode of
+    the loop, and the loop read unstable ("spectral radius 1.0000"). It is left out: the
+    radius is the largest of the other eigenvalues, below 1."""
+    from tcpmm.servo.params import ServoParams
+    from tcpmm.servo.sampled import lifted_closed_loop, sampled_spectral_radius
+
+    a = vmc.axes["X"]
+    p_only = ServoParams.create(**{**a.servo.model_dump(), "K_vi": 0.0})
+    ev = np.abs(np.linalg.eigvals(lifted_closed_loop(a.mechanics, p_only)[0]))
+    idle = np.abs(ev - 1.0) < 1e-12
+    assert idle.sum() == 1  # the idle integrator
+    rho = sampled_spectral_radius(a.mechanics, p_only)
+    assert rho == pytest.approx(np.max(ev[~idle]), rel=1e-9) and rho < 0.9999

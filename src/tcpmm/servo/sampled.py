@@ -189,6 +189,10 @@ def sampled_spectral_radius(mech: AxisMechanics, servo: ServoParams) -> float:
         Largest modulus of the eigenvalues of ``Phi`` (:func:`lifted_closed_loop`) [-].
     """
     Phi = lifted_closed_loop(mech, servo)[0]
+    if servo.K_vi == 0.0:  # a P velocity loop's integrator feeds nothing back: its
+        n = plant(mech, servo.current_bandwidth_hz).A.shape[0]  # 1 is no mode of the loop
+        keep = np.r_[0:n, n + 1:Phi.shape[0]]
+        Phi = Phi[np.ix_(keep, keep)]
     return float(np.max(np.abs(np.linalg.eigvals(Phi))))
 
 

@@ -765,3 +765,14 @@ def test_a_proposal_that_fails_on_draws_is_said_once():
     res = SimpleNamespace(drawn=drawn, notes=["before: a note", said])
     assert _unwarned(res) == ["before: a note"]
     assert _unwarned(SimpleNamespace(drawn=None, notes=["x"])) == ["x"]
+
+
+def test_a_margin_short_of_the_required_does_not_read_as_it():
+    """A soft axis: "the settings before leave less than 6 dB ... (X position 6.0 dB)" for
+    5.957 dB. A margin short of the one asked for is given to as many decimals as show it
+    short."""
+    from tcpmm.whatif.tuning import _below
+
+    assert _below(5.957, 6.0) == "5.96"
+    assert _below(5.5, 6.0) == "5.5" and _below(44.96, 45.0) == "44.96"
+    assert _below(5.9996, 6.0) == "5.9996"

@@ -301,8 +301,8 @@ def _worse_note(before: dict, after: dict, axes: dict, margins: tuple, limited: 
         for loop, m in t.margins_before.items():
             d = m.to_dict()
             if d["phase_margin_deg"] < pm_deg or d["gain_margin_db"] < gm_db:
-                short.append(f"{name} {loop} {d['gain_margin_db']:.1f} dB / "
-                             f"{d['phase_margin_deg']:.1f} deg")
+                short.append(f"{name} {loop} {_below(d['gain_margin_db'], gm_db)} dB / "
+                             f"{_below(d['phase_margin_deg'], pm_deg)} deg")
     if not short and not limited and settled:
         return [f"the predicted path is worse after: {'; '.join(grown)}; the settings "
                 f"before meet {gm_db:g} dB / {pm_deg:g} deg already and predict the smaller "
@@ -316,6 +316,15 @@ def _worse_note(before: dict, after: dict, axes: dict, margins: tuple, limited: 
              "the settings or raise the limit" if limited else
              "smaller margins (--margins) trade some back")
     return [f"the predicted path is worse after: {'; '.join(grown)}; {why}; {trade}"]
+
+
+def _below(value: float, need: float) -> str:
+    """``value`` to one decimal, or to as many more (up to four) as keep a value short of
+    ``need`` from reading as it: 5.957 dB against 6 dB reads 5.96, not 6.0 [-]."""
+    n = 1
+    while n < 4 and value < need <= round(value, n):
+        n += 1
+    return f"{value:.{n}f}"
 
 
 def _worst(figures: dict) -> float:

@@ -401,7 +401,8 @@ def test_a_sharp_corner_planned_with_headroom_stays_within_the_full_limit(tmp_pa
     out = tmp_path / "c.csv"
     assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
                  "--draws", "0", "--iterations", "4"]) == 0
-    assert "above its limit" not in capsys.readouterr().out
+    said = capsys.readouterr()
+    assert "above its limit" not in said.out + said.err
     comp = read_command_csv(out)
     for a in ("X", "Y"):
         acc = np.abs(derivative(comp.positions[a], 2, comp.period_s))
@@ -937,12 +938,13 @@ def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, t
     prog = tmp_path / "p.nc"
     prog.write_text("G21 G90 G17 G64\nG0 X0 Y-5 Z5\nG1 Z0 F500\nG1 X8 F2500\nG1 Y5\nM30\n")
     page = tmp_path / "r.html"
-    code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+    code, _out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
                              str(tmp_path / "c.csv"), "--draws", 0, "--headroom", 0,
                              "--report", str(page))
     assert code == 0, err
-    said = [ln for ln in out.splitlines() if "above its limit of" in ln]
-    assert said and all("the program as programmed reaches" in ln for ln in said), out
+    # a warning: on stderr, and in --json
+    said = [ln.removeprefix("warning: ") for ln in err.splitlines() if "above its limit of" in ln]
+    assert said and all("the program as programmed reaches" in ln for ln in said), err
     assert any(ln.strip().startswith("Z: acceleration up to") for ln in said), said
     # the report's table per axis read 1.5 against a limit of 1 with no word on why
     import html
@@ -961,14 +963,21 @@ def test_a_limit_below_the_planners_is_not_blamed_on_a_corner(capsys, tmp_path):
 
     prog = tmp_path / "p.nc"
     prog.write_text("G21 G90 G17\nG1 X20 F5000\nM30\n")
-    code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+    code, _out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
                              str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 2,
                              "--accel-m-per-s2", 0.2)
     assert code == 0, err
-    said = [" ".join(ln.split()) for ln in out.splitlines() if "above its limit of" in ln]
-    assert any(ln.startswith("X: acceleration") for ln in said), out
+    said = [" ".join(ln.removeprefix("warning: ").split()) for ln in err.splitlines()
+            if "above its limit of" in ln]
+    assert any(ln.startswith("X: acceleration") for ln in said), err
     assert all("corner" not in ln and "the model's interpolator plans it to" in ln
                for ln in said), said
+    # and in --json, where it was missing (another limit: a text said once a process)
+    code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                             str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 2,
+                             "--accel-m-per-s2", 0.25, "--json")
+    assert code == 0, err
+    assert any("above its limit of" in w for w in json.loads(out)["warnings"])
 
 
 def test_a_one_axis_program_is_compensated_and_a_worse_figure_said(capsys, tmp_path):
@@ -1027,11 +1036,11 @@ def test_a_command_file_at_its_limit_is_not_called_beyond_it(capsys, tmp_path):
     said = {}
     for letter in ("c", "d"):
         cmd = bench_path(letter) / "circle_ccw_fast_cmd.csv"
-        code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--command", str(cmd),
+        code, _out, err = run_cli(capsys, "compensate", "builtin:vmc", "--command", str(cmd),
                                  "-o", str(tmp_path / "c.csv"), "--draws", 0,
                                  "--iterations", 2, "--accel-m-per-s2", 1)
         assert code == 0, err
-        said[letter] = [ln for ln in out.splitlines() if "above its limit of" in ln]
+        said[letter] = [ln for ln in err.splitlines() if "above its limit of" in ln]
     assert said["c"] == []
     assert said["d"] and all("the command file reaches 1.04 itself" in ln
                              for ln in said["d"]), said["d"]

@@ -60,7 +60,7 @@ def test_a_jerk_beyond_the_limit_is_explained_from_the_path(tmp_path, capsys, sc
     prog.write_text(f"G21 G17 G90 G64\n{moves}\nM30\n")
     assert main(["compensate", str(scurve_model), "--gcode", str(prog), "-o",
                  str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2"]) == 0
-    lines = [s for s in capsys.readouterr().out.splitlines() if "jerk up to" in s]
+    lines = [s for s in capsys.readouterr().err.splitlines() if "jerk up to" in s]
     assert lines and all(cause in s for s in lines), lines
 
 
@@ -93,11 +93,12 @@ def test_the_program_as_programmed_and_its_plan_with_headroom_are_told_apart(
     prog.write_text("G21 G17 G90 G64\nG0 X0 Y0\nG1 X20 Y0 F10000\nG1 X20 Y20\nM30\n")
     assert main(["compensate", str(scurve_model), "--gcode", str(prog), "-o",
                  str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2"]) == 0
-    out = capsys.readouterr().out
+    said = capsys.readouterr()
+    out = said.out
     lines = out.splitlines()
     assert "(as programmed)" in lines[1] and "(planned with headroom 0.25, uncorrected)" in lines[2]
     assert "X asks (as programmed -> compensated)" in out
-    beyond = [s for s in lines if "above its limit" in s]
+    beyond = [s for s in said.err.splitlines() if "above its limit" in s]  # warnings
     assert beyond and all("the program planned with headroom 0.25 reaches" in s for s in beyond)
     assert "planned with headroom 0.25: 75% of the axes'" in out and "s as programmed" in out
     assert "program ->" not in out and "program as planned" not in out

@@ -49,7 +49,6 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     out.print(_row("after", comp.scores["after"]))
     for line in demand_lines(comp.scores.get("demands"), comp.bounds):
         out.print(line, highlight=False)
-    _say_over_limits(comp, planner)
     for line in _kept_lines(comp):
         out.print(line, highlight=False)
     st = comp.settings
@@ -185,14 +184,17 @@ def warn_current(comp) -> None:
             "the acceleration", InputWarning, stacklevel=2)
 
 
-def _say_over_limits(comp, planner: dict | None) -> None:
-    """A line per axis and limit the compensated command goes beyond, with its cause
-    (:func:`tcpmm.compensate.bounds.over_limit_words`) [-]."""
+def warn_over_limits(comp, planner: dict | None) -> None:
+    """A warning per axis and limit the compensated command goes beyond, with its cause
+    (:func:`tcpmm.compensate.bounds.over_limit_words`): on stderr, and in ``--json`` [-]."""
+    import warnings
+
     from ..compensate.bounds import over_limit_words
+    from ..errors import InputWarning
 
     for line in over_limit_words(comp.command, comp.reference, comp.bounds, planner,
                                  comp.settings.get("headroom", 0.0)):
-        out.print(f"  {line}", highlight=False)
+        warnings.warn(InputWarning(line), stacklevel=2)
 
 
 #: How each verdict over the draws reads [-].

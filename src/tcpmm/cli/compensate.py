@@ -21,7 +21,13 @@ from ._app import (
     read_model,
 )
 from ._compensate_dense import write_dense
-from ._compensate_text import say_compensation, warn_current, warn_extra_reversals, warn_worse
+from ._compensate_text import (
+    say_compensation,
+    warn_current,
+    warn_extra_reversals,
+    warn_over_limits,
+    warn_worse,
+)
 from ._outputs import distinct_outputs, outputs_together
 from ._plane import command_plane
 
@@ -105,7 +111,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     planner = None if gcode is None else machine_bounds(m)  # the limits it was planned to
     if report is not None:
         _write_report(report, comp, m, model, command or gcode, circle, cc, planner)
-    _warn(comp, compensated, cc)
+    _warn(comp, compensated, cc, planner)
     if as_json:
         emit_json({**comp.to_dict(), **({"controller": cc.to_dict()} if cc else {})})
         return
@@ -377,12 +383,14 @@ def _parameter_note(command_file: str, share: float, draws: int) -> str:
                    f"tuned parameters kept: {share:g}).\n")
 
 
-def _warn(comp, compensated, cc) -> None:
+def _warn(comp, compensated, cc, planner) -> None:
     """The warnings of the compensation, before its figures and in ``--json`` alike: a
     figure the correction makes worse where no draws scaled it back, a current above the
-    share of the drive's limit, and turns of the correction's own under the friction pulse
-    of the parameters ``cc`` (None: none written) [-]."""
+    share of the drive's limit, a limit the command goes beyond (``planner``: the limits
+    a program was planned to, None for a command file), and turns of the correction's own
+    under the friction pulse of the parameters ``cc`` (None: none written) [-]."""
     warn_worse(comp)
     warn_current(comp)
+    warn_over_limits(comp, planner)
     if cc is not None:
         warn_extra_reversals(compensated, comp.reference, cc)

@@ -1076,3 +1076,17 @@ def test_what_the_command_asks_of_each_axis_is_said_with_its_limits(capsys, tmp_
     assert all(asks[a]["jerk_m_per_s3"] <= 200 * (1 + 1e-6) for a in "XY")
     code, out, err = run_cli(capsys, *base, "--jerk-m-per-s3", 200)
     assert "(limit 200)" in out and "times the jerk as programmed" not in out
+
+
+def test_a_command_file_beyond_the_velocity_limit_is_named(capsys, tmp_path):
+    """A command file stepping 5 mm a millisecond (5 m/s against the axis's 0.5 m/s): its
+    acceleration and current were named, its velocity not."""
+    from conftest import run_cli
+
+    cmd = tmp_path / "jump.csv"
+    cmd.write_text("time_s,x_mm,y_mm\n0,0,0\n0.001,0,0\n0.002,5,0\n0.003,10,0\n")
+    code, _out, err = run_cli(capsys, "compensate", "builtin:vmc", "--command", str(cmd),
+                              "-o", str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 2)
+    assert code == 0, err
+    said = [ln for ln in err.splitlines() if "X: velocity up to 5 m/s" in ln]
+    assert said and "above its limit of 0.5: the command file reaches 5 itself" in said[0]

@@ -137,12 +137,13 @@ def fit_within(reference: np.ndarray, correction: np.ndarray, period_s: float,
 
 
 def over_limits(command, reference, bounds: dict) -> list[tuple]:
-    """Where the compensated command goes beyond an axis's acceleration or jerk limit, and
-    how far the program as planned does so itself: the interpolator passes a sharp corner
-    with a velocity step of the axis's acceleration times its period, which the samples
-    read as up to half as much again for one period, and a tangent junction of a line or
-    arc into an arc of another curvature with a step of the acceleration, which they read
-    as a jerk of that step over one period; the correction adds nothing there
+    """Where the compensated command goes beyond an axis's velocity, acceleration or jerk
+    limit, and how far the program as planned does so itself: the interpolator passes a
+    sharp corner with a velocity step of the axis's acceleration times its period, which
+    the samples read as up to half as much again for one period, and a tangent junction
+    of a line or arc into an arc of another curvature with a step of the acceleration,
+    which they read as a jerk of that step over one period; the correction adds nothing
+    there
     (:func:`excess` keeps it within what the program takes).
 
     Parameters
@@ -155,7 +156,8 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
     Returns
     -------
     list of tuple
-        ``(axis, "acceleration" or "jerk", peak, limit, the program's own peak)`` [SI].
+        ``(axis, "velocity", "acceleration" or "jerk", peak, limit, the program's own
+        peak)`` [SI].
     """
     out = []
     T = command.period_s
@@ -163,7 +165,8 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
         b = bounds.get(name)
         if b is None or name not in reference.positions:
             continue
-        for order, what, lim in ((2, "acceleration", b.accel), (3, "jerk", b.jerk)):
+        for order, what, lim in ((1, "velocity", b.velocity), (2, "acceleration", b.accel),
+                                 (3, "jerk", b.jerk)):
             most = peak(x, order, T)
             if math.isfinite(lim) and most > lim * (1 + OVER_SHARE):
                 out.append((name, what, most, lim, peak(reference.positions[name], order, T)))
@@ -193,14 +196,15 @@ def over_limit_words(command, reference, bounds: dict, planner: dict | None = No
         programmed: named so, as the console names the program at the full limits "as
         programmed" a line before [-].
     """
-    unit = {"acceleration": "m/s²", "jerk": "m/s³"}
+    unit = {"velocity": "m/s", "acceleration": "m/s²", "jerk": "m/s³"}
     plan_name = f"planned with headroom {headroom:g}" if headroom else "as programmed"
     out = []
     for name, what, most, lim, own in over_limits(command, reference, bounds):
         if planner is None:
             itself = f"the command file reaches {own:.3g} itself"
         else:
-            plan = getattr(planner[name], "accel" if what == "acceleration" else "jerk")
+            plan = getattr(planner[name], {"velocity": "velocity", "acceleration": "accel"}
+                           .get(what, "jerk"))
             itself = (f"the program {plan_name} reaches {own:.3g} itself ("
                       f"{_step_cause(reference, name, what)})" if plan <= lim * (1 + 1e-9) else
                       f"the program {plan_name} reaches {own:.3g} itself: the model's "
@@ -222,6 +226,8 @@ def _step_cause(reference, name: str, what: str) -> str:
     corner's velocity step, or in jerk a tangent junction's step of curvature, as the
     path shows where the axis's peak is. A curvature step takes the acceleration no
     further than the curve's own, which the plan keeps within the limit [-]."""
+    if what == "velocity":
+        return "its feed, beyond the axis's velocity limit"
     x = reference.positions[name]
     order = 2 if what == "acceleration" else 3
     k = int(np.argmax(np.abs(derivative(x, order, reference.period_s))))

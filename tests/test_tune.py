@@ -776,3 +776,21 @@ def test_a_margin_short_of_the_required_does_not_read_as_it():
     assert _below(5.957, 6.0) == "5.96"
     assert _below(5.5, 6.0) == "5.5" and _below(44.96, 45.0) == "44.96"
     assert _below(5.9996, 6.0) == "5.9996"
+
+
+def test_four_notches_near_the_limiting_mode_still_name_it(vmc):
+    """X's four filter slots hold notches at 700 Hz (100 Hz wide), within 5 % of the
+    729 Hz torsion mode, which still limits the gain: the loop was slowed to 0.1 Hz and,
+    the mode counted as notched, no note named it, which the docs promise where every
+    slot is taken."""
+    from tcpmm.servo.currentfilters import Notch
+    from tcpmm.servo.tunevelocity import tune_velocity
+
+    x = vmc.axes["X"]
+    notch = Notch(f_hz=700.0, bandwidth_hz=100.0, depth_db=-20.0)
+    servo = ServoParams.create(**{**x.servo.model_dump(), "filters": [notch] * 4})
+    notes = []
+    tune_velocity(x.mechanics, servo, GM, PM, notes)
+    said = [n for n in notes if "limits the velocity gain and gets no notch" in n]
+    assert said and said[0].startswith("the 728.8 Hz mode"), notes
+    assert "the notch at 700 Hz near it does not remove it" in said[0]

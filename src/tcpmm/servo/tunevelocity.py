@@ -107,13 +107,14 @@ def _velocity_gain(mech, servo, gm, pm, start=None):
     return largest_gain(ok, top, down=_DESCENT, tries=_DESCENT_TRIES)
 
 
-def _limiting_mode(mech, servo, modes):
-    """The lightly damped mode nearest the crossing that limits the velocity gain."""
+def _limiting_mode(mech, servo, modes, notched=False):
+    """The lightly damped mode nearest the crossing that limits the velocity gain; with
+    ``notched``, also one a notch of the settings lies near (within 5 %) [Hz]."""
     m = velocity_margins(mech, servo)
     at = [f for f in (m.gain_crossover_hz, m.phase_crossover_hz) if np.isfinite(f)]
     best = None
     for f0 in modes:
-        if any(n.type == "notch" and abs(n.f_hz - f0) < 0.05 * f0 for n in servo.filters):
+        if not notched and _near_notch(servo, f0) is not None:
             continue  # already notched
         if any(abs(f - f0) <= _NOTCH_NEAR * f0 for f in at):
             if best is None or min(abs(f - f0) for f in at) < min(abs(f - best) for f in at):
@@ -135,12 +136,23 @@ def tune_velocity(mech, servo, gm, pm, notes):
     low = _low_passed(mech, servo, best, f0, gm, pm, notes)
     if low is not None:
         best, _ = _notched(mech, low, servo.K_vp, (freqs, zetas), gm, pm, notes)
-    f0 = _limiting_mode(mech, best, freqs) if len(best.filters) >= MAX_FILTERS else None
+    # with every slot taken, the mode that limits the gain is named even where a notch
+    # lies near it: that notch does not remove it (four at 700 Hz, the mode at 729 Hz)
+    full = len(best.filters) >= MAX_FILTERS
+    f0 = _limiting_mode(mech, best, freqs, notched=True) if full else None
     if f0 is not None:
+        near = _near_notch(best, f0)
         notes.append(f"the {f0:.1f} Hz mode limits the velocity gain and gets no notch: all "
-                     f"{MAX_FILTERS} filter slots of the drive are taken; free one in the model "
-                     "and tune again")
+                     f"{MAX_FILTERS} filter slots of the drive are taken"
+                     + ("" if near is None else f" (the notch at {near:g} Hz near it does not "
+                        "remove it)") + "; free one in the model and tune again")
     return best
+
+
+def _near_notch(servo, f0):
+    """The frequency of a notch of ``servo`` within 5 % of ``f0``; None for none [Hz]."""
+    return next((n.f_hz for n in servo.filters
+                 if n.type == "notch" and abs(n.f_hz - f0) < 0.05 * f0), None)
 
 
 def _notched(mech, best, start, modes, gm, pm, notes):

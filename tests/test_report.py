@@ -829,3 +829,45 @@ def test_the_reports_error_sources_carry_the_circle_commands_marks():
     assert any(marks.values())
     got = {s for s, *_ in ranked_sources(diag)}
     assert got == {t.replace("_", " ") + m for t, m in marks.items()}
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_key_figures_give_each_term_its_pm():
+    """Bench C at F5000: the key figures read "backlash X 4.37 µm, Y 13.46 µm" and
+    "squareness ... µm/m" with no ±, where the table of terms below gives each ±1.70 µm
+    and more. Each term now carries the ±95% the table gives, in its digits."""
+    import html as markup
+
+    from conftest import bench_path
+    from tcpmm.analysis.circle_sigma import shown_uncertainty
+    from tcpmm.analysis.circular import CircleResult, analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+    from tcpmm.report.circles import key_figures
+
+    c = bench_path("c")
+    res = [analyse_circle(read_run(c / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
+    diag = circle_diagnostics(*res)
+    both = CircleResult(0.035, (0.0, 0.0), res[0].passes + res[1].passes)
+    text = " ".join(markup.unescape(re.sub(r"<[^>]+>", " ", key_figures(both, diag))).split())
+    pm = shown_uncertainty(diag, "backlash_X")
+    assert f"backlash X {diag['backlash_X'] * 1e6:.2f} ± {pm:.2f} µm" in text
+    pm = shown_uncertainty(diag, "servo_mismatch")
+    assert f"± {pm:.3f} ms" in text
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_the_diagnostics_plot_gives_each_term_its_pm(tmp_path):
+    """The diagnostics figure's box read "backlash X +4.37 µm" beside a table of ±1.71."""
+    from conftest import bench_path
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+    from tcpmm.plot.diagnostics import plot_circle_diagnostics
+
+    c = bench_path("c")
+    res = [analyse_circle(read_run(c / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
+    diag = circle_diagnostics(*res)
+    box = plot_circle_diagnostics(diag, path=tmp_path / "d.png").axes[0].texts[-1].get_text()
+    assert f"backlash X {diag['backlash_X'] * 1e6:+.2f} ± {2e6 * diag.sigma['backlash_X']:.2f} µm" \
+        in box.splitlines()

@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..analysis.circle_alias import alias_line
-from ..analysis.circle_display import undetermined_lines
+from ..analysis.circle_display import display_digits, undetermined_lines
 from ..analysis.circle_sigma import noise_line, shown_uncertainty
 from ..analysis.circle_spike_sigma import is_slow
 from ..analysis.circle_tails import moving_line
@@ -97,13 +97,23 @@ def key_figures(result, diag=None) -> str:
                      f"{'inside' if dev < 0 else 'outside'} the nominal radius")
         items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
     if diag is not None and len(diag.directions) == 2:
-        t = {k: f"{number(v, 2)} {u}" if v == v else "n/a" for k, v, u in display_terms(diag)}
+        t = {k: _with_pm(diag, k, v, u) for k, v, u in display_terms(diag)}
         x, y = diag.axes
         items += [("backlash", f"{x} {t[f'backlash_{x}']}, {y} {t[f'backlash_{y}']}"),
                   *((label, t[k]) for k, label in (
                       ("squareness", "squareness"), ("scale_mismatch", "scale mismatch"),
                       ("servo_mismatch", "servo mismatch"), ("circularity_pair", "G(b)")))]
     return facts(items)
+
+
+def _with_pm(diag, term: str, value: float, unit: str) -> str:
+    """A term in its display unit and digits, with its ±95% where one is estimated (the
+    table of terms below gives the same); n/a where it has no value [-]."""
+    if value != value:
+        return "n/a"
+    n = display_digits(term, unit)
+    pm = shown_uncertainty(diag, term)
+    return f"{number(value, n)}" + ("" if pm != pm else f" ± {number(pm, n)}") + f" {unit}"
 
 
 def _of_those(shown: dict, every: dict) -> str:

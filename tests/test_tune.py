@@ -794,3 +794,24 @@ def test_four_notches_near_the_limiting_mode_still_name_it(vmc):
     said = [n for n in notes if "limits the velocity gain and gets no notch" in n]
     assert said and said[0].startswith("the 728.8 Hz mode"), notes
     assert "the notch at 700 Hz near it does not remove it" in said[0]
+
+
+def test_a_slowed_loop_names_a_mode_folded_back_from_above_nyquist(vmc):
+    """X's screw and table 100 times stiffer: a 7.3 kHz mode, above the 4 kHz Nyquist
+    frequency of the velocity loop, folds back to 712 Hz and the loop is slowed from 82 to
+    0.25 Hz. The warning said "no faster velocity loop meets them", which a 300 Hz
+    low-pass disproves, and never named the mode; it now says what was tried and names
+    the mode and where it folds to."""
+    import re
+    from dataclasses import replace
+
+    from tcpmm.servo.modeshift import slower_warnings
+
+    a = vmc.axes["X"]
+    mech = a.mechanics.model_copy(update={"K_L": 100 * a.mechanics.K_L,
+                                          "K_t": 100 * a.mechanics.K_t})
+    before = axis_margins(mech, a.servo)
+    slow = {**before, "velocity": replace(before["velocity"], bandwidth_hz=0.25)}
+    [said] = slower_warnings(before, slow, mech, a.servo)
+    assert "of the notches and low-passes tried" in said
+    assert re.search(r"Nyquist frequency of 4000 Hz .*: 72\d\d Hz \(to 7\d\d\.\d Hz\)", said)

@@ -252,16 +252,30 @@ def slowed(before: dict, after: dict):
     return (b, a) if np.isfinite(b) and np.isfinite(a) and a < 0.5 * b else None
 
 
-def slower_warnings(before: dict, after: dict) -> list[str]:
+def slower_warnings(before: dict, after: dict, mech=None, servo=None) -> list[str]:
     """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
-    the margins are met by giving up most of the loop's speed [-]."""
+    the margins are met by giving up most of the loop's speed; with the axis (``mech``,
+    ``servo``), naming the lightly damped modes above the velocity loop's Nyquist
+    frequency, which fold back below it where no notch is placed [-]."""
     cut = slowed(before, after)
     if cut is None:
         return []
     b, a = cut
+    folded = ""
+    if mech is not None and servo is not None:
+        fs = 1.0 / servo.T_v
+        high = [f for f in light_modes(mech)[0] if f > fs / 2]
+        if high:
+            folded = (" A lightly damped mode lies above the velocity loop's Nyquist "
+                      f"frequency of {fs / 2:.4g} Hz and folds back below it, where no notch "
+                      "is looked for: " + ", ".join(
+                          f"{f:.4g} Hz (to {abs(f - round(f / fs) * fs):.4g} Hz)"
+                          for f in sorted(high)) + "; a low-pass below the fold is such a "
+                      "filter")
     return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
-            f"to {a:.3g} Hz: no faster velocity loop meets them with its modes up to "
-            f"{100 * current_tolerance():g} % off the model's frequencies, and the position "
-            "gain (a quarter of that bandwidth at most, on every axis matched to this one) "
-            "falls with it. Check the predicted path; smaller margins (--margins) or "
-            "filters tuned on the machine may keep more speed"]
+            f"to {a:.3g} Hz: no faster velocity loop of the notches and low-passes tried "
+            f"meets them with its modes up to {100 * current_tolerance():g} % off the "
+            "model's frequencies, and the position gain (a quarter of that bandwidth at "
+            "most, on every axis matched to this one) falls with it. Check the predicted "
+            "path; smaller margins (--margins) or filters tuned on the machine may keep more "
+            "speed." + folded]

@@ -232,7 +232,7 @@ def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> 
         out[name] = AxisTuning(a.servo, after, mg_before, mg_after, met, notes[name],
                                light_mode_warnings(m, mg_after, after,
                                                    kept=after == a.servo)
-                               + slower_warnings(mg_before, mg_after))
+                               + slower_warnings(mg_before, mg_after, m, after))
     return out
 
 

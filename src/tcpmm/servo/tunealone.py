@@ -78,7 +78,7 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
     return AxisTuning(servo, after, before, margins, True,
                       gain_notes(servo, after, limits) + notes,
                       light_mode_warnings(mech, margins, after)
-                      + slower_warnings(before, margins))
+                      + slower_warnings(before, margins, mech, after))
 
 
 def _missed(mech, servo, margins: dict, gm_db: float, pm_deg: float) -> str:

@@ -815,3 +815,25 @@ def test_a_slowed_loop_names_a_mode_folded_back_from_above_nyquist(vmc):
     [said] = slower_warnings(before, slow, mech, a.servo)
     assert "of the notches and low-passes tried" in said
     assert re.search(r"Nyquist frequency of 4000 Hz .*: 72\d\d Hz \(to 7\d\d\.\d Hz\)", said)
+
+
+def test_a_notch_used_after_a_low_pass_is_not_said_unused(vmc):
+    """Y's screw and table 100 times stiffer: the notch search alone found the 1491 Hz
+    notch of no use, then a low-pass was taken and the same notch on top of it raised the
+    gain, and the notes read "notch at 1491.4 Hz does not raise the gain; not used",
+    "low-pass ... in place of its notch" (there was none) and "notch at 1491.4 Hz raises".
+    Each now says what it was judged with."""
+    from tcpmm.servo.tunevelocity import tune_velocity
+
+    a = vmc.axes["Y"]
+    mech = a.mechanics.model_copy(update={"K_L": 100 * a.mechanics.K_L,
+                                          "K_t": 100 * a.mechanics.K_t})
+    notes = []
+    best = tune_velocity(mech, a.servo, GM, PM, notes)
+    used = {round(f.f_hz, 1) for f in best.filters if f.type == "notch"}
+    for n in notes:
+        if n.endswith("does not raise the gain; not used"):
+            assert float(n.split()[2]) not in used, notes
+        assert "in place of its notch" not in n or any(
+            m.startswith("notch at") and "raises" in m for m in notes[:notes.index(n)]), notes
+    assert any("without a low-pass; not used" in n for n in notes), notes

@@ -133,8 +133,11 @@ def tune_velocity(mech, servo, gm, pm, notes):
         return None
     freqs, zetas = light_modes(mech)
     best, f0 = _notched(mech, with_pi(mech, servo, K), servo.K_vp, (freqs, zetas), gm, pm, notes)
+    first = len(notes)
     low = _low_passed(mech, servo, best, f0, gm, pm, notes)
-    if low is not None:
+    if low is not None:  # what the notches did before the low-pass, said as such
+        notes[:first] = [n.replace("; not used", " without a low-pass; not used")
+                         for n in notes[:first]]
         best, _ = _notched(mech, low, servo.K_vp, (freqs, zetas), gm, pm, notes)
     # with every slot taken, the mode that limits the gain is named even where a notch
     # lies near it: that notch does not remove it (four at 700 Hz, the mode at 729 Hz)
@@ -208,8 +211,9 @@ def _low_passed(mech, servo, best, f0, gm, pm, notes):
                 K, low = k, cand
     if low is None or K < _KEPT_RISE * best.K_vp:
         return None
+    instead = ", in place of its notch," if len(best.filters) > len(servo.filters) else ""
     notes.append(f"low-pass {low.f_hz:.1f} Hz (damping {low.zeta:g}) below the {f0:.1f} Hz "
-                 f"mode, in place of its notch, raises K_vp from {best.K_vp:.4g} to {K:.4g} "
+                 f"mode{instead} raises K_vp from {best.K_vp:.4g} to {K:.4g} "
                  f"A s/rad: no notch holds that mode with its frequency up to "
                  f"{100 * current_tolerance():g} % off the model's without the loop losing "
                  "more than half its bandwidth")

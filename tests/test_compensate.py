@@ -1,6 +1,7 @@
 """Compensation on the model: known answers and physical properties."""
 
 import json
+import re
 import warnings
 
 import numpy as np
@@ -888,6 +889,9 @@ def test_the_shares_are_given_for_the_axes_the_path_moves(tmp_path, capsys):
     line = out[out.index("share of the correction applied:"):]
     line = line[:line.index(";")]
     assert " X " in line and " Z " in line and " Y " not in line, line
+    # the figure after is the model's; the draws say how far it may be (it had no range)
+    assert re.search(r"contour error after, on the worst of the 2 draws: up to \d+\.\d\d µm "
+                     r"\(the figure after above is the model's\)", out)
 
 
 def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):

@@ -229,7 +229,17 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
             f"samples, at least {FIRM_RATIO:g}x on the machine (firm) in those of "
             f"{robustness['firm_share']:.0%} (a region, a reversal or a stretch between, is "
             "judged by its largest error: a sample below it may rise)",
-            *_figure_verdicts(robustness.get("circle", {}))]
+            *_worst_after(robustness), *_figure_verdicts(robustness.get("circle", {}))]
+
+
+def _worst_after(robustness: dict) -> list[str]:
+    """The contour error after on the worst draw, region by region the largest: how far
+    the figure after, which is the model's, may be from the machine's [-]."""
+    worst = [r["worst_after_um"] for r in robustness.get("regions", [])]
+    if not worst:
+        return []
+    return [f"  contour error after, on the worst of the {robustness['draws']} draws: up to "
+            f"{max(worst):.2f} µm (the figure after above is the model's)"]
 
 
 def _figure_verdicts(figures: dict) -> list[str]:
@@ -244,6 +254,7 @@ def _figure_verdicts(figures: dict) -> list[str]:
     names = {"spike": "largest raw reversal spike (e - b)", "circular_deviation": "G"}
     return [f"  {name}: " + _VERDICT_TEXT[figures[key]["verdict"]].format(
         r=figures[key]["least_ratio"], b=figures[key]["ratio_bound"])
+        + f"; after up to {figures[key]['worst_after_um']:.2f} µm on the worst draw"
         for key, name in names.items() if key in figures]
 
 

@@ -811,9 +811,10 @@ def test_a_slowed_loop_names_a_mode_folded_back_from_above_nyquist(vmc):
     mech = a.mechanics.model_copy(update={"K_L": 100 * a.mechanics.K_L,
                                           "K_t": 100 * a.mechanics.K_t})
     before = axis_margins(mech, a.servo)
-    slow = {**before, "velocity": replace(before["velocity"], bandwidth_hz=0.25)}
+    slow = {**before, "velocity": replace(before["velocity"], bandwidth_hz=0.245)}
     [said] = slower_warnings(before, slow, mech, a.servo)
     assert "of the notches and low-passes tried" in said
+    assert "to 0.24 Hz:" in said  # as the heading and the table give it (it read 0.245)
     assert re.search(r"Nyquist frequency of 4000 Hz .*: 72\d\d Hz \(to 7\d\d\.\d Hz\)", said)
 
 

@@ -273,7 +273,7 @@ def slower_warnings(before: dict, after: dict, mech=None, servo=None) -> list[st
                           for f in sorted(high)) + "; a low-pass below the fold is such a "
                       "filter")
     return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
-            f"to {a:.3g} Hz: no faster velocity loop of the notches and low-passes tried "
+            f"to {a:.2g} Hz: no faster velocity loop of the notches and low-passes tried "
             f"meets them with its modes up to {100 * current_tolerance():g} % off the "
             "model's frequencies, and the position gain (a quarter of that bandwidth at "
             "most, on every axis matched to this one) falls with it. Check the predicted "

@@ -838,3 +838,27 @@ def test_a_notch_used_after_a_low_pass_is_not_said_unused(vmc):
         assert "in place of its notch" not in n or any(
             m.startswith("notch at") and "raises" in m for m in notes[:notes.index(n)]), notes
     assert any("without a low-pass; not used" in n for n in notes), notes
+
+
+def test_settings_that_hold_the_current_at_its_limit_too_are_not_advised_kept():
+    """Both the settings before and the proposal hold the current at its limit on the
+    model: the note after said "keep the settings, or lower the gains or the feed", and
+    keeping them keeps the current at its limit as well."""
+    from types import SimpleNamespace
+
+    from tcpmm.whatif.tuning import _path_notes
+    from tcpmm.whatif.tuning_paths import PathFigures
+
+    def held():
+        out = PathFigures({"ccw": {"contour_error_um": float("nan")}})
+        out.faults, out.limited = ["axis X holds its current at the limit of 20 A"], True
+        return out
+
+    axes = {"X": SimpleNamespace(met=True)}
+    after = next(n for n in _path_notes(held(), held(), axes, GM, PM, {}, False)
+                 if n.startswith("after:"))
+    assert "lower the gains or the feed" in after and "keep the settings" not in after
+    fine = PathFigures({"ccw": {"contour_error_um": 10.0}})
+    after = next(n for n in _path_notes(fine, held(), axes, GM, PM, {}, False)
+                 if n.startswith("after:"))
+    assert "keep the settings, or lower the gains" in after

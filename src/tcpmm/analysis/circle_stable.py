@@ -37,7 +37,8 @@ ARC_WHY = ("the arc does not determine it: its radial error there is nearly that
            "full circle, to tell them apart")
 #: why an arc reports no cyclic error
 CYCLIC_WHY = ("an arc does not separate a cyclic error from the centre and the bows: over "
-              "part of a turn its columns are theirs; a full circle does")
+              "part of a turn its columns are theirs; a full circle does, or a pair of "
+              f"arcs of {CYCLIC_ARC_DEG:g} deg or more")
 #: why an arc that gives no terms gives no spikes after them either
 SPIKES_WHY = ("the arc gives no terms to take off its radial error, so a spike after them "
               "would be the raw one and carry the terms (the raw spikes are spike_*_um of "

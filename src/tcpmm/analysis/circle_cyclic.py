@@ -356,4 +356,3 @@ def cyclic_unresolved(fit) -> dict:
                     *np.multiply(fit.periods, 1e3))
     return {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
             if k is None for q in ("amplitude", "period")}
-

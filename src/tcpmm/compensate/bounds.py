@@ -143,8 +143,7 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
     the samples read as up to half as much again for one period, and a tangent junction
     of a line or arc into an arc of another curvature with a step of the acceleration,
     which they read as a jerk of that step over one period; the correction adds nothing
-    there
-    (:func:`excess` keeps it within what the program takes).
+    there (:func:`excess` keeps it within what the program takes).
 
     Parameters
     ----------

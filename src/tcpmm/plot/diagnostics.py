@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.circle_display import COVERAGE
+from ..analysis.circle_sigma import shown_uncertainty
 from . import finish, panels
 
 STYLE = {"ccw": dict(color="tab:blue", label="CCW"), "cw": dict(color="tab:red", label="CW")}
@@ -52,7 +52,7 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
     for key, label, scale, unit in SUMMARY:
         value = diag.terms.get(key.format(**names), (float("nan"),))[0]
         if value == value:  # what the circles do not determine is not shown
-            pm = COVERAGE * diag.sigma.get(key.format(**names), float("nan")) * scale
+            pm = shown_uncertainty(diag, key.format(**names))  # in the display unit
             lines.append(f"{label.format(**names)} {value * scale:+.2f}"
                          + ("" if pm != pm else f" ± {pm:.2f}") + f" {unit}")
     ax.text(1.01, 1.0, "\n".join(lines), transform=ax.transAxes, va="top", fontsize=8,

@@ -229,7 +229,7 @@ def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: flo
     kept = [n for n, t in axes.items() if not t.met]
     if _worst(after) == float("inf"):
         why = "; ".join(after.faults) or "its run holds no circle to measure"
-        keep = "" if getattr(before, "limited", False) else "keep the settings, or "
+        keep = "" if before.limited else "keep the settings, or "
         notes.append(f"after: the proposal's path is no prediction ({why}): " + (
             f"{keep}lower the gains or the feed until the current stays within its limit"
             if after.limited else

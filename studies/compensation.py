@@ -123,6 +123,7 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
             "trusted": rob["trusted_share"],
             "firm": rob["firm_share"],
             "firm_truth": truth_where_firm(comp, planned_run, after),
+            "rises": truth_rises(comp, planned_run, after),
             "spike_verdict": rob.get("circle", {}).get("spike", {}).get("verdict", "-"),
             "ce_before": b["path"]["contour_error_um"], "ce_after": a["path"]["contour_error_um"],
             "rms_before": b["path"]["contour_rms_um"], "rms_after": a["path"]["contour_rms_um"],
@@ -146,32 +147,61 @@ def spikes_grown(before: dict, after: dict) -> list:
     return out
 
 
+def truth_errors(comp, before, after):
+    """The true machine's distance from the path per sample before (the planned run, from
+    its own command, as the draws judge it) and after (from the delayed path), on the
+    compensation's samples; NaN where a run has none [m]."""
+    import numpy as np
+
+    from tcpmm.analysis.contour import contour_error
+
+    n = comp.target.time_s.size
+    e_b = np.abs(contour_error(before, command=comp.reference).errors["tcp"])
+    e_a = np.abs(contour_error(after, command=judged_path(comp)).errors["tcp"])
+    out = np.full((2, n), np.nan)
+    out[0, :min(n, e_b.size)], out[1, :min(n, e_a.size)] = e_b[:n], e_a[:n]
+    return out
+
+
 def truth_where_firm(comp, before, after):
     """The true machine's largest contour error before / after over the samples of the
     regions the draws call firm, and the least of it region by region; ``None`` where
     none is [-]."""
     import numpy as np
 
-    from tcpmm.analysis.contour import contour_error
     from tcpmm.compensate.robust import regions
 
     labels = regions(comp.target)
     firm = [r["region"] for r in comp.robustness["regions"] if r["verdict"] == "firm"]
     if not firm:
         return None
-    # the programmed run lags the delayed path by the compensation's delay
-    shift = round(comp.delay_s / comp.target.period_s)
-    e_b = np.abs(contour_error(before, command=comp.reference).errors["tcp"])
-    e_a = np.abs(contour_error(after, command=judged_path(comp)).errors["tcp"])
-    n = min(labels.size, e_a.size, e_b.size)
+    e_b, e_a = truth_errors(comp, before, after)
 
     def fall(keep):
         mask = np.isin(labels, keep)
-        mask_before = np.concatenate([mask[shift:], np.zeros(shift, dtype=bool)])
-        b, a = np.nanmax(e_b[:n][mask_before[:n]]), np.nanmax(e_a[:n][mask[:n]])
-        return float(b / max(a, 1e-9))
+        return float(np.nanmax(e_b[mask]) / max(np.nanmax(e_a[mask]), 1e-9))
 
     return fall(firm), min(fall([r]) for r in firm)
+
+
+def truth_rises(comp, before, after) -> dict:
+    """Where the true machine's error rises above its envelope before, as the draws judge
+    it (:func:`tcpmm.compensate.trust.local_rises`): the share of the samples, the share
+    of those the draws trusted, and the largest rise on a trusted sample, before and
+    after [-, -, um]."""
+    import numpy as np
+
+    from tcpmm.compensate.robust import margin
+    from tcpmm.compensate.trust import local_rises
+
+    e_b, e_a = np.nan_to_num(truth_errors(comp, before, after))
+    mask, _ = local_rises(e_b[None], e_a[None], comp.target, margin)
+    trusted, top = local_rises(e_b[None], np.where(comp.trusted, e_a, 0.0)[None],
+                               comp.target, margin)
+    return {"share": float(mask.mean()),
+            "trusted": float(trusted.sum() / max(mask.sum(), 1)),
+            "largest_trusted_um": (top["before_um"], top["after_um"]) if trusted.any()
+            else None}
 
 
 def ratio(before, after) -> str:
@@ -194,8 +224,8 @@ def table(rows: list) -> str:
            "[µm] | rms over the run, settling hold included, before -> after [µm] "
            "| largest spike before -> after [µm] | G before -> after [µm] "
            "| reduction contour / spike / G | true reduction where firm | spike verdict "
-           "| worse |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "| worse | true rises, of them trusted |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         fx = "/".join(f"{v:.2g}" for v in r["factors"].values())
         fx += " (by region)" if r["by_region"] else ""
@@ -205,13 +235,17 @@ def table(rows: list) -> str:
         worse += r.get("spikes_grown", [])
         firm = ("-" if r["firm_truth"] is None
                 else "{:.1f}x (least region {:.1f}x)".format(*r["firm_truth"]))
+        rises = r["rises"]
+        rise = (f"{rises['share']:.1%}, {rises['trusted']:.1%} trusted"
+                + (" ({:.2f} -> {:.2f})".format(*rises["largest_trusted_um"])
+                   if rises["largest_trusted_um"] else ""))
         out.append(f"| {r['machine']} | {r['program']} | {fx} | {r['trusted']:.0%} "
                    f"| {r['firm']:.0%} "
                    f"| {f(r['ce_before'])} -> {f(r['ce_after'])} "
                    f"| {f(r['rms_before'])} -> {f(r['rms_after'])} "
                    f"| {f(r['spike_before'])} -> {f(r['spike_after'])} "
                    f"| {f(r['g_before'])} -> {f(r['g_after'])} | {red} | {firm} "
-                   f"| {r['spike_verdict']} | {', '.join(worse) or '-'} |")
+                   f"| {r['spike_verdict']} | {', '.join(worse) or '-'} | {rise} |")
     return "\n".join(out) + "\n"
 
 

@@ -222,7 +222,7 @@ def test_cli_output_drives_simulate(tmp_path, capsys):
                  "--accel-m-per-s2", "3", "--report", str(page)]) == 0
     assert read_command_csv(comp_csv).time_s.size > 800 and nc.exists()
     said = capsys.readouterr().out  # the draws' verdict: improved share and firm share
-    assert "over 2 draws of the model the largest contour error falls" in " ".join(
+    assert "over 2 draws of the model the largest contour error of a region" in " ".join(
         said.split()) and "(firm)" in said
     # the report: the error before and after, the figures reduced, the settings per axis
     html = page.read_text(encoding="utf-8")

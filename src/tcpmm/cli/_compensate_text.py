@@ -224,12 +224,20 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
     if robustness.get("by_region"):
         f += " (the mean along the path: chosen region by region)"
     return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
-            "the model the largest contour error falls on every draw, and on the machine "
-            f"as one more draw, in the regions of {robustness['trusted_share']:.0%} of the "
-            f"samples, at least {FIRM_RATIO:g}x on the machine (firm) in those of "
-            f"{robustness['firm_share']:.0%} (a region, a reversal or a stretch between, is "
-            "judged by its largest error: a sample below it may rise)",
-            *_worst_after(robustness), *_figure_verdicts(robustness.get("circle", {}))]
+            "the model the largest contour error of a region (a reversal or a stretch "
+            "between) falls on every draw, and on the machine as one more draw, and no "
+            "sample's error rises, on "
+            f"{robustness['trusted_share']:.0%} of the samples (trusted), at least "
+            f"{FIRM_RATIO:g}x on the machine (firm) on {robustness['firm_share']:.0%}",
+            *_rise_lines(robustness.get("local_rise")), *_worst_after(robustness),
+            *_figure_verdicts(robustness.get("circle", {}))]
+
+
+def _rise_lines(rise) -> list[str]:
+    """The line of :func:`tcpmm.compensate.trust.rise_words`, none where not judged [-]."""
+    from ..compensate.trust import rise_words
+
+    return [] if rise is None else [f"  {rise_words(rise)}"]
 
 
 def _worst_after(robustness: dict) -> list[str]:

@@ -48,6 +48,7 @@ from .robust import (
     region_rows,
     regional_shares,
     regions,
+    rises,
 )
 
 #: Shares of the controller-side parameters tried [-].
@@ -168,7 +169,9 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
         factors, after = got
         shares, extra = [factors[a] for a in comp.reference.axes], {**extra, "by_region": True}
     record(comp, shares, region_rows(before, after, comp.target, labels),
-           circle_rows(before, after, guard), labels, extra)
+           circle_rows(before, after, guard), labels, extra,
+           rises(machines, comp, errs[share], shares, plants(params, share),
+                 errs[0.0][:, :, 0]))
     comp.controller = scaled_params(params, share)
     return comp
 

@@ -30,7 +30,8 @@ from ..analysis.contour import distance_to_polyline
 from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
-from .regional import per_combo, pick, settle_regions, tcp_errors
+from .regional import composed_errors, per_combo, pick, settle_regions, tcp_errors
+from .trust import local_rises, next_draw, record
 
 #: Shares of the correction tried [-].
 LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
@@ -65,9 +66,6 @@ RELATIVE_MARGIN = MODEL_ERROR["friction_level"]
 #: compensation is to deliver [-].
 FIRM_RATIO = 5.0
 
-#: The chance a verdict may leave of the machine falling short of it, as one more draw
-#: (:func:`next_draw`) [-].
-BEYOND = 0.05
 
 
 def margin(before: np.ndarray) -> np.ndarray:
@@ -257,28 +255,6 @@ def over_draws(b: np.ndarray, a: np.ndarray, margin_m=EQUAL_M) -> dict:
             "ratio_bound": bound, "verdict": verdict(bound, cleared)}
 
 
-def next_draw(x: np.ndarray) -> float:
-    """The lower bound of one more draw of ``x`` at 95 %, from the draws' mean and
-    scatter (Student's t prediction bound, the scatter widened by the prediction
-    intervals' calibration factor, :data:`tcpmm.uncertainty.verdict.CALIBRATION`), and
-    never above their least: the least of a few draws is no bound for the next (of 7, one
-    more falls below it one time in 8) [-].
-
-    Parameters
-    ----------
-    x : ndarray
-        The draws' values, the logarithm of a ratio [-].
-    """
-    x = np.asarray(x, float)
-    if x.size < 3 or not np.all(np.isfinite(x)):
-        return float(np.min(x))
-    from scipy.stats import t
-
-    # widened as the prediction intervals are for the machines beyond the draws
-    spread = CALIBRATION["factor"] * np.std(x, ddof=1) * np.sqrt(1.0 + 1.0 / x.size)
-    return float(min(np.min(x), np.mean(x) - t.ppf(1.0 - BEYOND, x.size - 1) * spread))
-
-
 def circle_rows(before: np.ndarray, after: np.ndarray, guard) -> dict:
     """The draws' verdict on the circle's largest spike and G, empty without a circle."""
     if guard is None:
@@ -320,14 +296,29 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
     shares, figs = choose_of(per, n_reg)
     extra = {"draws": n_draws, "seed": seed}
     by_region = regional_shares(machines, comp, per, before, labels, guard, figs)
-    if by_region is None:
-        record(comp, shares, region_rows(before, figs, target, labels),
-               circle_rows(before, figs, guard), labels, extra)
-        return
-    factors, figs = by_region
-    record(comp, [factors[a] for a in comp.reference.axes],
-           region_rows(before, figs, target, labels), circle_rows(before, figs, guard),
-           labels, {**extra, "by_region": True})
+    if by_region is not None:
+        (factors, figs), extra = by_region, {**extra, "by_region": True}
+        shares = [factors[a] for a in comp.reference.axes]
+    record(comp, shares, region_rows(before, figs, target, labels),
+           circle_rows(before, figs, guard), labels, extra,
+           rises(machines, comp, errs, shares))
+
+
+def rises(machines, comp, errs: np.ndarray, shares: list, plants=None,
+          before=None) -> tuple:
+    """:func:`.trust.local_rises` of the ``shares`` chosen per axis, from the TCP errors
+    of each share (:func:`axis_errors`): one share per axis read off them, shares per
+    sample run anew on every draw, each axis as ``plants`` says; against the errors
+    ``before``, by default those of no share [-]."""
+    if all(np.ndim(s) == 0 for s in shares):
+        after = errs[:, np.arange(len(shares)), [LEVELS.index(s) for s in shares]]
+    else:
+        after = composed_errors(machines, comp, dict(zip(comp.reference.axes, shares,
+                                                         strict=True)), plants)
+    target = comp.target
+    before = errs[:, :, 0] if before is None else before
+    return local_rises(np.array([contour(e, target) for e in before]),
+                       np.array([contour(e, target) for e in after]), target, margin)
 
 
 def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray, guard,
@@ -363,36 +354,3 @@ def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.nd
             worst[:n_reg] < worst_one[:n_reg] - margin(worst_one[:n_reg])):
         return None
     return got
-
-
-def record(comp, shares: list, rows: list, circle: dict, labels: np.ndarray,
-           extra: dict) -> None:
-    """Set the chosen shares per axis, the samples trusted and what the draws say on the
-    compensation, in place [-].
-
-    Parameters
-    ----------
-    comp : Compensation
-        The compensation [-].
-    shares : list of float or ndarray
-        Share of the correction per axis, one or one per sample; ``robustness["factors"]``
-        holds its mean along the path [-].
-    rows, circle
-        Per region and for a circle the draws' verdicts (:func:`choose`) [-].
-    labels : ndarray
-        Region per sample (:func:`regions`) [-].
-    extra : dict
-        Further entries of ``comp.robustness``, first: the draws and their seed [-].
-    """
-    for a, f in zip(comp.reference.axes, shares, strict=True):
-        comp.factors[a] = np.broadcast_to(np.asarray(f, dtype=float), labels.shape).copy()
-    good = {r["region"] for r in rows if r["verdict"] != "uncertain"}
-    firm = {r["region"] for r in rows if r["verdict"] == "firm"}
-    comp.trusted = np.isin(labels, list(good))
-    comp.robustness = {**extra, "regions": rows,
-                       "factors": {a: float(np.mean(f)) for a, f in zip(
-                           comp.reference.axes, shares, strict=True)},
-                       "trusted_share": float(np.mean(comp.trusted)),
-                       "firm_share": float(np.mean(np.isin(labels, list(firm))))}
-    if circle:
-        comp.robustness["circle"] = circle

@@ -10,6 +10,7 @@ from ..compensate import runs_before_after
 from ..compensate.bounds import over_limit_words
 from ..compensate.robust import FIRM_RATIO
 from ..compensate.scores import DEMAND_WORDS, before_after
+from ..compensate.trust import rise_words
 from ..errors import InputError
 from ..plot.circle import plot_circle
 from .html import figure, para, section, table
@@ -104,10 +105,13 @@ def compensation_section(comp, source=None, machine=None, circle=None, controlle
     if trusted is not None:
         lead += (" The compensation lowers the largest error of each region (a reversal "
                  "or a stretch between) on every machine drawn from the model's "
-                 f"uncertainty in the regions of {trusted:.0%} of the samples (trusted)")
+                 f"uncertainty, and no sample's error rises, on {trusted:.0%} of the "
+                 "samples (trusted)")
         lead += ("." if firm is None else
-                 f", and at least {FIRM_RATIO:g} times in those of {firm:.0%} (firm).")
-        lead += " A sample below its region's largest error may rise."
+                 f", and at least {FIRM_RATIO:g} times on {firm:.0%} (firm).")
+        rise = (comp.robustness or {}).get("local_rise")
+        words = "" if rise is None else rise_words(rise)
+        lead += f" {words[:1].upper()}{words[1:]}." if words else ""
     body = para(lead, "lead")
     polar = None if machine is None or circle is None else _polar(machine, comp, circle)
     if polar is not None:

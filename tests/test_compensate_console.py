@@ -131,3 +131,33 @@ def test_the_dense_program_says_which_lines_are_the_rapids(settle_s):
     assert len(named) > 100 and text[-2].startswith("G4 ") and len(text) - 2 in rapid
     plain = cmd.__class__(cmd.time_s, cmd.positions)
     assert "rapids" not in dense_program(plain)
+
+
+def _polyline_arc(blocks: int = 60, radius_mm: float = 10.0, blend: str = "") -> str:
+    """A half circle posted as ``blocks`` G1 lines, as CAM writes a curve [mm]."""
+    import math
+
+    pts = [(radius_mm * math.cos(math.pi * k / blocks), radius_mm * math.sin(math.pi * k / blocks))
+           for k in range(blocks + 1)]
+    lines = [f"G21 G17 G90 G64{blend}", f"G0 X{pts[0][0]:.4f} Y{pts[0][1]:.4f}"]
+    lines += [f"G1 X{x:.4f} Y{y:.4f} F3000" for x, y in pts[1:]]
+    return "\n".join([*lines, "M30", ""])
+
+
+@pytest.mark.parametrize("blend, said", [("", True), (" P0.01", False)])
+def test_a_polyline_slowed_by_its_sharp_corners_is_told_why(tmp_path, capsys, blend, said):
+    """Planned with headroom, each junction of a curve posted as lines is a sharp corner
+    taken with a third of the velocity step: the plan's extra time is mostly there, and
+    the console says so; rounded by G64 P, the corners add nothing and nothing is said."""
+    prog = tmp_path / "arc.nc"
+    prog.write_text(_polyline_arc(blend=blend))
+    args = ["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
+            "--draws", "0", "--iterations", "3"]
+    assert main(args) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert ("at sharp corners between blocks, each taken with a velocity step of 33% of the "
+            "axes' acceleration" in out) is said, out
+    assert main([*args, "--json"]) == 0
+    settings = json.loads(capsys.readouterr().out)["settings"]
+    added = settings["planned_duration_s"] - settings["programmed_duration_s"]
+    assert (settings["corner_steps_s"] >= 0.1 * added) is said

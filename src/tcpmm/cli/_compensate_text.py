@@ -57,7 +57,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
                   "the axes' acceleration and jerk, the rest left to the correction: "
                   f"{st['planned_duration_s']:.3g} s instead of "
                   f"{st['programmed_duration_s']:.3g} s as programmed (longer ramps and "
-                  "corners; on a curve, the feed the rest of the acceleration allows)")
+                  "corners; on a curve, the feed the rest of the acceleration allows)"
+                  + _corner_words(st), highlight=False)
     if comp.robustness:
         for line in _verdict_lines(comp.robustness, comp.moved_axes):
             out.print(line)
@@ -231,6 +232,23 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
             f"{FIRM_RATIO:g}x on the machine (firm) on {robustness['firm_share']:.0%}",
             *_rise_lines(robustness.get("local_rise")), *_worst_after(robustness),
             *_figure_verdicts(robustness.get("circle", {}))]
+
+
+def _corner_words(settings: dict) -> str:
+    """Where the sharp corners' smaller velocity step is a tenth or more of the time the
+    headroom adds, how much and what to do (:func:`tcpmm.compensate.headroom.
+    corner_steps_s`), else nothing [-]."""
+    from ..compensate.headroom import planned_step_share
+
+    corners = settings.get("corner_steps_s", 0.0)
+    added = settings["planned_duration_s"] - settings["programmed_duration_s"]
+    if corners < 0.1 * added or corners <= 0.0:
+        return ""
+    return (f"; {corners:.3g} s of it at sharp corners between blocks, each taken with a "
+            f"velocity step of {planned_step_share(settings['headroom']):.0%} of the axes' "
+            "acceleration (G64 without P keeps them sharp, and a curve posted as short "
+            "lines turns at every block): G64 P<tolerance> rounds them, --headroom 0 "
+            "plans the program as programmed")
 
 
 def _rise_lines(rise) -> list[str]:

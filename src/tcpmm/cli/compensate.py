@@ -144,7 +144,7 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=N
         Called with no argument after each step of the correction learned with ``tuned``
         (:func:`tcpmm.compensate.combined.combined_steps`) [-].
     """
-    from ..compensate.headroom import on_the_program
+    from ..compensate.headroom import corner_steps_s, on_the_program
 
     full, cmd, headroom = plans
     iterations, draws = steps
@@ -155,6 +155,9 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=N
             machine, full, source, iterations, bounds, draws, circle), circle)
         headroom = headroom if kept else 0.0
     comp.settings["headroom"] = headroom
+    if headroom:  # an NC program, planned anew
+        comp.settings["corner_steps_s"] = corner_steps_s(
+            source, interp_settings(machine), headroom, comp.settings["planned_duration_s"])
     return comp, headroom
 
 

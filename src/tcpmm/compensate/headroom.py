@@ -59,8 +59,15 @@ def planned_settings(settings: InterpolatorSettings, headroom: float) -> Interpo
     return settings.model_copy(update={
         "path_accel_m_per_s2": settings.path_accel_m_per_s2 * k,
         "path_jerk_m_per_s3": settings.path_jerk_m_per_s3 * k,
-        "corner_step_share": min(settings.corner_step_share, headroom / k),
+        "corner_step_share": min(settings.corner_step_share, planned_step_share(headroom)),
         "axis_accel_m_per_s2": {a: v * k for a, v in settings.axis_accel_m_per_s2.items()}})
+
+
+def planned_step_share(headroom: float) -> float:
+    """The share of an axis's full acceleration a sharp corner's velocity step may take
+    when planned with ``headroom`` (:func:`planned_settings`): with the braking into the
+    corner at ``1 - headroom`` of it, the two add up to the full limit [-]."""
+    return headroom / (1.0 - headroom)
 
 
 def program_with_headroom(program, settings: InterpolatorSettings, headroom: float):
@@ -84,6 +91,29 @@ def program_with_headroom(program, settings: InterpolatorSettings, headroom: flo
     if headroom == 0.0:
         return full, full
     return full, program_to_command(program, planned_settings(settings, headroom))
+
+
+def corner_steps_s(program, settings: InterpolatorSettings, headroom: float,
+                   planned_s: float) -> float:
+    """How much of the program's time planned with ``headroom`` its sharp corners take for
+    their smaller velocity step alone: ``planned_s`` less the duration planned with the
+    corners' step at the machine's own share. A curve posted as short G1 lines without a
+    blending tolerance turns at every block, a sharp corner each [s].
+
+    Parameters
+    ----------
+    program : str or Path
+        NC program text or file [-].
+    settings : InterpolatorSettings
+        The machine's settings [-].
+    headroom : float
+        Share of the acceleration and jerk left to the correction [-].
+    planned_s : float
+        The duration planned with the headroom [s].
+    """
+    steps = planned_settings(settings, headroom).model_copy(
+        update={"corner_step_share": settings.corner_step_share})
+    return max(0.0, planned_s - float(program_to_command(program, steps).time_s[-1]))
 
 
 def worse_than_programmed(scores: dict) -> list[str]:

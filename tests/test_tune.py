@@ -249,8 +249,10 @@ def test_a_one_axis_machine_is_tuned_without_a_circle(vmc):
 
 
 def test_an_axis_that_misses_sets_no_gain_and_the_unequal_gains_are_said(vmc):
-    """Y without any damping (its sampled loop at the edge of stability, spectral radius
-    1): it misses and keeps its settings, so it must not set the common K_pp of the
+    """Y without any damping, its torsion mode stiffened to 1.9 kHz and a sample of
+    computation delay: there the delay turns the velocity feedback's phase past 90 deg,
+    so every velocity gain feeds the undamped mode (its sampled loop unstable at any
+    gain). It misses and keeps its settings, so it must not set the common K_pp of the
     others ('set by axis Z' was said of an axis that was not tuned), the reason is its
     stability, not the margins it meets, and the gains left unequal are said. All three
     axes are named contouring axes: the circle alone would match X and Y only."""
@@ -258,10 +260,11 @@ def test_an_axis_that_misses_sets_no_gain_and_the_unequal_gains_are_said(vmc):
 
     from tcpmm.errors import InputWarning
 
-    m = vmc.axes["Y"].mechanics
-    undamped = m.model_copy(update={k: 0.0 for k in ("B_m", "B_L", "C_t", "C_b", "C_h")})
-    machine = vmc.model_copy(update={"axes": {**vmc.axes, "Y": vmc.axes["Y"].replace(
-        mechanics=undamped)}})
+    y = vmc.axes["Y"]
+    undamped = y.mechanics.model_copy(update={
+        **{k: 0.0 for k in ("B_m", "B_L", "C_t", "C_b", "C_h")}, "K_L": 9 * y.mechanics.K_L})
+    delayed = ServoParams.create(**{**y.servo.model_dump(), "delay_samples": 1})
+    machine = vmc.with_axis("Y", y.replace(mechanics=undamped, servo=delayed))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)
         res = tune_and_predict(machine, GM, PM, axes="XYZ")

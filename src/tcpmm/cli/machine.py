@@ -45,7 +45,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     from ..servo.closedloop import is_stable
     from ..servo.currentfilters import filter_text
     from ..servo.margins import axis_margins
-    from ..servo.sampled import sampled_spectral_radius
+    from ..servo.sampled import is_stable_radius, sampled_spectral_radius
 
     m = read_model(model)
     data = {}
@@ -68,7 +68,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
                           zip(d["modes_hz"], d["damping"], strict=True))
         state = "stable" if d["closed_loop_stable"] else "UNSTABLE"
         rho = d["sampled_loop_spectral_radius"]
-        sampled = "stable" if rho < 1.0 else "UNSTABLE"
+        sampled = "stable" if is_stable_radius(rho) else "UNSTABLE"
         out.print(f"{ax}: {modes}; continuous closed loop {state}; sampled loop {sampled} "
                   f"(spectral radius {rho:.4f}, the drive's: the one that counts)")
         for f in m.axes[ax].servo.filters:
@@ -77,7 +77,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
             # the position loop closes around the velocity loop: its margins assume that
             # one holds, which an unstable sampled loop does not
             unheld = " (of no meaning: the sampled loop is unstable)" if (
-                loop == "position" and rho >= 1.0) else ""
+                loop == "position" and not is_stable_radius(rho)) else ""
             out.print(f"   {loop} loop: {margins_line(mg)}{unheld}")
 
 

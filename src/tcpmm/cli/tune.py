@@ -130,11 +130,11 @@ def _unstable_marks(mech, t) -> dict:
     position loop whole, which closes around the velocity loop and whose margins assume
     that one holds [-]."""
     from ..servo.modeshift import velocity_only
-    from ..servo.sampled import sampled_spectral_radius
+    from ..servo.sampled import sampled_loop_stable
 
     def marks(alone):
-        return tuple("*" if sampled_spectral_radius(mech, velocity_only(s) if alone else s)
-                     >= 1.0 else "" for s in (t.before, t.after))
+        return tuple("" if sampled_loop_stable(mech, velocity_only(s) if alone else s)
+                     else "*" for s in (t.before, t.after))
 
     vel = marks(True)
     return {"velocity": vel, "position": tuple(v or p for v, p in zip(vel, marks(False),

@@ -78,7 +78,7 @@ def model_frame(machine):
 
 #: Rows on the dynamics of each axis: name, description, unit.
 DYNAMICS = (("modes", "natural frequencies of the mechanics", "Hz"),
-            ("spectral_radius", "sampled servo loop spectral radius (stable below 1)", "-"))
+            ("spectral_radius", "sampled servo loop spectral radius (stable up to 1)", "-"))
 
 
 def _dynamics(axis) -> tuple:

@@ -33,7 +33,7 @@ from ..errors import InputError
 from ..mechanics.export import reduced_ss
 from ..mechanics.lumped import AxisMechanics
 from .params import ServoParams
-from .sampled import sampled_spectral_radius
+from .sampled import is_stable_radius, sampled_spectral_radius
 
 #: A loop crossing over above a mode damped less than this gets a warning [-].
 LIGHT_ZETA = 0.01
@@ -128,7 +128,7 @@ def worst_shift(mech: AxisMechanics, servo: ServoParams, gm_db: float,
         m = mech if s == 1.0 else shifted(mech, float(s))
         for f, sv in cases:
             rho = sampled_spectral_radius(m, sv)
-            if not rho < 1.0:
+            if not is_stable_radius(rho):
                 return float(s), f, rho
     return None
 

@@ -21,6 +21,17 @@ from .params import ServoParams
 
 #: Outputs of the lifted system, sampled at the start of each position-loop period.
 LIFTED_OUTPUTS = ("th_m", "X_LS", "X_TCP", "w_m")
+#: How far above 1 the spectral radius of a stable sampled loop may lie [-]. A mode the
+#: loop cannot move and nothing damps (a structure mode of damping zero) has its
+#: eigenvalue on the unit circle: marginally stable, it rings but does not diverge. The
+#: rounding of the discretisation (matrix exponential, ``n_pos``-th power, eigenvalues)
+#: leaves such an eigenvalue some ten machine epsilons to either side of 1, and up to
+#: about ``sqrt(eps)`` where two coincide; so the tolerance is ``sqrt(eps)`` (1.5e-8), the
+#: most rounding alone can do, whatever the machine. A mode growing by less per period
+#: takes over 4e7 periods to double, which no run and no machine tells from a marginal
+#: one; and the radius of a loop that does grow rises steeply with the gain past its
+#: limit, so the tolerance moves that limit by far less than any gain step of a tuning.
+RADIUS_TOLERANCE = float(np.sqrt(np.finfo(float).eps))
 
 
 @lru_cache(maxsize=32)
@@ -174,7 +185,8 @@ def position_open_loop(mech: AxisMechanics, servo: ServoParams):
 
 
 def sampled_spectral_radius(mech: AxisMechanics, servo: ServoParams) -> float:
-    """Spectral radius of the lifted sampled loop: below 1 it is stable [-].
+    """Spectral radius of the lifted sampled loop: stable where :func:`is_stable_radius`
+    says so, below 1 but for rounding [-].
 
     Parameters
     ----------
@@ -194,6 +206,33 @@ def sampled_spectral_radius(mech: AxisMechanics, servo: ServoParams) -> float:
         keep = np.r_[0:n, n + 1:Phi.shape[0]]
         Phi = Phi[np.ix_(keep, keep)]
     return float(np.max(np.abs(np.linalg.eigvals(Phi))))
+
+
+def is_stable_radius(rho: float) -> bool:
+    """Whether a sampled loop of spectral radius ``rho`` is stable: no mode grows by more
+    than rounding (:data:`RADIUS_TOLERANCE`). The one verdict every judge of a sampled
+    loop uses, so that a model is stable or unstable alike wherever it is judged [-].
+
+    Parameters
+    ----------
+    rho : float
+        Spectral radius of the sampled loop (:func:`sampled_spectral_radius`); ``nan``
+        counts as unstable [-].
+    """
+    return bool(rho < 1.0 + RADIUS_TOLERANCE)
+
+
+def sampled_loop_stable(mech: AxisMechanics, servo: ServoParams) -> bool:
+    """Whether the lifted sampled loop is stable (:func:`is_stable_radius`) [-].
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        Mechanics [SI].
+    servo : ServoParams
+        Servo settings [SI].
+    """
+    return is_stable_radius(sampled_spectral_radius(mech, servo))
 
 
 def initial_state(mech: AxisMechanics, servo: ServoParams, x0: np.ndarray) -> np.ndarray:

@@ -62,7 +62,7 @@ from .modeshift import (
     worst_shift,
 )
 from .params import ServoParams
-from .sampled import sampled_spectral_radius
+from .sampled import is_stable_radius, sampled_spectral_radius
 from .tunevelocity import (
     RESOLUTION,
     changed,
@@ -149,7 +149,7 @@ def _limit(margins, radius, k, gm, pm, shift=None) -> str:
         at, there = _crossing(m, above, "phase_margin_deg", "gain_crossover_hz")
         return (f"phase margin ({at.phase_margin_deg:.1f} deg at its gain crossover "
                 f"{_hz(at.gain_crossover_hz)} Hz{there})")
-    if radius is not None and radius(k * (1 + 3 * RESOLUTION)) >= 1:
+    if radius is not None and not is_stable_radius(radius(k * (1 + 3 * RESOLUTION))):
         return "stability of the sampled loop (spectral radius reaching 1)"
     case = None if shift is None else shift(k * (1 + 3 * RESOLUTION))
     if case is not None:  # the margins hold above: the check of the modes' shifts binds

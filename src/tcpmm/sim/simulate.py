@@ -16,7 +16,7 @@ from ..path.blocktrack import at_times
 from ..path.command import Command
 from ..path.settings import AXES, InterpolatorSettings
 from ..result import AxisRun, Run
-from ..servo.sampled import sampled_spectral_radius
+from ..servo.sampled import is_stable_radius, sampled_spectral_radius
 from .inputs import kernel_inputs, run_kernel, sensor_datums
 
 
@@ -149,7 +149,7 @@ def _unstable_radii(machine: Machine, names=None) -> dict:
     for name in machine.axes if names is None else names:
         a = machine.axes[name]
         rho = sampled_spectral_radius(a.mechanics, a.servo)
-        if rho >= 1.0:
+        if not is_stable_radius(rho):
             radii[name] = rho
     return radii
 

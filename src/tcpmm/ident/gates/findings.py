@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ...servo.sampled import sampled_spectral_radius
+from ...servo.sampled import is_stable_radius, sampled_spectral_radius
 from ..friction.steadycurve import slowest_plateau, stribeck_from_record
 from ..friction.sweepforce import travel_speed
 from ..lti.goodness import fit_percent
@@ -256,9 +256,10 @@ def check_fit_percent(name: str, tf: str, H, H_model, data: str = "the sweep",
 def check_sampled_loop(name: str, axis, data: str = "the sweep",
                        cover=None) -> list[Finding]:
     """The identified position loop, as the drive samples it, unstable (spectral radius of
-    the lifted sampled loop at 1 or above): a simulation of the model diverges. Where the
-    FRFs' band leaves out a mode the fitted mechanics put where the sweep excites, the
-    remedy names the band before the servo settings.
+    the lifted sampled loop above 1 by more than rounding:
+    :func:`~tcpmm.servo.sampled.is_stable_radius`): a simulation of the model diverges.
+    Where the FRFs' band leaves out a mode the fitted mechanics put where the sweep
+    excites, the remedy names the band before the servo settings.
 
     Parameters
     ----------
@@ -278,13 +279,13 @@ def check_sampled_loop(name: str, axis, data: str = "the sweep",
         Empty when the sampled loop is stable [-].
     """
     rho = sampled_spectral_radius(axis.mechanics, axis.servo)
-    if rho < 1.0:
+    if is_stable_radius(rho):
         return []
     servo = "check the servo settings in machine.yaml (gains, loop periods) and the sweep"
     band = None if cover is None else (cover.words(axis.mechanics)
                                        or cover.reach_words(axis.mechanics, axis.servo))
     return [Finding(name, "spectral radius of the sampled position loop", rho, "",
-                    "at or above 1: the loop as the drive samples it is unstable", data,
+                    "above 1: the loop as the drive samples it is unstable", data,
                     servo if band is None else f"{band}; failing that, {servo}")]
 
 

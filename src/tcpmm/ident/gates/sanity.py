@@ -23,7 +23,7 @@ import numpy as np
 
 from ...errors import InputWarning
 from ...io.csvutil import warn_input
-from ...servo.sampled import sampled_spectral_radius
+from ...servo.sampled import is_stable_radius, sampled_spectral_radius
 
 __all__ = ["FRICTION_LEAD_DEG", "LOW_BAND_HZ", "FrictionHold", "friction_holds_sweep",
            "warn_friction_holds_sweep", "warn_unstable_sampled_loop"]
@@ -147,10 +147,11 @@ def warn_unstable_sampled_loop(name: str, axis, undetermined, cover=None) -> flo
     Returns
     -------
     float
-        Spectral radius of the lifted sampled loop (below 1: stable) [-].
+        Spectral radius of the lifted sampled loop (stable as
+        :func:`~tcpmm.servo.sampled.is_stable_radius` says) [-].
     """
     rho = sampled_spectral_radius(axis.mechanics, axis.servo)
-    if rho >= 1.0:
+    if not is_stable_radius(rho):
         suspects = (f"; the FRFs did not determine {', '.join(undetermined)}"
                     if undetermined else "")
         band = None if cover is None else (cover.words(axis.mechanics)

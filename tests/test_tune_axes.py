@@ -208,3 +208,29 @@ def test_a_kept_axis_s_light_mode_warning_says_it_is_about_its_own_settings(vmc)
                         f"{bandwidth:.1f} Hz (its bandwidth) and, lifted above 1 again higher "
                         "up, last at 665 Hz, above the 588 Hz mode"), w
     assert "before relying on these settings" in w and "these gains" not in w
+
+
+@pytest.mark.parametrize("contouring", [(), ("--axes", "XYZ")])
+def test_an_axis_no_gain_holds_says_once_that_its_settings_are_kept(vmc, capsys, tmp_path,
+                                                                    contouring):
+    """Z without any damping, its torsion mode stiffened to 1.9 kHz and a sample of
+    computation delay: there the delay turns the velocity feedback's phase past 90 deg,
+    so every velocity gain feeds the undamped mode and none holds it. Its lines said
+    "settings kept" up to four times (the heading, the axis's line, the velocity loop's
+    note and, tuned alone, a note that no gain meets the margins on this axis alone): the
+    heading says it, and the one note that says why."""
+    z = vmc.axes["Z"]
+    mech = z.mechanics.model_copy(update={
+        **dict.fromkeys(("B_m", "B_L", "C_t", "C_b", "C_h"), 0.0), "K_L": 9 * z.mechanics.K_L})
+    write_machine(_with_z(vmc, mech, delay_samples=1), tmp_path / "m.yaml")
+    code, out, _ = run_cli(capsys, "tune", tmp_path / "m.yaml", "--jobs", "1", *contouring)
+    assert code == 0
+    assert "axis Z: tuning for 6 dB / 45 deg, stable with the modes 5 % off: NOT MET, " \
+           "settings kept" in out
+    kept = [ln.strip() for ln in out.splitlines() if "settings kept" in ln]
+    assert len(kept) == 2 and kept[1].startswith("velocity loop: no gain meets"), kept
+    code, out, _ = run_cli(capsys, "tune", tmp_path / "m.yaml", "--jobs", "1", "--json",
+                           *contouring)
+    data = json.loads(out)["axes"]["Z"]
+    assert not data["met"] and "settings kept" not in data["reason"]
+    assert len([n for n in data["notes"] if "settings kept" in n]) == 1

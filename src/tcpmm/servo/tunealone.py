@@ -67,8 +67,9 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
     after = None if k is None else ServoParams.create(**{**vel.model_dump(), "K_pp": k})
     if after is None or not meets_margins(mech, after, gm_db, pm_deg):
         what = "no gain meets" if after is None else "the proposal misses"
-        notes.append(f"its settings miss {gm_db:g} dB / {pm_deg:g} deg and {what} them on "
-                     "this axis alone; settings kept")
+        if vel is not None:  # else the velocity loop's note said why, and that they are kept
+            notes.append(f"its settings miss {gm_db:g} dB / {pm_deg:g} deg and {what} them "
+                         "on this axis alone; settings kept")
         return AxisTuning(servo, servo, before, before, False, notes,
                           light_mode_warnings(mech, before, servo, kept=True))
     limits = {"K_vp": velocity_limit(mech, after, gm_db, pm_deg),

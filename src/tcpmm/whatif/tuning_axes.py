@@ -149,8 +149,8 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
         b, a = t.before, t.after
         kpp = "K_pp kept" if a.K_pp == b.K_pp else \
             f"K_pp {'lowered' if a.K_pp < b.K_pp else 'raised'} to {a.K_pp:.4g} 1/s"
-        if not t.met:
-            words.append("its margins are not met; settings kept")
+        if not t.met:  # that its settings are kept, and why, is its own note's to say
+            words.append("its margins are not met")
         elif n in matched and len(matched) > 1:
             words.append(f"{kpp}, matched over {', '.join(matched)}")
         elif n in matched:

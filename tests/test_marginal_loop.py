@@ -67,6 +67,19 @@ def test_an_undamped_structure_mode_is_stable_in_every_judge(capsys, tmp_path):
     assert all(_verdicts(m, "Y", capsys, tmp_path).values())
 
 
+@pytest.mark.parametrize("dampings", [("C_h",), ("B_m", "B_L", "C_t", "C_b", "C_h")])
+def test_machine_show_calls_the_continuous_loop_of_an_undamped_mode_stable(
+        capsys, tmp_path, dampings):
+    """Its pole on the imaginary axis but for rounding: machine show called X's continuous
+    loop UNSTABLE with C_h zero and Y's and Z's with every damping zero, by the sign of
+    a rounding error, beside the sampled loop stable."""
+    write_machine(_undamped(tcpmm.builtin_machine(), *dampings), tmp_path / "m.yaml")
+    assert main(["machine", "show", str(tmp_path / "m.yaml")]) == 0
+    heads = [ln for ln in capsys.readouterr().out.splitlines() if ln[:2] in ("X:", "Y:", "Z:")]
+    assert len(heads) == 3
+    assert all("continuous closed loop stable; sampled loop stable" in h for h in heads)
+
+
 def test_a_growing_mode_is_unstable_in_every_judge(capsys, tmp_path):
     """Just past the gain that destabilises it the loop grows by 0.2 % a period, which
     no tolerance for rounding may hide."""

@@ -16,6 +16,7 @@ from ..mechanics.statespace import StateSpace, plant, to_control
 from ..mechanics.transfer import freqresp_ss
 from .currentfilters import continuous_ss
 from .params import ServoParams
+from .sampled import RADIUS_TOLERANCE
 
 CLOSED_LOOP_TFS = ("G_v", "G_p", "cmd_to_tcp", "cmd_to_motor", "cmd_to_current")
 
@@ -119,9 +120,13 @@ def closed_loop_freqresp(mech: AxisMechanics, servo: ServoParams, name: str, f_h
 
 
 def is_stable(mech: AxisMechanics, servo: ServoParams) -> bool:
-    """True when every pole of the continuous position loop is in the open left half-plane
-    (the position loop closes the rigid-body integrator, so none may sit at zero)."""
-    return bool(np.all(np.linalg.eigvals(position_closed_loop(mech, servo).A).real < 0))
+    """True when no pole of the continuous position loop lies right of the imaginary axis
+    by more than rounding: damping ratio above ``-RADIUS_TOLERANCE``, the sampled loop's
+    tolerance (:func:`~tcpmm.servo.sampled.is_stable_radius`), so that an undamped mode
+    the loop cannot move is marginally stable here as there. None may sit at zero: the
+    position loop closes the rigid-body integrator [-]."""
+    ev = np.linalg.eigvals(position_closed_loop(mech, servo).A)
+    return bool(np.all(ev.real < RADIUS_TOLERANCE * np.abs(ev)))
 
 
 def closed_loop_ss(mech: AxisMechanics, servo: ServoParams, name: str) -> StateSpace:

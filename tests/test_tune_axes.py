@@ -234,3 +234,17 @@ def test_an_axis_no_gain_holds_says_once_that_its_settings_are_kept(vmc, capsys,
     data = json.loads(out)["axes"]["Z"]
     assert not data["met"] and "settings kept" not in data["reason"]
     assert len([n for n in data["notes"] if "settings kept" in n]) == 1
+
+
+def test_a_case_at_the_model_s_frequencies_quotes_no_shift():
+    """A loop unstable with only the velocity gain changed read "unstable with the modes
+    +0.0 % off the model's frequencies and the velocity gain raised": no shift was meant."""
+    from tcpmm.servo.modeshift import shift_words
+
+    assert shift_words((1.0, 2.0, 1.25)) == (
+        "unstable with the modes at the model's frequencies and the velocity gain raised by "
+        "the gain margin (spectral radius 1.2500)")
+    assert shift_words((1.0, 1.0, 1.25)) == "unstable as modelled (spectral radius 1.2500)"
+    assert shift_words((0.97, 0.5, 1.25)).startswith(
+        "unstable with the modes -3.0 % off the model's frequencies and the velocity gain "
+        "lowered by the gain margin")

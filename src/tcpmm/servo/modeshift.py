@@ -143,12 +143,15 @@ def robustly_stable(mech: AxisMechanics, servo: ServoParams, gm_db: float,
 def shift_words(case) -> str:
     """What a :func:`worst_shift` case means, in words [-]."""
     s, f, rho = case
-    if s == 1.0 and f == 1.0:
+    gain = "" if f == 1.0 else (f"the velocity gain {'raised' if f > 1 else 'lowered'} by "
+                                "the gain margin")
+    if s == 1.0 and not gain:
         return f"unstable as modelled (spectral radius {rho:.4f})"
-    gain = "" if f == 1.0 else (f" and the velocity gain {'raised' if f > 1 else 'lowered'}"
-                                " by the gain margin")
-    return (f"unstable with the modes {100 * (s - 1):+.1f} % off the model's frequencies"
-            f"{gain} (spectral radius {rho:.4f})")
+    # the modes where the model puts them: no shift of "+0.0 %" to quote
+    modes = ("at the model's frequencies" if s == 1.0 else
+             f"{100 * (s - 1):+.1f} % off the model's frequencies")
+    return (f"unstable with the modes {modes}{' and ' + gain if gain else ''} (spectral "
+            f"radius {rho:.4f})")
 
 
 def light_modes(mech: AxisMechanics):

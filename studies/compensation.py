@@ -191,15 +191,19 @@ def truth_rises(comp, before, after) -> dict:
     after [-, -, um]."""
     import numpy as np
 
-    from tcpmm.compensate.robust import margin
+    from tcpmm.compensate.robust import margin, regions
     from tcpmm.compensate.trust import local_rises
 
     e_b, e_a = np.nan_to_num(truth_errors(comp, before, after))
     mask, _ = local_rises(e_b[None], e_a[None], comp.target, margin)
     trusted, top = local_rises(e_b[None], np.where(comp.trusted, e_a, 0.0)[None],
                                comp.target, margin)
+    # the regions' verdicts alone, as "trusted" was before samples were held to their own
+    good = [r["region"] for r in comp.robustness["regions"] if r["verdict"] != "uncertain"]
+    by_region = mask & np.isin(regions(comp.target), good)
     return {"share": float(mask.mean()),
             "trusted": float(trusted.sum() / max(mask.sum(), 1)),
+            "by_region": float(by_region.sum() / max(mask.sum(), 1)),
             "largest_trusted_um": (top["before_um"], top["after_um"]) if trusted.any()
             else None}
 
@@ -224,7 +228,8 @@ def table(rows: list) -> str:
            "[µm] | rms over the run, settling hold included, before -> after [µm] "
            "| largest spike before -> after [µm] | G before -> after [µm] "
            "| reduction contour / spike / G | true reduction where firm | spike verdict "
-           "| worse | true rises, of them trusted |",
+           "| worse | true machine's samples that rise; of them trusted (largest such rise "
+           "[µm]); by the regions alone |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         fx = "/".join(f"{v:.2g}" for v in r["factors"].values())
@@ -236,9 +241,10 @@ def table(rows: list) -> str:
         firm = ("-" if r["firm_truth"] is None
                 else "{:.1f}x (least region {:.1f}x)".format(*r["firm_truth"]))
         rises = r["rises"]
-        rise = (f"{rises['share']:.1%}, {rises['trusted']:.1%} trusted"
+        rise = (f"{rises['share']:.1%}; trusted {rises['trusted']:.1%}"
                 + (" ({:.2f} -> {:.2f})".format(*rises["largest_trusted_um"])
-                   if rises["largest_trusted_um"] else ""))
+                   if rises["largest_trusted_um"] else "")
+                + f"; by the regions alone {rises['by_region']:.1%}")
         out.append(f"| {r['machine']} | {r['program']} | {fx} | {r['trusted']:.0%} "
                    f"| {r['firm']:.0%} "
                    f"| {f(r['ce_before'])} -> {f(r['ce_after'])} "

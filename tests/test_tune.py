@@ -865,3 +865,30 @@ def test_settings_that_hold_the_current_at_its_limit_too_are_not_advised_kept():
     after = next(n for n in _path_notes(fine, held(), axes, GM, PM, {}, False)
                  if n.startswith("after:"))
     assert "keep the settings, or lower the gains" in after
+
+
+def test_a_mode_folded_back_from_above_nyquist_gets_its_filter_where_it_folds(vmc):
+    """X's screw and table 100 times stiffer: the 7288 Hz mode folds about the velocity
+    loop's 8 kHz sampling to 712 Hz, where it limits the gain. Notches and low-passes were
+    looked for at the modes' own frequencies only, and the loop was cut to 0.24 Hz; a
+    low-pass below the fold keeps it above 100 Hz, and the notes say which mode it is."""
+    from tcpmm.servo.margins import velocity_margins
+    from tcpmm.servo.tunevelocity import tune_velocity
+
+    a = vmc.axes["X"]
+    mech = a.mechanics.model_copy(update={"K_L": 100 * a.mechanics.K_L,
+                                          "K_t": 100 * a.mechanics.K_t})
+    notes = []
+    best = tune_velocity(mech, a.servo, GM, PM, notes)
+    assert [f.type for f in best.filters] == ["lowpass"] and best.filters[0].f_hz < 712
+    assert velocity_margins(mech, best).bandwidth_hz > 100.0
+    assert any(n.startswith("the 711.8 Hz mode that limits the velocity gain is the 7288 Hz "
+                            "mode folded") for n in notes), notes
+
+
+@pytest.mark.parametrize("f, seen", [(100.0, 100.0), (3900.0, 3900.0), (4100.0, 3900.0),
+                                     (7288.0, 712.0), (8100.0, 100.0), (12100.0, 3900.0)])
+def test_a_frequency_folds_about_the_sampling_rate(f, seen):
+    from tcpmm.servo.modeshift import folded
+
+    assert folded(np.array([f]), 1 / 8000)[0] == pytest.approx(seen)

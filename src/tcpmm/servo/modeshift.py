@@ -154,6 +154,22 @@ def shift_words(case) -> str:
             f"radius {rho:.4f})")
 
 
+def folded(freqs: np.ndarray, period_s: float) -> np.ndarray:
+    """Frequencies as a loop sampled every ``period_s`` sees them: folded into
+    ``[0, 1 / (2 period_s)]`` [Hz].
+
+    Parameters
+    ----------
+    freqs : ndarray
+        The modes' frequencies [Hz].
+    period_s : float
+        The sampling period [s].
+    """
+    fs = 1.0 / period_s
+    f = np.asarray(freqs, float)
+    return np.where(f > fs / 2, np.abs(f - np.round(f / fs) * fs), f)
+
+
 def light_modes(mech: AxisMechanics):
     """Frequencies [Hz] and damping ratios [-] of the lightly damped modes of G_M."""
     ev = np.linalg.eigvals(reduced_ss(mech, "G_M").A)
@@ -259,26 +275,25 @@ def slower_warnings(before: dict, after: dict, mech=None, servo=None) -> list[st
     """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
     the margins are met by giving up most of the loop's speed; with the axis (``mech``,
     ``servo``), naming the lightly damped modes above the velocity loop's Nyquist
-    frequency, which fold back below it where no notch is placed [-]."""
+    frequency, which fold back below it [-]."""
     cut = slowed(before, after)
     if cut is None:
         return []
     b, a = cut
-    folded = ""
+    where = ""
     if mech is not None and servo is not None:
         fs = 1.0 / servo.T_v
-        high = [f for f in light_modes(mech)[0] if f > fs / 2]
+        high = sorted(f for f in light_modes(mech)[0] if f > fs / 2)
         if high:
-            folded = (" A lightly damped mode lies above the velocity loop's Nyquist "
-                      f"frequency of {fs / 2:.4g} Hz and folds back below it, where no notch "
-                      "is looked for: " + ", ".join(
-                          f"{f:.4g} Hz (to {abs(f - round(f / fs) * fs):.4g} Hz)"
-                          for f in sorted(high)) + "; a low-pass below the fold is such a "
-                      "filter")
+            where = (" A lightly damped mode lies above the velocity loop's Nyquist "
+                     f"frequency of {fs / 2:.4g} Hz and folds back below it, where the "
+                     "notches and low-passes were tried too: " + ", ".join(
+                         f"{f:.4g} Hz (to {g:.4g} Hz)" for f, g in
+                         zip(high, folded(np.array(high), servo.T_v), strict=True)))
     return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
             f"to {a:.2g} Hz: no faster velocity loop of the notches and low-passes tried "
             f"meets them with its modes up to {100 * current_tolerance():g} % off the "
             "model's frequencies, and the position gain (a quarter of that bandwidth at "
             "most, on every axis matched to this one) falls with it. Check the predicted "
             "path; smaller margins (--margins) or filters tuned on the machine may keep more "
-            "speed." + folded]
+            "speed." + where]

@@ -14,6 +14,7 @@ from .currentfilters import MAX_FILTERS, LowPass, Notch
 from .margins import velocity_margins
 from .modeshift import (
     current_tolerance,
+    folded,
     light_modes,
     robustly_stable,
     shift_words,
@@ -131,8 +132,15 @@ def tune_velocity(mech, servo, gm, pm, notes):
         notes.append("velocity loop: no gain meets the margins with the loop stable, also with "
                      f"its modes off the model's frequencies{why}; settings kept")
         return None
-    freqs, zetas = light_modes(mech)
+    true_f, zetas = light_modes(mech)
+    # a mode above the velocity loop's Nyquist frequency limits it where it folds to: a
+    # filter of the sampled current setpoint acts there
+    freqs = folded(true_f, servo.T_v)
     best, f0 = _notched(mech, with_pi(mech, servo, K), servo.K_vp, (freqs, zetas), gm, pm, notes)
+    if f0 is not None and f0 not in true_f:
+        notes.append(f"the {f0:.1f} Hz mode that limits the velocity gain is the "
+                     f"{true_f[np.argmin(np.abs(freqs - f0))]:.0f} Hz mode folded about the "
+                     f"velocity loop's sampling at {1 / servo.T_v:.0f} Hz")
     first = len(notes)
     low = _low_passed(mech, servo, best, f0, gm, pm, notes)
     if low is not None:  # what the notches did before the low-pass, said as such

@@ -103,3 +103,29 @@ def test_a_full_standard_output_is_named_in_the_error(args):
     assert done.stderr.strip().splitlines()[-1] == (
         "error: No space left on device (standard output)")
     assert "Traceback" not in done.stderr
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full on this system")
+def test_a_full_device_fails_where_it_is_written_within_together():
+    """Within ``together`` a device was held back like a file and written at the end:
+    ``tcpmm path PROG.nc -o /dev/full`` printed "wrote /dev/full ..." and then the error.
+    The device's write is the step that fails, so it fails where the command writes it."""
+    from tcpmm.io.atomic import together, write_text_atomic
+
+    said = []
+    with pytest.raises(InputError, match="No space left on device"), together():
+        write_text_atomic("/dev/full", "time_s,x_mm\n0,0\n")
+        said.append("wrote /dev/full")
+    assert said == []
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full on this system")
+def test_path_to_a_full_device_says_no_wrote(capsys, tmp_path):
+    from conftest import run_cli
+
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90\nG1 X10 F3000\nM30\n")
+    code, out, err = run_cli(capsys, "path", prog, "-o", "/dev/full")
+    assert code == 2
+    assert "wrote" not in out
+    assert err.startswith("error: /dev/full: cannot write the output (No space left on device)")

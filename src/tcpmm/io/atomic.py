@@ -199,7 +199,9 @@ def _written(path: Path, suffix: str, made=()):
         yield Path(tmp)
         if not special:
             os.chmod(tmp, mode)
-        if _held_back(path):
+        # a device or a pipe is written into at once: writing is the step that fails there
+        # (/dev/full), and held back it failed after the command had said "wrote" it
+        if _held_back(path) and not special:
             hold(path, lambda: _said(_put, path, tmp, path, special),
                  lambda: (_unlink(tmp), _remove_folders(made)))
         else:

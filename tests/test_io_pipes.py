@@ -129,3 +129,32 @@ def test_path_to_a_full_device_says_no_wrote(capsys, tmp_path):
     assert code == 2
     assert "wrote" not in out
     assert err.startswith("error: /dev/full: cannot write the output (No space left on device)")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes on this system")
+def test_a_binary_stream_given_as_a_program_is_refused_from_its_start(tmp_path):
+    """`tcpmm path /dev/zero` (or `simulate --gcode`) read the device whole before looking
+    at its first bytes, until the memory ran out (MemoryError, or the kernel killed it):
+    a stream of zero bytes is refused from its start, after its first few KiB."""
+    from tcpmm.path import read_program
+
+    fifo = tmp_path / "zeros"
+    os.mkfifo(fifo)
+    sent = [0]
+
+    def write():
+        block = b"\0" * 65536
+        try:
+            with open(fifo, "wb") as fh:
+                for _ in range(256):  # 16 MiB, were it all read
+                    fh.write(block)
+                    sent[0] += len(block)
+        except BrokenPipeError:  # the reader stopped: what is wanted
+            pass
+
+    writer = threading.Thread(target=write, daemon=True)
+    writer.start()
+    with pytest.raises(InputError, match="not plain text"):
+        read_program(fifo)
+    writer.join(timeout=30)
+    assert sent[0] < 4 * 2**20

@@ -31,10 +31,14 @@ def read_program(path) -> str:
     """
     path = Path(path)
     try:
-        data = path.read_bytes()
+        with open(path, "rb") as f:
+            # the start judged before the rest is read: a device without end (--gcode
+            # /dev/zero) was read whole, until the memory ran out
+            head = f.read(4096)
+            _check_text(path, head)
+            data = head + f.read()
     except OSError as exc:
         raise _unreadable(path, exc) from None
-    _check_text(path, data[:4096])
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError:

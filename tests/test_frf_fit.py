@@ -591,3 +591,20 @@ def test_a_band_without_dynamics_is_not_told_to_fit_more_poles():
     assert "--poles" not in text and "--delay" not in text
     assert text.endswith("widen the band (--band): the poles were already chosen by the "
                          "data, so the band may hold no dynamics to fit")
+
+
+def test_more_poles_than_the_numbers_hold_is_an_input_error(capsys, tmp_path):
+    """`tcpmm frf fit --poles 400` on three decades ended in "internal error, a defect of
+    tcpmm (LinAlgError: SVD did not converge)": the powers of the frequency up to the 400th
+    overflow. It is refused with the most poles the band takes, as the fit of a single
+    order and on the command line."""
+    f = np.linspace(4.0, 4000.0, 800)
+    frf = FRF(freq_hz=f, H=1 / (1 + 2j * np.pi * f / 300), coherence=np.full(f.size, 0.99),
+              n_averages=10, rel_std=np.full(f.size, 0.01), name="t")
+    with pytest.raises(InputError, match=r"400 poles over 3 decades .* at most 199 poles"):
+        fit_frf(frf, poles=400)
+    path = tmp_path / "frf.csv"
+    write_frf_csv(frf, path)
+    code, out, err = run_cli(capsys, "frf", "fit", path, "--poles", "400")
+    assert code == 2 and out == ""
+    assert err.startswith(f"error: {path}: 400 poles over 3 decades")

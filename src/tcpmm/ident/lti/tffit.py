@@ -149,7 +149,7 @@ def fit_tf(data, n_num: int, n_den: int, n_integrators: int = 0, delay_s=None, w
     limit_blas_threads()
     f, H, w = fit_data(data, weight, min_coherence)
     n_num, n_den, k = int(n_num), int(n_den), int(n_integrators)
-    fit_delay, n_params = _check_structure(n_num, n_den, k, delay_s, f.size)
+    fit_delay, n_params = _check_structure(n_num, n_den, k, delay_s, f)
     omega0 = 2 * np.pi * float(np.sqrt(f[0] * f[-1]))
     starts = _linear_starts(f, H, 2j * np.pi * f / omega0, k, n_num, n_den, omega0)
     linear_stage = _linear_stage(f, H, w, omega0, k, n_num, n_den, stable, iterations)
@@ -214,10 +214,32 @@ def _coarse_delay(f, max_delay_s, starts, linear_stage, iterations: int) -> floa
     return float(grid[int(np.argmin(costs))])
 
 
-def _check_structure(n_num: int, n_den: int, k: int, delay_s, n_bins: int) -> tuple:
+def check_order_in_range(freq_hz, order: int) -> None:
+    """Refuse an order whose powers of the band's frequencies (about its middle) pass the
+    largest floating-point number: the fit's matrices then held inf and NaN, and
+    ``tcpmm frf fit --poles 400`` ended in "internal error (SVD did not converge)".
+
+    Parameters
+    ----------
+    freq_hz : ndarray
+        The fitted bins' frequencies, increasing [Hz].
+    order : int
+        Highest power of the frequency in the model [-].
+    """
+    decades = np.log10(freq_hz[-1] / freq_hz[0])
+    if order * decades / 2 >= 300:  # float64 ends at 1.8e308
+        raise InputError(f"{order} poles over {decades:.2g} decades of frequency "
+                         f"({freq_hz[0]:g}-{freq_hz[-1]:g} Hz) pass the range of the numbers "
+                         f"the fit computes with; at most {int(599 / decades)} poles, or a "
+                         "narrower band")
+
+
+def _check_structure(n_num: int, n_den: int, k: int, delay_s, freq_hz) -> tuple:
     """Raise for negative orders, more zeros than poles, a delay that is neither ``None``,
-    a time nor ``"fit"``, or more parameters than ``n_bins`` bins determine; whether the
-    delay is fitted and the number of parameters [-]."""
+    a time nor ``"fit"``, more parameters than the bins ``freq_hz`` determine, or an order
+    past the range of the numbers; whether the delay is fitted and the number of
+    parameters [-]."""
+    n_bins = freq_hz.size
     if n_num < 0 or n_den < 0 or k < 0:
         raise InputError("orders and number of integrators must be >= 0")
     if n_num > n_den + k:
@@ -233,6 +255,7 @@ def _check_structure(n_num: int, n_den: int, k: int, delay_s, n_bins: int) -> tu
     n_params = n_num + 1 + n_den + int(fit_delay)
     if 2 * n_bins <= n_params:
         raise InputError(f"{n_bins} weighted bins cannot determine {n_params} parameters")
+    check_order_in_range(freq_hz, max(n_num, n_den + k))
     return fit_delay, n_params
 
 

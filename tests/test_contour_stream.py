@@ -373,3 +373,28 @@ def test_a_run_of_one_row_is_refused_for_what_it_is(tmp_path, capsys):
     assert main(["contour", str(run)]) != 0
     err = capsys.readouterr().err
     assert "the run has one row" in err and "increase" not in err
+
+
+def test_a_sensor_of_one_axis_only_is_warned_of_whole_and_in_chunks(run_file, tmp_path):
+    """A run without x_tcp_mm but with y_tcp_mm: `tcpmm contour` left the tcp out in
+    silence, where `tcpmm circle` says so; the user lost the sensor without a word."""
+    import pandas as pd
+
+    from tcpmm.errors import InputWarning
+
+    path = tmp_path / "no_x_tcp.parquet"
+    pd.read_parquet(run_file).drop(columns=["x_tcp_mm"]).to_parquet(path)
+    said = "the tcp signal is present for Y but not for X; the tcp sensor is left out"
+    with pytest.warns(InputWarning, match=said):
+        res = contour_error(read_run(path), plane=("X", "Y"))
+    assert "tcp" not in res.errors
+    with pytest.warns(InputWarning, match=said):
+        quiet_but(InputWarning, stream_contour, path, ("X", "Y"), True, rows=500)
+
+
+def quiet_but(kind, fn, *args, **kw):
+    """``fn(*args, **kw)`` with every warning but those of ``kind`` kept quiet."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        warnings.simplefilter("always", kind)
+        return fn(*args, **kw)

@@ -3,9 +3,11 @@ command polyline and its sensors' paths (:mod:`tcpmm.analysis.contour`)."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from .plane import left_out_axes, plane_axes, run_plane
 from .rapids import feed_commands
 
@@ -28,11 +30,26 @@ def run_signals(run, command, axes):
         if any(run.axes[a].cmd is None for a in axes):
             raise InputError(NO_COMMAND)
         tc, cmd = t, np.column_stack([run.axes[a].cmd for a in axes])
+    warn_one_sided({s: [a for a in axes if run.axes[a].sensor(s) is not None]
+                    for s in SENSORS}, axes)
     actual = {s: np.column_stack([run.axes[a].sensor(s) for a in axes]) for s in SENSORS
               if all(run.axes[a].sensor(s) is not None for a in axes)}
     if not actual:
         raise InputError(no_sensors(axes))
     return t, tc, cmd, actual
+
+
+def warn_one_sided(having: dict, axes) -> None:
+    """Warn of each sensor that only some of ``axes`` have (``having``: sensor -> the axes
+    with its signal): it is left out of the contour error, which `tcpmm contour` did in
+    silence where `tcpmm circle` says so (a run whose x_tcp_mm column is missing) [-]."""
+    for s, have in having.items():
+        if 0 < len(have) < len(axes):
+            lack = [a for a in axes if a not in have]
+            warnings.warn(InputWarning(
+                f"the {s} signal is present for {', '.join(have)} but not for "
+                f"{', '.join(lack)}; the {s} sensor is left out of the contour error"),
+                stacklevel=3)
 
 
 def no_sensors(axes) -> str:

@@ -31,7 +31,7 @@ from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_t
 from ..result import motion_time
 from .contour import ContourResult, distances_to_polyline, polyline
 from .contour_corners import CornerStream, end_unreached
-from .contour_inputs import NO_COMMAND, SENSORS, no_sensors
+from .contour_inputs import NO_COMMAND, SENSORS, no_sensors, warn_one_sided
 from .contour_summary import RunningSummary
 from .contour_windows import direction
 from .plane import left_out_axes
@@ -261,6 +261,8 @@ def _has_columns(path, cmd_cols: list, axes) -> None:
     if not any(names.issuperset(c.replace("_cmd_", f"_{s}_") for c in cmd_cols)
                for s in SENSORS):
         raise InputError(no_sensors(axes), file=path)
+    warn_one_sided({s: [a for a, c in zip(axes, cmd_cols, strict=True)
+                        if c.replace("_cmd_", f"_{s}_") in names] for s in SENSORS}, axes)
 
 
 class _Scan:

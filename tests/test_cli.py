@@ -284,6 +284,21 @@ def test_a_record_period_off_the_loop_is_refused_by_its_option(tmp_path, capsys)
     assert "e.g. 0.00075 s" in text and not (tmp_path / "r.csv").exists()
 
 
+@pytest.mark.parametrize("out", ["r.csv", "r.parquet"])  # parquet: the program streams
+def test_a_record_period_longer_than_the_run_writes_no_run(tmp_path, capsys, out):
+    """`tcpmm simulate ... --record-period-s 1` of a shorter program said "wrote r.csv (1
+    samples ...)" with exit code 0: a run file that every analysis refuses ("a run needs
+    two or more")."""
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90 G1 X10 Y0 F3000\nX0\n")
+    code, out_text, err = run_cli(capsys, "simulate", "builtin:vmc", "--gcode", str(prog),
+                                  "-o", str(tmp_path / out), "--record-period-s", "1")
+    text = " ".join(err.split())
+    assert code == 2 and "wrote" not in out_text, (out_text, text)
+    assert "the record period, 1 s, is longer than the run" in text
+    assert not (tmp_path / out).exists()
+
+
 def test_a_reader_that_goes_away_ends_the_command_as_sigpipe_would(tmp_path):
     """``tcpmm ... | head``: the command stops quietly with 141 (128 + SIGPIPE, as a shell
     reports a command the pipe stopped), not with 1, the code of a failure."""

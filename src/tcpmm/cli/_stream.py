@@ -149,6 +149,7 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
     from ..path.interpolate import settings_meta
     from ..path.stream import CHUNK_BLOCKS
     from ..result import scalar_meta
+    from ..sim.simulate import refuse_one_record
     from ..sim.streamrun import stream_simulate
 
     chunk_blocks = chunk_blocks or CHUNK_BLOCKS
@@ -165,6 +166,8 @@ def simulate_to_parquet(machine, program: Path, output: Path, settings, *,
             axes = axes or run.to_dict()["axes"]
             done = run.meta["path_done_m"] if run.meta["path_done_m"] is not None else done
             plane = run.meta["plane_axes"]
+        if samples < 2 and record_period_s is not None:  # before the file is put in place
+            refuse_one_record(record_period_s)
         if bar is not None:
             bar.end()
     faults = watch.faults()

@@ -237,6 +237,18 @@ def _refuse_unknown_axes(machine, command) -> None:
         )
 
 
+def refuse_one_record(record_period_s: float, duration_s: float | None = None) -> None:
+    """Refuse a record period longer than the run (of ``duration_s``; None: a stream that
+    recorded one sample): its file held the first sample alone, which every reader of a
+    run refuses, and the simulation said it "wrote" it [-]."""
+    if duration_s is not None and not record_period_s > duration_s:
+        return
+    how_long = f" ({duration_s:.6g} s)" if duration_s is not None else ""
+    raise InputError(f"the record period, {record_period_s:g} s, is longer than the run"
+                     f"{how_long}: it would record the first sample alone, and a run needs "
+                     "two or more; give a shorter record period")
+
+
 def simulate(machine: Machine, command: Command, *, record_period_s=None, progress=None,
              quantise_feedback=True, threads: int | None = None,
              current_feedforward_A: dict | None = None, axis_runs: dict | None = None) -> Run:
@@ -279,6 +291,7 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     """
     _refuse_unknown_axes(machine, command)
     rp = record_period_s if record_period_s is not None else command.period_s
+    refuse_one_record(rp, float(command.time_s[-1] - command.time_s[0]))
     names = list(machine.axes)
     _check_speeds(machine, command)
     check_stability(machine)

@@ -41,8 +41,8 @@ def run_signals(run, command, axes):
 
 def warn_one_sided(having: dict, axes) -> None:
     """Warn of each sensor that only some of ``axes`` have (``having``: sensor -> the axes
-    with its signal): it is left out of the contour error, which `tcpmm contour` did in
-    silence where `tcpmm circle` says so (a run whose x_tcp_mm column is missing) [-]."""
+    with its signal): it is left out of the contour error, and a user who recorded it
+    (a run whose x_tcp_mm column is missing) is told why its row is not there [-]."""
     for s, have in having.items():
         if 0 < len(have) < len(axes):
             lack = [a for a in axes if a not in have]

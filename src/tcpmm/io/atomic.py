@@ -200,7 +200,7 @@ def _written(path: Path, suffix: str, made=()):
         if not special:
             os.chmod(tmp, mode)
         # a device or a pipe is written into at once: writing is the step that fails there
-        # (/dev/full), and held back it failed after the command had said "wrote" it
+        # (/dev/full), and held back it would fail after the command had said "wrote" it
         if _held_back(path) and not special:
             hold(path, lambda: _said(_put, path, tmp, path, special),
                  lambda: (_unlink(tmp), _remove_folders(made)))

@@ -33,7 +33,7 @@ def read_program(path) -> str:
     try:
         with open(path, "rb") as f:
             # the start judged before the rest is read: a device without end (--gcode
-            # /dev/zero) was read whole, until the memory ran out
+            # /dev/zero) would be read until the memory ran out
             head = f.read(4096)
             _check_text(path, head)
             data = head + f.read()

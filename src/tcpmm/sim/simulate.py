@@ -239,8 +239,16 @@ def _refuse_unknown_axes(machine, command) -> None:
 
 def refuse_one_record(record_period_s: float, duration_s: float | None = None) -> None:
     """Refuse a record period longer than the run (of ``duration_s``; None: a stream that
-    recorded one sample): its file held the first sample alone, which every reader of a
-    run refuses, and the simulation said it "wrote" it [-]."""
+    recorded one sample): its file would hold the first sample alone, which every reader
+    of a run refuses [-].
+
+    Parameters
+    ----------
+    record_period_s : float
+        The record period asked for [s].
+    duration_s : float, optional
+        The run's duration; None where a stream recorded one sample [s].
+    """
     if duration_s is not None and not record_period_s > duration_s:
         return
     how_long = f" ({duration_s:.6g} s)" if duration_s is not None else ""

@@ -216,8 +216,8 @@ def _coarse_delay(f, max_delay_s, starts, linear_stage, iterations: int) -> floa
 
 def check_order_in_range(freq_hz, order: int) -> None:
     """Refuse an order whose powers of the band's frequencies (about its middle) pass the
-    largest floating-point number: the fit's matrices then held inf and NaN, and
-    ``tcpmm frf fit --poles 400`` ended in "internal error (SVD did not converge)".
+    largest floating-point number: the fit's matrices would hold inf and NaN, and its
+    singular value decomposition fail.
 
     Parameters
     ----------

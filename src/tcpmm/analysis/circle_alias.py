@@ -47,7 +47,7 @@ def _by_reported(aliases: dict, rename=None) -> dict:
 
 
 def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan"),
-                rename=None) -> dict:
+                rename=None, unfitted=None) -> dict:
     """Per term the fit leaves out (:attr:`.circle_fit.TermFit.aliases`), by its reported
     name, the reported terms that depend on it (module docstring) and how much each moves
     per unit of it [SI/SI].
@@ -70,26 +70,43 @@ def alias_terms(fit, n_arcs, shared, terms, radius, axes, mean_rate=float("nan")
         The circles' angular speed, for the servo mismatch as a time [rad/s].
     rename : dict, optional
         Fitted name -> reported name [-].
+    unfitted : dict, optional
+        Per axis the fitted columns' moves per unit of a cyclic error the arcs do not fit,
+        one per period and phase (:func:`.circle_unfitted.cyclic_slopes`): each reported
+        term's largest move over them, at ``cyclic_amplitude_<axis>`` [SI/m].
     """
-    out = {}
-    for name, slopes in _by_reported(fit.aliases, rename).items():
-        per = radial_size(name, 1.0, radius)  # a unit of the left-out term, radially
-        moved = as_reported(lambda n, s=slopes: s.get(n, 0.0), n_arcs, shared, mean_rate,
-                            rename)
+    def moved_by(slopes):
+        moved = as_reported(lambda n: slopes.get(n, 0.0), n_arcs, shared, mean_rate, rename)
         moved.update(_cyclic_moved(fit, slopes))
         moved.update(_deviations_moved(slopes, n_arcs, terms))
-        big = {t: v for t, v in moved.items()
-               if t != name and t in terms and np.isfinite(terms[t][0]) and np.isfinite(v)
-               and radial_size(t, v, radius) >= ALIAS_SHARE * per}
-        big.update(_spikes_moved(name, moved, terms, ALIAS_SHARE * per))
-        if "servo_mismatch_angle" in big and np.isfinite(moved["servo_mismatch"]):
-            # said as a time, as the terms give it, where the angular speed is known
-            big["servo_mismatch"] = moved["servo_mismatch"]
-            del big["servo_mismatch_angle"]
-        if big:
-            out.setdefault(rename_axes(name, axes), {}).update(
-                {rename_axes(t, axes): float(v) for t, v in big.items()})
+        return moved
+
+    out = {}
+    for name, slopes in _by_reported(fit.aliases, rename).items():
+        _keep_moved(out, name, moved_by(slopes), terms, radius, axes)
+    for axis, per_period in (unfitted or {}).items():
+        moves = [moved_by(s) for s in per_period]
+        pairs = list(zip(moves[::2], moves[1::2], strict=True))  # a period's sine, cosine
+        worst = {t: max(float(np.hypot(s[t], c[t])) for s, c in pairs) for t in moves[0]}
+        _keep_moved(out, f"cyclic_amplitude_{axis}", worst, terms, radius, axes)
     return out
+
+
+def _keep_moved(out: dict, name: str, moved: dict, terms: dict, radius: float, axes) -> None:
+    """Put in ``out`` under the left-out term ``name`` the reported terms it ``moved`` by
+    :data:`ALIAS_SHARE` of its own radial size or more (module docstring) [SI/SI]."""
+    per = radial_size(name, 1.0, radius)  # a unit of the left-out term, radially
+    big = {t: v for t, v in moved.items()
+           if t != name and t in terms and np.isfinite(terms[t][0]) and np.isfinite(v)
+           and radial_size(t, v, radius) >= ALIAS_SHARE * per}
+    big.update(_spikes_moved(name, moved, terms, ALIAS_SHARE * per))
+    if "servo_mismatch_angle" in big and np.isfinite(moved["servo_mismatch"]):
+        # said as a time, as the terms give it, where the angular speed is known
+        big["servo_mismatch"] = moved["servo_mismatch"]
+        del big["servo_mismatch_angle"]
+    if big:
+        out.setdefault(rename_axes(name, axes), {}).update(
+            {rename_axes(t, axes): float(v) for t, v in big.items()})
 
 
 def _deviations_moved(slopes: dict, n_arcs: int, terms: dict) -> dict:
@@ -155,9 +172,15 @@ def alias_line(diag) -> str:
     units; empty where none does [-]."""
     parts = []
     for left, shown in alias_display(diag).items():
-        items = [f"{t.replace('_', ' ')} {v:+.{4 if u == 'ms' else 2}f} {u}"
+        # a cyclic error's move is its largest over the periods and phases: either sign
+        cyclic = left.startswith("cyclic_")
+        items = [f"{t.replace('_', ' ')} " + (f"up to ±{abs(v):.{4 if u == 'ms' else 2}f}"
+                                               if cyclic else
+                                               f"{v:+.{4 if u == 'ms' else 2}f}") + f" {u}"
                  for t, (v, u) in shown["moves"].items()]
-        parts.append(f"per {shown['per']} of {left.replace('_', ' ')}, " + ", ".join(items))
+        parts.append(f"per {shown['per']} of {left.replace('_', ' ')}"
+                     + (" (any period the scan of a full circle searches)" if cyclic else "")
+                     + ", " + ", ".join(items))
     if not parts:
         return ""
     return ("conditional on what the circles do not determine, taken as 0: "

@@ -75,6 +75,7 @@ from .circle_spike_sigma import open_spikes, pair_spikes, widen_for_opened
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tails import open_by_tails, tail_shift
 from .circle_takeup import width_follows_backlash, width_terms, width_why
+from .circle_unfitted import cyclic_slopes
 
 SIGN = {"ccw": 1.0, "cw": -1.0}
 SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squareness",
@@ -285,12 +286,12 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     width_follows_backlash(terms, why, lambda k: rename_axes(k, axes), spike_u95,
                            fit.tail_family)
     widen_for_opened(fit, arcs, radius_m, SHARED, curves, terms, spike_u95)
-    ranking = rank_terms(fit, arcs, radius_m, SHARED, terms, axes)
+    aliases = alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate, None,
+                          cyclic_slopes(fit, arcs, radius_m, SHARED))
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
-                             curves, why, ranking,
-                             {rename_axes(k, axes): v for k, v in shift.items()},
-                             alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate),
+                             curves, why, rank_terms(fit, arcs, radius_m, SHARED, terms, axes),
+                             {rename_axes(k, axes): v for k, v in shift.items()}, aliases,
                              term_sigma(fit, 2, SHARED, terms, axes, mean_rate), spike_u95,
                              spike_fast, tail_state(fit) if full else "")
 

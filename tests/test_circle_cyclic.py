@@ -150,3 +150,20 @@ def test_the_lines_of_uncertain_terms_give_a_period_in_mm():
     diag = SimpleNamespace(terms={"cyclic_period_X": (0.02248382, "m")})
     assert pair_text(diag, "cyclic_period_X", 0.02248382, 0.0005062, "±") == \
         "cyclic period X 22.48 ± 0.51 mm"
+
+
+def test_a_cyclic_error_longer_than_the_scan_is_said_to_read_as_the_terms():
+    """The scan runs to a third of the diameter (23.3 mm on R 35 mm). A pitch error of
+    0.8 um at 60 mm, none else, is much like a scale error and a bow there and read a
+    backlash and a scale mismatch that are not on the machine, while the cyclic error's
+    n/a said only that a shorter one reads as the terms. It now says what a longer one
+    reads as, and what brings it into the search."""
+    from tcpmm.analysis.diagnostics import diagnose_pair
+    from test_circle_diagnostics import R, W, circle
+
+    err = {"cyc_x": (0.8e-6, 0.06, 0.5)}
+    d = diagnose_pair(circle("ccw", err, 1), circle("cw", err, 2), R, (W, W))
+    why = d.undetermined["cyclic_amplitude_X"]
+    assert "periods from 23.3 down to" in why
+    assert "A longer one, fewer than three of its periods along the travel" in why
+    assert "a circle of a larger radius brings it into the search" in why

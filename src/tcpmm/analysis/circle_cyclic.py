@@ -352,7 +352,10 @@ def cyclic_unresolved(fit) -> dict:
         why += ("; periods from {:.3g} down to {:.2g} mm were searched, and a shorter one, "
                 "unresolved at this feed, reads in part as the terms, which then move with "
                 "the window after the reversals: said where they do, as uncertain by the "
-                "reversals' tails").format(
-                    *np.multiply(fit.periods, 1e3))
+                "reversals' tails. A longer one, fewer than three of its periods along the "
+                "travel, is much like a scale error and a bow and reads as them and as "
+                "backlash (said where it moves them, as uncertain by the reversals' tails "
+                "or by what the terms leave unexplained): a circle of a larger radius "
+                "brings it into the search").format(*np.multiply(fit.periods, 1e3))
     return {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
             if k is None for q in ("amplitude", "period")}

@@ -14,7 +14,8 @@ deflection, which set that error, so it is the figure the correction moves and c
 improve (a friction pulse hardly moves it, so the controller-side choice only keeps it from
 growing), and a fall smaller than the model's error can be a rise on the machine. A region
 is *trusted* where the chosen shares improve it on every draw and one more draw, the
-machine, would be improved too, and *firm* where it would improve at least
+machine, would be improved too (a sample of it, where also no draw may see its own error
+rise: :mod:`.trust`), and *firm* where it would improve at least
 :data:`FIRM_RATIO` times, by the draws' scatter (:func:`next_draw`). The draws carry the
 model error's floors that ``tcpmm spread`` uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`),
 so that an axis identified with a small deviation is not drawn tighter than identification
@@ -65,7 +66,6 @@ RELATIVE_MARGIN = MODEL_ERROR["friction_level"]
 #: Reduction the machine must reach, by the draws, for a firm verdict: the reduction the
 #: compensation is to deliver [-].
 FIRM_RATIO = 5.0
-
 
 
 def margin(before: np.ndarray) -> np.ndarray:

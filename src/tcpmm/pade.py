@@ -12,9 +12,11 @@ keeps the complex relative error ``|P(j omega) exp(j omega tau) - 1|`` below
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, InputWarning
 
 __all__ = ["MAX_PADE_ORDER", "PADE_TOLERANCE", "pade_error", "pade_order", "with_delay"]
 
@@ -96,9 +98,49 @@ def with_delay(tf, delay_s: float, f_max_hz: float, order="auto"):
 
     if order == "auto":
         order = pade_order(delay_s, f_max_hz)
+        if delay_s > 0:
+            _warn_short(delay_s, order, f_max_hz)
     if isinstance(order, bool) or not isinstance(order, int | np.integer) or order < 0:
         raise InputError(f"pade_order must be 'auto' or an integer >= 0, got {order!r}")
     if order == 0 or delay_s <= 0:
         return tf
     num, den = control.pade(float(delay_s), int(order))
     return tf * control.TransferFunction(num, den)
+
+
+def held_up_to(delay_s: float, order: int, f_max_hz: float,
+               tolerance: float = PADE_TOLERANCE) -> float:
+    """The highest frequency up to which the Pade approximant of ``order`` keeps the
+    delay's relative error within ``tolerance``, no higher than ``f_max_hz`` [Hz].
+
+    Parameters
+    ----------
+    delay_s : float
+        Delay [s].
+    order : int
+        Order of the approximant [-].
+    f_max_hz : float
+        Top of the band [Hz].
+    tolerance : float
+        Largest relative error allowed [-].
+    """
+    f = np.geomspace(f_max_hz * 1e-3, f_max_hz, 2001)
+    bad = np.flatnonzero(pade_error(delay_s, order, f) > tolerance)
+    if not bad.size:
+        return float(f_max_hz)
+    return float(f[bad[0] - 1]) if bad[0] > 0 else 0.0
+
+
+def _warn_short(delay_s: float, order: int, f_max_hz: float) -> None:
+    """Warn where even the highest order leaves the delay's approximant off by more than
+    :data:`PADE_TOLERANCE` at the top of the band: up to where it holds, and how far
+    off it is at the top [-]."""
+    top = float(pade_error(delay_s, order, [f_max_hz])[0])
+    if top <= PADE_TOLERANCE:
+        return
+    warnings.warn(InputWarning(
+        f"the delay of {delay_s * 1e3:.3g} ms is exported as a Pade approximant of order "
+        f"{order}, the highest, which holds it within {PADE_TOLERANCE:.1%} only up to "
+        f"{held_up_to(delay_s, order, f_max_hz):.4g} Hz; at the band's top, "
+        f"{f_max_hz:.4g} Hz, it is {top:.0%} off: use the model below that frequency, or "
+        "keep the delay apart (freqresp holds it exactly)"), stacklevel=3)

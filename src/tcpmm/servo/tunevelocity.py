@@ -136,17 +136,20 @@ def tune_velocity(mech, servo, gm, pm, notes):
     # a mode above the velocity loop's Nyquist frequency limits it where it folds to: a
     # filter of the sampled current setpoint acts there
     freqs = folded(true_f, servo.T_v)
-    best, f0 = _notched(mech, with_pi(mech, servo, K), servo.K_vp, (freqs, zetas), gm, pm, notes)
+    best, f0, unused = _notched(mech, with_pi(mech, servo, K), servo.K_vp, (freqs, zetas),
+                                gm, pm, notes)
+    at = len(notes)  # where the notch of no use is said, once the low-pass is known
     if f0 is not None and f0 not in true_f:
         notes.append(f"the {f0:.1f} Hz mode that limits the velocity gain is the "
                      f"{true_f[np.argmin(np.abs(freqs - f0))]:.0f} Hz mode folded about the "
                      f"velocity loop's sampling at {1 / servo.T_v:.0f} Hz")
-    first = len(notes)
     low = _low_passed(mech, servo, best, f0, gm, pm, notes)
-    if low is not None:  # what the notches did before the low-pass, said as such
-        notes[:first] = [n.replace("; not used", " without a low-pass; not used")
-                         for n in notes[:first]]
-        best, _ = _notched(mech, low, servo.K_vp, (freqs, zetas), gm, pm, notes)
+    if unused is not None:  # judged before the low-pass, said as such where one is kept
+        notes.insert(at, _unused_words(unused, "" if low is None else " without a low-pass"))
+    if low is not None:
+        best, _, again = _notched(mech, low, servo.K_vp, (freqs, zetas), gm, pm, notes)
+        if again is not None:
+            notes.append(_unused_words(again))
     # with every slot taken, the mode that limits the gain is named even where a notch
     # lies near it: that notch does not remove it (four at 700 Hz, the mode at 729 Hz)
     full = len(best.filters) >= MAX_FILTERS
@@ -166,12 +169,18 @@ def _near_notch(servo, f0):
                  if n.type == "notch" and abs(n.f_hz - f0) < 0.05 * f0), None)
 
 
+def _unused_words(f0: float, judged: str = "") -> str:
+    """The note of a notch at ``f0`` that does not raise the gain, ``judged`` as said [-]."""
+    return f"notch at {f0:.1f} Hz does not raise the gain{judged}; not used"
+
+
 def _notched(mech, best, start, modes, gm, pm, notes):
     """Notches on the lightly damped modes that limit the gain, one at a time while each
-    raises it by 10 % or more: the settings and the first limiting mode met (``None``
-    if none) [SI, Hz]."""
+    raises it by 10 % or more, each said in ``notes``: the settings, the first limiting
+    mode met and the mode whose notch stopped the search by not raising the gain
+    (:func:`_unused_words` says it; each ``None`` if none) [SI, Hz, Hz]."""
     freqs, zetas = modes
-    first = None
+    first = unused = None
     while len(best.filters) < MAX_FILTERS:
         f0 = _limiting_mode(mech, best, freqs)
         if f0 is None:
@@ -180,13 +189,13 @@ def _notched(mech, best, start, modes, gm, pm, notes):
         zeta = float(zetas[np.argmin(np.abs(freqs - f0))])
         K2, notch = _best_notch(mech, best, f0, zeta, gm, pm, start)
         if K2 is None or K2 < _KEPT_RISE * best.K_vp:
-            notes.append(f"notch at {f0:.1f} Hz does not raise the gain; not used")
+            unused = f0
             break
         notes.append(f"notch at {f0:.1f} Hz (bandwidth {0.3 * f0:.1f} Hz, {notch.depth_db} dB) "
                      "raises the largest K_vp that meets the margins from "
                      f"{best.K_vp:.4g} without it to {K2:.4g} A s/rad")
         best = with_pi(mech, changed(best, filters=[*best.filters, notch]), K2)
-    return best, first
+    return best, first, unused
 
 
 def _low_passed(mech, servo, best, f0, gm, pm, notes):

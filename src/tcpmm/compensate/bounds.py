@@ -136,6 +136,12 @@ def fit_within(reference: np.ndarray, correction: np.ndarray, period_s: float,
     return shrink(correction, np.where(keep < 1.0, 0.0, 1.0), period_s)
 
 
+#: Per limit an axis's command is held to: the order of its derivative, the attribute of
+#: :class:`AxisBounds` that holds it and its unit [-].
+LIMITS = {"velocity": (1, "velocity", "m/s"), "acceleration": (2, "accel", "m/s²"),
+          "jerk": (3, "jerk", "m/s³")}
+
+
 def over_limits(command, reference, bounds: dict) -> list[tuple]:
     """Where the compensated command goes beyond an axis's velocity, acceleration or jerk
     limit, and how far the program as planned does so itself: the interpolator passes a
@@ -164,9 +170,8 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
         b = bounds.get(name)
         if b is None or name not in reference.positions:
             continue
-        for order, what, lim in ((1, "velocity", b.velocity), (2, "acceleration", b.accel),
-                                 (3, "jerk", b.jerk)):
-            most = peak(x, order, T)
+        for what, (order, attr, _) in LIMITS.items():
+            most, lim = peak(x, order, T), getattr(b, attr)
             if math.isfinite(lim) and most > lim * (1 + OVER_SHARE):
                 out.append((name, what, most, lim, peak(reference.positions[name], order, T)))
     return out
@@ -195,15 +200,14 @@ def over_limit_words(command, reference, bounds: dict, planner: dict | None = No
         programmed: named so, as the console names the program at the full limits "as
         programmed" a line before [-].
     """
-    unit = {"velocity": "m/s", "acceleration": "m/s²", "jerk": "m/s³"}
+    unit = {what: u for what, (_, _, u) in LIMITS.items()}
     plan_name = f"planned with headroom {headroom:g}" if headroom else "as programmed"
     out = []
     for name, what, most, lim, own in over_limits(command, reference, bounds):
         if planner is None:
             itself = f"the command file reaches {own:.3g} itself"
         else:
-            plan = getattr(planner[name], {"velocity": "velocity", "acceleration": "accel"}
-                           .get(what, "jerk"))
+            plan = getattr(planner[name], LIMITS[what][1])
             itself = (f"the program {plan_name} reaches {own:.3g} itself ("
                       f"{_step_cause(reference, name, what)})" if plan <= lim * (1 + 1e-9) else
                       f"the program {plan_name} reaches {own:.3g} itself: the model's "
@@ -228,7 +232,7 @@ def _step_cause(reference, name: str, what: str) -> str:
     if what == "velocity":
         return "its feed, beyond the axis's velocity limit"
     x = reference.positions[name]
-    order = 2 if what == "acceleration" else 3
+    order = LIMITS[what][0]
     k = int(np.argmax(np.abs(derivative(x, order, reference.period_s))))
     if order == 3 and not velocity_steps(reference, k):
         return ("a step of curvature where a line or an arc joins an arc tangentially: the "

@@ -174,9 +174,7 @@ def alias_line(diag) -> str:
     for left, shown in alias_display(diag).items():
         # a cyclic error's move is its largest over the periods and phases: either sign
         cyclic = left.startswith("cyclic_")
-        items = [f"{t.replace('_', ' ')} " + (f"up to ±{abs(v):.{4 if u == 'ms' else 2}f}"
-                                               if cyclic else
-                                               f"{v:+.{4 if u == 'ms' else 2}f}") + f" {u}"
+        items = [f"{t.replace('_', ' ')} {_move(v, u, cyclic)} {u}"
                  for t, (v, u) in shown["moves"].items()]
         parts.append(f"per {shown['per']} of {left.replace('_', ' ')}"
                      + (" (any period the scan of a full circle searches)" if cyclic else "")
@@ -186,6 +184,13 @@ def alias_line(diag) -> str:
     return ("conditional on what the circles do not determine, taken as 0: "
             + "; ".join(parts) + " (where the machine has it, these terms carry it; what "
             "would determine it is said with why it is not determined)")
+
+
+def _move(value: float, unit: str, largest: bool) -> str:
+    """A move per unit of a left-out term in display digits: signed, or where it is the
+    ``largest`` over periods and phases, ``up to ±`` its size [-]."""
+    n = 4 if unit == "ms" else 2
+    return f"up to ±{abs(value):.{n}f}" if largest else f"{value:+.{n}f}"
 
 
 def aliased_ranked(diag) -> set:

@@ -21,7 +21,7 @@ from scipy.linalg import solve_triangular
 from .circle_cyclic import search_periods
 from .circle_fit import FitProblem
 from .circle_model import cyclic_columns, radial_weights
-from .circle_stable import cyclic_on, is_full
+from .circle_stable import cyclic_on
 
 #: Most periods the moves are worked out at, evenly spaced in wavenumber over the scan's
 #: range: the moves change over a wavenumber step of one over the arc's length, coarser
@@ -46,7 +46,7 @@ def cyclic_slopes(fit, arcs, radius: float, shared) -> dict:
     shared : sequence of str
         The shared terms fitted [-].
     """
-    if all(is_full(a.angle) for a in arcs) or cyclic_on(arcs) or fit.waves != (None, None):
+    if cyclic_on(arcs) or fit.waves != (None, None):  # full turns are searched too
         return {}
     pb = FitProblem(arcs, radius, shared)
     if fit.mu:

@@ -165,13 +165,13 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     got = regional_shares(machines, comp, per, before, labels, guard, after,
                           plants(params, share), step)
     rest()
+    errors = None
     if got is not None:
-        factors, after = got
+        factors, after, errors = got
         shares, extra = [factors[a] for a in comp.reference.axes], {**extra, "by_region": True}
     record(comp, shares, region_rows(before, after, comp.target, labels),
            circle_rows(before, after, guard), labels, extra,
-           rises(machines, comp, errs[share], shares, plants(params, share),
-                 errs[0.0][:, :, 0]))
+           rises(errs[share], shares, comp.target, errors, errs[0.0][:, :, 0]))
     comp.controller = scaled_params(params, share)
     return comp
 

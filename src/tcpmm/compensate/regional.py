@@ -100,7 +100,8 @@ def composed_errors(machines, comp, factors: dict, plants=None) -> np.ndarray:
 def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, before, check,
                    judge_errors, steps, plants=None, progress=None):
     """The composed command lowered region by region until ``check(before, after)`` names
-    no region and passes the circle (module docstring); ``(factors, after)``, or ``None``.
+    no region and passes the circle (module docstring); ``(factors, after, the TCP errors
+    per machine, axis and sample after)``, or ``None``.
 
     Parameters
     ----------
@@ -130,12 +131,13 @@ def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, befor
     for _ in range(ROUNDS):
         factors = {a: profile(levels[:, j], labels, comp.reference.period_s)
                    for j, a in enumerate(axes)}
-        after = judge_errors(composed_errors(machines, comp, factors, plants))
+        errors = composed_errors(machines, comp, factors, plants)
+        after = judge_errors(errors)
         if progress is not None:
             progress()
         bad, circle_ok = check(before, after)
         if not bad and circle_ok:
-            return factors, after
+            return factors, after, errors
         # a region's error is also the correction of the one before it, still settling;
         # a circle's spike and G are of every region at once
         lower = ({q for b in bad for q in (b - 1, b) if q >= 0} if bad

@@ -31,7 +31,7 @@ from ..analysis.contour import distance_to_polyline
 from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
-from .regional import composed_errors, per_combo, pick, settle_regions, tcp_errors
+from .regional import per_combo, pick, settle_regions, tcp_errors
 from .trust import local_rises, next_draw, record
 
 #: Shares of the correction tried [-].
@@ -296,26 +296,21 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
     shares, figs = choose_of(per, n_reg)
     extra = {"draws": n_draws, "seed": seed}
     by_region = regional_shares(machines, comp, per, before, labels, guard, figs)
+    after = None
     if by_region is not None:
-        (factors, figs), extra = by_region, {**extra, "by_region": True}
+        (factors, figs, after), extra = by_region, {**extra, "by_region": True}
         shares = [factors[a] for a in comp.reference.axes]
     record(comp, shares, region_rows(before, figs, target, labels),
-           circle_rows(before, figs, guard), labels, extra,
-           rises(machines, comp, errs, shares))
+           circle_rows(before, figs, guard), labels, extra, rises(errs, shares, target, after))
 
 
-def rises(machines, comp, errs: np.ndarray, shares: list, plants=None,
-          before=None) -> tuple:
+def rises(errs: np.ndarray, shares: list, target, after=None, before=None) -> tuple:
     """:func:`.trust.local_rises` of the ``shares`` chosen per axis, from the TCP errors
-    of each share (:func:`axis_errors`): one share per axis read off them, shares per
-    sample run anew on every draw, each axis as ``plants`` says; against the errors
-    ``before``, by default those of no share [-]."""
-    if all(np.ndim(s) == 0 for s in shares):
+    of each share (:func:`axis_errors`), where one share per axis is read off them; shares
+    per sample give their errors ``after`` (:func:`.regional.settle_regions` ran them on
+    every draw); against the errors ``before``, by default those of no share [-]."""
+    if after is None:
         after = errs[:, np.arange(len(shares)), [LEVELS.index(s) for s in shares]]
-    else:
-        after = composed_errors(machines, comp, dict(zip(comp.reference.axes, shares,
-                                                         strict=True)), plants)
-    target = comp.target
     before = errs[:, :, 0] if before is None else before
     return local_rises(np.array([contour(e, target) for e in before]),
                        np.array([contour(e, target) for e in after]), target, margin)
@@ -324,12 +319,13 @@ def rises(machines, comp, errs: np.ndarray, shares: list, plants=None,
 def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray, guard,
                     one: np.ndarray, plants=None, progress=None):
     """Shares chosen region by region (:mod:`.regional`), run on every draw: ``(factors,
-    figures)`` where the draws vouch for them everywhere and, on the worst draw, no region,
-    spike or G is above what one share per axis gives (its figures ``one``) by more than
-    the margin and some region is below it by more; else ``None``: where they gain
-    nothing, the simpler choice stays. ``per``: the figures of each combination of shares
-    per axis (:func:`judged`), each axis run as ``plants`` says; ``progress`` called with
-    no argument after each round of :func:`.regional.settle_regions` [-]."""
+    figures, TCP errors)`` where the draws vouch for them everywhere and, on the worst
+    draw, no region, spike or G is above what one share per axis gives (its figures
+    ``one``) by more than the margin and some region is below it by more; else ``None``:
+    where they gain nothing, the simpler choice stays. ``per``: the figures of each
+    combination of shares per axis (:func:`judged`), each axis run as ``plants`` says;
+    ``progress`` called with no argument after each round of
+    :func:`.regional.settle_regions` [-]."""
     n_reg = labels.max() + 1
     levels = np.array(LEVELS)[pick(per, before, n_reg, vouched, margin)]
     if np.all(levels == levels[0]):

@@ -8,6 +8,7 @@ from itertools import combinations
 import numpy as np
 
 from ._tfcore import fit_numerator, relative_cost
+from .frfnoise import running_level
 from .tfresult import TFFit, tf_result
 
 #: A pole-zero pair changing the response by less than this many sigma is removed [-].
@@ -36,25 +37,41 @@ def _factor_deviation(x, p, z, sigma):
     return float(dev[min(SUPPORT_BINS, dev.size) - 1])
 
 
-def clean_fit(fit: TFFit, sigma, floor, grid):
+def clean_fit(fit: TFFit, sigma, floor, grid, remove: bool = True):
     """Raise damping to the floor (``floor`` [-], or the spacing of the measurement's
-    frequency grid ``grid`` [Hz]), then remove the pole-zero pairs the data do not support;
-    the numerator is fitted again after each change."""
-    f, omega0 = fit.freq_hz, fit.omega0
-    x = 2j * np.pi * f / omega0
+    frequency grid ``grid`` [Hz]), then, with ``remove``, remove the pole-zero pairs the
+    data do not support; the numerator is fitted again after each change."""
+    sigma = support_noise(fit, sigma)
     fit, notes = floor_damping(fit, sigma, floor, grid)
-    while fit.n_num > 0 and fit.pn.size > 0:
-        found = _unsupported(x, fit.pn, fit.zeros / omega0, sigma)
-        if found is None:
-            break
-        dev, p, z = found
-        fit = _refit_numerator(fit, _without(fit.pn, p), fit.n_num - z.size)
-        at = place(abs(p[0]) * omega0 / 2 / np.pi, f)
-        n = len(_units(p))
-        what = f"a pole-zero pair at {at}" if n == 1 else f"{n} pole-zero pairs near {at}"
-        notes.append(f"removed {what} ({'it changes' if n == 1 else 'together they change'} "
-                     f"the response by {dev:.2g} noise levels at most)")
+    while remove and (step := without_unsupported(fit, sigma)) is not None:
+        fit, what, dev = step
+        notes.append(removal_note(what, dev))
     return fit, notes
+
+
+def without_unsupported(fit: TFFit, sigma):
+    """The fit without the pole-zero pairs the data support least, with what they are in
+    words and the change they make in noise levels, ``(fit, what, deviation)``; None if
+    the data support every pair (``sigma``, the bins' noise [-])."""
+    if fit.n_num == 0 or fit.pn.size == 0:
+        return None
+    found = _unsupported(2j * np.pi * fit.freq_hz / fit.omega0, fit.pn,
+                         fit.zeros / fit.omega0, sigma)
+    if found is None:
+        return None
+    dev, p, z = found
+    at = place(abs(p[0]) * fit.omega0 / 2 / np.pi, fit.freq_hz)
+    n = len(_units(p))
+    what = f"a pole-zero pair at {at}" if n == 1 else f"{n} pole-zero pairs near {at}"
+    return _refit_numerator(fit, _without(fit.pn, p), fit.n_num - z.size), what, dev
+
+
+def removal_note(what: str, dev: float) -> str:
+    """The note of pole-zero pairs removed (``what``, words), which change the response by
+    ``dev`` noise levels at most [-]."""
+    one = what.startswith("a ")
+    return (f"removed {what} ({'it changes' if one else 'together they change'} "
+            f"the response by {dev:.2g} noise levels at most)")
 
 
 def floor_damping(fit: TFFit, sigma, floor, grid):
@@ -63,8 +80,20 @@ def floor_damping(fit: TFFit, sigma, floor, grid):
     raised; returns the fit and the notes saying which [-]."""
     x = 2j * np.pi * fit.freq_hz / fit.omega0
     notes = []
-    pn = _floor(fit.pn, grid, fit.omega0, floor, notes, (x, sigma))
+    pn = _floor(fit.pn, grid, fit.omega0, floor, notes, (x, support_noise(fit, sigma)))
     return (_refit_numerator(fit, pn, fit.n_num) if notes else fit), notes
+
+
+def support_noise(fit: TFFit, sigma) -> np.ndarray:
+    """The noise ``sigma`` [-] of the bins, or where less the running level of the fit's
+    own residual: the roughness of a response takes the curvature of a lightly damped
+    peak for noise over many bins, and a pair judged against that would be raised or
+    removed although the bins show it; the residual of a fit that follows the peak does
+    not (a needle holds one bin of the running median) [-]."""
+    with np.errstate(all="ignore"):
+        e2 = np.abs(fit.freqresp(fit.freq_hz) / fit.H - 1) ** 2
+    level = running_level(np.where(np.isfinite(e2), e2, np.inf))
+    return np.minimum(sigma, np.maximum(level, 1e-12))
 
 
 def _unsupported(x, pn, zn, sigma):

@@ -22,7 +22,9 @@
   :data:`~tcpmm.ident.lti._needles.CANCEL_SIGMA` noise levels at fewer than
   :data:`~tcpmm.ident.lti._needles.SUPPORT_BINS` bins are not supported by the data (a
   resonance needs more than one bin) and are removed, the numerator fitted again each
-  time; then two poles with two zeros, which may cancel only together. A lightly damped
+  time; then two poles with two zeros, which may cancel only together. Both tests take
+  the noise, or where less the running level of the fit's own residual: the roughness
+  takes the curvature of a peak one bin wide for noise. A lightly damped
   pair (damping below 0.2) outside the band counts against a candidate order.
 * **Both error measures.** The fit of the pole count chosen or given must leave a total
   relative error ``sum |H - H_model|^2 / sum |H|^2`` no larger than vector fitting's

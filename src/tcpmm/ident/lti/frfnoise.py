@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["NOISE_WINDOW", "noise_level"]
+__all__ = ["NOISE_WINDOW", "noise_level", "running_level"]
 
 #: Bins of the running median of the roughness noise estimate [-].
 NOISE_WINDOW = 31
@@ -30,15 +30,23 @@ def noise_level(f_hz, H, rel_std=None, window: int = NOISE_WINDOW) -> np.ndarray
     ndarray
         Standard deviation of the real and of the imaginary part of ``dH / H`` [-].
     """
-    from scipy.ndimage import median_filter
-
     H = np.asarray(H, dtype=complex)
     if H.size < 3:
         rough = np.zeros(H.size)
     else:
         d2 = np.abs(H[:-2] - 2 * H[1:-1] + H[2:]) ** 2 / (6.0 * np.abs(H[1:-1]) ** 2)
-        d2 = np.r_[d2[0], d2, d2[-1]]
-        med = median_filter(d2, size=min(window, d2.size), mode="nearest")
-        rough = np.sqrt(med / (2.0 * np.log(2.0)))
+        rough = running_level(np.r_[d2[0], d2, d2[-1]], window)
     rs = np.zeros(H.size) if rel_std is None else np.asarray(rel_std, dtype=float)
     return np.maximum(np.maximum(rough, rs), 1e-6)
+
+
+def running_level(e2, window: int = NOISE_WINDOW) -> np.ndarray:
+    """Standard deviation of the real and of the imaginary part of a relative error per
+    bin from the squared magnitudes ``e2`` of its samples [-]: the running median over
+    ``window`` bins [-] of an exponential variable of mean ``2 sigma^2`` is
+    ``2 ln 2 sigma^2``, and the median ignores the few bins a peak or a needle holds."""
+    from scipy.ndimage import median_filter
+
+    e2 = np.asarray(e2, dtype=float)
+    med = median_filter(e2, size=min(window, e2.size), mode="nearest")
+    return np.sqrt(med / (2.0 * np.log(2.0)))

@@ -74,13 +74,12 @@ def _coarse():
     return made_frf("coarse, 128 bins")[0]
 
 
-def test_pole_relocation_keeps_its_step_of_least_error():
+def test_pole_relocation_runs_until_its_poles_settle():
     """On coarse, noisy bins the relocated poles wander for tens of steps before settling:
     at 6 poles the twentieth step (where the relocation used to stop) leaves a total error
-    of 3.31e-5, the thirtieth 2.66e-5, as scikit-rf 2.2's VectorFitting does (2.658e-5 in
-    ``benchmarks/frf_fit.py``). The poles returned leave no more error than any step."""
+    of 3.31e-5, the poles where they settle 2.66e-5, as scikit-rf 2.2's VectorFitting does
+    (2.658e-5 in ``benchmarks/frf_fit.py``), the bound tcpmm's fit is held to."""
     from tcpmm.ident.lti._relocate import (
-        RELOCATIONS,
         _step,
         _upper,
         partial_fraction_response,
@@ -96,10 +95,8 @@ def test_pole_relocation_keeps_its_step_of_least_error():
         return np.sum(np.abs(partial_fraction_response(x, H, pn) - H) ** 2) / np.sum(
             np.abs(H) ** 2)
 
-    up, steps = _upper(start_poles(6, x[0].imag, x[-1].imag)[0]), []
-    for _ in range(RELOCATIONS):
+    up = _upper(start_poles(6, x[0].imag, x[-1].imag)[0])
+    for _ in range(20):
         up = _step(x, H, up)
-        steps.append(total(np.r_[up, np.conj(up[up.imag != 0])]))
-    got = total(relocated_poles(x, H, 6))
-    assert got <= min(steps) * (1 + 1e-12)
-    assert got < 2.7e-5 < 3.3e-5 < steps[19]
+    assert total(np.r_[up, np.conj(up[up.imag != 0])]) > 3.3e-5
+    assert total(relocated_poles(x, H, 6)) == pytest.approx(2.658e-5, rel=1e-3)

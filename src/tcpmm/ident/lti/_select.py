@@ -186,10 +186,10 @@ def _noted(cand, ref) -> dict:
     mu = cand.get("mix", 0.0)
     short = cand["total"] > ref * (1 + REACH)
     if mu == 0:
-        return {**cand, "short": short}
+        return {**cand, "short": short, "ref": ref}
     how = "short of" if short else "reaching"
     weights = (f"bins weighted also by |H| (mu = {mu:g})" if math.isfinite(mu) else
                "vector fitting's poles kept, the bins weighted by |H| alone")
     note = (f"{weights}: total error {cand['total']:.3g}, {how} the {ref:.3g} of vector "
             "fitting's poles")
-    return {**cand, "notes": [*cand["notes"], note], "short": short}
+    return {**cand, "notes": [*cand["notes"], note], "short": short, "ref": ref}

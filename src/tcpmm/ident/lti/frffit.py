@@ -329,7 +329,11 @@ def _fewer_note(fewer: dict, own: dict, n: int) -> str:
         how = f"the same total error as {n} poles ({a:.4g}) with fewer"
     else:
         how = f"a total error of {a:.{digits}g}, below the {b:.{digits}g} of {n} poles"
-    return f"the fit of {asked} poles{kept} leaves {how}: kept"
+    ref = own.get("ref")
+    why = (f"; vector fitting's {n} poles leave {ref:.3g}, and the fits of {n} tried fall "
+           "short of it once the pole-zero pairs the data do not support are removed"
+           if ref is not None and ref < a else "")
+    return f"the fit of {asked} poles{kept} leaves {how}: kept{why}"
 
 
 def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,

@@ -193,3 +193,21 @@ def _noted(cand, ref) -> dict:
     note = (f"{weights}: total error {cand['total']:.3g}, {how} the {ref:.3g} of vector "
             "fitting's poles")
     return {**cand, "notes": [*cand["notes"], note], "short": short, "ref": ref}
+
+
+def fewer_note(fewer: dict, own: dict, n: int) -> str:
+    """Why the fit of ``fewer["asked"]`` poles was kept over that of ``n``, with the total
+    errors to the digits in which they differ (at most four) [-]."""
+    asked = fewer["asked"]
+    kept = f" ({fewer['n_poles']} kept)" if fewer["n_poles"] != asked else ""
+    a, b = fewer["total"], own["total"]
+    digits = next((d for d in range(3, 5) if f"{a:.{d}g}" != f"{b:.{d}g}"), None)
+    if digits is None:
+        how = f"the same total error as {n} poles ({a:.4g}) with fewer"
+    else:
+        how = f"a total error of {a:.{digits}g}, below the {b:.{digits}g} of {n} poles"
+    ref = own.get("ref")
+    why = (f"; vector fitting's {n} poles leave {ref:.3g}, and the fits of {n} tried fall "
+           "short of it once the pole-zero pairs the data do not support are removed"
+           if ref is not None and ref < a else "")
+    return f"the fit of {asked} poles{kept} leaves {how}: kept{why}"

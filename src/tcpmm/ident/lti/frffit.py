@@ -47,7 +47,7 @@ import numpy as np
 from ...errors import InputError
 from ...frfdata import FRF
 from ._needles import clean_fit
-from ._select import by_criterion, by_total, choose, score
+from ._select import by_criterion, by_total, choose, fewer_note, score
 from .delayheld import check_held_delay
 from .frfnoise import NOISE_WINDOW, noise_level
 from .goodness import warn_if_misfit, warn_if_off
@@ -293,7 +293,7 @@ def _given_order(ctx: dict, n: int) -> tuple:
     own = {**choose(ctx, tries, n), "asked": n}
     best = _fewer_if_better(ctx, own, n)
     if best is not own:
-        best = {**best, "notes": [*best["notes"], _fewer_note(best, own, n)]}
+        best = {**best, "notes": [*best["notes"], fewer_note(best, own, n)]}
     return best, tries
 
 
@@ -316,24 +316,6 @@ def _fewer_if_better(ctx: dict, best: dict, n: int) -> dict:
         return best
     fewer = _fewer_if_better(ctx, {**choose(ctx, tries, n - 1), "asked": n - 1}, n - 1)
     return fewer if by_total(fewer) < by_total(best) else best
-
-
-def _fewer_note(fewer: dict, own: dict, n: int) -> str:
-    """Why the fit of ``fewer["asked"]`` poles was kept over that of ``n``, with the total
-    errors to the digits in which they differ (at most four) [-]."""
-    asked = fewer["asked"]
-    kept = f" ({fewer['n_poles']} kept)" if fewer["n_poles"] != asked else ""
-    a, b = fewer["total"], own["total"]
-    digits = next((d for d in range(3, 5) if f"{a:.{d}g}" != f"{b:.{d}g}"), None)
-    if digits is None:
-        how = f"the same total error as {n} poles ({a:.4g}) with fewer"
-    else:
-        how = f"a total error of {a:.{digits}g}, below the {b:.{digits}g} of {n} poles"
-    ref = own.get("ref")
-    why = (f"; vector fitting's {n} poles leave {ref:.3g}, and the fits of {n} tried fall "
-           "short of it once the pole-zero pairs the data do not support are removed"
-           if ref is not None and ref < a else "")
-    return f"the fit of {asked} poles{kept} leaves {how}: kept{why}"
 
 
 def _frf_fit(frf: FRF, data: FRF, ctx: dict, best: dict, cands: list,

@@ -37,13 +37,13 @@ def _factor_deviation(x, p, z, sigma):
     return float(dev[min(SUPPORT_BINS, dev.size) - 1])
 
 
-def clean_fit(fit: TFFit, sigma, floor, grid, remove: bool = True):
+def clean_fit(fit: TFFit, sigma, floor, grid):
     """Raise damping to the floor (``floor`` [-], or the spacing of the measurement's
-    frequency grid ``grid`` [Hz]), then, with ``remove``, remove the pole-zero pairs the
-    data do not support; the numerator is fitted again after each change."""
+    frequency grid ``grid`` [Hz]), then remove the pole-zero pairs the data do not support;
+    the numerator is fitted again after each change."""
     sigma = support_noise(fit, sigma)
     fit, notes = floor_damping(fit, sigma, floor, grid)
-    while remove and (step := without_unsupported(fit, sigma)) is not None:
+    while (step := without_unsupported(fit, sigma)) is not None:
         fit, what, dev = step
         notes.append(removal_note(what, dev))
     return fit, notes

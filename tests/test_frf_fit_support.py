@@ -9,6 +9,7 @@ import pytest
 from tcpmm.ident.frf import FRF
 from tcpmm.ident.lti import fit_frf, noise_level
 from tcpmm.ident.lti._needles import support_noise
+from test_frf_fit import _bench
 
 
 def _sec(s, fn, z):
@@ -64,13 +65,7 @@ def test_a_mode_one_bin_wide_keeps_the_damping_the_bins_show(seed):
 
 def _made(name: str) -> FRF:
     """A response of ``benchmarks/frf_fit.py`` (``MADE``), with its noise."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).parents[1] / "benchmarks"))
-    from frf_fit import made_frf
-
-    return made_frf(name)[0]
+    return _bench().made_frf(name)[0]
 
 
 def test_pole_relocation_runs_until_its_poles_settle():

@@ -234,3 +234,26 @@ def test_a_wide_table_on_a_narrow_terminal_keeps_every_number_whole(width):
             assert any(cell in line.split() and r[1] in line.split() for line in lines), cell
     piped = shown(False, width)
     assert sum(1 for line in piped if line.startswith("CCW")) == len(rows)
+
+
+def test_help_in_a_pipe_is_not_wrapped_nor_cut_short():
+    """Piped to a file, the help was wrapped at 80 columns and the list of commands cut
+    their summaries short with '...': a sentence of ``tune --help`` came in pieces and the
+    summary of ``path`` lost its end. Read from a pipe, each stays on one line, whole."""
+    env = dict(os.environ, PYTHONPATH=str(SRC), COLUMNS="60")
+
+    def helped(*args):
+        script = "import sys; from tcpmm.cli import main; sys.exit(main())"
+        done = subprocess.run([sys.executable, "-c", script, *args, "--help"], env=env,
+                              capture_output=True, text=True,
+                              timeout=120)
+        assert done.returncode == 0, done.stderr
+        return done.stdout.splitlines()
+
+    top = helped()
+    path = next(line for line in top if line.lstrip().startswith("path "))
+    assert path.rstrip().endswith("which limit holds it back where it does not."), path
+    assert not any(line.rstrip().endswith("...") for line in top[1:]), top
+    tune = helped("tune")
+    assert any("predict the path before and after." in line
+               and line.lstrip().startswith("Propose velocity-loop gains") for line in tune)

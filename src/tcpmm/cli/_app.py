@@ -13,10 +13,10 @@ from pathlib import Path
 
 import typer
 from rich.console import Console, ConsoleDimensions
-from typer.core import TyperGroup
 
 from ..errors import InputError
 from ._encoding import unicode_stream
+from ._group import Workflow
 from ._jsonrow import flat_row_json
 
 
@@ -30,20 +30,7 @@ class Sensor(StrEnum):
 
 
 # help texts carry units in brackets ([mm]); they are text, not rich markup
-class _Workflow(TyperGroup):
-    """Lists the commands in the order of the work (measure, identify, predict, analyse),
-    whatever module registered them; commands not named here follow in their own order."""
-
-    ORDER = ("demo", "machine", "excite", "identify", "frf", "bode", "path", "simulate",
-             "circle", "contour", "compare", "spread", "sweep", "tune", "report")
-
-    def list_commands(self, ctx):
-        names = super().list_commands(ctx)
-        rank = {n: i for i, n in enumerate(self.ORDER)}
-        return sorted(names, key=lambda n: rank.get(n, len(rank)))
-
-
-app = typer.Typer(cls=_Workflow, add_completion=False, pretty_exceptions_enable=False,
+app = typer.Typer(cls=Workflow, add_completion=False, pretty_exceptions_enable=False,
                   rich_markup_mode=None,
                   help="Virtual machine tool: mechatronic model of the tool center point.")
 machine_app = typer.Typer(help="Built-in machines and model files.", rich_markup_mode=None)

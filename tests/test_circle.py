@@ -459,6 +459,32 @@ def test_a_pass_whose_command_changes_speed_is_said(ramp, warned, jitter_s):
             in said[0]
 
 
+def test_no_spike_where_its_window_reaches_into_the_feed_ramp():
+    """A 280 deg arc whose command slows to a stop over its last 16 deg, with Y 1 ms
+    behind X: the window after D (270 deg) lies on the arc, but the lag changes with the
+    feed there, and D read a spike of the changing lag (-17.9 um on a 220 deg arc where
+    4 um was injected). Only the windows where the feed is steady give a spike."""
+    n = 5901
+    speed = np.ones(n - 1)
+    speed[-600:] = np.linspace(1.0, 0.05, 600)  # from 275 deg
+    th = np.radians(10.0) + np.concatenate([[0.0], np.cumsum(speed)]) * np.radians(0.05)
+    dt = 1e-3
+    w = np.radians(0.05) / dt
+    cmd = R * np.column_stack([np.cos(th), np.sin(th)])
+    t = np.arange(n) * dt
+    tcp = np.column_stack([cmd[:, 0], np.interp(t - 1e-3, t, cmd[:, 1])])
+    run = Run(t, {"X": AxisRun(cmd=cmd[:, 0], tcp=tcp[:, 0]),
+                  "Y": AxisRun(cmd=cmd[:, 1], tcp=tcp[:, 1])})
+    assert np.degrees(th[-1]) > 270.0 + 20.0 and R * w * 1e-3 > 1e-6  # D's windows, a lag
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        res = analyse_circle(run, R)
+    assert any("does not hold quadrant points A (0 deg), D (270 deg)" in str(m.message)
+               for m in said), [str(m.message) for m in said]
+    spikes = res.passes[0].sensors["tcp"].spikes
+    assert np.isnan(spikes["D"]) and np.isfinite(spikes["B"]) and np.isfinite(spikes["C"])
+
+
 def test_a_time_logged_in_milliseconds_is_said(tmp_path):
     """Machine D's measured circle with its time in ms under ``time_s``: read as a circle
     at 5 mm/min sampled every second, whose servo mismatch came out 85.7 "ms" for 0.086,

@@ -42,14 +42,16 @@ def warn_uncrossed(names, direction: str, arc_deg: float = 360.0, gapped: bool =
         warnings.warn(InputWarning(
             f"the {direction.upper()} arc of {arc_deg:.0f} deg does not hold quadrant "
             f"point{'' if one else 's'} {pts} with 30 deg before and 20 deg after "
-            f"{'it' if one else 'them'}, so no reversal spike is reported there"),
+            f"{'it' if one else 'them'} where the feed is steady, so no reversal spike is "
+            "reported there"),
             stacklevel=3)
         return
     warnings.warn(InputWarning(
         f"the {direction.upper()} circle starts or ends at quadrant point{'' if one else 's'} "
         f"{pts} or within {'its' if one else 'their'} reversal window (30 deg before to 20 "
-        f"deg after), so no reversal spike is reported at {', '.join(names)}; start the "
-        f"circle between quadrant points (e.g. at 45 deg) to measure {'it' if one else 'them'}"),
+        f"deg after, where the feed is steady), so no reversal spike is reported at "
+        f"{', '.join(names)}; start the circle between quadrant points (e.g. at 45 deg) to "
+        f"measure {'it' if one else 'them'}"),
         stacklevel=3)
 
 

@@ -10,15 +10,44 @@ QUADRANTS = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
 AFTER_DEG, BEFORE_DEG = (0.0, 20.0), (-30.0, -5.0)
 
 
+#: the share of its steady step below which a pass's path is taken as still speeding up or
+#: already slowing down at its ends (as :data:`.circle_checks.STEADY_SHARE`) [-]; steps
+#: over which the speed is taken, and how many times the steady steps' scatter it must
+#: fall below the steady step by (a log's time stamps jitter) [-]
+STEADY_SHARE, _END_STEPS, _SCATTER = 0.99, 5, 5.0
+
+
+def steady_travel(u) -> tuple[float, float]:
+    """The first and last travel angle [deg] between which the path ``u`` (travel angles,
+    increasing, of samples equally spaced in time) moves at its steady speed: a window
+    reaching into a feed ramp at either end reads the servo's lag changing with the feed
+    as a spike (a 220 deg arc whose command slowed to a stop 20 deg after D read a spike
+    of -17.9 um there, where 4 um was injected). Only the ends are cut; a gap in the log
+    is said where it is found."""
+    m = max(1, min(_END_STEPS, (u.size - 3) // 8))
+    if u.size < 8:
+        return float(u.min()), float(u.max())
+    span = np.abs(u[m:] - u[:-m])
+    level = np.median(span)
+    mid = span[span.size // 4:3 * span.size // 4]
+    low = min(STEADY_SHARE * level,
+              level - _SCATTER * 1.4826 * np.median(np.abs(mid - np.median(mid))))
+    on = np.flatnonzero(span >= low)
+    steady = u[on[0]:on[-1] + m + 1] if on.size else u
+    return float(steady.min()), float(steady.max())
+
+
 def _crossings(angle_rad, direction: str, deg: float) -> list:
     """``(crossings, u)``: the travel-direction angles [deg] at which the path crosses the
-    point at ``deg`` with both the window before it and the window after it on the path,
-    and the travel-direction angle ``u`` of every sample [deg]."""
+    point at ``deg`` with both the window before it and the window after it on the path
+    where it moves at its steady speed (:func:`steady_travel`), and the travel-direction
+    angle ``u`` of every sample [deg]."""
     sign = 1.0 if direction == "ccw" else -1.0
     u = sign * np.degrees(angle_rad)  # increasing along the travel
     at = sign * deg
-    lo = np.ceil((u.min() - BEFORE_DEG[0] - at) / 360.0 - 1e-9)
-    hi = np.floor((u.max() - AFTER_DEG[1] - at) / 360.0 + 1e-9)
+    first, last = steady_travel(u)
+    lo = np.ceil((first - BEFORE_DEG[0] - at) / 360.0 - 1e-9)
+    hi = np.floor((last - AFTER_DEG[1] - at) / 360.0 + 1e-9)
     return [at + 360.0 * k for k in np.arange(lo, hi + 1)], u
 
 

@@ -20,6 +20,7 @@ from tcpmm.path.geometry import evaluate, to_arrays
 from tcpmm.path.limits import feed_limits
 from tcpmm.path.program import program_to_interpolation
 from tcpmm.path.segments import Arc, Blend
+from tcpmm.path.speedlimits import BEND_TOL
 
 
 def spiral(n=720, step_deg=2.0, head="G21 G90 G17 F3000"):
@@ -283,10 +284,11 @@ def _tangent_length_reference(a, b, tol):
     c = min(max(u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2], -1.0), 1.0)
     cr = [u1[1] * u2[2] - u1[2] * u2[1], u1[2] * u2[0] - u1[0] * u2[2],
           u1[0] * u2[1] - u1[1] * u2[0]]
-    theta = math.acos(c)
-    if theta < 1e-12 or math.sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) < 1e-12:
+    du = [u2[i] - u1[i] for i in range(3)]
+    if (math.sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) < 1e-12
+            or math.sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]) < BEND_TOL):
         return 0.0
-    h = 0.5 * theta
+    h = 0.5 * math.acos(c)
     d = min(tol * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2), 0.5 * a.length_m,
             0.5 * b.length_m)
     return d if d >= 1e-9 else 0.0

@@ -12,7 +12,9 @@ centripetal acceleration rather than by a velocity step at every block end.
 Corners are blended where both blocks are straight feed moves (G1) in continuous-path
 mode, in any orientation: the blend is an arc in the plane of the two lines
 (:class:`~tcpmm.path.segments.Blend`). Corners next to arcs, rapids and dwells, at exact
-stops (G61, G9) and at reversals stay sharp.
+stops (G61, G9) and at reversals stay sharp, and so do corners where the unit tangent
+turns by less than ``BEND_TOL`` (1e-6): lines straight on but for the rounding of their
+coordinates, which the look-ahead takes as a tangent join.
 """
 
 from __future__ import annotations

@@ -19,6 +19,7 @@ import numpy as np
 from .._rows import dot_rows, norm_rows
 from .runs import LineRun
 from .segments import Line
+from .speedlimits import BEND_TOL
 
 #: blends shorter than this along either line are not worth a segment [m]
 MIN_BLEND_M = 1e-9
@@ -127,14 +128,19 @@ def corner_lengths(a0, a1, b0, b1, tols) -> np.ndarray:
     At a corner turning by ``theta`` the blend passes the corner at
     ``rho (1/cos(theta/2) - 1)`` for its radius ``rho = d / tan(theta/2)``; ``d`` is the
     largest that keeps this within the tolerance, and at most half of either line, so
-    that the blends at both ends of a line never overlap."""
+    that the blends at both ends of a line never overlap. A corner whose unit tangent
+    changes by less than ``BEND_TOL`` stays sharp (straight on but for rounding)."""
     with np.errstate(invalid="ignore", divide="ignore"):
         u1, u2 = units(a1 - a0), units(b1 - b0)
         c = np.clip(dot_rows(u1, u2), -1.0, 1.0)
         cross = np.stack([u1[:, 1] * u2[:, 2] - u1[:, 2] * u2[:, 1],
                           u1[:, 2] * u2[:, 0] - u1[:, 0] * u2[:, 2],
                           u1[:, 0] * u2[:, 1] - u1[:, 1] * u2[:, 0]], axis=1)
-        turns = norm_rows(cross) >= 1e-12  # else straight on, or a reversal
+        # else straight on, or a reversal. A turn of the unit tangent below BEND_TOL is a
+        # tangent join, as the look-ahead takes it: its blend would pass the corner by
+        # d theta / 4, nothing, on a radius 2 d / theta (km) about a centre so far off
+        # that its points keep little of their last micrometre
+        turns = (norm_rows(cross) >= 1e-12) & (norm_rows(u2 - u1) >= BEND_TOL)
     d = np.zeros(len(a0))
     ks = np.flatnonzero(turns)
     # the functions of math over lists (libm's results, whatever the CPU's vector units):
@@ -143,12 +149,11 @@ def corner_lengths(a0, a1, b0, b1, tols) -> np.ndarray:
     theta = _math(math.acos, c[ks])
     h = 0.5 * theta
     sq = _math(math.pow, _math(math.sin, 0.5 * h), 2.0)
-    with np.errstate(divide="ignore", invalid="ignore"):  # a turn too small to blend
-        d_tol = np.asarray(tols)[ks] * _math(math.sin, h) / (2.0 * sq)
+    d_tol = np.asarray(tols)[ks] * _math(math.sin, h) / (2.0 * sq)
     len_a = np.array(list(map(math.hypot, *(a1[ks] - a0[ks]).T.tolist())))
     len_b = np.array(list(map(math.hypot, *(b1[ks] - b0[ks]).T.tolist())))
     dk = np.minimum(np.minimum(d_tol, 0.5 * len_a), 0.5 * len_b)
-    d[ks] = np.where((theta >= 1e-12) & (dk >= MIN_BLEND_M), dk, 0.0)
+    d[ks] = np.where(dk >= MIN_BLEND_M, dk, 0.0)
     return d
 
 

@@ -247,9 +247,14 @@ def _blends(bl, start, end, centre, r0, r1, theta0, sweep, length):
         rs, re = start[bl] - centre[bl], end[bl] - centre[bl]
         r = np.linalg.norm(rs, axis=1)
         a1 = rs / r[:, None]
-        perp = re - np.einsum("ij,ij->i", re, a1)[:, None] * a1
-        a2 = perp / np.linalg.norm(perp, axis=1)[:, None]
-        th = np.arctan2(np.einsum("ij,ij->i", re, a2), np.einsum("ij,ij->i", re, a1))
+        along = np.einsum("ij,ij->i", re, a1)
+        perp = re - along[:, None] * a1
+        across = np.linalg.norm(perp, axis=1)
+        a2 = perp / across[:, None]
+        # the sweep from the end's parts along and across the start's radius: ``re . a2``
+        # adds the radius times a2's rounding tilt off a1, which on the radius of
+        # kilometres of lines that hardly turn is micrometres of the blend's length
+        th = np.arctan2(across, along)
         e1[bl], e2[bl] = a1, a2
         r0[bl] = r1[bl] = r
         theta0[bl] = 0.0

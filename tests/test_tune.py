@@ -892,3 +892,30 @@ def test_a_frequency_folds_about_the_sampling_rate(f, seen):
     from tcpmm.servo.modeshift import folded
 
     assert folded(np.array([f]), 1 / 8000)[0] == pytest.approx(seen)
+
+
+def test_a_mode_folded_below_the_crossover_is_warned_of(vmc):
+    """X with its screw and table 100 times stiffer: the 7288 Hz torsion mode (damping
+    5.2e-5) folds about the velocity loop's sampling at 8000 Hz to 712 Hz, and the
+    proposal's velocity loop crosses over last at 716 Hz, above it (|L_v| 12 there). The
+    crossover was compared with 7288 Hz and no warning said so; Y and Z, whose modes lie
+    below their Nyquist frequency, were warned of theirs."""
+    from tcpmm.servo.margins import LoopMargins
+    from tcpmm.servo.tune import light_mode_warnings, tune_machine
+
+    a = vmc.axes["X"]
+    x = a.replace(mechanics=a.mechanics.scaled(K_L=100.0, K_t=100.0))
+    t = tune_machine(vmc.model_copy(update={"axes": {"X": x}}), GM, PM)["X"]
+    assert t.met and t.margins_after["velocity"].last_crossover_hz > 712.0
+    (w,) = t.warnings
+    assert w.startswith("the velocity loop crosses over at ")
+    assert "above the 712 Hz mode of damping 5.2e-05 (the 7288 Hz mode folded about the " \
+        "velocity loop's sampling at 8000 Hz)" in w and "or notch the 712 Hz mode" in w
+    # the position loop sees a 1995 Hz mode folded to 5 Hz, below its crossover, but with
+    # a peak of 1e-5: its margins do not rest on it
+    assert not [v for v in t.warnings if "position loop" in v]
+    # below the folded mode, no warning; without the settings the modes are not folded
+    at = lambda fc: {"velocity": LoopMargins(9.3, 48.0, 113.6, 308.6, 113.6, fc)}  # noqa: E731
+    assert light_mode_warnings(x.mechanics, at(700.0), t.after) == []
+    assert light_mode_warnings(x.mechanics, at(716.3), t.after)
+    assert light_mode_warnings(x.mechanics, at(716.3)) == []

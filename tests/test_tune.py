@@ -919,3 +919,40 @@ def test_a_mode_folded_below_the_crossover_is_warned_of(vmc):
     assert light_mode_warnings(x.mechanics, at(700.0), t.after) == []
     assert light_mode_warnings(x.mechanics, at(716.3), t.after)
     assert light_mode_warnings(x.mechanics, at(716.3)) == []
+
+
+def test_the_current_limit_s_note_says_what_the_settings_before_meet(vmc):
+    """X and Y limited to 4 A: the note said the settings before 'meet them as modelled
+    but not with the modes off the model's frequencies', which they do (they meet the
+    margins with the modes 5 % off), and then to keep them; the k_ff lowered from 0.9 to
+    0.25 read 'chosen on the path', and Y's K_vp, which with k_ff 0.9 holds Y's current
+    at its limit, only 'the largest velocity gain meeting the margins'."""
+    from tcpmm.servo.tune import meets_margins
+
+    weak = vmc.model_copy(update={"axes": {n: a.replace(servo=a.servo.model_copy(
+        update={"current_limit": 4.0})) if n in "XY" else a for n, a in vmc.axes.items()}})
+    assert all(meets_margins(a.mechanics, a.servo, GM, PM) for a in weak.axes.values())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        res = tune_and_predict(weak, GM, PM)
+    (worse,) = [n for n in res.notes if n.startswith("the predicted path is worse after")]
+    assert "not with the modes off" not in worse
+    assert "the settings before meet 6 dB / 45 deg already, also with the modes up to 5 % " \
+        "off the model's frequencies, and predict the smaller error" in worse
+    assert worse.endswith("keep the settings or raise the limit")
+    for n in "XY":
+        assert res.axes[n].after.k_ff == 0.25
+        assert res.reasons[n].endswith("k_ff 0.9 -> 0.25, chosen on the path, held down by "
+                                       "the current limit: k_ff = 0.5, 0.6, 0.7, 0.8, 0.9, 1 "
+                                       "left out (axis Y holds its current at the limit of "
+                                       "4 A)")
+    kvp = {n: next(x for x in res.axes[n].notes if x.startswith("K_vp ")) for n in "XY"}
+    was, now = (max(p[d]["contour_error_um"] for d in ("ccw", "cw"))
+                for p in (res.path_before, res.path_after))
+    assert kvp["Y"].endswith(
+        "; with it the settings' feedforward (k_ff 0.9) holds this axis's current at its "
+        "limit of 4 A, with K_vp 1.471 it does not: k_ff falls to 0.25 and the largest "
+        f"contour error of the circle passes grows from {was:.2f} to {now:.2f} µm")
+    assert 13.0 < was < 15.0 and now > 50.0
+    # X's raised K_vp alone leaves its current, and Y's, within the limit
+    assert "holds" not in kvp["X"]

@@ -14,10 +14,12 @@ import numpy as np
 
 from ..machines.paper import RADIUS_MM, SETTLED_TURNS, circle_test_command, paper_circle_command
 from ..model import Machine
+from ..servo.modeshift import current_tolerance
 from ..servo.tune import meets_margins
 from ..units import mm_to_m
 from .tuning_axes import axis_reasons, contouring_axes, left_out_note, moved_axes, tune_axes
 from .tuning_draws import drawn_margins, drawn_note, drawn_paths
+from .tuning_limit import costed
 from .tuning_paths import path_figures
 
 #: Feedforward fractions tried on the path [-].
@@ -159,6 +161,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     notes = left_out_note(matched, moved) + _matched_notes(tuned, axes, matched, met, runs,
                                                            circle)
     before = path_figures(machine, cmd, circle)
+    axes = costed(tuned, axes, (met, dropped), (cmd, circle), (_worst(before), _worst(after)))
     settled = bool(_grown(before, after)) and all(meets_margins(  # read only if it grew
         machine.axes[n].mechanics, machine.axes[n].servo, gm_db, pm_deg) for n in axes)
     notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled,
@@ -167,7 +170,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     notes += drawn_note(drawn, before, after) + (_faster_note(machine, tuned) if circle else [])
     return TuneResult(tuned, axes, before, after, notes, *roles,
                       axis_reasons(axes, matched, moved, named, _worst(after) < float("inf"),
-                                   spread > FEEDFORWARD_RESOLUTION_UM),
+                                   spread > FEEDFORWARD_RESOLUTION_UM, dropped),
                       drawn, drawn_margins(machine, tuned, gm_db, pm_deg))
 
 
@@ -304,15 +307,19 @@ def _worse_note(before: dict, after: dict, axes: dict, margins: tuple, limited: 
             if d["phase_margin_deg"] < pm_deg or d["gain_margin_db"] < gm_db:
                 short.append(f"{name} {loop} {_below(d['gain_margin_db'], gm_db)} dB / "
                              f"{_below(d['phase_margin_deg'], pm_deg)} deg")
+    tol = current_tolerance()
+    meet = (f"the settings before meet {gm_db:g} dB / {pm_deg:g} deg already"
+            + (f", also with the modes up to {100 * tol:g} % off the model's frequencies,"
+               if tol > 0 else "") + " and predict the smaller error")
     if not short and not limited and settled:
-        return [f"the predicted path is worse after: {'; '.join(grown)}; the settings "
-                f"before meet {gm_db:g} dB / {pm_deg:g} deg already and predict the smaller "
-                "error: keep them, unless the proposal's velocity loops are wanted for "
-                "their stiffness against the cutting forces"]
+        return [f"the predicted path is worse after: {'; '.join(grown)}; {meet}: keep them, "
+                "unless the proposal's velocity loops are wanted for their stiffness against "
+                "the cutting forces"]
     why = (f"the settings before leave less than {gm_db:g} dB / {pm_deg:g} deg ("
            + "; ".join(short) + "), and the proposal buys the margins with it") if short else \
-        ("the settings before meet them as modelled but not with the modes off the model's "
-         "frequencies, and the proposal buys that with it")
+        meet if settled else ("the settings before meet them as modelled but not with the "
+                              "modes off the model's frequencies, and the proposal buys that "
+                              "with it")
     trade = ("the current limit holds the feedforward back (above), not the margins: keep "
              "the settings or raise the limit" if limited else
              "smaller margins (--margins) trade some back")

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..servo.tune import tune_machine
 from ..servo.tunealone import tune_alone
+from .tuning_limit import held_words
 
 #: An axis whose command spans less than this is not moved by the path: the end points of
 #: a program's arcs and lines, rounded, move an axis it does not drive by far less [m].
@@ -119,7 +120,8 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list,
 
 
 def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
-                 predicted: bool = True, judged: bool = True) -> dict:
+                 predicted: bool = True, judged: bool = True, dropped: dict | None = None
+                 ) -> dict:
     """Per axis, one sentence: whether the path moves it, whether its position gain is
     matched, and what became of its position gain and feedforward [-].
 
@@ -136,6 +138,9 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
     judged : bool
         Whether the path tells the feedforward fractions apart (a straight line does not:
         :data:`tcpmm.whatif.tuning.FEEDFORWARD_RESOLUTION_UM`) [-].
+    dropped : dict, optional
+        The feedforward fractions left out of the choice, with their path figures: a
+        fraction lowered because the current limit left out the larger ones says so [-].
 
     Returns
     -------
@@ -167,6 +172,7 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
             words.append(f"k_ff kept ({why})")
         elif t.met:
             words.append(f"k_ff {'kept' if a.k_ff == b.k_ff else f'{b.k_ff:g} -> {a.k_ff:g}'}"
-                         ", chosen on the path")
+                         ", chosen on the path"
+                         + (held_words(dropped or {}, a.k_ff) if a.k_ff < b.k_ff else ""))
         out[n] = f"{n}: " + "; ".join(words)
     return out

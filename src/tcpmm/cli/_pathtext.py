@@ -14,6 +14,9 @@ _REMEDY = {"axis velocity": "axis_velocity_m_per_s, capped by rapid_m_per_s",
            "corner: axis acceleration": "G64 P<tol> or blend_tolerance_m rounds corners off",
            "corner: filter tolerance": "corner_tolerance_m, G64 P<tol>",
            "exact stop": "G61/G9, reversals, dwells, rapids, start and end",
+           "curvature of short blocks (centripetal acceleration)":
+               "a curve posted as short G1 blocks runs as its arc would: axis_accel_m_per_s2, "
+               "larger radii",
            "path acceleration": "blocks too short to reach the feed: path_accel_m_per_s2",
            "path jerk": "blocks too short to reach the feed: path_jerk_m_per_s3"}
 
@@ -39,9 +42,11 @@ def print_feed(limits) -> None:
                   "end)", highlight=False)
 
 
-def print_corner_overload(cmd, settings) -> None:
+def print_corner_overload(cmd, settings, chain: bool = False) -> None:
     """A line where the command's samples ask an axis for more than its acceleration: a
-    sharp corner's velocity step comes on top of the braking into it (``docs/paths.md``).
+    sharp corner's velocity step comes on top of the braking into it, and on a curve of
+    short blocks the centripetal share on top of speeding up and slowing down along it
+    (``docs/paths.md``).
 
     Parameters
     ----------
@@ -49,6 +54,8 @@ def print_corner_overload(cmd, settings) -> None:
         The program's command [m].
     settings : InterpolatorSettings
         The interpolator's settings it was planned with [-].
+    chain : bool
+        The curvature of short blocks sets the speed somewhere on the path [-].
     """
     limit = dict(zip(AXES, settings.axis_accel(), strict=True))
     over = []
@@ -60,7 +67,9 @@ def print_corner_overload(cmd, settings) -> None:
             over.append(f"{a} {most:.3g} m/s² (limit {limit[a]:.3g})")
     if over:
         out.print("  beyond an axis's acceleration for a period at sharp corners, whose "
-                  "velocity step comes on top of the braking into them: "
-                  + ", ".join(over) + f" (corner_step_share {settings.corner_step_share:g} "
+                  "velocity step comes on top of the braking into them"
+                  + (", and along curves of short blocks, whose centripetal acceleration "
+                     "comes on top of speeding up and slowing down" if chain else "")
+                  + ": " + ", ".join(over) + f" (corner_step_share {settings.corner_step_share:g} "
                   "of the acceleration for the step; 0 stops at each sharp corner and keeps "
                   "within it)", highlight=False)

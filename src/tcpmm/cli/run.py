@@ -355,6 +355,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     from ..path import write_command_csv
     from ..path.limits import feed_limits
     from ..path.program import program_to_interpolation
+    from ..path.speedlimits import CHAIN
     from ._pathtext import print_corner_overload, print_feed
 
     checked_output(output, program, model)
@@ -389,7 +390,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
     limits = feed_limits(interp)
     print_feed(limits)
-    print_corner_overload(cmd, interp_settings(m))
+    print_corner_overload(cmd, interp_settings(m), bool((interp.junction_cause == CHAIN).any()))
     if plot:
         from ..plot.path import plot_command
 

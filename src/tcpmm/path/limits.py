@@ -6,6 +6,9 @@ that is below the feed (axis velocity, the centripetal acceleration of its curva
 filter's tolerance on arcs) and the block reaches it; else the corner at its start or end
 when that corner's own limit sets the speed there (a velocity step the axes' acceleration
 allows within the filter's spread, the filter's tolerance at the corner, an exact stop);
+else, where the speed falls from its slower end to a junction of a chain of short blocks
+whose curvature sets the speed there, that curvature (the blocks between such corners
+are too short to speed up and slow down again: the curve as a whole holds them back);
 else the path acceleration (the path jerk for the S-curve): the block is too short to
 reach the feed from a slower place before or after it. The look-ahead spans the whole
 program, so its depth never limits.
@@ -24,7 +27,7 @@ import numpy as np
 
 from .._rows import norm_rows
 from .geometry import DWELL
-from .speedlimits import JUNCTION_CAUSES, SEGMENT_CAUSES
+from .speedlimits import CHAIN, JUNCTION_CAUSES, SEGMENT_CAUSES
 
 #: Share by which a command's peak must exceed a limit to be said to go beyond it: a
 #: command file's rounding alone moves a sample's acceleration that much (7 decimals of a
@@ -163,6 +166,7 @@ def feed_limits(interp) -> FeedLimits:
     held = motion & (peak < HELD_SHARE * feed)
     cause = np.full(p.n, "", dtype=object)
     ramp = "path jerk" if interp.jerk_limited else "path acceleration"
+    left, right = _valleys(v)
     for i in np.flatnonzero(held):
         # its own limit where the block reaches it: one that starts from rest short of
         # it (or slows to a tighter block) is held back by what keeps it lower
@@ -173,9 +177,26 @@ def feed_limits(interp) -> FeedLimits:
         j = i if v[i] <= v[i + 1] else i + 1
         jc = interp.junction_cause[j]
         own = jc != 0 and v[j] >= vj[j] * (1 - 1e-9) and vj[j] < HELD_SHARE * feed[i]
-        cause[i] = JUNCTION_CAUSES[jc] if own else ramp
+        # else the chain of short blocks the speed falls to from there
+        k = left[i] if j == i else right[j]
+        chain = (interp.junction_cause[k] == CHAIN and v[k] >= vj[k] * (1 - 1e-9)
+                 and vj[k] < HELD_SHARE * feed[i])
+        cause[i] = JUNCTION_CAUSES[jc] if own else JUNCTION_CAUSES[CHAIN] if chain else ramp
     return FeedLimits(p.line.copy(), p.length.copy(), feed.copy(), np.where(motion, peak, 0.0),
                       held, cause.astype(str), *_length_at_feed(interp, motion))
+
+
+def _valleys(v) -> tuple[np.ndarray, np.ndarray]:
+    """Per junction, the junction where the speed stops falling: going back (``left``) and
+    going on (``right``) from it, itself where the speed does not fall that way [-]."""
+    idx = np.arange(v.size)
+    back = np.ones(v.size, bool)
+    back[1:] = v[:-1] >= v[1:]
+    on = np.ones(v.size, bool)
+    on[:-1] = v[1:] >= v[:-1]
+    left = np.maximum.accumulate(np.where(back, idx, 0))
+    right = np.minimum.accumulate(np.where(on, idx, v.size - 1)[::-1])[::-1]
+    return left, right
 
 
 def _length_at_feed(interp, motion) -> tuple[float, float]:

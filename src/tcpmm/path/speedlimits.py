@@ -4,8 +4,11 @@
 Segment limits: programmed feed, per-axis velocity, tangential acceleration shared
 with the centripetal acceleration on arcs, and the radius loss the post-interpolation
 filter causes on arcs. Corner limits: the per-axis velocity step at a corner is at most
-``a_axis * T`` (``T`` = the time over which the filter, or one period, spreads it), and
-the filter must not cut the corner by more than the corner tolerance.
+``a_axis * T`` (``T`` = the time over which the filter, or one period, spreads it), the
+filter must not cut the corner by more than the corner tolerance, and where straight
+blocks are so short that several corners fall within ``T`` (a curve posted as short
+lines), the centripetal acceleration of the chain is held as on an arc
+(:func:`chain_limits`).
 """
 
 from __future__ import annotations
@@ -14,9 +17,10 @@ import math
 
 import numpy as np
 
-from .._rows import min_rows
+from .._rows import dot_rows, min_rows, norm_rows
 from ..errors import InputError
 from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
+from .segments import LINE
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
 REVERSAL_TOL = 1e-9
@@ -28,7 +32,9 @@ SEGMENT_CAUSES = ("programmed feed", "axis velocity", "curvature (centripetal ac
                   "filter tolerance on arcs")
 #: what sets a junction's speed limit (index = the code :func:`junction_limits` returns)
 JUNCTION_CAUSES = ("segment limit", "corner: axis acceleration", "corner: filter tolerance",
-                   "exact stop")
+                   "exact stop", "curvature of short blocks (centripetal acceleration)")
+#: index of "exact stop" and of the chain of short blocks in ``JUNCTION_CAUSES`` [-]
+EXACT_STOP, CHAIN = 3, 4
 
 
 def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
@@ -168,7 +174,26 @@ def _blend_limits(p, vel_axis, acc_axis, acc_path, filt, vmax, acc, cause):
     acc[b] = a_t
 
 
-def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
+def normal_accel(acc_axis, acc_path: float) -> np.ndarray:
+    """Share of each axis's acceleration a curve's centripetal acceleration may take, as on
+    the arcs and blends: ``a_t = min(acc_path, a_axis/sqrt(2))`` is left to the tangent,
+    ``sqrt(a_axis^2 - a_t^2)`` to the normal [m/s^2].
+
+    Parameters
+    ----------
+    acc_axis : sequence of float
+        Acceleration limit of X, Y, Z the path is planned with
+        (:meth:`~tcpmm.path.settings.InterpolatorSettings.axis_accel`: a headroom left to
+        a correction is already taken off) [m/s^2].
+    acc_path : float
+        Path (tangential) acceleration limit [m/s^2].
+    """
+    a = np.asarray(acc_axis, float)
+    a_t = np.minimum(acc_path, a / math.sqrt(2.0))
+    return np.sqrt(a**2 - a_t**2)
+
+
+def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
     """Speed limit at the start of each segment and at the end of the path [m/s].
 
     Parameters
@@ -185,6 +210,9 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
         [m/s^2].
     filt : filters.FilterShape
         The post-interpolation filter [-].
+    acc_normal : sequence of float
+        Centripetal acceleration of X, Y, Z a chain of short straight blocks may take
+        (:func:`normal_accel`) [m/s^2].
 
     Returns
     -------
@@ -204,12 +232,15 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
     """
     n = p.n
     vj = np.zeros(n + 1)
-    cause = np.full(n + 1, 3)
+    cause = np.full(n + 1, EXACT_STOP)
     if n < 2:
         return vj, cause
     t_out = tangents(p, at_end=True)[:-1]
     t_in = tangents(p, at_end=False)[1:]
     cap, why = _corner_limits(t_in - t_out, vmax, acc, acc_axis, filt)
+    chain = chain_limits(p, t_out, t_in, acc_normal)
+    why = np.where(chain < cap, CHAIN, why)
+    cap = np.minimum(cap, chain)
     stop = (
         (np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
         | (p.kind[:-1] == DWELL)
@@ -219,8 +250,69 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt):
         | p.exact_stop[:-1]
     )
     vj[1:-1] = np.where(stop, 0.0, cap)
-    cause[1:-1] = np.where(stop, 3, why)
+    cause[1:-1] = np.where(stop, EXACT_STOP, why)
     return vj, cause
+
+
+def chain_limits(p: PathArrays, t_out, t_in, acc_normal) -> np.ndarray:
+    """Speed limit of each inner junction between two straight blocks from the curvature
+    of the chain they belong to [m/s].
+
+    The step rule of :func:`_corner_limits` holds each corner alone: ``v*|du_k|`` within
+    ``a_step_k*T`` (``du`` the change of the unit tangent, ``T`` the filter's spread or one
+    period). Where the blocks are shorter than ``v*T``, ``v*T/L`` corners fall within one
+    ``T`` and their steps add up to a steady centripetal acceleration ``v^2*|du|/L`` the
+    step rule leaves unbounded (0.02 mm chords of a circle at F20000: 5.6 times the axes'
+    limit). It is held here as on an arc, with the local curvature ``|du| / Lbar``::
+
+        v <= sqrt(a_n * Lbar / |du|),   a_n = min over k of a_n_k / share_k
+
+    ``a_n_k`` the centripetal share of axis ``k``'s acceleration (:func:`normal_accel`:
+    ``a_k/sqrt(2)`` by default, the rest left to the tangent as on arcs and blends);
+    ``share_k`` the largest share of a unit vector in the plane of the two tangents that
+    falls on axis ``k``, as for blends (1 for X and Y of a curve in XY). ``Lbar`` is the
+    mean of the two blocks' lengths: the tangent turns by ``du`` between their midpoints,
+    ``Lbar`` apart, so the chords of a circle of radius ``r`` give ``|du|/Lbar = 1/r`` and
+    run as its arc, whatever their length (the shorter length would make a curve posted
+    in blocks of alternating length several times too sharp).
+
+    Against the step rule's speed ``v_s``: the chain's limit is the lower where
+    ``Lbar < v_s^2*|du|/a_n = c * v_s*T``, ``c = (v_s*|du|/T) / a_n`` the step's
+    acceleration over the centripetal share; with the defaults (``a_step_k = a_k``,
+    ``a_n_k = a_k/sqrt(2)``) and a turn in XY, ``c`` is ``sqrt(2)`` to 2: where a corner or
+    more falls within about ``T``. Longer blocks keep the step rule and their numbers.
+
+    The lines keep their tangential acceleration (up to ``min(acc_path, a_k)`` on axis
+    ``k``): where a chain speeds up or slows down an axis may read that and the centripetal
+    share, at worst ``1 + 1/sqrt(2)`` times its limit; at a steady speed, ``a_n_k``.
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    t_out, t_in : ndarray, shape (n - 1, 3)
+        Unit tangents before and after each inner junction [-].
+    acc_normal : sequence of float
+        Centripetal acceleration of X, Y, Z (:func:`normal_accel`) [m/s^2].
+
+    Returns
+    -------
+    ndarray
+        ``n - 1`` limits, ``inf`` at junctions that are not between two lines [m/s].
+    """
+    lines = (p.kind[:-1] == LINE) & (p.kind[1:] == LINE)
+    lbar = 0.5 * (p.length[:-1] + p.length[1:])
+    du = t_in - t_out
+    # the plane of the corner: t_out and the unit vector e2 normal to it towards t_in
+    e2 = t_in - dot_rows(t_in, t_out)[:, None] * t_out
+    n2 = norm_rows(e2)
+    e2 = np.divide(e2, n2[:, None], out=np.zeros_like(e2), where=n2[:, None] > 0.0)
+    share = np.sqrt(t_out**2 + e2**2)
+    dun = norm_rows(du)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a_n = min_rows(np.asarray(acc_normal, float)[None, :] / share)
+        v = np.where(dun > 0.0, np.sqrt(a_n * lbar / dun), np.inf)
+    return np.where(lines, v, np.inf)
 
 
 def _corner_limits(du, vmax, acc, acc_axis, filt):

@@ -22,7 +22,7 @@ import numpy as np
 from .. import _compiled as ck
 from .geometry import DWELL, PathArrays, to_arrays
 from .interpolate import check_samples
-from .speedlimits import junction_limits, segment_limits
+from .speedlimits import junction_limits, normal_accel, segment_limits
 
 
 @dataclass
@@ -93,7 +93,8 @@ def settled_speeds(p: PathArrays, settings, filt, v0: float, final: bool):
     and how many of them are final (module docstring) [m/s], [-]."""
     vmax, acc, _ = segment_limits(p, settings.axis_velocity(), settings.axis_accel(),
                                   settings.path_accel_m_per_s2, filt)
-    vj, _ = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt)
+    vj, _ = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt,
+                            normal_accel(settings.axis_accel(), settings.path_accel_m_per_s2))
     vj[0] = v0
     v = ck.lookahead(p.length, vj, acc, settings.jerk())
     n = p.n

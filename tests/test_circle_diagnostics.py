@@ -304,6 +304,15 @@ def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
     assert terms["scale_mismatch"] == (pytest.approx(80.0, rel=0.01), "ppm")
     assert terms["servo_mismatch"] == (pytest.approx(0.2, rel=0.01), "ms")
     assert terms["cyclic_period_X"] == (None, "mm")
+    # each spike after the terms carries the 95 % uncertainty the table of passes gives it
+    u95 = {t["term"]: t["uncertainty_95"] for t in got["diagnostics"]["terms"]}
+    for p in got["passes"]:
+        sc = next(c for c in p["sensors"] if c["sensor"] == got["diagnostics"]["sensor"])
+        for q in "ABCD":
+            given = sc.get(f"spike_after_terms_{q}_uncertainty_95_um")
+            if given is not None:
+                assert u95[f"spike_{q}_{p['direction']}"] == pytest.approx(given, rel=1e-9)
+    assert any(v is not None for k, v in u95.items() if k.startswith("spike_"))
 
 
 def test_cli_single_run_stays_as_it_was(capsys, pair):

@@ -150,7 +150,10 @@ def spikes_reach(diag) -> tuple[float, float] | None:
 def shown_uncertainty(diag, term: str) -> float:
     """The expanded uncertainty (:data:`COVERAGE` standard uncertainties) of ``term`` in
     its display unit (:func:`.circle_display.display_terms`); NaN where none is
-    estimated [-]."""
+    estimated. A spike's is its own (``spike_u95``: the terms' covariance, the take-up
+    and the tails), as the table of the passes gives it [-]."""
+    if term.startswith("spike_") and np.isfinite(diag.spike_u95.get(term, np.nan)):
+        return diag.spike_u95[term] * display_unit(term, diag.terms[term][1])[1]
     if term not in diag.sigma:
         return float("nan")
     return COVERAGE * diag.sigma[term] * display_unit(term, diag.terms[term][1])[1]

@@ -166,9 +166,11 @@ def print_diagnostics(diag, result=None) -> None:
     whose = "the pair's" if len(cols) == 3 else "its own (backlash among them)"
     for q in "ABCD":
         t.add_row(f"spike {q} after {whose} terms",
-                  *[_cell(rows[f"spike_{q}_{d}"][0]) for d in diag.directions],
+                  *[_with_pm(rows[f"spike_{q}_{d}"][0], shown_uncertainty(diag, f"spike_{q}_{d}"))
+                    for d in diag.directions],
                   *([""] if len(cols) == 3 else []))
-    print_plain(t, out, f"circle diagnostics ({diag.sensor}) [µm]")
+    print_plain(t, out, f"circle diagnostics ({diag.sensor}) [µm]",
+                "±: a spike's 95 % uncertainty (the terms', the take-up's and the tails')")
     t = plain_table(("term", "value", "±95%", "unit", "sign"),
                     left=("term", "unit", "sign"))
     for term, (v, u) in rows.items():
@@ -187,6 +189,11 @@ def print_diagnostics(diag, result=None) -> None:
     _print_ranking(diag, result)
     for line in undetermined_lines(diag.undetermined):
         out.print(line, highlight=False)
+
+
+def _with_pm(v: float, pm: float) -> str:
+    """A value and, where it has one, its ±95%: ``3.39 ± 1.84`` [-]."""
+    return _cell(v) if pm != pm or v != v else f"{_cell(v)} ± {_cell(pm)}"
 
 
 def _print_ranking(diag, result=None) -> None:

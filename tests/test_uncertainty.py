@@ -600,3 +600,21 @@ def test_an_open_share_is_moved_inside_its_range_where_figures_turn_back():
         largest = max(abs(f[key] - nominal[key]) for f in moved)
         assert largest > 30e-6  # the figure turns back inside the range
         assert changes[key][("X", "guideway_share")] >= 0.8 * largest
+
+
+def test_a_figure_one_circle_does_not_give_is_neither_inside_nor_outside():
+    """Bench H's measured circle at F10000 gives no spike at B (its window lies in the feed
+    ramp), so measured - predicted has none; the judged row read it 'outside' its 90 %
+    interval (NaN <= w is false) and the table printed NO. It is now neither: None, '-'."""
+    from tcpmm.analysis.compare import Comparison
+    from tcpmm.cli._tables import judged_rows
+    from tcpmm.uncertainty.verdict import FigureVerdict, Verdict
+
+    row = {"direction": "CCW", "sensor": "tcp", "spike_A_um": 0.4, "spike_B_um": float("nan"),
+           "spike_C_um": 0.6, "spike_D_um": 0.5, "contour_error_um": -0.1}
+    figs = [FigureVerdict("c", "ccw", name, 1e-6, 5e-6, 2e-6, "uncertain")
+            for name in ("spike A", "spike B", "spike C", "spike D", "contour error")]
+    judged = Comparison([row]).judged(Verdict(figs))
+    long = Comparison.judged_long(judged)
+    assert [r["inside"] for r in long] == [True, None, True, True, True]
+    assert [r["inside"] for r in judged_rows(long)] == ["yes", "-", "yes", "yes", "yes"]

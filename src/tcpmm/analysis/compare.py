@@ -94,7 +94,11 @@ class Comparison:
                 if f is None:
                     continue
                 row[col.replace("_um", "_90_um")] = f.half_width * 1e6
-                row[col.replace("_um", "_inside")] = bool(abs(r[col]) <= f.half_width * 1e6)
+                # a figure one of the circles does not give (a window in its feed ramp) is
+                # neither inside nor outside: None, not a miss
+                row[col.replace("_um", "_inside")] = (
+                    bool(abs(r[col]) <= f.half_width * 1e6)
+                    if r[col] is not None and np.isfinite(r[col]) else None)
                 row[col.replace("_um", "_verdict")] = f.verdict
             out.append(row)
         return out

@@ -28,7 +28,8 @@ def judged_rows(rows: list) -> list[dict]:
              if r["figure"].startswith("spike") else r["figure"],
              "measured - predicted": r["measured_minus_predicted_um"],
              "90 % interval +-": r["half_width_90_um"],
-             "inside": "yes" if r["inside"] else "NO", "verdict": r["verdict"]} for r in rows]
+             "inside": "-" if r["inside"] is None else "yes" if r["inside"] else "NO",
+             "verdict": r["verdict"]} for r in rows]
 
 
 def fixed(v: float, digits: int = 2) -> str:

@@ -308,5 +308,6 @@ def _judged_columns(judged):
                                  "measured_minus_predicted_um": "measured − predicted [µm]",
                                  "half_width_90_um": "90 % interval ± [µm]"})
     out["figure"] = [raw_spike_named(f, "−") for f in out["figure"]]
-    out["inside"] = ["yes" if v else "no" for v in out["inside"]]
+    out["inside"] = ["–" if v is None or v != v else "yes" if v else "no"
+                     for v in out["inside"]]
     return out

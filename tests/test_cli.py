@@ -133,6 +133,11 @@ def test_demo_writes_everything(capsys, tmp_path):
              ("verdict", "circle", "comparison", "spread", "identification", "model")]
     assert order == sorted(order)
     assert '<p class="pass">PASS' in page
+    # the paper's circle starts where its feed-in semicircle joins, before the servo has
+    # settled: the verdict says so, and that its figures are not firm for it
+    verdict = page[order[0]:order[1]]
+    assert "PASS (not firm: see the cautions below)" in verdict
+    assert "the CCW circle starts before the servo has settled" in verdict
     for fact in ("35 mm", "5000 mm/min", "CCW then CW", "1000 Hz", "measured_run.csv"):
         assert fact in page[order[0]:order[1]], fact
     assert page.count("<h3>Diagnostics (TCP)</h3>") == 2  # simulated and virtual measurement

@@ -82,7 +82,7 @@ def _demo_into(out, step, console, report, tolerance_m, final) -> dict:
     _plot_builtin(machine, run, res, out, step, files)
     if console is not None:
         print_table(shown_circle_table(table), console, "Circular test on the built-in machine")
-    cmp, idn, circles = identify_and_predict(machine, cmd, out, step, files)
+    cmp, idn, circles, cautions = identify_and_predict(machine, cmd, out, step, files)
     if console is not None:
         print_table(cmp.to_pandas(), console,
                     "Table 2: virtual measurement - prediction of the identified model [µm]")
@@ -101,7 +101,7 @@ def _demo_into(out, step, console, report, tolerance_m, final) -> dict:
         console.print(spread_summary(spread))
     report = out / "report.html" if report is None else report
     files["report"] = write_demo_report(report, machine, res, cmp, circles, spread, out,
-                                        tolerance_m, judged, final)
+                                        tolerance_m, judged, final, cautions)
     return {"files": {k: str(v) for k, v in files.items()}, "table": table,
             "comparison": cmp.to_pandas(), "spread": spread.to_pandas()}
 
@@ -213,7 +213,7 @@ def judged_table2(machine, cmd, cmp, out, files):
 
 def identify_and_predict(machine, cmd, out, step, files):
     """Virtual bundle -> identification (model and verdict) -> predicted circle vs measured
-    (Table 2)."""
+    (Table 2); with what the measured circle's analysis warned of [-]."""
     from .analysis.compare import compare_circles
     from .ident.chain import identify_bundle
     from .io.bundle import read_bundle
@@ -241,23 +241,33 @@ def identify_and_predict(machine, cmd, out, step, files):
     predicted = simulate(idn.machine, cmd)
     predicted.write_csv(out / "predicted_run.csv")
     R = mm_to_m(RADIUS_MM)
-    rm, rp = (analyse_circle(r, R, settling=False) for r in (measured, predicted))
+    # what the measured circle's analysis says (its start within the feed-in's transient)
+    # heads the verdict as its cautions, and is said once on the way
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always", InputWarning)
+        rm = analyse_circle(measured, R)
+    cautions = list(dict.fromkeys(str(w.message) for w in said
+                                  if issubclass(w.category, InputWarning)))
+    for c in cautions:
+        warnings.warn(InputWarning(c), stacklevel=2)
+    rp = analyse_circle(predicted, R, settling=False)
     cmp = compare_circles(rm, rp)
     write_table_atomic(cmp.to_pandas(), out / "table2.csv", "%.3f")
     files.update(predicted=out / "predicted_run.csv", table2=out / "table2.csv")
     files["prediction_plot"] = out / "prediction.png"
     plot_circle(rm, files["prediction_plot"], sensors=["tcp"], overlay=rp,
                 title="Exp-TCP (virtual) and Sim-TCP")
-    return cmp, idn, (rm, rp)
+    return cmp, idn, (rm, rp), cautions
 
 
 def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m=None,
-                      judged=None, final=None):
+                      judged=None, final=None, cautions=()):
     """The demo's HTML report, in the order a customer reads it: the verdict on the
     measured circle (conditions, pass or fail against ``tolerance_m`` [m], ranked error
     sources) with its diagnostics, the prediction against it and its spread, the
     identification, then the model and its own circle. Its inputs are named in ``final``,
-    the folder the files of ``out`` are moved to (``out`` itself where ``None``)."""
+    the folder the files of ``out`` are moved to (``out`` itself where ``None``);
+    ``cautions``, what the measured circle's analysis said, head the verdict."""
     from .io.runfile import read_run
     from .report import (
         circle_test_section,
@@ -276,7 +286,7 @@ def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m
     sections = [*verdict_sections(circles[0], "circle-measured",
                                   "Circular test, virtual measurement",
                                   out / "measured_run.csv", tolerance_m, rate,
-                                  measured_on=made),
+                                  cautions=cautions, measured_on=made),
                 comparison_section(cmp, *circles, (out / "measured_run.csv",
                                                     out / "predicted_run.csv"),
                                    judged=judged),

@@ -7,11 +7,11 @@ at F10000, a CCW and a CW circle of 1.25 turns from quadrant point A as the benc
 reads a centre offset of X of 3.6 um, a bow of Y of -4.0 um and a backlash of X of 3.6 um;
 of 1.75 turns, which start further from the feed ramp, 0.0, 0.0 and 7.5 um). The command is
 steady there already; the sign is in the following error. Along a settled circle a
-sensor's following error along the path keeps a steady course: a constant, the harmonics
-of one to four a turn that a centre offset and the axes' differing lags make, and the
-reversals' spikes (their windows are not judged). A pass whose first tenth departs from
-that course by more than twice what its middle half does, by more than 1 um and over 2 deg
-or more, is said.
+sensor's following error, along the path and across it, keeps a steady course: a
+constant, the harmonics of one to four a turn that a centre offset and the axes' differing
+lags make, and the reversals' spikes (their windows are not judged). A pass whose first
+tenth departs from that course by more than twice what its middle half does, by more than
+1 um and over 2 deg or more, is said.
 """
 
 from __future__ import annotations
@@ -92,9 +92,10 @@ MIN_JUDGED_DEG = 350.0
 
 
 def departures(ang, cmd_xy, sensor_xy) -> np.ndarray:
-    """How far the sensor's following error along the path departs from its steady course
-    (module docstring), per sample; NaN in the reversals' windows (5 deg before each
-    quadrant point to 25 deg after), where the spikes lie [m].
+    """How far the sensor's following error departs from its steady course (module
+    docstring), per sample, along the path and across it (two columns); NaN in the
+    reversals' windows (5 deg before each quadrant point to 25 deg after), where the
+    spikes lie [m].
 
     Parameters
     ----------
@@ -103,8 +104,12 @@ def departures(ang, cmd_xy, sensor_xy) -> np.ndarray:
     cmd_xy, sensor_xy : tuple of ndarray
         The command's and the sensor's path over the pass, at the same instants [m].
     """
-    along = ((cmd_xy[0] - sensor_xy[0]) * -np.sin(ang)
-             + (cmd_xy[1] - sensor_xy[1]) * np.cos(ang))
+    dx, dy = cmd_xy[0] - sensor_xy[0], cmd_xy[1] - sensor_xy[1]
+    along = dx * -np.sin(ang) + dy * np.cos(ang)
+    # and across it: the change of curvature at a feed-in arc's join moves the radial
+    # error (the paper's circle after its semicircle of half the radius: by 11 um over
+    # its first 10 deg, where the error along the path settles within 1 deg)
+    across = dx * np.cos(ang) + dy * np.sin(ang)
     # the constant lag, the harmonics of the centre's offset (1), the axes' differing lags
     # (2), and what the servo and the geometry add at 3 and 4 a turn; the steps a lost
     # motion makes where each axis reverses
@@ -115,8 +120,9 @@ def departures(ang, cmd_xy, sensor_xy) -> np.ndarray:
     quiet = fit_mask(ang, s, after_deg=(-5.0, 25.0))
     # fitted over the whole pass: a transient over its start bends the course a little,
     # where a course fitted without it would be carried over a sector of no samples
-    coef = np.linalg.lstsq(cols[quiet], along[quiet], rcond=None)[0]
-    return np.where(quiet, np.abs(along - cols @ coef), np.nan)
+    both = np.column_stack([along, across])
+    coef = np.linalg.lstsq(cols[quiet], both[quiet], rcond=None)[0]
+    return np.where(quiet[:, None], np.abs(both - cols @ coef), np.nan)
 
 
 def unsettled_start(ang, cmd_xy, sensor_xy):
@@ -127,17 +133,22 @@ def unsettled_start(ang, cmd_xy, sensor_xy):
     and a pass whose command changes before its end is said by
     :func:`tcpmm.analysis.circle_checks.warn_unsteady` [deg, m, m]."""
     n = ang.size
-    dev = np.nan_to_num(departures(ang, cmd_xy, sensor_xy))  # windows not judged
-    level = float(np.max(dev[n // 4:n - n // 4]))
-    limit = SETTLE_RATIO * level + SETTLE_FLOOR_M
     k = max(1, int(END_SHARE * n))
-    if not np.max(dev[:k]) > limit:
-        return None
-    # the settling's extent: to the last sample beyond the limit in the pass's first
-    # quarter
-    last = int(np.flatnonzero(dev[:n // 4] > limit)[-1])
-    extent = abs(float(np.degrees(ang[last] - ang[0])))
-    return (extent, float(np.max(dev[:k])), level) if extent >= MIN_EXTENT_DEG else None
+    said = []
+    # along the path and across it, each against its own middle (the radial error's course
+    # holds more that the harmonics leave: cyclic errors, bows)
+    for dev in np.nan_to_num(departures(ang, cmd_xy, sensor_xy)).T:  # windows not judged
+        level = float(np.max(dev[n // 4:n - n // 4]))
+        limit = SETTLE_RATIO * level + SETTLE_FLOOR_M
+        if not np.max(dev[:k]) > limit:
+            continue
+        # the settling's extent: to the last sample beyond the limit in the pass's first
+        # quarter
+        last = int(np.flatnonzero(dev[:n // 4] > limit)[-1])
+        extent = abs(float(np.degrees(ang[last] - ang[0])))
+        if extent >= MIN_EXTENT_DEG:
+            said.append((extent, float(np.max(dev[:k])), level))
+    return max(said, key=lambda x: x[1] - SETTLE_RATIO * x[2]) if said else None
 
 
 def warn_unsettled(X, Y, sl, sensors, ang, direction: str, arc_deg: float) -> None:

@@ -26,12 +26,14 @@ def test_a_term_the_scale_leaves_open_is_not_placed_past_it():
     scale = pair(ERR, 14.0)
     assert np.isnan(scale["backlash_X"]) and np.isnan(scale["spike_B_ccw"])
     placed = placed_terms(tcp, scale, "linear scale")
-    for term in ("backlash_X", "backlash_Y", "reversal_spikes"):
+    # the scale's scale mismatch reads -124 ppm (20 injected) and +231 with the wider
+    # window: it moves by more than its value, so the scale's ranking leaves it out too
+    for term in ("backlash_X", "backlash_Y", "reversal_spikes", "scale_mismatch"):
         g_ref, where = placed[term]
         assert np.isnan(g_ref) and where == "not determined at the linear scale", term
         assert json.dumps(_placed(term, placed), allow_nan=False)
-    g_ref, where = placed["scale_mismatch"]  # one the scale determines keeps its figure
-    assert np.isfinite(g_ref) and where.startswith("at the linear scale too")
+    g_ref, where = placed["lateral_play_Y"]  # one the scale determines keeps its figure
+    assert np.isfinite(g_ref)
 
 
 def test_the_ranking_marks_spikes_their_pm_leaves_short_of_the_tolerance():
@@ -67,3 +69,21 @@ def test_a_term_is_placed_past_the_scale_only_where_both_pm_agree():
                           circle_diagnostics(*res, sensor="scale"), "linear scale")
     assert placed["reversal_spikes"][1].startswith("not placed: within their ±95%")
     assert placed["backlash_X"][1].startswith("mostly past the linear scale")
+
+
+def test_a_term_whose_sign_the_tails_leave_open_is_not_ranked():
+    """The demo's ranking listed a backlash X of 2.08 um that reads -12.92 with the wider
+    window as its fourth error source, and a scale mismatch of -63 ppm that reads +42,
+    while the page said a term that moves by more than its value is not determined. Circles
+    with a pulse past the window (scale mismatch -124 ppm read for 20, +231 with the wider
+    window) rank no such term and name it under the ranking; the same circles without the
+    pulse rank it."""
+    clean, pulsed = gen.diagnose(ERR), pair(ERR, 14.0)
+    assert "scale_mismatch" in {r["term"] for r in clean.ranking}
+    assert "scale_mismatch" not in {r["term"] for r in pulsed.ranking}
+    from tcpmm.analysis.circle_tails import unranked_line
+
+    assert unranked_line(clean) == ""
+    line = unranked_line(pulsed)
+    assert line.startswith("not ranked: scale mismatch") and "not even its sign" in line
+    assert abs(sum(r["share"] for r in pulsed.ranking) - 1.0) < 1e-9

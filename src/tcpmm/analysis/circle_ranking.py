@@ -166,7 +166,7 @@ def _g_alone(curves, radius) -> float:
     return float(gb) if len(curves) == 2 else float(g[0])
 
 
-def rank_terms(fit, arcs, radius, shared, terms, axes, names=None):
+def rank_terms(fit, arcs, radius, shared, terms, axes, names=None, unranked=()):
     """The terms ranked by their contribution (:func:`.circle_display.ranking_rows`), the
     axes named as the plane's [m, -].
 
@@ -186,10 +186,15 @@ def rank_terms(fit, arcs, radius, shared, terms, axes, names=None):
         The plane's axes [-].
     names : dict, optional
         Reported name of a term where it differs from its column's [-].
+    unranked : sequence of str
+        Terms left out, by their reported names, with the axes named X and Y or the
+        plane's (:func:`.circle_tails.sign_open`) [-].
     """
     spikes = [v for k, (v, _) in terms.items() if k.startswith("spike_")]
     c = contributions(fit, arcs, radius, shared, spikes)
     c = {(names or {}).get(k, k): v for k, v in c.items()}
+    c = {k: v for k, v in c.items()
+         if k not in set(unranked) and rename_axes(k, axes) not in set(unranked)}
     g = [v for k, (v, _) in terms.items() if k.startswith("circularity_")]
     rows = ranking_rows(c, terms.get("circularity_pair", (max(g),))[0])
     for r in rows:

@@ -27,7 +27,7 @@ from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
 from .circle_spikes import reversal_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
-from .circle_tails import tail_shift
+from .circle_tails import sign_open, tail_shift
 from .circle_takeup import noise_extremes, width_follows_backlash, width_terms, width_why
 from .diagnostics import (
     CircleDiagnostics,
@@ -102,13 +102,15 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     leave_open(why, terms, left_out, arcs, axes, {"squareness": "squareness_or_servo"})
     width_follows_backlash(terms, why, lambda k: rename_axes(k, axes),
                            noise_extremes(terms, fit.residual_rms))
+    shift = tail_shift(fit, arcs, radius_m, SINGLE, terms, axes,
+                       rename={"squareness": "squareness_or_servo"})
     ranking = rank_terms(fit, arcs, radius_m, SINGLE, terms, axes,
-                         {"squareness": "squareness_or_servo"})
+                         {"squareness": "squareness_or_servo"},
+                         sign_open({rename_axes(k, axes): v for k, v in terms.items()}, shift,
+                                   radius_m))
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
-                             curves, why, ranking,
-                             tail_shift(fit, arcs, radius_m, SINGLE, terms, axes,
-                                        rename={"squareness": "squareness_or_servo"}),
+                             curves, why, ranking, shift,
                              alias_terms(fit, 1, SINGLE, terms, radius_m, axes,
                                          rename={"squareness": "squareness_or_servo"}),
                              term_sigma(fit, 1, SINGLE, terms, axes,

@@ -188,6 +188,56 @@ def open_by_tails(fit, terms: dict, shift: dict, radius: float, span: float) -> 
     return open_terms(terms, keys, OPEN_BY_TAILS, fit=fit)
 
 
+def sign_open(terms: dict, shift: dict, radius: float) -> list:
+    """The terms that move with the window after the reversals (``shift``,
+    :func:`tail_shift`) by more than their own radial size, at least :data:`MOVES_M`: the
+    circles do not determine even their sign, and they are not ranked among the error
+    sources (a ranking of the demo's circle listed a backlash of 2.08 um that reads -12.92
+    with the wider window as its fourth source). Names as ``terms`` and ``shift`` give them;
+    a centre offset also as ``centre_offset`` where its vector moves by more than it is
+    long, a servo mismatch with its angle [-].
+
+    Parameters
+    ----------
+    terms : dict
+        The reported terms, ``name -> (value, unit)`` [SI].
+    shift : dict
+        Each term's move with the window [SI].
+    radius : float
+        Nominal radius [m].
+    """
+    out = []
+    for k, d in shift.items():
+        v = terms.get(k, (float("nan"),))[0]
+        if k.startswith(("cyclic_", "take_up_")) or not np.isfinite(v):
+            continue
+        moved = radial_size(k, d, radius)
+        if moved >= MOVES_M and moved > radial_size(k, v, radius):
+            out.append(k)
+    if "servo_mismatch_angle" in out and "servo_mismatch" in terms:
+        out.append("servo_mismatch")
+    centre = [k for k in shift if k.startswith("centre_offset_")
+              and np.isfinite(terms.get(k, (float("nan"),))[0])]
+    if centre:
+        moved = float(np.linalg.norm([shift[k] for k in centre]))
+        if moved >= MOVES_M and moved > float(np.linalg.norm([terms[k][0] for k in centre])):
+            out.append("centre_offset")
+    return out
+
+
+def unranked_line(diag) -> str:
+    """The terms :func:`sign_open` leaves out of the ranking, in words; empty where none
+    is [-]."""
+    left = [k for k in sign_open(diag.terms, diag.tail_shift, diag.radius)
+            if not k.startswith("centre_offset_") and k != "servo_mismatch_angle"]
+    if not left:
+        return ""
+    return ("not ranked: " + ", ".join(k.replace("_", " ") for k in left)
+            + ": fitted again with 40 deg after each reversal left out instead of 20, each "
+            "moves by more than its own value (uncertain by the reversals' tails), so these "
+            "circles do not determine it, not even its sign")
+
+
 def moving_terms(diag) -> dict:
     """The terms of ``diag`` that move with the window (module docstring): ``term ->
     (value, value with the wider window)`` [SI]."""

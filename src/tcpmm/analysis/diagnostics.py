@@ -73,7 +73,7 @@ from .circle_reversal_tail import tail_state, tail_terms
 from .circle_sigma import term_sigma
 from .circle_spike_sigma import open_spikes, pair_spikes, widen_for_opened
 from .circle_stable import ARC_WHY, arc_fit, leave_open
-from .circle_tails import open_by_tails, tail_shift
+from .circle_tails import open_by_tails, sign_open, tail_shift
 from .circle_takeup import width_follows_backlash, width_terms, width_why
 from .circle_unfitted import cyclic_slopes
 
@@ -247,8 +247,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     radius_m : float
         Nominal radius [m].
     rates_rad_s : tuple of float
-        Angular speed of each circle, for the servo mismatch as a time; NaN leaves it
-        unknown (its angle is still given) [rad/s].
+        Angular speed of each circle, the servo mismatch as a time (NaN: its angle) [rad/s].
     axes : tuple of str
         Names of the first and second axis of the plane [-].
     sensor : str
@@ -290,7 +289,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                           cyclic_slopes(fit, arcs, radius_m, SHARED))
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
-                             curves, why, rank_terms(fit, arcs, radius_m, SHARED, terms, axes),
+                             curves, why, rank_terms(fit, arcs, radius_m, SHARED, terms, axes,
+                                                     unranked=sign_open(terms, shift, radius_m)),
                              {rename_axes(k, axes): v for k, v in shift.items()}, aliases,
                              term_sigma(fit, 2, SHARED, terms, axes, mean_rate), spike_u95,
                              spike_fast, tail_state(fit) if full else "")

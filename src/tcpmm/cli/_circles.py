@@ -13,7 +13,7 @@ def diagnostics_json(diag, result=None) -> dict:
     where it lies, where the TCP's circles have the scale too [-]."""
     from ..analysis.circle_alias import alias_display
     from ..analysis.circle_sigma import noisy_terms, shown_uncertainty
-    from ..analysis.circle_tails import moving_terms
+    from ..analysis.circle_tails import moving_terms, sign_open
 
     at = _at_scale(diag, result)
     moving, noisy = moving_terms(diag), noisy_terms(diag)
@@ -29,6 +29,9 @@ def diagnostics_json(diag, result=None) -> dict:
             "undetermined": dict(diag.undetermined),
             "reversal_tails": diag.tails or None,
             "aliases": aliases,
+            "unranked": [k for k in sign_open(diag.terms, diag.tail_shift, diag.radius)
+                         if not k.startswith("centre_offset_")
+                         and k != "servo_mismatch_angle"],
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
                          "g_alone_um": r["g_alone_m"] * 1e6,
                          "share_percent": _json_number(100.0 * r["share"]),
@@ -234,3 +237,7 @@ def _print_ranking(diag, result=None) -> None:
                                       "(a term above the residual rms): it lies past the "
                                       "scale, in the structure between the table and the "
                                       "tool, not in the drive" if scale else ""))
+    from ..analysis.circle_tails import unranked_line
+
+    if left := unranked_line(diag):
+        out.print(left, highlight=False)

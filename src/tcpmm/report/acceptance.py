@@ -198,10 +198,13 @@ def _sources_table(diagnostics, reference) -> str:
                  "the scale does not see lies between the table and the tool (the column "
                  "and headstock deflecting, or ringing after a reversal), not in the drive. ")
     from ..analysis.circle_alias import ranking_marks
+    from ..analysis.circle_tails import unranked_line
 
     legend = " ".join(f"{m}." for m in ranking_marks(diagnostics)[1])
+    left = unranked_line(diagnostics)
     return ("<h3>Error sources, largest first</h3>"
             + para(lead + "The diagnostics below give the terms with their signs and their "
                    "radial errors." + (f" Marks: {legend}" if legend else ""))
             + table(frame, "error_sources.csv",
-                    digits={g_alone: 2, of: 0, "rank": 0, **({at: 2} if at else {})}))
+                    digits={g_alone: 2, of: 0, "rank": 0, **({at: 2} if at else {})})
+            + (para(f"{left[0].upper()}{left[1:]}.", "warn") if left else ""))

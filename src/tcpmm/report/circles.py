@@ -186,6 +186,7 @@ def ranking_html(diag, stem: str) -> str:
         return ""
     from ..analysis.circle_alias import ranking_marks
     from ..analysis.circle_display import beyond_g_note
+    from ..analysis.circle_tails import unranked_line
 
     marks, legend = ranking_marks(diag)
     beyond = beyond_g_note(diag.ranking, "G(b)" if len(diag.directions) == 2 else "G")
@@ -202,7 +203,9 @@ def ranking_html(diag, stem: str) -> str:
                  "the sum of those." + "".join(f" {m} (below)." for m in legend)
                  + (f" {beyond[0].upper()}{beyond[1:]}." if beyond else ""))
             + table(frame, f"{stem}_diagnostics_ranking.csv",
-                    digits={"share [%]": 1, "of G [%]": 1}))
+                    digits={"share [%]": 1, "of G [%]": 1})
+            + (para(f"{left[0].upper()}{left[1:]}.", "warn") if (left := unranked_line(diag))
+               else ""))
 
 
 def undetermined_html(diag) -> str:

@@ -39,6 +39,11 @@ def test_an_unknown_key_like_no_known_one_gets_no_guess(vmc):
     ("      M_t: 150.0", "      M_t: -150.0", "M_t"),
     ("      lead: 0.01\n", "      lead: .nan\n", "lead"),
     ("      K_pp: 40.0\n", "      K_pp: fast\n", "K_pp"),
+    # what the builder states: a positive deviation in metres, and nothing else
+    ("  circular_deviation_m: 4.0e-05\n", "  circular_deviation_m: -4.0e-05\n",
+     "circular_deviation_m"),
+    ("  circular_deviation_m: 4.0e-05\n", "  circular_deviation_um: 40\n",
+     "specification.circular_deviation_um"),
 ])
 def test_bad_values(vmc, old, new, needle):
     text = dumps_machine(vmc)

@@ -186,6 +186,26 @@ def test_the_page_opens_with_the_circle_verdict(capsys, tmp_path, inputs, tolera
     assert sizes == sorted(sizes, reverse=True)
 
 
+@pytest.mark.parametrize(("extra", "said"), [
+    ([], "PASS: G"), (["--tolerance-um", 3.0], "FAIL: G")])
+def test_without_a_tolerance_the_model_s_specification_judges(capsys, tmp_path, inputs,
+                                                              extra, said):
+    """A report given the model of a machine whose builder states G (the built-in
+    machine's specification, 40 um) and no tolerance judged nothing: 'No tolerance was
+    given'. It now judges against the specification and says so; a tolerance given still
+    rules."""
+    _, opts = inputs
+    code, text, err = report(capsys, tmp_path, *opts["comparison"], *opts["model"], *extra)
+    assert code == 0, err
+    import html
+
+    v = html.unescape(_verdict(text))
+    assert said in v and "No tolerance was given" not in v
+    assert ("the machine's specification" in v) == (not extra)
+    if not extra:
+        assert "of 40.00 µm" in v
+
+
 def test_csv_downloads_hold_the_tables(full):
     _, page = full
     links = dict(page.links)

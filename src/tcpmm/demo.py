@@ -283,10 +283,13 @@ def write_demo_report(path, machine, res, cmp, circles, spread, out, tolerance_m
     t = read_run(out / "measured_run.csv").time_s
     rate = 1.0 / float(np.median(np.diff(t))) if t.size > 1 else None
     made = f"{datetime.date.today().isoformat()} (a virtual measurement, made by the demo)"
+    spec = machine.specification if tolerance_m is None else None
     sections = [*verdict_sections(circles[0], "circle-measured",
                                   "Circular test, virtual measurement",
-                                  out / "measured_run.csv", tolerance_m, rate,
-                                  cautions=cautions, measured_on=made),
+                                  out / "measured_run.csv",
+                                  spec.circular_deviation_m if spec else tolerance_m, rate,
+                                  cautions=cautions, measured_on=made,
+                                  specified=spec is not None),
                 comparison_section(cmp, *circles, (out / "measured_run.csv",
                                                     out / "predicted_run.csv"),
                                    judged=judged),

@@ -223,6 +223,21 @@ class Axis(BaseModel):
         return self.model_copy(update=changes)
 
 
+class Specification(BaseModel):
+    """What the machine's builder states it meets, to judge its tests against where the
+    user gives no tolerance.
+
+    Parameters
+    ----------
+    circular_deviation_m : float
+        Largest circular deviation G (ISO 230-4) of a circular test at the tool [m].
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    circular_deviation_m: float = Field(gt=0.0, allow_inf_nan=False)
+
+
 class Machine(BaseModel):
     """A machine tool model: axes by name (``"X"``, ``"Y"``, ...).
 
@@ -239,6 +254,9 @@ class Machine(BaseModel):
         What the gates of identification found physically suspect in this model, when it
         was written anyway (``tcpmm identify --accept-suspect``); empty for a model that
         passed them or was made by hand [-].
+    specification : Specification or None
+        What the builder states the machine meets; a circle verdict given no tolerance
+        judges against it [SI].
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -247,6 +265,7 @@ class Machine(BaseModel):
     axes: dict[str, Axis]
     interpolation: dict | None = None
     suspect: tuple[str, ...] = ()
+    specification: Specification | None = None
 
     @field_validator("axes")
     @classmethod

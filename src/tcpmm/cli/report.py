@@ -39,7 +39,8 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
            tolerance_um: float = typer.Option(
                None, "--tolerance-um", help="Largest circular deviation G accepted [µm]: the "
                                             "verdict on the first circle is PASS or FAIL "
-                                            "against it; without it G is given unjudged."),
+                                            "against it; without it against the --model's "
+                                            "specification, else G is given unjudged."),
            measured_on: str = typer.Option(
                None, "--measured-on", metavar="YYYY-MM-DD",
                help="Date of the circular test, given with its conditions.")):
@@ -54,8 +55,10 @@ def report(output: Path = typer.Option(..., "-o", "--output", help="REPORT.html"
     measured, predicted = measured or [], predicted or []
     _check_inputs(output, model, ident_dir, spread, runs, measured, predicted, radius)
     tol = None if tolerance_um is None else positive(tolerance_um, "--tolerance-um") * 1e-6
-    verdict = {"tolerance_m": tol, "measured_on": _date(measured_on)}
     machine = read_model(model) if model is not None else None
+    verdict = {"tolerance_m": tol, "measured_on": _date(measured_on)}
+    if tol is None and machine is not None and machine.specification is not None:
+        verdict.update(tolerance_m=machine.specification.circular_deviation_m, specified=True)
     sections, inputs = [], []
     if runs or measured:
         sections, inputs = _circle_sections(runs, measured, predicted, radius, centre,

@@ -55,7 +55,7 @@ def demo(out_dir: Path = typer.Option(Path("out/demo"), "-o", "--out", help="Out
                                      "folder."),
          tolerance_um: float = typer.Option(None, "--tolerance-um", help="Largest circular "
                                             "deviation G the report's verdict accepts [µm]; "
-                                            "without it G is given unjudged.")):
+                                            "default the machine's specification, 40 µm.")):
     """The paper's circular test (R35 mm, 5000 mm/min, CCW and CW) on the built-in machine."""
     from ..demo import DEMO_STEPS, run_demo
     from ..io.atomic import check_output_folder

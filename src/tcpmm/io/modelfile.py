@@ -45,6 +45,9 @@ _HEADER = """\
 #          corner_tolerance_m [m], filter_kind [none|linear|bell], filter_time_s [s],
 #          blend_tolerance_m [m] (G64 without P; 0: sharp corners), corner_step_share [-]
 #          (of the axis acceleration a sharp corner's velocity step takes; 0: exact stops)
+#   specification (what the builder states it meets): circular_deviation_m [m] (ISO 230-4
+#          G of a circular test at the tool; a circle verdict given no tolerance judges
+#          against it)
 """
 
 
@@ -72,6 +75,8 @@ def machine_to_dict(machine: Machine) -> dict:
     out["axes"] = d["axes"]
     if d.get("interpolation") is not None:
         out["interpolation"] = d["interpolation"]
+    if d.get("specification") is not None:
+        out["specification"] = d["specification"]
     return out
 
 
@@ -114,7 +119,7 @@ def write_machine(machine: Machine, path) -> None:
 
 def _to_machine(mf: ModelFile) -> Machine:
     return Machine(name=mf.name, axes=mf.axes, interpolation=mf.interpolation,
-                   suspect=mf.suspect)
+                   suspect=mf.suspect, specification=mf.specification)
 
 
 def loads_machine(text: str, file="<model>") -> Machine:

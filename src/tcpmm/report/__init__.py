@@ -93,7 +93,8 @@ def circle_test_section(result, key: str = "circle", title: str = "Circular test
 
 
 def verdict_sections(result, key: str = "circle", title: str = "Circular test", source=None,
-                     tolerance_m=None, sample_rate_hz=None, cautions=(), measured_on=None):
+                     tolerance_m=None, sample_rate_hz=None, cautions=(), measured_on=None,
+                     specified=False):
     """The circle verdict (:func:`~tcpmm.report.acceptance.acceptance_section`), to open
     the page, and the circular test with its diagnostics.
 
@@ -113,6 +114,8 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
         What the circle's analysis warned of; the verdict is then not firm [-].
     measured_on : datetime.date or str, optional
         Date of the test [-].
+    specified : bool
+        Whether ``tolerance_m`` is the machine's specification rather than the user's [-].
 
     Returns
     -------
@@ -121,7 +124,8 @@ def verdict_sections(result, key: str = "circle", title: str = "Circular test", 
     """
     diag = _diagnostics(result, title, None)
     return [acceptance_section(result, diag, tolerance_m, sample_rate_hz, source,
-                               scale_diagnostics(diag, result), cautions, measured_on),
+                               scale_diagnostics(diag, result), cautions, measured_on,
+                               specified),
             circle_section(result, key, title, diagnostics=diag, source=source)]
 
 

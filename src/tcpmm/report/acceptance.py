@@ -114,7 +114,8 @@ def _deviations(result, sensor, diag) -> list[tuple[str, float]]:
 
 
 def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_hz=None,
-                       source=None, reference=None, cautions=(), measured_on=None):
+                       source=None, reference=None, cautions=(), measured_on=None,
+                       specified=False):
     """The circle verdict: test conditions, pass or fail, ranked error sources.
 
     Parameters
@@ -138,6 +139,9 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         at the circle's start): the verdict is then not firm, and they follow it [-].
     measured_on : datetime.date or str, optional
         Date of the test [-].
+    specified : bool
+        Whether ``tolerance_m`` is the machine's specification (its model file's
+        ``specification``) rather than a tolerance the user gave [-].
     """
     sensor = diagnostics.sensor if diagnostics is not None else next(
         s for s in PREFERRED_SENSORS if all(s in p.sensors for p in result.passes))
@@ -146,17 +150,10 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
     shown = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs)
     if tolerance_m is None:
         body += para(f"Circular deviation (ISO 230-4): {shown}. No tolerance was given "
-                     "(--tolerance-um), so nothing is judged.", "open")
+                     "(--tolerance-um), nor does the machine's model state one "
+                     "(specification), so nothing is judged.", "open")
     else:
-        worst = max(devs, key=lambda kv: kv[1])
-        ok = all(v <= tolerance_m for _, v in devs)
-        rest = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs if k != worst[0])
-        firm = "" if not cautions else " (not firm: see the cautions below)"
-        body += para(f"{'PASS' if ok else 'FAIL'}{firm}: {worst[0]} "
-                     f"{number(worst[1] * 1e6, 2)} µm "
-                     f"{'within' if ok else 'beyond'} the tolerance of "
-                     f"{number(tolerance_m * 1e6, 2)} µm" + (f" ({rest})" if rest else ""),
-                     "pass" if ok else "fail")
+        body += _judged(devs, tolerance_m, bool(cautions), specified)
     if cautions:
         body += para("Cautions from the analysis of this circle:", "warn")
         body += "".join(para(c, "warn") for c in cautions)
@@ -170,6 +167,21 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         body += para("No error sources: the circle's diagnostics could not be made (the "
                      "warnings say why).", "warn")
     return section("verdict", f"Circle verdict ({SENSOR_NAMES.get(sensor, sensor)})", body)
+
+
+def _judged(devs, tolerance_m: float, cautioned: bool, specified: bool) -> str:
+    """PASS or FAIL of the circular deviations ``devs`` (name, G) against ``tolerance_m``,
+    the largest named; not firm where the analysis ``cautioned``; the ``specified``
+    tolerance named as the machine's specification [m, -]."""
+    worst = max(devs, key=lambda kv: kv[1])
+    ok = all(v <= tolerance_m for _, v in devs)
+    rest = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs if k != worst[0])
+    firm = " (not firm: see the cautions below)" if cautioned else ""
+    what = ("the machine's specification (ISO 230-4, from its model; --tolerance-um "
+            "judges against another)" if specified else "the tolerance")
+    return para(f"{'PASS' if ok else 'FAIL'}{firm}: {worst[0]} {number(worst[1] * 1e6, 2)} µm "
+                f"{'within' if ok else 'beyond'} {what} of {number(tolerance_m * 1e6, 2)} µm"
+                + (f" ({rest})" if rest else ""), "pass" if ok else "fail")
 
 
 def _sources_table(diagnostics, reference) -> str:

@@ -87,3 +87,16 @@ def test_a_term_whose_sign_the_tails_leave_open_is_not_ranked():
     line = unranked_line(pulsed)
     assert line.startswith("not ranked: scale mismatch") and "not even its sign" in line
     assert abs(sum(r["share"] for r in pulsed.ranking) - 1.0) < 1e-9
+
+
+def test_the_report_s_key_figures_say_a_term_open_in_sign():
+    """The demo's page gave 'scale mismatch -63.27 ± 20.42 ppm' among its key figures a few
+    lines under the ranking that left it out as not determined, not even in sign. Where a
+    term's value is shown there, it now says so; a determined one reads as before."""
+    from tcpmm.analysis.diagnostics import display_terms
+    from tcpmm.report.circles import _with_pm
+
+    for d, open_ in ((gen.diagnose(ERR), False), (pair(ERR, 14.0), True)):
+        shown = {k: (v, u) for k, v, u in display_terms(d)}
+        text = _with_pm(d, "scale_mismatch", *shown["scale_mismatch"])
+        assert ("not even its sign" in text) == open_, text

@@ -10,7 +10,7 @@ from ..analysis.circle_alias import alias_line
 from ..analysis.circle_display import display_digits, undetermined_lines
 from ..analysis.circle_sigma import noise_line, shown_uncertainty
 from ..analysis.circle_spike_sigma import is_slow
-from ..analysis.circle_tails import moving_line
+from ..analysis.circle_tails import moving_line, sign_open, unranked_line
 from ..analysis.compare import raw_spike_named
 from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..plot.circle import plot_circle
@@ -113,7 +113,11 @@ def _with_pm(diag, term: str, value: float, unit: str) -> str:
         return "n/a"
     n = display_digits(term, unit)
     pm = shown_uncertainty(diag, term)
-    return f"{number(value, n)}" + ("" if pm != pm else f" ± {number(pm, n)}") + f" {unit}"
+    text = f"{number(value, n)}" + ("" if pm != pm else f" ± {number(pm, n)}") + f" {unit}"
+    # a term the tails leave open in sign is said so where its value is shown
+    if term in sign_open(diag.terms, diag.tail_shift, diag.radius):
+        text += " (not determined, not even its sign: see the terms not ranked)"
+    return text
 
 
 def _of_those(shown: dict, every: dict) -> str:
@@ -186,7 +190,6 @@ def ranking_html(diag, stem: str) -> str:
         return ""
     from ..analysis.circle_alias import ranking_marks
     from ..analysis.circle_display import beyond_g_note
-    from ..analysis.circle_tails import unranked_line
 
     marks, legend = ranking_marks(diag)
     beyond = beyond_g_note(diag.ranking, "G(b)" if len(diag.directions) == 2 else "G")

@@ -258,3 +258,15 @@ def test_a_number_written_with_its_unit_says_the_fix(vmc, old, new, fix):
     assert err.column == key and err.line == _line(text, new.strip())
     assert f"{key} (line {err.line}): not a number (got " in err.message
     assert err.message.endswith(fix)
+
+
+def test_a_run_file_given_as_a_model_is_named_for_what_it_reads_as(tmp_path):
+    """A run file given where a model is asked for said only 'expected a mapping: machine
+    model': it named the file but not what was wrong with it nor where the right keys are."""
+    run = tmp_path / "run.csv"
+    run.write_text("time_s,x_cmd_mm,x_tcp_mm\n0,0,0\n0.001,0.1,0.1\n", encoding="utf-8")
+    with pytest.raises(InputError) as e:
+        read_machine(run)
+    msg = str(e.value)
+    assert "run.csv" in msg and "expected a mapping: machine model" in msg
+    assert "a table such as a CSV file" in msg and "tcpmm machine export" in msg

@@ -201,6 +201,17 @@ def load_yaml(text: str, file) -> tuple[Any, Any]:
     return data, node
 
 
+def _read_as(data) -> str:
+    """What YAML made of a document that is no mapping, in words [-]."""
+    if data is None:
+        return "nothing (an empty file)"
+    if isinstance(data, list):
+        return "a list"
+    if isinstance(data, str) and ("," in data or "\t" in data):
+        return "plain text with commas or tabs (a table such as a CSV file?)"
+    return f"a single {type(data).__name__} value"
+
+
 def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
                   fmt: str | None = None, units: str = ""):
     """Parse YAML text and validate it into ``model_cls``.
@@ -225,7 +236,8 @@ def validate_yaml(text: str, model_cls, file, what: str, hint: str = "",
     """
     data, node = load_yaml(text, file)
     if not isinstance(data, dict):
-        raise InputError(f"expected a mapping: {what}", file=file)
+        raise InputError(f"expected a mapping: {what}; the file reads as {_read_as(data)}, not "
+                         "as `key: value` lines" + (f" ({hint})" if hint else ""), file=file)
     lines = key_lines(node)
     if fmt is not None:
         check_format(data, fmt, what, file, lines.get(("format",)))

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import InputError, InputWarning
 from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE, circle_deviation
-from .circle_spikes import QUADRANTS
+from .circle_spikes import QUADRANTS, end_steps, slower_than
 
 
 def warn_uncrossed(names, direction: str, arc_deg: float = 360.0, gapped: bool = False) -> None:
@@ -86,16 +86,6 @@ def not_found_error(radius_m, centre_m, axes, ref, direction) -> InputError:
         "it); check --radius, --centre and --plane")
 
 
-#: the share of its steady angular speed below which a pass's reference is taken as still
-#: speeding up or already slowing down [-]
-STEADY_SHARE = 0.99
-#: steps over which the speed at either end of a pass is taken [-], and how many times the
-#: scatter of such speeds in its steady middle (a robust standard deviation) it must fall
-#: below its steady speed by to be said [-]
-_END_STEPS = 5
-_SCATTER = 5.0
-
-
 def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
     """Warn (:class:`InputWarning`) where a pass's reference path (the command) is still
     speeding up at its start or slows down before its end: the figures take a steady feed,
@@ -119,15 +109,13 @@ def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
     if ang.size < 8 or not np.all(dt > 0):
         return
     level = np.median(np.abs(np.diff(ang)) / dt)
-    m = max(1, min(_END_STEPS, (ang.size - 3) // 8))
+    m = end_steps(ang.size)
     # the speed over m steps from the second sample from either end (the first or last
     # step may be a part of one: a pass split where the path turns back, or cut between
     # samples), below the steady share and below what the steady middle's own m-step
     # speeds scatter to (a log's time stamps jitter)
     span = np.abs(ang[m:] - ang[:-m]) / (t[m:] - t[:-m])
-    mid = span[span.size // 4:3 * span.size // 4]
-    low = min(STEADY_SHARE * level,
-              level - _SCATTER * 1.4826 * np.median(np.abs(mid - np.median(mid))))
+    low = slower_than(span, level)
     said = []
     for k, how in ((1, "is still speeding up at its start"), (-2, "slows down at its end")):
         if span[k] < low:

@@ -10,11 +10,25 @@ QUADRANTS = {"A": 0.0, "B": 90.0, "C": 180.0, "D": 270.0}
 AFTER_DEG, BEFORE_DEG = (0.0, 20.0), (-30.0, -5.0)
 
 
-#: the share of its steady step below which a pass's path is taken as still speeding up or
-#: already slowing down at its ends (as :data:`.circle_checks.STEADY_SHARE`) [-]; steps
-#: over which the speed is taken, and how many times the steady steps' scatter it must
-#: fall below the steady step by (a log's time stamps jitter) [-]
+#: the share of its steady speed below which a pass's path is taken as still speeding up
+#: or already slowing down at its ends [-]; steps over which the speed at either end is
+#: taken [-], and how many times the scatter of such speeds in the steady middle (a robust
+#: standard deviation) it must fall below the steady speed by (a log's time stamps jitter)
 STEADY_SHARE, _END_STEPS, _SCATTER = 0.99, 5, 5.0
+
+
+def end_steps(n: int) -> int:
+    """Steps over which a pass of ``n`` samples' speed at its ends is taken [-]."""
+    return max(1, min(_END_STEPS, (n - 3) // 8))
+
+
+def slower_than(span, level: float) -> float:
+    """The speed below which the ``end_steps`` spans ``span`` of a pass whose steady speed
+    is ``level`` are taken as not steady: below :data:`STEADY_SHARE` of it and below what
+    the steady middle's own spans scatter to [as ``span``]."""
+    mid = span[span.size // 4:3 * span.size // 4]
+    return min(STEADY_SHARE * level,
+               level - _SCATTER * 1.4826 * np.median(np.abs(mid - np.median(mid))))
 
 
 def steady_travel(u) -> tuple[float, float]:
@@ -24,15 +38,11 @@ def steady_travel(u) -> tuple[float, float]:
     as a spike (a 220 deg arc whose command slowed to a stop 20 deg after D read a spike
     of -17.9 um there, where 4 um was injected). Only the ends are cut; a gap in the log
     is said where it is found."""
-    m = max(1, min(_END_STEPS, (u.size - 3) // 8))
     if u.size < 8:
         return float(u.min()), float(u.max())
+    m = end_steps(u.size)
     span = np.abs(u[m:] - u[:-m])
-    level = np.median(span)
-    mid = span[span.size // 4:3 * span.size // 4]
-    low = min(STEADY_SHARE * level,
-              level - _SCATTER * 1.4826 * np.median(np.abs(mid - np.median(mid))))
-    on = np.flatnonzero(span >= low)
+    on = np.flatnonzero(span >= slower_than(span, np.median(span)))
     steady = u[on[0]:on[-1] + m + 1] if on.size else u
     return float(steady.min()), float(steady.max())
 

@@ -193,8 +193,8 @@ def rank_terms(fit, arcs, radius, shared, terms, axes, names=None, unranked=()):
     spikes = [v for k, (v, _) in terms.items() if k.startswith("spike_")]
     c = contributions(fit, arcs, radius, shared, spikes)
     c = {(names or {}).get(k, k): v for k, v in c.items()}
-    c = {k: v for k, v in c.items()
-         if k not in set(unranked) and rename_axes(k, axes) not in set(unranked)}
+    left = set(unranked)
+    c = {k: v for k, v in c.items() if k not in left and rename_axes(k, axes) not in left}
     g = [v for k, (v, _) in terms.items() if k.startswith("circularity_")]
     rows = ranking_rows(c, terms.get("circularity_pair", (max(g),))[0])
     for r in rows:

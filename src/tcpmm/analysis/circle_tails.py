@@ -225,11 +225,17 @@ def sign_open(terms: dict, shift: dict, radius: float) -> list:
     return out
 
 
+def unranked(diag) -> list:
+    """The ranked terms' names (:attr:`CircleDiagnostics.ranking`'s) that :func:`sign_open`
+    leaves out of the ranking [-]."""
+    return [k for k in sign_open(diag.terms, diag.tail_shift, diag.radius)
+            if not k.startswith("centre_offset_") and k != "servo_mismatch_angle"]
+
+
 def unranked_line(diag) -> str:
     """The terms :func:`sign_open` leaves out of the ranking, in words; empty where none
     is [-]."""
-    left = [k for k in sign_open(diag.terms, diag.tail_shift, diag.radius)
-            if not k.startswith("centre_offset_") and k != "servo_mismatch_angle"]
+    left = unranked(diag)
     if not left:
         return ""
     return ("not ranked: " + ", ".join(k.replace("_", " ") for k in left)

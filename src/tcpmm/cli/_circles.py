@@ -13,7 +13,7 @@ def diagnostics_json(diag, result=None) -> dict:
     where it lies, where the TCP's circles have the scale too [-]."""
     from ..analysis.circle_alias import alias_display
     from ..analysis.circle_sigma import noisy_terms, shown_uncertainty
-    from ..analysis.circle_tails import moving_terms, sign_open
+    from ..analysis.circle_tails import moving_terms, unranked
 
     at = _at_scale(diag, result)
     moving, noisy = moving_terms(diag), noisy_terms(diag)
@@ -29,9 +29,7 @@ def diagnostics_json(diag, result=None) -> dict:
             "undetermined": dict(diag.undetermined),
             "reversal_tails": diag.tails or None,
             "aliases": aliases,
-            "unranked": [k for k in sign_open(diag.terms, diag.tail_shift, diag.radius)
-                         if not k.startswith("centre_offset_")
-                         and k != "servo_mismatch_angle"],
+            "unranked": unranked(diag),
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
                          "g_alone_um": r["g_alone_m"] * 1e6,
                          "share_percent": _json_number(100.0 * r["share"]),

@@ -251,22 +251,30 @@ def _inside(mech, servo, loop: str, fc: float, modes: tuple) -> list:
     freqs, zetas = modes
     period = _loop_period(servo, loop)
     seen = freqs if period is None else folded(freqs, period)
-    return [(float(f), float(f0), float(z))
-            for f, f0, z in sorted(zip(seen, freqs, zetas, strict=True))
-            if z < LIGHT_ZETA and np.isfinite(fc) and fc > f
-            and (abs(f - f0) <= 1e-9 * f0 or _folded_peak(mech, servo, loop, f) >= FOLDED_PEAK)]
+    below = [(float(f), float(f0), float(z))
+             for f, f0, z in sorted(zip(seen, freqs, zetas, strict=True))
+             if z < LIGHT_ZETA and np.isfinite(fc) and fc > f]
+    moved = [i for i, (f, f0, _) in enumerate(below) if abs(f - f0) > 1e-9 * f0]
+    peaks = _folded_peaks(mech, servo, loop, [below[i][0] for i in moved]) if moved else []
+    low = {i for i, p in zip(moved, peaks, strict=True) if p < FOLDED_PEAK}
+    return [m for i, m in enumerate(below) if i not in low]
 
 
-def _folded_peak(mech, servo, loop: str, f: float) -> float:
-    """The peak in the ``loop``'s gain of its lightly damped pole nearest ``f`` alone: its
-    residue over its distance from the unit circle [-]."""
+def _folded_peaks(mech, servo, loop: str, freqs: list) -> list:
+    """The peak in the ``loop``'s gain of its lightly damped pole nearest each of ``freqs``
+    alone: its residue over its distance from the unit circle; the loop decomposed once
+    [-]."""
     period = _loop_period(servo, loop)
     Phi, Gam, C, _ = (velocity_open_loop if loop == "velocity" else position_open_loop)(
         mech, servo)
     lam, V = np.linalg.eig(Phi)
-    i = int(np.argmin(np.abs(lam - np.exp(2j * np.pi * f * period))))
-    residue = (C @ V)[0, i] * np.linalg.solve(V, Gam)[i, 0]
-    return float(abs(residue) / abs(np.exp(1j * np.angle(lam[i])) - lam[i]))
+    out_, in_ = C @ V, np.linalg.solve(V, Gam)
+    peaks = []
+    for f in freqs:
+        i = int(np.argmin(np.abs(lam - np.exp(2j * np.pi * f * period))))
+        residue = out_[0, i] * in_[i, 0]
+        peaks.append(float(abs(residue) / abs(np.exp(1j * np.angle(lam[i])) - lam[i])))
+    return peaks
 
 
 def _loop_period(servo, loop: str):

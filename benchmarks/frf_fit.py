@@ -101,10 +101,10 @@ def vf_response(f, H, n_poles):
     return vf.get_model_response(0, 0, f)
 
 
-def compare(frf, truth, orders):
+def compare(frf, truth, counts):
     """Rows of both fitters at each pole count on the bins tcpmm fits."""
     rows = []
-    for n in orders:
+    for n in counts:
         res = fit_frf(frf, poles=n)
         f, H = res.tf.freq_hz, res.tf.H
         sel = np.isin(frf.freq_hz, f)
@@ -117,9 +117,22 @@ def compare(frf, truth, orders):
     return rows
 
 
-def _orders(text):
+def orders(text):
+    """The pole counts of ``N`` or ``N0-N1`` [-]."""
     lo, _, hi = text.partition("-")
     return list(range(int(lo), int(hi or lo) + 1))
+
+
+def skrf_ready() -> bool:
+    """Whether scikit-rf can be imported (else it says how to install it), its log kept to
+    errors [-]."""
+    try:
+        import skrf  # noqa: F401
+    except ImportError:
+        print(f"scikit-rf is not installed; this comparison needs it: {INSTALL}")
+        return False
+    logging.getLogger("skrf").setLevel(logging.ERROR)
+    return True
 
 
 def _print(rows):
@@ -188,27 +201,23 @@ def main(argv=None):
                     help="measurement bundle folder: its X sweep's G_M and G_T (repeatable)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
-    try:
-        import skrf  # noqa: F401
-    except ImportError:
-        print(f"scikit-rf is not installed; this comparison needs it: {INSTALL}")
+    if not skrf_ready():
         return 0
-    logging.getLogger("skrf").setLevel(logging.ERROR)
     from tcpmm._threads import limit_blas_threads
     from tcpmm.io.frffile import read_frf
 
     limit_blas_threads()
-    orders = _orders(args.poles)
+    counts = orders(args.poles)
     rows = []
     if Path(args.file).is_file():
-        rows += compare(read_frf(args.file), None, orders)
+        rows += compare(read_frf(args.file), None, counts)
     else:
         print(f"{args.file} not found: the measured trace is left out", file=sys.stderr)
     for folder in args.bundle:
         for frf in bundle_frfs(folder):
-            rows += compare(frf, bundle_truth(folder, frf), orders)
+            rows += compare(frf, bundle_truth(folder, frf), counts)
     for name in MADE:
-        rows += compare(*made_frf(name), orders)
+        rows += compare(*made_frf(name), counts)
     if args.json:
         print(json.dumps(rows, indent=1))
     else:

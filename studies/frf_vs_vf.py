@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import sys
 import warnings
 from pathlib import Path
@@ -30,7 +29,7 @@ from tcpmm.ident.frf import FRF
 from tcpmm.ident.lti import fit_frf
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "benchmarks"))
-from frf_fit import INSTALL, errors, vf_response
+from frf_fit import errors, orders, skrf_ready, vf_response
 
 #: Seed of the first response's noise; each next one adds one [-].
 SEED = 12345
@@ -143,16 +142,10 @@ def main(argv=None):
     ap.add_argument("--names", default=",".join(RESPONSES))
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
-    try:
-        import skrf  # noqa: F401
-    except ImportError:
-        print(f"scikit-rf is not installed; this comparison needs it: {INSTALL}")
+    if not skrf_ready():
         return 0
-    logging.getLogger("skrf").setLevel(logging.ERROR)
     warnings.simplefilter("ignore")  # the fits' notes are not this table's subject
-    lo, _, hi = args.poles.partition("-")
-    rows = [row(name, n) for name in args.names.split(",")
-            for n in range(int(lo), int(hi or lo) + 1)]
+    rows = [row(name, n) for name in args.names.split(",") for n in orders(args.poles)]
     if args.json:
         print(json.dumps(rows, indent=1))
     else:

@@ -21,7 +21,7 @@ from .filters import FilterShape, apply_filter, filter_shape
 from .geometry import ARC, DWELL, PathArrays, evaluate, to_arrays
 from .segments import AXES, Dwell
 from .settings import InterpolatorSettings
-from .speedlimits import junction_limits, normal_accel, segment_limits
+from .speedlimits import path_limits
 
 #: longest command the interpolator makes (about 2.8 h at 1 ms) [-]
 MAX_SAMPLES = 10_000_000
@@ -253,10 +253,7 @@ def interpolate_detailed(
     p = to_arrays(segments, settings.rapid())
     filt = filter_shape(settings.filter_kind, settings.filter_time_s, dt,
                         settings.corner_tolerance_m)
-    acc_axis, acc_path = settings.axis_accel(), settings.path_accel_m_per_s2
-    vmax, acc, seg_cause = segment_limits(p, settings.axis_velocity(), acc_axis, acc_path, filt)
-    vj, junction_cause = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt,
-                                         normal_accel(acc_axis, acc_path))
+    vmax, acc, seg_cause, vj, junction_cause, _ = path_limits(p, settings, filt)
     v = ck.lookahead(p.length, vj, acc, settings.jerk())
     prof = ck.segment_profiles(p.length, v, vmax, acc, settings.jerk())
     durations = prof[:, 1] + prof[:, 4] + prof[:, 5]

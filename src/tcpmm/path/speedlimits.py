@@ -17,10 +17,10 @@ import math
 
 import numpy as np
 
-from .._rows import dot_rows, min_rows, norm_rows
+from .._rows import min_rows
 from ..errors import InputError
 from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
-from .segments import LINE
+from .shortblocks import chain_limits, chain_tangential
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
 REVERSAL_TOL = 1e-9
@@ -220,6 +220,9 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
         ``n + 1`` junction speed limits; the first and last are zero [m/s].
     cause : ndarray of int
         What sets each, an index into ``JUNCTION_CAUSES`` [-].
+    merged : ndarray of bool
+        ``n + 1`` flags: the corner is one of a chain whose velocity steps merge into a
+        centripetal acceleration (its curvature limit below its step limit) [-].
 
     Notes
     -----
@@ -233,86 +236,22 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
     n = p.n
     vj = np.zeros(n + 1)
     cause = np.full(n + 1, EXACT_STOP)
+    merged = np.zeros(n + 1, bool)
     if n < 2:
-        return vj, cause
+        return vj, cause, merged
     t_out = tangents(p, at_end=True)[:-1]
     t_in = tangents(p, at_end=False)[1:]
-    cap, why = _corner_limits(t_in - t_out, vmax, acc, acc_axis, filt)
+    cap, why, step = _corner_limits(t_in - t_out, vmax, acc, acc_axis, filt)
     chain = chain_limits(p, t_out, t_in, acc_normal)
+    merged[1:-1] = chain < step
     why = np.where(chain < cap, CHAIN, why)
     cap = np.minimum(cap, chain)
-    stop = (
-        (np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
-        | (p.kind[:-1] == DWELL)
-        | (p.kind[1:] == DWELL)
-        | p.rapid[:-1]
-        | p.rapid[1:]
-        | p.exact_stop[:-1]
-    )
+    stop = ((np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
+            | (p.kind[:-1] == DWELL) | (p.kind[1:] == DWELL)
+            | p.rapid[:-1] | p.rapid[1:] | p.exact_stop[:-1])
     vj[1:-1] = np.where(stop, 0.0, cap)
     cause[1:-1] = np.where(stop, EXACT_STOP, why)
-    return vj, cause
-
-
-def chain_limits(p: PathArrays, t_out, t_in, acc_normal) -> np.ndarray:
-    """Speed limit of each inner junction between two straight blocks from the curvature
-    of the chain they belong to [m/s].
-
-    The step rule of :func:`_corner_limits` holds each corner alone: ``v*|du_k|`` within
-    ``a_step_k*T`` (``du`` the change of the unit tangent, ``T`` the filter's spread or one
-    period). Where the blocks are shorter than ``v*T``, ``v*T/L`` corners fall within one
-    ``T`` and their steps add up to a steady centripetal acceleration ``v^2*|du|/L`` the
-    step rule leaves unbounded (0.02 mm chords of a circle at F20000: 5.6 times the axes'
-    limit). It is held here as on an arc, with the local curvature ``|du| / Lbar``::
-
-        v <= sqrt(a_n * Lbar / |du|),   a_n = min over k of a_n_k / share_k
-
-    ``a_n_k`` the centripetal share of axis ``k``'s acceleration (:func:`normal_accel`:
-    ``a_k/sqrt(2)`` by default, the rest left to the tangent as on arcs and blends);
-    ``share_k`` the largest share of a unit vector in the plane of the two tangents that
-    falls on axis ``k``, as for blends (1 for X and Y of a curve in XY). ``Lbar`` is the
-    mean of the two blocks' lengths: the tangent turns by ``du`` between their midpoints,
-    ``Lbar`` apart, so the chords of a circle of radius ``r`` give ``|du|/Lbar = 1/r`` and
-    run as its arc, whatever their length (the shorter length would make a curve posted
-    in blocks of alternating length several times too sharp).
-
-    Against the step rule's speed ``v_s``: the chain's limit is the lower where
-    ``Lbar < v_s^2*|du|/a_n = c * v_s*T``, ``c = (v_s*|du|/T) / a_n`` the step's
-    acceleration over the centripetal share; with the defaults (``a_step_k = a_k``,
-    ``a_n_k = a_k/sqrt(2)``) and a turn in XY, ``c`` is ``sqrt(2)`` to 2: where a corner or
-    more falls within about ``T``. Longer blocks keep the step rule and their numbers.
-
-    The lines keep their tangential acceleration (up to ``min(acc_path, a_k)`` on axis
-    ``k``): where a chain speeds up or slows down an axis may read that and the centripetal
-    share, at worst ``1 + 1/sqrt(2)`` times its limit; at a steady speed, ``a_n_k``.
-
-    Parameters
-    ----------
-    p : PathArrays
-        The path [-].
-    t_out, t_in : ndarray, shape (n - 1, 3)
-        Unit tangents before and after each inner junction [-].
-    acc_normal : sequence of float
-        Centripetal acceleration of X, Y, Z (:func:`normal_accel`) [m/s^2].
-
-    Returns
-    -------
-    ndarray
-        ``n - 1`` limits, ``inf`` at junctions that are not between two lines [m/s].
-    """
-    lines = (p.kind[:-1] == LINE) & (p.kind[1:] == LINE)
-    lbar = 0.5 * (p.length[:-1] + p.length[1:])
-    du = t_in - t_out
-    # the plane of the corner: t_out and the unit vector e2 normal to it towards t_in
-    e2 = t_in - dot_rows(t_in, t_out)[:, None] * t_out
-    n2 = norm_rows(e2)
-    e2 = np.divide(e2, n2[:, None], out=np.zeros_like(e2), where=n2[:, None] > 0.0)
-    share = np.sqrt(t_out**2 + e2**2)
-    dun = norm_rows(du)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a_n = min_rows(np.asarray(acc_normal, float)[None, :] / share)
-        v = np.where(dun > 0.0, np.sqrt(a_n * lbar / dun), np.inf)
-    return np.where(lines, v, np.inf)
+    return vj, cause, merged
 
 
 def _corner_limits(du, vmax, acc, acc_axis, filt):
@@ -338,6 +277,8 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
         tolerance [m/s].
     why : ndarray of int
         Which of the three sets it, an index into ``JUNCTION_CAUSES`` [-].
+    step : ndarray
+        The axis velocity step's limit alone [m/s].
     """
     with np.errstate(divide="ignore", invalid="ignore"):
         adu = np.abs(du)
@@ -351,4 +292,38 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
             room = 2.0 * filt.tolerance_m / dun - 0.5 * a_side * filt.variance_s2
             tol = np.maximum(room, 0.0) / filt.mad_s
     parts = np.stack([np.minimum(vmax[:-1], vmax[1:]), cap, tol])
-    return parts.min(axis=0), np.argmin(parts, axis=0)
+    return parts.min(axis=0), np.argmin(parts, axis=0), cap
+
+
+def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = False):
+    """Every limit the look-ahead works from, with ``settings``' accelerations.
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    settings : InterpolatorSettings
+        Interpolator settings [-].
+    filt : filters.FilterShape
+        The post-interpolation filter [-].
+    start, open_end : ndarray or None, bool
+        Where ``p`` continues a path planned before, and is continued after
+        (:func:`~tcpmm.path.shortblocks.chain_tangential`) [m/s^2], [-].
+
+    Returns
+    -------
+    vmax, acc, seg_cause : ndarray
+        Per segment, as :func:`segment_limits` gives them, ``acc`` shared with the
+        corners of chains of short blocks [m/s], [m/s^2], [-].
+    vj, junction_cause : ndarray
+        Per junction, as :func:`junction_limits` gives them [m/s], [-].
+    load : ndarray
+        Centripetal acceleration per axis at each junction [m/s^2].
+    """
+    acc_axis, acc_path = settings.axis_accel(), settings.path_accel_m_per_s2
+    acc_normal = normal_accel(acc_axis, acc_path)
+    vmax, acc, seg_cause = segment_limits(p, settings.axis_velocity(), acc_axis, acc_path, filt)
+    vj, junction_cause, merged = junction_limits(p, vmax, acc, settings.corner_step_accel(),
+                                                 filt, acc_normal)
+    acc, load = chain_tangential(p, vj, merged, acc, acc_axis, acc_normal, start, open_end)
+    return vmax, acc, seg_cause, vj, junction_cause, load

@@ -22,7 +22,7 @@ import numpy as np
 from .. import _compiled as ck
 from .geometry import DWELL, PathArrays, to_arrays
 from .interpolate import check_samples
-from .speedlimits import junction_limits, normal_accel, segment_limits
+from .speedlimits import path_limits
 
 
 @dataclass
@@ -41,6 +41,9 @@ class PlanState:
         Time since then at which the last segment planned ends [s].
     moved : bool
         The last segment planned was motion (the next move waits for the filter) [-].
+    load : ndarray or None
+        Centripetal acceleration per axis of the corner before the first segment held
+        back (:func:`~tcpmm.path.shortblocks.chain_tangential`) [m/s^2].
     next_k : int
         First sample not yet given out [-].
     """
@@ -51,6 +54,7 @@ class PlanState:
     soff: float = 0.0
     moved: bool = False
     next_k: int = 0
+    load: np.ndarray | None = None
 
 
 @dataclass
@@ -88,21 +92,25 @@ def head(p: PathArrays, k: int) -> PathArrays:
                          for f in fields(p)})
 
 
-def settled_speeds(p: PathArrays, settings, filt, v0: float, final: bool):
-    """Junction speeds of the segments ``p`` after the look-ahead, starting from ``v0``,
-    and how many of them are final (module docstring) [m/s], [-]."""
-    vmax, acc, _ = segment_limits(p, settings.axis_velocity(), settings.axis_accel(),
-                                  settings.path_accel_m_per_s2, filt)
-    vj, _ = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt,
-                            normal_accel(settings.axis_accel(), settings.path_accel_m_per_s2))
-    vj[0] = v0
+def settled_speeds(p: PathArrays, settings, filt, st: PlanState, final: bool):
+    """Junction speeds of the segments ``p`` after the look-ahead, starting from the
+    carried state ``st``, and how many of them are final (module docstring) [m/s], [-];
+    ``st.load`` becomes the centripetal acceleration per axis at the first junction held
+    back (:func:`~tcpmm.path.shortblocks.chain_tangential`) [m/s^2]."""
+    # the last line, its corner after it not known yet, is held as the most any corner
+    # can ask: a lower limit only lowers the backward pass, as the stop at the end does
+    vmax, acc, _, vj, _, load = path_limits(p, settings, filt, st.load, not final)
+    vj[0] = st.v0
     v = ck.lookahead(p.length, vj, acc, settings.jerk())
     n = p.n
     if final:
         return v, vmax, acc, n
     b = ck.backward(p.length, vj, acc, settings.jerk())
     hit = np.flatnonzero(b[1:n] == vj[1:n])
-    return v, vmax, acc, int(hit[-1]) + 1 if hit.size else 0
+    k = int(hit[-1]) + 1 if hit.size else 0
+    if k:
+        st.load = load[k]
+    return v, vmax, acc, k
 
 
 def plan_piece(segments: list, settings, filt, st: PlanState, final: bool):
@@ -131,7 +139,7 @@ def plan_piece(segments: list, settings, filt, st: PlanState, final: bool):
     if not segments:
         return None, 0
     p = to_arrays(segments, settings.rapid())
-    v, vmax, acc, k = settled_speeds(p, settings, filt, st.v0, final)
+    v, vmax, acc, k = settled_speeds(p, settings, filt, st, final)
     if k == 0:
         return None, 0
     q = head(p, k)

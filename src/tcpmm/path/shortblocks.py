@@ -80,21 +80,23 @@ def chain_limits(p: PathArrays, t_out, t_in, acc_normal) -> np.ndarray:
     return np.where(lines, v, np.inf)
 
 
-def chain_tangential(p: PathArrays, vj, merged, acc, acc_axis, acc_normal, start=None,
+def chain_tangential(p: PathArrays, vj, acc, acc_axis, acc_normal, start=None,
                      open_end=False):
-    """Tangential acceleration limit of each segment, lowered on the lines of a chain so
-    that with the centripetal acceleration of its corners every axis stays within its
-    limit; and the centripetal acceleration per axis at each junction [m/s^2].
+    """Tangential acceleration limit of each segment, lowered on the lines between corners
+    so that with the centripetal acceleration of the corners every axis stays within its
+    limit; and that centripetal acceleration per axis at each junction [m/s^2].
 
-    At a corner between two lines the velocity turns by ``v*|du|``; where the blocks are
-    short these steps add up to the centripetal acceleration ``c = v^2*|du|/Lbar`` along
-    ``n = du/|du|`` (:func:`chain_limits`), at most ``a_n`` at the junction's speed limit
-    ``v``. Axis ``k`` of a line along ``u`` beside it reads at most
-    ``a_t*|u_k| + c*|n_k|``, so the line keeps ``a_t <= min_k (a_k - c*|n_k|) / |u_k|``:
-    at the chain's own limit about the tangential share an arc has, at a corner taken
-    slowly or a tangent join the whole acceleration. Where the blocks are longer (the
-    step rule below the chain's limit), each corner's step is held alone, in the period
-    it falls in. The look-ahead only lowers a junction's speed, and so ``c``.
+    At a corner between two lines the velocity turns by ``v*|du|``, one such step per
+    block: over the blocks on either side a centripetal acceleration
+    ``c = v^2*|du|/Lbar`` along ``n = du/|du|``, at most ``a_n`` at the junction's speed
+    limit ``v`` (:func:`chain_limits`). Axis ``k`` of a line along ``u`` beside it reads
+    ``a_t*|u_k| + c*|n_k|`` at most, so the line keeps
+    ``a_t <= min_k (a_k - c*|n_k|) / |u_k|``: about the tangential share of an arc where
+    short blocks run at the chain's limit; nearly the whole acceleration at a corner
+    between long blocks, whose step falls in one period (:func:`~tcpmm.path.speedlimits.
+    _corner_limits`), or at a tangent join. Blocks of a few periods each, between the
+    two, kept the whole and read over the limit on average over 10 periods. The
+    look-ahead only lowers a junction's speed, and so ``c``.
 
     Parameters
     ----------
@@ -103,9 +105,6 @@ def chain_tangential(p: PathArrays, vj, merged, acc, acc_axis, acc_normal, start
     vj : ndarray
         ``n + 1`` junction speed limits (:func:`~tcpmm.path.speedlimits.junction_limits`)
         [m/s].
-    merged : ndarray of bool
-        ``n + 1`` flags of the corners whose steps merge
-        (:func:`~tcpmm.path.speedlimits.junction_limits`) [-].
     acc : ndarray
         Tangential acceleration limit per segment (:func:`~tcpmm.path.speedlimits.
         segment_limits`) [m/s^2].
@@ -132,7 +131,7 @@ def chain_tangential(p: PathArrays, vj, merged, acc, acc_axis, acc_normal, start
     if start is not None:
         load[0] = start
     if n >= 2:
-        load[1:-1] = _corner_loads(p, vj[1:-1], merged[1:-1] & lines[:-1] & lines[1:])
+        load[1:-1] = _corner_loads(p, vj[1:-1], lines[:-1] & lines[1:])
     if open_end and n and lines[-1]:
         load[-1] = np.asarray(acc_normal, float)
     u = np.abs(p.end - p.start) / np.where(p.length > 0, p.length, 1.0)[:, None]
@@ -144,8 +143,8 @@ def chain_tangential(p: PathArrays, vj, merged, acc, acc_axis, acc_normal, start
 
 def _corner_loads(p: PathArrays, v, chained) -> np.ndarray:
     """``c*|n|`` at each inner junction, shape (n - 1, 3): the centripetal acceleration
-    ``v^2*|du|/Lbar`` of the corners ``chained`` at their speed limits ``v``, per axis,
-    zero elsewhere [m/s^2]."""
+    ``v^2*|du|/Lbar`` of the corners between two lines (``chained``) at their speed
+    limits ``v``, per axis, zero elsewhere [m/s^2]."""
     du = tangents(p, at_end=False)[1:] - tangents(p, at_end=True)[:-1]
     lbar = 0.5 * (p.length[:-1] + p.length[1:])
     with np.errstate(divide="ignore", invalid="ignore"):

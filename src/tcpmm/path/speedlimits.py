@@ -220,9 +220,6 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
         ``n + 1`` junction speed limits; the first and last are zero [m/s].
     cause : ndarray of int
         What sets each, an index into ``JUNCTION_CAUSES`` [-].
-    merged : ndarray of bool
-        ``n + 1`` flags: the corner is one of a chain whose velocity steps merge into a
-        centripetal acceleration (its curvature limit below its step limit) [-].
 
     Notes
     -----
@@ -236,14 +233,12 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
     n = p.n
     vj = np.zeros(n + 1)
     cause = np.full(n + 1, EXACT_STOP)
-    merged = np.zeros(n + 1, bool)
     if n < 2:
-        return vj, cause, merged
+        return vj, cause
     t_out = tangents(p, at_end=True)[:-1]
     t_in = tangents(p, at_end=False)[1:]
-    cap, why, step = _corner_limits(t_in - t_out, vmax, acc, acc_axis, filt)
+    cap, why = _corner_limits(t_in - t_out, vmax, acc, acc_axis, filt)
     chain = chain_limits(p, t_out, t_in, acc_normal)
-    merged[1:-1] = chain < step
     why = np.where(chain < cap, CHAIN, why)
     cap = np.minimum(cap, chain)
     stop = ((np.einsum("ij,ij->i", t_in, t_out) < -1.0 + REVERSAL_TOL)
@@ -251,7 +246,7 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
             | p.rapid[:-1] | p.rapid[1:] | p.exact_stop[:-1])
     vj[1:-1] = np.where(stop, 0.0, cap)
     cause[1:-1] = np.where(stop, EXACT_STOP, why)
-    return vj, cause, merged
+    return vj, cause
 
 
 def _corner_limits(du, vmax, acc, acc_axis, filt):
@@ -277,8 +272,6 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
         tolerance [m/s].
     why : ndarray of int
         Which of the three sets it, an index into ``JUNCTION_CAUSES`` [-].
-    step : ndarray
-        The axis velocity step's limit alone [m/s].
     """
     with np.errstate(divide="ignore", invalid="ignore"):
         adu = np.abs(du)
@@ -292,7 +285,7 @@ def _corner_limits(du, vmax, acc, acc_axis, filt):
             room = 2.0 * filt.tolerance_m / dun - 0.5 * a_side * filt.variance_s2
             tol = np.maximum(room, 0.0) / filt.mad_s
     parts = np.stack([np.minimum(vmax[:-1], vmax[1:]), cap, tol])
-    return parts.min(axis=0), np.argmin(parts, axis=0), cap
+    return parts.min(axis=0), np.argmin(parts, axis=0)
 
 
 def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = False):
@@ -323,7 +316,7 @@ def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = Fals
     acc_axis, acc_path = settings.axis_accel(), settings.path_accel_m_per_s2
     acc_normal = normal_accel(acc_axis, acc_path)
     vmax, acc, seg_cause = segment_limits(p, settings.axis_velocity(), acc_axis, acc_path, filt)
-    vj, junction_cause, merged = junction_limits(p, vmax, acc, settings.corner_step_accel(),
-                                                 filt, acc_normal)
-    acc, load = chain_tangential(p, vj, merged, acc, acc_axis, acc_normal, start, open_end)
+    vj, junction_cause = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt,
+                                         acc_normal)
+    acc, load = chain_tangential(p, vj, acc, acc_axis, acc_normal, start, open_end)
     return vmax, acc, seg_cause, vj, junction_cause, load

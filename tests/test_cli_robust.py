@@ -173,6 +173,36 @@ def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
     assert "Traceback" not in err and len(err.strip().splitlines()) <= 2
 
 
+def test_ctrl_c_at_a_terminal_stops_a_parallel_sweep_without_a_traceback(tmp_path):
+    """A terminal's Ctrl-C goes to the whole process group: the Dask workers of a sweep on
+    two local processes each printed their interpreter's traceback as they died, and the
+    scheduler its own for the transfers cut short (some 40-100 lines). Now the workers
+    leave it to the command, which stops as with one process."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = ("import sys; from tcpmm.cli import main; sys.exit(main(sys.argv[1:]))")
+    args = [sys.executable, "-c", script, "sweep", "builtin:vmc", "-p",
+            "X.servo.position_gain=20:60:0.01", "--circle", "5,6000", "--workers", "2",
+            "-o", str(tmp_path / "o")]
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env, preexec_fn=_sigint_default, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 90
+        while not list((tmp_path / "o").glob("results/part-*")) and time.monotonic() < deadline:
+            time.sleep(0.2)  # until the first rows are written: the workers are at work
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, (proc.returncode, err[-2000:])
+    assert "Traceback" not in err and len(err.strip().splitlines()) <= 2, err[-3000:]
+
+
 def _children(pid: int) -> list[int]:
     """The processes ``pid`` has started that are still there (Linux's /proc) [-]."""
     kids = []

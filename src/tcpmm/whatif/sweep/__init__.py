@@ -10,6 +10,7 @@ point of its grid (:mod:`~tcpmm.whatif.sweep.intervals`). A rerun of the same sw
 only the variants whose rows are missing.
 """
 
+from .cluster import local_cluster
 from .design import (
     DESIGNS,
     ParamSpec,
@@ -23,7 +24,7 @@ from .design import (
 )
 from .intervals import draw_intervals
 from .metrics import circle_metrics, path_distance, path_metrics
-from .run import SweepResult, local_cluster, run_sweep
+from .run import SweepResult, run_sweep
 from .space import apply_parameters, canonical_name, parameter_names
 from .store import read_results
 from .task import CircleProgram, GcodeProgram, evaluate_variant, metric_names

@@ -33,7 +33,8 @@ from ...path.settings import InterpolatorSettings
 from ...path.stream import CHUNK_BLOCKS
 from ...result import AxisRun, Run
 from ...sim.streamrun import stream_simulate
-from .run import RETRIES, SchedulerLost, local_cluster, scheduler_lost
+from .cluster import local_client
+from .run import RETRIES, SchedulerLost, scheduler_lost
 
 #: file endings taken as NC programs in a folder [-]
 PROGRAM_SUFFIXES = (".nc", ".ngc", ".gcode", ".g", ".tap", ".mpf", ".spf", ".cnc", ".iso")
@@ -349,7 +350,5 @@ def run_programs(models: dict, programs, out_dir, *, client=None, workers: int |
 
 def _on_local_cluster(workers: int, pairs, args, progress) -> list:
     """The tasks on a Dask cluster of ``workers`` processes on this machine [-]."""
-    from distributed import Client
-
-    with local_cluster(workers) as cluster, Client(cluster) as client:
+    with local_client(workers) as client:
         return _on_client(client, pairs, args, progress)

@@ -19,6 +19,7 @@ from ..._heap import keep_freed_memory
 from ..._threads import usable_cores
 from ...errors import InputError, TcpmmError
 from ...io.atomic import output_folder
+from .cluster import local_client
 from .intervals import write_intervals
 from .space import apply_parameters
 from .store import (
@@ -264,26 +265,6 @@ def scheduler_lost(client, exc: Exception) -> bool:
             or getattr(client, "status", "running") not in ("running", "newly-created"))
 
 
-#: Dask's nanny starts each worker with glibc's malloc trimming memory back to the system
-#: above 64 KiB; a variant allocates and frees its run's arrays, and that made it 17 %
-#: slower in a worker than alone (19.5 against 16.6 ms). The sweep's workers keep glibc's
-#: own threshold, and run without Dask's sampling profiler (3 % more variants per second).
-NANNY_ENVIRON = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
-                 "distributed.worker.profile.enabled": False}
-
-
-def local_cluster(workers: int):
-    """A Dask cluster of ``workers`` processes of one thread on this machine [-]."""
-    import logging
-
-    import dask
-    from distributed import LocalCluster
-
-    with dask.config.set(NANNY_ENVIRON):
-        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                            dashboard_address=":0", silence_logs=logging.ERROR)
-
-
 def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", client=None,
               workers: int | None = None, keep_runs=None, floors=None, progress=None,
               batch: int = 1024, task=evaluate_variant) -> SweepResult:
@@ -366,9 +347,7 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
         elif workers == 1 or len(todo) == 1:
             failed = _serial(task, args, todo, sink)
         else:
-            from distributed import Client
-
-            with local_cluster(workers) as cluster, Client(cluster) as c:
+            with local_client(workers) as c:
                 failed = _on_client(c, task, args, todo, sink)
     finally:
         writer.flush()

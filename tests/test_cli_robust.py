@@ -136,30 +136,39 @@ def _sigint_default() -> None:
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
-@pytest.mark.parametrize(("name", "code"), [("SIGINT", 130), ("SIGTERM", 143)])
-def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
-    """A signal mid-sweep: out within a second or so, one line or two of what is kept, no
-    traceback; the rows computed stay for the rerun."""
+def _sweep_under_way(tmp_path, workers: int, **popen):
+    """A sweep of minutes started as a command typed at a terminal, once its first rows
+    are written: the process [-]."""
     import os
-    import signal
     import subprocess
     import sys
     import time
 
     script = ("import sys; from tcpmm.cli import main; sys.exit(main(sys.argv[1:]))")
     args = [sys.executable, "-c", script, "sweep", "builtin:vmc", "-p",
-            "X.servo.position_gain=20:60:0.01", "--circle", "5,6000", "--workers", "1",
-            "-o", str(tmp_path / "o")]
+            "X.servo.position_gain=20:60:0.01", "--circle", "5,6000", "--workers",
+            str(workers), "-o", str(tmp_path / "o")]
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
-    # started as a command typed at a terminal, SIGINT at its default: in the full suite the
-    # worker that starts it sometimes passes SIGINT on ignored (a C-level disposition, not
-    # Python's handler), and the sweep then rightly never sees the signal
+    # SIGINT at its default: in the full suite the worker that starts it sometimes passes
+    # SIGINT on ignored (a C-level disposition, not Python's handler), and the sweep then
+    # rightly never sees the signal
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=env, preexec_fn=_sigint_default)
+                            env=env, preexec_fn=_sigint_default, **popen)
+    deadline = time.monotonic() + 90
+    while not list((tmp_path / "o").glob("results/part-*")) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    return proc
+
+
+@pytest.mark.parametrize(("name", "code"), [("SIGINT", 130), ("SIGTERM", 143)])
+def test_a_long_sweep_stops_on_a_signal_within_a_second(tmp_path, name, code):
+    """A signal mid-sweep: out within a second or so, one line or two of what is kept, no
+    traceback; the rows computed stay for the rerun."""
+    import signal
+    import time
+
+    proc = _sweep_under_way(tmp_path, 1)
     try:
-        deadline = time.monotonic() + 60
-        while not list((tmp_path / "o").glob("results/part-*")) and time.monotonic() < deadline:
-            time.sleep(0.2)  # until the first rows are written: the sweep is under way
         t0 = time.monotonic()
         proc.send_signal(getattr(signal, name))
         _, err = proc.communicate(timeout=30)
@@ -180,21 +189,9 @@ def test_ctrl_c_at_a_terminal_stops_a_parallel_sweep_without_a_traceback(tmp_pat
     leave it to the command, which stops as with one process."""
     import os
     import signal
-    import subprocess
-    import sys
-    import time
 
-    script = ("import sys; from tcpmm.cli import main; sys.exit(main(sys.argv[1:]))")
-    args = [sys.executable, "-c", script, "sweep", "builtin:vmc", "-p",
-            "X.servo.position_gain=20:60:0.01", "--circle", "5,6000", "--workers", "2",
-            "-o", str(tmp_path / "o")]
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
-    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=env, preexec_fn=_sigint_default, start_new_session=True)
+    proc = _sweep_under_way(tmp_path, 2, start_new_session=True)
     try:
-        deadline = time.monotonic() + 90
-        while not list((tmp_path / "o").glob("results/part-*")) and time.monotonic() < deadline:
-            time.sleep(0.2)  # until the first rows are written: the workers are at work
         os.killpg(proc.pid, signal.SIGINT)
         _, err = proc.communicate(timeout=60)
     finally:

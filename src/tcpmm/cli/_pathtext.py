@@ -3,7 +3,7 @@ and where a sharp corner's velocity step takes an axis beyond its acceleration."
 
 from __future__ import annotations
 
-from ..path.limits import OVER_SHARE, peak
+from ..path.limits import OVER_SHARE
 from ..path.settings import AXES
 from ._app import out
 
@@ -42,34 +42,26 @@ def print_feed(limits) -> None:
                   "end)", highlight=False)
 
 
-def print_corner_overload(cmd, settings, chain: bool = False) -> None:
+def print_corner_overload(peaks: dict, settings) -> None:
     """A line where the command's samples ask an axis for more than its acceleration: a
-    sharp corner's velocity step comes on top of the braking into it, and on a curve of
-    short blocks the centripetal share on top of speeding up and slowing down along it
-    (``docs/paths.md``).
+    sharp corner's velocity step, also at the corners of a curve posted as short blocks,
+    comes on top of the braking into it or speeding up out of it (``docs/paths.md``).
 
     Parameters
     ----------
-    cmd : Command
-        The program's command [m].
+    peaks : dict
+        Largest second difference of the command per axis
+        (:class:`~tcpmm.path.limits.RunningPeak`) [m/s^2].
     settings : InterpolatorSettings
         The interpolator's settings it was planned with [-].
-    chain : bool
-        The curvature of short blocks sets the speed somewhere on the path [-].
     """
     limit = dict(zip(AXES, settings.axis_accel(), strict=True))
-    over = []
-    for a, x in cmd.positions.items():
-        if x.size < 3 or a not in limit:
-            continue
-        most = peak(x, 2, cmd.period_s)
-        if most > limit[a] * (1 + OVER_SHARE):
-            over.append(f"{a} {most:.3g} m/s² (limit {limit[a]:.3g})")
+    over = [f"{a} {most:.3g} m/s² (limit {limit[a]:.3g})" for a, most in peaks.items()
+            if a in limit and most > limit[a] * (1 + OVER_SHARE)]
     if over:
-        out.print("  beyond an axis's acceleration for a period at sharp corners, whose "
-                  "velocity step comes on top of the braking into them"
-                  + (", and along curves of short blocks, whose centripetal acceleration "
-                     "comes on top of speeding up and slowing down" if chain else "")
-                  + ": " + ", ".join(over) + f" (corner_step_share {settings.corner_step_share:g} "
-                  "of the acceleration for the step; 0 stops at each sharp corner and keeps "
-                  "within it)", highlight=False)
+        out.print("  beyond an axis's acceleration for a period at sharp corners (also the "
+                  "corners of curves posted as short blocks), whose velocity step comes on "
+                  "top of the braking into them: " + ", ".join(over)
+                  + f" (corner_step_share {settings.corner_step_share:g} of the acceleration "
+                  "for the step; 0 stops at each sharp corner and keeps within it)",
+                  highlight=False)

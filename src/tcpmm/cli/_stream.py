@@ -273,23 +273,28 @@ def path_to_csv(program: Path, output: Path, settings, chunk_blocks: int | None)
     Returns
     -------
     dict
-        ``samples``, ``period_s`` and ``duration_s`` of the command written [-].
+        ``samples``, ``period_s`` and ``duration_s`` of the command written [-], [s], [s];
+        ``peak_acceleration``, the largest second difference per axis [m/s^2].
     """
     from ..path.commandfile import command_csv_writer
+    from ..path.limits import RunningPeak
     from ..path.stream import CHUNK_BLOCKS, StreamInterpolator, stream_program
 
     ip = StreamInterpolator(settings)
     last = 0.0
+    peaks = RunningPeak(2, settings.period_s)
     with line_progress(program, "path") as bar, \
             command_csv_writer(output, blocks=True) as w:
         for piece in stream_program(program, settings, chunk_blocks or CHUNK_BLOCKS,
                                     interpolator=ip):
             _write_piece(w, piece, bar)
+            peaks.add(piece.positions)
             last = float(piece.time_s[-1])
         if bar is not None:
             bar.end()
         w.axes = tuple(a for a in ("X", "Y", "Z") if a in ip.used_axes)
-    return {"samples": w.samples, "period_s": settings.period_s, "duration_s": last}
+    return {"samples": w.samples, "period_s": settings.period_s, "duration_s": last,
+            "peak_acceleration": peaks.most}
 
 
 def _write_piece(w, piece, bar) -> None:

@@ -353,9 +353,8 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     """Interpolate an NC program into the position command per axis; say how much of the
     path runs at the programmed feed and which limit holds it back where it does not."""
     from ..path import write_command_csv
-    from ..path.limits import feed_limits
+    from ..path.limits import RunningPeak, feed_limits
     from ..path.program import program_to_interpolation
-    from ..path.speedlimits import CHAIN
     from ._pathtext import print_corner_overload, print_feed
 
     checked_output(output, program, model)
@@ -381,6 +380,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
         res = path_to_csv(program, output, interp_settings(m), chunk_blocks)
         out.print(f"wrote {output} ({res['samples']} samples at {res['period_s'] * 1e3:g} "
                   f"ms, {res['duration_s']:.3f} s)")
+        print_corner_overload(res["peak_acceleration"], interp_settings(m))
         return
     interp = program_to_interpolation(program, interp_settings(m))
     cmd = interp.command
@@ -390,7 +390,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
               f"{cmd.time_s[-1] - cmd.time_s[0]:.3f} s)")
     limits = feed_limits(interp)
     print_feed(limits)
-    print_corner_overload(cmd, interp_settings(m), bool((interp.junction_cause == CHAIN).any()))
+    print_corner_overload(RunningPeak.of(cmd.positions, 2, cmd.period_s), interp_settings(m))
     if plot:
         from ..plot.path import plot_command
 

@@ -46,6 +46,42 @@ def peak(x: np.ndarray, order: int, period_s: float) -> float:
     return float(np.max(np.abs(derivative(x, order, period_s))))
 
 
+class RunningPeak:
+    """:func:`peak` per axis over a command that comes in pieces, the same numbers as over
+    the whole: each piece is differenced after the last ``order`` samples of the one
+    before it.
+
+    Parameters
+    ----------
+    order : int
+        Order of the difference [-].
+    period_s : float
+        Sample period [s].
+    """
+
+    def __init__(self, order: int, period_s: float):
+        self.order, self.period_s = order, period_s
+        self.tail: dict = {}
+        self.most: dict = {}
+
+    @classmethod
+    def of(cls, positions: dict, order: int, period_s: float) -> dict:
+        """The peak per axis of a whole command's ``positions`` [m/s^order]."""
+        rp = cls(order, period_s)
+        rp.add(positions)
+        return rp.most
+
+    def add(self, positions: dict) -> None:
+        """Take the next samples of each axis [m]."""
+        for a, x in positions.items():
+            if a in self.tail:
+                x = np.concatenate([self.tail[a], x])
+            if x.size > self.order:
+                d = np.abs(np.diff(x, self.order)) / self.period_s ** self.order
+                self.most[a] = max(self.most.get(a, 0.0), float(d.max()))
+            self.tail[a] = x[-self.order:]
+
+
 #: a block reaching less than this share of its feed is held back [-]
 HELD_SHARE = 0.99
 

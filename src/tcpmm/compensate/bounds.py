@@ -235,8 +235,9 @@ def _step_cause(reference, name: str, what: str) -> str:
     order = LIMITS[what][0]
     k = int(np.argmax(np.abs(derivative(x, order, reference.period_s))))
     if order == 3 and not velocity_steps(reference, k):
-        return ("a step of curvature where a line or an arc joins an arc tangentially: the "
-                "velocity's direction is continuous there, its acceleration steps, so the "
+        return ("a step of curvature where a line or an arc joins an arc tangentially, or "
+                "at the corners of a curve posted as short blocks: the velocity's direction "
+                "turns there no faster than along the curve, its acceleration steps, so the "
                 "jerk is unbounded within one period")
     return "a sharp corner's velocity step, one period"
 

@@ -128,3 +128,30 @@ def test_a_u_turn_on_a_small_arc_is_a_corner():
     assert same(in_pieces(p, 29), corners)
     _, wide = corners_of(2.0)
     assert all(t != t for _, t in wide)  # only the end
+
+
+def back_and_forth(turns_mm, ds=1e-5, dither=0):
+    """A line along Y from 0 turning back at each of ``turns_mm`` in turn, then on to the
+    last, sampled every ``ds``; ``dither`` samples of 1 µm back and forth at each turning
+    point (a measured command about its stop) [m]."""
+    ys, y = [0.0], 0.0
+    for t in (v * 1e-3 for v in turns_mm):
+        n = max(round(abs(t - y) / ds), 1)
+        ys += list(y + (t - y) * np.arange(1, n + 1) / n)
+        ys += [t - 1e-6 * np.sign(t - y) * (k % 2) for k in range(1, 2 * dither + 1)]
+        y = t
+    return np.column_stack([np.full(len(ys), 5e-3), ys, np.zeros(len(ys))])
+
+
+@pytest.mark.parametrize("turns", [(2.5, 2.2, 3.0), (2.5, 2.0, 3.0), (2.5, 2.1, 3.0)])
+@pytest.mark.parametrize("dither", [0, 3])
+def test_two_reversals_within_a_span_are_each_at_its_turning_point(turns, dither):
+    """Y up to 2.5 mm, back to 2.2 (2.0, 2.1), on to 3: the second reversal was placed at
+    Y 2.442, on the way up past it (the vertex furthest from the run's first), and at 0.5
+    mm apart the first was left out. Each is at its turning point, also where the command
+    dithers by 1 µm about it, whole or fed in pieces. (Within half a span, 0.25 mm, the
+    path seen over the span runs straight on: at the finder's resolution, no corner.)"""
+    p = back_and_forth(turns, dither=dither)
+    for found in (find_corners(p, span_m=SPAN), in_pieces(p, 37)):
+        at = [p[i, 1] * 1e3 for i, _ in found if np.isfinite(_)]
+        assert at == pytest.approx(list(turns[:2]), abs=2e-3), at

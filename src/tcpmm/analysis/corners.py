@@ -199,9 +199,11 @@ class CornerFinder:
         first and last reversal ``rf``, ``rl``, -1 for none), all at once [-]."""
         first, last, best, rf, rl, split = runs
         i, bent = idx[best], turn[best].copy()
-        for r in np.flatnonzero(rf >= 0).tolist():  # a reversal: the turning point
-            a, b = idx[rf[r]], idx[rl[r]] + 1
-            i[r] = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
+        more = []
+        for r in np.flatnonzero(rf >= 0).tolist():  # a reversal: the turning points
+            at = turning_points(p, s, idx[rf[r]], idx[rl[r]] + 1, self.span / 4)
+            i[r] = at[0]
+            more += [(k, float(bent[r])) for k in at[1:]]
         r = np.flatnonzero(split & (rf < 0))  # a bend, not a reversal: all at once
         if r.size:
             i[r], bent[r] = bend_corners(p, s, idx[first[r]], idx[last[r]], self.span)
@@ -209,11 +211,10 @@ class CornerFinder:
         if r.size:  # a cusp: the vertex where the path turns back
             at = cusps(p, idx[first[r]], idx[last[r]] + 1)
             i[r] = np.where(at >= 0, at, i[r])
-        moves = np.flatnonzero(any_rows(p[1:] != p[:-1]))  # p[j + 1] off p[j]
-        k = np.searchsorted(moves, i, side="left")
-        i = np.where(k < moves.size, moves[np.minimum(k, moves.size - 1)], p.shape[0] - 1)
-        out.extend(zip((i + off).tolist(), bent.tolist(), strict=True))
-        self.last = int(i[-1]) + off
+        i = _standing_end(p, np.r_[i, [k for k, _ in more]].astype(np.int64))
+        found = sorted(zip(i.tolist(), [*bent.tolist(), *(t for _, t in more)], strict=True))
+        out.extend((k + off, t) for k, t in found)
+        self.last = found[-1][0] + off
 
     def _close(self, p, s, off, out) -> None:
         """End the open run: its corner on the last vertex where the command stands at the
@@ -226,8 +227,10 @@ class CornerFinder:
             return
         i, bent = self.group[1] - off, self.group[2]
         if self.group[3] is not None:
-            a, b = self.group[3][0] - off, self.group[3][1] - off + 1
-            i = a + int(np.argmax(norm_rows(p[a:b] - p[a])))
+            at = turning_points(p, s, self.group[3][0] - off, self.group[3][1] - off + 1,
+                                self.span / 4)
+            out.extend((int(k) + off, bent) for k in _standing_end(p, np.array(at[:-1])))
+            i = at[-1]
         elif self.group[5]:
             at, turns = bend_corners(p, s, np.array([self.group[0] - off]),
                                      np.array([self.group[4] - off]), self.span)
@@ -247,6 +250,28 @@ class CornerFinder:
         c = min(self.group[0] if self.group else self.ev, off + s.size - 1) - off
         j = int(np.searchsorted(s, s[c] - self.span, side="left")) - 1
         return off + max(min(rest_start(p, c), j), 0)
+
+
+def _standing_end(p, i):
+    """Per vertex ``i``, the last vertex where the command stands still there [-]."""
+    moves = np.flatnonzero(any_rows(p[1:] != p[:-1]))  # p[j + 1] off p[j]
+    k = np.searchsorted(moves, i, side="left")
+    return np.where(k < moves.size, moves[np.minimum(k, moves.size - 1)], p.shape[0] - 1)
+
+
+def turning_points(p, s, a: int, b: int, apart: float) -> list[int]:
+    """The turning points of reversals whose vertices that turn back over the span are
+    ``a:b``: each vertex where the path runs back from one segment to the next (a cusp),
+    the first of those within ``apart`` of path length of each other (a command that
+    dithers about its turning point); where no segment runs back (a turn rounded off),
+    the vertex furthest from the first, which lies half a span before it on the way in.
+    Two reversals closer than a span are one run: the furthest vertex lay between them,
+    or on one of them, and the other was left out [-]."""
+    back = a + np.flatnonzero(local_turns(p, np.arange(a, b)) >= _TURNS_BACK)
+    if not back.size:
+        return [a + int(np.argmax(norm_rows(p[a:b] - p[a])))]
+    keep = np.r_[True, np.diff(s[back]) >= apart]
+    return back[keep].tolist()
 
 
 def _runs(k, turn, straight, evenly) -> tuple:

@@ -650,7 +650,10 @@ def test_a_plan_whose_correction_no_draw_keeps_is_written_as_programmed(tmp_path
     """With no share of the correction kept, the program planned with the headroom for it
     was written all the same: slower, unjudged by the draws, and on machine E's model a
     spike 12 % larger, where the summary said the share applied kept it from growing.
-    The program is now written as programmed, and its figures after are those before."""
+    The program is now written as programmed, and its figures after are those before;
+    the draws' figures after, which are of the slower plan, are left out (bench H's
+    circle: 'on the worst of the 16 draws: up to 733 µm', which the true machine ran at
+    920 µm, and samples that 'may rise' on a command written unchanged)."""
     import pandas as pd
 
     from tcpmm.cli import main
@@ -667,8 +670,11 @@ def test_a_plan_whose_correction_no_draw_keeps_is_written_as_programmed(tmp_path
     n = full.time_s.size
     assert np.array_equal(np.round(written["x_mm"].to_numpy()[:n], 6),
                           np.round(full.positions["X"] * 1e3, 6))
+    assert not {"regions", "local_rise", "circle"} & set(d["robustness"])
     assert main(args) == 0
-    assert "written as programmed" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "written as programmed" in said
+    assert "contour error after, on" not in said and "may rise" not in said, said
 
 
 def test_the_reference_written_is_the_plan_compensated(tmp_path, capsys, monkeypatch):

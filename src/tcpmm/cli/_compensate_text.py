@@ -224,7 +224,8 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
     f = ", ".join(f"{a} {v:.2g}" for a, v in robustness["factors"].items() if a in moved)
     if robustness.get("by_region"):
         f += " (the mean along the path: chosen region by region)"
-    return [f"  share of the correction applied: {f}; over {robustness['draws']} draws of "
+    n = robustness["draws"]
+    return [f"  share of the correction applied: {f}; over {n} draw{'s' * (n != 1)} of "
             "the model the largest contour error of a region (a reversal or a stretch "
             "between) falls on every draw, and on the machine as one more draw, and no "
             "sample's error rises, on "
@@ -264,8 +265,10 @@ def _worst_after(robustness: dict) -> list[str]:
     worst = [r["worst_after_um"] for r in robustness.get("regions", [])]
     if not worst:
         return []
-    return [f"  contour error after, on the worst of the {robustness['draws']} draws: up to "
-            f"{max(worst):.2f} µm (the figure after above is the model's)"]
+    n = robustness["draws"]
+    on = "the one draw" if n == 1 else f"the worst of the {n} draws"
+    return [f"  contour error after, on {on}: up to {max(worst):.2f} µm (the figure after "
+            "above is the model's)"]
 
 
 def _figure_verdicts(figures: dict) -> list[str]:

@@ -12,6 +12,8 @@ def _row(label: str, fig: dict) -> str:
     # the rms leaves out the hold after the program (scores.contour_figures), the max not
     text = f"  {label:7s} contour error to the command {path['contour_error_um']:8.2f} µm (rms " \
            f"{path['contour_rms_um']:.2f} over the motion)"
+    if path.get("corner_overshoot_um"):
+        text += f", corner overshoot {path['corner_overshoot_um']:.2f} µm"
     if "circle" in fig:
         c = fig["circle"]
         text += f", largest raw spike (e - b) {c['largest_spike_um']:.2f} µm, G " \
@@ -143,7 +145,8 @@ def warn_worse(comp) -> None:
     """With no draws to scale the correction back, a warning (on stderr, and in
     ``--json``'s ``warnings``) for each figure the correction makes worse on the model
     itself by more than the sensors' resolution (at the end of a move, the TCP can
-    overshoot a point it approached from one side before) [-]."""
+    overshoot a point it approached from one side before); with draws or without, one
+    where it overshoots a corner further (:func:`warn_overshoot`) [-]."""
     import warnings
 
     from ..compensate.headroom import worse_than_programmed
@@ -154,6 +157,31 @@ def warn_worse(comp) -> None:
         warnings.warn(f"the correction makes the model's own TCP worse: {'; '.join(worse)}; "
                       "with --draws N (default 16) it is scaled back where it does not help",
                       InputWarning, stacklevel=2)
+    warn_overshoot(comp)
+
+
+def warn_overshoot(comp) -> None:
+    """A warning where the compensated command takes the model's TCP further outside the
+    path past a corner than the program does, by more than the sensors' resolution: the
+    contour error's magnitude falls where a corner's rounding turns into overshoot, and
+    neither the draws nor the figures before and after tell the two apart [-]."""
+    import warnings
+
+    from ..compensate.robust import EQUAL_M
+    from ..errors import InputWarning
+
+    b = comp.scores.get("before", {}).get("path", {})
+    a = comp.scores.get("after", {}).get("path", {})
+    if "corner_overshoot_um" not in a or "corner_overshoot_um" not in b:
+        return
+    if a["corner_overshoot_um"] > b["corner_overshoot_um"] + EQUAL_M * 1e6:
+        at = ", ".join(f"{v:.3f}" for v in a["corner_overshoot_at_mm"])
+        warnings.warn(f"the correction takes the model's TCP further outside the path past "
+                      f"a corner: overshoot up to {a['corner_overshoot_um']:.2f} µm after, "
+                      f"against {b['corner_overshoot_um']:.2f} µm before, at ({at}) mm (the "
+                      "contour error does not tell overshoot from rounding; on an outside "
+                      "contour it is a gouge; tcpmm contour on a run of the compensated "
+                      "command lists the corners)", InputWarning, stacklevel=2)
 
 
 def warn_current(comp) -> None:

@@ -142,7 +142,22 @@ def contour_figures(run, path: Command, hold: int = 0) -> dict:
     if not moving.any():  # a path that is all hold: the rms of what there is
         moving = counted
     return {"contour_error_um": float(np.max(e[counted]) * 1e6),
-            "contour_rms_um": float(np.sqrt(np.mean(e[moving] ** 2)) * 1e6)}
+            "contour_rms_um": float(np.sqrt(np.mean(e[moving] ** 2)) * 1e6),
+            **corner_overshoot(res)}
+
+
+def corner_overshoot(res) -> dict:
+    """The TCP's largest overshoot past a corner of the path, its end included, as
+    ``tcpmm contour`` gives it, and where that corner is: ``corner_overshoot_um`` [um]
+    (0 without corners), ``corner_overshoot_at_mm`` [mm] (``None`` without). A correction
+    that takes a corner's rounding away can take the TCP outside the path past it, which
+    the contour error's magnitude does not tell from the rounding [-]."""
+    rows = [r for r in res.corner_rows(sensors=["tcp"]) if np.isfinite(r["overshoot_um"])]
+    if not rows:
+        return {"corner_overshoot_um": 0.0, "corner_overshoot_at_mm": None}
+    top = max(rows, key=lambda r: r["overshoot_um"])
+    return {"corner_overshoot_um": float(top["overshoot_um"]),
+            "corner_overshoot_at_mm": [top[f"{a.lower()}_mm"] for a in res.axes]}
 
 
 def settling_hold(comp, path: Command) -> int:

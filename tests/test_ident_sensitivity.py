@@ -24,7 +24,13 @@ def test_a_new_share_keeps_the_total_friction(machine_c):
     assert new.guideway.sigma0 / new.guideway.fs_pos == pytest.approx(
         fr.guideway.sigma0 / fr.guideway.fs_pos)
     assert with_share(fr, 1.0) is None
-    assert with_share(fr.model_copy(update={"screw": None}), 0.5) is None
+    assert with_share(fr.model_copy(update={"screw": None, "guideway": None}), 0.5) is None
+    # all on one contact: the other takes its form, the total kept
+    alone = fr.model_copy(update={"screw": None})
+    half = with_share(alone, 0.5)
+    assert half.screw.fc_pos == pytest.approx(0.5 * fr.guideway.fc_pos)
+    assert half.guideway.fc_pos == pytest.approx(0.5 * fr.guideway.fc_pos)
+    assert type(half.screw) is type(fr.guideway)
 
 
 def test_the_same_friction_moves_nothing_and_a_play_moves_the_spikes(machine_c):

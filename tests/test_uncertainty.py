@@ -65,6 +65,29 @@ def test_an_open_share_is_taken_over_its_whole_range(known):
     assert all(wider)
 
 
+def test_an_open_share_of_friction_all_on_one_contact_is_taken_over_its_range(known):
+    """An identification that reads the share at 1 puts the whole friction on the guideway
+    and none on the screw; its open share was left unvaried, for there was nothing to
+    split, and the spikes stayed firm or blamed another quantity (bench D with its TCP one
+    sample late: spikes 3.2 um off against +-1.6, the cause the column). The missing
+    contact now takes the other's form and the share is varied over its range."""
+    from tcpmm.ident.friction.sensitivity import coulomb_share, with_share
+
+    fr = known.axes["Y"].friction
+    whole = fr.model_copy(update={"guideway": with_share(fr, 0.5).guideway.model_copy(
+        update={q: getattr(fr.guideway, q) + getattr(fr.screw, q)
+                for q in ("fc_pos", "fc_neg", "fs_pos", "fs_neg")}), "screw": None})
+    assert coulomb_share(whole) == 1.0
+    open_share = OpenRange(quantity="guideway_share", low=0.41, high=0.98,
+                           cause="test", settle="a finer scale")
+    m = known.with_axis("Y", known.axes["Y"].replace(friction=whole))
+    v = prediction_verdict(_with(m, "Y", open=(open_share,)))
+    spikes = [f for f in v.figures if f.figure.startswith("spike")]
+    assert any(f.verdict != "firm" for f in spikes)
+    assert all(f.cause == "axis Y guideway_share, open" for f in spikes if f.verdict != "firm")
+    assert coulomb_share(with_share(whole, 0.4)) == pytest.approx(0.4)
+
+
 def test_open_axial_damping_covers_a_machine_with_half_of_it(known):
     """The axial modes' damping open over x0.5-2 (a sweep that crossed the nut's play) puts
     the figures of a machine with half that damping inside the intervals, and the figures

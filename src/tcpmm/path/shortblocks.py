@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._rows import dot_rows, min_rows, norm_rows
-from .geometry import PathArrays, tangents
+from .geometry import PathArrays
 from .segments import LINE
 
 
@@ -80,7 +80,7 @@ def chain_limits(p: PathArrays, t_out, t_in, acc_normal) -> np.ndarray:
     return np.where(lines, v, np.inf)
 
 
-def chain_tangential(p: PathArrays, vj, acc, acc_axis, acc_normal, start=None,
+def chain_tangential(p: PathArrays, du, vj, acc, acc_axis, acc_normal, start=None,
                      open_end=False):
     """Tangential acceleration limit of each segment, lowered on the lines between corners
     so that with the centripetal acceleration of the corners every axis stays within its
@@ -94,14 +94,15 @@ def chain_tangential(p: PathArrays, vj, acc, acc_axis, acc_normal, start=None,
     ``a_t <= min_k (a_k - c*|n_k|) / |u_k|``: about the tangential share of an arc where
     short blocks run at the chain's limit; nearly the whole acceleration at a corner
     between long blocks, whose step falls in one period (:func:`~tcpmm.path.speedlimits.
-    _corner_limits`), or at a tangent join. Blocks of a few periods each, between the
-    two, kept the whole and read over the limit on average over 10 periods. The
-    look-ahead only lowers a junction's speed, and so ``c``.
+    _corner_limits`), or at a tangent join. The look-ahead only lowers a junction's
+    speed, and so ``c``.
 
     Parameters
     ----------
     p : PathArrays
         The path [-].
+    du : ndarray, shape (n - 1, 3), or None
+        Change of the unit tangent at each inner junction; ``None`` under two segments [-].
     vj : ndarray
         ``n + 1`` junction speed limits (:func:`~tcpmm.path.speedlimits.junction_limits`)
         [m/s].
@@ -131,7 +132,7 @@ def chain_tangential(p: PathArrays, vj, acc, acc_axis, acc_normal, start=None,
     if start is not None:
         load[0] = start
     if n >= 2:
-        load[1:-1] = _corner_loads(p, vj[1:-1], lines[:-1] & lines[1:])
+        load[1:-1] = _corner_loads(p, du, vj[1:-1], lines[:-1] & lines[1:])
     if open_end and n and lines[-1]:
         load[-1] = np.asarray(acc_normal, float)
     u = np.abs(p.end - p.start) / np.where(p.length > 0, p.length, 1.0)[:, None]
@@ -141,11 +142,11 @@ def chain_tangential(p: PathArrays, vj, acc, acc_axis, acc_normal, start=None,
     return np.where(lines, np.minimum(acc, cap), acc), load
 
 
-def _corner_loads(p: PathArrays, v, chained) -> np.ndarray:
+def _corner_loads(p: PathArrays, du, v, chained) -> np.ndarray:
     """``c*|n|`` at each inner junction, shape (n - 1, 3): the centripetal acceleration
     ``v^2*|du|/Lbar`` of the corners between two lines (``chained``) at their speed
-    limits ``v``, per axis, zero elsewhere [m/s^2]."""
-    du = tangents(p, at_end=False)[1:] - tangents(p, at_end=True)[:-1]
+    limits ``v``, per axis, zero elsewhere (``du`` the change of the unit tangent)
+    [m/s^2]."""
     lbar = 0.5 * (p.length[:-1] + p.length[1:])
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.where(chained & (norm_rows(du) > 0.0), v**2 / lbar, 0.0)

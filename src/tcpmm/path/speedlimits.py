@@ -193,7 +193,7 @@ def normal_accel(acc_axis, acc_path: float) -> np.ndarray:
     return np.sqrt(a**2 - a_t**2)
 
 
-def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
+def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal, turns=None):
     """Speed limit at the start of each segment and at the end of the path [m/s].
 
     Parameters
@@ -213,6 +213,9 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
     acc_normal : sequence of float
         Centripetal acceleration of X, Y, Z a chain of short straight blocks may take
         (:func:`normal_accel`) [m/s^2].
+    turns : tuple of ndarray, optional
+        ``(t_out, t_in)``, the unit tangents before and after each inner junction, where
+        the caller has them (:func:`corner_tangents`) [-].
 
     Returns
     -------
@@ -235,8 +238,7 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
     cause = np.full(n + 1, EXACT_STOP)
     if n < 2:
         return vj, cause
-    t_out = tangents(p, at_end=True)[:-1]
-    t_in = tangents(p, at_end=False)[1:]
+    t_out, t_in = corner_tangents(p) if turns is None else turns
     cap, why = _corner_limits(t_in - t_out, vmax, acc, acc_axis, filt)
     chain = chain_limits(p, t_out, t_in, acc_normal)
     why = np.where(chain < cap, CHAIN, why)
@@ -247,6 +249,11 @@ def junction_limits(p: PathArrays, vmax, acc, acc_axis, filt, acc_normal):
     vj[1:-1] = np.where(stop, 0.0, cap)
     cause[1:-1] = np.where(stop, EXACT_STOP, why)
     return vj, cause
+
+
+def corner_tangents(p: PathArrays) -> tuple[np.ndarray, np.ndarray]:
+    """The unit tangents before and after each inner junction, shape (n - 1, 3) each [-]."""
+    return tangents(p, at_end=True)[:-1], tangents(p, at_end=False)[1:]
 
 
 def _corner_limits(du, vmax, acc, acc_axis, filt):
@@ -316,7 +323,9 @@ def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = Fals
     acc_axis, acc_path = settings.axis_accel(), settings.path_accel_m_per_s2
     acc_normal = normal_accel(acc_axis, acc_path)
     vmax, acc, seg_cause = segment_limits(p, settings.axis_velocity(), acc_axis, acc_path, filt)
+    turns = corner_tangents(p) if p.n >= 2 else None
     vj, junction_cause = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt,
-                                         acc_normal)
-    acc, load = chain_tangential(p, vj, acc, acc_axis, acc_normal, start, open_end)
+                                         acc_normal, turns)
+    du = None if turns is None else turns[1] - turns[0]
+    acc, load = chain_tangential(p, du, vj, acc, acc_axis, acc_normal, start, open_end)
     return vmax, acc, seg_cause, vj, junction_cause, load

@@ -77,8 +77,7 @@ class RunningPeak:
             if a in self.tail:
                 x = np.concatenate([self.tail[a], x])
             if x.size > self.order:
-                d = np.abs(np.diff(x, self.order)) / self.period_s ** self.order
-                self.most[a] = max(self.most.get(a, 0.0), float(d.max()))
+                self.most[a] = max(self.most.get(a, 0.0), peak(x, self.order, self.period_s))
             self.tail[a] = x[-self.order:]
 
 

@@ -227,10 +227,9 @@ class CornerFinder:
             return
         i, bent = self.group[1] - off, self.group[2]
         if self.group[3] is not None:
-            at = turning_points(p, s, self.group[3][0] - off, self.group[3][1] - off + 1,
-                                self.span / 4)
-            out.extend((int(k) + off, bent) for k in _standing_end(p, np.array(at[:-1])))
-            i = at[-1]
+            *before, i = turning_points(p, s, self.group[3][0] - off,
+                                        self.group[3][1] - off + 1, self.span / 4)
+            out.extend((_stand_on(p, k) + off, bent) for k in before)
         elif self.group[5]:
             at, turns = bend_corners(p, s, np.array([self.group[0] - off]),
                                      np.array([self.group[4] - off]), self.span)
@@ -239,8 +238,7 @@ class CornerFinder:
             at = int(cusps(p, np.array([self.group[0] - off]),
                            np.array([self.group[4] - off + 1]))[0])
             i = at if at >= 0 else i
-        while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
-            i += 1
+        i = _stand_on(p, i)
         out.append((i + off, bent))
         self.last, self.group = i + off, None
 
@@ -250,6 +248,14 @@ class CornerFinder:
         c = min(self.group[0] if self.group else self.ev, off + s.size - 1) - off
         j = int(np.searchsorted(s, s[c] - self.span, side="left")) - 1
         return off + max(min(rest_start(p, c), j), 0)
+
+
+def _stand_on(p, i: int) -> int:
+    """The last vertex where the command stands still at vertex ``i``; one corner's, where
+    :func:`_standing_end` would look at the whole piece [-]."""
+    while i + 1 < p.shape[0] and np.array_equal(p[i + 1], p[i]):
+        i += 1
+    return i
 
 
 def _standing_end(p, i):

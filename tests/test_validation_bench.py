@@ -161,15 +161,38 @@ def test_what_the_friction_runs_leave_open_is_measured_in_spikes(identified):
     y = bundle.axes["Y"]
     y = dataclasses.replace(y, sweep=dataclasses.replace(y.sweep, tcp_m=None))
     bundle = dataclasses.replace(bundle, axes={**bundle.axes, "Y": y})
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         a = identify_bundle(bundle, verdict=False).axes["Y"]
     assert a.friction_split.source == "prior"
+    # told once, for the fit kept, not for each refit of the mechanics
+    prior = [str(w.message) for w in caught if "prior guideway share" in str(w.message)]
+    assert len(prior) == 1 and "Y/friction.csv: axis Y: " in prior[0], prior
     share = a.share_sensitivity
     assert share.shares == (0.05, 0.95) and share.spike_change_m > 0.5e-6
     hidden = a.lost_motion_sensitivity
     assert hidden.lost_motion_m[1] > 0.2e-6 and hidden.spike_change_m > 0.0
     assert identified("d").axes["X"].share_sensitivity is None
+
+
+def test_a_split_the_runs_leave_open_is_told_once_without_its_estimate():
+    """Machine D's X with half its sweep: the FRFs leave the nut stiffness a guess, and
+    the refits of the mechanics each read the friction runs with another one. The split
+    falls back to the prior share; that is told once, for the fit kept, and the plateaus'
+    share, whose standard deviation runs into the thousands, is not given as a number."""
+    b = read_bundle(bench_path("d") / "bundle")
+    x = b.axes["X"]
+    n = x.sweep.time_s.size // 2
+    half = dataclasses.replace(x.sweep, **{f: getattr(x.sweep, f)[:n] for f in (
+        "time_s", "excitation_A", "current_cmd_A", "motor_angle_rad", "scale_m", "tcp_m")})
+    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=half)})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        split = identify_bundle(b, verdict=False).axes["X"].friction_split
+    assert split.source == "prior"
+    prior = [str(w.message) for w in caught if "prior guideway share" in str(w.message)]
+    assert len(prior) == 1, prior
+    assert f"{split.estimate.guideway_share:.2f}" not in prior[0], prior
 
 
 def test_a_standing_sweep_is_named_with_its_cause():

@@ -2,6 +2,9 @@
 
 :class:`FrictionSplit` records the share, the lost motion, where they came from and the
 estimates behind them; :func:`tcpmm.ident.friction.split.identify_friction` makes it.
+What to tell the user of a split the runs leave open or loose: the prior share used
+(:meth:`FrictionSplit.prior_warning`), or a share from the data with a wide deviation
+(:func:`share_uncertainty_warning`).
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ import numpy as np
 
 from ...model import BACKLASH_MAX_M
 
-__all__ = ["UNFOUND_Z", "FrictionSplit"]
+__all__ = ["SHARE_WARN_STD", "UNFOUND_Z", "FrictionSplit", "share_uncertainty_warning"]
 
 #: Standard deviations of a lost motion the runs do not find that could hide in them [-].
 UNFOUND_Z = 3.0
@@ -22,6 +25,13 @@ UNFOUND_Z = 3.0
 def _or_none(x: float):
     """``x`` as a float, ``None`` when it is not finite (JSON has no NaN) [-]."""
     return float(x) if math.isfinite(x) else None
+
+
+#: Standard deviation of a guideway share from the data above which identification warns:
+#: the friction that holds the table at a reversal, and with it the predicted reversal
+#: spikes, follows the share, and a shift of 0.15 in it moves them by micrometres on an
+#: axis with lost motion [-].
+SHARE_WARN_STD = 0.1
 
 
 @dataclass(frozen=True)
@@ -82,6 +92,17 @@ class FrictionSplit:
     plateau_share: float = float("nan")
     plateau_share_std: float = float("nan")
     sweep_note: str = ""
+
+    def prior_warning(self, axis: str = "") -> str | None:
+        """What to tell the user where the friction runs did not determine the split and
+        the prior share was used; ``None`` otherwise [-]."""
+        if self.source != "prior":
+            return None
+        name = f"axis {axis}" if axis else "axis"
+        reason = getattr(self.estimate, "reason", "") or "no estimate"
+        return (f"{name}: the friction runs do not determine how the friction divides "
+                f"between guideway and screw ({reason}); using the prior guideway share "
+                f"{self.guideway_share} and no lost motion")
 
     @property
     def backlash_std(self) -> float:
@@ -159,3 +180,47 @@ class FrictionSplit:
             "estimate": e.to_dict() if e is not None else None,
             "nut": self.nut.to_dict() if self.nut is not None else None,
         }
+
+
+def share_uncertainty_warning(axis: str, split: FrictionSplit, curve, mechanics,
+                              cfg, max_std: float = SHARE_WARN_STD) -> str | None:
+    """What to tell the user when the friction runs determine the guideway share poorly.
+
+    Parameters
+    ----------
+    axis : str
+        Axis name [-].
+    split : FrictionSplit
+        The split used [-].
+    curve : ParameterEstimate or dict
+        Fitted steady friction, by name (``Fc+``, ``Fc-``), table units [N].
+    mechanics : AxisMechanics
+        Identified mechanics; ``K_t`` is the nut in contact, ``R_L`` the screw ratio [SI].
+    cfg : AxisConfig
+        Sensors of the axis [-].
+    max_std : float
+        Standard deviation of the share above which there is something to say [-].
+
+    Returns
+    -------
+    str or None
+        The message, or ``None`` when the share is from the data and within ``max_std``,
+        or not from the data at all [-].
+    """
+    sd = float(split.guideway_share_std)
+    if split.source != "data" or not sd > max_std:
+        return None
+    s = split.guideway_share
+    fc = 0.5 * (abs(float(curve["Fc+"])) + abs(float(curve["Fc-"])))
+    um = 1e6
+    nut = split.nut
+    play = (f", told from the {nut.backlash * um:.2f} +/- {nut.backlash_std * um:.2f} um of "
+            f"lost motion only by the braking between the plateaus" if nut is not None else "")
+    step = mechanics.R_L * cfg.sensors.encoder_resolution_rad
+    return (f"axis {axis}: the friction runs determine the guideway share only to {s:.2f} "
+            f"+/- {sd:.2f}: the guideway's part of the nut deflection is "
+            f"{s * fc / mechanics.K_t * um:.2g} um{play}, and the sensors step by "
+            f"{step * um:.3g} um (encoder, at the table) and "
+            f"{cfg.sensors.scale_resolution_m * um:.3g} um (scale). The predicted reversal "
+            f"spikes follow the share. Finer sensors, or runs to a higher top speed with more "
+            f"reversals, determine it; if it is known, set it with --guideway-share")

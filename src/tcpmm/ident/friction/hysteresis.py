@@ -193,6 +193,15 @@ class PlateauDeflections:
         return est
 
 
+def _share_to(sd: float) -> str:
+    """How closely the plateau deflections fix a guideway share of standard deviation
+    ``sd``: a share lies in 0 to 1, so an estimate with ``sd`` beyond it says nothing and
+    is not given [-]."""
+    if not np.isfinite(sd):
+        return "do not fix the guideway share"
+    return f"fix the guideway share only to +- {sd:.2g}"
+
+
 def fit_share_given(p: PlateauDeflections, s: float) -> LostMotionEstimate:
     """The share given: offsets and lost motion from the remaining hysteresis."""
     k = p.k
@@ -247,9 +256,9 @@ def fit_both_free(p: PlateauDeflections) -> LostMotionEstimate:
     n_eff = p.n_eff
     if not np.isfinite(resolution) or resolution > opt.max_share_std:
         return p.result(s_a, s_a_sd, 0.0, nan, th_a, False,
-                        f"guideway share {s_a:.2f} +- {resolution:.2f} is not determined: the "
-                        f"nut deflection of the friction ({np.median(np.abs(p.a_col)) * 1e6:.2g}"
-                        f" um) is not resolved by the plateau deflections (std "
+                        f"the plateau deflections {_share_to(resolution)}: they do not "
+                        f"resolve the nut deflection of the friction "
+                        f"({np.median(np.abs(p.a_col)) * 1e6:.2g} um; their std "
                         f"{np.median(p.d_sd) * 1e6:.2g} um)", "share", chi_a, sd_a)
     if n_eff < opt.min_plateaus:
         return p.result(s_a, s_a_sd, 0.0, nan, th_a, False,

@@ -23,7 +23,7 @@ import numpy as np
 from ...errors import InputError, InputWarning
 from ...mechanics.friction import StribeckFriction
 from ...model import AxisFriction
-from .frictionsplit import FrictionSplit
+from .frictionsplit import SHARE_WARN_STD, FrictionSplit, share_uncertainty_warning
 from .hump import without_undetermined_hump
 from .lostmotion import estimate_lost_motion
 from .nutstiffness import LOST_MOTION_Z, estimate_nut
@@ -44,26 +44,21 @@ GUIDEWAY_SHARE = 0.7
 #: the speeds where the viscous force dominates leave the two to trade (bench C's kept to
 #: 0.5-5 mm/s: 0.9 +- 13 N against 139 N) [-].
 LEVEL_FIXED_REL_STD = 0.5
-#: Standard deviation of a guideway share from the data above which identification warns:
-#: the friction that holds the table at a reversal, and with it the predicted reversal
-#: spikes, follows the share, and a shift of 0.15 in it moves them by micrometres on an
-#: axis with lost motion [-].
-SHARE_WARN_STD = 0.1
 
 
 def identify_friction(record, cfg, mechanics, guideway_share: float | None = None, *,
                       axis: str = "", stiffness_rel_std: float = 0.0,
                       viscous: str = "fit", neglect_motor_bearing: bool = False,
-                      sweep=None, K_h_rel_std: float = 0.0, C_t_std: float = 0.0):
+                      sweep=None, K_h_rel_std: float = 0.0, C_t_std: float = 0.0,
+                      warn_prior: bool = True):
     """Stribeck friction and lost motion of an axis from its ``friction.csv`` record.
 
     The steady motor force at constant speed balances all friction (table units); the
     viscous part that the linear mechanics already carries (``B_m``, ``B_L``, ``C_t``) is
     taken off. The split between guideway and screw and the lost motion of the nut come
-    from the deflection between encoder and scale on the plateaus
-    (:func:`tcpmm.ident.friction.lostmotion.estimate_lost_motion`, one encoder-to-scale
-    offset per speed so that lead errors of the screw cancel); when the data do not
-    determine the split, :data:`GUIDEWAY_SHARE` is used and an :class:`InputWarning` says why.
+    from the encoder-to-scale deflection on the plateaus (one offset per speed:
+    :func:`~tcpmm.ident.friction.lostmotion.estimate_lost_motion`), else the prior
+    :data:`GUIDEWAY_SHARE`, of which an :class:`InputWarning` tells.
 
     Parameters
     ----------
@@ -84,9 +79,8 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         (``B_m``, ``B_L``, ``C_t``) as known in the split; see
         :func:`tcpmm.ident.friction.lostmotion.estimate_lost_motion` [-].
     neglect_motor_bearing : bool
-        Take the motor-bearing damping ``B_m`` as zero in the split: it does not twist the
-        shaft, so with it less of the steady viscous force would pass through the nut. The
-        friction's viscous part is still net of the mechanics' ``B_m`` [-].
+        Take ``B_m`` as zero in the split (it does not twist the shaft); the friction's
+        viscous part is still net of the mechanics' ``B_m`` [-].
     sweep : SweepDeflection, optional
         Mean TCP-structure deflection of a travelling sweep; when it determines the share
         (:func:`tcpmm.ident.friction.sweepforce.share_from_sweep`), the share is taken from
@@ -95,6 +89,9 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         Relative standard deviation of the identified ``K_h`` [-].
     C_t_std : float
         Standard deviation of the identified ``C_t`` [N s/m].
+    warn_prior : bool
+        Warn where the prior share is used; ``False``: the caller tells it
+        (:meth:`FrictionSplit.prior_warning`) once, for the fit it keeps [-].
 
     Returns
     -------
@@ -102,14 +99,22 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
         The friction element, the fitted curve with standard deviations, and the split
         with the lost-motion estimate [-].
     """
-    t, force, est, plateaus = _steady_fit(record, cfg, mechanics, axis)
-    v = dict(zip(est.names, est.values, strict=True))
-    runs = _Runs(t, record, force, plateaus, cfg, mechanics, v, viscous, sweep, K_h_rel_std,
-                 C_t_std, dict(zip(est.names, est.std, strict=True)))
+    runs, est = _runs_of(record, cfg, mechanics, axis, viscous, sweep, K_h_rel_std, C_t_std)
     given = None if guideway_share is None else min(max(float(guideway_share), 0.0), 1.0)
     m_split = mechanics.replace(B_m=0.0) if neglect_motor_bearing else mechanics
     split = _split_of_runs(runs, m_split, stiffness_rel_std, given, axis)
-    return _axis_friction(v, mechanics, split), est, split
+    if warn_prior and split.source == "prior":
+        warnings.warn(split.prior_warning(axis), InputWarning, stacklevel=2)
+    return _axis_friction(runs.curve, mechanics, split), est, split
+
+
+def _runs_of(record, cfg, mechanics, axis, viscous, sweep, K_h_rel_std, C_t_std):
+    """The runs the split rests on (:class:`_Runs`) and their steady curve [-]."""
+    t, force, est, plateaus = _steady_fit(record, cfg, mechanics, axis)
+    runs = _Runs(t, record, force, plateaus, cfg, mechanics,
+                 dict(zip(est.names, est.values, strict=True)), viscous, sweep, K_h_rel_std,
+                 C_t_std, dict(zip(est.names, est.std, strict=True)))
+    return runs, est
 
 
 def _steady_fit(record, cfg, mechanics, axis: str):
@@ -210,7 +215,7 @@ def _split_of_runs(runs: _Runs, mech, rel_std: float, given, axis) -> FrictionSp
     else:
         note = ("" if given is not None or runs.sweep is None or play
                 else _sweep_outside_words(runs, lm, axis))
-        split = dataclasses.replace(_split_of(lm, nut, play, given, axis), sweep_note=note)
+        split = dataclasses.replace(_split_of(lm, nut, play, given), sweep_note=note)
     return _with_open_quantities(split, nut, coarse is not None, first)
 
 
@@ -274,9 +279,10 @@ def _with_open_quantities(split, nut, at_resolution: bool, first):
     return split
 
 
-def _split_of(lm, nut, play: bool, given, axis) -> FrictionSplit:
+def _split_of(lm, nut, play: bool, given) -> FrictionSplit:
     """The split from the plateaus (``lm``) and the nut estimate: with free play, given
-    by the user, determined by the plateaus, or else the prior, with a warning [-]."""
+    by the user, determined by the plateaus, or else the prior
+    (:meth:`FrictionSplit.prior_warning` says why) [-]."""
     if play:
         used = lm if lm.determined else nut
         return FrictionSplit(min(max(used.guideway_share, 0.0), 1.0), nut.backlash, "data",
@@ -286,11 +292,6 @@ def _split_of(lm, nut, play: bool, given, axis) -> FrictionSplit:
     if lm.determined:
         return FrictionSplit(lm.guideway_share, lm.backlash, "data", lm,
                              guideway_share_std=lm.guideway_share_std)
-    name = f"axis {axis}" if axis else "axis"
-    warnings.warn(
-        f"{name}: the friction runs do not determine how the friction divides between "
-        f"guideway and screw ({lm.reason}); using the prior guideway share "
-        f"{GUIDEWAY_SHARE} and no lost motion", InputWarning, stacklevel=4)
     return FrictionSplit(GUIDEWAY_SHARE, 0.0, "prior", lm)
 
 
@@ -310,50 +311,6 @@ def _axis_friction(v: dict, m, split: FrictionSplit) -> AxisFriction:
     return AxisFriction(guideway=part(share) if share > 0 else None,
                         screw=part(1 - share) if share < 1 else None,
                         backlash=split.backlash, guideway_velocity="relative")
-
-
-def share_uncertainty_warning(axis: str, split: FrictionSplit, curve, mechanics,
-                              cfg, max_std: float = SHARE_WARN_STD) -> str | None:
-    """What to tell the user when the friction runs determine the guideway share poorly.
-
-    Parameters
-    ----------
-    axis : str
-        Axis name [-].
-    split : FrictionSplit
-        The split used [-].
-    curve : ParameterEstimate or dict
-        Fitted steady friction, by name (``Fc+``, ``Fc-``), table units [N].
-    mechanics : AxisMechanics
-        Identified mechanics; ``K_t`` is the nut in contact, ``R_L`` the screw ratio [SI].
-    cfg : AxisConfig
-        Sensors of the axis [-].
-    max_std : float
-        Standard deviation of the share above which there is something to say [-].
-
-    Returns
-    -------
-    str or None
-        The message, or ``None`` when the share is from the data and within ``max_std``,
-        or not from the data at all [-].
-    """
-    sd = float(split.guideway_share_std)
-    if split.source != "data" or not sd > max_std:
-        return None
-    s = split.guideway_share
-    fc = 0.5 * (abs(float(curve["Fc+"])) + abs(float(curve["Fc-"])))
-    um = 1e6
-    nut = split.nut
-    play = (f", told from the {nut.backlash * um:.2f} +/- {nut.backlash_std * um:.2f} um of "
-            f"lost motion only by the braking between the plateaus" if nut is not None else "")
-    step = mechanics.R_L * cfg.sensors.encoder_resolution_rad
-    return (f"axis {axis}: the friction runs determine the guideway share only to {s:.2f} "
-            f"+/- {sd:.2f}: the guideway's part of the nut deflection is "
-            f"{s * fc / mechanics.K_t * um:.2g} um{play}, and the sensors step by "
-            f"{step * um:.3g} um (encoder, at the table) and "
-            f"{cfg.sensors.scale_resolution_m * um:.3g} um (scale). The predicted reversal "
-            f"spikes follow the share. Finer sensors, or runs to a higher top speed with more "
-            f"reversals, determine it; if it is known, set it with --guideway-share")
 
 
 def place_steady_viscous(mechanics, friction, total_viscous: float, table_viscous: float):

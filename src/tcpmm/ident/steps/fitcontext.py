@@ -158,7 +158,7 @@ def friction_on(ctx: FitContext, phys: PhysicalFit):
         viscous="known" if damping_known else "fit",
         neglect_motor_bearing=not damping_known, sweep=ctx.sweep_force,
         K_h_rel_std=_finite_or(rel_std("K_h"), 0.0),
-        C_t_std=_finite_or(phys.std.get("C_t", float("nan")), 0.0))
+        C_t_std=_finite_or(phys.std.get("C_t", float("nan")), 0.0), warn_prior=False)
     if split.sweep_note and "sweep_note" not in ctx.told:
         # the first fit whose sweep reads no share says why (a band above the structure
         # shows there), though the fits that follow may read one

@@ -52,7 +52,8 @@ def friction_for_model(run: AxisRun, options: IdentifyOptions) -> ModelFriction 
     held = kept.curve.extra.get("static_held_warning")
     share = share_uncertainty_warning(run.name, kept.split, kept.curve, kept.mechanics,
                                       run.cfg)
-    for message in (f"axis {run.name}: {held}" if held else None, share):
+    prior = kept.split.prior_warning(run.name)
+    for message in (prior, f"axis {run.name}: {held}" if held else None, share):
         if message is not None:
             warn_input(message, file=getattr(run.runs, "source", None))
     return ModelFriction(*with_fitted_presliding(kept.friction, kept.mechanics, run.runs,

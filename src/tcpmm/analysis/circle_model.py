@@ -26,9 +26,11 @@ Which terms an arc determines is read from the columns themselves (:func:`determ
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
-from .circle_travel import axis_phase, axis_signs, take_up, travel_since_reversal
+from .circle_travel import Widths, axis_phase, axis_signs, take_up, travel_since_reversal
 
 #: A term is determined where at least this share of its column (unit norm) is independent
 #: of the other columns: noise then enters it at most tenfold [-].
@@ -125,13 +127,7 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
         Travel of each axis after its reversal over which its backlash is taken up
         (:func:`take_up`); 0 for an instant step [m].
     """
-    c, n = np.cos(angle), np.sin(angle)
-    wx, wy = _with_slope(c, n, angle, s, ratio * mu)
-    own = angle if rev is None else rev
-    # where a take-up has a width, the axes reverse and travel at their own angle
-    if any(w > 0 for w in widths):
-        own = axis_phase(own, s, radius, ratio * mu, getattr(widths, "lost", (0.0, 0.0)))
-    sx, sy = axis_signs(own, s, ratio * mu)
+    c, n, wx, wy, own, sx, sy = _geometry(angle, s, radius, ratio, mu, rev, widths)
     fx, fy = (take_up(travel_since_reversal(own, s, radius, ratio * mu, k), w)
               for k, w in enumerate(widths))
     # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen
@@ -147,9 +143,44 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
     return [cols[name]() for name in names]
 
 
+def _geometry(angle, s, radius, ratio, mu, rev, widths):
+    """What the columns of :func:`term_columns` are made of: the angle's cosine and sine,
+    the two axes' directions along the radius (with the servo's slope), the angle the
+    axes travel at, and their velocities' signs [-]."""
+    c, n = np.cos(angle), np.sin(angle)
+    wx, wy = _with_slope(c, n, angle, s, ratio * mu)
+    own = angle if rev is None else rev
+    # where a take-up has a width, the axes reverse and travel at their own angle
+    if any(w > 0 for w in widths):
+        own = axis_phase(own, s, radius, ratio * mu, getattr(widths, "lost", (0.0, 0.0)))
+    sx, sy = axis_signs(own, s, ratio * mu)
+    return c, n, wx, wy, own, sx, sy
+
+
 def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None, widths=(0.0, 0.0)):
     """Radial error per unit of the term ``name`` (:func:`term_columns`) [m/unit]."""
     return term_columns((name,), angle, s, radius, ratio, mu, rev, widths)[0]
+
+
+def backlash_take_up(axis, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
+                     widths=(0.0, 0.0)):
+    """``column(width)``: the column of ``axis``' backlash (0 the first, 1 the second;
+    :func:`term_columns`) with its take-up over ``width`` and the other axis' over its
+    width of ``widths``, the geometry that no width changes worked out once, for a search
+    over widths; the same numbers as :func:`term_column` [m/unit]."""
+    lost = getattr(widths, "lost", (0.0, 0.0))
+    other = widths[1 - axis]
+    _, _, wx, wy, own, sx, sy = _geometry(angle, s, radius, ratio, mu, rev,
+                                         Widths((1.0, 1.0), lost))
+    sign, w = (sx, wx) if axis == 0 else (sy, wy)
+    travel = travel_since_reversal(own, s, radius, ratio * mu, axis)
+
+    def column(width):
+        if width > 0 or other > 0:
+            return -0.5 * sign * take_up(travel, width) * w
+        both = Widths((0.0, 0.0), lost)  # no take-up: the axes reverse at the tool's angle
+        return term_column(f"backlash_{'XY'[axis]}", angle, s, radius, ratio, mu, rev, both)
+    return column
 
 
 def cyclic_columns(pos, w, wavenumber):
@@ -187,14 +218,25 @@ def servo_remainder(angle, s, radius, mu):
     angle = np.asarray(angle, float)
     if mu == 0.0 or not np.isfinite(mu):
         return np.zeros_like(angle)
+    th, r = _servo_ellipse(float(s), float(mu))
+    exact = np.interp(np.mod(angle, 2 * np.pi), th, radius * r, period=2 * np.pi)
+    return exact - mu * term_column("servo_angle", angle, s, radius)
+
+
+@functools.lru_cache(maxsize=256)
+def _servo_ellipse(s: float, mu: float):
+    """The path of a unit circle whose second axis lags by the angle ``mu``, sampled
+    finely: its angle, ascending, and its radius less 1 there; a fit asks for the same
+    ``mu`` many times (read-only arrays) [rad, -]."""
     u = np.linspace(0.0, 2 * np.pi, 8193)
     # X at its place, Y lagging it by the angle mu along the travel
     x, y = np.cos(u), np.sin(u - s * mu)
     th = np.mod(np.arctan2(y, x), 2 * np.pi)
     order = np.argsort(th)
-    exact = np.interp(np.mod(angle, 2 * np.pi), th[order],
-                      radius * (np.hypot(x, y)[order] - 1.0), period=2 * np.pi)
-    return exact - mu * term_column("servo_angle", angle, s, radius)
+    out = th[order], np.hypot(x, y)[order] - 1.0
+    for a in out:
+        a.flags.writeable = False
+    return out
 
 
 def _unit_columns(A):

@@ -35,10 +35,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_model import angle_step, reversal_angle, term_column
+from .circle_model import angle_step, backlash_take_up, reversal_angle
 from .circle_noise import correlation_length
 from .circle_reversal_tail import AS_WELL
-from .circle_travel import Widths, axis_phase, travel_since_reversal
+from .circle_travel import axis_phase, travel_since_reversal
 
 #: The travel after a reversal searched for the take-up, per unit of the backlash [-]
 SPAN = 3.0
@@ -100,29 +100,32 @@ def _noise(pb, rests) -> float:
     return float(np.mean(res**2)) * correlation_length(res) if res.size > 1 else 0.0
 
 
-def _backlash_column(axis: int, width: float, widths, arc, angle, rev, radius, mu):
-    """The radial error per unit of ``axis``' backlash (0 or 1) on ``arc`` at ``angle``,
-    taken up over ``width``, the other axis' over its width of ``widths`` [m/m]."""
-    both = Widths((width if k == axis else widths[k] for k in (0, 1)),
-                  getattr(widths, "lost", (0.0, 0.0)))
-    return term_column(f"backlash_{'XY'[axis]}", angle, arc.s, radius, arc.ratio, mu, rev,
-                       both)
+def _backlash_column(axis: int, widths, arc, angle, rev, radius, mu):
+    """``column(width)``: the radial error per unit of ``axis``' backlash (0 or 1) on
+    ``arc`` at ``angle``, taken up over ``width``, the other axis' over its width of
+    ``widths`` [m/m]."""
+    return backlash_take_up(axis, angle, arc.s, radius, arc.ratio, mu, rev, widths)
 
 
 def _costs(pb, mu, parts, b, axis):
     """``ssr(w)``: per part of ``parts`` (:func:`_near`), the sum of squares with the
-    backlash ``b`` of ``axis`` taken up over ``w`` instead of the fit's width [m^2]."""
+    backlash ``b`` of ``axis`` taken up over ``w`` instead of the fit's width; ``ssr(w, j)``
+    that of part ``j`` alone [m^2]."""
     now = pb.take_up
 
-    def cols(arc, own, ang, width):
-        return _backlash_column(axis, width, now, arc, ang, own, pb.radius, mu)
+    base = []
+    for arc, own, ang, rest in parts:
+        col = _backlash_column(axis, now, arc, ang, own, pb.radius, mu)
+        base.append((rest, col, col(now[axis])))
 
-    base = [(arc, own, ang, rest, cols(arc, own, ang, now[axis]))
-            for arc, own, ang, rest in parts]
+    def one(width, part):
+        rest, col, c0 = part
+        return np.sum((rest - b * (col(width) - c0)) ** 2)
 
-    def ssr(width):
-        return np.array([np.sum((rest - b * (cols(arc, own, ang, width) - c0)) ** 2)
-                         for arc, own, ang, rest, c0 in base])
+    def ssr(width, j=None):
+        """Per part, or of part ``j`` alone [m^2]."""
+        return one(width, base[j]) if j is not None else np.array([one(width, p)
+                                                                   for p in base])
     return ssr
 
 
@@ -147,7 +150,7 @@ def _axis_width(pb, mu, rests, coef, axis, level) -> tuple:
     each = []
     for j, k in enumerate(np.argmin(cost, axis=0)):
         near = np.clip(tried[k] + np.linspace(-step, step, 21), 0.0, span)
-        each.append(near[np.argmin([ssr(w)[j] for w in near])])
+        each.append(near[np.argmin([ssr(w, j) for w in near])])
     best = float(np.median(each))
     total = cost.sum(axis=1)
     alike = tried[total <= total.min() + AS_WELL * level]
@@ -232,8 +235,7 @@ def spike_moves(fit, arc, radius, pos, centre, base, spikes_of, opened=()) -> di
         lo, hi = ((width - u95, width + u95) if np.isfinite(u95) and axis not in opened
                   else (0.0, SPAN * abs(b)))
 
-        def col(w, axis=axis):
-            return _backlash_column(axis, w, fit.take_up, arc, arc.angle, rev, radius, fit.mu)
+        col = _backlash_column(axis, fit.take_up, arc, arc.angle, rev, radius, fit.mu)
         now = col(width)
         for w in (max(lo, 0.0), hi):
             moved = spikes_of(-b * (col(w) - now))

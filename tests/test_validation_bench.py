@@ -13,12 +13,15 @@ docs/validation/reference_machines.md.
 import dataclasses
 import warnings
 
+import numpy as np
 import pytest
 
 from conftest import bench_path
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.compare import compare_circles
 from tcpmm.errors import InputWarning
+from tcpmm.ident.gates.finding import SuspectModelError
+from tcpmm.ident.physical.skew import SKEW_MIN_SAMPLES
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.runfile import read_run_csv
@@ -103,6 +106,42 @@ def test_identification_passes_its_gates_and_every_axis_moves(letter, identified
     _, run = tcp_row(identified, letter, "ccw")
     for name, r in run.axes.items():
         assert r.scale.max() - r.scale.min() > 0.99 * (r.cmd.max() - r.cmd.min()), name
+
+
+@pytest.mark.parametrize("letter", ["c", "d", "e", "h", "r05", "r17"])
+def test_channels_recorded_in_step_read_no_skew(letter, identified):
+    """The independent simulator records every channel in step: no delay of the scale
+    against the motor encoder or of the TCP against the scale is called a skew, and each
+    reads within half a sample of none."""
+    for name, a in identified(letter).axes.items():
+        read = {k.frf: k.samples for k in a.channel_skews}
+        assert set(read) == {"G_T", "G_tcp"}, (name, read)
+        assert not any(k.skewed for k in a.channel_skews), (name, read)
+        assert all(abs(v) < SKEW_MIN_SAMPLES for v in read.values()), (name, read)
+
+
+@pytest.mark.parametrize("column, channel", [("tcp_m", "TCP"), ("scale_m", "scale")])
+def test_a_channel_recorded_a_sample_late_is_refused_naming_it(column, channel):
+    """Machine D's X with one channel of its sweep shifted a sample late, as a recorder
+    whose channels are not sampled together writes it: the fit would take the lag for
+    dynamics (the TCP's moved the F5000 spikes by 3 um, the scale's the F10000 ones by
+    18 um), so identification refuses, names the channel, how late it reads, and the
+    shift that puts it back."""
+    b = read_bundle(bench_path("d") / "bundle")
+    x = b.axes["X"]
+    v = getattr(x.sweep, column)
+    late = dataclasses.replace(x.sweep, **{column: np.r_[v[:1], v[:-1]]})
+    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=late)})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(SuspectModelError) as refused:
+            identify_bundle(b, verdict=False)
+    first = refused.value.findings[0]
+    assert first.parameter == f"delay of the {channel}", str(first)
+    assert len(refused.value.findings) == 1 or "delay" not in refused.value.findings[1].parameter
+    assert 0.7 < first.value < 1.3, str(first)
+    col = "tcp_mm" if channel == "TCP" else "scale_mm"
+    assert f"shift the {col} column 1 sample earlier" in str(refused.value)
 
 
 @pytest.mark.parametrize("letter, case", [

@@ -6,7 +6,7 @@ its own module under :mod:`tcpmm.ident.steps` whose result fills one field of th
 axis's :class:`AxisRun`:
 
 FRFs -> excitation check -> LTI fits -> fit context -> physical fit -> friction ->
-lost motion -> pre-sliding -> model and uncertainty.
+lost motion -> channel skew -> pre-sliding -> model and uncertainty.
 
 The identified axes pass the gates of :mod:`tcpmm.ident.gates`, and the bundle's model
 gets the sensitivities of its TCP spikes to what the friction runs leave open.
@@ -45,6 +45,7 @@ from .steps.ltifits import fit_lti
 from .steps.modelfriction import ModelFriction, friction_for_model
 from .steps.physicalfit import LinearFit, fit_linear
 from .steps.playrefit import keep_fit
+from .steps.skewcheck import check_skew
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,8 @@ class AxisRun:
         The friction of the model, with its pre-sliding [-].
     model : AxisModel, optional
         The identified axis [SI].
+    skews : tuple of ChannelSkew, optional
+        The delays between the sweep's channels the kept fit's FRFs show [s].
     """
 
     name: str
@@ -95,6 +98,7 @@ class AxisRun:
     kept: AxisFit | None = None
     model_friction: ModelFriction | None = None
     model: AxisModel | None = None
+    skews: tuple | None = None
 
     def identification(self) -> AxisIdentification:
         """Everything identified for the axis, once the steps have run [-]."""
@@ -106,7 +110,8 @@ class AxisRun:
             sampled_loop_spectral_radius=model.sampled_loop_spectral_radius,
             presliding_m=None if mf is None else mf.presliding_m,
             presliding_fit=None if mf is None else mf.presliding_fit,
-            loop_timing=model.loop_timing, band_cover=self.frfs.cover)
+            loop_timing=model.loop_timing, band_cover=self.frfs.cover,
+            channel_skews=self.skews or ())
 
 
 #: The steps of one axis in the order they run: the field of :class:`AxisRun` each
@@ -119,6 +124,7 @@ AXIS_STEPS = (
     ("linear", fit_linear),
     ("friction", read_friction),
     ("kept", keep_fit),
+    ("skews", check_skew),
     ("model_friction", friction_for_model),
     ("model", build_axis),
 )

@@ -73,6 +73,9 @@ class AxisIdentification:
     band_cover : BandCover, optional
         What a band the user set leaves out of the frequencies the sweep excites; ``None``
         without such a band (:class:`~tcpmm.ident.frf.excited.BandCover`) [-].
+    channel_skews : tuple of ChannelSkew
+        The delays between the sweep's channels its FRFs show
+        (:mod:`tcpmm.ident.physical.skew`) [s].
     """
 
     name: str
@@ -93,6 +96,7 @@ class AxisIdentification:
     lost_motion_sensitivity: LostMotionSensitivity | None = None
     presliding_sensitivity: PreslidingSensitivity | None = None
     band_cover: object = None
+    channel_skews: tuple = ()
 
     def _as_measured(self, mechanics, name: str, f_hz) -> np.ndarray:
         return model_frfs(mechanics, {name: f_hz}, self.axis.servo.current_bandwidth_hz,
@@ -102,8 +106,8 @@ class AxisIdentification:
     def notes(self) -> dict:
         """What identification found on the way besides the parameters, for the JSON
         report: the play the sweep crossed, friction holding the sweep, the sampled loop's
-        spectral radius, pre-sliding and its fit, loop timing and the spikes'
-        sensitivities [SI]."""
+        spectral radius, pre-sliding and its fit, loop timing, the spikes'
+        sensitivities and the delays between the sweep's channels [SI]."""
         found = {"sweep_play": self.physical.sweep_play,
                  "friction_holds_sweep": self.friction_hold,
                  "sampled_loop_spectral_radius": self.sampled_loop_spectral_radius,
@@ -111,7 +115,8 @@ class AxisIdentification:
                  "loop_timing": self.loop_timing,
                  "share_sensitivity": self.share_sensitivity,
                  "lost_motion_sensitivity": self.lost_motion_sensitivity,
-                 "presliding_sensitivity": self.presliding_sensitivity}
+                 "presliding_sensitivity": self.presliding_sensitivity,
+                 "channel_skews": [k.to_dict() for k in self.channel_skews] or None}
         return {k: v.to_dict() if hasattr(v, "to_dict") else v
                 for k, v in found.items() if v is not None}
 

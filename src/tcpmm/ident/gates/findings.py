@@ -11,7 +11,8 @@ returns a list of :class:`Finding`; an empty list means the check passed. The ch
 * :func:`check_static_over_coulomb` -- a static level far above Coulomb that the friction
   runs never saw (Stribeck speed below their slowest plateau);
 * :func:`check_fit_percent` -- a physical model worse than the mean of its FRF;
-* :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it.
+* :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it;
+* :func:`skew_findings` -- a channel of the sweep recorded out of step with the others.
 
 :func:`~tcpmm.ident.gates.timebase.time_base_findings` and :func:`axis_findings` run them on
 a bundle's records and on an :class:`~tcpmm.ident.identification.AxisIdentification`, the
@@ -30,13 +31,14 @@ from ..friction.steadycurve import slowest_plateau, stribeck_from_record
 from ..friction.sweepforce import travel_speed
 from ..lti.goodness import fit_percent
 from ..options import MIN_COHERENCE
+from ..physical.skew import SKEW_MIN_SAMPLES, SKEW_Z, skewed_channels
 from .finding import Finding
 from .masses import mass_findings
 
 __all__ = ["FIT_TRIM", "STATIC_OVER_COULOMB", "axis_findings",
            "check_fit_percent", "check_sampled_loop", "check_static_friction_vs_drive",
-           "check_static_over_coulomb", "drive_force_limit", "slowest_plateau_speed",
-           "trimmed_fit_percent"]
+           "check_static_over_coulomb", "drive_force_limit", "skew_findings",
+           "slowest_plateau_speed", "trimmed_fit_percent"]
 
 #: Static friction above this many times the Coulomb level counts as far above it. Static
 #: over Coulomb friction of feed axes is 1.1 to 1.5 for preloaded rolling guides and ball
@@ -311,7 +313,7 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
     remedy = STANDING_SWEEP if travel_speed(records.sweep) == 0.0 else None
     if remedy is None and ident.band_cover is not None:
         remedy = ident.band_cover.reach_words(axis.mechanics, axis.servo)
-    out = []
+    out = skew_findings(name, ident.channel_skews, sweep)
     for tf, frf in ident.frfs.items():
         good = frf.coherence >= MIN_COHERENCE
         out += check_fit_percent(name, tf, frf.H[good],
@@ -326,3 +328,26 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
         slowest = slowest_plateau_speed(records.friction, cfg, name)
         out += check_static_over_coulomb(name, axis, slowest, runs)
     return out
+
+
+def skew_findings(name: str, skews, sweep: str) -> list[Finding]:
+    """A channel of the sweep recorded out of step with the others
+    (:func:`~tcpmm.ident.physical.skew.skewed_channels`): the fit takes the lag for
+    dynamics, and what it then says of the others is suspect too, so it comes first [-].
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    skews : tuple of ChannelSkew
+        The delays read [s].
+    sweep : str
+        The sweep's file [-].
+    """
+    return [Finding(name, f"delay of the {k.channel}", k.samples, "samples",
+                    f"{k.words()}, beyond {SKEW_MIN_SAMPLES:g} samples and {SKEW_Z:g} "
+                    f"standard uncertainties: the channels were not recorded in step",
+                    f"{sweep}, its FRFs refitted with delays", f"{k.remedy()} (or record "
+                    f"the channels in step) and identify again: the fit takes the lag for "
+                    f"dynamics, and the model's reversal spikes follow it")
+            for k in skewed_channels(skews)]

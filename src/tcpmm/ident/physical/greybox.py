@@ -34,8 +34,8 @@ from .jacobian import residual_jacobian
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
 
 # nut_path is imported from here as well as from its module
-__all__ = ["FITTED", "TIGHT", "PhysicalFit", "SweepPlay", "fit_physical", "log_covariance",
-           "nut_path"]
+__all__ = ["FITTED", "TIGHT", "FitObjective", "PhysicalFit", "SweepPlay", "fit_physical",
+           "fitted_names", "log_covariance", "nut_path"]
 
 FITTED = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", "K_b",
           "M_h", "C_h", "K_h")
@@ -182,11 +182,11 @@ def fit_physical(data: dict, lead: float, K_tc: float, initial: dict | None = No
         keeps [-].
     """
     limit_blas_threads()
-    names, tied, reported = _fitted_names(data, structure, fit_current_loop)
+    names, tied, reported = fitted_names(data, structure, fit_current_loop)
     f_top = max(float(d.freq_hz.max()) for d in data.values())
     binned = {k: log_binned(v) for k, v in data.items()}
     fixed = dict(lead=lead, K_tc=K_tc, M_h=1.0, C_h=1.0, K_h=1e9)
-    objective = _Objective(binned, names, tied, fixed, fit_current_loop, current_bandwidth_hz,
+    objective = FitObjective(binned, names, tied, fixed, fit_current_loop, current_bandwidth_hz,
                            hold_period_s, nut_gain)
     if initial is not None:
         starts = [initial]
@@ -205,7 +205,7 @@ def undetermined_words(undetermined) -> str:
             "deviation above 50 %); their values are a guess")
 
 
-def _fitted_names(data: dict, structure: dict | None, fit_current_loop: bool) -> tuple:
+def fitted_names(data: dict, structure: dict | None, fit_current_loop: bool) -> tuple:
     """The parameters fitted (``f_i`` last when the current loop is), those held in
     proportion to ``M_t`` ``{name: value / M_t}``, and those reported; raises without
     G_M or G_T [-]."""
@@ -222,7 +222,7 @@ def _fitted_names(data: dict, structure: dict | None, fit_current_loop: bool) ->
     return names, tied, reported
 
 
-class _Objective:
+class FitObjective:
     """The weighted log residual of the binned FRFs against the model and its analytic
     Jacobian, as functions of the log-parameters ``theta`` (in the order of ``names``).
 
@@ -270,7 +270,7 @@ class _Objective:
                                  pairs=self.last.get("model"))
 
 
-def _physical_fit(r, objective: _Objective, full: dict, reported: list,
+def _physical_fit(r, objective: FitObjective, full: dict, reported: list,
                   f_top: float, tied_log_std: dict) -> PhysicalFit:
     """The fit at the ``least_squares`` result ``r``: mechanics, uncertainty (with what
     the data do not determine, the held parameters' deviations ``tied_log_std`` counted)

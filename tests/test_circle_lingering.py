@@ -11,7 +11,7 @@ import pytest
 import test_circle_diagnostics as gen
 from conftest import bench_path, run_cli
 from tcpmm.analysis.circle_fit import TermFit
-from tcpmm.analysis.circle_reversal_tail import tail_terms
+from tcpmm.analysis.circle_tail_terms import tail_terms
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
 from tcpmm.io.runfile import read_run

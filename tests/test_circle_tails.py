@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import bench_path, run_cli
-from tcpmm.analysis.circle_reversal_tail import LINGER
+from tcpmm.analysis.circle_tail_terms import LINGER
 from tcpmm.analysis.circle_tails import moving_line, moving_terms, radial_size
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import test_circle_diagnostics as gen
-from tcpmm.analysis.circle_reversal_tail import NONE_WHY
+from tcpmm.analysis.circle_tail_terms import NONE_WHY
 from tcpmm.analysis.circle_tails import moving_terms
 from tcpmm.analysis.diagnostics import diagnose_pair
 

@@ -62,7 +62,7 @@ def tail_names(n_arcs: int) -> list:
     return [f"tail_{k}_{i}" for i in range(n_arcs) for k in TAIL_KEYS]
 
 
-def tail_columns(angle, s, ratio, mu, rev, after_deg, tail) -> list:
+def tail_columns(angle, s, ratio, mu, rev, after_deg, tail, reversals=None) -> list:
     """The four tail columns of one arc (module docstring) over ``angle`` [m/m].
 
     Parameters
@@ -92,7 +92,9 @@ def tail_columns(angle, s, ratio, mu, rev, after_deg, tail) -> list:
         return np.where(past >= 0.0, np.exp(-np.radians(np.maximum(past, 0.0))
                                             / (ratio * decay)), 0.0)
 
-    return course_columns(course, shape, axis_reversals(angle, s, ratio, mu, rev, *turn))
+    if reversals is None:
+        reversals = axis_reversals(angle, s, ratio, mu, rev, *turn)
+    return course_columns(course, shape, reversals)
 
 
 def axis_reversals(angle, s, ratio, mu, rev, turn_deg=0.0) -> tuple:
@@ -124,28 +126,61 @@ def course_columns(course, shape: str, reversals) -> list:
     return out
 
 
-def tail_block(arc, i, n_arcs, mu, tail, angle, rev):
+def tail_block(arc, i, n_arcs, mu, tail, angle, rev, reversals=None):
     """The tail columns of arc ``i`` (an ``Arc``) of ``n_arcs`` over ``angle``, zero in the
-    other arcs' (:func:`tail_columns`) [m/m]."""
+    other arcs' (:func:`tail_columns`; ``reversals`` its :func:`axis_reversals`, where
+    worked out already) [m/m]."""
     out = np.zeros((angle.size, 4 * n_arcs))
     out[:, 4 * i:4 * i + 4] = np.column_stack(tail_columns(
-        angle, arc.s, arc.ratio, mu, rev, arc.after_deg, tail))
+        angle, arc.s, arc.ratio, mu, rev, arc.after_deg, tail, reversals))
     return out
 
 
-def tail_matrix(pb, mu, tail):
+def tail_matrix(pb, mu, tail, reversals=None):
     """The tail columns ``tail`` over the fitted samples of every arc of ``pb`` (a
-    ``FitProblem``), each reversing about its centre (:func:`tail_block`) [m/m]."""
+    ``FitProblem``), each reversing about its centre (:func:`tail_block`); ``reversals``
+    per arc, where worked out already (:func:`arc_reversals`) [m/m]."""
     n = len(pb.arcs)
-    return np.vstack([tail_block(a, i, n, mu, tail, a.angle[m], reversal_angle(p, c))
-                      for i, (a, m, p, c) in enumerate(zip(pb.arcs, pb.masks, pb.pos,
-                                                           pb.centres, strict=True))])
+    if reversals is None:
+        reversals = arc_reversals(pb, mu, tail[2:])
+    return np.vstack([tail_block(a, i, n, mu, tail, a.angle[m], None, r)
+                      for i, (a, m, r) in enumerate(zip(pb.arcs, pb.masks, reversals,
+                                                        strict=True))])
+
+
+def arc_reversals(pb, mu, turn=()) -> list:
+    """Per arc of ``pb``, :func:`axis_reversals` over its fitted samples, each reversing
+    about its centre, turned by ``turn`` (none, or one angle [deg]): what every tail of a
+    search shares [deg, -, -]."""
+    return [axis_reversals(a.angle[m], a.s, a.ratio, mu, reversal_angle(p, c), *turn)
+            for a, m, p, c in zip(pb.arcs, pb.masks, pb.pos, pb.centres, strict=True)]
 
 
 def noise_level(res) -> float:
     """The variance of what a fit leaves times its correlation length: what one column
     fitted to it takes of its sum of squares, on average, were it noise [m^2]."""
     return float(np.mean(res**2)) * correlation_length(res)
+
+
+def _tail_costs(pb, mu, res, basis, tried: dict):
+    """``ssr(log_decay, shape, *turn)``: the sum of squares the fit leaves with the tails
+    of that time constant [rad], shape and turn [deg] added, each kept in ``tried`` by its
+    tail [m^2]."""
+    base = float(res @ res)
+    reversals = {}  # per turn: every tail of the search shares them
+
+    def ssr(log_decay, shape, *turn):
+        # the fit with the tails added leaves what of the residual their columns, less
+        # their part in the fit's own, do not take: no refit
+        tail = (float(np.exp(log_decay)), shape, *turn)
+        if turn not in reversals:
+            reversals[turn] = arc_reversals(pb, mu, turn)
+        t = tail_matrix(pb, mu, tail, reversals[turn])
+        q, r = np.linalg.qr(t - basis @ (basis.T @ t))
+        q = q[:, np.abs(np.diag(r)) > 1e-9 * max(np.abs(r).max(), 1e-300)]
+        tried[tail] = cost = base - float(np.sum((q.T @ res) ** 2))
+        return cost
+    return ssr
 
 
 def search_tail(pb, mu, waves):
@@ -162,17 +197,7 @@ def search_tail(pb, mu, waves):
     _, res, basis = pb.solve(mu, waves)
     base = float(res @ res)
     tried = {}
-
-    def ssr(log_decay, shape, *turn):
-        # the fit with the tails added leaves what of the residual their columns, less
-        # their part in the fit's own, do not take: no refit
-        tail = (float(np.exp(log_decay)), shape, *turn)
-        t = tail_matrix(pb, mu, tail)
-        q, r = np.linalg.qr(t - basis @ (basis.T @ t))
-        q = q[:, np.abs(np.diag(r)) > 1e-9 * max(np.abs(r).max(), 1e-300)]
-        tried[tail] = cost = base - float(np.sum((q.T @ res) ** 2))
-        return cost
-
+    ssr = _tail_costs(pb, mu, res, basis, tried)
     grid = np.log(np.radians(DECAY_DEG))
     for shape in SHAPES:  # each shape's best on the grid refined
         j = int(np.argmin([ssr(g, shape) for g in grid]))
@@ -299,96 +324,3 @@ def spread(pb, mu, waves, coef, res, tried) -> np.ndarray:
         moves = np.where(np.abs(d) > np.abs(moves), d, moves)
     pb.tail = None
     return np.nan_to_num(moves)
-
-
-#: Why the reversal tails read none (``{rms}``: what the terms leave unexplained)
-NONE_WHY = ("no part of the reversals' transients past the window left out of the fit "
-            "stood out of what the terms leave unexplained ({rms}) more than the same tails "
-            "away from the reversals do: the transients end within the window, or one of "
-            "about that size is not resolved")
-
-
-#: The start of why the tails read none where a transient lasts past the window
-LINGER = "a transient lasts past the window left out after each reversal"
-#: Why they do (``{rms}``: what the terms leave unexplained)
-LINGER_WHY = (LINGER + " ({rms} left unexplained): its tails past the window stand out of "
-              "the noise from sample to sample, and one as long as the half turn to the "
-              "axis' next reversal, a step like a backlash, fits the samples as well as any, "
-              "so the samples bound neither their level nor their decay. The terms of a "
-              "step at the reversals (the backlash above all) and the spikes after the terms "
-              "take what the fit does not: their uncertainty by the reversals' tails and the "
-              "spikes' ±95% hold how far they move over every tail up to that long, and one "
-              "that moves by more than its value is not determined by these circles. "
-              "Circles at a lower feed or a larger radius, over which the window lasts "
-              "longer than the transient, settle them")
-#: Why the tails read none where their time constant's ± exceeds it (the time constant,
-#: and the ends of its interval)
-OPEN_WHY = (LINGER + ", and its time constant is not determined: the time constants that "
-            "fit the samples as well run from {1} to {2}, more than the best ({0}) above "
-            "it, and the tails' levels at the window's end are read at it; the terms are "
-            "uncertain by the tails that fit as well (their uncertainty by the reversals' "
-            "tails)")
-
-
-def largest_tail(fit, axis: str):
-    """The column of ``fit`` of the largest of ``axis``' tails, the one reported; None
-    where none is fitted [-]."""
-    tails = [j for j, n in enumerate(fit.names) if n.startswith(f"tail_{axis}")
-             and np.isfinite(fit.coef[j])]
-    return max(tails, key=lambda j: abs(fit.coef[j])) if tails else None
-
-
-#: What the reversals' tails of a fit are, by :func:`tail_state`
-TAIL_STATES = {"fitted": "a tail is fitted past the window",
-               "open": "a tail is fitted whose time constant the samples do not determine",
-               "lingers": "a transient lasts past the window: no tail, the terms and spikes "
-                          "uncertain by every tail it may be",
-               "none": "no tail stood out of what the terms leave"}
-
-
-def tail_state(fit) -> str:
-    """Which of :data:`TAIL_STATES` the reversals' tails of ``fit`` (a ``TermFit`` of a
-    pair of full turns) are, as :func:`tail_terms` reports them [-]."""
-    if fit.tail_family:
-        return "lingers"
-    if fit.tail is None:
-        return "none"
-    lo, hi = fit.tail_interval or (fit.tail[0], fit.tail[0])
-    return "open" if max(fit.tail[0] - lo, hi - fit.tail[0]) > fit.tail[0] else "fitted"
-
-
-def tail_terms(fit, mean_rate) -> tuple:
-    """The reported tails of a pair of full turns and why any reads NaN: per axis the
-    largest of its reversals' tails at the window's end (signed, + the radius out) [m],
-    and their time constant [s]; all NaN where none is fitted [SI, -].
-
-    Parameters
-    ----------
-    fit : TermFit
-        The fit [SI].
-    mean_rate : float
-        The circles' angular speed; NaN where it is not known [rad/s].
-    """
-    out = {}
-    for axis in "XY":
-        j = largest_tail(fit, axis)
-        out[f"reversal_tail_{axis}"] = (float("nan") if j is None else float(fit.coef[j]), "m")
-    decay = fit.tail[0] / mean_rate if fit.tail is not None else float("nan")
-    out["reversal_tail_decay"] = (float(decay), "s")
-    rms = f"{fit.residual_rms * 1e6:.2f} µm rms"
-    state = tail_state(fit)
-    if state == "lingers":
-        return out, dict.fromkeys(out, LINGER_WHY.format(rms=rms))
-    if state == "none":
-        return out, dict.fromkeys(out, NONE_WHY.format(rms=rms))
-    lo, hi = fit.tail_interval or (fit.tail[0], fit.tail[0])
-    if state == "open":  # its ± exceeds it
-        # the tails' levels at the window's end are read at that time constant
-        nan = dict.fromkeys(out, float("nan"))
-        return {k: (nan[k], u) for k, (_, u) in out.items()}, dict.fromkeys(out, OPEN_WHY.format(
-            *(f"{v / mean_rate * 1e3:.1f} ms" if np.isfinite(mean_rate)
-              else f"{np.degrees(v):.1f} deg of travel" for v in (fit.tail[0], lo, hi))))
-    why = {} if np.isfinite(decay) else {"reversal_tail_decay": (
-        "the circles' angular speed is not known, so the tails' time constant is not "
-        f"either: {np.degrees(fit.tail[0]):.1f} deg of travel")}
-    return out, why

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .circle_display import COVERAGE, display_unit, rename_axes
-from .circle_reversal_tail import largest_tail
+from .circle_tail_terms import largest_tail
 from .circle_tails import (
     MOVES_M,
     MOVES_SHARE,

@@ -42,9 +42,9 @@ from .circle_fit import design
 from .circle_model import reversal_lead_deg
 from .circle_noise import correlation_length
 from .circle_open import open_terms
-from .circle_reversal_tail import LINGER
 from .circle_sigma import COVERAGE
 from .circle_spikes import reversal_spikes, spike_windows
+from .circle_tail_terms import LINGER
 from .circle_takeup import spike_moves
 
 #: The probability the bound is exceeded: the two tails of a 95 % coverage [-]

@@ -26,7 +26,7 @@ from ..errors import InputError
 from .circle_display import display_digits, display_unit, rename_axes
 from .circle_fit import fit_terms
 from .circle_open import open_terms
-from .circle_reversal_tail import LINGER
+from .circle_tail_terms import LINGER
 
 #: The angle after each reversal left out when the terms are fitted again [deg].
 WIDER_DEG = 40.0

@@ -69,10 +69,10 @@ from .circle_fit import Arc
 from .circle_model import is_full
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
-from .circle_reversal_tail import tail_state, tail_terms
 from .circle_sigma import term_sigma
 from .circle_spike_sigma import open_spikes, pair_spikes, widen_for_opened
 from .circle_stable import ARC_WHY, arc_fit, leave_open
+from .circle_tail_terms import tail_state, tail_terms
 from .circle_tails import open_by_tails, sign_open, tail_shift
 from .circle_takeup import width_follows_backlash, width_terms, width_why
 from .circle_unfitted import cyclic_slopes
@@ -123,7 +123,7 @@ class CircleDiagnostics:
         :func:`.circle_spike_sigma.spike_uncertainty`) [m].
     tails : str
         What the reversals' tails are, one of
-        :data:`.circle_reversal_tail.TAIL_STATES`; empty where the fit has none to try
+        :data:`.circle_tail_terms.TAIL_STATES`; empty where the fit has none to try
         (arcs, one direction) [-].
     """
 

@@ -5,6 +5,7 @@ sweep excites 2-1000 Hz, so a band of 2-40 Hz misses the axial modes, one of 100
 the structure's, and the sweep cut to start at 150 Hz both the structure and the static
 gains."""
 
+import dataclasses
 import math
 import shutil
 import warnings
@@ -105,6 +106,27 @@ def test_a_sweep_stopping_below_the_crossover_is_named_before_the_servo(first_th
                if f.parameter.startswith("fit of the physical model"))
     (warned,) = [w for w in said if "position loop is unstable" in w]
     assert warned.index("reaches only") < warned.index("check the servo settings")
+
+
+def test_a_sweep_stopping_below_the_axial_mode_is_named_before_the_servo():
+    """Bench D's X with its sweep cut to its first three quarters: the log sweep reaches
+    179 Hz, past the velocity loop's crossover but not the axial mode at 867 Hz, which the
+    fit then puts at some 4 kHz, and the sampled loop is unstable. The sweep's reach and
+    the mode beyond it are named before the servo settings."""
+    b = read_bundle(bench_path("d") / "bundle")
+    x = b.axes["X"]
+    n = 3 * x.sweep.time_s.size // 4
+    cut = dataclasses.replace(x.sweep, **{f: getattr(x.sweep, f)[:n] for f in (
+        "time_s", "excitation_A", "current_cmd_A", "motor_angle_rad", "scale_m", "tcp_m")})
+    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=cut)})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(SuspectModelError) as refused:
+            identify_bundle(b, verdict=False)
+    (loop,) = [f for f in refused.value.findings if "spectral radius" in f.parameter]
+    assert "excitation reaches only 178.8 Hz, and the fitted mechanics put a mode at" in (
+        loop.remedy)
+    assert loop.remedy.index("far above it") < loop.remedy.index("check the servo settings")
 
 
 def test_an_accepted_unstable_model_is_returned_without_blaming_the_columns(

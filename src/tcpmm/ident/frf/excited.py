@@ -20,8 +20,8 @@ from scipy import signal
 from ...mechanics.statespace import plant
 from ._spectral import remove_trend, segmenting
 
-__all__ = ["EXCITED_SHARE", "BandCover", "band_cover", "excited_bins", "lowest_band_hz",
-           "mode_frequencies_hz"]
+__all__ = ["BEYOND_REACH", "EXCITED_SHARE", "BandCover", "band_cover", "excited_bins",
+           "lowest_band_hz", "mode_frequencies_hz"]
 
 #: Share of its peak power above which a frequency counts as excited by the sweep (30 dB;
 #: a log sweep of 2-1000 Hz spans 27 dB) [-].
@@ -99,6 +99,13 @@ def mode_frequencies_hz(mechanics) -> np.ndarray:
     return np.unique(np.abs(osc[osc.imag > 0])) / (2.0 * np.pi)
 
 
+#: How far above the top of the sweep's excitation a fitted mode lies for the FRFs to show
+#: nothing of it: the response a mode puts below itself reaches the sweep's top where it
+#: lies within about twice it (bench D's axial mode at 867 Hz, 1.1 times the 774 Hz its
+#: sweep reaches, was fitted at 871 Hz) [-].
+BEYOND_REACH = 2.0
+
+
 @dataclass(frozen=True)
 class BandCover:
     """The band of a sweep's FRFs and the span its excitation reaches.
@@ -168,8 +175,8 @@ class BandCover:
         fitted mechanics: its excitation stops below the velocity loop's crossover on the
         axis' inertia, so the FRFs show nothing of the band where the loop's stability is
         decided (a sweep cut short, or of too narrow a span), and the fit places the modes
-        there where nothing constrains them; ``None`` where the excitation reaches the
-        crossover.
+        there where nothing constrains them; or the fitted mechanics put a mode far above
+        its reach (:meth:`_beyond_reach_words`); ``None`` where neither.
 
         Parameters
         ----------
@@ -181,12 +188,31 @@ class BandCover:
         top = self.excited_hz[1]
         crossover_hz = servo.K_vp * mechanics.K_tc / (2.0 * math.pi * mechanics.J_total)
         if not top < crossover_hz:
-            return None
+            return self._beyond_reach_words(mechanics)
         return (f"the sweep's excitation reaches only {top:.4g} Hz, below the velocity "
                 f"loop's crossover (about {crossover_hz:.4g} Hz on the axis' inertia), so "
                 "the FRFs show nothing of the band where the loop's stability is decided "
                 "and the fit places the modes there where nothing constrains them: that is "
                 "the likely cause; record a sweep that runs well past the crossover")
+
+    def _beyond_reach_words(self, mechanics) -> str | None:
+        """Where the fitted mechanics put a mode more than :data:`BEYOND_REACH` times above
+        the top of the sweep's excitation: the FRFs show nothing of it, and the fit placed
+        it where nothing constrains it (a sweep cut short of bench D's axial mode at
+        867 Hz, reaching 179 Hz, had it at 3965 Hz, and the loop unstable); ``None``
+        where none is [-]."""
+        top = self.excited_hz[1]
+        modes = mode_frequencies_hz(mechanics)
+        far = modes[modes > BEYOND_REACH * top]
+        if not far.size:
+            return None
+        at = ", ".join(f"{f:.4g}" for f in far[:3]) + (", ..." if far.size > 3 else "")
+        one = far.size == 1
+        return (f"the sweep's excitation reaches only {top:.4g} Hz, and the fitted "
+                f"mechanics put {'a mode' if one else 'modes'} at {at} Hz, far above it, "
+                f"where the FRFs show nothing of {'it' if one else 'them'} and the fit "
+                "places the modes where nothing constrains them: that is the likely cause; "
+                "record a sweep that runs past the axis' modes")
 
 
 def band_cover(frf, excitation, asked: tuple[bool, bool] = (True, True),

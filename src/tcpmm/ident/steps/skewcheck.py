@@ -23,7 +23,8 @@ def check_skew(run: AxisRun, options: IdentifyOptions) -> tuple:
     options : IdentifyOptions
         Not used: the check has no options [-].
     """
-    ctx = run.context
+    ctx, split = run.context, run.kept.split
     return fit_channel_skews(run.linear.data, run.kept.physical, ctx.cfg.lead_m,
                              ctx.cfg.torque_constant, ctx.hold_period_s,
-                             ctx.fit_current_loop, float(run.sweep.fs_hz))
+                             ctx.fit_current_loop, float(run.sweep.fs_hz),
+                             0.0 if split is None else float(split.backlash))

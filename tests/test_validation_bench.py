@@ -144,6 +144,24 @@ def test_a_channel_recorded_a_sample_late_is_refused_naming_it(column, channel):
     assert f"shift the {col} column 1 sample earlier" in str(refused.value)
 
 
+def test_a_tcp_device_reading_nine_tenths_of_the_motion_is_refused():
+    """Machine R17's X with its TCP column scaled by 0.9 (a probe's scaling, or its
+    alignment 26 deg off the axis): the fit took the gain for the structure, and the
+    predicted F10000 contour error came out 38 um off. Identification refuses, with the
+    gain read against the model below the first mode and the scaling that puts it back."""
+    b = read_bundle(bench_path("r17") / "bundle")
+    x = b.axes["X"]
+    scaled = dataclasses.replace(x.sweep, tcp_m=0.9 * x.sweep.tcp_m)
+    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=scaled)})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(SuspectModelError) as refused:
+            identify_bundle(b, verdict=False)
+    (gain,) = [f for f in refused.value.findings if "TCP device" in f.parameter]
+    assert gain.value == pytest.approx(0.9, abs=0.002), str(gain)
+    assert "scale tcp_mm by 1.11" in gain.remedy
+
+
 @pytest.mark.parametrize("letter, case", [
     pytest.param(x, c, marks=known(x, "spikes", c)) for x in "cde" for c in CASES])
 def test_tcp_reversal_spikes_within_1um(letter, case, identified):

@@ -86,6 +86,36 @@ def bench_path(letter: str) -> Path:
     return d
 
 
+#: The sample columns of a sweep record
+SWEEP_SAMPLES = ("time_s", "excitation_A", "current_cmd_A", "motor_angle_rad", "scale_m",
+                 "tcp_m")
+
+
+def bench_x_alone(letter: str, change):
+    """Reference machine ``letter``'s bundle with its X axis alone, whose sweep record is
+    ``change(sweep)`` (a record as a recorder gone wrong would write it)."""
+    import dataclasses
+
+    from tcpmm.io.bundle import read_bundle
+
+    b = read_bundle(bench_path(letter) / "bundle")
+    x = b.axes["X"]
+    return dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=change(x.sweep))})
+
+
+def refusal(bundle):
+    """The ``SuspectModelError`` that identifying ``bundle`` (no verdict) raises; fails
+    where it raises none."""
+    from tcpmm.ident.gates.finding import SuspectModelError
+    from tcpmm.ident.pipeline import identify_bundle
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(SuspectModelError) as refused:
+            identify_bundle(bundle, verdict=False)
+    return refused.value
+
+
 
 def run_cli(capsys, *args):
     """``(exit code, stdout, stderr)`` of the command line run in-process on ``args``."""

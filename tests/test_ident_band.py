@@ -13,7 +13,7 @@ import warnings
 import pandas as pd
 import pytest
 
-from conftest import bench_path
+from conftest import SWEEP_SAMPLES, bench_path, bench_x_alone, refusal
 from studies.cut_sweep import cut_bundle
 from tcpmm.errors import InputError
 from tcpmm.ident import gates
@@ -113,17 +113,9 @@ def test_a_sweep_stopping_below_the_axial_mode_is_named_before_the_servo():
     179 Hz, past the velocity loop's crossover but not the axial mode at 867 Hz, which the
     fit then puts at some 4 kHz, and the sampled loop is unstable. The sweep's reach and
     the mode beyond it are named before the servo settings."""
-    b = read_bundle(bench_path("d") / "bundle")
-    x = b.axes["X"]
-    n = 3 * x.sweep.time_s.size // 4
-    cut = dataclasses.replace(x.sweep, **{f: getattr(x.sweep, f)[:n] for f in (
-        "time_s", "excitation_A", "current_cmd_A", "motor_angle_rad", "scale_m", "tcp_m")})
-    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=cut)})
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        with pytest.raises(SuspectModelError) as refused:
-            identify_bundle(b, verdict=False)
-    (loop,) = [f for f in refused.value.findings if "spectral radius" in f.parameter]
+    refused = refusal(bench_x_alone("d", lambda sw: dataclasses.replace(sw, **{
+        f: getattr(sw, f)[:3 * sw.time_s.size // 4] for f in SWEEP_SAMPLES})))
+    (loop,) = [f for f in refused.findings if "spectral radius" in f.parameter]
     assert "excitation reaches only 178.8 Hz, and the fitted mechanics put a mode at" in (
         loop.remedy)
     assert loop.remedy.index("far above it") < loop.remedy.index("check the servo settings")

@@ -16,11 +16,10 @@ import warnings
 import numpy as np
 import pytest
 
-from conftest import bench_path
+from conftest import SWEEP_SAMPLES, bench_path, bench_x_alone, refusal
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.compare import compare_circles
 from tcpmm.errors import InputWarning
-from tcpmm.ident.gates.finding import SuspectModelError
 from tcpmm.ident.physical.skew import SKEW_MIN_SAMPLES
 from tcpmm.ident.pipeline import identify_bundle
 from tcpmm.io.bundle import read_bundle
@@ -127,21 +126,14 @@ def test_a_channel_recorded_a_sample_late_is_refused_naming_it(column, channel):
     dynamics (the TCP's moved the F5000 spikes by 3 um, the scale's the F10000 ones by
     18 um), so identification refuses, names the channel, how late it reads, and the
     shift that puts it back."""
-    b = read_bundle(bench_path("d") / "bundle")
-    x = b.axes["X"]
-    v = getattr(x.sweep, column)
-    late = dataclasses.replace(x.sweep, **{column: np.r_[v[:1], v[:-1]]})
-    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=late)})
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        with pytest.raises(SuspectModelError) as refused:
-            identify_bundle(b, verdict=False)
-    first = refused.value.findings[0]
+    refused = refusal(bench_x_alone("d", lambda sw: dataclasses.replace(sw, **{
+        column: np.r_[getattr(sw, column)[:1], getattr(sw, column)[:-1]]})))
+    first = refused.findings[0]
     assert first.parameter == f"delay of the {channel}", str(first)
-    assert len(refused.value.findings) == 1 or "delay" not in refused.value.findings[1].parameter
+    assert len(refused.findings) == 1 or "delay" not in refused.findings[1].parameter
     assert 0.7 < first.value < 1.3, str(first)
     col = "tcp_mm" if channel == "TCP" else "scale_mm"
-    assert f"shift the {col} column 1 sample earlier" in str(refused.value)
+    assert f"shift the {col} column 1 sample earlier" in str(refused)
 
 
 def test_a_tcp_device_reading_nine_tenths_of_the_motion_is_refused():
@@ -149,15 +141,9 @@ def test_a_tcp_device_reading_nine_tenths_of_the_motion_is_refused():
     alignment 26 deg off the axis): the fit took the gain for the structure, and the
     predicted F10000 contour error came out 38 um off. Identification refuses, with the
     gain read against the model below the first mode and the scaling that puts it back."""
-    b = read_bundle(bench_path("r17") / "bundle")
-    x = b.axes["X"]
-    scaled = dataclasses.replace(x.sweep, tcp_m=0.9 * x.sweep.tcp_m)
-    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=scaled)})
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        with pytest.raises(SuspectModelError) as refused:
-            identify_bundle(b, verdict=False)
-    (gain,) = [f for f in refused.value.findings if "TCP device" in f.parameter]
+    refused = refusal(bench_x_alone(
+        "r17", lambda sw: dataclasses.replace(sw, tcp_m=0.9 * sw.tcp_m)))
+    (gain,) = [f for f in refused.findings if "TCP device" in f.parameter]
     assert gain.value == pytest.approx(0.9, abs=0.002), str(gain)
     assert "scale tcp_mm by 1.11" in gain.remedy
 
@@ -237,12 +223,8 @@ def test_a_split_the_runs_leave_open_is_told_once_without_its_estimate():
     the refits of the mechanics each read the friction runs with another one. The split
     falls back to the prior share; that is told once, for the fit kept, and the plateaus'
     share, whose standard deviation runs into the thousands, is not given as a number."""
-    b = read_bundle(bench_path("d") / "bundle")
-    x = b.axes["X"]
-    n = x.sweep.time_s.size // 2
-    half = dataclasses.replace(x.sweep, **{f: getattr(x.sweep, f)[:n] for f in (
-        "time_s", "excitation_A", "current_cmd_A", "motor_angle_rad", "scale_m", "tcp_m")})
-    b = dataclasses.replace(b, axes={"X": dataclasses.replace(x, sweep=half)})
+    b = bench_x_alone("d", lambda sw: dataclasses.replace(sw, **{
+        f: getattr(sw, f)[:sw.time_s.size // 2] for f in SWEEP_SAMPLES}))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         split = identify_bundle(b, verdict=False).axes["X"].friction_split

@@ -8,7 +8,7 @@ Per machine and axis: the delay of the scale against the motor encoder (``G_T``)
 TCP against the scale (``G_tcp``), each with its standard uncertainty, in samples of the
 sweep (100 us); ``*`` a skew (:mod:`tcpmm.ident.physical.skew`); the channel
 identification names, with the shift it says puts it back; and the measured ``G_tcp`` over
-the model's below the first mode (:func:`tcpmm.ident.gates.tcpgain.tcp_gain`).
+the model's below the first mode (:func:`tcpmm.ident.gates.masses.tcp_gain`).
 
 Run: ``.venv/bin/python -m studies.channel_skew [--data DIR]``; with
 ``--population SEED COUNT [--backlash]`` the machines of :mod:`studies.unseen` instead.
@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tcpmm.ident.gates.tcpgain import tcp_gain
+from tcpmm.ident.gates.masses import MODE_MARGIN, first_mode_hz, tcp_gain
 from tcpmm.ident.options import MIN_COHERENCE
 from tcpmm.ident.physical.skew import skewed_channels
 from tcpmm.ident.pipeline import identify_bundle
@@ -64,7 +64,8 @@ def rows(label: str, bundle) -> list[str]:
         named = "; ".join(f"{k.channel} {k.samples:+.2f} ({k.remedy()})"
                           for k in skewed_channels(a.channel_skews)) or "-"
         gain = tcp_gain(a.frfs["G_tcp"], lambda f, a=a: a.fitted_response("G_tcp", f),
-                        a.axis.mechanics, MIN_COHERENCE, bundle.axes[name].sweep.excitation_A)
+                        MIN_COHERENCE, first_mode_hz(a.axis.mechanics) / MODE_MARGIN,
+                        bundle.axes[name].sweep.excitation_A)
         out.append(f"| {label} | {name} | {read.get('G_T', '-')} | {read.get('G_tcp', '-')} "
                    f"| {named} | {'-' if gain is None else f'{gain[0]:.4f}'} |")
     return out

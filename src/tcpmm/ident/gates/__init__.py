@@ -1,10 +1,9 @@
 """What keeps a misleading identified model from passing silently: the gates that make a
 physically suspect record or model an error (:mod:`~tcpmm.ident.gates.findings`, the time
 base of a record in :mod:`~tcpmm.ident.gates.timebase`, the columns in
-:mod:`~tcpmm.ident.gates.columns`, the masses against the FRFs' static gains in
-:mod:`~tcpmm.ident.gates.masses`, the TCP device's gain in
-:mod:`~tcpmm.ident.gates.tcpgain`), and the sanity checks that warn before a model misleads
-a prediction (:mod:`~tcpmm.ident.gates.sanity`)."""
+:mod:`~tcpmm.ident.gates.columns`, the masses and the TCP device's gain against the
+FRFs' static gains in :mod:`~tcpmm.ident.gates.masses`), and the sanity checks that warn
+before a model misleads a prediction (:mod:`~tcpmm.ident.gates.sanity`)."""
 
 from .finding import Finding, SuspectModelError
 from .findings import (
@@ -21,6 +20,7 @@ from .findings import (
     slowest_plateau_speed,
     trimmed_fit_percent,
 )
+from .masses import TCP_GAIN_RANGE, check_tcp_gain
 from .sanity import (
     FRICTION_LEAD_DEG,
     LOW_BAND_HZ,
@@ -29,7 +29,6 @@ from .sanity import (
     warn_friction_holds_sweep,
     warn_unstable_sampled_loop,
 )
-from .tcpgain import TCP_GAIN_RANGE, check_tcp_gain
 from .timebase import (
     MAX_DAQ_PERIOD_S,
     MAX_FEED_SPEED,

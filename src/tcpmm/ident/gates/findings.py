@@ -13,7 +13,7 @@ returns a list of :class:`Finding`; an empty list means the check passed. The ch
 * :func:`check_fit_percent` -- a physical model worse than the mean of its FRF;
 * :func:`check_sampled_loop` -- a loop that is unstable as the drive samples it;
 * :func:`skew_findings` -- a channel of the sweep recorded out of step with the others;
-* :func:`~tcpmm.ident.gates.tcpgain.check_tcp_gain` -- a TCP device that reads a share of
+* :func:`~tcpmm.ident.gates.masses.check_tcp_gain` -- a TCP device that reads a share of
   the motion.
 
 :func:`~tcpmm.ident.gates.timebase.time_base_findings` and :func:`axis_findings` run them on
@@ -36,7 +36,6 @@ from ..options import MIN_COHERENCE
 from ..physical.skew import SKEW_MIN_SAMPLES, SKEW_Z, skewed_channels
 from .finding import Finding
 from .masses import mass_findings
-from .tcpgain import check_tcp_gain
 
 __all__ = ["FIT_TRIM", "STATIC_OVER_COULOMB", "axis_findings",
            "check_fit_percent", "check_sampled_loop", "check_static_friction_vs_drive",
@@ -324,11 +323,8 @@ def axis_findings(ident, records, cfg) -> list[Finding]:
                                  remedy)
     out += check_sampled_loop(name, axis, sweep, ident.band_cover)
     out += mass_findings(name, ident.frfs, axis.mechanics, sweep, MIN_COHERENCE,
-                         records.sweep.excitation_A)
-    if "G_tcp" in ident.frfs:
-        out += check_tcp_gain(name, ident.frfs["G_tcp"],
-                              lambda f: ident.fitted_response("G_tcp", f), axis.mechanics,
-                              sweep, MIN_COHERENCE, records.sweep.excitation_A)
+                         records.sweep.excitation_A,
+                         lambda f: ident.fitted_response("G_tcp", f))
     if records.friction is not None and axis.friction is not None:
         runs = records.friction.source or f"{name}/friction.csv"
         out += check_static_friction_vs_drive(name, axis, runs)

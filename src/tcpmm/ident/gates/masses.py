@@ -34,8 +34,7 @@ import math
 
 import numpy as np
 
-from ...mechanics.statespace import plant
-from ..frf.excited import band_cover, excited_bins
+from ..frf.excited import band_cover, excited_bins, mode_frequencies_hz
 from .columns import RATIO_RANGE
 from .finding import Finding
 from .sanity import LOW_BAND_HZ, friction_holds_sweep
@@ -73,9 +72,8 @@ def first_mode_hz(mechanics) -> float:
     mechanics : AxisMechanics
         The axis' mechanics [SI].
     """
-    ev = np.linalg.eigvals(plant(mechanics).A)
-    osc = np.abs(ev[np.abs(ev.imag) > 1e-9 * np.maximum(np.abs(ev), 1.0)])
-    return float(np.min(osc)) / (2.0 * math.pi) if osc.size else math.inf
+    modes = mode_frequencies_hz(mechanics)
+    return float(modes[0]) if modes.size else math.inf
 
 
 def low_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ,

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import bench_path, run_cli
+from tcpmm.analysis.circle_single import diagnose_single
 from tcpmm.analysis.circle_tails import radial_size
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.analysis.diagnostics import circle_diagnostics, diagnose_pair
@@ -146,6 +147,27 @@ def test_each_error_alone_is_recovered_and_the_others_are_zero(name):
     diag = diagnose(err)
     assert_recovered(diag, expected(err))
     assert diag["residual_rms"] < 1.5 * NOISE * np.sqrt(2)
+
+
+@pytest.mark.parametrize("cx, cy, others", [(300e-6, -150e-6, {}), (-1.0e-3, 0.7e-3, {}),
+                                            (300e-6, -150e-6, ALL)],
+                         ids=["335um", "1.2mm", "335um_with_all"])
+def test_a_large_centre_offset_makes_no_other_term(cx, cy, others):
+    """A circle 0.3 to 1.2 mm off the nominal centre. About the nominal centre the offset's
+    second order is a constant and an ellipse along it (0.8 um of each at 335 um on R 35 mm),
+    which read as 37 um/m of squareness and 28 ppm of scale mismatch, and as the radial
+    deviation, the mean radius of the fitted circle."""
+    err = {**others, "cx": cx, "cy": cy}
+    diag = diagnose(err)
+    want = expected(err)
+    for d in ("ccw", "cw"):  # about the circle's own centre: that of the same circle centred
+        want[f"radial_deviation_{d}"] = expected({**err, "cx": 0.0, "cy": 0.0})[
+            f"radial_deviation_{d}"]
+    assert_recovered(diag, want)
+    if not others:  # one direction: its ellipses are squareness (or servo) and scale alone
+        one = diagnose_single(*circle("ccw", err, 1), "ccw", R)
+        for term in ("squareness_or_servo", "scale_mismatch"):
+            assert abs(one[term]) <= 0.1e-6 / PER_UNIT["squareness"], (term, one[term])
 
 
 def test_all_errors_together_are_recovered():

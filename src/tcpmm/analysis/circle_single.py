@@ -17,10 +17,10 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_alias import alias_terms
+from .circle_centre import centred_arcs
 from .circle_cyclic import cyclic_terms, cyclic_unresolved
 from .circle_display import rename_axes
 from .circle_ellipse import open_by_ellipse
-from .circle_fit import Arc
 from .circle_model import angle_step
 from .circle_open import open_terms
 from .circle_ranking import deviations, per_circle_terms, rank_terms
@@ -85,7 +85,7 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
         raise InputError(f"the direction must be ccw or cw (got {direction!r})")
     a, e = check_arc(angle, e, direction, arc_ok=True)
     limit_blas_threads()
-    arcs = [Arc(a, e, 1.0 if direction == "ccw" else -1.0)]
+    arcs = centred_arcs([(a, e)], (1.0 if direction == "ccw" else -1.0,), radius_m)
     fit, left_out = arc_fit(arcs, radius_m, SINGLE, unseen=UNSEEN)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SINGLE, (direction,))
     terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves)

@@ -57,6 +57,7 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_alias import alias_terms
+from .circle_centre import centred_arcs
 from .circle_cyclic import cyclic_terms, cyclic_unresolved
 from .circle_display import (  # noqa: F401
     DISPLAY_UNITS,
@@ -65,7 +66,6 @@ from .circle_display import (  # noqa: F401
     rename_axes,
     term_note,
 )
-from .circle_fit import Arc
 from .circle_model import is_full
 from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
@@ -262,7 +262,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     rates = np.asarray(rates_rad_s, float)
     mean_rate = float(rates.mean()) if np.all(rates > 0) else float("nan")
     ratios = rates / mean_rate if np.isfinite(mean_rate) else np.ones(2)
-    arcs = [Arc(a, e, s, r) for (a, e), s, r in zip(paths, (1.0, -1.0), ratios, strict=True)]
+    arcs = centred_arcs(paths, (1.0, -1.0), radius_m, ratios)
     fit, left_out = arc_fit(arcs, radius_m, SHARED)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
     spikes, spike_u95, spike_fast, moved = pair_spikes(fit, arcs, radius_m, SHARED, curves)

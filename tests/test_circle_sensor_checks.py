@@ -54,6 +54,21 @@ def test_a_sensor_with_an_axis_negated_or_swapped_is_refused(direction, how, say
 
 
 @pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize("stuck", [[0, 1], [1], [0]], ids=["both", "Y", "X"])
+@pytest.mark.parametrize("value", [0.0, 0.012])
+def test_a_sensor_column_that_stands_still_is_refused_naming_it(direction, stuck, value):
+    """A recorder channel left unconnected writes zeros (or a constant): one circle alone
+    reached a failed least-squares fit as an internal error (both TCP axes) or gave a G of
+    37 mm with a note that the circle runs the wrong way (Y alone)."""
+    t, cmd, tcp = circle(direction)
+    tcp[:, stuck] = value
+    column = "[xy]" if len(stuck) == 2 else "xy"[stuck[0]]
+    with pytest.raises(InputError, match=f"the tcp signal's .* travels 0 mm where the cmd's "
+                       f"travels 70 mm: its column {column}_tcp_mm is empty"):
+        analyse_circle(run_of(t, cmd, tcp), R)
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
 @pytest.mark.parametrize("lag_deg", [0.0, 20.0, 50.0])
 def test_a_tcp_that_lags_its_command_is_analysed(direction, lag_deg):
     """A slow position loop lags by many degrees (50 deg: a chord of 0.85 R); the TCP is

@@ -261,11 +261,18 @@ def warn_pass(t, cp, ang, missing, radius_m) -> None:
     warn_scale(cp.rate_rad_s, radius_m, d)
 
 
+#: Share of its reference's travel along an axis below which a sensor is said not to follow
+#: it: no servo or structure takes half the travel of a circle away [-]
+STUCK_SHARE = 0.5
+
+
 def check_sensor_path(x, y, ref_xy, centre, radius_m, names, direction) -> None:
-    """Refuse a sensor whose circle turns against its reference's (the command's), or lies
-    a radius or more from it at the same instants: an axis of that sensor negated, or its
-    two axes swapped (a circle mirrored turns the other way; turned half a turn it lies a
-    diameter away). No servo lags its command by a radius (60 deg of the circle).
+    """Refuse a sensor an axis of which travels less than :data:`STUCK_SHARE` of its
+    reference's (the command's) travel (a column empty or stuck), whose circle turns
+    against its reference's, or lies a radius or more from it at the same instants: an
+    axis of that sensor negated, or its two axes swapped (a circle mirrored turns the
+    other way; turned half a turn it lies a diameter away). No servo lags its command by
+    a radius (60 deg of the circle).
 
     Parameters
     ----------
@@ -283,6 +290,12 @@ def check_sensor_path(x, y, ref_xy, centre, radius_m, names, direction) -> None:
         The reference's direction of travel [-].
     """
     sensor, ref, ax, ay = names
+    for v, rv, axis in ((x, ref_xy[0], ax), (y, ref_xy[1], ay)):
+        if v.size and not np.ptp(v) > STUCK_SHARE * np.ptp(rv):
+            raise InputError(
+                f"the {sensor} signal's {axis} travels {np.ptp(v) * 1e3:.4g} mm where the "
+                f"{ref}'s travels {np.ptp(rv) * 1e3:.4g} mm: its column "
+                f"{axis.lower()}_{sensor}_mm is empty, stuck or another axis's; check it")
     turn = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
     turned = turn[-1] - turn[0] if turn.size > 1 else 0.0
     against = turned * (1.0 if direction == "ccw" else -1.0) < 0

@@ -387,8 +387,36 @@ def test_machine_show_of_an_unstable_sampled_loop_does_not_read_as_stable(tmp_pa
     head = next(ln for ln in lines if ln.startswith("X:"))
     assert "continuous closed loop" in head and "sampled loop UNSTABLE" in head
     pos = [ln for ln in lines if "position loop:" in ln]
-    assert "of no meaning: the sampled loop is unstable" in pos[0]
+    assert "of no meaning: the sampled velocity loop is unstable" in pos[0]
     assert "of no meaning" not in pos[1]  # Y's loops hold
+
+
+@pytest.mark.parametrize("change, velocity, position", [
+    ({"current_bandwidth_hz": 5.0}, False, False),  # the velocity loop's crossover at +153 deg
+    ({"K_pp": 2000.0}, True, False),
+    ({"K_vi": 0.0}, True, True),  # a P velocity loop: its integrator's 0 is no mode
+])
+def test_machine_show_marks_the_margins_of_each_unstable_loop(tmp_path, capsys, change,
+                                                             velocity, position):
+    """A current loop of 5 Hz left the velocity loop unstable alone, and machine show gave
+    its margins (2.0 dB, 4.9 deg) unmarked; a P velocity loop read as a continuous loop
+    UNSTABLE that the sampled check called stable."""
+    from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
+
+    m = builtin_machine()
+    x = m.axes["X"]
+    write_machine(m.with_axis("X", x.replace(servo=x.servo.model_copy(update=change))),
+                  tmp_path / "m.yaml")
+    assert main(["machine", "show", str(tmp_path / "m.yaml"), "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["X"]
+    assert got["sampled_loop_stable"] == {"velocity": velocity, "position": position}
+    assert got["closed_loop_stable"] or not position
+    assert main(["machine", "show", str(tmp_path / "m.yaml")]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    for loop, stable in (("velocity", velocity), ("position", position)):
+        line = next(ln for ln in lines if f"{loop} loop:" in ln)  # X's, the first
+        assert ("of no meaning" not in line) == stable, line
 
 
 def test_a_measured_run_without_command_compares_to_its_own_signals_as_zero(capsys, files):

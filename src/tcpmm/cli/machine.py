@@ -57,6 +57,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
                     "damping": [float(-e.real / abs(e)) for e in ev[order]],
                     "closed_loop_stable": is_stable(a.mechanics, a.servo),
                     "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo),
+                    "sampled_loop_stable": loops_stable(a),
                     "margins": {k: v.to_dict() for k, v in
                                 axis_margins(a.mechanics, a.servo).items()},
                     "filters": [f.model_dump() for f in a.servo.filters]}
@@ -74,11 +75,23 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         for f in m.axes[ax].servo.filters:
             out.print(f"   current-setpoint filter: {filter_text(f)}")
         for loop, mg in d["margins"].items():
-            # the position loop closes around the velocity loop: its margins assume that
-            # one holds, which an unstable sampled loop does not
-            unheld = " (of no meaning: the sampled loop is unstable)" if (
-                loop == "position" and not is_stable_radius(rho)) else ""
+            which = "velocity" if not d["sampled_loop_stable"]["velocity"] else loop
+            unheld = "" if d["sampled_loop_stable"][loop] else (
+                f" (of no meaning: the sampled {which} loop is unstable)")
             out.print(f"   {loop} loop: {margins_line(mg)}{unheld}")
+
+
+def loops_stable(axis) -> dict:
+    """Per loop, whether its sampled loop is stable: the velocity loop judged alone
+    (:func:`~tcpmm.servo.modeshift.velocity_only`), as its margins are; the position loop
+    whole, which closes around the velocity loop and whose margins assume that one holds
+    [-]."""
+    from ..servo.modeshift import velocity_only
+    from ..servo.sampled import sampled_loop_stable
+
+    alone = sampled_loop_stable(axis.mechanics, velocity_only(axis.servo))
+    return {"velocity": alone,
+            "position": alone and sampled_loop_stable(axis.mechanics, axis.servo)}
 
 
 def margins_line(mg: dict) -> str:

@@ -126,6 +126,8 @@ def is_stable(mech: AxisMechanics, servo: ServoParams) -> bool:
     the loop cannot move is marginally stable here as there. None may sit at zero: the
     position loop closes the rigid-body integrator [-]."""
     ev = np.linalg.eigvals(position_closed_loop(mech, servo).A)
+    if servo.K_vi == 0.0:  # a P velocity loop's integrator feeds nothing back: its column
+        ev = np.delete(ev, np.argmin(np.abs(ev)))  # is zero, its 0 no mode of the loop
     return bool(np.all(ev.real < RADIUS_TOLERANCE * np.abs(ev)))
 
 

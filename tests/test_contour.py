@@ -428,7 +428,7 @@ def test_a_run_that_stops_on_the_way_to_the_end_leaves_the_end_unmeasured(tmp_pa
     cap = capsys.readouterr()
     err = " ".join(cap.err.split())
     assert ("the run stops before the machine comes to rest at the path's end point (at "
-            f"the last sample motor {short * 1e6:.2f} um") in err
+            f"the last sample motor {short * 1e6:.2f} µm") in err
     assert "G4 P0.5), or a longer one than it has" in err
     assert cap.out.splitlines()[-2].split()[-5:] == ["end", "n/a", "n/a", "n/a", "n/a"]
 

@@ -267,6 +267,10 @@ def test_the_plane_is_that_of_the_feed_moves(tmp_path, capsys):
         assert "contour error in XY" in out
     code, out, err = run_cli(capsys, "contour", tmp_path / "xy.csv", "--rapids")
     assert code == 0 and "3D (unsigned)" in err
+    # the Python function's plane="auto" (its default) as the command line's
+    run = read_run(tmp_path / "xy.csv")
+    assert contour_error(run).axes == ("X", "Y") and contour_error(run).signed
+    assert contour_error(run, rapids=True).axes == ("X", "Y", "Z")
 
 
 @pytest.mark.parametrize(("program", "plane"), [

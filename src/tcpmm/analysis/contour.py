@@ -352,7 +352,7 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
                          f"got {corner_deg}")
     if not isinstance(run, Run):  # a table in the run-file layout
         run = run_from_table(run)
-    axes, signed = contour_axes(run, plane, command)
+    axes, signed = contour_axes(run, plane, command, rapids)
     t, tc, cmd, actual = run_signals(run, command, axes)
     line = polyline(cmd)
     air = None if run.rapid is None or rapids else command_flags(run, command)

@@ -57,17 +57,19 @@ def no_sensors(axes) -> str:
     return f"the run has no motor, scale or tcp signals of {', '.join(axes)}"
 
 
-def contour_axes(run, plane, command=None):
+def contour_axes(run, plane, command=None, rapids=False):
     """``(axes, signed)`` for a plane given, ``"auto"`` or ``None`` (3-D); in 3-D the axes
     with a command, the given ``command``'s where it has fewer (a program that moves one
-    axis commands no other)."""
+    axis commands no other). ``"auto"`` takes the plane of the feed moves unless
+    ``rapids`` count (:func:`tcpmm.analysis.rapids.feed_commands`), as the command line
+    does: a Z retracting in G0 makes no 3-D path [-]."""
     if plane is None or str(plane).upper() == "3D":
         names = [a for a in ("X", "Y", "Z") if a in run.axes and run.axes[a].cmd is not None
                  and (command is None or a in command.positions)]
         return tuple(names or run.axes), False
     if isinstance(plane, str) and plane.lower() == "auto":
         try:
-            axes, _, flat = run_plane(run)
+            axes, _, flat = run_plane(feed_commands(run, rapids))
         except InputError:  # fewer than two axes move: a step along one axis
             flat = False
         return (axes, True) if flat else contour_axes(run, None, command)

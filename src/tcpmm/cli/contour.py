@@ -161,7 +161,7 @@ def _say_unreached(unreached: dict) -> None:
     point, how far from it each sensor not settled is, and why their end figures are n/a
     [-]."""
     if unreached:
-        far = ", ".join(f"{s} {d * 1e6:.2f} um" for s, d in unreached.items())
+        far = ", ".join(f"{s} {d * 1e6:.2f} µm" for s, d in unreached.items())
         console.print(f"note: the run stops before the machine comes to rest at the path's "
                       f"end point (at the last sample {far} from it): the overshoot and "
                       "rounding at the end are not measured (n/a); end the program with a "

@@ -56,11 +56,17 @@ def test_bad_values(vmc, old, new, needle):
     ("      lead: 0.01\n", "      lead: 10\n", "mm", "0.01"),
     ("      scale_resolution: 1.0e-06\n", "      scale_resolution: 0.005\n", "um", "5e-09"),
     ("      tcp_resolution: 7.8e-08\n", "      tcp_resolution: 0.001\n", "mm", "1e-06"),
+    ("      K_t: 150000000.0\n", "      K_t: 150000.0\n", "N/mm", "1.5e+08"),
+    ("      M_t: 150.0\n", "      M_t: 150000.0\n", "g", "150"),
+    ("      K_tc: 0.73\n", "      K_tc: 730.0\n", "N mm/A", "0.73"),
+    ("      T_p: 0.0005\n", "      T_p: 0.5\n", "ms", "0.0005"),
 ])
 def test_a_number_written_in_mm_or_um_is_warned_of(vmc, tmp_path, old, new, unit, metres):
     """A lead of 10 (mm, in a field of metres) was read without a word, and the run then
-    failed as an unstable servo loop, 'check the gains and periods'. The warning names the
-    key and the number in metres; the model is still read."""
+    failed as an unstable servo loop, 'check the gains and periods'; a screw stiffness in
+    N/mm, a mass in grams, a torque constant in N mm/A or a loop period in ms were read
+    without a word, and tune proposed gains for them. The warning names the key and the
+    number in SI units; the model is still read."""
     import warnings
 
     from tcpmm.errors import InputWarning

@@ -1,6 +1,7 @@
 """Numbers of a model file that lie where a machine tool's do not, but would if they had
-been written in millimetres or micrometres: the file is in SI units, and such a number
-is most often one written in the unit of a drawing or a data sheet. A warning names the
+been written in another unit (millimetres, micrometres, N/mm, grams, milliseconds): the
+file is in SI units, and such a number is most often one written in the unit of a
+drawing or a data sheet. A warning names the
 key and the number it would be in metres; the model is still read (a rack or a coarse
 sensor may be meant)."""
 
@@ -10,17 +11,31 @@ import warnings
 
 from ..errors import InputWarning
 
-#: Per checked key: where it is on an axis, the range a feed axis has [m], and what it is.
+#: Units a length may have been written in, with their factor to metres [-].
+_LENGTHS = (("mm", 1e-3), ("um", 1e-6))
+#: ... and a time, to seconds [-].
+_TIMES = (("ms", 1e-3), ("us", 1e-6))
+#: Per checked key: where it is on an axis, the range a feed axis has [SI], what it is, its
+#: SI unit, and the units it may have been written in with their factor to it.
 _TYPICAL = {
     "mechanics.lead": (("mechanics", "lead"), 5e-4, 0.2,
-                       "a feed axis's lead per motor revolution"),
+                       "a feed axis's lead per motor revolution", "m", _LENGTHS),
     "sensors.scale_resolution": (("sensors", "scale_resolution"), 1e-10, 1e-4,
-                                 "a linear scale's resolution"),
+                                 "a linear scale's resolution", "m", _LENGTHS),
     "sensors.tcp_resolution": (("sensors", "tcp_resolution"), 1e-10, 1e-4,
-                               "a TCP sensor's resolution"),
+                               "a TCP sensor's resolution", "m", _LENGTHS),
+    "mechanics.K_t": (("mechanics", "K_t"), 5e6, 5e9,
+                      "a ball screw and nut's axial stiffness", "N/m",
+                      (("N/mm", 1e3), ("N/um", 1e6))),
+    "mechanics.M_t": (("mechanics", "M_t"), 0.5, 1e5, "a feed axis's moving mass", "kg",
+                      (("g", 1e-3),)),
+    "mechanics.K_tc": (("mechanics", "K_tc"), 0.02, 300.0, "a feed motor's torque constant",
+                       "N m/A", (("N mm/A", 1e-3),)),
+    "servo.T_p": (("servo", "T_p"), 5e-5, 0.02, "a drive's position-loop period", "s",
+                  _TIMES),
+    "servo.T_v": (("servo", "T_v"), 1e-5, 5e-3, "a drive's velocity-loop period", "s",
+                  _TIMES),
 }
-#: Units a number may have been written in, with their factor to metres [-].
-_UNITS = (("mm", 1e-3), ("um", 1e-6))
 
 
 def _value(axis, where):
@@ -38,16 +53,16 @@ def unit_suspects(machine) -> list[str]:
     would bring into it [-]."""
     out = []
     for name, axis in machine.axes.items():
-        for key, (where, low, high, what) in _TYPICAL.items():
+        for key, (where, low, high, what, si, units) in _TYPICAL.items():
             v = _value(axis, where)
             if v is None or v == 0.0 or low <= v <= high:
                 continue
-            fits = [(u, v * f) for u, f in _UNITS if low <= v * f <= high]
+            fits = [(u, v * f) for u, f in units if low <= v * f <= high]
             if not fits:
                 continue
             written = "; ".join(f"if in {u}, write {m:g}" for u, m in fits)
-            out.append(f"axis {name} {key} is {v:g} m, beyond {what} ({low:g} to "
-                       f"{high:g} m); the model file is in metres: {written}")
+            out.append(f"axis {name} {key} is {v:g} {si}, beyond {what} ({low:g} to "
+                       f"{high:g} {si}); the model file is in SI units: {written}")
     return out
 
 

@@ -493,3 +493,26 @@ def test_a_signal_ends_the_command_without_waiting_for_its_kernel_threads(tmp_pa
     t0 = time.perf_counter()
     done = subprocess.run([sys.executable, "-c", script], timeout=25)
     assert done.returncode == 143 and time.perf_counter() - t0 < 15
+
+
+def test_machine_show_of_an_undamped_model_lists_its_modes_alone(tmp_path, capsys):
+    """With every damping 0 the rigid body's double eigenvalue at 0, split by rounding,
+    was listed as a mode of "0.0 Hz (zeta -3.3e-08)", and the modes' damping as -1e-16."""
+    from tcpmm.io.modelfile import write_machine
+    from tcpmm.machines.builtin import builtin_machine
+
+    m = builtin_machine()
+    x = m.axes["X"]
+    undamped = x.mechanics.model_copy(update=dict.fromkeys(("B_m", "B_L", "C_t", "C_b",
+                                                            "C_h"), 0.0))
+    write_machine(m.with_axis("X", x.replace(mechanics=undamped)), tmp_path / "m.yaml")
+    assert main(["machine", "show", str(tmp_path / "m.yaml"), "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["X"]
+    want = json.loads(_show_json(capsys, "builtin:vmc"))["X"]["modes_hz"]
+    assert len(got["modes_hz"]) == len(want) and min(got["modes_hz"]) > 1.0
+    assert got["damping"] == [0.0] * len(want)
+
+
+def _show_json(capsys, model) -> str:
+    assert main(["machine", "show", model, "--json"]) == 0
+    return capsys.readouterr().out

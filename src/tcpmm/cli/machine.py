@@ -51,10 +51,12 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     data = {}
     for ax, a in m.axes.items():
         ev = np.linalg.eigvals(plant(a.mechanics).A)
-        ev = ev[ev.imag > 0]
+        # the rigid body's double 0, which rounding splits by up to sqrt(eps) of the
+        # largest (an undamped model's read as a mode of 0.0 Hz), is no mode
+        ev = ev[(ev.imag > 0) & (np.abs(ev) > 1e-6 * np.abs(ev).max())]
         order = np.argsort(np.abs(ev))
         data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev[order]],
-                    "damping": [float(-e.real / abs(e)) for e in ev[order]],
+                    "damping": [float(_rounded(-e.real / abs(e))) for e in ev[order]],
                     "closed_loop_stable": is_stable(a.mechanics, a.servo),
                     "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo),
                     "sampled_loop_stable": loops_stable(a),
@@ -92,6 +94,11 @@ def loops_stable(axis) -> dict:
     alone = sampled_loop_stable(axis.mechanics, velocity_only(axis.servo))
     return {"velocity": alone,
             "position": alone and sampled_loop_stable(axis.mechanics, axis.servo)}
+
+
+def _rounded(zeta: float) -> float:
+    """A damping ratio, 0 where it is rounding's (an undamped model's -1e-16) [-]."""
+    return 0.0 if abs(zeta) < 1e-12 else zeta
 
 
 def margins_line(mg: dict) -> str:

@@ -167,3 +167,24 @@ def test_a_cyclic_error_longer_than_the_scan_is_said_to_read_as_the_terms():
     assert "periods from 23.3 down to" in why
     assert "A longer one, fewer than three of its periods along the travel" in why
     assert "a circle of a larger radius brings it into the search" in why
+
+
+@pytest.mark.parametrize("period_mm, at_edge", [(24.0, True), (20.0, False)])
+def test_a_cyclic_error_found_at_the_longest_period_searched_is_not_given_a_period(
+        period_mm, at_edge):
+    """A pitch error of 24 mm on R 35 mm lies just beyond the scan's longest period
+    (23.3 mm): its power still rose there, and the scan gave 23.33 +- 0.24 mm as firm.
+    Where it stands out at the band's end, its period and amplitude are not determined
+    and say why; one inside the band keeps its period."""
+    from tcpmm.analysis.diagnostics import diagnose_pair
+    from test_circle_diagnostics import R, W, circle
+
+    err = {"cyc_y": (0.6e-6, period_mm * 1e-3, 1.0)}
+    d = diagnose_pair(circle("ccw", err, 1), circle("cw", err, 2), R, (W, W))
+    if not at_edge:
+        assert d["cyclic_period_Y"] == pytest.approx(period_mm * 1e-3, rel=0.02)
+        return
+    assert np.isnan(d["cyclic_period_Y"]) and np.isnan(d["cyclic_amplitude_Y"])
+    why = d.undetermined["cyclic_period_Y"]
+    assert "one stands out at the longest period searched, 23.3 mm" in why
+    assert "a circle of a larger radius brings it into the search" in why

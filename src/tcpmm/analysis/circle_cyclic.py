@@ -325,13 +325,22 @@ def _of_position(pb, without, ax, k) -> bool:
     return bool(d <= _HALVES * amp and amp >= np.sqrt(var))
 
 
+def at_longest(fit, k) -> bool:
+    """Whether the wavenumber ``k`` [1/m] of ``fit`` lies at the long end of the band its
+    search held (:func:`search_periods`): the power still rose towards it, and the period
+    may be longer, where the circle cannot tell it from its own terms [-]."""
+    return bool(k is not None and fit.periods and np.isclose(k, 1.0 / fit.periods[0],
+                                                             rtol=1e-9, atol=0.0))
+
+
 def cyclic_terms(fit) -> dict:
     """Amplitude [m] and period [m] of each axis' cyclic error; both NaN where none stands
-    out (:func:`cyclic_unresolved` says why)."""
+    out, or where it stands out at the longest period searched (:func:`at_longest`;
+    :func:`cyclic_unresolved` says why)."""
     out = {}
     for name, k in zip("XY", fit.waves, strict=True):
         amp = period = float("nan")
-        if k is not None:
+        if k is not None and not at_longest(fit, k):
             amp = fit.cyclic_amplitude(name)
             period = 1.0 / k
         out[f"cyclic_amplitude_{name}"] = (amp, "m")
@@ -357,5 +366,15 @@ def cyclic_unresolved(fit) -> dict:
                 "backlash (said where it moves them, as uncertain by the reversals' tails "
                 "or by what the terms leave unexplained): a circle of a larger radius "
                 "brings it into the search").format(*np.multiply(fit.periods, 1e3))
-    return {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
-            if k is None for q in ("amplitude", "period")}
+    out = {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
+           if k is None for q in ("amplitude", "period")}
+    longest = (f"one stands out at the longest period searched, {fit.periods[0] * 1e3:.3g} mm "
+               "(a third of the diameter), towards which it still grows: its period may be "
+               "longer, where over fewer than three periods along the travel it is much like "
+               "a scale error and a bow, and its period and amplitude are not determined. "
+               "It is fitted at that period, and the scale mismatch and bows read beside it "
+               "may still hold part of it; a circle of a larger radius brings it into the "
+               "search") if fit.periods else ""
+    out.update({f"cyclic_{q}_{name}": longest for name, k in zip("XY", fit.waves, strict=True)
+                if at_longest(fit, k) for q in ("amplitude", "period")})
+    return out

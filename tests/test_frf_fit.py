@@ -527,7 +527,17 @@ def test_show_says_a_file_without_coherence_has_none(capsys, tmp_path):
     g.write_text("freq_hz,re,im,coherence\n1,1,0,0.9\n2,0.9,-0.1,0.8\n3,0.7,-0.3,0.95\n")
     code, out, _ = run_cli(capsys, "frf", "show", g, "--json")
     got = json.loads(out)
-    assert code == 0 and got["coherence_median"] == 0.9 and "coherence_in_file" not in got
+    assert code == 0 and got["coherence_median"] == 0.9 and got["coherence_in_file"] is True
+
+
+def test_show_refuses_a_response_that_is_zero_everywhere(capsys, tmp_path):
+    """A file of zeros showed every bin at -inf dB with a noise of nan, and exit 0; frf fit
+    refused it."""
+    f = tmp_path / "zero.csv"
+    f.write_text("freq_hz,re,im\n" + "".join(f"{k},0,0\n" for k in range(1, 9)))
+    code, out, err = run_cli(capsys, "frf", "show", f)
+    assert code == 2 and not out
+    assert "zero.csv" in err and "every one of the 8 bins shown has a response of zero" in err
 
 
 def test_a_fit_worse_than_no_model_is_said_to_be_so():

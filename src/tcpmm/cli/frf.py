@@ -81,12 +81,17 @@ def show(file: Path = typer.Argument(..., help=_FILE),
          averages: float = typer.Option(None, "--averages", min=1.0, help=_AVERAGES),
          as_json: bool = typer.Option(False, "--json")):
     """Summary of a measured frequency response: band, coherence, noise, a few points."""
+    from ..errors import InputError
     from ..ident.lti import noise_level
     from ..io.frffile import read_frf
 
     checked_plot(plot)
     f0, f1 = parse_band(band, "--band")
     frf = read_frf(file, averages).band(f0, f1)
+    if not np.any(np.isfinite(frf.H) & (np.abs(frf.H) > 0)):
+        raise InputError(f"every one of the {frf.freq_hz.size} bins shown has a response of "
+                         "zero or not a number: check the re/im or magnitude columns",
+                         file=file)
     # the complex relative noise |dH / H|, as frf fit gives it beside its residual: the
     # noise level is that of the real and of the imaginary part each, 1/sqrt(2) of it
     sigma = np.sqrt(2.0) * noise_level(frf.freq_hz, frf.H, frf.rel_std)
@@ -98,9 +103,9 @@ def show(file: Path = typer.Argument(..., help=_FILE),
                "noise_rel_median": float(np.median(sigma)),
                "averages": frf.n_averages, "notes": [n for n in [_averages_note(frf)] if n]}
     assumed = bool(frf.meta.get("coherence_assumed"))
+    summary["coherence_in_file"] = not assumed
     if assumed:  # none in the file: not a measure, and not to be read as one
-        summary.update(coherence_median=None, bins_coherence_0_5=None,
-                       coherence_in_file=False)
+        summary.update(coherence_median=None, bins_coherence_0_5=None)
     if plot is not None:
         from ..plot.frf import plot_frf
 

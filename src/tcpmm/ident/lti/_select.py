@@ -61,8 +61,13 @@ def score(ctx, fit, notes, tried) -> dict:
     h = fit.freqresp(f)
     chi2 = float(np.sum(np.abs(h / H - 1) ** 2 / sigma**2))
     m = 2 * f.size
-    fn, zeta = fit.natural_freq_hz, fit.damping
-    unsupported = bool(np.any((zeta < 0.2) & ((fn < f[0]) | (fn > f[-1]))))
+    fn, zeta, grid = fit.natural_freq_hz, fit.damping, ctx["grid"]
+    # a pair outside the band is unsupported where it is a needle: lightly damped and
+    # narrower than a bin of the grid there, so no bin shows its damping (a mode just
+    # beyond the band whose tail the bins follow is supported)
+    spacing = np.interp(fn, grid, np.gradient(grid)) if grid.size > 1 else np.inf
+    unsupported = bool(np.any((zeta < 0.2) & (2 * zeta * fn < spacing)
+                              & ((fn < f[0]) | (fn > f[-1]))))
     return {"fit": fit, "notes": notes, "tried": list(tried),
             "n_poles": int(fit.n_den), "n_zeros": int(fit.n_num),
             "chi2_ratio": chi2 / m, "bic": chi2 + fit.n_params * np.log(m),
@@ -138,17 +143,20 @@ def choose(ctx, tries, n_poles: int) -> dict:
     elif ctx["delay"] is not None:
         taus = [float(ctx["delay"])]
     ref, vf_starts = _references(ctx, n_poles, dict.fromkeys(taus))
-    if ref is None or any(t["total"] <= ref for t in tries):
-        return min((t for t in tries if ref is None or t["total"] <= ref), key=by_criterion)
+    ok = [t for t in tries if ref is None or (t["total"] <= ref and not t["unsupported"])]
+    if ok:
+        return min(ok, key=by_criterion)
     n_nums = sorted({max(n_poles - 1, 0), n_poles})
     base = [(first["fit"].pn, first["fit"].delay_s), *vf_starts[:1]]
     pool, prev = list(tries), {}
     for mu in MIXES:
         pool += _at_mix(ctx, mu, n_nums, base, prev)
-        if any(c["total"] <= ref for c in pool):
-            return _noted(min((c for c in pool if c["total"] <= ref), key=by_criterion), ref)
+        # a fit reaches the bound only without needles outside the band, which fit noise
+        reach = [c for c in pool if c["total"] <= ref and not c["unsupported"]]
+        if reach:
+            return _noted(min(reach, key=by_criterion), ref)
     pool += _relocated_fits(ctx, n_nums, vf_starts[:1])
-    reach = [c for c in pool if c["total"] <= ref * (1 + REACH)]
+    reach = [c for c in pool if c["total"] <= ref * (1 + REACH) and not c["unsupported"]]
     if reach:
         return _noted(min(reach, key=by_criterion), ref)
     return _noted(min(pool, key=by_total), ref)

@@ -5,9 +5,11 @@ error. For a centre offset ``c`` the radial error about the nominal centre is, t
 order, ``c . u - (|c|^2 - (c . u)^2) / (2 R)`` (``u`` the unit vector at the angle): its
 second part is a constant and an ellipse along ``c``, and a ballbar's centre offset of
 300 um on an R 35 mm circle (0.8 um of it) reads as 37 um/m of squareness and 28 ppm of
-scale mismatch. The tool's radial error about the circle's own centre, ``|p - c| - R``,
-plus the first-order part ``c . u`` that the fit's centre columns take, leaves every other
-term as it would be about that centre, exactly whatever the offset.
+scale mismatch. A circle of radius ``R`` about ``c`` lies, at the angle of ``u``, exactly
+``c . u + sqrt(R^2 - |c|^2 + (c . u)^2)`` from the nominal centre: the data keep the first
+part, which the fit's centre columns take, and lose the rest, whatever the offset. What
+remains is of the order of ``|c| / R`` of the other terms: they are functions of the
+command's angle, and the samples come at the tool's (docs/circle_diagnostics.md).
 """
 
 from __future__ import annotations
@@ -32,8 +34,8 @@ def centre_linear(angle, e, radius):
     Returns
     -------
     ndarray
-        ``|p - c| - R + c . u`` with ``p`` the tool and ``c`` the least-squares centre
-        offset of the samples (radius and centre only) [m].
+        ``e + R - sqrt(R^2 - |c|^2 + (c . u)^2)``, ``c`` the least-squares centre offset
+        of the samples (radius and centre only) [m].
     """
     cos, sin = np.cos(angle), np.sin(angle)
     _, cx, cy = np.linalg.lstsq(np.c_[np.ones_like(angle), cos, sin], e, rcond=None)[0]

@@ -126,3 +126,23 @@ def test_a_filter_above_the_loops_nyquist_names_the_filters_line(vmc):
     with pytest.raises(InputError, match="filter 1 \\(lowpass\\) at 5000 Hz") as got:
         loads_machine(text, "m.yaml")
     assert got.value.line == line and "servo.filters" in str(got.value)
+
+
+def test_an_identified_axis_mechanics_are_not_taken_for_a_unit(vmc):
+    """The mechanics of an identified axis (it has an uncertainty) come from its sweep, not
+    from a drawing: a soft screw the identification accepted as suspect read 'if in N/mm,
+    write 2.2e+09', which no user had typed. Its lead, which the user gives, still is."""
+    import warnings
+
+    from tcpmm.io.unitchecks import unit_suspects
+    from tcpmm.model import AxisUncertainty
+
+    x = vmc.axes["X"]
+    soft = x.replace(mechanics=x.mechanics.model_copy(update={"K_t": 2.2e6, "lead": 10.0}))
+    assert len(unit_suspects(vmc.with_axis("X", soft))) == 2
+    known = soft.replace(uncertainty=AxisUncertainty(mechanics={"K_t": 1e5}))
+    said = unit_suspects(vmc.with_axis("X", known))
+    assert len(said) == 1 and "mechanics.lead" in said[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        unit_suspects(vmc)

@@ -1,9 +1,10 @@
 """Numbers of a model file that lie where a machine tool's do not, but would if they had
 been written in another unit (millimetres, micrometres, N/mm, grams, milliseconds): the
 file is in SI units, and such a number is most often one written in the unit of a
-drawing or a data sheet. A warning names the
-key and the number it would be in metres; the model is still read (a rack or a coarse
-sensor may be meant)."""
+drawing or a data sheet. A warning names the key and the number it would be in SI units;
+the model is still read (a rack or a coarse sensor may be meant). The stiffness and mass
+of an identified axis (one with an uncertainty) are not judged here: identification gave
+them, and its gates judge them."""
 
 from __future__ import annotations
 
@@ -11,6 +12,9 @@ import warnings
 
 from ..errors import InputWarning
 
+#: Keys an identified axis has from its sweep, not from the user (the lead, the torque
+#: constant and the sensors' resolutions come from the bundle's configuration) [-].
+_IDENTIFIED = ("mechanics.K_t", "mechanics.M_t")
 #: Units a length may have been written in, with their factor to metres [-].
 _LENGTHS = (("mm", 1e-3), ("um", 1e-6))
 #: ... and a time, to seconds [-].
@@ -57,6 +61,8 @@ def unit_suspects(machine) -> list[str]:
             v = _value(axis, where)
             if v is None or v == 0.0 or low <= v <= high:
                 continue
+            if key in _IDENTIFIED and getattr(axis, "uncertainty", None) is not None:
+                continue  # identified, not typed: identification judged it, not a unit
             fits = [(u, v * f) for u, f in units if low <= v * f <= high]
             if not fits:
                 continue

@@ -140,6 +140,10 @@ ERRORS = [
     ("G1 X1.2.3 F100\n", 1, 4, "malformed number '1.2.3'"),
     ("G1 X1 F100\nG2 X1 Y0 R5\n", 2, 10, "full circle"),
     ("G2 X0 Y0 I0 J0 F100\n", 1, 10, "zero radius"),
+    # a full circle of 0.1 nm was drawn; within the radii's tolerance no arc is defined
+    ("G1 X10 F100\nG2 X10 Y0 I0.0000001 J0\n", 2, 11, "arc of zero radius: the centre is "
+     "1e-07 mm from the start or end point, within the arcs' tolerance of 0.005 mm"),
+    ("G20 G1 X1 F10\nG2 X1 Y0 I0.0001 J0\n", 2, 10, "0.0001 in from the start"),
     ("G1 X5 F100\nG3 X10 R0\n", 2, 8, "zero"),
     ("G1 X1 X2 F100\n", 1, 7, "X is given twice"),
     ("X10\n", 1, 1, "without a motion mode"),

@@ -189,7 +189,8 @@ def arc_program(draw):
         modal = k > 0 and not straight and not draw(st.integers(0, 3))
         lines.append(" ".join(["" if modal else g, *words]).strip())
     if draw(st.integers(0, 2)) == 0:
-        other = draw(st.sampled_from([*MODAL, *MALFORMED, "G2 X1 Y1 I0.3 J0"]))
+        other = draw(st.sampled_from([*MODAL, *MALFORMED, "G2 X1 Y1 I0.3 J0",
+                                      "G2 I0.000002 J0", "G3 I0.004 J0.003"]))
         lines.insert(draw(st.integers(1, len(lines))), other)
     return "\n".join(lines) + "\n"
 

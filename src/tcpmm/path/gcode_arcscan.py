@@ -162,6 +162,6 @@ def arc_centres(codes, vals, state, ends, centres, motions, lengths, tols):
             centres[i, ib] = s[ib] + 0.5 * db + side * h * da / chord
         else:
             r0, r1 = lengths[i, 0], lengths[i, 1]
-            if r0 == 0.0 or r1 == 0.0 or abs(r1 - r0) > max(abs_tol, rel_tol * r0):
+            if r0 <= abs_tol or r1 <= abs_tol or abs(r1 - r0) > max(abs_tol, rel_tol * r0):
                 return i
     return n

@@ -123,10 +123,14 @@ class GeometryMixin:
             cb = s[ib] + (cw_b.value * self.unit if cw_b else 0.0)
         r0 = math.hypot(s[ia] - ca, s[ib] - cb)
         r1 = math.hypot(end[ia] - ca, end[ib] - cb)
-        if r0 == 0.0 or r1 == 0.0:
+        if r0 <= ARC_ABS_TOL_M or r1 <= ARC_ABS_TOL_M:
+            # within the radii's own tolerance of 0, no arc's centre and sweep are defined
+            unit_name = self._unit_name()
             self.error(
-                "arc of zero radius: the centre is on the start or end point; "
-                f"check {ca_letter} and {cb_letter}",
+                f"arc of zero radius: the centre is {min(r0, r1) / self.unit:.6g} "
+                f"{unit_name} from the start or end point, within the arcs' tolerance of "
+                f"{ARC_ABS_TOL_M / self.unit:.6g} {unit_name}; check {ca_letter} and "
+                f"{cb_letter}",
                 line,
                 col,
             )

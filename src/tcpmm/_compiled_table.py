@@ -12,7 +12,8 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
                   "path/gcode_arcscan.py",
-                  "path/nearest.py", "path/ties.py", "sim/cornerfigs.py", "sim/cornerfeed.py",
+                  "path/nearest.py", "path/ties.py", "sim/cornerfigs.py", "sim/cornerchords.py",
+                  "sim/cornerfeed.py",
                   "sim/pathforce.py", "_compiled_table.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
 #: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
@@ -59,6 +60,8 @@ FUNCTIONS = {
                             ("f2", "i1", "f2", *_SHAPE_KINDS[:4], "i2", "i1"), "f2"),
     "first_bends": ("sim.cornerfigs", "first_bends", "first_bends",
                     ("f2", "f1", "i1", "f2", "f1", "f"), "i1"),
+    "chord_strays": ("sim.cornerchords", "chord_strays", "chord_strays",
+                     ("f2", "f1", "i1", "f", "f"), "f2"),
     "contact_force_along_path": ("sim.pathforce", "contact_force_along_path",
                                  "contact_force_along_path", ("f1", "f", "f1"), "f1"),
     "play_operator": ("sim.pathforce", "play_operator", "play_operator", ("f1", "f"), "f1"),

@@ -52,6 +52,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.runfile import run_from_table
 from ..result import Run
+from .contour_chords import off_chord
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, plane_left_out, run_signals
 from .contour_search import searched
@@ -111,6 +112,11 @@ class ContourResult:
     left_out : dict of str to float
         Per axis outside the plane that moves substantially, its travel: its error is not
         in the signed error (:func:`tcpmm.analysis.plane.left_out_axes`) [m].
+    off_chord : dict of int to tuple
+        Per corner (number) whose chords stray off the command by more than
+        :data:`~tcpmm.analysis.contour_chords.CHORD_STRAY` of the span (a feature shorter
+        than the span: its turn and overshoot are the feature's): how far, and the path
+        length over which the command runs straight from it [m].
     """
 
     axes: tuple
@@ -130,6 +136,7 @@ class ContourResult:
     command_sag_m: float = 0.0
     curves: int = 0
     left_out: dict = field(default_factory=dict)
+    off_chord: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
@@ -185,6 +192,9 @@ class ContourResult:
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
                 "command_sag_um": self.command_sag_m * 1e6, "curves": self.curves,
                 "left_out_travel_mm": {a: t * 1e3 for a, t in self.left_out.items()},
+                "corners_off_chord": [{"corner": n, "stray_um": v * 1e6,
+                                       "straight_mm": None if w != w else w * 1e3}
+                                      for n, (v, w) in self.off_chord.items()],
                 "sensors": {s: {**{k[:-2] + "_um": v * 1e6 for k, v in d.items()
                                    if k.endswith("_m")},
                                 **{k: None if v != v else v for k, v in d.items()
@@ -369,4 +379,5 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
                          list(kept), settle_tol_m, actual, counted, said, run.nc_line,
                          end_unreached(corners, kept), float(np.max(line[4])),
                          corners.finder.curves,
-                         plane_left_out(run, command, axes, rapids) if signed else {})
+                         plane_left_out(run, command, axes, rapids) if signed else {},
+                         off_chord(corners, kept))

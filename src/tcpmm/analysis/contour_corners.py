@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._compiled import call
+from .contour_chords import stray_corners
 from .corner_rows import CornerRows
 from .corner_store import CornerStore, batch_figures
 from .corners import CornerFinder, first_bends, path_length
@@ -72,6 +73,9 @@ class CornerStream:
         self.tc0 = None
         self.last = None  # the last sample: its time [s] and per sensor its point [m]
         self.unreached = {}  # per sensor still on its way to the path's end point [m]
+        # per corner (its command vertex) whose chords stray off the command: how far, and
+        # the path length over which the command runs straight from it [m]
+        self.strayed = {}
 
     def add_command(self, tc, p) -> None:
         """The next command samples: times [s] and points, shape (m, d) [m]."""
@@ -131,6 +135,8 @@ class CornerStream:
             turn = np.array([t for _, t in corners], float)
             frames = call("corner_frames", self.p, self.s, self.tc, idx - self.off, turn,
                           self.span)
+            self.strayed.update(stray_corners(self.p, self.s, idx[~np.isnan(turn)],
+                                              self.off, self.span))
             self._opened(idx, turn, frames)
         self._bends()
         if self.smp is not None and corners:

@@ -30,6 +30,7 @@ from ..errors import InputError
 from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
 from ..result import motion_time
 from .contour import ContourResult, distances_to_polyline, polyline
+from .contour_chords import off_chord
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors, warn_one_sided
 from .contour_summary import RunningSummary
@@ -75,6 +76,8 @@ class StreamedContour:
         As :attr:`tcpmm.analysis.contour.ContourResult.curves` [-].
     left_out : dict of str to float
         As :attr:`tcpmm.analysis.contour.ContourResult.left_out` [m].
+    off_chord : dict of int to tuple
+        As :attr:`tcpmm.analysis.contour.ContourResult.off_chord` [m].
     """
 
     axes: tuple
@@ -89,6 +92,7 @@ class StreamedContour:
     command_sag_m: float = 0.0
     curves: int = 0
     left_out: dict = field(default_factory=dict)
+    off_chord: dict = field(default_factory=dict)
 
     @property
     def errors(self) -> dict:
@@ -236,6 +240,7 @@ def _finish(res: StreamedContour, scan, rapids: bool) -> None:
         res.sums = res.sums if res.rapids["counted"] else scan.feed
     res.unreached = end_unreached(scan.corners, res.corners)
     res.curves = scan.corners.finder.curves
+    res.off_chord = off_chord(scan.corners, res.corners)
 
 
 def _read_batches(f, rows: int, names: list, path):

@@ -71,7 +71,7 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
     else:
         run, res = _whole(run_file, plane, chunk_rows, command, window_s=window_s, **corners)
     _say_notes(res, rapids, run_file)
-    _say_curves(res.curves, corner_deg, span_mm)
+    _say_curves(res, corner_deg, span_mm)
     name = sensor.value if sensor else next(s for s in ("tcp", "scale", "motor")
                                             if s in res.errors)
     if name not in res.errors:
@@ -259,17 +259,50 @@ def _print(res, sensor: str, title: str, span_mm: float = 0.5) -> None:
                 f"{res.settle_tol_m * 1e6:g} µm{more}")
 
 
-def _say_curves(curves: int, corner_deg: float, span_mm: float) -> None:
+def _say_curves(res, corner_deg: float, span_mm: float) -> None:
     """Say on stderr where the command turns by more than ``--corner-deg`` over the span
     evenly, so that the corner table leaves it out: a curve, or a corner blended over more
-    than a quarter of the span, which a longer span takes in [-]."""
-    if curves:
+    than a quarter of the span, which a longer span takes in; and which corners the span
+    is too long for (:func:`_say_off_chord`) [-]."""
+    _say_off_chord(res.off_chord, span_mm)
+    if curves := res.curves:
         console.print(
             f"note: the command turns by more than {corner_deg:g}° over {span_mm:g} mm evenly "
             f"at {curves} place{'s' if curves > 1 else ''}, not in the corner table: a curve, "
             f"or a corner blended over more than {span_mm / 4:g} mm (a square's under G64 "
             f"P0.1); --corner-span-mm {4 * span_mm:g} takes such a corner in",
             highlight=False)
+
+
+def _say_off_chord(off: dict, span_mm: float) -> None:
+    """Say on stderr which corners are measured over chords that stray off the command (a
+    feature shorter than the span: a notch, a step-over, a small loop), so that their
+    turn and overshoot are the feature's, and a span that takes them apart: the 1-2-5
+    step at or below the shortest straight stretch from them [-]."""
+    if not off:
+        return
+    nums = sorted(off)
+    named = ", ".join(str(n) for n in nums[:10]) + (f" and {len(nums) - 10} more"
+                                                     if len(nums) > 10 else "")
+    straight = min(w for _, w in off.values()) * 1e3
+    span = _step_below(min(straight, 0.8 * span_mm))
+    console.print(
+        f"note: corner{'s' if len(nums) > 1 else ''} {named}: the command strays from the "
+        f"chords over {span_mm:g} mm before and after by up to "
+        f"{max(v for v, _ in off.values()) * 1e6:.0f} µm (a notch, step-over or loop "
+        f"shorter than the span): their turn and the direction their overshoot is taken "
+        f"in are those of the feature, not of the legs into and out of each corner (a "
+        f"U-turn's across a tilted line, a notch's corners placed and turned short); "
+        f"--corner-span-mm {span:g} measures them one by one (the command runs straight "
+        f"for {straight:.3g} mm from them)", highlight=False)
+
+
+def _step_below(x_mm: float) -> float:
+    """The largest of 1, 2, 5 times a power of ten at or below ``x_mm`` [mm]."""
+    import math
+
+    e = math.floor(math.log10(x_mm))
+    return max(m * 10.0 ** e for m in (1, 2, 5) if m * 10.0 ** e <= x_mm * (1 + 1e-9))
 
 
 #: a largest error this soon after a rapid is the servo's lag the rapid carries into the

@@ -37,7 +37,7 @@ def median(x):
 
 
 @njit(cache=True)
-def _pymax(a, b):
+def pymax(a, b):
     """Python's ``max(a, b)``: ``a`` unless ``b`` is larger (NaN and -0.0 kept)."""
     return b if b > a else a
 
@@ -108,7 +108,7 @@ def corner_shape(t, dist, dev, past, b0, b1, end, tol):
     if end:  # the level from the whole stretch, the travel from the command's arrival
         dv = dev[own]
         tail = dv[dv.size - max(dv.size // 4, 1):]
-        level = _pymax(median(tail), 0.0)
+        level = pymax(median(tail), 0.0)
         dv = dev[own & (past != 0)]
     else:
         dv = dev[own & (past != 0)]
@@ -122,7 +122,7 @@ def corner_shape(t, dist, dev, past, b0, b1, end, tol):
                 top = math.nan
                 break
             top = max(top, x)
-        over = _pymax(top, 0.0)
+        over = pymax(top, 0.0)
     out[0], out[1] = over, rounding
     return out
 
@@ -281,7 +281,7 @@ def interp_on(x, xp, fp, j, b):
 
 
 @njit(cache=True)
-def _dot(a, b):
+def dot(a, b):
     """``a . b``, the coordinates summed first to last [-]."""
     x = a[0] * b[0]
     for k in range(1, a.size):
@@ -290,9 +290,9 @@ def _dot(a, b):
 
 
 @njit(cache=True)
-def _unit(v):
+def unit(v):
     """``v`` over its length, or ``v`` itself where that is 0 [-]."""
-    ln = math.sqrt(_dot(v, v))
+    ln = math.sqrt(dot(v, v))
     return v / (ln if ln != 0.0 else 1.0)
 
 
@@ -332,13 +332,13 @@ def corner_frame(p, s, tc, i, turn, span):
     for k in range(d):
         back[k] = interp_at(x0, s, p[:, k], a, b)
         ahead[k] = interp_at(x1, s, p[:, k], a, b)
-    t_in = _unit(p[i] - back)
+    t_in = unit(p[i] - back)
     out[2:2 + d], out[2 + d:] = t_in, t_in
     if math.isnan(turn):
         return out
-    t_out = _unit(ahead - p[i])
-    n = t_in - _dot(t_in, t_out) * t_out
-    ln = math.sqrt(_dot(n, n))
+    t_out = unit(ahead - p[i])
+    n = t_in - dot(t_in, t_out) * t_out
+    ln = math.sqrt(dot(n, n))
     out[2:2 + d] = t_in if ln < 1e-6 else n / ln
     out[2 + d:] = t_out
     return out
@@ -354,11 +354,11 @@ def _straight_back(p, s, first, least):
         j -= 1
     if j < 0:
         return s[0]
-    u = _unit(p[first] - p[j])
+    u = unit(p[first] - p[j])
     k = j
     while k > 0 and s[k] > least:
         v = p[k] - p[k - 1]
-        if (v != 0.0).any() and _dot(_unit(v), u) < _END_COS:
+        if (v != 0.0).any() and dot(unit(v), u) < _END_COS:
             break
         k -= 1
     return s[k]

@@ -268,7 +268,8 @@ def test_time_stamps_with_jitter_leave_squareness_and_servo_mismatch_apart(seed)
     """A recorder whose time stamps jitter by +-0.3 ms about a 1 ms step: the angular speed
     of each direction, the median over single steps, came out up to 1 % apart, and with
     0.5 ms of servo mismatch at F10000 on R 35 mm (1.3 s a turn) a squareness of 20 um/m
-    read up to 32 um/m: the servo's ellipse, scaled by the wrong speed, taken for it."""
+    read 9.1 to 34.8 um/m over 20 draws: the servo's ellipse, scaled by the wrong speed,
+    taken for it."""
     err = {"tau_y": 0.5e-3, "alpha": 20e-6}
     rng = np.random.default_rng(seed)
     res = []

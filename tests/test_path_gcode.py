@@ -155,6 +155,12 @@ ERRORS = [
     ("G2 G3 X1 I1 F100\n", 1, 4, "both motion codes"),
     ("G4\n", 1, 1, "G4 needs the dwell time"),
     ("G4 P1 X1\n", 1, 7, "not both"),
+    # with G1 modal, X20 is most often the move's end written before the dwell
+    ("G1 X10 F100\nX20 G4 P1\n", 2, 1, "X20 is read as a second dwell time; if it is a "
+     "move's end point, put the dwell (P1) in a block of its own"),
+    # Y is never a dwell's time
+    ("G1 X10 F100\nG4 P1 G1 Y5\n", 2, 7, "Y5 is the move's end point, which a dwell does "
+     "not take"),
     # a dwell of 20 s, the move dropped; with P, "not both" named the move's X20
     ("G1 X20 G4\n", 1, 1, "G4 (dwell) and G1 in one block: X20 would be the move's end"),
     ("G1 X20 G4 P1\n", 1, 1, "put the dwell in a block of its own"),

@@ -284,11 +284,14 @@ class Interpreter(GeometryMixin):
         """G4: a rest of ``P`` or ``X`` seconds; ``motion`` a motion word in its block."""
         axes = [k for k in "XYZIJKR" if k in w]
         if motion is not None and axes:  # X20 is a move's end, or (Fanuc) the time
-            self.error(f"G4 (dwell) and {motion.text} in one block: {w[axes[0]].text} would "
-                       "be the move's end point or the dwell's time; put the dwell in a block "
-                       "of its own", line, motion.column)
-        if "P" in w and "X" in w:
-            self.error("G4 takes the time in P or in X, not both", line, w["X"].column)
+            what = ("would be the move's end point or the dwell's time" if axes[0] == "X"
+                    else "is the move's end point, which a dwell does not take")
+            self.error(f"G4 (dwell) and {motion.text} in one block: {w[axes[0]].text} {what}; "
+                       "put the dwell in a block of its own", line, motion.column)
+        if "P" in w and "X" in w:  # a modal move's end written before a dwell, most often
+            self.error(f"G4 takes the time in P or in X, not both: {w['X'].text} is read as a "
+                       f"second dwell time; if it is a move's end point, put the dwell "
+                       f"({w['P'].text}) in a block of its own", line, w["X"].column)
         t = w.get("P") or w.get("X")
         if t is None:
             self.error("G4 needs the dwell time, e.g. G4 P0.5 (seconds)", line, g4.column)

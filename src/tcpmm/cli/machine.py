@@ -41,7 +41,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     margins of the sampled velocity and position loops."""
     import numpy as np
 
-    from ..mechanics.statespace import plant
+    from ..mechanics.statespace import oscillating_modes
     from ..servo.closedloop import is_stable
     from ..servo.currentfilters import filter_text
     from ..servo.margins import axis_margins
@@ -50,13 +50,9 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     m = read_model(model)
     data = {}
     for ax, a in m.axes.items():
-        ev = np.linalg.eigvals(plant(a.mechanics).A)
-        # the rigid body's double 0, which rounding splits by up to sqrt(eps) of the
-        # largest (an undamped model's read as a mode of 0.0 Hz), is no mode
-        ev = ev[(ev.imag > 0) & (np.abs(ev) > 1e-6 * np.abs(ev).max())]
-        order = np.argsort(np.abs(ev))
-        data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev[order]],
-                    "damping": [float(_rounded(-e.real / abs(e))) for e in ev[order]],
+        ev = oscillating_modes(a.mechanics)
+        data[ax] = {"modes_hz": [float(abs(e) / (2 * np.pi)) for e in ev],
+                    "damping": [float(_rounded(-e.real / abs(e))) for e in ev],
                     "closed_loop_stable": is_stable(a.mechanics, a.servo),
                     "sampled_loop_spectral_radius": sampled_spectral_radius(a.mechanics, a.servo),
                     "sampled_loop_stable": loops_stable(a),

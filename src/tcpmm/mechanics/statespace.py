@@ -109,6 +109,23 @@ def plant(mech: AxisMechanics, current_bandwidth_hz: float | None = None) -> Sta
     return StateSpace(A, B, C, np.zeros((C.shape[0], B.shape[1])), states, INPUTS, OUTPUTS)
 
 
+def oscillating_modes(mech: AxisMechanics) -> np.ndarray:
+    """The eigenvalues of the mechanics' oscillating modes, one of each pair (positive
+    imaginary part), by increasing modulus. Not the rigid body's double 0, which rounding
+    splits into a pair of up to sqrt(eps) of the largest (an undamped model's read as a
+    mode of 0.0 Hz) [rad/s].
+
+    Parameters
+    ----------
+    mech : AxisMechanics
+        The axis' mechanics [SI].
+    """
+    ev = np.linalg.eigvals(plant(mech).A)
+    osc = ev[(ev.imag > 1e-9 * np.maximum(np.abs(ev), 1.0))
+             & (np.abs(ev) > 1e-6 * np.abs(ev).max())]
+    return osc[np.argsort(np.abs(osc))]
+
+
 def nut_force_input(mech: AxisMechanics, n_states: int = 10) -> np.ndarray:
     """Input column of a force added to the screw-nut force ``F_t``.
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from ...mechanics.statespace import plant
+from ...mechanics.statespace import oscillating_modes
 from ._spectral import remove_trend, segmenting
 
 __all__ = ["BEYOND_REACH", "EXCITED_SHARE", "BandCover", "band_cover", "excited_bins",
@@ -94,9 +94,7 @@ def mode_frequencies_hz(mechanics) -> np.ndarray:
     mechanics : AxisMechanics
         The axis' mechanics [SI].
     """
-    ev = np.linalg.eigvals(plant(mechanics).A)
-    osc = ev[np.abs(ev.imag) > 1e-9 * np.maximum(np.abs(ev), 1.0)]
-    return np.unique(np.abs(osc[osc.imag > 0])) / (2.0 * np.pi)
+    return np.unique(np.abs(oscillating_modes(mechanics))) / (2.0 * np.pi)
 
 
 #: How far above the top of the sweep's excitation a fitted mode lies for the FRFs to show

@@ -35,13 +35,12 @@ def stray_corners(p, s, idx, off, span) -> dict:
 
 
 def off_chord(stream, kept) -> dict:
-    """Per corner of ``kept`` (a :class:`~tcpmm.analysis.corner_rows.CornerRows` or a list
-    of its rows), by its number, whose chords stray off the command (``strayed`` of the
+    """Per corner of ``kept`` (a :class:`~tcpmm.analysis.corner_rows.CornerRows`), by its
+    number, whose chords stray off the command (``strayed`` of the
     :class:`~tcpmm.analysis.contour_corners.CornerStream` ``stream``): how far, and the
     path length over which the command runs straight from it on its shorter side
     (``inf``: over the whole span) [m]."""
     if not stream.strayed:
         return {}
-    idx = kept.indices() if hasattr(kept, "indices") else [c["index"] for c in kept]
-    return {kept[k]["number"]: stream.strayed[i] for k, i in enumerate(idx)
+    return {kept[k]["number"]: stream.strayed[i] for k, i in enumerate(kept.indices())
             if i in stream.strayed}

@@ -143,23 +143,28 @@ def choose(ctx, tries, n_poles: int) -> dict:
     elif ctx["delay"] is not None:
         taus = [float(ctx["delay"])]
     ref, vf_starts = _references(ctx, n_poles, dict.fromkeys(taus))
-    ok = [t for t in tries if ref is None or (t["total"] <= ref and not t["unsupported"])]
-    if ok:
-        return min(ok, key=by_criterion)
+    if ref is None:
+        return first
+    if reach := _reaching(tries, ref):
+        return min(reach, key=by_criterion)
     n_nums = sorted({max(n_poles - 1, 0), n_poles})
     base = [(first["fit"].pn, first["fit"].delay_s), *vf_starts[:1]]
     pool, prev = list(tries), {}
     for mu in MIXES:
         pool += _at_mix(ctx, mu, n_nums, base, prev)
-        # a fit reaches the bound only without needles outside the band, which fit noise
-        reach = [c for c in pool if c["total"] <= ref and not c["unsupported"]]
-        if reach:
+        if reach := _reaching(pool, ref):
             return _noted(min(reach, key=by_criterion), ref)
     pool += _relocated_fits(ctx, n_nums, vf_starts[:1])
-    reach = [c for c in pool if c["total"] <= ref * (1 + REACH) and not c["unsupported"]]
-    if reach:
+    if reach := _reaching(pool, ref * (1 + REACH)):
         return _noted(min(reach, key=by_criterion), ref)
     return _noted(min(pool, key=by_total), ref)
+
+
+def _reaching(fits, bound: float) -> list:
+    """The scored ``fits`` whose total error is within ``bound``: those holding a needle
+    outside the band (``unsupported``) never are, whatever their error, for they reach it
+    by fitting noise [-]."""
+    return [c for c in fits if c["total"] <= bound and not c["unsupported"]]
 
 
 def _relocated_fits(ctx, n_nums, starts) -> list:

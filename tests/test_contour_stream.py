@@ -203,7 +203,7 @@ def test_a_streamed_contour_shows_the_rows_measured_on_a_terminal(run_file, monk
 
     from rich.console import Console
 
-    from tcpmm.analysis.contour_stream import parquet_rows
+    from tcpmm.analysis.contour_parquet import parquet_rows
     from tcpmm.cli import _stream
 
     screen = io.StringIO()

@@ -189,7 +189,7 @@ def streamed(run_file: Path, chunk_rows: int | None) -> bool:
 
     if not is_parquet(run_file) or not Path(run_file).is_file():
         return False
-    from ..analysis.contour_stream import parquet_rows
+    from ..analysis.contour_parquet import parquet_rows
 
     return chunk_rows is not None or parquet_rows(run_file) > STREAM_ABOVE_ROWS
 
@@ -223,12 +223,8 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
     """
     import numpy as np
 
-    from ..analysis.contour_stream import (
-        STREAM_ROWS,
-        parquet_rows,
-        stream_contour,
-        travel_positions,
-    )
+    from ..analysis.contour_parquet import STREAM_ROWS, parquet_rows, travel_positions
+    from ..analysis.contour_stream import stream_contour
     from ..result import AxisRun, Run
     from ._plane import run_plane_said
 

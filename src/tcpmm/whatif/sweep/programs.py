@@ -22,7 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..._heap import keep_freed_memory
-from ...analysis.contour_stream import stream_contour, travel_positions
+from ...analysis.contour_parquet import travel_positions
+from ...analysis.contour_stream import stream_contour
 from ...analysis.plane import run_plane
 from ...analysis.runaway_stream import FaultWatch
 from ...errors import InputError, InputWarning

@@ -55,6 +55,7 @@ from ..result import Run
 from .contour_chords import off_chord
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import command_flags, contour_axes, plane_left_out, run_signals
+from .contour_lag import WINDOW_S, outside_closer, widened
 from .contour_search import searched
 from .contour_windows import chord_sags, feed_windows, over_rests, travel, whole_windows
 from .corners import path_length
@@ -104,8 +105,7 @@ class ContourResult:
         Per sensor the run leaves on its way to the path's end point, its distance from
         it at the last sample; the end's overshoot and rounding of those are NaN [m].
     command_sag_m : float
-        How far the command's samples cut the path's bends at most
-        (:mod:`tcpmm.analysis.contour_sampling`) [m].
+        How far the command's samples cut the path's bends at most [m].
     curves : int
         Places where the command turns by more than the corners' least turn over their
         span, evenly (:meth:`tcpmm.analysis.corners.CornerFinder._curves`): not corners [-].
@@ -117,6 +117,8 @@ class ContourResult:
         :data:`~tcpmm.analysis.contour_chords.CHORD_STRAY` of the span (a feature shorter
         than the span: its turn and overshoot are the feature's): how far, and the path
         length over which the command runs straight from it [m].
+    window_s : float
+        The window each sample's closest command point was sought in [s].
     """
 
     axes: tuple
@@ -137,6 +139,7 @@ class ContourResult:
     curves: int = 0
     left_out: dict = field(default_factory=dict)
     off_chord: dict = field(default_factory=dict)
+    window_s: float = WINDOW_S
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
@@ -191,6 +194,7 @@ class ContourResult:
                 "settle_tol_um": self.settle_tol_m * 1e6, "rapids": rapids_json(self.rapids),
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
                 "command_sag_um": self.command_sag_m * 1e6, "curves": self.curves,
+                "window_s": self.window_s,
                 "left_out_travel_mm": {a: t * 1e3 for a, t in self.left_out.items()},
                 "corners_off_chord": [{"corner": n, "stray_um": v * 1e6,
                                        "straight_mm": None if w != w else w * 1e3}
@@ -276,7 +280,7 @@ def polyline(p, before=None, after=None) -> tuple:
 
 
 def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
-                          after=None, line=None, air=None) -> dict:
+                          after=None, line=None, air=None, cuts=None, prev=None) -> dict:
     """:func:`distance_to_polyline` of several paths sampled at the same times (each
     sensor's), the polyline's segments, directions and blocks and the windows worked out
     once for all.
@@ -296,6 +300,9 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
     air : ndarray, optional
         The rapid flags of ``p``'s vertices: each point out of a rapid is measured from
         its feed move alone (:func:`~.contour_windows.feed_windows`) [-].
+    cuts : dict, optional
+        Filled per path with the samples whose window cuts off a closer command point
+        (:func:`~tcpmm.analysis.contour_lag.outside_closer`; ``prev`` as there) [-].
 
     Returns
     -------
@@ -308,8 +315,10 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
     hi = np.searchsorted(t_p, t_q + window_s, side="right")
     if moving.size < m - 1:
         lo, hi = over_rests(lo, hi, t_p, t_q, ln2 > 0, window_s)
+    kept = (lo, hi)
     if air is not None:
         lo, hi = feed_windows(lo, hi, t_p, t_q, air)
+    kept = (lo == kept[0], hi == kept[1])
     fine = p.dtype == np.float64 and np.all(np.abs(p) < _HUGE)
     out, found = {}, {}
     for k, q in qs.items():
@@ -322,10 +331,12 @@ def distances_to_polyline(qs, p, t_q, t_p, window_s, signed, before=None,
         out.update(searched(found, np.ascontiguousarray(p), seg, ln2, tdir, sag, seglen,
                             lo.astype(np.int64), hi.astype(np.int64), bool(signed),
                             np.ascontiguousarray(t_q, float), np.ascontiguousarray(t_p, float)))
+    if cuts is not None:
+        cuts.update({k: outside_closer(qs[k], p, lo, hi, kept, *v, prev) for k, v in out.items()})
     return out
 
 
-def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0,
+def contour_error(run, command=None, plane="auto", window_s=None, corner_deg=30.0,
                   corner_span_m=0.5e-3, settle_tol_m=1e-6, rapids=False) -> ContourResult:
     """Contour error of every sensor of a run along its commanded path, and corner metrics
     (module docstring: definitions and signs).
@@ -340,8 +351,9 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         ``"auto"``: the plane the command moves in (3-D when it is not plane or moves along
         one axis); ``"XY"``,
         ``("Z", "X")``, ...: that plane, signed; ``None`` or ``"3D"``: unsigned in 3-D [-].
-    window_s : float
-        Time around each actual sample in which its closest command point is sought [s].
+    window_s : float, optional
+        Time around each actual sample in which its closest command point is sought
+        (default and too short a one: :mod:`tcpmm.analysis.contour_lag`) [s].
     corner_deg : float
         Least turn that makes a corner [deg].
     corner_span_m : float
@@ -353,8 +365,8 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
         records (its ``rapid`` column) and which are otherwise left out
         (:mod:`tcpmm.analysis.rapids`) [-].
     """
-    for v, what in ((window_s, "window_s"), (corner_span_m, "corner_span_m"),
-                    (settle_tol_m, "settle_tol_m"), (corner_deg, "corner_deg")):
+    for v, what in ((corner_span_m, "corner_span_m"), (settle_tol_m, "settle_tol_m"),
+                    (corner_deg, "corner_deg")):
         if not (np.isfinite(v) and v > 0):
             raise InputError(f"{what} must be a positive number, got {v}")
     if not corner_deg < 180.0:
@@ -366,7 +378,10 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
     t, tc, cmd, actual = run_signals(run, command, axes)
     line = polyline(cmd)
     air = None if run.rapid is None or rapids else command_flags(run, command)
-    found = distances_to_polyline(actual, cmd, t, tc, window_s, signed, line=line, air=air)
+    found, window_s = widened(
+        lambda w, cuts: distances_to_polyline(actual, cmd, t, tc, w, signed, line=line,
+                                              air=air, cuts=cuts),
+        t, window_s, None if run.rapid is None or rapids else np.asarray(run.rapid) == 0)
     errors, feet = ({s: v[i] for s, v in found.items()} for i in (0, 1))
     corners = CornerStream(corner_deg, corner_span_m, settle_tol_m, window_s)
     corners.add_command(tc, cmd)
@@ -380,4 +395,4 @@ def contour_error(run, command=None, plane="auto", window_s=0.2, corner_deg=30.0
                          end_unreached(corners, kept), float(np.max(line[4])),
                          corners.finder.curves,
                          plane_left_out(run, command, axes, rapids) if signed else {},
-                         off_chord(corners, kept))
+                         off_chord(corners, kept), window_s)

@@ -32,6 +32,7 @@ from .contour import ContourResult, distances_to_polyline, polyline
 from .contour_chords import off_chord
 from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import SENSORS
+from .contour_lag import WINDOW_S, WindowCut, cut_off, window_error, windows
 from .contour_parquet import STREAM_ROWS, batches, has_columns, travel_positions
 from .contour_summary import RunningSummary
 from .contour_windows import direction
@@ -76,6 +77,8 @@ class StreamedContour:
         As :attr:`tcpmm.analysis.contour.ContourResult.left_out` [m].
     off_chord : dict of int to tuple
         As :attr:`tcpmm.analysis.contour.ContourResult.off_chord` [m].
+    window_s : float
+        As :attr:`tcpmm.analysis.contour.ContourResult.window_s` [s].
     """
 
     axes: tuple
@@ -91,6 +94,7 @@ class StreamedContour:
     curves: int = 0
     left_out: dict = field(default_factory=dict)
     off_chord: dict = field(default_factory=dict)
+    window_s: float = WINDOW_S
 
     @property
     def errors(self) -> dict:
@@ -107,7 +111,7 @@ class StreamedContour:
     json_rows = ContourResult.json_rows
 
 
-def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
+def stream_contour(path, axes, signed: bool, window_s: float | None = None,
                    rows: int = STREAM_ROWS, each=None, *, corner_deg: float = 30.0,
                    corner_span_m: float = 0.5e-3, settle_tol_m: float = 1e-6,
                    rapids: bool = False, travel: dict | None = None) -> StreamedContour:
@@ -122,8 +126,9 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
         The axes measured in [-].
     signed : bool
         Signed in the plane of two axes [-].
-    window_s : float
-        Time around each sample in which its closest command point is sought [s].
+    window_s : float, optional
+        Time around each sample in which its closest command point is sought, as for
+        :func:`~tcpmm.analysis.contour.contour_error` [s].
     rows : int
         Rows read at a time [-].
     each : callable, optional
@@ -138,11 +143,23 @@ def stream_contour(path, axes, signed: bool, window_s: float = 0.2,
         Per axis the command's least and largest position (:func:`travel_positions`, with
         ``feed_only`` as ``rapids`` is not); read from the file where not given [m].
     """
-    path = Path(path)
+    for w in windows(window_s):
+        try:
+            return _streamed(Path(path), axes, signed, w, rows, each, corner_deg,
+                             corner_span_m, settle_tol_m, rapids, travel)
+        except WindowCut as exc:
+            cut = exc
+    raise window_error(w, window_s is not None, cut.first_s)
+
+
+def _streamed(path, axes, signed, window_s, rows, each, corner_deg, corner_span_m,
+              settle_tol_m, rapids, travel) -> StreamedContour:
+    """:func:`stream_contour` at the window ``window_s``; :class:`WindowCut` where it
+    cuts a sample off its closest command point [-]."""
     cmd_cols = [f"{a.lower()}_cmd_mm" for a in axes]
     want = {"time_s", "rapid", *cmd_cols,
             *(f"{a.lower()}_{s}_mm" for a in axes for s in SENSORS)}
-    res = StreamedContour(tuple(axes), signed, settle_tol_m=settle_tol_m)
+    res = StreamedContour(tuple(axes), signed, settle_tol_m=settle_tol_m, window_s=window_s)
     if signed:  # the axes the plane leaves out, from the travel alone
         res.left_out = left_out_axes(axes, travel or travel_positions(path, not rapids))
     scan = _Scan(res, window_s, cmd_cols, each,
@@ -188,7 +205,8 @@ class _Scan:
     def __init__(self, res, w, cmd_cols, each, corners, stretches):
         self.res, self.w, self.cmd_cols, self.each, self.corners = res, w, cmd_cols, each, corners
         self.buf, self.first, self.base = None, 0, 0
-        self.before = None  # direction of travel into the buffer's first row
+        # direction of travel into the buffer's first row, and the command's row before it
+        self.before = self.prev = None
         # the corners take the chunks in a thread of their own, in order, while the next
         # chunk is searched; at most CORNERS_BEHIND calls behind
         self.pool = ThreadPoolExecutor(1) if usable_cores() > 1 else None
@@ -252,10 +270,15 @@ class _Scan:
         line = polyline(cmd[c0:c1], before, after)
         res.command_sag_m = max(res.command_sag_m, float(np.max(line[4])))
         air = buf["rapid"][c0:c1] if self.clamp and "rapid" in buf else None
+        cuts = {}
         found = distances_to_polyline(qs, cmd[c0:c1], t[first:b], t[c0:c1], w, res.signed,
-                                      line=line, air=air)
+                                      line=line, air=air, cuts=cuts,
+                                      prev=cmd[c0 - 1] if c0 > 0 else self.prev)
         feed, since = self._feed(buf, first, b)
         ts = t[first:b]
+        cut = cut_off(ts, cuts, feed if self.clamp else None)
+        if cut is not None:
+            raise WindowCut(*cut)
         for s, (e, _) in found.items():
             res.sums.setdefault(s, RunningSummary()).add(e, ts)
             if feed is not None:
@@ -270,7 +293,7 @@ class _Scan:
                    int(np.searchsorted(tau, tau[b] - w, side="left")), b) if b < n else n
         self.buf = {c: v[drop:].copy() for c, v in buf.items()}
         if 0 < drop < n:
-            self.before = direction(cmd, moves, drop - 1)
+            self.before, self.prev = direction(cmd, moves, drop - 1), cmd[drop - 1]
         self.first, self.base = b - drop, self.base + drop
 
     def _feed(self, buf, first: int, b: int):

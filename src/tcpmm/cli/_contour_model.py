@@ -10,7 +10,8 @@ from ..errors import InputError
 from ._app import console, esc, out, progress_bar, read_model
 
 
-def contour_verdict(model: str, run_file: Path, run, res, window_s: float, rapids: bool):
+def contour_verdict(model: str, run_file: Path, run, res, window_s: float | None,
+                    rapids: bool):
     """The verdict on the TCP's contour error of a run that ``model`` predicted on the
     run's own command; refused where the run has no TCP, or where the model's figures on
     that command are not the run's (a measured run, or another model's) [-].
@@ -25,7 +26,7 @@ def contour_verdict(model: str, run_file: Path, run, res, window_s: float, rapid
         The run, as read [-].
     res : ContourResult
         Its contour error, as measured [-].
-    window_s : float
+    window_s : float or None
         ``--window-s`` [s].
     rapids : bool
         ``--rapids`` [-].

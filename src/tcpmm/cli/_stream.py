@@ -194,7 +194,7 @@ def streamed(run_file: Path, chunk_rows: int | None) -> bool:
     return chunk_rows is not None or parquet_rows(run_file) > STREAM_ABOVE_ROWS
 
 
-def contour_streamed(run_file: Path, plane: str | None, window_s: float,
+def contour_streamed(run_file: Path, plane: str | None, window_s: float | None,
                      chunk_rows: int | None, *, corner_deg: float = 30.0,
                      corner_span_m: float = 0.5e-3, settle_tol_m: float = 1e-6,
                      rapids: bool = False):
@@ -208,7 +208,7 @@ def contour_streamed(run_file: Path, plane: str | None, window_s: float,
         The Parquet run [-].
     plane : str or None
         ``--plane`` [-].
-    window_s : float
+    window_s : float or None
         ``--window-s`` [s].
     chunk_rows : int or None
         Rows a chunk [-].

@@ -40,8 +40,8 @@ def contour(run_file: Path = typer.Argument(..., help="RUN.csv (simulated or mea
                                              help="Least turn that makes a corner [deg]."),
             span_mm: float = typer.Option(0.5, "--corner-span-mm", help=SPAN_HELP),
             window_s: float = typer.Option(
-                0.2, "--window-s", help="Time around each sample in which its closest command "
-                                        "point is sought [s]."),
+                None, "--window-s", help="Time around each sample in which its closest command "
+                "point is sought [s]. Default 0.2 s, widened where the tool lags more (said)."),
             chunk_rows: int = typer.Option(
                 None, "--chunk-rows", min=2,
                 help="Read a Parquet run this many rows at a time (bounded memory; the "
@@ -125,6 +125,12 @@ def _say_notes(res, rapids: bool, run_file: Path) -> None:
     _say_rapids(res.rapids, rapids)
     _say_unreached(res.unreached)
     _say_sag(res, run_file)
+    from ..analysis.contour_lag import WINDOW_S
+
+    if res.window_s > WINDOW_S:
+        console.print(f"note: the tool lags its command by more than {WINDOW_S:g} s: each "
+                      f"sample's closest command point is sought within {res.window_s:g} s "
+                      "of it", highlight=False)
 
 
 def _say_left_out(res, run_file: Path) -> None:
@@ -190,7 +196,8 @@ def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,
                                  "with; leave out --command", param_hint="--model")
     for v, what in ((settle_um, "--settle-um [um]"), (corner_deg, "--corner-deg [deg]"),
                     (window_s, "--window-s [s]"), (span_mm, "--corner-span-mm [mm]")):
-        positive(v, what)
+        if v is not None:
+            positive(v, what)
     if not corner_deg < 180.0:
         raise typer.BadParameter(f"a path turns by 180 deg at most, so {corner_deg:g} deg "
                                  "would find no corner; give less than 180",
@@ -203,13 +210,14 @@ def _whole(run_file: Path, plane, chunk_rows, command=None, **options):
     plane of ``--plane`` or the one it moves in (said); ``--chunk-rows``, which does
     nothing to a CSV run, said too."""
     from ..analysis.contour import contour_error
+    from ..analysis.contour_lag import WINDOW_S
     from ..analysis.rapids import feed_commands
     from ..io.runfile import read_run
 
     if chunk_rows is not None:
         console.print(f"note: --chunk-rows reads a Parquet run in chunks; "
                       f"{esc(str(run_file))} is read whole", highlight=False)
-    run = with_given_command(read_run(run_file), command, options.get("window_s", 0.2))
+    run = with_given_command(read_run(run_file), command, options.get("window_s") or WINDOW_S)
     with in_file(run_file):
         how = run_plane_said(plane, feed_commands(run, options.get("rapids", False)),
                              run_file, allow_3d=True)

@@ -78,8 +78,9 @@ class ProgramTest:
         The axes the contour error is measured in [-].
     signed : bool
         Signed in a plane of two axes; else the distance in 3-D [-].
-    window_s : float
-        Time around each sample in which its closest command point is sought [s].
+    window_s : float, optional
+        Time around each sample in which its closest command point is sought; default as
+        for :func:`~tcpmm.analysis.contour.contour_error` [s].
     rapids : bool
         Count the G0 rapids too [-].
     """
@@ -88,7 +89,7 @@ class ProgramTest:
     command: object
     plane: tuple
     signed: bool = True
-    window_s: float = 0.2
+    window_s: float | None = None
     rapids: bool = False
 
 

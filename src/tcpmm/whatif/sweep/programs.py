@@ -131,7 +131,7 @@ def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict
             "duration_s": last_t, "faults": faults, "warnings": said}
 
 
-def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
+def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> dict:
     """The contour error of a Parquet run read in chunks, in the plane its command moves
     in (unsigned in 3-D where it moves out of a plane), as ``tcpmm contour`` takes it.
 
@@ -139,8 +139,9 @@ def run_contour(run_file: Path, window_s: float, sensor: str = "tcp") -> dict:
     ----------
     run_file : Path
         The Parquet run [-].
-    window_s : float
-        Time around each sample in which its closest command point is sought [s].
+    window_s : float or None
+        Time around each sample in which its closest command point is sought; ``None``:
+        as for :func:`~tcpmm.analysis.contour.contour_error` [s].
     sensor : str
         Sensor reported [-].
 
@@ -184,7 +185,7 @@ def _failure(exc: Exception) -> dict:
 
 
 def program_task(model: str, machine, program, chunk_blocks: int,
-                 window_s: float = 0.2) -> dict:
+                 window_s: float | None = None) -> dict:
     """One (model, program) pair: the program streamed through the model, the run's
     contour error streamed back; a failure becomes the row's error, never an exception.
 
@@ -198,8 +199,9 @@ def program_task(model: str, machine, program, chunk_blocks: int,
         The NC program file, at a path the worker reads [-].
     chunk_blocks : int
         Blocks read, interpolated and simulated at a time [-].
-    window_s : float
-        Contour error search window [s].
+    window_s : float, optional
+        Contour error search window; default as for
+        :func:`~tcpmm.analysis.contour.contour_error` [s].
 
     Returns
     -------
@@ -311,7 +313,7 @@ def write_table(rows, out_dir) -> dict:
 
 
 def run_programs(models: dict, programs, out_dir, *, client=None, workers: int | None = None,
-                 chunk_blocks: int | None = None, window_s: float = 0.2,
+                 chunk_blocks: int | None = None, window_s: float | None = None,
                  progress=None) -> ProgramSweep:
     """Every program through every model, each pair a streaming task; the table written.
 
@@ -329,8 +331,9 @@ def run_programs(models: dict, programs, out_dir, *, client=None, workers: int |
         Without a client: local worker processes; default and 1 run in this process [-].
     chunk_blocks : int, optional
         Blocks a chunk, default :data:`tcpmm.path.stream.CHUNK_BLOCKS` [-].
-    window_s : float
-        Contour error search window [s].
+    window_s : float, optional
+        Contour error search window; default as for
+        :func:`~tcpmm.analysis.contour.contour_error` [s].
     progress : callable, optional
         Called with the pairs done and their total [-].
     """

@@ -1,0 +1,44 @@
+"""A fit at the noise is not traded for vector fitting's total error, which only the noise
+of the largest bins lies below. Three modes with 1 % noise: vector fitting's poles leave a
+total error of 3.9e-5 where the true response itself leaves 6.7e-5; the fit held to it
+came out at a chi2 ratio of 14, off the truth by 4.9 dB at the antiresonance near 430 Hz."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from tcpmm.ident.frf import FRF
+from tcpmm.ident.lti import fit_frf
+from tcpmm.ident.lti._select import AT_NOISE_CHI2
+
+
+def three_modes(seed: int):
+    """Modes at 80, 250 and 700 Hz (damping 0.01, 0.005, 0.003) summed as a structure's
+    receptance is, a 0.25 ms delay, on 300 log-spaced bins of 10-2000 Hz with 1 % complex
+    noise, no coherence given (the noise is read from the response's roughness); and the
+    truth [-]."""
+    f = np.geomspace(10.0, 2000.0, 300)
+    s = 2j * np.pi * f
+    h = sum(r * w**2 / (s**2 + 2 * z * w * s + w**2) for w, z, r in (
+        (2 * np.pi * 80, 0.01, 1.0), (2 * np.pi * 250, 0.005, 0.4), (2 * np.pi * 700, 0.003, 0.15)))
+    h = h * np.exp(-s * 2.5e-4)
+    rng = np.random.default_rng(seed)
+    e = (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)) / np.sqrt(2)
+    return FRF(f, h * (1 + 0.01 * e), np.ones(f.size), 1, np.zeros(f.size), name="three"), h
+
+
+@pytest.mark.parametrize("seed", [1, 7, 11])
+def test_a_fit_at_the_noise_keeps_the_antiresonances(seed):
+    frf, truth = three_modes(seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fit_frf(frf, poles=6)
+    h = res.freqresp(frf.freq_hz)
+    assert np.max(np.abs(h / truth - 1)) < 0.05  # 76 % at the antiresonance
+    assert res.chi2_ratio <= AT_NOISE_CHI2
+    # a total error above vector fitting's is said, with why
+    short = any("short of" in n for n in res.notes)
+    assert not short or any("the noise leaves by itself" in n for n in res.notes), res.notes

@@ -379,6 +379,41 @@ def test_headroom_plans_the_program_with_the_rest_of_the_limits(tmp_path, capsys
     assert "already timed" in capsys.readouterr().err
 
 
+def test_the_headroom_is_a_share_of_the_limit_given(tmp_path, capsys):
+    """--accel-m-per-s2 0.8 on an interpolator of 1 m/s^2: the program was planned at 75 %
+    of the interpolator's 1 m/s^2, 0.75, which left the correction 0.05 (6 %) where the
+    console said 25 %. Now the plan ramps at 75 % of the 0.8, and the compensated command
+    keeps the 0.8; where no lower limit is given, the plan is the one of before, to the
+    bit."""
+    from tcpmm import builtin_machine
+    from tcpmm.cli import main
+    from tcpmm.compensate.bounds import derivative, machine_bounds
+    from tcpmm.compensate.headroom import program_with_headroom
+    from tcpmm.path import InterpolatorSettings, read_command_csv
+
+    prog = tmp_path / "square.nc"
+    prog.write_text("G90 G17 G64 P0.01 F5000\nG1 X20 Y0\nG1 X20 Y20\nG1 X0 Y20\nG1 X0 Y0\n")
+    settings, m = InterpolatorSettings(), builtin_machine()
+    own = program_with_headroom(prog, settings, 0.25)[1]
+    same = program_with_headroom(prog, settings, 0.25, machine_bounds(m))[1]
+    np.testing.assert_array_equal(same.positions["X"], own.positions["X"])
+    planned = program_with_headroom(prog, settings, 0.25, machine_bounds(m, 0.8))[1]
+    for a in ("X", "Y"):
+        peak = np.max(np.abs(derivative(planned.positions[a], 2, planned.period_s)))
+        assert peak <= 0.75 * 0.8 * 1.02  # sampled ramps
+    out, ref = tmp_path / "c.csv", tmp_path / "ref.csv"
+    assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
+                 "--draws", "0", "--iterations", "4", "--accel-m-per-s2", "0.8",
+                 "--reference-out", str(ref)]) == 0
+    capsys.readouterr()
+    plan = read_command_csv(ref)
+    assert plan.time_s[-1] == pytest.approx(planned.time_s[-1])
+    comp = read_command_csv(out)
+    for a in ("X", "Y"):
+        assert np.max(np.abs(derivative(comp.positions[a], 2, comp.period_s))) <= 0.8 * (
+            1 + 1e-6)
+
+
 def test_a_sharp_corner_planned_with_headroom_stays_within_the_full_limit(tmp_path, capsys):
     """Under G64 without P the zig-zag's corners stay sharp: the planned program brakes
     into each at three quarters of the limit, and its velocity step may take only the
@@ -965,17 +1000,20 @@ def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, t
 
 
 def test_a_limit_below_the_planners_is_not_blamed_on_a_corner(capsys, tmp_path):
-    """An NC program compensated with --accel-m-per-s2 below the model's interpolator's:
-    the program is planned to the interpolator's limit and goes beyond the one given on
-    every ramp, yet the cause said was "a sharp corner's velocity step" of a program with
-    no corner. The interpolator's own limit is named instead."""
+    """An NC program compensated as programmed (--headroom 0) with --accel-m-per-s2 below
+    the model's interpolator's: the program runs at the interpolator's limit and goes
+    beyond the one given on every ramp, yet the cause said was "a sharp corner's velocity
+    step" of a program with no corner. The interpolator's own limit is named instead.
+    Planned with headroom, the program keeps within the limit given and nothing is said."""
     from conftest import run_cli
 
     prog = tmp_path / "p.nc"
     prog.write_text("G21 G90 G17\nG1 X20 F5000\nM30\n")
-    code, _out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
-                             str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 2,
-                             "--accel-m-per-s2", 0.2)
+    args = ("compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
+            "--draws", 0, "--iterations", 2, "--accel-m-per-s2", 0.2)
+    code, _out, err = run_cli(capsys, *args)
+    assert code == 0 and "above its limit of" not in err, err
+    code, _out, err = run_cli(capsys, *args, "--headroom", 0)
     assert code == 0, err
     said = [" ".join(ln.removeprefix("warning: ").split()) for ln in err.splitlines()
             if "above its limit of" in ln]
@@ -985,7 +1023,7 @@ def test_a_limit_below_the_planners_is_not_blamed_on_a_corner(capsys, tmp_path):
     # and in --json, where it was missing (another limit: a text said once a process)
     code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", str(prog), "-o",
                              str(tmp_path / "c.csv"), "--draws", 0, "--iterations", 2,
-                             "--accel-m-per-s2", 0.25, "--json")
+                             "--accel-m-per-s2", 0.25, "--headroom", 0, "--json")
     assert code == 0, err
     assert any("above its limit of" in w for w in json.loads(out)["warnings"])
 

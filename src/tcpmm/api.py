@@ -230,7 +230,7 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
 
     m = load_model(machine)
     bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
-    full, cmd, headroom = _with_headroom(command, m, headroom)
+    full, cmd, headroom = _with_headroom(command, m, headroom, bounds)
 
     def learned(on):
         comp = _compensate(m, on, bounds=bounds)
@@ -250,9 +250,10 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
     return comp
 
 
-def _with_headroom(command, machine, headroom):
-    """The command at the axes' full limits, the one the correction is learned on, and
-    the headroom: only an NC program is planned anew [-]."""
+def _with_headroom(command, machine, headroom, bounds):
+    """The command at the axes' full limits, the one the correction is learned on (its
+    headroom a share of ``bounds``), and the headroom: only an NC program is planned
+    anew [-]."""
     from .compensate.headroom import headroom_for, program_with_headroom
     from .path import Command, InterpolatorSettings
     from .path.program import PROGRAM_SUFFIXES
@@ -264,5 +265,5 @@ def _with_headroom(command, machine, headroom):
         cmd = as_command(command, machine)
         return cmd, cmd, 0.0
     settings = InterpolatorSettings.model_validate(machine.interpolation or {})
-    full, planned = program_with_headroom(Path(command), settings, headroom)
+    full, planned = program_with_headroom(Path(command), settings, headroom, bounds)
     return full, planned, headroom

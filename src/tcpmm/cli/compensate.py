@@ -94,7 +94,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     centre_m = tuple(c * 1e-3 for c in floats(centre, "--centre", 2))
     m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
-    full, cmd, headroom = _planned(command, gcode, m, headroom)
+    full, cmd, headroom = _planned(command, gcode, m, headroom, bounds)
     (full, cmd), held = _without_held(m, full, cmd)
     circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
     with _controller_bar(m, cmd, circle, (iterations, draws), controller_out) as (tune, learn):
@@ -223,7 +223,7 @@ def _with_held(command, held: dict):
                    dict(command.meta))
 
 
-def _planned(command, gcode, machine, headroom):
+def _planned(command, gcode, machine, headroom, bounds):
     """The program at the axes' full limits, the one the correction is learned on and the
     headroom left to it (:mod:`tcpmm.compensate.headroom`).
 
@@ -233,8 +233,8 @@ def _planned(command, gcode, machine, headroom):
         The command file or the NC program [-].
     machine : Machine
         Whose interpolator settings plan the program [-].
-    headroom : float or None
-        ``--headroom`` [-].
+    headroom, bounds : float or None, dict of str to AxisBounds
+        ``--headroom``, a share of the limits the compensated command keeps [-], [SI].
     """
     from ..compensate.headroom import headroom_for, program_with_headroom
 
@@ -243,7 +243,7 @@ def _planned(command, gcode, machine, headroom):
         cmd = load_command(command, gcode, machine)
         return cmd, cmd, 0.0
     with in_file(gcode):
-        full, planned = program_with_headroom(gcode, interp_settings(machine), headroom)
+        full, planned = program_with_headroom(gcode, interp_settings(machine), headroom, bounds)
     return full, planned, headroom
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..path.program import program_to_command
-from ..path.settings import InterpolatorSettings
+from ..path.settings import AXES, InterpolatorSettings
 
 #: Share of the acceleration and jerk left to the correction of an NC program [-].
 DEFAULT_HEADROOM = 0.25
@@ -70,7 +70,35 @@ def planned_step_share(headroom: float) -> float:
     return headroom / (1.0 - headroom)
 
 
-def program_with_headroom(program, settings: InterpolatorSettings, headroom: float):
+def within_bounds(settings: InterpolatorSettings, bounds: dict) -> InterpolatorSettings:
+    """The settings with the path's and each axis's acceleration and the path's jerk no
+    higher than the limits the compensated command keeps: the headroom is a share of
+    those, and a plan at the interpolator's own higher limits would leave the correction
+    less than its share, or none (0.8 m/s^2 given on a 1 m/s^2 interpolator left 6 %
+    where 25 % was said).
+
+    Parameters
+    ----------
+    settings : InterpolatorSettings
+        The machine's settings [-].
+    bounds : dict of str to AxisBounds
+        The limits per axis (:func:`~tcpmm.compensate.bounds.machine_bounds`) [SI].
+    """
+    own = dict(zip(AXES, settings.axis_accel(), strict=True))
+    lower = {a: b.accel for a, b in bounds.items() if b.accel < own.get(a, np.inf)}
+    # the path's vector is held by the axes' limits together, not by the slowest one's
+    path = min(settings.path_accel_m_per_s2, max(b.accel for b in bounds.values()))
+    jerk = min(settings.path_jerk_m_per_s3, max(b.jerk for b in bounds.values()))
+    if not lower and path == settings.path_accel_m_per_s2 \
+            and jerk == settings.path_jerk_m_per_s3:
+        return settings
+    return settings.model_copy(update={
+        "path_accel_m_per_s2": path, "path_jerk_m_per_s3": jerk,
+        "axis_accel_m_per_s2": {**settings.axis_accel_m_per_s2, **lower}})
+
+
+def program_with_headroom(program, settings: InterpolatorSettings, headroom: float,
+                          bounds: dict | None = None):
     """The program interpolated at the full limits and with the headroom.
 
     Parameters
@@ -81,6 +109,9 @@ def program_with_headroom(program, settings: InterpolatorSettings, headroom: flo
         The machine's settings [-].
     headroom : float
         Share of the acceleration and jerk left to the correction [-].
+    bounds : dict of str to AxisBounds, optional
+        The limits the compensated command keeps: the plan with the headroom is made
+        within them (:func:`within_bounds`) [SI].
 
     Returns
     -------
@@ -90,7 +121,8 @@ def program_with_headroom(program, settings: InterpolatorSettings, headroom: flo
     full = program_to_command(program, settings)
     if headroom == 0.0:
         return full, full
-    return full, program_to_command(program, planned_settings(settings, headroom))
+    own = settings if bounds is None else within_bounds(settings, bounds)
+    return full, program_to_command(program, planned_settings(own, headroom))
 
 
 def corner_steps_s(program, settings: InterpolatorSettings, headroom: float,

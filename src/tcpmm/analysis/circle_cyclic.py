@@ -1,24 +1,26 @@
 """The cyclic error of each axis (a screw's pitch error, say) in the residual of a circle
 fit: its period is found by a scan (the three highest peaks on the grid each refined), the
 stronger axis first, then the other with it fitted, then each again over all periods with
-the other fitted. An axis' cyclic error counts when it lowers the sum of squares by 30
-noise variances, the noise taken from successive differences of what the fit leaves
-without cyclic errors, and when it is an error of the axis' position: the same where the
-axis runs towards the end of its travel as where it runs back from it. A period the fit
-finds only after the reversals (the structure ringing once the friction has flipped, or a
-reversal's slow tail) differs between the two by more than a fifth of its amplitude, and
-is no cyclic error: a screw's pitch error does not know which way the axis turned last.
-Nor is one smaller than what the fit leaves unexplained: a residual that large is
-structured (a reversal's tails, a lag the terms do not model) and holds periods whose
-halves agree. Periods run from a third of the diameter (:data:`MIN_PERIODS`) down to
-:func:`shortest_period`: over fewer than three periods a sine of the position is mostly
-the circle's own terms.
+the other fitted, and where both have one the pair of least residual among their peaks,
+the two refined at once (:mod:`.circle_cyclic_pair`). An axis' cyclic error counts when it
+lowers the sum of squares by 30 noise variances, the noise taken from successive
+differences of what the fit leaves without cyclic errors, and when it is an error of the
+axis' position: the same where the axis runs towards the end of its travel as where it
+runs back from it. A period the fit finds only after the reversals (the structure ringing
+once the friction has flipped, or a reversal's slow tail) differs between the two by more
+than a fifth of its amplitude, and is no cyclic error: a screw's pitch error does not know
+which way the axis turned last. Nor is one smaller than what the fit leaves unexplained: a
+residual that large is structured (a reversal's tails, a lag the terms do not model) and
+holds periods whose halves agree. Periods run from a third of the diameter
+(:data:`MIN_PERIODS`) down to :func:`shortest_period`: over fewer than three periods a
+sine of the position is mostly the circle's own terms.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .circle_cyclic_pair import best_pair, pair_power, refined_pair
 from .circle_model import angle_step, cyclic_columns, radial_weights
 
 #: fewest periods of a cyclic error over the circle's diameter: over fewer, a sine of the
@@ -228,14 +230,17 @@ def search_cyclic(pb, mu, periods) -> tuple:
         The longest and the shortest period searched (:func:`search_periods`) [m].
     """
     ang, pos, ws = _samples(pb, mu)
-    waves = [None, None]
+    waves, seen = [None, None], ([], [])  # and each axis' peaks: the pair's candidates
     _, res, basis = pb.solve(mu, waves)
+    alone = (res, basis)  # the fit without either, beside which a pair is fitted
     # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
     # noise-free circle has no noise to stand out of, and found a period in rounding
     floor = max(30.0 * _noise(res) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
     for _ in range(2):
         found = [[(0.0, None)] if waves[ax] is not None else
                  _scan(pos[ax], ws[ax], res, basis, pb.radius, periods) for ax in (0, 1)]
+        for ax in (0, 1):
+            seen[ax].extend(k for _, k in found[ax] if k is not None)
         ax = int(np.argmax([f[0][0] for f in found]))
         if found[ax][0][0] <= floor:
             break
@@ -243,8 +248,15 @@ def search_cyclic(pb, mu, periods) -> tuple:
         _, res, basis = pb.solve(mu, waves)
     if all(k is not None for k in waves):  # each period again, the other one fitted
         for ax in (0, 1):
-            without = _without(pb, mu, waves, ax)
-            waves[ax] = _scan(pos[ax], ws[ax], *without, pb.radius, periods)[0][1]
+            found = _scan(pos[ax], ws[ax], *_without(pb, mu, waves, ax), pb.radius, periods)
+            waves[ax] = found[0][1]
+            seen[ax].extend(k for _, k in found if k is not None)
+        # the pair of least residual among them (:mod:`.circle_cyclic_pair`) where both
+        # are errors of the axes' positions; else each is tested as the scans found it
+        pair = best_pair(pair_power(pos, ws, *alone), seen, 2.0 / (4.0 * pb.radius),
+                         (1.0 / periods[0], 1.0 / periods[1]))
+        if all(_of_position(pb, _without(pb, mu, pair, ax), ax, pair[ax]) for ax in (0, 1)):
+            waves = list(pair)
     for ax in (0, 1):  # a period of the axis' position, else the next that is one, or none
         if waves[ax] is None:
             continue
@@ -261,14 +273,18 @@ def refine_waves(pb, mu, waves, periods) -> tuple:
     that holds both: the scan placed them with the reversals and centres of a fit without
     them, which the cyclic errors themselves had moved (two pitch errors, of 12.0 and 7.4
     mm, read the first 11.92 mm and the backlash 0.24 um off). ``periods``: the band
-    searched (:func:`search_periods`) [m]."""
+    searched (:func:`search_periods`) [m]. Both at once where both axes have one
+    (:mod:`.circle_cyclic_pair`): one refined beside the other's, off, is off too."""
     _, pos, ws = _samples(pb, mu)
+    step, band = 1.0 / (4.0 * pb.radius), (1.0 / periods[0], 1.0 / periods[1])
+    if all(k is not None for k in waves):
+        power = pair_power(pos, ws, *pb.solve(mu, (None, None))[1:])
+        return refined_pair(power, waves, step, band, 6)[1]
     out = list(waves)
     for ax in (0, 1):
         if out[ax] is not None:  # from the scan's grid step
             power = _power_of(pos[ax], ws[ax], *_without(pb, mu, out, ax))
-            out[ax] = float(_refined(power, out[ax], 1.0 / (4.0 * pb.radius),
-                                     (1.0 / periods[0], 1.0 / periods[1]), 4))
+            out[ax] = float(_refined(power, out[ax], step, band, 4))
     return tuple(out)
 
 

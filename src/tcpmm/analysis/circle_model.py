@@ -30,7 +30,14 @@ import functools
 
 import numpy as np
 
-from .circle_travel import Widths, axis_phase, axis_signs, take_up, travel_since_reversal
+from .circle_travel import (
+    Widths,
+    axis_phase,
+    axis_positions,
+    axis_signs,
+    take_up,
+    travel_since_reversal,
+)
 
 #: A term is determined where at least this share of its column (unit norm) is independent
 #: of the other columns: noise then enters it at most tenfold [-].
@@ -128,6 +135,7 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
         (:func:`take_up`); 0 for an instant step [m].
     """
     c, n, wx, wy, own, sx, sy = _geometry(angle, s, radius, ratio, mu, rev, widths)
+    px, py = axis_positions(angle, s, ratio * mu)
     fx, fy = (take_up(travel_since_reversal(own, s, radius, ratio * mu, k), w)
               for k, w in enumerate(widths))
     # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen
@@ -135,11 +143,12 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
     cols = {"backlash_X": lambda: -0.5 * sx * fx * wx,
             "backlash_Y": lambda: -0.5 * sy * fy * wy,
             "lateral_play_X": lambda: 0.5 * sx * wy, "lateral_play_Y": lambda: 0.5 * sy * wx,
-            "squareness": lambda: -radius * n * wx,
+            "squareness": lambda: -radius * py * wx,
             "servo_angle": lambda: -s * ratio * radius * n * c,
-            "scale_mismatch": lambda: 0.5 * radius * (c * wx - n * wy),
+            "scale_mismatch": lambda: 0.5 * radius * (px * wx - py * wy),
             # a bow of the axis by 1 at the middle of its travel +-R, 0 at its ends
-            "straightness_X": lambda: n * n * wy, "straightness_Y": lambda: c * c * wx}
+            "straightness_X": lambda: (1.0 - px * px) * wy,
+            "straightness_Y": lambda: (1.0 - py * py) * wx}
     return [cols[name]() for name in names]
 
 

@@ -33,6 +33,21 @@ def axis_signs(angle, s, mu=0.0):
     return -s * np.sign(np.sin(angle + s * mu)), s * np.sign(np.cos(angle - s * mu))
 
 
+def axis_positions(angle, s, mu) -> tuple:
+    """``(cos, sin)`` of each axis' own angle where the tool is at ``angle``: with a servo
+    mismatch ``mu`` each axis runs on its own sine, X ahead of the tool's angle by
+    ``s mu cos^2`` and Y behind it by ``s mu sin^2`` (each at its reversal by the whole
+    ``mu``, :func:`axis_signs`), and an error of one axis' position is
+    taken where that axis is: a squareness read where the tool is, beside a 2 ms mismatch
+    at F10000 on R 20 mm, made 0.15 um of lateral play (X position over R, Y over R) [-].
+    ``angle`` [rad], ``s`` [-] and ``mu`` [rad] as for :func:`axis_signs`.
+    """
+    c, n = np.cos(angle), np.sin(angle)
+    if not mu:
+        return c, n
+    return np.cos(angle + s * mu * c * c), np.sin(angle - s * mu * n * n)
+
+
 class Widths(tuple):
     """Each axis' take-up width, as a tuple ``(x, y)`` [m], with ``lost``: each axis' lost
     motion (its backlash as last fitted), which turns the tool's angle from the axes'

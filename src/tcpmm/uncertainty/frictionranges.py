@@ -18,7 +18,7 @@ __all__ = ["SETTLE_PLAY", "SETTLE_STATIC", "SETTLE_UNBOUNDED_PLAY", "STATIC_RANG
 #: (:data:`tcpmm.ident.gates.STATIC_OVER_COULOMB`) [-].
 STATIC_RANGE = (1.0, 2.0)
 
-SETTLE_PLAY = "a reversal test at low speed with a finer scale, or a TCP device"
+SETTLE_PLAY = "a reversal test at low speed, read by a finer scale or by a TCP device"
 SETTLE_UNBOUNDED_PLAY = ("a reversal test at low speed, or friction runs with plateaus at low "
                          "speed (0.5 and 2 mm/s)")
 SETTLE_STATIC = ("friction runs with plateaus at low speed (0.1-0.5 mm/s, below the Stribeck "

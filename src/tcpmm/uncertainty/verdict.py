@@ -205,7 +205,9 @@ _SETTLE = {"M_t": "a sweep with a TCP device and more excitation at the axial mo
            "M_h": _COLUMN_SWEEP, "K_h": _COLUMN_SWEEP, "C_h": _COLUMN_SWEEP,
            "K_L": "a sweep with more excitation",
            "friction_level": "longer friction-run plateaus",
-           "guideway_share": "friction runs with a finer scale, or a TCP device",
+           # with a TCP device already in the bundle, a longer travel narrows its reading
+           "guideway_share": "friction runs with a finer scale, or a travelling sweep with "
+                             "a TCP device over a longer travel",
            "backlash": "a reversal test at low speed", "presliding": "slower reversals"}
 
 

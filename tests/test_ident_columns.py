@@ -41,6 +41,28 @@ def test_the_columns_of_a_sane_bundle_pass(records):
     assert column_findings(_bundle(records)) == []
 
 
+def test_a_scale_two_percent_off_the_lead_is_said(records):
+    """A scale reading 2 % more than the motor angle through lead_mm (a lead or a
+    resolution set wrong) passed in silence, and identification blamed a TCP device
+    "drifting by 3040 um" over the sweep for the deflection it made; now the friction runs
+    say by how much and what to check, and a sane bundle says nothing."""
+    import warnings
+
+    from tcpmm.errors import InputWarning
+
+    _, s, f = records
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        assert column_findings(_bundle(records)) == []
+        sane = [str(w.message) for w in got if issubclass(w.category, InputWarning)]
+        b = _bundle(records, _scaled(s, "scale_m", 1.02), _scaled(f, "scale_m", 1.02))
+        assert column_findings(b) == []
+    said = [str(w.message) for w in got if issubclass(w.category, InputWarning)][len(sane):]
+    assert not sane
+    assert len(said) == 1 and "1.0200 times" in said[0] and "lead_mm" in said[0]
+    assert said[0].startswith("virtual friction runs of axis X")
+
+
 @pytest.mark.parametrize(("kind", "change", "needles"), [
     ("friction", lambda r: _swap(r, "current_cmd_A", "motor_angle_rad"),
      ["friction.csv column current_cmd_A", "swapped", "do not move together"]),

@@ -33,6 +33,12 @@ CURRENT_MARGIN = 1.05
 #: the scale's, taken as agreeing: the screw's and the structure's deflection under the
 #: drive's force stay within a few per cent of a travel of millimetres [-].
 RATIO_RANGE = (0.8, 1.25)
+#: Relative difference of the scale's travel from the motor angle's through the lead
+#: beyond which it is said: a ball screw's lead errs by some 3e-5, the screw's heat and
+#: its deflection under the drive's force by 1e-4 at most; 2 % is a lead_mm or a scale
+#: resolution set wrong, which identification reads as a deflection that grows with the
+#: travel (a TCP device "drifting by 3 mm" over the sweep) [-].
+LEAD_TOLERANCE = 5e-3
 #: Smallest correlation of two position columns taken as one motion [-].
 MIN_CORRELATION = 0.9
 #: Least travel of a record, relative to the scale's resolution and absolute, on which the
@@ -143,6 +149,10 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
             continue
         ratio, corr = slope_and_correlation(y, x)
         why = _disagreement(ratio, corr, f"{b} and {a}", units)
+        if why is None and a == "motor_angle_rad" and kind.startswith("friction"):
+            # judged on the friction runs alone: their plateaus hold the screw's
+            # deflection steady, where a sweep's moves it with the modes
+            _warn_lead(ratio, f"{source}, columns {a} and {b}")
         if why is not None:
             note = f"{why}; {also}" if also else why
             out.append(Finding(axis, f"{kind} columns {b} / {a}", ratio, "",
@@ -150,6 +160,18 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
                                "ratio of one motion (through the lead for the motor angle)",
                                f"{source}, columns {a} and {b}", note))
     return out
+
+
+def _warn_lead(ratio: float, where: str) -> None:
+    """A warning where the scale travels more or less than the motor angle through the
+    lead by more than :data:`LEAD_TOLERANCE` ([-]; ``where``: the record and columns) [-]."""
+    if abs(ratio - 1.0) > LEAD_TOLERANCE:
+        warnings.warn(InputWarning(
+            f"{where}: the scale travels {ratio:.4f} times what the motor angle does "
+            f"through lead_mm ({(ratio - 1.0) * 100:+.2f} %): check lead_mm in machine.yaml "
+            "and the scale's resolution; a screw's lead and deflection differ by 0.01 % at "
+            "most, and the difference reads as a deflection that grows with the travel"),
+            stacklevel=3)
 
 
 def column_findings(bundle) -> list[Finding]:

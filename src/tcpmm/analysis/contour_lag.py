@@ -79,16 +79,16 @@ def outside_closer(q, p, lo, hi, kept, dist, foot, prev=None) -> np.ndarray:
     ndarray of bool
     """
     m = p.shape[0]
-    pp = p if prev is None else np.vstack([prev, p])
-    shift = 0 if prev is None else 1
     last = np.minimum(np.maximum(hi, lo + 1) - 1, m - 2)
-    low = kept[0] & (foot == lo) & (lo + shift > 0)
+    low = kept[0] & (foot == lo) & ((lo > 0) | (prev is not None))
     high = kept[1] & (foot == last) & (last + 1 <= m - 2)
     cut = np.zeros(q.shape[0], bool)
-    for side, i0 in ((low, lo + shift - 1), (high, last + shift + 1)):
+    for side, i0 in ((low, lo - 1), (high, last + 1)):
         k = np.flatnonzero(side)
         if k.size:
-            out = _segment_distance(q[k], pp[i0[k]], pp[i0[k] + 1])
+            start = p[np.maximum(i0[k], 0)]
+            start[i0[k] < 0] = prev  # the segment from the vertex before the piece
+            out = _segment_distance(q[k], start, p[i0[k] + 1])
             held = np.abs(dist[k])
             cut[k] |= out < held - (held * _REL + _ABS)
     return cut

@@ -61,9 +61,9 @@ def shape(kind, n, rng):
 @pytest.mark.parametrize("window_s", [0.002, 0.2, 5.0])
 def test_the_same_as_every_segment_of_the_window(kind, window_s):
     rng = np.random.default_rng(len(kind))
-    # 5 s spans the whole path already at 1000 vertices (1 s); the reference it is held to
-    # measures every segment of the window, n^2 of them
-    p = shape(kind, 1000 if window_s > 1.0 else 3000, rng)
+    # 5 s spans the whole path (0.6 s), 0.2 s some 400 of its 1500 segments; the reference
+    # it is held to measures every segment of the window, n^2 of them
+    p = shape(kind, 600 if window_s > 1.0 else 1500, rng)
     t = np.arange(p.shape[0]) * 1e-3
     for scale in (0.0, 1e-7, 1e-5, 3e-3):  # on the path, near, on a neighbouring pass
         q = p + rng.normal(size=p.shape) * scale

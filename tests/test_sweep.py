@@ -229,6 +229,19 @@ def test_a_stopped_sweep_resumes_with_the_missing_variants(vmc, design, serial, 
     pd.testing.assert_frame_equal(res.to_pandas(), serial.to_pandas())
 
 
+def test_the_first_row_is_on_disk_at_once(tmp_path):
+    """A sweep whose rows take seconds each wrote its first part only after ten seconds
+    or a full batch: a run killed before that (a node lost, the power cut) kept nothing,
+    and the folder stayed empty while it ran."""
+    from tcpmm.whatif.sweep.store import PartWriter, part_files
+
+    w = PartWriter(tmp_path, batch=64, seconds=3600.0)
+    w.add({"variant": 0, "value": 1.0})
+    assert len(part_files(tmp_path)) == 1 and w.written == 1
+    w.add({"variant": 1, "value": 2.0})  # then in batches again
+    assert len(part_files(tmp_path)) == 1 and w.rows
+
+
 def test_a_folder_another_sweep_is_writing_into_is_refused(vmc, design, serial):
     """Two sweeps into one folder at once would both compute and write the variants
     missing there: the second is refused while the first runs, and runs after it."""

@@ -160,7 +160,8 @@ class PartWriter:
     """Collects rows and writes them as one Parquet part per batch.
 
     A batch is written when it holds ``batch`` rows, when ``seconds`` have passed since
-    the last part, and on :meth:`flush`.
+    the last part, and on :meth:`flush`; the first row at once, so that a run stopped
+    early keeps what it computed and the folder shows the rows arriving.
 
     Parameters
     ----------
@@ -182,7 +183,8 @@ class PartWriter:
     def add(self, row: dict) -> None:
         """Keep a row; write the batch when it is due."""
         self.rows.append(row)
-        if len(self.rows) >= self.batch or time.monotonic() - self._last >= self.seconds:
+        if (not self.written or len(self.rows) >= self.batch
+                or time.monotonic() - self._last >= self.seconds):
             self.flush()
 
     def flush(self) -> None:

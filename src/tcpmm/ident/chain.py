@@ -26,6 +26,7 @@ from ..errors import InputError, InputWarning
 from ..io.csvutil import warn_input
 from ..model import Machine
 from ..uncertainty import open_ranges, prediction_verdict
+from .friction.recorddrift import drift_warning, record_drift
 from .friction.spikewarnings import warn_spike_sensitivities
 from .friction.split import stribeck_from_record
 from .gates.columns import check_record_units, column_findings
@@ -263,9 +264,14 @@ def check_records(bundle, options: IdentifyOptions) -> list:
     for name, rec in bundle.axes.items():
         if rec.friction is not None:
             try:
-                stribeck_from_record(rec.friction, bundle.machine.axes[name], name)
+                *_, plateaus = stribeck_from_record(rec.friction, bundle.machine.axes[name],
+                                                    name)
             except InputError as exc:  # the fit knows the column, not the file
                 raise exc.in_file(rec.friction.source) from None
+            said = drift_warning(record_drift(rec.friction, bundle.machine.axes[name],
+                                              plateaus), name)
+            if said:
+                warn_input(said, file=rec.friction.source, column="scale_mm")
     return findings
 
 

@@ -27,6 +27,7 @@ from .frictionsplit import SHARE_WARN_STD, FrictionSplit, share_uncertainty_warn
 from .hump import without_undetermined_hump
 from .lostmotion import estimate_lost_motion
 from .nutstiffness import LOST_MOTION_Z, estimate_nut
+from .recorddrift import record_drift, without_drift
 from .steadycurve import slowest_read, steady_curve, stribeck_from_record
 from .stribeck import coulomb_stribeck
 from .sweepforce import settle_sweep_share, sweep_share, sweep_share_outside
@@ -111,6 +112,7 @@ def identify_friction(record, cfg, mechanics, guideway_share: float | None = Non
 def _runs_of(record, cfg, mechanics, axis, viscous, sweep, K_h_rel_std, C_t_std):
     """The runs the split rests on (:class:`_Runs`) and their steady curve [-]."""
     t, force, est, plateaus = _steady_fit(record, cfg, mechanics, axis)
+    record = without_drift(record, record_drift(record, cfg, plateaus))
     runs = _Runs(t, record, force, plateaus, cfg, mechanics,
                  dict(zip(est.names, est.values, strict=True)), viscous, sweep, K_h_rel_std,
                  C_t_std, dict(zip(est.names, est.std, strict=True)))

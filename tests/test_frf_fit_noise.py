@@ -42,3 +42,21 @@ def test_a_fit_at_the_noise_keeps_the_antiresonances(seed):
     # a total error above vector fitting's is said, with why
     short = any("short of" in n for n in res.notes)
     assert not short or any("the noise leaves by itself" in n for n in res.notes), res.notes
+
+
+def test_the_note_of_a_fit_kept_at_the_noise_says_where_its_total_lies():
+    """The fit kept at the noise over one of a lower criterion that follows the noise was
+    noted as above vector fitting's total error, also where it reaches that total too."""
+    from tcpmm.ident.lti._select import _quiet_or
+
+    def fit(total, chi2, bic):
+        return {"total": total, "chi2_ratio": chi2, "bic": bic, "unsupported": False,
+                "notes": []}
+
+    loud = fit(0.010, 3 * AT_NOISE_CHI2, 1.0)
+    for quiet_total, words in ((0.012, "above the 0.0105 of"), (0.0104, "within the 0.0105 of")):
+        quiet = fit(quiet_total, 1.0, 2.0)
+        kept = _quiet_or(loud, [loud, quiet], ref=0.0105, noise=0.02)
+        assert kept["total"] == quiet_total and kept["short"] is False
+        assert words in kept["notes"][-1], kept["notes"]
+    assert "lower criterion" in kept["notes"][-1]

@@ -194,10 +194,14 @@ def _quiet_or(cand, pool, ref, noise) -> dict:
     if cand["chi2_ratio"] <= AT_NOISE_CHI2 or not quiet:
         return _noted(cand, ref)
     best = _noted(min(quiet, key=by_criterion), ref)
-    note = (f"total error {best['total']:.3g}, above the {ref:.3g} of vector fitting's "
-            f"poles and within the {noise:.3g} the noise leaves by itself, at a chi2 ratio "
-            f"of {best['chi2_ratio']:.3g}: the fits that reach vector fitting's follow the "
-            f"noise of the largest bins (chi2 ratio {cand['chi2_ratio']:.3g} and up)")
+    if best["total"] <= ref * (1 + REACH):  # it reaches it too, at a larger criterion
+        where, others = f"within the {ref:.3g} of", "the fits of a lower criterion"
+    else:
+        where, others = f"above the {ref:.3g} of", "the fits that reach vector fitting's"
+    note = (f"total error {best['total']:.3g}, {where} vector fitting's poles and within "
+            f"the {noise:.3g} the noise leaves by itself, at a chi2 ratio of "
+            f"{best['chi2_ratio']:.3g}: {others} follow the noise of the largest bins "
+            f"(chi2 ratio {cand['chi2_ratio']:.3g} and up)")
     return {**best, "notes": [*best["notes"], note], "short": False}
 
 

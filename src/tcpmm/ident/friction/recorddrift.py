@@ -11,9 +11,12 @@ Within a plateau the deflection is steady, so its slope over time is the drift, 
 for a deflection that changes along the travel (the screw's lead error, friction that
 varies with the position), which slopes one way on the run out and the other on the run
 back over the same stretch. Half the sum of the slopes of the two runs of a speed is
-therefore the drift alone; the speeds' estimates, weighted by their variances, give its
-rate. Where it stands out of its scatter by :data:`DRIFT_Z` standard deviations the record
-is taken with the drift off (:func:`without_drift`), and the user is told.
+therefore the drift's rate at that time alone; the speeds' estimates, weighted by their
+variances, give its mean rate. Where that stands out of its scatter by :data:`DRIFT_Z`
+standard deviations the record is taken with the drift off (:func:`without_drift`), and the
+user is told. A scale warming after a start slows as it nears its temperature: the drift
+taken off follows the speeds' own rates, joined linearly between their times, so that
+each speed's two runs lose the drift that passed between them.
 """
 
 from __future__ import annotations
@@ -50,12 +53,20 @@ class RecordDrift:
         Duration of the record [s].
     pairs : int
         Speeds run both ways that it is read from [-].
+    times, rates : tuple of float
+        Per such speed, in time order, the middle of its two runs [s] and the drift's rate
+        there [m/s].
+    start_s : float
+        Time of the record's first sample [s].
     """
 
     rate: float
     rate_std: float
     span_s: float
     pairs: int
+    times: tuple = ()
+    rates: tuple = ()
+    start_s: float = 0.0
 
     @property
     def found(self) -> bool:
@@ -65,8 +76,13 @@ class RecordDrift:
 
     @property
     def over_record_m(self) -> float:
-        """The drift over the whole record [m]."""
-        return self.rate * self.span_s
+        """The drift over the whole record, at the rates :func:`without_drift` takes off
+        (the mean rate's where there are none) [m]."""
+        if not self.times:
+            return self.rate * self.span_s
+        t = np.linspace(self.start_s, self.start_s + self.span_s, 1001)
+        r = np.interp(t, self.times, self.rates)
+        return float(np.sum(0.5 * (r[1:] + r[:-1]) * np.diff(t)))
 
 
 def _slope(t, d, floor: float) -> tuple:
@@ -117,31 +133,39 @@ def deflection_drift(t, motor_angle, scale, R_L: float, plateaus,
         if b - a < 12 or t[b - 1] <= t[a]:
             continue
         floor = resolution_m / (math.sqrt(12.0) * (t[b - 1] - t[a]))
-        rows.append((float(p.velocity), *_slope(t[a:b], d[a:b], floor)))
-    est, var = [], []
-    for v, s, sd in rows:
+        rows.append((float(p.velocity), 0.5 * (t[a] + t[b - 1]),
+                     *_slope(t[a:b], d[a:b], floor)))
+    est, var, mid = [], [], []
+    for v, tm, s, sd in rows:
         if v <= 0 or not np.isfinite(s):
             continue
-        back = [(abs(w - (-v)), s2, sd2) for w, s2, sd2 in rows
-                if w < 0 and np.isfinite(s2) and abs(-w - v) <= _SAME_SPEED * v]
+        back = [(abs(w + v), tm2, s2, sd2) for w, tm2, s2, sd2 in rows
+                if w < 0 and np.isfinite(s2) and abs(w + v) <= _SAME_SPEED * v]
         if back:
-            _, s2, sd2 = min(back)
+            _, tm2, s2, sd2 = min(back)
             est.append(0.5 * (s + s2))
             var.append(0.25 * (sd**2 + sd2**2))
+            mid.append(0.5 * (tm + tm2))
     span = float(t[-1] - t[0]) if t.size else 0.0
     if not est:
         return RecordDrift(float("nan"), float("nan"), span, 0)
     w = 1.0 / np.array(var)
+    order = np.argsort(mid, kind="stable")
     return RecordDrift(float(w @ np.array(est) / w.sum()), float(1.0 / math.sqrt(w.sum())),
-                       span, len(est))
+                       span, len(est), tuple(np.array(mid)[order].tolist()),
+                       tuple(np.array(est)[order].tolist()), float(t[0]))
 
 
 def without_drift(record, drift: RecordDrift):
-    """The record with the drift taken off its scale, where it was found; else itself [-]."""
+    """The record with the drift taken off its scale, where it was found, at the rates of
+    the speeds run both ways joined linearly (held before the first and after the last);
+    else itself [-]."""
     if not drift.found:
         return record
     t = record.time_s
-    return dataclasses.replace(record, scale_m=record.scale_m + drift.rate * (t - t[0]))
+    rate = np.interp(t, drift.times, drift.rates)
+    drifted = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+    return dataclasses.replace(record, scale_m=record.scale_m + drifted)
 
 
 def record_drift(record, cfg, plateaus) -> RecordDrift:
@@ -159,7 +183,8 @@ def drift_warning(drift: RecordDrift, axis: str) -> str:
         return ""
     return (f"axis {axis}: the deflection between motor encoder and scale drifts by "
             f"{drift.over_record_m * 1e6:+.2f} um over the friction runs "
-            f"({drift.rate * 1e6:+.3f} +- {drift.rate_std * 1e6:.3f} um/s, read from the "
-            f"{drift.pairs} speeds run both ways: a scale or screw warming); it is taken "
+            f"(at a mean rate of {drift.rate * 1e6:+.3f} +- {drift.rate_std * 1e6:.3f} um/s, "
+            f"read from the {drift.pairs} speeds run both ways: a scale or screw warming); "
+            "it is taken "
             "off before the guideway share and the lost motion are read. Let the machine "
             "reach its temperature before the runs")

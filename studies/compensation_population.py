@@ -46,11 +46,13 @@ WORSE_UM = 0.1
 
 
 def identified(seed: int, index: int):
-    """The true machine and the model identified from its bundle [-]."""
+    """The true machine and the model identified from its bundle (without the verdict on
+    the reference circles, which leaves the model as it is) [-]."""
     truth, _ = draw_machine(seed, index, backlash=True)
     with tempfile.TemporaryDirectory() as tmp:
         virtual_bundle(truth, Path(tmp) / "bundle", seed=index)
-        return truth, identify_bundle(read_bundle(Path(tmp) / "bundle")).machine
+        return truth, identify_bundle(read_bundle(Path(tmp) / "bundle"),
+                                      verdict=False).machine
 
 
 def commands(label: str, model):

@@ -63,6 +63,28 @@ def test_a_scale_two_percent_off_the_lead_is_said(records):
     assert said[0].startswith("virtual friction runs of axis X")
 
 
+def test_a_tcp_device_reading_off_the_scale_is_said(records):
+    """A TCP device whose scale factor is 0.2 % off passed as a TCP 'drifting by 304 um'
+    over machine D's sweep; now the sweep says the TCP travels 1.0020 times the scale and
+    what to check. The scale off the lead is not blamed on the TCP."""
+    import warnings
+
+    from tcpmm.errors import InputWarning
+
+    _, s, f = records
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        assert column_findings(_bundle(records, _scaled(s, "tcp_m", 1.002))) == []
+        said = [str(w.message) for w in got if issubclass(w.category, InputWarning)]
+        assert column_findings(_bundle(records, _scaled(s, "tcp_m", 1.0005))) == []
+        b = _bundle(records, _scaled(s, "scale_m", 1.02), _scaled(f, "scale_m", 1.02))
+        assert column_findings(b) == []
+    assert len(said) == 1 and "TCP travels 1.0020 times" in said[0], said
+    assert "columns scale_mm and tcp_mm" in said[0] and "scale factor" in said[0]
+    rest = [str(w.message) for w in got if issubclass(w.category, InputWarning)][1:]
+    assert len(rest) == 1 and "lead_mm" in rest[0], rest
+
+
 @pytest.mark.parametrize(("kind", "change", "needles"), [
     ("friction", lambda r: _swap(r, "current_cmd_A", "motor_angle_rad"),
      ["friction.csv column current_cmd_A", "swapped", "do not move together"]),

@@ -39,6 +39,11 @@ RATIO_RANGE = (0.8, 1.25)
 #: resolution set wrong, which identification reads as a deflection that grows with the
 #: travel (a TCP device "drifting by 3 mm" over the sweep) [-].
 LEAD_TOLERANCE = 5e-3
+#: Largest relative difference of the TCP's travel from the scale's over a sweep taken as
+#: one motion: the reference machines' differ by 1.4e-5 at most (an Abbe offset of 300 mm
+#: under 10 urad of pitch is 3e-5); 0.1 % is the TCP device's scale factor or units, whose
+#: difference reads as a deflection growing with the travel [-].
+TCP_TOLERANCE = 1e-3
 #: Smallest correlation of two position columns taken as one motion [-].
 MIN_CORRELATION = 0.9
 #: Least travel of a record, relative to the scale's resolution and absolute, on which the
@@ -143,16 +148,21 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
     tcp = getattr(record, "tcp_m", None)
     if tcp is not None:
         pairs.append(("scale_mm", scale, "tcp_mm", np.asarray(tcp), "", TCP_UNIT_RATIOS))
-    out = []
+    out, lead = [], None
     for a, x, b, y, also, units in pairs:
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
             continue
         ratio, corr = slope_and_correlation(y, x)
+        lead = ratio if a == "motor_angle_rad" else lead
         why = _disagreement(ratio, corr, f"{b} and {a}", units)
         if why is None and a == "motor_angle_rad" and kind.startswith("friction"):
             # judged on the friction runs alone: their plateaus hold the screw's
             # deflection steady, where a sweep's moves it with the modes
             _warn_lead(ratio, f"{source}, columns {a} and {b}")
+        if why is None and b == "tcp_mm" and lead is not None and abs(lead - 1) <= LEAD_TOLERANCE:
+            # the scale follows the lead: the TCP's is the factor off (a scale off the
+            # lead is said by the friction runs)
+            _warn_tcp_travel(ratio, f"{source}, columns {a} and {b}")
         if why is not None:
             note = f"{why}; {also}" if also else why
             out.append(Finding(axis, f"{kind} columns {b} / {a}", ratio, "",
@@ -172,6 +182,17 @@ def _warn_lead(ratio: float, where: str) -> None:
             "and the scale's resolution; a screw's lead and deflection differ by 0.01 % at "
             "most, and the difference reads as a deflection that grows with the travel"),
             stacklevel=3)
+
+
+def _warn_tcp_travel(ratio: float, where: str) -> None:
+    """A warning where the TCP travels more or less than the scale by more than
+    :data:`TCP_TOLERANCE` ([-]; ``where``: the record and columns) [-]."""
+    if abs(ratio - 1.0) > TCP_TOLERANCE:
+        warnings.warn(InputWarning(
+            f"{where}: the TCP travels {ratio:.4f} times what the scale does "
+            f"({(ratio - 1.0) * 100:+.2f} %): check the TCP device's scale factor and the "
+            "unit of tcp_mm; the difference reads as a deflection between scale and TCP "
+            "that grows with the travel, not as a drift of the device"), stacklevel=3)
 
 
 def column_findings(bundle) -> list[Finding]:

@@ -74,15 +74,22 @@ class RecordDrift:
         return bool(np.isfinite(self.rate) and self.rate_std > 0
                     and abs(self.rate) > DRIFT_Z * self.rate_std)
 
+    def drifted(self, t) -> np.ndarray:
+        """The drift at the times ``t`` [s] since the first of them, at the rates of the
+        speeds run both ways joined linearly (held before the first and after the last)
+        [m]."""
+        t = np.asarray(t, float)
+        rate = np.interp(t, self.times, self.rates)
+        return np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+
     @property
     def over_record_m(self) -> float:
-        """The drift over the whole record, at the rates :func:`without_drift` takes off
-        (the mean rate's where there are none) [m]."""
+        """The drift over the whole record that :func:`without_drift` takes off; NaN
+        where no speed is run both ways [m]."""
         if not self.times:
-            return self.rate * self.span_s
-        t = np.linspace(self.start_s, self.start_s + self.span_s, 1001)
-        r = np.interp(t, self.times, self.rates)
-        return float(np.sum(0.5 * (r[1:] + r[:-1]) * np.diff(t)))
+            return float("nan")
+        return float(self.drifted(np.linspace(self.start_s, self.start_s + self.span_s,
+                                              1001))[-1])
 
 
 def _slope(t, d, floor: float) -> tuple:
@@ -157,15 +164,11 @@ def deflection_drift(t, motor_angle, scale, R_L: float, plateaus,
 
 
 def without_drift(record, drift: RecordDrift):
-    """The record with the drift taken off its scale, where it was found, at the rates of
-    the speeds run both ways joined linearly (held before the first and after the last);
-    else itself [-]."""
+    """The record with the drift taken off its scale (:meth:`RecordDrift.drifted`), where
+    it was found; else itself [-]."""
     if not drift.found:
         return record
-    t = record.time_s
-    rate = np.interp(t, drift.times, drift.rates)
-    drifted = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
-    return dataclasses.replace(record, scale_m=record.scale_m + drifted)
+    return dataclasses.replace(record, scale_m=record.scale_m + drift.drifted(record.time_s))
 
 
 def record_drift(record, cfg, plateaus) -> RecordDrift:

@@ -172,27 +172,32 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
     return out
 
 
-def _warn_lead(ratio: float, where: str) -> None:
-    """A warning where the scale travels more or less than the motor angle through the
-    lead by more than :data:`LEAD_TOLERANCE` ([-]; ``where``: the record and columns) [-]."""
-    if abs(ratio - 1.0) > LEAD_TOLERANCE:
+def _warn_travel(ratio: float, tolerance: float, where: str, what: str, check: str) -> None:
+    """A warning where one column travels more or less than another by more than
+    ``tolerance`` (``ratio`` and ``tolerance`` [-]; ``where``: the record and columns;
+    ``what``: which travels what the other does; ``check``: what to check and why) [-]."""
+    if abs(ratio - 1.0) > tolerance:
         warnings.warn(InputWarning(
-            f"{where}: the scale travels {ratio:.4f} times what the motor angle does "
-            f"through lead_mm ({(ratio - 1.0) * 100:+.2f} %): check lead_mm in machine.yaml "
-            "and the scale's resolution; a screw's lead and deflection differ by 0.01 % at "
-            "most, and the difference reads as a deflection that grows with the travel"),
-            stacklevel=3)
+            f"{where}: the {what.format(f'{ratio:.4f}')} ({(ratio - 1.0) * 100:+.2f} %): "
+            f"{check}"), stacklevel=4)
+
+
+def _warn_lead(ratio: float, where: str) -> None:
+    """:func:`_warn_travel` of the scale against the motor angle through the lead, beyond
+    :data:`LEAD_TOLERANCE` [-]."""
+    _warn_travel(ratio, LEAD_TOLERANCE, where,
+                 "scale travels {} times what the motor angle does through lead_mm",
+                 "check lead_mm in machine.yaml and the scale's resolution; a screw's lead "
+                 "and deflection differ by 0.01 % at most, and the difference reads as a "
+                 "deflection that grows with the travel")
 
 
 def _warn_tcp_travel(ratio: float, where: str) -> None:
-    """A warning where the TCP travels more or less than the scale by more than
-    :data:`TCP_TOLERANCE` ([-]; ``where``: the record and columns) [-]."""
-    if abs(ratio - 1.0) > TCP_TOLERANCE:
-        warnings.warn(InputWarning(
-            f"{where}: the TCP travels {ratio:.4f} times what the scale does "
-            f"({(ratio - 1.0) * 100:+.2f} %): check the TCP device's scale factor and the "
-            "unit of tcp_mm; the difference reads as a deflection between scale and TCP "
-            "that grows with the travel, not as a drift of the device"), stacklevel=3)
+    """:func:`_warn_travel` of the TCP against the scale, beyond :data:`TCP_TOLERANCE` [-]."""
+    _warn_travel(ratio, TCP_TOLERANCE, where, "TCP travels {} times what the scale does",
+                 "check the TCP device's scale factor and the unit of tcp_mm; the difference "
+                 "reads as a deflection between scale and TCP that grows with the travel, not "
+                 "as a drift of the device")
 
 
 def column_findings(bundle) -> list[Finding]:

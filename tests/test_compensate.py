@@ -968,8 +968,10 @@ def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):
     tcp = measured["sensors"]["tcp"]
     assert after["contour_rms_um"] == pytest.approx(tcp["rms_um"], rel=1e-4, abs=1e-3)
     assert after["contour_error_um"] == pytest.approx(tcp["max_abs_um"], rel=1e-4, abs=1e-3)
-    # the largest error is the lag carried into the cut after a G0, counted before too
-    assert tcp["max_abs_after_rapid_s"] < 0.05
+    # the largest error is the lag and ringing carried into the cut after a G0, counted
+    # before too: within the cut's first 0.1 s, over which the correction of the axis that
+    # then stands still fades out (two position-loop time constants, and as long again)
+    assert tcp["max_abs_after_rapid_s"] < 0.1
 
 
 def test_a_limit_the_program_itself_goes_beyond_is_said_with_its_cause(capsys, tmp_path):

@@ -9,6 +9,12 @@ the command the steep lead it would need to cancel the lag outright. After every
 correction is scaled back to the axis's limits (:mod:`.bounds`), so the iteration converges
 to the best command that keeps them; the best is then held to the drive's current
 (:mod:`.currentlimit`).
+
+Where an axis's path has stood still for :data:`REST_TIME_CONSTANTS` of its position
+loop's time constants, the correction fades out (:func:`at_rest`): by then the servo has
+brought the axis to rest, and what error is left there is held by friction. Pushed on
+against it, the learning hunts: the correction swings by micrometres through a hold, and
+the TCP with it, past the path's end and past the corners where one axis stops.
 """
 
 from __future__ import annotations
@@ -73,6 +79,32 @@ def fade(n: int, tail: int) -> np.ndarray:
     return w
 
 
+#: Position-loop time constants over which the correction fades out once the path stands
+#: still, the same again before it moves [-]: after the first the servo has brought the
+#: lag down to about a seventh.
+REST_TIME_CONSTANTS = 2.0
+
+
+def at_rest(target: np.ndarray, period_s: float, rest_s: float) -> np.ndarray:
+    """Window that is 1 where the path moves and falls to 0 as a raised cosine over the
+    first ``2 rest_s`` of a stretch it stands still for, rising back over the last ``2
+    rest_s`` before it moves again (none where the path ends); a stretch too short to
+    reach 0 dips less, and one within the path shorter than ``2 rest_s``, or at its end
+    shorter than ``rest_s``, not at all; 1 everywhere where ``rest_s`` is infinite [-]."""
+    if not np.isfinite(rest_s):
+        return np.ones(target.size)
+    n, k = target.size, max(2, round(rest_s / period_s))
+    still = np.concatenate([[False], np.diff(target) == 0.0])
+    keep = np.ones(n)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], still.astype(int), [0]])))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):
+        lo, hi = a + k, (b - k if b < n else n)
+        if hi > lo:
+            keep[lo:hi] = 0.0
+    ramp = np.hanning(2 * k + 1)
+    return np.minimum(1.0, np.convolve(np.pad(keep, k, mode="edge"), ramp / ramp.sum(), "valid"))
+
+
 def plain(axis, time_s, position_m, quantise_feedback: bool = False):
     """The axis run on a position command alone, feedback unquantised unless asked [-]."""
     return simulate_axis(axis, time_s, position_m, quantise_feedback=quantise_feedback)
@@ -122,7 +154,8 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     current_of = lambda x, q: plant(axis, time_s, x, quantise_feedback=q).current  # noqa: E731
     hold = CurrentHold.of(current_of, reference, bounds.current)
     pad = (2 * (gain_filter.size - 1) - reference.size) // 2
-    window = fade(reference.size, tail)
+    window = fade(reference.size, tail) * at_rest(target, T,
+                                                  REST_TIME_CONSTANTS / axis.servo.K_pp)
     corr, history, best = np.zeros_like(reference), [], (np.inf, None)
     for _ in range(iterations + 1):
         run = plant(axis, time_s, reference + corr)

@@ -4,12 +4,11 @@ say of it on the compensation.
 A region is judged by its largest error (:mod:`.robust`): the shares are chosen so that it
 falls on every draw. Below it a sample may still rise: on a square, the corner's error
 falls from 40 to 21 µm while the approach to it, along one axis alone and exactly on the
-path before, leaves it by 0.4 µm, and the axes at rest after the last corner stand 1 µm
-further off. So each sample is also held to its own error before: it is trusted only where
-its region is and one more draw's error after, at its upper bound, stays below the largest
-error before within :data:`RISE_WINDOW_S` (its envelope), at its lower bound, by the
-margin (:func:`.robust.margin`; :func:`local_rises`). The largest rise the draws cannot
-rule out is recorded with where it is.
+path before, leaves it by 0.4 µm. So each sample is also held to its own error before: it
+is trusted only where its region is and one more draw's error after, at its upper bound,
+stays below the largest error before within :data:`RISE_WINDOW_S` (its envelope), at its
+lower bound, by the margin (:func:`.robust.margin`; :func:`local_rises`). The largest rise
+the draws cannot rule out is recorded with where it is.
 """
 
 from __future__ import annotations

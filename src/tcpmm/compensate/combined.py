@@ -34,6 +34,7 @@ import numpy as np
 
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
+from .cornerguard import CornerGuard
 from .drive import axis_plant
 from .learning import CUTOFF_HZ, compensate
 from .regional import ROUNDS, per_combo
@@ -42,6 +43,7 @@ from .robust import (
     acceptable,
     axis_errors,
     circle_rows,
+    corners_hold,
     judged,
     margin,
     record,
@@ -66,7 +68,7 @@ def plants(params: dict, share: float = 1.0) -> dict:
 
 
 def choose_combined(errs: dict, target, labels: np.ndarray, guard=None,
-                    progress=None) -> tuple:
+                    progress=None, corners=None) -> tuple:
     """The share of the parameters and per axis of the correction (module docstring).
 
     Parameters
@@ -81,6 +83,8 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None,
         The circle's figures [-].
     progress : callable, optional
         Called with no argument after each combination of shares judged [-].
+    corners : CornerGuard, optional
+        The corners' overshoot, which no combination kept may raise [-].
 
     Returns
     -------
@@ -109,7 +113,8 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None,
         if s == 0.0 and c == zero:
             continue
         after = per[s][c]
-        if acceptable(before, after) and objective(after) < best[3] - margin(best[3]):
+        if (acceptable(before, after) and objective(after) < best[3] - margin(best[3])
+                and (corners is None or corners_hold(corners, errs[s])(c))):
             best = (s, c, after, objective(after))
     return best[0], [LEVELS[k] for k in best[1]], before, best[2], per[best[0]]
 
@@ -156,14 +161,14 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     labels = regions(first.target)
     tick = progress if progress is not None else (lambda: None)
     errs = {s: axis_errors(machines, c, plants(params, s), tick) for s, c in comps.items()}
+    corners = CornerGuard.of(first.target, labels, errs[0.0][:, :, 0])
     share, shares, before, after, per = choose_combined(errs, first.target, labels, guard,
-                                                        tick)
+                                                        tick, corners)
     comp, extra = comps[share], {"draws": n_draws, "seed": seed, "parameter_share": share}
-    # the correction's share region by region, with the parameters' share chosen: as the
-    # correction alone is chosen (where the draws keep no parameter, the same choice)
+    # the correction's share region by region, with the parameters' share chosen, as alone
     step, rest = _rounds(tick)
     got = regional_shares(machines, comp, per, before, labels, guard, after,
-                          plants(params, share), step)
+                          plants(params, share), step, corners, shares)
     rest()
     errors = None
     if got is not None:

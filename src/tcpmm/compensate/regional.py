@@ -116,7 +116,7 @@ def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, befor
     before : ndarray
         The figures uncompensated (:func:`.robust.judged`) [m].
     check : callable
-        ``(before, after) -> (bad regions, circle vouched)`` [-].
+        ``(before, after, TCP errors after) -> (bad regions, circle vouched)`` [-].
     judge_errors : callable
         The figures of composed errors [m].
     steps : tuple of float
@@ -135,7 +135,7 @@ def settle_regions(machines, comp, levels: np.ndarray, labels: np.ndarray, befor
         after = judge_errors(errors)
         if progress is not None:
             progress()
-        bad, circle_ok = check(before, after)
+        bad, circle_ok = check(before, after, errors)
         if not bad and circle_ok:
             return factors, after, errors
         # a region's error is also the correction of the one before it, still settling;

@@ -3,19 +3,20 @@ uncertainty, scaled back per region where the draws cannot guarantee an improvem
 
 Regions are the windows around every reversal of an axis and the stretches between them. A
 share of the correction in {0, 1/4, ..., 1} is chosen per axis: the shares whose largest
-contour error is smallest on the worst draw, among those whose every figure the draws vouch
-for (:func:`vouched`: on every draw it falls by more than :func:`margin` or stays within
-the sensors' resolution): the contour error of each region and, for a circle
-(:mod:`.circleguard`), each of its reversal spikes, the largest and G. A share is kept only
-where it lowers the worst draw's contour error by more than the margin, and a region, spike
-or G counts as improved only where every draw falls by more than it. The margin holds for
-the contour error too: the correction acts on the servo's lag and the structure's
-deflection, which set that error, so it is the figure the correction moves and claims to
-improve (a friction pulse hardly moves it, so the controller-side choice only keeps it from
-growing), and a fall smaller than the model's error can be a rise on the machine. A region
-is *trusted* where the chosen shares improve it on every draw and one more draw, the
-machine, would be improved too (a sample of it, where also no draw may see its own error
-rise: :mod:`.trust`), and *firm* where it would improve at least
+contour error is smallest on the worst draw, among those whose every figure the draws
+vouch for (:func:`vouched`: on every draw it falls by more than :func:`margin` or stays
+within the sensors' resolution): the contour error of each region and, for a circle
+(:mod:`.circleguard`), each of its reversal spikes, the largest and G; and no corner's
+overshoot, the path's end included, may rise on any draw (:mod:`.cornerguard`). A share is
+kept only where it lowers the worst draw's contour error by more than the margin, and a
+region, spike or G counts as improved only where every draw falls by more than it. The
+margin holds for the contour error too: the correction acts on the servo's lag and the
+structure's deflection, which set that error, so it is the figure the correction moves and
+claims to improve (a friction pulse hardly moves it, so the controller-side choice only
+keeps it from growing), and a fall smaller than the model's error can be a rise on the
+machine. A region is *trusted* where the chosen shares improve it on every draw and one
+more draw, the machine, would be improved too (a sample of it, where also no draw may see
+its own error rise: :mod:`.trust`), and *firm* where it would improve at least
 :data:`FIRM_RATIO` times, by the draws' scatter (:func:`next_draw`). The draws carry the
 model error's floors that ``tcpmm spread`` uses (:data:`tcpmm.whatif.draws.MODEL_ERROR`),
 so that an axis identified with a small deviation is not drawn tighter than identification
@@ -31,6 +32,7 @@ from ..analysis.contour import distance_to_polyline
 from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
+from .cornerguard import CornerGuard
 from .regional import per_combo, pick, settle_regions, tcp_errors
 from .trust import local_rises, next_draw, record
 
@@ -198,15 +200,17 @@ def choose(errs: np.ndarray, target, labels: np.ndarray, guard=None) -> tuple:
     return shares, region_rows(before, figs, target, labels), circle_rows(before, figs, guard)
 
 
-def choose_of(per: dict, n_reg: int) -> tuple:
+def choose_of(per: dict, n_reg: int, holds=None) -> tuple:
     """The share per axis of :func:`choose` and its figures, from the figures of every
-    combination of share levels (:func:`.regional.per_combo`) [-]."""
+    combination of share levels (:func:`.regional.per_combo`); of those ``holds(combo)``
+    passes, where given, asked only of a combination that would be kept [-]."""
     zero = tuple([0] * len(next(iter(per))))
     before = per[zero]
     best, best_worst, best_figs = zero, before[:, :n_reg].max(), before
     for c, after in per.items():
         worst = after[:, :n_reg].max()
-        if acceptable(before, after) and worst < best_worst - margin(best_worst):
+        if (acceptable(before, after) and worst < best_worst - margin(best_worst)
+                and (holds is None or holds(c))):
             best, best_worst, best_figs = c, worst, after
     return [LEVELS[k] for k in best], best_figs
 
@@ -293,9 +297,11 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
     errs = axis_errors(machines, comp)
     per = per_combo(errs, lambda c: judged(errs, c, target, labels, guard))
     n_reg, before = labels.max() + 1, per[tuple([0] * errs.shape[1])]
-    shares, figs = choose_of(per, n_reg)
+    corners = CornerGuard.of(target, labels, errs[:, :, 0])
+    shares, figs = choose_of(per, n_reg, corners_hold(corners, errs))
     extra = {"draws": n_draws, "seed": seed}
-    by_region = regional_shares(machines, comp, per, before, labels, guard, figs)
+    by_region = regional_shares(machines, comp, per, before, labels, guard, figs,
+                                corners=corners, chosen=shares)
     after = None
     if by_region is not None:
         (factors, figs, after), extra = by_region, {**extra, "by_region": True}
@@ -316,8 +322,15 @@ def rises(errs: np.ndarray, shares: list, target, after=None, before=None) -> tu
                        np.array([contour(e, target) for e in after]), target, margin)
 
 
+def corners_hold(corners, errs: np.ndarray):
+    """``holds(combo)`` of :func:`choose_of`: no corner's overshoot rises on any machine
+    with the shares ``combo`` of the TCP errors per share ``errs`` (:func:`axis_errors`)
+    (:mod:`.cornerguard`) [-]."""
+    return lambda c: corners.holds(errs[:, np.arange(errs.shape[1]), list(c)], EQUAL_M)
+
+
 def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.ndarray, guard,
-                    one: np.ndarray, plants=None, progress=None):
+                    one: np.ndarray, plants=None, progress=None, corners=None, chosen=None):
     """Shares chosen region by region (:mod:`.regional`), run on every draw: ``(factors,
     figures, TCP errors)`` where the draws vouch for them everywhere and, on the worst
     draw, no region, spike or G is above what one share per axis gives (its figures
@@ -325,19 +338,25 @@ def regional_shares(machines, comp, per: dict, before: np.ndarray, labels: np.nd
     where they gain nothing, the simpler choice stays. ``per``: the figures of each
     combination of shares per axis (:func:`judged`), each axis run as ``plants`` says;
     ``progress`` called with no argument after each round of
-    :func:`.regional.settle_regions` [-]."""
+    :func:`.regional.settle_regions`; the corners' overshoot held by ``corners``
+    (:class:`.cornerguard.CornerGuard`) where given. Where every region picks the same
+    shares, they are run only where they are not ``chosen``, the shares per axis
+    :func:`choose_of` kept: held back by a figure of one region (a corner's overshoot),
+    they may be kept in the others [-]."""
     n_reg = labels.max() + 1
     levels = np.array(LEVELS)[pick(per, before, n_reg, vouched, margin)]
-    if np.all(levels == levels[0]):
+    if np.all(levels == levels[0]) and (chosen is None or np.array_equal(levels[0], chosen)):
         return None  # one share per axis: the choice of :func:`choose_of`
 
     spikes = [] if guard is None else guard.spike_samples()
 
-    def check(b, a):
+    def check(b, a, errors):
         bad = {r for r in range(n_reg) if not vouched(b[:, r], a[:, r])}
         for j, at in enumerate(spikes, start=n_reg):  # a spike worse: where it is crossed
             if not vouched(b[:, j], a[:, j]):
                 bad.update(labels[at].tolist())
+        if corners is not None and not bad:  # read only of a command that would be kept
+            bad.update(corners.rising(errors, EQUAL_M))
         return sorted(bad), all(vouched(b[:, j], a[:, j]) for j in range(n_reg, b.shape[1]))
 
     got = settle_regions(machines, comp, levels, labels, before, check,

@@ -131,6 +131,8 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
             "spike_after": a.get("circle", {}).get("largest_spike_um"),
             "g_before": b.get("circle", {}).get("circular_deviation_um"),
             "g_after": a.get("circle", {}).get("circular_deviation_um"),
+            "co_before": b["path"]["corner_overshoot_um"],
+            "co_after": a["path"]["corner_overshoot_um"],
             "spikes_grown": spikes_grown(b, a)}
 
 
@@ -172,7 +174,8 @@ def truth_where_firm(comp, before, after):
     from tcpmm.compensate.robust import regions
 
     labels = regions(comp.target)
-    firm = [r["region"] for r in comp.robustness["regions"] if r["verdict"] == "firm"]
+    # none where the program is written as programmed: its draws judged another plan
+    firm = [r["region"] for r in comp.robustness.get("regions", []) if r["verdict"] == "firm"]
     if not firm:
         return None
     e_b, e_a = truth_errors(comp, before, after)
@@ -199,7 +202,8 @@ def truth_rises(comp, before, after) -> dict:
     trusted, top = local_rises(e_b[None], np.where(comp.trusted, e_a, 0.0)[None],
                                comp.target, margin)
     # the regions' verdicts alone, as "trusted" was before samples were held to their own
-    good = [r["region"] for r in comp.robustness["regions"] if r["verdict"] != "uncertain"]
+    good = [r["region"] for r in comp.robustness.get("regions", [])
+            if r["verdict"] != "uncertain"]
     by_region = mask & np.isin(regions(comp.target), good)
     return {"share": float(mask.mean()),
             "trusted": float(trusted.sum() / max(mask.sum(), 1)),
@@ -217,8 +221,9 @@ def ratio(before, after) -> str:
 
 def table(rows: list) -> str:
     """The results as a Markdown table; "worse" names a figure that grew on the true
-    machine by more than the sensors' resolution, 0.1 um, and each quadrant point whose
-    spike did [-]."""
+    machine by more than the sensors' resolution, 0.1 um (the contour error, the largest
+    spike, G and the largest corner overshoot, with its values before -> after [um]), and
+    each quadrant point whose spike did [-]."""
     def f(v):
         return "-" if v is None else f"{v:.2f}"
 
@@ -237,6 +242,8 @@ def table(rows: list) -> str:
         red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
         worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
                  if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]
+        if r.get("co_after", 0.0) > r.get("co_before", 0.0) + 0.1:  # not in another column
+            worse.append(f"corner overshoot ({r['co_before']:.2f} -> {r['co_after']:.2f})")
         worse += r.get("spikes_grown", [])
         firm = ("-" if r["firm_truth"] is None
                 else "{:.1f}x (least region {:.1f}x)".format(*r["firm_truth"]))

@@ -74,7 +74,7 @@ def _pair(before, after) -> str:
 
 def row(index: int, label: str, r: dict) -> str:
     """One line of the table of a result of :func:`studies.compensation.one` [-]."""
-    names = {"ce": "contour", "spike": "spike", "g": "G"}
+    names = {"ce": "contour", "spike": "spike", "g": "G", "co": "corner overshoot"}
     worse = [k for k in names if r[f"{k}_before"] is not None
              and r[f"{k}_after"] > r[f"{k}_before"] + WORSE_UM]
     f, firm = r["factors"], r["firm_truth"]

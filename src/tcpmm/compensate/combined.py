@@ -22,7 +22,8 @@ and the circle's spike and G fall on every draw by more than the margin, or stay
 sensors' resolution, as in the choice of the command correction alone; then, with that
 share of the parameters, the correction's share region by region as for the correction
 alone (:func:`.robust.regional_shares`), so that where the draws keep no parameter the
-command is the correction alone's.
+command is the correction alone's: its shares per axis are then chosen as for the
+correction alone (:func:`.robust.choose_of`), by the contour error alone.
 The corrected command is only right with the parameters kept on the controller.
 """
 
@@ -42,6 +43,7 @@ from .robust import (
     LEVELS,
     acceptable,
     axis_errors,
+    choose_of,
     circle_rows,
     corners_hold,
     judged,
@@ -116,6 +118,10 @@ def choose_combined(errs: dict, target, labels: np.ndarray, guard=None,
         if (acceptable(before, after) and objective(after) < best[3] - margin(best[3])
                 and (corners is None or corners_hold(corners, errs[s])(c))):
             best = (s, c, after, objective(after))
+    if best[0] == 0.0:  # no parameter kept: the correction alone's choice
+        shares, figs = choose_of(per[0.0], n_reg, None if corners is None else
+                                 corners_hold(corners, errs[0.0]))
+        return 0.0, shares, before, figs, per[0.0]
     return best[0], [LEVELS[k] for k in best[1]], before, best[2], per[best[0]]
 
 

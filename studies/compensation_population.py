@@ -77,6 +77,7 @@ def row(index: int, label: str, r: dict) -> str:
     names = {"ce": "contour", "spike": "spike", "g": "G", "co": "corner overshoot"}
     worse = [k for k in names if r[f"{k}_before"] is not None
              and r[f"{k}_after"] > r[f"{k}_before"] + WORSE_UM]
+    names["co"] += f" ({r['co_before']:.2f} -> {r['co_after']:.2f})"  # in no other column
     f, firm = r["factors"], r["firm_truth"]
     where = "-" if firm is None else f"{firm[0]:.1f}x (least region {firm[1]:.1f}x)"
     return (f"| {index} | {label} | {f['X']:.2g}/{f['Y']:.2g} | {100 * r['firm']:.0f} % | "

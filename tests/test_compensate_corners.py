@@ -8,6 +8,7 @@ import importlib
 import numpy as np
 import pytest
 
+from tcpmm.cli._compensate_text import _held_lines
 from tcpmm.compensate import compensate, machine_bounds, robust_factors
 from tcpmm.compensate.cornerguard import CornerGuard
 from tcpmm.compensate.learning import REST_TIME_CONSTANTS, at_rest
@@ -76,6 +77,12 @@ def test_no_corner_overshoots_more_than_before(machine):
     assert comp.applied
     after = composed_errors([machine], comp, comp.factors)
     assert guard.holds(after, EQUAL_M) and guard.rising(after, EQUAL_M) == []
+    held = comp.robustness["corner_held"]  # what was held back, and where: the path's end
+    assert held["refused_um"] > held["before_um"] + EQUAL_M * 1e6
+    assert held["at_mm"] == pytest.approx({a: p[-1] * 1e3 for a, p in cmd.positions.items()},
+                                          abs=1e-6)
+    line = _held_lines(comp.robustness)[0]
+    assert f"by {held['refused_um']:.2f} µm" in line and "-0.000" not in line
 
 
 def test_a_rise_is_told_in_the_region_of_its_corner():

@@ -259,7 +259,8 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
             "sample's error rises, on "
             f"{robustness['trusted_share']:.0%} of the samples (trusted), at least "
             f"{FIRM_RATIO:g}x on the machine (firm) on {robustness['firm_share']:.0%}",
-            *_rise_lines(robustness.get("local_rise")), *_worst_after(robustness),
+            *_rise_lines(robustness.get("local_rise")), *_held_lines(robustness),
+            *_worst_after(robustness),
             *_figure_verdicts(robustness.get("circle", {}))]
 
 
@@ -285,6 +286,21 @@ def _rise_lines(rise) -> list[str]:
     from ..compensate.trust import rise_words
 
     return [] if rise is None else [f"  {rise_words(rise)}"]
+
+
+def _held_lines(robustness: dict) -> list[str]:
+    """Where the corners' guard held more of the correction back: the largest rise it
+    refused, where, on which machine (:class:`tcpmm.compensate.cornerguard.CornerGuard`)
+    [-]."""
+    held = robustness.get("corner_held")
+    if held is None:
+        return []
+    at = ", ".join(f"{round(v, 3) + 0.0:.3f}" for v in held["at_mm"].values())  # no -0.000
+    on = "the model" if held["machine"] == 0 else f"draw {held['machine']}"
+    return [f"  held back at a corner: more of the correction runs the TCP past the corner at "
+            f"({at}) mm by {held['refused_um']:.2f} µm on {on}, against "
+            f"{held['before_um']:.2f} µm uncorrected; no share is kept that raises a "
+            "corner's overshoot on any draw"]
 
 
 def _worst_after(robustness: dict) -> list[str]:

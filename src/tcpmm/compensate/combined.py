@@ -35,7 +35,7 @@ import numpy as np
 
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
-from .cornerguard import CornerGuard
+from .cornerguard import CornerGuard, held_entry
 from .drive import axis_plant
 from .learning import CUTOFF_HZ, compensate
 from .regional import ROUNDS, per_combo
@@ -181,7 +181,7 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
         factors, after, errors = got
         shares, extra = [factors[a] for a in comp.reference.axes], {**extra, "by_region": True}
     record(comp, shares, region_rows(before, after, comp.target, labels),
-           circle_rows(before, after, guard), labels, extra,
+           circle_rows(before, after, guard), labels, {**extra, **held_entry(corners)},
            rises(errs[share], shares, comp.target, errors, errs[0.0][:, :, 0]))
     comp.controller = scaled_params(params, share)
     return comp

@@ -41,12 +41,17 @@ class CornerGuard:
         corners) [m].
     index : ndarray of int
         Each corner's sample on ``path`` [-].
+    held : dict or None
+        The largest rise the guard held back: where, on which machine (0 the model, then
+        the draws), the overshoot before and with the shares refused; ``None`` where it
+        held none back [mm, -, um].
     """
 
     path: object
     labels: np.ndarray
     before: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))
     index: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
+    held: dict | None = None
 
     @classmethod
     def of(cls, path, labels: np.ndarray, errors: np.ndarray) -> CornerGuard:
@@ -100,19 +105,28 @@ class CornerGuard:
         the machines read one by one until one does (the arguments of :meth:`rising`) [-].
         """
         for k in range(len(errors)):
-            if self.index.size and self._rises(errors[k:k + 1], self.before[k:k + 1],
-                                               equal_m).any():
+            if self.index.size and self._rises(errors[k:k + 1], equal_m, k).any():
                 return False
         return True
 
-    def _rises(self, errors: np.ndarray, before: np.ndarray, equal_m: float) -> np.ndarray:
-        """Per corner whether its overshoot rises on some of the machines of ``errors``
-        over ``before``, theirs without the correction; every corner where a corner is
-        seen on one run only [-]."""
+    def _rises(self, errors: np.ndarray, equal_m: float, first: int = 0) -> np.ndarray:
+        """Per corner whether its overshoot rises on some of the machines of ``errors``,
+        from machine ``first`` on, over theirs without the correction; every corner where
+        a corner is seen on one run only. The largest rise is kept in :attr:`held` [-]."""
+        before = self.before[first:first + len(errors)]
         after, _ = self.overshoots(errors)
         if after.shape != before.shape:
             return np.ones(self.index.size, dtype=bool)
-        return np.any(after > before + equal_m, axis=0)
+        up = after - before
+        k, c = np.unravel_index(np.argmax(up), up.shape)
+        if up[k, c] > equal_m and (self.held is None
+                                   or up[k, c] * 1e6 > self.held["rise_um"]):
+            p = self.path.positions
+            self.held = {"at_mm": {a: float(p[a][self.index[c]] * 1e3) for a in p},
+                         "machine": int(first + k), "before_um": float(before[k, c] * 1e6),
+                         "refused_um": float(after[k, c] * 1e6),
+                         "rise_um": float(up[k, c] * 1e6)}
+        return np.any(up > equal_m, axis=0)
 
     def rising(self, errors: np.ndarray, equal_m: float) -> list[int]:
         """The regions of the corners whose overshoot rises on some machine by more than
@@ -128,5 +142,11 @@ class CornerGuard:
         """
         if self.index.size == 0:
             return []
-        up = self._rises(errors, self.before, equal_m)
+        up = self._rises(errors, equal_m)
         return sorted(set(self.labels[self.index[up]].tolist()))
+
+
+def held_entry(guard) -> dict:
+    """``{"corner_held": guard.held}`` for a compensation's ``robustness`` where the guard
+    held a rise back, else empty [-]."""
+    return {} if guard is None or guard.held is None else {"corner_held": guard.held}

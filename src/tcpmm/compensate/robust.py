@@ -32,7 +32,7 @@ from ..analysis.contour import distance_to_polyline
 from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
-from .cornerguard import CornerGuard
+from .cornerguard import CornerGuard, held_entry
 from .regional import per_combo, pick, settle_regions, tcp_errors
 from .trust import local_rises, next_draw, record
 
@@ -306,6 +306,7 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
     if by_region is not None:
         (factors, figs, after), extra = by_region, {**extra, "by_region": True}
         shares = [factors[a] for a in comp.reference.axes]
+    extra.update(held_entry(corners))
     record(comp, shares, region_rows(before, figs, target, labels),
            circle_rows(before, figs, guard), labels, extra, rises(errs, shares, target, after))
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from tcpmm.cli._compensate_text import _held_lines
-from tcpmm.compensate import compensate, machine_bounds, robust_factors
+from tcpmm.compensate import compensate, machine_bounds, predicted_scores, robust_factors
 from tcpmm.compensate.cornerguard import CornerGuard
 from tcpmm.compensate.learning import REST_TIME_CONSTANTS, at_rest
 from tcpmm.compensate.regional import composed_errors
@@ -17,6 +17,7 @@ from tcpmm.compensate.robust import EQUAL_M, axis_errors, contour, regions
 from tcpmm.machines.builtin import builtin_machine
 from tcpmm.path import Command
 from tcpmm.path.circle import circle_command
+from tcpmm.report.compensation import compensation_section
 
 
 @pytest.fixture(scope="module")
@@ -83,6 +84,10 @@ def test_no_corner_overshoots_more_than_before(machine):
                                           abs=1e-6)
     line = _held_lines(comp.robustness)[0]
     assert f"by {held['refused_um']:.2f} µm" in line and "-0.000" not in line
+    comp.scores = predicted_scores(machine, comp)
+    html = compensation_section(comp)[2]
+    assert f"Held back at a corner: more of the correction runs the TCP past the corner at " \
+           f"(0.000, 0.000) mm by {held['refused_um']:.2f} µm on the model" in html
 
 
 def test_a_rise_is_told_in_the_region_of_its_corner():

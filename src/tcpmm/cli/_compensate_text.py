@@ -289,18 +289,12 @@ def _rise_lines(rise) -> list[str]:
 
 
 def _held_lines(robustness: dict) -> list[str]:
-    """Where the corners' guard held more of the correction back: the largest rise it
-    refused, where, on which machine (:class:`tcpmm.compensate.cornerguard.CornerGuard`)
-    [-]."""
+    """Where the corners' guard held more of the correction back, the line of
+    :func:`tcpmm.compensate.cornerguard.held_words` [-]."""
+    from ..compensate.cornerguard import held_words
+
     held = robustness.get("corner_held")
-    if held is None:
-        return []
-    at = ", ".join(f"{round(v, 3) + 0.0:.3f}" for v in held["at_mm"].values())  # no -0.000
-    on = "the model" if held["machine"] == 0 else f"draw {held['machine']}"
-    return [f"  held back at a corner: more of the correction runs the TCP past the corner at "
-            f"({at}) mm by {held['refused_um']:.2f} µm on {on}, against "
-            f"{held['before_um']:.2f} µm uncorrected; no share is kept that raises a "
-            "corner's overshoot on any draw"]
+    return [] if held is None else [f"  {held_words(held)}"]
 
 
 def _worst_after(robustness: dict) -> list[str]:

@@ -150,3 +150,14 @@ def held_entry(guard) -> dict:
     """``{"corner_held": guard.held}`` for a compensation's ``robustness`` where the guard
     held a rise back, else empty [-]."""
     return {} if guard is None or guard.held is None else {"corner_held": guard.held}
+
+
+def held_words(held: dict) -> str:
+    """What the guard held back (:attr:`CornerGuard.held`), as the console and the report
+    say it [-]."""
+    at = ", ".join(f"{round(v, 3) + 0.0:.3f}" for v in held["at_mm"].values())  # no -0.000
+    on = "the model" if held["machine"] == 0 else f"draw {held['machine']}"
+    return (f"held back at a corner: more of the correction runs the TCP past the corner at "
+            f"({at}) mm by {held['refused_um']:.2f} µm on {on}, against "
+            f"{held['before_um']:.2f} µm uncorrected; no share is kept that raises a "
+            "corner's overshoot on any draw")

@@ -8,6 +8,7 @@ import warnings
 from ..analysis.circular import analyse_circle
 from ..compensate import runs_before_after
 from ..compensate.bounds import over_limit_words
+from ..compensate.cornerguard import held_words
 from ..compensate.robust import FIRM_RATIO
 from ..compensate.scores import DEMAND_WORDS, before_after
 from ..compensate.trust import rise_words
@@ -109,9 +110,10 @@ def compensation_section(comp, source=None, machine=None, circle=None, controlle
                  "samples (trusted)")
         lead += ("." if firm is None else
                  f", and at least {FIRM_RATIO:g} times on {firm:.0%} (firm).")
-        rise = (comp.robustness or {}).get("local_rise")
-        words = "" if rise is None else rise_words(rise)
-        lead += f" {words[:1].upper()}{words[1:]}." if words else ""
+        rob = comp.robustness or {}
+        for words in ("" if rob.get("local_rise") is None else rise_words(rob["local_rise"]),
+                      "" if rob.get("corner_held") is None else held_words(rob["corner_held"])):
+            lead += f" {words[:1].upper()}{words[1:]}." if words else ""
     body = para(lead, "lead")
     polar = None if machine is None or circle is None else _polar(machine, comp, circle)
     if polar is not None:

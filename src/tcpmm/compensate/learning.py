@@ -35,7 +35,7 @@ from .inverse import (
     settle_samples,
 )
 from .outcome import Compensation
-from .turns import held_to, pieces
+from .turns import held_to, holds, pieces
 
 #: Default corner of the Q-filter: friction transients and the lag lie below it, the
 #: head and bed modes that identification places least firmly lie around and above it [Hz].
@@ -94,11 +94,9 @@ def at_rest(target: np.ndarray, period_s: float, rest_s: float) -> np.ndarray:
     if not np.isfinite(rest_s):
         return np.ones(target.size)
     n, k = target.size, max(2, round(rest_s / period_s))
-    still = np.concatenate([[False], np.diff(target) == 0.0])
     keep = np.ones(n)
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], still.astype(int), [0]])))
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
-        lo, hi = a + k, (b - k if b < n else n)
+    for a, b in holds(target):  # the path arrives at a, stands still from a + 1
+        lo, hi = a + 1 + k, (b - k if b < n else n)
         if hi > lo:
             keep[lo:hi] = 0.0
     ramp = np.hanning(2 * k + 1)

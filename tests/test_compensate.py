@@ -640,8 +640,9 @@ def test_a_correction_the_slower_plan_makes_worse_is_learned_on_the_program(tmp_
     assert main([*args, "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["settings"]["headroom"] == 0 and "planned" not in d["scores"]
-    [said] = d["robustness"]["relearned"]
-    assert said.startswith("G ") and said.endswith(" µm")
+    # the corner at the circle's end runs further past it too (0.50 -> 1.35 um): both said
+    said = d["robustness"]["relearned"]
+    assert any(s.startswith("G ") and s.endswith(" µm") for s in said), said
     after, before = (d["scores"][k]["circle"]["circular_deviation_um"]
                      for k in ("after", "before"))
     assert after <= before + 0.1

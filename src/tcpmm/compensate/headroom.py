@@ -152,7 +152,9 @@ def worse_than_programmed(scores: dict) -> list[str]:
     """The figures a compensation makes worse than the program as programmed by more than
     the sensors' resolution (:data:`tcpmm.compensate.robust.EQUAL_M`), each as ``label
     before -> after um``: the draws judge the correction against the plan it was learned
-    on, and a slower plan can itself make a figure worse [-].
+    on, and a slower plan can itself make a figure worse. The corners' overshoot counts
+    too: the corners' guard holds each corner against the slower plan's, which need not
+    be the program's [-].
 
     Parameters
     ----------
@@ -160,9 +162,10 @@ def worse_than_programmed(scores: dict) -> list[str]:
         ``Compensation.scores`` (:func:`tcpmm.compensate.predicted_scores`) [-].
     """
     from .robust import EQUAL_M
-    from .scores import before_after
+    from .scores import CORNER_FIGURE, SCORE_FIGURES, before_after
 
-    return [f"{label} {b:.2f} -> {a:.2f} µm" for label, b, a in before_after(scores)
+    return [f"{label} {b:.2f} -> {a:.2f} µm"
+            for label, b, a in before_after(scores, figures=(*SCORE_FIGURES, CORNER_FIGURE))
             if a > b + EQUAL_M * 1e6]
 
 

@@ -97,11 +97,15 @@ SCORE_FIGURES = (("path", "contour_error_um", "contour error"),
                  ("path", "contour_rms_um", "contour rms over the motion"),
                  ("circle", "largest_spike_um", "largest reversal spike"),
                  ("circle", "circular_deviation_um", "G"))
+#: The corners' largest overshoot (:func:`corner_overshoot`): no figure the correction
+#: claims to improve, but one it must not make worse [-].
+CORNER_FIGURE = ("path", "corner_overshoot_um", "corner overshoot")
 
 
-def before_after(scores: dict, keys=None) -> list[tuple[str, float, float]]:
+def before_after(scores: dict, keys=None, figures=SCORE_FIGURES
+                 ) -> list[tuple[str, float, float]]:
     """``(label, before, after)`` of each figure both scores hold, in the order of
-    :data:`SCORE_FIGURES`, of those named in ``keys`` when given [um].
+    ``figures``, of those named in ``keys`` when given [um].
 
     Parameters
     ----------
@@ -109,9 +113,11 @@ def before_after(scores: dict, keys=None) -> list[tuple[str, float, float]]:
         ``{"before": ..., "after": ...}`` of :func:`judge` [-].
     keys : collection of str, optional
         The figures' keys to keep [-].
+    figures : sequence of tuple, optional
+        ``(part, key, label)`` of the figures, :data:`SCORE_FIGURES` by default [-].
     """
     out = []
-    for part, key, label in SCORE_FIGURES:
+    for part, key, label in figures:
         b = scores.get("before", {}).get(part, {}).get(key)
         a = scores.get("after", {}).get(part, {}).get(key)
         if b is not None and a is not None and (keys is None or key in keys):

@@ -98,20 +98,8 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
     """Figures at the true machine's TCP before (the program at the full limits) and after,
     and the draws' verdict; the correction within the axes' ``limits`` (acceleration
     [m/s^2], jerk [m/s^3]) [-]."""
-    full, planned = commands
-    bounds = machine_bounds(model, *limits)
-    def learned(on):
-        comp = compensate(model, on, bounds=bounds)
-        robust_factors(model, comp, n_draws=draws, radius_m=radius)
-        comp.scores = predicted_scores(model, comp, radius,
-                                       programmed=full if on is not full else None)
-        return comp
-
-    comp = learned(planned)
-    if planned is not full:  # as tcpmm compensate --gcode writes it
-        circle = None if radius is None else (radius, (0.0, 0.0), ("X", "Y"))
-        comp, kept = on_the_program(model, full, comp, bounds, lambda: learned(full), circle)
-        planned = planned if kept else full
+    full, _ = commands
+    comp, planned = compensation_of(model, commands, radius, draws, limits)
     before, after = runs_before_after(truth, comp, programmed=full)
     b = judge(before, programmed_path(comp, full), radius)
     a = judge(after, judged_path(comp), radius)
@@ -134,6 +122,28 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
             "co_before": b["path"]["corner_overshoot_um"],
             "co_after": a["path"]["corner_overshoot_um"],
             "spikes_grown": spikes_grown(b, a)}
+
+
+def compensation_of(model, commands, radius, draws: int, limits=(None, None)):
+    """The compensation of ``commands`` (the program at the full limits, the command the
+    correction is learned on) as ``tcpmm compensate`` makes it, and the command it was
+    learned on in the end (the program, where it was learned again on it) [-]."""
+    full, planned = commands
+    bounds = machine_bounds(model, *limits)
+
+    def learned(on):
+        comp = compensate(model, on, bounds=bounds)
+        robust_factors(model, comp, n_draws=draws, radius_m=radius)
+        comp.scores = predicted_scores(model, comp, radius,
+                                       programmed=full if on is not full else None)
+        return comp
+
+    comp = learned(planned)
+    if planned is not full:  # as tcpmm compensate --gcode writes it
+        circle = None if radius is None else (radius, (0.0, 0.0), ("X", "Y"))
+        comp, kept = on_the_program(model, full, comp, bounds, lambda: learned(full), circle)
+        planned = planned if kept else full
+    return comp, planned
 
 
 def spikes_grown(before: dict, after: dict) -> list:

@@ -168,17 +168,16 @@ def warn_overshoot(comp) -> None:
     import warnings
 
     from ..compensate.robust import EQUAL_M
+    from ..compensate.scores import CORNER_FIGURE, before_after
     from ..errors import InputWarning
 
-    b = comp.scores.get("before", {}).get("path", {})
-    a = comp.scores.get("after", {}).get("path", {})
-    if "corner_overshoot_um" not in a or "corner_overshoot_um" not in b:
-        return
-    if a["corner_overshoot_um"] > b["corner_overshoot_um"] + EQUAL_M * 1e6:
-        at = ", ".join(f"{v:.3f}" for v in a["corner_overshoot_at_mm"])
+    for _, b, a in before_after(comp.scores, figures=(CORNER_FIGURE,)):
+        if a <= b + EQUAL_M * 1e6:
+            continue
+        at = ", ".join(f"{v:.3f}" for v in comp.scores["after"]["path"]["corner_overshoot_at_mm"])
         warnings.warn(f"the correction takes the model's TCP further outside the path past "
-                      f"a corner: overshoot up to {a['corner_overshoot_um']:.2f} µm after, "
-                      f"against {b['corner_overshoot_um']:.2f} µm before, at ({at}) mm (the "
+                      f"a corner: overshoot up to {a:.2f} µm after, "
+                      f"against {b:.2f} µm before, at ({at}) mm (the "
                       "contour error does not tell overshoot from rounding; on an outside "
                       "contour it is a gouge; tcpmm contour on a run of the compensated "
                       "command lists the corners)", InputWarning, stacklevel=2)

@@ -83,13 +83,15 @@ class CornerGuard:
             TCP error per machine, axis and sample, the path less the TCP, shape
             (machines, axes, n) [m].
         """
-        over, index = [], np.empty(0, dtype=int)
+        over, index = [], None
         for e in errors:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # said of the program's own run, not each draw's
                 res = contour_error(self._run(e), command=self.path)
-            index = np.array([c["index"] for c in res.corners], dtype=int)
+            if index is None:  # the corners are the path's: the same on every machine
+                index = np.array([c["index"] for c in res.corners], dtype=int)
             over.append([c["tcp"]["overshoot_m"] for c in res.corners])
+        index = np.empty(0, dtype=int) if index is None else index
         return np.nan_to_num(np.array(over, dtype=float).reshape(len(errors), -1)), index
 
     def _run(self, e: np.ndarray) -> Run:
@@ -104,10 +106,10 @@ class CornerGuard:
         """Whether no corner's overshoot rises on any machine by more than ``equal_m``,
         the machines read one by one until one does (the arguments of :meth:`rising`) [-].
         """
-        for k in range(len(errors)):
-            if self.index.size and self._rises(errors[k:k + 1], equal_m, k).any():
-                return False
-        return True
+        if self.index.size == 0:
+            return True
+        return not any(self._rises(errors[k:k + 1], equal_m, k).any()
+                       for k in range(len(errors)))
 
     def _rises(self, errors: np.ndarray, equal_m: float, first: int = 0) -> np.ndarray:
         """Per corner whether its overshoot rises on some of the machines of ``errors``,

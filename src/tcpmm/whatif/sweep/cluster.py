@@ -19,7 +19,10 @@ def local_cluster(workers: int):
     A terminal sends Ctrl-C to the whole process group, the workers too, and each printed
     its interpreter's traceback as it died. They are started with the interrupt ignored,
     which a new interpreter keeps, so they leave it to this process, which closes them.
-    While they start (a second or two), this process ignores it too."""
+    While they start (a second or two), this process ignores it too. Their logs are held
+    to the critical: a worker whose scheduler closed while its heartbeat was in flight
+    logged that failure with its traceback, and the sweep says itself what it computed and
+    what failed."""
     import logging
     import signal
     import threading
@@ -32,7 +35,7 @@ def local_cluster(workers: int):
     try:
         with dask.config.set(NANNY_ENVIRON):
             return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                dashboard_address=":0", silence_logs=logging.ERROR)
+                                dashboard_address=":0", silence_logs=logging.CRITICAL)
     finally:
         if main:
             signal.signal(signal.SIGINT, before)

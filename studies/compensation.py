@@ -22,7 +22,8 @@ import pickle
 import warnings
 from pathlib import Path
 
-from tcpmm.compensate import compensate, machine_bounds, predicted_scores, robust_factors
+from tcpmm.compensate import machine_bounds, predicted_scores
+from tcpmm.compensate.candidates import compensate_within_draws
 from tcpmm.compensate.headroom import DEFAULT_HEADROOM, on_the_program, program_with_headroom
 from tcpmm.compensate.scores import judge, judged_path, programmed_path, runs_before_after
 from tcpmm.io.bundle import read_bundle
@@ -132,8 +133,8 @@ def compensation_of(model, commands, radius, draws: int, limits=(None, None)):
     bounds = machine_bounds(model, *limits)
 
     def learned(on):
-        comp = compensate(model, on, bounds=bounds)
-        robust_factors(model, comp, n_draws=draws, radius_m=radius)
+        comp = compensate_within_draws(model, on, n_draws=draws, bounds=bounds,
+                                       radius_m=radius)
         comp.scores = predicted_scores(model, comp, radius,
                                        programmed=full if on is not full else None)
         return comp

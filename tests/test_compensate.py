@@ -670,6 +670,7 @@ def _keep_no_share(monkeypatch) -> None:
     import importlib
 
     package = importlib.import_module("tcpmm.compensate")  # tcpmm.compensate: the function
+    candidates = importlib.import_module("tcpmm.compensate.candidates")
     real = package.robust_factors
 
     def none_kept(machine, comp, **kwargs):
@@ -679,6 +680,7 @@ def _keep_no_share(monkeypatch) -> None:
         comp.robustness["factors"] = dict.fromkeys(comp.factors, 0.0)
 
     monkeypatch.setattr(package, "robust_factors", none_kept)
+    monkeypatch.setattr(candidates, "robust_factors", none_kept)  # where the CLI's is read
 
 
 def test_a_plan_whose_correction_no_draw_keeps_is_written_as_programmed(tmp_path, capsys,

@@ -224,8 +224,8 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
     Compensation
         ``.command`` is the compensated command (:mod:`tcpmm.compensate`) [-].
     """
-    from .compensate import compensate as _compensate
-    from .compensate import machine_bounds, predicted_scores, robust_factors
+    from .compensate import machine_bounds, predicted_scores
+    from .compensate.candidates import compensate_within_draws
     from .compensate.headroom import on_the_program
 
     m = load_model(machine)
@@ -233,9 +233,8 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
     full, cmd, headroom = _with_headroom(command, m, headroom, bounds)
 
     def learned(on):
-        comp = _compensate(m, on, bounds=bounds)
-        if draws > 0:
-            robust_factors(m, comp, n_draws=draws, seed=seed, radius_m=radius_m)
+        comp = compensate_within_draws(m, on, n_draws=draws, bounds=bounds, seed=seed,
+                                       radius_m=radius_m)
         comp.scores = predicted_scores(m, comp, radius_m,
                                        programmed=full if on is not full else None)
         return comp

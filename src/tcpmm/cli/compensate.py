@@ -275,14 +275,15 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
         them on the controller and scaled back together with them
         (:mod:`tcpmm.compensate.combined`) [-].
     progress : callable, optional
-        Called with no argument after each step of that learning [-].
+        Called after each step of that learning [-].
 
     Returns
     -------
     Compensation
         The compensated command with its robustness and scores [-].
     """
-    from ..compensate import compensate, predicted_scores, robust_factors
+    from ..compensate import predicted_scores
+    from ..compensate.candidates import compensate_within_draws
     from ..compensate.combined import combined_compensation
 
     radius_m, centre_m, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
@@ -292,10 +293,9 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
             comp = combined_compensation(machine, cmd, tuned.axes, bounds=bounds,
                                          iterations=iterations, n_draws=draws,
                                          progress=progress, **where)
-        else:
-            comp = compensate(machine, cmd, iterations=iterations, bounds=bounds)
-        if draws > 0 and tuned is None:
-            robust_factors(machine, comp, n_draws=draws, **where)
+        else:  # without draws, the model's own learning alone
+            comp = compensate_within_draws(machine, cmd, n_draws=draws, bounds=bounds,
+                                           iterations=iterations, **where)
         comp.scores = predicted_scores(machine, comp, programmed=programmed, **where)
     full = cmd if programmed is None else programmed
     comp.settings.update(programmed_duration_s=float(full.time_s[-1]),

@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from ..path.command import Command
 from ..sim.simulate import simulate_axis
-from .bounds import fit_within, machine_bounds, shrink
+from .bounds import fit_within, machine_bounds, scaled_within, shrink
 from .currentlimit import CurrentHold, within_current
 from .inverse import (
     apply_filter,
@@ -109,7 +109,7 @@ def plain(axis, time_s, position_m, quantise_feedback: bool = False):
 
 
 def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations: int,
-               gain: float, tail: int, plant=plain, progress=None):
+               gain: float, tail: int, plant=plain, progress=None, keep_slow: bool = True):
     """Learning control of one axis on its model.
 
     Parameters
@@ -124,21 +124,20 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         Learning operator (:func:`.inverse.learning_filter`) [-].
     bounds : AxisBounds
         The axis's limits [-].
-    iterations : int
-        Learning steps [-].
-    gain : float
-        Learning gain ``g`` [-].
+    iterations, gain : int, float
+        Learning steps and the learning gain ``g`` [-].
     tail : int
         Samples of the hold after the program [-].
     plant : callable
         ``(axis, time_s, position_m, quantise_feedback=False) -> AxisRun``: how the axis
         runs a command, with the controller's own compensation where it has one
-        (:func:`.drive.axis_plant`); where
-        its attribute ``fires_pulses`` is true, the corrected command turns the axis back
-        only where the program does, within ``pulse_s`` of it, or at the ends of a hold
-        (:mod:`.turns`) [-].
+        (:func:`.drive.axis_plant`); where its attribute ``fires_pulses`` is true, the
+        corrected command turns the axis back only where the program does, within
+        ``pulse_s`` of it, or at the ends of a hold (:mod:`.turns`) [-].
     progress : callable, optional
         Called with no argument after each learning step, ``iterations + 1`` times [-].
+    keep_slow : bool
+        :func:`.bounds.fit_within`, else :func:`.bounds.scaled_within` [-].
 
     Returns
     -------
@@ -146,9 +145,9 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         The correction of the best iterate [m] and the largest TCP error per
         iteration [m].
     """
-    T = float(time_s[1] - time_s[0])
+    T, within = float(time_s[1] - time_s[0]), fit_within if keep_slow else scaled_within
     keep_turns = turn_keeper(plant, reference, T)
-    fit = lambda c: keep_turns(fit_within(reference, c, T, bounds))  # noqa: E731
+    fit = lambda c: keep_turns(within(reference, c, T, bounds))  # noqa: E731
     current_of = lambda x, q: plant(axis, time_s, x, quantise_feedback=q).current  # noqa: E731
     hold = CurrentHold.of(current_of, reference, bounds.current)
     pad = (2 * (gain_filter.size - 1) - reference.size) // 2
@@ -196,7 +195,7 @@ def _check(machine, command: Command, iterations: int, gain: float, cutoff_hz: f
 
 def compensate(machine, command: Command, *, iterations: int = 30, gain: float = 0.5,
                cutoff_hz: float = CUTOFF_HZ, bounds=None, progress=None,
-               plants=None, step=None) -> Compensation:
+               plants=None, step=None, keep_slow: bool = True) -> Compensation:
     """Pre-compensated position command: the command whose predicted TCP path follows the
     programmed one, within the axes' limits.
 
@@ -219,18 +218,17 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         Called with ``(axis_name, done, total)`` after each axis [-].
     plants : dict of str to callable, optional
         Per axis how it runs a command (:func:`learn_axis`); default the command alone.
-        With the controller's pulse and feed-forward the correction learns what they
-        leave [-].
+        With the controller's pulse and feed-forward it learns what they leave [-].
     step : callable, optional
-        Called with no argument after each learning step of each axis (:func:`learn_axis`),
-        ``iterations + 1`` times per axis [-].
+        Called after each learning step of each axis (:func:`learn_axis`) [-].
+    keep_slow : bool
+        Scale back the fast part of the correction first, or the whole (:func:`learn_axis`) [-].
 
     Returns
     -------
     Compensation
         The programmed and the compensated command on one time line, held for the TCP to
-        settle; every axis's compensation factor 1 (:func:`.robust.robust_factors` scales
-        it back) [-].
+        settle; every axis's factor 1 (:func:`.robust.robust_factors` scales it back) [-].
     """
     _check(machine, command, iterations, gain, cutoff_hz)
     T = command.period_s
@@ -246,11 +244,12 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         gf = learning_filter(h[a], n_fft, T, cutoff_hz)
         corr[a], history[a] = learn_axis(machine.axes[a], ref.time_s, ref.positions[a],
                                          tgt.positions[a], gf, bounds[a], iterations, gain,
-                                         tail, (plants or {}).get(a, plain), step)
+                                         tail, (plants or {}).get(a, plain), step, keep_slow)
         if progress is not None:
             progress(a, k + 1, len(command.axes))
     factors = {a: np.ones(n) for a in command.axes}
     return Compensation(ref, tgt, corr, factors, max(delay, 0) * T, history,
                         {a: bounds[a] for a in command.axes},
                         {"iterations": iterations, "gain": gain, "cutoff_hz": cutoff_hz,
-                         "hold_samples": max(delay, 0) + tail})
+                         "hold_samples": max(delay, 0) + tail,
+                         "limits_keep_slow_part": keep_slow})

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..path.command import Command
-from .bounds import fit_within
+from .bounds import scaled_within
 
 
 @dataclass
@@ -79,7 +79,9 @@ class Compensation:
         """The command with the share ``factors`` (per axis and sample) of the correction,
         within the axes' limits, as :attr:`command` is with the shares applied [m]."""
         T = self.reference.period_s
-        pos = {a: p + fit_within(p, factors[a] * self.correction[a], T, self.bounds[a])
+        # the learned correction keeps the limits; what a share's ramp between regions adds
+        # beyond them is scaled back whole, as the shares themselves scale it
+        pos = {a: p + scaled_within(p, factors[a] * self.correction[a], T, self.bounds[a])
                for a, p in self.reference.positions.items()}
         return Command(self.reference.time_s, pos,
                        {**self.reference.meta, "compensated": True})

@@ -275,7 +275,7 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
         them on the controller and scaled back together with them
         (:mod:`tcpmm.compensate.combined`) [-].
     progress : callable, optional
-        Called after each step of that learning [-].
+        Called with no argument after each step of that learning [-].
 
     Returns
     -------

@@ -220,7 +220,7 @@ def compensate(machine, command: Command, *, iterations: int = 30, gain: float =
         Per axis how it runs a command (:func:`learn_axis`); default the command alone.
         With the controller's pulse and feed-forward it learns what they leave [-].
     step : callable, optional
-        Called after each learning step of each axis (:func:`learn_axis`) [-].
+        Called with no argument after each learning step, ``iterations + 1`` times per axis [-].
     keep_slow : bool
         Scale back the fast part of the correction first, or the whole (:func:`learn_axis`) [-].
 

@@ -25,7 +25,13 @@ from pathlib import Path
 from tcpmm.compensate import machine_bounds, predicted_scores
 from tcpmm.compensate.candidates import compensate_within_draws
 from tcpmm.compensate.headroom import DEFAULT_HEADROOM, on_the_program, program_with_headroom
-from tcpmm.compensate.scores import judge, judged_path, programmed_path, runs_before_after
+from tcpmm.compensate.scores import (
+    corner_rises,
+    judge,
+    judged_path,
+    programmed_path,
+    runs_before_after,
+)
 from tcpmm.io.bundle import read_bundle
 from tcpmm.io.truthfile import machine_from_truth
 from tcpmm.path import InterpolatorSettings, read_command_csv
@@ -122,6 +128,7 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
             "g_after": a.get("circle", {}).get("circular_deviation_um"),
             "co_before": b["path"]["corner_overshoot_um"],
             "co_after": a["path"]["corner_overshoot_um"],
+            "co_rises": corner_rises({"before": b, "after": a}, 0.1),
             "spikes_grown": spikes_grown(b, a)}
 
 
@@ -223,6 +230,14 @@ def truth_rises(comp, before, after) -> dict:
             else None}
 
 
+def corners_worse(rises: list) -> str:
+    """The corners whose overshoot grew (:func:`tcpmm.compensate.scores.corner_rises`),
+    in words: the one that grew most, before -> after, and how many did [um]."""
+    _, b, a = max(rises, key=lambda r: r[2] - r[1])
+    more = f"; {len(rises)} corners" if len(rises) > 1 else ""
+    return f"corner overshoot ({b:.2f} -> {a:.2f}{more})"
+
+
 def ratio(before, after) -> str:
     """Reduction ``before / after``, ``-`` where the figure is not judged [-]."""
     if before is None or after is None:
@@ -233,7 +248,8 @@ def ratio(before, after) -> str:
 def table(rows: list) -> str:
     """The results as a Markdown table; "worse" names a figure that grew on the true
     machine by more than the sensors' resolution, 0.1 um (the contour error, the largest
-    spike, G and the largest corner overshoot, with its values before -> after [um]), and
+    spike, G and each corner's overshoot, with the values before -> after of the one that
+    grew most [um]), and
     each quadrant point whose spike did [-]."""
     def f(v):
         return "-" if v is None else f"{v:.2f}"
@@ -253,8 +269,8 @@ def table(rows: list) -> str:
         red = " / ".join(ratio(r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g"))
         worse = [name for k, name in (("ce", "contour"), ("spike", "spike"), ("g", "G"))
                  if r[f"{k}_before"] is not None and r[f"{k}_after"] > r[f"{k}_before"] + 0.1]
-        if r.get("co_after", 0.0) > r.get("co_before", 0.0) + 0.1:  # not in another column
-            worse.append(f"corner overshoot ({r['co_before']:.2f} -> {r['co_after']:.2f})")
+        if r.get("co_rises"):  # not in another column
+            worse.append(corners_worse(r["co_rises"]))
         worse += r.get("spikes_grown", [])
         firm = ("-" if r["firm_truth"] is None
                 else "{:.1f}x (least region {:.1f}x)".format(*r["firm_truth"]))

@@ -34,7 +34,7 @@ from tcpmm.machines.virtual import virtual_bundle
 from tcpmm.path import InterpolatorSettings, read_command_csv
 
 from . import DATA
-from .compensation import SQUARE, one, spiral
+from .compensation import SQUARE, corners_worse, one, spiral
 from .unseen import draw_machine
 
 FEEDS = (("F5000", "circle_ccw_cmd.csv"), ("F10000", "circle_ccw_fast_cmd.csv"))
@@ -74,17 +74,18 @@ def _pair(before, after) -> str:
 
 def row(index: int, label: str, r: dict) -> str:
     """One line of the table of a result of :func:`studies.compensation.one` [-]."""
-    names = {"ce": "contour", "spike": "spike", "g": "G", "co": "corner overshoot"}
-    worse = [k for k in names if r[f"{k}_before"] is not None
+    names = {"ce": "contour", "spike": "spike", "g": "G"}
+    worse = [names[k] for k in names if r[f"{k}_before"] is not None
              and r[f"{k}_after"] > r[f"{k}_before"] + WORSE_UM]
-    names["co"] += f" ({r['co_before']:.2f} -> {r['co_after']:.2f})"  # in no other column
+    if r["co_rises"]:  # in no other column
+        worse.append(corners_worse(r["co_rises"]))
     f, firm = r["factors"], r["firm_truth"]
     where = "-" if firm is None else f"{firm[0]:.1f}x (least region {firm[1]:.1f}x)"
     return (f"| {index} | {label} | {f['X']:.2g}/{f['Y']:.2g} | {100 * r['firm']:.0f} % | "
             f"{where} | {r['spike_verdict']} | {_pair(r['ce_before'], r['ce_after'])} | "
             f"{_pair(r['spike_before'], r['spike_after'])} | "
             f"{_pair(r['g_before'], r['g_after'])} | "
-            f"{', '.join(names[k] for k in worse) or '-'} |")
+            f"{', '.join(worse) or '-'} |")
 
 
 def main(argv=None) -> None:

@@ -132,3 +132,29 @@ def test_a_corner_the_correction_of_a_slower_plan_runs_past_is_learned_on_the_pr
     assert said == "corner overshoot 2.68 -> 2.93 µm"
     assert worse_than_programmed(scores(2.68, 2.68 + 0.9 * EQUAL_M * 1e6)) == []
     assert worse_than_programmed(scores(2.68, 0.0)) == []
+
+
+def test_a_corner_that_is_not_the_largest_is_held_against_the_program_too():
+    """Of a square's corners the program runs 2.68 um past one and 0.2 um past another.
+    The correction keeps the first at 2.68 and takes the second to 1.9 um: the largest
+    overshoot is the same, and read by the largest alone nothing is worse. Corner by
+    corner the second is, and the correction is learned on the program; where the runs
+    read different corners (a plan that turns elsewhere), the largest is compared."""
+    from tcpmm.compensate.headroom import worse_than_programmed
+    from tcpmm.compensate.scores import corner_rises
+
+    places = ([30.0, 0.0], [30.0, 30.0], [0.0, 30.0])
+
+    def scores(before_um, after_um):
+        return {when: {"path": {
+            "contour_error_um": 120.0, "contour_rms_um": 30.0,
+            "corner_overshoot_um": max(um), "corner_overshoot_at_mm": places[0],
+            "corners": [{"at_mm": at, "overshoot_um": v}
+                        for at, v in zip(places, um, strict=False)]}}
+            for when, um in (("before", before_um), ("after", after_um))}
+
+    [said] = worse_than_programmed(scores([2.68, 0.2], [2.68, 1.9]))
+    assert said == "corner overshoot at (30.000, 30.000) mm 0.20 -> 1.90 µm"
+    assert worse_than_programmed(scores([2.68, 0.2], [2.6, 0.25])) == []
+    assert corner_rises(scores([2.68, 0.2], [2.68, 1.9, 0.3]), 0.1) == []  # largest alike
+    assert corner_rises(scores([2.68, 0.2], [2.9, 1.9, 0.3]), 0.1) == [([30.0, 0.0], 2.68, 2.9)]

@@ -167,20 +167,22 @@ def warn_overshoot(comp) -> None:
     neither the draws nor the figures before and after tell the two apart [-]."""
     import warnings
 
+    from ..compensate.headroom import corner_place
     from ..compensate.robust import EQUAL_M
-    from ..compensate.scores import CORNER_FIGURE, before_after
+    from ..compensate.scores import corner_rises
     from ..errors import InputWarning
 
-    for _, b, a in before_after(comp.scores, figures=(CORNER_FIGURE,)):
-        if a <= b + EQUAL_M * 1e6:
-            continue
-        at = ", ".join(f"{v:.3f}" for v in comp.scores["after"]["path"]["corner_overshoot_at_mm"])
-        warnings.warn(f"the correction takes the model's TCP further outside the path past "
-                      f"a corner: overshoot up to {a:.2f} µm after, "
-                      f"against {b:.2f} µm before, at ({at}) mm (the "
-                      "contour error does not tell overshoot from rounding; on an outside "
-                      "contour it is a gouge; tcpmm contour on a run of the compensated "
-                      "command lists the corners)", InputWarning, stacklevel=2)
+    rises = corner_rises(comp.scores, EQUAL_M * 1e6)
+    if not rises:
+        return
+    at, b, a = max(rises, key=lambda r: r[2])  # the corner passed furthest of those
+    more = f"; {len(rises)} corners so" if len(rises) > 1 else ""
+    warnings.warn(f"the correction takes the model's TCP further outside the path past "
+                  f"a corner: overshoot up to {a:.2f} µm after, against {b:.2f} µm "
+                  f"before,{corner_place(at)}{more} (the contour error does not tell "
+                  "overshoot from rounding; on an outside contour it is a gouge; tcpmm "
+                  "contour on a run of the compensated command lists the corners)",
+                  InputWarning, stacklevel=2)
 
 
 def warn_current(comp) -> None:

@@ -154,7 +154,9 @@ def worse_than_programmed(scores: dict) -> list[str]:
     before -> after um``: the draws judge the correction against the plan it was learned
     on, and a slower plan can itself make a figure worse. The corners' overshoot counts
     too: the corners' guard holds each corner against the slower plan's, which need not
-    be the program's [-].
+    be the program's. Every corner counts, not only the one furthest passed: a corner
+    the program hardly passes can be run past where another's overshoot stays the
+    largest [-].
 
     Parameters
     ----------
@@ -162,11 +164,21 @@ def worse_than_programmed(scores: dict) -> list[str]:
         ``Compensation.scores`` (:func:`tcpmm.compensate.predicted_scores`) [-].
     """
     from .robust import EQUAL_M
-    from .scores import CORNER_FIGURE, SCORE_FIGURES, before_after
+    from .scores import SCORE_FIGURES, before_after, corner_rises
 
+    equal_um = EQUAL_M * 1e6
     return [f"{label} {b:.2f} -> {a:.2f} µm"
-            for label, b, a in before_after(scores, figures=(*SCORE_FIGURES, CORNER_FIGURE))
-            if a > b + EQUAL_M * 1e6]
+            for label, b, a in before_after(scores, figures=SCORE_FIGURES)
+            if a > b + equal_um] + [
+        f"corner overshoot{corner_place(at)} {b:.2f} -> {a:.2f} µm"
+        for at, b, a in corner_rises(scores, equal_um)]
+
+
+def corner_place(at_mm) -> str:
+    """`` at (x, y) mm`` of a corner's position, empty where it is not known [-]."""
+    if at_mm is None:
+        return ""
+    return " at (" + ", ".join(f"{round(v, 3) + 0.0:.3f}" for v in at_mm) + ") mm"  # no -0.000
 
 
 def on_the_program(machine, full, comp, bounds, relearn, circle=None):

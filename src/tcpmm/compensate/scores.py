@@ -155,15 +155,44 @@ def contour_figures(run, path: Command, hold: int = 0) -> dict:
 def corner_overshoot(res) -> dict:
     """The TCP's largest overshoot past a corner of the path, its end included, as
     ``tcpmm contour`` gives it, and where that corner is: ``corner_overshoot_um`` [um]
-    (0 without corners), ``corner_overshoot_at_mm`` [mm] (``None`` without). A correction
-    that takes a corner's rounding away can take the TCP outside the path past it, which
-    the contour error's magnitude does not tell from the rounding [-]."""
-    rows = [r for r in res.corner_rows(sensors=["tcp"]) if np.isfinite(r["overshoot_um"])]
-    if not rows:
-        return {"corner_overshoot_um": 0.0, "corner_overshoot_at_mm": None}
-    top = max(rows, key=lambda r: r["overshoot_um"])
-    return {"corner_overshoot_um": float(top["overshoot_um"]),
-            "corner_overshoot_at_mm": [top[f"{a.lower()}_mm"] for a in res.axes]}
+    (0 without corners), ``corner_overshoot_at_mm`` [mm] (``None`` without); and every
+    corner's, in the path's order: ``corners``, ``{"at_mm", "overshoot_um"}`` each, 0
+    where none is read (a TCP still moving there, NaN in ``tcpmm contour``) [mm, um]. A
+    correction that takes a corner's rounding away can take the TCP outside the path past
+    it, which the contour error's magnitude does not tell from the rounding [-]."""
+    rows = res.corner_rows(sensors=["tcp"])
+    every = [{"at_mm": [r[f"{a.lower()}_mm"] for a in res.axes],
+              "overshoot_um": float(np.nan_to_num(r["overshoot_um"]))} for r in rows]
+    read = [c for c, r in zip(every, rows, strict=True) if np.isfinite(r["overshoot_um"])]
+    if not read:
+        return {"corner_overshoot_um": 0.0, "corner_overshoot_at_mm": None, "corners": every}
+    top = max(read, key=lambda c: c["overshoot_um"])
+    return {"corner_overshoot_um": top["overshoot_um"], "corner_overshoot_at_mm": top["at_mm"],
+            "corners": every}
+
+
+def corner_rises(scores: dict, equal_um: float) -> list[tuple]:
+    """The corners whose overshoot ``scores["after"]`` holds above ``scores["before"]``'s
+    by more than ``equal_um``, as ``(at_mm or None, before, after)``: corner by corner
+    where both read the same corners (a path and its plan with headroom turn at the same
+    places, in the same order), else the largest of each (:data:`CORNER_FIGURE`) [mm, um].
+
+    Parameters
+    ----------
+    scores : dict
+        ``{"before": ..., "after": ...}`` of :func:`judge` [-].
+    equal_um : float
+        The rise below which an overshoot counts as the same [um].
+    """
+    b, a = (scores.get(k, {}).get("path", {}) for k in ("before", "after"))
+    cb, ca = b.get("corners"), a.get("corners")
+    if cb is not None and ca is not None and len(cb) == len(ca):
+        return [(y["at_mm"], x["overshoot_um"], y["overshoot_um"])
+                for x, y in zip(cb, ca, strict=True)
+                if y["overshoot_um"] > x["overshoot_um"] + equal_um]
+    return [(a.get("corner_overshoot_at_mm"), x, y)
+            for _, x, y in before_after(scores, figures=(CORNER_FIGURE,))
+            if y > x + equal_um]
 
 
 def settling_hold(comp, path: Command) -> int:

@@ -147,6 +147,27 @@ def command_plane(option, cmd) -> tuple[str, str]:
         return ("X", "Y")
 
 
+def judged_circle(radius_mm, centre_m, option, cmd):
+    """``(radius, centre, plane)`` of the circle a compensation is judged on: the one of
+    ``--radius`` (and ``--centre``), else the circle the command runs where it is a
+    circular test (:func:`tcpmm.analysis.circle_find.command_circle`), said on stderr;
+    ``None`` where there is none [m, m, -]."""
+    plane = command_plane(option, cmd)
+    if radius_mm is not None:
+        return radius_mm * 1e-3, centre_m, plane
+    from ..analysis.circle_find import command_circle
+
+    found = command_circle(cmd.positions, plane)
+    if found is None:
+        return None
+    radius, centre = found
+    at = ", ".join(f"{round(c * 1e3, 4) + 0.0:.4f}" for c in centre)  # no -0.0000
+    console.print(f"circle R {radius * 1e3:.4f} mm about ({at}) mm in the {''.join(plane)} "
+                  "plane, taken from the command: its reversal spikes and G are judged "
+                  "too (--radius and --centre give the nominal circle)", highlight=False)
+    return radius, centre, plane
+
+
 def with_given_command(run, command_file, window_s: float = 0.2):
     """``run`` measured against the command file ``--command`` where given, within
     ``window_s`` of its own command's time line [s]."""

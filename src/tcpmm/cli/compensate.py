@@ -29,7 +29,7 @@ from ._compensate_text import (
     warn_worse,
 )
 from ._outputs import distinct_outputs, outputs_together
-from ._plane import command_plane
+from ._plane import judged_circle
 
 _PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it); default "
                "the plane of the program's arcs, else the one it moves in.")
@@ -65,8 +65,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                               help="Also write it as a dense G1 program."),
                radius: float = typer.Option(None, "--radius",
                                             help="Circle radius [mm]: also judge spikes "
-                                                 "and G, and keep them from getting "
-                                                 "worse on any draw."),
+                                                 "and G on every draw; default the circle "
+                                                 "the command runs, where it is one."),
                centre: str = typer.Option("0,0", "--centre", help="Centre of the circle "
                                           "(--radius) in its plane's axes, A,B [mm]."),
                plane: str = typer.Option(None, "--plane", help=_PLANE_HELP),
@@ -96,7 +96,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     bounds = machine_bounds(m, accel, jerk)
     full, cmd, headroom = _planned(command, gcode, m, headroom, bounds)
     (full, cmd), held = _without_held(m, full, cmd)
-    circle = None if radius is None else (radius * 1e-3, centre_m, command_plane(plane, cmd))
+    circle = judged_circle(radius, centre_m, plane, cmd)
     with _controller_bar(m, cmd, circle, (iterations, draws), controller_out) as (tune, learn):
         tuned = None if controller_out is None else _tuned(m, cmd, circle, draws, tune)
         comp, headroom = _of_program(m, (full, cmd, headroom), command or gcode,

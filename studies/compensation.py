@@ -22,6 +22,7 @@ import pickle
 import warnings
 from pathlib import Path
 
+from tcpmm.analysis.circle_find import command_circle
 from tcpmm.compensate import machine_bounds, predicted_scores
 from tcpmm.compensate.candidates import compensate_within_draws
 from tcpmm.compensate.headroom import DEFAULT_HEADROOM, on_the_program, program_with_headroom
@@ -101,12 +102,17 @@ def programs(name: str, model, headroom: float):
         yield label + (f" (headroom {headroom:g})" if headroom else ""), full, planned, None
 
 
-def one(name: str, model, truth, label, commands, radius, draws: int, limits=(None, None)):
+def one(name: str, model, truth, label, commands, radius, draws: int, limits=(None, None),
+        judged="given"):
     """Figures at the true machine's TCP before (the program at the full limits) and after,
     and the draws' verdict; the correction within the axes' ``limits`` (acceleration
-    [m/s^2], jerk [m/s^3]) [-]."""
+    [m/s^2], jerk [m/s^3]); the circle the draws judge: the ``radius`` about the origin
+    (``judged="given"``, ``--radius``), the one the command runs (``"command"``, as
+    ``tcpmm compensate`` takes it without ``--radius``) or none (``"none"``) [-]."""
     full, _ = commands
-    comp, planned = compensation_of(model, commands, radius, draws, limits)
+    circle = (radius, (0.0, 0.0)) if judged == "given" or radius is None else (
+        command_circle(full.positions, ("X", "Y")) if judged == "command" else (None, None))
+    comp, planned = compensation_of(model, commands, *circle, draws, limits)
     before, after = runs_before_after(truth, comp, programmed=full)
     b = judge(before, programmed_path(comp, full), radius)
     a = judge(after, judged_path(comp), radius)
@@ -132,23 +138,25 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
             "spikes_grown": spikes_grown(b, a)}
 
 
-def compensation_of(model, commands, radius, draws: int, limits=(None, None)):
+def compensation_of(model, commands, radius, centre=(0.0, 0.0), draws: int = 16,
+                    limits=(None, None)):
     """The compensation of ``commands`` (the program at the full limits, the command the
-    correction is learned on) as ``tcpmm compensate`` makes it, and the command it was
-    learned on in the end (the program, where it was learned again on it) [-]."""
+    correction is learned on) as ``tcpmm compensate`` makes it, judged on the circle of
+    ``radius`` about ``centre`` where given, and the command it was learned on in the end
+    (the program, where it was learned again on it) [-]."""
     full, planned = commands
     bounds = machine_bounds(model, *limits)
 
     def learned(on):
         comp = compensate_within_draws(model, on, n_draws=draws, bounds=bounds,
-                                       radius_m=radius)
-        comp.scores = predicted_scores(model, comp, radius,
+                                       radius_m=radius, centre_m=centre)
+        comp.scores = predicted_scores(model, comp, radius, centre,
                                        programmed=full if on is not full else None)
         return comp
 
     comp = learned(planned)
     if planned is not full:  # as tcpmm compensate --gcode writes it
-        circle = None if radius is None else (radius, (0.0, 0.0), ("X", "Y"))
+        circle = None if radius is None else (radius, centre, ("X", "Y"))
         comp, kept = on_the_program(model, full, comp, bounds, lambda: learned(full), circle)
         planned = planned if kept else full
     return comp, planned

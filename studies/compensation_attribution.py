@@ -75,7 +75,7 @@ def main(argv=None) -> None:
     warnings.simplefilter("ignore")
     truth, model = identified(args.seed, args.machine)
     full, planned, radius = commands(args.program, model)
-    comp, _ = compensation_of(model, (full, planned), radius, args.draws)
+    comp, _ = compensation_of(model, (full, planned), radius, draws=args.draws)
     print(f"shares kept: {comp.robustness['factors']}")
 
     def line(label, machine):

@@ -12,10 +12,11 @@ machine; with ``--programs`` also (or instead) the CAM-style spiral and square o
 path and the true machine's largest contour error over it before / after (and the least
 of it region by region), the draws' verdict on the largest spike, and the true machine's
 contour error, largest spike and G before and after; "worse" names a figure the true
-machine made worse by more than the sensors' 0.1 um; a machine whose model
+machine made worse by more than the sensors' 0.1 um, each corner's overshoot and each
+quadrant point's spike pass by pass among them; a machine whose model
 identification refuses as suspect has a line that says so. Not a test:
 ``python -m studies.compensation_population [--seed N] [--machines 0-9] [--draws N]
-[--programs "spiral G64,square G64"]``.
+[--programs "spiral G64,square G64"] [--circle given|command|none]``.
 """
 
 from __future__ import annotations
@@ -79,6 +80,7 @@ def row(index: int, label: str, r: dict) -> str:
              and r[f"{k}_after"] > r[f"{k}_before"] + WORSE_UM]
     if r["co_rises"]:  # in no other column
         worse.append(corners_worse(r["co_rises"]))
+    worse += [s for s in r["spikes_grown"] if "spike" not in worse]  # each quadrant point
     f, firm = r["factors"], r["firm_truth"]
     where = "-" if firm is None else f"{firm[0]:.1f}x (least region {firm[1]:.1f}x)"
     return (f"| {index} | {label} | {f['X']:.2g}/{f['Y']:.2g} | {100 * r['firm']:.0f} % | "
@@ -95,6 +97,10 @@ def main(argv=None) -> None:
     p.add_argument("--draws", type=int, default=DRAWS, help="as tcpmm compensate's default")
     p.add_argument("--programs", default="circle F5000,circle F10000",
                    help=f"a comma list of {', '.join(PROGRAMS)}")
+    p.add_argument("--circle", choices=("given", "command", "none"), default="given",
+                   help="the circle the draws judge: R 35 mm about the origin (--radius), "
+                        "the one the command runs (tcpmm compensate without --radius), or "
+                        "none (the circle judged as a path)")
     a = p.parse_args(argv)
     labels = [x.strip() for x in a.programs.split(",")]
     unknown = [x for x in labels if x not in PROGRAMS]
@@ -117,7 +123,8 @@ def main(argv=None) -> None:
             continue
         for label in labels:
             full, planned, radius = commands(label, model)
-            r = one(f"m{i}", model, truth, label, (full, planned), radius, a.draws)
+            r = one(f"m{i}", model, truth, label, (full, planned), radius, a.draws,
+                    judged=a.circle)
             print(row(i, label, r), flush=True)
 
 

@@ -85,7 +85,7 @@ def test_compensate_judges_the_spikes_of_a_circle_given_without_its_radius(tmp_p
             "--draws", "2", "--iterations", "3"]
     assert main([*args, "--json"]) == 0
     got = capsys.readouterr()
-    assert "circle R 20.0000 mm about (0.0000, 0.0000) mm in the XY plane" in got.err
+    assert "circle R 20.0000 mm about (0.000, 0.000) mm in the XY plane" in got.err
     scores = json.loads(got.out)["scores"]
     assert {"largest_spike_um", "circular_deviation_um"} <= set(scores["after"]["circle"])
     square = tmp_path / "square.csv"

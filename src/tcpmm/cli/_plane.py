@@ -161,7 +161,7 @@ def judged_circle(radius_mm, centre_m, option, cmd):
     if found is None:
         return None
     radius, centre = found
-    at = ", ".join(f"{round(c * 1e3, 4) + 0.0:.4f}" for c in centre)  # no -0.0000
+    at = ", ".join(f"{round(c * 1e3, 3) + 0.0:.3f}" for c in centre)  # no -0.000
     console.print(f"circle R {radius * 1e3:.4f} mm about ({at}) mm in the {''.join(plane)} "
                   "plane, taken from the command: its reversal spikes and G are judged "
                   "too (--radius and --centre give the nominal circle)", highlight=False)

@@ -22,20 +22,15 @@ from tcpmm.path import read_command_csv
 
 # the bundle's identification says what its FRFs do not determine: that is its output, not
 # what this test looks at
-@pytest.fixture(scope="module")
-def machine_4():
-    return identified(91, 4)
-
-
-# ``judged``: R 35 mm as --radius gives it, or the circle the command runs, as tcpmm
-# compensate takes it without --radius; judged as a path alone, the correction kept made
-# the true machine's spikes at B and D worse (33.03 um largest before, B and D grown)
+# The circle the draws judge is the one the command runs, as tcpmm compensate takes it
+# without --radius (R 34.9968 mm, centred within 0.1 um: the same shares and figures as
+# R 35 mm given, on this machine and the other 19 circles of the study). Judged as a path
+# alone, the correction kept made the true machine's spikes at B and D worse.
 @pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
-@pytest.mark.parametrize("judged", ["given", "command"])
-def test_a_machine_whose_friction_differs_in_form_is_made_no_worse(machine_4, judged):
-    truth, model = machine_4
+def test_a_machine_whose_friction_differs_in_form_is_made_no_worse():
+    truth, model = identified(91, 4)
     cmd = read_command_csv(bench_path("c") / "circle_ccw_cmd.csv")
-    r = one("m4", model, truth, "circle F5000", (cmd, cmd), 0.035, DRAWS, judged=judged)
+    r = one("m4", model, truth, "circle F5000", (cmd, cmd), 0.035, DRAWS, judged="command")
     worse = {k: (r[f"{k}_before"], r[f"{k}_after"]) for k in ("ce", "spike", "g")
              if r[f"{k}_after"] > r[f"{k}_before"] + 0.1}
     assert not worse and not r["spikes_grown"], (worse, r["spikes_grown"])

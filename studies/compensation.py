@@ -110,9 +110,8 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
     (``judged="given"``, ``--radius``), the one the command runs (``"command"``, as
     ``tcpmm compensate`` takes it without ``--radius``) or none (``"none"``) [-]."""
     full, _ = commands
-    circle = (radius, (0.0, 0.0)) if judged == "given" or radius is None else (
-        command_circle(full.positions, ("X", "Y")) if judged == "command" else (None, None))
-    comp, planned = compensation_of(model, commands, *circle, draws, limits)
+    comp, planned = compensation_of(model, commands, *drawn_circle(judged, radius, full),
+                                    draws, limits)
     before, after = runs_before_after(truth, comp, programmed=full)
     b = judge(before, programmed_path(comp, full), radius)
     a = judge(after, judged_path(comp), radius)
@@ -136,6 +135,17 @@ def one(name: str, model, truth, label, commands, radius, draws: int, limits=(No
             "co_after": a["path"]["corner_overshoot_um"],
             "co_rises": corner_rises({"before": b, "after": a}, 0.1),
             "spikes_grown": spikes_grown(b, a)}
+
+
+def drawn_circle(judged: str, radius, full) -> tuple:
+    """``(radius, centre)`` of the circle the draws judge (:func:`one`'s ``judged``), or
+    ``(None, origin)``: the program judged as a path, as ``tcpmm compensate`` judges a
+    command it finds no circle in [m]."""
+    if radius is None or judged == "none":
+        return None, (0.0, 0.0)
+    if judged == "command":
+        return command_circle(full.positions, ("X", "Y")) or (None, (0.0, 0.0))
+    return radius, (0.0, 0.0)
 
 
 def compensation_of(model, commands, radius, centre=(0.0, 0.0), draws: int = 16,

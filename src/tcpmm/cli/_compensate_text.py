@@ -167,7 +167,7 @@ def warn_overshoot(comp) -> None:
     neither the draws nor the figures before and after tell the two apart [-]."""
     import warnings
 
-    from ..compensate.headroom import corner_place
+    from ..compensate.cornerguard import corner_place
     from ..compensate.robust import EQUAL_M
     from ..compensate.scores import corner_rises
     from ..errors import InputWarning

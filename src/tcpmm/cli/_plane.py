@@ -156,12 +156,13 @@ def judged_circle(radius_mm, centre_m, option, cmd):
     if radius_mm is not None:
         return radius_mm * 1e-3, centre_m, plane
     from ..analysis.circle_find import command_circle
+    from ..compensate.cornerguard import mm_text
 
     found = command_circle(cmd.positions, plane)
     if found is None:
         return None
     radius, centre = found
-    at = ", ".join(f"{round(c * 1e3, 3) + 0.0:.3f}" for c in centre)  # no -0.000
+    at = mm_text(c * 1e3 for c in centre)
     console.print(f"circle R {radius * 1e3:.4f} mm about ({at}) mm in the {''.join(plane)} "
                   "plane, taken from the command: its reversal spikes and G are judged "
                   "too (--radius and --centre give the nominal circle)", highlight=False)

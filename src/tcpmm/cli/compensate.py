@@ -293,7 +293,7 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
             comp = combined_compensation(machine, cmd, tuned.axes, bounds=bounds,
                                          iterations=iterations, n_draws=draws,
                                          progress=progress, **where)
-        else:  # without draws, the model's own learning alone
+        else:  # learned two ways where draws judge it (compensate.candidates)
             comp = compensate_within_draws(machine, cmd, n_draws=draws, bounds=bounds,
                                            iterations=iterations, **where)
         comp.scores = predicted_scores(machine, comp, programmed=programmed, **where)

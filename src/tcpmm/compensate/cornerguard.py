@@ -154,10 +154,20 @@ def held_entry(guard) -> dict:
     return {} if guard is None or guard.held is None else {"corner_held": guard.held}
 
 
+def mm_text(values_mm) -> str:
+    """Coordinates in millimetres to the micrometre, ``x, y``, never ``-0.000`` [-]."""
+    return ", ".join(f"{round(v, 3) + 0.0:.3f}" for v in values_mm)
+
+
+def corner_place(at_mm) -> str:
+    """`` at (x, y) mm`` of a corner's position, empty where it is not known [-]."""
+    return "" if at_mm is None else f" at ({mm_text(at_mm)}) mm"
+
+
 def held_words(held: dict) -> str:
     """What the guard held back (:attr:`CornerGuard.held`), as the console and the report
     say it [-]."""
-    at = ", ".join(f"{round(v, 3) + 0.0:.3f}" for v in held["at_mm"].values())  # no -0.000
+    at = mm_text(held["at_mm"].values())
     on = "the model" if held["machine"] == 0 else f"draw {held['machine']}"
     return (f"held back at a corner: more of the correction runs the TCP past the corner at "
             f"({at}) mm by {held['refused_um']:.2f} µm on {on}, against "

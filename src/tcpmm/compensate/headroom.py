@@ -163,6 +163,7 @@ def worse_than_programmed(scores: dict) -> list[str]:
     scores : dict
         ``Compensation.scores`` (:func:`tcpmm.compensate.predicted_scores`) [-].
     """
+    from .cornerguard import corner_place
     from .robust import EQUAL_M
     from .scores import SCORE_FIGURES, before_after, corner_rises
 
@@ -172,13 +173,6 @@ def worse_than_programmed(scores: dict) -> list[str]:
             if a > b + equal_um] + [
         f"corner overshoot{corner_place(at)} {b:.2f} -> {a:.2f} µm"
         for at, b, a in corner_rises(scores, equal_um)]
-
-
-def corner_place(at_mm) -> str:
-    """`` at (x, y) mm`` of a corner's position, empty where it is not known [-]."""
-    if at_mm is None:
-        return ""
-    return " at (" + ", ".join(f"{round(v, 3) + 0.0:.3f}" for v in at_mm) + ") mm"  # no -0.000
 
 
 def on_the_program(machine, full, comp, bounds, relearn, circle=None):

@@ -5,17 +5,14 @@ circle leaves in its spikes), else after those fitted to it alone
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
-from ..errors import InputError
 from .circle_spikes import QUADRANTS
 from .circle_terms import spikes_with_uncertainty
 
 
 def pair_diagnosis(sc):
-    """The diagnostics of ``sc``'s pair (:func:`tcpmm.analysis.diagnostics.diagnose_pair`,
+    """The diagnostics of ``sc``'s pair (:func:`tcpmm.analysis.diagnostics.pair_fit`,
     fitted once for both circles); None where it has no pair or the pair cannot be
     fitted [-].
 
@@ -24,21 +21,11 @@ def pair_diagnosis(sc):
     sc : SensorCircle
         One sensor's circle, its pair set by :meth:`.circular.CircleResult.paired` [-].
     """
-    if sc._pair is None:
+    if sc.pair is None:
         return None
-    from .diagnostics import diagnose_pair  # diagnostics builds on this module's users
+    from .diagnostics import pair_fit  # diagnostics builds on this module's users
 
-    other, radius, rates, shared = sc._pair
-    if "fit" not in shared:
-        ccw, cw = (sc, other) if sc.direction == "ccw" else (other, sc)
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                shared["fit"] = diagnose_pair((ccw.angle_rad, ccw.radial_error),
-                                              (cw.angle_rad, cw.radial_error), radius, rates)
-        except (InputError, np.linalg.LinAlgError):
-            shared["fit"] = None
-    return shared["fit"]
+    return pair_fit(sc)[0]
 
 
 def after_terms(sc) -> tuple[dict, dict, dict]:

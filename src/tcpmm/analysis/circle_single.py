@@ -17,6 +17,7 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_alias import alias_terms
+from .circle_arcs import check_arc
 from .circle_centre import centred_arcs
 from .circle_cyclic import cyclic_terms, cyclic_unresolved
 from .circle_display import rename_axes
@@ -31,7 +32,6 @@ from .circle_tails import sign_open, tail_shift
 from .circle_takeup import noise_extremes, width_follows_backlash, width_terms, width_why
 from .diagnostics import (
     CircleDiagnostics,
-    check_arc,
     circle_diagnostics,
     pick_passes,
     pick_sensor,

@@ -122,6 +122,12 @@ class SensorCircle:
         return self._after
 
     @property
+    def pair(self) -> tuple | None:
+        """``(other circle, radius, rates, shared, plane, sensor)`` of the pair this circle
+        belongs to (:meth:`CircleResult.paired`), None where it has none [-]."""
+        return self._pair
+
+    @property
     def after_pair(self) -> bool:
         """Whether :meth:`spikes_after_terms` are the pair's [-]."""
         return pair_diagnosis(self) is not None
@@ -243,7 +249,8 @@ class CircleResult:
             rates = (ccw.feed_rate_rad_s, cw.feed_rate_rad_s)
             for a, b in ((ccw, cw), (cw, ccw)):
                 sc = a.sensors[name]
-                sc._pair, sc._after = (b.sensors[name], self.radius, rates, shared), None
+                sc._pair = (b.sensors[name], self.radius, rates, shared, tuple(self.plane), name)
+                sc._after = None
 
     def to_pandas(self):
         """Table: one row per pass and sensor (um)."""

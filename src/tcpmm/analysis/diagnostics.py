@@ -50,6 +50,7 @@ the terms they do not determine (:func:`.circle_model.determined`) are NaN and n
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -57,6 +58,7 @@ import numpy as np
 from .._threads import limit_blas_threads
 from ..errors import InputError
 from .circle_alias import alias_terms
+from .circle_arcs import check_arc, same_angles
 from .circle_centre import centred_arcs
 from .circle_cyclic import cyclic_terms, cyclic_unresolved
 from .circle_display import (  # noqa: F401
@@ -67,7 +69,6 @@ from .circle_display import (  # noqa: F401
     term_note,
 )
 from .circle_model import is_full
-from .circle_passes import MIN_ARC_DEG
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
 from .circle_spike_sigma import open_spikes, pair_spikes, widen_for_opened
@@ -193,42 +194,6 @@ class CircleDiagnostics:
         return plot_circle_diagnostics(self, ax=ax, path=path)
 
 
-def check_arc(angle, e, what, arc_ok=False):
-    """The arrays of one circle, checked: one full turn or more, or with ``arc_ok`` an arc
-    of :data:`tcpmm.analysis.circle_passes.MIN_ARC_DEG` or more [rad, m]."""
-    angle, e = np.asarray(angle, float), np.asarray(e, float)
-    if angle.shape != e.shape or angle.ndim != 1:
-        raise InputError(f"the {what} circle needs angle and radial error of the same length "
-                         f"(got {angle.shape} and {e.shape})")
-    if angle.size < 100:
-        raise InputError(f"the diagnostics need at least 100 samples of a circle; the {what} "
-                         f"one has {angle.size}: sample faster or run the circle slower")
-    if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(e))):
-        raise InputError(f"the {what} circle has non-finite angles or radial errors")
-    span = np.degrees(abs(angle[-1] - angle[0]))
-    if not (is_full(angle) or (arc_ok and span >= MIN_ARC_DEG)):
-        raise InputError(f"the {what} circle covers {span:.0f} deg; the diagnostics need a "
-                         "full turn, or two arcs over the same angles")
-    if (angle[-1] > angle[0]) != (what in ("CCW", "ccw")):
-        runs = "counter-clockwise" if angle[-1] > angle[0] else "clockwise"
-        raise InputError(f"the {what} circle runs {runs}; give the CCW circle first")
-    return angle, e
-
-
-def _same_angles(paths) -> None:
-    """Refuse two arcs that do not cover the same angles (to within 10 % of either)."""
-    lo = [np.mod(min(a[0], a[-1]), 2 * np.pi) for a, _ in paths]
-    span = [abs(a[-1] - a[0]) for a, _ in paths]
-    ends = [(lo[i], lo[i] + span[i]) for i in range(2)]
-    shift = np.round((ends[0][0] - ends[1][0]) / (2 * np.pi)) * 2 * np.pi
-    common = min(ends[0][1], ends[1][1] + shift) - max(ends[0][0], ends[1][0] + shift)
-    if common < 0.9 * max(span):
-        raise InputError(
-            f"the CCW circle covers {np.degrees(span[0]):.0f} deg and the CW circle "
-            f"{np.degrees(span[1]):.0f} deg of other angles; the diagnostics need a full "
-            "turn, or two arcs over the same angles")
-
-
 #: Why the servo mismatch is given as an angle only
 SPEED_WHY = ("the circles' angular speed is not known, so the mismatch is given as an angle "
              "only (servo_mismatch_angle)")
@@ -257,7 +222,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
         raise InputError(f"the circle radius must be positive (got {radius_m})")
     paths = [check_arc(*ccw, "CCW", arc_ok=True), check_arc(*cw, "CW", arc_ok=True)]
     if not all(is_full(a) for a, _ in paths):
-        _same_angles(paths)
+        same_angles(paths)
     limit_blas_threads()
     rates = np.asarray(rates_rad_s, float)
     mean_rate = float(rates.mean()) if np.all(rates > 0) else float("nan")
@@ -334,6 +299,41 @@ def _terms(fit, grids, deviations, spikes, mean_rate):
     return terms
 
 
+def pair_fit(sc) -> tuple:
+    """``(diagnostics or None, warnings, error or None)``: :func:`diagnose_pair` of the CCW
+    and CW circle ``sc`` belongs to (:meth:`.circular.CircleResult.paired`) in their plane,
+    the warnings it gave and the error that stopped it; fitted once for both circles and
+    every reader, the headline spikes and the diagnostics alike [-]."""
+    other, radius, rates, shared, axes, sensor = sc.pair
+    if "fit" not in shared:
+        ccw, cw = (sc, other) if sc.direction == "ccw" else (other, sc)
+        fit = err = None
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                fit = diagnose_pair((ccw.angle_rad, ccw.radial_error),
+                                    (cw.angle_rad, cw.radial_error), radius, rates, axes,
+                                    sensor)
+            except (InputError, np.linalg.LinAlgError) as exc:
+                err = exc
+        shared["fit"] = (fit, [w.message for w in caught], err)
+    return shared["fit"]
+
+
+def _fitted_pair(ccw, cw, axes):
+    """:func:`pair_fit` of ``ccw`` and ``cw`` where they are the pair of one analysis in
+    the plane ``axes``, its warnings given again and its error raised; None where they are
+    not such a pair [-]."""
+    if ccw.pair is None or ccw.pair[0] is not cw or tuple(ccw.pair[4]) != tuple(axes):
+        return None
+    fit, caught, err = pair_fit(ccw)
+    for message in caught:
+        warnings.warn(message, stacklevel=3)
+    if err is not None:
+        raise err
+    return fit
+
+
 def pick_passes(result, other=None):
     """The first pass of each direction in two circle analyses, each falling back to the
     other; ``{direction: CirclePass}`` of the directions found [-]."""
@@ -383,6 +383,8 @@ def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiag
                 f"{PAIR_ONLY})")
     sensor = pick_sensor(pick, sensor)
     sc = {d: p.sensors[sensor] for d, p in pick.items()}
+    if (fit := _fitted_pair(sc["ccw"], sc["cw"], axes)) is not None:
+        return fit
     return diagnose_pair((sc["ccw"].angle_rad, sc["ccw"].radial_error),
                          (sc["cw"].angle_rad, sc["cw"].radial_error), result.radius,
                          (pick["ccw"].feed_rate_rad_s, pick["cw"].feed_rate_rad_s), axes=axes,

@@ -190,7 +190,8 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
 
 
 def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
-               accel_m_per_s2=None, jerk_m_per_s3=None, headroom=None):
+               accel_m_per_s2=None, jerk_m_per_s3=None, headroom=None,
+               centre_m=(0.0, 0.0), plane=None):
     """Pre-compensate a command on an identified model, scaled back over draws of the model
     from its uncertainty, with the predicted figures before and after.
 
@@ -205,7 +206,9 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
         none [-].
     radius_m : float, optional
         Radius of a circular test, to judge its spikes and G too and keep them from
-        getting worse on any draw [m].
+        getting worse on any draw; default the circle the command runs, where it is a
+        circular test (:func:`tcpmm.analysis.circle_find.command_circle`), which
+        ``settings["circle"]`` of the result names [m].
     seed : int
         Seed of the draws [-].
     accel_m_per_s2 : float, optional
@@ -218,30 +221,50 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
         Share of the axes' acceleration and jerk left to the correction when ``command``
         is an NC program, planned with the rest (:mod:`tcpmm.compensate.headroom`);
         default :data:`~tcpmm.compensate.headroom.DEFAULT_HEADROOM` [-].
+    centre_m : tuple of float
+        Centre of the circle of ``radius_m`` in the plane's axes [m].
+    plane : tuple of str, optional
+        The circle's plane, e.g. ``("Z", "X")``; default the command's (its program's
+        G17, G18, G19, else the plane it moves in) [-].
 
     Returns
     -------
     Compensation
         ``.command`` is the compensated command (:mod:`tcpmm.compensate`) [-].
     """
-    from .compensate import machine_bounds, predicted_scores
-    from .compensate.candidates import compensate_within_draws
-    from .compensate.headroom import on_the_program
+    from .analysis.circle_find import circle_said, judged_circle
+    from .compensate import machine_bounds
 
     m = load_model(machine)
     bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
-    full, cmd, headroom = _with_headroom(command, m, headroom, bounds)
+    plans = _with_headroom(command, m, headroom, bounds)
+    circle = judged_circle(plans[1], radius_m, centre_m, plane)
+    comp = _learned_and_judged(m, plans, bounds, draws, seed, circle)
+    comp.settings["circle"] = circle_said(circle, radius_m is None)
+    return comp
+
+
+def _learned_and_judged(m, plans, bounds, draws: int, seed: int, circle):
+    """The compensation of the plan with headroom, or of the program as programmed where
+    the draws judge that one better (:func:`tcpmm.compensate.headroom.on_the_program`),
+    scored, on ``circle`` ``(radius, centre, plane)`` too where there is one [-]."""
+    from .compensate import predicted_scores
+    from .compensate.candidates import compensate_within_draws
+    from .compensate.headroom import on_the_program
+
+    full, cmd, headroom = plans
+    where = dict(zip(("radius_m", "centre_m", "plane"), circle or (None, (0.0, 0.0),
+                                                                   ("X", "Y")), strict=True))
 
     def learned(on):
         comp = compensate_within_draws(m, on, n_draws=draws, bounds=bounds, seed=seed,
-                                       radius_m=radius_m)
-        comp.scores = predicted_scores(m, comp, radius_m,
+                                       **where)
+        comp.scores = predicted_scores(m, comp, **where,
                                        programmed=full if on is not full else None)
         return comp
 
     comp = learned(cmd)
     if headroom and draws > 0:  # the draws judged it against its own plan
-        circle = None if radius_m is None else (radius_m, (0.0, 0.0), ("X", "Y"))
         comp, kept = on_the_program(m, full, comp, bounds, lambda: learned(full), circle)
         headroom, cmd = (headroom, cmd) if kept else (0.0, full)
     comp.settings.update(headroom=headroom, programmed_duration_s=float(full.time_s[-1]),

@@ -16,7 +16,7 @@ import numpy as np
 
 from .circle_passes import find_stretches
 
-__all__ = ["command_circle"]
+__all__ = ["circle_said", "command_circle", "judged_circle"]
 
 #: Radial distance from the fitted circle, as a share of its radius, within which a sample
 #: counts as on it while the fit is trimmed: a controller's filter pulls a circle in by
@@ -91,3 +91,39 @@ def command_circle(positions: dict, plane: tuple) -> tuple | None:
     turns = [s for s in find_stretches(x, y, radius, centre) if s.turns >= 1]
     held = sum(s.index.stop - s.index.start for s in turns)
     return (radius, centre) if turns and held >= HELD_SHARE * moving.size else None
+
+
+def judged_circle(cmd, radius_m=None, centre_m=(0.0, 0.0), plane=None) -> tuple | None:
+    """``(radius, centre, plane)`` of the circle a command is judged on: the one given,
+    else the one the command runs where it is a circular test (:func:`command_circle`);
+    None where there is none [m, m, -].
+
+    Parameters
+    ----------
+    cmd : Command
+        The command [m].
+    radius_m : float, optional
+        Radius of the nominal circle [m].
+    centre_m : tuple of float
+        Its centre in the plane's axes, with ``radius_m`` [m].
+    plane : tuple of str, optional
+        The plane; default the command's (:func:`.plane.command_plane`) [-].
+    """
+    from .plane import command_plane
+
+    plane = tuple(plane) if plane is not None else command_plane(cmd)
+    if radius_m is not None:
+        return float(radius_m), tuple(centre_m), plane
+    found = command_circle(cmd.positions, plane)
+    return None if found is None else (*found, plane)
+
+
+def circle_said(circle, found: bool) -> dict | None:
+    """The circle of :func:`judged_circle` for a result's record: radius, centre and
+    plane, and ``"from"``: ``"command"`` where it was taken from the command, ``"given"``
+    where the user gave it; None where there is none [m, -]."""
+    if circle is None:
+        return None
+    radius, centre, plane = circle
+    return {"radius_m": float(radius), "centre_m": [float(c) for c in centre],
+            "plane": "".join(plane), "from": "command" if found else "given"}

@@ -81,6 +81,23 @@ def motion_plane(positions: dict, where: str = "") -> tuple[tuple[str, str], str
     return axes, why, flat
 
 
+def command_plane(cmd) -> tuple[str, str]:
+    """The plane of a command: that of its program's arcs (G17, G18, G19), else the one
+    it moves in (:func:`motion_plane`), else XY for a move along one axis [-].
+
+    Parameters
+    ----------
+    cmd : Command
+        The command [m].
+    """
+    if cmd.meta.get("plane_axes"):
+        return tuple(cmd.meta["plane_axes"])
+    try:
+        return motion_plane(cmd.positions)[0]
+    except InputError:  # a move along one axis: any plane holding it will do
+        return ("X", "Y")
+
+
 def _travel(positions: dict) -> dict:
     """Travel of each axis of X, Y, Z among ``positions``, by its upper-case name [m]."""
     return {a.upper(): float(np.ptp(p)) for a, p in positions.items()

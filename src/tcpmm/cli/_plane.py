@@ -125,7 +125,7 @@ def refuse_unmeasured(run, axes, path, advice: str = "") -> None:
 
 def command_plane(option, cmd) -> tuple[str, str]:
     """The plane of ``--plane``, else of the program's arcs, else the one it moves in."""
-    from ..analysis.plane import motion_plane
+    from ..analysis.plane import command_plane as plane_of
 
     if option is not None:
         shown = plane_option(option)
@@ -139,12 +139,7 @@ def command_plane(option, cmd) -> tuple[str, str]:
                 f"it as a line or a point (travel {moving}); give the plane it moves in",
                 param_hint="--plane")
         return shown
-    if cmd.meta.get("plane_axes"):
-        return tuple(cmd.meta["plane_axes"])
-    try:
-        return motion_plane(cmd.positions)[0]
-    except Exception:  # a move along one axis: any plane holding it will do
-        return ("X", "Y")
+    return plane_of(cmd)
 
 
 def judged_circle(radius_mm, centre_m, option, cmd):
@@ -152,16 +147,14 @@ def judged_circle(radius_mm, centre_m, option, cmd):
     ``--radius`` (and ``--centre``), else the circle the command runs where it is a
     circular test (:func:`tcpmm.analysis.circle_find.command_circle`), said on stderr;
     ``None`` where there is none [m, m, -]."""
-    plane = command_plane(option, cmd)
-    if radius_mm is not None:
-        return radius_mm * 1e-3, centre_m, plane
-    from ..analysis.circle_find import command_circle
+    from ..analysis.circle_find import judged_circle as judged
     from ..compensate.cornerguard import mm_text
 
-    found = command_circle(cmd.positions, plane)
-    if found is None:
-        return None
-    radius, centre = found
+    plane = command_plane(option, cmd)
+    found = judged(cmd, None if radius_mm is None else radius_mm * 1e-3, centre_m, plane)
+    if found is None or radius_mm is not None:
+        return found
+    radius, centre, _ = found
     at = mm_text(c * 1e3 for c in centre)
     console.print(f"circle R {radius * 1e3:.4f} mm about ({at}) mm in the {''.join(plane)} "
                   "plane, taken from the command: its reversal spikes and G are judged "

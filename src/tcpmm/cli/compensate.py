@@ -86,8 +86,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     """Pre-compensate a command so that the model's predicted TCP follows the programmed
     path, within the axes' limits (an NC program is planned with headroom for the
     correction); write it (for tcpmm simulate --command) and report before and after."""
+    from ..analysis.circle_find import circle_said
     from ..compensate import machine_bounds
-    from ..path import write_command_csv
 
     _check_outputs(output, (report, controller_out, reference_out, gcode_out), radius, model,
                    command, gcode)
@@ -102,9 +102,8 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
         comp, headroom = _of_program(m, (full, cmd, headroom), command or gcode,
                                      (iterations, draws), bounds, circle, tuned, learn)
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
-    write_command_csv(_with_held(compensated, held), output)
-    # the plan compensated: the headroom's, or the program's where none of it was kept
-    _write_reference(reference_out, _with_held(cmd if headroom else full, held))
+    _write_commands(compensated, cmd if headroom else full, held, output, reference_out)
+    comp.settings["circle"] = circle_said(circle, radius is None)
     if gcode_out is not None:
         write_dense(compensated, comp, m, gcode_out)
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output, m)
@@ -161,13 +160,14 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=N
     return comp, headroom
 
 
-def _write_reference(path, planned) -> None:
-    """Write the program as planned for the correction (with the headroom, or as
-    programmed where none is kept), uncompensated, where ``--reference-out`` asks [-]."""
+def _write_commands(compensated, planned, held: dict, output, reference_out) -> None:
+    """The compensated command, and the plan it compensates (with the headroom, else as
+    programmed) where ``--reference-out`` asks, each with the axes held put back [-]."""
     from ..path import write_command_csv
 
-    if path is not None:
-        write_command_csv(planned, path)
+    write_command_csv(_with_held(compensated, held), output)
+    if reference_out is not None:
+        write_command_csv(_with_held(planned, held), reference_out)
 
 
 def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> None:

@@ -39,3 +39,29 @@ def test_the_api_judges_the_circle_the_command_line_judges(tmp_path, capsys, pla
     before = cli["scores"]["before"]["circle"]
     assert 5 < before["circular_deviation_um"] < 500
     assert len(before["passes"][0]["spikes_um"]) == 4 and before["largest_spike_um"] > 0
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_the_api_compensates_a_g18_program_on_a_machine_of_x_and_z(tmp_path, capsys):
+    """The API refused a G18 circle on a model of X and Z only ("the command drives axis Y
+    that the model lacks": the interpreter writes the Y the program never names), where
+    the command line compensates it; it now leaves the Y out as the command line does and
+    says where it stands."""
+    from tcpmm import builtin_machine, save_model
+
+    vmc = builtin_machine()
+    model = tmp_path / "xz.yaml"
+    save_model(vmc.model_copy(update={"axes": {n: a for n, a in vmc.axes.items()
+                                               if n != "Y"}}), model)
+    prog = tmp_path / "g18.nc"
+    prog.write_text("G21 G90 G18\nG0 X20 Z0\nG2 X20 Z0 I-20 K0 F3000\nM30\n")
+    assert main(["compensate", str(model), "--gcode", str(prog), "-o",
+                 str(tmp_path / "c.csv"), "--draws", "0", "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    comp = tcpmm.compensate(model, prog, draws=0)
+    assert comp.command.axes == ["X", "Z"] and comp.settings["held_axes_m"] == {"Y": 0.0}
+    for key in ("circle", "held_axes_m"):
+        assert comp.settings[key] == cli["settings"][key], key
+    assert comp.settings["circle"]["plane"] == "ZX"
+    api = json.loads(json.dumps(comp.to_dict()["scores"]["after"]).replace("NaN", "null"))
+    assert api == cli["scores"]["after"]

@@ -230,17 +230,21 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
     Returns
     -------
     Compensation
-        ``.command`` is the compensated command (:mod:`tcpmm.compensate`) [-].
+        ``.command`` is the compensated command (:mod:`tcpmm.compensate`); axes the
+        program holds still that the model lacks (a G18 program's Y on a machine of X and
+        Z) are left out of it, and ``settings["held_axes_m"]`` says where they stand [-].
     """
     from .analysis.circle_find import circle_said, judged_circle
     from .compensate import machine_bounds
+    from .compensate.held import without_held
 
     m = load_model(machine)
     bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
-    plans = _with_headroom(command, m, headroom, bounds)
-    circle = judged_circle(plans[1], radius_m, centre_m, plane)
-    comp = _learned_and_judged(m, plans, bounds, draws, seed, circle)
-    comp.settings["circle"] = circle_said(circle, radius_m is None)
+    full, cmd, headroom = _with_headroom(command, m, headroom, bounds)
+    (full, cmd), held = without_held(m, full, cmd)
+    circle = judged_circle(cmd, radius_m, centre_m, plane)
+    comp = _learned_and_judged(m, (full, cmd, headroom), bounds, draws, seed, circle)
+    comp.settings.update(circle=circle_said(circle, radius_m is None), held_axes_m=held)
     return comp
 
 
@@ -260,7 +264,7 @@ def _learned_and_judged(m, plans, bounds, draws: int, seed: int, circle):
         comp = compensate_within_draws(m, on, n_draws=draws, bounds=bounds, seed=seed,
                                        **where)
         comp.scores = predicted_scores(m, comp, **where,
-                                       programmed=full if on is not full else None)
+                                       programmed=full if headroom and on is not full else None)
         return comp
 
     comp = learned(cmd)

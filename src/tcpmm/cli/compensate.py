@@ -88,6 +88,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     correction); write it (for tcpmm simulate --command) and report before and after."""
     from ..analysis.circle_find import circle_said
     from ..compensate import machine_bounds
+    from ..compensate.held import without_held
 
     _check_outputs(output, (report, controller_out, reference_out, gcode_out), radius, model,
                    command, gcode)
@@ -95,7 +96,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     m = read_model(model)
     bounds = machine_bounds(m, accel, jerk)
     full, cmd, headroom = _planned(command, gcode, m, headroom, bounds)
-    (full, cmd), held = _without_held(m, full, cmd)
+    (full, cmd), held = without_held(m, full, cmd)
     circle = judged_circle(radius, centre_m, plane, cmd)
     with _controller_bar(m, cmd, circle, (iterations, draws), controller_out) as (tune, learn):
         tuned = None if controller_out is None else _tuned(m, cmd, circle, draws, tune)
@@ -103,7 +104,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
                                      (iterations, draws), bounds, circle, tuned, learn)
     compensated = comp.command  # built anew at each access: the correction fitted to the limits
     _write_commands(compensated, cmd if headroom else full, held, output, reference_out)
-    comp.settings["circle"] = circle_said(circle, radius is None)
+    comp.settings.update(circle=circle_said(circle, radius is None), held_axes_m=held)
     if gcode_out is not None:
         write_dense(compensated, comp, m, gcode_out)
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output, m)
@@ -163,11 +164,12 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=N
 def _write_commands(compensated, planned, held: dict, output, reference_out) -> None:
     """The compensated command, and the plan it compensates (with the headroom, else as
     programmed) where ``--reference-out`` asks, each with the axes held put back [-]."""
+    from ..compensate.held import with_held
     from ..path import write_command_csv
 
-    write_command_csv(_with_held(compensated, held), output)
+    write_command_csv(with_held(compensated, held), output)
     if reference_out is not None:
-        write_command_csv(_with_held(planned, held), reference_out)
+        write_command_csv(with_held(planned, held), reference_out)
 
 
 def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> None:
@@ -190,37 +192,6 @@ def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> N
         checked_output(reference_out, model, command, gcode, output)
     distinct_outputs(("-o", output), ("--gcode-out", gcode_out), ("--report", report),
                      ("--controller-out", controller_out), ("--reference-out", reference_out))
-
-
-def _without_held(machine, *commands) -> tuple:
-    """The commands without the axes the model lacks and they hold still (a G18 program's
-    Y, which the interpreter writes, on an X-Z machine), and those axes' positions; an
-    axis the model lacks that moves is refused where the correction is learned [-, m]."""
-    import numpy as np
-
-    from ..path.command import Command
-
-    first = commands[0]
-    held = {a: float(first.positions[a][0]) for a in first.axes if a not in machine.axes
-            and all(np.ptp(c.positions[a]) == 0.0 for c in commands)}
-    if not held:
-        return commands, held
-    return tuple(Command(c.time_s, {a: p for a, p in c.positions.items() if a not in held},
-                         dict(c.meta)) for c in commands), held
-
-
-def _with_held(command, held: dict):
-    """``command`` with the axes :func:`_without_held` took out, where they were [m]."""
-    import numpy as np
-
-    from ..path.command import Command
-
-    if not held:
-        return command
-    n = command.time_s.size
-    return Command(command.time_s, {**command.positions,
-                                    **{a: np.full(n, v) for a, v in held.items()}},
-                   dict(command.meta))
 
 
 def _planned(command, gcode, machine, headroom, bounds):

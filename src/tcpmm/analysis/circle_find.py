@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .circle_passes import find_stretches
+from .circle_passes import algebraic_circle, find_stretches
 
 __all__ = ["circle_said", "command_circle", "judged_circle"]
 
@@ -29,14 +29,6 @@ STEADY_SHARE = 2e-4
 HELD_SHARE = 0.5
 #: The centre and radius are given to this [m]: a command's own rounding is below it.
 ROUND_M = 1e-7
-
-
-def _fit(x: np.ndarray, y: np.ndarray) -> tuple:
-    """Centre and radius of the least-squares circle through the points (Kasa) [m]."""
-    a = np.column_stack([x, y, np.ones_like(x)])
-    (p, q, s), *_ = np.linalg.lstsq(a, x * x + y * y, rcond=None)
-    cx, cy = p / 2.0, q / 2.0
-    return (cx, cy), float(np.sqrt(max(s + cx * cx + cy * cy, 0.0)))
 
 
 def _seed(x: np.ndarray, y: np.ndarray, moving: np.ndarray) -> tuple:
@@ -85,7 +77,7 @@ def command_circle(positions: dict, plane: tuple) -> tuple | None:
         on = moving[np.abs(r - radius) <= share * radius]
         if on.size < 8:
             return None
-        centre, radius = _fit(x[on], y[on])
+        *centre, radius = algebraic_circle(x[on], y[on])
     centre = tuple(round(c / ROUND_M) * ROUND_M + 0.0 for c in centre)
     radius = round(radius / ROUND_M) * ROUND_M
     turns = [s for s in find_stretches(x, y, radius, centre) if s.turns >= 1]

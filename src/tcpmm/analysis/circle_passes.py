@@ -340,18 +340,24 @@ def within_span(x, y, sl: slice, centre, ref_ang) -> slice:
     return slice(lo + first, lo + stop)
 
 
+def algebraic_circle(x, y) -> tuple:
+    """``(cx, cy, r)``: centre and radius of the circle through the points by linear least
+    squares on ``x^2 + y^2`` (Kasa's algebraic fit) [m]."""
+    A = np.column_stack([x, y, np.ones_like(x)])
+    c = np.linalg.lstsq(A, x**2 + y**2, rcond=None)[0]
+    cx, cy = c[0] / 2, c[1] / 2
+    return cx, cy, float(np.sqrt(max(c[2] + cx * cx + cy * cy, 0.0)))
+
+
 def lsq_circle(x, y):
-    """Least-squares circle (algebraic fit, then Gauss-Newton on the geometric error).
+    """Least-squares circle (:func:`algebraic_circle`, then Gauss-Newton on the geometric error).
 
     Returns
     -------
     cx, cy, r : float
         Centre and radius [m].
     """
-    A = np.column_stack([x, y, np.ones_like(x)])
-    b = x**2 + y**2
-    c = np.linalg.lstsq(A, b, rcond=None)[0]
-    cx, cy = c[0] / 2, c[1] / 2
+    cx, cy, _ = algebraic_circle(x, y)
     for _ in range(5):
         dx, dy = x - cx, y - cy
         r = np.hypot(dx, dy)

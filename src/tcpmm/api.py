@@ -252,13 +252,13 @@ def _learned_and_judged(m, plans, bounds, draws: int, seed: int, circle):
     """The compensation of the plan with headroom, or of the program as programmed where
     the draws judge that one better (:func:`tcpmm.compensate.headroom.on_the_program`),
     scored, on ``circle`` ``(radius, centre, plane)`` too where there is one [-]."""
+    from .analysis.circle_find import circle_where
     from .compensate import predicted_scores
     from .compensate.candidates import compensate_within_draws
     from .compensate.headroom import on_the_program
 
     full, cmd, headroom = plans
-    where = dict(zip(("radius_m", "centre_m", "plane"), circle or (None, (0.0, 0.0),
-                                                                   ("X", "Y")), strict=True))
+    where = circle_where(circle)
 
     def learned(on):
         comp = compensate_within_draws(m, on, n_draws=draws, bounds=bounds, seed=seed,

@@ -16,7 +16,7 @@ import numpy as np
 
 from .circle_passes import algebraic_circle, find_stretches
 
-__all__ = ["circle_said", "command_circle", "judged_circle"]
+__all__ = ["circle_said", "circle_where", "command_circle", "judged_circle"]
 
 #: Radial distance from the fitted circle, as a share of its radius, within which a sample
 #: counts as on it while the fit is trimmed: a controller's filter pulls a circle in by
@@ -119,3 +119,11 @@ def circle_said(circle, found: bool) -> dict | None:
     radius, centre, plane = circle
     return {"radius_m": float(radius), "centre_m": [float(c) for c in centre],
             "plane": "".join(plane), "from": "command" if found else "given"}
+
+
+def circle_where(circle) -> dict:
+    """``radius_m``, ``centre_m`` and ``plane`` of the circle of :func:`judged_circle`, as
+    the compensation's functions take them; no radius (the path judged alone) where there
+    is no circle [m, m, -]."""
+    radius, centre, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
+    return {"radius_m": radius, "centre_m": centre, "plane": plane}

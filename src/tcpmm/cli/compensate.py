@@ -253,12 +253,12 @@ def _compensated(machine, cmd, source, iterations: int, bounds, draws: int, circ
     Compensation
         The compensated command with its robustness and scores [-].
     """
+    from ..analysis.circle_find import circle_where
     from ..compensate import predicted_scores
     from ..compensate.candidates import compensate_within_draws
     from ..compensate.combined import combined_compensation
 
-    radius_m, centre_m, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
-    where = {"radius_m": radius_m, "centre_m": centre_m, "plane": plane}
+    where = circle_where(circle)
     with in_file(source):
         if tuned is not None:
             comp = combined_compensation(machine, cmd, tuned.axes, bounds=bounds,

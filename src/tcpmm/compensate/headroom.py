@@ -232,17 +232,17 @@ def as_programmed(machine, full, bounds, comp, circle=None):
     Compensation
         Of ``full``, uncorrected, scored [-].
     """
+    from ..analysis.circle_find import circle_where
     from .learning import compensate
     from .scores import predicted_scores
 
-    radius_m, centre_m, plane = circle or (None, (0.0, 0.0), ("X", "Y"))
     plain = compensate(machine, full, iterations=1, bounds=bounds)
     for a in plain.factors:
         plain.factors[a] = np.zeros_like(plain.factors[a])
     plain.robustness = {**{k: v for k, v in comp.robustness.items() if k not in DRAWN_AFTER},
                         "as_programmed": True}
     plain.trusted = np.zeros(plain.reference.time_s.size, dtype=bool)
-    plain.scores = predicted_scores(machine, plain, radius_m, centre_m, plane)
+    plain.scores = predicted_scores(machine, plain, **circle_where(circle))
     plain.settings = {**comp.settings, "hold_samples": plain.settings["hold_samples"],
                       "programmed_duration_s": float(full.time_s[-1]),
                       "planned_duration_s": float(full.time_s[-1])}

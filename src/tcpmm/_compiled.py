@@ -141,6 +141,11 @@ def nearest_segments(*args):
     return call("nearest_segments", *args)
 
 
+def hessenberg_response(*args):
+    """:func:`tcpmm.sim.hessenberg.hessenberg_response` through :func:`call` [-]."""
+    return call("hessenberg_response", *args)
+
+
 def expm(A):
     """The matrix exponential ``exp(A)`` (:func:`tcpmm.sim.expm.expm`, compiled like
     :func:`run_axis`).

@@ -14,7 +14,7 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "path/gcode_arcscan.py",
                   "path/nearest.py", "path/ties.py", "sim/cornerfigs.py", "sim/cornerchords.py",
                   "sim/cornerfeed.py",
-                  "sim/pathforce.py", "_compiled_table.py")
+                  "sim/pathforce.py", "sim/hessenberg.py", "_compiled_table.py")
 #: :func:`tcpmm.sim.kernel.run_axis`'s arguments, in order (those of
 #: :meth:`tcpmm.sim.inputs.KernelInputs.as_args`).
 _KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2", "f1", "f1",
@@ -67,4 +67,6 @@ FUNCTIONS = {
     "play_operator": ("sim.pathforce", "play_operator", "play_operator", ("f1", "f"), "f1"),
     "sliding_friction": ("sim.frictionlaw", "sliding_friction", "sliding_friction",
                          ("f", "f1"), "f"),
+    "hessenberg_response": ("sim.hessenberg", "hessenberg_response", "hessenberg_response",
+                            ("f2", "f1", "f1", "f1", "f1"), ("f1", "f1")),
 }

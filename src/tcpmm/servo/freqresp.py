@@ -6,8 +6,9 @@ therefore reduced once: balanced by powers of two (exact, and needed: the sample
 states span some sixteen decades, and an orthogonal reduction of the unbalanced matrix loses
 the small entries' digits) and brought to upper Hessenberg form by orthogonal similarity.
 ``zI - H`` is then solved at each frequency by Gaussian elimination with partial pivoting
-along the one sub-diagonal, in ``O(n^2)`` instead of the ``O(n^3)`` of a dense solve, all
-frequencies at once.
+along the one sub-diagonal, in ``O(n^2)`` instead of the ``O(n^3)`` of a dense solve, by the
+compiled :func:`tcpmm.sim.hessenberg.hessenberg_response`: one frequency gives the same
+bits alone as in a grid.
 """
 
 from __future__ import annotations
@@ -15,9 +16,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import hessenberg, matrix_balance
 
-#: Frequencies from which the elimination runs over all of them at once; below, a dense
-#: solve each costs less than the elimination's some 50 array operations per row [-].
-VECTORISED_FROM = 64
+from .._compiled import hessenberg_response
 
 
 def loop_response(Phi, Gam, C, D, dt: float):
@@ -41,56 +40,18 @@ def loop_response(Phi, Gam, C, D, dt: float):
         return lambda f_hz: np.full(np.atleast_1d(f_hz).shape, complex(np.nan, np.nan))
     balanced, (scale, _) = matrix_balance(Phi, permute=False, separate=True)
     H, Q = hessenberg(balanced, calc_q=True)
-    b = Q.T @ (np.asarray(Gam, float)[:, 0] / scale)
-    c = (np.asarray(C, float)[0] * scale) @ Q
+    H = np.ascontiguousarray(H)
+    b = np.ascontiguousarray(Q.T @ (np.asarray(Gam, float)[:, 0] / scale))
+    c = np.ascontiguousarray((np.asarray(C, float)[0] * scale) @ Q)
     d = float(np.asarray(D, float)[0, 0])
 
     def response(f_hz) -> np.ndarray:
         f = np.atleast_1d(np.asarray(f_hz, dtype=float))
-        z = np.exp(2j * np.pi * f * dt)
-        if f.size < VECTORISED_FROM:
-            x = np.linalg.solve(z[:, None, None] * np.eye(H.shape[0]) - H, b[:, None])
-            return x[..., 0] @ c + d
-        return c @ hessenberg_solve(H, z, b) + d
+        z = np.exp(2j * np.pi * f.ravel() * dt)
+        re, im = hessenberg_response(H, np.ascontiguousarray(z.real),
+                                     np.ascontiguousarray(z.imag), b, c)
+        out = np.empty(f.size, dtype=complex)
+        out.real, out.imag = re + d, im
+        return out.reshape(f.shape)
 
     return response
-
-
-def hessenberg_solve(H, z, b) -> np.ndarray:
-    """``(z_k I - H)^-1 b`` for each ``z_k``, ``H`` upper Hessenberg [-].
-
-    Parameters
-    ----------
-    H : ndarray, shape (n, n)
-        Upper Hessenberg matrix [-].
-    z : ndarray, shape (m,)
-        Complex shifts [-].
-    b : ndarray, shape (n,)
-        Right-hand side [-].
-
-    Returns
-    -------
-    ndarray, shape (n, m)
-        The solutions, one column per shift [-].
-    """
-    n = H.shape[0]
-    A = np.empty((n, n, z.size), complex)  # frequencies last: each row operation contiguous
-    A[...] = -H[:, :, None]
-    A[np.arange(n), np.arange(n), :] = z[None, :] - np.diagonal(H)[:, None]
-    x = np.empty((n, z.size), complex)
-    x[...] = b[:, None]
-    with np.errstate(divide="ignore", invalid="ignore"):  # a shift on an eigenvalue: inf
-        for k in range(n - 1):
-            swap = np.abs(A[k + 1, k]) > np.abs(A[k, k])
-            if swap.any():
-                top, low = A[k, k:], A[k + 1, k:]
-                top[:, swap], low[:, swap] = low[:, swap], top[:, swap]
-                xt, xl = x[k], x[k + 1]
-                xt[swap], xl[swap] = xl[swap], xt[swap]
-            m = A[k + 1, k] / A[k, k]
-            A[k + 1, k + 1:] -= m * A[k, k + 1:]
-            x[k + 1] -= m * x[k]
-        for k in range(n - 1, -1, -1):
-            x[k] /= A[k, k]
-            x[:k] -= A[:k, k] * x[k]
-    return x

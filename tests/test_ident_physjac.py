@@ -98,3 +98,14 @@ def test_jacobian_to_the_bit_of_all_rows(names, tied):
         r[::7] = 1e3
         assert same_bits(residual_jacobian(mech, freqs, w, r, names, tied, 1500.0, nut_gain, p),
                          jacobian_reference(mech, freqs, w, r, names, tied, 1500.0, nut_gain, p))
+
+
+@pytest.mark.parametrize("name, none_of", [
+    ("G_M", ("M_h", "C_h", "K_h")), ("G_T", ("J_m", "B_m", "M_h", "C_h", "K_h", "f_i")),
+    ("G_tcp", ("J_m", "B_m", "J_L", "B_L", "K_L", "K_t", "f_i"))])
+def test_a_parameter_an_frf_does_not_depend_on_has_a_row_of_zeros(name, none_of):
+    """The row of a parameter outside an FRF's path is zero, as its central differences
+    are, and those of the parameters on the path are not."""
+    S = log_sensitivities(builtin_machine().axes["X"].mechanics, name, F_HZ, 1500.0, nut_gain)
+    for i, p in enumerate(PARAMS):
+        assert (np.all(S[i] == 0.0) if p in none_of else np.abs(S[i]).max() > 1e-9), p

@@ -18,25 +18,28 @@ PARAMS = ("J_m", "B_m", "J_L", "B_L", "K_L", "M_t", "C_t", "K_t", "M_b", "C_b", 
           "M_h", "C_h", "K_h", "f_i")
 
 
-def _rows(row: dict, n: int, **terms) -> np.ndarray:
-    """A (parameters, bins) array holding those ``terms`` that have a row in ``row`` in
-    it, zero elsewhere [-]."""
-    out = np.zeros((len(row), n), dtype=complex)
+def _kept(row: dict, n: int, **terms) -> dict:
+    """Those ``terms`` that have a row in ``row``, each as a complex row of ``n`` bins [-]."""
+    out = {}
     for p, v in terms.items():
         if p in row:
-            out[row[p]] = v
+            out[p] = np.empty(n, dtype=complex)
+            out[p][:] = v
     return out
 
 
-def _nut_side(m: AxisMechanics, s, K_t, row: dict):
-    """Table and bed admittances and their log-parameter derivatives [m/N]."""
+def _nut_side(m: AxisMechanics, s, row: dict):
+    """Table and bed admittances and their log-parameter derivatives, the latter by
+    parameter [m/N]."""
     n = s.size
     den_t = m.M_t * s**2 + m.C_t * s
     den_b = m.M_b * s**2 + m.C_b * s + m.K_b
-    d_den_t = _rows(row, n, M_t=m.M_t * s**2, C_t=m.C_t * s)
-    d_den_b = _rows(row, n, M_b=m.M_b * s**2, C_b=m.C_b * s, K_b=np.full(n, m.K_b))
+    d_den_t = _kept(row, n, M_t=m.M_t * s**2, C_t=m.C_t * s)
+    d_den_b = _kept(row, n, M_b=m.M_b * s**2, C_b=m.C_b * s, K_b=np.full(n, m.K_b))
     D = 1 / den_t + 1 / den_b
-    dD = -d_den_t / den_t**2 - d_den_b / den_b**2
+    t2, b2 = den_t**2, den_b**2
+    dD = {p: -v / t2 for p, v in d_den_t.items()}
+    dD.update({p: -(v / b2) for p, v in d_den_b.items()})
     return den_t, d_den_t, D, dD
 
 
@@ -44,7 +47,9 @@ def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz
                       nut_gain=None, params=PARAMS) -> np.ndarray:
     """``d log G / d log p`` of one FRF of :func:`~tcpmm.ident.physical.axisfrfs.model_frfs`.
 
-    The zero-order hold does not depend on any parameter and drops out.
+    The zero-order hold does not depend on any parameter and drops out. Each row is the
+    chain rule's sum over the terms that depend on its parameter: the terms that do not
+    are zero and are left out of it.
 
     Parameters
     ----------
@@ -71,33 +76,63 @@ def log_sensitivities(mech: AxisMechanics, name: str, f_hz, current_bandwidth_hz
     m = mech
     f = np.asarray(f_hz, dtype=float)
     s = 2j * np.pi * f
-    n = s.size
-    K_t = m.K_t if nut_gain is None or name == "G_tcp" else m.K_t * nut_gain(f)
     row = {p: i for i, p in enumerate(params)}
-    den_t, d_den_t, D, dD = _nut_side(m, s, K_t, row)
+    den_t, d_den_t, D, dD = _nut_side(m, s, row)
     if name == "G_tcp":
-        den_h = m.M_h * s**2 + m.C_h * s + m.K_h
-        d_den_h = _rows(row, n, M_h=m.M_h * s**2, C_h=m.C_h * s, K_h=np.full(n, m.K_h))
-        A = 1 / den_t - 1 / den_h
-        return (-d_den_t / den_t**2 + d_den_h / den_h**2) / A - dD / D
-    R2 = m.R_L**2
-    KtD = K_t * D
-    dKt = _rows(row, n, K_t=np.broadcast_to(K_t, s.shape))
-    dKtD = dKt * D + K_t * dD
-    ZL = m.J_L * s**2 + m.B_L * s + K_t * R2 / (1 + KtD)
-    dZL = (_rows(row, n, J_L=m.J_L * s**2, B_L=m.B_L * s)
-           + R2 * (dKt / (1 + KtD) - K_t * dKtD / (1 + KtD) ** 2))
-    dKL = _rows(row, n, K_L=np.full(n, m.K_L))
-    if name == "G_T":
-        return dKL / m.K_L - (dZL + dKL) / (ZL + m.K_L) + dKtD / (KtD * (1 + KtD))
-    Zm = m.K_L * ZL / (ZL + m.K_L)
-    dZm = Zm**2 * (dKL / m.K_L**2 + dZL / ZL**2)
-    den_m = m.J_m * s**2 + m.B_m * s + Zm
-    out = -(_rows(row, n, J_m=m.J_m * s**2, B_m=m.B_m * s) + dZm) / den_m
-    if current_bandwidth_hz is not None and "f_i" in row:
+        rows = _tcp_rows(m, s, row, den_t, d_den_t, D, dD)
+    else:
+        K_t = m.K_t if nut_gain is None else m.K_t * nut_gain(f)
+        rows = _screw_rows(m, s, row, name, K_t, D, dD)
+    out = np.zeros((len(row), s.size), dtype=complex)
+    for p, v in rows.items():
+        out[row[p]] = v
+    if name not in ("G_tcp", "G_T") and current_bandwidth_hz is not None and "f_i" in row:
         x = s / (2 * np.pi * current_bandwidth_hz)
         out[row["f_i"]] = x / (1 + x)
     return out
+
+
+def _tcp_rows(m, s, row, den_t, d_den_t, D, dD) -> dict:
+    """The rows of ``G_tcp``: the table's and the headstock's admittances over ``D``."""
+    den_h = m.M_h * s**2 + m.C_h * s + m.K_h
+    d_den_h = _kept(row, s.size, M_h=m.M_h * s**2, C_h=m.C_h * s, K_h=np.full(s.size, m.K_h))
+    A = 1 / den_t - 1 / den_h
+    t2, h2 = den_t**2, den_h**2
+    rows = {p: -(dD[p] / D) for p in dD}
+    rows.update({p: -v / t2 / A - dD[p] / D for p, v in d_den_t.items()})
+    rows.update({p: v / h2 / A for p, v in d_den_h.items()})
+    return rows
+
+
+def _screw_rows(m, s, row, name, K_t, D, dD) -> dict:
+    """The rows of ``G_T`` or ``G_M``: the screw's load through the nut, and the motor."""
+    n = s.size
+    R2 = m.R_L**2
+    KtD = K_t * D
+    dKt = _kept(row, n, K_t=np.broadcast_to(K_t, s.shape))
+    dKtD = {p: v * D for p, v in dKt.items()}
+    dKtD.update({p: K_t * v for p, v in dD.items()})
+    ZL = m.J_L * s**2 + m.B_L * s + K_t * R2 / (1 + KtD)
+    q, q2 = 1 + KtD, (1 + KtD) ** 2
+    dZL = {p: R2 * -(K_t * v / q2) for p, v in dKtD.items()}
+    dZL.update({p: R2 * (v / q - K_t * dKtD[p] / q2) for p, v in dKt.items()})
+    dZL.update(_kept(row, n, J_L=m.J_L * s**2, B_L=m.B_L * s))
+    dKL = _kept(row, n, K_L=np.full(n, m.K_L))
+    if name == "G_T":
+        ZK, KKD = ZL + m.K_L, KtD * (1 + KtD)
+        rows = {p: -(v / ZK) for p, v in dZL.items()}
+        rows.update({p: rows[p] + v / KKD for p, v in dKtD.items()})
+        rows.update({p: v / m.K_L - v / ZK for p, v in dKL.items()})
+        return rows
+    Zm = m.K_L * ZL / (ZL + m.K_L)
+    Zm2, ZL2 = Zm**2, ZL**2
+    dZm = {p: Zm2 * (v / ZL2) for p, v in dZL.items()}
+    dZm.update({p: Zm2 * (v / m.K_L**2) for p, v in dKL.items()})
+    den_m = m.J_m * s**2 + m.B_m * s + Zm
+    rows = {p: -v / den_m for p, v in dZm.items()}
+    rows.update({p: -v / den_m for p, v in _kept(row, n, J_m=m.J_m * s**2,
+                                                    B_m=m.B_m * s).items()})
+    return rows
 
 
 def residual_jacobian(mech: AxisMechanics, freqs: dict, weights: dict, residual,

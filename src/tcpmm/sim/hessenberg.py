@@ -69,7 +69,8 @@ def hessenberg_response(H, z_re, z_im, b, c):
     xi = np.empty(n)
     for j in range(m):
         for r in range(n):
-            for col in range(n):
+            # from the sub-diagonal on: the elimination reads nothing below it
+            for col in range(max(r - 1, 0), n):
                 ar[r, col] = -H[r, col]
                 ai[r, col] = 0.0
             ar[r, r] = z_re[j] - H[r, r]

@@ -112,14 +112,15 @@ def _screw_rows(m, s, row, name, K_t, D, dD) -> dict:
     dKt = _kept(row, n, K_t=np.broadcast_to(K_t, s.shape))
     dKtD = {p: v * D for p, v in dKt.items()}
     dKtD.update({p: K_t * v for p, v in dD.items()})
-    ZL = m.J_L * s**2 + m.B_L * s + K_t * R2 / (1 + KtD)
-    q, q2 = 1 + KtD, (1 + KtD) ** 2
+    q = 1 + KtD
+    q2 = q**2
+    ZL = m.J_L * s**2 + m.B_L * s + K_t * R2 / q
     dZL = {p: R2 * -(K_t * v / q2) for p, v in dKtD.items()}
     dZL.update({p: R2 * (v / q - K_t * dKtD[p] / q2) for p, v in dKt.items()})
     dZL.update(_kept(row, n, J_L=m.J_L * s**2, B_L=m.B_L * s))
     dKL = _kept(row, n, K_L=np.full(n, m.K_L))
     if name == "G_T":
-        ZK, KKD = ZL + m.K_L, KtD * (1 + KtD)
+        ZK, KKD = ZL + m.K_L, KtD * q
         rows = {p: -(v / ZK) for p, v in dZL.items()}
         rows.update({p: rows[p] + v / KKD for p, v in dKtD.items()})
         rows.update({p: v / m.K_L - v / ZK for p, v in dKL.items()})

@@ -152,6 +152,28 @@ def test_the_g_code_lexer_is_numbas_to_the_bit(monkeypatch):
     assert len(ours) == 600 and repr(ours) == repr(theirs)
 
 
+def test_the_corner_blends_are_numbas_to_the_bit(monkeypatch):
+    """Random runs of straight blocks under G64 (turns of every size, reversals, collinear
+    blocks, points) blended by the compiled module and by numba: the same lines and
+    arcs."""
+    from tcpmm.path.blend import blend_corners
+    from tcpmm.path.segments import Line
+
+    built_or_skip()
+    rng = np.random.default_rng(11)
+    pts = np.cumsum(rng.normal(size=(600, 3)) * 10.0 ** rng.uniform(-6, -2, (600, 1)), axis=0)
+    pts[300:320] = pts[300]  # points: a line of no length turns nowhere
+    pts[400:420] = pts[400] + np.outer(np.arange(20), [1e-4, 0.0, 0.0])  # straight on
+    segs = [Line(tuple(a), tuple(b), 0.05, tolerance_m=float(t))
+            for a, b, t in zip(pts[:-1], pts[1:], 10.0 ** rng.uniform(-7, -3, 599),
+                               strict=True)]
+    ours = blend_corners(segs, 2e-6)
+    monkeypatch.setattr(compiled, "_chosen", [None, "numba's kernels (forced)"])
+    theirs = blend_corners(segs, 2e-6)
+    assert sum(type(s).__name__ == "Blend" for s in ours) > 400
+    assert ours == theirs
+
+
 def test_the_contour_search_is_numbas_to_the_bit(monkeypatch):
     """The three sensors of the paper's circle on the built-in machine against their
     command, signed in the plane and unsigned in space, searched by the compiled module

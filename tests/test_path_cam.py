@@ -289,8 +289,8 @@ def _tangent_length_reference(a, b, tol):
             or math.sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]) < BEND_TOL):
         return 0.0
     h = 0.5 * math.acos(c)
-    d = min(tol * math.sin(h) / (2.0 * math.sin(0.5 * h) ** 2), 0.5 * a.length_m,
-            0.5 * b.length_m)
+    s = math.sin(0.5 * h)
+    d = min(tol * math.sin(h) / (2.0 * (s * s)), 0.5 * a.length_m, 0.5 * b.length_m)
     return d if d >= 1e-9 else 0.0
 
 

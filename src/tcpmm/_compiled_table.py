@@ -11,7 +11,7 @@ KERNEL_SOURCES = ("sim/kernel.py", "sim/servoparts.py", "sim/linearstep.py",
                   "sim/layout.py", "sim/expm.py",
                   "mechanics/friction.py", "path/lookahead.py", "path/profile.py",
                   "path/sampling.py", "path/geometry.py", "path/gcode_scan.py",
-                  "path/gcode_arcscan.py",
+                  "path/gcode_arcscan.py", "path/blendtrig.py",
                   "path/nearest.py", "path/ties.py", "sim/cornerfigs.py", "sim/cornerchords.py",
                   "sim/cornerfeed.py",
                   "sim/pathforce.py", "sim/hessenberg.py", "_compiled_table.py")
@@ -67,6 +67,9 @@ FUNCTIONS = {
     "play_operator": ("sim.pathforce", "play_operator", "play_operator", ("f1", "f"), "f1"),
     "sliding_friction": ("sim.frictionlaw", "sliding_friction", "sliding_friction",
                          ("f", "f1"), "f"),
+    "corner_turns": ("path.blendtrig", "corner_turns", "corner_turns",
+                     ("f2", "f2", "f2", "f2", "f1", "f"), ("u1", "f1", "f1")),
+    "blend_reach": ("path.blendtrig", "blend_reach", "blend_reach", ("f1", "f1"), "f1"),
     "hessenberg_response": ("sim.hessenberg", "hessenberg_response", "hessenberg_response",
                             ("f2", "f1", "f1", "f1", "f1"), ("f1", "f1")),
 }

@@ -23,7 +23,7 @@ from itertools import repeat
 
 import numpy as np
 
-from .blendrows import blended_rows, block_table, tangent_lengths
+from .blendrows import blended_rows, block_table, corner_table
 from .geometry import BLEND
 from .runs import ArcRun, ColumnRun, LineRun, as_lines, feed_columns
 from .segments import Blend, Line
@@ -70,8 +70,8 @@ def _blended(segs: list, default_tol_m: float) -> tuple:
     """The table of ``segs`` and the rows of the whole path blended; None for the rows
     where no corner is [-]."""
     tb = block_table(segs)
-    d = tangent_lengths(tb, default_tol_m)
-    return tb, (blended_rows(tb, d, 0, tb.n) if d.any() else None)
+    corners = corner_table(tb, default_tol_m)
+    return tb, (blended_rows(tb, corners, 0, tb.n) if corners[0].any() else None)
 
 
 def _as_segments(segs: list, rows) -> list:
@@ -174,7 +174,7 @@ class CornerBlender:
         self.held = _last_blocks(raw, tb.n - max(stop - 1, 0))
         if stop <= first:
             return []
-        rows = blended_rows(tb, tangent_lengths(tb, self.tol), first, stop)
+        rows = blended_rows(tb, corner_table(tb, self.tol), first, stop)
         return _as_runs(raw, tb, rows)
 
 

@@ -3,20 +3,21 @@ path as a table, the tangent length of each corner, and the rows of the blended 
 
 Every block of a path, a run of G1 blocks counted block by block, is a row of the table;
 the points of the trimmed lines and of the blend arcs are worked out for all corners at
-once. Sums over the coordinates are taken first to last (:mod:`tcpmm._rows`) and angles
-one corner at a time with :mod:`math`, so the bits do not depend on the CPU's vector
-units or a library's pairing of a sum.
+once. Sums over the coordinates are taken first to last (:mod:`tcpmm._rows`), angles one
+corner at a time with the C library's functions (:mod:`tcpmm.path.blendtrig`) and lengths
+with :func:`math.hypot`, so the bits do not depend on the CPU's vector units or a
+library's pairing of a sum.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from itertools import repeat
 
 import numpy as np
 
-from .._rows import dot_rows, norm_rows
+from .. import _compiled
+from .._rows import norm_rows
 from .runs import LineRun
 from .segments import Line
 from .speedlimits import BEND_TOL
@@ -107,60 +108,53 @@ def tangent_lengths(tb: BlockTable, default_tol_m: float) -> np.ndarray:
     """``d[i + 1]``: tangent length of the corner at the end of block ``i`` (``d[0]`` and
     ``d[n]`` zero), 0 where a block is no straight feed move, is an exact stop or has no
     tolerance (:func:`corner_lengths`) [m]."""
+    return corner_table(tb, default_tol_m)[0]
+
+
+def corner_table(tb: BlockTable, default_tol_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`tangent_lengths` ``d`` and, where it is not zero, the half-angle ``h`` of
+    the corner's turn (0 elsewhere), both of length ``n + 1`` [m], [rad]."""
     n = tb.n
-    d = np.zeros(n + 1)
+    d, h = np.zeros(n + 1), np.zeros(n + 1)
     if n < 2:
-        return d
+        return d, h
     tol = np.where(np.isnan(tb.tol[:-1]), default_tol_m, tb.tol[:-1])
     pairs = np.flatnonzero(tb.is_line[:-1] & tb.is_line[1:] & ~tb.exact[:-1] & (tol > 0.0))
     if pairs.size:
         rows = [np.take(x, pairs + k, axis=0) for k in (0, 1) for x in (tb.start, tb.end)]
-        d[pairs + 1] = corner_lengths(*rows, tol[pairs])
-    return d
+        d[pairs + 1], h[pairs + 1] = corner_lengths(*rows, tol[pairs], halves=True)
+    return d, h
 
 
-def corner_lengths(a0, a1, b0, b1, tols) -> np.ndarray:
+def corner_lengths(a0, a1, b0, b1, tols, halves: bool = False):
     """Distance ``d`` from the corner of the line ``a0 -> a1`` into ``b0 -> b1`` (rows),
     of contour tolerance ``tols`` > 0, at which its blend starts and ends; 0 where it
-    stays sharp [m]. Only where a corner turns are its angle and length worked out, one by
-    one: a long run of short blocks is mostly straight on.
+    stays sharp [m]. With ``halves``, also the half-angle of each corner's turn, 0 where
+    ``d`` is [rad]. Only where a corner turns are its angle and length worked out: a long
+    run of short blocks is mostly straight on.
 
     At a corner turning by ``theta`` the blend passes the corner at
     ``rho (1/cos(theta/2) - 1)`` for its radius ``rho = d / tan(theta/2)``; ``d`` is the
     largest that keeps this within the tolerance, and at most half of either line, so
     that the blends at both ends of a line never overlap. A corner whose unit tangent
     changes by less than ``BEND_TOL`` stays sharp (straight on but for rounding)."""
-    with np.errstate(invalid="ignore", divide="ignore"):
-        u1, u2 = units(a1 - a0), units(b1 - b0)
-        c = np.clip(dot_rows(u1, u2), -1.0, 1.0)
-        cross = np.stack([u1[:, 1] * u2[:, 2] - u1[:, 2] * u2[:, 1],
-                          u1[:, 2] * u2[:, 0] - u1[:, 0] * u2[:, 2],
-                          u1[:, 0] * u2[:, 1] - u1[:, 1] * u2[:, 0]], axis=1)
-        # else straight on, or a reversal. A turn of the unit tangent below BEND_TOL is a
-        # tangent join, as the look-ahead takes it: its blend would pass the corner by
-        # d theta / 4, nothing, on a radius 2 d / theta (km) about a centre so far off
-        # that its points keep little of their last micrometre
-        turns = (norm_rows(cross) >= 1e-12) & (norm_rows(u2 - u1) >= BEND_TOL)
-    d = np.zeros(len(a0))
+    # A turn of the unit tangent below BEND_TOL is a tangent join, as the look-ahead takes
+    # it: its blend would pass the corner by d theta / 4, nothing, on a radius
+    # 2 d / theta (km) about a centre so far off that its points keep little of their
+    # last micrometre. Straight on, or a reversal, is no turn either.
+    turns, h, d_tol = _compiled.call("corner_turns", a0, a1, b0, b1,
+                                         np.asarray(tols, float), BEND_TOL)
+    d, half = np.zeros(len(a0)), np.zeros(len(a0))
     ks = np.flatnonzero(turns)
-    # the functions of math over lists (libm's results, whatever the CPU's vector units):
-    # Python's x ** 2 is libm's pow, and math.hypot of a line's differences is math.dist
-    # of its ends, to the bit
-    theta = _math(math.acos, c[ks])
-    h = 0.5 * theta
-    sq = _math(math.pow, _math(math.sin, 0.5 * h), 2.0)
-    d_tol = np.asarray(tols)[ks] * _math(math.sin, h) / (2.0 * sq)
+    h, d_tol = h[ks], d_tol[ks]
+    # Python's math.hypot of a line's differences is math.dist of its ends, to the bit
     len_a = np.array(list(map(math.hypot, *(a1[ks] - a0[ks]).T.tolist())))
     len_b = np.array(list(map(math.hypot, *(b1[ks] - b0[ks]).T.tolist())))
     dk = np.minimum(np.minimum(d_tol, 0.5 * len_a), 0.5 * len_b)
-    d[ks] = np.where(dk >= MIN_BLEND_M, dk, 0.0)
-    return d
-
-
-def _math(fn, x, *args) -> np.ndarray:
-    """``fn`` of :mod:`math` on each value of ``x`` (with the further arguments) [-]."""
-    return np.array(list(map(fn, np.asarray(x, float).tolist(),
-                             *(repeat(a) for a in args))), float)
+    blended = dk >= MIN_BLEND_M
+    d[ks] = np.where(blended, dk, 0.0)
+    half[ks] = np.where(blended, h, 0.0)
+    return (d, half) if halves else d
 
 
 def units(v) -> np.ndarray:
@@ -190,14 +184,16 @@ class BlendedRows:
     centre: np.ndarray
 
 
-def blended_rows(tb: BlockTable, d: np.ndarray, first: int, stop: int) -> BlendedRows:
+def blended_rows(tb: BlockTable, corners: tuple, first: int, stop: int) -> BlendedRows:
     """The rows of blocks ``first`` to ``stop - 1``, each trimmed by the tangent lengths
-    ``d`` and followed by the blend at its end (module docstring) [-].
+    and followed by the blend at its end (module docstring); ``corners`` is
+    :func:`corner_table`'s ``(d, h)`` [-].
 
     A trimmed line starts where the blend before it ends, ``d`` along it from the
     corner; a line left shorter than 1e-12 of its length (at least of 1 mm) is dropped.
     The blend at a corner ``p`` of half-angle ``h`` runs from ``p - d u1`` to
     ``p + d u2`` about the centre on the bisector at ``d / (tan h cos h)``."""
+    d, half = corners
     idx = np.arange(first, stop)
     blk = slice(first, stop)  # every block read: views, not gathers
     d0, d1 = d[blk], d[first + 1:stop + 1]
@@ -216,7 +212,8 @@ def blended_rows(tb: BlockTable, d: np.ndarray, first: int, stop: int) -> Blende
     keep = ~trim | (norm_rows(s1 - s0) > 1e-12 * np.maximum(span, 1e-3))
     kind = np.where(line, trim.astype(np.int64), -1)
     c = np.flatnonzero(d1 != 0)
-    b0, b1, bc = _blend_points(tb.end[idx[c]], u[c], u[c + 1], d1[c])
+    b0, b1, bc = _blend_points(tb.end[idx[c]], u[c], u[c + 1], d1[c],
+                                half[first + 1:stop + 1][c])
     # rows: each block's own (if kept), then the blend at its end (if any)
     per = keep.astype(np.int64) + (d1 != 0)
     at = np.concatenate([[0], np.cumsum(per)])
@@ -232,11 +229,10 @@ def blended_rows(tb: BlockTable, d: np.ndarray, first: int, stop: int) -> Blende
     return BlendedRows(src, kinds, start, end, centre)
 
 
-def _blend_points(p, u1, u2, dk) -> tuple:
+def _blend_points(p, u1, u2, dk, h) -> tuple:
     """Start, end and centre of the blends at the corners ``p`` from the directions
-    ``u1`` into ``u2``, tangent lengths ``dk`` [m]."""
-    h = 0.5 * _math(math.acos, np.clip(dot_rows(u1, u2), -1.0, 1.0))
-    reach = dk / _math(math.tan, h) / _math(math.cos, h)
+    ``u1`` into ``u2``, tangent lengths ``dk``, half-angles ``h`` [m]."""
+    reach = _compiled.call("blend_reach", h, dk)
     with np.errstate(invalid="ignore", divide="ignore"):
         bis = units(u2 - u1)
     centre = p + bis * reach.reshape(-1, 1)

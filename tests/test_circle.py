@@ -214,6 +214,34 @@ def test_a_prediction_of_another_test_is_refused():
     assert compare_circles(analyse_circle(meas, R), analyse_circle(meas, R)).rows
 
 
+def ramped_arc_run(accel_rad_s2, rate_rad_s=2.381):
+    """A 220 deg CCW arc from -20 deg sampled at 1 kHz, run up from standstill to its feed
+    at ``accel_rad_s2`` and down again [-]."""
+    span = np.radians(220.0)
+    t_ramp = rate_rad_s / accel_rad_s2
+    ramp = 0.5 * accel_rad_s2 * t_ramp**2
+    t_end = 2.0 * t_ramp + (span - 2.0 * ramp) / rate_rad_s
+    t = np.arange(0.0, t_end + 5e-4, 1e-3)
+    down = t_end - t
+    th = np.where(t < t_ramp, 0.5 * accel_rad_s2 * t**2,
+                  np.where(down < t_ramp, span - 0.5 * accel_rad_s2 * down**2,
+                           ramp + rate_rad_s * (t - t_ramp)))
+    p = R * np.column_stack([np.cos(th - np.radians(20.0)), np.sin(th - np.radians(20.0))])
+    return Run(t, {"X": AxisRun(cmd=p[:, 0], tcp=p[:, 0]), "Y": AxisRun(cmd=p[:, 1], tcp=p[:, 1])})
+
+
+def test_one_arc_at_one_feed_ramped_otherwise_is_the_same_test():
+    """The same 220 deg arc at F5000 ramped at 28.6 and 7.1 rad/s^2 (1 and 0.25 m/s^2 on
+    R 35 mm): the same feed. The mean speed, which counts the ramps, differs by 13 %, and
+    the two were refused as two tests."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        fast, slow = (analyse_circle(ramped_arc_run(a / R), R) for a in (1.0, 0.25))
+        assert abs(fast.passes[0].rate_rad_s / slow.passes[0].rate_rad_s - 1.0) > 0.1
+        row = compare_circles(fast, slow).rows[0]
+    assert abs(row["contour_error_um"]) < 0.01
+
+
 def two_lobes(rise, fall):
     """Radial error with a rise at 93 deg then a fall at 100 deg (after B, CCW) [m]."""
     def de(a):

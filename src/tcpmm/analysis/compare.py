@@ -201,16 +201,20 @@ SAME_SPEED_TOL = 0.02
 
 
 def _same_test(pm, pp) -> None:
-    """Refuse a measured and a predicted circle run at different speeds: the prediction
+    """Refuse a measured and a predicted circle run at different feeds: the prediction
     is of another test (an F10000 measurement against an F5000 prediction read as a
-    contour error 207 um off, with spikes inside their intervals)."""
-    a, b = pm.rate_rad_s, pp.rate_rad_s
+    contour error 207 um off, with spikes inside their intervals). Each pass's feed is its
+    steady angular speed (:attr:`CirclePass.feed_rate_rad_s`): the mean counts the ramps,
+    and two runs of one arc at one feed ramped at other accelerations differ by 13 % in
+    it."""
+    a, b = pm.feed_rate_rad_s, pp.feed_rate_rad_s
     if np.isfinite(a) and np.isfinite(b) and abs(a - b) > SAME_SPEED_TOL * max(abs(a), abs(b)):
+        what = "arc" if pm.is_arc or pp.is_arc else "circle"
         raise InputError(
-            f"the measured {pm.direction.upper()} circle runs at {abs(a):.4g} rad/s about the "
-            f"centre, the predicted one at {abs(b):.4g} rad/s ({abs(a / b):.3g} times): the "
-            "prediction is of another test; simulate the measured run's own command "
-            "(tcpmm simulate MODEL --command MEASURED.csv)")
+            f"the measured {pm.direction.upper()} {what} runs at {abs(a):.4g} rad/s about "
+            f"the centre at its steady feed, the predicted one at {abs(b):.4g} rad/s "
+            f"({abs(a / b):.3g} times): the prediction is of another test; simulate the "
+            "measured run's own command (tcpmm simulate MODEL --command MEASURED.csv)")
 
 
 def cut_alike(measured, predicted):

@@ -63,6 +63,24 @@ def test_a_command_on_another_time_line_is_refused_and_the_reference_is_written(
     assert json.loads(out)["sensors"]["tcp"]["max_abs_um"] == pytest.approx(after, rel=0.02)
 
 
+def test_another_programs_command_is_refused(tmp_path, capsys):
+    """A 50 mm square measured against the command of a helix of about the same duration:
+    the time lines alike, the paths not. It was measured against it, with a contour error
+    of 60 mm, exit 0."""
+    from conftest import run_cli
+
+    sq, hx = tmp_path / "sq.nc", tmp_path / "hx.nc"
+    sq.write_text("G21 G90 G17\nG0 X0 Y0\nG1 X50 Y0 F3000\nG1 X50 Y50\nG1 X0 Y50\n"
+                  "G1 X0 Y0\nG4 P0.5\nM30\n")
+    hx.write_text("G21 G90 G17\nG0 X10 Y0 Z0\nG3 X10 Y0 Z-5 I-10 J0 F2000\n"
+                  "G3 X-10 Y0 Z-7.5 I-10 J0\nG4 P0.2\nM30\n")
+    cmd, run = tmp_path / "hx.csv", tmp_path / "sq_run.csv"
+    assert run_cli(capsys, "path", hx, "-o", cmd)[0] == 0
+    assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", sq, "-o", run)[0] == 0
+    code, out, err = run_cli(capsys, "contour", run, "--command", cmd)
+    assert code == 2 and "not the run's path" in err and "51.7 mm" in err and not out
+
+
 def test_a_dwell_s_correction_and_a_shifted_start_are_told_apart(tmp_path, capsys):
     """A program with a dwell: the compensated command still corrects the tool while the
     program dwells, and the check counted that as motion, so the run of it was refused

@@ -17,6 +17,11 @@ BLOCK_COLUMNS = {"nc_line": np.int32, "rapid": np.int8}
 _PROGRESS = (0.1, 0.25, 0.5, 0.75, 0.9)
 #: A step shorter than this share of a path's median step is rest [-].
 _CREEP = 0.05
+#: The most the median distance between the run's own command and a command given for
+#: it, at the run's times, may be of the largest travel of an axis: a compensated
+#: command lies off its program by the error it corrects, a few per cent of the path at
+#: most; another program lies off it by the path's own size [-].
+_OFF_PATH = 0.1
 
 
 @dataclass
@@ -244,3 +249,25 @@ def _same_timeline(run, command, tol_s: float) -> None:
             "was planned with (for a compensated command, tcpmm compensate --reference-out "
             "REF.csv writes it), or widen --window-s where the path does not come back near "
             "itself")
+    _same_path(run, command, axes, moving[at] & _moving(own_step))
+
+
+def _same_path(run, command, axes: list, both) -> None:
+    """Refuse a command that is not the run's path: at the run's times, where both move
+    (``both``, per step), it lies a median distance from the run's own command of more
+    than :data:`_OFF_PATH` of the run's largest axis travel."""
+    from .errors import InputError
+
+    if not np.any(both):
+        return
+    t = run.time_s[1:][both]
+    own = [run.axes[a].cmd[1:][both] for a in axes]
+    given = [np.interp(t, command.time_s, command.positions[a]) for a in axes]
+    off = float(np.median(np.sqrt(sum((g - o) ** 2 for g, o in zip(given, own, strict=True)))))
+    span = max(float(np.ptp(run.axes[a].cmd)) for a in axes)
+    if off > _OFF_PATH * span:
+        raise InputError(
+            f"the command file is not the run's path: at the run's times it lies "
+            f"{off * 1e3:.3g} mm from the run's own command (median), whose largest axis "
+            f"travel is {span * 1e3:.3g} mm; measure the run against the program it ran (for "
+            "a compensated command, tcpmm compensate --reference-out REF.csv writes it)")

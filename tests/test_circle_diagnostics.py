@@ -189,6 +189,27 @@ def test_all_errors_with_a_servo_mismatch_of_1_ms(seed, n):
     assert_recovered(diagnose(err, n=n), expected(err, n), w=2 * np.pi / (n * DT))
 
 
+@pytest.mark.parametrize("seed, other", [(0, {"b_x": 60e-6, "alpha": 30e-6}),
+                                         (1, {"b_x": 60e-6, "alpha": 30e-6}),
+                                         (2, {"b_x": 4e-6, "alpha": 700e-6})],
+                         ids=["backlash-0", "backlash-1", "squareness"])
+def test_a_step_the_other_axis_turns_samples_away_is_no_spike(seed, other):
+    """Each axis reverses where its own velocity turns; the tool's angle there is off the
+    quadrant point by the other axis' errors across the radius. 30 um of X's half backlash
+    turn it by 0.9 mrad at B and D, three samples of a turn of 20 000; a squareness of
+    700 um/m by 0.7 mrad (150 um/m at F1000 sampled at 10 kHz: two samples). The model's
+    step of Y's backlash stood where the tool's angle put it, and the samples between read
+    spikes of the backlash's size: 6 um (of 3) after the terms, within ±0.3 um (found at
+    F1000 sampled at 10 kHz, with 4 um of X's backlash and 30 um/m)."""
+    n = 20000
+    err = {"b_y": 6e-6, "tau_y": 1e-3, **other,
+           "spikes": {(d, q): (3e-6, 3.0) for d in ("ccw", "cw") for q in "ABCD"}}
+    w = 2 * np.pi / (n * DT)
+    diag = diagnose_pair(circle("ccw", err, 2 * seed + 1, n=n), circle("cw", err, 2 * seed + 2,
+                                                                      n=n), R, (w, w))
+    assert_recovered(diag, {f"spike_{q}_{d}": 3e-6 for d in ("ccw", "cw") for q in "ABCD"})
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_all_errors_with_a_large_servo_mismatch(seed):
     """Y lagging X by 2 ms on a fast circle (754 samples a turn: F10000 on R 20 mm, a

@@ -159,9 +159,9 @@ def _geometry(angle, s, radius, ratio, mu, rev, widths):
     c, n = np.cos(angle), np.sin(angle)
     wx, wy = _with_slope(c, n, angle, s, ratio * mu)
     own = angle if rev is None else rev
-    # where a take-up has a width, the axes reverse and travel at their own angle
-    if any(w > 0 for w in widths):
-        own = axis_phase(own, s, radius, ratio * mu, getattr(widths, "lost", (0.0, 0.0)))
+    # the axes reverse and travel at their own angle, off the tool's by the turn the
+    # other axis' lost motion makes: a step there too, which fine sampling resolves
+    own = axis_phase(own, s, radius, ratio * mu, getattr(widths, "lost", (0.0, 0.0)))
     sx, sy = axis_signs(own, s, ratio * mu)
     return c, n, wx, wy, own, sx, sy
 

@@ -335,6 +335,39 @@ def pair(tmp_path_factory):
     return d
 
 
+def test_each_ccw_and_cw_circle_of_a_run_are_a_pair_and_a_circle_left_over_says_so(
+        tmp_path, capsys):
+    """A run of CCW, CW, CCW, CW circles, alike, with backlash and spikes of 3 um: the
+    second pair's spikes were each circle's own, backlash in them (6.3-7.7 um), under the
+    legend of the pair's terms. Each k-th CCW and CW are a pair; a CW circle given in a
+    second run beside a pair is marked as paired with none, and the diagnostics are of
+    the pair whose spikes the table gives."""
+    err = {"b_x": 4e-6, "b_y": 6e-6, "alpha": 30e-6,
+           "spikes": {(d, q): (3e-6, 3.0) for d in ("ccw", "cw") for q in "ABCD"}}
+    parts = [run_of(d, err, i) for i, d in enumerate(("ccw", "cw", "ccw", "cw"))]
+    t = np.concatenate([p.time_s + k * (N + 1) * DT for k, p in enumerate(parts)])
+    axes = {a: AxisRun(cmd=np.concatenate([p.axes[a].cmd for p in parts]),
+                       tcp=np.concatenate([p.axes[a].tcp for p in parts])) for a in "XY"}
+    Run(t, axes).write_csv(tmp_path / "four.csv")
+    res = analyse_circle(read_run(tmp_path / "four.csv"), R)
+    assert [p.direction for p in res.passes] == ["ccw", "cw", "ccw", "cw"]
+    for p in res.passes:
+        after = p.sensors["tcp"].spikes_after_terms()
+        assert all(abs(after[q] - 3e-6) < 0.25e-6 for q in "ABCD"), (p.direction, after)
+    Run(t[:2 * (N + 1)], {a: AxisRun(cmd=r.cmd[:2 * (N + 1)], tcp=r.tcp[:2 * (N + 1)])
+                          for a, r in axes.items()}).write_csv(tmp_path / "pair.csv")
+    parts[3].write_csv(tmp_path / "cw.csv")
+    assert main(["circle", str(tmp_path / "pair.csv"), str(tmp_path / "cw.csv"),
+                 "--radius", "35"]) == 0
+    out = capsys.readouterr().out
+    rows = {line.split("  ")[0]: line.split() for line in out.splitlines()
+            if line.startswith(("CCW ", "CW ")) and " tcp " in line}
+    assert set(rows) == {"CCW", "CW 1", "CW 2*"}, rows
+    assert "*: a circle the run pairs with none" in " ".join(out.split())
+    assert float(rows["CW 2*"][3]) > 5.0  # its own terms: the backlash in its spikes
+    assert "circle diagnostics (tcp, of CCW 1 and CW 1)" in out
+
+
 def test_the_circle_table_says_what_its_contour_error_is_measured_from(capsys, pair):
     """The circle's contour error is the largest radial error about the nominal circle;
     tcpmm contour measures against the command, and a command a filter pulled inside the

@@ -186,6 +186,19 @@ def test_the_page_opens_with_the_circle_verdict(capsys, tmp_path, inputs, tolera
     assert sizes == sorted(sizes, reverse=True)
 
 
+def test_a_deviation_rounded_onto_the_tolerance_shows_its_side():
+    """G of 86.0501 µm against a tolerance of 86.05 µm read 'FAIL: G CCW 86.05 µm beyond
+    the tolerance of 86.05 µm': the decimals go on until the two differ."""
+    from tcpmm.report.acceptance import _judged
+
+    text = _judged([("G CCW", 86.0501e-6), ("G CW", 83.97e-6)], 86.05e-6, False, False)
+    assert "FAIL: G CCW 86.0501 µm beyond the tolerance of 86.0500 µm (G CW 83.97 µm)" in text
+    text = _judged([("G CCW", 86.046e-6)], 86.05e-6, False, False)
+    assert "PASS: G CCW 86.046 µm within the tolerance of 86.050 µm" in text
+    assert "40.00 µm within the tolerance of 50.00" in _judged([("G", 40e-6)], 50e-6, False,
+                                                              False)
+
+
 @pytest.mark.parametrize(("extra", "said"), [
     ([], "PASS: G"), (["--tolerance-um", 3.0], "FAIL: G")])
 def test_without_a_tolerance_the_model_s_specification_judges(capsys, tmp_path, inputs,

@@ -260,3 +260,20 @@ def partial_spikes(diag) -> set:
     values = [v for k, (v, _) in diag.terms.items() if k.startswith("spike_")]
     given = sum(v == v for v in values)
     return {"reversal_spikes"} if 0 < given < len(values) else set()
+
+
+def pass_names(passes, paired: bool | None = None) -> list[str]:
+    """Each pass's name in a table: its direction, numbered where the run has more than
+    one in it ("CCW 2"), and marked "*" where others are paired and it is not; ``paired``
+    whether any is, found from the passes where not given [-]."""
+    if paired is None:
+        paired = any(s.after_pair for p in passes for s in p.sensors.values())
+    count = {d: sum(p.direction == d for p in passes) for d in ("ccw", "cw")}
+    seen = {"ccw": 0, "cw": 0}
+    out = []
+    for p in passes:
+        seen[p.direction] += 1
+        name = p.direction.upper() + (f" {seen[p.direction]}" if count[p.direction] > 1 else "")
+        alone = paired and not any(s.after_pair for s in p.sensors.values())
+        out.append(name + ("*" if alone else ""))
+    return out

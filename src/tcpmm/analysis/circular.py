@@ -234,23 +234,20 @@ class CircleResult:
         self.paired()
 
     def paired(self) -> None:
-        """Give the first CCW and the first CW pass each other's sensors, so that their
+        """Give the k-th CCW and the k-th CW pass each other's sensors, so that their
         headline spikes are taken after the pair's terms: one circle's own fit leaves a
         bow (0.76 um), a cyclic error (0.99 um) and 15 % of the other axis's backlash in
-        its spikes [-]."""
-        first = {}
-        for p in self.passes:
-            first.setdefault(p.direction, p)
-        if set(first) != {"ccw", "cw"}:
-            return
-        ccw, cw = first["ccw"], first["cw"]
-        for name in set(ccw.sensors) & set(cw.sensors):
-            shared = {}
+        its spikes. A pass left without one keeps its own terms [-]."""
+        ccws, cws = ([p for p in self.passes if p.direction == d] for d in ("ccw", "cw"))
+        for ccw, cw in zip(ccws, cws, strict=False):
             rates = (ccw.feed_rate_rad_s, cw.feed_rate_rad_s)
-            for a, b in ((ccw, cw), (cw, ccw)):
-                sc = a.sensors[name]
-                sc._pair = (b.sensors[name], self.radius, rates, shared, tuple(self.plane), name)
-                sc._after = None
+            for name in set(ccw.sensors) & set(cw.sensors):
+                shared = {}
+                for a, b in ((ccw, cw), (cw, ccw)):
+                    sc = a.sensors[name]
+                    sc._pair = (b.sensors[name], self.radius, rates, shared, tuple(self.plane),
+                                name)
+                    sc._after = None
 
     def to_pandas(self):
         """Table: one row per pass and sensor (um)."""

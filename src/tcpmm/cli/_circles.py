@@ -93,37 +93,49 @@ def _cell(v: float, digits: int = 2) -> str:
 def print_passes(res, title: str) -> None:
     """Spikes A-D, the largest of their uncertainties, contour error and G per pass and
     sensor [µm], 80 columns wide."""
+    from ..analysis.circle_display import pass_names
     from ..analysis.circle_spike_sigma import NOTE as SPIKE_U95_NOTE
     from ..analysis.circle_spike_sigma import largest, slow_line
 
     t = plain_table(("dir", "sensor", "A", "B", "C", "D", "±95%", "contour", "G"),
                     left=("dir", "sensor"))
-    for p in res.passes:
+    paired = any(s.after_pair for p in res.passes for s in p.sensors.values())
+    names = pass_names(res.passes, paired)
+    for p, name in zip(res.passes, names, strict=True):
         for row in p.table():
-            t.add_row(p.direction.upper(), row["sensor"],
+            t.add_row(name, row["sensor"],
                       *[_cell(row[f"spike_after_terms_{q}_um"]) for q in "ABCD"],
                       _cell(largest({q: row[f"spike_after_terms_{q}_uncertainty_95_um"]
                                      for q in "ABCD"})),
                       _cell(row["contour_error_um"]), _cell(row["circular_deviation_um"]))
-    paired = any(s.after_pair for p in res.passes for s in p.sensors.values())
     terms = ("the pair's terms (a CCW and a CW circle: also backlash, lateral play, "
              "straightness and cyclic error)" if paired else "the fitted terms (centre, "
              "radius, servo and scale mismatch, squareness)"
              + ("; an arc alone gives none (below)" if any(p.is_arc for p in res.passes)
                 else ""))
-    print_plain(t, out, f"{title} [µm]", f"A-D: reversal spike after {terms}; n/a: left "
-                f"out or not determined; ±95%: {SPIKE_U95_NOTE}; raw e - b in --json "
+    alone = ("; *: a circle the run pairs with none (the k-th CCW and CW circles are "
+             "pairs): after its own terms, its spikes carry its backlash and lateral play"
+             if any(n.endswith("*") for n in names) else "")
+    print_plain(t, out, f"{title} [µm]", f"A-D: reversal spike after {terms}{alone}; n/a: "
+                f"left out or not determined; ±95%: {SPIKE_U95_NOTE}; raw e - b in --json "
                 "(spike_A_um ...); "
                 "contour max |e| of the radial error about the nominal circle (tcpmm "
                 "contour measures against the command); G circular deviation")
-    slow = slow_line((f"{p.direction.upper()} {n}", sc.spike_uncertainty(),
+    slow = slow_line((f"{name} {n}", sc.spike_uncertainty(),
                       sc.spike_uncertainty(sample_noise=True))
-                     for p in res.passes for n, sc in p.sensors.items())
+                     for p, name in zip(res.passes, names, strict=True)
+                     for n, sc in p.sensors.items())
     for line in [slow] if slow else []:
         out.print(line, highlight=False)
     for p in res.passes:
         for line in _pass_notes(p):
             out.print(line, highlight=False)
+
+
+def _several(result) -> bool:
+    """Whether ``result`` holds more than one circle of a direction [-]."""
+    dirs = [p.direction for p in (result.passes if result is not None else [])]
+    return dirs.count("ccw") > 1 or dirs.count("cw") > 1
 
 
 def _pass_notes(p) -> list[str]:
@@ -170,7 +182,8 @@ def print_diagnostics(diag, result=None) -> None:
                   *[_with_pm(rows[f"spike_{q}_{d}"][0], shown_uncertainty(diag, f"spike_{q}_{d}"))
                     for d in diag.directions],
                   *([""] if len(cols) == 3 else []))
-    print_plain(t, out, f"circle diagnostics ({diag.sensor}) [µm]",
+    which = ", of CCW 1 and CW 1" if len(cols) == 3 and _several(result) else ""
+    print_plain(t, out, f"circle diagnostics ({diag.sensor}{which}) [µm]",
                 "±: a spike's 95 % uncertainty (the terms', the take-up's and the tails')")
     t = plain_table(("term", "value", "±95%", "unit", "sign"),
                     left=("term", "unit", "sign"))

@@ -201,8 +201,8 @@ def circle(run_file: Path = typer.Argument(
                                           direction=direction.lower() if direction else None))
     res = CircleResult(results[0].radius, results[0].centre,
                        [p for r in results for p in r.passes], axes)
-    diag = _diagnostics(res, results, other is not None or sensor is not None
-                        or diag_plot is not None, sensor.value if sensor else None)
+    diag = _diagnostics(res, other is not None or sensor is not None or diag_plot is not None,
+                        sensor.value if sensor else None)
     if plot is not None:
         res.plot(path=plot)
     if diag_plot is not None:
@@ -232,9 +232,9 @@ def _one_run_options(direction, command, other) -> None:
         raise typer.BadParameter("--command is the command of one run: give one run")
 
 
-def _diagnostics(res, results, asked: bool, sensor):
-    """The pair's diagnostics where there are both directions or they are asked for
-    (refused without them), else those of the one direction there is [-]."""
+def _diagnostics(res, asked: bool, sensor):
+    """The diagnostics of the first pair of ``res``, the runs' passes together, where
+    there are both directions or asked for (refused without), else of the one there is."""
     import warnings
 
     from ..analysis.circle_single import one_direction_diagnostics
@@ -243,10 +243,10 @@ def _diagnostics(res, results, asked: bool, sensor):
 
     dirs = {p.direction for p in res.passes}
     if asked:
-        return circle_diagnostics(*results, sensor=sensor)
+        return circle_diagnostics(res, sensor=sensor)
     try:  # not asked for: the circle's table stands without them
         if dirs == {"ccw", "cw"}:
-            return circle_diagnostics(*results, sensor=sensor)
+            return circle_diagnostics(res, sensor=sensor)
         return one_direction_diagnostics(res) if len(dirs) == 1 else None
     except InputError as exc:
         warnings.warn(f"no diagnostics: {exc.message}", InputWarning, stacklevel=2)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from ..analysis.circle_display import placed_terms
+from ..analysis.circle_display import pass_names, placed_terms
 from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
 from .circles import SENSOR_NAMES, file_names
 from .html import facts, number, para, section, table
@@ -106,8 +106,8 @@ def circle_conditions(result, sensor: str, sample_rate_hz=None, source=None,
 
 def _deviations(result, sensor, diag) -> list[tuple[str, float]]:
     """``(figure, value [m])``: G per direction and, with both, G(b) [-]."""
-    out = [(f"G {p.direction.upper()}", p.sensors[sensor].circular_deviation)
-           for p in result.passes]
+    out = [(f"G {name}", p.sensors[sensor].circular_deviation)
+           for p, name in zip(result.passes, pass_names(result.passes), strict=True)]
     if diag is not None and "circularity_pair" in diag.terms:
         out.append(("G(b), both directions", diag["circularity_pair"]))
     return out
@@ -175,12 +175,16 @@ def _judged(devs, tolerance_m: float, cautioned: bool, specified: bool) -> str:
     tolerance named as the machine's specification [m, -]."""
     worst = max(devs, key=lambda kv: kv[1])
     ok = all(v <= tolerance_m for _, v in devs)
+    # as many decimals as show the deviation on its side of the tolerance (to 0.1 nm)
+    digits = next((d for d in (2, 3) if number(worst[1] * 1e6, d)
+                   != number(tolerance_m * 1e6, d)), 4)
     rest = ", ".join(f"{k} {number(v * 1e6, 2)} µm" for k, v in devs if k != worst[0])
     firm = " (not firm: see the cautions below)" if cautioned else ""
     what = ("the machine's specification (ISO 230-4, from its model; --tolerance-um "
             "judges against another)" if specified else "the tolerance")
-    return para(f"{'PASS' if ok else 'FAIL'}{firm}: {worst[0]} {number(worst[1] * 1e6, 2)} µm "
-                f"{'within' if ok else 'beyond'} {what} of {number(tolerance_m * 1e6, 2)} µm"
+    return para(f"{'PASS' if ok else 'FAIL'}{firm}: {worst[0]} {number(worst[1] * 1e6, digits)} "
+                f"µm {'within' if ok else 'beyond'} {what} of "
+                f"{number(tolerance_m * 1e6, digits)} µm"
                 + (f" ({rest})" if rest else ""), "pass" if ok else "fail")
 
 

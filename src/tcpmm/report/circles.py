@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..analysis.circle_alias import alias_line
-from ..analysis.circle_display import display_digits, undetermined_lines
+from ..analysis.circle_display import display_digits, pass_names, undetermined_lines
 from ..analysis.circle_sigma import noise_line, shown_uncertainty
 from ..analysis.circle_spike_sigma import is_slow
 from ..analysis.circle_tails import moving_line, sign_open, unranked_line
@@ -69,14 +69,15 @@ def key_figures(result, diag=None) -> str:
     if sensor is None:
         return ""
     items = []
-    for p in result.passes:
+    for p, name in zip(result.passes, pass_names(result.passes), strict=True):
         sc = p.sensors[sensor]
         spikes = {q: v for q, v in sc.spikes_after_terms().items() if v == v}
         text = (f"G {number(sc.circular_deviation * 1e6, 2)} µm, contour error "
                 f"{number(sc.contour_error * 1e6, 2)} µm")
         if spikes:
             q = max(spikes, key=lambda k: abs(spikes[k]))
-            whose = "the pair's" if sc.after_pair else "the fitted"
+            whose = ("the pair's" if sc.after_pair else "its own (paired with no circle: "
+                     "backlash among them)" if name.endswith("*") else "the fitted")
             u, fast = sc.spike_uncertainty()[q], sc.spike_uncertainty(sample_noise=True)[q]
             text += (f", largest reversal spike after {whose} terms "
                      f"{number(spikes[q] * 1e6, 2)} ± {number(u * 1e6, 2)} µm (95 %) at {q}"
@@ -95,7 +96,7 @@ def key_figures(result, diag=None) -> str:
         if abs(dev) >= 0.5e-6:
             text += (f"; the command lies {number(abs(dev) * 1e6, 2)} µm "
                      f"{'inside' if dev < 0 else 'outside'} the nominal radius")
-        items.append((f"{p.direction.upper()} ({SENSOR_NAMES.get(sensor, sensor)})", text))
+        items.append((f"{name} ({SENSOR_NAMES.get(sensor, sensor)})", text))
     if diag is not None and len(diag.directions) == 2:
         t = {k: _with_pm(diag, k, v, u) for k, v, u in display_terms(diag)}
         x, y = diag.axes

@@ -142,3 +142,18 @@ def test_a_circle_in_a_plane_given_that_leaves_out_a_moving_axis_is_warned_of(tm
     data = json.loads(capsys.readouterr().out)
     assert any("leaves out Z" in w and "reads the radius in the plane given" in w
                for w in data["warnings"])
+
+
+def test_the_tables_print_no_negative_zero(tmp_path, capsys):
+    """A square in G18 measured in XZ: the scale's least signed error and a corner's
+    coordinates round to zero from below, and read -0.00 and -0.000 (a small negative
+    value that is not there)."""
+    (tmp_path / "sq.nc").write_text("G21 G90 G18\nG0 X0 Z0\nG1 X20 F2000\nZ20\nX0\nZ0\n"
+                                    "G4 P0.3\nM30\n")
+    run = tmp_path / "run.csv"
+    assert main(["simulate", "builtin:vmc", "--gcode", str(tmp_path / "sq.nc"),
+                 "-o", str(run)]) == 0
+    capsys.readouterr()
+    assert main(["contour", str(run), "--plane", "XZ"]) == 0
+    out = capsys.readouterr().out
+    assert "corners, tcp" in out and "-0.00 " not in out and "-0.000," not in out

@@ -240,8 +240,8 @@ def _print(res, sensor: str, title: str, span_mm: float = 0.5) -> None:
                     left=("sensor",))
     summary = res.summary()  # of every sample of a whole run: taken once
     for s, d in summary.items():
-        t.add_row(s, *[f"{d[k] * 1e6:.2f}" for k in ("max_abs_m", "rms_m", "max_m", "min_m")],
-                  f"{d['max_abs_at_s']:.3f}")
+        t.add_row(s, *[fixed(d[k] * 1e6) for k in ("max_abs_m", "rms_m", "max_m", "min_m")],
+                  fixed(d["max_abs_at_s"], 3))
     print_plain(t, out, caption=sign)
     _say_after_rapid(summary)
     if not res.signed:
@@ -253,7 +253,7 @@ def _print(res, sensor: str, title: str, span_mm: float = 0.5) -> None:
     t = plain_table(("#", f"at {', '.join(res.axes)} mm", "turn", "over µm", "round µm",
                      "settle ms", "settle mm"))
     for row in rows:
-        at = ", ".join(f"{row[f'{a.lower()}_mm']:.3f}" for a in res.axes)
+        at = ", ".join(fixed(row[f"{a.lower()}_mm"], 3) for a in res.axes)
         turn = "end" if row["turn_deg"] != row["turn_deg"] else f"{row['turn_deg']:.0f}°"
         t.add_row(str(row["corner"]), at, turn,
                   *[_num(row[k]) for k in ("overshoot_um", "rounding_um", "settle_ms",

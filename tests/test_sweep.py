@@ -118,10 +118,15 @@ def test_path_distance_is_the_distance_to_the_polyline():
     assert path_distance(ref, pts) == pytest.approx([0.2, 0.3, np.hypot(1, 1), 0.0])
 
 
-def test_a_programs_contour_error_is_tcpmm_contours(vmc):
+@pytest.mark.parametrize("program", [
+    "G21 G90 G17\nG0 X0 Y0\nG64\nG1 X50 F3000\nY50\nX0\nY0\nG4 P0.5\nM30\n",
+    "G21 G90 G17\nG0 X40 Y30\nG1 X0 Y30 F3000\nG1 X0 Y0\nG4 P0.3\nM30\n"],
+    ids=["square", "after-a-rapid"])
+def test_a_programs_contour_error_is_tcpmm_contours(vmc, program):
     """A sweep over one program measured each sample against the nearest point anywhere on
     the path, ``tcpmm contour`` and a study over programs against the command within 0.2 s
-    of it: the same square under G64 read 5.68 um RMS in one and 5.88 um in the others."""
+    of it: the same square under G64 read 5.68 um RMS in one and 5.88 um in the others.
+    It counted a G0 rapid's samples, which they leave out: 6.954 um RMS against 6.985."""
     import warnings
 
     from tcpmm.analysis.contour import contour_error
@@ -130,8 +135,7 @@ def test_a_programs_contour_error_is_tcpmm_contours(vmc):
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        run = simulate(vmc, program_to_command(
-            "G21 G90 G17\nG0 X0 Y0\nG64\nG1 X50 F3000\nY50\nX0\nY0\nG4 P0.5\nM30\n"))
+        run = simulate(vmc, program_to_command(program))
     ours = path_metrics(run, ["X", "Y"])
     theirs = contour_error(run, plane="XY").summary()["tcp"]
     assert ours["contour_error_rms"] == pytest.approx(theirs["rms_m"], rel=1e-9)

@@ -118,20 +118,19 @@ def path_metrics(run, axes, sensor: str = "tcp") -> dict:
     Returns
     -------
     dict of str to float
-        Largest and RMS distance of the sensor's path from the commanded path, each
-        sample's to the command within 0.2 s of it, as ``tcpmm contour`` and a study over
-        programs measure it (the nearest point anywhere on the path can be one passed long
-        before, where a square's sides meet) [m].
+        Largest and RMS distance of the sensor's path from the commanded path, as
+        ``tcpmm contour`` and a study over programs measure it
+        (:func:`tcpmm.analysis.contour.contour_error`, in the program's plane, else in
+        3-D): each sample's to the command near it in time, G0 rapids left out and a
+        sample after one measured from its own feed move; NaN where no sample is left [m].
     """
-    from ...analysis.contour import distance_to_polyline
+    import warnings
 
-    ref = np.column_stack([run.axes[a].cmd for a in axes])
-    pts = np.column_stack([run.axes[a].sensor(sensor) for a in axes])
-    t = np.asarray(run.time_s, float)
-    d = np.abs(distance_to_polyline(pts, ref, t, t, CONTOUR_WINDOW_S, False)[0])
-    return {"contour_error": float(d.max()), "contour_error_rms": float(np.sqrt(np.mean(d**2)))}
+    from ...analysis.contour import contour_error
 
-
-#: Time around each sample in which its closest command point is sought, as
-#: :func:`tcpmm.analysis.contour.contour_error` takes it [s]
-CONTOUR_WINDOW_S = 0.2
+    with warnings.catch_warnings():  # what the contour says of the run, a sweep's rows do not
+        warnings.simplefilter("ignore")
+        res = contour_error(run, plane=tuple(axes) if len(axes) == 2 else None)
+    d = res.summary().get(sensor, {})
+    return {"contour_error": float(d.get("max_abs_m", math.nan)),
+            "contour_error_rms": float(d.get("rms_m", math.nan))}

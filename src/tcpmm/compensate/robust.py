@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.contour import distance_to_polyline
+from ..analysis.contour import distances_to_polyline
 from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
@@ -129,7 +129,10 @@ def regions(target, window_s: float = REVERSAL_WINDOW_S) -> np.ndarray:
 
 
 def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.ndarray:
-    """Distance of the TCP from the path per sample, shape (n,) [m].
+    """Distance of the TCP from the path per sample, shape (n,); as ``tcpmm contour`` and
+    the figures before and after take it from a program's command (which says which
+    samples are in G0 rapids): 0 in a rapid, which is no contour error of the part, and a
+    sample out of one measured from its own feed move [m].
 
     Parameters
     ----------
@@ -142,7 +145,12 @@ def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.n
     """
     p = np.array(list(target.positions.values())).T
     t = target.time_s
-    return np.abs(distance_to_polyline(p - err.T, p, t, t, window_s, False)[0])
+    air = None if target.blocks() is None else target.blocks()[1]
+    d = np.abs(distances_to_polyline({"tcp": p - err.T}, p, t, t, window_s, False,
+                                     air=air)["tcp"][0])
+    if air is not None:
+        d[air != 0] = 0.0
+    return d
 
 
 def axis_errors(machines, comp, plants=None, progress=None) -> np.ndarray:

@@ -513,10 +513,12 @@ def test_no_spike_where_its_window_reaches_into_the_feed_ramp():
     assert np.isnan(spikes["D"]) and np.isfinite(spikes["B"]) and np.isfinite(spikes["C"])
 
 
-def test_a_time_logged_in_milliseconds_is_said(tmp_path):
+def test_a_time_logged_in_milliseconds_is_refused_and_a_slow_log_said(tmp_path):
     """Machine D's measured circle with its time in ms under ``time_s``: read as a circle
     at 5 mm/min sampled every second, whose servo mismatch came out 85.7 "ms" for 0.086,
-    silently. The samples' spacing is said, with the likely cause."""
+    silently, then with a warning and exit 0 (the report: "feed 5 mm/min", PASS). It is
+    refused, with the likely cause; a circle at its feed logged slowly (every 50 ms) is
+    said, not refused."""
     import pandas as pd
 
     from conftest import bench_path
@@ -525,10 +527,15 @@ def test_a_time_logged_in_milliseconds_is_said(tmp_path):
     from tcpmm.io.runfile import read_run
 
     run = pd.read_csv(bench_path("d") / "circle_ccw_meas.csv")
+    slow = run.iloc[::50]
     run.time_s *= 1000.0
     run.to_csv(tmp_path / "ms.csv", index=False)
-    with pytest.warns(InputWarning, match="samples are 1 s apart, at a feed of 5 mm/min"):
+    with pytest.raises(InputError, match="samples are 1 s apart at a feed of 5 mm/min.*"
+                                         "milliseconds"):
         analyse_circle(read_run(tmp_path / "ms.csv"), 0.035)
+    slow.to_csv(tmp_path / "slow.csv", index=False)
+    with pytest.warns(InputWarning, match="samples are 0.05 s apart, at a feed of 5000"):
+        analyse_circle(read_run(tmp_path / "slow.csv"), 0.035)
 
 
 def _program_run(text, plane=("X", "Y"), lag_s=0.0):

@@ -198,6 +198,39 @@ def warn_sparse(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
         "milliseconds, divide it by 1000"), stacklevel=3)
 
 
+#: A pass sampled further apart than this [s], at a feed below :data:`SLOWEST_FEED_M_PER_S`,
+#: is a time logged in milliseconds under ``time_s``: a circular test logged at 1 kHz so
+#: reads 1 s apart at F5 for F5000, and its servo mismatch 43 ms [s], [m/s].
+MS_PERIOD_S, SLOWEST_FEED_M_PER_S = 0.05, 1e-3
+
+
+def refuse_ms_time(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
+    """Refuse a pass whose samples lie more than :data:`MS_PERIOD_S` apart at a feed below
+    :data:`SLOWEST_FEED_M_PER_S` (module constants): no circular test is run and logged
+    so, and a time in milliseconds read as seconds reads so.
+
+    Parameters
+    ----------
+    t : ndarray
+        Time of the pass's samples [s].
+    rate_rad_s : float
+        Its angular speed [rad/s].
+    radius_m : float
+        Nominal radius [m].
+    direction : {"ccw", "cw"}
+        Direction of travel [-].
+    """
+    if t.size < 2:
+        return
+    dt = float(np.median(np.diff(t)))
+    feed = abs(rate_rad_s) * radius_m
+    if dt > MS_PERIOD_S and feed < SLOWEST_FEED_M_PER_S:
+        raise InputError(
+            f"the {direction.upper()} circle's samples are {dt:g} s apart at a feed of "
+            f"{feed * 6e4:.3g} mm/min: no circular test is run and logged so; is time_s in "
+            "milliseconds? Write seconds (divide it by 1000)", column="time_s")
+
+
 #: Largest radius [m] and feed [m/s] of a machine tool's circular test, and its smallest
 #: radius [m]: beyond them a run's positions are in another unit than its columns say
 #: (metres or micrometres under ``*_mm``), and every figure is off by 1000 [m, m/s, m].
@@ -257,6 +290,7 @@ def warn_pass(t, cp, ang, missing, radius_m) -> None:
     gapped = warn_gaps(t, ang, d)
     warn_uncrossed(missing, d, cp.arc_deg, gapped)
     warn_unsteady(t, ang, d, cp.arc_deg)
+    refuse_ms_time(t, cp.rate_rad_s, radius_m, d)
     warn_sparse(t, cp.rate_rad_s, radius_m, d)
     warn_scale(cp.rate_rad_s, radius_m, d)
 

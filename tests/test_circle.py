@@ -530,11 +530,11 @@ def test_a_time_logged_in_milliseconds_is_refused_and_a_slow_log_said(tmp_path):
     slow = run.iloc[::50]
     run.time_s *= 1000.0
     run.to_csv(tmp_path / "ms.csv", index=False)
-    with pytest.raises(InputError, match="samples are 1 s apart at a feed of 5 mm/min.*"
-                                         "milliseconds"):
+    with pytest.raises(InputError, match=r"samples are 1 s apart at a feed of 5 mm/min.*"
+                                         r"milliseconds"):
         analyse_circle(read_run(tmp_path / "ms.csv"), 0.035)
     slow.to_csv(tmp_path / "slow.csv", index=False)
-    with pytest.warns(InputWarning, match="samples are 0.05 s apart, at a feed of 5000"):
+    with pytest.warns(InputWarning, match=r"samples are 0\.05 s apart, at a feed of 5000"):
         analyse_circle(read_run(tmp_path / "slow.csv"), 0.035)
 
 

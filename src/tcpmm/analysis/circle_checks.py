@@ -198,28 +198,16 @@ def warn_sparse(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
         "milliseconds, divide it by 1000"), stacklevel=3)
 
 
-#: A pass sampled further apart than this [s], at a feed below :data:`SLOWEST_FEED_M_PER_S`,
-#: is a time logged in milliseconds under ``time_s``: a circular test logged at 1 kHz so
-#: reads 1 s apart at F5 for F5000, and its servo mismatch 43 ms [s], [m/s].
+#: Samples further apart [s] at a feed below [m/s]: a time in ms under ``time_s`` (1 kHz
+#: reads 1 s apart at F5 for F5000, a servo mismatch of 43 ms)
 MS_PERIOD_S, SLOWEST_FEED_M_PER_S = 0.05, 1e-3
 
 
 def refuse_ms_time(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
     """Refuse a pass whose samples lie more than :data:`MS_PERIOD_S` apart at a feed below
-    :data:`SLOWEST_FEED_M_PER_S` (module constants): no circular test is run and logged
-    so, and a time in milliseconds read as seconds reads so.
-
-    Parameters
-    ----------
-    t : ndarray
-        Time of the pass's samples [s].
-    rate_rad_s : float
-        Its angular speed [rad/s].
-    radius_m : float
-        Nominal radius [m].
-    direction : {"ccw", "cw"}
-        Direction of travel [-].
-    """
+    :data:`SLOWEST_FEED_M_PER_S`: no circular test is run and logged so, a time in ms is.
+    ``t`` [s], ``rate_rad_s`` [rad/s], ``radius_m`` [m] and ``direction`` [-] as for
+    :func:`warn_sparse`."""
     if t.size < 2:
         return
     dt = float(np.median(np.diff(t)))

@@ -121,3 +121,20 @@ def test_a_word_among_many_numbers_is_refused_without_a_pandas_warning(tmp_path)
                 read(path)
         assert [str(w.message) for w in caught] == []
         assert (info.value.line, info.value.column) == (3, "a_cmd_mm")
+
+
+def test_a_table_in_fixed_point_has_no_negative_zero(tmp_path):
+    """The demo's circle table wrote the command's spikes, -1e-9 um, as -0.0000: a small
+    negative value that is not there. A value that rounds to zero is written as zero;
+    one that does not keeps its sign, and other formats are as they were."""
+    import pandas as pd
+
+    from tcpmm.io.atomic import write_table_atomic
+
+    frame = pd.DataFrame({"name": ["a", "b", "c"], "v": [-1e-9, -6e-5, 0.25],
+                          "n": [1, -2, 3]})
+    write_table_atomic(frame, tmp_path / "t.csv", "%.4f")
+    assert (tmp_path / "t.csv").read_text() == ("name,v,n\na,0.0000,1\nb,-0.0001,-2\n"
+                                                "c,0.2500,3\n")
+    write_table_atomic(frame, tmp_path / "g.csv", "%.6g")
+    assert "-1e-09" in (tmp_path / "g.csv").read_text()

@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import re
 import shutil
 import stat
 import tempfile
@@ -338,13 +339,19 @@ def write_table_atomic(frame, path, float_format: str | None = None) -> Path:
     path : str or Path
         Target file [-].
     float_format : str, optional
-        printf format of the numbers [-].
+        printf format of the numbers; a fixed-point one (``%.4f``) writes a value that
+        rounds to zero as zero, not ``-0.0000`` [-].
 
     Returns
     -------
     Path
         The file written.
     """
+    m = re.fullmatch(r"%\.(\d+)f", float_format or "")
+    if m:
+        tiny = 0.5 * 10.0 ** -int(m.group(1))
+        frame = frame.apply(lambda c: c.mask(c.abs() < tiny, 0.0)
+                            if c.dtype.kind == "f" else c)
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
         frame.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
     return Path(path)

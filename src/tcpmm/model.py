@@ -125,7 +125,10 @@ class OpenRange(BaseModel):
         ``K_h`` / of ``M_b`` on ``K_b``, where the sweep's excitation starts above that mode
         or the FRFs do not determine ``C_h`` / ``C_b``) [-], or ``static_level`` (the
         static friction level over the Coulomb level, where the friction runs fix no
-        Stribeck hump and the model holds it at the Coulomb level) [-].
+        Stribeck hump and the model holds it at the Coulomb level) [-], or ``time_base``
+        (the sweep record's true time over its stamped one, where its controller output
+        is not what the declared gains give: the masses and inertias scale with its
+        square, the dampings with it) [-].
     low, high : float
         The range, in the quantity's unit [SI].
     cause : str
@@ -138,7 +141,7 @@ class OpenRange(BaseModel):
 
     quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics",
                       "damping", "column", "bed", "column_damping", "bed_damping",
-                      "static_level"]
+                      "static_level", "time_base"]
     low: float = Field(ge=0.0, allow_inf_nan=False)
     high: float = Field(ge=0.0, allow_inf_nan=False)
     cause: str

@@ -60,7 +60,7 @@ RANGE_UNITS = {"backlash": ("µm", 1e6), "presliding": ("µm", 1e6), "C_t": ("N 
                "B_m": ("N m s/rad", 1.0), "column": ("N/µm", 1e-6),
                "bed": ("N/µm", 1e-6),
                "guideway_share": ("", 1.0), "mechanics": ("times", 1.0),
-               "damping": ("times", 1.0)}
+               "damping": ("times", 1.0), "time_base": ("times", 1.0)}
 
 
 def _range(r: dict) -> str:

@@ -163,7 +163,9 @@ def read_identification_folder(folder):
 OPEN_PARAMETERS = {"B_m": ("B_m",), "C_t": ("C_t",), "column": ("M_h", "K_h"),
                    "bed": ("M_b", "K_b"),
                    "mechanics": ("M_t", "M_b", "K_b", "M_h", "K_h"),
-                   "damping": ("C_t", "C_b", "C_h")}
+                   "damping": ("C_t", "C_b", "C_h"),
+                   "time_base": ("J_m", "J_L", "M_t", "M_b", "M_h", "B_m", "B_L", "C_t",
+                                 "C_b", "C_h")}
 
 
 def _friction_unit(name: str) -> str:

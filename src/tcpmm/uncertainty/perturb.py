@@ -28,6 +28,9 @@ STRUCTURE = ("M_t", "M_b", "K_b", "M_h", "K_h")
 STRUCTURE_DAMPING = tuple(c for c, _, _ in MODE_DAMPING.values())
 #: What the ``damping`` open range scales: the axial modes' damping [-].
 AXIAL_DAMPING = ("C_t", "C_b", "C_h")
+#: What a ``time_base`` open range scales with the square of its factor, and with it [-].
+INERTIAS = ("J_m", "J_L", "M_t", "M_b", "M_h")
+DAMPINGS = ("B_m", "B_L", "C_t", "C_b", "C_h")
 
 
 class Unbounded(NamedTuple):
@@ -178,6 +181,10 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
+        elif r.quantity == "time_base":  # a time x times the stamped one: inertias x^2
+            moved = axis.replace(mechanics=m.replace(
+                **{p: getattr(m, p) * x * x for p in INERTIAS},
+                **{p: getattr(m, p) * x for p in DAMPINGS}))
         elif r.quantity in MODE_STRUCTURE:  # a head or bed on that spring, its mass fitted
             mass = MODE_STRUCTURE[r.quantity][0]  # where determined, else a typical one
             kg = getattr(m, mass) if mass in axis.uncertainty.mechanics else None

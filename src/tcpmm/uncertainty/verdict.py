@@ -273,14 +273,18 @@ class Verdict:
 
 def _axis_verdicts(machine, figures: list) -> dict:
     """Per axis: the least firm verdict among the figures it drives, and its open
-    quantities with the measurement that would settle each [-]."""
+    quantities with the measurement that would settle each; undetermined where its
+    record's time base is open (the data contradict the declared controller, whatever
+    the figures another axis's open quantities are blamed on) [-]."""
     out = {}
     for name, a in machine.axes.items():
         mine = [f for f in figures if f.verdict != "firm" and name in f.axes]
         kinds = {f.verdict for f in mine}
+        opens = [r.model_dump() for r in (a.uncertainty.open if a.uncertainty else ())]
+        if any(r["quantity"] == "time_base" for r in opens):
+            kinds.add("undetermined")
         verdict = ("undetermined" if "undetermined" in kinds else
                    "uncertain" if "uncertain" in kinds else "firm")
-        opens = [r.model_dump() for r in (a.uncertainty.open if a.uncertainty else ())]
         out[name] = {"verdict": verdict, "open": opens,
                      "causes": sorted({f.cause for f in mine})}
     return out

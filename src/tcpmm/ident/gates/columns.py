@@ -39,6 +39,10 @@ RATIO_RANGE = (0.8, 1.25)
 #: resolution set wrong, which identification reads as a deflection that grows with the
 #: travel (a TCP device "drifting by 3 mm" over the sweep) [-].
 LEAD_TOLERANCE = 5e-3
+#: Beyond this relative difference the lead or the scale's resolution is refused, not
+#: said: the masses and inertias identified scale with the square of a lead that is off
+#: (a lead of 22 mm for 25 gave every mass 27 % too large, read as firm) [-].
+LEAD_REFUSE = 0.025
 #: Largest relative difference of the TCP's travel from the scale's over a sweep taken as
 #: one motion: the reference machines' differ by 1.4e-5 at most (an Abbe offset of 300 mm
 #: under 10 urad of pitch is 3e-5); 0.1 % is the TCP device's scale factor or units, whose
@@ -155,10 +159,18 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
         ratio, corr = slope_and_correlation(y, x)
         lead = ratio if a == "motor_angle_rad" else lead
         why = _disagreement(ratio, corr, f"{b} and {a}", units)
+        bounds = RATIO_RANGE
         if why is None and a == "motor_angle_rad" and kind.startswith("friction"):
             # judged on the friction runs alone: their plateaus hold the screw's
             # deflection steady, where a sweep's moves it with the modes
-            _warn_lead(ratio, f"{source}, columns {a} and {b}")
+            if abs(ratio - 1.0) > LEAD_REFUSE:
+                bounds = (1.0 - LEAD_REFUSE, 1.0 + LEAD_REFUSE)
+                why = (f"the scale travels {ratio:.4f} times what the motor angle does "
+                       "through lead_mm: a screw's lead and deflection differ by 0.01 % at "
+                       "most; set lead_mm in machine.yaml to the screw's (per motor turn, "
+                       "with any gear) or the scale's resolution in the recorder")
+            else:
+                _warn_lead(ratio, f"{source}, columns {a} and {b}")
         if why is None and b == "tcp_mm" and lead is not None and abs(lead - 1) <= LEAD_TOLERANCE:
             # the scale follows the lead: the TCP's is the factor off (a scale off the
             # lead is said by the friction runs)
@@ -166,7 +178,7 @@ def check_position_columns(axis: str, record, kind: str, R_L: float) -> list[Fin
         if why is not None:
             note = f"{why}; {also}" if also else why
             out.append(Finding(axis, f"{kind} columns {b} / {a}", ratio, "",
-                               f"outside {RATIO_RANGE[0]:g} to {RATIO_RANGE[1]:g}, the "
+                               f"outside {bounds[0]:g} to {bounds[1]:g}, the "
                                "ratio of one motion (through the lead for the motor angle)",
                                f"{source}, columns {a} and {b}", note))
     return out

@@ -1,0 +1,71 @@
+"""A bundle whose declared controller or lead is not the drive's: machine D's X axis
+(the independent simulator's) with its sweep's time stamped at 8 kHz for 10 kHz, and with
+a lead of 22 mm for 25. Both were identified with masses 27-56 % off and the verdict
+'firm', a warning the only sign."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+import yaml
+
+from conftest import bench_path, run_cli
+
+
+@pytest.fixture(scope="module")
+def one_axis(tmp_path_factory):
+    """``make(name, edit)``: machine D's bundle with its X axis alone, edited by
+    ``edit(folder)`` [-]."""
+    root = tmp_path_factory.mktemp("declared")
+
+    def make(name, edit):
+        d = root / name
+        shutil.copytree(bench_path("d") / "bundle", d)
+        shutil.rmtree(d / "Y")
+        y = yaml.safe_load((d / "machine.yaml").read_text())
+        del y["axes"]["Y"]
+        (d / "machine.yaml").write_text(yaml.safe_dump(y, sort_keys=False))
+        edit(d)
+        return d
+
+    return make
+
+
+def _stretch_time(d, factor=1.25):
+    import pandas as pd
+
+    sweep = pd.read_csv(d / "X" / "sweep.csv")
+    sweep["time_s"] *= factor
+    sweep.to_csv(d / "X" / "sweep.csv", index=False, float_format="%.9g")
+
+
+def _lead(d, lead_mm):
+    y = yaml.safe_load((d / "machine.yaml").read_text())
+    y["axes"]["X"]["lead_mm"] = lead_mm
+    (d / "machine.yaml").write_text(yaml.safe_dump(y, sort_keys=False))
+
+
+def test_a_sweep_stamped_at_another_rate_leaves_the_time_base_open(capsys, one_axis,
+                                                                   tmp_path):
+    """The controller output is 1.23 times what the declared gains give: the record's
+    time base is open (1/1.23 to 1), the axis verdict undetermined, not firm."""
+    d = one_axis("time8k", _stretch_time)
+    code, out, err = run_cli(capsys, "identify", d, "-o", tmp_path / "m.yaml", "--json")
+    assert code == 0, err
+    import json
+
+    verdict = json.loads(out)["verdict"]["axes"]["X"]
+    assert verdict["verdict"] == "undetermined"
+    [tb] = [r for r in verdict["open"] if r["quantity"] == "time_base"]
+    assert tb["low"] == pytest.approx(1 / 1.23, rel=0.02) and tb["high"] == 1.0
+    assert "time base" in tb["cause"]
+
+
+def test_a_lead_off_by_more_than_two_per_cent_is_refused(capsys, one_axis, tmp_path):
+    """Lead 22 mm for 25: the friction runs' scale travels 1.136 times what the motor
+    angle does through it; refused, naming lead_mm, no model written."""
+    d = one_axis("lead22", lambda d: _lead(d, 22.0))
+    code, _, err = run_cli(capsys, "identify", d, "-o", tmp_path / "m.yaml")
+    assert code == 2 and "1.136" in err and "lead_mm" in err and "0.975 to 1.025" in err
+    assert not (tmp_path / "m.yaml").exists()

@@ -204,3 +204,15 @@ def test_band_check_finds_both_gaps_of_a_multisine():
     assert len(gaps) == 2
     assert gaps[0][0] == 2.0 and 8.0 <= gaps[0][1] <= 10.0
     assert 100.0 <= gaps[1][0] <= 130.0 and gaps[1][1] == 200.0
+
+
+def test_a_signal_shorter_than_a_period_of_its_band_start_is_refused():
+    """0.1 s of a sweep from 2 Hz was designed and said 'band 2-1000 Hz': it holds a fifth
+    of a period of 2 Hz, which it cannot excite."""
+    from tcpmm.errors import InputError
+    from tcpmm.ident.excitation.kinds import design_excitation
+
+    for kind in ("linear", "log", "multisine", "prbs"):
+        with pytest.raises(InputError, match=r"holds 0\.2 periods of the band's start, 2 Hz"):
+            design_excitation(kind, 2.0, 1000.0, 1.0, 0.1, 8000.0)
+    assert design_excitation("linear", 2.0, 1000.0, 1.0, 0.5, 8000.0).time_s.size == 4000

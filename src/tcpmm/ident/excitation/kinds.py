@@ -60,6 +60,11 @@ def design_excitation(kind, f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **opti
         raise InputError(f"{duration_s:g} s at {fs_hz:g} Hz is {n:.3g} samples; at most "
                          f"{MAX_SAMPLES:.0e} are designed at once: shorten the signal or "
                          "lower the sample rate", column="duration_s")
+    if duration_s * f0_hz < 1.0:
+        raise InputError(f"{duration_s:g} s holds {duration_s * f0_hz:.2g} periods of the band's "
+                         f"start, {f0_hz:g} Hz: no signal that short excites it; make it at "
+                         f"least {1.0 / f0_hz:g} s long, or start the band higher",
+                         column="duration_s")
     if name == "prbs":
         if options:
             raise InputError(f"prbs from a band takes no options, got {sorted(options)}")

@@ -128,7 +128,9 @@ class OpenRange(BaseModel):
         Stribeck hump and the model holds it at the Coulomb level) [-], or ``time_base``
         (the sweep record's true time over its stamped one, where its controller output
         is not what the declared gains give: the masses and inertias scale with its
-        square, the dampings with it) [-].
+        square, the dampings with it) [-], or one of ``J_m``, ``J_L``, ``B_L``, ``K_L``,
+        ``K_t``, ``M_t`` (a drive parameter the FRFs do not determine, whose fitted value
+        the model keeps) [SI].
     low, high : float
         The range, in the quantity's unit [SI].
     cause : str
@@ -141,7 +143,8 @@ class OpenRange(BaseModel):
 
     quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics",
                       "damping", "column", "bed", "column_damping", "bed_damping",
-                      "static_level", "time_base"]
+                      "static_level", "time_base", "J_m", "J_L", "B_L", "K_L", "K_t",
+                      "M_t"]
     low: float = Field(ge=0.0, allow_inf_nan=False)
     high: float = Field(ge=0.0, allow_inf_nan=False)
     cause: str

@@ -60,7 +60,9 @@ RANGE_UNITS = {"backlash": ("µm", 1e6), "presliding": ("µm", 1e6), "C_t": ("N 
                "B_m": ("N m s/rad", 1.0), "column": ("N/µm", 1e-6),
                "bed": ("N/µm", 1e-6),
                "guideway_share": ("", 1.0), "mechanics": ("times", 1.0),
-               "damping": ("times", 1.0), "time_base": ("times", 1.0)}
+               "damping": ("times", 1.0), "time_base": ("times", 1.0),
+               "J_m": ("kg m²", 1.0), "J_L": ("kg m²", 1.0), "B_L": ("N m s/rad", 1.0),
+               "K_L": ("N m/rad", 1.0), "K_t": ("N/µm", 1e-6), "M_t": ("kg", 1.0)}
 
 
 def _range(r: dict) -> str:

@@ -165,7 +165,8 @@ OPEN_PARAMETERS = {"B_m": ("B_m",), "C_t": ("C_t",), "column": ("M_h", "K_h"),
                    "mechanics": ("M_t", "M_b", "K_b", "M_h", "K_h"),
                    "damping": ("C_t", "C_b", "C_h"),
                    "time_base": ("J_m", "J_L", "M_t", "M_b", "M_h", "B_m", "B_L", "C_t",
-                                 "C_b", "C_h")}
+                                 "C_b", "C_h"),
+                   **{p: (p,) for p in ("J_m", "J_L", "B_L", "K_L", "K_t", "M_t")}}
 
 
 def _friction_unit(name: str) -> str:

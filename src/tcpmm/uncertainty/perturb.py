@@ -28,6 +28,8 @@ STRUCTURE = ("M_t", "M_b", "K_b", "M_h", "K_h")
 STRUCTURE_DAMPING = tuple(c for c, _, _ in MODE_DAMPING.values())
 #: What the ``damping`` open range scales: the axial modes' damping [-].
 AXIAL_DAMPING = ("C_t", "C_b", "C_h")
+#: The drive parameters an open range may hold by name, at its values [-].
+DRIVE = ("J_m", "J_L", "B_L", "K_L", "K_t", "M_t")
 #: What a ``time_base`` open range scales with the square of its factor, and with it [-].
 INERTIAS = ("J_m", "J_L", "M_t", "M_b", "M_h")
 DAMPINGS = ("B_m", "B_L", "C_t", "C_b", "C_h")
@@ -181,6 +183,8 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
+        elif r.quantity in DRIVE:  # a drive parameter the FRFs leave open, its value
+            moved = axis.replace(mechanics=m.replace(**{r.quantity: x}))
         elif r.quantity == "time_base":  # a time x times the stamped one: inertias x^2
             moved = axis.replace(mechanics=m.replace(
                 **{p: getattr(m, p) * x * x for p in INERTIAS},

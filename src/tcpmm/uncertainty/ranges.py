@@ -15,10 +15,10 @@ import numpy as np
 
 from ..ident.frf.excited import EXCITED_SHARE
 from ..ident.friction.nutstiffness import RESOLUTION_STEPS
-from ..ident.physical.loop_timing import GAIN_RANGE, GAIN_WARN
 from ..ident.physical.structure import STIFFNESS_FLOOR
 from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from ..model import OpenRange
+from .driveranges import controller_mismatch, drive_undetermined
 from .frictionranges import play_open, static_open
 
 __all__ = [
@@ -214,28 +214,6 @@ def _nonlinear_sweep(a) -> list[OpenRange]:
     return out
 
 
-def _controller_mismatch(a) -> list[OpenRange]:
-    """The record's time base as an open range where the sweep's controller output is
-    ``g`` times what the declared gains give (:mod:`tcpmm.ident.physical.loop_timing`):
-    a time base off by ``g`` gives every mass and inertia ``g^2`` times its own, gains or
-    a lead off leave them, and the sweep does not tell which; its true time is 1 to
-    ``1/g`` times the stamped one. A time stamped at 8 kHz for 10 kHz gave the masses
-    56 % too large, read as firm."""
-    t = getattr(a, "loop_timing", None)
-    if t is None or (t.determined and abs(t.gain - 1.0) <= GAIN_WARN):
-        return []
-    g = t.gain if t.determined and math.isfinite(t.gain) and t.gain > 0 else (
-        GAIN_RANGE[0] if math.isfinite(t.gain) and t.gain < 1.0 else GAIN_RANGE[1])
-    return [OpenRange(quantity="time_base", low=min(1.0, 1.0 / g), high=max(1.0, 1.0 / g),
-                      cause=(f"the controller output in the sweep is {t.gain:.3g} times what "
-                             "the declared velocity-loop gains give: the record's time base, "
-                             "or the gains or the lead in machine.yaml, are not the drive's; "
-                             "a time base off scales the masses and inertias with its "
-                             "square"),
-                      settle="the record's true sample rate, and the drive's gains and lead "
-                             "in machine.yaml")]
-
-
 def _lowest_excited_hz(a) -> float:
     """The lowest frequency at which the sweep's excitation has more than
     :data:`EXCITED_SHARE` of its peak power (Welch's estimate); 0 without the record [Hz]."""
@@ -360,9 +338,10 @@ def open_ranges(a) -> tuple[OpenRange, ...]:
                              cause=f"pre-sliding assumed: {fit.reason}",
                              settle=_SETTLE_PRESLIDING))
     out += _nonlinear_sweep(a)
-    out += _controller_mismatch(a)
+    out += controller_mismatch(a)
     out += _structure_damping(a)
     out += _structure_undetermined(a)
+    out += drive_undetermined(a)
     if "G_tcp" not in a.frfs:
         out.append(OpenRange(quantity="column", low=COLUMN_RANGE[0], high=COLUMN_RANGE[1],
                              cause="no TCP device: the structure between the scale and the "

@@ -192,7 +192,19 @@ def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
     undetermined = not math.isfinite(half) or (r is not None and half >= abs(nominal))
     return FigureVerdict(test, direction, figure, nominal, half, tol,
                          "undetermined" if undetermined else "uncertain", cause, settle,
-                         (axis,))
+                         _blamed(changes, axis, tol))
+
+
+def _blamed(changes: dict, axis: str, tol: float) -> tuple:
+    """The axes a figure that is not firm blames: that of its largest cause, and every
+    other whose quantities alone would make its interval wider than its target ``tol``
+    (an axis whose drive parameters are a guess read firm beside figures another axis's
+    larger cause was named for) [-]."""
+    own: dict = {}
+    for (ax, _), d in changes.items():
+        own[ax] = own.get(ax, 0.0) + d * d
+    wide = {ax for ax, s2 in own.items() if CALIBRATION["factor"] * math.sqrt(s2) > tol}
+    return tuple(sorted(wide | {axis}))
 
 
 #: What narrows the column's quantities: the TCP device, and a sweep whose excitation

@@ -98,6 +98,11 @@ def test_a_double_needle_between_two_zeros_is_removed(capsys, tmp_path):
              if m["damping"] < 0.2]
     assert modes and all(min(abs(fn - f0) / f0 for f0 in (120, 450)) < 0.01
                          for fn, _ in modes), modes
+    # the table's head says how many of those asked were kept (it said '5 poles' alone)
+    kept = json.loads(out)["n_poles"]
+    code, out, _ = run_cli(capsys, "frf", "fit", str(csv), "--poles", 9)
+    assert kept < 9 and code == 0
+    assert f"{kept} poles (of 9 asked)" in out.splitlines()[0]
 
 
 def test_bad_arguments_are_input_errors():

@@ -188,15 +188,17 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
     if as_json:
         emit_json(d)
         return
-    _print_fit(res, file)
+    _print_fit(res, file, n)
     for p in (output, fragment, plot):
         if p is not None:
             out.print(f"wrote {p}")
 
 
-def _print_fit(res, file) -> None:
+def _print_fit(res, file, asked="auto") -> None:
     tf = res.tf
-    out.print(f"{esc(str(file))}: {esc(res.name)}: {tf.n_den} poles, {tf.n_num} zeros, "
+    # a count asked for and not kept: the notes below say which pairs went and why
+    kept = f" (of {asked} asked)" if isinstance(asked, int) and asked != tf.n_den else ""
+    out.print(f"{esc(str(file))}: {esc(res.name)}: {tf.n_den} poles{kept}, {tf.n_num} zeros, "
               f"delay {tf.delay_s * 1e3:.4g} ms; band {res.band_hz[0]:.4g}-"
               f"{res.band_hz[1]:.4g} Hz, {tf.freq_hz.size} bins ({res.weighting} error)")
     out.print(f"residual: relative RMS {res.rel_rms:.3g} against a noise of "

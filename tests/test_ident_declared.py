@@ -96,3 +96,25 @@ def test_drive_parameters_the_sweep_leaves_a_guess_are_open_and_the_axis_not_fir
     for r in guesses:
         assert r["high"] == pytest.approx(4.0 * r["low"])
     assert x["verdict"] != "firm"
+
+
+def test_a_loop_declared_on_the_other_sensor_leaves_the_feedback_open(capsys, tmp_path):
+    """Machine D, whose position loops close on the scale, with X declared on the motor
+    encoder: the sweep reads a loop on the scale (residual 0.019 against 0.039) and said
+    so, and the verdict read firm. The feedback is now open (0 the declared sensor, 1 the
+    other), the figures it moves name it, and X is not firm."""
+    import json
+
+    d = tmp_path / "fb"
+    shutil.copytree(bench_path("d") / "bundle", d)
+    y = yaml.safe_load((d / "machine.yaml").read_text())
+    assert y["axes"]["X"]["servo"]["position_feedback"] == "scale"
+    y["axes"]["X"]["servo"]["position_feedback"] = "encoder"
+    (d / "machine.yaml").write_text(yaml.safe_dump(y, sort_keys=False))
+    code, out, err = run_cli(capsys, "identify", d, "-o", tmp_path / "m.yaml", "--json")
+    assert code == 0, err
+    v = json.loads(out)["verdict"]
+    x = v["axes"]["X"]
+    assert x["verdict"] != "firm"
+    assert [r for r in x["open"] if r["quantity"] == "position_feedback"]
+    assert any(f.get("cause") == "axis X position_feedback, open" for f in v["figures"])

@@ -130,7 +130,8 @@ class OpenRange(BaseModel):
         is not what the declared gains give: the masses and inertias scale with its
         square, the dampings with it) [-], or one of ``J_m``, ``J_L``, ``B_L``, ``K_L``,
         ``K_t``, ``M_t`` (a drive parameter the FRFs do not determine, whose fitted value
-        the model keeps) [SI].
+        the model keeps) [SI], or ``position_feedback`` (0 the sensor the bundle declares
+        the position loop closed on, 1 the other, which the sweep reads better) [-].
     low, high : float
         The range, in the quantity's unit [SI].
     cause : str
@@ -144,7 +145,7 @@ class OpenRange(BaseModel):
     quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics",
                       "damping", "column", "bed", "column_damping", "bed_damping",
                       "static_level", "time_base", "J_m", "J_L", "B_L", "K_L", "K_t",
-                      "M_t"]
+                      "M_t", "position_feedback"]
     low: float = Field(ge=0.0, allow_inf_nan=False)
     high: float = Field(ge=0.0, allow_inf_nan=False)
     cause: str

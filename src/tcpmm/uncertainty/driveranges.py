@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from ..ident.physical.loop_timing import GAIN_RANGE, GAIN_WARN
+from ..ident.physical.loop_timing import FEEDBACK_RATIO, GAIN_RANGE, GAIN_WARN
 from ..mechanics.lumped import RANGES
 from ..model import OpenRange
 
@@ -59,3 +59,21 @@ def drive_undetermined(a) -> list[OpenRange]:
             settle="a sweep over the whole band of the drive's modes (long enough, with the "
                    "excitation reaching above the axial mode)"))
     return out
+
+
+def feedback_contradicted(a) -> list[OpenRange]:
+    """The sensor the position loop closes on as an open range where the sweep's
+    controller output reads as a loop closed on the other one (by :data:`FEEDBACK_RATIO`,
+    :mod:`tcpmm.ident.physical.loop_timing`): the model closes it where the bundle says,
+    which moves a circle's TCP spikes by up to 20 um, and the warning alone left the
+    verdict firm."""
+    t = getattr(a, "loop_timing", None)
+    if t is None or not t.other_feedback_residual * FEEDBACK_RATIO < t.residual:
+        return []
+    said = a.axis.servo.position_feedback
+    return [OpenRange(quantity="position_feedback", low=0.0, high=1.0,
+                      cause=f"the sweep reads as a position loop closed on the other sensor, "
+                            f"not on the {said} the bundle declares (relative residual "
+                            f"{t.other_feedback_residual:.3f} against {t.residual:.3f})",
+                      settle="the drive's parameters: which sensor its position loop closes "
+                             "on (Sinumerik: whether a direct measuring system is active)")]

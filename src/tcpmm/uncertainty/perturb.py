@@ -183,6 +183,10 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
         elif r.quantity == "mechanics":
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
+        elif r.quantity == "position_feedback":  # 1: the loop closed on the other sensor
+            other = {"scale": "encoder", "encoder": "scale"}[axis.servo.position_feedback]
+            moved = axis if x < 0.5 else axis.replace(
+                servo=axis.servo.model_copy(update={"position_feedback": other}))
         elif r.quantity in DRIVE:  # a drive parameter the FRFs leave open, its value
             moved = axis.replace(mechanics=m.replace(**{r.quantity: x}))
         elif r.quantity == "time_base":  # a time x times the stamped one: inertias x^2

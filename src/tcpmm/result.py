@@ -230,7 +230,8 @@ def _same_timeline(run, command, tol_s: float) -> None:
     # the tool while the program dwells
     at = np.clip(np.searchsorted(command.time_s, run.time_s[1:], side="left") - 1, 0,
                  moving.size - 1)
-    own, own_start = _progress_times(run.time_s, own_step, _moving(own_step) & moving[at])
+    both = _moving(own_step) & moving[at]
+    own, own_start = _progress_times(run.time_s, own_step, both)
     theirs, start = _progress_times(command.time_s, step, moving)
     if abs(own_start - start) > tol_s:  # taken at the run's clock, it must start with it
         raise InputError(
@@ -249,7 +250,7 @@ def _same_timeline(run, command, tol_s: float) -> None:
             "was planned with (for a compensated command, tcpmm compensate --reference-out "
             "REF.csv writes it), or widen --window-s where the path does not come back near "
             "itself")
-    _same_path(run, command, axes, moving[at] & _moving(own_step))
+    _same_path(run, command, axes, both)
 
 
 def _same_path(run, command, axes: list, both) -> None:

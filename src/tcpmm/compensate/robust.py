@@ -145,7 +145,8 @@ def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.n
     """
     p = np.array(list(target.positions.values())).T
     t = target.time_s
-    air = None if target.blocks() is None else target.blocks()[1]
+    blocks = target.blocks()
+    air = None if blocks is None else blocks[1]
     d = np.abs(distances_to_polyline({"tcp": p - err.T}, p, t, t, window_s, False,
                                      air=air)["tcp"][0])
     if air is not None:

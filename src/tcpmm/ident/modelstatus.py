@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .physical.greybox import FITTED
+
 
 def model_parameters(a):
     """One axis's parameter table (:meth:`Identification.parameters_table`): the model's
@@ -36,7 +38,7 @@ def model_status(a) -> dict:
     fit = a.physical.mechanics.model_dump()
     sd = a.axis.uncertainty.mechanics if a.axis.uncertainty is not None else {}
     out = {}
-    for p in a.physical.to_pandas()["parameter"]:
+    for p in FITTED:
         if model[p] == fit[p]:
             out[p] = ("FRF fit", p not in a.physical.undetermined)
         elif np.isfinite(sd.get(p, np.nan)):

@@ -122,16 +122,16 @@ def corner_table(tb: BlockTable, default_tol_m: float) -> tuple[np.ndarray, np.n
     pairs = np.flatnonzero(tb.is_line[:-1] & tb.is_line[1:] & ~tb.exact[:-1] & (tol > 0.0))
     if pairs.size:
         rows = [np.take(x, pairs + k, axis=0) for k in (0, 1) for x in (tb.start, tb.end)]
-        d[pairs + 1], h[pairs + 1] = corner_lengths(*rows, tol[pairs], halves=True)
+        d[pairs + 1], h[pairs + 1] = corner_lengths(*rows, tol[pairs])
     return d, h
 
 
-def corner_lengths(a0, a1, b0, b1, tols, halves: bool = False):
+def corner_lengths(a0, a1, b0, b1, tols) -> tuple[np.ndarray, np.ndarray]:
     """Distance ``d`` from the corner of the line ``a0 -> a1`` into ``b0 -> b1`` (rows),
     of contour tolerance ``tols`` > 0, at which its blend starts and ends; 0 where it
-    stays sharp [m]. With ``halves``, also the half-angle of each corner's turn, 0 where
-    ``d`` is [rad]. Only where a corner turns are its angle and length worked out: a long
-    run of short blocks is mostly straight on.
+    stays sharp [m]; and the half-angle of each corner's turn, 0 where ``d`` is [rad].
+    Only where a corner turns are its angle and length worked out: a long run of short
+    blocks is mostly straight on.
 
     At a corner turning by ``theta`` the blend passes the corner at
     ``rho (1/cos(theta/2) - 1)`` for its radius ``rho = d / tan(theta/2)``; ``d`` is the
@@ -142,8 +142,8 @@ def corner_lengths(a0, a1, b0, b1, tols, halves: bool = False):
     # it: its blend would pass the corner by d theta / 4, nothing, on a radius
     # 2 d / theta (km) about a centre so far off that its points keep little of their
     # last micrometre. Straight on, or a reversal, is no turn either.
-    turns, h, d_tol = _compiled.call("corner_turns", a0, a1, b0, b1,
-                                         np.asarray(tols, float), BEND_TOL)
+    turns, h, d_tol = _compiled.call("corner_turns", a0, a1, b0, b1, np.asarray(tols, float),
+                                     BEND_TOL)
     d, half = np.zeros(len(a0)), np.zeros(len(a0))
     ks = np.flatnonzero(turns)
     h, d_tol = h[ks], d_tol[ks]
@@ -154,7 +154,7 @@ def corner_lengths(a0, a1, b0, b1, tols, halves: bool = False):
     blended = dk >= MIN_BLEND_M
     d[ks] = np.where(blended, dk, 0.0)
     half[ks] = np.where(blended, h, 0.0)
-    return (d, half) if halves else d
+    return d, half
 
 
 def units(v) -> np.ndarray:

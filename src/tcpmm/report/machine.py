@@ -10,6 +10,7 @@ from ..errors import InputError
 from ..mechanics.statespace import plant
 from ..servo.currentfilters import filters_text
 from ..servo.sampled import sampled_spectral_radius
+from ..uncertainty.driveranges import DRIVE
 from .accuracy import verdict_html
 from .html import esc, facts, figure, para, section, table
 
@@ -166,7 +167,7 @@ OPEN_PARAMETERS = {"B_m": ("B_m",), "C_t": ("C_t",), "column": ("M_h", "K_h"),
                    "damping": ("C_t", "C_b", "C_h"),
                    "time_base": ("J_m", "J_L", "M_t", "M_b", "M_h", "B_m", "B_L", "C_t",
                                  "C_b", "C_h"),
-                   **{p: (p,) for p in ("J_m", "J_L", "B_L", "K_L", "K_t", "M_t")}}
+                   **{p: (p,) for p in DRIVE}}
 
 
 def _friction_unit(name: str) -> str:

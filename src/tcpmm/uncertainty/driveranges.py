@@ -33,6 +33,9 @@ def controller_mismatch(a) -> list[OpenRange]:
                              "in machine.yaml")]
 
 
+#: The drive parameters an open range may hold by name, at its values
+#: (:class:`tcpmm.model.OpenRange`) [-].
+DRIVE = ("J_m", "J_L", "B_L", "K_L", "K_t", "M_t")
 #: Range of a drive parameter the FRFs do not determine, as factors on the fit's value: the
 #: fit is started from the bundle's and typical values, and its guess lies within a few of
 #: them [-].
@@ -47,7 +50,7 @@ def drive_undetermined(a) -> list[OpenRange]:
     und = set(getattr(a.physical, "undetermined", ()))
     model, fit = a.axis.mechanics, getattr(a.physical, "mechanics", None)
     out = []
-    for p in ("J_m", "J_L", "B_L", "K_L", "K_t", "M_t"):
+    for p in DRIVE:
         v = getattr(model, p, None)
         if p not in und or v is None or v != getattr(fit, p, None) or not v > 0.0:
             continue

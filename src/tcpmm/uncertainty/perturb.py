@@ -10,9 +10,11 @@ from typing import NamedTuple
 
 from ..ident.friction.presliding import with_presliding
 from ..ident.friction.sensitivity import coulomb_share, with_share
+from ..ident.physical.loop_timing import OTHER_SENSOR
 from ..mechanics.lumped import RANGES
 from ..model import Axis
 from ..whatif.draws import longer_presliding, scaled_contact
+from .driveranges import DRIVE
 from .ranges import MODE_DAMPING, MODE_STRUCTURE, mode_damping_bounds, structure_of
 
 __all__ = ["QUANTILE_90", "UNFIXED_LEVEL", "Unbounded", "Variant", "axis_variants"]
@@ -28,8 +30,6 @@ STRUCTURE = ("M_t", "M_b", "K_b", "M_h", "K_h")
 STRUCTURE_DAMPING = tuple(c for c, _, _ in MODE_DAMPING.values())
 #: What the ``damping`` open range scales: the axial modes' damping [-].
 AXIAL_DAMPING = ("C_t", "C_b", "C_h")
-#: The drive parameters an open range may hold by name, at its values [-].
-DRIVE = ("J_m", "J_L", "B_L", "K_L", "K_t", "M_t")
 #: What a ``time_base`` open range scales with the square of its factor, and with it [-].
 INERTIAS = ("J_m", "J_L", "M_t", "M_b", "M_h")
 DAMPINGS = ("B_m", "B_L", "C_t", "C_b", "C_h")
@@ -184,7 +184,7 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
             moved = axis.replace(mechanics=m.replace(**{p: getattr(m, p) * x
                                                         for p in STRUCTURE}))
         elif r.quantity == "position_feedback":  # 1: the loop closed on the other sensor
-            other = {"scale": "encoder", "encoder": "scale"}[axis.servo.position_feedback]
+            other = OTHER_SENSOR[axis.servo.position_feedback]
             moved = axis if x < 0.5 else axis.replace(
                 servo=axis.servo.model_copy(update={"position_feedback": other}))
         elif r.quantity in DRIVE:  # a drive parameter the FRFs leave open, its value

@@ -66,7 +66,7 @@ MAX_RESIDUAL = 0.3
 #: cannot tell) [-].
 FEEDBACK_RATIO = 1.25
 #: The position feedback other than the one declared, and each in words [-].
-_OTHER = {"scale": "encoder", "encoder": "scale"}
+OTHER_SENSOR = {"scale": "encoder", "encoder": "scale"}
 _SENSOR_NAMES = {"scale": "linear scale", "encoder": "motor encoder"}
 
 
@@ -130,7 +130,7 @@ def _controller_ratio(sweep, cfg):
     for fb, x_fb in (("scale", frfs["x"].H), ("encoder", R * frfs["th"].H)):
         pos = s.position_gain_1_per_s / R * x_fb * np.exp(-0.5j * w * s.position_loop_period_s)
         dens[fb] = c_v * (1j * w * frfs["th"].H + pos)
-    den, den_other = dens[s.position_feedback], dens[_OTHER[s.position_feedback]]
+    den, den_other = dens[s.position_feedback], dens[OTHER_SENSOR[s.position_feedback]]
     coh = np.minimum(frfs["u"].coherence, frfs["th"].coherence)
     good = (coh > 0.9) & (np.abs(den) > 0) & (np.abs(den_other) > 0)
     if int(good.sum()) < MIN_BINS:
@@ -259,7 +259,7 @@ def _check_feedback(name, sweep, cfg, timing) -> None:
     said = cfg.servo.position_feedback
     warn_input(
         f"axis {name}: the controller output in the sweep reads as a position loop closed "
-        f"on the {_SENSOR_NAMES[_OTHER[said]]}, not on the {_SENSOR_NAMES[said]} "
+        f"on the {_SENSOR_NAMES[OTHER_SENSOR[said]]}, not on the {_SENSOR_NAMES[said]} "
         "machine.yaml declares "
         f"(relative residual {timing.other_feedback_residual:.3f} against "
         f"{timing.residual:.3f}); check servo.position_feedback: the model closes its "

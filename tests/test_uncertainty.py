@@ -641,3 +641,24 @@ def test_a_figure_one_circle_does_not_give_is_neither_inside_nor_outside():
     long = Comparison.judged_long(judged)
     assert [r["inside"] for r in long] == [True, None, True, True, True]
     assert [r["inside"] for r in judged_rows(long)] == ["yes", "-", "yes", "yes", "yes"]
+
+
+def test_an_axis_is_not_undetermined_for_another_axis_open_quantity():
+    """A spike of 10 um whose interval X's open mechanics carry past its size, and which
+    Y's determined guideway share alone widens beyond its target: the figure is
+    undetermined and blames both axes, and Y, whose own quantity is not open, is uncertain
+    for it, not undetermined (Y read undetermined beside a fault of X's sweep alone)."""
+    from tcpmm.uncertainty.verdict import _judge
+
+    open_x = OpenRange(quantity="mechanics", low=0.5, high=2.0, cause="c", settle="s")
+    changes = {("X", "mechanics"): 20e-6, ("Y", "guideway_share"): 5e-6,
+               ("Y", "C_t"): 0.1e-6}
+    opens = {("X", "mechanics"): open_x, ("Y", "guideway_share"): None, ("Y", "C_t"): None}
+    f = _judge(("R35 F5000", "ccw", "spike A"), 10e-6, changes, opens)
+    assert f.verdict == "undetermined" and f.axes == ("X", "Y")
+    assert f.axis_verdict("X") == "undetermined" and f.axis_verdict("Y") == "uncertain"
+    # the same interval on Y with its share open reaches the figure's size: undetermined
+    opens[("Y", "guideway_share")] = open_x
+    changes[("Y", "guideway_share")] = 12e-6
+    f = _judge(("R35 F5000", "ccw", "spike A"), 10e-6, changes, opens)
+    assert f.axis_verdict("Y") == "undetermined"

@@ -76,6 +76,10 @@ class FigureVerdict:
         The measurement that would settle it; empty when firm [-].
     axes : tuple of str
         The axes its cause blames (whose verdict it makes less than firm) [-].
+    own : tuple of (str, str)
+        Per blamed axis other than that of its largest cause, the verdict its own
+        quantities alone give the figure: another axis's open quantity does not make it
+        undetermined [-].
     """
 
     test: str
@@ -88,6 +92,12 @@ class FigureVerdict:
     cause: str = ""
     settle: str = ""
     axes: tuple = ()
+    own: tuple = ()
+
+    def axis_verdict(self, axis: str) -> str:
+        """The verdict this figure gives ``axis``: its own where :attr:`own` holds one,
+        else the figure's [-]."""
+        return dict(self.own).get(axis, self.verdict)
 
     def text(self) -> str:
         """One line: the verdict as a user reads it, in um [-]."""
@@ -190,9 +200,11 @@ def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
     cause = f"axis {axis} {quantity}" + (", open" if r is not None else "")
     settle = r.settle if r is not None else _SETTLE.get(quantity, "")
     undetermined = not math.isfinite(half) or (r is not None and half >= abs(nominal))
+    blamed = _blamed(changes, axis, tol)
+    own = tuple((ax, _own_verdict(ax, nominal, changes, opens)) for ax in blamed if ax != axis)
     return FigureVerdict(test, direction, figure, nominal, half, tol,
                          "undetermined" if undetermined else "uncertain", cause, settle,
-                         _blamed(changes, axis, tol))
+                         blamed, own)
 
 
 def _blamed(changes: dict, axis: str, tol: float) -> tuple:
@@ -205,6 +217,19 @@ def _blamed(changes: dict, axis: str, tol: float) -> tuple:
         own[ax] = own.get(ax, 0.0) + d * d
     wide = {ax for ax, s2 in own.items() if CALIBRATION["factor"] * math.sqrt(s2) > tol}
     return tuple(sorted(wide | {axis}))
+
+
+def _own_verdict(axis: str, nominal: float, changes: dict, opens: dict) -> str:
+    """The verdict the quantities of ``axis`` alone give a figure they widen beyond its
+    target: undetermined where the largest of them is open and their interval reaches the
+    figure's size, as :func:`_judge` judges the whole; else uncertain. An axis whose own
+    data are whole read undetermined beside another's open quantity [-]."""
+    mine = {k: d for k, d in changes.items() if k[0] == axis}
+    half = CALIBRATION["factor"] * math.sqrt(sum(d * d for d in mine.values()))
+    largest = max(mine, key=mine.get)
+    if not math.isfinite(half) or (opens.get(largest) is not None and half >= abs(nominal)):
+        return "undetermined"
+    return "uncertain"
 
 
 #: What narrows the column's quantities: the TCP device, and a sweep whose excitation
@@ -291,7 +316,7 @@ def _axis_verdicts(machine, figures: list) -> dict:
     out = {}
     for name, a in machine.axes.items():
         mine = [f for f in figures if f.verdict != "firm" and name in f.axes]
-        kinds = {f.verdict for f in mine}
+        kinds = {f.axis_verdict(name) for f in mine}
         opens = [r.model_dump() for r in (a.uncertainty.open if a.uncertainty else ())]
         if any(r["quantity"] == "time_base" for r in opens):
             kinds.add("undetermined")

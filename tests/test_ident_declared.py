@@ -118,3 +118,30 @@ def test_a_loop_declared_on_the_other_sensor_leaves_the_feedback_open(capsys, tm
     assert x["verdict"] != "firm"
     assert [r for r in x["open"] if r["quantity"] == "position_feedback"]
     assert any(f.get("cause") == "axis X position_feedback, open" for f in v["figures"])
+
+
+def test_a_position_gain_the_sweep_contradicts_is_open_and_names_the_gain(capsys, tmp_path):
+    """Machine D with X's position gain declared 1.5 times the drive's 60 1/s: below the
+    velocity loop's band the controller output reads the drive's gain (within 2 %), and
+    the declared one was carried into a circle 240 um off with the verdict firm. The gain
+    is now open between the two, X undetermined or uncertain, and Y, whose data are whole,
+    not made undetermined by X."""
+    import json
+
+    d = tmp_path / "kpp"
+    shutil.copytree(bench_path("d") / "bundle", d)
+    y = yaml.safe_load((d / "machine.yaml").read_text())
+    true_gain = y["axes"]["X"]["servo"]["position_gain_1_per_s"]
+    y["axes"]["X"]["servo"]["position_gain_1_per_s"] = 1.5 * true_gain
+    (d / "machine.yaml").write_text(yaml.safe_dump(y, sort_keys=False))
+    code, out, err = run_cli(capsys, "identify", d, "-o", tmp_path / "m.yaml", "--json")
+    assert code == 0, err
+    assert "reads a position gain of" in err and "position_gain_1_per_s" in err
+    v = json.loads(out)["verdict"]
+    x = v["axes"]["X"]
+    assert x["verdict"] != "firm"
+    [r] = [r for r in x["open"] if r["quantity"] == "position_gain"]
+    assert r["low"] == pytest.approx(true_gain, rel=0.02)
+    assert r["high"] == pytest.approx(1.5 * true_gain)
+    assert any(f.get("cause") == "axis X position_gain, open" for f in v["figures"])
+    assert v["axes"]["Y"]["verdict"] != "undetermined"

@@ -131,7 +131,9 @@ class OpenRange(BaseModel):
         square, the dampings with it) [-], or one of ``J_m``, ``J_L``, ``B_L``, ``K_L``,
         ``K_t``, ``M_t`` (a drive parameter the FRFs do not determine, whose fitted value
         the model keeps) [SI], or ``position_feedback`` (0 the sensor the bundle declares
-        the position loop closed on, 1 the other, which the sweep reads better) [-].
+        the position loop closed on, 1 the other, which the sweep reads better) [-], or
+        ``position_gain`` (the position-loop gain, where the sweep reads another than the
+        declared one) [1/s].
     low, high : float
         The range, in the quantity's unit [SI].
     cause : str
@@ -145,7 +147,7 @@ class OpenRange(BaseModel):
     quantity: Literal["guideway_share", "backlash", "presliding", "C_t", "B_m", "mechanics",
                       "damping", "column", "bed", "column_damping", "bed_damping",
                       "static_level", "time_base", "J_m", "J_L", "B_L", "K_L", "K_t",
-                      "M_t", "position_feedback"]
+                      "M_t", "position_feedback", "position_gain"]
     low: float = Field(ge=0.0, allow_inf_nan=False)
     high: float = Field(ge=0.0, allow_inf_nan=False)
     cause: str

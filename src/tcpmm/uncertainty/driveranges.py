@@ -6,7 +6,12 @@ from __future__ import annotations
 
 import math
 
-from ..ident.physical.loop_timing import FEEDBACK_RATIO, GAIN_RANGE, GAIN_WARN
+from ..ident.physical.loop_timing import (
+    FEEDBACK_RATIO,
+    GAIN_RANGE,
+    GAIN_WARN,
+    POSITION_BAND_HZ,
+)
 from ..mechanics.lumped import RANGES
 from ..model import OpenRange
 
@@ -80,3 +85,32 @@ def feedback_contradicted(a) -> list[OpenRange]:
                             f"{t.other_feedback_residual:.3f} against {t.residual:.3f})",
                       settle="the drive's parameters: which sensor its position loop closes "
                              "on (Sinumerik: whether a direct measuring system is active)")]
+
+
+#: Widest range of an open position gain, as factors on the declared one: a sweep taken
+#: with the position loop open reads a gain near zero, which says nothing of the drive's
+#: own [-].
+POSITION_GAIN_RANGE = (0.5, 2.0)
+
+
+def position_gain_contradicted(a) -> list[OpenRange]:
+    """The position-loop gain as an open range from the declared one to the one the sweep
+    reads (:meth:`~tcpmm.ident.physical.loop_timing.LoopTiming.position_contradicted`),
+    within :data:`POSITION_GAIN_RANGE` of the declared: machine C declared at 45 1/s for its
+    drive's 30 had its circle's spikes predicted 240 um off, read as firm."""
+    t = getattr(a, "loop_timing", None)
+    if t is None or not t.position_contradicted(a.axis.servo.K_pp):
+        return []
+    declared = a.axis.servo.K_pp
+    read = min(max(t.position_gain, POSITION_GAIN_RANGE[0] * declared),
+               POSITION_GAIN_RANGE[1] * declared)
+    return [OpenRange(quantity="position_gain", low=min(read, declared),
+                      high=max(read, declared),
+                      cause=f"the sweep's controller output reads a position gain of "
+                            f"{t.position_gain:.3g} 1/s below {POSITION_BAND_HZ[1]:g} Hz, "
+                            f"not the {declared:.4g} 1/s the bundle declares (relative "
+                            f"residual {t.position_residual:.3f} against "
+                            f"{t.declared_position_residual:.3f})",
+                      settle="the drive's position-loop gain (Sinumerik: MD32200 "
+                             "POSCTRL_GAIN, in (m/min)/mm: 1 is 16.7 1/s), and a sweep "
+                             "taken with the position loop closed")]

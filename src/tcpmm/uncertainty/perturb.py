@@ -187,6 +187,8 @@ def _open_variants(axis: Axis, r) -> list[Variant]:
             other = OTHER_SENSOR[axis.servo.position_feedback]
             moved = axis if x < 0.5 else axis.replace(
                 servo=axis.servo.model_copy(update={"position_feedback": other}))
+        elif r.quantity == "position_gain":  # the gain the sweep reads, or the declared
+            moved = axis.replace(servo=axis.servo.model_copy(update={"K_pp": x}))
         elif r.quantity in DRIVE:  # a drive parameter the FRFs leave open, its value
             moved = axis.replace(mechanics=m.replace(**{r.quantity: x}))
         elif r.quantity == "time_base":  # a time x times the stamped one: inertias x^2

@@ -18,7 +18,12 @@ from ..ident.friction.nutstiffness import RESOLUTION_STEPS
 from ..ident.physical.structure import STIFFNESS_FLOOR
 from ..ident.physical.uncertainty import FIT_DEVIATION_SCALE
 from ..model import OpenRange
-from .driveranges import controller_mismatch, drive_undetermined, feedback_contradicted
+from .driveranges import (
+    controller_mismatch,
+    drive_undetermined,
+    feedback_contradicted,
+    position_gain_contradicted,
+)
 from .frictionranges import play_open, static_open
 
 __all__ = [
@@ -338,7 +343,7 @@ def open_ranges(a) -> tuple[OpenRange, ...]:
                              cause=f"pre-sliding assumed: {fit.reason}",
                              settle=_SETTLE_PRESLIDING))
     out += _nonlinear_sweep(a)
-    out += controller_mismatch(a) + feedback_contradicted(a)
+    out += controller_mismatch(a) + feedback_contradicted(a) + position_gain_contradicted(a)
     out += _structure_damping(a)
     out += _structure_undetermined(a)
     out += drive_undetermined(a)

@@ -15,6 +15,11 @@ when the record is not sampled in step with the drive (a held current read at a 
 of its period). The integer and half-integer parts therefore give both the delay and the
 kind of velocity estimate; ``tau`` is fitted as the least-squares delay over the band where
 the loop's own response dominates the position loop's.
+
+Below that band the position term dominates, and with ``tau`` known the same relation gives
+``K_pp`` as a least-squares factor: the gain the drive's position loop really has, which a
+mistyped ``position_gain_1_per_s`` would otherwise carry, unnoticed, into every path the
+model predicts.
 """
 
 from __future__ import annotations
@@ -30,8 +35,8 @@ from ...io.csvutil import warn_input
 from ...servo.currentfilters import filters_freqresp
 from ..frf.response import frf_against_reference
 
-__all__ = ["COMPUTATION_DELAY", "LoopTiming", "identify_loop_timing", "sampled_in_step",
-           "sweep_timing"]
+__all__ = ["COMPUTATION_DELAY", "POSITION_GAIN_TOL", "LoopTiming", "identify_loop_timing",
+           "position_gain_message", "sampled_in_step", "sweep_timing"]
 
 #: Computation delay taken where the sweep does not show it: the current a digital velocity
 #: loop computes from the samples of one period is applied in the next [velocity-loop
@@ -65,6 +70,14 @@ MAX_RESIDUAL = 0.3
 #: declared fits 1.5 to 4.9 times better than the other (H: 1.06-1.08, which this check
 #: cannot tell) [-].
 FEEDBACK_RATIO = 1.25
+#: Band of the position gain's fit: from the FRFs' lowest band to where the velocity loop's
+#: own response takes over (:data:`BAND_HZ`) [Hz].
+POSITION_BAND_HZ = (2.0, BAND_HZ[0])
+#: Relative departure of the position gain the sweep reads from the declared one beyond
+#: which the declared gain is said to be contradicted: the reference drives read 0.976 to
+#: 0.997 of theirs (the half period of hold taken as a delay biases it low); a gain typed
+#: 45 for 30 reads 0.663 [-].
+POSITION_GAIN_TOL = 0.1
 #: The position feedback other than the one declared, and each in words [-].
 OTHER_SENSOR = {"scale": "encoder", "encoder": "scale"}
 _SENSOR_NAMES = {"scale": "linear scale", "encoder": "motor encoder"}
@@ -92,6 +105,11 @@ class LoopTiming:
     residual, other_feedback_residual : float
         Relative residual of the fit with the position fed back from the declared sensor,
         and from the other one (motor encoder or linear scale) [-].
+    position_gain : float
+        Position-loop gain the sweep's controller output reads below :data:`BAND_HZ`; NaN
+        where the record does not show it [1/s].
+    position_residual, declared_position_residual : float
+        Relative residual of that relation with the gain read and with the declared one [-].
     """
 
     delay_samples: int
@@ -101,10 +119,42 @@ class LoopTiming:
     determined: bool
     residual: float = float("nan")
     other_feedback_residual: float = float("nan")
+    position_gain: float = float("nan")
+    position_residual: float = float("nan")
+    declared_position_residual: float = float("nan")
+
+    def position_contradicted(self, declared: float) -> bool:
+        """Whether the position gain the sweep reads departs from ``declared`` [1/s] by
+        more than :data:`POSITION_GAIN_TOL` (``False`` where it reads none) [-]."""
+        return bool(abs(self.position_gain / declared - 1.0) > POSITION_GAIN_TOL)
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report [-]."""
         return dataclasses.asdict(self)
+
+
+def _controller_frfs(sweep, cfg, lo_hz: float, hi_hz: float):
+    """The FRFs of the controller output ``u``, the encoder angle ``th`` and the scale
+    ``x`` against the excitation over ``lo_hz`` to ``hi_hz``, their angular frequencies and
+    the velocity controller's response ``C_v`` there; or ``None`` [SI]."""
+    s = cfg.servo
+    sig = {"u": sweep.current_cmd_A - sweep.excitation_A, "th": sweep.motor_angle_rad,
+           "x": sweep.scale_m}
+    try:
+        frfs = frf_against_reference(sweep.excitation_A, sig, sweep.fs_hz,
+                                     fmin_hz=lo_hz, fmax_hz=hi_hz)
+    except InputError:  # no excitation in the band
+        return None
+    f = np.asarray(frfs["u"].freq_hz)
+    w = 2.0 * math.pi * f
+    c_v = s.velocity_gain_A_s_per_rad + s.velocity_integral_gain_A_per_rad / (1j * w)
+    c_v = c_v * filters_freqresp(s.current_setpoint_filters, f, s.velocity_loop_period_s)
+    return w, frfs, c_v
+
+
+def _feedback(frfs, sensor: str, R: float):
+    """The FRF of the position fed back from ``sensor`` (``scale`` or ``encoder``) [m/A]."""
+    return frfs["x"].H if sensor == "scale" else R * frfs["th"].H
 
 
 def _controller_ratio(sweep, cfg):
@@ -112,23 +162,17 @@ def _controller_ratio(sweep, cfg):
     ratio with the position fed back from the other sensor; or ``None``."""
     s = cfg.servo
     R = cfg.lead_m / (2.0 * math.pi)
-    sig = {"u": sweep.current_cmd_A - sweep.excitation_A, "th": sweep.motor_angle_rad,
-           "x": sweep.scale_m}
     top = min(BAND_HZ[1], 0.2 * sweep.fs_hz)
     if top < 2.0 * BAND_HZ[0]:
         return None  # sampled too slowly to show the loop's timing
-    try:
-        frfs = frf_against_reference(sweep.excitation_A, sig, sweep.fs_hz,
-                                     fmin_hz=BAND_HZ[0], fmax_hz=top)
-    except InputError:  # no excitation in the band
+    got = _controller_frfs(sweep, cfg, BAND_HZ[0], top)
+    if got is None:
         return None
-    f = np.asarray(frfs["u"].freq_hz)
-    w = 2.0 * math.pi * f
-    c_v = s.velocity_gain_A_s_per_rad + s.velocity_integral_gain_A_per_rad / (1j * w)
-    c_v = c_v * filters_freqresp(s.current_setpoint_filters, f, s.velocity_loop_period_s)
+    w, frfs, c_v = got
     dens = {}
-    for fb, x_fb in (("scale", frfs["x"].H), ("encoder", R * frfs["th"].H)):
-        pos = s.position_gain_1_per_s / R * x_fb * np.exp(-0.5j * w * s.position_loop_period_s)
+    for fb in ("scale", "encoder"):
+        pos = (s.position_gain_1_per_s / R * _feedback(frfs, fb, R)
+               * np.exp(-0.5j * w * s.position_loop_period_s))
         dens[fb] = c_v * (1j * w * frfs["th"].H + pos)
     den, den_other = dens[s.position_feedback], dens[OTHER_SENSOR[s.position_feedback]]
     coh = np.minimum(frfs["u"].coherence, frfs["th"].coherence)
@@ -137,6 +181,39 @@ def _controller_ratio(sweep, cfg):
         return None
     return (w[good], -frfs["u"].H[good] / den[good], coh[good],
             -frfs["u"].H[good] / den_other[good])
+
+
+def _fit_position_gain(sweep, cfg, tau: float):
+    """The position gain the controller output reads below :data:`BAND_HZ` with the
+    velocity loop's delay ``tau`` [s]: ``(K_pp, residual, residual of the declared)``
+    [1/s], [-], [-]; NaN where the record does not show it. The position term
+    ``(K_pp/R_L) x_fb exp(-j w T_p/2)`` is what is left of ``-u exp(j w tau) / C_v``
+    after the velocity ``j w theta``."""
+    none = (math.nan,) * 3
+    s = cfg.servo
+    R = cfg.lead_m / (2.0 * math.pi)
+    got = _controller_frfs(sweep, cfg, POSITION_BAND_HZ[0], POSITION_BAND_HZ[1])
+    if got is None:
+        return none
+    w, frfs, c_v = got
+    a = -frfs["u"].H * np.exp(1j * w * tau) / c_v - 1j * w * frfs["th"].H
+    b = (_feedback(frfs, s.position_feedback, R) / R
+         * np.exp(-0.5j * w * s.position_loop_period_s))
+    coh = np.minimum.reduce([frfs[k].coherence for k in ("u", "th", "x")])
+    good = (coh > 0.9) & np.isfinite(a) & np.isfinite(b)
+    if int(good.sum()) < MIN_BINS:
+        return none
+    weight = np.minimum(coh / (1.0 - coh + 1e-6), 1e4)[good]
+    a, b = a[good], b[good]
+    norm = float(np.sum(weight * np.abs(a) ** 2))
+    if not norm > 0.0:
+        return none
+    k = float(np.sum(weight * np.real(np.conj(b) * a)) / np.sum(weight * np.abs(b) ** 2))
+
+    def resid(g):
+        return math.sqrt(float(np.sum(weight * np.abs(a - g * b) ** 2)) / norm)
+
+    return k, resid(k), resid(s.position_gain_1_per_s)
 
 
 def _fit_delay(w, h, weight):
@@ -185,8 +262,10 @@ def identify_loop_timing(sweep, cfg) -> LoopTiming | None:
     delay, diff = max(half // 2, 0), half % 2 == 1
     determined = (abs(periods - 0.5 * half) <= MATCH_TOL and half >= 0
                   and GAIN_RANGE[0] < gain < GAIN_RANGE[1] and resid < MAX_RESIDUAL)
+    k_pp = _fit_position_gain(sweep, cfg, tau) if determined else (math.nan,) * 3
     return LoopTiming(int(delay), "difference" if diff else "state", float(tau / T_v),
-                      float(gain), bool(determined), float(resid), float(resid_other))
+                      float(gain), bool(determined), float(resid), float(resid_other),
+                      *(float(v) for v in k_pp))
 
 
 def sampled_in_step(fs_hz: float, T_v: float) -> bool:
@@ -249,7 +328,31 @@ def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:
             "of a time base that is off. Check the time column and the gains",
             file=getattr(sweep, "source", None))
     _check_feedback(name, sweep, cfg, timing)
+    if timing.position_contradicted(cfg.servo.position_gain_1_per_s):
+        warn_input(position_gain_message(name, timing, cfg.servo.position_gain_1_per_s),
+                   file=getattr(sweep, "source", None))
     return timing
+
+
+def position_gain_message(name: str, timing: LoopTiming, declared: float) -> str:
+    """What the sweep says of a declared position gain it contradicts [-].
+
+    Parameters
+    ----------
+    name : str
+        Axis name [-].
+    timing : LoopTiming
+        The sweep's timing, with the position gain it reads [-].
+    declared : float
+        The bundle's ``position_gain_1_per_s`` [1/s].
+    """
+    return (f"axis {name}: the controller output in the sweep reads a position gain of "
+            f"{timing.position_gain:.3g} 1/s below {POSITION_BAND_HZ[1]:g} Hz, not the "
+            f"{declared:.4g} 1/s machine.yaml declares (relative residual "
+            f"{timing.position_residual:.3f} against {timing.declared_position_residual:.3f}); "
+            "check servo.position_gain_1_per_s, and that the position loop was closed "
+            "during the sweep: the model follows its path with the declared gain, and the "
+            "figures that depend on it are left open")
 
 
 def _check_feedback(name, sweep, cfg, timing) -> None:

@@ -5,7 +5,13 @@ import warnings
 import numpy as np
 import pytest
 
-from tcpmm.analysis.circular import analyse_circle, lsq_circle, reversal_lobes, reversal_spikes
+from tcpmm.analysis.circular import (
+    CircleResult,
+    analyse_circle,
+    lsq_circle,
+    reversal_lobes,
+    reversal_spikes,
+)
 from tcpmm.analysis.compare import compare_circles, sign_flips
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.result import AxisRun, Run
@@ -717,3 +723,31 @@ def test_the_sparse_log_check_judges_the_samples_the_table_gives(recwarn):
     res = analyse_circle(Run(t, {"X": AxisRun(cmd=cx, tcp=tx), "Y": AxisRun(cmd=cy, tcp=ty)}), R)
     assert res.passes[0].sensors["tcp"].contour_error < 0.05e-6
     assert not [m for m in recwarn if "single samples" in str(m.message)]
+
+
+def test_a_ccw_and_a_cw_circle_at_other_feeds_are_no_pair():
+    """A CCW circle at F5000 and a CW one twice as fast, with Y lagging by 1 ms: given as
+    a pair they gave a servo mismatch angle of neither (3571 against 2381 and 4762 urad),
+    a hysteresis and a G(b) of two feeds, exit 0. Each circle keeps its own terms, and the
+    pair's diagnostics are refused, naming both feeds."""
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+
+    def lagged(direction, speed):
+        p = circle_path(direction)
+        t = np.arange(len(p)) * 1e-3 / speed
+        lag_y = np.interp(t - 1e-3, t, p[:, 1])
+        return Run(t, {"X": AxisRun(cmd=p[:, 0], tcp=p[:, 0]),
+                       "Y": AxisRun(cmd=p[:, 1], tcp=lag_y)})
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        ccw, cw_fast, cw = (analyse_circle(lagged(d, s), R)
+                            for d, s in (("ccw", 1.0), ("cw", 2.0), ("cw", 1.0)))
+        two = CircleResult(R, ccw.centre, ccw.passes + cw_fast.passes)  # as `circle` joins
+        with pytest.raises(InputError, match=r"F1833 \(.*rad/s\) and the CW circle at F3665"):
+            circle_diagnostics(two)
+        assert two.passes[0].sensors["tcp"].pair is None  # its spikes after its own terms
+        one = CircleResult(R, ccw.centre, ccw.passes + cw.passes)
+        assert one.passes[0].sensors["tcp"].pair is not None
+        mismatch = circle_diagnostics(one).terms["servo_mismatch"][0]
+    assert mismatch == pytest.approx(1e-3, rel=0.01)

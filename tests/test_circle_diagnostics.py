@@ -416,7 +416,7 @@ def test_cli_single_run_stays_as_it_was(capsys, pair):
     assert code == 0
     got = json.loads(out)
     assert "diagnostics" not in got and [p["direction"] for p in got["passes"]] == ["ccw"]
-    code, _, err = run_cli(capsys, "circle", pair / "ccw.csv", "--radius", 35, "--sensor", "tcp")
+    code, _, err = run_cli(capsys, "circle", pair / "ccw.csv", pair / "ccw.csv", "--radius", 35)
     assert code == 2 and "no CW circle" in err and "Traceback" not in err
     code, _, err = run_cli(capsys, "circle", pair / "ccw.csv", pair / "cw.csv", "--radius", 35,
                        "--direction", "ccw")
@@ -624,6 +624,16 @@ def test_cli_one_direction_prints_its_terms_and_why_the_others_need_the_pair(cap
     assert "hysteresis" in one["undetermined"] and one["directions"] == ["ccw"]
     assert one["ranking"][0]["rank"] == 1 and "share_percent" in one["ranking"][0]
     assert "percent_of_G" in one["ranking"][0]
+
+
+def test_cli_one_direction_with_its_sensor_named_is_the_same(capsys, pair):
+    """``--sensor tcp``, the sensor taken by default, refused a run of one direction
+    ("circle diagnostics need a CCW and a CW circle"), so no other sensor's could be had."""
+    code, plain, _ = run_cli(capsys, "circle", pair / "ccw.csv", "--radius", 35)
+    code_tcp, named, err = run_cli(capsys, "circle", pair / "ccw.csv", "--radius", 35,
+                                   "--sensor", "tcp")
+    assert code == code_tcp == 0, err
+    assert named == plain and "circle diagnostics (tcp" in named
 
 
 def arc(direction, err, lo, span, seed=0):

@@ -37,6 +37,7 @@ from .circle_checks import (
     warn_pass,
     warn_unresolved,
 )
+from .circle_feeds import other_feeds
 from .circle_passes import (  # noqa: F401
     SENSOR_TOL_SHARE,
     circle_deviation,
@@ -237,9 +238,11 @@ class CircleResult:
         """Give the k-th CCW and the k-th CW pass each other's sensors, so that their
         headline spikes are taken after the pair's terms: one circle's own fit leaves a
         bow (0.76 um), a cyclic error (0.99 um) and 15 % of the other axis's backlash in
-        its spikes. A pass left without one keeps its own terms [-]."""
+        its spikes. A pass left without one (or at another feed) keeps its own terms [-]."""
         ccws, cws = ([p for p in self.passes if p.direction == d] for d in ("ccw", "cw"))
         for ccw, cw in zip(ccws, cws, strict=False):
+            if other_feeds(ccw, cw, self.radius) is not None:
+                continue  # two tests: each circle keeps its own terms
             rates = (ccw.feed_rate_rad_s, cw.feed_rate_rad_s)
             for name in set(ccw.sensors) & set(cw.sensors):
                 shared = {}

@@ -68,6 +68,7 @@ from .circle_display import (  # noqa: F401
     rename_axes,
     term_note,
 )
+from .circle_feeds import other_feeds
 from .circle_model import is_full
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
@@ -352,8 +353,8 @@ def pick_sensor(pick, sensor=None) -> str:
     both = [s for s in PREFERRED_SENSORS if all(s in p.sensors for p in pick.values())]
     sensor = sensor or (both[0] if both else None)
     if sensor not in both:
-        raise InputError(f"the sensor {sensor} is not in both circles (in both: "
-                         f"{', '.join(both) or 'none'})")
+        where = "both circles" if len(pick) > 1 else "the circle"
+        raise InputError(f"the sensor {sensor} is not in {where} (there: {', '.join(both)})")
     return sensor
 
 
@@ -381,6 +382,9 @@ def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiag
                 f"circle diagnostics need a CCW and a CW circle; no {d.upper()} circle was "
                 f"found; give the run of the other direction too (the pair is what tells "
                 f"{PAIR_ONLY})")
+    if (why := other_feeds(pick["ccw"], pick["cw"], result.radius)) is not None:
+        raise InputError(f"{why}; give a CCW and a CW circle run at one feed, or analyse "
+                         "each run alone")
     sensor = pick_sensor(pick, sensor)
     sc = {d: p.sensors[sensor] for d, p in pick.items()}
     if (fit := _fitted_pair(sc["ccw"], sc["cw"], axes)) is not None:

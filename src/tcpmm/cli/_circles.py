@@ -252,3 +252,27 @@ def _print_ranking(diag, result=None) -> None:
 
     if left := unranked_line(diag):
         out.print(left, highlight=False)
+
+
+def circle_diagnostics_asked(res, pair: bool, asked: bool, sensor):
+    """The diagnostics of the first pair of ``res``, the runs' passes together, where
+    there are both directions or a second run (refused without), else of the one there is;
+    errors raised where ``asked`` (a sensor or a plot of them)."""
+    import warnings
+
+    from ..analysis.circle_single import one_direction_diagnostics
+    from ..analysis.diagnostics import circle_diagnostics
+    from ..errors import InputError, InputWarning
+
+    dirs = {p.direction for p in res.passes}
+    if pair or (asked and len(dirs) != 1):
+        return circle_diagnostics(res, sensor=sensor)
+    if asked:
+        return one_direction_diagnostics(res, sensor=sensor)
+    try:  # not asked for: the circle's table stands without them
+        if dirs == {"ccw", "cw"}:
+            return circle_diagnostics(res, sensor=sensor)
+        return one_direction_diagnostics(res) if len(dirs) == 1 else None
+    except InputError as exc:
+        warnings.warn(f"no diagnostics: {exc.message}", InputWarning, stacklevel=2)
+        return None

@@ -27,7 +27,12 @@ from ._app import (
     read_model,
     refuse_unstable,
 )
-from ._circles import diagnostics_json, print_diagnostics, print_passes
+from ._circles import (
+    circle_diagnostics_asked,
+    diagnostics_json,
+    print_diagnostics,
+    print_passes,
+)
 from ._controller import CONTROLLER_HELP, as_the_drives_take_it
 from ._outputs import distinct_outputs, outputs_together
 from ._plane import (
@@ -201,8 +206,8 @@ def circle(run_file: Path = typer.Argument(
                                           direction=direction.lower() if direction else None))
     res = CircleResult(results[0].radius, results[0].centre,
                        [p for r in results for p in r.passes], axes)
-    diag = _diagnostics(res, other is not None or sensor is not None or diag_plot is not None,
-                        sensor.value if sensor else None)
+    diag = circle_diagnostics_asked(res, other is not None, bool(sensor or diag_plot),
+                                    sensor.value if sensor else None)
     if plot is not None:
         res.plot(path=plot)
     if diag_plot is not None:
@@ -230,27 +235,6 @@ def _one_run_options(direction, command, other) -> None:
         raise typer.BadParameter("give --direction or a second run, not both")
     if command is not None and other is not None:
         raise typer.BadParameter("--command is the command of one run: give one run")
-
-
-def _diagnostics(res, asked: bool, sensor):
-    """The diagnostics of the first pair of ``res``, the runs' passes together, where
-    there are both directions or asked for (refused without), else of the one there is."""
-    import warnings
-
-    from ..analysis.circle_single import one_direction_diagnostics
-    from ..analysis.diagnostics import circle_diagnostics
-    from ..errors import InputError, InputWarning
-
-    dirs = {p.direction for p in res.passes}
-    if asked:
-        return circle_diagnostics(res, sensor=sensor)
-    try:  # not asked for: the circle's table stands without them
-        if dirs == {"ccw", "cw"}:
-            return circle_diagnostics(res, sensor=sensor)
-        return one_direction_diagnostics(res) if len(dirs) == 1 else None
-    except InputError as exc:
-        warnings.warn(f"no diagnostics: {exc.message}", InputWarning, stacklevel=2)
-        return None
 
 
 @app.command()

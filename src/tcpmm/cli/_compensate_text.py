@@ -306,8 +306,9 @@ def _worst_after(robustness: dict) -> list[str]:
         return []
     n = robustness["draws"]
     on = "the one draw" if n == 1 else f"the worst of the {n} draws"
-    return [f"  contour error after, on {on}: up to {max(worst):.2f} µm (the figure after "
-            "above is the model's)"]
+    top = robustness.get("worst_after_to_command_um", max(worst))
+    return [f"  contour error after to the command, on {on}: up to {top:.2f} µm (the "
+            "figure after above is the model's)"]
 
 
 def _figure_verdicts(figures: dict) -> list[str]:

@@ -33,6 +33,7 @@ from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 from .cornerguard import CornerGuard, held_entry
+from .drawcontour import worst_to_command
 from .regional import per_combo, pick, settle_regions, tcp_errors
 from .trust import local_rises, next_draw, record
 
@@ -316,6 +317,9 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
         (factors, figs, after), extra = by_region, {**extra, "by_region": True}
         shares = [factors[a] for a in comp.reference.axes]
     extra.update(held_entry(corners))
+    chosen = errs[:, np.arange(len(shares)), [LEVELS.index(s) for s in shares]] \
+        if after is None else after
+    extra["worst_after_to_command_um"] = worst_to_command(chosen, target, comp.reference) * 1e6
     record(comp, shares, region_rows(before, figs, target, labels),
            circle_rows(before, figs, guard), labels, extra, rises(errs, shares, target, after))
 

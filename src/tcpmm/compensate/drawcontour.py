@@ -1,0 +1,44 @@
+"""The compensated TCP's contour error to the command on each drawn machine, taken as the
+figure after (:func:`.scores.contour_figures`) takes it of the model: against the program
+as planned, the lag a G0 rapid carries into the cut counted. The regions' figures
+(:mod:`.robust`) are judged on the delayed path, where that lag belongs to the rapid: a
+square entered from a rapid read 120.9 um after on its worst draw, below the model's own
+190.7 um and the machine's 190.7 um."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..result import AxisRun, Run
+from .scores import contour_figures
+
+
+def worst_to_command(after: np.ndarray, target, reference) -> float:
+    """The largest contour error to ``reference`` over the drawn machines.
+
+    Parameters
+    ----------
+    after : ndarray
+        TCP error per machine, axis and sample with the chosen shares, target minus TCP,
+        shape (machines, axes, n); the first machine is the model as identified, the
+        others its draws [m].
+    target : Command
+        The path the TCP is to follow, on whose samples ``after`` is [m].
+    reference : Command
+        The program as planned, whose contour error the figure after reports [m].
+
+    Returns
+    -------
+    float
+        The largest over the draws [m].
+    """
+    p = {a: np.asarray(v, dtype=float) for a, v in target.positions.items()}
+    blocks = reference.blocks()
+    worst = 0.0
+    for e in after[1:]:
+        run = Run(target.time_s, {a: AxisRun(cmd=p[a], tcp=p[a] - e[i])
+                                  for i, a in enumerate(p)})
+        if blocks is not None:  # the program's rapids, as the run of the model records them
+            run.nc_line, run.rapid = (b[:run.time_s.size] for b in blocks)
+        worst = max(worst, contour_figures(run, reference)["contour_error_um"] * 1e-6)
+    return worst

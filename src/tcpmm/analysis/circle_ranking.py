@@ -193,7 +193,10 @@ def rank_terms(fit, arcs, radius, shared, terms, axes, names=None, unranked=()):
     spikes = [v for k, (v, _) in terms.items() if k.startswith("spike_")]
     c = contributions(fit, arcs, radius, shared, spikes)
     c = {(names or {}).get(k, k): v for k, v in c.items()}
-    left = set(unranked)
+    # a term not determined (n/a: a cyclic error at the longest period searched, say) is
+    # no source to rank, whatever its column takes up in the fit
+    left = set(unranked) | {k.replace("cyclic_amplitude_", "cyclic_")
+                            for k, (v, _) in terms.items() if not np.isfinite(v)}
     c = {k: v for k, v in c.items() if k not in left and rename_axes(k, axes) not in left}
     g = [v for k, (v, _) in terms.items() if k.startswith("circularity_")]
     rows = ranking_rows(c, terms.get("circularity_pair", (max(g),))[0])

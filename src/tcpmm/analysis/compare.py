@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import InputError, InputWarning
 from .circular import QUADRANTS, CircleResult
+from .compare_after import hidden_notes, hidden_spikes
 
 
 def raw_spike_named(figure: str, minus: str = "-") -> str:
@@ -34,12 +35,16 @@ class Comparison:
         rise and fall after the reversal of both (:func:`sign_flips`) [um].
     measured, predicted : CircleResult or None
         The analyses compared, for :meth:`plot` [-].
+    hidden : list of dict
+        Spike differences the raw figures hide and the spikes after the terms show
+        (:func:`.compare_after.hidden_spikes`) [um].
     """
 
     rows: list
     sign_flips: list = field(default_factory=list)
     measured: CircleResult | None = field(default=None, repr=False)
     predicted: CircleResult | None = field(default=None, repr=False)
+    hidden: list = field(default_factory=list)
 
     def to_pandas(self):
         """The Table-2 layout (um)."""
@@ -49,7 +54,8 @@ class Comparison:
 
     def to_dict(self) -> dict:
         """JSON-ready rows and sign flips (um)."""
-        return {"rows": self.rows, "sign_flips": self.sign_flips}
+        return {"rows": self.rows, "sign_flips": self.sign_flips,
+                "hidden_by_raw_spikes": self.hidden}
 
     def plot(self, ax=None, path=None, sensor: str = "tcp"):
         """The measured circle of ``sensor`` with the predicted TCP dotted over it, one
@@ -136,7 +142,7 @@ class Comparison:
                 f"{lobes[0][0]:+.2f}/{lobes[0][1]:+.2f} um, predicted {lobes[1][0]:+.2f}/"
                 f"{lobes[1][1]:+.2f} um); lobe by lobe, measured and predicted "
                 f"differ by at most {f['lobe_difference_um']:.2f} um")
-        return out
+        return out + hidden_notes(self.hidden)
 
 
 #: Rise and fall after a reversal are of similar size where the smaller is at least this
@@ -283,7 +289,7 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             rows.append(row)
     if not rows:
         raise InputError(_nothing_shared(measured, predicted))
-    return Comparison(rows, flips, measured, predicted)
+    return Comparison(rows, flips, measured, predicted, hidden_spikes(measured, predicted))
 
 
 def _nothing_shared(measured: CircleResult, predicted: CircleResult) -> str:

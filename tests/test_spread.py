@@ -273,3 +273,36 @@ def test_the_table_fits_a_terminal_with_every_number_whole(tmp_path, capsys, mon
     assert numbers(shown) == numbers(piped) and all(
         re.fullmatch(r"-?\d+\.\d\d", t) for t in numbers(shown))
     assert set(piped[0].split()) <= {t for s in shown for t in s.split()}
+
+
+def test_the_spread_and_the_verdict_read_the_same_points(once):
+    """Machine H's F10000 CCW circle ends within a sample of quadrant point B's window for
+    the scale and the motor, not for the TCP: the spread's table, analysing every sensor,
+    left B out (one point left out for all), while the verdict beside it, analysing the
+    TCP, gave B as 177 um, uncertain. Both analyse the sensor asked for alone."""
+    import warnings
+
+    from conftest import bench_path
+    from tcpmm.ident.pipeline import identify_bundle
+    from tcpmm.io.bundle import read_bundle
+    from tcpmm.path.commandfile import read_command_csv
+    from tcpmm.uncertainty import CircleTest, prediction_verdict
+
+    def make():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return identify_bundle(read_bundle(bench_path("h") / "bundle"), verdict=False)
+
+    model = once("bench_h", make).machine
+    cmd = read_command_csv(bench_path("h") / "circle_ccw_fast_cmd.csv")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = circle_spread(model, cmd, 0.035, n=10)
+        verdict = prediction_verdict(model, [CircleTest("R35", cmd, 0.035, (0.0, 0.0),
+                                                        ("X", "Y"))], jobs=0)
+    table = {r["point"]: r["spike_um"] for r in res.to_pandas().to_dict("records")}
+    told = {f.figure[-1]: f.nominal * 1e6 for f in verdict.figures
+            if f.figure.startswith("spike")}
+    assert set(table) == set("ABCD")
+    for q, v in told.items():
+        assert v == pytest.approx(table[q], abs=1e-9) or (math.isnan(v) and math.isnan(table[q]))

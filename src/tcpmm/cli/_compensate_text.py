@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ._app import out
+from ._tables import percent
 
 
 def _row(label: str, fig: dict) -> str:
@@ -55,7 +56,7 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         out.print(line, highlight=False)
     st = comp.settings
     if st.get("headroom"):
-        out.print(f"  planned with headroom {st['headroom']:g}: {1 - st['headroom']:.0%} of "
+        out.print(f"  planned with headroom {st['headroom']:g}: {percent(1 - st['headroom'])} of "
                   "the axes' acceleration and jerk, the rest left to the correction: "
                   f"{st['planned_duration_s']:.3g} s instead of "
                   f"{st['programmed_duration_s']:.3g} s as programmed (longer ramps and "
@@ -258,8 +259,8 @@ def _verdict_lines(robustness: dict, moved: list) -> list[str]:
             "the model the largest contour error of a region (a reversal or a stretch "
             "between) falls on every draw, and on the machine as one more draw, and no "
             "sample's error rises, on "
-            f"{robustness['trusted_share']:.0%} of the samples (trusted), at least "
-            f"{FIRM_RATIO:g}x on the machine (firm) on {robustness['firm_share']:.0%}",
+            f"{percent(robustness['trusted_share'])} of the samples (trusted), at least "
+            f"{FIRM_RATIO:g}x on the machine (firm) on {percent(robustness['firm_share'])}",
             *_rise_lines(robustness.get("local_rise")), *_held_lines(robustness),
             *_worst_after(robustness),
             *_figure_verdicts(robustness.get("circle", {}))]

@@ -6,6 +6,7 @@ from __future__ import annotations
 from ..path.limits import OVER_SHARE
 from ..path.settings import AXES
 from ._app import out
+from ._tables import percent
 
 #: what to change when a limit holds the feed back
 _REMEDY = {"axis velocity": "axis_velocity_m_per_s, capped by rapid_m_per_s",
@@ -26,7 +27,7 @@ def print_feed(limits) -> None:
     if limits.feed_length_m <= 0:
         out.print("no feed moves (G1, G2, G3): no programmed feed to reach")
         return
-    out.print(f"at the programmed feed (within 1 %) on {limits.share_at_feed() * 100:.1f} % "
+    out.print(f"at the programmed feed (within 1 %) on {percent(limits.share_at_feed(), 1, ' ')} "
               "of the path length of the feed moves")
     for r in limits.summary():
         a, b = r["first_line"], r["last_line"]

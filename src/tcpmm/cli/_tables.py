@@ -39,6 +39,16 @@ def fixed(v: float, digits: int = 2) -> str:
     return text[1:] if text.startswith("-") and not text.strip("-0.") else text
 
 
+def percent(share: float, decimals: int = 0, sep: str = "") -> str:
+    """``share`` [-] in per cent with ``decimals``, more where they would round a share
+    strictly between 0 and 1 to 0 % or 100 % ("99.8%", not "100%" beside the 0.2 % said
+    not to be) [-]."""
+    v = 100.0 * share
+    while decimals < 4 and 0.0 < share < 1.0 and round(v, decimals) in (0.0, 100.0):
+        decimals += 1
+    return f"{v:.{decimals}f}{sep}%"
+
+
 def _cell(v) -> str:
     """A number to two decimals (:func:`fixed`); one that does not exist (NaN) as a dash;
     yes or no [-]."""

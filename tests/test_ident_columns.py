@@ -7,6 +7,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from conftest import bench_path, run_cli
 from tcpmm.cli import main
 from tcpmm.ident.gates.columns import column_findings
 
@@ -164,3 +165,25 @@ def test_a_resolution_coarser_than_the_recorded_steps_is_warned_of(records):
     with pytest.warns(InputWarning, match="under a tenth of a step of the declared "
                                           "scale_resolution_um 50"):
         check_sweep_plausibility(s, bad)
+
+
+def test_a_lead_a_quarter_off_is_said_as_one_motion_at_another_scale(tmp_path, capsys):
+    """Machine C with X's lead declared 16 mm for 20: the scale travels exactly 1.25 times
+    what the motor angle does through it, correlated at 1.00, and the refusal read "do not
+    move together (correlation 1.00): a column swapped", its ratio "1.25, outside 0.8 to
+    1.25". It now says the columns move together at another scale, and the ratio with the
+    digits that set it apart from the bound."""
+    import shutil
+
+    import yaml
+
+    d = tmp_path / "lead16"
+    shutil.copytree(bench_path("c") / "bundle", d)
+    y = yaml.safe_load((d / "machine.yaml").read_text())
+    y["axes"]["X"]["lead_mm"] = 16.0
+    (d / "machine.yaml").write_text(yaml.safe_dump(y, sort_keys=False))
+    code, _, err = run_cli(capsys, "identify", d, "-o", tmp_path / "m.yaml")
+    text = " ".join(err.split())
+    assert code == 2 and "move together (correlation 1.00) but one travels 1.25 times" in text
+    assert "do not move together" not in text and "check lead_mm" in text
+    assert "= 1.25, outside 0.8 to 1.25" not in text

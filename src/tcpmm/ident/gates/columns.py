@@ -118,6 +118,9 @@ def _disagreement(ratio: float, corr: float, cols: str, units: dict) -> str | No
     for factor, what in units.items():
         if lo <= ratio / factor <= hi and corr >= MIN_CORRELATION:
             return f"a unit problem: {cols} differ by {ratio:.4g}, as {what}"
+    if corr >= MIN_CORRELATION and ratio > 0.0:  # one motion, at another scale
+        return (f"{cols} move together (correlation {corr:.2f}) but one travels {ratio:.4g} "
+                "times the other: a scale factor set wrong, not a deflection")
     return (f"{cols} do not move together (correlation {corr:.2f}): one of them holds "
             "another quantity, a column swapped with another; check the header of the file "
             "against its columns")

@@ -4,6 +4,7 @@ read (:func:`bundle_records`)."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from ...errors import InputError
@@ -43,8 +44,19 @@ class Finding:
 
     def __str__(self) -> str:
         unit = f" {self.unit}" if self.unit else ""
-        return (f"axis {self.axis}: {self.parameter} = {self.value:.4g}{unit}, {self.bound} "
-                f"(from {self.data}); {self.remedy}")
+        return (f"axis {self.axis}: {self.parameter} = {_beside(self.value, self.bound)}"
+                f"{unit}, {self.bound} (from {self.data}); {self.remedy}")
+
+
+def _beside(value: float, bound: str) -> str:
+    """``value`` to four significant digits, more where those would read as a number of
+    ``bound`` ("1.25, outside 0.8 to 1.25" for 1.2501) [-]."""
+    said = set(re.findall(r"\d+(?:\.\d+)?(?:e[-+]?\d+)?", bound))
+    for digits in range(4, 11):
+        text = f"{value:.{digits}g}"
+        if text.lstrip("-") not in said:
+            break
+    return text
 
 
 class SuspectModelError(InputError):

@@ -555,3 +555,28 @@ def test_a_largest_error_just_after_a_rapid_is_said_to_be_the_lag_it_carries(tmp
     err, _, tcp = run("dwell", f"G21 G17 G90\nG0 X35 Y0\nG4 P0.5\nG1 F5000\n{circle}")
     assert "after a G0 rapid ends" not in err
     assert tcp["tcp"]["max_abs_after_rapid_s"] > 0.3 and tcp["tcp"]["max_abs_at_s"] > 0.8
+
+
+def test_corners_a_coarse_record_cuts_are_not_measured(tmp_path, capsys):
+    """A 50 mm square at F3000 recorded every 50 ms (2.5 mm apart): the command's samples
+    cut its corners by 223 um, and the corners read a rounding of 1133 um where a sample
+    passed 51 um from the corner (38 um recorded every millisecond). Their overshoot and
+    rounding are n/a, and the warning says why; the same run recorded every millisecond
+    keeps them."""
+    from conftest import run_cli
+
+    prog = tmp_path / "sq.nc"
+    prog.write_text("G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X50 F3000\nY50\nX0\nY0\nG4 P0.5\nM30\n")
+    for period, coarse in ((0.05, True), (0.001, False)):
+        run = tmp_path / f"r{period}.csv"
+        assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", run,
+                       "--record-period-s", period)[0] == 0
+        code, out, err = run_cli(capsys, "contour", run, "--json")
+        assert code == 0, err
+        rows = [r for r in json.loads(out)["corners"] if r["sensor"] == "tcp"]
+        rounded = [r["rounding_um"] for r in rows[:3]]
+        if coarse:
+            assert all(v is None for v in rounded), rounded
+            assert "overshoot and rounding are not given" in " ".join(err.split())
+        else:
+            assert all(v is not None and 20.0 < v < 80.0 for v in rounded), rounded

@@ -11,6 +11,8 @@ the sags out (:func:`.contour.polyline`); the run's largest is kept with its res
 
 from __future__ import annotations
 
+import math
+
 #: A sag that may move the contour error by this much or more is said, or by this share
 #: of its largest value where that is more [m], [-].
 SAG_SAID_M = 1e-6
@@ -34,3 +36,28 @@ def sag_note(sag_m: float, largest_error_m: float) -> str | None:
             f"(a chord's sag): the contour error is measured against the polyline through "
             f"them and may be off by as much; record the run at the position loop's period "
             f"(tcpmm simulate --record-period-s)")
+
+
+#: A chord sag beyond which the corners' overshoot and rounding are not given: the command
+#: cuts its own corners by more, and the figures read the samples the run happens to hold
+#: (a square at F3000 recorded every 50 ms, sag 223 um: rounding 1133 um where a sample
+#: passed 51 um from the corner; 38 um recorded every millisecond) [m].
+CORNER_SAG_M = 10e-6
+
+
+def unresolved_corners(res) -> bool:
+    """Make every corner's overshoot and rounding NaN (n/a) where the command's samples cut
+    its bends by more than :data:`CORNER_SAG_M`, in place; whether they were [-].
+
+    Parameters
+    ----------
+    res : ContourResult or its streamed counterpart
+        The contour error, with ``command_sag_m``, ``corners`` and ``errors`` [-].
+    """
+    if not res.command_sag_m > CORNER_SAG_M:
+        return False
+    for c in res.corners:
+        for s in res.errors:
+            if s in c:
+                c[s]["overshoot_m"] = c[s]["rounding_m"] = math.nan
+    return True

@@ -178,11 +178,17 @@ def _say_unreached(unreached: dict) -> None:
 
 def _say_sag(res, run_file: Path) -> None:
     """Warn on stderr where the run's command samples cut the path's bends by enough to
-    move the contour error (:func:`tcpmm.analysis.contour_sampling.sag_note`) [-]."""
-    from ..analysis.contour_sampling import sag_note
+    move the contour error (:func:`tcpmm.analysis.contour_sampling.sag_note`), and leave
+    the corners' overshoot and rounding out where they cut its corners [-]."""
+    from ..analysis.contour_sampling import CORNER_SAG_M, sag_note, unresolved_corners
 
     largest = max((d["max_abs_m"] for d in res.summary().values()), default=0.0)
     note = sag_note(res.command_sag_m, largest)
+    if unresolved_corners(res) and res.corners:
+        note = "; ".join(filter(None, (note, (
+            f"the corners' overshoot and rounding are not given (n/a): the command's "
+            f"samples cut the path's bends by up to {res.command_sag_m * 1e6:.3g} µm, more "
+            f"than {CORNER_SAG_M * 1e6:g} µm"))))
     if note is not None:
         console.print(f"warning: {run_file}: {note}", highlight=False)
 

@@ -787,3 +787,22 @@ def test_a_spike_the_raw_figures_hide_under_a_servo_mismatch_is_said():
     assert all(h["after_terms_um"] == pytest.approx(5.0, abs=0.3) for h in cmp.hidden)
     assert any("hide what the prediction misses" in n for n in cmp.notes())
     assert compare_circles(pred, pred).hidden == []
+
+
+def test_the_ring_labels_lie_under_the_measured_trace():
+    """The rings' labels ("-100 µm", "0 µm") sat in white boxes over the measured trace
+    and blanked part of it, which read as a gap in the path: they lie under the traces."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    p = circle_path()
+    fig = analyse_circle(make_run(p, polar_perturb(p, (0.0, 0.0), lambda a: 20e-6 * np.cos(
+        2 * a))), R).plot()
+    for ax in fig.axes:
+        labels = [t for t in ax.texts if isinstance(t, matplotlib.text.Annotation)
+                  and t.get_text().endswith("µm")]
+        traces = [ln for ln in ax.lines if ln.get_linestyle() == "-"]
+        if labels and traces:
+            assert max(t.get_zorder() for t in labels) < min(ln.get_zorder() for ln in traces)
+            return
+    raise AssertionError("no ring label beside a trace")

@@ -1461,3 +1461,18 @@ def test_a_dead_band_read_as_a_cyclic_error_at_the_end_of_the_search_is_not_rank
     assert not np.isfinite(d.terms["cyclic_amplitude_X"][0])
     ranked = {r["term"] for r in d.ranking}
     assert not any(t.startswith("cyclic") for t in ranked), ranked
+
+
+def test_a_transient_beside_the_take_up_names_the_points_the_arc_holds():
+    """The take-up width of an axis left open beside a reversal transient named "the
+    spikes after the terms at B and D" on arcs of 220 deg that hold only B: the reason
+    names the points whose spikes it read."""
+    from tcpmm.analysis.circle_takeup import beside_transient
+
+    terms = {"spike_B_ccw": (5e-6, "m"), "spike_B_cw": (5e-6, "m"),
+             "spike_D_ccw": (float("nan"), "m"), "spike_D_cw": (float("nan"), "m")}
+    u95 = {k: 0.2e-6 for k in terms}
+    said = beside_transient(terms, u95, "BD")
+    assert "at B, more than noise" in said and "B and D" not in said
+    terms["spike_D_ccw"] = terms["spike_D_cw"] = (5e-6, "m")
+    assert "at B and D, more than noise" in beside_transient(terms, u95, "BD")

@@ -342,7 +342,8 @@ def beside_transient(terms: dict, spike_u95: dict, points: str) -> str:
     size = float(np.median([abs(terms[k][0]) for k in keys]))
     if size <= max(float(np.median([spike_u95[k] for k in keys])), TRANSIENT_M):
         return ""
-    return TRANSIENT_WHY.format(size=f"{size * 1e6:.2f}", points=" and ".join(points))
+    held = sorted({k.split("_")[1] for k in keys})  # an arc holds some of the points
+    return TRANSIENT_WHY.format(size=f"{size * 1e6:.2f}", points=" and ".join(held))
 
 
 def width_why(fit) -> dict:

@@ -54,7 +54,7 @@ def _scale_rings(ax, R, M, errors) -> None:
         ax.annotate(f"{e_um:+g} µm" if k else "0 µm", (r * np.cos(label_at),
                     r * np.sin(label_at)), ha="center", va="center", fontsize=7,
                     color="0.3", bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
-                                           alpha=0.85), zorder=5)
+                                           alpha=0.85), zorder=1.5)  # under the traces
     ax.text(0.02, 0.98, f"radial error ×{M:g}\nrings every {step:g} µm", transform=ax.transAxes,
             va="top", fontsize=8, bbox=dict(boxstyle="round", fc="white", ec="0.7"))
 

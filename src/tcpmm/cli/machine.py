@@ -131,6 +131,45 @@ def _open_loop(axis, tf: str, f, given: bool):
     return f, gain(axis.mechanics, s, f)
 
 
+#: Machines drawn from an identified model's uncertainty for the range of its response [-].
+DRAWN = 16
+
+
+def _response(axis, tf: str, f):
+    """The response ``tf`` of ``axis`` at ``f`` [Hz], a reduced or a closed-loop one [SI]."""
+    from ..mechanics.transfer import REDUCED, reduced_freqresp
+    from ..servo.closedloop import closed_loop_freqresp
+
+    if tf in REDUCED:
+        return reduced_freqresp(axis.mechanics, tf, f, axis.servo.current_bandwidth_hz)
+    return closed_loop_freqresp(axis.mechanics, axis.servo, tf, f)
+
+
+def _drawn(machine, axis: str, tf: str, f, H):
+    """Over :data:`DRAWN` machines drawn from an identified model's uncertainty (as
+    ``tcpmm spread`` draws them), per frequency the least and largest ``|H|`` and phase
+    (about the model's, unwrapped by the difference); ``None`` for a model without one
+    [SI], [deg]."""
+    import numpy as np
+
+    from ..servo.margins import position_loop_gain, velocity_loop_gain
+    from ..whatif.draws import MODEL_ERROR, draw_machine
+
+    if machine.axis(axis).uncertainty is None:
+        return None
+    rng = np.random.default_rng(0)
+    gain = {"L_v": velocity_loop_gain, "L_p": position_loop_gain}.get(tf)
+    mags, turns = [], []
+    for _ in range(DRAWN):
+        a = draw_machine(machine, rng, MODEL_ERROR).axis(axis)
+        h = gain(a.mechanics, a.servo, f) if gain else _response(a, tf, f)
+        mags.append(np.abs(h))
+        turns.append(np.degrees(np.angle(h / H)))
+    ph = np.degrees(np.angle(H))
+    return (np.min(mags, axis=0), np.max(mags, axis=0), ph + np.min(turns, axis=0),
+            ph + np.max(turns, axis=0))
+
+
 @app.command()
 def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
          axis: str = typer.Option(..., "--axis", help="Axis name, e.g. X."),
@@ -143,8 +182,8 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     """Frequency response of a transfer function of the model."""
     import numpy as np
 
-    from ..mechanics.transfer import REDUCED, reduced_freqresp
-    from ..servo.closedloop import CLOSED_LOOP_TFS, TF_MEANING, closed_loop_freqresp
+    from ..mechanics.transfer import REDUCED
+    from ..servo.closedloop import CLOSED_LOOP_TFS, TF_MEANING
 
     checked_plot(plot)
     m = read_model(model)
@@ -154,15 +193,14 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         raise typer.BadParameter("--freq-hz values must be positive")
     if tf in CLOSED_LOOP_TFS:
         warn_unstable(m, f"model {model}", [axis.upper()])
-    if tf in REDUCED:
-        H = reduced_freqresp(a.mechanics, tf, f, a.servo.current_bandwidth_hz)
-    elif tf in CLOSED_LOOP_TFS:
-        H = closed_loop_freqresp(a.mechanics, a.servo, tf, f)
-    elif tf in OPEN_LOOPS:
-        f, H = _open_loop(a, tf, f, given=bool(freq_hz))
-    else:
+    if tf not in (*REDUCED, *CLOSED_LOOP_TFS, *OPEN_LOOPS):
         raise typer.BadParameter(
             f"--tf must be one of {', '.join([*REDUCED, *CLOSED_LOOP_TFS, *OPEN_LOOPS])}")
+    if tf in OPEN_LOOPS:
+        f, H = _open_loop(a, tf, f, given=bool(freq_hz))
+    else:
+        H = _response(a, tf, f)
+    spread = _drawn(m, axis, tf, f, H)
     if plot is not None:
         from ..plot.bode import plot_bode
 
@@ -170,11 +208,21 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     meaning, unit = TF_MEANING[tf]
     rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag), "unit": unit}
             for fi, h in zip(f, H, strict=True)]
+    for k, key in enumerate(("abs_low", "abs_high", "phase_low_deg", "phase_high_deg")):
+        for r, v in zip(rows, spread[k] if spread else (), strict=False):
+            r[key] = float(v)
     if as_json:
         emit_json(rows)
         return
     out.print(esc(f"{tf} of axis {axis.upper()}: {meaning} [{unit}]"), highlight=False)
     for r in rows:
         h = complex(r["re"], r["im"])
+        drawn = (f"  (drawn: |H| {r['abs_low']:.4g} to {r['abs_high']:.4g}, phase "
+                 f"{r['phase_low_deg']:.1f} to {r['phase_high_deg']:.1f} deg)"
+                 if "abs_low" in r else "")
         out.print(f"{r['freq_hz']:12.4g} Hz  |H| {abs(h):<12.6g} {unit:<8} phase "
-                  f"{np.degrees(np.angle(h)):8.2f} deg", highlight=False)
+                  f"{np.degrees(np.angle(h)):8.2f} deg{drawn}", highlight=False)
+    if spread is not None:
+        out.print(f"drawn: over {DRAWN} machines drawn from the identified model's "
+                  "uncertainty, as tcpmm spread draws them; near a lightly damped mode the "
+                  "response turns on its frequency and damping", highlight=False)

@@ -785,7 +785,7 @@ def test_a_spike_the_raw_figures_hide_under_a_servo_mismatch_is_said():
     assert {(h["direction"], h["point"]) for h in cmp.hidden} == {
         (d, q) for d in ("CCW", "CW") for q in QUADRANTS}
     assert all(h["after_terms_um"] == pytest.approx(5.0, abs=0.3) for h in cmp.hidden)
-    assert any("hide what the prediction misses" in n for n in cmp.notes())
+    assert any("hide where measurement and prediction part" in n for n in cmp.notes())
     assert compare_circles(pred, pred).hidden == []
 
 

@@ -67,5 +67,5 @@ def hidden_notes(hidden: list) -> list[str]:
         out.append(f"{sensor}: measured - predicted after the terms reads {pts} um: another "
                    "term slopes across the reversals' windows (a servo mismatch's ellipse, "
                    "say), the raw extremes lie on it in both runs, and the raw differences "
-                   "hide what the prediction misses there")
+                   "hide where measurement and prediction part there")
     return out

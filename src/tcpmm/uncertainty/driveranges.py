@@ -107,7 +107,7 @@ def position_gain_contradicted(a) -> list[OpenRange]:
     return [OpenRange(quantity="position_gain", low=min(read, declared),
                       high=max(read, declared),
                       cause=f"the sweep's controller output reads a position gain of "
-                            f"{t.position_gain:.3g} 1/s below {POSITION_BAND_HZ[1]:g} Hz, "
+                            f"{t.position_gain:.4g} 1/s below {POSITION_BAND_HZ[1]:g} Hz, "
                             f"not the {declared:.4g} 1/s the bundle declares (relative "
                             f"residual {t.position_residual:.3f} against "
                             f"{t.declared_position_residual:.3f})",

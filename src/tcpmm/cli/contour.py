@@ -180,7 +180,12 @@ def _say_sag(res, run_file: Path) -> None:
     """Warn on stderr where the run's command samples cut the path's bends by enough to
     move the contour error (:func:`tcpmm.analysis.contour_sampling.sag_note`), and leave
     the corners' overshoot and rounding out where they cut its corners [-]."""
-    from ..analysis.contour_sampling import CORNER_SAG_M, sag_note, unresolved_corners
+    from ..analysis.contour_sampling import (
+        CORNER_SAG_M,
+        coarse_peaks,
+        sag_note,
+        unresolved_corners,
+    )
 
     largest = max((d["max_abs_m"] for d in res.summary().values()), default=0.0)
     note = sag_note(res.command_sag_m, largest)
@@ -191,6 +196,11 @@ def _say_sag(res, run_file: Path) -> None:
             f"than {CORNER_SAG_M * 1e6:g} µm"))))
     if note is not None:
         console.print(f"warning: {run_file}: {note}", highlight=False)
+    if peaks := coarse_peaks(res):
+        said = ", ".join(f"{s} at {t:.4g} s ({d * 1e6:.3g} µm)" for s, t, d in peaks)
+        console.print(f"warning: {run_file}: the largest error is read on samples whose "
+                      f"neighbours lie well below it: {said}; the peak between them may be "
+                      "higher, by that or more: record the run more finely", highlight=False)
 
 
 def _check_options(settle_um: float, corner_deg: float, window_s: float, sensor,

@@ -557,21 +557,27 @@ def test_a_largest_error_just_after_a_rapid_is_said_to_be_the_lag_it_carries(tmp
     assert tcp["tcp"]["max_abs_after_rapid_s"] > 0.3 and tcp["tcp"]["max_abs_at_s"] > 0.8
 
 
+def square_contour(tmp_path, capsys, period_s: float, *extra):
+    """``tcpmm contour`` of a 50 mm square at F3000 (G64 P0.01) on the built-in machine
+    recorded every ``period_s``: exit code, stdout and stderr [-]."""
+    from conftest import run_cli
+
+    prog = tmp_path / "sq.nc"
+    prog.write_text("G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X50 F3000\nY50\nX0\nY0\nG4 P0.5\nM30\n")
+    run = tmp_path / f"r{period_s}.csv"
+    assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", run,
+                   "--record-period-s", period_s)[0] == 0
+    return run_cli(capsys, "contour", run, *extra)
+
+
 def test_corners_a_coarse_record_cuts_are_not_measured(tmp_path, capsys):
     """A 50 mm square at F3000 recorded every 50 ms (2.5 mm apart): the command's samples
     cut its corners by 223 um, and the corners read a rounding of 1133 um where a sample
     passed 51 um from the corner (38 um recorded every millisecond). Their overshoot and
     rounding are n/a, and the warning says why; the same run recorded every millisecond
     keeps them."""
-    from conftest import run_cli
-
-    prog = tmp_path / "sq.nc"
-    prog.write_text("G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X50 F3000\nY50\nX0\nY0\nG4 P0.5\nM30\n")
     for period, coarse in ((0.05, True), (0.001, False)):
-        run = tmp_path / f"r{period}.csv"
-        assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", run,
-                       "--record-period-s", period)[0] == 0
-        code, out, err = run_cli(capsys, "contour", run, "--json")
+        code, out, err = square_contour(tmp_path, capsys, period, "--json")
         assert code == 0, err
         rows = [r for r in json.loads(out)["corners"] if r["sensor"] == "tcp"]
         rounded = [r["rounding_um"] for r in rows[:3]]
@@ -587,15 +593,8 @@ def test_a_peak_read_on_too_few_samples_is_said(tmp_path, capsys):
     48.0 um, the millisecond record 55.5 um, with no word (the chords' sag is small there).
     Where a sensor's largest error stands well above both its neighbouring samples, a
     warning says the peak between them may be higher; the millisecond record has none."""
-    from conftest import run_cli
-
-    prog = tmp_path / "sq.nc"
-    prog.write_text("G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X50 F3000\nY50\nX0\nY0\nG4 P0.5\nM30\n")
     for period, said in ((0.005, True), (0.001, False)):
-        run = tmp_path / f"r{period}.csv"
-        assert run_cli(capsys, "simulate", "builtin:vmc", "--gcode", prog, "-o", run,
-                       "--record-period-s", period)[0] == 0
-        code, _, err = run_cli(capsys, "contour", run)
+        code, _, err = square_contour(tmp_path, capsys, period)
         assert code == 0, err
         text = " ".join(err.split())
         assert ("largest error is read on samples whose neighbours lie well below it: "

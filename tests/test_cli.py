@@ -545,5 +545,6 @@ def test_bode_of_an_identified_model_gives_the_range_of_its_draws(capsys, tmp_pa
     assert low["abs_high"] / low["abs_low"] < 1.5
     assert mode["abs_high"] / mode["abs_low"] > 10.0
     code, out, _ = run_cli(capsys, "bode", model, "--axis", "X", "--tf", "G_M",
-                           "--freq-hz", "746")
+                           "--freq-hz", "746", "--plot", tmp_path / "b.png")
     assert "(drawn: |H|" in out and "drawn from the identified model's uncertainty" in out
+    assert (tmp_path / "b.png").stat().st_size > 0  # the draws' ends drawn beside it

@@ -204,7 +204,10 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     if plot is not None:
         from ..plot.bode import plot_bode
 
-        plot_bode({tf: [(f"{axis.upper()} model", f, H, {"color": "tab:red"})]}, plot)
+        ends = [] if spread is None else [  # the draws' least and largest, as the text says
+            (f"drawn, {w}", f, spread[i] * np.exp(1j * np.radians(spread[i + 2])),
+             {"color": "0.5", "lw": 0.8, "ls": "--"}) for i, w in ((0, "least"), (1, "largest"))]
+        plot_bode({tf: [(f"{axis.upper()} model", f, H, {"color": "tab:red"}), *ends]}, plot)
     meaning, unit = TF_MEANING[tf]
     rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag), "unit": unit}
             for fi, h in zip(f, H, strict=True)]

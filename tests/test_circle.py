@@ -747,6 +747,9 @@ def test_a_ccw_and_a_cw_circle_at_other_feeds_are_no_pair():
         with pytest.raises(InputError, match=r"F1833 \(.*rad/s\) and the CW circle at F3665"):
             circle_diagnostics(two)
         assert two.passes[0].sensors["tcp"].pair is None  # its spikes after its own terms
+        near = analyse_circle(lagged("cw", 1.02), R)  # 2 %: a servo mismatch angle 1 % off
+        with pytest.raises(InputError, match="hold at one feed"):
+            circle_diagnostics(CircleResult(R, ccw.centre, ccw.passes + near.passes))
         one = CircleResult(R, ccw.centre, ccw.passes + cw.passes)
         assert one.passes[0].sensors["tcp"].pair is not None
         mismatch = circle_diagnostics(one).terms["servo_mismatch"][0]

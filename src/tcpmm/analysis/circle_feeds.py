@@ -6,9 +6,10 @@ import numpy as np
 
 #: Largest relative difference of the steady angular speeds of a CCW and a CW circle that
 #: still form a pair: a pair's terms (the servo mismatch's angle, the hysteresis, G(b))
-#: hold at one feed, and the same program's circles run within a fraction of a per cent
-#: of each other [-].
-PAIR_SPEED_TOL = 0.02
+#: hold at one feed, and the same program's circles run at the same steady feed to a
+#: hundredth of a per cent; circles 2 % apart read a servo mismatch angle 1 % off the
+#: slower one's, with a ± of 0.00 [-].
+PAIR_SPEED_TOL = 0.005
 
 
 def other_feeds(ccw, cw, radius_m: float) -> str | None:

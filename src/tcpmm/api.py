@@ -122,7 +122,8 @@ def identify(bundle, band_hz=None, guideway_share=None, presliding_m=None,
         Share of the friction put on the guideway; default from the friction runs [-].
     presliding_m : float, optional
         Pre-sliding displacement of the friction contacts, ``0`` for static friction;
-        default :data:`tcpmm.ident.friction.presliding.PRESLIDING` [m].
+        default fitted to the reversals of the friction runs, as ``tcpmm identify`` does
+        (:data:`tcpmm.ident.friction.presliding.PRESLIDING` where they do not fix it) [m].
     accept_suspect : bool
         Return a model the gates find physically suspect, marked, instead of raising [-].
     progress : callable, optional
@@ -138,14 +139,12 @@ def identify(bundle, band_hz=None, guideway_share=None, presliding_m=None,
         ``.write_report(folder)`` (plots and tables) [-].
     """
     from .ident.chain import identify_bundle
-    from .ident.friction import PRESLIDING
     from .io.bundle import Bundle, read_bundle
 
     b = bundle if isinstance(bundle, Bundle) else read_bundle(bundle)
     f0, f1 = band_hz if band_hz is not None else (None, None)
     return identify_bundle(b, f0, f1, progress=progress, guideway_share=guideway_share,
-                           presliding=PRESLIDING if presliding_m is None else presliding_m,
-                           accept_suspect=accept_suspect, jobs=jobs)
+                           presliding=presliding_m, accept_suspect=accept_suspect, jobs=jobs)
 
 
 def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):

@@ -322,6 +322,12 @@ def test_a_faulted_variant_is_said_with_json_too(tmp_path, capsys):
         assert main([*args, *more]) == 0
         err = " ".join(capsys.readouterr().err.split())
         assert "warning: variant" in err and "current at the limit" in err, more
+    # and its figures, of a machine at its limit, are not given beside the fault
+    import pandas as pd
+
+    row = pd.read_csv(tmp_path / "o" / "summary.csv").iloc[0]
+    assert isinstance(row["fault"], str) and row["fault"]
+    assert all(pd.isna(row[c]) for c in row.index if c.endswith("_um"))
 
 
 def test_a_feed_the_circle_cannot_reach_is_said(tmp_path, capsys):

@@ -270,8 +270,9 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     -------
     dict
         ``variant`` (its id), every metric (:func:`metric_names`; NaN when the variant
-        failed) [m], of a circle ``feed_run_mm_per_min`` (the feed it ran, less than asked
-        where the circle caps it) [mm/min], ``warning``, ``fault`` (axes that ran away or
+        failed, ran away, held its current at the limit or has an unstable loop) [m], of
+        a circle ``feed_run_mm_per_min`` (the feed it ran, less than asked where the
+        circle caps it) [mm/min], ``warning``, ``fault`` (axes that ran away or
         saturated their current, :mod:`tcpmm.analysis.runaway`) and ``error`` (empty when
         none) [-].
     """
@@ -289,4 +290,9 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     faults = dict.fromkeys(str(w.message) for w in caught
                            if issubclass(w.category, RunFaultWarning))
     row["warning"], row["fault"] = "; ".join(said), "; ".join(faults)
+    if faults or any("unstable" in w for w in said):
+        # a machine that ran away, held its current at the limit or whose loop is unstable
+        # has no contour error or spikes of the path: its figures are left out, as the
+        # verdict's are (a K_vp of 6 read 79.8 um of contour error beside its fault)
+        row.update(dict.fromkeys(metric_names(program), math.nan))
     return row

@@ -337,6 +337,6 @@ def spread_summary(spread) -> str:
     head = (f"Spread over {n} drawn machines ({100 * SETTLED_FRACTION:.0f} % of the draws "
             f"must keep the sign and lie within {tol:g} µm of the prediction): ")
     bad = [f"{r['direction'].upper()} {r['point']}" for r in spread.rows()
-           if not (r["settled"] and r["firm"])]
+           if not (r["settled"] and r["draws_agree"])]
     return head + (f"{', '.join(bad)} do not (spread.csv)." if bad
                    else "every quadrant point does (spread.csv).")

@@ -93,7 +93,8 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
     verdict = _spread_verdict(m, cmd, radius, c, sensor.value)
     if as_json:
         return _emit_spread(res, verdict, m)
-    table = res.to_pandas().rename(columns={"settled": "sign held", "firm": "draws agree"})
+    table = res.to_pandas().drop(columns="firm").rename(columns={"settled": "sign held",
+                                                                 "draws_agree": "draws agree"})
     print_table(table, out, f"{sensor.value} raw reversal spikes (e - b) over {draws} drawn "
                 "machines")
     out.print(f"draws agree: nine in ten drawn machines within {tol_m * 1e6:g} µm of the "
@@ -104,7 +105,7 @@ def spread(model: str = typer.Argument(..., help="MODEL.yaml written by tcpmm id
                   f"{r['rise_um']:+.2f} µm, fall {r['fall_um']:+.2f} µm; a measured spike "
                   "can differ from this one by their sum")
     for r in res.loose():
-        out.print(f"{r['direction'].upper()} {r['point']}: the size is not firm "
+        out.print(f"{r['direction'].upper()} {r['point']}: the draws do not hold the size "
                   f"({100 * r['within']:.0f} % of the draws lie within {tol_m * 1e6:g} µm of "
                   f"{r['spike_um']:.2f} µm; range {r['low_um']:.2f} to {r['high_um']:.2f} µm)")
     _print_verdict(verdict)

@@ -67,7 +67,7 @@ def plot_spread_rows(rows, sensor, tolerance, draws, spikes=None, path=None, ax=
         sel = rows[k * n_q:(k + 1) * n_q]
         for i, r in enumerate(sel):
             colour = ("tab:red" if not r["settled"] else
-                      "tab:orange" if not r["firm"] else "tab:blue")
+                      "tab:orange" if not r.get("draws_agree", r["firm"]) else "tab:blue")
             a.vlines(i, r["low_um"], r["high_um"], color=colour, lw=6, alpha=0.25)
             if spikes is not None:
                 a.plot(i + jitter, spikes[:, k, i] * 1e6, ".", color=colour, ms=3,

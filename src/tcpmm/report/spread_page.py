@@ -40,7 +40,10 @@ def spread_section(spread):
     body += figure(fig, "spread of the reversal spikes",
                    f"nominal spike (circle), {what}; ticks: rise and fall after the "
                    "reversal", 900)
-    frame = pd.DataFrame(data["spikes"]).rename(columns={
+    frame = pd.DataFrame(data["spikes"])
+    if "draws_agree" in frame:  # its deprecated name, "firm", is the same column
+        frame = frame.drop(columns="firm").rename(columns={"draws_agree": "firm"})
+    frame = frame.rename(columns={
         "spike_um": "spike [µm]", "rise_um": "rise [µm]", "fall_um": "fall [µm]",
         "low_um": "lowest [µm]", "high_um": "highest [µm]",
         "same_sign": "same sign [%]", "within": "within tolerance [%]",
@@ -54,7 +57,7 @@ def spread_section(spread):
                             for r in data["spikes"]]
     body += table(frame, "spread.csv", digits={"same sign [%]": 0, "within tolerance [%]": 0})
     bad = [f"{r['direction'].upper()} {r['point']}" for r in data["spikes"]
-           if not (r["settled"] and r["firm"])]
+           if not (r["settled"] and r.get("draws_agree", r["firm"]))]
     if bad:
         body += para(f"Not settled or not held: {', '.join(bad)}; a measured spike there "
                      "can differ from the prediction by more than the tolerance.", "warn")

@@ -85,7 +85,8 @@ class SpikeSpread:
         """One row per pass and quadrant point, in um: nominal spike, rise and fall,
         lowest and highest over the draws; the share of the draws with the nominal sign
         (``same_sign``, ``settled`` when it reaches :data:`SETTLED_FRACTION`) and the share
-        within the tolerance of the nominal spike (``within``, ``firm`` likewise)."""
+        within the tolerance of the nominal spike (``within``, ``draws_agree`` likewise;
+        ``firm``, the same, is deprecated: the verdict's firm is another question)."""
         out = []
         for i, (d, p) in enumerate(zip(self.directions, self.nominal.passes, strict=True)):
             s = p.sensors[self.sensor]
@@ -103,7 +104,8 @@ class SpikeSpread:
                     "low_um": float(ok.min()) * 1e6 if ok.size else math.nan,
                     "high_um": float(ok.max()) * 1e6 if ok.size else math.nan,
                     "same_sign": same, "settled": bool(same >= SETTLED_FRACTION),
-                    "within": near, "firm": bool(near >= SETTLED_FRACTION)})
+                    "within": near, "draws_agree": bool(near >= SETTLED_FRACTION),
+                    "firm": bool(near >= SETTLED_FRACTION)})
         return out
 
     def unsettled(self) -> list[dict]:
@@ -114,7 +116,7 @@ class SpikeSpread:
     def loose(self) -> list[dict]:
         """The rows whose sign is settled but whose size too few draws hold within the
         tolerance."""
-        return [r for r in self.rows() if r["settled"] and not r["firm"]]
+        return [r for r in self.rows() if r["settled"] and not r["draws_agree"]]
 
     def to_pandas(self):
         """:meth:`rows` as a table."""

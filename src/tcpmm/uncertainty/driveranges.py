@@ -6,12 +6,7 @@ from __future__ import annotations
 
 import math
 
-from ..ident.physical.loop_timing import (
-    FEEDBACK_RATIO,
-    GAIN_RANGE,
-    GAIN_WARN,
-    POSITION_BAND_HZ,
-)
+from ..ident.physical.loop_timing import GAIN_RANGE, GAIN_WARN
 from ..mechanics.lumped import RANGES
 from ..model import OpenRange
 
@@ -71,12 +66,12 @@ def drive_undetermined(a) -> list[OpenRange]:
 
 def feedback_contradicted(a) -> list[OpenRange]:
     """The sensor the position loop closes on as an open range where the sweep's
-    controller output reads as a loop closed on the other one (by :data:`FEEDBACK_RATIO`,
-    :mod:`tcpmm.ident.physical.loop_timing`): the model closes it where the bundle says,
-    which moves a circle's TCP spikes by up to 20 um, and the warning alone left the
-    verdict firm."""
+    controller output reads as a loop closed on the other one
+    (:meth:`~tcpmm.ident.physical.loop_timing.LoopTiming.other_sensor_reads_better`): the
+    model closes it where the bundle says, which moves a circle's TCP spikes by up to
+    20 um, and the warning alone left the verdict firm."""
     t = getattr(a, "loop_timing", None)
-    if t is None or not t.other_feedback_residual * FEEDBACK_RATIO < t.residual:
+    if t is None or not t.other_sensor_reads_better():
         return []
     said = a.axis.servo.position_feedback
     return [OpenRange(quantity="position_feedback", low=0.0, high=1.0,
@@ -106,11 +101,8 @@ def position_gain_contradicted(a) -> list[OpenRange]:
                POSITION_GAIN_RANGE[1] * declared)
     return [OpenRange(quantity="position_gain", low=min(read, declared),
                       high=max(read, declared),
-                      cause=f"the sweep's controller output reads a position gain of "
-                            f"{t.position_gain:.4g} 1/s below {POSITION_BAND_HZ[1]:g} Hz, "
-                            f"not the {declared:.4g} 1/s the bundle declares (relative "
-                            f"residual {t.position_residual:.3f} against "
-                            f"{t.declared_position_residual:.3f})",
+                      cause=("the sweep's controller output "
+                             + t.position_words(declared, "the bundle")),
                       settle="the drive's position-loop gain (Sinumerik: MD32200 "
                              "POSCTRL_GAIN, in (m/min)/mm: 1 is 16.7 1/s), and a sweep "
                              "taken with the position loop closed")]

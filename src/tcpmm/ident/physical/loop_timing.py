@@ -17,9 +17,9 @@ kind of velocity estimate; ``tau`` is fitted as the least-squares delay over the
 the loop's own response dominates the position loop's.
 
 Below that band the position term dominates, and with ``tau`` known the same relation gives
-``K_pp`` as a least-squares factor: the gain the drive's position loop really has, which a
-mistyped ``position_gain_1_per_s`` would otherwise carry, unnoticed, into every path the
-model predicts.
+``K_pp``, the median size of the position term over :data:`POSITION_BAND_HZ`: the gain the
+drive's position loop really has, which a mistyped ``position_gain_1_per_s`` would
+otherwise carry, unnoticed, into every path the model predicts.
 """
 
 from __future__ import annotations
@@ -108,8 +108,8 @@ class LoopTiming:
         Relative residual of the fit with the position fed back from the declared sensor,
         and from the other one (motor encoder or linear scale) [-].
     position_gain : float
-        Position-loop gain the sweep's controller output reads below :data:`BAND_HZ`; NaN
-        where the record does not show it [1/s].
+        Position-loop gain the sweep's controller output reads over
+        :data:`POSITION_BAND_HZ`; NaN where the record does not show it [1/s].
     position_residual, declared_position_residual : float
         Relative residual of that relation with the gain read and with the declared one [-].
     """
@@ -129,6 +129,19 @@ class LoopTiming:
         """Whether the position gain the sweep reads departs from ``declared`` [1/s] by
         more than :data:`POSITION_GAIN_TOL` (``False`` where it reads none) [-]."""
         return bool(abs(self.position_gain / declared - 1.0) > POSITION_GAIN_TOL)
+
+    def position_words(self, declared: float, by: str) -> str:
+        """What the sweep reads of the position gain against ``declared`` [1/s], which
+        ``by`` declares, in words, for the warning and the open range alike [-]."""
+        return (f"reads a position gain of {self.position_gain:.4g} 1/s below "
+                f"{POSITION_BAND_HZ[1]:g} Hz, not the {declared:.4g} 1/s {by} declares "
+                f"(relative residual {self.position_residual:.3f} against "
+                f"{self.declared_position_residual:.3f})")
+
+    def other_sensor_reads_better(self) -> bool:
+        """Whether the fit with the position fed back from the other sensor leaves a
+        residual :data:`FEEDBACK_RATIO` times smaller than with the declared one [-]."""
+        return bool(self.other_feedback_residual * FEEDBACK_RATIO < self.residual)
 
     def to_dict(self) -> dict:
         """Plain dictionary for the JSON report [-]."""
@@ -348,10 +361,8 @@ def position_gain_message(name: str, timing: LoopTiming, declared: float) -> str
     declared : float
         The bundle's ``position_gain_1_per_s`` [1/s].
     """
-    return (f"axis {name}: the controller output in the sweep reads a position gain of "
-            f"{timing.position_gain:.4g} 1/s below {POSITION_BAND_HZ[1]:g} Hz, not the "
-            f"{declared:.4g} 1/s machine.yaml declares (relative residual "
-            f"{timing.position_residual:.3f} against {timing.declared_position_residual:.3f}); "
+    return (f"axis {name}: the controller output in the sweep "
+            f"{timing.position_words(declared, 'machine.yaml')}; "
             "check servo.position_gain_1_per_s, and that the position loop was closed "
             "during the sweep: the model follows its path with the declared gain, and the "
             "figures that depend on it are left open")
@@ -359,7 +370,7 @@ def position_gain_message(name: str, timing: LoopTiming, declared: float) -> str
 
 def _check_feedback(name, sweep, cfg, timing) -> None:
     """Warn where the sweep reads as a position loop closed on the other sensor."""
-    if not timing.other_feedback_residual * FEEDBACK_RATIO < timing.residual:
+    if not timing.other_sensor_reads_better():
         return
     said = cfg.servo.position_feedback
     warn_input(

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..result import AxisRun, Run
-from .scores import contour_figures
+from .scores import contour_figures, with_program_flags
 
 
 def worst_to_command(after: np.ndarray, target, reference) -> float:
@@ -33,12 +33,9 @@ def worst_to_command(after: np.ndarray, target, reference) -> float:
         The largest over the draws [m].
     """
     p = {a: np.asarray(v, dtype=float) for a, v in target.positions.items()}
-    blocks = reference.blocks()
     worst = 0.0
     for e in after[1:]:
-        run = Run(target.time_s, {a: AxisRun(cmd=p[a], tcp=p[a] - e[i])
-                                  for i, a in enumerate(p)})
-        if blocks is not None:  # the program's rapids, as the run of the model records them
-            run.nc_line, run.rapid = (b[:run.time_s.size] for b in blocks)
+        run = with_program_flags(Run(target.time_s, {a: AxisRun(cmd=p[a], tcp=p[a] - e[i])
+                                                      for i, a in enumerate(p)}), reference)
         worst = max(worst, contour_figures(run, reference)["contour_error_um"] * 1e-6)
     return worst

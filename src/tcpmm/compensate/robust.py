@@ -317,11 +317,19 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
         (factors, figs, after), extra = by_region, {**extra, "by_region": True}
         shares = [factors[a] for a in comp.reference.axes]
     extra.update(held_entry(corners))
-    chosen = errs[:, np.arange(len(shares)), [LEVELS.index(s) for s in shares]] \
-        if after is None else after
-    extra["worst_after_to_command_um"] = worst_to_command(chosen, target, comp.reference) * 1e6
+    after = chosen(errs, shares, after)
+    extra["worst_after_to_command_um"] = worst_to_command(after, target, comp.reference) * 1e6
     record(comp, shares, region_rows(before, figs, target, labels),
            circle_rows(before, figs, guard), labels, extra, rises(errs, shares, target, after))
+
+
+def chosen(errs: np.ndarray, shares: list, after=None) -> np.ndarray:
+    """The TCP errors with the ``shares`` chosen per axis, read off those of each share
+    (:func:`axis_errors`), shape (machines, axes, n); ``after`` where the shares are per
+    sample (:func:`.regional.settle_regions` ran them on every draw) [m]."""
+    if after is not None:
+        return after
+    return errs[:, np.arange(len(shares)), [LEVELS.index(s) for s in shares]]
 
 
 def rises(errs: np.ndarray, shares: list, target, after=None, before=None) -> tuple:
@@ -329,8 +337,7 @@ def rises(errs: np.ndarray, shares: list, target, after=None, before=None) -> tu
     of each share (:func:`axis_errors`), where one share per axis is read off them; shares
     per sample give their errors ``after`` (:func:`.regional.settle_regions` ran them on
     every draw); against the errors ``before``, by default those of no share [-]."""
-    if after is None:
-        after = errs[:, np.arange(len(shares)), [LEVELS.index(s) for s in shares]]
+    after = chosen(errs, shares, after)
     before = errs[:, :, 0] if before is None else before
     return local_rises(np.array([contour(e, target) for e in before]),
                        np.array([contour(e, target) for e in after]), target, margin)

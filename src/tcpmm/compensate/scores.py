@@ -55,10 +55,18 @@ def runs_before_after(machine, comp, quantise_feedback: bool = True, programmed=
         for a, r in run.axes.items():
             if a in path.positions:
                 r.cmd = path.positions[a][:run.time_s.size]
-        blocks = ran.blocks()
-        if blocks is not None:
-            run.nc_line, run.rapid = (b[:run.time_s.size] for b in blocks)
+        with_program_flags(run, ran)
     return before, after
+
+
+def with_program_flags(run, command: Command):
+    """``run`` with the NC line and the G0 rapid flag of each sample of the program
+    ``command`` ran, as a run of it records them, in place; as it was where the command
+    holds none [-]."""
+    blocks = command.blocks()
+    if blocks is not None:
+        run.nc_line, run.rapid = (b[:run.time_s.size] for b in blocks)
+    return run
 
 
 #: What a command asks of an axis, by the order of the difference taken [-].

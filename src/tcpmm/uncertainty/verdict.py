@@ -200,36 +200,30 @@ def _judge(key, nominal: float, changes: dict, opens: dict) -> FigureVerdict:
     cause = f"axis {axis} {quantity}" + (", open" if r is not None else "")
     settle = r.settle if r is not None else _SETTLE.get(quantity, "")
     undetermined = not math.isfinite(half) or (r is not None and half >= abs(nominal))
-    blamed = _blamed(changes, axis, tol)
-    own = tuple((ax, _own_verdict(ax, nominal, changes, opens)) for ax in blamed if ax != axis)
+    own = _own_verdicts(changes, axis, tol, nominal, opens)
     return FigureVerdict(test, direction, figure, nominal, half, tol,
                          "undetermined" if undetermined else "uncertain", cause, settle,
-                         blamed, own)
+                         tuple(sorted({axis, *own})), tuple(sorted(own.items())))
 
 
-def _blamed(changes: dict, axis: str, tol: float) -> tuple:
-    """The axes a figure that is not firm blames: that of its largest cause, and every
-    other whose quantities alone would make its interval wider than its target ``tol``
-    (an axis whose drive parameters are a guess read firm beside figures another axis's
-    larger cause was named for) [-]."""
-    own: dict = {}
-    for (ax, _), d in changes.items():
-        own[ax] = own.get(ax, 0.0) + d * d
-    wide = {ax for ax, s2 in own.items() if CALIBRATION["factor"] * math.sqrt(s2) > tol}
-    return tuple(sorted(wide | {axis}))
-
-
-def _own_verdict(axis: str, nominal: float, changes: dict, opens: dict) -> str:
-    """The verdict the quantities of ``axis`` alone give a figure they widen beyond its
-    target: undetermined where the largest of them is open and their interval reaches the
-    figure's size, as :func:`_judge` judges the whole; else uncertain. An axis whose own
-    data are whole read undetermined beside another's open quantity [-]."""
-    mine = {k: d for k, d in changes.items() if k[0] == axis}
-    half = CALIBRATION["factor"] * math.sqrt(sum(d * d for d in mine.values()))
-    largest = max(mine, key=mine.get)
-    if not math.isfinite(half) or (opens.get(largest) is not None and half >= abs(nominal)):
-        return "undetermined"
-    return "uncertain"
+def _own_verdicts(changes: dict, axis: str, tol: float, nominal: float, opens: dict) -> dict:
+    """Per axis other than ``axis`` (that of the figure's largest cause) whose quantities
+    alone would make the interval wider than the target ``tol``, the verdict they give the
+    figure: the figure blames it too (an axis whose drive parameters are a guess read firm
+    beside figures another axis's larger cause was named for), undetermined where the
+    largest of them is open and their interval reaches the figure's size, as
+    :func:`_judge` judges the whole, else uncertain (an axis whose own data are whole read
+    undetermined beside another's open quantity) [-]."""
+    out = {}
+    for ax in {a for a, _ in changes} - {axis}:
+        mine = {k: d for k, d in changes.items() if k[0] == ax}
+        half = CALIBRATION["factor"] * math.sqrt(sum(d * d for d in mine.values()))
+        if not half > tol:
+            continue
+        largest = max(mine, key=mine.get)
+        out[ax] = ("undetermined" if not math.isfinite(half) or (
+            opens.get(largest) is not None and half >= abs(nominal)) else "uncertain")
+    return out
 
 
 #: What narrows the column's quantities: the TCP device, and a sweep whose excitation

@@ -258,7 +258,7 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
     measured, predicted : CircleResult
         Analyses of the measured and the predicted run [-].
     """
-    rows, flips = [], []
+    rows, flips, hidden = [], [], []
     for pm in measured.passes:
         try:
             pp = predicted.pass_for(pm.direction)
@@ -273,6 +273,7 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             for q in QUADRANTS:
                 row[f"spike_{q}_um"] = (sm.spikes[q] - sp.spikes[q]) * 1e6
             flips += sign_flips(sm, sp, pm.direction.upper(), name)
+            hidden += hidden_spikes(sm, sp, pm.direction, name)
             if pm.is_arc or pp.is_arc:  # only where both runs are: nothing filled in
                 row.update(_common_arc(sm, sp, pm.direction))
                 rows.append(row)
@@ -289,7 +290,7 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             rows.append(row)
     if not rows:
         raise InputError(_nothing_shared(measured, predicted))
-    return Comparison(rows, flips, measured, predicted, hidden_spikes(measured, predicted))
+    return Comparison(rows, flips, measured, predicted, hidden)
 
 
 def _nothing_shared(measured: CircleResult, predicted: CircleResult) -> str:

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 
-from ..errors import InputError
 from .circle_spikes import QUADRANTS
 
 #: Least excess of the difference after the terms over the raw one that is said, beside
@@ -21,38 +20,31 @@ from .circle_spikes import QUADRANTS
 HIDDEN_MIN_M = 0.5e-6
 
 
-def hidden_spikes(measured, predicted) -> list[dict]:
-    """Per direction, sensor and quadrant point where the measured - predicted spike after
-    the terms exceeds the raw one in size by more than both spikes' 95 % uncertainty and
-    :data:`HIDDEN_MIN_M`: ``direction``, ``sensor``, ``point``, ``raw_um``,
-    ``after_terms_um`` and ``u95_um`` [um].
+def hidden_spikes(sm, sp, direction: str, sensor: str) -> list[dict]:
+    """Per quadrant point where the measured - predicted spike after the terms of one
+    sensor's circles exceeds the raw one in size by more than both spikes' 95 %
+    uncertainty and :data:`HIDDEN_MIN_M`: ``direction``, ``sensor``, ``point``,
+    ``raw_um``, ``after_terms_um`` and ``u95_um`` [um].
 
     Parameters
     ----------
-    measured, predicted : CircleResult
-        Analyses of the measured and the predicted run [-].
+    sm, sp : SensorCircle
+        The measured and the predicted circle of ``sensor`` [-].
+    direction, sensor : str
+        Their direction and sensor, for the rows [-].
     """
     out = []
-    for pm in measured.passes:
-        try:
-            pp = predicted.pass_for(pm.direction)
-        except InputError:
+    am, ap = sm.spikes_after_terms(), sp.spikes_after_terms()
+    um, up = sm.spike_uncertainty(), sp.spike_uncertainty()
+    for q in QUADRANTS:
+        raw, after = sm.spikes[q] - sp.spikes[q], am[q] - ap[q]
+        u = math.hypot(um[q], up[q])
+        if not all(map(math.isfinite, (raw, after, u))):
             continue
-        for name, sm in pm.sensors.items():
-            if name == "cmd" or name not in pp.sensors:
-                continue
-            sp = pp.sensors[name]
-            am, ap = sm.spikes_after_terms(), sp.spikes_after_terms()
-            um, up = sm.spike_uncertainty(), sp.spike_uncertainty()
-            for q in QUADRANTS:
-                raw, after = sm.spikes[q] - sp.spikes[q], am[q] - ap[q]
-                u = math.hypot(um[q], up[q])
-                if not all(map(math.isfinite, (raw, after, u))):
-                    continue
-                if abs(after) - abs(raw) > max(u, HIDDEN_MIN_M):
-                    out.append({"direction": pm.direction.upper(), "sensor": name,
-                                "point": q, "raw_um": raw * 1e6,
-                                "after_terms_um": after * 1e6, "u95_um": u * 1e6})
+        if abs(after) - abs(raw) > max(u, HIDDEN_MIN_M):
+            out.append({"direction": direction.upper(), "sensor": sensor, "point": q,
+                        "raw_um": raw * 1e6, "after_terms_um": after * 1e6,
+                        "u95_um": u * 1e6})
     return out
 
 

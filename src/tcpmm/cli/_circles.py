@@ -265,14 +265,12 @@ def circle_diagnostics_asked(res, pair: bool, asked: bool, sensor):
     from ..errors import InputError, InputWarning
 
     dirs = {p.direction for p in res.passes}
-    if pair or (asked and len(dirs) != 1):
-        return circle_diagnostics(res, sensor=sensor)
-    if asked:
-        return one_direction_diagnostics(res, sensor=sensor)
+    diagnose = one_direction_diagnostics if len(dirs) == 1 and not pair else \
+        circle_diagnostics
+    if pair or asked:
+        return diagnose(res, sensor=sensor)
     try:  # not asked for: the circle's table stands without them
-        if dirs == {"ccw", "cw"}:
-            return circle_diagnostics(res, sensor=sensor)
-        return one_direction_diagnostics(res) if len(dirs) == 1 else None
+        return diagnose(res, sensor=sensor) if dirs else None
     except InputError as exc:
         warnings.warn(f"no diagnostics: {exc.message}", InputWarning, stacklevel=2)
         return None

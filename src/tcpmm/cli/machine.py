@@ -112,13 +112,11 @@ def margins_line(mg: dict) -> str:
 OPEN_LOOPS = ("L_v", "L_p")
 
 
-def _open_loop(axis, tf: str, f, given: bool):
-    """Open sampled loop gain at ``f`` [Hz], up to the loop's Nyquist frequency (the
-    default grid reaches it, where a sampled loop's gain margin often lies); returns the
-    frequencies and the gain."""
+def _open_loop_grid(axis, tf: str, f, given: bool):
+    """The frequencies of an open sampled loop's gain: ``f`` [Hz], up to the loop's Nyquist
+    frequency, which the default grid reaches (where a sampled loop's gain margin often
+    lies) [Hz]."""
     import numpy as np
-
-    from ..servo.margins import position_loop_gain, velocity_loop_gain
 
     s = axis.servo
     period = s.T_v if tf == "L_v" else s.T_p
@@ -127,19 +125,25 @@ def _open_loop(axis, tf: str, f, given: bool):
     if f.max() > 0.5 / period:
         raise typer.BadParameter(f"--freq-hz: {tf} is sampled every {period:g} s; give "
                                  f"frequencies up to its Nyquist frequency {0.5 / period:g} Hz")
-    gain = velocity_loop_gain if tf == "L_v" else position_loop_gain
-    return f, gain(axis.mechanics, s, f)
+    return f
 
 
 #: Machines drawn from an identified model's uncertainty for the range of its response [-].
 DRAWN = 16
+#: Each frequency's range over them, as ``--json`` names it [-], [deg].
+DRAWN_KEYS = ("abs_low", "abs_high", "phase_low_deg", "phase_high_deg")
 
 
 def _response(axis, tf: str, f):
-    """The response ``tf`` of ``axis`` at ``f`` [Hz], a reduced or a closed-loop one [SI]."""
+    """The response ``tf`` of ``axis`` at ``f`` [Hz]: a reduced or a closed-loop one, or an
+    open sampled loop's gain [SI]."""
     from ..mechanics.transfer import REDUCED, reduced_freqresp
     from ..servo.closedloop import closed_loop_freqresp
+    from ..servo.margins import position_loop_gain, velocity_loop_gain
 
+    if tf in OPEN_LOOPS:
+        gain = velocity_loop_gain if tf == "L_v" else position_loop_gain
+        return gain(axis.mechanics, axis.servo, f)
     if tf in REDUCED:
         return reduced_freqresp(axis.mechanics, tf, f, axis.servo.current_bandwidth_hz)
     return closed_loop_freqresp(axis.mechanics, axis.servo, tf, f)
@@ -152,17 +156,14 @@ def _drawn(machine, axis: str, tf: str, f, H):
     [SI], [deg]."""
     import numpy as np
 
-    from ..servo.margins import position_loop_gain, velocity_loop_gain
     from ..whatif.draws import MODEL_ERROR, draw_machine
 
     if machine.axis(axis).uncertainty is None:
         return None
     rng = np.random.default_rng(0)
-    gain = {"L_v": velocity_loop_gain, "L_p": position_loop_gain}.get(tf)
     mags, turns = [], []
     for _ in range(DRAWN):
-        a = draw_machine(machine, rng, MODEL_ERROR).axis(axis)
-        h = gain(a.mechanics, a.servo, f) if gain else _response(a, tf, f)
+        h = _response(draw_machine(machine, rng, MODEL_ERROR).axis(axis), tf, f)
         mags.append(np.abs(h))
         turns.append(np.degrees(np.angle(h / H)))
     ph = np.degrees(np.angle(H))
@@ -197,9 +198,8 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
         raise typer.BadParameter(
             f"--tf must be one of {', '.join([*REDUCED, *CLOSED_LOOP_TFS, *OPEN_LOOPS])}")
     if tf in OPEN_LOOPS:
-        f, H = _open_loop(a, tf, f, given=bool(freq_hz))
-    else:
-        H = _response(a, tf, f)
+        f = _open_loop_grid(a, tf, f, given=bool(freq_hz))
+    H = _response(a, tf, f)
     spread = _drawn(m, axis, tf, f, H)
     if plot is not None:
         from ..plot.bode import plot_bode
@@ -211,9 +211,9 @@ def bode(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vmc"),
     meaning, unit = TF_MEANING[tf]
     rows = [{"freq_hz": float(fi), "re": float(h.real), "im": float(h.imag), "unit": unit}
             for fi, h in zip(f, H, strict=True)]
-    for k, key in enumerate(("abs_low", "abs_high", "phase_low_deg", "phase_high_deg")):
-        for r, v in zip(rows, spread[k] if spread else (), strict=False):
-            r[key] = float(v)
+    if spread is not None:
+        for r, *band in zip(rows, *spread, strict=True):
+            r.update(zip(DRAWN_KEYS, map(float, band), strict=True))
     if as_json:
         emit_json(rows)
         return

@@ -128,12 +128,10 @@ SAID_FAULTS = 10
 def _warn_faults(res) -> None:
     """A warning line per variant that ran away, saturated its current or has an
     unstable loop (the first :data:`SAID_FAULTS`), as ``tcpmm simulate`` says them."""
-    bad = []
-    for r in res.to_pandas().to_dict("records"):
-        fault, warning = (r.get(c) if isinstance(r.get(c), str) else "" for c in
-                          ("fault", "warning"))
-        if fault or "unstable" in warning:
-            bad.append(("; ".join(t for t in (fault, warning) if t), r["variant"]))
+    from ..whatif.sweep.task import out_of_control
+
+    bad = [("; ".join(t for t in (r.get("fault"), r.get("warning")) if isinstance(t, str) and t),
+            r["variant"]) for r in res.to_pandas().to_dict("records") if out_of_control(r)]
     for text, v in bad[:SAID_FAULTS]:
         console.print(f"[yellow]warning:[/yellow] variant {esc(str(v))}: {esc(text)}")
     if len(bad) > SAID_FAULTS:

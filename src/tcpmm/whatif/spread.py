@@ -104,8 +104,8 @@ class SpikeSpread:
                     "low_um": float(ok.min()) * 1e6 if ok.size else math.nan,
                     "high_um": float(ok.max()) * 1e6 if ok.size else math.nan,
                     "same_sign": same, "settled": bool(same >= SETTLED_FRACTION),
-                    "within": near, "draws_agree": bool(near >= SETTLED_FRACTION),
-                    "firm": bool(near >= SETTLED_FRACTION)})
+                    "within": near, **dict.fromkeys(("draws_agree", "firm"),
+                                                     bool(near >= SETTLED_FRACTION))})
         return out
 
     def unsettled(self) -> list[dict]:

@@ -290,9 +290,17 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     faults = dict.fromkeys(str(w.message) for w in caught
                            if issubclass(w.category, RunFaultWarning))
     row["warning"], row["fault"] = "; ".join(said), "; ".join(faults)
-    if faults or any("unstable" in w for w in said):
-        # a machine that ran away, held its current at the limit or whose loop is unstable
-        # has no contour error or spikes of the path: its figures are left out, as the
-        # verdict's are (a K_vp of 6 read 79.8 um of contour error beside its fault)
+    if out_of_control(row):
+        # such a machine has no contour error or spikes of the path: its figures are left
+        # out, as the verdict's are (a K_vp of 6 read 79.8 um of contour error beside its
+        # fault)
         row.update(dict.fromkeys(metric_names(program), math.nan))
     return row
+
+
+def out_of_control(row: dict) -> bool:
+    """Whether a row's variant ran away, held its current at the limit (its ``fault``) or
+    has an unstable loop (said in its ``warning``) [-]."""
+    fault, warning = (row.get(c) if isinstance(row.get(c), str) else "" for c in
+                      ("fault", "warning"))
+    return bool(fault) or "unstable" in warning

@@ -168,11 +168,18 @@ def warn_gaps(t, ang, direction: str) -> bool:
     return True
 
 
-def warn_sparse(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
-    """Warn (:class:`InputWarning`) where a pass's samples lie further apart than
-    :data:`SPARSE_S`: no servo trace is logged so slowly, the spikes are not resolved, and
-    a time logged in milliseconds under ``time_s`` reads so (a servo mismatch of 85.7 ms
-    for 0.086 ms, at a feed of 5 mm/min for 5000).
+#: Samples further apart [s] at a feed below [m/s]: a time in ms under ``time_s`` (1 kHz
+#: reads 1 s apart at F5 for F5000, a servo mismatch of 43 ms)
+MS_PERIOD_S, SLOWEST_FEED_M_PER_S = 0.05, 1e-3
+
+
+def check_sampling(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
+    """Refuse a pass whose samples lie more than :data:`MS_PERIOD_S` apart at a feed below
+    :data:`SLOWEST_FEED_M_PER_S`: no circular test is run and logged so, a time in ms is.
+    Else warn (:class:`InputWarning`) where they lie further apart than :data:`SPARSE_S`:
+    no servo trace is logged so slowly, the spikes are not resolved, and a time logged in
+    milliseconds under ``time_s`` reads so (a servo mismatch of 85.7 ms for 0.086 ms, at a
+    feed of 5 mm/min for 5000).
 
     Parameters
     ----------
@@ -188,35 +195,19 @@ def warn_sparse(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
     if t.size < 2:
         return
     dt = float(np.median(np.diff(t)))
-    if not dt > SPARSE_S:
-        return
-    feed = abs(rate_rad_s) * radius_m * 6e4
-    warnings.warn(InputWarning(
-        f"the {direction.upper()} pass's samples are {dt:g} s apart, at a feed of "
-        f"{feed:.4g} mm/min: a reversal's spike lasts some milliseconds and is not resolved, "
-        "and the servo mismatch reads in the same unit as the time; if time_s was logged in "
-        "milliseconds, divide it by 1000"), stacklevel=3)
-
-
-#: Samples further apart [s] at a feed below [m/s]: a time in ms under ``time_s`` (1 kHz
-#: reads 1 s apart at F5 for F5000, a servo mismatch of 43 ms)
-MS_PERIOD_S, SLOWEST_FEED_M_PER_S = 0.05, 1e-3
-
-
-def refuse_ms_time(t, rate_rad_s: float, radius_m: float, direction: str) -> None:
-    """Refuse a pass whose samples lie more than :data:`MS_PERIOD_S` apart at a feed below
-    :data:`SLOWEST_FEED_M_PER_S`: no circular test is run and logged so, a time in ms is.
-    ``t`` [s], ``rate_rad_s`` [rad/s], ``radius_m`` [m] and ``direction`` [-] as for
-    :func:`warn_sparse`."""
-    if t.size < 2:
-        return
-    dt = float(np.median(np.diff(t)))
     feed = abs(rate_rad_s) * radius_m
     if dt > MS_PERIOD_S and feed < SLOWEST_FEED_M_PER_S:
         raise InputError(
             f"the {direction.upper()} circle's samples are {dt:g} s apart at a feed of "
             f"{feed * 6e4:.3g} mm/min: no circular test is run and logged so; is time_s in "
             "milliseconds? Write seconds (divide it by 1000)", column="time_s")
+    if not dt > SPARSE_S:
+        return
+    warnings.warn(InputWarning(
+        f"the {direction.upper()} pass's samples are {dt:g} s apart, at a feed of "
+        f"{feed * 6e4:.4g} mm/min: a reversal's spike lasts some milliseconds and is not "
+        "resolved, and the servo mismatch reads in the same unit as the time; if time_s was "
+        "logged in milliseconds, divide it by 1000"), stacklevel=3)
 
 
 #: Largest radius [m] and feed [m/s] of a machine tool's circular test, and its smallest
@@ -278,8 +269,7 @@ def warn_pass(t, cp, ang, missing, radius_m) -> None:
     gapped = warn_gaps(t, ang, d)
     warn_uncrossed(missing, d, cp.arc_deg, gapped)
     warn_unsteady(t, ang, d, cp.arc_deg)
-    refuse_ms_time(t, cp.rate_rad_s, radius_m, d)
-    warn_sparse(t, cp.rate_rad_s, radius_m, d)
+    check_sampling(t, cp.rate_rad_s, radius_m, d)
     warn_scale(cp.rate_rad_s, radius_m, d)
 
 

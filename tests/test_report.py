@@ -130,6 +130,18 @@ def test_every_image_is_embedded_and_nothing_points_outside(full):
     assert page.style and not page.open  # every tag closed
 
 
+def test_the_page_writes_micrometres_one_way():
+    """identify's warnings, pasted as they print (``1 um``), stood beside the page's own
+    ``µm`` in one paragraph; names that end in ``um`` are kept."""
+    from tcpmm.report.html import para
+
+    got = para("the encoder resolves 1 um, too coarse for 2.89 um (0.2 to 10 µm); "
+               "--tolerance-um, radial_max_um, 3 um/m")
+    assert "1 µm," in got and "2.89 µm (" in got and "3 µm/m" in got
+    assert "--tolerance-um" in got and "radial_max_um" in got
+    assert " um" not in got
+
+
 def test_sections_and_diagnostics_of_all_inputs(full):
     """In the order a customer reads them: the verdict on the circle, the circle, the
     prediction, the spread, the identification, the model."""

@@ -10,6 +10,7 @@ import base64
 import html
 import io
 import math
+import re
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -164,10 +165,16 @@ def facts(items) -> str:
     return f'<dl class="facts">{body}</dl>'
 
 
+#: The unit micrometre as the command line writes it in messages (``um``, ASCII for any
+#: terminal), not a part of a name (``--tolerance-um``, ``radial_max_um``)
+_UM = re.compile(r"(?<![-\w])um\b")
+
+
 def para(text: str, kind: str = "note") -> str:
     """A paragraph of class ``kind`` (note, lead, warn; pass, fail or open for a
-    verdict) [-]."""
-    return f'<p class="{kind}">{esc(text)}</p>'
+    verdict); the messages of the command line it quotes write micrometres ``um``, the
+    page ``µm`` [-]."""
+    return f'<p class="{kind}">{esc(_UM.sub("µm", text))}</p>'
 
 
 def section(key: str, title: str, body: str) -> tuple[str, str, str]:

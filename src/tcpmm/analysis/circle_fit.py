@@ -292,17 +292,19 @@ class FitProblem:
             (a.e - servo_remainder(a.angle, a.s, self.radius, a.ratio * mu))[m]
             for a, m in zip(self.arcs, self.masks, strict=True)])
 
-    def solve(self, mu, waves):
+    def solve(self, mu, waves, basis=True):
         """Coefficients (NaN where undetermined) [SI], residual [m] and an orthonormal
-        basis of the columns fitted [-]."""
+        basis of the columns fitted (None unless ``basis``: a factorisation of its own,
+        which most solutions do not use) [-]."""
         A, y = self.matrix(mu, waves), self.data(mu)
         keep = np.r_[self.keep, np.ones(A.shape[1] - self.keep.size, bool)]
-        q, r = np.linalg.qr(A[:, keep])
         c = np.linalg.lstsq(A[:, keep], y, rcond=None)[0]
         coef = np.full(A.shape[1], np.nan)
         coef[keep] = c
-        basis = q[:, np.abs(np.diag(r)) > 1e-12 * np.abs(r).max()]
-        return coef, y - A[:, keep] @ c, basis
+        if not basis:
+            return coef, y - A[:, keep] @ c, None
+        q, r = np.linalg.qr(A[:, keep])
+        return coef, y - A[:, keep] @ c, q[:, np.abs(np.diag(r)) > 1e-12 * np.abs(r).max()]
 
     def unseen_columns(self, names, mu):
         """Columns of the terms ``names``, fitted or not, over the fitted samples of every
@@ -348,13 +350,13 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
         ``"search"`` to search for them, None for none [rad, -].
     """
     pb = FitProblem(arcs, radius, shared, drop, columns)
-    coef = pb.solve(0.0, (None, None))[0]
+    coef = pb.solve(0.0, (None, None), basis=False)[0]
     # the axes' reversals where the first fit puts them: the servo mismatch, and the
     # centre each circle runs about
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     if mu:
         pb.reversals_at(mu)
-        coef = pb.solve(mu, (None, None))[0]
+        coef = pb.solve(mu, (None, None), basis=False)[0]
         mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     periods, search = (), isinstance(tail, str)
     # the tails before the cyclic search, which would take them for cyclic errors, and
@@ -366,11 +368,11 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
     waves = (None, None) if waves is None else waves
     if search and any(k is not None for k in waves):  # a transient that lingers still does
         pb.tail = (lingering if pb.tail_family else search_tail)(pb, mu, waves)
-    coef = pb.solve(mu, waves)[0]
+    coef = pb.solve(mu, waves, basis=False)[0]
     mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     if periods and any(k is not None for k in waves):
         waves = refine_waves(pb, mu, waves, periods)
-        coef = pb.solve(mu, waves)[0]
+        coef = pb.solve(mu, waves, basis=False)[0]
         mu, pb.centres = pb.mu_of(coef), pb.centres_of(coef)
     pb.widths = search_widths(pb, mu, waves, coef)
     return _finished(pb, mu, waves, unseen, periods)
@@ -379,7 +381,7 @@ def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,
 def _finished(pb, mu, waves, unseen, periods) -> TermFit:
     """The fit of ``pb`` with its reversals and cyclic errors placed, its aliases and
     covariances worked out [-]."""
-    coef, res, _ = pb.solve(mu, waves)
+    coef, res, _ = pb.solve(mu, waves, basis=False)
     names = column_names(len(pb.arcs), pb.shared, waves, pb.tail)
     A = pb.matrix(mu, waves)
     extra = dict(zip(unseen, pb.unseen_columns(unseen, mu).T, strict=True)) if unseen else {}

@@ -211,7 +211,7 @@ def search_tail(pb, mu, waves):
     tried = {t: c for t, c in tried.items() if len(t) == 2 and t[0] < longest}
     tail = min(tried, key=tried.get)
     pb.tail = tail
-    coef, left, _ = pb.solve(mu, waves)  # ``res`` stays the one ``ssr`` projects
+    coef, left, _ = pb.solve(mu, waves, basis=False)  # ``res`` stays the one ``ssr`` projects
     pb.tail = None
     sized = float(np.nanmax(np.abs(coef[-4 * len(pb.arcs):]))) >= MIN_TAIL_M
     # a transient lingers where its tails stand out of the noise from sample to sample
@@ -264,12 +264,12 @@ def lingering(pb, mu, waves) -> None:
     only those that fit them best; and ``pb.tail_spread``: each column's largest move over
     it from the fit without tails, signed [SI]."""
     pb.tail = None
-    ref = pb.solve(mu, waves)[0]
+    ref = pb.solve(mu, waves, basis=False)[0]
     family = [(None, ref, waves)]
     for shape in SHAPES:
         for deg in FAMILY_DEG:
             pb.tail = (float(np.radians(deg)), shape)
-            family.append((pb.tail, pb.solve(mu, waves)[0], waves))
+            family.append((pb.tail, pb.solve(mu, waves, basis=False)[0], waves))
     pb.tail = None
     n = ref.size
     moves = np.zeros(n)
@@ -320,7 +320,7 @@ def spread(pb, mu, waves, coef, res, tried) -> np.ndarray:
     moves = np.zeros(n)
     for _, t in alike:
         pb.tail = t
-        d = pb.solve(mu, waves)[0][:n] - coef[:n]
+        d = pb.solve(mu, waves, basis=False)[0][:n] - coef[:n]
         moves = np.where(np.abs(d) > np.abs(moves), d, moves)
     pb.tail = None
     return np.nan_to_num(moves)

@@ -41,10 +41,13 @@ def test_output_that_is_an_input_is_refused_and_the_input_kept(capsys, nc):
     assert nc.read_text() == PROGRAM
 
 
-def test_path_plot_does_not_overwrite_its_own_csv(capsys, nc, tmp_path):
-    code, out, err = run(capsys, "path", nc, "-o", tmp_path / "cmd.png", "--plot")
-    assert code == 2 and "would be overwritten by the plot" in out + err
-    assert not (tmp_path / "cmd.png").exists()
+@pytest.mark.parametrize("name", ["cmd.png", "cmd.parquet", "cmd"])
+def test_a_command_file_is_named_as_the_csv_it_is(capsys, nc, tmp_path, name):
+    """`path -o CMD.parquet` wrote CSV text under that name, which `contour` then refused
+    as no Parquet; `-o cmd.png --plot` would have had the plot overwrite the command."""
+    code, out, err = run(capsys, "path", nc, "-o", tmp_path / name, "--plot")
+    assert code == 2 and "a command file is written as CSV; name it cmd.csv" in out + err
+    assert [p.name for p in tmp_path.iterdir()] == ["prog.nc"]
 
 
 def test_output_folder_or_file_parent_is_a_named_error(capsys, nc, tmp_path):

@@ -192,6 +192,17 @@ def checked_yaml_output(output: Path, *inputs) -> Path:
     return checked_output(output, *inputs)
 
 
+def checked_csv_output(output: Path, *inputs) -> Path:
+    """:func:`checked_output` for a command file, which is written as CSV: a name ending
+    otherwise (``-o CMD.parquet``) would hold CSV text that the readers of that format
+    refuse."""
+    checked_output(output, *inputs)
+    if Path(output).suffix.lower() != ".csv":
+        raise typer.BadParameter(f"{output}: a command file is written as CSV; name it "
+                                 f"{Path(output).with_suffix('.csv').name}")
+    return output
+
+
 def checked_plot(plot: Path | None) -> Path | None:
     """Check a --plot file name before any work is done."""
     if plot is None:

@@ -9,6 +9,7 @@ import typer
 
 from ._app import (
     app,
+    checked_csv_output,
     checked_output,
     checked_report_file,
     emit_json,
@@ -180,7 +181,7 @@ def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> N
     report, controller_out, reference_out, gcode_out = extra
     if radius is not None:
         positive(radius, "--radius [mm]")
-    checked_output(output, model, command, gcode)
+    checked_csv_output(output, model, command, gcode)
     if gcode_out is not None:
         checked_output(gcode_out, model, command, gcode)
     checked_report_file(report, model, command, gcode, output)
@@ -189,7 +190,7 @@ def _check_outputs(output: Path, extra, radius, model: str, command, gcode) -> N
         if radius is None:
             raise typer.BadParameter("--controller-out needs the circle's --radius [mm]")
     if reference_out is not None:
-        checked_output(reference_out, model, command, gcode, output)
+        checked_csv_output(reference_out, model, command, gcode, output)
     distinct_outputs(("-o", output), ("--gcode-out", gcode_out), ("--report", report),
                      ("--controller-out", controller_out), ("--reference-out", reference_out))
 

@@ -11,6 +11,7 @@ from ._app import (
     WARNED,
     Sensor,
     app,
+    checked_csv_output,
     checked_output,
     checked_plot,
     checked_report_file,
@@ -341,10 +342,7 @@ def path(program: Path = typer.Argument(..., help="NC program PROG.nc"),
     from ..path.program import program_to_interpolation
     from ._pathtext import print_corner_overload, print_feed
 
-    checked_output(output, program, model)
-    if plot and output.suffix.lower() == ".png":
-        raise typer.BadParameter(f"{output} would be overwritten by the plot of --plot; "
-                                 "give the command file the extension .csv")
+    checked_csv_output(output, program, model)
     m = None
     if model is not None:
         from ..io.modelfile import read_machine

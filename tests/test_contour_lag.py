@@ -135,3 +135,29 @@ def test_a_slow_position_loop_is_measured_whole_and_said(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "lags its command by more than the window of 0.2 s" in err
     assert "Traceback" not in err
+
+
+def zigzag_off_its_pass() -> Run:
+    """Two 2 mm passes at 5 mm/s, 0.05 mm apart, the tool following the command in time
+    but 0.03 mm off the first pass towards the second: the second pass comes back past
+    each point of the first a little later, at 1.5 mm just after 0.2 s [-]."""
+    t = np.arange(0.0, 1.0, DT)
+    s = np.clip(0.005 * t, 0.0, 0.004)  # 2 mm out, 2 back
+    x = np.where(s < 0.002, s, 0.004 - s)
+    y = np.where(s < 0.002, 0.0, 50e-6)
+    tool = y + np.where(s < 0.002, 30e-6, 0.0)
+    return Run(t, {"X": AxisRun(cmd=x, motor=x, scale=x, tcp=x),
+                   "Y": AxisRun(cmd=y, motor=tool, scale=tool, tcp=tool)})
+
+
+def test_a_pass_coming_back_near_is_no_lag():
+    """A CAM zig-zag's next pass, 20 um from a tool 30 um off its own, just after the
+    window: `contour` said the tool lagged its command by more than 0.2 s (it lags by
+    none) and refused --window-s 0.2 so. It widens the default as before, and says why."""
+    run = zigzag_off_its_pass()
+    assert contour_error(run, plane=("X", "Y")).window_s > WINDOW_S
+    with pytest.raises(InputError, match="closer to the command just after the window") as e:
+        contour_error(run, plane=("X", "Y"), window_s=0.2)
+    assert "lags its command" not in str(e.value) and "comes back near" in str(e.value)
+    with pytest.raises(InputError, match="lags its command by more than the window"):
+        contour_error(delayed(0.35), plane=("X", "Y"), window_s=0.2)

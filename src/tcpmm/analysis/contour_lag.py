@@ -7,7 +7,10 @@ before the window than to any of it: its distance to the window's first segment 
 following error, not the contour error. Such a sample is found where the closest point
 lies on the window's first (or last) segment and the segment just outside is closer
 still. Where the window is the default, the contour widens it until no sample is cut
-off; where the user gave it, the contour refuses and says what to do.
+off; where the user gave it, the contour refuses and says what to do. A sample closer to
+the command just *after* its window is no lag (a tool does not lead its command): the
+path comes back near it within a little more than the window (a zig-zag's next pass
+0.05 mm away), or the command's time line lags the run's; it is said so.
 """
 
 from __future__ import annotations
@@ -27,6 +30,9 @@ WIDEST_S = 6.4
 _REL = 1e-9
 #: [m]
 _ABS = 1e-9
+#: :func:`outside_closer`'s flags: the command before the window lies closer (a tool
+#: lagging), the command after it does (the path coming back near) [-]
+BEHIND, AHEAD = 1, 2
 
 
 def windows(window_s: float | None):
@@ -76,58 +82,68 @@ def outside_closer(q, p, lo, hi, kept, dist, foot, prev=None) -> np.ndarray:
 
     Returns
     -------
-    ndarray of bool
+    ndarray of int8
+        :data:`BEHIND` where the segment before the window is closer, :data:`AHEAD` where
+        the one after it is, both or-ed, 0 elsewhere [-].
     """
     m = p.shape[0]
     last = np.minimum(np.maximum(hi, lo + 1) - 1, m - 2)
     low = kept[0] & (foot == lo) & ((lo > 0) | (prev is not None))
     high = kept[1] & (foot == last) & (last + 1 <= m - 2)
-    cut = np.zeros(q.shape[0], bool)
-    for side, i0 in ((low, lo - 1), (high, last + 1)):
+    cut = np.zeros(q.shape[0], np.int8)
+    for side, i0, bit in ((low, lo - 1, BEHIND), (high, last + 1, AHEAD)):
         k = np.flatnonzero(side)
         if k.size:
             start = p[np.maximum(i0[k], 0)]
             start[i0[k] < 0] = prev  # the segment from the vertex before the piece
             out = _segment_distance(q[k], start, p[i0[k] + 1])
             held = np.abs(dist[k])
-            cut[k] |= out < held - (held * _REL + _ABS)
+            cut[k] |= np.where(out < held - (held * _REL + _ABS), bit, 0).astype(np.int8)
     return cut
 
 
 def cut_off(t, cuts: dict, counted=None):
     """The time of the first sample counted that a window cut off its closest command
-    point, and how many there are, over every sensor; ``None`` for none [s], [-]."""
-    first, n = np.inf, 0
+    point, how many there are, over every sensor, and whether any lies closer to the
+    command before its window (:func:`outside_closer`); ``None`` for none [s], [-], [-]."""
+    first, n, behind = np.inf, 0, False
     for c in cuts.values():
-        c = c if counted is None else c & counted
+        c = c if counted is None else np.where(counted, c, 0)
         idx = np.flatnonzero(c)
         if idx.size:
             n = max(n, idx.size)
             first = min(first, float(t[idx[0]]))
-    return None if n == 0 else (first, n)
+            behind = behind or bool(np.any(c[idx] & BEHIND))
+    return None if n == 0 else (first, n, behind)
 
 
 class WindowCut(Exception):
-    """A window cuts samples off their closest command point: the first one's time, and
-    how many of those measured [s], [-]."""
+    """A window cuts samples off their closest command point: the first one's time, how
+    many of those measured, and whether any lies closer before its window [s], [-], [-]."""
 
-    def __init__(self, first_s: float, n: int):
-        super().__init__(first_s, n)
-        self.first_s, self.n = first_s, n
+    def __init__(self, first_s: float, n: int, behind: bool = True):
+        super().__init__(first_s, n, behind)
+        self.first_s, self.n, self.behind = first_s, n, behind
 
 
 def window_error(window_s: float, given: bool, first_s: float,
-                 n: int | None = None) -> InputError:
+                 n: int | None = None, behind: bool = True) -> InputError:
     """What to say where a window cuts samples off their closest command point
-    (``given``: the user chose it; ``n`` of them, where all were measured) [-]."""
+    (``given``: the user chose it; ``n`` of them, where all were measured; ``behind``:
+    some lie closer to the command before their window, else all after it) [-]."""
     many = "" if n is None else f"{n} samples, "
+    where = f"({many}the first at {first_s:.3f} s)"
     what = (f"the run lags its command by more than the window of {window_s:g} s in which "
-            f"each sample's closest command point is sought ({many}the first at "
-            f"{first_s:.3f} s): measured within it, the contour error would be the "
-            "following error")
+            f"each sample's closest command point is sought {where}: measured within it, "
+            "the contour error would be the following error") if behind else (
+        f"samples lie closer to the command just after the window of {window_s:g} s in "
+        f"which each one's closest command point is sought than to any of it {where}: "
+        "the path comes back near them a little later (another pass), or the command's "
+        "time line lags the run's; measured within it, their error would be read to the "
+        "window's edge")
     if given:
         return InputError(f"{what}; leave --window-s out (the window is then widened to "
-                          "what the run needs) or give one longer than the lag")
+                          "what the run needs) or give a longer one")
     return InputError(f"{what}, even at the widest window tried; the axes do not follow "
                       "the command (check that the command and the actual positions are "
                       "of one run, on one time line)")

@@ -149,7 +149,7 @@ def stream_contour(path, axes, signed: bool, window_s: float | None = None,
                              corner_span_m, settle_tol_m, rapids, travel)
         except WindowCut as exc:
             cut = exc
-    raise window_error(w, window_s is not None, cut.first_s)
+    raise window_error(w, window_s is not None, cut.first_s, behind=cut.behind)
 
 
 def _streamed(path, axes, signed, window_s, rows, each, corner_deg, corner_span_m,

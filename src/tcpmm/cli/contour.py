@@ -128,9 +128,9 @@ def _say_notes(res, rapids: bool, run_file: Path) -> None:
     from ..analysis.contour_lag import WINDOW_S
 
     if res.window_s > WINDOW_S:
-        console.print(f"note: the tool lags its command by more than {WINDOW_S:g} s: each "
-                      f"sample's closest command point is sought within {res.window_s:g} s "
-                      "of it", highlight=False)
+        console.print(f"note: samples lie closer to the command just outside {WINDOW_S:g} s "
+                      "of them than within (a tool lagging by more, or the path coming back "
+                      f"near): each one's closest point is sought within {res.window_s:g} s")
 
 
 def _say_left_out(res, run_file: Path) -> None:

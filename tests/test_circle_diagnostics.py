@@ -150,13 +150,15 @@ def test_each_error_alone_is_recovered_and_the_others_are_zero(name):
 
 
 @pytest.mark.parametrize("cx, cy, others", [(300e-6, -150e-6, {}), (-1.0e-3, 0.7e-3, {}),
-                                            (300e-6, -150e-6, ALL)],
-                         ids=["335um", "1.2mm", "335um_with_all"])
+                                            (300e-6, -150e-6, ALL),
+                                            (300e-6, -150e-6, {"str_x": 4e-6, "str_y": -3e-6})],
+                         ids=["335um", "1.2mm", "335um_with_all", "335um_with_bows"])
 def test_a_large_centre_offset_makes_no_other_term(cx, cy, others):
     """A circle 0.3 to 1.2 mm off the nominal centre. About the nominal centre the offset's
     second order is a constant and an ellipse along it (0.8 um of each at 335 um on R 35 mm),
     which read as 37 um/m of squareness and 28 ppm of scale mismatch, and as the radial
-    deviation, the mean radius of the fitted circle."""
+    deviation, the mean radius of the fitted circle. A bow read where the tool is about
+    the nominal centre, not where its axis is in its travel, made 0.13 um of backlash."""
     err = {**others, "cx": cx, "cy": cy}
     diag = diagnose(err)
     want = expected(err)

@@ -127,15 +127,15 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
     mu : float
         Servo mismatch angle placing the axes' reversals [rad].
     rev : ndarray, optional
-        The angle about the circle's own centre, where its axes reverse (a circle off the
-        nominal centre by ``c`` reverses some ``c / R`` from the nominal quadrant points);
-        ``angle`` where omitted [rad].
+        The angle about the circle's own centre, where its axes reverse and are in their
+        travel (a circle off the nominal centre by ``c`` reverses some ``c / R`` from the
+        nominal quadrant points); ``angle`` where omitted [rad].
     widths : tuple of float
         Travel of each axis after its reversal over which its backlash is taken up
         (:func:`take_up`); 0 for an instant step [m].
     """
     c, n, wx, wy, own, sx, sy = _geometry(angle, s, radius, ratio, mu, rev, widths)
-    px, py = axis_positions(angle, s, ratio * mu)
+    px, py = axis_positions(angle if rev is None else rev, s, ratio * mu)
     fx, fy = (take_up(travel_since_reversal(own, s, radius, ratio * mu, k), w)
               for k, w in enumerate(widths))
     # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen

@@ -58,6 +58,28 @@ def test_parquet_run_checked_like_csv(tmp_path):
         read_run(tmp_path / "bad.parquet")
 
 
+@pytest.mark.parametrize("reader", ["circle", "contour"])
+def test_a_parquet_column_twice_or_a_pandas_index_is_a_named_error(tmp_path, capsys, reader):
+    """Arrow keeps two columns of one name: the run reader stopped on its KeyError as an
+    internal error (exit 1). A pandas index saved as a column is named with its fix."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    write_run(_run(50), tmp_path / "r.parquet")
+    table = pq.read_table(tmp_path / "r.parquet")
+    twice = table.append_column("x_tcp_mm", table.column("x_tcp_mm"))
+    pq.write_table(twice, tmp_path / "twice.parquet")
+    index = table.append_column("__index_level_0__", pa.array(np.arange(50) * 2))
+    pq.write_table(index, tmp_path / "index.parquet")
+    for name, said in (("twice", "column 'x_tcp_mm': the file has 2 columns of this name"),
+                       ("index", "to_parquet(..., index=False)")):
+        args = [reader, str(tmp_path / f"{name}.parquet")] + (
+            ["--radius", "35"] if reader == "circle" else [])
+        assert main(args) == 2
+        err = capsys.readouterr().err
+        assert said in err and "internal error" not in err, err
+
+
 def test_parquet_of_any_layout_and_number_type_reads_as_written(tmp_path):
     """Row groups of several sizes, chunks that start inside a buffer (a sliced table),
     float32 and integer columns; a missing value is named with its row."""

@@ -6,7 +6,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..io.runfile import float_values, refuse_gaps, refuse_not_numbers, refuse_time_back
+from ..io.runfile import (
+    checked_parquet_names,
+    float_values,
+    refuse_gaps,
+    refuse_not_numbers,
+    refuse_time_back,
+)
 from .contour_inputs import NO_COMMAND, SENSORS, no_sensors, warn_one_sided
 from .rapids import MoveTravel
 
@@ -58,6 +64,7 @@ def batches(path, rows, keep):
     :func:`~tcpmm.io.runfile.read_run` checks a whole run [-]."""
     # pre-buffered reads keep every row group's bytes read so far until the scan ends
     f = parquet_file(path, pre_buffer=False)
+    checked_parquet_names(f.schema_arrow.names, path)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for c in names:
         refuse_not_numbers(c, f.schema_arrow.field(c).type, path)

@@ -119,6 +119,7 @@ def read_run_parquet(path) -> Run:
             table = f.read()
     except (pa.ArrowException, OSError) as exc:
         raise InputError(f"cannot read as Parquet: {exc}", file=path) from None
+    checked_parquet_names(table.column_names, path)
     cols = {}
     for name in table.column_names:
         col = table.column(name)
@@ -126,6 +127,18 @@ def read_run_parquet(path) -> Run:
         v = float_values(col)
         cols[name] = v if v.flags.writeable else v.copy()  # the run's own, as from a CSV
     return _run_from_columns(cols, path, first_row=1, what="row")
+
+
+def checked_parquet_names(names, path) -> None:
+    """Refuse a Parquet run file whose columns repeat a name (Arrow keeps both; a CSV's
+    reader refuses them too) or hold a pandas index, with what to do [-]."""
+    for name in dict.fromkeys(names):
+        if names.count(name) > 1:
+            raise InputError(f"the file has {names.count(name)} columns of this name; keep "
+                             "one", file=path, column=name)
+        if name.startswith("__index_level_"):
+            raise InputError("a pandas index written as a column: write the file with "
+                             "DataFrame.to_parquet(..., index=False)", file=path, column=name)
 
 
 def refuse_not_numbers(name: str, kind, path) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import h5py
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 import scipy.io
 from nptdms import ChannelObject, TdmsWriter
 
-from tcpmm.errors import InputError
+from tcpmm.errors import InputError, InputWarning
 from tcpmm.io.matfile import read_friction_mat, read_sweep_mat
 from tcpmm.io.records import FrictionRecord, SweepRecord
 from tcpmm.io.tdms import read_friction_tdms, read_sweep_tdms
@@ -227,6 +228,28 @@ def test_tdms_unit_string_against_the_maps_factor(tmp_path):
         read_sweep_tdms(tmp_path / "u.tdms", {**cmap, "scale_mm": ("DAQ/ls", 1e-3)})
     check_sweep(read_sweep_tdms(tmp_path / "u.tdms", {**cmap, "scale_mm": ("DAQ/ls", 1e3)}),
                 s)
+
+
+def test_tdms_unit_string_of_no_kind_tcpmm_converts_is_said(tmp_path):
+    """A motor channel in counts, or a current in volts, mapped with no factor read as rad
+    and A without a word (the counts 4e6 rad off); the unit is said, and a factor given
+    is taken as the user's."""
+    s = signals()
+    p = {"wf_increment": 1 / FS, "wf_start_offset": 0.0}
+    chans = [ChannelObject("DAQ", "ai0", s["r"], properties=p),
+             ChannelObject("DAQ", "ai1", s["ic"], properties=p),
+             ChannelObject("DAQ", "enc", s["counts"], properties={**p, "unit_string": "counts"}),
+             ChannelObject("DAQ", "ls", s["scale_um"], properties=p),
+             ChannelObject("TCP", "x", s["tcp_mm"], properties=p)]
+    with TdmsWriter(tmp_path / "c.tdms") as w:
+        w.write_segment(chans)
+    bare = {**MAP, "motor_angle_rad": "DAQ/enc"}
+    with pytest.warns(InputWarning, match=r"'DAQ/enc' is in counts \(unit_string\), a unit "
+                                          r"tcpmm does not convert to rad"):
+        read_sweep_tdms(tmp_path / "c.tdms", bare)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        check_sweep(read_sweep_tdms(tmp_path / "c.tdms", MAP), s)
 
 
 def test_mat_unit_in_a_name_is_warned_and_struct_arrays_addressed(tmp_path):

@@ -72,6 +72,13 @@ def check_declared(key: str, name: str, scale: float, unit: str | None, how: str
         Refuse rather than warn [-].
     """
     f = factor_for(key, unit)
+    if f is None and strict and unit and unit.strip() and scale == 1.0:
+        # a unit of no kind tcpmm converts (counts, V, Amps): read as it stands, said
+        warnings.warn(f"{file}: '{name}' is in {unit.strip()} ({how}), a unit tcpmm does not "
+                      f"convert to {key.rsplit('_', 1)[-1]}: it is read unconverted; if it is "
+                      f"not in {key.rsplit('_', 1)[-1]}, map it as (\"{name}\", factor)",
+                      InputWarning, stacklevel=3)
+        return
     if f is None or math.isclose(scale, f, rel_tol=1e-9):
         return
     given = "no factor" if scale == 1.0 else f"the factor {scale:g}"

@@ -195,6 +195,15 @@ def _check_axis(sweep: SweepRecord, cfg: AxisConfig, name: str) -> None:
             file=sweep.source,
             line=1,
         )
+    if sweep.tcp_m is not None and cfg.sensors.tcp_resolution_um is None:
+        warn_input(
+            f"the file has a tcp_mm column but machine.yaml gives axis {name} no TCP device "
+            "(sensors: tcp_resolution_um): its samples are taken as exact, and what is "
+            "read from them is given smaller uncertainties than the device allows; give "
+            "its resolution",
+            file=sweep.source,
+            line=1,
+        )
     check_sweep_plausibility(sweep, cfg)
 
 

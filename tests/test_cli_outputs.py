@@ -41,7 +41,7 @@ def test_output_that_is_an_input_is_refused_and_the_input_kept(capsys, nc):
     assert nc.read_text() == PROGRAM
 
 
-@pytest.mark.parametrize("name", ["cmd.png", "cmd.parquet", "cmd"])
+@pytest.mark.parametrize("name", ["cmd.png", "cmd.parquet", "cmd.txt"])
 def test_a_command_file_is_named_as_the_csv_it_is(capsys, nc, tmp_path, name):
     """`path -o CMD.parquet` wrote CSV text under that name, which `contour` then refused
     as no Parquet; `-o cmd.png --plot` would have had the plot overwrite the command."""

@@ -29,22 +29,22 @@ def _frf(folder: Path) -> Path:
 
 @pytest.mark.parametrize("outputs", [
     ("-o", "{d}/comp.csv", "--gcode-out", "{d}/p.nc"),
-    ("-o", "{d}/out.x", "--gcode-out", "{d}/out.x"),
+    ("-o", "{d}/out.csv", "--gcode-out", "{d}/out.csv"),
     ("-o", "{d}/comp.csv", "--report", "{d}/r.html", "--reference-out", "{d}/comp.csv"),
 ])
 def test_compensate_refuses_an_output_on_an_input_or_on_another_output(capsys, tmp_path,
                                                                          outputs):
-    """``compensate --gcode-out p.nc`` replaced the program it read, and ``-o out.x
-    --gcode-out out.x`` lost the command file; both are refused before any work."""
+    """``compensate --gcode-out p.nc`` replaced the program it read, and ``-o out.csv
+    --gcode-out out.csv`` lost the command file; both are refused before any work."""
     prog = tmp_path / "p.nc"
     prog.write_text(NC.read_text())
-    (tmp_path / "out.x").write_text("kept")
+    (tmp_path / "out.csv").write_text("kept")
     code, out, err = run_cli(capsys, "compensate", "builtin:vmc", "--gcode", prog,
                              *[a.format(d=tmp_path) for a in outputs])
     assert code == 2, out + err
     assert "is also an input" in out + err or "given to both" in out + err
-    assert prog.read_text() == NC.read_text() and (tmp_path / "out.x").read_text() == "kept"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.x", "p.nc"]
+    assert prog.read_text() == NC.read_text() and (tmp_path / "out.csv").read_text() == "kept"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv", "p.nc"]
 
 
 @pytest.mark.parametrize("args", [

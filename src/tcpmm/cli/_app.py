@@ -197,7 +197,8 @@ def checked_csv_output(output: Path, *inputs) -> Path:
     otherwise (``-o CMD.parquet``) would hold CSV text that the readers of that format
     refuse."""
     checked_output(output, *inputs)
-    if Path(output).suffix.lower() != ".csv":
+    suffix = Path(output).suffix.lower()
+    if suffix not in ("", ".csv") and (Path(output).is_file() or not Path(output).exists()):
         raise typer.BadParameter(f"{output}: a command file is written as CSV; name it "
                                  f"{Path(output).with_suffix('.csv').name}")
     return output

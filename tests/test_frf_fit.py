@@ -579,6 +579,25 @@ def test_a_response_given_twice_says_which_columns_it_reads(tmp_path):
     np.testing.assert_array_equal(got.H, h)
 
 
+@pytest.mark.parametrize("header, said", [
+    ("freq_hz,re,im,frequency", "columns freq_hz and frequency name one quantity"),
+    ("freq_hz,re,im,real", "columns re and real name one quantity"),
+    ("freq_hz,re,im,temperature_c", "unknown column")])
+def test_a_quantity_named_twice_or_an_unknown_column_is_refused(tmp_path, header, said):
+    """A second frequency column (2 x freq_hz) was called unknown and left out, though the
+    docs name it, and any other column was ignored with a warning: which one holds the
+    data is the user's to say (docs/formats.md: keys not listed are errors)."""
+    from tcpmm.io.frffile import read_frf
+
+    frf = noisy_frf(0)
+    rows = [header] + [f"{f!r},{v.real!r},{v.imag!r},{2 * f!r}"
+                       for f, v in zip(frf.freq_hz, frf.H, strict=True)]
+    (path := tmp_path / "twice.csv").write_text("\n".join(rows) + "\n")
+    with pytest.raises(InputError, match=said) as e:
+        read_frf(path)
+    assert "twice.csv, line 1, column" in str(e.value)
+
+
 def _off_advice(**kw) -> str:
     with pytest.warns(InputWarning, match="does not describe the measurement") as said:
         fit_frf(kw.pop("frf"), **kw)

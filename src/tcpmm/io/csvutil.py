@@ -305,12 +305,13 @@ def read_numeric_csv(
     Raises
     ------
     InputError
-        Missing file or column, malformed row, non-numeric, empty, NaN or infinite value.
+        Missing file or column, a column neither required, optional nor ``unused``,
+        malformed row, non-numeric, empty, NaN or infinite value.
 
     Warns
     -----
     InputWarning
-        Columns that are neither required nor optional (they are ignored).
+        Columns of ``unused`` (they are not read).
     """
     path = Path(path)
     required = list(required)
@@ -322,13 +323,11 @@ def read_numeric_csv(
     extra = [c for c in names if c not in expected]
     for c in extra:
         why = (unused or {}).get(c)
-        warn_input(
-            f"column '{c}' is not read: {why}" if why else
-            f"unknown column '{c}' is ignored{did_you_mean(c, expected)}",
-            file=path,
-            line=1,
-            column=c,
-        )
+        if not why:  # a typo would leave a column out and change the result
+            raise InputError(f"unknown column{did_you_mean(c, expected)}; rename or remove "
+                             f"it (the columns read: {', '.join(expected)})", file=path,
+                             line=1, column=c)
+        warn_input(f"column '{c}' is not read: {why}", file=path, line=1, column=c)
     use = [c for c in expected if c in names]
     frame = _data_rows(path, text)
     return {name: _finite_column(frame[name], name, path) for name in use}

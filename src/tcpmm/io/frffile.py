@@ -96,6 +96,12 @@ def _pick(names, choices):
 
 def _columns(names, path):
     """The columns to read: frequency, response kind and its two columns, coherence."""
+    lower = {n.lower(): n for n in names}
+    for group in (FREQ, RE, IM, MAG_DB, MAG, PHASE_DEG, PHASE_RAD, COH, AVG):
+        both = [lower[c] for c in group if c in lower]
+        if len(both) > 1:  # one would be read and the other left, whatever it holds
+            raise InputError(f"columns {' and '.join(both)} name one quantity; keep one",
+                             file=path, line=1, column=both[1])
     f = _pick(names, FREQ)
     if f is None:
         raise InputError(f"no frequency column; name it one of {', '.join(FREQ)} [Hz] (the "

@@ -138,6 +138,20 @@ VMAP = {
 }
 
 
+@pytest.mark.parametrize("signal, key", [("ls", "scale_mm"), ("tcp", "tcp_mm")])
+def test_a_gap_in_a_mat_signal_names_the_signal_mapped(tmp_path, signal, key):
+    """A NaN in the scale's variable was said as in column 'scale_m', a name of no file
+    and of no map."""
+    s = signals()
+    ls, tcp = s["scale_um"].copy(), s["tcp_mm"].copy()
+    (ls if signal == "ls" else tcp)[100] = np.nan
+    scipy.io.savemat(tmp_path / "x.mat", {
+        "meas": {"r": s["r"], "ls": ls}, "data": np.column_stack([s["ic"], s["counts"]]),
+        "tcp": tcp[:, None]})
+    with pytest.raises(InputError, match=rf"column '{key}': value is NaN at sample 100"):
+        read_sweep_mat(tmp_path / "x.mat", VMAP, fs_hz=FS)
+
+
 def test_mat_v5_struct_fields_columns_and_fs_variable(tmp_path):
     s = signals()
     path = tmp_path / "x.mat"

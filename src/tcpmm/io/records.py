@@ -12,6 +12,9 @@ from tcpmm.io.samplechecks import LineOf, check_finite, check_time
 
 #: Fewest samples accepted in a friction record [-].
 MIN_FRICTION_SAMPLES = 16
+#: The signal a record's field is read from, as the user names it (a map's key, a
+#: CSV's column): a message naming the field in metres named no column of any file [-].
+SIGNAL = {"scale_m": "scale_mm", "tcp_m": "tcp_mm"}
 
 
 def _as_1d(name: str, values, n: int | None, source) -> np.ndarray:
@@ -127,7 +130,7 @@ class SweepRecord:
         for name in ("excitation_A", "current_cmd_A", "motor_angle_rad", "scale_m", "tcp_m"):
             v = getattr(rec, name)
             if v is not None:
-                check_finite(v, name, rec.source, line_of)
+                check_finite(v, SIGNAL.get(name, name), rec.source, line_of)
         object.__setattr__(rec, "fs_hz", fs)
         return rec
 
@@ -232,7 +235,7 @@ class FrictionRecord:
             min_samples=MIN_FRICTION_SAMPLES,
         )
         for name in ("current_cmd_A", "motor_angle_rad", "scale_m"):
-            check_finite(getattr(rec, name), name, rec.source, line_of)
+            check_finite(getattr(rec, name), SIGNAL.get(name, name), rec.source, line_of)
         return rec
 
     @property

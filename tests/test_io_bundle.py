@@ -171,6 +171,17 @@ def test_implausible_numbers_name_key_and_line(old, new, key):
     assert exc.value.line == _line_of(text, new)
 
 
+@pytest.mark.parametrize(("old", "new", "said"), [
+    ("encoder_counts_per_rev: 10000", "encoder_counts_per_rev: 10000.0",
+     "not a whole number (got 10000.0); write 10000, with no decimal point"),
+    ("lead_mm: 10.0", "lead_mm: yes", "write the number, in mm (the unit its name ends")])
+def test_a_number_of_the_wrong_kind_is_told_what_to_write(old, new, said):
+    """A count written 1048576.0 was 'not a number', and lead_mm: yes was to be written
+    in SI units, in a file whose keys say mm."""
+    with pytest.raises(InputError, match=re.escape(said)):
+        parse_machine_yaml(MACHINE_YAML.replace(old, new))
+
+
 def test_missing_key_and_wrong_version():
     text = MACHINE_YAML.replace("      current_limit_A: 20.0\n", "")
     with pytest.raises(InputError, match=r"axes\.X\.servo\.current_limit_A.*missing"):

@@ -131,8 +131,11 @@ def describe(err: dict, hint: str = "", units: str = "") -> str:
         return "unknown key" + (f" ({hint})" if hint else "")
     if err["type"] == "missing":
         return "required key is missing"
+    got = err.get("input")
+    if err["type"].startswith("int_") and isinstance(got, float) and got == got:
+        whole = f"{int(got)}" if got.is_integer() and abs(got) < 1e18 else "a whole number"
+        return f"not a whole number (got {got!r}); write {whole}, with no decimal point"
     if err["type"] in _NOT_A_NUMBER:
-        got = err.get("input")
         got = ("a list" if isinstance(got, list) else "a mapping" if isinstance(got, dict)
                else repr(got))
         return f"not a number (got {got}); {_number_fix(err['loc'], units)}"

@@ -175,6 +175,35 @@ def test_mat_v5_struct_fields_columns_and_fs_variable(tmp_path):
         read_sweep_mat(path, VMAP)
 
 
+def test_mat_v73_struct_array_reads_as_its_v5_twin(tmp_path):
+    """``runs(2).field`` of a v7.3 file (MATLAB's layout: the struct array a group, each
+    field a dataset of one object reference per element) was 'not found', and the hint
+    it gave, ``runs.field``, 'not a numeric array'."""
+    s = signals()
+    one = {"r": s["r"], "ic": s["ic"], "counts": s["counts"], "ls": s["scale_um"],
+           "t": s["t"]}
+    path = tmp_path / "runs.mat"
+    with h5py.File(path, "w", userblock_size=512) as f:
+        refs, g = f.create_group("#refs#"), f.create_group("runs")
+        for name, v in one.items():
+            rr = [refs.create_dataset(f"{name}{k}", data=(v * k)[:, None]).ref
+                  for k in (0, 1)]
+            g.create_dataset(name, data=np.array(rr, dtype=h5py.ref_dtype)[:, None])
+    with open(path, "r+b") as fh:
+        fh.write(b"MATLAB 7.3 MAT-file".ljust(128, b" "))
+    vmap = {"time_s": "runs(2).t", "excitation_A": "runs(2).r", "current_cmd_A": "runs(2).ic",
+            "motor_angle_rad": ("runs(2).counts", 2 * math.pi / COUNTS),
+            "scale_mm": ("runs(2).ls", 1e-3)}
+    got = read_sweep_mat(path, vmap)
+    np.testing.assert_array_equal(got.scale_m, s["scale_um"] * 1e-3 * 1e-3)
+    np.testing.assert_array_equal(got.time_s, s["t"])
+    with pytest.raises(InputError, match=r"'runs' is a struct array of 2 elements; address "
+                                         r"one as runs\(k\)\.t"):
+        read_sweep_mat(path, {**vmap, "time_s": "runs.t"})
+    with pytest.raises(InputError, match=r"'runs\(3\)': the struct array has 2 elements"):
+        read_sweep_mat(path, {**vmap, "time_s": "runs(3).t"})
+
+
 def test_mat_v73_via_hdf5(tmp_path):
     s = signals()
     path = tmp_path / "x73.mat"

@@ -52,7 +52,12 @@ def _load_v73(path: Path):
 
     def visit(key, obj):
         if isinstance(obj, h5py.Dataset) and not key.startswith("#"):
-            paths.append(key.replace("/", "."))
+            name = key.replace("/", ".")
+            if h5py.check_dtype(ref=obj.dtype) is not None and "." in name:  # struct array
+                head, field = name.rsplit(".", 1)
+                paths.extend(f"{head}({k + 1}).{field}" for k in range(min(obj.size, _SHOWN)))
+            else:
+                paths.append(name)
 
     try:
         with h5py.File(path, "r") as f:
@@ -67,7 +72,7 @@ def _load_v73(path: Path):
     def get73(dotted: str):
         try:
             with h5py.File(path, "r") as f:
-                obj = f.get(dotted.replace(".", "/"))
+                obj = _v73_object(f, dotted, path)
                 if isinstance(obj, h5py.Group):  # a struct: report its fields
                     return dict.fromkeys(obj)
                 if not isinstance(obj, h5py.Dataset):
@@ -86,6 +91,34 @@ def _load_v73(path: Path):
         return np.asarray(a).T
 
     return names, paths, get73
+
+
+def _v73_object(f, dotted: str, path: Path):
+    """The HDF5 object of ``dotted`` (``runs(2).field``) in the open v7.3 file ``f``, or
+    ``None``: a struct array is a group whose fields hold a reference per element
+    (MATLAB's layout); an element out of range, or none named, an InputError [-]."""
+    import h5py
+
+    obj, where, index = f, "", None
+    for part in dotted.split("."):
+        m = _PART.match(part)
+        if m is None or not isinstance(obj, h5py.Group) or m.group(1) not in obj:
+            return None
+        obj, where = obj[m.group(1)], where + m.group(1)
+        refs = isinstance(obj, h5py.Dataset) and h5py.check_dtype(ref=obj.dtype) is not None
+        if refs and index is None:
+            raise InputError(f"'{where.rsplit('.', 1)[0]}' is a struct array of {obj.size} "
+                             f"elements; address one as {where.rsplit('.', 1)[0]}(k)."
+                             f"{m.group(1)}, k from 1 to {obj.size}", file=path)
+        if refs:
+            if not 1 <= index <= obj.size:
+                raise InputError(f"'{where.rsplit('.', 1)[0]}({index})': the struct array has "
+                                 f"{obj.size} elements", file=path)
+            obj, index = f[np.ravel(obj[()], order="F")[index - 1]], None
+        if m.group(2) is not None:
+            index = int(m.group(2))
+        where += "."
+    return obj
 
 
 def _load_v5(path: Path):

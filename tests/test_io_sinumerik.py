@@ -11,7 +11,7 @@ import scipy.io as sio
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tcpmm.errors import InputError
+from tcpmm.errors import InputError, InputWarning
 from tcpmm.ident.frf import FRF
 from tcpmm.io.frffile import read_frf, write_frf_csv
 from tcpmm.io.sinumerik import read_sinumerik
@@ -194,6 +194,24 @@ def test_mat_files_read_complex_or_re_im(tmp_path):
         np.testing.assert_array_equal(read_frf(tmp_path / name).H, H)
     with pytest.raises(InputError, match="no response variable"):
         read_frf(tmp_path / "c.mat")
+
+
+@pytest.mark.parametrize("extra, said", [
+    ({"frf": 2 * np.array([1 + 1j, 0.5j, -0.25])}, "variables H and frf name one quantity"),
+    ({"re": [1.0, 0.0, 0.0], "im": [0.0, 1.0, 0.0]}, "variables H and re name one quantity"),
+    ({"H": np.abs(np.array([1 + 1j, 0.5j, -0.25]))}, "variable 'H' holds real numbers only")])
+def test_a_mat_frf_given_twice_or_as_magnitudes_is_refused(tmp_path, extra, said):
+    """H beside frf (or beside re and im) read H and dropped the other without a word;
+    a real H (abs saved) read as a phase of 0 everywhere; an unknown variable is said."""
+    f = np.array([1.0, 2.0, 4.0])
+    sio.savemat(tmp_path / "a.mat", {"freq_hz": f, "H": np.array([1 + 1j, 0.5j, -0.25]),
+                                     **extra})
+    with pytest.raises(InputError, match=said):
+        read_frf(tmp_path / "a.mat")
+    sio.savemat(tmp_path / "b.mat", {"freq_hz": f, "H": np.array([1 + 1j, 0.5j, -0.25]),
+                                     "note_x": [1.0]})
+    with pytest.warns(InputWarning, match="variable 'note_x' is not read"):
+        read_frf(tmp_path / "b.mat")
 
 
 @needs_trace

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..frfdata import FRF, coherence_rel_std
-from .csvutil import atomic_write_columns, read_header, read_numeric_csv
+from .csvutil import atomic_write_columns, read_header, read_numeric_csv, warn_input
 from .matfile import load, mat_array
 from .sinumerik import read_sinumerik_frf
 from .text import existing_file
@@ -94,14 +94,20 @@ def _pick(names, choices):
     return next((lower[c.lower()] for c in choices if c.lower() in lower), None)
 
 
+def _named_once(names, groups, path, what="columns", line=1):
+    """Refuse two names of one quantity (``groups`` of accepted names): one would be read
+    and the other left, whatever it holds [-]."""
+    lower = {n.lower(): n for n in names}
+    for group in groups:
+        both = [lower[c.lower()] for c in group if c.lower() in lower]
+        if len(both) > 1:
+            raise InputError(f"{what} {' and '.join(both)} name one quantity; keep one",
+                             file=path, line=line, column=both[1])
+
+
 def _columns(names, path):
     """The columns to read: frequency, response kind and its two columns, coherence."""
-    lower = {n.lower(): n for n in names}
-    for group in (FREQ, RE, IM, MAG_DB, MAG, PHASE_DEG, PHASE_RAD, COH, AVG):
-        both = [lower[c] for c in group if c in lower]
-        if len(both) > 1:  # one would be read and the other left, whatever it holds
-            raise InputError(f"columns {' and '.join(both)} name one quantity; keep one",
-                             file=path, line=1, column=both[1])
+    _named_once(names, (FREQ, RE, IM, MAG_DB, MAG, PHASE_DEG, PHASE_RAD, COH, AVG), path)
     f = _pick(names, FREQ)
     if f is None:
         raise InputError(f"no frequency column; name it one of {', '.join(FREQ)} [Hz] (the "
@@ -232,6 +238,30 @@ def write_frf_csv(frf: FRF, path, polar: bool = False) -> Path:
     return atomic_write_columns(path, cols, float_format="%.17g")
 
 
+def _mat_names(names, path) -> None:
+    """Refuse a MAT file's quantity given twice (H beside frf, or beside re and im); say
+    the variables not read [-]."""
+    _named_once(names, (FREQ, (*COMPLEX, RE[0]), (*COMPLEX, IM[0]), RE, IM, COH, AVG), path,
+                "variables", None)
+    known = {c.lower() for c in FREQ + COMPLEX + RE + IM + COH + AVG}
+    for other in (n for n in names if n.lower() not in known):
+        warn_input(f"variable '{other}' is not read (the response is read from "
+                   f"{', '.join(n for n in names if n.lower() in known)})", file=path)
+
+
+def _mat_vector(names, get, path, choices, what):
+    """``(name, vector)`` of the first of ``choices`` among a MAT file's ``names``,
+    ``(None, None)`` for none; a matrix an :class:`InputError` [-]."""
+    name = _pick(names, choices)
+    if name is None:
+        return None, None
+    a = mat_array(get(name), name, path)
+    if a.ndim > 2 or (a.ndim == 2 and 1 not in a.shape):
+        raise InputError(f"variable '{name}' ({what}) has shape {a.shape}; store a vector",
+                         file=path, column=name)
+    return name, a.reshape(-1)
+
+
 def read_frf_mat(path) -> FRF:
     """Read a frequency response from a MATLAB .mat file (variables: see the module).
 
@@ -247,22 +277,19 @@ def read_frf_mat(path) -> FRF:
     """
     path = existing_file(path, ".mat file", "MAT file")
     names, _, get = load(path)
+    _mat_names(names, path)
 
     def var(choices, what):
-        name = _pick(names, choices)
-        if name is None:
-            return None, None
-        a = mat_array(get(name), name, path)
-        if a.ndim > 2 or (a.ndim == 2 and 1 not in a.shape):
-            raise InputError(f"variable '{name}' ({what}) has shape {a.shape}; store a "
-                             "vector", file=path, column=name)
-        return name, a.reshape(-1)
+        return _mat_vector(names, get, path, choices, what)
 
     fname, f = var(FREQ, "frequency")
     if f is None:
         raise InputError(f"no frequency variable; name it one of {', '.join(FREQ)} [Hz] (the "
                          f"file has {', '.join(names) or 'none'})", file=path)
     hname, H = var(COMPLEX, "response")
+    if H is not None and not np.iscomplexobj(H):  # a magnitude would read as a phase of 0
+        raise InputError(f"variable '{hname}' holds real numbers only; store the complex "
+                         "response", file=path, column=hname)
     if H is None:
         _, re_ = var(RE, "real part")
         _, im_ = var(IM, "imaginary part")

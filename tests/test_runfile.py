@@ -80,6 +80,21 @@ def test_a_parquet_column_twice_or_a_pandas_index_is_a_named_error(tmp_path, cap
         assert said in err and "internal error" not in err, err
 
 
+def test_a_comment_line_or_a_parquet_named_csv_is_told_for_what_it_is(tmp_path):
+    """A recorder's '# ...' line above the header read as a header of one column, and
+    every row 'has 11 fields' (a decimal comma?); a Parquet file named .csv was 'not a
+    UTF-8 text file (byte 0xc0)'."""
+    write_run(_run(20), tmp_path / "r.csv")
+    (tmp_path / "c.csv").write_text("# recorded 2026-12-07\n" + (tmp_path / "r.csv").read_text())
+    with pytest.raises(InputError, match=r"c\.csv, line 1: the first line is a comment"):
+        read_run(tmp_path / "c.csv")
+    write_run(_run(20), tmp_path / "p.parquet")
+    (tmp_path / "p.csv").write_bytes((tmp_path / "p.parquet").read_bytes())
+    with pytest.raises(InputError, match=r"this is a Parquet file, not the UTF-8 text a run "
+                                         r"file is; name it p\.parquet"):
+        read_run(tmp_path / "p.csv")
+
+
 def test_parquet_of_any_layout_and_number_type_reads_as_written(tmp_path):
     """Row groups of several sizes, chunks that start inside a buffer (a sliced table),
     float32 and integer columns; a missing value is named with its row."""

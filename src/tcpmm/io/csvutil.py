@@ -156,6 +156,9 @@ def read_header(path: Path, what: str = "CSV file", text: str | None = None) -> 
             first, row = fh.readline().strip("\r\n"), fh.readline().strip("\r\n")
     except (OSError, UnicodeDecodeError):
         raise unreadable(path, what) from None
+    if first.lstrip().startswith("#"):  # a recorder's note above the header
+        raise InputError("the first line is a comment; the header (the column names) must "
+                         "be the first line: remove the comment lines", file=path, line=1)
     names = _header_names(first, path)
     if row.strip() and len(row.split(",")) > len(names):
         raise fields_error(path, 2, len(row.split(",")), len(names))

@@ -33,6 +33,11 @@ def existing_file(path, what: str, missing: str | None = None, hint: str | None 
     raise InputError(f"{missing or what} not found" + (f"; {hint}" if hint else ""), file=path)
 
 
+#: Files of other formats given as text: their first bytes, the format, its extension [-]
+_BINARY = ((b"PAR1", "Parquet", ".parquet"), (b"MATLAB 5.0 MAT-file", "MATLAB", ".mat"),
+           (b"MATLAB 7.3 MAT-file", "MATLAB", ".mat"), (b"TDSm", "TDMS", ".tdms"))
+
+
 def read_text(path, what: str, hint: str | None = None) -> str:
     """The text of a UTF-8 file; a missing file, a folder or other bytes are errors.
 
@@ -59,6 +64,12 @@ def read_text(path, what: str, hint: str | None = None) -> str:
         raise InputError(f"not a UTF-8 text file (it is UTF-16); save the {what} as "
                          "UTF-8 text", file=path, line=1)
     data = data.removeprefix(codecs.BOM_UTF8)
+    for magic, kind, ext in _BINARY:
+        if data.startswith(magic):
+            rename = (f"; name it {path.stem}{ext} to read it as such"
+                      if what == "run file" and ext == ".parquet" else "")
+            raise InputError(f"this is a {kind} file, not the UTF-8 text a {what} is{rename}",
+                             file=path)
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:

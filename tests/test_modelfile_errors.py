@@ -270,3 +270,12 @@ def test_a_run_file_given_as_a_model_is_named_for_what_it_reads_as(tmp_path):
     msg = str(e.value)
     assert "run.csv" in msg and "expected a mapping: machine model" in msg
     assert "a table such as a CSV file" in msg and "tcpmm machine export" in msg
+
+
+def test_a_number_in_quotes_is_text_as_in_machine_yaml(vmc):
+    """``K_pp: '30.0'`` read as 30 in a model file, where machine.yaml refuses it: a
+    value in quotes is text, and a number meant as such is written without them."""
+    text = dumps_machine(vmc).replace("      K_pp: 40.0", "      K_pp: '30.0'", 1)
+    err = _error(text)
+    assert err.column == "axes.X.servo.K_pp" and err.line == _line(text, "K_pp: '30.0'")
+    assert "K_pp must be a number, not text ('30.0'); write it without quotes" in err.message

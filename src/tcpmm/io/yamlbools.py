@@ -31,6 +31,22 @@ def _numeric(leaves) -> bool:
         t in (int, float) for t in plain)
 
 
+def _numbers_only(leaves) -> bool:
+    """Whether a field takes numbers (or nothing) and no text [-]."""
+    plain = [typing.get_origin(t) or t for t in leaves]
+    return any(t in (int, float) for t in plain) and all(
+        t in (int, float, type(None)) for t in plain)
+
+
+def _number_text(value: str) -> bool:
+    """Whether text reads as a number (a number quoted) [-]."""
+    try:
+        float(value)
+    except ValueError:
+        return False
+    return True
+
+
 def _models(leaves) -> list[type[BaseModel]]:
     return [t for t in leaves if isinstance(t, type) and issubclass(t, BaseModel)]
 
@@ -77,6 +93,10 @@ def _check_value(value, leaves, path) -> None:
         raise InputError(f"{path[-1]} must be a number, not a boolean ({str(value).lower()} "
                          f"would read as {int(value)}); write the number, {units}",
                          column=where)
+    if isinstance(value, str) and _numbers_only(leaves) and _number_text(value):
+        # pydantic would read '30.0' as 30: quoted, it is text, as machine.yaml holds
+        raise InputError(f"{path[-1]} must be a number, not text ({value!r}); write it "
+                         "without quotes", column=".".join(str(p) for p in path))
     if isinstance(value, dict):
         for m in _models(leaves):
             if all(k in m.model_fields for k in value):

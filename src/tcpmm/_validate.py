@@ -16,6 +16,15 @@ def did_you_mean(name: str, candidates: Iterable[str]) -> str:
     return f" (did you mean '{near[0]}'?)" if near else ""
 
 
+def is_number_text(text: str) -> bool:
+    """Whether ``text`` reads as a number (Python's ``float``) [-]."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def upper_names(names) -> dict[str, str]:
     """Map each name to its upper case; names equal but for case are an error.
 

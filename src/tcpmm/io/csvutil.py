@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from tcpmm._validate import did_you_mean
+from tcpmm._validate import did_you_mean, is_number_text
 from tcpmm.errors import InputError, InputWarning
 from tcpmm.io.atomic import write_columns_atomic
 from tcpmm.io.text import fields_error, read_text, separator_error, unquoted
@@ -36,14 +36,6 @@ def warn_input(message: str, file=None, line=None, column=None) -> None:
     """
     text = InputError(message, file=file, line=line, column=column).format()
     warnings.warn(InputWarning(text), stacklevel=3)
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def unreadable(path: Path, what: str) -> InputError:
@@ -109,7 +101,7 @@ def _header_names(first: str, path: Path) -> list[str]:
     if (wrong := separator_error(first, path)) is not None:
         raise wrong
     names = [unquoted(c) for c in first.split(",")]
-    if all(_is_number(n) for n in names):
+    if all(is_number_text(n) for n in names):
         raise InputError(
             "the first line holds numbers, not column names; add a header line with the "
             "column names (see docs/formats.md)",

@@ -8,6 +8,7 @@ import typing
 
 from pydantic import BaseModel
 
+from .._validate import is_number_text
 from ..errors import InputError
 
 #: Units a key's name may end with (``lead_mm``), in which its number is written [-]
@@ -36,15 +37,6 @@ def _numbers_only(leaves) -> bool:
     plain = [typing.get_origin(t) or t for t in leaves]
     return any(t in (int, float) for t in plain) and all(
         t in (int, float, type(None)) for t in plain)
-
-
-def _number_text(value: str) -> bool:
-    """Whether text reads as a number (a number quoted) [-]."""
-    try:
-        float(value)
-    except ValueError:
-        return False
-    return True
 
 
 def _models(leaves) -> list[type[BaseModel]]:
@@ -93,7 +85,7 @@ def _check_value(value, leaves, path) -> None:
         raise InputError(f"{path[-1]} must be a number, not a boolean ({str(value).lower()} "
                          f"would read as {int(value)}); write the number, {units}",
                          column=where)
-    if isinstance(value, str) and _numbers_only(leaves) and _number_text(value):
+    if isinstance(value, str) and _numbers_only(leaves) and is_number_text(value):
         # pydantic would read '30.0' as 30: quoted, it is text, as machine.yaml holds
         raise InputError(f"{path[-1]} must be a number, not text ({value!r}); write it "
                          "without quotes", column=".".join(str(p) for p in path))

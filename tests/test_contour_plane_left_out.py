@@ -157,3 +157,17 @@ def test_the_tables_print_no_negative_zero(tmp_path, capsys):
     assert main(["contour", str(run), "--plane", "XZ"]) == 0
     out = capsys.readouterr().out
     assert "corners, tcp" in out and "-0.00 " not in out and "-0.000," not in out
+
+
+def test_a_travel_between_rapids_is_the_same_bits_read_whole_or_in_chunks(vmc, tmp_path):
+    """The travel within the feed moves was taken in mm and scaled after, where a whole run
+    is read in metres sample by sample: Z's 9.567247916106165 mm against
+    9.567247916106163 in --json."""
+    prog = ("G21 G90 G17\nG0 X0 Y0 Z1.5355\nG1 X5.0713 F3000\nG1 X10.1234 Y3.77 Z14.5046\n"
+            "G0 Z20\nM30\n")
+    path = tmp_path / "r.parquet"
+    _quiet(simulate, vmc, _quiet(program_to_command, prog)).write(path)
+    whole = _quiet(contour_error, _read(path), plane="XY").left_out
+    for rows in (7, 200, 100_000):
+        assert _quiet(stream_contour, path, ("X", "Y"), True, rows=rows).left_out == whole
+    assert whole.keys() == {"Z"}

@@ -46,7 +46,8 @@ def travel_positions(path, feed_only: bool = False) -> dict:
     for cols in batches(path, None, lambda c: c.endswith("_cmd_mm")
                          or (feed_only and c == "rapid")):
         feed = cols.pop("rapid", None)
-        cols = {c.split("_")[0].upper(): v for c, v in cols.items()}
+        # in metres sample by sample, as a whole run is read: its travels to the bit
+        cols = {c.split("_")[0].upper(): v * 1e-3 for c, v in cols.items()}
         for a, v in cols.items():
             if v.size:
                 lo[a] = min(lo.get(a, np.inf), float(np.min(v)))
@@ -55,8 +56,8 @@ def travel_positions(path, feed_only: bool = False) -> dict:
             moves.add(cols, feed == 0)
             seen.update(np.unique(feed == 0).tolist())
     if seen == {False, True}:
-        return {a: np.array([0.0, t]) * 1e-3 for a, t in moves.travel().items()}
-    return {a: np.array([lo[a], hi[a]]) * 1e-3 for a in lo}
+        return {a: np.array([0.0, t]) for a, t in moves.travel().items()}
+    return {a: np.array([lo[a], hi[a]]) for a in lo}
 
 
 def batches(path, rows, keep):

@@ -31,3 +31,14 @@ def other_feeds(ccw, cw, radius_m: float) -> str | None:
     return (f"the CCW circle runs at {feeds[0]} ({a:.4g} rad/s) and the CW circle at "
             f"{feeds[1]} ({b:.4g} rad/s) at their steady feeds: a pair's terms (the servo "
             "mismatch's angle, the hysteresis, G(b)) hold at one feed")
+
+
+def command_radius(ccw, cw, radius_m: float) -> float:
+    """The radius the commands of ``ccw`` and ``cw`` (:class:`.circle_passes.CirclePass`)
+    run on: the nominal one moved by their mean radial deviation (a controller's filter
+    pulls a circle in, a radius offset moves it); the nominal one where neither has a
+    command. The errors of an axis' position that scale with it (a squareness, a scale
+    mismatch, a lag's angle) make radial errors in proportion to it [m]."""
+    d = [p.command_radial_deviation for p in (ccw, cw)
+         if np.isfinite(p.command_radial_deviation)]
+    return radius_m + (sum(d) / len(d) if d else 0.0)

@@ -22,6 +22,7 @@ from .circle_centre import centred_arcs
 from .circle_cyclic import cyclic_terms, cyclic_unresolved
 from .circle_display import rename_axes
 from .circle_ellipse import open_by_ellipse
+from .circle_feeds import command_radius
 from .circle_model import angle_step
 from .circle_open import open_terms
 from .circle_ranking import deviations, per_circle_terms, rank_terms
@@ -59,7 +60,7 @@ NEEDS_PAIR["lateral_play_Y"] = NEEDS_PAIR["lateral_play_X"]
 
 
 def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
-                    sensor="tcp") -> CircleDiagnostics:
+                    sensor="tcp", command_radius_m=None) -> CircleDiagnostics:
     """The terms one direction determines (module docstring), and why the others need the
     pair (``undetermined``).
 
@@ -78,6 +79,8 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
         The plane's first and second axis [-].
     sensor : str
         Sensor the path is from, for the record [-].
+    command_radius_m : float, optional
+        The radius the command runs on, where it is not the nominal one [m].
     """
     if not radius_m > 0:
         raise InputError(f"the circle radius must be positive (got {radius_m})")
@@ -88,7 +91,8 @@ def diagnose_single(angle, e, direction, radius_m, axes=("X", "Y"),
     arcs = centred_arcs([(a, e)], (1.0 if direction == "ccw" else -1.0,), radius_m)
     fit, left_out = arc_fit(arcs, radius_m, SINGLE, unseen=UNSEEN)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SINGLE, (direction,))
-    terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves)
+    terms = _terms(fit, grids, deviations([(a, e)], radius_m)[0][0], curves,
+                   radius_m / (command_radius_m or radius_m))
     terms["residual_rms"] = (fit.residual_rms, "m")
     why = {rename_axes(k, axes): v for k, v in NEEDS_PAIR.items()}
     why.update({rename_axes("squareness_or_servo" if k == "squareness" else k, axes): ARC_WHY
@@ -137,8 +141,9 @@ def _unplaced(fit, terms, angle) -> dict:
     return out
 
 
-def _terms(fit, grids, g, curves):
-    """The terms one direction gives, ``name -> (value, unit)`` [SI]."""
+def _terms(fit, grids, g, curves, per_command=1.0):
+    """The terms one direction gives, ``name -> (value, unit)``; those that scale with the
+    command's radius ``per_command`` times their fit, on the nominal one [SI]."""
     [(d, grid)] = grids.items()
     terms = {f"radial_deviation_{d}": (float(np.mean(grid)), "m"),
              f"circularity_{d}": (g, "m")}
@@ -152,8 +157,8 @@ def _terms(fit, grids, g, curves):
     for d, (a, e, model) in curves.items():
         spikes = reversal_spikes(a, e - model, d, skip_deg=shift_deg)
         terms.update({f"spike_{q}_{d}": (v, "m") for q, v in spikes.items()})
-    terms["squareness_or_servo"] = (fit["squareness"], "m/m")
-    terms["scale_mismatch"] = (fit["scale_mismatch"], "-")
+    terms["squareness_or_servo"] = (fit["squareness"] * per_command, "m/m")
+    terms["scale_mismatch"] = (fit["scale_mismatch"] * per_command, "-")
     terms["straightness_X"] = (fit["straightness_X"], "m")
     terms["straightness_Y"] = (fit["straightness_Y"], "m")
     terms.update(cyclic_terms(fit))
@@ -180,7 +185,8 @@ def one_direction_diagnostics(result, sensor=None, axes=None) -> CircleDiagnosti
     d = next(iter(pick))
     sensor = pick_sensor({d: pick[d]}, sensor)
     sc = pick[d].sensors[sensor]
-    return diagnose_single(sc.angle_rad, sc.radial_error, d, result.radius, axes, sensor)
+    return diagnose_single(sc.angle_rad, sc.radial_error, d, result.radius, axes, sensor,
+                           command_radius(pick[d], pick[d], result.radius))
 
 
 def scale_diagnostics(diag, result):

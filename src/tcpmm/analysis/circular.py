@@ -37,7 +37,7 @@ from .circle_checks import (
     warn_pass,
     warn_unresolved,
 )
-from .circle_feeds import other_feeds
+from .circle_feeds import command_radius, other_feeds
 from .circle_passes import (  # noqa: F401
     SENSOR_TOL_SHARE,
     circle_deviation,
@@ -245,7 +245,7 @@ class CircleResult:
                 continue  # two tests: each circle keeps its own terms
             rates = (ccw.feed_rate_rad_s, cw.feed_rate_rad_s)
             for name in set(ccw.sensors) & set(cw.sensors):
-                shared = {}
+                shared = {"command_radius_m": command_radius(ccw, cw, self.radius)}
                 for a, b in ((ccw, cw), (cw, ccw)):
                     sc = a.sensors[name]
                     sc._pair = (b.sensors[name], self.radius, rates, shared, tuple(self.plane),

@@ -68,7 +68,7 @@ from .circle_display import (  # noqa: F401
     rename_axes,
     term_note,
 )
-from .circle_feeds import other_feeds
+from .circle_feeds import command_radius, other_feeds
 from .circle_model import is_full
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_sigma import term_sigma
@@ -201,23 +201,22 @@ SPEED_WHY = ("the circles' angular speed is not known, so the mismatch is given 
 
 
 def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
-                  axes=("X", "Y"), sensor="tcp") -> CircleDiagnostics:
+                  axes=("X", "Y"), sensor="tcp", command_radius_m=None) -> CircleDiagnostics:
     """Error terms of a CCW and a CW circle by least squares (module docstring).
 
     Parameters
     ----------
     ccw, cw : tuple of ndarray
         ``(angle, radial error)`` of each circle about the nominal centre, the angle CCW
-        from the first axis and unwrapped, one full turn or more, or two arcs over the same
-        angles [rad, m].
+        from the first axis, unwrapped: a full turn or more, or two arcs alike [rad, m].
     radius_m : float
         Nominal radius [m].
     rates_rad_s : tuple of float
         Angular speed of each circle, the servo mismatch as a time (NaN: its angle) [rad/s].
-    axes : tuple of str
-        Names of the first and second axis of the plane [-].
-    sensor : str
-        Sensor the paths are from, for the record [-].
+    axes, sensor : tuple of str, str
+        Names of the plane's first and second axis; the paths' sensor, for the record [-].
+    command_radius_m : float, optional
+        The radius the command runs on, where it is not the nominal one [m].
     """
     if not radius_m > 0:
         raise InputError(f"the circle radius must be positive (got {radius_m})")
@@ -232,8 +231,9 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     fit, left_out = arc_fit(arcs, radius_m, SHARED)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
     spikes, spike_u95, spike_fast, moved = pair_spikes(fit, arcs, radius_m, SHARED, curves)
-    terms = _terms(fit, grids, deviations(paths, radius_m), spikes, mean_rate)
-    terms["residual_rms"] = (fit.residual_rms, "m")
+    terms = _terms(fit, grids, deviations(paths, radius_m), spikes, mean_rate,
+                   radius_m / (command_radius_m or radius_m)) | {
+        "residual_rms": (fit.residual_rms, "m")}
     why = {rename_axes(k, axes): v for k, v in (dict.fromkeys(undetermined_terms(fit), ARC_WHY)
                                                 | cyclic_unresolved(fit) | width_why(fit)).items()}
     leave_open(why, terms, left_out, arcs, axes)
@@ -275,8 +275,9 @@ def undetermined_terms(fit) -> list:
     return list(dict.fromkeys(out))
 
 
-def _terms(fit, grids, deviations, spikes, mean_rate):
-    """The reported terms, ``name -> (value, unit)``, axes named X and Y [SI]."""
+def _terms(fit, grids, deviations, spikes, mean_rate, per_command=1.0):
+    """The reported terms, ``name -> (value, unit)``, axes named X and Y; those that scale
+    with the command's radius ``per_command`` times their fit, on the nominal one [SI]."""
     g, gb, h = deviations
     terms = {f"radial_deviation_{d}": (float(np.mean(m)), "m") for d, m in grids.items()}
     terms["radial_deviation_pair"] = ((terms["radial_deviation_ccw"][0]
@@ -289,11 +290,11 @@ def _terms(fit, grids, deviations, spikes, mean_rate):
     terms.update({k: (fit[k], "m") for k in SHARED[:4]})
     terms.update(width_terms(fit))
     terms.update({k: (v, "m") for k, v in spikes.items()})
-    mu = fit["servo_angle"]
+    mu = fit["servo_angle"] * per_command
     terms["servo_mismatch"] = (mu / mean_rate, "s")
     terms["servo_mismatch_angle"] = (mu, "rad")
-    terms["squareness"] = (fit["squareness"], "m/m")
-    terms["scale_mismatch"] = (fit["scale_mismatch"], "-")
+    terms["squareness"] = (fit["squareness"] * per_command, "m/m")
+    terms["scale_mismatch"] = (fit["scale_mismatch"] * per_command, "-")
     terms["straightness_X"] = (fit["straightness_X"], "m")
     terms["straightness_Y"] = (fit["straightness_Y"], "m")
     terms.update(cyclic_terms(fit))
@@ -314,7 +315,7 @@ def pair_fit(sc) -> tuple:
             try:
                 fit = diagnose_pair((ccw.angle_rad, ccw.radial_error),
                                     (cw.angle_rad, cw.radial_error), radius, rates, axes,
-                                    sensor)
+                                    sensor, shared.get("command_radius_m"))
             except (InputError, np.linalg.LinAlgError) as exc:
                 err = exc
         shared["fit"] = (fit, [w.message for w in caught], err)
@@ -391,5 +392,5 @@ def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiag
         return fit
     return diagnose_pair((sc["ccw"].angle_rad, sc["ccw"].radial_error),
                          (sc["cw"].angle_rad, sc["cw"].radial_error), result.radius,
-                         (pick["ccw"].feed_rate_rad_s, pick["cw"].feed_rate_rad_s), axes=axes,
-                         sensor=sensor)
+                         (pick["ccw"].feed_rate_rad_s, pick["cw"].feed_rate_rad_s), axes,
+                         sensor, command_radius(pick["ccw"], pick["cw"], result.radius))

@@ -1500,3 +1500,27 @@ def test_a_command_inside_the_nominal_radius_scales_no_term():
                                 "scale_mismatch": 100e-6}, w=2 * np.pi / (1320 * DT))
     np.testing.assert_allclose(got[0.015], got[0.0], rtol=1e-3)
 
+
+@pytest.mark.parametrize("start_deg, sweep_deg", [(45.0, 450.0), (45.0, 400.0),
+                                                  (10.0, 450.0), (0.0, 450.0)])
+def test_whole_turns_are_taken_clear_of_the_reversal_windows(start_deg, sweep_deg):
+    """1.25 turns from 45 deg, between quadrant points as the analysis advises, were
+    trimmed symmetrically to one turn from 90 deg: spike B (CCW) and A (CW) read n/a, and
+    the warning advised starting between quadrant points. The turn is moved within the
+    run to where its ends lie clear of every reversal window; one that is clear there
+    already (from A, as the reference machines' circles run) stays where it was."""
+    n = int(sweep_deg * 20)
+    for d, s in (("ccw", 1.0), ("cw", -1.0)):
+        a = np.radians(start_deg) + s * np.radians(sweep_deg) * np.arange(n + 1) / n
+        xy = R * np.c_[np.cos(a), np.sin(a)]
+        tcp = xy + 0.05e-6 * np.random.default_rng(1).standard_normal(xy.shape)
+        run = Run(DT * np.arange(n + 1), {"X": AxisRun(cmd=xy[:, 0], tcp=tcp[:, 0]),
+                                          "Y": AxisRun(cmd=xy[:, 1], tcp=tcp[:, 1])})
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            [p] = analyse_circle(run, R).passes
+        assert not [w for w in said if "quadrant point" in str(w.message)], d
+        assert all(np.isfinite(v) for v in p.sensors["tcp"].spikes.values()), (d, p)
+        if (start_deg, sweep_deg) == (0.0, 450.0):  # symmetric: from 45 deg
+            start = np.degrees(np.arctan2(xy[p.index.start, 1], xy[p.index.start, 0]))
+            assert abs(start % 360 - (45.0 if s > 0 else 315.0)) < 0.1, start

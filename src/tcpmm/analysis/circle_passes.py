@@ -26,6 +26,7 @@ import numpy as np
 
 from ..errors import InputWarning
 from .circle_model import angle_step
+from .circle_start import turns_offset
 
 #: The shortest arc analysed [deg]
 MIN_ARC_DEG = 30.0
@@ -214,9 +215,10 @@ def _whole_turns(ang, n_turns):
     excess = (span - 2 * np.pi * n_turns) / 2
     if excess < -max(1e-3, angle_step(ang)):
         return None
-    excess = max(excess, 0.0)
+    lo = turns_offset(ang, excess := max(excess, 0.0))  # symmetric, or clear of reversals
     rel = np.abs(ang - ang[0])
-    return np.flatnonzero((rel >= excess) & (rel <= span - excess))
+    hi = span - excess if lo == excess else lo + span - 2 * excess
+    return np.flatnonzero((rel >= lo) & (rel <= hi))
 
 
 def _on_settled(dx, dy, radius, a: int, b: int, direction: str, n_turns: int) -> tuple:

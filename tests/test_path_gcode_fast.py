@@ -374,3 +374,21 @@ def test_the_compiled_scanner_takes_the_interpreters_zero_move():
     from tcpmm.path import gcode_scan, gcode_words
 
     assert gcode_scan._ZERO_MOVE_M == gcode_words.ZERO_MOVE_M
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_a_nanometre_jog_is_a_repeated_point_wherever_it_is(fast):
+    """A spiral's points each repeated 0.000001 mm off, as a CAM post writing 6 decimals
+    does: the difference of the two positions in metres rounds to either side of 1e-9,
+    and 1 671 of 2 857 were skipped, the rest run as moves of 1 nm (137.6 s of program for
+    78.7 s). Every one is a repeated point."""
+    pts = [(round(20.0 + 0.37 * k, 6), round(5.0 + 0.113 * k, 6)) for k in range(300)]
+    body = "".join(f"X{x:.6f} Y{y:.6f}\nX{x + 0.000001:.6f} Y{y:.6f}\n" for x, y in pts)
+    it = gcode_stream.run_program("G21 G90 G1 F3000\n" + body, "j.nc", (0.0, 0.0, 0.0),
+                                  fast=fast)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        it.emit_warnings()
+    [said] = [str(w.message) for w in caught if "zero-length" in str(w.message)]
+    assert "(and 299 more times)" in said, said
+    assert len(it.segments) == 300

@@ -22,7 +22,7 @@ from numba import njit
 
 #: :data:`tcpmm.path.gcode_words.ZERO_MOVE_M`, here a literal: this module is compiled on
 #: its own [m]
-_ZERO_MOVE_M = 1e-9
+_ZERO_MOVE_M = 1e-9 * (1.0 + 1e-6)
 
 #: a line's status in :func:`scan_lines`' codes: not a plain move, a plain move with
 #: its numbers converted, a plain move with a number converted only by ``float``, a

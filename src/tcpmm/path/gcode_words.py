@@ -12,10 +12,12 @@ MAX_CODE = 1000
 #: machine's travel, a typo; next to it the interpolator's doubles lose the path's
 #: micrometres, and past 1e308 a coordinate is infinite [m].
 MAX_COORDINATE_M = 1e3
-#: A straight move shorter than this on every axis goes nowhere: a repeated point, or one
-#: that rounding moved (0.3 + 0.3 + 0.3 mm in G91, then G90 X0.9: 1e-16 mm), which a
-#: controller skips and which would stop the feed at a corner of no size [m].
-ZERO_MOVE_M = 1e-9
+#: A straight move no longer than this on every axis goes nowhere: a repeated point, or
+#: one that rounding moved (0.3 + 0.3 + 0.3 mm in G91, then G90 X0.9: 1e-16 mm), which a
+#: controller skips and which would stop the feed at a corner of no size. 1 nm, to the
+#: rounding of the coordinates: a jog of 0.000001 mm, the difference of two positions in
+#: metres, rounds to either side of 1e-9, and some were skipped, some run [m].
+ZERO_MOVE_M = 1e-9 * (1.0 + 1e-6)
 #: Highest feed taken, 16.7 m/s, faster than any feed axis [mm/min or in/min].
 MAX_FEED = 1e6
 

@@ -279,3 +279,11 @@ def test_a_number_in_quotes_is_text_as_in_machine_yaml(vmc):
     err = _error(text)
     assert err.column == "axes.X.servo.K_pp" and err.line == _line(text, "K_pp: '30.0'")
     assert "K_pp must be a number, not text ('30.0'); write it without quotes" in err.message
+
+
+def test_a_boolean_for_a_symbol_ending_in_a_letter_asks_for_si_units(vmc):
+    """``J_m: true`` was told to write the number in m: the ``m`` of ``J_m`` names the
+    motor, not a unit (the check of the key's last word beside tcpmm.io.keyunits's)."""
+    text = dumps_machine(vmc).replace("      J_m: 0.000265", "      J_m: true", 1)
+    err = _error(text)
+    assert err.message.endswith("write the number, in SI units"), err.message

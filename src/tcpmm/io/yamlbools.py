@@ -10,9 +10,8 @@ from pydantic import BaseModel
 
 from .._validate import is_number_text
 from ..errors import InputError
+from .keyunits import name_unit
 
-#: Units a key's name may end with (``lead_mm``), in which its number is written [-]
-_NAMED_UNITS = {"mm", "um", "m", "s", "ms", "min", "A", "N", "Nm", "rad", "deg", "Hz", "hz"}
 
 def _leaves(annotation) -> list:
     """The plain types and generics a field's annotation admits (unions, optionals and
@@ -79,9 +78,8 @@ def refuse_bools(data, model_cls, path=()) -> None:
 def _check_value(value, leaves, path) -> None:
     if isinstance(value, bool) and _numeric(leaves):
         where = ".".join(str(p) for p in path)
-        unit = str(path[-1]).rsplit("_", 1)[-1] if "_" in str(path[-1]) else ""
-        units = (f"in {unit} (the unit its name ends with)" if unit in _NAMED_UNITS
-                 else "in SI units")
+        unit = name_unit(str(path[-1]))
+        units = f"in {unit} (the unit its name ends with)" if unit else "in SI units"
         raise InputError(f"{path[-1]} must be a number, not a boolean ({str(value).lower()} "
                          f"would read as {int(value)}); write the number, {units}",
                          column=where)

@@ -31,6 +31,7 @@ def turns_offset(ang, excess: float) -> float:
     offs = np.linspace(0.0, 2.0 * excess, 721)
     phase = (start + np.degrees(offs)) % 90.0
     clear = (phase > AFTER_DEG[1] + MARGIN_DEG) & (phase < 90.0 + BEFORE_DEG[0] - MARGIN_DEG)
-    if not clear.any() or clear[360]:
+    on = np.flatnonzero(clear)
+    if on.size == 0 or clear[360]:
         return excess
-    return float(offs[np.flatnonzero(clear)[np.argmin(np.abs(np.flatnonzero(clear) - 360))]])
+    return float(offs[on[np.argmin(np.abs(on - 360))]])

@@ -3,7 +3,13 @@
 import pytest
 
 from tcpmm.errors import InputError
-from tcpmm.io.modelfile import dumps_machine, loads_machine, read_machine, write_machine
+from tcpmm.io.modelfile import (
+    END_LINE,
+    dumps_machine,
+    loads_machine,
+    read_machine,
+    write_machine,
+)
 
 
 def test_round_trip_is_identical(vmc, tmp_path):
@@ -146,3 +152,27 @@ def test_an_identified_axis_mechanics_are_not_taken_for_a_unit(vmc):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         unit_suspects(vmc)
+
+
+def test_a_file_cut_short_at_any_line_is_refused_naming_where_it_ends(vmc):
+    """A copy interrupted part way is valid YAML up to where it stops; the keys it lost
+    were read as their defaults (a friction without its pre-sliding stiffness, an axis
+    without its uncertainty) and the model simulated with no word."""
+    lines = dumps_machine(vmc).splitlines(keepends=True)
+    assert lines[-1] == END_LINE + "\n"
+    for k in range(1, len(lines) - 1):
+        with pytest.raises(InputError, match="cut short") as e:
+            loads_machine("".join(lines[:k]), "m.yaml")
+        last = max(i for i in range(k) if lines[i].strip()) + 1
+        assert f"m.yaml: the model file ends at line {last} " in str(e.value)
+
+
+def test_a_model_written_by_hand_needs_no_last_line(vmc):
+    """A file without tcpmm's header is the user's own, held to its keys only; one that
+    has the last line with keys added after it by hand is whole."""
+    text = dumps_machine(vmc)
+    body = text[text.index("format:"):].replace(END_LINE + "\n", "")
+    assert loads_machine(body, "m.yaml") == vmc
+    spec = text[text.index("specification:"):text.index(END_LINE)]
+    moved = text.replace(spec, "") + spec  # the last block moved past the last line
+    assert loads_machine(moved, "m.yaml") == vmc

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Literal
 
+from ..errors import InputError
 from ..machines.builtin import builtin_machine
 from ..model import Machine
 from ..path.settings import InterpolatorSettings
@@ -22,6 +23,9 @@ _HINT = "see the keys that `tcpmm machine export` writes"
 #: the units of a number whose key's name does not say them, as the header lists them
 _UNITS = "in SI units (the file's header, docs/formats.md section 5)"
 
+#: the last line of every model file tcpmm writes: a file with tcpmm's header and without
+#: it was cut short, and what is missing would otherwise be read as the defaults [-]
+END_LINE = "# end of the model file"
 _HEADER = """\
 # tcpmm machine model ({fmt}). SI units throughout:
 #   mechanics: J [kg m^2], B [N m s/rad], K_L [N m/rad], lead [m], M [kg], C [N s/m],
@@ -93,23 +97,54 @@ def with_interpolation(machine: Machine) -> Machine:
     return machine.model_copy(update={"interpolation": full.model_dump(mode="python")})
 
 
-def dumps_machine(machine: Machine) -> str:
-    """The model file text of a machine."""
+def _model_text(machine: Machine) -> str:
     import yaml  # here: a built-in machine is read without PyYAML (some 15 ms)
 
     body = yaml.safe_dump(machine_to_dict(machine), sort_keys=False, default_flow_style=False)
     return _HEADER.format(fmt=FORMAT) + body
 
 
+def dumps_machine(machine: Machine) -> str:
+    """The model file text of a machine: the header, the model, and :data:`END_LINE`."""
+    return _model_text(machine) + END_LINE + "\n"
+
+
 def model_identity(machine: Machine) -> dict:
     """What tells a model from another in the outputs computed from it: its name and the
-    first 16 hex digits of the SHA-256 of the model file text it writes as
-    (:func:`dumps_machine`: the same for a file and for the file read and written again,
-    its comments aside) [-]."""
+    first 16 hex digits of the SHA-256 of the model file text it writes as, up to its
+    last line (:func:`dumps_machine`: the same for a file and for the file read and
+    written again, its comments aside) [-]."""
     import hashlib
 
-    digest = hashlib.sha256(dumps_machine(machine).encode("utf-8")).hexdigest()[:16]
+    digest = hashlib.sha256(_model_text(machine).encode("utf-8")).hexdigest()[:16]
     return {"name": machine.name, "digest": digest}
+
+
+def refuse_cut_short(text: str, file) -> None:
+    """Refuse a model file that starts with the header tcpmm writes but lacks the line it
+    writes last: a copy or a transfer interrupted, whose missing keys would be read as
+    their defaults with no word. A file written by hand, without the header, is not held
+    to it.
+
+    Parameters
+    ----------
+    text : str
+        The model file's text [-].
+    file : str or Path
+        Its name, for the message [-].
+    """
+    lines = text.splitlines()
+    if not text.startswith("# tcpmm machine model (") or any(
+            line.strip() == END_LINE for line in lines):
+        return
+    last = next((k for k in range(len(lines), 0, -1) if lines[k - 1].strip()), 0)
+    shown = f" ({lines[last - 1].strip()!r})" if last else ""
+    raise InputError(
+        f"{file}: the model file ends at line {last}{shown} without the line "
+        f"{END_LINE!r} that tcpmm writes last: it was cut short (a copy or a transfer "
+        "interrupted), and what is missing would be read as defaults. Write it again "
+        "(tcpmm identify -o, tcpmm machine export), or copy it whole; a model edited by "
+        "hand keeps that line at its end")
 
 
 def write_machine(machine: Machine, path) -> None:
@@ -126,6 +161,7 @@ def loads_machine(text: str, file="<model>") -> Machine:
     """Parse model-file text; a number that looks written in mm or um is warned of."""
     from .yamlutil import validate_yaml
 
+    refuse_cut_short(text, file)
     machine = _to_machine(validate_yaml(text, ModelFile, file, "machine model", _HINT,
                                         FORMAT, _UNITS))
     warn_unit_suspects(machine, file)

@@ -642,3 +642,38 @@ def test_more_poles_than_the_numbers_hold_is_an_input_error(capsys, tmp_path):
     code, out, err = run_cli(capsys, "frf", "fit", path, "--poles", "400")
     assert code == 2 and out == ""
     assert err.startswith(f"error: {path}: 400 poles over 3 decades")
+
+
+def _polar_file(tmp_path, name, phase):
+    frf = noisy_frf(0)
+    rows = [f"freq_hz,magnitude_db,{name}"] + [
+        f"{float(f)!r},{float(20 * np.log10(abs(v)))!r},{float(p)!r}"
+        for f, v, p in zip(frf.freq_hz, frf.H, phase(frf.H), strict=True)]
+    (path := tmp_path / "polar.csv").write_text("\n".join(rows) + "\n")
+    return frf, path
+
+
+def test_a_phase_in_radians_under_the_name_phase_is_refused(tmp_path):
+    """'phase' is read as degrees, its documented unit; a phase in radians under that name
+    turned the response by less than 4 degrees over its band and was fitted as such."""
+    from tcpmm.io.frffile import read_frf
+
+    _, path = _polar_file(tmp_path, "phase", np.angle)
+    with pytest.raises(InputError, match=r"within \+-pi .*phase_rad \[rad\] or phase_deg") as e:
+        read_frf(path)
+    assert "polar.csv, line 1, column 'phase'" in str(e.value)
+    # in degrees it reads, and so does a column named for its unit
+    frf, path = _polar_file(tmp_path, "phase", lambda h: np.degrees(np.angle(h)))
+    np.testing.assert_allclose(read_frf(path).H, frf.H, rtol=1e-12)
+    frf, path = _polar_file(tmp_path, "phase_rad", np.angle)
+    np.testing.assert_allclose(read_frf(path).H, frf.H, rtol=1e-12)
+
+
+def test_a_phase_deg_column_that_reads_as_radians_is_warned_of(tmp_path):
+    """A column named in degrees is read so; where all of it lies within +-pi and it turns
+    by more than a radian, the warning says how to name a phase in radians."""
+    from tcpmm.io.frffile import read_frf
+
+    _, path = _polar_file(tmp_path, "phase_deg", np.angle)
+    with pytest.warns(InputWarning, match="if it is in radians, name the column phase_rad"):
+        read_frf(path)

@@ -5,7 +5,8 @@ CSV (header names decide, case-insensitive; see ``docs/frf_files.md``):
 * frequency: ``freq_hz``, ``frequency_hz``, ``f_hz``, ``frequency``, ``freq``, ``f`` [Hz];
 * the response, one of: ``re`` and ``im`` (also ``real``/``imag``); ``magnitude_db`` (also
   ``mag_db``, ``db``) or ``magnitude`` (also ``mag``, ``abs``, linear) with ``phase_deg``
-  (also ``phase``) [deg] or ``phase_rad`` [rad];
+  (also ``phase``, refused where every value lies within +-pi) [deg] or ``phase_rad``
+  [rad];
 * optional ``coherence`` (also ``coh``) [-];
 * optional ``averages`` (also ``n_averages``): the number of averages behind the
   coherence, the same on every row [-].
@@ -127,6 +128,25 @@ def _columns(names, path):
     return f, kind, a, b, _pick(names, COH), _pick(names, AVG)
 
 
+def _phase_unit_checked(name, phase, path) -> None:
+    """Refuse a column named ``phase`` whose every value lies within +-pi: read as
+    degrees (its documented unit), a phase in radians turns the response by less than 4
+    degrees over the band. Warn of a ``phase_deg`` column that reads so [-]."""
+    largest = float(np.max(np.abs(phase)))
+    if largest > np.pi * (1 + 1e-9):
+        return
+    if name.lower() == "phase":
+        raise InputError(
+            f"every value lies within +-pi (largest |phase| {largest:.4g}): radians, or "
+            "degrees of a response that hardly turns? The column name decides: phase_rad "
+            "[rad] or phase_deg [deg]", file=path, line=1, column=name)
+    span = float(np.ptp(phase))
+    if span > 1.0:
+        warn_input(f"every value lies within +-pi, spanning {span:.3g}: read as degrees, "
+                   "as its name says; if it is in radians, name the column phase_rad",
+                   file=path, line=1, column=name)
+
+
 def _complex(kind, a, b):
     if kind == "reim":
         return a + 1j * b
@@ -169,6 +189,8 @@ def read_frf_csv(path) -> FRF:
         if bad.size:
             raise InputError("a linear magnitude cannot be negative (is it in dB? name the "
                              "column magnitude_db)", file=path, line=int(bad[0]) + 2, column=a)
+    if kind.endswith("deg"):
+        _phase_unit_checked(b, cols[b], path)
     coh = _coherence(cols.get(coh_col), f.size, path, coh_col)
     return _frf(f, _complex(kind, cols[a], cols[b]), coh, path, coh_col not in cols,
                 _averages(cols.get(avg_col), path, avg_col))

@@ -23,11 +23,14 @@ needs_trace = pytest.mark.skipif(not TRACE.is_file(), reason="Sinumerik trace no
 
 @needs_trace
 def test_the_real_trace_reads_with_plausible_physical_values():
-    tr = read_sinumerik(TRACE)
+    with pytest.warns(InputWarning, match=r"steps by 3\.91389 Hz, but .* DFT of the "
+                      r"2047-sample time series .* step by 3\.90816 Hz \(\+0\.147 %"):
+        tr = read_sinumerik(TRACE)
     frf = tr.frf
-    # 2047-sample PRBS at 8 kHz: 1023 bins 0..4000 Hz, the 0 Hz bin left out
+    # 2047-sample PRBS at 8 kHz: the spectra stored are its DFT, whose bins step by
+    # 8000/2047 Hz; the file's own vector labels the 1022 above 0 Hz 4000/1022 Hz apart
     assert frf.freq_hz.size == 1022
-    assert frf.freq_hz[0] == pytest.approx(4000 / 1022) and frf.freq_hz[-1] == 4000.0
+    np.testing.assert_allclose(frf.freq_hz, np.arange(1, 1023) * 8000 / 2047, rtol=1e-12)
     assert tr.meta["control_loop"] == "speed" and tr.meta["sample_time_s"] == 0.000125
     # a closed speed loop: unity at low frequency, lagging, -3 dB near 80 Hz, rolled off
     assert abs(frf.H[0]) == pytest.approx(1.0, abs=0.01)
@@ -59,6 +62,8 @@ def test_spectra_agree_with_the_time_series_they_were_made_from(tmp_path):
     assert b.freq_hz.size == a.freq_hz.size + 1 or b.freq_hz.size == a.freq_hz.size
     n = min(a.H.size, b.H.size)
     np.testing.assert_allclose(b.H[:n], a.H[:n], rtol=1e-9)
+    # at the same frequencies: those of the DFT, not the file's label 0.147 % above them
+    np.testing.assert_allclose(b.freq_hz[:n], a.freq_hz[:n], rtol=1e-12)
 
 
 def _xml(tmp_path, raw: str, length: int = 2) -> Path:

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..frfdata import FRF, coherence_rel_std
+from .csvutil import warn_input
 from .sinumerik_b85 import decode_doubles
 from .text import existing_file
 
@@ -341,12 +342,38 @@ def _spectra(node_in, node_out, traces, path):
             if g.size != f.size or not np.allclose(g, f):
                 raise InputError("the auto- and cross-spectra have different frequency "
                                  "vectors; " + _FIX, file=path)
+        f = _bin_frequencies(f, autos[0][1].real, cross[1], traces, path)
         return f, autos[0][1].real, autos[1][1].real, cross[1], cross[2]
     if len(traces) == 2:
         return _from_time(*traces.values(), path)
     raise InputError("the file holds neither the spectra of the input and output signals "
                      "nor their time series; save the measurement with its data "
                      "(frequency spectra or time series)", file=path)
+
+
+def _bin_frequencies(f, s_ii, s_io, traces, path):
+    """The stored frequency vector; or, where the stored spectra are the DFT of the time
+    series in the file and the vector places their bins elsewhere, the DFT's own bins
+    (k / (N dt)), with a warning: the time base, not the label, says where a bin lies."""
+    if len(traces) != 2:
+        return f
+    g, t_ii, _, t_io, _ = _from_time(*traces.values(), path)
+    g, t_ii, t_io = (a[1:] if f[0] > 0 else a for a in (g, t_ii, t_io))
+    if g.size < f.size:
+        return f
+    g, t_ii, t_io = g[:f.size], t_ii[:f.size], t_io[:f.size]
+    with np.errstate(divide="ignore", invalid="ignore"):  # scale-free: the response
+        h, t_h = s_io / s_ii, t_io / t_ii
+    ok = np.isfinite(h) & np.isfinite(t_h) & (f > 0)  # the mean is taken out of the runs
+    same = np.count_nonzero(ok) > f.size // 2 and np.allclose(t_h[ok], h[ok], rtol=1e-6)
+    if not same or np.allclose(g, f, rtol=1e-9, atol=0.0):
+        return f
+    n = next(iter(traces.values())).time_s.size
+    warn_input(f"the stored frequency vector steps by {f[1] - f[0]:.6g} Hz, but its spectra "
+               f"are the DFT of the {n}-sample time series in the file, whose bins step by "
+               f"{g[1] - g[0]:.6g} Hz ({100 * (f[-1] / g[-1] - 1):+.3f} % against them): read "
+               "at the DFT's bins, where the time base places them", file=path)
+    return g
 
 
 def _from_time(tin: TimeTrace, tout: TimeTrace, path):

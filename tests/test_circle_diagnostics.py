@@ -384,7 +384,8 @@ def test_cli_pair_prints_the_diagnostics_in_80_columns_and_json(capsys, pair):
     # the tables in 80 columns; their titles (the runs' names), captions and what is not
     # determined are lines of their own, never wrapped in a pipe
     lines = [line for line in out.splitlines() if not line.startswith(
-        (str(pair), "A-D: reversal spike", "G(b) alone: the G(b)", "±95%: 2 standard"))
+        (str(pair), "A-D: reversal spike", "G(b) alone: the G(b)", "±95%: 2 standard",
+         "not ranked: "))
         and ": not determined; " not in line]
     assert max(len(line) for line in lines) <= 80 and "…" not in out  # COLUMNS=80 for rich
     for text in ("backlash X", "squareness", "µm/m", "scale mismatch", "ppm", "servo mismatch",
@@ -844,7 +845,8 @@ def test_a_centre_offset_moves_no_reversal_step_into_the_spikes(start_deg):
     diag = diagnose(err, n=n, start_deg=start_deg)
     assert_recovered(diag, expected(err, n=n), w=w)
     ranked = {r["term"]: r for r in diag.ranking}
-    assert ranked["reversal_spikes"]["contribution_m"] < 4.5 * NOISE
+    # in the noise, not ranked at all, or ranked at the noise's size
+    assert ranked.get("reversal_spikes", {"contribution_m": 0.0})["contribution_m"] < 4.5 * NOISE
 
 
 def test_lateral_play_makes_its_size_of_g_between_the_directions():

@@ -36,7 +36,7 @@ and that move, over every tail the samples allow, is added whole (:func:`family_
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import stdtrit
+from scipy.special import ndtri, stdtrit
 
 from .circle_fit import design
 from .circle_model import reversal_lead_deg
@@ -97,9 +97,10 @@ def spike_uncertainty(angle_rad, rest, direction: str, lead_deg: float = 0.0,
     return u95, sample
 
 
-def _bound(rest, before, after, columns, cov, sample_noise=False) -> float:
+def _bound(rest, before, after, columns, cov, sample_noise=False, beyond=BEYOND) -> float:
     """The 95 % uncertainty of one spike from its windows' masks; with ``sample_noise``
-    from the noise from sample to sample alone (:func:`spike_uncertainty`) [m]."""
+    from the noise from sample to sample alone (:func:`spike_uncertainty`); passed with
+    the probability ``beyond`` instead of 5 % [m]."""
     b = np.median(rest[before])
     base = rest[before] - b
     if sample_noise:
@@ -114,13 +115,14 @@ def _bound(rest, before, after, columns, cov, sample_noise=False) -> float:
     # correlation length: a slow residual is no noise of few samples, and the bound
     # already takes it whole)
     dof = max(np.count_nonzero(before) - 1.0, 1.0)
-    extreme = sigma * float(stdtrit(dof, 1.0 - 0.5 * BEYOND / np.count_nonzero(after)))
+    extreme = sigma * float(stdtrit(dof, 1.0 - 0.5 * beyond / np.count_nonzero(after)))
     var = 0.5 * np.pi * sigma**2 * tau / np.count_nonzero(before)
     if columns is not None and cov is not None:
         at = np.flatnonzero(after)[np.argmax(np.abs(rest[after] - b))]
         g = columns[at] - columns[before].mean(axis=0)
         var += max(float(g @ cov @ g), 0.0)
-    return float(np.hypot(extreme, COVERAGE * np.sqrt(var)))
+    cover = COVERAGE * (1.0 if beyond == BEYOND else ndtri(1 - beyond / 2) / ndtri(1 - BEYOND / 2))
+    return float(np.hypot(extreme, cover * np.sqrt(var)))
 
 
 def is_slow(u95: float, fast: float) -> bool:
@@ -219,12 +221,13 @@ def _across(e, model, k0: int, k1: int) -> list:
     return out
 
 
-def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, dict, dict, dict]:
+def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, ...]:
     """The spikes after a fit's terms, ``spike_{P}_{direction}``, taken from where the
     leading axis reverses (the fit leaves its transient out) on what the terms leave
     (:func:`step_sides`), their 95 % uncertainty (:func:`spike_uncertainty`), that from
-    the noise from sample to sample alone, and how far each moves over the tails of a
-    transient lasting past the window (:func:`family_moves`, 0 for none) [m].
+    the noise from sample to sample alone, how far each moves over the tails of a
+    transient lasting past the window (:func:`family_moves`, 0 for none), and their
+    bound at 95 % for the spikes together (:func:`spikes_in_noise`) [m].
 
     Parameters
     ----------
@@ -243,7 +246,7 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, dic
         (:func:`.circle_takeup.spike_moves`) [-].
     """
     cov = None if fit.cov is None else np.nan_to_num(fit.cov)
-    spikes, u95, fast, tails = {}, {}, {}, {}
+    spikes, u95, fast, tails, together = {}, {}, {}, {}, {}
     for i, (d, (a, e, model)) in enumerate(curves.items()):
         lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
         rest = step_sides(e, model)
@@ -253,6 +256,10 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, dic
         got = (reversal_spikes(a, rest, d, lead), *spike_uncertainty(a, rest, d, lead, cols, cov))
         for out, values in zip((spikes, u95, fast), got, strict=True):
             out.update({f"spike_{q}_{d}": v for q, v in values.items()})
+        together.update({f"spike_{q}_{d}": _bound(rest, before, after, cols, cov,
+                                                  beyond=BEYOND / (4 * len(curves)))
+                         for q, before, after in spike_windows(a, d, lead)
+                         if before is not None})
         # the take-up's own interval, which the fit's covariance does not hold
         moves = spike_moves(fit, arcs[i], radius, arcs[i].positions(radius, None, e),
                             fit.centres[i] if fit.centres else (0.0, 0.0), got[0],
@@ -265,10 +272,38 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, dic
             lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(a, rest - dr, d, lead))
         for q, v in moves.items():
             k = f"spike_{q}_{d}"
-            if k in u95 and np.isfinite(u95[k]):
-                u95[k] = float(np.hypot(u95[k], v)) + lingers.get(q, 0.0)
+            for bound in (u95, together):
+                if k in bound and np.isfinite(bound[k]):
+                    bound[k] = float(np.hypot(bound[k], v)) + lingers.get(q, 0.0)
         tails.update({f"spike_{q}_{d}": v for q, v in lingers.items()})
-    return spikes, u95, fast, tails
+    return spikes, u95, fast, tails, together
+
+
+def spikes_in_noise(terms: dict, together: dict) -> str:
+    """Why the reversal spikes are not ranked, where no spike after the terms stands out of its
+    bound for the spikes together (:func:`pair_spikes`), each at the level that keeps
+    them all within theirs at 95 % where there is nothing but noise: a pair's eight each
+    at 95 % let one past in a third of the circles of noise alone, which then ranked the
+    reversal spikes first; empty where one stands out or none is given [-].
+
+    Parameters
+    ----------
+    terms : dict
+        The reported terms, ``spike_{P}_{direction} -> (value, unit)`` [SI].
+    together : dict
+        The spikes' bounds for the spikes together, by the same keys [m].
+    """
+    given = {k: (abs(terms[k][0]), b) for k, b in together.items()
+             if k in terms and np.isfinite(terms[k][0]) and np.isfinite(b)}
+    if not given or any(v > b for v, b in given.values()):
+        return ""
+    k, (v, b) = max(given.items(), key=lambda kv: kv[1][0] / kv[1][1] if kv[1][1] else 0)
+    n = len(together)
+    return (f"none of the {n} spikes after the terms stands out of the noise: each lies "
+            f"within its bound at {100 * (1 - BEYOND / n):.1f} %, which keeps all {n} within "
+            f"theirs at 95 % where there is nothing but noise (closest, {k.split('_')[1]} "
+            f"{k.split('_')[2].upper()}: {v * 1e6:.2f} µm within {b * 1e6:.2f} µm): these "
+            "circles cannot tell a reversal spike here from the noise")
 
 
 def widen_for_opened(fit, arcs, radius, shared, curves, terms, spike_u95) -> None:

@@ -227,21 +227,36 @@ def sign_open(terms: dict, shift: dict, radius: float) -> list:
 
 def unranked(diag) -> list:
     """The ranked terms' names (:attr:`CircleDiagnostics.ranking`'s) that :func:`sign_open`
-    leaves out of the ranking [-]."""
+    leaves out of the ranking, and the reversal spikes where none stands out of the
+    noise [-]."""
     return [k for k in sign_open(diag.terms, diag.tail_shift, diag.radius)
-            if not k.startswith("centre_offset_") and k != "servo_mismatch_angle"]
+            if not k.startswith("centre_offset_") and k != "servo_mismatch_angle"] + (
+        ["reversal_spikes"] if diag.quiet_spikes else [])
 
 
 def unranked_line(diag) -> str:
-    """The terms :func:`sign_open` leaves out of the ranking, in words; empty where none
-    is [-]."""
-    left = unranked(diag)
-    if not left:
-        return ""
-    return ("not ranked: " + ", ".join(k.replace("_", " ") for k in left)
-            + ": fitted again with 40 deg after each reversal left out instead of 20, each "
-            "moves by more than its own value (uncertain by the reversals' tails), so these "
-            "circles do not determine it, not even its sign")
+    """The terms left out of the ranking (:func:`unranked`), in words, a line for each
+    reason; empty where none is [-]."""
+    return "\n".join(unranked_lines(diag))
+
+
+def unranked_sentences(diag) -> str:
+    """:func:`unranked_line` as sentences, for a page; empty where none is [-]."""
+    return " ".join(f"{line[0].upper()}{line[1:]}." for line in unranked_lines(diag))
+
+
+def unranked_lines(diag) -> list:
+    """The lines of :func:`unranked_line` [-]."""
+    left = [k for k in unranked(diag) if k != "reversal_spikes"]
+    lines = []
+    if left:
+        lines.append("not ranked: " + ", ".join(k.replace("_", " ") for k in left)
+                     + ": fitted again with 40 deg after each reversal left out instead of "
+                     "20, each moves by more than its own value (uncertain by the reversals' "
+                     "tails), so these circles do not determine it, not even its sign")
+    if diag.quiet_spikes:
+        lines.append(f"not ranked: reversal spikes: {diag.quiet_spikes}")
+    return lines
 
 
 def moving_terms(diag) -> dict:

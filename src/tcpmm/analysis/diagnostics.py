@@ -51,7 +51,6 @@ the terms they do not determine (:func:`.circle_model.determined`) are NaN and n
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -71,8 +70,9 @@ from .circle_display import (  # noqa: F401
 from .circle_feeds import command_radius, other_feeds
 from .circle_model import is_full
 from .circle_ranking import deviations, per_circle_terms, rank_terms
+from .circle_result import CircleDiagnostics
 from .circle_sigma import term_sigma
-from .circle_spike_sigma import open_spikes, pair_spikes, widen_for_opened
+from .circle_spike_sigma import open_spikes, pair_spikes, spikes_in_noise, widen_for_opened
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tail_terms import tail_state, tail_terms
 from .circle_tails import open_by_tails, sign_open, tail_shift
@@ -85,114 +85,6 @@ SHARED = ("backlash_X", "backlash_Y", "lateral_play_X", "lateral_play_Y", "squar
 PREFERRED_SENSORS = ("tcp", "scale", "motor", "cmd")
 #: What only a CCW and a CW circle together tell, in a sentence
 PAIR_ONLY = ("squareness from servo mismatch, the lateral play, the hysteresis and G(b)")
-
-
-@dataclass
-class CircleDiagnostics:
-    """Error terms of a CCW and a CW circle (module docstring: conventions), or of one
-    direction (:mod:`.circle_single`).
-
-    Parameters
-    ----------
-    radius : float
-        Nominal radius [m].
-    axes : tuple of str
-        The plane's first and second axis, named X and Y in the term names [-].
-    sensor : str
-        Sensor whose path was analysed [-].
-    terms : dict
-        ``name -> (value, unit)`` in SI: ``m``, ``s``, ``rad``, ``m/m`` (a slope), ``-``
-        (a ratio); NaN for a term not determined [SI].
-    curves : dict
-        ``direction -> (angle [rad], radial error [m], fitted model [m])`` [SI].
-    undetermined : dict
-        ``term -> why`` for the terms the circles do not determine [-].
-    ranking : list of dict
-        The terms by their contribution (:func:`.circle_display.ranking_rows`) [SI].
-    tail_shift : dict
-        ``term -> change`` of each term when the fit leaves out 40 deg after each reversal
-        instead of 20 (:mod:`.circle_tails`) [SI].
-    aliases : dict
-        ``left-out term -> {term: change per unit of it}`` for the terms that depend on a
-        term the circles do not determine (:mod:`.circle_alias`) [SI/SI].
-    sigma : dict
-        ``term -> standard uncertainty`` from the noise (:mod:`.circle_sigma`) [SI].
-    spike_u95 : dict
-        ``spike_{P}_{direction} -> 95 % uncertainty`` of each spike after the terms
-        (:mod:`.circle_spike_sigma`) [m].
-    spike_u95_sample : dict
-        The same from the noise from sample to sample alone (``sample_noise`` of
-        :func:`.circle_spike_sigma.spike_uncertainty`) [m].
-    tails : str
-        What the reversals' tails are, one of
-        :data:`.circle_tail_terms.TAIL_STATES`; empty where the fit has none to try
-        (arcs, one direction) [-].
-    """
-
-    radius: float
-    axes: tuple
-    sensor: str
-    terms: dict
-    curves: dict = field(default_factory=dict, repr=False)
-    undetermined: dict = field(default_factory=dict)
-    ranking: list = field(default_factory=list)
-    tail_shift: dict = field(default_factory=dict)
-    aliases: dict = field(default_factory=dict)
-    sigma: dict = field(default_factory=dict)
-    spike_u95: dict = field(default_factory=dict)
-    spike_u95_sample: dict = field(default_factory=dict)
-    tails: str = ""
-
-    def __getitem__(self, name: str) -> float:
-        return self.terms[name][0]
-
-    @property
-    def directions(self) -> tuple:
-        """The directions of the circles diagnosed [-]."""
-        return tuple(self.curves)
-
-    def to_pandas(self):
-        """Tidy table: one row per term, columns ``term``, ``value``, ``unit`` (SI)."""
-        import pandas as pd
-
-        return pd.DataFrame([(k, v, u) for k, (v, u) in self.terms.items()],
-                            columns=["term", "value", "unit"])
-
-    def to_dict(self) -> dict:
-        """JSON-ready: radius, axes, sensor, the terms in SI (NaN as ``None``), the terms
-        not determined and why, the ranking, each term's change with the wider window
-        after the reversals, per term not determined the change of those that depend
-        on it per unit of it, each term's standard uncertainty (``sigma``), each
-        spike's 95 % uncertainty (``spike_u95``) and what the reversals' tails are
-        (``reversal_tails``, None where none were tried)."""
-        return {"radius_m": self.radius, "axes": list(self.axes), "sensor": self.sensor,
-                "directions": list(self.directions),
-                "terms": [{"term": k, "value": None if np.isnan(v) else float(v), "unit": u}
-                          for k, (v, u) in self.terms.items()],
-                "undetermined": dict(self.undetermined),
-                "ranking": [{k: None if isinstance(v, float) and np.isnan(v) else v
-                             for k, v in r.items()} for r in self.ranking],
-                "tail_shift": dict(self.tail_shift),
-                "aliases": {k: dict(v) for k, v in self.aliases.items()},
-                "sigma": dict(self.sigma),
-                "spike_u95": {k: None if np.isnan(v) else v for k, v in self.spike_u95.items()},
-                "reversal_tails": self.tails or None}
-
-    def plot(self, ax=None, path=None):
-        """Radial error of the circles against angle with the fitted terms; the figure.
-
-        Parameters
-        ----------
-        ax : matplotlib Axes, optional
-            Where to draw; a new figure when omitted [-].
-        path : str or Path, optional
-            Also save it there (PNG/PDF/SVG) [-].
-        """
-        from ..plot.diagnostics import (
-            plot_circle_diagnostics,  # tcpmm.plot is a floor above this one
-        )
-
-        return plot_circle_diagnostics(self, ax=ax, path=path)
 
 
 #: Why the servo mismatch is given as an angle only
@@ -224,16 +116,14 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     if not all(is_full(a) for a, _ in paths):
         same_angles(paths)
     limit_blas_threads()
-    rates = np.asarray(rates_rad_s, float)
-    mean_rate = float(rates.mean()) if np.all(rates > 0) else float("nan")
-    ratios = rates / mean_rate if np.isfinite(mean_rate) else np.ones(2)
+    mean_rate, ratios = _mean_rate(rates_rad_s)
     arcs = centred_arcs(paths, (1.0, -1.0), radius_m, ratios)
     fit, left_out = arc_fit(arcs, radius_m, SHARED)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
-    spikes, spike_u95, spike_fast, moved = pair_spikes(fit, arcs, radius_m, SHARED, curves)
+    spikes, spike_u95, spike_fast, moved, together = pair_spikes(fit, arcs, radius_m,
+                                                                 SHARED, curves)
     terms = _terms(fit, grids, deviations(paths, radius_m), spikes, mean_rate,
-                   radius_m / (command_radius_m or radius_m)) | {
-        "residual_rms": (fit.residual_rms, "m")}
+                   radius_m / (command_radius_m or radius_m))
     why = {rename_axes(k, axes): v for k, v in (dict.fromkeys(undetermined_terms(fit), ARC_WHY)
                                                 | cyclic_unresolved(fit) | width_why(fit)).items()}
     leave_open(why, terms, left_out, arcs, axes)
@@ -251,15 +141,25 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     width_follows_backlash(terms, why, lambda k: rename_axes(k, axes), spike_u95,
                            fit.tail_family)
     widen_for_opened(fit, arcs, radius_m, SHARED, curves, terms, spike_u95)
+    quiet = spikes_in_noise(terms, together)
+    left = [*sign_open(terms, shift, radius_m), *(("reversal_spikes",) if quiet else ())]
     aliases = alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate, None,
                           cyclic_slopes(fit, arcs, radius_m, SHARED))
     return CircleDiagnostics(float(radius_m), tuple(axes), sensor,
                              {rename_axes(k, axes): (float(v), u) for k, (v, u) in terms.items()},
                              curves, why, rank_terms(fit, arcs, radius_m, SHARED, terms, axes,
-                                                     unranked=sign_open(terms, shift, radius_m)),
+                                                     unranked=left),
                              {rename_axes(k, axes): v for k, v in shift.items()}, aliases,
                              term_sigma(fit, 2, SHARED, terms, axes, mean_rate), spike_u95,
-                             spike_fast, tail_state(fit) if full else "")
+                             spike_fast, tail_state(fit) if full else "", quiet)
+
+
+def _mean_rate(rates_rad_s) -> tuple:
+    """The circles' mean angular speed (NaN where one is not known) and each one's share of
+    it [rad/s, -]."""
+    rates = np.asarray(rates_rad_s, float)
+    mean_rate = float(rates.mean()) if np.all(rates > 0) else float("nan")
+    return mean_rate, rates / mean_rate if np.isfinite(mean_rate) else np.ones(2)
 
 
 def undetermined_terms(fit) -> list:
@@ -276,8 +176,9 @@ def undetermined_terms(fit) -> list:
 
 
 def _terms(fit, grids, deviations, spikes, mean_rate, per_command=1.0):
-    """The reported terms, ``name -> (value, unit)``, axes named X and Y; those that scale
-    with the command's radius ``per_command`` times their fit, on the nominal one [SI]."""
+    """The reported terms, ``name -> (value, unit)``, axes named X and Y, and what the terms
+    leave unexplained; those that scale with the command's radius ``per_command`` times
+    their fit, on the nominal one [SI]."""
     g, gb, h = deviations
     terms = {f"radial_deviation_{d}": (float(np.mean(m)), "m") for d, m in grids.items()}
     terms["radial_deviation_pair"] = ((terms["radial_deviation_ccw"][0]
@@ -298,6 +199,7 @@ def _terms(fit, grids, deviations, spikes, mean_rate, per_command=1.0):
     terms["straightness_X"] = (fit["straightness_X"], "m")
     terms["straightness_Y"] = (fit["straightness_Y"], "m")
     terms.update(cyclic_terms(fit))
+    terms["residual_rms"] = (fit.residual_rms, "m")
     return terms
 
 

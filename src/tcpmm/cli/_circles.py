@@ -30,6 +30,7 @@ def diagnostics_json(diag, result=None) -> dict:
             "reversal_tails": diag.tails or None,
             "aliases": aliases,
             "unranked": unranked(diag),
+            "spikes_in_noise": diag.quiet_spikes or None,
             "ranking": [{"term": r["term"], "contribution_um": r["contribution_m"] * 1e6,
                          "g_alone_um": r["g_alone_m"] * 1e6,
                          "share_percent": _json_number(100.0 * r["share"]),
@@ -214,14 +215,18 @@ def _print_ranking(diag, result=None) -> None:
     """The terms by the radial error each makes alone over the circle; with the circles
     ``result``, beside each its G alone at the linear scale and, for a term the scale sees
     less than half of, a mark that it lies past the scale."""
+    from ..analysis.circle_tails import unranked_line
+
+    g = "G(b)" if len(diag.directions) == 2 else "G"
     if not diag.ranking:  # an arc that gives no terms: nothing to rank, and it says why
-        out.print("terms ranked by their share of G: none determined (below)",
+        out.print(f"terms ranked by their share of {g}: none determined (below)",
                   highlight=False)
+        if left := unranked_line(diag):
+            out.print(left, highlight=False)
         return
     from ..analysis.circle_alias import ranking_marks
     from ..analysis.circle_display import beyond_g_note
 
-    g = "G(b)" if len(diag.directions) == 2 else "G"
     at = _at_scale(diag, result)
     scale = ("scale µm",) if at is not None else ()
     t = plain_table(("rank", "term", f"{g} alone µm", f"% {g}", "p-v µm", "share %", *scale),
@@ -248,8 +253,6 @@ def _print_ranking(diag, result=None) -> None:
                                       "(a term above the residual rms): it lies past the "
                                       "scale, in the structure between the table and the "
                                       "tool, not in the drive" if scale else ""))
-    from ..analysis.circle_tails import unranked_line
-
     if left := unranked_line(diag):
         out.print(left, highlight=False)
 

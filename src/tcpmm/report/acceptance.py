@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 
 from ..analysis.circle_display import pass_names, placed_terms
+from ..analysis.circle_tails import unranked_sentences
 from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
 from .circles import SENSOR_NAMES, file_names
 from .html import facts, number, para, section, table
@@ -158,9 +159,9 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         body += para("Cautions from the analysis of this circle:", "warn")
         body += "".join(para(c, "warn") for c in cautions)
     if diagnostics is not None and not diagnostics.ranking:
-        body += para("No error source is ranked: the circles determine no term (an arc in "
-                     "one direction, or arcs too short; the diagnostics below say why).",
-                     "warn")
+        body += para("No error source is ranked: the circles determine no term well enough "
+                     "to rank it (the diagnostics below say why). "
+                     + unranked_sentences(diagnostics), "warn")
     elif diagnostics is not None:
         body += _sources_table(diagnostics, reference)
     else:
@@ -214,13 +215,11 @@ def _sources_table(diagnostics, reference) -> str:
                  "the scale does not see lies between the table and the tool (the column "
                  "and headstock deflecting, or ringing after a reversal), not in the drive. ")
     from ..analysis.circle_alias import ranking_marks
-    from ..analysis.circle_tails import unranked_line
-
     legend = " ".join(f"{m}." for m in ranking_marks(diagnostics)[1])
-    left = unranked_line(diagnostics)
+    left = unranked_sentences(diagnostics)
     return ("<h3>Error sources, largest first</h3>"
             + para(lead + "The diagnostics below give the terms with their signs and their "
                    "radial errors." + (f" Marks: {legend}" if legend else ""))
             + table(frame, "error_sources.csv",
                     digits={g_alone: 2, of: 0, "rank": 0, **({at: 2} if at else {})})
-            + (para(f"{left[0].upper()}{left[1:]}.", "warn") if left else ""))
+            + (para(left, "warn") if left else ""))

@@ -10,7 +10,7 @@ from ..analysis.circle_alias import alias_line
 from ..analysis.circle_display import display_digits, pass_names, undetermined_lines
 from ..analysis.circle_sigma import noise_line, shown_uncertainty
 from ..analysis.circle_spike_sigma import is_slow
-from ..analysis.circle_tails import moving_line, sign_open, unranked_line
+from ..analysis.circle_tails import moving_line, sign_open, unranked_sentences
 from ..analysis.compare import raw_spike_named
 from ..analysis.diagnostics import PREFERRED_SENSORS, display_terms, term_note
 from ..plot.circle import plot_circle
@@ -188,7 +188,8 @@ def ranking_html(diag, stem: str) -> str:
     import pandas as pd
 
     if not diag.ranking:
-        return ""
+        left = unranked_sentences(diag)
+        return para(f"No term is ranked. {left}", "warn") if left else ""
     from ..analysis.circle_alias import ranking_marks
     from ..analysis.circle_display import beyond_g_note
 
@@ -208,8 +209,7 @@ def ranking_html(diag, stem: str) -> str:
                  + (f" {beyond[0].upper()}{beyond[1:]}." if beyond else ""))
             + table(frame, f"{stem}_diagnostics_ranking.csv",
                     digits={"share [%]": 1, "of G [%]": 1})
-            + (para(f"{left[0].upper()}{left[1:]}.", "warn") if (left := unranked_line(diag))
-               else ""))
+            + (para(left, "warn") if (left := unranked_sentences(diag)) else ""))
 
 
 def undetermined_html(diag) -> str:

@@ -1182,3 +1182,20 @@ def test_a_command_file_beyond_the_velocity_limit_is_named(capsys, tmp_path):
     assert code == 0, err
     said = [ln for ln in err.splitlines() if "X: velocity up to 5 m/s" in ln]
     assert said and "above its limit of 0.5: the command file reaches 5 itself" in said[0]
+
+
+def test_a_model_of_one_axis_is_compensated_on_a_program_of_that_axis(tmp_path, capsys):
+    """A model of X alone and a program moving X: the search for a circular test asked for
+    the Y of the plane XY, which the command does not have, and stopped on an internal
+    error (KeyError 'Y'); a command of fewer axes than the plane runs no circle."""
+    from tcpmm.cli import main
+    from tcpmm.io.modelfile import write_machine
+
+    vmc = builtin_machine("vmc")
+    write_machine(vmc.model_copy(update={"axes": {"X": vmc.axes["X"]}}), tmp_path / "x.yaml")
+    (prog := tmp_path / "x.nc").write_text("G21 G90 G17\nG0 X0\nG1 X20 F3000\nG4 P0.3\nM30\n")
+    out = tmp_path / "c.csv"
+    assert main(["compensate", str(tmp_path / "x.yaml"), "--gcode", str(prog), "-o", str(out),
+                 "--draws", "0"]) == 0
+    assert "X asks (as programmed -> compensated)" in capsys.readouterr().out
+    assert out.is_file()

@@ -64,6 +64,8 @@ def command_circle(positions: dict, plane: tuple) -> tuple | None:
     plane : tuple of str
         The plane's two axes [-].
     """
+    if not all(a in positions for a in plane):  # a command of fewer axes runs no circle
+        return None
     x, y = (np.asarray(positions[a], dtype=float) for a in plane)
     step = np.hypot(np.diff(x), np.diff(y))
     moving = np.flatnonzero(step > 0.0)

@@ -32,10 +32,18 @@ def test_the_margins_met_carry_their_range_over_the_draws(identified, capsys):
         low, high = drawn["phase_margin_deg"]
         assert drawn["draws"] == 8 and low < high and model > 0, (name, drawn)
         assert 0 <= drawn["missed"] <= 8
+        # "met" is met on the model and on every draw: it said true where the console
+        # said "NOT MET on 6 of 8 machines drawn", and a script reading it took the proposal
+        assert axis["met"] == (axis["met_on_model"] and axis["draws_not_met"] == 0), axis
+    missed = {n: a["draws_not_met"] for n, a in got["axes"].items() if a["draws_not_met"]}
+    assert missed and not any(got["axes"][n]["met"] for n in missed)
     assert main(["tune", str(identified)]) == 0
     text = capsys.readouterr().out
     assert "after, 8 draws" in text
     assert "on the model" in text and "machines drawn from its uncertainty" in text
+    for n, k in missed.items():
+        assert any(line.startswith(f"axis {n}: ") and f"NOT MET on {k} of 8 machines" in line
+                   for line in text.splitlines()), (n, k)
 
 
 def test_a_model_without_uncertainty_says_met_alone(vmc):

@@ -18,7 +18,7 @@ from ..servo.modeshift import current_tolerance
 from ..servo.tune import meets_margins
 from ..units import mm_to_m
 from .tuning_axes import axis_reasons, contouring_axes, left_out_note, moved_axes, tune_axes
-from .tuning_draws import drawn_margins, drawn_note, drawn_paths
+from .tuning_draws import drawn_margins, drawn_note, drawn_paths, margins_missed
 from .tuning_limit import costed
 from .tuning_paths import path_figures
 
@@ -72,10 +72,17 @@ class TuneResult:
     margins_drawn: dict | None = None
 
     def to_dict(self) -> dict:
-        """JSON-ready summary."""
-        return {"axes": {k: {**v.to_dict(), "reason": self.reasons.get(k),
-                             "margins_after_drawn": (self.margins_drawn or {}).get(k)}
-                         for k, v in self.axes.items()},
+        """JSON-ready summary; an axis's ``met`` is the proposal's margins met on the model
+        and on every machine drawn from its uncertainty (``met_on_model`` and
+        ``draws_not_met`` apart)."""
+        def axis(k, v):
+            drawn = (self.margins_drawn or {}).get(k)
+            missed = margins_missed(drawn) if drawn else None
+            return {**v.to_dict(), "met": bool(v.met and not missed), "met_on_model": v.met,
+                    "draws_not_met": missed, "reason": self.reasons.get(k),
+                    "margins_after_drawn": drawn}
+
+        return {"axes": {k: axis(k, v) for k, v in self.axes.items()},
                 "matched_axes": list(self.matched), "moved_axes": list(self.moved),
                 "path_before_um": self.path_before, "path_after_um": self.path_after,
                 "path_drawn_um": self.drawn, "notes": list(self.notes)}

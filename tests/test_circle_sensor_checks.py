@@ -96,6 +96,7 @@ def test_compare_refuses_a_measurement_whose_tcp_is_mirrored(tmp_path, capsys):
     (1e3, 35e3, True),    # micrometres under *_mm, the radius in micrometres too
     (1e-3, 0.035, True),  # metres
     (1e2, 3500.0, True),  # a 3.5 m circle at 8333 m/min: no machine runs it
+    (1 / 70, 0.5, False),  # a small bore's circle of 0.5 mm, in millimetres
 ])
 def test_a_circle_in_another_unit_is_warned_of(scale, radius_mm, warned):
     """Positions logged in micrometres or metres under the ``*_mm`` columns, with the

@@ -213,7 +213,9 @@ def check_sampling(t, rate_rad_s: float, radius_m: float, direction: str) -> Non
 #: Largest radius [m] and feed [m/s] of a machine tool's circular test, and its smallest
 #: radius [m]: beyond them a run's positions are in another unit than its columns say
 #: (metres or micrometres under ``*_mm``), and every figure is off by 1000 [m, m/s, m].
-LARGEST_RADIUS_M, FASTEST_M_PER_S, SMALLEST_RADIUS_M = 5.0, 2.0, 1e-3
+#: A small bore's circle of 0.5 mm is a machine's own; one of 35 mm logged in metres
+#: reads 0.035 mm.
+LARGEST_RADIUS_M, FASTEST_M_PER_S, SMALLEST_RADIUS_M = 5.0, 2.0, 1e-4
 
 
 def warn_scale(rate_rad_s: float, radius_m: float, direction: str) -> None:

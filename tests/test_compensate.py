@@ -1199,3 +1199,19 @@ def test_a_model_of_one_axis_is_compensated_on_a_program_of_that_axis(tmp_path, 
                  "--draws", "0"]) == 0
     assert "X asks (as programmed -> compensated)" in capsys.readouterr().out
     assert out.is_file()
+
+
+@pytest.mark.parametrize("feed, said", [(200000, True), (2000, False)])
+def test_a_feed_the_machine_holds_back_is_said(tmp_path, capsys, feed, said):
+    """A circle programmed at F200000 runs at 9439 mm/min, held back by the axes'
+    acceleration; compensate gave its figures before and after 'as programmed' and never
+    said that the programmed feed is not reached (tcpmm path did: 0.0 % at the feed)."""
+    from tcpmm.cli import main
+
+    prog = tmp_path / "c.nc"
+    prog.write_text(f"G21 G90 G17\nG0 X35 Y0\nG3 X35 Y0 I-35 J0 F{feed}\nM30\n")
+    assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o",
+                 str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2"]) == 0
+    err = " ".join(capsys.readouterr().err.split())
+    assert ("the machine holds the feed below the programmed one on 100.0 % of the feed "
+            "moves' path, by curvature (centripetal acceleration) down to" in err) == said

@@ -66,3 +66,41 @@ def print_corner_overload(peaks: dict, settings) -> None:
                   + f" (corner_step_share {settings.corner_step_share:g} of the acceleration "
                   "for the step; 0 stops at each sharp corner and keeps within it)",
                   highlight=False)
+
+
+#: Share of a program's feed moves held back by a limit of the machine above which its
+#: figures are said to be at another feed than the programmed one [-]
+HELD_SHARE = 0.5
+
+
+def warn_feed_held(program, settings) -> None:
+    """Warn where a limit of the machine holds the feed of more than :data:`HELD_SHARE` of
+    a program's feed moves below the programmed feed: every figure computed from it is at
+    the feed the machine runs, which a reader takes for the programmed one (a circle at
+    F200000 runs at 9439 mm/min, held back by the axes' acceleration).
+
+    Parameters
+    ----------
+    program : Path
+        The NC program [-].
+    settings : InterpolatorSettings
+        The machine's interpolator settings [-].
+    """
+    import warnings
+
+    from ..errors import InputWarning
+    from ..path.limits import feed_limits
+    from ..path.program import program_to_interpolation
+
+    limits = feed_limits(program_to_interpolation(program, settings))
+    rows = limits.summary()
+    held = sum(r["length_m"] for r in rows)
+    if limits.feed_length_m <= 0 or held <= HELD_SHARE * limits.feed_length_m:
+        return
+    worst = min(rows, key=lambda r: r["lowest_m_per_s"])
+    warnings.warn(InputWarning(
+        f"{program}: the machine holds the feed below the programmed one on "
+        f"{percent(held / limits.feed_length_m, 1, ' ')} of the feed moves' path, by "
+        f"{worst['cause']} down to {worst['lowest_m_per_s'] * 6e4:.0f} mm/min "
+        f"({_REMEDY[worst['cause']]}): the figures here are at the feed it runs, not the "
+        f"programmed one (tcpmm path {program} --model MODEL says where)"), stacklevel=2)

@@ -30,6 +30,7 @@ from ._compensate_text import (
     warn_worse,
 )
 from ._outputs import distinct_outputs, outputs_together
+from ._pathtext import warn_feed_held
 from ._plane import judged_circle
 
 _PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it); default "
@@ -216,6 +217,7 @@ def _planned(command, gcode, machine, headroom, bounds):
         return cmd, cmd, 0.0
     with in_file(gcode):
         full, planned = program_with_headroom(gcode, interp_settings(machine), headroom, bounds)
+        warn_feed_held(gcode, interp_settings(machine))
     return full, planned, headroom
 
 

@@ -943,7 +943,8 @@ def test_the_shares_are_given_for_the_axes_the_path_moves(tmp_path, capsys):
     # the figure after is the model's; the draws say how far it may be (it had no range)
     assert re.search(r"contour error after to the command, on the worst of the 2 draws: up to "
                      r"\d+\.\d\d µm "
-                     r"\(the figure after above is the model's\)", out)
+                     r"\(the figures after above, the largest and the rms, are the model's\)",
+                     out)
 
 
 def test_the_figures_leave_out_the_rapids_as_contour_does(capsys, tmp_path):

@@ -12,7 +12,7 @@ def _row(label: str, fig: dict) -> str:
     path = fig["path"]
     # the rms leaves out the hold after the program (scores.contour_figures), the max not
     text = f"  {label:7s} contour error to the command {path['contour_error_um']:8.2f} µm (rms " \
-           f"{path['contour_rms_um']:.2f} over the motion)"
+           f"{path['contour_rms_um']:.2f} over the program's motion)"
     if path.get("corner_overshoot_um"):
         text += f", corner overshoot {path['corner_overshoot_um']:.2f} µm"
     if "circle" in fig:
@@ -309,7 +309,7 @@ def _worst_after(robustness: dict) -> list[str]:
     on = "the one draw" if n == 1 else f"the worst of the {n} draws"
     top = robustness.get("worst_after_to_command_um", max(worst))
     return [f"  contour error after to the command, on {on}: up to {top:.2f} µm (the "
-            "figure after above is the model's)"]
+            "figures after above, the largest and the rms, are the model's)"]
 
 
 def _figure_verdicts(figures: dict) -> list[str]:

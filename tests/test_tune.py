@@ -956,3 +956,22 @@ def test_the_current_limit_s_note_says_what_the_settings_before_meet(vmc):
     assert 13.0 < was < 15.0 and now > 50.0
     # X's raised K_vp alone leaves its current, and Y's, within the limit
     assert "holds" not in kvp["X"]
+
+
+def test_an_axis_that_cannot_hold_its_load_is_named_with_what_to_change():
+    """With a current limit of 1 A, Z (not moved by the circle) holds its current at the
+    limit against its load force of 2452 N, which takes 3.55 A standing still; tune said
+    only 'lower the gains or the feed', neither of which holds it."""
+    from tcpmm.analysis.runaway import unheld_loads
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.whatif.tuning import tune_and_predict
+
+    vmc = builtin_machine("vmc")
+    low = vmc.model_copy(update={"axes": {n: a.replace(servo=a.servo.model_copy(
+        update={"current_limit": 1.0})) for n, a in vmc.axes.items()}})
+    assert unheld_loads(vmc) == {}
+    assert list(unheld_loads(low)) == ["Z"]
+    notes = " ".join(tune_and_predict(low, 6.0, 45.0).notes)
+    assert ("axis Z cannot hold its load standing still: its load force of -2452 N takes "
+            "3.55 A, above its current limit of 1 A" in notes)
+    assert "raise the current limit of Z (above); then lower the gains or the feed" in notes

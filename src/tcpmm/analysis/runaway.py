@@ -206,3 +206,31 @@ def warn_faults(faults, stacklevel: int = 3) -> None:
     caller by default [-]."""
     for f in faults:
         warnings.warn(f.text(), RunFaultWarning, stacklevel=stacklevel)
+
+
+def unheld_loads(machine) -> dict:
+    """The axes whose load force alone takes more current standing still than the drive
+    gives, ``load_force R_L / K_tc`` above ``current_limit``: no gain or feed brings their
+    current within its limit; per such axis ``(load force [N], that current [A], the
+    limit [A])``.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model [SI].
+    """
+    out = {}
+    for name, axis in machine.axes.items():
+        m = axis.mechanics
+        need = abs(m.load_force) * m.R_L / m.K_tc
+        if need > axis.servo.current_limit:
+            out[name] = (float(m.load_force), float(need), float(axis.servo.current_limit))
+    return out
+
+
+def unheld_words(unheld: dict) -> list[str]:
+    """A sentence per axis of :func:`unheld_loads` [-]."""
+    return [f"axis {n} cannot hold its load standing still: its load force of {f:.4g} N "
+            f"takes {a:.3g} A, above its current limit of {lim:g} A, whatever its gains and "
+            "feed; check current_limit and load_force" for n, (f, a, lim) in unheld.items()]
+

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..analysis.runaway import unheld_loads, unheld_words
 from ..machines.paper import RADIUS_MM, SETTLED_TURNS, circle_test_command, paper_circle_command
 from ..model import Machine
 from ..servo.modeshift import current_tolerance
@@ -172,7 +173,7 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     settled = bool(_grown(before, after)) and all(meets_margins(  # read only if it grew
         machine.axes[n].mechanics, machine.axes[n].servo, gm_db, pm_deg) for n in axes)
     notes += _path_notes(before, after, axes, gm_db, pm_deg, dropped, settled,
-                         _unmatched(machine, tuned, matched, moved))
+                         _unmatched(machine, tuned, matched, moved), unheld_loads(tuned))
     drawn = drawn_paths(machine, tuned, cmd, circle)
     notes += drawn_note(drawn, before, after) + (_faster_note(machine, tuned) if circle else [])
     return TuneResult(tuned, axes, before, after, notes, *roles,
@@ -227,11 +228,12 @@ def _unmatched(machine: Machine, tuned: Machine, matched, moved) -> tuple:
 
 
 def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: float,
-                dropped: dict, settled: bool, unmatched: tuple = ()):
+                dropped: dict, settled: bool, unmatched: tuple = (), unheld=None):
     """Notes on the paths before and after: one that is no prediction and why, and the
     figures the proposal makes worse (:func:`_worse_note`; ``unmatched``: the path's
-    position gains the proposal leaves different, :func:`_unmatched`) [-]."""
-    notes = []
+    position gains the proposal leaves different, :func:`_unmatched`; ``unheld``: the
+    axes that cannot hold their load, :func:`.runaway.unheld_loads`) [-]."""
+    notes = unheld_words(unheld or {})
     if _worst(before) == float("inf"):
         why = "; ".join(before.faults) or "its run holds no circle to measure"
         notes.append(f"before: the settings as they are are no prediction on the model "
@@ -240,9 +242,11 @@ def _path_notes(before: dict, after: dict, axes: dict, gm_db: float, pm_deg: flo
     if _worst(after) == float("inf"):
         why = "; ".join(after.faults) or "its run holds no circle to measure"
         keep = "" if before.limited else "keep the settings, or "
+        held = (f"raise the current limit of {', '.join(unheld)} (above); then " if unheld
+                else "")
         notes.append(f"after: the proposal's path is no prediction ({why}): " + (
-            f"{keep}lower the gains or the feed until the current stays within its limit"
-            if after.limited else
+            f"{held}{keep}lower the gains or the feed until the current stays within its "
+            "limit" if after.limited else
             f"{', '.join(kept)} keep{'s' if len(kept) == 1 else ''} settings that no gain "
             "meeting the margins replaces; tune by hand" if kept else
             f"the margins asked, {gm_db:g} dB / {pm_deg:g} deg, leave this machine's loops "

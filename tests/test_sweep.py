@@ -389,3 +389,17 @@ def test_a_workers_transport_errors_stay_off_the_terminal(capfd):
     with local_cluster(1) as cluster, Client(cluster) as c:
         c.run(_log_an_error)
     assert "heartbeat to the scheduler failed" not in capfd.readouterr().err
+
+
+def test_an_unstable_loop_is_a_fault_and_a_word_in_a_warning_is_not(vmc):
+    """A variant was taken as out of control where its warning held the word 'unstable':
+    the unstable loop's warning, but also any other that used the word. The unstable
+    loop's warning is a run fault (UnstableLoopWarning), held in the row's fault; another
+    warning leaves the row's figures as they are."""
+    from tcpmm.whatif.sweep.task import out_of_control
+
+    row = evaluate_variant(vmc, SHORT, Variant((("X.servo.K_pp", 2000.0),)))
+    assert "axis X: the sampled servo loop is unstable" in row["fault"]
+    assert "unstable" not in row["warning"] and np.isnan(row["spike_max"])
+    said = {"warning": "a mode the model may have unstable damping", "fault": ""}
+    assert out_of_control(row) and not out_of_control(said)

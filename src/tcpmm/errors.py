@@ -65,3 +65,8 @@ class BuildNotice(UserWarning):
 class RunFaultWarning(InputWarning):
     """A simulated axis that ran away from its command or held its current at the limit:
     the run is a result to report, not a prediction (:mod:`tcpmm.analysis.runaway`)."""
+
+
+class UnstableLoopWarning(RunFaultWarning):
+    """A simulated axis whose sampled servo loop is unstable: its run diverges, and is no
+    prediction either (:func:`tcpmm.sim.simulate.check_stability`)."""

@@ -10,7 +10,7 @@ import numpy as np
 
 from .._threads import limit_blas_threads, usable_cores
 from ..analysis.runaway import say_faults
-from ..errors import InputError, InputWarning
+from ..errors import InputError, InputWarning, UnstableLoopWarning
 from ..model import Axis, Machine
 from ..path.blocktrack import at_times
 from ..path.command import Command
@@ -174,7 +174,7 @@ def check_stability(machine: Machine) -> None:
     for name, rho in _unstable_radii(machine).items():
         warnings.warn(f"axis {name}: the sampled servo loop is unstable (spectral radius "
                       f"{rho:.4f}); the run is not a meaningful prediction: check the "
-                      "gains (tcpmm machine show)", InputWarning, stacklevel=3)
+                      "gains (tcpmm machine show)", UnstableLoopWarning, stacklevel=3)
 
 
 def _run_axes(one, names: list, threads: int | None, progress) -> dict:
@@ -291,8 +291,9 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     Warns
     -----
     InputWarning
-        An axis whose sampled loop is unstable, or a command faster than the machine's
-        rapid traverse (see :func:`_check_speeds`).
+        A command faster than the machine's rapid traverse (see :func:`_check_speeds`).
+    UnstableLoopWarning
+        An axis whose sampled loop is unstable (a :class:`RunFaultWarning`).
     RunFaultWarning
         An axis that ran away from its command or saturated its current
         (:mod:`tcpmm.analysis.runaway`); the faults are also in ``run.meta["faults"]``.

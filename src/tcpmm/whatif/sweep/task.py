@@ -299,8 +299,9 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
 
 
 def out_of_control(row: dict) -> bool:
-    """Whether a row's variant ran away, held its current at the limit (its ``fault``) or
-    has an unstable loop (said in its ``warning``) [-]."""
-    fault, warning = (row.get(c) if isinstance(row.get(c), str) else "" for c in
-                      ("fault", "warning"))
-    return bool(fault) or "unstable" in warning
+    """Whether a row's variant ran away, held its current at the limit or has an unstable
+    loop: its ``fault``, which holds the :class:`~tcpmm.errors.RunFaultWarning` s of its
+    run (:class:`~tcpmm.errors.UnstableLoopWarning` among them), not a word of another
+    warning [-]."""
+    fault = row.get("fault")
+    return isinstance(fault, str) and bool(fault)

@@ -292,10 +292,9 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     -----
     InputWarning
         A command faster than the machine's rapid traverse (see :func:`_check_speeds`).
-    UnstableLoopWarning
-        An axis whose sampled loop is unstable (a :class:`RunFaultWarning`).
     RunFaultWarning
-        An axis that ran away from its command or saturated its current
+        An axis whose sampled loop is unstable (:class:`UnstableLoopWarning`), or
+        that ran away from its command or saturated its current
         (:mod:`tcpmm.analysis.runaway`); the faults are also in ``run.meta["faults"]``.
     """
     _refuse_unknown_axes(machine, command)

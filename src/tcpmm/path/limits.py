@@ -6,6 +6,8 @@ that is below the feed (axis velocity, the centripetal acceleration of its curva
 filter's tolerance on arcs) and the block reaches it; else the corner at its start or end
 when that corner's own limit sets the speed there (a velocity step the axes' acceleration
 allows within the filter's spread, the filter's tolerance at the corner, an exact stop);
+else the block beyond its slower end where the speed there is that block's own limit
+(the arcs of a blend between the short lines of a curve posted as G1 blocks);
 else, where the speed falls from its slower end to a junction of a chain of short blocks
 whose curvature sets the speed there, that curvature (the blocks between such corners
 are too short to speed up and slow down again: the curve as a whole holds them back);
@@ -212,6 +214,9 @@ def feed_limits(interp) -> FeedLimits:
         j = i if v[i] <= v[i + 1] else i + 1
         jc = interp.junction_cause[j]
         own = jc != 0 and v[j] >= vj[j] * (1 - 1e-9) and vj[j] < HELD_SHARE * feed[i]
+        if not own and (near := _bounding_neighbour(i, j, v, (vmax, peak), motion, feed)) >= 0:
+            cause[i] = SEGMENT_CAUSES[interp.segment_cause[near]]
+            continue
         # else the chain of short blocks the speed falls to from there
         k = left[i] if j == i else right[j]
         chain = (interp.junction_cause[k] == CHAIN and v[k] >= vj[k] * (1 - 1e-9)
@@ -219,6 +224,22 @@ def feed_limits(interp) -> FeedLimits:
         cause[i] = JUNCTION_CAUSES[jc] if own else JUNCTION_CAUSES[CHAIN] if chain else ramp
     return FeedLimits(p.line.copy(), p.length.copy(), feed.copy(), np.where(motion, peak, 0.0),
                       held, cause.astype(str), *_length_at_feed(interp, motion))
+
+
+def _bounding_neighbour(i: int, j: int, v, speeds, motion, feed) -> int:
+    """The block beyond block ``i``'s slower end ``j`` where the speed there is that
+    block's own limit, below the feed, and block ``i`` runs no faster than it (within
+    ``1 - HELD_SHARE``): the arc of a blend between the short lines a curve posted as G1
+    blocks is cut into holds the lines between its arcs to its own speed (they were said
+    too short to reach the feed, and the path acceleration to blame); a block that speeds
+    up well above it on its way is too short for the feed. ``speeds``: each block's limit
+    and the highest speed it reaches; -1 for none [-]."""
+    vmax, peak = speeds
+    n = i - 1 if j == i else i + 1
+    if not 0 <= n < vmax.size or not motion[n]:
+        return -1
+    bound = vmax[n] < HELD_SHARE * feed[i] and v[j] >= vmax[n] * (1 - 1e-9)
+    return n if bound and peak[i] <= vmax[n] / HELD_SHARE else -1
 
 
 def _valleys(v) -> tuple[np.ndarray, np.ndarray]:

@@ -51,7 +51,7 @@ class CircleDiagnostics:
         (arcs, one direction) [-].
     quiet_spikes : str
         Why the reversal spikes are not ranked, where none of them stands out of the
-        noise (:func:`.circle_spike_sigma.spikes_in_noise`); empty where one does [-].
+        noise (:func:`.circle_spike_bounds.spikes_in_noise`); empty where one does [-].
     """
 
     radius: float

@@ -227,7 +227,8 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, ...
     (:func:`step_sides`), their 95 % uncertainty (:func:`spike_uncertainty`), that from
     the noise from sample to sample alone, how far each moves over the tails of a
     transient lasting past the window (:func:`family_moves`, 0 for none), and their
-    bound at 95 % for the spikes together (:func:`spikes_in_noise`) [m].
+    bound at 95 % for the spikes together
+    (:func:`.circle_spike_bounds.spikes_in_noise`) [m].
 
     Parameters
     ----------
@@ -277,33 +278,6 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, ...
                     bound[k] = float(np.hypot(bound[k], v)) + lingers.get(q, 0.0)
         tails.update({f"spike_{q}_{d}": v for q, v in lingers.items()})
     return spikes, u95, fast, tails, together
-
-
-def spikes_in_noise(terms: dict, together: dict) -> str:
-    """Why the reversal spikes are not ranked, where no spike after the terms stands out of its
-    bound for the spikes together (:func:`pair_spikes`), each at the level that keeps
-    them all within theirs at 95 % where there is nothing but noise: a pair's eight each
-    at 95 % let one past in a third of the circles of noise alone, which then ranked the
-    reversal spikes first; empty where one stands out or none is given [-].
-
-    Parameters
-    ----------
-    terms : dict
-        The reported terms, ``spike_{P}_{direction} -> (value, unit)`` [SI].
-    together : dict
-        The spikes' bounds for the spikes together, by the same keys [m].
-    """
-    given = {k: (abs(terms[k][0]), b) for k, b in together.items()
-             if k in terms and np.isfinite(terms[k][0]) and np.isfinite(b)}
-    if not given or any(v > b for v, b in given.values()):
-        return ""
-    k, (v, b) = max(given.items(), key=lambda kv: kv[1][0] / kv[1][1] if kv[1][1] else 0)
-    n = len(together)
-    return (f"none of the {n} spikes after the terms stands out of the noise: each lies "
-            f"within its bound at {100 * (1 - BEYOND / n):.1f} %, which keeps all {n} within "
-            f"theirs at 95 % where there is nothing but noise (closest, {k.split('_')[1]} "
-            f"{k.split('_')[2].upper()}: {v * 1e6:.2f} µm within {b * 1e6:.2f} µm): these "
-            "circles cannot tell a reversal spike here from the noise")
 
 
 def widen_for_opened(fit, arcs, radius, shared, curves, terms, spike_u95) -> None:

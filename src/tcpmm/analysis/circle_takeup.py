@@ -194,7 +194,23 @@ def search_widths(pb, mu, waves, coef) -> tuple:
     return tuple(_axis_width(pb, mu, rests, coef, axis, level) for axis in (0, 1))
 
 
-def spike_moves(fit, arc, radius, pos, centre, base, spikes_of, opened=()) -> dict:
+def _width_span(width, u95, b, opened, within_step):
+    """The widths :func:`spike_moves` reads the spikes at, ``(lo, hi)``, for an axis of
+    backlash ``b`` whose width is left ``opened`` or not; None for none [m]."""
+    step = SPAN * abs(b) / (TRIES - 1)
+    if within_step:
+        if opened or not (np.isfinite(width) and np.isfinite(u95)
+                          and 0.0 < width <= u95 <= step):
+            return None
+        return 0.0, width  # the step its interval holds, against the width read
+    if not opened and u95 <= step:
+        return None  # within the search's own step: the width is read to its grid
+    return ((width - u95, width + u95) if np.isfinite(u95) and not opened
+            else (0.0, SPAN * abs(b)))
+
+
+def spike_moves(fit, arc, radius, pos, centre, base, spikes_of, opened=(),
+                within_step=False) -> dict:
     """How far each reversal spike moves as its axis' take-up width runs over the width's
     95 % interval (the width is searched, so the fit's covariance does not hold it): the
     spikes ``spikes_of(rest)`` of what the terms leave with the take-up at either end of
@@ -222,6 +238,11 @@ def spike_moves(fit, arc, radius, pos, centre, base, spikes_of, opened=()) -> di
     opened : tuple of int
         The axes (0, 1) whose width is left open whatever its interval (beside a
         transient): over the whole span [-].
+    within_step : bool
+        Instead, for a width read above 0 whose interval lies within the search's step
+        and holds 0, the move from the width read to a step (left out otherwise): the
+        first samples after a reversal, whose travel grows with the square of the angle,
+        move by much of the backlash over a fraction of the step [-].
     """
     moves = dict.fromkeys(base, 0.0)
     rev = reversal_angle(pos, centre)
@@ -230,10 +251,9 @@ def spike_moves(fit, arc, radius, pos, centre, base, spikes_of, opened=()) -> di
         if name not in fit.names or not np.isfinite(fit[name]) or fit[name] == 0.0:
             continue
         b = float(fit[name])
-        if axis not in opened and u95 <= SPAN * abs(b) / (TRIES - 1):
-            continue  # within the search's own step: the width is read to its grid
-        lo, hi = ((width - u95, width + u95) if np.isfinite(u95) and axis not in opened
-                  else (0.0, SPAN * abs(b)))
+        if (span := _width_span(width, u95, b, axis in opened, within_step)) is None:
+            continue
+        lo, hi = span
 
         col = _backlash_column(axis, fit.take_up, arc, arc.angle, rev, radius, fit.mu)
         now = col(width)

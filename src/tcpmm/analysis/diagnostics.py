@@ -72,7 +72,8 @@ from .circle_model import is_full
 from .circle_ranking import deviations, per_circle_terms, rank_terms
 from .circle_result import CircleDiagnostics
 from .circle_sigma import term_sigma
-from .circle_spike_sigma import open_spikes, pair_spikes, spikes_in_noise, widen_for_opened
+from .circle_spike_bounds import spikes_in_noise, widened
+from .circle_spike_sigma import open_spikes, pair_spikes
 from .circle_stable import ARC_WHY, arc_fit, leave_open
 from .circle_tail_terms import tail_state, tail_terms
 from .circle_tails import open_by_tails, sign_open, tail_shift
@@ -140,7 +141,7 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
                 for k, v in open_by_tails(fit, terms, shift, radius_m, span).items()})
     width_follows_backlash(terms, why, lambda k: rename_axes(k, axes), spike_u95,
                            fit.tail_family)
-    widen_for_opened(fit, arcs, radius_m, SHARED, curves, terms, spike_u95)
+    widened(fit, arcs, radius_m, SHARED, curves, terms, (spike_u95, together))
     quiet = spikes_in_noise(terms, together)
     left = [*sign_open(terms, shift, radius_m), *(("reversal_spikes",) if quiet else ())]
     aliases = alias_terms(fit, 2, SHARED, terms, radius_m, axes, mean_rate, None,

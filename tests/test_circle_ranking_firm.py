@@ -125,3 +125,22 @@ def test_spikes_of_noise_alone_are_not_ranked_and_a_spike_standing_out_is():
     spikes = {("ccw", "B"): (1.8e-6, 3.0), ("cw", "D"): (1.8e-6, 3.0)}
     d = gen.diagnose({"spikes": spikes}, noise=noise)
     assert not d.quiet_spikes and d.ranking[0]["term"] == "reversal_spikes"
+
+
+def test_a_ranked_term_within_its_pm_of_zero_is_marked_so():
+    """A pair of noise alone ranked ten terms whose shares add to 100 % of the sum, each
+    as an error source, most within their ±95% of zero; they are marked '0', in the JSON
+    too, and a term injected well outside its ± is not."""
+    from tcpmm.cli._circles import diagnostics_json
+
+    noise = gen.diagnose({}, noise=0.3e-6)
+    marks, legend = ranking_marks(noise)
+    zero = [t for t, m in marks.items() if "0" in m.split()]
+    assert zero and "0: within its ±95% of zero: not told from no error" in legend
+    for t in zero:
+        name = t if t in noise.sigma else f"{t}_angle"
+        assert abs(noise.terms[name][0]) <= 2.0 * noise.sigma[name], t
+    rows = {r["term"]: r["marks"] for r in diagnostics_json(noise)["ranking"]}
+    assert all("0" in rows[t] for t in zero)
+    marks, _ = ranking_marks(gen.diagnose({"b_x": 4e-6, "b_y": -3e-6}))
+    assert "0" not in marks["backlash_X"].split() and "0" not in marks["backlash_Y"].split()

@@ -397,7 +397,7 @@ def test_the_reports_error_sources_are_the_circle_commands_ranking():
     assert [s for s, *_ in rows] == [r["term"].replace("_", " ") + marks[r["term"]]
                                      for r in ranked]
     assert [e for _, e, *_ in rows] == [r["g_alone_m"] for r in ranked]
-    assert {"straightness X", "straightness Y"} <= {s.rstrip(" ~±?") for s, *_ in rows}
+    assert {"straightness X", "straightness Y"} <= {s.rstrip(" ~±?0") for s, *_ in rows}
     # bench D has no pitch error; one injected is ranked by the same figure
     from test_circle_diagnostics import diagnose
 
@@ -672,7 +672,7 @@ def test_the_error_sources_say_what_the_scale_does_not_see():
     res = [analyse_circle(read_run(d / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
     tcp, scale = circle_diagnostics(*res), circle_diagnostics(*res, sensor="scale")
     # the sources as named, without tcpmm circle's marks (~ ± ?)
-    note = {s.rstrip(" ~±?"): (g, n) for s, g, n, _ in ranked_sources(tcp, scale)}
+    note = {s.rstrip(" ~±?0"): (g, n) for s, g, n, _ in ranked_sources(tcp, scale)}
     g, n = note["backlash Y"]
     assert g > 5e-6 and n.startswith("mostly past the linear scale")
     assert scale.terms["backlash_Y"][0] < 0.2 * tcp.terms["backlash_Y"][0]

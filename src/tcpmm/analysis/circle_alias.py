@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .circle_display import DISPLAY_UNITS, partial_spikes, rename_axes
-from .circle_sigma import noisy_ranked
+from .circle_sigma import noisy_ranked, zero_ranked
 from .circle_tails import as_reported, moving_ranked, radial_size, ranked_names
 
 #: A term depends on a left-out one where its radial size moves by this share of the
@@ -201,19 +201,21 @@ def aliased_ranked(diag) -> set:
 #: The ranking's marks: of a term that moves with the window after the reversals
 #: (:func:`.circle_tails.moving_ranked`), of one what the terms leave unexplained leaves
 #: short of the tolerance (:func:`.circle_sigma.noisy_ranked`), of one conditional on a
-#: term the circles do not determine (:func:`aliased_ranked`); and what each means [-]
+#: term the circles do not determine (:func:`aliased_ranked`), of one within its ±95% of
+#: zero (:func:`.circle_sigma.zero_ranked`); and what each means [-]
 MARKS = (("~", "uncertain by the reversals' tails"),
          ("±", "uncertain by what the terms leave unexplained"),
          ("?", "conditional on a term the circles do not determine"),
          ("≥", "at least: the largest of the spikes after the terms that are given, "
-               "others n/a"))
+               "others n/a"),
+         ("0", "within its ±95% of zero: not told from no error"))
 
 
 def ranking_marks(diag) -> tuple[dict, list]:
     """Per ranked term its marks (``" ~ ?"``, empty for none), and what each mark used
     means (:data:`MARKS`) [-]."""
     marked = (moving_ranked(diag), noisy_ranked(diag), aliased_ranked(diag),
-              partial_spikes(diag))
+              partial_spikes(diag), zero_ranked(diag))
     marks = {r["term"]: "".join(f" {m}" for (m, _), terms in zip(MARKS, marked, strict=True)
                                 if r["term"] in terms) for r in diag.ranking}
     return marks, [f"{m}: {what}" for (m, what), terms in zip(MARKS, marked, strict=True)

@@ -11,12 +11,13 @@ def diagnostics_json(diag, result=None) -> dict:
     why, what the reversals' tails are (``reversal_tails``), and the ranking; with the
     circles ``result`` they come from, each ranked term's G alone at the linear scale and
     where it lies, where the TCP's circles have the scale too [-]."""
-    from ..analysis.circle_alias import alias_display
+    from ..analysis.circle_alias import alias_display, ranking_marks
     from ..analysis.circle_sigma import noisy_terms, shown_uncertainty
     from ..analysis.circle_tails import moving_terms, unranked
 
     at = _at_scale(diag, result)
     moving, noisy = moving_terms(diag), noisy_terms(diag)
+    marks, legend = ranking_marks(diag)
     aliases = {left: {"per_unit": a["per"], "moves": {t: {"value": v, "unit": u}
                                                       for t, (v, u) in a["moves"].items()}}
                for left, a in alias_display(diag, ascii_units=True).items()}
@@ -35,8 +36,10 @@ def diagnostics_json(diag, result=None) -> dict:
                          "g_alone_um": r["g_alone_m"] * 1e6,
                          "share_percent": _json_number(100.0 * r["share"]),
                          "percent_of_G": _json_number(100.0 * r["share_of_G"]),
-                         "rank": r["rank"], **_placed(r["term"], at)}
-                        for r in diag.ranking]}
+                         "rank": r["rank"], "marks": marks[r["term"]].split(),
+                         **_placed(r["term"], at)}
+                        for r in diag.ranking],
+            "marks": dict(m.split(": ", 1) for m in legend)}
 
 
 def _shift(diag, term: str):

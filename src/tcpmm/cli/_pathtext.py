@@ -73,7 +73,7 @@ def print_corner_overload(peaks: dict, settings) -> None:
 HELD_SHARE = 0.5
 
 
-def warn_feed_held(program, settings) -> None:
+def warn_feed_held(program, interp) -> None:
     """Warn where a limit of the machine holds the feed of more than :data:`HELD_SHARE` of
     a program's feed moves below the programmed feed: every figure computed from it is at
     the feed the machine runs, which a reader takes for the programmed one (a circle at
@@ -82,17 +82,17 @@ def warn_feed_held(program, settings) -> None:
     Parameters
     ----------
     program : Path
-        The NC program [-].
-    settings : InterpolatorSettings
-        The machine's interpolator settings [-].
+        The NC program, for the message [-].
+    interp : Interpolation
+        It interpolated at the machine's full limits
+        (:func:`tcpmm.path.program.program_to_interpolation`) [-].
     """
     import warnings
 
     from ..errors import InputWarning
     from ..path.limits import feed_limits
-    from ..path.program import program_to_interpolation
 
-    limits = feed_limits(program_to_interpolation(program, settings))
+    limits = feed_limits(interp)
     rows = limits.summary()
     held = sum(r["length_m"] for r in rows)
     if limits.feed_length_m <= 0 or held <= HELD_SHARE * limits.feed_length_m:

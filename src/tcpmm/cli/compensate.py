@@ -210,14 +210,18 @@ def _planned(command, gcode, machine, headroom, bounds):
         ``--headroom``, a share of the limits the compensated command keeps [-], [SI].
     """
     from ..compensate.headroom import headroom_for, program_with_headroom
+    from ..path.program import program_to_interpolation
 
     headroom = headroom_for(gcode is not None and command is None, headroom)
     if gcode is None or command is not None:
         cmd = load_command(command, gcode, machine)
         return cmd, cmd, 0.0
+    settings = interp_settings(machine)
     with in_file(gcode):
-        full, planned = program_with_headroom(gcode, interp_settings(machine), headroom, bounds)
-        warn_feed_held(gcode, interp_settings(machine))
+        interp = program_to_interpolation(gcode, settings)  # once: the plan and its feeds
+        full, planned = program_with_headroom(gcode, settings, headroom, bounds,
+                                              interp.command)
+        warn_feed_held(gcode, interp)
     return full, planned, headroom
 
 

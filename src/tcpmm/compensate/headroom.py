@@ -98,7 +98,7 @@ def within_bounds(settings: InterpolatorSettings, bounds: dict) -> InterpolatorS
 
 
 def program_with_headroom(program, settings: InterpolatorSettings, headroom: float,
-                          bounds: dict | None = None):
+                          bounds: dict | None = None, full=None):
     """The program interpolated at the full limits and with the headroom.
 
     Parameters
@@ -112,13 +112,15 @@ def program_with_headroom(program, settings: InterpolatorSettings, headroom: flo
     bounds : dict of str to AxisBounds, optional
         The limits the compensated command keeps: the plan with the headroom is made
         within them (:func:`within_bounds`) [SI].
+    full : Command, optional
+        The program at the full limits, where the caller has interpolated it [m].
 
     Returns
     -------
     tuple of Command
         ``(at the full limits, planned with the headroom)`` [m].
     """
-    full = program_to_command(program, settings)
+    full = program_to_command(program, settings) if full is None else full
     if headroom == 0.0:
         return full, full
     own = settings if bounds is None else within_bounds(settings, bounds)

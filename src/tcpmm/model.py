@@ -232,6 +232,19 @@ class Axis(BaseModel):
         return self.model_copy(update=changes)
 
 
+def drive_force_limit(axis: Axis) -> float:
+    """Force the drive delivers at the table at its current limit,
+    ``current_limit K_tc / R_L`` with ``R_L = lead / 2 pi`` [N].
+
+    Parameters
+    ----------
+    axis : Axis
+        The axis [SI].
+    """
+    m = axis.mechanics
+    return float(axis.servo.current_limit * m.K_tc / m.R_L)
+
+
 class Specification(BaseModel):
     """What the machine's builder states it meets, to judge its tests against where the
     user gives no tolerance.

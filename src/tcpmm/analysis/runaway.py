@@ -19,6 +19,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..errors import RunFaultWarning
+from ..model import drive_force_limit
 
 #: Samples in a row at the current limit beyond which an axis counts as saturated: a
 #: sample or two at a sharp corner's acceleration are the drive's ordinary work [-].
@@ -210,8 +211,8 @@ def warn_faults(faults, stacklevel: int = 3) -> None:
 
 def unheld_loads(machine) -> dict:
     """The axes whose load force alone takes more current standing still than the drive
-    gives, ``load_force R_L / K_tc`` above ``current_limit``: no gain or feed brings their
-    current within its limit; per such axis ``(load force [N], that current [A], the
+    gives, the load force above :func:`tcpmm.model.drive_force_limit`: no gain or feed
+    brings their current within its limit; per such axis ``(load force [N], that current [A], the
     limit [A])``.
 
     Parameters
@@ -221,10 +222,10 @@ def unheld_loads(machine) -> dict:
     """
     out = {}
     for name, axis in machine.axes.items():
-        m = axis.mechanics
-        need = abs(m.load_force) * m.R_L / m.K_tc
-        if need > axis.servo.current_limit:
-            out[name] = (float(m.load_force), float(need), float(axis.servo.current_limit))
+        force, limit = abs(axis.mechanics.load_force), drive_force_limit(axis)
+        if force > limit:
+            amps = axis.servo.current_limit
+            out[name] = (float(axis.mechanics.load_force), amps * force / limit, float(amps))
     return out
 
 

@@ -28,6 +28,7 @@ import math
 
 import numpy as np
 
+from ...model import drive_force_limit
 from ...servo.sampled import is_stable_radius, sampled_spectral_radius
 from ..friction.steadycurve import slowest_plateau, stribeck_from_record
 from ..friction.sweepforce import travel_speed
@@ -59,19 +60,6 @@ FIT_TRIM = 0.01
 #: an axis whose sweep crossed free play in the nut read -16 % there and predicted its
 #: circle within 3.7 um, while a model of the wrong sign or scale reads -200 % or less.
 FIT_FLOOR = {"G_M": 0.0, "G_T": -50.0, "G_tcp": -50.0}
-
-
-def drive_force_limit(axis) -> float:
-    """Force the drive delivers at the table at its current limit,
-    ``current_limit K_tc / R_L`` with ``R_L = lead / 2 pi`` [N].
-
-    Parameters
-    ----------
-    axis : Axis
-        The axis [SI].
-    """
-    m = axis.mechanics
-    return float(axis.servo.current_limit * m.K_tc / m.R_L)
 
 
 def _contacts(axis):

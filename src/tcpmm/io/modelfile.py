@@ -26,8 +26,9 @@ _UNITS = "in SI units (the file's header, docs/formats.md section 5)"
 #: the last line of every model file tcpmm writes: a file with tcpmm's header and without
 #: it was cut short, and what is missing would otherwise be read as the defaults [-]
 END_LINE = "# end of the model file"
-_HEADER = """\
-# tcpmm machine model ({fmt}). SI units throughout:
+#: how the first line of every model file tcpmm writes begins [-]
+_HEADER_START = "# tcpmm machine model ("
+_HEADER = _HEADER_START + """{fmt}). SI units throughout:
 #   mechanics: J [kg m^2], B [N m s/rad], K_L [N m/rad], lead [m], M [kg], C [N s/m],
 #              K [N/m], K_tc [N m/A], load_force [N]
 #   servo: K_pp [1/s], K_vp [A s/rad], K_vi [A/rad], k_ff [-], T_p, T_v [s],
@@ -134,7 +135,7 @@ def refuse_cut_short(text: str, file) -> None:
         Its name, for the message [-].
     """
     lines = text.splitlines()
-    if not text.startswith("# tcpmm machine model (") or any(
+    if not text.startswith(_HEADER_START) or any(
             line.strip() == END_LINE for line in lines):
         return
     last = next((k for k in range(len(lines), 0, -1) if lines[k - 1].strip()), 0)

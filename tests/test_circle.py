@@ -650,6 +650,31 @@ def test_a_gap_in_the_log_is_said_to_be_one(tmp_path):
         analyse_circle(read_run(path), 0.035)
 
 
+def test_a_gap_under_a_time_that_runs_on_evenly_is_said_to_be_one(tmp_path):
+    """Bench C's CCW circle with 40 rows gone just after B and its time stamped again n / 1
+    kHz, as loggers that count samples do: spike B read 32.96 for 37.13 um with no word.
+    The command's leap of 41 of its steps in one sample is said; the same leap held over
+    several samples, as an interpolator's command logged faster than it moves, is not."""
+    import pandas as pd
+
+    from conftest import bench_path
+    from tcpmm.analysis.circle_gaps import angle_jumps
+    from tcpmm.io.runfile import read_run
+
+    a = pd.read_csv(bench_path("c") / "circle_ccw_meas.csv")
+    b = int(np.argmax(np.degrees(np.unwrap(np.arctan2(a.y_cmd_mm, a.x_cmd_mm))) >= 90))
+    g = a.drop(index=range(b + 5, b + 45)).reset_index(drop=True)
+    g.assign(time_s=np.arange(len(g)) * 1e-3).to_csv(tmp_path / "gap.csv", index=False)
+    with pytest.warns(InputWarning) as said:
+        analyse_circle(read_run(tmp_path / "gap.csv"), 0.035)
+    text = [str(w.message) for w in said]
+    assert any("leaps between two samples" in m and "from 90.6 to 96.2 deg" in m
+               for m in text), text
+    stairs = np.repeat(np.linspace(0.0, 2 * np.pi, 500), 8)
+    assert angle_jumps(stairs).size == 0
+    assert list(angle_jumps(np.r_[stairs[:1000], stairs[1200:]])) == [999]
+
+
 def test_a_command_compensated_at_its_reversals_is_still_one_circle():
     """A command compensated for the machine's error leads it by some 70 um at each
     reversal (a dense program of such a command, run on the machine, records it as its

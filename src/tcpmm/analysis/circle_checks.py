@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from .circle_gaps import warn_gaps
 from .circle_passes import MIN_ARC_DEG, OFFSET_SHARE, circle_deviation
 from .circle_spikes import QUADRANTS, end_steps, slower_than
 
@@ -133,39 +134,6 @@ def warn_unsteady(t, ang, direction: str, arc_deg: float) -> None:
 #: Longest sample period at which a circle's reversal spikes are resolved: a spike rises
 #: and falls within some 10 ms [s]
 SPARSE_S = 0.02
-
-
-#: A step between samples this many times their median one is a gap in the log [-].
-GAP_STEPS = 5.0
-
-
-def warn_gaps(t, ang, direction: str) -> bool:
-    """Warn (:class:`InputWarning`) where a pass's samples break off (a step of
-    :data:`GAP_STEPS` median ones or more: a gap in the log), with the time and the angles
-    it spans; whether there is one [-].
-
-    Parameters
-    ----------
-    t : ndarray
-        Time of the pass's samples [s].
-    ang : ndarray
-        Their angle, unwrapped [rad].
-    direction : {"ccw", "cw"}
-        Direction of travel [-].
-    """
-    if t.size < 3:
-        return False
-    dt = np.diff(t)
-    gaps = np.flatnonzero(dt > GAP_STEPS * np.median(dt))
-    if gaps.size == 0:
-        return False
-    where = "; ".join(f"{dt[i]:.3g} s from {np.degrees(ang[i]) % 360:.1f} to "
-                      f"{np.degrees(ang[i + 1]) % 360:.1f} deg" for i in gaps[:3])
-    warnings.warn(InputWarning(
-        f"the {direction.upper()} pass's samples break off ({where}"
-        f"{'; ...' if gaps.size > 3 else ''}): a gap in the log; nothing is measured there, "
-        "and the figures are those of the samples on either side"), stacklevel=3)
-    return True
 
 
 #: Samples further apart [s] at a feed below [m/s]: a time in ms under ``time_s`` (1 kHz

@@ -216,3 +216,24 @@ def test_short_pieces_go_into_row_groups_of_the_least_rows(tmp_path, monkeypatch
     for a in "XY":
         for s in ("cmd", "motor", "scale", "tcp", "current"):
             assert np.array_equal(getattr(back.axes[a], s), getattr(want.axes[a], s))
+
+
+def test_a_float32_time_too_coarse_for_its_period_is_refused(tmp_path):
+    """Bench C's circle stored as float32 with a clock time of 1234.5 s: its time rounds to
+    122 us, which read 1 kHz as 1024 Hz, the feed 0.1 % low and a false caution, with no
+    word. Refused by both readers (the whole run and the contour's batches), naming the
+    rounding and the fix; a float32 time from 0 rounds finely enough and reads."""
+    import pandas as pd
+
+    from conftest import bench_path
+    from tcpmm.analysis.contour_parquet import batches
+
+    a = pd.read_csv(bench_path("c") / "circle_ccw_meas.csv")
+    a.astype("float32").to_parquet(tmp_path / "zero.parquet")
+    a.assign(time_s=a.time_s + 1234.5).astype("float32").to_parquet(tmp_path / "clock.parquet")
+    read_run(tmp_path / "zero.parquet")
+    said = r"time stored as a float32 rounds to 122 µs at 123\d\.\d s, 12\.5%.* store time_s as"
+    with pytest.raises(InputError, match=said):
+        read_run(tmp_path / "clock.parquet")
+    with pytest.raises(InputError, match=said):
+        list(batches(tmp_path / "clock.parquet", 1000, lambda c: True))

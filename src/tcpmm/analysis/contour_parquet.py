@@ -9,6 +9,7 @@ from ..errors import InputError
 from ..io.runfile import (
     checked_parquet_names,
     float_values,
+    refuse_coarse_time,
     refuse_gaps,
     refuse_not_numbers,
     refuse_time_back,
@@ -77,6 +78,7 @@ def batches(path, rows, keep):
         t = cols.get("time_s")
         if t is not None and t.size:
             refuse_time_back(t, path, row0 + 1, t_before=t_before)
+            refuse_coarse_time(f.schema_arrow.field("time_s").type, t, path)
             t_before = float(t[-1])
         row0 += b.num_rows
         yield cols

@@ -125,6 +125,8 @@ def read_run_parquet(path) -> Run:
         col = table.column(name)
         refuse_not_numbers(name, col.type, path)
         v = float_values(col)
+        if name == "time_s":
+            refuse_coarse_time(col.type, v, path)
         cols[name] = v if v.flags.writeable else v.copy()  # the run's own, as from a CSV
     return _run_from_columns(cols, path, first_row=1, what="row")
 
@@ -147,6 +149,30 @@ def refuse_not_numbers(name: str, kind, path) -> None:
 
     if not (pa.types.is_floating(kind) or pa.types.is_integer(kind)):
         raise InputError(f"column holds {kind}, not numbers", file=path, column=name)
+
+
+#: Finest share of the sample period a stored time may round to: a float32 time of
+#: 1234.5 s rounds to 122 us, and 1 kHz read as 1024 Hz, its feed 0.1 % low [-]
+TIME_ROUNDING_SHARE = 1e-3
+
+
+def refuse_coarse_time(kind, t, path) -> None:
+    """Refuse a Parquet ``time_s`` of Arrow type ``kind`` stored in fewer bits than a
+    float64 (a float32, say) where its rounding at the latest time ``t`` holds exceeds
+    :data:`TIME_ROUNDING_SHARE` of the median sample period, with what to do [-]."""
+    import pyarrow as pa
+
+    if t.size < 2 or not pa.types.is_floating(kind) or kind.bit_width >= 64:
+        return
+    period = float(np.median(np.diff(t)))
+    step = float(np.spacing(np.abs(t).max().astype(kind.to_pandas_dtype())))
+    if period > 0 and step > TIME_ROUNDING_SHARE * period:
+        raise InputError(
+            f"time stored as a float{kind.bit_width} rounds to {step * 1e6:.3g} µs at "
+            f"{np.abs(t).max():.6g} s, {step / period:.1%} of the sample period "
+            f"({period * 1e6:.4g} µs): the sample rate, the feed and every time read from it "
+            "would be off; store time_s as float64 (or less its first value)", file=path,
+            column="time_s")
 
 
 def refuse_gaps(name: str, v, path, first_row: int = 1, what: str = "row",

@@ -834,3 +834,56 @@ def test_the_ring_labels_lie_under_the_measured_trace():
             assert max(t.get_zorder() for t in labels) < min(ln.get_zorder() for ln in traces)
             return
     raise AssertionError("no ring label beside a trace")
+
+
+def test_spikes_after_terms_are_compared_only_between_runs_fitted_alike():
+    """Bench C's CCW circle analysed with its CW circle (the pair's terms) against the same
+    CCW circle alone (one direction's terms): every raw spike differs by 0, yet "after the
+    terms" read differences up to 10 um, said to be hidden by the raw ones. Spikes after
+    different fits are not compared."""
+    from conftest import bench_path
+    from tcpmm.io.runfile import read_run
+
+    def circle(*dirs):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", InputWarning)
+            return CircleResult(0.035, (0.0, 0.0), [
+                p for d in dirs for p in analyse_circle(
+                    read_run(bench_path("c") / f"circle_{d}_meas.csv"), 0.035).passes])
+
+    pair, ccw = circle("ccw", "cw"), circle("ccw")
+    cmp = compare_circles(pair, ccw)
+    assert all(r[f"spike_{q}_um"] == 0.0 for r in cmp.rows for q in "ABCD")
+    assert cmp.hidden == []
+    assert compare_circles(ccw, pair).hidden == []
+
+
+def test_a_command_about_another_centre_is_said_with_the_centre_to_give(tmp_path):
+    """Bench C's CCW circle with every X moved by 20 um and by 0.2 mm, analysed about
+    (0, 0): the raw spikes read up to 24 um off (20 um) and the shift was blamed on a
+    compensated command (0.2 mm), and compare took a prediction of the unshifted command
+    as of the same test. The command's centre is said with the --centre to give, refused
+    where the passes were found only within a sensor's tolerance, and compare refuses the
+    prediction as of another command."""
+    import pandas as pd
+
+    from conftest import bench_path
+    from tcpmm.io.runfile import read_run
+
+    path = bench_path("c") / "circle_ccw_meas.csv"
+    a = pd.read_csv(path)
+    for shift in (0.02, 0.2):
+        b = a.copy()
+        for k in [c for c in a.columns if c.startswith("x_")]:
+            b[k] += shift
+        b.to_csv(tmp_path / f"s{shift}.csv", index=False)
+    with pytest.warns(InputWarning, match=r"about \(0\.0200, 0\.0000\) mm, 20\.0 µm .*"
+                                          r"give --centre 0\.0200,0\.0000"):
+        moved = analyse_circle(read_run(tmp_path / "s0.02.csv"), 0.035)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        analyse_circle(read_run(tmp_path / "s0.02.csv"), 0.035, (20e-6, 0.0))
+    with pytest.raises(InputError, match=r"200\.0 µm .* give --centre 0\.2000,0\.0000"):
+        analyse_circle(read_run(tmp_path / "s0.2.csv"), 0.035)
+    with pytest.raises(InputError, match=r"20\.0 µm from the predicted one's .* another"):
+        compare_circles(moved, analyse_circle(read_run(path), 0.035))

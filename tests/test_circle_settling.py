@@ -116,8 +116,9 @@ def test_compare_says_it_of_the_measurement_once(tmp_path, capsys):
 
 def test_the_report_says_the_measured_circle_s_transient_not_the_prediction_s(capsys,
                                                                                tmp_path):
-    """A report of a measured and a predicted circle says what ``tcpmm compare`` says of
-    the pair: the measured circle's transient (bench C at F10000, 1.25 turns), not the
+    """A report of a measured and a predicted circle, by ``tcpmm report`` or ``tcpmm
+    compare --report``, says what ``tcpmm compare`` says of the pair: the measured
+    circle's transient (bench C at F10000, 1.25 turns), not the
     prediction's, whose transient is part of what it predicts. The report said the
     prediction's too, on stderr and beside a verdict that did not count it."""
     from conftest import run_cli
@@ -128,7 +129,7 @@ def test_the_report_says_the_measured_circle_s_transient_not_the_prediction_s(ca
                    b / "circle_ccw_fast_cmd.csv", "-o", predicted)[0] == 0
     assert settling_warnings(read_run(predicted))  # the prediction alone is said
     said = {}
-    for cmd in (["compare", measured, predicted],
+    for cmd in (["compare", measured, predicted, "--report", tmp_path / "c.html"],
                 ["report", "-o", tmp_path / "r.html", "--measured", measured, "--predicted",
                  predicted]):
         with warnings.catch_warnings():
@@ -137,8 +138,9 @@ def test_the_report_says_the_measured_circle_s_transient_not_the_prediction_s(ca
         assert code == 0
         said[cmd[0]] = err.count("before the servo has settled")
     assert said == {"compare": 1, "report": 1}
-    assert "the CCW circle starts before the servo has settled" in (
-        tmp_path / "r.html").read_text(encoding="utf-8")
+    for page in ("r.html", "c.html"):  # compare's report left the caution out
+        assert "the CCW circle starts before the servo has settled" in (
+            tmp_path / page).read_text(encoding="utf-8")
 
 
 def test_the_radial_error_s_transient_at_a_feed_in_join_is_said():

@@ -319,7 +319,9 @@ def test_compare_writes_table_2_and_the_measured_circle(capsys, tmp_path, inputs
     code = main(["compare", str(d / "measured.csv"), str(d / "predicted.csv"), "--radius",
                  str(R * 1e3), "--report", str(out)])
     assert code == 0, capsys.readouterr().err
-    assert Page(out.read_text(encoding="utf-8")).sections == ["comparison", "circle"]
+    # the page tcpmm report --measured --predicted writes: the verdict with its cautions
+    assert Page(out.read_text(encoding="utf-8")).sections == ["verdict", "circle",
+                                                              "comparison"]
 
 
 def test_a_ccw_and_a_cw_run_are_diagnosed_together(capsys, tmp_path):

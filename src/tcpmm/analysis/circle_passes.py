@@ -19,12 +19,10 @@ circle is searched for arcs of :data:`MIN_ARC_DEG` or more (a ballbar's 220 deg 
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputWarning
 from .circle_model import angle_step
 from .circle_start import turns_offset
 
@@ -35,7 +33,7 @@ MIN_ARC_DEG = 30.0
 OFFSET_SHARE = 0.02
 #: Tolerance of a sensor's radius about its own level, as a share of R, where a pass is
 #: found in a sensor (a run without its command), and of a command that holds whole turns
-#: only within it (a compensated one, :func:`reference_stretches`) [-]
+#: only within it (a compensated one, :func:`.circle_command.reference_stretches`) [-]
 SENSOR_TOL_SHARE = 0.02
 #: Fewest samples of a stretch on the circle [-]
 _MIN_SAMPLES = 8
@@ -284,26 +282,6 @@ def steady_rate(t, ang):
             else float("nan"))
 
 
-def radial_deviation(x, y, radius, centre) -> float:
-    """Mean radius of a path minus the nominal, weighted by the angle each sample covers:
-    how far the command lies outside (+) or inside (-) the circle asked for [m].
-
-    Parameters
-    ----------
-    x, y : ndarray
-        Path [m].
-    radius : float
-        Nominal radius [m].
-    centre : tuple
-        Nominal centre [m].
-    """
-    dx, dy = x - centre[0], y - centre[1]
-    ang = np.unwrap(np.arctan2(dy, dx))
-    w = np.abs(np.gradient(ang)) if ang.size > 1 else np.ones_like(ang)
-    r = np.hypot(dx, dy) - radius
-    return float(np.sum(w * r) / np.sum(w)) if np.sum(w) > 0 else float(np.mean(r))
-
-
 def within_span(x, y, sl: slice, centre, ref_ang) -> slice:
     """The samples of a sensor on the circle of a pass: from the first whose own angle
     lies within the angle the reference path covers over the pass, on past the pass's
@@ -376,24 +354,3 @@ def circle_deviation(x, y) -> tuple[float, tuple[float, float]]:
     cx, cy, _ = lsq_circle(x, y)
     rl = np.hypot(x - cx, y - cy)
     return float(rl.max() - rl.min()), (float(cx), float(cy))
-
-
-def reference_stretches(x, y, radius_m, centre_m, tol, ref) -> list:
-    """The circle's passes in the reference path (:func:`find_stretches`); where a command
-    holds arcs only within its tolerance and whole turns within a sensor's, those turns,
-    said: a compensated command departs from the circle by its correction (some 70 um at
-    a reversal of R 35 mm at F5000), which cut each turn into arcs between the
-    reversals, with no spike reported [-]."""
-    got = find_stretches(x, y, radius_m, centre_m, tol, settled=ref == "cmd")
-    if ref != "cmd" or any(st.turns for st in got):
-        return got
-    wide = find_stretches(x, y, radius_m, centre_m, SENSOR_TOL_SHARE * radius_m, settled=True)
-    if not any(st.turns for st in wide):
-        return got
-    warnings.warn(InputWarning(
-        f"the command departs from the circle by more than {tol * 1e6:.0f} um (a command "
-        "compensated for the machine's error, or another path): its whole turns are taken "
-        f"within {SENSOR_TOL_SHARE * radius_m * 1e3:.2g} mm of it; measure the run against the "
-        "program it was to follow (--command) where its time line is the run's"),
-        stacklevel=3)
-    return wide

@@ -37,6 +37,7 @@ from .circle_checks import (
     warn_pass,
     warn_unresolved,
 )
+from .circle_command import command_figures, radial_deviation, reference_stretches  # noqa: F401
 from .circle_feeds import command_radius, other_feeds
 from .circle_passes import (  # noqa: F401
     SENSOR_TOL_SHARE,
@@ -44,9 +45,7 @@ from .circle_passes import (  # noqa: F401
     find_passes,
     find_stretches,
     lsq_circle,
-    radial_deviation,
     rate,
-    reference_stretches,
     steady_rate,
     within_span,
 )
@@ -384,9 +383,8 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
                         arc_deg=360.0 * st.turns if st.turns else st.span_deg,
                         steady_rate_rad_s=steady_rate(run.time_s[sl], ref_ang))
         if "cmd" in present:
-            cp.command_radial_deviation = radial_deviation(X.sensor("cmd")[sl],
-                                                           Y.sensor("cmd")[sl], radius_m,
-                                                           centre_m)
+            command_figures(cp, X.sensor("cmd")[sl], Y.sensor("cmd")[sl], radius_m, centre_m,
+                            tol, bool(st.turns))
         cp.sensors, missing = _sensors(X, Y, sl, present, (ref, ref_ang), radius_m,
                                        centre_m, (d, *axes))
         warn_pass(run.time_s[sl], cp, cp.sensors[ref].angle_rad, missing, radius_m)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from .circle_command import CENTRE_TOL_M, once_around
 from .circular import QUADRANTS, CircleResult
 from .compare_after import hidden_notes, hidden_spikes
 
@@ -213,6 +214,7 @@ def _same_test(pm, pp) -> None:
     steady angular speed (:attr:`CirclePass.feed_rate_rad_s`): the mean counts the ramps,
     and two runs of one arc at one feed ramped at other accelerations differ by 13 % in
     it."""
+    _same_command(pm, pp)
     a, b = pm.feed_rate_rad_s, pp.feed_rate_rad_s
     if np.isfinite(a) and np.isfinite(b) and abs(a - b) > SAME_SPEED_TOL * max(abs(a), abs(b)):
         what = "arc" if pm.is_arc or pp.is_arc else "circle"
@@ -221,6 +223,24 @@ def _same_test(pm, pp) -> None:
             f"the centre at its steady feed, the predicted one at {abs(b):.4g} rad/s "
             f"({abs(a / b):.3g} times): the prediction is of another test; simulate the "
             "measured run's own command (tcpmm simulate MODEL --command MEASURED.csv)")
+
+
+def _same_command(pm, pp) -> None:
+    """Refuse a measured and a predicted circle whose commands run about centres more
+    than :data:`.circle_command.CENTRE_TOL_M` apart (each over its whole turns): the
+    prediction is of another command, and the offset would read as the machine's
+    difference (20 um apart: the TCP's spike B -7.1 um, the contour error +18.5 um)."""
+    cm, cp = pm.sensors.get("cmd"), pp.sensors.get("cmd")
+    if cm is None or cp is None or pm.is_arc or pp.is_arc:
+        return
+    (am, bm), (ap, bp) = (once_around(c.angle_rad, c.radial_error) for c in (cm, cp))
+    apart = float(np.hypot(am - ap, bm - bp))
+    if apart > CENTRE_TOL_M:
+        raise InputError(
+            f"the measured {pm.direction.upper()} command runs its circle about a centre "
+            f"{apart * 1e6:.1f} µm from the predicted one's ({(am - ap) * 1e6:+.1f}, "
+            f"{(bm - bp) * 1e6:+.1f}) µm: the prediction is of another command; simulate "
+            "the measured run's own command (tcpmm simulate MODEL --command MEASURED.csv)")
 
 
 def cut_alike(measured, predicted):
@@ -273,7 +293,8 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             for q in QUADRANTS:
                 row[f"spike_{q}_um"] = (sm.spikes[q] - sp.spikes[q]) * 1e6
             flips += sign_flips(sm, sp, pm.direction.upper(), name)
-            hidden += hidden_spikes(sm, sp, pm.direction, name)
+            if (sm.pair is None) == (sp.pair is None):  # else the terms are of other fits
+                hidden += hidden_spikes(sm, sp, pm.direction, name)
             if pm.is_arc or pp.is_arc:  # only where both runs are: nothing filled in
                 row.update(_common_arc(sm, sp, pm.direction))
                 rows.append(row)

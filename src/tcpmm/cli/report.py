@@ -7,8 +7,9 @@ from pathlib import Path
 
 import typer
 
-from ._app import app, checked_report_file, floats, in_file, out, positive, read_model
-from ._plane import PLANE_HELP, refuse_unmeasured, run_plane_said
+from ._app import app, checked_report_file, floats, out, positive, read_model
+from ._circle_files import analysed_pair, circle_of_file
+from ._plane import PLANE_HELP
 
 
 @app.command()
@@ -262,39 +263,6 @@ def _faults(machine, files) -> list:
     return [faults_section(found)] if found else []
 
 
-def _circle(path: Path, circle, run=None, settling: bool = True):
-    """The circular test of one run file (or of ``run``, read from it), the run's sample
-    rate and what its analysis warned of [-, Hz, -]; the warnings are given on as well.
-    ``settling``: say where a pass starts before the servo has settled (not of a
-    prediction, whose transient is part of what it predicts, as ``tcpmm compare``) [-].
-    ``circle`` holds the nominal radius [m], centre [m], ``--plane`` and the planes of the
-    files met so far, by resolved path, which this one joins [-]."""
-    import warnings
-
-    import numpy as np
-
-    from ..analysis.circular import analyse_circle
-    from ..errors import InputWarning
-    from ..io.runfile import read_run
-
-    radius_m, centre_m, plane, planes = circle
-    run = read_run(path) if run is None else run
-    known = Path(path).resolve()
-    if known not in planes:  # --plane, else the plane the command moves in
-        planes[known] = run_plane_said(plane, run, path)
-    axes = planes[known]
-    refuse_unmeasured(run, axes, path)
-    with in_file(path), warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", InputWarning)
-        res = analyse_circle(run, radius_m, centre_m, plane=axes, settling=settling)
-    said = [w for w in caught if issubclass(w.category, InputWarning)]
-    for w in caught:
-        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    dt = np.diff(run.time_s)
-    return (res, 1.0 / float(np.median(dt)) if dt.size else None,
-            [f"{path.name}: {w.message}" for w in said])
-
-
 def _run_sections(runs, circle, verdict: dict) -> list:
     """A circle section per run or pair of runs, keys numbered when there are several;
     the first opens with the verdict (``verdict``: its tolerance and date)."""
@@ -303,7 +271,7 @@ def _run_sections(runs, circle, verdict: dict) -> list:
 
     sections = []
     for i, files in enumerate(runs):
-        got = [_circle(f, circle) for f in files]
+        got = [circle_of_file(f, circle) for f in files]
         res = [r for r, _, _ in got]
         both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes],
                             res[0].plane)
@@ -322,13 +290,12 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
     """Measured minus predicted of one pair of runs, against the intervals of the model
     ``machine`` where given; the ``first`` (no --run given) opens the page with the
     measured circle's verdict (``verdict``: its tolerance and date)."""
-    from ..analysis.compare import compare_circles, cut_alike
+    from ..analysis.compare import compare_circles
     from ..io.runfile import read_run
     from ..report import comparison_section, verdict_sections
 
     runs = [read_run(f) for f in (measured, predicted)]
-    (rm, rate, said), (rp, _, _) = (_circle(measured, circle, runs[0]),
-                                    _circle(predicted, circle, cut_alike(*runs), False))
+    rm, rp, rate, said = analysed_pair(measured, predicted, circle, runs)
     pair = compare_circles(rm, rp)
     judged = _judged_if_its(pair, machine, runs[1], circle, rp.plane, predicted)
     cmp = comparison_section(pair, rm, rp, (measured, predicted), key,

@@ -255,9 +255,9 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
                                       "each TCP difference is set against the predicted "
                                       "figure's 90 % interval and verdict.")):
     """Measured minus predicted: reversal spikes A-D and contour error (paper Table 2)."""
-    from ..analysis.circular import analyse_circle
-    from ..analysis.compare import compare_circles, cut_alike
+    from ..analysis.compare import compare_circles
     from ..io.runfile import read_run
+    from ._circle_files import analysed_pair, compare_page
     from ._tables import judged_rows, print_table
 
     c = floats(centre, "--centre", 2)
@@ -270,24 +270,19 @@ def compare(measured: Path = typer.Argument(..., help="Measured RUN.csv or RUN.p
     axes = run_plane_said(plane, runs[0], measured)
     for f, r in zip((measured, predicted), runs, strict=True):
         refuse_unmeasured(r, axes, f)
-    with in_file(measured):
-        rm = analyse_circle(runs[0], radius * 1e-3, ctr, plane=axes)
-    with in_file(predicted):  # a prediction's transient is the measurement's to compare
-        rp = analyse_circle(cut_alike(*runs), radius * 1e-3, ctr, plane=axes, settling=False)
+    # the prediction's transient is the measurement's to compare; the measured run's
+    # warnings are the report's cautions, as in tcpmm report
+    rm, rp, rate, said = analysed_pair(measured, predicted, (
+        radius * 1e-3, ctr, plane, {Path(f).resolve(): axes for f in (measured, predicted)}),
+        runs)
     cmp = compare_circles(rm, rp)
     judged = judged_rows_of(cmp, None if model is None else read_model(model), runs[1],
                             radius, ctr, axes, predicted)
     if plot is not None:
         cmp.plot(path=plot)
     if report is not None:
-        from ..report import circle_test_section, comparison_section, write_report
-
-        write_report(report, [comparison_section(cmp, rm, rp, (measured, predicted), judged=(
-                                  cmp.judged_long(judged) if judged else None)),
-                              circle_test_section(rm, "circle", f"Circular test: "
-                                                  f"{measured.name}", measured)],
-                     "Measured against predicted", [("measured", measured),
-                                                    ("predicted", predicted)])
+        compare_page(report, cmp, (measured, predicted), rate, said,
+                     cmp.judged_long(judged) if judged else None)
     if as_json:
         emit_json({**cmp.to_dict(), **({"tcp_judged": judged} if judged else {})})
     else:

@@ -21,6 +21,7 @@ from tcpmm.io.bundle_schema import (
 )
 from tcpmm.io.checks import check_excitation_band, check_sweep_plausibility
 from tcpmm.io.csvutil import atomic_write_columns, read_numeric_csv, warn_input
+from tcpmm.io.recordfaults import refuse_dead_tcp, refuse_wrapped_angle
 from tcpmm.io.records import AxisRecords, FrictionRecord, SweepRecord
 from tcpmm.io.signalmap import build_record
 from tcpmm.units import MM
@@ -177,6 +178,8 @@ def read_bundle(path: str | Path, *, check: bool = True) -> Bundle:
         friction = read_friction_csv(fpath, axis=name) if fpath.is_file() else None
         if check:
             _check_axis(sweep, cfg, name)
+            if friction is not None:
+                refuse_wrapped_angle(friction, cfg, _csv_line)
         axes[name] = AxisRecords(name=name, sweep=sweep, friction=friction)
     for f in folders:
         if f not in machine.axes:
@@ -204,6 +207,8 @@ def _check_axis(sweep: SweepRecord, cfg: AxisConfig, name: str) -> None:
             file=sweep.source,
             line=1,
         )
+    refuse_wrapped_angle(sweep, cfg, _csv_line)
+    refuse_dead_tcp(sweep, cfg)
     check_sweep_plausibility(sweep, cfg)
 
 

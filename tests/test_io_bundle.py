@@ -207,6 +207,22 @@ def test_velocity_loop_slower_than_position_loop_is_an_error():
         parse_machine_yaml(text)
 
 
+@pytest.mark.parametrize("key, value", [("position_loop_period_s", "0.5"),
+                                        ("position_loop_period_s", "0.1"),
+                                        ("velocity_loop_period_s", "0.0625")])
+def test_a_loop_period_written_in_ms_is_refused_at_its_key(key, value):
+    # 0.5 (ms for s) passed a range of up to 10 s and failed only after the fit, as an
+    # unstable sampled loop that named no key
+    old = {"position_loop_period_s": "0.0005", "velocity_loop_period_s": "0.000125"}[key]
+    text = MACHINE_YAML.replace(f"{key}: {old}", f"{key}: {value}", 1)
+    if key == "position_loop_period_s":
+        text = text.replace("velocity_loop_period_s: 0.000125", "velocity_loop_period_s: 0.0001")
+    with pytest.raises(InputError, match="plausible range") as refused:
+        parse_machine_yaml(text)
+    assert refused.value.column == f"axes.X.servo.{key}" and refused.value.line
+    assert f"got {value}" in str(refused.value) and "unit" in str(refused.value)
+
+
 # ---------------------------------------------------------------- bundle round trip
 
 

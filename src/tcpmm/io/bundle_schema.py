@@ -46,14 +46,22 @@ def _in(ranges: dict, key: str, scale: float = 1.0, unit: str | None = None) -> 
     return low * scale, high * scale, unit or si_unit
 
 
+#: Plausible position loop period of machine.yaml: controllers close it every 0.1 to 20 ms;
+#: the range leaves a factor 10 below and 2.5 above, and refuses a period written in ms
+#: (0.5 for 0.5 ms), which the model's own range (to 10 s) let through to an unstable
+#: sampled loop found only after the fit [s].
+POSITION_PERIOD_RANGE = (1e-5, 0.05, "s")
+#: Plausible velocity loop period: drives close it every 31.25 us to 2 ms; a factor 6 below
+#: and 10 above, refusing one written in ms (0.0625 for 62.5 us) or in us [s].
+VELOCITY_PERIOD_RANGE = (5e-6, 0.02, "s")
 #: Plausible range of the numbers of machine.yaml, those of the model's parameters
 #: (:data:`tcpmm.servo.params.RANGES`, :data:`tcpmm.mechanics.lumped.RANGES`) in its
 #: units: a gain of 1e300 made identification divide by zero [-].
 RANGES = {"position_gain_1_per_s": _in(SERVO_RANGES, "K_pp"),
           "velocity_gain_A_s_per_rad": _in(SERVO_RANGES, "K_vp"),
           "velocity_integral_gain_A_per_rad": _in(SERVO_RANGES, "K_vi"),
-          "position_loop_period_s": _in(SERVO_RANGES, "T_p"),
-          "velocity_loop_period_s": _in(SERVO_RANGES, "T_v"),
+          "position_loop_period_s": POSITION_PERIOD_RANGE,
+          "velocity_loop_period_s": VELOCITY_PERIOD_RANGE,
           "current_limit_A": _in(SERVO_RANGES, "current_limit"),
           "lead_mm": _in(MECHANICS_RANGES, "lead", 1e3, "mm"),
           "torque_constant_Nm_per_A": _in(MECHANICS_RANGES, "K_tc"),

@@ -77,7 +77,7 @@ def test_a_time_base_a_quarter_off_is_warned_about():
     import warnings
 
     from tcpmm.errors import InputWarning
-    from tcpmm.ident.physical.loop_timing import sweep_timing
+    from tcpmm.ident.physical.loop_warnings import sweep_timing
     from tcpmm.io.records import SweepRecord
 
     b = read_bundle(bench_path("c") / "bundle")
@@ -109,7 +109,7 @@ def test_a_position_loop_declared_on_the_wrong_sensor_is_said(vmc, source):
     import warnings
 
     from tcpmm.errors import InputWarning
-    from tcpmm.ident.physical.loop_timing import sweep_timing
+    from tcpmm.ident.physical.loop_warnings import sweep_timing
 
     if source.startswith("vmc"):
         fb = source.split("-")[1]
@@ -128,3 +128,31 @@ def test_a_position_loop_declared_on_the_wrong_sensor_is_said(vmc, source):
                       f"{said[cfg.servo.position_feedback]}, not on the "
                       f"{said[wrong.servo.position_feedback]} machine.yaml declares"):
         sweep_timing("X", rec, wrong)
+
+
+@pytest.mark.parametrize("letter", ["c", "r05"])
+def test_an_excitation_recorded_with_its_sign_reversed_is_said_so(letter):
+    """An excitation_A of the opposite sign left current_cmd_A - excitation_A no controller
+    output: identify warned that the gains and the lead were not the drive's and left the
+    loop's timing, and with it every figure, undetermined, while the mechanics were
+    unchanged. The sign is now said, and the timing read with the column negated."""
+    import dataclasses
+    import warnings
+
+    from tcpmm.errors import InputWarning
+    from tcpmm.ident.physical import sweep_timing
+
+    b = read_bundle(bench_path(letter) / "bundle")
+    rec, cfg = b.axes["X"].sweep, b.machine.axes["X"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        right = sweep_timing("X", rec, cfg)
+    flipped = dataclasses.replace(rec, excitation_A=-rec.excitation_A)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        got = sweep_timing("X", flipped, cfg)
+    said = [str(w.message) for w in caught]
+    assert any("the excitation's sign is reversed" in m and "Negate excitation_A" in m
+               for m in said), said
+    assert not any("check the gains" in m for m in said)
+    assert got.determined and got == right

@@ -17,8 +17,8 @@ from .loop_timing import (
     LoopTiming,
     identify_loop_timing,
     sampled_in_step,
-    sweep_timing,
 )
+from .loop_warnings import sweep_timing
 from .starts import guesses_from_tf, initial_guesses, j_total_from_g_m
 from .structure import STRUCTURE, fit_structure
 from .uncertainty import axis_uncertainty

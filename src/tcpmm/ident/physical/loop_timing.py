@@ -31,12 +31,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from ...io.csvutil import warn_input
 from ...servo.currentfilters import filters_freqresp
 from ..frf.response import frf_against_reference
 
 __all__ = ["COMPUTATION_DELAY", "POSITION_GAIN_TOL", "LoopTiming", "identify_loop_timing",
-           "position_gain_message", "sampled_in_step", "sweep_timing"]
+           "sampled_in_step"]
 
 #: Computation delay taken where the sweep does not show it: the current a digital velocity
 #: loop computes from the samples of one period is applied in the next [velocity-loop
@@ -82,7 +81,6 @@ POSITION_BAND_HZ = (2.0, 15.0)
 POSITION_GAIN_TOL = 0.025
 #: The position feedback other than the one declared, and each in words [-].
 OTHER_SENSOR = {"scale": "encoder", "encoder": "scale"}
-_SENSOR_NAMES = {"scale": "linear scale", "encoder": "motor encoder"}
 
 
 @dataclass(frozen=True)
@@ -303,81 +301,3 @@ def sampled_in_step(fs_hz: float, T_v: float) -> bool:
     """
     ratio = T_v * fs_hz
     return ratio <= 1.0 and abs(1.0 / ratio - round(1.0 / ratio)) < 1e-6
-
-
-def sweep_timing(name: str, sweep, cfg) -> LoopTiming | None:
-    """The drive's timing from a closed-loop sweep (:func:`identify_loop_timing`), with a
-    warning when a sweep with the loops closed does not match the declared controller.
-
-    Parameters
-    ----------
-    name : str
-        Axis name [-].
-    sweep : SweepRecord
-        The sweep record (SI) [-].
-    cfg : AxisConfig
-        The axis's bundle configuration [-].
-
-    Returns
-    -------
-    LoopTiming or None
-        ``None`` for a torque-mode sweep or too little of the loop's response [-].
-    """
-    timing = identify_loop_timing(sweep, cfg)
-    if timing is None:
-        return None
-    if not timing.determined:
-        warn_input(
-            f"axis {name}: the controller output in the sweep does not match the declared "
-            f"velocity-loop gains with any computation delay (fitted gain factor "
-            f"{timing.gain:.2f}, delay {timing.tau_periods:.2f} periods); check the gains "
-            "and the lead in machine.yaml. The model assumes a delay of "
-            f"{COMPUTATION_DELAY} period and a differenced encoder velocity",
-            file=getattr(sweep, "source", None))
-    elif abs(timing.gain - 1.0) > GAIN_WARN:
-        warn_input(
-            f"axis {name}: the controller output in the sweep is {timing.gain:.3g} times "
-            "what the declared velocity-loop gains give: the record's time base (its "
-            f"sample rate, {sweep.fs_hz:.6g} Hz), or the gains or the lead in machine.yaml, "
-            "are not the drive's; the identified masses and inertias scale with the square "
-            "of a time base that is off. Check the time column and the gains",
-            file=getattr(sweep, "source", None))
-    _check_feedback(name, sweep, cfg, timing)
-    if timing.position_contradicted(cfg.servo.position_gain_1_per_s):
-        warn_input(position_gain_message(name, timing, cfg.servo.position_gain_1_per_s),
-                   file=getattr(sweep, "source", None))
-    return timing
-
-
-def position_gain_message(name: str, timing: LoopTiming, declared: float) -> str:
-    """What the sweep says of a declared position gain it contradicts [-].
-
-    Parameters
-    ----------
-    name : str
-        Axis name [-].
-    timing : LoopTiming
-        The sweep's timing, with the position gain it reads [-].
-    declared : float
-        The bundle's ``position_gain_1_per_s`` [1/s].
-    """
-    return (f"axis {name}: the controller output in the sweep "
-            f"{timing.position_words(declared, 'machine.yaml')}; "
-            "check servo.position_gain_1_per_s, and that the position loop was closed "
-            "during the sweep: the model follows its path with the declared gain, and the "
-            "figures that depend on it are left open")
-
-
-def _check_feedback(name, sweep, cfg, timing) -> None:
-    """Warn where the sweep reads as a position loop closed on the other sensor."""
-    if not timing.other_sensor_reads_better():
-        return
-    said = cfg.servo.position_feedback
-    warn_input(
-        f"axis {name}: the controller output in the sweep reads as a position loop closed "
-        f"on the {_SENSOR_NAMES[OTHER_SENSOR[said]]}, not on the {_SENSOR_NAMES[said]} "
-        "machine.yaml declares "
-        f"(relative residual {timing.other_feedback_residual:.3f} against "
-        f"{timing.residual:.3f}); check servo.position_feedback: the model closes its "
-        "loop where it is told, and its path follows from that",
-        file=getattr(sweep, "source", None))

@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING
 from ...model import Axis, Sensors
 from ...servo.params import ServoParams
 from ..gates.sanity import warn_unstable_sampled_loop
-from ..physical.loop_timing import COMPUTATION_DELAY, LoopTiming, sweep_timing
+from ..physical.loop_timing import COMPUTATION_DELAY, LoopTiming
+from ..physical.loop_warnings import sweep_timing
 from ..physical.uncertainty import axis_uncertainty
 
 if TYPE_CHECKING:

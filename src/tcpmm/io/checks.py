@@ -15,6 +15,12 @@ MIN_PERIODS = 3.0
 FLOOR_DB = -30.0
 #: The column the messages name [-].
 _COLUMN = "excitation_A"
+#: Relative difference of the scale's travel from the motor angle's through the lead
+#: beyond which it is said: a ball screw's lead errs by some 3e-5, the screw's heat and
+#: its deflection under the drive's force by 1e-4 at most; 2 % is a lead_mm or a scale
+#: resolution set wrong, which identification reads as a deflection that grows with the
+#: travel (a TCP device "drifting by 3 mm" over the sweep) [-].
+LEAD_TOLERANCE = 5e-3
 
 
 def _excitation_of(record) -> tuple[np.ndarray, float, str | None]:
@@ -204,6 +210,13 @@ def slope_and_correlation(y, x) -> tuple[float, float]:
         return float("nan"), 0.0
     sxy = float(x @ y)
     return sxy / sxx, sxy / np.sqrt(sxx * syy)
+
+
+def lead_ratio(record, R_L: float) -> float:
+    """The scale's travel over the motor angle's through the lead, ``R_L`` [m/rad]: 1
+    where ``lead_mm`` and the scale agree; NaN where the record does not move [-]."""
+    return slope_and_correlation(record.scale_m,
+                                 np.asarray(record.motor_angle_rad, dtype=float) * R_L)[0]
 
 
 def _refuse_standing_still(record) -> None:

@@ -27,6 +27,7 @@ from ...io.csvutil import warn_input
 from ...model import BACKLASH_MAX_M, Machine
 from ...path.circle import circle_command
 from ...sim.simulate import simulate, unstable_loops
+from .leadbound import lead_voids_bound
 from .presliding import with_presliding
 from .split import SHARE_WARN_STD
 
@@ -274,7 +275,7 @@ def warn_lost_motion_sensitivity(name: str, a, machine, friction) -> None:
         Its friction runs, for the file the warning names [-].
     """
     split = a.friction_split
-    if split is None:
+    if split is None or lead_voids_bound(name, split, machine, friction):
         return
     if split.lost_motion_unbounded:  # a spike range over it would be no machine's
         _warn_from(friction, True, unbounded_lost_motion_words(name, split))

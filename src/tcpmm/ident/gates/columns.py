@@ -23,7 +23,7 @@ import warnings
 import numpy as np
 
 from ...errors import InputError, InputWarning
-from ...io.checks import slope_and_correlation
+from ...io.checks import LEAD_TOLERANCE, slope_and_correlation
 from .finding import Finding, bundle_records
 
 #: Peak of a current column above this many times the current limit counts as beyond it:
@@ -33,12 +33,6 @@ CURRENT_MARGIN = 1.05
 #: the scale's, taken as agreeing: the screw's and the structure's deflection under the
 #: drive's force stay within a few per cent of a travel of millimetres [-].
 RATIO_RANGE = (0.8, 1.25)
-#: Relative difference of the scale's travel from the motor angle's through the lead
-#: beyond which it is said: a ball screw's lead errs by some 3e-5, the screw's heat and
-#: its deflection under the drive's force by 1e-4 at most; 2 % is a lead_mm or a scale
-#: resolution set wrong, which identification reads as a deflection that grows with the
-#: travel (a TCP device "drifting by 3 mm" over the sweep) [-].
-LEAD_TOLERANCE = 5e-3
 #: Beyond this relative difference the lead or the scale's resolution is refused, not
 #: said: the masses and inertias identified scale with the square of a lead that is off
 #: (a lead of 22 mm for 25 gave every mass 27 % too large, read as firm) [-].

@@ -110,3 +110,27 @@ def test_a_circle_in_another_unit_is_warned_of(scale, radius_mm, warned):
     assert bool(said) == warned
     if warned:
         assert "off by a factor of 1000" in said[0]
+
+
+@pytest.mark.parametrize("column, factor, said", [
+    ("x_tcp_mm", 1e3, "holds µm, not mm; divide it by 1000"),
+    ("x_tcp_mm", 1e-3, "holds m, not mm; multiply it by 1000"),
+    ("x_scale_mm", 1 / 25.4, "holds inches, not mm; multiply it by 25.4"),
+    (None, 1e3, r"the run holds µm, not mm; divide every \*_mm column by 1000")])
+def test_a_column_in_another_unit_is_named_with_it(tmp_path, column, factor, said):
+    """Bench C's circle with a sensor's column, or every column in mm, in µm, m or inches
+    under its name in mm: refused as the opposite sign or swapped axes (µm), a column
+    stuck (m, inches), no circle found (every column), which sent the user to the wrong
+    fix. The unit is named with the factor to write it in mm."""
+    import pandas as pd
+
+    from conftest import bench_path
+    from tcpmm.io.runfile import read_run
+
+    a = pd.read_csv(bench_path("c") / "circle_ccw_meas.csv")
+    for c in [column] if column else [c for c in a.columns if c.endswith("_mm")]:
+        a[c] *= factor
+    a.to_csv(tmp_path / "u.csv", index=False)
+    with pytest.raises(InputError, match=said), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        analyse_circle(read_run(tmp_path / "u.csv"), 0.035)

@@ -237,3 +237,21 @@ def test_a_float32_time_too_coarse_for_its_period_is_refused(tmp_path):
         read_run(tmp_path / "clock.parquet")
     with pytest.raises(InputError, match=said):
         list(batches(tmp_path / "clock.parquet", 1000, lambda c: True))
+
+
+def test_refusals_of_a_recorder_s_own_export_say_what_to_write(tmp_path):
+    """A MATLAB file, a Parquet time of timestamps and a CSV with its index written as a
+    column were refused with no fix: each now says what to write."""
+    import pandas as pd
+    import scipy.io
+
+    scipy.io.savemat(tmp_path / "r.mat", {"time_s": np.arange(5.0)})
+    t = pd.Series(pd.date_range("2026-01-01", periods=5, freq="ms"))
+    pd.DataFrame({"time_s": t, "x_cmd_mm": np.arange(5.0)}).to_parquet(tmp_path / "t.parquet")
+    pd.DataFrame({"time_s": np.arange(5.0), "x_cmd_mm": np.arange(5.0)}).to_csv(
+        tmp_path / "i.csv")
+    for name, said in (("r.mat", r"MATLAB file, .*; write it as a CSV or Parquet run file"),
+                       ("t.parquet", r"timestamp.*; write time_s as seconds"),
+                       ("i.csv", r"empty column name .*; a table's index written as a")):
+        with pytest.raises(InputError, match=said):
+            read_run(tmp_path / name)

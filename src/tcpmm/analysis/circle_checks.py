@@ -74,9 +74,17 @@ def present_sensors(run, axes, sensors) -> list:
     return present
 
 
-def not_found_error(radius_m, centre_m, axes, ref, direction) -> InputError:
-    """The error of a run without the circle asked for [-]."""
+def not_found_error(radius_m, centre_m, axes, ref, direction, reach_m=None) -> InputError:
+    """The error of a run without the circle asked for; where the reference's median
+    distance from the centre, ``reach_m`` [m], is the radius times one of
+    :data:`OTHER_UNITS`' factors, the unit it is then in [-]."""
     ax, ay = axes
+    for unit, factor, fix in OTHER_UNITS if reach_m else ():
+        if abs(reach_m / radius_m / factor - 1.0) < UNIT_SHARE:
+            return InputError(
+                f"the {ref} signals lie {reach_m * 1e3:.6g} mm from the centre, the radius of "
+                f"{radius_m * 1e3:g} mm times {factor:.4g}: the run holds {unit}, not mm; "
+                f"{fix.format('every *_mm column')}")
     what = f" {direction.upper()}" if direction else ""
     where = (f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm" if (ax, ay) == ("X", "Y")
              else f"{ax} {centre_m[0] * 1e3:g} mm, {ay} {centre_m[1] * 1e3:g} mm")
@@ -273,6 +281,7 @@ def check_sensor_path(x, y, ref_xy, centre, radius_m, names, direction) -> None:
     """
     sensor, ref, ax, ay = names
     for v, rv, axis in ((x, ref_xy[0], ax), (y, ref_xy[1], ay)):
+        refuse_other_unit(v, rv, f"{axis.lower()}_{sensor}_mm", ref)
         if v.size and not np.ptp(v) > STUCK_SHARE * np.ptp(rv):
             raise InputError(
                 f"the {sensor} signal's {axis} travels {np.ptp(v) * 1e3:.4g} mm where the "
@@ -292,6 +301,38 @@ def check_sensor_path(x, y, ref_xy, centre, radius_m, names, direction) -> None:
         f"the {sensor} circle {how}: an axis of the {sensor} signal has the opposite sign, "
         f"or its {ax} and {ay} are swapped; check the signs and the columns "
         f"{ax.lower()}_{sensor}_mm and {ay.lower()}_{sensor}_mm")
+
+
+#: Units a column in mm may hold by mistake: its travel over the reference's, and how to
+#: write it in mm [-]
+OTHER_UNITS = (("µm", 1e3, "divide {} by 1000"), ("m", 1e-3, "multiply {} by 1000"),
+               ("inches", 1 / 25.4, "multiply {} by 25.4"))
+#: Share within which a travel's ratio to the reference's is taken for a unit's [-]
+UNIT_SHARE = 0.02
+
+
+def refuse_other_unit(v, rv, column: str, ref: str) -> None:
+    """Refuse a sensor's column whose travel is that of its reference ``rv`` (the command)
+    times one of :data:`OTHER_UNITS`' factors to within :data:`UNIT_SHARE`: a column in
+    another unit under a name in mm, which the checks after read as a column stuck, swapped
+    or of the opposite sign [-].
+
+    Parameters
+    ----------
+    v, rv : ndarray
+        The sensor's positions along one axis over the pass, and its reference's [m].
+    column, ref : str
+        The column's name and the reference's [-].
+    """
+    if not v.size or not np.ptp(rv) > 0:
+        return
+    ratio = float(np.ptp(v) / np.ptp(rv))
+    for unit, factor, fix in OTHER_UNITS:
+        if abs(ratio / factor - 1.0) < UNIT_SHARE:
+            raise InputError(
+                f"{column} travels {np.ptp(v) * 1e3:.6g} where the {ref}'s travels "
+                f"{np.ptp(rv) * 1e3:.6g} mm, {ratio:.4g} times as far: it holds {unit}, not "
+                f"mm; {fix.format('it')}")
 
 
 #: Share of a figure by which it may move when every other sample is left out before it is

@@ -393,5 +393,6 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
             warn_unresolved(run.time_s[sl], cp, radius_m, centre_m)
         passes.append(cp)
     if not passes:
-        raise not_found_error(radius_m, centre_m, axes, ref, direction)
+        raise not_found_error(radius_m, centre_m, axes, ref, direction, float(np.median(
+            np.hypot(X.sensor(ref) - centre_m[0], Y.sensor(ref) - centre_m[1]))))
     return CircleResult(radius_m, tuple(centre_m), passes, axes)

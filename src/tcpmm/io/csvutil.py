@@ -110,7 +110,10 @@ def _header_names(first: str, path: Path) -> list[str]:
         )
     for i, name in enumerate(names):
         if not name:
-            raise InputError("empty column name in the header", file=path, line=1, column=i + 1)
+            index = "; a table's index written as a column? write it with index=False" \
+                if i == 0 else ""
+            raise InputError(f"empty column name in the header{index}", file=path, line=1,
+                             column=i + 1)
         if name in names[:i]:
             raise InputError(
                 f"column '{name}' appears twice in the header; keep one",

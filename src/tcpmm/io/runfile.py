@@ -148,7 +148,9 @@ def refuse_not_numbers(name: str, kind, path) -> None:
     import pyarrow as pa
 
     if not (pa.types.is_floating(kind) or pa.types.is_integer(kind)):
-        raise InputError(f"column holds {kind}, not numbers", file=path, column=name)
+        when = ("; write time_s as seconds from the run's start, float64 (in pandas, "
+                "(t - t.iloc[0]).dt.total_seconds())" if pa.types.is_temporal(kind) else "")
+        raise InputError(f"column holds {kind}, not numbers{when}", file=path, column=name)
 
 
 #: Finest share of the sample period a stored time may round to: a float32 time of

@@ -67,7 +67,9 @@ def read_text(path, what: str, hint: str | None = None) -> str:
     for magic, kind, ext in _BINARY:
         if data.startswith(magic):
             rename = (f"; name it {path.stem}{ext} to read it as such"
-                      if what == "run file" and ext == ".parquet" else "")
+                      if what == "run file" and ext == ".parquet" else
+                      "; write it as a CSV or Parquet run file (time_s and <axis>_cmd_mm, "
+                      "<axis>_tcp_mm ... in mm: docs/formats.md)" if what == "run file" else "")
             raise InputError(f"this is a {kind} file, not the UTF-8 text a {what} is{rename}",
                              file=path)
     try:

@@ -230,3 +230,21 @@ def test_the_column_counts_rapids_to_where_the_tool_stands(tmp_path):
     prog.write_text("G21 G90 G17\nG1 X1 Y0 F3000\nX2\nG0 X2\nG0 X2\nG1 X3\nX3\nM30\n")
     row = program_task("vmc", read_machine("builtin:vmc"), prog, 2)
     assert row["status"] == "ok" and row["zero_length_skipped"] == 3 and row["warnings"] == ""
+
+
+def test_an_unstable_machine_is_a_fault_without_figures(study, capsys, tmp_path):
+    """A model whose sampled X loop is unstable (K_pp 1000) gave status ok with contour
+    figures, the instability among the warnings; a sweep of variants puts it in its faults
+    and leaves the figures out, and so does the study of programs."""
+    model = tmp_path / "unstable.yaml"
+    write_machine(apply_parameters(read_machine("builtin:vmc"), {"X.servo.K_pp": 1000.0}),
+                  model)
+    code, out, err = run_cli(capsys, "sweep", model, "--programs",
+                             study["progs"] / "square.nc", "--workers", 1, "-o", tmp_path,
+                             "--json")
+    assert code == 0
+    (row,) = json.loads(out)["rows"]
+    assert row["status"] == "fault" and "unstable" in row["faults"]
+    assert "unstable" not in (row["warnings"] or "")
+    assert row["contour_rms_um"] is None and row["contour_max_um"] is None
+    assert "square.nc" in err and "no figures" in err

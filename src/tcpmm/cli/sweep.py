@@ -276,8 +276,8 @@ def _finish(res, as_json: bool, report) -> None:
     """The result as JSON or as ``report`` says it; exit status 1 when any task failed."""
     if as_json:
         emit_json(res.to_dict())
-        if report is _report:  # the faults on stderr, as without --json (docs/sweep.md)
-            _warn_faults(res)
+        # the faults on stderr, as without --json (docs/sweep.md)
+        (_warn_faults if report is _report else _warn_faulty_pairs)(res)
     else:
         report(res)
     if res.failed:
@@ -305,9 +305,23 @@ def _sweep_programs(models, programs: str, output, scheduler, workers, chunk_blo
 
 
 def _report_programs(res) -> None:
+    faulty = f" ({len(res.faulty)} with a fault: no figures)" if res.faulty else ""
     out.print(f"{len(res.rows)} (model, program) pairs: {len(res.rows) - len(res.failed)} "
-              f"ran, {len(res.failed)} failed ({res.wall_s:.1f} s)")
+              f"ran{faulty}, {len(res.failed)} failed ({res.wall_s:.1f} s)")
     for kind, path in res.files.items():
         out.print(f"  {kind:<8} {path}", highlight=False)
     for r in res.failed:
         out.print(f"  failed   {r['model']}: {r['error']}", highlight=False)
+    _warn_faulty_pairs(res)
+
+
+def _warn_faulty_pairs(res) -> None:
+    """A warning line per pair whose machine ran away, saturated its current or has an
+    unstable loop (the first :data:`SAID_FAULTS`): its row has no figures."""
+    for r in res.faulty[:SAID_FAULTS]:
+        console.print(f"[yellow]warning:[/yellow] {esc(r['model'])} on {esc(r['program'])}: "
+                      f"{esc(r['faults'])}; no figures")
+    if len(res.faulty) > SAID_FAULTS:
+        console.print(f"[yellow]warning:[/yellow] {len(res.faulty) - SAID_FAULTS} more pairs "
+                      "ran away, saturated their current or are unstable: see the column "
+                      "faults of programs.csv")

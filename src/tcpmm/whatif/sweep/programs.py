@@ -26,7 +26,7 @@ from ...analysis.contour_parquet import travel_positions
 from ...analysis.contour_stream import stream_contour
 from ...analysis.plane import run_plane
 from ...analysis.runaway_stream import FaultWatch
-from ...errors import InputError, InputWarning
+from ...errors import InputError, InputWarning, RunFaultWarning
 from ...io.atomic import atomic_path, output_folder, write_table_atomic, write_text_atomic
 from ...io.runfile import run_parquet_writer
 from ...path.gcode import zero_length_skipped
@@ -82,7 +82,7 @@ def _show(message, category, filename, lineno, file=None, line=None):
     sink = getattr(_task, "warnings", None)
     if sink is None:
         return _show.passed_on(message, category, filename, lineno, file, line)
-    sink.append(str(message))
+    sink.append((str(message), category))
 
 
 @contextmanager
@@ -103,11 +103,15 @@ def _warnings_of_this_task():
         _task.warnings = None
 
 
-def _zero_length(said) -> tuple[int, str]:
+def _zero_length(said) -> tuple[int, str, list]:
     """Zero-length moves skipped, from the interpreter's warnings (the first said, and
-    "(and N more times)"); the other warnings, joined [-]."""
+    "(and N more times)"); the other warnings, joined; the run's faults said as warnings
+    (an unstable sampled loop), which go with the faults, not the warnings [-]."""
+    faults = list(dict.fromkeys(t for t, c in said if issubclass(c, RunFaultWarning)))
+    said = [t for t, c in said if not issubclass(c, RunFaultWarning)]
     counted = [zero_length_skipped([text]) for text in said]
-    return sum(counted), "; ".join(t for t, n in zip(said, counted, strict=True) if not n)
+    rest = "; ".join(t for t, n in zip(said, counted, strict=True) if not n)
+    return sum(counted), rest, faults
 
 
 def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict:
@@ -125,8 +129,8 @@ def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict
                 samples += run.time_s.size
                 last_t = float(run.time_s[-1])
             lines = run.meta["lines_read"]
-    faults = "; ".join(f.text() for f in watch.faults())
-    skipped, said = _zero_length(said)
+    skipped, said, faults = _zero_length(said)
+    faults = "; ".join(faults + [f.text() for f in watch.faults()])
     return {"blocks": lines, "zero_length_skipped": skipped, "samples": samples,
             "duration_s": last_t, "faults": faults, "warnings": said}
 
@@ -216,7 +220,12 @@ def program_task(model: str, machine, program, chunk_blocks: int,
         with tempfile.TemporaryDirectory(prefix="tcpmm-sweep-") as tmp:
             run_file = Path(tmp) / "run.parquet"
             row.update(_simulate(machine, Path(program), run_file, chunk_blocks))
-            row.update(run_contour(run_file, window_s))
+            # a machine that ran away, held its current or has an unstable loop has no
+            # contour error of the path: its figures are left out, as a sweep's variant's
+            if row["faults"]:
+                row["status"] = "fault"
+            else:
+                row.update(run_contour(run_file, window_s))
     except Exception as exc:  # the row says it; the other pairs go on
         row.update(status="failed", **_failure(exc))
     row["task_s"] = time.perf_counter() - t0
@@ -244,7 +253,13 @@ class ProgramSweep:
     @property
     def failed(self) -> list:
         """The rows that failed [-]."""
-        return [r for r in self.rows if r["status"] != "ok"]
+        return [r for r in self.rows if r["status"] == "failed"]
+
+    @property
+    def faulty(self) -> list:
+        """The rows whose machine ran away, held its current at the limit or has an
+        unstable loop: no figures [-]."""
+        return [r for r in self.rows if r["status"] == "fault"]
 
     def to_dict(self) -> dict:
         """JSON-ready [-]."""

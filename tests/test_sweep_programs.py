@@ -248,3 +248,21 @@ def test_an_unstable_machine_is_a_fault_without_figures(study, capsys, tmp_path)
     assert "unstable" not in (row["warnings"] or "")
     assert row["contour_rms_um"] is None and row["contour_max_um"] is None
     assert "square.nc" in err and "no figures" in err
+
+
+def test_the_sensor_is_honoured_and_the_variant_options_refused(study, capsys, tmp_path):
+    """--sensor, --design, --n, --seed and --centre were taken with --programs and did
+    nothing: --sensor scale gave the TCP's figures. The rows are now the sensor's, and the
+    options of a sweep of variants are refused."""
+    square = study["progs"] / "square.nc"
+    _, con = _direct(capsys, "builtin:vmc", square, tmp_path)
+    code, out, _ = run_cli(capsys, "sweep", "builtin:vmc", "--programs", square, "--sensor",
+                           "scale", "--workers", 1, "-o", tmp_path / "s", "--json")
+    (row,) = json.loads(out)["rows"]
+    assert code == 0 and row["contour_max_um"] == con["sensors"]["scale"]["max_abs_um"]
+    assert row["contour_max_um"] != con["sensors"]["tcp"]["max_abs_um"]
+    for given in (["--design", "lhs"], ["--n", 3], ["--seed", 0], ["--centre", "1,1"],
+                  ["--fit-only"], ["--sensor", "cmd"]):
+        code, _, err = run_cli(capsys, "sweep", "builtin:vmc", "--programs", square, *given,
+                               "-o", tmp_path / "r")
+        assert code == 2 and given[0] in err, (given, err)

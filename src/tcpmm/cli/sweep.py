@@ -35,7 +35,12 @@ _PROGRAMS_HELP = ("NC programs: a folder (its .nc, .ngc, .gcode, .tap, .mpf ... 
                   "glob pattern such as 'cam/**/*.nc'; every model runs every program, each "
                   "pair one streaming task. The workers read the programs at these paths.")
 
-_ALONE = "--param, --gcode, --circle, --keep-runs and --list-params go without it"
+#: what a sweep of variants takes and a study over programs does not [-]
+_VARIANTS_ONLY = ("--param", "--gcode", "--circle", "--centre", "--design", "--n", "--seed",
+                  "--fit-only", "--keep-runs", "--list-params")
+#: defaults of the options a study over programs refuses, which take None to tell them
+#: given [-]
+_DEFAULTS = {"design": "grid", "n": 16, "seed": 0, "centre": "0,0"}
 
 
 @contextmanager
@@ -76,7 +81,7 @@ def _program(gcode: Path | None, circle: str | None, centre: str):
     r, f = floats(circle or "35,5000", "--circle R,F [mm, mm/min]", 2)
     positive(r, "--circle radius [mm]")
     positive(f, "--circle feed [mm/min]")
-    c = floats(centre, "--centre", 2)
+    c = floats(centre or _DEFAULTS["centre"], "--centre", 2)
     return CircleProgram(r * 1e-3, f / 6e4, (c[0] * 1e-3, c[1] * 1e-3))
 
 
@@ -144,15 +149,15 @@ def _warn_faults(res) -> None:
 def sweep(models: list[str] = typer.Argument(
               ..., help="MODEL.yaml or builtin:vmc; with --programs, one or more models."),
           param: list[str] = typer.Option(None, "--param", "-p", help=_PARAM_HELP),
-          design: str = typer.Option("grid", "--design", help="grid, lhs or draws."),
-          n: int = typer.Option(16, "--n", help="Variants of lhs; draws per grid point [-]."),
-          seed: int = typer.Option(0, "--seed", min=0, help="Seed of lhs and draws [-]."),
+          design: str = typer.Option(None, "--design", help="grid (default), lhs or draws."),
+          n: int = typer.Option(None, "--n", help="Variants of lhs; draws a point (16) [-]."),
+          seed: int = typer.Option(None, "--seed", min=0, help="Seed of lhs, draws (0) [-]."),
           gcode: Path = typer.Option(None, "--gcode", help="NC program PROG.nc."),
           circle: str = typer.Option(
               None, "--circle",
               help="Circular test R,F: radius [mm], feed [mm/min], CCW then CW; the "
                    "default without --gcode is the paper's 35,5000."),
-          centre: str = typer.Option("0,0", "--centre", help="Circle centre X,Y [mm]."),
+          centre: str = typer.Option(None, "--centre", help="Circle centre X,Y (0,0) [mm]."),
           programs: str = typer.Option(None, "--programs", help=_PROGRAMS_HELP),
           chunk_blocks: int = typer.Option(None, "--chunk-blocks", min=1, help=CHUNK_HELP),
           output: Path = typer.Option(None, "-o", "--out", help="Results folder OUT_DIR."),
@@ -163,7 +168,8 @@ def sweep(models: list[str] = typer.Argument(
               help="Local worker processes; default every core, 1 runs in this process."),
           keep_runs: Path = typer.Option(
               None, "--keep-runs", help="Write each variant's run file to this folder."),
-          sensor: Sensor = typer.Option("tcp", "--sensor", help="Sensor analysed."),
+          sensor: Sensor = typer.Option(
+              "tcp", "--sensor", help="Sensor analysed; with --programs tcp, scale or motor."),
           fit_only: bool = typer.Option(
               False, "--fit-only", help="draws: the fits' own standard deviations alone."),
           list_params: bool = typer.Option(
@@ -190,10 +196,10 @@ def sweep(models: list[str] = typer.Argument(
         raise typer.BadParameter("--workers sets up a local cluster; with --scheduler the "
                                  "cluster's own workers run the sweep")
     if programs is not None:
-        if param or gcode or circle or keep_runs or list_params:
-            raise typer.BadParameter(f"--programs runs each model as it is: {_ALONE}")
+        _refuse_with_programs((param, gcode, circle, centre, design, n, seed, fit_only,
+                               keep_runs, list_params), sensor.value)
         return _sweep_programs(models, programs, output, scheduler, workers, chunk_blocks,
-                               as_json)
+                               sensor.value, as_json)
     if len(models) != 1:
         raise typer.BadParameter(f"a sweep of variants takes one model, got {len(models)}; "
                                  "several models go with --programs DIR")
@@ -202,9 +208,25 @@ def sweep(models: list[str] = typer.Argument(
                     keep_runs, how, list_params, as_json)
 
 
+def _refuse_with_programs(values, sensor: str) -> None:
+    """Refuse the options of a sweep of variants given with ``--programs``, whose models
+    run as they are over their programs: given, each would do nothing, in silence."""
+    given = [flag for flag, v in zip(_VARIANTS_ONLY, values, strict=True)
+             if v is not None and v is not False and v != []]
+    if given:
+        raise typer.BadParameter(
+            f"--programs runs each model as it is over its programs: {', '.join(given)} "
+            f"would do nothing with it; leave {'it' if len(given) == 1 else 'them'} out "
+            f"({', '.join(_VARIANTS_ONLY)} go with a sweep of variants of one model)")
+    if sensor == "cmd":
+        raise typer.BadParameter("--sensor cmd with --programs: the command is the path the "
+                                 "contour error is measured from; give tcp, scale or motor")
+
+
 def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, how: dict,
                     list_params: bool, as_json: bool) -> None:
     """``tcpmm sweep`` over variants of named parameters of one model."""
+    how = {k: _DEFAULTS.get(k) if v is None else v for k, v in how.items()}
     from ..whatif.spread import MODEL_ERROR
     from ..whatif.sweep import DESIGNS, canonical_name, make_design, parameter_names, run_sweep
 
@@ -285,7 +307,7 @@ def _finish(res, as_json: bool, report) -> None:
 
 
 def _sweep_programs(models, programs: str, output, scheduler, workers, chunk_blocks,
-                    as_json: bool) -> None:
+                    sensor: str, as_json: bool) -> None:
     """``tcpmm sweep --programs``: every model over every NC program."""
     from ..whatif.sweep.programs import program_files, run_programs
 
@@ -300,7 +322,7 @@ def _sweep_programs(models, programs: str, output, scheduler, workers, chunk_blo
         workers = usable_cores()  # as a sweep of variants: every core it may use
     res = _on_cluster(scheduler, "programs", lambda client, progress: run_programs(
         machines, files, output, client=client, workers=workers, chunk_blocks=chunk_blocks,
-        progress=progress))
+        sensor=sensor, progress=progress))
     _finish(res, as_json, _report_programs)
 
 

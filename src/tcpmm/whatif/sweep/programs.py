@@ -168,7 +168,10 @@ def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> 
         axes = tuple(a for a in "XYZ" if a in travel)
     res = stream_contour(run_file, tuple(axes), flat, window_s)
     d = res.to_dict()
-    s = d["sensors"].get(sensor) or next(iter(d["sensors"].values()))
+    if sensor not in d["sensors"]:
+        raise InputError(f"the run measures no sensor {sensor!r}; give one of "
+                         f"{', '.join(sorted(d['sensors']))}", file=run_file)
+    s = d["sensors"][sensor]
     # the streamed analysis may seek no corners: then the row has none to say, not zero
     # the path's end is a row of the corner table (its arrival), no turn: not counted
     corners = [c for c in d.get("corners") or [] if c.get("sensor", sensor) == sensor
@@ -189,7 +192,7 @@ def _failure(exc: Exception) -> dict:
 
 
 def program_task(model: str, machine, program, chunk_blocks: int,
-                 window_s: float | None = None) -> dict:
+                 window_s: float | None = None, sensor: str = "tcp") -> dict:
     """One (model, program) pair: the program streamed through the model, the run's
     contour error streamed back; a failure becomes the row's error, never an exception.
 
@@ -206,6 +209,9 @@ def program_task(model: str, machine, program, chunk_blocks: int,
     window_s : float, optional
         Contour error search window; default as for
         :func:`~tcpmm.analysis.contour.contour_error` [s].
+    sensor : str
+        Sensor whose contour error and corners the row gives: ``tcp``, ``scale`` or
+        ``motor`` [-].
 
     Returns
     -------
@@ -225,7 +231,7 @@ def program_task(model: str, machine, program, chunk_blocks: int,
             if row["faults"]:
                 row["status"] = "fault"
             else:
-                row.update(run_contour(run_file, window_s))
+                row.update(run_contour(run_file, window_s, sensor))
     except Exception as exc:  # the row says it; the other pairs go on
         row.update(status="failed", **_failure(exc))
     row["task_s"] = time.perf_counter() - t0
@@ -329,7 +335,7 @@ def write_table(rows, out_dir) -> dict:
 
 def run_programs(models: dict, programs, out_dir, *, client=None, workers: int | None = None,
                  chunk_blocks: int | None = None, window_s: float | None = None,
-                 progress=None) -> ProgramSweep:
+                 sensor: str = "tcp", progress=None) -> ProgramSweep:
     """Every program through every model, each pair a streaming task; the table written.
 
     Parameters
@@ -349,13 +355,15 @@ def run_programs(models: dict, programs, out_dir, *, client=None, workers: int |
     window_s : float, optional
         Contour error search window; default as for
         :func:`~tcpmm.analysis.contour.contour_error` [s].
+    sensor : str
+        Sensor whose contour error the rows give: ``tcp``, ``scale`` or ``motor`` [-].
     progress : callable, optional
         Called with the pairs done and their total [-].
     """
     output_folder(out_dir)  # a folder that cannot be written is refused before any work
     t0 = time.perf_counter()
     pairs = [(name, m, Path(p)) for name, m in models.items() for p in programs]
-    args = (chunk_blocks or CHUNK_BLOCKS, window_s)
+    args = (chunk_blocks or CHUNK_BLOCKS, window_s, sensor)
     progress = progress or (lambda done, total: None)
     if client is not None:
         rows = _on_client(client, pairs, args, progress)

@@ -150,8 +150,22 @@ def test_nc_program_contour_error_with_feed_override(vmc, tmp_path):
     assert list(t["program.feed_override"]) == [0.5, 1.0]
     assert (t["contour_error_um"] > t["contour_error_rms_um"]).all()
     assert t["contour_error_um"][0] < t["contour_error_um"][1]  # slower is closer
+    key = json.loads((tmp_path / "o" / "study.json").read_text())["key"]
     assert sorted(p.name for p in (tmp_path / "runs").iterdir()) == sorted(
-        f"{v.id}.csv" for v in vs)
+        f"{v.id}-{key[:12]}.csv" for v in vs)
+
+
+def test_studies_sharing_a_runs_folder_keep_their_runs_apart(vmc, tmp_path):
+    """Two models with the same variant shared one run file name: the second study
+    overwrote the first's run, and the first, run again, took it as its own."""
+    stiff = apply_parameters(vmc, {"X.mechanics.K_h": 4 * vmc.axes["X"].mechanics.K_h})
+    runs = tmp_path / "runs"
+    for m, out in ((vmc, "a"), (stiff, "b")):
+        vs = grid_design(specs(m, "X.servo.K_pp=30"))
+        run_sweep(m, SHORT, vs, tmp_path / out, workers=1, keep_runs=runs)
+    assert len(list(runs.glob("*.csv"))) == 2
+    again = run_sweep(vmc, SHORT, vs, tmp_path / "a", workers=1, keep_runs=runs)
+    assert (again.computed, again.reused) == (0, 1)
 
 
 def test_a_local_cluster_gives_the_serial_rows(vmc, design, serial, client, tmp_path):

@@ -27,6 +27,7 @@ from .store import (
     PartWriter,
     done_variants,
     open_study,
+    run_file_name,
     study_record,
     to_row,
     write_summary,
@@ -287,8 +288,8 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
     workers : int, optional
         Local processes, default every core; 1 runs in this process [-].
     keep_runs : str or Path, optional
-        Folder for each variant's run file (``VARIANT_ID.csv``); it must be reachable
-        by every worker [-].
+        Folder for each variant's run file (``VARIANT_ID-STUDY.csv``, STUDY a hash of
+        the model, program, sensor and draws); it must be reachable by every worker [-].
     floors : dict, optional
         Smallest standard deviations of a draw (:data:`tcpmm.whatif.spread.MODEL_ERROR`) [-].
     progress : callable, optional
@@ -308,21 +309,24 @@ def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", clien
     if not variants:
         raise InputError("the design has no variants")
     check_design(machine, program, variants)
-    out = open_study(out_dir, study_record(machine, program, sensor, floors))
+    record = study_record(machine, program, sensor, floors)
+    out = open_study(out_dir, record)
     with writing(out):
         return _run_held(machine, program, variants, out, sensor, client, workers,
-                         keep_runs, floors, progress, batch, task, t0)
+                         (keep_runs, record["key"]), floors, progress, batch, task, t0)
 
 
 def _run_held(machine, program, variants, out, sensor, client, workers, keep_runs, floors,
               progress, batch, task, t0) -> SweepResult:
-    """:func:`run_sweep` with the folder held [-]."""
+    """:func:`run_sweep` with the folder held; ``keep_runs`` the runs' folder (or None)
+    and the study's key, which names their files [-]."""
+    keep_runs, study = keep_runs
     runs = None if keep_runs is None else str(Path(keep_runs).resolve())
     if runs is not None:
         output_folder(runs)
     done = done_variants(out)
     if runs is not None:  # a row without its run is not done (its run was not written)
-        done = {d for d in done if Path(runs, f"{d}.csv").is_file()}
+        done = {d for d in done if Path(runs, run_file_name(d, study)).is_file()}
     todo = list({v.id: v for v in variants if v.id not in done}.values())
     writer = PartWriter(out, batch)
     count = [0]
@@ -335,7 +339,7 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
             progress(count[0], len(todo))
 
     def args(v):
-        return machine, program, v, sensor, runs, floors
+        return machine, program, v, sensor, runs, floors, study
 
     failed = []
     workers = workers or usable_cores()

@@ -43,6 +43,13 @@ def study_record(machine, program, sensor: str, floors=None) -> dict:
             "program": program.to_dict(), "sensor": sensor}
 
 
+def run_file_name(variant_id: str, study_key: str) -> str:
+    """The name of a variant's run file in a ``--keep-runs`` folder: its id and its study's
+    (:func:`study_record`'s key: the model, program, sensor and draws), so that studies
+    sharing the folder neither overwrite nor take each other's runs [-]."""
+    return f"{variant_id}-{study_key[:12]}.csv"
+
+
 @contextlib.contextmanager
 def writing(out_dir):
     """Hold the results folder for one sweep at a time: a second sweep into it while one

@@ -20,7 +20,7 @@ from ...sim.simulate import simulate
 from ..spread import draw_machine
 from .metrics import circle_metric_names, circle_metrics, path_metric_names, path_metrics
 from .space import apply_parameters
-from .store import FEED_RUN
+from .store import FEED_RUN, run_file_name
 
 #: The paper's circular test: radius [m] and feed [m/s].
 PAPER_RADIUS_M, PAPER_FEED_M_PER_S = 0.035, 5000.0 / 60000.0
@@ -216,7 +216,7 @@ def capped_feeds(program, machine, variants) -> list[str]:
     return [s for s in (_capped(r, f) for r, f in sorted(asked)) if s]
 
 
-def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
+def _run(machine, program, variant, sensor, runs_dir, floors, study) -> dict:
     values = variant.params
     m = machine
     if variant.draw is not None:
@@ -236,7 +236,7 @@ def _run(machine, program, variant, sensor, runs_dir, floors) -> dict:
         metrics = path_metrics(run, cmd.axes, sensor)
     if runs_dir is not None:
         try:
-            run.write_csv(Path(runs_dir) / f"{variant.id}.csv")
+            run.write_csv(Path(runs_dir) / run_file_name(variant.id, study))
         except (OSError, TcpmmError) as exc:  # a fault of the system, not a result
             raise RunNotWritten(str(exc)) from None
     return metrics
@@ -248,7 +248,7 @@ class RunNotWritten(Exception):
 
 
 def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=None,
-                     floors=None) -> dict:
+                     floors=None, study: str = "") -> dict:
     """Simulate and analyse one variant.
 
     Parameters
@@ -262,9 +262,13 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     sensor : str
         Sensor analysed: ``tcp``, ``scale`` or ``motor`` [-].
     runs_dir : str or Path, optional
-        Folder to write the run to, as ``VARIANT_ID.csv`` [-].
+        Folder to write the run to, as ``VARIANT_ID-STUDY.csv``
+        (:func:`~tcpmm.whatif.sweep.store.run_file_name`) [-].
     floors : dict, optional
         Smallest standard deviations of a draw (:data:`tcpmm.whatif.spread.MODEL_ERROR`) [-].
+    study : str
+        The study's key (:func:`~tcpmm.whatif.sweep.store.study_record`), which names the
+        run file [-].
 
     Returns
     -------
@@ -282,7 +286,7 @@ def evaluate_variant(machine, program, variant, sensor: str = "tcp", runs_dir=No
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            row.update(_run(machine, program, variant, sensor, runs_dir, floors))
+            row.update(_run(machine, program, variant, sensor, runs_dir, floors, study))
         except TcpmmError as exc:
             row["error"] = str(exc)
     said = dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, InputWarning)

@@ -247,7 +247,7 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     specs = [parse_param(p, lambda name: canonical_name(m, name, kind)) for p in param or []]
     variants = make_design(how["design"], specs, how["n"], how["seed"])
     # a design refused is refused before any note on the figures it would have given
-    check_design(m, program, variants)
+    check_design(m, program, variants, specs)
     for note in capped_feeds(program, m, variants):
         console.print(f"warning: {esc(note)}", highlight=False)
     for note in _uncertainty_notes(m, how):

@@ -106,20 +106,35 @@ class SweepResult:
         return plot_sweep(self.to_pandas(), ax=ax, x=x, y=y, path=path)
 
 
-def check_design(machine, program, variants) -> None:
+def check_design(machine, program, variants, specs=()) -> None:
     """Refuse a design any of whose parameters leaves the model or program invalid at its
     smallest or largest value, before any work is done; and a draws design of a model
-    without uncertainty."""
+    without uncertainty.
+
+    Parameters
+    ----------
+    machine : Machine
+        The model swept [SI].
+    program : CircleProgram or GcodeProgram
+        The program [-].
+    variants : list of Variant
+        The design [-].
+    specs : sequence of ParamSpec, optional
+        The parameters as given: a range ``LOW:HIGH`` is judged at its ends as typed, not
+        at the points drawn inside it, which hang on ``n`` and the seed [unit of each].
+    """
     if any(v.draw is not None for v in variants) and all(
             a.uncertainty is None for a in machine.axes.values()):
         raise InputError(f"machine '{machine.name}' carries no uncertainty to draw from: "
                          "the draws design needs a model written by `tcpmm identify`; or use "
                          "--design grid or lhs")
 
-    names = {n for v in variants for n, _ in v.values}
+    ends = {s.name: (s.low, s.high) for s in specs if not s.values and s.low is not None}
+    names = {n for v in variants for n, _ in v.values} | set(ends)
     for name in sorted(names):
-        vals = [dict(v.values)[name] for v in variants if name in dict(v.values)]
-        for value in {min(vals), max(vals)}:
+        vals = ends.get(name) or [dict(v.values)[name] for v in variants
+                                  if name in dict(v.values)]
+        for value in sorted({min(vals), max(vals)}):
             one = {name: value}
             program_command(program, apply_parameters(machine, one), one)
 

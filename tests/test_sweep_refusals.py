@@ -1,7 +1,12 @@
-"""What a sweep refuses before any work, and how it names it: the values as typed, what
-differs from the study already in the folder."""
+"""What a sweep takes and refuses before any work, and how it names it: the values as
+typed, what differs from the study already in the folder."""
+
+import pytest
 
 from conftest import run_cli
+from tcpmm.errors import InputError
+from tcpmm.io.modelfile import read_machine
+from tcpmm.whatif.sweep import apply_parameters, canonical_name, lhs_design, parse_param
 
 
 def test_an_lhs_range_is_judged_at_its_ends_as_typed(capsys, tmp_path):
@@ -14,3 +19,22 @@ def test_an_lhs_range_is_judged_at_its_ends_as_typed(capsys, tmp_path):
         assert code == 2, (rng, n)
         assert "X.mechanics.M_t = -10:" in " ".join(err.split()), err
     assert not (tmp_path / "o").exists()
+
+
+def test_lhs_draws_whole_numbers_of_an_integer_parameter():
+    """An lhs over delay_samples or encoder_counts_per_rev drew fractions, and every
+    variant but a fixed one failed: 'takes whole numbers, got 0.0307'."""
+    vmc = read_machine("builtin:vmc")
+    specs = [parse_param(t, lambda n: canonical_name(vmc, n))
+             for t in ("X.servo.delay_samples=0:3", "X.sensors.encoder_counts_per_rev=1000:20000",
+                       "X.servo.K_pp=30:40")]
+    vs = lhs_design(specs, 4, seed=0)
+    # four strata over four whole numbers: each once
+    assert sorted(v.params["X.servo.delay_samples"] for v in vs) == [0, 1, 2, 3]
+    for v in vs:
+        counts = v.params["X.sensors.encoder_counts_per_rev"]
+        assert counts == int(counts) and 1000 <= counts <= 20000
+        assert v.params["X.servo.K_pp"] != int(v.params["X.servo.K_pp"])  # not rounded
+        apply_parameters(vmc, v.params)
+    with pytest.raises(InputError, match="no whole number"):
+        lhs_design([parse_param("X.servo.delay_samples=1.2:1.8")], 2)

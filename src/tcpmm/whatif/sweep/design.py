@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from .space import INTEGER_FIELDS
 
 DESIGNS = ("grid", "lhs", "draws")
 
@@ -225,11 +226,23 @@ def lhs_design(specs, n: int, seed: int = 0) -> list[Variant]:
     u = latin_hypercube(n, len(ranges), seed)
     out = []
     for row in u:
-        vals = {s.name: float(f"{s.low + x * (s.high - s.low):.12g}")
-                for s, x in zip(ranges, row, strict=True)}
+        vals = {s.name: _lhs_value(s, x) for s, x in zip(ranges, row, strict=True)}
         vals.update({s.name: s.values[0] for s in fixed})
         out.append(Variant(tuple(sorted(vals.items()))))
     return out
+
+
+def _lhs_value(spec, x: float) -> float:
+    """The point of ``spec``'s range at ``x`` of the unit interval; of a parameter that
+    takes whole numbers, the whole numbers LOW..HIGH each an equal share of it, so that a
+    stratum gives a number the model takes [unit of the parameter]."""
+    if spec.name.rsplit(".", 1)[-1] not in INTEGER_FIELDS:
+        return float(f"{spec.low + x * (spec.high - spec.low):.12g}")
+    low, high = math.ceil(spec.low), math.floor(spec.high)
+    if low > high:
+        raise InputError(f"{spec.name}={spec.low:g}:{spec.high:g}: the range holds no whole "
+                         "number, and the parameter takes whole numbers; widen it")
+    return float(min(high, low + math.floor(x * (high - low + 1))))
 
 
 def draws_design(specs, n: int, seed: int = 0) -> list[Variant]:

@@ -53,7 +53,8 @@ INTERPOLATION_PARAMETERS = ("period_s", "path_accel_m_per_s2", "path_jerk_m_per_
                             "corner_step_share")
 _SERVO = ("K_pp", "K_vp", "K_vi", "k_ff", "T_p", "T_v", "current_limit",
           "current_bandwidth_hz", "delay_samples")
-_INTEGER = {"delay_samples", "encoder_counts_per_rev"}
+#: fields that take whole numbers: an lhs draws whole numbers of them [-]
+INTEGER_FIELDS = {"delay_samples", "encoder_counts_per_rev"}
 
 
 def axis_fields(axis) -> dict[str, tuple[str, ...]]:
@@ -153,7 +154,7 @@ def _integral(name: str, value: float) -> int:
 
 def _axis_with(axis, group: str, field: str, value: float, name: str):
     """One axis with one parameter set."""
-    if field in _INTEGER:
+    if field in INTEGER_FIELDS:
         value = _integral(name, value)
     if group == "mechanics":
         return axis.replace(mechanics=axis.mechanics.replace(**{field: value}))

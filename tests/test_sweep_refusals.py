@@ -38,3 +38,25 @@ def test_lhs_draws_whole_numbers_of_an_integer_parameter():
         apply_parameters(vmc, v.params)
     with pytest.raises(InputError, match="no whole number"):
         lhs_design([parse_param("X.servo.delay_samples=1.2:1.8")], 2)
+
+
+def test_a_folder_of_another_study_says_what_differs(tmp_path):
+    """Only the design changed (grid to draws, whose machines are drawn with floors), or
+    only the sensor, and the refusal said 'model, program or sensor differ'."""
+    from tcpmm.whatif.spread import MODEL_ERROR
+    from tcpmm.whatif.sweep import CircleProgram
+    from tcpmm.whatif.sweep.store import open_study, study_record
+
+    vmc, circle = read_machine("builtin:vmc"), CircleProgram(5e-3, 0.1)
+    open_study(tmp_path, study_record(vmc, circle, "tcp"))
+    with pytest.raises(InputError, match=r"what differs: draws' floors: none .* there, the "
+                                         r"model error's floors \(draws without --fit-only\) "
+                                         "here") as err:
+        open_study(tmp_path, study_record(vmc, circle, "tcp", MODEL_ERROR))
+    assert "model:" not in str(err.value) and "sensor:" not in str(err.value)
+    with pytest.raises(InputError, match=r"what differs: sensor: tcp there, scale here\)"):
+        open_study(tmp_path, study_record(vmc, circle, "scale"))
+    stiff = apply_parameters(vmc, {"X.servo.K_pp": 50.0})
+    with pytest.raises(InputError, match="what differs: model: ") as err:
+        open_study(tmp_path, study_record(stiff, CircleProgram(6e-3, 0.1), "tcp"))
+    assert '"radius_mm": 5.0' in str(err.value) and '"radius_mm": 6.0' in str(err.value)

@@ -2,7 +2,7 @@
 
 ::
 
-    OUT_DIR/study.json              model (hash), program, sensor: what the rows belong to
+    OUT_DIR/study.json              model, program, sensor, draws (hashes): what the rows are of
     OUT_DIR/results/part-*.parquet  rows, one file per batch, each written whole
     OUT_DIR/summary.csv             the design's rows in its order, written at the end
     OUT_DIR/intervals.csv           a draws design's intervals (:mod:`.intervals`)
@@ -34,13 +34,45 @@ TEXT_COLUMNS = ("variant", "warning", "fault", "error")
 FEED_RUN = "feed_run_mm_per_min"
 
 
+def _digest(obj) -> str:
+    """A hash of a JSON-ready object, 16 hex digits [-]."""
+    text = json.dumps(obj, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
 def study_record(machine, program, sensor: str, floors=None) -> dict:
-    """What a sweep's rows belong to, with its hash (``key``) [-]."""
+    """What a sweep's rows belong to, with its hash (``key``) and that of each part
+    (``parts``), by which a folder of another study says what differs [-]."""
     body = {"model": machine.model_dump(mode="json"), "program": program.to_dict(),
             "sensor": sensor, "floors": floors}
     text = json.dumps(body, sort_keys=True, default=str)
+    parts = {"model": _digest(body["model"]), "program": body["program"], "sensor": sensor,
+             "floors": None if floors is None else _digest(floors)}
     return {"key": hashlib.sha256(text.encode()).hexdigest(), "machine": machine.name,
-            "program": program.to_dict(), "sensor": sensor}
+            "program": program.to_dict(), "sensor": sensor, "parts": parts}
+
+
+def _floors_said(digest) -> str:
+    return ("none (a grid, an lhs, or draws with --fit-only)" if digest is None
+            else "the model error's floors (draws without --fit-only)")
+
+
+def _what_differs(had: dict, record: dict) -> str:
+    """What of the study in a folder differs from this one, said part by part; a folder
+    written before the parts were recorded cannot say which [-]."""
+    there, here = had.get("parts"), record["parts"]
+    if not isinstance(there, dict):
+        return "the model, program, sensor or draws' floors differ"
+    sides = [(had, there), (record, here)]
+    said = [("model", "model", [f"{r.get('machine')!r} (content hash {p['model']})"
+                                for r, p in sides]),
+            ("program", "program", [json.dumps(p["program"]) for _, p in sides]),
+            ("sensor", "sensor", [str(p["sensor"]) for _, p in sides]),
+            ("draws' floors", "floors", [_floors_said(p["floors"]) for _, p in sides])]
+    diffs = [f"{label}: {a} there, {b} here" for label, key, (a, b) in said
+             if there.get(key) != here[key]]
+    return ("what differs: " + "; ".join(diffs) if diffs
+            else "the model, program, sensor or draws' floors differ")
 
 
 def run_file_name(variant_id: str, study_key: str) -> str:
@@ -102,9 +134,9 @@ def open_study(out_dir, record: dict) -> Path:
             raise InputError("cannot read the study of the results there; remove the folder "
                              "or choose another -o", file=path) from None
         if had.get("key") != record["key"]:
-            raise InputError("the folder holds the results of another study (model, program "
-                             "or sensor differ); choose another -o folder, or remove this one "
-                             "to start again", file=out)
+            raise InputError(f"the folder holds the results of another study ("
+                             f"{_what_differs(had, record)}); choose another -o folder, or "
+                             "remove this one to start again", file=out)
     else:
         write_text_atomic(path, json.dumps(record, indent=2))
     output_folder(out / PARTS_DIR)

@@ -266,3 +266,15 @@ def test_the_sensor_is_honoured_and_the_variant_options_refused(study, capsys, t
         code, _, err = run_cli(capsys, "sweep", "builtin:vmc", "--programs", square, *given,
                                "-o", tmp_path / "r")
         assert code == 2 and given[0] in err, (given, err)
+
+
+def test_a_failed_row_names_the_program_as_given_on_workers_too(study, loopback, capsys,
+                                                                tmp_path, monkeypatch):
+    """On workers the error and error_file of a failed pair held the absolute path the
+    task was sent, in this process the path as given: the same study gave two tables."""
+    monkeypatch.chdir(study["root"])
+    code, out, _ = run_cli(capsys, "sweep", "builtin:vmc", "--programs", "progs/bad.nc",
+                           "--scheduler", loopback, "-o", tmp_path / "out", "--json")
+    (row,) = json.loads(out)["rows"]
+    assert code == 1 and row["program"] == row["error_file"] == "progs/bad.nc"
+    assert row["error"].startswith("progs/bad.nc, line 3, column 7")

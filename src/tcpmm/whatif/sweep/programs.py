@@ -303,7 +303,7 @@ def _on_client(client, pairs, args, progress) -> list:
     for done, fut in enumerate(as_completed(futures), start=1):
         i = futures[fut]
         try:
-            rows[i] = {**fut.result(), "program": str(pairs[i][2])}
+            rows[i] = _as_given(fut.result(), pairs[i][2])
         except Exception as exc:  # the worker lost, or the scheduler
             if scheduler_lost(client, exc):
                 raise SchedulerLost(client) from None
@@ -313,6 +313,19 @@ def _on_client(client, pairs, args, progress) -> list:
         fut.release()
         progress(done, len(pairs))
     return rows
+
+
+def _as_given(row: dict, program: Path) -> dict:
+    """A worker's row, which names the program by the absolute path it was sent, naming it
+    as the user gave it, as a row of this process does [-]."""
+    sent, given = str(program.resolve()), str(program)
+    row = {**row, "program": given}
+    if row.get("error_file") == sent:
+        row["error_file"] = given
+    for k in ("error", "warnings", "faults"):
+        if isinstance(row.get(k), str):
+            row[k] = row[k].replace(sent, given)
+    return row
 
 
 def write_table(rows, out_dir) -> dict:

@@ -60,3 +60,26 @@ def test_a_folder_of_another_study_says_what_differs(tmp_path):
     with pytest.raises(InputError, match="what differs: model: ") as err:
         open_study(tmp_path, study_record(stiff, CircleProgram(6e-3, 0.1), "tcp"))
     assert '"radius_mm": 5.0' in str(err.value) and '"radius_mm": 6.0' in str(err.value)
+
+
+def test_a_stopped_sweep_leaves_no_summary_of_another_design(tmp_path):
+    """A design stopped part way left the summary.csv of the design before it, whole and
+    unmarked, beside rows of its own."""
+    from tcpmm.whatif.sweep import CircleProgram, evaluate_variant, grid_design, run_sweep
+
+    vmc, circle = read_machine("builtin:vmc"), CircleProgram(5e-3, 0.1)
+    first = grid_design([parse_param("X.servo.K_pp=30,40")])
+    run_sweep(vmc, circle, first, tmp_path, workers=1)
+    assert (tmp_path / "summary.csv").is_file()
+
+    def stopped(machine, program, variant, *rest):
+        if variant.params["X.servo.K_pp"] > 50:
+            raise KeyboardInterrupt
+        return evaluate_variant(machine, program, variant, *rest)
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(vmc, circle, grid_design([parse_param("X.servo.K_pp=45,55")]), tmp_path,
+                  workers=1, task=stopped)
+    assert not (tmp_path / "summary.csv").exists()
+    run_sweep(vmc, circle, first, tmp_path, workers=1)  # all there: its summary again
+    assert len((tmp_path / "summary.csv").read_text().splitlines()) == 3

@@ -20,12 +20,13 @@ from ..._threads import usable_cores
 from ...errors import InputError, TcpmmError
 from ...io.atomic import output_folder
 from .cluster import local_client
-from .intervals import write_intervals
+from .intervals import INTERVALS_FILE, write_intervals
 from .space import apply_parameters
 from .store import (
     PARTS_DIR,
     PartWriter,
     done_variants,
+    forget_summary,
     open_study,
     run_file_name,
     study_record,
@@ -343,6 +344,8 @@ def _run_held(machine, program, variants, out, sensor, client, workers, keep_run
     if runs is not None:  # a row without its run is not done (its run was not written)
         done = {d for d in done if Path(runs, run_file_name(d, study)).is_file()}
     todo = list({v.id: v for v in variants if v.id not in done}.values())
+    if todo:
+        forget_summary(out, (INTERVALS_FILE,))
     writer = PartWriter(out, batch)
     count = [0]
 

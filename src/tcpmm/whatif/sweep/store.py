@@ -243,6 +243,14 @@ class PartWriter:
         self._last = time.monotonic()
 
 
+def forget_summary(out_dir, also=()) -> None:
+    """Remove the summary (and the files ``also``) a design that finished wrote: one that
+    runs now writes its own at the end, and stopped before, it would leave the other's
+    beside its rows, unmarked [-]."""
+    for name in (SUMMARY_FILE, *also):
+        Path(out_dir, name).unlink(missing_ok=True)
+
+
 def write_summary(out_dir, variants) -> Path:
     """The design's rows in its order, with their index, as ``summary.csv``.
 

@@ -240,7 +240,7 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     if how["design"] not in DESIGNS:
         raise typer.BadParameter(f"--design must be one of {', '.join(DESIGNS)}")
     from ..whatif.sweep import parse_param
-    from ..whatif.sweep.run import check_design
+    from ..whatif.sweep.run import STOP_WAIT_S, check_design
     from ..whatif.sweep.task import capped_feeds
 
     program = _program(*prog)
@@ -258,8 +258,9 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
             m, program, variants, output, sensor=how["sensor"], client=client,
             workers=workers, keep_runs=keep_runs, floors=floors, progress=progress))
     except (KeyboardInterrupt, SystemExit):
-        console.print(f"stopped: the variants computed so far are kept in "
-                      f"{esc(str(output))}; the same command goes on from there")
+        console.print(f"stopped: the variants computed so far are kept in {esc(str(output))} "
+                      f"(those under way on workers if done within {STOP_WAIT_S:g} s); the "
+                      "same command goes on from there")
         STOP_SAID.append(True)
         raise
     _finish(res, as_json, _report)

@@ -64,3 +64,17 @@ def local_client(workers: int):
     finally:
         for name, level in levels.items():
             logging.getLogger(name).setLevel(level)
+
+
+def finished_within(futures, wait_s: float) -> list:
+    """The futures of ``futures`` that are finished, or finish within ``wait_s`` [s]; a
+    second interrupt ends the wait [-]."""
+    from distributed import wait
+
+    if not futures:
+        return []
+    try:
+        wait(futures, timeout=wait_s)
+    except TimeoutError:  # some still running: those finished are taken
+        pass
+    return [f for f in futures if f.status == "finished"]

@@ -19,7 +19,7 @@ from ..._heap import keep_freed_memory
 from ..._threads import usable_cores
 from ...errors import InputError, TcpmmError
 from ...io.atomic import output_folder
-from .cluster import local_client
+from .cluster import finished_within, local_client
 from .intervals import INTERVALS_FILE, write_intervals
 from .space import apply_parameters
 from .store import (
@@ -158,6 +158,9 @@ def _serial(task, args, todo, sink) -> list[dict]:
 #: Seconds of work a task on a cluster should hold: a task costs the scheduler a few
 #: milliseconds, and a worker lost mid-task costs its task.
 TASK_S = 1.0
+#: Seconds the tasks running when a sweep is stopped (Ctrl-C) are given to finish, their
+#: rows kept: a task holds about :data:`TASK_S` of work, longer on a loaded machine [s].
+STOP_WAIT_S = 3.0
 #: Seconds a variant is taken to need when the tasks are cut (fixed: the paper's circle
 #: takes 15-18 ms on one core, a longer program more) [s].
 VARIANT_S = 0.025
@@ -228,34 +231,46 @@ def _on_client(client, task, args, todo, sink, window: int | None = None) -> lis
     def submit(chunk, n=0):
         fut = client.submit(_run_chunk, task, *shared.futures, chunk, *rest, retries=RETRIES,
                             key=f"tcpmm-variants-{chunk[0].id}-{token}-{n}")
-        pending[fut.key] = (chunk, shared.gen, n)
+        pending[fut.key] = (chunk, shared.gen, n, fut)
         return fut
 
     chunks = iter([todo[i:i + size] for i in range(0, len(todo), size)])
     flow = as_completed([submit(c) for c in islice(chunks, window)])
-    for fut in flow:
-        chunk, gen, n = pending.pop(fut.key)
-        try:
-            results = fut.result()
-        except Exception as exc:  # a worker lost for good, or a fault of the code
-            if scheduler_lost(client, exc):
-                raise SchedulerLost(client) from None
-            if shared.renewed(gen) and n < RETRIES:
-                flow.add(submit(chunk, n + 1))
-                continue
-            results = [exc] * len(chunk)
-        for v, result in zip(chunk, results, strict=True):
-            if isinstance(result, Exception):
-                failed.append({"variant": v.id,
-                               "reason": f"{type(result).__name__}: {result}"})
-                sink(v, None)
-            else:
-                sink(v, result)
-        fut.release()
-        nxt = next(chunks, None)
-        if nxt is not None:
-            flow.add(submit(nxt))
+    try:
+        for fut in flow:
+            chunk, gen, n, _ = pending.pop(fut.key)
+            try:
+                results = fut.result()
+            except Exception as exc:  # a worker lost for good, or a fault of the code
+                if scheduler_lost(client, exc):
+                    raise SchedulerLost(client) from None
+                if shared.renewed(gen) and n < RETRIES:
+                    flow.add(submit(chunk, n + 1))
+                    continue
+                results = [exc] * len(chunk)
+            _take(chunk, results, sink, failed)
+            fut.release()
+            nxt = next(chunks, None)
+            if nxt is not None:
+                flow.add(submit(nxt))
+    except KeyboardInterrupt:
+        # the workers ignore the interrupt (local_cluster) and finish the chunks they run,
+        # their run files written: the rows of those done soon are kept with them
+        chunk_of = {p[3].key: p[0] for p in pending.values()}
+        for fut in finished_within([p[3] for p in pending.values()], STOP_WAIT_S):
+            _take(chunk_of[fut.key], fut.result(), sink, failed)
+        raise
     return failed
+
+
+def _take(chunk, results, sink, failed: list) -> None:
+    """The results of a chunk's variants to ``sink``; those that raised to ``failed`` [-]."""
+    for v, result in zip(chunk, results, strict=True):
+        if isinstance(result, Exception):
+            failed.append({"variant": v.id, "reason": f"{type(result).__name__}: {result}"})
+            sink(v, None)
+        else:
+            sink(v, result)
 
 
 class SchedulerLost(TcpmmError):

@@ -83,3 +83,25 @@ def test_a_stopped_sweep_leaves_no_summary_of_another_design(tmp_path):
     assert not (tmp_path / "summary.csv").exists()
     run_sweep(vmc, circle, first, tmp_path, workers=1)  # all there: its summary again
     assert len((tmp_path / "summary.csv").read_text().splitlines()) == 3
+
+
+def test_an_interpolation_parameter_without_effect_is_said(capsys, tmp_path):
+    """filter_time_s under the model's filter_kind none (and the jerk under a trapezoid
+    profile) was swept in silence: every row the same."""
+    from tcpmm.whatif.sweep.space import idle_parameters
+
+    vmc = read_machine("builtin:vmc")
+    names = ["interpolation.filter_time_s", "interpolation.path_jerk_m_per_s3",
+             "interpolation.path_accel_m_per_s2"]
+    said = idle_parameters(vmc, names)
+    assert len(said) == 2 and "filter_kind is none" in said[0] and "profile" in said[1]
+    acting = vmc.model_copy(update={"interpolation": {**(vmc.interpolation or {}),
+                                                      "filter_kind": "linear",
+                                                      "profile": "scurve"}})
+    assert idle_parameters(acting, names) == []
+    prog = tmp_path / "sq.nc"
+    prog.write_text("G21 G90 G17\nG1 X1 Y0 F3000\nG1 X1 Y1\nM30\n")
+    code, _, err = run_cli(capsys, "sweep", "builtin:vmc", "--gcode", prog, "-p",
+                           "interpolation.filter_time_s=0.01", "-o", tmp_path / "o",
+                           "--workers", 1)
+    assert code == 0 and "interpolation.filter_time_s has no effect" in " ".join(err.split())

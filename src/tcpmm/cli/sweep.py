@@ -241,6 +241,7 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
         raise typer.BadParameter(f"--design must be one of {', '.join(DESIGNS)}")
     from ..whatif.sweep import parse_param
     from ..whatif.sweep.run import STOP_WAIT_S, check_design
+    from ..whatif.sweep.space import idle_parameters
     from ..whatif.sweep.task import capped_feeds
 
     program = _program(*prog)
@@ -248,7 +249,7 @@ def _sweep_variants(model, param, prog, output, scheduler, workers, keep_runs, h
     variants = make_design(how["design"], specs, how["n"], how["seed"])
     # a design refused is refused before any note on the figures it would have given
     check_design(m, program, variants, specs)
-    for note in capped_feeds(program, m, variants):
+    for note in capped_feeds(program, m, variants) + idle_parameters(m, [s.name for s in specs]):
         console.print(f"warning: {esc(note)}", highlight=False)
     for note in _uncertainty_notes(m, how):
         console.print(f"note: {esc(note)}", highlight=False)

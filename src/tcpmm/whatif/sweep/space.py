@@ -53,6 +53,10 @@ INTERPOLATION_PARAMETERS = ("period_s", "path_accel_m_per_s2", "path_jerk_m_per_
                             "corner_step_share")
 _SERVO = ("K_pp", "K_vp", "K_vi", "k_ff", "T_p", "T_v", "current_limit",
           "current_bandwidth_hz", "delay_samples")
+#: interpolation parameters that act only under a setting of the model, which a sweep
+#: cannot vary (it is no number): the setting and its values under which they act [-]
+ACTS_UNDER = {"filter_time_s": ("filter_kind", ("linear", "bell")),
+              "path_jerk_m_per_s3": ("profile", ("scurve",))}
 #: fields that take whole numbers: an lhs draws whole numbers of them [-]
 INTEGER_FIELDS = {"delay_samples", "encoder_counts_per_rev"}
 
@@ -219,3 +223,33 @@ def apply_parameters(machine: Machine, values: dict) -> Machine:
         except ValidationError as err:
             raise InputError(f"invalid interpolation setting: {validation_message(err)}") from None
     return machine.model_copy(update=update)
+
+
+def idle_parameters(machine: Machine, names) -> list[str]:
+    """A sentence per parameter of ``names`` that has no effect on this model: an
+    interpolation parameter whose setting (:data:`ACTS_UNDER`) the model leaves off, so
+    that every variant runs the same command [-].
+
+    Parameters
+    ----------
+    machine : Machine
+        The model swept [SI].
+    names : iterable of str
+        Canonical parameter names [-].
+    """
+    from ...path.settings import InterpolatorSettings
+
+    settings = InterpolatorSettings.model_validate(machine.interpolation or {})
+    said = []
+    for name in names:
+        head, _, field = name.partition(".")
+        if head != "interpolation" or field not in ACTS_UNDER:
+            continue
+        setting, acting = ACTS_UNDER[field]
+        have = getattr(settings, setting)
+        if have not in acting:
+            said.append(f"{name} has no effect on this model: its interpolation.{setting} is "
+                        f"{have}, so every variant runs the same command; set "
+                        f"interpolation.{setting} to {' or '.join(acting)} in the model file "
+                        "to sweep it")
+    return said

@@ -61,6 +61,7 @@ from .contour_distance import (  # noqa: F401  (part of this module's interface)
 )
 from .contour_inputs import command_flags, contour_axes, plane_left_out, run_signals
 from .contour_lag import WINDOW_S, widened
+from .contour_passes import whole_leaps
 from .corners import path_length
 from .rapids import RapidStretches, feed_only, rapids_json, since_rapid
 
@@ -118,6 +119,10 @@ class ContourResult:
         length over which the command runs straight from it [m].
     window_s : float
         The window each sample's closest command point was sought in [s].
+    leaps : dict
+        Per sensor whose closest command point leaps to another stretch of the path
+        (:mod:`tcpmm.analysis.contour_passes`): how often, and the largest error read at
+        such a leap [-, m].
     """
 
     axes: tuple
@@ -139,6 +144,7 @@ class ContourResult:
     left_out: dict = field(default_factory=dict)
     off_chord: dict = field(default_factory=dict)
     window_s: float = WINDOW_S
+    leaps: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """Per sensor, of the samples counted: largest magnitude, RMS, largest and smallest
@@ -194,6 +200,9 @@ class ContourResult:
                 "end_unreached_um": {s: d * 1e6 for s, d in self.unreached.items()},
                 "command_sag_um": self.command_sag_m * 1e6, "curves": self.curves,
                 "window_s": self.window_s,
+                "closest_point_leaps": {k: {"leaps": v["leaps"],
+                                            "max_abs_um": v["max_abs_m"] * 1e6}
+                                        for k, v in self.leaps.items()},
                 "left_out_travel_mm": {a: t * 1e3 for a, t in self.left_out.items()},
                 "corners_off_chord": [{"corner": n, "stray_um": v * 1e6,
                                        "straight_mm": None if w != w else w * 1e3}
@@ -270,13 +279,7 @@ def contour_error(run, command=None, plane="auto", window_s=None, corner_deg=30.
         records (its ``rapid`` column) and which are otherwise left out
         (:mod:`tcpmm.analysis.rapids`) [-].
     """
-    for v, what in ((corner_span_m, "corner_span_m"), (settle_tol_m, "settle_tol_m"),
-                    (corner_deg, "corner_deg")):
-        if not (np.isfinite(v) and v > 0):
-            raise InputError(f"{what} must be a positive number, got {v}")
-    if not corner_deg < 180.0:
-        raise InputError(f"corner_deg must be below 180 (a path turns by 180 deg at most), "
-                         f"got {corner_deg}")
+    _check_corner_options(corner_deg, corner_span_m, settle_tol_m)
     if not isinstance(run, Run):  # a table in the run-file layout
         run = run_from_table(run)
     axes, signed = contour_axes(run, plane, command, rapids)
@@ -295,9 +298,23 @@ def contour_error(run, command=None, plane="auto", window_s=None, corner_deg=30.
     if run.rapid is not None:
         stretches.add_command(cmd, command_flags(run, command))
     counted, kept, said = feed_only(run.rapid, rapids, corners.finish(), stretches)
-    return ContourResult(tuple(axes), signed, t, cmd, tc, path_length(cmd), errors,
+    s_cmd = path_length(cmd)
+    return ContourResult(tuple(axes), signed, t, cmd, tc, s_cmd, errors,
                          list(kept), settle_tol_m, actual, counted, said, run.nc_line,
                          end_unreached(corners, kept), float(np.max(line[4])),
                          corners.finder.curves,
                          plane_left_out(run, command, axes, rapids) if signed else {},
-                         off_chord(corners, kept), window_s)
+                         off_chord(corners, kept), window_s,
+                         whole_leaps(actual, errors, feet, cmd, s_cmd, counted))
+
+
+def _check_corner_options(corner_deg: float, corner_span_m: float, settle_tol_m: float):
+    """Refuse a corner setting that is no positive number, or a turn of 180 deg or more
+    [deg], [m], [m]."""
+    for v, what in ((corner_span_m, "corner_span_m"), (settle_tol_m, "settle_tol_m"),
+                    (corner_deg, "corner_deg")):
+        if not (np.isfinite(v) and v > 0):
+            raise InputError(f"{what} must be a positive number, got {v}")
+    if not corner_deg < 180.0:
+        raise InputError(f"corner_deg must be below 180 (a path turns by 180 deg at most), "
+                         f"got {corner_deg}")

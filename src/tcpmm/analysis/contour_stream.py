@@ -34,8 +34,10 @@ from .contour_corners import CornerStream, end_unreached
 from .contour_inputs import SENSORS
 from .contour_lag import WINDOW_S, WindowCut, cut_off, window_error, windows
 from .contour_parquet import STREAM_ROWS, batches, has_columns, travel_positions
+from .contour_passes import Leaps, leaps
 from .contour_summary import RunningSummary
 from .contour_windows import direction
+from .corners import path_length
 from .plane import left_out_axes
 from .rapids import RapidStretches, left_out, since_rapid
 
@@ -79,6 +81,8 @@ class StreamedContour:
         As :attr:`tcpmm.analysis.contour.ContourResult.off_chord` [m].
     window_s : float
         As :attr:`tcpmm.analysis.contour.ContourResult.window_s` [s].
+    leaps : dict
+        As :attr:`tcpmm.analysis.contour.ContourResult.leaps` [-, m].
     """
 
     axes: tuple
@@ -95,6 +99,7 @@ class StreamedContour:
     left_out: dict = field(default_factory=dict)
     off_chord: dict = field(default_factory=dict)
     window_s: float = WINDOW_S
+    leaps: dict = field(default_factory=dict)
 
     @property
     def errors(self) -> dict:
@@ -196,6 +201,7 @@ def _finish(res: StreamedContour, scan, rapids: bool) -> None:
     res.unreached = end_unreached(scan.corners, res.corners)
     res.curves = scan.corners.finder.curves
     res.off_chord = off_chord(scan.corners, res.corners)
+    res.leaps = scan.leaps.result()
 
 
 class _Scan:
@@ -215,6 +221,9 @@ class _Scan:
         # command samples near them
         self.air, self.feed, self.stretches = None, {}, stretches
         self.last_rapid_t, self.clamp = np.nan, False  # feed_windows (--rapids: not)
+        # the path length to the buffer's row 0, the closest point's leaps counted, and
+        # per sensor the last sample measured, its error, closest point and path length
+        self.s0, self.leaps, self.last = 0.0, Leaps(), {}
 
     def _to_corners(self, fn, *args) -> None:
         """``fn(*args)`` of the corners, in the corners' thread where there is one [-]."""
@@ -279,12 +288,7 @@ class _Scan:
         cut = cut_off(ts, cuts, feed if self.clamp else None)
         if cut is not None:
             raise WindowCut(*cut)
-        for s, (e, _) in found.items():
-            res.sums.setdefault(s, RunningSummary()).add(e, ts)
-            if feed is not None:
-                self.feed.setdefault(s, RunningSummary()).add(e[feed], ts[feed], since[feed])
-            if self.each is not None:
-                self.each(s, e)
+        self._sum(found, qs, (ts, feed, since), cmd[c0:c1], path_length(cmd, self.s0)[c0:c1])
         got = (qs, {s: v[0] for s, v in found.items()},
                {s: v[1] + self.base + c0 for s, v in found.items()})
         self._to_corners(self.corners.add_samples, t[first:b], *got)
@@ -294,7 +298,24 @@ class _Scan:
         self.buf = {c: v[drop:].copy() for c, v in buf.items()}
         if 0 < drop < n:
             self.before, self.prev = direction(cmd, moves, drop - 1), cmd[drop - 1]
+        self.s0 = float(path_length(cmd[:min(drop, n - 1) + 1], self.s0)[-1])
         self.first, self.base = b - drop, self.base + drop
+
+    def _sum(self, found, qs, times, cmd, s_cmd) -> None:
+        """Add the errors ``found`` of the samples ``qs`` at ``times`` (their times, which
+        are out of rapids and the time since one: :meth:`_feed`) to the running figures
+        and the closest point's leaps (:mod:`.contour_passes`; ``cmd`` the command they
+        were measured against, ``s_cmd`` its path lengths from the run's start) [-]."""
+        ts, feed, since = times
+        res = self.res
+        for s, (e, seg) in found.items():
+            res.sums.setdefault(s, RunningSummary()).add(e, ts)
+            if feed is not None:
+                self.feed.setdefault(s, RunningSummary()).add(e[feed], ts[feed], since[feed])
+            if self.each is not None:
+                self.each(s, e)
+            flags, self.last[s] = leaps(qs[s], e, seg, cmd, s_cmd, self.last.get(s))
+            self.leaps.add(s, flags if feed is None else flags & feed, e)
 
     def _feed(self, buf, first: int, b: int):
         """The samples ``first:b`` not in a rapid and the time since the last one in a

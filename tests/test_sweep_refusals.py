@@ -105,3 +105,14 @@ def test_an_interpolation_parameter_without_effect_is_said(capsys, tmp_path):
                            "interpolation.filter_time_s=0.01", "-o", tmp_path / "o",
                            "--workers", 1)
     assert code == 0 and "interpolation.filter_time_s has no effect" in " ".join(err.split())
+
+
+def test_a_centre_with_an_nc_program_is_refused(capsys, tmp_path):
+    """--centre with --gcode was taken and did nothing: a program's contour error is
+    measured along its own path."""
+    prog = tmp_path / "sq.nc"
+    prog.write_text("G21 G90 G17\nG1 X1 Y0 F3000\nG1 X1 Y1\nM30\n")
+    code, _, err = run_cli(capsys, "sweep", "builtin:vmc", "--gcode", prog, "--centre", "1,2",
+                           "-p", "X.servo.position_gain=30", "-o", tmp_path / "o")
+    assert code == 2 and "--centre is the circle's" in " ".join(err.split())
+    assert not (tmp_path / "o").exists()

@@ -77,6 +77,9 @@ def _program(gcode: Path | None, circle: str | None, centre: str):
     if gcode is not None and circle is not None:
         raise typer.BadParameter("give one of --gcode PROG.nc or --circle R,F")
     if gcode is not None:
+        if centre is not None:  # a program's contour error has no centre
+            raise typer.BadParameter("--centre is the circle's (--circle R,F); an NC "
+                                     "program is measured along its own path: leave it out")
         return GcodeProgram(read_program(gcode), str(gcode))
     r, f = floats(circle or "35,5000", "--circle R,F [mm, mm/min]", 2)
     positive(r, "--circle radius [mm]")

@@ -212,7 +212,40 @@ def test_a_signal_shorter_than_a_period_of_its_band_start_is_refused():
     from tcpmm.errors import InputError
     from tcpmm.ident.excitation.kinds import design_excitation
 
-    for kind in ("linear", "log", "multisine", "prbs"):
+    for kind in ("linear", "log", "multisine"):
         with pytest.raises(InputError, match=r"holds 0\.2 periods of the band's start, 2 Hz"):
             design_excitation(kind, 2.0, 1000.0, 1.0, 0.1, 8000.0)
+    # a PRBS's period reaching down to 2 Hz is longer than the 0.5 s of one at 2 Hz
+    with pytest.raises(InputError, match=r"lasts 0\.7676 s, .* at least 0\.768 s long"):
+        design_excitation("prbs", 2.0, 1000.0, 1.0, 0.1, 8000.0)
     assert design_excitation("linear", 2.0, 1000.0, 1.0, 0.5, 8000.0).time_s.size == 4000
+
+
+def test_what_excite_takes_and_refuses_is_said_by_its_option(capsys, tmp_path):
+    """A band from 0 Hz stopped on an internal ZeroDivisionError; an option of another
+    kind of signal gave Python's own words (multisine() got an unexpected keyword argument
+    'taper_s'); a PRBS too short was told to last at least 2 s, and refused again at 2 s;
+    -o signal.json held CSV; machine export -o of a folder or of .json pointed to a --json
+    it does not have."""
+    from conftest import run_cli
+
+    base = ["--amplitude-A", 2, "--duration-s", 2, "--fs-hz", 8000, "-o", tmp_path / "s.csv"]
+    for args, said in (
+            (["log", "--band", "0,1500"], "the band starts at 0 Hz"),
+            (["multisine", "--band", "1,100", "--taper-s", 0.1],
+             "taper_s does not apply to a multisine signal; it is an option of linear and log"),
+            (["log", "--band", "1,100", "--seed", 3], "seed does not apply to a log signal")):
+        code, _, err = run_cli(capsys, "excite", *args, *base)
+        assert code == 2 and said in " ".join(err.split()), err
+    code, _, err = run_cli(capsys, "excite", "prbs", "--band", "0.5,10", *base[:2],
+                           "--duration-s", 0.3, *base[4:])
+    least = float(" ".join(err.split()).split("make it at least ")[1].split(" s")[0])
+    assert run_cli(capsys, "excite", "prbs", "--band", "0.5,10", *base[:2], "--duration-s",
+                   least, *base[4:])[0] == 0
+    code, _, err = run_cli(capsys, "excite", "log", "--band", "1,100", *base[:-1],
+                           tmp_path / "s.json")
+    assert code == 2 and "an excitation is written as CSV; name it s.csv" in " ".join(err.split())
+    for o, said in ((tmp_path, "is a folder"), (tmp_path / "m.json", "name it m.yaml")):
+        code, _, err = run_cli(capsys, "machine", "export", "vmc", "-o", o)
+        err = " ".join(err.split())
+        assert code == 2 and said in err and "--json" not in err, err

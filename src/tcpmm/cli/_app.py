@@ -182,28 +182,6 @@ def checked_output(output: Path, *inputs) -> Path:
     return output
 
 
-def checked_yaml_output(output: Path, *inputs) -> Path:
-    """:func:`checked_output` for a model file or fragment, which is written as YAML: a
-    name ending otherwise (``-o tuned.json``) would hold YAML under a misleading name."""
-    if Path(output).suffix.lower() not in (".yaml", ".yml"):
-        raise typer.BadParameter(f"{output}: a model file is written as YAML; name it "
-                                 f"{Path(output).with_suffix('.yaml').name} (--json prints "
-                                 "the result as JSON)")
-    return checked_output(output, *inputs)
-
-
-def checked_csv_output(output: Path, *inputs) -> Path:
-    """:func:`checked_output` for a command file, which is written as CSV: a name ending
-    otherwise (``-o CMD.parquet``) would hold CSV text that the readers of that format
-    refuse."""
-    checked_output(output, *inputs)
-    suffix = Path(output).suffix.lower()
-    if suffix not in ("", ".csv") and (Path(output).is_file() or not Path(output).exists()):
-        raise typer.BadParameter(f"{output}: a command file is written as CSV; name it "
-                                 f"{Path(output).with_suffix('.csv').name}")
-    return output
-
-
 def checked_plot(plot: Path | None) -> Path | None:
     """Check a --plot file name before any work is done."""
     if plot is None:

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import typer
+
+from ._app import checked_output
 
 
 def distinct_outputs(*named) -> None:
@@ -51,3 +54,31 @@ def _ended_on_purpose(exc: BaseException) -> bool:
 #: Whether the command said itself what a stop by a signal left (``sweep`` keeps the
 #: variants computed): the command line then says no more [-]
 STOP_SAID: list = []
+
+
+def checked_yaml_output(output: Path, *inputs, json_option: bool = True) -> Path:
+    """:func:`checked_output` for a model file or fragment, which is written as YAML: a
+    name ending otherwise (``-o tuned.json``) would hold YAML under a misleading name; a
+    folder is named as one. ``json_option``: the command has ``--json``, said as the way
+    to JSON."""
+    if Path(output).is_dir():
+        raise typer.BadParameter(f"{output} is a folder; give the file to write, e.g. "
+                                 f"{Path(output) / 'model.yaml'}")
+    if Path(output).suffix.lower() not in (".yaml", ".yml"):
+        raise typer.BadParameter(f"{output}: a model file is written as YAML; name it "
+                                 f"{Path(output).with_suffix('.yaml').name}"
+                                 + (" (--json prints the result as JSON)" if json_option
+                                    else ""))
+    return checked_output(output, *inputs)
+
+
+def checked_csv_output(output: Path, *inputs, what: str = "a command file") -> Path:
+    """:func:`checked_output` for ``what`` (a command file, an excitation), which is
+    written as CSV: a name ending otherwise (``-o CMD.parquet``) would hold CSV text that
+    the readers of that format refuse."""
+    checked_output(output, *inputs)
+    suffix = Path(output).suffix.lower()
+    if suffix not in ("", ".csv") and (Path(output).is_file() or not Path(output).exists()):
+        raise typer.BadParameter(f"{output}: {what} is written as CSV; name it "
+                                 f"{Path(output).with_suffix('.csv').name}")
+    return output

@@ -9,7 +9,6 @@ import typer
 
 from ._app import (
     app,
-    checked_csv_output,
     checked_output,
     checked_report_file,
     emit_json,
@@ -29,7 +28,7 @@ from ._compensate_text import (
     warn_over_limits,
     warn_worse,
 )
-from ._outputs import distinct_outputs, outputs_together
+from ._outputs import checked_csv_output, distinct_outputs, outputs_together
 from ._pathtext import warn_feed_held
 from ._plane import judged_circle
 

@@ -13,14 +13,13 @@ from ._app import (
     app,
     checked_output,
     checked_plot,
-    checked_yaml_output,
     emit_json,
     esc,
     in_file,
     out,
     parse_band,
 )
-from ._outputs import distinct_outputs, outputs_together
+from ._outputs import checked_yaml_output, distinct_outputs, outputs_together
 from ._tables import plain_table, print_plain
 
 frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XML): show "

@@ -11,10 +11,8 @@ from ..errors import InputError
 from ._app import (
     Sensor,
     app,
-    checked_output,
     checked_plot,
     checked_report_file,
-    checked_yaml_output,
     console,
     emit_json,
     floats,
@@ -27,7 +25,7 @@ from ._app import (
     refuse_unstable,
     warn_suspect,
 )
-from ._outputs import outputs_together
+from ._outputs import checked_csv_output, checked_yaml_output, outputs_together
 
 
 def _emit_spread(res, verdict, machine) -> None:
@@ -134,7 +132,7 @@ def excite(kind: str = typer.Argument(..., help="linear, log, multisine or prbs"
     from ..ident.excitation import design_excitation
 
     f0, f1 = parse_band(band, "--band")
-    checked_output(output)
+    checked_csv_output(output, what="an excitation")
     options = {"f0_hz": "--band", "f1_hz": "--band", "amplitude_A": "--amplitude-A",
                "duration_s": "--duration-s", "fs_hz": "--fs-hz", "taper_s": "--taper-s",
                "kind": "KIND", "seed": "--seed"}

@@ -9,7 +9,6 @@ import typer
 from ._app import (
     app,
     checked_plot,
-    checked_yaml_output,
     emit_json,
     esc,
     floats,
@@ -18,6 +17,7 @@ from ._app import (
     read_model,
     warn_unstable,
 )
+from ._outputs import checked_yaml_output
 
 
 @machine_app.command("export")
@@ -30,7 +30,7 @@ def machine_export(name: str = typer.Argument(
     from ..machines.builtin import builtin_machine
 
     write_machine(with_interpolation(builtin_machine(name.removeprefix("builtin:"))),
-                  checked_yaml_output(output))
+                  checked_yaml_output(output, json_option=False))
     out.print(f"wrote {output}")
 
 

@@ -11,7 +11,6 @@ from ._app import (
     WARNED,
     Sensor,
     app,
-    checked_csv_output,
     checked_output,
     checked_plot,
     checked_report_file,
@@ -35,7 +34,7 @@ from ._circles import (
     print_passes,
 )
 from ._controller import CONTROLLER_HELP, as_the_drives_take_it
-from ._outputs import distinct_outputs, outputs_together
+from ._outputs import checked_csv_output, distinct_outputs, outputs_together
 from ._plane import (
     COMMAND_HELP,
     PLANE_HELP,

@@ -9,7 +9,6 @@ import typer
 
 from ._app import (
     app,
-    checked_yaml_output,
     emit_json,
     esc,
     in_file,
@@ -17,6 +16,7 @@ from ._app import (
     out,
     read_model,
 )
+from ._outputs import checked_yaml_output
 from ._tables import plain_table, print_plain
 
 _MARGINS = re.compile(r"^\s*([0-9.]+)\s*db\s*,\s*([0-9.]+)\s*deg\s*$", re.IGNORECASE)

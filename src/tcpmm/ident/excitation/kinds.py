@@ -21,6 +21,11 @@ KINDS = {
 }
 
 
+#: The options each kind takes (the keyword arguments of its designer) [-].
+TAKES = {"linear_sweep": {"taper_s"}, "log_sweep": {"taper_s"},
+         "multisine": {"n_periods", "spectrum", "phases", "seed"}, "prbs": set()}
+
+
 def design_excitation(kind, f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **options):
     """Dispatch for ``tcpmm excite KIND --band F0,F1 --amplitude-A --duration-s --fs-hz``.
 
@@ -55,22 +60,28 @@ def design_excitation(kind, f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **opti
             column="kind",
         )
     options = {k: v for k, v in options.items() if v is not None}
+    for k in options:
+        if k not in TAKES[name]:
+            takes = [n.removesuffix("_sweep") for n, t in TAKES.items() if k in t]
+            raise InputError(f"{k} does not apply to a {kind} signal"
+                             + (f"; it is an option of {' and '.join(takes)}" if takes else ""),
+                             column=k)
+    if not f0_hz > 0.0:
+        raise InputError(f"the band starts at {f0_hz:g} Hz: an excitation reaching down to 0 Hz "
+                         "is a current held, no frequency response; start it above 0 (the "
+                         "lowest mode or friction regime of interest, e.g. 1 Hz)",
+                         column="f0_hz")
     n = positive("duration_s", duration_s, "s") * positive("fs_hz", fs_hz, "Hz")
     if n > MAX_SAMPLES:
         raise InputError(f"{duration_s:g} s at {fs_hz:g} Hz is {n:.3g} samples; at most "
                          f"{MAX_SAMPLES:.0e} are designed at once: shorten the signal or "
                          "lower the sample rate", column="duration_s")
-    if duration_s * f0_hz < 1.0:
+    if duration_s * f0_hz < 1.0 and name != "prbs":  # a PRBS says its own period
         raise InputError(f"{duration_s:g} s holds {duration_s * f0_hz:.2g} periods of the band's "
                          f"start, {f0_hz:g} Hz: no signal that short excites it; make it at "
                          f"least {1.0 / f0_hz:g} s long, or start the band higher",
                          column="duration_s")
     if name == "prbs":
-        if options:
-            raise InputError(f"prbs from a band takes no options, got {sorted(options)}")
         return prbs_for_band(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz)
     fn = {"linear_sweep": linear_sweep, "log_sweep": log_sweep, "multisine": multisine}[name]
-    try:
-        return fn(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **options)
-    except TypeError as exc:
-        raise InputError(f"{name}: {exc}") from None
+    return fn(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz, **options)

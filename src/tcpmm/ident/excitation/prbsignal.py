@@ -110,7 +110,8 @@ def prbs_for_band(f0_hz, f1_hz, amplitude_A, duration_s, fs_hz) -> Excitation:
     if n_periods < 1:
         raise InputError(
             f"one PRBS period reaching down to {f0:g} Hz lasts {period:.4g} s, longer than "
-            f"duration_s={dur:g} s; record longer or raise f0",
+            f"duration_s={dur:g} s; make it at least {math.ceil(period * 1e3) / 1e3:g} s "
+            "long, or raise f0",
             column="duration_s",
         )
     return prbs(order, clock, amplitude_A, fs, n_periods=n_periods)

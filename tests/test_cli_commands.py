@@ -112,3 +112,14 @@ def test_a_switched_off_collector_stays_off_and_other_callbacks_still_run():
             "seen = []; gc.callbacks.append(lambda phase, info: seen.append(phase)); "
             "gc.collect(); gc.collect(); print(seen, gc.get_threshold()[0])")
     assert _in_fresh_interpreter(code) == "['start', 'stop', 'start', 'stop'] 600"
+
+
+def test_once_the_thresholds_are_restored_no_python_callback_is_left():
+    """The callback stayed in gc.callbacks for the whole command: a Ctrl-C that fell in it
+    on a later collection was printed as "Exception ignored" and lost, and a sweep ran on
+    to its end with exit 0. Once done it is a function of C, where no interrupt lands."""
+    code = ("import gc, types; gc.set_threshold(600); from tcpmm.cli._collector import "
+            "collect_late; collect_late(); n = len(gc.callbacks); gc.collect(); "
+            "print(len(gc.callbacks) == n, any(isinstance(c, types.FunctionType) "
+            "for c in gc.callbacks))")
+    assert _in_fresh_interpreter(code) == "True False"

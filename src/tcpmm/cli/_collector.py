@@ -11,6 +11,7 @@ own thresholds apply, so a long command collects as it always did.
 from __future__ import annotations
 
 import gc
+import operator
 
 #: Net allocations of tracked objects before the first collection [-]; a short command's
 #: imports and run stay below it, the cyclic garbage it may hold back is bounded by it.
@@ -25,10 +26,12 @@ def collect_late() -> None:
         return  # the collector is off, or already as lazy
 
     def restore(phase: str, info: dict) -> None:
-        # kept in the list once done: removing it while the collector walks the list
-        # would make it skip the next callback
         if phase == "stop" and gc.get_threshold()[0] == START_THRESHOLD:
             gc.set_threshold(*thresholds)
+            # replaced in its place by a function of C, not removed: removed while the
+            # collector walks the list, it would make it skip the next callback; kept, a
+            # Ctrl-C that fell in it on any later collection was "ignored" by Python
+            gc.callbacks[gc.callbacks.index(restore)] = operator.is_
 
     gc.callbacks.append(restore)
     gc.set_threshold(START_THRESHOLD, *thresholds[1:])

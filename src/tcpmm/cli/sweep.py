@@ -88,20 +88,42 @@ def _program(gcode: Path | None, circle: str | None, centre: str):
     return CircleProgram(r * 1e-3, f / 6e4, (c[0] * 1e-3, c[1] * 1e-3))
 
 
+#: Longest wait for a scheduler's answer: an address that takes the connection but does
+#: not answer as a Dask scheduler (its dashboard's port, 8787) kept the client waiting
+#: past its own timeout for good [s]
+ANSWER_S = 20.0
+
+
 def _client(scheduler: str):
     import logging
+    import threading
 
     from distributed import Client
 
     # the sweep says what becomes of the scheduler in one line; distributed's own logs
-    # would add a traceback of its reconnection attempts
-    logging.getLogger("distributed").setLevel(logging.CRITICAL)
-    try:
-        return Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise InputError(f"cannot reach the Dask scheduler at {scheduler} ({exc}); start one "
-                         "(`dask scheduler`, then `dask worker tcp://HOST:8786`) or check the "
-                         "address") from None
+    # (its client's and tornado's, whose levels are their own) would add tracebacks
+    for name in [n for n in logging.root.manager.loggerDict
+                 if n.startswith(("distributed", "tornado"))] + ["distributed", "tornado"]:
+        logging.getLogger(name).setLevel(logging.CRITICAL)
+    got = {}
+
+    def connect():
+        try:
+            got["client"] = Client(scheduler, timeout="10s")
+        except Exception as exc:  # also what a client given up on raises as the command ends
+            got["error"] = exc
+
+    waiting = threading.Thread(target=connect, daemon=True)
+    waiting.start()
+    waiting.join(ANSWER_S)
+    if "client" in got:
+        return got["client"]
+    why = (f" ({got['error']})" if "error" in got else
+           f": it took the connection but no Dask scheduler answered in {ANSWER_S:g} s (the "
+           "dashboard's port, 8787, for the scheduler's, 8786?)")
+    raise InputError(f"cannot reach the Dask scheduler at {scheduler}{why}; start one "
+                     "(`dask scheduler`, then `dask worker tcp://HOST:8786`) or check the "
+                     "address")
 
 
 def _close(client) -> None:
@@ -294,6 +316,13 @@ def _on_cluster(scheduler, description: str, run):
     try:
         with _bar(description) as progress:
             return run(client, progress)
+    except (TimeoutError, ValueError) as exc:
+        if client is None or "No valid workers" not in str(exc):
+            raise
+        raise InputError(f"no worker is connected to the Dask scheduler at {scheduler}, or "
+                         "every one has stopped: start workers (`dask worker "
+                         f"{scheduler}`) and run the same command again (a sweep of "
+                         "variants resumes, keeping what was computed)") from None
     finally:
         if client is not None:
             _close(client)

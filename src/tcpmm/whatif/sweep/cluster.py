@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 
+from ...errors import TcpmmError
+
 #: Dask's nanny starts each worker with glibc's malloc trimming memory back to the system
 #: above 64 KiB; a variant allocates and frees its run's arrays, and that made it 17 %
 #: slower in a worker than alone (19.5 against 16.6 ms). The sweep's workers keep glibc's
@@ -78,3 +80,32 @@ def finished_within(futures, wait_s: float) -> list:
     except TimeoutError:  # some still running: those finished are taken
         pass
     return [f for f in futures if f.status == "finished"]
+
+
+class SchedulerLost(TcpmmError):
+    """The Dask scheduler stopped mid-sweep: every task still out is lost with it, none of
+    them a failure of its variant; the rows computed are kept and a rerun resumes.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The client that lost its scheduler [-].
+    resumed : bool
+        Whether the study resumes (a sweep of variants) or runs every task again (a study
+        of programs, whose table is written at its end) [-].
+    """
+
+    def __init__(self, client, resumed: bool = True):
+        address = getattr(getattr(client, "scheduler", None), "address", None) or "?"
+        super().__init__(f"the Dask scheduler at {address} stopped: " + (
+            "rerun to resume (the variants computed so far are kept)" if resumed else
+            "run the same command again (a study of programs is not resumed: every pair "
+            "runs again)"))
+
+
+def scheduler_lost(client, exc: Exception) -> bool:
+    """Whether a task's error is the loss of the scheduler rather than its own [-]."""
+    from distributed.comm import CommClosedError
+
+    return (isinstance(exc, CommClosedError) or "scheduler-connection-lost" in str(exc)
+            or getattr(client, "status", "running") not in ("running", "newly-created"))

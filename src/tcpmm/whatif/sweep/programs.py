@@ -34,8 +34,9 @@ from ...path.settings import InterpolatorSettings
 from ...path.stream import CHUNK_BLOCKS
 from ...result import AxisRun, Run
 from ...sim.streamrun import stream_simulate
-from .cluster import local_client
-from .run import RETRIES, SchedulerLost, scheduler_lost
+from .cluster import SchedulerLost, local_client, scheduler_lost
+from .run import RETRIES
+from .store import writing
 
 #: file endings taken as NC programs in a folder [-]
 PROGRAM_SUFFIXES = (".nc", ".ngc", ".gcode", ".g", ".tap", ".mpf", ".spf", ".cnc", ".iso")
@@ -306,7 +307,7 @@ def _on_client(client, pairs, args, progress) -> list:
             rows[i] = _as_given(fut.result(), pairs[i][2])
         except Exception as exc:  # the worker lost, or the scheduler
             if scheduler_lost(client, exc):
-                raise SchedulerLost(client) from None
+                raise SchedulerLost(client, resumed=False) from None
             name, _, prog = pairs[i]
             rows[i] = {**dict.fromkeys(COLUMNS), "model": name, "program": str(prog),
                        "status": "failed", **_failure(exc)}
@@ -373,18 +374,20 @@ def run_programs(models: dict, programs, out_dir, *, client=None, workers: int |
     progress : callable, optional
         Called with the pairs done and their total [-].
     """
-    output_folder(out_dir)  # a folder that cannot be written is refused before any work
     t0 = time.perf_counter()
     pairs = [(name, m, Path(p)) for name, m in models.items() for p in programs]
     args = (chunk_blocks or CHUNK_BLOCKS, window_s, sensor)
     progress = progress or (lambda done, total: None)
-    if client is not None:
-        rows = _on_client(client, pairs, args, progress)
-    elif workers is not None and workers > 1:
-        rows = _on_local_cluster(workers, pairs, args, progress)
-    else:
-        rows = _serial(pairs, args, progress)
-    files = write_table(rows, out_dir)
+    # a folder that cannot be written is refused before any work; one study at a time
+    # writes into it, the table of a second would replace the first's
+    with writing(output_folder(out_dir)):
+        if client is not None:
+            rows = _on_client(client, pairs, args, progress)
+        elif workers is not None and workers > 1:
+            rows = _on_local_cluster(workers, pairs, args, progress)
+        else:
+            rows = _serial(pairs, args, progress)
+        files = write_table(rows, out_dir)
     return ProgramSweep(rows, files, time.perf_counter() - t0)
 
 

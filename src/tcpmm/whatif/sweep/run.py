@@ -17,9 +17,9 @@ from pathlib import Path
 
 from ..._heap import keep_freed_memory
 from ..._threads import usable_cores
-from ...errors import InputError, TcpmmError
+from ...errors import InputError
 from ...io.atomic import output_folder
-from .cluster import finished_within, local_client
+from .cluster import SchedulerLost, finished_within, local_client, scheduler_lost
 from .intervals import INTERVALS_FILE, write_intervals
 from .space import apply_parameters
 from .store import (
@@ -271,30 +271,6 @@ def _take(chunk, results, sink, failed: list) -> None:
             sink(v, None)
         else:
             sink(v, result)
-
-
-class SchedulerLost(TcpmmError):
-    """The Dask scheduler stopped mid-sweep: every task still out is lost with it, none of
-    them a failure of its variant; the rows computed are kept and a rerun resumes.
-
-    Parameters
-    ----------
-    client : distributed.Client
-        The client that lost its scheduler [-].
-    """
-
-    def __init__(self, client):
-        address = getattr(getattr(client, "scheduler", None), "address", None) or "?"
-        super().__init__(f"the Dask scheduler at {address} stopped: rerun to resume (the "
-                         "variants computed so far are kept)")
-
-
-def scheduler_lost(client, exc: Exception) -> bool:
-    """Whether a task's error is the loss of the scheduler rather than its own [-]."""
-    from distributed.comm import CommClosedError
-
-    return (isinstance(exc, CommClosedError) or "scheduler-connection-lost" in str(exc)
-            or getattr(client, "status", "running") not in ("running", "newly-created"))
 
 
 def run_sweep(machine, program, variants, out_dir, *, sensor: str = "tcp", client=None,

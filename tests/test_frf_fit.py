@@ -677,3 +677,21 @@ def test_a_phase_deg_column_that_reads_as_radians_is_warned_of(tmp_path):
     _, path = _polar_file(tmp_path, "phase_deg", np.angle)
     with pytest.warns(InputWarning, match="if it is in radians, name the column phase_rad"):
         read_frf(path)
+
+
+def test_a_phase_in_degrees_under_the_name_phase_rad_is_refused(tmp_path):
+    """A phase_rad column holding degrees (to +-180, wrapping by 360 between neighbouring
+    lines) was read as radians without a word and fitted as a response that spins; a phase
+    in radians, wrapped or unwrapped over many turns, still reads."""
+    from tcpmm.io.frffile import read_frf
+
+    _, path = _polar_file(tmp_path, "phase_rad", lambda h: np.degrees(np.angle(h)))
+    with pytest.raises(InputError, match=r"steps by more than 4 pi .* by up to 3\d\d\.\d "
+                                         r".*Name the column phase_deg") as e:
+        read_frf(path)
+    assert "polar.csv, line " in str(e.value) and "column 'phase_rad'" in str(e.value)
+    late = np.exp(-2j * np.pi * F * 0.005)  # 5 ms: 10 turns over the band, unwrapped
+    frf, path = _polar_file(tmp_path, "phase_rad", lambda h: np.unwrap(np.angle(h * late)))
+    np.testing.assert_allclose(read_frf(path).H, frf.H * late, rtol=1e-12)
+    frf, path = _polar_file(tmp_path, "phase_rad", lambda h: np.angle(h * late))
+    np.testing.assert_allclose(read_frf(path).H, frf.H * late, rtol=1e-12)

@@ -6,7 +6,7 @@ CSV (header names decide, case-insensitive; see ``docs/frf_files.md``):
 * the response, one of: ``re`` and ``im`` (also ``real``/``imag``); ``magnitude_db`` (also
   ``mag_db``, ``db``) or ``magnitude`` (also ``mag``, ``abs``, linear) with ``phase_deg``
   (also ``phase``, refused where every value lies within +-pi) [deg] or ``phase_rad``
-  [rad];
+  (refused where it steps by more than 4 pi between neighbouring lines) [rad];
 * optional ``coherence`` (also ``coh``) [-];
 * optional ``averages`` (also ``n_averages``): the number of averages behind the
   coherence, the same on every row [-].
@@ -147,6 +147,23 @@ def _phase_unit_checked(name, phase, path) -> None:
                    file=path, line=1, column=name)
 
 
+def _phase_rad_checked(name, phase, path) -> None:
+    """Refuse a ``phase_rad`` column that steps by more than two turns between neighbouring
+    lines: a phase in radians steps by at most one turn, 2 pi, where it wraps (less where
+    it is unwrapped, however far it goes); one in degrees wraps by about 360 [-]."""
+    step = np.abs(np.diff(phase))
+    big = np.flatnonzero(step > 4 * np.pi)
+    if not big.size:
+        return
+    i = int(np.argmax(step))
+    raise InputError(
+        f"the phase steps by more than 4 pi between neighbouring lines {big.size} times, by "
+        f"up to {step[i]:.4g} (from {phase[i]:.6g} on line {i + 2} to {phase[i + 1]:.6g}; "
+        f"largest |phase| {float(np.max(np.abs(phase))):.4g}), where radians step by 2 pi "
+        "at most, as they wrap: degrees, which wrap by 360? Name the column phase_deg",
+        file=path, line=i + 3, column=name)
+
+
 def _complex(kind, a, b):
     if kind == "reim":
         return a + 1j * b
@@ -191,6 +208,8 @@ def read_frf_csv(path) -> FRF:
                              "column magnitude_db)", file=path, line=int(bad[0]) + 2, column=a)
     if kind.endswith("deg"):
         _phase_unit_checked(b, cols[b], path)
+    elif kind.endswith("rad"):
+        _phase_rad_checked(b, cols[b], path)
     coh = _coherence(cols.get(coh_col), f.size, path, coh_col)
     return _frf(f, _complex(kind, cols[a], cols[b]), coh, path, coh_col not in cols,
                 _averages(cols.get(avg_col), path, avg_col))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -279,3 +280,22 @@ def test_frf_commands_say_the_count_they_assume_and_take_it(capsys, tmp_path):
     code, out, _ = run_cli(capsys, "frf", "fit", p, "--poles", "1", "--delay", "none",
                            "--json")
     assert code == 0 and json.loads(out)["notes"][0].startswith("the file gives a coherence")
+
+
+@pytest.mark.parametrize("variables, said", [
+    ({"H": [1 + 1j, 0.5j, -0.25]}, "(the response is read from H)"),
+    ({"re": [1.0, 0.0, 0.0], "im": [0.0, 1.0, 0.0]}, "(the response is read from re and im)"),
+    ({}, "(no variable holds a response: H (or frf, G, resp), or re and im)")])
+def test_a_mat_variable_not_read_names_the_response_that_is(tmp_path, variables, said):
+    """The warning said "the response is read from " and nothing after it in a file without
+    a response, and "from freq_hz", the frequency, in a file that holds only it."""
+    sio.savemat(tmp_path / "a.mat", {"freq_hz": [1.0, 2.0, 4.0], "note_x": [1.0],
+                                     **variables})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            read_frf(tmp_path / "a.mat")
+        except InputError:
+            assert not variables
+    text = [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+    assert text == [f"{tmp_path / 'a.mat'}: variable 'note_x' is not read {said}"]

@@ -285,9 +285,12 @@ def _mat_names(names, path) -> None:
     _named_once(names, (FREQ, (*COMPLEX, RE[0]), (*COMPLEX, IM[0]), RE, IM, COH, AVG), path,
                 "variables", None)
     known = {c.lower() for c in FREQ + COMPLEX + RE + IM + COH + AVG}
+    re_, im_ = _pick(names, RE), _pick(names, IM)
+    response = _pick(names, COMPLEX) or (re_ and im_ and f"{re_} and {im_}")
+    why = (f"the response is read from {response}" if response else
+           "no variable holds a response: H (or frf, G, resp), or re and im")
     for other in (n for n in names if n.lower() not in known):
-        warn_input(f"variable '{other}' is not read (the response is read from "
-                   f"{', '.join(n for n in names if n.lower() in known)})", file=path)
+        warn_input(f"variable '{other}' is not read ({why})", file=path)
 
 
 def _mat_vector(names, get, path, choices, what):

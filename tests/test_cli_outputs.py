@@ -1,5 +1,6 @@
 """The command line refuses outputs that would lose data, before any work is done."""
 
+import json
 import os
 import stat
 import warnings
@@ -338,8 +339,28 @@ def test_a_model_file_named_other_than_yaml_is_refused(capsys, tmp_path, args):
     and the name says so. Refused before any work, nothing written."""
     code, out, err = run(capsys, *[a.format(d=tmp_path) for a in args])
     assert code == 2, out + err
-    assert "a model file is written as YAML; name it" in out + err
+    said = "a transfer-function fragment" if args[0] == "frf" else "a model file"
+    assert f"{said} is written as YAML; name it" in out + err
     assert not any(p.suffix == ".json" for p in tmp_path.iterdir())
+
+
+def test_a_fit_named_other_than_json_is_refused(capsys, tmp_path):
+    """``frf fit -o fit.csv`` wrote the fit's JSON under a .csv name, where the other
+    outputs refuse a name their format does not have; and the fragment, which is no model
+    file, was called one. Refused before any work, nothing written."""
+    from tcpmm.ident.frf import FRF
+    from tcpmm.io.frffile import write_frf_csv
+
+    f = np.linspace(10.0, 1000.0, 200)
+    h = tmp_path / "h.csv"
+    write_frf_csv(FRF(f, 1 / (1 + 1j * f / 100), np.ones(f.size), 10, np.zeros(f.size)), h)
+    code, out, err = run(capsys, "frf", "fit", h, "--poles", "1", "-o", tmp_path / "fit.csv")
+    assert code == 2, out + err
+    assert "fit.csv: the fit is written as JSON; name it fit.json" in out + err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["h.csv"]
+    code, out, err = run(capsys, "frf", "fit", h, "--poles", "1", "-o", tmp_path / "fit.json")
+    assert code == 0, out + err
+    assert json.loads((tmp_path / "fit.json").read_text())["poles"]
 
 
 def test_the_damping_floor_s_default_is_given_as_a_number():

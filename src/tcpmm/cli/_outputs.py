@@ -56,16 +56,17 @@ def _ended_on_purpose(exc: BaseException) -> bool:
 STOP_SAID: list = []
 
 
-def checked_yaml_output(output: Path, *inputs, json_option: bool = True) -> Path:
-    """:func:`checked_output` for a model file or fragment, which is written as YAML: a
-    name ending otherwise (``-o tuned.json``) would hold YAML under a misleading name; a
-    folder is named as one. ``json_option``: the command has ``--json``, said as the way
-    to JSON."""
+def checked_yaml_output(output: Path, *inputs, json_option: bool = True,
+                        what: str = "a model file") -> Path:
+    """:func:`checked_output` for a model file or fragment (``what``), which is written as
+    YAML: a name ending otherwise (``-o tuned.json``) would hold YAML under a misleading
+    name; a folder is named as one. ``json_option``: the command has ``--json``, said as
+    the way to JSON."""
     if Path(output).is_dir():
         raise typer.BadParameter(f"{output} is a folder; give the file to write, e.g. "
                                  f"{Path(output) / 'model.yaml'}")
     if Path(output).suffix.lower() not in (".yaml", ".yml"):
-        raise typer.BadParameter(f"{output}: a model file is written as YAML; name it "
+        raise typer.BadParameter(f"{output}: {what} is written as YAML; name it "
                                  f"{Path(output).with_suffix('.yaml').name}"
                                  + (" (--json prints the result as JSON)" if json_option
                                     else ""))
@@ -82,3 +83,12 @@ def checked_csv_output(output: Path, *inputs, what: str = "a command file") -> P
         raise typer.BadParameter(f"{output}: {what} is written as CSV; name it "
                                  f"{Path(output).with_suffix('.csv').name}")
     return output
+
+
+def checked_json_output(output: Path, *inputs, what: str) -> Path:
+    """:func:`checked_output` for a result written as JSON (``what``): a name ending
+    otherwise (``-o fit.csv``) would hold JSON that the readers of that format refuse."""
+    if Path(output).suffix.lower() != ".json":
+        raise typer.BadParameter(f"{output}: {what} is written as JSON; name it "
+                                 f"{Path(output).with_suffix('.json').name}")
+    return checked_output(output, *inputs)

@@ -11,7 +11,6 @@ import typer
 
 from ._app import (
     app,
-    checked_output,
     checked_plot,
     emit_json,
     esc,
@@ -19,7 +18,7 @@ from ._app import (
     out,
     parse_band,
 )
-from ._outputs import checked_yaml_output, distinct_outputs, outputs_together
+from ._outputs import checked_json_output, checked_yaml_output, distinct_outputs, outputs_together
 from ._tables import plain_table, print_plain
 
 frf_app = typer.Typer(help="Measured frequency responses (CSV, MAT, Sinumerik XML): show "
@@ -152,8 +151,9 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
                                                  "one measured bin where that is more."),
         output: Path = typer.Option(None, "-o", "--output", help="Write the fit as FIT.json."),
         fragment: Path = typer.Option(None, "--model-fragment",
-                                      help="Write the transfer function as a model-file "
-                                           "fragment FRAG.yaml."),
+                                      help="Write the transfer function as a fragment "
+                                           "FRAG.yaml (no model file: read it with "
+                                           "tcpmm.read_tf_fragment)."),
         plot: Path = typer.Option(None, "--plot", help="Bode plot of data, fit and residual."),
         averages: float = typer.Option(None, "--averages", min=1.0, help=_AVERAGES),
         as_json: bool = typer.Option(False, "--json")):
@@ -166,12 +166,12 @@ def fit(file: Path = typer.Argument(..., help=_FILE),
     n = _poles(poles)
     tau = _delay(delay)
     f0, f1 = parse_band(band, "--band")
-    if output is not None:
-        checked_output(output, file)
-    if fragment is not None:
-        checked_yaml_output(fragment, file)
-    checked_plot(plot)
     distinct_outputs(("-o", output), ("--model-fragment", fragment), ("--plot", plot))
+    if output is not None:
+        checked_json_output(output, file, what="the fit")
+    if fragment is not None:
+        checked_yaml_output(fragment, file, what="a transfer-function fragment")
+    checked_plot(plot)
     frf = read_frf(file, averages)
     with in_file(file):
         res = fit_frf(frf, poles=n, band_hz=(f0, f1), weighting=weight.value, delay_s=tau,

@@ -51,7 +51,7 @@ from ._select import by_criterion, by_total, choose, fewer_note, score
 from .delayheld import check_held_delay
 from .frfnoise import NOISE_WINDOW, noise_level
 from .goodness import warn_if_misfit, warn_if_off
-from .tffit import WEIGHT_FLOOR, TFFit, check_order_in_range, fit_tf
+from .tffit import WEIGHT_FLOOR, TFFit, check_order_resolved, fit_tf
 from .tfsd import TFDeviations, tf_deviations
 
 __all__ = ["DAMPING_FLOOR", "NOISE_WINDOW", "FRFFit", "fit_frf", "noise_level"]
@@ -285,7 +285,7 @@ def _given_order(ctx: dict, n: int) -> tuple:
     """The best of ``n`` poles over ``n - 1`` or ``n`` zeros, and the candidates [-]."""
     if n < 0:
         raise InputError(f"the number of poles must be >= 0, got {n}")
-    check_order_in_range(ctx["f"], n)  # else no order is tried, and the error says "bins"
+    check_order_resolved(ctx["f"], n)  # else no order is tried, or it is not determined
     tries = _tries(ctx, n)
     if not tries:
         raise InputError(f"{ctx['f'].size} bins cannot determine {n} poles; fewer poles or a "

@@ -234,6 +234,54 @@ def check_order_in_range(freq_hz, order: int) -> None:
                          "narrower band")
 
 
+#: Smallest singular value, relative to the largest, of the bins' powers of the frequency
+#: (each scaled to unit length) at which the highest power still counts as told apart from
+#: the lower ones: about five times the round-off of a double (2.2e-16) [-].
+RESOLVED = 1e-15
+
+
+def _powers_resolved(x, n: int) -> bool:
+    """Whether the powers ``x^0 .. x^n`` of the bins are told apart to :data:`RESOLVED` [-]."""
+    v = x[:, None] ** np.arange(n + 1)
+    m = np.vstack([v.real, v.imag])
+    sv = np.linalg.svd(m / np.linalg.norm(m, axis=0), compute_uv=False)
+    return sv.size == n + 1 and sv[-1] > RESOLVED * sv[0]
+
+
+def check_order_resolved(freq_hz, order: int) -> None:
+    """Refuse a pole count whose powers of the frequency the bins do not tell apart.
+
+    The fit's linear stage solves for the coefficients of the powers of ``s`` up to the
+    order over the bins; beyond some power (about 40 over three decades, whatever the
+    number of bins) a power equals a combination of the lower ones to round-off. The
+    coefficients are then not determined (on the Sinumerik trace, a fit of 199 poles keeps
+    none; one of 80 keeps real poles down to 2e-128 Hz and a static gain of 4e145). Also
+    refuses what :func:`check_order_in_range` does, with the count resolved.
+
+    Parameters
+    ----------
+    freq_hz : ndarray
+        The fitted bins' frequencies, increasing [Hz].
+    order : int
+        Highest power of the frequency in the model [-].
+    """
+    f = np.asarray(freq_hz, float)
+    decades = np.log10(f[-1] / f[0])
+    x = 1j * f / np.sqrt(f[0] * f[-1])
+    top = min(order, int(599 / decades) if decades > 0 else order, f.size - 1)
+    if top in (order, f.size - 1) and _powers_resolved(x, top):
+        return  # more poles than the bins hold: the count of parameters refuses them
+    lo, hi = 0, top  # the most powers resolved, by bisection: more never resolve again
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        lo, hi = (mid, hi) if _powers_resolved(x, mid) else (lo, mid - 1)
+    raise InputError(f"{order} poles over {decades:.2g} decades of frequency ({f[0]:g}-"
+                     f"{f[-1]:g} Hz): beyond the power {lo} of the frequency, the {f.size} "
+                     "bins do not tell the powers the fit solves for apart (a power equals "
+                     "a sum of the lower ones to the round-off), so its coefficients are not "
+                     f"determined; at most {lo} poles")
+
+
 def _check_structure(n_num: int, n_den: int, k: int, delay_s, freq_hz) -> tuple:
     """Raise for negative orders, more zeros than poles, a delay that is neither ``None``,
     a time nor ``"fit"``, more parameters than the bins ``freq_hz`` determine, or an order

@@ -720,3 +720,23 @@ def test_a_phase_in_degrees_under_the_name_phase_rad_is_refused(tmp_path):
     np.testing.assert_allclose(read_frf(path).H, frf.H * late, rtol=1e-12)
     frf, path = _polar_file(tmp_path, "phase_rad", lambda h: np.angle(h * late))
     np.testing.assert_allclose(read_frf(path).H, frf.H * late, rtol=1e-12)
+
+
+@pytest.mark.parametrize("lowest_hz, determined", [(300.0, False), (10.0, True)])
+def test_a_fragment_says_whether_its_static_gain_is_determined(capsys, tmp_path, lowest_hz,
+                                                              determined):
+    """The fit printed a static gain "(undetermined)" where it extrapolates through a pole
+    below the band (to 4e145 on the Sinumerik trace at 80 poles), and wrote the fragment
+    without a word of it; the fragment says so, and reads back with it."""
+    import tcpmm
+
+    f = np.geomspace(lowest_hz, 2000.0, 200)
+    frf = FRF(f, 3 / (1 + 1j * f / 150), np.ones(f.size), 10, np.zeros(f.size), name="lp")
+    write_frf_csv(frf, path := tmp_path / "lp.csv")
+    frag, js = tmp_path / "lp.yaml", tmp_path / "lp.json"
+    code, _, err = run_cli(capsys, "frf", "fit", path, "--poles", 1, "--delay", "none",
+                           "--model-fragment", frag, "-o", js)
+    assert code == 0, err
+    assert json.loads(js.read_text())["gain"]["gain_determined"] is determined
+    assert f"gain_determined: {str(determined).lower()}" in frag.read_text()
+    assert tcpmm.read_tf_fragment(frag)["lp"].gain_determined is determined

@@ -16,6 +16,8 @@ with a pointer here. Layout, SI units throughout::
         zeros: [[re, im], ...]          # [rad/s]
         band_hz: [f0, f1]               # band the fit holds for [Hz]
         rel_rms: 0.63                   # relative RMS residual over the band [-]
+        gain_determined: true           # false: the static gain num(0)/den(0) is an
+                                        #   extrapolation the bins do not determine
 """
 
 from __future__ import annotations
@@ -36,7 +38,9 @@ _HINT = "see the keys that `tcpmm frf fit --model-fragment` writes (docs/frf_fil
 _HEADER = ("# tcpmm transfer-function fragment (tcpmm-tf/1), fitted by tcpmm frf fit; read it\n"
            "# with tcpmm.read_tf_fragment. SI units: H(s) = num(s) / den(s) * exp(-s delay),\n"
            "# coefficients highest power of s first [s^k]; delay [s]; poles and zeros [rad/s]\n"
-           "# as [real, imaginary]; band_hz [Hz]; rel_rms: relative RMS residual [-].\n")
+           "# as [real, imaginary]; band_hz [Hz]; rel_rms: relative RMS residual [-];\n"
+           "# gain_determined false: the static gain num(0)/den(0) is not determined by\n"
+           "# the bins (an extrapolation below the band); use the model within band_hz.\n")
 
 
 class _Entry(BaseModel):
@@ -53,6 +57,7 @@ class _Entry(BaseModel):
     zeros: list[tuple[float, float]] = []
     band_hz: tuple[float, float]
     rel_rms: float | None = None
+    gain_determined: bool | None = None
 
     @field_validator("num", "den")
     @classmethod
@@ -96,6 +101,9 @@ class FittedTF:
         Labels of the measured response and the file fitted [-].
     rel_rms : float or None
         Relative RMS residual of the fit over its band [-].
+    gain_determined : bool or None
+        Whether the bins determine the static gain ``num(0) / den(0)``; None where the
+        fragment does not say [-].
     """
 
     name: str
@@ -108,6 +116,7 @@ class FittedTF:
     unit: str = ""
     source: str = ""
     rel_rms: float | None = None
+    gain_determined: bool | None = None
 
     def freqresp(self, f_hz) -> np.ndarray:
         """Complex response at ``f_hz`` [Hz], delay included [unit]."""
@@ -136,7 +145,8 @@ class FittedTF:
 def _to_tfs(frag: _Fragment) -> dict[str, FittedTF]:
     return {k: FittedTF(name=k, num=np.asarray(e.num), den=np.asarray(e.den),
                         delay_s=e.delay, band_hz=tuple(e.band_hz), input=e.input,
-                        output=e.output, unit=e.unit, source=e.source, rel_rms=e.rel_rms)
+                        output=e.output, unit=e.unit, source=e.source, rel_rms=e.rel_rms,
+                        gain_determined=e.gain_determined)
             for k, e in frag.transfer_functions.items()}
 
 
@@ -185,5 +195,7 @@ def dumps_tf_fragment(res, source) -> str:
     body = {"format": FORMAT, "transfer_functions": {key or "response": {
         "source": str(source), "input": d["input"], "output": d["output"], "unit": d["unit"],
         "num": d["num"], "den": d["den"], "delay": d["delay_s"], "poles": d["poles"],
-        "zeros": d["zeros"], "band_hz": d["band_hz"], "rel_rms": d["quality"]["rel_rms"]}}}
+        "zeros": d["zeros"], "band_hz": d["band_hz"], "rel_rms": d["quality"]["rel_rms"],
+        **({} if d.get("gain") is None else
+           {"gain_determined": bool(d["gain"]["gain_determined"])})}}}
     return _HEADER + yaml.safe_dump(body, sort_keys=False, default_flow_style=None)

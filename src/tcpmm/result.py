@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
@@ -61,6 +62,19 @@ class AxisRun:
     def sensor(self, name: str) -> np.ndarray | None:
         """Position by sensor name ``cmd``, ``motor``, ``scale`` or ``tcp`` [m]."""
         return getattr(self, name)
+
+
+def json_ready(data):
+    """``data`` with every float that is not finite replaced by ``None``, tuples as lists:
+    what ``json.dumps(..., allow_nan=False)`` writes, a missing figure as ``null``, the
+    form every result's ``to_dict`` and the command line's ``--json`` share [-]."""
+    if isinstance(data, float):
+        return data if math.isfinite(data) else None
+    if isinstance(data, dict):
+        return {k: json_ready(v) for k, v in data.items()}
+    if isinstance(data, list | tuple):
+        return [json_ready(v) for v in data]
+    return data
 
 
 def scalar_meta(meta: dict) -> dict:

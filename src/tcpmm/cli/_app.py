@@ -15,6 +15,7 @@ import typer
 from rich.console import Console, ConsoleDimensions
 
 from ..errors import InputError
+from ..result import json_ready
 from ._encoding import unicode_stream
 from ._group import Workflow
 from ._jsonrow import flat_row_json
@@ -283,18 +284,7 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
 def _dumped(data, ascii_only: bool = False) -> str:
     """``data`` as the JSON :func:`emit_json` writes: indented by two, text as it is (what
     is not ASCII escaped where ``ascii_only``), a number that is not finite ``null`` [-]."""
-    return json.dumps(_json_ready(data), indent=2, ensure_ascii=ascii_only, allow_nan=False)
-
-
-def _json_ready(data):
-    """``data`` with every float that is not finite replaced by ``None`` [-]."""
-    if isinstance(data, float):
-        return data if math.isfinite(data) else None
-    if isinstance(data, dict):
-        return {k: _json_ready(v) for k, v in data.items()}
-    if isinstance(data, list | tuple):
-        return [_json_ready(v) for v in data]
-    return data
+    return json.dumps(json_ready(data), indent=2, ensure_ascii=ascii_only, allow_nan=False)
 
 
 def warn_suspect(machine, what: str) -> None:

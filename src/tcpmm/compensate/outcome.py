@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..path.command import Command
+from ..result import json_ready
 from .bounds import scaled_within
 
 
@@ -103,7 +104,8 @@ class Compensation:
 
     def to_dict(self) -> dict:
         """JSON-ready summary: settings, limits, delay, the figures before and after, the
-        correction's size per axis in um and the verdict of the draws [-]."""
+        correction's size per axis in um and the verdict of the draws; a figure left out
+        (NaN) is ``None`` [-]."""
         corr = {a: {"max_um": float(np.max(np.abs(c)) * 1e6),
                     "applied_max_um": float(np.max(np.abs(self.factors[a] * c)) * 1e6),
                     "factor_min": float(np.min(self.factors[a])),
@@ -117,7 +119,7 @@ class Compensation:
             out["trusted_share"] = float(np.mean(self.trusted))
         if self.controller:
             out["controller"] = {a: c.to_dict() for a, c in self.controller.items()}
-        return out
+        return json_ready(out)
 
     def plot(self, ax=None, path=None):
         """The TCP error before and after along the path (polar for a circle) and the

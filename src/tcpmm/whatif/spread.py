@@ -25,6 +25,7 @@ import numpy as np
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from ..model import Machine
+from ..result import json_ready
 from ..sim.simulate import simulate
 from .draws import MODEL_ERROR, draw_axis, draw_machine, longer_presliding, scaled_contact
 
@@ -125,9 +126,9 @@ class SpikeSpread:
         return pd.DataFrame(self.rows())
 
     def to_dict(self) -> dict:
-        """JSON-ready summary in um."""
+        """JSON-ready summary in um; a figure left out (NaN) is ``None``."""
         ce = self.contour_error
-        return {"sensor": self.sensor, "draws": int(self.spikes.shape[0]),
+        return json_ready({"sensor": self.sensor, "draws": int(self.spikes.shape[0]),
                 "faulted_draws": int(self.faulted),
                 "tolerance_um": self.tolerance * 1e6, "spikes": self.rows(),
                 "contour_error": [
@@ -136,7 +137,7 @@ class SpikeSpread:
                      "low_um": _extreme(np.nanmin, ce[:, i]) * 1e6,
                      "high_um": _extreme(np.nanmax, ce[:, i]) * 1e6}
                     for i, (d, p) in enumerate(zip(self.directions, self.nominal.passes,
-                                                   strict=True))]}
+                                                   strict=True))]})
 
     def plot(self, ax=None, path=None):
         """Nominal spikes with their range over the draws, per direction; the figure.

@@ -9,6 +9,7 @@ import warnings
 import pytest
 
 import tcpmm
+from tcpmm.errors import InputError, InputWarning
 from tcpmm.model import AxisUncertainty
 
 
@@ -33,6 +34,23 @@ def test_json_ready_turns_what_is_not_finite_into_none():
 
     assert json_ready({"a": [1.0, math.nan, (math.inf, "x")], "b": 2}) == {
         "a": [1.0, None, [None, "x"]], "b": 2}
+
+
+@pytest.mark.parametrize("gm, pm", [(6, 200), (-6, 45), (0, 45), (41, 45), (6, 90),
+                                    (math.nan, 45), ("6", 45), (None, 45)])
+def test_tune_servos_refuses_margins_the_command_line_refuses(vmc, small_circle, gm, pm):
+    with pytest.raises(InputError, match=r"gm_db=.*pm_deg=.*\(0, 40\] dB.*\(0, 90\) deg"):
+        tcpmm.tune_servos(vmc, gm_db=gm, pm_deg=pm, command=small_circle)
+
+
+def test_tune_servos_warns_of_a_phase_margin_in_radians(vmc):
+    from tcpmm.servo.tune import check_margins
+
+    with pytest.warns(InputWarning, match="radians, give pm_deg=45.8"):
+        check_margins(6, 0.8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_margins(6, 45)
 
 
 def test_a_compensation_dict_is_json_with_a_missing_spike_null(vmc, small_circle):

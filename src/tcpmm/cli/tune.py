@@ -7,6 +7,7 @@ from pathlib import Path
 
 import typer
 
+from ..servo.tune import MARGIN_RANGE, margins_valid
 from ._app import (
     app,
     emit_json,
@@ -29,9 +30,8 @@ def parse_margins(text: str) -> tuple[float, float]:
         gm, pm = float(m.group(1)), float(m.group(2))
     except (AttributeError, ValueError):
         raise typer.BadParameter(f"--margins must look like 6dB,45deg, got {text!r}") from None
-    if not (0 < gm <= 40 and 0 < pm < 90):
-        raise typer.BadParameter(f"--margins {text!r}: give a gain margin in (0, 40] dB and a "
-                                 "phase margin in (0, 90) deg")
+    if not margins_valid(gm, pm):
+        raise typer.BadParameter(f"--margins {text!r}: give {MARGIN_RANGE}")
     return gm, pm
 
 

@@ -45,11 +45,13 @@ cuts the velocity loop's bandwidth to less than half gets a warning.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._forked import results_in_order, usable_jobs
+from ..errors import InputError, InputWarning
 from .margins import axis_margins, position_margins, velocity_margins
 from .modeshift import (
     VELOCITY_ONLY_K_PP,
@@ -73,9 +75,9 @@ from .tunevelocity import (
 )
 from .tunewords import gain_notes, kpp_reason
 
-__all__ = ["VELOCITY_ONLY_K_PP", "AxisTuning", "light_mode_warnings", "meets_margins",
-           "tune_machine", "tune_position", "tune_velocity", "velocity_limit",
-           "velocity_loop_ok"]
+__all__ = ["MARGIN_RANGE", "VELOCITY_ONLY_K_PP", "AxisTuning", "check_margins",
+           "light_mode_warnings", "margins_valid", "meets_margins", "tune_machine",
+           "tune_position", "tune_velocity", "velocity_limit", "velocity_loop_ok"]
 
 
 @dataclass(frozen=True)
@@ -180,6 +182,40 @@ def velocity_limit(mech, servo, gm, pm) -> str:
         lambda g: velocity_margins(mech, with_pi(mech, servo, g)),
         lambda g: sampled_spectral_radius(mech, with_pi(mech, servo, g)), servo.K_vp, gm, pm,
         lambda g: worst_shift(mech, velocity_only(with_pi(mech, servo, g)), gm))
+
+
+#: The margins a proposal is tuned for, as ``tcpmm tune --margins`` and
+#: :func:`tcpmm.tune_servos` take them alike: at 0 dB or 0 deg the loop is at the edge of
+#: instability; 90 deg is a pure integrator's phase margin, which a loop with a delay
+#: and a rolling-off plant does not reach; and a gain margin beyond 40 dB leaves the loop
+#: less than a hundredth of the gain at which it turns unstable [-].
+MARGIN_RANGE = "a gain margin in (0, 40] dB and a phase margin in (0, 90) deg"
+
+
+def margins_valid(gm_db, pm_deg) -> bool:
+    """Whether ``gm_db`` [dB] and ``pm_deg`` [deg] are numbers in :data:`MARGIN_RANGE` [-]."""
+    numeric = all(isinstance(v, int | float | np.integer | np.floating)
+                  and not isinstance(v, bool) for v in (gm_db, pm_deg))
+    return numeric and 0 < gm_db <= 40 and 0 < pm_deg < 90  # NaN fails the comparison
+
+
+def check_margins(gm_db, pm_deg) -> None:
+    """Refuse margins outside :data:`MARGIN_RANGE` with an :class:`InputError`.
+
+    Parameters
+    ----------
+    gm_db : float
+        Required gain margin [dB].
+    pm_deg : float
+        Required phase margin [deg].
+    """
+    if not margins_valid(gm_db, pm_deg):
+        raise InputError(f"gm_db={gm_db!r}, pm_deg={pm_deg!r}: give {MARGIN_RANGE} (the "
+                         "phase margin in degrees, not radians)")
+    if pm_deg <= math.pi / 2:  # no design asks for 1.6 deg: a margin of 90 deg or less in rad
+        warnings.warn(f"pm_deg={pm_deg!r}: a phase margin of {pm_deg:g} deg leaves the loop "
+                      "barely stable; if it is in radians, give "
+                      f"pm_deg={math.degrees(pm_deg):.3g}", InputWarning, stacklevel=4)
 
 
 def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> dict:

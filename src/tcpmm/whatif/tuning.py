@@ -129,9 +129,9 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
     machine : Machine
         The model [SI].
     gm_db : float
-        Required gain margin of both loops [dB].
+        Required gain margin of both loops, in (0, 40] [dB].
     pm_deg : float
-        Required phase margin of both loops [deg].
+        Required phase margin of both loops, in (0, 90) [deg].
     command : Command, optional
         Path to predict; default the paper's circle [m].
     axes : str or sequence of str, optional

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..servo.tune import tune_machine
+from ..servo.tune import check_margins, tune_machine
 from ..servo.tunealone import tune_alone
 from .tuning_limit import held_words
 
@@ -111,6 +111,7 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list,
     dict of str to AxisTuning
         In the machine's order [-].
     """
+    check_margins(gm_db, pm_deg)
     sub = machine.model_copy(update={"axes": {n: machine.axes[n] for n in matched}})
     out = tune_machine(sub, gm_db, pm_deg, jobs) if matched else {}
     for n, a in machine.axes.items():

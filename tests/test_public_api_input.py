@@ -59,3 +59,21 @@ def test_a_compensation_dict_is_json_with_a_missing_spike_null(vmc, small_circle
         d = tcpmm.compensate(vmc, small_circle, draws=0, radius_m=0.01).to_dict()
     json.dumps(d, allow_nan=False)
     assert d["scores"]["before"]["circle"]["passes"][0]["spikes_um"]["A"] is None
+
+
+@pytest.mark.parametrize("kw, said", [({"noise_m": math.nan}, "noise_m must be a finite"),
+                                      ({"noise_m": -1e-6}, "noise_m must be 0 or more"),
+                                      ({"seed": -1}, "seed must be a whole number"),
+                                      ({"seed": 1.5}, "seed must be a whole number")])
+def test_virtual_run_refuses_bad_noise_and_seed(vmc, small_circle, kw, said):
+    with pytest.raises(InputError, match=said):
+        tcpmm.virtual_run(vmc, small_circle, **kw)
+
+
+@pytest.mark.parametrize("kw, said", [({"axes": ("Q",)}, r"no axis Q \(it has X, Y, Z\)"),
+                                      ({"axes": ()}, "none named"),
+                                      ({"axes": ("X",), "seed": -1}, "seed must be a whole")])
+def test_virtual_bundle_refuses_an_unknown_axis_and_a_bad_seed(vmc, tmp_path, kw, said):
+    with pytest.raises(InputError, match=said):
+        tcpmm.virtual_bundle(vmc, tmp_path / "b", **kw)
+    assert not (tmp_path / "b").exists()

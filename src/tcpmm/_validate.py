@@ -1,8 +1,11 @@
-"""Turn pydantic validation failures into messages that name the field and the fix."""
+"""Turn pydantic validation failures into messages that name the field and the fix, and
+check the numbers given to public functions alike."""
 
 from __future__ import annotations
 
 import difflib
+import math
+import numbers
 from collections.abc import Iterable
 
 from pydantic import ValidationError
@@ -90,3 +93,71 @@ def plausible(value, field: str, ranges: dict):
         raise ValueError(f"outside the plausible range {low:g} to {high:g}{unit} of a "
                          "machine tool's feed axis; check the number and its unit")
     return value
+
+
+def _is_real(value) -> bool:
+    # bool is an int to Python, but True as a radius is a slip, not a number
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def finite_number(name: str, value, unit: str) -> float:
+    """``value`` as a float, or an :class:`InputError` naming ``name`` unless it is a
+    finite number (text such as ``"0.035"`` is refused: a number read from a file or
+    typed is to be converted where its unit is known).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name [-].
+    value : object
+        The value given [unit].
+    unit : str
+        Its unit, said in the message (``"m"``, ``"-"``) [-].
+    """
+    if not _is_real(value) or not math.isfinite(value):
+        kind = "" if _is_real(value) else f" (a {type(value).__name__})"
+        raise InputError(f"{name} must be a finite number{_in(unit)}, got {value!r}{kind}")
+    return float(value)
+
+
+def positive_number(name: str, value, unit: str) -> float:
+    """``value`` as a float, or an :class:`InputError` unless a finite number above 0
+    (``unit`` as :func:`finite_number`) [unit]."""
+    v = finite_number(name, value, unit)
+    if v <= 0:
+        raise InputError(f"{name} must be above 0{_in(unit)}, got {value!r}")
+    return v
+
+
+def nonnegative_number(name: str, value, unit: str) -> float:
+    """``value`` as a float, or an :class:`InputError` unless a finite number of at least
+    0 (``unit`` as :func:`finite_number`) [unit]."""
+    v = finite_number(name, value, unit)
+    if v < 0:
+        raise InputError(f"{name} must be 0 or more{_in(unit)}, got {value!r}")
+    return v
+
+
+def count(name: str, value, low: int = 0) -> int:
+    """``value`` as an int, or an :class:`InputError` unless a whole number of at least
+    ``low`` (a seed, a number of draws) [-]."""
+    whole = isinstance(value, numbers.Integral) and not isinstance(value, bool)
+    if not whole or value < low:
+        raise InputError(f"{name} must be a whole number of at least {low}, got {value!r}")
+    return int(value)
+
+
+def plane_point(name: str, value, unit: str = "m") -> tuple[float, float]:
+    """``value`` as two floats, or an :class:`InputError` unless two finite coordinates
+    (a circle's centre in its plane) [unit]."""
+    try:
+        ok = len(value) == 2 and all(_is_real(c) and math.isfinite(c) for c in value)
+    except TypeError:  # a bare number has no length
+        ok = False
+    if not ok:
+        raise InputError(f"{name} must be two finite coordinates in {unit}, got {value!r}")
+    return float(value[0]), float(value[1])
+
+
+def _in(unit: str) -> str:
+    return "" if unit == "-" else f" in {unit}"

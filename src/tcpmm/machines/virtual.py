@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validate import count, nonnegative_number
+from ..errors import InputError
 from ..ident.excitation import log_sweep
 from ..io.bundle import write_bundle
 from ..io.bundle_schema import MachineConfig
@@ -76,17 +78,19 @@ def virtual_run(machine: Machine, command, noise_m: float = 2e-8, seed: int = 1)
     command : Command
         Position command of the run [m].
     noise_m : float
-        Standard deviation of the TCP device's noise, before its quantisation [m].
+        Standard deviation of the TCP device's noise, before its quantisation, 0 or more
+        [m].
     seed : int
-        Seed of the noise [-].
+        Seed of the noise, 0 or more [-].
 
     Returns
     -------
     Run
         Encoder, scale and TCP as the sensors read them [SI].
     """
+    noise_m = nonnegative_number("noise_m", noise_m, "m")
+    rng = np.random.default_rng(count("seed", seed))
     run = simulate(machine, command)
-    rng = np.random.default_rng(seed)
     for name, a in run.axes.items():
         s = machine.axes[name].sensors
         a.motor = quantise(a.motor_angle, s.encoder_quantum) * machine.axes[name].mechanics.R_L
@@ -191,16 +195,21 @@ def virtual_bundle(machine: Machine, path, axes=("X", "Y"), seed: int = 0):
     path : str or Path
         Bundle folder, created [-].
     axes : tuple of str
-        Axes recorded [-].
+        Axes recorded, of the machine's; ``"XY"`` is ``("X", "Y")`` [-].
     seed : int
-        Seed of the first axis's excitation; the next axes count on from it [-].
+        Seed of the first axis's excitation, 0 or more; the next axes count on from it [-].
 
     Returns
     -------
     Path
         The bundle folder [-].
     """
-    recs = {}
+    seed, recs = count("seed", seed), {}
+    axes = tuple(axes) if not isinstance(axes, str) else tuple(axes.upper())
+    if not axes or (lacks := [a for a in axes if a not in machine.axes]):
+        raise InputError(f"axes={axes!r}: the machine has no axis {', '.join(lacks)} (it has "
+                         f"{', '.join(machine.axes)}); name some of those" if axes else
+                         f"axes: none named; name some of {', '.join(machine.axes)}")
     for k, name in enumerate(axes):
         a = machine.axes[name]
         recs[name] = {"sweep": virtual_sweep(a, name=name, seed=seed + k)}

@@ -19,12 +19,17 @@ def small_circle():
     return tcpmm.circle_command(0.01, 0.05)
 
 
-def test_a_spread_dict_is_json_with_a_missing_spike_null(vmc, small_circle):
-    m = vmc.model_copy(update={"axes": {
+@pytest.fixture(scope="module")
+def uncertain(vmc):
+    """The built-in machine with an uncertainty of nothing: a spread's draws are it."""
+    return vmc.model_copy(update={"axes": {
         n: a.replace(uncertainty=AxisUncertainty()) for n, a in vmc.axes.items()}})
+
+
+def test_a_spread_dict_is_json_with_a_missing_spike_null(uncertain, small_circle):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        d = tcpmm.circle_spread(m, small_circle, 0.01, n=1, floors=None).to_dict()
+        d = tcpmm.circle_spread(uncertain, small_circle, 0.01, n=1, floors=None).to_dict()
     json.dumps(d, allow_nan=False)
     assert d["spikes"][0]["point"] == "A" and d["spikes"][0]["spike_um"] is None
 
@@ -77,3 +82,66 @@ def test_virtual_bundle_refuses_an_unknown_axis_and_a_bad_seed(vmc, tmp_path, kw
     with pytest.raises(InputError, match=said):
         tcpmm.virtual_bundle(vmc, tmp_path / "b", **kw)
     assert not (tmp_path / "b").exists()
+
+
+@pytest.fixture(scope="module")
+def small_run(vmc, small_circle):
+    return tcpmm.simulate(vmc, small_circle)
+
+
+def test_analyse_circle_takes_a_run_file_and_its_table(small_run, tmp_path):
+    import pandas as pd
+
+    small_run.write_csv(tmp_path / "run.csv")
+    want = tcpmm.analyse_circle(tcpmm.read_run(tmp_path / "run.csv"), 0.01).to_dict()
+    assert tcpmm.analyse_circle(tmp_path / "run.csv", 0.01).to_dict() == want
+    assert tcpmm.analyse_circle(str(tmp_path / "run.csv"), 0.01).to_dict() == want
+    assert tcpmm.analyse_circle(pd.read_csv(tmp_path / "run.csv"), 0.01).to_dict() == want
+    assert tcpmm.analyse_circle(small_run.to_pandas(), 0.01).to_dict()["passes"]
+
+
+@pytest.mark.parametrize("run", [None, 5, [1.0, 2.0]])
+def test_analyse_circle_refuses_what_is_no_run(run):
+    with pytest.raises(InputError, match="run must be a Run, a run file's path or its table"):
+        tcpmm.analyse_circle(run, 0.01)
+
+
+@pytest.mark.parametrize("sensors, said", [(("TCP",), None), ("tcp", None),
+                                           (("foo",), "'foo' is no sensor"),
+                                           ("tpc", "'tpc' is no sensor .did you mean 'tcp'"),
+                                           ((), "no sensor named")])
+def test_analyse_circle_reads_sensor_names_or_names_the_sensors(small_run, sensors, said):
+    if said is None:
+        res = tcpmm.analyse_circle(small_run, 0.01, sensors=sensors)
+        assert set(res.passes[0].sensors) == {"tcp"}
+        return
+    with pytest.raises(InputError, match=f"{said}.*give (one|some) of cmd, motor, scale, tcp"):
+        tcpmm.analyse_circle(small_run, 0.01, sensors=sensors)
+
+
+def test_spread_and_verdict_name_the_sensors(vmc, uncertain, small_circle):
+    with pytest.raises(InputError, match="'foo' is no sensor; give one of cmd, motor"):
+        tcpmm.circle_spread(uncertain, small_circle, 0.01, n=1, sensor="foo")
+    with pytest.raises(InputError, match="'foo' is no sensor; give one of cmd, motor"):
+        tcpmm.prediction_verdict(vmc, tests=[tcpmm.CircleTest("s", small_circle, 0.01)],
+                                 sensor="foo")
+
+
+@pytest.mark.parametrize("centre", [(0.0, 0.0, 5.0), 0, (0.0, math.nan), ("0", "0")])
+def test_a_circle_centre_is_two_finite_coordinates(small_run, centre):
+    with pytest.raises(InputError, match="centre_m must be two finite coordinates in m"):
+        tcpmm.analyse_circle(small_run, 0.01, centre_m=centre)
+    with pytest.raises(InputError, match="centre_m must be two finite coordinates in m"):
+        tcpmm.compare(small_run, small_run, radius_m=0.01, centre_m=centre)
+    with pytest.raises(InputError, match="centre_m must be two finite coordinates in m"):
+        tcpmm.circle_command(0.01, 0.05, centre_m=centre)
+
+
+@pytest.mark.parametrize("radius", [None, "0.01", -0.01, math.inf, True])
+def test_a_circle_radius_is_a_positive_number(small_run, radius):
+    with pytest.raises(InputError, match="radius_m must be"):
+        tcpmm.analyse_circle(small_run, radius)
+    with pytest.raises(InputError, match="radius_m must be"):
+        tcpmm.compare(small_run, small_run, radius_m=radius if radius is not None else "x")
+    with pytest.raises(InputError, match="radius_m must be"):
+        tcpmm.circle_command(radius, 0.05)

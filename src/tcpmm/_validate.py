@@ -6,7 +6,9 @@ from __future__ import annotations
 import difflib
 import math
 import numbers
+import os
 from collections.abc import Iterable
+from pathlib import Path
 
 from pydantic import ValidationError
 
@@ -157,6 +159,22 @@ def plane_point(name: str, value, unit: str = "m") -> tuple[float, float]:
     if not ok:
         raise InputError(f"{name} must be two finite coordinates in {unit}, got {value!r}")
     return float(value[0]), float(value[1])
+
+
+def file_path(name: str, value) -> Path:
+    """``value`` as a :class:`~pathlib.Path`, or an :class:`InputError` unless it is text
+    or a path (``None``, a table or a model where a file is asked for) [-]."""
+    if not isinstance(value, str | os.PathLike) or not str(value):
+        raise InputError(f"{name} must be a file's path (str or pathlib.Path), got "
+                         f"{_shown(value)}")
+    return Path(value)
+
+
+def _shown(value) -> str:
+    # a table or an array is no help spelt out: its kind is
+    if value is None or isinstance(value, str | int | float | tuple | list):
+        return repr(value)
+    return f"a {type(value).__name__}"
 
 
 def _in(unit: str) -> str:

@@ -39,6 +39,7 @@ from .circle_checks import (
 )
 from .circle_command import command_figures, radial_deviation, reference_stretches  # noqa: F401
 from .circle_feeds import command_radius, other_feeds
+from .circle_inputs import SENSORS, circle_arguments
 from .circle_passes import (  # noqa: F401
     SENSOR_TOL_SHARE,
     circle_deviation,
@@ -57,8 +58,6 @@ from .circle_spikes import (  # noqa: F401  (the spikes are part of this module'
     spikes_and_lobes,
     uncrossed_quadrants,
 )
-
-SENSORS = ("cmd", "motor", "scale", "tcp")
 
 
 @dataclass
@@ -344,29 +343,25 @@ def analyse_circle(run, radius_m, centre_m=(0.0, 0.0), plane=("X", "Y"), directi
 
     Parameters
     ----------
-    run : Run
-        Simulated or measured run [-].
+    run : Run or str or Path or pandas.DataFrame
+        Simulated or measured run, its file, or its table in the run-file layout (mm) [-].
     radius_m : float
         Nominal radius [m].
-    centre_m : tuple
-        Nominal centre [m].
+    centre_m : tuple of float
+        Nominal centre, two coordinates in the plane [m].
     plane : tuple of str
         The two axes of the circle plane, e.g. ``("Z", "X")``; CCW turns the first into
         the second, the centre is given in them [-].
     direction : {"ccw", "cw"}, optional
         Keep only passes in this direction [-].
     sensors : tuple of str
-        Sensors to analyse where present [-].
+        Sensors to analyse where present, of cmd, motor, scale, tcp [-].
     settling : bool
         Say where a pass starts before the servo has settled (:mod:`.circle_settling`) and
         where its figures hang on single samples; off for a prediction [-].
     """
-    if not radius_m > 0:
-        raise InputError(f"the circle radius must be positive (got {radius_m})")
-    axes = tuple(p.upper() for p in plane)
-    for a in axes:
-        if a not in run.axes:
-            raise InputError(f"the run has no axis {a} (axes: {', '.join(run.axes)})")
+    run, radius_m, centre_m, axes, sensors = circle_arguments(run, radius_m, centre_m, plane,
+                                                              sensors)
     X, Y = run.axes[axes[0]], run.axes[axes[1]]
     present = present_sensors(run, axes, sensors)
     ref = "cmd" if "cmd" in present else present[0]

@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import re
 from pathlib import Path
 
 import numpy as np
 
+from .._validate import file_path
 from ..errors import InputError
 from ..result import BLOCK_COLUMNS, RUN_COLUMNS, AxisRun, Run
 from .atomic import atomic_path
@@ -96,7 +98,29 @@ def read_run(path) -> Run:
     path : str or Path
         The run file [-].
     """
+    path = file_path("path", path)
     return read_run_parquet(path) if is_parquet(path) else read_run_csv(path)
+
+
+def as_run(run, name: str = "run") -> Run:
+    """``run`` as a :class:`~tcpmm.result.Run`: a run as it is, a run file read, a table in
+    the run-file layout checked as a file is; anything else an :class:`InputError`.
+
+    Parameters
+    ----------
+    run : Run or str or Path or pandas.DataFrame
+        The run, its file or its table (positions in mm) [-].
+    name : str
+        The argument's name, for the message [-].
+    """
+    if isinstance(run, Run):
+        return run
+    if isinstance(run, str | os.PathLike):
+        return read_run(run)
+    if type(run).__name__ == "DataFrame":  # pandas' own, without importing pandas here
+        return run_from_table(run)
+    raise InputError(f"{name} must be a Run, a run file's path or its table in the run-file "
+                     f"layout (time_s, <axis>_cmd_mm, ... in mm), got {run!r:.60}")
 
 
 def read_run_parquet(path) -> Run:

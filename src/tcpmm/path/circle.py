@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+from .._validate import finite_number, nonnegative_number, plane_point, positive_number
 from ..errors import InputError
 from .command import Command
 from .interpolate import interpolate_detailed
@@ -27,23 +28,17 @@ def _point(plane_axes, a, b, rest=0.0):
 def _check(
     radius_m, feed_m_per_s, direction, turns, plane_axes, dwell_s, centre_m, start_angle_rad
 ):
-    if not (math.isfinite(radius_m) and radius_m > 0):
-        raise InputError(f"radius_m must be a positive length in m, got {radius_m}")
-    if not (math.isfinite(feed_m_per_s) and feed_m_per_s > 0):
-        raise InputError(f"feed_m_per_s must be a positive speed in m/s, got {feed_m_per_s}")
+    positive_number("radius_m", radius_m, "m")
+    positive_number("feed_m_per_s", feed_m_per_s, "m/s")
     if direction not in ("cw", "ccw"):
         raise InputError(f"direction must be 'cw' or 'ccw', got {direction!r}")
-    if not (math.isfinite(turns) and turns > 0):
-        raise InputError(f"turns must be a positive number, got {turns}")
+    positive_number("turns", turns, "-")
     pa = tuple(str(a).upper() for a in plane_axes)
     if len(pa) != 2 or pa[0] == pa[1] or any(a not in AXES for a in pa):
         raise InputError(f"plane_axes must be two different axes of X, Y, Z, got {plane_axes}")
-    if not (math.isfinite(dwell_s) and dwell_s >= 0):
-        raise InputError(f"dwell_s must be >= 0 s, got {dwell_s}")
-    if len(centre_m) != 2 or not all(math.isfinite(c) for c in centre_m):
-        raise InputError(f"centre_m must be two finite coordinates in m, got {centre_m}")
-    if not math.isfinite(start_angle_rad):
-        raise InputError(f"start_angle_rad must be finite, got {start_angle_rad}")
+    nonnegative_number("dwell_s", dwell_s, "s")
+    plane_point("centre_m", centre_m)
+    finite_number("start_angle_rad", start_angle_rad, "rad")
     return pa
 
 

@@ -16,6 +16,7 @@ import math
 import re
 from dataclasses import dataclass, field
 
+from ..analysis.circle_inputs import sensor_name
 from ..analysis.circular import QUADRANTS
 from ..errors import InputError
 from .figures import circle_figures, figure_changes, reference_tests
@@ -332,7 +333,7 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
     tests : list of CircleTest, optional
         The tests; the reference circles (:func:`reference_tests`) when omitted [-].
     sensor : str
-        Sensor analysed [-].
+        Sensor analysed, of cmd, motor, scale, tcp [-].
     progress : callable, optional
         Called after each simulated variant [-].
     jobs : int, optional
@@ -344,7 +345,7 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
     Verdict
         Per figure and per axis [-].
     """
-    tests = reference_tests(machine) if tests is None else tests
+    tests, sensor = reference_tests(machine) if tests is None else tests, sensor_name(sensor)
     if not tests:
         return Verdict([], _axis_verdicts(machine, []), [])
     nominal, changes, opens = figure_changes(machine, tests, sensor, progress, jobs)

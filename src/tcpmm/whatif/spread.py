@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analysis.circle_inputs import sensor_name
 from ..analysis.circular import QUADRANTS, analyse_circle
 from ..errors import InputError
 from ..model import Machine
@@ -285,6 +286,7 @@ def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0
         Nominal figures and their spread [-].
     """
     _check_spread(machine, n, tolerance_m)
+    sensor = sensor_name(sensor)
 
     def circle(m):
         """The circle of ``m``, ``None`` where its run is no prediction."""

@@ -145,3 +145,11 @@ def test_a_circle_radius_is_a_positive_number(small_run, radius):
         tcpmm.compare(small_run, small_run, radius_m=radius if radius is not None else "x")
     with pytest.raises(InputError, match="radius_m must be"):
         tcpmm.circle_command(radius, 0.05)
+
+
+def test_a_circle_of_metres_is_taken_for_millimetres_and_warned_of():
+    with pytest.warns(InputWarning, match=r"radius_m=35: .*for 35 mm give radius_m=0.035"):
+        tcpmm.circle_command(35, 5000 / 60000, turns=0.02, feed_in=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tcpmm.circle_command(1.0, 0.05, turns=0.02, feed_in=False)

@@ -9,13 +9,20 @@ along a semicircle of radius R/2 back to the centre, tangential, same sense; at 
 from __future__ import annotations
 
 import math
+import warnings
 
 from .._validate import finite_number, nonnegative_number, plane_point, positive_number
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from .command import Command
 from .interpolate import interpolate_detailed
 from .segments import AXES, Arc, Dwell
 from .settings import InterpolatorSettings
+
+#: Radius beyond which a circle is taken for one given in mm as m, and warned of: circular
+#: test devices measure radii up to about 1.3 m (a ballbar with its extensions), and a
+#: circle of 5 m needs 10 m of travel on both axes of its plane, which only the largest
+#: gantry machines have; a 35 mm circle typed as 35 is a 35 m one [m].
+PLAUSIBLE_RADIUS_M = 5.0
 
 
 def _point(plane_axes, a, b, rest=0.0):
@@ -28,7 +35,11 @@ def _point(plane_axes, a, b, rest=0.0):
 def _check(
     radius_m, feed_m_per_s, direction, turns, plane_axes, dwell_s, centre_m, start_angle_rad
 ):
-    positive_number("radius_m", radius_m, "m")
+    if positive_number("radius_m", radius_m, "m") > PLAUSIBLE_RADIUS_M:
+        warnings.warn(f"radius_m={radius_m!r}: a circle of {radius_m:g} m, beyond the "
+                      f"{PLAUSIBLE_RADIUS_M:g} m of any circular test; radius_m is in "
+                      f"m: for {radius_m:g} mm give radius_m={radius_m * 1e-3:g}",
+                      InputWarning, stacklevel=4)
     positive_number("feed_m_per_s", feed_m_per_s, "m/s")
     if direction not in ("cw", "ccw"):
         raise InputError(f"direction must be 'cw' or 'ccw', got {direction!r}")

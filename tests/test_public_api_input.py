@@ -153,3 +153,12 @@ def test_a_circle_of_metres_is_taken_for_millimetres_and_warned_of():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         tcpmm.circle_command(1.0, 0.05, turns=0.02, feed_in=False)
+
+
+@pytest.mark.parametrize("kw, said", [({"draws": -1}, "draws must be a whole number of at "
+                                       "least 0, got -1"),
+                                      ({"draws": 1.5}, "draws must be a whole number"),
+                                      ({"seed": -1}, "seed must be a whole number")])
+def test_compensate_refuses_negative_draws(vmc, small_circle, kw, said):
+    with pytest.raises(InputError, match=said):
+        tcpmm.compensate(vmc, small_circle, radius_m=0.01, **{"draws": 0, **kw})

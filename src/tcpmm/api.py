@@ -201,8 +201,8 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
     command : Command or str or Path
         The programmed command, an NC program file or a command CSV [-].
     draws : int
-        Machines drawn from the model's uncertainty to test the compensation on; 0 for
-        none [-].
+        Machines drawn from the model's uncertainty to test the compensation on, 0 or
+        more; 0 for none [-].
     radius_m : float, optional
         Radius of a circular test, to judge its spikes and G too and keep them from
         getting worse on any draw; default the circle the command runs, where it is a
@@ -233,11 +233,12 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
         program holds still that the model lacks (a G18 program's Y on a machine of X and
         Z) are left out of it, and ``settings["held_axes_m"]`` says where they stand [-].
     """
+    from ._validate import count
     from .analysis.circle_find import circle_said, judged_circle
     from .compensate import machine_bounds
     from .compensate.held import without_held
 
-    m = load_model(machine)
+    draws, seed, m = count("draws", draws), count("seed", seed), load_model(machine)
     bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
     full, cmd, headroom = _with_headroom(command, m, headroom, bounds)
     (full, cmd), held = without_held(m, full, cmd)

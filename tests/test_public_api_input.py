@@ -162,3 +162,29 @@ def test_a_circle_of_metres_is_taken_for_millimetres_and_warned_of():
 def test_compensate_refuses_negative_draws(vmc, small_circle, kw, said):
     with pytest.raises(InputError, match=said):
         tcpmm.compensate(vmc, small_circle, radius_m=0.01, **{"draws": 0, **kw})
+
+
+@pytest.mark.parametrize("call, said", [
+    (lambda m, c, r: tcpmm.paper_circle_command(turns="1"), "turns must be a finite number"),
+    (lambda m, c, r: tcpmm.simulate(m, c, record_period_s="0.001"),
+     "record_period_s must be a finite number in s"),
+    (lambda m, c, r: tcpmm.simulate(m, c, record_period_s=0.0), "record_period_s must be above"),
+    (lambda m, c, r: tcpmm.contour_error(r, plane=5), "plane '5' must be two different axes"),
+    (lambda m, c, r: tcpmm.program_to_command("G1 X10 F1000\n", start_position_m=0),
+     r"start_position_m must be three finite coordinates \(X, Y, Z\) in m"),
+    (lambda m, c, r: tcpmm.simulate(None, c), "machine must be a Machine, a model file's path"),
+    (lambda m, c, r: tcpmm.simulate(m, c.to_pandas()), "command must be a Command, an NC prog"),
+    (lambda m, c, r: tcpmm.as_command(c.to_pandas()), "command must be a Command, an NC prog"),
+    (lambda m, c, r: tcpmm.compensate(m, c.to_pandas(), draws=0),
+     "command must be a Command, an NC prog"),
+    (lambda m, c, r: tcpmm.load_model(None), "source must be a Machine, a model file's path"),
+    (lambda m, c, r: tcpmm.save_model("x", "m.yaml"), "machine must be a Machine"),
+    (lambda m, c, r: tcpmm.save_model(m, None), "path must be a file's path"),
+    (lambda m, c, r: tcpmm.read_run(None), "path must be a file's path"),
+    (lambda m, c, r: tcpmm.circle_diagnostics(r), "result must be a CircleResult"),
+    (lambda m, c, r: tcpmm.contour_error(r, command=c.to_pandas()), "command must be a Command"),
+    (lambda m, c, r: tcpmm.prediction_verdict(m, tests=c), "tests must be a list of CircleTest"),
+])
+def test_a_wrong_kind_of_argument_is_named(vmc, small_circle, small_run, call, said):
+    with pytest.raises(InputError, match=said):
+        call(vmc, small_circle, small_run)

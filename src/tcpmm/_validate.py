@@ -152,22 +152,71 @@ def count(name: str, value, low: int = 0) -> int:
 def plane_point(name: str, value, unit: str = "m") -> tuple[float, float]:
     """``value`` as two floats, or an :class:`InputError` unless two finite coordinates
     (a circle's centre in its plane) [unit]."""
+    return coordinates(name, value, 2, unit)
+
+
+def coordinates(name: str, value, n: int, unit: str = "m") -> tuple[float, ...]:
+    """``value`` as ``n`` floats, or an :class:`InputError` unless ``n`` finite
+    coordinates (a point in a plane, or of X, Y and Z).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name [-].
+    value : object
+        The value given [unit].
+    n : int
+        How many coordinates [-].
+    unit : str
+        Their unit, said in the message [-].
+    """
     try:
-        ok = len(value) == 2 and all(_is_real(c) and math.isfinite(c) for c in value)
+        ok = len(value) == n and all(_is_real(c) and math.isfinite(c) for c in value)
     except TypeError:  # a bare number has no length
         ok = False
     if not ok:
-        raise InputError(f"{name} must be two finite coordinates in {unit}, got {value!r}")
-    return float(value[0]), float(value[1])
+        word, axes = {2: "two", 3: "three"}.get(n, str(n)), " (X, Y, Z)" if n == 3 else ""
+        raise InputError(f"{name} must be {word} finite coordinates{axes} in {unit}, got "
+                         f"{value!r}")
+    return tuple(float(c) for c in value)
 
 
-def file_path(name: str, value) -> Path:
+def file_path(name: str, value, what: str = "a file's path (str or pathlib.Path)") -> Path:
     """``value`` as a :class:`~pathlib.Path`, or an :class:`InputError` unless it is text
-    or a path (``None``, a table or a model where a file is asked for) [-]."""
+    or a path (``None``, a table or a model where a file is asked for).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name [-].
+    value : object
+        The value given [-].
+    what : str
+        What the argument may be, said in the message [-].
+    """
     if not isinstance(value, str | os.PathLike) or not str(value):
-        raise InputError(f"{name} must be a file's path (str or pathlib.Path), got "
-                         f"{_shown(value)}")
+        raise InputError(f"{name} must be {what}, got {_shown(value)}")
     return Path(value)
+
+
+def instance_of(name: str, value, kinds, what: str):
+    """``value``, or an :class:`InputError` unless an instance of ``kinds`` (a run given
+    where its analysis is asked for, a command where a list of tests is).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name [-].
+    value : object
+        The value given [-].
+    kinds : type or tuple of type
+        What it must be an instance of [-].
+    what : str
+        What it must be, in words with the call that makes one, for the message [-].
+    """
+    if not isinstance(value, kinds):
+        raise InputError(f"{name} must be {what}, got {_shown(value)}")
+    return value
 
 
 def _shown(value) -> str:

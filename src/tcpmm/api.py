@@ -7,6 +7,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+#: What a command argument may be, said where it is none of them [-].
+COMMAND_IS = ("a Command, an NC program's path or a command CSV's path (a table: write "
+              "it with to_csv(path, index=False))")
+
 
 def load_model(source):
     """A machine model from a model file, ``builtin:vmc``, or a Machine.
@@ -22,12 +26,20 @@ def load_model(source):
     Machine
         The model, SI inside [-].
     """
+    return _model(source, "source")
+
+
+def _model(source, name: str):
+    """``source`` as a Machine (:func:`load_model`), an :class:`InputError` naming the
+    argument ``name`` where it is neither a machine nor a path [-]."""
+    from ._validate import file_path
     from .model import Machine
 
     if isinstance(source, Machine):
         return source
     from .io.modelfile import read_machine
 
+    file_path(name, source, "a Machine, a model file's path or 'builtin:vmc'")
     return read_machine(source)
 
 
@@ -46,10 +58,18 @@ def save_model(machine, path) -> Path:
     Path
         The file written [-].
     """
+    from ._validate import file_path
+    from .errors import InputError
     from .io.modelfile import write_machine
+    from .model import Machine
 
+    if not isinstance(machine, Machine):
+        raise InputError(f"machine must be a Machine (builtin_machine(), load_model(...), "
+                         f"identify(...).machine), got {type(machine).__name__} "
+                         f"{machine!r:.40}; the path comes second")
+    path = file_path("path", path)
     write_machine(machine, path)
-    return Path(path)
+    return path
 
 
 def as_command(command, machine=None):
@@ -68,12 +88,13 @@ def as_command(command, machine=None):
     Command
         Interpolated position command [m].
     """
+    from ._validate import file_path
     from .path import Command, InterpolatorSettings, program_to_command, read_command_csv
     from .path.program import PROGRAM_SUFFIXES
 
     if isinstance(command, Command):
         return command
-    path = Path(command)
+    path = file_path("command", command, COMMAND_IS)
     if path.suffix.lower() not in PROGRAM_SUFFIXES:
         return read_command_csv(path)
     interp = getattr(machine, "interpolation", None)
@@ -101,9 +122,12 @@ def simulate(machine, command, record_period_s=None, progress=None):
     Run
         Command, motor encoder, linear scale, TCP and current per axis [SI].
     """
+    from ._validate import positive_number
     from .sim.simulate import simulate as _simulate
 
-    m = load_model(machine)
+    m = _model(machine, "machine")
+    if record_period_s is not None:
+        record_period_s = positive_number("record_period_s", record_period_s, "s")
     return _simulate(m, as_command(command, m), record_period_s=record_period_s,
                      progress=progress)
 
@@ -238,7 +262,7 @@ def compensate(machine, command, draws: int = 16, radius_m=None, seed: int = 0,
     from .compensate import machine_bounds
     from .compensate.held import without_held
 
-    draws, seed, m = count("draws", draws), count("seed", seed), load_model(machine)
+    draws, seed, m = count("draws", draws), count("seed", seed), _model(machine, "machine")
     bounds = machine_bounds(m, accel_m_per_s2, jerk_m_per_s3)
     full, cmd, headroom = _with_headroom(command, m, headroom, bounds)
     (full, cmd), held = without_held(m, full, cmd)
@@ -280,12 +304,14 @@ def _with_headroom(command, machine, headroom, bounds):
     """The command at the axes' full limits, the one the correction is learned on (its
     headroom a share of ``bounds``), and the headroom: only an NC program is planned
     anew [-]."""
+    from ._validate import file_path
     from .compensate.headroom import headroom_for, program_with_headroom
     from .path import Command, InterpolatorSettings
     from .path.program import PROGRAM_SUFFIXES
 
     is_program = (not isinstance(command, Command)
-                  and Path(command).suffix.lower() in PROGRAM_SUFFIXES)
+                  and file_path("command", command, COMMAND_IS).suffix.lower()
+                  in PROGRAM_SUFFIXES)
     headroom = headroom_for(is_program, headroom)
     if not is_program:
         cmd = as_command(command, machine)

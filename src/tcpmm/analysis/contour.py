@@ -49,9 +49,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._validate import instance_of
 from ..errors import InputError
-from ..io.runfile import run_from_table
-from ..result import Run
+from ..io.runfile import as_run
+from ..path.command import Command
 from .contour_chords import off_chord
 from .contour_corners import CornerStream, end_unreached
 from .contour_distance import (  # noqa: F401  (part of this module's interface)
@@ -257,8 +258,8 @@ def contour_error(run, command=None, plane="auto", window_s=None, corner_deg=30.
 
     Parameters
     ----------
-    run : Run or pandas.DataFrame
-        Simulated or measured run, or its table in the run-file layout (mm) [-].
+    run : Run or str or Path or pandas.DataFrame
+        Simulated or measured run, its file, or its table in the run-file layout (mm) [-].
     command : Command, optional
         The commanded path on the run's time line; default the run's command signals [-].
     plane : str or tuple of str or None
@@ -280,8 +281,8 @@ def contour_error(run, command=None, plane="auto", window_s=None, corner_deg=30.
         (:mod:`tcpmm.analysis.rapids`) [-].
     """
     _check_corner_options(corner_deg, corner_span_m, settle_tol_m)
-    if not isinstance(run, Run):  # a table in the run-file layout
-        run = run_from_table(run)
+    run, command = as_run(run), command if command is None else instance_of(
+        "command", command, Command, "a Command (tcpmm.read_command, program_to_command)")
     axes, signed = contour_axes(run, plane, command, rapids)
     t, tc, cmd, actual = run_signals(run, command, axes)
     line = polyline(cmd)

@@ -278,6 +278,11 @@ def circle_diagnostics(result, other=None, sensor=None, axes=None) -> CircleDiag
         The plane the circles were analysed in, for the term names; default the plane of
         ``result`` [-].
     """
+    for name, r in (("result", result), ("other", other or result)):
+        # a CircleResult by what it has: tcpmm.analysis.circular imports this module
+        if not (hasattr(r, "passes") and hasattr(r, "radius")):
+            raise InputError(f"{name} must be a CircleResult (tcpmm.analyse_circle(run, "
+                             f"radius_m)), got a {type(r).__name__}")
     axes = tuple(axes) if axes is not None else tuple(getattr(result, "plane", ("X", "Y")))
     pick = pick_passes(result, other)
     for d in ("ccw", "cw"):

@@ -34,9 +34,12 @@ def plane_axes(name) -> tuple[str, str]:
     name : str or tuple of str
         Two different axes of X, Y, Z, in order [-].
     """
-    axes = tuple(str(a).upper() for a in (name if not isinstance(name, str) else name.strip()))
+    given = (name.strip() if isinstance(name, str) else
+             name if isinstance(name, tuple | list) else ())  # a number is no plane
+    axes = tuple(str(a).upper() for a in given)
     if len(axes) != 2 or axes[0] == axes[1] or any(a not in AXES for a in axes):
-        raise InputError(f"plane {''.join(map(str, name))!r} must be two different axes of "
+        shown = "".join(map(str, given)) if given else str(name)
+        raise InputError(f"plane {shown!r} must be two different axes of "
                          "X, Y, Z, e.g. XY, XZ, YZ (or ZX as G18 has it)")
     return axes
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from .._validate import coordinates
 from ..errors import InputError
 from .command import Command
 from .gcode_stream import parse_gcode
@@ -138,6 +139,7 @@ def program_to_interpolation(
         raise InputError(
             f"expected an NC program file or its text, got {type(path_or_text).__name__}"
         )
+    start_position_m = coordinates("start_position_m", start_position_m, 3)
     segments = parse_gcode(text, file, start_position_m=start_position_m)
     if not segments:
         raise InputError(

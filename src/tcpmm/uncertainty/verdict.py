@@ -19,7 +19,13 @@ from dataclasses import dataclass, field
 from ..analysis.circle_inputs import sensor_name
 from ..analysis.circular import QUADRANTS
 from ..errors import InputError
-from .figures import circle_figures, figure_changes, reference_tests
+from .figures import (
+    CircleTest,
+    ProgramTest,
+    circle_figures,
+    figure_changes,
+    reference_tests,
+)
 
 __all__ = ["CALIBRATION", "FigureVerdict", "NotItsPrediction", "Verdict", "not_its_prediction",
            "prediction_verdict", "target", "verdict_words"]
@@ -346,6 +352,10 @@ def prediction_verdict(machine, tests=None, sensor: str = "tcp", progress=None,
         Per figure and per axis [-].
     """
     tests, sensor = reference_tests(machine) if tests is None else tests, sensor_name(sensor)
+    if not (isinstance(tests, list | tuple)
+            and all(isinstance(t, CircleTest | ProgramTest) for t in tests)):
+        raise InputError("tests must be a list of CircleTest or ProgramTest, e.g. "
+                         f"[tcpmm.CircleTest(label, command, radius_m)], got {tests!r:.60}")
     if not tests:
         return Verdict([], _axis_verdicts(machine, []), [])
     nominal, changes, opens = figure_changes(machine, tests, sensor, progress, jobs)

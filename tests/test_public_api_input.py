@@ -188,3 +188,21 @@ def test_compensate_refuses_negative_draws(vmc, small_circle, kw, said):
 def test_a_wrong_kind_of_argument_is_named(vmc, small_circle, small_run, call, said):
     with pytest.raises(InputError, match=said):
         call(vmc, small_circle, small_run)
+
+
+@pytest.mark.parametrize("kw, said", [
+    ({"delay_s": -1.0}, "delay_s .* must be 0 or more"),
+    ({"delay_s": "abc"}, "delay_s .* must be a finite number"),
+    ({"max_poles": 0}, "max_poles must be a whole number of at least 1"),
+    ({"poles": 2.5}, "poles must be a whole number"),
+    ({"min_coherence": 1.5}, "min_coherence must be within 0 and 1")])
+def test_fit_frf_names_the_argument_at_fault(kw, said):
+    """A delay of -1 s, a delay of text or a largest pole count of 0 were refused as "813
+    bins are too few to fit any order; widen the band"."""
+    from conftest import BENCH_DATA
+
+    frf = tcpmm.read_frf(BENCH_DATA / "sinumerik" / "freq_trace.XML")
+    with pytest.raises(InputError, match=said):
+        tcpmm.fit_frf(frf, **kw)
+    with pytest.raises(InputError, match="frf must be a measured response"):
+        tcpmm.fit_frf("freq_trace.XML")

@@ -49,6 +49,7 @@ from ...frfdata import FRF
 from ._needles import clean_fit
 from ._select import by_criterion, by_total, choose, fewer_note, score
 from .delayheld import check_held_delay
+from .frfargs import checked_fit_args
 from .frfnoise import NOISE_WINDOW, noise_level
 from .goodness import warn_if_misfit, warn_if_off
 from .tffit import WEIGHT_FLOOR, TFFit, check_order_resolved, fit_tf
@@ -231,6 +232,8 @@ def fit_frf(frf: FRF, poles="auto", band_hz: tuple[float | None, float | None] |
     FRFFit
         The model, its quality and the orders tried [-].
     """
+    poles, delay_s, max_poles = checked_fit_args(frf, poles, delay_s, max_poles,
+                                                 min_coherence)
     if weighting not in WEIGHTINGS:
         raise InputError(f"weighting must be one of {', '.join(WEIGHTINGS)}, got {weighting!r}")
     if not (np.isfinite(damping_floor) and 0 <= damping_floor < 1):

@@ -49,3 +49,22 @@ def test_two_studies_of_programs_into_one_folder_at_once_are_refused(tmp_path):
 
     with writing(tmp_path), pytest.raises(InputError, match="another sweep is writing"):
         run_programs({}, [], tmp_path, workers=1)
+
+
+def test_a_program_a_worker_cannot_read_is_said_of_the_worker(tmp_path):
+    """A worker that could not read a program (started elsewhere, or without the shared
+    folder) said "NC program not found; check the path" of a path that is right on the
+    command's machine. Outside a worker, the reader's own message stands."""
+    from distributed import Client, LocalCluster
+
+    from tcpmm.machines.builtin import builtin_machine
+    from tcpmm.whatif.sweep.programs import program_task
+
+    gone = str(tmp_path / "gone.nc")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=":0") as cluster, Client(cluster) as client:
+        row = client.submit(program_task, "m", builtin_machine("vmc"), gone, 1000).result()
+    assert row["status"] == "failed"
+    assert "Dask worker at" in row["error"] and "cannot read" in row["error"]
+    here = program_task("m", builtin_machine("vmc"), gone, 1000)
+    assert "Dask worker" not in here["error"] and "not found" in here["error"]

@@ -4,8 +4,9 @@ quietly when a signal stops the sweep."""
 from __future__ import annotations
 
 from contextlib import contextmanager
+from pathlib import Path
 
-from ...errors import TcpmmError
+from ...errors import InputError, TcpmmError
 
 #: Dask's nanny starts each worker with glibc's malloc trimming memory back to the system
 #: above 64 KiB; a variant allocates and frees its run's arrays, and that made it 17 %
@@ -109,3 +110,26 @@ def scheduler_lost(client, exc: Exception) -> bool:
 
     return (isinstance(exc, CommClosedError) or "scheduler-connection-lost" in str(exc)
             or getattr(client, "status", "running") not in ("running", "newly-created"))
+
+
+def refuse_unreadable_on_worker(path) -> None:
+    """Refuse a program that this process, a Dask worker, cannot read: the command found
+    it on its own machine, and "not found; check the path" sent the user to a path that
+    is right there (a worker elsewhere, or without the shared folder) [-].
+
+    Parameters
+    ----------
+    path : str or Path
+        The program, as the command resolved it [-].
+    """
+    if Path(path).is_file():
+        return
+    try:
+        from distributed import get_worker
+
+        worker = get_worker()
+    except (ImportError, ValueError):  # not on a worker: the reader says it
+        return
+    raise InputError(f"the Dask worker at {worker.address} cannot read {path}, which the "
+                     "command found on its own machine: put the programs on a folder every "
+                     "worker mounts at the same path", file=path)

@@ -34,7 +34,7 @@ from ...path.settings import InterpolatorSettings
 from ...path.stream import CHUNK_BLOCKS
 from ...result import AxisRun, Run
 from ...sim.streamrun import stream_simulate
-from .cluster import SchedulerLost, local_client, scheduler_lost
+from .cluster import SchedulerLost, local_client, refuse_unreadable_on_worker, scheduler_lost
 from .run import RETRIES
 from .store import writing
 
@@ -224,6 +224,7 @@ def program_task(model: str, machine, program, chunk_blocks: int,
     row = dict.fromkeys(COLUMNS)
     row.update(model=model, program=str(program), status="ok")
     try:
+        refuse_unreadable_on_worker(program)
         with tempfile.TemporaryDirectory(prefix="tcpmm-sweep-") as tmp:
             run_file = Path(tmp) / "run.parquet"
             row.update(_simulate(machine, Path(program), run_file, chunk_blocks))

@@ -4,11 +4,10 @@ nominal ones.
 
 Every radial figure of the circular test is taken about the nominal centre. A command
 whose circle lies ``d`` off it puts ``d cos(angle - phi)`` into every sensor's radial
-error, once around: bench C's circle shifted by 20 um read its raw spikes up to 24 um
-and its contour error 18 um off, with no word; shifted by 0.2 mm, it was blamed on a
-compensated command. The command's offset is read from its radial deviation's first
-harmonic over its whole turns, which a controller's filter (a radius pulled in evenly)
-leaves alone.
+error, once around: bench C's circle shifted by 20 um reads its raw spikes up to 24 um
+and its contour error 18 um off. The command's offset is read from its radial
+deviation's first harmonic over its whole turns, which a controller's filter (a radius
+pulled in evenly) leaves alone.
 """
 
 from __future__ import annotations

@@ -30,7 +30,7 @@ def collect_late() -> None:
             gc.set_threshold(*thresholds)
             # replaced in its place by a function of C, not removed: removed while the
             # collector walks the list, it would make it skip the next callback; kept, a
-            # Ctrl-C that fell in it on any later collection was "ignored" by Python
+            # Ctrl-C that falls in it on a later collection is "ignored" by Python
             gc.callbacks[gc.callbacks.index(restore)] = operator.is_
 
     gc.callbacks.append(restore)

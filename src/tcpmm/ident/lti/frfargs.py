@@ -1,6 +1,6 @@
-"""The arguments of :func:`tcpmm.ident.lti.frffit.fit_frf`, checked by name: a delay of
--1 s or a largest pole count of 0 was refused as "813 bins are too few to fit any order;
-widen the band", which sent the user to the band."""
+"""The arguments of :func:`tcpmm.ident.lti.frffit.fit_frf`, checked by name before the
+fit: a delay of -1 s or a largest pole count of 0 left to the fit ends in "too few bins
+to fit any order; widen the band", which sends the user to the band."""
 
 from __future__ import annotations
 

@@ -1,9 +1,6 @@
 """A sweep stopped (Ctrl-C) while tasks run on workers keeps the rows of the tasks the
 workers finish, as the command says."""
 
-import os
-import signal
-import threading
 import time
 
 import pytest
@@ -19,19 +16,23 @@ def _slow(machine, program, variant, *rest):
 
 
 def test_rows_of_the_tasks_under_way_at_a_stop_are_kept():
-    """Stopped with tasks on the workers, the sweep dropped their rows although their
-    variants were computed (and their run files written) and it said them kept."""
+    """Stopped (a Ctrl-C, raised here as the first row is taken, so that the stop falls
+    while the other chunks run on the workers whatever the machine's load), the sweep
+    dropped the rows of the chunks under way although their variants were computed (and
+    their run files written) and it said them kept."""
     from distributed import Client, LocalCluster
 
     todo = [Variant((("X.servo.K_pp", float(k)),)) for k in range(40)]
     got = []
+
+    def sink(variant, row):
+        got.append(row)
+        if len(got) == 1:
+            raise KeyboardInterrupt
+
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
                       dashboard_address=":0") as cluster, Client(cluster) as client:
-        client.submit(time.sleep, 0).result()  # the workers up before the clock starts
-        stop = threading.Timer(0.25, os.kill, (os.getpid(), signal.SIGINT))
-        stop.start()
-        with pytest.raises(KeyboardInterrupt):  # four chunks of 0.5 s: none done by then
-            _on_client(client, _slow, lambda v: (None, None, v), todo,
-                       lambda v, r: got.append(r))
-        stop.join()
-    assert len(got) == 40 and all(r is not None for r in got)
+        with pytest.raises(KeyboardInterrupt):
+            _on_client(client, _slow, lambda v: (None, None, v), todo, sink)
+    # the rest of the chunk being taken at the stop is lost; the chunks on the workers not
+    assert len(got) > 10 and all(r is not None for r in got), len(got)

@@ -192,7 +192,7 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
     from .analysis.circular import CircleResult, analyse_circle
     from .analysis.compare import compare_circles, cut_alike
     from .errors import InputError
-    from .io.runfile import read_run
+    from .io.runfile import as_run
 
     given = [r for r in (measured, predicted) if isinstance(r, CircleResult)]
     if radius_m is None and given:
@@ -205,7 +205,8 @@ def compare(measured, predicted, radius_m=None, centre_m=(0.0, 0.0)):
             raise InputError("compare needs radius_m [m] to analyse a run")
         return analyse_circle(r, radius_m, centre_m, settling=settling)
 
-    runs = [read_run(r) if isinstance(r, (str, Path)) else r for r in (measured, predicted)]
+    runs = [r if isinstance(r, CircleResult) else as_run(r, name)
+            for r, name in ((measured, "measured"), (predicted, "predicted"))]
     if not any(isinstance(r, CircleResult) for r in runs):
         runs[1] = cut_alike(*runs)
     # a prediction's transient is the measurement's, to compare: said of the measurement

@@ -79,12 +79,13 @@ def not_found_error(radius_m, centre_m, axes, ref, direction, reach_m=None) -> I
     distance from the centre, ``reach_m`` [m], is the radius times one of
     :data:`OTHER_UNITS`' factors, the unit it is then in [-]."""
     ax, ay = axes
-    for unit, factor, fix in OTHER_UNITS if reach_m else ():
-        if abs(reach_m / radius_m / factor - 1.0) < UNIT_SHARE:
-            return InputError(
-                f"the {ref} signals lie {reach_m * 1e3:.6g} mm from the centre, the radius of "
-                f"{radius_m * 1e3:g} mm times {factor:.4g}: the run holds {unit}, not mm; "
-                f"{fix.format('every *_mm column')}")
+    other = unit_of(reach_m / radius_m) if reach_m else None
+    if other is not None:
+        unit, factor, fix = other
+        return InputError(
+            f"the {ref} signals lie {reach_m * 1e3:.6g} mm from the centre, the radius of "
+            f"{radius_m * 1e3:g} mm times {factor:.4g}: the run holds {unit}, not mm; "
+            f"{fix.format('every *_mm column')}")
     what = f" {direction.upper()}" if direction else ""
     where = (f"({centre_m[0] * 1e3:g}, {centre_m[1] * 1e3:g}) mm" if (ax, ay) == ("X", "Y")
              else f"{ax} {centre_m[0] * 1e3:g} mm, {ay} {centre_m[1] * 1e3:g} mm")
@@ -327,12 +328,19 @@ def refuse_other_unit(v, rv, column: str, ref: str) -> None:
     if not v.size or not np.ptp(rv) > 0:
         return
     ratio = float(np.ptp(v) / np.ptp(rv))
-    for unit, factor, fix in OTHER_UNITS:
-        if abs(ratio / factor - 1.0) < UNIT_SHARE:
-            raise InputError(
-                f"{column} travels {np.ptp(v) * 1e3:.6g} where the {ref}'s travels "
-                f"{np.ptp(rv) * 1e3:.6g} mm, {ratio:.4g} times as far: it holds {unit}, not "
-                f"mm; {fix.format('it')}")
+    other = unit_of(ratio)
+    if other is not None:
+        unit, _, fix = other
+        raise InputError(
+            f"{column} travels {np.ptp(v) * 1e3:.6g} where the {ref}'s travels "
+            f"{np.ptp(rv) * 1e3:.6g} mm, {ratio:.4g} times as far: it holds {unit}, not "
+            f"mm; {fix.format('it')}")
+
+
+def unit_of(ratio: float):
+    """The entry of :data:`OTHER_UNITS` whose factor ``ratio`` (a length read in mm over
+    the one it stands for) is to within :data:`UNIT_SHARE`, else None [-]."""
+    return next((u for u in OTHER_UNITS if abs(ratio / u[1] - 1.0) < UNIT_SHARE), None)
 
 
 #: Share of a figure by which it may move when every other sample is left out before it is

@@ -288,7 +288,8 @@ class _Scan:
         cut = cut_off(ts, cuts, feed if self.clamp else None)
         if cut is not None:
             raise WindowCut(*cut)
-        self._sum(found, qs, (ts, feed, since), cmd[c0:c1], path_length(cmd, self.s0)[c0:c1])
+        s_buf = path_length(cmd, self.s0)  # from the run's start, for the leaps
+        self._sum(found, qs, (ts, feed, since), cmd[c0:c1], s_buf[c0:c1])
         got = (qs, {s: v[0] for s, v in found.items()},
                {s: v[1] + self.base + c0 for s, v in found.items()})
         self._to_corners(self.corners.add_samples, t[first:b], *got)
@@ -298,7 +299,7 @@ class _Scan:
         self.buf = {c: v[drop:].copy() for c, v in buf.items()}
         if 0 < drop < n:
             self.before, self.prev = direction(cmd, moves, drop - 1), cmd[drop - 1]
-        self.s0 = float(path_length(cmd[:min(drop, n - 1) + 1], self.s0)[-1])
+        self.s0 = float(s_buf[min(drop, n - 1)])
         self.first, self.base = b - drop, self.base + drop
 
     def _sum(self, found, qs, times, cmd, s_cmd) -> None:

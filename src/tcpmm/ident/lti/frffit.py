@@ -243,10 +243,10 @@ def fit_frf(frf: FRF, poles="auto", band_hz: tuple[float | None, float | None] |
     ctx = _context(data, weighting, delay_s, damping_floor, min_coherence)
     ctx["auto"] = poles == "auto"
     if poles == "auto":
-        best, cands = _auto(ctx, int(max_poles))
+        best, cands = _auto(ctx, max_poles)
         best = choose(ctx, [best], best["tried"][0])
     else:
-        best, cands = _given_order(ctx, int(poles))
+        best, cands = _given_order(ctx, poles)
     return _frf_fit(frf, data, ctx, best, cands, weighting)
 
 
@@ -285,9 +285,8 @@ def _context(data: FRF, weighting: str, delay_s, damping_floor: float,
 
 
 def _given_order(ctx: dict, n: int) -> tuple:
-    """The best of ``n`` poles over ``n - 1`` or ``n`` zeros, and the candidates [-]."""
-    if n < 0:
-        raise InputError(f"the number of poles must be >= 0, got {n}")
+    """The best of ``n`` poles over ``n - 1`` or ``n`` zeros, and the candidates; ``n`` a
+    whole number of 0 or more (:func:`.frfargs.checked_fit_args`) [-]."""
     check_order_resolved(ctx["f"], n)  # else no order is tried, or it is not determined
     tries = _tries(ctx, n)
     if not tries:

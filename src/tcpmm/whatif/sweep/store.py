@@ -35,9 +35,9 @@ FEED_RUN = "feed_run_mm_per_min"
 
 
 def _digest(obj) -> str:
-    """A hash of a JSON-ready object, 16 hex digits [-]."""
+    """The SHA-256 of a JSON-ready object's JSON, in hex digits [-]."""
     text = json.dumps(obj, sort_keys=True, default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def study_record(machine, program, sensor: str, floors=None) -> dict:
@@ -45,11 +45,10 @@ def study_record(machine, program, sensor: str, floors=None) -> dict:
     (``parts``), by which a folder of another study says what differs [-]."""
     body = {"model": machine.model_dump(mode="json"), "program": program.to_dict(),
             "sensor": sensor, "floors": floors}
-    text = json.dumps(body, sort_keys=True, default=str)
-    parts = {"model": _digest(body["model"]), "program": body["program"], "sensor": sensor,
-             "floors": None if floors is None else _digest(floors)}
-    return {"key": hashlib.sha256(text.encode()).hexdigest(), "machine": machine.name,
-            "program": program.to_dict(), "sensor": sensor, "parts": parts}
+    parts = {"model": _digest(body["model"])[:16], "program": body["program"],
+             "sensor": sensor, "floors": None if floors is None else _digest(floors)[:16]}
+    return {"key": _digest(body), "machine": machine.name, "program": body["program"],
+            "sensor": sensor, "parts": parts}
 
 
 def _floors_said(digest) -> str:

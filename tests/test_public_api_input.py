@@ -29,7 +29,7 @@ def uncertain(vmc):
 def test_a_spread_dict_is_json_with_a_missing_spike_null(uncertain, small_circle):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        d = tcpmm.circle_spread(uncertain, small_circle, 0.01, n=1, floors=None).to_dict()
+        d = tcpmm.circle_spread(uncertain, small_circle, 0.01, n=10, floors=None).to_dict()
     json.dumps(d, allow_nan=False)
     assert d["spikes"][0]["point"] == "A" and d["spikes"][0]["spike_um"] is None
 
@@ -121,7 +121,7 @@ def test_analyse_circle_reads_sensor_names_or_names_the_sensors(small_run, senso
 
 def test_spread_and_verdict_name_the_sensors(vmc, uncertain, small_circle):
     with pytest.raises(InputError, match="'foo' is no sensor; give one of cmd, motor"):
-        tcpmm.circle_spread(uncertain, small_circle, 0.01, n=1, sensor="foo")
+        tcpmm.circle_spread(uncertain, small_circle, 0.01, n=10, sensor="foo")
     with pytest.raises(InputError, match="'foo' is no sensor; give one of cmd, motor"):
         tcpmm.prediction_verdict(vmc, tests=[tcpmm.CircleTest("s", small_circle, 0.01)],
                                  sensor="foo")

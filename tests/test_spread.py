@@ -120,28 +120,31 @@ def test_uncertainty_round_trips_through_the_model_file(tmp_path, played):
 
 def test_spread_is_zero_without_uncertainty_and_grows_with_it(played):
     cmd = paper_circle_command()
-    none = circle_spread(with_uncertainty(played), cmd, 0.035, n=2, floors=None)
+    none = circle_spread(with_uncertainty(played), cmd, 0.035, n=10, floors=None)
     for r in none.rows():
         assert r["low_um"] == pytest.approx(r["spike_um"], abs=1e-9)
         assert r["high_um"] == pytest.approx(r["spike_um"], abs=1e-9)
         assert r["settled"] and r["within"] == 1.0 and r["firm"]
     wide = circle_spread(with_uncertainty(played, guideway_share=math.inf), cmd, 0.035,
-                         n=6, floors=None, tolerance_m=0.2e-6)
+                         n=10, floors=None, tolerance_m=0.2e-6)
     rows = wide.rows()
     ranges = [r["high_um"] - r["low_um"] for r in rows]
     assert max(ranges) > 0.5  # the share decides when the nut leaves its flank
-    assert len(wide.to_pandas()) == 8 and wide.to_dict()["draws"] == 6
+    assert len(wide.to_pandas()) == 8 and wide.to_dict()["draws"] == 10
     # a point is firm when nine in ten draws lie within the tolerance of the nominal spike
-    for r, d in zip(rows, wide.spikes.reshape(6, -1).T, strict=True):
+    for r, d in zip(rows, wide.spikes.reshape(10, -1).T, strict=True):
         near = np.mean(np.abs(d * 1e6 - r["spike_um"]) <= 0.2)
         assert r["within"] == pytest.approx(near) and r["draws_agree"] == (near >= 0.9) == r["firm"]
     assert {(r["direction"], r["point"]) for r in wide.loose()} == {
         (r["direction"], r["point"]) for r in rows if r["settled"] and not r["firm"]}
     assert wide.loose() and wide.to_dict()["tolerance_um"] == pytest.approx(0.2)
     with pytest.raises(InputError, match="tolerance"):
-        circle_spread(with_uncertainty(played), cmd, 0.035, n=1, tolerance_m=0.0)
+        circle_spread(with_uncertainty(played), cmd, 0.035, n=10, tolerance_m=0.0)
     with pytest.raises(InputError, match="no uncertainty"):
-        circle_spread(played, cmd, 0.035, n=2)
+        circle_spread(played, cmd, 0.035, n=10)
+    # two draws of two would call every point settled: nine in ten needs ten
+    with pytest.raises(InputError, match="10 or more, got 9"):
+        circle_spread(with_uncertainty(played), cmd, 0.035, n=9)
 
 
 def test_cli_spread(tmp_path, capsys, played):
@@ -229,12 +232,12 @@ def test_a_run_that_is_no_prediction_is_no_spread(tmp_path, capsys, played):
                      "--radius", "35", "--json"]) == 2
         err = " ".join(capsys.readouterr().err.split())
         assert needle in err and "--allow-unstable" not in err
-    res = circle_spread(base, paper_circle_command(), 0.035, n=2)
+    res = circle_spread(base, paper_circle_command(), 0.035, n=10)
     counted = SpikeSpread(res.nominal, res.directions, res.spikes, res.contour_error,
-                          res.sensor, res.tolerance, faulted=2)
+                          res.sensor, res.tolerance, faulted=10)
     for a, b in zip(res.rows(), counted.rows(), strict=True):
         assert b["same_sign"] == pytest.approx(a["same_sign"] / 2) and not b["settled"]
-    assert counted.to_dict()["faulted_draws"] == 2
+    assert counted.to_dict()["faulted_draws"] == 10
 
 
 @pytest.mark.parametrize("columns", [80, 60])

@@ -31,12 +31,16 @@ from ..sim.simulate import simulate
 from .draws import MODEL_ERROR, draw_axis, draw_machine, longer_presliding, scaled_contact
 
 # the draws are named here too: the sweep, the studies and the tests take them from here
-__all__ = ["MODEL_ERROR", "SETTLED_FRACTION", "TOLERANCE", "SpikeSpread", "circle_spread",
-           "draw_axis", "draw_machine", "longer_presliding", "scaled_contact"]
+__all__ = ["MIN_DRAWS", "MODEL_ERROR", "SETTLED_FRACTION", "TOLERANCE", "SpikeSpread",
+           "circle_spread", "draw_axis", "draw_machine", "longer_presliding", "scaled_contact"]
 
 #: Share of the draws that must give the nominal sign for a spike to count as settled, and
 #: that must lie within the tolerance of it for it to count as firm [-].
 SETTLED_FRACTION = 0.9
+#: Fewest draws a spread takes: nine in ten of them must agree for a point to be settled
+#: or firm, and fewer than ten cannot show nine in ten (two of two would call every point
+#: settled) [-].
+MIN_DRAWS = 10
 #: How the draws and the verdicts differ, said beside the draws' table (command line and
 #: report): the same spike has an interval of each, and they answer different questions.
 DRAWS_NOTE = ("The draws and the verdicts answer two questions: the draws widen every "
@@ -156,8 +160,8 @@ class SpikeSpread:
 
 
 def _check_spread(machine: Machine, n: int, tolerance_m: float) -> None:
-    """Refuse a spread of no draws, a tolerance that is not positive, or a model without
-    uncertainty to draw from.
+    """Refuse a spread of fewer than :data:`MIN_DRAWS` draws, a tolerance that is not
+    positive, or a model without uncertainty to draw from.
 
     Parameters
     ----------
@@ -168,8 +172,11 @@ def _check_spread(machine: Machine, n: int, tolerance_m: float) -> None:
     tolerance_m : float
         Distance within which a draw agrees with the nominal spike [m].
     """
-    if n < 1:
-        raise InputError(f"the number of draws must be 1 or more, got {n}", column="n")
+    if n < MIN_DRAWS:
+        raise InputError(
+            f"the number of draws must be {MIN_DRAWS} or more, got {n}: a point is settled "
+            f"where nine in ten draws agree, which fewer than {MIN_DRAWS} cannot show",
+            column="n")
     if not tolerance_m > 0.0:
         raise InputError(f"the tolerance must be positive, got {tolerance_m} m",
                          column="tolerance")
@@ -266,7 +273,7 @@ def circle_spread(machine: Machine, command, radius_m: float, centre_m=(0.0, 0.0
     centre_m : tuple of float
         Nominal centre [m].
     n : int
-        Number of drawn machines [-].
+        Number of drawn machines, at least :data:`MIN_DRAWS` [-].
     seed : int
         Seed of the draws [-].
     sensor : str

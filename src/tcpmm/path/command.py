@@ -8,6 +8,10 @@ import numpy as np
 
 from ..errors import InputError
 
+#: Largest departure of a command's sample interval from their mean, relative to it, that
+#: is taken as uniform sampling: a clock time's rounding in a text file, not a gap [-].
+UNIFORM_TOL = 1e-6
+
 
 @dataclass(frozen=True)
 class Command:
@@ -36,7 +40,7 @@ class Command:
         dt = np.diff(t)
         if not np.all(np.isfinite(t)) or np.any(dt <= 0):
             raise InputError("command time must be finite and strictly increasing")
-        if np.max(np.abs(dt - dt.mean())) > 1e-6 * dt.mean() + 1e-12:
+        if np.max(np.abs(dt - dt.mean())) > UNIFORM_TOL * dt.mean() + 1e-12:
             raise InputError("command time must be uniformly sampled")
         pos = {}
         for name, p in self.positions.items():

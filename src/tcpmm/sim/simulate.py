@@ -13,7 +13,7 @@ from ..analysis.runaway import say_faults
 from ..errors import InputError, InputWarning, UnstableLoopWarning
 from ..model import Axis, Machine
 from ..path.blocktrack import at_times
-from ..path.command import Command
+from ..path.command import UNIFORM_TOL, Command
 from ..path.settings import AXES, InterpolatorSettings
 from ..result import AxisRun, Run
 from ..servo.sampled import is_stable_radius, sampled_spectral_radius
@@ -36,6 +36,37 @@ def record_every(record_period_s: float | None, cmd_period_s: float, T_v: float)
             f"give a record period that is, e.g. {near:g} s"
         )
     return rec_every
+
+
+def command_steps(time_s: np.ndarray, T_v: float) -> tuple[float, int]:
+    """The command's sample period and the velocity-loop steps its samples span.
+
+    A period a whole number of steps long, to within what a command takes as uniform
+    (:data:`~tcpmm.path.command.UNIFORM_TOL`), is taken as exactly that many steps. The
+    difference of two clock times (5.001 - 5.0 s) rounds a hair off the period; the step
+    that maps to a sample's index then falls a hair short of it and takes the sample
+    before, and with a segment feed-forward the velocity of the segment before for half
+    of every sample: the same command would simulate differently by where its time
+    starts.
+
+    Parameters
+    ----------
+    time_s : ndarray
+        Command sample times, uniform [s].
+    T_v : float
+        Velocity-loop period [s].
+
+    Returns
+    -------
+    tuple of (float, int)
+        Period [s] and number of steps [-].
+    """
+    T_c = float(time_s[1] - time_s[0])
+    mean = float(time_s[-1] - time_s[0]) / (time_s.size - 1)
+    per = round(mean / T_v)
+    if per >= 1 and abs(per * T_v - mean) <= UNIFORM_TOL * mean:
+        return per * T_v, (time_s.size - 1) * per + 1
+    return T_c, int(np.floor((time_s[-1] - time_s[0]) / T_v + 1e-9)) + 1
 
 
 def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loop=False,
@@ -65,9 +96,8 @@ def simulate_axis(axis: Axis, time_s, position_m, *, excitation_A=None, open_loo
     limit_blas_threads()
     t = np.asarray(time_s, dtype=float)
     T_v = axis.servo.T_v
-    rec_every = record_every(record_period_s, float(t[1] - t[0]), T_v)
-    n = int(np.floor((t[-1] - t[0]) / T_v + 1e-9)) + 1
-    T_c = float(t[1] - t[0])
+    T_c, n = command_steps(t, T_v)
+    rec_every = record_every(record_period_s, T_c, T_v)
     pos = np.ascontiguousarray(position_m, dtype=float)
     if excitation_A is None:
         exc = np.zeros(t.size)

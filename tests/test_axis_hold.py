@@ -13,7 +13,8 @@ from tcpmm.sim.axishold import held
 from tcpmm.sim.axisstream import AxisStream
 from tcpmm.sim.simulate import simulate_axis
 
-SIGNALS = ("cmd", "motor", "scale", "tcp", "current", "motor_speed", "motor_angle")
+SIGNALS = ("cmd", "motor", "scale", "tcp", "current", "motor_speed", "motor_angle",
+           "current_peak")
 
 
 def command(n_hold: int) -> np.ndarray:

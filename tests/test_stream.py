@@ -215,7 +215,7 @@ def test_kernel_state_is_carried_to_the_bit(vmc, name, chunk):
     ref = quiet(simulate, vmc, quiet(program_to_command, text))
     out, _ = run_pieces(vmc, text, chunk)
     for a in vmc.axes:
-        for sig in ("cmd", "motor", "scale", "tcp", "current", "motor_speed"):
+        for sig in ("cmd", "motor", "scale", "tcp", "current", "motor_speed", "current_peak"):
             got = np.concatenate([getattr(r, sig) for r in out[a]])
             assert np.array_equal(got, getattr(ref.axes[a], sig)), (a, sig)
 

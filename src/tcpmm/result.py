@@ -43,6 +43,10 @@ class AxisRun:
         Current command [A].
     motor_angle, motor_speed, excitation : ndarray or None
         Motor angle [rad], motor speed [rad/s], injected excitation [A].
+    current_peak : ndarray or None
+        Largest size of the current over the velocity-loop steps since the sample
+        before, where the run was simulated (a sample every millisecond misses the
+        velocity loop's peaks between); not in run files [A].
     """
 
     cmd: np.ndarray | None
@@ -53,11 +57,19 @@ class AxisRun:
     motor_angle: np.ndarray | None = None
     motor_speed: np.ndarray | None = None
     excitation: np.ndarray | None = None
+    current_peak: np.ndarray | None = None
 
     def truncated(self, n: int) -> AxisRun:
         """The first ``n`` samples."""
         return AxisRun(**{f.name: None if getattr(self, f.name) is None
                           else getattr(self, f.name)[:n] for f in fields(self)})
+
+    def peak_current(self) -> np.ndarray | None:
+        """Size of the current per sample: the largest over the steps since the sample
+        before where the run has it (a simulated run), else the sampled one's [A]."""
+        if self.current_peak is not None:
+            return self.current_peak
+        return None if self.current is None else np.abs(self.current)
 
     def sensor(self, name: str) -> np.ndarray | None:
         """Position by sensor name ``cmd``, ``motor``, ``scale`` or ``tcp`` [m]."""

@@ -148,7 +148,8 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
     T, within = float(time_s[1] - time_s[0]), fit_within if keep_slow else scaled_within
     keep_turns = turn_keeper(plant, reference, T)
     fit = lambda c: keep_turns(within(reference, c, T, bounds))  # noqa: E731
-    current_of = lambda x, q: plant(axis, time_s, x, quantise_feedback=q).current  # noqa: E731
+    # the velocity loop's peaks between samples, which a drive's clamp meets
+    current_of = lambda x, q: plant(axis, time_s, x, quantise_feedback=q).peak_current()  # noqa: E731
     hold = CurrentHold.of(current_of, reference, bounds.current)
     pad = (2 * (gain_filter.size - 1) - reference.size) // 2
     window = fade(reference.size, tail) * at_rest(target, T,
@@ -162,7 +163,7 @@ def learn_axis(axis, time_s, reference, target, gain_filter, bounds, iterations:
         if rms < best[0]:
             best = (rms, corr)
         step = gain * apply_filter(gain_filter, err, pad)
-        corr = fit(shrink((corr + step) * window, hold.keep(run.current), T))
+        corr = fit(shrink((corr + step) * window, hold.keep(run.peak_current()), T))
         if progress is not None:
             progress()
     corr = within_current(hold, current_of, reference, best[1], fit, T)

@@ -94,8 +94,8 @@ def axis_demands(command: Command, run) -> dict:
         if np.ptp(x) == 0.0:
             continue
         d = {k: peak(x, n, command.period_s) for n, k in DEMANDS}
-        current = run.axes[a].current if a in run.axes else None
-        d["current_A"] = None if current is None else float(np.max(np.abs(current)))
+        current = run.axes[a].peak_current() if a in run.axes else None
+        d["current_A"] = None if current is None else float(np.max(current))
         out[a] = d
     return out
 

@@ -84,7 +84,7 @@ class HeldCommand:
 
         Returns
         -------
-        ndarray (7, n)
+        ndarray (8, n)
             The records [SI].
         """
         if bits != self.bits:

@@ -96,6 +96,7 @@ from .layout import (  # noqa: F401  (REC_COLUMNS: the rows of ``rec``)
     S_C_REC,
     S_CMD0,
     S_HEADER,
+    S_I_PEAK,
     S_INTEGRATOR,
     S_SET,
     S_SPEED_CMD,
@@ -255,7 +256,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     filtered = fsec.shape[0] > 0
     n_taps = vtaps.size
     r = 0
-    k_first, j0, I_w, w_c, c_pos, c_rec, c_dl, c_h = _loop_start(state, carried, I_w)
+    k_first, j0, I_w, w_c, c_pos, c_rec, c_dl, c_h, i_pk = _loop_start(state, carried, I_w)
     ratio, last = fp[FP_CMD_PER_STEP], cmd.size - 1 + j0
     for k in range(k_first, k_first + ip[IP_N_STEPS]):
         if vel_diff:
@@ -311,10 +312,12 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
             i_app = i_lim
         elif i_app < -i_lim:
             i_app = -i_lim
+        i_pk = max(i_pk, abs(i_app))
         if c_rec == 0:
             j = min(int(pos), last)
             fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
-            record(rec, r, x, i_app, R, cmd[j] + fr * (cmd[j1] - cmd[j]))
+            record(rec, r, x, i_app, R, cmd[j] + fr * (cmd[j1] - cmd[j]), i_pk)
+            i_pk = 0.0
             r += 1
         c_rec += 1
         if c_rec == rec_every:
@@ -329,7 +332,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     for i in range(NX):
         x_out[i] = x[i]
     if state.size > 0:
-        _loop_end(state, k_first + ip[IP_N_STEPS], I_w, w_c, c_pos, c_rec, c_dl, c_h)
+        _loop_end(state, k_first + ip[IP_N_STEPS], I_w, w_c, c_pos, c_rec, c_dl, c_h, i_pk)
 
 
 @njit(cache=True, inline="always")
@@ -337,17 +340,19 @@ def _loop_start(state, carried, I_w):
     """The loop's counters and scalars at its start, from rest or carried in ``state``:
     the first step, the sample of the whole command that ``cmd[0]`` is, the integrator,
     the speed command, the steps since the last position-loop update and record, the
-    write index of the delay line and the index of the newest angle in ``hist``."""
+    write index of the delay line, the index of the newest angle in ``hist`` and the
+    largest current since the last record."""
     j0 = int(state[S_CMD0]) if state.size > 0 else 0
     if carried:
         return (int(state[S_STEP]), j0, state[S_INTEGRATOR], state[S_SPEED_CMD],
                 int(state[S_C_POS]), int(state[S_C_REC]), int(state[S_C_DL]),
-                int(state[S_C_H]))
-    return 0, j0, I_w, 0.0, 0, 0, 0, 0
+                int(state[S_C_H]), state[S_I_PEAK])
+    return 0, j0, I_w, 0.0, 0, 0, 0, 0, 0.0
 
 
 @njit(cache=True, inline="always")
-def _loop_end(state, k_next, I_w, w_c, c_pos, c_rec, c_dl, c_h):
+def _loop_end(state, k_next, I_w, w_c, c_pos, c_rec, c_dl, c_h, i_pk):
     """The loop's counters and scalars into ``state``, for the next piece."""
     state[S_STEP], state[S_INTEGRATOR], state[S_SPEED_CMD] = k_next, I_w, w_c
     state[S_C_POS], state[S_C_REC], state[S_C_DL], state[S_C_H] = c_pos, c_rec, c_dl, c_h
+    state[S_I_PEAK] = i_pk

@@ -8,8 +8,10 @@ entries. They are module-level integers, which numba reads as compile-time const
 :meth:`~tcpmm.sim.inputs.KernelInputs.int_params`, from named fields.
 """
 
-#: The rows of the kernel's record, one per signal [SI].
-REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c", "X_M", "cmd")
+#: The rows of the kernel's record, one per signal [SI]: ``i_c`` the current applied at
+#: the recorded step, ``i_peak`` the largest of its size over the steps since the record
+#: before (a record every millisecond misses the velocity loop's peaks between).
+REC_COLUMNS = ("th_m", "X_LS", "X_TCP", "w_m", "i_c", "X_M", "cmd", "i_peak")
 #: Fixed state size: 10 mechanical states and the optional current-loop state. A fixed
 #: size lets the compiler keep the state update in registers; unused states are zero.
 NX = 11
@@ -108,8 +110,10 @@ S_C_POS = 5
 S_C_REC = 6
 S_C_DL = 7
 S_C_H = 8
+#: Largest size of the current applied over the steps since the last record [A].
+S_I_PEAK = 9
 #: Length of the header [-].
-S_HEADER = 9
+S_HEADER = 10
 
 
 def state_size(delay: int, n_taps: int, n_sections: int) -> int:

@@ -54,8 +54,8 @@ def diff_velocity(hist, c_h, th_q, vtaps, T_v):
 
 
 @njit(cache=True, inline="always")
-def record(rec, r, x, i_app, R, c_k):
-    """Column ``r`` of the record: ``th_m, X_LS, X_TCP, w_m, i_c, R th_m, cmd``."""
+def record(rec, r, x, i_app, R, c_k, i_peak):
+    """Column ``r`` of the record: ``th_m, X_LS, X_TCP, w_m, i_c, R th_m, cmd, i_peak``."""
     rec[0, r] = x[0]
     rec[1, r] = x[2] - x[3]
     rec[2, r] = x[2] - x[4]
@@ -63,3 +63,4 @@ def record(rec, r, x, i_app, R, c_k):
     rec[4, r] = i_app
     rec[5, r] = R * x[0]
     rec[6, r] = c_k
+    rec[7, r] = i_peak

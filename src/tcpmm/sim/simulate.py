@@ -124,6 +124,7 @@ def records_run(rec, datums: tuple, excitation) -> AxisRun:
     return AxisRun(
         cmd=rec[6], motor=rec[5] - d_motor, scale=rec[1] - d_scale, tcp=rec[2] - d_tcp,
         current=rec[4], motor_angle=rec[0], motor_speed=rec[3], excitation=excitation,
+        current_peak=rec[7],
     )
 
 

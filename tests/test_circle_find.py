@@ -93,3 +93,42 @@ def test_compensate_judges_the_spikes_of_a_circle_given_without_its_radius(tmp_p
     assert main([*args[:3], str(square), *args[4:], "--json"]) == 0
     got = capsys.readouterr()
     assert "circle R" not in got.err and "circle" not in json.loads(got.out)["scores"]["after"]
+
+
+def test_the_centre_of_a_filtered_command_is_the_one_it_runs_about():
+    """Bench H's circle at F10000, pulled in by its controller's filter, was fitted about
+    (0.003, 0.003) mm, 4.2 µm from the centre it runs about, and compensate's figures held
+    that offset (with a warning to give --centre 0,0 that no one had given). Its centre
+    is read as the circle analysis reads a command's: about (0, 0)."""
+    from conftest import bench_path
+    from tcpmm.path import read_command_csv
+
+    cmd = read_command_csv(bench_path("h") / "circle_ccw_fast_cmd.csv")
+    radius, centre = command_circle(cmd.positions, ("X", "Y"))
+    assert centre == pytest.approx((0.0, 0.0), abs=1e-7)
+    assert radius == pytest.approx(34.9499e-3, abs=2e-7)
+
+
+def test_compensate_takes_a_filtered_circle_about_its_own_centre(tmp_path, capsys,
+                                                                 monkeypatch):
+    """No --centre given, compensate warned that the command ran 4.2 µm from "the centre
+    given" and asked for --centre 0.0000,0.0000, and its figures held that offset. It
+    finds that centre itself, warns of nothing, and its figures are those about the
+    centre given."""
+    from conftest import bench_path
+
+    monkeypatch.chdir(tmp_path)
+    src = str(bench_path("h") / "circle_ccw_fast_cmd.csv")
+    args = ["compensate", "builtin:vmc", "--command", src, "-o", "c.csv", "--draws", "0",
+            "--iterations", "1", "--json"]
+    assert main(args) == 0
+    got = capsys.readouterr()
+    found = json.loads(got.out)
+    assert "centre given" not in got.err and not any("centre given" in w
+                                                     for w in found.get("warnings", []))
+    circle = found["settings"]["circle"]
+    assert circle["from"] == "command"
+    assert circle["centre_m"] == pytest.approx([0.0, 0.0], abs=1e-7)
+    assert main([*args, "--radius", str(circle["radius_m"] * 1e3), "--centre", "0,0"]) == 0
+    given = json.loads(capsys.readouterr().out)
+    assert found["scores"] == given["scores"]

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .circle_command import command_centre
 from .circle_passes import algebraic_circle, find_stretches
 
 __all__ = ["circle_said", "circle_where", "command_circle", "judged_circle"]
@@ -84,7 +85,34 @@ def command_circle(positions: dict, plane: tuple) -> tuple | None:
     radius = round(radius / ROUND_M) * ROUND_M
     turns = [s for s in find_stretches(x, y, radius, centre) if s.turns >= 1]
     held = sum(s.index.stop - s.index.start for s in turns)
-    return (radius, centre) if turns and held >= HELD_SHARE * moving.size else None
+    if not turns or held < HELD_SHARE * moving.size:
+        return None
+    settled = [s for s in find_stretches(x, y, radius, centre, settled=True) if s.turns >= 1]
+    return radius, own_centre(x, y, settled, centre) if settled else centre
+
+
+def own_centre(x, y, turns, centre) -> tuple[float, float]:
+    """The centre the command's whole turns run about, as the circle analysis reads a
+    command's (:func:`.circle_command.command_centre`: the first harmonic of the radius
+    over them): a controller's filter pulls the circle in where it speeds up and slows
+    down, which a least-squares fit takes for an offset (4.2 µm on bench H's circle at
+    F10000), and every radial figure would hold it once around [m].
+
+    Parameters
+    ----------
+    x, y : ndarray
+        The command in the plane [m].
+    turns : list of Stretch
+        Its passes of one turn or more that it has settled on, a filter's transient out
+        of the feed-in left out (:func:`.circle_passes.find_stretches`) [-].
+    centre : tuple of float
+        The fitted centre they were found about [m].
+    """
+    offsets = [command_centre(x[s.index], y[s.index], centre)[:2] for s in turns]
+    size = [s.index.stop - s.index.start for s in turns]  # each pass by its samples
+    off = np.average(np.array(offsets), axis=0, weights=size)
+    return tuple(round((c + o) / ROUND_M) * ROUND_M + 0.0
+                 for c, o in zip(centre, off, strict=True))
 
 
 def judged_circle(cmd, radius_m=None, centre_m=(0.0, 0.0), plane=None) -> tuple | None:

@@ -79,9 +79,32 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
             out.print(f"  share of the tuned parameters kept: {cc.robustness['share']:g}")
         for line in adaptation_lines(cc):
             out.print(line)
+    _said_written(reference, comp.settings.get("gcode_out"), output)
+
+
+def _said_written(reference, dense: dict | None, output: Path) -> None:
+    """Print where the program as planned (``--reference-out``) and the dense program
+    (``--gcode-out``) were written, where they were [-]."""
     if reference is not None:
         out.print(f"wrote {reference}: the program as planned for the correction, "
                   "uncompensated; measure runs of the compensated command against it")
+    dense_line(dense, output)
+
+
+def dense_line(said: dict | None, output: Path) -> None:
+    """Print where the dense program (``--gcode-out``) was written, where it was, and
+    whether a controller set as the model's interpolator replays it as ``output`` [-]."""
+    if not said:
+        return
+    rep = said["replay"]
+    text = f"wrote {said['file']}: {output} as a dense G1 program ({said['lines']} lines)"
+    if rep is not None and rep["departure_m"] <= rep["tolerance_m"]:
+        text += (f"; a controller set as the model's interpolator replays it within "
+                 f"{rep['departure_m'] * 1e6:.2f} µm of {output} at every sample")
+    elif rep is not None:
+        text += (f"; a controller set as the model's interpolator does not replay it: up "
+                 f"to {rep['departure_m'] * 1e6:.1f} µm from {output} (the warning above)")
+    out.print(text, highlight=False)
 
 
 #: How much more jerk than the program's own the correction asks before a note says so [-].

@@ -107,7 +107,7 @@ def compensate(model: str = typer.Argument(..., help="MODEL.yaml (identified) or
     _write_commands(compensated, cmd if headroom else full, held, output, reference_out)
     comp.settings.update(circle=circle_said(circle, radius is None), held_axes_m=held)
     if gcode_out is not None:
-        write_dense(compensated, comp, m, gcode_out)
+        write_dense(compensated, comp, m, gcode_out, output.name)
     cc = None if controller_out is None else _write_parameters(comp, controller_out, output, m)
     planner = None if gcode is None else machine_bounds(m)  # the limits it was planned to
     if report is not None:

@@ -89,3 +89,79 @@ def rapid_note(command, moved, first_line: int) -> str:
     more = f" and {len(runs) - NOTE_RUNS} runs more" if len(runs) > NOTE_RUNS else ""
     return (f"(the program's G0 rapids are written as G1 at the speed the command was planned "
             f"to, so that it keeps the command's timing: lines {shown}{more})")
+
+
+#: How far the dense program's command, as a controller set as the model's interpolator
+#: plans it, may lie from the command it is written from, at any sample, before it is
+#: said: below the servo's bandwidth the TCP follows a departure of its command about one
+#: to one, so a figure after can move by as much; 1 µm keeps that below the draws' spread
+#: of the figures (several µm on the benches' circles) and well above the program's
+#: rounding (1 nm coordinates, F to 4 decimals) [m].
+REPLAY_TOL_M = 1e-6
+
+
+def replay_departure(command, text: str, settings, settle_s: float) -> dict | None:
+    """The dense program planned again with the interpolator, compared with the command it
+    was written from sample by sample at the command's clock (its start where the rapid
+    and the settling dwell end, the interpolator's filter delay taken in); ``None`` for a
+    program that only dwells [-].
+
+    Parameters
+    ----------
+    command : Command
+        The command the program was written from [m].
+    text : str
+        The program (:func:`dense_program`) [-].
+    settings : InterpolatorSettings
+        The controller's interpolator [-].
+    settle_s : float
+        The dwell after the rapid to the start, 0 for none [s].
+
+    Returns
+    -------
+    dict
+        ``departure_m`` (largest distance over the command's axes) with ``axes_m`` (each
+        axis's largest), ``at_s`` (the command's time of the largest), ``line`` (the
+        program's line written for that sample), ``share_beyond`` (of the samples more than
+        ``tolerance_m`` apart), ``duration_s`` and ``command_duration_s`` (the program's
+        motion after the rapid and dwell, and the command's) [m], [s], [-].
+    """
+    from ..path.program import program_to_interpolation
+
+    if "\nG1 " not in text:
+        return None
+    run = program_to_interpolation(text, settings)
+    lines = text.splitlines()
+    head, k0 = _start(run, lines, settle_s)
+    T = command.period_s
+    axes = [a for a in command.axes if a in ("X", "Y", "Z")]
+    want = np.array([command.positions[a] for a in axes])
+    got = np.array([run.command.positions[a] for a in axes])[:, k0:]
+    n = max(want.shape[1], got.shape[1])
+    diff = _held(got, n) - _held(want, n)
+    dist = np.sqrt(np.sum(diff**2, axis=0))
+    k = int(np.argmax(dist))
+    return {"departure_m": float(dist[k]),
+            "axes_m": {a: float(np.max(np.abs(d))) for a, d in zip(axes, diff, strict=True)},
+            "at_s": float(command.time_s[0] + k * T),
+            "line": head + min(k, len(lines) - head - 1) if k else head - (settle_s > 0),
+            "share_beyond": float(np.mean(dist > REPLAY_TOL_M)),
+            "tolerance_m": REPLAY_TOL_M,
+            "duration_s": float(run.command.time_s[-1] - k0 * T),
+            "command_duration_s": float(command.time_s[-1] - command.time_s[0])}
+
+
+def _start(run, lines: list, settle_s: float) -> tuple[int, int]:
+    """The line that ends the rapid to the start and its settling dwell (1 for the first),
+    and the sample of the planned command where the command written starts: where the
+    segment after them starts, delayed by the interpolator's filter [-]."""
+    g0 = next(k for k, ln in enumerate(lines) if ln.startswith("G0 "))
+    head = g0 + 1 + (settle_s > 0)
+    after = np.flatnonzero(run.path.line > head)
+    start_s = run.segment_start_s[after[0]] if after.size else run.segment_end_s[-1]
+    return head, round((start_s + run.filter.delay_s) / run.command.period_s)
+
+
+def _held(pos, n: int):
+    """``pos`` (axes by samples) held at its last sample to ``n`` samples [-]."""
+    return np.concatenate([pos, np.repeat(pos[:, -1:], n - pos.shape[1], axis=1)], axis=1)

@@ -181,7 +181,7 @@ ERRORS = [
     ("G1.5 X1\n", 1, 1, "G1.5 cannot be used"),
     ("G90.1 G2 X10 I5 F100\n", 1, 14, "both I and J"),
     ("M3.5\n", 1, 1, "not an M-code"),
-    ("G1 X1 F100 #1=5\n", 1, 12, "unexpected character '#'"),
+    ("G1 X1 F100 #1=5\n", 1, 12, "'#1=5' is a variable or an expression"),
     ("G1 X1 F100\n/G1 X2\n", 2, 1, "block delete is not read: remove the '/'"),
     ("G1 X1e3 F100\n", 1, 4, "exponent notation 'X1e3' is not G-code; write the number "
      "out, e.g. X1000"),

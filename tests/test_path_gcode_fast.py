@@ -20,7 +20,8 @@ from tcpmm.path.runs import as_lines
 
 # numbers the tokeniser takes and ones it refuses, in and out of range
 NUMBERS = ["0", "-0", "+1", "1.", ".5", "-.25", "12.3456", "007", "-3", "1000000",
-           "1000001", "0.0", "999999.9", "2e3", ".", "-", "1.2.3", "", "9" * 320]
+           "1000001", "0.0", "999999.9", "2e3", ".", "-", "1.2.3", "", "9" * 320,
+           "50000", "-1000", "999", "1000.", "01000"]
 SPACES = ["", " ", "  ", "\t"]
 # lines the fast path leaves to the reference: modes, arcs, comments, junk
 OTHER = ["G91", "G90", "G20", "G21", "G61", "G64 P0.01", "G9 G1 X1", "G2 X1 Y0 I0.5 J0",

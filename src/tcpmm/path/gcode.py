@@ -5,7 +5,9 @@ Supported: G0, G1, G2, G3 (centre I/J/K or radius R, full circles, helices), G4 
 or incremental), G61 (exact stop, modal), G9 (exact stop, this block only), G64
 (continuous path; ``P`` the contour tolerance of its corners, ``Q`` warned and
 ignored), F, N, ``( )`` and ``;``
-comments, ``%`` lines, M2/M30 (end of program). Words that do not change the tool path
+comments, ``%`` lines, M2/M30 (end of program). A length written without a decimal point
+and of 1000 or more (``X50000``, 50 mm on a Fanuc control without calculator-type input)
+is warned of, once a program. Words that do not change the tool path
 (spindle, coolant, tool, work and tool-length offsets, ...) are reported as
 :class:`~tcpmm.errors.InputWarning` and skipped; everything else is an
 :class:`~tcpmm.errors.InputError` with file, line and column.
@@ -37,6 +39,7 @@ from .gcode_words import (
     MAX_CODE,
     MAX_FEED,
     MOTION,
+    NO_POINT,
     OTHER_AXES,
     ZERO_MOVE_M,
 )
@@ -154,6 +157,8 @@ class Interpreter(GeometryMixin):
             self.error("Q is only read with G64 (and ignored there); remove it", line,
                        w["Q"].column)
         if any(k in w for k in "XYZIJKR"):
+            if NO_POINT not in self.warned:  # once a program: the fast path relies on it
+                self.no_point(w, line)
             once = "exact stop once" in new
             self.exact_stop, saved = self.exact_stop or once, self.exact_stop
             self.move(w, new.get("motion"), line)

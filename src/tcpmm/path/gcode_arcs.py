@@ -53,7 +53,7 @@ def arc_run(it, scan, k: int, first: int) -> int:
     int
         0-based index of the first line not executed here, ``k`` if none was [-].
     """
-    codes, vals, run_end = scan
+    codes, vals, run_end = scan.codes, scan.vals, scan.run_end
     stop = int(run_end[k])  # the run of arcs from k: nothing past it is looked at
     a, b = PLANES[it.plane]
     ia, ib = AXIS_INDEX[a], AXIS_INDEX[b]

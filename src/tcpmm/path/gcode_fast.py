@@ -25,7 +25,7 @@ import numpy as np
 
 from .. import _compiled as ck
 from .gcode_arcs import ARC, arc_run
-from .gcode_words import MAX_COORDINATE_M, MAX_FEED, ZERO_MOVE_M
+from .gcode_words import MAX_COORDINATE_M, MAX_FEED, NO_POINT, WHOLE_LENGTH, ZERO_MOVE_M
 from .runs import LINE_SETTERS, LineRun
 from .segments import Line, Rapid
 
@@ -45,13 +45,18 @@ SHORT_RUN = 8
 #: statuses of :func:`tcpmm.path.gcode_scan.scan_lines`: executed there, a plain move
 #: whose numbers only ``float`` converts exactly, a plain arc (:mod:`tcpmm.path.gcode_arcs`)
 _PLAIN, _PLAIN_SLOW, _ARC = 1, 2, ARC
+#: the column of the codes that marks a length written without a decimal point
+#: (:data:`tcpmm.path.gcode_scan.WHOLE_LONG`) [-]
+_WHOLE_LONG = 3
 
 
 class Scan(NamedTuple):
     """A chunk's lines lexed: per line its codes and values
     (:func:`tcpmm.path.gcode_scan.scan_lines`), and where the run of lines of its status
     ends (a run is executed without looking past it: a program of lines and arcs taken in
-    turn would otherwise cost the rest of the chunk at every block) [-]."""
+    turn would otherwise cost the rest of the chunk at every block). A run also ends
+    before the chunk's first line of a length written without a decimal point, which goes
+    to the interpreter for its warning until the program has had it [-]."""
 
     codes: np.ndarray
     vals: np.ndarray
@@ -69,7 +74,11 @@ def scan_chunk(lines: list[str]):
     if codes.shape[0] != len(lines):
         return None
     n = codes.shape[0]
-    ends = np.r_[np.flatnonzero(np.diff(codes[:, 0])) + 1, n]
+    ends = np.flatnonzero(np.diff(codes[:, 0])) + 1
+    marked = codes[:, _WHOLE_LONG]
+    if marked.any():  # most programs have none, and any() costs a third of a search
+        ends = np.union1d(ends, [marked.argmax()])  # the first 1 of the column
+    ends = np.r_[ends, n]
     return Scan(codes, vals, ends[np.searchsorted(ends, np.arange(n), side="right")])
 
 
@@ -97,13 +106,18 @@ def plain_run(it, lines: list[str], k: int, offset: int = 0, scan=None) -> int:
         goes to the tokeniser and the interpreter [-].
     """
     modes = (it.unit, it.absolute, it.exact_stop, it.tolerance)
-    if scan is None:
+    if scan is None:  # the expression looks for a length without a point itself
         k, it.pos, it.motion, it.feed = _run(
             lines, k, len(lines), offset + 1, it.segments.append,
-            (it.pos, it.motion, it.feed), modes)
+            (it.pos, it.motion, it.feed), (*modes, NO_POINT not in it.warned))
         return k
     codes, run_end = scan.codes, scan.run_end
+    # a run ends before the chunk's first length without a point, and the lines after it
+    # are reached only once the interpreter has warned of it
+    modes = (*modes, False)
     while k < len(lines):
+        if codes[k, _WHOLE_LONG] and NO_POINT not in it.warned:
+            break
         # a line of other words (a comment, a modal code) goes to the tokeniser without a
         # call to the compiled run; a short run of plain moves (between arcs) takes the
         # expression, whose cost is the blocks', not a call's and a run's set-up
@@ -160,7 +174,7 @@ def _run(lines, k, n, first, append, state, modes):
     # a call per block cost as much as the block's arithmetic
     fullmatch = PLAIN_MOVE.fullmatch
     pos, motion, feed = state
-    unit, absolute, exact, tol = modes
+    unit, absolute, exact, tol, points = modes
     new, (s_start, s_end, s_feed, s_exact, s_line, s_tol) = object.__new__, LINE_SETTERS
     while k < n:
         m = fullmatch(lines[k])
@@ -175,7 +189,7 @@ def _run(lines, k, n, first, append, state, modes):
                 break
             fe = fe * unit / 60.0
         if (x is None and y is None and z is None) or mo is None or mo > 1 or (
-                mo == 1 and fe is None):
+                mo == 1 and fe is None) or (points and _no_point(x, y, z)):
             break
         # written out per axis: a helper with a loop took a third of the block's time
         px, py, pz = pos
@@ -205,6 +219,13 @@ def _run(lines, k, n, first, append, state, modes):
         pos, motion, feed = target, mo, fe
         k += 1
     return k, pos, motion, feed
+
+
+def _no_point(*numbers) -> bool:
+    """Whether a number of those given (``None`` for none) is written without a decimal
+    point and reaches :data:`~tcpmm.path.gcode_words.WHOLE_LENGTH` [-]."""
+    return any(v is not None and "." not in v and abs(float(v)) >= WHOLE_LENGTH
+               for v in numbers)
 
 
 @contextlib.contextmanager

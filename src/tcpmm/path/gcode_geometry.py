@@ -1,15 +1,16 @@
-"""Geometry checks of the G-code interpreter: coordinate sizes, arc centres and radii.
+"""Geometry checks of the G-code interpreter: coordinate sizes, lengths written without a
+decimal point, arc centres and radii.
 
 A mixin of the interpreter in :mod:`tcpmm.path.gcode`, which holds the modal state
 (``pos``, ``unit``, ``plane``, ``motion``, ``arc_absolute``, ``feed``, ``exact_stop``)
-and reports through ``error``.
+and reports through ``error`` and ``warn``.
 """
 
 from __future__ import annotations
 
 import math
 
-from .gcode_words import MAX_COORDINATE_M
+from .gcode_words import MAX_COORDINATE_M, NO_POINT, WHOLE_LENGTH
 from .segments import AXIS_INDEX, FULL_CIRCLE_TOL_M, PLANES, Arc
 
 MM_M = 1e-3
@@ -44,6 +45,23 @@ class GeometryMixin:
             if L in w and not abs(w[L].value * self.unit) <= MAX_COORDINATE_M:
                 self.error(f"{short_text(w[L].text)} is beyond {limit}, more than any machine "
                            "travels; check the number (and G20/G21)", line, w[L].column)
+
+    def no_point(self, w, line):
+        """Warn of the block's first length word written without a decimal point whose
+        number reaches :data:`~tcpmm.path.gcode_words.WHOLE_LENGTH`: a Fanuc control
+        without calculator-type input reads it in 0.001 mm (0.0001 in)."""
+        word = min((w[k] for k in "XYZIJKR" if k in w and "." not in w[k].text
+                    and abs(w[k].value) >= WHOLE_LENGTH),
+                   key=lambda x: x.column, default=None)
+        if word is None:
+            return
+        unit, step, digits = ("in", 1e-4, 4) if self.unit == INCH_M else ("mm", 1e-3, 3)
+        there = f"{word.value * step:.{digits}f}".rstrip("0")
+        self.warn(NO_POINT, f"tcpmm reads it as {word.value:.0f} {unit}; a Fanuc control "
+                  f"without calculator-type input reads it in {step:g} {unit} "
+                  f"({there.rstrip('.')} {unit}): write {word.letter}{there} if that is "
+                  "meant", line, word.column,
+                  head=f"{short_text(word.text)} has no decimal point")
 
     def arc(self, w, end, gword, line):
         a, b = PLANES[self.plane]

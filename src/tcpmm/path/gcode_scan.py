@@ -4,11 +4,14 @@
 for every line whether it is a plain move as :data:`tcpmm.path.gcode_fast.PLAIN_MOVE`
 matches it, its motion code and its X, Y, Z and F values; or a plain arc (``G2``/``G3``
 or none, then X, Y, Z, I, J, K, R and F, each at most once and in that order, every
-number exact), executed by :func:`tcpmm.path.gcode_arcs.arc_run`. A number is converted only
-where the conversion is exact: a mantissa of at most 2^53 and at most 22 digits after the
-point, divided by a power of ten that is a double exactly, is one correctly rounded
-division, the value Python's ``float`` gives for the same text (Clinger's fast path);
-a line with any other number is marked for the regular expression and ``float``.
+number exact), executed by :func:`tcpmm.path.gcode_arcs.arc_run`; and whether a length
+word of such a line is written without a decimal point and reaches 1000 (X50000), of
+which the interpreter warns (:meth:`tcpmm.path.gcode_geometry.GeometryMixin.no_point`).
+A number is converted only where the conversion is exact: a mantissa of at most 2^53 and
+at most 22 digits after the point, divided by a power of ten that is a double exactly, is
+one correctly rounded division, the value Python's ``float`` gives for the same text
+(Clinger's fast path); a line with any other number is marked for the regular expression
+and ``float``.
 :func:`run_plain` executes a run of the lines as :func:`tcpmm.path.gcode_fast.plain_run`
 does, with the same arithmetic in the same order, and stops where it would.
 
@@ -29,8 +32,12 @@ _ZERO_MOVE_M = 1e-9 * (1.0 + 1e-6)
 #: plain arc with its numbers converted [-]
 NOT_PLAIN, PLAIN, PLAIN_SLOW, ARC = 0, 1, 2, 3
 #: columns of the codes: status, motion code (-1 for none), present words (bit j for
-#: the value in column j of the values: X, Y, Z, F, I, J, K, R) [-]
-STATUS, MOTION, WORDS = 0, 1, 2
+#: the value in column j of the values: X, Y, Z, F, I, J, K, R), and 1 where a length word
+#: (not F) is written without a decimal point and reaches :data:`_WHOLE_LENGTH` [-]
+STATUS, MOTION, WORDS, WHOLE_LONG = 0, 1, 2, 3
+#: :data:`tcpmm.path.gcode_words.WHOLE_LENGTH`, here a literal: this module is compiled on
+#: its own [-]
+_WHOLE_LENGTH = 1000
 #: the letters of a line in the order they may come, each with its column of the values
 _LETTERS = ((88, 0), (89, 1), (90, 2), (73, 4), (74, 5), (75, 6), (82, 7), (70, 3))
 #: the words of a move (X, Y, Z) and of an arc's centre or radius (I, J, K, R) [-]
@@ -53,7 +60,8 @@ def _blank(buf, i, end):
 @njit(cache=True)
 def _number(buf, i, end, pow10):
     """The number at ``buf[i]`` as the regular expression takes it: the index after it
-    (``-1`` where there is none), its value and whether the value is exact [-]."""
+    (``-1`` where there is none), its value, whether the value is exact, and whether it
+    has no decimal point and a size of :data:`_WHOLE_LENGTH` or more [-]."""
     neg = False
     if i < end and (buf[i] == 45 or buf[i] == 43):
         neg = buf[i] == 45
@@ -64,7 +72,8 @@ def _number(buf, i, end, pow10):
         exact = exact and m <= _MANTISSA_MAX
         before += 1
         i += 1
-    if i < end and buf[i] == 46:
+    point = i < end and buf[i] == 46
+    if point:
         i += 1
         while i < end and 48 <= buf[i] <= 57:
             m = m * 10 + (buf[i] - 48) if exact else m
@@ -72,16 +81,18 @@ def _number(buf, i, end, pow10):
             after += 1
             i += 1
     if before == 0 and after == 0:
-        return -1, 0.0, False
+        return -1, 0.0, False, False
+    # a mantissa no longer exact is past 2^53, and long
+    whole_long = not point and (m >= _WHOLE_LENGTH or not exact)
     exact = exact and after < pow10.size
     value = float(m) / pow10[after] if exact else 0.0
-    return i, -value if neg else value, exact
+    return i, -value if neg else value, exact, whole_long
 
 
 @njit(cache=True)
 def _scan_line(buf, i, end, vals, pow10):
-    """Status, motion code and present words of the line ``buf[i:end]``; its values go
-    into ``vals`` [-]."""
+    """Status, motion code, present words and the mark of a length without a point
+    (:data:`WHOLE_LONG`) of the line ``buf[i:end]``; its values go into ``vals`` [-]."""
     i = _blank(buf, i, end)
     motion = -1
     if i < end and (buf[i] == 71 or buf[i] == 103):  # G or g
@@ -91,30 +102,31 @@ def _scan_line(buf, i, end, vals, pow10):
             j += 1
         # 0*[0-3]: zeros, and a last digit 0 to 3
         if j == i or buf[j - 1] > 51:
-            return NOT_PLAIN, -1, 0
+            return NOT_PLAIN, -1, 0, 0
         for q in range(i, j - 1):
             if buf[q] != 48:
-                return NOT_PLAIN, -1, 0
+                return NOT_PLAIN, -1, 0, 0
         motion = buf[j - 1] - 48
         i = _blank(buf, j, end)
-    status, words = PLAIN, 0
+    status, words, no_point = PLAIN, 0, 0
     for letter, slot in _LETTERS:
         if i < end and (buf[i] == letter or buf[i] == letter + 32):
-            i, value, exact = _number(buf, _blank(buf, i + 1, end), end, pow10)
+            i, value, exact, whole_long = _number(buf, _blank(buf, i + 1, end), end, pow10)
             if i < 0:
-                return NOT_PLAIN, -1, 0
+                return NOT_PLAIN, -1, 0, 0
             vals[slot] = value
             words |= 1 << slot
             status = status if exact else PLAIN_SLOW
+            no_point = 1 if whole_long and slot != 3 else no_point  # F is no length
             i = _blank(buf, i, end)
     if i != end:
-        return NOT_PLAIN, -1, 0
+        return NOT_PLAIN, -1, 0, 0
     if motion < 2 and not words & ARC_WORDS:
-        return status, motion, words
+        return status, motion, words, no_point
     # an arc (or a centre word where G0/G1 is given: the interpreter's message)
     if status != PLAIN or 0 <= motion < 2 or not words & (MOVE_WORDS | ARC_WORDS):
-        return NOT_PLAIN, -1, 0
-    return ARC, motion, words
+        return NOT_PLAIN, -1, 0, 0
+    return ARC, motion, words, no_point
 
 
 @njit(cache=True)
@@ -128,16 +140,17 @@ def scan_lines(buf):
 
     Returns
     -------
-    codes : ndarray of int64, shape (lines, 3)
-        Per line its status, motion code and present words (:data:`STATUS`,
-        :data:`MOTION`, :data:`WORDS`) [-].
+    codes : ndarray of int64, shape (lines, 4)
+        Per line its status, motion code, present words and length mark (:data:`STATUS`,
+        :data:`MOTION`, :data:`WORDS`, :data:`WHOLE_LONG`; the words and the mark 0 where
+        the line is not plain) [-].
     vals : ndarray, shape (lines, 8)
         Per line the values of X, Y, Z, F, I, J, K and R as written (0 where absent) [-].
     """
     n = 0
     for b in buf:
         n += b == 10
-    codes = np.zeros((n, 3), dtype=np.int64)
+    codes = np.zeros((n, 4), dtype=np.int64)
     vals = np.zeros((n, 8))
     pow10 = np.empty(23)
     pow10[0] = 1.0
@@ -157,8 +170,8 @@ def _lines(buf, codes, vals, pow10):
     start, k = 0, 0
     for end in range(buf.size):
         if buf[end] == 10:
-            s, mo, w = _scan_line(buf, start, end, vals[k], pow10)
-            codes[k, 0], codes[k, 1], codes[k, 2] = s, mo, w
+            s, mo, w, p = _scan_line(buf, start, end, vals[k], pow10)
+            codes[k, 0], codes[k, 1], codes[k, 2], codes[k, 3] = s, mo, w, p
             start, k = end + 1, k + 1
 
 

@@ -172,7 +172,8 @@ def parse_gcode(text: str, file=None, *, start_position_m=(0.0, 0.0, 0.0)):
     -----
     InputWarning
         Once per kind of ignored word (spindle, coolant, tool, offsets, ...), naming the
-        first line where it occurs.
+        first line where it occurs; once for a length written without a decimal point
+        and of 1000 or more, which a Fanuc control may read in 0.001 mm.
     """
     if len(tuple(start_position_m)) != 3:
         raise InputError("start_position_m must have three coordinates (X, Y, Z) in m")

@@ -20,6 +20,14 @@ MAX_COORDINATE_M = 1e3
 ZERO_MOVE_M = 1e-9 * (1.0 + 1e-6)
 #: Highest feed taken, 16.7 m/s, faster than any feed axis [mm/min or in/min].
 MAX_FEED = 1e6
+#: A length word (X, Y, Z, I, J, K, R) written without a decimal point whose number, as
+#: written, is this large or larger is warned of, once a program: a Fanuc control without
+#: calculator-type input reads it in its least input increment (0.001 mm, 0.0001 in), so
+#: that X50000 is 50 mm there, 50 m here; a length of 1 m or more without a point is
+#: rarely meant [mm or in].
+WHOLE_LENGTH = 1000
+#: the key of that warning [-]
+NO_POINT = "length without a decimal point"
 
 #: motion codes -> 0 (G0) .. 3 (G3)
 MOTION = {0: 0, 10: 1, 20: 2, 30: 3}

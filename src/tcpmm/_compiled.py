@@ -38,7 +38,7 @@ from pathlib import Path
 
 from ._compiled_table import FUNCTIONS, KERNEL_SOURCES
 from ._numba_cache import writable
-from ._pycc import build_module
+from ._pycc import build_apart
 from .errors import BuildNotice
 
 #: A failed build is not tried again for this long [s]; a build lock older than
@@ -382,12 +382,12 @@ def _build_lock(lock: Path):
 
 
 def build(path: Path) -> None:
-    """Compile :data:`FUNCTIONS` into the extension module ``path``
-    (:func:`tcpmm._pycc.build_module`).
+    """Compile :data:`FUNCTIONS` into the extension module ``path``, in an interpreter of
+    its own (:func:`tcpmm._pycc.build_apart`).
 
     Parameters
     ----------
     path : Path
         The module's file; its name up to the first dot is the module's name [-].
     """
-    build_module(path, FUNCTIONS)
+    build_apart(path)

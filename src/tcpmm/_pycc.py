@@ -54,6 +54,36 @@ def build_module(path: Path, functions: dict) -> None:
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def build_apart(path: Path) -> None:
+    """:func:`build_module` of :data:`tcpmm._compiled_table.FUNCTIONS` into ``path`` in an
+    interpreter of its own.
+
+    The module is named by the hash of the sources on disk, and a fresh interpreter
+    compiles those. A process that has run since before an upgrade holds the former
+    modules in memory: built there, they would be filed under the new sources' name, and
+    every later process would run the former kernel with the new code around it.
+
+    Parameters
+    ----------
+    path : Path
+        The module's file [-].
+    """
+    import subprocess
+    import sys
+
+    root = str(Path(__file__).resolve().parents[1])  # the tcpmm this process runs
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+        p for p in (root, os.environ.get("PYTHONPATH", "")) if p)}
+    code = ("import sys; from pathlib import Path; from tcpmm._pycc import build_module; "
+            "from tcpmm._compiled_table import FUNCTIONS; "
+            "build_module(Path(sys.argv[1]), FUNCTIONS)")
+    done = subprocess.run([sys.executable, "-c", code, str(path)], env=env,
+                          capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        said = done.stderr.strip().splitlines() or [f"exit status {done.returncode}"]
+        raise OSError(f"the build stopped: {said[-1]}")
+
+
 def _numba_type(numba, kind):
     """numba's type for a kind of :data:`tcpmm._compiled.FUNCTIONS`."""
     if isinstance(kind, tuple):

@@ -55,6 +55,23 @@ def record(machine, ax, play, accel=1.0):
     return _CACHE[key]
 
 
+def played(machine, ax):
+    """Axis ``ax`` with :data:`PLAY`: its sweep identified alone and with its friction runs,
+    and the warnings each gave, once per module (the tests only read them) [-]."""
+    key = ("played", ax)
+    if key not in _CACHE:
+        a = with_play(machine.axes[ax], PLAY)
+        sweep = virtual_sweep(a, name=ax)
+        found = []
+        for friction in (None, record(machine, ax, PLAY)):
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                idn = identify_axis(ax, sweep, axis_config(machine, ax), friction=friction)
+            found += [idn, [str(w.message) for w in caught]]
+        _CACHE[key] = tuple(found)
+    return _CACHE[key]
+
+
 def nut_of(machine, ax, rec, mech=None, **options):
     cfg = axis_config(machine, ax)
     t, x, force = friction_record_arrays(rec, cfg.lead_m, cfg.torque_constant)
@@ -119,13 +136,8 @@ def test_identification_uses_the_nut_in_contact(machine, ax):
     """The sweep of an axis with 5 um play fits K_t at 0.5-0.9 of the truth; with the
     friction runs the identified axis has the stiffness of the nut in contact, the play,
     and a share from the plateaus with that play."""
-    a = with_play(machine.axes[ax], PLAY)
-    sweep = virtual_sweep(a, name=ax)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        soft = identify_axis(ax, sweep, axis_config(machine, ax))
-        idn = identify_axis(ax, sweep, axis_config(machine, ax), friction=record(machine, ax, PLAY))
-    play_warnings = [str(w.message) for w in caught if "lost motion in the nut" in str(w.message)]
+    soft, soft_said, idn, said = played(machine, ax)
+    play_warnings = [w for w in soft_said + said if "lost motion in the nut" in w]
     if PLAY_MODELLED[ax]:  # the travelling sweep lets the play be modelled
         assert not play_warnings
     else:  # it was, and fitted the FRFs no better: the user is told the linear fit stays
@@ -161,11 +173,7 @@ def test_the_play_crossed_by_the_sweep_is_modelled(machine, ax):
     nut as soft as the sweep saw it follows the FRFs better than the linear one and is
     kept; on Y, with the structure held, the linear fit is the better one (the DF refit
     had won against a linear fit whose bed was 0.63 of the truth)."""
-    a = with_play(machine.axes[ax], PLAY)
-    sweep = virtual_sweep(a, name=ax)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        idn = identify_axis(ax, sweep, axis_config(machine, ax), friction=record(machine, ax, PLAY))
+    _, _, idn, _ = played(machine, ax)
     m, true = idn.axis.mechanics, machine.axes[ax].mechanics
     for p in ("M_t", "M_h", "K_h", "M_b", "K_b"):
         assert getattr(m, p) == pytest.approx(getattr(true, p), rel=0.1), p
@@ -366,7 +374,26 @@ def test_a_share_the_runs_barely_determine_is_reported(unseen, identify_unseen):
     assert share_uncertainty_warning("X", split, est, a.mechanics, cfg) is None
 
 
-def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, monkeypatch):
+@pytest.fixture(scope="module")
+def settling(identify_unseen, once):
+    """Axis X of machine 7 of seed 0 (below) identified once per run, with the nut gain of
+    each physical fit it made: ``(gains, (true machine, axis, identification, warnings))``
+    [-]."""
+    def make():
+        fits = []
+
+        def counted(*args, **kwargs):
+            fits.append(kwargs.get("nut_gain"))
+            return fit_physical(*args, **kwargs)
+
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(fitcontext, "fit_physical", counted)
+            return fits, identify_unseen(0, 7, "X", sweep_seed=0)
+
+    return once("unseen_0_7_X_counted", make)
+
+
+def test_refits_with_the_play_are_followed_until_they_settle(settling):
     """Axis X of machine 7 of ``studies/unseen_machines.py --seed 0 --backlash``: 4.6 um of
     play and a light table (15 % of the inertia). The linear fit puts M_t at 1.28-1.49 of
     the truth; the refits with the play swing before they settle, from each of the starts
@@ -375,14 +402,7 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
     on an AMD EPYC, 1.04-1.08 on the machines of the first measurements. Held: each chain
     of refits ends within its rounds, the fit kept is a solution of its own describing
     function, and the truth lies within 3 reported deviations of M_t."""
-    fits = []
-
-    def counted(*args, **kwargs):
-        fits.append(kwargs.get("nut_gain"))
-        return fit_physical(*args, **kwargs)
-
-    monkeypatch.setattr(fitcontext, "fit_physical", counted)
-    _, a, idn, caught = identify_unseen(0, 7, "X", sweep_seed=0)
+    fits, (_, a, idn, caught) = settling
     refits = sum(g is not None for g in fits)
     assert 2 * len(playrefit.START_SCALES) <= refits
     assert refits <= len(playrefit.START_SCALES) * playrefit.PLAY_ITERATIONS
@@ -394,8 +414,7 @@ def test_refits_with_the_play_are_followed_until_they_settle(identify_unseen, mo
     assert not [w for w in caught if "lost motion in the nut" in w]
 
 
-def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(unseen,
-                                                                         identify_unseen):
+def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(settling):
     """The axis above is chaotic in simulation (play, stick-slip): its moment of inertia
     moved by 2e-15 relative, as another CPU's rounding moves it, changes thousands of
     samples of the sweep by up to micrometres. The two records are equally true; from
@@ -407,7 +426,7 @@ def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(unseen
     whichever records the CPU gives: the truth within 3 reported deviations of both, the
     two M_t within the larger deviation of each other, and a warning wherever the
     deviation was widened."""
-    true, a, idn, caught = identify_unseen(0, 7, "X", shared=True)
+    true, a, idn, caught = settling[1]
     b = a.model_copy(update={"mechanics": a.mechanics.replace(J_m=a.mechanics.J_m * (1 + 2e-15))})
     with warnings.catch_warnings(record=True) as moved:
         warnings.simplefilter("always")
@@ -428,7 +447,7 @@ def test_the_play_refit_stands_for_the_solutions_rounding_chooses_between(unseen
     assert abs(m1 - m0) < max(sd0, sd1)
 
 
-def test_identification_does_not_follow_rounding_in_the_records(identify_unseen):
+def test_identification_does_not_follow_rounding_in_the_records(settling):
     """The axis above, whose refits with the play settle, identified from its records and
     from the same records perturbed by 1e-12 relative (rounding, as another build of the
     simulation kernel or another summation order gives): the same fit is kept, with the
@@ -437,7 +456,7 @@ def test_identification_does_not_follow_rounding_in_the_records(identify_unseen)
     Jacobians)."""
     import dataclasses
 
-    true, a, one, _ = identify_unseen(0, 7, "X", shared=True)
+    true, a, one, _ = settling[1]
     sweep = virtual_sweep(a, name="X", seed=0)
     runs = virtual_friction(a, FRICTION_SPEEDS, name="X")
     rng = np.random.default_rng(1)

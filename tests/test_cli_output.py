@@ -58,6 +58,18 @@ def commands(d: Path) -> dict:
             "tune": ["tune", "builtin:vmc"]}
 
 
+#: What each command of :func:`commands` printed, by name: run once per module, as the
+#: tests only read its text [-].
+_PRINTED: dict = {}
+
+
+def printed(capsys, d: Path, name: str) -> tuple:
+    """``(exit code, stdout, stderr)`` of command ``name`` of :func:`commands` on ``d`` [-]."""
+    if name not in _PRINTED:
+        _PRINTED[name] = run_cli(capsys, *commands(d)[name])
+    return _PRINTED[name]
+
+
 def test_no_command_builds_a_table_of_its_own():
     """contour, circle, frf and tune built rich tables of the default heavy box, the others
     the plain one of ``print_table``: every table is made in ``cli/_tables.py``."""
@@ -70,7 +82,7 @@ def test_no_command_builds_a_table_of_its_own():
 @pytest.mark.parametrize("name", ["contour", "circle", "frf show", "compare", "tune"])
 def test_every_result_table_is_plain(capsys, runs, name):
     """No vertical rules and no heavy head: columns apart by spaces, the head ruled."""
-    code, out, err = run_cli(capsys, *commands(runs)[name])
+    code, out, err = printed(capsys, runs, name)
     assert code == 0, err
     assert not BOXED & set(out), out
     rules = [line for line in out.splitlines() if line and set(line) <= {"─", " "}]
@@ -81,7 +93,7 @@ def test_every_result_table_is_plain(capsys, runs, name):
 def test_no_line_in_a_pipe_ends_in_spaces(capsys, runs, name):
     """Titles and captions were centred and padded to the table's width, and each row to
     the last column's: a log held spaces at the end of most lines."""
-    code, out, err = run_cli(capsys, *commands(runs)[name])
+    code, out, err = printed(capsys, runs, name)
     assert code == 0, err
     assert [line for line in out.splitlines() if line != line.rstrip()] == []
 
@@ -90,7 +102,7 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     """A caption was word-wrapped to its table's width and centred: 'overshoot: outside
     the path ... settled within 1 µm' came in three pieces, and a grep for a figure in it
     failed. Titles and captions are now lines of their own, never wrapped in a pipe."""
-    code, out, _ = run_cli(capsys, *commands(runs)["contour"])
+    code, out, _ = printed(capsys, runs, "contour")
     lines = out.splitlines()
     assert code == 0 and "corners, tcp" in lines and "signed, +: left of travel" in lines
     assert any(line.startswith("turn: of the command over 0.5 mm before and after")
@@ -100,7 +112,7 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     head = next(line for line in lines if line.startswith("#"))
     assert head.split()[-4:] == ["settle", "ms", "settle", "mm"], head
     assert "settle ms, settle mm: the time and the commanded path length" in out
-    code, out, _ = run_cli(capsys, *commands(runs)["circle"])
+    code, out, _ = printed(capsys, runs, "circle")
     lines = out.splitlines()
     assert code == 0 and f"{runs / 'circle.csv'} [µm]" in lines
     assert "circle diagnostics (tcp) [µm]" in lines
@@ -119,11 +131,11 @@ def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     assert code == 0 and "terms ranked by their share of G(b)" in lines
     assert any(line.startswith("G(b) alone: the G(b) the term's radial error alone makes")
                and line.endswith("not in the drive") for line in lines), out
-    code, out, _ = run_cli(capsys, *commands(runs)["tune"])
+    code, out, _ = printed(capsys, runs, "tune")
     lines = out.splitlines()
     assert code == 0
     assert "axis X: tuning for 6 dB / 45 deg, stable with the modes 5 % off: met" in lines
-    code, out, _ = run_cli(capsys, *commands(runs)["compare"])
+    code, out, _ = printed(capsys, runs, "compare")
     assert code == 0
     assert ("measured - predicted (raw spikes e - b, as in the paper's Table 2)"
             in out.splitlines())
@@ -182,7 +194,7 @@ def test_lc_all_c_keeps_working(tmp_path, runs):
 def test_a_command_says_its_units_alike_in_titles_and_columns(capsys, runs):
     """tune's path table was titled '[um]' over figures the other tables head '[µm]', and
     compare's verdicts likewise."""
-    code, out, err = run_cli(capsys, *commands(runs)["tune"])
+    code, out, err = printed(capsys, runs, "tune")
     assert code == 0, err
     assert "predicted path (TCP) [µm]" in out.splitlines() and "[um]" not in out
     code, out, err = run_cli(capsys, *commands(runs)["compare"], "--model", "builtin:vmc")

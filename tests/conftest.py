@@ -68,6 +68,31 @@ def identify_unseen(unseen, once):
     return identify
 
 
+@pytest.fixture(scope="session")
+def identify_builtin(once):
+    """``identify(ax, friction=True)``: axis ``ax`` of the built-in machine identified from
+    its default sweep and friction runs, or, without ``friction``, the machine without
+    friction from its sweep alone; returns the identification and the warnings given on
+    the way. Once per test run: the tests of several modules read the same one [-]."""
+    from tcpmm.ident.pipeline import identify_axis
+    from tcpmm.machines.virtual import FRICTION_SPEEDS, axis_config, virtual_friction, virtual_sweep
+
+    def make(ax, friction):
+        m = builtin_machine(friction=friction)
+        a = m.axes[ax]
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            runs = virtual_friction(a, FRICTION_SPEEDS, name=ax) if friction else None
+            idn = identify_axis(ax, virtual_sweep(a, name=ax), axis_config(m, ax), friction=runs)
+        return idn, [str(w.message) for w in caught]
+
+    def identify(ax, friction=True):
+        key = f"builtin_{ax}_{'friction' if friction else 'linear'}"
+        return once(key, lambda: make(ax, friction))
+
+    return identify
+
+
 #: Reference machines of an independent simulator, beside the checkout (`../shared`).
 BENCH_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 

@@ -393,7 +393,7 @@ def test_viscous_force_is_placed_where_the_runs_say(machine, ax):
 
 
 @pytest.mark.parametrize("ax", ["X", "Y"])
-def test_motor_bearing_damping_is_not_put_through_the_nut(machine, ax):
+def test_motor_bearing_damping_is_not_put_through_the_nut(machine, ax, identify_builtin):
     """Motor-bearing damping does not twist the shaft: a B_m 30 times too large moves the
     nut's share of the viscous force by K_t 29 B_m/K_L (measured 1105 / 1574 N s/m of
     1088 / 1547). The identification puts no viscous force through the motor bearings
@@ -405,10 +405,7 @@ def test_motor_bearing_damping_is_not_put_through_the_nut(machine, ax):
                                     m.replace(B_m=30 * m.B_m), axis=ax)
     shift = m.K_t * 29 * m.B_m / m.K_L
     assert split.estimate.table_viscous - table == pytest.approx(shift, rel=0.1)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        idn = identify_axis(ax, virtual_sweep(a, name=ax), axis_config(machine, ax),
-                            friction=record(machine, ax))
+    idn, _ = identify_builtin(ax)
     assert idn.axis.mechanics.B_m == 0.0
     assert idn.axis.mechanics.C_t == pytest.approx(table, rel=0.1)
 

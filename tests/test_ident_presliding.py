@@ -1,20 +1,14 @@
 """Pre-sliding given to identified friction (``tcpmm.ident.friction.presliding``)."""
 
 import math
-import warnings
 
 import pytest
 
 from tcpmm.analysis.circular import analyse_circle
 from tcpmm.errors import InputError
 from tcpmm.ident.friction import BRISTLE_DAMPING_RATIO, PRESLIDING, with_presliding
-from tcpmm.ident.pipeline import identify_axis
 from tcpmm.machines.virtual import (
-    FRICTION_SPEEDS,
-    axis_config,
-    virtual_friction,
     virtual_run,
-    virtual_sweep,
 )
 from tcpmm.mechanics.friction import LuGreFriction, StribeckFriction
 from tcpmm.model import AxisFriction
@@ -80,12 +74,8 @@ def test_a_softer_contact_lags_more_after_a_reversal(vmc, static):
     assert heights[0] > heights[2] > heights[3]
 
 
-def test_the_default_is_used_and_reported(vmc):
-    a = vmc.axes["X"]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        idn = identify_axis("X", virtual_sweep(a, name="X"), axis_config(vmc, "X"),
-                            friction=virtual_friction(a, FRICTION_SPEEDS, name="X"))
+def test_the_default_is_used_and_reported(identify_builtin):
+    idn, _ = identify_builtin("X")
     fr = idn.axis.friction
     assert idn.presliding_m == PRESLIDING
     assert fr.guideway.sigma0 * PRESLIDING == pytest.approx(

@@ -29,14 +29,16 @@ def machine():
 
 @pytest.mark.parametrize("open_loop", [False, True], ids=["closed-loop", "torque-mode"])
 @pytest.mark.parametrize("ax", ["X", "Y"])
-def test_identify_recovers_the_model(machine, ax, open_loop):
+def test_identify_recovers_the_model(machine, ax, open_loop, identify_builtin):
     a = machine.axes[ax]
-    cfg = axis_config(machine, ax)
-    rec = virtual_sweep(a, name=ax, open_loop=open_loop,
-                        travel_speed_m_per_s=0.0 if open_loop else 0.02)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        idn = identify_axis(ax, rec, cfg)
+    if open_loop:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            idn = identify_axis(ax, virtual_sweep(a, name=ax, open_loop=True,
+                                                  travel_speed_m_per_s=0.0),
+                                axis_config(machine, ax))
+    else:  # the default sweep travels at 20 mm/s under the axis's loops
+        idn, _ = identify_builtin(ax, friction=False)
     f_true, z_true = modes(a.mechanics)
     f_id, z_id = modes(idn.axis.mechanics)
     inband = f_true < 500.0  # the 700 Hz torsion has 0.1 % damping: only its frequency
@@ -61,7 +63,7 @@ def test_identify_recovers_the_model(machine, ax, open_loop):
     assert idn.axis.servo.K_pp == a.servo.K_pp
 
 
-def test_identified_model_predicts_the_circle(machine):
+def test_identified_model_predicts_the_circle(machine, identify_builtin):
     """Closed loop with quantisation and noise: the identified model's circle matches the
     true machine's within the paper's contour-error difference (0.6 um)."""
     from tcpmm.analysis.circular import analyse_circle
@@ -71,10 +73,7 @@ def test_identified_model_predicts_the_circle(machine):
 
     identified = machine
     for ax in ("X", "Y"):
-        cfg = axis_config(machine, ax)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            idn = identify_axis(ax, virtual_sweep(machine.axes[ax], name=ax), cfg)
+        idn, _ = identify_builtin(ax, friction=False)
         identified = identified.with_axis(ax, idn.axis)
     cmd = paper_circle_command()
     truth = analyse_circle(simulate(machine, cmd), 0.035)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from .io import runwrite
+from .io.bytenames import readable
 
 #: Run-file column suffix -> AxisRun field (docs/formats.md section 3), values in mm or A.
 RUN_COLUMNS = {"cmd_mm": "cmd", "motor_mm": "motor", "scale_mm": "scale", "tcp_mm": "tcp",
@@ -79,11 +80,15 @@ class AxisRun:
 def json_ready(data):
     """``data`` with every float that is not finite replaced by ``None``, tuples as lists:
     what ``json.dumps(..., allow_nan=False)`` writes, a missing figure as ``null``, the
-    form every result's ``to_dict`` and the command line's ``--json`` share [-]."""
+    form every result's ``to_dict`` and the command line's ``--json`` share; the
+    undecoded bytes of a name in a text decoded (:func:`~tcpmm.io.bytenames.readable`),
+    as JSON holds no lone surrogate [-]."""
     if isinstance(data, float):
         return data if math.isfinite(data) else None
+    if isinstance(data, str):
+        return readable(data)
     if isinstance(data, dict):
-        return {k: json_ready(v) for k, v in data.items()}
+        return {json_ready(k): json_ready(v) for k, v in data.items()}
     if isinstance(data, list | tuple):
         return [json_ready(v) for v in data]
     return data

@@ -71,14 +71,31 @@ def unicode_stream(stream) -> bool:
     return encoding.startswith("utf")
 
 
+def _utf8(stream) -> bool:
+    """Whether ``stream`` writes UTF-8 [-]."""
+    try:
+        return codecs.lookup(getattr(stream, "encoding", None) or "").name == "utf-8"
+    except LookupError:
+        return False
+
+
 def fit_standard_streams() -> None:
     """Make the standard output and error write :data:`STAND_INS` for what their encoding
-    cannot hold, where it cannot hold tcpmm's characters; a stream that holds them, or that
-    cannot be reconfigured (a test's capture), is left as it is."""
+    cannot hold, where it cannot hold tcpmm's characters, and a name's undecoded bytes as
+    text (:mod:`tcpmm.io.bytenames`) where a UTF-8 stream would refuse them; a stream that
+    cannot be reconfigured is left as it is."""
+    from ..io.bytenames import HANDLER as NAMES
+
     for stream in (sys.stdout, sys.stderr):
-        if stream is None or holds(stream) or not hasattr(stream, "reconfigure"):
+        if stream is None or not hasattr(stream, "reconfigure"):
+            continue
+        if not holds(stream):
+            errors = HANDLER
+        elif _utf8(stream) and getattr(stream, "errors", "") == "strict":
+            errors = NAMES
+        else:
             continue
         try:
-            stream.reconfigure(errors=HANDLER)
+            stream.reconfigure(errors=errors)
         except (ValueError, OSError):  # closed, or a stream of another kind
             continue

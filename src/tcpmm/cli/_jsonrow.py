@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 from json.encoder import encode_basestring, encode_basestring_ascii
 
+from ..io.bytenames import readable
+
 _LITERAL = {type(None): lambda v: "null", bool: lambda v: "true" if v else "false",
             int: int.__repr__}
 _KEYS: dict = {}  # (key, ascii_only) -> the key's JSON text and the separator
@@ -25,14 +27,14 @@ def flat_row_json(row: dict, ascii_only: bool) -> str | None:
         if key is None:
             if type(k) is not str:
                 return None
-            key = _KEYS.setdefault((k, ascii_only), text(k) + ": ")
+            key = _KEYS.setdefault((k, ascii_only), text(readable(k)) + ": ")
         t = type(v)
         if t is float:  # finite where v - v is 0 (inf - inf and NaN are NaN)
             items.append(key + (float.__repr__(v) if v - v == 0.0 else "null"))
         elif isinstance(v, float):  # numpy's, whose v - v would warn
             items.append(key + (float.__repr__(v) if math.isfinite(v) else "null"))
         elif t is str:
-            items.append(key + text(v))
+            items.append(key + text(v if v.isascii() else readable(v)))
         elif t in _LITERAL:
             items.append(key + _LITERAL[t](v))
         else:

@@ -17,6 +17,7 @@ from pathlib import Path
 from ..errors import InputError
 from ._together import at_once, hold, together  # noqa: F401  (the API)
 from ._together import held_back as _held_back
+from .bytenames import HANDLER
 from .outfolder import (  # noqa: F401  (the API)
     cannot_write,
     check_output_folder,
@@ -188,7 +189,8 @@ def _move_into(src: Path, dst: Path) -> None:
 
 def write_text_atomic(path, text: str) -> None:
     """Write text to ``path`` atomically."""
-    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as fh:
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", errors=HANDLER,
+                                             newline="\n") as fh:
         fh.write(text)
 
 
@@ -215,7 +217,8 @@ def write_table_atomic(frame, path, float_format: str | None = None) -> Path:
         tiny = 0.5 * 10.0 ** -int(m.group(1))
         frame = frame.apply(lambda c: c.mask(c.abs() < tiny, 0.0)
                             if c.dtype.kind == "f" else c)
-    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", errors=HANDLER,
+                                             newline="") as fh:
         frame.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
     return Path(path)
 
@@ -250,7 +253,8 @@ def write_columns_atomic(path, columns, float_format: str = "%.15g") -> Path:
     names = list(columns)
     data = np.column_stack([np.asarray(columns[c], dtype=float) for c in names])
     row = ",".join([float_format] * data.shape[1]) + "\n"
-    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", errors=HANDLER,
+                                             newline="") as fh:
         fh.write(",".join(names) + "\n")
         for k in range(0, data.shape[0], CSV_BLOCK_ROWS):
             block = data[k:k + CSV_BLOCK_ROWS]

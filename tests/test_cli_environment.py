@@ -1,0 +1,58 @@
+"""What the system around a command gives it: names in bytes no locale decodes, colour
+asked for by the environment, standard streams closed or full, files the user may not
+write, narrow terminals. A command writes what it can or refuses in one line, never ends
+in a traceback, and never says it wrote what it did not."""
+
+import json
+
+import numpy as np
+
+from tcpmm.cli import main
+
+#: What Python makes of "Maschine µ" typed in a C locale (PYTHONUTF8=0): the bytes of
+#: "µ" as lone surrogates (PEP 383) [-].
+C_LOCALE_TITLE = "Maschine \udcc2\udcb5"
+#: A file name with a Latin-1 "ü" (byte 0xFC), which is no UTF-8, as Python gives it [-].
+LATIN1_NAME = "r\udcfcn.csv"
+
+
+def _circle_run(path):
+    """A CCW circle of 35 mm radius with a small TCP deviation, written to ``path``."""
+    from test_circle import filtered_circle, make_run, polar_perturb
+
+    cmd, _ = filtered_circle(feed_m_s=5.0 / 60, window_s=0.040)
+    tcp = polar_perturb(cmd, (0, 0), lambda a: 2e-6 * np.cos(2 * a))
+    make_run(cmd, tcp).write_csv(path)
+    return path
+
+
+def test_a_report_is_written_for_names_no_locale_decodes(tmp_path, capsys):
+    """A title and a run file name in undecoded bytes: the report is written, the title's
+    bytes read as the UTF-8 they are, the Latin-1 byte of the name as U+FFFD."""
+    run = _circle_run(tmp_path / LATIN1_NAME)
+    out = tmp_path / "r.html"
+    code = main(["report", "-o", str(out), "--run", str(run), "--radius", "35",
+                 "--title", C_LOCALE_TITLE])
+    assert code == 0, capsys.readouterr().err
+    text = out.read_text(encoding="utf-8")
+    assert "Maschine µ" in text and "r\ufffdn.csv" in text
+
+
+def test_json_and_text_files_hold_names_in_undecoded_bytes(tmp_path):
+    from tcpmm.io.atomic import write_columns_atomic, write_text_atomic
+    from tcpmm.result import json_ready
+
+    write_text_atomic(tmp_path / "t.txt", f"{C_LOCALE_TITLE} {LATIN1_NAME}\n")
+    assert (tmp_path / "t.txt").read_text(encoding="utf-8") == "Maschine µ r\ufffdn.csv\n"
+    data = json_ready({LATIN1_NAME: [C_LOCALE_TITLE]})
+    assert json.loads(json.dumps(data)) == {"r\ufffdn.csv": ["Maschine µ"]}
+    write_columns_atomic(tmp_path / "t.csv", {C_LOCALE_TITLE: [1.0]})
+    assert (tmp_path / "t.csv").read_text(encoding="utf-8").startswith("Maschine µ\n")
+
+
+def test_a_json_row_holds_names_in_undecoded_bytes():
+    from tcpmm.cli._jsonrow import flat_row_json
+
+    for ascii_only in (False, True):
+        row = json.loads(flat_row_json({"run": LATIN1_NAME, C_LOCALE_TITLE: 1.0}, ascii_only))
+        assert row == {"run": "r\ufffdn.csv", "Maschine µ": 1.0}

@@ -56,3 +56,35 @@ def test_a_json_row_holds_names_in_undecoded_bytes():
     for ascii_only in (False, True):
         row = json.loads(flat_row_json({"run": LATIN1_NAME, C_LOCALE_TITLE: 1.0}, ascii_only))
         assert row == {"run": "r\ufffdn.csv", "Maschine µ": 1.0}
+
+
+def test_json_stays_json_where_the_environment_forces_colour(monkeypatch, capsys):
+    """FORCE_COLOR=1 (as CI systems set it) on a standard output that is no terminal: the
+    JSON is written without colour codes and parses."""
+    monkeypatch.setenv("FORCE_COLOR", "1")
+    assert main(["machine", "show", "builtin:vmc", "--json"]) == 0
+    text = capsys.readouterr().out
+    assert "\x1b[" not in text
+    assert "X" in json.loads(text)
+
+
+def test_only_a_stream_that_is_a_terminal_counts_as_one(monkeypatch):
+    """A pipe is no terminal whatever FORCE_COLOR says; a pseudo-terminal is one, and a
+    console made to be one (a test's screen) stays one."""
+    import io
+    import os
+    import pty
+
+    from rich.console import Console
+
+    from tcpmm.cli._app import on_screen
+
+    monkeypatch.setenv("FORCE_COLOR", "1")
+    read, write = os.pipe()
+    main_end, screen_end = pty.openpty()
+    with open(write, "w") as pipe, open(screen_end, "w") as screen:
+        assert Console(file=pipe).is_terminal and not on_screen(Console(file=pipe))
+        assert on_screen(Console(file=screen))
+    os.close(read)
+    os.close(main_end)
+    assert on_screen(Console(file=io.StringIO(), force_terminal=True))

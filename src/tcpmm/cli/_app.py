@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from contextlib import contextmanager
 from enum import StrEnum
 from pathlib import Path
@@ -37,6 +38,22 @@ app = typer.Typer(cls=Workflow, add_completion=False, pretty_exceptions_enable=F
 machine_app = typer.Typer(help="Built-in machines and model files.", rich_markup_mode=None)
 app.add_typer(machine_app, name="machine")
 
+def on_screen(console: Console) -> bool:
+    """Whether ``console`` writes to a terminal: rich's ``is_terminal`` where the stream is
+    one itself, or the console was made to take it for one (``force_terminal``); a pipe or
+    a file that only the environment calls a terminal (``FORCE_COLOR``, which CI systems
+    set to keep their logs coloured) is none: JSON written there stays JSON, a table's
+    row one line, and no progress bar is drawn into a log [-]."""
+    if not console.is_terminal:
+        return False
+    if getattr(console, "_force_terminal", None) is not None:
+        return True
+    try:
+        return os.isatty(console.file.fileno())
+    except (AttributeError, OSError, ValueError):  # no descriptor: a stream in memory
+        return False
+
+
 class _Console(Console):
     """Wraps at the terminal's width on a terminal, and never in a pipe or a log: a table
     row or a message stays on one line whatever the path lengths in it (rich's default of
@@ -47,7 +64,7 @@ class _Console(Console):
     @property
     def size(self) -> ConsoleDimensions:
         dims = super().size
-        return dims if self.is_terminal else ConsoleDimensions(self.UNWRAPPED, dims.height)
+        return dims if on_screen(self) else ConsoleDimensions(self.UNWRAPPED, dims.height)
 
     @size.setter
     def size(self, new_size) -> None:
@@ -68,8 +85,6 @@ class _Console(Console):
     def on_broken_pipe(self) -> None:
         """The reader went away (``| head``): nothing more is written to the stream, and
         the command ends with :data:`READER_GONE`, not rich's 1, the code of a failure."""
-        import os
-
         self.quiet = True
         os.dup2(os.open(os.devnull, os.O_WRONLY), self.file.fileno())
         raise SystemExit(READER_GONE)
@@ -121,7 +136,7 @@ def _root(version: bool = typer.Option(False, "--version", callback=_print_versi
 @contextmanager
 def progress_bar(total: int, description: str):
     """A progress bar on a terminal; nothing in a pipe or a log."""
-    if not console.is_terminal:
+    if not on_screen(console):
         yield lambda *_: None
         return
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
@@ -235,7 +250,7 @@ def emit_json(data) -> None:
     determined) is ``null``: JSON has no NaN, and a strict reader refuses it. The
     warnings said on stderr go with it (:func:`with_warnings`)."""
     text = _dumped(with_warnings(data), not unicode_stream(out.file))
-    if out.is_terminal:
+    if on_screen(out):
         out.print_json(text)
     else:
         with named_stream(False):
@@ -264,7 +279,7 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
         How many rows there are, where known: on a terminal, more than
         :data:`JSON_COLOURED_ROWS` are written as they come, without colours [-].
     """
-    if out.is_terminal and count is not None and count <= JSON_COLOURED_ROWS:
+    if on_screen(out) and count is not None and count <= JSON_COLOURED_ROWS:
         emit_json({**head, key: list(rows)})
         return
     from itertools import islice

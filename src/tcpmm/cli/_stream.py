@@ -9,7 +9,7 @@ import threading
 from contextlib import contextmanager
 from pathlib import Path
 
-from ._app import console
+from ._app import console, on_screen
 
 #: help of ``--chunk-blocks``
 CHUNK_HELP = ("Most blocks of the NC program read, interpolated and simulated at a time "
@@ -98,7 +98,7 @@ class Bar:
 def _drawn(total, description: str, unit: str):
     """A :class:`Bar` of ``total()`` things named ``unit`` drawn on a terminal, ``None``
     in a pipe or a log (``total`` is not called there) [-]."""
-    if not console.is_terminal:
+    if not on_screen(console):
         yield None
         return
     from rich.progress import (

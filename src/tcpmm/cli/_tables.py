@@ -213,11 +213,12 @@ def print_plain(table, console, title: str | None = None, caption: str | None = 
     the rule of its head a rule of dashes [-]."""
     from rich.text import Text
 
+    from ._app import on_screen
     from ._encoding import unicode_stream
 
     if not unicode_stream(console.file):
         table = _as_written(table, console.file)
-    unwrapped = not console.is_terminal
+    unwrapped = not on_screen(console)
     if title is not None:
         console.print(Text(title), soft_wrap=unwrapped)
     for part in ([table] if unwrapped else _fitted(table, console.width)):

@@ -16,6 +16,7 @@ from ._app import (
     emit_json,
     esc,
     floats,
+    on_screen,
     out,
     positive,
     read_model,
@@ -47,7 +48,7 @@ _DEFAULTS = {"design": "grid", "n": 16, "seed": 0, "centre": "0,0"}
 def _bar(description: str):
     """``progress(done, total)`` drawing a bar on stderr on a terminal; nothing in a pipe
     or a log, where the bar's end left a blank line, before an error too."""
-    if not console.is_terminal:
+    if not on_screen(console):
         yield lambda done, total: None
         return
     from rich.progress import (

@@ -88,3 +88,57 @@ def test_only_a_stream_that_is_a_terminal_counts_as_one(monkeypatch):
     os.close(read)
     os.close(main_end)
     assert on_screen(Console(file=io.StringIO(), force_terminal=True))
+
+
+def _nothing_writable(tmp_path, monkeypatch):
+    """No folder for numba's cache: the package's and the home's not writable, and no
+    temporary folder usable (a read-only container)."""
+    import errno
+    import os
+    import tempfile
+
+    import numba
+
+    from tcpmm import _numba_cache
+
+    def no_temporary_folder():
+        raise FileNotFoundError(errno.ENOENT, "No usable temporary directory found")
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "")  # so that the test leaves it as it found it
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setattr(numba.config, "CACHE_DIR", numba.config.CACHE_DIR)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(tempfile, "gettempdir", no_temporary_folder)
+    monkeypatch.setattr(_numba_cache.os, "access", lambda path, mode: False)
+    monkeypatch.setattr(_numba_cache, "FALLBACK", [])
+    monkeypatch.setattr(_numba_cache, "NO_CACHE", [], raising=False)
+    return os
+
+
+def test_no_writable_folder_at_all_is_no_traceback_at_import(tmp_path, monkeypatch):
+    from tcpmm import _numba_cache
+
+    os = _nothing_writable(tmp_path, monkeypatch)
+    assert _numba_cache.ensure_cache_dir() is None
+    assert "NUMBA_CACHE_DIR" not in os.environ and not _numba_cache.FALLBACK
+
+
+def test_numba_without_a_cache_folder_is_one_line_with_the_fix(tmp_path, monkeypatch,
+                                                               capsys):
+    """Where numba's kernels must run and no folder takes their cache, numba refuses
+    ("no locator available"): one line naming the folders and the fix, exit 2."""
+    import tcpmm.cli as cli
+    from tcpmm import _numba_cache
+
+    _nothing_writable(tmp_path, monkeypatch)
+    _numba_cache.ensure_cache_dir()
+
+    def refused(argv):
+        raise RuntimeError("cannot cache function 'run_axis': no locator available for "
+                           "file 'kernel.py'")
+
+    monkeypatch.setattr(cli, "register", refused)
+    assert main(["simulate", "builtin:vmc"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "TMPDIR or NUMBA_CACHE_DIR" in err[0]
+    assert "internal error" not in err[0] and "__pycache__" in err[0]

@@ -93,6 +93,8 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:  # before or after the command, where typer does not see it
         return _said_stopped(130)
     except Exception as exc:  # a defect of tcpmm: one line, not a traceback, for the user
+        if _said_no_cache(exc):
+            return 2
         if os.environ.get("TCPMM_TRACEBACK"):
             raise
         console.print(f"[red]error:[/red] internal error, a defect of tcpmm "
@@ -174,6 +176,16 @@ def _warn_cache_fallback() -> None:
         console.print(f"[yellow]warning:[/yellow] neither the package's __pycache__ folders "
                       f"nor the user's cache folder can be written; numba's compiled "
                       f"functions are cached in {esc(FALLBACK[0])}")
+
+
+def _said_no_cache(exc: Exception) -> bool:
+    """Whether ``exc`` is numba's want of a cache folder, said in one line with the fix."""
+    from .._numba_cache import no_cache_error
+
+    message = no_cache_error(exc)
+    if message is not None:
+        console.print(f"[red]error:[/red] {esc(message)}")
+    return message is not None
 
 
 def _said_stopped(code: int) -> int:

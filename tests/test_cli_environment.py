@@ -142,3 +142,22 @@ def test_numba_without_a_cache_folder_is_one_line_with_the_fix(tmp_path, monkeyp
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "TMPDIR or NUMBA_CACHE_DIR" in err[0]
     assert "internal error" not in err[0] and "__pycache__" in err[0]
+
+
+def test_a_read_only_install_uses_the_kernel_built_in_it(tmp_path, monkeypatch):
+    """The package's __pycache__ holds the compiled module for this key but cannot be
+    written: the module there is used, not built again in the user's cache."""
+    from tcpmm import _compiled
+
+    package = tmp_path / "package" / "__pycache__"
+    package.mkdir(parents=True)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "")
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "home"))
+    monkeypatch.setattr(_compiled, "_PKG", tmp_path / "package")
+    monkeypatch.setattr(_compiled, "_key", lambda: "k")
+    monkeypatch.setattr(_compiled, "writable", lambda folder: folder != package)
+    name = _compiled.module_path().name
+    assert _compiled.module_path().parent == tmp_path / "home" / "tcpmm" / "compiled"
+    (package / name).write_bytes(b"built by whoever installed it")
+    assert _compiled.module_path() == package / name

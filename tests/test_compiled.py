@@ -219,8 +219,10 @@ def test_measuring_a_contour_imports_neither_numba_nor_scipy(tmp_path, suffix, p
 
 @pytest.fixture
 def fresh(tmp_path, monkeypatch):
-    """The choice made again, with the compiled modules kept in an empty folder."""
+    """The choice made again, with the compiled modules kept in an empty folder and none
+    in the package's."""
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(compiled, "_package_cache", lambda: tmp_path / "package")
     monkeypatch.setattr(compiled, "_chosen", [])
     return tmp_path
 

@@ -10,12 +10,13 @@ this CPU, each releasing the GIL); later runs import it in about a millisecond a
 import numba. It gives the same numbers to the bit: the same code compiled by the same compiler.
 
 The module is kept beside numba's cache (the package's ``__pycache__``, else the
-user's cache folder, else ``NUMBA_CACHE_DIR``), under a name keyed on the sources,
+user's cache folder, else ``NUMBA_CACHE_DIR``) under a name keyed on the sources,
 numba's and Python's versions and the CPU, so an edit, an upgrade or another machine
-builds a new one. The build needs a C compiler; where it fails, the reason is kept
-beside it for a day (:func:`describe` says it, and ``tcpmm --version``) and the
-functions run through numba as before. ``TCPMM_COMPILED=0`` in the environment uses
-numba's always.
+builds a new one; one in the package's ``__pycache__`` is used whether that can be
+written or not (an install its users cannot write). The build needs a C compiler; where
+it fails, the reason is kept beside it for a day (:func:`describe` says it, and
+``tcpmm --version``) and the functions run through numba as before.
+``TCPMM_COMPILED=0`` in the environment uses numba's always.
 
 It sits at the foot of the package: the packages whose functions it compiles call them
 through it, and it imports none of them (numba's entry points are imported by name when
@@ -38,7 +39,7 @@ from pathlib import Path
 
 from ._compiled_table import FUNCTIONS, KERNEL_SOURCES
 from ._numba_cache import writable
-from ._pycc import build_apart
+from ._pycc import build_apart, prune_builds
 from .errors import BuildNotice
 
 #: A failed build is not tried again for this long [s]; a build lock older than
@@ -246,16 +247,26 @@ def _spec(kinds) -> list:
 
 
 def module_path() -> Path:
-    """Where the compiled module for this kernel, numba, Python and CPU is kept [-]."""
-    name = f"_kernels_{_key()}"
-    return _folder() / (name + importlib.machinery.EXTENSION_SUFFIXES[0])
+    """Where the compiled module for this kernel, numba, Python and CPU is kept: the
+    package's ``__pycache__`` where it holds one, writable or not (an install the user
+    cannot write, built by whoever could), else where one is built [-]."""
+    name = f"_kernels_{_key()}" + importlib.machinery.EXTENSION_SUFFIXES[0]
+    built = _package_cache() / name
+    return built if built.is_file() else _folder() / name
+
+
+def _package_cache() -> Path:
+    """The package's ``__pycache__`` [-]."""
+    return _PKG / "__pycache__"
 
 
 def _folder() -> Path:
+    """Where a module is built: ``NUMBA_CACHE_DIR``, else the package's ``__pycache__``
+    where it is writable, else the user's cache folder [-]."""
     env = os.environ.get("NUMBA_CACHE_DIR")
     if env:
         return Path(env) / "tcpmm-compiled"
-    here = Path(__file__).resolve().parent / "__pycache__"
+    here = _package_cache()
     if writable(here):
         return here
     home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
@@ -322,29 +333,8 @@ def _build_once(path: Path) -> str:
             _LOG.debug("building the compiled kernel failed", exc_info=True)
             path.with_suffix(".failed").write_text(f"{type(exc).__name__}: {exc}\n")
             return _recent_failure(path)
-        _prune(path)
+        prune_builds(path, KEEP_OTHER_BUILDS)
     return ""
-
-
-def _prune(path: Path, keep: int = KEEP_OTHER_BUILDS) -> None:
-    """Delete the builds beside ``path`` other than it and the ``keep`` most recently used
-    (modules and failure records; an upgrade or an edit leaves a module of about 1 MB
-    each time). A module still loaded elsewhere stays usable where the system allows its
-    deletion, and stays where it does not."""
-    builds: dict[str, float] = {}
-    mine = path.name.split(".")[0]
-    for p in path.parent.glob("_kernels_*"):
-        stem = p.name.split(".")[0]
-        if stem != mine and p.suffix != ".lock" and p.is_file():
-            st = p.stat()
-            builds[stem] = max(builds.get(stem, 0.0), st.st_atime, st.st_mtime)
-    old = sorted(builds, key=builds.get, reverse=True)[keep:]
-    for p in path.parent.glob("_kernels_*"):
-        if p.name.split(".")[0] in old and p.suffix != ".lock":
-            try:
-                p.unlink()
-            except OSError:
-                pass
 
 
 def _recent_failure(path: Path) -> str:

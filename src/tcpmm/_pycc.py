@@ -123,3 +123,24 @@ def _releasing_the_gil(pcc):
         yield
     finally:
         pcc.Flags = plain
+
+
+def prune_builds(path: Path, keep: int) -> None:
+    """Delete the builds beside ``path`` other than it and the ``keep`` most recently used
+    (modules and failure records; an upgrade or an edit leaves a module of about 1 MB
+    each time). A module still loaded elsewhere stays usable where the system allows its
+    deletion, and stays where it does not."""
+    builds: dict[str, float] = {}
+    mine = path.name.split(".")[0]
+    for p in path.parent.glob("_kernels_*"):
+        stem = p.name.split(".")[0]
+        if stem != mine and p.suffix != ".lock" and p.is_file():
+            st = p.stat()
+            builds[stem] = max(builds.get(stem, 0.0), st.st_atime, st.st_mtime)
+    old = sorted(builds, key=builds.get, reverse=True)[keep:]
+    for p in path.parent.glob("_kernels_*"):
+        if p.name.split(".")[0] in old and p.suffix != ".lock":
+            try:
+                p.unlink()
+            except OSError:
+                pass

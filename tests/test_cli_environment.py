@@ -58,12 +58,22 @@ def test_a_json_row_holds_names_in_undecoded_bytes():
         assert row == {"run": "r\ufffdn.csv", "Maschine µ": 1.0}
 
 
-def test_json_stays_json_where_the_environment_forces_colour(monkeypatch, capsys):
-    """FORCE_COLOR=1 (as CI systems set it) on a standard output that is no terminal: the
-    JSON is written without colour codes and parses."""
-    monkeypatch.setenv("FORCE_COLOR", "1")
-    assert main(["machine", "show", "builtin:vmc", "--json"]) == 0
-    text = capsys.readouterr().out
+def test_json_stays_json_where_the_environment_forces_colour(tmp_path):
+    """FORCE_COLOR=1 (as CI systems set it) on a standard output that is a file: the JSON
+    is written without colour codes and parses. In a process of its own: rich reads the
+    environment's colours when its console is made, at the import."""
+    import os
+    import subprocess
+    import sys
+
+    out = tmp_path / "x.json"
+    env = {**os.environ, "FORCE_COLOR": "1", "TERM": "xterm-256color"}
+    with open(out, "w") as fh:
+        done = subprocess.run([sys.executable, "-c", "import sys; from tcpmm.cli import main; "
+                               "sys.exit(main())", "machine", "show", "builtin:vmc", "--json"],
+                              stdout=fh, stderr=subprocess.PIPE, env=env, timeout=120)
+    assert done.returncode == 0, done.stderr
+    text = out.read_text(encoding="utf-8")
     assert "\x1b[" not in text
     assert "X" in json.loads(text)
 

@@ -6,6 +6,7 @@ in a traceback, and never says it wrote what it did not."""
 import json
 
 import numpy as np
+import pytest
 
 from tcpmm.cli import main
 
@@ -171,3 +172,58 @@ def test_a_read_only_install_uses_the_kernel_built_in_it(tmp_path, monkeypatch):
     assert _compiled.module_path().parent == tmp_path / "home" / "tcpmm" / "compiled"
     (package / name).write_bytes(b"built by whoever installed it")
     assert _compiled.module_path() == package / name
+
+
+class _FillingDisk:
+    """A file on a disk with ``room`` bytes left: a write takes what fits, the next one
+    is refused (ENOSPC), as the system's write does on a disk that fills; ``buffered``
+    false as ``python -u`` (PYTHONUNBUFFERED) has it."""
+
+    def __new__(cls, room: int, buffered: bool = True):
+        import errno
+        import io
+
+        class Raw(io.RawIOBase):
+            def writable(self):
+                return True
+
+            def write(self, data):
+                nonlocal room
+                if room <= 0:
+                    raise OSError(errno.ENOSPC, "No space left on device")
+                taken = min(len(data), room)
+                room -= taken
+                return taken
+
+        raw = Raw()
+        return io.TextIOWrapper(io.BufferedWriter(raw) if buffered else raw,
+                                encoding="utf-8", write_through=not buffered)
+
+
+@pytest.mark.parametrize("buffered", [True, False])
+def test_json_on_a_standard_output_that_fills_is_an_error(tmp_path, monkeypatch, capsys,
+                                                          buffered):
+    """The circle's JSON is larger than the room left and than the stream's buffer:
+    exit 2 and one line, not a truncated file with exit 0."""
+    import sys
+
+    run = _circle_run(tmp_path / "run.csv")
+    monkeypatch.setattr(sys, "stdout", _FillingDisk(12000, buffered))
+    assert main(["circle", str(run), "--radius", "35", "--json"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == "error: No space left on device (standard output)"
+
+
+def test_text_left_in_the_standard_output_s_buffer_is_checked_before_the_exit(
+        monkeypatch, capsys):
+    """Text still in the buffer when the command ends: its flush fails on the full disk,
+    and the exit code is 2, not the command's 0."""
+    import sys
+
+    from tcpmm.cli import _flushed
+
+    monkeypatch.setattr(sys, "stdout", _FillingDisk(0))
+    sys.stdout.write("a table\n")
+    assert _flushed(0) == 2
+    assert capsys.readouterr().err.strip() == (
+        "error: No space left on device (standard output)")

@@ -50,7 +50,35 @@ def register(argv) -> None:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``tcpmm`` console script."""
+    """Entry point of the ``tcpmm`` console script: the command's exit code, decided once
+    what it wrote to the standard output is written."""
+    return _flushed(_command(argv))
+
+
+def _flushed(code: int) -> int:
+    """``code``, or 2 where the rest of what the command wrote to the standard output
+    cannot be written (a full disk), said in one line; :data:`READER_GONE` where the
+    reader went away. The interpreter's own last flush would say it in a traceback, with
+    a code of its own, after the command's had been decided."""
+    try:
+        if sys.stdout is not None:
+            sys.stdout.flush()
+    except OSError as exc:
+        try:  # what is left in the buffer goes nowhere, not into a second error at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        if isinstance(exc, BrokenPipeError):
+            return code or READER_GONE
+        if code == 0:
+            console.print(f"[red]error:[/red] {esc(exc.strerror or str(exc))} "
+                          "(standard output)")
+            return 2
+    return code
+
+
+def _command(argv) -> int:
+    """The command ``argv`` run, its errors said in one line; its exit code [-]."""
     fit_standard_streams()
     shown = warnings.showwarning
     told = set()

@@ -5,6 +5,8 @@ Units at this edge: mm, mm/min, Hz, um, as the option names say.
 
 from __future__ import annotations
 
+import errno
+import io
 import json
 import math
 import os
@@ -254,8 +256,7 @@ def emit_json(data) -> None:
         out.print_json(text)
     else:
         with named_stream(False):
-            out.file.write(text + "\n")
-            out.file.flush()
+            write_whole(out.file, text + "\n")
 
 
 #: rows :func:`emit_json_rows` writes at a time, and the most it colours on a terminal [-]
@@ -287,13 +288,34 @@ def emit_json_rows(head: dict, key: str, rows, count: int | None = None) -> None
     ascii_only = not unicode_stream(out.file)
     text, rows, n = _dumped({**with_warnings(head), key: []}, ascii_only), iter(rows), 0
     with named_stream(False):
-        out.file.write(text[:text.rindex("[]")] + "[")
+        write_whole(out.file, text[:text.rindex("[]")] + "[")
         while batch := [(flat_row_json(r, ascii_only) or _dumped(r, ascii_only))
                         .replace("\n", "\n    ") for r in islice(rows, JSON_BATCH_ROWS)]:
-            out.file.write((",\n    " if n else "\n    ") + ",\n    ".join(batch))
+            write_whole(out.file, (",\n    " if n else "\n    ") + ",\n    ".join(batch))
             n += len(batch)
-        out.file.write(("\n  ]" if n else "]") + "\n}\n")
-        out.file.flush()
+        write_whole(out.file, ("\n  ]" if n else "]") + "\n}\n")
+
+
+def write_whole(stream, text: str) -> None:
+    """``text`` written to ``stream`` whole and at once, or an OSError: Python's text
+    stream over an unbuffered file (``PYTHONUNBUFFERED=1``, ``python -u``, as services and
+    containers often run) drops the rest of a write the system takes only in part (a
+    disk that fills), with no error; a stream over a file is therefore written to the file
+    itself, each short write followed by one for the rest, which a full disk refuses [-]."""
+    raw = getattr(stream, "buffer", None)
+    raw = getattr(raw, "raw", raw)  # unbuffered (python -u), the buffer is the file's
+    if not isinstance(raw, io.RawIOBase):  # a stream in memory
+        stream.write(text)
+        stream.flush()
+        return
+    stream.flush()
+    data = memoryview(text.encode(stream.encoding or "utf-8", stream.errors or "strict"))
+    while data:
+        written = raw.write(data)
+        if not written:  # nothing taken: none is an error of its own
+            code = errno.EAGAIN if written is None else errno.ENOSPC
+            raise OSError(code, os.strerror(code))
+        data = data[written:]
 
 
 def _dumped(data, ascii_only: bool = False) -> str:

@@ -227,3 +227,27 @@ def test_text_left_in_the_standard_output_s_buffer_is_checked_before_the_exit(
     assert _flushed(0) == 2
     assert capsys.readouterr().err.strip() == (
         "error: No space left on device (standard output)")
+
+
+def test_an_output_the_user_may_not_write_is_refused_before_the_work(tmp_path, monkeypatch,
+                                                                    capsys):
+    """A file made read-only (chmod 444, a measured run kept safe) is not replaced through
+    the rename the folder allows: exit 2, one line naming it and the fix, the file as it
+    was. (``os.access`` answers as for its owner without root's override.)"""
+    import os
+
+    from tcpmm.path import circle_command, write_command_csv
+
+    command = tmp_path / "cmd.csv"
+    write_command_csv(circle_command(0.005, 1.0 / 60, turns=0.25), command)
+    kept = tmp_path / "measured.csv"
+    kept.write_text("time_s,x_cmd_mm\n")
+    kept.chmod(0o444)
+    access = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode, **kw: (
+        not (mode & os.W_OK and os.path.realpath(p) == str(kept))
+        and access(p, mode, **kw)))
+    assert main(["simulate", "builtin:vmc", "--command", str(command), "-o", str(kept)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(kept) in err[0] and "chmod u+w" in err[0]
+    assert kept.read_text() == "time_s,x_cmd_mm\n"

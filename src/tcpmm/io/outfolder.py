@@ -121,7 +121,7 @@ def output_file(path) -> Path:
 
 def file_target(path) -> Path:
     """The file ``path`` names (a symbolic link's target), refused where it is no file
-    name or a folder [-]."""
+    name, a folder, or a file the user may not write [-]."""
     path = Path(path)
     if str(path) in ("", "."):
         raise InputError("the output needs a file name")
@@ -130,6 +130,12 @@ def file_target(path) -> Path:
         path = real if real.exists() or not path.exists() else path
     if path.is_dir():
         raise InputError("is a folder; give the output a file name", file=path)
+    # the file is replaced by a rename, which only the folder's mode allows or forbids:
+    # a file made read-only (a measured run kept safe) is refused as the shell refuses it
+    if path.is_file() and not os.access(path, os.W_OK):
+        raise InputError("cannot write the output: the file is read-only; nothing was "
+                         f"written: make it writable (chmod u+w {path.name}) or choose "
+                         "another output", file=path)
     return path
 
 

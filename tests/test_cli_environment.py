@@ -251,3 +251,23 @@ def test_an_output_the_user_may_not_write_is_refused_before_the_work(tmp_path, m
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and str(kept) in err[0] and "chmod u+w" in err[0]
     assert kept.read_text() == "time_s,x_cmd_mm\n"
+
+
+def test_a_result_for_a_closed_standard_output_is_refused_at_the_start(tmp_path,
+                                                                       monkeypatch, capsys):
+    """``>&-``: Python's standard output is None, and the circle's figures, its only
+    output, went nowhere with exit 0. It is refused before the work, in one line; a
+    command that writes its result to a file runs."""
+    import sys
+
+    run = _circle_run(tmp_path / "run.csv")
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90\nG1 X1 F1000\nM30\n")
+    monkeypatch.setattr(sys, "stdout", None)
+    for args in (["circle", str(run), "--radius", "35", "--json"],
+                 ["circle", str(run), "--radius", "35"], ["--version"]):
+        assert main(args) == 2, args
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("error: standard output is closed")
+    assert main(["path", str(prog), "-o", str(tmp_path / "cmd.csv")]) == 0
+    assert (tmp_path / "cmd.csv").is_file()

@@ -36,6 +36,29 @@ COMMANDS = {
 }
 
 
+#: Commands whose result is what they print (their tables), not files they write [-].
+PRINTED = {"circle", "compare", "contour", "bode", "spread", "show"}
+#: Commands that print their result where no file is given for it (-o) [-].
+PRINTED_WITHOUT_FILE = {"tune", "fit"}
+
+
+def refuse_closed_stdout(argv) -> None:
+    """Refuse, before any work, a command whose result goes to a standard output that is
+    closed (``>&-``: Python's ``sys.stdout`` is None), where it would go nowhere with
+    exit 0; a command that writes its result to files runs [-]."""
+    if sys.stdout is not None:
+        return
+    words = [a for a in argv if not a.startswith("-")]
+    printed = ("--json" in argv or "--version" in argv or "--help" in argv or not argv
+               or any(w in PRINTED for w in words[:2])
+               or (any(w in PRINTED_WITHOUT_FILE for w in words[:2])
+                   and not {"-o", "--output"} & set(argv)))
+    if printed:
+        raise TcpmmError("standard output is closed, so what this command prints would go "
+                         "nowhere; run it with its standard output open (> FILE, or "
+                         "> /dev/null to discard it)")
+
+
 def register(argv) -> None:
     """Import the module of the command ``argv`` names (its first word that is no
     option; the root takes no option with a value); none for ``--version`` alone; every
@@ -106,6 +129,7 @@ def _command(argv) -> int:
     usage = _usage_error()
     usage_shown, usage.show = usage.show, _usage_line
     try:
+        refuse_closed_stdout(sys.argv[1:] if argv is None else list(argv))
         register(sys.argv[1:] if argv is None else list(argv))
         app(args=argv, standalone_mode=True)
     except TcpmmError as exc:

@@ -107,8 +107,8 @@ def column_parts(headers, rows, numeric, keys: int, width: int) -> list[tuple]:
     ``keys`` leading columns (the names of the rows) and a run of the others, cut where
     the fewest headers wrap, else as late as that allows (the first parts fullest), a
     part's widest columns narrowed first. A number is never split, nor a word of a header
-    or a text; where even the names and one column do not fit, the whole table as rich
-    folds it.
+    or a text; where even the names and one column do not fit, each column is a part of
+    its own after the names, at its full width, wider than ``width``.
 
     Parameters
     ----------
@@ -144,8 +144,8 @@ def column_parts(headers, rows, numeric, keys: int, width: int) -> list[tuple]:
     if _extent(whole, hi) <= width or not rest:
         return [(whole, None)]
     k = _fewest_parts(names, rest, lo, width)
-    if k is None:
-        return [(whole, None)]
+    if k is None:  # the narrowest form that keeps every number whole: the lines overflow
+        return [([*names, i], [hi[j] for j in (*names, i)]) for i in rest]
     runs = [[rest[a:b] for a, b in zip((0, *cut), (*cut, len(rest)), strict=True)]
             for cut in combinations(range(1, len(rest)), k - 1)]
     runs = [r for r in runs if all(_extent(names + p, lo) <= width for p in r)]
@@ -224,7 +224,10 @@ def print_plain(table, console, title: str | None = None, caption: str | None = 
     for part in ([table] if unwrapped else _fitted(table, console.width)):
         if console.options.ascii_only:  # rich's own stand-in is a box with vertical rules
             part.box = _ascii_head()
-        for segments in console.render_lines(part, pad=False):
+        # a part of the narrowest form is wider than the terminal: drawn at its width, not
+        # folded to the terminal's, where its cells would come out blank
+        wide = console.options.update_width(max(console.width, _width_of(console, part)))
+        for segments in console.render_lines(part, wide, pad=False):
             line = Text()
             for s in segments:
                 line.append(s.text, s.style)
@@ -232,6 +235,14 @@ def print_plain(table, console, title: str | None = None, caption: str | None = 
             console.print(line, soft_wrap=True)
     if caption is not None:
         console.print(Text(caption), soft_wrap=unwrapped)
+
+
+def _width_of(console, table) -> int:
+    """The width ``table`` takes unfolded, in characters [-]."""
+    from rich.measure import Measurement
+
+    unbounded = console.options.update_width(1_000_000)  # a measure is held to its width
+    return Measurement.get(console, unbounded, table).maximum
 
 
 def _fitted(table, width: int) -> list:

@@ -223,6 +223,33 @@ def test_a_loop_period_written_in_ms_is_refused_at_its_key(key, value):
     assert f"got {value}" in str(refused.value) and "unit" in str(refused.value)
 
 
+@pytest.mark.parametrize("name", ["X1", "X_a", "XYZ"])
+def test_an_axis_name_the_model_cannot_take_is_refused_at_its_key(name):
+    """'X1' passed machine.yaml and identify ended after its work in an internal error:
+    the model's axis names are one or two letters (G-code letters, x_cmd_mm columns)."""
+    text = MACHINE_YAML.replace("  X:", f"  {name}:", 1)
+    with pytest.raises(InputError, match="one or two letters A to Z") as refused:
+        parse_machine_yaml(text)
+    assert refused.value.column == f"axes.{name}" and refused.value.line == 4
+    assert "folder" in str(refused.value)
+
+
+def test_axis_names_equal_but_for_case_are_refused():
+    text = MACHINE_YAML + MACHINE_YAML.split("axes:\n", 1)[1].replace("  X:", "  x:", 1)
+    with pytest.raises(InputError, match="duplicates 'X'"):
+        parse_machine_yaml(text)
+
+
+def test_an_axis_name_refused_stops_identify_at_the_start(tmp_path, capsys):
+    from conftest import run_cli
+
+    (tmp_path / "X1").mkdir()
+    (tmp_path / "machine.yaml").write_text(MACHINE_YAML.replace("  X:", "  X1:"))
+    code, _, err = run_cli(capsys, "identify", tmp_path, "-o", tmp_path / "model.yaml")
+    assert code == 2 and "axes.X1" in err and "one or two letters" in err
+    assert "internal error" not in err
+
+
 # ---------------------------------------------------------------- bundle round trip
 
 

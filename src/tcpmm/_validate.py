@@ -7,6 +7,7 @@ import difflib
 import math
 import numbers
 import os
+import re
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -28,6 +29,39 @@ def is_number_text(text: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+#: An axis name: one or two ASCII letters, as an axis is addressed in G-code (``X``) and as
+#: its run-file columns begin (``x_cmd_mm``, read back case-insensitively) [-].
+AXIS_NAME = re.compile(r"[A-Za-z]{1,2}")
+AXIS_NAME_RULE = "one or two letters A to Z (e.g. X, Y, Z)"
+
+
+def axis_names(names) -> dict[str, str]:
+    """Check axis names against :data:`AXIS_NAME` and map each to its upper case.
+
+    Parameters
+    ----------
+    names : iterable of str
+        Axis names as given [-].
+
+    Returns
+    -------
+    dict of str to str
+        Upper-case name to the name as given [-].
+
+    Raises
+    ------
+    ValueError
+        For a name that breaks the rule, or two names equal but for case.
+    """
+    names = list(names)
+    for name in names:
+        if not isinstance(name, str) or not AXIS_NAME.fullmatch(name):
+            raise ValueError(f"axis name {name!r} must be {AXIS_NAME_RULE}: it is the "
+                             "axis's G-code letter and begins its run-file columns "
+                             "(x_cmd_mm)")
+    return upper_names(names)
 
 
 def upper_names(names) -> dict[str, str]:

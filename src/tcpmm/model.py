@@ -14,7 +14,7 @@ from pydantic import (
     field_validator,
 )
 
-from ._validate import plausible, upper_names
+from ._validate import axis_names, plausible
 from .errors import InputError
 from .mechanics.friction import LuGreFriction, StribeckFriction
 from .mechanics.lumped import AxisMechanics
@@ -294,10 +294,7 @@ class Machine(BaseModel):
     def _names(cls, v):
         if not v:
             raise ValueError("a machine needs at least one axis")
-        for k in v:
-            if not k.isalpha() or len(k) > 2:
-                raise ValueError(f"axis name {k!r} must be one or two letters, e.g. X")
-        return {upper: v[k] for upper, k in upper_names(v).items()}
+        return {upper: v[k] for upper, k in axis_names(v).items()}
 
     @field_validator("interpolation")
     @classmethod

@@ -8,7 +8,6 @@ Unknown keys are errors: a typo must never change a result silently.
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -22,7 +21,7 @@ from pydantic import (
     model_validator,
 )
 
-from tcpmm._validate import plausible
+from tcpmm._validate import axis_names, plausible
 from tcpmm.errors import InputError
 from tcpmm.io.atomic import write_text_atomic
 from tcpmm.io.text import read_text
@@ -195,9 +194,6 @@ class AxisConfig(_Strict):
         return self.torque_constant_Nm_per_A
 
 
-AXIS_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-
-
 class MachineConfig(_Strict):
     """Contents of ``machine.yaml``.
 
@@ -228,12 +224,10 @@ class MachineConfig(_Strict):
     @field_validator("axes")
     @classmethod
     def _axis_names(cls, v: dict[str, AxisConfig]) -> dict[str, AxisConfig]:
-        for name in v:
-            if not AXIS_NAME.match(name):
-                raise ValueError(
-                    f"axis name '{name}' is not usable as a folder name; use a letter "
-                    "followed by letters, digits or '_' (e.g. X, Y, Z, A1)"
-                )
+        try:
+            axis_names(v)
+        except ValueError as err:
+            raise ValueError(f"{err}; rename the key here and the axis's folder alike") from None
         return v
 
 

@@ -295,6 +295,70 @@ def test_tdms_unit_string_of_no_kind_tcpmm_converts_is_said(tmp_path):
         check_sweep(read_sweep_tdms(tmp_path / "c.tdms", MAP), s)
 
 
+DEG = math.pi / 180
+
+
+@pytest.mark.parametrize("unit, column, factor", [
+    ("Degrees", "enc", DEG), ("degree", "enc", DEG), ("°", "enc", DEG),
+    ("Meters", "ls", 1e3), ("metres", "ls", 1e3), ("Micrometers", "ls", 1e-3),
+    ("Milliamps", "ai1", 1e-3), ("AMPERES", "ai1", 1.0)])
+def test_tdms_unit_string_in_daqmx_words_is_held_against_the_factor(tmp_path, unit, column,
+                                                                     factor):
+    """NI DAQmx writes units as words: an angle in "Degrees" mapped with no factor was read
+    57.3 times too large, a scale in "Meters" 1000 times too small, each with a warning
+    that tcpmm "does not convert" the unit; they are refused as "deg" and "m" are."""
+    s = signals()
+    p = {"wf_increment": 1 / FS, "wf_start_offset": 0.0}
+    in_unit = {"ai0": s["r"], "ai1": s["ic"] / factor,
+               "enc": s["counts"] * 2 * np.pi / COUNTS / factor,
+               "ls": s["scale_um"] * 1e-3 / factor}
+    chans = [ChannelObject("DAQ", c, v, properties={**p, "unit_string": unit})
+             for c, v in in_unit.items() if c == column]
+    chans += [ChannelObject("DAQ", c, s[k], properties=p) for c, k in
+              (("ai0", "r"), ("ai1", "ic"), ("enc", "counts"), ("ls", "scale_um")) if c != column]
+    with TdmsWriter(tmp_path / "w.tdms") as w:
+        w.write_segment([*chans, ChannelObject("TCP", "x", s["tcp_mm"], properties=p)])
+    key = {"enc": "motor_angle_rad", "ls": "scale_mm", "ai1": "current_cmd_A"}[column]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        check_sweep(read_sweep_tdms(tmp_path / "w.tdms", {**MAP, key: (f"DAQ/{column}",
+                                                                       factor)}), s)
+    if factor == 1.0:
+        return
+    with pytest.raises(InputError, match=rf"'DAQ/{column}' is in {unit} \(unit_string\) "
+                                         rf"but is mapped to {key} with no factor; .*"
+                                         rf"\(\"DAQ/{column}\", {factor:.12g}\)"):
+        read_sweep_tdms(tmp_path / "w.tdms", {**MAP, key: f"DAQ/{column}"})
+
+
+@pytest.mark.parametrize("given", [0.0174533, 0.0174532925199])
+def test_the_factor_as_printed_or_to_six_digits_is_taken(given):
+    """The refusal of a channel in degrees said to map it with 0.0174533, and refused that
+    factor in turn as not the degree's."""
+    from tcpmm.io.declared import check_declared
+
+    check_declared("motor_angle_rad", "enc", given, "deg", "unit_string", "f.tdms", True)
+    with pytest.raises(InputError, match=r"with the factor 0\.01745;"):
+        check_declared("motor_angle_rad", "enc", 0.01745, "deg", "unit_string", "f.tdms", True)
+
+
+@pytest.mark.parametrize("unit", ["Volts", "V", "counts"])
+def test_tdms_unit_string_of_another_kind_is_read_as_it_stands_and_said(tmp_path, unit):
+    s = signals()
+    p = {"wf_increment": 1 / FS, "wf_start_offset": 0.0}
+    chans = [ChannelObject("DAQ", "ai0", s["r"], properties=p),
+             ChannelObject("DAQ", "ai1", s["ic"], properties={**p, "unit_string": unit}),
+             ChannelObject("DAQ", "enc", s["counts"], properties=p),
+             ChannelObject("DAQ", "ls", s["scale_um"], properties=p),
+             ChannelObject("TCP", "x", s["tcp_mm"], properties=p)]
+    with TdmsWriter(tmp_path / "v.tdms") as w:
+        w.write_segment(chans)
+    with pytest.warns(InputWarning, match=rf"'DAQ/ai1' is in {unit} \(unit_string\), a unit "
+                                          r"tcpmm does not convert to A: it is read "
+                                          r"unconverted"):
+        check_sweep(read_sweep_tdms(tmp_path / "v.tdms", MAP), s)
+
+
 def test_mat_unit_in_a_name_is_warned_and_struct_arrays_addressed(tmp_path):
     """A variable named t_ms mapped to time_s without a factor gave a sample rate of
     8 Hz without a word; a 1x2 struct array had no syntax and a hint that named the
@@ -327,7 +391,12 @@ def test_mat_unit_in_a_name_is_warned_and_struct_arrays_addressed(tmp_path):
     ("tcp_mm", "in", 25.4), ("time_s", "ms", 1e-3), ("time_s", "us", 1e-6),
     ("current_cmd_A", "mA", 1e-3), ("excitation_A", "A", 1.0),
     ("motor_angle_rad", "deg", math.pi / 180), ("motor_angle_rad", "rev", 2 * math.pi),
-    ("scale_mm", "counts", None), ("time_s", "m", None), ("current_cmd_A", "", None)])
+    ("scale_mm", "counts", None), ("time_s", "m", None), ("current_cmd_A", "", None),
+    ("motor_angle_rad", "Degrees", math.pi / 180), ("motor_angle_rad", "Radians", 1.0),
+    ("scale_mm", "Millimetres", 1.0), ("scale_mm", "µm", 1e-3), ("time_s", "Seconds", 1.0),
+    ("time_s", "Milliseconds", 1e-3), ("time_s", "µs", 1e-6), ("current_cmd_A", "Amps", 1.0),
+    ("current_cmd_A", "MILLIAMPS", 1e-3), ("current_cmd_A", "Volts", None),
+    ("scale_mm", "Seconds", None), ("motor_angle_rad", "turns", 2 * math.pi)])
 def test_declared_unit_factors(key, unit, factor):
     from tcpmm.io.declared import factor_for, name_unit
 

@@ -230,6 +230,53 @@ def test_mat_v73_via_hdf5(tmp_path):
     np.testing.assert_allclose(fr.current_cmd_A, s["ic"])
 
 
+ROWS = ("t", "r", "ic", "counts", "scale_um", "tcp_mm")
+RMAP = {"time_s": "data(1,:)", "excitation_A": "data(2,:)", "current_cmd_A": "data(3,:)",
+        "motor_angle_rad": ("data(4,:)", 2 * math.pi / COUNTS),
+        "scale_mm": ("data(5,:)", 1e-3), "tcp_mm": "data(6,:)"}
+
+
+def as_columns(vmap):
+    """``vmap`` with each ``data(k,:)`` written ``data(:,k)``."""
+    col = lambda v: v.replace(",:)", ")").replace("data(", "data(:,")  # noqa: E731
+    return {k: col(v) if isinstance(v, str) else (col(v[0]), v[1]) for k, v in vmap.items()}
+
+
+@pytest.mark.parametrize("version", ["v5", "v7.3"])
+def test_mat_signals_in_rows_are_read_by_row_and_a_column_is_refused(tmp_path, version):
+    """A matrix [t; exc; icmd; ...] (6 x N) mapped as data(:,k) was refused as "only 6
+    samples; at least 64 are needed. Record longer", and data(k,:) was "not a variable
+    reference"."""
+    s = signals()
+    path = tmp_path / "rows.mat"
+    rows = np.vstack([s[k] for k in ROWS])
+    if version == "v5":
+        scipy.io.savemat(path, {"data": rows})
+    else:
+        with h5py.File(path, "w", userblock_size=512) as f:
+            f.create_dataset("data", data=rows.T)  # MATLAB's 6 x N, column-major
+        with open(path, "r+b") as fh:
+            fh.write(b"MATLAB 7.3 MAT-file".ljust(128, b" "))
+    check_sweep(read_sweep_mat(path, RMAP), s)
+    with pytest.raises(InputError, match=rf"'data\(:,1\)': the matrix is 6 x {N}, its "
+                                         r"signals in the rows \(a column holds 6 samples\); "
+                                         r"map data\(1,:\), or save data\.'") as refused:
+        read_sweep_mat(path, as_columns(RMAP))
+    assert refused.value.column == "time_s"
+    with pytest.raises(InputError, match=r"row 7 does not exist"):
+        read_sweep_mat(path, {**RMAP, "tcp_mm": "data(7,:)"})
+
+
+def test_mat_a_row_of_a_matrix_of_columns_is_refused_with_the_column_to_map(tmp_path):
+    s = signals()
+    path = tmp_path / "cols.mat"
+    scipy.io.savemat(path, {"data": np.column_stack([s[k] for k in ROWS])})
+    check_sweep(read_sweep_mat(path, as_columns(RMAP)), s)
+    with pytest.raises(InputError, match=rf"'data\(1,:\)': the matrix is {N} x 6, its "
+                                         r"signals in the columns .* map data\(:,1\)"):
+        read_sweep_mat(path, RMAP)
+
+
 def test_mat_length_mismatch_and_garbage(tmp_path):
     s = signals()
     path = tmp_path / "x.mat"

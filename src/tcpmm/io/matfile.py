@@ -1,7 +1,7 @@
 """MATLAB .mat adapter: v4/v5/v7 via scipy.io.loadmat, v7.3 (HDF5) via h5py.
 
-Variable names in a map may address struct fields (``meas.enc``) and a matrix column,
-1-based as in MATLAB (``data(:,3)``).
+Variable names in a map may address struct fields (``meas.enc``) and a matrix column or
+row, 1-based as in MATLAB (``data(:,3)``, ``data(3,:)``; :mod:`tcpmm.io.matindex`).
 """
 
 from __future__ import annotations
@@ -14,11 +14,10 @@ import numpy as np
 
 from tcpmm.errors import InputError
 from tcpmm.io.declared import name_unit
+from tcpmm.io.matindex import parse_reference, pick
 from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
 from tcpmm.io.text import existing_file
 
-_NAME = re.compile(r"^\s*([A-Za-z]\w*(?:\(\d+\))?(?:\.[A-Za-z]\w*(?:\(\d+\))?)*)\s*"
-                   r"(?:\(\s*:\s*,\s*(\d+)\s*\))?\s*$")
 #: One part of a dotted name: a field, with an element of a struct array (``runs(2)``)
 _PART = re.compile(r"^([A-Za-z]\w*)(?:\((\d+)\))?$")
 
@@ -227,30 +226,11 @@ def mat_array(value, name: str, path: Path) -> np.ndarray:
 
 def _fetcher(get, path: Path):
     def fetch(spec: str):
-        m = _NAME.match(spec)
-        if m is None:
-            raise InputError(
-                f"'{spec}' is not a variable reference; write name, struct.field, "
-                "struct(k).field (an element of a struct array) or name(:,k)",
-                file=path,
-            )
-        value = get(m.group(1))
+        name, part, k = parse_reference(spec, path)
+        value = get(name)
         if value is None:
             return None
-        value = mat_array(value, m.group(1), path)
-        if m.group(2) is not None:
-            k = int(m.group(2))
-            if value.ndim == 2 and 1 in value.shape:  # a vector: v5 and v7.3 alike
-                value = value.reshape(-1)
-            if value.ndim == 1 and k == 1:
-                return value
-            if value.ndim != 2 or not 1 <= k <= value.shape[1]:
-                raise InputError(
-                    f"'{spec}': variable has shape {value.shape}; column {k} does not exist",
-                    file=path,
-                )
-            value = value[:, k - 1]
-        return value
+        return pick(mat_array(value, name, path), spec, part, k, path)
 
     return fetch
 
@@ -310,7 +290,8 @@ def read_record_mat(
     kind : {"sweep", "friction"}
         Record kind [-].
     variable_map : mapping, optional
-        tcpmm name to variable (``"name"``, ``"struct.field"``, ``"data(:,k)"``),
+        tcpmm name to variable (``"name"``, ``"struct.field"``, ``"data(:,k)"``,
+        ``"data(k,:)"``),
         optionally ``(name, scale)``; None means the variables carry the tcpmm names [-].
     axis : str, optional
         Axis name stored in the record [-].

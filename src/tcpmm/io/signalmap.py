@@ -275,7 +275,7 @@ def _fetched(key: str, src: SignalSource, fetch, file, candidates) -> np.ndarray
     if data.ndim != 1:
         raise InputError(
             f"'{src.name}' has shape {data.shape}; expected a vector (select a column "
-            "with name(:,k))",
+            "with name(:,k) or a row with name(k,:))",
             file=file,
             column=key,
         )

@@ -82,6 +82,40 @@ def test_tdms_with_wf_increment_and_scale_factors(tmp_path):
     assert rec.axis == "X" and rec.source.endswith("x.tdms")
 
 
+@pytest.mark.parametrize("unit, per_s", [("ms", 1e3), ("Milliseconds", 1e3), ("us", 1e6),
+                                         ("µs", 1e6), ("s", 1.0), ("Seconds", 1.0),
+                                         ("", 1.0)])
+def test_tdms_waveform_x_unit_is_applied(tmp_path, unit, per_s):
+    """A waveform in ms (wf_xunit_string "ms", wf_increment 0.5) was read with the
+    increment taken as seconds: 2 Hz for 2 kHz, with no word."""
+    s = signals()
+    p = {"wf_increment": per_s / FS, "wf_start_offset": 0.25 * per_s,
+         "wf_xunit_string": unit, "wf_xname": "Time"}
+    chans = [ChannelObject(g, c, s[k], properties=p) for g, c, k in
+             (("DAQ", "ai0", "r"), ("DAQ", "ai1", "ic"), ("DAQ", "enc", "counts"),
+              ("DAQ", "ls", "scale_um"), ("TCP", "x", "tcp_mm"))]
+    with TdmsWriter(tmp_path / "w.tdms") as w:
+        w.write_segment(chans)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        rec = read_sweep_tdms(tmp_path / "w.tdms", MAP)
+    assert rec.fs_hz == pytest.approx(FS, rel=1e-9)
+    np.testing.assert_allclose(rec.time_s, 0.25 + s["t"], rtol=1e-12)
+
+
+def test_tdms_waveform_over_no_time_is_refused_naming_the_property(tmp_path):
+    s = signals()
+    p = {"wf_increment": 1 / FS, "wf_xunit_string": "Hz"}
+    chans = [ChannelObject("DAQ", c, s[k], properties=p) for c, k in
+             (("ai0", "r"), ("ai1", "ic"), ("enc", "counts"), ("ls", "scale_um"))]
+    with TdmsWriter(tmp_path / "hz.tdms") as w:
+        w.write_segment(chans)
+    with pytest.raises(InputError, match=r"property wf_xunit_string of channel 'ai0' is "
+                                         r"'Hz', not a unit of time") as refused:
+        read_sweep_tdms(tmp_path / "hz.tdms", {k: v for k, v in MAP.items() if k != "tcp_mm"})
+    assert refused.value.column == "excitation_A"
+
+
 def test_tdms_time_channel_and_group_default(tmp_path):
     s = signals()
     path = write_tdms(tmp_path / "x.tdms", s, props=False, time_channel=True)

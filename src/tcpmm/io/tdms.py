@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from tcpmm.errors import InputError
+from tcpmm.io.declared import factor_for
 from tcpmm.io.signalmap import build_record, parse_signal_map, read_mapped
 from tcpmm.io.text import existing_file
 
@@ -89,9 +90,45 @@ def _property(channel, prop: str, key: str, path: Path, default=None) -> float:
         ) from None
 
 
+def _x_unit(channel, key: str, path: Path) -> tuple[str, float]:
+    """A waveform's x unit (``wf_xunit_string``: s, ms, us, in any case or in words;
+    seconds where none is given) and the factor from it to seconds [-]."""
+    unit = channel.properties.get("wf_xunit_string")
+    if unit is None or not str(unit).strip():
+        return "s", 1.0
+    factor = factor_for("time_s", str(unit))
+    if factor is None:
+        raise InputError(
+            f"property wf_xunit_string of channel '{channel.name}' is {str(unit)!r}, not a "
+            "unit of time (s, ms, us); a waveform over another x (a spectrum in Hz) is no "
+            "record. Map a time channel as channel_map['time_s']",
+            file=path, column=key)
+    return str(unit).strip(), factor
+
+
+def _increments(smap, channels: dict, path: Path) -> tuple[dict, dict]:
+    """Per signal with a ``wf_increment``: its sample interval and its start
+    (``wf_start_offset``), both in the channel's x unit turned into seconds [s]."""
+    incs, starts = {}, {}
+    for key, src in smap.items():
+        ch = channels.get(src.name)
+        if ch is None or "wf_increment" not in ch.properties:
+            continue
+        unit, factor = _x_unit(ch, key, path)
+        inc = _property(ch, "wf_increment", key, path)
+        if not (np.isfinite(inc) and inc > 0):
+            raise InputError(
+                f"wf_increment of '{src.name}' is {inc!r} {unit}; it must be the positive "
+                "sample interval. Map a time channel as channel_map['time_s']",
+                file=path, column=key)
+        incs[key] = inc * factor
+        starts[key] = _property(ch, "wf_start_offset", key, path, 0.0) * factor
+    return incs, starts
+
+
 def _waveform_time(smap, channels: dict, cols: dict, path: Path) -> np.ndarray:
     """The time base of unmapped time: the channels' common ``wf_increment`` from their
-    ``wf_start_offset``.
+    ``wf_start_offset``, in the x unit each declares (``wf_xunit_string``).
 
     Parameters
     ----------
@@ -109,19 +146,7 @@ def _waveform_time(smap, channels: dict, cols: dict, path: Path) -> np.ndarray:
     ndarray
         Time of each sample [s].
     """
-    incs = {}
-    for key, src in smap.items():
-        ch = channels.get(src.name)
-        if ch is not None and "wf_increment" in ch.properties:
-            incs[key] = _property(ch, "wf_increment", key, path)
-            if not (np.isfinite(incs[key]) and incs[key] > 0):
-                raise InputError(
-                    f"wf_increment of '{src.name}' is {incs[key]!r} s; it must be the "
-                    "positive sample interval. Map a time channel as "
-                    "channel_map['time_s']",
-                    file=path,
-                    column=key,
-                )
+    incs, starts = _increments(smap, channels, path)
     if not incs:
         raise InputError(
             "no time base: no channel has a wf_increment property. Map a time channel "
@@ -131,11 +156,9 @@ def _waveform_time(smap, channels: dict, cols: dict, path: Path) -> np.ndarray:
     values = np.array(list(incs.values()))
     if np.ptp(values) > 1e-9 * values.max():
         raise InputError(
-            f"channels have different wf_increment {incs}; resample to one rate",
+            f"channels have different wf_increment {incs} (in s); resample to one rate",
             file=path,
         )
-    starts = {key: _property(channels[smap[key].name], "wf_start_offset", key, path, 0.0)
-              for key in incs}
     first = next(iter(incs))
     t0 = starts[first]
     late = {k: v for k, v in starts.items() if abs(v - t0) > 0.5 * values[0]}
@@ -147,7 +170,6 @@ def _waveform_time(smap, channels: dict, cols: dict, path: Path) -> np.ndarray:
             file=path)
     n = next(iter(cols.values())).size
     return t0 + np.arange(n) * values[0]
-    cols["time_s"] = t0 + np.arange(n) * values[0]
 
 
 def read_record_tdms(

@@ -124,3 +124,37 @@ def test_readme_steps_run_from_another_folder(tmp_path):
     assert {p.name for p in (tmp_path / "w").iterdir()} == {"model.yaml", "ident",
                                                            "predicted.csv", "circle.png"}
     assert sorted(p.name for p in demo.iterdir()) == before
+
+
+def test_the_measure_page_tdms_example_writes_a_bundle(tmp_path, monkeypatch):
+    """The example of docs/measure.md, "From TDMS or MATLAB files", run on a TDMS file of
+    the channels it names, writes a bundle that reads back with the samples mapped."""
+    import math
+
+    import numpy as np
+    from nptdms import ChannelObject, TdmsWriter
+
+    from tcpmm.io.bundle import read_bundle
+
+    text = (DOCS / "measure.md").read_text(encoding="utf-8")
+    part = text[text.index("## From TDMS or MATLAB files"):]
+    code = re.search(r"```python\n(.*?)```", part, flags=re.S).group(1)
+    machine = re.search(r"### machine\.yaml\s+```yaml\n(.*?)```",
+                        (DOCS / "formats.md").read_text(encoding="utf-8"), flags=re.S)
+    (tmp_path / "machine.yaml").write_text(machine.group(1).split("\n  Y:")[0])
+    fs, n = 4000.0, 8000
+    t = np.arange(n) / fs
+    exc = 2.0 * np.sin(2 * np.pi * (5 * t + 0.5 * 395 * t**2 / t[-1]))
+    angle = 0.5 * np.sin(2 * np.pi * 1.5 * t) + 1e-3 * exc
+    scale_mm = angle * 10.0 / (2 * math.pi)
+    channels = {"exc": exc, "icmd": 1.1 * exc, "enc": angle / (2 * math.pi / 10000),
+                "ls": scale_mm * 1e3, "tcp": scale_mm * 1.0001}
+    with TdmsWriter(tmp_path / "sweep_X.tdms") as w:
+        w.write_segment([ChannelObject("Sweep", k, v, properties={"wf_increment": 1 / fs})
+                         for k, v in channels.items()])
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, "docs/measure.md", "exec"), {})
+    sweep = read_bundle(tmp_path / "bundle", check=False).axes["X"].sweep
+    assert math.isclose(sweep.fs_hz, fs, rel_tol=1e-9)
+    np.testing.assert_allclose(sweep.motor_angle_rad, angle, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(sweep.scale_m, scale_mm * 1e-3, rtol=1e-9, atol=1e-15)

@@ -317,6 +317,31 @@ def test_missing_axis_folder_and_sweep(tmp_path):
         read_bundle(root / "machine.yaml")
 
 
+ROUTE = (r"read it in Python with {} and a channel map, and write the bundle with "
+         r"tcpmm\.io\.bundle\.write_bundle, which writes its CSV records "
+         r"\(docs/measure\.md, 'From TDMS or MATLAB files'\)")
+
+
+@pytest.mark.parametrize("name, reader", [("sweep.tdms", r"tcpmm\.io\.tdms\.read_sweep_tdms"),
+                                          ("Sweep.MAT", r"tcpmm\.io\.matfile\.read_sweep_mat")])
+def test_a_recorders_file_in_an_axis_folder_names_the_way_to_a_bundle(tmp_path, capsys,
+                                                                      name, reader):
+    """A TDMS file in X/ was refused as "sweep.csv is required for every axis; X/ holds
+    sweep.tdms", and `identify sweep.tdms` said only "this is a file, not a folder",
+    where docs/measure.md said such files need no conversion."""
+    from conftest import run_cli
+
+    root = write_bundle((machine_dict(("X",)), {"X": make_sweep()}), tmp_path / "b")
+    (root / "X" / "sweep.csv").unlink()
+    (root / "X" / name).write_bytes(b"TDSm")
+    with pytest.raises(InputError, match=rf"sweep\.csv is required for every axis; X/ holds "
+                                         rf"{re.escape(name)}, .*: " + ROUTE.format(reader)):
+        read_bundle(root)
+    code, _, err = run_cli(capsys, "identify", root / "X" / name, "-o", tmp_path / "m.yaml")
+    assert code == 2 and re.search("this is not a bundle folder but .*" + ROUTE.format(reader),
+                                   err)
+
+
 def test_extra_folder_warns(tmp_path):
     root = write_bundle((machine_dict(("X",)), {"X": make_sweep()}), tmp_path / "b")
     (root / "W").mkdir()

@@ -115,11 +115,29 @@ def read_friction_csv(path: str | Path, axis: str | None = None) -> FrictionReco
     return build_record("friction", cols, path, axis, line_of=_csv_line)
 
 
+#: Recorders' files a bundle does not read, by suffix: what they are and the reader that
+#: turns one into a sweep record [-].
+FOREIGN_RECORDS = {".tdms": ("a TDMS file", "tcpmm.io.tdms.read_sweep_tdms"),
+                   ".mat": ("a MATLAB file", "tcpmm.io.matfile.read_sweep_mat")}
+
+
+def foreign_route(suffix: str) -> str:
+    """What a TDMS or MATLAB record is, and the way from it into a bundle, for a message
+    [-]."""
+    what, reader = FOREIGN_RECORDS[suffix.lower()]
+    return (f"{what}, which a bundle does not hold: read it in Python with {reader} and a "
+            "channel map, and write the bundle with tcpmm.io.bundle.write_bundle, which "
+            "writes its CSV records (docs/measure.md, 'From TDMS or MATLAB files')")
+
+
 def _bundle_dir(path: Path) -> Path:
     if path.is_file() and path.name == MACHINE_FILE:
         return path.parent
     if path.is_dir():
         return path
+    if path.is_file() and path.suffix.lower() in FOREIGN_RECORDS:
+        raise InputError(f"this is not a bundle folder but {foreign_route(path.suffix)}; "
+                         "then give that folder", file=path)
     if path.exists():  # a record or other file given for its folder
         kind = "file" if path.is_file() else "device"
         raise InputError(f"this is a {kind}, not a folder; give the path of the bundle "
@@ -167,12 +185,7 @@ def read_bundle(path: str | Path, *, check: bool = True) -> Bundle:
             )
         sweep_path = folder / SWEEP_FILE
         if not sweep_path.is_file():
-            others = sorted(p.name for p in folder.iterdir())
-            raise InputError(
-                f"{SWEEP_FILE} is required for every axis; {name}/ holds "
-                f"{', '.join(others) or 'nothing'}",
-                file=sweep_path,
-            )
+            _refuse_no_sweep(folder, name)
         sweep = read_sweep_csv(sweep_path, axis=name)
         fpath = folder / FRICTION_FILE
         friction = read_friction_csv(fpath, axis=name) if fpath.is_file() else None
@@ -188,6 +201,16 @@ def read_bundle(path: str | Path, *, check: bool = True) -> Bundle:
                 file=root / f,
             )
     return Bundle(machine=machine, axes=axes, path=root)
+
+
+def _refuse_no_sweep(folder: Path, name: str) -> None:
+    """Refuse an axis folder without its sweep.csv, saying what it holds and, for a
+    recorder's TDMS or MATLAB file, the way to make the CSV of it."""
+    others = sorted(p.name for p in folder.iterdir())
+    foreign = [o for o in others if Path(o).suffix.lower() in FOREIGN_RECORDS]
+    route = f", {foreign_route(Path(foreign[0]).suffix)}" if foreign else ""
+    raise InputError(f"{SWEEP_FILE} is required for every axis; {name}/ holds "
+                     f"{', '.join(others) or 'nothing'}{route}", file=folder / SWEEP_FILE)
 
 
 def _check_axis(sweep: SweepRecord, cfg: AxisConfig, name: str) -> None:

@@ -231,7 +231,7 @@ def test_an_axis_name_the_model_cannot_take_is_refused_at_its_key(name):
     with pytest.raises(InputError, match="one or two letters A to Z") as refused:
         parse_machine_yaml(text)
     assert refused.value.column == f"axes.{name}" and refused.value.line == 4
-    assert "folder" in str(refused.value)
+    assert "folder name: rename both" in str(refused.value)
 
 
 def test_axis_names_equal_but_for_case_are_refused():

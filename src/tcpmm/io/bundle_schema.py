@@ -227,7 +227,8 @@ class MachineConfig(_Strict):
         try:
             axis_names(v)
         except ValueError as err:
-            raise ValueError(f"{err}; rename the key here and the axis's folder alike") from None
+            raise ValueError(f"{err} (a key here is its axis's folder name: rename "
+                             "both)") from None
         return v
 
 

@@ -58,6 +58,30 @@ def test_bad_values(vmc, old, new, needle):
         loads_machine(text.replace(old, new, 1))
 
 
+@pytest.mark.parametrize(("old", "new", "key", "meant"), [
+    ("  circular_deviation_m: 4.0e-05\n", "  circular_deviation_m: 40\n",
+     "specification.circular_deviation_m", "40e-6 (40 µm)"),
+    ("  circular_deviation_m: 4.0e-05\n", "  circular_deviation_m: 0.04\n",
+     "specification.circular_deviation_m", "40e-6 (40 µm)"),
+    ("  corner_tolerance_m: 1.0e-05\n", "  corner_tolerance_m: 10\n",
+     "interpolation.corner_tolerance_m", "10e-6 (10 µm)"),
+    ("  blend_tolerance_m: 0.0\n", "  blend_tolerance_m: 0.05\n",
+     "interpolation.blend_tolerance_m", "50e-6 (50 µm)"),
+])
+def test_a_tolerance_written_in_um_or_mm_is_refused_at_its_line(vmc, old, new, key, meant):
+    """A specification of 40 (meant in µm) was taken as 40 m: the verdict read PASS
+    'within ... 40000000.00 µm'. A length no machine tool's specification or CNC's
+    tolerance has is refused at its file, line and key, with the metres it may mean."""
+    text = dumps_machine(vmc)
+    assert old in text
+    line = text[:text.index(old)].count("\n") + 1
+    with pytest.raises(InputError) as e:
+        loads_machine(text.replace(old, new, 1), "m.yaml")
+    msg = str(e.value)
+    assert f"m.yaml, line {line}, key '{key}'" in msg
+    assert "in metres" in msg and f"did you mean {meant}?" in msg
+
+
 @pytest.mark.parametrize(("old", "new", "unit", "metres"), [
     ("      lead: 0.01\n", "      lead: 10\n", "mm", "0.01"),
     ("      scale_resolution: 1.0e-06\n", "      scale_resolution: 0.005\n", "um", "5e-09"),

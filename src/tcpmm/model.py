@@ -43,6 +43,16 @@ SENSOR_RANGES = {"encoder_counts_per_rev": (0, 1e12, "counts/rev"),
 #: micrometres; a millimetre is no ball screw's [m].
 BACKLASH_MAX_M = 1e-3
 
+#: Largest circular deviation G a machine tool's specification may state: the circular
+#: tests of machine tools stay within tens of micrometres, so a millimetre is a number
+#: written in another unit than metres [m].
+SPECIFIED_G_MAX_M = 1e-3
+
+#: Largest contour tolerance of the interpolator a model file may give: a CNC's corner
+#: and blend tolerances are micrometres to tenths of a millimetre, so 10 mm is a number
+#: written in another unit than metres [m].
+TOLERANCE_MAX_M = 1e-2
+
 FrictionModel = Annotated[LuGreFriction | StribeckFriction, BeforeValidator(_contact)]
 
 
@@ -259,6 +269,22 @@ class Specification(BaseModel):
 
     circular_deviation_m: float = Field(gt=0.0, allow_inf_nan=False)
 
+    @field_validator("circular_deviation_m")
+    @classmethod
+    def _in_metres(cls, v):
+        if v > SPECIFIED_G_MAX_M:
+            raise ValueError(f"{v:g} m is no machine tool's circular deviation: the key is in "
+                             f"metres and a specification above {SPECIFIED_G_MAX_M * 1e3:g} mm "
+                             f"({SPECIFIED_G_MAX_M:g} m) is a number in another unit; "
+                             f"{_metres_meant(v)}")
+        return v
+
+
+def _metres_meant(value: float) -> str:
+    """``did you mean ...?`` for a length written in µm (1 and above) or else in mm [-]."""
+    um = value if value >= 1.0 else value * 1e3
+    return f"did you mean {um:g}e-6 ({um:g} µm)?"
+
 
 class Machine(BaseModel):
     """A machine tool model: axes by name (``"X"``, ``"Y"``, ...).
@@ -300,7 +326,13 @@ class Machine(BaseModel):
     @classmethod
     def _interpolation(cls, v):
         if v is not None:
-            InterpolatorSettings.model_validate(v)
+            s = InterpolatorSettings.model_validate(v)
+            for key in ("corner_tolerance_m", "blend_tolerance_m"):
+                if getattr(s, key) > TOLERANCE_MAX_M:
+                    raise ValueError(
+                        f"{key} of {getattr(s, key):g} m is no CNC's contour tolerance: the "
+                        f"key is in metres and a tolerance above {TOLERANCE_MAX_M * 1e3:g} mm "
+                        f"is a number in another unit; {_metres_meant(getattr(s, key))}")
         return v
 
     def axis(self, name: str) -> Axis:

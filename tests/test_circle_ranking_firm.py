@@ -71,6 +71,30 @@ def test_a_term_is_placed_past_the_scale_only_where_both_pm_agree():
     assert placed["backlash_X"][1].startswith("mostly past the linear scale")
 
 
+def test_one_direction_s_spikes_of_no_pm_are_not_placed():
+    """Bench C's CW circle alone: its spikes after its own terms carry no ±95%, which
+    placed them as if exact, "mostly past the linear scale" on 12.92 < 13.45 um (half of
+    26.90), where the pair of circles says "not placed". A term of no known ±95% is not
+    placed, in the console's JSON and table (no "*") and in the report's Error sources."""
+    from conftest import bench_path
+    from tcpmm.analysis.circle_single import one_direction_diagnostics, scale_diagnostics
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.io.runfile import read_run
+    from tcpmm.report.acceptance import ranked_sources
+
+    res = analyse_circle(read_run(bench_path("c") / "circle_cw_meas.csv"), 0.035)
+    tcp = one_direction_diagnostics(res, sensor="tcp")
+    scale = scale_diagnostics(tcp, res)
+    assert not tcp.spike_u95 and scale is not None
+    g_ref, where = placed_terms(tcp, scale, "linear scale")["reversal_spikes"]
+    assert 0 < g_ref < 0.5 * tcp.ranking[0]["g_alone_m"]  # half, were the spikes exact
+    assert where.startswith("not placed: its ±95% is not known")
+    assert not _placed("reversal_spikes", {"reversal_spikes": (g_ref, where)})[
+        "where"].startswith("mostly")
+    notes = {s.split(" ?")[0].split(" ~")[0]: n for s, _, n, _ in ranked_sources(tcp, scale)}
+    assert notes["reversal spikes"].startswith("not placed: its ±95% is not known")
+
+
 def test_a_term_whose_sign_the_tails_leave_open_is_not_ranked():
     """The demo's ranking listed a backlash X of 2.08 um that reads -12.92 with the wider
     window as its fourth error source, and a scale mismatch of -63 ppm that reads +42,

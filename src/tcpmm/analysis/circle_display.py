@@ -3,6 +3,8 @@ the terms ranked by what they contribute to the circle's form."""
 
 from __future__ import annotations
 
+import math
+
 #: SI unit -> (display unit, factor); the cyclic periods are shown in mm
 DISPLAY_UNITS = {"m": ("µm", 1e6), "s": ("ms", 1e3), "m/m": ("µm/m", 1e6), "-": ("ppm", 1e6),
                  "rad": ("µrad", 1e6)}
@@ -203,7 +205,9 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
     (:func:`term_place`; "" for the centre offset, a set-up, and for a term within the
     residual rms of ``diag``, whose G at either sensor is as much the residual's as its
     own); None without ``reference``. NaN, and not determined there, for a term
-    ``reference`` leaves open, and for spikes of which it gives some too few to tell.
+    ``reference`` leaves open, and for spikes of which it gives some too few to tell. A
+    term whose ±95% is not known at either sensor is not placed: a G of no known
+    uncertainty may lie on either side of half.
 
     Parameters
     ----------
@@ -228,6 +232,7 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
         k, u = g_spread(diag, term, g)
         lo, hi, u_ref = g - k * u, g + k * u, k * g_spread(reference, term, g_ref)[1]
         where = (f"not determined at the {sensor_name}" if g_ref != g_ref else
+                 _not_known(term, sensor_name) if not math.isfinite(u + u_ref) else
                  term_place(lo, g_ref + u_ref, sensor_name, term)
                  if g_ref + u_ref < SHARED_PART * lo else
                  term_place(hi, g_ref - u_ref, sensor_name, term)
@@ -238,18 +243,27 @@ def placed_terms(diag, reference, sensor_name: str) -> dict | None:
     return out
 
 
+def _not_known(term: str, sensor_name: str) -> str:
+    """Where a ranked term's ±95% is not known at the tool or at ``sensor_name``: a G
+    within its noise may lie on either side of half, so no place is said [-]."""
+    why = (" (one direction alone gives its spikes after its own terms none; a CCW and a "
+           "CW circle do)" if term == "reversal_spikes" else "")
+    return (f"not placed: its ±95% is not known{why}, so whether the {sensor_name}'s "
+            "circles see less or more than half of it is not told")
+
+
 def g_spread(diag, term: str, g: float) -> tuple[float, float]:
     """``(G per unit, ±95%)`` of a ranked term of ``diag`` whose G alone is ``g``: two
     standard uncertainties from what the terms leave (:mod:`.circle_sigma`), for the
-    reversal spikes the ranked spike's own ±95% (G per unit 1); a ±95% of 0 where none is
-    estimated [m/unit, unit]."""
+    reversal spikes the ranked spike's own ±95% (G per unit 1); a ±95% of NaN where none is
+    estimated (one direction's spikes after its own terms) [m/unit, unit]."""
     if term == "reversal_spikes":
         given = [(abs(v), diag.spike_u95.get(k, float("nan")))
                  for k, (v, _) in diag.terms.items() if k.startswith("spike_") and v == v]
-        u = max(given)[1] if given else 0.0
-        return 1.0, u if u == u else 0.0
+        return 1.0, max(given)[1] if given else float("nan")
     name = f"cyclic_amplitude_{term[-1]}" if term.startswith("cyclic_") else term
-    value, sigma = diag.terms.get(name, (float("nan"),))[0], diag.sigma.get(name, 0.0)
+    value = diag.terms.get(name, (float("nan"),))[0]
+    sigma = diag.sigma.get(name, float("nan"))
     k = g / abs(value) if value == value and value != 0 and g == g else 0.0
     return k, COVERAGE * sigma
 

@@ -918,3 +918,30 @@ def test_the_diagnostics_plot_gives_each_term_its_pm(tmp_path):
     box = plot_circle_diagnostics(diag, path=tmp_path / "d.png").axes[0].texts[-1].get_text()
     assert f"backlash X {diag['backlash_X'] * 1e6:+.2f} ± {2e6 * diag.sigma['backlash_X']:.2f} µm" \
         in box.splitlines()
+
+
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_the_diagnostics_plot_shows_no_value_the_tables_call_not_determined():
+    """Bench H's diagnostics box read "scale mismatch -785.35 ± 366.33 ppm" and "servo
+    mismatch -0.01 ± 0.40 ms" where the key figures say "not determined, not even its
+    sign"; and a ZX circle's angle axis read "angle from +X" with A at +Z. The box says
+    "not determined" of each term the tables do, and the axis names the plane's first."""
+    from conftest import bench_path
+    from tcpmm.analysis.circle_tails import sign_open
+    from tcpmm.analysis.circular import analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+    from tcpmm.plot.diagnostics import plot_circle_diagnostics
+
+    h = bench_path("h")
+    res = [analyse_circle(read_run(h / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
+    diag = circle_diagnostics(*res)
+    shut = set(sign_open(diag.terms, diag.tail_shift, diag.radius))
+    assert {"scale_mismatch", "servo_mismatch"} <= shut
+    lines = plot_circle_diagnostics(diag).axes[0].texts[-1].get_text().splitlines()
+    assert "scale mismatch not determined" in lines and "servo mismatch not determined" in lines
+    # a term the tables give keeps its figure, in their digits
+    assert any(line.startswith("backlash X +") and "±" in line for line in lines)
+    zx = circle_diagnostics(*res, axes=("Z", "X"))
+    ax = plot_circle_diagnostics(zx).axes[0]
+    assert ax.get_xlabel() == "angle from +Z [deg]"

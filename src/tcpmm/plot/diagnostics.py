@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..analysis.circle_display import display_digits
 from ..analysis.circle_sigma import shown_uncertainty
+from ..analysis.circle_tails import sign_open
 from . import finish, panels
 
 STYLE = {"ccw": dict(color="tab:blue", label="CCW"), "cw": dict(color="tab:red", label="CW")}
@@ -14,6 +16,28 @@ SUMMARY = (("backlash_{X}", "backlash {X}", 1e6, "µm"), ("backlash_{Y}", "backl
            ("scale_mismatch", "scale mismatch", 1e6, "ppm"),
            ("servo_mismatch", "servo mismatch", 1e3, "ms"),
            ("circularity_pair", "G(b)", 1e6, "µm"))
+
+
+def summary_lines(diag) -> list[str]:
+    """The box's lines: each term of :data:`SUMMARY` the circles give, in the tables'
+    digits with its ±95%; one the circles leave open, or whose sign the reversals' tails
+    leave open, as the tables say it: not determined [-]."""
+    names = {"X": diag.axes[0], "Y": diag.axes[1]}
+    # the tables' predicate: a value the fit leaves open, or one the wider window turns
+    open_ = {*diag.undetermined, *sign_open(diag.terms, diag.tail_shift, diag.radius)}
+    lines = []
+    for key, label, scale, unit in SUMMARY:
+        term = key.format(**names)
+        if term not in diag.terms:
+            continue
+        value, label = diag.terms[term][0], label.format(**names)
+        if value != value or term in open_:
+            lines.append(f"{label} not determined")
+            continue
+        n, pm = display_digits(term, unit), shown_uncertainty(diag, term)
+        lines.append(f"{label} {value * scale:+.{n}f}"
+                     + ("" if pm != pm else f" ± {pm:.{n}f}") + f" {unit}")
+    return lines
 
 
 def plot_circle_diagnostics(diag, ax=None, path=None):
@@ -47,18 +71,10 @@ def plot_circle_diagnostics(diag, ax=None, path=None):
     for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
         ax.axvline(deg, color="gray", lw=0.6)
         ax.annotate(q, (deg + 2, 0.98), xycoords=("data", "axes fraction"), va="top")
-    names = {"X": diag.axes[0], "Y": diag.axes[1]}
-    lines = []
-    for key, label, scale, unit in SUMMARY:
-        value = diag.terms.get(key.format(**names), (float("nan"),))[0]
-        if value == value:  # what the circles do not determine is not shown
-            pm = shown_uncertainty(diag, key.format(**names))  # in the display unit
-            lines.append(f"{label.format(**names)} {value * scale:+.2f}"
-                         + ("" if pm != pm else f" ± {pm:.2f}") + f" {unit}")
-    ax.text(1.01, 1.0, "\n".join(lines), transform=ax.transAxes, va="top", fontsize=8,
-            family="monospace")
+    ax.text(1.01, 1.0, "\n".join(summary_lines(diag)), transform=ax.transAxes, va="top",
+            fontsize=8, family="monospace")
     ax.set_xlim(0, 360)
-    ax.set_xlabel("angle from +X [deg]")
+    ax.set_xlabel(f"angle from +{diag.axes[0]} [deg]")
     ax.set_ylabel("radial error [µm]")
     ax.set_title(f"circle diagnostics ({diag.sensor}): measured dots, fitted terms lines")
     ax.grid(alpha=0.3)

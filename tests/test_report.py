@@ -945,3 +945,31 @@ def test_the_diagnostics_plot_shows_no_value_the_tables_call_not_determined():
     zx = circle_diagnostics(*res, axes=("Z", "X"))
     ax = plot_circle_diagnostics(zx).axes[0]
     assert ax.get_xlabel() == "angle from +Z [deg]"
+
+
+def test_printed_wide_tables_keep_every_column(full, tmp_path):
+    """Printed or saved as PDF, the circle table lost its right-hand columns (G, contour
+    error, the ± columns): its box scrolls on a screen and clips on paper. In print the
+    tables fit the page's width, their headers wrap; where Chromium is installed, each
+    table's last column is in its PDF."""
+    import shutil
+    import subprocess
+
+    text, page = full
+    printed = page.style[page.style.index("@media print"):]
+    assert re.search(r"\.tablebox \{ overflow: visible; \}", printed)
+    assert re.search(r"table \{ width: 100%;", printed)
+    assert re.search(r"th \{ white-space: normal;", printed)
+    chromium = shutil.which("chromium")
+    if not (chromium and shutil.which("pdftotext")):
+        return
+    (tmp_path / "r.html").write_text(text, encoding="utf-8")
+    pdf = tmp_path / "r.pdf"
+    subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu",
+                    f"--print-to-pdf={pdf}", (tmp_path / "r.html").as_uri()],
+                   capture_output=True, timeout=120, check=False)
+    printed = subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True,
+                             check=True).stdout.split()
+    for t in page.tables:
+        last = t["rows"][0][-1]
+        assert all(w in printed for w in last.split()), (t["csv"], last)

@@ -61,7 +61,12 @@ dl.facts dt { color: var(--muted); }
 dl.facts dd { margin: 0; }
 footer { color: var(--muted); font-size: 12px; margin-top: 30px; }
 @media print { header { background: none; color: var(--ink); } nav { display: none; }
-               section { break-inside: avoid-page; } }
+               section { break-inside: avoid-page; }
+               main { max-width: none; padding: 0 4px; }
+               .tablebox { overflow: visible; }
+               table { width: 100%; font-size: 7.5pt; }
+               th, td { padding: 1px 3px; }
+               th { white-space: normal; } }
 """
 
 

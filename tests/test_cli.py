@@ -95,6 +95,21 @@ def test_bad_model_file_names_line(capsys, tmp_path):
     assert code == 2 and "Kpp" in err and "line" in err
 
 
+def console_words(page: str) -> list[str]:
+    """What of a report's visible text (outside tags and so their data: URIs) is the
+    command line's and not the page's: a pointer to --json, a snake_case key. File names
+    and the model table's column of the model file's own keys are left out [-]."""
+    import html
+
+    text = re.sub(r"<style>.*?</style>", " ", page, flags=re.S)
+    text = re.sub(r'<table data-csv="model.csv">.*?</table>',
+                  lambda m: re.sub(r"<tr><td>[^<]*</td><td>[^<]*</td>", "<tr>", m.group(0)),
+                  text, flags=re.S)
+    text = html.unescape(re.sub(r"<[^>]+>", " ", text))
+    text = re.sub(r"[^\s(]+\.(?:csv|yaml|json|png|html)\b", " ", text)
+    return re.findall(r".{0,40}(?:--json|\b[a-z][a-z0-9]*(?:_[a-z0-9]+)+\b)", text)
+
+
 def test_demo_writes_everything(capsys, tmp_path):
     """The demo writes its report by default and prints its absolute path; the page opens
     with the verdict on the measured circle against the tolerance given."""
@@ -130,6 +145,10 @@ def test_demo_writes_everything(capsys, tmp_path):
     for f in (tmp_path / "demo").resolve().rglob("*"):
         assert f.is_dir() or any(f == p or p in f.parents for p in listed), f
     page = report.read_text(encoding="utf-8")
+    # the page says things in its own words: "(the raw e - b are in --json)", "(the move
+    # is in --json, tail_shift)" and "axis X guideway_share, open" (24 times) were the
+    # command line's
+    assert not console_words(page)
     order = [page.index(f'data-section="{kind}"') for kind in
              ("verdict", "circle", "comparison", "spread", "identification", "model")]
     assert order == sorted(order)

@@ -947,6 +947,25 @@ def test_the_diagnostics_plot_shows_no_value_the_tables_call_not_determined():
     assert ax.get_xlabel() == "angle from +Z [deg]"
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_a_lone_arc_s_report_speaks_of_no_pair_and_no_key(capsys, tmp_path):
+    """A lone 220 deg arc read "reversal spikes after the pair's terms not determined"
+    with no pair, and "(squareness_or_servo)", the analysis' key, in its diagnostics."""
+    from test_cli import console_words
+
+    (tmp_path / "arc.nc").write_text("G90 G18 G21\nG00 X0 Z0\nG01 X24.7487 Z24.7487 F3000\n"
+                                     "G02 X-3.0504 Z-34.8668 I-24.7487 K-24.7487\nM30\n")
+    assert main(["simulate", "builtin:vmc", "--gcode", str(tmp_path / "arc.nc"), "-o",
+                 str(tmp_path / "arc.csv")]) == 0
+    code, page, _ = report(capsys, tmp_path, "--run", tmp_path / "arc.csv", "--radius", 35)
+    assert code == 0
+    facts = re.search(r'<dl class="facts">(.*?)</dl>', page[page.index('id="circle'):],
+                      re.S).group(1)
+    assert "reversal spikes after its own terms (backlash among them) not determined" in facts
+    assert "pair" not in facts
+    assert "(squareness or servo)" in page and not console_words(page)
+
+
 def test_printed_wide_tables_keep_every_column(full, tmp_path):
     """Printed or saved as PDF, the circle table lost its right-hand columns (G, contour
     error, the ± columns): its box scrolls on a screen and clips on paper. In print the

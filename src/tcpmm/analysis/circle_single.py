@@ -46,7 +46,7 @@ SINGLE = ("backlash_X", "backlash_Y", "squareness", "scale_mismatch", "straightn
 #: Not fitted to one direction (``SINGLE``), but the fitted terms depend on them
 UNSEEN = ("lateral_play_X", "lateral_play_Y")
 _ELLIPSE = ("one direction shows squareness and servo mismatch as one ellipse at 45 deg "
-            "(squareness_or_servo); the other direction tells them apart: squareness keeps "
+            "(squareness or servo); the other direction tells them apart: squareness keeps "
             "its sign, a servo mismatch turns it")
 #: Terms of the pair one direction cannot give, and why
 NEEDS_PAIR = {"squareness": _ELLIPSE, "servo_mismatch": _ELLIPSE,

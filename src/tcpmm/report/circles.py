@@ -88,8 +88,10 @@ def key_figures(result, diag=None) -> str:
                          f"{number(fast * 1e6, 2)} µm)")
         elif (diag is not None and diag.sensor == sensor
               and "reversal_spikes" in diag.undetermined):
-            text += (", reversal spikes after the pair's terms not determined by these "
-                     "circles (diagnostics: reversal spikes)")
+            whose = ("the pair's terms not determined by these circles"
+                     if len(diag.directions) == 2 else
+                     "its own terms (backlash among them) not determined")
+            text += f", reversal spikes after {whose} (diagnostics: reversal spikes)"
         if p.is_arc:
             text += f"; an arc of {p.arc_deg:.0f} deg"
         dev = p.command_radial_deviation

@@ -148,6 +148,8 @@ def table(frame, csv_name: str, digits: dict | int | None = 2, caption: str | No
     import numpy as np
 
     per = digits if isinstance(digits, dict) else {}
+    # the download holds the words shown
+    frame = frame.map(lambda v: in_words(v) if isinstance(v, str) else v)
     head = "".join(f"<th>{esc(c)}</th>" for c in frame.columns)
     rows = []
     for rec in frame.itertuples(index=False):
@@ -166,7 +168,7 @@ def table(frame, csv_name: str, digits: dict | int | None = 2, caption: str | No
 
 def facts(items) -> str:
     """A two-column list of ``(name, value)`` [-]."""
-    body = "".join(f"<dt>{esc(k)}</dt><dd>{esc(v)}</dd>" for k, v in items)
+    body = "".join(f"<dt>{esc(k)}</dt><dd>{esc(in_words(str(v)))}</dd>" for k, v in items)
     return f'<dl class="facts">{body}</dl>'
 
 
@@ -175,11 +177,35 @@ def facts(items) -> str:
 _UM = re.compile(r"(?<![-\w])um\b")
 
 
+#: What the command line's messages say in its own terms, and the page in its words: a
+#: pointer to ``--json``, which a report has not (its circle table holds the raw spikes),
+#: and the keys of the quantities identification may leave open, as the docs name them
+_WORDS = ((" (the raw e - b are in --json)", " (the raw spikes, e \u2212 b, are in the "
+                                               "circle's table)"),
+          (" (the move is in --json, tail_shift)", ""))
+_QUANTITIES = {"guideway_share": "guideway share of the friction",
+               "friction_level": "friction level", "static_level": "static friction level",
+               "time_base": "time base", "position_feedback": "position feedback",
+               "position_gain": "position gain", "column_damping": "column damping",
+               "bed_damping": "bed damping"}
+#: ... where a message names one of an axis ("axis X guideway_share, open"); the model
+#: table's column of the model file's keys keeps them
+_QUANTITY = re.compile(r"(\baxis \w+,? )(" + "|".join(_QUANTITIES) + r")\b")
+
+
+def in_words(text: str) -> str:
+    """``text``, a message of the command line, as the page says it: micrometres ``µm``
+    (the command line writes ``um``), no pointer to ``--json`` and no key of a quantity
+    where the docs have words for it [-]."""
+    for console, page_words in _WORDS:
+        text = text.replace(console, page_words)
+    return _QUANTITY.sub(lambda m: m.group(1) + _QUANTITIES[m.group(2)], _UM.sub("µm", text))
+
+
 def para(text: str, kind: str = "note") -> str:
     """A paragraph of class ``kind`` (note, lead, warn; pass, fail or open for a
-    verdict); the messages of the command line it quotes write micrometres ``um``, the
-    page ``µm`` [-]."""
-    return f'<p class="{kind}">{esc(_UM.sub("µm", text))}</p>'
+    verdict), in the page's words (:func:`in_words`) [-]."""
+    return f'<p class="{kind}">{esc(in_words(text))}</p>'
 
 
 def section(key: str, title: str, body: str) -> tuple[str, str, str]:

@@ -155,6 +155,37 @@ def test_an_oscillation_the_terms_leave_before_the_points_is_named_with_both_bou
     assert fast < 2.0 and max(x) - min(x) < fast
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_the_sample_to_sample_bound_names_its_point_in_console_and_report():
+    """Bench H: the console said "CCW tcp ±1.35 µm ... from the sample-to-sample noise
+    alone", the report in the same words ± 0.68 µm for the same circle: the largest over
+    A-D against the one at the largest spike's point, neither saying which. Each names its
+    point, and the console's is the report's where they are the same point."""
+    import html
+    import re
+
+    from tcpmm.analysis.circle_spike_sigma import slow_line
+    from tcpmm.analysis.circular import CircleResult, analyse_circle
+    from tcpmm.analysis.diagnostics import circle_diagnostics
+    from tcpmm.io.runfile import read_run
+    from tcpmm.report.circles import key_figures
+
+    h = bench_path("h")
+    res = [analyse_circle(read_run(h / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
+    both = CircleResult(0.035, (0.0, 0.0), res[0].passes + res[1].passes)
+    sc = both.passes[0].sensors["tcp"]
+    fast = sc.spike_uncertainty(sample_noise=True)
+    line = slow_line([("CCW tcp", sc.spike_uncertainty(), fast)])
+    at = max(fast, key=lambda q: fast[q])
+    assert f"CCW tcp ±{fast[at] * 1e6:.2f} µm at {at}" in line
+    assert "the largest over the points" in line
+    text = html.unescape(key_figures(both, circle_diagnostics(*res)))
+    q = re.search(r"at ([A-D]) \(the ± counts[^)]*µm at ([A-D])\)", text).group(1, 2)
+    assert q[0] == q[1]  # the report's bound is at the point of the spike it qualifies
+    pm = float(re.search(r"as they are, ± ([\d.]+) µm at", text).group(1))
+    assert pm == pytest.approx(fast[q[0]] * 1e6, abs=0.006)
+
+
 @pytest.mark.parametrize(("n_before", "n_after", "phi"), [(23, 18, 0.0), (60, 45, 0.0)])
 def test_the_bound_holds_the_extreme_of_a_short_window_as_often_as_it_says(n_before,
                                                                              n_after, phi):

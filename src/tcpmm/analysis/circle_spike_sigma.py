@@ -136,15 +136,21 @@ def slow_line(rows) -> str:
     """A line naming the circles whose spikes' uncertainty is mostly what the terms leave
     slowly, each with the bound from the sample-to-sample noise alone; empty where none
     is. ``rows``: ``(label, u95 per point, sample-noise u95 per point)`` [-]."""
-    items = [f"{label} ±{largest(fast) * 1e6:.2f} µm" for label, u95, fast in rows
-             if is_slow(largest(u95), largest(fast))]
+    # the table's ±95% is the largest over the points: so is the bound beside it, named
+    items = [f"{label} ±{largest(fast) * 1e6:.2f} µm at {_largest_at(fast)}"
+             for label, u95, fast in rows if is_slow(largest(u95), largest(fast))]
     if not items:
         return ""
     return ("±95% counts what the terms leave before the points as noise; it changes there "
             "more slowly than from sample to sample (a transient or an oscillation the "
             "terms do not model, or noise that stays alike) for " + ", ".join(items)
             + ": the bound were it the machine's own, from the sample-to-sample noise "
-            "alone, the terms as they are")
+            "alone, the terms as they are, the largest over the points")
+
+
+def _largest_at(u95: dict) -> str:
+    """The point whose uncertainty is the largest of ``u95``'s [-]."""
+    return max((v, q) for q, v in u95.items() if v == v)[1]
 
 
 def largest(u95: dict) -> float:

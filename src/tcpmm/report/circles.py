@@ -85,7 +85,7 @@ def key_figures(result, diag=None) -> str:
             if is_slow(u, fast):
                 text += (" (the ± counts what the terms leave before the points as noise; "
                          "from sample to sample alone, the terms as they are, ± "
-                         f"{number(fast * 1e6, 2)} µm)")
+                         f"{number(fast * 1e6, 2)} µm at {q})")
         elif (diag is not None and diag.sensor == sensor
               and "reversal_spikes" in diag.undetermined):
             whose = ("the pair's terms not determined by these circles"

@@ -307,6 +307,38 @@ def test_circle_plot_writes_its_magnification_and_um_rings():
     assert {"+5 µm", "0 µm", "-5 µm"} <= set(texts)
 
 
+@pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
+def test_the_ring_labels_stand_clear_of_the_reversals_and_the_path():
+    """Bench C's ring labels stood at 112.5 deg, beside B's spikes, and its TCP path ran
+    through "-50 µm" (48 of its samples inside the label). They stand at least 20 deg
+    from every quadrant point, along their ring, with no TCP sample inside one."""
+    from conftest import bench_path
+    from tcpmm.analysis.circular import CircleResult
+    from tcpmm.io.runfile import read_run
+
+    c = bench_path("c")
+    res = [analyse_circle(read_run(c / f"circle_{w}_meas.csv"), 0.035) for w in ("ccw", "cw")]
+    fig = plot_circle(CircleResult(0.035, (0.0, 0.0), res[0].passes + res[1].passes))
+    fig.canvas.draw()
+    for ax in fig.axes:
+        tcp = ax.transData.transform(
+            np.vstack([ln.get_xydata() for ln in ax.lines if ln.get_label() == "TCP"]))
+        labels = [t for t in ax.texts if re.fullmatch(r"[-+]?\d+ µm", t.get_text())]
+        assert len(labels) == 3
+        for t in labels:
+            at = np.degrees(np.arctan2(t.xy[1], t.xy[0])) % 360.0
+            assert min(abs((at - q + 180.0) % 360.0 - 180.0) for q in (0, 90, 180, 270)) >= 20
+            turn = t.get_rotation()
+            t.set_rotation(0)
+            box = t.get_window_extent()  # the label's size, written level
+            t.set_rotation(turn)
+            d = tcp - ax.transData.transform(t.xy)
+            q = np.radians(turn)
+            u, v = d @ [np.cos(q), np.sin(q)], d @ [-np.sin(q), np.cos(q)]
+            inside = (np.abs(u) < box.width / 2) & (np.abs(v) < box.height / 2)
+            assert not inside.any(), (t.get_text(), at, int(inside.sum()))
+
+
 @pytest.mark.parametrize("lo, hi, least, step", [(-7, 7, 0, 5), (-40, 10, 0, 20),
                                                  (-0.3, 0.2, 0, 0.2), (-7, 7, 6, 10)])
 def test_ring_steps_are_1_2_5(lo, hi, least, step):

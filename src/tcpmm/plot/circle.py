@@ -25,9 +25,51 @@ def _ring_step_um(lo_um: float, hi_um: float, min_step_um: float = 0.0) -> float
     return span
 
 
-def _scale_rings(ax, R, M, errors) -> None:
-    """Rings at whole steps of radial error about the nominal radius, labelled in µm, and
-    the magnification written on the plot.
+#: Angles the ring labels may stand at, the first of equals first: at least 20 deg from
+#: each quadrant point, where the reversals' spikes are, and clear of the legend (lower
+#: left) [deg].
+LABEL_ANGLES_DEG = (*range(25, 70, 5), *range(295, 340, 5), *range(115, 160, 5))
+
+
+def _label_angle(ax, R, M, paths, labels) -> float:
+    """The angle of :data:`LABEL_ANGLES_DEG` at which the paths drawn cross the ring
+    labels least (each written along its ring), and among equals pass farthest from
+    them [deg].
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        The panel, whose size in points gives a label's in mm [-].
+    R, M : float
+        Nominal radius [m] and magnification [-].
+    paths : list of tuple of ndarray
+        ``(angle, radial error)`` of each path drawn [rad, m].
+    labels : list of tuple
+        ``(ring radius as drawn [mm], text)`` [-].
+    """
+    width_pt = ax.get_position().width * ax.figure.get_figwidth() * 72.0
+    mm_per_pt = 2.6 * R * 1e3 / width_pt  # the panel spans ±1.3 R
+    # half a label along its ring and across it, a 7 pt font's
+    along = np.array([0.3 * 7 * len(t) + 2 for _, t in labels]) * mm_per_pt
+    across = (0.6 * 7 + 1) * mm_per_pt
+    radii = np.array([r for r, _ in labels])
+    deg = np.degrees(np.concatenate([np.asarray(a, float) for a, _ in paths]))
+    r_path = np.concatenate([(R + M * np.asarray(e, float)) * 1e3 for _, e in paths])
+
+    def crowding(at):
+        off = np.radians(np.abs((deg - at + 180.0) % 360.0 - 180.0))
+        d_along = np.maximum(radii[:, None] * off[None, :] - along[:, None], 0.0)
+        d_across = np.maximum(np.abs(r_path[None, :] - radii[:, None]) - across, 0.0)
+        gap = np.hypot(d_along, d_across)
+        return int(np.sum(gap == 0.0)), -float(np.min(gap))
+
+    return float(min(LABEL_ANGLES_DEG, key=crowding))
+
+
+def _scale_rings(ax, R, M, paths) -> None:
+    """Rings at whole steps of radial error about the nominal radius, labelled in µm along
+    each ring where the paths drawn cross the labels least (:func:`_label_angle`), and the
+    magnification written on the plot.
 
     Parameters
     ----------
@@ -37,24 +79,26 @@ def _scale_rings(ax, R, M, errors) -> None:
         Nominal radius [m].
     M : float
         Radial error magnification [-].
-    errors : list of ndarray
-        Radial errors drawn in the panel [m].
+    paths : list of tuple of ndarray
+        ``(angle, radial error)`` of each path drawn in the panel [rad, m].
     """
-    lo = min(0.0, *(float(np.min(e)) for e in errors)) * 1e6
-    hi = max(0.0, *(float(np.max(e)) for e in errors)) * 1e6
+    lo = min(0.0, *(float(np.min(e)) for _, e in paths)) * 1e6
+    hi = max(0.0, *(float(np.max(e)) for _, e in paths)) * 1e6
     step = _ring_step_um(lo, hi, 0.08 * R / M * 1e6)  # rings at least 8 % of R apart
     th = np.linspace(0, 2 * np.pi, 361)
-    label_at = np.radians(112.5)
-    for k in range(int(np.floor(lo / step)), int(np.ceil(hi / step)) + 1):
-        e_um = k * step
-        r = (R + M * e_um * 1e-6) * 1e3
-        if k:
+    rings = [((R + M * k * step * 1e-6) * 1e3, f"{k * step:+g} µm" if k else "0 µm")
+             for k in range(int(np.floor(lo / step)), int(np.ceil(hi / step)) + 1)]
+    at = _label_angle(ax, R, M, paths, rings)
+    along = (at + 90.0) % 180.0  # the ring's direction there, written upright
+    for r, text in rings:
+        if text != "0 µm":
             ax.plot(r * np.cos(th), r * np.sin(th), color="0.55", lw=0.6, ls=(0, (2, 3)),
                     zorder=1)
-        ax.annotate(f"{e_um:+g} µm" if k else "0 µm", (r * np.cos(label_at),
-                    r * np.sin(label_at)), ha="center", va="center", fontsize=7,
-                    color="0.3", bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
-                                           alpha=0.85), zorder=1.5)  # under the traces
+        ax.annotate(text, (r * np.cos(np.radians(at)), r * np.sin(np.radians(at))),
+                    ha="center", va="center", fontsize=7, color="0.3",
+                    rotation=along - 180.0 if along > 90.0 else along, rotation_mode="anchor",
+                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85),
+                    zorder=1.5)  # under the traces
     ax.text(0.02, 0.98, f"radial error ×{M:g}\nrings every {step:g} µm", transform=ax.transAxes,
             va="top", fontsize=8, bbox=dict(boxstyle="round", fc="white", ec="0.7"))
 
@@ -102,7 +146,7 @@ def _circle_panel(ax, p, R, M, sensors, overlay, plane=("X", "Y")):
     th = np.linspace(0, 2 * np.pi, 361)
     ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
     names = [s for s in (sensors or p.sensors) if s in p.sensors and s != "cmd"]
-    drawn = [p.sensors[s].radial_error for s in names]
+    drawn = [(p.sensors[s].angle_rad, p.sensors[s].radial_error) for s in names]
     for s in names:
         sc = p.sensors[s]
         r = R + M * sc.radial_error
@@ -118,8 +162,8 @@ def _circle_panel(ax, p, R, M, sensors, overlay, plane=("X", "Y")):
             r = R + M * sc.radial_error
             ax.plot(r * np.cos(sc.angle_rad) * 1e3, r * np.sin(sc.angle_rad) * 1e3,
                     color="tab:orange", ls="--", lw=1.2, label="Sim-TCP")
-            drawn.append(sc.radial_error)
-    _scale_rings(ax, R, M, drawn or [np.zeros(1)])
+            drawn.append((sc.angle_rad, sc.radial_error))
+    _scale_rings(ax, R, M, drawn or [(np.zeros(1), np.zeros(1))])
     for q, deg in zip("ABCD", (0, 90, 180, 270), strict=True):
         a = np.radians(deg)
         ax.annotate(q, (1.12 * R * np.cos(a) * 1e3, 1.12 * R * np.sin(a) * 1e3),

@@ -1024,3 +1024,26 @@ def test_printed_wide_tables_keep_every_column(full, tmp_path):
     for t in page.tables:
         last = t["rows"][0][-1]
         assert all(w in printed for w in last.split()), (t["csv"], last)
+
+
+def test_runs_of_one_name_are_told_apart_and_a_long_name_wraps(capsys, tmp_path, inputs):
+    """Two --run files named run.csv in two folders gave two sections both titled
+    "Circular test: run.csv" and a verdict on "run run.csv"; a name of 111 characters
+    with no space ran past the page's right edge. Each name carries the folders that
+    tell it apart, and headings and cells wrap anywhere."""
+    import shutil
+
+    d, _ = inputs
+    for day in ("mon", "tue"):
+        (tmp_path / day).mkdir()
+        shutil.copy(d / "measured.csv", tmp_path / day / "run.csv")
+    code, text, _ = report(capsys, tmp_path, "--run", tmp_path / "mon" / "run.csv", "--run",
+                           tmp_path / "tue" / "run.csv", "--radius", R * 1e3)
+    assert code == 0
+    titles = re.findall(r"<h2>Circular test: ([^<]*)</h2>", text)
+    assert titles == ["mon/run.csv", "tue/run.csv"]
+    assert "<dt>run</dt><dd>mon/run.csv</dd>" in text
+    assert "run: mon/run.csv; run: tue/run.csv" in text  # the page's header
+    wrap = re.search(r"([^{}]*)\{ overflow-wrap: anywhere; \}", Page(text).style).group(1)
+    assert {"h1", "h2", "h3", "p", "dd"} <= {t.strip() for t in wrap.split(",")}
+    assert re.search(r"td, th \{ overflow-wrap: break-word; \}", Page(text).style)

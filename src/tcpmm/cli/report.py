@@ -160,10 +160,15 @@ def _circle_sections(runs, measured, predicted, radius: float, centre: str, verd
     c = floats(centre, "--centre", 2)
     # one plane per file, said once however many sections analyse it
     circle = (positive(radius, "--radius [mm]") * 1e-3, (c[0] * 1e-3, c[1] * 1e-3), plane, {})
-    comparisons = [_comparison(m, p, circle, "comparison" if len(measured) == 1 else
-                               f"comparison-{i + 1}", not runs and i == 0, verdict, machine)
+    from ..report.html import distinct_names
+
+    # two run.csv of two folders are told apart by their folders, in titles and verdict
+    shown = distinct_names([*(f for r in runs for f in r), *measured, *predicted])
+    comparisons = [_comparison((m, p), circle, "comparison" if len(measured) == 1 else
+                               f"comparison-{i + 1}", not runs and i == 0, verdict, machine,
+                               shown)
                    for i, (m, p) in enumerate(zip(measured, predicted, strict=True))]
-    sections = _run_sections(runs, circle, verdict)
+    sections = _run_sections(runs, circle, verdict, shown)
     sections += _faults(machine, [f for r in runs for f in r] + list(predicted))
     sections += [s for group in comparisons for s in group]
     inputs = ([("run", f) for r in runs for f in r] + [("measured", m) for m in measured]
@@ -263,9 +268,10 @@ def _faults(machine, files) -> list:
     return [faults_section(found)] if found else []
 
 
-def _run_sections(runs, circle, verdict: dict) -> list:
+def _run_sections(runs, circle, verdict: dict, shown: dict) -> list:
     """A circle section per run or pair of runs, keys numbered when there are several;
-    the first opens with the verdict (``verdict``: its tolerance and date)."""
+    the first opens with the verdict (``verdict``: its tolerance and date); ``shown``
+    each file's name as the page gives it (:func:`tcpmm.report.html.distinct_names`)."""
     from ..analysis.circular import CircleResult
     from ..report import circle_test_section, verdict_sections
 
@@ -276,20 +282,22 @@ def _run_sections(runs, circle, verdict: dict) -> list:
         both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes],
                             res[0].plane)
         key = "circle" if len(runs) == 1 else f"circle-{i + 1}"
-        title = f"Circular test: {' and '.join(f.name for f in files)}"
+        names = [shown[str(f)] for f in files]
+        title = f"Circular test: {' and '.join(names)}"
         if i == 0:
-            sections += verdict_sections(both, key, title, files, sample_rate_hz=got[0][1],
+            sections += verdict_sections(both, key, title, names, sample_rate_hz=got[0][1],
                                          cautions=[c for g in got for c in g[2]], **verdict)
         else:
-            sections.append(circle_test_section(both, key, title, files))
+            sections.append(circle_test_section(both, key, title, names))
     return sections
 
 
-def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
-                verdict: dict, machine=None):
-    """Measured minus predicted of one pair of runs, against the intervals of the model
-    ``machine`` where given; the ``first`` (no --run given) opens the page with the
-    measured circle's verdict (``verdict``: its tolerance and date)."""
+def _comparison(files, circle, key: str, first: bool, verdict: dict, machine, shown):
+    """Measured minus predicted of one pair of runs (``files``), against the intervals of
+    the model ``machine`` where given; the ``first`` (no --run given) opens the page with
+    the measured circle's verdict (``verdict``: its tolerance and date); ``shown`` each
+    file's name as the page gives it."""
+    measured, predicted = files
     from ..analysis.compare import compare_circles
     from ..io.runfile import read_run
     from ..report import comparison_section, verdict_sections
@@ -298,10 +306,11 @@ def _comparison(measured: Path, predicted: Path, circle, key: str, first: bool,
     rm, rp, rate, said = analysed_pair(measured, predicted, circle, runs)
     pair = compare_circles(rm, rp)
     judged = _judged_if_its(pair, machine, runs[1], circle, rp.plane, predicted)
-    cmp = comparison_section(pair, rm, rp, (measured, predicted), key,
+    names = [shown[str(f)] for f in files]
+    cmp = comparison_section(pair, rm, rp, names, key,
                              judged=pair.judged_long(judged) if judged else None)
     if not first:
         return [cmp]
-    head = verdict_sections(rm, "circle-measured", f"Circular test: {measured.name}",
-                            measured, sample_rate_hz=rate, cautions=said, **verdict)
+    head = verdict_sections(rm, "circle-measured", f"Circular test: {names[0]}",
+                            names[0], sample_rate_hz=rate, cautions=said, **verdict)
     return [*head, cmp]

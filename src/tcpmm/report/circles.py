@@ -134,9 +134,11 @@ def _of_those(shown: dict, every: dict) -> str:
 
 
 def file_names(files) -> str:
-    """File names without their folders, joined [-]."""
+    """File names joined: a path by its name without its folders, text as given (a name
+    made unique among the report's files by :func:`distinct_names`) [-]."""
     files = [files] if isinstance(files, str | Path) else files
-    return " and ".join(Path(str(f)).name for f in files)
+    return " and ".join(f.name if isinstance(f, Path) else str(f) for f in files)
+
 
 
 def result_plot(result, overlay=None):
@@ -271,7 +273,7 @@ def comparison_title(comparison, sources=()) -> str:
     seen = [r.get("direction", "").upper() for r in comparison.rows]
     named = [" and ".join(dict.fromkeys(d for d in seen if d))]
     if len(sources):
-        named.append(Path(str(sources[0])).name)
+        named.append(file_names(sources[0]))
     named = " of ".join(n for n in named if n)
     return "Measured − predicted (Table 2)" + (f": {named}" if named else "")
 

@@ -33,6 +33,8 @@ main { max-width: 1180px; margin: 0 auto; padding: 8px 32px 40px; }
 nav { margin: 14px 0 4px; font-size: 14px; display: flex; flex-wrap: wrap; gap: 4px 18px; }
 nav a { color: var(--accent); text-decoration: none; }
 section { border-top: 2px solid var(--line); margin-top: 26px; padding-top: 6px; }
+h1, h2, h3, p, dd, nav a { overflow-wrap: anywhere; }  /* a file name of no spaces */
+td, th { overflow-wrap: break-word; }  /* anywhere would squeeze a column to letters */
 h2 { font-size: 20px; margin: 10px 0 6px; color: var(--accent); }
 h3 { font-size: 15px; margin: 18px 0 6px; }
 p.note, p.lead { color: var(--muted); font-size: 13px; margin: 4px 0 8px; max-width: 900px; }
@@ -215,6 +217,21 @@ def section(key: str, title: str, body: str) -> tuple[str, str, str]:
                         f"<h2>{esc(title)}</h2>{body}</section>")
 
 
+def distinct_names(files) -> dict[str, str]:
+    """Per file (by its path as text), its name with as many of its folders as tell it
+    from the other files of that name: ``mon/run.csv`` and ``tue/run.csv``; the name
+    alone where no other shares it [-]."""
+    paths = {str(f): Path(str(f)).absolute().parts for f in files}
+    out = {}
+    for key, parts in paths.items():
+        others = {p for p in paths.values() if p != parts}
+        n = 1
+        while n < len(parts) and any(o[-n:] == parts[-n:] for o in others):
+            n += 1
+        out[key] = "/".join(parts[-n:])
+    return out
+
+
 def page(title: str, sections, inputs=()) -> str:
     """The whole report page.
 
@@ -230,7 +247,8 @@ def page(title: str, sections, inputs=()) -> str:
     """
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
     toc = "".join(f'<a href="#{esc(k)}">{esc(t)}</a>' for k, t, _ in sections)
-    given = "; ".join(f"{w}: {Path(f).name}" for w, f, *_ in inputs)
+    shown = distinct_names(f for _, f, *_ in inputs)
+    given = "; ".join(f"{w}: {shown[str(f)]}" for w, f, *_ in inputs)
     sub = f"tcpmm {__version__}, {stamp}" + (f" {DASH} {given}" if given else "")
     body = "".join(h for _, _, h in sections) + _inputs(inputs)
     return ("<!DOCTYPE html>\n"

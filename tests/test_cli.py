@@ -98,7 +98,8 @@ def test_bad_model_file_names_line(capsys, tmp_path):
 def console_words(page: str) -> list[str]:
     """What of a report's visible text (outside tags and so their data: URIs) is the
     command line's and not the page's: a pointer to --json, a snake_case key. File names
-    and the model table's column of the model file's own keys are left out [-]."""
+    and paths, and the model table's column of the model file's own keys, are left out
+    [-]."""
     import html
 
     text = re.sub(r"<style>.*?</style>", " ", page, flags=re.S)
@@ -106,7 +107,7 @@ def console_words(page: str) -> list[str]:
                   lambda m: re.sub(r"<tr><td>[^<]*</td><td>[^<]*</td>", "<tr>", m.group(0)),
                   text, flags=re.S)
     text = html.unescape(re.sub(r"<[^>]+>", " ", text))
-    text = re.sub(r"[^\s(]+\.(?:csv|yaml|json|png|html)\b", " ", text)
+    text = re.sub(r"[^\s(]+\.(?:csv|yaml|json|png|html)\b|\S*/\S*", " ", text)  # files
     return re.findall(r".{0,40}(?:--json|\b[a-z][a-z0-9]*(?:_[a-z0-9]+)+\b)", text)
 
 

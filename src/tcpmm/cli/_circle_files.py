@@ -9,9 +9,10 @@ from ._app import in_file
 from ._plane import refuse_unmeasured, run_plane_said
 
 
-def circle_of_file(path: Path, circle, run=None, settling: bool = True):
+def circle_of_file(path: Path, circle, run=None, settling: bool = True, shown=None):
     """The circular test of one run file (or of ``run``, read from it), the run's sample
-    rate and what its analysis warned of [-, Hz, -]; the warnings are given on as well.
+    rate and what its analysis warned of, each after ``shown``, the file's name as a page
+    gives it (default its name) [-, Hz, -]; the warnings are given on as well.
     ``settling``: say where a pass starts before the servo has settled (not of a
     prediction, whose transient is part of what it predicts, as ``tcpmm compare``) [-].
     ``circle`` holds the nominal radius [m], centre [m], ``--plane`` and the planes of the
@@ -39,7 +40,7 @@ def circle_of_file(path: Path, circle, run=None, settling: bool = True):
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     dt = np.diff(run.time_s)
     return (res, 1.0 / float(np.median(dt)) if dt.size else None,
-            [f"{path.name}: {w.message}" for w in said])
+            [f"{shown or path.name}: {w.message}" for w in said])
 
 
 def analysed_pair(measured: Path, predicted: Path, circle, runs) -> tuple:

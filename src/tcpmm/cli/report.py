@@ -277,7 +277,7 @@ def _run_sections(runs, circle, verdict: dict, shown: dict) -> list:
 
     sections = []
     for i, files in enumerate(runs):
-        got = [circle_of_file(f, circle) for f in files]
+        got = [circle_of_file(f, circle, shown=shown[str(f)]) for f in files]
         res = [r for r, _, _ in got]
         both = CircleResult(res[0].radius, res[0].centre, [p for r in res for p in r.passes],
                             res[0].plane)

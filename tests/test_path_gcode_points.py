@@ -96,13 +96,16 @@ def test_the_compiled_lexer_marks_a_length_without_a_point():
 
 def test_the_command_line_warns_whole_and_streamed_alike(tmp_path, capsys):
     prog = tmp_path / "p.nc"
-    prog.write_text(FANUC)
+    # a square of 1 m at the fastest feed: the warning's line, in a run of seconds
+    prog.write_text(FANUC.replace("50000", "1000").replace("F3000", "F30000"))
+    want = (SAID.replace("p.nc", str(prog), 1).replace("50000", "1000")
+            .replace("(50 mm)", "(1 mm)").replace("X50.", "X1."))
     said = []
     for extra in ([], ["--chunk-blocks", "2"]):
         code, _, err = run_cli(capsys, "path", prog, "-o", tmp_path / "cmd.csv", *extra)
         assert code == 0
         said.append([x for x in err.splitlines() if "decimal point" in x])
-    assert said[0] == said[1] == [f"warning: {SAID.replace('p.nc', str(prog), 1)}"]
+    assert said[0] == said[1] == [f"warning: {want}"]
 
 
 def test_the_expression_stops_before_a_length_without_a_point():

@@ -99,15 +99,18 @@ def _rounded(zeta: float) -> float:
 
 def margins_line(mg: dict) -> str:
     """One line of a loop's margins: gain, phase, crossovers [dB, deg, Hz]."""
+    def hz(f):  # a loop slower than 0.05 Hz keeps two significant digits, not "0.0"
+        return f"{f:.1f} Hz" if f >= 0.05 else f"{f:.2g} Hz"
+
     def at(value, unit, f):
         if value is None:
             return "infinite (no crossing)"
-        return f"{value:.1f} {unit} at {f:.1f} Hz"
+        return f"{value:.1f} {unit} at {hz(f)}"
 
     bw = mg["bandwidth_hz"]
     return (f"gain margin {at(mg['gain_margin_db'], 'dB', mg['phase_crossover_hz'])}, "
             f"phase margin {at(mg['phase_margin_deg'], 'deg', mg['gain_crossover_hz'])}, "
-            f"bandwidth {'-' if bw is None else f'{bw:.1f} Hz'}")
+            f"bandwidth {'-' if bw is None else hz(bw)}")
 
 OPEN_LOOPS = ("L_v", "L_p")
 

@@ -220,7 +220,7 @@ def _verdict(t, drawn: dict | None = None) -> str:
         return "NOT MET, settings kept"
     cut = slowed(t.margins_before, t.margins_after)
     said = "met" if cut is None else (f"met only with the velocity loop slowed from "
-                                      f"{cut[0]:.3g} to {cut[1]:.2g} Hz (see the warning)")
+                                      f"{_fmt(cut[0])} to {_fmt(cut[1])} Hz (see the warning)")
     if not drawn:
         return said
     n, missed = next(iter(drawn.values()))["draws"], margins_missed(drawn)

@@ -26,6 +26,9 @@ from .sampled import position_open_loop, velocity_open_loop
 
 #: Grid points per decade that bracket the crossings [-].
 _PER_DECADE = 400
+#: the lowest frequency a crossover is searched down to: a position gain of 6e-9 1/s
+#: crosses there, far below any loop a machine runs [Hz]
+LOWEST_HZ = 1e-9
 
 
 @dataclass(frozen=True)
@@ -106,12 +109,15 @@ def margins_of(L, f_nyquist: float, f_low: float = 1e-3, poles=(), dt: float = 0
     f_nyquist : float
         Highest frequency (the loop's Nyquist frequency) [Hz].
     f_low : float
-        Lowest frequency searched [Hz].
+        Lowest frequency searched, taken down by decades (to :data:`LOWEST_HZ`) while the
+        loop gain there is still below 1: a loop as slow as that crosses over lower [Hz].
     poles : array_like of complex
         Discrete poles of ``L`` around which the grid is refined [-].
     dt : float
         Sample period of ``poles`` [s].
     """
+    while f_low > LOWEST_HZ and abs(L(np.array([f_low]))[0]) < 1.0:
+        f_low /= 10.0
     f = _grid(f_nyquist, f_low, poles, dt or 0.5 / f_nyquist)
     f[-1] = f_nyquist
     h = L(f)

@@ -337,6 +337,12 @@ def slowed(before: dict, after: dict):
     return (b, a) if np.isfinite(b) and np.isfinite(a) and a < 0.5 * b else None
 
 
+def bandwidth_text(f_hz: float) -> str:
+    """A bandwidth as the tuning table gives it: one decimal, two significant digits below
+    1 Hz (never an exponent: 120 Hz is not "1.2e+02") [Hz]."""
+    return f"{f_hz:.2g}" if 0 < abs(f_hz) < 1.0 else f"{f_hz:.1f}"
+
+
 def slower_warnings(before: dict, after: dict, mech=None, servo=None) -> list[str]:
     """A warning when the proposal cuts the velocity loop's bandwidth to less than half:
     the margins are met by giving up most of the loop's speed; with the axis (``mech``,
@@ -356,10 +362,10 @@ def slower_warnings(before: dict, after: dict, mech=None, servo=None) -> list[st
                      "notches and low-passes were tried too: " + ", ".join(
                          f"{f:.4g} Hz (to {g:.4g} Hz)" for f, g in
                          zip(high, folded(np.array(high), servo.T_v), strict=True)))
-    return [f"the margins are met only with the velocity loop's bandwidth cut from {b:.3g} "
-            f"to {a:.2g} Hz: no faster velocity loop of the notches and low-passes tried "
-            f"meets them with its modes up to {100 * current_tolerance():g} % off the "
-            "model's frequencies, and the position gain (a quarter of that bandwidth at "
-            "most, on every axis matched to this one) falls with it. Check the predicted "
-            "path; smaller margins (--margins) or filters tuned on the machine may keep more "
-            "speed." + where]
+    return [f"the margins are met only with the velocity loop's bandwidth cut from "
+            f"{bandwidth_text(b)} to {bandwidth_text(a)} Hz: no faster velocity loop of the "
+            "notches and low-passes tried meets them with its modes up to "
+            f"{100 * current_tolerance():g} % off the model's frequencies, and the position "
+            "gain (a quarter of that bandwidth at most, on every axis matched to this one) "
+            "falls with it. Check the predicted path; smaller margins (--margins) or filters "
+            "tuned on the machine may keep more speed." + where]

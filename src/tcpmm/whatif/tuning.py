@@ -157,8 +157,8 @@ def tune_and_predict(machine: Machine, gm_db: float, pm_deg: float, command=None
         lacks = " and ".join(sorted({"X", "Y"} - set(machine.axes)))
         note = (f"no circle predicted: the machine has no {lacks} axis; give a program "
                 "(--gcode) to predict its path")
-        return TuneResult(tuned, axes, {}, {}, [note], *roles,
-                          axis_reasons(axes, matched, moved, named),
+        return TuneResult(tuned, axes, {}, {}, [note], tuple(matched), (),  # no path
+                          axis_reasons(axes, matched, moved, named, path=False),
                           margins_drawn=drawn_margins(machine, tuned, gm_db, pm_deg))
     # the feedforward is judged on the path: only for the contouring axes it moves
     met = [n for n in matched if n in moved and axes[n].met]

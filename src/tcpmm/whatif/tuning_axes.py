@@ -121,7 +121,8 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list,
 
 
 def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
-                 predicted: bool = True, judged: bool = True, dropped: dict | None = None
+                 predicted: bool = True, judged: bool = True, dropped: dict | None = None,
+                 path: bool = True
                  ) -> dict:
     """Per axis, one sentence: whether the path moves it, whether its position gain is
     matched, and what became of its position gain and feedforward [-].
@@ -142,6 +143,8 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
     dropped : dict, optional
         The feedforward fractions left out of the choice, with their path figures: a
         fraction lowered because the current limit left out the larger ones says so [-].
+    path : bool
+        Whether a path was predicted at all (a one-axis machine has no circle to run) [-].
 
     Returns
     -------
@@ -149,7 +152,8 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
     """
     out = {}
     for n, t in axes.items():
-        words = ["moved by the path" if n in moved else "not moved by the path"]
+        words = ["no path predicted" if not path else
+                 "moved by the path" if n in moved else "not moved by the path"]
         if named and (n in matched) != (n in moved):
             words[0] += ", named by --axes" if n in matched else ", not named by --axes"
         b, a = t.before, t.after
@@ -166,10 +170,8 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
             which = "" if named or not matched else ", which the path moves"
             words.append(f"{kpp}{own}; not matched to {', '.join(matched) or 'any axis'}"
                          + which)
-        if n not in moved or n not in matched or not predicted or not judged:
-            why = ("the path does not move it" if n not in moved else "it is not matched"
-                   if n not in matched else "the path is no prediction to choose it on"
-                   if not predicted else "the path does not judge it")
+        why = _kept_why(n in moved, n in matched, path and predicted, judged, path)
+        if why:
             words.append(f"k_ff kept ({why})")
         elif t.met:
             words.append(f"k_ff {'kept' if a.k_ff == b.k_ff else f'{b.k_ff:g} -> {a.k_ff:g}'}"
@@ -177,3 +179,12 @@ def axis_reasons(axes: dict, matched: list, moved: list, named: bool,
                          + (held_words(dropped or {}, a.k_ff) if a.k_ff < b.k_ff else ""))
         out[n] = f"{n}: " + "; ".join(words)
     return out
+
+
+def _kept_why(moved: bool, matched: bool, predicted: bool, judged: bool, path: bool) -> str:
+    """Why an axis's feedforward is kept unchosen, or ``""`` where the path chooses it [-]."""
+    return ("no path predicted to choose it on" if not path else
+            "the path does not move it" if not moved else
+            "it is not matched" if not matched else
+            "the path is no prediction to choose it on" if not predicted else
+            "the path does not judge it" if not judged else "")

@@ -1,0 +1,65 @@
+"""What ``tcpmm tune`` and ``tcpmm machine show`` say of loops at the ends of the range: a
+machine with no path to run, a velocity loop slowed from an unstable one, a position loop
+slower than a millihertz."""
+
+import json
+import re
+
+from conftest import run_cli
+from tcpmm import save_model
+from tcpmm.servo.margins import axis_margins
+
+
+def _x_changed(vmc, **servo):
+    x = vmc.axes["X"]
+    return vmc.model_copy(update={"axes": {**vmc.axes, "X": x.replace(
+        servo=x.servo.model_copy(update=servo))}})
+
+
+def test_a_one_axis_machine_is_not_said_to_be_moved_by_a_path(vmc, tmp_path, capsys):
+    """X alone has no circle to run, and no program was given: its line read "moved by the
+    path; ... k_ff kept, chosen on the path" and the JSON listed X as moved, of a path that
+    was never predicted."""
+    save_model(vmc.model_copy(update={"axes": {"X": vmc.axes["X"]}}), tmp_path / "x.yaml")
+    code, out, err = run_cli(capsys, "tune", tmp_path / "x.yaml")
+    assert code == 0, err
+    [line] = [s for s in out.splitlines() if s.strip().startswith("X: ")]
+    assert "no path predicted" in line and "k_ff kept (no path predicted" in line, line
+    assert "moved by the path" not in out and "chosen on the path" not in out
+    assert "no circle predicted: the machine has no Y axis" in out
+    code, out, err = run_cli(capsys, "tune", tmp_path / "x.yaml", "--json")
+    assert code == 0, err
+    got = json.loads(out)
+    assert got["moved_axes"] == [] and got["matched_axes"] == ["X"]
+
+
+def test_a_slowed_loop_reads_as_the_table_gives_it(vmc, tmp_path, capsys):
+    """X's velocity gain 15 times the built-in's: the loop is unstable as given and the
+    proposal slows it from 378 to 119.5 Hz, which the verdict wrote "from 378 to 1.2e+02
+    Hz". Verdict and warning now give the table's figures."""
+    save_model(_x_changed(vmc, K_vp=15 * vmc.axes["X"].servo.K_vp), tmp_path / "m.yaml")
+    code, out, err = run_cli(capsys, "tune", tmp_path / "m.yaml")
+    assert code == 0, err
+    assert "e+" not in out + err
+    cells = re.search(r"velocity bandwidth \[Hz\] +([\d.]+)\* +([\d.]+)\n", out)
+    assert cells, out
+    b, a = cells.groups()
+    assert float(a) < 0.5 * float(b)
+    assert f"met only with the velocity loop slowed from {b} to {a} Hz" in out
+    assert f"the velocity loop's bandwidth cut from {b} to {a} Hz" in err
+
+
+def test_a_position_loop_slower_than_a_millihertz_has_its_crossover(vmc, tmp_path, capsys):
+    """K_pp 0.005 1/s crosses over at K_pp / 2 pi = 0.8 mHz, below the 1 mHz the search
+    started at: the phase margin read "infinite (no crossing)" and the bandwidth none; then,
+    found, "at 0.0 Hz". A slow position loop is a real one (a ballbar test at a tiny gain)."""
+    for k_pp in (0.005, 5e-5):
+        pos = axis_margins(vmc.axes["X"].mechanics,
+                           _x_changed(vmc, K_pp=k_pp).axes["X"].servo)["position"]
+        assert abs(pos.bandwidth_hz / (k_pp / (2 * 3.141592653589793)) - 1) < 1e-3
+        assert 89.0 < pos.phase_margin_deg < 90.0
+    save_model(_x_changed(vmc, K_pp=0.005), tmp_path / "m.yaml")
+    code, out, err = run_cli(capsys, "machine", "show", tmp_path / "m.yaml")
+    assert code == 0, err
+    [line] = [s for s in out.splitlines() if "position loop" in s][:1]
+    assert "phase margin 90.0 deg at 0.0008 Hz, bandwidth 0.0008 Hz" in line, line

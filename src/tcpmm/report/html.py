@@ -7,6 +7,7 @@ each table's CSV as a ``data:`` download link, so the file opens with no network
 from __future__ import annotations
 
 import base64
+import functools
 import html
 import io
 import math
@@ -181,18 +182,21 @@ _UM = re.compile(r"(?<![-\w])um\b")
 
 #: What the command line's messages say in its own terms, and the page in its words: a
 #: pointer to ``--json``, which a report has not (its circle table holds the raw spikes),
-#: and the keys of the quantities identification may leave open, as the docs name them
+#: and the keys of the quantities identification may leave open (:func:`_quantities`)
 _WORDS = ((" (the raw e - b are in --json)", " (the raw spikes, e \u2212 b, are in the "
                                                "circle's table)"),
           (" (the move is in --json, tail_shift)", ""))
-_QUANTITIES = {"guideway_share": "guideway share of the friction",
-               "friction_level": "friction level", "static_level": "static friction level",
-               "time_base": "time base", "position_feedback": "position feedback",
-               "position_gain": "position gain", "column_damping": "column damping",
-               "bed_damping": "bed damping"}
-#: ... where a message names one of an axis ("axis X guideway_share, open"); the model
-#: table's column of the model file's keys keeps them
-_QUANTITY = re.compile(r"(\baxis \w+,? )(" + "|".join(_QUANTITIES) + r")\b")
+
+
+@functools.cache
+def _quantities():
+    """The keys of the quantities identification may leave open, and the pattern of a
+    message naming one of an axis ("axis X guideway_share, open"); the model table's
+    column of the model file's keys keeps them [-]."""
+    from ..uncertainty.verdict_text import QUANTITY_WORDS  # its package brings the simulator
+
+    return QUANTITY_WORDS, re.compile(r"(\baxis \w+,? )(" + "|".join(QUANTITY_WORDS)
+                                      + r")\b")
 
 
 def in_words(text: str) -> str:
@@ -201,7 +205,8 @@ def in_words(text: str) -> str:
     where the docs have words for it [-]."""
     for console, page_words in _WORDS:
         text = text.replace(console, page_words)
-    return _QUANTITY.sub(lambda m: m.group(1) + _QUANTITIES[m.group(2)], _UM.sub("µm", text))
+    words, pattern = _quantities()
+    return pattern.sub(lambda m: m.group(1) + words[m.group(2)], _UM.sub("µm", text))
 
 
 def para(text: str, kind: str = "note") -> str:

@@ -26,9 +26,11 @@ from .figures import (
     figure_changes,
     reference_tests,
 )
+from .verdict_text import QUANTITY_WORDS, cause_text, quantity_text, verdict_words
 
-__all__ = ["CALIBRATION", "FigureVerdict", "NotItsPrediction", "Verdict", "not_its_prediction",
-           "prediction_verdict", "target", "verdict_words"]
+__all__ = ["CALIBRATION", "QUANTITY_WORDS", "FigureVerdict", "NotItsPrediction", "Verdict",
+           "cause_text", "not_its_prediction", "prediction_verdict", "quantity_text",
+           "target", "verdict_words"]
 
 #: The interval's calibration (docs/validation/calibration.md): ``factor`` on the
 #: quadrature sum of the changes, split-conformal over machines (per machine the largest
@@ -118,30 +120,6 @@ class FigureVerdict:
                 else None,
                 "target_um": self.target * 1e6, "verdict": self.verdict,
                 "cause": self.cause, "settle": self.settle}
-
-
-def verdict_words(verdict: str, half_width_um: float, cause: str, pm: str = "+-",
-                  um: str = "um") -> str:
-    """A figure's verdict as a user reads it: firm with its interval, uncertain with it and
-    its cause, undetermined with its cause; ``pm`` and ``um`` as the medium writes them
-    (the console's ASCII, a page's ``±`` and ``µm``) [-].
-
-    Parameters
-    ----------
-    verdict : str
-        ``firm``, ``uncertain`` or ``undetermined`` [-].
-    half_width_um : float
-        Half-width of the 90 % interval [um].
-    cause : str
-        What drives it [-].
-    pm, um : str
-        The plus-minus sign and the micrometre's unit [-].
-    """
-    if verdict == "firm":
-        return f"firm ({pm} {half_width_um:.2f} {um})"
-    if verdict == "uncertain":
-        return f"uncertain {pm} {half_width_um:.2f} {um} ({cause})"
-    return f"undetermined ({cause})"
 
 
 def _no_prediction(key, nominal: float, faults: str) -> FigureVerdict:

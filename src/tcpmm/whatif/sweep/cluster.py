@@ -22,10 +22,11 @@ def local_cluster(workers: int):
     A terminal sends Ctrl-C to the whole process group, the workers too, and each printed
     its interpreter's traceback as it died. They are started with the interrupt ignored,
     which a new interpreter keeps, so they leave it to this process, which closes them.
-    While they start (a second or two), this process ignores it too. Their logs are held
-    to the critical: a worker whose scheduler closed while its heartbeat was in flight
-    logged that failure with its traceback, and the sweep says itself what it computed and
-    what failed."""
+    While they start (a second or two), this process ignores it too, and a watcher of the
+    terminal's Ctrl-C (:func:`interrupt_watch`) stops the sweep once they have started: the
+    interrupt was lost, and the sweep ran to its end. Their logs are held to the critical:
+    a worker whose scheduler closed while its heartbeat was in flight logged that failure
+    with its traceback, and the sweep says itself what it computed and what failed."""
     import logging
     import signal
     import threading
@@ -34,14 +35,44 @@ def local_cluster(workers: int):
     from distributed import LocalCluster
 
     main = threading.current_thread() is threading.main_thread()
+    watch = interrupt_watch() if main else None
     before = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
         with dask.config.set(NANNY_ENVIRON):
-            return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                dashboard_address=":0", silence_logs=logging.CRITICAL)
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0", silence_logs=logging.CRITICAL)
     finally:
         if main:
             signal.signal(signal.SIGINT, before)
+        interrupted = watch is not None and watch()
+    if interrupted:
+        cluster.close()
+        raise KeyboardInterrupt
+    return cluster
+
+
+def interrupt_watch():
+    """A process in this one's group that a terminal's Ctrl-C ends: started while this
+    process still takes the interrupt (so it does too), it tells whether one came while
+    this process ignored it. Returns a function that ends the watcher and says whether
+    the interrupt ended it, or ``None`` where the interrupt is ignored already (a command
+    in the background) or no ``sleep`` is at hand [-]."""
+    import shutil
+    import signal
+    import subprocess
+
+    sleep = shutil.which("sleep")
+    if sleep is None or signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        return None
+    proc = subprocess.Popen([sleep, "3600"], stdin=subprocess.DEVNULL,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+    def ended_by_interrupt() -> bool:
+        if proc.poll() is None:
+            proc.kill()
+        return proc.wait() == -signal.SIGINT
+
+    return ended_by_interrupt
 
 
 @contextmanager

@@ -1,5 +1,6 @@
 """Compensation on the model: known answers and physical properties."""
 
+import copy
 import json
 import re
 import warnings
@@ -38,6 +39,20 @@ def linear(machine):
                                                for n, a in machine.axes.items()}})
 
 
+@pytest.fixture(scope="module")
+def figure(machine):
+    """:func:`_command` compensated on the built-in machine in ten steps, once per module;
+    a test that judges it on draws (which set its factors) takes a copy [-]."""
+    return compensate(machine, _command(), iterations=10)
+
+
+@pytest.fixture(scope="module")
+def circle_f10000(machine):
+    """The R 35 mm circle at F10000 compensated within the default limits in ten steps,
+    once per module; a test that judges it on draws takes a copy [-]."""
+    return compensate(machine, circle_command(0.035, 10000 / 60e3), iterations=10)
+
+
 def test_linear_model_compensated_to_near_zero(linear):
     """Without friction the inverse is exact: the largest TCP error falls a hundredfold."""
     comp = compensate(linear, _command())
@@ -45,8 +60,8 @@ def test_linear_model_compensated_to_near_zero(linear):
         assert min(h) < 0.01 * h[0]
 
 
-def test_command_keeps_the_limits(machine):
-    comp = compensate(machine, _command(), iterations=10)
+def test_command_keeps_the_limits(figure):
+    comp = figure
     cmd = comp.command
     for a, b in comp.bounds.items():
         corr = cmd.positions[a] - comp.reference.positions[a]
@@ -54,11 +69,11 @@ def test_command_keeps_the_limits(machine):
         assert np.abs(corr[0]) < 1e-12  # the axis starts where the program does
 
 
-def test_axis_limits_given_leave_the_correction_room(machine):
+def test_axis_limits_given_leave_the_correction_room(machine, circle_f10000):
     """The circle at F10000 uses 0.79 of the default 1 m/s2 in its centripetal acceleration
     alone; at the 4 m/s2 an axis may really use, the learning gets the lag out."""
     cmd = circle_command(0.035, 10000 / 60e3)
-    tight = compensate(machine, cmd, iterations=10)
+    tight = circle_f10000
     room = compensate(machine, cmd, iterations=10,
                       bounds=machine_bounds(machine, accel_m_per_s2=4.0, jerk_m_per_s3=2e3))
     assert room.bounds["X"].accel == 4.0 and room.bounds["Y"].jerk == 2e3
@@ -72,8 +87,8 @@ def test_axis_limits_given_leave_the_correction_room(machine):
         machine_bounds(machine, accel_m_per_s2=-1.0)
 
 
-def test_never_worse_on_drawn_machines(machine):
-    comp = compensate(machine, _command(), iterations=10)
+def test_never_worse_on_drawn_machines(machine, figure):
+    comp = copy.deepcopy(figure)
     robust_factors(machine, comp, n_draws=3, seed=1)
     for r in comp.robustness["regions"]:
         assert r["worst_after_um"] <= r["worst_before_um"] + EQUAL_M * 1e6
@@ -126,11 +141,11 @@ def test_the_machine_is_judged_as_one_more_draw():
 
 
 @pytest.mark.filterwarnings("ignore::tcpmm.errors.InputWarning")
-def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine):
+def test_circle_spikes_and_g_never_worse_on_drawn_machines(machine, circle_f10000):
     """At F10000 on R 35 mm the 1 m/s2 limit leaves the correction little room: the shares
     with the smallest contour error (X 1/2, Y 1/4) make G 9 um worse, so the choice judges
     the largest reversal spike and G of every draw too."""
-    comp = compensate(machine, circle_command(0.035, 10000 / 60e3), iterations=10)
+    comp = copy.deepcopy(circle_f10000)
     robust_factors(machine, comp, n_draws=2, seed=1, radius_m=0.035)
     for figure in comp.robustness["circle"].values():
         assert figure["worst_after_um"] <= figure["worst_before_um"] + EQUAL_M * 1e6

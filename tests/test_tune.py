@@ -18,6 +18,17 @@ from tcpmm.whatif.tuning_paths import polyline_distance
 GM, PM = 6.0, 45.0
 
 
+@pytest.fixture(scope="module")
+def tuned_vmc(vmc):
+    """The built-in machine's proposal for ``GM``, ``PM``, its axes one after the other,
+    once per module; the tests only read it [-]."""
+    from tcpmm.servo.tune import tune_machine
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        return tune_machine(vmc, GM, PM, jobs=1)
+
+
 def _meets(mech, servo):
     return (all(m.meets(GM, PM) for m in axis_margins(mech, servo).values())
             and sampled_spectral_radius(mech, servo) < 1.0)
@@ -193,7 +204,8 @@ def test_settings_that_run_away_have_no_path_before_and_are_still_tuned(vmc):
 
 
 @pytest.mark.parametrize("k_pp", [120.0, 2000.0])
-def test_the_velocity_gain_does_not_depend_on_the_position_gain_it_replaces(vmc, k_pp):
+def test_the_velocity_gain_does_not_depend_on_the_position_gain_it_replaces(vmc, k_pp,
+                                                                           tuned_vmc):
     """The velocity gain was judged stable with the settings' own K_pp, which step 3
     replaces: from K_pp = 120 1/s (stable) Y's K_vp fell from 4.75 to 3.62, from 2000 X's
     from 0.93 to 0.196 and the contour error from 17 to 150 um. The proposal is now the
@@ -207,7 +219,7 @@ def test_the_velocity_gain_does_not_depend_on_the_position_gain_it_replaces(vmc,
         update={"K_pp": k_pp})) for n, a in vmc.axes.items()}})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)
-        got, want = tune_machine(start, GM, PM), tune_machine(vmc, GM, PM)
+        got, want = tune_machine(start, GM, PM), tuned_vmc
     for n in vmc.axes:
         assert got[n].after.K_vp == pytest.approx(want[n].after.K_vp, rel=1e-9), n
         # the position gain too, to the bit: its scan starts at the cap, not at the gain
@@ -650,7 +662,7 @@ def test_a_model_with_uncertainty_gets_the_drawn_ranges_and_one_without_none(vmc
     assert tune_and_predict(vmc, 6.0, 45.0).drawn is None
 
 
-def test_axes_tuned_side_by_side_give_the_same_proposal(vmc):
+def test_axes_tuned_side_by_side_give_the_same_proposal(vmc, tuned_vmc):
     """Each axis's own loops are tuned in a process of its own where there are cores; the
     proposal, its notes and warnings are those of one axis after the other."""
     from tcpmm.servo.tune import tune_machine
@@ -659,7 +671,7 @@ def test_axes_tuned_side_by_side_give_the_same_proposal(vmc):
         return {n: (t.after, t.notes, t.warnings, t.met, t.margins_after)
                 for n, t in res.items()}
 
-    one = seen(tune_machine(vmc, GM, PM, jobs=1))
+    one = seen(tuned_vmc)
     assert any(t[1] for t in one.values())  # notes to compare
     assert seen(tune_machine(vmc, GM, PM, jobs=2)) == one
 

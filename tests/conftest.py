@@ -96,6 +96,21 @@ def identify_builtin(once):
 #: Reference machines of an independent simulator, beside the checkout (`../shared`).
 BENCH_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 
+#: The Sinumerik Operate trace of a speed loop [-].
+SINUMERIK_TRACE = BENCH_DATA / "sinumerik" / "freq_trace.XML"
+
+
+@pytest.fixture(scope="session")
+def trace_fit(once):
+    """``fit_frf`` of :data:`SINUMERIK_TRACE` with its defaults, once per test run: the
+    tests of several modules read the same fit [-]."""
+    from tcpmm.ident.lti import fit_frf
+    from tcpmm.io.sinumerik import read_sinumerik_frf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the reader's note on the trace's bins
+        return once("sinumerik_trace_fit", lambda: fit_frf(read_sinumerik_frf(SINUMERIK_TRACE)))
+
 
 def bench_path(letter: str) -> Path:
     """Folder of reference machine ``letter``; fails under CI (``CI=true``) when missing,

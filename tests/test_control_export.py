@@ -132,15 +132,13 @@ TRACE = Path(__file__).parents[1] / ".." / "shared" / "data" / "sinumerik" / "fr
 
 
 @pytest.mark.skipif(not TRACE.is_file(), reason="Sinumerik trace not available")
-def test_fitted_trace_exports_with_its_delay():
+def test_fitted_trace_exports_with_its_delay(trace_fit):
     """The Sinumerik trace's fit (0.33 ms delay, band to 4 kHz, where the delay turns the
     phase by 8 rad) exported by default matches the fit's own response over its band:
     the delay is in the exported model as a Pade approximant, not left out."""
-    from tcpmm.ident.lti import fit_frf
-    from tcpmm.io.frffile import read_frf
     from tcpmm.pade import PADE_TOLERANCE
 
-    fit = fit_frf(read_frf(TRACE)).tf
+    fit = trace_fit.tf
     assert fit.delay_s > 1e-4
     f = fit.freq_hz
     g = fit.to_control()

@@ -112,13 +112,6 @@ def test_bad_arguments_are_input_errors():
         fit_frf(noisy_frf(0), band_hz=(5000, 6000))
 
 
-@pytest.fixture(scope="module")
-def trace_fit():
-    from tcpmm.io.sinumerik import read_sinumerik_frf
-
-    return fit_frf(read_sinumerik_frf(TRACE))
-
-
 @needs_trace
 def test_auto_order_on_the_real_trace_has_no_needles(trace_fit):
     res = trace_fit

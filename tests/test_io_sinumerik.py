@@ -221,7 +221,7 @@ def test_a_mat_frf_given_twice_or_as_magnitudes_is_refused(tmp_path, extra, said
 
 
 @needs_trace
-def test_a_trace_written_as_csv_reads_and_fits_as_the_xml_to_the_bit(tmp_path):
+def test_a_trace_written_as_csv_reads_and_fits_as_the_xml_to_the_bit(tmp_path, trace_fit):
     """The CSV lost the trace's 2 averages, and its coherence was read as of 10: a
     different noise, and 10 poles and a delay of 0.25 ms where the XML gives 9 and
     0.31 ms. The count is written and read back."""
@@ -233,8 +233,8 @@ def test_a_trace_written_as_csv_reads_and_fits_as_the_xml_to_the_bit(tmp_path):
     for k in ("freq_hz", "H", "coherence", "rel_std"):
         np.testing.assert_array_equal(getattr(b, k), getattr(a, k))
     labels = ("name", "input", "output", "unit")
-    fa, fb = ({k: v for k, v in fit_frf(x).to_dict().items() if k not in labels}
-              for x in (a, b))
+    fa, fb = ({k: v for k, v in fit.to_dict().items() if k not in labels}
+              for fit in (trace_fit, fit_frf(b)))  # trace_fit: the fit of ``a``, the XML's
     assert fa == fb and fa["n_poles"] == 9
 
 

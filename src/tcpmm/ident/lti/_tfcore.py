@@ -33,7 +33,7 @@ def tf_response(f_hz, bn, pn, omega0, k, delay_s):
     return h
 
 
-def sanathanan_koerner(x, Hd, w, nb, na, iterations, start=None):
+def sanathanan_koerner(x, Hd, w, nb, na, iterations, start=None, powers=None):
     """Levy start plus Sanathanan-Koerner iterations on the relative error.
 
     ``start`` (poles in ``x``) replaces Levy's first step ``A_prev = 1`` by
@@ -43,20 +43,28 @@ def sanathanan_koerner(x, Hd, w, nb, na, iterations, start=None):
     scaled coefficients): the numerator is projected out by QR, the denominator is the
     smallest right singular vector of what remains. Neither the leading nor the constant
     coefficient of ``A`` is pinned, so surplus poles may go to infinity or near zero.
+    ``powers``, where given, holds ``x ** k`` in column ``k`` for ``k`` up to the larger
+    degree at least, so that fits on the same bins compute them once.
     """
-    xb = x[:, None] ** np.arange(nb + 1)
-    xa = x[:, None] ** np.arange(na + 1)
+    if powers is None:
+        powers = x[:, None] ** np.arange(max(nb, na) + 1)
+    xb = np.ascontiguousarray(powers[:, : nb + 1])
+    xa = np.ascontiguousarray(powers[:, : na + 1])
     base = w / np.abs(Hd)
     a_prev = np.ones(x.size) if start is None else _den_value(x, start)
     an = np.r_[np.zeros(na), 1.0]
     bn = np.zeros(nb + 1)
     h_prev = None
+    # the real and imaginary parts of the weighted columns, written in place each step
+    n, nc = x.size, nb + na + 2
+    M = np.empty((2 * n, nc))
     for _ in range(max(1, iterations)):
         a_abs = np.abs(a_prev)
         wt = base / np.maximum(a_abs, 1e-12 * np.max(a_abs))
         wt = wt / np.max(wt)
-        M = np.hstack([wt[:, None] * xb, -(wt * Hd)[:, None] * xa])
-        M = np.vstack([M.real, M.imag])
+        Mb, Ma = wt[:, None] * xb, -(wt * Hd)[:, None] * xa
+        M[:n, : nb + 1], M[n:, : nb + 1] = Mb.real, Mb.imag
+        M[:n, nb + 1 :], M[n:, nb + 1 :] = Ma.real, Ma.imag
         sc = np.sqrt(np.einsum("ij,ij->j", M, M))
         sc[sc == 0] = 1.0
         # min ||Mb b + Ma a|| with ||a|| = 1: after M = Q R, only the small R matters
@@ -220,12 +228,19 @@ class _VarPro:
         self.bn = coef
         m = G @ coef  # model response times w / H
         self.r = np.r_[m.real, m.imag] - self.rhs
+        # the Jacobian is formed when asked for: the solver asks for none at the steps
+        # it rejects
+        self.J = None
+        self._pieces = (Q, m, dlog)
+
+    def _jacobian(self):
+        Q, m, dlog = self._pieces
         cols = [-m * d for d in dlog]
         if self.delay is None:
-            cols.append(-x * m)
+            cols.append(-self.x * m)
         dm = np.array(cols).T
         dmr = np.vstack([dm.real, dm.imag])
-        self.J = dmr - Q @ (Q.T @ dmr)
+        return dmr - Q @ (Q.T @ dmr)
 
     def __call__(self, theta):
         self._evaluate(theta)
@@ -233,6 +248,8 @@ class _VarPro:
 
     def jac(self, theta):
         self._evaluate(theta)
+        if self.J is None:
+            self.J = self._jacobian()
         return self.J
 
 

@@ -174,10 +174,17 @@ def _linear_stage(f, H, w, omega0: float, k: int, n_num: int, n_den: int, stable
     s = 2j * np.pi * f
     x = s / omega0
     Hk = H * x**k
+    # the powers of x the SK iterations weight, per selection of bins: the same for
+    # every delay and start
+    powers = {}
 
     def linear_stage(tau, start, sel=slice(None), n_iter=iterations):
         Hd = Hk[sel] * np.exp(s[sel] * tau)
-        bn, an = sanathanan_koerner(x[sel], Hd, w[sel], start[1], n_den, n_iter, start[0])
+        key = (sel.start, sel.stop, sel.step)
+        if key not in powers:
+            powers[key] = x[sel][:, None] ** np.arange(max(n_num, n_den) + 1)
+        bn, an = sanathanan_koerner(x[sel], Hd, w[sel], start[1], n_den, n_iter, start[0],
+                                    powers[key])
         pn = np.roots(an[::-1])
         if stable:
             pn = reflect_poles(pn)

@@ -220,14 +220,15 @@ class _VarPro:
             self.J = np.zeros((n, theta.size))
             return
         Gr = np.vstack([G.real, G.imag])
-        scale = np.linalg.norm(Gr, axis=0)
+        # numpy's 2-norm along an axis, without its dispatch on the arguments
+        scale = np.sqrt(np.add.reduce(Gr * Gr, axis=0))
         scale[scale == 0] = 1.0
         Q, R = np.linalg.qr(Gr / scale)
         cs = np.linalg.lstsq(R, Q.T @ self.rhs, rcond=None)[0]
         coef = cs / scale
         self.bn = coef
         m = G @ coef  # model response times w / H
-        self.r = np.r_[m.real, m.imag] - self.rhs
+        self.r = np.concatenate((m.real, m.imag)) - self.rhs
         # the Jacobian is formed when asked for: the solver asks for none at the steps
         # it rejects
         self.J = None

@@ -232,9 +232,12 @@ def _fit_position_gain(sweep, cfg, tau: float):
 def _fit_delay(w, h, weight):
     """Least-squares ``tau``, real gain and relative residual of ``h = g exp(-j w tau)``
     [s], [-], [-]."""
+    # the factors that do not depend on the delay, formed once for the ~800 tried
+    jw, total = -1j * w, np.sum(weight)
+
     def cost(tau):
-        e = np.exp(-1j * w * tau)
-        g = max(float(np.sum(weight * np.real(h * np.conj(e))) / np.sum(weight)), 0.0)
+        e = np.exp(jw * tau)
+        g = max(float(np.sum(weight * np.real(h * np.conj(e))) / total), 0.0)
         return float(np.sum(weight * np.abs(h - g * e) ** 2)), g
 
     grid = np.linspace(0.0, 6.0 * math.pi / (2.0 * w.max()), 601)

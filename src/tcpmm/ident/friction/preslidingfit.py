@@ -202,23 +202,39 @@ def _contact_force(params, path, h, band: float):
     return _compiled.call("contact_force_along_path", moved, float(h), params)
 
 
-def _residual(m, windows, fr, mech, margin: int) -> np.ndarray:
-    """Measured minus predicted motor force over every window [N]."""
-    R, h = m["R"], m["h"]
+def _window_parts(m, windows, mech, margin: int) -> list:
+    """Per window what :func:`_residual` takes that no friction parameter changes: the
+    screw's path and that path through the play, the motor force less the drive's
+    inertia and damping, the table side's inertia and damping forces, the motor force
+    measured; the fit evaluates the residual some hundred times on them [-]."""
+    R = m["R"]
     drive = (mech.J_m + mech.J_L) / R**2
     drive_c = (mech.B_m + mech.B_L) / R**2
-    p_s, p_g = (None if c is None else friction_params_array(c)
-                for c in (fr.screw, fr.guideway))
-    out = []
+    parts = []
     for a, b in windows:
         sl = slice(a - margin, b + 1)
         fms, v, acc = m["fms"][sl], m["v"][sl], m["a"][sl]
         s_L = m["s"][sl] - R**2 / mech.K_L * fms
-        f_s = _contact_force(p_s, s_L, h, m["band"])
-        f_n = fms - drive * acc - drive_c * v - f_s
+        parts.append((s_L, _compiled.call("play_operator", s_L, float(m["band"])),
+                      fms - drive * acc - drive_c * v, (drive + mech.M_t) * acc,
+                      (drive_c + mech.C_t) * v, m["fm"][sl]))
+    return parts
+
+
+def _residual(m, parts: list, fr, mech, margin: int) -> np.ndarray:
+    """Measured minus predicted motor force over every window (:func:`_window_parts`)
+    [N]."""
+    h = m["h"]
+    p_s, p_g = (None if c is None else friction_params_array(c)
+                for c in (fr.screw, fr.guideway))
+    out = []
+    for s_L, moved, free, inertia, damping, fm in parts:
+        f_s = (np.zeros_like(s_L) if p_s is None else
+               _compiled.call("contact_force_along_path", moved, float(h), p_s))
+        f_n = free - f_s
         f_g = _contact_force(p_g, s_L - f_n / mech.K_t, h, m["band"])
-        pred = f_s + f_g + (drive + mech.M_t) * acc + (drive_c + mech.C_t) * v
-        out.append((m["fm"][sl] - pred)[margin:])
+        pred = f_s + f_g + inertia + damping
+        out.append((fm - pred)[margin:])
     return np.concatenate(out)
 
 
@@ -339,7 +355,8 @@ def fit_presliding(record, mechanics, friction) -> PreslidingFit:
 
     def fit_at(k):
         mk = {**m, "band": k * m["band"]}
-        return _fit_with_sd(lambda p: _residual(mk, windows, model(p), mechanics, margin),
+        parts = _window_parts(mk, windows, mechanics, margin)
+        return _fit_with_sd(lambda p: _residual(mk, parts, model(p), mechanics, margin),
                             lo, hi)
 
     lo = [math.log(BOUNDS[0]), ZETA_BOUNDS[0]]

@@ -30,14 +30,8 @@ import functools
 
 import numpy as np
 
-from .circle_travel import (
-    Widths,
-    axis_phase,
-    axis_positions,
-    axis_signs,
-    take_up,
-    travel_since_reversal,
-)
+from .circle_geometry import TermGeometry, with_slope
+from .circle_travel import Widths, take_up, travel_since_reversal
 
 #: A term is determined where at least this share of its column (unit norm) is independent
 #: of the other columns: noise then enters it at most tenfold [-].
@@ -91,24 +85,14 @@ def radial_weights(angle, s, ratio=1.0, mu=0.0) -> tuple:
     mu : float
         Servo mismatch angle of the circles fitted together [rad].
     """
-    return _with_slope(np.cos(angle), np.sin(angle), angle, s, ratio * mu)
-
-
-def _with_slope(c, n, angle, s, mu):
-    """:func:`radial_weights` from the angle's cosine ``c`` and sine ``n``, ``mu`` this
-    circle's mismatch angle (``ratio`` times the fit's) [-]."""
-    if not mu:
-        return c, n
-    # the ellipse -s mu R sin cos has the slope -s mu R cos 2theta, and an error (dx, dy)
-    # turns the angle by (-dx sin + dy cos) / R
-    k = s * mu * np.cos(2.0 * np.asarray(angle))
-    return c - k * n, n + k * c
+    return with_slope(np.cos(angle), np.sin(angle), angle, s, ratio * mu)
 
 
 def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
                  widths=(0.0, 0.0)) -> list:
-    """Radial error per unit of each term of ``names``, the angle's sine and cosine and the
-    axes' signs worked out once for all [m/unit].
+    """Radial error per unit of each term of ``names``, each part of the columns (the
+    angle's sine and cosine, the axes' signs...) worked out once, where a term of ``names``
+    needs it (:class:`.circle_geometry.TermGeometry`) [m/unit].
 
     Parameters
     ----------
@@ -134,36 +118,21 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
         Travel of each axis after its reversal over which its backlash is taken up
         (:func:`take_up`); 0 for an instant step [m].
     """
-    c, n, wx, wy, own, sx, sy = _geometry(angle, s, radius, ratio, mu, rev, widths)
-    px, py = axis_positions(angle if rev is None else rev, s, ratio * mu)
-    fx, fy = (take_up(travel_since_reversal(own, s, radius, ratio * mu, k), w)
-              for k, w in enumerate(widths))
+    g = TermGeometry(angle, s, radius, ratio, mu, rev, widths)
     # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen
     # along the radius; the servo mismatch is the lag itself
-    cols = {"backlash_X": lambda: -0.5 * sx * fx * wx,
-            "backlash_Y": lambda: -0.5 * sy * fy * wy,
-            "lateral_play_X": lambda: 0.5 * sx * wy, "lateral_play_Y": lambda: 0.5 * sy * wx,
-            "squareness": lambda: -radius * py * wx,
-            "servo_angle": lambda: -s * ratio * radius * n * c,
-            "scale_mismatch": lambda: 0.5 * radius * (px * wx - py * wy),
+    cols = {"backlash_X": lambda: -0.5 * g.signs[0] * g.taken_up(0) * g.w[0],
+            "backlash_Y": lambda: -0.5 * g.signs[1] * g.taken_up(1) * g.w[1],
+            "lateral_play_X": lambda: 0.5 * g.signs[0] * g.w[1],
+            "lateral_play_Y": lambda: 0.5 * g.signs[1] * g.w[0],
+            "squareness": lambda: -radius * g.positions[1] * g.w[0],
+            "servo_angle": lambda: -s * ratio * radius * g.cn[1] * g.cn[0],
+            "scale_mismatch": lambda: 0.5 * radius * (g.positions[0] * g.w[0]
+                                                      - g.positions[1] * g.w[1]),
             # a bow of the axis by 1 at the middle of its travel +-R, 0 at its ends
-            "straightness_X": lambda: (1.0 - px * px) * wy,
-            "straightness_Y": lambda: (1.0 - py * py) * wx}
+            "straightness_X": lambda: (1.0 - g.positions[0] * g.positions[0]) * g.w[1],
+            "straightness_Y": lambda: (1.0 - g.positions[1] * g.positions[1]) * g.w[0]}
     return [cols[name]() for name in names]
-
-
-def _geometry(angle, s, radius, ratio, mu, rev, widths):
-    """What the columns of :func:`term_columns` are made of: the angle's cosine and sine,
-    the two axes' directions along the radius (with the servo's slope), the angle the
-    axes travel at, and their velocities' signs [-]."""
-    c, n = np.cos(angle), np.sin(angle)
-    wx, wy = _with_slope(c, n, angle, s, ratio * mu)
-    own = angle if rev is None else rev
-    # the axes reverse and travel at their own angle, off the tool's by the turn the
-    # other axis' lost motion makes: a step there too, which fine sampling resolves
-    own = axis_phase(own, s, radius, ratio * mu, getattr(widths, "lost", (0.0, 0.0)))
-    sx, sy = axis_signs(own, s, ratio * mu)
-    return c, n, wx, wy, own, sx, sy
 
 
 def term_column(name, angle, s, radius, ratio=1.0, mu=0.0, rev=None, widths=(0.0, 0.0)):
@@ -179,10 +148,9 @@ def backlash_take_up(axis, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
     over widths; the same numbers as :func:`term_column` [m/unit]."""
     lost = getattr(widths, "lost", (0.0, 0.0))
     other = widths[1 - axis]
-    _, _, wx, wy, own, sx, sy = _geometry(angle, s, radius, ratio, mu, rev,
-                                         Widths((1.0, 1.0), lost))
-    sign, w = (sx, wx) if axis == 0 else (sy, wy)
-    travel = travel_since_reversal(own, s, radius, ratio * mu, axis)
+    g = TermGeometry(angle, s, radius, ratio, mu, rev, Widths((1.0, 1.0), lost))
+    sign, w = g.signs[axis], g.w[axis]
+    travel = travel_since_reversal(g.own, s, radius, ratio * mu, axis)
 
     def column(width):
         if width > 0 or other > 0:

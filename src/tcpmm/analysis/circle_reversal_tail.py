@@ -34,8 +34,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from .circle_model import axis_signs, reversal_angle
+from .circle_model import reversal_angle
 from .circle_noise import correlation_length
+from .circle_travel import axis_signs
 
 #: Time constants searched, as the angle the tool travels in one at the circles' mean
 #: speed [deg]

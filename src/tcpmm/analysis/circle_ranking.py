@@ -131,6 +131,12 @@ def contributions(fit, arcs, radius, shared, spikes):
         if k is not None:
             groups[f"cyclic_{axis}"] = [f"cyclic_sin_{axis}", f"cyclic_cos_{axis}"]
     out = {}
+    grids = [arc_grid(arc.angle) for arc in arcs]
+    # every term's curve is its coefficient's share of the same columns
+    matrices = [design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a,
+                       centre=fit.centres[i] if fit.centres else (0.0, 0.0),
+                       tail=fit.tail, widths=fit.take_up)
+                for i, (arc, a) in enumerate(zip(arcs, grids, strict=True))]
     for name, cols in groups.items():
         idx = [fit.names.index(c) for c in cols]
         if all(np.isnan(fit.coef[j]) for j in idx):
@@ -139,11 +145,8 @@ def contributions(fit, arcs, radius, shared, spikes):
         coef = np.zeros_like(fit.coef)
         coef[idx] = np.nan_to_num(fit.coef[idx])
         curves = []
-        for i, arc in enumerate(arcs):
-            a = arc_grid(arc.angle)
-            curve = design(arc, i, len(arcs), radius, shared, fit.mu, fit.waves, a,
-                           centre=fit.centres[i] if fit.centres else (0.0, 0.0),
-                           tail=fit.tail, widths=fit.take_up) @ coef
+        for arc, a, A in zip(arcs, grids, matrices, strict=True):
+            curve = A @ coef
             if name == "servo_mismatch":
                 curve = curve + servo_remainder(a, arc.s, radius, arc.ratio * fit.mu)
             curves.append((a, curve))

@@ -14,26 +14,21 @@ from functools import cached_property
 import numpy as np
 
 from .circle_cyclic import refine_waves, search_cyclic, search_periods
+from .circle_design import base_columns, column_names, design, with_columns
 from .circle_model import (
     alias_slopes,
-    cyclic_columns,
     determined,
     drop_twins,
     fit_mask,
-    radial_weights,
-    reversal_angle,
     reversal_lead_deg,
     servo_remainder,
-    term_columns,
 )
 from .circle_noise import coef_covariance
 from .circle_period import wave_sigma
-from .circle_reversal_tail import lingering, search_tail, tail_block, tail_names
+from .circle_reversal_tail import lingering, search_tail
 from .circle_settling import steady_ends
 from .circle_takeup import search_widths
 from .circle_travel import Widths
-
-OWN = ("radius", "centre_X", "centre_Y")
 
 
 @dataclass
@@ -177,38 +172,6 @@ class TermFit:
         return [n for n, c in zip(self.names, self.coef, strict=True) if np.isnan(c)]
 
 
-def design(arc, i, n_arcs, radius, shared, mu, waves, angle=None, pos=None,
-           centre=(0.0, 0.0), tail=None, widths=(0.0, 0.0)):
-    """Design matrix of arc ``i`` of ``n_arcs`` over ``angle`` (default its own), its
-    tool at ``pos`` (default on the nominal radius), its axes reversing about ``centre``,
-    the reversals' tails ``tail``, ``(decay, shape)`` (none for None), and each axis'
-    backlash taken up over the travel ``widths`` after its reversal [m/unit]."""
-    a = arc.angle if angle is None else angle
-    own = np.zeros((a.size, 3 * n_arcs))
-    w = radial_weights(a, arc.s, arc.ratio, mu)
-    own[:, 3 * i:3 * i + 3] = np.c_[np.ones_like(a), *w]
-    pos = pos if pos is not None else (radius * np.cos(a), radius * np.sin(a))
-    rev = reversal_angle(pos, centre)
-    cols = term_columns(shared, a, arc.s, radius, arc.ratio, mu, rev, widths)
-    for axis, k in enumerate(waves):
-        if k is not None:
-            cols += cyclic_columns(pos[axis], w[axis], k)
-    if tail is not None:
-        cols += list(tail_block(arc, i, n_arcs, mu, tail, a, rev).T)
-    return np.column_stack([own, *cols]) if cols else own
-
-
-def column_names(n_arcs, shared, waves=(None, None), tail=None):
-    """The fit's columns: per arc its radius and centre, the shared terms, the cyclic
-    sine and cosine of each axis whose wavenumber is given, the reversals' tails where
-    ``tail`` is given [-]."""
-    names = [f"{o}_{i}" for i in range(n_arcs) for o in OWN] + list(shared)
-    for axis, k in zip("XY", waves, strict=True):
-        if k is not None:
-            names += [f"cyclic_sin_{axis}", f"cyclic_cos_{axis}"]
-    return names + (tail_names(n_arcs) if tail is not None else [])
-
-
 class FitProblem:
     """The arcs, their fitted samples and the columns they determine.
 
@@ -239,6 +202,7 @@ class FitProblem:
         self.tail_family = ()  # the fits over a transient lasting past the window
         self.widths = ((0.0, float("nan")),) * 2  # the backlashes' take-up, and its +-
         self.lost = (0.0, 0.0)  # the backlashes the take-up's travel is read with
+        self._built, self._less = {}, {}  # :meth:`_base`, :meth:`_less_remainder`
         A = self.matrix(0.0, (None, None))
         # each circle's radius and centre first, where the arc determines them: every
         # set-up has a centre offset, and a term that stood in for it (a bow, a
@@ -257,14 +221,34 @@ class FitProblem:
         self.masks = [a.mask_for(mu) for a in self.arcs]
         self.pos = [tuple(p[m] for p in a.positions(self.radius)) for a, m in
                     zip(self.arcs, self.masks, strict=True)]
+        self._built = {}  # of the samples fitted before
 
     def matrix(self, mu, waves):
         """Design matrix over the fitted samples of every arc [m/unit]."""
-        n = len(self.arcs)
-        return np.vstack([design(a, i, n, self.radius, self.shared, mu, waves,
-                                 a.angle[m], p, c, self.tail, self.take_up)
-                          for i, (a, m, p, c) in enumerate(zip(
-                              self.arcs, self.masks, self.pos, self.centres, strict=True))])
+        blocks = []
+        for i, a in enumerate(self.arcs):
+            angle, base = self._base(i, mu, False)
+            blocks.append(with_columns(base, a, i, len(self.arcs), mu, waves, angle,
+                                       self.tail))
+        return np.vstack(blocks)
+
+    def _base(self, i, mu, whole):
+        """``(angle, base columns...)`` of arc ``i`` over its fitted samples, or over all
+        of them where ``whole`` (:func:`.circle_design.base_columns`), built once for the
+        many solutions of a search, which change the cyclic errors and tails alone; kept
+        by the exact bits of what they are built with [rad, ...]."""
+        take_up = self.take_up
+        key = (i, whole, *map(_bits, (mu, *self.centres[i], *take_up, *take_up.lost)))
+        if key not in self._built:
+            if len(self._built) >= 4 * len(self.arcs):
+                self._built.clear()
+            a = self.arcs[i]
+            angle, pos = ((a.angle, a.positions(self.radius)) if whole else
+                          (a.angle[self.masks[i]], self.pos[i]))
+            self._built[key] = (angle, base_columns(a, i, len(self.arcs), self.radius,
+                                                    self.shared, mu, angle, pos,
+                                                    self.centres[i], take_up))
+        return self._built[key]
 
     @property
     def take_up(self) -> Widths:
@@ -274,12 +258,13 @@ class FitProblem:
     def rest(self, mu, waves, coef):
         """Per arc, what the terms ``coef`` leave over all its samples, the reversals'
         transients too [m]."""
-        n = len(self.arcs)
-        return [a.e - servo_remainder(a.angle, a.s, self.radius, a.ratio * mu)
-                - design(a, i, n, self.radius, self.shared, mu, waves, None,
-                         a.positions(self.radius), c, self.tail, self.take_up)
-                @ np.nan_to_num(coef)
-                for i, (a, c) in enumerate(zip(self.arcs, self.centres, strict=True))]
+        out = []
+        for i, a in enumerate(self.arcs):
+            angle, base = self._base(i, mu, True)
+            out.append(self._less_remainder(i, mu)
+                       - with_columns(base, a, i, len(self.arcs), mu, waves, angle,
+                                      self.tail) @ np.nan_to_num(coef))
+        return out
 
     def centres_of(self, coef) -> list:
         """Each arc's fitted centre offset, 0 where it is not determined [m]."""
@@ -288,9 +273,19 @@ class FitProblem:
 
     def data(self, mu):
         """The fitted samples' radial error less the servo mismatch's remainder [m]."""
-        return np.concatenate([
-            (a.e - servo_remainder(a.angle, a.s, self.radius, a.ratio * mu))[m]
-            for a, m in zip(self.arcs, self.masks, strict=True)])
+        return np.concatenate([self._less_remainder(i, mu)[m]
+                               for i, m in enumerate(self.masks)])
+
+    def _less_remainder(self, i, mu):
+        """Arc ``i``'s radial error less the servo mismatch's remainder, over all its
+        samples, worked out once per mismatch ``mu`` [m]."""
+        key = (i, _bits(mu))
+        if key not in self._less:
+            if len(self._less) >= 4 * len(self.arcs):
+                self._less.clear()
+            a = self.arcs[i]
+            self._less[key] = a.e - servo_remainder(a.angle, a.s, self.radius, a.ratio * mu)
+        return self._less[key]
 
     def solve(self, mu, waves, basis=True):
         """Coefficients (NaN where undetermined) [SI], residual [m] and an orthonormal
@@ -319,6 +314,11 @@ class FitProblem:
         """The servo mismatch angle of a solution; 0 where it is not fitted [rad]."""
         return (float(np.nan_to_num(coef[3 * len(self.arcs) + self.shared.index("servo_angle")]))
                 if "servo_angle" in self.shared else 0.0)
+
+
+def _bits(x) -> str:
+    """``x``'s exact bits, as a key that tells -0.0 from 0.0 [-]."""
+    return float(x).hex()
 
 
 def fit_terms(arcs, radius, shared, cyclic=True, drop=(), waves=None,

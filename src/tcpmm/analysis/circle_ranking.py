@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .circle_design import design
 from .circle_display import ranking_rows, rename_axes
-from .circle_fit import design
 from .circle_model import is_full, servo_remainder
 from .circle_passes import circle_deviation, lsq_circle
 

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import ndtri, stdtrit
 
-from .circle_fit import design
+from .circle_design import design
 from .circle_model import reversal_lead_deg
 from .circle_noise import correlation_length
 from .circle_open import open_terms

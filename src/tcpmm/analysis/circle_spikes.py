@@ -47,18 +47,24 @@ def steady_travel(u) -> tuple[float, float]:
     return float(steady.min()), float(steady.max())
 
 
-def _crossings(angle_rad, direction: str, deg: float) -> list:
-    """``(crossings, u)``: the travel-direction angles [deg] at which the path crosses the
-    point at ``deg`` with both the window before it and the window after it on the path
-    where it moves at its steady speed (:func:`steady_travel`), and the travel-direction
-    angle ``u`` of every sample [deg]."""
+def _travel(angle_rad, direction: str) -> tuple:
+    """``(sign, u, first, last)``: the direction's sign, the travel-direction angle ``u`` of
+    every sample and the first and last of the path where it moves at its steady speed
+    (:func:`steady_travel`), which every quadrant point's crossings share [-, deg]."""
     sign = 1.0 if direction == "ccw" else -1.0
     u = sign * np.degrees(angle_rad)  # increasing along the travel
+    return sign, u, *steady_travel(u)
+
+
+def _crossings(travel, deg: float) -> list:
+    """The travel-direction angles [deg] at which the path of ``travel`` (:func:`_travel`)
+    crosses the point at ``deg`` with both the window before it and the window after it
+    on the path where it moves at its steady speed [deg]."""
+    sign, _, first, last = travel
     at = sign * deg
-    first, last = steady_travel(u)
     lo = np.ceil((first - BEFORE_DEG[0] - at) / 360.0 - 1e-9)
     hi = np.floor((last - AFTER_DEG[1] - at) / 360.0 + 1e-9)
-    return [at + 360.0 * k for k in np.arange(lo, hi + 1)], u
+    return [at + 360.0 * k for k in np.arange(lo, hi + 1)]
 
 
 def spike_windows(angle_rad, direction: str, lead_deg: float = 0.0, skip_deg: float = 0.0):
@@ -67,8 +73,10 @@ def spike_windows(angle_rad, direction: str, lead_deg: float = 0.0, skip_deg: fl
     ``skip_deg`` after it), pooled over every crossing of P whose windows both lie on the
     path; ``(P, None, None)`` where P is never crossed so (the path starts or ends at P)
     [-]."""
+    travel = _travel(angle_rad, direction)
+    u = travel[1]
     for name, deg in QUADRANTS.items():
-        at, u = _crossings(angle_rad, direction, deg)
+        at = _crossings(travel, deg)
         if not at:
             yield name, None, None
             continue
@@ -103,8 +111,8 @@ def uncrossed_quadrants(angle_rad, direction: str) -> list:
     direction : {"ccw", "cw"}
         Direction of travel [-].
     """
-    return [name for name, deg in QUADRANTS.items() if not _crossings(angle_rad, direction,
-                                                                       deg)[0]]
+    travel = _travel(angle_rad, direction)
+    return [name for name, deg in QUADRANTS.items() if not _crossings(travel, deg)]
 
 
 def _spike(dev) -> float:

@@ -230,41 +230,71 @@ def search_cyclic(pb, mu, periods) -> tuple:
         The longest and the shortest period searched (:func:`search_periods`) [m].
     """
     ang, pos, ws = _samples(pb, mu)
+    fits = _Fits(pb, mu, periods, pos, ws)
     waves, seen = [None, None], ([], [])  # and each axis' peaks: the pair's candidates
-    _, res, basis = pb.solve(mu, waves)
-    alone = (res, basis)  # the fit without either, beside which a pair is fitted
+    alone = fits.fit(waves)  # the fit without either, beside which a pair is fitted
     # the noise's floor, and an amplitude of MIN_AMPLITUDE_M's drop (N a^2 / 4): a
     # noise-free circle has no noise to stand out of, and found a period in rounding
-    floor = max(30.0 * _noise(res) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
+    floor = max(30.0 * _noise(alone[0]) ** 2, ang.size * MIN_AMPLITUDE_M**2 / 4.0)
     for _ in range(2):
-        found = [[(0.0, None)] if waves[ax] is not None else
-                 _scan(pos[ax], ws[ax], res, basis, pb.radius, periods) for ax in (0, 1)]
+        found = [[(0.0, None)] if waves[ax] is not None else fits.scan(waves, ax)
+                 for ax in (0, 1)]
         for ax in (0, 1):
             seen[ax].extend(k for _, k in found[ax] if k is not None)
         ax = int(np.argmax([f[0][0] for f in found]))
         if found[ax][0][0] <= floor:
             break
         waves[ax] = found[ax][0][1]
-        _, res, basis = pb.solve(mu, waves)
     if all(k is not None for k in waves):  # each period again, the other one fitted
         for ax in (0, 1):
-            found = _scan(pos[ax], ws[ax], *_without(pb, mu, waves, ax), pb.radius, periods)
+            found = fits.scan(waves, ax)
             waves[ax] = found[0][1]
             seen[ax].extend(k for _, k in found if k is not None)
         # the pair of least residual among them (:mod:`.circle_cyclic_pair`) where both
         # are errors of the axes' positions; else each is tested as the scans found it
         pair = best_pair(pair_power(pos, ws, *alone), seen, 2.0 / (4.0 * pb.radius),
                          (1.0 / periods[0], 1.0 / periods[1]))
-        if all(_of_position(pb, _without(pb, mu, pair, ax), ax, pair[ax]) for ax in (0, 1)):
+        if all(_of_position(pb, fits.without(pair, ax), ax, pair[ax]) for ax in (0, 1)):
             waves = list(pair)
     for ax in (0, 1):  # a period of the axis' position, else the next that is one, or none
         if waves[ax] is None:
             continue
-        without = _without(pb, mu, waves, ax)
+        without = fits.without(waves, ax)
         if not _of_position(pb, without, ax, waves[ax]):
-            found = _scan(pos[ax], ws[ax], *without, pb.radius, periods)
-            waves[ax] = _first_of_position(pb, without, ax, found, floor)
+            waves[ax] = _first_of_position(pb, without, ax, fits.scan(waves, ax), floor)
     return tuple(waves)
+
+
+class _Fits:
+    """The fits and scans of one search (:func:`search_cyclic`), each worked out once: the
+    search asks again for the fit beside the same cyclic errors, and for the scan of an
+    axis beside the same fit."""
+
+    def __init__(self, pb, mu, periods, pos, ws):
+        self.pb, self.mu, self.periods, self.pos, self.ws = pb, mu, periods, pos, ws
+        self.fits, self.scans = {}, {}
+
+    def fit(self, waves) -> tuple:
+        """Residual [m] and orthonormal basis [-] of the fit with the cyclic errors
+        ``waves`` [1/m]."""
+        key = tuple(waves)
+        if key not in self.fits:
+            self.fits[key] = tuple(self.pb.solve(self.mu, list(key))[1:])
+        return self.fits[key]
+
+    def without(self, waves, ax) -> tuple:
+        """:func:`_without`: the fit with the other axis' cyclic error of ``waves`` and not
+        this one's [m, -]."""
+        return self.fit([k if i != ax else None for i, k in enumerate(waves)])
+
+    def scan(self, waves, ax) -> list:
+        """:func:`_scan` of axis ``ax`` beside the fit :meth:`without` its cyclic error
+        [m^2, 1/m]."""
+        key = (ax, *(k if i != ax else None for i, k in enumerate(waves)))
+        if key not in self.scans:
+            self.scans[key] = _scan(self.pos[ax], self.ws[ax], *self.without(waves, ax),
+                                    self.pb.radius, self.periods)
+        return list(self.scans[key])
 
 
 def refine_waves(pb, mu, waves, periods) -> tuple:
@@ -339,61 +369,3 @@ def _of_position(pb, without, ax, k) -> bool:
     # and it stands out of what the fit leaves: a structured residual (the tails of large
     # reversals, a lag the terms do not model) holds periods its halves agree on too
     return bool(d <= _HALVES * amp and amp >= np.sqrt(var))
-
-
-def at_longest(fit, k) -> bool:
-    """Whether the wavenumber ``k`` [1/m] of ``fit`` lies at the long end of the band its
-    search held (:func:`search_periods`), within a tenth of a step of its scan: the
-    power may still rise towards the end, and the period may be longer, where the circle
-    cannot tell it from its own terms. A 40 um dead band read at the scale as a cyclic
-    error of 33.1 mm, the end at 33.3 mm (0.04 steps), ranked first; a pitch error of
-    22 mm on a circle of R 35 mm, whose end is 23.3 mm, lies 0.36 steps from it [-]."""
-    return bool(k is not None and fit.periods
-                and k * fit.periods[0] < 1.0 + 0.05 / MIN_PERIODS)
-
-
-def cyclic_terms(fit) -> dict:
-    """Amplitude [m] and period [m] of each axis' cyclic error; both NaN where none stands
-    out, or where it stands out at the longest period searched (:func:`at_longest`;
-    :func:`cyclic_unresolved` says why)."""
-    out = {}
-    for name, k in zip("XY", fit.waves, strict=True):
-        amp = period = float("nan")
-        if k is not None and not at_longest(fit, k):
-            amp = fit.cyclic_amplitude(name)
-            period = 1.0 / k
-        out[f"cyclic_amplitude_{name}"] = (amp, "m")
-        out[f"cyclic_period_{name}"] = (period, "m")
-    return out
-
-
-def cyclic_unresolved(fit) -> dict:
-    """Why each axis whose cyclic error the search did not find reads none, by term name
-    (axes X and Y): not that it has none, but that one as small as what the fit leaves
-    unexplained may hide in it, as a search that counts only what stands out of that
-    residual cannot tell it (:mod:`.circle_cyclic`) [-]."""
-    rms_um = fit.residual_rms * 1e6
-    rms = f"{rms_um:.2f} µm rms" if rms_um >= 0.005 else "under 0.01 µm rms"
-    why = (f"none stands out of what the terms leave unexplained ({rms}): one of about that "
-           "size or less is not resolved, so the axis may still have one")
-    if fit.periods:  # one of a period outside the band reads in part as the terms
-        why += ("; periods from {:.3g} down to {:.2g} mm were searched, and a shorter one, "
-                "unresolved at this feed, reads in part as the terms, which then move with "
-                "the window after the reversals: said where they do, as uncertain by the "
-                "reversals' tails. A longer one, fewer than three of its periods along the "
-                "travel, is much like a scale error and a bow and reads as them and as "
-                "backlash (said where it moves them, as uncertain by the reversals' tails "
-                "or by what the terms leave unexplained): a circle of a larger radius "
-                "brings it into the search").format(*np.multiply(fit.periods, 1e3))
-    out = {f"cyclic_{q}_{name}": why for name, k in zip("XY", fit.waves, strict=True)
-           if k is None for q in ("amplitude", "period")}
-    longest = (f"one stands out at the longest period searched, {fit.periods[0] * 1e3:.3g} mm "
-               "(a third of the diameter), towards which it still grows: its period may be "
-               "longer, where over fewer than three periods along the travel it is much like "
-               "a scale error and a bow, and its period and amplitude are not determined. "
-               "It is fitted at that period, and the scale mismatch and bows read beside it "
-               "may still hold part of it; a circle of a larger radius brings it into the "
-               "search") if fit.periods else ""
-    out.update({f"cyclic_{q}_{name}": longest for name, k in zip("XY", fit.waves, strict=True)
-                if at_longest(fit, k) for q in ("amplitude", "period")})
-    return out

@@ -19,7 +19,7 @@ from ..errors import InputError
 from .circle_alias import alias_terms
 from .circle_arcs import check_arc
 from .circle_centre import centred_arcs
-from .circle_cyclic import cyclic_terms, cyclic_unresolved
+from .circle_cyclic_terms import cyclic_terms, cyclic_unresolved
 from .circle_display import rename_axes
 from .circle_ellipse import open_by_ellipse
 from .circle_feeds import command_radius

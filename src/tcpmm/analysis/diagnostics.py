@@ -59,7 +59,7 @@ from ..errors import InputError
 from .circle_alias import alias_terms
 from .circle_arcs import check_arc, same_angles
 from .circle_centre import centred_arcs
-from .circle_cyclic import cyclic_terms, cyclic_unresolved
+from .circle_cyclic_terms import cyclic_terms, cyclic_unresolved
 from .circle_display import (  # noqa: F401
     DISPLAY_UNITS,
     TERM_NOTES,

@@ -38,12 +38,12 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import ndtri, stdtrit
 
-from .circle_design import design
+from .circle_design import base_columns, with_columns
 from .circle_model import reversal_lead_deg
 from .circle_noise import correlation_length
 from .circle_open import open_terms
 from .circle_sigma import COVERAGE
-from .circle_spikes import reversal_spikes, spike_windows
+from .circle_spikes import spike_windows, spikes_in
 from .circle_tail_terms import LINGER
 from .circle_takeup import spike_moves
 
@@ -257,26 +257,26 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, ...
     for i, (d, (a, e, model)) in enumerate(curves.items()):
         lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
         rest = step_sides(e, model)
-        cols = design(arcs[i], i, len(arcs), radius, shared, fit.mu, fit.waves, None,
-                      arcs[i].positions(radius, None, e),
-                      fit.centres[i] if fit.centres else (0.0, 0.0), fit.tail, fit.take_up)
-        got = (reversal_spikes(a, rest, d, lead), *spike_uncertainty(a, rest, d, lead, cols, cov))
+        pos, centre = (arcs[i].positions(radius, None, e),
+                       fit.centres[i] if fit.centres else (0.0, 0.0))
+        # the columns of the terms, which every tail and every change of the spikes share
+        base = base_columns(arcs[i], i, len(arcs), radius, shared, fit.mu, arcs[i].angle,
+                            pos, centre, fit.take_up)
+        cols = with_columns(base, arcs[i], i, len(arcs), fit.mu, fit.waves, arcs[i].angle,
+                            fit.tail)
+        windows = list(spike_windows(a, d, lead))
+        got = (spikes_in(windows, rest), *spike_uncertainty(a, rest, d, lead, cols, cov))
         for out, values in zip((spikes, u95, fast), got, strict=True):
             out.update({f"spike_{q}_{d}": v for q, v in values.items()})
         together.update({f"spike_{q}_{d}": _bound(rest, before, after, cols, cov,
                                                   beyond=BEYOND / (4 * len(curves)))
-                         for q, before, after in spike_windows(a, d, lead)
-                         if before is not None})
+                         for q, before, after in windows if before is not None})
         # the take-up's own interval, which the fit's covariance does not hold
-        moves = spike_moves(fit, arcs[i], radius, arcs[i].positions(radius, None, e),
-                            fit.centres[i] if fit.centres else (0.0, 0.0), got[0],
-                            lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(
-                                a, rest + dr, d, lead), opened)
-        lingers = family_moves(fit, cols, lambda c, t, w, i=i, a=a, e=e: design(
-            arcs[i], i, len(arcs), radius, shared, fit.mu, w, None,
-            arcs[i].positions(radius, None, e), fit.centres[i] if fit.centres else (0.0, 0.0),
-            t, fit.take_up) @ np.nan_to_num(c), got[0],
-            lambda dr, a=a, rest=rest, d=d, lead=lead: reversal_spikes(a, rest - dr, d, lead))
+        moves = spike_moves(fit, arcs[i], radius, pos, centre, got[0],
+                            lambda dr, w=windows, rest=rest: spikes_in(w, rest + dr), opened)
+        lingers = family_moves(fit, cols, lambda c, t, w, i=i, b=base: with_columns(
+            b, arcs[i], i, len(arcs), fit.mu, w, arcs[i].angle, t) @ np.nan_to_num(c),
+            got[0], lambda dr, w=windows, rest=rest: spikes_in(w, rest - dr))
         for q, v in moves.items():
             k = f"spike_{q}_{d}"
             for bound in (u95, together):

@@ -134,6 +134,13 @@ def reversal_spikes(angle_rad, e, direction: str, lead_deg: float = 0.0,
                                                                lead_deg, skip_deg)}
 
 
+def spikes_in(windows, e) -> dict:
+    """:func:`reversal_spikes` of ``e`` over the ``windows`` of :func:`spike_windows` (as
+    a list), which many radial errors over one path share [m]."""
+    return {name: _spike(None if before is None else e[after] - np.median(e[before]))
+            for name, before, after in windows}
+
+
 def reversal_lobes(angle_rad, e, direction: str) -> dict:
     """Rise and fall after each quadrant point, ``{P: (max(e - b), min(e - b))}`` over
     the window of the reversal spike; the spike is the one larger in magnitude, so where

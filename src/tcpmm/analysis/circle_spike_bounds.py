@@ -13,12 +13,13 @@ from .circle_spikes import reversal_spikes
 from .circle_takeup import spike_moves
 
 
-def widened(fit, arcs, radius, shared, curves, terms, bounds) -> None:
+def widened(fit, arcs, radius, shared, curves, terms, bounds, parts=None) -> None:
     """The spikes' ±95% widened for a take-up width left open after them
-    (:func:`.circle_spike_sigma.widen_for_opened`), then both ``bounds`` (the ±95% and
-    the bound for the spikes together) for a width read that a step may be
+    (:func:`.circle_spike_sigma.widen_for_opened`, with ``parts`` of
+    :func:`.circle_spike_sigma.pair_spikes`), then both ``bounds`` (the ±95% and the
+    bound for the spikes together) for a width read that a step may be
     (:func:`widen_within_step`) [m]."""
-    widen_for_opened(fit, arcs, radius, shared, curves, terms, bounds[0])
+    widen_for_opened(fit, arcs, radius, shared, curves, terms, bounds[0], parts)
     widen_within_step(fit, arcs, radius, shared, curves, bounds)
 
 

@@ -227,7 +227,7 @@ def _across(e, model, k0: int, k1: int) -> list:
     return out
 
 
-def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, ...]:
+def pair_spikes(fit, arcs, radius, shared, curves, opened=(), parts=None) -> tuple:
     """The spikes after a fit's terms, ``spike_{P}_{direction}``, taken from where the
     leading axis reverses (the fit leaves its transient out) on what the terms leave
     (:func:`step_sides`), their 95 % uncertainty (:func:`spike_uncertainty`), that from
@@ -251,32 +251,23 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, ...
     opened : tuple of int
         The axes whose take-up width is left open whatever its interval
         (:func:`.circle_takeup.spike_moves`) [-].
+    parts : dict, optional
+        Per direction, what is read of its circle whatever width is left open
+        (:func:`_circle_parts`), filled where missing: a second reading of the same fit
+        with a width opened reads the rest again from it [-].
     """
-    cov = None if fit.cov is None else np.nan_to_num(fit.cov)
+    parts = {} if parts is None else parts
     spikes, u95, fast, tails, together = {}, {}, {}, {}, {}
-    for i, (d, (a, e, model)) in enumerate(curves.items()):
-        lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
-        rest = step_sides(e, model)
-        pos, centre = (arcs[i].positions(radius, None, e),
-                       fit.centres[i] if fit.centres else (0.0, 0.0))
-        # the columns of the terms, which every tail and every change of the spikes share
-        base = base_columns(arcs[i], i, len(arcs), radius, shared, fit.mu, arcs[i].angle,
-                            pos, centre, fit.take_up)
-        cols = with_columns(base, arcs[i], i, len(arcs), fit.mu, fit.waves, arcs[i].angle,
-                            fit.tail)
-        windows = list(spike_windows(a, d, lead))
-        got = (spikes_in(windows, rest), *spike_uncertainty(a, rest, d, lead, cols, cov))
+    for i, (d, curve) in enumerate(curves.items()):
+        if d not in parts:
+            parts[d] = _circle_parts(fit, arcs, i, radius, shared, d, curve, len(curves))
+        pos, centre, windows, rest, got, bounds, lingers = parts[d]
         for out, values in zip((spikes, u95, fast), got, strict=True):
             out.update({f"spike_{q}_{d}": v for q, v in values.items()})
-        together.update({f"spike_{q}_{d}": _bound(rest, before, after, cols, cov,
-                                                  beyond=BEYOND / (4 * len(curves)))
-                         for q, before, after in windows if before is not None})
+        together.update(bounds)
         # the take-up's own interval, which the fit's covariance does not hold
         moves = spike_moves(fit, arcs[i], radius, pos, centre, got[0],
                             lambda dr, w=windows, rest=rest: spikes_in(w, rest + dr), opened)
-        lingers = family_moves(fit, cols, lambda c, t, w, i=i, b=base: with_columns(
-            b, arcs[i], i, len(arcs), fit.mu, w, arcs[i].angle, t) @ np.nan_to_num(c),
-            got[0], lambda dr, w=windows, rest=rest: spikes_in(w, rest - dr))
         for q, v in moves.items():
             k = f"spike_{q}_{d}"
             for bound in (u95, together):
@@ -286,7 +277,36 @@ def pair_spikes(fit, arcs, radius, shared, curves, opened=()) -> tuple[dict, ...
     return spikes, u95, fast, tails, together
 
 
-def widen_for_opened(fit, arcs, radius, shared, curves, terms, spike_u95) -> None:
+def _circle_parts(fit, arcs, i, radius, shared, d, curve, count) -> tuple:
+    """What :func:`pair_spikes` reads of the circle ``i`` in the direction ``d``, its
+    ``curve`` ``(angle, radial error, model)``, whatever take-up width is left open:
+    its positions and centre, its spike windows, what the terms leave, its spikes and
+    their uncertainties, its bounds for the spikes together (of ``count`` circles) and
+    their moves over a lingering transient's tails [m]."""
+    a, e, model = curve
+    cov = None if fit.cov is None else np.nan_to_num(fit.cov)
+    lead = reversal_lead_deg(a, fit.mu) if fit.mu else 0.0
+    rest = step_sides(e, model)
+    pos, centre = (arcs[i].positions(radius, None, e),
+                   fit.centres[i] if fit.centres else (0.0, 0.0))
+    # the columns of the terms, which every tail and every change of the spikes share
+    base = base_columns(arcs[i], i, len(arcs), radius, shared, fit.mu, arcs[i].angle,
+                        pos, centre, fit.take_up)
+    cols = with_columns(base, arcs[i], i, len(arcs), fit.mu, fit.waves, arcs[i].angle,
+                        fit.tail)
+    windows = list(spike_windows(a, d, lead))
+    got = (spikes_in(windows, rest), *spike_uncertainty(a, rest, d, lead, cols, cov))
+    bounds = {f"spike_{q}_{d}": _bound(rest, before, after, cols, cov,
+                                       beyond=BEYOND / (4 * count))
+              for q, before, after in windows if before is not None}
+    lingers = family_moves(fit, cols, lambda c, t, w: with_columns(
+        base, arcs[i], i, len(arcs), fit.mu, w, arcs[i].angle, t) @ np.nan_to_num(c),
+        got[0], lambda dr: spikes_in(windows, rest - dr))
+    return pos, centre, windows, rest, got, bounds, lingers
+
+
+def widen_for_opened(fit, arcs, radius, shared, curves, terms, spike_u95,
+                     parts=None) -> None:
     """Where a take-up width the search read within an interval is left open after the
     spikes were (:func:`.circle_takeup.width_follows_backlash`: beside a transient, or
     one lasting past the window), each spike's ±95% in ``spike_u95`` over the whole span
@@ -302,12 +322,14 @@ def widen_for_opened(fit, arcs, radius, shared, curves, terms, spike_u95) -> Non
         The terms by the fit's axis names, the widths as left [SI].
     spike_u95 : dict
         The spikes' 95 % uncertainties, widened in place; NaN stays [m].
+    parts : dict, optional
+        :func:`pair_spikes`' parts of the same fit and curves [-].
     """
     opened = tuple(k for k, a in enumerate("XY") if np.isfinite(fit.widths[k][1])
                    and not np.isfinite(terms.get(f"take_up_width_{a}", (np.nan,))[0]))
     if not opened:
         return
-    for k, v in pair_spikes(fit, arcs, radius, shared, curves, opened)[1].items():
+    for k, v in pair_spikes(fit, arcs, radius, shared, curves, opened, parts)[1].items():
         if np.isfinite(spike_u95.get(k, np.nan)) and np.isfinite(v):
             spike_u95[k] = max(spike_u95[k], v)
 

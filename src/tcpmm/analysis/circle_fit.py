@@ -293,13 +293,14 @@ class FitProblem:
         which most solutions do not use) [-]."""
         A, y = self.matrix(mu, waves), self.data(mu)
         keep = np.r_[self.keep, np.ones(A.shape[1] - self.keep.size, bool)]
-        c = np.linalg.lstsq(A[:, keep], y, rcond=None)[0]
+        fitted = A[:, keep]
+        c = np.linalg.lstsq(fitted, y, rcond=None)[0]
         coef = np.full(A.shape[1], np.nan)
         coef[keep] = c
         if not basis:
-            return coef, y - A[:, keep] @ c, None
-        q, r = np.linalg.qr(A[:, keep])
-        return coef, y - A[:, keep] @ c, q[:, np.abs(np.diag(r)) > 1e-12 * np.abs(r).max()]
+            return coef, y - fitted @ c, None
+        q, r = np.linalg.qr(fitted)
+        return coef, y - fitted @ c, q[:, np.abs(np.diag(r)) > 1e-12 * np.abs(r).max()]
 
     def unseen_columns(self, names, mu):
         """Columns of the terms ``names``, fitted or not, over the fitted samples of every

@@ -31,7 +31,7 @@ import functools
 import numpy as np
 
 from .circle_geometry import TermGeometry, with_slope
-from .circle_travel import Widths, take_up, travel_since_reversal
+from .circle_travel import Widths, travel_since_reversal
 
 #: A term is determined where at least this share of its column (unit norm) is independent
 #: of the other columns: noise then enters it at most tenfold [-].
@@ -116,7 +116,7 @@ def term_columns(names, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
         nominal quadrant points); ``angle`` where omitted [rad].
     widths : tuple of float
         Travel of each axis after its reversal over which its backlash is taken up
-        (:func:`take_up`); 0 for an instant step [m].
+        (:func:`.circle_travel.take_up`); 0 for an instant step [m].
     """
     g = TermGeometry(angle, s, radius, ratio, mu, rev, widths)
     # each term's position error (the table in :mod:`tcpmm.analysis.diagnostics`) seen
@@ -151,10 +151,15 @@ def backlash_take_up(axis, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
     g = TermGeometry(angle, s, radius, ratio, mu, rev, Widths((1.0, 1.0), lost))
     sign, w = g.signs[axis], g.w[axis]
     travel = travel_since_reversal(g.own, s, radius, ratio * mu, axis)
+    # the first steps of the column and of :func:`.circle_travel.take_up`, which no width
+    # changes
+    half, twice = -0.5 * sign, 2.0 * travel
 
     def column(width):
         if width > 0 or other > 0:
-            return -0.5 * sign * take_up(travel, width) * w
+            share = np.clip(twice / width - 1.0, -1.0, 1.0) if width > 0 else \
+                np.ones_like(travel)
+            return half * share * w
         both = Widths((0.0, 0.0), lost)  # no take-up: the axes reverse at the tool's angle
         return term_column(f"backlash_{'XY'[axis]}", angle, s, radius, ratio, mu, rev, both)
     return column

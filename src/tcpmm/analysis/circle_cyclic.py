@@ -64,11 +64,12 @@ def _scan(pos, w, resid, basis, radius, periods):
     lo, hi = 1.0 / periods[0], 1.0 / periods[1]
     step = 1.0 / (4.0 * radius)  # a quarter of the peak's width over the diameter
 
-    power = _power_of(pos, w, resid, basis)
+    weighted = _weighted(w, resid, basis)  # the grid's and the refinement's alike
+    power = _power_of(pos, w, resid, basis, weighted)
     ks = np.arange(lo, hi, step)
     if ks.size == 0:
         return [(0.0, None)]
-    p = _grid_power(pos, w, resid, basis, ks)
+    p = _grid_power(pos, w, resid, basis, ks, weighted)
     # the grid can fall beside a peak and lower it under a smaller one: the three highest
     # peaks on the grid are each refined, and the highest after refining is taken
     peaks = np.flatnonzero((p >= np.r_[-np.inf, p[:-1]]) & (p >= np.r_[p[1:], -np.inf]))
@@ -100,15 +101,16 @@ def _samples(pb, mu):
     return ang, pos, tuple(np.concatenate([w[axis] for w in ws]) for axis in (0, 1))
 
 
-def _power_of(pos, w, resid, basis):
+def _power_of(pos, w, resid, basis, weighted=None):
     """``power(ks)``: for each wavenumber of ``ks`` the drop of the sum of squares of
     ``resid`` that the columns ``S = w sin(2 pi k pos)`` and ``C = w cos(...)`` bring
-    beside a fit whose columns span the orthonormal ``basis`` [m^2].
+    beside a fit whose columns span the orthonormal ``basis`` [m^2]; ``weighted`` their
+    :func:`_weighted`, where worked out already.
 
     The columns less their parts in the basis are never formed: S's part is ``B B^T S``, so
     ``|S - B B^T S|^2 = |S|^2 - |B^T S|^2``, and a product with the residual is one with
     the residual's own part outside the basis."""
-    wb, w2, wr = _weighted(w, resid, basis)
+    wb, w2, wr = weighted or _weighted(w, resid, basis)
 
     def power(ks):
         zc, zs = _phases(pos, ks)
@@ -142,7 +144,7 @@ def _drop(ss, cc, sc, bs, bc):
 GRID_TOLERANCE = 1e-12
 
 
-def _grid_power(pos, w, resid, basis, ks):
+def _grid_power(pos, w, resid, basis, ks, weighted=None):
     """:func:`_power_of`'s ``power`` on the evenly spaced wavenumbers ``ks`` [1/m], each
     sum over the samples (``B^T S``, ``S^T r``, ``|S|^2`` ...) for every wavenumber at once
     by a non-uniform FFT, in ``n log n`` rather than a product of every sample with every
@@ -152,7 +154,7 @@ def _grid_power(pos, w, resid, basis, ks):
     A sine's columns span those of the position taken from any origin, so the sums are
     taken about the middle of the axis' travel, where the phases stay within the FFT's
     band; ``sin^2``, ``cos^2`` and their product come from the sums at twice the
-    wavenumber."""
+    wavenumber. ``weighted``: as for :func:`_power_of`."""
     import finufft  # its start-up (70 ms) is paid by a circle's diagnostics alone
 
     u = pos - 0.5 * (pos.max() + pos.min())
@@ -163,7 +165,7 @@ def _grid_power(pos, w, resid, basis, ks):
     modes = count + count % 2  # the FFT's modes run from -modes/2 to modes/2 - 1
     centre = ks[0] + (modes // 2) * step
     x = 2 * np.pi * step * u
-    wb, w2, wr = _weighted(w, resid, basis)
+    wb, w2, wr = weighted or _weighted(w, resid, basis)
     rows = np.vstack([wb.T, wr]) * np.exp(2j * np.pi * centre * u)
     rows = np.ascontiguousarray(rows)  # a row a sum, as the FFT takes them
     opts = {"eps": GRID_TOLERANCE, "nthreads": 1}  # one thread: the same sums every run

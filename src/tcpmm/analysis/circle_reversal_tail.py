@@ -87,15 +87,36 @@ def tail_columns(angle, s, ratio, mu, rev, after_deg, tail, reversals=None) -> l
         deg].
     """
     decay, shape, *turn = tail
-
-    def course(since):  # decaying from the window's end, zero within it
-        past = since - after_deg
-        return np.where(past >= 0.0, np.exp(-np.radians(np.maximum(past, 0.0))
-                                            / (ratio * decay)), 0.0)
-
     if reversals is None:
         reversals = axis_reversals(angle, s, ratio, mu, rev, *turn)
-    return course_columns(course, shape, reversals)
+    # a tail steps the radius out where its coefficient is positive, as a backlash does:
+    # the axis' error against its new direction, seen along the radius as the angle turns
+    # from the axis on (past 90 deg the other way), or the radial error itself; one column
+    # per sign of the axis' velocity after the reversal
+    out = []
+    for axis in reversals:
+        within, lag, along, rising, falling = axis.parts(after_deg)
+        course = np.where(within, np.exp(lag / (ratio * decay)), 0.0)  # from the window's end
+        col = along * course if shape == "axis" else course
+        out += [np.where(rising, col, 0.0), np.where(falling, col, 0.0)]
+    return out
+
+
+class AxisReversal(tuple):
+    """``(since, sign, proj)`` of one axis (:func:`axis_reversals`), with what every tail's
+    columns make of it worked out once (:meth:`parts`): a search tries many tails over the
+    same reversals."""
+
+    def parts(self, after_deg) -> tuple:
+        """``(past the window, -angle past it, -sign proj, sign > 0, sign < 0)`` for the
+        window ``after_deg`` after each reversal [-, rad, -, -, -]."""
+        cache = self.__dict__.setdefault("_parts", {})
+        if after_deg not in cache:
+            since, sign, proj = self
+            past = since - after_deg
+            cache[after_deg] = (past >= 0.0, -np.radians(np.maximum(past, 0.0)),
+                                -sign * proj, sign > 0, sign < 0)
+        return cache[after_deg]
 
 
 def axis_reversals(angle, s, ratio, mu, rev, turn_deg=0.0) -> tuple:
@@ -109,22 +130,8 @@ def axis_reversals(angle, s, ratio, mu, rev, turn_deg=0.0) -> tuple:
     c, n = np.cos(angle), np.sin(angle)
     sx, sy = axis_signs(angle if rev is None else rev, s, ratio * mu)
     u = s * np.degrees(angle)
-    return ((u % 180.0), sx, c), (((u - s * 90.0) % 180.0), sy, n)
-
-
-def course_columns(course, shape: str, reversals) -> list:
-    """The two columns per axis of a tail whose course is ``course(since)``
-    (:func:`axis_reversals`), one per sign of the axis' velocity after the reversal, of
-    ``shape`` (:data:`SHAPES`) [m/m]."""
-    # a tail steps the radius out where its coefficient is positive, as a backlash does:
-    # the axis' error against its new direction, seen along the radius as the angle turns
-    # from the axis on (past 90 deg the other way), or the radial error itself
-    out = []
-    for since, sign, proj in reversals:
-        tail = course(since)
-        col = -sign * proj * tail if shape == "axis" else tail
-        out += [np.where(sign > 0, col, 0.0), np.where(sign < 0, col, 0.0)]
-    return out
+    return (AxisReversal(((u % 180.0), sx, c)),
+            AxisReversal((((u - s * 90.0) % 180.0), sy, n)))
 
 
 def tail_block(arc, i, n_arcs, mu, tail, angle, rev, reversals=None):

@@ -181,6 +181,8 @@ def _tail_costs(pb, mu, res, basis, tried: dict):
         # the fit with the tails added leaves what of the residual their columns, less
         # their part in the fit's own, do not take: no refit
         tail = (float(np.exp(log_decay)), shape, *turn)
+        if tail in tried:  # the search and its intervals come back to a tail
+            return tried[tail]
         if turn not in reversals:
             reversals[turn] = arc_reversals(pb, mu, turn)
         t = tail_matrix(pb, mu, tail, reversals[turn])

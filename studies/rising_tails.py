@@ -31,6 +31,7 @@ from scipy.optimize import minimize_scalar
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import tcpmm.analysis.circle_fit as cf
 import tcpmm.analysis.circle_reversal_tail as crt
+from tcpmm.analysis.circle_tail_terms import LINGER
 
 #: The peaks searched, as the angle travelled from the reversal [deg]
 RISE_DEG = tuple(float(d) for d in np.geomspace(5.0, 50.0, 17))
@@ -49,8 +50,18 @@ def rising_columns(angle, s, ratio, mu, rev, after_deg, tail):
         x = np.radians(since) / (ratio * decay)
         return np.where(since >= after_deg, x * np.exp(1.0 - x), 0.0)
 
-    return crt.course_columns(course, shape.removesuffix(RISING),
-                              crt.axis_reversals(angle, s, ratio, mu, rev, *turn))
+    return _course_columns(course, shape.removesuffix(RISING),
+                           crt.axis_reversals(angle, s, ratio, mu, rev, *turn))
+
+
+def _course_columns(course, shape: str, reversals) -> list:
+    """The two columns per axis of a tail whose course is ``course(since)``, one per sign
+    of the axis' velocity after the reversal, as the package's tails of ``shape`` [m/m]."""
+    out = []
+    for since, sign, proj in reversals:
+        col = -sign * proj * course(since) if shape == "axis" else course(since)
+        out += [np.where(sign > 0, col, 0.0), np.where(sign < 0, col, 0.0)]
+    return out
 
 
 def rising_costs(pb, mu, waves) -> dict:
@@ -170,10 +181,10 @@ def main() -> None:
     for label, run in cases:
         before = run()
         said = before.undetermined.get("reversal_tail_decay", "")
-        chosen = ("lasts past" if said.startswith(crt.LINGER) else "none" if said
+        chosen = ("lasts past" if said.startswith(LINGER) else "none" if said
                   else f"{before['reversal_tail_decay'] * 1e3:.0f} ms" if np.isfinite(
                       before["reversal_tail_decay"]) else "fitted")
-        if said.startswith(crt.LINGER):
+        if said.startswith(LINGER):
             print(f"| {label} | {chosen} | | | | | | | |", flush=True)
             continue
         saved = crt.tail_columns, cf.search_tail, cf.search_widths

@@ -55,6 +55,34 @@ def _run_apart(script: str, timeout: float = 120.0):
     return out.returncode, out.stdout + out.stderr, time.monotonic() - t0
 
 
+@pytest.mark.skipif(not hasattr(os, "kill"), reason="needs kill")
+def test_an_interrupt_that_lands_in_the_first_collection_is_not_lost():
+    """The command line holds back the interpreter's first collection and restores its
+    thresholds in a callback of it: a Ctrl-C that came during that collection ran its
+    handler in the callback, where Python ignores it ("Exception ignored in ...
+    restore"); a sweep interrupted half a second after its start, while it imported,
+    ran to its end and exited 0."""
+    code, out, _ = _run_apart("""
+        import gc, os, subprocess, time
+        from tcpmm.cli._collector import START_THRESHOLD
+        import tcpmm.cli  # holds the first collection back until its callback
+        gc.disable()  # the collection is this script's, not the allocations'
+        junk = [[] for _ in range(3_000_000)]  # a collection long enough to land in
+        assert gc.get_threshold()[0] == START_THRESHOLD, "no collection held back"
+        subprocess.Popen(["sh", "-c", f"sleep 0.2; kill -INT {os.getpid()}"])
+        t0 = time.monotonic()
+        try:
+            while time.monotonic() - t0 < 3.0:
+                gc.collect()
+                time.sleep(0.05)  # the command's own work between collections
+            print("ran on")
+        except KeyboardInterrupt:
+            print("stopped")
+        """)
+    assert code == 0, out
+    assert "stopped" in out and "Exception ignored" not in out, out
+
+
 @pytest.mark.parametrize("interrupted", [True, False])
 def test_the_watcher_tells_an_interrupt_that_came_while_it_was_ignored(interrupted):
     """The sweep ignores the interrupt while its workers start, so that they inherit the

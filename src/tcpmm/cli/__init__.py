@@ -15,6 +15,7 @@ import warnings
 
 from .._threads import single_threaded_from_start
 from ._collector import collect_late
+from ._stops import stop_not_ignored
 
 collect_late()  # before the imports of typer, rich and the command's module
 single_threaded_from_start()  # before the commands' modules load numpy
@@ -193,7 +194,7 @@ def run() -> int:
     try:
         code = main()
         gc.freeze()
-    except KeyboardInterrupt:  # one the command's end outran (:func:`_stop_not_ignored`)
+    except KeyboardInterrupt:  # one the command's end outran (:func:`._stops.stop_not_ignored`)
         code = _said_stopped(130)
     if code >= 128 and threading.active_count() > 1:
         # stopped by a signal, its outputs removed: the axes' kernels still running in
@@ -278,36 +279,8 @@ def _exit_on_signals() -> dict:
         if sig is not None:
             before[sig] = signal.signal(sig, leave)
     before["unraisable"] = sys.unraisablehook
-    sys.unraisablehook = _stop_not_ignored(sys.unraisablehook)
+    sys.unraisablehook = stop_not_ignored(sys.unraisablehook)
     return before
-
-
-def _stop_not_ignored(previous):
-    """A hook for the exceptions Python ignores, raised in a collector's callback, a
-    finaliser or a weak reference's callback (with a traceback on stderr): a Ctrl-C, or
-    SIGTERM's exit, that lands there was lost, and the command ran on to its end (a sweep
-    of a minute, exit 0). Such a stop is raised again, where the command is, as the signal
-    it came from; anything else goes to ``previous`` [-]."""
-    import _thread
-    import signal
-    import threading
-
-    def hook(unraisable) -> None:
-        exc = unraisable.exc_value
-        if isinstance(exc, KeyboardInterrupt):
-            signum = signal.SIGINT
-        elif isinstance(exc, SystemExit) and isinstance(exc.code, int) and exc.code > 128:
-            signum = exc.code - 128
-        else:
-            previous(unraisable)
-            return
-        # tripped by a thread of its own once this hook has returned: tripped here, the
-        # handler would run inside the hook, whose exception Python ignores in turn
-        left = threading.Event()
-        _thread.start_new_thread(lambda: (left.wait(), _thread.interrupt_main(signum)), ())
-        left.set()
-
-    return hook
 
 
 def _restore_signals(before: dict) -> None:

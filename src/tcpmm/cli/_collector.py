@@ -12,6 +12,9 @@ from __future__ import annotations
 
 import gc
 import operator
+import sys
+
+from ._stops import stop_not_ignored
 
 #: Net allocations of tracked objects before the first collection [-]; a short command's
 #: imports and run stay below it, the cyclic garbage it may hold back is bounded by it.
@@ -24,6 +27,10 @@ def collect_late() -> None:
     thresholds = gc.get_threshold()
     if thresholds[0] == 0 or thresholds[0] >= START_THRESHOLD:
         return  # the collector is off, or already as lazy
+    # a Ctrl-C that falls in the collection runs its handler in the callback, the first
+    # code after it, where Python would ignore it: it is raised again, after the callback
+    before = sys.unraisablehook
+    sys.unraisablehook = ours = stop_not_ignored(before)
 
     def restore(phase: str, info: dict) -> None:
         if phase == "stop" and gc.get_threshold()[0] == START_THRESHOLD:
@@ -32,6 +39,8 @@ def collect_late() -> None:
             # collector walks the list, it would make it skip the next callback; kept, a
             # Ctrl-C that falls in it on a later collection is "ignored" by Python
             gc.callbacks[gc.callbacks.index(restore)] = operator.is_
+            if sys.unraisablehook is ours:  # a command's own hook stays
+                sys.unraisablehook = before
 
     gc.callbacks.append(restore)
     gc.set_threshold(START_THRESHOLD, *thresholds[1:])

@@ -21,8 +21,13 @@ def test_an_interrupt_that_lands_in_a_finaliser_stops_the_command(monkeypatch, c
     callback is raised there, and Python ignores it with a traceback on stderr: a sweep
     interrupted 1.5 s after its start (the command's first collection) ran on for 72 s
     and ended with exit 0. The stop now reaches the command."""
+    import signal
+
     import tcpmm.cli.machine as mod
     from tcpmm.cli import main
+
+    # as at a terminal: a suite started in the background runs with the interrupt ignored
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
 
     class Lands:
         def __del__(self):
@@ -37,21 +42,35 @@ def test_an_interrupt_that_lands_in_a_finaliser_stops_the_command(monkeypatch, c
         return real(mg)
 
     monkeypatch.setattr(mod, "margins_line", line)
-    code = main(["machine", "show", "builtin:vmc"])
+    try:
+        code = main(["machine", "show", "builtin:vmc"])
+    finally:
+        signal.signal(signal.SIGINT, before)
     err = capsys.readouterr().err
     assert code == 130, err
     assert "Traceback" not in err and "Exception ignored" not in err
     assert len(calls) == 1  # stopped where it landed, not after the six loops
 
 
+def _as_at_a_terminal() -> None:
+    """In the child before it runs: the interrupt at its default and not blocked, as a
+    command typed at a terminal has it (a suite started in the background, or by a worker
+    that ignores it, passes it on ignored, and the command would rightly never see it)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
 def _run_apart(script: str, timeout: float = 120.0):
     """``script`` in a Python of its own, in a process group of its own (its interrupts
-    reach no one else): its exit code, stderr and wall time [-, -, s]."""
+    reach no one else), with the interrupt as at a terminal: its exit code, output and
+    wall time [-, -, s]."""
     env = {**os.environ, "PYTHONPATH": SRC}
     t0 = time.monotonic()
     out = subprocess.run([sys.executable, "-c", textwrap.dedent(script)], env=env,
                          capture_output=True, text=True, timeout=timeout,
-                         start_new_session=True)
+                         start_new_session=True, preexec_fn=_as_at_a_terminal)
     return out.returncode, out.stdout + out.stderr, time.monotonic() - t0
 
 

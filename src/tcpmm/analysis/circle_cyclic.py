@@ -287,12 +287,12 @@ class _Fits:
     def without(self, waves, ax) -> tuple:
         """:func:`_without`: the fit with the other axis' cyclic error of ``waves`` and not
         this one's [m, -]."""
-        return self.fit([k if i != ax else None for i, k in enumerate(waves)])
+        return self.fit(_others(waves, ax))
 
     def scan(self, waves, ax) -> list:
         """:func:`_scan` of axis ``ax`` beside the fit :meth:`without` its cyclic error
         [m^2, 1/m]."""
-        key = (ax, *(k if i != ax else None for i, k in enumerate(waves)))
+        key = (ax, *_others(waves, ax))
         if key not in self.scans:
             self.scans[key] = _scan(self.pos[ax], self.ws[ax], *self.without(waves, ax),
                                     self.pb.radius, self.periods)
@@ -325,8 +325,13 @@ def _without(pb, mu, waves, ax) -> tuple:
     and not this one's: over the whole band a scan of it sees its own (the first scan, with
     the other's unfitted, may have put the peak at a period of the other's), and the test
     of a period of it is made on it."""
-    _, res, basis = pb.solve(mu, [k if i != ax else None for i, k in enumerate(waves)])
+    _, res, basis = pb.solve(mu, _others(waves, ax))
     return res, basis
+
+
+def _others(waves, ax) -> list:
+    """``waves`` with the cyclic error of axis ``ax`` left out [1/m]."""
+    return [k if i != ax else None for i, k in enumerate(waves)]
 
 
 def _first_of_position(pb, without, ax, found, floor):

@@ -31,7 +31,7 @@ import functools
 import numpy as np
 
 from .circle_geometry import TermGeometry, with_slope
-from .circle_travel import Widths, travel_since_reversal
+from .circle_travel import Widths, take_up_twice, travel_since_reversal
 
 #: A term is determined where at least this share of its column (unit norm) is independent
 #: of the other columns: noise then enters it at most tenfold [-].
@@ -157,9 +157,7 @@ def backlash_take_up(axis, angle, s, radius, ratio=1.0, mu=0.0, rev=None,
 
     def column(width):
         if width > 0 or other > 0:
-            share = np.clip(twice / width - 1.0, -1.0, 1.0) if width > 0 else \
-                np.ones_like(travel)
-            return half * share * w
+            return half * take_up_twice(twice, width) * w
         both = Widths((0.0, 0.0), lost)  # no take-up: the axes reverse at the tool's angle
         return term_column(f"backlash_{'XY'[axis]}", angle, s, radius, ratio, mu, rev, both)
     return column

@@ -96,7 +96,13 @@ def _after_reversal(angle_rad, e, direction: str, lead_deg: float = 0.0,
     before it, or without the first ``skip_deg`` after it), pooled over every crossing of
     P whose windows both lie on the path; ``None`` where P is never crossed so (the path
     starts or ends at P) [m]."""
-    for name, before, after in spike_windows(angle_rad, direction, lead_deg, skip_deg):
+    yield from _deviations(spike_windows(angle_rad, direction, lead_deg, skip_deg), e)
+
+
+def _deviations(windows, e):
+    """``(P, e - b)`` over the ``windows`` of :func:`spike_windows`, ``None`` where P is
+    never crossed so [m]."""
+    for name, before, after in windows:
         yield name, None if before is None else e[after] - np.median(e[before])
 
 
@@ -130,15 +136,13 @@ def reversal_spikes(angle_rad, e, direction: str, lead_deg: float = 0.0,
     window starts that much before the point, where an axis that leads the other by a
     servo mismatch reverses; with ``skip_deg`` it leaves out that much after the point,
     where the axis may reverse a little later than a fit placed its step [m]."""
-    return {name: _spike(dev) for name, dev in _after_reversal(angle_rad, e, direction,
-                                                               lead_deg, skip_deg)}
+    return spikes_in(spike_windows(angle_rad, direction, lead_deg, skip_deg), e)
 
 
 def spikes_in(windows, e) -> dict:
     """:func:`reversal_spikes` of ``e`` over the ``windows`` of :func:`spike_windows` (as
     a list), which many radial errors over one path share [m]."""
-    return {name: _spike(None if before is None else e[after] - np.median(e[before]))
-            for name, before, after in windows}
+    return {name: _spike(dev) for name, dev in _deviations(windows, e)}
 
 
 def reversal_lobes(angle_rad, e, direction: str) -> dict:

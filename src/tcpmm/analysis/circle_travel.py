@@ -117,6 +117,12 @@ def take_up(travel, width):
     width : float
         Travel over which the lost motion is taken up [m].
     """
+    return take_up_twice(2.0 * travel, width)
+
+
+def take_up_twice(twice_travel, width):
+    """:func:`take_up` from twice the travel [m], which a search over widths works out
+    once [-]."""
     if not width > 0:
-        return np.ones_like(travel)
-    return np.clip(2.0 * travel / width - 1.0, -1.0, 1.0)
+        return np.ones_like(twice_travel)
+    return np.clip(twice_travel / width - 1.0, -1.0, 1.0)

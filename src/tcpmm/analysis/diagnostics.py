@@ -121,8 +121,8 @@ def diagnose_pair(ccw, cw, radius_m, rates_rad_s=(float("nan"), float("nan")),
     arcs = centred_arcs(paths, (1.0, -1.0), radius_m, ratios)
     fit, left_out = arc_fit(arcs, radius_m, SHARED)
     curves, grids = per_circle_terms(fit, arcs, radius_m, SHARED, tuple(SIGN))
-    spikes, spike_u95, spike_fast, moved, together = pair_spikes(  # parts: read again
-        fit, arcs, radius_m, SHARED, curves, (), parts := {})       # where a width opens
+    spikes, spike_u95, spike_fast, moved, together = pair_spikes(
+        fit, arcs, radius_m, SHARED, curves, (), parts := {})  # read again as widths open
     terms = _terms(fit, grids, deviations(paths, radius_m), spikes, mean_rate,
                    radius_m / (command_radius_m or radius_m))
     why = {rename_axes(k, axes): v for k, v in (dict.fromkeys(undetermined_terms(fit), ARC_WHY)

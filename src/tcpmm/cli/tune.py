@@ -213,14 +213,15 @@ def _margin_rows(t, marks: dict, drawn: dict | None) -> list[tuple]:
 def _verdict(t, drawn: dict | None = None) -> str:
     """Met, met only with the velocity loop slowed down, or not met; where there are
     draws, met on the model and on how many of them [-]."""
-    from ..servo.modeshift import slowed
+    from ..servo.modeshift import bandwidth_text, slowed
     from ..whatif.tuning_draws import margins_missed
 
     if not t.met:
         return "NOT MET, settings kept"
     cut = slowed(t.margins_before, t.margins_after)
     said = "met" if cut is None else (f"met only with the velocity loop slowed from "
-                                      f"{_fmt(cut[0])} to {_fmt(cut[1])} Hz (see the warning)")
+                                      f"{bandwidth_text(cut[0])} to {bandwidth_text(cut[1])} "
+                                      "Hz (see the warning)")
     if not drawn:
         return said
     n, missed = next(iter(drawn.values()))["draws"], margins_missed(drawn)

@@ -27,7 +27,7 @@ def verdict_html(verdict: dict) -> str:
             "what drives it and the measurement that would settle it.")
     body = f"<h3>Verdict on the predicted figures ({esc(tests)})</h3>" + para(lead, "lead")
     from ..uncertainty.figures import REFERENCE_WORDS
-    from ..uncertainty.verdict_text import cause_text, quantity_text
+    from ..uncertainty.verdict_text import cause_text
 
     body += para(f"The circles of this verdict: {REFERENCE_WORDS}. A circle that starts from "
                  "rest, is fed in with its join in the turn analysed, or is pulled in by a "
@@ -35,8 +35,7 @@ def verdict_html(verdict: dict) -> str:
                  "on such a circle.")
     for name, a in verdict.get("axes", {}).items():
         for r in a.get("open", []):
-            body += para(f"axis {name}, {quantity_text(r['quantity'])} open ({_range(r)}): "
-                         f"{r['cause']}; "
+            body += para(f"axis {name}, {r['quantity']} open ({_range(r)}): {r['cause']}; "
                          f"to settle: {r['settle']}", "warn")
     # the raw e - b, as the command line names it: the circle's table leads with others
     rows = [{"circle": f["test"], "pass": f["direction"],

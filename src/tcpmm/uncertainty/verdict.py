@@ -26,11 +26,10 @@ from .figures import (
     figure_changes,
     reference_tests,
 )
-from .verdict_text import QUANTITY_WORDS, cause_text, quantity_text, verdict_words
+from .verdict_text import verdict_words
 
-__all__ = ["CALIBRATION", "QUANTITY_WORDS", "FigureVerdict", "NotItsPrediction", "Verdict",
-           "cause_text", "not_its_prediction", "prediction_verdict", "quantity_text",
-           "target", "verdict_words"]
+__all__ = ["CALIBRATION", "FigureVerdict", "NotItsPrediction", "Verdict", "not_its_prediction",
+           "prediction_verdict", "target", "verdict_words"]
 
 #: The interval's calibration (docs/validation/calibration.md): ``factor`` on the
 #: quadrature sum of the changes, split-conformal over machines (per machine the largest

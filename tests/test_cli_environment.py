@@ -271,36 +271,3 @@ def test_a_result_for_a_closed_standard_output_is_refused_at_the_start(tmp_path,
         assert len(err) == 1 and err[0].startswith("error: standard output is closed")
     assert main(["path", str(prog), "-o", str(tmp_path / "cmd.csv")]) == 0
     assert (tmp_path / "cmd.csv").is_file()
-
-
-@pytest.mark.parametrize("width", [12, 20])
-def test_a_table_on_a_terminal_too_narrow_for_its_names_and_a_column_keeps_its_numbers(
-        width):
-    """On 20 columns the circle's table had no header and no number left: rich squeezed
-    the nine columns into the width and blanked the cells. Each column is now a table of
-    its own after the names, wider than the terminal, every number whole on the line of
-    its row."""
-    import io
-    import re
-
-    from rich.console import Console
-
-    from tcpmm.cli._tables import plain_table, print_plain
-
-    heads = ("dir", "sensor", "A", "B", "C", "D", "±95%", "contour", "G")
-    rows = [("CCW", s, *[f"{v:.2f}" for v in (8.63 + k, 12.24 + k, -23.97, 12.26, 0.12,
-                                                73.51, 12.31)]) for k, s in
-            enumerate(("motor", "scale", "tcp"))]
-    buf = io.StringIO()
-    screen = Console(file=buf, width=width, force_terminal=True, no_color=True,
-                     highlight=False)
-    t = plain_table(heads, left=("dir", "sensor"))
-    for r in rows:
-        t.add_row(*r)
-    print_plain(t, screen, "title")
-    lines = [ln.split() for ln in re.sub(r"\x1b\[[0-9;]*m", "", buf.getvalue()).splitlines()]
-    for h in heads[2:]:
-        assert ["dir", "sensor", h] in lines, h
-    for r in rows:
-        for cell in r[2:]:
-            assert [r[0], r[1], cell] in lines, cell

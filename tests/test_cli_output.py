@@ -219,13 +219,16 @@ def test_the_corner_table_names_the_axes_of_its_coordinates(capsys, tmp_path):
                if ln.startswith("1 ")), out
 
 
-@pytest.mark.parametrize("width", [40, 60, 80])
-def test_a_wide_table_on_a_narrow_terminal_keeps_every_number_whole(width):
-    """A table made with ``plain_table`` (the circle's, the contour's, Table 2) on a
-    terminal of 60 columns had rich fold its cells: ``12.24`` read ``12.2`` with a ``4``
-    on the line below. It is printed as tables one under the other, each with the
-    leading name columns, every cell whole on its line; in a pipe it is one table, never
-    wrapped."""
+#: A table as the circle's: two columns of names, seven of numbers [-]
+TABLE_HEADS = ("dir", "sensor", "A", "B", "C", "D", "±95%", "contour", "G")
+TABLE_ROWS = [("CCW", s, *[f"{v:.2f}" for v in (8.63 + k, 12.24 + k, -23.97, 12.26, 0.12,
+                                                 73.51, 12.31)]) for k, s in
+              enumerate(("motor", "scale", "tcp"))]
+
+
+def _shown(terminal: bool, cols: int, *titles) -> list:
+    """The lines :data:`TABLE_ROWS` is printed in by ``print_plain`` with ``titles`` (title,
+    caption) on a console of ``cols`` columns, a terminal or not [-]."""
     import io
     import re
 
@@ -233,28 +236,45 @@ def test_a_wide_table_on_a_narrow_terminal_keeps_every_number_whole(width):
 
     from tcpmm.cli._tables import plain_table, print_plain
 
-    heads = ("dir", "sensor", "A", "B", "C", "D", "±95%", "contour", "G")
-    rows = [("CCW", s, *[f"{v:.2f}" for v in (8.63 + k, 12.24 + k, -23.97, 12.26, 0.12,
-                                                73.51, 12.31)]) for k, s in
-            enumerate(("motor", "scale", "tcp"))]
+    buf = io.StringIO()
+    screen = Console(file=buf, width=cols, force_terminal=terminal, no_color=True,
+                     highlight=False)
+    t = plain_table(TABLE_HEADS, left=("dir", "sensor"))
+    for r in TABLE_ROWS:
+        t.add_row(*r)
+    print_plain(t, screen, *titles)
+    return re.sub(r"\x1b\[[0-9;]*m", "", buf.getvalue()).splitlines()
 
-    def shown(terminal: bool, cols: int) -> list:
-        buf = io.StringIO()
-        screen = Console(file=buf, width=cols, force_terminal=terminal, no_color=True,
-                         highlight=False)
-        t = plain_table(heads, left=("dir", "sensor"))
-        for r in rows:
-            t.add_row(*r)
-        print_plain(t, screen, "title", "caption")
-        return re.sub(r"\x1b\[[0-9;]*m", "", buf.getvalue()).splitlines()
 
-    lines = shown(True, width)
+@pytest.mark.parametrize("width", [40, 60, 80])
+def test_a_wide_table_on_a_narrow_terminal_keeps_every_number_whole(width):
+    """A table made with ``plain_table`` (the circle's, the contour's, Table 2) on a
+    terminal of 60 columns had rich fold its cells: ``12.24`` read ``12.2`` with a ``4``
+    on the line below. It is printed as tables one under the other, each with the
+    leading name columns, every cell whole on its line; in a pipe it is one table, never
+    wrapped."""
+    lines = _shown(True, width, "title", "caption")
     assert all(len(line) <= width for line in lines)
-    for r in rows:  # each cell whole, on a line that names its row
+    for r in TABLE_ROWS:  # each cell whole, on a line that names its row
         for cell in r[2:]:
             assert any(cell in line.split() and r[1] in line.split() for line in lines), cell
-    piped = shown(False, width)
-    assert sum(1 for line in piped if line.startswith("CCW")) == len(rows)
+    piped = _shown(False, width, "title", "caption")
+    assert sum(1 for line in piped if line.startswith("CCW")) == len(TABLE_ROWS)
+
+
+@pytest.mark.parametrize("width", [12, 20])
+def test_a_table_on_a_terminal_too_narrow_for_its_names_and_a_column_keeps_its_numbers(
+        width):
+    """On 20 columns the circle's table had no header and no number left: rich squeezed
+    the nine columns into the width and blanked the cells. Each column is now a table of
+    its own after the names, wider than the terminal, every number whole on the line of
+    its row."""
+    lines = [ln.split() for ln in _shown(True, width, "title")]
+    for h in TABLE_HEADS[2:]:
+        assert ["dir", "sensor", h] in lines, h
+    for r in TABLE_ROWS:
+        for cell in r[2:]:
+            assert [r[0], r[1], cell] in lines, cell
 
 
 def test_help_in_a_pipe_is_not_wrapped_nor_cut_short():

@@ -31,6 +31,22 @@ def _ring_step_um(lo_um: float, hi_um: float, min_step_um: float = 0.0) -> float
 LABEL_ANGLES_DEG = (*range(25, 70, 5), *range(295, 340, 5), *range(115, 160, 5))
 
 
+def _label_box(ax, R, labels) -> tuple[np.ndarray, float]:
+    """Half each ring label's length along its ring and half its height across it, a 7 pt
+    font's, in the panel's mm (the panel spans ±1.3 R) [mm]."""
+    width_pt = ax.get_position().width * ax.figure.get_figwidth() * 72.0
+    mm_per_pt = 2.6 * R * 1e3 / width_pt
+    along = np.array([0.3 * 7 * len(t) + 2 for _, t in labels]) * mm_per_pt
+    return along, (0.6 * 7 + 1) * mm_per_pt
+
+
+def _polar_paths(R, M, paths) -> tuple[np.ndarray, np.ndarray]:
+    """Every path's samples as drawn: angle [deg] and radius [mm]."""
+    deg = np.degrees(np.concatenate([np.asarray(a, float) for a, _ in paths]))
+    r_path = np.concatenate([(R + M * np.asarray(e, float)) * 1e3 for _, e in paths])
+    return deg, r_path
+
+
 def _label_angle(ax, R, M, paths, labels) -> float:
     """The angle of :data:`LABEL_ANGLES_DEG` at which the paths drawn cross the ring
     labels least (each written along its ring), and among equals pass farthest from
@@ -47,14 +63,9 @@ def _label_angle(ax, R, M, paths, labels) -> float:
     labels : list of tuple
         ``(ring radius as drawn [mm], text)`` [-].
     """
-    width_pt = ax.get_position().width * ax.figure.get_figwidth() * 72.0
-    mm_per_pt = 2.6 * R * 1e3 / width_pt  # the panel spans ±1.3 R
-    # half a label along its ring and across it, a 7 pt font's
-    along = np.array([0.3 * 7 * len(t) + 2 for _, t in labels]) * mm_per_pt
-    across = (0.6 * 7 + 1) * mm_per_pt
+    along, across = _label_box(ax, R, labels)
     radii = np.array([r for r, _ in labels])
-    deg = np.degrees(np.concatenate([np.asarray(a, float) for a, _ in paths]))
-    r_path = np.concatenate([(R + M * np.asarray(e, float)) * 1e3 for _, e in paths])
+    deg, r_path = _polar_paths(R, M, paths)
 
     def crowding(at):
         off = np.radians(np.abs((deg - at + 180.0) % 360.0 - 180.0))
@@ -64,6 +75,20 @@ def _label_angle(ax, R, M, paths, labels) -> float:
         return int(np.sum(gap == 0.0)), -float(np.min(gap))
 
     return float(min(LABEL_ANGLES_DEG, key=crowding))
+
+
+def _hidden(ax, R, M, paths, labels, at) -> list[bool]:
+    """Whether a path runs along each ring label at ``at`` over more than half its length,
+    so that a label drawn under the paths could not be read (a path on its ring all the
+    way round, as a sensor reading the nominal circle is on the 0 µm ring) [-]."""
+    along, across = _label_box(ax, R, labels)
+    deg, r_path = _polar_paths(R, M, paths)
+    off = np.radians((deg - at + 180.0) % 360.0 - 180.0)
+    out = []
+    for (r, _), half in zip(labels, along, strict=True):
+        inside = (np.abs(r * off) < half) & (np.abs(r_path - r) < across)
+        out.append(bool(inside.any()) and float(np.ptp(r * off[inside])) > half)
+    return out
 
 
 def _scale_rings(ax, R, M, paths) -> None:
@@ -90,15 +115,19 @@ def _scale_rings(ax, R, M, paths) -> None:
              for k in range(int(np.floor(lo / step)), int(np.ceil(hi / step)) + 1)]
     at = _label_angle(ax, R, M, paths, rings)
     along = (at + 90.0) % 180.0  # the ring's direction there, written upright
-    for r, text in rings:
+    for (r, text), hidden in zip(rings, _hidden(ax, R, M, paths, rings, at), strict=True):
         if text != "0 µm":
             ax.plot(r * np.cos(th), r * np.sin(th), color="0.55", lw=0.6, ls=(0, (2, 3)),
                     zorder=1)
+        # under the traces, whose white box would blank a piece of one crossing it and
+        # read as a gap in the path; over a trace running along it, through a box it
+        # shows through
         ax.annotate(text, (r * np.cos(np.radians(at)), r * np.sin(np.radians(at))),
                     ha="center", va="center", fontsize=7, color="0.3",
                     rotation=along - 180.0 if along > 90.0 else along, rotation_mode="anchor",
-                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85),
-                    zorder=1.5)  # under the traces
+                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
+                              alpha=0.6 if hidden else 0.85),
+                    zorder=3.5 if hidden else 1.5)
     ax.text(0.02, 0.98, f"radial error ×{M:g}\nrings every {step:g} µm", transform=ax.transAxes,
             va="top", fontsize=8, bbox=dict(boxstyle="round", fc="white", ec="0.7"))
 

@@ -26,8 +26,9 @@ leave. Three things move it:
 
 The noise is the window before's own: its scatter about its median, over its samples
 less its correlation length (:func:`.circle_noise.autocovariance`); a slow transient
-there counts as noise, on the safe side. The first is a bound, the others standard
-uncertainties taken at :data:`.circle_sigma.COVERAGE`; they add in quadrature. Where a
+there counts as noise, on the safe side. The second and third shift every sample of the
+window alike: the bound is that of the extreme of the samples less a normal shift of
+their standard uncertainty (:func:`.extreme_bound.extreme_bound`). Where a
 transient lasts past the window (:func:`.circle_reversal_tail.lingering`), the terms the
 spike is read after are not determined: the spike moves with the tail the fit is given,
 and that move, over every tail the samples allow, is added whole (:func:`family_moves`).
@@ -36,16 +37,15 @@ and that move, over every tail the samples allow, is added whole (:func:`family_
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import ndtri, stdtrit
 
 from .circle_design import base_columns, with_columns
 from .circle_model import reversal_lead_deg
 from .circle_noise import correlation_length
 from .circle_open import open_terms
-from .circle_sigma import COVERAGE
 from .circle_spikes import spike_windows, spikes_in
 from .circle_tail_terms import LINGER
 from .circle_takeup import spike_moves
+from .extreme_bound import extreme_bound
 
 #: The probability the bound is exceeded: the two tails of a 95 % coverage [-]
 BEYOND = 0.05
@@ -115,14 +115,13 @@ def _bound(rest, before, after, columns, cov, sample_noise=False, beyond=BEYOND)
     # correlation length: a slow residual is no noise of few samples, and the bound
     # already takes it whole)
     dof = max(np.count_nonzero(before) - 1.0, 1.0)
-    extreme = sigma * float(stdtrit(dof, 1.0 - 0.5 * beyond / np.count_nonzero(after)))
     var = 0.5 * np.pi * sigma**2 * tau / np.count_nonzero(before)
     if columns is not None and cov is not None:
         at = np.flatnonzero(after)[np.argmax(np.abs(rest[after] - b))]
         g = columns[at] - columns[before].mean(axis=0)
         var += max(float(g @ cov @ g), 0.0)
-    cover = COVERAGE * (1.0 if beyond == BEYOND else ndtri(1 - beyond / 2) / ndtri(1 - BEYOND / 2))
-    return float(np.hypot(extreme, cover * np.sqrt(var)))
+    # the level's noise and the terms' shift every sample of the window alike
+    return extreme_bound(sigma, dof, np.count_nonzero(after), np.sqrt(var), beyond)
 
 
 def is_slow(u95: float, fast: float) -> bool:

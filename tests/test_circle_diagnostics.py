@@ -946,17 +946,19 @@ def test_a_circle_of_few_samples_keeps_its_table_and_says_why_no_diagnostics(tmp
 
 
 def test_an_arc_just_short_of_the_least_says_so_in_its_reason():
-    """A pair of arcs of 209.99 deg was refused its terms "as a pair of arcs of 210 deg",
-    beside "run the arc ... over 210 deg or more"."""
+    """A pair of arcs just short of 210 deg was refused its terms "as a pair of arcs of 210
+    deg", beside "run the arc ... over 210 deg or more". Sampled finely (0.01 deg), a span
+    of 209.7 deg lies short of 210 deg by more than the samples at its ends and the turn
+    of the tool's angle (:func:`tcpmm.analysis.circle_model.covers`)."""
     from tcpmm.analysis.circle_fit import Arc
     from tcpmm.analysis.circle_stable import arc_fit
     from tcpmm.analysis.diagnostics import SHARED
 
-    a = np.radians(np.linspace(-20.0, 189.99, 2000))
+    a = np.radians(np.linspace(-20.0, 189.7, 20000))
     arcs = [Arc(a, np.zeros_like(a), 1.0), Arc(a[::-1], np.zeros_like(a), -1.0)]
     _, why = arc_fit(arcs, R, SHARED)
     columns = {k: text for k, text in why.items() if k != "reversal_spikes"}
-    assert columns and all("a pair of arcs of 209.9 deg" in t for t in columns.values())
+    assert columns and all("a pair of arcs of 209.7 deg" in t for t in columns.values())
     assert "no terms to take off" in why["reversal_spikes"]
 
 

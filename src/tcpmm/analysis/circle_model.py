@@ -354,17 +354,32 @@ MAX_STEP_DEG = 2.5
 
 
 def is_full(angle) -> bool:
-    """Whether an unwrapped angle covers a full turn: a turn of the command cut to whole
-    samples may lack up to a sample spacing at either end, and a sensor's samples within
-    the command's angles up to one more at either end (:func:`.circle_passes.within_span`);
-    the spacing is the median step (a gap in the samples is no spacing), at most
-    :data:`MAX_STEP_DEG` [-].
+    """Whether an unwrapped angle covers a full turn (:func:`covers`) [-].
 
     Parameters
     ----------
     angle : ndarray
         Angle, unwrapped [rad].
     """
+    return covers(angle, 360.0)
+
+
+def covers(angle, deg: float) -> bool:
+    """Whether an unwrapped angle covers ``deg`` degrees as a command run over them is
+    sampled: cut to whole samples it may lack up to a sample spacing at either end, and a
+    sensor's samples within the command's angles up to one more at either end
+    (:func:`.circle_passes.within_span`); the spacing is the median step (a gap in the
+    samples is no spacing), at most :data:`MAX_STEP_DEG`. The tool's angle is turned from
+    the command's by the errors across the radius, so a thousandth of ``deg`` more: a pair
+    of 210 deg arcs read 209.96 deg at the tool [-].
+
+    Parameters
+    ----------
+    angle : ndarray
+        Angle, unwrapped [rad].
+    deg : float
+        The span [deg].
+    """
     step = float(np.median(np.abs(np.diff(angle)))) if angle.size > 1 else 0.0
     slack = 4 * min(step, np.radians(MAX_STEP_DEG))
-    return abs(angle[-1] - angle[0]) >= 2 * np.pi * (1 - 1e-3) - slack
+    return abs(angle[-1] - angle[0]) >= np.radians(deg) * (1 - 1e-3) - slack

@@ -21,7 +21,7 @@ import numpy as np
 
 from .circle_display import rename_axes
 from .circle_fit import Arc, column_names, fit_terms
-from .circle_model import fit_mask, is_full
+from .circle_model import covers, fit_mask, is_full
 
 #: shortest pair of arcs whose terms are fitted: a ballbar's partial arcs are 220 deg [deg]
 MIN_TERMS_DEG = 210.0
@@ -83,7 +83,7 @@ def arc_fit(arcs, radius, shared, unseen=()):
         tail = "search" if len(arcs) >= 2 else None
         return fit_terms(arcs, radius, shared, unseen=unseen, tail=tail), {}
     deg = min(float(np.degrees(np.ptp(a.angle))) for a in arcs)
-    if len(arcs) >= 2 and deg >= MIN_TERMS_DEG:
+    if len(arcs) >= 2 and all(covers(a.angle, MIN_TERMS_DEG) for a in arcs):
         return fit_terms(arcs, radius, shared, cyclic=cyclic_on(arcs), unseen=unseen), {}
     # whole degrees, but 209.99 is no 210 in words either
     shown = f"{deg:.0f}" if round(deg) < MIN_TERMS_DEG else f"{np.floor(deg * 10) / 10:g}"
@@ -166,9 +166,9 @@ def _bridge(t, e, before, after, window):
 
 def cyclic_on(arcs) -> bool:
     """Whether the arcs are searched for cyclic errors: a pair each of
-    :data:`CYCLIC_ARC_DEG` or more, or full turns [-]."""
-    return all(is_full(a.angle) for a in arcs) or (len(arcs) >= 2 and min(
-        float(np.degrees(np.ptp(a.angle))) for a in arcs) >= CYCLIC_ARC_DEG)
+    :data:`CYCLIC_ARC_DEG` or more (:func:`.circle_model.covers`), or full turns [-]."""
+    return all(is_full(a.angle) for a in arcs) or (
+        len(arcs) >= 2 and all(covers(a.angle, CYCLIC_ARC_DEG) for a in arcs))
 
 
 def leave_open(why_out: dict, terms: dict, left: dict, arcs, axes, rename=None) -> None:

@@ -69,7 +69,7 @@ def test_one_directions_radial_deviation_under_a_lag_is_its_samples_or_open(
     why = d.undetermined[term].split(": ", 1)[1].split()
     as_square, as_lag = float(why[0]) * 1e-6, float(why[why.index("squareness,") + 1]) * 1e-6
     assert as_lag == pytest.approx(true, abs=tol)
-    assert abs(as_square - true) > tol  # opened only where the readings differ
+    assert abs(as_square - true) > tol  # the reading as a squareness is the one off
 
 
 def _arc_pair(err, lo=30.0, span=90.0):

@@ -31,8 +31,10 @@ Example::
 import sys as _sys
 import types as _types
 
+from ._blas_kernels import pin_blas_kernels as _pin_blas_kernels
 from ._numba_cache import ensure_cache_dir as _ensure_cache_dir
 
+_pin_blas_kernels()  # before anything loads numpy: the same sums on every CPU
 _ensure_cache_dir()
 
 __version__ = "0.1.0"

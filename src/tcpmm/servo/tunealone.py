@@ -27,8 +27,7 @@ from .tune import (
 from .tunewords import gain_notes
 
 
-def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
-               matched: list) -> AxisTuning:
+def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float) -> AxisTuning:
     """Proposal for an axis the path does not move (see the module docstring).
 
     Parameters
@@ -41,21 +40,16 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
         Required gain margin of both loops [dB].
     pm_deg : float
         Required phase margin of both loops [deg].
-    matched : list of str
-        The axes the path moves, whose position gains are matched among themselves [-].
 
     Returns
     -------
     AxisTuning
         Settings before and after, margins, and a note per changed setting [-].
     """
-    apart = (f"not matched to {', '.join(matched)}" if matched else
-             "no axis is matched to it")
     before = axis_margins(mech, servo)
     if meets_margins(mech, servo, gm_db, pm_deg):
         return AxisTuning(servo, servo, before, before, True,
-                          [f"settings kept: they meet {gm_db:g} dB / {pm_deg:g} deg; "
-                           f"{apart}"],
+                          [f"settings kept: they meet {gm_db:g} dB / {pm_deg:g} deg"],
                           light_mode_warnings(mech, before, servo, kept=True))
     notes = []
     vel = (servo if velocity_loop_ok(mech, servo, gm_db, pm_deg) else
@@ -74,7 +68,7 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float,
                           light_mode_warnings(mech, before, servo, kept=True))
     limits = {"K_vp": velocity_limit(mech, after, gm_db, pm_deg),
               "K_pp": f"the settings miss {_missed(mech, servo, before, gm_db, pm_deg)}; the "
-                      f"largest position gain of this axis alone, limited by {why}; {apart}"}
+                      f"largest position gain of this axis alone, limited by {why}"}
     margins = axis_margins(mech, after)
     return AxisTuning(servo, after, before, margins, True,
                       gain_notes(servo, after, limits) + notes,

@@ -28,8 +28,7 @@ def kpp_reason(name, lead, found, names) -> str:
         return ("kept: no position gain proposed meets the margins and the stability with the "
                 "modes off by the tolerance on every axis (--mode-tolerance)")
     if len(names) == 1:
-        return f"the largest position gain of this axis, limited by {found[lead][1]} (no " \
-               "other axis to match)"
+        return f"the largest position gain of this axis, limited by {found[lead][1]}"
     why = (f"the common position gain of axes {', '.join(names)} (equal gains keep a "
            "contour's shape: a circle round)")
     if name == lead:

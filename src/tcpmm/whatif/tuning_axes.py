@@ -116,7 +116,7 @@ def tune_axes(machine, gm_db: float, pm_deg: float, matched: list,
     out = tune_machine(sub, gm_db, pm_deg, jobs) if matched else {}
     for n, a in machine.axes.items():
         if n not in out:
-            out[n] = tune_alone(a.mechanics, a.servo, gm_db, pm_deg, matched)
+            out[n] = tune_alone(a.mechanics, a.servo, gm_db, pm_deg)
     return {n: out[n] for n in machine.axes}
 
 

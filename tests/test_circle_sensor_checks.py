@@ -134,3 +134,18 @@ def test_a_column_in_another_unit_is_named_with_it(tmp_path, column, factor, sai
     with pytest.raises(InputError, match=said), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         analyse_circle(read_run(tmp_path / "u.csv"), 0.035)
+
+
+@pytest.mark.parametrize("radius_mm, said", [
+    (35000.0, r"--radius 35000 mm is 1000 times that: give --radius in mm \(35\)"),
+    (0.035, r"--radius 0.035 mm is 0.001 times that: give --radius in mm \(35\)")])
+def test_a_radius_in_another_unit_is_named_as_the_radius(radius_mm, said):
+    """A run in mm of a 35 mm circle, with the radius given in µm (35000) or in m
+    (0.035): the error said the run held m or µm and told the user to multiply or divide
+    every *_mm column by 1000, which would spoil a good file. Where the run's circle is
+    one a machine tool runs and the radius given is not, the radius is named."""
+    t, cmd, tcp = circle()
+    with pytest.raises(InputError, match=said) as got, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        analyse_circle(run_of(t, cmd, tcp), radius_mm * 1e-3)
+    assert "_mm column" not in str(got.value)

@@ -30,13 +30,7 @@ import numpy as np
 
 from ..errors import InputError
 from .circle_after import after_terms, pair_diagnosis
-from .circle_checks import (
-    check_sensor_path,
-    not_found_error,
-    present_sensors,
-    warn_pass,
-    warn_unresolved,
-)
+from .circle_checks import check_sensor_path, present_sensors, warn_pass, warn_unresolved
 from .circle_command import command_figures, radial_deviation, reference_stretches  # noqa: F401
 from .circle_feeds import command_radius, other_feeds
 from .circle_inputs import SENSORS, circle_arguments
@@ -58,6 +52,7 @@ from .circle_spikes import (  # noqa: F401  (the spikes are part of this module'
     spikes_and_lobes,
     uncrossed_quadrants,
 )
+from .circle_units import not_found_error
 
 
 @dataclass

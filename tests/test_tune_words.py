@@ -63,3 +63,30 @@ def test_a_position_loop_slower_than_a_millihertz_has_its_crossover(vmc, tmp_pat
     assert code == 0, err
     [line] = [s for s in out.splitlines() if "position loop" in s][:1]
     assert "phase margin 90.0 deg at 0.0008 Hz, bandwidth 0.0008 Hz" in line, line
+
+
+def test_a_loop_just_unstable_does_not_read_a_spectral_radius_of_one():
+    """Bench r05's X as tuned (identified mechanics, the proposal's low-pass and PI): its
+    velocity gain is limited by the stability with the modes shifted, and the note quoted
+    the loop just above that gain as "unstable ... (spectral radius 1.0000)", a radius
+    that reads as stable. A radius within 5e-5 of 1 is given as its distance from 1."""
+    from tcpmm.mechanics.lumped import AxisMechanics
+    from tcpmm.servo.params import ServoParams
+    from tcpmm.servo.tune import velocity_limit
+
+    mech = AxisMechanics(
+        J_m=9.532122957876765e-05, B_m=0.0, J_L=0.0001395091164620126,
+        B_L=0.003541533400593328, K_L=2152.6510987962847, lead=0.008,
+        M_t=54.62061767481668, C_t=165.9133528270798, K_t=40572901.72138592,
+        M_b=150.01401625760926, C_b=13658.672042569091, K_b=99259210.15459697,
+        M_h=57.94372813135238, C_h=988.374545124414, K_h=2612324.137051301, K_tc=1.454)
+    servo = ServoParams.create(
+        K_pp=58.738082583518576, K_vp=0.05269228340013278, K_vi=3.1209588409446183,
+        k_ff=0.0, T_p=0.002, T_v=6.25e-05, current_limit=12.0,
+        current_bandwidth_hz=1296.422591616291, delay_samples=1,
+        velocity_feedback="difference",
+        filters=[{"type": "lowpass", "f_hz": 122.97753845479284, "zeta": 0.7}])
+    text = velocity_limit(mech, servo, 6.0, 45.0)
+    assert "unstable" in text, text
+    (rho,) = re.findall(r"spectral radius ([^)]*)\)", text)
+    assert rho != "1.0000" and rho.startswith("1 + "), text

@@ -347,12 +347,12 @@ def read_model(model: str):
 def refuse_unstable(machine, model: str, allowed: bool = True) -> None:
     """An error naming each axis whose sampled loop is unstable: its run would diverge;
     ``allowed``: the command takes ``--allow-unstable``, which the error then names."""
-    from ..servo.sampled import is_stable_radius, sampled_spectral_radius
+    from ..servo.sampled import is_stable_radius, radius_text, sampled_spectral_radius
 
     bad = {n: sampled_spectral_radius(a.mechanics, a.servo) for n, a in machine.axes.items()}
     bad = {n: r for n, r in bad.items() if not is_stable_radius(r)}
     if bad:
-        axes = ", ".join(f"{n} (spectral radius {r:.4f})" for n, r in bad.items())
+        axes = ", ".join(f"{n} (spectral radius {radius_text(r)})" for n, r in bad.items())
         anyway = ", or pass --allow-unstable to simulate it anyway" if allowed else ""
         raise InputError(f"the sampled servo loop of axis {axes} is unstable, so a run would "
                          "diverge rather than predict anything; check the gains and periods "
@@ -362,14 +362,14 @@ def refuse_unstable(machine, model: str, allowed: bool = True) -> None:
 def warn_unstable(machine, what: str, axes=None) -> None:
     """A warning line per axis (of ``axes``, default all) whose sampled loop is unstable:
     what is computed from it describes no machine that holds still."""
-    from ..servo.sampled import is_stable_radius, sampled_spectral_radius
+    from ..servo.sampled import is_stable_radius, radius_text, sampled_spectral_radius
 
     for n in axes or machine.axes:
         a = machine.axes[n]
         r = sampled_spectral_radius(a.mechanics, a.servo)
         if not is_stable_radius(r):
             console.print(f"[yellow]warning:[/yellow] axis {esc(n)} of {esc(what)}: the "
-                          f"sampled servo loop is unstable (spectral radius {r:.4f}); its "
+                          f"sampled servo loop is unstable (spectral radius {radius_text(r)}); its "
                           "closed-loop responses and runs are no prediction: check the gains "
                           "and periods (tcpmm machine show)")
 

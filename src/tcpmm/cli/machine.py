@@ -45,7 +45,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
     from ..servo.closedloop import is_stable
     from ..servo.currentfilters import filter_text
     from ..servo.margins import axis_margins
-    from ..servo.sampled import is_stable_radius, sampled_spectral_radius
+    from ..servo.sampled import is_stable_radius, radius_text, sampled_spectral_radius
 
     m = read_model(model)
     data = {}
@@ -69,7 +69,7 @@ def machine_show(model: str = typer.Argument(..., help="MODEL.yaml or builtin:vm
         rho = d["sampled_loop_spectral_radius"]
         sampled = "stable" if is_stable_radius(rho) else "UNSTABLE"
         out.print(f"{ax}: {modes}; continuous closed loop {state}; sampled loop {sampled} "
-                  f"(spectral radius {rho:.4f}, the drive's: the one that counts)")
+                  f"(spectral radius {radius_text(rho)}, the drive's: the one that counts)")
         for f in m.axes[ax].servo.filters:
             out.print(f"   current-setpoint filter: {filter_text(f)}")
         for loop, mg in d["margins"].items():

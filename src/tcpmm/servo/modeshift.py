@@ -37,6 +37,7 @@ from .params import ServoParams
 from .sampled import (
     is_stable_radius,
     position_open_loop,
+    radius_text,
     sampled_spectral_radius,
     velocity_open_loop,
 )
@@ -157,12 +158,12 @@ def shift_words(case) -> str:
     gain = "" if f == 1.0 else (f"the velocity gain {'raised' if f > 1 else 'lowered'} by "
                                 "the gain margin")
     if s == 1.0 and not gain:
-        return f"unstable as modelled (spectral radius {rho:.4f})"
+        return f"unstable as modelled (spectral radius {radius_text(rho)})"
     # the modes where the model puts them: no shift of "+0.0 %" to quote
     modes = ("at the model's frequencies" if s == 1.0 else
              f"{100 * (s - 1):+.1f} % off the model's frequencies")
     return (f"unstable with the modes {modes}{' and ' + gain if gain else ''} (spectral "
-            f"radius {rho:.4f})")
+            f"radius {radius_text(rho)})")
 
 
 def folded(freqs: np.ndarray, period_s: float) -> np.ndarray:

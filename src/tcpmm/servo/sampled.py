@@ -222,6 +222,14 @@ def is_stable_radius(rho: float) -> bool:
     return bool(rho < 1.0 + RADIUS_TOLERANCE)
 
 
+def radius_text(rho: float) -> str:
+    """A spectral radius as text: four decimals, or within 5e-5 of 1, where those would
+    read 1.0000 whether the loop grows or not, its distance from 1 (``1 + 3.1e-06``) [-]."""
+    if abs(rho - 1.0) < 5e-5:
+        return f"1 {'+' if rho >= 1.0 else '-'} {abs(rho - 1.0):.1e}"
+    return f"{rho:.4f}"
+
+
 def sampled_loop_stable(mech: AxisMechanics, servo: ServoParams) -> bool:
     """Whether the lifted sampled loop is stable (:func:`is_stable_radius`) [-].
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 from .margins import axis_margins
 from .modeshift import slower_warnings
 from .params import ServoParams
-from .sampled import sampled_spectral_radius
+from .sampled import radius_text, sampled_spectral_radius
 from .tune import (
     AxisTuning,
     light_mode_warnings,
@@ -87,5 +87,5 @@ def _missed(mech, servo, margins: dict, gm_db: float, pm_deg: float) -> str:
             out.append(f"the {loop} loop's phase margin ({m.phase_margin_deg:.1f} deg)")
     if not out:
         rho = sampled_spectral_radius(mech, servo)
-        return f"the stability of the sampled loop (spectral radius {rho:.4f})"
+        return f"the stability of the sampled loop (spectral radius {radius_text(rho)})"
     return " and ".join(out)

@@ -14,7 +14,7 @@ from ..analysis.circular import analyse_circle
 from ..errors import InputError, InputWarning
 from ..machines.paper import RADIUS_MM
 from ..model import Machine
-from ..servo.sampled import is_stable_radius, sampled_spectral_radius
+from ..servo.sampled import is_stable_radius, radius_text, sampled_spectral_radius
 from ..sim.simulate import simulate
 from ..units import mm_to_m
 
@@ -78,7 +78,7 @@ def path_figures(machine: Machine, command, circle: bool) -> dict:
     prediction: a sampled loop is unstable, or an axis runs away or holds its current at
     the limit (:mod:`tcpmm.analysis.runaway`)."""
     keys = {"ccw": CIRCLE_KEYS, "cw": CIRCLE_KEYS} if circle else {"program": PROGRAM_KEYS}
-    unstable = [f"axis {n}'s sampled servo loop is unstable (spectral radius {rho:.4f})"
+    unstable = [f"axis {n}'s sampled servo loop is unstable (spectral radius {radius_text(rho)})"
                 for n, a in machine.axes.items()
                 if not is_stable_radius(rho := sampled_spectral_radius(a.mechanics, a.servo))]
     with warnings.catch_warnings():  # tune's trial runs: what they find is in its notes

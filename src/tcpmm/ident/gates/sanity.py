@@ -23,7 +23,7 @@ import numpy as np
 
 from ...errors import InputWarning
 from ...io.csvutil import warn_input
-from ...servo.sampled import is_stable_radius, sampled_spectral_radius
+from ...servo.sampled import is_stable_radius, radius_text, sampled_spectral_radius
 
 __all__ = ["FRICTION_LEAD_DEG", "LOW_BAND_HZ", "FrictionHold", "friction_holds_sweep",
            "warn_friction_holds_sweep", "warn_unstable_sampled_loop"]
@@ -161,8 +161,8 @@ def warn_unstable_sampled_loop(name: str, axis, undetermined, cover=None) -> flo
                  "machine.yaml and the sweep.")
         warnings.warn(
             f"axis {name}: the identified position loop is unstable as the drive samples it "
-            f"(spectral radius {rho:.4g} of the sampled loop), so a simulation of this model "
-            f"diverges{suspects}. {check}",
+            f"(spectral radius {radius_text(rho)} of the sampled loop), so a simulation of "
+            f"this model diverges{suspects}. {check}",
             InputWarning,
             stacklevel=3,
         )

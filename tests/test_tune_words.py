@@ -65,14 +65,11 @@ def test_a_position_loop_slower_than_a_millihertz_has_its_crossover(vmc, tmp_pat
     assert "phase margin 90.0 deg at 0.0008 Hz, bandwidth 0.0008 Hz" in line, line
 
 
-def test_a_loop_just_unstable_does_not_read_a_spectral_radius_of_one():
-    """Bench r05's X as tuned (identified mechanics, the proposal's low-pass and PI): its
-    velocity gain is limited by the stability with the modes shifted, and the note quoted
-    the loop just above that gain as "unstable ... (spectral radius 1.0000)", a radius
-    that reads as stable. A radius within 5e-5 of 1 is given as its distance from 1."""
+def _r05_x():
+    """Bench r05's X as ``tcpmm tune`` proposes it: the identified mechanics, the
+    proposal's low-pass and PI and position gain [SI]."""
     from tcpmm.mechanics.lumped import AxisMechanics
     from tcpmm.servo.params import ServoParams
-    from tcpmm.servo.tune import velocity_limit
 
     mech = AxisMechanics(
         J_m=9.532122957876765e-05, B_m=0.0, J_L=0.0001395091164620126,
@@ -86,7 +83,33 @@ def test_a_loop_just_unstable_does_not_read_a_spectral_radius_of_one():
         current_bandwidth_hz=1296.422591616291, delay_samples=1,
         velocity_feedback="difference",
         filters=[{"type": "lowpass", "f_hz": 122.97753845479284, "zeta": 0.7}])
-    text = velocity_limit(mech, servo, 6.0, 45.0)
+    return mech, servo
+
+
+def test_a_loop_just_unstable_does_not_read_a_spectral_radius_of_one():
+    """Bench r05's X as tuned: its velocity gain is limited by the stability with the
+    modes shifted, and the note quoted the loop just above that gain as "unstable ...
+    (spectral radius 1.0000)", a radius that reads as stable. A radius within 5e-5 of 1
+    is given as its distance from 1."""
+    from tcpmm.servo.tune import velocity_limit
+
+    text = velocity_limit(*_r05_x(), 6.0, 45.0)
     assert "unstable" in text, text
     (rho,) = re.findall(r"spectral radius ([^)]*)\)", text)
     assert rho != "1.0000" and rho.startswith("1 + "), text
+
+
+def test_settings_tuned_again_are_kept(vmc):
+    """Bench r05's model as tune wrote it, tuned again: its K_vp and K_pp came back a bit
+    or two off (0.052692283400132774 for ...278), so the axis's sentence said "K_pp
+    lowered to 58.74 1/s" beside a table of 58.74 -> 58.74, and the path's figures moved
+    by 1e-10 um, which the draws' note listed as "not smaller on every one: ... +0.00 um".
+    A gain the tuning finds within rounding of the one it had is the one it had."""
+    from tcpmm.whatif.tuning_axes import axis_reasons, tune_axes
+
+    mech, servo = _r05_x()
+    x = vmc.axes["X"].replace(mechanics=mech, servo=servo)
+    axes = tune_axes(vmc.model_copy(update={"axes": {"X": x}}), 6.0, 45.0, ["X"], jobs=1)
+    assert axes["X"].after == servo
+    (said,) = axis_reasons(axes, ["X"], ["X"], False).values()
+    assert "K_pp kept" in said, said

@@ -69,6 +69,7 @@ from .tunevelocity import (
     RESOLUTION,
     changed,
     largest_gain,
+    same_gains_kept,
     tune_velocity,
     velocity_loop_ok,
     with_pi,
@@ -252,7 +253,7 @@ def tune_machine(machine, gm_db: float, pm_deg: float, jobs: int | None = 1) -> 
         m, s = a.mechanics, vel[name]
         if s is not None and lead is not None:
             s = changed(s, K_pp=found[lead][0])
-        after = s if s is not None else a.servo
+        after = same_gains_kept(a.servo, s) if s is not None else a.servo
         mg_before, mg_after = axis_margins(m, a.servo), axis_margins(m, after)
         case = worst_shift(m, after, gm_db)
         met = (s is not None and all(v.meets(gm_db, pm_deg) for v in mg_after.values())

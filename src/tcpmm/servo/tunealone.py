@@ -24,6 +24,7 @@ from .tune import (
     velocity_limit,
     velocity_loop_ok,
 )
+from .tunevelocity import same_gains_kept
 from .tunewords import gain_notes
 
 
@@ -58,7 +59,8 @@ def tune_alone(mech, servo: ServoParams, gm_db: float, pm_deg: float) -> AxisTun
     # its own largest may lie above its gain: a gain raised is no margin met, and the
     # path does not move the axis to gain from it
     k = k if k is None else min(k, servo.K_pp)
-    after = None if k is None else ServoParams.create(**{**vel.model_dump(), "K_pp": k})
+    after = None if k is None else same_gains_kept(servo, ServoParams.create(
+        **{**vel.model_dump(), "K_pp": k}))
     if after is None or not meets_margins(mech, after, gm_db, pm_deg):
         what = "no gain meets" if after is None else "the proposal misses"
         if vel is not None:  # else the velocity loop's note said why, and that they are kept

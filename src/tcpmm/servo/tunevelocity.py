@@ -47,6 +47,19 @@ def changed(servo: ServoParams, **changes) -> ServoParams:
     return ServoParams.create(**{**servo.model_dump(), **changes})
 
 
+#: Relative difference within which a gain a tuning finds is the one the axis has: the
+#: same search on the loop it tuned before lands a bit or two from where it did [-]
+SAME_GAIN = 1e-9
+
+
+def same_gains_kept(before: ServoParams, after: ServoParams) -> ServoParams:
+    """``after`` with each gain (``K_vp``, ``K_vi``, ``K_pp``) within :data:`SAME_GAIN`
+    of ``before``'s set to it: a gain kept is said to be kept, and moves no figure [SI]."""
+    keep = {k: getattr(before, k) for k in ("K_vp", "K_vi", "K_pp")
+            if math.isclose(getattr(after, k), getattr(before, k), rel_tol=SAME_GAIN)}
+    return changed(after, **keep) if keep else after
+
+
 def with_pi(mech: AxisMechanics, servo: ServoParams, K_vp: float) -> ServoParams:
     """The settings with the velocity gain ``K_vp`` [A s/rad] and the PI corner tied to
     it: ``K_vi = K_vp w_c / 4``, ``w_c = K_vp K_tc / J_total`` [SI]."""

@@ -5,18 +5,20 @@ from __future__ import annotations
 
 import math
 
+from .tunevelocity import SAME_GAIN
+
 
 def gain_notes(before, after, limits) -> list[str]:
     """A note per changed gain saying why it changed and what limits it [-]."""
     notes = []
-    if not math.isclose(after.K_vp, before.K_vp, rel_tol=1e-9):
+    if not math.isclose(after.K_vp, before.K_vp, rel_tol=SAME_GAIN):
         notes.append(f"K_vp {before.K_vp:.4g} -> {after.K_vp:.4g} A s/rad: the largest "
                      f"velocity gain meeting the margins, limited by {limits['K_vp']}")
-    if not math.isclose(after.K_vi, before.K_vi, rel_tol=1e-9):
+    if not math.isclose(after.K_vi, before.K_vi, rel_tol=SAME_GAIN):
         notes.append(f"K_vi {before.K_vi:.4g} -> {after.K_vi:.4g} A/rad: the integral action "
                      "follows K_vp (PI corner at a quarter of the rigid-body crossover "
                      "K_vp K_tc / J)")
-    if not math.isclose(after.K_pp, before.K_pp, rel_tol=1e-9):
+    if not math.isclose(after.K_pp, before.K_pp, rel_tol=SAME_GAIN):
         notes.append(f"K_pp {before.K_pp:.4g} -> {after.K_pp:.4g} 1/s: {limits['K_pp']}")
     return notes
 

@@ -1047,3 +1047,25 @@ def test_runs_of_one_name_are_told_apart_and_a_long_name_wraps(capsys, tmp_path,
     wrap = re.search(r"([^{}]*)\{ overflow-wrap: anywhere; \}", Page(text).style).group(1)
     assert {"h1", "h2", "h3", "p", "dd"} <= {t.strip() for t in wrap.split(",")}
     assert re.search(r"td, th \{ overflow-wrap: break-word; \}", Page(text).style)
+
+
+def test_the_verdict_points_to_the_terms_not_ranked_and_does_not_repeat_why(tmp_path,
+                                                                            capsys):
+    """The paper's circle on the built-in machine ranks no term: the verdict said "the
+    diagnostics below say why" and then said why, the same paragraph the diagnostics give
+    a screen further down, word for word. The verdict names the terms and points there;
+    the diagnostics say why, once on the page."""
+    from tcpmm import builtin_machine
+    from tcpmm.machines.paper import paper_circle_command
+    from tcpmm.sim.simulate import simulate
+
+    machine = builtin_machine()
+    simulate(machine, paper_circle_command(machine)).write_csv(tmp_path / "run.csv")
+    code, text, err = report(capsys, tmp_path, "--run", tmp_path / "run.csv", "--radius", 35)
+    assert code == 0, err
+    why = "each moves by more than its own value"
+    page = " ".join(re.sub(r"<[^>]+>", " ", text).split())
+    assert page.count(why) == 1, page.count(why)
+    verdict = _verdict(text)
+    assert why not in verdict
+    assert "Not ranked: backlash X" in verdict and "the diagnostics below say why" in verdict

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 
 from ..analysis.circle_display import pass_names, placed_terms
-from ..analysis.circle_tails import unranked_sentences
+from ..analysis.circle_tails import unranked
 from ..analysis.diagnostics import PREFERRED_SENSORS, term_note
 from .circles import SENSOR_NAMES, file_names
 from .html import facts, number, para, section, table
@@ -160,8 +160,8 @@ def acceptance_section(result, diagnostics=None, tolerance_m=None, sample_rate_h
         body += "".join(para(c, "warn") for c in cautions)
     if diagnostics is not None and not diagnostics.ranking:
         body += para("No error source is ranked: the circles determine no term well enough "
-                     "to rank it (the diagnostics below say why). "
-                     + unranked_sentences(diagnostics), "warn")
+                     "to rank it. " + (_unranked_pointer(diagnostics)
+                                          or "The diagnostics below say why."), "warn")
     elif diagnostics is not None:
         body += _sources_table(diagnostics, reference)
     else:
@@ -216,10 +216,19 @@ def _sources_table(diagnostics, reference) -> str:
                  "and headstock deflecting, or ringing after a reversal), not in the drive. ")
     from ..analysis.circle_alias import ranking_marks
     legend = " ".join(f"{m}." for m in ranking_marks(diagnostics)[1])
-    left = unranked_sentences(diagnostics)
+    left = _unranked_pointer(diagnostics)
     return ("<h3>Error sources, largest first</h3>"
             + para(lead + "The diagnostics below give the terms with their signs and their "
                    "radial errors." + (f" Marks: {legend}" if legend else ""))
             + table(frame, "error_sources.csv",
                     digits={g_alone: 2, of: 0, "rank": 0, **({at: 2} if at else {})})
             + (para(left, "warn") if left else ""))
+
+
+def _unranked_pointer(diagnostics) -> str:
+    """The terms left out of the ranking, named, with a pointer to the diagnostics below,
+    which say why: the verdict does not repeat their paragraph [-]."""
+    names = [k.replace("_", " ") for k in unranked(diagnostics) if k != "reversal_spikes"]
+    names += ["reversal spikes"] if diagnostics.quiet_spikes else []
+    return (f"Not ranked: {', '.join(names)} (the diagnostics below say why)."
+            if names else "")

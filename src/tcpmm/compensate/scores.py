@@ -10,8 +10,8 @@ import numpy as np
 from ..analysis.circular import analyse_circle
 from ..analysis.contour import contour_error
 from ..path.command import Command
-from ..path.limits import peak
 from ..sim.simulate import simulate
+from .bounds import peak_from_rest
 from .drive import controlled_run
 from .learning import extended
 
@@ -79,8 +79,8 @@ DEMAND_WORDS = {"velocity_m_per_s": ("velocity", "m/s"),
 
 def axis_demands(command: Command, run) -> dict:
     """Per axis the command moves: the largest velocity, acceleration and jerk its samples
-    ask (backward differences, as the limits are kept, :func:`.bounds.excess`) and the
-    largest current of the model's run on it [SI].
+    ask (backward differences from rest before the first sample, as the limits are kept,
+    :func:`.bounds.excess`) and the largest current of the model's run on it [SI].
 
     Parameters
     ----------
@@ -93,7 +93,7 @@ def axis_demands(command: Command, run) -> dict:
     for a, x in command.positions.items():
         if np.ptp(x) == 0.0:
             continue
-        d = {k: peak(x, n, command.period_s) for n, k in DEMANDS}
+        d = {k: peak_from_rest(x, n, command.period_s) for n, k in DEMANDS}
         current = run.axes[a].peak_current() if a in run.axes else None
         d["current_A"] = None if current is None else float(np.max(current))
         out[a] = d

@@ -472,3 +472,22 @@ def test_the_running_peak_of_pieces_is_the_whole_commands(cuts):
         for a, b in zip([0, *cuts], [*cuts, 64], strict=True):
             rp.add({k: v[a:b] for k, v in x.items()})
         assert rp.most == {k: peak(v, order, 1e-3) for k, v in x.items()}
+
+
+@pytest.mark.parametrize("tol_mm, aside_mm", [(0.005, 0.000005), (0.005, 0.000001),
+                                               (0.05, 0.000001)])
+def test_a_pass_and_back_beside_it_stays_sharp_at_its_reversal(tol_mm, aside_mm):
+    """A 10 mm pass and back along it 1-5 nm aside turns back by 1e-7 to 5e-7 rad short
+    of a reversal: the look-ahead stops there (its tangents' dot product is within
+    ``REVERSAL_TOL`` of -1), where the blend of the tolerance made an arc of some 1e-12 m
+    between tangent points a hair's breadth apart, to which no speed could be given, and
+    the program was refused. The corner stays sharp: the command reaches X10 to the
+    nanometre of its coordinates and turns back there."""
+    from tcpmm.path.program import program_to_command
+
+    text = (f"G21 G90 G64 P{tol_mm:g}\nG1 X0 Y0 F5000\nG1 X10. Y0\n"
+            f"G1 X0 Y{aside_mm:.6f}\n")
+    cmd = program_to_command(text)
+    x = cmd.positions["X"]
+    assert abs(np.max(x) - 0.01) <= 1e-12
+    assert x[-1] == 0.0

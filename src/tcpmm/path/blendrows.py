@@ -20,7 +20,7 @@ from .. import _compiled
 from .._rows import norm_rows
 from .runs import LineRun
 from .segments import Line
-from .speedlimits import BEND_TOL
+from .speedlimits import BEND_TOL, REVERSAL_TOL
 
 #: blends shorter than this along either line are not worth a segment [m]
 MIN_BLEND_M = 1e-9
@@ -137,7 +137,10 @@ def corner_lengths(a0, a1, b0, b1, tols) -> tuple[np.ndarray, np.ndarray]:
     ``rho (1/cos(theta/2) - 1)`` for its radius ``rho = d / tan(theta/2)``; ``d`` is the
     largest that keeps this within the tolerance, and at most half of either line, so
     that the blends at both ends of a line never overlap. A corner whose unit tangent
-    changes by less than ``BEND_TOL`` stays sharp (straight on but for rounding)."""
+    changes by less than ``BEND_TOL`` stays sharp (straight on but for rounding), and so
+    does a reversal, as the look-ahead takes one (``REVERSAL_TOL``), and a corner whose
+    blend arc, ``2 h d / tan(h)`` for its half-angle ``h``, would be shorter than
+    :data:`MIN_BLEND_M`."""
     # A turn of the unit tangent below BEND_TOL is a tangent join, as the look-ahead takes
     # it: its blend would pass the corner by d theta / 4, nothing, on a radius
     # 2 d / theta (km) about a centre so far off that its points keep little of their
@@ -151,7 +154,14 @@ def corner_lengths(a0, a1, b0, b1, tols) -> tuple[np.ndarray, np.ndarray]:
     len_a = np.array(list(map(math.hypot, *(a1[ks] - a0[ks]).T.tolist())))
     len_b = np.array(list(map(math.hypot, *(b1[ks] - b0[ks]).T.tolist())))
     dk = np.minimum(np.minimum(d_tol, 0.5 * len_a), 0.5 * len_b)
-    blended = dk >= MIN_BLEND_M
+    # Near a reversal the tangent points lie d along the lines but next to each other
+    # across them, and the arc between, of radius d cos(h) / sin(h), is too short for the
+    # look-ahead to give a speed (1 m out and back 0.4 mm aside, under G64 P0.005, an arc
+    # of 1.3e-12 m). The look-ahead stops at a reversal, so it stays sharp.
+    back = 2.0 * np.cos(h) ** 2 < REVERSAL_TOL  # 1 + cos(2 h): the tangents' dot product + 1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        arc = 2.0 * h * dk / np.tan(h)
+    blended = (dk >= MIN_BLEND_M) & ~back & (arc >= MIN_BLEND_M)
     d[ks] = np.where(blended, dk, 0.0)
     half[ks] = np.where(blended, h, 0.0)
     return d, half

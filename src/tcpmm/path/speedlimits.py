@@ -145,8 +145,9 @@ def _check_limits(p, vmax) -> None:
     if bad.size:  # NaN too: numbers so far apart that doubles cannot resolve the segment
         i = int(bad[0])
         raise InputError(
-            f"segment {i}: no speed limit can be computed for it (length {p.length[i]:.4g} m, "
-            f"feed {p.feed[i]:.4g} m/s); its coordinates, arc centre or radius are beyond "
+            f"no speed limit can be computed for a move of this block (length "
+            f"{p.length[i]:.4g} m, feed {p.feed[i]:.4g} m/s); its coordinates, arc centre "
+            "or radius are beyond "
             "what the interpolator resolves: check them",
             line=None if p.line[i] < 0 else int(p.line[i]))
 

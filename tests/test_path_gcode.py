@@ -314,6 +314,28 @@ def test_a_form_feed_in_a_block_is_named():
     assert (e.value.line, e.value.column) == (2, 13)
 
 
+@pytest.mark.parametrize(("ch", "words"), [
+    ("\xa0", "(a no-break space, not a plain one; replace it with a space)"),
+    ("\u2009", "(a thin space, not a plain one; replace it with a space)"),
+    ("\u200b", "(an invisible zero width space; remove it)"),
+    ("\ufeff", "(an invisible zero width no-break space; remove it)"),
+])
+def test_a_blank_of_another_kind_is_named_as_what_it_is(ch, words):
+    """A no-break space (text pasted from a word processor or a PDF), a zero-width space
+    or a byte-order mark within the file shows as a blank or as nothing, and was called
+    "a control character": the user looked for one and found none. Read whole or
+    streamed, the message says what it is and the fix."""
+    from tcpmm.path.stream import stream_program
+
+    text = f"G21 G90\nG1 X10 F1000\nG1{ch}X20\n"
+    for read in (lambda: parse_gcode(text, "p.nc"),
+                 lambda: list(stream_program(text, chunk_blocks=1))):
+        with pytest.raises(InputError) as e:
+            read()
+        assert words in e.value.message
+        assert (e.value.line, e.value.column) == (3, 3)
+
+
 @pytest.mark.parametrize(("text", "column", "needle"), [
     ("G" + "9" * 400, 1, "the number after G has 400 characters"),
     ("G1 X" + "9" * 400 + " F100", 4, "the number after X has 400 characters"),

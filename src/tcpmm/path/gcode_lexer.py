@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import re
+import unicodedata
 from dataclasses import dataclass
 
 from ..errors import InputError
@@ -165,9 +166,23 @@ def _stray(m, file, line):
     hint = (" (a number needs a letter before it, e.g. X10)" if ch in "+-.0123456789"
             else " (block delete is not read: remove the '/' to run the block, or the "
                  "block to skip it)" if ch == "/"
-            else "" if ch.isprintable() else " (a control character; remove it)")
+            else "" if ch.isprintable() else _unseen(ch))
     raise InputError(f"unexpected character {ch!r}{hint}", file=file, line=line,
                      column=at + 1)
+
+
+def _unseen(ch: str) -> str:
+    """What a character an editor shows as nothing or as a blank is, and the fix: a
+    no-break or other space (text pasted from a word processor or a PDF) is no blank
+    here, an invisible format character (a zero-width space, a byte-order mark within
+    the file) no character at all [-]."""
+    kind = unicodedata.category(ch)
+    name = unicodedata.name(ch, f"U+{ord(ch):04X}").lower()
+    if kind == "Zs":
+        return f" (a {name}, not a plain one; replace it with a space)"
+    if kind == "Cf":
+        return f" (an invisible {name}; remove it)"
+    return " (a control character; remove it)"
 
 
 def _construct(body: str, start: int, at: int) -> str:

@@ -54,6 +54,27 @@ def test_g64_p_is_a_contour_tolerance_and_g9_stops_one_block():
             parse_gcode(text)
 
 
+@pytest.mark.parametrize(("head", "fix"), [("G21", "in mm; write P0.01"),
+                                           ("G20", "in inches under G20; write P0.0004")])
+def test_a_contour_tolerance_of_more_than_10_mm_is_refused(head, fix):
+    """``G64 P100`` (meant in µm, or P0.5 under G20, 12.7 mm) rounded a 10 mm square's
+    corners by as much as its sides allow, with no word, where a model file's tolerance
+    above 10 mm is refused. Read whole or streamed, the program is refused naming the
+    word; 10 mm itself is taken."""
+    from tcpmm.path.program import program_to_command
+    from tcpmm.path.stream import stream_program
+
+    p = "P100" if head == "G21" else "P0.5"
+    text = f"{head} G90\nG1 X0 Y0 F1000\nG64 {p}\nG1 X10\nG1 Y10\n"
+    for read in (lambda: program_to_command(text),
+                 lambda: list(stream_program(text, chunk_blocks=1))):
+        with pytest.raises(InputError, match=f"contour tolerance {p} is .* mm, above 10 mm") as e:
+            read()
+        assert fix in e.value.message
+        assert (e.value.line, e.value.column) == (3, 5)
+    program_to_command(text.replace(p, "P10" if head == "G21" else "P0.39"))
+
+
 @pytest.mark.parametrize("turn_deg", [10.0, 90.0, 150.0])
 def test_a_blend_passes_the_corner_at_the_tolerance_and_joins_tangentially(turn_deg):
     tol, th = 20e-6, math.radians(turn_deg)

@@ -18,7 +18,7 @@ from ._validate import axis_names, plausible
 from .errors import InputError
 from .mechanics.friction import LuGreFriction, StribeckFriction
 from .mechanics.lumped import AxisMechanics
-from .path.settings import InterpolatorSettings
+from .path.settings import TOLERANCE_MAX_M, InterpolatorSettings
 from .servo.params import ServoParams
 
 
@@ -47,11 +47,6 @@ BACKLASH_MAX_M = 1e-3
 #: tests of machine tools stay within tens of micrometres, so a millimetre is a number
 #: written in another unit than metres [m].
 SPECIFIED_G_MAX_M = 1e-3
-
-#: Largest contour tolerance of the interpolator a model file may give: a CNC's corner
-#: and blend tolerances are micrometres to tenths of a millimetre, so 10 mm is a number
-#: written in another unit than metres [m].
-TOLERANCE_MAX_M = 1e-2
 
 FrictionModel = Annotated[LuGreFriction | StribeckFriction, BeforeValidator(_contact)]
 

@@ -44,6 +44,7 @@ from .gcode_words import (
     ZERO_MOVE_M,
 )
 from .segments import AXIS_INDEX, Dwell, Line, Rapid
+from .settings import TOLERANCE_MAX_M
 
 #: the key of the warning that counts the moves to where the tool already is [-]
 ZERO_LENGTH = "zero-length move"
@@ -280,6 +281,13 @@ class Interpreter(GeometryMixin):
                 self.error(f"contour tolerance {p.text} must not be negative (mm, or in with "
                            "G20; P0 keeps corners sharp)", line, p.column)
             self.tolerance = p.value * self.unit
+            if self.tolerance > TOLERANCE_MAX_M:
+                unit, fix = (("mm", "P0.01") if self.unit == MM_M else
+                             ("inches under G20", "P0.0004"))
+                self.error(f"contour tolerance {p.text} is {self.tolerance * 1e3:g} mm, above "
+                           f"{TOLERANCE_MAX_M * 1e3:g} mm: a CNC's are micrometres to tenths "
+                           f"of a millimetre, and P is read in {unit}; write {fix} for "
+                           "10 µm", line, p.column)
         if "Q" in w and not self.exact_stop:
             self.warn("Q", "the naive-CAM merging of collinear blocks is not modelled; "
                       "corners are blended one by one within the P tolerance", line,

@@ -15,6 +15,11 @@ from .._validate import upper_names
 
 AXES = ("X", "Y", "Z")
 
+#: Largest contour tolerance of the interpolator, in a model file or a program's ``G64 P``:
+#: a CNC's corner and blend tolerances are micrometres to tenths of a millimetre, so 10 mm
+#: is a number written in another unit [m].
+TOLERANCE_MAX_M = 1e-2
+
 
 def _axis_dict(value: dict[str, float]) -> dict[str, float]:
     out = {}

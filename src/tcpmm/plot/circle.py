@@ -173,7 +173,9 @@ def plot_circle(result, path=None, magnification=None, sensors=None, overlay=Non
 def _circle_panel(ax, p, R, M, sensors, overlay, plane=("X", "Y")):
     """One pass: ``R + M e`` per sensor, the overlay's TCP dotted, µm scale rings, A-D."""
     th = np.linspace(0, 2 * np.pi, 361)
-    ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"])
+    # the nominal circle is the 0 µm ring: under its label, which breaks it as a map's
+    # contour label breaks its line, and over the other rings
+    ax.plot(R * np.cos(th) * 1e3, R * np.sin(th) * 1e3, **SENSOR_STYLE["cmd"], zorder=1.2)
     names = [s for s in (sensors or p.sensors) if s in p.sensors and s != "cmd"]
     drawn = [(p.sensors[s].angle_rad, p.sensors[s].radial_error) for s in names]
     for s in names:

@@ -131,9 +131,9 @@ def test_spikes_of_noise_alone_are_not_ranked_and_a_spike_standing_out_is():
     bound or not by chance; the largest, the noise's extreme, was ranked first (1.24 um,
     52 % of G(b) at 0.3 um of noise) in every such pair. The spikes are ranked only where
     one stands out of its bound at the level that keeps all eight within theirs at 95 %:
-    two of these ten pairs of noise alone (before, all ten; the bounds pass somewhat more
-    often than they say, docs/circle_diagnostics.md). A spike of six times the noise
-    stands out and is ranked first."""
+    two of these ten pairs of noise alone (before, all ten; 4 of 40 such pairs, where 2
+    are expected and 4 or more come one time in seven, docs/circle_diagnostics.md). A
+    spike of six times the noise stands out and is ranked first."""
     noise = 0.3e-6
     ranked = []
     for seed in range(10):

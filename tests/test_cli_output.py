@@ -101,13 +101,17 @@ def test_no_line_in_a_pipe_ends_in_spaces(capsys, runs, name):
 def test_titles_and_captions_are_lines_of_their_own(capsys, runs):
     """A caption was word-wrapped to its table's width and centred: 'overshoot: outside
     the path ... settled within 1 µm' came in three pieces, and a grep for a figure in it
-    failed. Titles and captions are now lines of their own, never wrapped in a pipe."""
+    failed. Titles and captions are now lines of their own, never wrapped in a pipe. The
+    caption says when settling reads n/a, which it did with no word where a tool still
+    rang at the next corner."""
     code, out, _ = printed(capsys, runs, "contour")
     lines = out.splitlines()
     assert code == 0 and "corners, tcp" in lines and "signed, +: left of travel" in lines
     assert any(line.startswith("turn: of the command over 0.5 mm before and after")
                and "overshoot: outside the path past the corner, rounding: " in line
-               and line.endswith("settled within 1 µm") for line in lines), out
+               and line.endswith("settled within 1 µm, n/a where it has not by halfway "
+                                 "to the next corner or by the run's end")
+               for line in lines), out
     # the settling's path length is named with its unit, and the caption says what it is
     head = next(line for line in lines if line.startswith("#"))
     assert head.split()[-4:] == ["settle", "ms", "settle", "mm"], head

@@ -196,7 +196,8 @@ def _print(res, sensor: str, title: str, span_mm: float = 0.5) -> None:
                 f"programmed{example}); overshoot: outside the path past the corner, "
                 "rounding: closest approach [µm]; settle ms, settle mm: the time and the "
                 "commanded path length from the corner until the error has settled within "
-                f"{res.settle_tol_m * 1e6:g} µm{more}")
+                f"{res.settle_tol_m * 1e6:g} µm, n/a where it has not by halfway to the next "
+                f"corner or by the run's end{more}")
 
 
 def _say_curves(res, corner_deg: float, span_mm: float) -> None:

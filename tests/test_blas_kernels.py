@@ -36,6 +36,20 @@ def test_a_core_type_the_user_names_is_kept():
     assert _architectures(OPENBLAS_CORETYPE="Sandybridge") == "['Sandybridge']"
 
 
+def test_the_version_says_which_kernels_run():
+    """``tcpmm --version`` says which BLAS kernels run, and where they were not named,
+    why and what that means for the figures."""
+    clean = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_CORETYPE", "MKL_CBWR")}
+    said = {}
+    for name, code in (("named", "import tcpmm"), ("late", "import numpy, tcpmm")):
+        out = subprocess.run([sys.executable, "-c", code + "; from tcpmm._blas_kernels "
+                              "import describe; print(describe())"], env=clean,
+                             capture_output=True, text=True, check=True)
+        said[name] = out.stdout.strip()
+    assert said["named"] == f"OpenBLAS's {CORE} kernels, the same on every CPU with AVX2 and FMA"
+    assert said["late"].startswith("as OpenBLAS chose for this CPU (numpy was loaded before")
+
+
 def test_the_tests_run_the_same_kernels():
     from threadpoolctl import threadpool_info
 

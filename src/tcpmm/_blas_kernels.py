@@ -36,14 +36,31 @@ def cpu_flags() -> set[str]:
     return set()
 
 
+#: Why the kernels were not named, where :func:`pin_blas_kernels` did not name them [-].
+_NOT_NAMED: list[str] = []
+
+
 def pin_blas_kernels() -> bool:
     """Name the BLAS kernels of :data:`VARIABLES` for the libraries to load, where numpy
     is not loaded yet and the CPU runs them; whether they are named [-]."""
     machine = os.uname().machine if hasattr(os, "uname") else ""
-    if "numpy" in sys.modules or machine != "x86_64":
-        return False
-    if not {"avx2", "fma"} <= cpu_flags():
+    why = ("numpy was loaded before tcpmm" if "numpy" in sys.modules else
+           "not an x86-64 CPU under Linux" if machine != "x86_64" else
+           "the CPU has no AVX2 and FMA" if not {"avx2", "fma"} <= cpu_flags() else "")
+    _NOT_NAMED[:] = [why] if why else []
+    if why:
         return False
     for name, value in VARIABLES.items():
         os.environ.setdefault(name, value)
     return True
+
+
+def describe() -> str:
+    """Which BLAS kernels this process runs, in words (``tcpmm --version``) [-]."""
+    core = os.environ.get("OPENBLAS_CORETYPE", "")
+    if _NOT_NAMED:
+        return (f"as OpenBLAS chose for this CPU ({_NOT_NAMED[0]}): figures may differ "
+                "from another CPU's in their last digits")
+    if core != CORE:
+        return f"OpenBLAS's {core} kernels, as OPENBLAS_CORETYPE says"
+    return f"OpenBLAS's {CORE} kernels, the same on every CPU with AVX2 and FMA"

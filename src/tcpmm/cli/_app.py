@@ -122,10 +122,12 @@ out = _Console(highlight=False)
 def _print_version(value: bool) -> None:
     if value:
         from .. import __version__
+        from .._blas_kernels import describe as blas
         from .._compiled import describe
 
         out.print(f"tcpmm {__version__}")
         out.print(f"kernel: {describe()}", soft_wrap=True)
+        out.print(f"blas: {blas()}", soft_wrap=True)
         raise typer.Exit()
 
 

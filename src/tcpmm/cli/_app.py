@@ -125,9 +125,7 @@ def _print_version(value: bool) -> None:
         from .._blas_kernels import describe as blas
         from .._compiled import describe
 
-        out.print(f"tcpmm {__version__}")
-        out.print(f"kernel: {describe()}", soft_wrap=True)
-        out.print(f"blas: {blas()}", soft_wrap=True)
+        out.print(f"tcpmm {__version__}\nkernel: {describe()}\nblas: {blas()}", soft_wrap=True)
         raise typer.Exit()
 
 

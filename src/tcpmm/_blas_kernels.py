@@ -44,9 +44,11 @@ def pin_blas_kernels() -> bool:
     """Name the BLAS kernels of :data:`VARIABLES` for the libraries to load, where numpy
     is not loaded yet and the CPU runs them; whether they are named [-]."""
     machine = os.uname().machine if hasattr(os, "uname") else ""
+    flags = cpu_flags() if machine == "x86_64" and "numpy" not in sys.modules else set()
     why = ("numpy was loaded before tcpmm" if "numpy" in sys.modules else
-           "not an x86-64 CPU under Linux" if machine != "x86_64" else
-           "the CPU has no AVX2 and FMA" if not {"avx2", "fma"} <= cpu_flags() else "")
+           "not an x86-64 CPU" if machine != "x86_64" else
+           "the CPU's flags cannot be read here" if not flags else
+           "the CPU has no AVX2 and FMA" if not {"avx2", "fma"} <= flags else "")
     _NOT_NAMED[:] = [why] if why else []
     if why:
         return False

@@ -202,7 +202,7 @@ def _quiet_or(cand, pool, ref, noise) -> dict:
             f"the {noise:.3g} the noise leaves by itself, at a chi2 ratio of "
             f"{best['chi2_ratio']:.3g}: {others} follow the noise of the largest bins "
             f"(chi2 ratio {cand['chi2_ratio']:.3g} and up)")
-    return {**best, "notes": [*best["notes"], note], "short": False}
+    return {**best, "notes": [*best["notes"], note], "short": False, "quiet": True}
 
 
 def _reaching(fits, bound: float) -> list:

@@ -47,7 +47,7 @@ import numpy as np
 from ...errors import InputError
 from ...frfdata import FRF
 from ._needles import clean_fit
-from ._select import by_criterion, by_total, choose, fewer_note, score
+from ._select import AT_NOISE_CHI2, by_criterion, by_total, choose, fewer_note, score
 from .delayheld import check_held_delay
 from .frfargs import checked_fit_args
 from .frfnoise import NOISE_WINDOW, noise_level
@@ -309,14 +309,18 @@ def _tries(ctx: dict, n: int) -> list:
 def _fewer_if_better(ctx: dict, best: dict, n: int) -> dict:
     """``best``, the fit chosen for ``n`` poles, or where it falls short of its bound the
     fit of fewer poles (chosen likewise) if that leaves less total error: ``n`` poles hold
-    every fit of ``n - 1`` and a pair that cancels, so the refinements of ``n`` missed it
-    [-]."""
-    if not best.get("short") or n <= 1:
+    every fit of ``n - 1`` and a pair that cancels, so the refinements of ``n`` missed it.
+    A fit kept for being at the noise (``quiet``) gives way only to one at the noise too
+    (a chi2 ratio of at most AT_NOISE_CHI2): the least criterion among the fits at the
+    noise of ``n`` poles may leave several times the total error of ``n - 1`` [-]."""
+    if not (best.get("short") or best.get("quiet")) or n <= 1:
         return best
     tries = _tries(ctx, n - 1)
     if not tries:
         return best
     fewer = _fewer_if_better(ctx, {**choose(ctx, tries, n - 1), "asked": n - 1}, n - 1)
+    if best.get("quiet") and fewer["chi2_ratio"] > AT_NOISE_CHI2:
+        return best
     return fewer if by_total(fewer) < by_total(best) else best
 
 

@@ -50,7 +50,7 @@ from ._needles import clean_fit
 from ._select import AT_NOISE_CHI2, by_criterion, by_total, choose, fewer_note, score
 from .delayheld import check_held_delay
 from .frfargs import checked_fit_args
-from .frfnoise import NOISE_WINDOW, noise_level
+from .frfnoise import NOISE_WINDOW, lone_passes, noise_level
 from .goodness import warn_if_misfit, warn_if_off
 from .tffit import WEIGHT_FLOOR, TFFit, check_order_resolved, fit_tf
 from .tfsd import TFDeviations, tf_deviations
@@ -272,6 +272,7 @@ def _context(data: FRF, weighting: str, delay_s, damping_floor: float,
     noise and weights, the delay handling, the damping floor and the frequency scale [-]."""
     sigma_all = noise_level(data.freq_hz, data.H, data.rel_std)
     coherent = data.coherence >= min_coherence
+    coherent &= ~lone_passes(coherent)
     valid = np.isfinite(data.H) & (data.H != 0)
     keep = coherent & valid
     if np.count_nonzero(keep) < 4:

@@ -9,13 +9,14 @@ import numpy as np
 import pytest
 
 from tcpmm.compensate import compensate, predicted_scores, robust_factors
-from tcpmm.compensate.bounds import excess, from_rest, machine_bounds
+from tcpmm.compensate.bounds import excess, machine_bounds
 from tcpmm.compensate.gcodeout import dense_program
 from tcpmm.compensate.robust import EQUAL_M, FIRM_RATIO, over_draws, verdict
 from tcpmm.errors import InputError
 from tcpmm.machines.builtin import builtin_machine
 from tcpmm.path.circle import circle_command
 from tcpmm.path.command import Command
+from tcpmm.path.limits import derivative
 
 
 def _command(T=1e-3, duration=1.6):
@@ -81,8 +82,8 @@ def test_axis_limits_given_leave_the_correction_room(machine, circle_f10000):
     out = room.command
     for a, p in out.positions.items():
         ref = room.reference.positions[a]
-        lim = np.maximum(4.0, np.abs(from_rest(ref, 2, out.period_s)))
-        assert np.all(np.abs(from_rest(p, 2, out.period_s)) <= lim * (1 + 1e-6))
+        lim = np.maximum(4.0, np.abs(derivative(ref, 2, out.period_s, from_rest=True)))
+        assert np.all(np.abs(derivative(p, 2, out.period_s, from_rest=True)) <= lim * (1 + 1e-6))
     with pytest.raises(InputError):
         machine_bounds(machine, accel_m_per_s2=-1.0)
 
@@ -357,7 +358,6 @@ def test_headroom_plans_the_program_with_the_rest_of_the_limits(tmp_path, capsys
     later; the compensated command may use the full limit, and the figures before are
     those of the program at the full limits, as the machine would run it."""
     from tcpmm.cli import main
-    from tcpmm.compensate.bounds import from_rest
     from tcpmm.compensate.headroom import planned_settings, program_with_headroom
     from tcpmm.path import InterpolatorSettings, read_command_csv
 
@@ -368,7 +368,7 @@ def test_headroom_plans_the_program_with_the_rest_of_the_limits(tmp_path, capsys
     assert planned.time_s[-1] > full.time_s[-1]
     for a in ("X", "Y"):
         assert planned.positions[a][-1] == pytest.approx(full.positions[a][-1], abs=1e-12)
-        peak = np.max(np.abs(from_rest(planned.positions[a], 2, planned.period_s)))
+        peak = np.max(np.abs(derivative(planned.positions[a], 2, planned.period_s, from_rest=True)))
         assert peak <= 0.75 * settings.path_accel_m_per_s2 * 1.02  # sampled ramps
     with pytest.raises(InputError):
         planned_settings(settings, 1.0)
@@ -383,7 +383,7 @@ def test_headroom_plans_the_program_with_the_rest_of_the_limits(tmp_path, capsys
         "planned_duration_s"] == runs["0.25"]["settings"]["programmed_duration_s"]
     comp = read_command_csv(out)
     for a in ("X", "Y"):
-        acc = np.abs(from_rest(comp.positions[a], 2, comp.period_s))
+        acc = np.abs(derivative(comp.positions[a], 2, comp.period_s, from_rest=True))
         assert np.max(acc) <= settings.path_accel_m_per_s2 * (1 + 1e-6)
     cmd_file = tmp_path / "cmd.csv"
     from tcpmm.path import write_command_csv
@@ -402,7 +402,7 @@ def test_the_headroom_is_a_share_of_the_limit_given(tmp_path, capsys):
     bit."""
     from tcpmm import builtin_machine
     from tcpmm.cli import main
-    from tcpmm.compensate.bounds import from_rest, machine_bounds
+    from tcpmm.compensate.bounds import machine_bounds
     from tcpmm.compensate.headroom import program_with_headroom
     from tcpmm.path import InterpolatorSettings, read_command_csv
 
@@ -414,7 +414,7 @@ def test_the_headroom_is_a_share_of_the_limit_given(tmp_path, capsys):
     np.testing.assert_array_equal(same.positions["X"], own.positions["X"])
     planned = program_with_headroom(prog, settings, 0.25, machine_bounds(m, 0.8))[1]
     for a in ("X", "Y"):
-        peak = np.max(np.abs(from_rest(planned.positions[a], 2, planned.period_s)))
+        peak = np.max(np.abs(derivative(planned.positions[a], 2, planned.period_s, from_rest=True)))
         assert peak <= 0.75 * 0.8 * 1.02  # sampled ramps
     out, ref = tmp_path / "c.csv", tmp_path / "ref.csv"
     assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
@@ -425,7 +425,8 @@ def test_the_headroom_is_a_share_of_the_limit_given(tmp_path, capsys):
     assert plan.time_s[-1] == pytest.approx(planned.time_s[-1])
     comp = read_command_csv(out)
     for a in ("X", "Y"):
-        assert np.max(np.abs(from_rest(comp.positions[a], 2, comp.period_s))) <= 0.8 * (
+        assert np.max(np.abs(derivative(comp.positions[a], 2, comp.period_s,
+                                        from_rest=True))) <= 0.8 * (
             1 + 1e-6)
 
 
@@ -435,7 +436,6 @@ def test_a_sharp_corner_planned_with_headroom_stays_within_the_full_limit(tmp_pa
     quarter left, so that the program, and the correction on it, stay within the axes'
     limit (the step at the planned limit read 1.11 m/s2 against 1)."""
     from tcpmm.cli import main
-    from tcpmm.compensate.bounds import from_rest
     from tcpmm.compensate.headroom import program_with_headroom
     from tcpmm.path import InterpolatorSettings, read_command_csv
 
@@ -446,8 +446,10 @@ def test_a_sharp_corner_planned_with_headroom_stays_within_the_full_limit(tmp_pa
     limit = settings.path_accel_m_per_s2
     full, planned = program_with_headroom(prog, settings, 0.25)
     for a in ("X", "Y"):
-        assert np.max(np.abs(from_rest(full.positions[a], 2, full.period_s))) > 1.2 * limit
-        assert np.max(np.abs(from_rest(planned.positions[a], 2, planned.period_s))) <= (
+        assert np.max(np.abs(derivative(full.positions[a], 2, full.period_s,
+                                        from_rest=True))) > 1.2 * limit
+        assert np.max(np.abs(derivative(planned.positions[a], 2, planned.period_s,
+                                        from_rest=True))) <= (
             limit * (1 + 1e-9))
     out = tmp_path / "c.csv"
     assert main(["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(out),
@@ -456,7 +458,7 @@ def test_a_sharp_corner_planned_with_headroom_stays_within_the_full_limit(tmp_pa
     assert "above its limit" not in said.out + said.err
     comp = read_command_csv(out)
     for a in ("X", "Y"):
-        acc = np.abs(from_rest(comp.positions[a], 2, comp.period_s))
+        acc = np.abs(derivative(comp.positions[a], 2, comp.period_s, from_rest=True))
         assert np.max(acc) <= limit * (1 + 1e-6)
 
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..path.limits import OVER_SHARE
+from ..path.limits import OVER_SHARE, derivative, peak
 from ..path.settings import AXES, InterpolatorSettings
 
 #: Share of the current limit the nominal compensated run may use [-].
@@ -88,20 +88,6 @@ def machine_bounds(machine, accel_m_per_s2=None, jerk_m_per_s3=None) -> dict[str
     return out
 
 
-def from_rest(x: np.ndarray, order: int, period_s: float) -> np.ndarray:
-    """Backward difference of an order of a command the axis stands still on before its
-    first sample, as a run of it starts (``tcpmm simulate --command``, the dense program's
-    dwell after its rapid): the first sample's value held before it, so that a command
-    that leaves its first sample at once steps its velocity from rest [m/s^n]."""
-    return np.diff(np.concatenate([np.full(order, x[0]), x]), order) / period_s ** order
-
-
-def peak_from_rest(x: np.ndarray, order: int, period_s: float) -> float:
-    """The largest magnitude of :func:`from_rest`: what the samples ask of an axis that
-    stands still before them [m/s^n]."""
-    return float(np.max(np.abs(from_rest(x, order, period_s))))
-
-
 def excess(reference: np.ndarray, correction: np.ndarray, period_s: float,
            bounds: AxisBounds, kept: np.ndarray | None = None) -> np.ndarray:
     """Largest factor the correction may keep at each sample, 1 where nothing is exceeded.
@@ -122,11 +108,11 @@ def excess(reference: np.ndarray, correction: np.ndarray, period_s: float,
     for order, lim in ((1, bounds.velocity), (2, bounds.accel), (3, bounds.jerk)):
         if not math.isfinite(lim):
             continue
-        r = from_rest(reference, order, period_s)
-        c = from_rest(correction, order, period_s)
+        r = derivative(reference, order, period_s, from_rest=True)
+        c = derivative(correction, order, period_s, from_rest=True)
         allowed = np.maximum(lim, np.abs(r))
         if kept is not None:
-            r = r + from_rest(kept, order, period_s)
+            r = r + derivative(kept, order, period_s, from_rest=True)
         over = np.abs(r + c) > allowed * (1 + 1e-9)
         room = np.clip((allowed - np.abs(r)) / np.maximum(np.abs(c), 1e-300), 0.0, 1.0)
         keep = np.where(over, np.minimum(keep, room), keep)
@@ -225,10 +211,10 @@ def over_limits(command, reference, bounds: dict) -> list[tuple]:
         if b is None or name not in reference.positions:
             continue
         for what, (order, attr, _) in LIMITS.items():
-            most, lim = peak_from_rest(x, order, T), getattr(b, attr)
+            most, lim = peak(x, order, T, from_rest=True), getattr(b, attr)
             if math.isfinite(lim) and most > lim * (1 + OVER_SHARE):
                 out.append((name, what, most, lim,
-                            peak_from_rest(reference.positions[name], order, T)))
+                            peak(reference.positions[name], order, T, from_rest=True)))
     return out
 
 
@@ -288,7 +274,7 @@ def _step_cause(reference, name: str, what: str) -> str:
         return "its feed, beyond the axis's velocity limit"
     x = reference.positions[name]
     order = LIMITS[what][0]
-    k = int(np.argmax(np.abs(from_rest(x, order, reference.period_s))))
+    k = int(np.argmax(np.abs(derivative(x, order, reference.period_s, from_rest=True))))
     if order == 3 and not velocity_steps(reference, k):
         return ("a step of curvature where a line or an arc joins an arc tangentially, or "
                 "at the corners of a curve posted as short blocks: the velocity's direction "

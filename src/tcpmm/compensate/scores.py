@@ -10,8 +10,8 @@ import numpy as np
 from ..analysis.circular import analyse_circle
 from ..analysis.contour import contour_error
 from ..path.command import Command
+from ..path.limits import peak
 from ..sim.simulate import simulate
-from .bounds import peak_from_rest
 from .drive import controlled_run
 from .learning import extended
 
@@ -93,7 +93,7 @@ def axis_demands(command: Command, run) -> dict:
     for a, x in command.positions.items():
         if np.ptp(x) == 0.0:
             continue
-        d = {k: peak_from_rest(x, n, command.period_s) for n, k in DEMANDS}
+        d = {k: peak(x, n, command.period_s, from_rest=True) for n, k in DEMANDS}
         current = run.axes[a].peak_current() if a in run.axes else None
         d["current_A"] = None if current is None else float(np.max(current))
         out[a] = d

@@ -36,16 +36,24 @@ from .speedlimits import CHAIN, JUNCTION_CAUSES, SEGMENT_CAUSES
 #: mm at 1 ms: 1e-4 m/s^2), and a figure printed to three digits cannot show less [-].
 OVER_SHARE = 1e-3
 
-def derivative(x: np.ndarray, order: int, period_s: float) -> np.ndarray:
-    """Backward difference of an order, on the samples' time line (first ones 0) [m/s^n]."""
+def derivative(x: np.ndarray, order: int, period_s: float,
+               from_rest: bool = False) -> np.ndarray:
+    """Backward difference of an order, on the samples' time line: the first ones 0, or
+    with ``from_rest`` of a command the axis stands still on before its first sample, as a
+    run of it starts (``tcpmm simulate --command``, a dense program's dwell after its
+    rapid): the first sample's value held before it, so that a command that leaves its
+    first sample at once steps its velocity from rest [m/s^n]."""
+    if from_rest:
+        return np.diff(np.concatenate([np.full(order, x[0]), x]), order) / period_s ** order
     d = np.zeros_like(x)
     d[order:] = np.diff(x, order) / period_s ** order
     return d
 
 
-def peak(x: np.ndarray, order: int, period_s: float) -> float:
-    """The largest magnitude of :func:`derivative`: what the samples ask of an axis [m/s^n]."""
-    return float(np.max(np.abs(derivative(x, order, period_s))))
+def peak(x: np.ndarray, order: int, period_s: float, from_rest: bool = False) -> float:
+    """The largest magnitude of :func:`derivative`: what the samples ask of an axis (with
+    ``from_rest``, of one that stands still before them) [m/s^n]."""
+    return float(np.max(np.abs(derivative(x, order, period_s, from_rest))))
 
 
 class RunningPeak:

@@ -47,25 +47,23 @@ def _polar_paths(R, M, paths) -> tuple[np.ndarray, np.ndarray]:
     return deg, r_path
 
 
-def _label_angle(ax, R, M, paths, labels) -> float:
+def _label_angle(box, drawn, labels) -> float:
     """The angle of :data:`LABEL_ANGLES_DEG` at which the paths drawn cross the ring
     labels least (each written along its ring), and among equals pass farthest from
     them [deg].
 
     Parameters
     ----------
-    ax : matplotlib Axes
-        The panel, whose size in points gives a label's in mm [-].
-    R, M : float
-        Nominal radius [m] and magnification [-].
-    paths : list of tuple of ndarray
-        ``(angle, radial error)`` of each path drawn [rad, m].
+    box : tuple
+        Half each label's length along its ring and half its height (:func:`_label_box`)
+        [mm].
+    drawn : tuple of ndarray
+        Every path's samples as drawn, angle and radius (:func:`_polar_paths`) [deg, mm].
     labels : list of tuple
         ``(ring radius as drawn [mm], text)`` [-].
     """
-    along, across = _label_box(ax, R, labels)
+    (along, across), (deg, r_path) = box, drawn
     radii = np.array([r for r, _ in labels])
-    deg, r_path = _polar_paths(R, M, paths)
 
     def crowding(at):
         off = np.radians(np.abs((deg - at + 180.0) % 360.0 - 180.0))
@@ -77,12 +75,12 @@ def _label_angle(ax, R, M, paths, labels) -> float:
     return float(min(LABEL_ANGLES_DEG, key=crowding))
 
 
-def _hidden(ax, R, M, paths, labels, at) -> list[bool]:
+def _hidden(box, drawn, labels, at) -> list[bool]:
     """Whether a path runs along each ring label at ``at`` over more than half its length,
     so that a label drawn under the paths could not be read (a path on its ring all the
-    way round, as a sensor reading the nominal circle is on the 0 µm ring) [-]."""
-    along, across = _label_box(ax, R, labels)
-    deg, r_path = _polar_paths(R, M, paths)
+    way round, as a sensor reading the nominal circle is on the 0 µm ring); ``box`` and
+    ``drawn`` as :func:`_label_angle` takes them [-]."""
+    (along, across), (deg, r_path) = box, drawn
     off = np.radians((deg - at + 180.0) % 360.0 - 180.0)
     out = []
     for (r, _), half in zip(labels, along, strict=True):
@@ -113,9 +111,10 @@ def _scale_rings(ax, R, M, paths) -> None:
     th = np.linspace(0, 2 * np.pi, 361)
     rings = [((R + M * k * step * 1e-6) * 1e3, f"{k * step:+g} µm" if k else "0 µm")
              for k in range(int(np.floor(lo / step)), int(np.ceil(hi / step)) + 1)]
-    at = _label_angle(ax, R, M, paths, rings)
+    box, drawn = _label_box(ax, R, rings), _polar_paths(R, M, paths)
+    at = _label_angle(box, drawn, rings)
     along = (at + 90.0) % 180.0  # the ring's direction there, written upright
-    for (r, text), hidden in zip(rings, _hidden(ax, R, M, paths, rings, at), strict=True):
+    for (r, text), hidden in zip(rings, _hidden(box, drawn, rings, at), strict=True):
         if text != "0 µm":
             ax.plot(r * np.cos(th), r * np.sin(th), color="0.55", lw=0.6, ls=(0, (2, 3)),
                     zorder=1)

@@ -157,10 +157,11 @@ def test_version(capsys):
     from tcpmm import __version__
 
     assert main(["--version"]) == 0
-    version, kernel, blas = capsys.readouterr().out.strip().splitlines()
+    version, kernel, blas, loops = capsys.readouterr().out.strip().splitlines()
     assert version == f"tcpmm {__version__}"
     assert kernel.startswith(("kernel: compiled module ", "kernel: numba's kernels ("))
     assert blas.startswith("blas: OpenBLAS's ") or "figures may differ" in blas
+    assert loops.startswith("numpy: numpy ") and "loops" in loops
 
 
 def test_a_refused_command_leaves_no_output_folder(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""The same BLAS kernels on every x86-64 CPU.
+"""The same BLAS kernels and numpy loops on every x86-64 CPU.
 
 The OpenBLAS of numpy's and scipy's wheels picks its kernels by the CPU it loads on:
 Haswell's (AVX2) on an AMD EPYC, SkylakeX's (AVX-512) on an Intel Xeon. They sum in
@@ -6,15 +6,23 @@ different orders, so a least-squares fit rounds differently on the two: the mode
 identification wrote from one bundle differed in their last bits, and the figures after
 them with those bits. Naming the core type before OpenBLAS loads (``OPENBLAS_CORETYPE``)
 has every CPU with AVX2 and FMA (both makers' since 2015) run Haswell's kernels; MKL,
-where numpy was built with it, is held to its AVX2 path likewise (``MKL_CBWR``). A value
-the user set is kept. Where numpy is loaded before tcpmm, or on a CPU without AVX2 or
-whose flags cannot be read (outside Linux), BLAS runs as it chose; the figures may then
-differ from another CPU's in their last bits.
+where numpy was built with it, is held to its AVX2 path likewise (``MKL_CBWR``).
+
+numpy picks its loops by the CPU as well: on a CPU with AVX-512 (Intel's server parts,
+AMD's since Zen 4) its ``exp``, ``log``, ``power``, ``tan``, ``arctan`` and more run
+AVX-512 code that rounds otherwise than its AVX2 code, which every other CPU with AVX2
+runs. Its AVX-512 targets are therefore switched off before numpy loads
+(``NPY_DISABLE_CPU_FEATURES``, with the names the installed numpy gives them).
+
+A value the user set is kept. Where numpy is loaded before tcpmm, or on a CPU without AVX2
+or whose flags cannot be read (outside Linux), BLAS and numpy run as they chose; the
+figures may then differ from another CPU's in their last bits.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import sys
 
 #: The OpenBLAS core type every CPU with AVX2 and FMA runs [-].
@@ -54,7 +62,39 @@ def pin_blas_kernels() -> bool:
         return False
     for name, value in VARIABLES.items():
         os.environ.setdefault(name, value)
+    targets = numpy_avx512_targets()
+    if targets and not ({"NPY_DISABLE_CPU_FEATURES", "NPY_ENABLE_CPU_FEATURES"}
+                        & os.environ.keys()):
+        # numpy refuses the two together, and takes a user's own list as it stands
+        os.environ["NPY_DISABLE_CPU_FEATURES"] = " ".join(targets)
     return True
+
+
+def numpy_version(paths=None) -> tuple[int, ...]:
+    """The version of the numpy that ``import numpy`` would load, read from its
+    ``version.py`` without loading it; ``()`` where none is found [-]."""
+    for folder in sys.path if paths is None else paths:
+        try:
+            with open(os.path.join(folder or ".", "numpy", "version.py"), encoding="utf-8") as f:
+                text = f.read(4096)
+        except OSError:
+            continue
+        found = re.search(r'^version\s*(?::\s*str\s*)?=\s*["\'](\d+)\.(\d+)', text, re.M)
+        return tuple(map(int, found.groups())) if found else ()
+    return ()
+
+
+def numpy_avx512_targets(version: tuple[int, ...] | None = None) -> tuple[str, ...]:
+    """numpy's AVX-512 dispatch targets by the names its ``version`` gives them (the
+    installed numpy's where not given); ``()`` where it is not known [-]."""
+    version = numpy_version() if version is None else version
+    if not version:
+        return ()
+    if version >= (2, 4):  # the x86-64-v4 group and the two targets beyond it
+        return ("X86_V4", "AVX512_ICL", "AVX512_SPR")
+    older = ("AVX512F", "AVX512CD", "AVX512_KNL", "AVX512_KNM", "AVX512_SKX", "AVX512_CLX",
+             "AVX512_CNL", "AVX512_ICL")
+    return (*older, "AVX512_SPR") if version >= (2, 3) else older
 
 
 def describe() -> str:
@@ -66,3 +106,24 @@ def describe() -> str:
     if core != CORE:
         return f"OpenBLAS's {core} kernels, as OPENBLAS_CORETYPE says"
     return f"OpenBLAS's {CORE} kernels, the same on every CPU with AVX2 and FMA"
+
+
+def describe_numpy() -> str:
+    """Which of numpy's loops this process runs, in words (``tcpmm --version``) [-]."""
+    import numpy as np
+
+    try:
+        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    except ImportError:  # numpy before 2.0
+        from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    off = [t for t in numpy_avx512_targets() if t in __cpu_dispatch__]
+    if _NOT_NAMED or not off or any(__cpu_features__.get(t) for t in off):
+        return (f"numpy {np.__version__}'s loops as it chose for this CPU: figures may "
+                "differ from another CPU's in their last digits")
+    return (f"numpy {np.__version__}'s loops without AVX-512, the same on every CPU with "
+            "AVX2 and FMA")
+
+
+def described() -> str:
+    """The lines ``blas:`` and ``numpy:`` of ``tcpmm --version`` [-]."""
+    return f"blas: {describe()}\nnumpy: {describe_numpy()}"

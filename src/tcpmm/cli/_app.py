@@ -122,10 +122,10 @@ out = _Console(highlight=False)
 def _print_version(value: bool) -> None:
     if value:
         from .. import __version__
-        from .._blas_kernels import describe as blas
+        from .._blas_kernels import described
         from .._compiled import describe
 
-        out.print(f"tcpmm {__version__}\nkernel: {describe()}\nblas: {blas()}", soft_wrap=True)
+        out.print(f"tcpmm {__version__}\nkernel: {describe()}\n{described()}", soft_wrap=True)
         raise typer.Exit()
 
 

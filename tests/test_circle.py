@@ -887,3 +887,26 @@ def test_a_command_about_another_centre_is_said_with_the_centre_to_give(tmp_path
         analyse_circle(read_run(tmp_path / "s0.2.csv"), 0.035)
     with pytest.raises(InputError, match=r"20\.0 µm from the predicted one's .* another"):
         compare_circles(moved, analyse_circle(read_run(path), 0.035))
+
+
+@pytest.mark.parametrize("arc", [False, True], ids=["circle", "arc"])
+def test_a_gap_in_the_measured_log_is_not_compared(arc):
+    """The measured run with its samples from 90 to 100 deg gone (a logger that broke
+    off), over a bump of 3 um at 95 deg that the prediction holds too: the point-by-point
+    difference drew a straight line across the gap and read 3 um where nothing is
+    measured. It compares the angles both runs hold, and finds nothing between them (the
+    bump, of 3 deg standard deviation, interpolates within 1 nm between 0.05 deg
+    samples)."""
+    def bump(a):
+        return 3e-6 * np.exp(-0.5 * ((np.degrees(a) % 360 - 95.0) / 3.0) ** 2)
+
+    p = arc_path("ccw", 30.0, 300.0) if arc else circle_path()
+    run = make_run(p, polar_perturb(p, (0, 0), bump))
+    deg = np.degrees(np.arctan2(p[:, 1], p[:, 0])) % 360
+    keep = ~((deg > 90.0) & (deg < 100.0) & (np.hypot(p[:, 0], p[:, 1]) > 0.9 * R))
+    cut = Run(run.time_s[keep], {k: AxisRun(cmd=a.cmd[keep], tcp=a.tcp[keep])
+                                 for k, a in run.axes.items()})
+    with warnings.catch_warnings():  # the gap and the arc's quadrant points: said
+        warnings.simplefilter("ignore", InputWarning)
+        row = compare_circles(analyse_circle(cut, R), analyse_circle(run, R)).rows[0]
+    assert row["radial_max_um"] < 0.01 and row["radial_rms_um"] < 0.005

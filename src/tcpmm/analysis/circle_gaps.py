@@ -70,3 +70,31 @@ def angle_jumps(ang) -> np.ndarray:
     if moving.size < 3:
         return np.zeros(0, dtype=int)
     return np.flatnonzero(da > GAP_STEPS * np.median(moving))
+
+
+def in_gaps(travel, at, period=None) -> np.ndarray:
+    """Which of the angles ``at`` lie in a gap of the samples at ``travel``: between two
+    successive ones :data:`GAP_STEPS` or more times their median step apart that moves,
+    where nothing is measured and an interpolation would make up the error [-].
+
+    Parameters
+    ----------
+    travel : ndarray
+        The samples' angles, in any order [rad].
+    at : ndarray
+        The angles asked about [rad].
+    period : float, optional
+        Where the angles run round (a full turn), their period: the step from the last
+        sample to the first one a period on counts too [rad].
+    """
+    a = np.sort(np.asarray(travel, dtype=float))
+    at = np.asarray(at, dtype=float)
+    if period is not None and a.size:
+        a = np.r_[a, a[0] + period]
+        at = np.mod(at - a[0], period) + a[0]
+    step = np.diff(a)
+    moving = step[step > 0]
+    if moving.size < 3:
+        return np.zeros(at.shape, dtype=bool)
+    i = np.clip(np.searchsorted(a, at, side="right") - 1, 0, step.size - 1)
+    return (step[i] >= GAP_STEPS * np.median(moving)) & (at > a[i]) & (at < a[i + 1])

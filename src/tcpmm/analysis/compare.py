@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import InputError, InputWarning
 from .circle_command import CENTRE_TOL_M, once_around
+from .circle_gaps import in_gaps
 from .circular import QUADRANTS, CircleResult
 from .compare_after import hidden_notes, hidden_spikes
 
@@ -168,7 +169,9 @@ def _on_grid(angle, e, direction, start, grid):
     sgn = -1.0 if direction == "cw" else 1.0
     turn = (angle - angle[0]) * sgn < 2 * np.pi  # one turn of the run: no overlap mixed in
     a = np.mod((angle[turn] - start) * sgn, 2 * np.pi)
-    return np.interp(grid, a, e[turn], period=2 * np.pi)
+    # nothing is measured in a gap of the log: no error made up there by interpolation
+    return np.where(in_gaps(a, grid, 2 * np.pi), np.nan,
+                    np.interp(grid, a, e[turn], period=2 * np.pi))
 
 
 def _travel(sc, direction, start):
@@ -192,6 +195,7 @@ def _common_arc(sm, sp, direction) -> dict:
     in_m, in_p = at_p <= tm[-1], at_m <= tp[-1]
     grid = np.arange(0.0, tm[-1], np.radians(0.5))
     grid = grid[np.mod(grid - off, 2 * np.pi) <= tp[-1]]
+    grid = grid[~(in_gaps(tm, grid) | in_gaps(tp, np.mod(grid - off, 2 * np.pi)))]
     nan = float("nan")
     if not (grid.size and in_m.any() and in_p.any()):
         return {"contour_error_um": nan, "radial_rms_um": nan, "radial_max_um": nan,
@@ -306,8 +310,8 @@ def compare_circles(measured: CircleResult, predicted: CircleResult) -> Comparis
             em = _on_grid(sm.angle_rad, sm.radial_error, pm.direction, start, grid)
             ep = _on_grid(sp.angle_rad, sp.radial_error, pm.direction, start, grid)
             d = em - ep
-            row["radial_rms_um"] = float(np.sqrt(np.mean(d**2)) * 1e6)
-            row["radial_max_um"] = float(np.max(np.abs(d)) * 1e6)
+            row["radial_rms_um"] = float(np.sqrt(np.nanmean(d**2)) * 1e6)
+            row["radial_max_um"] = float(np.nanmax(np.abs(d)) * 1e6)
             rows.append(row)
     if not rows:
         raise InputError(_nothing_shared(measured, predicted))

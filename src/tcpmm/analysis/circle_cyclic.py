@@ -11,9 +11,10 @@ once the friction has flipped, or a reversal's slow tail) differs between the tw
 than a fifth of its amplitude, and is no cyclic error: a screw's pitch error does not know
 which way the axis turned last. Nor is one smaller than what the fit leaves unexplained: a
 residual that large is structured (a reversal's tails, a lag the terms do not model) and
-holds periods whose halves agree. Periods run from a third of the diameter
-(:data:`MIN_PERIODS`) down to :func:`shortest_period`: over fewer than three periods a
-sine of the position is mostly the circle's own terms.
+holds periods whose halves agree. Where what it leaves is mostly the sensor's noise, which
+holds no periods, the amplitude need only exceed its part beyond the noise. Periods run
+from a third of the diameter (:data:`MIN_PERIODS`) down to :func:`shortest_period`: over
+fewer than three periods a sine of the position is mostly the circle's own terms.
 """
 
 from __future__ import annotations
@@ -346,6 +347,9 @@ def _first_of_position(pb, without, ax, found, floor):
 
 #: the part of a cyclic error's amplitude by which its two halves may differ [-]
 _HALVES = 0.2
+#: the largest RMS of what the fit leaves beyond the noise, as a part of the noise's, under
+#: which a cyclic error need stand out of that part alone, not of the noise too [-]
+_SHAPE = 0.5
 
 
 def _of_position(pb, without, ax, k) -> bool:
@@ -354,8 +358,9 @@ def _of_position(pb, without, ax, k) -> bool:
     where the axis runs back from its nearer end (after its reversal) and on those where
     it runs towards it, the two agree
     within :data:`_HALVES` of the amplitude, and the amplitude is no less than the RMS of
-    what that fit leaves (module docstring). An arc that holds too few samples of either
-    half cannot tell, and keeps it [-]."""
+    what that fit leaves, or, where that is mostly noise (its part beyond the noise under
+    :data:`_SHAPE` of the noise), than that part (module docstring). An arc that holds too
+    few samples of either half cannot tell, and keeps it [-]."""
     ang = np.concatenate([a.angle[m] for a, m in zip(pb.arcs, pb.masks, strict=True)])
     s = np.concatenate([np.full(int(m.sum()), a.s) for a, m in
                         zip(pb.arcs, pb.masks, strict=True)])
@@ -374,5 +379,13 @@ def _of_position(pb, without, ax, k) -> bool:
     d = np.hypot(c[0] - c[2], c[1] - c[3])
     amp = 0.5 * (np.hypot(c[0], c[1]) + np.hypot(c[2], c[3]))
     # and it stands out of what the fit leaves: a structured residual (the tails of large
-    # reversals, a lag the terms do not model) holds periods its halves agree on too
-    return bool(d <= _HALVES * amp and amp >= np.sqrt(var))
+    # reversals, a lag the terms do not model) holds periods its halves agree on too.
+    # Where what it leaves is mostly the sensor's noise, which holds no such periods, it
+    # need stand out of the structure alone: the samples' number resolves it below the
+    # noise (1.5 um of pitch error under 2 um of noise went unfound and read as 1.3 um of
+    # backlash). A structure of half the noise or more still holds periods of more than
+    # itself (a pitch error of 60 mm that the terms take up left one of 13 mm)
+    noise = _noise(res - A @ c)
+    shape = np.sqrt(max(var - noise**2, 0.0))
+    return bool(d <= _HALVES * amp and (amp >= np.sqrt(var)
+                                        or (amp >= shape and shape <= _SHAPE * noise)))

@@ -255,3 +255,42 @@ def test_refusals_of_a_recorder_s_own_export_say_what_to_write(tmp_path):
                        ("i.csv", r"empty column name .*; a table's index written as a")):
         with pytest.raises(InputError, match=said):
             read_run(tmp_path / name)
+
+
+
+@pytest.mark.parametrize("unit, factor", [("um", 1e3), ("nm", 1e6), ("m", 1e-3)])
+def test_positions_in_the_unit_their_column_names_read_as_in_mm(tmp_path, unit, factor):
+    """A TCP device or a ballbar's export that logs in um names it in the header
+    (``x_tcp_um``): every command refused it as an unknown column. Each position column
+    may name um, nm or m; the run read is the mm file's (to the CSV's 10 digits). A
+    second column of one sensor, in another unit, is refused rather than one dropped."""
+    import pandas as pd
+
+    write_run(_run(), tmp_path / "mm.csv")
+    df = pd.read_csv(tmp_path / "mm.csv")
+    names = {c: c[:-2] + unit for c in df.columns if c.endswith("_mm") and "_cmd_" not in c}
+    df = df.assign(**{u: df[c] * factor for c, u in names.items()}).drop(columns=list(names))
+    df.to_csv(tmp_path / "u.csv", index=False)
+    got, want = read_run(tmp_path / "u.csv"), read_run(tmp_path / "mm.csv")
+    for a in "XY":
+        for s in ("cmd", "motor", "scale", "tcp", "current"):
+            np.testing.assert_allclose(getattr(got.axes[a], s), getattr(want.axes[a], s),
+                                       rtol=1e-9, atol=1e-15)
+    df.assign(x_tcp_mm=df[f"x_tcp_{unit}"] / factor).to_csv(tmp_path / "two.csv", index=False)
+    with pytest.raises(InputError, match="a second column of x's tcp"):
+        read_run(tmp_path / "two.csv")
+
+
+def test_a_parquet_run_read_in_chunks_refuses_positions_in_another_unit(tmp_path):
+    """Read a chunk at a time, the contour takes the run file's own column names: a TCP
+    in um would be left out unsaid. It is refused, naming the column and the fix."""
+    import pandas as pd
+
+    from tcpmm.analysis.contour_stream import stream_contour
+
+    write_run(_run(), tmp_path / "mm.parquet")
+    df = pd.read_parquet(tmp_path / "mm.parquet")
+    df.assign(x_tcp_um=df.x_tcp_mm * 1e3).drop(columns="x_tcp_mm").to_parquet(
+        tmp_path / "um.parquet", index=False)
+    with pytest.raises(InputError, match=r"in um: write it in mm \(x_tcp_mm\)"):
+        stream_contour(tmp_path / "um.parquet", ("X", "Y"), True, rows=100)

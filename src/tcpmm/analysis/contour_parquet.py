@@ -8,6 +8,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.runfile import (
     checked_parquet_names,
+    column_unit,
     float_values,
     refuse_coarse_time,
     refuse_gaps,
@@ -67,6 +68,7 @@ def batches(path, rows, keep):
     # pre-buffered reads keep every row group's bytes read so far until the scan ends
     f = parquet_file(path, pre_buffer=False)
     checked_parquet_names(f.schema_arrow.names, path)
+    _refuse_other_units(f.schema_arrow.names, path)
     names = [c for c in f.schema_arrow.names if keep(c)]
     for c in names:
         refuse_not_numbers(c, f.schema_arrow.field(c).type, path)
@@ -109,3 +111,15 @@ def has_columns(path, cmd_cols: list, axes) -> None:
         raise InputError(no_sensors(axes), file=path)
     warn_one_sided({s: [a for a, c in zip(axes, cmd_cols, strict=True)
                         if c.replace("_cmd_", f"_{s}_") in names] for s in SENSORS}, axes)
+
+
+def _refuse_other_units(names, path) -> None:
+    """Refuse a position column in a unit other than mm: read a chunk at a time, the run
+    is taken by the run file's own names, and the column would be left out unsaid [-]."""
+    for c in names:
+        unit = column_unit(c)
+        if unit not in (None, "mm", "A"):
+            raise InputError(
+                f"a Parquet run read a chunk at a time takes its positions in mm, and this "
+                f"column is in {unit}: write it in mm ({c[:-len(unit)]}mm), or read the run "
+                "whole (without --chunk-rows, up to 2 000 000 rows)", file=path, column=c)

@@ -31,7 +31,16 @@ from .runwrite import (  # noqa: F401  (the writers are part of this module's in
     write_run_parquet,
 )
 
-_COL = re.compile(r"^([a-z]{1,2})_(cmd_mm|motor_mm|scale_mm|tcp_mm|current_A)$")
+_COL = re.compile(r"^([a-z]{1,2})_(cmd|motor|scale|tcp|current)_(mm|um|µm|nm|m|A)$")
+#: The units a position column may name, to metres (a TCP device that logs in um) [-].
+LENGTH_UNITS = {"mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9, "m": 1.0}
+
+
+def column_unit(name: str) -> str | None:
+    """The unit a run-file column's name ends with (``x_tcp_um``: um); None for a name
+    that is no axis column [-]."""
+    m = _COL.match(name)
+    return m.group(3) if m else None
 
 
 @contextlib.contextmanager
@@ -354,17 +363,21 @@ def _run_from_columns(cols: dict, path: Path, first_row: int, what: str,
             blocks[c] = cols[c].astype(BLOCK_COLUMNS[c])
             continue
         m = _COL.match(c)
-        if not m:
+        if not m or (m.group(2) == "current") != (m.group(3) == "A"):
             raise InputError(
                 f"unknown column {c!r}; run-file columns are time_s and <axis>_cmd_mm, "
-                "<axis>_motor_mm, <axis>_scale_mm, <axis>_tcp_mm, <axis>_current_A, "
-                "nc_line, rapid",
+                "<axis>_motor_mm, <axis>_scale_mm, <axis>_tcp_mm (or in um, nm, m: "
+                "x_tcp_um), <axis>_current_A, nc_line, rapid",
                 file=path, line=1 if what == "line" else None, column=c,
             )
         v = cols[c]
         refuse_gaps(c, v, path, first_row, what, cells.get(c))
-        scale = 1.0 if m.group(2) == "current_A" else 1e-3
-        axes.setdefault(m.group(1).upper(), {})[RUN_COLUMNS[m.group(2)]] = v * scale
+        field = RUN_COLUMNS[f"{m.group(2)}_{'A' if m.group(3) == 'A' else 'mm'}"]
+        axis = axes.setdefault(m.group(1).upper(), {})
+        if field in axis:
+            raise InputError(f"a second column of {m.group(1)}'s {m.group(2)} (in another "
+                             "unit); keep one", file=path, column=c)
+        axis[field] = v * LENGTH_UNITS.get(m.group(3), 1.0)
     t = cols["time_s"]
     if t.size == 0:
         raise InputError("the run has no rows", file=path)

@@ -11,7 +11,7 @@ from ..errors import InputError, InputWarning
 from .circle_command import CENTRE_TOL_M, once_around
 from .circle_gaps import in_gaps
 from .circular import QUADRANTS, CircleResult
-from .compare_after import hidden_notes, hidden_spikes
+from .compare_after import hidden_notes, hidden_spikes, warn_sampling
 
 
 def raw_spike_named(figure: str, minus: str = "-") -> str:
@@ -264,6 +264,7 @@ def cut_alike(measured, predicted):
     Run
         ``predicted``, or a copy without command signals [SI].
     """
+    warn_sampling(measured, predicted)
     if (any(a.cmd is not None for a in measured.axes.values())
             or all(a.cmd is None for a in predicted.axes.values())):
         return predicted

@@ -11,13 +11,44 @@ terms (:meth:`.circular.SensorCircle.spikes_after_terms`) differ by 5.06 um.
 from __future__ import annotations
 
 import math
+import warnings
 
+import numpy as np
+
+from ..errors import InputWarning
 from .circle_spikes import QUADRANTS
 
 #: Least excess of the difference after the terms over the raw one that is said, beside
 #: the spikes' own 95 % uncertainty: the sensors' noise when a circle is compared with
 #: itself, some tenths of a micrometre [m].
 HIDDEN_MIN_M = 0.5e-6
+#: The most one run's sample period may exceed the other's, as a ratio, unsaid [-].
+PERIOD_RATIO = 1.5
+
+
+def warn_sampling(measured, predicted) -> None:
+    """Warn (:class:`InputWarning`) where the measured and the predicted run are logged
+    at sample periods more than :data:`PERIOD_RATIO` apart: a raw spike is the extreme of
+    its window's samples, which a sparser log reads lower on a sharp peak, and the point
+    by point difference interpolates between the sparser samples. One simulated circle
+    logged every 4 ms against itself every 1 ms read spikes up to 0.76 um and points up
+    to 0.70 um apart at the TCP, under no word.
+
+    Parameters
+    ----------
+    measured, predicted : Run
+        The runs compared [SI].
+    """
+    pm, pp = (float(np.median(np.diff(r.time_s))) for r in (measured, predicted))
+    if not max(pm, pp) > PERIOD_RATIO * min(pm, pp):
+        return
+    warnings.warn(InputWarning(
+        f"the measured run is logged every {pm * 1e3:.3g} ms, the predicted every "
+        f"{pp * 1e3:.3g} ms: a reversal spike is the extreme of its window's samples, "
+        "which the sparser log reads lower on a sharp peak, and the point-by-point "
+        "difference interpolates between its samples, so part of each difference is the "
+        "logging's; simulate at the measured run's period (tcpmm simulate MODEL --command "
+        f"MEASURED.csv --record-period-s {pm:.4g})"), stacklevel=3)
 
 
 def hidden_spikes(sm, sp, direction: str, sensor: str) -> list[dict]:

@@ -158,7 +158,8 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=N
     comp.settings["headroom"] = headroom
     if headroom:  # an NC program, planned anew
         comp.settings["corner_steps_s"] = corner_steps_s(
-            source, interp_settings(machine), headroom, comp.settings["planned_duration_s"])
+            source, interp_settings(machine), headroom, comp.settings["planned_duration_s"],
+            bounds)
     return comp, headroom
 
 

@@ -128,11 +128,12 @@ def program_with_headroom(program, settings: InterpolatorSettings, headroom: flo
 
 
 def corner_steps_s(program, settings: InterpolatorSettings, headroom: float,
-                   planned_s: float) -> float:
+                   planned_s: float, bounds: dict | None = None) -> float:
     """How much of the program's time planned with ``headroom`` its sharp corners take for
-    their smaller velocity step alone: ``planned_s`` less the duration planned with the
-    corners' step at the machine's own share. A curve posted as short G1 lines without a
-    blending tolerance turns at every block, a sharp corner each [s].
+    their smaller velocity step alone: ``planned_s`` less the duration planned, within the
+    same limits, with the corners' step at the machine's own share. A curve posted as
+    short G1 lines without a blending tolerance turns at every block, a sharp corner each
+    [s].
 
     Parameters
     ----------
@@ -144,9 +145,13 @@ def corner_steps_s(program, settings: InterpolatorSettings, headroom: float,
         Share of the acceleration and jerk left to the correction [-].
     planned_s : float
         The duration planned with the headroom [s].
+    bounds : dict of str to AxisBounds, optional
+        The limits ``planned_s`` was planned within (:func:`program_with_headroom`): the
+        time a lower limit adds to every ramp is not the corners' [SI].
     """
-    steps = planned_settings(settings, headroom).model_copy(
-        update={"corner_step_share": settings.corner_step_share})
+    own = settings if bounds is None else within_bounds(settings, bounds)
+    steps = planned_settings(own, headroom).model_copy(
+        update={"corner_step_share": own.corner_step_share})
     return max(0.0, planned_s - float(program_to_command(program, steps).time_s[-1]))
 
 

@@ -251,3 +251,28 @@ def test_an_axis_the_model_has_not_is_named_with_the_model_s_axes(tmp_path, caps
     with pytest.raises(InputError, match=r"Z is not an axis of the model \(it has X, Y\)"):
         read_controller_parameters(params, ["X", "Y"])
     assert set(read_controller_parameters(params)) == {"X", "Z"}
+
+
+def test_the_worst_draw_with_the_parameters_counts_a_rapid_s_lag(tmp_path, capsys):
+    """A circle entered from a G0 rapid, with the controller's parameters: the worst
+    draw's contour error after is read as the figure after is, against the program with
+    its rapid, as without them (:mod:`tcpmm.compensate.drawcontour`), not as the regions'
+    largest, which leave the lag the rapid carries into the cut to the rapid. On the
+    built-in machine the lag counted reads 12.93 µm where the regions' largest is 11.50
+    µm; half a micrometre apart is far beyond the runs' rounding and well within what the
+    lag adds."""
+    import json
+
+    from tcpmm.cli import main
+
+    prog = tmp_path / "g0circle.nc"
+    prog.write_text("G21 G17 G90\nG0 X0 Y0\nG0 X35 Y0\nG3 X35 Y0 I-35 J0 F8000\nM30\n")
+    args = ["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
+            "--radius", "35", "--draws", "2", "--controller-out", str(tmp_path / "p.yaml")]
+    assert main([*args, "--json"]) == 0
+    rob = json.loads(capsys.readouterr().out)["robustness"]
+    regions = max(r["worst_after_um"] for r in rob["regions"])
+    assert rob["worst_after_to_command_um"] > regions + 0.5
+    assert main(args) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert f"on the worst of the 2 draws: up to {rob['worst_after_to_command_um']:.2f} µm" in out

@@ -33,9 +33,9 @@ import itertools
 
 import numpy as np
 
-from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 from .cornerguard import CornerGuard, held_entry
+from .drawcontour import worst_entry
 from .drive import axis_plant
 from .learning import CUTOFF_HZ, compensate
 from .regional import ROUNDS, per_combo
@@ -44,8 +44,10 @@ from .robust import (
     acceptable,
     axis_errors,
     choose_of,
+    chosen,
     circle_rows,
     corners_hold,
+    drawn_machines,
     judged,
     margin,
     record,
@@ -162,9 +164,7 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     """
     first = comps[0.0]
     guard = None if radius_m is None else CircleGuard.of(first, radius_m, centre_m, plane)
-    rng = np.random.default_rng(seed)
-    machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
-    labels = regions(first.target)
+    machines, labels = drawn_machines(machine, n_draws, seed), regions(first.target)
     tick = progress if progress is not None else (lambda: None)
     errs = {s: axis_errors(machines, c, plants(params, s), tick) for s, c in comps.items()}
     corners = CornerGuard.of(first.target, labels, errs[0.0][:, :, 0])
@@ -180,8 +180,10 @@ def robust_combined(machine, comps: dict, params: dict, n_draws: int = 6, seed: 
     if got is not None:
         factors, after, errors = got
         shares, extra = [factors[a] for a in comp.reference.axes], {**extra, "by_region": True}
+    # the worst draw read as the figure after, the lag a G0 rapid carries into the cut counted
+    extra.update(held_entry(corners), **worst_entry(chosen(errs[share], shares, errors), comp))
     record(comp, shares, region_rows(before, after, comp.target, labels),
-           circle_rows(before, after, guard), labels, {**extra, **held_entry(corners)},
+           circle_rows(before, after, guard), labels, extra,
            rises(errs[share], shares, comp.target, errors, errs[0.0][:, :, 0]))
     comp.controller = scaled_params(params, share)
     return comp

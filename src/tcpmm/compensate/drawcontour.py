@@ -39,3 +39,11 @@ def worst_to_command(after: np.ndarray, target, reference) -> float:
                                                       for i, a in enumerate(p)}), reference)
         worst = max(worst, contour_figures(run, reference)["contour_error_um"] * 1e-6)
     return worst
+
+
+def worst_entry(after: np.ndarray, comp) -> dict:
+    """``{"worst_after_to_command_um": ...}`` of the robustness: :func:`worst_to_command`
+    of the errors ``after`` (as :func:`worst_to_command` takes them) of ``comp``'s path,
+    against its program as planned [um]."""
+    return {"worst_after_to_command_um": worst_to_command(after, comp.target,
+                                                          comp.reference) * 1e6}

@@ -33,7 +33,7 @@ from ..uncertainty.verdict import CALIBRATION
 from ..whatif.draws import MODEL_ERROR, draw_machine
 from .circleguard import CircleGuard
 from .cornerguard import CornerGuard, held_entry
-from .drawcontour import worst_to_command
+from .drawcontour import worst_entry
 from .regional import per_combo, pick, settle_regions, tcp_errors
 from .trust import local_rises, next_draw, record
 
@@ -301,8 +301,7 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
         The circle's axes [-].
     """
     guard = None if radius_m is None else CircleGuard.of(comp, radius_m, centre_m, plane)
-    rng = np.random.default_rng(seed)
-    machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
+    machines = drawn_machines(machine, n_draws, seed)
     target, labels = comp.target, regions(comp.target)
     errs = axis_errors(machines, comp)
     per = per_combo(errs, lambda c: judged(errs, c, target, labels, guard))
@@ -316,11 +315,17 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
     if by_region is not None:
         (factors, figs, after), extra = by_region, {**extra, "by_region": True}
         shares = [factors[a] for a in comp.reference.axes]
-    extra.update(held_entry(corners))
     after = chosen(errs, shares, after)
-    extra["worst_after_to_command_um"] = worst_to_command(after, target, comp.reference) * 1e6
+    extra.update(held_entry(corners), **worst_entry(after, comp))
     record(comp, shares, region_rows(before, figs, target, labels),
            circle_rows(before, figs, guard), labels, extra, rises(errs, shares, target, after))
+
+
+def drawn_machines(machine, n_draws: int, seed: int) -> list:
+    """The model and ``n_draws`` machines drawn from its uncertainty with the floors of
+    ``tcpmm spread`` (:data:`tcpmm.whatif.draws.MODEL_ERROR`), from ``seed`` [-]."""
+    rng = np.random.default_rng(seed)
+    return [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
 
 
 def chosen(errs: np.ndarray, shares: list, after=None) -> np.ndarray:

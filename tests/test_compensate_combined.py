@@ -276,3 +276,30 @@ def test_the_worst_draw_with_the_parameters_counts_a_rapid_s_lag(tmp_path, capsy
     assert main(args) == 0
     out = " ".join(capsys.readouterr().out.split())
     assert f"on the worst of the 2 draws: up to {rob['worst_after_to_command_um']:.2f} µm" in out
+
+
+def test_the_draws_judge_the_command_written_with_each_share(tmp_path, capsys):
+    """The same circle: learned with the friction pulse, the correction goes beyond Y's
+    acceleration limit at one sample near the end (the learning holds it to the program's
+    turns after its limits), and the command written with a share is scaled back there,
+    which turned Y back twice more. The draws judged the share of the correction as it
+    was, without those turns; the command written fired a 0.785 A pulse of 300 ms at each
+    and ran the model's TCP 17.55 µm past the circle's end, where the program as programmed
+    runs 5.01 µm past it, while the console said no share raises a corner's overshoot on
+    any draw. Judged as written, no corner of the model's run is past its overshoot as
+    programmed by more than the sensors' 0.1 µm."""
+    import json
+
+    from tcpmm.cli import main
+
+    prog = tmp_path / "g0circle.nc"
+    prog.write_text("G21 G17 G90\nG0 X0 Y0\nG0 X35 Y0\nG3 X35 Y0 I-35 J0 F8000\nM30\n")
+    args = ["compensate", "builtin:vmc", "--gcode", str(prog), "-o", str(tmp_path / "c.csv"),
+            "--radius", "35", "--draws", "2", "--controller-out", str(tmp_path / "p.yaml"),
+            "--json"]
+    assert main(args) == 0
+    scores = json.loads(capsys.readouterr().out)["scores"]
+    before, after = (scores[k]["path"]["corners"] for k in ("before", "after"))
+    assert [c["at_mm"] for c in before] == [c["at_mm"] for c in after]
+    for b, a in zip(before, after, strict=True):
+        assert a["overshoot_um"] <= b["overshoot_um"] + 0.1, (b, a)

@@ -33,6 +33,7 @@ import itertools
 
 import numpy as np
 
+from ..whatif.draws import drawn_machines
 from .circleguard import CircleGuard
 from .cornerguard import CornerGuard, held_entry
 from .drawcontour import worst_entry
@@ -47,7 +48,6 @@ from .robust import (
     chosen,
     circle_rows,
     corners_hold,
-    drawn_machines,
     judged,
     margin,
     record,

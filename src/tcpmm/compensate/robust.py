@@ -30,7 +30,7 @@ import numpy as np
 
 from ..analysis.contour import distances_to_polyline
 from ..uncertainty.verdict import CALIBRATION
-from ..whatif.draws import MODEL_ERROR, draw_machine
+from ..whatif.draws import MODEL_ERROR, drawn_machines
 from .circleguard import CircleGuard
 from .cornerguard import CornerGuard, held_entry
 from .drawcontour import worst_entry
@@ -158,10 +158,12 @@ def contour(err: np.ndarray, target, window_s: float = CONTOUR_WINDOW_S) -> np.n
 def axis_errors(machines, comp, plants=None, progress=None) -> np.ndarray:
     """TCP error per machine, axis, share and sample, shape (m, axes, levels, n); each
     axis run as ``plants`` says (:func:`.learning.learn_axis`), default the command
-    alone; ``progress`` called with no argument after each machine at each share [m]."""
-    ref = comp.reference.positions
-    return np.stack([tcp_errors(machines, comp, {a: p + lev * comp.correction[a]
-                                                 for a, p in ref.items()}, plants, progress)
+    alone; ``progress`` called with no argument after each machine at each share. Each
+    share's command is the one written with it (``command_with``): a correction beyond a
+    limit is scaled back there, which may turn the axis and fire a pulse [m]."""
+    axes = comp.reference.axes
+    return np.stack([tcp_errors(machines, comp, comp.command_with(dict.fromkeys(axes, lev))
+                                .positions, plants, progress)
                      for lev in LEVELS], axis=2)
 
 
@@ -319,13 +321,6 @@ def robust_factors(machine, comp, n_draws: int = DRAWS, seed: int = 0, radius_m=
     extra.update(held_entry(corners), **worst_entry(after, comp))
     record(comp, shares, region_rows(before, figs, target, labels),
            circle_rows(before, figs, guard), labels, extra, rises(errs, shares, target, after))
-
-
-def drawn_machines(machine, n_draws: int, seed: int) -> list:
-    """The model and ``n_draws`` machines drawn from its uncertainty with the floors of
-    ``tcpmm spread`` (:data:`tcpmm.whatif.draws.MODEL_ERROR`), from ``seed`` [-]."""
-    rng = np.random.default_rng(seed)
-    return [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
 
 
 def chosen(errs: np.ndarray, shares: list, after=None) -> np.ndarray:

@@ -19,7 +19,8 @@ import numpy as np
 from .._datafile import read_data_json
 from ..model import Axis, Machine
 
-__all__ = ["MODEL_ERROR", "draw_axis", "draw_machine", "longer_presliding", "scaled_contact"]
+__all__ = ["MODEL_ERROR", "draw_axis", "draw_machine", "drawn_machines", "longer_presliding",
+           "scaled_contact"]
 
 
 def _model_error() -> dict:
@@ -170,3 +171,10 @@ def draw_machine(machine: Machine, rng: np.random.Generator,
     """Every axis of a machine drawn from its uncertainty (:func:`draw_axis`)."""
     return machine.model_copy(update={"axes": {n: draw_axis(a, rng, floors)
                                                for n, a in machine.axes.items()}})
+
+
+def drawn_machines(machine: Machine, n_draws: int, seed: int) -> list[Machine]:
+    """The model and ``n_draws`` machines drawn from its uncertainty with the floors of
+    ``tcpmm spread`` (:data:`MODEL_ERROR`), from ``seed`` [-]."""
+    rng = np.random.default_rng(seed)
+    return [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]

@@ -21,6 +21,15 @@ For the made responses the same two errors against the noise-free truth are also
 estimated as ``tcpmm identify`` does: e.g. ``--bundle ../shared/data/bench_d/bundle``;
 with a ``truth.yaml`` beside the bundle, both errors against the true response as well.
 
+``--holdout`` judges both fitters on bins they did not fit, which needs no truth: each
+response's bins are split into two interleaved halves (even and odd bins of the whole
+response, before the coherence cut); each fitter is fitted on one half (vector fitting
+on the bins tcpmm kept of it) and both errors are measured on the bins of the other half
+that tcpmm fits on the whole response, beside the same errors on the half fitted. The
+table gives the mean over both ways round, ``--json`` each (``split`` 0: fitted on the
+even bins) and their mean (``split`` "mean"), with the poles tcpmm kept (``kept``) and,
+where it refuses a half, why (``refused``).
+
 Install scikit-rf (the ``bench`` extra) and run::
 
     .venv/bin/python -m pip install -e '.[bench]'
@@ -89,6 +98,12 @@ def errors(H, h):
 
 def vf_response(f, H, n_poles):
     """Vector fitting of ``n_poles`` poles; its response at ``f`` [Hz]."""
+    return vf_model(f, H, n_poles)(f)
+
+
+def vf_model(f, H, n_poles):
+    """Vector fitting of ``n_poles`` poles to ``H`` at ``f`` [Hz]; its response as a
+    function of the frequency [Hz]."""
     import skrf
     from skrf.vectorFitting import VectorFitting
 
@@ -98,7 +113,7 @@ def vf_response(f, H, n_poles):
         warnings.simplefilter("ignore")
         vf.vector_fit(n_poles_real=n_poles % 2, n_poles_cmplx=n_poles // 2,
                       init_pole_spacing="log", fit_constant=True)
-    return vf.get_model_response(0, 0, f)
+    return lambda freq_hz: vf.get_model_response(0, 0, freq_hz)
 
 
 def compare(frf, truth, counts):
@@ -115,6 +130,66 @@ def compare(frf, truth, counts):
                 row |= {"truth_total_rel": t["total_rel"], "truth_median_rel": t["median_rel"]}
             rows.append(row)
     return rows
+
+
+def half_frf(frf, parity: int):
+    """Every other bin of ``frf`` from bin ``parity`` (0 even, 1 odd) [-]."""
+    return replace(frf, freq_hz=frf.freq_hz[parity::2], H=frf.H[parity::2],
+                   coherence=frf.coherence[parity::2], rel_std=frf.rel_std[parity::2],
+                   name=f"{frf.name} ({'even' if parity == 0 else 'odd'} bins)")
+
+
+def holdout_rows(frf, n, used_hz):
+    """Both fitters fitted to each half of ``frf`` at ``n`` poles, with both errors on the
+    bins they fitted (``fit_*``) and on the other half's bins among ``used_hz`` [Hz], those
+    tcpmm fits on the whole response (``held_*``); a half tcpmm refuses gives a row with
+    its reason [-]."""
+    from tcpmm.errors import InputError
+
+    rows = []
+    for parity in (0, 1):
+        base = {"response": frf.name, "poles": n, "split": parity}
+        try:
+            res = fit_frf(half_frf(frf, parity), poles=n)
+        except InputError as exc:
+            rows += [{**base, "fitter": fitter, "refused": str(exc)}
+                     for fitter in ("tcpmm", "skrf VF")]
+            continue
+        f, H = res.tf.freq_hz, res.tf.H
+        held = np.isin(frf.freq_hz, used_hz) & (np.arange(frf.freq_hz.size) % 2 != parity)
+        fv, Hv = frf.freq_hz[held], frf.H[held]
+        vf = vf_model(f, H, n)
+        for fitter, model, kept in (("tcpmm", res.freqresp, int(res.tf.n_den)),
+                                    ("skrf VF", vf, n)):
+            fit_e, held_e = errors(H, model(f)), errors(Hv, model(fv))
+            rows.append({**base, "fitter": fitter, "kept": kept,
+                         **{f"fit_{k}": v for k, v in fit_e.items()},
+                         **{f"held_{k}": v for k, v in held_e.items()}})
+    return rows + _mean_rows(rows)
+
+
+def _mean_rows(rows):
+    """The mean of both splits' errors, per fitter, where neither half was refused [-]."""
+    out = []
+    for fitter in ("tcpmm", "skrf VF"):
+        two = [r for r in rows if r["fitter"] == fitter]
+        if len(two) < 2 or any("refused" in r for r in two):
+            continue
+        keys = [k for k in two[0] if k.startswith(("fit_", "held_"))]
+        out.append({**two[0], "split": "mean", "kept": [r["kept"] for r in two],
+                    **{k: float(np.mean([r[k] for r in two])) for k in keys}})
+    return out
+
+
+def holdout(frf, counts):
+    """:func:`holdout_rows` of ``frf`` at each pole count, judged on the bins tcpmm fits on
+    the whole response: coherence 0.5 or more, not alone over it, a response not zero [-]."""
+    from tcpmm.ident.lti.frfnoise import lone_passes
+
+    keep = frf.coherence >= 0.5
+    keep &= ~lone_passes(keep) & np.isfinite(frf.H) & (frf.H != 0)
+    used = frf.freq_hz[keep]
+    return [r for n in counts for r in holdout_rows(frf, n, used)]
 
 
 def orders(text):
@@ -147,6 +222,27 @@ def _print(rows):
             print(f"{'  against the truth':<20} {'':>5}  {a['truth_total_rel']:>12.3g} "
                   f"{b['truth_total_rel']:>12.3g}  {a['truth_median_rel']:>12.3g} "
                   f"{b['truth_median_rel']:>12.3g}")
+
+
+def _print_holdout(rows):
+    """The mean over both splits: errors on the held-out half, then on the half fitted."""
+    print("errors on the bins not fitted (held out) and on the bins fitted, mean of the "
+          "even and the odd half")
+    head = ("held total", "held median", "fitted total", "fitted median")
+    print(f"{'response':<24} {'poles':>5} {'kept':>5}" + "".join(f"  {h:>19}" for h in head))
+    print(f"{'':<24} {'':>5} {'':>5}" + "  {:>9} {:>9}".format("tcpmm", "skrf VF") * 4)
+    by = {(r["response"], r["poles"], r["fitter"], r["split"]): r for r in rows}
+    for name, n in dict.fromkeys((r["response"], r["poles"]) for r in rows):
+        a, b = by.get((name, n, "tcpmm", "mean")), by.get((name, n, "skrf VF", "mean"))
+        if a is None:
+            why = "; ".join(r["refused"] for r in rows if r["response"] == name
+                            and r["poles"] == n and r["fitter"] == "tcpmm" and "refused" in r)
+            print(f"{name:<24} {n:>5}  tcpmm refuses a half: {why}")
+            continue
+        kept = "/".join(str(k) for k in a["kept"])
+        cells = "".join(f"  {a[k]:>9.3g} {b[k]:>9.3g}" for k in (
+            "held_total_rel", "held_median_rel", "fit_total_rel", "fit_median_rel"))
+        print(f"{name:<24} {n:>5} {kept:>5}{cells}")
 
 
 def bundle_frfs(folder, axis: str = "X") -> list:
@@ -199,6 +295,8 @@ def main(argv=None):
     ap.add_argument("--file", default=str(TRACE), help="measured FRF (skipped if absent)")
     ap.add_argument("--bundle", action="append", default=[],
                     help="measurement bundle folder: its X sweep's G_M and G_T (repeatable)")
+    ap.add_argument("--holdout", action="store_true",
+                    help="fit each half of the bins, judge on the other (see the module)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     if not skrf_ready():
@@ -208,20 +306,24 @@ def main(argv=None):
 
     limit_blas_threads()
     counts = orders(args.poles)
+    if args.holdout:  # no truth needed: the bins not fitted judge
+        run, show = (lambda frf, truth: holdout(frf, counts)), _print_holdout
+    else:
+        run, show = (lambda frf, truth: compare(frf, truth, counts)), _print
     rows = []
     if Path(args.file).is_file():
-        rows += compare(read_frf(args.file), None, counts)
+        rows += run(read_frf(args.file), None)
     else:
         print(f"{args.file} not found: the measured trace is left out", file=sys.stderr)
     for folder in args.bundle:
         for frf in bundle_frfs(folder):
-            rows += compare(frf, bundle_truth(folder, frf), counts)
+            rows += run(frf, None if args.holdout else bundle_truth(folder, frf))
     for name in MADE:
-        rows += compare(*made_frf(name), counts)
+        rows += run(*made_frf(name))
     if args.json:
         print(json.dumps(rows, indent=1))
     else:
-        _print(rows)
+        show(rows)
     return 0
 
 

@@ -88,11 +88,12 @@ def score(ctx, fit, notes, tried) -> dict:
     chi2 = float(np.sum(np.abs(h / H - 1) ** 2 / sigma**2))
     m = 2 * f.size
     fn, zeta, grid = fit.natural_freq_hz, fit.damping, ctx["grid"]
-    # a pair outside the band is unsupported where it is a needle: lightly damped and
-    # narrower than a bin of the grid there, so no bin shows its damping (a mode just
-    # beyond the band whose tail the bins follow is supported)
+    # a pair outside the band is unsupported where it is a needle: lightly damped and no
+    # wider than a bin of the grid there, so no bin shows its damping (a mode just
+    # beyond the band whose tail the bins follow is supported); a pair the floor raised
+    # to the spacing has a width of one bin up to rounding, a damping no bin gave it
     spacing = np.interp(fn, grid, np.gradient(grid)) if grid.size > 1 else np.inf
-    unsupported = bool(np.any((zeta < 0.2) & (2 * zeta * fn < spacing)
+    unsupported = bool(np.any((zeta < 0.2) & (2 * zeta * fn <= spacing * (1 + 1e-9))
                               & ((fn < f[0]) | (fn > f[-1]))))
     return {"fit": fit, "notes": notes, "tried": list(tried),
             "n_poles": int(fit.n_den), "n_zeros": int(fit.n_num),

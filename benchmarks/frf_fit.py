@@ -28,7 +28,10 @@ on the bins tcpmm kept of it) and both errors are measured on the bins of the ot
 that tcpmm fits on the whole response, beside the same errors on the half fitted. The
 table gives the mean over both ways round, ``--json`` each (``split`` 0: fitted on the
 even bins) and their mean (``split`` "mean"), with the poles tcpmm kept (``kept``) and,
-where it refuses a half, why (``refused``).
+where it refuses a half, why (``refused``). Where the true response is known (the made
+responses, a bundle with its ``truth.yaml``), both errors against it on the held-out bins
+too, and the truth's own against the data there: a bin at the peak of a mode narrower
+than a bin is measured low, and a fit that follows the measured peak wins on it.
 
 Install scikit-rf (the ``bench`` extra) and run::
 
@@ -139,11 +142,13 @@ def half_frf(frf, parity: int):
                    name=f"{frf.name} ({'even' if parity == 0 else 'odd'} bins)")
 
 
-def holdout_rows(frf, n, used_hz):
+def holdout_rows(frf, n, used_hz, truth=None):
     """Both fitters fitted to each half of ``frf`` at ``n`` poles, with both errors on the
     bins they fitted (``fit_*``) and on the other half's bins among ``used_hz`` [Hz], those
     tcpmm fits on the whole response (``held_*``); a half tcpmm refuses gives a row with
-    its reason [-]."""
+    its reason. With the true response at the bins of ``frf``, both errors against it on
+    the held-out bins (``held_truth_*``), and the truth's own against the data there
+    (``truth_held_*``): what a model without error leaves on them [-]."""
     from tcpmm.errors import InputError
 
     rows = []
@@ -159,12 +164,18 @@ def holdout_rows(frf, n, used_hz):
         held = np.isin(frf.freq_hz, used_hz) & (np.arange(frf.freq_hz.size) % 2 != parity)
         fv, Hv = frf.freq_hz[held], frf.H[held]
         vf = vf_model(f, H, n)
+        if truth is not None:
+            base |= {f"truth_held_{k}": v for k, v in errors(Hv, truth[held]).items()}
         for fitter, model, kept in (("tcpmm", res.freqresp, int(res.tf.n_den)),
                                     ("skrf VF", vf, n)):
             fit_e, held_e = errors(H, model(f)), errors(Hv, model(fv))
-            rows.append({**base, "fitter": fitter, "kept": kept,
-                         **{f"fit_{k}": v for k, v in fit_e.items()},
-                         **{f"held_{k}": v for k, v in held_e.items()}})
+            row = {**base, "fitter": fitter, "kept": kept,
+                   **{f"fit_{k}": v for k, v in fit_e.items()},
+                   **{f"held_{k}": v for k, v in held_e.items()}}
+            if truth is not None:
+                got = errors(truth[held], model(fv)).items()
+                row |= {f"held_truth_{k}": v for k, v in got}
+            rows.append(row)
     return rows + _mean_rows(rows)
 
 
@@ -175,13 +186,13 @@ def _mean_rows(rows):
         two = [r for r in rows if r["fitter"] == fitter]
         if len(two) < 2 or any("refused" in r for r in two):
             continue
-        keys = [k for k in two[0] if k.startswith(("fit_", "held_"))]
+        keys = [k for k in two[0] if k.startswith(("fit_", "held_", "truth_"))]
         out.append({**two[0], "split": "mean", "kept": [r["kept"] for r in two],
                     **{k: float(np.mean([r[k] for r in two])) for k in keys}})
     return out
 
 
-def holdout(frf, counts):
+def holdout(frf, counts, truth=None):
     """:func:`holdout_rows` of ``frf`` at each pole count, judged on the bins tcpmm fits on
     the whole response: coherence 0.5 or more, not alone over it, a response not zero [-]."""
     from tcpmm.ident.lti.frfnoise import lone_passes
@@ -189,7 +200,7 @@ def holdout(frf, counts):
     keep = frf.coherence >= 0.5
     keep &= ~lone_passes(keep) & np.isfinite(frf.H) & (frf.H != 0)
     used = frf.freq_hz[keep]
-    return [r for n in counts for r in holdout_rows(frf, n, used)]
+    return [r for n in counts for r in holdout_rows(frf, n, used, truth)]
 
 
 def orders(text):
@@ -243,6 +254,11 @@ def _print_holdout(rows):
         cells = "".join(f"  {a[k]:>9.3g} {b[k]:>9.3g}" for k in (
             "held_total_rel", "held_median_rel", "fit_total_rel", "fit_median_rel"))
         print(f"{name:<24} {n:>5} {kept:>5}{cells}")
+        if "held_truth_total_rel" in a:
+            print(f"{'  against the truth':<24} {'':>5} {'':>5}  {a['held_truth_total_rel']:>9.3g} "
+                  f"{b['held_truth_total_rel']:>9.3g}  {a['held_truth_median_rel']:>9.3g} "
+                  f"{b['held_truth_median_rel']:>9.3g}  (the truth against the data: "
+                  f"{a['truth_held_total_rel']:.3g}, {a['truth_held_median_rel']:.3g})")
 
 
 def bundle_frfs(folder, axis: str = "X") -> list:
@@ -292,7 +308,9 @@ def bundle_truth(folder, frf, axis: str = "X"):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--poles", default="4-9", help="pole counts, N or N0-N1")
-    ap.add_argument("--file", default=str(TRACE), help="measured FRF (skipped if absent)")
+    ap.add_argument("--file", action="append", default=None,
+                    help="measured FRF (repeatable; skipped if absent); default the trace")
+    ap.add_argument("--no-made", action="store_true", help="leave out the made responses")
     ap.add_argument("--bundle", action="append", default=[],
                     help="measurement bundle folder: its X sweep's G_M and G_T (repeatable)")
     ap.add_argument("--holdout", action="store_true",
@@ -307,18 +325,19 @@ def main(argv=None):
     limit_blas_threads()
     counts = orders(args.poles)
     if args.holdout:  # no truth needed: the bins not fitted judge
-        run, show = (lambda frf, truth: holdout(frf, counts)), _print_holdout
+        run, show = (lambda frf, truth: holdout(frf, counts, truth)), _print_holdout
     else:
         run, show = (lambda frf, truth: compare(frf, truth, counts)), _print
     rows = []
-    if Path(args.file).is_file():
-        rows += run(read_frf(args.file), None)
-    else:
-        print(f"{args.file} not found: the measured trace is left out", file=sys.stderr)
+    for path in args.file or [str(TRACE)]:
+        if Path(path).is_file():
+            rows += run(read_frf(path), None)
+        else:
+            print(f"{path} not found: the measured response is left out", file=sys.stderr)
     for folder in args.bundle:
         for frf in bundle_frfs(folder):
-            rows += run(frf, None if args.holdout else bundle_truth(folder, frf))
-    for name in MADE:
+            rows += run(frf, bundle_truth(folder, frf))
+    for name in [] if args.no_made else MADE:
         rows += run(*made_frf(name))
     if args.json:
         print(json.dumps(rows, indent=1))

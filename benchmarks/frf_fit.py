@@ -20,6 +20,8 @@ For the made responses the same two errors against the noise-free truth are also
 ``--bundle DIR`` (repeatable) adds the G_M and G_T of the X sweep of a measurement bundle,
 estimated as ``tcpmm identify`` does: e.g. ``--bundle ../shared/data/bench_d/bundle``;
 with a ``truth.yaml`` beside the bundle, both errors against the true response as well.
+``--file PATH`` (repeatable) fits measured responses in any file ``tcpmm frf`` reads in
+place of the trace; ``--no-made`` leaves out the made responses.
 
 ``--holdout`` judges both fitters on bins they did not fit, which needs no truth: each
 response's bins are split into two interleaved halves (even and odd bins of the whole
@@ -36,7 +38,7 @@ than a bin is measured low, and a fit that follows the measured peak wins on it.
 Install scikit-rf (the ``bench`` extra) and run::
 
     .venv/bin/python -m pip install -e '.[bench]'
-    .venv/bin/python benchmarks/frf_fit.py [--poles 4-9] [--json]
+    .venv/bin/python benchmarks/frf_fit.py [--poles 4-9] [--json] [--holdout]
 
 Without scikit-rf the script prints how to install it and exits with 0.
 """

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tcpmm.ident.gates.masses import MODE_MARGIN, first_mode_hz, tcp_gain
+from tcpmm.ident.gates.masses import TCP_MODE_MARGIN, first_mode_hz, tcp_gain
 from tcpmm.ident.options import MIN_COHERENCE
 from tcpmm.ident.physical.skew import skewed_channels
 from tcpmm.ident.pipeline import identify_bundle
@@ -64,10 +64,10 @@ def rows(label: str, bundle) -> list[str]:
         named = "; ".join(f"{k.channel} {k.samples:+.2f} ({k.remedy()})"
                           for k in skewed_channels(a.channel_skews)) or "-"
         gain = tcp_gain(a.frfs["G_tcp"], lambda f, a=a: a.fitted_response("G_tcp", f),
-                        MIN_COHERENCE, first_mode_hz(a.axis.mechanics) / MODE_MARGIN,
+                        MIN_COHERENCE, first_mode_hz(a.axis.mechanics) / TCP_MODE_MARGIN,
                         bundle.axes[name].sweep.excitation_A)
         out.append(f"| {label} | {name} | {read.get('G_T', '-')} | {read.get('G_tcp', '-')} "
-                   f"| {named} | {'-' if gain is None else f'{gain[0]:.4f}'} |")
+                   f"| {named} | {'-' if gain is None else f'{gain.gain:.4f}'} |")
     return out
 
 

@@ -240,26 +240,10 @@ class TcpGain(NamedTuple):
 
 def tcp_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ,
              excitation=None) -> np.ndarray:
-    """The bins of :func:`low_band` from :data:`SWEEP_START_MARGIN` times the lowest bin
-    the excitation reaches on (the lowest coherent bin without an excitation); all false
-    when fewer than :data:`MIN_BINS` are left.
-
-    Parameters
-    ----------
-    frf : FRF
-        ``G_tcp`` of a sweep [-].
-    min_coherence : float
-        Bins with a lower coherence are not used [-].
-    top_hz : float
-        Highest frequency used [Hz].
-    excitation : array_like, optional
-        The sweep's excitation; ``None``: every bin counts as excited [A].
-
-    Returns
-    -------
-    ndarray of bool
-        Mask over the FRF's bins [-].
-    """
+    """The bins of :func:`low_band` (its arguments as it takes them) from
+    :data:`SWEEP_START_MARGIN` times the lowest bin the excitation reaches on, the lowest
+    coherent bin without an excitation; all false when fewer than :data:`MIN_BINS` are
+    left [-]."""
     f = np.asarray(frf.freq_hz, dtype=float)
     band = low_band(frf, min_coherence, top_hz, excitation)
     if not np.any(band):

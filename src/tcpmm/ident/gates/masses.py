@@ -59,7 +59,7 @@ MASS_RANGE = (0.5, 2.0)
 MODE_MARGIN = 3.0
 #: Range of the measured over the modelled ``G_tcp`` below the first mode taken as a TCP
 #: device reading the motion in full: the six reference machines depart from one by up
-#: to 0.18 % (bench H's Y), 16 bench machines with edited masses, head stiffness, damping
+#: to 0.07 % (bench H's X), 16 bench machines with edited masses, head stiffness, damping
 #: and friction by up to 0.6 %; on those a TCP scaled by 0.96 read 0.960-0.973 (the fitted
 #: mode takes up part of it where the band is short) and by 1.04 read 1.037-1.044. 2 % is
 #: a cosine error of 11 deg [-].

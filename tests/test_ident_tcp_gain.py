@@ -87,3 +87,31 @@ def test_a_tcp_device_four_per_cent_off_is_still_refused(bundle, factor):
     assert (gain.value - 1.0) * (factor - 1.0) > 0.0
     assert not TCP_GAIN_RANGE[0] <= gain.value <= TCP_GAIN_RANGE[1]
     assert f"scale tcp_mm by {1.0 / gain.value:.4g}" in gain.remedy
+
+
+@pytest.mark.parametrize("top_hz", [7.5, 20.0])
+def test_a_gain_left_unjudged_is_said_with_the_sweep_that_judges_it(top_hz):
+    """A first mode so low (11 Hz; judged up to 7.5 Hz) that fewer than three bins lie
+    between 1.5 times the sweep's start (4.4 Hz) and the mode over 1.5: the gain went
+    unjudged without a word, and a device that reads a share of the motion passed as the
+    structure's dynamics. It is said, with a sweep start that lets it be judged; where
+    the band holds bins enough, nothing is said."""
+    import numpy as np
+
+    from tcpmm.errors import InputWarning
+    from tcpmm.ident.frf import FRF
+    from tcpmm.ident.gates.masses import check_tcp_gain
+
+    f = np.arange(4.4, 40.0, 0.732)
+    frf = FRF(f, np.ones(f.size, complex), np.ones(f.size), 10, np.zeros(f.size), name="G_tcp")
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        found = check_tcp_gain("X", frf, lambda x: np.ones(x.size), "X/sweep.csv", 0.5, top_hz)
+    text = [str(w.message) for w in said if issubclass(w.category, InputWarning)]
+    assert found == []
+    if top_hz > 10:
+        assert text == []
+        return
+    assert len(text) == 1 and "X/sweep.csv: axis X: the TCP device's gain against the " \
+        "scale is not judged: the FRF holds fewer than 3 coherent bins from 6.6 Hz" in text[0]
+    assert "up to 7.5 Hz" in text[0] and "a sweep from 2.5 Hz or lower" in text[0]

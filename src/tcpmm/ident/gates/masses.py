@@ -34,10 +34,12 @@ sweep's lowest excited bin on (:func:`tcp_band`), above the bins its start lifts
 from __future__ import annotations
 
 import math
+import warnings
 from typing import NamedTuple
 
 import numpy as np
 
+from ...errors import InputWarning
 from ..frf.excited import band_cover, excited_bins, mode_frequencies_hz
 from .columns import RATIO_RANGE
 from .finding import Finding
@@ -283,7 +285,9 @@ def check_tcp_gain(axis: str, frf, model, source: str, min_coherence: float,
     :data:`TCP_GAIN_SIGMAS` standard errors; the other arguments as
     :func:`check_static_gains` takes them [-]."""
     read = tcp_gain(frf, model, min_coherence, top_hz, excitation)
-    if read is None:
+    if read is None:  # a device reading a share of the motion would pass unnoticed: say so
+        warnings.warn(InputWarning(_unjudged_tcp(axis, frf, source, top_hz, excitation)),
+                      stacklevel=2)
         return []
     gain, f, slack = read.gain, read.freq_hz, TCP_GAIN_SIGMAS * read.std
     lo, hi = TCP_GAIN_RANGE
@@ -298,6 +302,19 @@ def check_tcp_gain(axis: str, frf, model, source: str, min_coherence: float,
                     f"check the TCP device's scaling and its alignment with the axis (a "
                     f"cosine error), or scale tcp_mm by {1.0 / gain:.4g}, and identify "
                     f"again: the fit takes the gain for the structure's dynamics")]
+
+
+def _unjudged_tcp(axis: str, frf, source: str, top_hz: float, excitation) -> str:
+    """Why :func:`check_tcp_gain` read no gain, and the sweep that lets it [-]."""
+    f = np.asarray(frf.freq_hz, dtype=float)
+    reached = excited_bins(frf, excitation) if excitation is not None else f > 0
+    start = SWEEP_START_MARGIN * f[np.argmax(reached)] if np.any(reached) else f[0]
+    return (f"{source}: axis {axis}: the TCP device's gain against the scale is not judged: "
+            f"the FRF holds fewer than {MIN_BINS} coherent bins from {start:.3g} Hz "
+            f"({SWEEP_START_MARGIN:g} times where the sweep starts) up to {top_hz:.3g} Hz (the "
+            f"first mode over {TCP_MODE_MARGIN:g}), so a device that reads a share of the "
+            "motion (its scaling, a cosine error) would be taken for the structure's "
+            f"dynamics unsaid; a sweep from {top_hz / 3:.2g} Hz or lower lets it be judged")
 
 
 def mass_findings(axis: str, frfs: dict, mechanics, source: str,

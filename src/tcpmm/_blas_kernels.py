@@ -127,3 +127,19 @@ def describe_numpy() -> str:
 def described() -> str:
     """The lines ``blas:`` and ``numpy:`` of ``tcpmm --version`` [-]."""
     return f"blas: {describe()}\nnumpy: {describe_numpy()}"
+
+
+def kernels() -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """What this process runs: the loaded BLAS libraries with their kernels (``openblas
+    Haswell``) and numpy's AVX-512 targets that its loops use (none where switched off);
+    the two a Dask worker is compared by with the command's process [-]."""
+    from threadpoolctl import threadpool_info
+
+    try:
+        from numpy._core._multiarray_umath import __cpu_features__
+    except ImportError:  # numpy before 2.0
+        from numpy.core._multiarray_umath import __cpu_features__
+    blas = {f"{i.get('internal_api')} {i.get('architecture') or '?'}"
+            for i in threadpool_info() if i.get("user_api") == "blas"}
+    return (tuple(sorted(blas)),
+            tuple(t for t in numpy_avx512_targets() if __cpu_features__.get(t)))

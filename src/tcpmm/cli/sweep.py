@@ -315,6 +315,7 @@ def _on_cluster(scheduler, description: str, run):
     closed after, and a progress bar."""
     client = _client(scheduler) if scheduler is not None else None
     try:
+        _warn_kernels(client)
         with _bar(description) as progress:
             return run(client, progress)
     except (TimeoutError, ValueError) as exc:
@@ -327,6 +328,16 @@ def _on_cluster(scheduler, description: str, run):
     finally:
         if client is not None:
             _close(client)
+
+
+def _warn_kernels(client) -> None:
+    """A warning where a worker of ``--scheduler`` runs other BLAS kernels or numpy loops
+    than this process: ``dask worker`` loads numpy before tcpmm names them."""
+    from ..whatif.sweep.cluster import differing_kernels
+
+    said = differing_kernels(client, ANSWER_S) if client is not None else None
+    if said:
+        console.print(f"[yellow]warning:[/yellow] {esc(said)}")
 
 
 def _finish(res, as_json: bool, report) -> None:

@@ -1,5 +1,6 @@
-"""The sweep's own Dask cluster on this machine, and a client of it that closes it
-quietly when a signal stops the sweep."""
+"""The sweep's own Dask cluster on this machine, a client of it that closes it
+quietly when a signal stops the sweep, and what a cluster's workers run that a local run
+does not."""
 
 from __future__ import annotations
 
@@ -164,3 +165,70 @@ def refuse_unreadable_on_worker(path) -> None:
     raise InputError(f"the Dask worker at {worker.address} cannot read {path}, which the "
                      "command found on its own machine: put the programs on a folder every "
                      "worker mounts at the same path", file=path)
+
+
+#: Workers named one by one where their kernels differ from the command's; the rest are
+#: counted [-].
+SAID_WORKERS = 3
+
+
+def _in_words(kernels) -> str:
+    """A worker's :func:`tcpmm._blas_kernels.kernels` in words; ``unknown`` for ``None``."""
+    if kernels is None:
+        return "unknown: it did not answer"
+    blas, avx512 = kernels
+    loops = f"with AVX-512 ({' '.join(avx512)})" if avx512 else "without AVX-512"
+    return f"{', '.join(blas) or 'no BLAS loaded'}, numpy's loops {loops}"
+
+
+def workers_kernels(client, wait_s: float) -> dict:
+    """Each worker's BLAS kernels and numpy loops (:func:`tcpmm._blas_kernels.kernels`) by
+    its address; ``None`` for a worker that could not say within ``wait_s`` [s] [-]."""
+    import threading
+
+    from ..._blas_kernels import kernels
+
+    got = {}
+
+    def ask():
+        try:
+            got["run"] = client.run(kernels, on_error="return")
+            got["workers"] = list(client.scheduler_info().get("workers", {}))
+        except Exception:  # the scheduler's own trouble is said when the tasks go out
+            pass
+
+    asking = threading.Thread(target=ask, daemon=True)
+    asking.start()
+    asking.join(wait_s)
+    said = dict(got.get("run", {}))  # an exception where a worker could not say
+    return {w: (tuple(map(tuple, k)) if isinstance(k, (tuple, list)) else None)
+            for w, k in {**dict.fromkeys(got.get("workers", [])), **said}.items()}
+
+
+def differing_kernels(client, wait_s: float) -> str | None:
+    """Which workers run other BLAS kernels or numpy loops than this process, in words with
+    the fix, or ``None`` where none does [-]. A worker that ``dask worker`` started without
+    the variables of ``docs/sweep.md`` loaded numpy first and runs the
+    kernels its CPU chose: its figures differ from a local run's in their last digits.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The cluster's client [-].
+    wait_s : float
+        Longest wait for the workers' answers [s].
+    """
+    from ..._blas_kernels import VARIABLES, kernels, numpy_avx512_targets
+
+    here = kernels()
+    odd = {w: k for w, k in workers_kernels(client, wait_s).items() if k != here}
+    if not odd:
+        return None
+    said = [f"{w} ({_in_words(k)})" for w, k in list(odd.items())[:SAID_WORKERS]]
+    more = f" and {len(odd) - SAID_WORKERS} more" if len(odd) > SAID_WORKERS else ""
+    names = {**VARIABLES, "NPY_DISABLE_CPU_FEATURES": " ".join(numpy_avx512_targets())}
+    env = " ".join(f'{k}="{v}"' if " " in v else f"{k}={v}" for k, v in names.items() if v)
+    return (f"Dask workers {'; '.join(said)}{more} run other BLAS kernels or numpy loops "
+            f"than this command ({_in_words(here)}): their figures may differ from a local "
+            f"run's in their last digits. Start the workers with {env} in their environment "
+            "(docs/sweep.md, On a cluster)")

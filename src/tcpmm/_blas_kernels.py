@@ -60,14 +60,18 @@ def pin_blas_kernels() -> bool:
     _NOT_NAMED[:] = [why] if why else []
     if why:
         return False
-    for name, value in VARIABLES.items():
+    for name, value in pinned_variables().items():
+        if name == "NPY_DISABLE_CPU_FEATURES" and "NPY_ENABLE_CPU_FEATURES" in os.environ:
+            continue  # numpy refuses the two together
         os.environ.setdefault(name, value)
-    targets = numpy_avx512_targets()
-    if targets and not ({"NPY_DISABLE_CPU_FEATURES", "NPY_ENABLE_CPU_FEATURES"}
-                        & os.environ.keys()):
-        # numpy refuses the two together, and takes a user's own list as it stands
-        os.environ["NPY_DISABLE_CPU_FEATURES"] = " ".join(targets)
     return True
+
+
+def pinned_variables() -> dict[str, str]:
+    """The variables :func:`pin_blas_kernels` names and their values: :data:`VARIABLES`
+    and numpy's AVX-512 targets switched off, where the installed numpy's are known [-]."""
+    targets = numpy_avx512_targets()
+    return {**VARIABLES, **({"NPY_DISABLE_CPU_FEATURES": " ".join(targets)} if targets else {})}
 
 
 def numpy_version(paths=None) -> tuple[int, ...]:
@@ -112,12 +116,9 @@ def describe_numpy() -> str:
     """Which of numpy's loops this process runs, in words (``tcpmm --version``) [-]."""
     import numpy as np
 
-    try:
-        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
-    except ImportError:  # numpy before 2.0
-        from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
-    off = [t for t in numpy_avx512_targets() if t in __cpu_dispatch__]
-    if _NOT_NAMED or not off or any(__cpu_features__.get(t) for t in off):
+    dispatch, features = _numpy_cpu()
+    off = [t for t in numpy_avx512_targets() if t in dispatch]
+    if _NOT_NAMED or not off or any(features.get(t) for t in off):
         return (f"numpy {np.__version__}'s loops as it chose for this CPU: figures may "
                 "differ from another CPU's in their last digits")
     return (f"numpy {np.__version__}'s loops without AVX-512, the same on every CPU with "
@@ -135,11 +136,17 @@ def kernels() -> tuple[tuple[str, ...], tuple[str, ...]]:
     the two a Dask worker is compared by with the command's process [-]."""
     from threadpoolctl import threadpool_info
 
-    try:
-        from numpy._core._multiarray_umath import __cpu_features__
-    except ImportError:  # numpy before 2.0
-        from numpy.core._multiarray_umath import __cpu_features__
+    features = _numpy_cpu()[1]
     blas = {f"{i.get('internal_api')} {i.get('architecture') or '?'}"
             for i in threadpool_info() if i.get("user_api") == "blas"}
     return (tuple(sorted(blas)),
-            tuple(t for t in numpy_avx512_targets() if __cpu_features__.get(t)))
+            tuple(t for t in numpy_avx512_targets() if features.get(t)))
+
+
+def _numpy_cpu() -> tuple:
+    """numpy's dispatch targets and, by name, which of its CPU features it runs [-]."""
+    try:
+        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    except ImportError:  # numpy before 2.0
+        from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    return __cpu_dispatch__, __cpu_features__

@@ -218,7 +218,7 @@ def differing_kernels(client, wait_s: float) -> str | None:
     wait_s : float
         Longest wait for the workers' answers [s].
     """
-    from ..._blas_kernels import VARIABLES, kernels, numpy_avx512_targets
+    from ..._blas_kernels import kernels, pinned_variables
 
     here = kernels()
     odd = {w: k for w, k in workers_kernels(client, wait_s).items() if k != here}
@@ -226,8 +226,8 @@ def differing_kernels(client, wait_s: float) -> str | None:
         return None
     said = [f"{w} ({_in_words(k)})" for w, k in list(odd.items())[:SAID_WORKERS]]
     more = f" and {len(odd) - SAID_WORKERS} more" if len(odd) > SAID_WORKERS else ""
-    names = {**VARIABLES, "NPY_DISABLE_CPU_FEATURES": " ".join(numpy_avx512_targets())}
-    env = " ".join(f'{k}="{v}"' if " " in v else f"{k}={v}" for k, v in names.items() if v)
+    env = " ".join(f'{k}="{v}"' if " " in v else f"{k}={v}"
+                   for k, v in pinned_variables().items())
     return (f"Dask workers {'; '.join(said)}{more} run other BLAS kernels or numpy loops "
             f"than this command ({_in_words(here)}): their figures may differ from a local "
             f"run's in their last digits. Start the workers with {env} in their environment "

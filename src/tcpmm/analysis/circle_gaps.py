@@ -74,8 +74,9 @@ def angle_jumps(ang) -> np.ndarray:
 
 def in_gaps(travel, at, period=None) -> np.ndarray:
     """Which of the angles ``at`` lie in a gap of the samples at ``travel``: between two
-    successive ones :data:`GAP_STEPS` or more times their median step apart that moves,
-    where nothing is measured and an interpolation would make up the error [-].
+    successive ones more than :data:`GAP_STEPS` times their median step apart that moves
+    (:func:`angle_jumps`), where nothing is measured and an interpolation would make up
+    the error [-].
 
     Parameters
     ----------
@@ -92,9 +93,9 @@ def in_gaps(travel, at, period=None) -> np.ndarray:
     if period is not None and a.size:
         a = np.r_[a, a[0] + period]
         at = np.mod(at - a[0], period) + a[0]
-    step = np.diff(a)
-    moving = step[step > 0]
-    if moving.size < 3:
+    gap = np.zeros(max(a.size - 1, 0), dtype=bool)
+    gap[angle_jumps(a)] = True  # the rule the gap warning follows
+    if not gap.any():
         return np.zeros(at.shape, dtype=bool)
-    i = np.clip(np.searchsorted(a, at, side="right") - 1, 0, step.size - 1)
-    return (step[i] >= GAP_STEPS * np.median(moving)) & (at > a[i]) & (at < a[i + 1])
+    i = np.clip(np.searchsorted(a, at, side="right") - 1, 0, gap.size - 1)
+    return gap[i] & (at > a[i]) & (at < a[i + 1])

@@ -250,9 +250,16 @@ def tcp_band(frf, min_coherence: float, top_hz: float = LOW_BAND_HZ,
     band = low_band(frf, min_coherence, top_hz, excitation)
     if not np.any(band):
         return band
-    reached = excited_bins(frf, excitation) if excitation is not None else band
-    band &= f >= SWEEP_START_MARGIN * f[np.argmax(reached)]
+    band &= f >= _read_from_hz(frf, excitation, band)
     return band if np.count_nonzero(band) >= MIN_BINS else np.zeros(f.shape, dtype=bool)
+
+
+def _read_from_hz(frf, excitation, band) -> float:
+    """Where :func:`tcp_band` reads ``G_tcp`` from: :data:`SWEEP_START_MARGIN` times the
+    lowest bin the excitation reaches, the lowest of ``band`` without one [Hz]."""
+    f = np.asarray(frf.freq_hz, dtype=float)
+    reached = excited_bins(frf, excitation) if excitation is not None else band
+    return SWEEP_START_MARGIN * float(f[np.argmax(reached)])
 
 
 def tcp_gain(frf, model, min_coherence: float, top_hz: float = LOW_BAND_HZ,
@@ -286,8 +293,8 @@ def check_tcp_gain(axis: str, frf, model, source: str, min_coherence: float,
     :func:`check_static_gains` takes them [-]."""
     read = tcp_gain(frf, model, min_coherence, top_hz, excitation)
     if read is None:  # a device reading a share of the motion would pass unnoticed: say so
-        warnings.warn(InputWarning(_unjudged_tcp(axis, frf, source, top_hz, excitation)),
-                      stacklevel=2)
+        warnings.warn(InputWarning(_unjudged_tcp(axis, frf, source, min_coherence, top_hz,
+                                                 excitation)), stacklevel=2)
         return []
     gain, f, slack = read.gain, read.freq_hz, TCP_GAIN_SIGMAS * read.std
     lo, hi = TCP_GAIN_RANGE
@@ -304,11 +311,10 @@ def check_tcp_gain(axis: str, frf, model, source: str, min_coherence: float,
                     f"again: the fit takes the gain for the structure's dynamics")]
 
 
-def _unjudged_tcp(axis: str, frf, source: str, top_hz: float, excitation) -> str:
+def _unjudged_tcp(axis: str, frf, source: str, min_coherence: float, top_hz: float,
+                  excitation) -> str:
     """Why :func:`check_tcp_gain` read no gain, and the sweep that lets it [-]."""
-    f = np.asarray(frf.freq_hz, dtype=float)
-    reached = excited_bins(frf, excitation) if excitation is not None else f > 0
-    start = SWEEP_START_MARGIN * f[np.argmax(reached)] if np.any(reached) else f[0]
+    start = _read_from_hz(frf, excitation, low_band(frf, min_coherence, top_hz, excitation))
     return (f"{source}: axis {axis}: the TCP device's gain against the scale is not judged: "
             f"the FRF holds fewer than {MIN_BINS} coherent bins from {start:.3g} Hz "
             f"({SWEEP_START_MARGIN:g} times where the sweep starts) up to {top_hz:.3g} Hz (the "

@@ -32,7 +32,7 @@ from scipy.interpolate import Akima1DInterpolator
 
 from ..path.command import Command
 from ..sim.simulate import simulate
-from ..whatif.draws import MODEL_ERROR, draw_machine
+from ..whatif.draws import drawn_machines
 from .drive import reversal_pulses
 from .robust import margin
 from .scores import circle_figures
@@ -243,9 +243,7 @@ def holds_on_draws(machine, command: Command, axis: str, pulses: tuple, others: 
         Called with no argument after each machine at each override checked; not for
         those left once one fails [-].
     """
-    rng = np.random.default_rng(seed)
-    machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR)
-                            for _ in range(_drawn(machine, n_draws))]
+    machines = drawn_machines(machine, _drawn(machine, n_draws), seed)
     for k in CHECKED:
         cmd = time_scaled(command, k)
         for m in machines:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..whatif.draws import MODEL_ERROR, draw_machine
+from ..whatif.draws import drawn_machines
 from .controller import ControllerCompensation
 from .drive import controlled_run
 from .robust import EQUAL_M, margin, over_draws, vouched
@@ -101,8 +101,7 @@ def robust_controller(machine, cc: ControllerCompensation, command, radius_m: fl
         cc.robustness = {"draws": n_draws, "seed": seed, "share": 0.0}  # nothing to judge
         return
     args = (radius_m, centre_m, plane)
-    rng = np.random.default_rng(seed)
-    machines = [machine] + [draw_machine(machine, rng, MODEL_ERROR) for _ in range(n_draws)]
+    machines = drawn_machines(machine, n_draws, seed)
     none = scaled(cc, 0.0)
     before = [applied(m, command, none, args) for m in machines]
     share, after = 0.0, before

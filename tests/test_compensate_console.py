@@ -55,13 +55,18 @@ def test_a_jerk_beyond_the_limit_is_explained_from_the_path(tmp_path, capsys, sc
                                                             moves, cause):
     """The program's own jerk beyond the limit is a tangent junction's step of curvature
     where the path's direction is continuous, and a sharp corner's velocity step where it
-    is not."""
+    is not. As programmed (``--headroom 0``: with headroom the plan holds a step of
+    curvature within the jerk given, ``tests/test_transition_jerk.py``) the step of
+    curvature's warning names the settings that hold it."""
     prog = tmp_path / "p.nc"
     prog.write_text(f"G21 G17 G90 G64\n{moves}\nM30\n")
     assert main(["compensate", str(scurve_model), "--gcode", str(prog), "-o",
-                 str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2"]) == 0
+                 str(tmp_path / "c.csv"), "--draws", "0", "--iterations", "2",
+                 "--headroom", "0"]) == 0
     lines = [s for s in capsys.readouterr().err.splitlines() if "jerk up to" in s]
     assert lines and all(cause in s for s in lines), lines
+    fixes = "transition_jerk_m_per_s3" in lines[0] and "--headroom above 0" in lines[0]
+    assert fixes is (cause == "step of curvature"), lines
 
 
 def test_the_contour_rms_is_over_the_program_s_motion(monkeypatch):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from ._app import out
@@ -55,12 +56,14 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     for line in _kept_lines(comp):
         out.print(line, highlight=False)
     st = comp.settings
-    if st.get("headroom"):
+    if st.get("headroom"):  # a jerk limit plans the steps of curvature slower too
+        steps = math.isfinite(min((b.jerk for b in comp.bounds.values()), default=math.inf))
         out.print(f"  planned with headroom {st['headroom']:g}: {percent(1 - st['headroom'])} of "
                   "the axes' acceleration and jerk, the rest left to the correction: "
                   f"{st['planned_duration_s']:.3g} s instead of "
                   f"{st['programmed_duration_s']:.3g} s as programmed (longer ramps and "
-                  "corners; on a curve, the feed the rest of the acceleration allows)"
+                  f"corners{', slower where the curvature steps' * steps}; on a curve, the "
+                  "feed the rest of the acceleration allows)"
                   + _corner_words(st), highlight=False)
     if comp.robustness:
         for line in _verdict_lines(comp.robustness, comp.moved_axes):

@@ -18,6 +18,8 @@ _REMEDY = {"axis velocity": "axis_velocity_m_per_s, capped by rapid_m_per_s",
            "curvature of short blocks (centripetal acceleration)":
                "a curve posted as short G1 blocks runs as its arc would: axis_accel_m_per_s2, "
                "larger radii",
+           "transition jerk (step of curvature)":
+               "a tangent join into an arc of another curvature: transition_jerk_m_per_s3",
            "path acceleration": "blocks too short to reach the feed: path_accel_m_per_s2",
            "path jerk": "blocks too short to reach the feed: path_jerk_m_per_s3"}
 

@@ -279,7 +279,10 @@ def _step_cause(reference, name: str, what: str) -> str:
         return ("a step of curvature where a line or an arc joins an arc tangentially, or "
                 "at the corners of a curve posted as short blocks: the velocity's direction "
                 "turns there no faster than along the curve, its acceleration steps, so the "
-                "jerk is unbounded within one period")
+                "jerk is unbounded within one period; an NC program compensated with "
+                "headroom (--headroom above 0) is planned slower there, within the jerk "
+                "given, and transition_jerk_m_per_s3 in the model's interpolation settings "
+                "holds the program itself to it")
     return "a sharp corner's velocity step, one period"
 
 

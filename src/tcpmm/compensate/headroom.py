@@ -40,10 +40,11 @@ def headroom_for(is_program: bool, headroom: float | None) -> float:
 
 
 def planned_settings(settings: InterpolatorSettings, headroom: float) -> InterpolatorSettings:
-    """The interpolator settings with the path's and every axis's acceleration and the
-    path's jerk times ``1 - headroom``, and a sharp corner's velocity step held to the
-    headroom's share of the axes' full acceleration: braking into the corner at the
-    planned limit and the step then add up to the full limit, not beyond it.
+    """The interpolator settings with the path's and every axis's acceleration, the
+    path's jerk and the axes' jerk at a transition times ``1 - headroom``, and a sharp
+    corner's velocity step held to the headroom's share of the axes' full acceleration:
+    braking into the corner at the planned limit and the step then add up to the full
+    limit, not beyond it.
 
     Parameters
     ----------
@@ -56,9 +57,11 @@ def planned_settings(settings: InterpolatorSettings, headroom: float) -> Interpo
         raise InputError(f"headroom {headroom:g} is not in [0, 1): the share of the axes' "
                          "acceleration and jerk left to the correction")
     k = 1.0 - headroom
+    trans = settings.transition_jerk_m_per_s3
     return settings.model_copy(update={
         "path_accel_m_per_s2": settings.path_accel_m_per_s2 * k,
         "path_jerk_m_per_s3": settings.path_jerk_m_per_s3 * k,
+        "transition_jerk_m_per_s3": None if trans is None else trans * k,
         "corner_step_share": min(settings.corner_step_share, planned_step_share(headroom)),
         "axis_accel_m_per_s2": {a: v * k for a, v in settings.axis_accel_m_per_s2.items()}})
 
@@ -71,8 +74,9 @@ def planned_step_share(headroom: float) -> float:
 
 
 def within_bounds(settings: InterpolatorSettings, bounds: dict) -> InterpolatorSettings:
-    """The settings with the path's and each axis's acceleration and the path's jerk no
-    higher than the limits the compensated command keeps: the headroom is a share of
+    """The settings with the path's and each axis's acceleration, the path's jerk and the
+    axes' jerk at a transition (:func:`transition_within`) no higher than the limits the
+    compensated command keeps: the headroom is a share of
     those, and a plan at the interpolator's own higher limits would leave the correction
     less than its share, or none (0.8 m/s^2 given on a 1 m/s^2 interpolator left 6 %
     where 25 % was said).
@@ -89,12 +93,37 @@ def within_bounds(settings: InterpolatorSettings, bounds: dict) -> InterpolatorS
     # the path's vector is held by the axes' limits together, not by the slowest one's
     path = min(settings.path_accel_m_per_s2, max(b.accel for b in bounds.values()))
     jerk = min(settings.path_jerk_m_per_s3, max(b.jerk for b in bounds.values()))
+    trans = transition_within(settings.transition_jerk_m_per_s3, bounds)
     if not lower and path == settings.path_accel_m_per_s2 \
-            and jerk == settings.path_jerk_m_per_s3:
+            and jerk == settings.path_jerk_m_per_s3 \
+            and trans == settings.transition_jerk_m_per_s3:
         return settings
     return settings.model_copy(update={
         "path_accel_m_per_s2": path, "path_jerk_m_per_s3": jerk,
+        "transition_jerk_m_per_s3": trans,
         "axis_accel_m_per_s2": {**settings.axis_accel_m_per_s2, **lower}})
+
+
+def transition_within(own: float | None, bounds: dict) -> float | None:
+    """The axes' jerk at a transition where the curvature jumps
+    (:mod:`tcpmm.path.transitions`) that a plan within ``bounds`` keeps: the interpolator's
+    own, ``None`` for none, no higher than the lowest jerk an axis is given. The path's
+    profile limits the jerk along the path only; at a line's tangent join into an arc an
+    axis's acceleration steps by ``v^2 / r`` within one period, and the correction could
+    add nothing there to a command already beyond the limit (149 m/s^3 on a line into a
+    circle of 35 mm at F5000 and 1 ms, against 50) [m/s^3].
+
+    Parameters
+    ----------
+    own : float or None
+        The interpolator's ``transition_jerk_m_per_s3`` [m/s^3].
+    bounds : dict of str to AxisBounds
+        The limits per axis (:func:`~tcpmm.compensate.bounds.machine_bounds`) [SI].
+    """
+    given = min(b.jerk for b in bounds.values())
+    if not np.isfinite(given):
+        return own
+    return given if own is None else min(own, given)
 
 
 def program_with_headroom(program, settings: InterpolatorSettings, headroom: float,

@@ -49,7 +49,9 @@ _HEADER = _HEADER_START + """{fmt}). SI units throughout:
 #          axis_velocity_m_per_s [m/s], axis_accel_m_per_s2 [m/s^2], rapid_m_per_s [m/s],
 #          corner_tolerance_m [m], filter_kind [none|linear|bell], filter_time_s [s],
 #          blend_tolerance_m [m] (G64 without P; 0: sharp corners), corner_step_share [-]
-#          (of the axis acceleration a sharp corner's velocity step takes; 0: exact stops)
+#          (of the axis acceleration a sharp corner's velocity step takes; 0: exact stops),
+#          transition_jerk_m_per_s3 [m/s^3] (axis jerk where the curvature steps at a
+#          tangent block transition; null: no limit)
 #   specification (what the builder states it meets): circular_deviation_m [m] (ISO 230-4
 #          G of a circular test at the tool; a circle verdict given no tolerance judges
 #          against it)

@@ -74,6 +74,15 @@ class InterpolatorSettings(BaseModel):
         one). The step comes on top of the braking into the corner and the speeding up
         out of it, so the sampled command's acceleration may read up to ``1 + share``
         times an axis's limit there; 0 makes every sharp corner an exact stop [-].
+    transition_jerk_m_per_s3 : float or None
+        Jerk every axis may take at a block transition where the path's curvature jumps
+        (a line into an arc tangentially, an arc into one of another radius or turn, the
+        ends of a G64 blend): the axis's acceleration steps there by ``v^2`` times the
+        jump of the curvature vector's component within the time the filter spreads it
+        over (one period without one), so the speed at the transition is held to
+        ``sqrt(j * T / |delta kappa_axis|)`` for every axis, as Sinumerik's
+        ``PATH_TRANS_JERK_LIM`` does; ``None`` sets no such limit, as the trapezoid and
+        S-curve profiles limit the jerk along the path only [m/s^3].
     """
 
     model_config = ConfigDict(extra="forbid")
@@ -90,6 +99,7 @@ class InterpolatorSettings(BaseModel):
     filter_time_s: float = Field(0.0, ge=0.0, le=10.0)
     blend_tolerance_m: float = Field(0.0, ge=0.0, le=0.1)
     corner_step_share: float = Field(1.0, ge=0.0, le=1.0)
+    transition_jerk_m_per_s3: float | None = Field(None, gt=0.0, allow_inf_nan=False)
 
     @field_validator("axis_velocity_m_per_s")
     @classmethod

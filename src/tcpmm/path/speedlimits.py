@@ -21,6 +21,7 @@ from .._rows import min_rows
 from ..errors import InputError
 from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
 from .shortblocks import chain_limits, chain_tangential
+from .transitions import transition_limits
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
 REVERSAL_TOL = 1e-9
@@ -32,9 +33,11 @@ SEGMENT_CAUSES = ("programmed feed", "axis velocity", "curvature (centripetal ac
                   "filter tolerance on arcs")
 #: what sets a junction's speed limit (index = the code :func:`junction_limits` returns)
 JUNCTION_CAUSES = ("segment limit", "corner: axis acceleration", "corner: filter tolerance",
-                   "exact stop", "curvature of short blocks (centripetal acceleration)")
-#: index of "exact stop" and of the chain of short blocks in ``JUNCTION_CAUSES`` [-]
-EXACT_STOP, CHAIN = 3, 4
+                   "exact stop", "curvature of short blocks (centripetal acceleration)",
+                   "transition jerk (step of curvature)")
+#: index of "exact stop", of the chain of short blocks and of a transition's step of
+#: curvature (:mod:`tcpmm.path.transitions`) in ``JUNCTION_CAUSES`` [-]
+EXACT_STOP, CHAIN, TRANSITION = 3, 4, 5
 
 
 def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
@@ -317,7 +320,8 @@ def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = Fals
         Per segment, as :func:`segment_limits` gives them, ``acc`` shared with the
         corners of chains of short blocks [m/s], [m/s^2], [-].
     vj, junction_cause : ndarray
-        Per junction, as :func:`junction_limits` gives them [m/s], [-].
+        Per junction, as :func:`junction_limits` gives them, and no higher than
+        :func:`~tcpmm.path.transitions.transition_limits` allows [m/s], [-].
     load : ndarray
         Centripetal acceleration per axis at each junction [m/s^2].
     """
@@ -327,6 +331,10 @@ def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = Fals
     turns = corner_tangents(p) if p.n >= 2 else None
     vj, junction_cause = junction_limits(p, vmax, acc, settings.corner_step_accel(), filt,
                                          acc_normal, turns)
+    if p.n >= 2:
+        trans = transition_limits(p, settings.transition_jerk_m_per_s3, filt.spread_s)
+        lower = np.concatenate([[False], trans < vj[1:-1], [False]])
+        vj[lower], junction_cause[lower] = trans[lower[1:-1]], TRANSITION
     du = None if turns is None else turns[1] - turns[0]
     acc, load = chain_tangential(p, du, vj, acc, acc_axis, acc_normal, start, open_end)
     return vmax, acc, seg_cause, vj, junction_cause, load

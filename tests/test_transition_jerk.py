@@ -171,3 +171,25 @@ def test_a_model_file_with_a_bad_setting_is_refused(tmp_path, capsys):
     prog.write_text(leadin())
     assert main(["path", str(prog), "--model", str(path), "-o", str(tmp_path / "c.csv")]) != 0
     assert "transition_jerk_m_per_s3" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("tol_mm", [0.01, 0.05])
+def test_a_blend_runs_at_its_ends_speed(tol_mm):
+    """A G64 square: each corner's blend steps the curvature by ``1 / r`` at both ends
+    and runs at their limit all along, so the S-curve ramps on the lines, where the
+    curvature is 0: every axis's jerk stays within the S-curve's 50 m/s^3 (the samples of
+    a line along an axis read it exactly, hence ``OVER_SHARE``). Left to speed up inside
+    the blend (24 µm radius), the ramp on so tight a curve read 81 m/s^3."""
+    from tcpmm.path.geometry import BLEND
+    from tcpmm.path.limits import OVER_SHARE
+
+    text = (f"G21 G17 G90 G64 P{tol_mm:g}\nG0 X0 Y0\nG1 X40 Y0 F5000\nG1 X40 Y40\n"
+            "G1 X0 Y40\nG1 X0 Y0\nM30\n")
+    it = program_to_interpolation(text, settings())
+    b = np.flatnonzero(it.path.kind == BLEND)
+    assert b.size == 3
+    v = it.junction_speed_m_per_s
+    assert np.allclose(it.segment_peak_m_per_s[b], v[b], rtol=1e-9)
+    cmd = it.command
+    for a, x in cmd.positions.items():
+        assert peak(x, 3, cmd.period_s, from_rest=True) <= J * (1 + OVER_SHARE), a

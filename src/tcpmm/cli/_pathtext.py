@@ -19,7 +19,8 @@ _REMEDY = {"axis velocity": "axis_velocity_m_per_s, capped by rapid_m_per_s",
                "a curve posted as short G1 blocks runs as its arc would: axis_accel_m_per_s2, "
                "larger radii",
            "transition jerk (step of curvature)":
-               "a tangent join into an arc of another curvature: transition_jerk_m_per_s3",
+               "a tangent join into an arc of another curvature, a G64 blend's ends: "
+               "transition_jerk_m_per_s3, larger radii or G64 P",
            "path acceleration": "blocks too short to reach the feed: path_accel_m_per_s2",
            "path jerk": "blocks too short to reach the feed: path_jerk_m_per_s3"}
 

@@ -120,7 +120,8 @@ class FeedLimits:
         ``1 - HELD_SHARE`` of the programmed feed, from the samples [m].
     """
 
-    CAUSES = (*SEGMENT_CAUSES[1:], *JUNCTION_CAUSES[1:], "path acceleration", "path jerk")
+    CAUSES = tuple(dict.fromkeys((*SEGMENT_CAUSES[1:], *JUNCTION_CAUSES[1:],
+                                  "path acceleration", "path jerk")))
 
     line: np.ndarray
     length_m: np.ndarray

@@ -21,7 +21,7 @@ from .._rows import min_rows
 from ..errors import InputError
 from .geometry import ARC, BLEND, DWELL, PathArrays, max_abs_trig, tangents
 from .shortblocks import chain_limits, chain_tangential
-from .transitions import transition_limits
+from .transitions import blend_limits, transition_limits
 
 #: unit tangents whose dot product is below -1 + this are a reversal (exact stop) [-]
 REVERSAL_TOL = 1e-9
@@ -30,7 +30,7 @@ REVERSAL_TOL = 1e-9
 BEND_TOL = 1e-6
 #: what sets a segment's speed limit (index = the code :func:`segment_limits` returns)
 SEGMENT_CAUSES = ("programmed feed", "axis velocity", "curvature (centripetal acceleration)",
-                  "filter tolerance on arcs")
+                  "filter tolerance on arcs", "transition jerk (step of curvature)")
 #: what sets a junction's speed limit (index = the code :func:`junction_limits` returns)
 JUNCTION_CAUSES = ("segment limit", "corner: axis acceleration", "corner: filter tolerance",
                    "exact stop", "curvature of short blocks (centripetal acceleration)",
@@ -38,6 +38,8 @@ JUNCTION_CAUSES = ("segment limit", "corner: axis acceleration", "corner: filter
 #: index of "exact stop", of the chain of short blocks and of a transition's step of
 #: curvature (:mod:`tcpmm.path.transitions`) in ``JUNCTION_CAUSES`` [-]
 EXACT_STOP, CHAIN, TRANSITION = 3, 4, 5
+#: index of a blend held to its ends' transition limit in ``SEGMENT_CAUSES`` [-]
+HELD_BLEND = 4
 
 
 def segment_limits(p: PathArrays, vel_axis, acc_axis, acc_path, filt):
@@ -317,7 +319,8 @@ def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = Fals
     Returns
     -------
     vmax, acc, seg_cause : ndarray
-        Per segment, as :func:`segment_limits` gives them, ``acc`` shared with the
+        Per segment, as :func:`segment_limits` gives them, a blend's ``vmax`` no higher
+        than :func:`~tcpmm.path.transitions.blend_limits` allows, ``acc`` shared with the
         corners of chains of short blocks [m/s], [m/s^2], [-].
     vj, junction_cause : ndarray
         Per junction, as :func:`junction_limits` gives them, and no higher than
@@ -335,6 +338,9 @@ def path_limits(p: PathArrays, settings, filt, start=None, open_end: bool = Fals
         trans = transition_limits(p, settings.transition_jerk_m_per_s3, filt.spread_s)
         lower = np.concatenate([[False], trans < vj[1:-1], [False]])
         vj[lower], junction_cause[lower] = trans[lower[1:-1]], TRANSITION
+        held = blend_limits(p, trans)
+        lower = held < vmax
+        vmax[lower], seg_cause[lower] = held[lower], HELD_BLEND
     du = None if turns is None else turns[1] - turns[0]
     acc, load = chain_tangential(p, du, vj, acc, acc_axis, acc_normal, start, open_end)
     return vmax, acc, seg_cause, vj, junction_cause, load

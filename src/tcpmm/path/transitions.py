@@ -16,6 +16,14 @@ A line into an arc of radius 35 mm at F5000 steps an axis's acceleration by 0.2 
 200 m/s^3 within 1 ms; with ``j`` = 50 m/s^3 the transition runs at no more than
 2510 mm/min. Where the curvature is continuous (the blocks of one circle, collinear lines,
 the arcs of a spiral that meet with the same radius) the step is zero and nothing is held.
+
+A corner's blend (``G64 P``) steps its curvature at both ends by ``1 / r`` alike, so both
+ends hold it to the same speed; it is held to that speed all along (:func:`blend_limits`).
+Left to speed up between them, the feed's own ramp on so tight a curve turns the
+acceleration fast: ``3 v kappa a_t`` on top of the profile's jerk along the path, which
+read 58 m/s^3 on an axis of a spiral posted as G1 blocks under ``G64 P0.005`` planned to
+37.5 m/s^3 (a blend of 15 µm radius). Held, its ramps fall on the lines, where the
+curvature is 0.
 """
 
 from __future__ import annotations
@@ -87,3 +95,18 @@ def transition_limits(p: PathArrays, jerk_m_per_s3: float | None, spread_s: floa
     most = jump.max(axis=1)  # the axis whose acceleration steps the most sets the limit
     np.divide(jerk_m_per_s3 * spread_s, most, out=cap, where=most > 0.0)
     return np.sqrt(cap)
+
+
+def blend_limits(p: PathArrays, caps: np.ndarray) -> np.ndarray:
+    """Speed limit of every segment from the caps of :func:`transition_limits`: on a
+    corner's blend the lower of its two ends' (module docstring), ``inf`` elsewhere [m/s].
+
+    Parameters
+    ----------
+    p : PathArrays
+        The path [-].
+    caps : ndarray
+        The ``n - 1`` inner junctions' limits (:func:`transition_limits`) [m/s].
+    """
+    ends = np.concatenate([[np.inf], caps, [np.inf]])
+    return np.where(p.kind == BLEND, np.minimum(ends[:-1], ends[1:]), np.inf)

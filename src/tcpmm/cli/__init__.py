@@ -15,10 +15,12 @@ import warnings
 
 from .._threads import single_threaded_from_start
 from ._collector import collect_late
+from ._memory import keep_freed_memory
 from ._stops import stop_not_ignored
 
 collect_late()  # before the imports of typer, rich and the command's module
 single_threaded_from_start()  # before the commands' modules load numpy
+keep_freed_memory()  # before they load pyarrow
 # pydantic's plugins are not looked for: the search reads the metadata of every installed
 # distribution, some 10 ms of a short command (a value the user set is kept)
 os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")

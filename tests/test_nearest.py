@@ -128,6 +128,37 @@ def test_paths_searched_in_threads_give_each_path_alone(cores, monkeypatch):
         np.testing.assert_array_equal(together[name][1], alone[1])
 
 
+def test_the_blocks_are_worked_out_once_for_every_path_and_thread(monkeypatch):
+    """The command's blocks and boxes depend on the command alone: a chunk's three paths
+    in two threads each take them from one call of ``search_blocks`` (they were worked
+    out in each of the six searches), and each path's distances and feet are those of
+    ``nearest_segments``, which works them out itself, to the bit."""
+    from tcpmm import _compiled
+    from tcpmm.analysis import contour_search
+    from tcpmm.analysis.contour import distances_to_polyline
+    from tcpmm.analysis.contour_distance import polyline
+
+    monkeypatch.setattr(contour_search, "usable_cores", lambda: 2)
+    calls = []
+    blocks = _compiled.search_blocks
+    monkeypatch.setattr(_compiled, "search_blocks", lambda *a: calls.append(1) or blocks(*a))
+    rng = np.random.default_rng(5)
+    p = shape("zigzag", 9_000, rng)
+    t = np.arange(p.shape[0]) * 1e-3
+    qs = {s: p + rng.normal(size=p.shape) * 10.0 ** -e for s, e in
+          (("motor", 6), ("scale", 5), ("tcp", 4))}
+    together = distances_to_polyline(qs, p, t, t, 0.2, True)
+    assert len(calls) == 1
+    seg, ln2, tdir, _, sag, seglen = polyline(p)
+    lo = np.searchsorted(t, t - 0.2, side="left")
+    hi = np.searchsorted(t, t + 0.2, side="right")
+    for name, q in qs.items():
+        alone = _compiled.nearest_segments(q, p, seg, ln2, tdir, sag, seglen, lo, hi, 1, t, t)
+        np.testing.assert_array_equal(together[name][0].view(np.int64),
+                                      alone[0].view(np.int64))
+        np.testing.assert_array_equal(together[name][1], alone[1])
+
+
 def _to_chords(x, start, chord):
     """Distance of points ``x`` (one per block) to each block's chord, in numpy [m]."""
     c2 = np.sum(chord * chord, axis=1)

@@ -142,6 +142,16 @@ def nearest_segments(*args):
     return call("nearest_segments", *args)
 
 
+def search_blocks(*args):
+    """:func:`tcpmm.path.nearest.search_blocks` through :func:`call` [m], [-]."""
+    return call("search_blocks", *args)
+
+
+def nearest_segments_in(*args):
+    """:func:`tcpmm.path.nearest.nearest_segments_in` through :func:`call` [m], [-]."""
+    return call("nearest_segments_in", *args)
+
+
 def hessenberg_response(*args):
     """:func:`tcpmm.sim.hessenberg.hessenberg_response` through :func:`call` [-]."""
     return call("hessenberg_response", *args)

@@ -23,6 +23,8 @@ _KERNEL_KINDS = ("f2", "f2", "f1", "f1", "f1", "f1", "f1", "i1", "f2", "f2", "f2
 _SHAPE_KINDS = ("f1", "f1", "f1", "u1", "i1", "f", "f", "i", "f")
 _FEED_KINDS = ("f1", "f3", "f2", "i2", "i", "f1", "f1", "f2", "f2", "f2", "f2", "i1")
 _FEED_RESULT = ("i2", "f1", "f1", "f1", "u1", "i1", "f2")
+#: :func:`tcpmm.path.nearest.search_blocks`' results.
+_BLOCKS_KINDS = ("f2", "f2", "f1", "f1", "f1", "f2", "f2", "f2", "f1", "f1", "f1")
 #: The functions built into the module: name -> (module of tcpmm, numba's entry point,
 #: the function compiled, argument kinds, result kinds). Kinds: ``f1``, ``f2``, ``i1``,
 #: ``u1`` C-contiguous float64, int64 or uint8 arrays of 1 or 2 dimensions; ``f``, ``i`` a
@@ -48,6 +50,11 @@ FUNCTIONS = {
     "nearest_segments": ("path.nearest", "nearest_segments", "nearest_segments",
                          ("f2", "f2", "f2", "f1", "f2", "f1", "f1", "i1", "i1", "i", "f1", "f1"),
                          ("f1", "i1")),
+    "search_blocks": ("path.nearest", "search_blocks", "search_blocks", ("f2", "f1"),
+                      _BLOCKS_KINDS),
+    "nearest_segments_in": ("path.nearest", "nearest_segments_in", "nearest_segments_in",
+                            ("f2", "f2", "f2", "f1", "f2", "f1", "f1", "i1", "i1", "i", "f1",
+                             "f1", *_BLOCKS_KINDS), ("f1", "i1")),
     "corner_shapes": ("sim.cornerfigs", "corner_shapes", "corner_shapes", _SHAPE_KINDS, "f2"),
     "corner_figures": ("sim.cornerfigs", "corner_figures", "corner_figures",
                        ("f2", "f1", *_SHAPE_KINDS[:5], "i"), "f2"),

@@ -25,9 +25,13 @@ def searched(qs: dict, p, seg, ln2, tdir, sag, seglen, lo, hi, signed: bool, t_q
     [m], [-]."""
     from .. import _compiled
 
+    # the blocks and boxes of the command, once for every path and run of points
+    blocks = _compiled.search_blocks(p, sag)
+
     def search(q, i0, i1):
-        return _compiled.nearest_segments(q[i0:i1], p, seg, ln2, tdir, sag, seglen, lo[i0:i1],
-                                          hi[i0:i1], int(signed), t_q[i0:i1], t_p)
+        return _compiled.nearest_segments_in(q[i0:i1], p, seg, ln2, tdir, sag, seglen,
+                                             lo[i0:i1], hi[i0:i1], int(signed), t_q[i0:i1],
+                                             t_p, *blocks)
 
     cores = usable_cores()
     if cores < 2 or sum(q.shape[0] for q in qs.values()) < _THREADED:

@@ -238,6 +238,39 @@ def _measure(q, k, p, seg, ln2, tdir, sag, start, chord, inv2, slack, length, bo
     return count, upper
 
 
+@njit(cache=True, nogil=True)
+def search_blocks(p, sag):
+    """The blocks and boxes :func:`nearest_segments` passes over, of the polyline ``p``
+    whose segments have the sags ``sag``: worked out once for every run of points searched
+    along it (:func:`nearest_segments_in`).
+
+    Parameters
+    ----------
+    p : ndarray, shape (m, d)
+        Polyline vertices, finite, ``m >= 2`` [m].
+    sag : ndarray, shape (m - 1,)
+        As for :func:`nearest_segments` [m].
+
+    Returns
+    -------
+    start, chord, inv2, slack, length : ndarray
+        :func:`block_capsules` [m], [m], [1/m^2], [m], [m].
+    org, unit, ext, bslack : ndarray
+        :func:`block_boxes` [m], [-], [m], [m].
+    bsag, sag_b : ndarray
+        The largest sag of each box and of each block [m].
+    """
+    start, chord, inv2, slack, length = block_capsules(p, BLOCK)
+    org, unit, ext, bslack = block_boxes(p, BLOCK, PER)
+    sag_b = np.zeros(start.shape[0])
+    for j in range(sag.size):
+        sag_b[j // BLOCK] = max(sag_b[j // BLOCK], sag[j])
+    bsag = np.zeros(bslack.size)
+    for bi in range(min(sag_b.size, bslack.size * PER)):
+        bsag[bi // PER] = max(bsag[bi // PER], sag_b[bi])
+    return start, chord, inv2, slack, length, org, unit, ext, bslack, bsag, sag_b
+
+
 @njit(cache=True, nogil=True)  # the paths of a run are searched in threads of their own
 def nearest_segments(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q, t_p):
     """Distance from each point to the nearest of the segments of its window.
@@ -281,15 +314,18 @@ def nearest_segments(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q, t_p
     foot : ndarray of int, shape (n,)
         That segment [-].
     """
+    b = search_blocks(p, sag)
+    return nearest_segments_in(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q, t_p,
+                               b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], b[8], b[9],
+                               b[10])
+
+
+@njit(cache=True, nogil=True)
+def nearest_segments_in(q, p, seg, ln2, tdir, sag, seglen, lo, hi, signed, t_q, t_p, start,
+                        chord, inv2, slack, length, org, unit, ext, bslack, bsag, sag_b):
+    """:func:`nearest_segments` with the blocks and boxes of :func:`search_blocks` of ``p``
+    and ``sag`` given, as its eleven results in order [m], [-]."""
     n = q.shape[0]
-    start, chord, inv2, slack, length = block_capsules(p, BLOCK)
-    org, unit, ext, bslack = block_boxes(p, BLOCK, PER)
-    sag_b = np.zeros(start.shape[0])
-    for j in range(sag.size):
-        sag_b[j // BLOCK] = max(sag_b[j // BLOCK], sag[j])
-    bsag = np.zeros(bslack.size)
-    for bi in range(min(sag_b.size, bslack.size * PER)):
-        bsag[bi // PER] = max(bsag[bi // PER], sag_b[bi])
     boxes = (org, unit, ext, bslack, bsag, sag_b)
     dist = np.empty(n)
     foot = np.empty(n, np.int64)

@@ -10,35 +10,62 @@ import math
 import numpy as np
 from numba import njit
 
-from .cornerfigs import dot, interp_at, pymax, unit
+from .cornerfigs import interp_at, pymax, unit
 
 
-@njit(cache=True)
+# The helpers are inlined and work a coordinate at a time into arrays made once a call
+# (the operations of ``dot`` and ``unit``, in their order): a vertex's vector and its
+# offset made as arrays, and a call handed its arrays, had their reference counts taken up
+# and down for every vertex: most of the time this took on a zig-zag's corners.
+@njit(cache=True, inline="always")
 def _off_line(p, i, u, k0, k1, step):
     """The largest distance from the line through ``p[i]`` along the unit ``u`` of the
     vertices ``k0, k0 + step, ...`` short of ``k1`` (each ``v - (v . u) u``) [m]."""
+    d = p.shape[1]
     worst = 0.0
     k = k0
     while k != k1:
-        v = p[k] - p[i]
-        w = v - dot(v, u) * u
-        worst = pymax(worst, math.sqrt(dot(w, w)))
+        vu = (p[k, 0] - p[i, 0]) * u[0]
+        for c in range(1, d):
+            vu = vu + (p[k, c] - p[i, c]) * u[c]
+        w = (p[k, 0] - p[i, 0]) - vu * u[0]
+        ww = w * w
+        for c in range(1, d):
+            w = (p[k, c] - p[i, c]) - vu * u[c]
+            ww = ww + w * w
+        worst = pymax(worst, math.sqrt(ww))
         k += step
     return worst
 
 
-@njit(cache=True)
-def _straight_side(p, s, i, k1, step, frac):
+@njit(cache=True, inline="always")
+def _unit_into(u, p, k, i):
+    """``unit(p[k] - p[i])`` into ``u`` [-]."""
+    d = p.shape[1]
+    for c in range(d):
+        u[c] = p[k, c] - p[i, c]
+    x = u[0] * u[0]
+    for c in range(1, d):
+        x = x + u[c] * u[c]
+    ln = math.sqrt(x)
+    den = ln if ln != 0.0 else 1.0
+    for c in range(d):
+        u[c] = u[c] / den
+
+
+@njit(cache=True, inline="always")
+def _straight_side(p, s, i, k1, step, frac, u):
     """The longest path length from ``p[i]`` to a vertex ``k`` of ``i + step, ...`` short
     of ``k1`` over which the vertices between lie within ``frac`` of it of the chord from
     ``p[i]`` to ``p[k]`` (``inf`` where the last does): where the path runs straight from
-    the corner on that side, a corner found a sample past a bend included [m]."""
+    the corner on that side, a corner found a sample past a bend included (``u``: room
+    for a direction) [m]."""
     best = 0.0
     k = i + step
     while k != k1:
         ln = abs(s[k] - s[i])
         if ln > 0.0:
-            u = unit(p[k] - p[i])
+            _unit_into(u, p, k, i)
             if _off_line(p, i, u, i + step, k, step) <= frac * ln:
                 best = ln if k + step != k1 else math.inf
         k += step
@@ -56,6 +83,7 @@ def chord_strays(p, s, idx, span, frac):
     [m], a row each."""
     d = p.shape[1]
     out = np.empty((idx.size, 2))
+    u = np.empty(d)
     for j in range(idx.size):
         i = idx[j]
         x0, x1 = s[i] - span, s[i] + span
@@ -73,6 +101,6 @@ def chord_strays(p, s, idx, span, frac):
         out[j, 0] = stray
         out[j, 1] = math.nan
         if stray > frac * span:
-            out[j, 1] = min(_straight_side(p, s, i, k0 - 1, -1, frac),
-                            _straight_side(p, s, i, k1, 1, frac))
+            out[j, 1] = min(_straight_side(p, s, i, k0 - 1, -1, frac, u),
+                            _straight_side(p, s, i, k1, 1, frac, u))
     return out

@@ -383,3 +383,51 @@ def test_a_tool_lagging_out_of_a_rapid_has_the_side_of_its_feed_move(tmp_path):
     assert res.summary()["tcp"]["min_m"] > -20e-6  # never 15 um outside it on the circle
     got = stream_contour(tmp_path / "run.parquet", ("X", "Y"), True, rows=97)
     assert got.summary()["tcp"]["min_m"] == res.summary()["tcp"]["min_m"]
+
+
+def _feed_windows_reference(lo, hi, t_p, t_q, air):
+    """The windows of :func:`feed_windows` by the feed move each sample is on, as it finds
+    them where some vertex is in a rapid [-]."""
+    p_air = np.asarray(air) != 0
+    seg_air = p_air[1:] | p_air[:-1]
+    idx = np.arange(seg_air.size)
+    prev = np.maximum.accumulate(np.where(seg_air, idx, -1))
+    nxt = np.minimum.accumulate(np.where(seg_air, idx, seg_air.size)[::-1])[::-1]
+    i = np.searchsorted(t_p, t_q, side="right") - 1
+    before = np.where(i >= 1, prev[np.clip(i - 1, 0, seg_air.size - 1)], -1)
+    a, b = np.maximum(lo, before + 1), np.minimum(hi, nxt[np.clip(i, 0, seg_air.size - 1)])
+    keep = p_air[np.clip(i, 0, p_air.size - 1)] | (a >= b)
+    return np.where(keep, lo, a), np.where(keep, hi, b)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_windows_of_a_chunk_without_rapids_take_no_search(seed, monkeypatch):
+    """A chunk of a run that records its rapids but has none (every chunk of a CAM
+    finishing program) is one feed move: its windows are the time windows, the last
+    reaching no further than the last segment, with no search of the samples' vertices
+    (some 6 ms of every chunk of 200 000 samples); the same windows as the feed moves give,
+    windows at the end and empty ones included."""
+    from tcpmm.analysis.contour_windows import feed_windows
+
+    rng = np.random.default_rng(seed)
+    m, n = 50, 80
+    t_p = np.cumsum(rng.uniform(0.5, 1.5, m))
+    t_q = np.sort(rng.uniform(t_p[0] - 2, t_p[-1] + 2, n))
+    lo = rng.integers(0, m + 1, n)
+    hi = np.minimum(lo + rng.integers(-2, 12, n), m)
+    air = np.zeros(m, np.int8)
+    want = _feed_windows_reference(lo, hi, t_p, t_q, air)
+    assert np.any(hi == m) and np.any(lo >= hi)
+
+    def no_search(*args, **kwargs):
+        raise AssertionError("searched")
+
+    monkeypatch.setattr(np, "searchsorted", no_search)
+    got = feed_windows(lo, hi, t_p, t_q, air)
+    monkeypatch.undo()
+    for g, w in zip(got, want, strict=True):
+        np.testing.assert_array_equal(g, w)
+    air[rng.integers(0, m)] = 1  # a rapid: the feed moves as before
+    for g, w in zip(feed_windows(lo, hi, t_p, t_q, air),
+                    _feed_windows_reference(lo, hi, t_p, t_q, air), strict=True):
+        np.testing.assert_array_equal(g, w)

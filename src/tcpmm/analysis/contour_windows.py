@@ -46,6 +46,9 @@ def feed_windows(lo, hi, t_p, t_q, air):
     -55 um for +55 um on a circle entered from a G0 along its radius), a sample where the
     command at its time is [-]."""
     p_air = np.asarray(air) != 0
+    if not p_air.any():  # one feed move: the windows end at the last segment, no search
+        end = np.minimum(hi, p_air.size - 1)
+        return lo, np.where(lo >= end, hi, end)
     seg_air = p_air[1:] | p_air[:-1]
     idx = np.arange(seg_air.size)
     prev = np.maximum.accumulate(np.where(seg_air, idx, -1))

@@ -221,3 +221,33 @@ def test_axes_kept_from_an_earlier_run_are_its_bits_and_not_run_again(vmc, circl
     ran.clear()
     simulate(variant, dataclasses.replace(circle), axis_runs=kept)
     assert len(ran) == 3
+
+
+@pytest.mark.parametrize("axis_name", ["X", "Z"])
+def test_the_loop_of_the_common_runs_changes_no_bit(vmc, circle, axis_name):
+    """The kernel's loop is compiled apart, with its settings as constants, for the common
+    kind of run (``_plain``: friction without free play, the shortcuts on, no excitation,
+    no current filters, ...). The same run made of the other kind by a current filter
+    that passes the current unchanged (``b0 = 1``, the rest 0: ``1 u + 0`` is ``u``)
+    takes the general loop, and gives every record and the end state to the bit: on X
+    moving through the circle's reversals and on Z held still."""
+    import dataclasses
+
+    from tcpmm.sim.inputs import kernel_inputs
+    from tcpmm.sim.kernel import _plain, run_axis
+
+    axis = vmc.axes[axis_name]
+    t = circle.time_s[circle.time_s < 4.0]
+    pos = np.ascontiguousarray(circle.positions.get(axis_name, 0.0 * circle.time_s)[: t.size])
+    n = int(np.rint((t[-1] - t[0]) / axis.servo.T_v)) + 1
+    k = kernel_inputs(axis, pos, np.zeros(t.size), float(t[1] - t[0]), n)
+    through = dataclasses.replace(k, fsec=np.array([[1.0, 0.0, 0.0, 0.0, 0.0]]))
+    out = []
+    for inputs, common in ((k, True), (through, False)):
+        rec = inputs.empty_record()
+        args = inputs.as_args(rec)
+        assert _plain(args[5].any(), inputs.fsec, args[6], args[7], inputs.pf_s,
+                      inputs.pf_g) == common
+        out.append((rec, run_axis(*args)))
+    assert np.array_equal(out[0][0], out[1][0]) and np.array_equal(out[0][1], out[1][1])
+    assert np.ptp(out[0][0][3]) > 0.1 if axis_name == "X" else out[0][1][6] == 0.0

@@ -51,14 +51,17 @@ that the friction code is inlined once, and whose shortcuts take the common step
 which both contacts slide on or both stay held, with the same numbers, in registers.
 What does not change from step to step (the friction's effective masses, input columns
 and joint stop per matrix set) is computed before the loop; state and scratch swap roles
-instead of being copied.
+instead of being copied. The loop is compiled twice: once as it is, and once for the
+common kind of run (friction without free play, the shortcuts on, no excitation, no
+current filters, the loop closed, no difference velocity, ``_plain``) with
+those settings as constants, the same operations in the same order.
 """
 
 from __future__ import annotations
 
 import numba
 import numpy as np
-from numba import njit
+from numba import literally, njit
 
 from .._pycc import vectorised
 from ..mechanics.friction import MODEL_NONE, P_MODEL
@@ -200,12 +203,30 @@ def _run_axis(AdT, BdT, x0, cmd, vcmd, excitation, fp, ip, rec, AdsT, BdsT, pf_s
     carried = state.size > 0 and state[S_SET] != 0.0
     if carried:
         _carry(state, st, dl, hist, fst, False)
-    _steps(AdT, BdT, x, np.empty(NX), c, st, dl, hist, cmd, vcmd, excitation,
-           excited, fp, ip, rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk,
-           state, carried)
+    xn = np.empty(NX)
+    if _plain(excited, fsec, fp, ip, pf_s, pf_g):  # a constant each: two loops compiled
+        _steps(AdT, BdT, x, xn, c, st, dl, hist, cmd, vcmd, excitation, excited, fp, ip, rec,
+               AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk, state, carried, True)
+    else:
+        _steps(AdT, BdT, x, xn, c, st, dl, hist, cmd, vcmd, excitation, excited, fp, ip, rec,
+               AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk, state, carried, False)
     if state.size > 0:
         _carry(state, st, dl, hist, fst, True)
     return x
+
+
+@njit(cache=True)
+def _plain(excited, fsec, fp, ip, pf_s, pf_g):
+    """Whether the run is of the common kind :func:`_steps` is compiled apart for:
+    friction without free play, the friction shortcuts on, the guideway's velocity its
+    own, the position loop closed, none of the servo's options (excitation, current
+    filters, difference velocity): compiled with these as constants, without the options'
+    code, the loop keeps more in registers and tests less per step
+    (``docs/performance.md``)."""
+    return (not excited and fsec.shape[0] == 0 and ip[IP_DIFFERENCE_VELOCITY] == 0
+            and ip[IP_CLOSED] != 0 and ip[IP_SHORTCUTS] != 0 and ip[IP_GUIDEWAY_REF] < 0
+            and fp[FP_HALF_PLAY] == 0.0
+            and (pf_s[P_MODEL] != MODEL_NONE or pf_g[P_MODEL] != MODEL_NONE))
 
 
 @njit(cache=True)
@@ -235,14 +256,15 @@ def _carry(state, st, dl, hist, fst, save):
 # the counts numba keeps on every array passed to an inlined helper were most of its time.
 @njit(cache=True, nogil=True, _nrt=False)
 def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited, fp, ip,
-           rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk, state, carried):
+           rec, AdsT, BdsT, pf_s, pf_g, vtaps, AdgT, BdgT, fsec, fst, fk, state, carried, plain):
     """The loop of :func:`run_axis` on its work arrays: state ``x_out`` (advanced in
     place), scratch ``xn`` (the two swap roles each step), the constant inputs' share of
     ``Bd u`` ``c`` and the friction constants ``fk`` (both per matrix set: step, sub-step,
     sub-step in the play), friction states ``st`` (screw, guideway), the delay line
     ``dl``, the encoder history ``hist`` and the states ``fst`` of the current-setpoint
     filters ``fsec``; ``excited``: whether ``excitation`` is not all zero; the loop's
-    counters from ``state`` where ``carried``, and back to it where it is not empty."""
+    counters from ``state`` where ``carried``, and back to it where it is not empty;
+    ``plain``: a constant, whether the run is of the kind :func:`_plain` says."""
     x = x_out
     play, K_t = fp[FP_HALF_PLAY], fp[FP_K_NUT]
     nonlinear = pf_s[P_MODEL] != MODEL_NONE or pf_g[P_MODEL] != MODEL_NONE or play > 0.0
@@ -253,16 +275,16 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
     delay, closed, rec_every = ip[IP_DELAY], ip[IP_CLOSED], ip[IP_REC_EVERY]
     ff_segment, g_ref, n_sub = ip[IP_SEGMENT_FEEDFORWARD], ip[IP_GUIDEWAY_REF], ip[IP_N_SUB]
     shortcut = ip[IP_SHORTCUTS] != 0 and play == 0.0
-    filtered = fsec.shape[0] > 0
-    n_taps = vtaps.size
-    r = 0
+    filtered, n_taps, r = fsec.shape[0] > 0, vtaps.size, 0
+    if literally(plain):  # compiled for each value: the common kind's without the options
+        vel_diff, filtered, excited, closed, nonlinear, shortcut, g_ref, play = 0, False, \
+            False, 1, True, True, -1, 0.0
     k_first, j0, I_w, w_c, c_pos, c_rec, c_dl, c_h, i_pk = _loop_start(state, carried, I_w)
     ratio, last = fp[FP_CMD_PER_STEP], cmd.size - 1 + j0
     for k in range(k_first, k_first + ip[IP_N_STEPS]):
         if vel_diff:
             th_q = quantise(x[0], q_enc)
         pos = k * ratio
-        i_exc = excitation[min(int(pos + 1e-9), last) - j0] if excited else 0.0
         i_c = 0.0
         if closed:
             if c_pos == 0:
@@ -270,8 +292,7 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
                     x_fb = quantise(x[2] - x[3], q_scale)
                 else:
                     x_fb = R * quantise(x[0], q_enc)
-                j = min(int(pos), last)
-                fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
+                j, j1, fr = _between(pos, last, j0)
                 c_k = cmd[j] + fr * (cmd[j1] - cmd[j])
                 if ff_segment:
                     v_k = vcmd[j]
@@ -305,17 +326,18 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
             c_dl += 1
             if c_dl > delay:
                 c_dl = 0
-            i_app = dl[c_dl] + i_exc if excited else dl[c_dl]
+            i_app = dl[c_dl]
         else:
-            i_app = i_c + i_exc if excited else i_c
+            i_app = i_c
+        if excited:  # its load in the branch: a branch, not a select on the current's path
+            i_app += excitation[min(int(pos + 1e-9), last) - j0]
         if i_app > i_lim:
             i_app = i_lim
         elif i_app < -i_lim:
             i_app = -i_lim
         i_pk = max(i_pk, abs(i_app))
         if c_rec == 0:
-            j = min(int(pos), last)
-            fr, j1, j = pos - j, min(j + 1, last) - j0, j - j0
+            j, j1, fr = _between(pos, last, j0)
             record(rec, r, x, i_app, R, cmd[j] + fr * (cmd[j1] - cmd[j]), i_pk)
             i_pk = 0.0
             r += 1
@@ -333,6 +355,14 @@ def _steps(AdT, BdT, x_out, xn, c, st, dl, hist, cmd, vcmd, excitation, excited,
         x_out[i] = x[i]
     if state.size > 0:
         _loop_end(state, k_first + ip[IP_N_STEPS], I_w, w_c, c_pos, c_rec, c_dl, c_h, i_pk)
+
+
+@njit(cache=True, inline="always")
+def _between(pos, last, j0):
+    """The samples of the command ``j``, ``j1`` (indices of ``cmd``) a position ``pos``
+    [samples] lies between, and its fraction of the way from one to the other [-]."""
+    j = min(int(pos), last)
+    return j - j0, min(j + 1, last) - j0, pos - j
 
 
 @njit(cache=True, inline="always")

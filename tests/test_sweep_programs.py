@@ -232,6 +232,28 @@ def test_the_column_counts_rapids_to_where_the_tool_stands(tmp_path):
     assert row["status"] == "ok" and row["zero_length_skipped"] == 3 and row["warnings"] == ""
 
 
+#: two squares in XY at Z0, the tool lifted and lowered by G0 between them
+LIFTED = ("G21 G90 G17\nG0 X10 Y0 Z0\nG1 X20 Y0 F3000\nG1 X20 Y10\nG1 X10 Y10\n"
+          "G1 X10 Y0\nG0 Z20\nG0 X40 Y0\nG0 Z0\nG1 X50 Y0\nG1 X50 Y10\nG1 X40 Y10\n"
+          "G1 X40 Y0\nG4 P0.5\nM30\n")
+
+
+def test_the_plane_is_that_of_the_feed_moves_as_contour_takes_it(capsys, tmp_path):
+    """The G0 lift between two squares moves Z: ``tcpmm contour`` takes the plane from the
+    feed moves, XY, as it leaves the rapids out of the error, but the row took it from
+    the whole travel and measured in 3-D, unsigned: another RMS and largest error
+    (11.9 and 63.1 um against 10.5 and 57.5 um)."""
+    prog = tmp_path / "lifted.nc"
+    prog.write_text(LIFTED)
+    row = program_task("builtin:vmc", read_machine("builtin:vmc"), prog, 3)
+    _, con = _direct(capsys, "builtin:vmc", prog, tmp_path)
+    assert row["status"] == "ok" and row["plane"] == con["axes"] == "XY"
+    tcp = con["sensors"]["tcp"]
+    # the streamed RMS sums the squares chunk by chunk (a relative 1e-12)
+    assert row["contour_rms_um"] == pytest.approx(tcp["rms_um"], rel=1e-10)
+    assert row["contour_max_um"] == tcp["max_abs_um"]
+
+
 def test_an_unstable_machine_is_a_fault_without_figures(study, capsys, tmp_path):
     """A model whose sampled X loop is unstable (K_pp 1000) gave status ok with contour
     figures, the instability among the warnings; a sweep of variants puts it in its faults

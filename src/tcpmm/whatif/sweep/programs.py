@@ -137,8 +137,8 @@ def _simulate(machine, program: Path, run_file: Path, chunk_blocks: int) -> dict
 
 
 def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> dict:
-    """The contour error of a Parquet run read in chunks, in the plane its command moves
-    in (unsigned in 3-D where it moves out of a plane), as ``tcpmm contour`` takes it.
+    """The contour error of a Parquet run read in chunks, in the plane its command's feed
+    moves run in (unsigned in 3-D where they leave a plane), as ``tcpmm contour`` takes it.
 
     Parameters
     ----------
@@ -159,7 +159,8 @@ def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> 
     """
     import numpy as np
 
-    travel = travel_positions(run_file)
+    # the feed moves' plane, the rapids left out of the error: a G0 lift is not 3-D
+    travel = travel_positions(run_file, feed_only=True)
     ends = Run(np.array([0.0, 1.0]), {a: AxisRun(cmd=v) for a, v in travel.items()})
     try:
         axes, _, flat = run_plane(ends)
@@ -167,7 +168,7 @@ def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> 
         flat = False
     if not flat:
         axes = tuple(a for a in "XYZ" if a in travel)
-    res = stream_contour(run_file, tuple(axes), flat, window_s)
+    res = stream_contour(run_file, tuple(axes), flat, window_s, travel=travel)
     d = res.to_dict()
     if sensor not in d["sensors"]:
         raise InputError(f"the run measures no sensor {sensor!r}; give one of "

@@ -116,8 +116,10 @@ def check_samples(dur, dt: float, line, n_samples: int | None = None,
     if total <= MAX_SAMPLES:  # not NaN either
         return
     i = int(np.argmax(np.where(np.isnan(dur), np.inf, dur)))
-    remedy = ("" if streamed else ", and for a program this long, stream it: tcpmm simulate "
-              "... -o RUN.parquet, tcpmm path --chunk-blocks N")
+    # a stream plans a block whole: one block too long alone is refused there too
+    remedy = ("" if streamed or not dur[i] / dt <= MAX_SAMPLES else
+              ", and for a program this long, stream it: tcpmm simulate ... -o RUN.parquet, "
+              "tcpmm path --chunk-blocks N")
     whole = "a chunk of blocks streamed" if streamed else "a command made whole"
     raise InputError(
         f"the command would last {total * dt:.4g} s ({total:.4g} samples), more than "
